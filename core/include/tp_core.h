@@ -1,0 +1,363 @@
+/*
+ * tp_core.h - the terrapatch core: a quantised height grid tiled into overlapping
+ * (2^n+1)^2 patches, per-patch level of detail, shared degenerate triangle strips,
+ * crack removal by moving vertices, AABB frustum culling and O(1) height queries.
+ *
+ * Pure C11 over libc and libm. This header is the documentation of the core.
+ *
+ * Based on:
+ *   J. Vanek, B. Jezek, "Real-Time Terrain Visualization on PC", WSCG 2004
+ *     (patches, levels, distance LoD, degenerate strips, moving vertices, AABB culling)
+ *   A. Brodersen, "Real-Time Visualization of Large Textured Terrains", 2005
+ *     (per-level maximum error delta_k, screen-space error threshold tau, < 2.5 bytes per sample)
+ *
+ * Conventions used everywhere in this header:
+ *   - Grid coordinates (x, y) are (column, row) of the fitted grid; integer values are sample
+ *     centres. Row 0 is the first row of the raster (north for a north-up DEM).
+ *   - World coordinates are the DEM's projected CRS: easting, northing (metres for a projected
+ *     DEM) and height in metres, as doubles. Sample (x, y) lies at
+ *     E = gt[0] + (x + 0.5) * gt[1],  N = gt[3] + (y + 0.5) * gt[5]   (GDAL geotransform).
+ *   - Levels: k = n is full resolution, k = 0 is the 2x2 patch (as in Vanek & Jezek).
+ *   - Heights of samples that are not drawn (nodata, padding) and queries outside the grid are NaN.
+ */
+#ifndef TP_CORE_H
+#define TP_CORE_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#define TP_VERSION "0.1.0"
+
+/* Largest supported n: patches of up to 2^8+1 = 257 samples per side. */
+#define TP_MAX_N 8
+#define TP_MAX_LEVELS (TP_MAX_N + 1)
+#define TP_DEFAULT_PATCH_SIZE 17
+
+/* ---------------------------------------------------------------------------------------------
+ * Status and errors
+ */
+typedef enum tp_status {
+    TP_OK = 0,
+    TP_ERR_INVALID_ARG, /* value outside its documented range */
+    TP_ERR_BAD_DATA,    /* input file or buffer malformed */
+    TP_ERR_IO,
+    TP_ERR_OUT_OF_MEMORY,
+    TP_ERR_BACKEND /* a wrapped C++ library failed; see the message */
+} tp_status;
+
+/* Short English name of a status ("invalid argument", ...). Never NULL. */
+const char* tp_status_str(tp_status s);
+
+/* Optional out-parameter of failing calls: a one-line message saying what was expected and
+ * what was received. Functions that take a tp_error* accept NULL. On success it is untouched. */
+typedef struct tp_error {
+    char message[512];
+} tp_error;
+
+/* ---------------------------------------------------------------------------------------------
+ * Triangle strips (one per level, shared by every patch of one size)
+ *
+ * The level-k patch has v = 2^k + 1 vertices per side, indexed row * v + col. Its strip is the
+ * Vanek & Jezek construction: rows alternate direction and each row ends with two repeated
+ * indices, so the whole patch is one GL_TRIANGLE_STRIP of (2v+2)(v-1) indices with degenerate
+ * triangles between rows. Every cell (c, r)-(c+1, r+1) is split along the diagonal from
+ * (c+1, r) to (c, r+1). Decoded with the GL strip rule (odd triangles swap their first two
+ * vertices), every real triangle is clockwise in (column, row) coordinates, which is
+ * counter-clockwise seen from above in (east, north) for a north-up grid (gt[1] > 0, gt[5] < 0).
+ */
+
+/* Number of indices of the level-k strip: (2v+2)(v-1) with v = 2^k+1. 0 if k is out of 0..TP_MAX_N. */
+size_t tp_strip_index_count(int k);
+
+/* Writes the level-k strip into indices, which must hold tp_strip_index_count(k) elements.
+ * Returns the number written (0 if k is out of range). The _u16 variant requires v*v <= 65536,
+ * i.e. k <= 7, and returns 0 otherwise. */
+size_t tp_strip_build_u32(int k, uint32_t* indices, size_t index_capacity);
+size_t tp_strip_build_u16(int k, uint16_t* indices, size_t index_capacity);
+
+/* ---------------------------------------------------------------------------------------------
+ * Terrain: the resident, quantised height grid with its per-patch tables
+ */
+typedef enum tp_fit {
+    TP_FIT_DEFAULT = 0, /* = TP_FIT_PAD */
+    TP_FIT_PAD,         /* add padding samples on the far edges (right and bottom); exact */
+    TP_FIT_RESAMPLE     /* bilinear resample to the nearest multiple; georeference updated */
+} tp_fit;
+
+/* What a sample of the fitted grid is. Only VALID and FILLED samples are drawn. */
+typedef enum tp_sample_class {
+    TP_SAMPLE_VALID = 0,
+    TP_SAMPLE_FILLED,  /* a void filled by interpolation: drawn, but marked */
+    TP_SAMPLE_NODATA,  /* nodata / NaN in the source: never drawn */
+    TP_SAMPLE_PADDING, /* added by TP_FIT_PAD: never drawn */
+    TP_SAMPLE_OUTSIDE  /* the coordinates are outside the fitted grid */
+} tp_sample_class;
+
+typedef struct tp_terrain_desc {
+    /* Source heights in metres, row-major, width * height values, row 0 first.
+     * NaN or infinite values are nodata. The array is only read during tp_terrain_create. */
+    const float* heights;
+    size_t height_count;
+    int width, height; /* >= 1 each */
+    /* GDAL geotransform of the source. All zeros means (0, 1, 0, 0, 0, -1): 1 m north-up.
+     * Rotated geotransforms (gt[2] or gt[4] non-zero) are rejected. */
+    double geotransform[6];
+    /* Optional: width * height flags, non-zero marking a sample filled by interpolation. */
+    const uint8_t* filled;
+    size_t filled_count;
+    int patch_size;       /* 17, 33, 65, 129 or 257; 0 means TP_DEFAULT_PATCH_SIZE */
+    tp_fit fit;           /* 0 means pad */
+    double height_step_m; /* global quantisation step; 0 means automatic (see tp_terrain_create) */
+} tp_terrain_desc;
+
+typedef struct tp_terrain tp_terrain;
+
+/* Builds the resident terrain: fits the grid to (r*2^n+1) x (s*2^n+1), quantises heights to
+ * 16 bits with ONE global step and per-patch integer offsets (a sample shared by two patches
+ * decodes to the same value in both), and computes per patch its AABB, delta_k for every level
+ * and the stitching error bounds.
+ * Automatic step: 1 m when every valid height is an integer (exact for Int16 sources), else the
+ * finest power of two 2^-p metres (p <= 10) for which every patch's height range fits 16 bits.
+ * Fails with TP_ERR_BAD_DATA if no sample is valid, TP_ERR_INVALID_ARG for bad sizes or patch
+ * sizes, a rotated geotransform, or an explicit step too fine for the data.
+ * On failure *out is untouched and nothing is leaked. */
+tp_status tp_terrain_create(const tp_terrain_desc* desc, tp_terrain** out, tp_error* err);
+void tp_terrain_destroy(tp_terrain* t); /* accepts NULL */
+
+typedef struct tp_terrain_info {
+    int src_width, src_height; /* the grid given to tp_terrain_create */
+    int width, height;         /* the fitted grid: patch_cols * 2^n + 1, patch_rows * 2^n + 1 */
+    int patch_size;            /* 2^n + 1 */
+    int n;                     /* finest level */
+    int levels;                /* n + 1 */
+    int patch_cols, patch_rows, patch_count;
+    tp_fit fit;
+    double fit_max_error_m, fit_rms_error_m; /* resample: error of the rendered full-resolution
+                                                surface at the original valid posts; 0 for pad */
+    double geotransform[6];                  /* of the fitted grid */
+    double height_step_m;                    /* the global quantisation step */
+    double quant_max_error_m;                /* max |source - decoded| over valid samples */
+    double min_height_m, max_height_m;       /* over drawn samples (decoded) */
+    size_t valid_samples, filled_samples, nodata_samples, padding_samples; /* of the fitted grid */
+    /* Resident terrain data by the program's own accounting. */
+    size_t heights_bytes, mask_bytes, patch_table_bytes, resident_bytes;
+    double bytes_per_source_sample; /* resident_bytes / (src_width * src_height) */
+} tp_terrain_info;
+
+void tp_terrain_get_info(const tp_terrain* t, tp_terrain_info* out);
+
+/* Decoded height (metres) of sample (x, y); NaN if it is not drawn or outside the grid. */
+double tp_terrain_sample(const tp_terrain* t, int x, int y);
+tp_sample_class tp_terrain_sample_class(const tp_terrain* t, int x, int y);
+
+/* Height of the rendered full-resolution surface at grid coordinates (x, y): the same triangle
+ * split as the strips (diagonal from (c+1, r) to (c, r+1)). O(1). NaN where the containing
+ * triangle has a vertex that is not drawn, or outside the grid. */
+double tp_terrain_height_at(const tp_terrain* t, double x, double y);
+
+/* Unit surface normal (world frame: east, north, up) at sample (x, y) from central differences
+ * of the decoded grid (one-sided at borders and next to undrawn samples). */
+void tp_terrain_normal(const tp_terrain* t, int x, int y, float normal[3]);
+
+void tp_terrain_grid_to_world(const tp_terrain* t, double x, double y, double* e, double* n);
+void tp_terrain_world_to_grid(const tp_terrain* t, double e, double n, double* x, double* y);
+
+/* ---------------------------------------------------------------------------------------------
+ * Patches
+ *
+ * Patch p = row * patch_cols + col covers grid samples [col*2^n, (col+1)*2^n] x
+ * [row*2^n, (row+1)*2^n]; neighbours share their border row/column.
+ */
+typedef enum tp_side {
+    TP_SIDE_TOP = 0, /* the patch's first row (smallest y; north for a north-up grid) */
+    TP_SIDE_RIGHT,   /* last column (largest x) */
+    TP_SIDE_BOTTOM,  /* last row */
+    TP_SIDE_LEFT     /* first column */
+} tp_side;
+
+/* Level given for a side that has no neighbour (terrain border): never causes a vertex move. */
+#define TP_NO_NEIGHBOR (-1)
+
+typedef struct tp_patch_info {
+    int col, row;
+    int x0, y0;          /* grid coordinates of the first sample */
+    double aabb_min[3];  /* world: E, N, height */
+    double aabb_max[3];
+    int complete;        /* 1 if every sample is drawn; else the patch is always drawn at level n */
+    /* delta_k + quantisation error: max vertical error (m) of the unstitched level-k
+     * triangulation against the source samples of the patch. */
+    double delta_m[TP_MAX_LEVELS];
+} tp_patch_info;
+
+void tp_patch_get_info(const tp_terrain* t, int patch, tp_patch_info* out);
+
+/* Upper bound (metres, quantisation included) of the vertical error of patch `patch` drawn at
+ * level k with the given neighbour levels (indexed by tp_side; TP_NO_NEIGHBOR for none; the
+ * array may be NULL for an unstitched patch) after
+ * crack removal, against every source sample of the patch. Neighbours at level >= k do not move
+ * this patch's vertices; a coarser neighbour does, and its stitched triangles are bounded by a
+ * per-side table. */
+double tp_patch_error_bound(const tp_terrain* t, int patch, int k, const int neighbor_levels[4]);
+
+/* One vertex of a patch's vertex data, after crack removal: the global grid coordinates of the
+ * sample it was moved to (or its own), and that sample's decoded height. */
+typedef struct tp_vertex {
+    int32_t x, y;
+    float z_m;
+    uint8_t cls; /* tp_sample_class of the ORIGINAL (unmoved) vertex */
+} tp_vertex;
+
+/* Vertex data of a patch at level k: (2^k+1)^2 vertices in strip order (row * v + col).
+ * neighbor_levels may be NULL (no neighbours: nothing moves).
+ * Crack removal (Vanek & Jezek Fig. 4): where a neighbour is coarser (level < k), every border
+ * vertex the neighbour lacks is moved onto the nearest vertex the neighbour has; ties go toward
+ * the nearer patch corner, and the exact middle of a side (a tie only with a level-0 neighbour)
+ * goes around the patch: TOP toward the first column, RIGHT toward the first row, BOTTOM toward
+ * the last column, LEFT toward the last row. Corners never move. Both sides of a shared edge
+ * then produce bit-identical positions.
+ * Returns TP_ERR_INVALID_ARG if k is out of 0..n or vertex_capacity < (2^k+1)^2. */
+tp_status tp_patch_vertices(const tp_terrain* t, int patch, int k, const int neighbor_levels[4],
+                            tp_vertex* vertices, size_t vertex_capacity);
+
+/* Triangles actually drawn from vertex data of level k decoded through the level-k strip, in
+ * strip order and winding: index triples into `vertices`, skipping degenerate triangles (two
+ * vertices at the same grid position, or zero area) and triangles with a vertex that is not
+ * drawn. Returns the number of such triangles (at most 2 * 4^k) and writes the first
+ * min(that, triangle_capacity) of them; triangles may be NULL when triangle_capacity is 0. */
+size_t tp_patch_triangles(const tp_vertex* vertices, int k, uint32_t* triangles,
+                          size_t triangle_capacity);
+
+/* ---------------------------------------------------------------------------------------------
+ * Level of detail
+ */
+typedef enum tp_lod_mode {
+    TP_LOD_DEFAULT = 0, /* = TP_LOD_ERROR */
+    TP_LOD_DISTANCE,    /* Vanek & Jezek: mindist, maxdist, exponent */
+    TP_LOD_ERROR,       /* Brodersen / de Boer: coarsest level whose error projects to <= tau px */
+    TP_LOD_FULL         /* every patch at level n (the full-resolution baseline) */
+} tp_lod_mode;
+
+typedef struct tp_lod_params {
+    tp_lod_mode mode;
+    /* distance mode. Zero mindist and maxdist mean defaults derived from the terrain:
+     * mindist = 1 patch width, maxdist = 24 patch widths. exponent 0 means 1. */
+    double mindist_m, maxdist_m, exponent;
+    double tau_px; /* error mode: screen-space error threshold in pixels; 0 means 1 */
+} tp_lod_params;
+
+/* The distance formula (Vanek & Jezek section 3) for a patch with finest level n:
+ *   dist <= mindist: n;   dist > maxdist: 0;
+ *   else k = ceil(n * (1 - ((dist - mindist) / (maxdist - mindist))^exponent)),
+ * rounded UP so that a patch is never coarser than the formula asks. With mindist == maxdist
+ * it is a step: n up to mindist, 0 beyond. exponent 0 gives 0 beyond mindist; a huge exponent
+ * gives n up to maxdist. dist is clamped at 0. Returns -1 for invalid parameters (negative or
+ * NaN distances, maxdist < mindist, negative or NaN exponent, n out of 0..TP_MAX_N). */
+int tp_lod_level_distance(int n, double dist_m, double mindist_m, double maxdist_m,
+                          double exponent);
+
+/* Validates params and fills in defaults for terrain t. TP_ERR_INVALID_ARG with a message for
+ * negative / NaN / infinite values, maxdist < mindist, or tau below 0 (tau = 0 is the default 1;
+ * use TP_LOD_FULL for an exact surface). */
+tp_status tp_lod_params_resolve(const tp_terrain* t, const tp_lod_params* in, tp_lod_params* out,
+                                tp_error* err);
+
+/* ---------------------------------------------------------------------------------------------
+ * Camera and frustum culling
+ */
+typedef struct tp_camera {
+    double position[3];         /* world: E, N, height */
+    double forward[3], up[3];   /* need not be unit; up must not be parallel to forward.
+                                   All zero forward means looking north and level. */
+    double fov_y_rad;           /* vertical field of view; 0 means 60 degrees */
+    int viewport_w_px, viewport_h_px; /* 0 means 1280 x 720 */
+    double near_m, far_m;       /* 0 near means 1 m; 0 far means no far plane */
+} tp_camera;
+
+typedef struct tp_frustum {
+    double planes[6][4]; /* a*E + b*N + c*h + d >= 0 inside; unit normals */
+    int plane_count;     /* 5 without a far plane, else 6 */
+} tp_frustum;
+
+void tp_frustum_from_camera(const tp_camera* cam, tp_frustum* out);
+
+typedef enum tp_cull { TP_CULL_OUTSIDE = 0, TP_CULL_INTERSECTS, TP_CULL_INSIDE } tp_cull;
+
+/* AABB against the frustum planes with n/p-vertices. OUTSIDE only if the box is entirely on
+ * the outer side of some plane (conservative: a box outside but not behind one plane is
+ * reported as INTERSECTS). */
+tp_cull tp_frustum_test_aabb(const tp_frustum* f, const double aabb_min[3], const double aabb_max[3]);
+
+/* ---------------------------------------------------------------------------------------------
+ * Selection: one frame's levels, visibility and statistics
+ */
+typedef struct tp_selection tp_selection;
+
+tp_status tp_selection_create(const tp_terrain* t, tp_selection** out, tp_error* err);
+void tp_selection_destroy(tp_selection* s); /* accepts NULL */
+
+/* Selects a level for every patch (visible or not: culled patches still stitch their visible
+ * neighbours), then, in error mode, raises the coarser neighbour of any stitched side whose
+ * bound projects above tau until none does (levels only go up, so it ends), and culls.
+ * Incomplete patches are always at level n. */
+tp_status tp_selection_update(tp_selection* s, const tp_camera* cam, const tp_lod_params* params,
+                              tp_error* err);
+
+/* Sets one patch's level by hand (tests, export, frozen views). Incomplete patches stay at n.
+ * All patches are marked visible until the next tp_selection_update or tp_selection_cull. */
+tp_status tp_selection_set_level(tp_selection* s, int patch, int k);
+/* Re-runs culling only, keeping levels. */
+void tp_selection_cull(tp_selection* s, const tp_camera* cam);
+
+int tp_selection_level(const tp_selection* s, int patch);
+int tp_selection_visible(const tp_selection* s, int patch);
+/* Neighbour levels of a patch, indexed by tp_side (TP_NO_NEIGHBOR at the terrain border). */
+void tp_selection_neighbor_levels(const tp_selection* s, int patch, int out[4]);
+/* 1 if the patch's level or a neighbour's level changed since the previous call to
+ * tp_selection_clear_dirty (initially every patch is dirty): its vertex data must be rebuilt. */
+int tp_selection_dirty(const tp_selection* s, int patch);
+void tp_selection_clear_dirty(tp_selection* s);
+
+typedef struct tp_frame_stats {
+    int patches_per_level[TP_MAX_LEVELS]; /* visible patches only */
+    int visible_patches, culled_patches;
+    size_t triangles;                     /* non-degenerate drawn triangles of visible patches */
+    /* The delta-bound (quantisation included) over visible patches: max, and RMS of the bound
+     * weighted by the samples each patch owns. */
+    double bound_max_error_m, bound_rms_error_m;
+} tp_frame_stats;
+
+void tp_selection_stats(const tp_selection* s, tp_frame_stats* out);
+
+/* Exact vertical error of the drawn (stitched) geometry of visible patches against every drawn
+ * sample they own, measured against the decoded grid (add quant_max_error_m for the source).
+ * Each sample is counted once. */
+typedef struct tp_error_measure {
+    double max_error_m, rms_error_m;
+    size_t samples;
+} tp_error_measure;
+tp_status tp_selection_measure_error(const tp_selection* s, tp_error_measure* out);
+
+/* Screen-space error (pixels) for cam: for every drawn sample of a visible patch that is inside
+ * the view and in front of the near plane, the on-screen length between the projections of
+ * the sample and of the drawn surface vertically above/below it. Occlusion is ignored. */
+tp_status tp_selection_measure_screen_error(const tp_selection* s, const tp_camera* cam,
+                                            double* max_px, double* rms_px, size_t* samples);
+
+/* Height of the surface actually drawn at grid coordinates (x, y) under the current levels
+ * (stitching included); NaN where nothing is drawn. O(1) inside a patch, O(2^k) along a
+ * stitched border. */
+double tp_selection_drawn_height_at(const tp_selection* s, double x, double y);
+
+/* Camera collision: raises position[2] so the eye is at least clearance_m above both the
+ * full-resolution surface and the drawn surface at its (E, N). Returns 1 if it moved the eye,
+ * 0 if not (also outside the terrain). */
+int tp_selection_keep_above(const tp_selection* s, double position[3], double clearance_m);
+
+#ifdef __cplusplus
+}
+#endif
+#endif /* TP_CORE_H */

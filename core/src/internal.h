@@ -1,0 +1,106 @@
+/* internal.h - private types and helpers shared by the core's .c files. Not installed. */
+#ifndef TP_CORE_INTERNAL_H
+#define TP_CORE_INTERNAL_H
+
+#include "tp_core.h"
+
+#include <math.h>
+#include <stdint.h>
+
+/* Stored height of a sample that is not drawn (nodata). Padding is never stored at all. */
+#define TP__NO_HEIGHT 0xFFFFu
+/* Error tables are uint16 in units of step / TP__ERR_SUB, rounded up; TP__ERR_SAT means
+ * "at least this large": the bound then falls back to the patch's height range. */
+#define TP__ERR_SUB 16.0
+#define TP__ERR_SAT 0xFFFFu
+
+typedef struct tp__patch {
+    int32_t offset;     /* global quantised height = stored + offset, for samples it owns */
+    int32_t qmin, qmax; /* global quantised range over all drawn samples of the patch */
+    uint8_t complete;   /* every sample drawn */
+    uint8_t has_drawn;  /* at least one drawn sample */
+} tp__patch;
+
+struct tp_terrain {
+    tp_terrain_info info;
+    int n, ps;          /* finest level, patch span 2^n (patch size - 1) */
+    int w, h;           /* fitted grid */
+    int sw, sh;         /* stored region: samples with x >= sw or y >= sh are padding */
+    double gt[6];       /* geotransform of the fitted grid */
+    double step;        /* quantisation step (m) */
+    double quant_err;   /* max |source - decoded| (m) */
+    uint16_t* q;        /* sw * sh stored heights, relative to the owner patch's offset */
+    uint8_t* filled;    /* NULL, or one bit per stored sample: filled void */
+    tp__patch* patches;
+    /* Error tables, per patch: delta[k] for k = 0..n, then eps[side][kn] for side 0..3 and
+     * neighbour level kn = 0..n-1. See patch_error.c. */
+    uint16_t* err_tab;
+    int err_stride;
+};
+
+/* Sets err->message (printf-style) when err is not NULL. Returns s. */
+tp_status tp__fail(tp_error* err, tp_status s, const char* fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 3, 4)))
+#endif
+    ;
+
+/* The patch that stores sample x (columns) or y (rows): the last patch owns the far border. */
+static inline int tp__owner(int coord, int n, int patches)
+{
+    int p = coord >> n;
+    return p < patches ? p : patches - 1;
+}
+
+/* Global quantised height of sample (x, y), or INT32_MIN if it is not drawn / outside. */
+static inline int32_t tp__q(const tp_terrain* t, int x, int y)
+{
+    if (x < 0 || y < 0 || x >= t->sw || y >= t->sh)
+        return INT32_MIN;
+    uint16_t s = t->q[(size_t)y * (size_t)t->sw + (size_t)x];
+    if (s == TP__NO_HEIGHT)
+        return INT32_MIN;
+    int p = tp__owner(y, t->n, t->info.patch_rows) * t->info.patch_cols +
+            tp__owner(x, t->n, t->info.patch_cols);
+    return (int32_t)s + t->patches[p].offset;
+}
+
+static inline const uint16_t* tp__delta_tab(const tp_terrain* t, int patch)
+{
+    return t->err_tab + (size_t)patch * (size_t)t->err_stride;
+}
+static inline const uint16_t* tp__eps_tab(const tp_terrain* t, int patch, int side)
+{
+    return t->err_tab + (size_t)patch * (size_t)t->err_stride + (size_t)(t->n + 1) +
+           (size_t)side * (size_t)t->n;
+}
+
+/* Computes the delta and eps tables of every patch (patch_error.c). */
+tp_status tp__patch_errors_compute(tp_terrain* t, tp_error* err);
+
+/* Position (global grid coordinates) of vertex (i, j) of patch p at level k after crack
+ * removal against the given neighbour levels (stitch.c). Returns 1 if it was moved. */
+int tp__vertex_position(const tp_terrain* t, int patch, int k, const int nb[4], int i, int j,
+                        int32_t* gx, int32_t* gy);
+
+/* Bilinear resample of a float grid (NaN = nodata) to a new size (fit.c). */
+tp_status tp__fit_resample(const float* src, const uint8_t* src_filled, int w, int h, int nw,
+                           int nh, float** out, uint8_t** out_filled, tp_error* err);
+
+/* Rasterises triangle (a, b, c) in grid coordinates over the integer sample lattice: calls
+ * fn(x, y, z_interp, user) for each sample inside or on the triangle, z interpolated linearly
+ * from za, zb, zc (any units). Degenerate triangles are skipped. (raster.c) */
+typedef void (*tp__sample_fn)(int x, int y, double z, void* user);
+void tp__raster_triangle(const int32_t a[2], const int32_t b[2], const int32_t c[2], double za,
+                         double zb, double zc, tp__sample_fn fn, void* user);
+
+/* Camera frame: orthonormal basis and the pixel focal length (camera.c). */
+typedef struct tp__view {
+    double pos[3], fwd[3], right[3], up[3];
+    double f_px;          /* pixels per unit of tan(angle) */
+    double tan_x, tan_y;  /* half-extents of the view at depth 1 */
+    double w_px, h_px, near_m, far_m;
+} tp__view;
+void tp__view_from_camera(const tp_camera* cam, tp__view* v);
+
+#endif

@@ -1,0 +1,71 @@
+/* lod.c - level-of-detail rules.
+ *
+ * Distance mode: Vanek & Jezek section 3, k = n * (1 - ((dist - mindist) / (maxdist - mindist))^exp)
+ * rounded up, with dist the distance from the eye to the nearest point of the patch's AABB.
+ *
+ * Error mode: Brodersen section 3 / de Boer: the coarsest level whose error bound projects to at
+ * most tau pixels ANYWHERE on screen. A vertical segment of length d at camera-space point
+ * (x, y, z) projects to at most f * d * |P| / z^2 pixels (f the focal length in pixels; |P|/z^2
+ * = 1 / (z cos theta) with theta the angle off the view axis). The classic f * d / distance
+ * is too small by 1/cos^2(theta), about 2.4x at the corners of a 16:9, 60 degree view. Over the
+ * AABB, |P| / z^2 <= sqrt(X^2 + Y^2 + Zmin^2) / Zmin^2 with X, Y the largest |x|, |y| of its
+ * corners and Zmin its smallest depth; that is the factor used here.
+ */
+#include "internal.h"
+
+#include <string.h>
+
+int tp_lod_level_distance(int n, double dist, double mindist, double maxdist, double exponent)
+{
+    if (n < 0 || n > TP_MAX_N || isnan(dist) || !(mindist >= 0) || !(maxdist >= mindist) ||
+        !(exponent >= 0))
+        return -1;
+    if (dist <= mindist)
+        return n;
+    if (dist > maxdist)
+        return 0;
+    /* here mindist < dist <= maxdist, so maxdist > mindist and 0 < t <= 1 */
+    double t = (dist - mindist) / (maxdist - mindist);
+    double k = n * (1.0 - pow(t, exponent));
+    int level = (int)ceil(k - 1e-12);
+    return level < 0 ? 0 : level > n ? n : level;
+}
+
+static int finite_nonneg(double v)
+{
+    return isfinite(v) && v >= 0;
+}
+
+tp_status tp_lod_params_resolve(const tp_terrain* t, const tp_lod_params* in, tp_lod_params* out,
+                                tp_error* err)
+{
+    tp_lod_params p = in ? *in : (tp_lod_params){0};
+    if (p.mode == TP_LOD_DEFAULT)
+        p.mode = TP_LOD_ERROR;
+    if (p.mode != TP_LOD_DISTANCE && p.mode != TP_LOD_ERROR && p.mode != TP_LOD_FULL)
+        return tp__fail(err, TP_ERR_INVALID_ARG, "lod: unknown mode %d", (int)p.mode);
+    if (!finite_nonneg(p.mindist_m) || !finite_nonneg(p.maxdist_m))
+        return tp__fail(err, TP_ERR_INVALID_ARG,
+                        "lod: expected finite mindist and maxdist >= 0, got %g and %g",
+                        p.mindist_m, p.maxdist_m);
+    if (!finite_nonneg(p.exponent))
+        return tp__fail(err, TP_ERR_INVALID_ARG, "lod: expected a finite exponent >= 0, got %g",
+                        p.exponent);
+    if (!finite_nonneg(p.tau_px))
+        return tp__fail(err, TP_ERR_INVALID_ARG, "lod: expected a finite tau >= 0 px, got %g",
+                        p.tau_px);
+    if (p.mindist_m == 0 && p.maxdist_m == 0) {
+        double patch_m = t ? t->ps * fmax(fabs(t->gt[1]), fabs(t->gt[5])) : 1.0;
+        p.mindist_m = patch_m;
+        p.maxdist_m = 24 * patch_m;
+    }
+    if (p.maxdist_m < p.mindist_m)
+        return tp__fail(err, TP_ERR_INVALID_ARG, "lod: expected maxdist >= mindist, got %g < %g",
+                        p.maxdist_m, p.mindist_m);
+    if (p.exponent == 0)
+        p.exponent = 1;
+    if (p.tau_px == 0)
+        p.tau_px = 1;
+    *out = p;
+    return TP_OK;
+}

@@ -1,0 +1,36 @@
+/* raster.c - visit the grid samples covered by a triangle (closed), with the linearly
+ * interpolated height there. Used to measure errors exactly: grid positions are integers, so
+ * the inside test uses exact integer edge functions and only the interpolation is floating. */
+#include "internal.h"
+
+static int64_t edge(const int32_t a[2], const int32_t b[2], int64_t x, int64_t y)
+{
+    return ((int64_t)b[0] - a[0]) * (y - a[1]) - ((int64_t)b[1] - a[1]) * (x - a[0]);
+}
+
+void tp__raster_triangle(const int32_t a[2], const int32_t b[2], const int32_t c[2], double za,
+                         double zb, double zc, tp__sample_fn fn, void* user)
+{
+    int64_t area = edge(a, b, c[0], c[1]);
+    if (area == 0)
+        return;
+    int32_t x0 = a[0], x1 = a[0], y0 = a[1], y1 = a[1];
+    const int32_t* v[2] = {b, c};
+    for (int i = 0; i < 2; i++) {
+        x0 = v[i][0] < x0 ? v[i][0] : x0;
+        x1 = v[i][0] > x1 ? v[i][0] : x1;
+        y0 = v[i][1] < y0 ? v[i][1] : y0;
+        y1 = v[i][1] > y1 ? v[i][1] : y1;
+    }
+    double inv = 1.0 / (double)area;
+    for (int32_t y = y0; y <= y1; y++) {
+        for (int32_t x = x0; x <= x1; x++) {
+            /* Barycentric weights times the signed area; inside when all share its sign. */
+            int64_t wa = edge(b, c, x, y), wb = edge(c, a, x, y), wc = edge(a, b, x, y);
+            if (area > 0 ? (wa < 0 || wb < 0 || wc < 0) : (wa > 0 || wb > 0 || wc > 0))
+                continue;
+            double z = ((double)wa * za + (double)wb * zb + (double)wc * zc) * inv;
+            fn(x, y, z, user);
+        }
+    }
+}

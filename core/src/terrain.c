@@ -1,0 +1,446 @@
+/* terrain.c - the resident height grid: fitting, quantisation, queries.
+ *
+ * Storage (Brodersen section 4 asks for < 2.5 bytes per sample): one uint16 per stored sample,
+ * quantised with ONE global step and an integer offset per patch. A sample is stored once and
+ * decoded through the offset of the patch that owns it (tp__owner), so a border sample shared
+ * by two patches decodes to the same value in both. Padding samples are not stored at all: they
+ * are the region x >= sw or y >= sh. Filled-void flags cost one bit per sample and only exist
+ * when the source has filled samples.
+ */
+#include "internal.h"
+
+#include <float.h>
+#include <stdlib.h>
+#include <string.h>
+
+static int patch_n(int patch_size)
+{
+    for (int n = 4; n <= TP_MAX_N; n++)
+        if (patch_size == (1 << n) + 1)
+            return n;
+    return -1;
+}
+
+typedef struct {
+    double lo, hi; /* over valid samples the patch owns; lo > hi when none */
+} range;
+
+/* Does every patch's owned range fit 16 bits (with 0xFFFF reserved) at this step? */
+static int step_fits(const range* r, int count, double step)
+{
+    for (int p = 0; p < count; p++) {
+        if (r[p].lo > r[p].hi)
+            continue;
+        double a = floor(r[p].lo / step + 0.5), b = floor(r[p].hi / step + 0.5);
+        if (fabs(a) > 2147483000.0 || fabs(b) > 2147483000.0 || b - a > 65534.0)
+            return 0;
+    }
+    return 1;
+}
+
+static double choose_step(const range* r, int count, int integral)
+{
+    /* Integer data: 1 m is exact. Otherwise the finest power of two down to 2^-10 m. */
+    for (int e = integral ? 0 : -10; e <= 60; e++) {
+        double step = ldexp(1.0, e);
+        if (step_fits(r, count, step))
+            return step;
+    }
+    return 0;
+}
+
+static void fill_info(tp_terrain* t, int src_w, int src_h, tp_fit fit)
+{
+    tp_terrain_info* in = &t->info;
+    in->src_width = src_w;
+    in->src_height = src_h;
+    in->width = t->w;
+    in->height = t->h;
+    in->patch_size = t->ps + 1;
+    in->n = t->n;
+    in->levels = t->n + 1;
+    in->patch_count = in->patch_cols * in->patch_rows;
+    in->fit = fit;
+    memcpy(in->geotransform, t->gt, sizeof t->gt);
+    in->height_step_m = t->step;
+    in->quant_max_error_m = t->quant_err;
+    in->heights_bytes = (size_t)t->sw * (size_t)t->sh * sizeof(uint16_t);
+    in->mask_bytes = t->filled ? ((size_t)t->sw * (size_t)t->sh + 7) / 8 : 0;
+    in->patch_table_bytes = (size_t)in->patch_count *
+                            (sizeof(tp__patch) + (size_t)t->err_stride * sizeof(uint16_t));
+    in->resident_bytes = sizeof *t + in->heights_bytes + in->mask_bytes + in->patch_table_bytes;
+    in->bytes_per_source_sample = (double)in->resident_bytes / ((double)src_w * (double)src_h);
+
+    double lo = INFINITY, hi = -INFINITY;
+    size_t valid = 0, filled = 0, nodata = 0;
+    for (int y = 0; y < t->sh; y++)
+        for (int x = 0; x < t->sw; x++) {
+            int32_t q = tp__q(t, x, y);
+            if (q == INT32_MIN) {
+                nodata++;
+                continue;
+            }
+            double z = q * t->step;
+            lo = z < lo ? z : lo;
+            hi = z > hi ? z : hi;
+            size_t i = (size_t)y * t->sw + x;
+            if (t->filled && (t->filled[i >> 3] >> (i & 7) & 1))
+                filled++;
+            else
+                valid++;
+        }
+    in->min_height_m = lo;
+    in->max_height_m = hi;
+    in->valid_samples = valid;
+    in->filled_samples = filled;
+    in->nodata_samples = nodata;
+    in->padding_samples = (size_t)t->w * t->h - (size_t)t->sw * t->sh;
+}
+
+/* Error of the rendered full-resolution surface at the original posts (resample only). */
+static void fit_error(tp_terrain* t, const float* src, int w, int h)
+{
+    double mx = 0, sum = 0;
+    size_t count = 0;
+    double sx = (double)(t->w - 1) / (w - 1), sy = (double)(t->h - 1) / (h - 1);
+    for (int y = 0; y < h; y++)
+        for (int x = 0; x < w; x++) {
+            float s = src[(size_t)y * w + x];
+            if (!isfinite(s))
+                continue;
+            double z = tp_terrain_height_at(t, x * sx, y * sy);
+            if (isnan(z))
+                continue;
+            double e = fabs(z - s);
+            mx = e > mx ? e : mx;
+            sum += e * e;
+            count++;
+        }
+    t->info.fit_max_error_m = mx;
+    t->info.fit_rms_error_m = count ? sqrt(sum / count) : 0;
+}
+
+tp_status tp_terrain_create(const tp_terrain_desc* desc, tp_terrain** out, tp_error* err)
+{
+    if (!desc || !out)
+        return tp__fail(err, TP_ERR_INVALID_ARG, "terrain: desc and out must not be NULL");
+    int w = desc->width, h = desc->height;
+    if (w < 1 || h < 1 || w > (1 << 24) || h > (1 << 24) || (double)w * h > 4e9)
+        return tp__fail(err, TP_ERR_INVALID_ARG, "terrain: expected a grid of 1x1 to 2^24 per "
+                        "side, got %dx%d", w, h);
+    if (!desc->heights || desc->height_count != (size_t)w * (size_t)h)
+        return tp__fail(err, TP_ERR_INVALID_ARG, "terrain: expected %zu heights for %dx%d, got %zu",
+                        (size_t)w * h, w, h, desc->heights ? desc->height_count : 0);
+    if (desc->filled && desc->filled_count != (size_t)w * (size_t)h)
+        return tp__fail(err, TP_ERR_INVALID_ARG, "terrain: expected %zu filled flags, got %zu",
+                        (size_t)w * h, desc->filled_count);
+    int patch_size = desc->patch_size ? desc->patch_size : TP_DEFAULT_PATCH_SIZE;
+    int n = patch_n(patch_size);
+    if (n < 0)
+        return tp__fail(err, TP_ERR_INVALID_ARG,
+                        "terrain: expected a patch size of 17, 33, 65, 129 or 257, got %d",
+                        patch_size);
+    tp_fit fit = desc->fit ? desc->fit : TP_FIT_PAD;
+    if (fit != TP_FIT_PAD && fit != TP_FIT_RESAMPLE)
+        return tp__fail(err, TP_ERR_INVALID_ARG, "terrain: unknown fit mode %d", (int)fit);
+    double gt[6];
+    memcpy(gt, desc->geotransform, sizeof gt);
+    if (gt[1] == 0 && gt[5] == 0 && gt[2] == 0 && gt[4] == 0) {
+        gt[1] = 1;
+        gt[5] = -1;
+    }
+    for (int i = 0; i < 6; i++)
+        if (!isfinite(gt[i]))
+            return tp__fail(err, TP_ERR_INVALID_ARG, "terrain: geotransform[%d] is not finite", i);
+    if (gt[2] != 0 || gt[4] != 0)
+        return tp__fail(err, TP_ERR_INVALID_ARG,
+                        "terrain: rotated geotransforms are not supported (gt[2]=%g, gt[4]=%g)",
+                        gt[2], gt[4]);
+    if (gt[1] == 0 || gt[5] == 0)
+        return tp__fail(err, TP_ERR_INVALID_ARG, "terrain: zero pixel size in geotransform");
+    double step_req = desc->height_step_m;
+    if (step_req < 0 || !isfinite(step_req))
+        return tp__fail(err, TP_ERR_INVALID_ARG,
+                        "terrain: expected a height step > 0 (or 0 for automatic), got %g",
+                        step_req);
+
+    int ps = 1 << n;
+    int pc = w > 1 ? (w - 2) / ps + 1 : 1, pr = h > 1 ? (h - 2) / ps + 1 : 1; /* ceil((w-1)/ps) */
+    const float* src = desc->heights;
+    const uint8_t* src_filled = desc->filled;
+    float* resampled = NULL;
+    uint8_t* resampled_filled = NULL;
+    if (fit == TP_FIT_RESAMPLE) {
+        pc = (int)floor((double)(w - 1) / ps + 0.5);
+        pr = (int)floor((double)(h - 1) / ps + 0.5);
+        pc = pc < 1 ? 1 : pc;
+        pr = pr < 1 ? 1 : pr;
+        tp_status s = tp__fit_resample(desc->heights, desc->filled, w, h, pc * ps + 1,
+                                       pr * ps + 1, &resampled, &resampled_filled, err);
+        if (s != TP_OK)
+            return s;
+        src = resampled;
+        src_filled = resampled_filled;
+        /* Same first and last post centres, new spacing. */
+        double nsx = gt[1] * (w - 1) / (pc * ps), nsy = gt[5] * (h - 1) / (pr * ps);
+        double cx = gt[0] + 0.5 * gt[1], cy = gt[3] + 0.5 * gt[5];
+        gt[1] = nsx;
+        gt[5] = nsy;
+        gt[0] = cx - 0.5 * nsx;
+        gt[3] = cy - 0.5 * nsy;
+    }
+
+    tp_status status = TP_OK;
+    tp_terrain* t = calloc(1, sizeof *t);
+    range* ranges = NULL;
+    if (!t)
+        goto oom;
+    t->n = n;
+    t->ps = ps;
+    t->w = pc * ps + 1;
+    t->h = pr * ps + 1;
+    t->sw = fit == TP_FIT_RESAMPLE ? t->w : w;
+    t->sh = fit == TP_FIT_RESAMPLE ? t->h : h;
+    memcpy(t->gt, gt, sizeof gt);
+    t->info.patch_cols = pc;
+    t->info.patch_rows = pr;
+    int count = pc * pr;
+    size_t stored = (size_t)t->sw * (size_t)t->sh;
+    t->q = malloc(stored * sizeof *t->q);
+    t->patches = calloc((size_t)count, sizeof *t->patches);
+    t->err_stride = (n + 1) + 4 * n;
+    t->err_tab = calloc((size_t)count * t->err_stride, sizeof *t->err_tab);
+    ranges = malloc((size_t)count * sizeof *ranges);
+    if (!t->q || !t->patches || !t->err_tab || !ranges)
+        goto oom;
+
+    /* Owned ranges per patch, and whether every valid height is an integer. */
+    int integral = 1, any_filled = 0;
+    size_t valid = 0;
+    for (int p = 0; p < count; p++)
+        ranges[p] = (range){INFINITY, -INFINITY};
+    for (int y = 0; y < t->sh; y++)
+        for (int x = 0; x < t->sw; x++) {
+            float s = src[(size_t)y * t->sw + x];
+            if (!isfinite(s))
+                continue;
+            valid++;
+            range* r = &ranges[tp__owner(y, n, pr) * pc + tp__owner(x, n, pc)];
+            r->lo = s < r->lo ? s : r->lo;
+            r->hi = s > r->hi ? s : r->hi;
+            if (s != floorf(s))
+                integral = 0;
+            if (src_filled && src_filled[(size_t)y * t->sw + x])
+                any_filled = 1;
+        }
+    if (valid == 0) {
+        status = tp__fail(err, TP_ERR_BAD_DATA, "terrain: no valid height among %dx%d samples",
+                          w, h);
+        goto fail;
+    }
+    if (step_req > 0) {
+        if (!step_fits(ranges, count, step_req)) {
+            status = tp__fail(err, TP_ERR_INVALID_ARG,
+                              "terrain: height step %g m is too fine: a patch spans more than "
+                              "65534 steps",
+                              step_req);
+            goto fail;
+        }
+        t->step = step_req;
+    } else {
+        t->step = choose_step(ranges, count, integral);
+        if (t->step == 0) {
+            status = tp__fail(err, TP_ERR_BAD_DATA, "terrain: heights out of range (%g .. %g)",
+                              ranges[0].lo, ranges[0].hi);
+            goto fail;
+        }
+    }
+    for (int p = 0; p < count; p++)
+        t->patches[p].offset =
+            ranges[p].lo <= ranges[p].hi ? (int32_t)floor(ranges[p].lo / t->step + 0.5) : 0;
+
+    if (any_filled) {
+        t->filled = calloc((stored + 7) / 8, 1);
+        if (!t->filled)
+            goto oom;
+    }
+    double qerr = 0;
+    for (int y = 0; y < t->sh; y++)
+        for (int x = 0; x < t->sw; x++) {
+            size_t i = (size_t)y * t->sw + x;
+            float s = src[i];
+            if (!isfinite(s)) {
+                t->q[i] = TP__NO_HEIGHT;
+                continue;
+            }
+            int p = tp__owner(y, n, pr) * pc + tp__owner(x, n, pc);
+            double qd = floor(s / t->step + 0.5);
+            t->q[i] = (uint16_t)((int64_t)qd - t->patches[p].offset);
+            double e = fabs(qd * t->step - s);
+            qerr = e > qerr ? e : qerr;
+            if (t->filled && src_filled[i])
+                t->filled[i >> 3] |= (uint8_t)(1u << (i & 7));
+        }
+    t->quant_err = qerr;
+
+    /* Per patch: range over all its drawn samples (shared borders included), completeness. */
+    for (int p = 0; p < count; p++) {
+        tp__patch* P = &t->patches[p];
+        int x0 = (p % pc) * ps, y0 = (p / pc) * ps;
+        int32_t lo = INT32_MAX, hi = INT32_MIN;
+        P->complete = 1;
+        for (int y = y0; y <= y0 + ps; y++)
+            for (int x = x0; x <= x0 + ps; x++) {
+                int32_t q = tp__q(t, x, y);
+                if (q == INT32_MIN) {
+                    P->complete = 0;
+                    continue;
+                }
+                lo = q < lo ? q : lo;
+                hi = q > hi ? q : hi;
+            }
+        P->has_drawn = lo <= hi;
+        P->qmin = P->has_drawn ? lo : 0;
+        P->qmax = P->has_drawn ? hi : 0;
+    }
+    status = tp__patch_errors_compute(t, err);
+    if (status != TP_OK)
+        goto fail;
+    fill_info(t, w, h, fit);
+    if (fit == TP_FIT_RESAMPLE)
+        fit_error(t, desc->heights, w, h);
+    free(ranges);
+    free(resampled);
+    free(resampled_filled);
+    *out = t;
+    return TP_OK;
+
+oom:
+    status = tp__fail(err, TP_ERR_OUT_OF_MEMORY, "terrain: out of memory for %dx%d samples", w, h);
+fail:
+    free(ranges);
+    free(resampled);
+    free(resampled_filled);
+    tp_terrain_destroy(t);
+    return status;
+}
+
+void tp_terrain_destroy(tp_terrain* t)
+{
+    if (!t)
+        return;
+    free(t->q);
+    free(t->filled);
+    free(t->patches);
+    free(t->err_tab);
+    free(t);
+}
+
+void tp_terrain_get_info(const tp_terrain* t, tp_terrain_info* out)
+{
+    *out = t->info;
+}
+
+double tp_terrain_sample(const tp_terrain* t, int x, int y)
+{
+    int32_t q = tp__q(t, x, y);
+    return q == INT32_MIN ? NAN : q * t->step;
+}
+
+tp_sample_class tp_terrain_sample_class(const tp_terrain* t, int x, int y)
+{
+    if (x < 0 || y < 0 || x >= t->w || y >= t->h)
+        return TP_SAMPLE_OUTSIDE;
+    if (x >= t->sw || y >= t->sh)
+        return TP_SAMPLE_PADDING;
+    size_t i = (size_t)y * t->sw + x;
+    if (t->q[i] == TP__NO_HEIGHT)
+        return TP_SAMPLE_NODATA;
+    if (t->filled && (t->filled[i >> 3] >> (i & 7) & 1))
+        return TP_SAMPLE_FILLED;
+    return TP_SAMPLE_VALID;
+}
+
+double tp_terrain_height_at(const tp_terrain* t, double x, double y)
+{
+    if (!(x >= 0 && y >= 0 && x <= t->w - 1 && y <= t->h - 1))
+        return NAN; /* also NaN inputs */
+    int cx = (int)x, cy = (int)y;
+    cx = cx > t->w - 2 ? t->w - 2 : cx;
+    cy = cy > t->h - 2 ? t->h - 2 : cy;
+    double fx = x - cx, fy = y - cy;
+    /* The strips split each cell along the diagonal from (c+1, r) to (c, r+1). */
+    int32_t a, b, c;
+    double z;
+    if (fx + fy <= 1) {
+        a = tp__q(t, cx, cy), b = tp__q(t, cx + 1, cy), c = tp__q(t, cx, cy + 1);
+        if (a == INT32_MIN || b == INT32_MIN || c == INT32_MIN)
+            return NAN;
+        z = a + fx * ((double)b - a) + fy * ((double)c - a);
+    } else {
+        a = tp__q(t, cx + 1, cy + 1), b = tp__q(t, cx, cy + 1), c = tp__q(t, cx + 1, cy);
+        if (a == INT32_MIN || b == INT32_MIN || c == INT32_MIN)
+            return NAN;
+        z = a + (1 - fx) * ((double)b - a) + (1 - fy) * ((double)c - a);
+    }
+    return z * t->step;
+}
+
+/* Slope along one axis from the decoded grid: central where both neighbours exist. */
+static double slope(const tp_terrain* t, int x, int y, int dx, int dy, double spacing)
+{
+    double c = tp_terrain_sample(t, x, y);
+    double a = tp_terrain_sample(t, x - dx, y - dy), b = tp_terrain_sample(t, x + dx, y + dy);
+    if (!isnan(a) && !isnan(b))
+        return (b - a) / (2 * spacing);
+    if (!isnan(b) && !isnan(c))
+        return (b - c) / spacing;
+    if (!isnan(a) && !isnan(c))
+        return (c - a) / spacing;
+    return 0;
+}
+
+void tp_terrain_normal(const tp_terrain* t, int x, int y, float normal[3])
+{
+    /* dz/dE and dz/dN: a step in x moves gt[1] east, a step in y moves gt[5] north. */
+    double gx = slope(t, x, y, 1, 0, t->gt[1]), gy = slope(t, x, y, 0, 1, t->gt[5]);
+    double len = sqrt(gx * gx + gy * gy + 1);
+    normal[0] = (float)(-gx / len);
+    normal[1] = (float)(-gy / len);
+    normal[2] = (float)(1 / len);
+}
+
+void tp_terrain_grid_to_world(const tp_terrain* t, double x, double y, double* e, double* n)
+{
+    *e = t->gt[0] + (x + 0.5) * t->gt[1];
+    *n = t->gt[3] + (y + 0.5) * t->gt[5];
+}
+
+void tp_terrain_world_to_grid(const tp_terrain* t, double e, double n, double* x, double* y)
+{
+    *x = (e - t->gt[0]) / t->gt[1] - 0.5;
+    *y = (n - t->gt[3]) / t->gt[5] - 0.5;
+}
+
+void tp_patch_get_info(const tp_terrain* t, int patch, tp_patch_info* out)
+{
+    const tp__patch* P = &t->patches[patch];
+    int pc = t->info.patch_cols;
+    memset(out, 0, sizeof *out);
+    out->col = patch % pc;
+    out->row = patch / pc;
+    out->x0 = out->col * t->ps;
+    out->y0 = out->row * t->ps;
+    double e0, n0, e1, n1;
+    tp_terrain_grid_to_world(t, out->x0, out->y0, &e0, &n0);
+    tp_terrain_grid_to_world(t, out->x0 + t->ps, out->y0 + t->ps, &e1, &n1);
+    out->aabb_min[0] = fmin(e0, e1);
+    out->aabb_max[0] = fmax(e0, e1);
+    out->aabb_min[1] = fmin(n0, n1);
+    out->aabb_max[1] = fmax(n0, n1);
+    out->aabb_min[2] = P->qmin * t->step;
+    out->aabb_max[2] = P->qmax * t->step;
+    out->complete = P->complete;
+    for (int k = 0; k <= t->n; k++)
+        out->delta_m[k] = tp_patch_error_bound(t, patch, k, NULL);
+}
