@@ -141,6 +141,8 @@ typedef struct tp_terrain_info {
     double geotransform[6];                  /* of the fitted grid */
     double height_step_m;                    /* the global quantisation step */
     double quant_max_error_m;                /* max |source - decoded| over valid samples */
+    double error_unit_m;                     /* resolution of the stored error tables: bounds
+                                                are rounded up to it (step/16 .. step) */
     double min_height_m, max_height_m;       /* over drawn samples (decoded) */
     size_t valid_samples, filled_samples, nodata_samples, padding_samples; /* of the fitted grid */
     /* Resident terrain data by the program's own accounting. */
@@ -189,7 +191,8 @@ typedef struct tp_patch_info {
     double aabb_max[3];
     int complete;        /* 1 if every sample is drawn; else the patch is always drawn at level n */
     /* delta_k + quantisation error: max vertical error (m) of the unstitched level-k
-     * triangulation against the source samples of the patch. */
+     * triangulation against the decoded samples of the patch, rounded up to error_unit_m,
+     * plus quant_max_error_m: an upper bound of the error against the source. */
     double delta_m[TP_MAX_LEVELS];
 } tp_patch_info;
 

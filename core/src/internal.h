@@ -9,9 +9,9 @@
 
 /* Stored height of a sample that is not drawn (nodata). Padding is never stored at all. */
 #define TP__NO_HEIGHT 0xFFFFu
-/* Error tables are uint16 in units of step / TP__ERR_SUB, rounded up; TP__ERR_SAT means
- * "at least this large": the bound then falls back to the patch's height range. */
-#define TP__ERR_SUB 16.0
+/* Error tables are uint16 in units of err_unit steps (step/16, or coarser when a patch's height
+ * range would not fit), rounded up. TP__ERR_SAT means "at least this large": the bound then
+ * falls back to the patch's height range, which bounds any error inside the patch. */
 #define TP__ERR_SAT 0xFFFFu
 
 typedef struct tp__patch {
@@ -36,6 +36,7 @@ struct tp_terrain {
      * neighbour level kn = 0..n-1. See patch_error.c. */
     uint16_t* err_tab;
     int err_stride;
+    double err_unit; /* table unit, in steps: 1/16 .. 1 */
 };
 
 /* Sets err->message (printf-style) when err is not NULL. Returns s. */

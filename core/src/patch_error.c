@@ -11,15 +11,17 @@
  * (the vertices next to a corner both snap onto it), so one side at a time is exact there; at
  * k = 1 all 16 combinations of moved sides are measured.
  *
- * Errors are measured against the decoded grid, in units of step / 16, rounded up.
+ * Errors are measured against the decoded grid, in units of err_unit steps, rounded up.
+ * err_unit is step/16 unless some patch spans so many steps that its largest possible error
+ * (its height range) would not fit 16 bits; then the finest power of two that fits.
  */
 #include "internal.h"
 
 #include <string.h>
 
-static uint16_t to_units(double err_steps)
+static uint16_t to_units(const tp_terrain* t, double err_steps)
 {
-    double u = ceil(err_steps * TP__ERR_SUB - 1e-9);
+    double u = ceil(err_steps / t->err_unit - 1e-9);
     return u >= TP__ERR_SAT ? (uint16_t)TP__ERR_SAT : (uint16_t)(u < 0 ? 0 : u);
 }
 
@@ -129,13 +131,20 @@ tp_status tp__patch_errors_compute(tp_terrain* t, tp_error* err)
 {
     (void)err;
     int n = t->n, pc = t->info.patch_cols, count = pc * t->info.patch_rows;
+    int32_t span = 0;
+    for (int p = 0; p < count; p++)
+        span = t->patches[p].qmax - t->patches[p].qmin > span ? t->patches[p].qmax - t->patches[p].qmin
+                                                               : span;
+    t->err_unit = 1.0 / 16;
+    while (t->err_unit < 1 && span / t->err_unit > 65534.0)
+        t->err_unit *= 2;
     for (int p = 0; p < count; p++) {
         uint16_t* tab = t->err_tab + (size_t)p * t->err_stride;
         int x0 = (p % pc) * t->ps, y0 = (p / pc) * t->ps;
         if (!t->patches[p].has_drawn)
             continue;
         for (int k = 0; k <= n; k++)
-            tab[k] = to_units(level_error(t, x0, y0, k));
+            tab[k] = to_units(t, level_error(t, x0, y0, k));
         double eps[4][TP_MAX_N];
         memset(eps, 0, sizeof eps);
         for (int k = 1; k <= n; k++) {
@@ -167,7 +176,7 @@ tp_status tp__patch_errors_compute(tp_terrain* t, tp_error* err)
         for (int s = 0; s < 4; s++)
             for (int kn = 0; kn < n; kn++)
                 /* Interpolation at moved vertices is not exact: round up generously. */
-                tab[n + 1 + s * n + kn] = to_units(eps[s][kn] + 1e-6);
+                tab[n + 1 + s * n + kn] = to_units(t, eps[s][kn] + 1e-6);
     }
     return TP_OK;
 }
@@ -186,7 +195,7 @@ double tp_patch_error_bound(const tp_terrain* t, int patch, int k, const int nei
         }
     }
     /* A saturated entry falls back to the patch's height range, which bounds any error. */
-    double steps = units >= TP__ERR_SAT ? (double)(P->qmax - P->qmin) : units / TP__ERR_SUB;
+    double steps = units >= TP__ERR_SAT ? (double)(P->qmax - P->qmin) : units * t->err_unit;
     double range = (double)(P->qmax - P->qmin);
     return (steps < range ? steps : range) * t->step + t->quant_err;
 }

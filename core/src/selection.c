@@ -189,7 +189,7 @@ static double side_bound_m(const tp_terrain* t, int p, int side, int kn)
     const tp__patch* P = &t->patches[p];
     unsigned e = tp__eps_tab(t, p, side)[kn];
     double range = (double)(P->qmax - P->qmin);
-    double steps = e >= TP__ERR_SAT ? range : e / TP__ERR_SUB;
+    double steps = e >= TP__ERR_SAT ? range : e * t->err_unit;
     return (steps < range ? steps : range) * t->step;
 }
 
@@ -229,7 +229,7 @@ tp_status tp_selection_update(tp_selection* s, const tp_camera* cam, const tp_lo
                 /* Coarsest level such that it and every finer level project to <= tau, so that
                  * raising the patch later never breaks its own bound. */
                 k = n;
-                while (k > 0 && pi.delta_m[k - 1] * proj <= lp.tau_px)
+                while (k > 0 && (pi.delta_m[k - 1] == 0 || pi.delta_m[k - 1] * proj <= lp.tau_px))
                     k--;
             }
         }
@@ -485,23 +485,21 @@ static int cell_height(const tp_terrain* t, int p, int k, const int nb[4], int c
     return 0;
 }
 
-double tp_selection_drawn_height_at(const tp_selection* s, double x, double y)
+/* Drawn height (steps) of patch (px, py) at (x, y) inside it, or NaN. */
+static double patch_drawn_height(const tp_selection* s, int px, int py, double x, double y)
 {
     const tp_terrain* t = s->t;
-    if (!(x >= 0 && y >= 0 && x <= t->w - 1 && y <= t->h - 1))
-        return NAN;
-    int pc = t->info.patch_cols, pr = t->info.patch_rows;
-    int px = (int)x >> t->n, py = (int)y >> t->n;
-    px = px < pc ? px : pc - 1;
-    py = py < pr ? py : pr - 1;
-    int p = py * pc + px, k = s->level[p], nb[4], last = 1 << k;
+    int p = py * t->info.patch_cols + px, k = s->level[p], nb[4], last = 1 << k;
     tp_selection_neighbor_levels(s, p, nb);
     double cell = (double)(t->ps >> k);
     double lx = (x - px * t->ps) / cell, ly = (y - py * t->ps) / cell;
     int cx = (int)lx < last ? (int)lx : last - 1, cy = (int)ly < last ? (int)ly : last - 1;
     double z;
-    if (cell_height(t, p, k, nb, cx, cy, x, y, &z))
-        return z * t->step;
+    /* On a cell's left or top edge the point also lies in the cell before it. */
+    for (int dy = 0; dy <= (ly == cy && cy > 0); dy++)
+        for (int dx = 0; dx <= (lx == cx && cx > 0); dx++)
+            if (cell_height(t, p, k, nb, cx - dx, cy - dy, x, y, &z))
+                return z;
     /* The point is in a stitched border strip where moved vertices shifted the triangles:
      * search the strips of the sides whose neighbour is coarser. */
     for (int side = 0; side < 4; side++) {
@@ -511,9 +509,29 @@ double tp_selection_drawn_height_at(const tp_selection* s, double x, double y)
             int ccx = side == TP_SIDE_LEFT ? 0 : side == TP_SIDE_RIGHT ? last - 1 : i;
             int ccy = side == TP_SIDE_TOP ? 0 : side == TP_SIDE_BOTTOM ? last - 1 : i;
             if (cell_height(t, p, k, nb, ccx, ccy, x, y, &z))
-                return z * t->step;
+                return z;
         }
     }
+    return NAN;
+}
+
+double tp_selection_drawn_height_at(const tp_selection* s, double x, double y)
+{
+    const tp_terrain* t = s->t;
+    if (!(x >= 0 && y >= 0 && x <= t->w - 1 && y <= t->h - 1))
+        return NAN;
+    int pc = t->info.patch_cols, pr = t->info.patch_rows;
+    int px = (int)x >> t->n, py = (int)y >> t->n;
+    px = px < pc ? px : pc - 1;
+    py = py < pr ? py : pr - 1;
+    /* On a patch border the point belongs to the patch before it too. */
+    int bx = px > 0 && x == px * t->ps, by = py > 0 && y == py * t->ps;
+    for (int dy = 0; dy <= by; dy++)
+        for (int dx = 0; dx <= bx; dx++) {
+            double z = patch_drawn_height(s, px - dx, py - dy, x, y);
+            if (!isnan(z))
+                return z * t->step;
+        }
     return NAN;
 }
 

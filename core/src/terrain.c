@@ -64,6 +64,7 @@ static void fill_info(tp_terrain* t, int src_w, int src_h, tp_fit fit)
     memcpy(in->geotransform, t->gt, sizeof t->gt);
     in->height_step_m = t->step;
     in->quant_max_error_m = t->quant_err;
+    in->error_unit_m = t->err_unit * t->step;
     in->heights_bytes = (size_t)t->sw * (size_t)t->sh * sizeof(uint16_t);
     in->mask_bytes = t->filled ? ((size_t)t->sw * (size_t)t->sh + 7) / 8 : 0;
     in->patch_table_bytes = (size_t)in->patch_count *
@@ -361,6 +362,25 @@ tp_sample_class tp_terrain_sample_class(const tp_terrain* t, int x, int y)
     return TP_SAMPLE_VALID;
 }
 
+/* Height (steps) on one triangle of cell (cx, cy) at offsets fx, fy in [0, 1]: the strips
+ * split each cell along the diagonal from (c+1, r) to (c, r+1). NaN if a vertex is not drawn. */
+static double half_cell(const tp_terrain* t, int cx, int cy, double fx, double fy, int upper)
+{
+    if (cx < 0 || cy < 0)
+        return NAN;
+    int32_t a, b, c;
+    if (!upper) {
+        a = tp__q(t, cx, cy), b = tp__q(t, cx + 1, cy), c = tp__q(t, cx, cy + 1);
+        if (a == INT32_MIN || b == INT32_MIN || c == INT32_MIN)
+            return NAN;
+        return a + fx * ((double)b - a) + fy * ((double)c - a);
+    }
+    a = tp__q(t, cx + 1, cy + 1), b = tp__q(t, cx, cy + 1), c = tp__q(t, cx + 1, cy);
+    if (a == INT32_MIN || b == INT32_MIN || c == INT32_MIN)
+        return NAN;
+    return a + (1 - fx) * ((double)b - a) + (1 - fy) * ((double)c - a);
+}
+
 double tp_terrain_height_at(const tp_terrain* t, double x, double y)
 {
     if (!(x >= 0 && y >= 0 && x <= t->w - 1 && y <= t->h - 1))
@@ -369,20 +389,17 @@ double tp_terrain_height_at(const tp_terrain* t, double x, double y)
     cx = cx > t->w - 2 ? t->w - 2 : cx;
     cy = cy > t->h - 2 ? t->h - 2 : cy;
     double fx = x - cx, fy = y - cy;
-    /* The strips split each cell along the diagonal from (c+1, r) to (c, r+1). */
-    int32_t a, b, c;
-    double z;
-    if (fx + fy <= 1) {
-        a = tp__q(t, cx, cy), b = tp__q(t, cx + 1, cy), c = tp__q(t, cx, cy + 1);
-        if (a == INT32_MIN || b == INT32_MIN || c == INT32_MIN)
-            return NAN;
-        z = a + fx * ((double)b - a) + fy * ((double)c - a);
-    } else {
-        a = tp__q(t, cx + 1, cy + 1), b = tp__q(t, cx, cy + 1), c = tp__q(t, cx + 1, cy);
-        if (a == INT32_MIN || b == INT32_MIN || c == INT32_MIN)
-            return NAN;
-        z = a + (1 - fx) * ((double)b - a) + (1 - fy) * ((double)c - a);
-    }
+    double z = fx + fy <= 1 ? half_cell(t, cx, cy, fx, fy, 0) : half_cell(t, cx, cy, fx, fy, 1);
+    /* A point on an edge also lies on the triangle across it, which may be drawn when this
+     * one is not (next to nodata or padding). */
+    if (isnan(z) && fx + fy == 1)
+        z = half_cell(t, cx, cy, fx, fy, 1);
+    if (isnan(z) && fx == 0)
+        z = half_cell(t, cx - 1, cy, 1, fy, 1);
+    if (isnan(z) && fy == 0)
+        z = half_cell(t, cx, cy - 1, fx, 1, 1);
+    if (isnan(z) && fx == 0 && fy == 0)
+        z = half_cell(t, cx - 1, cy - 1, 1, 1, 1);
     return z * t->step;
 }
 

@@ -1,0 +1,20 @@
+/*
+ * cli.h - the terrapatch command line: one function per subcommand.
+ *
+ * Exit codes shared by every subcommand. Errors are one line on stderr, starting "terrapatch: "
+ * (failures) or "terrapatch CMD: " (usage errors); results go to stdout.
+ */
+#ifndef TP_APP_CLI_H
+#define TP_APP_CLI_H
+
+#define TP_EXIT_OK 0
+#define TP_EXIT_FAILURE 1 /* the work failed: unreadable DEM, bad data, ... */
+#define TP_EXIT_USAGE 2   /* bad command line */
+
+/* `terrapatch info [options] DEM`. argv[0] is "info"; returns an exit code. */
+int tp_cli_info(int argc, char** argv);
+
+/* Flushes stdout; on a write error prints one line and returns TP_EXIT_FAILURE, else code. */
+int tp_cli_finish(int code);
+
+#endif /* TP_APP_CLI_H */

@@ -1,0 +1,68 @@
+/*
+ * main.c - `terrapatch`: dispatches to the subcommands in cmd_*.c.
+ */
+#include "cli.h"
+
+#include "tp_core.h"
+
+#include <errno.h>
+#include <stdio.h>
+#include <string.h>
+
+static void print_help(FILE* f)
+{
+    fputs("usage: terrapatch COMMAND [options] ...\n"
+          "       terrapatch --help | --version\n"
+          "\n"
+          "A terrain viewer for GIS elevation rasters (any DEM GDAL reads): the heights are\n"
+          "tiled into (2^n+1)^2 patches, each drawn at its own level of detail.\n"
+          "\n"
+          "commands:\n"
+          "  info DEM    describe a DEM and the patch grid terrapatch builds from it\n"
+          "  view        interactive viewer (coming)\n"
+          "  export      write the drawn mesh to a file (coming)\n"
+          "  bench       timing and error measurements (coming)\n"
+          "  coord       coordinate conversions (coming)\n"
+          "\n"
+          "Run 'terrapatch COMMAND --help' for the options of a command.\n"
+          "Exit status: 0 success, 1 failure, 2 usage error.\n",
+          f);
+}
+
+int tp_cli_finish(int code)
+{
+    if (fflush(stdout) != 0 || ferror(stdout)) {
+        fprintf(stderr, "terrapatch: cannot write to standard output: %s\n", strerror(errno));
+        return TP_EXIT_FAILURE;
+    }
+    return code;
+}
+
+int main(int argc, char** argv)
+{
+    if (argc < 2) {
+        fputs("terrapatch: missing command (try 'terrapatch --help')\n", stderr);
+        return TP_EXIT_USAGE;
+    }
+    const char* cmd = argv[1];
+    if (!strcmp(cmd, "--help") || !strcmp(cmd, "-h") || !strcmp(cmd, "help")) {
+        print_help(stdout);
+        return tp_cli_finish(TP_EXIT_OK);
+    }
+    if (!strcmp(cmd, "--version")) {
+        printf("terrapatch %s\n", TP_VERSION);
+        return tp_cli_finish(TP_EXIT_OK);
+    }
+    if (!strcmp(cmd, "info"))
+        return tp_cli_info(argc - 1, argv + 1);
+    if (!strcmp(cmd, "view") || !strcmp(cmd, "export") || !strcmp(cmd, "bench") ||
+        !strcmp(cmd, "coord")) {
+        fprintf(stderr, "terrapatch: command '%s' is not available yet in %s\n", cmd, TP_VERSION);
+        return TP_EXIT_USAGE;
+    }
+    if (cmd[0] == '-')
+        fprintf(stderr, "terrapatch: unknown option '%s' (try 'terrapatch --help')\n", cmd);
+    else
+        fprintf(stderr, "terrapatch: unknown command '%s' (try 'terrapatch --help')\n", cmd);
+    return TP_EXIT_USAGE;
+}
