@@ -331,6 +331,9 @@ TEST(quantised_heights_within_half_step_of_source) {
             if (d > worst) worst = d;
         }
     EXPECT_NEAR(worst, ti.quant_max_error_m, 1e-9);
+    /* the error tables resolve step/16 .. step */
+    EXPECT_GE(ti.error_unit_m, ti.height_step_m / 16 - 1e-15);
+    EXPECT_LE(ti.error_unit_m, ti.height_step_m + 1e-15);
     tp_terrain_destroy(t);
     free(src);
 }
@@ -449,6 +452,43 @@ TEST(height_at_matches_documented_split) {
     EXPECT_EQ_DBL(tp_terrain_sample(t, 0, h - 1), tp_terrain_height_at(t, 0, h - 1));
     EXPECT_EQ_DBL(tp_terrain_sample(t, w - 1, 7), tp_terrain_height_at(t, w - 1, 7));
     EXPECT_EQ_DBL(tp_terrain_sample(t, 9, h - 1), tp_terrain_height_at(t, 9, h - 1));
+    tp_terrain_destroy(t);
+    free(src);
+}
+
+static double lerp_samples(const tp_terrain* t, int x0, int y0, int x1, int y1, double f) {
+    double a = tp_terrain_sample(t, x0, y0), b = tp_terrain_sample(t, x1, y1);
+    return a + f * (b - a);
+}
+
+TEST(height_at_on_edge_of_drawn_area_is_drawn) {
+    /* A point on the boundary between a drawn triangle and an undrawn one (padding or
+     * nodata) is on the rendered surface: its height is the drawn edge's, not NaN. */
+    int w = 57, h = 41, i;
+    float* src = (float*)malloc(sizeof(float) * w * h);
+    tp_terrain* t;
+    ASSERT_TRUE(src != NULL);
+    tpt_rough_heights(src, w, h, 243, 500.0, 200.0, 30.0, 0);
+    src[10 * w + 10] = NAN;
+    t = tpt_terrain_create(src, w, h, 17, TP_FIT_PAD, NULL); /* padded to 65 x 49 */
+    for (i = 0; i <= 4 * (h - 1); ++i) { /* the last source column, next to padding */
+        double y = i / 4.0, f = y - floor(y);
+        int r = (int)floor(y) < h - 1 ? (int)floor(y) : h - 2;
+        f = y - r;
+        EXPECT_NEAR(lerp_samples(t, w - 1, r, w - 1, r + 1, f), tp_terrain_height_at(t, w - 1, y), 1e-9);
+    }
+    for (i = 0; i <= 4 * (w - 1); ++i) { /* the last source row */
+        double x = i / 4.0, f;
+        int c = (int)floor(x) < w - 1 ? (int)floor(x) : w - 2;
+        f = x - c;
+        EXPECT_NEAR(lerp_samples(t, c, h - 1, c + 1, h - 1, f), tp_terrain_height_at(t, x, h - 1), 1e-9);
+    }
+    /* the rim of the hole at (10,10): cell diagonals whose other side is drawn */
+    EXPECT_NEAR(lerp_samples(t, 11, 10, 10, 11, 0.5), tp_terrain_height_at(t, 10.5, 10.5), 1e-9);
+    EXPECT_NEAR(lerp_samples(t, 10, 9, 9, 10, 0.5), tp_terrain_height_at(t, 9.5, 9.5), 1e-9);
+    EXPECT_NEAR(lerp_samples(t, 10, 11, 11, 11, 0.25), tp_terrain_height_at(t, 10.25, 11.0), 1e-9);
+    /* an edge with the hole as an end point is not drawn */
+    EXPECT_NAN(tp_terrain_height_at(t, 10.0, 9.5));
     tp_terrain_destroy(t);
     free(src);
 }
@@ -996,6 +1036,7 @@ TEST(bytes_per_source_sample_at_most_2_5_on_real_dems) {
     X(float_source_gets_finest_power_of_two_step)                                                 \
     X(explicit_step_is_used_or_rejected_when_too_fine)                                            \
     X(height_at_matches_documented_split)                                                         \
+    X(height_at_on_edge_of_drawn_area_is_drawn)                                                   \
     X(nan_outside_grid_and_over_nodata)                                                           \
     X(flat_ground_is_flat)                                                                        \
     X(small_and_thin_grids_are_padded_and_padding_never_drawn)                                    \

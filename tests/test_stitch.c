@@ -204,11 +204,12 @@ TEST(vertices_move_to_nearest_coarser_vertex) {
     }
 }
 
-TEST(middle_vertices_turn_one_way_around_patch) {
-    /* "the exact middle of a side (only with a level-0 neighbour) goes clockwise around the
-     * patch": whatever the handedness, all four sides must turn the same way, for every k and
-     * in every combination. */
-    int n, seen = 0;
+TEST(middle_vertex_goes_the_documented_way_around) {
+    /* The exact middle of a side (a tie only with a level-0 neighbour) goes around the patch:
+     * TOP toward the first column, RIGHT toward the first row, BOTTOM toward the last column,
+     * LEFT toward the last row, i.e. -1 in check_vertex_rule's terms; for every k and in every
+     * combination of the other sides. */
+    int n, ties = 0;
     for (n = 4; n <= 5; ++n) {
         fixture f;
         combo c;
@@ -219,25 +220,45 @@ TEST(middle_vertices_turn_one_way_around_patch) {
             int r;
             ASSERT_OK(tp_patch_vertices(f.t, 4, c.k, c.nb, v, MAX_VERTS));
             r = check_vertex_rule(&f, &c, v, 1 << n, 1 << n);
-            if (r == 2) {
-                ADD_FAILURE("n=%d k=%d nb=%d,%d,%d,%d: middle vertices turn different ways", n,
-                            c.k, c.nb[0], c.nb[1], c.nb[2], c.nb[3]);
+            if (r == 2 || r == 1) {
+                ADD_FAILURE("n=%d k=%d nb(top,right,bottom,left)=%d,%d,%d,%d: a middle vertex "
+                            "went the other way (TOP must go toward the first column, RIGHT "
+                            "toward the first row, BOTTOM toward the last column, LEFT toward "
+                            "the last row)",
+                            n, c.k, c.nb[0], c.nb[1], c.nb[2], c.nb[3]);
                 break;
             }
-            if (r != 0 && seen != 0 && r != seen) {
-                ADD_FAILURE("n=%d k=%d nb=%d,%d,%d,%d: middle vertices turn %+d here, %+d before",
-                            n, c.k, c.nb[0], c.nb[1], c.nb[2], c.nb[3], r, seen);
-                break;
-            }
-            if (r != 0) seen = r;
+            ties += r != 0;
         }
         fixture_free(&f);
         ASSERT_NO_FAILURE();
     }
-    ASSERT_TRUE(seen != 0);
-    tp_test_note("middle vertices turn %s (in (col,row): top %s)",
-                 seen > 0 ? "TOP->RIGHT->BOTTOM->LEFT" : "TOP->LEFT->BOTTOM->RIGHT",
-                 seen > 0 ? "+x" : "-x");
+    EXPECT_GE_INT(ties, 1);
+}
+
+TEST(null_neighbor_levels_move_nothing) {
+    int n;
+    for (n = 4; n <= 5; ++n) {
+        fixture f;
+        static tp_vertex a[MAX_VERTS], b[MAX_VERTS];
+        int k, none[4];
+        tpt_fill4(none, TP_NO_NEIGHBOR);
+        fixture_synthetic(&f, n, 27 + n);
+        for (k = 0; k <= n; ++k) {
+            size_t count = (size_t)((1 << k) + 1) * ((1 << k) + 1);
+            ASSERT_OK(tp_patch_vertices(f.t, 4, k, NULL, a, MAX_VERTS));
+            ASSERT_OK(tp_patch_vertices(f.t, 4, k, none, b, MAX_VERTS));
+            size_t i;
+            for (i = 0; i < count; ++i)
+                if (a[i].x != b[i].x || a[i].y != b[i].y || a[i].cls != b[i].cls ||
+                    memcmp(&a[i].z_m, &b[i].z_m, sizeof(float)) != 0) {
+                    ADD_FAILURE("n=%d k=%d: vertex %zu differs with NULL neighbour levels", n, k, i);
+                    break;
+                }
+            EXPECT_EQ_DBL(tp_patch_error_bound(f.t, 4, k, none), tp_patch_error_bound(f.t, 4, k, NULL));
+        }
+        fixture_free(&f);
+    }
 }
 
 TEST(vertex_heights_are_decoded_samples) {
@@ -310,6 +331,61 @@ TEST(triangle_count_respects_capacity) {
     tpt_fill4(nb, TP_NO_NEIGHBOR);
     ASSERT_OK(tp_patch_vertices(f.t, 4, 0, nb, v, MAX_VERTS));
     EXPECT_EQ_INT(2, tp_patch_triangles(v, 0, all, MAX_TRIS));
+    fixture_free(&f);
+}
+
+TEST(triangles_follow_strip_order_and_winding) {
+    /* The drawn triangles are the level-k strip decoded with the GL rule (odd triangles swap
+     * their first two vertices), in the same order and winding, minus the degenerate ones:
+     * two vertices at one grid position, or zero area. */
+    fixture f;
+    combo c;
+    static tp_vertex v[MAX_VERTS];
+    static uint32_t tri[3 * MAX_TRIS], strip[(2 * 17 + 2) * 16];
+    int more;
+    fixture_synthetic(&f, 4, 29);
+    for (more = combo_first(&c); more; more = combo_next(&c, 4)) {
+        size_t sc = tp_strip_build_u32(c.k, strip, sizeof strip / sizeof strip[0]), tc, t, at = 0;
+        ASSERT_EQ_INT(tp_strip_index_count(c.k), sc);
+        tc = tpt_patch_geometry(f.t, 4, c.k, c.nb, v, MAX_VERTS, tri, MAX_TRIS);
+        for (t = 0; t + 2 < sc; ++t) {
+            uint32_t i0 = strip[t], i1 = strip[t + 1], i2 = strip[t + 2], s;
+            const tp_vertex *a, *b, *d;
+            int r, match = 0;
+            if (t & 1) {
+                s = i0;
+                i0 = i1;
+                i1 = s;
+            }
+            a = &v[i0];
+            b = &v[i1];
+            d = &v[i2];
+            if ((a->x == b->x && a->y == b->y) || (b->x == d->x && b->y == d->y) ||
+                (a->x == d->x && a->y == d->y) ||
+                tpt_orient(a->x, a->y, b->x, b->y, d->x, d->y) == 0)
+                continue;
+            if (at >= tc) {
+                ADD_FAILURE("k=%d nb=%d,%d,%d,%d: strip triangle %zu (%u,%u,%u) is not drawn", c.k,
+                            c.nb[0], c.nb[1], c.nb[2], c.nb[3], t, i0, i1, i2);
+                break;
+            }
+            for (r = 0; r < 3; ++r) /* the same triangle, same winding, any first vertex */
+                match |= tri[3 * at + r] == i0 && tri[3 * at + (r + 1) % 3] == i1 &&
+                         tri[3 * at + (r + 2) % 3] == i2;
+            if (!match) {
+                ADD_FAILURE("k=%d nb=%d,%d,%d,%d: drawn triangle %zu is (%u,%u,%u), strip "
+                            "triangle %zu is (%u,%u,%u)",
+                            c.k, c.nb[0], c.nb[1], c.nb[2], c.nb[3], at, tri[3 * at],
+                            tri[3 * at + 1], tri[3 * at + 2], t, i0, i1, i2);
+                break;
+            }
+            at++;
+        }
+        if (!tp_test_state_.failures && at != tc)
+            ADD_FAILURE("k=%d nb=%d,%d,%d,%d: %zu triangles drawn, the strip has %zu real ones",
+                        c.k, c.nb[0], c.nb[1], c.nb[2], c.nb[3], tc, at);
+        if (tp_test_state_.failures) break;
+    }
     fixture_free(&f);
 }
 
@@ -890,10 +966,12 @@ TEST(watertight_shared_edges_synthetic_with_holes) {
 
 #define TESTS(X)                                                                                  \
     X(vertices_move_to_nearest_coarser_vertex)                                                    \
-    X(middle_vertices_turn_one_way_around_patch)                                                  \
+    X(middle_vertex_goes_the_documented_way_around)                                               \
+    X(null_neighbor_levels_move_nothing)                                                          \
     X(vertex_heights_are_decoded_samples)                                                         \
     X(patch_vertices_rejects_bad_level_and_capacity)                                              \
     X(triangle_count_respects_capacity)                                                           \
+    X(triangles_follow_strip_order_and_winding)                                                   \
     X(stitched_triangles_tile_patch_n4_all_combinations)                                          \
     X(stitched_triangles_tile_patch_n5_all_combinations)                                          \
     X(unstitched_triangle_count_is_two_per_cell)                                                  \
