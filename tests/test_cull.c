@@ -11,22 +11,27 @@
 #define PI 3.14159265358979323846
 #define DEG (PI / 180.0)
 
-static double plane_eval(const tp_frustum* f, int i, const double p[3]) {
-    return f->planes[i][0] * p[0] + f->planes[i][1] * p[1] + f->planes[i][2] * p[2] + f->planes[i][3];
+static double plane_eval(const tp_frustum* f, int i, const double p[3])
+{
+    return f->planes[i][0] * p[0] + f->planes[i][1] * p[1] + f->planes[i][2] * p[2] +
+           f->planes[i][3];
 }
 
 /* Smallest signed plane distance: >= 0 inside all planes. */
-static double frustum_margin(const tp_frustum* f, const double p[3]) {
+static double frustum_margin(const tp_frustum* f, const double p[3])
+{
     double m = INFINITY;
     int i;
     for (i = 0; i < f->plane_count; ++i) {
         double d = plane_eval(f, i, p);
-        if (d < m) m = d;
+        if (d < m)
+            m = d;
     }
     return m;
 }
 
-static tp_camera camera_at(double e, double n, double h, double yaw_deg, double pitch_deg) {
+static tp_camera camera_at(double e, double n, double h, double yaw_deg, double pitch_deg)
+{
     tp_camera c;
     memset(&c, 0, sizeof c);
     c.position[0] = e;
@@ -42,7 +47,8 @@ static tp_camera camera_at(double e, double n, double h, double yaw_deg, double 
 /* A point at `dist` along the direction rotated from the camera's forward by yaw_off to the
  * right and pitch_off up (camera frame), for a level camera looking at azimuth yaw_deg. */
 static void point_off_axis(const tp_camera* c, double yaw_deg, double dist, double right_deg,
-                           double up_deg, double out[3]) {
+                           double up_deg, double out[3])
+{
     /* level camera: forward (sin a, cos a, 0), right (cos a, -sin a, 0), up (0, 0, 1) */
     double a = yaw_deg * DEG;
     double fx = sin(a), fy = cos(a), rx = cos(a), ry = -sin(a);
@@ -52,7 +58,8 @@ static void point_off_axis(const tp_camera* c, double yaw_deg, double dist, doub
     out[2] = c->position[2] + dist * y;
 }
 
-TEST(planes_are_unit_and_counted) {
+TEST(planes_are_unit_and_counted)
+{
     tp_camera c = camera_at(500000, 5000000, 1200, 30, -10);
     tp_frustum f;
     int i;
@@ -62,26 +69,32 @@ TEST(planes_are_unit_and_counted) {
     tp_frustum_from_camera(&c, &f);
     EXPECT_EQ_INT(6, f.plane_count);
     for (i = 0; i < f.plane_count; ++i)
-        EXPECT_NEAR(1.0, sqrt(f.planes[i][0] * f.planes[i][0] + f.planes[i][1] * f.planes[i][1] +
-                              f.planes[i][2] * f.planes[i][2]),
+        EXPECT_NEAR(1.0,
+                    sqrt(f.planes[i][0] * f.planes[i][0] + f.planes[i][1] * f.planes[i][1] +
+                         f.planes[i][2] * f.planes[i][2]),
                     1e-12);
 }
 
-TEST(point_ahead_is_inside_and_behind_is_outside) {
+TEST(point_ahead_is_inside_and_behind_is_outside)
+{
     tp_camera c = camera_at(1000, 2000, 300, 123, -20);
     tp_frustum f;
     double p[3];
     int i;
     tp_frustum_from_camera(&c, &f);
-    for (i = 0; i < 3; ++i) p[i] = c.position[i] + 50.0 * c.forward[i];
+    for (i = 0; i < 3; ++i)
+        p[i] = c.position[i] + 50.0 * c.forward[i];
     EXPECT_GT(frustum_margin(&f, p), 0.0);
-    for (i = 0; i < 3; ++i) p[i] = c.position[i] + 1e6 * c.forward[i]; /* no far plane */
+    for (i = 0; i < 3; ++i)
+        p[i] = c.position[i] + 1e6 * c.forward[i]; /* no far plane */
     EXPECT_GT(frustum_margin(&f, p), 0.0);
-    for (i = 0; i < 3; ++i) p[i] = c.position[i] - 50.0 * c.forward[i];
+    for (i = 0; i < 3; ++i)
+        p[i] = c.position[i] - 50.0 * c.forward[i];
     EXPECT_LT(frustum_margin(&f, p), 0.0);
 }
 
-TEST(near_plane_defaults_to_one_metre) {
+TEST(near_plane_defaults_to_one_metre)
+{
     tp_camera c = camera_at(0, 0, 0, 0, 0);
     tp_frustum f;
     double p[3] = {0, 0.99, 0}, q[3] = {0, 1.01, 0};
@@ -93,7 +106,8 @@ TEST(near_plane_defaults_to_one_metre) {
     EXPECT_GT(frustum_margin(&f, p), 0.0);
 }
 
-TEST(far_plane_cuts_beyond_far) {
+TEST(far_plane_cuts_beyond_far)
+{
     tp_camera c = camera_at(10, 20, 30, 90, 0);
     tp_frustum f;
     double p[3] = {10 + 999, 20, 30}, q[3] = {10 + 1001, 20, 30};
@@ -103,7 +117,8 @@ TEST(far_plane_cuts_beyond_far) {
     EXPECT_LT(frustum_margin(&f, q), 0.0);
 }
 
-TEST(default_view_is_60_degrees_at_16_by_9) {
+TEST(default_view_is_60_degrees_at_16_by_9)
+{
     /* vertical half angle 30 deg; horizontal half angle atan(tan 30 * 16/9) = 45.75 deg */
     double half_h = atan(tan(30.0 * DEG) * 1280.0 / 720.0) / DEG, yaw;
     for (yaw = 0; yaw < 360; yaw += 45) {
@@ -130,7 +145,8 @@ TEST(default_view_is_60_degrees_at_16_by_9) {
     }
 }
 
-TEST(viewport_and_fov_set_the_angles) {
+TEST(viewport_and_fov_set_the_angles)
+{
     tp_camera c = camera_at(0, 0, 0, 0, 0);
     tp_frustum f;
     double p[3];
@@ -148,7 +164,8 @@ TEST(viewport_and_fov_set_the_angles) {
     EXPECT_LT(frustum_margin(&f, p), 0.0);
 }
 
-TEST(zero_forward_looks_north_and_level) {
+TEST(zero_forward_looks_north_and_level)
+{
     tp_camera c;
     tp_frustum f;
     double north[3] = {0, 100, 0}, south[3] = {0, -100, 0}, east[3] = {100, 0, 0},
@@ -165,7 +182,8 @@ TEST(zero_forward_looks_north_and_level) {
 
 /* An independent pinhole model of the camera: is p inside the view volume, and how far from
  * its boundary (a relative margin in tangent units)? */
-static int pinhole_inside(const tp_camera* c, const double p[3], double* margin) {
+static int pinhole_inside(const tp_camera* c, const double p[3], double* margin)
+{
     double fwd[3], up[3], right[3], d[3], X, Y, Z, ty, tx, l, near_m;
     int i, w = c->viewport_w_px, h = c->viewport_h_px;
     double fov = c->fov_y_rad > 0 ? c->fov_y_rad : 60.0 * DEG;
@@ -174,18 +192,22 @@ static int pinhole_inside(const tp_camera* c, const double p[3], double* margin)
         h = 720;
     }
     memcpy(fwd, c->forward, sizeof fwd);
-    if (fwd[0] == 0 && fwd[1] == 0 && fwd[2] == 0) fwd[1] = 1;
+    if (fwd[0] == 0 && fwd[1] == 0 && fwd[2] == 0)
+        fwd[1] = 1;
     l = sqrt(fwd[0] * fwd[0] + fwd[1] * fwd[1] + fwd[2] * fwd[2]);
-    for (i = 0; i < 3; ++i) fwd[i] /= l;
+    for (i = 0; i < 3; ++i)
+        fwd[i] /= l;
     right[0] = fwd[1] * c->up[2] - fwd[2] * c->up[1];
     right[1] = fwd[2] * c->up[0] - fwd[0] * c->up[2];
     right[2] = fwd[0] * c->up[1] - fwd[1] * c->up[0];
     l = sqrt(right[0] * right[0] + right[1] * right[1] + right[2] * right[2]);
-    for (i = 0; i < 3; ++i) right[i] /= l;
+    for (i = 0; i < 3; ++i)
+        right[i] /= l;
     up[0] = right[1] * fwd[2] - right[2] * fwd[1];
     up[1] = right[2] * fwd[0] - right[0] * fwd[2];
     up[2] = right[0] * fwd[1] - right[1] * fwd[0];
-    for (i = 0; i < 3; ++i) d[i] = p[i] - c->position[i];
+    for (i = 0; i < 3; ++i)
+        d[i] = p[i] - c->position[i];
     X = d[0] * right[0] + d[1] * right[1] + d[2] * right[2];
     Y = d[0] * up[0] + d[1] * up[1] + d[2] * up[2];
     Z = d[0] * fwd[0] + d[1] * fwd[1] + d[2] * fwd[2];
@@ -198,15 +220,19 @@ static int pinhole_inside(const tp_camera* c, const double p[3], double* margin)
         double m = (Z - near_m);
         double mx = (tx * Z - fabs(X)) / sqrt(1 + tx * tx);
         double my = (ty * Z - fabs(Y)) / sqrt(1 + ty * ty);
-        if (mx < m) m = mx;
-        if (my < m) m = my;
-        if (c->far_m > 0 && c->far_m - Z < m) m = c->far_m - Z;
+        if (mx < m)
+            m = mx;
+        if (my < m)
+            m = my;
+        if (c->far_m > 0 && c->far_m - Z < m)
+            m = c->far_m - Z;
         *margin = m / l;
         return m >= 0;
     }
 }
 
-TEST(planes_agree_with_independent_pinhole_model) {
+TEST(planes_agree_with_independent_pinhole_model)
+{
     tp_rng rng = tp_rng_seed(401);
     int cam_i, checked = 0;
     for (cam_i = 0; cam_i < 200; ++cam_i) {
@@ -217,7 +243,8 @@ TEST(planes_agree_with_independent_pinhole_model) {
         c.position[0] = tp_rng_range(&rng, 3e5, 7e5);
         c.position[1] = tp_rng_range(&rng, 4e6, 6e6);
         c.position[2] = tp_rng_range(&rng, 0, 5000);
-        for (i = 0; i < 3; ++i) c.forward[i] = tp_rng_range(&rng, -3, 3); /* not unit */
+        for (i = 0; i < 3; ++i)
+            c.forward[i] = tp_rng_range(&rng, -3, 3); /* not unit */
         c.up[0] = tp_rng_range(&rng, -0.3, 0.3);
         c.up[1] = tp_rng_range(&rng, -0.3, 0.3);
         c.up[2] = tp_rng_range(&rng, 0.5, 4);
@@ -227,15 +254,18 @@ TEST(planes_agree_with_independent_pinhole_model) {
             c.viewport_h_px = tp_rng_int(&rng, 100, 4000);
             c.near_m = tp_rng_range(&rng, 0.01, 20);
         }
-        if (cam_i % 4 == 2) c.far_m = tp_rng_range(&rng, 100, 20000);
+        if (cam_i % 4 == 2)
+            c.far_m = tp_rng_range(&rng, 100, 20000);
         /* skip cameras with up nearly parallel to forward */
         {
             double l1 = sqrt(c.forward[0] * c.forward[0] + c.forward[1] * c.forward[1] +
                              c.forward[2] * c.forward[2]),
                    l2 = sqrt(c.up[0] * c.up[0] + c.up[1] * c.up[1] + c.up[2] * c.up[2]);
-            double dot = (c.forward[0] * c.up[0] + c.forward[1] * c.up[1] + c.forward[2] * c.up[2]) /
-                         (l1 * l2);
-            if (fabs(dot) > 0.95 || l1 < 0.1) continue;
+            double dot =
+                (c.forward[0] * c.up[0] + c.forward[1] * c.up[1] + c.forward[2] * c.up[2]) /
+                (l1 * l2);
+            if (fabs(dot) > 0.95 || l1 < 0.1)
+                continue;
         }
         tp_frustum_from_camera(&c, &f);
         for (i = 0; i < 400; ++i) {
@@ -246,10 +276,12 @@ TEST(planes_agree_with_independent_pinhole_model) {
             p[2] = c.position[2] + tp_rng_range(&rng, -3000, 3000);
             if (i % 4 == 0) { /* near the camera too */
                 int j;
-                for (j = 0; j < 3; ++j) p[j] = c.position[j] + (p[j] - c.position[j]) * 0.003;
+                for (j = 0; j < 3; ++j)
+                    p[j] = c.position[j] + (p[j] - c.position[j]) * 0.003;
             }
             inside = pinhole_inside(&c, p, &margin);
-            if (fabs(margin) < 1e-6) continue;
+            if (fabs(margin) < 1e-6)
+                continue;
             in_planes = frustum_margin(&f, p) >= 0;
             checked++;
             if (inside != in_planes) {
@@ -261,7 +293,8 @@ TEST(planes_agree_with_independent_pinhole_model) {
                 break;
             }
         }
-        if (tp_test_state_.failures) break;
+        if (tp_test_state_.failures)
+            break;
     }
     EXPECT_GE_INT(checked, 10000);
 }
@@ -275,7 +308,8 @@ typedef struct box_truth {
     int ambiguous; /* some corner within eps of a plane that decides */
 } box_truth;
 
-static box_truth box_brute(const tp_frustum* f, const double lo[3], const double hi[3], double eps) {
+static box_truth box_brute(const tp_frustum* f, const double lo[3], const double hi[3], double eps)
+{
     box_truth r = {0, 1, 0};
     int i, c;
     for (i = 0; i < f->plane_count; ++i) {
@@ -283,31 +317,39 @@ static box_truth box_brute(const tp_frustum* f, const double lo[3], const double
         for (c = 0; c < 8; ++c) {
             double p[3] = {c & 1 ? hi[0] : lo[0], c & 2 ? hi[1] : lo[1], c & 4 ? hi[2] : lo[2]};
             double d = plane_eval(f, i, p);
-            if (d >= -eps) all_out = 0;
-            if (fabs(d) <= eps) near_out = 1;
-            if (d <= eps) r.contained = 0;
+            if (d >= -eps)
+                all_out = 0;
+            if (fabs(d) <= eps)
+                near_out = 1;
+            if (d <= eps)
+                r.contained = 0;
         }
-        if (all_out) r.separated = 1;
-        if (near_out) r.ambiguous = 1;
+        if (all_out)
+            r.separated = 1;
+        if (near_out)
+            r.ambiguous = 1;
     }
     return r;
 }
 
 /* Is some point of a dense lattice of the box strictly inside the frustum? */
-static int box_has_inner_point(const tp_frustum* f, const double lo[3], const double hi[3]) {
+static int box_has_inner_point(const tp_frustum* f, const double lo[3], const double hi[3])
+{
     int i, j, k;
     for (i = 0; i <= 6; ++i)
         for (j = 0; j <= 6; ++j)
             for (k = 0; k <= 6; ++k) {
                 double p[3] = {lo[0] + (hi[0] - lo[0]) * i / 6.0, lo[1] + (hi[1] - lo[1]) * j / 6.0,
                                lo[2] + (hi[2] - lo[2]) * k / 6.0};
-                if (frustum_margin(f, p) > 1e-6) return 1;
+                if (frustum_margin(f, p) > 1e-6)
+                    return 1;
             }
     return 0;
 }
 
 static void check_boxes(const tp_frustum* f, tp_rng* rng, const double centre[3], double spread,
-                        int boxes, const char* what, int* counts) {
+                        int boxes, const char* what, int* counts)
+{
     int b;
     for (b = 0; b < boxes; ++b) {
         double lo[3], hi[3];
@@ -327,23 +369,27 @@ static void check_boxes(const tp_frustum* f, tp_rng* rng, const double centre[3]
             ADD_FAILURE("%s box %d: OUTSIDE, but it has a point inside the frustum", what, b);
             return;
         }
-        if (truth.ambiguous) continue;
+        if (truth.ambiguous)
+            continue;
         if ((got == TP_CULL_OUTSIDE) != truth.separated) {
             ADD_FAILURE("%s box %d [%.3f %.3f %.3f]-[%.3f %.3f %.3f]: got %d, but all corners "
                         "outside one plane: %d",
-                        what, b, lo[0], lo[1], lo[2], hi[0], hi[1], hi[2], (int)got, truth.separated);
+                        what, b, lo[0], lo[1], lo[2], hi[0], hi[1], hi[2], (int)got,
+                        truth.separated);
             return;
         }
         if ((got == TP_CULL_INSIDE) != truth.contained) {
             ADD_FAILURE("%s box %d [%.3f %.3f %.3f]-[%.3f %.3f %.3f]: got %d, but all corners "
                         "inside every plane: %d",
-                        what, b, lo[0], lo[1], lo[2], hi[0], hi[1], hi[2], (int)got, truth.contained);
+                        what, b, lo[0], lo[1], lo[2], hi[0], hi[1], hi[2], (int)got,
+                        truth.contained);
             return;
         }
     }
 }
 
-TEST(aabb_test_agrees_with_brute_force_on_camera_frusta) {
+TEST(aabb_test_agrees_with_brute_force_on_camera_frusta)
+{
     tp_rng rng = tp_rng_seed(411);
     int i, counts[3] = {0, 0, 0};
     for (i = 0; i < 100 && !tp_test_state_.failures; ++i) {
@@ -353,9 +399,11 @@ TEST(aabb_test_agrees_with_brute_force_on_camera_frusta) {
         tp_frustum f;
         double centre[3];
         int j;
-        if (i % 2) c.far_m = tp_rng_range(&rng, 200, 5000);
+        if (i % 2)
+            c.far_m = tp_rng_range(&rng, 200, 5000);
         tp_frustum_from_camera(&c, &f);
-        for (j = 0; j < 3; ++j) centre[j] = c.position[j] + 600.0 * c.forward[j];
+        for (j = 0; j < 3; ++j)
+            centre[j] = c.position[j] + 600.0 * c.forward[j];
         check_boxes(&f, &rng, centre, 1500.0, 400, "camera frustum", counts);
     }
     tp_test_note("outside %d, intersects %d, inside %d", counts[0], counts[1], counts[2]);
@@ -364,7 +412,8 @@ TEST(aabb_test_agrees_with_brute_force_on_camera_frusta) {
     EXPECT_GE_INT(counts[TP_CULL_INSIDE], 100);
 }
 
-TEST(aabb_test_agrees_with_brute_force_on_arbitrary_planes) {
+TEST(aabb_test_agrees_with_brute_force_on_arbitrary_planes)
+{
     /* the test is defined for any set of unit planes, not only camera frusta */
     tp_rng rng = tp_rng_seed(421);
     int i, counts[3] = {0, 0, 0};
@@ -390,7 +439,8 @@ TEST(aabb_test_agrees_with_brute_force_on_arbitrary_planes) {
     tp_test_note("outside %d, intersects %d, inside %d", counts[0], counts[1], counts[2]);
 }
 
-TEST(aabb_outside_only_behind_a_single_plane) {
+TEST(aabb_outside_only_behind_a_single_plane)
+{
     /* a box beyond the right and top planes at once, but not wholly behind either: the test
      * is conservative and must say INTERSECTS, never OUTSIDE */
     tp_frustum f;
@@ -398,19 +448,28 @@ TEST(aabb_outside_only_behind_a_single_plane) {
     memset(&f, 0, sizeof f);
     f.plane_count = 5;
     /* x <= 10, y <= 10, x >= -10, y >= -10, z >= -100 */
-    f.planes[0][0] = -1; f.planes[0][3] = 10;
-    f.planes[1][1] = -1; f.planes[1][3] = 10;
-    f.planes[2][0] = 1;  f.planes[2][3] = 10;
-    f.planes[3][1] = 1;  f.planes[3][3] = 10;
-    f.planes[4][2] = 1;  f.planes[4][3] = 100;
+    f.planes[0][0] = -1;
+    f.planes[0][3] = 10;
+    f.planes[1][1] = -1;
+    f.planes[1][3] = 10;
+    f.planes[2][0] = 1;
+    f.planes[2][3] = 10;
+    f.planes[3][1] = 1;
+    f.planes[3][3] = 10;
+    f.planes[4][2] = 1;
+    f.planes[4][3] = 100;
     EXPECT_EQ_INT(TP_CULL_INTERSECTS, tp_frustum_test_aabb(&f, lo, hi));
     lo[0] = 10.5;
     EXPECT_EQ_INT(TP_CULL_OUTSIDE, tp_frustum_test_aabb(&f, lo, hi));
-    lo[0] = -5; lo[1] = -5; hi[0] = 5; hi[1] = 5;
+    lo[0] = -5;
+    lo[1] = -5;
+    hi[0] = 5;
+    hi[1] = 5;
     EXPECT_EQ_INT(TP_CULL_INSIDE, tp_frustum_test_aabb(&f, lo, hi));
 }
 
-TEST(aabb_point_boxes) {
+TEST(aabb_point_boxes)
+{
     tp_camera c = camera_at(100, 100, 100, 0, 0);
     tp_frustum f;
     double in[3] = {100, 300, 100}, out[3] = {100, -300, 100};
@@ -419,17 +478,17 @@ TEST(aabb_point_boxes) {
     EXPECT_EQ_INT(TP_CULL_OUTSIDE, tp_frustum_test_aabb(&f, out, out));
 }
 
-#define TESTS(X)                                                                                  \
-    X(planes_are_unit_and_counted)                                                                \
-    X(point_ahead_is_inside_and_behind_is_outside)                                                \
-    X(near_plane_defaults_to_one_metre)                                                           \
-    X(far_plane_cuts_beyond_far)                                                                  \
-    X(default_view_is_60_degrees_at_16_by_9)                                                      \
-    X(viewport_and_fov_set_the_angles)                                                            \
-    X(zero_forward_looks_north_and_level)                                                         \
-    X(planes_agree_with_independent_pinhole_model)                                                \
-    X(aabb_test_agrees_with_brute_force_on_camera_frusta)                                         \
-    X(aabb_test_agrees_with_brute_force_on_arbitrary_planes)                                      \
-    X(aabb_outside_only_behind_a_single_plane)                                                    \
+#define TESTS(X)                                                                                   \
+    X(planes_are_unit_and_counted)                                                                 \
+    X(point_ahead_is_inside_and_behind_is_outside)                                                 \
+    X(near_plane_defaults_to_one_metre)                                                            \
+    X(far_plane_cuts_beyond_far)                                                                   \
+    X(default_view_is_60_degrees_at_16_by_9)                                                       \
+    X(viewport_and_fov_set_the_angles)                                                             \
+    X(zero_forward_looks_north_and_level)                                                          \
+    X(planes_agree_with_independent_pinhole_model)                                                 \
+    X(aabb_test_agrees_with_brute_force_on_camera_frusta)                                          \
+    X(aabb_test_agrees_with_brute_force_on_arbitrary_planes)                                       \
+    X(aabb_outside_only_behind_a_single_plane)                                                     \
     X(aabb_point_boxes)
 TP_TEST_MAIN(TESTS)

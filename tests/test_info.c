@@ -21,12 +21,13 @@ typedef struct dem_spec {
     size_t voids;
     const char* driver;
     const char* data_type;
-    int epsg;        /* -1: not checked */
-    double gt[6];    /* gt[1] == 0: not checked */
-    int warn;        /* 1: a warning is expected, 0: none, -1: not checked */
+    int epsg;     /* -1: not checked */
+    double gt[6]; /* gt[1] == 0: not checked */
+    int warn;     /* 1: a warning is expected, 0: none, -1: not checked */
 } dem_spec;
 
-static tp_dem* read_or_skip(const char* env, const char* file) {
+static tp_dem* read_or_skip(const char* env, const char* file)
+{
     char path[1024];
     tp_dem* dem = NULL;
     tp_error err;
@@ -34,11 +35,13 @@ static tp_dem* read_or_skip(const char* env, const char* file) {
     REQUIRE_DATA_FILE(path, env, file);
     memset(&err, 0, sizeof err);
     s = tp_dem_read(path, &dem, &err);
-    if (s != TP_OK || !dem) FAIL("tp_dem_read(%s): %s: %s", path, tp_test_status_name_(s), err.message);
+    if (s != TP_OK || !dem)
+        FAIL("tp_dem_read(%s): %s: %s", path, tp_test_status_name_(s), err.message);
     return dem;
 }
 
-static void check_dem(const dem_spec* sp) {
+static void check_dem(const dem_spec* sp)
+{
     tp_dem* dem = read_or_skip(sp->env, sp->file);
     size_t i, n, nan_count = 0;
     double lo = INFINITY, hi = -INFINITY;
@@ -47,24 +50,30 @@ static void check_dem(const dem_spec* sp) {
     EXPECT_EQ_INT(sp->voids, dem->void_count);
     EXPECT_EQ_DBL(sp->min_m, dem->min_m);
     EXPECT_EQ_DBL(sp->max_m, dem->max_m);
-    if (sp->driver) EXPECT_TRUE(strcmp(sp->driver, dem->driver) == 0);
+    if (sp->driver)
+        EXPECT_TRUE(strcmp(sp->driver, dem->driver) == 0);
     if (sp->driver && strcmp(sp->driver, dem->driver) != 0)
         tp_test_note("driver \"%s\", expected \"%s\"", dem->driver, sp->driver);
-    if (sp->data_type) EXPECT_TRUE(strcmp(sp->data_type, dem->data_type) == 0);
+    if (sp->data_type)
+        EXPECT_TRUE(strcmp(sp->data_type, dem->data_type) == 0);
     if (sp->data_type && strcmp(sp->data_type, dem->data_type) != 0)
         tp_test_note("data type \"%s\", expected \"%s\"", dem->data_type, sp->data_type);
     EXPECT_EQ_INT(1, dem->is_integer_type);
-    if (sp->epsg >= 0) EXPECT_EQ_INT(sp->epsg, dem->epsg);
+    if (sp->epsg >= 0)
+        EXPECT_EQ_INT(sp->epsg, dem->epsg);
     if (sp->gt[1] != 0.0) {
         EXPECT_EQ_INT(1, dem->has_geotransform);
         for (i = 0; i < 6; ++i)
             /* PROVENANCE.md prints projected origins to the millimetre, degrees to 8 decimals */
             EXPECT_NEAR(sp->gt[i], dem->geotransform[i],
-                        fabs(sp->gt[i]) < 0.01 ? 1e-10 : fabs(sp->gt[i]) < 1000 ? 1e-7 : 1e-3);
+                        fabs(sp->gt[i]) < 0.01   ? 1e-10
+                        : fabs(sp->gt[i]) < 1000 ? 1e-7
+                                                 : 1e-3);
     }
     ASSERT_TRUE(dem->warnings != NULL);
     ASSERT_TRUE(dem->crs_wkt != NULL);
-    if (sp->warn == 1) EXPECT_TRUE(dem->warnings[0] != '\0');
+    if (sp->warn == 1)
+        EXPECT_TRUE(dem->warnings[0] != '\0');
     if (sp->warn == 0 && dem->warnings[0] != '\0')
         ADD_FAILURE("unexpected warning: %s", dem->warnings);
     /* the reported numbers agree with the heights array itself */
@@ -75,8 +84,10 @@ static void check_dem(const dem_spec* sp) {
             nan_count++;
             continue;
         }
-        if (v < lo) lo = v;
-        if (v > hi) hi = v;
+        if (v < lo)
+            lo = v;
+        if (v > hi)
+            hi = v;
     }
     EXPECT_EQ_INT(dem->void_count, nan_count);
     EXPECT_EQ_DBL(lo, dem->min_m);
@@ -88,38 +99,42 @@ static void check_dem(const dem_spec* sp) {
 #ifdef TP_TEST_NO_IO
 #define CHECK_SPEC_(...) ((void)0)
 #else
-#define CHECK_SPEC_(...)                                                                          \
-    do {                                                                                          \
-        static const dem_spec sp_ = {__VA_ARGS__};                                                \
-        check_dem(&sp_);                                                                          \
+#define CHECK_SPEC_(...)                                                                           \
+    do {                                                                                           \
+        static const dem_spec sp_ = {__VA_ARGS__};                                                 \
+        check_dem(&sp_);                                                                           \
     } while (0)
 #endif
 
 #define ARCSEC3 (3.0 / 3600.0)
 
 /* PROVENANCE.md: 1201 x 1201 Int16, 349 to 3100, 7652 voids, origin (0.99958333, 43.00041667). */
-TEST(n42e001_hgt_matches_provenance) {
+TEST(n42e001_hgt_matches_provenance)
+{
     REQUIRE_IO();
-    CHECK_SPEC_("TP_SHARED_DATA_DIR", "N42E001.hgt", 1201, 1201, 349, 3100, 7652, "SRTMHGT", "Int16",
-                4326, {1.0 - ARCSEC3 / 2, ARCSEC3, 0, 43.0 + ARCSEC3 / 2, 0, -ARCSEC3}, 0);
+    CHECK_SPEC_("TP_SHARED_DATA_DIR", "N42E001.hgt", 1201, 1201, 349, 3100, 7652, "SRTMHGT",
+                "Int16", 4326, {1.0 - ARCSEC3 / 2, ARCSEC3, 0, 43.0 + ARCSEC3 / 2, 0, -ARCSEC3}, 0);
 }
 
 /* -20 to 1204, 134 voids; directly south of N42E001. */
-TEST(n41e001_hgt_matches_provenance) {
+TEST(n41e001_hgt_matches_provenance)
+{
     REQUIRE_IO();
     CHECK_SPEC_("TP_SHARED_DATA_DIR", "N41E001.hgt", 1201, 1201, -20, 1204, 134, "SRTMHGT", "Int16",
                 4326, {1.0 - ARCSEC3 / 2, ARCSEC3, 0, 42.0 + ARCSEC3 / 2, 0, -ARCSEC3}, 0);
 }
 
 /* DTED conversion of N42E001: 7652 voids (-32767). */
-TEST(n42e001_dt1_matches_provenance) {
+TEST(n42e001_dt1_matches_provenance)
+{
     REQUIRE_IO();
     CHECK_SPEC_("TP_SHARED_DATA_DIR", "N42E001.dt1", 1201, 1201, 349, 3100, 7652, "DTED", "Int16",
                 4326, {1.0 - ARCSEC3 / 2, ARCSEC3, 0, 43.0 + ARCSEC3 / 2, 0, -ARCSEC3}, -1);
 }
 
 /* 429 x 279, 1289 to 1880, 39489 cells of -32767 without a nodata tag: voids, with a warning. */
-TEST(craterlake_untagged_voids_are_nodata_with_warning) {
+TEST(craterlake_untagged_voids_are_nodata_with_warning)
+{
     REQUIRE_IO();
     CHECK_SPEC_("TP_SHARED_DATA_DIR", "craterlake-elev-16bit-30m.tif", 429, 279, 1289, 1880, 39489,
                 "GTiff", "Int16", 4326,
@@ -127,56 +142,72 @@ TEST(craterlake_untagged_voids_are_nodata_with_warning) {
 }
 
 /* 1013 x 799, 553 to 3421, 26820 nodata (32767), UTM 10N, 30 m. */
-TEST(mt_hood_matches_provenance) {
+TEST(mt_hood_matches_provenance)
+{
     REQUIRE_IO();
     CHECK_SPEC_("TP_SAMPLE_DATA_DIR", "lf_elev_220_mt_hood_utm.tif", 1013, 799, 553, 3421, 26820,
                 "GTiff", "Int16", 26910, {587049.617, 30, 0, 5037312.407, 0, -30}, 0);
 }
 
 /* 143 x 107, 2438 to 3046, 876 nodata edge cells, UTM 12N. */
-TEST(storml_orig_matches_provenance) {
+TEST(storml_orig_matches_provenance)
+{
     REQUIRE_IO();
     CHECK_SPEC_("TP_SAMPLE_DATA_DIR", "storml_elev_orig.tif", 143, 107, 2438, 3046, 876, "GTiff",
                 "Int16", 26912, {323476.072, 30, 0, 5105081.983, 0, -30}, 0);
 }
 
 /* The filled version: no nodata cells. */
-TEST(storml_filled_has_no_voids) {
+TEST(storml_filled_has_no_voids)
+{
     REQUIRE_IO();
     CHECK_SPEC_("TP_SHARED_DATA_DIR", "storml_elev.tif", 143, 107, 2438, 3046, 0, "GTiff", "Int16",
                 26912, {323476.072, 30, 0, 5105081.983, 0, -30}, 0);
 }
 
 /* 1201 x 1201, 263 to 4371, 9033 voids (-32768, tagged). */
-TEST(mt_rainier_matches_provenance) {
+TEST(mt_rainier_matches_provenance)
+{
     REQUIRE_IO();
     CHECK_SPEC_("TP_SHARED_DATA_DIR", "mt_rainier_90m.tif", 1201, 1201, 263, 4371, 9033, "GTiff",
-                "Int16", 4326, {-122.0 - ARCSEC3 / 2, ARCSEC3, 0, 47.0 + ARCSEC3 / 2, 0, -ARCSEC3}, 0);
+                "Int16", 4326, {-122.0 - ARCSEC3 / 2, ARCSEC3, 0, 47.0 + ARCSEC3 / 2, 0, -ARCSEC3},
+                0);
 }
 
 /* ESRI ASCII grids: 758 x 758, 1547 to 4320 and 144 x 144, 2186 to 3345; NODATA 0 unused.
  * The origins are the files' lower-left corners moved to the top edge (GDAL's numbers). */
-TEST(front_range_758_asc_matches_provenance) {
+TEST(front_range_758_asc_matches_provenance)
+{
     REQUIRE_IO();
     CHECK_SPEC_("TP_SHARED_DATA_DIR", "front_range_srtmgl3_758.asc", 758, 758, 1547, 4320, 0,
-                "AAIGrid", NULL, -1, {-105.81625, ARCSEC3, 0, 40.46625, 0, -ARCSEC3},
-                0);
+                "AAIGrid", NULL, -1, {-105.81625, ARCSEC3, 0, 40.46625, 0, -ARCSEC3}, 0);
 }
 
-TEST(front_range_144_asc_matches_provenance) {
+TEST(front_range_144_asc_matches_provenance)
+{
     REQUIRE_IO();
     CHECK_SPEC_("TP_SHARED_DATA_DIR", "front_range_srtmgl3_144.asc", 144, 144, 2186, 3345, 0,
-                "AAIGrid", NULL, -1, {-105.5604167, ARCSEC3, 0, 40.21041667, 0, -ARCSEC3},
-                0);
+                "AAIGrid", NULL, -1, {-105.5604167, ARCSEC3, 0, 40.21041667, 0, -ARCSEC3}, 0);
 }
 
 /* A 16-bit PNG height map without georeferencing: raw 0 to 43798. */
-TEST(png_heightmap_without_georeference) {
+TEST(png_heightmap_without_georeference)
+{
     REQUIRE_IO();
 #ifndef TP_TEST_NO_IO
     {
-        static const dem_spec sp = {"TP_SHARED_DATA_DIR", "ps_height_1k.png", 1025, 1025, 0, 43798, 0,
-                                    "PNG", "UInt16", -1, {0, 0, 0, 0, 0, 0}, -1};
+        static const dem_spec sp = {"TP_SHARED_DATA_DIR",
+                                    "ps_height_1k.png",
+                                    1025,
+                                    1025,
+                                    0,
+                                    43798,
+                                    0,
+                                    "PNG",
+                                    "UInt16",
+                                    -1,
+                                    {0, 0, 0, 0, 0, 0},
+                                    -1};
         tp_dem* dem;
         check_dem(&sp);
         dem = read_or_skip(sp.env, sp.file);
@@ -190,7 +221,8 @@ TEST(png_heightmap_without_georeference) {
 #endif
 }
 
-TEST(hgt_and_dt1_valid_cells_identical) {
+TEST(hgt_and_dt1_valid_cells_identical)
+{
     REQUIRE_IO();
 #ifndef TP_TEST_NO_IO
     {
@@ -201,7 +233,8 @@ TEST(hgt_and_dt1_valid_cells_identical) {
         ASSERT_EQ_INT(a->height, b->height);
         for (i = 0; i < n; ++i) {
             float x = a->heights[i], y = b->heights[i];
-            if (isnan(x) != isnan(y) || (!isnan(x) && x != y)) diff++;
+            if (isnan(x) != isnan(y) || (!isnan(x) && x != y))
+                diff++;
         }
         EXPECT_EQ_INT(0, diff);
         tp_dem_destroy(a);
@@ -210,7 +243,8 @@ TEST(hgt_and_dt1_valid_cells_identical) {
 #endif
 }
 
-TEST(storml_through_terrain_counts) {
+TEST(storml_through_terrain_counts)
+{
     /* the repository's fixture through tiling: 143 x 107 padded to 9 x 7 patches of 17 */
     REQUIRE_IO();
 #ifndef TP_TEST_NO_IO
@@ -239,7 +273,8 @@ TEST(storml_through_terrain_counts) {
 #endif
 }
 
-TEST(terrain_desc_points_into_dem) {
+TEST(terrain_desc_points_into_dem)
+{
     REQUIRE_IO();
 #ifndef TP_TEST_NO_IO
     {
@@ -252,7 +287,8 @@ TEST(terrain_desc_points_into_dem) {
         EXPECT_EQ_INT(dem->height, d.height);
         EXPECT_EQ_INT(33, d.patch_size);
         EXPECT_EQ_INT(TP_FIT_RESAMPLE, d.fit);
-        for (i = 0; i < 6; ++i) EXPECT_EQ_DBL(dem->geotransform[i], d.geotransform[i]);
+        for (i = 0; i < 6; ++i)
+            EXPECT_EQ_DBL(dem->geotransform[i], d.geotransform[i]);
         tp_dem_destroy(dem);
     }
 #endif
@@ -260,7 +296,8 @@ TEST(terrain_desc_points_into_dem) {
 
 #ifndef TP_TEST_NO_IO
 /* Reading must fail with a non-OK status, a message naming the file, and *out untouched. */
-static void expect_read_fails(const char* path, const char* name, tp_status* got) {
+static void expect_read_fails(const char* path, const char* name, tp_status* got)
+{
     tp_dem* sentinel = (tp_dem*)&sentinel;
     tp_dem* out = sentinel;
     tp_error err;
@@ -271,14 +308,16 @@ static void expect_read_fails(const char* path, const char* name, tp_status* got
     EXPECT_TRUE(s != TP_OK);
     EXPECT_TRUE(out == sentinel);
     EXPECT_CONTAINS(err.message, name);
-    if (s == TP_OK && out != sentinel) tp_dem_destroy(out);
+    if (s == TP_OK && out != sentinel)
+        tp_dem_destroy(out);
     out = sentinel;
     s = tp_dem_read(path, &out, NULL); /* NULL error pointer accepted */
     EXPECT_TRUE(s != TP_OK);
     EXPECT_TRUE(out == sentinel);
 }
 
-static void write_file(const char* path, const void* data, size_t size) {
+static void write_file(const char* path, const void* data, size_t size)
+{
     FILE* f = fopen(path, "wb");
     ASSERT_TRUE(f != NULL);
     ASSERT_EQ_INT(size, fwrite(data, 1, size, f));
@@ -286,7 +325,8 @@ static void write_file(const char* path, const void* data, size_t size) {
 }
 #endif
 
-TEST(missing_file_fails_naming_it) {
+TEST(missing_file_fails_naming_it)
+{
     REQUIRE_IO();
 #ifndef TP_TEST_NO_IO
     {
@@ -296,7 +336,8 @@ TEST(missing_file_fails_naming_it) {
 #endif
 }
 
-TEST(non_raster_file_fails_naming_it) {
+TEST(non_raster_file_fails_naming_it)
+{
     REQUIRE_IO();
 #ifndef TP_TEST_NO_IO
     {
@@ -310,7 +351,8 @@ TEST(non_raster_file_fails_naming_it) {
 #endif
 }
 
-TEST(truncated_geotiff_fails_naming_it) {
+TEST(truncated_geotiff_fails_naming_it)
+{
     REQUIRE_IO();
 #ifndef TP_TEST_NO_IO
     {
@@ -342,7 +384,8 @@ TEST(truncated_geotiff_fails_naming_it) {
 #endif
 }
 
-TEST(ascii_grid_values_and_georeference) {
+TEST(ascii_grid_values_and_georeference)
+{
     REQUIRE_IO();
 #ifndef TP_TEST_NO_IO
     {
@@ -380,7 +423,8 @@ TEST(ascii_grid_values_and_georeference) {
 #endif
 }
 
-TEST(all_nodata_raster_is_bad_data) {
+TEST(all_nodata_raster_is_bad_data)
+{
     REQUIRE_IO();
 #ifndef TP_TEST_NO_IO
     {
@@ -396,32 +440,33 @@ TEST(all_nodata_raster_is_bad_data) {
 #endif
 }
 
-TEST(dem_destroy_accepts_null) {
+TEST(dem_destroy_accepts_null)
+{
     REQUIRE_IO();
 #ifndef TP_TEST_NO_IO
     tp_dem_destroy(NULL);
 #endif
 }
 
-#define TESTS(X)                                                                                  \
-    X(n42e001_hgt_matches_provenance)                                                             \
-    X(n41e001_hgt_matches_provenance)                                                             \
-    X(n42e001_dt1_matches_provenance)                                                             \
-    X(craterlake_untagged_voids_are_nodata_with_warning)                                          \
-    X(mt_hood_matches_provenance)                                                                 \
-    X(storml_orig_matches_provenance)                                                             \
-    X(storml_filled_has_no_voids)                                                                 \
-    X(mt_rainier_matches_provenance)                                                              \
-    X(front_range_758_asc_matches_provenance)                                                     \
-    X(front_range_144_asc_matches_provenance)                                                     \
-    X(png_heightmap_without_georeference)                                                         \
-    X(hgt_and_dt1_valid_cells_identical)                                                          \
-    X(storml_through_terrain_counts)                                                              \
-    X(terrain_desc_points_into_dem)                                                               \
-    X(missing_file_fails_naming_it)                                                               \
-    X(non_raster_file_fails_naming_it)                                                            \
-    X(truncated_geotiff_fails_naming_it)                                                          \
-    X(ascii_grid_values_and_georeference)                                                         \
-    X(all_nodata_raster_is_bad_data)                                                              \
+#define TESTS(X)                                                                                   \
+    X(n42e001_hgt_matches_provenance)                                                              \
+    X(n41e001_hgt_matches_provenance)                                                              \
+    X(n42e001_dt1_matches_provenance)                                                              \
+    X(craterlake_untagged_voids_are_nodata_with_warning)                                           \
+    X(mt_hood_matches_provenance)                                                                  \
+    X(storml_orig_matches_provenance)                                                              \
+    X(storml_filled_has_no_voids)                                                                  \
+    X(mt_rainier_matches_provenance)                                                               \
+    X(front_range_758_asc_matches_provenance)                                                      \
+    X(front_range_144_asc_matches_provenance)                                                      \
+    X(png_heightmap_without_georeference)                                                          \
+    X(hgt_and_dt1_valid_cells_identical)                                                           \
+    X(storml_through_terrain_counts)                                                               \
+    X(terrain_desc_points_into_dem)                                                                \
+    X(missing_file_fails_naming_it)                                                                \
+    X(non_raster_file_fails_naming_it)                                                             \
+    X(truncated_geotiff_fails_naming_it)                                                           \
+    X(ascii_grid_values_and_georeference)                                                          \
+    X(all_nodata_raster_is_bad_data)                                                               \
     X(dem_destroy_accepts_null)
 TP_TEST_MAIN(TESTS)

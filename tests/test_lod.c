@@ -17,7 +17,8 @@
 /* ---------------------------------------------------------------------------------------------
  * tp_lod_level_distance
  */
-TEST(distance_at_or_below_mindist_is_finest) {
+TEST(distance_at_or_below_mindist_is_finest)
+{
     EXPECT_EQ_INT(8, tp_lod_level_distance(8, 0.0, 100.0, 1100.0, 1.0));
     EXPECT_EQ_INT(8, tp_lod_level_distance(8, 50.0, 100.0, 1100.0, 1.0));
     EXPECT_EQ_INT(8, tp_lod_level_distance(8, 100.0, 100.0, 1100.0, 1.0));
@@ -25,7 +26,8 @@ TEST(distance_at_or_below_mindist_is_finest) {
     EXPECT_EQ_INT(5, tp_lod_level_distance(5, 100.0, 100.0, 1100.0, 3.0));
 }
 
-TEST(distance_at_or_beyond_maxdist_is_coarsest) {
+TEST(distance_at_or_beyond_maxdist_is_coarsest)
+{
     EXPECT_EQ_INT(0, tp_lod_level_distance(8, 1100.0, 100.0, 1100.0, 1.0));
     EXPECT_EQ_INT(0, tp_lod_level_distance(8, nextafter(1100.0, 1e9), 100.0, 1100.0, 1.0));
     EXPECT_EQ_INT(0, tp_lod_level_distance(8, 1e12, 100.0, 1100.0, 1.0));
@@ -34,7 +36,8 @@ TEST(distance_at_or_beyond_maxdist_is_coarsest) {
     EXPECT_EQ_INT(1, tp_lod_level_distance(8, 1099.0, 100.0, 1100.0, 1.0));
 }
 
-TEST(distance_formula_rounds_up) {
+TEST(distance_formula_rounds_up)
+{
     /* exp 1, n 8: dist = 100 + 125 j gives exactly level 8 - j; a millimetre nearer asks for
      * slightly more, which rounds up to 9 - j; a millimetre further stays at 8 - j */
     int j;
@@ -46,7 +49,8 @@ TEST(distance_formula_rounds_up) {
     }
 }
 
-TEST(distance_formula_exponent) {
+TEST(distance_formula_exponent)
+{
     /* ratio 1/2: 8 * (1 - 1/4) = 6 with exp 2, 8 * (1 - 1/8) = 7 with exp 3 */
     EXPECT_EQ_INT(6, tp_lod_level_distance(8, 600.0, 100.0, 1100.0, 2.0));
     EXPECT_EQ_INT(7, tp_lod_level_distance(8, 600.0, 100.0, 1100.0, 3.0));
@@ -57,32 +61,37 @@ TEST(distance_formula_exponent) {
     EXPECT_EQ_INT(3, tp_lod_level_distance(4, 400.0, 100.0, 1100.0, 1.0));
 }
 
-TEST(distance_exponent_zero_drops_to_0_beyond_mindist) {
+TEST(distance_exponent_zero_drops_to_0_beyond_mindist)
+{
     EXPECT_EQ_INT(8, tp_lod_level_distance(8, 100.0, 100.0, 1100.0, 0.0));
     EXPECT_EQ_INT(0, tp_lod_level_distance(8, 100.5, 100.0, 1100.0, 0.0));
     EXPECT_EQ_INT(0, tp_lod_level_distance(8, 1000.0, 100.0, 1100.0, 0.0));
 }
 
-TEST(distance_tiny_exponent_gives_level_1_inside_range) {
+TEST(distance_tiny_exponent_gives_level_1_inside_range)
+{
     /* r^1e-9 is just below 1, so 8 * (1 - r^1e-9) is a sliver above 0: rounds up to 1 */
     EXPECT_EQ_INT(1, tp_lod_level_distance(8, 600.0, 100.0, 1100.0, 1e-9));
     EXPECT_EQ_INT(1, tp_lod_level_distance(8, 200.0, 100.0, 1100.0, 1e-9));
     EXPECT_EQ_INT(0, tp_lod_level_distance(8, 1100.5, 100.0, 1100.0, 1e-9));
 }
 
-TEST(distance_huge_exponent_keeps_finest_up_to_maxdist) {
+TEST(distance_huge_exponent_keeps_finest_up_to_maxdist)
+{
     EXPECT_EQ_INT(8, tp_lod_level_distance(8, 600.0, 100.0, 1100.0, 1e300));
     EXPECT_EQ_INT(8, tp_lod_level_distance(8, 1099.0, 100.0, 1100.0, 1e300));
     EXPECT_EQ_INT(0, tp_lod_level_distance(8, 1100.5, 100.0, 1100.0, 1e300));
 }
 
-TEST(distance_infinite_exponent_is_huge_or_rejected) {
+TEST(distance_infinite_exponent_is_huge_or_rejected)
+{
     /* not listed as invalid; if accepted it must behave as the limit of a huge exponent */
     int k = tp_lod_level_distance(8, 600.0, 100.0, 1100.0, INFINITY);
     EXPECT_TRUE(k == -1 || k == 8);
 }
 
-TEST(distance_equal_min_max_is_a_step) {
+TEST(distance_equal_min_max_is_a_step)
+{
     EXPECT_EQ_INT(6, tp_lod_level_distance(6, 500.0, 500.0, 500.0, 1.0));
     EXPECT_EQ_INT(6, tp_lod_level_distance(6, 10.0, 500.0, 500.0, 1.0));
     EXPECT_EQ_INT(0, tp_lod_level_distance(6, nextafter(500.0, 1e9), 500.0, 500.0, 1.0));
@@ -91,18 +100,21 @@ TEST(distance_equal_min_max_is_a_step) {
     EXPECT_EQ_INT(0, tp_lod_level_distance(6, 1e-300, 0.0, 0.0, 1.0));
 }
 
-TEST(distance_negative_dist_is_clamped_to_zero) {
+TEST(distance_negative_dist_is_clamped_to_zero)
+{
     EXPECT_EQ_INT(7, tp_lod_level_distance(7, -5.0, 100.0, 1100.0, 1.0));
     EXPECT_EQ_INT(7, tp_lod_level_distance(7, -1e300, 0.0, 0.0, 1.0));
 }
 
-TEST(distance_level_0_patch_is_always_0) {
+TEST(distance_level_0_patch_is_always_0)
+{
     EXPECT_EQ_INT(0, tp_lod_level_distance(0, 0.0, 100.0, 1100.0, 1.0));
     EXPECT_EQ_INT(0, tp_lod_level_distance(0, 600.0, 100.0, 1100.0, 1.0));
     EXPECT_EQ_INT(0, tp_lod_level_distance(0, 1e9, 100.0, 1100.0, 1.0));
 }
 
-TEST(distance_rejects_invalid_parameters) {
+TEST(distance_rejects_invalid_parameters)
+{
     EXPECT_EQ_INT(-1, tp_lod_level_distance(-1, 10.0, 100.0, 1100.0, 1.0));
     EXPECT_EQ_INT(-1, tp_lod_level_distance(TP_MAX_N + 1, 10.0, 100.0, 1100.0, 1.0));
     EXPECT_EQ_INT(-1, tp_lod_level_distance(8, 10.0, -1.0, 1100.0, 1.0));
@@ -116,10 +128,11 @@ TEST(distance_rejects_invalid_parameters) {
     EXPECT_EQ_INT(-1, tp_lod_level_distance(8, 10.0, 100.0, nextafter(100.0, 0.0), 1.0));
 }
 
-TEST(distance_level_non_increasing_over_sweep) {
-    static const double params[][3] = {{100, 1100, 1},  {0, 5000, 0.3}, {250, 260, 4},
-                                       {10, 10, 1},     {1, 1e6, 0.01}, {500, 2000, 7.5},
-                                       {0, 1e-3, 1},    {300, 900, 0}};
+TEST(distance_level_non_increasing_over_sweep)
+{
+    static const double params[][3] = {{100, 1100, 1}, {0, 5000, 0.3}, {250, 260, 4},
+                                       {10, 10, 1},    {1, 1e6, 0.01}, {500, 2000, 7.5},
+                                       {0, 1e-3, 1},   {300, 900, 0}};
     size_t p;
     int n;
     for (p = 0; p < sizeof params / sizeof params[0]; ++p) {
@@ -130,8 +143,8 @@ TEST(distance_level_non_increasing_over_sweep) {
                 double d = top * i / 20000.0;
                 int k = tp_lod_level_distance(n, d, params[p][0], params[p][1], params[p][2]);
                 if (k < 0 || k > n || k > prev) {
-                    ADD_FAILURE("min %g max %g exp %g n %d: level %d at %.9g m after %d", params[p][0],
-                                params[p][1], params[p][2], n, k, d, prev);
+                    ADD_FAILURE("min %g max %g exp %g n %d: level %d at %.9g m after %d",
+                                params[p][0], params[p][1], params[p][2], n, k, d, prev);
                     break;
                 }
                 prev = k;
@@ -146,14 +159,16 @@ TEST(distance_level_non_increasing_over_sweep) {
 /* ---------------------------------------------------------------------------------------------
  * tp_lod_params_resolve
  */
-static tp_terrain* small_terrain_10m(int patch_size) {
+static tp_terrain* small_terrain_10m(int patch_size)
+{
     static float h[65 * 65];
     double gt[6] = {500000.0, 10.0, 0.0, 4000000.0, 0.0, -10.0};
     tpt_rough_heights(h, 65, 65, 3, 1000.0, 100.0, 1.0, 1);
     return tpt_terrain_create(h, 65, 65, patch_size, TP_FIT_PAD, gt);
 }
 
-TEST(params_resolve_fills_defaults) {
+TEST(params_resolve_fills_defaults)
+{
     tp_terrain* t = small_terrain_10m(33);
     tp_lod_params in, out;
     tp_error err;
@@ -168,7 +183,8 @@ TEST(params_resolve_fills_defaults) {
     tp_terrain_destroy(t);
 }
 
-TEST(params_resolve_keeps_given_values) {
+TEST(params_resolve_keeps_given_values)
+{
     tp_terrain* t = small_terrain_10m(17);
     tp_lod_params in, out;
     memset(&in, 0, sizeof in);
@@ -189,7 +205,8 @@ TEST(params_resolve_keeps_given_values) {
     tp_terrain_destroy(t);
 }
 
-static void expect_resolve_rejects(const tp_terrain* t, const tp_lod_params* in, const char* what) {
+static void expect_resolve_rejects(const tp_terrain* t, const tp_lod_params* in, const char* what)
+{
     tp_lod_params out, before;
     tp_error err;
     tp_status s;
@@ -199,22 +216,26 @@ static void expect_resolve_rejects(const tp_terrain* t, const tp_lod_params* in,
     s = tp_lod_params_resolve(t, in, &out, &err);
     if (s != TP_ERR_INVALID_ARG)
         ADD_FAILURE("%s: expected TP_ERR_INVALID_ARG, got %s", what, tp_test_status_name_(s));
-    if (err.message[0] == '\0') ADD_FAILURE("%s: no error message", what);
-    if (memcmp(&out, &before, sizeof out) != 0) ADD_FAILURE("%s: out was written on failure", what);
+    if (err.message[0] == '\0')
+        ADD_FAILURE("%s: no error message", what);
+    if (memcmp(&out, &before, sizeof out) != 0)
+        ADD_FAILURE("%s: out was written on failure", what);
     /* NULL error pointer accepted */
     s = tp_lod_params_resolve(t, in, &out, NULL);
-    if (s != TP_ERR_INVALID_ARG) ADD_FAILURE("%s (err NULL): got %s", what, tp_test_status_name_(s));
+    if (s != TP_ERR_INVALID_ARG)
+        ADD_FAILURE("%s (err NULL): got %s", what, tp_test_status_name_(s));
 }
 
-TEST(params_resolve_rejects_bad_values_and_leaves_out_alone) {
+TEST(params_resolve_rejects_bad_values_and_leaves_out_alone)
+{
     tp_terrain* t = small_terrain_10m(17);
     tp_lod_params in;
-#define REJECT(field, value)                                                                      \
-    do {                                                                                          \
-        memset(&in, 0, sizeof in);                                                                \
-        in.mode = TP_LOD_DISTANCE;                                                                \
-        in.field = (value);                                                                       \
-        expect_resolve_rejects(t, &in, #field " = " #value);                                      \
+#define REJECT(field, value)                                                                       \
+    do {                                                                                           \
+        memset(&in, 0, sizeof in);                                                                 \
+        in.mode = TP_LOD_DISTANCE;                                                                 \
+        in.field = (value);                                                                        \
+        expect_resolve_rejects(t, &in, #field " = " #value);                                       \
     } while (0)
     REJECT(mindist_m, -1.0);
     REJECT(mindist_m, NAN);
@@ -245,19 +266,22 @@ typedef struct view {
     double tan_y, tan_x, f_px, near_m, far_m;
 } view;
 
-static void v3_norm(double v[3]) {
+static void v3_norm(double v[3])
+{
     double l = sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
     v[0] /= l;
     v[1] /= l;
     v[2] /= l;
 }
-static void v3_cross(const double a[3], const double b[3], double out[3]) {
+static void v3_cross(const double a[3], const double b[3], double out[3])
+{
     out[0] = a[1] * b[2] - a[2] * b[1];
     out[1] = a[2] * b[0] - a[0] * b[2];
     out[2] = a[0] * b[1] - a[1] * b[0];
 }
 
-static void view_from_camera(const tp_camera* c, view* v) {
+static void view_from_camera(const tp_camera* c, view* v)
+{
     double fov = c->fov_y_rad > 0 ? c->fov_y_rad : PI / 3.0;
     int w = c->viewport_w_px, h = c->viewport_h_px;
     if (w <= 0 || h <= 0) {
@@ -266,7 +290,8 @@ static void view_from_camera(const tp_camera* c, view* v) {
     }
     memcpy(v->eye, c->position, sizeof v->eye);
     memcpy(v->fwd, c->forward, sizeof v->fwd);
-    if (v->fwd[0] == 0 && v->fwd[1] == 0 && v->fwd[2] == 0) v->fwd[1] = 1.0;
+    if (v->fwd[0] == 0 && v->fwd[1] == 0 && v->fwd[2] == 0)
+        v->fwd[1] = 1.0;
     v3_norm(v->fwd);
     v3_cross(v->fwd, c->up, v->right);
     v3_norm(v->right);
@@ -279,17 +304,21 @@ static void view_from_camera(const tp_camera* c, view* v) {
 }
 
 /* Camera-space coordinates; returns 1 if inside the view volume. */
-static int view_project(const view* v, const double p[3], double* sx, double* sy, double* z) {
+static int view_project(const view* v, const double p[3], double* sx, double* sy, double* z)
+{
     double d[3] = {p[0] - v->eye[0], p[1] - v->eye[1], p[2] - v->eye[2]};
     double X = d[0] * v->right[0] + d[1] * v->right[1] + d[2] * v->right[2];
     double Y = d[0] * v->up[0] + d[1] * v->up[1] + d[2] * v->up[2];
     double Z = d[0] * v->fwd[0] + d[1] * v->fwd[1] + d[2] * v->fwd[2];
     *z = Z;
-    if (Z <= 0) return 0;
+    if (Z <= 0)
+        return 0;
     *sx = v->f_px * X / Z;
     *sy = v->f_px * Y / Z;
-    if (Z < v->near_m) return 0;
-    if (v->far_m > 0 && Z > v->far_m) return 0;
+    if (Z < v->near_m)
+        return 0;
+    if (v->far_m > 0 && Z > v->far_m)
+        return 0;
     return fabs(X) <= v->tan_x * Z && fabs(Y) <= v->tan_y * Z;
 }
 
@@ -300,7 +329,8 @@ typedef struct screen_measure {
     double worst_dz;
 } screen_measure;
 
-static void grid_to_world(const tp_terrain_info* ti, double x, double y, double* e, double* n) {
+static void grid_to_world(const tp_terrain_info* ti, double x, double y, double* e, double* n)
+{
     *e = ti->geotransform[0] + (x + 0.5) * ti->geotransform[1];
     *n = ti->geotransform[3] + (y + 0.5) * ti->geotransform[5];
 }
@@ -308,7 +338,8 @@ static void grid_to_world(const tp_terrain_info* ti, double x, double y, double*
 /* Screen error of the current selection, measured from the drawn triangles of the visible
  * patches. Each sample counted once. */
 static void measure_screen(const tp_terrain* t, const tp_selection* s, const tp_camera* cam,
-                           screen_measure* m) {
+                           screen_measure* m)
+{
     tp_terrain_info ti;
     view v;
     int p;
@@ -331,7 +362,8 @@ static void measure_screen(const tp_terrain* t, const tp_selection* s, const tp_
     for (p = 0; p < ti.patch_count; ++p) {
         int nb[4], k, x0, y0, x, y;
         size_t tc;
-        if (!tp_selection_visible(s, p)) continue;
+        if (!tp_selection_visible(s, p))
+            continue;
         k = tp_selection_level(s, p);
         tp_selection_neighbor_levels(s, p, nb);
         x0 = (p % ti.patch_cols) << ti.n;
@@ -341,17 +373,21 @@ static void measure_screen(const tp_terrain* t, const tp_selection* s, const tp_
         for (y = 0; y < ti.patch_size; ++y) {
             for (x = 0; x < ti.patch_size; ++x) {
                 int gx = x0 + x, gy = y0 + y;
-                double d = drawn[y * ti.patch_size + x], hs, ps[3], pd[3], sx, sy, dx, dy, zs, zd, px;
+                double d = drawn[y * ti.patch_size + x], hs, ps[3], pd[3], sx, sy, dx, dy, zs, zd,
+                       px;
                 size_t at = (size_t)gy * ti.width + gx;
-                if (seen[at] || isnan(d)) continue;
+                if (seen[at] || isnan(d))
+                    continue;
                 hs = tp_terrain_sample(t, gx, gy);
-                if (isnan(hs)) continue;
+                if (isnan(hs))
+                    continue;
                 grid_to_world(&ti, gx, gy, &ps[0], &ps[1]);
                 pd[0] = ps[0];
                 pd[1] = ps[1];
                 ps[2] = hs;
                 pd[2] = d;
-                if (!view_project(&v, ps, &sx, &sy, &zs)) continue;
+                if (!view_project(&v, ps, &sx, &sy, &zs))
+                    continue;
                 seen[at] = 1;
                 view_project(&v, pd, &dx, &dy, &zd);
                 px = zd > 0 ? hypot(sx - dx, sy - dy) : INFINITY;
@@ -377,7 +413,8 @@ static void measure_screen(const tp_terrain* t, const tp_selection* s, const tp_
 /* ---------------------------------------------------------------------------------------------
  * Cameras
  */
-static double ground_at(const tp_terrain* t, double e, double n) {
+static double ground_at(const tp_terrain* t, double e, double n)
+{
     double x, y, h;
     tp_terrain_info ti;
     tp_terrain_get_info(t, &ti);
@@ -389,7 +426,8 @@ static double ground_at(const tp_terrain* t, double e, double n) {
 /* style 0: anywhere, looking a little down; 1: low and steep, the terrain fills every corner
  * of the view; 2: low, looking at the horizon (terrain in the bottom corners); 3: other
  * viewports and fields of view. */
-static tp_camera make_camera(const tp_terrain* t, tp_rng* r, int style) {
+static tp_camera make_camera(const tp_terrain* t, tp_rng* r, int style)
+{
     tp_terrain_info ti;
     tp_camera c;
     double e0, n0, e1, n1, yaw, pitch, agl;
@@ -434,7 +472,8 @@ static tp_camera make_camera(const tp_terrain* t, tp_rng* r, int style) {
     return c;
 }
 
-static void update(tp_selection* s, const tp_camera* cam, tp_lod_mode mode, double tau) {
+static void update(tp_selection* s, const tp_camera* cam, tp_lod_mode mode, double tau)
+{
     tp_lod_params lp;
     tp_error err;
     tp_status st;
@@ -442,12 +481,14 @@ static void update(tp_selection* s, const tp_camera* cam, tp_lod_mode mode, doub
     lp.mode = mode;
     lp.tau_px = tau;
     st = tp_selection_update(s, cam, &lp, &err);
-    if (st != TP_OK) FAIL("tp_selection_update: %s: %s", tp_test_status_name_(st), err.message);
+    if (st != TP_OK)
+        FAIL("tp_selection_update: %s: %s", tp_test_status_name_(st), err.message);
 }
 
 /* For many cameras and tau in {0.5, 1, 4}: the drawn surface never strays more than tau
  * pixels from any visible sample, by both measurements. */
-static void error_mode_within_tau(const tp_terrain* t, const char* what, int cameras, uint64_t seed) {
+static void error_mode_within_tau(const tp_terrain* t, const char* what, int cameras, uint64_t seed)
+{
     static const double taus[3] = {0.5, 1.0, 4.0};
     tp_selection* s = NULL;
     tp_error err;
@@ -479,18 +520,23 @@ static void error_mode_within_tau(const tp_terrain* t, const char* what, int cam
                             m.worst_x, m.worst_y, m.worst_patch, m.worst_level, m.worst_dz);
             if (!(rms_px <= max_px + 1e-12) || rms_px < 0)
                 ADD_FAILURE("%s camera %d: rms %.6f px, max %.6f px", what, i, rms_px, max_px);
-            if (max_px > worst_core) worst_core = max_px;
-            if (m.max_px > worst_mine) worst_mine = m.max_px;
+            if (max_px > worst_core)
+                worst_core = max_px;
+            if (m.max_px > worst_mine)
+                worst_mine = m.max_px;
             measured += m.samples;
-            if (tp_test_state_.failures) break;
+            if (tp_test_state_.failures)
+                break;
         }
     }
-    tp_test_note("%s: %d cameras x 3 tau, %zu samples measured; worst %.4f px (core) %.4f px (here)",
-                 what, cameras, measured, worst_core, worst_mine);
+    tp_test_note(
+        "%s: %d cameras x 3 tau, %zu samples measured; worst %.4f px (core) %.4f px (here)", what,
+        cameras, measured, worst_core, worst_mine);
     tp_selection_destroy(s);
 }
 
-static tp_terrain* synthetic_rough_30m(float** heights) {
+static tp_terrain* synthetic_rough_30m(float** heights)
+{
     int w = 300, h = 220;
     double gt[6] = {300000.0, 30.0, 0.0, 5000000.0, 0.0, -30.0};
     float* src = (float*)malloc(sizeof(float) * w * h);
@@ -502,7 +548,8 @@ static tp_terrain* synthetic_rough_30m(float** heights) {
 
 #ifndef TP_TEST_NO_IO
 /* Reads a DEM of the repository's data/ folder into a terrain; skips if it is missing. */
-static tp_terrain* sample_dem_terrain(const char* file, int patch_size) {
+static tp_terrain* sample_dem_terrain(const char* file, int patch_size)
+{
     char path[1024];
     tp_dem* dem = NULL;
     tp_terrain* t = NULL;
@@ -511,16 +558,19 @@ static tp_terrain* sample_dem_terrain(const char* file, int patch_size) {
     tp_status s;
     REQUIRE_DATA_FILE(path, "TP_SAMPLE_DATA_DIR", file);
     s = tp_dem_read(path, &dem, &err);
-    if (s != TP_OK) FAIL("tp_dem_read(%s): %s", path, err.message);
+    if (s != TP_OK)
+        FAIL("tp_dem_read(%s): %s", path, err.message);
     d = tp_dem_terrain_desc(dem, patch_size, TP_FIT_PAD);
     s = tp_terrain_create(&d, &t, &err);
     tp_dem_destroy(dem);
-    if (s != TP_OK) FAIL("tp_terrain_create(%s): %s", path, err.message);
+    if (s != TP_OK)
+        FAIL("tp_terrain_create(%s): %s", path, err.message);
     return t;
 }
 #endif
 
-TEST(error_mode_within_tau_synthetic) {
+TEST(error_mode_within_tau_synthetic)
+{
     float* src;
     tp_terrain* t = synthetic_rough_30m(&src);
     error_mode_within_tau(t, "synthetic", 24, 101);
@@ -528,7 +578,8 @@ TEST(error_mode_within_tau_synthetic) {
     free(src);
 }
 
-TEST(error_mode_within_tau_storml) {
+TEST(error_mode_within_tau_storml)
+{
 #ifdef TP_TEST_NO_IO
     SKIP("built without tp_io");
 #else
@@ -543,7 +594,8 @@ TEST(error_mode_within_tau_storml) {
 #endif
 }
 
-TEST(error_mode_within_tau_mt_hood) {
+TEST(error_mode_within_tau_mt_hood)
+{
 #ifdef TP_TEST_NO_IO
     SKIP("built without tp_io");
 #else
@@ -553,7 +605,8 @@ TEST(error_mode_within_tau_mt_hood) {
 #endif
 }
 
-TEST(screen_error_measure_matches_independent_projection) {
+TEST(screen_error_measure_matches_independent_projection)
+{
     /* distance mode with coarse levels, so the errors are large, and random cameras */
     float* src;
     tp_terrain* t = synthetic_rough_30m(&src);
@@ -587,7 +640,8 @@ TEST(screen_error_measure_matches_independent_projection) {
     free(src);
 }
 
-TEST(full_mode_has_zero_error) {
+TEST(full_mode_has_zero_error)
+{
     float* src;
     tp_terrain* t = synthetic_rough_30m(&src);
     tp_selection* s = NULL;
@@ -604,7 +658,8 @@ TEST(full_mode_has_zero_error) {
         tp_error_measure em;
         screen_measure m;
         update(s, &cam, TP_LOD_FULL, 0);
-        for (p = 0; p < ti.patch_count; ++p) EXPECT_EQ_INT(ti.n, tp_selection_level(s, p));
+        for (p = 0; p < ti.patch_count; ++p)
+            EXPECT_EQ_INT(ti.n, tp_selection_level(s, p));
         ASSERT_OK(tp_selection_measure_screen_error(s, &cam, &max_px, &rms_px, &samples));
         EXPECT_EQ_DBL(0.0, max_px);
         EXPECT_EQ_DBL(0.0, rms_px);
@@ -618,7 +673,8 @@ TEST(full_mode_has_zero_error) {
     free(src);
 }
 
-TEST(error_mode_picks_level_0_on_a_plane) {
+TEST(error_mode_picks_level_0_on_a_plane)
+{
     /* every delta is 0 on an exactly representable plane: the coarsest level is good enough */
     static float h[97 * 81];
     int x, y, p, i;
@@ -629,7 +685,8 @@ TEST(error_mode_picks_level_0_on_a_plane) {
     tp_rng rng = tp_rng_seed(131);
     double gt[6] = {0.0, 10.0, 0.0, 0.0, 0.0, -10.0};
     for (y = 0; y < 81; ++y)
-        for (x = 0; x < 97; ++x) h[y * 97 + x] = (float)(200 + 2 * x - 3 * y);
+        for (x = 0; x < 97; ++x)
+            h[y * 97 + x] = (float)(200 + 2 * x - 3 * y);
     t = tpt_terrain_create(h, 97, 81, 17, TP_FIT_PAD, gt);
     tp_terrain_get_info(t, &ti);
     ASSERT_OK(tp_selection_create(t, &s, &err));
@@ -646,7 +703,8 @@ TEST(error_mode_picks_level_0_on_a_plane) {
     tp_terrain_destroy(t);
 }
 
-TEST(error_mode_coarsens_far_terrain) {
+TEST(error_mode_coarsens_far_terrain)
+{
     /* seen from 5 km up, a 30 m DEM does not need full resolution everywhere at tau = 4 */
     float* src;
     tp_terrain* t = synthetic_rough_30m(&src);
@@ -664,7 +722,8 @@ TEST(error_mode_coarsens_far_terrain) {
     cam.up[2] = 1.0;
     ASSERT_OK(tp_selection_create(t, &s, &err));
     update(s, &cam, TP_LOD_ERROR, 4.0);
-    for (p = 0; p < ti.patch_count; ++p) coarser += tp_selection_level(s, p) < ti.n;
+    for (p = 0; p < ti.patch_count; ++p)
+        coarser += tp_selection_level(s, p) < ti.n;
     EXPECT_GE_INT(coarser, 1);
     tp_test_note("%d of %d patches below level n", coarser, ti.patch_count);
     tp_selection_destroy(s);
@@ -672,7 +731,8 @@ TEST(error_mode_coarsens_far_terrain) {
     free(src);
 }
 
-TEST(distance_mode_step_selects_0_or_n) {
+TEST(distance_mode_step_selects_0_or_n)
+{
     float* src;
     tp_terrain* t = synthetic_rough_30m(&src);
     tp_selection* s = NULL;
@@ -698,13 +758,15 @@ TEST(distance_mode_step_selects_0_or_n) {
     }
     lp.mindist_m = lp.maxdist_m = 1e9; /* every patch is nearer: level n */
     ASSERT_OK(tp_selection_update(s, &cam, &lp, &err));
-    for (p = 0; p < ti.patch_count; ++p) EXPECT_EQ_INT(ti.n, tp_selection_level(s, p));
+    for (p = 0; p < ti.patch_count; ++p)
+        EXPECT_EQ_INT(ti.n, tp_selection_level(s, p));
     tp_selection_destroy(s);
     tp_terrain_destroy(t);
     free(src);
 }
 
-TEST(update_rejects_invalid_params) {
+TEST(update_rejects_invalid_params)
+{
     float* src;
     tp_terrain* t = synthetic_rough_30m(&src);
     tp_selection* s = NULL;
@@ -725,30 +787,30 @@ TEST(update_rejects_invalid_params) {
     free(src);
 }
 
-#define TESTS(X)                                                                                  \
-    X(distance_at_or_below_mindist_is_finest)                                                     \
-    X(distance_at_or_beyond_maxdist_is_coarsest)                                                  \
-    X(distance_formula_rounds_up)                                                                 \
-    X(distance_formula_exponent)                                                                  \
-    X(distance_exponent_zero_drops_to_0_beyond_mindist)                                           \
-    X(distance_tiny_exponent_gives_level_1_inside_range)                                          \
-    X(distance_huge_exponent_keeps_finest_up_to_maxdist)                                          \
-    X(distance_infinite_exponent_is_huge_or_rejected)                                             \
-    X(distance_equal_min_max_is_a_step)                                                           \
-    X(distance_negative_dist_is_clamped_to_zero)                                                  \
-    X(distance_level_0_patch_is_always_0)                                                         \
-    X(distance_rejects_invalid_parameters)                                                        \
-    X(distance_level_non_increasing_over_sweep)                                                   \
-    X(params_resolve_fills_defaults)                                                              \
-    X(params_resolve_keeps_given_values)                                                          \
-    X(params_resolve_rejects_bad_values_and_leaves_out_alone)                                     \
-    X(error_mode_within_tau_synthetic)                                                            \
-    X(error_mode_within_tau_storml)                                                               \
-    X(error_mode_within_tau_mt_hood)                                                              \
-    X(screen_error_measure_matches_independent_projection)                                        \
-    X(full_mode_has_zero_error)                                                                   \
-    X(error_mode_picks_level_0_on_a_plane)                                                        \
-    X(error_mode_coarsens_far_terrain)                                                            \
-    X(distance_mode_step_selects_0_or_n)                                                          \
+#define TESTS(X)                                                                                   \
+    X(distance_at_or_below_mindist_is_finest)                                                      \
+    X(distance_at_or_beyond_maxdist_is_coarsest)                                                   \
+    X(distance_formula_rounds_up)                                                                  \
+    X(distance_formula_exponent)                                                                   \
+    X(distance_exponent_zero_drops_to_0_beyond_mindist)                                            \
+    X(distance_tiny_exponent_gives_level_1_inside_range)                                           \
+    X(distance_huge_exponent_keeps_finest_up_to_maxdist)                                           \
+    X(distance_infinite_exponent_is_huge_or_rejected)                                              \
+    X(distance_equal_min_max_is_a_step)                                                            \
+    X(distance_negative_dist_is_clamped_to_zero)                                                   \
+    X(distance_level_0_patch_is_always_0)                                                          \
+    X(distance_rejects_invalid_parameters)                                                         \
+    X(distance_level_non_increasing_over_sweep)                                                    \
+    X(params_resolve_fills_defaults)                                                               \
+    X(params_resolve_keeps_given_values)                                                           \
+    X(params_resolve_rejects_bad_values_and_leaves_out_alone)                                      \
+    X(error_mode_within_tau_synthetic)                                                             \
+    X(error_mode_within_tau_storml)                                                                \
+    X(error_mode_within_tau_mt_hood)                                                               \
+    X(screen_error_measure_matches_independent_projection)                                         \
+    X(full_mode_has_zero_error)                                                                    \
+    X(error_mode_picks_level_0_on_a_plane)                                                         \
+    X(error_mode_coarsens_far_terrain)                                                             \
+    X(distance_mode_step_selects_0_or_n)                                                           \
     X(update_rejects_invalid_params)
 TP_TEST_MAIN(TESTS)

@@ -18,7 +18,8 @@ typedef struct world {
     tp_selection* s;
 } world;
 
-static void world_create(world* w) {
+static void world_create(world* w)
+{
     int W = 100, H = 70, i;
     double gt[6] = {400000.0, 10.0, 0.0, 5200000.0, 0.0, -10.0};
     tp_error err;
@@ -31,20 +32,23 @@ static void world_create(world* w) {
         int cx = tp_rng_int(&rng, 0, W - 1), cy = tp_rng_int(&rng, 0, H - 1), x, y;
         for (y = cy - 2; y <= cy + 2; ++y)
             for (x = cx - 2; x <= cx + 2; ++x)
-                if (x >= 0 && y >= 0 && x < W && y < H) w->src[y * W + x] = NAN;
+                if (x >= 0 && y >= 0 && x < W && y < H)
+                    w->src[y * W + x] = NAN;
     }
     w->t = tpt_terrain_create(w->src, W, H, 17, TP_FIT_PAD, gt);
     tp_terrain_get_info(w->t, &w->ti);
     ASSERT_OK(tp_selection_create(w->t, &w->s, &err));
 }
 
-static void world_destroy(world* w) {
+static void world_destroy(world* w)
+{
     tp_selection_destroy(w->s);
     tp_terrain_destroy(w->t);
     free(w->src);
 }
 
-static tp_camera random_camera(const world* w, tp_rng* r) {
+static tp_camera random_camera(const world* w, tp_rng* r)
+{
     tp_camera c;
     double yaw = tp_rng_range(r, 0, 2 * PI), pitch = tp_rng_range(r, -70, -5) * PI / 180;
     const double* gt = w->ti.geotransform;
@@ -59,7 +63,8 @@ static tp_camera random_camera(const world* w, tp_rng* r) {
     return c;
 }
 
-static void update(world* w, const tp_camera* c, tp_lod_mode mode, double tau) {
+static void update(world* w, const tp_camera* c, tp_lod_mode mode, double tau)
+{
     tp_lod_params lp;
     tp_error err;
     tp_status st;
@@ -69,18 +74,21 @@ static void update(world* w, const tp_camera* c, tp_lod_mode mode, double tau) {
     lp.mindist_m = mode == TP_LOD_DISTANCE ? 50.0 : 0.0;
     lp.maxdist_m = mode == TP_LOD_DISTANCE ? 1500.0 : 0.0;
     st = tp_selection_update(w->s, c, &lp, &err);
-    if (st != TP_OK) FAIL("tp_selection_update: %s: %s", tp_test_status_name_(st), err.message);
+    if (st != TP_OK)
+        FAIL("tp_selection_update: %s: %s", tp_test_status_name_(st), err.message);
 }
 
 /* Drawn triangles of patch p under the selection; returns the triangle count. */
-static size_t drawn_patch(const world* w, int p, tp_vertex* v, uint32_t* tri) {
+static size_t drawn_patch(const world* w, int p, tp_vertex* v, uint32_t* tri)
+{
     int nb[4];
     tp_selection_neighbor_levels(w->s, p, nb);
     return tpt_patch_geometry(w->t, p, tp_selection_level(w->s, p), nb, v, 17 * 17, tri, 512);
 }
 
 /* Height of the drawn triangles of patch p at (x, y), by point location; NaN if none. */
-static double drawn_at(const world* w, int p, double x, double y) {
+static double drawn_at(const world* w, int p, double x, double y)
+{
     static tp_vertex v[17 * 17];
     static uint32_t tri[3 * 512];
     size_t tc = drawn_patch(w, p, v, tri), i;
@@ -96,15 +104,18 @@ static double drawn_at(const world* w, int p, double x, double y) {
     return NAN;
 }
 
-TEST(create_marks_every_patch_dirty) {
+TEST(create_marks_every_patch_dirty)
+{
     world w;
     int p;
     world_create(&w);
-    for (p = 0; p < w.ti.patch_count; ++p) EXPECT_EQ_INT(1, tp_selection_dirty(w.s, p));
+    for (p = 0; p < w.ti.patch_count; ++p)
+        EXPECT_EQ_INT(1, tp_selection_dirty(w.s, p));
     world_destroy(&w);
 }
 
-TEST(stats_are_consistent_after_update) {
+TEST(stats_are_consistent_after_update)
+{
     world w;
     tp_rng rng = tp_rng_seed(511);
     static tp_vertex v[17 * 17];
@@ -123,7 +134,8 @@ TEST(stats_are_consistent_after_update) {
         for (p = 0; p < w.ti.patch_count; ++p) {
             int lv = tp_selection_level(w.s, p);
             ASSERT_TRUE(lv >= 0 && lv <= w.ti.n);
-            if (!tp_selection_visible(w.s, p)) continue;
+            if (!tp_selection_visible(w.s, p))
+                continue;
             visible++;
             per_level[lv]++;
             triangles += drawn_patch(&w, p, v, tri);
@@ -132,7 +144,8 @@ TEST(stats_are_consistent_after_update) {
             EXPECT_EQ_INT(per_level[k], st.patches_per_level[k]);
             sum += st.patches_per_level[k];
         }
-        for (k = w.ti.n + 1; k < TP_MAX_LEVELS; ++k) EXPECT_EQ_INT(0, st.patches_per_level[k]);
+        for (k = w.ti.n + 1; k < TP_MAX_LEVELS; ++k)
+            EXPECT_EQ_INT(0, st.patches_per_level[k]);
         EXPECT_EQ_INT(st.visible_patches, sum);
         EXPECT_EQ_INT(visible, st.visible_patches);
         EXPECT_EQ_INT(w.ti.patch_count, st.visible_patches + st.culled_patches);
@@ -142,12 +155,14 @@ TEST(stats_are_consistent_after_update) {
         ASSERT_OK(tp_selection_measure_error(w.s, &em));
         EXPECT_LE(em.max_error_m, st.bound_max_error_m + 1e-9);
         EXPECT_LE(em.rms_error_m, em.max_error_m + 1e-12);
-        if (tp_test_state_.failures) break;
+        if (tp_test_state_.failures)
+            break;
     }
     world_destroy(&w);
 }
 
-TEST(culled_patches_are_outside_the_frustum) {
+TEST(culled_patches_are_outside_the_frustum)
+{
     world w;
     tp_rng rng = tp_rng_seed(521);
     int i, culled = 0;
@@ -172,13 +187,17 @@ TEST(culled_patches_are_outside_the_frustum) {
 }
 
 /* The complete patch nearest the middle of the terrain, and a complete corner patch. */
-static int complete_patch(const world* w, int want_corner) {
+static int complete_patch(const world* w, int want_corner)
+{
     int p;
     for (p = 0; p < w->ti.patch_count; ++p) {
-        int q = want_corner ? p : (p + w->ti.patch_count / 2 + w->ti.patch_cols / 2) % w->ti.patch_count;
+        int q = want_corner
+                    ? p
+                    : (p + w->ti.patch_count / 2 + w->ti.patch_cols / 2) % w->ti.patch_count;
         tp_patch_info pi;
         tp_patch_get_info(w->t, q, &pi);
-        if (!pi.complete) continue;
+        if (!pi.complete)
+            continue;
         if (want_corner && !((pi.col == 0 || pi.col == w->ti.patch_cols - 1) &&
                              (pi.row == 0 || pi.row == w->ti.patch_rows - 1)))
             continue;
@@ -190,7 +209,8 @@ static int complete_patch(const world* w, int want_corner) {
     return -1;
 }
 
-static void expect_dirty_exactly(const world* w, int p, const char* what) {
+static void expect_dirty_exactly(const world* w, int p, const char* what)
+{
     int q, cols = w->ti.patch_cols;
     for (q = 0; q < w->ti.patch_count; ++q) {
         int dc = q % cols - p % cols, dr = q / cols - p / cols;
@@ -201,7 +221,8 @@ static void expect_dirty_exactly(const world* w, int p, const char* what) {
     }
 }
 
-TEST(level_change_marks_patch_and_its_neighbours_dirty) {
+TEST(level_change_marks_patch_and_its_neighbours_dirty)
+{
     world w;
     int pass;
     world_create(&w);
@@ -220,7 +241,8 @@ TEST(level_change_marks_patch_and_its_neighbours_dirty) {
     world_destroy(&w);
 }
 
-TEST(unchanged_update_leaves_nothing_dirty) {
+TEST(unchanged_update_leaves_nothing_dirty)
+{
     world w;
     tp_rng rng = tp_rng_seed(531);
     tp_camera c;
@@ -233,7 +255,8 @@ TEST(unchanged_update_leaves_nothing_dirty) {
     world_destroy(&w);
 }
 
-TEST(incomplete_patches_stay_at_finest_level) {
+TEST(incomplete_patches_stay_at_finest_level)
+{
     world w;
     tp_rng rng = tp_rng_seed(541);
     int p, i, incomplete = 0;
@@ -244,7 +267,8 @@ TEST(incomplete_patches_stay_at_finest_level) {
         for (p = 0; p < w.ti.patch_count; ++p) {
             tp_patch_info pi;
             tp_patch_get_info(w.t, p, &pi);
-            if (!pi.complete) EXPECT_EQ_INT(w.ti.n, tp_selection_level(w.s, p));
+            if (!pi.complete)
+                EXPECT_EQ_INT(w.ti.n, tp_selection_level(w.s, p));
         }
     }
     for (p = 0; p < w.ti.patch_count; ++p) {
@@ -262,7 +286,8 @@ TEST(incomplete_patches_stay_at_finest_level) {
     world_destroy(&w);
 }
 
-TEST(set_level_rejects_levels_out_of_range) {
+TEST(set_level_rejects_levels_out_of_range)
+{
     world w;
     int p;
     world_create(&w);
@@ -274,7 +299,8 @@ TEST(set_level_rejects_levels_out_of_range) {
     world_destroy(&w);
 }
 
-TEST(set_level_makes_every_patch_visible_and_cull_restores) {
+TEST(set_level_makes_every_patch_visible_and_cull_restores)
+{
     world w;
     tp_camera c;
     tp_frame_stats st;
@@ -282,7 +308,8 @@ TEST(set_level_makes_every_patch_visible_and_cull_restores) {
     world_create(&w);
     ASSERT_TRUE(w.ti.patch_count <= 64);
     memset(&c, 0, sizeof c); /* in the middle, looking north: the southern patches are behind */
-    tp_terrain_grid_to_world(w.t, w.ti.width / 2.0, w.ti.height / 2.0, &c.position[0], &c.position[1]);
+    tp_terrain_grid_to_world(w.t, w.ti.width / 2.0, w.ti.height / 2.0, &c.position[0],
+                             &c.position[1]);
     c.position[2] = w.ti.max_height_m + 20;
     c.forward[1] = 1;
     c.up[2] = 1;
@@ -299,11 +326,13 @@ TEST(set_level_makes_every_patch_visible_and_cull_restores) {
     tp_selection_cull(w.s, &c);
     tp_selection_stats(w.s, &st);
     EXPECT_GE_INT(st.culled_patches, 1);
-    for (p = 0; p < w.ti.patch_count; ++p) EXPECT_EQ_INT(before[p], tp_selection_level(w.s, p));
+    for (p = 0; p < w.ti.patch_count; ++p)
+        EXPECT_EQ_INT(before[p], tp_selection_level(w.s, p));
     world_destroy(&w);
 }
 
-TEST(neighbor_levels_are_the_adjacent_patches_levels) {
+TEST(neighbor_levels_are_the_adjacent_patches_levels)
+{
     world w;
     tp_rng rng = tp_rng_seed(551);
     int i, p;
@@ -314,25 +343,30 @@ TEST(neighbor_levels_are_the_adjacent_patches_levels) {
         for (p = 0; p < w.ti.patch_count; ++p) {
             int nb[4], col = p % w.ti.patch_cols, row = p / w.ti.patch_cols, cols = w.ti.patch_cols;
             tp_selection_neighbor_levels(w.s, p, nb);
-            EXPECT_EQ_INT(row > 0 ? tp_selection_level(w.s, p - cols) : TP_NO_NEIGHBOR, nb[TP_SIDE_TOP]);
+            EXPECT_EQ_INT(row > 0 ? tp_selection_level(w.s, p - cols) : TP_NO_NEIGHBOR,
+                          nb[TP_SIDE_TOP]);
             EXPECT_EQ_INT(col + 1 < cols ? tp_selection_level(w.s, p + 1) : TP_NO_NEIGHBOR,
                           nb[TP_SIDE_RIGHT]);
-            EXPECT_EQ_INT(row + 1 < w.ti.patch_rows ? tp_selection_level(w.s, p + cols) : TP_NO_NEIGHBOR,
+            EXPECT_EQ_INT(row + 1 < w.ti.patch_rows ? tp_selection_level(w.s, p + cols)
+                                                    : TP_NO_NEIGHBOR,
                           nb[TP_SIDE_BOTTOM]);
-            EXPECT_EQ_INT(col > 0 ? tp_selection_level(w.s, p - 1) : TP_NO_NEIGHBOR, nb[TP_SIDE_LEFT]);
+            EXPECT_EQ_INT(col > 0 ? tp_selection_level(w.s, p - 1) : TP_NO_NEIGHBOR,
+                          nb[TP_SIDE_LEFT]);
         }
     }
     world_destroy(&w);
 }
 
 /* Sets random levels on every patch (all then visible). */
-static void random_levels(world* w, tp_rng* r) {
+static void random_levels(world* w, tp_rng* r)
+{
     int p;
     for (p = 0; p < w->ti.patch_count; ++p)
         ASSERT_OK(tp_selection_set_level(w->s, p, tp_rng_int(r, 0, w->ti.n)));
 }
 
-TEST(measure_error_zero_at_full_resolution) {
+TEST(measure_error_zero_at_full_resolution)
+{
     world w;
     tp_rng rng = tp_rng_seed(561);
     tp_camera c;
@@ -344,7 +378,8 @@ TEST(measure_error_zero_at_full_resolution) {
     ASSERT_OK(tp_selection_measure_error(w.s, &em));
     EXPECT_EQ_DBL(0.0, em.max_error_m);
     EXPECT_EQ_DBL(0.0, em.rms_error_m);
-    for (p = 0; p < w.ti.patch_count; ++p) ASSERT_OK(tp_selection_set_level(w.s, p, w.ti.n));
+    for (p = 0; p < w.ti.patch_count; ++p)
+        ASSERT_OK(tp_selection_set_level(w.s, p, w.ti.n));
     ASSERT_OK(tp_selection_measure_error(w.s, &em));
     EXPECT_EQ_DBL(0.0, em.max_error_m);
     /* every patch visible: every drawn sample once */
@@ -352,7 +387,8 @@ TEST(measure_error_zero_at_full_resolution) {
     world_destroy(&w);
 }
 
-TEST(measure_error_matches_rasterised_drawn_surface) {
+TEST(measure_error_matches_rasterised_drawn_surface)
+{
     world w;
     tp_rng rng = tp_rng_seed(571);
     static tp_vertex v[17 * 17];
@@ -372,8 +408,10 @@ TEST(measure_error_matches_rasterised_drawn_surface) {
             tpt_patch_surface(v, tri, tc, x0, y0, 17, drawn, NULL);
             for (j = 0; j < 17 * 17; ++j) {
                 double s = tp_terrain_sample(w.t, x0 + j % 17, y0 + j / 17);
-                if (isnan(s) || isnan(drawn[j])) continue;
-                if (fabs(drawn[j] - s) > worst) worst = fabs(drawn[j] - s);
+                if (isnan(s) || isnan(drawn[j]))
+                    continue;
+                if (fabs(drawn[j] - s) > worst)
+                    worst = fabs(drawn[j] - s);
             }
         }
         ASSERT_OK(tp_selection_measure_error(w.s, &em));
@@ -384,14 +422,17 @@ TEST(measure_error_matches_rasterised_drawn_surface) {
     world_destroy(&w);
 }
 
-TEST(drawn_height_equals_full_resolution_at_full) {
+TEST(drawn_height_equals_full_resolution_at_full)
+{
     world w;
     tp_rng rng = tp_rng_seed(581);
     int p, i;
     world_create(&w);
-    for (p = 0; p < w.ti.patch_count; ++p) ASSERT_OK(tp_selection_set_level(w.s, p, w.ti.n));
+    for (p = 0; p < w.ti.patch_count; ++p)
+        ASSERT_OK(tp_selection_set_level(w.s, p, w.ti.n));
     for (i = 0; i < 20000; ++i) {
-        double x = tp_rng_range(&rng, -2, w.ti.width + 1), y = tp_rng_range(&rng, -2, w.ti.height + 1);
+        double x = tp_rng_range(&rng, -2, w.ti.width + 1),
+               y = tp_rng_range(&rng, -2, w.ti.height + 1);
         double a = tp_selection_drawn_height_at(w.s, x, y), b = tp_terrain_height_at(w.t, x, y);
         if (i % 3 == 0) {
             x = floor(x);
@@ -407,7 +448,8 @@ TEST(drawn_height_equals_full_resolution_at_full) {
     world_destroy(&w);
 }
 
-TEST(drawn_height_follows_stitched_triangles) {
+TEST(drawn_height_follows_stitched_triangles)
+{
     world w;
     tp_rng rng = tp_rng_seed(591);
     int round, i;
@@ -415,17 +457,23 @@ TEST(drawn_height_follows_stitched_triangles) {
     for (round = 0; round < 8 && !tp_test_state_.failures; ++round) {
         random_levels(&w, &rng);
         for (i = 0; i < 3000; ++i) {
-            double x = tp_rng_range(&rng, 0, w.ti.width - 1), y = tp_rng_range(&rng, 0, w.ti.height - 1);
+            double x = tp_rng_range(&rng, 0, w.ti.width - 1),
+                   y = tp_rng_range(&rng, 0, w.ti.height - 1);
             int col = (int)(x / 16), row = (int)(y / 16), p;
             double want, got;
-            if (col >= w.ti.patch_cols) col = w.ti.patch_cols - 1;
-            if (row >= w.ti.patch_rows) row = w.ti.patch_rows - 1;
-            if (i % 4 == 0) x = floor(x); /* on grid lines, and on patch borders */
-            if (i % 8 == 0) x = col * 16;
+            if (col >= w.ti.patch_cols)
+                col = w.ti.patch_cols - 1;
+            if (row >= w.ti.patch_rows)
+                row = w.ti.patch_rows - 1;
+            if (i % 4 == 0)
+                x = floor(x); /* on grid lines, and on patch borders */
+            if (i % 8 == 0)
+                x = col * 16;
             p = row * w.ti.patch_cols + col;
             want = drawn_at(&w, p, x, y);
             got = tp_selection_drawn_height_at(w.s, x, y);
-            if (isnan(want)) continue; /* hole: either patch's answer is fine only if drawn */
+            if (isnan(want))
+                continue; /* hole: either patch's answer is fine only if drawn */
             if (!(fabs(want - got) <= 1e-6 * (1 + fabs(want)))) {
                 ADD_FAILURE("round %d at (%.6f, %.6f), patch %d level %d: drawn_height_at %.9g, "
                             "the drawn triangles give %.9g",
@@ -437,7 +485,46 @@ TEST(drawn_height_follows_stitched_triangles) {
     world_destroy(&w);
 }
 
-TEST(keep_above_lifts_eye_over_both_surfaces) {
+TEST(drawn_height_on_a_lone_drawn_triangle)
+{
+    /* Only three samples are valid: the one triangle they form is all that is drawn. */
+    static float h[33 * 33];
+    static const int tri[2][3][2] = {{{10, 10}, {11, 10}, {10, 11}},
+                                     {{21, 20}, {20, 21}, {21, 21}}};
+    tp_terrain* t;
+    tp_selection* s = NULL;
+    tp_error err;
+    int i, j;
+    for (i = 0; i < 33 * 33; ++i)
+        h[i] = NAN;
+    for (j = 0; j < 2; ++j)
+        for (i = 0; i < 3; ++i)
+            h[tri[j][i][1] * 33 + tri[j][i][0]] = (float)(100 + 7 * i + 50 * j);
+    t = tpt_terrain_create(h, 33, 33, 17, TP_FIT_PAD, NULL);
+    ASSERT_OK(tp_selection_create(t, &s, &err));
+    for (i = 0; i < 4; ++i)
+        ASSERT_OK(tp_selection_set_level(s, i, 0)); /* stays at n: incomplete */
+    for (j = 0; j < 2; ++j) {
+        const int(*p)[2] = tri[j];
+        for (i = 0; i < 3; ++i) {
+            int k = (i + 1) % 3;
+            double za = tp_terrain_sample(t, p[i][0], p[i][1]),
+                   zb = tp_terrain_sample(t, p[k][0], p[k][1]);
+            EXPECT_NEAR(za, tp_selection_drawn_height_at(s, p[i][0], p[i][1]), 1e-6);
+            EXPECT_NEAR((za + zb) / 2,
+                        tp_selection_drawn_height_at(s, (p[i][0] + p[k][0]) / 2.0,
+                                                     (p[i][1] + p[k][1]) / 2.0),
+                        1e-6);
+        }
+    }
+    EXPECT_NAN(tp_selection_drawn_height_at(s, 10.6, 10.6));
+    EXPECT_NAN(tp_selection_drawn_height_at(s, 5.0, 5.0));
+    tp_selection_destroy(s);
+    tp_terrain_destroy(t);
+}
+
+TEST(keep_above_lifts_eye_over_both_surfaces)
+{
     world w;
     tp_rng rng = tp_rng_seed(601);
     int i, lifted = 0;
@@ -450,7 +537,8 @@ TEST(keep_above_lifts_eye_over_both_surfaces) {
         tp_terrain_grid_to_world(w.t, x, y, &pos[0], &pos[1]);
         full = tp_terrain_height_at(w.t, x, y);
         drawn = tp_selection_drawn_height_at(w.s, x, y);
-        if (isnan(full) || isnan(drawn)) continue;
+        if (isnan(full) || isnan(drawn))
+            continue;
         top = fmax(full, drawn);
         orig = pos[2] = top + tp_rng_range(&rng, -100, 100);
         r = tp_selection_keep_above(w.s, pos, 2.0);
@@ -463,13 +551,15 @@ TEST(keep_above_lifts_eye_over_both_surfaces) {
             EXPECT_EQ_INT(0, r);
             EXPECT_EQ_DBL(orig, pos[2]);
         }
-        if (tp_test_state_.failures) break;
+        if (tp_test_state_.failures)
+            break;
     }
     EXPECT_GE_INT(lifted, 100);
     world_destroy(&w);
 }
 
-TEST(keep_above_ignores_positions_outside_terrain) {
+TEST(keep_above_ignores_positions_outside_terrain)
+{
     world w;
     double pos[3];
     world_create(&w);
@@ -482,20 +572,21 @@ TEST(keep_above_ignores_positions_outside_terrain) {
     world_destroy(&w);
 }
 
-#define TESTS(X)                                                                                  \
-    X(create_marks_every_patch_dirty)                                                             \
-    X(stats_are_consistent_after_update)                                                          \
-    X(culled_patches_are_outside_the_frustum)                                                     \
-    X(level_change_marks_patch_and_its_neighbours_dirty)                                          \
-    X(unchanged_update_leaves_nothing_dirty)                                                      \
-    X(incomplete_patches_stay_at_finest_level)                                                    \
-    X(set_level_rejects_levels_out_of_range)                                                      \
-    X(set_level_makes_every_patch_visible_and_cull_restores)                                      \
-    X(neighbor_levels_are_the_adjacent_patches_levels)                                            \
-    X(measure_error_zero_at_full_resolution)                                                      \
-    X(measure_error_matches_rasterised_drawn_surface)                                             \
-    X(drawn_height_equals_full_resolution_at_full)                                                \
-    X(drawn_height_follows_stitched_triangles)                                                    \
-    X(keep_above_lifts_eye_over_both_surfaces)                                                    \
+#define TESTS(X)                                                                                   \
+    X(create_marks_every_patch_dirty)                                                              \
+    X(stats_are_consistent_after_update)                                                           \
+    X(culled_patches_are_outside_the_frustum)                                                      \
+    X(level_change_marks_patch_and_its_neighbours_dirty)                                           \
+    X(unchanged_update_leaves_nothing_dirty)                                                       \
+    X(incomplete_patches_stay_at_finest_level)                                                     \
+    X(set_level_rejects_levels_out_of_range)                                                       \
+    X(set_level_makes_every_patch_visible_and_cull_restores)                                       \
+    X(neighbor_levels_are_the_adjacent_patches_levels)                                             \
+    X(measure_error_zero_at_full_resolution)                                                       \
+    X(measure_error_matches_rasterised_drawn_surface)                                              \
+    X(drawn_height_equals_full_resolution_at_full)                                                 \
+    X(drawn_height_follows_stitched_triangles)                                                     \
+    X(drawn_height_on_a_lone_drawn_triangle)                                                       \
+    X(keep_above_lifts_eye_over_both_surfaces)                                                     \
     X(keep_above_ignores_positions_outside_terrain)
 TP_TEST_MAIN(TESTS)

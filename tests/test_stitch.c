@@ -25,12 +25,13 @@
  * Fixtures
  */
 typedef struct fixture {
-    int n, side, width;   /* side = 2^n + 1, width = 3 * 2^n + 1 */
-    float* src;           /* the source heights of the 3 x 3-patch grid */
+    int n, side, width; /* side = 2^n + 1, width = 3 * 2^n + 1 */
+    float* src;         /* the source heights of the 3 x 3-patch grid */
     tp_terrain* t;
 } fixture;
 
-static void fixture_free(fixture* f) {
+static void fixture_free(fixture* f)
+{
     tp_terrain_destroy(f->t);
     free(f->src);
     memset(f, 0, sizeof *f);
@@ -38,7 +39,8 @@ static void fixture_free(fixture* f) {
 
 /* A rough float terrain: relief 300 m plus 20 m noise, so stitching errors are large and the
  * heights are quantised with a fractional step. */
-static void fixture_synthetic(fixture* f, int n, uint64_t seed) {
+static void fixture_synthetic(fixture* f, int n, uint64_t seed)
+{
     f->n = n;
     f->side = (1 << n) + 1;
     f->width = 3 * (1 << n) + 1;
@@ -49,7 +51,8 @@ static void fixture_synthetic(fixture* f, int n, uint64_t seed) {
 }
 
 /* A crop of the real Storm Lake DEM (30 m LANDFIRE, Int16): the middle patch is all valid. */
-static void fixture_real(fixture* f, int n) {
+static void fixture_real(fixture* f, int n)
+{
 #ifdef TP_TEST_NO_IO
     (void)f;
     (void)n;
@@ -63,7 +66,8 @@ static void fixture_real(fixture* f, int n) {
     tp_patch_info info;
     REQUIRE_DATA_FILE(path, "TP_SAMPLE_DATA_DIR", "storml_elev_orig.tif");
     s = tp_dem_read(path, &dem, &err);
-    if (s != TP_OK) FAIL("tp_dem_read(%s): %s", path, err.message);
+    if (s != TP_OK)
+        FAIL("tp_dem_read(%s): %s", path, err.message);
     f->n = n;
     f->side = (1 << n) + 1;
     f->width = 3 * (1 << n) + 1;
@@ -90,12 +94,14 @@ typedef struct combo {
     int k, nb[4];
 } combo;
 
-static int combo_first(combo* c) {
+static int combo_first(combo* c)
+{
     c->k = 0;
     tpt_fill4(c->nb, TP_NO_NEIGHBOR);
     return 1;
 }
-static int combo_next(combo* c, int n) {
+static int combo_next(combo* c, int n)
+{
     int i;
     for (i = 0; i < 4; ++i) {
         if (c->nb[i] < n) {
@@ -118,14 +124,20 @@ static int combo_next(combo* c, int n) {
 /* Where a border vertex at distance p (grid samples) from the side's first corner goes, with a
  * neighbour at level L < k on that side; *tie is set for the exact middle (with L = 0), where
  * both ends are possible and the side's rotation decides. */
-static int expected_along(int p, int n, int L, int* tie) {
+static int expected_along(int p, int n, int L, int* tie)
+{
     int s2 = 1 << (n - L), lo = p - p % s2, hi = lo + s2, half = 1 << (n - 1);
     *tie = 0;
-    if (p % s2 == 0) return p;
-    if (p - lo < hi - p) return lo;
-    if (hi - p < p - lo) return hi;
-    if (p < half) return lo; /* tie: toward the nearer corner */
-    if (p > half) return hi;
+    if (p % s2 == 0)
+        return p;
+    if (p - lo < hi - p)
+        return lo;
+    if (hi - p < p - lo)
+        return hi;
+    if (p < half)
+        return lo; /* tie: toward the nearer corner */
+    if (p > half)
+        return hi;
     *tie = 1;
     return -1;
 }
@@ -133,8 +145,8 @@ static int expected_along(int p, int n, int L, int* tie) {
 /* Checks one patch's vertex data against the rule. Returns the rotation of the middle
  * vertices that moved (+1: top goes +x, right +y, bottom -x, left -y, i.e. TOP->RIGHT->
  * BOTTOM->LEFT; -1 the other way; 0 if none was a tie), or 2 if sides disagreed. */
-static int check_vertex_rule(const fixture* f, const combo* c, const tp_vertex* v, int x0,
-                             int y0) {
+static int check_vertex_rule(const fixture* f, const combo* c, const tp_vertex* v, int x0, int y0)
+{
     int vs = (1 << c->k) + 1, step = 1 << (f->n - c->k), last = 1 << f->n;
     int i, j, rotation = 0;
     for (j = 0; j < vs; ++j) {
@@ -143,17 +155,23 @@ static int check_vertex_rule(const fixture* f, const combo* c, const tp_vertex* 
             const tp_vertex* q = &v[j * vs + i];
             int corner = (i == 0 || i == vs - 1) && (j == 0 || j == vs - 1);
             if (!corner) {
-                if (j == 0) side = TP_SIDE_TOP;
-                else if (i == vs - 1) side = TP_SIDE_RIGHT;
-                else if (j == vs - 1) side = TP_SIDE_BOTTOM;
-                else if (i == 0) side = TP_SIDE_LEFT;
+                if (j == 0)
+                    side = TP_SIDE_TOP;
+                else if (i == vs - 1)
+                    side = TP_SIDE_RIGHT;
+                else if (j == vs - 1)
+                    side = TP_SIDE_BOTTOM;
+                else if (i == 0)
+                    side = TP_SIDE_LEFT;
             }
             if (side >= 0 && c->nb[side] >= 0 && c->nb[side] < c->k) {
                 int along = (side == TP_SIDE_TOP || side == TP_SIDE_BOTTOM) ? lx : ly;
                 int to = expected_along(along, f->n, c->nb[side], &tie);
                 if (tie) {
-                    int moved = (side == TP_SIDE_TOP || side == TP_SIDE_BOTTOM) ? q->x - x0 : q->y - y0;
-                    int other = (side == TP_SIDE_TOP || side == TP_SIDE_BOTTOM) ? q->y - y0 : q->x - x0;
+                    int moved =
+                        (side == TP_SIDE_TOP || side == TP_SIDE_BOTTOM) ? q->x - x0 : q->y - y0;
+                    int other =
+                        (side == TP_SIDE_TOP || side == TP_SIDE_BOTTOM) ? q->y - y0 : q->x - x0;
                     int fixed = (side == TP_SIDE_TOP || side == TP_SIDE_BOTTOM) ? ly : lx;
                     int r;
                     if (other != fixed || (moved != 0 && moved != last)) {
@@ -164,16 +182,23 @@ static int check_vertex_rule(const fixture* f, const combo* c, const tp_vertex* 
                         return 2;
                     }
                     /* +1 when it moved in the TOP->RIGHT->BOTTOM->LEFT sense */
-                    if (side == TP_SIDE_TOP) r = moved == last ? 1 : -1;
-                    else if (side == TP_SIDE_RIGHT) r = moved == last ? 1 : -1;
-                    else if (side == TP_SIDE_BOTTOM) r = moved == 0 ? 1 : -1;
-                    else r = moved == 0 ? 1 : -1;
-                    if (rotation != 0 && rotation != r) return 2;
+                    if (side == TP_SIDE_TOP)
+                        r = moved == last ? 1 : -1;
+                    else if (side == TP_SIDE_RIGHT)
+                        r = moved == last ? 1 : -1;
+                    else if (side == TP_SIDE_BOTTOM)
+                        r = moved == 0 ? 1 : -1;
+                    else
+                        r = moved == 0 ? 1 : -1;
+                    if (rotation != 0 && rotation != r)
+                        return 2;
                     rotation = r;
                     continue;
                 }
-                if (side == TP_SIDE_TOP || side == TP_SIDE_BOTTOM) ex = to;
-                else ey = to;
+                if (side == TP_SIDE_TOP || side == TP_SIDE_BOTTOM)
+                    ex = to;
+                else
+                    ey = to;
             }
             if (q->x != x0 + ex || q->y != y0 + ey) {
                 ADD_FAILURE("k=%d nb=%d,%d,%d,%d: vertex (%d,%d) at (%d,%d), expected (%d,%d)",
@@ -186,7 +211,8 @@ static int check_vertex_rule(const fixture* f, const combo* c, const tp_vertex* 
     return rotation;
 }
 
-TEST(vertices_move_to_nearest_coarser_vertex) {
+TEST(vertices_move_to_nearest_coarser_vertex)
+{
     int n;
     for (n = 4; n <= 5; ++n) {
         fixture f;
@@ -197,14 +223,16 @@ TEST(vertices_move_to_nearest_coarser_vertex) {
         x0 = y0 = 1 << n;
         for (more = combo_first(&c); more; more = combo_next(&c, n)) {
             ASSERT_OK(tp_patch_vertices(f.t, 4, c.k, c.nb, v, MAX_VERTS));
-            if (check_vertex_rule(&f, &c, v, x0, y0) == 2) break;
+            if (check_vertex_rule(&f, &c, v, x0, y0) == 2)
+                break;
         }
         fixture_free(&f);
         ASSERT_NO_FAILURE();
     }
 }
 
-TEST(middle_vertex_goes_the_documented_way_around) {
+TEST(middle_vertex_goes_the_documented_way_around)
+{
     /* The exact middle of a side (a tie only with a level-0 neighbour) goes around the patch:
      * TOP toward the first column, RIGHT toward the first row, BOTTOM toward the last column,
      * LEFT toward the last row, i.e. -1 in check_vertex_rule's terms; for every k and in every
@@ -236,7 +264,8 @@ TEST(middle_vertex_goes_the_documented_way_around) {
     EXPECT_GE_INT(ties, 1);
 }
 
-TEST(null_neighbor_levels_move_nothing) {
+TEST(null_neighbor_levels_move_nothing)
+{
     int n;
     for (n = 4; n <= 5; ++n) {
         fixture f;
@@ -252,16 +281,19 @@ TEST(null_neighbor_levels_move_nothing) {
             for (i = 0; i < count; ++i)
                 if (a[i].x != b[i].x || a[i].y != b[i].y || a[i].cls != b[i].cls ||
                     memcmp(&a[i].z_m, &b[i].z_m, sizeof(float)) != 0) {
-                    ADD_FAILURE("n=%d k=%d: vertex %zu differs with NULL neighbour levels", n, k, i);
+                    ADD_FAILURE("n=%d k=%d: vertex %zu differs with NULL neighbour levels", n, k,
+                                i);
                     break;
                 }
-            EXPECT_EQ_DBL(tp_patch_error_bound(f.t, 4, k, none), tp_patch_error_bound(f.t, 4, k, NULL));
+            EXPECT_EQ_DBL(tp_patch_error_bound(f.t, 4, k, none),
+                          tp_patch_error_bound(f.t, 4, k, NULL));
         }
         fixture_free(&f);
     }
 }
 
-TEST(vertex_heights_are_decoded_samples) {
+TEST(vertex_heights_are_decoded_samples)
+{
     int n;
     for (n = 4; n <= 5; ++n) {
         fixture f;
@@ -276,24 +308,28 @@ TEST(vertex_heights_are_decoded_samples) {
                 float z = (float)tp_terrain_sample(f.t, v[i].x, v[i].y);
                 int ox = (1 << n) + (i % vs) * step, oy = (1 << n) + (i / vs) * step;
                 if (memcmp(&z, &v[i].z_m, sizeof z) != 0) {
-                    ADD_FAILURE("n=%d k=%d: vertex %d at (%d,%d) has z %.9g, sample decodes to %.9g",
-                                n, c.k, i, v[i].x, v[i].y, v[i].z_m, z);
+                    ADD_FAILURE(
+                        "n=%d k=%d: vertex %d at (%d,%d) has z %.9g, sample decodes to %.9g", n,
+                        c.k, i, v[i].x, v[i].y, v[i].z_m, z);
                     break;
                 }
                 if (v[i].cls != (uint8_t)tp_terrain_sample_class(f.t, ox, oy)) {
                     ADD_FAILURE("n=%d k=%d: vertex %d class %d, original sample (%d,%d) is %d", n,
-                                c.k, i, v[i].cls, ox, oy, (int)tp_terrain_sample_class(f.t, ox, oy));
+                                c.k, i, v[i].cls, ox, oy,
+                                (int)tp_terrain_sample_class(f.t, ox, oy));
                     break;
                 }
             }
-            if (tp_test_state_.failures) break;
+            if (tp_test_state_.failures)
+                break;
         }
         fixture_free(&f);
         ASSERT_NO_FAILURE();
     }
 }
 
-TEST(patch_vertices_rejects_bad_level_and_capacity) {
+TEST(patch_vertices_rejects_bad_level_and_capacity)
+{
     fixture f;
     static tp_vertex v[MAX_VERTS];
     int nb[4];
@@ -308,7 +344,8 @@ TEST(patch_vertices_rejects_bad_level_and_capacity) {
     fixture_free(&f);
 }
 
-TEST(triangle_count_respects_capacity) {
+TEST(triangle_count_respects_capacity)
+{
     fixture f;
     static tp_vertex v[MAX_VERTS];
     uint32_t tri[3 * 40 + 1];
@@ -334,7 +371,8 @@ TEST(triangle_count_respects_capacity) {
     fixture_free(&f);
 }
 
-TEST(triangles_follow_strip_order_and_winding) {
+TEST(triangles_follow_strip_order_and_winding)
+{
     /* The drawn triangles are the level-k strip decoded with the GL rule (odd triangles swap
      * their first two vertices), in the same order and winding, minus the degenerate ones:
      * two vertices at one grid position, or zero area. */
@@ -384,7 +422,8 @@ TEST(triangles_follow_strip_order_and_winding) {
         if (!tp_test_state_.failures && at != tc)
             ADD_FAILURE("k=%d nb=%d,%d,%d,%d: %zu triangles drawn, the strip has %zu real ones",
                         c.k, c.nb[0], c.nb[1], c.nb[2], c.nb[3], tc, at);
-        if (tp_test_state_.failures) break;
+        if (tp_test_state_.failures)
+            break;
     }
     fixture_free(&f);
 }
@@ -402,7 +441,8 @@ typedef struct geom_check {
     uint32_t stamp;
 } geom_check;
 
-static void geom_init(geom_check* g, int n) {
+static void geom_init(geom_check* g, int n)
+{
     size_t ids;
     g->n = n;
     g->side = (1 << n) + 1;
@@ -413,7 +453,8 @@ static void geom_init(geom_check* g, int n) {
     g->stamp = 0;
     ASSERT_TRUE(g->cover && g->edge_stamp && g->edge_count);
 }
-static void geom_free(geom_check* g) {
+static void geom_free(geom_check* g)
+{
     free(g->cover);
     free(g->edge_stamp);
     free(g->edge_count);
@@ -421,23 +462,30 @@ static void geom_free(geom_check* g) {
 
 /* Top-left rule for a point exactly on a directed edge: exactly one of the two directions
  * of an edge owns it, so points on shared edges are counted once. */
-static int edge_owns(int64_t dx, int64_t dy) { return dy > 0 || (dy == 0 && dx < 0); }
+static int edge_owns(int64_t dx, int64_t dy)
+{
+    return dy > 0 || (dy == 0 && dx < 0);
+}
 
-static int point_in_cw_triangle(const int64_t p[3][2], int64_t px, int64_t py) {
+static int point_in_cw_triangle(const int64_t p[3][2], int64_t px, int64_t py)
+{
     int e;
     for (e = 0; e < 3; ++e) {
         const int64_t* a = p[e];
         const int64_t* b = p[(e + 1) % 3];
         int64_t w = tpt_orient(a[0], a[1], b[0], b[1], px, py);
-        if (w > 0) return 0;
-        if (w == 0 && !edge_owns(b[0] - a[0], b[1] - a[1])) return 0;
+        if (w > 0)
+            return 0;
+        if (w == 0 && !edge_owns(b[0] - a[0], b[1] - a[1]))
+            return 0;
     }
     return 1;
 }
 
 /* Returns a description of the first problem found, or NULL. */
 static const char* geom_check_patch(geom_check* g, const tp_vertex* v, size_t vcount,
-                                    const uint32_t* tri, size_t tcount, int x0, int y0) {
+                                    const uint32_t* tri, size_t tcount, int x0, int y0)
+{
     static char msg[256];
     int64_t twice_area = 0;
     size_t i;
@@ -485,7 +533,8 @@ static const char* geom_check_patch(geom_check* g, const tp_vertex* v, size_t vc
                 g->edge_stamp[key] = g->stamp;
                 g->edge_count[key] = 0;
             }
-            if (g->edge_count[key] < 255) g->edge_count[key]++;
+            if (g->edge_count[key] < 255)
+                g->edge_count[key]++;
         }
         /* coverage of the sample points (c + 1/4, r + 3/8) and (c + 3/4, r + 5/8), in
          * coordinates scaled by 8 so that the arithmetic stays exact */
@@ -504,8 +553,10 @@ static const char* geom_check_patch(geom_check* g, const tp_vertex* v, size_t vc
         for (cy = miny; cy < maxy; ++cy) {
             for (cx = minx; cx < maxx; ++cx) {
                 unsigned char* cnt = &g->cover[2 * (cy * cells + cx)];
-                if (point_in_cw_triangle((const int64_t(*)[2])p, 8 * cx + 2, 8 * cy + 3)) cnt[0]++;
-                if (point_in_cw_triangle((const int64_t(*)[2])p, 8 * cx + 6, 8 * cy + 5)) cnt[1]++;
+                if (point_in_cw_triangle((const int64_t(*)[2])p, 8 * cx + 2, 8 * cy + 3))
+                    cnt[0]++;
+                if (point_in_cw_triangle((const int64_t(*)[2])p, 8 * cx + 6, 8 * cy + 5))
+                    cnt[1]++;
             }
         }
     }
@@ -531,7 +582,8 @@ static const char* geom_check_patch(geom_check* g, const tp_vertex* v, size_t vc
             int ax = a->x - x0, ay = a->y - y0, bx = b->x - x0, by = b->y - y0;
             size_t ia = (size_t)ay * g->side + ax, ib = (size_t)by * g->side + bx;
             size_t fwd = ia * ids + ib, rev = ib * ids + ia;
-            int border = (ax == bx && (ax == 0 || ax == last)) || (ay == by && (ay == 0 || ay == last));
+            int border =
+                (ax == bx && (ax == 0 || ax == last)) || (ay == by && (ay == 0 || ay == last));
             int nf = g->edge_stamp[fwd] == g->stamp ? g->edge_count[fwd] : 0;
             int nr = g->edge_stamp[rev] == g->stamp ? g->edge_count[rev] : 0;
             if (nf != 1 || nr != (border ? 0 : 1)) {
@@ -546,7 +598,8 @@ static const char* geom_check_patch(geom_check* g, const tp_vertex* v, size_t vc
     return NULL;
 }
 
-static void exhaustive_geometry(int n) {
+static void exhaustive_geometry(int n)
+{
     fixture f;
     geom_check g;
     combo c;
@@ -579,10 +632,17 @@ static void exhaustive_geometry(int n) {
     tp_test_note("n=%d: %zu combinations checked", n, combos);
 }
 
-TEST(stitched_triangles_tile_patch_n4_all_combinations) { exhaustive_geometry(4); }
-TEST(stitched_triangles_tile_patch_n5_all_combinations) { exhaustive_geometry(5); }
+TEST(stitched_triangles_tile_patch_n4_all_combinations)
+{
+    exhaustive_geometry(4);
+}
+TEST(stitched_triangles_tile_patch_n5_all_combinations)
+{
+    exhaustive_geometry(5);
+}
 
-TEST(unstitched_triangle_count_is_two_per_cell) {
+TEST(unstitched_triangle_count_is_two_per_cell)
+{
     int n;
     for (n = 4; n <= 5; ++n) {
         fixture f;
@@ -593,7 +653,8 @@ TEST(unstitched_triangle_count_is_two_per_cell) {
         for (k = 0; k <= n; ++k) {
             int l;
             for (l = -1; l <= n; ++l) {
-                if (l >= 0 && l < k) continue; /* only neighbours that move nothing */
+                if (l >= 0 && l < k)
+                    continue; /* only neighbours that move nothing */
                 tpt_fill4(nb, l);
                 EXPECT_EQ_INT((size_t)2 << (2 * k),
                               tpt_patch_geometry(f.t, 4, k, nb, v, MAX_VERTS, tri, MAX_TRIS));
@@ -606,7 +667,8 @@ TEST(unstitched_triangle_count_is_two_per_cell) {
 /* ---------------------------------------------------------------------------------------------
  * Error bound against brute force
  */
-static void error_bound_all_combinations(fixture* f, const char* what) {
+static void error_bound_all_combinations(fixture* f, const char* what)
+{
     combo c;
     static tp_vertex v[MAX_VERTS];
     static uint32_t tri[3 * MAX_TRIS];
@@ -630,10 +692,12 @@ static void error_bound_all_combinations(fixture* f, const char* what) {
                 double d = drawn[y * f->side + x];
                 double s = f->src[(size_t)(y0 + y) * f->width + (x0 + x)];
                 if (isnan(d)) {
-                    ADD_FAILURE("%s k=%d: sample (%d,%d) of the patch is not drawn", what, c.k, x, y);
+                    ADD_FAILURE("%s k=%d: sample (%d,%d) of the patch is not drawn", what, c.k, x,
+                                y);
                     goto done;
                 }
-                if (fabs(d - s) > err) err = fabs(d - s);
+                if (fabs(d - s) > err)
+                    err = fabs(d - s);
             }
         }
         bound = tp_patch_error_bound(f->t, 4, c.k, c.nb);
@@ -643,15 +707,18 @@ static void error_bound_all_combinations(fixture* f, const char* what) {
                         what, c.k, c.nb[0], c.nb[1], c.nb[2], c.nb[3], bound, err);
             break;
         }
-        if (err > max_err) max_err = err;
-        if (err > 0 && err / bound > worst_ratio) worst_ratio = err / bound;
+        if (err > max_err)
+            max_err = err;
+        if (err > 0 && err / bound > worst_ratio)
+            worst_ratio = err / bound;
     }
 done:
     tp_test_note("%s: largest error %.3f m; tightest error/bound %.3f (quant step %g m)", what,
                  max_err, worst_ratio, ti.height_step_m);
 }
 
-TEST(error_bound_holds_synthetic_all_combinations) {
+TEST(error_bound_holds_synthetic_all_combinations)
+{
     int n;
     for (n = 4; n <= 5; ++n) {
         fixture f;
@@ -664,7 +731,8 @@ TEST(error_bound_holds_synthetic_all_combinations) {
     }
 }
 
-TEST(error_bound_holds_real_dem_all_combinations) {
+TEST(error_bound_holds_real_dem_all_combinations)
+{
     int n;
     for (n = 4; n <= 5; ++n) {
         fixture f;
@@ -677,7 +745,8 @@ TEST(error_bound_holds_real_dem_all_combinations) {
     }
 }
 
-TEST(error_bound_ignores_finer_or_missing_neighbours) {
+TEST(error_bound_ignores_finer_or_missing_neighbours)
+{
     /* With no coarser neighbour nothing moves, so the bound of the same k must be the same
      * whatever the (finer or missing) neighbours are. */
     fixture f;
@@ -704,11 +773,14 @@ typedef struct pos3 {
     float z;
 } pos3;
 
-static int pos3_cmp(const void* a, const void* b) {
+static int pos3_cmp(const void* a, const void* b)
+{
     const pos3 *p = (const pos3*)a, *q = (const pos3*)b;
     uint32_t zp, zq;
-    if (p->x != q->x) return p->x < q->x ? -1 : 1;
-    if (p->y != q->y) return p->y < q->y ? -1 : 1;
+    if (p->x != q->x)
+        return p->x < q->x ? -1 : 1;
+    if (p->y != q->y)
+        return p->y < q->y ? -1 : 1;
     memcpy(&zp, &p->z, 4);
     memcpy(&zq, &q->z, 4);
     return zp < zq ? -1 : zp > zq;
@@ -718,7 +790,10 @@ typedef struct seg {
     int32_t ax, ay, bx, by; /* a < b lexicographically */
 } seg;
 
-static int seg_cmp(const void* a, const void* b) { return memcmp(a, b, sizeof(seg)); }
+static int seg_cmp(const void* a, const void* b)
+{
+    return memcmp(a, b, sizeof(seg));
+}
 
 typedef struct patch_geom {
     tp_vertex* v;
@@ -728,7 +803,8 @@ typedef struct patch_geom {
 } patch_geom;
 
 /* Distinct vertex positions of g lying on the segment x in [xa, xb], y in [ya, yb]. */
-static size_t edge_positions(const patch_geom* g, int xa, int xb, int ya, int yb, pos3* out) {
+static size_t edge_positions(const patch_geom* g, int xa, int xb, int ya, int yb, pos3* out)
+{
     size_t i, n = 0, m = 0;
     for (i = 0; i < g->vcount; ++i) {
         const tp_vertex* q = &g->v[i];
@@ -741,20 +817,22 @@ static size_t edge_positions(const patch_geom* g, int xa, int xb, int ya, int yb
     }
     qsort(out, n, sizeof *out, pos3_cmp);
     for (i = 0; i < n; ++i)
-        if (m == 0 || pos3_cmp(&out[m - 1], &out[i]) != 0) out[m++] = out[i];
+        if (m == 0 || pos3_cmp(&out[m - 1], &out[i]) != 0)
+            out[m++] = out[i];
     return m;
 }
 
 /* Triangle edges of g lying on the segment. */
-static size_t edge_segments(const patch_geom* g, int xa, int xb, int ya, int yb, seg* out) {
+static size_t edge_segments(const patch_geom* g, int xa, int xb, int ya, int yb, seg* out)
+{
     size_t i, n = 0;
     for (i = 0; i < g->tcount; ++i) {
         int j;
         for (j = 0; j < 3; ++j) {
             const tp_vertex* a = &g->v[g->tri[3 * i + j]];
             const tp_vertex* b = &g->v[g->tri[3 * i + (j + 1) % 3]];
-            if (a->x >= xa && a->x <= xb && a->y >= ya && a->y <= yb && b->x >= xa &&
-                b->x <= xb && b->y >= ya && b->y <= yb) {
+            if (a->x >= xa && a->x <= xb && a->y >= ya && a->y <= yb && b->x >= xa && b->x <= xb &&
+                b->y >= ya && b->y <= yb) {
                 int swap = a->x > b->x || (a->x == b->x && a->y > b->y);
                 const tp_vertex* lo = swap ? b : a;
                 const tp_vertex* hi = swap ? a : b;
@@ -771,7 +849,8 @@ static size_t edge_segments(const patch_geom* g, int xa, int xb, int ya, int yb,
 }
 
 /* Sets the levels, rebuilds every patch and compares every shared edge. */
-static void check_watertight(const tp_terrain* t, const int* levels, const char* pattern) {
+static void check_watertight(const tp_terrain* t, const int* levels, const char* pattern)
+{
     tp_terrain_info ti;
     tp_selection* sel = NULL;
     tp_error err;
@@ -794,7 +873,8 @@ static void check_watertight(const tp_terrain* t, const int* levels, const char*
     sa = (seg*)malloc(sizeof(seg) * 3 * tcap);
     sb = (seg*)malloc(sizeof(seg) * 3 * tcap);
     ASSERT_TRUE(g && pa && pb && sa && sb);
-    for (p = 0; p < ti.patch_count; ++p) EXPECT_OK(tp_selection_set_level(sel, p, levels[p]));
+    for (p = 0; p < ti.patch_count; ++p)
+        EXPECT_OK(tp_selection_set_level(sel, p, levels[p]));
     for (p = 0; p < ti.patch_count; ++p) {
         tp_patch_info pi;
         int k = tp_selection_level(sel, p), nb[4], expect_nb[4], col = p % cols, row = p / cols;
@@ -806,12 +886,14 @@ static void check_watertight(const tp_terrain* t, const int* levels, const char*
         tp_selection_neighbor_levels(sel, p, nb);
         expect_nb[TP_SIDE_TOP] = row > 0 ? tp_selection_level(sel, p - cols) : TP_NO_NEIGHBOR;
         expect_nb[TP_SIDE_RIGHT] = col + 1 < cols ? tp_selection_level(sel, p + 1) : TP_NO_NEIGHBOR;
-        expect_nb[TP_SIDE_BOTTOM] = row + 1 < rows ? tp_selection_level(sel, p + cols) : TP_NO_NEIGHBOR;
+        expect_nb[TP_SIDE_BOTTOM] =
+            row + 1 < rows ? tp_selection_level(sel, p + cols) : TP_NO_NEIGHBOR;
         expect_nb[TP_SIDE_LEFT] = col > 0 ? tp_selection_level(sel, p - 1) : TP_NO_NEIGHBOR;
         if (memcmp(nb, expect_nb, sizeof nb) != 0)
-            ADD_FAILURE("%s: patch %d neighbour levels %d,%d,%d,%d, the neighbours are at %d,%d,%d,%d",
-                        pattern, p, nb[0], nb[1], nb[2], nb[3], expect_nb[0], expect_nb[1],
-                        expect_nb[2], expect_nb[3]);
+            ADD_FAILURE(
+                "%s: patch %d neighbour levels %d,%d,%d,%d, the neighbours are at %d,%d,%d,%d",
+                pattern, p, nb[0], nb[1], nb[2], nb[3], expect_nb[0], expect_nb[1], expect_nb[2],
+                expect_nb[3]);
         g[p].vcount = (size_t)((1 << k) + 1) * ((1 << k) + 1);
         g[p].v = (tp_vertex*)malloc(sizeof(tp_vertex) * vcap);
         g[p].tri = (uint32_t*)malloc(sizeof(uint32_t) * 3 * tcap);
@@ -824,8 +906,10 @@ static void check_watertight(const tp_terrain* t, const int* levels, const char*
         for (dir = 0; dir < 2; ++dir) { /* 0: right neighbour, 1: bottom neighbour */
             int q, xa, xb, ya, yb;
             size_t na, nbv, i;
-            if (dir == 0 && col + 1 >= cols) continue;
-            if (dir == 1 && row + 1 >= rows) continue;
+            if (dir == 0 && col + 1 >= cols)
+                continue;
+            if (dir == 1 && row + 1 >= rows)
+                continue;
             q = dir == 0 ? p + 1 : p + cols;
             xa = dir == 0 ? x0 + last : x0;
             xb = x0 + last;
@@ -834,14 +918,15 @@ static void check_watertight(const tp_terrain* t, const int* levels, const char*
             na = edge_positions(&g[p], xa, xb, ya, yb, pa);
             nbv = edge_positions(&g[q], xa, xb, ya, yb, pb);
             if (na != nbv || memcmp(pa, pb, na * sizeof *pa) != 0) {
-                for (i = 0; i < na && i < nbv && pos3_cmp(&pa[i], &pb[i]) == 0; ++i) {}
+                for (i = 0; i < na && i < nbv && pos3_cmp(&pa[i], &pb[i]) == 0; ++i) {
+                }
                 ADD_FAILURE("%s: edge of patches %d (level %d) and %d (level %d): %zu vs %zu "
                             "distinct vertex positions; first difference at #%zu: (%d,%d,%.9g) vs "
                             "(%d,%d,%.9g)",
                             pattern, p, tp_selection_level(sel, p), q, tp_selection_level(sel, q),
                             na, nbv, i, i < na ? pa[i].x : -1, i < na ? pa[i].y : -1,
-                            i < na ? pa[i].z : 0.0f, i < nbv ? pb[i].x : -1,
-                            i < nbv ? pb[i].y : -1, i < nbv ? pb[i].z : 0.0f);
+                            i < na ? pa[i].z : 0.0f, i < nbv ? pb[i].x : -1, i < nbv ? pb[i].y : -1,
+                            i < nbv ? pb[i].z : 0.0f);
                 break;
             }
             if (g[p].complete && g[q].complete) {
@@ -858,8 +943,10 @@ static void check_watertight(const tp_terrain* t, const int* levels, const char*
                 {
                     int reach = dir == 0 ? ya : xa;
                     for (i = 0; i < na; ++i) {
-                        int from = dir == 0 ? sa[i].ay : sa[i].ax, to = dir == 0 ? sa[i].by : sa[i].bx;
-                        if (from != reach) break;
+                        int from = dir == 0 ? sa[i].ay : sa[i].ax,
+                            to = dir == 0 ? sa[i].by : sa[i].bx;
+                        if (from != reach)
+                            break;
                         reach = to;
                     }
                     if (i != na || reach != (dir == 0 ? yb : xb))
@@ -882,7 +969,8 @@ static void check_watertight(const tp_terrain* t, const int* levels, const char*
 }
 
 /* Runs the adversarial and random level patterns on terrain t. */
-static void watertight_patterns(const tp_terrain* t, uint64_t seed) {
+static void watertight_patterns(const tp_terrain* t, uint64_t seed)
+{
     tp_terrain_info ti;
     int *lv, p, i, pattern;
     tp_rng rng = tp_rng_seed(seed);
@@ -890,9 +978,9 @@ static void watertight_patterns(const tp_terrain* t, uint64_t seed) {
     lv = (int*)malloc(sizeof(int) * ti.patch_count);
     ASSERT_TRUE(lv != NULL);
     for (pattern = 0; pattern < 8 && !tp_test_state_.failures; ++pattern) {
-        static const char* names[8] = {"all 0",        "all n",           "checkerboard 0/n",
-                                       "checkerboard n/0", "column ramp", "row ramp",
-                                       "stripes 0/n",  "diagonal ramp"};
+        static const char* names[8] = {
+            "all 0",       "all n",    "checkerboard 0/n", "checkerboard n/0",
+            "column ramp", "row ramp", "stripes 0/n",      "diagonal ramp"};
         for (p = 0; p < ti.patch_count; ++p) {
             int col = p % ti.patch_cols, row = p / ti.patch_cols;
             switch (pattern) {
@@ -918,7 +1006,8 @@ static void watertight_patterns(const tp_terrain* t, uint64_t seed) {
     free(lv);
 }
 
-TEST(watertight_shared_edges_real_dem) {
+TEST(watertight_shared_edges_real_dem)
+{
 #ifdef TP_TEST_NO_IO
     SKIP("built without tp_io");
 #else
@@ -943,7 +1032,8 @@ TEST(watertight_shared_edges_real_dem) {
 #endif
 }
 
-TEST(watertight_shared_edges_synthetic_with_holes) {
+TEST(watertight_shared_edges_synthetic_with_holes)
+{
     /* float heights with a fractional quantisation step (per-patch offsets differ), nodata
      * holes and padding: runs without tp_io */
     int w = 90, h = 70, i;
@@ -956,7 +1046,8 @@ TEST(watertight_shared_edges_synthetic_with_holes) {
         int cx = tp_rng_int(&rng, 0, w - 1), cy = tp_rng_int(&rng, 0, h - 1), x, y;
         for (y = cy - 1; y <= cy + 1; ++y)
             for (x = cx - 1; x <= cx + 1; ++x)
-                if (x >= 0 && y >= 0 && x < w && y < h) src[y * w + x] = NAN;
+                if (x >= 0 && y >= 0 && x < w && y < h)
+                    src[y * w + x] = NAN;
     }
     t = tpt_terrain_create(src, w, h, 17, TP_FIT_PAD, NULL);
     watertight_patterns(t, 79);
@@ -964,20 +1055,20 @@ TEST(watertight_shared_edges_synthetic_with_holes) {
     free(src);
 }
 
-#define TESTS(X)                                                                                  \
-    X(vertices_move_to_nearest_coarser_vertex)                                                    \
-    X(middle_vertex_goes_the_documented_way_around)                                               \
-    X(null_neighbor_levels_move_nothing)                                                          \
-    X(vertex_heights_are_decoded_samples)                                                         \
-    X(patch_vertices_rejects_bad_level_and_capacity)                                              \
-    X(triangle_count_respects_capacity)                                                           \
-    X(triangles_follow_strip_order_and_winding)                                                   \
-    X(stitched_triangles_tile_patch_n4_all_combinations)                                          \
-    X(stitched_triangles_tile_patch_n5_all_combinations)                                          \
-    X(unstitched_triangle_count_is_two_per_cell)                                                  \
-    X(error_bound_holds_synthetic_all_combinations)                                               \
-    X(error_bound_holds_real_dem_all_combinations)                                                \
-    X(error_bound_ignores_finer_or_missing_neighbours)                                   \
-    X(watertight_shared_edges_real_dem)                                                           \
+#define TESTS(X)                                                                                   \
+    X(vertices_move_to_nearest_coarser_vertex)                                                     \
+    X(middle_vertex_goes_the_documented_way_around)                                                \
+    X(null_neighbor_levels_move_nothing)                                                           \
+    X(vertex_heights_are_decoded_samples)                                                          \
+    X(patch_vertices_rejects_bad_level_and_capacity)                                               \
+    X(triangle_count_respects_capacity)                                                            \
+    X(triangles_follow_strip_order_and_winding)                                                    \
+    X(stitched_triangles_tile_patch_n4_all_combinations)                                           \
+    X(stitched_triangles_tile_patch_n5_all_combinations)                                           \
+    X(unstitched_triangle_count_is_two_per_cell)                                                   \
+    X(error_bound_holds_synthetic_all_combinations)                                                \
+    X(error_bound_holds_real_dem_all_combinations)                                                 \
+    X(error_bound_ignores_finer_or_missing_neighbours)                                             \
+    X(watertight_shared_edges_real_dem)                                                            \
     X(watertight_shared_edges_synthetic_with_holes)
 TP_TEST_MAIN(TESTS)

@@ -6,13 +6,15 @@
  */
 #include "tp_test_geom.h"
 
-static size_t expected_count(int k) {
+static size_t expected_count(int k)
+{
     size_t v = ((size_t)1 << k) + 1;
     return (2 * v + 2) * (v - 1);
 }
 
 /* Builds the level-k strip in a fresh buffer with a canary after it. */
-static uint32_t* build_u32(int k, size_t* count) {
+static uint32_t* build_u32(int k, size_t* count)
+{
     size_t n = expected_count(k), written;
     uint32_t* idx = (uint32_t*)malloc((n + 1) * sizeof *idx);
     ASSERT_TRUE(idx != NULL);
@@ -40,7 +42,8 @@ typedef struct strip_walk {
 
 typedef void (*tri_fn)(void* user, const int p[3][2]);
 
-static void walk(const uint32_t* idx, size_t n, int k, strip_walk* w, tri_fn fn, void* user) {
+static void walk(const uint32_t* idx, size_t n, int k, strip_walk* w, tri_fn fn, void* user)
+{
     size_t t;
     memset(w, 0, sizeof *w);
     w->v = (1 << k) + 1;
@@ -70,27 +73,33 @@ static void walk(const uint32_t* idx, size_t n, int k, strip_walk* w, tri_fn fn,
             w->flat++;
             continue;
         }
-        if (o > 0) w->counterclockwise++;
+        if (o > 0)
+            w->counterclockwise++;
         w->real++;
-        if (fn) fn(user, (const int(*)[2])p);
+        if (fn)
+            fn(user, (const int(*)[2])p);
     }
 }
 
-TEST(index_count_matches_formula) {
+TEST(index_count_matches_formula)
+{
     int k;
-    for (k = 0; k <= TP_MAX_N; ++k) EXPECT_EQ_INT(expected_count(k), tp_strip_index_count(k));
+    for (k = 0; k <= TP_MAX_N; ++k)
+        EXPECT_EQ_INT(expected_count(k), tp_strip_index_count(k));
     /* the paper's table: (2n+2)(m-1) indices for an n x m height map; 17 x 17 -> 576 */
     EXPECT_EQ_INT(576, tp_strip_index_count(4));
     EXPECT_EQ_INT(6, tp_strip_index_count(0));
 }
 
-TEST(index_count_zero_outside_levels) {
+TEST(index_count_zero_outside_levels)
+{
     EXPECT_EQ_INT(0, tp_strip_index_count(-1));
     EXPECT_EQ_INT(0, tp_strip_index_count(TP_MAX_N + 1));
     EXPECT_EQ_INT(0, tp_strip_index_count(-1000));
 }
 
-TEST(build_rejects_levels_out_of_range) {
+TEST(build_rejects_levels_out_of_range)
+{
     uint32_t buf32[8] = {0};
     uint16_t buf16[8] = {0};
     EXPECT_EQ_INT(0, tp_strip_build_u32(-1, buf32, 8));
@@ -99,7 +108,8 @@ TEST(build_rejects_levels_out_of_range) {
     EXPECT_EQ_INT(0, tp_strip_build_u16(TP_MAX_N + 1, buf16, 8));
 }
 
-TEST(indices_are_in_range_and_all_vertices_used) {
+TEST(indices_are_in_range_and_all_vertices_used)
+{
     int k;
     for (k = 0; k <= TP_MAX_N; ++k) {
         size_t n, i;
@@ -124,7 +134,8 @@ TEST(indices_are_in_range_and_all_vertices_used) {
     }
 }
 
-TEST(real_triangles_are_clockwise_in_col_row) {
+TEST(real_triangles_are_clockwise_in_col_row)
+{
     int k;
     for (k = 0; k <= TP_MAX_N; ++k) {
         size_t n;
@@ -137,7 +148,8 @@ TEST(real_triangles_are_clockwise_in_col_row) {
     }
 }
 
-TEST(degenerate_triangles_repeat_an_index) {
+TEST(degenerate_triangles_repeat_an_index)
+{
     /* the only invisible triangles are the row joins, which repeat an index; no triangle of
      * three distinct collinear vertices */
     int k;
@@ -164,12 +176,15 @@ typedef struct half_count {
     size_t not_a_half;
 } half_count;
 
-static void count_half(void* user, const int p[3][2]) {
+static void count_half(void* user, const int p[3][2])
+{
     half_count* hc = (half_count*)user;
     int minx = p[0][0], miny = p[0][1], i, c, r, half, ul = 0, lr = 0;
     for (i = 1; i < 3; ++i) {
-        if (p[i][0] < minx) minx = p[i][0];
-        if (p[i][1] < miny) miny = p[i][1];
+        if (p[i][0] < minx)
+            minx = p[i][0];
+        if (p[i][1] < miny)
+            miny = p[i][1];
     }
     c = minx;
     r = miny;
@@ -179,8 +194,10 @@ static void count_half(void* user, const int p[3][2]) {
             hc->not_a_half++;
             return;
         }
-        if (dx + dy <= 1) ul++;
-        if (dx + dy >= 1) lr++;
+        if (dx + dy <= 1)
+            ul++;
+        if (dx + dy >= 1)
+            lr++;
     }
     if (ul == 3)
         half = 0;
@@ -197,7 +214,8 @@ static void count_half(void* user, const int p[3][2]) {
     hc->seen[((size_t)r * (hc->v - 1) + c) * 2 + half]++;
 }
 
-TEST(cells_split_along_documented_diagonal_once_each) {
+TEST(cells_split_along_documented_diagonal_once_each)
+{
     int k;
     for (k = 0; k <= TP_MAX_N; ++k) {
         size_t n, i, cells;
@@ -227,12 +245,14 @@ typedef struct area_sum {
     int64_t twice_area;
 } area_sum;
 
-static void add_area(void* user, const int p[3][2]) {
+static void add_area(void* user, const int p[3][2])
+{
     area_sum* a = (area_sum*)user;
     a->twice_area += -tpt_orient(p[0][0], p[0][1], p[1][0], p[1][1], p[2][0], p[2][1]);
 }
 
-TEST(real_triangles_cover_patch_area) {
+TEST(real_triangles_cover_patch_area)
+{
     int k;
     for (k = 0; k <= TP_MAX_N; ++k) {
         size_t n;
@@ -246,21 +266,22 @@ TEST(real_triangles_cover_patch_area) {
     }
 }
 
-TEST(sequence_is_the_papers_construction) {
+TEST(sequence_is_the_papers_construction)
+{
     /* The index buffer code of Vanek & Jezek section 2, transcribed for an m = n = v grid. */
     int k;
     for (k = 0; k <= TP_MAX_N; ++k) {
         size_t n, at = 0;
         int v = (1 << k) + 1, i, j, mismatch = 0;
         uint32_t* idx = build_u32(k, &n);
-#define PAPER_ADD(value)                                                                          \
-    do {                                                                                          \
-        if (!mismatch && idx[at] != (uint32_t)(value)) {                                          \
-            ADD_FAILURE("k=%d: index %zu is %u, the paper's construction has %d", k, at, idx[at], \
-                        (int)(value));                                                            \
-            mismatch = 1;                                                                         \
-        }                                                                                         \
-        at++;                                                                                     \
+#define PAPER_ADD(value)                                                                           \
+    do {                                                                                           \
+        if (!mismatch && idx[at] != (uint32_t)(value)) {                                           \
+            ADD_FAILURE("k=%d: index %zu is %u, the paper's construction has %d", k, at, idx[at],  \
+                        (int)(value));                                                             \
+            mismatch = 1;                                                                          \
+        }                                                                                          \
+        at++;                                                                                      \
     } while (0)
         for (i = 0; i < v - 1; i++) {
             if (i % 2) {
@@ -285,7 +306,8 @@ TEST(sequence_is_the_papers_construction) {
     }
 }
 
-TEST(u16_matches_u32_up_to_level_7) {
+TEST(u16_matches_u32_up_to_level_7)
+{
     int k;
     for (k = 0; k <= 7; ++k) {
         size_t n, i, w16;
@@ -306,7 +328,8 @@ TEST(u16_matches_u32_up_to_level_7) {
     }
 }
 
-TEST(u16_returns_zero_for_level_8) {
+TEST(u16_returns_zero_for_level_8)
+{
     size_t n = expected_count(8);
     uint16_t* idx16 = (uint16_t*)malloc(n * sizeof *idx16);
     ASSERT_TRUE(idx16 != NULL);
@@ -314,16 +337,16 @@ TEST(u16_returns_zero_for_level_8) {
     free(idx16);
 }
 
-#define TESTS(X)                                                                                  \
-    X(index_count_matches_formula)                                                                \
-    X(index_count_zero_outside_levels)                                                            \
-    X(build_rejects_levels_out_of_range)                                                          \
-    X(indices_are_in_range_and_all_vertices_used)                                                 \
-    X(real_triangles_are_clockwise_in_col_row)                                                    \
-    X(degenerate_triangles_repeat_an_index)                                                       \
-    X(cells_split_along_documented_diagonal_once_each)                                            \
-    X(real_triangles_cover_patch_area)                                                            \
-    X(sequence_is_the_papers_construction)                                              \
-    X(u16_matches_u32_up_to_level_7)                                                              \
+#define TESTS(X)                                                                                   \
+    X(index_count_matches_formula)                                                                 \
+    X(index_count_zero_outside_levels)                                                             \
+    X(build_rejects_levels_out_of_range)                                                           \
+    X(indices_are_in_range_and_all_vertices_used)                                                  \
+    X(real_triangles_are_clockwise_in_col_row)                                                     \
+    X(degenerate_triangles_repeat_an_index)                                                        \
+    X(cells_split_along_documented_diagonal_once_each)                                             \
+    X(real_triangles_cover_patch_area)                                                             \
+    X(sequence_is_the_papers_construction)                                                         \
+    X(u16_matches_u32_up_to_level_7)                                                               \
     X(u16_returns_zero_for_level_8)
 TP_TEST_MAIN(TESTS)

@@ -17,6 +17,7 @@
  */
 #include "internal.h"
 
+#include <stdlib.h>
 #include <string.h>
 
 static uint16_t to_units(const tp_terrain* t, double err_steps)
@@ -25,15 +26,27 @@ static uint16_t to_units(const tp_terrain* t, double err_steps)
     return u >= TP__ERR_SAT ? (uint16_t)TP__ERR_SAT : (uint16_t)(u < 0 ? 0 : u);
 }
 
+/* One patch's samples decoded once (global quantised heights, INT32_MIN = not drawn): every
+ * error below reads them many times. */
 typedef struct {
-    const tp_terrain* t;
+    int x0, y0, side;
+    int32_t* q;
+} patch_grid;
+
+static inline int32_t pq(const patch_grid* g, int x, int y)
+{
+    return g->q[(size_t)(y - g->y0) * g->side + (x - g->x0)];
+}
+
+typedef struct {
+    const patch_grid* g;
     double max; /* in steps */
 } err_acc;
 
 static void acc_sample(int x, int y, double z, void* user)
 {
     err_acc* a = user;
-    int32_t q = tp__q(a->t, x, y);
+    int32_t q = pq(a->g, x, y);
     if (q == INT32_MIN)
         return;
     double e = fabs(z - q);
@@ -41,20 +54,21 @@ static void acc_sample(int x, int y, double z, void* user)
 }
 
 /* delta_k in steps for the unstitched level-k triangulation of a patch. */
-static double level_error(const tp_terrain* t, int x0, int y0, int k)
+static double level_error(const tp_terrain* t, const patch_grid* g, int k)
 {
+    int x0 = g->x0, y0 = g->y0;
     int s = 1 << (t->n - k), cells = 1 << k;
     double mx = 0;
     for (int cy = 0; cy < cells; cy++)
         for (int cx = 0; cx < cells; cx++) {
             int xa = x0 + cx * s, ya = y0 + cy * s;
-            int32_t q00 = tp__q(t, xa, ya), q10 = tp__q(t, xa + s, ya);
-            int32_t q01 = tp__q(t, xa, ya + s), q11 = tp__q(t, xa + s, ya + s);
+            int32_t q00 = pq(g, xa, ya), q10 = pq(g, xa + s, ya);
+            int32_t q01 = pq(g, xa, ya + s), q11 = pq(g, xa + s, ya + s);
             int lower = q00 != INT32_MIN && q10 != INT32_MIN && q01 != INT32_MIN;
             int upper = q11 != INT32_MIN && q10 != INT32_MIN && q01 != INT32_MIN;
             for (int j = 0; j <= s; j++)
                 for (int i = 0; i <= s; i++) {
-                    int32_t q = tp__q(t, xa + i, ya + j);
+                    int32_t q = pq(g, xa + i, ya + j);
                     if (q == INT32_MIN)
                         continue;
                     double fx = (double)i / s, fy = (double)j / s, z;
@@ -92,8 +106,8 @@ static int side_of(int i, int j, int last)
 /* Measures the stitched triangles of cells [cx0, cx1) x [cy0, cy1) of patch p at level k with
  * neighbour levels nb; each triangle's error (steps) is folded into out[side] for every side
  * that moved one of its vertices. */
-static void stitched_error(const tp_terrain* t, int p, int k, const int nb[4], int cx0, int cx1,
-                           int cy0, int cy1, double out[4])
+static void stitched_error(const tp_terrain* t, const patch_grid* g, int p, int k,
+                           const int nb[4], int cx0, int cx1, int cy0, int cy1, double out[4])
 {
     int last = 1 << k;
     for (int cy = cy0; cy < cy1; cy++)
@@ -108,17 +122,17 @@ static void stitched_error(const tp_terrain* t, int p, int k, const int nb[4], i
                     int i = cx + tri[h][v][0], j = cy + tri[h][v][1];
                     int32_t ox, oy;
                     tp__vertex_position(t, p, k, NULL, i, j, &ox, &oy);
-                    if (tp__q(t, ox, oy) == INT32_MIN)
+                    if (pq(g, ox, oy) == INT32_MIN)
                         drawn = 0;
                     if (tp__vertex_position(t, p, k, nb, i, j, &pos[v][0], &pos[v][1]))
                         sides |= 1 << side_of(i, j, last);
-                    int32_t q = tp__q(t, pos[v][0], pos[v][1]);
+                    int32_t q = pq(g, pos[v][0], pos[v][1]);
                     drawn &= q != INT32_MIN;
                     z[v] = q;
                 }
                 if (!sides || !drawn)
                     continue;
-                err_acc a = {t, 0};
+                err_acc a = {g, 0};
                 tp__raster_triangle(pos[0], pos[1], pos[2], z[0], z[1], z[2], acc_sample, &a);
                 for (int s = 0; s < 4; s++)
                     if (sides >> s & 1)
@@ -129,8 +143,10 @@ static void stitched_error(const tp_terrain* t, int p, int k, const int nb[4], i
 
 tp_status tp__patch_errors_compute(tp_terrain* t, tp_error* err)
 {
-    (void)err;
     int n = t->n, pc = t->info.patch_cols, count = pc * t->info.patch_rows;
+    patch_grid g = {0, 0, t->ps + 1, malloc((size_t)(t->ps + 1) * (t->ps + 1) * sizeof(int32_t))};
+    if (!g.q)
+        return tp__fail(err, TP_ERR_OUT_OF_MEMORY, "terrain: out of memory for error tables");
     int32_t span = 0;
     for (int p = 0; p < count; p++)
         span = t->patches[p].qmax - t->patches[p].qmin > span ? t->patches[p].qmax - t->patches[p].qmin
@@ -143,8 +159,13 @@ tp_status tp__patch_errors_compute(tp_terrain* t, tp_error* err)
         int x0 = (p % pc) * t->ps, y0 = (p / pc) * t->ps;
         if (!t->patches[p].has_drawn)
             continue;
+        g.x0 = x0;
+        g.y0 = y0;
+        for (int y = 0; y < g.side; y++)
+            for (int x = 0; x < g.side; x++)
+                g.q[y * g.side + x] = tp__q(t, x0 + x, y0 + y);
         for (int k = 0; k <= n; k++)
-            tab[k] = to_units(t, level_error(t, x0, y0, k));
+            tab[k] = to_units(t, level_error(t, &g, k));
         double eps[4][TP_MAX_N];
         memset(eps, 0, sizeof eps);
         for (int k = 1; k <= n; k++) {
@@ -159,7 +180,7 @@ tp_status tp__patch_errors_compute(tp_terrain* t, tp_error* err)
                     int cx1 = s == TP_SIDE_LEFT ? 1 : cells;
                     int cy0 = s == TP_SIDE_BOTTOM ? cells - 1 : 0;
                     int cy1 = s == TP_SIDE_TOP ? 1 : cells;
-                    stitched_error(t, p, k, nb, cx0, cx1, cy0, cy1, e);
+                    stitched_error(t, &g, p, k, nb, cx0, cx1, cy0, cy1, e);
                     eps[s][kn] = e[s] > eps[s][kn] ? e[s] : eps[s][kn];
                 }
             if (k == 1) /* every side touches every cell: measure all combinations */
@@ -168,7 +189,7 @@ tp_status tp__patch_errors_compute(tp_terrain* t, tp_error* err)
                     for (int s = 0; s < 4; s++)
                         nb[s] = mask >> s & 1 ? 0 : TP_NO_NEIGHBOR;
                     double e[4] = {0, 0, 0, 0};
-                    stitched_error(t, p, 1, nb, 0, 2, 0, 2, e);
+                    stitched_error(t, &g, p, 1, nb, 0, 2, 0, 2, e);
                     for (int s = 0; s < 4; s++)
                         eps[s][0] = e[s] > eps[s][0] ? e[s] : eps[s][0];
                 }
@@ -178,6 +199,7 @@ tp_status tp__patch_errors_compute(tp_terrain* t, tp_error* err)
                 /* Interpolation at moved vertices is not exact: round up generously. */
                 tab[n + 1 + s * n + kn] = to_units(t, eps[s][kn] + 1e-6);
     }
+    free(g.q);
     return TP_OK;
 }
 

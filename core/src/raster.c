@@ -23,11 +23,14 @@ void tp__raster_triangle(const int32_t a[2], const int32_t b[2], const int32_t c
         y1 = v[i][1] > y1 ? v[i][1] : y1;
     }
     double inv = 1.0 / (double)area;
+    /* Barycentric weights times the signed area; inside when all share its sign. Each edge
+     * function changes by a constant per step in x. */
+    int64_t sa = -((int64_t)c[1] - b[1]), sb = -((int64_t)a[1] - c[1]), sc = -((int64_t)b[1] - a[1]);
+    int64_t sign = area > 0 ? 1 : -1;
     for (int32_t y = y0; y <= y1; y++) {
-        for (int32_t x = x0; x <= x1; x++) {
-            /* Barycentric weights times the signed area; inside when all share its sign. */
-            int64_t wa = edge(b, c, x, y), wb = edge(c, a, x, y), wc = edge(a, b, x, y);
-            if (area > 0 ? (wa < 0 || wb < 0 || wc < 0) : (wa > 0 || wb > 0 || wc > 0))
+        int64_t wa = edge(b, c, x0, y), wb = edge(c, a, x0, y), wc = edge(a, b, x0, y);
+        for (int32_t x = x0; x <= x1; x++, wa += sa, wb += sb, wc += sc) {
+            if (wa * sign < 0 || wb * sign < 0 || wc * sign < 0)
                 continue;
             double z = ((double)wa * za + (double)wb * zb + (double)wc * zc) * inv;
             fn(x, y, z, user);

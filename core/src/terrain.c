@@ -381,6 +381,13 @@ static double half_cell(const tp_terrain* t, int cx, int cy, double fx, double f
     return a + (1 - fx) * ((double)b - a) + (1 - fy) * ((double)c - a);
 }
 
+/* Either triangle of the cell that contains the point (both on the diagonal). */
+static double cell_height(const tp_terrain* t, int cx, int cy, double fx, double fy)
+{
+    double z = fx + fy <= 1 ? half_cell(t, cx, cy, fx, fy, 0) : NAN;
+    return isnan(z) && fx + fy >= 1 ? half_cell(t, cx, cy, fx, fy, 1) : z;
+}
+
 double tp_terrain_height_at(const tp_terrain* t, double x, double y)
 {
     if (!(x >= 0 && y >= 0 && x <= t->w - 1 && y <= t->h - 1))
@@ -389,17 +396,15 @@ double tp_terrain_height_at(const tp_terrain* t, double x, double y)
     cx = cx > t->w - 2 ? t->w - 2 : cx;
     cy = cy > t->h - 2 ? t->h - 2 : cy;
     double fx = x - cx, fy = y - cy;
-    double z = fx + fy <= 1 ? half_cell(t, cx, cy, fx, fy, 0) : half_cell(t, cx, cy, fx, fy, 1);
-    /* A point on an edge also lies on the triangle across it, which may be drawn when this
+    /* A point on an edge also lies on the triangles across it, which may be drawn when this
      * one is not (next to nodata or padding). */
-    if (isnan(z) && fx + fy == 1)
-        z = half_cell(t, cx, cy, fx, fy, 1);
+    double z = cell_height(t, cx, cy, fx, fy);
     if (isnan(z) && fx == 0)
-        z = half_cell(t, cx - 1, cy, 1, fy, 1);
+        z = cell_height(t, cx - 1, cy, 1, fy);
     if (isnan(z) && fy == 0)
-        z = half_cell(t, cx, cy - 1, fx, 1, 1);
+        z = cell_height(t, cx, cy - 1, fx, 1);
     if (isnan(z) && fx == 0 && fy == 0)
-        z = half_cell(t, cx - 1, cy - 1, 1, 1, 1);
+        z = cell_height(t, cx - 1, cy - 1, 1, 1);
     return z * t->step;
 }
 
