@@ -14,6 +14,9 @@
 /* `terrapatch info [options] DEM`. argv[0] is "info"; returns an exit code. */
 int tp_cli_info(int argc, char** argv);
 
+/* `terrapatch coord [options] [INPUT ...]`. argv[0] is "coord"; returns an exit code. */
+int tp_cli_coord(int argc, char** argv);
+
 /* Flushes stdout; on a write error prints one line and returns TP_EXIT_FAILURE, else code. */
 int tp_cli_finish(int code);
 

@@ -22,7 +22,7 @@ static void print_help(FILE* f)
           "  view        interactive viewer (coming)\n"
           "  export      write the drawn mesh to a file (coming)\n"
           "  bench       timing and error measurements (coming)\n"
-          "  coord       coordinate conversions (coming)\n"
+          "  coord       convert coordinates: lat/lon, UTM/UPS, MGRS, ECEF; geodesics\n"
           "\n"
           "Run 'terrapatch COMMAND --help' for the options of a command.\n"
           "Exit status: 0 success, 1 failure, 2 usage error.\n",
@@ -55,8 +55,9 @@ int main(int argc, char** argv)
     }
     if (!strcmp(cmd, "info"))
         return tp_cli_info(argc - 1, argv + 1);
-    if (!strcmp(cmd, "view") || !strcmp(cmd, "export") || !strcmp(cmd, "bench") ||
-        !strcmp(cmd, "coord")) {
+    if (!strcmp(cmd, "coord"))
+        return tp_cli_coord(argc - 1, argv + 1);
+    if (!strcmp(cmd, "view") || !strcmp(cmd, "export") || !strcmp(cmd, "bench")) {
         fprintf(stderr, "terrapatch: command '%s' is not available yet in %s\n", cmd, TP_VERSION);
         return TP_EXIT_USAGE;
     }

@@ -85,7 +85,8 @@ size_t tp_strip_build_u16(int k, uint16_t* indices, size_t index_capacity);
 typedef enum tp_fit {
     TP_FIT_DEFAULT = 0, /* = TP_FIT_PAD */
     TP_FIT_PAD,         /* add padding samples on the far edges (right and bottom); exact */
-    TP_FIT_RESAMPLE     /* bilinear resample to the nearest multiple; georeference updated */
+    TP_FIT_RESAMPLE     /* bilinear resample to the nearest multiple; georeference updated;
+                           needs at least 2x2 samples (TP_ERR_INVALID_ARG otherwise) */
 } tp_fit;
 
 /* What a sample of the fitted grid is. Only VALID and FILLED samples are drawn. */
@@ -157,8 +158,9 @@ double tp_terrain_sample(const tp_terrain* t, int x, int y);
 tp_sample_class tp_terrain_sample_class(const tp_terrain* t, int x, int y);
 
 /* Height of the rendered full-resolution surface at grid coordinates (x, y): the same triangle
- * split as the strips (diagonal from (c+1, r) to (c, r+1)). O(1). NaN where the containing
- * triangle has a vertex that is not drawn, or outside the grid. */
+ * split as the strips (diagonal from (c+1, r) to (c, r+1)). O(1). NaN only where no drawn
+ * triangle contains the point (a point on an edge or vertex is on every triangle that touches
+ * it), or outside the grid. */
 double tp_terrain_height_at(const tp_terrain* t, double x, double y);
 
 /* Unit surface normal (world frame: east, north, up) at sample (x, y) from central differences
@@ -246,8 +248,9 @@ typedef enum tp_lod_mode {
 
 typedef struct tp_lod_params {
     tp_lod_mode mode;
-    /* distance mode. Zero mindist and maxdist mean defaults derived from the terrain:
-     * mindist = 1 patch width, maxdist = 24 patch widths. exponent 0 means 1. */
+    /* distance mode. mindist and maxdist BOTH zero mean defaults derived from the terrain:
+     * mindist = 1 patch width, maxdist = 24 patch widths; otherwise they are used as given
+     * (mindist 0 is valid). exponent 0 means 1. */
     double mindist_m, maxdist_m, exponent;
     double tau_px; /* error mode: screen-space error threshold in pixels; 0 means 1 */
 } tp_lod_params;
@@ -257,8 +260,9 @@ typedef struct tp_lod_params {
  *   else k = ceil(n * (1 - ((dist - mindist) / (maxdist - mindist))^exponent)),
  * rounded UP so that a patch is never coarser than the formula asks. With mindist == maxdist
  * it is a step: n up to mindist, 0 beyond. exponent 0 gives 0 beyond mindist; a huge exponent
- * gives n up to maxdist. dist is clamped at 0. Returns -1 for invalid parameters (negative or
- * NaN distances, maxdist < mindist, negative or NaN exponent, n out of 0..TP_MAX_N). */
+ * gives n up to maxdist (an infinite exponent too). A negative dist is clamped to 0. Returns -1
+ * for invalid parameters: NaN dist, negative or NaN mindist/maxdist, maxdist < mindist,
+ * negative or NaN exponent, n out of 0..TP_MAX_N. */
 int tp_lod_level_distance(int n, double dist_m, double mindist_m, double maxdist_m,
                           double exponent);
 
