@@ -1,7 +1,7 @@
 # Thin driver around CMake. `make run` and `make test` install missing Debian packages first;
 # `make build` only builds.
 
-DEBS := cmake pkg-config gcc g++ libgdal-dev libgeographiclib-dev libopenimageio-dev libvtk9-dev \
+DEBS := cmake pkg-config gcc g++ libgdal-dev libproj-dev libgeographiclib-dev libopenimageio-dev libvtk9-dev \
         libglfw3-dev libepoxy-dev libegl-dev libgl-dev libgl1-mesa-dri libstb-dev
 JOBS := $(shell nproc 2>/dev/null || echo 2)
 SUDO := $(shell [ "$$(id -u)" = 0 ] || echo sudo)

@@ -86,18 +86,18 @@ static void print_help(void)
         "\n"
         "examples:\n"
         "  $ terrapatch coord --to utm '45.5 -122.68'\n"
-        "  10n 524980.062 5038580.950\n"
+        "  10n 525000.574 5038546.300\n"
         "  $ terrapatch coord --to mgrs --precision 2 '33.3 44.4'\n"
         "  38SMB4484\n"
         "  $ printf '33n 500000 4649776.22\\n38SMB4484\\n91 0\\n' | terrapatch coord\n"
         "  41.999999957 15.000000000\n"
-        "  33.300029505 44.400021208\n"
+        "  33.298157366 44.403873473\n"
         "  ERROR: latitude 91 is outside [-90, 90]\n"
         "  (and on stderr: terrapatch coord: line 3: latitude 91 is outside [-90, 90])\n"
         "  $ terrapatch coord --to ecef '0 0 100'\n"
         "  6378237.000000 0.000000 0.000000\n"
         "  $ terrapatch coord --geodesic '40.6 -73.8 51.6 -0.5'\n"
-        "  51.198882845579 107.821776735514 5551759.400318658\n"
+        "  51.198882845580 107.821776735514 5551759.400318678\n"
         "  $ terrapatch coord -- '-33.9 18.4'     ('--' before inputs starting with '-')\n"
         "\n"
         "Exit status: 0 every line converted, 1 some line failed or the input could not be\n"
@@ -390,11 +390,20 @@ static int position_from_geo(double lat, double lon, position* pos, char* msg)
 static int position_from_mgrs(const char* token, position* pos, char* msg)
 {
     tp_error err = {{0}};
-    int zone, northp;
+    int zone, northp, precision;
     double e, n;
-    tp_status s = tp_mgrs_reverse(token, 1, &zone, &northp, &e, &n, NULL, &err);
+    tp_status s = tp_mgrs_reverse(token, 1, &zone, &northp, &e, &n, &precision, &err);
     if (s != TP_OK)
         return geo_failed(s, &err, msg);
+    if (precision < 0) {
+        /* GeographicLib returns "some suitable (but essentially arbitrary) point" of the zone */
+        char q[QUOTE_LIMIT + 8];
+        snprintf(msg, MSG_SIZE,
+                 "MGRS %s is a grid zone designator, not a position: add the 100 km square "
+                 "letters and digits (e.g. 33TWN0000049776)",
+                 quoted(token, q, sizeof q));
+        return 0;
+    }
     return position_from_grid(zone, northp, e, n, pos, msg);
 }
 

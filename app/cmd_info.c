@@ -1,10 +1,12 @@
 /*
- * cmd_info.c - `terrapatch info [options] DEM`: reads a DEM, builds the resident terrain
- * exactly as the viewer will, and prints both: the raster as read (band 1) and the grid that
- * is rendered from it (fit, patches, levels, strips, quantisation, memory).
+ * cmd_info.c - `terrapatch info [options] DEM`: reads a DEM, builds the render grid and the
+ * resident terrain exactly as the viewer will, and prints them: the raster as read (band 1),
+ * the metric render grid (CRS, zone, warp, voids) and the patches (fit, levels, strips,
+ * quantisation, memory).
  */
 #include "cli.h"
 #include "json.h"
+#include "scene.h"
 
 #include "tp_core.h"
 #include "tp_io.h"
@@ -16,28 +18,28 @@
 #include <string.h>
 
 typedef struct info_options {
-    int patch_size;
-    tp_fit fit;
+    tp_scene_options scene;
     int json;
     const char* path;
 } info_options;
 
-enum { OPT_PATCH = 256, OPT_FIT, OPT_JSON };
+enum { OPT_JSON = 256 };
 
 static void print_help(void)
 {
     fputs("usage: terrapatch info [options] DEM\n"
           "\n"
-          "Reads band 1 of DEM (any raster GDAL opens), builds the patch grid the viewer would\n"
-          "draw, and describes both.\n"
+          "Reads band 1 of DEM (any raster GDAL opens), puts it on the metric grid the viewer\n"
+          "draws (geographic DEMs are warped to the UTM/UPS zone of their centre), tiles it\n"
+          "into patches, and describes each stage.\n"
           "\n"
-          "options:\n"
-          "  --patch N           patch size in samples: 17, 33, 65, 129 or 257 (default 17)\n"
-          "  --fit pad|resample  fit the grid to whole patches by padding the right and bottom\n"
-          "                      edges (exact, the default) or by bilinear resampling\n"
-          "  --json              print one JSON object instead of text\n"
+          "options:\n",
+          stdout);
+    tp_scene_options_help(stdout);
+    fputs("  --json              print one JSON object instead of text\n"
           "  -h, --help          show this help\n"
           "\n"
+          "Heights are shown as stored in the DEM (SRTM: metres above the EGM96 geoid).\n"
           "Exit status: 0 success, 1 the DEM could not be read or tiled, 2 usage error.\n",
           stdout);
 }
@@ -56,42 +58,23 @@ static int usage_error(const char* what, const char* detail)
 static int parse_options(int argc, char** argv, info_options* o)
 {
     static const struct option longs[] = {
-        {"patch", required_argument, NULL, OPT_PATCH},
-        {"fit", required_argument, NULL, OPT_FIT},
+        TP_SCENE_LONG_OPTIONS,
         {"json", no_argument, NULL, OPT_JSON},
         {"help", no_argument, NULL, 'h'},
         {NULL, 0, NULL, 0},
     };
-    *o = (info_options){.patch_size = TP_DEFAULT_PATCH_SIZE, .fit = TP_FIT_PAD};
+    *o = (info_options){0};
+    tp_scene_options_default(&o->scene);
     opterr = 0; /* getopt's own messages would make a second stderr line */
     optind = 1;
     int c;
     while ((c = getopt_long(argc, argv, ":h", longs, NULL)) != -1) {
+        int taken = c == '?' || c == ':' ? 0 : tp_scene_option(c, optarg, &o->scene, "info");
+        if (taken < 0)
+            return TP_EXIT_USAGE;
+        if (taken)
+            continue;
         switch (c) {
-        case OPT_PATCH: {
-            char* end;
-            long v = strtol(optarg, &end, 10);
-            if (*optarg == '\0' || *end != '\0' ||
-                (v != 17 && v != 33 && v != 65 && v != 129 && v != 257)) {
-                fprintf(stderr,
-                        "terrapatch info: --patch: expected 17, 33, 65, 129 or 257, got %s\n",
-                        optarg);
-                return TP_EXIT_USAGE;
-            }
-            o->patch_size = (int)v;
-            break;
-        }
-        case OPT_FIT:
-            if (!strcmp(optarg, "pad")) {
-                o->fit = TP_FIT_PAD;
-            } else if (!strcmp(optarg, "resample")) {
-                o->fit = TP_FIT_RESAMPLE;
-            } else {
-                fprintf(stderr, "terrapatch info: --fit: expected pad or resample, got %s\n",
-                        optarg);
-                return TP_EXIT_USAGE;
-            }
-            break;
         case OPT_JSON: o->json = 1; break;
         case 'h': print_help(); return tp_cli_finish(TP_EXIT_OK);
         case ':': return usage_error("missing value for option", argv[optind - 1]);
@@ -135,11 +118,55 @@ static int crs_is_geographic(const tp_dem* dem)
     return !strncmp(dem->crs_wkt, "GEOGCRS", 7) || !strncmp(dem->crs_wkt, "GEODCRS", 7);
 }
 
-static void print_text(const tp_dem* dem, const char* path, const tp_terrain_info* in)
+/* Geographic extent of the drawn grid: south, west, north, east (degrees), from its corners
+ * and edge midpoints. Returns 0 when the grid has no CRS. */
+static int geo_extent(const tp_scene* sc, double out[4])
 {
+    if (!tp_georef_has_geo(sc->georef))
+        return 0;
+    out[0] = out[1] = INFINITY;
+    out[2] = out[3] = -INFINITY;
+    double w = sc->grid->width - 1, h = sc->grid->height - 1;
+    const double at[8][2] = {{0, 0}, {w, 0}, {0, h}, {w, h}, {w / 2, 0}, {w / 2, h}, {0, h / 2}, {w, h / 2}};
+    for (int i = 0; i < 8; i++) {
+        double e, n, lat, lon;
+        tp_georef_grid_to_proj(sc->georef, at[i][0], at[i][1], &e, &n);
+        if (tp_georef_proj_to_geo(sc->georef, e, n, &lat, &lon, NULL) != TP_OK)
+            return 0;
+        out[0] = fmin(out[0], lat), out[1] = fmin(out[1], lon);
+        out[2] = fmax(out[2], lat), out[3] = fmax(out[3], lon);
+    }
+    return 1;
+}
+
+/* Projected extent of the drawn grid's sample centres: min E, min N, max E, max N. */
+static void proj_extent(const tp_scene* sc, double out[4])
+{
+    double e0, n0, e1, n1;
+    tp_georef_grid_to_proj(sc->georef, 0, 0, &e0, &n0);
+    tp_georef_grid_to_proj(sc->georef, sc->grid->width - 1, sc->grid->height - 1, &e1, &n1);
+    out[0] = fmin(e0, e1), out[1] = fmin(n0, n1), out[2] = fmax(e0, e1), out[3] = fmax(n0, n1);
+}
+
+static void zone_text(const tp_render_grid* g, char* out, size_t cap)
+{
+    if (g->utm_zone > 0)
+        snprintf(out, cap, "%d%c", g->utm_zone, g->northp ? 'n' : 's');
+    else if (g->utm_zone == 0)
+        snprintf(out, cap, "UPS %s", g->northp ? "north" : "south");
+    else
+        snprintf(out, cap, "none");
+}
+
+static void print_text(const tp_scene* sc, const char* path)
+{
+    const tp_dem* dem = sc->dem;
+    const tp_render_grid* g = sc->grid;
+    const tp_terrain_info* in = &sc->info;
     const double* gt = dem->geotransform;
-    char name[256];
+    char name[256], zone[32];
     crs_name(dem->crs_wkt, name, sizeof name);
+    zone_text(g, zone, sizeof zone);
 
     printf("file           %s\n", path);
     printf("driver         %s\n", dem->driver);
@@ -150,7 +177,7 @@ static void print_text(const tp_dem* dem, const char* path, const tp_terrain_inf
     else if (dem->crs_wkt[0])
         printf("CRS            %s (no EPSG code)\n", name[0] ? name : dem->crs_wkt);
     else
-        printf("CRS            none (coordinates taken as metres)\n");
+        printf("CRS            none in the file\n");
     if (dem->has_geotransform) {
         printf("geotransform   %.17g, %.17g, %.17g, %.17g, %.17g, %.17g\n", gt[0], gt[1], gt[2],
                gt[3], gt[4], gt[5]);
@@ -165,20 +192,47 @@ static void print_text(const tp_dem* dem, const char* path, const tp_terrain_inf
         printf(" (nodata tag %.10g)\n", dem->nodata_value);
     else
         printf(" (no nodata tag)\n");
-    printf("heights        as stored in the DEM (no vertical datum or unit conversion)\n");
-    if (crs_is_geographic(dem))
-        printf("note           geographic CRS: east/north are degrees while heights are metres\n");
+    printf("heights        as stored in the DEM (SRTM/DTED: metres above the EGM96 geoid);\n"
+           "               never converted to ellipsoidal heights\n");
 
-    printf("\nrendered grid\n");
+    printf("\nrender grid\n");
+    printf("  CRS          %s%s\n", g->crs_name, g->epsg ? "" : "");
+    if (g->epsg)
+        printf("  EPSG         %d\n", g->epsg);
+    printf("  UTM zone     %s\n", zone);
+    printf("  to WGS84     %s", tp_georef_datum_note(sc->georef));
+    double acc = tp_georef_datum_accuracy_m(sc->georef);
+    if (acc > 0)
+        printf(" (accuracy %.3g m)\n", acc);
+    else if (acc < 0 && tp_georef_has_geo(sc->georef))
+        printf(" (ballpark: datum grids missing, expect a metre or more)\n");
+    else
+        printf("\n");
+    printf("  size         %d x %d samples, spacing %.6g m\n", g->width, g->height, g->spacing_m);
+    if (g->warped)
+        printf("  warp         from the DEM's CRS; error at %zu source posts: max %.4g m, RMS "
+               "%.4g m\n",
+               g->warp_posts, g->warp_max_error_m, g->warp_rms_error_m);
+    else
+        printf("  warp         none (the DEM's own grid)\n");
+    printf("  voids        %zu filled (interior), %zu in large voids, %zu outside the data\n",
+           g->filled_samples, g->large_void_samples, g->outside_samples);
+    double ext[4];
+    proj_extent(sc, ext);
+    printf("  extent       E %.3f .. %.3f, N %.3f .. %.3f\n", ext[0], ext[2], ext[1], ext[3]);
+    if (geo_extent(sc, ext))
+        printf("  geographic   lat %.6f .. %.6f, lon %.6f .. %.6f\n", ext[0], ext[2], ext[1],
+               ext[3]);
+
+    printf("\npatches\n");
     printf("  fitted size  %d x %d samples (%s", in->width, in->height, fit_name(in->fit));
     if (in->fit == TP_FIT_RESAMPLE)
         printf(" from %d x %d", in->src_width, in->src_height);
     printf(")\n");
     printf("  fit error    max %.6g m, RMS %.6g m\n", in->fit_max_error_m, in->fit_rms_error_m);
-    printf("  pixel size   %.10g x %.10g\n", fabs(in->geotransform[1]), fabs(in->geotransform[5]));
     printf("  patch size   %d x %d samples (n = %d)\n", in->patch_size, in->patch_size, in->n);
     printf("  patches      %d x %d = %d\n", in->patch_cols, in->patch_rows, in->patch_count);
-    printf("  levels       %d (k = 0..%d)\n", in->levels, in->n);
+    printf("  levels       %d (k = 0..%d, k = %d is full resolution)\n", in->levels, in->n, in->n);
     printf("  strip indices");
     for (int k = 0; k <= in->n; ++k)
         printf("%s k=%d: %zu", k ? "," : "", k, tp_strip_index_count(k));
@@ -233,9 +287,20 @@ static void key_bool(tp_json* j, const char* key, int v)
     tp_json_key(j, key);
     tp_json_bool(j, v);
 }
-
-static void print_json(const tp_dem* dem, const char* path, const tp_terrain_info* in)
+static void key_numbers(tp_json* j, const char* key, const double* v, int count)
 {
+    tp_json_key(j, key);
+    tp_json_array_begin(j);
+    for (int i = 0; i < count; ++i)
+        tp_json_number(j, v[i]);
+    tp_json_array_end(j);
+}
+
+static void print_json(const tp_scene* sc, const char* path)
+{
+    const tp_dem* dem = sc->dem;
+    const tp_render_grid* g = sc->grid;
+    const tp_terrain_info* in = &sc->info;
     tp_json j;
     tp_json_init(&j, stdout);
     tp_json_object_begin(&j);
@@ -262,26 +327,66 @@ static void print_json(const tp_dem* dem, const char* path, const tp_terrain_inf
         tp_json_null(&j);
     key_string(&j, "crs_wkt", dem->crs_wkt);
     key_bool(&j, "has_geotransform", dem->has_geotransform);
-    tp_json_key(&j, "geotransform");
-    tp_json_array_begin(&j);
-    for (int i = 0; i < 6; ++i)
-        tp_json_number(&j, dem->geotransform[i]);
-    tp_json_array_end(&j);
+    key_numbers(&j, "geotransform", dem->geotransform, 6);
+    key_string(&j, "heights", "as stored in the DEM (SRTM/DTED: orthometric, EGM96)");
     tp_json_key(&j, "warnings");
     json_lines(&j, dem->warnings);
 
-    /* The rendered grid. */
+    /* The metric render grid. */
+    tp_json_key(&j, "crs");
+    if (g->epsg)
+        tp_json_int(&j, g->epsg);
+    else
+        tp_json_string(&j, g->crs_name);
+    key_string(&j, "render_crs_name", g->crs_name);
+    tp_json_key(&j, "utm_zone");
+    if (g->utm_zone > 0) {
+        char zone[32];
+        zone_text(g, zone, sizeof zone);
+        tp_json_string(&j, zone);
+    } else if (g->utm_zone == 0) {
+        tp_json_string(&j, g->northp ? "UPS north" : "UPS south");
+    } else {
+        tp_json_null(&j);
+    }
+    key_string(&j, "datum_to_wgs84", tp_georef_datum_note(sc->georef));
+    key_number(&j, "datum_accuracy_m", tp_georef_datum_accuracy_m(sc->georef));
+    tp_json_key(&j, "render_grid");
+    tp_json_array_begin(&j);
+    tp_json_int(&j, g->width);
+    tp_json_int(&j, g->height);
+    tp_json_array_end(&j);
+    key_numbers(&j, "render_geotransform", g->geotransform, 6);
+    key_number(&j, "spacing_m", g->spacing_m);
+    key_bool(&j, "warped", g->warped);
+    key_number(&j, "warp_max_error_m", g->warp_max_error_m);
+    key_number(&j, "warp_rms_error_m", g->warp_rms_error_m);
+    key_size(&j, "void_filled", g->filled_samples);
+    key_size(&j, "large_void_samples", g->large_void_samples);
+    key_size(&j, "outside_samples", g->outside_samples);
+    double ext[4];
+    proj_extent(sc, ext);
+    key_numbers(&j, "extent_proj", ext, 4);
+    tp_json_key(&j, "extent_geo");
+    if (geo_extent(sc, ext)) {
+        tp_json_array_begin(&j);
+        for (int i = 0; i < 4; ++i)
+            tp_json_number(&j, ext[i]);
+        tp_json_array_end(&j);
+    } else {
+        tp_json_null(&j);
+    }
+    tp_json_key(&j, "render_warnings");
+    json_lines(&j, g->warnings);
+
+    /* The patches. */
     key_string(&j, "fit", fit_name(in->fit));
     tp_json_key(&j, "grid");
     tp_json_array_begin(&j);
     tp_json_int(&j, in->width);
     tp_json_int(&j, in->height);
     tp_json_array_end(&j);
-    tp_json_key(&j, "grid_geotransform");
-    tp_json_array_begin(&j);
-    for (int i = 0; i < 6; ++i)
-        tp_json_number(&j, in->geotransform[i]);
-    tp_json_array_end(&j);
+    key_numbers(&j, "grid_geotransform", in->geotransform, 6);
     key_number(&j, "fit_max_error_m", in->fit_max_error_m);
     key_number(&j, "fit_rms_error_m", in->fit_rms_error_m);
     key_int(&j, "patch", in->patch_size);
@@ -310,52 +415,19 @@ static void print_json(const tp_dem* dem, const char* path, const tp_terrain_inf
     tp_json_object_end(&j);
 }
 
-/* Prints each '\n'-separated warning as its own stderr line. */
-static void print_warnings(const char* text)
-{
-    while (*text) {
-        const char* nl = strchr(text, '\n');
-        int len = nl ? (int)(nl - text) : (int)strlen(text);
-        fprintf(stderr, "terrapatch: warning: %.*s\n", len, text);
-        text += len + (nl ? 1 : 0);
-    }
-}
-
 int tp_cli_info(int argc, char** argv)
 {
     info_options o;
     int code = parse_options(argc, argv, &o);
     if (code >= 0)
         return code;
-
-    tp_dem* dem = NULL;
-    tp_error err = {{0}};
-    tp_status s = tp_dem_read(o.path, &dem, &err);
-    if (s != TP_OK) {
-        /* io messages already start with the file name */
-        fprintf(stderr, "terrapatch: %s\n", err.message);
+    tp_scene sc;
+    if (tp_scene_load(o.path, &o.scene, &sc) != TP_EXIT_OK)
         return TP_EXIT_FAILURE;
-    }
-    print_warnings(dem->warnings);
-
-    tp_terrain* t = NULL;
-    tp_terrain_desc desc = tp_dem_terrain_desc(dem, o.patch_size, o.fit);
-    s = tp_terrain_create(&desc, &t, &err);
-    if (s != TP_OK) {
-        fprintf(stderr, "terrapatch: %s: %s\n", o.path,
-                err.message[0] ? err.message : tp_status_str(s));
-        tp_dem_destroy(dem);
-        return TP_EXIT_FAILURE;
-    }
-    tp_terrain_info info;
-    tp_terrain_get_info(t, &info);
-
     if (o.json)
-        print_json(dem, o.path, &info);
+        print_json(&sc, o.path);
     else
-        print_text(dem, o.path, &info);
-
-    tp_terrain_destroy(t);
-    tp_dem_destroy(dem);
+        print_text(&sc, o.path);
+    tp_scene_free(&sc);
     return tp_cli_finish(TP_EXIT_OK);
 }

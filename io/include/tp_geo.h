@@ -62,12 +62,13 @@ tp_status tp_geo_normalize(double lat_deg, double lon_deg, double* lat_out_deg,
  * UTM / UPS
  */
 
-/* Geographic (lat_deg, lon_deg) to UTM/UPS in the standard zone: UTM zones 1..60 between 80S
- * and 84N (with the Norway 32V and Svalbard 31X..37X exceptions), UPS (*zone = TP_ZONE_UPS)
- * poleward of them. Writes the zone, the hemisphere (*northp: 1 north, 0 south; for UTM the
- * hemisphere of the point, lat >= 0 being north) and (*easting_m, *northing_m) with the usual
- * false easting and northing (UTM: 500 km, 0 or 10000 km; UPS: 2000 km, 2000 km).
- * Accurate to about 5 nm (GeographicLib UTMUPS::Forward). */
+/* Geographic (lat_deg, lon_deg) to UTM/UPS in the standard zone: UTM zones 1..60 from 80S
+ * (inclusive) to 84N (exclusive), with the Norway 32V and Svalbard 31X..37X exceptions, and
+ * UPS (*zone = TP_ZONE_UPS) poleward of them. Writes the zone, the hemisphere (*northp: 1
+ * north, 0 south; the hemisphere of the point by the sign bit of lat_deg, so -0.0 is south,
+ * with northing 10000 km, as GeographicLib and GeoConvert have it) and
+ * (*easting_m, *northing_m) with the usual false easting and northing (UTM: 500 km, 0 or
+ * 10000 km; UPS: 2000 km, 2000 km). Accurate to about 5 nm (GeographicLib UTMUPS::Forward). */
 tp_status tp_geo_to_utmups(double lat_deg, double lon_deg, int* zone, int* northp,
                            double* easting_m, double* northing_m, tp_error* err);
 

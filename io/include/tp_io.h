@@ -44,6 +44,104 @@ void tp_dem_destroy(tp_dem* dem); /* accepts NULL */
 /* A tp_terrain_desc pointing into dem (valid while dem lives), with the given patch size/fit. */
 tp_terrain_desc tp_dem_terrain_desc(const tp_dem* dem, int patch_size, tp_fit fit);
 
+/* ---------------------------------------------------------------------------------------------
+ * The render grid: a DEM on a metric grid (io/src/render_grid.cpp)
+ *
+ * Projected DEMs in metres are used on their own grid. Geographic DEMs (and projected ones in
+ * other units) are warped with GDAL to the WGS84 UTM zone of the DEM's centre (UPS north of 84N
+ * or south of 80S): one zone for the whole scene, bilinear (or cubic) resampling, square posts
+ * at the finest source spacing found at the extent's corners and centre (so the source is
+ * never undersampled), source nodata passed as NaN. A DEM without a CRS is taken as metres
+ * (with a warning) unless a CRS is given.
+ *
+ * Nodata is classified on the render grid into connected regions (4-neighbour): a region that
+ * touches the grid's border is outside the data (a collar, a warp's wedges); a region that
+ * does not and whose bounding box is at most fill_max_px samples wide and high is an interior
+ * void, filled by GDALFillNodata (inverse-distance interpolation from the valid samples around
+ * it, search distance fill_max_px, no smoothing) and marked as filled; anything else is a
+ * large void. Outside and large voids stay NaN: never drawn, never fabricated.
+ */
+typedef enum tp_resampling {
+    TP_RESAMPLING_DEFAULT = 0, /* = bilinear */
+    TP_RESAMPLING_BILINEAR,
+    TP_RESAMPLING_CUBIC
+} tp_resampling;
+
+typedef struct tp_grid_options {
+    const char* crs;        /* overrides the DEM's CRS ("EPSG:4326", WKT, ...); NULL: the file's */
+    tp_resampling resampling;
+    int fill_max_px;        /* 0 means 64; negative: fill nothing */
+} tp_grid_options;
+
+typedef struct tp_render_grid {
+    int width, height;
+    float* heights;          /* width * height; NaN = not drawn */
+    uint8_t* filled;         /* width * height; 1 = interior void filled by interpolation */
+    double geotransform[6];  /* render CRS */
+    char* crs_wkt;           /* render CRS as WKT2; "" for local metres (no CRS). Owned */
+    int epsg;                /* of the render CRS when known, else 0 */
+    char crs_name[160];      /* "WGS 84 / UTM zone 31N", or "local metres (no CRS)" */
+    int utm_zone;            /* 1..60 when the render CRS is a UTM zone, 0 for UPS, -1 otherwise */
+    int northp;              /* hemisphere of utm_zone */
+    int wgs84;               /* 1 if the render CRS's datum is WGS84 (GeographicLib applies exactly) */
+    int warped;              /* 1 if resampled from the DEM's own CRS */
+    double warp_max_error_m, warp_rms_error_m; /* warp: rendered surface vs the source posts */
+    size_t warp_posts;       /* source posts the warp error was measured at */
+    double spacing_m;        /* |geotransform[1]| when square, else the smaller spacing */
+    size_t filled_samples;   /* interior voids filled */
+    size_t large_void_samples, outside_samples; /* not drawn */
+    char* warnings;          /* '\n'-separated lines for the user, "" when none. Owned */
+} tp_render_grid;
+
+/* Builds the render grid of a DEM. Errors: TP_ERR_INVALID_ARG for an unknown --crs, a
+ * geographic extent beyond +-90 degrees; TP_ERR_BACKEND when GDAL fails. *out is untouched on
+ * failure. */
+tp_status tp_render_grid_build(const tp_dem* dem, const tp_grid_options* options,
+                               tp_render_grid** out, tp_error* err);
+void tp_render_grid_destroy(tp_render_grid* grid); /* accepts NULL */
+
+/* A tp_terrain_desc pointing into grid (valid while grid lives). */
+tp_terrain_desc tp_render_grid_terrain_desc(const tp_render_grid* grid, int patch_size,
+                                            tp_fit fit);
+
+/* ---------------------------------------------------------------------------------------------
+ * Georeference (io/src/georef.cpp): grid (x, y) <-> render CRS (E, N) <-> WGS84 (lat, lon).
+ *
+ * Grid coordinates are (column, row) with sample centres at integers, as GDAL's geotransform
+ * defines them (pixel-is-point rasters already have a corner-based geotransform from GDAL, so
+ * nothing is shifted twice): E = gt[0] + (x + 0.5) gt[1], N = gt[3] + (y + 0.5) gt[5].
+ * When the render CRS is a WGS84 UTM zone or UPS, (E, N) <-> (lat, lon) is GeographicLib's
+ * UTMUPS (exact to nanometres), in the scene's zone even outside its standard area. Any other
+ * CRS goes through PROJ to WGS84; tp_georef_datum_accuracy_m says how accurate that step is.
+ * Heights are never converted: they stay as in the DEM (orthometric for SRTM: EGM96).
+ */
+typedef struct tp_georef tp_georef;
+
+/* crs_wkt "" or NULL: local metres (no geographic position). */
+tp_status tp_georef_create(const char* crs_wkt, const double geotransform[6], tp_georef** out,
+                           tp_error* err);
+void tp_georef_destroy(tp_georef* g); /* accepts NULL */
+
+/* 1 if positions can be turned into latitude and longitude. */
+int tp_georef_has_geo(const tp_georef* g);
+
+void tp_georef_grid_to_proj(const tp_georef* g, double x, double y, double* e_m, double* n_m);
+void tp_georef_proj_to_grid(const tp_georef* g, double e_m, double n_m, double* x, double* y);
+
+/* Render CRS (E, N) <-> WGS84 latitude, longitude (degrees; longitude in [-180, 180]).
+ * TP_ERR_INVALID_ARG when there is no CRS or the point cannot be converted. */
+tp_status tp_georef_proj_to_geo(const tp_georef* g, double e_m, double n_m, double* lat_deg,
+                                double* lon_deg, tp_error* err);
+tp_status tp_georef_geo_to_proj(const tp_georef* g, double lat_deg, double lon_deg, double* e_m,
+                                double* n_m, tp_error* err);
+
+/* Accuracy (metres) of the render CRS -> WGS84 step: 0 when exact (WGS84 itself), PROJ's stated
+ * accuracy of the operation it uses, or -1 when PROJ gives none (a ballpark datum shift used
+ * because the datum grids are missing: expect errors of a metre or more). */
+double tp_georef_datum_accuracy_m(const tp_georef* g);
+/* One line describing that step, e.g. "exact (WGS 84)" or the PROJ operation's name. */
+const char* tp_georef_datum_note(const tp_georef* g);
+
 #ifdef __cplusplus
 }
 #endif

@@ -63,18 +63,25 @@ void set_error(tp_error* err, const char* fmt, ...)
             *c = ' ';
 }
 
-/* The shortest decimal text that reads back as v: "91", "90.000000000000014", "nan". Used
- * in messages, so that an out-of-range value is shown as the user wrote it, not rounded to
- * something that looks in range. */
+/* The shortest decimal text that reads back as v: "91", "1100000", "90.000000000000014",
+ * "1e-20", "nan". Used in messages, so that an out-of-range value is shown as the user wrote
+ * it, not rounded to something that looks in range. */
 struct Num {
-    char text[32];
+    char text[48];
     explicit Num(double v)
     {
-        if (std::isnan(v)) {
-            std::snprintf(text, sizeof text, "nan");
+        if (!std::isfinite(v)) {
+            std::snprintf(text, sizeof text, "%s", std::isnan(v) ? "nan" : v > 0 ? "inf" : "-inf");
             return;
         }
-        for (int digits = 6; digits <= 17; ++digits) {
+        if (std::fabs(v) < 1e15) { /* plain decimals when they are short enough */
+            for (int decimals = 0; decimals <= 17; ++decimals) {
+                std::snprintf(text, sizeof text, "%.*f", decimals, v);
+                if (std::strtod(text, nullptr) == v)
+                    return;
+            }
+        }
+        for (int digits = 1; digits <= 17; ++digits) {
             std::snprintf(text, sizeof text, "%.*g", digits, v);
             if (std::strtod(text, nullptr) == v)
                 return;

@@ -1,0 +1,142 @@
+/* scene.c - the DEM pipeline shared by the commands (see scene.h). */
+#include "scene.h"
+
+#include "cli.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+void tp_scene_options_default(tp_scene_options* o)
+{
+    memset(o, 0, sizeof *o);
+    o->patch_size = TP_DEFAULT_PATCH_SIZE;
+    o->fit = TP_FIT_PAD;
+}
+
+int tp_scene_option(int opt, const char* arg, tp_scene_options* o, const char* cmd)
+{
+    char* end;
+    switch (opt) {
+    case TP_OPT_PATCH: {
+        long v = strtol(arg, &end, 10);
+        if (*arg == '\0' || *end != '\0' ||
+            (v != 17 && v != 33 && v != 65 && v != 129 && v != 257)) {
+            fprintf(stderr, "terrapatch %s: --patch: expected 17, 33, 65, 129 or 257, got %s\n",
+                    cmd, arg);
+            return -1;
+        }
+        o->patch_size = (int)v;
+        return 1;
+    }
+    case TP_OPT_FIT:
+        if (!strcmp(arg, "pad"))
+            o->fit = TP_FIT_PAD;
+        else if (!strcmp(arg, "resample"))
+            o->fit = TP_FIT_RESAMPLE;
+        else {
+            fprintf(stderr, "terrapatch %s: --fit: expected pad or resample, got %s\n", cmd, arg);
+            return -1;
+        }
+        return 1;
+    case TP_OPT_CRS:
+        if (!*arg) {
+            fprintf(stderr, "terrapatch %s: --crs: expected a CRS such as EPSG:4326\n", cmd);
+            return -1;
+        }
+        o->grid.crs = arg;
+        return 1;
+    case TP_OPT_RESAMPLING:
+        if (!strcmp(arg, "bilinear"))
+            o->grid.resampling = TP_RESAMPLING_BILINEAR;
+        else if (!strcmp(arg, "cubic"))
+            o->grid.resampling = TP_RESAMPLING_CUBIC;
+        else {
+            fprintf(stderr, "terrapatch %s: --resampling: expected bilinear or cubic, got %s\n",
+                    cmd, arg);
+            return -1;
+        }
+        return 1;
+    case TP_OPT_FILL_MAX: {
+        long v = strtol(arg, &end, 10);
+        if (*arg == '\0' || *end != '\0' || v < 0 || v > 100000) {
+            fprintf(stderr, "terrapatch %s: --fill-max: expected 0 .. 100000 samples, got %s\n",
+                    cmd, arg);
+            return -1;
+        }
+        o->grid.fill_max_px = v == 0 ? -1 : (int)v; /* 0 on the command line: fill nothing */
+        return 1;
+    }
+    }
+    return 0;
+}
+
+void tp_scene_options_help(FILE* f)
+{
+    fputs("  --patch N           patch size in samples: 17, 33, 65, 129 or 257 (default 17)\n"
+          "  --fit pad|resample  fit the grid to whole patches by padding the right and bottom\n"
+          "                      edges (exact, the default) or by bilinear resampling\n"
+          "  --crs CRS           the DEM's CRS, overriding the file's (e.g. EPSG:4326 for an\n"
+          "                      ASCII grid in degrees without a .prj); DEMs without any CRS\n"
+          "                      are taken as metres\n"
+          "  --resampling bilinear|cubic\n"
+          "                      how geographic DEMs are warped to UTM/UPS (default bilinear)\n"
+          "  --fill-max N        fill interior voids up to N x N samples by interpolation and\n"
+          "                      mark them (default 64; 0 fills nothing)\n",
+          f);
+}
+
+void tp_print_warnings(const char* path, const char* text)
+{
+    while (text && *text) {
+        const char* nl = strchr(text, '\n');
+        int len = nl ? (int)(nl - text) : (int)strlen(text);
+        fprintf(stderr, "terrapatch: warning: %s: %.*s\n", path, len, text);
+        text += len + (nl ? 1 : 0);
+    }
+}
+
+int tp_scene_load(const char* path, const tp_scene_options* o, tp_scene* scene)
+{
+    memset(scene, 0, sizeof *scene);
+    tp_error err = {{0}};
+    tp_status s = tp_dem_read(path, &scene->dem, &err);
+    if (s != TP_OK) {
+        fprintf(stderr, "terrapatch: %s\n", err.message); /* io messages name the file */
+        return TP_EXIT_FAILURE;
+    }
+    /* dem warnings already name the file */
+    for (const char* w = scene->dem->warnings; w && *w;) {
+        const char* nl = strchr(w, '\n');
+        int len = nl ? (int)(nl - w) : (int)strlen(w);
+        fprintf(stderr, "terrapatch: warning: %.*s\n", len, w);
+        w += len + (nl ? 1 : 0);
+    }
+    s = tp_render_grid_build(scene->dem, &o->grid, &scene->grid, &err);
+    if (s == TP_OK) {
+        tp_print_warnings(path, scene->grid->warnings);
+        tp_terrain_desc desc = tp_render_grid_terrain_desc(scene->grid, o->patch_size, o->fit);
+        s = tp_terrain_create(&desc, &scene->terrain, &err);
+    }
+    if (s == TP_OK) {
+        /* the fitted grid's geotransform: resampling changes the spacing */
+        tp_terrain_get_info(scene->terrain, &scene->info);
+        s = tp_georef_create(scene->grid->crs_wkt, scene->info.geotransform, &scene->georef,
+                             &err);
+    }
+    if (s != TP_OK) {
+        fprintf(stderr, "terrapatch: %s: %s\n", path,
+                err.message[0] ? err.message : tp_status_str(s));
+        tp_scene_free(scene);
+        return TP_EXIT_FAILURE;
+    }
+    return TP_EXIT_OK;
+}
+
+void tp_scene_free(tp_scene* scene)
+{
+    tp_georef_destroy(scene->georef);
+    tp_terrain_destroy(scene->terrain);
+    tp_render_grid_destroy(scene->grid);
+    tp_dem_destroy(scene->dem);
+    memset(scene, 0, sizeof *scene);
+}

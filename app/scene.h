@@ -1,0 +1,62 @@
+/*
+ * scene.h - what every command that opens a DEM does the same way: the DEM options, and the
+ * pipeline DEM file -> tp_dem (as read) -> tp_render_grid (metric) -> tp_terrain (patches),
+ * with its georeference.
+ */
+#ifndef TP_APP_SCENE_H
+#define TP_APP_SCENE_H
+
+#include "tp_core.h"
+#include "tp_io.h"
+
+#include <getopt.h>
+#include <stdio.h>
+
+typedef struct tp_scene_options {
+    int patch_size;          /* 17 .. 257 */
+    tp_fit fit;
+    tp_grid_options grid;    /* --crs, --resampling, --fill-max */
+} tp_scene_options;
+
+/* getopt_long codes of the DEM options (each command adds its own beside them). */
+enum {
+    TP_OPT_PATCH = 1000,
+    TP_OPT_FIT,
+    TP_OPT_CRS,
+    TP_OPT_RESAMPLING,
+    TP_OPT_FILL_MAX,
+};
+
+#define TP_SCENE_LONG_OPTIONS                                                                      \
+    {"patch", required_argument, NULL, TP_OPT_PATCH},                                              \
+        {"fit", required_argument, NULL, TP_OPT_FIT}, {"crs", required_argument, NULL, TP_OPT_CRS}, \
+        {"resampling", required_argument, NULL, TP_OPT_RESAMPLING},                                \
+        {"fill-max", required_argument, NULL, TP_OPT_FILL_MAX}
+
+void tp_scene_options_default(tp_scene_options* o);
+
+/* Handles one getopt_long result if it is a DEM option: returns 1 (taken), 0 (not a DEM
+ * option) or -1 (bad value; a one-line message naming cmd was printed). */
+int tp_scene_option(int opt, const char* arg, tp_scene_options* o, const char* cmd);
+
+/* The help lines of the DEM options. */
+void tp_scene_options_help(FILE* f);
+
+typedef struct tp_scene {
+    tp_dem* dem;             /* band 1 as read */
+    tp_render_grid* grid;    /* the metric render grid */
+    tp_terrain* terrain;     /* patches, levels, error tables */
+    tp_georef* georef;       /* grid <-> render CRS <-> WGS84 */
+    tp_terrain_info info;
+} tp_scene;
+
+/* Loads path through the whole pipeline. Prints warnings ("terrapatch: warning: ...") and, on
+ * failure, one error line naming the file; returns TP_EXIT_OK or TP_EXIT_FAILURE. On failure
+ * the scene holds nothing. */
+int tp_scene_load(const char* path, const tp_scene_options* o, tp_scene* scene);
+void tp_scene_free(tp_scene* scene);
+
+/* Prints each '\n'-separated line of text as its own "terrapatch: warning: " line. */
+void tp_print_warnings(const char* path, const char* text);
+
+#endif /* TP_APP_SCENE_H */

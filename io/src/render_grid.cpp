@@ -1,0 +1,401 @@
+/*
+ * render_grid.cpp - tp_render_grid_build: a DEM as read becomes the metric grid that is tiled
+ * and drawn. See tp_io.h for the rules; the choices are explained in docs/georeference.md.
+ *
+ * GDAL does the warping (GDALWarp, the library form of gdalwarp) and the void filling
+ * (GDALFillNodata); PROJ (through OGRCoordinateTransformation) maps posts between CRSs to
+ * measure the warp error; GeographicLib picks the UTM/UPS zone.
+ */
+#include "gdal_util.hpp"
+#include "tp_io.h"
+
+#include <GeographicLib/UTMUPS.hpp>
+#include <gdal_alg.h>
+#include <gdal_utils.h>
+
+#include <algorithm>
+#include <cmath>
+#include <exception>
+#include <vector>
+
+namespace {
+
+using tpio::fail;
+
+struct Grid {
+    int w = 0, h = 0;
+    std::vector<float> z;
+};
+
+/* The rendered surface (the core's triangle split) of a float grid at (x, y) in grid units. */
+double surface_at(const Grid& g, double x, double y)
+{
+    if (!(x >= 0 && y >= 0 && x <= g.w - 1 && y <= g.h - 1) || g.w < 2 || g.h < 2)
+        return NAN;
+    int cx = std::min((int)x, g.w - 2), cy = std::min((int)y, g.h - 2);
+    double fx = x - cx, fy = y - cy;
+    auto at = [&](int i, int j) { return (double)g.z[(size_t)j * g.w + i]; };
+    if (fx + fy <= 1)
+        return at(cx, cy) + fx * (at(cx + 1, cy) - at(cx, cy)) + fy * (at(cx, cy + 1) - at(cx, cy));
+    return at(cx + 1, cy + 1) + (1 - fx) * (at(cx, cy + 1) - at(cx + 1, cy + 1)) +
+           (1 - fy) * (at(cx + 1, cy) - at(cx + 1, cy + 1));
+}
+
+/* Target CRS for a warp: the WGS84 UTM zone (or UPS) of (lat, lon). */
+int utm_epsg(double lat, double lon, int* zone, int* northp)
+{
+    *zone = GeographicLib::UTMUPS::StandardZone(lat, lon);
+    *northp = lat >= 0;
+    if (*zone == GeographicLib::UTMUPS::UPS)
+        return *northp ? 32661 : 32761;
+    return (*northp ? 32600 : 32700) + *zone;
+}
+
+std::string wkt_of(const OGRSpatialReference& srs)
+{
+    char* text = nullptr;
+    const char* const options[] = {"FORMAT=WKT2", nullptr};
+    std::string wkt;
+    if (srs.exportToWkt(&text, options) == OGRERR_NONE && text)
+        wkt = text;
+    CPLFree(text);
+    return wkt;
+}
+
+int epsg_of(const OGRSpatialReference& srs)
+{
+    const char* auth = srs.GetAuthorityName(nullptr);
+    const char* code = srs.GetAuthorityCode(nullptr);
+    return auth && code && EQUAL(auth, "EPSG") ? std::atoi(code) : 0;
+}
+
+bool datum_is_wgs84(const OGRSpatialReference& srs)
+{
+    OGRSpatialReference wgs84;
+    wgs84.SetWellKnownGeogCS("WGS84");
+    const char* const options[] = {"IGNORE_DATA_AXIS_TO_SRS_AXIS_MAPPING=YES",
+                                   "CRITERION=EQUIVALENT_EXCEPT_AXIS_ORDER_GEOGCRS", nullptr};
+    OGRSpatialReference* geog = srs.CloneGeogCS();
+    bool same = geog && geog->IsSame(&wgs84, options);
+    OGRSpatialReference::DestroySpatialReference(geog);
+    return same;
+}
+
+/* Finest post spacing (metres, target CRS) of the source grid: a one-column and a one-row step
+ * measured at the corners and the centre of the extent. */
+double finest_spacing(OGRCoordinateTransformation* ct, const double gt[6], int w, int h)
+{
+    double best = INFINITY;
+    const double at[5][2] = {{0, 0}, {w - 1.0, 0}, {0, h - 1.0}, {w - 1.0, h - 1.0},
+                             {(w - 1) / 2.0, (h - 1) / 2.0}};
+    for (const auto& p : at) {
+        double cx = std::min(p[0], std::max(0.0, w - 2.0)), cy = std::min(p[1], std::max(0.0, h - 2.0));
+        double x[3], y[3];
+        const double pts[3][2] = {{cx, cy}, {cx + 1, cy}, {cx, cy + 1}};
+        for (int i = 0; i < 3; i++) {
+            x[i] = gt[0] + (pts[i][0] + 0.5) * gt[1];
+            y[i] = gt[3] + (pts[i][1] + 0.5) * gt[5];
+        }
+        int ok[3] = {0, 0, 0};
+        if (!ct->Transform(3, x, y, nullptr, ok) || !ok[0] || !ok[1] || !ok[2])
+            continue;
+        double dcol = std::hypot(x[1] - x[0], y[1] - y[0]), drow = std::hypot(x[2] - x[0], y[2] - y[0]);
+        best = std::min(best, std::min(dcol, drow));
+    }
+    return best;
+}
+
+/* Connected nodata regions: fill the small interior ones with GDALFillNodata, keep the rest. */
+tp_status classify_and_fill(Grid& g, const double gt[6], int fill_max, std::vector<uint8_t>& filled,
+                            tp_render_grid* out, tp_error* err)
+{
+    size_t n = (size_t)g.w * g.h;
+    filled.assign(n, 0);
+    std::vector<int> region(n, -1);
+    std::vector<uint8_t> fillable; /* per region */
+    std::vector<size_t> stack;
+    bool any_fillable = false;
+    for (size_t start = 0; start < n; start++) {
+        if (!std::isnan(g.z[start]) || region[start] >= 0)
+            continue;
+        int id = (int)fillable.size();
+        int x0 = g.w, x1 = -1, y0 = g.h, y1 = -1;
+        bool border = false;
+        size_t count = 0;
+        stack.assign(1, start);
+        region[start] = id;
+        while (!stack.empty()) {
+            size_t i = stack.back();
+            stack.pop_back();
+            count++;
+            int x = (int)(i % g.w), y = (int)(i / g.w);
+            x0 = std::min(x0, x), x1 = std::max(x1, x), y0 = std::min(y0, y), y1 = std::max(y1, y);
+            border |= x == 0 || y == 0 || x == g.w - 1 || y == g.h - 1;
+            const int nx[4] = {x - 1, x + 1, x, x}, ny[4] = {y, y, y - 1, y + 1};
+            for (int k = 0; k < 4; k++) {
+                if (nx[k] < 0 || ny[k] < 0 || nx[k] >= g.w || ny[k] >= g.h)
+                    continue;
+                size_t j = (size_t)ny[k] * g.w + nx[k];
+                if (region[j] < 0 && std::isnan(g.z[j])) {
+                    region[j] = id;
+                    stack.push_back(j);
+                }
+            }
+        }
+        bool small = fill_max > 0 && x1 - x0 + 1 <= fill_max && y1 - y0 + 1 <= fill_max;
+        fillable.push_back(!border && small);
+        any_fillable |= !border && small;
+        if (border)
+            out->outside_samples += count;
+        else if (!small)
+            out->large_void_samples += count;
+    }
+    if (!any_fillable)
+        return TP_OK;
+
+    tpio::Dataset ds = tpio::mem_dataset(g.z.data(), g.w, g.h, gt, nullptr);
+    if (!ds)
+        return fail(err, TP_ERR_BACKEND, "void filling: %s", tpio::gdal_message().c_str());
+    GDALRasterBand* band = ds->GetRasterBand(1);
+    if (GDALFillNodata(GDALRasterBand::ToHandle(band), nullptr, fill_max, 0, 0, nullptr, nullptr,
+                       nullptr) != CE_None)
+        return fail(err, TP_ERR_BACKEND, "void filling: %s", tpio::gdal_message().c_str());
+    std::vector<float> z(n);
+    if (band->RasterIO(GF_Read, 0, 0, g.w, g.h, z.data(), g.w, g.h, GDT_Float32, 0, 0, nullptr) !=
+        CE_None)
+        return fail(err, TP_ERR_BACKEND, "void filling: %s", tpio::gdal_message().c_str());
+    for (size_t i = 0; i < n; i++) {
+        if (region[i] < 0 || !fillable[region[i]] || std::isnan(z[i]))
+            continue; /* valid, not to be filled, or out of the search distance */
+        g.z[i] = z[i];
+        filled[i] = 1;
+        out->filled_samples++;
+    }
+    return TP_OK;
+}
+
+struct GridDeleter {
+    void operator()(tp_render_grid* g) const { tp_render_grid_destroy(g); }
+};
+
+void add_warning(std::string& w, const std::string& line)
+{
+    if (!w.empty())
+        w += "\n";
+    w += line;
+}
+
+tp_status build(const tp_dem* dem, const tp_grid_options* opt, tp_render_grid** out, tp_error* err)
+{
+    tpio::register_drivers();
+    tpio::QuietGdal quiet;
+    tp_grid_options o = opt ? *opt : tp_grid_options{};
+    int fill_max = o.fill_max_px == 0 ? 64 : o.fill_max_px;
+    std::string warnings;
+
+    OGRSpatialReference src;
+    src.SetAxisMappingStrategy(OAMS_TRADITIONAL_GIS_ORDER);
+    bool has_crs = false;
+    if (o.crs && *o.crs) {
+        if (src.SetFromUserInput(o.crs) != OGRERR_NONE)
+            return fail(err, TP_ERR_INVALID_ARG, "--crs %s: not a CRS that GDAL/PROJ knows", o.crs);
+        has_crs = true;
+    } else if (dem->crs_wkt && *dem->crs_wkt) {
+        if (src.importFromWkt(dem->crs_wkt) != OGRERR_NONE)
+            return fail(err, TP_ERR_BAD_DATA, "the DEM's CRS could not be read");
+        has_crs = true;
+    }
+
+    std::unique_ptr<tp_render_grid, GridDeleter> g(
+        static_cast<tp_render_grid*>(std::calloc(1, sizeof(tp_render_grid))));
+    if (!g)
+        return fail(err, TP_ERR_OUT_OF_MEMORY, "render grid: out of memory");
+    g->utm_zone = -1;
+    Grid grid;
+    double gt[6];
+    std::memcpy(gt, dem->geotransform, sizeof gt);
+    OGRSpatialReference dst;
+    dst.SetAxisMappingStrategy(OAMS_TRADITIONAL_GIS_ORDER);
+    bool use_as_is = !has_crs || (src.IsProjected() && std::fabs(src.GetLinearUnits() - 1.0) < 1e-12);
+
+    if (use_as_is) {
+        grid.w = dem->width;
+        grid.h = dem->height;
+        grid.z.assign(dem->heights, dem->heights + (size_t)dem->width * dem->height);
+        if (has_crs)
+            dst = src;
+        else
+            add_warning(warnings, "no CRS: coordinates taken as metres (give --crs EPSG:N to set "
+                                  "one, e.g. --crs EPSG:4326 for degrees)");
+    } else {
+        if (src.IsGeographic()) {
+            /* Geographic rasters must stay on the globe. */
+            double lat_a = gt[3], lat_b = gt[3] + dem->height * gt[5];
+            if (std::fabs(lat_a) > 90 + 1e-9 || std::fabs(lat_b) > 90 + 1e-9)
+                return fail(err, TP_ERR_INVALID_ARG,
+                            "latitudes %.9g .. %.9g reach beyond +-90 degrees", lat_b, lat_a);
+        }
+        /* The zone of the centre, for the whole scene. */
+        OGRSpatialReference wgs84;
+        wgs84.SetWellKnownGeogCS("WGS84");
+        wgs84.SetAxisMappingStrategy(OAMS_TRADITIONAL_GIS_ORDER);
+        std::unique_ptr<OGRCoordinateTransformation> to_geo(
+            OGRCreateCoordinateTransformation(&src, &wgs84));
+        if (!to_geo)
+            return fail(err, TP_ERR_BACKEND, "no transformation from the DEM's CRS to WGS84: %s",
+                        tpio::gdal_message().c_str());
+        double lon = gt[0] + dem->width / 2.0 * gt[1], lat = gt[3] + dem->height / 2.0 * gt[5];
+        if (!to_geo->Transform(1, &lon, &lat))
+            return fail(err, TP_ERR_BACKEND, "the DEM's centre has no WGS84 position: %s",
+                        tpio::gdal_message().c_str());
+        lon = std::remainder(lon, 360.0); /* a centre past the antimeridian, e.g. 180.5 */
+        int zone, northp, epsg = utm_epsg(lat, lon, &zone, &northp);
+        dst.importFromEPSG(epsg);
+        std::unique_ptr<OGRCoordinateTransformation> ct(OGRCreateCoordinateTransformation(&src, &dst));
+        if (!ct)
+            return fail(err, TP_ERR_BACKEND, "no transformation to EPSG:%d: %s", epsg,
+                        tpio::gdal_message().c_str());
+        double res = finest_spacing(ct.get(), gt, dem->width, dem->height);
+        if (!std::isfinite(res) || res <= 0)
+            return fail(err, TP_ERR_BACKEND, "could not measure the DEM's post spacing in EPSG:%d",
+                        epsg);
+
+        tpio::Dataset src_ds = tpio::mem_dataset(dem->heights, dem->width, dem->height, gt, &src);
+        if (!src_ds)
+            return fail(err, TP_ERR_BACKEND, "warp: %s", tpio::gdal_message().c_str());
+        std::string t_srs = "EPSG:" + std::to_string(epsg), tr = CPLSPrintf("%.17g", res);
+        const char* resampling = o.resampling == TP_RESAMPLING_CUBIC ? "cubic" : "bilinear";
+        const char* args[] = {"-t_srs", t_srs.c_str(), "-tr", tr.c_str(), tr.c_str(), "-r",
+                              resampling, "-srcnodata", "nan", "-dstnodata", "nan", "-ot",
+                              "Float32", "-of", "MEM", nullptr};
+        GDALWarpAppOptions* wo = GDALWarpAppOptionsNew(const_cast<char**>(args), nullptr);
+        GDALDatasetH in = GDALDataset::ToHandle(src_ds.get());
+        int usage = 0;
+        tpio::Dataset warped(GDALDataset::FromHandle(GDALWarp("", nullptr, 1, &in, wo, &usage)));
+        GDALWarpAppOptionsFree(wo);
+        if (!warped)
+            return fail(err, TP_ERR_BACKEND, "warp to EPSG:%d failed: %s", epsg,
+                        tpio::gdal_message().c_str());
+        grid.w = warped->GetRasterXSize();
+        grid.h = warped->GetRasterYSize();
+        grid.z.resize((size_t)grid.w * grid.h);
+        warped->GetGeoTransform(gt);
+        if (warped->GetRasterBand(1)->RasterIO(GF_Read, 0, 0, grid.w, grid.h, grid.z.data(), grid.w,
+                                               grid.h, GDT_Float32, 0, 0, nullptr) != CE_None)
+            return fail(err, TP_ERR_BACKEND, "warp: %s", tpio::gdal_message().c_str());
+        g->warped = 1;
+
+        /* The rendered surface against every valid source post. */
+        double mx = 0, sum = 0;
+        size_t count = 0;
+        std::vector<double> xs(dem->width), ys(dem->width);
+        std::vector<int> ok(dem->width);
+        for (int r = 0; r < dem->height; r++) {
+            for (int c = 0; c < dem->width; c++) {
+                xs[c] = dem->geotransform[0] + (c + 0.5) * dem->geotransform[1];
+                ys[c] = dem->geotransform[3] + (r + 0.5) * dem->geotransform[5];
+            }
+            ct->Transform(dem->width, xs.data(), ys.data(), nullptr, ok.data());
+            for (int c = 0; c < dem->width; c++) {
+                float s = dem->heights[(size_t)r * dem->width + c];
+                if (!ok[c] || std::isnan(s))
+                    continue;
+                double z = surface_at(grid, (xs[c] - gt[0]) / gt[1] - 0.5, (ys[c] - gt[3]) / gt[5] - 0.5);
+                if (std::isnan(z))
+                    continue;
+                double e = std::fabs(z - s);
+                mx = std::max(mx, e);
+                sum += e * e;
+                count++;
+            }
+        }
+        g->warp_max_error_m = mx;
+        g->warp_rms_error_m = count ? std::sqrt(sum / count) : 0;
+        g->warp_posts = count;
+    }
+
+    if (has_crs) {
+        int north = 0;
+        int zone = dst.GetUTMZone(&north);
+        const char* name = dst.GetName();
+        std::snprintf(g->crs_name, sizeof g->crs_name, "%s", name ? name : "unnamed CRS");
+        g->epsg = epsg_of(dst);
+        g->wgs84 = datum_is_wgs84(dst);
+        if (zone > 0) {
+            g->utm_zone = zone;
+            g->northp = north;
+        } else if (g->epsg == 32661 || g->epsg == 32761) {
+            g->utm_zone = 0;
+            g->northp = g->epsg == 32661;
+        }
+    } else {
+        std::snprintf(g->crs_name, sizeof g->crs_name, "local metres (no CRS)");
+    }
+
+    std::vector<uint8_t> filled;
+    tp_status st = classify_and_fill(grid, gt, fill_max, filled, g.get(), err);
+    if (st != TP_OK)
+        return st;
+
+    size_t n = (size_t)grid.w * grid.h;
+    g->width = grid.w;
+    g->height = grid.h;
+    std::memcpy(g->geotransform, gt, sizeof gt);
+    g->spacing_m = std::min(std::fabs(gt[1]), std::fabs(gt[5]));
+    g->heights = static_cast<float*>(std::malloc(n * sizeof(float)));
+    g->filled = static_cast<uint8_t*>(std::malloc(n));
+    g->crs_wkt = tpio::dup_c(has_crs ? wkt_of(dst) : std::string());
+    g->warnings = tpio::dup_c(warnings);
+    if (!g->heights || !g->filled || !g->crs_wkt || !g->warnings)
+        return fail(err, TP_ERR_OUT_OF_MEMORY, "render grid: out of memory for %dx%d samples",
+                    grid.w, grid.h);
+    std::memcpy(g->heights, grid.z.data(), n * sizeof(float));
+    std::memcpy(g->filled, filled.data(), n);
+    *out = g.release();
+    return TP_OK;
+}
+
+} // namespace
+
+extern "C" tp_status tp_render_grid_build(const tp_dem* dem, const tp_grid_options* options,
+                                          tp_render_grid** out, tp_error* err)
+{
+    if (!dem || !out || !dem->heights)
+        return fail(err, TP_ERR_INVALID_ARG, "render grid: dem and out must not be NULL");
+    try {
+        return build(dem, options, out, err);
+    } catch (const std::bad_alloc&) {
+        return fail(err, TP_ERR_OUT_OF_MEMORY, "render grid: out of memory");
+    } catch (const std::exception& e) {
+        return fail(err, TP_ERR_BACKEND, "render grid: %s", e.what());
+    } catch (...) {
+        return fail(err, TP_ERR_BACKEND, "render grid: unknown C++ exception");
+    }
+}
+
+extern "C" void tp_render_grid_destroy(tp_render_grid* grid)
+{
+    if (!grid)
+        return;
+    std::free(grid->heights);
+    std::free(grid->filled);
+    std::free(grid->crs_wkt);
+    std::free(grid->warnings);
+    std::free(grid);
+}
+
+extern "C" tp_terrain_desc tp_render_grid_terrain_desc(const tp_render_grid* grid, int patch_size,
+                                                       tp_fit fit)
+{
+    tp_terrain_desc d{};
+    d.heights = grid->heights;
+    d.height_count = (size_t)grid->width * grid->height;
+    d.width = grid->width;
+    d.height = grid->height;
+    std::memcpy(d.geotransform, grid->geotransform, sizeof d.geotransform);
+    d.filled = grid->filled;
+    d.filled_count = d.height_count;
+    d.patch_size = patch_size;
+    d.fit = fit;
+    return d;
+}
