@@ -184,7 +184,8 @@ static void print_text(const tp_scene* sc, const char* path)
         printf("pixel size     %.10g x %.10g %s\n", fabs(gt[1]), fabs(gt[5]),
                crs_is_geographic(dem) ? "degrees" : "CRS units");
     } else {
-        printf("geotransform   none (1 x 1 m pixels, origin 0, 0 taken)\n");
+        printf("geotransform   none in the file: %.10g m posts, north-west corner at (0, 0)\n",
+               fabs(gt[1]));
     }
     printf("band 1         min %.10g, max %.10g, %zu voids", dem->min_m, dem->max_m,
            dem->void_count);

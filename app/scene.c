@@ -3,6 +3,7 @@
 
 #include "cli.h"
 
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -66,6 +67,33 @@ int tp_scene_option(int opt, const char* arg, tp_scene_options* o, const char* c
         o->grid.fill_max_px = v == 0 ? -1 : (int)v; /* 0 on the command line: fill nothing */
         return 1;
     }
+    case TP_OPT_SPACING:
+    case TP_OPT_ZSCALE: {
+        double v = strtod(arg, &end);
+        if (*arg == '\0' || *end != '\0' || !(v > 0) || !isfinite(v)) {
+            fprintf(stderr, "terrapatch %s: --%s: expected a number > 0, got %s\n", cmd,
+                    opt == TP_OPT_SPACING ? "spacing" : "zscale", arg);
+            return -1;
+        }
+        *(opt == TP_OPT_SPACING ? &o->image.spacing_m : &o->image.zscale) = v;
+        o->image_given = 1;
+        return 1;
+    }
+    case TP_OPT_ORIGIN: {
+        double lat = strtod(arg, &end), lon = NAN;
+        if (end != arg && *end == ',')
+            lon = strtod(end + 1, &end);
+        if (*end != '\0' || !(fabs(lat) <= 90) || !(fabs(lon) <= 180)) {
+            fprintf(stderr, "terrapatch %s: --origin: expected LAT,LON in degrees, got %s\n", cmd,
+                    arg);
+            return -1;
+        }
+        o->image.has_origin = 1;
+        o->image.origin_lat_deg = lat;
+        o->image.origin_lon_deg = lon;
+        o->image_given = 1;
+        return 1;
+    }
     }
     return 0;
 }
@@ -81,7 +109,12 @@ void tp_scene_options_help(FILE* f)
           "  --resampling bilinear|cubic\n"
           "                      how geographic DEMs are warped to UTM/UPS (default bilinear)\n"
           "  --fill-max N        fill interior voids up to N x N samples by interpolation and\n"
-          "                      mark them (default 64; 0 fills nothing)\n",
+          "                      mark them (default 64; 0 fills nothing)\n"
+          "  --spacing METRES    heightmap images (PNG, ...; read with OpenImageIO): post\n"
+          "                      spacing (default 1)\n"
+          "  --zscale S          heightmap images: metres per count (default 1)\n"
+          "  --origin LAT,LON    heightmap images: put the image's centre there (WGS84), in the\n"
+          "                      UTM/UPS zone of that point; default: local metres\n",
           f);
 }
 
@@ -99,7 +132,9 @@ int tp_scene_load(const char* path, const tp_scene_options* o, tp_scene* scene)
 {
     memset(scene, 0, sizeof *scene);
     tp_error err = {{0}};
-    tp_status s = tp_dem_read(path, &scene->dem, &err);
+    tp_status s = o->image_given || tp_is_heightmap_image(path)
+                      ? tp_dem_read_image(path, &o->image, &scene->dem, &err)
+                      : tp_dem_read(path, &scene->dem, &err);
     if (s != TP_OK) {
         fprintf(stderr, "terrapatch: %s\n", err.message); /* io messages name the file */
         return TP_EXIT_FAILURE;

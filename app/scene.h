@@ -16,6 +16,8 @@ typedef struct tp_scene_options {
     int patch_size;          /* 17 .. 257 */
     tp_fit fit;
     tp_grid_options grid;    /* --crs, --resampling, --fill-max */
+    tp_image_options image;  /* --spacing, --zscale, --origin (heightmap images) */
+    int image_given;         /* one of those was given: read through OpenImageIO */
 } tp_scene_options;
 
 /* getopt_long codes of the DEM options (each command adds its own beside them). */
@@ -25,13 +27,19 @@ enum {
     TP_OPT_CRS,
     TP_OPT_RESAMPLING,
     TP_OPT_FILL_MAX,
+    TP_OPT_SPACING,
+    TP_OPT_ZSCALE,
+    TP_OPT_ORIGIN,
 };
 
 #define TP_SCENE_LONG_OPTIONS                                                                      \
     {"patch", required_argument, NULL, TP_OPT_PATCH},                                              \
         {"fit", required_argument, NULL, TP_OPT_FIT}, {"crs", required_argument, NULL, TP_OPT_CRS}, \
         {"resampling", required_argument, NULL, TP_OPT_RESAMPLING},                                \
-        {"fill-max", required_argument, NULL, TP_OPT_FILL_MAX}
+        {"fill-max", required_argument, NULL, TP_OPT_FILL_MAX},                                    \
+        {"spacing", required_argument, NULL, TP_OPT_SPACING},                                      \
+        {"zscale", required_argument, NULL, TP_OPT_ZSCALE},                                        \
+        {"origin", required_argument, NULL, TP_OPT_ORIGIN}
 
 void tp_scene_options_default(tp_scene_options* o);
 

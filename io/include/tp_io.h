@@ -45,6 +45,27 @@ void tp_dem_destroy(tp_dem* dem); /* accepts NULL */
 tp_terrain_desc tp_dem_terrain_desc(const tp_dem* dem, int patch_size, tp_fit fit);
 
 /* ---------------------------------------------------------------------------------------------
+ * Heightmap images without georeference (io/src/image_read.cpp, through OpenImageIO)
+ */
+typedef struct tp_image_options {
+    double spacing_m;        /* post spacing; 0 means 1 m (with a warning) */
+    double zscale;           /* metres per count of channel 0; 0 means 1 */
+    int has_origin;          /* place the image's centre at (origin_lat, origin_lon) in the */
+    double origin_lat_deg;   /* WGS84 UTM/UPS zone of that point; otherwise the grid is in */
+    double origin_lon_deg;   /* local metres with its north-west corner at (0, 0) */
+} tp_image_options;
+
+/* 1 when path names an image format read through OpenImageIO rather than GDAL (by extension:
+ * .png .jpg .jpeg .exr .pgm .ppm .tga .bmp .hdr .webp). */
+int tp_is_heightmap_image(const char* path);
+
+/* Reads channel 0 of an image (8/16/32-bit integer or float samples, taken as raw counts, not
+ * normalised) as heights = count * zscale. North-up: row 0 is north. Errors name the file;
+ * *out is untouched on failure. */
+tp_status tp_dem_read_image(const char* path, const tp_image_options* options, tp_dem** out,
+                            tp_error* err);
+
+/* ---------------------------------------------------------------------------------------------
  * The render grid: a DEM on a metric grid (io/src/render_grid.cpp)
  *
  * Projected DEMs in metres are used on their own grid. Geographic DEMs (and projected ones in

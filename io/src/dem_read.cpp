@@ -4,6 +4,13 @@
  * GDAL's own error printing is silenced (a quiet handler is pushed for the duration of each
  * call); its last message is put into tp_error behind the file name instead, so the caller
  * decides what the user sees. No GDAL type leaves this file.
+ *
+ * Bad input is refused with a status and a message naming the file, before anything large is
+ * allocated where the file allows: a missing file or a directory (TP_ERR_IO); an empty file,
+ * one GDAL cannot open, a geotransform that is not finite, rotated, of zero pixel size or with
+ * columns running west, a geographic raster whose rows reach beyond +-90 degrees, a read that
+ * fails part way (a truncated strip), a band with no valid height (TP_ERR_BAD_DATA); a raster
+ * whose heights would not fit in this machine's memory (TP_ERR_OUT_OF_MEMORY, with the size).
  */
 #include "tp_io.h"
 
@@ -14,6 +21,7 @@
 #include <gdal_priv.h>
 #include <ogr_spatialref.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cfloat>
 #include <cmath>
@@ -26,6 +34,8 @@
 #include <memory>
 #include <mutex>
 #include <string>
+
+#include <unistd.h>
 
 namespace {
 
@@ -151,30 +161,149 @@ float nodata_as_float(double v)
     return static_cast<float>(v);
 }
 
+/* Bytes of memory this process can use: the smaller of physical RAM and what GDAL finds usable
+ * (it knows cgroup limits and RLIMIT_AS); 0 if neither is known. */
+uint64_t usable_memory_bytes()
+{
+    uint64_t best = 0;
+    const long pages = sysconf(_SC_PHYS_PAGES), page = sysconf(_SC_PAGE_SIZE);
+    if (pages > 0 && page > 0)
+        best = static_cast<uint64_t>(pages) * static_cast<uint64_t>(page);
+    const GIntBig gdal = CPLGetUsablePhysicalRAM();
+    if (gdal > 0 && (best == 0 || static_cast<uint64_t>(gdal) < best))
+        best = static_cast<uint64_t>(gdal);
+    return best;
+}
+
+double gib(double bytes)
+{
+    return bytes / (1024.0 * 1024.0 * 1024.0);
+}
+
+bool has_extension(const char* path, const char* ext)
+{
+    const size_t n = std::strlen(path), e = std::strlen(ext);
+    return n >= e && EQUAL(path + n - e, ext);
+}
+
+/* GDAL says "not recognized as a supported file format" for anything it cannot place; for an
+ * .hgt that is almost always a name or size the SRTMHGT driver does not accept, so say which. */
+std::string open_hint(const char* path, const VSIStatBufL& st)
+{
+    if (!has_extension(path, ".hgt"))
+        return "";
+    char hint[256];
+    std::snprintf(hint, sizeof hint,
+                  "; an SRTM .hgt must be named like N42E001.hgt and hold 1201x1201 (%d bytes) or "
+                  "3601x3601 (%d bytes) big-endian Int16 samples, this one has %lld bytes",
+                  1201 * 1201 * 2, 3601 * 3601 * 2, static_cast<long long>(st.st_size));
+    return hint;
+}
+
+/* The geotransform the core can use: finite, north-up or south-up, not rotated, non-zero pixel
+ * size, columns running east (a negative pixel width comes from a negative cell size in a
+ * header, e.g. an ESRI ASCII grid's "cellsize -10"; no DEM format writes east-to-west
+ * columns). Rows may run either way: gt[5] < 0 is the usual north-up, gt[5] > 0 a bottom-up
+ * grid, which the core handles as it is. */
+tp_status check_geotransform(const char* path, const double gt[6], tp_error* err)
+{
+    for (int i = 0; i < 6; ++i)
+        if (!std::isfinite(gt[i])) {
+            set_error(err, "%s: geotransform is not finite (gt[%d]=%g)", path, i, gt[i]);
+            return TP_ERR_BAD_DATA;
+        }
+    if (gt[2] != 0.0 || gt[4] != 0.0) {
+        set_error(err, "%s: rotated geotransform (gt[2]=%.17g, gt[4]=%.17g) is not supported",
+                  path, gt[2], gt[4]);
+        return TP_ERR_BAD_DATA;
+    }
+    if (gt[1] == 0.0 || gt[5] == 0.0) {
+        set_error(err, "%s: pixel size must be non-zero, got %.17g x %.17g (gt[1] x gt[5])", path,
+                  gt[1], gt[5]);
+        return TP_ERR_BAD_DATA;
+    }
+    if (gt[1] < 0.0) {
+        set_error(err,
+                  "%s: pixel width must be positive (columns running east), got gt[1]=%.17g "
+                  "(a negative cell size?)",
+                  path, gt[1]);
+        return TP_ERR_BAD_DATA;
+    }
+    return TP_OK;
+}
+
+/* A geographic raster's sample centres must lie within +-90 degrees of latitude. The outer
+ * edge may pass the pole by half a pixel: grid-registered global grids (ETOPO1, GEBCO) have
+ * their first and last rows of posts on the poles. GDAL gives datasets in GIS axis order, so
+ * rows (gt[3], gt[5]) are latitude. */
+tp_status check_latitude(const char* path, const OGRSpatialReference& srs, const double gt[6],
+                         int h, tp_error* err)
+{
+    if (!srs.IsGeographic())
+        return TP_OK;
+    const double pi = 3.14159265358979323846;
+    double to_deg = srs.GetAngularUnits(nullptr) * 180.0 / pi; /* 1 for degrees */
+    if (!(to_deg > 0.0) || !std::isfinite(to_deg))
+        to_deg = 1.0;
+    const double first = (gt[3] + 0.5 * gt[5]) * to_deg;
+    const double last = (gt[3] + (h - 0.5) * gt[5]) * to_deg;
+    const double north = std::max(first, last), south = std::min(first, last);
+    const double eps = 1e-9; /* degrees: rounding in the file's decimal origin */
+    if (north > 90.0 + eps || south < -90.0 - eps) {
+        const char* name = srs.GetName();
+        set_error(err,
+                  "%s: rows reach latitude %.10g%s, beyond %s90 in a geographic CRS (%s); "
+                  "expected sample centres from -90 to 90",
+                  path, north > 90.0 + eps ? north : south,
+                  north > 90.0 + eps && south < -90.0 - eps ? " and beyond both poles" : "",
+                  north > 90.0 + eps ? "+" : "-", name && *name ? name : "unnamed");
+        return TP_ERR_BAD_DATA;
+    }
+    return TP_OK;
+}
+
 tp_status read_dem(const char* path, tp_dem** out, tp_error* err)
 {
     register_drivers();
     QuietGdal quiet;
 
-    /* Tell "no such file" (an I/O problem) apart from "a file GDAL does not understand". */
+    /* Tell "no such file" and "a directory" (I/O problems) apart from "a file GDAL does not
+     * understand", and an empty file from a corrupt one. */
     VSIStatBufL st;
+    std::memset(&st, 0, sizeof st);
     errno = 0;
-    if (VSIStatExL(path, &st, VSI_STAT_EXISTS_FLAG) != 0) {
+    if (VSIStatExL(path, &st, VSI_STAT_EXISTS_FLAG | VSI_STAT_NATURE_FLAG | VSI_STAT_SIZE_FLAG) !=
+        0) {
         set_error(err, "%s: cannot open: %s", path, std::strerror(errno ? errno : ENOENT));
         return TP_ERR_IO;
     }
-    if (VSILFILE* f = VSIFOpenL(path, "rb")) {
-        VSIFCloseL(f);
-    } else {
-        set_error(err, "%s: cannot open: %s", path, std::strerror(errno ? errno : EACCES));
-        return TP_ERR_IO;
+    const bool is_dir = VSI_ISDIR(st.st_mode);
+    if (!is_dir) {
+        if (VSILFILE* f = VSIFOpenL(path, "rb")) {
+            VSIFCloseL(f);
+        } else {
+            set_error(err, "%s: cannot open: %s", path, std::strerror(errno ? errno : EACCES));
+            return TP_ERR_IO;
+        }
+        if (VSI_ISREG(st.st_mode) && st.st_size == 0) {
+            set_error(err, "%s: empty file (0 bytes), expected a raster", path);
+            return TP_ERR_BAD_DATA;
+        }
     }
 
+    /* A directory can still be a raster (an ArcInfo binary grid is one), so GDAL has the first
+     * word; if it cannot open it, the answer is that it is a directory. */
     std::unique_ptr<GDALDataset, DatasetCloser> ds(
         GDALDataset::Open(path, GDAL_OF_RASTER | GDAL_OF_READONLY | GDAL_OF_VERBOSE_ERROR, nullptr,
                           nullptr, nullptr));
     if (!ds) {
-        set_error(err, "%s: not a raster GDAL can open (%s)", path, gdal_message().c_str());
+        if (is_dir) {
+            set_error(err, "%s: cannot open: %s, expected a raster file", path,
+                      std::strerror(EISDIR));
+            return TP_ERR_IO;
+        }
+        set_error(err, "%s: not a raster GDAL can open (%s)%s", path, gdal_message().c_str(),
+                  open_hint(path, st).c_str());
         return TP_ERR_BAD_DATA;
     }
     if (ds->GetRasterCount() < 1) {
@@ -187,9 +316,40 @@ tp_status read_dem(const char* path, tp_dem** out, tp_error* err)
         set_error(err, "%s: expected a raster of at least 1x1, got %dx%d", path, w, h);
         return TP_ERR_BAD_DATA;
     }
+
+    /* Georeferencing first: it is cheap, and a bad one is refused before the heights are read.
+     * GDAL has already moved pixel-is-point origins to the corner of the first pixel. */
+    double gt[6];
+    const bool has_gt = ds->GetGeoTransform(gt) == CE_None;
+    if (has_gt) {
+        const tp_status s = check_geotransform(path, gt, err);
+        if (s != TP_OK)
+            return s;
+    } else {
+        const double unit[6] = {0.0, 1.0, 0.0, 0.0, 0.0, -1.0};
+        std::memcpy(gt, unit, sizeof gt);
+    }
+    const OGRSpatialReference* srs = ds->GetSpatialRef();
+    if (has_gt && srs && !srs->IsEmpty()) {
+        const tp_status s = check_latitude(path, *srs, gt, h, err);
+        if (s != TP_OK)
+            return s;
+    }
+
+    /* The heights are read whole as 32-bit floats: refuse a size this machine cannot hold
+     * before asking for it (a header is all it takes to claim 10^12 samples). */
     const size_t count = static_cast<size_t>(w) * static_cast<size_t>(h);
-    if (count > SIZE_MAX / sizeof(float)) {
-        set_error(err, "%s: %dx%d raster is too large for this machine", path, w, h);
+    const double need = static_cast<double>(w) * static_cast<double>(h) * sizeof(float);
+    const uint64_t have = usable_memory_bytes();
+    if (count > SIZE_MAX / sizeof(float) || (have && need > static_cast<double>(have))) {
+        if (have)
+            set_error(err,
+                      "%s: %dx%d samples would need %.1f GiB for the heights (4 bytes each), "
+                      "more than the %.1f GiB of memory this machine has",
+                      path, w, h, gib(need), gib(static_cast<double>(have)));
+        else
+            set_error(err, "%s: %dx%d samples would need %.1f GiB for the heights, more than "
+                      "this machine can address", path, w, h, gib(need));
         return TP_ERR_OUT_OF_MEMORY;
     }
 
@@ -202,14 +362,21 @@ tp_status read_dem(const char* path, tp_dem** out, tp_error* err)
     dem->height = h;
     dem->heights = static_cast<float*>(std::malloc(count * sizeof(float)));
     if (!dem->heights) {
-        set_error(err, "%s: out of memory for %dx%d heights", path, w, h);
+        set_error(err, "%s: out of memory: %dx%d samples need %.1f GiB for the heights", path, w,
+                  h, gib(need));
         return TP_ERR_OUT_OF_MEMORY;
     }
 
+    /* A read can fail part way (a strip cut off by a truncated copy). Some drivers report a
+     * failure through CPLError but still return CE_None for the request, so both count; no
+     * partial result is kept. */
     CPLErrorReset();
-    if (band->RasterIO(GF_Read, 0, 0, w, h, dem->heights, w, h, GDT_Float32, 0, 0, nullptr) !=
-        CE_None) {
-        set_error(err, "%s: cannot read band 1 (%s)", path, gdal_message().c_str());
+    const CPLErr io = band->RasterIO(GF_Read, 0, 0, w, h, dem->heights, w, h, GDT_Float32, 0, 0,
+                                     nullptr);
+    const CPLErr last = CPLGetLastErrorType();
+    if (io != CE_None || last == CE_Failure || last == CE_Fatal) {
+        set_error(err, "%s: reading the heights of band 1 failed, the file is truncated or "
+                  "corrupt (%s)", path, gdal_message().c_str());
         return TP_ERR_BAD_DATA;
     }
 
@@ -226,16 +393,19 @@ tp_status read_dem(const char* path, tp_dem** out, tp_error* err)
     dem->nodata_value = has_nodata ? nodata : 0.0;
 
     /* Everything that is not a height becomes NaN: the tag, NaN, +-inf, and for untagged Int16
-     * the two values SRTM (-32768) and DTED (-32767) use for voids. */
+     * the two values SRTM (-32768) and DTED (-32767) use for voids. +-FLT_MAX counts as
+     * infinite: it is what GDAL stores for an infinity read from text (an ESRI ASCII grid's
+     * "inf") and the float nodata of ArcGIS, never a height. */
     const float nd = nodata_as_float(nodata);
     const bool nd_is_nan = has_nodata && std::isnan(nodata);
     const bool int16_guess = !has_nodata && type == GDT_Int16;
     const float nan = std::nanf("");
-    size_t guessed_32768 = 0, guessed_32767 = 0, voids = 0;
+    size_t guessed_32768 = 0, guessed_32767 = 0, tagged = 0, nans = 0, infinite = 0, voids = 0;
     float lo = 0.0f, hi = 0.0f;
     for (size_t i = 0; i < count; ++i) {
         float v = dem->heights[i];
         if (has_nodata && (v == nd || (nd_is_nan && std::isnan(v)))) {
+            ++tagged;
             v = nan;
         } else if (int16_guess && (v == -32768.0f || v == -32767.0f)) {
             if (v == -32768.0f)
@@ -243,7 +413,10 @@ tp_status read_dem(const char* path, tp_dem** out, tp_error* err)
             else
                 ++guessed_32767;
             v = nan;
-        } else if (!std::isfinite(v)) {
+        } else if (std::isnan(v)) {
+            ++nans;
+        } else if (std::isinf(v) || v == FLT_MAX || v == -FLT_MAX) {
+            ++infinite;
             v = nan;
         }
         dem->heights[i] = v;
@@ -257,7 +430,20 @@ tp_status read_dem(const char* path, tp_dem** out, tp_error* err)
         }
     }
     if (voids == count) {
-        set_error(err, "%s: no valid sample in band 1", path);
+        std::string why;
+        char part[96];
+        const auto add = [&](size_t n, const char* what) {
+            if (!n)
+                return;
+            std::snprintf(part, sizeof part, "%s%zu %s", why.empty() ? "" : ", ", n, what);
+            why += part;
+        };
+        add(tagged, "equal to the nodata tag");
+        add(guessed_32768 + guessed_32767, "untagged Int16 voids (-32768/-32767)");
+        add(nans, "NaN");
+        add(infinite, "infinite (+-Inf or +-FLT_MAX)");
+        set_error(err, "%s: no valid height in band 1: all %zu samples are nodata (%s)", path,
+                  count, why.c_str());
         return TP_ERR_BAD_DATA;
     }
     dem->void_count = voids;
@@ -265,8 +451,8 @@ tp_status read_dem(const char* path, tp_dem** out, tp_error* err)
     dem->max_m = hi;
 
     std::string warnings;
+    char line[1024];
     if (guessed_32768 || guessed_32767) {
-        char line[1024];
         if (guessed_32768 && guessed_32767)
             std::snprintf(line, sizeof line,
                           "%s: Int16 band has no nodata tag; %zu samples of -32768 and %zu of "
@@ -279,18 +465,18 @@ tp_status read_dem(const char* path, tp_dem** out, tp_error* err)
                           guessed_32768 ? -32768 : -32767);
         warnings += line;
     }
+    if (infinite) {
+        std::snprintf(line, sizeof line,
+                      "%s: %zu infinite samples (+-Inf or +-FLT_MAX) taken as nodata", path,
+                      infinite);
+        if (!warnings.empty())
+            warnings += '\n';
+        warnings += line;
+    }
     dem->warnings = dup_c(warnings);
 
-    /* GDAL has already moved pixel-is-point origins to the corner of the first pixel. */
-    double gt[6];
-    if (ds->GetGeoTransform(gt) == CE_None) {
-        dem->has_geotransform = 1;
-        std::memcpy(dem->geotransform, gt, sizeof gt);
-    } else {
-        const double unit[6] = {0.0, 1.0, 0.0, 0.0, 0.0, -1.0};
-        dem->has_geotransform = 0;
-        std::memcpy(dem->geotransform, unit, sizeof unit);
-    }
+    dem->has_geotransform = has_gt ? 1 : 0;
+    std::memcpy(dem->geotransform, gt, sizeof gt);
 
     if (!read_crs(*ds, dem.get()) || !dem->warnings) {
         set_error(err, "%s: out of memory", path);

@@ -224,7 +224,7 @@ tp_status build(const tp_dem* dem, const tp_grid_options* opt, tp_render_grid** 
         grid.z.assign(dem->heights, dem->heights + (size_t)dem->width * dem->height);
         if (has_crs)
             dst = src;
-        else
+        else if (dem->has_geotransform) /* images without one were described by the user */
             add_warning(warnings, "no CRS: coordinates taken as metres (give --crs EPSG:N to set "
                                   "one, e.g. --crs EPSG:4326 for degrees)");
     } else {
