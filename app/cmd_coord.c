@@ -41,68 +41,68 @@ typedef struct coord_options {
 enum { OPT_TO = 256, OPT_PRECISION, OPT_GEODESIC };
 
 #define DEFAULT_MGRS_PRECISION 5
-#define MAX_FIELDS 4    /* most fields a line may have (--geodesic); more are only counted */
-#define MSG_SIZE 768    /* one error message */
-#define QUOTE_LIMIT 40  /* characters of a bad token echoed back */
+#define MAX_FIELDS 4   /* most fields a line may have (--geodesic); more are only counted */
+#define MSG_SIZE 768   /* one error message */
+#define QUOTE_LIMIT 40 /* characters of a bad token echoed back */
 
 static void print_help(void)
 {
-    fputs(
-        "usage: terrapatch coord [options] [INPUT ...]\n"
-        "\n"
-        "Converts coordinates on the WGS84 ellipsoid one input at a time, like GeographicLib's\n"
-        "GeoConvert (GeodSolve -i with --geodesic); every conversion is GeographicLib's. Each\n"
-        "INPUT argument is one input line; with none, lines are read from standard input. Each\n"
-        "input line gives exactly one output line: a line that cannot be converted gives\n"
-        "'ERROR: reason' on stdout in its place (so output stays aligned with input), the\n"
-        "reason with the line number on stderr, and the run goes on.\n"
-        "\n"
-        "input, one position per line, latitude first:\n"
-        "  LAT LON        decimal degrees, LAT in [-90, 90], LON in [-540, 540]\n"
-        "                 (e.g. 45.5 -122.68; no DMS, no N/S/E/W letters)\n"
-        "  LAT LON H      the same plus H, the ELLIPSOIDAL height in metres (above the WGS84\n"
-        "                 ellipsoid, not above sea level or the geoid); only with --to ecef\n"
-        "  ZONE E N       UTM: zone 1..60 and hemisphere n or s (33n 500000 4649776.22);\n"
-        "                 UPS: n or s alone (n 2000000 1333272.296); easting, northing in m\n"
-        "  MGRS           an MGRS reference of any precision, any letter case\n"
-        "                 (33TWN0000049776, 38smb4488), read as the centre of its square\n"
-        "\n"
-        "options:\n"
-        "  --to geo        LAT LON in degrees with 9 decimals, LON in [-180, 180] (default)\n"
-        "  --to utm        ZONE E N in metres with 3 decimals (GeoConvert -u -p 3), in the\n"
-        "                  standard zone: UTM from 80S to 84N (Norway and Svalbard\n"
-        "                  exceptions included), else UPS with the zone printed as n or s\n"
-        "  --to mgrs       an MGRS reference with --precision digits per coordinate\n"
-        "  --to ecef       X Y Z, geocentric (Earth-centred, Earth-fixed) WGS84 coordinates\n"
-        "                  in metres with 6 decimals; height 0 unless the line is LAT LON H\n"
-        "  --precision P   MGRS digits per coordinate, 0..11 (default 5 = 1 m, 0 = the\n"
-        "                  100 km square, 11 = 1 um); MGRS truncates, it does not round\n"
-        "                  (GeoConvert -m -p P-5)\n"
-        "  --geodesic      each line is LAT1 LON1 LAT2 LON2; prints AZI1 AZI2 S12: the\n"
-        "                  azimuths at both ends (degrees clockwise from north, 12 decimals)\n"
-        "                  and the length of the shortest path on the ellipsoid (metres, 9\n"
-        "                  decimals), as GeodSolve -i -p 9\n"
-        "  -h, --help      show this help\n"
-        "\n"
-        "examples:\n"
-        "  $ terrapatch coord --to utm '45.5 -122.68'\n"
-        "  10n 525000.574 5038546.300\n"
-        "  $ terrapatch coord --to mgrs --precision 2 '33.3 44.4'\n"
-        "  38SMB4484\n"
-        "  $ printf '33n 500000 4649776.22\\n38SMB4484\\n91 0\\n' | terrapatch coord\n"
-        "  41.999999957 15.000000000\n"
-        "  33.298157366 44.403873473\n"
-        "  ERROR: latitude 91 is outside [-90, 90]\n"
-        "  (and on stderr: terrapatch coord: line 3: latitude 91 is outside [-90, 90])\n"
-        "  $ terrapatch coord --to ecef '0 0 100'\n"
-        "  6378237.000000 0.000000 0.000000\n"
-        "  $ terrapatch coord --geodesic '40.6 -73.8 51.6 -0.5'\n"
-        "  51.198882845580 107.821776735514 5551759.400318678\n"
-        "  $ terrapatch coord -- '-33.9 18.4'     ('--' before inputs starting with '-')\n"
-        "\n"
-        "Exit status: 0 every line converted, 1 some line failed or the input could not be\n"
-        "read, 2 usage error.\n",
-        stdout);
+    fputs("usage: terrapatch coord [options] [INPUT ...]\n"
+          "\n"
+          "Converts coordinates on the WGS84 ellipsoid one input at a time, like GeographicLib's\n"
+          "GeoConvert (GeodSolve -i with --geodesic); every conversion is GeographicLib's. Each\n"
+          "INPUT argument is one input line; with none, lines are read from standard input. Each\n"
+          "input line gives exactly one output line: a line that cannot be converted gives\n"
+          "'ERROR: reason' on stdout in its place (so output stays aligned with input), the\n"
+          "reason with the line number on stderr, and the run goes on.\n"
+          "\n"
+          "input, one position per line, latitude first:\n"
+          "  LAT LON        decimal degrees, LAT in [-90, 90], LON in [-540, 540]\n"
+          "                 (e.g. 45.5 -122.68; no DMS, no N/S/E/W letters)\n"
+          "  LAT LON H      the same plus H, the ELLIPSOIDAL height in metres (above the WGS84\n"
+          "                 ellipsoid, not above sea level or the geoid); only with --to ecef\n"
+          "  ZONE E N       UTM: zone 1..60 and hemisphere n or s (33n 500000 4649776.22);\n"
+          "                 UPS: n or s alone (n 2000000 1333272.296); easting, northing in m\n"
+          "  MGRS           an MGRS reference of any precision, any letter case\n"
+          "                 (33TWN0000049776, 38smb4488), read as the centre of its square\n"
+          "\n"
+          "options:\n"
+          "  --to geo        LAT LON in degrees with 9 decimals, LON in [-180, 180] (default)\n"
+          "  --to utm        ZONE E N in metres with 3 decimals (GeoConvert -u -p 3), in the\n"
+          "                  standard zone: UTM from 80S to 84N (Norway and Svalbard\n"
+          "                  exceptions included), else UPS with the zone printed as n or s;\n"
+          "                  ZONE E N or MGRS input already in that zone keeps its own E N\n"
+          "  --to mgrs       an MGRS reference with --precision digits per coordinate\n"
+          "  --to ecef       X Y Z, geocentric (Earth-centred, Earth-fixed) WGS84 coordinates\n"
+          "                  in metres with 6 decimals; height 0 unless the line is LAT LON H\n"
+          "  --precision P   MGRS digits per coordinate, 0..11 (default 5 = 1 m, 0 = the\n"
+          "                  100 km square, 11 = 1 um); MGRS truncates, it does not round\n"
+          "                  (GeoConvert -m -p P-5)\n"
+          "  --geodesic      each line is LAT1 LON1 LAT2 LON2; prints AZI1 AZI2 S12: the\n"
+          "                  azimuths at both ends (degrees clockwise from north, 12 decimals)\n"
+          "                  and the length of the shortest path on the ellipsoid (metres, 9\n"
+          "                  decimals), as GeodSolve -i -p 9\n"
+          "  -h, --help      show this help\n"
+          "\n"
+          "examples:\n"
+          "  $ terrapatch coord --to utm '45.5 -122.68'\n"
+          "  10n 525000.574 5038546.300\n"
+          "  $ terrapatch coord --to mgrs --precision 2 '33.3 44.4'\n"
+          "  38SMB4484\n"
+          "  $ printf '33n 500000 4649776.22\\n38SMB4484\\n91 0\\n' | terrapatch coord\n"
+          "  41.999999957 15.000000000\n"
+          "  33.298157366 44.403873473\n"
+          "  ERROR: latitude 91 is outside [-90, 90]\n"
+          "  (and on stderr: terrapatch coord: line 3: latitude 91 is outside [-90, 90])\n"
+          "  $ terrapatch coord --to ecef '0 0 100'\n"
+          "  6378237.000000 0.000000 0.000000\n"
+          "  $ terrapatch coord --geodesic '40.6 -73.8 51.6 -0.5'\n"
+          "  51.198882845580 107.821776735514 5551759.400318678\n"
+          "  $ terrapatch coord -- '-33.9 18.4'     ('--' before inputs starting with '-')\n"
+          "\n"
+          "Exit status: 0 every line converted, 1 some line failed or the input could not be\n"
+          "read, 2 usage error.\n",
+          stdout);
 }
 
 /* One stderr line naming the problem; `detail` (an argument) is quoted when not empty. */
@@ -358,8 +358,7 @@ static int geo_failed(tp_status s, const tp_error* err, char* msg)
 }
 
 /* From UTM/UPS grid coordinates (as given) to a position. */
-static int position_from_grid(int zone, int northp, double e, double n, position* pos,
-                              char* msg)
+static int position_from_grid(int zone, int northp, double e, double n, position* pos, char* msg)
 {
     tp_error err = {{0}};
     double lat, lon;
@@ -408,8 +407,9 @@ static int position_from_mgrs(const char* token, position* pos, char* msg)
 }
 
 /* Reads one input line (not --geodesic) into pos. Returns 1, or 0 with msg set. */
-static int parse_position(const fields* f, char* const* field, position* pos, char* msg)
+static int parse_position(const fields* f, position* pos, char* msg)
 {
+    char* const* field = f->field;
     char q[QUOTE_LIMIT + 8];
     double a, b, c;
     int zone, northp;
@@ -543,8 +543,9 @@ static int convert_position(const coord_options* o, const position* pos, char* m
     return 0;
 }
 
-static int convert_geodesic(const fields* f, char* const* field, char* msg)
+static int convert_geodesic(const fields* f, char* msg)
 {
+    char* const* field = f->field;
     static const char* const names[4] = {"lat1", "lon1", "lat2", "lon2"};
     double v[4];
     if (f->count != 4) {
@@ -576,10 +577,10 @@ static int convert_line(const coord_options* o, char* line, size_t len, long lin
     } else {
         fields f = split_fields(line);
         if (o->geodesic) {
-            ok = convert_geodesic(&f, f.field, msg);
+            ok = convert_geodesic(&f, msg);
         } else {
             position pos;
-            ok = parse_position(&f, f.field, &pos, msg) && convert_position(o, &pos, msg);
+            ok = parse_position(&f, &pos, msg) && convert_position(o, &pos, msg);
         }
     }
     if (!ok) {

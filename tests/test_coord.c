@@ -33,35 +33,42 @@
 #define SENTINEL -12345.0 /* an output that must stay untouched */
 
 /* Opens shared/data/coord/<file>, or skips the test when it is missing. */
-static FILE* open_coord_data(const char* file, char* path, size_t cap) {
+static FILE* open_coord_data(const char* file, char* path, size_t cap)
+{
     char rel[256];
     FILE* f;
     snprintf(rel, sizeof rel, "coord/%s", file);
     if (!tp_test_data_path(path, cap, DATA_ENV, rel))
         SKIP("data file %s not found (set %s)", path, DATA_ENV);
     f = fopen(path, "r");
-    if (!f) FAIL("cannot open %s", path);
+    if (!f)
+        FAIL("cannot open %s", path);
     return f;
 }
 
 /* Reads the next data line (skipping blank and '#' lines), without its newline. */
-static int next_data_line(FILE* f, char* line, size_t cap) {
+static int next_data_line(FILE* f, char* line, size_t cap)
+{
     while (fgets(line, (int)cap, f)) {
         size_t len = strlen(line);
-        while (len && (line[len - 1] == '\n' || line[len - 1] == '\r')) line[--len] = '\0';
-        if (len == 0 || line[0] == '#') continue;
+        while (len && (line[len - 1] == '\n' || line[len - 1] == '\r'))
+            line[--len] = '\0';
+        if (len == 0 || line[0] == '#')
+            continue;
         return 1;
     }
     return 0;
 }
 
 /* Difference of two azimuths in degrees, across the +-180 seam. */
-static double angle_diff(double a, double b) {
+static double angle_diff(double a, double b)
+{
     return fabs(remainder(a - b, 360.0));
 }
 
 static void expect_geo_to_mgrs(double lat, double lon, int precision, const char* expected,
-                               const char* where) {
+                               const char* where)
+{
     int zone = -1, northp = -1;
     double e, n;
     char mgrs[TP_MGRS_SIZE];
@@ -81,7 +88,8 @@ static void expect_geo_to_mgrs(double lat, double lon, int precision, const char
 }
 
 /* Reads MGRS (centre of the square) to geographic. */
-static int mgrs_to_geo(const char* mgrs, double* lat, double* lon) {
+static int mgrs_to_geo(const char* mgrs, double* lat, double* lon)
+{
     int zone, northp;
     double e, n;
     tp_error err = {{0}};
@@ -97,7 +105,8 @@ static int mgrs_to_geo(const char* mgrs, double* lat, double* lon) {
 }
 
 /* Geodesic distance in metres (for "lies within the square" checks). */
-static double distance_m(double lat1, double lon1, double lat2, double lon2) {
+static double distance_m(double lat1, double lon1, double lat2, double lon2)
+{
     double a1, a2, s12 = NAN;
     tp_error err = {{0}};
     if (tp_geodesic_inverse(lat1, lon1, lat2, lon2, &a1, &a2, &s12, &err) != TP_OK)
@@ -109,7 +118,8 @@ static double distance_m(double lat1, double lon1, double lat2, double lon2) {
 /* ---------------------------------------------------------------------------------------------
  * Geodesics: GeodTest-short, columns lat1 lon1 azi1 lat2 lon2 azi2 s12 a12 m12 S12 (WGS84).
  */
-TEST(geodesic_inverse_matches_geodtest_first2000) {
+TEST(geodesic_inverse_matches_geodtest_first2000)
+{
     REQUIRE_IO();
 #ifndef TP_TEST_NO_IO
     char path[1024], line[512];
@@ -133,11 +143,14 @@ TEST(geodesic_inverse_matches_geodtest_first2000) {
         }
         if (fabs(got_s12 - s12) > 1.5e-8 || angle_diff(got_azi1, azi1) > 1e-8 ||
             angle_diff(got_azi2, azi2) > 1e-8)
-            ADD_FAILURE("row %d: azi1 %.15g azi2 %.15g s12 %.12f, expected %.15g %.15g %.12f",
-                        rows, got_azi1, got_azi2, got_s12, azi1, azi2, s12);
-        if (fabs(got_s12 - s12) > max_ds) max_ds = fabs(got_s12 - s12);
-        if (angle_diff(got_azi1, azi1) > max_da) max_da = angle_diff(got_azi1, azi1);
-        if (angle_diff(got_azi2, azi2) > max_da) max_da = angle_diff(got_azi2, azi2);
+            ADD_FAILURE("row %d: azi1 %.15g azi2 %.15g s12 %.12f, expected %.15g %.15g %.12f", rows,
+                        got_azi1, got_azi2, got_s12, azi1, azi2, s12);
+        if (fabs(got_s12 - s12) > max_ds)
+            max_ds = fabs(got_s12 - s12);
+        if (angle_diff(got_azi1, azi1) > max_da)
+            max_da = angle_diff(got_azi1, azi1);
+        if (angle_diff(got_azi2, azi2) > max_da)
+            max_da = angle_diff(got_azi2, azi2);
     }
     fclose(f);
     EXPECT_EQ_INT(rows, 2000);
@@ -150,7 +163,8 @@ TEST(geodesic_inverse_matches_geodtest_first2000) {
  * no false easting or northing. Longitudes go to 50 degrees from the central meridian, where
  * only the exact projection (tp_tm_*) holds nanometres.
  */
-TEST(tm_exact_matches_tmcoords_first2000) {
+TEST(tm_exact_matches_tmcoords_first2000)
+{
     REQUIRE_IO();
 #ifndef TP_TEST_NO_IO
     char path[1024], line[512];
@@ -174,10 +188,14 @@ TEST(tm_exact_matches_tmcoords_first2000) {
             ADD_FAILURE("row %d (%.12f %.12f): x %.9f y %.9f gamma %.15g k %.15g, expected "
                         "%.9f %.9f %.15g %.15g (distance %.3g m)",
                         rows, lat, lon, gx, gy, gg, gk, x, y, gamma, k, d);
-        if (d > max_d) max_d = d;
-        if (fabs(gg - gamma) > max_g) max_g = fabs(gg - gamma);
-        if (fabs(gk - k) > max_k) max_k = fabs(gk - k);
-        if (lon > max_lon) max_lon = lon;
+        if (d > max_d)
+            max_d = d;
+        if (fabs(gg - gamma) > max_g)
+            max_g = fabs(gg - gamma);
+        if (fabs(gk - k) > max_k)
+            max_k = fabs(gk - k);
+        if (lon > max_lon)
+            max_lon = lon;
     }
     fclose(f);
     EXPECT_EQ_INT(rows, 2000);
@@ -187,7 +205,8 @@ TEST(tm_exact_matches_tmcoords_first2000) {
 #endif
 }
 
-TEST(tm_exact_reverse_matches_tmcoords_first2000) {
+TEST(tm_exact_reverse_matches_tmcoords_first2000)
+{
     REQUIRE_IO();
 #ifndef TP_TEST_NO_IO
     char path[1024], line[512];
@@ -209,9 +228,10 @@ TEST(tm_exact_reverse_matches_tmcoords_first2000) {
         }
         d = m_per_deg * hypot(glat - lat, (glon - lon) * cos(lat * acos(-1.0) / 180.0));
         if (d > 2e-8)
-            ADD_FAILURE("row %d: %.15g %.15g, expected %.15g %.15g (%.3g m)", rows, glat, glon,
-                        lat, lon, d);
-        if (d > max_d) max_d = d;
+            ADD_FAILURE("row %d: %.15g %.15g, expected %.15g %.15g (%.3g m)", rows, glat, glon, lat,
+                        lon, d);
+        if (d > max_d)
+            max_d = d;
     }
     fclose(f);
     EXPECT_EQ_INT(rows, 2000);
@@ -219,7 +239,8 @@ TEST(tm_exact_reverse_matches_tmcoords_first2000) {
 #endif
 }
 
-TEST(tm_rejects_bad_input) {
+TEST(tm_rejects_bad_input)
+{
     REQUIRE_IO();
 #ifndef TP_TEST_NO_IO
     double x = SENTINEL, y = SENTINEL;
@@ -246,7 +267,8 @@ TEST(tm_rejects_bad_input) {
 /* ---------------------------------------------------------------------------------------------
  * MGRS: columns lat lon MGRS(1 m).
  */
-TEST(mgrs_sample_matches_geoconvert_exactly) {
+TEST(mgrs_sample_matches_geoconvert_exactly)
+{
     REQUIRE_IO();
 #ifndef TP_TEST_NO_IO
     char path[1024], line[512];
@@ -265,10 +287,13 @@ TEST(mgrs_sample_matches_geoconvert_exactly) {
         expect_geo_to_mgrs(lat, lon, 5, expected, where);
         ups += isalpha((unsigned char)expected[0]) != 0;
         /* and back: the point lies in the 1 m square, within half its diagonal of the centre */
-        if (!mgrs_to_geo(expected, &back_lat, &back_lon)) continue;
+        if (!mgrs_to_geo(expected, &back_lat, &back_lon))
+            continue;
         d = distance_m(lat, lon, back_lat, back_lon);
-        if (!(d <= 0.7072)) ADD_FAILURE("row %d: %s is %.3f m from the point", rows, expected, d);
-        if (d > max_d) max_d = d;
+        if (!(d <= 0.7072))
+            ADD_FAILURE("row %d: %s is %.3f m from the point", rows, expected, d);
+        if (d > max_d)
+            max_d = d;
     }
     fclose(f);
     EXPECT_EQ_INT(rows, 2009);
@@ -277,12 +302,14 @@ TEST(mgrs_sample_matches_geoconvert_exactly) {
 #endif
 }
 
-TEST(mgrs_reverse_then_forward_is_stable) {
+TEST(mgrs_reverse_then_forward_is_stable)
+{
     REQUIRE_IO();
 #ifndef TP_TEST_NO_IO
-    static const char* const refs[] = {"33TWN0000049776", "38SMB4488", "01NAA6602100000",
-                                       "60NZF3397800000", "ZAA0000033272", "BAN0000000000",
-                                       "32VJM9345864167", "37XEG6728260035", "38NNF0000000000063811"};
+    static const char* const refs[] = {
+        "33TWN0000049776", "38SMB4488",       "01NAA6602100000",
+        "60NZF3397800000", "ZAA0000033272",   "BAN0000000000",
+        "32VJM9345864167", "37XEG6728260035", "38NNF0000000000063811"};
     size_t i;
     for (i = 0; i < sizeof refs / sizeof refs[0]; ++i) {
         int zone, northp, prec;
@@ -292,12 +319,14 @@ TEST(mgrs_reverse_then_forward_is_stable) {
         ASSERT_OK(tp_mgrs_reverse(refs[i], 1, &zone, &northp, &e, &n, &prec, &err));
         ASSERT_OK(tp_geo_from_utmups(zone, northp, e, n, &lat, &lon, &err));
         ASSERT_OK(tp_mgrs_forward(zone, northp, e, n, lat, prec, again, sizeof again, &err));
-        if (strcmp(again, refs[i]) != 0) ADD_FAILURE("%s came back as %s", refs[i], again);
+        if (strcmp(again, refs[i]) != 0)
+            ADD_FAILURE("%s came back as %s", refs[i], again);
     }
 #endif
 }
 
-TEST(mgrs_truncates_rather_than_rounds) {
+TEST(mgrs_truncates_rather_than_rounds)
+{
     REQUIRE_IO();
 #ifndef TP_TEST_NO_IO
     char mgrs[TP_MGRS_SIZE];
@@ -316,7 +345,8 @@ TEST(mgrs_truncates_rather_than_rounds) {
 #endif
 }
 
-TEST(mgrs_forward_rejects_bad_input) {
+TEST(mgrs_forward_rejects_bad_input)
+{
     REQUIRE_IO();
 #ifndef TP_TEST_NO_IO
     char mgrs[TP_MGRS_SIZE];
@@ -350,7 +380,8 @@ TEST(mgrs_forward_rejects_bad_input) {
 #endif
 }
 
-TEST(malformed_mgrs_is_rejected_with_reason) {
+TEST(malformed_mgrs_is_rejected_with_reason)
+{
     REQUIRE_IO();
 #ifndef TP_TEST_NO_IO
     static const struct {
@@ -393,8 +424,8 @@ TEST(malformed_mgrs_is_rejected_with_reason) {
         int zone, northp;
         double e, n;
         tp_error err = {{0}};
-        EXPECT_STATUS(TP_ERR_INVALID_ARG, tp_mgrs_reverse(NULL, 1, &zone, &northp, &e, &n, NULL,
-                                                          &err));
+        EXPECT_STATUS(TP_ERR_INVALID_ARG,
+                      tp_mgrs_reverse(NULL, 1, &zone, &northp, &e, &n, NULL, &err));
         EXPECT_STATUS(TP_ERR_INVALID_ARG,
                       tp_mgrs_reverse("33TWN00", 1, NULL, &northp, &e, &n, NULL, &err));
         /* lower case is fine, and a zone designator alone is legal (precision -1) */
@@ -416,7 +447,8 @@ TEST(malformed_mgrs_is_rejected_with_reason) {
  * UTM/UPS edge cases: columns lat lon zone(n/s) easting northing MGRS, from GeoConvert -u -p 3
  * and -m -p 0.
  */
-TEST(utm_mgrs_edge_cases_match_geoconvert) {
+TEST(utm_mgrs_edge_cases_match_geoconvert)
+{
     REQUIRE_IO();
 #ifndef TP_TEST_NO_IO
     char path[1024], line[512];
@@ -455,27 +487,28 @@ TEST(utm_mgrs_edge_cases_match_geoconvert) {
 }
 
 /* The same rules spelled out, independent of the file. */
-TEST(standard_zone_rules) {
+TEST(standard_zone_rules)
+{
     REQUIRE_IO();
 #ifndef TP_TEST_NO_IO
     static const struct {
         double lat, lon;
         int zone, northp;
     } cases[] = {
-        {60, 3.5, 32, 1},         /* Norway: 32V is widened west to 3E */
-        {60, 2.9, 31, 1},         /* ... but not past it */
-        {78, 9.1, 33, 1},         /* Svalbard: 33X spans 9E..21E, there is no 32X */
-        {78, 8.9, 31, 1},         /* 31X spans 0..9E */
-        {83.999999, 0, 31, 1},    /* UTM up to 84N */
-        {84, 0, TP_ZONE_UPS, 1},  /* 84N itself is UPS */
-        {-80, 0, 31, 0},          /* UTM down to 80S inclusive */
+        {60, 3.5, 32, 1},        /* Norway: 32V is widened west to 3E */
+        {60, 2.9, 31, 1},        /* ... but not past it */
+        {78, 9.1, 33, 1},        /* Svalbard: 33X spans 9E..21E, there is no 32X */
+        {78, 8.9, 31, 1},        /* 31X spans 0..9E */
+        {83.999999, 0, 31, 1},   /* UTM up to 84N */
+        {84, 0, TP_ZONE_UPS, 1}, /* 84N itself is UPS */
+        {-80, 0, 31, 0},         /* UTM down to 80S inclusive */
         {-80.000001, 0, TP_ZONE_UPS, 0},
-        {0, 180, 1, 1},           /* the antimeridian is zone 1 from both sides */
+        {0, 180, 1, 1}, /* the antimeridian is zone 1 from both sides */
         {0, -180, 1, 1},
         {0, 179.999999, 60, 1},
-        {0, 540, 1, 1},           /* longitudes are reduced */
-        {0.0, 0, 31, 1},          /* the equator is north */
-        {-0.0, 0, 31, 0},         /* ... but GeographicLib follows the sign bit: -0 is south */
+        {0, 540, 1, 1},   /* longitudes are reduced */
+        {0.0, 0, 31, 1},  /* the equator is north */
+        {-0.0, 0, 31, 0}, /* ... but GeographicLib follows the sign bit: -0 is south */
         {90, 0, TP_ZONE_UPS, 1},
         {-90, 0, TP_ZONE_UPS, 0},
     };
@@ -503,7 +536,8 @@ TEST(standard_zone_rules) {
  * are the centres of those UPS squares, so the UPS strings name the right place too: the
  * disagreement is the zone choice, not the location.
  */
-TEST(mgrs_84n_boundary_geographiclib_is_authority) {
+TEST(mgrs_84n_boundary_geographiclib_is_authority)
+{
     REQUIRE_IO();
 #ifndef TP_TEST_NO_IO
     char path[1024], line[512];
@@ -518,7 +552,8 @@ TEST(mgrs_84n_boundary_geographiclib_is_authority) {
             ADD_FAILURE("%s row %d: expected 4 fields: %s", path, rows, line);
             continue;
         }
-        if (!(lat < 84.0)) ADD_FAILURE("row %d: latitude %.17g is not south of 84N", rows, lat);
+        if (!(lat < 84.0))
+            ADD_FAILURE("row %d: latitude %.17g is not south of 84N", rows, lat);
         /* UTM band X (zone 1..60) against UPS north (Y west of 0E, Z east) */
         if (!isdigit((unsigned char)glib[0]) || glib[2] != 'X' ||
             (other[0] != 'Y' && other[0] != 'Z'))
@@ -528,13 +563,17 @@ TEST(mgrs_84n_boundary_geographiclib_is_authority) {
         /* both references are legal and name the point's 1 m square */
         if (mgrs_to_geo(glib, &la, &lo)) {
             d = distance_m(lat, lon, la, lo);
-            if (!(d <= 0.7072)) ADD_FAILURE("row %d: %s is %.3f m away", rows, glib, d);
-            if (d > max_utm) max_utm = d;
+            if (!(d <= 0.7072))
+                ADD_FAILURE("row %d: %s is %.3f m away", rows, glib, d);
+            if (d > max_utm)
+                max_utm = d;
         }
         if (mgrs_to_geo(other, &la, &lo)) {
             d = distance_m(lat, lon, la, lo);
-            if (!(d <= 0.7072)) ADD_FAILURE("row %d: %s is %.3f m away", rows, other, d);
-            if (d > max_ups) max_ups = d;
+            if (!(d <= 0.7072))
+                ADD_FAILURE("row %d: %s is %.3f m away", rows, other, d);
+            if (d > max_ups)
+                max_ups = d;
         }
     }
     fclose(f);
@@ -552,27 +591,33 @@ TEST(mgrs_84n_boundary_geographiclib_is_authority) {
  */
 #ifndef TP_TEST_NO_IO
 /* 30d30'30" or 30.50833 */
-static int parse_angle(const char* s, double* deg) {
+static int parse_angle(const char* s, double* deg)
+{
     double d = 0, m = 0, sec = 0;
     char* end;
     d = strtod(s, &end);
-    if (end == s) return 0;
+    if (end == s)
+        return 0;
     if (*end == 'd') {
         const char* p = end + 1;
         m = strtod(p, &end);
-        if (*end != '\'') return 0;
+        if (*end != '\'')
+            return 0;
         p = end + 1;
         sec = strtod(p, &end);
-        if (*end != '"') return 0;
+        if (*end != '"')
+            return 0;
         ++end;
     }
-    if (*end) return 0;
+    if (*end)
+        return 0;
     *deg = d + m / 60 + sec / 3600;
     return 1;
 }
 
 /* GeoConvert -d at precision 0: 32d59'14.1"N 044d27'53.4"E */
-static void format_dms(double deg, int is_lat, char* out, size_t cap) {
+static void format_dms(double deg, int is_lat, char* out, size_t cap)
+{
     char hemi = is_lat ? (deg < 0 ? 'S' : 'N') : (deg < 0 ? 'W' : 'E');
     long tenths = lround(fabs(deg) * 36000.0); /* tenths of an arc second */
     long d = tenths / 36000, m = (tenths / 600) % 60;
@@ -581,7 +626,8 @@ static void format_dms(double deg, int is_lat, char* out, size_t cap) {
 }
 
 static void run_geoconvert_case(const char* name, const char* args, const char* input,
-                                const char* pattern) {
+                                const char* pattern)
+{
     int prec = 0, mode = 'g'; /* g: geographic, u: UTM/UPS, m: MGRS, d: DMS */
     char argbuf[128], inbuf[128], out[160];
     char* tok[4];
@@ -605,7 +651,8 @@ static void run_geoconvert_case(const char* name, const char* args, const char* 
         }
     }
     snprintf(inbuf, sizeof inbuf, "%s", input);
-    for (p = strtok(inbuf, " "); p && ntok < 4; p = strtok(NULL, " ")) tok[ntok++] = p;
+    for (p = strtok(inbuf, " "); p && ntok < 4; p = strtok(NULL, " "))
+        tok[ntok++] = p;
 
     /* input: MGRS, ZONE E N, or LAT LON; grid inputs keep their zone, as GeoConvert does */
     if (ntok == 1) {
@@ -639,8 +686,8 @@ static void run_geoconvert_case(const char* name, const char* args, const char* 
         if (zone == TP_ZONE_UPS)
             snprintf(out, sizeof out, "%s %.*f %.*f", northp ? "n" : "s", prec, e, prec, n);
         else
-            snprintf(out, sizeof out, "%02d%s %.*f %.*f", zone, northp ? "n" : "s", prec, e,
-                     prec, n);
+            snprintf(out, sizeof out, "%02d%s %.*f %.*f", zone, northp ? "n" : "s", prec, e, prec,
+                     n);
         break;
     case 'm':
         if (tp_mgrs_forward(zone, northp, e, n, lat, prec + 5, out, sizeof out, &err) != TP_OK) {
@@ -661,13 +708,14 @@ static void run_geoconvert_case(const char* name, const char* args, const char* 
         return;
     }
     if (regexec(&re, out, 0, NULL, 0) != 0)
-        ADD_FAILURE("%s: GeoConvert %s <<< '%s' gives '%s' here, expected /%s/", name, args,
-                    input, out, pattern);
+        ADD_FAILURE("%s: GeoConvert %s <<< '%s' gives '%s' here, expected /%s/", name, args, input,
+                    out, pattern);
     regfree(&re);
 }
 #endif
 
-TEST(geoconvert_ctest_cases_pass) {
+TEST(geoconvert_ctest_cases_pass)
+{
     REQUIRE_IO();
 #ifndef TP_TEST_NO_IO
     char path[1024], line[512];
@@ -681,7 +729,8 @@ TEST(geoconvert_ctest_cases_pass) {
         while (ncol < 4) {
             col[ncol++] = p;
             p = strchr(p, '\t');
-            if (!p) break;
+            if (!p)
+                break;
             *p++ = '\0';
         }
         if (ncol != 4) {
@@ -698,7 +747,8 @@ TEST(geoconvert_ctest_cases_pass) {
 /* ---------------------------------------------------------------------------------------------
  * Round trips and known values
  */
-TEST(utmups_round_trip_random_points) {
+TEST(utmups_round_trip_random_points)
+{
     REQUIRE_IO();
 #ifndef TP_TEST_NO_IO
     tp_rng rng = tp_rng_seed(20240601);
@@ -709,19 +759,23 @@ TEST(utmups_round_trip_random_points) {
         double e, n, back_lat, back_lon, d;
         int zone, northp;
         tp_error err = {{0}};
-        if (i % 4 == 0) lat = tp_rng_range(&rng, 83.0, 90.0) * (i % 8 ? 1 : -1); /* near UPS */
+        if (i % 4 == 0)
+            lat = tp_rng_range(&rng, 83.0, 90.0) * (i % 8 ? 1 : -1); /* near UPS */
         ASSERT_OK(tp_geo_to_utmups(lat, lon, &zone, &northp, &e, &n, &err));
         ASSERT_OK(tp_geo_from_utmups(zone, northp, e, n, &back_lat, &back_lon, &err));
         EXPECT_EQ_INT(zone == TP_ZONE_UPS, lat >= 84.0 || lat < -80.0);
         d = distance_m(lat, lon, back_lat, back_lon);
-        if (!(d < 1e-8)) ADD_FAILURE("%.17g %.17g came back %.3g m away", lat, lon, d);
-        if (d > max_err) max_err = d;
+        if (!(d < 1e-8))
+            ADD_FAILURE("%.17g %.17g came back %.3g m away", lat, lon, d);
+        if (d > max_err)
+            max_err = d;
     }
     tp_test_note("4000 points: max round-trip error %.3g m", max_err);
 #endif
 }
 
-TEST(ecef_known_values_and_round_trip) {
+TEST(ecef_known_values_and_round_trip)
+{
     REQUIRE_IO();
 #ifndef TP_TEST_NO_IO
     const double a = 6378137.0, b = 6356752.314245179; /* WGS84 semi-axes */
@@ -747,13 +801,15 @@ TEST(ecef_known_values_and_round_trip) {
         ASSERT_OK(tp_geo_to_ecef(la, lo, hh, &x, &y, &z, &err));
         ASSERT_OK(tp_geo_from_ecef(x, y, z, &lat, &lon, &h, &err));
         EXPECT_NEAR(lat, la, 1e-12);
-        if (fabs(la) < 89.9) EXPECT_NEAR(angle_diff(lon, lo), 0, 1e-11);
+        if (fabs(la) < 89.9)
+            EXPECT_NEAR(angle_diff(lon, lo), 0, 1e-11);
         EXPECT_NEAR(h, hh, 1e-8);
     }
 #endif
 }
 
-TEST(longitudes_are_normalised) {
+TEST(longitudes_are_normalised)
+{
     REQUIRE_IO();
 #ifndef TP_TEST_NO_IO
     static const double in[][2] = {{540, 180},   {-540, -180}, {360, 0},    {180, 180},
@@ -782,7 +838,8 @@ TEST(longitudes_are_normalised) {
 /* ---------------------------------------------------------------------------------------------
  * Bad input everywhere: latitude 91 (and friends), NaN, out-of-range grid coordinates, NULL.
  */
-TEST(latitude_91_is_rejected_everywhere) {
+TEST(latitude_91_is_rejected_everywhere)
+{
     REQUIRE_IO();
 #ifndef TP_TEST_NO_IO
     static const struct {
@@ -822,7 +879,8 @@ TEST(latitude_91_is_rejected_everywhere) {
 #endif
 }
 
-TEST(utm_input_out_of_range_is_rejected) {
+TEST(utm_input_out_of_range_is_rejected)
+{
     REQUIRE_IO();
 #ifndef TP_TEST_NO_IO
     double lat = SENTINEL, lon = SENTINEL;
@@ -848,7 +906,8 @@ TEST(utm_input_out_of_range_is_rejected) {
 #endif
 }
 
-TEST(null_outputs_are_rejected_not_dereferenced) {
+TEST(null_outputs_are_rejected_not_dereferenced)
+{
     REQUIRE_IO();
 #ifndef TP_TEST_NO_IO
     int zone, northp;
@@ -864,30 +923,30 @@ TEST(null_outputs_are_rejected_not_dereferenced) {
     EXPECT_STATUS(TP_ERR_INVALID_ARG, tp_tm_reverse(0, UTM_K0, 1, 2, &a, NULL, NULL, NULL, &err));
     /* err itself may be NULL */
     EXPECT_STATUS(TP_ERR_INVALID_ARG, tp_geo_to_utmups(91, 2, &zone, &northp, &a, &b, NULL));
-    EXPECT_STATUS(TP_ERR_INVALID_ARG, tp_mgrs_reverse("33TWI00", 1, &zone, &northp, &a, &b, NULL,
-                                                      NULL));
+    EXPECT_STATUS(TP_ERR_INVALID_ARG,
+                  tp_mgrs_reverse("33TWI00", 1, &zone, &northp, &a, &b, NULL, NULL));
     (void)c;
 #endif
 }
 
-#define TESTS(X)                                                                                  \
-    X(geodesic_inverse_matches_geodtest_first2000)                                                \
-    X(tm_exact_matches_tmcoords_first2000)                                                        \
-    X(tm_exact_reverse_matches_tmcoords_first2000)                                                \
-    X(tm_rejects_bad_input)                                                                       \
-    X(mgrs_sample_matches_geoconvert_exactly)                                                     \
-    X(mgrs_reverse_then_forward_is_stable)                                                        \
-    X(mgrs_truncates_rather_than_rounds)                                                          \
-    X(mgrs_forward_rejects_bad_input)                                                             \
-    X(malformed_mgrs_is_rejected_with_reason)                                                     \
-    X(utm_mgrs_edge_cases_match_geoconvert)                                                       \
-    X(standard_zone_rules)                                                                        \
-    X(mgrs_84n_boundary_geographiclib_is_authority)                                               \
-    X(geoconvert_ctest_cases_pass)                                                                \
-    X(utmups_round_trip_random_points)                                                            \
-    X(ecef_known_values_and_round_trip)                                                           \
-    X(longitudes_are_normalised)                                                                  \
-    X(latitude_91_is_rejected_everywhere)                                                         \
-    X(utm_input_out_of_range_is_rejected)                                                         \
+#define TESTS(X)                                                                                   \
+    X(geodesic_inverse_matches_geodtest_first2000)                                                 \
+    X(tm_exact_matches_tmcoords_first2000)                                                         \
+    X(tm_exact_reverse_matches_tmcoords_first2000)                                                 \
+    X(tm_rejects_bad_input)                                                                        \
+    X(mgrs_sample_matches_geoconvert_exactly)                                                      \
+    X(mgrs_reverse_then_forward_is_stable)                                                         \
+    X(mgrs_truncates_rather_than_rounds)                                                           \
+    X(mgrs_forward_rejects_bad_input)                                                              \
+    X(malformed_mgrs_is_rejected_with_reason)                                                      \
+    X(utm_mgrs_edge_cases_match_geoconvert)                                                        \
+    X(standard_zone_rules)                                                                         \
+    X(mgrs_84n_boundary_geographiclib_is_authority)                                                \
+    X(geoconvert_ctest_cases_pass)                                                                 \
+    X(utmups_round_trip_random_points)                                                             \
+    X(ecef_known_values_and_round_trip)                                                            \
+    X(longitudes_are_normalised)                                                                   \
+    X(latitude_91_is_rejected_everywhere)                                                          \
+    X(utm_input_out_of_range_is_rejected)                                                          \
     X(null_outputs_are_rejected_not_dereferenced)
 TP_TEST_MAIN(TESTS)

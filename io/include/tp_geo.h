@@ -55,8 +55,8 @@ extern "C" {
 /* Checks a geographic position (lat_deg in [-90, 90], lon_deg in [-540, 540], both finite)
  * and writes it back with the longitude reduced to [-180, 180] (GeographicLib's
  * Math::AngNormalize, exact: 180 stays 180, -180 stays -180, 540 is 180, 360 is 0). */
-tp_status tp_geo_normalize(double lat_deg, double lon_deg, double* lat_out_deg,
-                           double* lon_out_deg, tp_error* err);
+tp_status tp_geo_normalize(double lat_deg, double lon_deg, double* lat_out_deg, double* lon_out_deg,
+                           tp_error* err);
 
 /* ---------------------------------------------------------------------------------------------
  * UTM / UPS
@@ -94,9 +94,8 @@ tp_status tp_geo_from_utmups(int zone, int northp, double easting_m, double nort
  * Errors: precision outside [-1, 11], coordinates outside the MGRS ranges (100 km narrower
  * than UTM/UPS), a latitude inconsistent with the coordinates, out_size too small (then out
  * is left untouched). */
-tp_status tp_mgrs_forward(int zone, int northp, double easting_m, double northing_m,
-                          double lat_deg, int precision, char* out, size_t out_size,
-                          tp_error* err);
+tp_status tp_mgrs_forward(int zone, int northp, double easting_m, double northing_m, double lat_deg,
+                          int precision, char* out, size_t out_size, tp_error* err);
 
 /* Reads an MGRS reference (case-insensitive, e.g. "33TWN0000049776", "38smb4488", the grid
  * zone designator "33T" alone, leading 0 of zones 1..9 optional) into UTM/UPS zone, hemisphere
@@ -106,8 +105,8 @@ tp_status tp_mgrs_forward(int zone, int northp, double easting_m, double northin
  * alone, which returns some point inside that zone). Malformed references, illegal letters,
  * odd digit counts and squares outside their band are TP_ERR_INVALID_ARG with
  * GeographicLib's explanation; so is GeographicLib's "INVALID" placeholder. */
-tp_status tp_mgrs_reverse(const char* mgrs, int centerp, int* zone, int* northp,
-                          double* easting_m, double* northing_m, int* precision, tp_error* err);
+tp_status tp_mgrs_reverse(const char* mgrs, int centerp, int* zone, int* northp, double* easting_m,
+                          double* northing_m, int* precision, tp_error* err);
 
 /* ---------------------------------------------------------------------------------------------
  * Earth-centred, Earth-fixed (geocentric) coordinates

@@ -75,6 +75,21 @@ std::string gdal_message()
     return (m && *m) ? std::string(m) : std::string("GDAL gave no detail");
 }
 
+/* GDAL's last message without the file name our message already starts with: GDAL writes
+ * "`PATH' not recognized ...", "PATH: TIFFReadDirectory: ..." or "PATH, band 1: ...". */
+std::string gdal_message(const char* path)
+{
+    std::string m = gdal_message();
+    const std::string p = path;
+    for (const std::string& form : {"`" + p + "' ", p + ": ", p + ", "}) {
+        for (size_t at; (at = m.find(form)) != std::string::npos;)
+            m.erase(at, form.size());
+    }
+    while (!m.empty() && (m.back() == '.' || m.back() == ' '))
+        m.pop_back();
+    return m.empty() ? std::string("GDAL gave no detail") : m;
+}
+
 void register_drivers()
 {
     static std::once_flag once;
@@ -302,7 +317,7 @@ tp_status read_dem(const char* path, tp_dem** out, tp_error* err)
                       std::strerror(EISDIR));
             return TP_ERR_IO;
         }
-        set_error(err, "%s: not a raster GDAL can open (%s)%s", path, gdal_message().c_str(),
+        set_error(err, "%s: not a raster GDAL can open (%s)%s", path, gdal_message(path).c_str(),
                   open_hint(path, st).c_str());
         return TP_ERR_BAD_DATA;
     }
@@ -376,7 +391,7 @@ tp_status read_dem(const char* path, tp_dem** out, tp_error* err)
     const CPLErr last = CPLGetLastErrorType();
     if (io != CE_None || last == CE_Failure || last == CE_Fatal) {
         set_error(err, "%s: reading the heights of band 1 failed, the file is truncated or "
-                  "corrupt (%s)", path, gdal_message().c_str());
+                  "corrupt (%s)", path, gdal_message(path).c_str());
         return TP_ERR_BAD_DATA;
     }
 

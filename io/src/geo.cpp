@@ -180,8 +180,7 @@ template <typename F> void with_exact_tm(double k0, F&& f)
         f(GeographicLib::TransverseMercatorExact::UTM());
     } else {
         const GeographicLib::TransverseMercatorExact tm(GeographicLib::Constants::WGS84_a(),
-                                                         GeographicLib::Constants::WGS84_f(),
-                                                         k0);
+                                                        GeographicLib::Constants::WGS84_f(), k0);
         f(tm);
     }
 }
@@ -237,9 +236,8 @@ extern "C" tp_status tp_geo_to_utmups(double lat_deg, double lon_deg, int* zone,
     }
 }
 
-extern "C" tp_status tp_geo_from_utmups(int zone, int northp, double easting_m,
-                                        double northing_m, double* lat_deg, double* lon_deg,
-                                        tp_error* err)
+extern "C" tp_status tp_geo_from_utmups(int zone, int northp, double easting_m, double northing_m,
+                                        double* lat_deg, double* lon_deg, tp_error* err)
 {
     if (!lat_deg || !lon_deg)
         return missing_output(err, "tp_geo_from_utmups");
@@ -253,8 +251,8 @@ extern "C" tp_status tp_geo_from_utmups(int zone, int northp, double easting_m,
         *lon_deg = lon;
         return TP_OK;
     } catch (...) {
-        return failed(err, (zone == TP_ZONE_UPS ? "UPS " : "UTM ") + zone_text(zone, northp) +
-                               " " + Num(easting_m).text + " " + Num(northing_m).text);
+        return failed(err, (zone == TP_ZONE_UPS ? "UPS " : "UTM ") + zone_text(zone, northp) + " " +
+                               Num(easting_m).text + " " + Num(northing_m).text);
     }
 }
 
@@ -276,8 +274,7 @@ extern "C" tp_status tp_mgrs_forward(int zone, int northp, double easting_m, dou
     try {
         std::string mgrs;
         if (std::isnan(lat_deg))
-            GeographicLib::MGRS::Forward(zone, northp != 0, easting_m, northing_m, precision,
-                                         mgrs);
+            GeographicLib::MGRS::Forward(zone, northp != 0, easting_m, northing_m, precision, mgrs);
         else
             GeographicLib::MGRS::Forward(zone, northp != 0, easting_m, northing_m, lat_deg,
                                          precision, mgrs);
@@ -289,8 +286,8 @@ extern "C" tp_status tp_mgrs_forward(int zone, int northp, double easting_m, dou
         std::memcpy(out, mgrs.c_str(), mgrs.size() + 1);
         return TP_OK;
     } catch (...) {
-        return failed(err, "MGRS of " + zone_text(zone, northp) + " " + Num(easting_m).text +
-                               " " + Num(northing_m).text);
+        return failed(err, "MGRS of " + zone_text(zone, northp) + " " + Num(easting_m).text + " " +
+                               Num(northing_m).text);
     }
 }
 
@@ -321,8 +318,7 @@ extern "C" tp_status tp_mgrs_reverse(const char* mgrs, int centerp, int* zone, i
         /* "INV..." is GeographicLib's placeholder for a NaN position; it decodes to zone
          * INVALID and NaN coordinates instead of failing. */
         if (z < GeographicLib::UTMUPS::UPS || !std::isfinite(x) || !std::isfinite(y)) {
-            set_error(err, "MGRS %s: not a grid reference (GeographicLib's INVALID marker)",
-                      mgrs);
+            set_error(err, "MGRS %s: not a grid reference (GeographicLib's INVALID marker)", mgrs);
             return TP_ERR_INVALID_ARG;
         }
         *zone = z;
@@ -404,8 +400,8 @@ extern "C" tp_status tp_tm_forward(double lon0_deg, double k0, double lat_deg, d
 }
 
 extern "C" tp_status tp_tm_reverse(double lon0_deg, double k0, double x_m, double y_m,
-                                   double* lat_deg, double* lon_deg, double* gamma_deg,
-                                   double* k, tp_error* err)
+                                   double* lat_deg, double* lon_deg, double* gamma_deg, double* k,
+                                   tp_error* err)
 {
     if (!lat_deg || !lon_deg)
         return missing_output(err, "tp_tm_reverse");
@@ -440,8 +436,8 @@ extern "C" tp_status tp_geodesic_inverse(double lat1_deg, double lon1_deg, doubl
         return TP_ERR_INVALID_ARG;
     try {
         double s12, azi1, azi2;
-        GeographicLib::Geodesic::WGS84().Inverse(lat1_deg, lon1_deg, lat2_deg, lon2_deg, s12,
-                                                 azi1, azi2);
+        GeographicLib::Geodesic::WGS84().Inverse(lat1_deg, lon1_deg, lat2_deg, lon2_deg, s12, azi1,
+                                                 azi2);
         *azi1_deg = azi1;
         *azi2_deg = azi2;
         *s12_m = s12;
