@@ -109,8 +109,8 @@ typedef struct tiff_spec {
 typedef struct tiff_entry {
     unsigned tag, type;
     uint32_t count;
-    uint32_t value;      /* inline value (SHORT or LONG), when data is NULL */
-    const void* data;    /* out of line: raw little-endian bytes */
+    uint32_t value;   /* inline value (SHORT or LONG), when data is NULL */
+    const void* data; /* out of line: raw little-endian bytes */
     size_t data_size;
 } tiff_entry;
 
@@ -122,9 +122,9 @@ static int tiff_build(const tiff_spec* sp, unsigned char** out, size_t* out_size
 {
     const int bps = sp->float32 ? 4 : 2;
     const int bw = sp->tile ? sp->tile : sp->width;
-    const int rps = sp->tile ? sp->tile
-                    : sp->rows_per_strip > 0 && sp->rows_per_strip < sp->height ? sp->rows_per_strip
-                                                                                 : sp->height;
+    const int strip_rows =
+        sp->rows_per_strip > 0 && sp->rows_per_strip < sp->height ? sp->rows_per_strip : sp->height;
+    const int rps = sp->tile ? sp->tile : strip_rows; /* rows per block */
     const int across = (sp->width + bw - 1) / bw, down = (sp->height + rps - 1) / rps;
     const int nblocks = across * down;
     const size_t block_bytes = (size_t)bw * (size_t)rps * (size_t)bps;
@@ -199,8 +199,8 @@ static int tiff_build(const tiff_spec* sp, unsigned char** out, size_t* out_size
     data_at = 8 + ifd_size;
     image_at = data_at;
     for (i = 0; i < n; ++i) {
-        int is_block_list = e[i].tag == 273 || e[i].tag == 279 || e[i].tag == 324 ||
-                            e[i].tag == 325;
+        int is_block_list =
+            e[i].tag == 273 || e[i].tag == 279 || e[i].tag == 324 || e[i].tag == 325;
         if (is_block_list && nblocks > 1)
             image_at += 4 * (size_t)nblocks;
         else if (e[i].data && e[i].data_size > 4)

@@ -114,9 +114,11 @@ typedef struct tp_render_grid {
     char* warnings;          /* '\n'-separated lines for the user, "" when none. Owned */
 } tp_render_grid;
 
-/* Builds the render grid of a DEM. Errors: TP_ERR_INVALID_ARG for an unknown --crs, a
- * geographic extent beyond +-90 degrees; TP_ERR_BACKEND when GDAL fails. *out is untouched on
- * failure. */
+/* Builds the render grid of a DEM. A warped grid keeps only samples inside the hull of the
+ * source posts (GDAL's output reaches half a post further, where it would only repeat the edge).
+ * Errors: TP_ERR_INVALID_ARG for an unknown options->crs or geographic posts beyond +-90
+ * degrees; TP_ERR_BAD_DATA for an unreadable dem->crs_wkt; TP_ERR_BACKEND when GDAL or PROJ
+ * fails. *out is untouched on failure. */
 tp_status tp_render_grid_build(const tp_dem* dem, const tp_grid_options* options,
                                tp_render_grid** out, tp_error* err);
 void tp_render_grid_destroy(tp_render_grid* grid); /* accepts NULL */
@@ -138,7 +140,9 @@ tp_terrain_desc tp_render_grid_terrain_desc(const tp_render_grid* grid, int patc
  */
 typedef struct tp_georef tp_georef;
 
-/* crs_wkt "" or NULL: local metres (no geographic position). */
+/* crs_wkt "" or NULL: local metres (no geographic position). TP_ERR_BAD_DATA for unreadable
+ * WKT, TP_ERR_BACKEND when PROJ has no operation to WGS84. The conversion functions below
+ * write their outputs only on success. */
 tp_status tp_georef_create(const char* crs_wkt, const double geotransform[6], tp_georef** out,
                            tp_error* err);
 void tp_georef_destroy(tp_georef* g); /* accepts NULL */

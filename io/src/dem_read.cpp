@@ -228,8 +228,8 @@ tp_status check_geotransform(const char* path, const double gt[6], tp_error* err
             return TP_ERR_BAD_DATA;
         }
     if (gt[2] != 0.0 || gt[4] != 0.0) {
-        set_error(err, "%s: rotated geotransform (gt[2]=%.17g, gt[4]=%.17g) is not supported",
-                  path, gt[2], gt[4]);
+        set_error(err, "%s: rotated geotransform (gt[2]=%.17g, gt[4]=%.17g) is not supported", path,
+                  gt[2], gt[4]);
         return TP_ERR_BAD_DATA;
     }
     if (gt[1] == 0.0 || gt[5] == 0.0) {
@@ -363,8 +363,10 @@ tp_status read_dem(const char* path, tp_dem** out, tp_error* err)
                       "more than the %.1f GiB of memory this machine has",
                       path, w, h, gib(need), gib(static_cast<double>(have)));
         else
-            set_error(err, "%s: %dx%d samples would need %.1f GiB for the heights, more than "
-                      "this machine can address", path, w, h, gib(need));
+            set_error(err,
+                      "%s: %dx%d samples would need %.1f GiB for the heights, more than "
+                      "this machine can address",
+                      path, w, h, gib(need));
         return TP_ERR_OUT_OF_MEMORY;
     }
 
@@ -377,8 +379,8 @@ tp_status read_dem(const char* path, tp_dem** out, tp_error* err)
     dem->height = h;
     dem->heights = static_cast<float*>(std::malloc(count * sizeof(float)));
     if (!dem->heights) {
-        set_error(err, "%s: out of memory: %dx%d samples need %.1f GiB for the heights", path, w,
-                  h, gib(need));
+        set_error(err, "%s: out of memory: %dx%d samples need %.1f GiB for the heights", path, w, h,
+                  gib(need));
         return TP_ERR_OUT_OF_MEMORY;
     }
 
@@ -386,12 +388,14 @@ tp_status read_dem(const char* path, tp_dem** out, tp_error* err)
      * failure through CPLError but still return CE_None for the request, so both count; no
      * partial result is kept. */
     CPLErrorReset();
-    const CPLErr io = band->RasterIO(GF_Read, 0, 0, w, h, dem->heights, w, h, GDT_Float32, 0, 0,
-                                     nullptr);
+    const CPLErr io =
+        band->RasterIO(GF_Read, 0, 0, w, h, dem->heights, w, h, GDT_Float32, 0, 0, nullptr);
     const CPLErr last = CPLGetLastErrorType();
     if (io != CE_None || last == CE_Failure || last == CE_Fatal) {
-        set_error(err, "%s: reading the heights of band 1 failed, the file is truncated or "
-                  "corrupt (%s)", path, gdal_message(path).c_str());
+        set_error(err,
+                  "%s: reading the heights of band 1 failed, the file is truncated or "
+                  "corrupt (%s)",
+                  path, gdal_message(path).c_str());
         return TP_ERR_BAD_DATA;
     }
 

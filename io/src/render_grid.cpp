@@ -198,7 +198,7 @@ tp_status build(const tp_dem* dem, const tp_grid_options* opt, tp_render_grid** 
     bool has_crs = false;
     if (o.crs && *o.crs) {
         if (src.SetFromUserInput(o.crs) != OGRERR_NONE)
-            return fail(err, TP_ERR_INVALID_ARG, "--crs %s: not a CRS that GDAL/PROJ knows", o.crs);
+            return fail(err, TP_ERR_INVALID_ARG, "CRS '%s' is not one GDAL/PROJ knows", o.crs);
         has_crs = true;
     } else if (dem->crs_wkt && *dem->crs_wkt) {
         if (src.importFromWkt(dem->crs_wkt) != OGRERR_NONE)
@@ -229,11 +229,13 @@ tp_status build(const tp_dem* dem, const tp_grid_options* opt, tp_render_grid** 
                                   "one, e.g. --crs EPSG:4326 for degrees)");
     } else {
         if (src.IsGeographic()) {
-            /* Geographic rasters must stay on the globe. */
-            double lat_a = gt[3], lat_b = gt[3] + dem->height * gt[5];
+            /* Geographic rasters must stay on the globe: their posts (sample centres), that is;
+             * a global grid with posts at +-90 has its pixel edges beyond. */
+            double lat_a = gt[3] + 0.5 * gt[5], lat_b = gt[3] + (dem->height - 0.5) * gt[5];
             if (std::fabs(lat_a) > 90 + 1e-9 || std::fabs(lat_b) > 90 + 1e-9)
                 return fail(err, TP_ERR_INVALID_ARG,
-                            "latitudes %.9g .. %.9g reach beyond +-90 degrees", lat_b, lat_a);
+                            "posts at latitudes %.9g .. %.9g reach beyond +-90 degrees", lat_b,
+                            lat_a);
         }
         /* The zone of the centre, for the whole scene. */
         OGRSpatialReference wgs84;
@@ -284,6 +286,35 @@ tp_status build(const tp_dem* dem, const tp_grid_options* opt, tp_render_grid** 
                                                grid.h, GDT_Float32, 0, 0, nullptr) != CE_None)
             return fail(err, TP_ERR_BACKEND, "warp: %s", tpio::gdal_message().c_str());
         g->warped = 1;
+
+        /* GDAL's output covers the source pixels' corners, half a post beyond the outermost
+         * posts, where bilinear resampling only repeats the edge: that rim is outside the data
+         * (posts are points: the data spans their hull), so it is not drawn. */
+        std::unique_ptr<OGRCoordinateTransformation> back(OGRCreateCoordinateTransformation(&dst, &src));
+        if (!back)
+            return fail(err, TP_ERR_BACKEND, "no transformation back from EPSG:%d: %s", epsg,
+                        tpio::gdal_message().c_str());
+        std::vector<double> ex(grid.w), ny(grid.w);
+        std::vector<int> inside(grid.w);
+        const double* sgt = dem->geotransform;
+        bool geographic = src.IsGeographic();
+        double lon_mid = sgt[0] + dem->width / 2.0 * sgt[1];
+        for (int r = 0; r < grid.h; r++) {
+            for (int c = 0; c < grid.w; c++) {
+                ex[c] = gt[0] + (c + 0.5) * gt[1];
+                ny[c] = gt[3] + (r + 0.5) * gt[5];
+            }
+            back->Transform(grid.w, ex.data(), ny.data(), nullptr, inside.data());
+            for (int c = 0; c < grid.w; c++) {
+                if (geographic) /* longitudes come back in [-180, 180]: unwrap near the DEM's */
+                    ex[c] += 360.0 * std::round((lon_mid - ex[c]) / 360.0);
+                double u = (ex[c] - sgt[0]) / sgt[1] - 0.5, v = (ny[c] - sgt[3]) / sgt[5] - 0.5;
+                const double tol = 1e-6;
+                if (!inside[c] || !(u >= -tol && v >= -tol && u <= dem->width - 1 + tol &&
+                                    v <= dem->height - 1 + tol))
+                    grid.z[(size_t)r * grid.w + c] = NAN;
+            }
+        }
 
         /* The rendered surface against every valid source post. */
         double mx = 0, sum = 0;
