@@ -36,8 +36,14 @@ typedef struct tp_dem {
 } tp_dem;
 
 /* Reads band 1 of any raster GDAL opens. Int16 rasters without a nodata tag have -32768 and
- * -32767 taken as nodata, with a warning. A raster with no valid sample is TP_ERR_BAD_DATA.
- * Errors name the file and what was wrong. On failure *out is untouched. */
+ * -32767 taken as nodata, with a warning; +-Inf and +-FLT_MAX heights are nodata too (with a
+ * warning). Errors name the file and what was wrong; on failure *out is untouched:
+ *   TP_ERR_IO             missing file, a directory GDAL cannot open;
+ *   TP_ERR_BAD_DATA       empty or unreadable files, non-finite, rotated or zero-size
+ *                         geotransforms, gt[1] < 0, geographic rows beyond +-90 degrees, a read
+ *                         that fails part way, no valid sample;
+ *   TP_ERR_OUT_OF_MEMORY  heights that would not fit in this machine's memory (refused before
+ *                         allocating; the message says how much they would need). */
 tp_status tp_dem_read(const char* path, tp_dem** out, tp_error* err);
 void tp_dem_destroy(tp_dem* dem); /* accepts NULL */
 

@@ -37,49 +37,22 @@
 
 #include <unistd.h>
 
+#include "gdal_util.hpp"
+
 namespace {
 
-/* Writes a one-line message: GDAL messages may hold newlines, the user sees one line. */
-void set_error(tp_error* err, const char* fmt, ...)
-{
-    if (!err)
-        return;
-    va_list ap;
-    va_start(ap, fmt);
-    std::vsnprintf(err->message, sizeof err->message, fmt, ap);
-    va_end(ap);
-    for (char* c = err->message; *c; ++c)
-        if (*c == '\n' || *c == '\r')
-            *c = ' ';
-}
+using tpio::DatasetCloser;
+using tpio::dup_c;
+using tpio::QuietGdal;
+using tpio::register_drivers;
+using tpio::set_error;
 
-/* Pushes a quiet handler so GDAL prints nothing; CPLGetLastErrorMsg still records the
- * message. The handler stack is per thread, so this is safe with concurrent readers. */
-struct QuietGdal {
-    QuietGdal()
-    {
-        CPLPushErrorHandler(CPLQuietErrorHandler);
-        CPLErrorReset();
-    }
-    ~QuietGdal()
-    {
-        CPLPopErrorHandler();
-    }
-    QuietGdal(const QuietGdal&) = delete;
-    QuietGdal& operator=(const QuietGdal&) = delete;
-};
-
-std::string gdal_message()
-{
-    const char* m = CPLGetLastErrorMsg();
-    return (m && *m) ? std::string(m) : std::string("GDAL gave no detail");
-}
 
 /* GDAL's last message without the file name our message already starts with: GDAL writes
  * "`PATH' not recognized ...", "PATH: TIFFReadDirectory: ..." or "PATH, band 1: ...". */
 std::string gdal_message(const char* path)
 {
-    std::string m = gdal_message();
+    std::string m = tpio::gdal_message();
     const std::string p = path;
     for (const std::string& form : {"`" + p + "' ", p + ": ", p + ", "}) {
         for (size_t at; (at = m.find(form)) != std::string::npos;)
@@ -90,18 +63,6 @@ std::string gdal_message(const char* path)
     return m.empty() ? std::string("GDAL gave no detail") : m;
 }
 
-void register_drivers()
-{
-    static std::once_flag once;
-    std::call_once(once, [] { GDALAllRegister(); });
-}
-
-struct DatasetCloser {
-    void operator()(GDALDataset* ds) const
-    {
-        GDALClose(GDALDataset::ToHandle(ds));
-    }
-};
 struct SrsDeleter {
     void operator()(OGRSpatialReference* srs) const
     {
@@ -114,15 +75,6 @@ struct DemDeleter {
         tp_dem_destroy(dem);
     }
 };
-
-/* malloc'd copy, so that tp_dem_destroy can free every field with free(). */
-char* dup_c(const std::string& s)
-{
-    char* p = static_cast<char*>(std::malloc(s.size() + 1));
-    if (p)
-        std::memcpy(p, s.c_str(), s.size() + 1);
-    return p;
-}
 
 void copy_name(char* dst, size_t cap, const char* src)
 {

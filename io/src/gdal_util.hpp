@@ -1,7 +1,7 @@
 /* gdal_util.hpp - small C++ helpers shared by the io/ files that call GDAL. Private to io/. */
 #pragma once
 
-#include "tp_core.h"
+#include "io_util.hpp"
 
 #include <cpl_error.h>
 #include <gdal.h>
@@ -17,21 +17,6 @@
 #include <string>
 
 namespace tpio {
-
-/* Writes a one-line message (GDAL messages may hold newlines); returns s. */
-inline tp_status fail(tp_error* err, tp_status s, const char* fmt, ...)
-{
-    if (err) {
-        va_list ap;
-        va_start(ap, fmt);
-        std::vsnprintf(err->message, sizeof err->message, fmt, ap);
-        va_end(ap);
-        for (char* c = err->message; *c; ++c)
-            if (*c == '\n' || *c == '\r')
-                *c = ' ';
-    }
-    return s;
-}
 
 /* Silences GDAL's printing for a scope; CPLGetLastErrorMsg still records the message. */
 struct QuietGdal {
@@ -61,15 +46,6 @@ struct DatasetCloser {
     void operator()(GDALDataset* ds) const { GDALClose(GDALDataset::ToHandle(ds)); }
 };
 using Dataset = std::unique_ptr<GDALDataset, DatasetCloser>;
-
-/* malloc'd copy, so C code can free() it. */
-inline char* dup_c(const std::string& s)
-{
-    char* p = static_cast<char*>(std::malloc(s.size() + 1));
-    if (p)
-        std::memcpy(p, s.c_str(), s.size() + 1);
-    return p;
-}
 
 /* A Float32 in-memory dataset over a copy of heights (NaN = nodata). */
 inline Dataset mem_dataset(const float* heights, int w, int h, const double gt[6],

@@ -19,6 +19,7 @@
  * std::bad_alloc -> TP_ERR_OUT_OF_MEMORY, any other exception -> TP_ERR_BACKEND), so no C++
  * exception leaves this file.
  */
+#include "io_util.hpp"
 #include "tp_geo.h"
 
 #include <GeographicLib/Constants.hpp>
@@ -49,19 +50,7 @@ constexpr double kMaxLonDeg = 540.0;
  * zeros and the like are left to GeographicLib, but a whole paragraph is not). */
 constexpr size_t kMaxMgrsInput = 64;
 
-/* Writes a one-line message into err (if any). */
-void set_error(tp_error* err, const char* fmt, ...)
-{
-    if (!err)
-        return;
-    va_list ap;
-    va_start(ap, fmt);
-    std::vsnprintf(err->message, sizeof err->message, fmt, ap);
-    va_end(ap);
-    for (char* c = err->message; *c; ++c)
-        if (*c == '\n' || *c == '\r')
-            *c = ' ';
-}
+using tpio::set_error;
 
 /* The shortest decimal text that reads back as v: "91", "1100000", "90.000000000000014",
  * "1e-20", "nan". Used in messages, so that an out-of-range value is shown as the user wrote

@@ -1,0 +1,52 @@
+/* io_util.hpp - small C++ helpers shared by every io/ file. Private to io/. */
+#pragma once
+
+#include "tp_core.h"
+
+#include <cstdarg>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <string>
+
+namespace tpio {
+
+/* Writes a one-line message into err (if any): library messages may hold newlines. */
+inline void vset_error(tp_error* err, const char* fmt, va_list ap)
+{
+    if (!err)
+        return;
+    std::vsnprintf(err->message, sizeof err->message, fmt, ap);
+    for (char* c = err->message; *c; ++c)
+        if (*c == '\n' || *c == '\r')
+            *c = ' ';
+}
+
+inline void set_error(tp_error* err, const char* fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    vset_error(err, fmt, ap);
+    va_end(ap);
+}
+
+/* set_error, returning s. */
+inline tp_status fail(tp_error* err, tp_status s, const char* fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    vset_error(err, fmt, ap);
+    va_end(ap);
+    return s;
+}
+
+/* malloc'd copy, so C code can free() it. */
+inline char* dup_c(const std::string& s)
+{
+    char* p = static_cast<char*>(std::malloc(s.size() + 1));
+    if (p)
+        std::memcpy(p, s.c_str(), s.size() + 1);
+    return p;
+}
+
+} // namespace tpio
