@@ -1,0 +1,132 @@
+/*
+ * test_image.c - heightmap images through OpenImageIO (tp_dem_read_image): raw counts, not
+ * normalised; --spacing, --zscale, --origin; checked on the Puget Sound heightmap of
+ * shared/data (1025x1025 16-bit PNG, 160 m posts, 0.1 m per count: PROVENANCE.md) against the
+ * same file read through GDAL.
+ */
+#include "tp_io.h"
+#include "tp_test.h"
+
+static tp_dem* read_image(const char* file, const tp_image_options* o)
+{
+    char path[1024];
+    tp_dem* dem = NULL;
+    tp_error err;
+    tp_status s;
+    REQUIRE_DATA_FILE(path, "TP_SHARED_DATA_DIR", file);
+    memset(&err, 0, sizeof err);
+    s = tp_dem_read_image(path, o, &dem, &err);
+    if (s != TP_OK || !dem)
+        FAIL("tp_dem_read_image(%s): %s", path, err.message);
+    return dem;
+}
+
+TEST(png_counts_are_raw_and_scaled)
+{
+    /* PROVENANCE: raw 0 to 43798, i.e. 0 to 4379.8 m at 0.1 m per count */
+    tp_image_options o = {.spacing_m = 160, .zscale = 0.1};
+    tp_dem* dem = read_image("ps_height_1k.png", &o);
+    EXPECT_EQ_INT(1025, dem->width);
+    EXPECT_EQ_INT(1025, dem->height);
+    EXPECT_EQ_INT(0, dem->void_count);
+    EXPECT_NEAR(0.0, dem->min_m, 1e-9);
+    EXPECT_NEAR(4379.8, dem->max_m, 1e-3);
+    EXPECT_EQ_DBL(160.0, dem->geotransform[1]);
+    EXPECT_EQ_DBL(-160.0, dem->geotransform[5]);
+    EXPECT_TRUE(dem->crs_wkt[0] == '\0');
+    EXPECT_TRUE(dem->warnings[0] == '\0'); /* spacing given: nothing to warn about */
+    tp_dem_destroy(dem);
+}
+
+TEST(png_matches_gdal_sample_for_sample)
+{
+    /* GDAL reads the same PNG as UInt16 counts: every sample must be count * zscale. */
+    char path[1024];
+    tp_dem *g = NULL, *o = NULL;
+    tp_error err;
+    tp_image_options opt = {.spacing_m = 160, .zscale = 0.1};
+    size_t i, n, bad = 0;
+    REQUIRE_DATA_FILE(path, "TP_SHARED_DATA_DIR", "ps_height_1k.png");
+    ASSERT_OK(tp_dem_read(path, &g, &err));
+    o = read_image("ps_height_1k.png", &opt);
+    ASSERT_EQ_INT(g->width, o->width);
+    ASSERT_EQ_INT(g->height, o->height);
+    n = (size_t)g->width * g->height;
+    for (i = 0; i < n; i++)
+        if (fabs((double)(float)(g->heights[i] * 0.1) - o->heights[i]) > 1e-3)
+            bad++;
+    EXPECT_EQ_INT(0, bad);
+    tp_dem_destroy(g);
+    tp_dem_destroy(o);
+}
+
+TEST(png_without_spacing_warns_and_takes_1m)
+{
+    tp_image_options o = {0};
+    tp_dem* dem = read_image("ps_height_1k.png", &o);
+    EXPECT_EQ_DBL(1.0, dem->geotransform[1]);
+    EXPECT_CONTAINS(dem->warnings, "spacing");
+    EXPECT_NEAR(43798.0, dem->max_m, 1e-9); /* zscale 1: raw counts */
+    tp_dem_destroy(dem);
+}
+
+TEST(png_with_origin_is_centred_in_its_utm_zone)
+{
+    tp_image_options o = {.spacing_m = 160, .zscale = 0.1, .has_origin = 1,
+                          .origin_lat_deg = 47.5, .origin_lon_deg = -122.5};
+    tp_dem* dem = read_image("ps_height_1k.png", &o);
+    tp_render_grid* g = NULL;
+    tp_georef* ref = NULL;
+    tp_error err;
+    double e, n, lat, lon;
+    EXPECT_EQ_INT(32610, dem->epsg); /* 122.5W is in UTM zone 10 */
+    ASSERT_OK(tp_render_grid_build(dem, NULL, &g, &err));
+    EXPECT_EQ_INT(0, g->warped);     /* already metric: used as is */
+    EXPECT_EQ_INT(10, g->utm_zone);
+    EXPECT_EQ_INT(1, g->northp);
+    ASSERT_OK(tp_georef_create(g->crs_wkt, g->geotransform, &ref, &err));
+    /* the image's centre (post 512, 512 of 1025: its middle) is at the origin */
+    tp_georef_grid_to_proj(ref, 512, 512, &e, &n);
+    ASSERT_OK(tp_georef_proj_to_geo(ref, e, n, &lat, &lon, &err));
+    EXPECT_NEAR(47.5, lat, 1e-9);
+    EXPECT_NEAR(-122.5, lon, 1e-9);
+    tp_georef_destroy(ref);
+    tp_render_grid_destroy(g);
+    tp_dem_destroy(dem);
+}
+
+TEST(bad_image_options_and_files_are_refused)
+{
+    char path[1024];
+    tp_dem* dem = (tp_dem*)(uintptr_t)0x1;
+    tp_error err;
+    tp_image_options bad_origin = {.spacing_m = 10, .has_origin = 1, .origin_lat_deg = 91};
+    tp_image_options bad_spacing = {.spacing_m = -5};
+    REQUIRE_DATA_FILE(path, "TP_SHARED_DATA_DIR", "ps_height_1k.png");
+    EXPECT_STATUS(TP_ERR_INVALID_ARG, tp_dem_read_image(path, &bad_origin, &dem, &err));
+    EXPECT_CONTAINS(err.message, "ps_height_1k.png");
+    EXPECT_STATUS(TP_ERR_INVALID_ARG, tp_dem_read_image(path, &bad_spacing, &dem, &err));
+    EXPECT_STATUS(TP_ERR_IO, tp_dem_read_image("/nonexistent/heights.png", NULL, &dem, &err));
+    EXPECT_CONTAINS(err.message, "/nonexistent/heights.png");
+    EXPECT_TRUE(dem == (tp_dem*)(uintptr_t)0x1); /* untouched */
+}
+
+TEST(image_extensions_are_recognised)
+{
+    EXPECT_EQ_INT(1, tp_is_heightmap_image("a/b/ps_height_1k.png"));
+    EXPECT_EQ_INT(1, tp_is_heightmap_image("X.PNG"));
+    EXPECT_EQ_INT(1, tp_is_heightmap_image("h.exr"));
+    EXPECT_EQ_INT(0, tp_is_heightmap_image("N42E001.hgt"));
+    EXPECT_EQ_INT(0, tp_is_heightmap_image("dem.tif"));
+    EXPECT_EQ_INT(0, tp_is_heightmap_image("png"));
+    EXPECT_EQ_INT(0, tp_is_heightmap_image(NULL));
+}
+
+#define TESTS(X)                                                                                   \
+    X(png_counts_are_raw_and_scaled)                                                               \
+    X(png_matches_gdal_sample_for_sample)                                                          \
+    X(png_without_spacing_warns_and_takes_1m)                                                      \
+    X(png_with_origin_is_centred_in_its_utm_zone)                                                  \
+    X(bad_image_options_and_files_are_refused)                                                     \
+    X(image_extensions_are_recognised)
+TP_TEST_MAIN(TESTS)
