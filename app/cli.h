@@ -17,6 +17,9 @@ int tp_cli_info(int argc, char** argv);
 /* `terrapatch coord [options] [INPUT ...]`. argv[0] is "coord"; returns an exit code. */
 int tp_cli_coord(int argc, char** argv);
 
+/* `terrapatch view [options] [DEM]`. argv[0] is "view"; returns an exit code. */
+int tp_cli_view(int argc, char** argv);
+
 /* Flushes stdout; on a write error prints one line and returns TP_EXIT_FAILURE, else code. */
 int tp_cli_finish(int code);
 

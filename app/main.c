@@ -19,7 +19,7 @@ static void print_help(FILE* f)
           "\n"
           "commands:\n"
           "  info DEM    describe a DEM and the patch grid terrapatch builds from it\n"
-          "  view        interactive viewer (coming)\n"
+          "  view [DEM]  show the terrain in a window, or headless to a PNG (--headless)\n"
           "  export      write the drawn mesh to a file (coming)\n"
           "  bench       timing and error measurements (coming)\n"
           "  coord       convert coordinates: lat/lon, UTM/UPS, MGRS, ECEF; geodesics\n"
@@ -57,7 +57,9 @@ int main(int argc, char** argv)
         return tp_cli_info(argc - 1, argv + 1);
     if (!strcmp(cmd, "coord"))
         return tp_cli_coord(argc - 1, argv + 1);
-    if (!strcmp(cmd, "view") || !strcmp(cmd, "export") || !strcmp(cmd, "bench")) {
+    if (!strcmp(cmd, "view"))
+        return tp_cli_view(argc - 1, argv + 1);
+    if (!strcmp(cmd, "export") || !strcmp(cmd, "bench")) {
         fprintf(stderr, "terrapatch: command '%s' is not available yet in %s\n", cmd, TP_VERSION);
         return TP_EXIT_USAGE;
     }

@@ -71,6 +71,15 @@ int tp_is_heightmap_image(const char* path);
 tp_status tp_dem_read_image(const char* path, const tp_image_options* options, tp_dem** out,
                             tp_error* err);
 
+/* Writes an RGBA8 image (w x h, top row first) to path through OpenImageIO, the format from the
+ * extension (.png, .jpg, .tif, ...). Atomic: a temporary file beside it, then a rename, so a
+ * failure leaves nothing behind. */
+tp_status tp_image_write_rgba(const char* path, int w, int h, const uint8_t* rgba, tp_error* err);
+
+/* Reads an image as RGBA8 (w x h, top row first; grey and RGB are expanded, alpha 255).
+ * *rgba is malloc'd: free() it. */
+tp_status tp_image_read_rgba(const char* path, int* w, int* h, uint8_t** rgba, tp_error* err);
+
 /* ---------------------------------------------------------------------------------------------
  * The render grid: a DEM on a metric grid (io/src/render_grid.cpp)
  *

@@ -1,0 +1,578 @@
+/*
+ * cmd_view.c - `terrapatch view [options] [DEM]`: the viewer, in a window or headless.
+ *
+ * Each frame: select levels and cull (core), upload the vertex data that changed and draw
+ * (renderer.c). Headless frames are complete and deterministic: everything is loaded before the
+ * first frame and there is no multisampling.
+ */
+#define _POSIX_C_SOURCE 200809L
+#include "cli.h"
+#include "gl_context.h"
+#include "json.h"
+#include "renderer.h"
+#include "scene.h"
+
+#include <epoxy/gl.h>
+#define GLFW_INCLUDE_NONE
+#include <GLFW/glfw3.h>
+
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+#include <unistd.h>
+
+#define DEG (3.14159265358979323846 / 180.0)
+#define TP_SAMPLE_SCENE "data/lf_elev_220_mt_hood_utm.tif"
+
+typedef struct view_options {
+    tp_scene_options scene;
+    tp_lod_params lod;
+    tp_render_settings render;
+    int has_camera, camera_geo;
+    double camera[5]; /* E or lat, N or lon, H, yaw, pitch */
+    double fov_deg;
+    int w, h;
+    int headless, frames, no_hud;
+    const char* screenshot;
+    const char* stats_json;
+    const char* path;
+} view_options;
+
+enum {
+    OPT_LOD = 256,
+    OPT_MINDIST,
+    OPT_MAXDIST,
+    OPT_EXP,
+    OPT_TAU,
+    OPT_CAMERA,
+    OPT_CAMERA_GEO,
+    OPT_FOV,
+    OPT_SIZE,
+    OPT_HEADLESS,
+    OPT_FRAMES,
+    OPT_SCREENSHOT,
+    OPT_CLEAR,
+    OPT_WIREFRAME,
+    OPT_COLOR_LOD,
+    OPT_STATS,
+    OPT_NO_HUD,
+    OPT_EXAG,
+    OPT_ONE_DRAW,
+};
+
+static void print_help(void)
+{
+    fputs("usage: terrapatch view [options] [DEM]\n"
+          "\n"
+          "Shows DEM (default: the sample " TP_SAMPLE_SCENE ") as shaded terrain, each patch\n"
+          "at its own level of detail. In a window when there is a display; --headless renders\n"
+          "offscreen (EGL, no display needed) and writes --screenshot.\n"
+          "\n"
+          "level of detail:\n"
+          "  --lod distance|error  distance: Vanek & Jezek's mindist/maxdist/exp rule; error\n"
+          "                        (default): the coarsest level whose error stays <= --tau px\n"
+          "  --tau PX              screen-space error threshold (default 1)\n"
+          "  --mindist M, --maxdist M, --exp E   distance rule (defaults: 1 and 24 patch widths, 1)\n"
+          "camera:\n"
+          "  --camera E,N,H,YAW,PITCH      position in the render grid's projected CRS (metres),\n"
+          "                                height H above the DEM's vertical datum, yaw degrees\n"
+          "                                clockwise from grid north, pitch degrees (-90: down)\n"
+          "  --camera-geo LAT,LON,H,YAW,PITCH   the same with a WGS84 position\n"
+          "  --fov DEG             vertical field of view (default 60)\n"
+          "  (default camera: the whole DEM in view, from the south)\n"
+          "output:\n"
+          "  --size WxH            window or image size (default 1280x720)\n"
+          "  --headless            render offscreen through EGL\n"
+          "  --frames N            headless: frames to render (default 1); the last is kept\n"
+          "  --screenshot FILE     write the last frame (PNG, through OpenImageIO)\n"
+          "  --stats-json FILE     write the last frame's statistics\n"
+          "  --clear-color R,G,B   background, 0..1 each\n"
+          "  --wireframe, --color-lod   draw edges only / colour patches by level\n"
+          "  --exaggeration X      vertical exaggeration (default 1)\n"
+          "  --one-draw-per-patch  one draw call per patch instead of multi-draw\n"
+          "  --no-hud              no text overlay (the HUD is not implemented yet)\n"
+          "DEM:\n",
+          stdout);
+    tp_scene_options_help(stdout);
+    fputs("\nWindow keys: W/S forward/back, A/D left/right, Q/E down/up, drag with the left\n"
+          "mouse button to look around, L colour by level, T wireframe, F freeze LoD and\n"
+          "culling, M switch LoD mode, +/- tau (or mindist/maxdist), P screenshot, Esc quit.\n"
+          "\nExit status: 0 success, 1 failure, 2 usage error.\n",
+          stdout);
+}
+
+static int parse_list(const char* s, double* v, int n)
+{
+    char* end;
+    for (int i = 0; i < n; i++) {
+        v[i] = strtod(s, &end);
+        if (end == s || !isfinite(v[i]))
+            return 0;
+        s = end;
+        if (i + 1 < n) {
+            if (*s != ',')
+                return 0;
+            s++;
+        }
+    }
+    return *s == '\0';
+}
+
+static int bad(const char* opt, const char* expected, const char* got)
+{
+    fprintf(stderr, "terrapatch view: %s: expected %s, got '%s'\n", opt, expected, got);
+    return TP_EXIT_USAGE;
+}
+
+static int parse_options(int argc, char** argv, view_options* o)
+{
+    static const struct option longs[] = {
+        TP_SCENE_LONG_OPTIONS,
+        {"lod", required_argument, NULL, OPT_LOD},
+        {"mindist", required_argument, NULL, OPT_MINDIST},
+        {"maxdist", required_argument, NULL, OPT_MAXDIST},
+        {"exp", required_argument, NULL, OPT_EXP},
+        {"tau", required_argument, NULL, OPT_TAU},
+        {"camera", required_argument, NULL, OPT_CAMERA},
+        {"camera-geo", required_argument, NULL, OPT_CAMERA_GEO},
+        {"fov", required_argument, NULL, OPT_FOV},
+        {"size", required_argument, NULL, OPT_SIZE},
+        {"headless", no_argument, NULL, OPT_HEADLESS},
+        {"frames", required_argument, NULL, OPT_FRAMES},
+        {"screenshot", required_argument, NULL, OPT_SCREENSHOT},
+        {"clear-color", required_argument, NULL, OPT_CLEAR},
+        {"wireframe", no_argument, NULL, OPT_WIREFRAME},
+        {"color-lod", no_argument, NULL, OPT_COLOR_LOD},
+        {"stats-json", required_argument, NULL, OPT_STATS},
+        {"no-hud", no_argument, NULL, OPT_NO_HUD},
+        {"exaggeration", required_argument, NULL, OPT_EXAG},
+        {"one-draw-per-patch", no_argument, NULL, OPT_ONE_DRAW},
+        {"help", no_argument, NULL, 'h'},
+        {NULL, 0, NULL, 0},
+    };
+    memset(o, 0, sizeof *o);
+    tp_scene_options_default(&o->scene);
+    tp_render_settings_default(&o->render);
+    o->lod.mode = TP_LOD_ERROR;
+    o->fov_deg = 60;
+    o->w = 1280;
+    o->h = 720;
+    o->frames = 1;
+    opterr = 0;
+    optind = 1;
+    int c;
+    double v[5];
+    char* end;
+    while ((c = getopt_long(argc, argv, ":h", longs, NULL)) != -1) {
+        int taken = c == '?' || c == ':' ? 0 : tp_scene_option(c, optarg, &o->scene, "view");
+        if (taken < 0)
+            return TP_EXIT_USAGE;
+        if (taken)
+            continue;
+        switch (c) {
+        case OPT_LOD:
+            if (!strcmp(optarg, "distance"))
+                o->lod.mode = TP_LOD_DISTANCE;
+            else if (!strcmp(optarg, "error"))
+                o->lod.mode = TP_LOD_ERROR;
+            else if (!strcmp(optarg, "full"))
+                o->lod.mode = TP_LOD_FULL;
+            else
+                return bad("--lod", "distance, error or full", optarg);
+            break;
+        case OPT_MINDIST:
+        case OPT_MAXDIST:
+        case OPT_EXP:
+        case OPT_TAU:
+        case OPT_FOV:
+        case OPT_EXAG:
+            if (!parse_list(optarg, v, 1) || v[0] < 0)
+                return bad(argv[optind - 1], "a number >= 0", optarg);
+            if (c == OPT_MINDIST)
+                o->lod.mindist_m = v[0];
+            else if (c == OPT_MAXDIST)
+                o->lod.maxdist_m = v[0];
+            else if (c == OPT_EXP)
+                o->lod.exponent = v[0];
+            else if (c == OPT_TAU)
+                o->lod.tau_px = v[0];
+            else if (c == OPT_FOV) {
+                if (!(v[0] > 0 && v[0] < 180))
+                    return bad("--fov", "degrees in (0, 180)", optarg);
+                o->fov_deg = v[0];
+            } else {
+                if (!(v[0] > 0))
+                    return bad("--exaggeration", "a number > 0", optarg);
+                o->render.exaggeration = v[0];
+            }
+            break;
+        case OPT_CAMERA:
+        case OPT_CAMERA_GEO:
+            if (!parse_list(optarg, o->camera, 5))
+                return bad(c == OPT_CAMERA ? "--camera" : "--camera-geo",
+                           c == OPT_CAMERA ? "E,N,H,YAW,PITCH" : "LAT,LON,H,YAW,PITCH", optarg);
+            if (c == OPT_CAMERA_GEO && !(fabs(o->camera[0]) <= 90))
+                return bad("--camera-geo", "a latitude in [-90, 90]", optarg);
+            o->has_camera = 1;
+            o->camera_geo = c == OPT_CAMERA_GEO;
+            break;
+        case OPT_SIZE: {
+            long w = strtol(optarg, &end, 10), h = 0;
+            if (*end == 'x')
+                h = strtol(end + 1, &end, 10);
+            if (*end || w < 16 || h < 16 || w > 16384 || h > 16384)
+                return bad("--size", "WxH between 16 and 16384", optarg);
+            o->w = (int)w;
+            o->h = (int)h;
+            break;
+        }
+        case OPT_HEADLESS: o->headless = 1; break;
+        case OPT_FRAMES: {
+            long n = strtol(optarg, &end, 10);
+            if (*end || n < 1 || n > 1000000)
+                return bad("--frames", "a count >= 1", optarg);
+            o->frames = (int)n;
+            break;
+        }
+        case OPT_SCREENSHOT: o->screenshot = optarg; break;
+        case OPT_STATS: o->stats_json = optarg; break;
+        case OPT_CLEAR:
+            if (!parse_list(optarg, v, 3) || v[0] < 0 || v[0] > 1 || v[1] < 0 || v[1] > 1 ||
+                v[2] < 0 || v[2] > 1)
+                return bad("--clear-color", "R,G,B in 0..1", optarg);
+            for (int i = 0; i < 3; i++)
+                o->render.clear_rgb[i] = (float)v[i];
+            break;
+        case OPT_WIREFRAME: o->render.wireframe = 1; break;
+        case OPT_COLOR_LOD: o->render.color_lod = 1; break;
+        case OPT_NO_HUD: o->no_hud = 1; break;
+        case OPT_ONE_DRAW: o->render.one_draw_per_patch = 1; break;
+        case 'h': print_help(); return tp_cli_finish(TP_EXIT_OK);
+        case ':':
+            fprintf(stderr, "terrapatch view: missing value for %s\n", argv[optind - 1]);
+            return TP_EXIT_USAGE;
+        default:
+            fprintf(stderr, "terrapatch view: unknown option '%s' (see 'terrapatch view --help')\n",
+                    argv[optind - 1]);
+            return TP_EXIT_USAGE;
+        }
+    }
+    if (argc - optind > 1) {
+        fprintf(stderr, "terrapatch view: expected one DEM, got extra argument '%s'\n",
+                argv[optind + 1]);
+        return TP_EXIT_USAGE;
+    }
+    o->path = optind < argc ? argv[optind] : TP_SAMPLE_SCENE;
+    tp_lod_params resolved;
+    tp_error err;
+    if (tp_lod_params_resolve(NULL, &o->lod, &resolved, &err) != TP_OK) {
+        fprintf(stderr, "terrapatch view: %s\n", err.message);
+        return TP_EXIT_USAGE;
+    }
+    return -1;
+}
+
+/* Camera from position, yaw (clockwise from grid north) and pitch; straight down works. */
+static void camera_from(double e, double n, double hgt, double yaw_deg, double pitch_deg,
+                        const view_options* o, tp_camera* cam)
+{
+    double y = yaw_deg * DEG, p = pitch_deg * DEG;
+    memset(cam, 0, sizeof *cam);
+    cam->position[0] = e;
+    cam->position[1] = n;
+    cam->position[2] = hgt;
+    cam->forward[0] = sin(y) * cos(p);
+    cam->forward[1] = cos(y) * cos(p);
+    cam->forward[2] = sin(p);
+    /* up = right x forward, right = (cos y, -sin y, 0): defined for every pitch */
+    double r[3] = {cos(y), -sin(y), 0};
+    cam->up[0] = r[1] * cam->forward[2] - r[2] * cam->forward[1];
+    cam->up[1] = r[2] * cam->forward[0] - r[0] * cam->forward[2];
+    cam->up[2] = r[0] * cam->forward[1] - r[1] * cam->forward[0];
+    cam->fov_y_rad = o->fov_deg * DEG;
+    cam->viewport_w_px = o->w;
+    cam->viewport_h_px = o->h;
+    cam->near_m = 1;
+}
+
+/* The whole DEM in view, from the south, 50 degrees down. */
+static void default_camera(const tp_scene* sc, const view_options* o, tp_camera* cam)
+{
+    const tp_terrain_info* in = &sc->info;
+    double e0, n0, e1, n1;
+    tp_terrain_grid_to_world(sc->terrain, 0, 0, &e0, &n0);
+    tp_terrain_grid_to_world(sc->terrain, in->src_width - 1, in->src_height - 1, &e1, &n1);
+    double size = fmax(fabs(e1 - e0), fabs(n1 - n0));
+    double pitch = -50, d = 0.45 * size / tan(o->fov_deg * DEG / 2);
+    double target[3] = {(e0 + e1) / 2, (n0 + n1) / 2, (in->min_height_m + in->max_height_m) / 2};
+    camera_from(target[0], target[1] - d * cos(pitch * DEG), target[2] - d * sin(pitch * DEG), 0,
+                pitch, o, cam);
+}
+
+static double now_ms(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return ts.tv_sec * 1e3 + ts.tv_nsec / 1e6;
+}
+
+typedef struct frame_result {
+    tp_frame_stats core;
+    tp_render_stats render;
+    double select_ms;
+} frame_result;
+
+static int write_stats(const char* path, const frame_result* f, const tp_error_measure* em,
+                       double max_px, double rms_px, int levels)
+{
+    char tmp[4096];
+    snprintf(tmp, sizeof tmp, "%s.tmp%ld", path, (long)getpid());
+    FILE* out = fopen(tmp, "w");
+    if (!out) {
+        fprintf(stderr, "terrapatch: %s: cannot write: %s\n", path, strerror(errno));
+        return 0;
+    }
+    tp_json j;
+    tp_json_init(&j, out);
+    tp_json_object_begin(&j);
+#define KEY_NUM(k, v) (tp_json_key(&j, k), tp_json_number(&j, v))
+#define KEY_SIZE(k, v) (tp_json_key(&j, k), tp_json_size(&j, v))
+    KEY_SIZE("triangles", f->core.triangles);
+    KEY_SIZE("draw_calls", (size_t)f->render.draw_calls);
+    KEY_SIZE("patches_drawn", (size_t)f->render.patches_drawn);
+    KEY_SIZE("patches_culled", (size_t)f->core.culled_patches);
+    tp_json_key(&j, "levels");
+    tp_json_array_begin(&j);
+    for (int k = 0; k < levels; k++)
+        tp_json_int(&j, f->core.patches_per_level[k]);
+    tp_json_array_end(&j);
+    KEY_NUM("cpu_ms", f->select_ms + f->render.upload_ms);
+    KEY_NUM("select_ms", f->select_ms);
+    KEY_NUM("upload_ms", f->render.upload_ms);
+    KEY_NUM("draw_ms", f->render.draw_ms);
+    KEY_SIZE("uploads", (size_t)f->render.uploads);
+    KEY_SIZE("gpu_bytes", f->render.gpu_bytes);
+    KEY_NUM("max_error_m", em->max_error_m);
+    KEY_NUM("rms_error_m", em->rms_error_m);
+    KEY_NUM("max_error_px", max_px);
+    KEY_NUM("rms_error_px", rms_px);
+    KEY_NUM("bound_max_error_m", f->core.bound_max_error_m);
+#undef KEY_NUM
+#undef KEY_SIZE
+    tp_json_object_end(&j);
+    fputc('\n', out);
+    int ok = !ferror(out);
+    ok &= fclose(out) == 0;
+    if (!ok || rename(tmp, path) != 0) {
+        fprintf(stderr, "terrapatch: %s: cannot write: %s\n", path, strerror(errno));
+        remove(tmp);
+        return 0;
+    }
+    return 1;
+}
+
+static int screenshot(tp_gl_context* ctx, const char* path)
+{
+    int w, h;
+    tp_gl_context_size(ctx, &w, &h);
+    uint8_t* px = malloc((size_t)w * h * 4);
+    if (!px) {
+        fprintf(stderr, "terrapatch: %s: out of memory\n", path);
+        return 0;
+    }
+    tp_gl_context_read_rgba(ctx, px);
+    tp_error err;
+    tp_status s = tp_image_write_rgba(path, w, h, px, &err);
+    free(px);
+    if (s != TP_OK) {
+        fprintf(stderr, "terrapatch: %s\n", err.message);
+        return 0;
+    }
+    return 1;
+}
+
+/* One frame: select (unless frozen), upload, draw. */
+static void frame(tp_selection* sel, tp_renderer* r, const tp_camera* cam, const view_options* o,
+                  const tp_lod_params* lod, int frozen, frame_result* out)
+{
+    double t0 = now_ms();
+    tp_error err;
+    if (!frozen)
+        tp_selection_update(sel, cam, lod, &err);
+    out->select_ms = now_ms() - t0;
+    tp_renderer_draw(r, sel, cam, &o->render, 1, &out->render);
+    tp_selection_stats(sel, &out->core);
+}
+
+typedef struct interactive {
+    double yaw, pitch;
+    double last_x, last_y;
+    int dragging;
+} interactive;
+
+static int run_window(tp_scene* sc, tp_gl_context* ctx, tp_renderer* r, tp_selection* sel,
+                      tp_camera* cam, view_options* o)
+{
+    GLFWwindow* win = tp_gl_context_window(ctx);
+    interactive in = {0};
+    in.pitch = asin(cam->forward[2]) / DEG;
+    in.yaw = atan2(cam->forward[0], cam->forward[1]) / DEG;
+    int frozen = 0, shots = 0;
+    int prev[GLFW_KEY_LAST + 1] = {0};
+    double last = glfwGetTime();
+    tp_lod_params lod = o->lod;
+    while (!glfwWindowShouldClose(win)) {
+        glfwPollEvents();
+        double now = glfwGetTime(), dt = now - last;
+        last = now;
+#define PRESSED(k) (glfwGetKey(win, k) == GLFW_PRESS)
+#define TAPPED(k) (PRESSED(k) && !prev[k])
+        if (PRESSED(GLFW_KEY_ESCAPE))
+            break;
+        double mx, my;
+        glfwGetCursorPos(win, &mx, &my);
+        if (glfwGetMouseButton(win, GLFW_MOUSE_BUTTON_LEFT) == GLFW_PRESS) {
+            if (in.dragging) {
+                in.yaw += 0.2 * (mx - in.last_x);
+                in.pitch = fmax(-89.9, fmin(89.9, in.pitch - 0.2 * (my - in.last_y)));
+            }
+            in.dragging = 1;
+        } else {
+            in.dragging = 0;
+        }
+        in.last_x = mx;
+        in.last_y = my;
+        /* speed scales with height above ground */
+        double x, y;
+        tp_terrain_world_to_grid(sc->terrain, cam->position[0], cam->position[1], &x, &y);
+        double ground = tp_terrain_height_at(sc->terrain, x, y);
+        double agl = isnan(ground) ? 1000 : fmax(cam->position[2] - ground, 10);
+        double speed = 1.5 * agl * dt;
+        double fy = sin(in.yaw * DEG), fx = cos(in.yaw * DEG);
+        double step[3] = {0, 0, 0};
+        if (PRESSED(GLFW_KEY_W)) step[0] += fy, step[1] += fx;
+        if (PRESSED(GLFW_KEY_S)) step[0] -= fy, step[1] -= fx;
+        if (PRESSED(GLFW_KEY_D)) step[0] += fx, step[1] -= fy;
+        if (PRESSED(GLFW_KEY_A)) step[0] -= fx, step[1] += fy;
+        if (PRESSED(GLFW_KEY_E)) step[2] += 1;
+        if (PRESSED(GLFW_KEY_Q)) step[2] -= 1;
+        double pos[3] = {cam->position[0] + speed * step[0], cam->position[1] + speed * step[1],
+                         cam->position[2] + speed * step[2]};
+        tp_selection_keep_above(sel, pos, 2.0); /* terrain following */
+        camera_from(pos[0], pos[1], pos[2], in.yaw, in.pitch, o, cam);
+        int w, h;
+        glfwGetFramebufferSize(win, &w, &h);
+        cam->viewport_w_px = w > 0 ? w : 1;
+        cam->viewport_h_px = h > 0 ? h : 1;
+        if (TAPPED(GLFW_KEY_L)) o->render.color_lod = !o->render.color_lod;
+        if (TAPPED(GLFW_KEY_T)) o->render.wireframe = !o->render.wireframe;
+        if (TAPPED(GLFW_KEY_F)) frozen = !frozen;
+        if (TAPPED(GLFW_KEY_M))
+            lod.mode = lod.mode == TP_LOD_ERROR ? TP_LOD_DISTANCE : TP_LOD_ERROR;
+        if (TAPPED(GLFW_KEY_EQUAL) || TAPPED(GLFW_KEY_KP_ADD)) {
+            lod.tau_px = (lod.tau_px > 0 ? lod.tau_px : 1) * 1.5;
+            lod.maxdist_m *= 1.25;
+        }
+        if (TAPPED(GLFW_KEY_MINUS) || TAPPED(GLFW_KEY_KP_SUBTRACT)) {
+            lod.tau_px = (lod.tau_px > 0 ? lod.tau_px : 1) / 1.5;
+            lod.maxdist_m /= 1.25;
+        }
+        for (int k = 0; k <= GLFW_KEY_LAST; k++)
+            prev[k] = k >= GLFW_KEY_SPACE && glfwGetKey(win, k) == GLFW_PRESS;
+        tp_gl_context_begin_frame(ctx);
+        frame_result fr;
+        frame(sel, r, cam, o, &lod, frozen, &fr);
+        if (TAPPED(GLFW_KEY_P) || (prev[GLFW_KEY_P] && 0)) {
+            char name[64];
+            snprintf(name, sizeof name, "terrapatch-%03d.png", shots++);
+            if (screenshot(ctx, name))
+                printf("screenshot: %s\n", name);
+        }
+        tp_gl_context_end_frame(ctx);
+        char title[256];
+        snprintf(title, sizeof title,
+                 "terrapatch - %.1f fps, %zu triangles, %d draw calls, %d patches%s", 1 / fmax(dt, 1e-6),
+                 fr.core.triangles, fr.render.draw_calls, fr.render.patches_drawn,
+                 frozen ? " (LoD frozen)" : "");
+        glfwSetWindowTitle(win, title);
+#undef PRESSED
+#undef TAPPED
+    }
+    return TP_EXIT_OK;
+}
+
+int tp_cli_view(int argc, char** argv)
+{
+    view_options o;
+    int code = parse_options(argc, argv, &o);
+    if (code >= 0)
+        return code;
+    tp_scene sc;
+    if (tp_scene_load(o.path, &o.scene, &sc) != TP_EXIT_OK)
+        return TP_EXIT_FAILURE;
+    tp_camera cam;
+    if (o.has_camera) {
+        double e = o.camera[0], n = o.camera[1];
+        if (o.camera_geo) {
+            tp_error err;
+            if (tp_georef_geo_to_proj(sc.georef, o.camera[0], o.camera[1], &e, &n, &err) != TP_OK) {
+                fprintf(stderr, "terrapatch view: --camera-geo: %s\n", err.message);
+                tp_scene_free(&sc);
+                return TP_EXIT_FAILURE;
+            }
+        }
+        camera_from(e, n, o.camera[2], o.camera[3], o.camera[4], &o, &cam);
+    } else {
+        default_camera(&sc, &o, &cam);
+    }
+
+    char msg[512];
+    tp_gl_context* ctx = NULL;
+    int ok = o.headless ? tp_gl_context_create_headless(o.w, o.h, &ctx, msg, sizeof msg)
+                        : tp_gl_context_create_window(o.w, o.h, "terrapatch", &ctx, msg, sizeof msg);
+    if (!ok) {
+        fprintf(stderr, "terrapatch view: %s\n", msg);
+        tp_scene_free(&sc);
+        return TP_EXIT_FAILURE;
+    }
+    tp_renderer* r = tp_renderer_create(sc.terrain, msg, sizeof msg);
+    tp_selection* sel = NULL;
+    tp_error err;
+    if (!r || tp_selection_create(sc.terrain, &sel, &err) != TP_OK) {
+        fprintf(stderr, "terrapatch view: %s\n", r ? err.message : msg);
+        tp_renderer_destroy(r);
+        tp_gl_context_destroy(ctx);
+        tp_scene_free(&sc);
+        return TP_EXIT_FAILURE;
+    }
+
+    code = TP_EXIT_OK;
+    if (o.headless) {
+        frame_result fr = {0};
+        for (int i = 0; i < o.frames; i++) {
+            tp_gl_context_begin_frame(ctx);
+            frame(sel, r, &cam, &o, &o.lod, 0, &fr);
+            tp_gl_context_end_frame(ctx);
+        }
+        if (o.screenshot && !screenshot(ctx, o.screenshot))
+            code = TP_EXIT_FAILURE;
+        if (o.stats_json && code == TP_EXIT_OK) {
+            tp_error_measure em = {0};
+            double max_px = 0, rms_px = 0;
+            tp_selection_measure_error(sel, &em);
+            tp_selection_measure_screen_error(sel, &cam, &max_px, &rms_px, NULL);
+            if (!write_stats(o.stats_json, &fr, &em, max_px, rms_px, sc.info.levels))
+                code = TP_EXIT_FAILURE;
+        }
+    } else {
+        code = run_window(&sc, ctx, r, sel, &cam, &o);
+    }
+    tp_selection_destroy(sel);
+    tp_renderer_destroy(r);
+    tp_gl_context_destroy(ctx);
+    tp_scene_free(&sc);
+    return code == TP_EXIT_OK ? tp_cli_finish(code) : code;
+}

@@ -1,0 +1,179 @@
+/* gl_context.c - GLFW window or EGL surfaceless offscreen context (see gl_context.h). */
+#include "gl_context.h"
+
+#include <epoxy/egl.h>
+#include <epoxy/gl.h>
+
+#define GLFW_INCLUDE_NONE
+#include <GLFW/glfw3.h>
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+struct tp_gl_context {
+    int w, h;
+    /* offscreen */
+    EGLDisplay dpy;
+    EGLContext ctx;
+    GLuint fbo, color, depth;
+    /* window */
+    GLFWwindow* win;
+};
+
+int tp_gl_context_create_headless(int w, int h, tp_gl_context** out, char* msg, size_t msg_size)
+{
+    tp_gl_context* c = calloc(1, sizeof *c);
+    if (!c) {
+        snprintf(msg, msg_size, "out of memory");
+        return 0;
+    }
+    c->w = w;
+    c->h = h;
+    c->dpy = eglGetPlatformDisplayEXT(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, NULL);
+    EGLint major, minor, count = 0;
+    EGLConfig cfg = NULL;
+    static const EGLint cfg_attr[] = {EGL_SURFACE_TYPE, EGL_PBUFFER_BIT, EGL_RENDERABLE_TYPE,
+                                      EGL_OPENGL_BIT, EGL_NONE};
+    static const EGLint ctx_attr[] = {EGL_CONTEXT_MAJOR_VERSION, 3, EGL_CONTEXT_MINOR_VERSION, 3,
+                                      EGL_CONTEXT_OPENGL_PROFILE_MASK,
+                                      EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT, EGL_NONE};
+    if (c->dpy == EGL_NO_DISPLAY || !eglInitialize(c->dpy, &major, &minor) ||
+        !eglBindAPI(EGL_OPENGL_API)) {
+        snprintf(msg, msg_size, "no EGL surfaceless display (is Mesa's libegl-mesa0 installed?)");
+        free(c);
+        return 0;
+    }
+    eglChooseConfig(c->dpy, cfg_attr, &cfg, 1, &count);
+    c->ctx = eglCreateContext(c->dpy, count ? cfg : EGL_NO_CONFIG_KHR, EGL_NO_CONTEXT, ctx_attr);
+    if (c->ctx == EGL_NO_CONTEXT ||
+        !eglMakeCurrent(c->dpy, EGL_NO_SURFACE, EGL_NO_SURFACE, c->ctx)) {
+        snprintf(msg, msg_size, "no OpenGL 3.3 core context through EGL (error 0x%x)",
+                 (unsigned)eglGetError());
+        if (c->ctx != EGL_NO_CONTEXT)
+            eglDestroyContext(c->dpy, c->ctx);
+        eglTerminate(c->dpy);
+        free(c);
+        return 0;
+    }
+    glGenFramebuffers(1, &c->fbo);
+    glBindFramebuffer(GL_FRAMEBUFFER, c->fbo);
+    glGenRenderbuffers(1, &c->color);
+    glBindRenderbuffer(GL_RENDERBUFFER, c->color);
+    glRenderbufferStorage(GL_RENDERBUFFER, GL_RGBA8, w, h);
+    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, c->color);
+    glGenRenderbuffers(1, &c->depth);
+    glBindRenderbuffer(GL_RENDERBUFFER, c->depth);
+    glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT24, w, h);
+    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, c->depth);
+    if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) {
+        snprintf(msg, msg_size, "offscreen framebuffer %dx%d is incomplete", w, h);
+        tp_gl_context_destroy(c);
+        return 0;
+    }
+    *out = c;
+    return 1;
+}
+
+int tp_gl_context_create_window(int w, int h, const char* title, tp_gl_context** out, char* msg,
+                                size_t msg_size)
+{
+    if (!glfwInit()) {
+        const char* why = NULL;
+        glfwGetError(&why);
+        snprintf(msg, msg_size, "no display to open a window on (%s); use --headless",
+                 why ? why : "glfwInit failed");
+        return 0;
+    }
+    glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, 3);
+    glfwWindowHint(GLFW_CONTEXT_VERSION_MINOR, 3);
+    glfwWindowHint(GLFW_OPENGL_PROFILE, GLFW_OPENGL_CORE_PROFILE);
+    glfwWindowHint(GLFW_OPENGL_FORWARD_COMPAT, GLFW_TRUE);
+    glfwWindowHint(GLFW_SAMPLES, 4);
+    GLFWwindow* win = glfwCreateWindow(w, h, title, NULL, NULL);
+    if (!win) {
+        const char* why = NULL;
+        glfwGetError(&why);
+        snprintf(msg, msg_size, "cannot open a %dx%d OpenGL 3.3 window (%s)", w, h,
+                 why ? why : "unknown reason");
+        glfwTerminate();
+        return 0;
+    }
+    glfwMakeContextCurrent(win);
+    glfwSwapInterval(1);
+    tp_gl_context* c = calloc(1, sizeof *c);
+    if (!c) {
+        glfwDestroyWindow(win);
+        glfwTerminate();
+        snprintf(msg, msg_size, "out of memory");
+        return 0;
+    }
+    c->win = win;
+    c->w = w;
+    c->h = h;
+    *out = c;
+    return 1;
+}
+
+void tp_gl_context_destroy(tp_gl_context* c)
+{
+    if (!c)
+        return;
+    if (c->win) {
+        glfwDestroyWindow(c->win);
+        glfwTerminate();
+    } else {
+        glDeleteFramebuffers(1, &c->fbo);
+        glDeleteRenderbuffers(1, &c->color);
+        glDeleteRenderbuffers(1, &c->depth);
+        eglMakeCurrent(c->dpy, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
+        eglDestroyContext(c->dpy, c->ctx);
+        eglTerminate(c->dpy);
+    }
+    free(c);
+}
+
+void tp_gl_context_begin_frame(tp_gl_context* c)
+{
+    if (c->win)
+        glfwGetFramebufferSize(c->win, &c->w, &c->h);
+    glBindFramebuffer(GL_FRAMEBUFFER, c->win ? 0 : c->fbo);
+    glViewport(0, 0, c->w, c->h);
+}
+
+void tp_gl_context_end_frame(tp_gl_context* c)
+{
+    if (c->win)
+        glfwSwapBuffers(c->win);
+}
+
+void tp_gl_context_size(const tp_gl_context* c, int* w, int* h)
+{
+    *w = c->w;
+    *h = c->h;
+}
+
+void tp_gl_context_read_rgba(tp_gl_context* c, uint8_t* rgba)
+{
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, c->win ? 0 : c->fbo);
+    glPixelStorei(GL_PACK_ALIGNMENT, 1);
+    glReadPixels(0, 0, c->w, c->h, GL_RGBA, GL_UNSIGNED_BYTE, rgba);
+    /* GL's rows go bottom-up; images go top-down. */
+    size_t row = (size_t)c->w * 4;
+    uint8_t* tmp = malloc(row);
+    if (!tmp)
+        return;
+    for (int y = 0; y < c->h / 2; y++) {
+        uint8_t* a = rgba + (size_t)y * row;
+        uint8_t* b = rgba + (size_t)(c->h - 1 - y) * row;
+        memcpy(tmp, a, row);
+        memcpy(a, b, row);
+        memcpy(b, tmp, row);
+    }
+    free(tmp);
+}
+
+void* tp_gl_context_window(const tp_gl_context* c)
+{
+    return c->win;
+}

@@ -1,0 +1,31 @@
+/*
+ * gl_context.h - an OpenGL 3.3 core context: a GLFW window, or offscreen through EGL on Mesa's
+ * surfaceless platform (no X server, no default framebuffer: an RGBA8 + depth framebuffer object
+ * is the target). The only file that knows about GLFW and EGL.
+ */
+#ifndef TP_APP_GL_CONTEXT_H
+#define TP_APP_GL_CONTEXT_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+typedef struct tp_gl_context tp_gl_context;
+
+/* Offscreen w x h context; no multisampling. Returns 0 and writes msg on failure. */
+int tp_gl_context_create_headless(int w, int h, tp_gl_context** out, char* msg, size_t msg_size);
+/* A window with a 3.3 core context. Returns 0 and writes msg (e.g. no display) on failure. */
+int tp_gl_context_create_window(int w, int h, const char* title, tp_gl_context** out, char* msg,
+                                size_t msg_size);
+void tp_gl_context_destroy(tp_gl_context* c);
+
+/* Binds the frame's target (the FBO offscreen) and sets the viewport to the current size. */
+void tp_gl_context_begin_frame(tp_gl_context* c);
+/* Shows the frame (swaps a window's buffers; nothing offscreen). */
+void tp_gl_context_end_frame(tp_gl_context* c);
+void tp_gl_context_size(const tp_gl_context* c, int* w, int* h);
+/* Reads the last frame as RGBA8, top row first, into w * h * 4 bytes. */
+void tp_gl_context_read_rgba(tp_gl_context* c, uint8_t* rgba);
+/* The GLFWwindow* of a window context, NULL offscreen. */
+void* tp_gl_context_window(const tp_gl_context* c);
+
+#endif

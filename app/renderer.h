@@ -1,0 +1,56 @@
+/*
+ * renderer.h - draws a tp_selection with OpenGL 3.3 core, Direct3D-style buffers as in
+ * Vanek & Jezek: one index buffer per level shared by every patch (a triangle strip with
+ * degenerate triangles), per-patch vertex data carrying the crack fix, uploaded only when the
+ * patch's or a neighbour's level changed, into a pool of vertex slots inside ONE buffer reused
+ * least-recently-used (Brodersen section 5), so that all visible patches draw with one
+ * glMultiDrawElementsBaseVertex call (plus one for patches next to nodata, which use their own
+ * triangle lists).
+ *
+ * Precision: vertices carry global integer grid coordinates; the vertex shader subtracts the
+ * camera's integer cell in integers, so every patch goes through the same camera-rebased
+ * transform from bit-identical inputs and shared border vertices land on the same clip-space
+ * position whatever the size of the projected coordinates.
+ */
+#ifndef TP_APP_RENDERER_H
+#define TP_APP_RENDERER_H
+
+#include "tp_core.h"
+
+#include <stddef.h>
+
+typedef struct tp_renderer tp_renderer;
+
+typedef struct tp_render_settings {
+    double sun_azimuth_deg;   /* clockwise from grid north; default 315 (north-west) */
+    double sun_elevation_deg; /* default 45 */
+    double exaggeration;      /* vertical; default 1 */
+    int wireframe;
+    int color_lod;            /* colour patches by level */
+    int hide_filled;          /* draw filled voids untinted */
+    float clear_rgb[3];
+    int one_draw_per_patch;   /* instead of multi-draw (for measuring the difference) */
+} tp_render_settings;
+
+void tp_render_settings_default(tp_render_settings* s);
+
+typedef struct tp_render_stats {
+    int draw_calls;
+    int patches_drawn;
+    int uploads;              /* patches whose vertex data was (re)uploaded this frame */
+    size_t gpu_bytes;         /* resident GPU buffers */
+    double upload_ms;         /* building and uploading vertex data */
+    double draw_ms;           /* submitting and finishing the draw (glFinish) */
+} tp_render_stats;
+
+/* Creates the GPU resources for a terrain (a current GL context is needed). NULL + msg on
+ * failure. */
+tp_renderer* tp_renderer_create(const tp_terrain* t, char* msg, size_t msg_size);
+void tp_renderer_destroy(tp_renderer* r);
+
+/* Uploads what changed, then draws the visible patches of sel for cam, and clears dirty flags.
+ * finish: wait for the GPU (glFinish) so that draw_ms is the real draw time. */
+void tp_renderer_draw(tp_renderer* r, tp_selection* sel, const tp_camera* cam,
+                      const tp_render_settings* s, int finish, tp_render_stats* stats);
+
+#endif
