@@ -2,7 +2,7 @@
 # `make build` only builds.
 
 DEBS := cmake pkg-config gcc g++ libgdal-dev libproj-dev libgeographiclib-dev libopenimageio-dev libvtk9-dev \
-        libglfw3-dev libepoxy-dev libegl-dev libgl-dev libgl1-mesa-dri libstb-dev
+        libglfw3-dev libepoxy-dev libegl-dev libgl-dev libgl1-mesa-dri libegl-mesa0 libstb-dev
 JOBS := $(shell nproc 2>/dev/null || echo 2)
 SUDO := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
 SCENE := data/lf_elev_220_mt_hood_utm.tif
@@ -28,8 +28,16 @@ build:
 	@[ -f build/CMakeCache.txt ] || cmake -S . -B build -DCMAKE_BUILD_TYPE=Release
 	cmake --build build -j$(JOBS)
 
+# The viewer in a window when there is a display; otherwise one headless frame to a PNG.
 run: deps build
-	./build/terrapatch info $(SCENE)
+	@if [ -n "$$DISPLAY$$WAYLAND_DISPLAY" ]; then \
+	    ./build/terrapatch view $(SCENE); \
+	else \
+	    ./build/terrapatch view --headless --screenshot build/terrapatch-view.png \
+	        --stats-json build/terrapatch-view.json $(SCENE) && \
+	    echo "run: no display, so the default scene was rendered headless to build/terrapatch-view.png" && \
+	    echo "     (statistics in build/terrapatch-view.json; 'terrapatch view --help' for more)"; \
+	fi
 
 test: deps build
 	ctest --test-dir build --output-on-failure -j$(JOBS)
