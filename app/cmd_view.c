@@ -480,12 +480,13 @@ static int run_window(tp_scene* sc, tp_gl_context* ctx, tp_renderer* r, tp_selec
             lod.tau_px = (lod.tau_px > 0 ? lod.tau_px : 1) / 1.5;
             lod.maxdist_m /= 1.25;
         }
+        int want_shot = TAPPED(GLFW_KEY_P);
         for (int k = 0; k <= GLFW_KEY_LAST; k++)
             prev[k] = k >= GLFW_KEY_SPACE && glfwGetKey(win, k) == GLFW_PRESS;
         tp_gl_context_begin_frame(ctx);
         frame_result fr;
         frame(sel, r, cam, o, &lod, frozen, &fr);
-        if (TAPPED(GLFW_KEY_P) || (prev[GLFW_KEY_P] && 0)) {
+        if (want_shot) {
             char name[64];
             snprintf(name, sizeof name, "terrapatch-%03d.png", shots++);
             if (screenshot(ctx, name))
