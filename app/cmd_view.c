@@ -99,7 +99,8 @@ static void print_help(void)
     tp_scene_options_help(stdout);
     fputs("\nWindow keys: W/S forward/back, A/D left/right, Q/E down/up, drag with the left\n"
           "mouse button to look around, L colour by level, T wireframe, F freeze LoD and\n"
-          "culling, M switch LoD mode, +/- tau (or mindist/maxdist), P screenshot, Esc quit.\n"
+          "culling, M switch LoD mode, +/- tau (or mindist/maxdist), P screenshot, C print the\n"
+          "camera as --camera-geo and --camera options, Esc quit.\n"
           "\nExit status: 0 success, 1 failure, 2 usage error.\n",
           stdout);
 }
@@ -481,6 +482,16 @@ static int run_window(tp_scene* sc, tp_gl_context* ctx, tp_renderer* r, tp_selec
             lod.maxdist_m /= 1.25;
         }
         int want_shot = TAPPED(GLFW_KEY_P);
+        if (TAPPED(GLFW_KEY_C)) { /* print the view so it can be reproduced */
+            double lat, lon;
+            if (tp_georef_proj_to_geo(sc->georef, cam->position[0], cam->position[1], &lat, &lon,
+                                      NULL) == TP_OK)
+                printf("--camera-geo %.9f,%.9f,%.2f,%.2f,%.2f\n", lat, lon, cam->position[2],
+                       fmod(in.yaw + 360, 360), in.pitch);
+            printf("--camera %.3f,%.3f,%.2f,%.2f,%.2f\n", cam->position[0], cam->position[1],
+                   cam->position[2], fmod(in.yaw + 360, 360), in.pitch);
+            fflush(stdout);
+        }
         for (int k = 0; k <= GLFW_KEY_LAST; k++)
             prev[k] = k >= GLFW_KEY_SPACE && glfwGetKey(win, k) == GLFW_PRESS;
         tp_gl_context_begin_frame(ctx);
