@@ -8,9 +8,11 @@
 #define _POSIX_C_SOURCE 200809L
 #include "cli.h"
 #include "gl_context.h"
+#include "hud.h"
 #include "json.h"
 #include "renderer.h"
 #include "scene.h"
+#include "tp_geo.h"
 
 #include <epoxy/gl.h>
 #define GLFW_INCLUDE_NONE
@@ -93,7 +95,8 @@ static void print_help(void)
           "  --wireframe, --color-lod   draw edges only / colour patches by level\n"
           "  --exaggeration X      vertical exaggeration (default 1)\n"
           "  --one-draw-per-patch  one draw call per patch instead of multi-draw\n"
-          "  --no-hud              no text overlay (the HUD is not implemented yet)\n"
+          "  --no-hud              no text overlay (frame times, triangles, levels, error,\n"
+          "                        camera and centre position as lat/lon, UTM and MGRS)\n"
           "DEM:\n",
           stdout);
     tp_scene_options_help(stdout);
@@ -408,6 +411,97 @@ static void frame(tp_selection* sel, tp_renderer* r, const tp_camera* cam, const
     tp_selection_stats(sel, &out->core);
 }
 
+/* A position as latitude/longitude, UTM and MGRS (1 m), or "" without a CRS. */
+static void position_text(const tp_scene* sc, double e, double n, char* out, size_t cap)
+{
+    double lat, lon, ue, un;
+    int zone, northp;
+    char mgrs[TP_MGRS_SIZE];
+    out[0] = '\0';
+    if (tp_georef_proj_to_geo(sc->georef, e, n, &lat, &lon, NULL) != TP_OK)
+        return;
+    if (tp_geo_to_utmups(lat, lon, &zone, &northp, &ue, &un, NULL) != TP_OK ||
+        tp_mgrs_forward(zone, northp, ue, un, lat, 5, mgrs, sizeof mgrs, NULL) != TP_OK)
+        mgrs[0] = '\0';
+    char zname[8];
+    if (zone == TP_ZONE_UPS)
+        snprintf(zname, sizeof zname, "%s", northp ? "UPS N" : "UPS S");
+    else
+        snprintf(zname, sizeof zname, "%d%c", zone, northp ? 'N' : 'S');
+    snprintf(out, cap, "%.5f%c %.5f%c  UTM %s %.0f %.0f  MGRS %s", fabs(lat), lat >= 0 ? 'N' : 'S',
+             fabs(lon), lon >= 0 ? 'E' : 'W', zname, ue, un, mgrs);
+}
+
+/* Where the ray from the camera through the screen centre meets the drawn terrain. */
+static int ground_at_centre(const tp_scene* sc, const tp_selection* sel, const tp_camera* cam,
+                            double out[3])
+{
+    double step = fabs(sc->info.geotransform[1]), dist = 0;
+    for (int i = 0; i < 4000; i++) {
+        dist += step;
+        step *= 1.004;
+        double p[3] = {cam->position[0] + dist * cam->forward[0],
+                       cam->position[1] + dist * cam->forward[1],
+                       cam->position[2] + dist * cam->forward[2]};
+        double x, y;
+        tp_terrain_world_to_grid(sc->terrain, p[0], p[1], &x, &y);
+        double g = tp_selection_drawn_height_at(sel, x, y);
+        if (!isnan(g) && p[2] <= g) {
+            out[0] = p[0], out[1] = p[1], out[2] = g;
+            return 1;
+        }
+    }
+    return 0;
+}
+
+static void hud_text(const tp_scene* sc, const tp_selection* sel, const tp_camera* cam,
+                     const tp_lod_params* lod, const frame_result* fr, double fps, int frozen,
+                     char* out, size_t cap)
+{
+    char pos[256], ground[640] = "";
+    double g[3];
+    position_text(sc, cam->position[0], cam->position[1], pos, sizeof pos);
+    if (ground_at_centre(sc, sel, cam, g)) {
+        char gp[256];
+        position_text(sc, g[0], g[1], gp, sizeof gp);
+        snprintf(ground, sizeof ground, "centre  %s  elevation %.1f m",
+                 gp[0] ? gp : "(no CRS)", g[2]);
+    }
+    char levels[128] = "";
+    size_t at = 0;
+    for (int k = 0; k < sc->info.levels && at < sizeof levels; k++)
+        at += (size_t)snprintf(levels + at, sizeof levels - at, " %d", fr->core.patches_per_level[k]);
+    double x, y;
+    tp_terrain_world_to_grid(sc->terrain, cam->position[0], cam->position[1], &x, &y);
+    double below = tp_terrain_height_at(sc->terrain, x, y);
+    double yaw = fmod(atan2(cam->forward[0], cam->forward[1]) / DEG + 360, 360);
+    char agl[64];
+    if (isnan(below))
+        snprintf(agl, sizeof agl, "outside the DEM");
+    else
+        snprintf(agl, sizeof agl, "%.1f m above ground", cam->position[2] - below);
+    snprintf(out, cap,
+             "%.1f fps   CPU %.2f ms (select %.2f, upload %.2f)   draw %.2f ms\n"
+             "%zu triangles   %d draw calls   %d patches drawn, %d culled   per level k=0..%d:%s\n"
+             "LoD %s %s%.3g%s   error bound max %.2f m, RMS %.2f m   GPU buffers %.1f MB%s\n"
+             "camera  %s  height %.1f m (%s)   heading %.0f deg (N ^)\n"
+             "%s\n"
+             "heights are as in the DEM (SRTM/DTED: EGM96 geoid)   ? help",
+             fps, fr->select_ms + fr->render.upload_ms, fr->select_ms, fr->render.upload_ms,
+             fr->render.draw_ms, fr->core.triangles, fr->render.draw_calls,
+             fr->render.patches_drawn, fr->core.culled_patches, sc->info.n, levels,
+             lod->mode == TP_LOD_DISTANCE ? "distance" : lod->mode == TP_LOD_FULL ? "full" : "error",
+             lod->mode == TP_LOD_ERROR ? "tau " : "", lod->mode == TP_LOD_ERROR ? (lod->tau_px > 0 ? lod->tau_px : 1) : 0.0,
+             lod->mode == TP_LOD_ERROR ? " px" : "", fr->core.bound_max_error_m,
+             fr->core.bound_rms_error_m, fr->render.gpu_bytes / 1e6, frozen ? "   (LoD frozen)" : "",
+             pos[0] ? pos : "(no CRS: local metres)", cam->position[2], agl, yaw, ground);
+}
+
+static const char* help_text =
+    "W/S forward/back   A/D left/right   Q/E down/up   left drag: look\n"
+    "L colour by level   T wireframe   F freeze LoD and culling   M LoD mode\n"
+    "+/- tau (or maxdist)   P screenshot   C print camera   H hide HUD   ? this help   Esc quit";
+
 typedef struct interactive {
     double yaw, pitch;
     double last_x, last_y;
@@ -421,7 +515,9 @@ static int run_window(tp_scene* sc, tp_gl_context* ctx, tp_renderer* r, tp_selec
     interactive in = {0};
     in.pitch = asin(cam->forward[2]) / DEG;
     in.yaw = atan2(cam->forward[0], cam->forward[1]) / DEG;
-    int frozen = 0, shots = 0;
+    int frozen = 0, shots = 0, show_help = 0, show_hud = !o->no_hud;
+    tp_hud* hud = tp_hud_create();
+    double fps = 0;
     int prev[GLFW_KEY_LAST + 1] = {0};
     double last = glfwGetTime();
     tp_lod_params lod = o->lod;
@@ -471,6 +567,8 @@ static int run_window(tp_scene* sc, tp_gl_context* ctx, tp_renderer* r, tp_selec
         if (TAPPED(GLFW_KEY_L)) o->render.color_lod = !o->render.color_lod;
         if (TAPPED(GLFW_KEY_T)) o->render.wireframe = !o->render.wireframe;
         if (TAPPED(GLFW_KEY_F)) frozen = !frozen;
+        if (TAPPED(GLFW_KEY_H)) show_hud = !show_hud;
+        if (TAPPED(GLFW_KEY_SLASH)) show_help = !show_help;
         if (TAPPED(GLFW_KEY_M))
             lod.mode = lod.mode == TP_LOD_ERROR ? TP_LOD_DISTANCE : TP_LOD_ERROR;
         if (TAPPED(GLFW_KEY_EQUAL) || TAPPED(GLFW_KEY_KP_ADD)) {
@@ -497,6 +595,14 @@ static int run_window(tp_scene* sc, tp_gl_context* ctx, tp_renderer* r, tp_selec
         tp_gl_context_begin_frame(ctx);
         frame_result fr;
         frame(sel, r, cam, o, &lod, frozen, &fr);
+        fps = fps > 0 ? 0.9 * fps + 0.1 / fmax(dt, 1e-6) : 1 / fmax(dt, 1e-6);
+        if (hud && show_hud) {
+            char text[2048];
+            hud_text(sc, sel, cam, &lod, &fr, fps, frozen, text, sizeof text);
+            tp_hud_text(hud, w, h, 10, 10, 2, text);
+            if (show_help)
+                tp_hud_text(hud, w, h, 10, (float)h - 90, 2, help_text);
+        }
         if (want_shot) {
             char name[64];
             snprintf(name, sizeof name, "terrapatch-%03d.png", shots++);
@@ -513,6 +619,7 @@ static int run_window(tp_scene* sc, tp_gl_context* ctx, tp_renderer* r, tp_selec
 #undef PRESSED
 #undef TAPPED
     }
+    tp_hud_destroy(hud);
     return TP_EXIT_OK;
 }
 
@@ -564,11 +671,20 @@ int tp_cli_view(int argc, char** argv)
     code = TP_EXIT_OK;
     if (o.headless) {
         frame_result fr = {0};
+        tp_hud* hud = o.no_hud ? NULL : tp_hud_create();
         for (int i = 0; i < o.frames; i++) {
             tp_gl_context_begin_frame(ctx);
+            double t0 = now_ms();
             frame(sel, r, &cam, &o, &o.lod, 0, &fr);
+            if (hud) {
+                char text[2048];
+                hud_text(&sc, sel, &cam, &o.lod, &fr, 1000 / fmax(now_ms() - t0, 1e-6), 0, text,
+                         sizeof text);
+                tp_hud_text(hud, o.w, o.h, 10, 10, o.w >= 1000 ? 2 : 1, text);
+            }
             tp_gl_context_end_frame(ctx);
         }
+        tp_hud_destroy(hud);
         if (o.screenshot && !screenshot(ctx, o.screenshot))
             code = TP_EXIT_FAILURE;
         if (o.stats_json && code == TP_EXIT_OK) {

@@ -420,6 +420,8 @@ void tp_renderer_draw(tp_renderer* r, tp_selection* sel, const tp_camera* cam,
 {
     memset(stats, 0, sizeof *stats);
     r->frame++;
+    /* Element-buffer bindings belong to the bound vertex array: bind ours before any upload. */
+    glBindVertexArray(r->vao);
     int pc = r->info.patch_count;
     double t0 = now_ms();
     /* Vertex data goes stale when the patch's or a neighbour's level changed. */

@@ -1,0 +1,134 @@
+/* hud.c - the text overlay (see hud.h). */
+#include "hud.h"
+
+#include <epoxy/gl.h>
+#include <stb/stb_easy_font.h>
+
+#include <stdlib.h>
+#include <string.h>
+
+#define HUD_MAX_QUADS 20000
+
+struct tp_hud {
+    GLuint prog, vao, vbo, ibo;
+    GLint u_screen, u_offset;
+    char* verts; /* stb_easy_font output: 16 bytes per vertex (x, y, z floats, rgba bytes) */
+};
+
+static const char* vs =
+    "#version 330 core\n"
+    "layout(location = 0) in vec2 a_pos;\n"
+    "layout(location = 1) in vec4 a_color;\n"
+    "uniform vec2 u_screen;\n"
+    "uniform vec3 u_offset; // x, y, scale\n"
+    "out vec4 v_color;\n"
+    "void main() {\n"
+    "    vec2 p = a_pos * u_offset.z + u_offset.xy;\n"
+    "    gl_Position = vec4(p.x / u_screen.x * 2.0 - 1.0, 1.0 - p.y / u_screen.y * 2.0, 0.0, 1.0);\n"
+    "    v_color = a_color;\n"
+    "}\n";
+static const char* fs =
+    "#version 330 core\n"
+    "in vec4 v_color;\n"
+    "out vec4 o_color;\n"
+    "void main() { o_color = v_color; }\n";
+
+static GLuint shader(GLenum type, const char* src)
+{
+    GLuint s = glCreateShader(type);
+    glShaderSource(s, 1, &src, NULL);
+    glCompileShader(s);
+    GLint ok = 0;
+    glGetShaderiv(s, GL_COMPILE_STATUS, &ok);
+    if (!ok) {
+        glDeleteShader(s);
+        return 0;
+    }
+    return s;
+}
+
+tp_hud* tp_hud_create(void)
+{
+    tp_hud* h = calloc(1, sizeof *h);
+    GLuint v = shader(GL_VERTEX_SHADER, vs), f = shader(GL_FRAGMENT_SHADER, fs);
+    uint32_t* idx = malloc(HUD_MAX_QUADS * 6 * sizeof *idx);
+    if (!h || !v || !f || !idx) {
+        glDeleteShader(v);
+        glDeleteShader(f);
+        free(idx);
+        free(h);
+        return NULL;
+    }
+    h->verts = malloc(HUD_MAX_QUADS * 4 * 16);
+    h->prog = glCreateProgram();
+    glAttachShader(h->prog, v);
+    glAttachShader(h->prog, f);
+    glLinkProgram(h->prog);
+    glDeleteShader(v);
+    glDeleteShader(f);
+    h->u_screen = glGetUniformLocation(h->prog, "u_screen");
+    h->u_offset = glGetUniformLocation(h->prog, "u_offset");
+    /* quads -> two triangles each */
+    for (uint32_t q = 0; q < HUD_MAX_QUADS; q++) {
+        const uint32_t b = 4 * q, t[6] = {b, b + 1, b + 2, b, b + 2, b + 3};
+        memcpy(idx + 6 * q, t, sizeof t);
+    }
+    glGenVertexArrays(1, &h->vao);
+    glBindVertexArray(h->vao);
+    glGenBuffers(1, &h->vbo);
+    glBindBuffer(GL_ARRAY_BUFFER, h->vbo);
+    glBufferData(GL_ARRAY_BUFFER, HUD_MAX_QUADS * 4 * 16, NULL, GL_STREAM_DRAW);
+    glGenBuffers(1, &h->ibo);
+    glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, h->ibo);
+    glBufferData(GL_ELEMENT_ARRAY_BUFFER, HUD_MAX_QUADS * 6 * sizeof *idx, idx, GL_STATIC_DRAW);
+    free(idx);
+    glEnableVertexAttribArray(0);
+    glVertexAttribPointer(0, 2, GL_FLOAT, GL_FALSE, 16, (void*)0);
+    glEnableVertexAttribArray(1);
+    glVertexAttribPointer(1, 4, GL_UNSIGNED_BYTE, GL_TRUE, 16, (void*)12);
+    return h;
+}
+
+void tp_hud_destroy(tp_hud* h)
+{
+    if (!h)
+        return;
+    glDeleteProgram(h->prog);
+    glDeleteBuffers(1, &h->vbo);
+    glDeleteBuffers(1, &h->ibo);
+    glDeleteVertexArrays(1, &h->vao);
+    free(h->verts);
+    free(h);
+}
+
+void tp_hud_measure(const char* text, float* w, float* h)
+{
+    *w = (float)stb_easy_font_width((char*)text);
+    *h = (float)stb_easy_font_height((char*)text);
+}
+
+static void draw(tp_hud* h, int w, int hgt, float x, float y, float scale, const char* text,
+                 unsigned char rgba[4])
+{
+    int quads = stb_easy_font_print(0, 0, (char*)text, rgba, h->verts, HUD_MAX_QUADS * 4 * 16);
+    if (quads <= 0)
+        return;
+    glBindBuffer(GL_ARRAY_BUFFER, h->vbo);
+    glBufferSubData(GL_ARRAY_BUFFER, 0, (GLsizeiptr)quads * 4 * 16, h->verts);
+    glUniform2f(h->u_screen, (float)w, (float)hgt);
+    glUniform3f(h->u_offset, x, y, scale);
+    glDrawElements(GL_TRIANGLES, quads * 6, GL_UNSIGNED_INT, NULL);
+}
+
+void tp_hud_text(tp_hud* h, int w, int hgt, float x, float y, float scale, const char* text)
+{
+    glDisable(GL_DEPTH_TEST);
+    glDisable(GL_CULL_FACE);
+    glPolygonMode(GL_FRONT_AND_BACK, GL_FILL);
+    glUseProgram(h->prog);
+    glBindVertexArray(h->vao);
+    unsigned char shadow[4] = {0, 0, 0, 255}, light[4] = {255, 255, 240, 255};
+    draw(h, w, hgt, x + scale, y + scale, scale, text, shadow);
+    draw(h, w, hgt, x, y, scale, text, light);
+    glEnable(GL_DEPTH_TEST);
+}

@@ -1,0 +1,20 @@
+/*
+ * hud.h - text over the 3D view: stb_easy_font quads drawn with a tiny OpenGL 3.3 program.
+ */
+#ifndef TP_APP_HUD_H
+#define TP_APP_HUD_H
+
+typedef struct tp_hud tp_hud;
+
+/* Needs a current GL context. NULL when the shaders fail. */
+tp_hud* tp_hud_create(void);
+void tp_hud_destroy(tp_hud* h);
+
+/* Draws '\n'-separated text with its top-left corner at (x, y) pixels of a w x h viewport,
+ * each font pixel `scale` screen pixels, light text with a dark shadow. */
+void tp_hud_text(tp_hud* h, int w, int hgt, float x, float y, float scale, const char* text);
+
+/* Width and height (pixels, at scale 1) of the text. */
+void tp_hud_measure(const char* text, float* w, float* h);
+
+#endif
