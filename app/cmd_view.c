@@ -37,7 +37,7 @@ typedef struct view_options {
     double camera[5]; /* E or lat, N or lon, H, yaw, pitch */
     double fov_deg;
     int w, h;
-    int headless, frames, no_hud;
+    int headless, frames, no_hud, hud;
     const char* screenshot;
     const char* stats_json;
     const char* path;
@@ -63,6 +63,7 @@ enum {
     OPT_NO_HUD,
     OPT_EXAG,
     OPT_ONE_DRAW,
+    OPT_HUD,
 };
 
 static void print_help(void)
@@ -97,6 +98,8 @@ static void print_help(void)
           "  --one-draw-per-patch  one draw call per patch instead of multi-draw\n"
           "  --no-hud              no text overlay (frame times, triangles, levels, error,\n"
           "                        camera and centre position as lat/lon, UTM and MGRS)\n"
+          "  --hud                 headless frames too get the overlay (off by default there,\n"
+          "                        so that a headless image depends on the view alone)\n"
           "DEM:\n",
           stdout);
     tp_scene_options_help(stdout);
@@ -106,6 +109,24 @@ static void print_help(void)
           "camera as --camera-geo and --camera options, Esc quit.\n"
           "\nExit status: 0 success, 1 failure, 2 usage error.\n",
           stdout);
+}
+
+/* The bundled sample: data/ of the source tree the binary was built in (build/terrapatch ->
+ * ../data), else data/ of the working directory. */
+static const char* sample_scene(void)
+{
+    static char path[4096];
+    ssize_t n = readlink("/proc/self/exe", path, sizeof path - 64);
+    if (n > 0) {
+        path[n] = '\0';
+        char* slash = strrchr(path, '/');
+        if (slash) {
+            strcpy(slash, "/../" TP_SAMPLE_SCENE);
+            if (access(path, R_OK) == 0)
+                return path;
+        }
+    }
+    return TP_SAMPLE_SCENE;
 }
 
 static int parse_list(const char* s, double* v, int n)
@@ -152,6 +173,7 @@ static int parse_options(int argc, char** argv, view_options* o)
         {"color-lod", no_argument, NULL, OPT_COLOR_LOD},
         {"stats-json", required_argument, NULL, OPT_STATS},
         {"no-hud", no_argument, NULL, OPT_NO_HUD},
+        {"hud", no_argument, NULL, OPT_HUD},
         {"exaggeration", required_argument, NULL, OPT_EXAG},
         {"one-draw-per-patch", no_argument, NULL, OPT_ONE_DRAW},
         {"help", no_argument, NULL, 'h'},
@@ -253,6 +275,7 @@ static int parse_options(int argc, char** argv, view_options* o)
         case OPT_WIREFRAME: o->render.wireframe = 1; break;
         case OPT_COLOR_LOD: o->render.color_lod = 1; break;
         case OPT_NO_HUD: o->no_hud = 1; break;
+        case OPT_HUD: o->hud = 1; break;
         case OPT_ONE_DRAW: o->render.one_draw_per_patch = 1; break;
         case 'h': print_help(); return tp_cli_finish(TP_EXIT_OK);
         case ':':
@@ -269,7 +292,7 @@ static int parse_options(int argc, char** argv, view_options* o)
                 argv[optind + 1]);
         return TP_EXIT_USAGE;
     }
-    o->path = optind < argc ? argv[optind] : TP_SAMPLE_SCENE;
+    o->path = optind < argc ? argv[optind] : sample_scene();
     tp_lod_params resolved;
     tp_error err;
     if (tp_lod_params_resolve(NULL, &o->lod, &resolved, &err) != TP_OK) {
@@ -475,7 +498,14 @@ static void hud_text(const tp_scene* sc, const tp_selection* sel, const tp_camer
     tp_terrain_world_to_grid(sc->terrain, cam->position[0], cam->position[1], &x, &y);
     double below = tp_terrain_height_at(sc->terrain, x, y);
     double yaw = fmod(atan2(cam->forward[0], cam->forward[1]) / DEG + 360, 360);
-    char agl[64];
+    char agl[64], lod_text[128];
+    if (lod->mode == TP_LOD_ERROR)
+        snprintf(lod_text, sizeof lod_text, "error, tau %.3g px", lod->tau_px > 0 ? lod->tau_px : 1);
+    else if (lod->mode == TP_LOD_DISTANCE)
+        snprintf(lod_text, sizeof lod_text, "distance, mindist %.0f m, maxdist %.0f m, exp %.3g",
+                 lod->mindist_m, lod->maxdist_m, lod->exponent > 0 ? lod->exponent : 1);
+    else
+        snprintf(lod_text, sizeof lod_text, "full resolution");
     if (isnan(below))
         snprintf(agl, sizeof agl, "outside the DEM");
     else
@@ -483,16 +513,14 @@ static void hud_text(const tp_scene* sc, const tp_selection* sel, const tp_camer
     snprintf(out, cap,
              "%.1f fps   CPU %.2f ms (select %.2f, upload %.2f)   draw %.2f ms\n"
              "%zu triangles   %d draw calls   %d patches drawn, %d culled   per level k=0..%d:%s\n"
-             "LoD %s %s%.3g%s   error bound max %.2f m, RMS %.2f m   GPU buffers %.1f MB%s\n"
+             "LoD %s   error bound max %.2f m, RMS %.2f m   GPU buffers %.1f MB%s\n"
              "camera  %s  height %.1f m (%s)   heading %.0f deg (N ^)\n"
              "%s\n"
              "heights are as in the DEM (SRTM/DTED: EGM96 geoid)   ? help",
              fps, fr->select_ms + fr->render.upload_ms, fr->select_ms, fr->render.upload_ms,
              fr->render.draw_ms, fr->core.triangles, fr->render.draw_calls,
              fr->render.patches_drawn, fr->core.culled_patches, sc->info.n, levels,
-             lod->mode == TP_LOD_DISTANCE ? "distance" : lod->mode == TP_LOD_FULL ? "full" : "error",
-             lod->mode == TP_LOD_ERROR ? "tau " : "", lod->mode == TP_LOD_ERROR ? (lod->tau_px > 0 ? lod->tau_px : 1) : 0.0,
-             lod->mode == TP_LOD_ERROR ? " px" : "", fr->core.bound_max_error_m,
+             lod_text, fr->core.bound_max_error_m,
              fr->core.bound_rms_error_m, fr->render.gpu_bytes / 1e6, frozen ? "   (LoD frozen)" : "",
              pos[0] ? pos : "(no CRS: local metres)", cam->position[2], agl, yaw, ground);
 }
@@ -671,7 +699,7 @@ int tp_cli_view(int argc, char** argv)
     code = TP_EXIT_OK;
     if (o.headless) {
         frame_result fr = {0};
-        tp_hud* hud = o.no_hud ? NULL : tp_hud_create();
+        tp_hud* hud = o.hud && !o.no_hud ? tp_hud_create() : NULL;
         for (int i = 0; i < o.frames; i++) {
             tp_gl_context_begin_frame(ctx);
             double t0 = now_ms();

@@ -27,10 +27,17 @@ extern "C" tp_status tp_image_write_rgba(const char* path, int w, int h, const u
         std::string ext = dot != std::string::npos && (slash == std::string::npos || dot > slash)
                               ? p.substr(dot) : std::string(".png");
         tmp = p + ".tmp" + std::to_string((long)getpid()) + ext;
+        /* A clear reason (no such directory, permission) before the image library's own. */
+        if (FILE* probe = std::fopen(tmp.c_str(), "wb"))
+            std::fclose(probe);
+        else
+            return fail(err, TP_ERR_IO, "%s: cannot write: %s", path, std::strerror(errno));
         auto out = OIIO::ImageOutput::create(tmp);
-        if (!out)
+        if (!out) {
+            std::remove(tmp.c_str());
             return fail(err, TP_ERR_INVALID_ARG, "%s: no image format for this name: %s", path,
                         OIIO::geterror().c_str());
+        }
         OIIO::ImageSpec spec(w, h, 4, OIIO::TypeDesc::UINT8);
         if (!out->open(tmp, spec) || !out->write_image(OIIO::TypeDesc::UINT8, rgba) || !out->close()) {
             std::string why = out->geterror();

@@ -1,0 +1,1132 @@
+/*
+ * test_view.c - the viewer, rendered headless: `terrapatch view --headless` runs as a child
+ * process (posix_spawn, an argument vector, no shell) on the sample DEM
+ * data/lf_elev_220_mt_hood_utm.tif (NAD83 / UTM 10N, 1013 x 799, 30 m), writes PNGs and
+ * statistics JSON into a temporary directory, and the test reads them back
+ * (tp_image_read_rgba) and checks pixels and numbers:
+ *
+ *   - no cracks: with a magenta background and a view that is ground from edge to edge, not one
+ *     magenta pixel may show, under LoD settings that put neighbours several levels apart;
+ *   - precision: the DEM at its true UTM coordinates and moved to a local origin renders alike;
+ *   - the statistics JSON equals the core's selection computed in this process;
+ *   - frustum culling (looking at the sky, looking away from patches behind);
+ *   - one reference image (tests/reference/mt_hood_480x270.png) within a tolerance;
+ *   - bad command lines: exit status and one-line messages.
+ *
+ * The binary comes from the environment: TP_TERRAPATCH (tests/CMakeLists.txt sets it to
+ * $<TARGET_FILE:terrapatch>); without it every test here skips. The reference directory comes
+ * from TP_TEST_REFERENCE_DIR, else <sample data dir>/../tests/reference.
+ *
+ * Regenerating the reference image (only after a deliberate change of what the viewer draws:
+ * shading, colours, LoD defaults, camera conventions; never to make a failing test pass
+ * without looking at the difference), from the repository root:
+ *
+ *   ./build/terrapatch view --headless --no-hud --size 480x270 \
+ *       --camera 598000,5012000,4500,15,-35 --screenshot tests/reference/mt_hood_480x270.png \
+ *       data/lf_elev_220_mt_hood_utm.tif
+ *
+ * then look at the new image and commit it with the change that explains it. A failing
+ * comparison writes the image it got to mt_hood_480x270.actual.png in the test's working
+ * directory (build/tests).
+ */
+#define _POSIX_C_SOURCE 200809L
+#include "tp_test.h"
+#ifndef TP_TEST_NO_IO
+#include "tp_io.h"
+#endif
+
+#include <dirent.h>
+#include <errno.h>
+#include <fcntl.h>
+#include <spawn.h>
+#include <sys/stat.h>
+#include <sys/types.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+extern char** environ;
+
+#define SAMPLE_DEM "lf_elev_220_mt_hood_utm.tif"
+#define REFERENCE_PNG "mt_hood_480x270.png"
+#define DEG (3.14159265358979323846 / 180.0)
+
+#ifdef TP_TEST_NO_IO
+#define REQUIRE_IO() SKIP("built without tp_io")
+#else
+#define REQUIRE_IO() ((void)0)
+
+/* ---------------------------------------------------------------------------------------------
+ * Temporary directories: removed at exit, so a test that fails part way cleans up too.
+ */
+#define MAX_TMP_DIRS 16
+static char tmp_dirs_[MAX_TMP_DIRS][512];
+static int tmp_dir_count_;
+
+static void remove_tree(const char* dir)
+{
+    DIR* d = opendir(dir);
+    struct dirent* e;
+    if (d) {
+        while ((e = readdir(d)) != NULL) {
+            char p[1024];
+            struct stat st;
+            if (!strcmp(e->d_name, ".") || !strcmp(e->d_name, ".."))
+                continue;
+            snprintf(p, sizeof p, "%s/%s", dir, e->d_name);
+            if (lstat(p, &st) == 0 && S_ISDIR(st.st_mode))
+                remove_tree(p);
+            else
+                unlink(p);
+        }
+        closedir(d);
+    }
+    rmdir(dir);
+}
+
+static void remove_tmp_dirs(void)
+{
+    while (tmp_dir_count_ > 0)
+        remove_tree(tmp_dirs_[--tmp_dir_count_]);
+}
+
+/* A fresh empty directory (static storage; removed at exit). */
+static const char* make_tmp_dir(void)
+{
+    const char* base = getenv("TMPDIR");
+    char* d;
+    if (!base || !*base)
+        base = "/tmp";
+    ASSERT_TRUE(tmp_dir_count_ < MAX_TMP_DIRS);
+    d = tmp_dirs_[tmp_dir_count_];
+    snprintf(d, sizeof tmp_dirs_[0], "%s/tp_view_XXXXXX", base);
+    if (!mkdtemp(d))
+        FAIL("mkdtemp(%s): %s", d, strerror(errno));
+    if (tmp_dir_count_++ == 0)
+        atexit(remove_tmp_dirs);
+    return d;
+}
+
+/* ---------------------------------------------------------------------------------------------
+ * Running terrapatch
+ */
+typedef struct args {
+    char* v[64];
+    int n;
+    char buf[8192];
+    size_t used;
+} args;
+
+static void args_add(args* a, const char* fmt, ...)
+{
+    va_list ap;
+    int len;
+    ASSERT_TRUE(a->n + 1 < (int)(sizeof a->v / sizeof a->v[0]));
+    va_start(ap, fmt);
+    len = vsnprintf(a->buf + a->used, sizeof a->buf - a->used, fmt, ap);
+    va_end(ap);
+    ASSERT_TRUE(len >= 0 && (size_t)len < sizeof a->buf - a->used);
+    a->v[a->n++] = a->buf + a->used;
+    a->v[a->n] = NULL;
+    a->used += (size_t)len + 1;
+}
+
+/* argv[0] = the binary, argv[1] = "view"; skips the test without a binary. */
+static void args_view(args* a)
+{
+    const char* exe = getenv("TP_TERRAPATCH");
+    if (!exe || !*exe)
+        SKIP("TP_TERRAPATCH is not set (the terrapatch binary; set by tests/CMakeLists.txt)");
+    if (access(exe, X_OK) != 0)
+        SKIP("TP_TERRAPATCH=%s is not an executable", exe);
+    memset(a, 0, sizeof *a);
+    args_add(a, "%s", exe);
+    args_add(a, "view");
+}
+
+typedef struct run_result {
+    int exit_code;  /* exit status, or 128 + signal */
+    char out[4096]; /* the start of stdout */
+    char err[4096]; /* the start of stderr */
+    int err_lines;  /* '\n' in all of stderr */
+} run_result;
+
+static void read_text(const char* path, char* buf, size_t cap, int* lines)
+{
+    FILE* f = fopen(path, "rb");
+    size_t n = 0;
+    int c;
+    buf[0] = '\0';
+    if (lines)
+        *lines = 0;
+    if (!f)
+        return;
+    while ((c = fgetc(f)) != EOF) {
+        if (n + 1 < cap)
+            buf[n++] = (char)c;
+        if (c == '\n' && lines)
+            ++*lines;
+    }
+    buf[n] = '\0';
+    fclose(f);
+}
+
+/* The child's environment: ours, with LeakSanitizer off in the child. Under TP_SANITIZE the
+ * terrapatch binary is instrumented too, and eglTerminate unloads Mesa's driver
+ * (swrast_dri.so), after which LSan reports the driver's still-referenced allocations (a few
+ * hundred bytes, "<unknown module>") as leaks: with the driver preloaded so that it stays
+ * mapped, there are none. AddressSanitizer's other checks stay on in the child. */
+static char** child_environment(char* asan_buf, size_t cap)
+{
+    static char* envp[512];
+    size_t n = 0, i;
+    const char* asan = getenv("ASAN_OPTIONS");
+    snprintf(asan_buf, cap, "ASAN_OPTIONS=%s%sdetect_leaks=0", asan ? asan : "",
+             asan && *asan ? ":" : "");
+    for (i = 0; environ[i] && n + 2 < sizeof envp / sizeof envp[0]; ++i)
+        if (strncmp(environ[i], "ASAN_OPTIONS=", 13) != 0)
+            envp[n++] = environ[i];
+    envp[n++] = asan_buf;
+    envp[n] = NULL;
+    return envp;
+}
+
+/* Runs a->v with stdin from /dev/null and stdout/stderr into files of log_dir. */
+static void run(const args* a, const char* log_dir, run_result* r)
+{
+    char out_path[1024], err_path[1024], asan[1024];
+    posix_spawn_file_actions_t fa;
+    pid_t pid;
+    int status = 0, rc;
+    memset(r, 0, sizeof *r);
+    snprintf(out_path, sizeof out_path, "%s/child.stdout", log_dir);
+    snprintf(err_path, sizeof err_path, "%s/child.stderr", log_dir);
+    ASSERT_EQ_INT(0, posix_spawn_file_actions_init(&fa));
+    posix_spawn_file_actions_addopen(&fa, 0, "/dev/null", O_RDONLY, 0);
+    posix_spawn_file_actions_addopen(&fa, 1, out_path, O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    posix_spawn_file_actions_addopen(&fa, 2, err_path, O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    rc = posix_spawn(&pid, a->v[0], &fa, NULL, a->v, child_environment(asan, sizeof asan));
+    posix_spawn_file_actions_destroy(&fa);
+    if (rc != 0)
+        FAIL("posix_spawn(%s): %s", a->v[0], strerror(rc));
+    while (waitpid(pid, &status, 0) < 0)
+        if (errno != EINTR)
+            FAIL("waitpid: %s", strerror(errno));
+    r->exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+    read_text(out_path, r->out, sizeof r->out, NULL);
+    read_text(err_path, r->err, sizeof r->err, &r->err_lines);
+    remove(out_path);
+    remove(err_path);
+}
+
+/* Runs and requires exit status 0 (printing stderr otherwise). */
+static void run_ok(const args* a, const char* log_dir)
+{
+    run_result r;
+    run(a, log_dir, &r);
+    /* no EGL / OpenGL 3.3 on this machine (app/gl_context.c): a missing backend, not a bug */
+    if (r.exit_code == 1 && (strstr(r.err, "no EGL surfaceless display") ||
+                             strstr(r.err, "no OpenGL 3.3 core context through EGL")))
+        SKIP("no headless OpenGL here: %s", r.err);
+    if (r.exit_code != 0) {
+        int i;
+        fprintf(stderr, "command:");
+        for (i = 0; i < a->n; ++i)
+            fprintf(stderr, " %s", a->v[i]);
+        FAIL("exit status %d, stderr: %s", r.exit_code, r.err);
+    }
+}
+
+/* ---------------------------------------------------------------------------------------------
+ * A view: camera, image size, LoD, background. Numbers are passed with %.17g, so the child
+ * parses exactly the doubles this process uses.
+ */
+typedef struct view_spec {
+    double cam[5]; /* E, N, H, yaw, pitch */
+    int w, h;
+    tp_lod_params lod; /* mode TP_LOD_DEFAULT: no --lod option (the CLI default, error, tau 1) */
+    int magenta;       /* --clear-color 1,0,1 */
+} view_spec;
+
+static void args_add_view(args* a, const char* dem, const view_spec* v)
+{
+    args_add(a, "--headless");
+    args_add(a, "--no-hud"); /* the terrain only: the HUD has timings and the camera's position */
+    args_add(a, "--size");
+    args_add(a, "%dx%d", v->w, v->h);
+    args_add(a, "--camera");
+    args_add(a, "%.17g,%.17g,%.17g,%.17g,%.17g", v->cam[0], v->cam[1], v->cam[2], v->cam[3],
+             v->cam[4]);
+    if (v->lod.mode == TP_LOD_DISTANCE) {
+        args_add(a, "--lod");
+        args_add(a, "distance");
+        args_add(a, "--mindist");
+        args_add(a, "%.17g", v->lod.mindist_m);
+        args_add(a, "--maxdist");
+        args_add(a, "%.17g", v->lod.maxdist_m);
+        args_add(a, "--exp");
+        args_add(a, "%.17g", v->lod.exponent);
+    } else if (v->lod.mode == TP_LOD_ERROR) {
+        args_add(a, "--lod");
+        args_add(a, "error");
+        args_add(a, "--tau");
+        args_add(a, "%.17g", v->lod.tau_px);
+    } else if (v->lod.mode == TP_LOD_FULL) {
+        args_add(a, "--lod");
+        args_add(a, "full");
+    }
+    if (v->magenta) {
+        args_add(a, "--clear-color");
+        args_add(a, "1,0,1");
+    }
+    args_add(a, "%s", dem);
+}
+
+/* Renders v into dir/<name>.png and dir/<name>.json (either may be skipped with NULL). */
+static void render(const char* dem, const view_spec* v, const char* dir, const char* png,
+                   const char* json)
+{
+    args a;
+    args_view(&a);
+    if (png) {
+        args_add(&a, "--screenshot");
+        args_add(&a, "%s/%s", dir, png);
+    }
+    if (json) {
+        args_add(&a, "--stats-json");
+        args_add(&a, "%s/%s", dir, json);
+    }
+    args_add_view(&a, dem, v);
+    run_ok(&a, dir);
+}
+
+/* The sample DEM's path (skips when it is missing). */
+static const char* sample_dem(void)
+{
+    static char path[1024];
+    REQUIRE_DATA_FILE(path, "TP_SAMPLE_DATA_DIR", SAMPLE_DEM);
+    return path;
+}
+
+static const view_spec distance_lod_view = {
+    {0, 0, 0, 0, 0}, 640, 360, {TP_LOD_DISTANCE, 300, 4000, 0.3, 0}, 1};
+
+/* ---------------------------------------------------------------------------------------------
+ * Images and statistics read back
+ */
+typedef struct image {
+    int w, h;
+    uint8_t* px; /* RGBA, top row first */
+} image;
+
+static void image_read(const char* dir, const char* name, image* im)
+{
+    char path[1024];
+    tp_error err;
+    snprintf(path, sizeof path, "%s/%s", dir, name);
+    memset(im, 0, sizeof *im);
+    memset(&err, 0, sizeof err);
+    if (tp_image_read_rgba(path, &im->w, &im->h, &im->px, &err) != TP_OK)
+        FAIL("tp_image_read_rgba(%s): %s", path, err.message);
+}
+
+static int is_magenta(const uint8_t* p)
+{
+    return p[0] > 200 && p[1] < 60 && p[2] > 200;
+}
+
+/* Magenta pixels of rows [y0, y1); the first one found goes to *fx, *fy (-1 if none). */
+static long count_magenta_rows(const image* im, int y0, int y1, int* fx, int* fy)
+{
+    long n = 0;
+    int x, y;
+    if (fx)
+        *fx = *fy = -1;
+    for (y = y0; y < y1; ++y)
+        for (x = 0; x < im->w; ++x)
+            if (is_magenta(im->px + 4 * ((size_t)y * im->w + x))) {
+                if (fx && *fx < 0)
+                    *fx = x, *fy = y;
+                ++n;
+            }
+    return n;
+}
+
+typedef struct view_stats {
+    long triangles, patches_drawn, patches_culled, draw_calls;
+    int levels[TP_MAX_LEVELS + 1];
+    int level_count;
+} view_stats;
+
+static double json_number(const char* text, const char* key)
+{
+    char pat[64];
+    const char* p;
+    snprintf(pat, sizeof pat, "\"%s\":", key);
+    p = strstr(text, pat);
+    if (!p)
+        FAIL("statistics JSON has no \"%s\": %s", key, text);
+    return strtod(p + strlen(pat), NULL);
+}
+
+static void stats_read(const char* dir, const char* name, view_stats* s)
+{
+    char path[1024], text[8192];
+    const char* p;
+    snprintf(path, sizeof path, "%s/%s", dir, name);
+    read_text(path, text, sizeof text, NULL);
+    ASSERT_TRUE(text[0] == '{');
+    memset(s, 0, sizeof *s);
+    s->triangles = (long)json_number(text, "triangles");
+    s->patches_drawn = (long)json_number(text, "patches_drawn");
+    s->patches_culled = (long)json_number(text, "patches_culled");
+    s->draw_calls = (long)json_number(text, "draw_calls");
+    p = strstr(text, "\"levels\":");
+    ASSERT_TRUE(p != NULL);
+    p = strchr(p, '[');
+    ASSERT_TRUE(p != NULL);
+    ++p;
+    for (;;) {
+        char* end;
+        long v;
+        while (*p == ' ' || *p == ',' || *p == '\n')
+            ++p;
+        if (*p == ']')
+            break;
+        v = strtol(p, &end, 10);
+        ASSERT_TRUE(end != p);
+        ASSERT_TRUE(s->level_count < TP_MAX_LEVELS + 1);
+        s->levels[s->level_count++] = (int)v;
+        p = end;
+    }
+}
+
+static int distinct_levels(const view_stats* s)
+{
+    int k, n = 0;
+    for (k = 0; k < s->level_count; ++k)
+        n += s->levels[k] > 0;
+    return n;
+}
+
+/* ---------------------------------------------------------------------------------------------
+ * The core in this process, built as app/scene.c builds it (default grid options, patch 17,
+ * pad), and the camera as app/cmd_view.c's camera_from makes it.
+ */
+typedef struct core_scene {
+    tp_dem* dem;
+    tp_render_grid* grid;
+    tp_terrain* t;
+    tp_terrain_info info;
+} core_scene;
+
+static void core_load(const char* path, core_scene* cs)
+{
+    tp_grid_options go;
+    tp_terrain_desc desc;
+    tp_error err;
+    tp_status s;
+    memset(cs, 0, sizeof *cs);
+    memset(&go, 0, sizeof go);
+    memset(&err, 0, sizeof err);
+    s = tp_dem_read(path, &cs->dem, &err);
+    if (s != TP_OK)
+        FAIL("tp_dem_read(%s): %s", path, err.message);
+    s = tp_render_grid_build(cs->dem, &go, &cs->grid, &err);
+    if (s != TP_OK)
+        FAIL("tp_render_grid_build(%s): %s", path, err.message);
+    desc = tp_render_grid_terrain_desc(cs->grid, 17, TP_FIT_PAD);
+    s = tp_terrain_create(&desc, &cs->t, &err);
+    if (s != TP_OK)
+        FAIL("tp_terrain_create(%s): %s", path, err.message);
+    tp_terrain_get_info(cs->t, &cs->info);
+}
+
+static void core_free(core_scene* cs)
+{
+    tp_terrain_destroy(cs->t);
+    tp_render_grid_destroy(cs->grid);
+    tp_dem_destroy(cs->dem);
+    memset(cs, 0, sizeof *cs);
+}
+
+/* app/cmd_view.c camera_from, with the CLI's defaults: fov 60 degrees, near 1 m, no far. */
+static void camera_from(const view_spec* v, tp_camera* cam)
+{
+    double y = v->cam[3] * DEG, p = v->cam[4] * DEG, r[3];
+    memset(cam, 0, sizeof *cam);
+    cam->position[0] = v->cam[0];
+    cam->position[1] = v->cam[1];
+    cam->position[2] = v->cam[2];
+    cam->forward[0] = sin(y) * cos(p);
+    cam->forward[1] = cos(y) * cos(p);
+    cam->forward[2] = sin(p);
+    r[0] = cos(y);
+    r[1] = -sin(y);
+    r[2] = 0;
+    cam->up[0] = r[1] * cam->forward[2] - r[2] * cam->forward[1];
+    cam->up[1] = r[2] * cam->forward[0] - r[0] * cam->forward[2];
+    cam->up[2] = r[0] * cam->forward[1] - r[1] * cam->forward[0];
+    cam->fov_y_rad = 60 * DEG;
+    cam->viewport_w_px = v->w;
+    cam->viewport_h_px = v->h;
+    cam->near_m = 1;
+}
+
+static tp_selection* core_select(const core_scene* cs, const view_spec* v)
+{
+    tp_selection* sel = NULL;
+    tp_camera cam;
+    tp_lod_params lod = v->lod;
+    tp_error err;
+    memset(&err, 0, sizeof err);
+    if (lod.mode == TP_LOD_DEFAULT)
+        lod.mode = TP_LOD_ERROR; /* cmd_view.c's default */
+    ASSERT_OK(tp_selection_create(cs->t, &sel, &err));
+    camera_from(v, &cam);
+    if (tp_selection_update(sel, &cam, &lod, &err) != TP_OK)
+        FAIL("tp_selection_update: %s", err.message);
+    return sel;
+}
+
+/* Largest level difference between two visible patches sharing an edge. */
+static int max_visible_neighbor_gap(const core_scene* cs, const tp_selection* sel)
+{
+    int c, r, gap = 0, cols = cs->info.patch_cols, rows = cs->info.patch_rows;
+    for (r = 0; r < rows; ++r)
+        for (c = 0; c < cols; ++c) {
+            int p = r * cols + c, q[2], i;
+            if (!tp_selection_visible(sel, p))
+                continue;
+            q[0] = c + 1 < cols ? p + 1 : -1;
+            q[1] = r + 1 < rows ? p + cols : -1;
+            for (i = 0; i < 2; ++i)
+                if (q[i] >= 0 && tp_selection_visible(sel, q[i])) {
+                    int d = abs(tp_selection_level(sel, p) - tp_selection_level(sel, q[i]));
+                    gap = d > gap ? d : gap;
+                }
+        }
+    return gap;
+}
+
+/* ---------------------------------------------------------------------------------------------
+ * No cracks: every view below is ground from edge to edge (checked by looking at it; a crack
+ * or a hole would show the magenta background).
+ */
+static void expect_no_magenta(const char* dem, const view_spec* v, const char* what, int min_levels,
+                              int min_gap)
+{
+    const char* dir = make_tmp_dir();
+    image im;
+    view_stats st;
+    core_scene cs;
+    tp_selection* sel;
+    long n;
+    int fx, fy, gap;
+    render(dem, v, dir, "view.png", "view.json");
+    image_read(dir, "view.png", &im);
+    stats_read(dir, "view.json", &st);
+    ASSERT_EQ_INT(v->w, im.w);
+    ASSERT_EQ_INT(v->h, im.h);
+    n = count_magenta_rows(&im, 0, im.h, &fx, &fy);
+    core_load(dem, &cs);
+    sel = core_select(&cs, v);
+    gap = max_visible_neighbor_gap(&cs, sel);
+    tp_test_note("%s: %ld magenta pixels; %d levels drawn (%d %d %d %d %d), %ld patches, "
+                 "largest level gap between visible neighbours %d",
+                 what, n, distinct_levels(&st), st.levels[0], st.levels[1], st.levels[2],
+                 st.levels[3], st.levels[4], st.patches_drawn, gap);
+    EXPECT_EQ_INT(0, n);
+    if (n)
+        ADD_FAILURE("%s: first magenta pixel at (%d, %d)", what, fx, fy);
+    /* the view must really be adversarial, or it proves nothing */
+    EXPECT_GE_INT(distinct_levels(&st), min_levels);
+    EXPECT_GE_INT(gap, min_gap);
+    tp_selection_destroy(sel);
+    core_free(&cs);
+    free(im.px);
+}
+
+/* ---------------------------------------------------------------------------------------------
+ * Precision: the same DEM at its UTM coordinates (E ~ 6e5, N ~ 5e6 m) and at a local origin.
+ */
+
+/* Pixels of a with no pixel within 1 px in b whose channels all differ by <= tol. */
+static long unmatched_pixels(const image* a, const image* b, int tol, int* fx, int* fy)
+{
+    long bad = 0;
+    int x, y, dx, dy, c;
+    *fx = *fy = -1;
+    for (y = 0; y < a->h; ++y)
+        for (x = 0; x < a->w; ++x) {
+            const uint8_t* pa = a->px + 4 * ((size_t)y * a->w + x);
+            int found = 0;
+            for (dy = -1; dy <= 1 && !found; ++dy)
+                for (dx = -1; dx <= 1 && !found; ++dx) {
+                    const uint8_t* pb;
+                    int ok = 1;
+                    if (x + dx < 0 || y + dy < 0 || x + dx >= b->w || y + dy >= b->h)
+                        continue;
+                    pb = b->px + 4 * ((size_t)(y + dy) * b->w + (x + dx));
+                    for (c = 0; c < 3; ++c)
+                        ok &= abs((int)pa[c] - (int)pb[c]) <= tol;
+                    found = ok;
+                }
+            if (!found) {
+                if (*fx < 0)
+                    *fx = x, *fy = y;
+                ++bad;
+            }
+        }
+    return bad;
+}
+
+/* Writes dir/local.vrt: the sample with its origin at (0, 0) and no CRS. */
+static void write_local_vrt(const char* dir, const char* dem_path, const tp_dem* dem)
+{
+    char path[1024];
+    FILE* f;
+    snprintf(path, sizeof path, "%s/local.vrt", dir);
+    f = fopen(path, "w");
+    ASSERT_TRUE(f != NULL);
+    fprintf(f, "<VRTDataset rasterXSize=\"%d\" rasterYSize=\"%d\">\n", dem->width, dem->height);
+    fprintf(f, "  <GeoTransform>0, %.17g, 0, 0, 0, %.17g</GeoTransform>\n", dem->geotransform[1],
+            dem->geotransform[5]);
+    fprintf(f, "  <VRTRasterBand dataType=\"%s\" band=\"1\">\n", dem->data_type);
+    if (dem->has_nodata)
+        fprintf(f, "    <NoDataValue>%.17g</NoDataValue>\n", dem->nodata_value);
+    fprintf(f,
+            "    <SimpleSource>\n"
+            "      <SourceFilename relativeToVRT=\"0\">%s</SourceFilename>\n"
+            "      <SourceBand>1</SourceBand>\n"
+            "    </SimpleSource>\n"
+            "  </VRTRasterBand>\n"
+            "</VRTDataset>\n",
+            dem_path);
+    ASSERT_EQ_INT(0, fclose(f));
+}
+
+/* ---------------------------------------------------------------------------------------------
+ * The statistics JSON is the core's selection for the same camera.
+ */
+static void expect_stats_match_core(const char* dem, const view_spec* v)
+{
+    const char* dir = make_tmp_dir();
+    view_stats st;
+    core_scene cs;
+    tp_selection* sel;
+    tp_frame_stats fs;
+    int k;
+    render(dem, v, dir, NULL, "view.json");
+    stats_read(dir, "view.json", &st);
+    core_load(dem, &cs);
+    sel = core_select(&cs, v);
+    tp_selection_stats(sel, &fs);
+    tp_test_note("camera %g,%g,%g,%g,%g: %ld triangles, %ld drawn, %ld culled; core: %zu, %d, %d",
+                 v->cam[0], v->cam[1], v->cam[2], v->cam[3], v->cam[4], st.triangles,
+                 st.patches_drawn, st.patches_culled, fs.triangles, fs.visible_patches,
+                 fs.culled_patches);
+    EXPECT_EQ_INT(fs.triangles, st.triangles);
+    EXPECT_EQ_INT(fs.visible_patches, st.patches_drawn);
+    EXPECT_EQ_INT(fs.culled_patches, st.patches_culled);
+    EXPECT_EQ_INT(cs.info.levels, st.level_count);
+    for (k = 0; k < cs.info.levels && k < st.level_count; ++k)
+        EXPECT_EQ_INT(fs.patches_per_level[k], st.levels[k]);
+    /* and the view is not trivial */
+    EXPECT_GT(st.patches_drawn, 0);
+    EXPECT_GT(st.patches_culled, 0);
+    tp_selection_destroy(sel);
+    core_free(&cs);
+}
+
+/* ---------------------------------------------------------------------------------------------
+ * The reference image (see the top of this file for how to regenerate it).
+ */
+static int reference_path(char* buf, size_t cap)
+{
+    const char* dir = getenv("TP_TEST_REFERENCE_DIR");
+    FILE* f;
+    if (dir && *dir)
+        snprintf(buf, cap, "%s/%s", dir, REFERENCE_PNG);
+    else
+        snprintf(buf, cap, "%s/../tests/reference/%s", TP_TEST_DEFAULT_SAMPLE_DATA_DIR,
+                 REFERENCE_PNG);
+    f = fopen(buf, "rb");
+    if (!f)
+        return 0;
+    fclose(f);
+    return 1;
+}
+
+static void copy_file(const char* from, const char* to)
+{
+    FILE *in = fopen(from, "rb"), *out = in ? fopen(to, "wb") : NULL;
+    char buf[65536];
+    size_t n;
+    if (in && out)
+        while ((n = fread(buf, 1, sizeof buf, in)) > 0)
+            fwrite(buf, 1, n, out);
+    if (in)
+        fclose(in);
+    if (out)
+        fclose(out);
+}
+
+/* ---------------------------------------------------------------------------------------------
+ * Bad command lines: exit status 1 (failure) or 2 (usage), one line on stderr naming what was
+ * wrong, no output file.
+ */
+static void expect_failure(args* a, const char* log_dir, int code, const char* needle)
+{
+    run_result r;
+    run(a, log_dir, &r);
+    tp_test_note("exit %d, stderr: %s", r.exit_code, r.err);
+    EXPECT_EQ_INT(code, r.exit_code);
+    EXPECT_EQ_INT(1, r.err_lines);
+    EXPECT_CONTAINS(r.err, needle);
+    EXPECT_TRUE(r.out[0] == '\0');
+}
+
+static int dir_entries(const char* dir)
+{
+    DIR* d = opendir(dir);
+    struct dirent* e;
+    int n = 0;
+    if (!d)
+        return -1;
+    while ((e = readdir(d)) != NULL)
+        n += strcmp(e->d_name, ".") != 0 && strcmp(e->d_name, "..") != 0;
+    closedir(d);
+    return n;
+}
+
+#endif /* TP_TEST_NO_IO */
+
+/* Straight down from just above the summit (3421 m at E 602125, N 5025267) and from 580 m above
+ * it: distance LoD with mindist 300, maxdist 4000, exponent 0.3 gives levels 1..4 and 1..3. */
+TEST(no_cracks_top_down_distance_lod)
+{
+    REQUIRE_IO();
+#ifndef TP_TEST_NO_IO
+    {
+        const char* dem;
+        view_spec v = distance_lod_view;
+        dem = sample_dem();
+        v.cam[0] = 602125, v.cam[1] = 5025267, v.cam[2] = 3700, v.cam[3] = 0, v.cam[4] = -90;
+        expect_no_magenta(dem, &v, "summit, 280 m above", 4, 2);
+        v.cam[2] = 4000;
+        expect_no_magenta(dem, &v, "summit, 580 m above", 3, 1);
+    }
+#endif
+}
+
+/* Oblique (pitch -55): 350 m above the summit's height just north of it, looking south over it
+ * (levels 0..4, level 2 next to level 4); 400 m above a ridge west of the mountain looking north
+ * (levels 1..4); 1500 m above the south flank looking up the mountain (levels 0..2). */
+TEST(no_cracks_oblique_distance_lod)
+{
+    REQUIRE_IO();
+#ifndef TP_TEST_NO_IO
+    {
+        const char* dem;
+        view_spec v = distance_lod_view;
+        dem = sample_dem();
+        v.cam[0] = 602000, v.cam[1] = 5026000, v.cam[2] = 3612, v.cam[3] = 180, v.cam[4] = -55;
+        expect_no_magenta(dem, &v, "over the summit", 5, 2);
+        v.cam[0] = 595000, v.cam[1] = 5022000, v.cam[2] = 1816, v.cam[3] = 0;
+        expect_no_magenta(dem, &v, "ridge, 400 m above", 4, 1);
+        v.cam[0] = 602125, v.cam[1] = 5018000, v.cam[2] = 2950;
+        expect_no_magenta(dem, &v, "south flank, 1500 m above", 3, 1);
+    }
+#endif
+}
+
+/* Oblique views with the screen-space error rule at tau 8 px (solid, not wireframe), where
+ * the stitching pass raises coarse neighbours: 1500 m above the east side looking west (levels
+ * 0..4, level 0 next to level 3), and the south flank and ridge views above. */
+TEST(no_cracks_oblique_error_lod)
+{
+    REQUIRE_IO();
+#ifndef TP_TEST_NO_IO
+    {
+        const char* dem;
+        view_spec v = distance_lod_view;
+        dem = sample_dem();
+        v.lod.mode = TP_LOD_ERROR;
+        v.lod.tau_px = 8;
+        v.cam[0] = 614000, v.cam[1] = 5030000, v.cam[2] = 2811, v.cam[3] = 270, v.cam[4] = -55;
+        expect_no_magenta(dem, &v, "east side, 1500 m above", 5, 2);
+        v.cam[0] = 602125, v.cam[1] = 5018000, v.cam[2] = 2950, v.cam[3] = 0;
+        expect_no_magenta(dem, &v, "south flank, 1500 m above", 4, 2);
+        v.cam[0] = 595000, v.cam[1] = 5022000, v.cam[2] = 1816;
+        expect_no_magenta(dem, &v, "ridge, 400 m above", 2, 1);
+    }
+#endif
+}
+
+TEST(utm_and_local_origin_render_alike)
+{
+    REQUIRE_IO();
+#ifndef TP_TEST_NO_IO
+    {
+        /* The reference view, and two 5 m above the ground looking level (near the summit,
+         * nearly horizontal: ridges and sky close by). Rendering in float32 world
+         * coordinates (0.5 m steps at N = 5e6) fails all three, the last by ~200 pixels. */
+        static const double cams[][5] = {{598000, 5012000, 4500, 15, -35},
+                                         {595000, 5022000, 1421, 90, 0},
+                                         {602000, 5026000, 2867, 0, -3}};
+        const char *dem_path, *dir;
+        char vrt[1024];
+        tp_dem* dem = NULL;
+        tp_error err;
+        int i, k;
+        dem_path = sample_dem();
+        dir = make_tmp_dir();
+        memset(&err, 0, sizeof err);
+        ASSERT_OK(tp_dem_read(dem_path, &dem, &err));
+        ASSERT_GT(fabs(dem->geotransform[3]), 1e6); /* really at large coordinates */
+        write_local_vrt(dir, dem_path, dem);
+        snprintf(vrt, sizeof vrt, "%s/local.vrt", dir);
+        for (i = 0; i < (int)(sizeof cams / sizeof cams[0]); ++i) {
+            view_spec utm = {{0, 0, 0, 0, 0}, 1280, 720, {TP_LOD_DEFAULT, 0, 0, 0, 0}, 1};
+            view_spec local;
+            image a, b;
+            view_stats sa, sb;
+            long bad_ab, bad_ba, same = 0;
+            int fx, fy, gx, gy;
+            size_t p;
+            memcpy(utm.cam, cams[i], sizeof utm.cam);
+            local = utm;
+            local.cam[0] = utm.cam[0] - dem->geotransform[0];
+            local.cam[1] = utm.cam[1] - dem->geotransform[3];
+            render(dem_path, &utm, dir, "utm.png", "utm.json");
+            render(vrt, &local, dir, "local.png", "local.json");
+            image_read(dir, "utm.png", &a);
+            image_read(dir, "local.png", &b);
+            stats_read(dir, "utm.json", &sa);
+            stats_read(dir, "local.json", &sb);
+            ASSERT_EQ_INT(a.w, b.w);
+            ASSERT_EQ_INT(a.h, b.h);
+            /* the same patches at the same levels, or the comparison below is not like for like */
+            EXPECT_EQ_INT(sa.triangles, sb.triangles);
+            for (k = 0; k < sa.level_count; ++k)
+                EXPECT_EQ_INT(sa.levels[k], sb.levels[k]);
+            bad_ab = unmatched_pixels(&a, &b, 8, &fx, &fy);
+            bad_ba = unmatched_pixels(&b, &a, 8, &gx, &gy);
+            for (p = 0; p < (size_t)a.w * a.h * 4; p += 4)
+                same += !memcmp(a.px + p, b.px + p, 3);
+            tp_test_note(
+                "view %d: %ld of %d pixels of the UTM image unmatched in the local one, %ld "
+                "the other way; %ld identical pixels; %ld magenta (sky)",
+                i, bad_ab, a.w * a.h, bad_ba, same, count_magenta_rows(&a, 0, a.h, NULL, NULL));
+            EXPECT_EQ_INT(0, bad_ab);
+            EXPECT_EQ_INT(0, bad_ba);
+            if (bad_ab || bad_ba)
+                ADD_FAILURE("view %d: first unmatched pixels (%d, %d) and (%d, %d)", i, fx, fy, gx,
+                            gy);
+            free(a.px);
+            free(b.px);
+        }
+        tp_dem_destroy(dem);
+    }
+#endif
+}
+
+TEST(stats_json_equals_core_selection_error_lod)
+{
+    REQUIRE_IO();
+#ifndef TP_TEST_NO_IO
+    {
+        const char* dem;
+        view_spec v = {{598000, 5012000, 4500, 15, -35}, 640, 360, {TP_LOD_ERROR, 0, 0, 0, 2.5}, 0};
+        dem = sample_dem();
+        expect_stats_match_core(dem, &v);
+    }
+#endif
+}
+
+TEST(stats_json_equals_core_selection_distance_lod)
+{
+    REQUIRE_IO();
+#ifndef TP_TEST_NO_IO
+    {
+        const char* dem;
+        view_spec v = {
+            {609000, 5033000, 2600, 225, -25}, 512, 384, {TP_LOD_DISTANCE, 500, 9000, 1.7, 0}, 0};
+        dem = sample_dem();
+        expect_stats_match_core(dem, &v);
+    }
+#endif
+}
+
+/* ---------------------------------------------------------------------------------------------
+ * Culling
+ */
+TEST(looking_at_the_sky_culls_every_patch)
+{
+    REQUIRE_IO();
+#ifndef TP_TEST_NO_IO
+    {
+        const char *dem, *dir;
+        /* 1079 m above the summit, 60 degrees up: the lowest ray of the view climbs 30 degrees */
+        view_spec v = {{602125, 5025267, 4500, 0, 60}, 320, 180, {TP_LOD_DEFAULT, 0, 0, 0, 0}, 1};
+        core_scene cs;
+        view_stats st;
+        image im;
+        dem = sample_dem();
+        dir = make_tmp_dir();
+        render(dem, &v, dir, "sky.png", "sky.json");
+        stats_read(dir, "sky.json", &st);
+        image_read(dir, "sky.png", &im);
+        core_load(dem, &cs);
+        tp_test_note("%ld drawn, %ld culled of %d patches", st.patches_drawn, st.patches_culled,
+                     cs.info.patch_count);
+        EXPECT_EQ_INT(0, st.patches_drawn);
+        EXPECT_EQ_INT(cs.info.patch_count, st.patches_culled);
+        EXPECT_EQ_INT(0, st.triangles);
+        /* nothing drawn: the whole image is the background (this also shows that the magenta test
+         * of the crack tests sees the background) */
+        EXPECT_EQ_INT((long)im.w * im.h, count_magenta_rows(&im, 0, im.h, NULL, NULL));
+        core_free(&cs);
+        free(im.px);
+    }
+#endif
+}
+
+TEST(looking_north_culls_the_patches_behind)
+{
+    REQUIRE_IO();
+#ifndef TP_TEST_NO_IO
+    {
+        const char *dem, *dir;
+        /* 300 m above the ground 1.6 km from the south edge, 10 degrees down, looking north */
+        view_spec v = {{602125, 5015000, 1500, 0, -10}, 320, 180, {TP_LOD_DEFAULT, 0, 0, 0, 0}, 1};
+        core_scene cs;
+        view_stats st;
+        image im;
+        int p, behind = 0, ahead = 0;
+        long sky_top, sky_bottom;
+        dem = sample_dem();
+        dir = make_tmp_dir();
+        render(dem, &v, dir, "north.png", "north.json");
+        stats_read(dir, "north.json", &st);
+        image_read(dir, "north.png", &im);
+        core_load(dem, &cs);
+        /* patches entirely south of the eye are behind it; those entirely north of it, in the
+         * column under the eye, are ahead */
+        for (p = 0; p < cs.info.patch_count; ++p) {
+            tp_patch_info pi;
+            tp_patch_get_info(cs.t, p, &pi);
+            if (pi.aabb_max[1] < v.cam[1])
+                ++behind;
+            else if (pi.aabb_min[1] > v.cam[1] && pi.aabb_min[0] <= v.cam[0] &&
+                     pi.aabb_max[0] >= v.cam[0])
+                ++ahead;
+        }
+        sky_top = count_magenta_rows(&im, 0, 1, NULL, NULL);
+        sky_bottom = count_magenta_rows(&im, im.h - 1, im.h, NULL, NULL);
+        tp_test_note("%ld drawn, %ld culled of %d patches; %d entirely behind the eye; top row %ld "
+                     "of %d px sky, bottom row %ld",
+                     st.patches_drawn, st.patches_culled, cs.info.patch_count, behind, sky_top,
+                     im.w, sky_bottom);
+        ASSERT_GT(behind, 100); /* the view is what this test means */
+        EXPECT_GE_INT(st.patches_culled, behind);
+        EXPECT_GE_INT(st.patches_drawn, ahead);
+        EXPECT_EQ_INT(cs.info.patch_count, st.patches_drawn + st.patches_culled);
+        /* 10 degrees down with a 60-degree field of view: sky at the top, ground at the bottom */
+        EXPECT_EQ_INT(im.w, sky_top);
+        EXPECT_EQ_INT(0, sky_bottom);
+        core_free(&cs);
+        free(im.px);
+    }
+#endif
+}
+
+TEST(reference_view_matches_committed_image)
+{
+    REQUIRE_IO();
+#ifndef TP_TEST_NO_IO
+    {
+        const char *dem, *dir;
+        char ref_path[1024], got_path[1024];
+        view_spec v = {{598000, 5012000, 4500, 15, -35}, 480, 270, {TP_LOD_DEFAULT, 0, 0, 0, 0}, 0};
+        image got, ref;
+        tp_error err;
+        double sum[3] = {0, 0, 0}, mad[3];
+        long within = 0, n;
+        int max_diff = 0, c;
+        size_t p;
+        dem = sample_dem();
+        if (!reference_path(ref_path, sizeof ref_path))
+            FAIL("reference image %s is missing", ref_path);
+        dir = make_tmp_dir();
+        render(dem, &v, dir, "got.png", NULL);
+        image_read(dir, "got.png", &got);
+        memset(&err, 0, sizeof err);
+        if (tp_image_read_rgba(ref_path, &ref.w, &ref.h, &ref.px, &err) != TP_OK)
+            FAIL("tp_image_read_rgba(%s): %s", ref_path, err.message);
+        ASSERT_EQ_INT(ref.w, got.w);
+        ASSERT_EQ_INT(ref.h, got.h);
+        n = (long)got.w * got.h;
+        for (p = 0; p < (size_t)n * 4; p += 4) {
+            int m = 0;
+            for (c = 0; c < 3; ++c) {
+                int d = abs((int)got.px[p + c] - (int)ref.px[p + c]);
+                sum[c] += d;
+                m = d > m ? d : m;
+            }
+            within += m <= 12;
+            max_diff = m > max_diff ? m : max_diff;
+        }
+        for (c = 0; c < 3; ++c)
+            mad[c] = sum[c] / (double)n;
+        tp_test_note("mean absolute difference R %.4f G %.4f B %.4f; %ld of %ld pixels within 12 "
+                     "(%.4f%%); largest difference %d",
+                     mad[0], mad[1], mad[2], within, n, 100.0 * (double)within / (double)n,
+                     max_diff);
+        for (c = 0; c < 3; ++c)
+            EXPECT_LT(mad[c], 1.5);
+        EXPECT_GE((double)within / (double)n, 0.995);
+        if (tp_test_state_.failures) {
+            snprintf(got_path, sizeof got_path, "%s/got.png", dir);
+            copy_file(got_path, "mt_hood_480x270.actual.png");
+            tp_test_note(
+                "the image rendered now is in mt_hood_480x270.actual.png (working directory)");
+        }
+        free(got.px);
+        free(ref.px);
+    }
+#endif
+}
+
+TEST(screenshot_into_missing_directory_exits_1)
+{
+    REQUIRE_IO();
+#ifndef TP_TEST_NO_IO
+    {
+        const char* log_dir;
+        args a;
+        args_view(&a);
+        log_dir = make_tmp_dir();
+        ASSERT_TRUE(access("/nonexistent-dir", F_OK) != 0);
+        args_add(&a, "--headless");
+        args_add(&a, "--size");
+        args_add(&a, "64x36");
+        args_add(&a, "--screenshot");
+        args_add(&a, "/nonexistent-dir/x.png");
+        args_add(&a, "%s", sample_dem());
+        expect_failure(&a, log_dir, 1, "/nonexistent-dir/x.png");
+        EXPECT_TRUE(access("/nonexistent-dir", F_OK) != 0);
+        EXPECT_EQ_INT(0, dir_entries(log_dir)); /* nothing written beside the logs */
+    }
+#endif
+}
+
+TEST(screenshot_onto_a_directory_exits_1_and_leaves_no_file)
+{
+    REQUIRE_IO();
+#ifndef TP_TEST_NO_IO
+    {
+        const char* dir;
+        char shots[1024], target[1024];
+        args a;
+        args_view(&a);
+        dir = make_tmp_dir();
+        snprintf(shots, sizeof shots, "%s/shots", dir);
+        snprintf(target, sizeof target, "%s/shots/x.png", dir);
+        ASSERT_EQ_INT(0, mkdir(shots, 0755));
+        ASSERT_EQ_INT(0, mkdir(target, 0755)); /* the PNG's name is taken by a directory */
+        args_add(&a, "--headless");
+        args_add(&a, "--size");
+        args_add(&a, "64x36");
+        args_add(&a, "--screenshot");
+        args_add(&a, "%s", target);
+        args_add(&a, "%s", sample_dem());
+        expect_failure(&a, dir, 1, target);
+        EXPECT_EQ_INT(1, dir_entries(shots));  /* only x.png/, no temporary file left beside it */
+        EXPECT_EQ_INT(0, dir_entries(target)); /* and nothing inside it */
+    }
+#endif
+}
+
+TEST(size_below_16_exits_2)
+{
+    REQUIRE_IO();
+#ifndef TP_TEST_NO_IO
+    {
+        args a;
+        args_view(&a);
+        args_add(&a, "--headless");
+        args_add(&a, "--size");
+        args_add(&a, "10x10");
+        args_add(&a, "%s", sample_dem());
+        expect_failure(&a, make_tmp_dir(), 2, "--size");
+    }
+#endif
+}
+
+TEST(camera_with_three_values_exits_2)
+{
+    REQUIRE_IO();
+#ifndef TP_TEST_NO_IO
+    {
+        args a;
+        args_view(&a);
+        args_add(&a, "--headless");
+        args_add(&a, "--camera");
+        args_add(&a, "1,2,3");
+        args_add(&a, "%s", sample_dem());
+        expect_failure(&a, make_tmp_dir(), 2, "--camera");
+    }
+#endif
+}
+
+TEST(unknown_lod_mode_exits_2)
+{
+    REQUIRE_IO();
+#ifndef TP_TEST_NO_IO
+    {
+        args a;
+        args_view(&a);
+        args_add(&a, "--headless");
+        args_add(&a, "--lod");
+        args_add(&a, "bogus");
+        args_add(&a, "%s", sample_dem());
+        expect_failure(&a, make_tmp_dir(), 2, "bogus");
+    }
+#endif
+}
+
+TEST(missing_dem_exits_1)
+{
+    REQUIRE_IO();
+#ifndef TP_TEST_NO_IO
+    {
+        args a;
+        args_view(&a);
+        args_add(&a, "--headless");
+        args_add(&a, "--size");
+        args_add(&a, "64x36");
+        args_add(&a, "/nonexistent-dir/no_such_dem.tif");
+        expect_failure(&a, make_tmp_dir(), 1, "no_such_dem.tif");
+    }
+#endif
+}
+
+#define TESTS(X)                                                                                   \
+    X(no_cracks_top_down_distance_lod)                                                             \
+    X(no_cracks_oblique_distance_lod)                                                              \
+    X(no_cracks_oblique_error_lod)                                                                 \
+    X(utm_and_local_origin_render_alike)                                                           \
+    X(stats_json_equals_core_selection_error_lod)                                                  \
+    X(stats_json_equals_core_selection_distance_lod)                                               \
+    X(looking_at_the_sky_culls_every_patch)                                                        \
+    X(looking_north_culls_the_patches_behind)                                                      \
+    X(reference_view_matches_committed_image)                                                      \
+    X(screenshot_into_missing_directory_exits_1)                                                   \
+    X(screenshot_onto_a_directory_exits_1_and_leaves_no_file)                                      \
+    X(size_below_16_exits_2)                                                                       \
+    X(camera_with_three_values_exits_2)                                                            \
+    X(unknown_lod_mode_exits_2)                                                                    \
+    X(missing_dem_exits_1)
+
+TP_TEST_MAIN(TESTS)
