@@ -64,6 +64,7 @@ enum {
     OPT_EXAG,
     OPT_ONE_DRAW,
     OPT_HUD,
+    OPT_HIDE_FILLED,
 };
 
 static void print_help(void)
@@ -95,6 +96,7 @@ static void print_help(void)
           "  --clear-color R,G,B   background, 0..1 each\n"
           "  --wireframe, --color-lod   draw edges only / colour patches by level\n"
           "  --exaggeration X      vertical exaggeration (default 1)\n"
+          "  --hide-filled         draw filled voids like measured ground (default: tinted)\n"
           "  --one-draw-per-patch  one draw call per patch instead of multi-draw\n"
           "  --no-hud              no text overlay (frame times, triangles, levels, error,\n"
           "                        camera and centre position as lat/lon, UTM and MGRS)\n"
@@ -105,8 +107,9 @@ static void print_help(void)
     tp_scene_options_help(stdout);
     fputs("\nWindow keys: W/S forward/back, A/D left/right, Q/E down/up, drag with the left\n"
           "mouse button to look around, L colour by level, T wireframe, F freeze LoD and\n"
-          "culling, M switch LoD mode, +/- tau (or mindist/maxdist), P screenshot, C print the\n"
-          "camera as --camera-geo and --camera options, Esc quit.\n"
+          "culling, M switch LoD mode, +/- tau (or maxdist), X/Z vertical exaggeration, V tint\n"
+          "of filled voids, P screenshot, C print the camera as --camera-geo and --camera\n"
+          "options, H hide the HUD, ? key help, Esc quit.\n"
           "\nExit status: 0 success, 1 failure, 2 usage error.\n",
           stdout);
 }
@@ -174,6 +177,7 @@ static int parse_options(int argc, char** argv, view_options* o)
         {"stats-json", required_argument, NULL, OPT_STATS},
         {"no-hud", no_argument, NULL, OPT_NO_HUD},
         {"hud", no_argument, NULL, OPT_HUD},
+        {"hide-filled", no_argument, NULL, OPT_HIDE_FILLED},
         {"exaggeration", required_argument, NULL, OPT_EXAG},
         {"one-draw-per-patch", no_argument, NULL, OPT_ONE_DRAW},
         {"help", no_argument, NULL, 'h'},
@@ -276,6 +280,7 @@ static int parse_options(int argc, char** argv, view_options* o)
         case OPT_COLOR_LOD: o->render.color_lod = 1; break;
         case OPT_NO_HUD: o->no_hud = 1; break;
         case OPT_HUD: o->hud = 1; break;
+        case OPT_HIDE_FILLED: o->render.hide_filled = 1; break;
         case OPT_ONE_DRAW: o->render.one_draw_per_patch = 1; break;
         case 'h': print_help(); return tp_cli_finish(TP_EXIT_OK);
         case ':':
@@ -528,7 +533,8 @@ static void hud_text(const tp_scene* sc, const tp_selection* sel, const tp_camer
 static const char* help_text =
     "W/S forward/back   A/D left/right   Q/E down/up   left drag: look\n"
     "L colour by level   T wireframe   F freeze LoD and culling   M LoD mode\n"
-    "+/- tau (or maxdist)   P screenshot   C print camera   H hide HUD   ? this help   Esc quit";
+    "+/- tau (or maxdist)   X/Z exaggeration   V filled-void tint   P screenshot\n"
+    "C print camera   H hide HUD   ? this help   Esc quit";
 
 typedef struct interactive {
     double yaw, pitch;
@@ -596,6 +602,9 @@ static int run_window(tp_scene* sc, tp_gl_context* ctx, tp_renderer* r, tp_selec
         if (TAPPED(GLFW_KEY_T)) o->render.wireframe = !o->render.wireframe;
         if (TAPPED(GLFW_KEY_F)) frozen = !frozen;
         if (TAPPED(GLFW_KEY_H)) show_hud = !show_hud;
+        if (TAPPED(GLFW_KEY_V)) o->render.hide_filled = !o->render.hide_filled;
+        if (TAPPED(GLFW_KEY_X)) o->render.exaggeration *= 1.25;
+        if (TAPPED(GLFW_KEY_Z)) o->render.exaggeration /= 1.25;
         if (TAPPED(GLFW_KEY_SLASH)) show_help = !show_help;
         if (TAPPED(GLFW_KEY_M))
             lod.mode = lod.mode == TP_LOD_ERROR ? TP_LOD_DISTANCE : TP_LOD_ERROR;
