@@ -39,6 +39,7 @@ typedef struct view_options {
     int w, h;
     int headless, frames, no_hud, hud;
     const char* screenshot;
+    const char* texture;
     const char* stats_json;
     const char* path;
 } view_options;
@@ -65,6 +66,7 @@ enum {
     OPT_ONE_DRAW,
     OPT_HUD,
     OPT_HIDE_FILLED,
+    OPT_TEXTURE,
 };
 
 static void print_help(void)
@@ -97,6 +99,8 @@ static void print_help(void)
           "  --wireframe, --color-lod   draw edges only / colour patches by level\n"
           "  --exaggeration X      vertical exaggeration (default 1)\n"
           "  --hide-filled         draw filled voids like measured ground (default: tinted)\n"
+          "  --texture FILE        drape an image: an orthophoto georeferenced through GDAL (warped\n"
+          "                        onto the render grid), or any image covering the DEM's extent\n"
           "  --one-draw-per-patch  one draw call per patch instead of multi-draw\n"
           "  --no-hud              no text overlay (frame times, triangles, levels, error,\n"
           "                        camera and centre position as lat/lon, UTM and MGRS)\n"
@@ -178,6 +182,7 @@ static int parse_options(int argc, char** argv, view_options* o)
         {"no-hud", no_argument, NULL, OPT_NO_HUD},
         {"hud", no_argument, NULL, OPT_HUD},
         {"hide-filled", no_argument, NULL, OPT_HIDE_FILLED},
+        {"texture", required_argument, NULL, OPT_TEXTURE},
         {"exaggeration", required_argument, NULL, OPT_EXAG},
         {"one-draw-per-patch", no_argument, NULL, OPT_ONE_DRAW},
         {"help", no_argument, NULL, 'h'},
@@ -281,6 +286,7 @@ static int parse_options(int argc, char** argv, view_options* o)
         case OPT_NO_HUD: o->no_hud = 1; break;
         case OPT_HUD: o->hud = 1; break;
         case OPT_HIDE_FILLED: o->render.hide_filled = 1; break;
+        case OPT_TEXTURE: o->texture = optarg; break;
         case OPT_ONE_DRAW: o->render.one_draw_per_patch = 1; break;
         case 'h': print_help(); return tp_cli_finish(TP_EXIT_OK);
         case ':':
@@ -536,6 +542,32 @@ static const char* help_text =
     "+/- tau (or maxdist)   X/Z exaggeration   V filled-void tint   P screenshot\n"
     "C print camera   H hide HUD   ? this help   Esc quit";
 
+/* Builds the texture for the render grid and hands it to the renderer. */
+static int load_texture(const tp_scene* sc, tp_renderer* r, const char* path)
+{
+    GLint max = 4096;
+    glGetIntegerv(GL_MAX_TEXTURE_SIZE, &max);
+    tp_texture* tex = NULL;
+    tp_error err;
+    if (tp_texture_build(path, sc->grid, max < 8192 ? max : 8192, &tex, &err) != TP_OK) {
+        fprintf(stderr, "terrapatch: %s\n", err.message);
+        return 0;
+    }
+    /* Tiled-grid sample x sits at render-grid x * ratio (1 unless the fit resampled), whose
+     * pixel centre is at u = (x_render + 0.5) / render width. */
+    const tp_terrain_info* in = &sc->info;
+    double rx = in->fit == TP_FIT_RESAMPLE ? (double)(in->src_width - 1) / (in->width - 1) : 1;
+    double ry = in->fit == TP_FIT_RESAMPLE ? (double)(in->src_height - 1) / (in->height - 1) : 1;
+    float scale[2] = {(float)(rx / sc->grid->width), (float)(ry / sc->grid->height)};
+    float offset[2] = {(float)(0.5 / sc->grid->width), (float)(0.5 / sc->grid->height)};
+    int ok = tp_renderer_set_texture(r, tex->rgba, tex->width, tex->height, scale, offset);
+    if (!ok)
+        fprintf(stderr, "terrapatch: %s: the GPU cannot hold a %dx%d texture\n", path, tex->width,
+                tex->height);
+    tp_texture_destroy(tex);
+    return ok;
+}
+
 typedef struct interactive {
     double yaw, pitch;
     double last_x, last_y;
@@ -705,6 +737,13 @@ int tp_cli_view(int argc, char** argv)
         return TP_EXIT_FAILURE;
     }
 
+    if (o.texture && !load_texture(&sc, r, o.texture)) {
+        tp_selection_destroy(sel);
+        tp_renderer_destroy(r);
+        tp_gl_context_destroy(ctx);
+        tp_scene_free(&sc);
+        return TP_EXIT_FAILURE;
+    }
     code = TP_EXIT_OK;
     if (o.headless) {
         frame_result fr = {0};

@@ -42,7 +42,9 @@ struct tp_renderer {
     void** offsets;
     GLint* bases;
     GLint u_cell, u_frac, u_spacing, u_cam_z, u_exag, u_viewproj, u_sun, u_color_lod,
-        u_hide_filled, u_hrange;
+        u_hide_filled, u_hrange, u_textured, u_tex, u_tex_scale, u_tex_offset;
+    GLuint tex;
+    float tex_scale[2], tex_offset[2];
 };
 
 static double now_ms(void)
@@ -64,6 +66,8 @@ static const char* vs_src =
     "uniform float u_cam_z;\n"
     "uniform float u_exag;\n"
     "uniform mat4 u_viewproj;\n"
+    "uniform vec2 u_tex_scale, u_tex_offset;\n"
+    "out vec2 v_uv;\n"
     "out vec3 v_normal;\n"
     "out float v_height;\n"
     "out float v_filled;\n"
@@ -74,6 +78,7 @@ static const char* vs_src =
     "    gl_Position = u_viewproj * vec4(d, a_z * u_exag - u_cam_z, 1.0);\n"
     "    v_normal = vec3(a_normal.xy * u_exag, a_normal.z);\n"
     "    v_height = a_z;\n"
+    "    v_uv = vec2(a_grid) * u_tex_scale + u_tex_offset;\n"
     "    v_filled = float((a_flags >> 4u) & 1u);\n"
     "    v_level = a_flags & 15u;\n"
     "}\n";
@@ -83,7 +88,10 @@ static const char* fs_src =
     "in vec3 v_normal;\n"
     "in float v_height;\n"
     "in float v_filled;\n"
+    "in vec2 v_uv;\n"
     "flat in uint v_level;\n"
+    "uniform sampler2D u_tex;\n"
+    "uniform int u_textured;\n"
     "uniform vec3 u_sun;\n"
     "uniform int u_color_lod;\n"
     "uniform int u_hide_filled;\n"
@@ -108,6 +116,10 @@ static const char* fs_src =
     "    float light = 0.3 + 0.7 * max(dot(n, u_sun), 0.0);\n"
     "    vec3 base = u_color_lod != 0 ? level_color(v_level)\n"
     "                                 : hypsometric((v_height - u_hrange.x) / max(u_hrange.y - u_hrange.x, 1.0));\n"
+    "    if (u_textured != 0 && u_color_lod == 0) {\n"
+    "        vec4 t = texture(u_tex, v_uv);\n"
+    "        base = mix(base, t.rgb, t.a);\n"
+    "    }\n"
     "    if (u_hide_filled == 0) base = mix(base, vec3(0.85, 0.25, 0.75), 0.65 * v_filled);\n"
     "    o_color = vec4(base * light, 1.0);\n"
     "}\n";
@@ -220,6 +232,10 @@ tp_renderer* tp_renderer_create(const tp_terrain* t, char* msg, size_t msg_size)
     TP_UNIFORM(u_color_lod);
     TP_UNIFORM(u_hide_filled);
     TP_UNIFORM(u_hrange);
+    TP_UNIFORM(u_textured);
+    TP_UNIFORM(u_tex);
+    TP_UNIFORM(u_tex_scale);
+    TP_UNIFORM(u_tex_offset);
 #undef TP_UNIFORM
 
     /* The strips of every level, one after the other, in one index buffer. */
@@ -291,6 +307,8 @@ void tp_renderer_destroy(tp_renderer* r)
     if (!r)
         return;
     glDeleteProgram(r->prog);
+    if (r->tex)
+        glDeleteTextures(1, &r->tex);
     glDeleteBuffers(1, &r->vbo);
     glDeleteBuffers(1, &r->ibo);
     glDeleteBuffers(1, &r->ibo_custom);
@@ -308,6 +326,31 @@ void tp_renderer_destroy(tp_renderer* r)
     free(r->offsets);
     free(r->bases);
     free(r);
+}
+
+int tp_renderer_set_texture(tp_renderer* r, const uint8_t* rgba, int w, int h,
+                            const float scale[2], const float offset[2])
+{
+    GLint max = 0;
+    glGetIntegerv(GL_MAX_TEXTURE_SIZE, &max);
+    if (w > max || h > max)
+        return 0;
+    if (!r->tex)
+        glGenTextures(1, &r->tex);
+    glBindTexture(GL_TEXTURE_2D, r->tex);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+    /* top row first, and v grows downward with the grid rows: no flip needed */
+    glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, w, h, 0, GL_RGBA, GL_UNSIGNED_BYTE, rgba);
+    glGenerateMipmap(GL_TEXTURE_2D);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    for (int i = 0; i < 2; i++) {
+        r->tex_scale[i] = scale[i];
+        r->tex_offset[i] = offset[i];
+    }
+    return glGetError() == GL_NO_ERROR;
 }
 
 void tp_render_settings_default(tp_render_settings* s)
@@ -495,6 +538,14 @@ void tp_renderer_draw(tp_renderer* r, tp_selection* sel, const tp_camera* cam,
     glUniform1i(r->u_color_lod, st->color_lod);
     glUniform1i(r->u_hide_filled, st->hide_filled);
     glUniform2f(r->u_hrange, (float)r->info.min_height_m, (float)r->info.max_height_m);
+    glUniform1i(r->u_textured, r->tex != 0);
+    glUniform1i(r->u_tex, 0);
+    glUniform2f(r->u_tex_scale, r->tex_scale[0], r->tex_scale[1]);
+    glUniform2f(r->u_tex_offset, r->tex_offset[0], r->tex_offset[1]);
+    if (r->tex) {
+        glActiveTexture(GL_TEXTURE0);
+        glBindTexture(GL_TEXTURE_2D, r->tex);
+    }
     glBindVertexArray(r->vao);
     if (st->one_draw_per_patch) {
         glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, r->ibo);

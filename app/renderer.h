@@ -48,6 +48,12 @@ typedef struct tp_render_stats {
 tp_renderer* tp_renderer_create(const tp_terrain* t, char* msg, size_t msg_size);
 void tp_renderer_destroy(tp_renderer* r);
 
+/* Drapes an RGBA8 image (w x h, top row first) over the terrain: grid sample (x, y) of the
+ * tiled grid takes texture coordinates (x * scale[0] + offset[0], y * scale[1] + offset[1]).
+ * Alpha blends the image over the shaded colour. Returns 0 if the GL texture can't be made. */
+int tp_renderer_set_texture(tp_renderer* r, const uint8_t* rgba, int w, int h,
+                            const float scale[2], const float offset[2]);
+
 /* Uploads what changed, then draws the visible patches of sel for cam, and clears dirty flags.
  * finish: wait for the GPU (glFinish) so that draw_ms is the real draw time. */
 void tp_renderer_draw(tp_renderer* r, tp_selection* sel, const tp_camera* cam,

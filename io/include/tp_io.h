@@ -143,6 +143,26 @@ tp_terrain_desc tp_render_grid_terrain_desc(const tp_render_grid* grid, int patc
                                             tp_fit fit);
 
 /* ---------------------------------------------------------------------------------------------
+ * Textures draped on the render grid (io/src/texture.cpp)
+ *
+ * A georeferenced image (an orthophoto GeoTIFF, any CRS) is warped by GDAL onto the render
+ * grid's CRS and extent, so that texel (i, j) of the result covers the grid's pixel area: the
+ * sample (x, y) sits at texture coordinates ((x + 0.5) / grid width, (y + 0.5) / grid height).
+ * An image without georeference (a PNG, read through OpenImageIO) is taken to cover the same
+ * extent. The result is RGBA8, top row first, at most max_size texels per side (aspect kept
+ * by scaling both sides alike); texels outside the image are transparent (alpha 0).
+ */
+typedef struct tp_texture {
+    int width, height;
+    uint8_t* rgba;     /* width * height * 4; owned */
+    int georeferenced; /* 1 if warped from the image's own georeference */
+} tp_texture;
+
+tp_status tp_texture_build(const char* path, const tp_render_grid* grid, int max_size,
+                           tp_texture** out, tp_error* err);
+void tp_texture_destroy(tp_texture* tex); /* accepts NULL */
+
+/* ---------------------------------------------------------------------------------------------
  * Georeference (io/src/georef.cpp): grid (x, y) <-> render CRS (E, N) <-> WGS84 (lat, lon).
  *
  * Grid coordinates are (column, row) with sample centres at integers, as GDAL's geotransform
