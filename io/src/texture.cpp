@@ -13,6 +13,8 @@
 #include <gdal_utils.h>
 
 #include <algorithm>
+#include <cerrno>
+#include <cpl_vsi.h>
 #include <cmath>
 #include <exception>
 #include <vector>
@@ -124,6 +126,9 @@ tp_status read_plain(const char* path, const tp_render_grid* g, int max_size, tp
 tp_status build(const char* path, const tp_render_grid* g, int max_size, tp_texture** out,
                 tp_error* err)
 {
+    VSIStatBufL st;
+    if (VSIStatL(path, &st) != 0)
+        return fail(err, TP_ERR_IO, "%s: cannot open: %s", path, std::strerror(ENOENT));
     if (!tp_is_heightmap_image(path)) {
         tpio::register_drivers();
         tpio::QuietGdal quiet;
