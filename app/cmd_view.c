@@ -67,6 +67,7 @@ enum {
     OPT_HUD,
     OPT_HIDE_FILLED,
     OPT_TEXTURE,
+    OPT_GRID,
 };
 
 static void print_help(void)
@@ -99,6 +100,8 @@ static void print_help(void)
           "  --wireframe, --color-lod   draw edges only / colour patches by level\n"
           "  --exaggeration X      vertical exaggeration (default 1)\n"
           "  --hide-filled         draw filled voids like measured ground (default: tinted)\n"
+          "  --grid M              grid lines every M metres of the render CRS, labelled (for a\n"
+          "                        UTM render grid: the UTM/MGRS grid; 1000 = the 1 km grid)\n"
           "  --texture FILE        drape an image: an orthophoto georeferenced through GDAL (warped\n"
           "                        onto the render grid), or any image covering the DEM's extent\n"
           "  --one-draw-per-patch  one draw call per patch instead of multi-draw\n"
@@ -112,7 +115,7 @@ static void print_help(void)
     fputs("\nWindow keys: W/S forward/back, A/D left/right, Q/E down/up, drag with the left\n"
           "mouse button to look around, L colour by level, T wireframe, F freeze LoD and\n"
           "culling, M switch LoD mode, +/- tau (or maxdist), X/Z vertical exaggeration, V tint\n"
-          "of filled voids, P screenshot, C print the camera as --camera-geo and --camera\n"
+          "of filled voids, G 1 km grid, P screenshot, C print the camera as --camera-geo and --camera\n"
           "options, H hide the HUD, ? key help, Esc quit.\n"
           "\nExit status: 0 success, 1 failure, 2 usage error.\n",
           stdout);
@@ -183,6 +186,7 @@ static int parse_options(int argc, char** argv, view_options* o)
         {"hud", no_argument, NULL, OPT_HUD},
         {"hide-filled", no_argument, NULL, OPT_HIDE_FILLED},
         {"texture", required_argument, NULL, OPT_TEXTURE},
+        {"grid", required_argument, NULL, OPT_GRID},
         {"exaggeration", required_argument, NULL, OPT_EXAG},
         {"one-draw-per-patch", no_argument, NULL, OPT_ONE_DRAW},
         {"help", no_argument, NULL, 'h'},
@@ -287,6 +291,11 @@ static int parse_options(int argc, char** argv, view_options* o)
         case OPT_HUD: o->hud = 1; break;
         case OPT_HIDE_FILLED: o->render.hide_filled = 1; break;
         case OPT_TEXTURE: o->texture = optarg; break;
+        case OPT_GRID:
+            if (!parse_list(optarg, v, 1) || v[0] < 0 || (v[0] > 0 && v[0] < 1))
+                return bad("--grid", "a line spacing in metres >= 1 (0: none)", optarg);
+            o->render.grid_m = v[0];
+            break;
         case OPT_ONE_DRAW: o->render.one_draw_per_patch = 1; break;
         case 'h': print_help(); return tp_cli_finish(TP_EXIT_OK);
         case ':':
@@ -536,10 +545,58 @@ static void hud_text(const tp_scene* sc, const tp_selection* sel, const tp_camer
              pos[0] ? pos : "(no CRS: local metres)", cam->position[2], agl, yaw, ground);
 }
 
+/* Projects a world point to pixels; 0 when behind the camera or off screen. */
+static int project(const tp_camera* cam, const double p[3], double* sx, double* sy)
+{
+    const double* f = cam->forward;
+    double lf = sqrt(f[0] * f[0] + f[1] * f[1] + f[2] * f[2]);
+    double fw[3] = {f[0] / lf, f[1] / lf, f[2] / lf};
+    double r[3] = {fw[1] * cam->up[2] - fw[2] * cam->up[1], fw[2] * cam->up[0] - fw[0] * cam->up[2],
+                   fw[0] * cam->up[1] - fw[1] * cam->up[0]};
+    double lr = sqrt(r[0] * r[0] + r[1] * r[1] + r[2] * r[2]);
+    for (int i = 0; i < 3; i++)
+        r[i] /= lr;
+    double u[3] = {r[1] * fw[2] - r[2] * fw[1], r[2] * fw[0] - r[0] * fw[2], r[0] * fw[1] - r[1] * fw[0]};
+    double d[3] = {p[0] - cam->position[0], p[1] - cam->position[1], p[2] - cam->position[2]};
+    double z = d[0] * fw[0] + d[1] * fw[1] + d[2] * fw[2];
+    if (z < 1)
+        return 0;
+    double fpx = cam->viewport_h_px / 2.0 / tan(cam->fov_y_rad / 2);
+    *sx = cam->viewport_w_px / 2.0 + fpx * (d[0] * r[0] + d[1] * r[1] + d[2] * r[2]) / z;
+    *sy = cam->viewport_h_px / 2.0 - fpx * (d[0] * u[0] + d[1] * u[1] + d[2] * u[2]) / z;
+    return *sx >= 0 && *sy >= 0 && *sx < cam->viewport_w_px && *sy < cam->viewport_h_px;
+}
+
+/* Labels the grid intersections around the point the camera looks at with their grid values
+ * (kilometres of easting and northing, as read off a map). */
+static void grid_labels(tp_hud* hud, const tp_scene* sc, const tp_selection* sel,
+                        const tp_camera* cam, double spacing, float scale)
+{
+    double g[3];
+    if (spacing <= 0 || !ground_at_centre(sc, sel, cam, g))
+        return;
+    double e0 = floor(g[0] / spacing) * spacing, n0 = floor(g[1] / spacing) * spacing;
+    for (int j = -4; j <= 5; j++)
+        for (int i = -4; i <= 5; i++) {
+            double p[3] = {e0 + i * spacing, n0 + j * spacing, 0}, x, y, sx, sy;
+            tp_terrain_world_to_grid(sc->terrain, p[0], p[1], &x, &y);
+            p[2] = tp_selection_drawn_height_at(sel, x, y);
+            if (isnan(p[2]) || !project(cam, p, &sx, &sy))
+                continue;
+            char text[64];
+            if (spacing >= 1000)
+                snprintf(text, sizeof text, "%.0fE %.0fN", p[0] / 1000, p[1] / 1000);
+            else
+                snprintf(text, sizeof text, "%.1fE %.1fN", p[0] / 1000, p[1] / 1000);
+            tp_hud_text(hud, cam->viewport_w_px, cam->viewport_h_px, (float)sx + 3, (float)sy + 3,
+                        scale, text);
+        }
+}
+
 static const char* help_text =
     "W/S forward/back   A/D left/right   Q/E down/up   left drag: look\n"
     "L colour by level   T wireframe   F freeze LoD and culling   M LoD mode\n"
-    "+/- tau (or maxdist)   X/Z exaggeration   V filled-void tint   P screenshot\n"
+    "+/- tau (or maxdist)   X/Z exaggeration   V filled-void tint   G 1 km grid   P screenshot\n"
     "C print camera   H hide HUD   ? this help   Esc quit";
 
 /* Builds the texture for the render grid and hands it to the renderer. */
@@ -635,6 +692,7 @@ static int run_window(tp_scene* sc, tp_gl_context* ctx, tp_renderer* r, tp_selec
         if (TAPPED(GLFW_KEY_F)) frozen = !frozen;
         if (TAPPED(GLFW_KEY_H)) show_hud = !show_hud;
         if (TAPPED(GLFW_KEY_V)) o->render.hide_filled = !o->render.hide_filled;
+        if (TAPPED(GLFW_KEY_G)) o->render.grid_m = o->render.grid_m > 0 ? 0 : 1000;
         if (TAPPED(GLFW_KEY_X)) o->render.exaggeration *= 1.25;
         if (TAPPED(GLFW_KEY_Z)) o->render.exaggeration /= 1.25;
         if (TAPPED(GLFW_KEY_SLASH)) show_help = !show_help;
@@ -665,6 +723,8 @@ static int run_window(tp_scene* sc, tp_gl_context* ctx, tp_renderer* r, tp_selec
         frame_result fr;
         frame(sel, r, cam, o, &lod, frozen, &fr);
         fps = fps > 0 ? 0.9 * fps + 0.1 / fmax(dt, 1e-6) : 1 / fmax(dt, 1e-6);
+        if (hud && o->render.grid_m > 0)
+            grid_labels(hud, sc, sel, cam, o->render.grid_m, 1);
         if (hud && show_hud) {
             char text[2048];
             hud_text(sc, sel, cam, &lod, &fr, fps, frozen, text, sizeof text);
@@ -747,12 +807,14 @@ int tp_cli_view(int argc, char** argv)
     code = TP_EXIT_OK;
     if (o.headless) {
         frame_result fr = {0};
-        tp_hud* hud = o.hud && !o.no_hud ? tp_hud_create() : NULL;
+        tp_hud* hud = (o.hud && !o.no_hud) || o.render.grid_m > 0 ? tp_hud_create() : NULL;
         for (int i = 0; i < o.frames; i++) {
             tp_gl_context_begin_frame(ctx);
             double t0 = now_ms();
             frame(sel, r, &cam, &o, &o.lod, 0, &fr);
-            if (hud) {
+            if (hud && o.render.grid_m > 0)
+                grid_labels(hud, &sc, sel, &cam, o.render.grid_m, 1);
+            if (hud && o.hud && !o.no_hud) {
                 char text[2048];
                 hud_text(&sc, sel, &cam, &o.lod, &fr, 1000 / fmax(now_ms() - t0, 1e-6), 0, text,
                          sizeof text);

@@ -42,7 +42,8 @@ struct tp_renderer {
     void** offsets;
     GLint* bases;
     GLint u_cell, u_frac, u_spacing, u_cam_z, u_exag, u_viewproj, u_sun, u_color_lod,
-        u_hide_filled, u_hrange, u_textured, u_tex, u_tex_scale, u_tex_offset;
+        u_hide_filled, u_hrange, u_textured, u_tex, u_tex_scale, u_tex_offset, u_grid,
+        u_grid_origin;
     GLuint tex;
     float tex_scale[2], tex_offset[2];
 };
@@ -68,6 +69,7 @@ static const char* vs_src =
     "uniform mat4 u_viewproj;\n"
     "uniform vec2 u_tex_scale, u_tex_offset;\n"
     "out vec2 v_uv;\n"
+    "out vec2 v_rel;\n"
     "out vec3 v_normal;\n"
     "out float v_height;\n"
     "out float v_filled;\n"
@@ -79,6 +81,7 @@ static const char* vs_src =
     "    v_normal = vec3(a_normal.xy * u_exag, a_normal.z);\n"
     "    v_height = a_z;\n"
     "    v_uv = vec2(a_grid) * u_tex_scale + u_tex_offset;\n"
+    "    v_rel = d;\n"
     "    v_filled = float((a_flags >> 4u) & 1u);\n"
     "    v_level = a_flags & 15u;\n"
     "}\n";
@@ -89,8 +92,11 @@ static const char* fs_src =
     "in float v_height;\n"
     "in float v_filled;\n"
     "in vec2 v_uv;\n"
+    "in vec2 v_rel;\n"
     "flat in uint v_level;\n"
     "uniform sampler2D u_tex;\n"
+    "uniform float u_grid;        // line spacing, metres (0: none)\n"
+    "uniform vec2 u_grid_origin;  // camera E, N modulo the spacing\n"
     "uniform int u_textured;\n"
     "uniform vec3 u_sun;\n"
     "uniform int u_color_lod;\n"
@@ -121,7 +127,18 @@ static const char* fs_src =
     "        base = mix(base, t.rgb, t.a);\n"
     "    }\n"
     "    if (u_hide_filled == 0) base = mix(base, vec3(0.85, 0.25, 0.75), 0.65 * v_filled);\n"
-    "    o_color = vec4(base * light, 1.0);\n"
+    "    vec3 c = base * light;\n"
+    "    if (u_grid > 0.0) {\n"
+    "        // distance to the nearest grid line in pixels, from the screen-space derivative\n"
+    "        vec2 g = (v_rel + u_grid_origin) / u_grid;\n"
+    "        vec2 w = fwidth(g);\n"
+    "        vec2 px = abs(fract(g - 0.5) - 0.5) / max(w, vec2(1e-6));\n"
+    "        float line = 1.0 - clamp(min(px.x, px.y) - 0.5, 0.0, 1.0);\n"
+    "        // fade where lines would be closer than 4 pixels\n"
+    "        line *= clamp(1.0 / (4.0 * max(w.x, w.y)) - 0.5, 0.0, 1.0);\n"
+    "        c = mix(c, vec3(0.05, 0.05, 0.35), 0.8 * line);\n"
+    "    }\n"
+    "    o_color = vec4(c, 1.0);\n"
     "}\n";
 
 static GLuint compile(GLenum type, const char* src, char* msg, size_t msg_size)
@@ -236,6 +253,8 @@ tp_renderer* tp_renderer_create(const tp_terrain* t, char* msg, size_t msg_size)
     TP_UNIFORM(u_tex);
     TP_UNIFORM(u_tex_scale);
     TP_UNIFORM(u_tex_offset);
+    TP_UNIFORM(u_grid);
+    TP_UNIFORM(u_grid_origin);
 #undef TP_UNIFORM
 
     /* The strips of every level, one after the other, in one index buffer. */
@@ -539,6 +558,10 @@ void tp_renderer_draw(tp_renderer* r, tp_selection* sel, const tp_camera* cam,
     glUniform1i(r->u_hide_filled, st->hide_filled);
     glUniform2f(r->u_hrange, (float)r->info.min_height_m, (float)r->info.max_height_m);
     glUniform1i(r->u_textured, r->tex != 0);
+    glUniform1f(r->u_grid, (float)st->grid_m);
+    if (st->grid_m > 0)
+        glUniform2f(r->u_grid_origin, (float)fmod(cam->position[0], st->grid_m),
+                    (float)fmod(cam->position[1], st->grid_m));
     glUniform1i(r->u_tex, 0);
     glUniform2f(r->u_tex_scale, r->tex_scale[0], r->tex_scale[1]);
     glUniform2f(r->u_tex_offset, r->tex_offset[0], r->tex_offset[1]);

@@ -30,6 +30,8 @@ typedef struct tp_render_settings {
     int hide_filled;          /* draw filled voids untinted */
     float clear_rgb[3];
     int one_draw_per_patch;   /* instead of multi-draw (for measuring the difference) */
+    double grid_m;            /* grid lines every grid_m metres of the render CRS (UTM: the
+                                 UTM/MGRS grid); 0 for none */
 } tp_render_settings;
 
 void tp_render_settings_default(tp_render_settings* s);
