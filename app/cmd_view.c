@@ -10,6 +10,7 @@
 #include "gl_context.h"
 #include "hud.h"
 #include "json.h"
+#include "measure.h"
 #include "renderer.h"
 #include "scene.h"
 #include "tp_geo.h"
@@ -40,6 +41,8 @@ typedef struct view_options {
     int headless, frames, no_hud, hud;
     const char* screenshot;
     const char* texture;
+    int has_measure;
+    double measure[4]; /* E1, N1, E2, N2 */
     const char* stats_json;
     const char* path;
 } view_options;
@@ -68,6 +71,7 @@ enum {
     OPT_HIDE_FILLED,
     OPT_TEXTURE,
     OPT_GRID,
+    OPT_MEASURE,
 };
 
 static void print_help(void)
@@ -100,6 +104,8 @@ static void print_help(void)
           "  --wireframe, --color-lod   draw edges only / colour patches by level\n"
           "  --exaggeration X      vertical exaggeration (default 1)\n"
           "  --hide-filled         draw filled voids like measured ground (default: tinted)\n"
+          "  --measure E1,N1,E2,N2 print the geodesic distance, true and grid bearing and height\n"
+          "                        difference between two ground points (render CRS)\n"
           "  --grid M              grid lines every M metres of the render CRS, labelled (for a\n"
           "                        UTM render grid: the UTM/MGRS grid; 1000 = the 1 km grid)\n"
           "  --texture FILE        drape an image: an orthophoto georeferenced through GDAL (warped\n"
@@ -187,6 +193,7 @@ static int parse_options(int argc, char** argv, view_options* o)
         {"hide-filled", no_argument, NULL, OPT_HIDE_FILLED},
         {"texture", required_argument, NULL, OPT_TEXTURE},
         {"grid", required_argument, NULL, OPT_GRID},
+        {"measure", required_argument, NULL, OPT_MEASURE},
         {"exaggeration", required_argument, NULL, OPT_EXAG},
         {"one-draw-per-patch", no_argument, NULL, OPT_ONE_DRAW},
         {"help", no_argument, NULL, 'h'},
@@ -291,6 +298,11 @@ static int parse_options(int argc, char** argv, view_options* o)
         case OPT_HUD: o->hud = 1; break;
         case OPT_HIDE_FILLED: o->render.hide_filled = 1; break;
         case OPT_TEXTURE: o->texture = optarg; break;
+        case OPT_MEASURE:
+            if (!parse_list(optarg, o->measure, 4))
+                return bad("--measure", "E1,N1,E2,N2", optarg);
+            o->has_measure = 1;
+            break;
         case OPT_GRID:
             if (!parse_list(optarg, v, 1) || v[0] < 0 || (v[0] > 0 && v[0] < 1))
                 return bad("--grid", "a line spacing in metres >= 1 (0: none)", optarg);
@@ -475,17 +487,16 @@ static void position_text(const tp_scene* sc, double e, double n, char* out, siz
              fabs(lon), lon >= 0 ? 'E' : 'W', zname, ue, un, mgrs);
 }
 
-/* Where the ray from the camera through the screen centre meets the drawn terrain. */
-static int ground_at_centre(const tp_scene* sc, const tp_selection* sel, const tp_camera* cam,
-                            double out[3])
+/* Where the ray from the camera along dir meets the drawn terrain. */
+static int ground_along(const tp_scene* sc, const tp_selection* sel, const tp_camera* cam,
+                        const double dir[3], double out[3])
 {
     double step = fabs(sc->info.geotransform[1]), dist = 0;
     for (int i = 0; i < 4000; i++) {
         dist += step;
         step *= 1.004;
-        double p[3] = {cam->position[0] + dist * cam->forward[0],
-                       cam->position[1] + dist * cam->forward[1],
-                       cam->position[2] + dist * cam->forward[2]};
+        double p[3] = {cam->position[0] + dist * dir[0], cam->position[1] + dist * dir[1],
+                       cam->position[2] + dist * dir[2]};
         double x, y;
         tp_terrain_world_to_grid(sc->terrain, p[0], p[1], &x, &y);
         double g = tp_selection_drawn_height_at(sel, x, y);
@@ -495,6 +506,39 @@ static int ground_at_centre(const tp_scene* sc, const tp_selection* sel, const t
         }
     }
     return 0;
+}
+
+static int ground_at_centre(const tp_scene* sc, const tp_selection* sel, const tp_camera* cam,
+                            double out[3])
+{
+    double l = sqrt(cam->forward[0] * cam->forward[0] + cam->forward[1] * cam->forward[1] +
+                    cam->forward[2] * cam->forward[2]);
+    double dir[3] = {cam->forward[0] / l, cam->forward[1] / l, cam->forward[2] / l};
+    return ground_along(sc, sel, cam, dir, out);
+}
+
+/* The ground point under pixel (sx, sy). */
+static int ground_at_pixel(const tp_scene* sc, const tp_selection* sel, const tp_camera* cam,
+                           double sx, double sy, double out[3])
+{
+    const double* f = cam->forward;
+    double r[3] = {f[1] * cam->up[2] - f[2] * cam->up[1], f[2] * cam->up[0] - f[0] * cam->up[2],
+                   f[0] * cam->up[1] - f[1] * cam->up[0]};
+    double lr = sqrt(r[0] * r[0] + r[1] * r[1] + r[2] * r[2]), lf = sqrt(f[0] * f[0] + f[1] * f[1] + f[2] * f[2]);
+    double fw[3] = {f[0] / lf, f[1] / lf, f[2] / lf};
+    for (int i = 0; i < 3; i++)
+        r[i] /= lr;
+    double u[3] = {r[1] * fw[2] - r[2] * fw[1], r[2] * fw[0] - r[0] * fw[2], r[0] * fw[1] - r[1] * fw[0]};
+    double fpx = cam->viewport_h_px / 2.0 / tan(cam->fov_y_rad / 2);
+    double a = (sx - cam->viewport_w_px / 2.0) / fpx, b = -(sy - cam->viewport_h_px / 2.0) / fpx;
+    double dir[3], l = 0;
+    for (int i = 0; i < 3; i++) {
+        dir[i] = fw[i] + a * r[i] + b * u[i];
+        l += dir[i] * dir[i];
+    }
+    for (int i = 0; i < 3; i++)
+        dir[i] /= sqrt(l);
+    return ground_along(sc, sel, cam, dir, out);
 }
 
 static void hud_text(const tp_scene* sc, const tp_selection* sel, const tp_camera* cam,
@@ -543,6 +587,31 @@ static void hud_text(const tp_scene* sc, const tp_selection* sel, const tp_camer
              lod_text, fr->core.bound_max_error_m,
              fr->core.bound_rms_error_m, fr->render.gpu_bytes / 1e6, frozen ? "   (LoD frozen)" : "",
              pos[0] ? pos : "(no CRS: local metres)", cam->position[2], agl, yaw, ground);
+}
+
+/* Measures between two ground points given by E, N; prints one line; 0 if off the data. */
+static int measure_points(const tp_scene* sc, const tp_selection* sel, const double e[2],
+                          const double n[2], char* text, size_t cap)
+{
+    double h[2];
+    for (int i = 0; i < 2; i++) {
+        double x, y;
+        tp_terrain_world_to_grid(sc->terrain, e[i], n[i], &x, &y);
+        h[i] = tp_selection_drawn_height_at(sel, x, y);
+        if (isnan(h[i]))
+            h[i] = tp_terrain_height_at(sc->terrain, x, y);
+        if (isnan(h[i])) {
+            snprintf(text, cap, "point %d (E %.3f, N %.3f) is not on the terrain", i + 1, e[i], n[i]);
+            return 0;
+        }
+    }
+    tp_measurement m;
+    if (!tp_measure(sc->georef, e, n, h, &m)) {
+        snprintf(text, cap, "the points have no geographic position");
+        return 0;
+    }
+    tp_measurement_text(&m, text, cap);
+    return 1;
 }
 
 /* Projects a world point to pixels; 0 when behind the camera or off screen. */
@@ -597,7 +666,7 @@ static const char* help_text =
     "W/S forward/back   A/D left/right   Q/E down/up   left drag: look\n"
     "L colour by level   T wireframe   F freeze LoD and culling   M LoD mode\n"
     "+/- tau (or maxdist)   X/Z exaggeration   V filled-void tint   G 1 km grid   P screenshot\n"
-    "C print camera   H hide HUD   ? this help   Esc quit";
+    "C print camera   H hide HUD   right-click twice: measure   ? this help   Esc quit";
 
 /* Builds the texture for the render grid and hands it to the renderer. */
 static int load_texture(const tp_scene* sc, tp_renderer* r, const char* path)
@@ -641,6 +710,9 @@ static int run_window(tp_scene* sc, tp_gl_context* ctx, tp_renderer* r, tp_selec
     int frozen = 0, shots = 0, show_help = 0, show_hud = !o->no_hud;
     tp_hud* hud = tp_hud_create();
     double fps = 0;
+    double picks[2][3];
+    int picked = 0, prev_right = 0;
+    char measure_line[512] = "";
     int prev[GLFW_KEY_LAST + 1] = {0};
     double last = glfwGetTime();
     tp_lod_params lod = o->lod;
@@ -693,6 +765,26 @@ static int run_window(tp_scene* sc, tp_gl_context* ctx, tp_renderer* r, tp_selec
         if (TAPPED(GLFW_KEY_H)) show_hud = !show_hud;
         if (TAPPED(GLFW_KEY_V)) o->render.hide_filled = !o->render.hide_filled;
         if (TAPPED(GLFW_KEY_G)) o->render.grid_m = o->render.grid_m > 0 ? 0 : 1000;
+        /* measuring tool: right-click two ground points */
+        int right = glfwGetMouseButton(win, GLFW_MOUSE_BUTTON_RIGHT) == GLFW_PRESS;
+        if (right && !prev_right) {
+            int ww, wh;
+            glfwGetWindowSize(win, &ww, &wh);
+            double px = mx * cam->viewport_w_px / fmax(ww, 1), py = my * cam->viewport_h_px / fmax(wh, 1);
+            if (ground_at_pixel(sc, sel, cam, px, py, picks[picked % 2])) {
+                picked++;
+                if (picked % 2 == 0) {
+                    double e[2] = {picks[0][0], picks[1][0]}, n[2] = {picks[0][1], picks[1][1]};
+                    measure_points(sc, sel, e, n, measure_line, sizeof measure_line);
+                    printf("measure: %s\n", measure_line);
+                    fflush(stdout);
+                } else {
+                    snprintf(measure_line, sizeof measure_line, "first point E %.1f N %.1f; right-click the second",
+                             picks[0][0], picks[0][1]);
+                }
+            }
+        }
+        prev_right = right;
         if (TAPPED(GLFW_KEY_X)) o->render.exaggeration *= 1.25;
         if (TAPPED(GLFW_KEY_Z)) o->render.exaggeration /= 1.25;
         if (TAPPED(GLFW_KEY_SLASH)) show_help = !show_help;
@@ -731,6 +823,8 @@ static int run_window(tp_scene* sc, tp_gl_context* ctx, tp_renderer* r, tp_selec
             tp_hud_text(hud, w, h, 10, 10, 2, text);
             if (show_help)
                 tp_hud_text(hud, w, h, 10, (float)h - 90, 2, help_text);
+            if (measure_line[0])
+                tp_hud_text(hud, w, h, 10, (float)h - 120, 2, measure_line);
         }
         if (want_shot) {
             char name[64];
@@ -825,6 +919,16 @@ int tp_cli_view(int argc, char** argv)
         tp_hud_destroy(hud);
         if (o.screenshot && !screenshot(ctx, o.screenshot))
             code = TP_EXIT_FAILURE;
+        if (o.has_measure) {
+            char text[512];
+            double e[2] = {o.measure[0], o.measure[2]}, n[2] = {o.measure[1], o.measure[3]};
+            if (measure_points(&sc, sel, e, n, text, sizeof text)) {
+                printf("%s\n", text);
+            } else {
+                fprintf(stderr, "terrapatch view: --measure: %s\n", text);
+                code = TP_EXIT_FAILURE;
+            }
+        }
         if (o.stats_json && code == TP_EXIT_OK) {
             tp_error_measure em = {0};
             double max_px = 0, rms_px = 0;
