@@ -662,6 +662,53 @@ static void grid_labels(tp_hud* hud, const tp_scene* sc, const tp_selection* sel
         }
 }
 
+/* North arrow and scale bar at the bottom right, measured at the ground point the camera
+ * looks at: "N" sits where grid north points on screen, the bar spans a round distance. */
+static void compass_and_scale(tp_hud* hud, const tp_scene* sc, const tp_selection* sel,
+                              const tp_camera* cam, float scale)
+{
+    double g[3], gx, gy, nx, ny, ex, ey;
+    if (!ground_at_centre(sc, sel, cam, g) || !project(cam, g, &gx, &gy))
+        return;
+    double north[3] = {g[0], g[1] + 100, g[2]}, east[3] = {g[0] + 100, g[1], g[2]};
+    int w = cam->viewport_w_px, h = cam->viewport_h_px;
+    float cx = (float)w - 70 * scale, cy = (float)h - 60 * scale;
+    if (project(cam, north, &nx, &ny)) {
+        double vx = nx - gx, vy = ny - gy, l = hypot(vx, vy);
+        if (l > 1e-6) {
+            tp_hud_text(hud, w, h, cx - 2 * scale, cy - 3 * scale, scale, "+");
+            for (int i = 1; i <= 4; i++) /* a dotted shaft toward north */
+                tp_hud_text(hud, w, h, cx + (float)(vx / l * 7 * i) * scale - 1 * scale,
+                            cy + (float)(vy / l * 7 * i) * scale - 4 * scale, scale, ".");
+            tp_hud_text(hud, w, h, cx + (float)(vx / l * 36) * scale - 2 * scale,
+                        cy + (float)(vy / l * 36) * scale - 3 * scale, scale, "N");
+        }
+    }
+    if (project(cam, east, &ex, &ey)) {
+        double m_per_px = 100 / fmax(hypot(ex - gx, ey - gy), 1e-6);
+        /* a round length about 120 px long: 1, 2 or 5 times a power of ten */
+        double want = 120 * scale * m_per_px, p10 = pow(10, floor(log10(want))), len = p10;
+        if (5 * p10 <= want)
+            len = 5 * p10;
+        else if (2 * p10 <= want)
+            len = 2 * p10;
+        float fw, fh;
+        tp_hud_measure("-", &fw, &fh);
+        int chars = (int)(len / m_per_px / (fw * scale) + 0.5);
+        char bar[160];
+        int at = snprintf(bar, sizeof bar, "|");
+        for (int i = 0; i < chars && at < (int)sizeof bar - 40; i++)
+            bar[at++] = '-';
+        if (len >= 1000)
+            snprintf(bar + at, sizeof bar - at, "| %g km", len / 1000);
+        else
+            snprintf(bar + at, sizeof bar - at, "| %g m", len);
+        float bw, bh;
+        tp_hud_measure(bar, &bw, &bh);
+        tp_hud_text(hud, w, h, (float)w - bw * scale - 130 * scale, (float)h - 20 * scale, scale, bar);
+    }
+}
+
 static const char* help_text =
     "W/S forward/back   A/D left/right   Q/E down/up   left drag: look\n"
     "L colour by level   T wireframe   F freeze LoD and culling   M LoD mode\n"
@@ -825,6 +872,7 @@ static int run_window(tp_scene* sc, tp_gl_context* ctx, tp_renderer* r, tp_selec
                 tp_hud_text(hud, w, h, 10, (float)h - 90, 2, help_text);
             if (measure_line[0])
                 tp_hud_text(hud, w, h, 10, (float)h - 120, 2, measure_line);
+            compass_and_scale(hud, sc, sel, cam, 2);
         }
         if (want_shot) {
             char name[64];
@@ -913,6 +961,7 @@ int tp_cli_view(int argc, char** argv)
                 hud_text(&sc, sel, &cam, &o.lod, &fr, 1000 / fmax(now_ms() - t0, 1e-6), 0, text,
                          sizeof text);
                 tp_hud_text(hud, o.w, o.h, 10, 10, o.w >= 1000 ? 2 : 1, text);
+                compass_and_scale(hud, &sc, sel, &cam, o.w >= 1000 ? 2 : 1);
             }
             tp_gl_context_end_frame(ctx);
         }
