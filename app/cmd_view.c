@@ -122,7 +122,8 @@ static void print_help(void)
           "mouse button to look around, L colour by level, T wireframe, F freeze LoD and\n"
           "culling, M switch LoD mode, +/- tau (or maxdist), X/Z vertical exaggeration, V tint\n"
           "of filled voids, G 1 km grid, P screenshot, C print the camera as --camera-geo and --camera\n"
-          "options, H hide the HUD, ? key help, Esc quit.\n"
+          "options, H hide the HUD, O orbit mode (drag rotates around the point looked at, wheel\n"
+          "or W/S zoom, A/D/Q/E pan), right-click twice to measure, ? key help, Esc quit.\n"
           "\nExit status: 0 success, 1 failure, 2 usage error.\n",
           stdout);
 }
@@ -713,7 +714,8 @@ static const char* help_text =
     "W/S forward/back   A/D left/right   Q/E down/up   left drag: look\n"
     "L colour by level   T wireframe   F freeze LoD and culling   M LoD mode\n"
     "+/- tau (or maxdist)   X/Z exaggeration   V filled-void tint   G 1 km grid   P screenshot\n"
-    "C print camera   H hide HUD   right-click twice: measure   ? this help   Esc quit";
+    "O orbit mode (drag rotates, wheel or W/S zoom, A/D/Q/E pan)   C print camera   H hide HUD\n"
+    "right-click twice: measure   ? this help   Esc quit";
 
 /* Builds the texture for the render grid and hands it to the renderer. */
 static int load_texture(const tp_scene* sc, tp_renderer* r, const char* path)
@@ -745,12 +747,36 @@ typedef struct interactive {
     double yaw, pitch;
     double last_x, last_y;
     int dragging;
+    int orbit;          /* orbit/pan/zoom around target instead of flying */
+    double target[3];   /* orbit centre: the ground point looked at when orbit began */
+    double distance;    /* eye to target */
 } interactive;
+
+static double scroll_y; /* accumulated mouse wheel, from the GLFW callback */
+static int right_clicks; /* right-button presses since the last frame (a click can be shorter
+                            than a frame, so polling the button would miss it) */
+static double right_x, right_y;
+static void on_button(GLFWwindow* w, int button, int action, int mods)
+{
+    (void)mods;
+    if (button == GLFW_MOUSE_BUTTON_RIGHT && action == GLFW_PRESS) {
+        glfwGetCursorPos(w, &right_x, &right_y);
+        right_clicks++;
+    }
+}
+static void on_scroll(GLFWwindow* w, double dx, double dy)
+{
+    (void)w;
+    (void)dx;
+    scroll_y += dy;
+}
 
 static int run_window(tp_scene* sc, tp_gl_context* ctx, tp_renderer* r, tp_selection* sel,
                       tp_camera* cam, view_options* o)
 {
     GLFWwindow* win = tp_gl_context_window(ctx);
+    glfwSetScrollCallback(win, on_scroll);
+    glfwSetMouseButtonCallback(win, on_button);
     interactive in = {0};
     in.pitch = asin(cam->forward[2]) / DEG;
     in.yaw = atan2(cam->forward[0], cam->forward[1]) / DEG;
@@ -758,7 +784,7 @@ static int run_window(tp_scene* sc, tp_gl_context* ctx, tp_renderer* r, tp_selec
     tp_hud* hud = tp_hud_create();
     double fps = 0;
     double picks[2][3];
-    int picked = 0, prev_right = 0;
+    int picked = 0;
     char measure_line[512] = "";
     int prev[GLFW_KEY_LAST + 1] = {0};
     double last = glfwGetTime();
@@ -792,16 +818,54 @@ static int run_window(tp_scene* sc, tp_gl_context* ctx, tp_renderer* r, tp_selec
         double speed = 1.5 * agl * dt;
         double fy = sin(in.yaw * DEG), fx = cos(in.yaw * DEG);
         double step[3] = {0, 0, 0};
+        if (TAPPED(GLFW_KEY_O)) {
+            double g[3];
+            if (!in.orbit && ground_at_centre(sc, sel, cam, g)) {
+                in.orbit = 1;
+                memcpy(in.target, g, sizeof g);
+                in.distance = sqrt((g[0] - cam->position[0]) * (g[0] - cam->position[0]) +
+                                   (g[1] - cam->position[1]) * (g[1] - cam->position[1]) +
+                                   (g[2] - cam->position[2]) * (g[2] - cam->position[2]));
+            } else {
+                in.orbit = 0;
+            }
+        }
+        if (in.orbit) {
+            /* drag rotates around the target, wheel or W/S zoom, A/D/Q/E and arrows pan */
+            double zoom = pow(0.85, scroll_y) * (PRESSED(GLFW_KEY_W) ? pow(0.3, dt) : 1) *
+                          (PRESSED(GLFW_KEY_S) ? pow(3.3, dt) : 1);
+            scroll_y = 0;
+            in.distance = fmax(20, in.distance * zoom);
+            double pan = 0.8 * in.distance * dt, px = 0, py = 0;
+            if (PRESSED(GLFW_KEY_D) || PRESSED(GLFW_KEY_RIGHT)) px += 1;
+            if (PRESSED(GLFW_KEY_A) || PRESSED(GLFW_KEY_LEFT)) px -= 1;
+            if (PRESSED(GLFW_KEY_E) || PRESSED(GLFW_KEY_UP)) py += 1;
+            if (PRESSED(GLFW_KEY_Q) || PRESSED(GLFW_KEY_DOWN)) py -= 1;
+            in.target[0] += pan * (px * fx + py * fy);
+            in.target[1] += pan * (-px * fy + py * fx);
+            double tx, ty;
+            tp_terrain_world_to_grid(sc->terrain, in.target[0], in.target[1], &tx, &ty);
+            double tz = tp_terrain_height_at(sc->terrain, tx, ty);
+            if (!isnan(tz))
+                in.target[2] = tz;
+            double cp = cos(in.pitch * DEG);
+            double opos[3] = {in.target[0] - in.distance * cp * fy, in.target[1] - in.distance * cp * fx,
+                              in.target[2] - in.distance * sin(in.pitch * DEG)};
+            tp_selection_keep_above(sel, opos, 2.0);
+            camera_from(opos[0], opos[1], opos[2], in.yaw, in.pitch, o, cam);
+        }
         if (PRESSED(GLFW_KEY_W)) step[0] += fy, step[1] += fx;
         if (PRESSED(GLFW_KEY_S)) step[0] -= fy, step[1] -= fx;
         if (PRESSED(GLFW_KEY_D)) step[0] += fx, step[1] -= fy;
         if (PRESSED(GLFW_KEY_A)) step[0] -= fx, step[1] += fy;
         if (PRESSED(GLFW_KEY_E)) step[2] += 1;
         if (PRESSED(GLFW_KEY_Q)) step[2] -= 1;
-        double pos[3] = {cam->position[0] + speed * step[0], cam->position[1] + speed * step[1],
-                         cam->position[2] + speed * step[2]};
-        tp_selection_keep_above(sel, pos, 2.0); /* terrain following */
-        camera_from(pos[0], pos[1], pos[2], in.yaw, in.pitch, o, cam);
+        if (!in.orbit) {
+            double pos[3] = {cam->position[0] + speed * step[0],
+                             cam->position[1] + speed * step[1], cam->position[2] + speed * step[2]};
+            tp_selection_keep_above(sel, pos, 2.0); /* terrain following */
+            camera_from(pos[0], pos[1], pos[2], in.yaw, in.pitch, o, cam);
+        }
         int w, h;
         glfwGetFramebufferSize(win, &w, &h);
         cam->viewport_w_px = w > 0 ? w : 1;
@@ -813,11 +877,12 @@ static int run_window(tp_scene* sc, tp_gl_context* ctx, tp_renderer* r, tp_selec
         if (TAPPED(GLFW_KEY_V)) o->render.hide_filled = !o->render.hide_filled;
         if (TAPPED(GLFW_KEY_G)) o->render.grid_m = o->render.grid_m > 0 ? 0 : 1000;
         /* measuring tool: right-click two ground points */
-        int right = glfwGetMouseButton(win, GLFW_MOUSE_BUTTON_RIGHT) == GLFW_PRESS;
-        if (right && !prev_right) {
+        if (right_clicks > 0) {
+            right_clicks = 0;
             int ww, wh;
             glfwGetWindowSize(win, &ww, &wh);
-            double px = mx * cam->viewport_w_px / fmax(ww, 1), py = my * cam->viewport_h_px / fmax(wh, 1);
+            double px = right_x * cam->viewport_w_px / fmax(ww, 1),
+                   py = right_y * cam->viewport_h_px / fmax(wh, 1);
             if (ground_at_pixel(sc, sel, cam, px, py, picks[picked % 2])) {
                 picked++;
                 if (picked % 2 == 0) {
@@ -831,7 +896,6 @@ static int run_window(tp_scene* sc, tp_gl_context* ctx, tp_renderer* r, tp_selec
                 }
             }
         }
-        prev_right = right;
         if (TAPPED(GLFW_KEY_X)) o->render.exaggeration *= 1.25;
         if (TAPPED(GLFW_KEY_Z)) o->render.exaggeration /= 1.25;
         if (TAPPED(GLFW_KEY_SLASH)) show_help = !show_help;
