@@ -72,6 +72,7 @@ enum {
     OPT_TEXTURE,
     OPT_GRID,
     OPT_MEASURE,
+    OPT_SUN,
 };
 
 static void print_help(void)
@@ -103,6 +104,8 @@ static void print_help(void)
           "  --clear-color R,G,B   background, 0..1 each\n"
           "  --wireframe, --color-lod   draw edges only / colour patches by level\n"
           "  --exaggeration X      vertical exaggeration (default 1)\n"
+          "  --sun AZ,EL           hillshade light: azimuth clockwise from grid north and\n"
+          "                        elevation, degrees (default 315,45)\n"
           "  --hide-filled         draw filled voids like measured ground (default: tinted)\n"
           "  --measure E1,N1,E2,N2 print the geodesic distance, true and grid bearing and height\n"
           "                        difference between two ground points (render CRS)\n"
@@ -120,7 +123,8 @@ static void print_help(void)
     tp_scene_options_help(stdout);
     fputs("\nWindow keys: W/S forward/back, A/D left/right, Q/E down/up, drag with the left\n"
           "mouse button to look around, L colour by level, T wireframe, F freeze LoD and\n"
-          "culling, M switch LoD mode, +/- tau (or maxdist), X/Z vertical exaggeration, V tint\n"
+          "culling, M switch LoD mode, +/- tau (or maxdist), [ ] mindist, , . exp, X/Z vertical\n"
+          "exaggeration, J/K sun azimuth, U/N sun elevation, V tint\n"
           "of filled voids, G 1 km grid, P screenshot, C print the camera as --camera-geo and --camera\n"
           "options, H hide the HUD, O orbit mode (drag rotates around the point looked at, wheel\n"
           "or W/S zoom, A/D/Q/E pan), right-click twice to measure, ? key help, Esc quit.\n"
@@ -195,6 +199,7 @@ static int parse_options(int argc, char** argv, view_options* o)
         {"texture", required_argument, NULL, OPT_TEXTURE},
         {"grid", required_argument, NULL, OPT_GRID},
         {"measure", required_argument, NULL, OPT_MEASURE},
+        {"sun", required_argument, NULL, OPT_SUN},
         {"exaggeration", required_argument, NULL, OPT_EXAG},
         {"one-draw-per-patch", no_argument, NULL, OPT_ONE_DRAW},
         {"help", no_argument, NULL, 'h'},
@@ -299,6 +304,12 @@ static int parse_options(int argc, char** argv, view_options* o)
         case OPT_HUD: o->hud = 1; break;
         case OPT_HIDE_FILLED: o->render.hide_filled = 1; break;
         case OPT_TEXTURE: o->texture = optarg; break;
+        case OPT_SUN:
+            if (!parse_list(optarg, v, 2) || v[1] < 0 || v[1] > 90)
+                return bad("--sun", "AZIMUTH,ELEVATION in degrees (elevation 0..90)", optarg);
+            o->render.sun_azimuth_deg = v[0];
+            o->render.sun_elevation_deg = v[1];
+            break;
         case OPT_MEASURE:
             if (!parse_list(optarg, o->measure, 4))
                 return bad("--measure", "E1,N1,E2,N2", optarg);
@@ -542,10 +553,29 @@ static int ground_at_pixel(const tp_scene* sc, const tp_selection* sel, const tp
     return ground_along(sc, sel, cam, dir, out);
 }
 
-static void hud_text(const tp_scene* sc, const tp_selection* sel, const tp_camera* cam,
-                     const tp_lod_params* lod, const frame_result* fr, double fps, int frozen,
-                     char* out, size_t cap)
+/* The exact error of the drawn geometry, measured now and then (it costs tens of ms). */
+typedef struct measured_error {
+    double max_m, rms_m, max_px, rms_px;
+    int valid;
+} measured_error;
+
+static void measure_now(const tp_selection* sel, const tp_camera* cam, measured_error* m)
 {
+    tp_error_measure em;
+    m->valid = tp_selection_measure_error(sel, &em) == TP_OK &&
+               tp_selection_measure_screen_error(sel, cam, &m->max_px, &m->rms_px, NULL) == TP_OK;
+    m->max_m = em.max_error_m;
+    m->rms_m = em.rms_error_m;
+}
+
+static void hud_text(const tp_scene* sc, const tp_selection* sel, const tp_camera* cam,
+                     const tp_lod_params* lod, const frame_result* fr, const measured_error* me,
+                     double fps, int frozen, char* out, size_t cap)
+{
+    char measured[160] = "";
+    if (me && me->valid)
+        snprintf(measured, sizeof measured, "   measured max %.2f m / %.2f px, RMS %.2f m / %.2f px",
+                 me->max_m, me->max_px, me->rms_m, me->rms_px);
     char pos[256], ground[640] = "";
     double g[3];
     position_text(sc, cam->position[0], cam->position[1], pos, sizeof pos);
@@ -578,7 +608,7 @@ static void hud_text(const tp_scene* sc, const tp_selection* sel, const tp_camer
     snprintf(out, cap,
              "%.1f fps   CPU %.2f ms (select %.2f, upload %.2f)   draw %.2f ms\n"
              "%zu triangles   %d draw calls   %d patches drawn, %d culled   per level k=0..%d:%s\n"
-             "LoD %s   error bound max %.2f m, RMS %.2f m   GPU buffers %.1f MB%s\n"
+             "LoD %s   error bound max %.2f m, RMS %.2f m%s   GPU %.1f MB%s\n"
              "camera  %s  height %.1f m (%s)   heading %.0f deg (N ^)\n"
              "%s\n"
              "heights are as in the DEM (SRTM/DTED: EGM96 geoid)   ? help",
@@ -586,7 +616,7 @@ static void hud_text(const tp_scene* sc, const tp_selection* sel, const tp_camer
              fr->render.draw_ms, fr->core.triangles, fr->render.draw_calls,
              fr->render.patches_drawn, fr->core.culled_patches, sc->info.n, levels,
              lod_text, fr->core.bound_max_error_m,
-             fr->core.bound_rms_error_m, fr->render.gpu_bytes / 1e6, frozen ? "   (LoD frozen)" : "",
+             fr->core.bound_rms_error_m, measured, fr->render.gpu_bytes / 1e6, frozen ? "   (LoD frozen)" : "",
              pos[0] ? pos : "(no CRS: local metres)", cam->position[2], agl, yaw, ground);
 }
 
@@ -713,7 +743,8 @@ static void compass_and_scale(tp_hud* hud, const tp_scene* sc, const tp_selectio
 static const char* help_text =
     "W/S forward/back   A/D left/right   Q/E down/up   left drag: look\n"
     "L colour by level   T wireframe   F freeze LoD and culling   M LoD mode\n"
-    "+/- tau (or maxdist)   X/Z exaggeration   V filled-void tint   G 1 km grid   P screenshot\n"
+    "+/- tau (or maxdist)   [ ] mindist   , . exp   X/Z exaggeration   V filled-void tint\n"
+    "J/K sun azimuth   U/N sun elevation   G 1 km grid   P screenshot\n"
     "O orbit mode (drag rotates, wheel or W/S zoom, A/D/Q/E pan)   C print camera   H hide HUD\n"
     "right-click twice: measure   ? this help   Esc quit";
 
@@ -785,6 +816,8 @@ static int run_window(tp_scene* sc, tp_gl_context* ctx, tp_renderer* r, tp_selec
     double fps = 0;
     double picks[2][3];
     int picked = 0;
+    measured_error me = {0};
+    double measured_at = -1e9;
     char measure_line[512] = "";
     int prev[GLFW_KEY_LAST + 1] = {0};
     double last = glfwGetTime();
@@ -896,19 +929,36 @@ static int run_window(tp_scene* sc, tp_gl_context* ctx, tp_renderer* r, tp_selec
                 }
             }
         }
+        if (TAPPED(GLFW_KEY_J)) o->render.sun_azimuth_deg = fmod(o->render.sun_azimuth_deg + 345, 360);
+        if (TAPPED(GLFW_KEY_K)) o->render.sun_azimuth_deg = fmod(o->render.sun_azimuth_deg + 15, 360);
+        if (TAPPED(GLFW_KEY_U)) o->render.sun_elevation_deg = fmin(90, o->render.sun_elevation_deg + 5);
+        if (TAPPED(GLFW_KEY_N)) o->render.sun_elevation_deg = fmax(0, o->render.sun_elevation_deg - 5);
         if (TAPPED(GLFW_KEY_X)) o->render.exaggeration *= 1.25;
         if (TAPPED(GLFW_KEY_Z)) o->render.exaggeration /= 1.25;
         if (TAPPED(GLFW_KEY_SLASH)) show_help = !show_help;
         if (TAPPED(GLFW_KEY_M))
             lod.mode = lod.mode == TP_LOD_ERROR ? TP_LOD_DISTANCE : TP_LOD_ERROR;
-        if (TAPPED(GLFW_KEY_EQUAL) || TAPPED(GLFW_KEY_KP_ADD)) {
-            lod.tau_px = (lod.tau_px > 0 ? lod.tau_px : 1) * 1.5;
-            lod.maxdist_m *= 1.25;
+        int more = TAPPED(GLFW_KEY_EQUAL) || TAPPED(GLFW_KEY_KP_ADD);
+        int less = TAPPED(GLFW_KEY_MINUS) || TAPPED(GLFW_KEY_KP_SUBTRACT);
+        if (more || less) { /* tau in error mode, maxdist in distance mode (defaults made explicit) */
+            tp_lod_params full;
+            if (tp_lod_params_resolve(sc->terrain, &lod, &full, NULL) == TP_OK) {
+                double f = more ? 1.5 : 1 / 1.5;
+                lod.tau_px = full.tau_px * (lod.mode == TP_LOD_ERROR ? f : 1);
+                lod.mindist_m = full.mindist_m;
+                lod.maxdist_m = fmax(full.mindist_m, full.maxdist_m * (lod.mode == TP_LOD_DISTANCE ? f : 1));
+            }
         }
-        if (TAPPED(GLFW_KEY_MINUS) || TAPPED(GLFW_KEY_KP_SUBTRACT)) {
-            lod.tau_px = (lod.tau_px > 0 ? lod.tau_px : 1) / 1.5;
-            lod.maxdist_m /= 1.25;
+        if (TAPPED(GLFW_KEY_RIGHT_BRACKET) || TAPPED(GLFW_KEY_LEFT_BRACKET)) {
+            tp_lod_params full;
+            if (tp_lod_params_resolve(sc->terrain, &lod, &full, NULL) == TP_OK) {
+                double f = TAPPED(GLFW_KEY_RIGHT_BRACKET) ? 1.25 : 0.8;
+                lod.mindist_m = fmin(full.mindist_m * f, full.maxdist_m);
+                lod.maxdist_m = full.maxdist_m;
+            }
         }
+        if (TAPPED(GLFW_KEY_PERIOD) || TAPPED(GLFW_KEY_COMMA))
+            lod.exponent = (lod.exponent > 0 ? lod.exponent : 1) * (TAPPED(GLFW_KEY_PERIOD) ? 1.25 : 0.8);
         int want_shot = TAPPED(GLFW_KEY_P);
         if (TAPPED(GLFW_KEY_C)) { /* print the view so it can be reproduced */
             double lat, lon;
@@ -930,12 +980,16 @@ static int run_window(tp_scene* sc, tp_gl_context* ctx, tp_renderer* r, tp_selec
             grid_labels(hud, sc, sel, cam, o->render.grid_m, 1);
         if (hud && show_hud) {
             char text[2048];
-            hud_text(sc, sel, cam, &lod, &fr, fps, frozen, text, sizeof text);
+            if (now - measured_at > 1.0) { /* once a second */
+                measure_now(sel, cam, &me);
+                measured_at = now;
+            }
+            hud_text(sc, sel, cam, &lod, &fr, &me, fps, frozen, text, sizeof text);
             tp_hud_text(hud, w, h, 10, 10, 2, text);
             if (show_help)
-                tp_hud_text(hud, w, h, 10, (float)h - 90, 2, help_text);
+                tp_hud_text(hud, w, h, 10, 170, 2, help_text);
             if (measure_line[0])
-                tp_hud_text(hud, w, h, 10, (float)h - 120, 2, measure_line);
+                tp_hud_text(hud, w, h, 10, (float)h - 80, 2, measure_line);
             compass_and_scale(hud, sc, sel, cam, 2);
         }
         if (want_shot) {
@@ -1022,8 +1076,10 @@ int tp_cli_view(int argc, char** argv)
                 grid_labels(hud, &sc, sel, &cam, o.render.grid_m, 1);
             if (hud && o.hud && !o.no_hud) {
                 char text[2048];
-                hud_text(&sc, sel, &cam, &o.lod, &fr, 1000 / fmax(now_ms() - t0, 1e-6), 0, text,
-                         sizeof text);
+                measured_error me;
+                measure_now(sel, &cam, &me);
+                hud_text(&sc, sel, &cam, &o.lod, &fr, &me, 1000 / fmax(now_ms() - t0, 1e-6), 0,
+                         text, sizeof text);
                 tp_hud_text(hud, o.w, o.h, 10, 10, o.w >= 1000 ? 2 : 1, text);
                 compass_and_scale(hud, &sc, sel, &cam, o.w >= 1000 ? 2 : 1);
             }
