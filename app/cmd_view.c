@@ -676,6 +676,8 @@ static void grid_labels(tp_hud* hud, const tp_scene* sc, const tp_selection* sel
     if (spacing <= 0 || !ground_at_centre(sc, sel, cam, g))
         return;
     double e0 = floor(g[0] / spacing) * spacing, n0 = floor(g[1] / spacing) * spacing;
+    double placed[100][2];
+    int nplaced = 0;
     for (int j = -4; j <= 5; j++)
         for (int i = -4; i <= 5; i++) {
             double p[3] = {e0 + i * spacing, n0 + j * spacing, 0}, x, y, sx, sy;
@@ -683,6 +685,15 @@ static void grid_labels(tp_hud* hud, const tp_scene* sc, const tp_selection* sel
             p[2] = tp_selection_drawn_height_at(sel, x, y);
             if (isnan(p[2]) || !project(cam, p, &sx, &sy))
                 continue;
+            /* skip labels that would overlap one already placed (zoomed-out views) */
+            int clash = 0;
+            for (int k = 0; k < nplaced && !clash; k++)
+                clash = fabs(placed[k][0] - sx) < 80 * scale && fabs(placed[k][1] - sy) < 14 * scale;
+            if (clash)
+                continue;
+            placed[nplaced][0] = sx;
+            placed[nplaced][1] = sy;
+            nplaced++;
             char text[64];
             if (spacing >= 1000)
                 snprintf(text, sizeof text, "%.0fE %.0fN", p[0] / 1000, p[1] / 1000);

@@ -173,6 +173,48 @@ void tp_gl_context_read_rgba(tp_gl_context* c, uint8_t* rgba)
     free(tmp);
 }
 
+static GLuint compile(GLenum type, const char* src, char* msg, size_t msg_size)
+{
+    GLuint s = glCreateShader(type);
+    glShaderSource(s, 1, &src, NULL);
+    glCompileShader(s);
+    GLint ok = 0;
+    glGetShaderiv(s, GL_COMPILE_STATUS, &ok);
+    if (!ok) {
+        char log[1024];
+        glGetShaderInfoLog(s, sizeof log, NULL, log);
+        snprintf(msg, msg_size, "shader does not compile: %s", log);
+        glDeleteShader(s);
+        return 0;
+    }
+    return s;
+}
+
+unsigned int tp_gl_program(const char* vertex_src, const char* fragment_src, char* msg,
+                           size_t msg_size)
+{
+    GLuint vs = compile(GL_VERTEX_SHADER, vertex_src, msg, msg_size);
+    GLuint fs = vs ? compile(GL_FRAGMENT_SHADER, fragment_src, msg, msg_size) : 0;
+    if (!fs) {
+        glDeleteShader(vs);
+        return 0;
+    }
+    GLuint prog = glCreateProgram();
+    glAttachShader(prog, vs);
+    glAttachShader(prog, fs);
+    glLinkProgram(prog);
+    glDeleteShader(vs);
+    glDeleteShader(fs);
+    GLint ok = 0;
+    glGetProgramiv(prog, GL_LINK_STATUS, &ok);
+    if (!ok) {
+        snprintf(msg, msg_size, "shaders do not link");
+        glDeleteProgram(prog);
+        return 0;
+    }
+    return prog;
+}
+
 void* tp_gl_context_window(const tp_gl_context* c)
 {
     return c->win;

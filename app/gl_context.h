@@ -25,6 +25,11 @@ void tp_gl_context_end_frame(tp_gl_context* c);
 void tp_gl_context_size(const tp_gl_context* c, int* w, int* h);
 /* Reads the last frame as RGBA8, top row first, into w * h * 4 bytes. */
 void tp_gl_context_read_rgba(tp_gl_context* c, uint8_t* rgba);
+/* Compiles and links a vertex + fragment shader program in the current context. Returns the
+ * program name, or 0 with the compiler's log in msg. */
+unsigned int tp_gl_program(const char* vertex_src, const char* fragment_src, char* msg,
+                           size_t msg_size);
+
 /* The GLFWwindow* of a window context, NULL offscreen. */
 void* tp_gl_context_window(const tp_gl_context* c);
 

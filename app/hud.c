@@ -1,6 +1,8 @@
 /* hud.c - the text overlay (see hud.h). */
 #include "hud.h"
 
+#include "gl_context.h"
+
 #include <epoxy/gl.h>
 #include <stb/stb_easy_font.h>
 
@@ -33,39 +35,20 @@ static const char* fs =
     "out vec4 o_color;\n"
     "void main() { o_color = v_color; }\n";
 
-static GLuint shader(GLenum type, const char* src)
-{
-    GLuint s = glCreateShader(type);
-    glShaderSource(s, 1, &src, NULL);
-    glCompileShader(s);
-    GLint ok = 0;
-    glGetShaderiv(s, GL_COMPILE_STATUS, &ok);
-    if (!ok) {
-        glDeleteShader(s);
-        return 0;
-    }
-    return s;
-}
-
 tp_hud* tp_hud_create(void)
 {
     tp_hud* h = calloc(1, sizeof *h);
-    GLuint v = shader(GL_VERTEX_SHADER, vs), f = shader(GL_FRAGMENT_SHADER, fs);
     uint32_t* idx = malloc(HUD_MAX_QUADS * 6 * sizeof *idx);
-    if (!h || !v || !f || !idx) {
-        glDeleteShader(v);
-        glDeleteShader(f);
+    char msg[256];
+    if (h)
+        h->verts = malloc(HUD_MAX_QUADS * 4 * 16);
+    if (!h || !idx || !h->verts || !(h->prog = tp_gl_program(vs, fs, msg, sizeof msg))) {
         free(idx);
+        if (h)
+            free(h->verts);
         free(h);
         return NULL;
     }
-    h->verts = malloc(HUD_MAX_QUADS * 4 * 16);
-    h->prog = glCreateProgram();
-    glAttachShader(h->prog, v);
-    glAttachShader(h->prog, f);
-    glLinkProgram(h->prog);
-    glDeleteShader(v);
-    glDeleteShader(f);
     h->u_screen = glGetUniformLocation(h->prog, "u_screen");
     h->u_offset = glGetUniformLocation(h->prog, "u_offset");
     /* quads -> two triangles each */

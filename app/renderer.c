@@ -2,6 +2,8 @@
 #define _POSIX_C_SOURCE 199309L
 #include "renderer.h"
 
+#include "gl_context.h"
+
 #include <epoxy/gl.h>
 
 #include <math.h>
@@ -141,23 +143,6 @@ static const char* fs_src =
     "    o_color = vec4(c, 1.0);\n"
     "}\n";
 
-static GLuint compile(GLenum type, const char* src, char* msg, size_t msg_size)
-{
-    GLuint s = glCreateShader(type);
-    glShaderSource(s, 1, &src, NULL);
-    glCompileShader(s);
-    GLint ok = 0;
-    glGetShaderiv(s, GL_COMPILE_STATUS, &ok);
-    if (!ok) {
-        char log[1024];
-        glGetShaderInfoLog(s, sizeof log, NULL, log);
-        snprintf(msg, msg_size, "shader does not compile: %s", log);
-        glDeleteShader(s);
-        return 0;
-    }
-    return s;
-}
-
 static void setup_vertex_format(tp_renderer* r)
 {
     glBindVertexArray(r->vao);
@@ -218,24 +203,9 @@ tp_renderer* tp_renderer_create(const tp_terrain* t, char* msg, size_t msg_size)
     size_t v = ((size_t)1 << n) + 1;
     r->slot_verts = (int)(v * v);
 
-    GLuint vs = compile(GL_VERTEX_SHADER, vs_src, msg, msg_size);
-    GLuint fs = vs ? compile(GL_FRAGMENT_SHADER, fs_src, msg, msg_size) : 0;
-    if (!fs) {
-        glDeleteShader(vs);
+    r->prog = tp_gl_program(vs_src, fs_src, msg, msg_size);
+    if (!r->prog) {
         free(r);
-        return NULL;
-    }
-    r->prog = glCreateProgram();
-    glAttachShader(r->prog, vs);
-    glAttachShader(r->prog, fs);
-    glLinkProgram(r->prog);
-    glDeleteShader(vs);
-    glDeleteShader(fs);
-    GLint ok = 0;
-    glGetProgramiv(r->prog, GL_LINK_STATUS, &ok);
-    if (!ok) {
-        snprintf(msg, msg_size, "shaders do not link");
-        tp_renderer_destroy(r);
         return NULL;
     }
 #define TP_UNIFORM(name) r->name = glGetUniformLocation(r->prog, #name)
