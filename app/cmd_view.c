@@ -6,6 +6,7 @@
  * first frame and there is no multisampling.
  */
 #define _POSIX_C_SOURCE 200809L
+#include "camera_pose.h"
 #include "cli.h"
 #include "gl_context.h"
 #include "hud.h"
@@ -344,43 +345,6 @@ static int parse_options(int argc, char** argv, view_options* o)
         return TP_EXIT_USAGE;
     }
     return -1;
-}
-
-/* Camera from position, yaw (clockwise from grid north) and pitch; straight down works. */
-static void camera_from(double e, double n, double hgt, double yaw_deg, double pitch_deg,
-                        const view_options* o, tp_camera* cam)
-{
-    double y = yaw_deg * DEG, p = pitch_deg * DEG;
-    memset(cam, 0, sizeof *cam);
-    cam->position[0] = e;
-    cam->position[1] = n;
-    cam->position[2] = hgt;
-    cam->forward[0] = sin(y) * cos(p);
-    cam->forward[1] = cos(y) * cos(p);
-    cam->forward[2] = sin(p);
-    /* up = right x forward, right = (cos y, -sin y, 0): defined for every pitch */
-    double r[3] = {cos(y), -sin(y), 0};
-    cam->up[0] = r[1] * cam->forward[2] - r[2] * cam->forward[1];
-    cam->up[1] = r[2] * cam->forward[0] - r[0] * cam->forward[2];
-    cam->up[2] = r[0] * cam->forward[1] - r[1] * cam->forward[0];
-    cam->fov_y_rad = o->fov_deg * DEG;
-    cam->viewport_w_px = o->w;
-    cam->viewport_h_px = o->h;
-    cam->near_m = 1;
-}
-
-/* The whole DEM in view, from the south, 50 degrees down. */
-static void default_camera(const tp_scene* sc, const view_options* o, tp_camera* cam)
-{
-    const tp_terrain_info* in = &sc->info;
-    double e0, n0, e1, n1;
-    tp_terrain_grid_to_world(sc->terrain, 0, 0, &e0, &n0);
-    tp_terrain_grid_to_world(sc->terrain, in->src_width - 1, in->src_height - 1, &e1, &n1);
-    double size = fmax(fabs(e1 - e0), fabs(n1 - n0));
-    double pitch = -50, d = 0.45 * size / tan(o->fov_deg * DEG / 2);
-    double target[3] = {(e0 + e1) / 2, (n0 + n1) / 2, (in->min_height_m + in->max_height_m) / 2};
-    camera_from(target[0], target[1] - d * cos(pitch * DEG), target[2] - d * sin(pitch * DEG), 0,
-                pitch, o, cam);
 }
 
 static double now_ms(void)
@@ -896,7 +860,7 @@ static int run_window(tp_scene* sc, tp_gl_context* ctx, tp_renderer* r, tp_selec
             double opos[3] = {in.target[0] - in.distance * cp * fy, in.target[1] - in.distance * cp * fx,
                               in.target[2] - in.distance * sin(in.pitch * DEG)};
             tp_selection_keep_above(sel, opos, 2.0);
-            camera_from(opos[0], opos[1], opos[2], in.yaw, in.pitch, o, cam);
+            tp_camera_pose(opos[0], opos[1], opos[2], in.yaw, in.pitch, o->fov_deg, o->w, o->h, cam);
         }
         if (PRESSED(GLFW_KEY_W)) step[0] += fy, step[1] += fx;
         if (PRESSED(GLFW_KEY_S)) step[0] -= fy, step[1] -= fx;
@@ -908,7 +872,7 @@ static int run_window(tp_scene* sc, tp_gl_context* ctx, tp_renderer* r, tp_selec
             double pos[3] = {cam->position[0] + speed * step[0],
                              cam->position[1] + speed * step[1], cam->position[2] + speed * step[2]};
             tp_selection_keep_above(sel, pos, 2.0); /* terrain following */
-            camera_from(pos[0], pos[1], pos[2], in.yaw, in.pitch, o, cam);
+            tp_camera_pose(pos[0], pos[1], pos[2], in.yaw, in.pitch, o->fov_deg, o->w, o->h, cam);
         }
         int w, h;
         glfwGetFramebufferSize(win, &w, &h);
@@ -1034,18 +998,12 @@ int tp_cli_view(int argc, char** argv)
         return TP_EXIT_FAILURE;
     tp_camera cam;
     if (o.has_camera) {
-        double e = o.camera[0], n = o.camera[1];
-        if (o.camera_geo) {
-            tp_error err;
-            if (tp_georef_geo_to_proj(sc.georef, o.camera[0], o.camera[1], &e, &n, &err) != TP_OK) {
-                fprintf(stderr, "terrapatch view: --camera-geo: %s\n", err.message);
-                tp_scene_free(&sc);
-                return TP_EXIT_FAILURE;
-            }
+        if (!tp_camera_from_option(&sc, o.camera_geo, o.camera, o.fov_deg, o.w, o.h, &cam, "view")) {
+            tp_scene_free(&sc);
+            return TP_EXIT_FAILURE;
         }
-        camera_from(e, n, o.camera[2], o.camera[3], o.camera[4], &o, &cam);
     } else {
-        default_camera(&sc, &o, &cam);
+        tp_camera_default(&sc, o.fov_deg, o.w, o.h, &cam);
     }
 
     char msg[512];

@@ -236,6 +236,13 @@ tp_status tp_patch_vertices(const tp_terrain* t, int patch, int k, const int nei
 size_t tp_patch_triangles(const tp_vertex* vertices, int k, uint32_t* triangles,
                           size_t triangle_capacity);
 
+/* Visits every grid sample inside or on the triangle (a, b, c) (grid coordinates), with the
+ * height linearly interpolated there from za, zb, zc (any unit). Exact integer inside test;
+ * zero-area triangles visit nothing. */
+typedef void (*tp_sample_visitor)(int x, int y, double z, void* user);
+void tp_triangle_rasterize(const int32_t a[2], const int32_t b[2], const int32_t c[2], double za,
+                           double zb, double zc, tp_sample_visitor visit, void* user);
+
 /* ---------------------------------------------------------------------------------------------
  * Level of detail
  */

@@ -37,3 +37,9 @@ void tp__raster_triangle(const int32_t a[2], const int32_t b[2], const int32_t c
         }
     }
 }
+
+void tp_triangle_rasterize(const int32_t a[2], const int32_t b[2], const int32_t c[2], double za,
+                           double zb, double zc, tp_sample_visitor visit, void* user)
+{
+    tp__raster_triangle(a, b, c, za, zb, zc, visit, user);
+}

@@ -1,0 +1,74 @@
+/* camera_pose.c - cameras from the command line (see camera_pose.h). */
+#include "camera_pose.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+#define DEG (3.14159265358979323846 / 180.0)
+
+void tp_camera_pose(double e, double n, double h, double yaw_deg, double pitch_deg, double fov_deg,
+                    int width_px, int height_px, tp_camera* cam)
+{
+    double y = yaw_deg * DEG, p = pitch_deg * DEG;
+    memset(cam, 0, sizeof *cam);
+    cam->position[0] = e;
+    cam->position[1] = n;
+    cam->position[2] = h;
+    cam->forward[0] = sin(y) * cos(p);
+    cam->forward[1] = cos(y) * cos(p);
+    cam->forward[2] = sin(p);
+    /* up = right x forward, right = (cos y, -sin y, 0): defined for every pitch */
+    double r[3] = {cos(y), -sin(y), 0};
+    cam->up[0] = r[1] * cam->forward[2] - r[2] * cam->forward[1];
+    cam->up[1] = r[2] * cam->forward[0] - r[0] * cam->forward[2];
+    cam->up[2] = r[0] * cam->forward[1] - r[1] * cam->forward[0];
+    cam->fov_y_rad = fov_deg * DEG;
+    cam->viewport_w_px = width_px;
+    cam->viewport_h_px = height_px;
+    cam->near_m = 1;
+}
+
+void tp_camera_default(const tp_scene* sc, double fov_deg, int width_px, int height_px,
+                       tp_camera* cam)
+{
+    const tp_terrain_info* in = &sc->info;
+    double e0, n0, e1, n1;
+    tp_terrain_grid_to_world(sc->terrain, 0, 0, &e0, &n0);
+    tp_terrain_grid_to_world(sc->terrain, in->src_width - 1, in->src_height - 1, &e1, &n1);
+    double size = fmax(fabs(e1 - e0), fabs(n1 - n0));
+    double pitch = -50, d = 0.45 * size / tan(fov_deg * DEG / 2);
+    double target[3] = {(e0 + e1) / 2, (n0 + n1) / 2, (in->min_height_m + in->max_height_m) / 2};
+    tp_camera_pose(target[0], target[1] - d * cos(pitch * DEG), target[2] - d * sin(pitch * DEG), 0,
+                   pitch, fov_deg, width_px, height_px, cam);
+}
+
+int tp_camera_from_option(const tp_scene* sc, int geo, const double v[5], double fov_deg,
+                          int width_px, int height_px, tp_camera* cam, const char* cmd)
+{
+    double e = v[0], n = v[1];
+    if (geo) {
+        tp_error err;
+        if (tp_georef_geo_to_proj(sc->georef, v[0], v[1], &e, &n, &err) != TP_OK) {
+            fprintf(stderr, "terrapatch %s: --camera-geo: %s\n", cmd, err.message);
+            return 0;
+        }
+    }
+    tp_camera_pose(e, n, v[2], v[3], v[4], fov_deg, width_px, height_px, cam);
+    return 1;
+}
+
+void tp_camera_text(const tp_scene* sc, const tp_camera* cam, char* out, size_t cap)
+{
+    double yaw = fmod(atan2(cam->forward[0], cam->forward[1]) / DEG + 360, 360);
+    double l = sqrt(cam->forward[0] * cam->forward[0] + cam->forward[1] * cam->forward[1] +
+                    cam->forward[2] * cam->forward[2]);
+    double pitch = asin(cam->forward[2] / l) / DEG, lat, lon;
+    int at = snprintf(out, cap, "--camera %.3f,%.3f,%.2f,%.2f,%.2f", cam->position[0],
+                      cam->position[1], cam->position[2], yaw, pitch);
+    if (at > 0 && (size_t)at < cap &&
+        tp_georef_proj_to_geo(sc->georef, cam->position[0], cam->position[1], &lat, &lon, NULL) ==
+            TP_OK)
+        snprintf(out + at, cap - at, " --camera-geo %.9f,%.9f,%.2f,%.2f,%.2f", lat, lon,
+                 cam->position[2], yaw, pitch);
+}

@@ -1,0 +1,27 @@
+/*
+ * camera_pose.h - cameras as the command line gives them: position, yaw (clockwise from the
+ * render grid's north) and pitch (-90 looks straight down), and the default "whole DEM in view".
+ * Shared by `view` and `export` so both build exactly the same camera.
+ */
+#ifndef TP_APP_CAMERA_POSE_H
+#define TP_APP_CAMERA_POSE_H
+
+#include "scene.h"
+
+void tp_camera_pose(double e, double n, double h, double yaw_deg, double pitch_deg, double fov_deg,
+                    int width_px, int height_px, tp_camera* cam);
+
+/* The whole DEM in view, from the south, 50 degrees down. */
+void tp_camera_default(const tp_scene* sc, double fov_deg, int width_px, int height_px,
+                       tp_camera* cam);
+
+/* --camera E,N,H,YAW,PITCH (geo = 0) or --camera-geo LAT,LON,H,YAW,PITCH (geo = 1) to a camera;
+ * prints a one-line message naming cmd and returns 0 when the position has no render-grid
+ * coordinates. */
+int tp_camera_from_option(const tp_scene* sc, int geo, const double v[5], double fov_deg,
+                          int width_px, int height_px, tp_camera* cam, const char* cmd);
+
+/* The camera as option strings, e.g. "--camera-geo 45.1,-121.7,3000.00,20.00,-30.00". */
+void tp_camera_text(const tp_scene* sc, const tp_camera* cam, char* out, size_t cap);
+
+#endif
