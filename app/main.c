@@ -20,7 +20,7 @@ static void print_help(FILE* f)
           "commands:\n"
           "  info DEM    describe a DEM and the patch grid terrapatch builds from it\n"
           "  view [DEM]  show the terrain in a window, or headless to a PNG (--headless)\n"
-          "  export      write the drawn mesh to a file (coming)\n"
+          "  export DEM -o OUT   write the mesh terrapatch draws (VTK .vtp/.vtk/.vtm)\n"
           "  bench       timing and error measurements (coming)\n"
           "  coord       convert coordinates: lat/lon, UTM/UPS, MGRS, ECEF; geodesics\n"
           "\n"
@@ -59,7 +59,9 @@ int main(int argc, char** argv)
         return tp_cli_coord(argc - 1, argv + 1);
     if (!strcmp(cmd, "view"))
         return tp_cli_view(argc - 1, argv + 1);
-    if (!strcmp(cmd, "export") || !strcmp(cmd, "bench")) {
+    if (!strcmp(cmd, "export"))
+        return tp_cli_export(argc - 1, argv + 1);
+    if (!strcmp(cmd, "bench")) {
         fprintf(stderr, "terrapatch: command '%s' is not available yet in %s\n", cmd, TP_VERSION);
         return TP_EXIT_USAGE;
     }

@@ -131,6 +131,7 @@ void tp_print_warnings(const char* path, const char* text)
 int tp_scene_load(const char* path, const tp_scene_options* o, tp_scene* scene)
 {
     memset(scene, 0, sizeof *scene);
+    scene->path = path;
     tp_error err = {{0}};
     tp_status s = o->image_given || tp_is_heightmap_image(path)
                       ? tp_dem_read_image(path, &o->image, &scene->dem, &err)

@@ -51,6 +51,7 @@ int tp_scene_option(int opt, const char* arg, tp_scene_options* o, const char* c
 void tp_scene_options_help(FILE* f);
 
 typedef struct tp_scene {
+    const char* path;        /* the DEM file (borrowed from the caller) */
     tp_dem* dem;             /* band 1 as read */
     tp_render_grid* grid;    /* the metric render grid */
     tp_terrain* terrain;     /* patches, levels, error tables */

@@ -163,6 +163,59 @@ tp_status tp_texture_build(const char* path, const tp_render_grid* grid, int max
 void tp_texture_destroy(tp_texture* tex); /* accepts NULL */
 
 /* ---------------------------------------------------------------------------------------------
+ * Triangle meshes for ParaView (io/src/vtk_mesh.cpp, VTK's own writers and readers)
+ */
+typedef struct tp_mesh {
+    size_t point_count;
+    const double* xyz;          /* 3 per point: E, N (render CRS, or minus origin), elevation m */
+    const double* elevation_m;  /* per point: point data "elevation_m" */
+    const uint8_t* void_filled; /* per point: point data "void_filled" (0/1) */
+    size_t triangle_count;
+    const uint32_t* triangles;  /* 3 point indices per triangle, counter-clockwise from above */
+    const int32_t* patch_id;    /* per triangle: cell data "patch_id" */
+    const uint8_t* lod;         /* per triangle: cell data "lod" (k = n is full resolution) */
+    const double* max_error_m;  /* per triangle: cell data "max_error_m" */
+    /* Field data (strings may be NULL or ""): */
+    const char* crs_wkt;
+    int epsg;
+    const char* utm_zone;       /* e.g. "31n" */
+    const char* source_file;
+    const char* camera;         /* the camera as a --camera-geo / --camera string */
+    const char* lod_params;     /* e.g. "mode=error tau_px=1" */
+    const char* program_version;
+    double origin[3];           /* subtracted from every point (0 unless --origin local) */
+} tp_mesh;
+
+typedef enum tp_mesh_format {
+    TP_MESH_DEFAULT = 0, /* from the extension: .vtp, .vtk or .vtm */
+    TP_MESH_VTP,         /* VTK XML PolyData, binary, compressed */
+    TP_MESH_VTK,         /* legacy VTK, binary */
+    TP_MESH_VTM          /* VTK XML multiblock, one PolyData block per patch */
+} tp_mesh_format;
+
+/* Writes the mesh with VTK's writers: points as doubles, triangles as cells (not strips), the
+ * point, cell and field data above (field data also holds "triangle_count"). Atomic: written to
+ * a temporary file beside path and renamed; on any failure (unwritable directory, full disk,
+ * bad extension) nothing is left behind and the message names the path. */
+tp_status tp_mesh_write(const char* path, tp_mesh_format format, const tp_mesh* mesh,
+                        tp_error* err);
+
+/* What a mesh file holds, read back with VTK's readers (tests, --check). */
+typedef struct tp_mesh_summary {
+    size_t points, triangles, other_cells;
+    int points_are_double;
+    int has_elevation, has_void_filled, has_patch_id, has_lod, has_max_error;
+    int has_crs, has_source, has_version; /* field data present */
+    size_t boundary_loops;   /* connected loops of boundary edges (vtkFeatureEdges) */
+    size_t boundary_edges, non_manifold_edges;
+    double max_error_m;      /* largest cell max_error_m */
+    double bounds[6];        /* xmin, xmax, ymin, ymax, zmin, zmax */
+    size_t blocks;           /* .vtm: number of blocks; else 1 */
+} tp_mesh_summary;
+
+tp_status tp_mesh_inspect(const char* path, tp_mesh_summary* out, tp_error* err);
+
+/* ---------------------------------------------------------------------------------------------
  * Georeference (io/src/georef.cpp): grid (x, y) <-> render CRS (E, N) <-> WGS84 (lat, lon).
  *
  * Grid coordinates are (column, row) with sample centres at integers, as GDAL's geotransform

@@ -1,0 +1,412 @@
+/*
+ * cmd_export.c - `terrapatch export DEM -o OUT [mode] [options]`: the meshes we draw, written
+ * with VTK for ParaView: full resolution, the view-dependent mesh of a camera, or a static
+ * error-bounded mesh.
+ */
+#include "camera_pose.h"
+#include "cli.h"
+#include "mesh_export.h"
+#include "scene.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+typedef enum { MODE_VIEW = 0, MODE_FULL, MODE_MAX_ERROR } export_mode;
+
+typedef struct export_options {
+    tp_scene_options scene;
+    export_mode mode;
+    double max_error_m;
+    tp_lod_params lod;
+    int has_camera, camera_geo;
+    double camera[5];
+    double fov_deg;
+    int w, h;
+    int no_cull, origin_local, per_patch;
+    tp_mesh_format format;
+    const char* out;
+    const char* path;
+} export_options;
+
+enum {
+    OPT_OUT = 'o',
+    OPT_FULL = 256,
+    OPT_MAX_ERROR,
+    OPT_LOD,
+    OPT_TAU,
+    OPT_MINDIST,
+    OPT_MAXDIST,
+    OPT_EXP,
+    OPT_CAMERA,
+    OPT_CAMERA_GEO,
+    OPT_FOV,
+    OPT_SIZE,
+    OPT_NO_CULL,
+    OPT_ORIGIN_LOCAL,
+    OPT_PER_PATCH,
+    OPT_FORMAT,
+};
+
+static void print_help(void)
+{
+    fputs("usage: terrapatch export [options] DEM -o OUT\n"
+          "\n"
+          "Writes the triangle mesh terrapatch draws, for ParaView and GIS comparison: points in\n"
+          "double precision in the render CRS (true UTM/projected metres, elevation in metres),\n"
+          "shared vertices merged into one connected surface, triangles as cells. Point data\n"
+          "elevation_m, void_filled; cell data patch_id, lod, max_error_m (measured against the\n"
+          "source samples each triangle covers); field data CRS, UTM zone, source, camera, LoD\n"
+          "parameters, triangle count, program version.\n"
+          "\n"
+          "mode (one of):\n"
+          "  (default)             the mesh the viewer draws for --camera/--camera-geo (or the\n"
+          "                        viewer's default camera), after crack removal, culled\n"
+          "                        patches left out\n"
+          "  --full                full resolution: every drawn sample, two triangles per cell\n"
+          "  --max-error M         static, crack-free mesh: every patch at the coarsest level\n"
+          "                        whose measured error stays <= M metres\n"
+          "view-dependent options (as for view):\n"
+          "  --camera E,N,H,YAW,PITCH, --camera-geo LAT,LON,H,YAW,PITCH, --fov DEG, --size WxH\n"
+          "  --lod distance|error|full, --tau PX, --mindist M, --maxdist M, --exp E\n"
+          "  --no-cull             keep the patches outside the view too\n"
+          "output:\n"
+          "  -o, --output OUT      .vtp (VTK XML, binary, compressed), .vtk (legacy) or .vtm\n"
+          "  --per-patch           one block per patch (.vtm)\n"
+          "  --origin local        subtract a scene origin (written to the field data)\n"
+          "DEM:\n",
+          stdout);
+    tp_scene_options_help(stdout);
+    fputs("\nWrites atomically (a temporary file, then a rename): a failure leaves no file.\n"
+          "Exit status: 0 success, 1 failure, 2 usage error.\n",
+          stdout);
+}
+
+static int bad(const char* opt, const char* expected, const char* got)
+{
+    fprintf(stderr, "terrapatch export: %s: expected %s, got '%s'\n", opt, expected, got);
+    return TP_EXIT_USAGE;
+}
+
+static int number(const char* s, double* v)
+{
+    char* end;
+    *v = strtod(s, &end);
+    return end != s && *end == '\0' && isfinite(*v);
+}
+
+static int ends_with(const char* s, const char* ext)
+{
+    size_t a = strlen(s), b = strlen(ext);
+    return a > b && strcmp(s + a - b, ext) == 0;
+}
+
+static int parse_options(int argc, char** argv, export_options* o)
+{
+    static const struct option longs[] = {
+        TP_SCENE_LONG_OPTIONS,
+        {"output", required_argument, NULL, OPT_OUT},
+        {"full", no_argument, NULL, OPT_FULL},
+        {"max-error", required_argument, NULL, OPT_MAX_ERROR},
+        {"lod", required_argument, NULL, OPT_LOD},
+        {"tau", required_argument, NULL, OPT_TAU},
+        {"mindist", required_argument, NULL, OPT_MINDIST},
+        {"maxdist", required_argument, NULL, OPT_MAXDIST},
+        {"exp", required_argument, NULL, OPT_EXP},
+        {"camera", required_argument, NULL, OPT_CAMERA},
+        {"camera-geo", required_argument, NULL, OPT_CAMERA_GEO},
+        {"fov", required_argument, NULL, OPT_FOV},
+        {"size", required_argument, NULL, OPT_SIZE},
+        {"no-cull", no_argument, NULL, OPT_NO_CULL},
+        {"origin", required_argument, NULL, OPT_ORIGIN_LOCAL},
+        {"per-patch", no_argument, NULL, OPT_PER_PATCH},
+        {"help", no_argument, NULL, 'h'},
+        {NULL, 0, NULL, 0},
+    };
+    memset(o, 0, sizeof *o);
+    tp_scene_options_default(&o->scene);
+    o->lod.mode = TP_LOD_ERROR;
+    o->fov_deg = 60;
+    o->w = 1280;
+    o->h = 720;
+    opterr = 0;
+    optind = 1;
+    int c, modes = 0;
+    double v;
+    while ((c = getopt_long(argc, argv, ":ho:", longs, NULL)) != -1) {
+        /* --origin is "local" here, but LAT,LON for heightmap images: both are accepted */
+        if (c == TP_OPT_ORIGIN && !strcmp(optarg, "local")) {
+            o->origin_local = 1;
+            continue;
+        }
+        int taken = c == '?' || c == ':' ? 0 : tp_scene_option(c, optarg, &o->scene, "export");
+        if (taken < 0)
+            return TP_EXIT_USAGE;
+        if (taken)
+            continue;
+        switch (c) {
+        case OPT_OUT: o->out = optarg; break;
+        case OPT_FULL:
+            o->mode = MODE_FULL;
+            modes++;
+            break;
+        case OPT_MAX_ERROR:
+            if (!number(optarg, &v) || v < 0)
+                return bad("--max-error", "metres >= 0", optarg);
+            o->mode = MODE_MAX_ERROR;
+            o->max_error_m = v;
+            modes++;
+            break;
+        case OPT_LOD:
+            if (!strcmp(optarg, "distance"))
+                o->lod.mode = TP_LOD_DISTANCE;
+            else if (!strcmp(optarg, "error"))
+                o->lod.mode = TP_LOD_ERROR;
+            else if (!strcmp(optarg, "full"))
+                o->lod.mode = TP_LOD_FULL;
+            else
+                return bad("--lod", "distance, error or full", optarg);
+            break;
+        case OPT_TAU:
+        case OPT_MINDIST:
+        case OPT_MAXDIST:
+        case OPT_EXP:
+        case OPT_FOV:
+            if (!number(optarg, &v) || v < 0)
+                return bad(argv[optind - 1], "a number >= 0", optarg);
+            if (c == OPT_TAU)
+                o->lod.tau_px = v;
+            else if (c == OPT_MINDIST)
+                o->lod.mindist_m = v;
+            else if (c == OPT_MAXDIST)
+                o->lod.maxdist_m = v;
+            else if (c == OPT_EXP)
+                o->lod.exponent = v;
+            else if (v > 0 && v < 180)
+                o->fov_deg = v;
+            else
+                return bad("--fov", "degrees in (0, 180)", optarg);
+            break;
+        case OPT_CAMERA:
+        case OPT_CAMERA_GEO: {
+            const char* s = optarg;
+            char* end;
+            for (int i = 0; i < 5; i++) {
+                o->camera[i] = strtod(s, &end);
+                if (end == s || (i < 4 && *end != ',') || (i == 4 && *end != '\0'))
+                    return bad(c == OPT_CAMERA ? "--camera" : "--camera-geo",
+                               c == OPT_CAMERA ? "E,N,H,YAW,PITCH" : "LAT,LON,H,YAW,PITCH", optarg);
+                s = end + 1;
+            }
+            o->has_camera = 1;
+            o->camera_geo = c == OPT_CAMERA_GEO;
+            break;
+        }
+        case OPT_SIZE: {
+            char* end;
+            long w = strtol(optarg, &end, 10), h = 0;
+            if (*end == 'x')
+                h = strtol(end + 1, &end, 10);
+            if (*end || w < 16 || h < 16 || w > 16384 || h > 16384)
+                return bad("--size", "WxH between 16 and 16384", optarg);
+            o->w = (int)w;
+            o->h = (int)h;
+            break;
+        }
+        case OPT_NO_CULL: o->no_cull = 1; break;
+        case OPT_ORIGIN_LOCAL: return bad("--origin", "local (or LAT,LON for an image)", optarg);
+        case OPT_PER_PATCH: o->per_patch = 1; break;
+        case 'h': print_help(); return tp_cli_finish(TP_EXIT_OK);
+        case ':':
+            fprintf(stderr, "terrapatch export: missing value for %s\n", argv[optind - 1]);
+            return TP_EXIT_USAGE;
+        default:
+            fprintf(stderr,
+                    "terrapatch export: unknown option '%s' (see 'terrapatch export --help')\n",
+                    argv[optind - 1]);
+            return TP_EXIT_USAGE;
+        }
+    }
+    if (modes > 1) {
+        fprintf(stderr, "terrapatch export: --full and --max-error exclude each other\n");
+        return TP_EXIT_USAGE;
+    }
+    if (!o->out) {
+        fprintf(stderr, "terrapatch export: missing -o OUT (a .vtp, .vtk or .vtm file)\n");
+        return TP_EXIT_USAGE;
+    }
+    if (ends_with(o->out, ".vtp"))
+        o->format = TP_MESH_VTP;
+    else if (ends_with(o->out, ".vtk"))
+        o->format = TP_MESH_VTK;
+    else if (ends_with(o->out, ".vtm"))
+        o->format = TP_MESH_VTM;
+    else
+        return bad("-o", "a file name ending in .vtp, .vtk or .vtm", o->out);
+    if (o->per_patch && o->format != TP_MESH_VTM)
+        return bad("--per-patch", "an output ending in .vtm", o->out);
+    if (optind >= argc) {
+        fprintf(stderr, "terrapatch export: missing DEM file\n");
+        return TP_EXIT_USAGE;
+    }
+    if (argc - optind > 1) {
+        fprintf(stderr, "terrapatch export: expected one DEM, got extra argument '%s'\n",
+                argv[optind + 1]);
+        return TP_EXIT_USAGE;
+    }
+    o->path = argv[optind];
+    tp_lod_params resolved;
+    tp_error err;
+    if (tp_lod_params_resolve(NULL, &o->lod, &resolved, &err) != TP_OK) {
+        fprintf(stderr, "terrapatch export: %s\n", err.message);
+        return TP_EXIT_USAGE;
+    }
+    return -1;
+}
+
+static int neighbor(const tp_terrain_info* in, int p, int side)
+{
+    int c = p % in->patch_cols, r = p / in->patch_cols;
+    switch (side) {
+    case TP_SIDE_TOP: return r > 0 ? p - in->patch_cols : -1;
+    case TP_SIDE_RIGHT: return c + 1 < in->patch_cols ? p + 1 : -1;
+    case TP_SIDE_BOTTOM: return r + 1 < in->patch_rows ? p + in->patch_cols : -1;
+    default: return c > 0 ? p - 1 : -1;
+    }
+}
+
+/* Static error-bounded levels: start from the delta bound, then raise levels where the
+ * measured error of the stitched triangles exceeds M (the coarser neighbours that moved the
+ * patch's border, else the patch itself). Levels only go up, so this ends. */
+static void select_max_error(const tp_scene* sc, tp_selection* sel, double m)
+{
+    const tp_terrain_info* in = &sc->info;
+    for (int p = 0; p < in->patch_count; p++) {
+        tp_patch_info pi;
+        tp_patch_get_info(sc->terrain, p, &pi);
+        int k = in->n;
+        while (k > 0 && pi.delta_m[k - 1] <= m)
+            k--;
+        tp_selection_set_level(sel, p, k);
+    }
+    int* todo = malloc((size_t)in->patch_count * sizeof *todo);
+    if (!todo)
+        return;
+    for (int round = 0;; round++) {
+        int count = 0;
+        for (int p = 0; p < in->patch_count; p++)
+            if (tp_selection_dirty(sel, p))
+                todo[count++] = p;
+        tp_selection_clear_dirty(sel);
+        if (count == 0)
+            break;
+        for (int i = 0; i < count; i++) {
+            int p = todo[i];
+            if (tp_patch_measured_error(sc, sel, p) <= m)
+                continue;
+            int k = tp_selection_level(sel, p), nb[4], raised = 0;
+            tp_selection_neighbor_levels(sel, p, nb);
+            for (int s = 0; s < 4; s++)
+                if (nb[s] >= 0 && nb[s] < k) {
+                    tp_selection_set_level(sel, neighbor(in, p, s), nb[s] + 1);
+                    raised = 1;
+                }
+            if (!raised && k < in->n)
+                tp_selection_set_level(sel, p, k + 1);
+        }
+        if (round % 4 == 3)
+            fprintf(stderr, "terrapatch: export: refining levels, %d patches re-measured\n", count);
+    }
+    free(todo);
+}
+
+int tp_cli_export(int argc, char** argv)
+{
+    export_options o;
+    int code = parse_options(argc, argv, &o);
+    if (code >= 0)
+        return code;
+    tp_scene sc;
+    if (tp_scene_load(o.path, &o.scene, &sc) != TP_EXIT_OK)
+        return TP_EXIT_FAILURE;
+    tp_selection* sel = NULL;
+    tp_error err;
+    if (tp_selection_create(sc.terrain, &sel, &err) != TP_OK) {
+        fprintf(stderr, "terrapatch: %s: %s\n", o.path, err.message);
+        tp_scene_free(&sc);
+        return TP_EXIT_FAILURE;
+    }
+    tp_export_options eo = {.format = o.format, .origin_local = o.origin_local};
+    char camera_text[256] = "", lod_text[160] = "";
+    code = TP_EXIT_OK;
+    if (o.mode == MODE_FULL) {
+        for (int p = 0; p < sc.info.patch_count; p++)
+            tp_selection_set_level(sel, p, sc.info.n);
+        eo.include_culled = 1;
+        eo.full_cells_only = 1;
+        snprintf(lod_text, sizeof lod_text, "mode=full");
+    } else if (o.mode == MODE_MAX_ERROR) {
+        double floor_m = sc.info.quant_max_error_m;
+        if (o.max_error_m < floor_m) {
+            fprintf(stderr,
+                    "terrapatch export: --max-error %g m is below the quantisation error of this "
+                    "DEM (%g m, half of its %g m height step at most)\n",
+                    o.max_error_m, floor_m, sc.info.height_step_m);
+            code = TP_EXIT_USAGE;
+        } else {
+            select_max_error(&sc, sel, o.max_error_m);
+            eo.include_culled = 1;
+            snprintf(lod_text, sizeof lod_text, "mode=max-error max_error_m=%g", o.max_error_m);
+        }
+    } else {
+        tp_camera cam;
+        if (o.has_camera) {
+            if (!tp_camera_from_option(&sc, o.camera_geo, o.camera, o.fov_deg, o.w, o.h, &cam,
+                                       "export"))
+                code = TP_EXIT_FAILURE;
+        } else {
+            tp_camera_default(&sc, o.fov_deg, o.w, o.h, &cam);
+        }
+        if (code == TP_EXIT_OK && tp_selection_update(sel, &cam, &o.lod, &err) != TP_OK) {
+            fprintf(stderr, "terrapatch export: %s\n", err.message);
+            code = TP_EXIT_USAGE;
+        }
+        eo.include_culled = o.no_cull;
+        tp_camera_text(&sc, &cam, camera_text, sizeof camera_text);
+        tp_lod_params lp;
+        tp_lod_params_resolve(sc.terrain, &o.lod, &lp, NULL);
+        snprintf(lod_text, sizeof lod_text,
+                 "mode=%s tau_px=%g mindist_m=%g maxdist_m=%g exp=%g fov_deg=%g size=%dx%d%s",
+                 lp.mode == TP_LOD_DISTANCE ? "distance" : lp.mode == TP_LOD_FULL ? "full" : "error",
+                 lp.tau_px, lp.mindist_m, lp.maxdist_m, lp.exponent, o.fov_deg, o.w, o.h,
+                 o.no_cull ? " no_cull" : "");
+    }
+    eo.camera_text = camera_text;
+    eo.lod_text = lod_text;
+    tp_export_result res;
+    if (code == TP_EXIT_OK) {
+        if (!tp_export_selection(&sc, sel, &eo, o.out, &res)) {
+            code = TP_EXIT_FAILURE;
+        } else {
+            /* the full mesh's triangle count, for comparison */
+            size_t full = 0;
+            tp_terrain_info* in = &sc.info;
+            size_t cells = 0;
+            for (int y = 0; y + 1 < in->height; y++)
+                for (int x = 0; x + 1 < in->width; x++)
+                    cells += !isnan(tp_terrain_sample(sc.terrain, x, y)) &&
+                             !isnan(tp_terrain_sample(sc.terrain, x + 1, y)) &&
+                             !isnan(tp_terrain_sample(sc.terrain, x, y + 1)) &&
+                             !isnan(tp_terrain_sample(sc.terrain, x + 1, y + 1));
+            full = 2 * cells;
+            printf("wrote %s: %zu points, %zu triangles (%.1f%% of the %zu of the full mesh), "
+                   "measured error max %.3f m, RMS %.3f m\n",
+                   o.out, res.points, res.triangles, 100.0 * res.triangles / (full ? full : 1),
+                   full, res.max_error_m, res.rms_error_m);
+        }
+    }
+    tp_selection_destroy(sel);
+    tp_scene_free(&sc);
+    return code == TP_EXIT_OK ? tp_cli_finish(code) : code;
+}

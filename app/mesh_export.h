@@ -1,0 +1,34 @@
+/*
+ * mesh_export.h - the geometry a selection draws, as one connected triangle mesh for ParaView:
+ * shared vertices merged, degenerate triangles dropped, per-triangle error measured against the
+ * source samples. Used by `terrapatch export` and the viewer's export key.
+ */
+#ifndef TP_APP_MESH_EXPORT_H
+#define TP_APP_MESH_EXPORT_H
+
+#include "scene.h"
+
+typedef struct tp_export_options {
+    int include_culled;   /* every patch, not only the visible ones */
+    int full_cells_only;  /* --full: two triangles per cell of four drawn samples, nothing else */
+    int origin_local;     /* subtract a scene origin (written to the field data) */
+    tp_mesh_format format;
+    const char* camera_text;
+    const char* lod_text;
+} tp_export_options;
+
+typedef struct tp_export_result {
+    size_t points, triangles;
+    double max_error_m, rms_error_m; /* measured against the source samples */
+} tp_export_result;
+
+/* Builds the mesh of sel's current levels and writes it to path. Returns 1, or 0 after printing
+ * a one-line message naming path. */
+int tp_export_selection(const tp_scene* sc, const tp_selection* sel, const tp_export_options* o,
+                        const char* path, tp_export_result* result);
+
+/* Measured maximum vertical error (m) of patch p's drawn triangles under sel's levels against
+ * the source samples they cover. */
+double tp_patch_measured_error(const tp_scene* sc, const tp_selection* sel, int p);
+
+#endif

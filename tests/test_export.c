@@ -1,0 +1,272 @@
+/*
+ * test_export.c - `terrapatch export` end to end: the command runs as a child process, the files
+ * are read back with VTK (tp_mesh_inspect), and the expectations come from the DEM read on its
+ * own (tp_dem_read), not from the export code.
+ */
+#define _POSIX_C_SOURCE 200809L
+#include "tp_io.h"
+#include "tp_test.h"
+
+#include <errno.h>
+#include <fcntl.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+extern char** environ;
+
+/* Runs terrapatch export with args (NULL-terminated); returns the exit status, stderr in err. */
+static int run_export(const char* const* args, char* err, size_t err_cap)
+{
+    const char* exe = getenv("TP_TERRAPATCH");
+    if (!exe || access(exe, X_OK) != 0)
+        SKIP("TP_TERRAPATCH not set: the terrapatch binary is not built");
+    const char* argv[64];
+    int n = 0;
+    argv[n++] = exe;
+    argv[n++] = "export";
+    for (int i = 0; args[i] && n < 62; i++)
+        argv[n++] = args[i];
+    argv[n] = NULL;
+    char err_path[] = "/tmp/tp_export_errXXXXXX";
+    int fd = mkstemp(err_path);
+    ASSERT_TRUE(fd >= 0);
+    close(fd);
+    posix_spawn_file_actions_t fa;
+    posix_spawn_file_actions_init(&fa);
+    posix_spawn_file_actions_addopen(&fa, 0, "/dev/null", O_RDONLY, 0);
+    posix_spawn_file_actions_addopen(&fa, 1, "/dev/null", O_WRONLY, 0);
+    posix_spawn_file_actions_addopen(&fa, 2, err_path, O_WRONLY | O_TRUNC, 0644);
+    pid_t pid;
+    int rc = posix_spawn(&pid, exe, &fa, NULL, (char* const*)argv, environ);
+    posix_spawn_file_actions_destroy(&fa);
+    ASSERT_EQ_INT(0, rc);
+    int status = 0;
+    while (waitpid(pid, &status, 0) < 0)
+        if (errno != EINTR)
+            FAIL("waitpid: %s", strerror(errno));
+    FILE* f = fopen(err_path, "r");
+    size_t got = f ? fread(err, 1, err_cap - 1, f) : 0;
+    err[got] = '\0';
+    if (f)
+        fclose(f);
+    remove(err_path);
+    return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+}
+
+static void data_path(char* buf, size_t cap, const char* file)
+{
+    REQUIRE_DATA_FILE(buf, "TP_SHARED_DATA_DIR", file);
+    (void)cap;
+}
+
+static void out_path(char* buf, size_t cap, const char* name)
+{
+    snprintf(buf, cap, "/tmp/tp_export_%ld_%s", (long)getpid(), name);
+}
+
+/* Cells of four valid samples, and samples in at least one such cell, counted from the DEM. */
+static void full_counts(const tp_dem* d, size_t* cells, size_t* points)
+{
+    *cells = *points = 0;
+    for (int y = 0; y < d->height; y++)
+        for (int x = 0; x < d->width; x++) {
+            int used = 0;
+            for (int dy = -1; dy <= 0 && !used; dy++)
+                for (int dx = -1; dx <= 0 && !used; dx++) {
+                    int cx = x + dx, cy = y + dy;
+                    if (cx < 0 || cy < 0 || cx + 1 >= d->width || cy + 1 >= d->height)
+                        continue;
+                    const float* h = d->heights;
+                    used = !isnan(h[cy * d->width + cx]) && !isnan(h[cy * d->width + cx + 1]) &&
+                           !isnan(h[(cy + 1) * d->width + cx]) &&
+                           !isnan(h[(cy + 1) * d->width + cx + 1]);
+                }
+            *points += used && !isnan(d->heights[y * d->width + x]);
+            if (x + 1 < d->width && y + 1 < d->height) {
+                const float* h = d->heights;
+                *cells += !isnan(h[y * d->width + x]) && !isnan(h[y * d->width + x + 1]) &&
+                          !isnan(h[(y + 1) * d->width + x]) && !isnan(h[(y + 1) * d->width + x + 1]);
+            }
+        }
+}
+
+TEST(full_mesh_is_every_valid_cell_in_double_precision)
+{
+    char dem[1024], out[1024], err[4096];
+    data_path(dem, sizeof dem, "storml_elev_orig.tif"); /* NAD83 UTM 12N, 876 nodata at edges */
+    out_path(out, sizeof out, "full.vtp");
+    const char* args[] = {"--full", dem, "-o", out, NULL};
+    ASSERT_EQ_INT(0, run_export(args, err, sizeof err));
+    tp_dem* d;
+    tp_error e;
+    ASSERT_OK(tp_dem_read(dem, &d, &e));
+    size_t cells, points;
+    full_counts(d, &cells, &points);
+    tp_mesh_summary s;
+    ASSERT_OK(tp_mesh_inspect(out, &s, &e));
+    EXPECT_EQ_INT(2 * cells, s.triangles);
+    EXPECT_EQ_INT(points, s.points);
+    EXPECT_EQ_INT(0, s.other_cells);
+    EXPECT_EQ_INT(1, s.points_are_double);
+    EXPECT_TRUE(s.has_elevation && s.has_void_filled && s.has_patch_id && s.has_lod &&
+                s.has_max_error);
+    EXPECT_TRUE(s.has_crs && s.has_source && s.has_version);
+    EXPECT_EQ_INT(0, s.non_manifold_edges);
+    /* quantisation is exact for this Int16 DEM: the full mesh has no error */
+    EXPECT_EQ_DBL(0.0, s.max_error_m);
+    /* the highest sample at its exact elevation; the extent at the exact sample centres */
+    EXPECT_EQ_DBL(d->max_m, s.bounds[5]);
+    EXPECT_EQ_DBL(d->min_m, s.bounds[4]);
+    double e0 = d->geotransform[0] + 0.5 * d->geotransform[1];
+    double n0 = d->geotransform[3] + 0.5 * d->geotransform[5];
+    EXPECT_GE(s.bounds[0], e0);
+    EXPECT_LE(s.bounds[1], d->geotransform[0] + (d->width - 0.5) * d->geotransform[1]);
+    EXPECT_LE(s.bounds[3], n0);
+    EXPECT_GE(s.bounds[2], d->geotransform[3] + (d->height - 0.5) * d->geotransform[5]);
+    /* a bound on a sample centre is a sample centre: (E - e0) / 30 is an integer */
+    double col = (s.bounds[0] - e0) / d->geotransform[1];
+    EXPECT_EQ_DBL(floor(col), col);
+    tp_dem_destroy(d);
+    remove(out);
+}
+
+TEST(view_dependent_mesh_is_watertight_with_distant_levels)
+{
+    /* a filled DEM (no voids): the drawn region is one rectangle, so one boundary loop */
+    char dem[1024], out[1024], err[4096];
+    data_path(dem, sizeof dem, "storml_elev.tif");
+    out_path(out, sizeof out, "view.vtp");
+    const char* args[] = {"--camera", "324000,5102000,2700,45,-20", "--lod", "distance",
+                          "--mindist", "100", "--maxdist", "1500", "--exp", "0.3", "--no-cull",
+                          dem, "-o", out, NULL};
+    ASSERT_EQ_INT(0, run_export(args, err, sizeof err));
+    tp_mesh_summary s;
+    tp_error e;
+    ASSERT_OK(tp_mesh_inspect(out, &s, &e));
+    EXPECT_EQ_INT(1, s.boundary_loops);
+    EXPECT_EQ_INT(0, s.non_manifold_edges);
+    EXPECT_GT((double)s.triangles, 0.0);
+    remove(out);
+    /* the same as blocks per patch: still one surface after merging */
+    out_path(out, sizeof out, "view.vtm");
+    const char* args2[] = {"--camera", "324000,5102000,2700,45,-20", "--lod", "distance",
+                           "--mindist", "100", "--maxdist", "1500", "--exp", "0.3", "--no-cull",
+                           "--per-patch", dem, "-o", out, NULL};
+    ASSERT_EQ_INT(0, run_export(args2, err, sizeof err));
+    tp_mesh_summary m;
+    ASSERT_OK(tp_mesh_inspect(out, &m, &e));
+    EXPECT_GT((double)m.blocks, 1.0);
+    EXPECT_EQ_INT(s.triangles, m.triangles);
+    EXPECT_EQ_INT(1, m.boundary_loops);
+    EXPECT_EQ_INT(0, m.non_manifold_edges);
+    remove(out);
+    char dir[1024];
+    snprintf(dir, sizeof dir, "%.*s", (int)(strlen(out) - 4), out);
+    /* remove the pieces folder */
+    for (size_t b = 0; b < m.blocks; b++) {
+        char piece[2200];
+        const char* base = strrchr(dir, '/') ? strrchr(dir, '/') + 1 : dir;
+        snprintf(piece, sizeof piece, "%s/%s_%zu.vtp", dir, base, b);
+        remove(piece);
+    }
+    rmdir(dir);
+}
+
+TEST(max_error_mesh_keeps_its_bound_and_is_smaller)
+{
+    char dem[1024], out[1024], err[4096];
+    data_path(dem, sizeof dem, "storml_elev.tif");
+    out_path(out, sizeof out, "max20.vtp");
+    const char* args[] = {"--max-error", "20", dem, "-o", out, NULL};
+    ASSERT_EQ_INT(0, run_export(args, err, sizeof err));
+    tp_mesh_summary s, f;
+    tp_error e;
+    ASSERT_OK(tp_mesh_inspect(out, &s, &e));
+    EXPECT_LE(s.max_error_m, 20.0);
+    EXPECT_EQ_INT(1, s.boundary_loops);
+    EXPECT_EQ_INT(0, s.non_manifold_edges);
+    char full[1024];
+    out_path(full, sizeof full, "max20_full.vtp");
+    const char* fargs[] = {"--full", dem, "-o", full, NULL};
+    ASSERT_EQ_INT(0, run_export(fargs, err, sizeof err));
+    ASSERT_OK(tp_mesh_inspect(full, &f, &e));
+    EXPECT_LT((double)s.triangles, 0.8 * (double)f.triangles);
+    remove(out);
+    remove(full);
+}
+
+TEST(max_error_below_quantisation_is_refused)
+{
+    /* N42E001 is warped to UTM: its heights are no longer integers and quantisation is > 0 */
+    char dem[1024], out[1024], err[4096];
+    data_path(dem, sizeof dem, "N42E001.hgt");
+    out_path(out, sizeof out, "tiny.vtp");
+    const char* args[] = {"--max-error", "0.0001", dem, "-o", out, NULL};
+    EXPECT_EQ_INT(2, run_export(args, err, sizeof err));
+    EXPECT_CONTAINS(err, "quantisation");
+    EXPECT_TRUE(access(out, F_OK) != 0);
+}
+
+TEST(unwritable_output_fails_and_leaves_nothing)
+{
+    char dem[1024], err[4096];
+    data_path(dem, sizeof dem, "storml_elev.tif");
+    const char* args[] = {"--full", dem, "-o", "/nonexistent-dir/mesh.vtp", NULL};
+    EXPECT_EQ_INT(1, run_export(args, err, sizeof err));
+    EXPECT_CONTAINS(err, "/nonexistent-dir/mesh.vtp");
+    EXPECT_TRUE(access("/nonexistent-dir", F_OK) != 0);
+}
+
+TEST(invalid_options_are_usage_errors)
+{
+    char dem[1024], out[1024], err[4096];
+    data_path(dem, sizeof dem, "storml_elev.tif");
+    out_path(out, sizeof out, "bad.vtp");
+    const char* a1[] = {"--max-error", "-1", dem, "-o", out, NULL};
+    EXPECT_EQ_INT(2, run_export(a1, err, sizeof err));
+    const char* a2[] = {"--per-patch", dem, "-o", out, NULL};
+    EXPECT_EQ_INT(2, run_export(a2, err, sizeof err));
+    const char* a3[] = {"--full", "--max-error", "5", dem, "-o", out, NULL};
+    EXPECT_EQ_INT(2, run_export(a3, err, sizeof err));
+    const char* a4[] = {"--full", dem, "-o", "/tmp/mesh.obj", NULL};
+    EXPECT_EQ_INT(2, run_export(a4, err, sizeof err));
+    const char* a5[] = {"--full", dem, NULL};
+    EXPECT_EQ_INT(2, run_export(a5, err, sizeof err));
+    EXPECT_TRUE(access(out, F_OK) != 0);
+}
+
+TEST(origin_local_shifts_points_and_records_it)
+{
+    char dem[1024], a[1024], b[1024], err[4096];
+    data_path(dem, sizeof dem, "storml_elev.tif");
+    out_path(a, sizeof a, "true.vtk");
+    out_path(b, sizeof b, "local.vtk");
+    const char* args[] = {"--full", dem, "-o", a, NULL};
+    const char* largs[] = {"--full", "--origin", "local", dem, "-o", b, NULL};
+    ASSERT_EQ_INT(0, run_export(args, err, sizeof err));
+    ASSERT_EQ_INT(0, run_export(largs, err, sizeof err));
+    tp_mesh_summary s, l;
+    tp_error e;
+    ASSERT_OK(tp_mesh_inspect(a, &s, &e));
+    ASSERT_OK(tp_mesh_inspect(b, &l, &e));
+    EXPECT_EQ_INT(s.triangles, l.triangles);
+    /* the origin is a whole kilometre, so the shift is exact */
+    double de = s.bounds[0] - l.bounds[0], dn = s.bounds[2] - l.bounds[2];
+    EXPECT_EQ_DBL(floor(de / 1000) * 1000, de);
+    EXPECT_EQ_DBL(floor(dn / 1000) * 1000, dn);
+    EXPECT_GT(de, 0.0);
+    EXPECT_EQ_DBL(s.bounds[1] - de, l.bounds[1]);
+    remove(a);
+    remove(b);
+}
+
+#define TESTS(X)                                                                                   \
+    X(full_mesh_is_every_valid_cell_in_double_precision)                                           \
+    X(view_dependent_mesh_is_watertight_with_distant_levels)                                       \
+    X(max_error_mesh_keeps_its_bound_and_is_smaller)                                               \
+    X(max_error_below_quantisation_is_refused)                                                     \
+    X(unwritable_output_fails_and_leaves_nothing)                                                  \
+    X(invalid_options_are_usage_errors)                                                            \
+    X(origin_local_shifts_points_and_records_it)
+TP_TEST_MAIN(TESTS)
