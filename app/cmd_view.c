@@ -12,6 +12,7 @@
 #include "hud.h"
 #include "json.h"
 #include "measure.h"
+#include "mesh_export.h"
 #include "renderer.h"
 #include "scene.h"
 #include "tp_geo.h"
@@ -126,7 +127,7 @@ static void print_help(void)
           "mouse button to look around, L colour by level, T wireframe, F freeze LoD and\n"
           "culling, M switch LoD mode, +/- tau (or maxdist), [ ] mindist, , . exp, X/Z vertical\n"
           "exaggeration, J/K sun azimuth, U/N sun elevation, V tint\n"
-          "of filled voids, G 1 km grid, P screenshot, C print the camera as --camera-geo and --camera\n"
+          "of filled voids, G 1 km grid, P screenshot, Y export the view's mesh (.vtp), C print the camera as --camera-geo and --camera\n"
           "options, H hide the HUD, O orbit mode (drag rotates around the point looked at, wheel\n"
           "or W/S zoom, A/D/Q/E pan), right-click twice to measure, ? key help, Esc quit.\n"
           "\nExit status: 0 success, 1 failure, 2 usage error.\n",
@@ -719,7 +720,7 @@ static const char* help_text =
     "W/S forward/back   A/D left/right   Q/E down/up   left drag: look\n"
     "L colour by level   T wireframe   F freeze LoD and culling   M LoD mode\n"
     "+/- tau (or maxdist)   [ ] mindist   , . exp   X/Z exaggeration   V filled-void tint\n"
-    "J/K sun azimuth   U/N sun elevation   G 1 km grid   P screenshot\n"
+    "J/K sun azimuth   U/N sun elevation   G 1 km grid   P screenshot   Y export mesh\n"
     "O orbit mode (drag rotates, wheel or W/S zoom, A/D/Q/E pan)   C print camera   H hide HUD\n"
     "right-click twice: measure   ? this help   Esc quit";
 
@@ -786,7 +787,7 @@ static int run_window(tp_scene* sc, tp_gl_context* ctx, tp_renderer* r, tp_selec
     interactive in = {0};
     in.pitch = asin(cam->forward[2]) / DEG;
     in.yaw = atan2(cam->forward[0], cam->forward[1]) / DEG;
-    int frozen = 0, shots = 0, show_help = 0, show_hud = !o->no_hud;
+    int frozen = 0, shots = 0, exports = 0, show_help = 0, show_hud = !o->no_hud;
     tp_hud* hud = tp_hud_create();
     double fps = 0;
     double picks[2][3];
@@ -935,6 +936,21 @@ static int run_window(tp_scene* sc, tp_gl_context* ctx, tp_renderer* r, tp_selec
         if (TAPPED(GLFW_KEY_PERIOD) || TAPPED(GLFW_KEY_COMMA))
             lod.exponent = (lod.exponent > 0 ? lod.exponent : 1) * (TAPPED(GLFW_KEY_PERIOD) ? 1.25 : 0.8);
         int want_shot = TAPPED(GLFW_KEY_P);
+        if (TAPPED(GLFW_KEY_Y)) { /* export the current view's mesh */
+            char name[64], cam_text[256], lod_text[96];
+            snprintf(name, sizeof name, "terrapatch-view-%03d.vtp", exports++);
+            tp_camera_text(sc, cam, cam_text, sizeof cam_text);
+            snprintf(lod_text, sizeof lod_text, "mode=%s tau_px=%g",
+                     lod.mode == TP_LOD_DISTANCE ? "distance" : lod.mode == TP_LOD_FULL ? "full" : "error",
+                     lod.tau_px > 0 ? lod.tau_px : 1);
+            tp_export_options eo = {.camera_text = cam_text, .lod_text = lod_text};
+            tp_export_result er;
+            if (tp_export_selection(sc, sel, &eo, name, &er)) {
+                printf("exported %s: %zu triangles, measured error max %.2f m\n", name,
+                       er.triangles, er.max_error_m);
+                fflush(stdout);
+            }
+        }
         if (TAPPED(GLFW_KEY_C)) { /* print the view so it can be reproduced */
             double lat, lon;
             if (tp_georef_proj_to_geo(sc->georef, cam->position[0], cam->position[1], &lat, &lon,
