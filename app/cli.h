@@ -23,6 +23,9 @@ int tp_cli_view(int argc, char** argv);
 /* `terrapatch export [options] DEM -o OUT`. argv[0] is "export"; returns an exit code. */
 int tp_cli_export(int argc, char** argv);
 
+/* `terrapatch bench [options] DEM`. argv[0] is "bench"; returns an exit code. */
+int tp_cli_bench(int argc, char** argv);
+
 /* Flushes stdout; on a write error prints one line and returns TP_EXIT_FAILURE, else code. */
 int tp_cli_finish(int code);
 

@@ -21,7 +21,7 @@ static void print_help(FILE* f)
           "  info DEM    describe a DEM and the patch grid terrapatch builds from it\n"
           "  view [DEM]  show the terrain in a window, or headless to a PNG (--headless)\n"
           "  export DEM -o OUT   write the mesh terrapatch draws (VTK .vtp/.vtk/.vtm)\n"
-          "  bench       timing and error measurements (coming)\n"
+          "  bench DEM   frame rate against measured error, headless, for every LoD mode\n"
           "  coord       convert coordinates: lat/lon, UTM/UPS, MGRS, ECEF; geodesics\n"
           "\n"
           "Run 'terrapatch COMMAND --help' for the options of a command.\n"
@@ -61,10 +61,8 @@ int main(int argc, char** argv)
         return tp_cli_view(argc - 1, argv + 1);
     if (!strcmp(cmd, "export"))
         return tp_cli_export(argc - 1, argv + 1);
-    if (!strcmp(cmd, "bench")) {
-        fprintf(stderr, "terrapatch: command '%s' is not available yet in %s\n", cmd, TP_VERSION);
-        return TP_EXIT_USAGE;
-    }
+    if (!strcmp(cmd, "bench"))
+        return tp_cli_bench(argc - 1, argv + 1);
     if (cmd[0] == '-')
         fprintf(stderr, "terrapatch: unknown option '%s' (try 'terrapatch --help')\n", cmd);
     else
