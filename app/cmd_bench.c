@@ -11,6 +11,7 @@
 #include "json.h"
 #include "renderer.h"
 #include "scene.h"
+#include "view_options.h"
 
 #include <epoxy/gl.h>
 #include <errno.h>
@@ -25,11 +26,11 @@
 
 typedef struct bench_options {
     tp_scene_options scene;
-    tp_lod_params lod; /* mindist/maxdist/exp/tau for the LoD modes */
+    tp_view_setup vs; /* LoD parameters for the LoD modes, size, field of view; --camera or
+                         --camera-geo makes a path of one camera */
     const char* path_name;
     const char* path_file;
-    int frames, w, h;
-    double fov_deg;
+    int frames;
     const char* json;
     const char* csv;
     int no_error;      /* skip the (slow) error measurement */
@@ -40,12 +41,6 @@ enum {
     OPT_PATH = 256,
     OPT_PATH_FILE,
     OPT_FRAMES,
-    OPT_SIZE,
-    OPT_TAU,
-    OPT_MINDIST,
-    OPT_MAXDIST,
-    OPT_EXP,
-    OPT_FOV,
     OPT_JSON,
     OPT_CSV,
     OPT_NO_ERROR,
@@ -68,9 +63,12 @@ static void print_help(void)
           "                         orbit: around the centre\n"
           "  --path-file F          one --camera-geo LAT,LON,H,YAW,PITCH (or E,N,H,YAW,PITCH\n"
           "                         with a leading 'proj ') per line\n"
+          "  --camera E,N,H,YAW,PITCH, --camera-geo LAT,LON,H,YAW,PITCH\n"
+          "                         every frame from this one camera instead of a path\n"
           "  --frames N             frames per configuration (default 60)\n"
           "  --size WxH             default 1280x720; --fov DEG default 60\n"
-          "  --tau PX, --mindist M, --maxdist M, --exp E   the LoD parameters (as for view)\n"
+          "  --tau PX, --mindist M, --maxdist M, --exp E   the LoD parameters (as for view;\n"
+          "                         --lod is ignored: every mode is measured)\n"
           "  --json FILE            summary; --csv FILE: one row per frame and configuration\n"
           "  --no-error             skip the error measurement (faster)\n"
           "DEM:\n",
@@ -81,7 +79,7 @@ static void print_help(void)
 
 static int bad(const char* opt, const char* expected, const char* got)
 {
-    fprintf(stderr, "terrapatch bench: %s: expected %s, got '%s'\n", opt, expected, got);
+    tp_option_error("bench", opt, expected, got);
     return TP_EXIT_USAGE;
 }
 
@@ -92,12 +90,7 @@ static int parse_options(int argc, char** argv, bench_options* o)
         {"path", required_argument, NULL, OPT_PATH},
         {"path-file", required_argument, NULL, OPT_PATH_FILE},
         {"frames", required_argument, NULL, OPT_FRAMES},
-        {"size", required_argument, NULL, OPT_SIZE},
-        {"tau", required_argument, NULL, OPT_TAU},
-        {"mindist", required_argument, NULL, OPT_MINDIST},
-        {"maxdist", required_argument, NULL, OPT_MAXDIST},
-        {"exp", required_argument, NULL, OPT_EXP},
-        {"fov", required_argument, NULL, OPT_FOV},
+        TP_VIEW_LONG_OPTIONS,
         {"json", required_argument, NULL, OPT_JSON},
         {"csv", required_argument, NULL, OPT_CSV},
         {"no-error", no_argument, NULL, OPT_NO_ERROR},
@@ -108,20 +101,19 @@ static int parse_options(int argc, char** argv, bench_options* o)
     tp_scene_options_default(&o->scene);
     o->path_name = "low";
     o->frames = 60;
-    o->w = 1280;
-    o->h = 720;
-    o->fov_deg = 60;
+    tp_view_setup_default(&o->vs);
     opterr = 0;
     optind = 1;
     int c;
     char* end;
     while ((c = getopt_long(argc, argv, ":h", longs, NULL)) != -1) {
         int taken = c == '?' || c == ':' ? 0 : tp_scene_option(c, optarg, &o->scene, "bench");
+        if (!taken && c != '?' && c != ':')
+            taken = tp_view_option(c, optarg, &o->vs, "bench");
         if (taken < 0)
             return TP_EXIT_USAGE;
         if (taken)
             continue;
-        double v;
         switch (c) {
         case OPT_PATH:
             if (strcmp(optarg, "low") && strcmp(optarg, "high") && strcmp(optarg, "orbit"))
@@ -136,37 +128,6 @@ static int parse_options(int argc, char** argv, bench_options* o)
             o->frames = (int)n;
             break;
         }
-        case OPT_SIZE: {
-            long w = strtol(optarg, &end, 10), h = 0;
-            if (*end == 'x')
-                h = strtol(end + 1, &end, 10);
-            if (*end || w < 16 || h < 16 || w > 16384 || h > 16384)
-                return bad("--size", "WxH between 16 and 16384", optarg);
-            o->w = (int)w;
-            o->h = (int)h;
-            break;
-        }
-        case OPT_TAU:
-        case OPT_MINDIST:
-        case OPT_MAXDIST:
-        case OPT_EXP:
-        case OPT_FOV:
-            v = strtod(optarg, &end);
-            if (end == optarg || *end || !(v >= 0) || !isfinite(v))
-                return bad(argv[optind - 1], "a number >= 0", optarg);
-            if (c == OPT_TAU)
-                o->lod.tau_px = v;
-            else if (c == OPT_MINDIST)
-                o->lod.mindist_m = v;
-            else if (c == OPT_MAXDIST)
-                o->lod.maxdist_m = v;
-            else if (c == OPT_EXP)
-                o->lod.exponent = v;
-            else if (v > 0 && v < 180)
-                o->fov_deg = v;
-            else
-                return bad("--fov", "degrees in (0, 180)", optarg);
-            break;
         case OPT_JSON: o->json = optarg; break;
         case OPT_CSV: o->csv = optarg; break;
         case OPT_NO_ERROR: o->no_error = 1; break;
@@ -185,12 +146,8 @@ static int parse_options(int argc, char** argv, bench_options* o)
         return TP_EXIT_USAGE;
     }
     o->dem = argv[optind];
-    tp_lod_params r;
-    tp_error err;
-    if (tp_lod_params_resolve(NULL, &o->lod, &r, &err) != TP_OK) {
-        fprintf(stderr, "terrapatch bench: %s\n", err.message);
+    if (tp_view_setup_check(&o->vs, "bench") < 0)
         return TP_EXIT_USAGE;
-    }
     return -1;
 }
 
@@ -212,18 +169,18 @@ static void path_camera(const tp_scene* sc, const bench_options* o, int i, int n
     double a = (i + 0.5) / n;
     if (!strcmp(o->path_name, "high")) {
         double e = e0 + (0.1 + 0.8 * a) * (e1 - e0), nn = fmin(n0, n1) - 0.15 * size;
-        tp_camera_pose(e, nn, in->max_height_m + 0.35 * size, 0, -35, o->fov_deg, o->w, o->h, cam);
+        tp_camera_pose(e, nn, in->max_height_m + 0.35 * size, 0, -35, o->vs.fov_deg, o->vs.w, o->vs.h, cam);
     } else if (!strcmp(o->path_name, "orbit")) {
         double ang = 2 * 3.14159265358979323846 * a, r = 0.45 * size;
         double e = ce - r * sin(ang), nn = cn - r * cos(ang), h = in->max_height_m + 0.2 * size;
         double pitch = -atan2(h - (in->min_height_m + in->max_height_m) / 2, r) / DEG;
-        tp_camera_pose(e, nn, h, ang / DEG, pitch, o->fov_deg, o->w, o->h, cam);
+        tp_camera_pose(e, nn, h, ang / DEG, pitch, o->vs.fov_deg, o->vs.w, o->vs.h, cam);
     } else { /* low: across the middle row, 60 m above the ground, looking ahead */
         double e = e0 + (0.05 + 0.9 * a) * (e1 - e0), x, y;
         tp_terrain_world_to_grid(sc->terrain, e, cn, &x, &y);
         double g = tp_terrain_height_at(sc->terrain, x, y);
-        tp_camera_pose(e, cn, (isnan(g) ? in->max_height_m : g) + 60, 90, -10, o->fov_deg, o->w,
-                       o->h, cam);
+        tp_camera_pose(e, cn, (isnan(g) ? in->max_height_m : g) + 60, 90, -10, o->vs.fov_deg, o->vs.w,
+                       o->vs.h, cam);
     }
 }
 
@@ -264,7 +221,7 @@ static int read_path_file(const tp_scene* sc, const bench_options* o, tp_camera*
                 break;
             cams = more;
         }
-        if (!tp_camera_from_option(sc, !proj, v, o->fov_deg, o->w, o->h, &cams[n], "bench")) {
+        if (!tp_camera_from_option(sc, !proj, v, o->vs.fov_deg, o->vs.w, o->vs.h, &cams[n], "bench")) {
             free(cams);
             fclose(f);
             return 0;
@@ -370,7 +327,7 @@ static int write_json(const bench_options* o, const tp_scene* sc, const config_r
 #define KN(k, v) (tp_json_key(&j, k), tp_json_number(&j, v))
     KS("dem", o->dem);
     char size[32];
-    snprintf(size, sizeof size, "%dx%d", o->w, o->h);
+    snprintf(size, sizeof size, "%dx%d", o->vs.w, o->vs.h);
     KS("size", size);
     KS("path", o->path_file ? o->path_file : o->path_name);
     KN("frames", frames);
@@ -470,9 +427,15 @@ int tp_cli_bench(int argc, char** argv)
         tp_scene_free(&sc);
         return TP_EXIT_FAILURE;
     }
+    tp_camera fixed;
+    if (o.vs.has_camera && !tp_view_setup_camera(&sc, &o.vs, &fixed, "bench")) {
+        free(cams);
+        tp_scene_free(&sc);
+        return TP_EXIT_FAILURE;
+    }
     char msg[512];
     tp_gl_context* ctx = NULL;
-    if (!tp_gl_context_create_headless(o.w, o.h, &ctx, msg, sizeof msg)) {
+    if (!tp_gl_context_create_headless(o.vs.w, o.vs.h, &ctx, msg, sizeof msg)) {
         fprintf(stderr, "terrapatch bench: %s\n", msg);
         free(cams);
         tp_scene_free(&sc);
@@ -483,7 +446,7 @@ int tp_cli_bench(int argc, char** argv)
     tp_lod_mode modes[3] = {TP_LOD_FULL, TP_LOD_DISTANCE, TP_LOD_ERROR};
     code = TP_EXIT_OK;
     for (int k = 0; k < 3 && code == TP_EXIT_OK; k++) {
-        tp_lod_params lp = o.lod;
+        tp_lod_params lp = o.vs.lod;
         lp.mode = modes[k];
         tp_lod_params_resolve(sc.terrain, &lp, &c[k].lod, NULL);
         c[k].rows = calloc((size_t)frames, sizeof *c[k].rows);
@@ -503,6 +466,8 @@ int tp_cli_bench(int argc, char** argv)
             tp_camera cam;
             if (cams)
                 cam = cams[i];
+            else if (o.vs.has_camera)
+                cam = fixed;
             else
                 path_camera(&sc, &o, i, frames, &cam);
             frame_row* row = &c[k].rows[i];
@@ -540,7 +505,7 @@ int tp_cli_bench(int argc, char** argv)
         tp_renderer_destroy(r);
     }
     if (code == TP_EXIT_OK) {
-        printf("%s, %dx%d, %s path, %d frames, %d patches of %d, renderer %s\n", o.dem, o.w, o.h,
+        printf("%s, %dx%d, %s path, %d frames, %d patches of %d, renderer %s\n", o.dem, o.vs.w, o.vs.h,
                o.path_file ? o.path_file : o.path_name, frames, sc.info.patch_count,
                sc.info.patch_size, renderer_name ? (const char*)renderer_name : "?");
         printf("%-9s %8s %9s %8s %8s %10s %6s %9s %9s %9s %9s\n", "lod", "fps", "frame ms",

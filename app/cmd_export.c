@@ -7,6 +7,7 @@
 #include "cli.h"
 #include "mesh_export.h"
 #include "scene.h"
+#include "view_options.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -19,11 +20,7 @@ typedef struct export_options {
     tp_scene_options scene;
     export_mode mode;
     double max_error_m;
-    tp_lod_params lod;
-    int has_camera, camera_geo;
-    double camera[5];
-    double fov_deg;
-    int w, h;
+    tp_view_setup vs; /* level of detail, camera, field of view, size: as for view */
     int no_cull, origin_local, per_patch;
     tp_mesh_format format;
     const char* out;
@@ -34,15 +31,6 @@ enum {
     OPT_OUT = 'o',
     OPT_FULL = 256,
     OPT_MAX_ERROR,
-    OPT_LOD,
-    OPT_TAU,
-    OPT_MINDIST,
-    OPT_MAXDIST,
-    OPT_EXP,
-    OPT_CAMERA,
-    OPT_CAMERA_GEO,
-    OPT_FOV,
-    OPT_SIZE,
     OPT_NO_CULL,
     OPT_ORIGIN_LOCAL,
     OPT_PER_PATCH,
@@ -85,15 +73,8 @@ static void print_help(void)
 
 static int bad(const char* opt, const char* expected, const char* got)
 {
-    fprintf(stderr, "terrapatch export: %s: expected %s, got '%s'\n", opt, expected, got);
+    tp_option_error("export", opt, expected, got);
     return TP_EXIT_USAGE;
-}
-
-static int number(const char* s, double* v)
-{
-    char* end;
-    *v = strtod(s, &end);
-    return end != s && *end == '\0' && isfinite(*v);
 }
 
 static int ends_with(const char* s, const char* ext)
@@ -109,15 +90,7 @@ static int parse_options(int argc, char** argv, export_options* o)
         {"output", required_argument, NULL, OPT_OUT},
         {"full", no_argument, NULL, OPT_FULL},
         {"max-error", required_argument, NULL, OPT_MAX_ERROR},
-        {"lod", required_argument, NULL, OPT_LOD},
-        {"tau", required_argument, NULL, OPT_TAU},
-        {"mindist", required_argument, NULL, OPT_MINDIST},
-        {"maxdist", required_argument, NULL, OPT_MAXDIST},
-        {"exp", required_argument, NULL, OPT_EXP},
-        {"camera", required_argument, NULL, OPT_CAMERA},
-        {"camera-geo", required_argument, NULL, OPT_CAMERA_GEO},
-        {"fov", required_argument, NULL, OPT_FOV},
-        {"size", required_argument, NULL, OPT_SIZE},
+        TP_VIEW_LONG_OPTIONS,
         {"no-cull", no_argument, NULL, OPT_NO_CULL},
         {"origin", required_argument, NULL, OPT_ORIGIN_LOCAL},
         {"per-patch", no_argument, NULL, OPT_PER_PATCH},
@@ -126,10 +99,7 @@ static int parse_options(int argc, char** argv, export_options* o)
     };
     memset(o, 0, sizeof *o);
     tp_scene_options_default(&o->scene);
-    o->lod.mode = TP_LOD_ERROR;
-    o->fov_deg = 60;
-    o->w = 1280;
-    o->h = 720;
+    tp_view_setup_default(&o->vs);
     opterr = 0;
     optind = 1;
     int c, modes = 0;
@@ -141,6 +111,8 @@ static int parse_options(int argc, char** argv, export_options* o)
             continue;
         }
         int taken = c == '?' || c == ':' ? 0 : tp_scene_option(c, optarg, &o->scene, "export");
+        if (!taken && c != '?' && c != ':')
+            taken = tp_view_option(c, optarg, &o->vs, "export");
         if (taken < 0)
             return TP_EXIT_USAGE;
         if (taken)
@@ -152,68 +124,12 @@ static int parse_options(int argc, char** argv, export_options* o)
             modes++;
             break;
         case OPT_MAX_ERROR:
-            if (!number(optarg, &v) || v < 0)
+            if (!tp_parse_numbers(optarg, &v, 1) || v < 0)
                 return bad("--max-error", "metres >= 0", optarg);
             o->mode = MODE_MAX_ERROR;
             o->max_error_m = v;
             modes++;
             break;
-        case OPT_LOD:
-            if (!strcmp(optarg, "distance"))
-                o->lod.mode = TP_LOD_DISTANCE;
-            else if (!strcmp(optarg, "error"))
-                o->lod.mode = TP_LOD_ERROR;
-            else if (!strcmp(optarg, "full"))
-                o->lod.mode = TP_LOD_FULL;
-            else
-                return bad("--lod", "distance, error or full", optarg);
-            break;
-        case OPT_TAU:
-        case OPT_MINDIST:
-        case OPT_MAXDIST:
-        case OPT_EXP:
-        case OPT_FOV:
-            if (!number(optarg, &v) || v < 0)
-                return bad(argv[optind - 1], "a number >= 0", optarg);
-            if (c == OPT_TAU)
-                o->lod.tau_px = v;
-            else if (c == OPT_MINDIST)
-                o->lod.mindist_m = v;
-            else if (c == OPT_MAXDIST)
-                o->lod.maxdist_m = v;
-            else if (c == OPT_EXP)
-                o->lod.exponent = v;
-            else if (v > 0 && v < 180)
-                o->fov_deg = v;
-            else
-                return bad("--fov", "degrees in (0, 180)", optarg);
-            break;
-        case OPT_CAMERA:
-        case OPT_CAMERA_GEO: {
-            const char* s = optarg;
-            char* end;
-            for (int i = 0; i < 5; i++) {
-                o->camera[i] = strtod(s, &end);
-                if (end == s || (i < 4 && *end != ',') || (i == 4 && *end != '\0'))
-                    return bad(c == OPT_CAMERA ? "--camera" : "--camera-geo",
-                               c == OPT_CAMERA ? "E,N,H,YAW,PITCH" : "LAT,LON,H,YAW,PITCH", optarg);
-                s = end + 1;
-            }
-            o->has_camera = 1;
-            o->camera_geo = c == OPT_CAMERA_GEO;
-            break;
-        }
-        case OPT_SIZE: {
-            char* end;
-            long w = strtol(optarg, &end, 10), h = 0;
-            if (*end == 'x')
-                h = strtol(end + 1, &end, 10);
-            if (*end || w < 16 || h < 16 || w > 16384 || h > 16384)
-                return bad("--size", "WxH between 16 and 16384", optarg);
-            o->w = (int)w;
-            o->h = (int)h;
-            break;
-        }
         case OPT_NO_CULL: o->no_cull = 1; break;
         case OPT_ORIGIN_LOCAL: return bad("--origin", "local (or LAT,LON for an image)", optarg);
         case OPT_PER_PATCH: o->per_patch = 1; break;
@@ -256,12 +172,8 @@ static int parse_options(int argc, char** argv, export_options* o)
         return TP_EXIT_USAGE;
     }
     o->path = argv[optind];
-    tp_lod_params resolved;
-    tp_error err;
-    if (tp_lod_params_resolve(NULL, &o->lod, &resolved, &err) != TP_OK) {
-        fprintf(stderr, "terrapatch export: %s\n", err.message);
+    if (tp_view_setup_check(&o->vs, "export") < 0)
         return TP_EXIT_USAGE;
-    }
     return -1;
 }
 
@@ -361,25 +273,20 @@ int tp_cli_export(int argc, char** argv)
         }
     } else {
         tp_camera cam;
-        if (o.has_camera) {
-            if (!tp_camera_from_option(&sc, o.camera_geo, o.camera, o.fov_deg, o.w, o.h, &cam,
-                                       "export"))
-                code = TP_EXIT_FAILURE;
-        } else {
-            tp_camera_default(&sc, o.fov_deg, o.w, o.h, &cam);
-        }
-        if (code == TP_EXIT_OK && tp_selection_update(sel, &cam, &o.lod, &err) != TP_OK) {
+        if (!tp_view_setup_camera(&sc, &o.vs, &cam, "export"))
+            code = TP_EXIT_FAILURE;
+        if (code == TP_EXIT_OK && tp_selection_update(sel, &cam, &o.vs.lod, &err) != TP_OK) {
             fprintf(stderr, "terrapatch export: %s\n", err.message);
             code = TP_EXIT_USAGE;
         }
         eo.include_culled = o.no_cull;
         tp_camera_text(&sc, &cam, camera_text, sizeof camera_text);
         tp_lod_params lp;
-        tp_lod_params_resolve(sc.terrain, &o.lod, &lp, NULL);
+        tp_lod_params_resolve(sc.terrain, &o.vs.lod, &lp, NULL);
         snprintf(lod_text, sizeof lod_text,
                  "mode=%s tau_px=%g mindist_m=%g maxdist_m=%g exp=%g fov_deg=%g size=%dx%d%s",
                  lp.mode == TP_LOD_DISTANCE ? "distance" : lp.mode == TP_LOD_FULL ? "full" : "error",
-                 lp.tau_px, lp.mindist_m, lp.maxdist_m, lp.exponent, o.fov_deg, o.w, o.h,
+                 lp.tau_px, lp.mindist_m, lp.maxdist_m, lp.exponent, o.vs.fov_deg, o.vs.w, o.vs.h,
                  o.no_cull ? " no_cull" : "");
     }
     eo.camera_text = camera_text;

@@ -15,6 +15,7 @@
 #include "mesh_export.h"
 #include "renderer.h"
 #include "scene.h"
+#include "view_options.h"
 #include "tp_geo.h"
 
 #include <epoxy/gl.h>
@@ -34,12 +35,8 @@
 
 typedef struct view_options {
     tp_scene_options scene;
-    tp_lod_params lod;
+    tp_view_setup vs; /* level of detail, camera, field of view, size */
     tp_render_settings render;
-    int has_camera, camera_geo;
-    double camera[5]; /* E or lat, N or lon, H, yaw, pitch */
-    double fov_deg;
-    int w, h;
     int headless, frames, no_hud, hud;
     const char* screenshot;
     const char* texture;
@@ -50,16 +47,7 @@ typedef struct view_options {
 } view_options;
 
 enum {
-    OPT_LOD = 256,
-    OPT_MINDIST,
-    OPT_MAXDIST,
-    OPT_EXP,
-    OPT_TAU,
-    OPT_CAMERA,
-    OPT_CAMERA_GEO,
-    OPT_FOV,
-    OPT_SIZE,
-    OPT_HEADLESS,
+    OPT_HEADLESS = 256,
     OPT_FRAMES,
     OPT_SCREENSHOT,
     OPT_CLEAR,
@@ -152,26 +140,9 @@ static const char* sample_scene(void)
     return TP_SAMPLE_SCENE;
 }
 
-static int parse_list(const char* s, double* v, int n)
-{
-    char* end;
-    for (int i = 0; i < n; i++) {
-        v[i] = strtod(s, &end);
-        if (end == s || !isfinite(v[i]))
-            return 0;
-        s = end;
-        if (i + 1 < n) {
-            if (*s != ',')
-                return 0;
-            s++;
-        }
-    }
-    return *s == '\0';
-}
-
 static int bad(const char* opt, const char* expected, const char* got)
 {
-    fprintf(stderr, "terrapatch view: %s: expected %s, got '%s'\n", opt, expected, got);
+    tp_option_error("view", opt, expected, got);
     return TP_EXIT_USAGE;
 }
 
@@ -179,15 +150,7 @@ static int parse_options(int argc, char** argv, view_options* o)
 {
     static const struct option longs[] = {
         TP_SCENE_LONG_OPTIONS,
-        {"lod", required_argument, NULL, OPT_LOD},
-        {"mindist", required_argument, NULL, OPT_MINDIST},
-        {"maxdist", required_argument, NULL, OPT_MAXDIST},
-        {"exp", required_argument, NULL, OPT_EXP},
-        {"tau", required_argument, NULL, OPT_TAU},
-        {"camera", required_argument, NULL, OPT_CAMERA},
-        {"camera-geo", required_argument, NULL, OPT_CAMERA_GEO},
-        {"fov", required_argument, NULL, OPT_FOV},
-        {"size", required_argument, NULL, OPT_SIZE},
+        TP_VIEW_LONG_OPTIONS,
         {"headless", no_argument, NULL, OPT_HEADLESS},
         {"frames", required_argument, NULL, OPT_FRAMES},
         {"screenshot", required_argument, NULL, OPT_SCREENSHOT},
@@ -210,10 +173,7 @@ static int parse_options(int argc, char** argv, view_options* o)
     memset(o, 0, sizeof *o);
     tp_scene_options_default(&o->scene);
     tp_render_settings_default(&o->render);
-    o->lod.mode = TP_LOD_ERROR;
-    o->fov_deg = 60;
-    o->w = 1280;
-    o->h = 720;
+    tp_view_setup_default(&o->vs);
     o->frames = 1;
     opterr = 0;
     optind = 1;
@@ -222,67 +182,18 @@ static int parse_options(int argc, char** argv, view_options* o)
     char* end;
     while ((c = getopt_long(argc, argv, ":h", longs, NULL)) != -1) {
         int taken = c == '?' || c == ':' ? 0 : tp_scene_option(c, optarg, &o->scene, "view");
+        if (!taken && c != '?' && c != ':')
+            taken = tp_view_option(c, optarg, &o->vs, "view");
         if (taken < 0)
             return TP_EXIT_USAGE;
         if (taken)
             continue;
         switch (c) {
-        case OPT_LOD:
-            if (!strcmp(optarg, "distance"))
-                o->lod.mode = TP_LOD_DISTANCE;
-            else if (!strcmp(optarg, "error"))
-                o->lod.mode = TP_LOD_ERROR;
-            else if (!strcmp(optarg, "full"))
-                o->lod.mode = TP_LOD_FULL;
-            else
-                return bad("--lod", "distance, error or full", optarg);
-            break;
-        case OPT_MINDIST:
-        case OPT_MAXDIST:
-        case OPT_EXP:
-        case OPT_TAU:
-        case OPT_FOV:
         case OPT_EXAG:
-            if (!parse_list(optarg, v, 1) || v[0] < 0)
-                return bad(argv[optind - 1], "a number >= 0", optarg);
-            if (c == OPT_MINDIST)
-                o->lod.mindist_m = v[0];
-            else if (c == OPT_MAXDIST)
-                o->lod.maxdist_m = v[0];
-            else if (c == OPT_EXP)
-                o->lod.exponent = v[0];
-            else if (c == OPT_TAU)
-                o->lod.tau_px = v[0];
-            else if (c == OPT_FOV) {
-                if (!(v[0] > 0 && v[0] < 180))
-                    return bad("--fov", "degrees in (0, 180)", optarg);
-                o->fov_deg = v[0];
-            } else {
-                if (!(v[0] > 0))
-                    return bad("--exaggeration", "a number > 0", optarg);
-                o->render.exaggeration = v[0];
-            }
+            if (!tp_parse_numbers(optarg, v, 1) || !(v[0] > 0))
+                return bad("--exaggeration", "a number > 0", optarg);
+            o->render.exaggeration = v[0];
             break;
-        case OPT_CAMERA:
-        case OPT_CAMERA_GEO:
-            if (!parse_list(optarg, o->camera, 5))
-                return bad(c == OPT_CAMERA ? "--camera" : "--camera-geo",
-                           c == OPT_CAMERA ? "E,N,H,YAW,PITCH" : "LAT,LON,H,YAW,PITCH", optarg);
-            if (c == OPT_CAMERA_GEO && !(fabs(o->camera[0]) <= 90))
-                return bad("--camera-geo", "a latitude in [-90, 90]", optarg);
-            o->has_camera = 1;
-            o->camera_geo = c == OPT_CAMERA_GEO;
-            break;
-        case OPT_SIZE: {
-            long w = strtol(optarg, &end, 10), h = 0;
-            if (*end == 'x')
-                h = strtol(end + 1, &end, 10);
-            if (*end || w < 16 || h < 16 || w > 16384 || h > 16384)
-                return bad("--size", "WxH between 16 and 16384", optarg);
-            o->w = (int)w;
-            o->h = (int)h;
-            break;
-        }
         case OPT_HEADLESS: o->headless = 1; break;
         case OPT_FRAMES: {
             long n = strtol(optarg, &end, 10);
@@ -294,7 +205,7 @@ static int parse_options(int argc, char** argv, view_options* o)
         case OPT_SCREENSHOT: o->screenshot = optarg; break;
         case OPT_STATS: o->stats_json = optarg; break;
         case OPT_CLEAR:
-            if (!parse_list(optarg, v, 3) || v[0] < 0 || v[0] > 1 || v[1] < 0 || v[1] > 1 ||
+            if (!tp_parse_numbers(optarg, v, 3) || v[0] < 0 || v[0] > 1 || v[1] < 0 || v[1] > 1 ||
                 v[2] < 0 || v[2] > 1)
                 return bad("--clear-color", "R,G,B in 0..1", optarg);
             for (int i = 0; i < 3; i++)
@@ -307,18 +218,18 @@ static int parse_options(int argc, char** argv, view_options* o)
         case OPT_HIDE_FILLED: o->render.hide_filled = 1; break;
         case OPT_TEXTURE: o->texture = optarg; break;
         case OPT_SUN:
-            if (!parse_list(optarg, v, 2) || v[1] < 0 || v[1] > 90)
+            if (!tp_parse_numbers(optarg, v, 2) || v[1] < 0 || v[1] > 90)
                 return bad("--sun", "AZIMUTH,ELEVATION in degrees (elevation 0..90)", optarg);
             o->render.sun_azimuth_deg = v[0];
             o->render.sun_elevation_deg = v[1];
             break;
         case OPT_MEASURE:
-            if (!parse_list(optarg, o->measure, 4))
+            if (!tp_parse_numbers(optarg, o->measure, 4))
                 return bad("--measure", "E1,N1,E2,N2", optarg);
             o->has_measure = 1;
             break;
         case OPT_GRID:
-            if (!parse_list(optarg, v, 1) || v[0] < 0 || (v[0] > 0 && v[0] < 1))
+            if (!tp_parse_numbers(optarg, v, 1) || v[0] < 0 || (v[0] > 0 && v[0] < 1))
                 return bad("--grid", "a line spacing in metres >= 1 (0: none)", optarg);
             o->render.grid_m = v[0];
             break;
@@ -339,12 +250,8 @@ static int parse_options(int argc, char** argv, view_options* o)
         return TP_EXIT_USAGE;
     }
     o->path = optind < argc ? argv[optind] : sample_scene();
-    tp_lod_params resolved;
-    tp_error err;
-    if (tp_lod_params_resolve(NULL, &o->lod, &resolved, &err) != TP_OK) {
-        fprintf(stderr, "terrapatch view: %s\n", err.message);
+    if (tp_view_setup_check(&o->vs, "view") < 0)
         return TP_EXIT_USAGE;
-    }
     return -1;
 }
 
@@ -797,7 +704,7 @@ static int run_window(tp_scene* sc, tp_gl_context* ctx, tp_renderer* r, tp_selec
     char measure_line[512] = "";
     int prev[GLFW_KEY_LAST + 1] = {0};
     double last = glfwGetTime();
-    tp_lod_params lod = o->lod;
+    tp_lod_params lod = o->vs.lod;
     while (!glfwWindowShouldClose(win)) {
         glfwPollEvents();
         double now = glfwGetTime(), dt = now - last;
@@ -861,7 +768,7 @@ static int run_window(tp_scene* sc, tp_gl_context* ctx, tp_renderer* r, tp_selec
             double opos[3] = {in.target[0] - in.distance * cp * fy, in.target[1] - in.distance * cp * fx,
                               in.target[2] - in.distance * sin(in.pitch * DEG)};
             tp_selection_keep_above(sel, opos, 2.0);
-            tp_camera_pose(opos[0], opos[1], opos[2], in.yaw, in.pitch, o->fov_deg, o->w, o->h, cam);
+            tp_camera_pose(opos[0], opos[1], opos[2], in.yaw, in.pitch, o->vs.fov_deg, o->vs.w, o->vs.h, cam);
         }
         if (PRESSED(GLFW_KEY_W)) step[0] += fy, step[1] += fx;
         if (PRESSED(GLFW_KEY_S)) step[0] -= fy, step[1] -= fx;
@@ -873,7 +780,7 @@ static int run_window(tp_scene* sc, tp_gl_context* ctx, tp_renderer* r, tp_selec
             double pos[3] = {cam->position[0] + speed * step[0],
                              cam->position[1] + speed * step[1], cam->position[2] + speed * step[2]};
             tp_selection_keep_above(sel, pos, 2.0); /* terrain following */
-            tp_camera_pose(pos[0], pos[1], pos[2], in.yaw, in.pitch, o->fov_deg, o->w, o->h, cam);
+            tp_camera_pose(pos[0], pos[1], pos[2], in.yaw, in.pitch, o->vs.fov_deg, o->vs.w, o->vs.h, cam);
         }
         int w, h;
         glfwGetFramebufferSize(win, &w, &h);
@@ -1013,19 +920,15 @@ int tp_cli_view(int argc, char** argv)
     if (tp_scene_load(o.path, &o.scene, &sc) != TP_EXIT_OK)
         return TP_EXIT_FAILURE;
     tp_camera cam;
-    if (o.has_camera) {
-        if (!tp_camera_from_option(&sc, o.camera_geo, o.camera, o.fov_deg, o.w, o.h, &cam, "view")) {
-            tp_scene_free(&sc);
-            return TP_EXIT_FAILURE;
-        }
-    } else {
-        tp_camera_default(&sc, o.fov_deg, o.w, o.h, &cam);
+    if (!tp_view_setup_camera(&sc, &o.vs, &cam, "view")) {
+        tp_scene_free(&sc);
+        return TP_EXIT_FAILURE;
     }
 
     char msg[512];
     tp_gl_context* ctx = NULL;
-    int ok = o.headless ? tp_gl_context_create_headless(o.w, o.h, &ctx, msg, sizeof msg)
-                        : tp_gl_context_create_window(o.w, o.h, "terrapatch", &ctx, msg, sizeof msg);
+    int ok = o.headless ? tp_gl_context_create_headless(o.vs.w, o.vs.h, &ctx, msg, sizeof msg)
+                        : tp_gl_context_create_window(o.vs.w, o.vs.h, "terrapatch", &ctx, msg, sizeof msg);
     if (!ok) {
         fprintf(stderr, "terrapatch view: %s\n", msg);
         tp_scene_free(&sc);
@@ -1056,17 +959,17 @@ int tp_cli_view(int argc, char** argv)
         for (int i = 0; i < o.frames; i++) {
             tp_gl_context_begin_frame(ctx);
             double t0 = now_ms();
-            frame(sel, r, &cam, &o, &o.lod, 0, &fr);
+            frame(sel, r, &cam, &o, &o.vs.lod, 0, &fr);
             if (hud && o.render.grid_m > 0)
                 grid_labels(hud, &sc, sel, &cam, o.render.grid_m, 1);
             if (hud && o.hud && !o.no_hud) {
                 char text[2048];
                 measured_error me;
                 measure_now(sel, &cam, &me);
-                hud_text(&sc, sel, &cam, &o.lod, &fr, &me, 1000 / fmax(now_ms() - t0, 1e-6), 0,
+                hud_text(&sc, sel, &cam, &o.vs.lod, &fr, &me, 1000 / fmax(now_ms() - t0, 1e-6), 0,
                          text, sizeof text);
-                tp_hud_text(hud, o.w, o.h, 10, 10, o.w >= 1000 ? 2 : 1, text);
-                compass_and_scale(hud, &sc, sel, &cam, o.w >= 1000 ? 2 : 1);
+                tp_hud_text(hud, o.vs.w, o.vs.h, 10, 10, o.vs.w >= 1000 ? 2 : 1, text);
+                compass_and_scale(hud, &sc, sel, &cam, o.vs.w >= 1000 ? 2 : 1);
             }
             tp_gl_context_end_frame(ctx);
         }

@@ -1,0 +1,120 @@
+/* view_options.c - the camera and level-of-detail options (see view_options.h). */
+#include "view_options.h"
+
+#include "camera_pose.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+void tp_view_setup_default(tp_view_setup* v)
+{
+    memset(v, 0, sizeof *v);
+    v->lod.mode = TP_LOD_ERROR;
+    v->fov_deg = 60;
+    v->w = 1280;
+    v->h = 720;
+}
+
+int tp_parse_numbers(const char* s, double* v, int n)
+{
+    char* end;
+    for (int i = 0; i < n; i++) {
+        v[i] = strtod(s, &end);
+        if (end == s || !isfinite(v[i]))
+            return 0;
+        s = end;
+        if (i + 1 < n) {
+            if (*s != ',')
+                return 0;
+            s++;
+        }
+    }
+    return *s == '\0';
+}
+
+int tp_option_error(const char* cmd, const char* opt, const char* expected, const char* got)
+{
+    fprintf(stderr, "terrapatch %s: %s: expected %s, got '%s'\n", cmd, opt, expected, got);
+    return -1;
+}
+
+int tp_view_option(int opt, const char* arg, tp_view_setup* v, const char* cmd)
+{
+    double x;
+    switch (opt) {
+    case TP_OPT_LOD:
+        if (!strcmp(arg, "distance"))
+            v->lod.mode = TP_LOD_DISTANCE;
+        else if (!strcmp(arg, "error"))
+            v->lod.mode = TP_LOD_ERROR;
+        else if (!strcmp(arg, "full"))
+            v->lod.mode = TP_LOD_FULL;
+        else
+            return tp_option_error(cmd, "--lod", "distance, error or full", arg);
+        return 1;
+    case TP_OPT_TAU:
+    case TP_OPT_MINDIST:
+    case TP_OPT_MAXDIST:
+    case TP_OPT_EXP: {
+        static const char* names[] = {"--tau", "--mindist", "--maxdist", "--exp"};
+        if (!tp_parse_numbers(arg, &x, 1) || x < 0)
+            return tp_option_error(cmd, names[opt - TP_OPT_TAU], "a number >= 0", arg);
+        double* field[] = {&v->lod.tau_px, &v->lod.mindist_m, &v->lod.maxdist_m,
+                           &v->lod.exponent};
+        *field[opt - TP_OPT_TAU] = x;
+        return 1;
+    }
+    case TP_OPT_FOV:
+        if (!tp_parse_numbers(arg, &x, 1) || !(x > 0 && x < 180))
+            return tp_option_error(cmd, "--fov", "degrees in (0, 180)", arg);
+        v->fov_deg = x;
+        return 1;
+    case TP_OPT_CAMERA:
+    case TP_OPT_CAMERA_GEO: {
+        int geo = opt == TP_OPT_CAMERA_GEO;
+        if (!tp_parse_numbers(arg, v->camera, 5))
+            return tp_option_error(cmd, geo ? "--camera-geo" : "--camera",
+                                   geo ? "LAT,LON,H,YAW,PITCH" : "E,N,H,YAW,PITCH", arg);
+        if (geo && !(fabs(v->camera[0]) <= 90))
+            return tp_option_error(cmd, "--camera-geo", "a latitude in [-90, 90]", arg);
+        v->has_camera = 1;
+        v->camera_geo = geo;
+        return 1;
+    }
+    case TP_OPT_SIZE: {
+        char* end;
+        long w = strtol(arg, &end, 10), h = 0;
+        if (*end == 'x')
+            h = strtol(end + 1, &end, 10);
+        if (*end || w < 16 || h < 16 || w > 16384 || h > 16384)
+            return tp_option_error(cmd, "--size", "WxH between 16 and 16384", arg);
+        v->w = (int)w;
+        v->h = (int)h;
+        return 1;
+    }
+    }
+    return 0;
+}
+
+int tp_view_setup_check(const tp_view_setup* v, const char* cmd)
+{
+    tp_lod_params resolved;
+    tp_error err;
+    if (tp_lod_params_resolve(NULL, &v->lod, &resolved, &err) != TP_OK) {
+        fprintf(stderr, "terrapatch %s: %s\n", cmd, err.message);
+        return -1;
+    }
+    return 0;
+}
+
+int tp_view_setup_camera(const tp_scene* sc, const tp_view_setup* v, tp_camera* cam,
+                         const char* cmd)
+{
+    if (!v->has_camera) {
+        tp_camera_default(sc, v->fov_deg, v->w, v->h, cam);
+        return 1;
+    }
+    return tp_camera_from_option(sc, v->camera_geo, v->camera, v->fov_deg, v->w, v->h, cam, cmd);
+}

@@ -1,0 +1,59 @@
+/*
+ * view_options.h - the options every command that looks at the terrain through a camera takes
+ * (view, export, bench): level of detail, camera, field of view and image size, parsed one way.
+ */
+#ifndef TP_APP_VIEW_OPTIONS_H
+#define TP_APP_VIEW_OPTIONS_H
+
+#include "scene.h"
+
+typedef struct tp_view_setup {
+    tp_lod_params lod;      /* mode defaults to error; zeros mean the core's defaults */
+    int has_camera, camera_geo;
+    double camera[5];       /* E or lat, N or lon, H, yaw, pitch */
+    double fov_deg;         /* default 60 */
+    int w, h;               /* default 1280 x 720 */
+} tp_view_setup;
+
+enum {
+    TP_OPT_LOD = 1100,
+    TP_OPT_TAU,
+    TP_OPT_MINDIST,
+    TP_OPT_MAXDIST,
+    TP_OPT_EXP,
+    TP_OPT_CAMERA,
+    TP_OPT_CAMERA_GEO,
+    TP_OPT_FOV,
+    TP_OPT_SIZE,
+};
+
+#define TP_VIEW_LONG_OPTIONS                                                                       \
+    {"lod", required_argument, NULL, TP_OPT_LOD}, {"tau", required_argument, NULL, TP_OPT_TAU},    \
+        {"mindist", required_argument, NULL, TP_OPT_MINDIST},                                      \
+        {"maxdist", required_argument, NULL, TP_OPT_MAXDIST},                                      \
+        {"exp", required_argument, NULL, TP_OPT_EXP},                                              \
+        {"camera", required_argument, NULL, TP_OPT_CAMERA},                                        \
+        {"camera-geo", required_argument, NULL, TP_OPT_CAMERA_GEO},                                \
+        {"fov", required_argument, NULL, TP_OPT_FOV}, {"size", required_argument, NULL, TP_OPT_SIZE}
+
+void tp_view_setup_default(tp_view_setup* v);
+
+/* Handles one getopt_long result if it is a view option: 1 (taken), 0 (not one), -1 (bad
+ * value; a one-line message naming cmd was printed). */
+int tp_view_option(int opt, const char* arg, tp_view_setup* v, const char* cmd);
+
+/* Checks the LoD parameters once all options are read; -1 after a message, else 0. */
+int tp_view_setup_check(const tp_view_setup* v, const char* cmd);
+
+/* The camera of the options, or the default camera (the whole DEM in view); 0 after a message
+ * when a --camera-geo position has no render-grid coordinates. */
+int tp_view_setup_camera(const tp_scene* sc, const tp_view_setup* v, tp_camera* cam,
+                         const char* cmd);
+
+/* Parses "a,b,c" into n finite numbers; 1 on success. */
+int tp_parse_numbers(const char* s, double* v, int n);
+
+/* Prints "terrapatch CMD: OPT: expected EXPECTED, got 'GOT'" and returns -1. */
+int tp_option_error(const char* cmd, const char* opt, const char* expected, const char* got);
+
+#endif
