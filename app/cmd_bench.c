@@ -5,6 +5,7 @@
  * triangles, draw calls, GPU bytes and the measured error of the frame's geometry.
  */
 #define _POSIX_C_SOURCE 200809L
+#include "atomic_file.h"
 #include "camera_pose.h"
 #include "cli.h"
 #include "gl_context.h"
@@ -311,13 +312,10 @@ static const char* mode_name(tp_lod_mode m)
 static int write_json(const bench_options* o, const tp_scene* sc, const config_result* c, int nc,
                       int frames)
 {
-    char tmp[4096];
-    snprintf(tmp, sizeof tmp, "%s.tmp%ld", o->json, (long)getpid());
-    FILE* f = fopen(tmp, "w");
-    if (!f) {
-        fprintf(stderr, "terrapatch: %s: cannot write: %s\n", o->json, strerror(errno));
+    tp_atomic_file file;
+    if (!tp_atomic_open(&file, o->json))
         return 0;
-    }
+    FILE* f = file.f;
     tp_json j;
     tp_json_init(&j, f);
     const config_result* full = &c[0];
@@ -376,23 +374,15 @@ static int write_json(const bench_options* o, const tp_scene* sc, const config_r
 #undef KN
     tp_json_object_end(&j);
     fputc('\n', f);
-    int ok = !ferror(f) && fclose(f) == 0 && rename(tmp, o->json) == 0;
-    if (!ok) {
-        fprintf(stderr, "terrapatch: %s: cannot write: %s\n", o->json, strerror(errno));
-        remove(tmp);
-    }
-    return ok;
+    return tp_atomic_commit(&file);
 }
 
 static int write_csv(const bench_options* o, const config_result* c, int nc, int frames)
 {
-    char tmp[4096];
-    snprintf(tmp, sizeof tmp, "%s.tmp%ld", o->csv, (long)getpid());
-    FILE* f = fopen(tmp, "w");
-    if (!f) {
-        fprintf(stderr, "terrapatch: %s: cannot write: %s\n", o->csv, strerror(errno));
+    tp_atomic_file file;
+    if (!tp_atomic_open(&file, o->csv))
         return 0;
-    }
+    FILE* f = file.f;
     fprintf(f, "lod_mode,frame,frame_ms,select_ms,upload_ms,draw_ms,triangles,draw_calls,patches,"
                "gpu_bytes,max_vertical_error_m,rms_vertical_error_m,max_screen_error_px,"
                "rms_screen_error_px\n");
@@ -404,12 +394,7 @@ static int write_csv(const bench_options* o, const config_result* c, int nc, int
                     r->draw_ms, r->triangles, r->draw_calls, r->patches, r->gpu_bytes, r->max_m,
                     r->rms_m, r->max_px, r->rms_px);
         }
-    int ok = !ferror(f) && fclose(f) == 0 && rename(tmp, o->csv) == 0;
-    if (!ok) {
-        fprintf(stderr, "terrapatch: %s: cannot write: %s\n", o->csv, strerror(errno));
-        remove(tmp);
-    }
-    return ok;
+    return tp_atomic_commit(&file);
 }
 
 int tp_cli_bench(int argc, char** argv)

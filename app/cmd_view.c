@@ -6,6 +6,7 @@
  * first frame and there is no multisampling.
  */
 #define _POSIX_C_SOURCE 200809L
+#include "atomic_file.h"
 #include "camera_pose.h"
 #include "cli.h"
 #include "gl_context.h"
@@ -271,13 +272,10 @@ typedef struct frame_result {
 static int write_stats(const char* path, const frame_result* f, const tp_error_measure* em,
                        double max_px, double rms_px, int levels)
 {
-    char tmp[4096];
-    snprintf(tmp, sizeof tmp, "%s.tmp%ld", path, (long)getpid());
-    FILE* out = fopen(tmp, "w");
-    if (!out) {
-        fprintf(stderr, "terrapatch: %s: cannot write: %s\n", path, strerror(errno));
+    tp_atomic_file file;
+    if (!tp_atomic_open(&file, path))
         return 0;
-    }
+    FILE* out = file.f;
     tp_json j;
     tp_json_init(&j, out);
     tp_json_object_begin(&j);
@@ -307,14 +305,7 @@ static int write_stats(const char* path, const frame_result* f, const tp_error_m
 #undef KEY_SIZE
     tp_json_object_end(&j);
     fputc('\n', out);
-    int ok = !ferror(out);
-    ok &= fclose(out) == 0;
-    if (!ok || rename(tmp, path) != 0) {
-        fprintf(stderr, "terrapatch: %s: cannot write: %s\n", path, strerror(errno));
-        remove(tmp);
-        return 0;
-    }
-    return 1;
+    return tp_atomic_commit(&file);
 }
 
 static int screenshot(tp_gl_context* ctx, const char* path)
