@@ -57,6 +57,10 @@ static double now_ms(void)
     return ts.tv_sec * 1e3 + ts.tv_nsec / 1e6;
 }
 
+/* Shading is per vertex (hillshade, hypsometric or LoD colour, the filled-void tint): the
+ * normals come from the full-resolution grid, so a coarse triangle is shaded from the terrain
+ * it stands for; per-pixel work is left to what needs it (texture, grid lines). On llvmpipe
+ * this halves the per-pixel cost (see docs/PERFORMANCE.md). */
 static const char* vs_src =
     "#version 330 core\n"
     "layout(location = 0) in ivec2 a_grid;\n"
@@ -70,41 +74,15 @@ static const char* vs_src =
     "uniform float u_exag;\n"
     "uniform mat4 u_viewproj;\n"
     "uniform vec2 u_tex_scale, u_tex_offset;\n"
-    "out vec2 v_uv;\n"
-    "out vec2 v_rel;\n"
-    "out vec3 v_normal;\n"
-    "out float v_height;\n"
-    "out float v_filled;\n"
-    "flat out uint v_level;\n"
-    "void main() {\n"
-    "    // integer rebase first: exact, the same for every patch sharing the vertex\n"
-    "    vec2 d = vec2(a_grid - u_cell) * u_spacing - u_frac;\n"
-    "    gl_Position = u_viewproj * vec4(d, a_z * u_exag - u_cam_z, 1.0);\n"
-    "    v_normal = vec3(a_normal.xy * u_exag, a_normal.z);\n"
-    "    v_height = a_z;\n"
-    "    v_uv = vec2(a_grid) * u_tex_scale + u_tex_offset;\n"
-    "    v_rel = d;\n"
-    "    v_filled = float((a_flags >> 4u) & 1u);\n"
-    "    v_level = a_flags & 15u;\n"
-    "}\n";
-
-static const char* fs_src =
-    "#version 330 core\n"
-    "in vec3 v_normal;\n"
-    "in float v_height;\n"
-    "in float v_filled;\n"
-    "in vec2 v_uv;\n"
-    "in vec2 v_rel;\n"
-    "flat in uint v_level;\n"
-    "uniform sampler2D u_tex;\n"
-    "uniform float u_grid;        // line spacing, metres (0: none)\n"
-    "uniform vec2 u_grid_origin;  // camera E, N modulo the spacing\n"
-    "uniform int u_textured;\n"
     "uniform vec3 u_sun;\n"
     "uniform int u_color_lod;\n"
     "uniform int u_hide_filled;\n"
     "uniform vec2 u_hrange;\n"
-    "out vec4 o_color;\n"
+    "out vec2 v_uv;\n"
+    "out vec2 v_rel;\n"
+    "out vec3 v_base;    // colour before light\n"
+    "out float v_light;\n"
+    "out float v_tint;   // filled-void tint amount\n"
     "vec3 hypsometric(float t) {\n"
     "    vec3 c0 = vec3(0.33, 0.52, 0.30), c1 = vec3(0.62, 0.66, 0.40);\n"
     "    vec3 c2 = vec3(0.58, 0.47, 0.35), c3 = vec3(0.93, 0.93, 0.93);\n"
@@ -120,16 +98,37 @@ static const char* fs_src =
     "    return c[min(k, 8u)];\n"
     "}\n"
     "void main() {\n"
-    "    vec3 n = normalize(v_normal);\n"
-    "    float light = 0.3 + 0.7 * max(dot(n, u_sun), 0.0);\n"
-    "    vec3 base = u_color_lod != 0 ? level_color(v_level)\n"
-    "                                 : hypsometric((v_height - u_hrange.x) / max(u_hrange.y - u_hrange.x, 1.0));\n"
-    "    if (u_textured != 0 && u_color_lod == 0) {\n"
+    "    // integer rebase first: exact, the same for every patch sharing the vertex\n"
+    "    vec2 d = vec2(a_grid - u_cell) * u_spacing - u_frac;\n"
+    "    gl_Position = u_viewproj * vec4(d, a_z * u_exag - u_cam_z, 1.0);\n"
+    "    vec3 n = normalize(vec3(a_normal.xy * u_exag, a_normal.z));\n"
+    "    v_light = 0.3 + 0.7 * max(dot(n, u_sun), 0.0);\n"
+    "    v_base = u_color_lod != 0 ? level_color(a_flags & 15u)\n"
+    "                              : hypsometric((a_z - u_hrange.x) / max(u_hrange.y - u_hrange.x, 1.0));\n"
+    "    v_tint = u_hide_filled == 0 ? 0.65 * float((a_flags >> 4u) & 1u) : 0.0;\n"
+    "    v_uv = vec2(a_grid) * u_tex_scale + u_tex_offset;\n"
+    "    v_rel = d;\n"
+    "}\n";
+
+static const char* fs_src =
+    "#version 330 core\n"
+    "in vec2 v_uv;\n"
+    "in vec2 v_rel;\n"
+    "in vec3 v_base;\n"
+    "in float v_light;\n"
+    "in float v_tint;\n"
+    "uniform sampler2D u_tex;\n"
+    "uniform float u_grid;        // line spacing, metres (0: none)\n"
+    "uniform vec2 u_grid_origin;  // camera E, N modulo the spacing\n"
+    "uniform int u_textured;      // 0 also when LoD colours are on\n"
+    "out vec4 o_color;\n"
+    "void main() {\n"
+    "    vec3 base = v_base;\n"
+    "    if (u_textured != 0) {\n"
     "        vec4 t = texture(u_tex, v_uv);\n"
     "        base = mix(base, t.rgb, t.a);\n"
     "    }\n"
-    "    if (u_hide_filled == 0) base = mix(base, vec3(0.85, 0.25, 0.75), 0.65 * v_filled);\n"
-    "    vec3 c = base * light;\n"
+    "    vec3 c = mix(base, vec3(0.85, 0.25, 0.75), v_tint) * v_light;\n"
     "    if (u_grid > 0.0) {\n"
     "        // distance to the nearest grid line in pixels, from the screen-space derivative\n"
     "        vec2 g = (v_rel + u_grid_origin) / u_grid;\n"
@@ -527,7 +526,7 @@ void tp_renderer_draw(tp_renderer* r, tp_selection* sel, const tp_camera* cam,
     glUniform1i(r->u_color_lod, st->color_lod);
     glUniform1i(r->u_hide_filled, st->hide_filled);
     glUniform2f(r->u_hrange, (float)r->info.min_height_m, (float)r->info.max_height_m);
-    glUniform1i(r->u_textured, r->tex != 0);
+    glUniform1i(r->u_textured, r->tex != 0 && !st->color_lod);
     glUniform1f(r->u_grid, (float)st->grid_m);
     if (st->grid_m > 0)
         glUniform2f(r->u_grid_origin, (float)fmod(cam->position[0], st->grid_m),

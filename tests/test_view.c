@@ -752,9 +752,10 @@ TEST(no_cracks_oblique_error_lod)
         view_spec v = distance_lod_view;
         dem = sample_dem();
         v.lod.mode = TP_LOD_ERROR;
-        v.lod.tau_px = 8;
+        v.lod.tau_px = 6;
         v.cam[0] = 614000, v.cam[1] = 5030000, v.cam[2] = 2811, v.cam[3] = 270, v.cam[4] = -55;
         expect_no_magenta(dem, &v, "east side, 1500 m above", 5, 2);
+        v.lod.tau_px = 8;
         v.cam[0] = 602125, v.cam[1] = 5018000, v.cam[2] = 2950, v.cam[3] = 0;
         expect_no_magenta(dem, &v, "south flank, 1500 m above", 4, 2);
         v.cam[0] = 595000, v.cam[1] = 5022000, v.cam[2] = 1816;

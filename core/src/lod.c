@@ -4,12 +4,18 @@
  * rounded up, with dist the distance from the eye to the nearest point of the patch's AABB.
  *
  * Error mode: Brodersen section 3 / de Boer: the coarsest level whose error bound projects to at
- * most tau pixels ANYWHERE on screen. A vertical segment of length d at camera-space point
- * (x, y, z) projects to at most f * d * |P| / z^2 pixels (f the focal length in pixels; |P|/z^2
- * = 1 / (z cos theta) with theta the angle off the view axis). The classic f * d / distance
- * is too small by 1/cos^2(theta), about 2.4x at the corners of a 16:9, 60 degree view. Over the
- * AABB, |P| / z^2 <= sqrt(X^2 + Y^2 + Zmin^2) / Zmin^2 with X, Y the largest |x|, |y| of its
- * corners and Zmin its smallest depth; that is the factor used here.
+ * most tau pixels ANYWHERE on screen. A vertical error d at camera-space point (x, y, z) moves
+ * the point by d * v, with v = (vx, vy, vz) the world's vertical in camera coordinates; both
+ * ends projected, it moves on screen by exactly
+ *     f * |d| * sqrt(A^2 + B^2) / (z * (z + d * vz)),   A = vx*z - x*vz,  B = vy*z - y*vz
+ * pixels (f the focal length in pixels). The classic f * d / distance is too small off the view
+ * axis (by up to 1/cos^2 of the off-axis angle for a level camera, 2.4x at the corners of a 16:9,
+ * 60 degree view); the direction-free bound f * d * |P| / z^2 is too large for oblique and
+ * top-down views, where vertical errors near the view axis barely move on screen. A and B are
+ * linear in the world position, so over a patch's AABB |A| <= Amax, |B| <= Bmax (largest over
+ * its 8 corners), z >= Zmin, and the error mode uses
+ *     f * d * sqrt(Amax^2 + Bmax^2) / (Zmin * (Zmin - d * |vz|))
+ * (infinite when Zmin - d * |vz| <= 0 or the box reaches the near plane: level n).
  */
 #include "internal.h"
 

@@ -10,6 +10,13 @@
 
 #define TP__STALE UINT32_MAX
 
+/* The error-mode bound of one patch for the current view (see lod.c): a vertical error of d
+ * metres anywhere in the patch's AABB projects to at most d * num / (zmin - d * |vz|) pixels. */
+typedef struct proj_bound {
+    double num;  /* f * sqrt(Amax^2 + Bmax^2) / zmin; INFINITY when the box reaches the near plane */
+    double zmin; /* smallest depth of the box's corners */
+} proj_bound;
+
 struct tp_selection {
     const tp_terrain* t;
     int count;
@@ -17,7 +24,7 @@ struct tp_selection {
     uint8_t* next;     /* scratch: levels being selected */
     uint8_t* visible;
     uint8_t* dirty;
-    double* proj;      /* error mode: pixels per metre of vertical error, per patch */
+    proj_bound* proj;  /* error mode: each visible patch's projection bound */
     uint32_t* tris;    /* cached drawn-triangle count per patch, TP__STALE when unknown */
     tp_vertex* vbuf;   /* scratch for one patch at level n */
     uint32_t* tbuf;
@@ -150,11 +157,11 @@ void tp_selection_cull(tp_selection* s, const tp_camera* cam)
     }
 }
 
-/* Pixels per metre of vertical error anywhere in the patch's AABB (see lod.c); INFINITY when
- * the box reaches the near plane. */
-static double projection_factor(const tp__view* v, const tp_patch_info* pi)
+static proj_bound projection_bound(const tp__view* v, const tp_patch_info* pi)
 {
-    double zmin = INFINITY, xmax = 0, ymax = 0;
+    /* The world's vertical in camera coordinates. */
+    double vx = v->right[2], vy = v->up[2], vz = v->fwd[2];
+    double zmin = INFINITY, amax = 0, bmax = 0;
     for (int c = 0; c < 8; c++) {
         double d[3] = {(c & 1 ? pi->aabb_max[0] : pi->aabb_min[0]) - v->pos[0],
                        (c & 2 ? pi->aabb_max[1] : pi->aabb_min[1]) - v->pos[1],
@@ -162,13 +169,22 @@ static double projection_factor(const tp__view* v, const tp_patch_info* pi)
         double x = d[0] * v->right[0] + d[1] * v->right[1] + d[2] * v->right[2];
         double y = d[0] * v->up[0] + d[1] * v->up[1] + d[2] * v->up[2];
         double z = d[0] * v->fwd[0] + d[1] * v->fwd[1] + d[2] * v->fwd[2];
+        double A = fabs(vx * z - x * vz), B = fabs(vy * z - y * vz);
         zmin = z < zmin ? z : zmin;
-        xmax = fabs(x) > xmax ? fabs(x) : xmax;
-        ymax = fabs(y) > ymax ? fabs(y) : ymax;
+        amax = A > amax ? A : amax;
+        bmax = B > bmax ? B : bmax;
     }
-    if (zmin <= v->near_m)
-        return INFINITY;
-    return v->f_px * sqrt(xmax * xmax + ymax * ymax + zmin * zmin) / (zmin * zmin);
+    proj_bound pb = {INFINITY, zmin};
+    if (zmin > v->near_m)
+        pb.num = v->f_px * sqrt(amax * amax + bmax * bmax) / zmin;
+    return pb;
+}
+
+/* Pixels that a vertical error of d metres in the patch can project to at most. */
+static double projected_px(const proj_bound* pb, double vz, double d)
+{
+    double den = pb->zmin - d * fabs(vz);
+    return den > 0 ? d * pb->num / den : INFINITY;
 }
 
 static double aabb_distance(const double pos[3], const tp_patch_info* pi)
@@ -215,7 +231,7 @@ tp_status tp_selection_update(tp_selection* s, const tp_camera* cam, const tp_lo
         int vis = tp_frustum_test_aabb(&f, pi.aabb_min, pi.aabb_max) != TP_CULL_OUTSIDE;
         s->visible[p] = (uint8_t)vis;
         int k = n;
-        s->proj[p] = 0;
+        s->proj[p] = (proj_bound){0, 0};
         if (lp.mode == TP_LOD_DISTANCE) {
             k = tp_lod_level_distance(n, aabb_distance(v.pos, &pi), lp.mindist_m, lp.maxdist_m,
                                       lp.exponent);
@@ -224,12 +240,13 @@ tp_status tp_selection_update(tp_selection* s, const tp_camera* cam, const tp_lo
              * raises it where a visible neighbour needs that. */
             k = 0;
             if (vis) {
-                double proj = projection_factor(&v, &pi);
-                s->proj[p] = proj;
+                proj_bound pb = projection_bound(&v, &pi);
+                s->proj[p] = pb;
                 /* Coarsest level such that it and every finer level project to <= tau, so that
                  * raising the patch later never breaks its own bound. */
                 k = n;
-                while (k > 0 && (pi.delta_m[k - 1] == 0 || pi.delta_m[k - 1] * proj <= lp.tau_px))
+                while (k > 0 && (pi.delta_m[k - 1] == 0 ||
+                                 projected_px(&pb, v.fwd[2], pi.delta_m[k - 1]) <= lp.tau_px))
                     k--;
             }
         }
@@ -245,14 +262,15 @@ tp_status tp_selection_update(tp_selection* s, const tp_camera* cam, const tp_lo
         for (int changed = 1; changed;) {
             changed = 0;
             for (int p = 0; p < s->count; p++) {
-                if (s->proj[p] == 0)
+                if (s->proj[p].num == 0)
                     continue;
                 for (int side = 0; side < 4; side++) {
                     int q = neighbor(t, p, side);
                     if (q < 0 || s->next[q] >= s->next[p])
                         continue;
                     double geo = side_bound_m(t, p, side, s->next[q]);
-                    if (geo > 0 && (geo + t->quant_err) * s->proj[p] > lp.tau_px) {
+                    if (geo > 0 && projected_px(&s->proj[p], v.fwd[2], geo + t->quant_err) >
+                                       lp.tau_px) {
                         s->next[q]++;
                         changed = 1;
                     }
