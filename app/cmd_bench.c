@@ -6,6 +6,7 @@
  */
 #define _POSIX_C_SOURCE 200809L
 #include "atomic_file.h"
+#include "bench.h"
 #include "camera_pose.h"
 #include "cli.h"
 #include "gl_context.h"
@@ -35,6 +36,12 @@ typedef struct bench_options {
     const char* json;
     const char* csv;
     int no_error;      /* skip the (slow) error measurement */
+    double speed_mps;  /* path flights: a lead-in frame 1/30 s earlier at this speed; 0: none */
+    int sweep;         /* a grid of LoD parameters instead of the three default configurations */
+    const char* plot;  /* --sweep: the plot (PNG); default: the CSV's name with .png */
+    int is_static;     /* --static: meshes of export --max-error for max_errors */
+    double max_errors[16];
+    int max_error_count;
     const char* dem;
 } bench_options;
 
@@ -45,7 +52,20 @@ enum {
     OPT_JSON,
     OPT_CSV,
     OPT_NO_ERROR,
+    OPT_SPEED,
+    OPT_SWEEP,
+    OPT_PLOT,
+    OPT_STATIC,
+    OPT_MAX_ERROR,
 };
+
+/* The sweep's grid: distance mode in patch widths (W = 2^n sample spacings), error mode in px. */
+static const double sweep_mindist_w[] = {1, 4};
+static const double sweep_maxdist_w[] = {12, 24, 48, 96};
+static const double sweep_exp[] = {0.5, 1, 2};
+static const double sweep_tau[] = {0.5, 1, 2, 4, 8, 16};
+#define COUNT(a) ((int)(sizeof(a) / sizeof *(a)))
+#define FRAME_HZ 30.0 /* the lead-in frame is 1 / FRAME_HZ s earlier along the path */
 
 static void print_help(void)
 {
@@ -70,8 +90,23 @@ static void print_help(void)
           "  --size WxH             default 1280x720; --fov DEG default 60\n"
           "  --tau PX, --mindist M, --maxdist M, --exp E   the LoD parameters (as for view;\n"
           "                         --lod is ignored: every mode is measured)\n"
+          "  --speed M/S            path flights move at this speed (default 100): before each\n"
+          "                         timed frame, an untimed frame 1/30 s earlier along the path,\n"
+          "                         so the timed one costs what a frame of a real flight costs;\n"
+          "                         0: no lead-in (every frame a jump, uploads from cold)\n"
           "  --json FILE            summary; --csv FILE: one row per frame and configuration\n"
           "  --no-error             skip the error measurement (faster)\n"
+          "  --sweep                a grid of LoD parameters: full resolution, distance mode with\n"
+          "                         mindist {1,4} x maxdist {12,24,48,96} patch widths x exp\n"
+          "                         {0.5,1,2}, error mode with tau {0.5,1,2,4,8,16} (and --tau);\n"
+          "                         --csv FILE (required) gets one row per configuration, and a\n"
+          "                         plot of fps against measured error with each mode's Pareto\n"
+          "                         front goes to --plot FILE.png (default: FILE with .png;\n"
+          "                         needs gnuplot)\n"
+          "  --static --max-error M1,M2,...\n"
+          "                         no frames: builds the static mesh of 'export --max-error M'\n"
+          "                         for each bound and reports triangles, points, build time and\n"
+          "                         the measured maximum and RMS error against the source\n"
           "DEM:\n",
           stdout);
     tp_scene_options_help(stdout);
@@ -95,6 +130,11 @@ static int parse_options(int argc, char** argv, bench_options* o)
         {"json", required_argument, NULL, OPT_JSON},
         {"csv", required_argument, NULL, OPT_CSV},
         {"no-error", no_argument, NULL, OPT_NO_ERROR},
+        {"speed", required_argument, NULL, OPT_SPEED},
+        {"sweep", no_argument, NULL, OPT_SWEEP},
+        {"plot", required_argument, NULL, OPT_PLOT},
+        {"static", no_argument, NULL, OPT_STATIC},
+        {"max-error", required_argument, NULL, OPT_MAX_ERROR},
         {"help", no_argument, NULL, 'h'},
         {NULL, 0, NULL, 0},
     };
@@ -102,6 +142,7 @@ static int parse_options(int argc, char** argv, bench_options* o)
     tp_scene_options_default(&o->scene);
     o->path_name = "low";
     o->frames = 60;
+    o->speed_mps = 100;
     tp_view_setup_default(&o->vs);
     opterr = 0;
     optind = 1;
@@ -132,6 +173,32 @@ static int parse_options(int argc, char** argv, bench_options* o)
         case OPT_JSON: o->json = optarg; break;
         case OPT_CSV: o->csv = optarg; break;
         case OPT_NO_ERROR: o->no_error = 1; break;
+        case OPT_SPEED: {
+            double v = strtod(optarg, &end);
+            if (*end || end == optarg || !(v >= 0) || !isfinite(v))
+                return bad("--speed", "metres per second >= 0", optarg);
+            o->speed_mps = v;
+            break;
+        }
+        case OPT_SWEEP: o->sweep = 1; break;
+        case OPT_PLOT: o->plot = optarg; break;
+        case OPT_STATIC: o->is_static = 1; break;
+        case OPT_MAX_ERROR: {
+            const char* at = optarg;
+            o->max_error_count = 0;
+            for (;;) {
+                double v = strtod(at, &end);
+                if (end == at || !(v > 0) || !isfinite(v) ||
+                    o->max_error_count == COUNT(o->max_errors) || (*end && *end != ','))
+                    return bad("--max-error", "up to 16 bounds in metres > 0, comma-separated",
+                               optarg);
+                o->max_errors[o->max_error_count++] = v;
+                if (!*end)
+                    break;
+                at = end + 1;
+            }
+            break;
+        }
         case 'h': print_help(); return tp_cli_finish(TP_EXIT_OK);
         case ':':
             fprintf(stderr, "terrapatch bench: missing value for %s\n", argv[optind - 1]);
@@ -147,8 +214,30 @@ static int parse_options(int argc, char** argv, bench_options* o)
         return TP_EXIT_USAGE;
     }
     o->dem = argv[optind];
+    if (optind + 1 < argc) {
+        fprintf(stderr, "terrapatch bench: expected one DEM, got extra argument '%s'\n",
+                argv[optind + 1]);
+        return TP_EXIT_USAGE;
+    }
     if (tp_view_setup_check(&o->vs, "bench") < 0)
         return TP_EXIT_USAGE;
+    if (o->is_static != (o->max_error_count > 0)) {
+        fprintf(stderr, "terrapatch bench: --static and --max-error go together "
+                        "(e.g. --static --max-error 1,5,20)\n");
+        return TP_EXIT_USAGE;
+    }
+    if (o->is_static && o->sweep) {
+        fprintf(stderr, "terrapatch bench: --static and --sweep exclude each other\n");
+        return TP_EXIT_USAGE;
+    }
+    if (o->sweep && !o->csv) {
+        fprintf(stderr, "terrapatch bench: --sweep needs --csv FILE (the plot goes beside it)\n");
+        return TP_EXIT_USAGE;
+    }
+    if (o->plot && !o->sweep) {
+        fprintf(stderr, "terrapatch bench: --plot needs --sweep\n");
+        return TP_EXIT_USAGE;
+    }
     return -1;
 }
 
@@ -159,15 +248,35 @@ static double now_ms(void)
     return ts.tv_sec * 1e3 + ts.tv_nsec / 1e6;
 }
 
-/* Camera i of n along the path. */
-static void path_camera(const tp_scene* sc, const bench_options* o, int i, int n, tp_camera* cam)
+/* The path's extent: the DEM's corner posts, centre and size. */
+static void path_frame(const tp_scene* sc, double* e0, double* n0, double* e1, double* n1,
+                       double* size)
 {
     const tp_terrain_info* in = &sc->info;
-    double e0, n0, e1, n1;
-    tp_terrain_grid_to_world(sc->terrain, 0, 0, &e0, &n0);
-    tp_terrain_grid_to_world(sc->terrain, in->src_width - 1, in->src_height - 1, &e1, &n1);
-    double ce = (e0 + e1) / 2, cn = (n0 + n1) / 2, size = fmax(fabs(e1 - e0), fabs(n1 - n0));
-    double a = (i + 0.5) / n;
+    tp_terrain_grid_to_world(sc->terrain, 0, 0, e0, n0);
+    tp_terrain_grid_to_world(sc->terrain, in->src_width - 1, in->src_height - 1, e1, n1);
+    *size = fmax(fabs(*e1 - *e0), fabs(*n1 - *n0));
+}
+
+/* Length of the named path (metres). */
+static double path_length(const tp_scene* sc, const bench_options* o)
+{
+    double e0, n0, e1, n1, size;
+    path_frame(sc, &e0, &n0, &e1, &n1, &size);
+    if (!strcmp(o->path_name, "high"))
+        return 0.8 * fabs(e1 - e0);
+    if (!strcmp(o->path_name, "orbit"))
+        return 2 * 3.14159265358979323846 * 0.45 * size;
+    return 0.9 * fabs(e1 - e0);
+}
+
+/* The camera at parameter a (0 .. 1) of the named path. */
+static void path_camera(const tp_scene* sc, const bench_options* o, double a, tp_camera* cam)
+{
+    const tp_terrain_info* in = &sc->info;
+    double e0, n0, e1, n1, size;
+    path_frame(sc, &e0, &n0, &e1, &n1, &size);
+    double ce = (e0 + e1) / 2, cn = (n0 + n1) / 2;
     if (!strcmp(o->path_name, "high")) {
         double e = e0 + (0.1 + 0.8 * a) * (e1 - e0), nn = fmin(n0, n1) - 0.15 * size;
         tp_camera_pose(e, nn, in->max_height_m + 0.35 * size, 0, -35, o->vs.fov_deg, o->vs.w, o->vs.h, cam);
@@ -243,17 +352,18 @@ static int read_path_file(const tp_scene* sc, const bench_options* o, tp_camera*
 typedef struct frame_row {
     double select_ms, upload_ms, draw_ms, frame_ms;
     size_t triangles, gpu_bytes;
-    int draw_calls, patches;
+    int draw_calls, patches, uploads;
     double max_m, rms_m, max_px, rms_px;
 } frame_row;
 
 typedef struct config_result {
-    const char* name;
-    tp_lod_params lod;
+    tp_lod_params lod;  /* resolved */
+    char label[64];
     frame_row* rows;
-    double fps_median, frame_ms, cpu_ms, draw_ms, triangles, draw_calls;
+    double fps_median, frame_ms, cpu_ms, draw_ms, triangles, draw_calls, uploads;
     size_t gpu_bytes;
     double max_px, rms_px, max_m, rms_m; /* over all frames: max of maxima, RMS of RMS */
+    int pareto;                          /* --sweep: on its mode's fps/max-error Pareto front */
 } config_result;
 
 static int cmp_double(const void* a, const void* b)
@@ -268,27 +378,32 @@ static double median(double* v, int n)
     return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
+#define MEDIAN_OF(field_expr)                                                                      \
+    do {                                                                                           \
+        for (int i = 0; i < n; i++) {                                                              \
+            const frame_row* r = &c->rows[i];                                                      \
+            v[i] = (double)(field_expr);                                                           \
+        }                                                                                          \
+    } while (0)
+
 static void summarize(config_result* c, int n)
 {
     double* v = malloc((size_t)n * sizeof *v);
     if (!v)
         return;
-    for (int i = 0; i < n; i++)
-        v[i] = c->rows[i].frame_ms;
+    MEDIAN_OF(r->frame_ms);
     c->frame_ms = median(v, n);
     c->fps_median = 1000 / c->frame_ms;
-    for (int i = 0; i < n; i++)
-        v[i] = c->rows[i].select_ms + c->rows[i].upload_ms;
+    MEDIAN_OF(r->select_ms + r->upload_ms);
     c->cpu_ms = median(v, n);
-    for (int i = 0; i < n; i++)
-        v[i] = c->rows[i].draw_ms;
+    MEDIAN_OF(r->draw_ms);
     c->draw_ms = median(v, n);
-    for (int i = 0; i < n; i++)
-        v[i] = (double)c->rows[i].triangles;
+    MEDIAN_OF(r->triangles);
     c->triangles = median(v, n);
-    for (int i = 0; i < n; i++)
-        v[i] = c->rows[i].draw_calls;
+    MEDIAN_OF(r->draw_calls);
     c->draw_calls = median(v, n);
+    MEDIAN_OF(r->uploads);
+    c->uploads = median(v, n);
     double sum_m = 0, sum_px = 0;
     c->gpu_bytes = 0;
     for (int i = 0; i < n; i++) {
@@ -309,9 +424,139 @@ static const char* mode_name(tp_lod_mode m)
     return m == TP_LOD_FULL ? "full" : m == TP_LOD_DISTANCE ? "distance" : "error";
 }
 
-static int write_json(const bench_options* o, const tp_scene* sc, const config_result* c, int nc,
-                      int frames)
+/* What every configuration of a run shares. */
+typedef struct bench_run {
+    const bench_options* o;
+    tp_scene* sc;
+    tp_gl_context* ctx;
+    const tp_camera* cams; /* --path-file, or NULL */
+    const tp_camera* fixed; /* --camera, or NULL */
+    int frames;
+    double lead_da; /* path parameter from the lead-in frame to the timed one; 0: none */
+} bench_run;
+
+/* Camera of timed frame i; *lead gets the lead-in camera when there is one. */
+static int frame_camera(const bench_run* b, int i, tp_camera* cam, tp_camera* lead)
 {
+    if (b->cams) {
+        *cam = b->cams[i];
+        return 0;
+    }
+    if (b->fixed) {
+        *cam = *b->fixed;
+        return 0;
+    }
+    double a = (i + 0.5) / b->frames;
+    path_camera(b->sc, b->o, a, cam);
+    if (b->lead_da <= 0)
+        return 0;
+    path_camera(b->sc, b->o, a - b->lead_da, lead);
+    return 1;
+}
+
+/* Renders the run's frames for one configuration (fresh renderer and selection: each starts
+ * cold, as a viewer would) and fills c->rows and the summary. Returns TP_EXIT_*. */
+static int run_config(const bench_run* b, config_result* c, const char* progress)
+{
+    char msg[512];
+    int frames = b->frames;
+    c->rows = calloc((size_t)frames, sizeof *c->rows);
+    tp_renderer* r = tp_renderer_create(b->sc->terrain, msg, sizeof msg);
+    tp_selection* sel = NULL;
+    tp_error err;
+    if (!c->rows || !r || tp_selection_create(b->sc->terrain, &sel, &err) != TP_OK) {
+        fprintf(stderr, "terrapatch bench: %s\n", r ? "out of memory" : msg);
+        tp_renderer_destroy(r);
+        return TP_EXIT_FAILURE;
+    }
+    tp_render_settings rs;
+    tp_render_settings_default(&rs);
+    tp_render_stats st;
+    for (int i = 0; i < frames; i++) {
+        tp_camera cam, lead;
+        if (frame_camera(b, i, &cam, &lead)) { /* untimed */
+            tp_gl_context_begin_frame(b->ctx);
+            tp_selection_update(sel, &lead, &c->lod, &err);
+            tp_renderer_draw(r, sel, &lead, &rs, 1, &st);
+            tp_gl_context_end_frame(b->ctx);
+        }
+        frame_row* row = &c->rows[i];
+        tp_gl_context_begin_frame(b->ctx);
+        double t0 = now_ms();
+        tp_selection_update(sel, &cam, &c->lod, &err);
+        double t1 = now_ms();
+        tp_renderer_draw(r, sel, &cam, &rs, 1, &st);
+        tp_gl_context_end_frame(b->ctx);
+        double t2 = now_ms();
+        tp_frame_stats fs;
+        tp_selection_stats(sel, &fs);
+        row->select_ms = t1 - t0;
+        row->upload_ms = st.upload_ms;
+        row->draw_ms = st.draw_ms;
+        row->frame_ms = t2 - t0;
+        row->triangles = fs.triangles;
+        row->draw_calls = st.draw_calls;
+        row->patches = st.patches_drawn;
+        row->uploads = st.uploads;
+        row->gpu_bytes = st.gpu_bytes;
+        if (!b->o->no_error) { /* outside the timed part of the frame */
+            tp_error_measure em;
+            tp_selection_measure_error(sel, &em);
+            tp_selection_measure_screen_error(sel, &cam, &row->max_px, &row->rms_px, NULL);
+            row->max_m = em.max_error_m;
+            row->rms_m = em.rms_error_m;
+        }
+        fprintf(stderr, "\rterrapatch: bench %s: frame %d/%d, %.1f ms, %zu triangles   ", progress,
+                i + 1, frames, row->frame_ms, row->triangles);
+    }
+    fprintf(stderr, "\n");
+    summarize(c, frames);
+    tp_selection_destroy(sel);
+    tp_renderer_destroy(r);
+    return TP_EXIT_OK;
+}
+
+static void json_config(tp_json* j, const config_result* c)
+{
+#define KN(k, v) (tp_json_key(j, k), tp_json_number(j, v))
+    KN("fps_median", c->fps_median);
+    KN("frame_ms_median", c->frame_ms);
+    KN("cpu_ms_median", c->cpu_ms);
+    KN("draw_ms_median", c->draw_ms);
+    KN("triangles_median", c->triangles);
+    KN("draw_calls_median", c->draw_calls);
+    KN("uploads_median", c->uploads);
+    KN("gpu_bytes", (double)c->gpu_bytes);
+    KN("max_screen_error_px", c->max_px);
+    KN("rms_screen_error_px", c->rms_px);
+    KN("max_vertical_error_m", c->max_m);
+    KN("rms_vertical_error_m", c->rms_m);
+#undef KN
+}
+
+static void json_lod(tp_json* j, const tp_lod_params* lp)
+{
+    tp_json_key(j, "lod_mode");
+    tp_json_string(j, mode_name(lp->mode));
+    if (lp->mode == TP_LOD_ERROR) {
+        tp_json_key(j, "tau_px");
+        tp_json_number(j, lp->tau_px);
+    } else if (lp->mode == TP_LOD_DISTANCE) {
+        tp_json_key(j, "mindist_m");
+        tp_json_number(j, lp->mindist_m);
+        tp_json_key(j, "maxdist_m");
+        tp_json_number(j, lp->maxdist_m);
+        tp_json_key(j, "exp");
+        tp_json_number(j, lp->exponent);
+    }
+}
+
+/* The summary: the headline keys are those of the error mode at the run's tau (best), with the
+ * full-resolution baseline and every configuration. */
+static int write_json(const bench_run* b, const char* renderer_name, const config_result* c, int nc,
+                      const config_result* best)
+{
+    const bench_options* o = b->o;
     tp_atomic_file file;
     if (!tp_atomic_open(&file, o->json))
         return 0;
@@ -319,7 +564,6 @@ static int write_json(const bench_options* o, const tp_scene* sc, const config_r
     tp_json j;
     tp_json_init(&j, f);
     const config_result* full = &c[0];
-    const config_result* best = &c[nc - 1]; /* the error mode: the headline configuration */
     tp_json_object_begin(&j);
 #define KS(k, v) (tp_json_key(&j, k), tp_json_string(&j, v))
 #define KN(k, v) (tp_json_key(&j, k), tp_json_number(&j, v))
@@ -327,46 +571,29 @@ static int write_json(const bench_options* o, const tp_scene* sc, const config_r
     char size[32];
     snprintf(size, sizeof size, "%dx%d", o->vs.w, o->vs.h);
     KS("size", size);
-    KS("path", o->path_file ? o->path_file : o->path_name);
-    KN("frames", frames);
-    KN("patches", sc->info.patch_count);
-    KS("lod_mode", mode_name(best->lod.mode));
-    KN("tau_px", best->lod.tau_px);
-    KN("fps_median", best->fps_median);
-    KN("frame_ms_median", best->frame_ms);
-    KN("cpu_ms_median", best->cpu_ms);
-    KN("draw_ms_median", best->draw_ms);
-    KN("triangles_median", best->triangles);
-    KN("draw_calls_median", best->draw_calls);
-    KN("gpu_bytes", (double)best->gpu_bytes);
-    KN("max_screen_error_px", best->max_px);
-    KN("rms_screen_error_px", best->rms_px);
-    KN("max_vertical_error_m", best->max_m);
-    KN("rms_vertical_error_m", best->rms_m);
+    KS("path", o->path_file ? o->path_file : o->vs.has_camera ? "fixed" : o->path_name);
+    KN("speed_mps", b->lead_da > 0 ? o->speed_mps : 0);
+    KN("frames", b->frames);
+    KN("patches", b->sc->info.patch_count);
+    KN("patch_size", b->sc->info.patch_size);
+    KS("renderer", renderer_name);
+    json_lod(&j, &best->lod);
+    json_config(&j, best);
     tp_json_key(&j, "full_res");
     tp_json_object_begin(&j);
-    KN("fps_median", full->fps_median);
-    KN("triangles_median", full->triangles);
-    KN("draw_ms_median", full->draw_ms);
-    KN("cpu_ms_median", full->cpu_ms);
+    json_config(&j, full);
     tp_json_object_end(&j);
     KN("speedup_vs_full", best->fps_median / full->fps_median);
     tp_json_key(&j, "configurations");
     tp_json_array_begin(&j);
     for (int i = 0; i < nc; i++) {
         tp_json_object_begin(&j);
-        KS("lod_mode", mode_name(c[i].lod.mode));
-        KN("fps_median", c[i].fps_median);
-        KN("frame_ms_median", c[i].frame_ms);
-        KN("cpu_ms_median", c[i].cpu_ms);
-        KN("draw_ms_median", c[i].draw_ms);
-        KN("triangles_median", c[i].triangles);
-        KN("draw_calls_median", c[i].draw_calls);
-        KN("gpu_bytes", (double)c[i].gpu_bytes);
-        KN("max_screen_error_px", c[i].max_px);
-        KN("rms_screen_error_px", c[i].rms_px);
-        KN("max_vertical_error_m", c[i].max_m);
-        KN("rms_vertical_error_m", c[i].rms_m);
+        json_lod(&j, &c[i].lod);
+        json_config(&j, &c[i]);
+        if (o->sweep) {
+            tp_json_key(&j, "pareto");
+            tp_json_bool(&j, c[i].pareto);
+        }
         tp_json_object_end(&j);
     }
     tp_json_array_end(&j);
@@ -377,24 +604,143 @@ static int write_json(const bench_options* o, const tp_scene* sc, const config_r
     return tp_atomic_commit(&file);
 }
 
-static int write_csv(const bench_options* o, const config_result* c, int nc, int frames)
+static int write_frames_csv(const bench_options* o, const config_result* c, int nc, int frames)
 {
     tp_atomic_file file;
     if (!tp_atomic_open(&file, o->csv))
         return 0;
     FILE* f = file.f;
     fprintf(f, "lod_mode,frame,frame_ms,select_ms,upload_ms,draw_ms,triangles,draw_calls,patches,"
-               "gpu_bytes,max_vertical_error_m,rms_vertical_error_m,max_screen_error_px,"
+               "uploads,gpu_bytes,max_vertical_error_m,rms_vertical_error_m,max_screen_error_px,"
                "rms_screen_error_px\n");
     for (int k = 0; k < nc; k++)
         for (int i = 0; i < frames; i++) {
             const frame_row* r = &c[k].rows[i];
-            fprintf(f, "%s,%d,%.4f,%.4f,%.4f,%.4f,%zu,%d,%d,%zu,%.4f,%.4f,%.4f,%.4f\n",
+            fprintf(f, "%s,%d,%.4f,%.4f,%.4f,%.4f,%zu,%d,%d,%d,%zu,%.4f,%.4f,%.4f,%.4f\n",
                     mode_name(c[k].lod.mode), i, r->frame_ms, r->select_ms, r->upload_ms,
-                    r->draw_ms, r->triangles, r->draw_calls, r->patches, r->gpu_bytes, r->max_m,
-                    r->rms_m, r->max_px, r->rms_px);
+                    r->draw_ms, r->triangles, r->draw_calls, r->patches, r->uploads, r->gpu_bytes,
+                    r->max_m, r->rms_m, r->max_px, r->rms_px);
         }
     return tp_atomic_commit(&file);
+}
+
+/* --sweep: one row per configuration. */
+static int write_sweep_csv(const bench_options* o, const config_result* c, int nc)
+{
+    tp_atomic_file file;
+    if (!tp_atomic_open(&file, o->csv))
+        return 0;
+    FILE* f = file.f;
+    fprintf(f, "lod_mode,tau_px,mindist_m,maxdist_m,exp,fps_median,frame_ms_median,cpu_ms_median,"
+               "draw_ms_median,triangles_median,uploads_median,max_screen_error_px,"
+               "rms_screen_error_px,max_vertical_error_m,rms_vertical_error_m,pareto\n");
+    for (int k = 0; k < nc; k++) {
+        const config_result* r = &c[k];
+        int dist = r->lod.mode == TP_LOD_DISTANCE, err = r->lod.mode == TP_LOD_ERROR;
+        fprintf(f, "%s,%g,%g,%g,%g,%.3f,%.3f,%.4f,%.3f,%.0f,%.0f,%.4f,%.4f,%.4f,%.4f,%d\n",
+                mode_name(r->lod.mode), err ? r->lod.tau_px : 0, dist ? r->lod.mindist_m : 0,
+                dist ? r->lod.maxdist_m : 0, dist ? r->lod.exponent : 0, r->fps_median,
+                r->frame_ms, r->cpu_ms, r->draw_ms, r->triangles, r->uploads, r->max_px,
+                r->rms_px, r->max_m, r->rms_m, r->pareto);
+    }
+    return tp_atomic_commit(&file);
+}
+
+/* Marks the configurations no other configuration of the same mode beats in both fps and
+ * measured maximum screen error. */
+static void mark_pareto(config_result* c, int nc)
+{
+    for (int i = 0; i < nc; i++) {
+        c[i].pareto = 1;
+        for (int k = 0; k < nc && c[i].pareto; k++)
+            if (k != i && c[k].lod.mode == c[i].lod.mode && c[k].fps_median >= c[i].fps_median &&
+                c[k].max_px <= c[i].max_px &&
+                (c[k].fps_median > c[i].fps_median || c[k].max_px < c[i].max_px))
+                c[i].pareto = 0;
+    }
+}
+
+/* The configurations of the run: full, distance, error; or the sweep's grid. */
+static config_result* make_configs(const bench_run* b, int* count, int* best)
+{
+    const bench_options* o = b->o;
+    tp_lod_params base;
+    tp_lod_params_resolve(b->sc->terrain, &o->vs.lod, &base, NULL);
+    tp_lod_params def = {.mode = TP_LOD_DISTANCE};
+    tp_lod_params_resolve(b->sc->terrain, &def, &def, NULL);
+    double patch_w = def.maxdist_m / 24; /* the core's default maxdist is 24 patch widths */
+    int n = 3;
+    if (o->sweep)
+        n = 1 + COUNT(sweep_mindist_w) * COUNT(sweep_maxdist_w) * COUNT(sweep_exp) +
+            COUNT(sweep_tau) + 1;
+    config_result* c = calloc((size_t)n, sizeof *c);
+    if (!c)
+        return NULL;
+    int k = 0;
+    c[k].lod = base;
+    c[k++].lod.mode = TP_LOD_FULL;
+    if (!o->sweep) {
+        c[k].lod = base;
+        c[k++].lod.mode = TP_LOD_DISTANCE;
+        c[k].lod = base;
+        c[k].lod.mode = TP_LOD_ERROR;
+        *best = k++;
+    } else {
+        for (int a = 0; a < COUNT(sweep_mindist_w); a++)
+            for (int d = 0; d < COUNT(sweep_maxdist_w); d++)
+                for (int e = 0; e < COUNT(sweep_exp); e++) {
+                    c[k].lod = base;
+                    c[k].lod.mode = TP_LOD_DISTANCE;
+                    c[k].lod.mindist_m = sweep_mindist_w[a] * patch_w;
+                    c[k].lod.maxdist_m = sweep_maxdist_w[d] * patch_w;
+                    c[k++].lod.exponent = sweep_exp[e];
+                }
+        *best = -1;
+        for (int t = 0; t < COUNT(sweep_tau); t++) {
+            c[k].lod = base;
+            c[k].lod.mode = TP_LOD_ERROR;
+            c[k].lod.tau_px = sweep_tau[t];
+            if (sweep_tau[t] == base.tau_px)
+                *best = k;
+            k++;
+        }
+        if (*best < 0) { /* --tau not in the grid: one more */
+            c[k].lod = base;
+            c[k].lod.mode = TP_LOD_ERROR;
+            *best = k++;
+        }
+    }
+    for (int i = 0; i < k; i++) {
+        tp_lod_params* lp = &c[i].lod;
+        if (lp->mode == TP_LOD_FULL)
+            snprintf(c[i].label, sizeof c[i].label, "full");
+        else if (lp->mode == TP_LOD_ERROR)
+            snprintf(c[i].label, sizeof c[i].label, "error tau=%g", lp->tau_px);
+        else
+            snprintf(c[i].label, sizeof c[i].label, "distance %.0f/%.0f/%g", lp->mindist_m,
+                     lp->maxdist_m, lp->exponent);
+    }
+    *count = k;
+    return c;
+}
+
+static void print_table(const bench_run* b, const char* renderer_name, const config_result* c,
+                        int nc, int best)
+{
+    const bench_options* o = b->o;
+    printf("%s, %dx%d, %s path%s, %d frames, %d patches of %d, renderer %s\n", o->dem, o->vs.w,
+           o->vs.h, o->path_file ? o->path_file : o->vs.has_camera ? "fixed" : o->path_name,
+           b->lead_da > 0 ? " (lead-in frames)" : "", b->frames, b->sc->info.patch_count,
+           b->sc->info.patch_size, renderer_name);
+    printf("%-24s %8s %9s %8s %8s %10s %6s %9s %9s %9s %9s\n", "lod", "fps", "frame ms", "cpu ms",
+           "draw ms", "triangles", "calls", "max px", "rms px", "max m", "rms m");
+    for (int k = 0; k < nc; k++)
+        printf("%-24s %8.2f %9.2f %8.3f %8.2f %10.0f %6.0f %9.3f %9.3f %9.3f %9.3f%s\n", c[k].label,
+               c[k].fps_median, c[k].frame_ms, c[k].cpu_ms, c[k].draw_ms, c[k].triangles,
+               c[k].draw_calls, c[k].max_px, c[k].rms_px, c[k].max_m, c[k].rms_m,
+               o->sweep && c[k].pareto && k > 0 ? "  pareto" : "");
+    printf("error mode (tau = %g px) vs full resolution: %.2fx the frame rate\n", c[best].lod.tau_px,
+           c[best].fps_median / c[0].fps_median);
 }
 
 int tp_cli_bench(int argc, char** argv)
@@ -406,111 +752,76 @@ int tp_cli_bench(int argc, char** argv)
     tp_scene sc;
     if (tp_scene_load(o.dem, &o.scene, &sc) != TP_EXIT_OK)
         return TP_EXIT_FAILURE;
+    if (o.is_static) {
+        code = tp_bench_static(&sc, o.dem, o.max_errors, o.max_error_count, o.json, o.csv);
+        tp_scene_free(&sc);
+        return code == TP_EXIT_OK ? tp_cli_finish(code) : code;
+    }
+    bench_run b = {.o = &o, .sc = &sc, .frames = o.frames};
     tp_camera* cams = NULL;
-    int frames = o.frames;
-    if (o.path_file && !read_path_file(&sc, &o, &cams, &frames)) {
+    if (o.path_file && !read_path_file(&sc, &o, &cams, &b.frames)) {
         tp_scene_free(&sc);
         return TP_EXIT_FAILURE;
     }
+    b.cams = cams;
     tp_camera fixed;
-    if (o.vs.has_camera && !tp_view_setup_camera(&sc, &o.vs, &fixed, "bench")) {
-        free(cams);
-        tp_scene_free(&sc);
-        return TP_EXIT_FAILURE;
+    if (o.vs.has_camera) {
+        if (!tp_view_setup_camera(&sc, &o.vs, &fixed, "bench")) {
+            free(cams);
+            tp_scene_free(&sc);
+            return TP_EXIT_FAILURE;
+        }
+        b.fixed = &fixed;
     }
+    if (!cams && !b.fixed && o.speed_mps > 0)
+        b.lead_da = o.speed_mps / FRAME_HZ / path_length(&sc, &o);
     char msg[512];
-    tp_gl_context* ctx = NULL;
-    if (!tp_gl_context_create_headless(o.vs.w, o.vs.h, &ctx, msg, sizeof msg)) {
+    if (!tp_gl_context_create_headless(o.vs.w, o.vs.h, &b.ctx, msg, sizeof msg)) {
         fprintf(stderr, "terrapatch bench: %s\n", msg);
         free(cams);
         tp_scene_free(&sc);
         return TP_EXIT_FAILURE;
     }
-    const GLubyte* renderer_name = glGetString(GL_RENDERER);
-    config_result c[3] = {{.name = "full"}, {.name = "distance"}, {.name = "error"}};
-    tp_lod_mode modes[3] = {TP_LOD_FULL, TP_LOD_DISTANCE, TP_LOD_ERROR};
-    code = TP_EXIT_OK;
-    for (int k = 0; k < 3 && code == TP_EXIT_OK; k++) {
-        tp_lod_params lp = o.vs.lod;
-        lp.mode = modes[k];
-        tp_lod_params_resolve(sc.terrain, &lp, &c[k].lod, NULL);
-        c[k].rows = calloc((size_t)frames, sizeof *c[k].rows);
-        /* a fresh renderer and selection per configuration: each starts cold, as a viewer would */
-        tp_renderer* r = tp_renderer_create(sc.terrain, msg, sizeof msg);
-        tp_selection* sel = NULL;
-        tp_error err;
-        if (!c[k].rows || !r || tp_selection_create(sc.terrain, &sel, &err) != TP_OK) {
-            fprintf(stderr, "terrapatch bench: %s\n", r ? "out of memory" : msg);
-            tp_renderer_destroy(r);
-            code = TP_EXIT_FAILURE;
-            break;
-        }
-        tp_render_settings rs;
-        tp_render_settings_default(&rs);
-        for (int i = 0; i < frames; i++) {
-            tp_camera cam;
-            if (cams)
-                cam = cams[i];
-            else if (o.vs.has_camera)
-                cam = fixed;
-            else
-                path_camera(&sc, &o, i, frames, &cam);
-            frame_row* row = &c[k].rows[i];
-            tp_gl_context_begin_frame(ctx);
-            double t0 = now_ms();
-            tp_selection_update(sel, &cam, &c[k].lod, &err);
-            double t1 = now_ms();
-            tp_render_stats st;
-            tp_renderer_draw(r, sel, &cam, &rs, 1, &st);
-            tp_gl_context_end_frame(ctx);
-            double t2 = now_ms();
-            tp_frame_stats fs;
-            tp_selection_stats(sel, &fs);
-            row->select_ms = t1 - t0;
-            row->upload_ms = st.upload_ms;
-            row->draw_ms = st.draw_ms;
-            row->frame_ms = t2 - t0;
-            row->triangles = fs.triangles;
-            row->draw_calls = st.draw_calls;
-            row->patches = st.patches_drawn;
-            row->gpu_bytes = st.gpu_bytes;
-            if (!o.no_error) { /* outside the timed part of the frame */
-                tp_error_measure em;
-                tp_selection_measure_error(sel, &em);
-                tp_selection_measure_screen_error(sel, &cam, &row->max_px, &row->rms_px, NULL);
-                row->max_m = em.max_error_m;
-                row->rms_m = em.rms_error_m;
-            }
-            fprintf(stderr, "\rterrapatch: bench %s: frame %d/%d, %.1f ms, %zu triangles   ",
-                    c[k].name, i + 1, frames, row->frame_ms, row->triangles);
-        }
-        fprintf(stderr, "\n");
-        summarize(&c[k], frames);
-        tp_selection_destroy(sel);
-        tp_renderer_destroy(r);
+    const char* renderer_name = (const char*)glGetString(GL_RENDERER);
+    renderer_name = renderer_name ? renderer_name : "?";
+    int nc = 0, best = 0;
+    config_result* c = make_configs(&b, &nc, &best);
+    code = c ? TP_EXIT_OK : TP_EXIT_FAILURE;
+    if (!c)
+        fprintf(stderr, "terrapatch bench: out of memory\n");
+    for (int k = 0; k < nc && code == TP_EXIT_OK; k++) {
+        char progress[96];
+        snprintf(progress, sizeof progress, "%s (%d/%d)", c[k].label, k + 1, nc);
+        code = run_config(&b, &c[k], progress);
     }
     if (code == TP_EXIT_OK) {
-        printf("%s, %dx%d, %s path, %d frames, %d patches of %d, renderer %s\n", o.dem, o.vs.w, o.vs.h,
-               o.path_file ? o.path_file : o.path_name, frames, sc.info.patch_count,
-               sc.info.patch_size, renderer_name ? (const char*)renderer_name : "?");
-        printf("%-9s %8s %9s %8s %8s %10s %6s %9s %9s %9s %9s\n", "lod", "fps", "frame ms",
-               "cpu ms", "draw ms", "triangles", "calls", "max px", "rms px", "max m", "rms m");
-        for (int k = 0; k < 3; k++)
-            printf("%-9s %8.2f %9.2f %8.3f %8.2f %10.0f %6.0f %9.3f %9.3f %9.3f %9.3f\n",
-                   c[k].name, c[k].fps_median, c[k].frame_ms, c[k].cpu_ms, c[k].draw_ms,
-                   c[k].triangles, c[k].draw_calls, c[k].max_px, c[k].rms_px, c[k].max_m,
-                   c[k].rms_m);
-        printf("error mode vs full resolution: %.2fx the frame rate\n",
-               c[2].fps_median / c[0].fps_median);
-        if (o.json && !write_json(&o, &sc, c, 3, frames))
+        if (o.sweep)
+            mark_pareto(c + 1, nc - 1);
+        print_table(&b, renderer_name, c, nc, best);
+        if (o.json && !write_json(&b, renderer_name, c, nc, &c[best]))
             code = TP_EXIT_FAILURE;
-        if (o.csv && !write_csv(&o, c, 3, frames))
+        if (o.csv && !(o.sweep ? write_sweep_csv(&o, c, nc) : write_frames_csv(&o, c, nc, b.frames)))
             code = TP_EXIT_FAILURE;
+        if (code == TP_EXIT_OK && o.sweep) {
+            char title[512];
+            snprintf(title, sizeof title, "%s, %s path, %dx%d, %d frames per point, %s",
+                     sc.path, o.path_file ? o.path_file : o.vs.has_camera ? "fixed" : o.path_name,
+                     o.vs.w, o.vs.h, b.frames, renderer_name);
+            tp_bench_point* pts = calloc((size_t)nc, sizeof *pts);
+            for (int k = 1; pts && k < nc; k++)
+                pts[k - 1] = (tp_bench_point){c[k].lod.mode == TP_LOD_ERROR, c[k].lod.tau_px,
+                                              c[k].fps_median, c[k].max_px, c[k].rms_px,
+                                              c[k].pareto};
+            if (!pts || !tp_bench_plot(pts, nc - 1, o.csv, o.plot, title, c[0].fps_median))
+                code = TP_EXIT_FAILURE;
+            free(pts);
+        }
     }
-    for (int k = 0; k < 3; k++)
+    for (int k = 0; k < nc; k++)
         free(c[k].rows);
+    free(c);
     free(cams);
-    tp_gl_context_destroy(ctx);
+    tp_gl_context_destroy(b.ctx);
     tp_scene_free(&sc);
     return code == TP_EXIT_OK ? tp_cli_finish(code) : code;
 }

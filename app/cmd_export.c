@@ -177,62 +177,6 @@ static int parse_options(int argc, char** argv, export_options* o)
     return -1;
 }
 
-static int neighbor(const tp_terrain_info* in, int p, int side)
-{
-    int c = p % in->patch_cols, r = p / in->patch_cols;
-    switch (side) {
-    case TP_SIDE_TOP: return r > 0 ? p - in->patch_cols : -1;
-    case TP_SIDE_RIGHT: return c + 1 < in->patch_cols ? p + 1 : -1;
-    case TP_SIDE_BOTTOM: return r + 1 < in->patch_rows ? p + in->patch_cols : -1;
-    default: return c > 0 ? p - 1 : -1;
-    }
-}
-
-/* Static error-bounded levels: start from the delta bound, then raise levels where the
- * measured error of the stitched triangles exceeds M (the coarser neighbours that moved the
- * patch's border, else the patch itself). Levels only go up, so this ends. */
-static void select_max_error(const tp_scene* sc, tp_selection* sel, double m)
-{
-    const tp_terrain_info* in = &sc->info;
-    for (int p = 0; p < in->patch_count; p++) {
-        tp_patch_info pi;
-        tp_patch_get_info(sc->terrain, p, &pi);
-        int k = in->n;
-        while (k > 0 && pi.delta_m[k - 1] <= m)
-            k--;
-        tp_selection_set_level(sel, p, k);
-    }
-    int* todo = malloc((size_t)in->patch_count * sizeof *todo);
-    if (!todo)
-        return;
-    for (int round = 0;; round++) {
-        int count = 0;
-        for (int p = 0; p < in->patch_count; p++)
-            if (tp_selection_dirty(sel, p))
-                todo[count++] = p;
-        tp_selection_clear_dirty(sel);
-        if (count == 0)
-            break;
-        for (int i = 0; i < count; i++) {
-            int p = todo[i];
-            if (tp_patch_measured_error(sc, sel, p) <= m)
-                continue;
-            int k = tp_selection_level(sel, p), nb[4], raised = 0;
-            tp_selection_neighbor_levels(sel, p, nb);
-            for (int s = 0; s < 4; s++)
-                if (nb[s] >= 0 && nb[s] < k) {
-                    tp_selection_set_level(sel, neighbor(in, p, s), nb[s] + 1);
-                    raised = 1;
-                }
-            if (!raised && k < in->n)
-                tp_selection_set_level(sel, p, k + 1);
-        }
-        if (round % 4 == 3)
-            fprintf(stderr, "terrapatch: export: refining levels, %d patches re-measured\n", count);
-    }
-    free(todo);
-}
-
 int tp_cli_export(int argc, char** argv)
 {
     export_options o;
@@ -267,7 +211,7 @@ int tp_cli_export(int argc, char** argv)
                     o.max_error_m, floor_m, sc.info.height_step_m);
             code = TP_EXIT_USAGE;
         } else {
-            select_max_error(&sc, sel, o.max_error_m);
+            tp_select_max_error(&sc, sel, o.max_error_m);
             eo.include_culled = 1;
             snprintf(lod_text, sizeof lod_text, "mode=max-error max_error_m=%g", o.max_error_m);
         }
@@ -296,17 +240,7 @@ int tp_cli_export(int argc, char** argv)
         if (!tp_export_selection(&sc, sel, &eo, o.out, &res)) {
             code = TP_EXIT_FAILURE;
         } else {
-            /* the full mesh's triangle count, for comparison */
-            size_t full = 0;
-            tp_terrain_info* in = &sc.info;
-            size_t cells = 0;
-            for (int y = 0; y + 1 < in->height; y++)
-                for (int x = 0; x + 1 < in->width; x++)
-                    cells += !isnan(tp_terrain_sample(sc.terrain, x, y)) &&
-                             !isnan(tp_terrain_sample(sc.terrain, x + 1, y)) &&
-                             !isnan(tp_terrain_sample(sc.terrain, x, y + 1)) &&
-                             !isnan(tp_terrain_sample(sc.terrain, x + 1, y + 1));
-            full = 2 * cells;
+            size_t full = tp_full_mesh_triangles(&sc);
             printf("wrote %s: %zu points, %zu triangles (%.1f%% of the %zu of the full mesh), "
                    "measured error max %.3f m, RMS %.3f m\n",
                    o.out, res.points, res.triangles, 100.0 * res.triangles / (full ? full : 1),

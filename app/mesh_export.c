@@ -88,6 +88,62 @@ double tp_patch_measured_error(const tp_scene* sc, const tp_selection* sel, int 
 }
 
 /* Is the fourth corner of the full-resolution cell of this triangle drawn too? */
+static int neighbor(const tp_terrain_info* in, int p, int side)
+{
+    int c = p % in->patch_cols, r = p / in->patch_cols;
+    switch (side) {
+    case TP_SIDE_TOP: return r > 0 ? p - in->patch_cols : -1;
+    case TP_SIDE_RIGHT: return c + 1 < in->patch_cols ? p + 1 : -1;
+    case TP_SIDE_BOTTOM: return r + 1 < in->patch_rows ? p + in->patch_cols : -1;
+    default: return c > 0 ? p - 1 : -1;
+    }
+}
+
+/* Static error-bounded levels: start from the delta bound, then raise levels where the
+ * measured error of the stitched triangles exceeds M (the coarser neighbours that moved the
+ * patch's border, else the patch itself). Levels only go up, so this ends. */
+void tp_select_max_error(const tp_scene* sc, tp_selection* sel, double m)
+{
+    const tp_terrain_info* in = &sc->info;
+    for (int p = 0; p < in->patch_count; p++) {
+        tp_patch_info pi;
+        tp_patch_get_info(sc->terrain, p, &pi);
+        int k = in->n;
+        while (k > 0 && pi.delta_m[k - 1] <= m)
+            k--;
+        tp_selection_set_level(sel, p, k);
+    }
+    int* todo = malloc((size_t)in->patch_count * sizeof *todo);
+    if (!todo)
+        return;
+    for (int round = 0;; round++) {
+        int count = 0;
+        for (int p = 0; p < in->patch_count; p++)
+            if (tp_selection_dirty(sel, p))
+                todo[count++] = p;
+        tp_selection_clear_dirty(sel);
+        if (count == 0)
+            break;
+        for (int i = 0; i < count; i++) {
+            int p = todo[i];
+            if (tp_patch_measured_error(sc, sel, p) <= m)
+                continue;
+            int k = tp_selection_level(sel, p), nb[4], raised = 0;
+            tp_selection_neighbor_levels(sel, p, nb);
+            for (int s = 0; s < 4; s++)
+                if (nb[s] >= 0 && nb[s] < k) {
+                    tp_selection_set_level(sel, neighbor(in, p, s), nb[s] + 1);
+                    raised = 1;
+                }
+            if (!raised && k < in->n)
+                tp_selection_set_level(sel, p, k + 1);
+        }
+        if (round % 4 == 3)
+            fprintf(stderr, "terrapatch: max-error mesh: refining levels, %d patches re-measured\n", count);
+    }
+    free(todo);
+}
+
 static int full_cell(const tp_scene* sc, const tp_vertex* a, const tp_vertex* b,
                      const tp_vertex* c)
 {
@@ -179,7 +235,7 @@ int tp_export_selection(const tp_scene* sc, const tp_selection* sel, const tp_ex
     }
     if (tris == 0) {
         fprintf(stderr, "terrapatch: %s: nothing to export (no drawn triangle in the selection)\n",
-                path);
+                path ? path : sc->path);
         goto done;
     }
 
@@ -224,7 +280,7 @@ int tp_export_selection(const tp_scene* sc, const tp_selection* sel, const tp_ex
     };
     mesh.source_file = sc->path;
     tp_error e;
-    if (tp_mesh_write(path, o->format, &mesh, &e) != TP_OK) {
+    if (path && tp_mesh_write(path, o->format, &mesh, &e) != TP_OK) {
         fprintf(stderr, "terrapatch: %s\n", e.message);
         goto done;
     }
@@ -240,7 +296,7 @@ int tp_export_selection(const tp_scene* sc, const tp_selection* sel, const tp_ex
     ok = 1;
 done:
     if (oom)
-        fprintf(stderr, "terrapatch: %s: out of memory building the mesh\n", path);
+        fprintf(stderr, "terrapatch: %s: out of memory building the mesh\n", path ? path : sc->path);
     free(index);
     free(seen);
     free(vb);
@@ -255,4 +311,17 @@ done:
     free(lod);
     free(err);
     return ok;
+}
+
+size_t tp_full_mesh_triangles(const tp_scene* sc)
+{
+    const tp_terrain_info* in = &sc->info;
+    size_t cells = 0;
+    for (int y = 0; y + 1 < in->height; y++)
+        for (int x = 0; x + 1 < in->width; x++)
+            cells += !isnan(tp_terrain_sample(sc->terrain, x, y)) &&
+                     !isnan(tp_terrain_sample(sc->terrain, x + 1, y)) &&
+                     !isnan(tp_terrain_sample(sc->terrain, x, y + 1)) &&
+                     !isnan(tp_terrain_sample(sc->terrain, x + 1, y + 1));
+    return 2 * cells;
 }

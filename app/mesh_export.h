@@ -22,13 +22,22 @@ typedef struct tp_export_result {
     double max_error_m, rms_error_m; /* measured against the source samples */
 } tp_export_result;
 
-/* Builds the mesh of sel's current levels and writes it to path. Returns 1, or 0 after printing
- * a one-line message naming path. */
+/* Builds the mesh of sel's current levels and writes it to path (NULL: builds and measures it,
+ * writes nothing). Returns 1, or 0 after printing a one-line message naming path. */
 int tp_export_selection(const tp_scene* sc, const tp_selection* sel, const tp_export_options* o,
                         const char* path, tp_export_result* result);
 
 /* Measured maximum vertical error (m) of patch p's drawn triangles under sel's levels against
  * the source samples they cover. */
 double tp_patch_measured_error(const tp_scene* sc, const tp_selection* sel, int p);
+
+/* Static error-bounded levels for `export --max-error M` (every patch, no camera): each patch
+ * starts at the coarsest level whose delta is <= m, then levels go up where the measured error
+ * of the stitched triangles exceeds m (the coarser neighbours that moved the patch's border,
+ * else the patch itself) until every patch's measured error is <= m. */
+void tp_select_max_error(const tp_scene* sc, tp_selection* sel, double m);
+
+/* Triangles of the full mesh (`export --full`): two per cell of four drawn samples. */
+size_t tp_full_mesh_triangles(const tp_scene* sc);
 
 #endif
