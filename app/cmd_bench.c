@@ -354,6 +354,9 @@ typedef struct frame_row {
     size_t triangles, gpu_bytes;
     int draw_calls, patches, uploads;
     double max_m, rms_m, max_px, rms_px;
+    size_t oracle_triangles; /* error mode: triangles if every patch were at its coarsest level
+                                that measures <= tau (see oracle_triangles()) */
+    int oracle_patches;      /* patches that could be coarser */
 } frame_row;
 
 typedef struct config_result {
@@ -361,6 +364,7 @@ typedef struct config_result {
     char label[64];
     frame_row* rows;
     double fps_median, frame_ms, cpu_ms, draw_ms, triangles, draw_calls, uploads;
+    double oracle_triangles, oracle_patches; /* medians; error mode with the error measured */
     size_t gpu_bytes;
     double max_px, rms_px, max_m, rms_m; /* over all frames: max of maxima, RMS of RMS */
     int pareto;                          /* --sweep: on its mode's fps/max-error Pareto front */
@@ -404,6 +408,10 @@ static void summarize(config_result* c, int n)
     c->draw_calls = median(v, n);
     MEDIAN_OF(r->uploads);
     c->uploads = median(v, n);
+    MEDIAN_OF(r->oracle_triangles);
+    c->oracle_triangles = median(v, n);
+    MEDIAN_OF(r->oracle_patches);
+    c->oracle_patches = median(v, n);
     double sum_m = 0, sum_px = 0;
     c->gpu_bytes = 0;
     for (int i = 0; i < n; i++) {
@@ -452,6 +460,32 @@ static int frame_camera(const bench_run* b, int i, tp_camera* cam, tp_camera* le
         return 0;
     path_camera(b->sc, b->o, a - b->lead_da, lead);
     return 1;
+}
+
+/* How far the error mode's bound is from what the measured error allows: each visible complete
+ * patch is taken down one level at a time, alone (neighbours as they are), while its measured
+ * screen error stays <= tau; returns the frame's triangle count with every patch at that level
+ * (2 * 4^k per complete patch) and the number of patches that could go down. */
+static size_t oracle_triangles(const tp_scene* sc, const tp_selection* sel, const tp_camera* cam,
+                               double tau, size_t triangles, int* coarser)
+{
+    *coarser = 0;
+    for (int p = 0; p < sc->info.patch_count; p++) {
+        if (!tp_selection_visible(sel, p))
+            continue;
+        tp_patch_info pi;
+        tp_patch_get_info(sc->terrain, p, &pi);
+        int k = tp_selection_level(sel, p), kk = k;
+        if (!pi.complete)
+            continue;
+        while (kk > 0 && tp_selection_patch_screen_error(sel, cam, p, kk - 1) <= tau)
+            kk--;
+        if (kk < k) {
+            (*coarser)++;
+            triangles -= ((size_t)2 << (2 * k)) - ((size_t)2 << (2 * kk));
+        }
+    }
+    return triangles;
 }
 
 /* Renders the run's frames for one configuration (fresh renderer and selection: each starts
@@ -505,6 +539,9 @@ static int run_config(const bench_run* b, config_result* c, const char* progress
             tp_selection_measure_screen_error(sel, &cam, &row->max_px, &row->rms_px, NULL);
             row->max_m = em.max_error_m;
             row->rms_m = em.rms_error_m;
+            if (c->lod.mode == TP_LOD_ERROR)
+                row->oracle_triangles = oracle_triangles(b->sc, sel, &cam, c->lod.tau_px,
+                                                         fs.triangles, &row->oracle_patches);
         }
         fprintf(stderr, "\rterrapatch: bench %s: frame %d/%d, %.1f ms, %zu triangles   ", progress,
                 i + 1, frames, row->frame_ms, row->triangles);
@@ -531,6 +568,10 @@ static void json_config(tp_json* j, const config_result* c)
     KN("rms_screen_error_px", c->rms_px);
     KN("max_vertical_error_m", c->max_m);
     KN("rms_vertical_error_m", c->rms_m);
+    if (c->lod.mode == TP_LOD_ERROR && c->oracle_triangles > 0) {
+        KN("oracle_triangles_median", c->oracle_triangles);
+        KN("oracle_coarser_patches_median", c->oracle_patches);
+    }
 #undef KN
 }
 
@@ -741,6 +782,10 @@ static void print_table(const bench_run* b, const char* renderer_name, const con
                o->sweep && c[k].pareto && k > 0 ? "  pareto" : "");
     printf("error mode (tau = %g px) vs full resolution: %.2fx the frame rate\n", c[best].lod.tau_px,
            c[best].fps_median / c[0].fps_median);
+    if (c[best].oracle_triangles > 0)
+        printf("error mode (tau = %g px): %.0f triangles if every patch were at the coarsest level "
+               "its measured error allows (%.0f patches could be coarser; median per frame)\n",
+               c[best].lod.tau_px, c[best].oracle_triangles, c[best].oracle_patches);
 }
 
 int tp_cli_bench(int argc, char** argv)

@@ -1,27 +1,45 @@
 #!/bin/bash
-# Runs `terrapatch bench` on every DEM in ../shared/data and prints a markdown table
-# (docs/PERFORMANCE.md). Usage: tools/bench_all.sh [FRAMES] [PATH]   (defaults: 60 low)
+# Runs every benchmark of docs/PERFORMANCE.md on every DEM in ../shared/data and writes the
+# markdown tables to build/bench/tables.md and the sweep plots to docs/img/bench/.
+#   tools/bench_all.sh [FRAMES] [SWEEP_FRAMES] [DEM...]    (defaults: 60 20, every DEM)
+# Per DEM: bench --path low|high|orbit (FRAMES frames each), bench --sweep (low path,
+# SWEEP_FRAMES frames per configuration), bench --static --max-error 1,5,20.
+set -u
 cd "$(dirname "$0")/.."
 frames=${1:-60}
-path=${2:-low}
-mkdir -p build/bench
-echo "| DEM | render grid | patches | configuration | fps (median) | frame ms | CPU ms | draw ms | triangles | max px | RMS px | max m | RMS m |"
-echo "|---|---|---|---|---|---|---|---|---|---|---|---|---|"
-for f in N42E001.hgt N41E001.hgt mt_rainier_90m.tif lf_elev_220_mt_hood_utm.tif craterlake-elev-16bit-30m.tif storml_elev.tif front_range_srtmgl3_758.asc ps_height_1k.png; do
-  extra=""
-  case $f in front_range*) extra="--crs EPSG:4326";; ps_height*) extra="--spacing 160 --zscale 0.1";; esac
-  json=build/bench/${f%%.*}_$path.json
-  ./build/terrapatch bench --frames "$frames" --path "$path" $extra --json "$json" ../shared/data/$f >/dev/null 2>&1 || { echo "| $f | failed |"; continue; }
-  ./build/terrapatch info --json $extra ../shared/data/$f 2>/dev/null > build/bench/info.json
-  python3 - "$json" "$f" build/bench/info.json <<'PY'
-import json, sys
-d = json.load(open(sys.argv[1])); info = json.load(open(sys.argv[3]))
-grid = "%dx%d" % tuple(info["render_grid"])
-for c in d["configurations"]:
-    print("| %s | %s | %d | %s | %.1f | %.1f | %.3f | %.1f | %.0f | %.2f | %.3f | %.1f | %.2f |" % (
-        sys.argv[2], grid, d["patches"], c["lod_mode"], c["fps_median"], c["frame_ms_median"],
-        c["cpu_ms_median"], c["draw_ms_median"], c["triangles_median"], c["max_screen_error_px"],
-        c["rms_screen_error_px"], c["max_vertical_error_m"], c["rms_vertical_error_m"]))
-print("| | | | **error vs full** | **%.2fx** | | | | | | | | |" % d["speedup_vs_full"])
-PY
+sweep_frames=${2:-20}
+shift 2 2>/dev/null
+dems=("$@")
+[ ${#dems[@]} -gt 0 ] || dems=(N42E001.hgt N42E001.dt1 N41E001.hgt mt_rainier_90m.tif
+    lf_elev_220_mt_hood_utm.tif craterlake-elev-16bit-30m.tif storml_elev.tif storml_elev_orig.tif
+    front_range_srtmgl3_758.asc front_range_srtmgl3_144.asc ps_height_1k.png)
+out=build/bench
+mkdir -p $out docs/img/bench
+tp=./build/terrapatch
+extra_for() {
+    case $1 in
+    front_range*) echo "--crs EPSG:4326" ;;          # the .asc grids carry no CRS
+    ps_height*) echo "--spacing 160 --zscale 0.1" ;; # 16-bit PNG heightmap, see PROVENANCE
+    *) echo "" ;;
+    esac
+}
+for f in "${dems[@]}"; do
+    name=${f%.*}_${f##*.}
+    extra=$(extra_for "$f")
+    src=../shared/data/$f
+    $tp info --json $extra "$src" > $out/${name}_info.json 2>/dev/null || { echo "$f: info failed" >&2; continue; }
+    for path in low high orbit; do
+        echo "$f: $path path" >&2
+        $tp bench --frames "$frames" --path $path $extra --json $out/${name}_$path.json "$src" \
+            > $out/${name}_$path.txt 2>/dev/null || echo "$f: bench $path failed" >&2
+    done
+    echo "$f: sweep" >&2
+    $tp bench --sweep --frames "$sweep_frames" $extra --csv $out/${name}_sweep.csv \
+        --plot docs/img/bench/${name}_sweep.png --json $out/${name}_sweep.json "$src" \
+        > $out/${name}_sweep.txt 2>/dev/null || echo "$f: sweep failed" >&2
+    echo "$f: static" >&2
+    $tp bench --static --max-error 1,5,20 $extra --json $out/${name}_static.json "$src" \
+        > $out/${name}_static.txt 2>/dev/null || echo "$f: static failed" >&2
 done
+python3 tools/bench_tables.py $out "${dems[@]}" > $out/tables.md
+echo "wrote $out/tables.md" >&2

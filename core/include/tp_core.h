@@ -361,6 +361,13 @@ tp_status tp_selection_measure_error(const tp_selection* s, tp_error_measure* ou
 tp_status tp_selection_measure_screen_error(const tp_selection* s, const tp_camera* cam,
                                             double* max_px, double* rms_px, size_t* samples);
 
+/* The same measure for one patch as if it alone were drawn at level k (its neighbours at
+ * their current levels, its border stitched to them): the largest screen error (px) of the
+ * samples its triangles cover. 0 when none is in view. Used to ask how far the error LoD's
+ * bound is from the coarsest level each patch could really have. */
+double tp_selection_patch_screen_error(const tp_selection* s, const tp_camera* cam, int patch,
+                                       int k);
+
 /* Height of the surface actually drawn at grid coordinates (x, y) under the current levels
  * (stitching included); NaN where nothing is drawn. O(1) inside a patch, O(2^k) along a
  * stitched border. */

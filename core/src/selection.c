@@ -342,6 +342,8 @@ typedef struct {
 
 static int first_visit(measure* m, int x, int y)
 {
+    if (!m->seen) /* one patch: a maximum needs no deduplication */
+        return 1;
     size_t i = (size_t)y * m->t->w + x;
     if (m->seen[i >> 3] >> (i & 7) & 1)
         return 0;
@@ -405,6 +407,41 @@ static void screen_sample(int x, int y, double z, void* user)
     m->count++;
 }
 
+/* Rasterises patch p's triangles at level k (neighbour levels nb) through fn. */
+static void measure_patch(tp_selection* s, measure* m, tp__sample_fn fn, int p, int k,
+                          const int nb[4])
+{
+    const tp_terrain* t = s->t;
+    size_t v = ((size_t)1 << t->n) + 1, vcap = v * v, tcap = 2 * (v - 1) * (v - 1);
+    tp_patch_vertices(t, p, k, nb, s->vbuf, vcap);
+    size_t nt = tp_patch_triangles(s->vbuf, k, s->tbuf, tcap);
+    for (size_t i = 0; i < nt; i++) {
+        const tp_vertex* a = &s->vbuf[s->tbuf[3 * i]];
+        const tp_vertex* b = &s->vbuf[s->tbuf[3 * i + 1]];
+        const tp_vertex* c = &s->vbuf[s->tbuf[3 * i + 2]];
+        int32_t pa[2] = {a->x, a->y}, pb[2] = {b->x, b->y}, pcv[2] = {c->x, c->y};
+        tp__raster_triangle(pa, pb, pcv, tp__q(t, a->x, a->y), tp__q(t, b->x, b->y),
+                            tp__q(t, c->x, c->y), fn, m);
+    }
+}
+
+double tp_selection_patch_screen_error(const tp_selection* cs, const tp_camera* cam, int patch,
+                                       int k)
+{
+    tp_selection* s = (tp_selection*)cs; /* scratch buffers only */
+    if (!cam || patch < 0 || patch >= s->count || k < 0 || k > s->t->n)
+        return NAN;
+    tp__view v;
+    tp__view_from_camera(cam, &v);
+    measure m = {0};
+    m.t = s->t;
+    m.view = &v;
+    int nb[4];
+    tp_selection_neighbor_levels(s, patch, nb);
+    measure_patch(s, &m, screen_sample, patch, k, nb);
+    return m.max;
+}
+
 static tp_status measure_drawn(const tp_selection* cs, measure* m, tp__sample_fn fn)
 {
     tp_selection* s = (tp_selection*)cs; /* scratch buffers only */
@@ -413,22 +450,12 @@ static tp_status measure_drawn(const tp_selection* cs, measure* m, tp__sample_fn
     m->seen = calloc(((size_t)t->w * t->h + 7) / 8, 1);
     if (!m->seen)
         return TP_ERR_OUT_OF_MEMORY;
-    size_t v = ((size_t)1 << t->n) + 1, vcap = v * v, tcap = 2 * (v - 1) * (v - 1);
     for (int p = 0; p < s->count; p++) {
         if (!s->visible[p])
             continue;
-        int nb[4], k = s->level[p];
+        int nb[4];
         tp_selection_neighbor_levels(s, p, nb);
-        tp_patch_vertices(t, p, k, nb, s->vbuf, vcap);
-        size_t nt = tp_patch_triangles(s->vbuf, k, s->tbuf, tcap);
-        for (size_t i = 0; i < nt; i++) {
-            const tp_vertex* a = &s->vbuf[s->tbuf[3 * i]];
-            const tp_vertex* b = &s->vbuf[s->tbuf[3 * i + 1]];
-            const tp_vertex* c = &s->vbuf[s->tbuf[3 * i + 2]];
-            int32_t pa[2] = {a->x, a->y}, pb[2] = {b->x, b->y}, pcv[2] = {c->x, c->y};
-            tp__raster_triangle(pa, pb, pcv, tp__q(t, a->x, a->y), tp__q(t, b->x, b->y),
-                                tp__q(t, c->x, c->y), fn, m);
-        }
+        measure_patch(s, m, fn, p, s->level[p], nb);
     }
     free(m->seen);
     return TP_OK;
