@@ -640,6 +640,67 @@ TEST(screen_error_measure_matches_independent_projection)
     free(src);
 }
 
+/* The per-patch measure agrees with the whole-frame one: the largest of the patches' errors at
+ * their current levels is the frame's maximum (up to the samples a patch shares with a
+ * neighbour, which only the whole-frame measure deduplicates); level n measures 0 when no
+ * neighbour is coarser; in error
+ * mode every visible patch measures <= tau at its own level. */
+TEST(patch_screen_error_agrees_with_the_frame_measure)
+{
+    float* src;
+    tp_terrain* t = synthetic_rough_30m(&src);
+    tp_selection* s = NULL;
+    tp_error err;
+    tp_rng rng = tp_rng_seed(131);
+    tp_terrain_info ti;
+    int i, p, coarser = 0;
+    tp_terrain_get_info(t, &ti);
+    ASSERT_OK(tp_selection_create(t, &s, &err));
+    for (i = 0; i < 12; ++i) {
+        tp_camera cam = make_camera(t, &rng, i % 4);
+        tp_lod_params lp;
+        double frame_max, worst = 0;
+        memset(&lp, 0, sizeof lp);
+        lp.mode = i < 6 ? TP_LOD_DISTANCE : TP_LOD_ERROR;
+        lp.mindist_m = 100.0;
+        lp.maxdist_m = 3000.0;
+        lp.tau_px = 2;
+        ASSERT_OK(tp_selection_update(s, &cam, &lp, &err));
+        ASSERT_OK(tp_selection_measure_screen_error(s, &cam, &frame_max, NULL, NULL));
+        for (p = 0; p < ti.patch_count; ++p) {
+            double e;
+            if (!tp_selection_visible(s, p))
+                continue;
+            e = tp_selection_patch_screen_error(s, &cam, p, tp_selection_level(s, p));
+            worst = e > worst ? e : worst;
+            {
+                /* level n moves nothing unless a neighbour is coarser (stitching) */
+                int nb[4], a, stitched = 0;
+                tp_selection_neighbor_levels(s, p, nb);
+                for (a = 0; a < 4; ++a)
+                    stitched |= nb[a] >= 0 && nb[a] < ti.n;
+                if (!stitched)
+                    EXPECT_EQ_DBL(0.0, tp_selection_patch_screen_error(s, &cam, p, ti.n));
+            }
+            if (lp.mode == TP_LOD_ERROR) {
+                EXPECT_LE(e, lp.tau_px);
+                if (tp_selection_level(s, p) > 0 &&
+                    tp_selection_patch_screen_error(s, &cam, p, tp_selection_level(s, p) - 1) <=
+                        lp.tau_px)
+                    coarser++;
+            }
+        }
+        EXPECT_NEAR(frame_max, worst, 1e-9 + 1e-9 * worst);
+    }
+    /* the bound is conservative: some patch could go one level down (else this proves little) */
+    tp_test_note("%d visible patch-frames could be one level coarser in error mode", coarser);
+    EXPECT_GE_INT(coarser, 1);
+    EXPECT_TRUE(isnan(tp_selection_patch_screen_error(s, NULL, 0, 0)));
+    tp_selection_destroy(s);
+    tp_terrain_destroy(t);
+    free(src);
+}
+
 TEST(full_mode_has_zero_error)
 {
     float* src;
@@ -808,6 +869,7 @@ TEST(update_rejects_invalid_params)
     X(error_mode_within_tau_storml)                                                                \
     X(error_mode_within_tau_mt_hood)                                                               \
     X(screen_error_measure_matches_independent_projection)                                         \
+    X(patch_screen_error_agrees_with_the_frame_measure)                                         \
     X(full_mode_has_zero_error)                                                                    \
     X(error_mode_picks_level_0_on_a_plane)                                                         \
     X(error_mode_coarsens_far_terrain)                                                             \
