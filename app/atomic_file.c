@@ -27,3 +27,20 @@ int tp_atomic_commit(tp_atomic_file* a)
     }
     return 1;
 }
+
+int tp_atomic_check_dir(const char* path)
+{
+    char dir[4096];
+    const char* slash = strrchr(path, '/');
+    if (!slash)
+        snprintf(dir, sizeof dir, ".");
+    else if (slash == path)
+        snprintf(dir, sizeof dir, "/");
+    else
+        snprintf(dir, sizeof dir, "%.*s", (int)(slash - path), path);
+    if (access(dir, W_OK | X_OK) != 0) {
+        fprintf(stderr, "terrapatch: %s: cannot write: %s: %s\n", path, dir, strerror(errno));
+        return 0;
+    }
+    return 1;
+}

@@ -18,4 +18,8 @@ int tp_atomic_open(tp_atomic_file* a, const char* path);
 /* Finishes the write (flush, close, rename); 0 after a message, with nothing left behind. */
 int tp_atomic_commit(tp_atomic_file* a);
 
+/* Checks that path's folder exists and is writable (before a long run that ends by writing
+ * path); 0 after a one-line message naming path. */
+int tp_atomic_check_dir(const char* path);
+
 #endif

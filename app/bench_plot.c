@@ -3,6 +3,7 @@
 #include "bench.h"
 
 #include <errno.h>
+#include <math.h>
 #include <fcntl.h>
 #include <spawn.h>
 #include <stdio.h>
@@ -12,6 +13,8 @@
 #include <unistd.h>
 
 extern char** environ;
+
+#define ZERO_PX 0.01 /* where an error of 0 px goes on the log scale */
 
 /* s as a gnuplot single-quoted string: quotes doubled. */
 static void put_quoted(FILE* f, const char* s)
@@ -39,14 +42,14 @@ static void put_block(FILE* f, const char* name, const tp_bench_point* pts, int 
     tp_bench_point* sorted = malloc((size_t)(count ? count : 1) * sizeof *sorted);
     int n = 0;
     for (int i = 0; sorted && i < count; i++)
-        if (pts[i].error_mode == error_mode && (!front || pts[i].pareto) && pts[i].max_px > 0)
+        if (pts[i].error_mode == error_mode && (!front || pts[i].pareto))
             sorted[n++] = pts[i];
     if (sorted)
         qsort(sorted, (size_t)n, sizeof *sorted, cmp_max_px);
     fprintf(f, "$%s << EOD\n", name);
     for (int i = 0; i < n; i++)
-        fprintf(f, "%.6g %.6g %.6g %g\n", sorted[i].max_px, sorted[i].rms_px, sorted[i].fps,
-                sorted[i].tau_px);
+        fprintf(f, "%.6g %.6g %.6g %g\n", fmax(sorted[i].max_px, ZERO_PX),
+                fmax(sorted[i].rms_px, ZERO_PX), sorted[i].fps, sorted[i].tau_px);
     fputs("EOD\n", f);
     free(sorted);
 }
@@ -70,8 +73,8 @@ static void write_script(FILE* f, const tp_bench_point* pts, int count, const ch
           "set key bottom right box opaque\n"
           "set format x '%g'\nset format y '%g'\n",
           f);
-    const char* xlabel[2] = {"measured maximum screen error over all frames (px)",
-                             "measured RMS screen error over all frames (px)"};
+    const char* xlabel[2] = {"measured maximum screen error over all frames (px; 0 drawn at 0.01)",
+                             "measured RMS screen error over all frames (px; 0 drawn at 0.01)"};
     for (int i = 0; i < 2; i++) {
         int c = i + 1; /* column of the x value */
         fprintf(f,
@@ -125,17 +128,10 @@ static int run_gnuplot(const char* script)
     return 1;
 }
 
-int tp_bench_plot(const tp_bench_point* pts, int count, const char* csv, const char* plot,
-                  const char* title, double full_fps)
+int tp_bench_plot(const tp_bench_point* pts, int count, const char* png, const char* title,
+                  double full_fps)
 {
-    char png[4096], tmp_png[4200], script[4200];
-    if (plot)
-        snprintf(png, sizeof png, "%s", plot);
-    else {
-        const char* dot = strrchr(csv, '.'), *slash = strrchr(csv, '/');
-        int stem = dot && (!slash || dot > slash) ? (int)(dot - csv) : (int)strlen(csv);
-        snprintf(png, sizeof png, "%.*s.png", stem, csv);
-    }
+    char tmp_png[4200], script[4200];
     snprintf(tmp_png, sizeof tmp_png, "%s.tmp%ld.png", png, (long)getpid());
     snprintf(script, sizeof script, "%s.tmp%ld.gp", png, (long)getpid());
     FILE* f = fopen(script, "w");

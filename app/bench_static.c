@@ -77,11 +77,13 @@ static int write_csv(const char* path, size_t full, const static_row* r, int cou
     tp_atomic_file file;
     if (!tp_atomic_open(&file, path))
         return 0;
-    fprintf(file.f, "max_error_m,triangles,full_triangles,points,select_s,mesh_s,"
-                    "measured_max_error_m,measured_rms_error_m\n");
+    fprintf(file.f, "max_error_m,below_quantisation,triangles,full_triangles,points,select_s,"
+                    "mesh_s,measured_max_error_m,measured_rms_error_m\n");
     for (int i = 0; i < count; i++)
-        if (!r[i].refused)
-            fprintf(file.f, "%g,%zu,%zu,%zu,%.4f,%.4f,%.4f,%.4f\n", r[i].bound_m,
+        if (r[i].refused) /* one row per bound; nothing measured */
+            fprintf(file.f, "%g,1,,%zu,,,,,\n", r[i].bound_m, full);
+        else
+            fprintf(file.f, "%g,0,%zu,%zu,%zu,%.4f,%.4f,%.4f,%.4f\n", r[i].bound_m,
                     r[i].res.triangles, full, r[i].res.points, r[i].select_s, r[i].mesh_s,
                     r[i].res.max_error_m, r[i].res.rms_error_m);
     return tp_atomic_commit(&file);
@@ -91,6 +93,16 @@ int tp_bench_static(const tp_scene* sc, const char* dem, const double* max_error
                     const char* json, const char* csv)
 {
     static_row rows[16] = {{0}};
+    int usable = 0;
+    for (int i = 0; i < count; i++)
+        usable += max_errors[i] >= sc->info.quant_max_error_m;
+    if (!usable) { /* as export --max-error refuses it */
+        fprintf(stderr,
+                "terrapatch bench: every --max-error bound is below the quantisation error of "
+                "this DEM (%g m, half of its %g m height step at most)\n",
+                sc->info.quant_max_error_m, sc->info.height_step_m);
+        return TP_EXIT_USAGE;
+    }
     size_t full = tp_full_mesh_triangles(sc);
     tp_export_options eo = {.include_culled = 1};
     int code = TP_EXIT_OK;

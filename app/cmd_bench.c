@@ -39,6 +39,7 @@ typedef struct bench_options {
     double speed_mps;  /* path flights: a lead-in frame 1/30 s earlier at this speed; 0: none */
     int sweep;         /* a grid of LoD parameters instead of the three default configurations */
     const char* plot;  /* --sweep: the plot (PNG); default: the CSV's name with .png */
+    char plot_buf[4096];
     int is_static;     /* --static: meshes of export --max-error for max_errors */
     double max_errors[16];
     int max_error_count;
@@ -236,6 +237,28 @@ static int parse_options(int argc, char** argv, bench_options* o)
     }
     if (o->plot && !o->sweep) {
         fprintf(stderr, "terrapatch bench: --plot needs --sweep\n");
+        return TP_EXIT_USAGE;
+    }
+    if (o->sweep && o->no_error) {
+        fprintf(stderr, "terrapatch bench: --sweep plots fps against the measured error: it "
+                        "cannot take --no-error\n");
+        return TP_EXIT_USAGE;
+    }
+    if (o->sweep) {
+        if (!o->plot) { /* the CSV's name with .png */
+            const char *dot = strrchr(o->csv, '.'), *slash = strrchr(o->csv, '/');
+            int stem = dot && (!slash || dot > slash) ? (int)(dot - o->csv) : (int)strlen(o->csv);
+            snprintf(o->plot_buf, sizeof o->plot_buf, "%.*s.png", stem, o->csv);
+            o->plot = o->plot_buf;
+        }
+        if (!strcmp(o->plot, o->csv) || (o->json && !strcmp(o->plot, o->json))) {
+            fprintf(stderr, "terrapatch bench: the plot would overwrite %s: give --plot FILE\n",
+                    o->plot);
+            return TP_EXIT_USAGE;
+        }
+    }
+    if (o->csv && o->json && !strcmp(o->csv, o->json)) {
+        fprintf(stderr, "terrapatch bench: --csv and --json name the same file\n");
         return TP_EXIT_USAGE;
     }
     return -1;
@@ -794,6 +817,11 @@ int tp_cli_bench(int argc, char** argv)
     int code = parse_options(argc, argv, &o);
     if (code >= 0)
         return code;
+    /* Outputs are written after the run: find an unwritable folder before it, not after. */
+    const char* outputs[3] = {o.json, o.csv, o.plot};
+    for (int i = 0; i < 3; i++)
+        if (outputs[i] && !tp_atomic_check_dir(outputs[i]))
+            return TP_EXIT_FAILURE;
     tp_scene sc;
     if (tp_scene_load(o.dem, &o.scene, &sc) != TP_EXIT_OK)
         return TP_EXIT_FAILURE;
@@ -857,7 +885,7 @@ int tp_cli_bench(int argc, char** argv)
                 pts[k - 1] = (tp_bench_point){c[k].lod.mode == TP_LOD_ERROR, c[k].lod.tau_px,
                                               c[k].fps_median, c[k].max_px, c[k].rms_px,
                                               c[k].pareto};
-            if (!pts || !tp_bench_plot(pts, nc - 1, o.csv, o.plot, title, c[0].fps_median))
+            if (!pts || !tp_bench_plot(pts, nc - 1, o.plot, title, c[0].fps_median))
                 code = TP_EXIT_FAILURE;
             free(pts);
         }

@@ -1,0 +1,1590 @@
+/*
+ * test_bench.c - `terrapatch bench` end to end: the command runs as a child process
+ * (posix_spawn, an argument vector, no shell) and the test reads back what it wrote:
+ *
+ *   - --sweep: one CSV row per configuration (full, the 24 distance configurations, the error
+ *     configurations), the Pareto column recomputed here from the CSV and the JSON, the plot
+ *     (a PNG beside the CSV or at --plot), no temporary files left;
+ *   - --static --max-error: the bounds hold, the meshes shrink as the bound grows, the mesh is
+ *     the one `export --max-error` writes (read back with VTK), bounds below the quantisation
+ *     error are reported, not measured;
+ *   - --speed: the lead-in frames change what is uploaded, not what is drawn;
+ *   - bad command lines exit 2 with a message naming the option and write nothing; outputs
+ *     that cannot be written exit 1 and leave no temporary file.
+ *
+ * Frame runs use the small sample DEM data/storml_elev_orig.tif (143 x 107, 30 m, NAD83 / UTM
+ * 12N) at 160x90 and one or two frames per configuration, so each test takes about a second.
+ *
+ * The binary comes from the environment: TP_TERRAPATCH (tests/CMakeLists.txt sets it to
+ * $<TARGET_FILE:terrapatch>); without it every test here skips. Without EGL the frame tests
+ * skip too (the --static ones need no OpenGL).
+ */
+#define _POSIX_C_SOURCE 200809L
+#include "tp_test.h"
+#ifndef TP_TEST_NO_IO
+#include "tp_io.h"
+#endif
+
+#include <dirent.h>
+#include <errno.h>
+#include <fcntl.h>
+#include <spawn.h>
+#include <sys/stat.h>
+#include <sys/types.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+extern char** environ;
+
+#define STORML "storml_elev_orig.tif"        /* data/ (TP_SAMPLE_DATA_DIR), Int16 */
+#define MT_HOOD "lf_elev_220_mt_hood_utm.tif" /* data/, 1013 x 799, integer heights */
+#define CRATER "craterlake-elev-16bit-30m.tif" /* ../shared/data: height step 1/128 m */
+
+/* The sweep's grid (app/cmd_bench.c, documented in `bench --help`): distance mode in patch
+ * widths W = (patch - 1) sample spacings, error mode in pixels. */
+static const double grid_mindist_w[] = {1, 4};
+static const double grid_maxdist_w[] = {12, 24, 48, 96};
+static const double grid_exp[] = {0.5, 1, 2};
+static const double grid_tau[] = {0.5, 1, 2, 4, 8, 16};
+#define COUNT(a) ((int)(sizeof(a) / sizeof *(a)))
+#define SWEEP_ROWS (1 + 2 * 4 * 3 + 6)
+
+/* ---------------------------------------------------------------------------------------------
+ * Temporary directories: removed at exit, so a test that fails part way cleans up too.
+ */
+#define MAX_TMP_DIRS 16
+static char tmp_dirs_[MAX_TMP_DIRS][512];
+static int tmp_dir_count_;
+
+static void remove_tree(const char* dir)
+{
+    DIR* d = opendir(dir);
+    struct dirent* e;
+    if (d) {
+        while ((e = readdir(d)) != NULL) {
+            char p[1024];
+            struct stat st;
+            if (!strcmp(e->d_name, ".") || !strcmp(e->d_name, ".."))
+                continue;
+            snprintf(p, sizeof p, "%s/%s", dir, e->d_name);
+            if (lstat(p, &st) == 0 && S_ISDIR(st.st_mode))
+                remove_tree(p);
+            else
+                unlink(p);
+        }
+        closedir(d);
+    }
+    rmdir(dir);
+}
+
+static void remove_tmp_dirs(void)
+{
+    while (tmp_dir_count_ > 0)
+        remove_tree(tmp_dirs_[--tmp_dir_count_]);
+}
+
+/* A fresh empty directory (static storage; removed at exit). */
+static const char* make_tmp_dir(void)
+{
+    const char* base = getenv("TMPDIR");
+    char* d;
+    if (!base || !*base)
+        base = "/tmp";
+    ASSERT_TRUE(tmp_dir_count_ < MAX_TMP_DIRS);
+    d = tmp_dirs_[tmp_dir_count_];
+    snprintf(d, sizeof tmp_dirs_[0], "%s/tp_bench_XXXXXX", base);
+    if (!mkdtemp(d))
+        FAIL("mkdtemp(%s): %s", d, strerror(errno));
+    if (tmp_dir_count_++ == 0)
+        atexit(remove_tmp_dirs);
+    return d;
+}
+
+/* The children's stdout and stderr go here, never into a directory whose contents a test
+ * checks. */
+static const char* log_dir(void)
+{
+    static const char* dir;
+    if (!dir)
+        dir = make_tmp_dir();
+    return dir;
+}
+
+/* dir's entries, sorted and joined with ',' ("" when empty, "(missing)" when not there). */
+static const char* dir_listing(const char* dir, char* buf, size_t cap)
+{
+    char names[64][256];
+    int n = 0;
+    DIR* d = opendir(dir);
+    struct dirent* e;
+    buf[0] = '\0';
+    if (!d) {
+        snprintf(buf, cap, "(missing)");
+        return buf;
+    }
+    while ((e = readdir(d)) != NULL && n < 64)
+        if (strcmp(e->d_name, ".") && strcmp(e->d_name, ".."))
+            snprintf(names[n++], sizeof names[0], "%s", e->d_name);
+    closedir(d);
+    for (int i = 1; i < n; i++) /* insertion sort: a handful of names */
+        for (int k = i; k > 0 && strcmp(names[k - 1], names[k]) > 0; k--) {
+            char t[256];
+            memcpy(t, names[k], sizeof t);
+            memcpy(names[k], names[k - 1], sizeof t);
+            memcpy(names[k - 1], t, sizeof t);
+        }
+    size_t used = 0;
+    for (int i = 0; i < n && used < cap; i++)
+        used += (size_t)snprintf(buf + used, cap - used, "%s%s", i ? "," : "", names[i]);
+    return buf;
+}
+
+/* The directory holds exactly these entries (sorted, ','-joined; "" for none). */
+#define EXPECT_DIR_IS(dir, expected)                                                               \
+    do {                                                                                           \
+        char tp_listing_[4096];                                                                    \
+        dir_listing(dir, tp_listing_, sizeof tp_listing_);                                         \
+        TP_CHECK_(0, strcmp(tp_listing_, expected) == 0, "%s holds [%s], expected [%s]", dir,      \
+                  tp_listing_, expected);                                                          \
+    } while (0)
+
+/* ---------------------------------------------------------------------------------------------
+ * Running terrapatch
+ */
+typedef struct args {
+    char* v[64];
+    int n;
+    char buf[8192];
+    size_t used;
+} args;
+
+static void args_add(args* a, const char* fmt, ...)
+{
+    va_list ap;
+    int len;
+    ASSERT_TRUE(a->n + 1 < (int)(sizeof a->v / sizeof a->v[0]));
+    va_start(ap, fmt);
+    len = vsnprintf(a->buf + a->used, sizeof a->buf - a->used, fmt, ap);
+    va_end(ap);
+    ASSERT_TRUE(len >= 0 && (size_t)len < sizeof a->buf - a->used);
+    a->v[a->n++] = a->buf + a->used;
+    a->v[a->n] = NULL;
+    a->used += (size_t)len + 1;
+}
+
+/* argv[0] = the binary, argv[1] = cmd; skips the test without a binary. */
+static void args_cmd(args* a, const char* cmd)
+{
+    const char* exe = getenv("TP_TERRAPATCH");
+    if (!exe || !*exe)
+        SKIP("TP_TERRAPATCH is not set (the terrapatch binary; set by tests/CMakeLists.txt)");
+    if (access(exe, X_OK) != 0)
+        SKIP("TP_TERRAPATCH=%s is not an executable", exe);
+    memset(a, 0, sizeof *a);
+    args_add(a, "%s", exe);
+    args_add(a, "%s", cmd);
+}
+
+/* bench with the small frame settings: --frames N --size 160x90. */
+static void args_bench_small(args* a, int frames)
+{
+    args_cmd(a, "bench");
+    args_add(a, "--frames");
+    args_add(a, "%d", frames);
+    args_add(a, "--size");
+    args_add(a, "160x90");
+}
+
+typedef struct run_result {
+    int exit_code;   /* exit status, or 128 + signal */
+    char out[65536]; /* stdout (the start of it) */
+    char err[65536]; /* stderr (the start of it) */
+    int err_lines;   /* '\n' in all of stderr */
+} run_result;
+
+static void read_text(const char* path, char* buf, size_t cap, int* lines)
+{
+    FILE* f = fopen(path, "rb");
+    size_t n = 0;
+    int c;
+    buf[0] = '\0';
+    if (lines)
+        *lines = 0;
+    if (!f)
+        return;
+    while ((c = fgetc(f)) != EOF) {
+        if (n + 1 < cap)
+            buf[n++] = (char)c;
+        if (c == '\n' && lines)
+            ++*lines;
+    }
+    buf[n] = '\0';
+    fclose(f);
+}
+
+/* The whole file as a NUL-terminated string (malloc), or NULL. */
+static char* read_file(const char* path, size_t* size)
+{
+    FILE* f = fopen(path, "rb");
+    if (!f)
+        return NULL;
+    size_t cap = 1 << 16, n = 0, got;
+    char* buf = malloc(cap);
+    while (buf && (got = fread(buf + n, 1, cap - n - 1, f)) > 0) {
+        n += got;
+        if (n + 1 == cap) {
+            char* more = realloc(buf, cap *= 2);
+            if (!more) {
+                free(buf);
+                buf = NULL;
+            }
+            buf = more;
+        }
+    }
+    fclose(f);
+    if (buf)
+        buf[n] = '\0';
+    if (size)
+        *size = n;
+    return buf;
+}
+
+/* The children's environment: ours, with LeakSanitizer off in the child. Under TP_SANITIZE the
+ * terrapatch binary is instrumented too, and eglTerminate unloads Mesa's driver, after which
+ * LSan reports the driver's still-referenced allocations as leaks (as in test_view.c);
+ * AddressSanitizer's other checks stay on in the child. */
+static char** child_environment(char* asan_buf, size_t cap)
+{
+    static char* envp[512];
+    size_t n = 0, i;
+    const char* asan = getenv("ASAN_OPTIONS");
+    snprintf(asan_buf, cap, "ASAN_OPTIONS=%s%sdetect_leaks=0", asan ? asan : "",
+             asan && *asan ? ":" : "");
+    for (i = 0; environ[i] && n + 2 < sizeof envp / sizeof envp[0]; ++i)
+        if (strncmp(environ[i], "ASAN_OPTIONS=", 13) != 0)
+            envp[n++] = environ[i];
+    envp[n++] = asan_buf;
+    envp[n] = NULL;
+    return envp;
+}
+
+/* Runs a->v with stdin from /dev/null and stdout/stderr into files of the log directory. */
+static void run(const args* a, run_result* r)
+{
+    char out_path[1024], err_path[1024], asan[1024];
+    posix_spawn_file_actions_t fa;
+    pid_t pid;
+    int status = 0, rc;
+    const char* logs = log_dir();
+    r->exit_code = -1;
+    r->out[0] = r->err[0] = '\0';
+    r->err_lines = 0;
+    snprintf(out_path, sizeof out_path, "%s/child.stdout", logs);
+    snprintf(err_path, sizeof err_path, "%s/child.stderr", logs);
+    ASSERT_EQ_INT(0, posix_spawn_file_actions_init(&fa));
+    posix_spawn_file_actions_addopen(&fa, 0, "/dev/null", O_RDONLY, 0);
+    posix_spawn_file_actions_addopen(&fa, 1, out_path, O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    posix_spawn_file_actions_addopen(&fa, 2, err_path, O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    rc = posix_spawn(&pid, a->v[0], &fa, NULL, a->v, child_environment(asan, sizeof asan));
+    posix_spawn_file_actions_destroy(&fa);
+    if (rc != 0)
+        FAIL("posix_spawn(%s): %s", a->v[0], strerror(rc));
+    while (waitpid(pid, &status, 0) < 0)
+        if (errno != EINTR)
+            FAIL("waitpid: %s", strerror(errno));
+    r->exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+    read_text(out_path, r->out, sizeof r->out, NULL);
+    read_text(err_path, r->err, sizeof r->err, &r->err_lines);
+    remove(out_path);
+    remove(err_path);
+}
+
+static void print_command(const args* a)
+{
+    fprintf(stderr, "command:");
+    for (int i = 0; i < a->n; ++i)
+        fprintf(stderr, " %s", a->v[i]);
+    fputc('\n', stderr);
+}
+
+/* No EGL / OpenGL 3.3 on this machine (app/gl_context.c), or no gnuplot for --sweep's plot
+ * (app/bench_plot.c; `make deps` installs gnuplot-nox): a missing backend, not a bug. */
+static void skip_without_gl(const run_result* r)
+{
+    if (r->exit_code == 1 && (strstr(r->err, "no EGL surfaceless display") ||
+                              strstr(r->err, "no OpenGL 3.3 core context through EGL")))
+        SKIP("no headless OpenGL here: %s", r->err);
+    if (r->exit_code == 1 && strstr(r->err, "cannot run gnuplot"))
+        SKIP("no gnuplot here: %s", strstr(r->err, "cannot run gnuplot"));
+}
+
+/* The last three lines of stderr, where a failure's message is (after bench's progress). */
+static const char* err_tail(const run_result* r)
+{
+    const char* p = r->err + strlen(r->err);
+    int lines = 0;
+    while (p > r->err && (lines += p[-1] == '\n') <= 3)
+        p--;
+    return p;
+}
+
+/* Runs and requires exit status 0 (printing the command and stderr otherwise). */
+static void run_ok(const args* a, run_result* r)
+{
+    run(a, r);
+    skip_without_gl(r);
+    if (r->exit_code != 0) {
+        print_command(a);
+        FAIL("exit status %d, stderr ends: %s", r->exit_code, err_tail(r));
+    }
+}
+
+/* Bad command line: exit status 2, one line on stderr naming what was wrong, nothing on
+ * stdout, and nothing written into out_dir. */
+static void expect_usage_error(const args* a, const char* needle, const char* out_dir)
+{
+    static run_result r;
+    run(a, &r);
+    if (r.exit_code != 2 || r.err_lines != 1 || !strstr(r.err, needle))
+        print_command(a);
+    EXPECT_EQ_INT(2, r.exit_code);
+    EXPECT_EQ_INT(1, r.err_lines);
+    EXPECT_CONTAINS(r.err, needle);
+    EXPECT_TRUE(r.out[0] == '\0');
+    if (out_dir)
+        EXPECT_DIR_IS(out_dir, "");
+}
+
+static const char* sample_path(const char* file)
+{
+    static char path[4][1024];
+    static int next;
+    char* p = path[next++ % 4];
+    if (!tp_test_data_path(p, sizeof path[0], "TP_SAMPLE_DATA_DIR", file))
+        SKIP("data file %s not found (set TP_SAMPLE_DATA_DIR)", p);
+    return p;
+}
+
+static const char* shared_path(const char* file)
+{
+    static char path[1024];
+    if (!tp_test_data_path(path, sizeof path, "TP_SHARED_DATA_DIR", file))
+        SKIP("data file %s not found (set TP_SHARED_DATA_DIR)", path);
+    return path;
+}
+
+/* ---------------------------------------------------------------------------------------------
+ * Reading the outputs back: CSV (comma-separated, no quoting: bench writes none), the JSON
+ * keys bench writes (flat objects, one array of flat objects), PNG headers.
+ */
+typedef struct csv {
+    char* text;
+    char** cell; /* rows * cols, row 0 the header */
+    int rows, cols; /* rows without the header */
+    int ragged;     /* some line had another number of fields than the header */
+} csv;
+
+static void csv_read(const char* path, csv* c)
+{
+    memset(c, 0, sizeof *c);
+    c->text = read_file(path, NULL);
+    if (!c->text)
+        FAIL("%s: cannot read: %s", path, strerror(errno));
+    int lines = 0;
+    for (const char* s = c->text; *s; s++)
+        lines += *s == '\n';
+    int cols = 1;
+    for (const char* s = c->text; *s && *s != '\n'; s++)
+        cols += *s == ',';
+    c->cols = cols;
+    c->cell = calloc((size_t)(lines + 1) * (size_t)cols, sizeof *c->cell);
+    ASSERT_TRUE(c->cell != NULL);
+    int row = 0;
+    char* s = c->text;
+    while (*s && row <= lines) {
+        char* eol = strchr(s, '\n');
+        if (!eol)
+            FAIL("%s: the last line has no newline", path);
+        *eol = '\0';
+        int k = 0;
+        for (char* f = s;; k++) {
+            char* comma = strchr(f, ',');
+            if (k < cols)
+                c->cell[row * cols + k] = f;
+            if (!comma)
+                break;
+            *comma = '\0';
+            f = comma + 1;
+        }
+        if (k + 1 != cols)
+            c->ragged = 1;
+        row++;
+        s = eol + 1;
+    }
+    c->rows = row - 1;
+}
+
+static void csv_free(csv* c)
+{
+    free(c->cell);
+    free(c->text);
+    memset(c, 0, sizeof *c);
+}
+
+static int csv_col(const csv* c, const char* name)
+{
+    for (int k = 0; k < c->cols; k++)
+        if (c->cell[k] && !strcmp(c->cell[k], name))
+            return k;
+    FAIL("CSV has no column %s", name);
+    return -1;
+}
+
+/* Cell of data row i (0-based, after the header). */
+static const char* csv_str(const csv* c, int i, const char* name)
+{
+    const char* s = c->cell[(i + 1) * c->cols + csv_col(c, name)];
+    return s ? s : "";
+}
+
+static double csv_num(const csv* c, int i, const char* name)
+{
+    const char* s = csv_str(c, i, name);
+    char* end;
+    double v = strtod(s, &end);
+    if (end == s || *end)
+        FAIL("CSV row %d, column %s: expected a number, got '%s'", i, name, s);
+    return v;
+}
+
+/* Where the value of "key" starts in [from, to) (to NULL: the end of the string), or NULL. */
+static const char* json_value(const char* from, const char* to, const char* key)
+{
+    char quoted[128];
+    snprintf(quoted, sizeof quoted, "\"%s\":", key);
+    const char* p = strstr(from, quoted);
+    if (!p || (to && p >= to))
+        return NULL;
+    p += strlen(quoted);
+    while (*p == ' ' || *p == '\n')
+        p++;
+    return p;
+}
+
+static double json_num(const char* from, const char* to, const char* key)
+{
+    const char* p = json_value(from, to, key);
+    char* end;
+    if (!p)
+        FAIL("JSON has no key %s", key);
+    double v = strtod(p, &end);
+    if (end == p)
+        FAIL("JSON key %s: expected a number, got '%.20s'", key, p);
+    return v;
+}
+
+static int json_bool(const char* from, const char* to, const char* key)
+{
+    const char* p = json_value(from, to, key);
+    if (!p)
+        FAIL("JSON has no key %s", key);
+    if (!strncmp(p, "true", 4))
+        return 1;
+    if (!strncmp(p, "false", 5))
+        return 0;
+    FAIL("JSON key %s: expected true or false, got '%.20s'", key, p);
+    return -1;
+}
+
+/* Copies the string value of key into buf ("" when absent). */
+static const char* json_str(const char* from, const char* to, const char* key, char* buf,
+                            size_t cap)
+{
+    const char* p = json_value(from, to, key);
+    buf[0] = '\0';
+    if (p && *p == '"') {
+        const char* q = strchr(p + 1, '"');
+        if (q)
+            snprintf(buf, cap, "%.*s", (int)(q - p - 1), p + 1);
+    }
+    return buf;
+}
+
+/* The objects of the array "key" (flat objects, as bench writes them): their [start, end). */
+static int json_objects(const char* text, const char* key, const char** start, const char** end,
+                        int cap)
+{
+    const char* p = json_value(text, NULL, key);
+    int n = 0;
+    if (!p)
+        FAIL("JSON has no key %s", key);
+    if (*p != '[')
+        FAIL("JSON key %s: expected an array", key);
+    for (p++;;) {
+        while (*p == ' ' || *p == '\n' || *p == ',')
+            p++;
+        if (*p == ']')
+            return n;
+        if (*p != '{' || n == cap)
+            FAIL("JSON array %s: unexpected '%.20s' after %d objects", key, p, n);
+        const char* close = strchr(p, '}');
+        if (!close)
+            FAIL("JSON array %s: unterminated object", key);
+        start[n] = p;
+        end[n++] = close;
+        p = close + 1;
+    }
+}
+
+/* A PNG's header: signature and IHDR; *w, *h its size. Returns 1 if it is one. */
+static int png_header(const char* path, unsigned* w, unsigned* h, size_t* size)
+{
+    static const unsigned char sig[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
+    unsigned char b[24];
+    struct stat st;
+    FILE* f = fopen(path, "rb");
+    size_t got = f ? fread(b, 1, sizeof b, f) : 0;
+    if (f)
+        fclose(f);
+    *size = stat(path, &st) == 0 ? (size_t)st.st_size : 0;
+    if (got != sizeof b || memcmp(b, sig, 8) || memcmp(b + 12, "IHDR", 4))
+        return 0;
+    *w = (unsigned)b[16] << 24 | (unsigned)b[17] << 16 | (unsigned)b[18] << 8 | b[19];
+    *h = (unsigned)b[20] << 24 | (unsigned)b[21] << 16 | (unsigned)b[22] << 8 | b[23];
+    return 1;
+}
+
+/* The plot exists and is a real image: PNG signature, a plausible size, not a stub. */
+static void expect_plot(const char* path)
+{
+    unsigned w = 0, h = 0;
+    size_t size = 0;
+    int ok = png_header(path, &w, &h, &size);
+    TP_CHECK_(0, ok, "%s: not a PNG (missing, or no PNG signature and IHDR)", path);
+    if (!ok)
+        return;
+    tp_test_note("%s: %ux%u, %zu bytes", path, w, h, size);
+    EXPECT_GE(w, 600.0);
+    EXPECT_GE(h, 300.0);
+    EXPECT_GT((double)size, 10000.0); /* two panels with axes, points and labels */
+}
+
+/* `terrapatch info --json DEM`: the render grid's spacing and the patch size. */
+static void dem_patch_width(const char* dem, double* patch_width_m)
+{
+    static run_result r;
+    args a;
+    args_cmd(&a, "info");
+    args_add(&a, "--json");
+    args_add(&a, "%s", dem);
+    run_ok(&a, &r);
+    *patch_width_m = (json_num(r.out, NULL, "patch") - 1) * json_num(r.out, NULL, "spacing_m");
+}
+
+/* ---------------------------------------------------------------------------------------------
+ * --sweep
+ */
+static int is_mode(const csv* c, int i, const char* mode)
+{
+    return !strcmp(csv_str(c, i, "lod_mode"), mode);
+}
+
+/* Pareto flags recomputed for rows of one mode: no other row of the mode has fps >= and max px
+ * <= with one of them strict. */
+static int dominated(const double* fps, const double* px, const int* same_mode, int n, int i)
+{
+    for (int k = 0; k < n; k++)
+        if (k != i && same_mode[k] && fps[k] >= fps[i] && px[k] <= px[i] &&
+            (fps[k] > fps[i] || px[k] < px[i]))
+            return 1;
+    return 0;
+}
+
+/* The checks every sweep's CSV and JSON must pass; extra_tau > 0: --tau off the grid. */
+static void check_sweep(const char* dem, const char* csv_path, const char* json_path,
+                        const run_result* r, double extra_tau)
+{
+    double w;
+    dem_patch_width(dem, &w);
+    csv c;
+    csv_read(csv_path, &c);
+    static const char* const header[] = {
+        "lod_mode", "tau_px", "mindist_m", "maxdist_m", "exp", "fps_median",
+        "triangles_median", "max_screen_error_px", "rms_screen_error_px", "pareto"};
+    for (int k = 0; k < COUNT(header); k++)
+        (void)csv_col(&c, header[k]);
+    EXPECT_FALSE(c.ragged);
+    int expected_rows = SWEEP_ROWS + (extra_tau > 0);
+    ASSERT_EQ_INT(expected_rows, c.rows);
+
+    /* modes: full first, then 24 distance, then the error configurations */
+    int n_full = 0, n_dist = 0, n_err = 0;
+    for (int i = 0; i < c.rows; i++) {
+        n_full += is_mode(&c, i, "full");
+        n_dist += is_mode(&c, i, "distance");
+        n_err += is_mode(&c, i, "error");
+        EXPECT_GT(csv_num(&c, i, "fps_median"), 0.0);
+        EXPECT_GT(csv_num(&c, i, "triangles_median"), 0.0);
+        EXPECT_GE(csv_num(&c, i, "max_screen_error_px"), csv_num(&c, i, "rms_screen_error_px"));
+    }
+    EXPECT_TRUE(is_mode(&c, 0, "full"));
+    EXPECT_EQ_INT(1, n_full);
+    EXPECT_EQ_INT(COUNT(grid_mindist_w) * COUNT(grid_maxdist_w) * COUNT(grid_exp), n_dist);
+    EXPECT_EQ_INT(COUNT(grid_tau) + (extra_tau > 0), n_err);
+    /* full resolution: no LoD parameters, no error */
+    EXPECT_EQ_DBL(0.0, csv_num(&c, 0, "tau_px"));
+    EXPECT_EQ_DBL(0.0, csv_num(&c, 0, "maxdist_m"));
+    EXPECT_EQ_DBL(0.0, csv_num(&c, 0, "max_screen_error_px"));
+    EXPECT_EQ_DBL(0.0, csv_num(&c, 0, "max_vertical_error_m"));
+
+    /* distance rows: every combination of the grid exactly once, in patch widths */
+    int seen[2][4][3] = {{{0}}};
+    for (int i = 0; i < c.rows; i++) {
+        if (!is_mode(&c, i, "distance")) {
+            continue;
+        }
+        double a = csv_num(&c, i, "mindist_m") / w, d = csv_num(&c, i, "maxdist_m") / w;
+        double e = csv_num(&c, i, "exp");
+        int ia = -1, id = -1, ie = -1;
+        for (int k = 0; k < COUNT(grid_mindist_w); k++)
+            if (fabs(a - grid_mindist_w[k]) <= 1e-5 * grid_mindist_w[k])
+                ia = k;
+        for (int k = 0; k < COUNT(grid_maxdist_w); k++)
+            if (fabs(d - grid_maxdist_w[k]) <= 1e-5 * grid_maxdist_w[k])
+                id = k;
+        for (int k = 0; k < COUNT(grid_exp); k++)
+            if (e == grid_exp[k])
+                ie = k;
+        if (ia < 0 || id < 0 || ie < 0) {
+            ADD_FAILURE("distance row %d: mindist %s maxdist %s exp %s is not on the grid "
+                        "(patch width %g m)",
+                        i, csv_str(&c, i, "mindist_m"), csv_str(&c, i, "maxdist_m"),
+                        csv_str(&c, i, "exp"), w);
+            continue;
+        }
+        if (seen[ia][id][ie]++)
+            ADD_FAILURE("distance row %d: mindist %s maxdist %s exp %s appears twice", i,
+                        csv_str(&c, i, "mindist_m"), csv_str(&c, i, "maxdist_m"),
+                        csv_str(&c, i, "exp"));
+        EXPECT_EQ_DBL(0.0, csv_num(&c, i, "tau_px"));
+    }
+
+    /* error rows: the grid's taus (and --tau), each once */
+    int tau_seen[7] = {0};
+    for (int i = 0; i < c.rows; i++) {
+        if (!is_mode(&c, i, "error"))
+            continue;
+        double t = csv_num(&c, i, "tau_px");
+        int k = 0;
+        while (k < COUNT(grid_tau) && grid_tau[k] != t)
+            k++;
+        if (k == COUNT(grid_tau) && !(extra_tau > 0 && t == extra_tau)) {
+            ADD_FAILURE("error row %d: tau %s is not on the grid", i, csv_str(&c, i, "tau_px"));
+            continue;
+        }
+        if (tau_seen[k]++)
+            ADD_FAILURE("error row %d: tau %s appears twice", i, csv_str(&c, i, "tau_px"));
+        EXPECT_EQ_DBL(0.0, csv_num(&c, i, "maxdist_m"));
+    }
+    ASSERT_NO_FAILURE();
+
+    /* the JSON: the same configurations in the same order, at full precision */
+    char* json = read_file(json_path, NULL);
+    ASSERT_TRUE(json != NULL);
+    const char *os[64], *oe[64];
+    int no = json_objects(json, "configurations", os, oe, 64);
+    ASSERT_EQ_INT(c.rows, no);
+    double fps[64], px[64];
+    int pareto[64], mode_err[64], mode_dist[64];
+    for (int i = 0; i < no; i++) {
+        char mode[32];
+        json_str(os[i], oe[i], "lod_mode", mode, sizeof mode);
+        if (strcmp(csv_str(&c, i, "lod_mode"), mode) != 0)
+            ADD_FAILURE("configuration %d: %s in the JSON, %s in the CSV", i, mode,
+                        csv_str(&c, i, "lod_mode"));
+        fps[i] = json_num(os[i], oe[i], "fps_median");
+        px[i] = json_num(os[i], oe[i], "max_screen_error_px");
+        pareto[i] = json_bool(os[i], oe[i], "pareto");
+        mode_err[i] = !strcmp(mode, "error");
+        mode_dist[i] = !strcmp(mode, "distance");
+        EXPECT_NEAR(fps[i], csv_num(&c, i, "fps_median"), 0.00051);
+        EXPECT_NEAR(px[i], csv_num(&c, i, "max_screen_error_px"), 0.000051);
+        EXPECT_EQ_INT(pareto[i], (int)csv_num(&c, i, "pareto"));
+        /* error mode's promise (core/src/lod.c): no error above tau px anywhere on screen */
+        if (mode_err[i])
+            EXPECT_LE(px[i], json_num(os[i], oe[i], "tau_px") * (1 + 1e-9));
+    }
+    /* Pareto flags, recomputed from the JSON's exact values */
+    int fronts[2] = {0, 0};
+    for (int i = 1; i < no; i++) {
+        const int* same = mode_err[i] ? mode_err : mode_dist;
+        int expect = !dominated(fps, px, same, no, i);
+        if (expect != pareto[i])
+            ADD_FAILURE("configuration %d (%s, fps %.6g, max px %.6g): pareto %d, expected %d", i,
+                        mode_err[i] ? "error" : "distance", fps[i], px[i], pareto[i], expect);
+        fronts[mode_err[i]] += expect;
+    }
+    EXPECT_GE(fronts[0], 1.0);
+    EXPECT_GE(fronts[1], 1.0);
+    /* ... and from the CSV's rounded values: a disagreement only where rounding hides a tie */
+    double cfps[64], cpx[64];
+    for (int i = 0; i < c.rows; i++) {
+        cfps[i] = csv_num(&c, i, "fps_median");
+        cpx[i] = csv_num(&c, i, "max_screen_error_px");
+    }
+    int ambiguous = 0;
+    for (int i = 1; i < c.rows; i++) {
+        const int* same = mode_err[i] ? mode_err : mode_dist;
+        int expect = !dominated(cfps, cpx, same, c.rows, i);
+        if (expect == (int)csv_num(&c, i, "pareto"))
+            continue;
+        int tie = 0;
+        for (int k = 1; k < c.rows; k++)
+            tie |= k != i && same[k] &&
+                   (fabs(cfps[k] - cfps[i]) <= 0.001 || fabs(cpx[k] - cpx[i]) <= 0.0001);
+        if (!tie)
+            ADD_FAILURE("CSV row %d: pareto %s, but its fps %s and max px %s say %d", i,
+                        csv_str(&c, i, "pareto"), csv_str(&c, i, "fps_median"),
+                        csv_str(&c, i, "max_screen_error_px"), expect);
+        ambiguous += tie;
+    }
+    if (ambiguous)
+        tp_test_note("%d CSV rows whose Pareto flag the CSV's rounding leaves open", ambiguous);
+    /* the table marks the same configurations */
+    int marked = 0, flagged = 0;
+    for (const char* p = r->out; (p = strstr(p, "  pareto\n")) != NULL; p++)
+        marked++;
+    for (int i = 1; i < no; i++)
+        flagged += pareto[i];
+    EXPECT_EQ_INT(flagged, marked);
+
+    /* error mode: a larger tau never draws more triangles (levels only get coarser) */
+    for (int i = 0; i < c.rows; i++)
+        for (int k = 0; k < c.rows; k++)
+            if (is_mode(&c, i, "error") && is_mode(&c, k, "error") &&
+                csv_num(&c, i, "tau_px") < csv_num(&c, k, "tau_px"))
+                if (csv_num(&c, i, "triangles_median") < csv_num(&c, k, "triangles_median"))
+                    ADD_FAILURE("tau %s: %s triangles, fewer than the %s of tau %s",
+                                csv_str(&c, i, "tau_px"), csv_str(&c, i, "triangles_median"),
+                                csv_str(&c, k, "triangles_median"), csv_str(&c, k, "tau_px"));
+
+    /* the headline is the error mode at the run's tau */
+    char mode[32];
+    EXPECT_CONTAINS(json_str(json, NULL, "lod_mode", mode, sizeof mode), "error");
+    double tau = json_num(json, NULL, "tau_px");
+    EXPECT_EQ_DBL(extra_tau > 0 ? extra_tau : 1.0, tau);
+    for (int i = 0; i < no; i++)
+        if (mode_err[i] && json_num(os[i], oe[i], "tau_px") == tau)
+            EXPECT_EQ_DBL(fps[i], json_num(json, NULL, "fps_median"));
+    free(json);
+    csv_free(&c);
+}
+
+static void args_sweep(args* a, const char* dir)
+{
+    args_bench_small(a, 1);
+    args_add(a, "--sweep");
+    args_add(a, "--csv");
+    args_add(a, "%s/sweep.csv", dir);
+    args_add(a, "--json");
+    args_add(a, "%s/sweep.json", dir);
+}
+
+TEST(sweep_writes_one_row_per_configuration_and_a_plot)
+{
+    static run_result r;
+    args a;
+    const char* dem = sample_path(STORML);
+    const char* dir = make_tmp_dir();
+    char csv_path[1024], json_path[1024], png[1024];
+    args_sweep(&a, dir);
+    args_add(&a, "%s", dem);
+    run_ok(&a, &r);
+    snprintf(csv_path, sizeof csv_path, "%s/sweep.csv", dir);
+    snprintf(json_path, sizeof json_path, "%s/sweep.json", dir);
+    snprintf(png, sizeof png, "%s/sweep.png", dir);
+    /* the plot beside the CSV, with .png for its extension; no temporary files */
+    EXPECT_DIR_IS(dir, "sweep.csv,sweep.json,sweep.png");
+    expect_plot(png);
+    EXPECT_CONTAINS(r.err, png);
+    check_sweep(dem, csv_path, json_path, &r, 0);
+}
+
+TEST(sweep_plot_option_puts_the_plot_there)
+{
+    static run_result r;
+    args a;
+    const char* dem = sample_path(STORML);
+    const char* dir = make_tmp_dir();
+    char plots[1024], png[1100];
+    snprintf(plots, sizeof plots, "%s/plots", dir);
+    ASSERT_EQ_INT(0, mkdir(plots, 0755));
+    snprintf(png, sizeof png, "%s/fps_vs_error.png", plots);
+    args_sweep(&a, dir);
+    args_add(&a, "--plot");
+    args_add(&a, "%s", png);
+    args_add(&a, "%s", dem);
+    run_ok(&a, &r);
+    EXPECT_DIR_IS(dir, "plots,sweep.csv,sweep.json"); /* no sweep.png beside the CSV */
+    EXPECT_DIR_IS(plots, "fps_vs_error.png");         /* and no temporary file beside the plot */
+    expect_plot(png);
+}
+
+TEST(sweep_tau_off_the_grid_adds_an_error_row)
+{
+    static run_result r;
+    args a;
+    const char* dem = sample_path(STORML);
+    const char* dir = make_tmp_dir();
+    char csv_path[1024], json_path[1024];
+    args_sweep(&a, dir);
+    args_add(&a, "--tau");
+    args_add(&a, "3");
+    args_add(&a, "%s", dem);
+    run_ok(&a, &r);
+    snprintf(csv_path, sizeof csv_path, "%s/sweep.csv", dir);
+    snprintf(json_path, sizeof json_path, "%s/sweep.json", dir);
+    EXPECT_DIR_IS(dir, "sweep.csv,sweep.json,sweep.png");
+    check_sweep(dem, csv_path, json_path, &r, 3.0); /* a 7th error row, tau 3, the headline */
+    EXPECT_CONTAINS(r.out, "error mode (tau = 3 px)");
+}
+
+TEST(sweep_tau_on_the_grid_adds_no_row)
+{
+    static run_result r;
+    args a;
+    const char* dem = sample_path(STORML);
+    const char* dir = make_tmp_dir();
+    char csv_path[1024], json_path[1024];
+    args_sweep(&a, dir);
+    args_add(&a, "--tau");
+    args_add(&a, "4");
+    args_add(&a, "%s", dem);
+    run_ok(&a, &r);
+    snprintf(csv_path, sizeof csv_path, "%s/sweep.csv", dir);
+    snprintf(json_path, sizeof json_path, "%s/sweep.json", dir);
+    csv c;
+    csv_read(csv_path, &c);
+    EXPECT_EQ_INT(SWEEP_ROWS, c.rows);
+    csv_free(&c);
+    char* json = read_file(json_path, NULL);
+    ASSERT_TRUE(json != NULL);
+    EXPECT_EQ_DBL(4.0, json_num(json, NULL, "tau_px"));
+    free(json);
+    EXPECT_CONTAINS(r.out, "error mode (tau = 4 px)");
+}
+
+/* --no-error leaves every measured error at 0: the sweep must either refuse the combination
+ * as a usage error or still plot (fps only); failing after the whole sweep is neither. */
+TEST(sweep_without_error_measurement_is_refused_or_plots)
+{
+    static run_result r;
+    args a;
+    const char* dem = sample_path(STORML);
+    const char* dir = make_tmp_dir();
+    char png[1024];
+    args_sweep(&a, dir);
+    args_add(&a, "--no-error");
+    args_add(&a, "%s", dem);
+    run(&a, &r);
+    skip_without_gl(&r);
+    tp_test_note("exit %d, stderr ends: %s", r.exit_code, err_tail(&r));
+    if (r.exit_code == 2) {
+        EXPECT_CONTAINS(r.err, "--no-error");
+        EXPECT_DIR_IS(dir, "");
+        return;
+    }
+    EXPECT_EQ_INT(0, r.exit_code);
+    snprintf(png, sizeof png, "%s/sweep.png", dir);
+    expect_plot(png);
+}
+
+/* A flat DEM: every configuration draws the terrain exactly (0 px everywhere), a legitimate
+ * result that the plot must survive. */
+TEST(sweep_of_a_flat_dem_still_plots)
+{
+    static run_result r;
+    args a;
+    const char* dir = make_tmp_dir();
+    char dem[1024], png[1024];
+    snprintf(dem, sizeof dem, "%s/flat.asc", log_dir());
+    FILE* f = fopen(dem, "w");
+    ASSERT_TRUE(f != NULL);
+    fprintf(f, "ncols 65\nnrows 65\nxllcorner 500000\nyllcorner 5000000\ncellsize 30\n"
+               "NODATA_value -9999\n");
+    for (int y = 0; y < 65; y++)
+        for (int x = 0; x < 65; x++)
+            fprintf(f, "100%c", x == 64 ? '\n' : ' ');
+    ASSERT_EQ_INT(0, fclose(f));
+    args_sweep(&a, dir);
+    args_add(&a, "%s", dem);
+    run(&a, &r);
+    remove(dem);
+    skip_without_gl(&r);
+    if (r.exit_code != 0)
+        print_command(&a);
+    tp_test_note("exit %d, stderr ends: %s", r.exit_code, err_tail(&r));
+    EXPECT_EQ_INT(0, r.exit_code);
+    snprintf(png, sizeof png, "%s/sweep.png", dir);
+    expect_plot(png);
+    EXPECT_DIR_IS(dir, "sweep.csv,sweep.json,sweep.png");
+}
+
+/* The plot's default name is the CSV's with .png: a CSV named *.png, or --plot naming the
+ * JSON, must not end up replaced by the plot (refused as a usage error, or both kept). */
+TEST(sweep_plot_never_replaces_the_csv_or_json)
+{
+    static run_result r;
+    args a;
+    const char* dem = sample_path(STORML);
+    const char* dir = make_tmp_dir();
+    char path[1024];
+    /* --csv results.png: the default plot name is the CSV's own */
+    args_bench_small(&a, 1);
+    args_add(&a, "--sweep");
+    args_add(&a, "--csv");
+    args_add(&a, "%s/results.png", dir);
+    args_add(&a, "%s", dem);
+    run(&a, &r);
+    skip_without_gl(&r);
+    tp_test_note("--csv results.png: exit %d", r.exit_code);
+    snprintf(path, sizeof path, "%s/results.png", dir);
+    if (r.exit_code == 2) {
+        EXPECT_DIR_IS(dir, "");
+    } else {
+        char* text = read_file(path, NULL);
+        EXPECT_TRUE(text && !strncmp(text, "lod_mode,", 9)); /* still the CSV */
+        free(text);
+    }
+    /* --plot onto the --json file */
+    const char* dir2 = make_tmp_dir();
+    args_sweep(&a, dir2);
+    args_add(&a, "--plot");
+    args_add(&a, "%s/sweep.json", dir2);
+    args_add(&a, "%s", dem);
+    run(&a, &r);
+    tp_test_note("--plot onto --json: exit %d", r.exit_code);
+    snprintf(path, sizeof path, "%s/sweep.json", dir2);
+    if (r.exit_code == 2) {
+        EXPECT_DIR_IS(dir2, "");
+    } else {
+        char* text = read_file(path, NULL);
+        EXPECT_TRUE(text && text[0] == '{'); /* still the JSON */
+        free(text);
+    }
+}
+
+/* ---------------------------------------------------------------------------------------------
+ * --static --max-error
+ */
+typedef struct static_row {
+    double bound, max, rms;
+    int below;
+    double triangles, points;
+} static_row;
+
+/* The JSON's "static" array; returns the number of rows. */
+static int static_rows(const char* json, static_row* rows, int cap)
+{
+    const char *os[32], *oe[32];
+    int n = json_objects(json, "static", os, oe, cap < 32 ? cap : 32);
+    for (int i = 0; i < n; i++) {
+        static_row* r = &rows[i];
+        memset(r, 0, sizeof *r);
+        r->bound = json_num(os[i], oe[i], "max_error_m");
+        r->below = json_bool(os[i], oe[i], "below_quantisation");
+        if (r->below) {
+            /* nothing measured for a refused bound */
+            EXPECT_TRUE(json_value(os[i], oe[i], "triangles") == NULL);
+            continue;
+        }
+        r->triangles = json_num(os[i], oe[i], "triangles");
+        r->points = json_num(os[i], oe[i], "points");
+        r->max = json_num(os[i], oe[i], "measured_max_error_m");
+        r->rms = json_num(os[i], oe[i], "measured_rms_error_m");
+        EXPECT_GE(json_num(os[i], oe[i], "select_s"), 0.0);
+        EXPECT_GE(json_num(os[i], oe[i], "mesh_s"), 0.0);
+    }
+    return n;
+}
+
+static void args_static(args* a, const char* bounds, const char* dir)
+{
+    args_cmd(a, "bench");
+    args_add(a, "--static");
+    args_add(a, "--max-error");
+    args_add(a, "%s", bounds);
+    if (dir) {
+        args_add(a, "--json");
+        args_add(a, "%s/static.json", dir);
+        args_add(a, "--csv");
+        args_add(a, "%s/static.csv", dir);
+    }
+}
+
+TEST(static_bounds_hold_and_meshes_shrink)
+{
+    static run_result r;
+    args a;
+    const char* dem = sample_path(MT_HOOD);
+    const char* dir = make_tmp_dir();
+    char path[1024];
+    args_static(&a, "1,5,20", dir);
+    args_add(&a, "%s", dem);
+    run_ok(&a, &r);
+    EXPECT_DIR_IS(dir, "static.csv,static.json");
+    snprintf(path, sizeof path, "%s/static.json", dir);
+    char* json = read_file(path, NULL);
+    ASSERT_TRUE(json != NULL);
+    EXPECT_EQ_DBL(0.0, json_num(json, NULL, "quantisation_error_m")); /* integer heights */
+    EXPECT_EQ_DBL(17.0, json_num(json, NULL, "patch_size"));
+    double full = json_num(json, NULL, "full_triangles");
+    static_row rows[16];
+    int n = static_rows(json, rows, 16);
+    ASSERT_EQ_INT(3, n);
+    static const double bounds[] = {1, 5, 20};
+    for (int i = 0; i < n; i++) {
+        tp_test_note("bound %g m: %.0f triangles (full %.0f), %.0f points, max %.6g m, rms %.6g m",
+                     rows[i].bound, rows[i].triangles, full, rows[i].points, rows[i].max,
+                     rows[i].rms);
+        EXPECT_EQ_DBL(bounds[i], rows[i].bound);
+        EXPECT_FALSE(rows[i].below);
+        EXPECT_LE(rows[i].max, rows[i].bound + 1e-9);
+        EXPECT_LE(rows[i].rms, rows[i].max);
+        EXPECT_GT(rows[i].triangles, 0.0);
+        EXPECT_GT(rows[i].points, 0.0);
+        if (i > 0) {
+            EXPECT_LE(rows[i].triangles, rows[i - 1].triangles);
+            EXPECT_LE(rows[i].points, rows[i - 1].points);
+            EXPECT_GE(rows[i].rms, rows[i - 1].rms);
+        }
+    }
+    /* at 20 m, far fewer triangles than the full mesh (at 1 m the max-error mesh may hold a
+     * few more: patches along the voids draw 3-sample triangles that the full mesh leaves
+     * out) */
+    EXPECT_LT(rows[2].triangles, 0.5 * full);
+    EXPECT_GT(rows[2].rms, 0.0);
+    /* the CSV: one row per bound, the JSON's values */
+    snprintf(path, sizeof path, "%s/static.csv", dir);
+    csv c;
+    csv_read(path, &c);
+    EXPECT_FALSE(c.ragged);
+    ASSERT_EQ_INT(3, c.rows);
+    for (int i = 0; i < c.rows; i++) {
+        EXPECT_EQ_DBL(rows[i].bound, csv_num(&c, i, "max_error_m"));
+        EXPECT_EQ_DBL(rows[i].triangles, csv_num(&c, i, "triangles"));
+        EXPECT_EQ_DBL(full, csv_num(&c, i, "full_triangles"));
+        EXPECT_EQ_DBL(rows[i].points, csv_num(&c, i, "points"));
+        EXPECT_NEAR(rows[i].max, csv_num(&c, i, "measured_max_error_m"), 0.000051);
+        EXPECT_NEAR(rows[i].rms, csv_num(&c, i, "measured_rms_error_m"), 0.000051);
+    }
+    csv_free(&c);
+    free(json);
+    /* the table: a line per bound and the full mesh's size */
+    char full_text[64];
+    snprintf(full_text, sizeof full_text, "full mesh %.0f triangles", full);
+    EXPECT_CONTAINS(r.out, full_text);
+}
+
+/* The static mesh of a bound is the mesh `export --max-error` writes for it (read back with
+ * VTK); the full mesh count is every cell of four valid samples (counted from the DEM). */
+TEST(static_mesh_is_the_export_max_error_mesh)
+{
+#ifdef TP_TEST_NO_IO
+    SKIP("built without tp_io");
+#else
+    static run_result r;
+    args a;
+    const char* dem = sample_path(MT_HOOD);
+    const char* dir = make_tmp_dir();
+    char path[1024];
+    args_static(&a, "20", dir);
+    args_add(&a, "%s", dem);
+    run_ok(&a, &r);
+    snprintf(path, sizeof path, "%s/static.json", dir);
+    char* json = read_file(path, NULL);
+    ASSERT_TRUE(json != NULL);
+    static_row rows[1];
+    ASSERT_EQ_INT(1, static_rows(json, rows, 1));
+    free(json);
+    args_cmd(&a, "export");
+    args_add(&a, "--max-error");
+    args_add(&a, "20");
+    args_add(&a, "%s", dem);
+    args_add(&a, "-o");
+    args_add(&a, "%s/m20.vtp", dir);
+    run_ok(&a, &r);
+    snprintf(path, sizeof path, "%s/m20.vtp", dir);
+    tp_mesh_summary s;
+    tp_error e;
+    ASSERT_OK(tp_mesh_inspect(path, &s, &e));
+    EXPECT_EQ_DBL((double)s.triangles, rows[0].triangles);
+    EXPECT_EQ_DBL((double)s.points, rows[0].points);
+    EXPECT_LE(s.max_error_m, 20.0);
+#endif
+}
+
+TEST(static_full_triangles_count_every_valid_cell_and_16_bounds_are_taken)
+{
+#ifdef TP_TEST_NO_IO
+    SKIP("built without tp_io");
+#else
+    static run_result r;
+    args a;
+    const char* dem = sample_path(STORML); /* nodata only along the edges: nothing filled */
+    const char* dir = make_tmp_dir();
+    char path[1024];
+    args_static(&a, "1,2,3,4,5,6,7,8,9,10,11,12,13,14,15,16", dir);
+    args_add(&a, "%s", dem);
+    run_ok(&a, &r);
+    snprintf(path, sizeof path, "%s/static.json", dir);
+    char* json = read_file(path, NULL);
+    ASSERT_TRUE(json != NULL);
+    double full = json_num(json, NULL, "full_triangles");
+    static_row rows[16];
+    int n = static_rows(json, rows, 16);
+    free(json);
+    EXPECT_EQ_INT(16, n);
+    for (int i = 0; i < n; i++) {
+        EXPECT_EQ_DBL(i + 1.0, rows[i].bound);
+        EXPECT_LE(rows[i].max, rows[i].bound + 1e-9);
+        if (i > 0)
+            EXPECT_LE(rows[i].triangles, rows[i - 1].triangles);
+    }
+    tp_dem* d;
+    tp_error e;
+    ASSERT_OK(tp_dem_read(dem, &d, &e));
+    size_t cells = 0;
+    const float* h = d->heights;
+    for (int y = 0; y + 1 < d->height; y++)
+        for (int x = 0; x + 1 < d->width; x++)
+            cells += !isnan(h[y * d->width + x]) && !isnan(h[y * d->width + x + 1]) &&
+                     !isnan(h[(y + 1) * d->width + x]) && !isnan(h[(y + 1) * d->width + x + 1]);
+    tp_dem_destroy(d);
+    EXPECT_EQ_DBL(2.0 * (double)cells, full);
+#endif
+}
+
+TEST(static_bound_below_quantisation_is_reported_not_measured)
+{
+    static run_result r;
+    args a;
+    const char* dem = shared_path(CRATER);
+    const char* dir = make_tmp_dir();
+    char path[1024];
+    /* the quantisation error from `info`: half the height step */
+    args_cmd(&a, "info");
+    args_add(&a, "--json");
+    args_add(&a, "%s", dem);
+    run_ok(&a, &r);
+    double quant = json_num(r.out, NULL, "quant_max_error_m");
+    tp_test_note("quantisation error %.9g m", quant);
+    ASSERT_GT(quant, 0.001);
+    ASSERT_LT(quant, 1.0);
+    char bounds[128];
+    snprintf(bounds, sizeof bounds, "0.001,%.17g,1", quant);
+    args_static(&a, bounds, dir);
+    args_add(&a, "%s", dem);
+    run_ok(&a, &r); /* a refused bound is reported, the run goes on */
+    EXPECT_CONTAINS(r.out, "below the quantisation error");
+    snprintf(path, sizeof path, "%s/static.json", dir);
+    char* json = read_file(path, NULL);
+    ASSERT_TRUE(json != NULL);
+    EXPECT_EQ_DBL(quant, json_num(json, NULL, "quantisation_error_m"));
+    static_row rows[3];
+    ASSERT_EQ_INT(3, static_rows(json, rows, 3));
+    free(json);
+    EXPECT_TRUE(rows[0].below);
+    EXPECT_FALSE(rows[1].below); /* the bound equal to the quantisation error is taken */
+    EXPECT_FALSE(rows[2].below);
+    for (int i = 1; i < 3; i++) {
+        EXPECT_LE(rows[i].max, rows[i].bound + 1e-9);
+        EXPECT_GT(rows[i].triangles, 0.0);
+    }
+    /* the CSV has one row per bound; the refused one says so and has nothing measured */
+    snprintf(path, sizeof path, "%s/static.csv", dir);
+    csv c;
+    csv_read(path, &c);
+    EXPECT_EQ_INT(3, c.rows);
+    if (c.rows == 3) {
+        EXPECT_EQ_DBL(0.001, csv_num(&c, 0, "max_error_m"));
+        EXPECT_EQ_DBL(1.0, csv_num(&c, 0, "below_quantisation"));
+        EXPECT_EQ_INT(0, (int)strlen(csv_str(&c, 0, "triangles")));
+        EXPECT_EQ_INT(0, (int)strlen(csv_str(&c, 0, "measured_max_error_m")));
+        EXPECT_NEAR(quant, csv_num(&c, 1, "max_error_m"), 1e-6 * quant);
+        EXPECT_EQ_DBL(0.0, csv_num(&c, 1, "below_quantisation"));
+        EXPECT_EQ_DBL(1.0, csv_num(&c, 2, "max_error_m"));
+        EXPECT_EQ_DBL(rows[1].triangles, csv_num(&c, 1, "triangles"));
+    }
+    csv_free(&c);
+    /* every bound below it: refused as export --max-error refuses it, nothing written */
+    const char* dir2 = make_tmp_dir();
+    args_static(&a, "0.001,0.002", dir2);
+    args_add(&a, "%s", dem);
+    run(&a, &r);
+    EXPECT_EQ_INT(2, r.exit_code);
+    EXPECT_CONTAINS(r.err, "below the quantisation error");
+    EXPECT_DIR_IS(dir2, "");
+}
+
+/* ---------------------------------------------------------------------------------------------
+ * --speed: lead-in frames
+ */
+typedef struct speed_run {
+    run_result r;
+    char* json;
+    csv frames;
+} speed_run;
+
+static void run_speed(const char* dem, const char* speed, const char* camera, speed_run* s)
+{
+    args a;
+    const char* dir = make_tmp_dir();
+    char path[1024];
+    args_bench_small(&a, 2);
+    if (speed) {
+        args_add(&a, "--speed");
+        args_add(&a, "%s", speed);
+    }
+    if (camera) {
+        args_add(&a, "--camera");
+        args_add(&a, "%s", camera);
+    }
+    args_add(&a, "--json");
+    args_add(&a, "%s/b.json", dir);
+    args_add(&a, "--csv");
+    args_add(&a, "%s/b.csv", dir);
+    args_add(&a, "%s", dem);
+    run_ok(&a, &s->r);
+    EXPECT_DIR_IS(dir, "b.csv,b.json");
+    snprintf(path, sizeof path, "%s/b.json", dir);
+    s->json = read_file(path, NULL);
+    ASSERT_TRUE(s->json != NULL);
+    snprintf(path, sizeof path, "%s/b.csv", dir);
+    csv_read(path, &s->frames);
+}
+
+TEST(speed_lead_in_changes_uploads_not_what_is_drawn)
+{
+    static speed_run cold, flight;
+    const char* dem = sample_path(STORML);
+    run_speed(dem, "0", NULL, &cold);
+    run_speed(dem, NULL, NULL, &flight); /* the default: 100 m/s */
+    EXPECT_EQ_DBL(0.0, json_num(cold.json, NULL, "speed_mps"));
+    EXPECT_EQ_DBL(100.0, json_num(flight.json, NULL, "speed_mps"));
+    EXPECT_TRUE(strstr(cold.r.out, "(lead-in frames)") == NULL);
+    EXPECT_CONTAINS(flight.r.out, "low path (lead-in frames)");
+    const csv *c = &cold.frames, *f = &flight.frames;
+    ASSERT_EQ_INT(6, c->rows); /* full, distance, error x 2 frames */
+    ASSERT_EQ_INT(c->rows, f->rows);
+    for (int i = 0; i < c->rows; i++) {
+        EXPECT_TRUE(strcmp(csv_str(f, i, "lod_mode"), csv_str(c, i, "lod_mode")) == 0);
+        EXPECT_EQ_DBL(csv_num(c, i, "frame"), csv_num(f, i, "frame"));
+        /* the timed frame's camera and selection are the same: same geometry, same error */
+        EXPECT_EQ_DBL(csv_num(c, i, "triangles"), csv_num(f, i, "triangles"));
+        EXPECT_EQ_DBL(csv_num(c, i, "max_screen_error_px"), csv_num(f, i, "max_screen_error_px"));
+        EXPECT_EQ_DBL(csv_num(c, i, "max_vertical_error_m"), csv_num(f, i, "max_vertical_error_m"));
+        if (csv_num(c, i, "frame") == 0) {
+            /* each configuration starts cold: without a lead-in its first frame uploads, with
+             * one the lead-in 1/30 s earlier has already uploaded (nearly) everything */
+            double up_cold = csv_num(c, i, "uploads"), up_flight = csv_num(f, i, "uploads");
+            tp_test_note("%s frame 0: %.0f uploads cold, %.0f after a lead-in",
+                         csv_str(c, i, "lod_mode"), up_cold, up_flight);
+            EXPECT_GT(up_cold, 0.0);
+            EXPECT_LT(up_flight, up_cold);
+        }
+    }
+    free(cold.json);
+    free(flight.json);
+    csv_free(&cold.frames);
+    csv_free(&flight.frames);
+}
+
+TEST(speed_fixed_camera_has_no_lead_in)
+{
+    static speed_run s;
+    const char* dem = sample_path(STORML);
+    run_speed(dem, "50", "324500,5101500,2900,30,-25", &s);
+    /* one camera, no path to fly along: no lead-in frames whatever --speed says */
+    EXPECT_EQ_DBL(0.0, json_num(s.json, NULL, "speed_mps"));
+    EXPECT_TRUE(strstr(s.r.out, "(lead-in frames)") == NULL);
+    EXPECT_CONTAINS(s.r.out, "fixed path");
+    free(s.json);
+    csv_free(&s.frames);
+}
+
+/* ---------------------------------------------------------------------------------------------
+ * Bad command lines: exit 2, one line naming the option, nothing written
+ */
+/* bench with outputs into dir (which must stay empty) and the DEM last */
+static void args_outputs(args* a, const char* dir)
+{
+    args_add(a, "--json");
+    args_add(a, "%s/x.json", dir);
+    args_add(a, "--csv");
+    args_add(a, "%s/x.csv", dir);
+}
+
+TEST(sweep_without_csv_exits_2)
+{
+    args a;
+    const char* dem = sample_path(STORML);
+    const char* dir = make_tmp_dir();
+    args_bench_small(&a, 1);
+    args_add(&a, "--sweep");
+    args_add(&a, "--json");
+    args_add(&a, "%s/x.json", dir);
+    args_add(&a, "%s", dem);
+    expect_usage_error(&a, "--csv", dir);
+}
+
+TEST(static_and_max_error_go_together_exits_2)
+{
+    args a;
+    const char* dem = sample_path(STORML);
+    const char* dir = make_tmp_dir();
+    args_cmd(&a, "bench");
+    args_add(&a, "--static");
+    args_outputs(&a, dir);
+    args_add(&a, "%s", dem);
+    expect_usage_error(&a, "--max-error", dir);
+    args_cmd(&a, "bench");
+    args_add(&a, "--max-error");
+    args_add(&a, "5");
+    args_outputs(&a, dir);
+    args_add(&a, "%s", dem);
+    expect_usage_error(&a, "--static", dir);
+}
+
+TEST(plot_without_sweep_exits_2)
+{
+    args a;
+    const char* dem = sample_path(STORML);
+    const char* dir = make_tmp_dir();
+    args_bench_small(&a, 1);
+    args_add(&a, "--plot");
+    args_add(&a, "%s/p.png", dir);
+    args_outputs(&a, dir);
+    args_add(&a, "%s", dem);
+    expect_usage_error(&a, "--plot", dir);
+    /* with --static too */
+    args_static(&a, "5", dir);
+    args_add(&a, "--plot");
+    args_add(&a, "%s/p.png", dir);
+    args_add(&a, "%s", dem);
+    expect_usage_error(&a, "--plot", dir);
+}
+
+TEST(static_with_sweep_exits_2)
+{
+    args a;
+    const char* dem = sample_path(STORML);
+    const char* dir = make_tmp_dir();
+    args_static(&a, "5", NULL);
+    args_add(&a, "--sweep");
+    args_outputs(&a, dir);
+    args_add(&a, "%s", dem);
+    expect_usage_error(&a, "--sweep", dir);
+}
+
+TEST(bad_speed_exits_2)
+{
+    static const char* const bad[] = {"-1", "abc", "", "nan", "inf", "1e999", "5x", "-0.5"};
+    args a;
+    const char* dem = sample_path(STORML);
+    const char* dir = make_tmp_dir();
+    for (int i = 0; i < COUNT(bad); i++) {
+        tp_test_note("--speed '%s'", bad[i]);
+        args_bench_small(&a, 1);
+        args_add(&a, "--speed");
+        args_add(&a, "%s", bad[i]);
+        args_outputs(&a, dir);
+        args_add(&a, "%s", dem);
+        expect_usage_error(&a, "--speed", dir);
+    }
+    /* no value at all */
+    args_bench_small(&a, 1);
+    args_outputs(&a, dir);
+    args_add(&a, "%s", dem);
+    args_add(&a, "--speed");
+    expect_usage_error(&a, "--speed", dir);
+}
+
+TEST(bad_max_error_list_exits_2)
+{
+    static const char* const bad[] = {
+        "0",   "-1",     "1,,5", "1,5,", ",1",  "abc", "1;5", "1 5", "nan", "inf",
+        "5m",  "1,0,5",  "",     "1e999",
+        "1,2,3,4,5,6,7,8,9,10,11,12,13,14,15,16,17", /* 17 bounds: 16 at most */
+    };
+    args a;
+    const char* dem = sample_path(STORML);
+    const char* dir = make_tmp_dir();
+    for (int i = 0; i < COUNT(bad); i++) {
+        tp_test_note("--max-error '%s'", bad[i]);
+        args_static(&a, bad[i], NULL);
+        args_outputs(&a, dir);
+        args_add(&a, "%s", dem);
+        expect_usage_error(&a, "--max-error", dir);
+    }
+}
+
+TEST(extra_positional_argument_exits_2)
+{
+    args a;
+    const char* dem = sample_path(STORML);
+    const char* dir = make_tmp_dir();
+    args_static(&a, "5", NULL);
+    args_outputs(&a, dir);
+    args_add(&a, "%s", dem);
+    args_add(&a, "second_dem.tif");
+    expect_usage_error(&a, "second_dem.tif", dir);
+    args_bench_small(&a, 1);
+    args_add(&a, "--sweep");
+    args_outputs(&a, dir);
+    args_add(&a, "%s", dem);
+    args_add(&a, "%s", dem);
+    expect_usage_error(&a, "extra argument", dir);
+}
+
+/* ---------------------------------------------------------------------------------------------
+ * Outputs that cannot be written: exit 1, a message naming the path, no temporary file left
+ */
+static void expect_write_failure(const args* a, const char* needle, run_result* r)
+{
+    run(a, r);
+    skip_without_gl(r);
+    if (r->exit_code != 1 || !strstr(r->err, needle))
+        print_command(a);
+    tp_test_note("exit %d, stderr ends: %s", r->exit_code, err_tail(r));
+    EXPECT_EQ_INT(1, r->exit_code);
+    EXPECT_CONTAINS(r->err, needle);
+}
+
+TEST(unwritable_outputs_exit_1)
+{
+    static run_result r;
+    args a;
+    const char* dem = sample_path(STORML);
+    const char* dir = make_tmp_dir();
+    ASSERT_TRUE(access("/nonexistent-dir", F_OK) != 0);
+    /* --static --json, --static --csv */
+    args_static(&a, "5", NULL);
+    args_add(&a, "--json");
+    args_add(&a, "/nonexistent-dir/x.json");
+    args_add(&a, "%s", dem);
+    expect_write_failure(&a, "/nonexistent-dir/x.json", &r);
+    args_static(&a, "5", NULL);
+    args_add(&a, "--csv");
+    args_add(&a, "/nonexistent-dir/x.csv");
+    args_add(&a, "%s", dem);
+    expect_write_failure(&a, "/nonexistent-dir/x.csv", &r);
+    /* frames: --json and --csv */
+    args_bench_small(&a, 1);
+    args_add(&a, "--json");
+    args_add(&a, "/nonexistent-dir/x.json");
+    args_add(&a, "%s", dem);
+    expect_write_failure(&a, "/nonexistent-dir/x.json", &r);
+    args_bench_small(&a, 1);
+    args_add(&a, "--csv");
+    args_add(&a, "/nonexistent-dir/x.csv");
+    args_add(&a, "%s", dem);
+    expect_write_failure(&a, "/nonexistent-dir/x.csv", &r);
+    /* --sweep: the CSV, then the plot */
+    args_bench_small(&a, 1);
+    args_add(&a, "--sweep");
+    args_add(&a, "--csv");
+    args_add(&a, "/nonexistent-dir/x.csv");
+    args_add(&a, "%s", dem);
+    expect_write_failure(&a, "/nonexistent-dir/x.csv", &r);
+    args_sweep(&a, dir);
+    args_add(&a, "--plot");
+    args_add(&a, "/nonexistent-dir/x.png");
+    args_add(&a, "%s", dem);
+    expect_write_failure(&a, "/nonexistent-dir/x.png", &r);
+    EXPECT_TRUE(access("/nonexistent-dir", F_OK) != 0);
+    char listing[4096];
+    tp_test_note("after the failed plot, the output directory holds [%s]",
+                 dir_listing(dir, listing, sizeof listing));
+    EXPECT_TRUE(strstr(listing, ".tmp") == NULL);
+    EXPECT_TRUE(strstr(listing, ".png") == NULL);
+}
+
+/* The target's name is taken by a directory: the temporary file beside it is removed. */
+TEST(output_onto_a_directory_leaves_no_temporary_file)
+{
+    static run_result r;
+    args a;
+    const char* dem = sample_path(STORML);
+    const char* dir = make_tmp_dir();
+    char target[1024];
+    snprintf(target, sizeof target, "%s/out.csv", dir);
+    ASSERT_EQ_INT(0, mkdir(target, 0755));
+    args_static(&a, "5", NULL);
+    args_add(&a, "--csv");
+    args_add(&a, "%s", target);
+    args_add(&a, "%s", dem);
+    expect_write_failure(&a, target, &r);
+    EXPECT_DIR_IS(dir, "out.csv");
+    EXPECT_DIR_IS(target, "");
+    snprintf(target, sizeof target, "%s/out.json", dir);
+    ASSERT_EQ_INT(0, mkdir(target, 0755));
+    args_static(&a, "5", NULL);
+    args_add(&a, "--json");
+    args_add(&a, "%s", target);
+    args_add(&a, "%s", dem);
+    expect_write_failure(&a, target, &r);
+    EXPECT_DIR_IS(dir, "out.csv,out.json");
+    EXPECT_DIR_IS(target, "");
+}
+
+TEST(sweep_plot_onto_a_directory_leaves_no_temporary_file)
+{
+    static run_result r;
+    args a;
+    const char* dem = sample_path(STORML);
+    const char* dir = make_tmp_dir();
+    char target[1024];
+    snprintf(target, sizeof target, "%s/p.png", dir);
+    ASSERT_EQ_INT(0, mkdir(target, 0755));
+    args_bench_small(&a, 1);
+    args_add(&a, "--sweep");
+    args_add(&a, "--csv");
+    args_add(&a, "%s/s.csv", dir);
+    args_add(&a, "--plot");
+    args_add(&a, "%s", target);
+    args_add(&a, "%s", dem);
+    expect_write_failure(&a, target, &r);
+    char listing[4096];
+    dir_listing(dir, listing, sizeof listing);
+    tp_test_note("output directory: [%s]", listing);
+    EXPECT_TRUE(strstr(listing, ".tmp") == NULL); /* no p.png.tmpPID.png / .gp left */
+    EXPECT_DIR_IS(target, "");
+}
+
+#define TESTS(X)                                                                                   \
+    X(sweep_writes_one_row_per_configuration_and_a_plot)                                           \
+    X(sweep_plot_option_puts_the_plot_there)                                                       \
+    X(sweep_tau_off_the_grid_adds_an_error_row)                                                    \
+    X(sweep_tau_on_the_grid_adds_no_row)                                                           \
+    X(sweep_without_error_measurement_is_refused_or_plots)                                         \
+    X(sweep_of_a_flat_dem_still_plots)                                                             \
+    X(sweep_plot_never_replaces_the_csv_or_json)                                                   \
+    X(static_bounds_hold_and_meshes_shrink)                                                        \
+    X(static_mesh_is_the_export_max_error_mesh)                                                    \
+    X(static_full_triangles_count_every_valid_cell_and_16_bounds_are_taken)                        \
+    X(static_bound_below_quantisation_is_reported_not_measured)                                    \
+    X(speed_lead_in_changes_uploads_not_what_is_drawn)                                             \
+    X(speed_fixed_camera_has_no_lead_in)                                                           \
+    X(sweep_without_csv_exits_2)                                                                   \
+    X(static_and_max_error_go_together_exits_2)                                                    \
+    X(plot_without_sweep_exits_2)                                                                  \
+    X(static_with_sweep_exits_2)                                                                   \
+    X(bad_speed_exits_2)                                                                           \
+    X(bad_max_error_list_exits_2)                                                                  \
+    X(extra_positional_argument_exits_2)                                                           \
+    X(unwritable_outputs_exit_1)                                                                   \
+    X(output_onto_a_directory_leaves_no_temporary_file)                                            \
+    X(sweep_plot_onto_a_directory_leaves_no_temporary_file)
+
+TP_TEST_MAIN(TESTS)
