@@ -49,56 +49,8 @@ static const double grid_tau[] = {0.5, 1, 2, 4, 8, 16};
 #define COUNT(a) ((int)(sizeof(a) / sizeof *(a)))
 #define SWEEP_ROWS (1 + 2 * 4 * 3 + 6)
 
-/* ---------------------------------------------------------------------------------------------
- * Temporary directories: removed at exit, so a test that fails part way cleans up too.
- */
-#define MAX_TMP_DIRS 16
-static char tmp_dirs_[MAX_TMP_DIRS][512];
-static int tmp_dir_count_;
-
-static void remove_tree(const char* dir)
-{
-    DIR* d = opendir(dir);
-    struct dirent* e;
-    if (d) {
-        while ((e = readdir(d)) != NULL) {
-            char p[1024];
-            struct stat st;
-            if (!strcmp(e->d_name, ".") || !strcmp(e->d_name, ".."))
-                continue;
-            snprintf(p, sizeof p, "%s/%s", dir, e->d_name);
-            if (lstat(p, &st) == 0 && S_ISDIR(st.st_mode))
-                remove_tree(p);
-            else
-                unlink(p);
-        }
-        closedir(d);
-    }
-    rmdir(dir);
-}
-
-static void remove_tmp_dirs(void)
-{
-    while (tmp_dir_count_ > 0)
-        remove_tree(tmp_dirs_[--tmp_dir_count_]);
-}
-
-/* A fresh empty directory (static storage; removed at exit). */
-static const char* make_tmp_dir(void)
-{
-    const char* base = getenv("TMPDIR");
-    char* d;
-    if (!base || !*base)
-        base = "/tmp";
-    ASSERT_TRUE(tmp_dir_count_ < MAX_TMP_DIRS);
-    d = tmp_dirs_[tmp_dir_count_];
-    snprintf(d, sizeof tmp_dirs_[0], "%s/tp_bench_XXXXXX", base);
-    if (!mkdtemp(d))
-        FAIL("mkdtemp(%s): %s", d, strerror(errno));
-    if (tmp_dir_count_++ == 0)
-        atexit(remove_tmp_dirs);
-    return d;
-}
+#define TP_TMP_PREFIX "tp_bench_"
+#include "tp_test_tmp.h"
 
 /* The children's stdout and stderr go here, never into a directory whose contents a test
  * checks. */
