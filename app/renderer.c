@@ -6,6 +6,7 @@
 
 #include <epoxy/gl.h>
 
+#include <limits.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -26,7 +27,7 @@ struct tp_renderer {
     GLuint prog, vao, vbo, ibo, ibo_custom;
     GLenum index_type;
     size_t level_offset[TP_MAX_LEVELS], level_count[TP_MAX_LEVELS];
-    int slot_verts; /* (2^n+1)^2: one slot holds a patch at any level */
+    size_t slot_verts; /* (2^n+1)^2: one slot holds a patch at any level */
     int slots;      /* pool capacity */
     int* patch_slot;
     int* slot_patch;
@@ -160,6 +161,9 @@ static void setup_vertex_format(tp_renderer* r)
 /* Grows the vertex pool to `slots` slots, keeping what it holds. */
 static int grow_pool(tp_renderer* r, int slots)
 {
+    /* Draws address a slot by its first vertex as a GLint base vertex. */
+    if ((size_t)slots > (size_t)INT_MAX / r->slot_verts)
+        return 0;
     size_t bytes = (size_t)slots * r->slot_verts * sizeof(gpu_vertex);
     int* sp = realloc(r->slot_patch, (size_t)slots * sizeof *sp);
     if (sp)
@@ -200,7 +204,7 @@ tp_renderer* tp_renderer_create(const tp_terrain* t, char* msg, size_t msg_size)
     tp_terrain_get_info(t, &r->info);
     int n = r->info.n, pc = r->info.patch_count;
     size_t v = ((size_t)1 << n) + 1;
-    r->slot_verts = (int)(v * v);
+    r->slot_verts = v * v;
 
     r->prog = tp_gl_program(vs_src, fs_src, msg, msg_size);
     if (!r->prog) {
@@ -235,8 +239,8 @@ tp_renderer* tp_renderer_create(const tp_terrain* t, char* msg, size_t msg_size)
     r->patch_slot = malloc((size_t)pc * sizeof *r->patch_slot);
     r->patch_current = calloc((size_t)pc, 1);
     r->patch_custom = malloc((size_t)pc * sizeof *r->patch_custom);
-    r->vtmp = malloc((size_t)r->slot_verts * sizeof *r->vtmp);
-    r->gtmp = malloc((size_t)r->slot_verts * sizeof *r->gtmp);
+    r->vtmp = malloc(r->slot_verts * sizeof *r->vtmp);
+    r->gtmp = malloc(r->slot_verts * sizeof *r->gtmp);
     r->custom_stride = 6 * ((size_t)1 << (2 * n));
     r->ttmp = malloc(r->custom_stride * sizeof *r->ttmp);
     r->counts = malloc((size_t)pc * sizeof *r->counts);
@@ -388,7 +392,7 @@ static void upload(tp_renderer* r, tp_selection* sel, int p, int slot)
     int k = tp_selection_level(sel, p), nb[4];
     tp_selection_neighbor_levels(sel, p, nb);
     int v = (1 << k) + 1, count = v * v;
-    tp_patch_vertices(r->t, p, k, nb, r->vtmp, (size_t)r->slot_verts);
+    tp_patch_vertices(r->t, p, k, nb, r->vtmp, r->slot_verts);
     for (int i = 0; i < count; i++) {
         const tp_vertex* s = &r->vtmp[i];
         gpu_vertex* g = &r->gtmp[i];
@@ -473,12 +477,18 @@ void tp_renderer_draw(tp_renderer* r, tp_selection* sel, const tp_camera* cam,
             stats->uploads++;
         }
         stats->patches_drawn++;
+        int c = r->patch_custom[p];
+        /* A patch of nodata or padding only has no triangles. It must not become a zero-count
+         * draw: Mesa 22.3 (llvmpipe) applies the wrong base vertex to the draws after a
+         * zero-count one in glMultiDrawElementsBaseVertex, which dropped border patches. */
+        if (c >= 0 && r->custom_count[c] == 0)
+            continue;
         /* strips fill the arrays from the front, triangle lists from the back */
-        int c = r->patch_custom[p], at = c < 0 ? strips++ : pc - 1 - lists++;
+        int at = c < 0 ? strips++ : pc - 1 - lists++;
         int k = tp_selection_level(sel, p);
         r->counts[at] = c < 0 ? (GLsizei)r->level_count[k] : r->custom_count[c];
         r->offsets[at] = (void*)(c < 0 ? r->level_offset[k] : (size_t)c * r->custom_stride * 4);
-        r->bases[at] = slot * r->slot_verts;
+        r->bases[at] = (GLint)((size_t)slot * r->slot_verts); /* < INT_MAX: grow_pool */
     }
     double t1 = now_ms();
     stats->upload_ms = t1 - t0;
