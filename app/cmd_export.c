@@ -55,10 +55,11 @@ static void print_help(void)
           "  --full                full resolution: every drawn sample, two triangles per cell\n"
           "  --max-error M         static, crack-free mesh: every patch at the coarsest level\n"
           "                        whose measured error stays <= M metres\n"
-          "view-dependent options (as for view):\n"
-          "  --camera E,N,H,YAW,PITCH, --camera-geo LAT,LON,H,YAW,PITCH, --fov DEG, --size WxH\n"
-          "  --lod distance|error|full, --tau PX, --mindist M, --maxdist M, --exp E\n"
-          "  --no-cull             keep the patches outside the view too\n"
+          "  --no-cull             view-dependent mesh: keep the patches outside the view too\n"
+          "view-dependent options (as for view):\n",
+          stdout);
+    tp_view_options_help(stdout);
+    fputs(
           "output:\n"
           "  -o, --output OUT      .vtp (VTK XML, binary, compressed), .vtk (legacy) or .vtm\n"
           "  --per-patch           one block per patch (.vtm)\n"
@@ -186,6 +187,7 @@ int tp_cli_export(int argc, char** argv)
     tp_scene sc;
     if (tp_scene_load(o.path, &o.scene, &sc) != TP_EXIT_OK)
         return TP_EXIT_FAILURE;
+    tp_view_setup_warn(&sc, &o.vs, "export");
     tp_selection* sel = NULL;
     tp_error err;
     if (tp_selection_create(sc.terrain, &sel, &err) != TP_OK) {

@@ -73,21 +73,10 @@ static void print_help(void)
           "Shows DEM (default: the sample " TP_SAMPLE_SCENE ") as shaded terrain, each patch\n"
           "at its own level of detail. In a window when there is a display; --headless renders\n"
           "offscreen (EGL, no display needed) and writes --screenshot.\n"
-          "\n"
-          "level of detail:\n"
-          "  --lod distance|error  distance: Vanek & Jezek's mindist/maxdist/exp rule; error\n"
-          "                        (default): the coarsest level whose error stays <= --tau px\n"
-          "  --tau PX              screen-space error threshold (default 1)\n"
-          "  --mindist M, --maxdist M, --exp E   distance rule (defaults: 1 and 24 patch widths, 1)\n"
-          "camera:\n"
-          "  --camera E,N,H,YAW,PITCH      position in the render grid's projected CRS (metres),\n"
-          "                                height H above the DEM's vertical datum, yaw degrees\n"
-          "                                clockwise from grid north, pitch degrees (-90: down)\n"
-          "  --camera-geo LAT,LON,H,YAW,PITCH   the same with a WGS84 position\n"
-          "  --fov DEG             vertical field of view (default 60)\n"
-          "  (default camera: the whole DEM in view, from the south)\n"
-          "output:\n"
-          "  --size WxH            window or image size (default 1280x720)\n"
+          "\n",
+          stdout);
+    tp_view_options_help(stdout);
+    fputs("output:\n"
           "  --headless            render offscreen through EGL\n"
           "  --frames N            headless: frames to render (default 1); the last is kept\n"
           "  --screenshot FILE     write the last frame (PNG, through OpenImageIO)\n"
@@ -910,6 +899,7 @@ int tp_cli_view(int argc, char** argv)
     tp_scene sc;
     if (tp_scene_load(o.path, &o.scene, &sc) != TP_EXIT_OK)
         return TP_EXIT_FAILURE;
+    tp_view_setup_warn(&sc, &o.vs, "view");
     tp_camera cam;
     if (!tp_view_setup_camera(&sc, &o.vs, &cam, "view")) {
         tp_scene_free(&sc);

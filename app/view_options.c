@@ -109,6 +109,48 @@ int tp_view_setup_check(const tp_view_setup* v, const char* cmd)
     return 0;
 }
 
+void tp_view_options_help(FILE* out)
+{
+    fputs("level of detail:\n"
+          "  --lod error|distance|full   error (default): each patch at the coarsest level whose\n"
+          "                        error projects to <= --tau px on screen; distance: Vanek &\n"
+          "                        Jezek's rule on the distance from the eye to the patch;\n"
+          "                        full: every patch at full resolution\n"
+          "  --tau PX              error mode: screen-space error threshold (default 1)\n"
+          "  --mindist METRES, --maxdist METRES   distance mode, both in metres of the render\n"
+          "                        grid: full resolution up to mindist, level 0 beyond maxdist\n"
+          "                        (defaults: 1 and 24 patch widths, e.g. 480 and 11520 m for\n"
+          "                        17-sample patches at 30 m spacing; the HUD shows them)\n"
+          "  --exp E               distance mode: exponent of the rule (default 1)\n"
+          "camera:\n"
+          "  --camera E,N,H,YAW,PITCH      position in the render grid's projected CRS (metres),\n"
+          "                                height H above the DEM's vertical datum, yaw degrees\n"
+          "                                clockwise from grid north, pitch degrees (-90: down)\n"
+          "  --camera-geo LAT,LON,H,YAW,PITCH   the same with a WGS84 position\n"
+          "  --fov DEG             vertical field of view (default 60)\n"
+          "  --size WxH            window or image size (default 1280x720)\n"
+          "  (default camera: the whole DEM in view, from the south)\n",
+          out);
+}
+
+void tp_view_setup_warn(const tp_scene* sc, const tp_view_setup* v, const char* cmd)
+{
+    tp_lod_params lp;
+    if (v->lod.mode != TP_LOD_DISTANCE ||
+        tp_lod_params_resolve(sc->terrain, &v->lod, &lp, NULL) != TP_OK)
+        return;
+    tp_terrain_info ti;
+    tp_terrain_get_info(sc->terrain, &ti);
+    /* one patch width in metres: 2^n grid steps */
+    double patch_m = (double)(ti.patch_size - 1) * fmin(fabs(ti.geotransform[1]), fabs(ti.geotransform[5]));
+    if (lp.maxdist_m < patch_m)
+        fprintf(stderr,
+                "terrapatch %s: warning: --maxdist %g m is less than one patch width (%.0f m): "
+                "every patch farther than %g m is drawn at level 0 (distances are in metres; the "
+                "defaults are %.0f and %.0f m)\n",
+                cmd, lp.maxdist_m, patch_m, lp.maxdist_m, patch_m, 24 * patch_m);
+}
+
 int tp_view_setup_camera(const tp_scene* sc, const tp_view_setup* v, tp_camera* cam,
                          const char* cmd)
 {

@@ -7,6 +7,8 @@
 
 #include "scene.h"
 
+#include <stdio.h>
+
 typedef struct tp_view_setup {
     tp_lod_params lod;      /* mode defaults to error; zeros mean the core's defaults */
     int has_camera, camera_geo;
@@ -49,6 +51,13 @@ int tp_view_setup_check(const tp_view_setup* v, const char* cmd);
  * when a --camera-geo position has no render-grid coordinates. */
 int tp_view_setup_camera(const tp_scene* sc, const tp_view_setup* v, tp_camera* cam,
                          const char* cmd);
+
+/* Prints the LoD and camera options' help (one text for view, export and bench). */
+void tp_view_options_help(FILE* out);
+
+/* Once the scene is loaded: warns on stderr (naming cmd) about LoD parameters that are valid
+ * but almost surely not meant, such as a --maxdist shorter than one patch width. */
+void tp_view_setup_warn(const tp_scene* sc, const tp_view_setup* v, const char* cmd);
 
 /* Parses "a,b,c" into n finite numbers; 1 on success. */
 int tp_parse_numbers(const char* s, double* v, int n);
