@@ -487,12 +487,13 @@ static int frame_camera(const bench_run* b, int i, tp_camera* cam, tp_camera* le
 
 /* How far the error mode's bound is from what the measured error allows: each visible complete
  * patch is taken down one level at a time, alone (neighbours as they are), while its measured
- * screen error stays <= tau; returns the frame's triangle count with every patch at that level
- * (2 * 4^k per complete patch) and the number of patches that could go down. */
-static size_t oracle_triangles(const tp_scene* sc, const tp_selection* sel, const tp_camera* cam,
-                               double tau, size_t triangles, int* coarser)
+ * screen error stays <= tau; *out is the frame's triangle count with every patch at that level
+ * (2 * 4^k per complete patch), *coarser the number of patches that could go down. */
+static tp_status oracle_triangles(const tp_scene* sc, const tp_selection* sel,
+                                  const tp_camera* cam, double tau, size_t triangles, size_t* out,
+                                  int* coarser)
 {
-    *coarser = 0;
+    int down = 0;
     for (int p = 0; p < sc->info.patch_count; p++) {
         if (!tp_selection_visible(sel, p))
             continue;
@@ -501,14 +502,21 @@ static size_t oracle_triangles(const tp_scene* sc, const tp_selection* sel, cons
         int k = tp_selection_level(sel, p), kk = k;
         if (!pi.complete)
             continue;
-        while (kk > 0 && tp_selection_patch_screen_error(sel, cam, p, kk - 1) <= tau)
-            kk--;
+        for (double px; kk > 0; kk--) {
+            tp_status s = tp_selection_patch_screen_error(sel, cam, p, kk - 1, &px);
+            if (s != TP_OK)
+                return s;
+            if (px > tau)
+                break;
+        }
         if (kk < k) {
-            (*coarser)++;
+            down++;
             triangles -= ((size_t)2 << (2 * k)) - ((size_t)2 << (2 * kk));
         }
     }
-    return triangles;
+    *out = triangles;
+    *coarser = down;
+    return TP_OK;
 }
 
 /* Renders the run's frames for one configuration (fresh renderer and selection: each starts
@@ -558,13 +566,22 @@ static int run_config(const bench_run* b, config_result* c, const char* progress
         row->gpu_bytes = st.gpu_bytes;
         if (!b->o->no_error) { /* outside the timed part of the frame */
             tp_error_measure em;
-            tp_selection_measure_error(sel, &em);
-            tp_selection_measure_screen_error(sel, &cam, &row->max_px, &row->rms_px, NULL);
+            tp_status ms = tp_selection_measure_error(sel, &em);
+            if (ms == TP_OK)
+                ms = tp_selection_measure_screen_error(sel, &cam, &row->max_px, &row->rms_px,
+                                                       NULL);
+            if (ms == TP_OK && c->lod.mode == TP_LOD_ERROR)
+                ms = oracle_triangles(b->sc, sel, &cam, c->lod.tau_px, fs.triangles,
+                                      &row->oracle_triangles, &row->oracle_patches);
+            if (ms != TP_OK) {
+                fprintf(stderr, "\nterrapatch bench: %s: measuring the error of frame %d: %s\n",
+                        progress, i + 1, tp_status_str(ms));
+                tp_selection_destroy(sel);
+                tp_renderer_destroy(r);
+                return TP_EXIT_FAILURE;
+            }
             row->max_m = em.max_error_m;
             row->rms_m = em.rms_error_m;
-            if (c->lod.mode == TP_LOD_ERROR)
-                row->oracle_triangles = oracle_triangles(b->sc, sel, &cam, c->lod.tau_px,
-                                                         fs.triangles, &row->oracle_patches);
         }
         fprintf(stderr, "\rterrapatch: bench %s: frame %d/%d, %.1f ms, %zu triangles   ", progress,
                 i + 1, frames, row->frame_ms, row->triangles);

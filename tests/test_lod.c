@@ -671,7 +671,7 @@ TEST(patch_screen_error_agrees_with_the_frame_measure)
             double e;
             if (!tp_selection_visible(s, p))
                 continue;
-            e = tp_selection_patch_screen_error(s, &cam, p, tp_selection_level(s, p));
+            ASSERT_OK(tp_selection_patch_screen_error(s, &cam, p, tp_selection_level(s, p), &e));
             worst = e > worst ? e : worst;
             {
                 /* level n moves nothing unless a neighbour is coarser (stitching) */
@@ -679,14 +679,19 @@ TEST(patch_screen_error_agrees_with_the_frame_measure)
                 tp_selection_neighbor_levels(s, p, nb);
                 for (a = 0; a < 4; ++a)
                     stitched |= nb[a] >= 0 && nb[a] < ti.n;
-                if (!stitched)
-                    EXPECT_EQ_DBL(0.0, tp_selection_patch_screen_error(s, &cam, p, ti.n));
+                if (!stitched) {
+                    double full = -1;
+                    ASSERT_OK(tp_selection_patch_screen_error(s, &cam, p, ti.n, &full));
+                    EXPECT_EQ_DBL(0.0, full);
+                }
             }
             if (lp.mode == TP_LOD_ERROR) {
+                double down = INFINITY;
                 EXPECT_LE(e, lp.tau_px);
-                if (tp_selection_level(s, p) > 0 &&
-                    tp_selection_patch_screen_error(s, &cam, p, tp_selection_level(s, p) - 1) <=
-                        lp.tau_px)
+                if (tp_selection_level(s, p) > 0)
+                    ASSERT_OK(tp_selection_patch_screen_error(s, &cam, p,
+                                                              tp_selection_level(s, p) - 1, &down));
+                if (down <= lp.tau_px)
                     coarser++;
             }
         }
@@ -695,7 +700,15 @@ TEST(patch_screen_error_agrees_with_the_frame_measure)
     /* the bound is conservative: some patch could go one level down (else this proves little) */
     tp_test_note("%d visible patch-frames could be one level coarser in error mode", coarser);
     EXPECT_GE_INT(coarser, 1);
-    EXPECT_TRUE(isnan(tp_selection_patch_screen_error(s, NULL, 0, 0)));
+    {
+        tp_camera cam = make_camera(t, &rng, 0);
+        double untouched = -1;
+        EXPECT_STATUS(TP_ERR_INVALID_ARG,
+                      tp_selection_patch_screen_error(s, NULL, 0, 0, &untouched));
+        EXPECT_STATUS(TP_ERR_INVALID_ARG,
+                      tp_selection_patch_screen_error(s, &cam, ti.patch_count, 0, &untouched));
+        EXPECT_EQ_DBL(-1.0, untouched);
+    }
     tp_selection_destroy(s);
     tp_terrain_destroy(t);
     free(src);

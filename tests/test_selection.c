@@ -9,6 +9,8 @@
  */
 #include "tp_test_geom.h"
 
+#include <pthread.h>
+
 #define PI 3.14159265358979323846
 
 typedef struct world {
@@ -422,6 +424,72 @@ TEST(measure_error_matches_rasterised_drawn_surface)
     world_destroy(&w);
 }
 
+/* Two threads measuring one const selection at once get the single-threaded results: the
+ * measure functions write nothing shared (tp_core.h: they are safe to call concurrently). */
+typedef struct measure_job {
+    const tp_selection* s;
+    const tp_camera* cam;
+    int patch_count, screen, rounds, mismatches;
+    tp_error_measure vertical;
+    double screen_max_px, screen_rms_px;
+    size_t screen_samples;
+} measure_job;
+
+static void* measure_thread(void* user)
+{
+    measure_job* j = (measure_job*)user;
+    int i;
+    for (i = 0; i < j->rounds; ++i) {
+        if (j->screen) {
+            double mx = -1, rms = -1;
+            size_t n = 0;
+            if (tp_selection_measure_screen_error(j->s, j->cam, &mx, &rms, &n) != TP_OK ||
+                mx != j->screen_max_px || rms != j->screen_rms_px || n != j->screen_samples)
+                j->mismatches++;
+        } else {
+            tp_error_measure em;
+            if (tp_selection_measure_error(j->s, &em) != TP_OK ||
+                em.max_error_m != j->vertical.max_error_m ||
+                em.rms_error_m != j->vertical.rms_error_m || em.samples != j->vertical.samples)
+                j->mismatches++;
+        }
+    }
+    return NULL;
+}
+
+TEST(measure_from_two_threads_matches_single_thread)
+{
+    world w;
+    tp_rng rng = tp_rng_seed(591);
+    tp_camera c;
+    measure_job jobs[2];
+    pthread_t th[2];
+    int i;
+    world_create(&w);
+    c = random_camera(&w, &rng);
+    random_levels(&w, &rng); /* every patch visible, mixed levels: stitched borders */
+    for (i = 0; i < 2; ++i) {
+        memset(&jobs[i], 0, sizeof jobs[i]);
+        jobs[i].s = w.s;
+        jobs[i].cam = &c;
+        jobs[i].screen = i;
+        jobs[i].rounds = 200;
+        ASSERT_OK(tp_selection_measure_error(w.s, &jobs[i].vertical));
+        ASSERT_OK(tp_selection_measure_screen_error(w.s, &c, &jobs[i].screen_max_px,
+                                                    &jobs[i].screen_rms_px,
+                                                    &jobs[i].screen_samples));
+    }
+    EXPECT_TRUE(jobs[0].vertical.max_error_m > 0);
+    EXPECT_TRUE(jobs[1].screen_samples > 0);
+    for (i = 0; i < 2; ++i)
+        ASSERT_TRUE(pthread_create(&th[i], NULL, measure_thread, &jobs[i]) == 0);
+    for (i = 0; i < 2; ++i)
+        pthread_join(th[i], NULL);
+    EXPECT_EQ_INT(0, jobs[0].mismatches);
+    EXPECT_EQ_INT(0, jobs[1].mismatches);
+    world_destroy(&w);
+}
+
 TEST(drawn_height_equals_full_resolution_at_full)
 {
     world w;
@@ -584,6 +652,7 @@ TEST(keep_above_ignores_positions_outside_terrain)
     X(neighbor_levels_are_the_adjacent_patches_levels)                                             \
     X(measure_error_zero_at_full_resolution)                                                       \
     X(measure_error_matches_rasterised_drawn_surface)                                              \
+    X(measure_from_two_threads_matches_single_thread)                                              \
     X(drawn_height_equals_full_resolution_at_full)                                                 \
     X(drawn_height_follows_stitched_triangles)                                                     \
     X(drawn_height_on_a_lone_drawn_triangle)                                                       \

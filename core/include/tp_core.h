@@ -344,7 +344,16 @@ typedef struct tp_frame_stats {
     double bound_max_error_m, bound_rms_error_m;
 } tp_frame_stats;
 
-void tp_selection_stats(const tp_selection* s, tp_frame_stats* out);
+/* Not const: it fills the selection's cache of drawn-triangle counts (and uses its scratch), so
+ * it must not run at the same time as any other call on the same selection. (It used to take a
+ * const pointer and write through it.) */
+void tp_selection_stats(tp_selection* s, tp_frame_stats* out);
+
+/* Threads: the functions below take a const selection and write nothing in it; each call
+ * allocates its own scratch and frees it before returning. Several threads may call them on
+ * one selection at once, as long as no thread changes the selection meanwhile (update,
+ * set_level, cull, clear_dirty, stats). They fail only with TP_ERR_OUT_OF_MEMORY (scratch) or
+ * TP_ERR_INVALID_ARG, writing their outputs only on success. */
 
 /* Exact vertical error of the drawn (stitched) geometry of visible patches against every drawn
  * sample they own, measured against the decoded grid (add quant_max_error_m for the source).
@@ -362,11 +371,13 @@ tp_status tp_selection_measure_screen_error(const tp_selection* s, const tp_came
                                             double* max_px, double* rms_px, size_t* samples);
 
 /* The same measure for one patch as if it alone were drawn at level k (its neighbours at
- * their current levels, its border stitched to them): the largest screen error (px) of the
- * samples its triangles cover. 0 when none is in view. Used to ask how far the error LoD's
- * bound is from the coarsest level each patch could really have. */
-double tp_selection_patch_screen_error(const tp_selection* s, const tp_camera* cam, int patch,
-                                       int k);
+ * their current levels, its border stitched to them): *out_px is the largest screen error (px)
+ * of the samples its triangles cover, 0 when none is in view. Used to ask how far the error
+ * LoD's bound is from the coarsest level each patch could really have. TP_ERR_INVALID_ARG for
+ * a NULL cam or out_px, or patch / k out of range. (It used to return the error, NaN for bad
+ * arguments.) */
+tp_status tp_selection_patch_screen_error(const tp_selection* s, const tp_camera* cam, int patch,
+                                          int k, double* out_px);
 
 /* Height of the surface actually drawn at grid coordinates (x, y) under the current levels
  * (stitching included); NaN where nothing is drawn. O(1) inside a patch, O(2^k) along a

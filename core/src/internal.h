@@ -104,4 +104,32 @@ typedef struct tp__view {
 } tp__view;
 void tp__view_from_camera(const tp_camera* cam, tp__view* v);
 
+/* ---- selections (selection.c, measure.c, query.c) ---- */
+
+/* The error-mode bound of one patch for the current view (see lod.c): a vertical error of d
+ * metres anywhere in the patch's AABB projects to at most d * num / (zmin - d * |vz|) pixels. */
+typedef struct tp__proj_bound {
+    double num;  /* f * sqrt(Amax^2 + Bmax^2) / zmin; INFINITY when the box reaches the near plane */
+    double zmin; /* smallest depth of the box's corners */
+} tp__proj_bound;
+
+/* Written only by the functions that take a non-const tp_selection*; the const ones (measure.c,
+ * query.c) only read it, so that several threads may measure one selection at once. */
+struct tp_selection {
+    const tp_terrain* t;
+    int count;
+    uint8_t* level;
+    uint8_t* next;     /* scratch of tp_selection_update: levels being selected */
+    uint8_t* visible;
+    uint8_t* dirty;
+    tp__proj_bound* proj; /* error mode: each visible patch's projection bound */
+    uint32_t* tris;    /* cached drawn-triangle count per patch, TP__STALE_TRIS when unknown */
+    tp_vertex* vbuf;   /* scratch of tp_selection_stats: one patch at level n */
+};
+#define TP__STALE_TRIS UINT32_MAX
+
+/* The patch next to patch p on side `side`, or -1 at the terrain border (selection.c). */
+int tp__neighbor(const tp_terrain* t, int p, int side);
+
+
 #endif
