@@ -3,7 +3,7 @@
 
 DEBS := cmake pkg-config gcc g++ libgdal-dev libproj-dev libgeographiclib-dev libopenimageio-dev libvtk9-dev \
         libglfw3-dev libepoxy-dev libegl-dev libgl-dev libgl1-mesa-dri libegl-mesa0 libstb-dev \
-        gnuplot-nox
+        gnuplot-nox xvfb xdotool
 JOBS := $(shell nproc 2>/dev/null || echo 2)
 SUDO := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
 SCENE := data/lf_elev_220_mt_hood_utm.tif

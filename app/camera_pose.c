@@ -10,23 +10,8 @@
 void tp_camera_pose(double e, double n, double h, double yaw_deg, double pitch_deg, double fov_deg,
                     int width_px, int height_px, tp_camera* cam)
 {
-    double y = yaw_deg * DEG, p = pitch_deg * DEG;
-    memset(cam, 0, sizeof *cam);
-    cam->position[0] = e;
-    cam->position[1] = n;
-    cam->position[2] = h;
-    cam->forward[0] = sin(y) * cos(p);
-    cam->forward[1] = cos(y) * cos(p);
-    cam->forward[2] = sin(p);
-    /* up = right x forward, right = (cos y, -sin y, 0): defined for every pitch */
-    double r[3] = {cos(y), -sin(y), 0};
-    cam->up[0] = r[1] * cam->forward[2] - r[2] * cam->forward[1];
-    cam->up[1] = r[2] * cam->forward[0] - r[0] * cam->forward[2];
-    cam->up[2] = r[0] * cam->forward[1] - r[1] * cam->forward[0];
-    cam->fov_y_rad = fov_deg * DEG;
-    cam->viewport_w_px = width_px;
-    cam->viewport_h_px = height_px;
-    cam->near_m = 1;
+    double pos[3] = {e, n, h};
+    tp_camera_from_pose(pos, yaw_deg, pitch_deg, fov_deg, width_px, height_px, cam);
 }
 
 void tp_camera_default(const tp_scene* sc, double fov_deg, int width_px, int height_px,
@@ -60,10 +45,8 @@ int tp_camera_from_option(const tp_scene* sc, int geo, const double v[5], double
 
 void tp_camera_text(const tp_scene* sc, const tp_camera* cam, char* out, size_t cap)
 {
-    double yaw = fmod(atan2(cam->forward[0], cam->forward[1]) / DEG + 360, 360);
-    double l = sqrt(cam->forward[0] * cam->forward[0] + cam->forward[1] * cam->forward[1] +
-                    cam->forward[2] * cam->forward[2]);
-    double pitch = asin(cam->forward[2] / l) / DEG, lat, lon;
+    double yaw, pitch, lat, lon;
+    tp_camera_get_pose(cam, &yaw, &pitch);
     int at = snprintf(out, cap, "--camera %.3f,%.3f,%.2f,%.2f,%.2f", cam->position[0],
                       cam->position[1], cam->position[2], yaw, pitch);
     if (at > 0 && (size_t)at < cap &&

@@ -305,6 +305,7 @@ static long count_magenta_rows(const image* im, int y0, int y1, int* fx, int* fy
 
 typedef struct view_stats {
     long triangles, patches_drawn, patches_culled, draw_calls;
+    double max_error_px;
     int levels[TP_MAX_LEVELS + 1];
     int level_count;
 } view_stats;
@@ -332,6 +333,7 @@ static void stats_read(const char* dir, const char* name, view_stats* s)
     s->patches_drawn = (long)json_number(text, "patches_drawn");
     s->patches_culled = (long)json_number(text, "patches_culled");
     s->draw_calls = (long)json_number(text, "draw_calls");
+    s->max_error_px = json_number(text, "max_error_px");
     p = strstr(text, "\"levels\":");
     ASSERT_TRUE(p != NULL);
     p = strchr(p, '[');
@@ -401,27 +403,10 @@ static void core_free(core_scene* cs)
     memset(cs, 0, sizeof *cs);
 }
 
-/* app/cmd_view.c camera_from, with the CLI's defaults: fov 60 degrees, near 1 m, no far. */
+/* The CLI's camera for a view: the core's pose, fov 60 degrees, near 1 m, no far. */
 static void camera_from(const view_spec* v, tp_camera* cam)
 {
-    double y = v->cam[3] * DEG, p = v->cam[4] * DEG, r[3];
-    memset(cam, 0, sizeof *cam);
-    cam->position[0] = v->cam[0];
-    cam->position[1] = v->cam[1];
-    cam->position[2] = v->cam[2];
-    cam->forward[0] = sin(y) * cos(p);
-    cam->forward[1] = cos(y) * cos(p);
-    cam->forward[2] = sin(p);
-    r[0] = cos(y);
-    r[1] = -sin(y);
-    r[2] = 0;
-    cam->up[0] = r[1] * cam->forward[2] - r[2] * cam->forward[1];
-    cam->up[1] = r[2] * cam->forward[0] - r[0] * cam->forward[2];
-    cam->up[2] = r[0] * cam->forward[1] - r[1] * cam->forward[0];
-    cam->fov_y_rad = 60 * DEG;
-    cam->viewport_w_px = v->w;
-    cam->viewport_h_px = v->h;
-    cam->near_m = 1;
+    tp_camera_from_pose(v->cam, v->cam[3], v->cam[4], 60, v->w, v->h, cam);
 }
 
 static tp_selection* core_select(const core_scene* cs, const view_spec* v)
@@ -1134,6 +1119,218 @@ TEST(multi_draw_equals_one_draw_per_patch_crater_lake_full_from_above)
 #endif
 }
 
+/* ---------------------------------------------------------------------------------------------
+ * Vertical exaggeration reaches the core: culling, the error LoD, picking.
+ */
+static void stats_for(const char* dem, const view_spec* v, const char* exag, view_stats* st)
+{
+    const char* dir = make_tmp_dir();
+    args a;
+    args_view(&a);
+    args_add(&a, "--stats-json");
+    args_add(&a, "%s/s.json", dir);
+    if (exag) {
+        args_add(&a, "--exaggeration");
+        args_add(&a, "%s", exag);
+    }
+    args_add_view(&a, dem, v);
+    run_ok(&a, dir);
+    stats_read(dir, "s.json", st);
+}
+
+TEST(exaggeration_keeps_patches_that_rise_into_view)
+{
+    REQUIRE_IO();
+#ifndef TP_TEST_NO_IO
+    {
+        /* 3600 m over the south of Mt Hood (summit 3426 m) looking 32 degrees up: the true
+         * terrain is below the view, drawn three times as high it rises into it */
+        view_spec v = {{602000, 5008000, 3600, 0, 32}, 320, 180, {TP_LOD_DEFAULT, 0, 0, 0, 0}, 0};
+        view_stats flat, tall;
+        stats_for(sample_dem(), &v, NULL, &flat);
+        stats_for(sample_dem(), &v, "3", &tall);
+        EXPECT_EQ_INT(0, (int)flat.patches_drawn);
+        EXPECT_GT((double)tall.patches_drawn, 0);
+    }
+#endif
+}
+
+TEST(exaggeration_error_lod_keeps_tau_on_screen)
+{
+    REQUIRE_IO();
+#ifndef TP_TEST_NO_IO
+    {
+        view_spec v = {{598000, 5012000, 4500, 15, -35}, 640, 360, {TP_LOD_ERROR, 0, 0, 0, 1}, 0};
+        view_stats flat, tall;
+        stats_for(sample_dem(), &v, NULL, &flat);
+        stats_for(sample_dem(), &v, "3", &tall);
+        tp_test_note("triangles: %.0f unexaggerated, %.0f at x3; measured max %.3f px at x3",
+                     (double)flat.triangles, (double)tall.triangles, tall.max_error_px);
+        EXPECT_GT((double)tall.triangles, 1.2 * (double)flat.triangles);
+        EXPECT_LE(tall.max_error_px, 1.0 + 1e-9);
+    }
+#endif
+}
+
+/* --pick prints the ground point under a pixel; it must lie on the drawn surface (within
+ * 1 cm) and project back onto the pixel, also with exaggeration. */
+static void expect_picks_on_surface(const char* exag, double zs)
+{
+    view_spec v = {{598000, 5012000, 4500, 15, -35}, 640, 360, {TP_LOD_ERROR, 0, 0, 0, 1}, 0};
+    v.cam[2] *= zs; /* above the exaggerated mountains too */
+    const char* dir = make_tmp_dir();
+    core_scene cs;
+    tp_selection* sel;
+    tp_camera cam;
+    run_result rr;
+    args a;
+    int i, hits = 0;
+    const char* line;
+    args_view(&a);
+    for (i = 0; i < 12; ++i) {
+        args_add(&a, "--pick");
+        args_add(&a, "%d,%d", 25 + 53 * i, 120 + 19 * (i % 12));
+    }
+    if (exag) {
+        args_add(&a, "--exaggeration");
+        args_add(&a, "%s", exag);
+    }
+    args_add_view(&a, sample_dem(), &v);
+    run(&a, dir, &rr);
+    ASSERT_EQ_INT(0, rr.exit_code);
+    core_load(sample_dem(), &cs);
+    ASSERT_OK(tp_selection_create(cs.t, &sel, NULL));
+    ASSERT_OK(tp_selection_set_vertical_scale(sel, zs));
+    camera_from(&v, &cam);
+    ASSERT_OK(tp_selection_update(sel, &cam, &v.lod, NULL));
+    for (line = rr.out; (line = strstr(line, "pick ")) != NULL; ++line) {
+        double px, py, e, n, h, x, y, back[2], p[3];
+        if (sscanf(line, "pick %lf,%lf: E %lf N %lf height %lf", &px, &py, &e, &n, &h) != 5)
+            continue;
+        ++hits;
+        tp_terrain_world_to_grid(cs.t, e, n, &x, &y);
+        EXPECT_NEAR(h, tp_selection_drawn_height_at(sel, x, y), 0.01);
+        p[0] = e, p[1] = n, p[2] = h * zs;
+        ASSERT_TRUE(tp_camera_project(&cam, p, back, NULL));
+        EXPECT_NEAR(px, back[0], 0.05);
+        EXPECT_NEAR(py, back[1], 0.05);
+    }
+    tp_test_note("%d of 12 picks hit the ground", hits);
+    EXPECT_GE(hits, 10);
+    tp_selection_destroy(sel);
+    core_free(&cs);
+}
+
+TEST(picked_points_lie_on_the_drawn_surface)
+{
+    REQUIRE_IO();
+#ifndef TP_TEST_NO_IO
+    expect_picks_on_surface(NULL, 1);
+#endif
+}
+
+TEST(picked_points_lie_on_the_exaggerated_surface)
+{
+    REQUIRE_IO();
+#ifndef TP_TEST_NO_IO
+    expect_picks_on_surface("2.5", 2.5);
+#endif
+}
+
+/* ---------------------------------------------------------------------------------------------
+ * The HUD fits the window: looking at the sky over a magenta background, no HUD pixel may
+ * reach the last 4 columns (a cut line runs to the edge).
+ */
+static void expect_hud_fits(int w, int h)
+{
+    const char* dir = make_tmp_dir();
+    image im;
+    args a;
+    int x, y;
+    long edge = 0, text = 0;
+    args_view(&a);
+    args_add(&a, "--headless");
+    args_add(&a, "--hud");
+    args_add(&a, "--size");
+    args_add(&a, "%dx%d", w, h);
+    args_add(&a, "--camera");
+    args_add(&a, "600000,5012000,3600,0,60");
+    args_add(&a, "--clear-color");
+    args_add(&a, "1,0,1");
+    args_add(&a, "--measure");
+    args_add(&a, "595000,5018000,600000,5014000");
+    args_add(&a, "--screenshot");
+    args_add(&a, "%s/hud.png", dir);
+    args_add(&a, "%s", sample_dem());
+    run_ok(&a, dir);
+    image_read(dir, "hud.png", &im);
+    for (y = 0; y < im.h; ++y)
+        for (x = 0; x < im.w; ++x)
+            if (!is_magenta(im.px + 4 * ((size_t)y * im.w + x))) {
+                ++text;
+                edge += x >= im.w - 4;
+            }
+    tp_test_note("%dx%d: %ld HUD pixels, %ld in the last 4 columns", w, h, text, edge);
+    EXPECT_GT((double)text, 1000);
+    EXPECT_EQ_INT(0, (int)edge);
+    free(im.px);
+}
+
+TEST(hud_is_not_cut_at_1024x768)
+{
+    REQUIRE_IO();
+#ifndef TP_TEST_NO_IO
+    expect_hud_fits(1024, 768);
+#endif
+}
+
+TEST(hud_is_not_cut_at_1280x720)
+{
+    REQUIRE_IO();
+#ifndef TP_TEST_NO_IO
+    expect_hud_fits(1280, 720);
+#endif
+}
+
+/* A frame without terrain says so on stderr (and still exits 0). */
+TEST(frame_without_terrain_says_so)
+{
+    REQUIRE_IO();
+#ifndef TP_TEST_NO_IO
+    {
+        const char* dir = make_tmp_dir();
+        char asc[1024];
+        FILE* f;
+        run_result rr;
+        args a;
+        args_view(&a);
+        args_add(&a, "--headless");
+        args_add(&a, "--size");
+        args_add(&a, "64x36");
+        args_add(&a, "--camera");
+        args_add(&a, "600000,5012000,3600,0,60");
+        args_add(&a, "%s", sample_dem());
+        run(&a, dir, &rr);
+        EXPECT_EQ_INT(0, rr.exit_code);
+        EXPECT_CONTAINS(rr.err, "the frame shows no terrain: the camera looks away");
+        /* a 1x1 DEM has nothing to draw */
+        snprintf(asc, sizeof asc, "%s/one.asc", dir);
+        f = fopen(asc, "w");
+        ASSERT_TRUE(f != NULL);
+        fputs("ncols 1\nnrows 1\nxllcorner 0\nyllcorner 0\ncellsize 30\nNODATA_value -9999\n100\n", f);
+        fclose(f);
+        args_view(&a);
+        args_add(&a, "--headless");
+        args_add(&a, "--size");
+        args_add(&a, "64x36");
+        args_add(&a, "%s", asc);
+        run(&a, dir, &rr);
+        EXPECT_EQ_INT(0, rr.exit_code);
+        EXPECT_CONTAINS(rr.err, "the frame shows no terrain: the DEM has no 2x2 block");
+    }
+#endif
+}
+
 #define TESTS(X)                                                                                   \
     X(no_cracks_top_down_distance_lod)                                                             \
     X(no_cracks_oblique_distance_lod)                                                              \
@@ -1151,6 +1348,13 @@ TEST(multi_draw_equals_one_draw_per_patch_crater_lake_full_from_above)
     X(unknown_lod_mode_exits_2)                                                                    \
     X(missing_dem_exits_1)                                                                         \
     X(multi_draw_equals_one_draw_per_patch_default_view)                                           \
-    X(multi_draw_equals_one_draw_per_patch_crater_lake_full_from_above)
+    X(multi_draw_equals_one_draw_per_patch_crater_lake_full_from_above)                            \
+    X(exaggeration_keeps_patches_that_rise_into_view)                                              \
+    X(exaggeration_error_lod_keeps_tau_on_screen)                                                  \
+    X(picked_points_lie_on_the_drawn_surface)                                                      \
+    X(picked_points_lie_on_the_exaggerated_surface)                                                \
+    X(hud_is_not_cut_at_1024x768)                                                                  \
+    X(hud_is_not_cut_at_1280x720)                                                                  \
+    X(frame_without_terrain_says_so)
 
 TP_TEST_MAIN(TESTS)

@@ -291,6 +291,43 @@ typedef struct tp_camera {
     double near_m, far_m;       /* 0 near means 1 m; 0 far means no far plane */
 } tp_camera;
 
+/* The camera of a pose: eye position (world), yaw in degrees clockwise from grid north, pitch
+ * in degrees (-90 looks straight down, +90 straight up), vertical field of view in degrees (0
+ * means 60), viewport in pixels (0 means 1280 x 720); near plane 1 m, no far plane. The up
+ * vector is defined for every pitch (it is right x forward with right = (cos yaw, -sin yaw, 0)). */
+void tp_camera_from_pose(const double position[3], double yaw_deg, double pitch_deg,
+                         double fov_y_deg, int width_px, int height_px, tp_camera* out);
+
+/* The pose of a camera: yaw in [0, 360) clockwise from grid north, pitch in [-90, 90]. */
+void tp_camera_get_pose(const tp_camera* cam, double* yaw_deg, double* pitch_deg);
+
+/* The camera's orthonormal frame and intrinsics, defaults applied. */
+typedef struct tp_camera_frame {
+    double position[3];
+    double forward[3], right[3], up[3]; /* unit vectors, world frame */
+    double focal_px;                    /* pixels per unit of tangent: (h/2) / tan(fov_y/2) */
+    int width_px, height_px;
+    double near_m, far_m;               /* far 0: none */
+} tp_camera_frame;
+
+void tp_camera_get_frame(const tp_camera* cam, tp_camera_frame* out);
+
+/* Projects a world point to pixel coordinates (x to the right, y down, (0, 0) the top-left
+ * corner of the image, (w/2, h/2) its centre). Returns 1 and writes pixel[2] (and *depth_m, the
+ * distance along the view axis, if not NULL) when the point is in front of the near plane, else
+ * returns 0 and writes nothing. The pixel may lie outside the viewport. */
+int tp_camera_project(const tp_camera* cam, const double world[3], double pixel[2],
+                      double* depth_m);
+
+/* Unit direction (world frame) of the ray from the eye through pixel (x, y), the inverse of
+ * tp_camera_project. */
+void tp_camera_pixel_ray(const tp_camera* cam, double x_px, double y_px, double dir[3]);
+
+/* Column-major 4x4 projection * view matrix of the camera with its eye at the origin (callers
+ * subtract the eye position from world positions first, so that floats keep their precision),
+ * OpenGL clip conventions, depth range [near, far_m]; far_m must be > near. */
+void tp_camera_view_projection(const tp_camera* cam, double far_m, double out[16]);
+
 typedef struct tp_frustum {
     double planes[6][4]; /* a*E + b*N + c*h + d >= 0 inside; unit normals */
     int plane_count;     /* 5 without a far plane, else 6 */
@@ -379,15 +416,42 @@ tp_status tp_selection_measure_screen_error(const tp_selection* s, const tp_came
 tp_status tp_selection_patch_screen_error(const tp_selection* s, const tp_camera* cam, int patch,
                                           int k, double* out_px);
 
+/* Vertical exaggeration: the surface is drawn with heights times scale (> 0; 1 by default).
+ * Everything that depends on the drawn geometry follows it: culling boxes, the error LoD's
+ * projection (tau holds on screen), the screen-error measures, tp_selection_keep_above and
+ * tp_selection_ray_cast, whose positions are in drawn space (E, N, height * scale). Errors
+ * in metres (tp_frame_stats, tp_selection_measure_error) and tp_selection_drawn_height_at stay
+ * true heights. TP_ERR_INVALID_ARG for a scale that is not a finite number > 0 (below 1e6). */
+tp_status tp_selection_set_vertical_scale(tp_selection* s, double scale);
+double tp_selection_vertical_scale(const tp_selection* s);
+
 /* Height of the surface actually drawn at grid coordinates (x, y) under the current levels
  * (stitching included); NaN where nothing is drawn. O(1) inside a patch, O(2^k) along a
  * stitched border. */
 double tp_selection_drawn_height_at(const tp_selection* s, double x, double y);
 
-/* Camera collision: raises position[2] so the eye is at least clearance_m above both the
- * full-resolution surface and the drawn surface at its (E, N). Returns 1 if it moved the eye,
+/* Camera collision: raises position[2] (drawn space) so the eye is at least clearance_m above
+ * both the full-resolution surface and the drawn surface at its (E, N), heights times the
+ * vertical scale. Returns 1 if it moved the eye,
  * 0 if not (also outside the terrain). */
 int tp_selection_keep_above(const tp_selection* s, double position[3], double clearance_m);
+
+/* Where a ray meets the drawn surface. */
+typedef struct tp_ray_hit {
+    int hit;            /* 1 if the ray meets a drawn triangle */
+    double position[3]; /* E, N and the TRUE height of the drawn surface there */
+    double distance_m;  /* from the origin along the ray, in drawn space */
+    int patch;          /* the patch hit; -1 if none */
+} tp_ray_hit;
+
+/* Casts the ray origin + t * dir (t >= 0; drawn space: heights times the vertical scale; dir
+ * need not be unit) against the triangles the selection draws (levels and crack removal as
+ * drawn), culled patches included, and writes the nearest hit (out->hit = 0 if none). Exact up
+ * to rounding: the hit lies on a drawn triangle. Walks only the patches the ray's ground track
+ * crosses, nearest first, skipping those whose box it passes above or below.
+ * TP_ERR_INVALID_ARG for a zero or NaN direction or a NaN origin, TP_ERR_OUT_OF_MEMORY. */
+tp_status tp_selection_ray_cast(const tp_selection* s, const double origin[3],
+                                const double dir[3], tp_ray_hit* out);
 
 #ifdef __cplusplus
 }

@@ -1,6 +1,11 @@
-/* camera.c - camera frame and view-frustum culling of patch AABBs (Vanek & Jezek section 3;
- * plane tests with the n- and p-vertex of the box). All in doubles, in world coordinates. */
+/* camera.c - the camera's maths, once: pose to frame, projection and its inverse (pick rays),
+ * the view-projection matrix the renderer uploads, and view-frustum culling of patch AABBs
+ * (Vanek & Jezek section 3; plane tests with the n- and p-vertex of the box). All in doubles,
+ * in world coordinates. */
 #include "internal.h"
+
+#include <assert.h>
+#include <string.h>
 
 static void normalize(double v[3])
 {
@@ -107,4 +112,101 @@ tp_cull tp_frustum_test_aabb(const tp_frustum* f, const double mn[3], const doub
             result = TP_CULL_INTERSECTS;
     }
     return result;
+}
+
+#define DEG (3.14159265358979323846 / 180.0)
+
+void tp_camera_from_pose(const double position[3], double yaw_deg, double pitch_deg,
+                         double fov_y_deg, int width_px, int height_px, tp_camera* out)
+{
+    assert(position && out);
+    double y = yaw_deg * DEG, p = pitch_deg * DEG;
+    memset(out, 0, sizeof *out);
+    for (int i = 0; i < 3; i++)
+        out->position[i] = position[i];
+    out->forward[0] = sin(y) * cos(p);
+    out->forward[1] = cos(y) * cos(p);
+    out->forward[2] = sin(p);
+    double r[3] = {cos(y), -sin(y), 0};
+    cross(r, out->forward, out->up);
+    out->fov_y_rad = (fov_y_deg > 0 ? fov_y_deg : 60) * DEG;
+    out->viewport_w_px = width_px;
+    out->viewport_h_px = height_px;
+    out->near_m = 1;
+}
+
+void tp_camera_get_pose(const tp_camera* cam, double* yaw_deg, double* pitch_deg)
+{
+    assert(cam && yaw_deg && pitch_deg);
+    tp__view v;
+    tp__view_from_camera(cam, &v);
+    double yaw = atan2(v.fwd[0], v.fwd[1]) / DEG;
+    *yaw_deg = yaw < 0 ? yaw + 360 : yaw;
+    if (*yaw_deg >= 360)
+        *yaw_deg = 0;
+    *pitch_deg = asin(fmax(-1, fmin(1, v.fwd[2]))) / DEG;
+}
+
+void tp_camera_get_frame(const tp_camera* cam, tp_camera_frame* out)
+{
+    assert(cam && out);
+    tp__view v;
+    tp__view_from_camera(cam, &v);
+    for (int i = 0; i < 3; i++) {
+        out->position[i] = v.pos[i];
+        out->forward[i] = v.fwd[i];
+        out->right[i] = v.right[i];
+        out->up[i] = v.up[i];
+    }
+    out->focal_px = v.f_px;
+    out->width_px = (int)v.w_px;
+    out->height_px = (int)v.h_px;
+    out->near_m = v.near_m;
+    out->far_m = v.far_m;
+}
+
+int tp_camera_project(const tp_camera* cam, const double world[3], double pixel[2],
+                      double* depth_m)
+{
+    assert(cam && world && pixel);
+    tp__view v;
+    tp__view_from_camera(cam, &v);
+    double d[3] = {world[0] - v.pos[0], world[1] - v.pos[1], world[2] - v.pos[2]};
+    double z = d[0] * v.fwd[0] + d[1] * v.fwd[1] + d[2] * v.fwd[2];
+    if (!(z >= v.near_m))
+        return 0;
+    pixel[0] = v.w_px / 2 + v.f_px * (d[0] * v.right[0] + d[1] * v.right[1] + d[2] * v.right[2]) / z;
+    pixel[1] = v.h_px / 2 - v.f_px * (d[0] * v.up[0] + d[1] * v.up[1] + d[2] * v.up[2]) / z;
+    if (depth_m)
+        *depth_m = z;
+    return 1;
+}
+
+void tp_camera_pixel_ray(const tp_camera* cam, double x_px, double y_px, double dir[3])
+{
+    assert(cam && dir);
+    tp__view v;
+    tp__view_from_camera(cam, &v);
+    double a = (x_px - v.w_px / 2) / v.f_px, b = -(y_px - v.h_px / 2) / v.f_px;
+    for (int i = 0; i < 3; i++)
+        dir[i] = v.fwd[i] + a * v.right[i] + b * v.up[i];
+    normalize(dir);
+}
+
+void tp_camera_view_projection(const tp_camera* cam, double far_m, double out[16])
+{
+    assert(cam && out);
+    tp__view v;
+    tp__view_from_camera(cam, &v);
+    double t = 1 / v.tan_y, a = v.w_px / v.h_px, n = v.near_m;
+    double A = (far_m + n) / (n - far_m), B = 2 * far_m * n / (n - far_m);
+    /* rows of the view matrix: right, up, -forward; projection diag(t/a, t, A) and -1 in w */
+    memset(out, 0, 16 * sizeof *out);
+    for (int c = 0; c < 3; c++) {
+        out[c * 4 + 0] = t / a * v.right[c];
+        out[c * 4 + 1] = t * v.up[c];
+        out[c * 4 + 2] = -A * v.fwd[c];
+        out[c * 4 + 3] = v.fwd[c];
+    }
+    out[14] = B;
 }

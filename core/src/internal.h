@@ -125,7 +125,11 @@ struct tp_selection {
     tp__proj_bound* proj; /* error mode: each visible patch's projection bound */
     uint32_t* tris;    /* cached drawn-triangle count per patch, TP__STALE_TRIS when unknown */
     tp_vertex* vbuf;   /* scratch of tp_selection_stats: one patch at level n */
+    double zscale;     /* vertical exaggeration of the drawn surface (1: none) */
 };
+
+/* Patch p's AABB as drawn: heights times the selection's vertical scale (selection.c). */
+void tp__drawn_box(const tp_selection* s, int p, tp_patch_info* pi);
 #define TP__STALE_TRIS UINT32_MAX
 
 /* The patch next to patch p on side `side`, or -1 at the terrain border (selection.c). */

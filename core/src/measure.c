@@ -15,6 +15,7 @@ typedef struct {
     const tp_terrain* t;
     uint8_t* seen; /* one bit per grid sample; NULL when measuring one patch */
     const tp__view* view;
+    double zscale; /* screen measures: the drawn surface's vertical exaggeration */
     double max, sum;
     size_t count;
     tp_vertex* vbuf; /* one patch at level n */
@@ -87,8 +88,8 @@ static void screen_sample(int x, int y, double z, void* user)
     tp_terrain_grid_to_world(m->t, x, y, &ws[0], &ws[1]);
     wd[0] = ws[0];
     wd[1] = ws[1];
-    ws[2] = q * m->t->step;
-    wd[2] = z * m->t->step;
+    ws[2] = q * m->t->step * m->zscale;
+    wd[2] = z * m->t->step * m->zscale;
     to_camera(v, ws, cs);
     /* Only samples inside the view and in front of the near plane count. */
     if (cs[2] < v->near_m || (v->far_m > 0 && cs[2] > v->far_m) ||
@@ -138,6 +139,7 @@ tp_status tp_selection_patch_screen_error(const tp_selection* s, const tp_camera
     tp__view_from_camera(cam, &v);
     measure m = {0};
     m.view = &v;
+    m.zscale = s->zscale;
     tp_status st = measure_init(&m, s->t, 0);
     if (st != TP_OK)
         return st;
@@ -184,6 +186,7 @@ tp_status tp_selection_measure_screen_error(const tp_selection* s, const tp_came
     tp__view_from_camera(cam, &v);
     measure m = {0};
     m.view = &v;
+    m.zscale = s->zscale;
     tp_status st = measure_drawn(s, &m, screen_sample);
     if (st != TP_OK)
         return st;

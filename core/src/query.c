@@ -3,6 +3,10 @@
  */
 #include "internal.h"
 
+#include <assert.h>
+#include <stdlib.h>
+#include <string.h>
+
 /* Height (steps) of the stitched triangle of cell (cx, cy) half h containing (x, y), if any. */
 static int cell_height(const tp_terrain* t, int p, int k, const int nb[4], int cx, int cy,
                        double x, double y, double* z)
@@ -94,9 +98,156 @@ int tp_selection_keep_above(const tp_selection* s, double position[3], double cl
     double x, y;
     tp_terrain_world_to_grid(s->t, position[0], position[1], &x, &y);
     double a = tp_terrain_height_at(s->t, x, y), b = tp_selection_drawn_height_at(s, x, y);
-    double ground = isnan(a) ? b : isnan(b) ? a : (a > b ? a : b);
+    double ground = (isnan(a) ? b : isnan(b) ? a : (a > b ? a : b)) * s->zscale;
     if (isnan(ground) || position[2] >= ground + clearance_m)
         return 0;
     position[2] = ground + clearance_m;
     return 1;
+}
+
+/* ---------------------------------------------------------------------------------------------
+ * Ray casting against the drawn surface: walk the patches the ray's ground track crosses, in
+ * order along the ray (a 2D DDA over the patch grid, as Amanatides & Woo walk voxels), skip
+ * those whose drawn box the ray passes above or below, and intersect the drawn triangles of
+ * the others (Moller & Trumbore). A patch's triangles stay inside its own square, even after
+ * crack removal, so the first patch with a hit holds the nearest hit.
+ */
+
+/* Clips [*t0, *t1] to the t where o + t d lies in [lo, hi]; 0 if empty. */
+static int slab(double o, double d, double lo, double hi, double* t0, double* t1)
+{
+    if (d == 0)
+        return o >= lo && o <= hi;
+    double a = (lo - o) / d, b = (hi - o) / d;
+    if (a > b) {
+        double c = a;
+        a = b;
+        b = c;
+    }
+    *t0 = a > *t0 ? a : *t0;
+    *t1 = b < *t1 ? b : *t1;
+    return *t0 <= *t1;
+}
+
+/* Nearest t >= 0 where the ray (origin at 0, direction d) meets triangle (a, b, c), or -1.
+ * Edges and vertices count, so a ray through a shared edge hits one of its triangles. */
+static double ray_triangle(const double d[3], const double a[3], const double b[3],
+                           const double c[3])
+{
+    double e1[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
+    double e2[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
+    double p[3] = {d[1] * e2[2] - d[2] * e2[1], d[2] * e2[0] - d[0] * e2[2],
+                   d[0] * e2[1] - d[1] * e2[0]};
+    double det = e1[0] * p[0] + e1[1] * p[1] + e1[2] * p[2];
+    if (det == 0)
+        return -1;
+    double s[3] = {-a[0], -a[1], -a[2]};
+    double u = (s[0] * p[0] + s[1] * p[1] + s[2] * p[2]) / det;
+    double q[3] = {s[1] * e1[2] - s[2] * e1[1], s[2] * e1[0] - s[0] * e1[2],
+                   s[0] * e1[1] - s[1] * e1[0]};
+    double v = (d[0] * q[0] + d[1] * q[1] + d[2] * q[2]) / det;
+    const double eps = 1e-12;
+    if (u < -eps || v < -eps || u + v > 1 + eps)
+        return -1;
+    double t = (e2[0] * q[0] + e2[1] * q[1] + e2[2] * q[2]) / det;
+    return t >= 0 ? t : -1;
+}
+
+/* Nearest hit with patch p's drawn triangles (relative to origin o), or -1. */
+static double ray_patch(const tp_selection* s, int p, const double o[3], const double d[3],
+                        tp_vertex* vbuf, uint32_t* tbuf, size_t vcap, size_t tcap)
+{
+    const tp_terrain* t = s->t;
+    int k = s->level[p], nb[4];
+    tp_selection_neighbor_levels(s, p, nb);
+    tp_patch_vertices(t, p, k, nb, vbuf, vcap);
+    size_t nt = tp_patch_triangles(vbuf, k, tbuf, tcap);
+    double best = -1;
+    for (size_t i = 0; i < nt; i++) {
+        double w[3][3];
+        for (int j = 0; j < 3; j++) {
+            const tp_vertex* v = &vbuf[tbuf[3 * i + j]];
+            tp_terrain_grid_to_world(t, v->x, v->y, &w[j][0], &w[j][1]);
+            w[j][0] -= o[0];
+            w[j][1] -= o[1];
+            w[j][2] = (double)v->z_m * s->zscale - o[2];
+        }
+        double h = ray_triangle(d, w[0], w[1], w[2]);
+        if (h >= 0 && (best < 0 || h < best))
+            best = h;
+    }
+    return best;
+}
+
+tp_status tp_selection_ray_cast(const tp_selection* s, const double origin[3],
+                                const double dir[3], tp_ray_hit* out)
+{
+    assert(s && origin && dir && out);
+    const tp_terrain* t = s->t;
+    double len = sqrt(dir[0] * dir[0] + dir[1] * dir[1] + dir[2] * dir[2]);
+    if (!(len > 0) || isnan(origin[0] + origin[1] + origin[2]))
+        return TP_ERR_INVALID_ARG;
+    double d[3] = {dir[0] / len, dir[1] / len, dir[2] / len};
+    const double* gt = t->info.geotransform;
+    double x0, y0, gx = d[0] / gt[1], gy = d[1] / gt[5];
+    tp_terrain_world_to_grid(t, origin[0], origin[1], &x0, &y0);
+    double zlo = t->info.min_height_m * s->zscale, zhi = t->info.max_height_m * s->zscale;
+    double t0 = 0, t1 = INFINITY;
+    memset(out, 0, sizeof *out);
+    out->patch = -1;
+    if (!slab(x0, gx, 0, t->w - 1, &t0, &t1) || !slab(y0, gy, 0, t->h - 1, &t0, &t1) ||
+        !slab(origin[2], d[2], fmin(zlo, zhi), fmax(zlo, zhi), &t0, &t1))
+        return TP_OK;
+
+    size_t v = ((size_t)1 << t->n) + 1, vcap = v * v, tcap = 2 * (v - 1) * (v - 1);
+    tp_vertex* vbuf = malloc(vcap * sizeof *vbuf);
+    uint32_t* tbuf = malloc(3 * tcap * sizeof *tbuf);
+    if (!vbuf || !tbuf) {
+        free(vbuf);
+        free(tbuf);
+        return TP_ERR_OUT_OF_MEMORY;
+    }
+    int pc = t->info.patch_cols, pr = t->info.patch_rows, ps = t->ps;
+    double xs = x0 + t0 * gx, ys = y0 + t0 * gy;
+    int px = (int)floor(xs / ps), py = (int)floor(ys / ps);
+    px = px < 0 ? 0 : px >= pc ? pc - 1 : px;
+    py = py < 0 ? 0 : py >= pr ? pr - 1 : py;
+    int sx = gx > 0 ? 1 : gx < 0 ? -1 : 0, sy = gy > 0 ? 1 : gy < 0 ? -1 : 0;
+    /* t at which the ray leaves the current column / row of patches */
+    double tx = sx ? ((px + (sx > 0)) * (double)ps - x0) / gx : INFINITY;
+    double ty = sy ? ((py + (sy > 0)) * (double)ps - y0) / gy : INFINITY;
+    double enter = t0, found = -1;
+    while (found < 0 && enter <= t1 && px >= 0 && py >= 0 && px < pc && py < pr) {
+        double leave = fmin(fmin(tx, ty), t1);
+        int p = py * pc + px;
+        tp_patch_info pi;
+        tp__drawn_box(s, p, &pi);
+        double za = origin[2] + enter * d[2], zb = origin[2] + leave * d[2];
+        double slack = 1e-6 * (1 + fabs(za) + fabs(zb));
+        if (fmin(za, zb) <= pi.aabb_max[2] + slack && fmax(za, zb) >= pi.aabb_min[2] - slack)
+            found = ray_patch(s, p, origin, d, vbuf, tbuf, vcap, tcap);
+        if (found >= 0) {
+            out->patch = p;
+            break;
+        }
+        if (tx < ty) {
+            px += sx;
+            enter = tx;
+            tx += ps / fabs(gx);
+        } else {
+            py += sy;
+            enter = ty;
+            ty += ps / fabs(gy);
+        }
+    }
+    free(vbuf);
+    free(tbuf);
+    if (found >= 0) {
+        out->hit = 1;
+        out->distance_m = found;
+        out->position[0] = origin[0] + found * d[0];
+        out->position[1] = origin[1] + found * d[1];
+        out->position[2] = (origin[2] + found * d[2]) / s->zscale;
+    }
+    return TP_OK;
 }

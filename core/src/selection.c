@@ -6,6 +6,8 @@
  */
 #include "internal.h"
 
+#include <assert.h>
+
 #include <stdlib.h>
 #include <string.h>
 
@@ -61,6 +63,7 @@ tp_status tp_selection_create(const tp_terrain* t, tp_selection** out, tp_error*
     memset(s->dirty, 1, (size_t)count);
     for (int p = 0; p < count; p++)
         s->tris[p] = TP__STALE_TRIS;
+    s->zscale = 1;
     *out = s;
     return TP_OK;
 }
@@ -122,13 +125,35 @@ tp_status tp_selection_set_level(tp_selection* s, int patch, int k)
     return TP_OK;
 }
 
+tp_status tp_selection_set_vertical_scale(tp_selection* s, double scale)
+{
+    assert(s);
+    if (!(scale > 0 && scale < 1e6))
+        return TP_ERR_INVALID_ARG;
+    s->zscale = scale;
+    return TP_OK;
+}
+
+double tp_selection_vertical_scale(const tp_selection* s)
+{
+    assert(s);
+    return s->zscale;
+}
+
+void tp__drawn_box(const tp_selection* s, int p, tp_patch_info* pi)
+{
+    tp_patch_get_info(s->t, p, pi);
+    pi->aabb_min[2] *= s->zscale;
+    pi->aabb_max[2] *= s->zscale;
+}
+
 void tp_selection_cull(tp_selection* s, const tp_camera* cam)
 {
     tp_frustum f;
     tp_frustum_from_camera(cam, &f);
     for (int p = 0; p < s->count; p++) {
         tp_patch_info pi;
-        tp_patch_get_info(s->t, p, &pi);
+        tp__drawn_box(s, p, &pi);
         s->visible[p] = tp_frustum_test_aabb(&f, pi.aabb_min, pi.aabb_max) != TP_CULL_OUTSIDE;
     }
 }
@@ -201,9 +226,11 @@ tp_status tp_selection_update(tp_selection* s, const tp_camera* cam, const tp_lo
     tp_frustum_from_camera(cam, &f);
     int n = t->n;
 
+    /* Everything in drawn space: boxes and errors scaled by the vertical exaggeration. */
+    double zs = s->zscale;
     for (int p = 0; p < s->count; p++) {
         tp_patch_info pi;
-        tp_patch_get_info(t, p, &pi);
+        tp__drawn_box(s, p, &pi);
         int vis = tp_frustum_test_aabb(&f, pi.aabb_min, pi.aabb_max) != TP_CULL_OUTSIDE;
         s->visible[p] = (uint8_t)vis;
         int k = n;
@@ -222,7 +249,7 @@ tp_status tp_selection_update(tp_selection* s, const tp_camera* cam, const tp_lo
                  * raising the patch later never breaks its own bound. */
                 k = n;
                 while (k > 0 && (pi.delta_m[k - 1] == 0 ||
-                                 projected_px(&pb, v.fwd[2], pi.delta_m[k - 1]) <= lp.tau_px))
+                                 projected_px(&pb, v.fwd[2], zs * pi.delta_m[k - 1]) <= lp.tau_px))
                     k--;
             }
         }
@@ -245,7 +272,7 @@ tp_status tp_selection_update(tp_selection* s, const tp_camera* cam, const tp_lo
                     if (q < 0 || s->next[q] >= s->next[p])
                         continue;
                     double geo = side_bound_m(t, p, side, s->next[q]);
-                    if (geo > 0 && projected_px(&s->proj[p], v.fwd[2], geo + t->quant_err) >
+                    if (geo > 0 && projected_px(&s->proj[p], v.fwd[2], zs * (geo + t->quant_err)) >
                                        lp.tau_px) {
                         s->next[q]++;
                         changed = 1;

@@ -420,36 +420,6 @@ static void upload(tp_renderer* r, tp_selection* sel, int p, int slot)
     r->patch_current[p] = 1;
 }
 
-/* Column-major 4x4: projection * view, the camera at the origin (positions are rebased). */
-static void view_projection(const tp_camera* cam, int w, int h, double far_m, float out[16])
-{
-    double f[3] = {cam->forward[0], cam->forward[1], cam->forward[2]};
-    double lf = sqrt(f[0] * f[0] + f[1] * f[1] + f[2] * f[2]);
-    for (int i = 0; i < 3; i++)
-        f[i] /= lf;
-    const double* u0 = cam->up;
-    double s[3] = {f[1] * u0[2] - f[2] * u0[1], f[2] * u0[0] - f[0] * u0[2], f[0] * u0[1] - f[1] * u0[0]};
-    double ls = sqrt(s[0] * s[0] + s[1] * s[1] + s[2] * s[2]);
-    for (int i = 0; i < 3; i++)
-        s[i] /= ls;
-    double u[3] = {s[1] * f[2] - s[2] * f[1], s[2] * f[0] - s[0] * f[2], s[0] * f[1] - s[1] * f[0]};
-    double fov = cam->fov_y_rad > 0 ? cam->fov_y_rad : 60.0 * 3.14159265358979323846 / 180.0;
-    double near_m = cam->near_m > 0 ? cam->near_m : 1.0;
-    double t = 1.0 / tan(fov / 2), a = (double)w / h;
-    double A = (far_m + near_m) / (near_m - far_m), B = 2 * far_m * near_m / (near_m - far_m);
-    /* rows of the view matrix: s, u, -f; projection P = diag(t/a, t, A, -1 in w) */
-    double m[16] = {0};
-    for (int c = 0; c < 3; c++) {
-        m[c * 4 + 0] = t / a * s[c];
-        m[c * 4 + 1] = t * u[c];
-        m[c * 4 + 2] = A * -f[c];
-        m[c * 4 + 3] = f[c];
-    }
-    m[14] = B;
-    for (int i = 0; i < 16; i++)
-        out[i] = (float)m[i];
-}
-
 void tp_renderer_draw(tp_renderer* r, tp_selection* sel, const tp_camera* cam,
                       const tp_render_settings* st, int finish, tp_render_stats* stats)
 {
@@ -509,8 +479,14 @@ void tp_renderer_draw(tp_renderer* r, tp_selection* sel, const tp_camera* cam,
                          fabs(r->info.min_height_m * st->exaggeration - cam->position[2]));
         far_m = 1.1 * sqrt(dx * dx + dy * dy + dz * dz) + 10;
     }
+    tp_camera view = *cam;
+    view.viewport_w_px = w;
+    view.viewport_h_px = h;
+    double vpd[16];
     float vpm[16];
-    view_projection(cam, w, h, far_m, vpm);
+    tp_camera_view_projection(&view, far_m, vpd);
+    for (int i = 0; i < 16; i++)
+        vpm[i] = (float)vpd[i];
     double cx, cy;
     tp_terrain_world_to_grid(r->t, cam->position[0], cam->position[1], &cx, &cy);
     double fx = floor(cx), fy = floor(cy);

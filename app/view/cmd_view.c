@@ -1,0 +1,368 @@
+/*
+ * cmd_view.c - `terrapatch view [options] [DEM]`: its options and help, and the headless run
+ * (the window's frame loop is window.c).
+ *
+ * Each frame: select levels and cull (core), upload the vertex data that changed and draw
+ * (renderer.c). Headless frames are complete and deterministic: everything is loaded before the
+ * first frame and there is no multisampling.
+ */
+#define _POSIX_C_SOURCE 200809L
+#include "view.h"
+
+#include "cli.h"
+#include "hud.h"
+#include "hud_text.h"
+#include "overlay.h"
+#include "pick.h"
+
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+#include <unistd.h>
+
+#define DEG (3.14159265358979323846 / 180.0)
+#define TP_SAMPLE_SCENE "data/lf_elev_220_mt_hood_utm.tif"
+
+enum {
+    OPT_HEADLESS = 256,
+    OPT_FRAMES,
+    OPT_SCREENSHOT,
+    OPT_CLEAR,
+    OPT_WIREFRAME,
+    OPT_COLOR_LOD,
+    OPT_STATS,
+    OPT_NO_HUD,
+    OPT_EXAG,
+    OPT_ONE_DRAW,
+    OPT_HUD,
+    OPT_HIDE_FILLED,
+    OPT_TEXTURE,
+    OPT_GRID,
+    OPT_MEASURE,
+    OPT_SUN,
+    OPT_PICK,
+};
+
+static void print_help(void)
+{
+    fputs("usage: terrapatch view [options] [DEM]\n"
+          "\n"
+          "Shows DEM (default: the sample " TP_SAMPLE_SCENE ") as shaded terrain, each patch\n"
+          "at its own level of detail. In a window when there is a display; --headless renders\n"
+          "offscreen (EGL, no display needed) and writes --screenshot.\n"
+          "\n",
+          stdout);
+    tp_view_options_help(stdout);
+    fputs("output:\n"
+          "  --headless            render offscreen through EGL\n"
+          "  --frames N            headless: frames to render (default 1); the last is kept\n"
+          "  --screenshot FILE     write the last frame (PNG, through OpenImageIO)\n"
+          "  --stats-json FILE     write the last frame's statistics\n"
+          "  --clear-color R,G,B   background, 0..1 each\n"
+          "  --wireframe, --color-lod   draw edges only / colour patches by level\n"
+          "  --exaggeration X      vertical exaggeration (default 1)\n"
+          "  --sun AZ,EL           hillshade light: azimuth clockwise from grid north and\n"
+          "                        elevation, degrees (default 315,45)\n"
+          "  --hide-filled         draw filled voids like measured ground (default: tinted)\n"
+          "  --pick X,Y            headless: print the ground point under pixel X,Y (from the\n"
+          "                        top-left corner): E, N and the drawn surface's height;\n"
+          "                        repeatable\n"
+          "  --measure E1,N1,E2,N2 print the geodesic distance, true and grid bearing and height\n"
+          "                        difference between two ground points (render CRS)\n"
+          "  --grid M              grid lines every M metres of the render CRS, labelled (for a\n"
+          "                        UTM render grid: the UTM/MGRS grid; 1000 = the 1 km grid)\n"
+          "  --texture FILE        drape an image: an orthophoto georeferenced through GDAL (warped\n"
+          "                        onto the render grid), or any image covering the DEM's extent\n"
+          "  --one-draw-per-patch  one draw call per patch instead of multi-draw\n"
+          "  --no-hud              no text overlay (frame times, triangles, levels, error,\n"
+          "                        camera and centre position as lat/lon, UTM and MGRS)\n"
+          "  --hud                 headless frames too get the overlay (off by default there,\n"
+          "                        so that a headless image depends on the view alone)\n"
+          "DEM:\n",
+          stdout);
+    tp_scene_options_help(stdout);
+    fputs("\nWindow keys: W/S forward/back, A/D left/right, Q/E down/up (speed follows the height\n"
+          "above ground; Shift x5, Ctrl x0.2), drag with the left mouse button to look around,\n"
+          "Home (or 0) back to the start view, O orbit mode (drag rotates around the point looked\n"
+          "at, wheel or W/S zoom, A/D/Q/E pan; the HUD says which mode), L colour by level,\n"
+          "T wireframe, F freeze LoD and culling, M switch LoD mode, +/- tau (or maxdist), [ ]\n"
+          "mindist, , . exp, X/Z vertical exaggeration, J/K sun azimuth, U/N sun elevation,\n"
+          "V tint of filled voids, G 1 km grid, P screenshot, Y export the view's mesh (.vtp),\n"
+          "C print the camera as --camera-geo and --camera options, H hide the HUD, right-click\n"
+          "twice to measure, ? key help, Esc quit. Keys are queued: a tap shorter than a frame\n"
+          "still counts.\n"
+          "\nExit status: 0 success, 1 failure, 2 usage error.\n",
+          stdout);
+}
+
+/* The bundled sample: data/ of the source tree the binary was built in (build/terrapatch ->
+ * ../data), else data/ of the working directory. */
+static const char* sample_scene(void)
+{
+    static char path[4096];
+    ssize_t n = readlink("/proc/self/exe", path, sizeof path - 64);
+    if (n > 0) {
+        path[n] = '\0';
+        char* slash = strrchr(path, '/');
+        if (slash) {
+            strcpy(slash, "/../" TP_SAMPLE_SCENE);
+            if (access(path, R_OK) == 0)
+                return path;
+        }
+    }
+    return TP_SAMPLE_SCENE;
+}
+
+static int bad(const char* opt, const char* expected, const char* got)
+{
+    tp_option_error("view", opt, expected, got);
+    return TP_EXIT_USAGE;
+}
+
+static int parse_options(int argc, char** argv, view_options* o)
+{
+    static const struct option longs[] = {
+        TP_SCENE_LONG_OPTIONS,
+        TP_VIEW_LONG_OPTIONS,
+        {"headless", no_argument, NULL, OPT_HEADLESS},
+        {"frames", required_argument, NULL, OPT_FRAMES},
+        {"screenshot", required_argument, NULL, OPT_SCREENSHOT},
+        {"clear-color", required_argument, NULL, OPT_CLEAR},
+        {"wireframe", no_argument, NULL, OPT_WIREFRAME},
+        {"color-lod", no_argument, NULL, OPT_COLOR_LOD},
+        {"stats-json", required_argument, NULL, OPT_STATS},
+        {"no-hud", no_argument, NULL, OPT_NO_HUD},
+        {"hud", no_argument, NULL, OPT_HUD},
+        {"hide-filled", no_argument, NULL, OPT_HIDE_FILLED},
+        {"texture", required_argument, NULL, OPT_TEXTURE},
+        {"grid", required_argument, NULL, OPT_GRID},
+        {"measure", required_argument, NULL, OPT_MEASURE},
+        {"sun", required_argument, NULL, OPT_SUN},
+        {"pick", required_argument, NULL, OPT_PICK},
+        {"exaggeration", required_argument, NULL, OPT_EXAG},
+        {"one-draw-per-patch", no_argument, NULL, OPT_ONE_DRAW},
+        {"help", no_argument, NULL, 'h'},
+        {NULL, 0, NULL, 0},
+    };
+    memset(o, 0, sizeof *o);
+    tp_scene_options_default(&o->scene);
+    tp_render_settings_default(&o->render);
+    tp_view_setup_default(&o->vs);
+    o->frames = 1;
+    opterr = 0;
+    optind = 1;
+    int c;
+    double v[5];
+    char* end;
+    while ((c = getopt_long(argc, argv, ":h", longs, NULL)) != -1) {
+        int taken = c == '?' || c == ':' ? 0 : tp_scene_option(c, optarg, &o->scene, "view");
+        if (!taken && c != '?' && c != ':')
+            taken = tp_view_option(c, optarg, &o->vs, "view");
+        if (taken < 0)
+            return TP_EXIT_USAGE;
+        if (taken)
+            continue;
+        switch (c) {
+        case OPT_EXAG:
+            if (!tp_parse_numbers(optarg, v, 1) || !(v[0] > 0))
+                return bad("--exaggeration", "a number > 0", optarg);
+            o->render.exaggeration = v[0];
+            break;
+        case OPT_HEADLESS: o->headless = 1; break;
+        case OPT_FRAMES: {
+            long n = strtol(optarg, &end, 10);
+            if (*end || n < 1 || n > 1000000)
+                return bad("--frames", "a count >= 1", optarg);
+            o->frames = (int)n;
+            break;
+        }
+        case OPT_SCREENSHOT: o->screenshot = optarg; break;
+        case OPT_STATS: o->stats_json = optarg; break;
+        case OPT_CLEAR:
+            if (!tp_parse_numbers(optarg, v, 3) || v[0] < 0 || v[0] > 1 || v[1] < 0 || v[1] > 1 ||
+                v[2] < 0 || v[2] > 1)
+                return bad("--clear-color", "R,G,B in 0..1", optarg);
+            for (int i = 0; i < 3; i++)
+                o->render.clear_rgb[i] = (float)v[i];
+            break;
+        case OPT_WIREFRAME: o->render.wireframe = 1; break;
+        case OPT_COLOR_LOD: o->render.color_lod = 1; break;
+        case OPT_NO_HUD: o->no_hud = 1; break;
+        case OPT_HUD: o->hud = 1; break;
+        case OPT_HIDE_FILLED: o->render.hide_filled = 1; break;
+        case OPT_TEXTURE: o->texture = optarg; break;
+        case OPT_SUN:
+            if (!tp_parse_numbers(optarg, v, 2) || v[1] < 0 || v[1] > 90)
+                return bad("--sun", "AZIMUTH,ELEVATION in degrees (elevation 0..90)", optarg);
+            o->render.sun_azimuth_deg = v[0];
+            o->render.sun_elevation_deg = v[1];
+            break;
+        case OPT_MEASURE:
+            if (!tp_parse_numbers(optarg, o->measure, 4))
+                return bad("--measure", "E1,N1,E2,N2", optarg);
+            o->has_measure = 1;
+            break;
+        case OPT_PICK:
+            if (o->pick_count == (int)(sizeof o->pick / sizeof o->pick[0]) ||
+                !tp_parse_numbers(optarg, o->pick[o->pick_count], 2))
+                return bad("--pick", "X,Y pixel coordinates (at most 16 --pick)", optarg);
+            o->pick_count++;
+            break;
+        case OPT_GRID:
+            if (!tp_parse_numbers(optarg, v, 1) || v[0] < 0 || (v[0] > 0 && v[0] < 1))
+                return bad("--grid", "a line spacing in metres >= 1 (0: none)", optarg);
+            o->render.grid_m = v[0];
+            break;
+        case OPT_ONE_DRAW: o->render.one_draw_per_patch = 1; break;
+        case 'h': print_help(); return tp_cli_finish(TP_EXIT_OK);
+        case ':':
+            fprintf(stderr, "terrapatch view: missing value for %s\n", argv[optind - 1]);
+            return TP_EXIT_USAGE;
+        default:
+            fprintf(stderr, "terrapatch view: unknown option '%s' (see 'terrapatch view --help')\n",
+                    argv[optind - 1]);
+            return TP_EXIT_USAGE;
+        }
+    }
+    if (argc - optind > 1) {
+        fprintf(stderr, "terrapatch view: expected one DEM, got extra argument '%s'\n",
+                argv[optind + 1]);
+        return TP_EXIT_USAGE;
+    }
+    o->path = optind < argc ? argv[optind] : sample_scene();
+    if (tp_view_setup_check(&o->vs, "view") < 0)
+        return TP_EXIT_USAGE;
+    return -1;
+}
+
+/* Says on stderr why a frame shows no terrain at all. */
+static void warn_if_empty(const tp_scene* sc, const frame_result* fr)
+{
+    if (fr->core.triangles > 0)
+        return;
+    if (sc->info.valid_samples + sc->info.filled_samples < 4 || fr->core.visible_patches > 0)
+        fprintf(stderr, "terrapatch view: warning: %s: the frame shows no terrain: the DEM has no "
+                        "2x2 block of valid samples to draw a triangle from\n", sc->path);
+    else
+        fprintf(stderr, "terrapatch view: warning: %s: the frame shows no terrain: the camera "
+                        "looks away from the DEM (all %d patches culled; try without --camera)\n",
+                sc->path, fr->core.culled_patches);
+}
+
+static int run_headless(tp_scene* sc, tp_gl_context* ctx, tp_renderer* r, tp_selection* sel,
+                        const tp_camera* cam, view_options* o)
+{
+    int code = TP_EXIT_OK;
+    frame_result fr = {0};
+    int with_hud = o->hud && !o->no_hud;
+    tp_hud* hud = with_hud || o->render.grid_m > 0 ? tp_hud_create() : NULL;
+    char measure_line[512] = "";
+    int measured = 0;
+    for (int i = 0; i < o->frames; i++) {
+        tp_gl_context_begin_frame(ctx);
+        double t0 = tp_view_now_ms();
+        tp_view_frame(sel, r, cam, &o->render, &o->vs.lod, 0, &fr);
+        if (o->has_measure && !measured) {
+            double e[2] = {o->measure[0], o->measure[2]}, n[2] = {o->measure[1], o->measure[3]};
+            measured = tp_view_measure_points(sc, sel, e, n, measure_line, sizeof measure_line)
+                           ? 1 : -1;
+        }
+        char text[4096];
+        tp_overlay ov = {.grid_m = o->render.grid_m, .measure_line = measure_line};
+        if (with_hud) {
+            tp_measured_error me;
+            tp_view_measure_now(sel, cam, &me);
+            tp_hud_state hs = {.fps = 1000 / fmax(tp_view_now_ms() - t0, 1e-6),
+                               .exaggeration = o->render.exaggeration};
+            tp_view_hud_text(sc, sel, cam, &o->vs.lod, &fr, &me, &hs, text, sizeof text);
+            ov.hud_text = text;
+        }
+        tp_view_overlay_draw(hud, sc, sel, cam, &ov);
+        tp_gl_context_end_frame(ctx);
+    }
+    tp_hud_destroy(hud);
+    warn_if_empty(sc, &fr);
+    if (o->screenshot && !tp_view_screenshot(ctx, o->screenshot))
+        code = TP_EXIT_FAILURE;
+    if (o->has_measure) {
+        if (measured > 0) {
+            printf("%s\n", measure_line);
+        } else {
+            fprintf(stderr, "terrapatch view: --measure: %s\n", measure_line);
+            code = TP_EXIT_FAILURE;
+        }
+    }
+    for (int i = 0; i < o->pick_count; i++) {
+        double g[3];
+        if (tp_view_pick(sc, sel, cam, o->pick[i][0], o->pick[i][1], g)) {
+            printf("pick %.1f,%.1f: E %.3f N %.3f height %.3f m\n", o->pick[i][0],
+                   o->pick[i][1], g[0], g[1], g[2]);
+        } else {
+            printf("pick %.1f,%.1f: no ground\n", o->pick[i][0], o->pick[i][1]);
+        }
+    }
+    if (o->stats_json && code == TP_EXIT_OK) {
+        tp_error_measure em = {0};
+        double max_px = 0, rms_px = 0;
+        tp_selection_measure_error(sel, &em);
+        tp_selection_measure_screen_error(sel, cam, &max_px, &rms_px, NULL);
+        if (!tp_view_write_stats(o->stats_json, &fr, &em, max_px, rms_px, sc->info.levels))
+            code = TP_EXIT_FAILURE;
+    }
+    return code;
+}
+
+int tp_cli_view(int argc, char** argv)
+{
+    view_options o;
+    int code = parse_options(argc, argv, &o);
+    if (code >= 0)
+        return code;
+    tp_scene sc;
+    if (tp_scene_load(o.path, &o.scene, &sc) != TP_EXIT_OK)
+        return TP_EXIT_FAILURE;
+    tp_view_setup_warn(&sc, &o.vs, "view");
+    tp_camera cam;
+    if (!tp_view_setup_camera(&sc, &o.vs, &cam, "view")) {
+        tp_scene_free(&sc);
+        return TP_EXIT_FAILURE;
+    }
+
+    char msg[512];
+    tp_gl_context* ctx = NULL;
+    int ok = o.headless ? tp_gl_context_create_headless(o.vs.w, o.vs.h, &ctx, msg, sizeof msg)
+                        : tp_gl_context_create_window(o.vs.w, o.vs.h, "terrapatch", &ctx, msg, sizeof msg);
+    if (!ok) {
+        fprintf(stderr, "terrapatch view: %s\n", msg);
+        tp_scene_free(&sc);
+        return TP_EXIT_FAILURE;
+    }
+    tp_renderer* r = tp_renderer_create(sc.terrain, msg, sizeof msg);
+    tp_selection* sel = NULL;
+    tp_error err;
+    if (!r || tp_selection_create(sc.terrain, &sel, &err) != TP_OK) {
+        fprintf(stderr, "terrapatch view: %s\n", r ? err.message : msg);
+        tp_renderer_destroy(r);
+        tp_gl_context_destroy(ctx);
+        tp_scene_free(&sc);
+        return TP_EXIT_FAILURE;
+    }
+
+    if (o.texture && !tp_view_load_texture(&sc, r, o.texture)) {
+        tp_selection_destroy(sel);
+        tp_renderer_destroy(r);
+        tp_gl_context_destroy(ctx);
+        tp_scene_free(&sc);
+        return TP_EXIT_FAILURE;
+    }
+    code = o.headless ? run_headless(&sc, ctx, r, sel, &cam, &o)
+                      : tp_view_window_run(&sc, ctx, r, sel, &cam, &o);
+    tp_selection_destroy(sel);
+    tp_renderer_destroy(r);
+    tp_gl_context_destroy(ctx);
+    tp_scene_free(&sc);
+    return code == TP_EXIT_OK ? tp_cli_finish(code) : code;
+}

@@ -1,0 +1,118 @@
+/* frame.c - one frame of the viewer and what is written from it (see view.h). */
+#define _POSIX_C_SOURCE 200809L
+#include "view.h"
+
+#include "atomic_file.h"
+#include "json.h"
+
+#include <epoxy/gl.h>
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <time.h>
+
+double tp_view_now_ms(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return ts.tv_sec * 1e3 + ts.tv_nsec / 1e6;
+}
+
+void tp_view_frame(tp_selection* sel, tp_renderer* r, const tp_camera* cam,
+                   const tp_render_settings* render, const tp_lod_params* lod, int frozen,
+                   frame_result* out)
+{
+    double t0 = tp_view_now_ms();
+    tp_error err;
+    /* the core selects, culls and measures the surface as drawn: exaggerated */
+    tp_selection_set_vertical_scale(sel, render->exaggeration);
+    if (!frozen)
+        tp_selection_update(sel, cam, lod, &err);
+    out->select_ms = tp_view_now_ms() - t0;
+    tp_renderer_draw(r, sel, cam, render, 1, &out->render);
+    tp_selection_stats(sel, &out->core);
+}
+
+int tp_view_write_stats(const char* path, const frame_result* f, const tp_error_measure* em,
+                        double max_px, double rms_px, int levels)
+{
+    tp_atomic_file file;
+    if (!tp_atomic_open(&file, path))
+        return 0;
+    FILE* out = file.f;
+    tp_json j;
+    tp_json_init(&j, out);
+    tp_json_object_begin(&j);
+#define KEY_NUM(k, v) (tp_json_key(&j, k), tp_json_number(&j, v))
+#define KEY_SIZE(k, v) (tp_json_key(&j, k), tp_json_size(&j, v))
+    KEY_SIZE("triangles", f->core.triangles);
+    KEY_SIZE("draw_calls", (size_t)f->render.draw_calls);
+    KEY_SIZE("patches_drawn", (size_t)f->render.patches_drawn);
+    KEY_SIZE("patches_culled", (size_t)f->core.culled_patches);
+    tp_json_key(&j, "levels");
+    tp_json_array_begin(&j);
+    for (int k = 0; k < levels; k++)
+        tp_json_int(&j, f->core.patches_per_level[k]);
+    tp_json_array_end(&j);
+    KEY_NUM("cpu_ms", f->select_ms + f->render.upload_ms);
+    KEY_NUM("select_ms", f->select_ms);
+    KEY_NUM("upload_ms", f->render.upload_ms);
+    KEY_NUM("draw_ms", f->render.draw_ms);
+    KEY_SIZE("uploads", (size_t)f->render.uploads);
+    KEY_SIZE("gpu_bytes", f->render.gpu_bytes);
+    KEY_NUM("max_error_m", em->max_error_m);
+    KEY_NUM("rms_error_m", em->rms_error_m);
+    KEY_NUM("max_error_px", max_px);
+    KEY_NUM("rms_error_px", rms_px);
+    KEY_NUM("bound_max_error_m", f->core.bound_max_error_m);
+#undef KEY_NUM
+#undef KEY_SIZE
+    tp_json_object_end(&j);
+    fputc('\n', out);
+    return tp_atomic_commit(&file);
+}
+
+int tp_view_screenshot(tp_gl_context* ctx, const char* path)
+{
+    int w, h;
+    tp_gl_context_size(ctx, &w, &h);
+    uint8_t* px = malloc((size_t)w * h * 4);
+    if (!px) {
+        fprintf(stderr, "terrapatch: %s: out of memory\n", path);
+        return 0;
+    }
+    tp_gl_context_read_rgba(ctx, px);
+    tp_error err;
+    tp_status s = tp_image_write_rgba(path, w, h, px, &err);
+    free(px);
+    if (s != TP_OK) {
+        fprintf(stderr, "terrapatch: %s\n", err.message);
+        return 0;
+    }
+    return 1;
+}
+
+int tp_view_load_texture(const tp_scene* sc, tp_renderer* r, const char* path)
+{
+    GLint max = 4096;
+    glGetIntegerv(GL_MAX_TEXTURE_SIZE, &max);
+    tp_texture* tex = NULL;
+    tp_error err;
+    if (tp_texture_build(path, sc->grid, max < 8192 ? max : 8192, &tex, &err) != TP_OK) {
+        fprintf(stderr, "terrapatch: %s\n", err.message);
+        return 0;
+    }
+    /* Tiled-grid sample x sits at render-grid x * ratio (1 unless the fit resampled), whose
+     * pixel centre is at u = (x_render + 0.5) / render width. */
+    const tp_terrain_info* in = &sc->info;
+    double rx = in->fit == TP_FIT_RESAMPLE ? (double)(in->src_width - 1) / (in->width - 1) : 1;
+    double ry = in->fit == TP_FIT_RESAMPLE ? (double)(in->src_height - 1) / (in->height - 1) : 1;
+    float scale[2] = {(float)(rx / sc->grid->width), (float)(ry / sc->grid->height)};
+    float offset[2] = {(float)(0.5 / sc->grid->width), (float)(0.5 / sc->grid->height)};
+    int ok = tp_renderer_set_texture(r, tex->rgba, tex->width, tex->height, scale, offset);
+    if (!ok)
+        fprintf(stderr, "terrapatch: %s: the GPU cannot hold a %dx%d texture\n", path, tex->width,
+                tex->height);
+    tp_texture_destroy(tex);
+    return ok;
+}

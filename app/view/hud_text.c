@@ -1,0 +1,186 @@
+/* hud_text.c - the overlay's words and their wrapping (see hud_text.h). */
+#include "hud_text.h"
+
+#include "hud.h"
+#include "pick.h"
+#include "tp_geo.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+void tp_view_measure_now(const tp_selection* sel, const tp_camera* cam, tp_measured_error* m)
+{
+    tp_error_measure em = {0};
+    m->valid = tp_selection_measure_error(sel, &em) == TP_OK &&
+               tp_selection_measure_screen_error(sel, cam, &m->max_px, &m->rms_px, NULL) == TP_OK;
+    m->max_m = em.max_error_m;
+    m->rms_m = em.rms_error_m;
+}
+
+void tp_view_position_text(const tp_scene* sc, double e, double n, char* out, size_t cap)
+{
+    double lat, lon, ue, un;
+    int zone, northp;
+    char mgrs[TP_MGRS_SIZE];
+    out[0] = '\0';
+    if (tp_georef_proj_to_geo(sc->georef, e, n, &lat, &lon, NULL) != TP_OK)
+        return;
+    if (tp_geo_to_utmups(lat, lon, &zone, &northp, &ue, &un, NULL) != TP_OK ||
+        tp_mgrs_forward(zone, northp, ue, un, lat, 5, mgrs, sizeof mgrs, NULL) != TP_OK)
+        mgrs[0] = '\0';
+    char zname[8];
+    if (zone == TP_ZONE_UPS)
+        snprintf(zname, sizeof zname, "%s", northp ? "UPS N" : "UPS S");
+    else
+        snprintf(zname, sizeof zname, "%d%c", zone, northp ? 'N' : 'S');
+    snprintf(out, cap, "%.5f%c %.5f%c  UTM %s %.0f %.0f  MGRS %s", fabs(lat), lat >= 0 ? 'N' : 'S',
+             fabs(lon), lon >= 0 ? 'E' : 'W', zname, ue, un, mgrs);
+}
+
+void tp_view_hud_text(const tp_scene* sc, const tp_selection* sel, const tp_camera* cam,
+                      const tp_lod_params* lod, const frame_result* fr,
+                      const tp_measured_error* me, const tp_hud_state* st, char* out, size_t cap)
+{
+    char measured[160] = "";
+    if (me && me->valid)
+        snprintf(measured, sizeof measured, "   measured max %.2f m / %.2f px, RMS %.2f m / %.2f px",
+                 me->max_m, me->max_px, me->rms_m, me->rms_px);
+    char pos[256], ground[640] = "";
+    double g[3];
+    tp_view_position_text(sc, cam->position[0], cam->position[1], pos, sizeof pos);
+    if (tp_view_pick_centre(sc, sel, cam, g)) {
+        char gp[256];
+        tp_view_position_text(sc, g[0], g[1], gp, sizeof gp);
+        snprintf(ground, sizeof ground, "centre  %s   elevation %.1f m", gp[0] ? gp : "(no CRS)",
+                 g[2]);
+    } else {
+        snprintf(ground, sizeof ground, "centre  (sky: no ground in the middle of the view)");
+    }
+    char levels[128] = "";
+    size_t at = 0;
+    for (int k = 0; k < sc->info.levels && at < sizeof levels; k++)
+        at += (size_t)snprintf(levels + at, sizeof levels - at, " %d", fr->core.patches_per_level[k]);
+    double x, y, yaw, pitch;
+    tp_terrain_world_to_grid(sc->terrain, cam->position[0], cam->position[1], &x, &y);
+    double below = tp_terrain_height_at(sc->terrain, x, y);
+    tp_camera_get_pose(cam, &yaw, &pitch);
+    char agl[96], lod_text[128], mode[160];
+    if (lod->mode == TP_LOD_ERROR)
+        snprintf(lod_text, sizeof lod_text, "error, tau %.3g px", lod->tau_px > 0 ? lod->tau_px : 1);
+    else if (lod->mode == TP_LOD_DISTANCE)
+        snprintf(lod_text, sizeof lod_text, "distance, mindist %.0f m, maxdist %.0f m, exp %.3g",
+                 lod->mindist_m, lod->maxdist_m, lod->exponent > 0 ? lod->exponent : 1);
+    else
+        snprintf(lod_text, sizeof lod_text, "full resolution");
+    double ex = st->exaggeration > 0 ? st->exaggeration : 1;
+    if (isnan(below))
+        snprintf(agl, sizeof agl, "outside the DEM");
+    else
+        snprintf(agl, sizeof agl, "%.1f m above the %sground", cam->position[2] - below * ex,
+                 ex != 1 ? "exaggerated " : "");
+    if (st->orbit)
+        snprintf(mode, sizeof mode, "ORBIT mode (O: fly)   drag rotates   wheel or W/S zoom   A/D/Q/E pan");
+    else
+        snprintf(mode, sizeof mode, "FLY mode (O: orbit)   %.0f m/s (Shift x5, Ctrl x0.2)   Home: home view",
+                 st->speed_mps);
+    char exag[64] = "";
+    if (ex != 1)
+        snprintf(exag, sizeof exag, "   vertical exaggeration x%.3g", ex);
+    snprintf(out, cap,
+             "%.1f fps   CPU %.2f ms (select %.2f, upload %.2f)   draw %.2f ms   GPU %.1f MB\n"
+             "%zu triangles   %d draw calls   %d patches drawn, %d culled   per level k=0..%d:%s\n"
+             "LoD %s%s   error bound max %.2f m, RMS %.2f m%s\n"
+             "camera  %s   height %.1f m, %s   heading %.0f deg, pitch %.0f deg\n"
+             "%s\n"
+             "%s%s\n"
+             "heights as in the DEM (SRTM/DTED: EGM96 geoid)   ? help",
+             st->fps, fr->select_ms + fr->render.upload_ms, fr->select_ms, fr->render.upload_ms,
+             fr->render.draw_ms, fr->render.gpu_bytes / 1e6, fr->core.triangles,
+             fr->render.draw_calls, fr->render.patches_drawn, fr->core.culled_patches,
+             sc->info.n, levels, lod_text, st->frozen ? " (frozen)" : "",
+             fr->core.bound_max_error_m, fr->core.bound_rms_error_m, measured,
+             pos[0] ? pos : "(no CRS: local metres)", cam->position[2], agl, yaw, pitch, ground,
+             mode, exag);
+}
+
+static float width_of(const char* s, size_t n)
+{
+    char buf[1024];
+    n = n < sizeof buf - 1 ? n : sizeof buf - 1;
+    memcpy(buf, s, n);
+    buf[n] = '\0';
+    float w, h;
+    tp_hud_measure(buf, &w, &h);
+    return w;
+}
+
+/* Appends s[0..n) to out at *at (cut to cap). */
+static void put(char* out, size_t cap, size_t* at, const char* s, size_t n)
+{
+    while (n-- && *at + 1 < cap)
+        out[(*at)++] = *s++;
+    out[*at] = '\0';
+}
+
+/* The end of the break unit starting at s (before the next run of `gap` spaces, or eol). */
+static const char* unit_end(const char* s, const char* eol, int gap)
+{
+    for (const char* p = s; p < eol; p++) {
+        int run = 0;
+        while (p + run < eol && p[run] == ' ')
+            run++;
+        if (run >= gap && p > s)
+            return p;
+        p += run > 0 ? run - 1 : 0;
+    }
+    return eol;
+}
+
+size_t tp_hud_wrap(const char* text, float max_w, char* out, size_t cap)
+{
+    static const char indent[] = "    ";
+    size_t at = 0;
+    out[0] = '\0';
+    for (const char* line = text; *line;) {
+        const char* eol = strchr(line, '\n');
+        if (!eol)
+            eol = line + strlen(line);
+        /* greedy: fields (3 spaces) first; a field too wide alone breaks between words (1);
+         * a word wider than the line is not split */
+        const char* p = line;
+        int first = 1;
+        while (p < eol) {
+            if (!first)
+                put(out, cap, &at, indent, sizeof indent - 1);
+            float used = first ? 0 : width_of(indent, sizeof indent - 1);
+            int placed = 0;
+            for (int gap = 3; gap >= 1 && !placed; gap -= 2) {
+                const char* q = p;
+                while (q < eol) {
+                    const char* e = unit_end(q, eol, gap);
+                    float w = width_of(q, (size_t)(e - q));
+                    if (placed && used + w > max_w)
+                        break;
+                    if (!placed && used + w > max_w && gap > 1)
+                        break; /* this field alone is too wide: words */
+                    put(out, cap, &at, q, (size_t)(e - q));
+                    used += w;
+                    placed = 1;
+                    q = e;
+                }
+                p = q;
+            }
+            while (p < eol && *p == ' ')
+                p++;
+            first = 0;
+            put(out, cap, &at, "\n", 1);
+        }
+        if (p == line) /* an empty line stays */
+            put(out, cap, &at, "\n", 1);
+        line = *eol ? eol + 1 : eol;
+    }
+    if (at > 0 && out[at - 1] == '\n')
+        out[--at] = '\0';
+    return at;
+}

@@ -1,0 +1,170 @@
+/* overlay.c - the overlay's layout and drawing (see overlay.h). */
+#include "overlay.h"
+
+#include "hud_text.h"
+#include "pick.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+#define MAX_RECTS 160
+
+typedef struct layout {
+    float r[MAX_RECTS][4]; /* x0, y0, x1, y1 of what is drawn already */
+    int n;
+} layout;
+
+static void occupy(layout* l, float x0, float y0, float x1, float y1)
+{
+    if (l->n < MAX_RECTS) {
+        float* r = l->r[l->n++];
+        r[0] = x0, r[1] = y0, r[2] = x1, r[3] = y1;
+    }
+}
+
+static int is_free(const layout* l, float x0, float y0, float x1, float y1)
+{
+    for (int i = 0; i < l->n; i++)
+        if (x0 < l->r[i][2] && x1 > l->r[i][0] && y0 < l->r[i][3] && y1 > l->r[i][1])
+            return 0;
+    return 1;
+}
+
+/* Draws text at (x, y), wrapped to max_w pixels, and marks its box taken; returns the
+ * box's height. */
+static float block(tp_hud* hud, layout* l, int w, int h, float x, float y, float max_w, float s,
+                   const char* text)
+{
+    char wrapped[4096];
+    tp_hud_wrap(text, max_w / s, wrapped, sizeof wrapped);
+    float tw, th;
+    tp_hud_measure(wrapped, &tw, &th);
+    tp_hud_text(hud, w, h, x, y, s, wrapped);
+    occupy(l, x - 2, y - 2, x + tw * s + 2, y + th * s + 2);
+    return th * s;
+}
+
+float tp_overlay_scale(int w, int h)
+{
+    return w >= 1000 && h >= 500 ? 2.0f : 1.0f;
+}
+
+/* Labels the grid intersections around the point the camera looks at with their grid values
+ * (kilometres of easting and northing, as read off a map), where they cover nothing else. */
+static void grid_labels(tp_hud* hud, layout* l, const tp_scene* sc, const tp_selection* sel,
+                        const tp_camera* cam, double spacing, float scale)
+{
+    double g[3];
+    if (spacing <= 0 || !tp_view_pick_centre(sc, sel, cam, g))
+        return;
+    int w = cam->viewport_w_px, h = cam->viewport_h_px;
+    double zs = tp_selection_vertical_scale(sel);
+    double e0 = floor(g[0] / spacing) * spacing, n0 = floor(g[1] / spacing) * spacing;
+    for (int j = -4; j <= 5; j++)
+        for (int i = -4; i <= 5; i++) {
+            double p[3] = {e0 + i * spacing, n0 + j * spacing, 0}, x, y, px[2];
+            tp_terrain_world_to_grid(sc->terrain, p[0], p[1], &x, &y);
+            p[2] = tp_selection_drawn_height_at(sel, x, y) * zs;
+            if (isnan(p[2]) || !tp_camera_project(cam, p, px, NULL) || px[0] < 0 || px[1] < 0 ||
+                px[0] >= w || px[1] >= h)
+                continue;
+            char text[64];
+            if (spacing >= 1000)
+                snprintf(text, sizeof text, "%.0fE %.0fN", p[0] / 1000, p[1] / 1000);
+            else
+                snprintf(text, sizeof text, "%.1fE %.1fN", p[0] / 1000, p[1] / 1000);
+            float tw, th, x0 = (float)px[0] + 3, y0 = (float)px[1] + 3;
+            tp_hud_measure(text, &tw, &th);
+            float x1 = x0 + tw * scale, y1 = y0 + th * scale;
+            if (x1 > w || y1 > h || !is_free(l, x0 - 4, y0 - 2, x1 + 4, y1 + 2))
+                continue;
+            tp_hud_text(hud, w, h, x0, y0, scale, text);
+            occupy(l, x0 - 4, y0 - 2, x1 + 4, y1 + 2);
+        }
+}
+
+/* North arrow and scale bar at the bottom right, measured at the ground point the camera
+ * looks at: "N" sits where grid north points on screen, the bar spans a round distance. */
+static void compass_and_scale(tp_hud* hud, layout* l, const tp_scene* sc, const tp_selection* sel,
+                              const tp_camera* cam, float bottom, float scale)
+{
+    double g[3], c[2], pn[2], pe[2];
+    if (!tp_view_pick_centre(sc, sel, cam, g))
+        return;
+    g[2] *= tp_selection_vertical_scale(sel); /* drawn space */
+    if (!tp_camera_project(cam, g, c, NULL))
+        return;
+    double north[3] = {g[0], g[1] + 100, g[2]}, east[3] = {g[0] + 100, g[1], g[2]};
+    int w = cam->viewport_w_px, h = cam->viewport_h_px;
+    float cx = (float)w - 70 * scale, cy = bottom - 60 * scale;
+    occupy(l, cx - 45 * scale, cy - 45 * scale, (float)w, bottom);
+    if (tp_camera_project(cam, north, pn, NULL)) {
+        double vx = pn[0] - c[0], vy = pn[1] - c[1], len = hypot(vx, vy);
+        if (len > 1e-6) {
+            tp_hud_text(hud, w, h, cx - 2 * scale, cy - 3 * scale, scale, "+");
+            for (int i = 1; i <= 4; i++) /* a dotted shaft toward north */
+                tp_hud_text(hud, w, h, cx + (float)(vx / len * 7 * i) * scale - 1 * scale,
+                            cy + (float)(vy / len * 7 * i) * scale - 4 * scale, scale, ".");
+            tp_hud_text(hud, w, h, cx + (float)(vx / len * 36) * scale - 2 * scale,
+                        cy + (float)(vy / len * 36) * scale - 3 * scale, scale, "N");
+        }
+    }
+    if (tp_camera_project(cam, east, pe, NULL)) {
+        double m_per_px = 100 / fmax(hypot(pe[0] - c[0], pe[1] - c[1]), 1e-6);
+        /* a round length about 120 px long: 1, 2 or 5 times a power of ten */
+        double want = 120 * scale * m_per_px, p10 = pow(10, floor(log10(want))), len = p10;
+        if (5 * p10 <= want)
+            len = 5 * p10;
+        else if (2 * p10 <= want)
+            len = 2 * p10;
+        float fw, fh;
+        tp_hud_measure("-", &fw, &fh);
+        int chars = (int)(len / m_per_px / (fw * scale) + 0.5);
+        char bar[160];
+        int at = snprintf(bar, sizeof bar, "|");
+        for (int i = 0; i < chars && at < (int)sizeof bar - 40; i++)
+            bar[at++] = '-';
+        if (len >= 1000)
+            snprintf(bar + at, sizeof bar - at, "| %g km", len / 1000);
+        else
+            snprintf(bar + at, sizeof bar - at, "| %g m", len);
+        float bw, bh;
+        tp_hud_measure(bar, &bw, &bh);
+        float x = (float)w - bw * scale - 130 * scale, y = bottom - 20 * scale;
+        if (x > 0) {
+            tp_hud_text(hud, w, h, x, y, scale, bar);
+            occupy(l, x - 2, y - 2, x + bw * scale, bottom);
+        }
+    }
+}
+
+void tp_view_overlay_draw(tp_hud* hud, const tp_scene* sc, const tp_selection* sel,
+                          const tp_camera* cam, const tp_overlay* ov)
+{
+    if (!hud)
+        return;
+    int w = cam->viewport_w_px, h = cam->viewport_h_px;
+    float s = tp_overlay_scale(w, h);
+    layout l = {0};
+    /* what must be seen first (measure line at the bottom, north arrow and scale bar above
+     * it, the HUD), then grid labels where room is left */
+    float bottom = (float)h;
+    if (ov->measure_line && ov->measure_line[0]) {
+        char wrapped[1024];
+        float tw, th;
+        tp_hud_wrap(ov->measure_line, (w - 16) / s, wrapped, sizeof wrapped);
+        tp_hud_measure(wrapped, &tw, &th);
+        bottom = (float)h - 10 * s - th * s;
+        block(hud, &l, w, h, 10, bottom, w - 16, s, ov->measure_line);
+        bottom -= 4 * s;
+    }
+    if (ov->hud_text) {
+        compass_and_scale(hud, &l, sc, sel, cam, bottom, s);
+        float y = 10 + block(hud, &l, w, h, 10, 10, w - 16, s, ov->hud_text);
+        if (ov->help_text)
+            block(hud, &l, w, h, 10, y + 12 * s, w - 16, s, ov->help_text);
+    }
+    if (ov->grid_m > 0)
+        grid_labels(hud, &l, sc, sel, cam, ov->grid_m, s);
+}

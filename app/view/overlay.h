@@ -1,0 +1,25 @@
+/*
+ * overlay.h - everything drawn over the terrain: the HUD text (wrapped to the window), the key
+ * help, the measuring tool's line, grid labels, the north arrow and the scale bar, laid out so
+ * that none covers another.
+ */
+#ifndef TP_APP_OVERLAY_H
+#define TP_APP_OVERLAY_H
+
+#include "hud.h"
+#include "view.h"
+
+typedef struct tp_overlay {
+    const char* hud_text;     /* NULL: no HUD (nor north arrow and scale bar) */
+    const char* help_text;    /* NULL: none */
+    const char* measure_line; /* NULL or "": none */
+    double grid_m;            /* grid label spacing (0: no labels) */
+} tp_overlay;
+
+/* The text scale the overlay uses for a viewport: 2 from 1000 px wide, else 1. */
+float tp_overlay_scale(int w, int h);
+
+void tp_view_overlay_draw(tp_hud* hud, const tp_scene* sc, const tp_selection* sel,
+                          const tp_camera* cam, const tp_overlay* ov);
+
+#endif

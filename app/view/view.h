@@ -1,0 +1,62 @@
+/*
+ * view.h - the parts of `terrapatch view` that its files share: the parsed options, one frame
+ * (select, upload, draw) and its statistics, and the two ways to run it.
+ *
+ *   cmd_view.c   options, help, the headless run
+ *   window.c     the interactive frame loop (input.c, navigate.c, pick.c, overlay.c)
+ *   frame.c      one frame, screenshots, the statistics JSON, the texture
+ *   renderer.c   patches to the GPU (hud.c draws text, gl_context.c owns the context)
+ */
+#ifndef TP_APP_VIEW_H
+#define TP_APP_VIEW_H
+
+#include "gl_context.h"
+#include "renderer.h"
+#include "scene.h"
+#include "view_options.h"
+
+typedef struct view_options {
+    tp_scene_options scene;
+    tp_view_setup vs; /* level of detail, camera, field of view, size */
+    tp_render_settings render;
+    int headless, frames, no_hud, hud;
+    const char* screenshot;
+    const char* texture;
+    int has_measure;
+    double measure[4]; /* E1, N1, E2, N2 */
+    double pick[16][2]; /* --pick X,Y pixels */
+    int pick_count;
+    const char* stats_json;
+    const char* path;
+} view_options;
+
+typedef struct frame_result {
+    tp_frame_stats core;
+    tp_render_stats render;
+    double select_ms;
+} frame_result;
+
+/* Monotonic clock in milliseconds. */
+double tp_view_now_ms(void);
+
+/* One frame: select levels and cull (unless frozen), upload, draw, statistics. */
+void tp_view_frame(tp_selection* sel, tp_renderer* r, const tp_camera* cam,
+                   const tp_render_settings* render, const tp_lod_params* lod, int frozen,
+                   frame_result* out);
+
+/* Writes the frame as a PNG; 0 after a message naming the path. */
+int tp_view_screenshot(tp_gl_context* ctx, const char* path);
+
+/* Writes the statistics JSON (atomically); 0 after a message. */
+int tp_view_write_stats(const char* path, const frame_result* f, const tp_error_measure* em,
+                        double max_px, double rms_px, int levels);
+
+/* Builds the texture of --texture for the render grid and hands it to the renderer; 0 after a
+ * message. */
+int tp_view_load_texture(const tp_scene* sc, tp_renderer* r, const char* path);
+
+/* The interactive viewer: the frame loop of a window until Esc or close. Returns an exit code. */
+int tp_view_window_run(tp_scene* sc, tp_gl_context* ctx, tp_renderer* r, tp_selection* sel,
+                       tp_camera* cam, view_options* o);
+
+#endif

@@ -1,0 +1,278 @@
+/* window.c - the interactive viewer's frame loop (see view.h): input events, navigation,
+ * picking and measuring, export and screenshots, the overlay. */
+#include "view.h"
+
+#include "camera_pose.h"
+#include "cli.h"
+#include "hud.h"
+#include "hud_text.h"
+#include "input.h"
+#include "mesh_export.h"
+#include "navigate.h"
+#include "overlay.h"
+#include "pick.h"
+#include "tp_geo.h"
+
+#include <epoxy/gl.h>
+#define GLFW_INCLUDE_NONE
+#include <GLFW/glfw3.h>
+
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+static const char* help_text =
+    "W/S forward/back   A/D left/right   Q/E down/up   left drag: look   Shift faster   Ctrl slower\n"
+    "Home (or 0) home view   O orbit mode (drag rotates, wheel or W/S zoom, A/D/Q/E pan)\n"
+    "L colour by level   T wireframe   F freeze LoD and culling   M LoD mode\n"
+    "+/- tau (or maxdist)   [ ] mindist   , . exp   X/Z exaggeration   V filled-void tint\n"
+    "J/K sun azimuth   U/N sun elevation   G 1 km grid   P screenshot   Y export mesh\n"
+    "C print camera   H hide HUD   right-click twice: measure   ? this help   Esc quit";
+
+typedef struct window_state {
+    tp_scene* sc;
+    tp_selection* sel;
+    tp_camera* cam;
+    view_options* o;
+    tp_nav nav;
+    tp_lod_params lod;
+    int frozen, shots, exports, show_help, show_hud, quit, want_shot;
+    double picks[2][3];
+    int picked;
+    char measure_line[512];
+} window_state;
+
+static const char* lod_name(tp_lod_mode m)
+{
+    return m == TP_LOD_DISTANCE ? "distance" : m == TP_LOD_FULL ? "full" : "error";
+}
+
+/* Scales tau (error mode) or maxdist (distance mode) by f, defaults made explicit. */
+static void scale_lod(window_state* s, double f)
+{
+    tp_lod_params full;
+    if (tp_lod_params_resolve(s->sc->terrain, &s->lod, &full, NULL) != TP_OK)
+        return;
+    s->lod.tau_px = full.tau_px * (s->lod.mode == TP_LOD_ERROR ? f : 1);
+    s->lod.mindist_m = full.mindist_m;
+    s->lod.maxdist_m =
+        fmax(full.mindist_m, full.maxdist_m * (s->lod.mode == TP_LOD_DISTANCE ? f : 1));
+}
+
+static void scale_mindist(window_state* s, double f)
+{
+    tp_lod_params full;
+    if (tp_lod_params_resolve(s->sc->terrain, &s->lod, &full, NULL) != TP_OK)
+        return;
+    s->lod.mindist_m = fmin(full.mindist_m * f, full.maxdist_m);
+    s->lod.maxdist_m = full.maxdist_m;
+}
+
+static void export_view(window_state* s)
+{
+    char name[64], cam_text[256], lod_text[96];
+    snprintf(name, sizeof name, "terrapatch-view-%03d.vtp", s->exports++);
+    tp_camera_text(s->sc, s->cam, cam_text, sizeof cam_text);
+    snprintf(lod_text, sizeof lod_text, "mode=%s tau_px=%g", lod_name(s->lod.mode),
+             s->lod.tau_px > 0 ? s->lod.tau_px : 1);
+    tp_export_options eo = {.camera_text = cam_text, .lod_text = lod_text};
+    tp_export_result er;
+    if (tp_export_selection(s->sc, s->sel, &eo, name, &er)) {
+        printf("exported %s: %zu triangles, measured error max %.2f m\n", name, er.triangles,
+               er.max_error_m);
+        fflush(stdout);
+    }
+}
+
+static void print_camera(const window_state* s)
+{
+    double lat, lon, yaw, pitch;
+    const tp_camera* cam = s->cam;
+    tp_camera_get_pose(cam, &yaw, &pitch);
+    if (tp_georef_proj_to_geo(s->sc->georef, cam->position[0], cam->position[1], &lat, &lon,
+                              NULL) == TP_OK)
+        printf("--camera-geo %.9f,%.9f,%.2f,%.2f,%.2f\n", lat, lon, cam->position[2], yaw, pitch);
+    printf("--camera %.3f,%.3f,%.2f,%.2f,%.2f\n", cam->position[0], cam->position[1],
+           cam->position[2], yaw, pitch);
+    fflush(stdout);
+}
+
+/* The measuring tool: a right click picks a ground point; every second one measures. */
+static void measure_click(window_state* s, GLFWwindow* win, double x, double y)
+{
+    int ww, wh;
+    glfwGetWindowSize(win, &ww, &wh);
+    double px = x * s->cam->viewport_w_px / fmax(ww, 1), py = y * s->cam->viewport_h_px / fmax(wh, 1);
+    double* p = s->picks[s->picked % 2];
+    if (!tp_view_pick(s->sc, s->sel, s->cam, px, py, p))
+        return;
+    s->picked++;
+    if (s->picked % 2 == 0) {
+        double e[2] = {s->picks[0][0], s->picks[1][0]}, n[2] = {s->picks[0][1], s->picks[1][1]};
+        tp_view_measure_points(s->sc, s->sel, e, n, s->measure_line, sizeof s->measure_line);
+        printf("measure: %s\n", s->measure_line);
+        fflush(stdout);
+    } else {
+        snprintf(s->measure_line, sizeof s->measure_line,
+                 "first point E %.1f N %.1f (%.1f m); right-click the second", p[0], p[1], p[2]);
+    }
+}
+
+static void on_char(window_state* s, int c)
+{
+    switch (c) {
+    case '?': s->show_help = !s->show_help; break;
+    case '+': case '=': scale_lod(s, 1.5); break;
+    case '-': scale_lod(s, 1 / 1.5); break;
+    case ']': scale_mindist(s, 1.25); break;
+    case '[': scale_mindist(s, 0.8); break;
+    case '.': case ',':
+        s->lod.exponent = (s->lod.exponent > 0 ? s->lod.exponent : 1) * (c == '.' ? 1.25 : 0.8);
+        break;
+    case '0': tp_nav_home(&s->nav, s->cam); break;
+    }
+}
+
+static void on_key(window_state* s, int key)
+{
+    tp_render_settings* rs = &s->o->render;
+    switch (key) {
+    case GLFW_KEY_ESCAPE: s->quit = 1; break;
+    case GLFW_KEY_HOME: tp_nav_home(&s->nav, s->cam); break;
+    case GLFW_KEY_O: {
+        double g[3];
+        int hit = !s->nav.orbit && tp_view_pick_centre(s->sc, s->sel, s->cam, g);
+        if (hit)
+            g[2] *= tp_selection_vertical_scale(s->sel);
+        tp_nav_toggle_orbit(&s->nav, s->cam, hit ? g : NULL);
+        break;
+    }
+    case GLFW_KEY_L: rs->color_lod = !rs->color_lod; break;
+    case GLFW_KEY_T: rs->wireframe = !rs->wireframe; break;
+    case GLFW_KEY_F: s->frozen = !s->frozen; break;
+    case GLFW_KEY_H: s->show_hud = !s->show_hud; break;
+    case GLFW_KEY_V: rs->hide_filled = !rs->hide_filled; break;
+    case GLFW_KEY_G: rs->grid_m = rs->grid_m > 0 ? 0 : 1000; break;
+    case GLFW_KEY_J: rs->sun_azimuth_deg = fmod(rs->sun_azimuth_deg + 345, 360); break;
+    case GLFW_KEY_K: rs->sun_azimuth_deg = fmod(rs->sun_azimuth_deg + 15, 360); break;
+    case GLFW_KEY_U: rs->sun_elevation_deg = fmin(90, rs->sun_elevation_deg + 5); break;
+    case GLFW_KEY_N: rs->sun_elevation_deg = fmax(0, rs->sun_elevation_deg - 5); break;
+    case GLFW_KEY_X: rs->exaggeration *= 1.25; break;
+    case GLFW_KEY_Z: rs->exaggeration /= 1.25; break;
+    case GLFW_KEY_M: s->lod.mode = s->lod.mode == TP_LOD_ERROR ? TP_LOD_DISTANCE : TP_LOD_ERROR; break;
+    case GLFW_KEY_KP_ADD: scale_lod(s, 1.5); break;
+    case GLFW_KEY_KP_SUBTRACT: scale_lod(s, 1 / 1.5); break;
+    case GLFW_KEY_F1: s->show_help = !s->show_help; break;
+    case GLFW_KEY_P: s->want_shot = 1; break;
+    case GLFW_KEY_Y: export_view(s); break;
+    case GLFW_KEY_C: print_camera(s); break;
+    }
+}
+
+/* The controls held during this frame. */
+static tp_nav_controls controls(const tp_input* in, double look_dx, double look_dy)
+{
+#define HELD(k) tp_input_held(in, GLFW_KEY_##k)
+    tp_nav_controls c = {.look_dx = look_dx, .look_dy = look_dy, .zoom_steps = in->scroll_y};
+    c.forward = HELD(W) - HELD(S);
+    c.right = (HELD(D) || HELD(RIGHT)) - (HELD(A) || HELD(LEFT));
+    c.up = (HELD(E) || HELD(UP)) - (HELD(Q) || HELD(DOWN));
+    c.speed_factor = HELD(LEFT_SHIFT) || HELD(RIGHT_SHIFT) ? 5
+                   : HELD(LEFT_CONTROL) || HELD(RIGHT_CONTROL) ? 0.2 : 1;
+#undef HELD
+    return c;
+}
+
+int tp_view_window_run(tp_scene* sc, tp_gl_context* ctx, tp_renderer* r, tp_selection* sel,
+                       tp_camera* cam, view_options* o)
+{
+    GLFWwindow* win = tp_gl_context_window(ctx);
+    static tp_input in; /* the callbacks' user pointer: must outlive event processing */
+    tp_input_attach(&in, win);
+    window_state s = {.sc = sc, .sel = sel, .cam = cam, .o = o, .lod = o->vs.lod,
+                      .show_hud = !o->no_hud};
+    const double* gt = sc->info.geotransform;
+    tp_nav_init(&s.nav, cam, fmax(sc->info.width * fabs(gt[1]), sc->info.height * fabs(gt[5])));
+    tp_hud* hud = tp_hud_create();
+    tp_measured_error me = {0};
+    double measured_at = -1e9, fps = 0, last = glfwGetTime(), mx0 = 0, my0 = 0;
+    int dragging = 0, frames = 0;
+    while (!glfwWindowShouldClose(win) && !s.quit) {
+        tp_input_begin_frame(&in);
+        glfwPollEvents();
+        double now = glfwGetTime(), dt = now - last;
+        last = now;
+        tp_input_event ev;
+        while (tp_input_next(&in, &ev)) {
+            if (ev.kind == TP_INPUT_KEY)
+                on_key(&s, ev.key);
+            else if (ev.kind == TP_INPUT_CHAR)
+                on_char(&s, ev.key);
+            else if (ev.kind == TP_INPUT_CLICK && ev.key == GLFW_MOUSE_BUTTON_RIGHT)
+                measure_click(&s, win, ev.x, ev.y);
+        }
+        double mx, my, look_dx = 0, look_dy = 0;
+        glfwGetCursorPos(win, &mx, &my);
+        int left = glfwGetMouseButton(win, GLFW_MOUSE_BUTTON_LEFT) == GLFW_PRESS;
+        if (left && dragging)
+            look_dx = mx - mx0, look_dy = my - my0;
+        dragging = left;
+        mx0 = mx, my0 = my;
+
+        /* navigation in drawn space (heights times the exaggeration), then terrain following */
+        double zs = o->render.exaggeration, x, y;
+        tp_selection_set_vertical_scale(sel, zs);
+        tp_terrain_world_to_grid(sc->terrain, cam->position[0], cam->position[1], &x, &y);
+        double ground = tp_terrain_height_at(sc->terrain, x, y) * zs;
+        tp_nav_controls c = controls(&in, look_dx, look_dy);
+        tp_nav_step(&s.nav, &c, dt, ground, cam);
+        tp_selection_keep_above(sel, cam->position, 2.0);
+        if (s.nav.orbit) { /* the target follows the ground as it pans */
+            tp_terrain_world_to_grid(sc->terrain, s.nav.target[0], s.nav.target[1], &x, &y);
+            double tz = tp_terrain_height_at(sc->terrain, x, y);
+            if (!isnan(tz))
+                s.nav.target[2] = tz * zs;
+        }
+        int w, h;
+        glfwGetFramebufferSize(win, &w, &h);
+        cam->viewport_w_px = w > 0 ? w : 1;
+        cam->viewport_h_px = h > 0 ? h : 1;
+
+        tp_gl_context_begin_frame(ctx);
+        frame_result fr;
+        tp_view_frame(sel, r, cam, &o->render, &s.lod, s.frozen, &fr);
+        /* the first dt only spans the set-up before the first poll */
+        if (frames++ > 0)
+            fps = fps > 0 ? 0.9 * fps + 0.1 / fmax(dt, 1e-6) : 1 / fmax(dt, 1e-6);
+        char text[4096];
+        tp_overlay ov = {.grid_m = o->render.grid_m, .measure_line = s.measure_line};
+        if (s.show_hud) {
+            if (now - measured_at > 1.0) { /* once a second */
+                tp_view_measure_now(sel, cam, &me);
+                measured_at = now;
+            }
+            tp_hud_state hs = {.fps = fps, .frozen = s.frozen, .orbit = s.nav.orbit,
+                               .speed_mps = s.nav.speed_mps, .exaggeration = zs};
+            tp_view_hud_text(sc, sel, cam, &s.lod, &fr, &me, &hs, text, sizeof text);
+            ov.hud_text = text;
+            ov.help_text = s.show_help ? help_text : NULL;
+        }
+        tp_view_overlay_draw(hud, sc, sel, cam, &ov);
+        if (s.want_shot) {
+            char name[64];
+            snprintf(name, sizeof name, "terrapatch-%03d.png", s.shots++);
+            if (tp_view_screenshot(ctx, name))
+                printf("screenshot: %s\n", name);
+            fflush(stdout);
+            s.want_shot = 0;
+        }
+        tp_gl_context_end_frame(ctx);
+        char title[256];
+        snprintf(title, sizeof title, "terrapatch - %.1f fps, %zu triangles, %s mode%s", fps,
+                 fr.core.triangles, s.nav.orbit ? "orbit" : "fly",
+                 s.frozen ? " (LoD frozen)" : "");
+        glfwSetWindowTitle(win, title);
+    }
+    tp_hud_destroy(hud);
+    return TP_EXIT_OK;
+}
