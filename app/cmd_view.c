@@ -843,10 +843,13 @@ static int run_window(tp_scene* sc, tp_gl_context* ctx, tp_renderer* r, tp_selec
                      lod.tau_px > 0 ? lod.tau_px : 1);
             tp_export_options eo = {.camera_text = cam_text, .lod_text = lod_text};
             tp_export_result er;
-            if (tp_export_selection(sc, sel, &eo, name, &er)) {
+            tp_error ee;
+            if (tp_export_selection(sc, sel, &eo, name, &er, &ee) == TP_OK) {
                 printf("exported %s: %zu triangles, measured error max %.2f m\n", name,
                        er.triangles, er.max_error_m);
                 fflush(stdout);
+            } else {
+                fprintf(stderr, "terrapatch: %s\n", ee.message);
             }
         }
         if (TAPPED(GLFW_KEY_C)) { /* print the view so it can be reproduced */
