@@ -91,6 +91,8 @@ tp_status tp_select_max_error(const tp_scene* sc, tp_selection* sel, double m, t
     return tp_selection_update(sel, NULL, &lp, err);
 }
 
+#define NO_POINT UINT64_MAX
+
 static int full_cell(const tp_scene* sc, const tp_vertex* a, const tp_vertex* b,
                      const tp_vertex* c)
 {
@@ -115,7 +117,8 @@ tp_status tp_export_selection(const tp_scene* sc, const tp_selection* sel,
     const tp_terrain_info* in = &sc->info;
     size_t v = (size_t)in->patch_size, vcap = v * v, tcap = 2 * (v - 1) * (v - 1);
     size_t cells = (size_t)in->width * in->height;
-    int32_t* index = malloc(cells * sizeof *index); /* grid sample -> point, -1 when unused */
+    /* grid sample -> point, NO_POINT when unused; 64-bit: a mesh may pass 2^32 points */
+    uint64_t* index = malloc(cells * sizeof *index);
     uint8_t* seen = calloc((cells + 7) / 8, 1);
     tp_vertex* vb = malloc(vcap * sizeof *vb);
     uint32_t* tb = malloc(3 * tcap * sizeof *tb);
@@ -126,13 +129,13 @@ tp_status tp_export_selection(const tp_scene* sc, const tp_selection* sel,
     double *xyz = NULL, *elev = NULL, *tri_err = NULL;
     uint8_t *filled = NULL, *lod = NULL;
     int32_t *patch = NULL, *pt_x = NULL, *pt_y = NULL;
-    uint32_t* tri = NULL;
+    uint64_t* tri = NULL;
     tp_status st = TP_ERR_OUT_OF_MEMORY;
     if (!index || !seen || !vb || !tb)
         goto done;
     oom = 0;
     for (size_t i = 0; i < cells; i++)
-        index[i] = -1;
+        index[i] = NO_POINT;
     for (int pass = 0; pass < 2; pass++) {
         points = tris = 0;
         for (int p = 0; p < in->patch_count; p++) {
@@ -145,15 +148,15 @@ tp_status tp_export_selection(const tp_scene* sc, const tp_selection* sel,
                     continue;
                 for (int c = 0; c < 3; c++) {
                     size_t g = (size_t)t3[c]->y * in->width + t3[c]->x;
-                    if (index[g] < 0) {
+                    if (index[g] == NO_POINT) {
                         if (pass == 1) {
                             pt_x[points] = t3[c]->x;
                             pt_y[points] = t3[c]->y;
                         }
-                        index[g] = (int32_t)points++;
+                        index[g] = points++;
                     }
                     if (pass == 1)
-                        tri[3 * tris + c] = (uint32_t)index[g];
+                        tri[3 * tris + c] = index[g];
                 }
                 if (pass == 1) {
                     patch[tris] = p;
@@ -164,6 +167,12 @@ tp_status tp_export_selection(const tp_scene* sc, const tp_selection* sel,
             }
         }
         if (pass == 0) {
+            /* refuse what the file could not hold before allocating for it */
+            tp_error size_err;
+            if (path && tp_mesh_check_size(o->format, points, tris, &size_err) != TP_OK) {
+                st = fail(err, TP_ERR_INVALID_ARG, "%s: %s", path, size_err.message);
+                goto done;
+            }
             xyz = malloc(3 * points * sizeof *xyz);
             elev = malloc(points * sizeof *elev);
             filled = malloc(points ? points : 1);
@@ -179,7 +188,7 @@ tp_status tp_export_selection(const tp_scene* sc, const tp_selection* sel,
                 goto done;
             }
             for (size_t i = 0; i < cells; i++)
-                index[i] = -1;
+                index[i] = NO_POINT;
         }
     }
     if (tris == 0) {
@@ -209,7 +218,7 @@ tp_status tp_export_selection(const tp_scene* sc, const tp_selection* sel,
      * above in (east, north): that is the same order for a north-up grid, reversed otherwise. */
     if (!(in->geotransform[1] * in->geotransform[5] < 0))
         for (size_t t = 0; t < tris; t++) {
-            uint32_t s = tri[3 * t + 1];
+            uint64_t s = tri[3 * t + 1];
             tri[3 * t + 1] = tri[3 * t + 2];
             tri[3 * t + 2] = s;
         }
