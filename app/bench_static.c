@@ -123,10 +123,14 @@ int tp_bench_static(const tp_scene* sc, const char* dem, const double* max_error
             break;
         }
         double t0 = now_s();
-        tp_select_max_error(sc, sel, r->bound_m);
+        tp_status st = tp_select_max_error(sc, sel, r->bound_m, &err);
         double t1 = now_s();
-        if (!tp_export_selection(sc, sel, &eo, NULL, &r->res))
+        if (st == TP_OK)
+            st = tp_export_selection(sc, sel, &eo, NULL, &r->res, &err);
+        if (st != TP_OK) {
+            fprintf(stderr, "terrapatch: %s\n", err.message);
             code = TP_EXIT_FAILURE;
+        }
         double t2 = now_s();
         r->select_s = t1 - t0;
         r->mesh_s = t2 - t1;

@@ -213,7 +213,10 @@ int tp_cli_export(int argc, char** argv)
                     o.max_error_m, floor_m, sc.info.height_step_m);
             code = TP_EXIT_USAGE;
         } else {
-            tp_select_max_error(&sc, sel, o.max_error_m);
+            if (tp_select_max_error(&sc, sel, o.max_error_m, &err) != TP_OK) {
+                fprintf(stderr, "terrapatch export: %s\n", err.message);
+                code = TP_EXIT_FAILURE;
+            }
             eo.include_culled = 1;
             snprintf(lod_text, sizeof lod_text, "mode=max-error max_error_m=%g", o.max_error_m);
         }
@@ -239,7 +242,8 @@ int tp_cli_export(int argc, char** argv)
     eo.lod_text = lod_text;
     tp_export_result res;
     if (code == TP_EXIT_OK) {
-        if (!tp_export_selection(&sc, sel, &eo, o.out, &res)) {
+        if (tp_export_selection(&sc, sel, &eo, o.out, &res, &err) != TP_OK) {
+            fprintf(stderr, "terrapatch: %s\n", err.message);
             code = TP_EXIT_FAILURE;
         } else {
             size_t full = tp_full_mesh_triangles(&sc);

@@ -2,10 +2,23 @@
 #include "mesh_export.h"
 
 #include <math.h>
+#include <stdarg.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+
+/* Fills err (when not NULL) with a printf-style message; returns s. */
+static tp_status fail(tp_error* err, tp_status s, const char* fmt, ...)
+{
+    if (err) {
+        va_list ap;
+        va_start(ap, fmt);
+        vsnprintf(err->message, sizeof err->message, fmt, ap);
+        va_end(ap);
+    }
+    return s;
+}
 
 /* The source height of sample (x, y) of the tiled grid: the render grid's value (quantisation
  * counts against the mesh), or the decoded height where the fit resampled the grid. */
@@ -68,81 +81,17 @@ static double triangle_error(const tp_scene* sc, const tp_vertex* a, const tp_ve
     return e.max;
 }
 
-double tp_patch_measured_error(const tp_scene* sc, const tp_selection* sel, int p)
+tp_status tp_select_max_error(const tp_scene* sc, tp_selection* sel, double m, tp_error* err)
 {
-    size_t v = (size_t)sc->info.patch_size, vcap = v * v, tcap = 2 * (v - 1) * (v - 1);
-    tp_vertex* vb = malloc(vcap * sizeof *vb);
-    uint32_t* tb = malloc(3 * tcap * sizeof *tb);
-    double mx = 0;
-    if (vb && tb) {
-        size_t nt = patch_triangles(sc, sel, p, vb, tb, vcap, tcap);
-        for (size_t i = 0; i < nt; i++) {
-            double e = triangle_error(sc, &vb[tb[3 * i]], &vb[tb[3 * i + 1]], &vb[tb[3 * i + 2]],
-                                      NULL, NULL);
-            mx = e > mx ? e : mx;
-        }
+    tp_lod_params lp = {.mode = TP_LOD_MAX_ERROR, .max_error_m = m};
+    if (sc->info.fit != TP_FIT_RESAMPLE) { /* the render grid is the terrain's source */
+        lp.reference_heights = sc->grid->heights;
+        lp.reference_height_count = (size_t)sc->grid->width * (size_t)sc->grid->height;
     }
-    free(vb);
-    free(tb);
-    return mx;
+    return tp_selection_update(sel, NULL, &lp, err);
 }
 
-/* Is the fourth corner of the full-resolution cell of this triangle drawn too? */
-static int neighbor(const tp_terrain_info* in, int p, int side)
-{
-    int c = p % in->patch_cols, r = p / in->patch_cols;
-    switch (side) {
-    case TP_SIDE_TOP: return r > 0 ? p - in->patch_cols : -1;
-    case TP_SIDE_RIGHT: return c + 1 < in->patch_cols ? p + 1 : -1;
-    case TP_SIDE_BOTTOM: return r + 1 < in->patch_rows ? p + in->patch_cols : -1;
-    default: return c > 0 ? p - 1 : -1;
-    }
-}
-
-/* Static error-bounded levels: start from the delta bound, then raise levels where the
- * measured error of the stitched triangles exceeds M (the coarser neighbours that moved the
- * patch's border, else the patch itself). Levels only go up, so this ends. */
-void tp_select_max_error(const tp_scene* sc, tp_selection* sel, double m)
-{
-    const tp_terrain_info* in = &sc->info;
-    for (int p = 0; p < in->patch_count; p++) {
-        tp_patch_info pi;
-        tp_patch_get_info(sc->terrain, p, &pi);
-        int k = in->n;
-        while (k > 0 && pi.delta_m[k - 1] <= m)
-            k--;
-        tp_selection_set_level(sel, p, k);
-    }
-    int* todo = malloc((size_t)in->patch_count * sizeof *todo);
-    if (!todo)
-        return;
-    for (int round = 0;; round++) {
-        int count = 0;
-        for (int p = 0; p < in->patch_count; p++)
-            if (tp_selection_dirty(sel, p))
-                todo[count++] = p;
-        tp_selection_clear_dirty(sel);
-        if (count == 0)
-            break;
-        for (int i = 0; i < count; i++) {
-            int p = todo[i];
-            if (tp_patch_measured_error(sc, sel, p) <= m)
-                continue;
-            int k = tp_selection_level(sel, p), nb[4], raised = 0;
-            tp_selection_neighbor_levels(sel, p, nb);
-            for (int s = 0; s < 4; s++)
-                if (nb[s] >= 0 && nb[s] < k) {
-                    tp_selection_set_level(sel, neighbor(in, p, s), nb[s] + 1);
-                    raised = 1;
-                }
-            if (!raised && k < in->n)
-                tp_selection_set_level(sel, p, k + 1);
-        }
-        if (round % 4 == 3)
-            fprintf(stderr, "terrapatch: max-error mesh: refining levels, %d patches re-measured\n", count);
-    }
-    free(todo);
-}
+#define NO_POINT UINT64_MAX
 
 static int full_cell(const tp_scene* sc, const tp_vertex* a, const tp_vertex* b,
                      const tp_vertex* c)
@@ -160,13 +109,16 @@ static int full_cell(const tp_scene* sc, const tp_vertex* a, const tp_vertex* b,
     return 1;
 }
 
-int tp_export_selection(const tp_scene* sc, const tp_selection* sel, const tp_export_options* o,
-                        const char* path, tp_export_result* result)
+tp_status tp_export_selection(const tp_scene* sc, const tp_selection* sel,
+                              const tp_export_options* o, const char* path,
+                              tp_export_result* result, tp_error* err)
 {
+    const char* name = path ? path : sc->path;
     const tp_terrain_info* in = &sc->info;
     size_t v = (size_t)in->patch_size, vcap = v * v, tcap = 2 * (v - 1) * (v - 1);
     size_t cells = (size_t)in->width * in->height;
-    int32_t* index = malloc(cells * sizeof *index); /* grid sample -> point, -1 when unused */
+    /* grid sample -> point, NO_POINT when unused; 64-bit: a mesh may pass 2^32 points */
+    uint64_t* index = malloc(cells * sizeof *index);
     uint8_t* seen = calloc((cells + 7) / 8, 1);
     tp_vertex* vb = malloc(vcap * sizeof *vb);
     uint32_t* tb = malloc(3 * tcap * sizeof *tb);
@@ -174,16 +126,16 @@ int tp_export_selection(const tp_scene* sc, const tp_selection* sel, const tp_ex
     size_t points = 0, tris = 0;
     tri_error acc = {sc, 0, 0, 0, NULL}; /* RMS over every covered sample, each once */
     int oom = 1;
-    double *xyz = NULL, *elev = NULL, *err = NULL;
+    double *xyz = NULL, *elev = NULL, *tri_err = NULL;
     uint8_t *filled = NULL, *lod = NULL;
     int32_t *patch = NULL, *pt_x = NULL, *pt_y = NULL;
-    uint32_t* tri = NULL;
-    int ok = 0;
+    uint64_t* tri = NULL;
+    tp_status st = TP_ERR_OUT_OF_MEMORY;
     if (!index || !seen || !vb || !tb)
         goto done;
     oom = 0;
     for (size_t i = 0; i < cells; i++)
-        index[i] = -1;
+        index[i] = NO_POINT;
     for (int pass = 0; pass < 2; pass++) {
         points = tris = 0;
         for (int p = 0; p < in->patch_count; p++) {
@@ -196,25 +148,31 @@ int tp_export_selection(const tp_scene* sc, const tp_selection* sel, const tp_ex
                     continue;
                 for (int c = 0; c < 3; c++) {
                     size_t g = (size_t)t3[c]->y * in->width + t3[c]->x;
-                    if (index[g] < 0) {
+                    if (index[g] == NO_POINT) {
                         if (pass == 1) {
                             pt_x[points] = t3[c]->x;
                             pt_y[points] = t3[c]->y;
                         }
-                        index[g] = (int32_t)points++;
+                        index[g] = points++;
                     }
                     if (pass == 1)
-                        tri[3 * tris + c] = (uint32_t)index[g];
+                        tri[3 * tris + c] = index[g];
                 }
                 if (pass == 1) {
                     patch[tris] = p;
                     lod[tris] = (uint8_t)tp_selection_level(sel, p);
-                    err[tris] = triangle_error(sc, t3[0], t3[1], t3[2], seen, &acc);
+                    tri_err[tris] = triangle_error(sc, t3[0], t3[1], t3[2], seen, &acc);
                 }
                 tris++;
             }
         }
         if (pass == 0) {
+            /* refuse what the file could not hold before allocating for it */
+            tp_error size_err;
+            if (path && tp_mesh_check_size(o->format, points, tris, &size_err) != TP_OK) {
+                st = fail(err, TP_ERR_INVALID_ARG, "%s: %s", path, size_err.message);
+                goto done;
+            }
             xyz = malloc(3 * points * sizeof *xyz);
             elev = malloc(points * sizeof *elev);
             filled = malloc(points ? points : 1);
@@ -223,19 +181,19 @@ int tp_export_selection(const tp_scene* sc, const tp_selection* sel, const tp_ex
             tri = malloc(3 * tris * sizeof *tri);
             patch = malloc(tris * sizeof *patch);
             lod = malloc(tris ? tris : 1);
-            err = malloc(tris * sizeof *err);
+            tri_err = malloc(tris * sizeof *tri_err);
             if ((points && (!xyz || !elev || !pt_x || !pt_y)) || !filled ||
-                (tris && (!tri || !patch || !err)) || !lod) {
+                (tris && (!tri || !patch || !tri_err)) || !lod) {
                 oom = 1;
                 goto done;
             }
             for (size_t i = 0; i < cells; i++)
-                index[i] = -1;
+                index[i] = NO_POINT;
         }
     }
     if (tris == 0) {
-        fprintf(stderr, "terrapatch: %s: nothing to export (no drawn triangle in the selection)\n",
-                path ? path : sc->path);
+        st = fail(err, TP_ERR_INVALID_ARG,
+                         "%s: nothing to export (no drawn triangle in the selection)", name);
         goto done;
     }
 
@@ -260,7 +218,7 @@ int tp_export_selection(const tp_scene* sc, const tp_selection* sel, const tp_ex
      * above in (east, north): that is the same order for a north-up grid, reversed otherwise. */
     if (!(in->geotransform[1] * in->geotransform[5] < 0))
         for (size_t t = 0; t < tris; t++) {
-            uint32_t s = tri[3 * t + 1];
+            uint64_t s = tri[3 * t + 1];
             tri[3 * t + 1] = tri[3 * t + 2];
             tri[3 * t + 2] = s;
         }
@@ -273,30 +231,30 @@ int tp_export_selection(const tp_scene* sc, const tp_selection* sel, const tp_ex
     tp_mesh mesh = {
         .point_count = points, .xyz = xyz, .elevation_m = elev, .void_filled = filled,
         .triangle_count = tris, .triangles = tri, .patch_id = patch, .lod = lod,
-        .max_error_m = err, .crs_wkt = sc->grid->crs_wkt, .epsg = sc->grid->epsg,
+        .max_error_m = tri_err, .crs_wkt = sc->grid->crs_wkt, .epsg = sc->grid->epsg,
         .utm_zone = zone, .source_file = NULL, .camera = o->camera_text,
         .lod_params = o->lod_text, .program_version = "terrapatch " TP_VERSION,
         .origin = {origin[0], origin[1], origin[2]},
     };
     mesh.source_file = sc->path;
-    tp_error e;
-    if (path && tp_mesh_write(path, o->format, &mesh, &e) != TP_OK) {
-        fprintf(stderr, "terrapatch: %s\n", e.message);
-        goto done;
+    if (path) {
+        st = tp_mesh_write(path, o->format, &mesh, err);
+        if (st != TP_OK)
+            goto done;
     }
     if (result) {
         double mx = 0;
         for (size_t t = 0; t < tris; t++)
-            mx = err[t] > mx ? err[t] : mx;
+            mx = tri_err[t] > mx ? tri_err[t] : mx;
         result->points = points;
         result->triangles = tris;
         result->max_error_m = mx;
         result->rms_error_m = acc.count ? sqrt(acc.sum / acc.count) : 0;
     }
-    ok = 1;
+    st = TP_OK;
 done:
     if (oom)
-        fprintf(stderr, "terrapatch: %s: out of memory building the mesh\n", path ? path : sc->path);
+        st = fail(err, TP_ERR_OUT_OF_MEMORY, "%s: out of memory building the mesh", name);
     free(index);
     free(seen);
     free(vb);
@@ -309,8 +267,8 @@ done:
     free(tri);
     free(patch);
     free(lod);
-    free(err);
-    return ok;
+    free(tri_err);
+    return st;
 }
 
 size_t tp_full_mesh_triangles(const tp_scene* sc)

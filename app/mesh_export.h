@@ -23,19 +23,16 @@ typedef struct tp_export_result {
 } tp_export_result;
 
 /* Builds the mesh of sel's current levels and writes it to path (NULL: builds and measures it,
- * writes nothing). Returns 1, or 0 after printing a one-line message naming path. */
-int tp_export_selection(const tp_scene* sc, const tp_selection* sel, const tp_export_options* o,
-                        const char* path, tp_export_result* result);
+ * writes nothing). On failure err holds a one-line message naming path (or the DEM): nothing to
+ * export (TP_ERR_INVALID_ARG), out of memory, or tp_mesh_write's status. */
+tp_status tp_export_selection(const tp_scene* sc, const tp_selection* sel,
+                              const tp_export_options* o, const char* path,
+                              tp_export_result* result, tp_error* err);
 
-/* Measured maximum vertical error (m) of patch p's drawn triangles under sel's levels against
- * the source samples they cover. */
-double tp_patch_measured_error(const tp_scene* sc, const tp_selection* sel, int p);
-
-/* Static error-bounded levels for `export --max-error M` (every patch, no camera): each patch
- * starts at the coarsest level whose delta is <= m, then levels go up where the measured error
- * of the stitched triangles exceeds m (the coarser neighbours that moved the patch's border,
- * else the patch itself) until every patch's measured error is <= m. */
-void tp_select_max_error(const tp_scene* sc, tp_selection* sel, double m);
+/* Static error-bounded levels for `export --max-error M` (every patch, no camera): the core's
+ * TP_LOD_MAX_ERROR mode, measured against the source samples (the render grid) unless the fit
+ * resampled them (then against the decoded grid). */
+tp_status tp_select_max_error(const tp_scene* sc, tp_selection* sel, double m, tp_error* err);
 
 /* Triangles of the full mesh (`export --full`): two per cell of four drawn samples. */
 size_t tp_full_mesh_triangles(const tp_scene* sc);

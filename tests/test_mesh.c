@@ -135,7 +135,7 @@ typedef struct test_mesh {
     double* xyz;
     double* elevation_m;
     uint8_t* void_filled;
-    uint32_t* triangles;
+    uint64_t* triangles;
     int32_t* patch_id;
     uint8_t* lod;
     double* max_error_m;
@@ -149,7 +149,7 @@ static void tm_init(test_mesh* t, size_t max_points, size_t max_tris)
     t->xyz = calloc(3 * max_points, sizeof(double));
     t->elevation_m = calloc(max_points, sizeof(double));
     t->void_filled = calloc(max_points, 1);
-    t->triangles = calloc(3 * max_tris, sizeof(uint32_t));
+    t->triangles = calloc(3 * max_tris, sizeof(uint64_t));
     t->patch_id = calloc(max_tris, sizeof(int32_t));
     t->lod = calloc(max_tris, 1);
     t->max_error_m = calloc(max_tris, sizeof(double));
@@ -850,8 +850,40 @@ TEST(vtk_prints_nothing)
     tmp_end();
 }
 
+/* Point and triangle counts are size_t and checked against each format's limits without
+ * building anything: past 2^31 points (where the export's int32 point numbering wrapped) a mesh
+ * still fits VTK's 64-bit ids; beyond vtkIdType it is refused with a message naming the limit. */
+TEST(size_check_follows_vtk_id_limits)
+{
+    const tp_mesh_format formats[3] = {TP_MESH_VTP, TP_MESH_VTK, TP_MESH_VTM};
+    const size_t past_int32 = ((size_t)1 << 31) + 1;
+    const size_t id_max = (size_t)INT64_MAX;
+    tp_error err;
+    int f;
+    for (f = 0; f < 3; ++f) {
+        EXPECT_OK(tp_mesh_check_size(formats[f], past_int32, past_int32, &err));
+        EXPECT_OK(tp_mesh_check_size(formats[f], ((size_t)1 << 32) + 1, 3, &err));
+        EXPECT_OK(tp_mesh_check_size(formats[f], id_max, (id_max - 1) / 3, &err));
+
+        memset(&err, 0, sizeof err);
+        EXPECT_STATUS(TP_ERR_INVALID_ARG, tp_mesh_check_size(formats[f], id_max + 1, 1, &err));
+        EXPECT_TRUE(strstr(err.message, "9223372036854775808 points") != NULL);
+        EXPECT_TRUE(strstr(err.message, "9223372036854775807") != NULL);
+        EXPECT_TRUE(strstr(err.message, "vtkIdType") != NULL);
+
+        memset(&err, 0, sizeof err);
+        EXPECT_STATUS(TP_ERR_INVALID_ARG,
+                      tp_mesh_check_size(formats[f], 3, (id_max - 1) / 3 + 1, &err));
+        EXPECT_TRUE(strstr(err.message, "triangles") != NULL);
+        EXPECT_TRUE(strstr(err.message, "vtkIdType") != NULL);
+        EXPECT_STATUS(TP_ERR_INVALID_ARG, tp_mesh_check_size(formats[f], 3, SIZE_MAX, NULL));
+    }
+    EXPECT_STATUS(TP_ERR_INVALID_ARG, tp_mesh_check_size((tp_mesh_format)7, 3, 1, &err));
+}
+
 #define TESTS(X)                                                                                   \
     X(vtp_square_round_trip)                                                                       \
+    X(size_check_follows_vtk_id_limits)                                                            \
     X(vtk_square_round_trip)                                                                       \
     X(vtk_keeps_multiline_wkt_bytes)                                                               \
     X(vtm_two_patches_round_trip)                                                                  \

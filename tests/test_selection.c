@@ -490,6 +490,153 @@ TEST(measure_from_two_threads_matches_single_thread)
     world_destroy(&w);
 }
 
+/* An allocator that counts live blocks and fails every request once told to. */
+typedef struct test_heap {
+    int fail;
+    long live, failed;
+} test_heap;
+
+static void* heap_alloc(size_t size, void* user)
+{
+    test_heap* h = (test_heap*)user;
+    void* p;
+    if (h->fail) {
+        h->failed++;
+        return NULL;
+    }
+    p = malloc(size);
+    h->live += p != NULL;
+    return p;
+}
+
+static void heap_free(void* ptr, void* user)
+{
+    ((test_heap*)user)->live--;
+    free(ptr);
+}
+
+/* The max-error mode against the source heights: every patch's drawn triangles stay within the
+ * bound at every source sample they cover, and no patch can go one level coarser alone. */
+TEST(max_error_mode_keeps_the_bound_against_the_source)
+{
+    world w;
+    tp_lod_params lp;
+    tp_error err;
+    static tp_vertex v[17 * 17];
+    static uint32_t tri[3 * 512];
+    static double drawn[17 * 17];
+    const double bound[3] = {0.5, 4.0, 25.0};
+    int b, p, j, coarse = 0;
+    world_create(&w);
+    for (b = 0; b < 3; ++b) {
+        double worst = 0;
+        memset(&lp, 0, sizeof lp);
+        lp.mode = TP_LOD_MAX_ERROR;
+        lp.max_error_m = bound[b];
+        lp.reference_heights = w.src;
+        lp.reference_height_count = (size_t)w.ti.src_width * w.ti.src_height;
+        ASSERT_OK(tp_selection_update(w.s, NULL, &lp, &err));
+        for (p = 0; p < w.ti.patch_count; ++p) {
+            size_t tc = drawn_patch(&w, p, v, tri);
+            int x0 = (p % w.ti.patch_cols) * 16, y0 = (p / w.ti.patch_cols) * 16;
+            EXPECT_TRUE(tp_selection_visible(w.s, p));
+            coarse += tp_selection_level(w.s, p) < w.ti.n;
+            tpt_patch_surface(v, tri, tc, x0, y0, 17, drawn, NULL);
+            for (j = 0; j < 17 * 17; ++j) {
+                int x = x0 + j % 17, y = y0 + j / 17;
+                double src = x < w.ti.src_width && y < w.ti.src_height
+                                 ? w.src[y * w.ti.src_width + x]
+                                 : NAN;
+                if (!isnan(src) && !isnan(drawn[j]) && fabs(drawn[j] - src) > worst)
+                    worst = fabs(drawn[j] - src);
+            }
+        }
+        tp_test_note("max error %g m: measured %.6f m", bound[b], worst);
+        EXPECT_LE(worst, bound[b] + 1e-9);
+    }
+    EXPECT_GE_INT(coarse, 1); /* it did coarsen something */
+    memset(&lp, 0, sizeof lp);
+    lp.mode = TP_LOD_MAX_ERROR;
+    EXPECT_STATUS(TP_ERR_INVALID_ARG, tp_selection_update(w.s, NULL, &lp, &err));
+    EXPECT_TRUE(strstr(err.message, "max_error_m") != NULL);
+    lp.max_error_m = 1;
+    lp.reference_heights = w.src;
+    lp.reference_height_count = 7;
+    EXPECT_STATUS(TP_ERR_INVALID_ARG, tp_selection_update(w.s, NULL, &lp, &err));
+    EXPECT_TRUE(strstr(err.message, "7") != NULL);
+    world_destroy(&w);
+}
+
+/* Allocation failures come back as TP_ERR_OUT_OF_MEMORY, outputs and levels untouched, never
+ * as a zero error (the max-error selection used to treat a failed measurement as 0 m). */
+TEST(allocation_failure_is_reported_not_measured_as_zero)
+{
+    test_heap heap = {0, 0, 0};
+    tp_terrain_desc d;
+    tp_terrain* t = NULL;
+    tp_selection* s = NULL;
+    tp_terrain_info ti;
+    tp_lod_params lp;
+    tp_error err;
+    tp_error_measure em = {-1, -1, 7};
+    tp_camera cam;
+    double px = -1, mx = -1;
+    float* src = (float*)malloc(sizeof(float) * 70 * 50);
+    int p, levels_before[64];
+    ASSERT_TRUE(src != NULL);
+    tpt_rough_heights(src, 70, 50, 503, 1500.0, 300.0, 8.0, 0);
+    memset(&d, 0, sizeof d);
+    d.heights = src;
+    d.height_count = 70 * 50;
+    d.width = 70;
+    d.height = 50;
+    d.patch_size = 17;
+    d.allocator.alloc = heap_alloc;
+    d.allocator.free = heap_free;
+    d.allocator.user_data = &heap;
+    ASSERT_OK(tp_terrain_create(&d, &t, &err));
+    ASSERT_OK(tp_selection_create(t, &s, &err));
+    EXPECT_TRUE(heap.live > 0); /* the terrain and the selection came from the allocator */
+    tp_terrain_get_info(t, &ti);
+    ASSERT_TRUE(ti.patch_count <= 64);
+    for (p = 0; p < ti.patch_count; ++p)
+        levels_before[p] = tp_selection_level(s, p);
+
+    heap.fail = 1;
+    memset(&lp, 0, sizeof lp);
+    lp.mode = TP_LOD_MAX_ERROR;
+    lp.max_error_m = 5.0;
+    lp.reference_heights = src;
+    lp.reference_height_count = 70 * 50;
+    err.message[0] = 0;
+    EXPECT_STATUS(TP_ERR_OUT_OF_MEMORY, tp_selection_update(s, NULL, &lp, &err));
+    EXPECT_TRUE(strstr(err.message, "out of memory") != NULL);
+    for (p = 0; p < ti.patch_count; ++p)
+        EXPECT_EQ_INT(levels_before[p], tp_selection_level(s, p));
+    EXPECT_STATUS(TP_ERR_OUT_OF_MEMORY, tp_selection_measure_error(s, &em));
+    EXPECT_EQ_DBL(-1.0, em.max_error_m);
+    memset(&cam, 0, sizeof cam);
+    cam.position[0] = 35;
+    cam.position[1] = -60;
+    cam.position[2] = 3000;
+    EXPECT_STATUS(TP_ERR_OUT_OF_MEMORY,
+                  tp_selection_measure_screen_error(s, &cam, &mx, NULL, NULL));
+    EXPECT_STATUS(TP_ERR_OUT_OF_MEMORY, tp_selection_patch_screen_error(s, &cam, 0, 0, &px));
+    EXPECT_EQ_DBL(-1.0, mx);
+    EXPECT_EQ_DBL(-1.0, px);
+    EXPECT_TRUE(heap.failed >= 4);
+
+    /* the same calls succeed once memory is back, and coarsen the terrain */
+    heap.fail = 0;
+    ASSERT_OK(tp_selection_update(s, NULL, &lp, &err));
+    ASSERT_OK(tp_selection_measure_error(s, &em));
+    EXPECT_LE(em.max_error_m, 5.0 + ti.quant_max_error_m);
+    tp_selection_destroy(s);
+    tp_terrain_destroy(t);
+    EXPECT_EQ_INT(0, (int)heap.live); /* everything went back through the allocator */
+    free(src);
+}
+
 TEST(drawn_height_equals_full_resolution_at_full)
 {
     world w;
@@ -653,6 +800,8 @@ TEST(keep_above_ignores_positions_outside_terrain)
     X(measure_error_zero_at_full_resolution)                                                       \
     X(measure_error_matches_rasterised_drawn_surface)                                              \
     X(measure_from_two_threads_matches_single_thread)                                              \
+    X(max_error_mode_keeps_the_bound_against_the_source)                                           \
+    X(allocation_failure_is_reported_not_measured_as_zero)                                         \
     X(drawn_height_equals_full_resolution_at_full)                                                 \
     X(drawn_height_follows_stitched_triangles)                                                     \
     X(drawn_height_on_a_lone_drawn_triangle)                                                       \

@@ -77,10 +77,13 @@ static void export_view(window_state* s)
              s->lod.tau_px > 0 ? s->lod.tau_px : 1);
     tp_export_options eo = {.camera_text = cam_text, .lod_text = lod_text};
     tp_export_result er;
-    if (tp_export_selection(s->sc, s->sel, &eo, name, &er)) {
+    tp_error err;
+    if (tp_export_selection(s->sc, s->sel, &eo, name, &er, &err) == TP_OK) {
         printf("exported %s: %zu triangles, measured error max %.2f m\n", name, er.triangles,
                er.max_error_m);
         fflush(stdout);
+    } else {
+        fprintf(stderr, "terrapatch: %s\n", err.message);
     }
 }
 

@@ -98,6 +98,16 @@ typedef enum tp_sample_class {
     TP_SAMPLE_OUTSIDE  /* the coordinates are outside the fitted grid */
 } tp_sample_class;
 
+/* Optional allocator (the cgltf / sokol shape). Both functions NULL means malloc and free; else
+ * both must be set. alloc returns NULL on failure; free accepts NULL. When given in
+ * tp_terrain_desc it makes every allocation of the terrain, of its selections and of their
+ * measurements (which may run on several threads at once: it must then be thread-safe). */
+typedef struct tp_allocator {
+    void* (*alloc)(size_t size, void* user_data);
+    void (*free)(void* ptr, void* user_data);
+    void* user_data;
+} tp_allocator;
+
 typedef struct tp_terrain_desc {
     /* Source heights in metres, row-major, width * height values, row 0 first.
      * NaN or infinite values are nodata. The array is only read during tp_terrain_create. */
@@ -113,6 +123,7 @@ typedef struct tp_terrain_desc {
     int patch_size;       /* 17, 33, 65, 129 or 257; 0 means TP_DEFAULT_PATCH_SIZE */
     tp_fit fit;           /* 0 means pad */
     double height_step_m; /* global quantisation step; 0 means automatic (see tp_terrain_create) */
+    tp_allocator allocator; /* zero: malloc / free */
 } tp_terrain_desc;
 
 typedef struct tp_terrain tp_terrain;
@@ -250,7 +261,9 @@ typedef enum tp_lod_mode {
     TP_LOD_DEFAULT = 0, /* = TP_LOD_ERROR */
     TP_LOD_DISTANCE,    /* Vanek & Jezek: mindist, maxdist, exponent */
     TP_LOD_ERROR,       /* Brodersen / de Boer: coarsest level whose error projects to <= tau px */
-    TP_LOD_FULL         /* every patch at level n (the full-resolution baseline) */
+    TP_LOD_FULL,        /* every patch at level n (the full-resolution baseline) */
+    TP_LOD_MAX_ERROR    /* static, no camera: coarsest levels whose measured vertical error is
+                           <= max_error_m everywhere (see tp_selection_update) */
 } tp_lod_mode;
 
 typedef struct tp_lod_params {
@@ -260,6 +273,14 @@ typedef struct tp_lod_params {
      * (mindist 0 is valid). exponent 0 means 1. */
     double mindist_m, maxdist_m, exponent;
     double tau_px; /* error mode: screen-space error threshold in pixels; 0 means 1 */
+    /* max-error mode: the bound (metres, finite, > 0; no default). The error is measured
+     * against reference_heights when given: the source grid as given to tp_terrain_create
+     * (src_width * src_height values, row-major, NaN = none; padded fits only), so that
+     * quantisation counts; else against the decoded grid. The array is read only during
+     * tp_selection_update. */
+    double max_error_m;
+    const float* reference_heights;
+    size_t reference_height_count;
 } tp_lod_params;
 
 /* The distance formula (Vanek & Jezek section 3) for a patch with finest level n:
@@ -275,7 +296,8 @@ int tp_lod_level_distance(int n, double dist_m, double mindist_m, double maxdist
 
 /* Validates params and fills in defaults for terrain t. TP_ERR_INVALID_ARG with a message for
  * negative / NaN / infinite values, maxdist < mindist, or tau below 0 (tau = 0 is the default 1;
- * use TP_LOD_FULL for an exact surface). */
+ * use TP_LOD_FULL for an exact surface); in max-error mode also for max_error_m not > 0 and for
+ * reference heights of the wrong count or with a resampled fit (these need t). */
 tp_status tp_lod_params_resolve(const tp_terrain* t, const tp_lod_params* in, tp_lod_params* out,
                                 tp_error* err);
 
@@ -353,7 +375,15 @@ void tp_selection_destroy(tp_selection* s); /* accepts NULL */
 /* Selects a level for every patch (visible or not: culled patches still stitch their visible
  * neighbours), then, in error mode, raises the coarser neighbour of any stitched side whose
  * bound projects above tau until none does (levels only go up, so it ends), and culls.
- * Incomplete patches are always at level n. */
+ * Incomplete patches are always at level n.
+ * TP_LOD_MAX_ERROR ignores cam (it may be NULL) and marks every patch visible: each patch
+ * starts at the coarsest level whose delta_m is <= max_error_m; then, in rounds, each patch
+ * whose own or a neighbour's level changed in the previous round (every patch in the first) is
+ * measured (its stitched triangles against the reference heights of every sample they cover)
+ * and, above the bound, its coarser neighbours go up to one level finer than they were, or, if
+ * none is coarser, the patch itself goes up one level, until no patch measures above the
+ * bound (a patch at level n above it, possible when the bound is below quant_max_error_m,
+ * stays there). It allocates scratch: TP_ERR_OUT_OF_MEMORY, levels unchanged, if that fails. */
 tp_status tp_selection_update(tp_selection* s, const tp_camera* cam, const tp_lod_params* params,
                               tp_error* err);
 

@@ -7,17 +7,18 @@
 
 #include <stdlib.h>
 
-tp_status tp__fit_resample(const float* src, const uint8_t* src_filled, int w, int h, int nw,
-                           int nh, float** out, uint8_t** out_filled, tp_error* err)
+tp_status tp__fit_resample(const tp_allocator* a, const float* src, const uint8_t* src_filled,
+                           int w, int h, int nw, int nh, float** out, uint8_t** out_filled,
+                           tp_error* err)
 {
     if (w < 2 || h < 2)
         return tp__fail(err, TP_ERR_INVALID_ARG,
                         "fit resample: expected at least 2x2 samples, got %dx%d (use pad)", w, h);
-    float* dst = malloc((size_t)nw * (size_t)nh * sizeof *dst);
-    uint8_t* dfill = src_filled ? calloc((size_t)nw * (size_t)nh, 1) : NULL;
+    float* dst = tp__alloc(a, (size_t)nw * (size_t)nh, sizeof *dst);
+    uint8_t* dfill = src_filled ? tp__calloc(a, (size_t)nw * (size_t)nh, 1) : NULL;
     if (!dst || (src_filled && !dfill)) {
-        free(dst);
-        free(dfill);
+        tp__free(a, dst);
+        tp__free(a, dfill);
         return tp__fail(err, TP_ERR_OUT_OF_MEMORY, "fit resample: out of memory");
     }
     double sx = (double)(w - 1) / (double)(nw - 1), sy = (double)(h - 1) / (double)(nh - 1);

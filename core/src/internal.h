@@ -23,6 +23,7 @@ typedef struct tp__patch {
 
 struct tp_terrain {
     tp_terrain_info info;
+    tp_allocator alloc; /* always set (malloc / free by default) */
     int n, ps;          /* finest level, patch span 2^n (patch size - 1) */
     int w, h;           /* fitted grid */
     int sw, sh;         /* stored region: samples with x >= sw or y >= sh are padding */
@@ -38,6 +39,12 @@ struct tp_terrain {
     int err_stride;
     double err_unit; /* table unit, in steps: 1/16 .. 1 */
 };
+
+/* The terrain's allocator (status.c). tp__alloc and tp__calloc return NULL on failure, also
+ * when count * size overflows; tp__calloc zeroes. tp__free accepts NULL. */
+void* tp__alloc(const tp_allocator* a, size_t count, size_t size);
+void* tp__calloc(const tp_allocator* a, size_t count, size_t size);
+void tp__free(const tp_allocator* a, void* p);
 
 /* Sets err->message (printf-style) when err is not NULL. Returns s. */
 tp_status tp__fail(tp_error* err, tp_status s, const char* fmt, ...)
@@ -85,8 +92,9 @@ int tp__vertex_position(const tp_terrain* t, int patch, int k, const int nb[4], 
                         int32_t* gx, int32_t* gy);
 
 /* Bilinear resample of a float grid (NaN = nodata) to a new size (fit.c). */
-tp_status tp__fit_resample(const float* src, const uint8_t* src_filled, int w, int h, int nw,
-                           int nh, float** out, uint8_t** out_filled, tp_error* err);
+tp_status tp__fit_resample(const tp_allocator* a, const float* src, const uint8_t* src_filled,
+                           int w, int h, int nw, int nh, float** out, uint8_t** out_filled,
+                           tp_error* err);
 
 /* Rasterises triangle (a, b, c) in grid coordinates over the integer sample lattice: calls
  * fn(x, y, z_interp, user) for each sample inside or on the triangle, z interpolated linearly
@@ -134,6 +142,13 @@ void tp__drawn_box(const tp_selection* s, int p, tp_patch_info* pi);
 
 /* The patch next to patch p on side `side`, or -1 at the terrain border (selection.c). */
 int tp__neighbor(const tp_terrain* t, int p, int side);
+
+/* Largest vertical distance (m) between patch p's drawn triangles at level k with neighbour
+ * levels nb, interpolated from their vertices' z_m, and the heights of the samples they cover:
+ * ref (src_width x src_height, NaN = none; padded fits only) or, when ref is NULL, the decoded
+ * grid. vbuf and tbuf hold a patch at level n and its triangles (measure.c). */
+double tp__patch_vertical_error(const tp_terrain* t, int p, int k, const int nb[4],
+                                const float* ref, tp_vertex* vbuf, uint32_t* tbuf);
 
 
 #endif

@@ -48,8 +48,28 @@ tp_status tp_lod_params_resolve(const tp_terrain* t, const tp_lod_params* in, tp
     tp_lod_params p = in ? *in : (tp_lod_params){0};
     if (p.mode == TP_LOD_DEFAULT)
         p.mode = TP_LOD_ERROR;
-    if (p.mode != TP_LOD_DISTANCE && p.mode != TP_LOD_ERROR && p.mode != TP_LOD_FULL)
+    if (p.mode != TP_LOD_DISTANCE && p.mode != TP_LOD_ERROR && p.mode != TP_LOD_FULL &&
+        p.mode != TP_LOD_MAX_ERROR)
         return tp__fail(err, TP_ERR_INVALID_ARG, "lod: unknown mode %d", (int)p.mode);
+    if (p.mode == TP_LOD_MAX_ERROR) {
+        if (!(isfinite(p.max_error_m) && p.max_error_m > 0))
+            return tp__fail(err, TP_ERR_INVALID_ARG,
+                            "lod: max-error mode: expected a finite max_error_m > 0 m, got %g",
+                            p.max_error_m);
+        if (p.reference_heights && !t)
+            return tp__fail(err, TP_ERR_INVALID_ARG,
+                            "lod: max-error mode: reference heights need the terrain");
+        if (p.reference_heights && t->info.fit == TP_FIT_RESAMPLE)
+            return tp__fail(err, TP_ERR_INVALID_ARG,
+                            "lod: max-error mode: reference heights need a padded fit (the "
+                            "resampled grid has no source samples to compare with)");
+        size_t want = t ? (size_t)t->info.src_width * (size_t)t->info.src_height : 0;
+        if (p.reference_heights && p.reference_height_count != want)
+            return tp__fail(err, TP_ERR_INVALID_ARG,
+                            "lod: max-error mode: expected %zu reference heights (%dx%d), got %zu",
+                            want, t->info.src_width, t->info.src_height,
+                            p.reference_height_count);
+    }
     if (!finite_nonneg(p.mindist_m) || !finite_nonneg(p.maxdist_m))
         return tp__fail(err, TP_ERR_INVALID_ARG,
                         "lod: expected finite mindist and maxdist >= 0, got %g and %g",

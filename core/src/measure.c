@@ -8,7 +8,6 @@
  */
 #include "internal.h"
 
-#include <stdlib.h>
 #include <string.h>
 
 typedef struct {
@@ -22,29 +21,28 @@ typedef struct {
     uint32_t* tbuf;  /* its triangles */
 } measure;
 
+static void measure_free(measure* m)
+{
+    tp__free(&m->t->alloc, m->vbuf);
+    tp__free(&m->t->alloc, m->tbuf);
+    tp__free(&m->t->alloc, m->seen);
+}
+
 /* Allocates the per-call scratch of m (the seen bitmap too when dedup is set). */
 static tp_status measure_init(measure* m, const tp_terrain* t, int dedup)
 {
     size_t v = ((size_t)1 << t->n) + 1;
     m->t = t;
-    m->vbuf = malloc(v * v * sizeof *m->vbuf);
-    m->tbuf = malloc(3 * 2 * (v - 1) * (v - 1) * sizeof *m->tbuf);
-    m->seen = dedup ? calloc(((size_t)t->w * t->h + 7) / 8, 1) : NULL;
+    m->vbuf = tp__alloc(&t->alloc, v * v, sizeof *m->vbuf);
+    m->tbuf = tp__alloc(&t->alloc, 3 * 2 * (v - 1) * (v - 1), sizeof *m->tbuf);
+    m->seen = dedup ? tp__calloc(&t->alloc, ((size_t)t->w * t->h + 7) / 8, 1) : NULL;
     if (!m->vbuf || !m->tbuf || (dedup && !m->seen)) {
-        free(m->vbuf);
-        free(m->tbuf);
-        free(m->seen);
+        measure_free(m);
         return TP_ERR_OUT_OF_MEMORY;
     }
     return TP_OK;
 }
 
-static void measure_free(measure* m)
-{
-    free(m->vbuf);
-    free(m->tbuf);
-    free(m->seen);
-}
 
 static int first_visit(measure* m, int x, int y)
 {
@@ -197,4 +195,43 @@ tp_status tp_selection_measure_screen_error(const tp_selection* s, const tp_came
     if (samples)
         *samples = m.count;
     return TP_OK;
+}
+
+/* ---- one patch against reference heights (the max-error LoD mode) ---- */
+
+typedef struct {
+    const tp_terrain* t;
+    const float* ref; /* src_width x src_height, or NULL for the decoded grid */
+    double max;
+} ref_error;
+
+static void ref_sample(int x, int y, double z, void* user)
+{
+    ref_error* r = user;
+    const tp_terrain_info* in = &r->t->info;
+    double s = !r->ref                                   ? tp_terrain_sample(r->t, x, y)
+             : x < in->src_width && y < in->src_height ? r->ref[(size_t)y * in->src_width + x]
+                                                       : NAN;
+    if (isnan(s))
+        return;
+    double d = fabs(z - s);
+    r->max = d > r->max ? d : r->max;
+}
+
+double tp__patch_vertical_error(const tp_terrain* t, int p, int k, const int nb[4],
+                                const float* ref, tp_vertex* vbuf, uint32_t* tbuf)
+{
+    size_t v = ((size_t)1 << t->n) + 1, vcap = v * v, tcap = 2 * (v - 1) * (v - 1);
+    tp_patch_vertices(t, p, k, nb, vbuf, vcap);
+    size_t nt = tp_patch_triangles(vbuf, k, tbuf, tcap);
+    ref_error r = {t, ref, 0};
+    for (size_t i = 0; i < nt; i++) {
+        const tp_vertex* a = &vbuf[tbuf[3 * i]];
+        const tp_vertex* b = &vbuf[tbuf[3 * i + 1]];
+        const tp_vertex* c = &vbuf[tbuf[3 * i + 2]];
+        int32_t pa[2] = {a->x, a->y}, pb[2] = {b->x, b->y}, pc[2] = {c->x, c->y};
+        /* The heights the vertex data carries (what an exported mesh holds), in metres. */
+        tp__raster_triangle(pa, pb, pc, a->z_m, b->z_m, c->z_m, ref_sample, &r);
+    }
+    return r.max;
 }

@@ -144,7 +144,8 @@ static void stitched_error(const tp_terrain* t, const patch_grid* g, int p, int 
 tp_status tp__patch_errors_compute(tp_terrain* t, tp_error* err)
 {
     int n = t->n, pc = t->info.patch_cols, count = pc * t->info.patch_rows;
-    patch_grid g = {0, 0, t->ps + 1, malloc((size_t)(t->ps + 1) * (t->ps + 1) * sizeof(int32_t))};
+    patch_grid g = {0, 0, t->ps + 1,
+                    tp__alloc(&t->alloc, (size_t)(t->ps + 1) * (t->ps + 1), sizeof(int32_t))};
     if (!g.q)
         return tp__fail(err, TP_ERR_OUT_OF_MEMORY, "terrain: out of memory for error tables");
     int32_t span = 0;
@@ -199,7 +200,7 @@ tp_status tp__patch_errors_compute(tp_terrain* t, tp_error* err)
                 /* Interpolation at moved vertices is not exact: round up generously. */
                 tab[n + 1 + s * n + kn] = to_units(t, eps[s][kn] + 1e-6);
     }
-    free(g.q);
+    tp__free(&t->alloc, g.q);
     return TP_OK;
 }
 

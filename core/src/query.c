@@ -4,7 +4,6 @@
 #include "internal.h"
 
 #include <assert.h>
-#include <stdlib.h>
 #include <string.h>
 
 /* Height (steps) of the stitched triangle of cell (cx, cy) half h containing (x, y), if any. */
@@ -200,11 +199,11 @@ tp_status tp_selection_ray_cast(const tp_selection* s, const double origin[3],
         return TP_OK;
 
     size_t v = ((size_t)1 << t->n) + 1, vcap = v * v, tcap = 2 * (v - 1) * (v - 1);
-    tp_vertex* vbuf = malloc(vcap * sizeof *vbuf);
-    uint32_t* tbuf = malloc(3 * tcap * sizeof *tbuf);
+    tp_vertex* vbuf = tp__alloc(&t->alloc, vcap, sizeof *vbuf);
+    uint32_t* tbuf = tp__alloc(&t->alloc, 3 * tcap, sizeof *tbuf);
     if (!vbuf || !tbuf) {
-        free(vbuf);
-        free(tbuf);
+        tp__free(&t->alloc, vbuf);
+        tp__free(&t->alloc, tbuf);
         return TP_ERR_OUT_OF_MEMORY;
     }
     int pc = t->info.patch_cols, pr = t->info.patch_rows, ps = t->ps;
@@ -240,8 +239,8 @@ tp_status tp_selection_ray_cast(const tp_selection* s, const double origin[3],
             ty += ps / fabs(gy);
         }
     }
-    free(vbuf);
-    free(tbuf);
+    tp__free(&t->alloc, vbuf);
+    tp__free(&t->alloc, tbuf);
     if (found >= 0) {
         out->hit = 1;
         out->distance_m = found;

@@ -39,20 +39,21 @@ tp_status tp_selection_create(const tp_terrain* t, tp_selection** out, tp_error*
 {
     if (!t || !out)
         return tp__fail(err, TP_ERR_INVALID_ARG, "selection: terrain and out must not be NULL");
-    tp_selection* s = calloc(1, sizeof *s);
+    const tp_allocator* a = &t->alloc;
+    tp_selection* s = tp__calloc(a, 1, sizeof *s);
     if (!s)
         return tp__fail(err, TP_ERR_OUT_OF_MEMORY, "selection: out of memory");
     int count = t->info.patch_count;
     size_t v = ((size_t)1 << t->n) + 1;
     s->t = t;
     s->count = count;
-    s->level = malloc((size_t)count);
-    s->next = malloc((size_t)count);
-    s->visible = malloc((size_t)count);
-    s->dirty = malloc((size_t)count);
-    s->proj = calloc((size_t)count, sizeof *s->proj);
-    s->tris = malloc((size_t)count * sizeof *s->tris);
-    s->vbuf = malloc(v * v * sizeof *s->vbuf);
+    s->level = tp__alloc(a, (size_t)count, 1);
+    s->next = tp__alloc(a, (size_t)count, 1);
+    s->visible = tp__alloc(a, (size_t)count, 1);
+    s->dirty = tp__alloc(a, (size_t)count, 1);
+    s->proj = tp__calloc(a, (size_t)count, sizeof *s->proj);
+    s->tris = tp__alloc(a, (size_t)count, sizeof *s->tris);
+    s->vbuf = tp__alloc(a, v * v, sizeof *s->vbuf);
     if (!s->level || !s->next || !s->visible || !s->dirty || !s->proj || !s->tris || !s->vbuf) {
         tp_selection_destroy(s);
         return tp__fail(err, TP_ERR_OUT_OF_MEMORY, "selection: out of memory for %d patches",
@@ -72,14 +73,15 @@ void tp_selection_destroy(tp_selection* s)
 {
     if (!s)
         return;
-    free(s->level);
-    free(s->next);
-    free(s->visible);
-    free(s->dirty);
-    free(s->proj);
-    free(s->tris);
-    free(s->vbuf);
-    free(s);
+    const tp_allocator* a = &s->t->alloc;
+    tp__free(a, s->level);
+    tp__free(a, s->next);
+    tp__free(a, s->visible);
+    tp__free(a, s->dirty);
+    tp__free(a, s->proj);
+    tp__free(a, s->tris);
+    tp__free(a, s->vbuf);
+    tp__free(a, s);
 }
 
 int tp_selection_level(const tp_selection* s, int patch)
@@ -210,6 +212,96 @@ static double side_bound_m(const tp_terrain* t, int p, int side, int kn)
     return (steps < range ? steps : range) * t->step;
 }
 
+/* Sets next[q] to level k as tp_selection_set_level would (incomplete patches stay at n), and
+ * flags q and its neighbours for re-measuring when it changed. */
+static void raise_level(tp_selection* s, uint8_t* changed, int q, int k)
+{
+    if (!s->t->patches[q].complete)
+        k = s->t->n;
+    if (s->next[q] == k)
+        return;
+    s->next[q] = (uint8_t)k;
+    changed[q] = 1;
+    for (int side = 0; side < 4; side++) {
+        int r = tp__neighbor(s->t, q, side);
+        if (r >= 0)
+            changed[r] = 1;
+    }
+}
+
+/* TP_LOD_MAX_ERROR: each patch starts at the coarsest level whose delta is <= the bound; then,
+ * in rounds, every patch whose own or a neighbour's level changed in the previous round (all
+ * of them in the first) is measured under the levels as they are at that moment, and where its
+ * measured error exceeds the bound the coarser neighbours that moved its border go up one
+ * level past theirs, else the patch itself goes up one. Levels only go up, so this ends, with
+ * every patch measuring <= the bound (level n measures 0 against the decoded grid). */
+static tp_status select_max_error(tp_selection* s, const tp_lod_params* lp, tp_error* err)
+{
+    const tp_terrain* t = s->t;
+    const tp_allocator* a = &t->alloc;
+    int n = t->n, count = s->count;
+    size_t v = ((size_t)1 << n) + 1;
+    int* todo = tp__alloc(a, (size_t)count, sizeof *todo);
+    uint8_t* changed = tp__alloc(a, (size_t)count, 1);
+    uint32_t* tbuf = tp__alloc(a, 3 * 2 * (v - 1) * (v - 1), sizeof *tbuf);
+    tp_status st = TP_OK;
+    if (!todo || !changed || !tbuf) {
+        st = tp__fail(err, TP_ERR_OUT_OF_MEMORY,
+                      "selection: out of memory measuring the levels of %d patches (max-error "
+                      "mode)",
+                      count);
+        goto done;
+    }
+    for (int p = 0; p < count; p++) {
+        tp_patch_info pi;
+        tp_patch_get_info(t, p, &pi);
+        int k = n;
+        while (k > 0 && pi.delta_m[k - 1] <= lp->max_error_m)
+            k--;
+        s->next[p] = (uint8_t)(t->patches[p].complete ? k : n);
+        changed[p] = 1;
+    }
+    for (;;) {
+        int todo_count = 0;
+        for (int p = 0; p < count; p++) {
+            if (changed[p])
+                todo[todo_count++] = p;
+            changed[p] = 0;
+        }
+        if (todo_count == 0)
+            break;
+        for (int i = 0; i < todo_count; i++) {
+            int p = todo[i], k = s->next[p], nb[4], raised = 0;
+            for (int side = 0; side < 4; side++) {
+                int q = tp__neighbor(t, p, side);
+                nb[side] = q >= 0 ? s->next[q] : TP_NO_NEIGHBOR;
+            }
+            if (tp__patch_vertical_error(t, p, k, nb, lp->reference_heights, s->vbuf, tbuf) <=
+                lp->max_error_m)
+                continue;
+            for (int side = 0; side < 4; side++)
+                if (nb[side] >= 0 && nb[side] < k) {
+                    raise_level(s, changed, tp__neighbor(t, p, side), nb[side] + 1);
+                    raised = 1;
+                }
+            if (!raised && k < n)
+                raise_level(s, changed, p, k + 1);
+        }
+    }
+    for (int p = 0; p < count; p++) {
+        s->visible[p] = 1;
+        if (s->next[p] != s->level[p]) {
+            s->level[p] = s->next[p];
+            mark_dirty(s, p);
+        }
+    }
+done:
+    tp__free(a, todo);
+    tp__free(a, changed);
+    tp__free(a, tbuf);
+    return st;
+}
+
 tp_status tp_selection_update(tp_selection* s, const tp_camera* cam, const tp_lod_params* params,
                               tp_error* err)
 {
@@ -218,6 +310,8 @@ tp_status tp_selection_update(tp_selection* s, const tp_camera* cam, const tp_lo
     tp_status st = tp_lod_params_resolve(t, params, &lp, err);
     if (st != TP_OK)
         return st;
+    if (lp.mode == TP_LOD_MAX_ERROR)
+        return select_max_error(s, &lp, err);
     if (!cam)
         return tp__fail(err, TP_ERR_INVALID_ARG, "selection: camera must not be NULL");
     tp__view v;

@@ -129,6 +129,10 @@ tp_status tp_terrain_create(const tp_terrain_desc* desc, tp_terrain** out, tp_er
     if (w < 1 || h < 1 || w > (1 << 24) || h > (1 << 24) || (double)w * h > 4e9)
         return tp__fail(err, TP_ERR_INVALID_ARG, "terrain: expected a grid of 1x1 to 2^24 per "
                         "side, got %dx%d", w, h);
+    if (!desc->allocator.alloc != !desc->allocator.free)
+        return tp__fail(err, TP_ERR_INVALID_ARG,
+                        "terrain: allocator: expected both alloc and free, or neither");
+    const tp_allocator* a = &desc->allocator;
     if (!desc->heights || desc->height_count != (size_t)w * (size_t)h)
         return tp__fail(err, TP_ERR_INVALID_ARG, "terrain: expected %zu heights for %dx%d, got %zu",
                         (size_t)w * h, w, h, desc->heights ? desc->height_count : 0);
@@ -176,7 +180,7 @@ tp_status tp_terrain_create(const tp_terrain_desc* desc, tp_terrain** out, tp_er
         pr = (int)floor((double)(h - 1) / ps + 0.5);
         pc = pc < 1 ? 1 : pc;
         pr = pr < 1 ? 1 : pr;
-        tp_status s = tp__fit_resample(desc->heights, desc->filled, w, h, pc * ps + 1,
+        tp_status s = tp__fit_resample(a, desc->heights, desc->filled, w, h, pc * ps + 1,
                                        pr * ps + 1, &resampled, &resampled_filled, err);
         if (s != TP_OK)
             return s;
@@ -192,10 +196,11 @@ tp_status tp_terrain_create(const tp_terrain_desc* desc, tp_terrain** out, tp_er
     }
 
     tp_status status = TP_OK;
-    tp_terrain* t = calloc(1, sizeof *t);
+    tp_terrain* t = tp__calloc(a, 1, sizeof *t);
     range* ranges = NULL;
     if (!t)
         goto oom;
+    t->alloc = *a;
     t->n = n;
     t->ps = ps;
     t->w = pc * ps + 1;
@@ -207,11 +212,11 @@ tp_status tp_terrain_create(const tp_terrain_desc* desc, tp_terrain** out, tp_er
     t->info.patch_rows = pr;
     int count = pc * pr;
     size_t stored = (size_t)t->sw * (size_t)t->sh;
-    t->q = malloc(stored * sizeof *t->q);
-    t->patches = calloc((size_t)count, sizeof *t->patches);
+    t->q = tp__alloc(a, stored, sizeof *t->q);
+    t->patches = tp__calloc(a, (size_t)count, sizeof *t->patches);
     t->err_stride = (n + 1) + 4 * n;
-    t->err_tab = calloc((size_t)count * t->err_stride, sizeof *t->err_tab);
-    ranges = malloc((size_t)count * sizeof *ranges);
+    t->err_tab = tp__calloc(a, (size_t)count * t->err_stride, sizeof *t->err_tab);
+    ranges = tp__alloc(a, (size_t)count, sizeof *ranges);
     if (!t->q || !t->patches || !t->err_tab || !ranges)
         goto oom;
 
@@ -261,7 +266,7 @@ tp_status tp_terrain_create(const tp_terrain_desc* desc, tp_terrain** out, tp_er
             ranges[p].lo <= ranges[p].hi ? (int32_t)floor(ranges[p].lo / t->step + 0.5) : 0;
 
     if (any_filled) {
-        t->filled = calloc((stored + 7) / 8, 1);
+        t->filled = tp__calloc(a, (stored + 7) / 8, 1);
         if (!t->filled)
             goto oom;
     }
@@ -310,18 +315,18 @@ tp_status tp_terrain_create(const tp_terrain_desc* desc, tp_terrain** out, tp_er
     fill_info(t, w, h, fit);
     if (fit == TP_FIT_RESAMPLE)
         fit_error(t, desc->heights, w, h);
-    free(ranges);
-    free(resampled);
-    free(resampled_filled);
+    tp__free(a, ranges);
+    tp__free(a, resampled);
+    tp__free(a, resampled_filled);
     *out = t;
     return TP_OK;
 
 oom:
     status = tp__fail(err, TP_ERR_OUT_OF_MEMORY, "terrain: out of memory for %dx%d samples", w, h);
 fail:
-    free(ranges);
-    free(resampled);
-    free(resampled_filled);
+    tp__free(a, ranges);
+    tp__free(a, resampled);
+    tp__free(a, resampled_filled);
     tp_terrain_destroy(t);
     return status;
 }
@@ -330,11 +335,12 @@ void tp_terrain_destroy(tp_terrain* t)
 {
     if (!t)
         return;
-    free(t->q);
-    free(t->filled);
-    free(t->patches);
-    free(t->err_tab);
-    free(t);
+    tp_allocator a = t->alloc;
+    tp__free(&a, t->q);
+    tp__free(&a, t->filled);
+    tp__free(&a, t->patches);
+    tp__free(&a, t->err_tab);
+    tp__free(&a, t);
 }
 
 void tp_terrain_get_info(const tp_terrain* t, tp_terrain_info* out)

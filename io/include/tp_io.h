@@ -171,7 +171,7 @@ typedef struct tp_mesh {
     const double* elevation_m;  /* per point: point data "elevation_m" */
     const uint8_t* void_filled; /* per point: point data "void_filled" (0/1) */
     size_t triangle_count;
-    const uint32_t* triangles;  /* 3 point indices per triangle, counter-clockwise from above */
+    const uint64_t* triangles;  /* 3 point indices per triangle, counter-clockwise from above */
     const int32_t* patch_id;    /* per triangle: cell data "patch_id" */
     const uint8_t* lod;         /* per triangle: cell data "lod" (k = n is full resolution) */
     const double* max_error_m;  /* per triangle: cell data "max_error_m" */
@@ -193,10 +193,20 @@ typedef enum tp_mesh_format {
     TP_MESH_VTM          /* VTK XML multiblock, one PolyData block per patch */
 } tp_mesh_format;
 
+/* Checks point_count and triangle_count against the limits of format (TP_MESH_DEFAULT: of every
+ * format), without allocating: every format numbers points and the 3 point ids of each
+ * triangle with VTK's vtkIdType, 64-bit in Debian's VTK 9.1, so a mesh may hold up to
+ * 2^63 - 1 points and (2^63 - 2) / 3 triangles. (Legacy .vtk files are written as version 4.2,
+ * 32-bit, when the mesh fits and as 5.1, 64-bit, when not; .vtm pieces are single patches.)
+ * TP_ERR_INVALID_ARG with a message naming the count and the limit; TP_OK otherwise. */
+tp_status tp_mesh_check_size(tp_mesh_format format, size_t point_count, size_t triangle_count,
+                             tp_error* err);
+
 /* Writes the mesh with VTK's writers: points as doubles, triangles as cells (not strips), the
  * point, cell and field data above (field data also holds "triangle_count"). Atomic: written to
  * a temporary file beside path and renamed; on any failure (unwritable directory, full disk,
- * bad extension) nothing is left behind and the message names the path. */
+ * bad extension, counts beyond tp_mesh_check_size's limits) nothing is left behind and the
+ * message names the path. */
 tp_status tp_mesh_write(const char* path, tp_mesh_format format, const tp_mesh* mesh,
                         tp_error* err);
 

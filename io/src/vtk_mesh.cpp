@@ -328,8 +328,8 @@ void add_field_data(vtkFieldData* fd, const tp_mesh* m, size_t triangle_count)
  * points is ignored, else points lists the mesh points in their new order and local holds the
  * triangles' corners as indices into it). */
 vtkSmartPointer<vtkPolyData> build_polydata(const tp_mesh* m, const std::vector<size_t>* tris,
-                                            const std::vector<uint32_t>* points,
-                                            const std::vector<uint32_t>* local)
+                                            const std::vector<size_t>* points,
+                                            const std::vector<size_t>* local)
 {
     const vtkIdType np = points ? (vtkIdType)points->size() : (vtkIdType)m->point_count;
     const vtkIdType nt = tris ? (vtkIdType)tris->size() : (vtkIdType)m->triangle_count;
@@ -571,8 +571,7 @@ tp_status write_vtm(const std::string& path, const tp_mesh* m, tp_error* err)
     index += "\">\n  <vtkMultiBlockDataSet>\n";
 
     std::vector<int64_t> local_of(m->point_count, -1);
-    std::vector<size_t> tris;
-    std::vector<uint32_t> points, local;
+    std::vector<size_t> tris, points, local;
     size_t block = 0;
     for (size_t begin = 0; begin < order.size();) {
         size_t end = begin;
@@ -584,14 +583,14 @@ tp_status write_vtm(const std::string& path, const tp_mesh* m, tp_error* err)
         local.clear();
         for (size_t t : tris)
             for (int k = 0; k < 3; ++k) {
-                uint32_t p = m->triangles[3 * t + k];
+                const size_t p = (size_t)m->triangles[3 * t + k];
                 if (local_of[p] < 0) {
                     local_of[p] = (int64_t)points.size();
                     points.push_back(p);
                 }
-                local.push_back((uint32_t)local_of[p]);
+                local.push_back((size_t)local_of[p]);
             }
-        for (uint32_t p : points)
+        for (size_t p : points)
             local_of[p] = -1;
 
         vtkSmartPointer<vtkPolyData> pd = build_polydata(m, &tris, &points, &local);
@@ -862,6 +861,32 @@ tp_status summarise(const char* path, const Loaded& in, tp_mesh_format format, t
 /* ---------------------------------------------------------------------------------------------
  * C interface
  */
+extern "C" tp_status tp_mesh_check_size(tp_mesh_format format, size_t point_count,
+                                        size_t triangle_count, tp_error* err)
+{
+    if (format != TP_MESH_DEFAULT && format != TP_MESH_VTP && format != TP_MESH_VTK &&
+        format != TP_MESH_VTM)
+        return fail(err, TP_ERR_INVALID_ARG, "mesh: unknown mesh format %d", (int)format);
+    /* Every format numbers points, and the connectivity (3 ids per triangle, offsets up to
+     * 3 * triangles), in vtkIdType. */
+    const char* name = format == TP_MESH_VTP   ? "a .vtp file"
+                       : format == TP_MESH_VTK ? "a legacy .vtk file"
+                       : format == TP_MESH_VTM ? "a .vtm file"
+                                               : "a mesh file";
+    const unsigned long long id_max = (unsigned long long)VTK_ID_MAX;
+    const int id_bits = (int)(8 * sizeof(vtkIdType));
+    if ((unsigned long long)point_count > id_max)
+        return fail(err, TP_ERR_INVALID_ARG,
+                    "%zu points: %s holds at most %llu (VTK's %d-bit vtkIdType)", point_count,
+                    name, id_max, id_bits);
+    if ((unsigned long long)triangle_count > (id_max - 1) / 3)
+        return fail(err, TP_ERR_INVALID_ARG,
+                    "%zu triangles: %s holds at most %llu (3 point ids each, in VTK's %d-bit "
+                    "vtkIdType, up to %llu)",
+                    triangle_count, name, (id_max - 1) / 3, id_bits, id_max);
+    return TP_OK;
+}
+
 extern "C" tp_status tp_mesh_write(const char* path, tp_mesh_format format, const tp_mesh* mesh,
                                    tp_error* err)
 {
@@ -883,14 +908,15 @@ extern "C" tp_status tp_mesh_write(const char* path, tp_mesh_format format, cons
         } else if (format != TP_MESH_VTP && format != TP_MESH_VTK && format != TP_MESH_VTM) {
             return fail(err, TP_ERR_INVALID_ARG, "%s: unknown mesh format %d", path, (int)format);
         }
-        if (mesh->point_count > (size_t)UINT32_MAX + 1)
-            return fail(err, TP_ERR_INVALID_ARG, "%s: %zu points: at most 2^32 can be indexed",
-                        path, mesh->point_count);
+        tp_error size_err;
+        if (tp_mesh_check_size(format, mesh->point_count, mesh->triangle_count, &size_err) !=
+            TP_OK)
+            return fail(err, TP_ERR_INVALID_ARG, "%s: %s", path, size_err.message);
         for (size_t i = 0; i < 3 * mesh->triangle_count; ++i)
             if (mesh->triangles[i] >= mesh->point_count)
                 return fail(err, TP_ERR_INVALID_ARG,
-                            "%s: triangle %zu: expected point indices below %zu, got %u", path,
-                            i / 3, mesh->point_count, (unsigned)mesh->triangles[i]);
+                            "%s: triangle %zu: expected point indices below %zu, got %llu", path,
+                            i / 3, mesh->point_count, (unsigned long long)mesh->triangles[i]);
         quiet_vtk();
         return format == TP_MESH_VTM ? write_vtm(p, mesh, err) : write_single(p, format, mesh, err);
     } catch (const std::bad_alloc&) {
