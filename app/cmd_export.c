@@ -184,8 +184,8 @@ int tp_cli_export(int argc, char** argv)
     if (code >= 0)
         return code;
     tp_scene sc;
-    if (tp_scene_load(o.path, &o.scene, &sc) != TP_EXIT_OK)
-        return TP_EXIT_FAILURE;
+    if ((code = tp_scene_load(o.path, &o.scene, &sc)) != TP_EXIT_OK)
+        return code;
     tp_selection* sel = NULL;
     tp_error err;
     if (tp_selection_create(sc.terrain, &sel, &err) != TP_OK) {

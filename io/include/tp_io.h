@@ -66,8 +66,11 @@ typedef struct tp_image_options {
 int tp_is_heightmap_image(const char* path);
 
 /* Reads channel 0 of an image (8/16/32-bit integer or float samples, taken as raw counts, not
- * normalised) as heights = count * zscale. North-up: row 0 is north. Errors name the file;
- * *out is untouched on failure. */
+ * normalised) as heights = count * zscale. North-up: row 0 is north. Only for rasters without
+ * georeference: a file that is not a heightmap image by extension and that GDAL reads with a
+ * CRS or a geotransform (a GeoTIFF, an .hgt) is refused with TP_ERR_INVALID_ARG ("FILE is
+ * georeferenced (CRS ...); --spacing/--zscale apply only to ..."); read it with tp_dem_read.
+ * Errors name the file; *out is untouched on failure. */
 tp_status tp_dem_read_image(const char* path, const tp_image_options* options, tp_dem** out,
                             tp_error* err);
 
