@@ -90,8 +90,10 @@ tp_status tp_image_read_rgba(const char* path, int* w, int* h, uint8_t** rgba, t
  * other units) are warped with GDAL to the WGS84 UTM zone of the DEM's centre (UPS north of 84N
  * or south of 80S): one zone for the whole scene, bilinear (or cubic) resampling, square posts
  * at the finest source spacing found at the extent's corners and centre (so the source is
- * never undersampled), source nodata passed as NaN. A DEM without a CRS is taken as metres
- * (with a warning) unless a CRS is given.
+ * never undersampled), source nodata passed as NaN. A DEM without a CRS (and no options->crs)
+ * whose geotransform is plainly geographic (north-up, cells under 0.1, every edge within +-180
+ * / +-90: an ASCII grid in degrees without its .prj) is taken as EPSG:4326; any other as
+ * metres. Both with a warning.
  *
  * Nodata is classified on the render grid into connected regions (4-neighbour): a region that
  * touches the grid's border is outside the data (a collar, a warp's wedges); a region that
