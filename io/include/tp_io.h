@@ -156,6 +156,11 @@ tp_terrain_desc tp_render_grid_terrain_desc(const tp_render_grid* grid, int patc
  * An image without georeference (a PNG, read through OpenImageIO) is taken to cover the same
  * extent. The result is RGBA8, top row first, at most max_size texels per side (aspect kept
  * by scaling both sides alike); texels outside the image are transparent (alpha 0).
+ * Colour comes from the bands GDAL labels red, green and blue, wherever they are, else from the
+ * first three bands (an RGB + near-infrared orthophoto shows as RGB), else from one grey band;
+ * a palette band is expanded through its colour table. Alpha comes only from a band GDAL labels
+ * alpha (so a 4th band is not taken for alpha unless it says so). A raster without bands is
+ * TP_ERR_BAD_DATA.
  */
 typedef struct tp_texture {
     int width, height;
