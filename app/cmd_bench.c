@@ -840,8 +840,8 @@ int tp_cli_bench(int argc, char** argv)
         if (outputs[i] && !tp_atomic_check_dir(outputs[i]))
             return TP_EXIT_FAILURE;
     tp_scene sc;
-    if (tp_scene_load(o.dem, &o.scene, &sc) != TP_EXIT_OK)
-        return TP_EXIT_FAILURE;
+    if ((code = tp_scene_load(o.dem, &o.scene, &sc)) != TP_EXIT_OK)
+        return code;
     if (o.is_static) {
         code = tp_bench_static(&sc, o.dem, o.max_errors, o.max_error_count, o.json, o.csv);
         tp_scene_free(&sc);

@@ -474,22 +474,18 @@ static double unsigned_zero(double v)
     return v + 0.0;
 }
 
-/* The standard UTM/UPS zone of pos and its coordinates there. When the input was already in
- * that zone and hemisphere, its own easting and northing are kept, exactly as given (as
- * GeoConvert does), rather than taken through latitude/longitude and back (which would move
- * them by nanometres, enough to change a truncated MGRS digit). */
+/* The standard UTM/UPS zone of pos and its coordinates there. Grid input already in that zone
+ * keeps its own easting and northing, exactly as given, and on the equator its own hemisphere
+ * (as GeoConvert does; see tp_utmups_to_standard). */
 static int standard_grid(const position* pos, int* zone, int* northp, double* e, double* n,
                          char* msg)
 {
     tp_error err = {{0}};
-    tp_status s = tp_geo_to_utmups(pos->lat_deg, pos->lon_deg, zone, northp, e, n, &err);
-    if (s != TP_OK)
-        return geo_failed(s, &err, msg);
-    if (pos->has_grid && pos->zone == *zone && pos->northp == *northp) {
-        *e = pos->easting_m;
-        *n = pos->northing_m;
-    }
-    return 1;
+    tp_status s = pos->has_grid ? tp_utmups_to_standard(pos->zone, pos->northp, pos->easting_m,
+                                                        pos->northing_m, zone, northp, e, n, &err)
+                                : tp_geo_to_utmups(pos->lat_deg, pos->lon_deg, zone, northp, e, n,
+                                                   &err);
+    return s == TP_OK ? 1 : geo_failed(s, &err, msg);
 }
 
 /* Converts one parsed position and prints the output line. Returns 1, or 0 with msg set

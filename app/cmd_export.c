@@ -185,8 +185,8 @@ int tp_cli_export(int argc, char** argv)
     if (code >= 0)
         return code;
     tp_scene sc;
-    if (tp_scene_load(o.path, &o.scene, &sc) != TP_EXIT_OK)
-        return TP_EXIT_FAILURE;
+    if ((code = tp_scene_load(o.path, &o.scene, &sc)) != TP_EXIT_OK)
+        return code;
     tp_view_setup_warn(&sc, &o.vs, "export");
     tp_selection* sel = NULL;
     tp_error err;

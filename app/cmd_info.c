@@ -423,8 +423,8 @@ int tp_cli_info(int argc, char** argv)
     if (code >= 0)
         return code;
     tp_scene sc;
-    if (tp_scene_load(o.path, &o.scene, &sc) != TP_EXIT_OK)
-        return TP_EXIT_FAILURE;
+    if ((code = tp_scene_load(o.path, &o.scene, &sc)) != TP_EXIT_OK)
+        return code;
     if (o.json)
         print_json(&sc, o.path);
     else

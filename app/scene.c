@@ -105,7 +105,8 @@ void tp_scene_options_help(FILE* f)
           "                      edges (exact, the default) or by bilinear resampling\n"
           "  --crs CRS           the DEM's CRS, overriding the file's (e.g. EPSG:4326 for an\n"
           "                      ASCII grid in degrees without a .prj); DEMs without any CRS\n"
-          "                      are taken as metres\n"
+          "                      are taken as EPSG:4326 when plainly in degrees (cells under\n"
+          "                      0.1, extent within +-180/+-90), else as metres\n"
           "  --resampling bilinear|cubic\n"
           "                      how geographic DEMs are warped to UTM/UPS (default bilinear)\n"
           "  --fill-max N        fill interior voids up to N x N samples by interpolation and\n"
@@ -114,7 +115,8 @@ void tp_scene_options_help(FILE* f)
           "                      spacing (default 1)\n"
           "  --zscale S          heightmap images: metres per count (default 1)\n"
           "  --origin LAT,LON    heightmap images: put the image's centre there (WGS84), in the\n"
-          "                      UTM/UPS zone of that point; default: local metres\n",
+          "                      UTM/UPS zone of that point; default: local metres\n"
+          "                      (these three are refused for rasters with a CRS or geotransform)\n",
           f);
 }
 
@@ -138,7 +140,8 @@ int tp_scene_load(const char* path, const tp_scene_options* o, tp_scene* scene)
                       : tp_dem_read(path, &scene->dem, &err);
     if (s != TP_OK) {
         fprintf(stderr, "terrapatch: %s\n", err.message); /* io messages name the file */
-        return TP_EXIT_FAILURE;
+        /* heightmap options that do not fit the file (e.g. --spacing on a GeoTIFF) */
+        return s == TP_ERR_INVALID_ARG ? TP_EXIT_USAGE : TP_EXIT_FAILURE;
     }
     /* dem warnings already name the file */
     for (const char* w = scene->dem->warnings; w && *w;) {

@@ -60,7 +60,8 @@ typedef struct tp_scene {
 } tp_scene;
 
 /* Loads path through the whole pipeline. Prints warnings ("terrapatch: warning: ...") and, on
- * failure, one error line naming the file; returns TP_EXIT_OK or TP_EXIT_FAILURE. On failure
+ * failure, one error line naming the file; returns TP_EXIT_OK, TP_EXIT_FAILURE, or TP_EXIT_USAGE
+ * when the heightmap options do not fit the file (--spacing on a georeferenced raster). On failure
  * the scene holds nothing. */
 int tp_scene_load(const char* path, const tp_scene_options* o, tp_scene* scene);
 void tp_scene_free(tp_scene* scene);

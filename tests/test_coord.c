@@ -528,6 +528,51 @@ TEST(standard_zone_rules)
 #endif
 }
 
+/* Grid input in its own standard zone comes back exactly as given; on the equator either
+ * hemisphere is standard (GeographicLib's GeoCoords allows both there), so 4s E 10000000 stays
+ * south, as `GeoConvert -u` and `-m` (2.1.2) keep it: 04s ... 10000000.000, 04MEE2006899999. */
+TEST(grid_on_the_equator_keeps_its_hemisphere)
+{
+    REQUIRE_IO();
+#ifndef TP_TEST_NO_IO
+    static const struct {
+        int zone, northp;
+        double e, n;
+        int std_zone, std_northp;
+        const char* mgrs; /* of the standard grid, precision 5 */
+    } cases[] = {
+        {4, 0, 520068.7185275841, 10000000, 4, 0, "04MEE2006899999"},
+        {4, 1, 520068.7185275841, 0, 4, 1, "04NEF2006800000"},
+        {4, 0, 520068.7185275841, 9999999.9, 4, 0, "04MEE2006899999"}, /* just south */
+        {31, 0, 441867.785, 1116915.044, TP_ZONE_UPS, 0, "BAZ0000012951"}, /* past 80S: UPS */
+        {TP_ZONE_UPS, 0, 2000000, 3112951.025, TP_ZONE_UPS, 0, "BAZ0000012951"},
+        {31, 1, 500000, 4649776.22, 31, 1, "31TEG0000049776"},
+        {32, 1, 500000, 4649776.22, 32, 1, "32TNM0000049776"},
+        {33, 1, 166021.443, 0, 32, 1, "32NRF3397800000"}, /* not its standard zone: converted */
+    };
+    size_t i;
+    for (i = 0; i < sizeof cases / sizeof cases[0]; ++i) {
+        int zone = -7, northp = -7;
+        double e = SENTINEL, n = SENTINEL, lat, lon;
+        char mgrs[TP_MGRS_SIZE];
+        tp_error err = {{0}};
+        EXPECT_OK(tp_utmups_to_standard(cases[i].zone, cases[i].northp, cases[i].e, cases[i].n,
+                                        &zone, &northp, &e, &n, &err));
+        if (zone != cases[i].std_zone || northp != cases[i].std_northp)
+            ADD_FAILURE("case %d: zone %d%s, expected %d%s", (int)i, zone, northp ? "n" : "s",
+                        cases[i].std_zone, cases[i].std_northp ? "n" : "s");
+        if (zone == cases[i].zone && northp == cases[i].northp) {
+            EXPECT_EQ_DBL(e, cases[i].e); /* exactly as given */
+            EXPECT_EQ_DBL(n, cases[i].n);
+        }
+        EXPECT_OK(tp_geo_from_utmups(zone, northp, e, n, &lat, &lon, &err));
+        EXPECT_OK(tp_mgrs_forward(zone, northp, e, n, lat, 5, mgrs, sizeof mgrs, &err));
+        if (strcmp(mgrs, cases[i].mgrs) != 0)
+            ADD_FAILURE("case %d: MGRS %s, expected %s", (int)i, mgrs, cases[i].mgrs);
+    }
+#endif
+}
+
 /* ---------------------------------------------------------------------------------------------
  * 84N boundary: columns lat lon MGRS_GeographicLib MGRS_geoconvert-rs. Every point is a hair
  * south of 84N, where UTM still applies (UTM covers 80S..84N; UPS starts at 84N), so the
@@ -941,6 +986,7 @@ TEST(null_outputs_are_rejected_not_dereferenced)
     X(malformed_mgrs_is_rejected_with_reason)                                                      \
     X(utm_mgrs_edge_cases_match_geoconvert)                                                        \
     X(standard_zone_rules)                                                                         \
+    X(grid_on_the_equator_keeps_its_hemisphere)                                                    \
     X(mgrs_84n_boundary_geographiclib_is_authority)                                                \
     X(geoconvert_ctest_cases_pass)                                                                 \
     X(utmups_round_trip_random_points)                                                             \

@@ -32,6 +32,8 @@
     X(diagonal_voids_are_separate_regions)                                                         \
     X(no_crs_taken_as_metres_with_warning)                                                         \
     X(no_crs_georef_has_no_geo)                                                                    \
+    X(no_crs_degrees_taken_as_epsg4326_with_warning)                                               \
+    X(no_crs_geographic_guess_is_narrow)                                                           \
     X(crs_option_warps_front_range_to_13n)                                                         \
     X(unknown_crs_fails_naming_it)                                                                 \
     X(georef_create_rejects_null_geotransform)                                                     \
@@ -773,14 +775,16 @@ TEST(diagonal_voids_are_separate_regions)
  * No CRS
  */
 
-/* front_range_srtmgl3_144.asc has no .prj: used as is (as metres) with a warning. */
+/* A DEM without a CRS whose extent is not plainly geographic (UTM-sized numbers, 30 m posts):
+ * used as is, as metres, with a warning. */
 TEST(no_crs_taken_as_metres_with_warning)
 {
-    tp_dem* dem;
-    tp_render_grid* g = build_file_or_skip("front_range_srtmgl3_144.asc", &dem);
+    tp_dem* dem = synth_dem(65, 65, 500000, 30, 5000000, -30);
+    tp_render_grid* g;
     int i;
-    ASSERT_TRUE(dem->crs_wkt[0] == '\0');
-    EXPECT_CONTAINS(g->warnings, "metres");
+    synth_finish(dem);
+    g = build_ok(dem, NULL);
+    EXPECT_CONTAINS(g->warnings, "no CRS: coordinates taken as metres");
     EXPECT_EQ_INT(-1, g->utm_zone);
     EXPECT_EQ_INT(0, g->warped);
     EXPECT_EQ_INT(0, g->epsg);
@@ -797,10 +801,14 @@ TEST(no_crs_taken_as_metres_with_warning)
 /* Without a CRS there is no latitude/longitude: INVALID_ARG and the outputs left alone. */
 TEST(no_crs_georef_has_no_geo)
 {
-    tp_render_grid* g = build_file_or_skip("front_range_srtmgl3_144.asc", NULL);
-    tp_georef* ref = grid_georef(g);
+    tp_dem* dem = synth_dem(65, 65, 500000, 30, 5000000, -30);
+    tp_render_grid* g;
+    tp_georef* ref;
     double lat = 12345, lon = 678, e = -1, n = -2, x, y;
     tp_error err;
+    synth_finish(dem);
+    g = build_ok(dem, NULL);
+    ref = grid_georef(g);
     memset(&err, 0, sizeof err);
     EXPECT_EQ_INT(0, tp_georef_has_geo(ref));
     tp_georef_grid_to_proj(ref, 3, 4, &e, &n);
@@ -820,6 +828,70 @@ TEST(no_crs_georef_has_no_geo)
     EXPECT_EQ_DBL(-2, n);
     tp_georef_destroy(ref);
     tp_render_grid_destroy(g);
+    tp_dem_destroy(dem);
+}
+
+/* front_range_srtmgl3_144.asc has no .prj, but its 0.000833 cells and its extent (105.5W,
+ * 40.1N) are plainly degrees: taken as EPSG:4326 with a warning that says how to override,
+ * giving exactly the grid of --crs EPSG:4326 (before: 0.000833 m posts, an empty picture). */
+TEST(no_crs_degrees_taken_as_epsg4326_with_warning)
+{
+    tp_dem* dem;
+    tp_render_grid* g = build_file_or_skip("front_range_srtmgl3_144.asc", &dem);
+    tp_grid_options opt;
+    tp_render_grid* given;
+    size_t i, n, differ = 0;
+    ASSERT_TRUE(dem->crs_wkt[0] == '\0'); /* no .prj beside it */
+    memset(&opt, 0, sizeof opt);
+    opt.crs = "EPSG:4326";
+    given = build_ok(dem, &opt);
+    EXPECT_CONTAINS(g->warnings, "taken as EPSG:4326");
+    EXPECT_CONTAINS(g->warnings, "--crs");
+    EXPECT_TRUE(strstr(g->warnings, "taken as metres") == NULL);
+    EXPECT_EQ_INT(1, g->warped);
+    EXPECT_EQ_INT(13, g->utm_zone);
+    EXPECT_EQ_INT(1, g->northp);
+    EXPECT_EQ_INT(32613, g->epsg);
+    EXPECT_GT(g->spacing_m, 60.0); /* 3" east-west at 40.2N is about 71 m */
+    EXPECT_LT(g->spacing_m, 72.0);
+    ASSERT_EQ_INT(given->width, g->width);
+    ASSERT_EQ_INT(given->height, g->height);
+    n = (size_t)g->width * g->height;
+    for (i = 0; i < n; ++i)
+        differ += memcmp(&g->heights[i], &given->heights[i], sizeof(float)) != 0;
+    EXPECT_EQ_INT(0, differ);
+    tp_render_grid_destroy(given);
+    tp_render_grid_destroy(g);
+    tp_dem_destroy(dem);
+}
+
+/* The guess is narrow: cells under 0.1 and every edge within +-180 / +-90, else metres. */
+TEST(no_crs_geographic_guess_is_narrow)
+{
+    static const struct {
+        double x0, dx, y0, dy;
+        int geographic;
+    } cases[] = {
+        {-105.5, 0.01, 40.5, -0.01, 1},
+        {179.3, 0.01, 10.0, -0.01, 1},   /* right up to the antimeridian */
+        {-105.5, 0.1, 40.5, -0.1, 0},    /* 0.1 cells: could be metres */
+        {-105.5, 0.01, 40.5, -0.2, 0},
+        {179.6, 0.01, 40.5, -0.01, 0},   /* reaches 180.24 */
+        {-105.5, 0.01, -89.8, -0.01, 0}, /* reaches 90.44 S */
+        {-105.5, 0.01, 90.5, -0.01, 0},
+    };
+    size_t i;
+    for (i = 0; i < sizeof cases / sizeof cases[0]; ++i) {
+        tp_dem* dem = synth_dem(65, 65, cases[i].x0, cases[i].dx, cases[i].y0, cases[i].dy);
+        tp_render_grid* g;
+        synth_finish(dem);
+        g = build_ok(dem, NULL);
+        if ((g->utm_zone >= 0) != cases[i].geographic ||
+            (strstr(g->warnings, "taken as EPSG:4326") != NULL) != cases[i].geographic)
+            ADD_FAILURE("case %d: utm_zone %d, warnings '%s'", (int)i, g->utm_zone, g->warnings);
+        tp_render_grid_destroy(g);
+        tp_dem_destroy(dem);
+    }
 }
 
 /* --crs EPSG:4326 on the same file: geographic, centre 40.15N 105.5W -> zone 13N. */

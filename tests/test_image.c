@@ -111,6 +111,36 @@ TEST(bad_image_options_and_files_are_refused)
     EXPECT_TRUE(dem == (tp_dem*)(uintptr_t)0x1); /* untouched */
 }
 
+/* --spacing/--zscale describe heightmaps without georeference: a georeferenced raster keeps its
+ * CRS, geotransform and nodata, so these options are refused (read through OpenImageIO it
+ * became raw counts, its 32767 nodata 32,767 m walls; an .hgt an OpenImageIO error). */
+static void expect_georeferenced_refused(const char* file, const char* crs_name)
+{
+    char path[1024], needle[1400];
+    tp_dem* dem = (tp_dem*)(uintptr_t)0x1;
+    tp_error err;
+    tp_image_options o = {.spacing_m = 30, .zscale = 2};
+    REQUIRE_DATA_FILE(path, "TP_SHARED_DATA_DIR", file);
+    memset(&err, 0, sizeof err);
+    EXPECT_STATUS(TP_ERR_INVALID_ARG, tp_dem_read_image(path, &o, &dem, &err));
+    snprintf(needle, sizeof needle,
+             "%s is georeferenced (CRS %s); --spacing/--zscale apply only to heightmap images "
+             "without georeference",
+             path, crs_name);
+    EXPECT_CONTAINS(err.message, needle);
+    EXPECT_TRUE(dem == (tp_dem*)(uintptr_t)0x1); /* untouched */
+}
+
+TEST(georeferenced_geotiff_is_refused_with_its_crs)
+{
+    expect_georeferenced_refused("storml_elev_orig.tif", "NAD83 / UTM zone 12N");
+}
+
+TEST(georeferenced_hgt_is_refused_with_its_crs)
+{
+    expect_georeferenced_refused("N42E001.hgt", "WGS 84");
+}
+
 TEST(image_extensions_are_recognised)
 {
     EXPECT_EQ_INT(1, tp_is_heightmap_image("a/b/ps_height_1k.png"));
@@ -128,5 +158,7 @@ TEST(image_extensions_are_recognised)
     X(png_without_spacing_warns_and_takes_1m)                                                      \
     X(png_with_origin_is_centred_in_its_utm_zone)                                                  \
     X(bad_image_options_and_files_are_refused)                                                     \
+    X(georeferenced_geotiff_is_refused_with_its_crs)                                               \
+    X(georeferenced_hgt_is_refused_with_its_crs)                                                   \
     X(image_extensions_are_recognised)
 TP_TEST_MAIN(TESTS)

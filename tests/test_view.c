@@ -940,6 +940,93 @@ TEST(reference_view_matches_committed_image)
 #endif
 }
 
+/* --texture drapes the orthophoto: Crater Lake's imagery (a colour map of the same grid, RGBA
+ * with alpha 0 outside the data) over its DEM, seen from straight above. The textured picture
+ * differs from the untextured one on the terrain, and its colours are the imagery's: the share
+ * of strongly blue pixels (the lake) on the terrain is about that of the imagery's valid
+ * pixels, where the untextured render (green-brown shading) has none. */
+static int is_strong_blue(const uint8_t* p)
+{
+    return p[2] > p[0] + 60 && p[2] > p[1] + 30;
+}
+
+TEST(texture_drapes_the_imagery)
+{
+    REQUIRE_IO();
+#ifndef TP_TEST_NO_IO
+    {
+        char dem[1024], ortho[1024];
+        const char* dir;
+        view_spec v = {{0, 0, 0, 0, 0}, 320, 240, {TP_LOD_DEFAULT, 0, 0, 0, 0}, 1};
+        image plain, tex, img;
+        tp_error err;
+        long terrain = 0, differ = 0, blue_tex = 0, blue_plain = 0, valid = 0, blue_img = 0;
+        size_t i;
+        args a;
+        REQUIRE_DATA_FILE(dem, "TP_SHARED_DATA_DIR", "craterlake-elev-16bit-30m.tif");
+        REQUIRE_DATA_FILE(ortho, "TP_SHARED_DATA_DIR", "craterlake-imagery-30m.tif");
+        dir = make_tmp_dir();
+        args_view(&a);
+        args_add(&a, "--headless");
+        args_add(&a, "--no-hud");
+        args_add(&a, "--size");
+        args_add(&a, "%dx%d", v.w, v.h);
+        args_add(&a, "--clear-color");
+        args_add(&a, "1,0,1");
+        args_add(&a, "--camera-geo");
+        args_add(&a, "42.94,-122.10,14000,0,-90");
+        args_add(&a, "--screenshot");
+        args_add(&a, "%s/plain.png", dir);
+        args_add(&a, "%s", dem);
+        run_ok(&a, dir);
+        a.n -= 3; /* the same command line up to --screenshot, then --texture */
+        a.v[a.n] = NULL;
+        args_add(&a, "--texture");
+        args_add(&a, "%s", ortho);
+        args_add(&a, "--screenshot");
+        args_add(&a, "%s/tex.png", dir);
+        args_add(&a, "%s", dem);
+        run_ok(&a, dir);
+        image_read(dir, "plain.png", &plain);
+        image_read(dir, "tex.png", &tex);
+        ASSERT_EQ_INT(plain.w, tex.w);
+        ASSERT_EQ_INT(plain.h, tex.h);
+        for (i = 0; i < (size_t)plain.w * plain.h; ++i) {
+            const uint8_t *p = plain.px + 4 * i, *t = tex.px + 4 * i;
+            int c, d = 0;
+            if (is_magenta(p) || is_magenta(t))
+                continue; /* background */
+            ++terrain;
+            for (c = 0; c < 3; ++c)
+                d = abs((int)p[c] - (int)t[c]) > d ? abs((int)p[c] - (int)t[c]) : d;
+            differ += d > 40;
+            blue_tex += is_strong_blue(t);
+            blue_plain += is_strong_blue(p);
+        }
+        memset(&err, 0, sizeof err);
+        if (tp_image_read_rgba(ortho, &img.w, &img.h, &img.px, &err) != TP_OK)
+            FAIL("tp_image_read_rgba(%s): %s", ortho, err.message);
+        for (i = 0; i < (size_t)img.w * img.h; ++i)
+            if (img.px[4 * i + 3] > 0) {
+                ++valid;
+                blue_img += is_strong_blue(img.px + 4 * i);
+            }
+        tp_test_note("terrain pixels %ld, differing %ld; strongly blue: textured %ld, untextured "
+                     "%ld; imagery %ld of %ld valid",
+                     terrain, differ, blue_tex, blue_plain, blue_img, valid);
+        ASSERT_GT((double)terrain, 0.1 * plain.w * plain.h);
+        EXPECT_GT((double)differ, 0.5 * (double)terrain);
+        EXPECT_EQ_INT(0, blue_plain);
+        ASSERT_GT((double)blue_img, 0.05 * (double)valid);
+        EXPECT_NEAR((double)blue_tex / (double)terrain, (double)blue_img / (double)valid,
+                    0.35 * (double)blue_img / (double)valid);
+        free(plain.px);
+        free(tex.px);
+        free(img.px);
+    }
+#endif
+}
+
 TEST(screenshot_into_missing_directory_exits_1)
 {
     REQUIRE_IO();
@@ -1345,6 +1432,7 @@ TEST(frame_without_terrain_says_so)
     X(looking_at_the_sky_culls_every_patch)                                                        \
     X(looking_north_culls_the_patches_behind)                                                      \
     X(reference_view_matches_committed_image)                                                      \
+    X(texture_drapes_the_imagery)                                                                  \
     X(screenshot_into_missing_directory_exits_1)                                                   \
     X(screenshot_onto_a_directory_exits_1_and_leaves_no_file)                                      \
     X(size_below_16_exits_2)                                                                       \

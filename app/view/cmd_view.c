@@ -322,8 +322,8 @@ int tp_cli_view(int argc, char** argv)
     if (code >= 0)
         return code;
     tp_scene sc;
-    if (tp_scene_load(o.path, &o.scene, &sc) != TP_EXIT_OK)
-        return TP_EXIT_FAILURE;
+    if ((code = tp_scene_load(o.path, &o.scene, &sc)) != TP_EXIT_OK)
+        return code;
     tp_view_setup_warn(&sc, &o.vs, "view");
     tp_camera cam;
     if (!tp_view_setup_camera(&sc, &o.vs, &cam, "view")) {

@@ -80,6 +80,16 @@ tp_status tp_geo_to_utmups(double lat_deg, double lon_deg, int* zone, int* north
 tp_status tp_geo_from_utmups(int zone, int northp, double easting_m, double northing_m,
                              double* lat_deg, double* lon_deg, tp_error* err);
 
+/* UTM/UPS coordinates (zone, northp, easting_m, northing_m) in the standard zone of the point
+ * they name (as tp_geo_to_utmups chooses it). Coordinates already in that zone are written
+ * back exactly as given, not through latitude and longitude (which would move them by
+ * nanometres, enough to change a truncated MGRS digit). On the equator either hemisphere is
+ * standard, as in GeographicLib's GeoCoords: 4s E 10000000 stays south (GeoConvert keeps it
+ * so), and 4n E 0 north. Errors as tp_geo_from_utmups; outputs are written only on success. */
+tp_status tp_utmups_to_standard(int zone, int northp, double easting_m, double northing_m,
+                                int* std_zone, int* std_northp, double* std_easting_m,
+                                double* std_northing_m, tp_error* err);
+
 /* ---------------------------------------------------------------------------------------------
  * MGRS (Military Grid Reference System), as GeographicLib's MGRS class writes and reads it.
  */

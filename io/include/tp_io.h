@@ -66,8 +66,11 @@ typedef struct tp_image_options {
 int tp_is_heightmap_image(const char* path);
 
 /* Reads channel 0 of an image (8/16/32-bit integer or float samples, taken as raw counts, not
- * normalised) as heights = count * zscale. North-up: row 0 is north. Errors name the file;
- * *out is untouched on failure. */
+ * normalised) as heights = count * zscale. North-up: row 0 is north. Only for rasters without
+ * georeference: a file that is not a heightmap image by extension and that GDAL reads with a
+ * CRS or a geotransform (a GeoTIFF, an .hgt) is refused with TP_ERR_INVALID_ARG ("FILE is
+ * georeferenced (CRS ...); --spacing/--zscale apply only to ..."); read it with tp_dem_read.
+ * Errors name the file; *out is untouched on failure. */
 tp_status tp_dem_read_image(const char* path, const tp_image_options* options, tp_dem** out,
                             tp_error* err);
 
@@ -87,8 +90,10 @@ tp_status tp_image_read_rgba(const char* path, int* w, int* h, uint8_t** rgba, t
  * other units) are warped with GDAL to the WGS84 UTM zone of the DEM's centre (UPS north of 84N
  * or south of 80S): one zone for the whole scene, bilinear (or cubic) resampling, square posts
  * at the finest source spacing found at the extent's corners and centre (so the source is
- * never undersampled), source nodata passed as NaN. A DEM without a CRS is taken as metres
- * (with a warning) unless a CRS is given.
+ * never undersampled), source nodata passed as NaN. A DEM without a CRS (and no options->crs)
+ * whose geotransform is plainly geographic (north-up, cells under 0.1, every edge within +-180
+ * / +-90: an ASCII grid in degrees without its .prj) is taken as EPSG:4326; any other as
+ * metres. Both with a warning.
  *
  * Nodata is classified on the render grid into connected regions (4-neighbour): a region that
  * touches the grid's border is outside the data (a collar, a warp's wedges); a region that
@@ -151,6 +156,11 @@ tp_terrain_desc tp_render_grid_terrain_desc(const tp_render_grid* grid, int patc
  * An image without georeference (a PNG, read through OpenImageIO) is taken to cover the same
  * extent. The result is RGBA8, top row first, at most max_size texels per side (aspect kept
  * by scaling both sides alike); texels outside the image are transparent (alpha 0).
+ * Colour comes from the bands GDAL labels red, green and blue, wherever they are, else from the
+ * first three bands (an RGB + near-infrared orthophoto shows as RGB), else from one grey band;
+ * a palette band is expanded through its colour table. Alpha comes only from a band GDAL labels
+ * alpha (so a 4th band is not taken for alpha unless it says so). A raster without bands is
+ * TP_ERR_BAD_DATA.
  */
 typedef struct tp_texture {
     int width, height;

@@ -245,6 +245,33 @@ extern "C" tp_status tp_geo_from_utmups(int zone, int northp, double easting_m, 
     }
 }
 
+extern "C" tp_status tp_utmups_to_standard(int zone, int northp, double easting_m,
+                                           double northing_m, int* std_zone, int* std_northp,
+                                           double* std_easting_m, double* std_northing_m,
+                                           tp_error* err)
+{
+    if (!std_zone || !std_northp || !std_easting_m || !std_northing_m)
+        return missing_output(err, "tp_utmups_to_standard");
+    double lat, lon, e, n;
+    int z, north;
+    tp_status s = tp_geo_from_utmups(zone, northp, easting_m, northing_m, &lat, &lon, err);
+    if (s == TP_OK)
+        s = tp_geo_to_utmups(lat, lon, &z, &north, &e, &n, err);
+    if (s != TP_OK)
+        return s;
+    /* tp_geo_to_utmups puts latitude +0 north; the equator belongs to both hemispheres */
+    if (z == zone && (north == (northp != 0) || lat == 0)) {
+        north = northp != 0;
+        e = easting_m;
+        n = northing_m;
+    }
+    *std_zone = z;
+    *std_northp = north;
+    *std_easting_m = e;
+    *std_northing_m = n;
+    return TP_OK;
+}
+
 extern "C" tp_status tp_mgrs_forward(int zone, int northp, double easting_m, double northing_m,
                                      double lat_deg, int precision, char* out, size_t out_size,
                                      tp_error* err)

@@ -29,9 +29,35 @@ template <typename T> void counts_to_heights(const void* src, size_t n, size_t s
         out[i] = static_cast<float>(static_cast<double>(p[i * stride]) * z);
 }
 
+/* The image options describe a raster without georeference of its own. One that GDAL reads
+ * with a CRS or a geotransform (a GeoTIFF, an .hgt) must keep them, and its nodata: read here
+ * it would become raw counts in local metres. Heightmap extensions are OpenImageIO's alone. */
+tp_status refuse_georeferenced(const char* path, tp_error* err)
+{
+    if (tp_is_heightmap_image(path))
+        return TP_OK;
+    tpio::register_drivers();
+    tpio::QuietGdal quiet;
+    tpio::Dataset ds(GDALDataset::FromHandle(GDALOpenEx(path, GDAL_OF_RASTER, nullptr, nullptr, nullptr)));
+    if (!ds)
+        return TP_OK; /* not GDAL's: OpenImageIO's to read or to refuse */
+    const OGRSpatialReference* srs = ds->GetSpatialRef();
+    double gt[6];
+    bool has_crs = srs && !srs->IsEmpty(), has_gt = ds->GetGeoTransform(gt) == CE_None;
+    if (!has_crs && !has_gt)
+        return TP_OK;
+    std::string what = has_crs ? std::string("CRS ") + srs->GetName() : "a geotransform, no CRS";
+    return fail(err, TP_ERR_INVALID_ARG,
+                "%s is georeferenced (%s); --spacing/--zscale apply only to heightmap images "
+                "without georeference",
+                path, what.c_str());
+}
+
 tp_status read(const char* path, const tp_image_options* opt, tp_dem** out, tp_error* err)
 {
     tp_image_options o = opt ? *opt : tp_image_options{};
+    if (tp_status s = refuse_georeferenced(path, err))
+        return s;
     if (o.spacing_m < 0 || !std::isfinite(o.spacing_m) || !std::isfinite(o.zscale))
         return fail(err, TP_ERR_INVALID_ARG, "%s: --spacing must be > 0 and --zscale finite", path);
     double spacing = o.spacing_m > 0 ? o.spacing_m : 1.0, zscale = o.zscale != 0 ? o.zscale : 1.0;

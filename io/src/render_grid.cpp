@@ -178,6 +178,17 @@ struct GridDeleter {
     void operator()(tp_render_grid* g) const { tp_render_grid_destroy(g); }
 };
 
+/* A north-up grid without a CRS whose cells are under 0.1 and whose every edge lies within
+ * +-180 / +-90 is in degrees: in metres or feet it would be a few centimetres wide. */
+bool plainly_geographic(const tp_dem* dem)
+{
+    const double* t = dem->geotransform;
+    double x0 = t[0], x1 = t[0] + dem->width * t[1], y0 = t[3], y1 = t[3] + dem->height * t[5];
+    return t[2] == 0 && t[4] == 0 && std::fabs(t[1]) < 0.1 && std::fabs(t[5]) < 0.1 &&
+           std::fabs(x0) <= 180 && std::fabs(x1) <= 180 && std::fabs(y0) <= 90 &&
+           std::fabs(y1) <= 90;
+}
+
 void add_warning(std::string& w, const std::string& line)
 {
     if (!w.empty())
@@ -204,6 +215,17 @@ tp_status build(const tp_dem* dem, const tp_grid_options* opt, tp_render_grid** 
         if (src.importFromWkt(dem->crs_wkt) != OGRERR_NONE)
             return fail(err, TP_ERR_BAD_DATA, "the DEM's CRS could not be read");
         has_crs = true;
+    } else if (dem->has_geotransform && plainly_geographic(dem)) {
+        /* an ASCII grid in degrees without its .prj: as metres it would be 0.0008 m posts */
+        src.importFromEPSG(4326);
+        has_crs = true;
+        const double* t = dem->geotransform;
+        add_warning(warnings,
+                    CPLSPrintf("no CRS, but the cell size %.9g and the extent (x %.9g .. %.9g, y "
+                               "%.9g .. %.9g) are plainly degrees: taken as EPSG:4326 (WGS 84); "
+                               "give --crs CRS (or a .prj beside the file) to override",
+                               std::fabs(t[1]), t[0], t[0] + dem->width * t[1],
+                               t[3] + dem->height * t[5], t[3]));
     }
 
     std::unique_ptr<tp_render_grid, GridDeleter> g(

@@ -49,6 +49,59 @@ tp_texture* alloc_texture(int w, int h)
     return t;
 }
 
+/* The bands that make colour and alpha, 1-based: Red/Green/Blue by their colour interpretation
+ * wherever they are, else the first three (a NAIP RGB + near-infrared image has a fourth band
+ * that is not alpha), else one grey band; alpha only from a band GDAL calls alpha (0: none). */
+struct Bands {
+    int colour[3];
+    int colour_count;
+    int alpha;
+};
+
+Bands choose_bands(GDALDataset* ds)
+{
+    Bands b{{0, 0, 0}, 0, 0};
+    int rgb[3] = {0, 0, 0}, n = ds->GetRasterCount();
+    for (int i = n; i >= 1; i--) {
+        switch (ds->GetRasterBand(i)->GetColorInterpretation()) {
+        case GCI_RedBand: rgb[0] = i; break;
+        case GCI_GreenBand: rgb[1] = i; break;
+        case GCI_BlueBand: rgb[2] = i; break;
+        case GCI_AlphaBand: b.alpha = i; break;
+        default: break;
+        }
+    }
+    std::vector<int> rest; /* the bands that are not alpha */
+    for (int i = 1; i <= n; i++)
+        if (i != b.alpha)
+            rest.push_back(i);
+    if (rest.empty()) { /* one band, called alpha: show it as grey */
+        rest.push_back(b.alpha);
+        b.alpha = 0;
+    }
+    if (rgb[0] && rgb[1] && rgb[2]) {
+        std::copy(rgb, rgb + 3, b.colour);
+        b.colour_count = 3;
+    } else {
+        b.colour_count = rest.size() >= 3 ? 3 : 1;
+        std::copy(rest.begin(), rest.begin() + b.colour_count, b.colour);
+    }
+    return b;
+}
+
+tpio::Dataset translate(GDALDataset* src, const std::vector<std::string>& opts)
+{
+    std::vector<const char*> args;
+    for (const std::string& o : opts)
+        args.push_back(o.c_str());
+    args.push_back(nullptr);
+    GDALTranslateOptions* to = GDALTranslateOptionsNew(const_cast<char**>(args.data()), nullptr);
+    int usage = 0;
+    tpio::Dataset out(GDALDataset::FromHandle(GDALTranslate("", GDALDataset::ToHandle(src), to, &usage)));
+    GDALTranslateOptionsFree(to);
+    return out;
+}
+
 tp_status warp_georeferenced(const char* path, GDALDataset* src, const tp_render_grid* g,
                              int max_size, tp_texture** out, tp_error* err)
 {
@@ -60,16 +113,34 @@ tp_status warp_georeferenced(const char* path, GDALDataset* src, const tp_render
     std::string te[4] = {CPLSPrintf("%.17g", std::min(x0, x1)), CPLSPrintf("%.17g", std::min(y0, y1)),
                          CPLSPrintf("%.17g", std::max(x0, x1)), CPLSPrintf("%.17g", std::max(y0, y1))};
     std::string ts[2] = {std::to_string(w), std::to_string(h)};
-    int bands = src->GetRasterCount();
-    bool has_alpha = bands >= 4 || src->GetRasterBand(bands)->GetColorInterpretation() == GCI_AlphaBand;
-    std::vector<const char*> args = {"-t_srs", g->crs_wkt, "-te", te[0].c_str(), te[1].c_str(),
-                                     te[2].c_str(), te[3].c_str(), "-ts", ts[0].c_str(),
-                                     ts[1].c_str(), "-r", "bilinear", "-of", "MEM", "-ot", "Byte"};
-    if (!has_alpha)
-        args.push_back("-dstalpha"); /* texels outside the image become transparent */
-    args.push_back(nullptr);
-    GDALWarpAppOptions* wo = GDALWarpAppOptionsNew(const_cast<char**>(args.data()), nullptr);
-    GDALDatasetH in = GDALDataset::ToHandle(src);
+    /* A palette band becomes red, green, blue and alpha through its colour table. */
+    tpio::Dataset expanded;
+    if (src->GetRasterBand(1)->GetColorInterpretation() == GCI_PaletteIndex &&
+        src->GetRasterBand(1)->GetColorTable()) {
+        expanded = translate(src, {"-of", "VRT", "-b", "1", "-expand", "rgba"});
+        if (!expanded)
+            return fail(err, TP_ERR_BACKEND, "%s: cannot expand the colour table: %s", path,
+                        tpio::gdal_message().c_str());
+        src = expanded.get();
+    }
+    /* Only the chosen bands go to the warp, alpha last (GDALWarp takes a last alpha band as
+     * the source's alpha); -dstalpha makes texels outside the image transparent. */
+    Bands b = choose_bands(src);
+    std::vector<std::string> pick = {"-of", "VRT"};
+    for (int c = 0; c < b.colour_count; c++)
+        pick.insert(pick.end(), {"-b", std::to_string(b.colour[c])});
+    if (b.alpha)
+        pick.insert(pick.end(), {"-b", std::to_string(b.alpha)});
+    tpio::Dataset picked = translate(src, pick);
+    if (!picked)
+        return fail(err, TP_ERR_BACKEND, "%s: cannot select the colour bands: %s", path,
+                    tpio::gdal_message().c_str());
+    const char* args[] = {"-t_srs", g->crs_wkt, "-te", te[0].c_str(), te[1].c_str(),
+                          te[2].c_str(), te[3].c_str(), "-ts", ts[0].c_str(), ts[1].c_str(),
+                          "-r", "bilinear", "-of", "MEM", "-ot", "Byte",
+                          b.alpha ? nullptr : "-dstalpha", nullptr};
+    GDALWarpAppOptions* wo = GDALWarpAppOptionsNew(const_cast<char**>(args), nullptr);
+    GDALDatasetH in = GDALDataset::ToHandle(picked.get());
     int usage = 0;
     tpio::Dataset warped(GDALDataset::FromHandle(GDALWarp("", nullptr, 1, &in, wo, &usage)));
     GDALWarpAppOptionsFree(wo);
@@ -79,9 +150,9 @@ tp_status warp_georeferenced(const char* path, GDALDataset* src, const tp_render
     tp_texture* t = alloc_texture(w, h);
     if (!t)
         return fail(err, TP_ERR_OUT_OF_MEMORY, "%s: out of memory", path);
-    int nb = warped->GetRasterCount();
-    /* bands 1..3 colour (grey repeated), the last band alpha */
-    int map[4] = {1, nb >= 3 ? 2 : 1, nb >= 3 ? 3 : 1, nb};
+    /* warped: the colour bands (grey repeated), then alpha */
+    int grey = b.colour_count == 1;
+    int map[4] = {1, grey ? 1 : 2, grey ? 1 : 3, b.colour_count + 1};
     for (int c = 0; c < 4; c++) {
         CPLErr e = warped->GetRasterBand(map[c])->RasterIO(GF_Read, 0, 0, w, h, t->rgba + c, w, h,
                                                            GDT_Byte, 4, (GSpacing)w * 4, nullptr);
@@ -109,7 +180,7 @@ tp_status read_plain(const char* path, const tp_render_grid* g, int max_size, tp
     tp_texture* t = alloc_texture(w, h);
     if (!t)
         return fail(err, TP_ERR_OUT_OF_MEMORY, "%s: out of memory", path);
-    int ch = sized.nchannels();
+    int ch = sized.nchannels(), alpha = src.spec().alpha_channel; /* -1: none */
     std::vector<uint8_t> px((size_t)w * h * ch);
     sized.get_pixels(OIIO::ROI(0, w, 0, h, 0, 1, 0, ch), OIIO::TypeDesc::UINT8, px.data());
     for (size_t i = 0; i < (size_t)w * h; i++) {
@@ -117,7 +188,7 @@ tp_status read_plain(const char* path, const tp_render_grid* g, int max_size, tp
         t->rgba[4 * i + 0] = s[0];
         t->rgba[4 * i + 1] = ch >= 3 ? s[1] : s[0];
         t->rgba[4 * i + 2] = ch >= 3 ? s[2] : s[0];
-        t->rgba[4 * i + 3] = ch == 4 ? s[3] : ch == 2 ? s[1] : 255;
+        t->rgba[4 * i + 3] = alpha >= 0 && alpha < ch ? s[alpha] : 255;
     }
     *out = t;
     return TP_OK;
@@ -133,12 +204,14 @@ tp_status build(const char* path, const tp_render_grid* g, int max_size, tp_text
         tpio::register_drivers();
         tpio::QuietGdal quiet;
         tpio::Dataset ds(GDALDataset::FromHandle(GDALOpenEx(path, GDAL_OF_RASTER, nullptr, nullptr, nullptr)));
-        double gt[6];
-        const OGRSpatialReference* srs = ds ? ds->GetSpatialRef() : nullptr;
-        if (ds && ds->GetGeoTransform(gt) == CE_None && srs && !srs->IsEmpty() && g->crs_wkt[0])
-            return warp_georeferenced(path, ds.get(), g, max_size, out, err);
         if (!ds)
             return fail(err, TP_ERR_IO, "%s: cannot open: %s", path, tpio::gdal_message().c_str());
+        if (ds->GetRasterCount() < 1) /* e.g. a container of subdatasets */
+            return fail(err, TP_ERR_BAD_DATA, "%s: has no raster bands to drape", path);
+        double gt[6];
+        const OGRSpatialReference* srs = ds->GetSpatialRef();
+        if (ds->GetGeoTransform(gt) == CE_None && srs && !srs->IsEmpty() && g->crs_wkt[0])
+            return warp_georeferenced(path, ds.get(), g, max_size, out, err);
     }
     return read_plain(path, g, max_size, out, err);
 }
