@@ -957,7 +957,7 @@ TEST(texture_drapes_the_imagery)
     {
         char dem[1024], ortho[1024];
         const char* dir;
-        view_spec v = {{0, 0, 0, 0, 0}, 320, 240, {TP_LOD_DEFAULT, 0, 0, 0, 0}, 1};
+        view_spec v = {{0, 0, 0, 0, 0}, 320, 240, {.mode = TP_LOD_DEFAULT}, 1};
         image plain, tex, img;
         tp_error err;
         long terrain = 0, differ = 0, blue_tex = 0, blue_plain = 0, valid = 0, blue_img = 0;
