@@ -1,29 +1,16 @@
 # Thin driver around CMake. `make run` and `make test` install missing Debian packages first;
 # `make build` only builds.
 
-DEBS := cmake pkg-config gcc g++ libgdal-dev libproj-dev libgeographiclib-dev libopenimageio-dev libvtk9-dev \
-        libglfw3-dev libepoxy-dev libegl-dev libgl-dev libgl1-mesa-dri libegl-mesa0 libstb-dev \
-        gnuplot-nox xvfb xdotool
 JOBS := $(shell nproc 2>/dev/null || echo 2)
-SUDO := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
 SCENE := data/lf_elev_220_mt_hood_utm.tif
 
 .PHONY: deps build run test test-sanitize clean
 
-# One dpkg-query for all packages; apt runs only when something is missing. `env` because
-# sudo drops DEBIAN_FRONTEND from the environment.
+# tools/deps.sh picks the packages (VTK from libvtk9-dev, or ParaView's own VTK where ParaView is
+# installed: the two conflict) and installs the missing ones; one dpkg-query when none is.
+# `make deps TP_VTK=system|paraview` forces one VTK; `tools/deps.sh --dry-run` shows the choice.
 deps:
-	@installed=" $$(dpkg-query -W -f='$${db:Status-Abbrev} $${Package}\n' $(DEBS) 2>/dev/null \
-	    | awk '$$1 == "ii" { print $$2 }' | tr '\n' ' ') "; \
-	missing=; \
-	for p in $(DEBS); do \
-	    case "$$installed" in *" $$p "*) ;; *) missing="$$missing $$p" ;; esac; \
-	done; \
-	if [ -n "$$missing" ]; then \
-	    echo "deps: installing$$missing"; \
-	    $(SUDO) apt-get update -qq && \
-	    $(SUDO) env DEBIAN_FRONTEND=noninteractive apt-get install -y --no-install-recommends $$missing; \
-	fi
+	@sh tools/deps.sh
 
 build:
 	@[ -f build/CMakeCache.txt ] || cmake -S . -B build -DCMAKE_BUILD_TYPE=Release
