@@ -1,5 +1,6 @@
 /*
- * cli.h - the terrapatch command line: one function per subcommand.
+ * cli.h - the terrapatch command line: one function per subcommand, and the helpers every
+ * subcommand's parser uses (cli.c).
  *
  * Exit codes shared by every subcommand. Errors are one line on stderr, starting "terrapatch: "
  * (failures) or "terrapatch CMD: " (usage errors); results go to stdout.
@@ -28,5 +29,11 @@ int tp_cli_bench(int argc, char** argv);
 
 /* Flushes stdout; on a write error prints one line and returns TP_EXIT_FAILURE, else code. */
 int tp_cli_finish(int code);
+
+/* Parses "a,b,c" into n finite numbers; 1 on success. */
+int tp_parse_numbers(const char* s, double* v, int n);
+
+/* Prints "terrapatch CMD: OPT: expected EXPECTED, got 'GOT'" and returns -1. */
+int tp_option_error(const char* cmd, const char* opt, const char* expected, const char* got);
 
 #endif /* TP_APP_CLI_H */

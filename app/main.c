@@ -1,11 +1,11 @@
 /*
- * main.c - `terrapatch`: dispatches to the subcommands in cmd_*.c.
+ * main.c - `terrapatch`: dispatches to the subcommands (cmd_info.c, cmd_coord.c beside it;
+ * view/, export/, bench/ for the big ones).
  */
 #include "cli.h"
 
 #include "tp_core.h"
 
-#include <errno.h>
 #include <stdio.h>
 #include <string.h>
 
@@ -27,15 +27,6 @@ static void print_help(FILE* f)
           "Run 'terrapatch COMMAND --help' for the options of a command.\n"
           "Exit status: 0 success, 1 failure, 2 usage error.\n",
           f);
-}
-
-int tp_cli_finish(int code)
-{
-    if (fflush(stdout) != 0 || ferror(stdout)) {
-        fprintf(stderr, "terrapatch: cannot write to standard output: %s\n", strerror(errno));
-        return TP_EXIT_FAILURE;
-    }
-    return code;
 }
 
 int main(int argc, char** argv)

@@ -2,6 +2,7 @@
 #include "view_options.h"
 
 #include "camera_pose.h"
+#include "cli.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -15,29 +16,6 @@ void tp_view_setup_default(tp_view_setup* v)
     v->fov_deg = 60;
     v->w = 1280;
     v->h = 720;
-}
-
-int tp_parse_numbers(const char* s, double* v, int n)
-{
-    char* end;
-    for (int i = 0; i < n; i++) {
-        v[i] = strtod(s, &end);
-        if (end == s || !isfinite(v[i]))
-            return 0;
-        s = end;
-        if (i + 1 < n) {
-            if (*s != ',')
-                return 0;
-            s++;
-        }
-    }
-    return *s == '\0';
-}
-
-int tp_option_error(const char* cmd, const char* opt, const char* expected, const char* got)
-{
-    fprintf(stderr, "terrapatch %s: %s: expected %s, got '%s'\n", cmd, opt, expected, got);
-    return -1;
 }
 
 int tp_view_option(int opt, const char* arg, tp_view_setup* v, const char* cmd)

@@ -59,10 +59,4 @@ void tp_view_options_help(FILE* out);
  * but almost surely not meant, such as a --maxdist shorter than one patch width. */
 void tp_view_setup_warn(const tp_scene* sc, const tp_view_setup* v, const char* cmd);
 
-/* Parses "a,b,c" into n finite numbers; 1 on success. */
-int tp_parse_numbers(const char* s, double* v, int n);
-
-/* Prints "terrapatch CMD: OPT: expected EXPECTED, got 'GOT'" and returns -1. */
-int tp_option_error(const char* cmd, const char* opt, const char* expected, const char* got);
-
 #endif
