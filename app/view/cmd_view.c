@@ -15,15 +15,12 @@
 #include "overlay.h"
 #include "pick.h"
 
-#include <errno.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 #include <unistd.h>
 
-#define DEG (3.14159265358979323846 / 180.0)
 #define TP_SAMPLE_SCENE "data/lf_elev_220_mt_hood_utm.tif"
 
 enum {
