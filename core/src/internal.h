@@ -4,6 +4,7 @@
 
 #include "tp_core.h"
 
+#include <assert.h>
 #include <math.h>
 #include <stdint.h>
 

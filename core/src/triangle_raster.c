@@ -12,6 +12,7 @@ static int64_t edge(const int32_t a[2], const int32_t b[2], int64_t x, int64_t y
 void tp__raster_triangle(const int32_t a[2], const int32_t b[2], const int32_t c[2], double za,
                          double zb, double zc, tp__sample_fn fn, void* user)
 {
+    assert(a && b && c && fn);
     int64_t area = edge(a, b, c[0], c[1]);
     if (area == 0)
         return;
