@@ -586,7 +586,8 @@ TEST(allocation_failure_is_reported_not_measured_as_zero)
     tp_error err;
     tp_error_measure em = {-1, -1, 7};
     tp_camera cam;
-    double px = -1, mx = -1;
+    tp_ray_hit hit;
+    double px = -1, mx = -1, down[3] = {0, 0, -1}, above[3];
     float* src = (float*)malloc(sizeof(float) * 70 * 50);
     int p, levels_before[64];
     ASSERT_TRUE(src != NULL);
@@ -630,13 +631,22 @@ TEST(allocation_failure_is_reported_not_measured_as_zero)
     EXPECT_STATUS(TP_ERR_OUT_OF_MEMORY, tp_selection_patch_screen_error(s, &cam, 0, 0, &px));
     EXPECT_EQ_DBL(-1.0, mx);
     EXPECT_EQ_DBL(-1.0, px);
-    EXPECT_TRUE(heap.failed >= 4);
+    /* a ray straight down onto the middle of the terrain needs scratch too: *out untouched */
+    tp_terrain_grid_to_world(t, 35, 25, &above[0], &above[1]);
+    above[2] = ti.max_height_m + 1000;
+    memset(&hit, 0x5A, sizeof hit);
+    EXPECT_STATUS(TP_ERR_OUT_OF_MEMORY, tp_selection_ray_cast(s, above, down, &hit));
+    EXPECT_EQ_INT(0x5A5A5A5A, hit.hit);
+    EXPECT_EQ_INT(0x5A5A5A5A, hit.patch);
+    EXPECT_TRUE(heap.failed >= 5);
 
     /* the same calls succeed once memory is back, and coarsen the terrain */
     heap.fail = 0;
     ASSERT_OK(tp_selection_update(s, NULL, &lp, &err));
     ASSERT_OK(tp_selection_measure_error(s, &em));
     EXPECT_LE(em.max_error_m, 5.0 + ti.quant_max_error_m);
+    ASSERT_OK(tp_selection_ray_cast(s, above, down, &hit));
+    EXPECT_EQ_INT(1, hit.hit);
     tp_selection_destroy(s);
     tp_terrain_destroy(t);
     EXPECT_EQ_INT(0, (int)heap.live); /* everything went back through the allocator */
