@@ -234,10 +234,10 @@ TEST(level_change_marks_patch_and_its_neighbours_dirty)
         tp_selection_clear_dirty(w.s);
         expect_dirty_exactly(&w, -1, "after clear");
         k = tp_selection_level(w.s, p);
-        ASSERT_OK(tp_selection_set_level(w.s, p, k == 0 ? 2 : k - 1));
+        tp_selection_set_level(w.s, p, k == 0 ? 2 : k - 1);
         expect_dirty_exactly(&w, p, pass ? "corner patch changed" : "middle patch changed");
         tp_selection_clear_dirty(w.s);
-        ASSERT_OK(tp_selection_set_level(w.s, p, tp_selection_level(w.s, p)));
+        tp_selection_set_level(w.s, p, tp_selection_level(w.s, p));
         expect_dirty_exactly(&w, -1, "same level set again");
     }
     world_destroy(&w);
@@ -288,16 +288,22 @@ TEST(incomplete_patches_stay_at_finest_level)
     world_destroy(&w);
 }
 
-TEST(set_level_rejects_levels_out_of_range)
+/* Every level 0..n is taken as given on a complete patch (a level outside 0..n is a caller
+ * bug, asserted; no user value reaches set_level unchecked). */
+TEST(set_level_takes_every_level_from_0_to_n)
 {
     world w;
-    int p;
+    int p, k;
     world_create(&w);
     p = complete_patch(&w, 0);
-    ASSERT_OK(tp_selection_set_level(w.s, p, 1));
-    EXPECT_STATUS(TP_ERR_INVALID_ARG, tp_selection_set_level(w.s, p, -1));
-    EXPECT_STATUS(TP_ERR_INVALID_ARG, tp_selection_set_level(w.s, p, w.ti.n + 1));
-    EXPECT_EQ_INT(1, tp_selection_level(w.s, p));
+    for (k = 0; k <= w.ti.n; ++k) {
+        tp_selection_set_level(w.s, p, k);
+        EXPECT_EQ_INT(k, tp_selection_level(w.s, p));
+    }
+    for (k = w.ti.n; k >= 0; --k) {
+        tp_selection_set_level(w.s, p, k);
+        EXPECT_EQ_INT(k, tp_selection_level(w.s, p));
+    }
     world_destroy(&w);
 }
 
@@ -318,7 +324,7 @@ TEST(set_level_makes_every_patch_visible_and_cull_restores)
     update(&w, &c, TP_LOD_ERROR, 1.0);
     tp_selection_stats(w.s, &st);
     EXPECT_GE_INT(st.culled_patches, 1);
-    ASSERT_OK(tp_selection_set_level(w.s, complete_patch(&w, 0), 1));
+    tp_selection_set_level(w.s, complete_patch(&w, 0), 1);
     for (p = 0; p < w.ti.patch_count; ++p) {
         EXPECT_EQ_INT(1, tp_selection_visible(w.s, p));
         before[p] = tp_selection_level(w.s, p);
@@ -364,7 +370,7 @@ static void random_levels(world* w, tp_rng* r)
 {
     int p;
     for (p = 0; p < w->ti.patch_count; ++p)
-        ASSERT_OK(tp_selection_set_level(w->s, p, tp_rng_int(r, 0, w->ti.n)));
+        tp_selection_set_level(w->s, p, tp_rng_int(r, 0, w->ti.n));
 }
 
 TEST(measure_error_zero_at_full_resolution)
@@ -381,7 +387,7 @@ TEST(measure_error_zero_at_full_resolution)
     EXPECT_EQ_DBL(0.0, em.max_error_m);
     EXPECT_EQ_DBL(0.0, em.rms_error_m);
     for (p = 0; p < w.ti.patch_count; ++p)
-        ASSERT_OK(tp_selection_set_level(w.s, p, w.ti.n));
+        tp_selection_set_level(w.s, p, w.ti.n);
     ASSERT_OK(tp_selection_measure_error(w.s, &em));
     EXPECT_EQ_DBL(0.0, em.max_error_m);
     /* every patch visible: every drawn sample once */
@@ -580,7 +586,8 @@ TEST(allocation_failure_is_reported_not_measured_as_zero)
     tp_error err;
     tp_error_measure em = {-1, -1, 7};
     tp_camera cam;
-    double px = -1, mx = -1;
+    tp_ray_hit hit;
+    double px = -1, mx = -1, down[3] = {0, 0, -1}, above[3];
     float* src = (float*)malloc(sizeof(float) * 70 * 50);
     int p, levels_before[64];
     ASSERT_TRUE(src != NULL);
@@ -624,13 +631,22 @@ TEST(allocation_failure_is_reported_not_measured_as_zero)
     EXPECT_STATUS(TP_ERR_OUT_OF_MEMORY, tp_selection_patch_screen_error(s, &cam, 0, 0, &px));
     EXPECT_EQ_DBL(-1.0, mx);
     EXPECT_EQ_DBL(-1.0, px);
-    EXPECT_TRUE(heap.failed >= 4);
+    /* a ray straight down onto the middle of the terrain needs scratch too: *out untouched */
+    tp_terrain_grid_to_world(t, 35, 25, &above[0], &above[1]);
+    above[2] = ti.max_height_m + 1000;
+    memset(&hit, 0x5A, sizeof hit);
+    EXPECT_STATUS(TP_ERR_OUT_OF_MEMORY, tp_selection_ray_cast(s, above, down, &hit));
+    EXPECT_EQ_INT(0x5A5A5A5A, hit.hit);
+    EXPECT_EQ_INT(0x5A5A5A5A, hit.patch);
+    EXPECT_TRUE(heap.failed >= 5);
 
     /* the same calls succeed once memory is back, and coarsen the terrain */
     heap.fail = 0;
     ASSERT_OK(tp_selection_update(s, NULL, &lp, &err));
     ASSERT_OK(tp_selection_measure_error(s, &em));
     EXPECT_LE(em.max_error_m, 5.0 + ti.quant_max_error_m);
+    ASSERT_OK(tp_selection_ray_cast(s, above, down, &hit));
+    EXPECT_EQ_INT(1, hit.hit);
     tp_selection_destroy(s);
     tp_terrain_destroy(t);
     EXPECT_EQ_INT(0, (int)heap.live); /* everything went back through the allocator */
@@ -644,7 +660,7 @@ TEST(drawn_height_equals_full_resolution_at_full)
     int p, i;
     world_create(&w);
     for (p = 0; p < w.ti.patch_count; ++p)
-        ASSERT_OK(tp_selection_set_level(w.s, p, w.ti.n));
+        tp_selection_set_level(w.s, p, w.ti.n);
     for (i = 0; i < 20000; ++i) {
         double x = tp_rng_range(&rng, -2, w.ti.width + 1),
                y = tp_rng_range(&rng, -2, w.ti.height + 1);
@@ -718,7 +734,7 @@ TEST(drawn_height_on_a_lone_drawn_triangle)
     t = tpt_terrain_create(h, 33, 33, 17, TP_FIT_PAD, NULL);
     ASSERT_OK(tp_selection_create(t, &s, &err));
     for (i = 0; i < 4; ++i)
-        ASSERT_OK(tp_selection_set_level(s, i, 0)); /* stays at n: incomplete */
+        tp_selection_set_level(s, i, 0); /* stays at n: incomplete */
     for (j = 0; j < 2; ++j) {
         const int(*p)[2] = tri[j];
         for (i = 0; i < 3; ++i) {
@@ -794,7 +810,7 @@ TEST(keep_above_ignores_positions_outside_terrain)
     X(level_change_marks_patch_and_its_neighbours_dirty)                                           \
     X(unchanged_update_leaves_nothing_dirty)                                                       \
     X(incomplete_patches_stay_at_finest_level)                                                     \
-    X(set_level_rejects_levels_out_of_range)                                                       \
+    X(set_level_takes_every_level_from_0_to_n)                                                       \
     X(set_level_makes_every_patch_visible_and_cull_restores)                                       \
     X(neighbor_levels_are_the_adjacent_patches_levels)                                             \
     X(measure_error_zero_at_full_resolution)                                                       \

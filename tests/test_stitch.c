@@ -222,7 +222,7 @@ TEST(vertices_move_to_nearest_coarser_vertex)
         fixture_synthetic(&f, n, 11 + n);
         x0 = y0 = 1 << n;
         for (more = combo_first(&c); more; more = combo_next(&c, n)) {
-            ASSERT_OK(tp_patch_vertices(f.t, 4, c.k, c.nb, v, MAX_VERTS));
+            tp_patch_vertices(f.t, 4, c.k, c.nb, v, MAX_VERTS);
             if (check_vertex_rule(&f, &c, v, x0, y0) == 2)
                 break;
         }
@@ -246,7 +246,7 @@ TEST(middle_vertex_goes_the_documented_way_around)
         fixture_synthetic(&f, n, 21 + n);
         for (more = combo_first(&c); more; more = combo_next(&c, n)) {
             int r;
-            ASSERT_OK(tp_patch_vertices(f.t, 4, c.k, c.nb, v, MAX_VERTS));
+            tp_patch_vertices(f.t, 4, c.k, c.nb, v, MAX_VERTS);
             r = check_vertex_rule(&f, &c, v, 1 << n, 1 << n);
             if (r == 2 || r == 1) {
                 ADD_FAILURE("n=%d k=%d nb(top,right,bottom,left)=%d,%d,%d,%d: a middle vertex "
@@ -275,8 +275,8 @@ TEST(null_neighbor_levels_move_nothing)
         fixture_synthetic(&f, n, 27 + n);
         for (k = 0; k <= n; ++k) {
             size_t count = (size_t)((1 << k) + 1) * ((1 << k) + 1);
-            ASSERT_OK(tp_patch_vertices(f.t, 4, k, NULL, a, MAX_VERTS));
-            ASSERT_OK(tp_patch_vertices(f.t, 4, k, none, b, MAX_VERTS));
+            tp_patch_vertices(f.t, 4, k, NULL, a, MAX_VERTS);
+            tp_patch_vertices(f.t, 4, k, none, b, MAX_VERTS);
             size_t i;
             for (i = 0; i < count; ++i)
                 if (a[i].x != b[i].x || a[i].y != b[i].y || a[i].cls != b[i].cls ||
@@ -303,7 +303,7 @@ TEST(vertex_heights_are_decoded_samples)
         fixture_synthetic(&f, n, 31 + n);
         for (more = combo_first(&c); more; more = combo_next(&c, n)) {
             int vs = (1 << c.k) + 1, step = 1 << (n - c.k), i;
-            ASSERT_OK(tp_patch_vertices(f.t, 4, c.k, c.nb, v, MAX_VERTS));
+            tp_patch_vertices(f.t, 4, c.k, c.nb, v, MAX_VERTS);
             for (i = 0; i < vs * vs; ++i) {
                 float z = (float)tp_terrain_sample(f.t, v[i].x, v[i].y);
                 int ox = (1 << n) + (i % vs) * step, oy = (1 << n) + (i / vs) * step;
@@ -328,19 +328,28 @@ TEST(vertex_heights_are_decoded_samples)
     }
 }
 
-TEST(patch_vertices_rejects_bad_level_and_capacity)
+/* A buffer of exactly (2^k+1)^2 vertices is enough at every level, and nothing past it is
+ * written. (A level outside 0..n or a smaller capacity is a caller bug, asserted.) */
+TEST(patch_vertices_fill_exactly_the_level_size)
 {
     fixture f;
-    static tp_vertex v[MAX_VERTS];
-    int nb[4];
+    static tp_vertex v[MAX_VERTS + 1];
+    int nb[4], k;
+    tp_patch_info pi;
     tpt_fill4(nb, TP_NO_NEIGHBOR);
     fixture_synthetic(&f, 4, 5);
-    EXPECT_STATUS(TP_ERR_INVALID_ARG, tp_patch_vertices(f.t, 4, -1, nb, v, MAX_VERTS));
-    EXPECT_STATUS(TP_ERR_INVALID_ARG, tp_patch_vertices(f.t, 4, 5, nb, v, MAX_VERTS));
-    EXPECT_STATUS(TP_ERR_INVALID_ARG, tp_patch_vertices(f.t, 4, 4, nb, v, 17 * 17 - 1));
-    EXPECT_STATUS(TP_ERR_INVALID_ARG, tp_patch_vertices(f.t, 4, 2, nb, v, 5 * 5 - 1));
-    EXPECT_OK(tp_patch_vertices(f.t, 4, 2, nb, v, 5 * 5));
-    EXPECT_OK(tp_patch_vertices(f.t, 4, 0, nb, v, 4));
+    tp_patch_get_info(f.t, 4, &pi);
+    for (k = 0; k <= 4; ++k) {
+        size_t side = ((size_t)1 << k) + 1, count = side * side, i;
+        memset(v, 0xAB, sizeof v);
+        tp_patch_vertices(f.t, 4, k, nb, v, count);
+        for (i = 0; i < count; ++i) {
+            EXPECT_EQ_INT(pi.x0 + ((int)(i % side) << (4 - k)), v[i].x);
+            EXPECT_EQ_INT(pi.y0 + ((int)(i / side) << (4 - k)), v[i].y);
+        }
+        EXPECT_EQ_INT(0xABABABAB, (uint32_t)v[count].x);
+        ASSERT_NO_FAILURE();
+    }
     fixture_free(&f);
 }
 
@@ -353,7 +362,7 @@ TEST(triangle_count_respects_capacity)
     size_t full, got;
     static uint32_t all[3 * MAX_TRIS];
     fixture_synthetic(&f, 4, 6);
-    ASSERT_OK(tp_patch_vertices(f.t, 4, 4, nb, v, MAX_VERTS));
+    tp_patch_vertices(f.t, 4, 4, nb, v, MAX_VERTS);
     full = tp_patch_triangles(v, 4, all, MAX_TRIS);
     EXPECT_LE_INT(full, 2 * 256);
     EXPECT_GE_INT(full, 40);
@@ -366,7 +375,7 @@ TEST(triangle_count_respects_capacity)
     EXPECT_EQ_INT(full, tp_patch_triangles(v, 4, NULL, 0));
     /* level 0 of a patch with no coarser neighbour: the 2 triangles of the 2x2 patch */
     tpt_fill4(nb, TP_NO_NEIGHBOR);
-    ASSERT_OK(tp_patch_vertices(f.t, 4, 0, nb, v, MAX_VERTS));
+    tp_patch_vertices(f.t, 4, 0, nb, v, MAX_VERTS);
     EXPECT_EQ_INT(2, tp_patch_triangles(v, 0, all, MAX_TRIS));
     fixture_free(&f);
 }
@@ -383,8 +392,9 @@ TEST(triangles_follow_strip_order_and_winding)
     int more;
     fixture_synthetic(&f, 4, 29);
     for (more = combo_first(&c); more; more = combo_next(&c, 4)) {
-        size_t sc = tp_strip_build_u32(c.k, strip, sizeof strip / sizeof strip[0]), tc, t, at = 0;
-        ASSERT_EQ_INT(tp_strip_index_count(c.k), sc);
+        size_t sc = tp_strip_index_count(c.k), tc, t, at = 0;
+        ASSERT_TRUE(sc <= sizeof strip / sizeof strip[0]);
+        tp_strip_build_u32(c.k, strip, sizeof strip / sizeof strip[0]);
         tc = tpt_patch_geometry(f.t, 4, c.k, c.nb, v, MAX_VERTS, tri, MAX_TRIS);
         for (t = 0; t + 2 < sc; ++t) {
             uint32_t i0 = strip[t], i1 = strip[t + 1], i2 = strip[t + 2], s;
@@ -874,7 +884,7 @@ static void check_watertight(const tp_terrain* t, const int* levels, const char*
     sb = (seg*)malloc(sizeof(seg) * 3 * tcap);
     ASSERT_TRUE(g && pa && pb && sa && sb);
     for (p = 0; p < ti.patch_count; ++p)
-        EXPECT_OK(tp_selection_set_level(sel, p, levels[p]));
+        tp_selection_set_level(sel, p, levels[p]);
     for (p = 0; p < ti.patch_count; ++p) {
         tp_patch_info pi;
         int k = tp_selection_level(sel, p), nb[4], expect_nb[4], col = p % cols, row = p / cols;
@@ -898,7 +908,7 @@ static void check_watertight(const tp_terrain* t, const int* levels, const char*
         g[p].v = (tp_vertex*)malloc(sizeof(tp_vertex) * vcap);
         g[p].tri = (uint32_t*)malloc(sizeof(uint32_t) * 3 * tcap);
         ASSERT_TRUE(g[p].v && g[p].tri);
-        ASSERT_OK(tp_patch_vertices(t, p, k, nb, g[p].v, vcap));
+        tp_patch_vertices(t, p, k, nb, g[p].v, vcap);
         g[p].tcount = tp_patch_triangles(g[p].v, k, g[p].tri, tcap);
     }
     for (p = 0; p < ti.patch_count && !tp_test_state_.failures; ++p) {
@@ -1060,7 +1070,7 @@ TEST(watertight_shared_edges_synthetic_with_holes)
     X(middle_vertex_goes_the_documented_way_around)                                                \
     X(null_neighbor_levels_move_nothing)                                                           \
     X(vertex_heights_are_decoded_samples)                                                          \
-    X(patch_vertices_rejects_bad_level_and_capacity)                                               \
+    X(patch_vertices_fill_exactly_the_level_size)                                               \
     X(triangle_count_respects_capacity)                                                            \
     X(triangles_follow_strip_order_and_winding)                                                    \
     X(stitched_triangles_tile_patch_n4_all_combinations)                                           \

@@ -63,8 +63,7 @@ static size_t patch_triangles(const tp_scene* sc, const tp_selection* sel, int p
 {
     int nb[4], k = tp_selection_level(sel, p);
     tp_selection_neighbor_levels(sel, p, nb);
-    if (tp_patch_vertices(sc->terrain, p, k, nb, v, vcap) != TP_OK)
-        return 0;
+    tp_patch_vertices(sc->terrain, p, k, nb, v, vcap);
     return tp_patch_triangles(v, k, t, tcap);
 }
 

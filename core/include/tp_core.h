@@ -19,6 +19,26 @@
  *     E = gt[0] + (x + 0.5) * gt[1],  N = gt[3] + (y + 0.5) * gt[5]   (GDAL geotransform).
  *   - Levels: k = n is full resolution, k = 0 is the 2x2 patch (as in Vanek & Jezek).
  *   - Heights of samples that are not drawn (nodata, padding) and queries outside the grid are NaN.
+ *
+ * Failure: one convention for every function below (STYLE.md section 4).
+ *   - Caller bugs are assert()ed at the top of the function, not reported: a NULL pointer where
+ *     the function's comment does not allow NULL, a patch index outside 0..patch_count-1, a
+ *     level k outside 0..n (0..TP_MAX_N where no terrain is involved), a capacity smaller than
+ *     the size the comment gives. Check these before the call; under NDEBUG they are undefined.
+ *   - Bad data and invalid values that can come from a user or a file (a number outside its
+ *     documented range, NaN where a number is needed, a malformed grid) and running out of
+ *     memory are reported: such a function returns tp_status, TP_OK on success, and delivers
+ *     its results through out-parameters that it writes ONLY on success. On failure its inputs
+ *     and outputs are left as they were and nothing is leaked. A trailing tp_error* err, where
+ *     there is one, receives a one-line message on failure; err may be NULL.
+ *   - A function that returns anything else (void, a count, a height, a class, a 1/0 answer)
+ *     cannot fail once its arguments pass the asserts.
+ *   - Queries return NaN for "no surface here" (nodata, padding, outside the grid, nothing
+ *     drawn there), and tp_terrain_sample_class returns TP_SAMPLE_OUTSIDE outside the grid;
+ *     that is an answer, not a failure. So is the 0 of a yes/no function (tp_camera_project,
+ *     tp_selection_visible, tp_selection_dirty, tp_selection_keep_above answer 1 or 0).
+ * Each comment below says what the function returns and what makes it fail; it repeats none of
+ * this, only what differs (a pointer that may be NULL, a further condition).
  */
 #ifndef TP_CORE_H
 #define TP_CORE_H
@@ -49,7 +69,8 @@ typedef enum tp_status {
     TP_ERR_BACKEND /* a wrapped C++ library failed; see the message */
 } tp_status;
 
-/* Short English name of a status ("invalid argument", ...). Never NULL. */
+/* Returns the short English name of a status ("invalid argument", ...); "unknown status" for a
+ * value outside the enum. Never NULL; a static string. */
 const char* tp_status_str(tp_status s);
 
 /* Optional out-parameter of failing calls: a one-line message saying what was expected and
@@ -70,14 +91,15 @@ typedef struct tp_error {
  * counter-clockwise seen from above in (east, north) for a north-up grid (gt[1] > 0, gt[5] < 0).
  */
 
-/* Number of indices of the level-k strip: (2v+2)(v-1) with v = 2^k+1. 0 if k is out of 0..TP_MAX_N. */
+/* Returns the number of indices of the level-k strip, (2v+2)(v-1) with v = 2^k+1, for k in
+ * 0..TP_MAX_N. Cannot fail. */
 size_t tp_strip_index_count(int k);
 
-/* Writes the level-k strip into indices, which must hold tp_strip_index_count(k) elements.
- * Returns the number written (0 if k is out of range). The _u16 variant requires v*v <= 65536,
- * i.e. k <= 7, and returns 0 otherwise. */
-size_t tp_strip_build_u32(int k, uint32_t* indices, size_t index_capacity);
-size_t tp_strip_build_u16(int k, uint16_t* indices, size_t index_capacity);
+/* Writes the level-k strip (k in 0..TP_MAX_N) into indices: exactly tp_strip_index_count(k)
+ * elements, which index_capacity must be at least. The _u16 variant also requires v*v <= 65536,
+ * i.e. k <= 7 (use _u32 beyond). Cannot fail. */
+void tp_strip_build_u32(int k, uint32_t* indices, size_t index_capacity);
+void tp_strip_build_u16(int k, uint16_t* indices, size_t index_capacity);
 
 /* ---------------------------------------------------------------------------------------------
  * Terrain: the resident, quantised height grid with its per-patch tables
@@ -134,9 +156,11 @@ typedef struct tp_terrain tp_terrain;
  * and the stitching error bounds.
  * Automatic step: 1 m when every valid height is an integer (exact for Int16 sources), else the
  * finest power of two 2^-p metres (p <= 10) for which every patch's height range fits 16 bits.
- * Fails with TP_ERR_BAD_DATA if no sample is valid, TP_ERR_INVALID_ARG for bad sizes or patch
- * sizes, a rotated geotransform, or an explicit step too fine for the data.
- * On failure *out is untouched and nothing is leaked. */
+ * Returns TP_OK and sets *out to the new terrain (free it with tp_terrain_destroy). Fails with
+ * TP_ERR_BAD_DATA if no sample is valid; TP_ERR_INVALID_ARG for sizes out of range, a height or
+ * filled count that does not match width * height (also NULL heights), a patch size not listed,
+ * a half-set allocator, a rotated geotransform, or an explicit step too fine for the data;
+ * TP_ERR_OUT_OF_MEMORY. */
 tp_status tp_terrain_create(const tp_terrain_desc* desc, tp_terrain** out, tp_error* err);
 void tp_terrain_destroy(tp_terrain* t); /* accepts NULL */
 
@@ -162,22 +186,29 @@ typedef struct tp_terrain_info {
     double bytes_per_source_sample; /* resident_bytes / (src_width * src_height) */
 } tp_terrain_info;
 
+/* Writes the terrain's sizes, errors and memory use into *out. Cannot fail. */
 void tp_terrain_get_info(const tp_terrain* t, tp_terrain_info* out);
 
-/* Decoded height (metres) of sample (x, y); NaN if it is not drawn or outside the grid. */
+/* Query: returns the decoded height (metres) of sample (x, y); NaN if it is not drawn or
+ * outside the grid. */
 double tp_terrain_sample(const tp_terrain* t, int x, int y);
+/* Query: returns what sample (x, y) is; TP_SAMPLE_OUTSIDE for any (x, y) outside the grid. */
 tp_sample_class tp_terrain_sample_class(const tp_terrain* t, int x, int y);
 
-/* Height of the rendered full-resolution surface at grid coordinates (x, y): the same triangle
- * split as the strips (diagonal from (c+1, r) to (c, r+1)). O(1). NaN only where no drawn
- * triangle contains the point (a point on an edge or vertex is on every triangle that touches
- * it), or outside the grid. */
+/* Query: returns the height (metres) of the rendered full-resolution surface at grid
+ * coordinates (x, y): the same triangle split as the strips (diagonal from (c+1, r) to
+ * (c, r+1)). O(1). NaN only where no drawn triangle contains the point (a point on an edge or
+ * vertex is on every triangle that touches it), outside the grid, or for NaN coordinates. */
 double tp_terrain_height_at(const tp_terrain* t, double x, double y);
 
-/* Unit surface normal (world frame: east, north, up) at sample (x, y) from central differences
- * of the decoded grid (one-sided at borders and next to undrawn samples). */
+/* Writes the unit surface normal (world frame: east, north, up) at sample (x, y), from central
+ * differences of the decoded grid (one-sided at borders and next to undrawn samples; a slope
+ * with no drawn neighbour counts as 0, so an isolated or outside sample gets (0, 0, 1)).
+ * Cannot fail. */
 void tp_terrain_normal(const tp_terrain* t, int x, int y, float normal[3]);
 
+/* Convert between grid coordinates (x, y) and world (easting, northing) with the fitted grid's
+ * geotransform; any finite coordinates, inside the grid or not. Cannot fail. */
 void tp_terrain_grid_to_world(const tp_terrain* t, double x, double y, double* e, double* n);
 void tp_terrain_world_to_grid(const tp_terrain* t, double e, double n, double* x, double* y);
 
@@ -209,14 +240,15 @@ typedef struct tp_patch_info {
     double delta_m[TP_MAX_LEVELS];
 } tp_patch_info;
 
+/* Writes patch `patch`'s grid position, box and per-level errors into *out. Cannot fail. */
 void tp_patch_get_info(const tp_terrain* t, int patch, tp_patch_info* out);
 
-/* Upper bound (metres, quantisation included) of the vertical error of patch `patch` drawn at
- * level k with the given neighbour levels (indexed by tp_side; TP_NO_NEIGHBOR for none; the
- * array may be NULL for an unstitched patch) after
- * crack removal, against every source sample of the patch. Neighbours at level >= k do not move
- * this patch's vertices; a coarser neighbour does, and its stitched triangles are bounded by a
- * per-side table. */
+/* Returns an upper bound (metres, quantisation included) of the vertical error of patch `patch`
+ * drawn at level k (0..n) with the given neighbour levels (indexed by tp_side; TP_NO_NEIGHBOR
+ * for none; the array may be NULL for an unstitched patch) after crack removal, against every
+ * source sample of the patch. Neighbours at level >= k do not move this patch's vertices; a
+ * coarser neighbour does, and its stitched triangles are bounded by a per-side table. Cannot
+ * fail. (It used to return INFINITY for a bad patch or k; those are now asserted.) */
 double tp_patch_error_bound(const tp_terrain* t, int patch, int k, const int neighbor_levels[4]);
 
 /* One vertex of a patch's vertex data, after crack removal: the global grid coordinates of the
@@ -227,29 +259,33 @@ typedef struct tp_vertex {
     uint8_t cls; /* tp_sample_class of the ORIGINAL (unmoved) vertex */
 } tp_vertex;
 
-/* Vertex data of a patch at level k: (2^k+1)^2 vertices in strip order (row * v + col).
- * neighbor_levels may be NULL (no neighbours: nothing moves).
+/* Writes the vertex data of a patch at level k (0..n): (2^k+1)^2 vertices in strip order
+ * (row * v + col), which vertex_capacity must be at least. neighbor_levels may be NULL (no
+ * neighbours: nothing moves).
  * Crack removal (Vanek & Jezek Fig. 4): where a neighbour is coarser (level < k), every border
  * vertex the neighbour lacks is moved onto the nearest vertex the neighbour has; ties go toward
  * the nearer patch corner, and the exact middle of a side (a tie only with a level-0 neighbour)
  * goes around the patch: TOP toward the first column, RIGHT toward the first row, BOTTOM toward
  * the last column, LEFT toward the last row. Corners never move. Both sides of a shared edge
- * then produce bit-identical positions.
- * Returns TP_ERR_INVALID_ARG if k is out of 0..n or vertex_capacity < (2^k+1)^2. */
-tp_status tp_patch_vertices(const tp_terrain* t, int patch, int k, const int neighbor_levels[4],
-                            tp_vertex* vertices, size_t vertex_capacity);
+ * then produce bit-identical positions. Cannot fail. (It used to return TP_ERR_INVALID_ARG
+ * for a bad k or capacity; those are now asserted.) */
+void tp_patch_vertices(const tp_terrain* t, int patch, int k, const int neighbor_levels[4],
+                       tp_vertex* vertices, size_t vertex_capacity);
 
-/* Triangles actually drawn from vertex data of level k decoded through the level-k strip, in
- * strip order and winding: index triples into `vertices`, skipping degenerate triangles (two
- * vertices at the same grid position, or zero area) and triangles with a vertex that is not
- * drawn. Returns the number of such triangles (at most 2 * 4^k) and writes the first
- * min(that, triangle_capacity) of them; triangles may be NULL when triangle_capacity is 0. */
+/* Triangles actually drawn from vertex data of level k (0..TP_MAX_N, (2^k+1)^2 vertices, as
+ * tp_patch_vertices writes them) decoded through the level-k strip, in strip order and winding:
+ * index triples into `vertices`, skipping degenerate triangles (two vertices at the same grid
+ * position, or zero area) and triangles with a vertex that is not drawn. Returns the number of
+ * such triangles (at most 2 * 4^k) and writes the first min(that, triangle_capacity) of them
+ * (3 indices each); triangles may be NULL when triangle_capacity is 0, to count first and fill
+ * second. Cannot fail. */
 size_t tp_patch_triangles(const tp_vertex* vertices, int k, uint32_t* triangles,
                           size_t triangle_capacity);
 
-/* Visits every grid sample inside or on the triangle (a, b, c) (grid coordinates), with the
- * height linearly interpolated there from za, zb, zc (any unit). Exact integer inside test;
- * zero-area triangles visit nothing. */
+/* Rasterises a triangle onto the sample lattice: calls visit(x, y, z, user) for every grid
+ * sample inside or on the triangle (a, b, c) (grid coordinates), with the height z linearly
+ * interpolated there from za, zb, zc (any unit). Exact integer inside test; zero-area triangles
+ * visit nothing. user may be NULL. Cannot fail. */
 typedef void (*tp_sample_visitor)(int x, int y, double z, void* user);
 void tp_triangle_rasterize(const int32_t a[2], const int32_t b[2], const int32_t c[2], double za,
                            double zb, double zc, tp_sample_visitor visit, void* user);
@@ -283,21 +319,25 @@ typedef struct tp_lod_params {
     size_t reference_height_count;
 } tp_lod_params;
 
-/* The distance formula (Vanek & Jezek section 3) for a patch with finest level n:
+/* The distance formula (Vanek & Jezek section 3) for a patch with finest level n (0..TP_MAX_N):
  *   dist <= mindist: n;   dist > maxdist: 0;
  *   else k = ceil(n * (1 - ((dist - mindist) / (maxdist - mindist))^exponent)),
  * rounded UP so that a patch is never coarser than the formula asks. With mindist == maxdist
  * it is a step: n up to mindist, 0 beyond. exponent 0 gives 0 beyond mindist; a huge exponent
- * gives n up to maxdist (an infinite exponent too). A negative dist is clamped to 0. Returns -1
- * for invalid parameters: NaN dist, negative or NaN mindist/maxdist, maxdist < mindist,
- * negative or NaN exponent, n out of 0..TP_MAX_N. */
-int tp_lod_level_distance(int n, double dist_m, double mindist_m, double maxdist_m,
-                          double exponent);
+ * gives n up to maxdist (an infinite exponent too). A negative dist is clamped to 0.
+ * Returns TP_OK and writes the level (0..n) to *out_level. TP_ERR_INVALID_ARG, with a message,
+ * for a NaN dist, a negative or NaN mindist or maxdist, maxdist < mindist, or a negative or NaN
+ * exponent (the parameters may come from the command line; unlike tp_lod_params_resolve this
+ * applies no defaults). (It used to return the level, or -1 for invalid parameters.) */
+tp_status tp_lod_level_distance(int n, double dist_m, double mindist_m, double maxdist_m,
+                                double exponent, int* out_level, tp_error* err);
 
-/* Validates params and fills in defaults for terrain t. TP_ERR_INVALID_ARG with a message for
- * negative / NaN / infinite values, maxdist < mindist, or tau below 0 (tau = 0 is the default 1;
- * use TP_LOD_FULL for an exact surface); in max-error mode also for max_error_m not > 0 and for
- * reference heights of the wrong count or with a resampled fit (these need t). */
+/* Validates params and fills in defaults for terrain t: returns TP_OK and writes the resolved
+ * parameters to *out (which may be `in`). `in` may be NULL (all defaults); t may be NULL (the
+ * distance defaults then assume 1 m patches). TP_ERR_INVALID_ARG with a message for an unknown
+ * mode, negative / NaN / infinite values, maxdist < mindist, or tau below 0 (tau = 0 is the
+ * default 1; use TP_LOD_FULL for an exact surface); in max-error mode also for max_error_m not
+ * > 0 and for reference heights of the wrong count or with a resampled fit (these need t). */
 tp_status tp_lod_params_resolve(const tp_terrain* t, const tp_lod_params* in, tp_lod_params* out,
                                 tp_error* err);
 
@@ -313,14 +353,16 @@ typedef struct tp_camera {
     double near_m, far_m;       /* 0 near means 1 m; 0 far means no far plane */
 } tp_camera;
 
-/* The camera of a pose: eye position (world), yaw in degrees clockwise from grid north, pitch
+/* Writes the camera of a pose: eye position (world), yaw in degrees clockwise from grid north, pitch
  * in degrees (-90 looks straight down, +90 straight up), vertical field of view in degrees (0
  * means 60), viewport in pixels (0 means 1280 x 720); near plane 1 m, no far plane. The up
- * vector is defined for every pitch (it is right x forward with right = (cos yaw, -sin yaw, 0)). */
+ * vector is defined for every pitch (it is right x forward with right = (cos yaw, -sin yaw, 0)).
+ * Cannot fail. */
 void tp_camera_from_pose(const double position[3], double yaw_deg, double pitch_deg,
                          double fov_y_deg, int width_px, int height_px, tp_camera* out);
 
-/* The pose of a camera: yaw in [0, 360) clockwise from grid north, pitch in [-90, 90]. */
+/* Writes the pose of a camera: yaw in [0, 360) clockwise from grid north, pitch in [-90, 90].
+ * Cannot fail. */
 void tp_camera_get_pose(const tp_camera* cam, double* yaw_deg, double* pitch_deg);
 
 /* The camera's orthonormal frame and intrinsics, defaults applied. */
@@ -332,22 +374,25 @@ typedef struct tp_camera_frame {
     double near_m, far_m;               /* far 0: none */
 } tp_camera_frame;
 
+/* Writes the frame of cam into *out. Cannot fail. */
 void tp_camera_get_frame(const tp_camera* cam, tp_camera_frame* out);
 
 /* Projects a world point to pixel coordinates (x to the right, y down, (0, 0) the top-left
- * corner of the image, (w/2, h/2) its centre). Returns 1 and writes pixel[2] (and *depth_m, the
- * distance along the view axis, if not NULL) when the point is in front of the near plane, else
- * returns 0 and writes nothing. The pixel may lie outside the viewport. */
+ * corner of the image, (w/2, h/2) its centre). Answers whether the point is in front of the
+ * near plane: 1, writing pixel[2] (and *depth_m, the distance along the view axis, if depth_m
+ * is not NULL); else 0 (also for a NaN point), writing nothing. That 0 is an answer, not a
+ * failure. The pixel may lie outside the viewport. */
 int tp_camera_project(const tp_camera* cam, const double world[3], double pixel[2],
                       double* depth_m);
 
-/* Unit direction (world frame) of the ray from the eye through pixel (x, y), the inverse of
- * tp_camera_project. */
+/* Writes the unit direction (world frame) of the ray from the eye through pixel (x, y), the
+ * inverse of tp_camera_project. Cannot fail. */
 void tp_camera_pixel_ray(const tp_camera* cam, double x_px, double y_px, double dir[3]);
 
-/* Column-major 4x4 projection * view matrix of the camera with its eye at the origin (callers
- * subtract the eye position from world positions first, so that floats keep their precision),
- * OpenGL clip conventions, depth range [near, far_m]; far_m must be > near. */
+/* Writes the column-major 4x4 projection * view matrix of the camera with its eye at the origin
+ * (callers subtract the eye position from world positions first, so that floats keep their
+ * precision), OpenGL clip conventions, depth range [near, far_m]; far_m must be > the camera's
+ * near plane (asserted). Cannot fail. */
 void tp_camera_view_projection(const tp_camera* cam, double far_m, double out[16]);
 
 typedef struct tp_frustum {
@@ -355,13 +400,14 @@ typedef struct tp_frustum {
     int plane_count;     /* 5 without a far plane, else 6 */
 } tp_frustum;
 
+/* Writes the camera's frustum planes into *out. Cannot fail. */
 void tp_frustum_from_camera(const tp_camera* cam, tp_frustum* out);
 
 typedef enum tp_cull { TP_CULL_OUTSIDE = 0, TP_CULL_INTERSECTS, TP_CULL_INSIDE } tp_cull;
 
-/* AABB against the frustum planes with n/p-vertices. OUTSIDE only if the box is entirely on
- * the outer side of some plane (conservative: a box outside but not behind one plane is
- * reported as INTERSECTS). */
+/* Query: returns where the AABB lies against the frustum planes (n/p-vertex test). OUTSIDE only
+ * if the box is entirely on the outer side of some plane (conservative: a box outside but not
+ * behind one plane is reported as INTERSECTS). Cannot fail. */
 tp_cull tp_frustum_test_aabb(const tp_frustum* f, const double aabb_min[3], const double aabb_max[3]);
 
 /* ---------------------------------------------------------------------------------------------
@@ -369,11 +415,14 @@ tp_cull tp_frustum_test_aabb(const tp_frustum* f, const double aabb_min[3], cons
  */
 typedef struct tp_selection tp_selection;
 
+/* Creates a selection of terrain t, every patch at level n, visible and dirty; t must outlive
+ * it. Returns TP_OK and sets *out; fails only with TP_ERR_OUT_OF_MEMORY. */
 tp_status tp_selection_create(const tp_terrain* t, tp_selection** out, tp_error* err);
 void tp_selection_destroy(tp_selection* s); /* accepts NULL */
 
 /* Selects a level for every patch (visible or not: culled patches still stitch their visible
- * neighbours), then, in error mode, raises the coarser neighbour of any stitched side whose
+ * neighbours) with params (NULL: the defaults; resolved by tp_lod_params_resolve), then, in
+ * error mode, raises the coarser neighbour of any stitched side whose
  * bound projects above tau until none does (levels only go up, so it ends), and culls.
  * Incomplete patches are always at level n.
  * TP_LOD_MAX_ERROR ignores cam (it may be NULL) and marks every patch visible: each patch
@@ -383,23 +432,31 @@ void tp_selection_destroy(tp_selection* s); /* accepts NULL */
  * and, above the bound, its coarser neighbours go up to one level finer than they were, or, if
  * none is coarser, the patch itself goes up one level, until no patch measures above the
  * bound (a patch at level n above it, possible when the bound is below quant_max_error_m,
- * stays there). It allocates scratch: TP_ERR_OUT_OF_MEMORY, levels unchanged, if that fails. */
+ * stays there). It allocates scratch: TP_ERR_OUT_OF_MEMORY, levels unchanged, if that fails.
+ * Every other mode needs cam (asserted). Fails with tp_lod_params_resolve's TP_ERR_INVALID_ARG
+ * for invalid params; on any failure levels, visibility and dirty flags are unchanged. */
 tp_status tp_selection_update(tp_selection* s, const tp_camera* cam, const tp_lod_params* params,
                               tp_error* err);
 
-/* Sets one patch's level by hand (tests, export, frozen views). Incomplete patches stay at n.
- * All patches are marked visible until the next tp_selection_update or tp_selection_cull. */
-tp_status tp_selection_set_level(tp_selection* s, int patch, int k);
-/* Re-runs culling only, keeping levels. */
+/* Sets one patch's level (0..n) by hand (tests, export, frozen views). Incomplete patches stay
+ * at n. All patches are marked visible until the next tp_selection_update or tp_selection_cull.
+ * Cannot fail. (It used to return TP_ERR_INVALID_ARG for a bad patch or k; those are now
+ * asserted: no user value reaches it unchecked.) */
+void tp_selection_set_level(tp_selection* s, int patch, int k);
+/* Re-runs culling only, keeping levels. Cannot fail. */
 void tp_selection_cull(tp_selection* s, const tp_camera* cam);
 
+/* Returns the patch's current level (0..n). */
 int tp_selection_level(const tp_selection* s, int patch);
+/* Answers whether the patch passed the last culling: 1 visible, 0 culled. */
 int tp_selection_visible(const tp_selection* s, int patch);
-/* Neighbour levels of a patch, indexed by tp_side (TP_NO_NEIGHBOR at the terrain border). */
+/* Writes the neighbour levels of a patch, indexed by tp_side (TP_NO_NEIGHBOR at the terrain
+ * border). Cannot fail. */
 void tp_selection_neighbor_levels(const tp_selection* s, int patch, int out[4]);
-/* 1 if the patch's level or a neighbour's level changed since the previous call to
+/* Answers 1 if the patch's level or a neighbour's level changed since the previous call to
  * tp_selection_clear_dirty (initially every patch is dirty): its vertex data must be rebuilt. */
 int tp_selection_dirty(const tp_selection* s, int patch);
+/* Marks every patch clean (after their vertex data was rebuilt). Cannot fail. */
 void tp_selection_clear_dirty(tp_selection* s);
 
 typedef struct tp_frame_stats {
@@ -411,20 +468,21 @@ typedef struct tp_frame_stats {
     double bound_max_error_m, bound_rms_error_m;
 } tp_frame_stats;
 
-/* Not const: it fills the selection's cache of drawn-triangle counts (and uses its scratch), so
- * it must not run at the same time as any other call on the same selection. (It used to take a
- * const pointer and write through it.) */
+/* Writes the statistics of the current levels into *out. Cannot fail. Not const: it fills the
+ * selection's cache of drawn-triangle counts (and uses its scratch), so it must not run at the
+ * same time as any other call on the same selection. (It used to take a const pointer and
+ * write through it.) */
 void tp_selection_stats(tp_selection* s, tp_frame_stats* out);
 
 /* Threads: the functions below take a const selection and write nothing in it; each call
  * allocates its own scratch and frees it before returning. Several threads may call them on
  * one selection at once, as long as no thread changes the selection meanwhile (update,
- * set_level, cull, clear_dirty, stats). They fail only with TP_ERR_OUT_OF_MEMORY (scratch) or
- * TP_ERR_INVALID_ARG, writing their outputs only on success. */
+ * set_level, cull, clear_dirty, stats). The measures fail only with TP_ERR_OUT_OF_MEMORY
+ * (scratch); tp_selection_ray_cast also with TP_ERR_INVALID_ARG. */
 
 /* Exact vertical error of the drawn (stitched) geometry of visible patches against every drawn
  * sample they own, measured against the decoded grid (add quant_max_error_m for the source).
- * Each sample is counted once. */
+ * Each sample is counted once. Returns TP_OK and writes *out; TP_ERR_OUT_OF_MEMORY. */
 typedef struct tp_error_measure {
     double max_error_m, rms_error_m;
     size_t samples;
@@ -433,16 +491,18 @@ tp_status tp_selection_measure_error(const tp_selection* s, tp_error_measure* ou
 
 /* Screen-space error (pixels) for cam: for every drawn sample of a visible patch that is inside
  * the view and in front of the near plane, the on-screen length between the projections of
- * the sample and of the drawn surface vertically above/below it. Occlusion is ignored. */
+ * the sample and of the drawn surface vertically above/below it. Occlusion is ignored.
+ * Returns TP_OK and writes the maximum, the RMS and the number of samples to those of max_px,
+ * rms_px and samples that are not NULL; TP_ERR_OUT_OF_MEMORY. */
 tp_status tp_selection_measure_screen_error(const tp_selection* s, const tp_camera* cam,
                                             double* max_px, double* rms_px, size_t* samples);
 
-/* The same measure for one patch as if it alone were drawn at level k (its neighbours at
- * their current levels, its border stitched to them): *out_px is the largest screen error (px)
- * of the samples its triangles cover, 0 when none is in view. Used to ask how far the error
- * LoD's bound is from the coarsest level each patch could really have. TP_ERR_INVALID_ARG for
- * a NULL cam or out_px, or patch / k out of range. (It used to return the error, NaN for bad
- * arguments.) */
+/* The same measure for one patch as if it alone were drawn at level k (0..n; its neighbours at
+ * their current levels, its border stitched to them): returns TP_OK and writes to *out_px the
+ * largest screen error (px) of the samples its triangles cover, 0 when none is in view. Used
+ * to ask how far the error LoD's bound is from the coarsest level each patch could really
+ * have. Fails only with TP_ERR_OUT_OF_MEMORY. (It used to return TP_ERR_INVALID_ARG for a NULL
+ * cam or out_px or a bad patch or k; those are now asserted.) */
 tp_status tp_selection_patch_screen_error(const tp_selection* s, const tp_camera* cam, int patch,
                                           int k, double* out_px);
 
@@ -451,19 +511,22 @@ tp_status tp_selection_patch_screen_error(const tp_selection* s, const tp_camera
  * projection (tau holds on screen), the screen-error measures, tp_selection_keep_above and
  * tp_selection_ray_cast, whose positions are in drawn space (E, N, height * scale). Errors
  * in metres (tp_frame_stats, tp_selection_measure_error) and tp_selection_drawn_height_at stay
- * true heights. TP_ERR_INVALID_ARG for a scale that is not a finite number > 0 (below 1e6). */
+ * true heights. Returns TP_OK; TP_ERR_INVALID_ARG, scale unchanged, for a scale that is not a
+ * finite number > 0 (below 1e6) (it comes from the command line). */
 tp_status tp_selection_set_vertical_scale(tp_selection* s, double scale);
+/* Returns the current vertical scale. */
 double tp_selection_vertical_scale(const tp_selection* s);
 
-/* Height of the surface actually drawn at grid coordinates (x, y) under the current levels
- * (stitching included); NaN where nothing is drawn. O(1) inside a patch, O(2^k) along a
- * stitched border. */
+/* Query: returns the height (metres) of the surface actually drawn at grid coordinates (x, y)
+ * under the current levels (stitching included); NaN where nothing is drawn, outside the grid
+ * or for NaN coordinates. O(1) inside a patch, O(2^k) along a stitched border. */
 double tp_selection_drawn_height_at(const tp_selection* s, double x, double y);
 
-/* Camera collision: raises position[2] (drawn space) so the eye is at least clearance_m above
- * both the full-resolution surface and the drawn surface at its (E, N), heights times the
- * vertical scale. Returns 1 if it moved the eye,
- * 0 if not (also outside the terrain). */
+/* Camera collision: raises position[2] (drawn space) so the eye is at least clearance_m (finite,
+ * >= 0) above both the full-resolution surface and the drawn surface at its (E, N), heights
+ * times the vertical scale. Answers whether it moved the eye: 1, or 0 when the eye is already
+ * high enough or there is no surface below it (outside the terrain, nodata, a NaN position),
+ * position then unchanged. Cannot fail. */
 int tp_selection_keep_above(const tp_selection* s, double position[3], double clearance_m);
 
 /* Where a ray meets the drawn surface. */
@@ -479,7 +542,8 @@ typedef struct tp_ray_hit {
  * drawn), culled patches included, and writes the nearest hit (out->hit = 0 if none). Exact up
  * to rounding: the hit lies on a drawn triangle. Walks only the patches the ray's ground track
  * crosses, nearest first, skipping those whose box it passes above or below.
- * TP_ERR_INVALID_ARG for a zero or NaN direction or a NaN origin, TP_ERR_OUT_OF_MEMORY. */
+ * Returns TP_OK also when nothing is hit. TP_ERR_INVALID_ARG for a zero or NaN direction or a
+ * NaN origin (they may come from a mouse position), TP_ERR_OUT_OF_MEMORY; *out is untouched. */
 tp_status tp_selection_ray_cast(const tp_selection* s, const double origin[3],
                                 const double dir[3], tp_ray_hit* out);
 

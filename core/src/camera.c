@@ -66,6 +66,7 @@ static void set_plane(double pl[4], const double n[3], const double point[3])
 
 void tp_frustum_from_camera(const tp_camera* cam, tp_frustum* out)
 {
+    assert(cam && out);
     tp__view v;
     tp__view_from_camera(cam, &v);
     double n[3], p[3];
@@ -98,6 +99,7 @@ void tp_frustum_from_camera(const tp_camera* cam, tp_frustum* out)
 
 tp_cull tp_frustum_test_aabb(const tp_frustum* f, const double mn[3], const double mx[3])
 {
+    assert(f && mn && mx);
     tp_cull result = TP_CULL_INSIDE;
     for (int i = 0; i < f->plane_count; i++) {
         const double* pl = f->planes[i];
@@ -198,6 +200,7 @@ void tp_camera_view_projection(const tp_camera* cam, double far_m, double out[16
     assert(cam && out);
     tp__view v;
     tp__view_from_camera(cam, &v);
+    assert(!(far_m <= v.near_m)); /* a caller bug; a NaN far (a NaN eye) gives a NaN matrix */
     double t = 1 / v.tan_y, a = v.w_px / v.h_px, n = v.near_m;
     double A = (far_m + n) / (n - far_m), B = 2 * far_m * n / (n - far_m);
     /* rows of the view matrix: right, up, -forward; projection diag(t/a, t, A) and -1 in w */

@@ -4,6 +4,7 @@
 
 #include "tp_core.h"
 
+#include <assert.h>
 #include <math.h>
 #include <stdint.h>
 
@@ -98,7 +99,7 @@ tp_status tp__fit_resample(const tp_allocator* a, const float* src, const uint8_
 
 /* Rasterises triangle (a, b, c) in grid coordinates over the integer sample lattice: calls
  * fn(x, y, z_interp, user) for each sample inside or on the triangle, z interpolated linearly
- * from za, zb, zc (any units). Degenerate triangles are skipped. (raster.c) */
+ * from za, zb, zc (any units). Degenerate triangles are skipped. (triangle_raster.c) */
 typedef void (*tp__sample_fn)(int x, int y, double z, void* user);
 void tp__raster_triangle(const int32_t a[2], const int32_t b[2], const int32_t c[2], double za,
                          double zb, double zc, tp__sample_fn fn, void* user);

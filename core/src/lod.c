@@ -19,22 +19,39 @@
  */
 #include "internal.h"
 
+#include <assert.h>
 #include <string.h>
 
-int tp_lod_level_distance(int n, double dist, double mindist, double maxdist, double exponent)
+tp_status tp_lod_level_distance(int n, double dist, double mindist, double maxdist,
+                                double exponent, int* out_level, tp_error* err)
 {
-    if (n < 0 || n > TP_MAX_N || isnan(dist) || !(mindist >= 0) || !(maxdist >= mindist) ||
-        !(exponent >= 0))
-        return -1;
-    if (dist <= mindist)
-        return n;
-    if (dist > maxdist)
-        return 0;
-    /* here mindist < dist <= maxdist, so maxdist > mindist and 0 < t <= 1 */
-    double t = (dist - mindist) / (maxdist - mindist);
-    double k = n * (1.0 - pow(t, exponent));
-    int level = (int)ceil(k - 1e-12);
-    return level < 0 ? 0 : level > n ? n : level;
+    assert(n >= 0 && n <= TP_MAX_N && out_level);
+    if (isnan(dist))
+        return tp__fail(err, TP_ERR_INVALID_ARG, "lod: expected a distance, got NaN");
+    if (!(mindist >= 0) || !(maxdist >= 0))
+        return tp__fail(err, TP_ERR_INVALID_ARG,
+                        "lod: expected mindist and maxdist >= 0, got %g and %g", mindist,
+                        maxdist);
+    if (!(maxdist >= mindist))
+        return tp__fail(err, TP_ERR_INVALID_ARG, "lod: expected maxdist >= mindist, got %g < %g",
+                        maxdist, mindist);
+    if (!(exponent >= 0))
+        return tp__fail(err, TP_ERR_INVALID_ARG, "lod: expected an exponent >= 0, got %g",
+                        exponent);
+    int level;
+    if (dist <= mindist) {
+        level = n;
+    } else if (dist > maxdist) {
+        level = 0;
+    } else {
+        /* here mindist < dist <= maxdist, so maxdist > mindist and 0 < t <= 1 */
+        double t = (dist - mindist) / (maxdist - mindist);
+        double k = n * (1.0 - pow(t, exponent));
+        level = (int)ceil(k - 1e-12);
+        level = level < 0 ? 0 : level > n ? n : level;
+    }
+    *out_level = level;
+    return TP_OK;
 }
 
 static int finite_nonneg(double v)
@@ -45,6 +62,7 @@ static int finite_nonneg(double v)
 tp_status tp_lod_params_resolve(const tp_terrain* t, const tp_lod_params* in, tp_lod_params* out,
                                 tp_error* err)
 {
+    assert(out);
     tp_lod_params p = in ? *in : (tp_lod_params){0};
     if (p.mode == TP_LOD_DEFAULT)
         p.mode = TP_LOD_ERROR;

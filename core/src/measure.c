@@ -131,8 +131,7 @@ static void measure_patch(measure* m, tp__sample_fn fn, int p, int k, const int 
 tp_status tp_selection_patch_screen_error(const tp_selection* s, const tp_camera* cam, int patch,
                                           int k, double* out_px)
 {
-    if (!cam || !out_px || patch < 0 || patch >= s->count || k < 0 || k > s->t->n)
-        return TP_ERR_INVALID_ARG;
+    assert(s && cam && out_px && patch >= 0 && patch < s->count && k >= 0 && k <= s->t->n);
     tp__view v;
     tp__view_from_camera(cam, &v);
     measure m = {0};
@@ -167,6 +166,7 @@ static tp_status measure_drawn(const tp_selection* s, measure* m, tp__sample_fn 
 
 tp_status tp_selection_measure_error(const tp_selection* s, tp_error_measure* out)
 {
+    assert(s && out);
     measure m = {0};
     tp_status st = measure_drawn(s, &m, vertical_sample);
     if (st != TP_OK)
@@ -180,6 +180,7 @@ tp_status tp_selection_measure_error(const tp_selection* s, tp_error_measure* ou
 tp_status tp_selection_measure_screen_error(const tp_selection* s, const tp_camera* cam,
                                             double* max_px, double* rms_px, size_t* samples)
 {
+    assert(s && cam);
     tp__view v;
     tp__view_from_camera(cam, &v);
     measure m = {0};

@@ -206,8 +206,7 @@ tp_status tp__patch_errors_compute(tp_terrain* t, tp_error* err)
 
 double tp_patch_error_bound(const tp_terrain* t, int patch, int k, const int neighbor_levels[4])
 {
-    if (k < 0 || k > t->n || patch < 0 || patch >= t->info.patch_count)
-        return INFINITY;
+    assert(t && patch >= 0 && patch < t->info.patch_count && k >= 0 && k <= t->n);
     const tp__patch* P = &t->patches[patch];
     unsigned units = tp__delta_tab(t, patch)[k];
     for (int s = 0; neighbor_levels && s < 4; s++) {

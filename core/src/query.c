@@ -74,6 +74,7 @@ static double patch_drawn_height(const tp_selection* s, int px, int py, double x
 
 double tp_selection_drawn_height_at(const tp_selection* s, double x, double y)
 {
+    assert(s);
     const tp_terrain* t = s->t;
     if (!(x >= 0 && y >= 0 && x <= t->w - 1 && y <= t->h - 1))
         return NAN;
@@ -94,6 +95,7 @@ double tp_selection_drawn_height_at(const tp_selection* s, double x, double y)
 
 int tp_selection_keep_above(const tp_selection* s, double position[3], double clearance_m)
 {
+    assert(s && position && isfinite(clearance_m) && clearance_m >= 0);
     double x, y;
     tp_terrain_world_to_grid(s->t, position[0], position[1], &x, &y);
     double a = tp_terrain_height_at(s->t, x, y), b = tp_selection_drawn_height_at(s, x, y);
@@ -192,11 +194,13 @@ tp_status tp_selection_ray_cast(const tp_selection* s, const double origin[3],
     tp_terrain_world_to_grid(t, origin[0], origin[1], &x0, &y0);
     double zlo = t->info.min_height_m * s->zscale, zhi = t->info.max_height_m * s->zscale;
     double t0 = 0, t1 = INFINITY;
-    memset(out, 0, sizeof *out);
-    out->patch = -1;
+    tp_ray_hit res = {0};
+    res.patch = -1;
     if (!slab(x0, gx, 0, t->w - 1, &t0, &t1) || !slab(y0, gy, 0, t->h - 1, &t0, &t1) ||
-        !slab(origin[2], d[2], fmin(zlo, zhi), fmax(zlo, zhi), &t0, &t1))
+        !slab(origin[2], d[2], fmin(zlo, zhi), fmax(zlo, zhi), &t0, &t1)) {
+        *out = res;
         return TP_OK;
+    }
 
     size_t v = ((size_t)1 << t->n) + 1, vcap = v * v, tcap = 2 * (v - 1) * (v - 1);
     tp_vertex* vbuf = tp__alloc(&t->alloc, vcap, sizeof *vbuf);
@@ -226,7 +230,7 @@ tp_status tp_selection_ray_cast(const tp_selection* s, const double origin[3],
         if (fmin(za, zb) <= pi.aabb_max[2] + slack && fmax(za, zb) >= pi.aabb_min[2] - slack)
             found = ray_patch(s, p, origin, d, vbuf, tbuf, vcap, tcap);
         if (found >= 0) {
-            out->patch = p;
+            res.patch = p;
             break;
         }
         if (tx < ty) {
@@ -242,11 +246,12 @@ tp_status tp_selection_ray_cast(const tp_selection* s, const double origin[3],
     tp__free(&t->alloc, vbuf);
     tp__free(&t->alloc, tbuf);
     if (found >= 0) {
-        out->hit = 1;
-        out->distance_m = found;
-        out->position[0] = origin[0] + found * d[0];
-        out->position[1] = origin[1] + found * d[1];
-        out->position[2] = (origin[2] + found * d[2]) / s->zscale;
+        res.hit = 1;
+        res.distance_m = found;
+        res.position[0] = origin[0] + found * d[0];
+        res.position[1] = origin[1] + found * d[1];
+        res.position[2] = (origin[2] + found * d[2]) / s->zscale;
     }
+    *out = res; /* only now: a failed cast leaves *out alone */
     return TP_OK;
 }

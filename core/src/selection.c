@@ -37,8 +37,7 @@ static void mark_dirty(tp_selection* s, int p)
 
 tp_status tp_selection_create(const tp_terrain* t, tp_selection** out, tp_error* err)
 {
-    if (!t || !out)
-        return tp__fail(err, TP_ERR_INVALID_ARG, "selection: terrain and out must not be NULL");
+    assert(t && out);
     const tp_allocator* a = &t->alloc;
     tp_selection* s = tp__calloc(a, 1, sizeof *s);
     if (!s)
@@ -86,16 +85,19 @@ void tp_selection_destroy(tp_selection* s)
 
 int tp_selection_level(const tp_selection* s, int patch)
 {
+    assert(s && patch >= 0 && patch < s->count);
     return s->level[patch];
 }
 
 int tp_selection_visible(const tp_selection* s, int patch)
 {
+    assert(s && patch >= 0 && patch < s->count);
     return s->visible[patch];
 }
 
 void tp_selection_neighbor_levels(const tp_selection* s, int patch, int out[4])
 {
+    assert(s && patch >= 0 && patch < s->count && out);
     for (int side = 0; side < 4; side++) {
         int q = tp__neighbor(s->t, patch, side);
         out[side] = q >= 0 ? s->level[q] : TP_NO_NEIGHBOR;
@@ -104,19 +106,20 @@ void tp_selection_neighbor_levels(const tp_selection* s, int patch, int out[4])
 
 int tp_selection_dirty(const tp_selection* s, int patch)
 {
+    assert(s && patch >= 0 && patch < s->count);
     return s->dirty[patch];
 }
 
 void tp_selection_clear_dirty(tp_selection* s)
 {
+    assert(s);
     memset(s->dirty, 0, (size_t)s->count);
 }
 
-tp_status tp_selection_set_level(tp_selection* s, int patch, int k)
+void tp_selection_set_level(tp_selection* s, int patch, int k)
 {
+    assert(s && patch >= 0 && patch < s->count && k >= 0 && k <= s->t->n);
     const tp_terrain* t = s->t;
-    if (patch < 0 || patch >= s->count || k < 0 || k > t->n)
-        return TP_ERR_INVALID_ARG;
     if (!t->patches[patch].complete)
         k = t->n;
     if (s->level[patch] != k) {
@@ -124,7 +127,6 @@ tp_status tp_selection_set_level(tp_selection* s, int patch, int k)
         mark_dirty(s, patch);
     }
     memset(s->visible, 1, (size_t)s->count);
-    return TP_OK;
 }
 
 tp_status tp_selection_set_vertical_scale(tp_selection* s, double scale)
@@ -151,6 +153,7 @@ void tp__drawn_box(const tp_selection* s, int p, tp_patch_info* pi)
 
 void tp_selection_cull(tp_selection* s, const tp_camera* cam)
 {
+    assert(s && cam);
     tp_frustum f;
     tp_frustum_from_camera(cam, &f);
     for (int p = 0; p < s->count; p++) {
@@ -305,6 +308,7 @@ done:
 tp_status tp_selection_update(tp_selection* s, const tp_camera* cam, const tp_lod_params* params,
                               tp_error* err)
 {
+    assert(s);
     const tp_terrain* t = s->t;
     tp_lod_params lp;
     tp_status st = tp_lod_params_resolve(t, params, &lp, err);
@@ -312,8 +316,7 @@ tp_status tp_selection_update(tp_selection* s, const tp_camera* cam, const tp_lo
         return st;
     if (lp.mode == TP_LOD_MAX_ERROR)
         return select_max_error(s, &lp, err);
-    if (!cam)
-        return tp__fail(err, TP_ERR_INVALID_ARG, "selection: camera must not be NULL");
+    assert(cam); /* only the max-error mode works without a camera */
     tp__view v;
     tp__view_from_camera(cam, &v);
     tp_frustum f;
@@ -330,8 +333,11 @@ tp_status tp_selection_update(tp_selection* s, const tp_camera* cam, const tp_lo
         int k = n;
         s->proj[p] = (tp__proj_bound){0, 0};
         if (lp.mode == TP_LOD_DISTANCE) {
-            k = tp_lod_level_distance(n, aabb_distance(v.pos, &pi), lp.mindist_m, lp.maxdist_m,
-                                      lp.exponent);
+            /* The parameters are resolved, so only a NaN distance (a NaN eye) fails: such a
+             * patch is drawn at n, below. */
+            if (tp_lod_level_distance(n, aabb_distance(v.pos, &pi), lp.mindist_m, lp.maxdist_m,
+                                      lp.exponent, &k, NULL) != TP_OK)
+                k = -1;
         } else if (lp.mode == TP_LOD_ERROR) {
             /* A culled patch has no error of its own to show; the stitching pass below
              * raises it where a visible neighbour needs that. */
@@ -405,6 +411,7 @@ static double owned_samples(const tp_terrain* t, int p)
 
 void tp_selection_stats(tp_selection* s, tp_frame_stats* out)
 {
+    assert(s && out);
     memset(out, 0, sizeof *out);
     double sum = 0, weight = 0;
     for (int p = 0; p < s->count; p++) {

@@ -60,14 +60,13 @@ int tp__vertex_position(const tp_terrain* t, int patch, int k, const int nb[4], 
     return mi != i || mj != j;
 }
 
-tp_status tp_patch_vertices(const tp_terrain* t, int patch, int k, const int neighbor_levels[4],
-                            tp_vertex* vertices, size_t vertex_capacity)
+void tp_patch_vertices(const tp_terrain* t, int patch, int k, const int neighbor_levels[4],
+                       tp_vertex* vertices, size_t vertex_capacity)
 {
-    if (k < 0 || k > t->n || patch < 0 || patch >= t->info.patch_count || !vertices)
-        return TP_ERR_INVALID_ARG;
+    assert(t && patch >= 0 && patch < t->info.patch_count && k >= 0 && k <= t->n && vertices);
     int v = (1 << k) + 1;
-    if (vertex_capacity < (size_t)v * v)
-        return TP_ERR_INVALID_ARG;
+    assert(vertex_capacity >= (size_t)v * v);
+    (void)vertex_capacity; /* only asserted */
     for (int j = 0; j < v; j++)
         for (int i = 0; i < v; i++) {
             tp_vertex* out = &vertices[j * v + i];
@@ -78,7 +77,6 @@ tp_status tp_patch_vertices(const tp_terrain* t, int patch, int k, const int nei
             out->z_m = (float)tp_terrain_sample(t, out->x, out->y);
             out->cls = (uint8_t)tp_terrain_sample_class(t, ox, oy);
         }
-    return TP_OK;
 }
 
 static int drawn(const tp_vertex* v)
@@ -89,8 +87,7 @@ static int drawn(const tp_vertex* v)
 size_t tp_patch_triangles(const tp_vertex* vertices, int k, uint32_t* triangles,
                           size_t triangle_capacity)
 {
-    if (k < 0 || k > TP_MAX_N || !vertices)
-        return 0;
+    assert(vertices && k >= 0 && k <= TP_MAX_N && (triangles || triangle_capacity == 0));
     /* Decode the level's strip: triangle t is (i_t, i_t+1, i_t+2), odd ones swap the first two
      * so that all keep the same winding. */
     int v = (1 << k) + 1;

@@ -123,8 +123,7 @@ static void fit_error(tp_terrain* t, const float* src, int w, int h)
 
 tp_status tp_terrain_create(const tp_terrain_desc* desc, tp_terrain** out, tp_error* err)
 {
-    if (!desc || !out)
-        return tp__fail(err, TP_ERR_INVALID_ARG, "terrain: desc and out must not be NULL");
+    assert(desc && out);
     int w = desc->width, h = desc->height;
     if (w < 1 || h < 1 || w > (1 << 24) || h > (1 << 24) || (double)w * h > 4e9)
         return tp__fail(err, TP_ERR_INVALID_ARG, "terrain: expected a grid of 1x1 to 2^24 per "
@@ -345,17 +344,20 @@ void tp_terrain_destroy(tp_terrain* t)
 
 void tp_terrain_get_info(const tp_terrain* t, tp_terrain_info* out)
 {
+    assert(t && out);
     *out = t->info;
 }
 
 double tp_terrain_sample(const tp_terrain* t, int x, int y)
 {
+    assert(t);
     int32_t q = tp__q(t, x, y);
     return q == INT32_MIN ? NAN : q * t->step;
 }
 
 tp_sample_class tp_terrain_sample_class(const tp_terrain* t, int x, int y)
 {
+    assert(t);
     if (x < 0 || y < 0 || x >= t->w || y >= t->h)
         return TP_SAMPLE_OUTSIDE;
     if (x >= t->sw || y >= t->sh)
@@ -396,6 +398,7 @@ static double cell_height(const tp_terrain* t, int cx, int cy, double fx, double
 
 double tp_terrain_height_at(const tp_terrain* t, double x, double y)
 {
+    assert(t);
     if (!(x >= 0 && y >= 0 && x <= t->w - 1 && y <= t->h - 1))
         return NAN; /* also NaN inputs */
     int cx = (int)x, cy = (int)y;
@@ -430,6 +433,7 @@ static double slope(const tp_terrain* t, int x, int y, int dx, int dy, double sp
 
 void tp_terrain_normal(const tp_terrain* t, int x, int y, float normal[3])
 {
+    assert(t && normal);
     /* dz/dE and dz/dN: a step in x moves gt[1] east, a step in y moves gt[5] north. */
     double gx = slope(t, x, y, 1, 0, t->gt[1]), gy = slope(t, x, y, 0, 1, t->gt[5]);
     double len = sqrt(gx * gx + gy * gy + 1);
@@ -440,18 +444,21 @@ void tp_terrain_normal(const tp_terrain* t, int x, int y, float normal[3])
 
 void tp_terrain_grid_to_world(const tp_terrain* t, double x, double y, double* e, double* n)
 {
+    assert(t && e && n);
     *e = t->gt[0] + (x + 0.5) * t->gt[1];
     *n = t->gt[3] + (y + 0.5) * t->gt[5];
 }
 
 void tp_terrain_world_to_grid(const tp_terrain* t, double e, double n, double* x, double* y)
 {
+    assert(t && x && y);
     *x = (e - t->gt[0]) / t->gt[1] - 0.5;
     *y = (n - t->gt[3]) / t->gt[5] - 0.5;
 }
 
 void tp_patch_get_info(const tp_terrain* t, int patch, tp_patch_info* out)
 {
+    assert(t && patch >= 0 && patch < t->info.patch_count && out);
     const tp__patch* P = &t->patches[patch];
     int pc = t->info.patch_cols;
     memset(out, 0, sizeof *out);

@@ -1,6 +1,7 @@
-/* raster.c - visit the grid samples covered by a triangle (closed), with the linearly
- * interpolated height there. Used to measure errors exactly: grid positions are integers, so
- * the inside test uses exact integer edge functions and only the interpolation is floating. */
+/* triangle_raster.c - rasterises triangles onto the sample lattice: visits the grid samples
+ * covered by a triangle (closed), with the linearly interpolated height there. Used to measure
+ * errors exactly: grid positions are integers, so the inside test uses exact integer edge
+ * functions and only the interpolation is floating. */
 #include "internal.h"
 
 static int64_t edge(const int32_t a[2], const int32_t b[2], int64_t x, int64_t y)
@@ -11,6 +12,7 @@ static int64_t edge(const int32_t a[2], const int32_t b[2], int64_t x, int64_t y
 void tp__raster_triangle(const int32_t a[2], const int32_t b[2], const int32_t c[2], double za,
                          double zb, double zc, tp__sample_fn fn, void* user)
 {
+    assert(a && b && c && fn);
     int64_t area = edge(a, b, c[0], c[1]);
     if (area == 0)
         return;
