@@ -1,11 +1,92 @@
 /*
- * bench.h - the parts of `terrapatch bench` beyond the frame loop (cmd_bench.c): the static
- * meshes of `export --max-error` (bench_static.c) and the sweep's plot (bench_plot.c).
+ * bench.h - the parts of `terrapatch bench`: options and the frame loop (cmd_bench.c), camera
+ * paths (bench_path.c), the table, JSON and CSV it writes (bench_report.c), the static meshes of
+ * `export --max-error` (bench_static.c) and the sweep's plot (bench_plot.c).
  */
 #ifndef TP_APP_BENCH_H
 #define TP_APP_BENCH_H
 
+#include "gl_context.h"
 #include "scene.h"
+#include "view_options.h"
+
+typedef struct bench_options {
+    tp_scene_options scene;
+    tp_view_setup vs; /* LoD parameters for the LoD modes, size, field of view; --camera or
+                         --camera-geo makes a path of one camera */
+    const char* path_name;
+    const char* path_file;
+    int frames;
+    const char* json;
+    const char* csv;
+    int no_error;      /* skip the (slow) error measurement */
+    double speed_mps;  /* path flights: a lead-in frame 1/30 s earlier at this speed; 0: none */
+    int sweep;         /* a grid of LoD parameters instead of the three default configurations */
+    const char* plot;  /* --sweep: the plot (PNG); default: the CSV's name with .png */
+    char plot_buf[4096];
+    int is_static;     /* --static: meshes of export --max-error for max_errors */
+    double max_errors[16];
+    int max_error_count;
+    const char* dem;
+} bench_options;
+
+typedef struct frame_row {
+    double select_ms, upload_ms, draw_ms, frame_ms;
+    size_t triangles, gpu_bytes;
+    int draw_calls, patches, uploads;
+    double max_m, rms_m, max_px, rms_px;
+    size_t oracle_triangles; /* error mode: triangles if every patch were at its coarsest level
+                                that measures <= tau (see oracle_triangles()) */
+    int oracle_patches;      /* patches that could be coarser */
+} frame_row;
+
+typedef struct config_result {
+    tp_lod_params lod;  /* resolved */
+    char label[64];
+    frame_row* rows;
+    double fps_median, frame_ms, cpu_ms, draw_ms, triangles, draw_calls, uploads;
+    double oracle_triangles, oracle_patches; /* medians; error mode with the error measured */
+    size_t gpu_bytes;
+    double max_px, rms_px, max_m, rms_m; /* over all frames: max of maxima, RMS of RMS */
+    int pareto;                          /* --sweep: on its mode's fps/max-error Pareto front */
+} config_result;
+
+/* What every configuration of a run shares. */
+typedef struct bench_run {
+    const bench_options* o;
+    tp_scene* sc;
+    tp_gl_context* ctx;
+    const tp_camera* cams; /* --path-file, or NULL */
+    const tp_camera* fixed; /* --camera, or NULL */
+    int frames;
+    double lead_da; /* path parameter from the lead-in frame to the timed one; 0: none */
+} bench_run;
+
+/* Length (metres) of the named path (low, high, orbit). */
+double tp_bench_path_length(const tp_scene* sc, const bench_options* o);
+
+/* Camera of timed frame i of the run; returns 1 and writes *lead, the lead-in camera 1/30 s
+ * earlier, when there is one. */
+int tp_bench_frame_camera(const bench_run* b, int i, tp_camera* cam, tp_camera* lead);
+
+/* Cameras from --path-file: "LAT,LON,H,YAW,PITCH" per line (or "proj E,N,H,YAW,PITCH"); 0
+ * after a message naming the file and line. *out is malloc'ed. */
+int tp_bench_read_path_file(const tp_scene* sc, const bench_options* o, tp_camera** out,
+                            int* count);
+
+/* The table on stdout; best is the error-mode configuration at the run's tau. */
+void tp_bench_print_table(const bench_run* b, const char* renderer_name, const config_result* c,
+                          int nc, int best);
+
+/* The JSON summary: the headline keys are those of the error mode at the run's tau (best),
+ * with the full-resolution baseline and every configuration. Atomic; 0 after a message. */
+int tp_bench_write_json(const bench_run* b, const char* renderer_name, const config_result* c,
+                        int nc, const config_result* best);
+
+/* One CSV row per frame and configuration / per --sweep configuration. Atomic; 0 after a
+ * message. */
+int tp_bench_write_frames_csv(const bench_options* o, const config_result* c, int nc, int frames);
+int tp_bench_write_sweep_csv(const bench_options* o, const config_result* c, int nc);
 
 /* `bench --static --max-error M1,M2,...`: for each bound, the static mesh of
  * `export --max-error` (levels selected, mesh built and measured, nothing written): triangles,

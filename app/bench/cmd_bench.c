@@ -24,28 +24,6 @@
 #include <time.h>
 #include <unistd.h>
 
-#define DEG (3.14159265358979323846 / 180.0)
-
-typedef struct bench_options {
-    tp_scene_options scene;
-    tp_view_setup vs; /* LoD parameters for the LoD modes, size, field of view; --camera or
-                         --camera-geo makes a path of one camera */
-    const char* path_name;
-    const char* path_file;
-    int frames;
-    const char* json;
-    const char* csv;
-    int no_error;      /* skip the (slow) error measurement */
-    double speed_mps;  /* path flights: a lead-in frame 1/30 s earlier at this speed; 0: none */
-    int sweep;         /* a grid of LoD parameters instead of the three default configurations */
-    const char* plot;  /* --sweep: the plot (PNG); default: the CSV's name with .png */
-    char plot_buf[4096];
-    int is_static;     /* --static: meshes of export --max-error for max_errors */
-    double max_errors[16];
-    int max_error_count;
-    const char* dem;
-} bench_options;
-
 enum {
     OPT_PATH = 256,
     OPT_PATH_FILE,
@@ -271,128 +249,6 @@ static double now_ms(void)
     return ts.tv_sec * 1e3 + ts.tv_nsec / 1e6;
 }
 
-/* The path's extent: the DEM's corner posts, centre and size. */
-static void path_frame(const tp_scene* sc, double* e0, double* n0, double* e1, double* n1,
-                       double* size)
-{
-    const tp_terrain_info* in = &sc->info;
-    tp_terrain_grid_to_world(sc->terrain, 0, 0, e0, n0);
-    tp_terrain_grid_to_world(sc->terrain, in->src_width - 1, in->src_height - 1, e1, n1);
-    *size = fmax(fabs(*e1 - *e0), fabs(*n1 - *n0));
-}
-
-/* Length of the named path (metres). */
-static double path_length(const tp_scene* sc, const bench_options* o)
-{
-    double e0, n0, e1, n1, size;
-    path_frame(sc, &e0, &n0, &e1, &n1, &size);
-    if (!strcmp(o->path_name, "high"))
-        return 0.8 * fabs(e1 - e0);
-    if (!strcmp(o->path_name, "orbit"))
-        return 2 * 3.14159265358979323846 * 0.45 * size;
-    return 0.9 * fabs(e1 - e0);
-}
-
-/* The camera at parameter a (0 .. 1) of the named path. */
-static void path_camera(const tp_scene* sc, const bench_options* o, double a, tp_camera* cam)
-{
-    const tp_terrain_info* in = &sc->info;
-    double e0, n0, e1, n1, size;
-    path_frame(sc, &e0, &n0, &e1, &n1, &size);
-    double ce = (e0 + e1) / 2, cn = (n0 + n1) / 2;
-    if (!strcmp(o->path_name, "high")) {
-        double e = e0 + (0.1 + 0.8 * a) * (e1 - e0), nn = fmin(n0, n1) - 0.15 * size;
-        tp_camera_pose(e, nn, in->max_height_m + 0.35 * size, 0, -35, o->vs.fov_deg, o->vs.w, o->vs.h, cam);
-    } else if (!strcmp(o->path_name, "orbit")) {
-        double ang = 2 * 3.14159265358979323846 * a, r = 0.45 * size;
-        double e = ce - r * sin(ang), nn = cn - r * cos(ang), h = in->max_height_m + 0.2 * size;
-        double pitch = -atan2(h - (in->min_height_m + in->max_height_m) / 2, r) / DEG;
-        tp_camera_pose(e, nn, h, ang / DEG, pitch, o->vs.fov_deg, o->vs.w, o->vs.h, cam);
-    } else { /* low: across the middle row, 60 m above the ground, looking ahead */
-        double e = e0 + (0.05 + 0.9 * a) * (e1 - e0), x, y;
-        tp_terrain_world_to_grid(sc->terrain, e, cn, &x, &y);
-        double g = tp_terrain_height_at(sc->terrain, x, y);
-        tp_camera_pose(e, cn, (isnan(g) ? in->max_height_m : g) + 60, 90, -10, o->vs.fov_deg, o->vs.w,
-                       o->vs.h, cam);
-    }
-}
-
-/* Cameras from --path-file: "LAT,LON,H,YAW,PITCH" per line (or "proj E,N,H,YAW,PITCH"). */
-static int read_path_file(const tp_scene* sc, const bench_options* o, tp_camera** out, int* count)
-{
-    FILE* f = fopen(o->path_file, "r");
-    if (!f) {
-        fprintf(stderr, "terrapatch: %s: cannot open: %s\n", o->path_file, strerror(errno));
-        return 0;
-    }
-    int cap = 64, n = 0, line_no = 0;
-    tp_camera* cams = malloc((size_t)cap * sizeof *cams);
-    char line[512];
-    while (cams && fgets(line, sizeof line, f)) {
-        line_no++;
-        char* s = line;
-        while (*s == ' ' || *s == '\t')
-            s++;
-        if (*s == '#' || *s == '\n' || *s == '\0')
-            continue;
-        int proj = !strncmp(s, "proj ", 5);
-        if (proj)
-            s += 5;
-        if (!strncmp(s, "--camera-geo ", 13))
-            s += 13;
-        double v[5];
-        if (sscanf(s, "%lf,%lf,%lf,%lf,%lf", &v[0], &v[1], &v[2], &v[3], &v[4]) != 5) {
-            fprintf(stderr, "terrapatch: %s: line %d: expected LAT,LON,H,YAW,PITCH\n", o->path_file,
-                    line_no);
-            free(cams);
-            fclose(f);
-            return 0;
-        }
-        if (n == cap) {
-            tp_camera* more = realloc(cams, (size_t)(cap *= 2) * sizeof *cams);
-            if (!more)
-                break;
-            cams = more;
-        }
-        if (!tp_camera_from_option(sc, !proj, v, o->vs.fov_deg, o->vs.w, o->vs.h, &cams[n], "bench")) {
-            free(cams);
-            fclose(f);
-            return 0;
-        }
-        n++;
-    }
-    fclose(f);
-    if (!cams || n == 0) {
-        fprintf(stderr, "terrapatch: %s: no camera in the file\n", o->path_file);
-        free(cams);
-        return 0;
-    }
-    *out = cams;
-    *count = n;
-    return 1;
-}
-
-typedef struct frame_row {
-    double select_ms, upload_ms, draw_ms, frame_ms;
-    size_t triangles, gpu_bytes;
-    int draw_calls, patches, uploads;
-    double max_m, rms_m, max_px, rms_px;
-    size_t oracle_triangles; /* error mode: triangles if every patch were at its coarsest level
-                                that measures <= tau (see oracle_triangles()) */
-    int oracle_patches;      /* patches that could be coarser */
-} frame_row;
-
-typedef struct config_result {
-    tp_lod_params lod;  /* resolved */
-    char label[64];
-    frame_row* rows;
-    double fps_median, frame_ms, cpu_ms, draw_ms, triangles, draw_calls, uploads;
-    double oracle_triangles, oracle_patches; /* medians; error mode with the error measured */
-    size_t gpu_bytes;
-    double max_px, rms_px, max_m, rms_m; /* over all frames: max of maxima, RMS of RMS */
-    int pareto;                          /* --sweep: on its mode's fps/max-error Pareto front */
-} config_result;
-
 static int cmp_double(const void* a, const void* b)
 {
     double x = *(const double*)a, y = *(const double*)b;
@@ -450,41 +306,6 @@ static void summarize(config_result* c, int n)
     free(v);
 }
 
-static const char* mode_name(tp_lod_mode m)
-{
-    return m == TP_LOD_FULL ? "full" : m == TP_LOD_DISTANCE ? "distance" : "error";
-}
-
-/* What every configuration of a run shares. */
-typedef struct bench_run {
-    const bench_options* o;
-    tp_scene* sc;
-    tp_gl_context* ctx;
-    const tp_camera* cams; /* --path-file, or NULL */
-    const tp_camera* fixed; /* --camera, or NULL */
-    int frames;
-    double lead_da; /* path parameter from the lead-in frame to the timed one; 0: none */
-} bench_run;
-
-/* Camera of timed frame i; *lead gets the lead-in camera when there is one. */
-static int frame_camera(const bench_run* b, int i, tp_camera* cam, tp_camera* lead)
-{
-    if (b->cams) {
-        *cam = b->cams[i];
-        return 0;
-    }
-    if (b->fixed) {
-        *cam = *b->fixed;
-        return 0;
-    }
-    double a = (i + 0.5) / b->frames;
-    path_camera(b->sc, b->o, a, cam);
-    if (b->lead_da <= 0)
-        return 0;
-    path_camera(b->sc, b->o, a - b->lead_da, lead);
-    return 1;
-}
-
 /* How far the error mode's bound is from what the measured error allows: each visible complete
  * patch is taken down one level at a time, alone (neighbours as they are), while its measured
  * screen error stays <= tau; *out is the frame's triangle count with every patch at that level
@@ -539,7 +360,7 @@ static int run_config(const bench_run* b, config_result* c, const char* progress
     tp_render_stats st;
     for (int i = 0; i < frames; i++) {
         tp_camera cam, lead;
-        if (frame_camera(b, i, &cam, &lead)) { /* untimed */
+        if (tp_bench_frame_camera(b, i, &cam, &lead)) { /* untimed */
             tp_gl_context_begin_frame(b->ctx);
             tp_selection_update(sel, &lead, &c->lod, &err);
             tp_renderer_draw(r, sel, &lead, &rs, 1, &st);
@@ -591,140 +412,6 @@ static int run_config(const bench_run* b, config_result* c, const char* progress
     tp_selection_destroy(sel);
     tp_renderer_destroy(r);
     return TP_EXIT_OK;
-}
-
-static void json_config(tp_json* j, const config_result* c)
-{
-#define KN(k, v) (tp_json_key(j, k), tp_json_number(j, v))
-    KN("fps_median", c->fps_median);
-    KN("frame_ms_median", c->frame_ms);
-    KN("cpu_ms_median", c->cpu_ms);
-    KN("draw_ms_median", c->draw_ms);
-    KN("triangles_median", c->triangles);
-    KN("draw_calls_median", c->draw_calls);
-    KN("uploads_median", c->uploads);
-    KN("gpu_bytes", (double)c->gpu_bytes);
-    KN("max_screen_error_px", c->max_px);
-    KN("rms_screen_error_px", c->rms_px);
-    KN("max_vertical_error_m", c->max_m);
-    KN("rms_vertical_error_m", c->rms_m);
-    if (c->lod.mode == TP_LOD_ERROR && c->oracle_triangles > 0) {
-        KN("oracle_triangles_median", c->oracle_triangles);
-        KN("oracle_coarser_patches_median", c->oracle_patches);
-    }
-#undef KN
-}
-
-static void json_lod(tp_json* j, const tp_lod_params* lp)
-{
-    tp_json_key(j, "lod_mode");
-    tp_json_string(j, mode_name(lp->mode));
-    if (lp->mode == TP_LOD_ERROR) {
-        tp_json_key(j, "tau_px");
-        tp_json_number(j, lp->tau_px);
-    } else if (lp->mode == TP_LOD_DISTANCE) {
-        tp_json_key(j, "mindist_m");
-        tp_json_number(j, lp->mindist_m);
-        tp_json_key(j, "maxdist_m");
-        tp_json_number(j, lp->maxdist_m);
-        tp_json_key(j, "exp");
-        tp_json_number(j, lp->exponent);
-    }
-}
-
-/* The summary: the headline keys are those of the error mode at the run's tau (best), with the
- * full-resolution baseline and every configuration. */
-static int write_json(const bench_run* b, const char* renderer_name, const config_result* c, int nc,
-                      const config_result* best)
-{
-    const bench_options* o = b->o;
-    tp_atomic_file file;
-    if (!tp_atomic_open(&file, o->json))
-        return 0;
-    FILE* f = file.f;
-    tp_json j;
-    tp_json_init(&j, f);
-    const config_result* full = &c[0];
-    tp_json_object_begin(&j);
-#define KS(k, v) (tp_json_key(&j, k), tp_json_string(&j, v))
-#define KN(k, v) (tp_json_key(&j, k), tp_json_number(&j, v))
-    KS("dem", o->dem);
-    char size[32];
-    snprintf(size, sizeof size, "%dx%d", o->vs.w, o->vs.h);
-    KS("size", size);
-    KS("path", o->path_file ? o->path_file : o->vs.has_camera ? "fixed" : o->path_name);
-    KN("speed_mps", b->lead_da > 0 ? o->speed_mps : 0);
-    KN("frames", b->frames);
-    KN("patches", b->sc->info.patch_count);
-    KN("patch_size", b->sc->info.patch_size);
-    KS("renderer", renderer_name);
-    json_lod(&j, &best->lod);
-    json_config(&j, best);
-    tp_json_key(&j, "full_res");
-    tp_json_object_begin(&j);
-    json_config(&j, full);
-    tp_json_object_end(&j);
-    KN("speedup_vs_full", best->fps_median / full->fps_median);
-    tp_json_key(&j, "configurations");
-    tp_json_array_begin(&j);
-    for (int i = 0; i < nc; i++) {
-        tp_json_object_begin(&j);
-        json_lod(&j, &c[i].lod);
-        json_config(&j, &c[i]);
-        if (o->sweep) {
-            tp_json_key(&j, "pareto");
-            tp_json_bool(&j, c[i].pareto);
-        }
-        tp_json_object_end(&j);
-    }
-    tp_json_array_end(&j);
-#undef KS
-#undef KN
-    tp_json_object_end(&j);
-    fputc('\n', f);
-    return tp_atomic_commit(&file);
-}
-
-static int write_frames_csv(const bench_options* o, const config_result* c, int nc, int frames)
-{
-    tp_atomic_file file;
-    if (!tp_atomic_open(&file, o->csv))
-        return 0;
-    FILE* f = file.f;
-    fprintf(f, "lod_mode,frame,frame_ms,select_ms,upload_ms,draw_ms,triangles,draw_calls,patches,"
-               "uploads,gpu_bytes,max_vertical_error_m,rms_vertical_error_m,max_screen_error_px,"
-               "rms_screen_error_px\n");
-    for (int k = 0; k < nc; k++)
-        for (int i = 0; i < frames; i++) {
-            const frame_row* r = &c[k].rows[i];
-            fprintf(f, "%s,%d,%.4f,%.4f,%.4f,%.4f,%zu,%d,%d,%d,%zu,%.4f,%.4f,%.4f,%.4f\n",
-                    mode_name(c[k].lod.mode), i, r->frame_ms, r->select_ms, r->upload_ms,
-                    r->draw_ms, r->triangles, r->draw_calls, r->patches, r->uploads, r->gpu_bytes,
-                    r->max_m, r->rms_m, r->max_px, r->rms_px);
-        }
-    return tp_atomic_commit(&file);
-}
-
-/* --sweep: one row per configuration. */
-static int write_sweep_csv(const bench_options* o, const config_result* c, int nc)
-{
-    tp_atomic_file file;
-    if (!tp_atomic_open(&file, o->csv))
-        return 0;
-    FILE* f = file.f;
-    fprintf(f, "lod_mode,tau_px,mindist_m,maxdist_m,exp,fps_median,frame_ms_median,cpu_ms_median,"
-               "draw_ms_median,triangles_median,uploads_median,max_screen_error_px,"
-               "rms_screen_error_px,max_vertical_error_m,rms_vertical_error_m,pareto\n");
-    for (int k = 0; k < nc; k++) {
-        const config_result* r = &c[k];
-        int dist = r->lod.mode == TP_LOD_DISTANCE, err = r->lod.mode == TP_LOD_ERROR;
-        fprintf(f, "%s,%g,%g,%g,%g,%.3f,%.3f,%.4f,%.3f,%.0f,%.0f,%.4f,%.4f,%.4f,%.4f,%d\n",
-                mode_name(r->lod.mode), err ? r->lod.tau_px : 0, dist ? r->lod.mindist_m : 0,
-                dist ? r->lod.maxdist_m : 0, dist ? r->lod.exponent : 0, r->fps_median,
-                r->frame_ms, r->cpu_ms, r->draw_ms, r->triangles, r->uploads, r->max_px,
-                r->rms_px, r->max_m, r->rms_m, r->pareto);
-    }
-    return tp_atomic_commit(&file);
 }
 
 /* Marks the configurations no other configuration of the same mode beats in both fps and
@@ -805,29 +492,6 @@ static config_result* make_configs(const bench_run* b, int* count, int* best)
     return c;
 }
 
-static void print_table(const bench_run* b, const char* renderer_name, const config_result* c,
-                        int nc, int best)
-{
-    const bench_options* o = b->o;
-    printf("%s, %dx%d, %s path%s, %d frames, %d patches of %d, renderer %s\n", o->dem, o->vs.w,
-           o->vs.h, o->path_file ? o->path_file : o->vs.has_camera ? "fixed" : o->path_name,
-           b->lead_da > 0 ? " (lead-in frames)" : "", b->frames, b->sc->info.patch_count,
-           b->sc->info.patch_size, renderer_name);
-    printf("%-24s %8s %9s %8s %8s %10s %6s %9s %9s %9s %9s\n", "lod", "fps", "frame ms", "cpu ms",
-           "draw ms", "triangles", "calls", "max px", "rms px", "max m", "rms m");
-    for (int k = 0; k < nc; k++)
-        printf("%-24s %8.2f %9.2f %8.3f %8.2f %10.0f %6.0f %9.3f %9.3f %9.3f %9.3f%s\n", c[k].label,
-               c[k].fps_median, c[k].frame_ms, c[k].cpu_ms, c[k].draw_ms, c[k].triangles,
-               c[k].draw_calls, c[k].max_px, c[k].rms_px, c[k].max_m, c[k].rms_m,
-               o->sweep && c[k].pareto && k > 0 ? "  pareto" : "");
-    printf("error mode (tau = %g px) vs full resolution: %.2fx the frame rate\n", c[best].lod.tau_px,
-           c[best].fps_median / c[0].fps_median);
-    if (c[best].oracle_triangles > 0)
-        printf("error mode (tau = %g px): %.0f triangles if every patch were at the coarsest level "
-               "its measured error allows (%.0f patches could be coarser; median per frame)\n",
-               c[best].lod.tau_px, c[best].oracle_triangles, c[best].oracle_patches);
-}
-
 int tp_cli_bench(int argc, char** argv)
 {
     bench_options o;
@@ -849,7 +513,7 @@ int tp_cli_bench(int argc, char** argv)
     }
     bench_run b = {.o = &o, .sc = &sc, .frames = o.frames};
     tp_camera* cams = NULL;
-    if (o.path_file && !read_path_file(&sc, &o, &cams, &b.frames)) {
+    if (o.path_file && !tp_bench_read_path_file(&sc, &o, &cams, &b.frames)) {
         tp_scene_free(&sc);
         return TP_EXIT_FAILURE;
     }
@@ -864,7 +528,7 @@ int tp_cli_bench(int argc, char** argv)
         b.fixed = &fixed;
     }
     if (!cams && !b.fixed && o.speed_mps > 0)
-        b.lead_da = o.speed_mps / FRAME_HZ / path_length(&sc, &o);
+        b.lead_da = o.speed_mps / FRAME_HZ / tp_bench_path_length(&sc, &o);
     char msg[512];
     if (!tp_gl_context_create_headless(o.vs.w, o.vs.h, &b.ctx, msg, sizeof msg)) {
         fprintf(stderr, "terrapatch bench: %s\n", msg);
@@ -887,10 +551,11 @@ int tp_cli_bench(int argc, char** argv)
     if (code == TP_EXIT_OK) {
         if (o.sweep)
             mark_pareto(c + 1, nc - 1);
-        print_table(&b, renderer_name, c, nc, best);
-        if (o.json && !write_json(&b, renderer_name, c, nc, &c[best]))
+        tp_bench_print_table(&b, renderer_name, c, nc, best);
+        if (o.json && !tp_bench_write_json(&b, renderer_name, c, nc, &c[best]))
             code = TP_EXIT_FAILURE;
-        if (o.csv && !(o.sweep ? write_sweep_csv(&o, c, nc) : write_frames_csv(&o, c, nc, b.frames)))
+        if (o.csv && !(o.sweep ? tp_bench_write_sweep_csv(&o, c, nc)
+                               : tp_bench_write_frames_csv(&o, c, nc, b.frames)))
             code = TP_EXIT_FAILURE;
         if (code == TP_EXIT_OK && o.sweep) {
             char title[512];

@@ -1,0 +1,167 @@
+/* bench_report.c - what the benchmark writes: the table on stdout, the JSON summary, the CSV
+ * of frames or of a sweep's configurations (see bench.h). */
+#include "bench.h"
+
+#include "atomic_file.h"
+#include "json.h"
+
+#include <stdio.h>
+
+static const char* mode_name(tp_lod_mode m)
+{
+    return m == TP_LOD_FULL ? "full" : m == TP_LOD_DISTANCE ? "distance" : "error";
+}
+
+static void json_config(tp_json* j, const config_result* c)
+{
+#define KN(k, v) (tp_json_key(j, k), tp_json_number(j, v))
+    KN("fps_median", c->fps_median);
+    KN("frame_ms_median", c->frame_ms);
+    KN("cpu_ms_median", c->cpu_ms);
+    KN("draw_ms_median", c->draw_ms);
+    KN("triangles_median", c->triangles);
+    KN("draw_calls_median", c->draw_calls);
+    KN("uploads_median", c->uploads);
+    KN("gpu_bytes", (double)c->gpu_bytes);
+    KN("max_screen_error_px", c->max_px);
+    KN("rms_screen_error_px", c->rms_px);
+    KN("max_vertical_error_m", c->max_m);
+    KN("rms_vertical_error_m", c->rms_m);
+    if (c->lod.mode == TP_LOD_ERROR && c->oracle_triangles > 0) {
+        KN("oracle_triangles_median", c->oracle_triangles);
+        KN("oracle_coarser_patches_median", c->oracle_patches);
+    }
+#undef KN
+}
+
+static void json_lod(tp_json* j, const tp_lod_params* lp)
+{
+    tp_json_key(j, "lod_mode");
+    tp_json_string(j, mode_name(lp->mode));
+    if (lp->mode == TP_LOD_ERROR) {
+        tp_json_key(j, "tau_px");
+        tp_json_number(j, lp->tau_px);
+    } else if (lp->mode == TP_LOD_DISTANCE) {
+        tp_json_key(j, "mindist_m");
+        tp_json_number(j, lp->mindist_m);
+        tp_json_key(j, "maxdist_m");
+        tp_json_number(j, lp->maxdist_m);
+        tp_json_key(j, "exp");
+        tp_json_number(j, lp->exponent);
+    }
+}
+
+int tp_bench_write_json(const bench_run* b, const char* renderer_name, const config_result* c, int nc,
+                      const config_result* best)
+{
+    const bench_options* o = b->o;
+    tp_atomic_file file;
+    if (!tp_atomic_open(&file, o->json))
+        return 0;
+    FILE* f = file.f;
+    tp_json j;
+    tp_json_init(&j, f);
+    const config_result* full = &c[0];
+    tp_json_object_begin(&j);
+#define KS(k, v) (tp_json_key(&j, k), tp_json_string(&j, v))
+#define KN(k, v) (tp_json_key(&j, k), tp_json_number(&j, v))
+    KS("dem", o->dem);
+    char size[32];
+    snprintf(size, sizeof size, "%dx%d", o->vs.w, o->vs.h);
+    KS("size", size);
+    KS("path", o->path_file ? o->path_file : o->vs.has_camera ? "fixed" : o->path_name);
+    KN("speed_mps", b->lead_da > 0 ? o->speed_mps : 0);
+    KN("frames", b->frames);
+    KN("patches", b->sc->info.patch_count);
+    KN("patch_size", b->sc->info.patch_size);
+    KS("renderer", renderer_name);
+    json_lod(&j, &best->lod);
+    json_config(&j, best);
+    tp_json_key(&j, "full_res");
+    tp_json_object_begin(&j);
+    json_config(&j, full);
+    tp_json_object_end(&j);
+    KN("speedup_vs_full", best->fps_median / full->fps_median);
+    tp_json_key(&j, "configurations");
+    tp_json_array_begin(&j);
+    for (int i = 0; i < nc; i++) {
+        tp_json_object_begin(&j);
+        json_lod(&j, &c[i].lod);
+        json_config(&j, &c[i]);
+        if (o->sweep) {
+            tp_json_key(&j, "pareto");
+            tp_json_bool(&j, c[i].pareto);
+        }
+        tp_json_object_end(&j);
+    }
+    tp_json_array_end(&j);
+#undef KS
+#undef KN
+    tp_json_object_end(&j);
+    fputc('\n', f);
+    return tp_atomic_commit(&file);
+}
+
+int tp_bench_write_frames_csv(const bench_options* o, const config_result* c, int nc, int frames)
+{
+    tp_atomic_file file;
+    if (!tp_atomic_open(&file, o->csv))
+        return 0;
+    FILE* f = file.f;
+    fprintf(f, "lod_mode,frame,frame_ms,select_ms,upload_ms,draw_ms,triangles,draw_calls,patches,"
+               "uploads,gpu_bytes,max_vertical_error_m,rms_vertical_error_m,max_screen_error_px,"
+               "rms_screen_error_px\n");
+    for (int k = 0; k < nc; k++)
+        for (int i = 0; i < frames; i++) {
+            const frame_row* r = &c[k].rows[i];
+            fprintf(f, "%s,%d,%.4f,%.4f,%.4f,%.4f,%zu,%d,%d,%d,%zu,%.4f,%.4f,%.4f,%.4f\n",
+                    mode_name(c[k].lod.mode), i, r->frame_ms, r->select_ms, r->upload_ms,
+                    r->draw_ms, r->triangles, r->draw_calls, r->patches, r->uploads, r->gpu_bytes,
+                    r->max_m, r->rms_m, r->max_px, r->rms_px);
+        }
+    return tp_atomic_commit(&file);
+}
+
+int tp_bench_write_sweep_csv(const bench_options* o, const config_result* c, int nc)
+{
+    tp_atomic_file file;
+    if (!tp_atomic_open(&file, o->csv))
+        return 0;
+    FILE* f = file.f;
+    fprintf(f, "lod_mode,tau_px,mindist_m,maxdist_m,exp,fps_median,frame_ms_median,cpu_ms_median,"
+               "draw_ms_median,triangles_median,uploads_median,max_screen_error_px,"
+               "rms_screen_error_px,max_vertical_error_m,rms_vertical_error_m,pareto\n");
+    for (int k = 0; k < nc; k++) {
+        const config_result* r = &c[k];
+        int dist = r->lod.mode == TP_LOD_DISTANCE, err = r->lod.mode == TP_LOD_ERROR;
+        fprintf(f, "%s,%g,%g,%g,%g,%.3f,%.3f,%.4f,%.3f,%.0f,%.0f,%.4f,%.4f,%.4f,%.4f,%d\n",
+                mode_name(r->lod.mode), err ? r->lod.tau_px : 0, dist ? r->lod.mindist_m : 0,
+                dist ? r->lod.maxdist_m : 0, dist ? r->lod.exponent : 0, r->fps_median,
+                r->frame_ms, r->cpu_ms, r->draw_ms, r->triangles, r->uploads, r->max_px,
+                r->rms_px, r->max_m, r->rms_m, r->pareto);
+    }
+    return tp_atomic_commit(&file);
+}
+
+void tp_bench_print_table(const bench_run* b, const char* renderer_name, const config_result* c,
+                        int nc, int best)
+{
+    const bench_options* o = b->o;
+    printf("%s, %dx%d, %s path%s, %d frames, %d patches of %d, renderer %s\n", o->dem, o->vs.w,
+           o->vs.h, o->path_file ? o->path_file : o->vs.has_camera ? "fixed" : o->path_name,
+           b->lead_da > 0 ? " (lead-in frames)" : "", b->frames, b->sc->info.patch_count,
+           b->sc->info.patch_size, renderer_name);
+    printf("%-24s %8s %9s %8s %8s %10s %6s %9s %9s %9s %9s\n", "lod", "fps", "frame ms", "cpu ms",
+           "draw ms", "triangles", "calls", "max px", "rms px", "max m", "rms m");
+    for (int k = 0; k < nc; k++)
+        printf("%-24s %8.2f %9.2f %8.3f %8.2f %10.0f %6.0f %9.3f %9.3f %9.3f %9.3f%s\n", c[k].label,
+               c[k].fps_median, c[k].frame_ms, c[k].cpu_ms, c[k].draw_ms, c[k].triangles,
+               c[k].draw_calls, c[k].max_px, c[k].rms_px, c[k].max_m, c[k].rms_m,
+               o->sweep && c[k].pareto && k > 0 ? "  pareto" : "");
+    printf("error mode (tau = %g px) vs full resolution: %.2fx the frame rate\n", c[best].lod.tau_px,
+           c[best].fps_median / c[0].fps_median);
+    if (c[best].oracle_triangles > 0)
+        printf("error mode (tau = %g px): %.0f triangles if every patch were at the coarsest level "
+               "its measured error allows (%.0f patches could be coarser; median per frame)\n",
+               c[best].lod.tau_px, c[best].oracle_triangles, c[best].oracle_patches);
+}
