@@ -174,6 +174,14 @@ tp_sample_class tp_terrain_sample_class(const tp_terrain* t, int x, int y);
  * it), or outside the grid. */
 double tp_terrain_height_at(const tp_terrain* t, double x, double y);
 
+/* The same surface over a plain grid, before any terrain exists: heights is width * height
+ * floats, row-major, row 0 first, NaN = no height (height_count must be width * height).
+ * Heights are used as given, not quantised, so on a terrain's own source grid the result
+ * differs from tp_terrain_height_at by at most the quantisation error. NaN outside the grid,
+ * where no triangle with three heights contains the point, and for grids under 2 x 2. */
+double tp_grid_height_at(const float* heights, size_t height_count, int width, int height,
+                         double x, double y);
+
 /* Unit surface normal (world frame: east, north, up) at sample (x, y) from central differences
  * of the decoded grid (one-sided at borders and next to undrawn samples). */
 void tp_terrain_normal(const tp_terrain* t, int x, int y, float normal[3]);

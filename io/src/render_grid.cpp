@@ -27,20 +27,6 @@ struct Grid {
     std::vector<float> z;
 };
 
-/* The rendered surface (the core's triangle split) of a float grid at (x, y) in grid units. */
-double surface_at(const Grid& g, double x, double y)
-{
-    if (!(x >= 0 && y >= 0 && x <= g.w - 1 && y <= g.h - 1) || g.w < 2 || g.h < 2)
-        return NAN;
-    int cx = std::min((int)x, g.w - 2), cy = std::min((int)y, g.h - 2);
-    double fx = x - cx, fy = y - cy;
-    auto at = [&](int i, int j) { return (double)g.z[(size_t)j * g.w + i]; };
-    if (fx + fy <= 1)
-        return at(cx, cy) + fx * (at(cx + 1, cy) - at(cx, cy)) + fy * (at(cx, cy + 1) - at(cx, cy));
-    return at(cx + 1, cy + 1) + (1 - fx) * (at(cx, cy + 1) - at(cx + 1, cy + 1)) +
-           (1 - fy) * (at(cx + 1, cy) - at(cx + 1, cy + 1));
-}
-
 /* Target CRS for a warp: the WGS84 UTM zone (or UPS) of (lat, lon). */
 int utm_epsg(double lat, double lon, int* zone, int* northp)
 {
@@ -353,7 +339,10 @@ tp_status build(const tp_dem* dem, const tp_grid_options* opt, tp_render_grid** 
                 float s = dem->heights[(size_t)r * dem->width + c];
                 if (!ok[c] || std::isnan(s))
                     continue;
-                double z = surface_at(grid, (xs[c] - gt[0]) / gt[1] - 0.5, (ys[c] - gt[3]) / gt[5] - 0.5);
+                /* the rendered surface: the core's triangle split */
+                double z = tp_grid_height_at(grid.z.data(), grid.z.size(), grid.w, grid.h,
+                                             (xs[c] - gt[0]) / gt[1] - 0.5,
+                                             (ys[c] - gt[3]) / gt[5] - 0.5);
                 if (std::isnan(z))
                     continue;
                 double e = std::fabs(z - s);
