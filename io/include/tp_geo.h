@@ -1,7 +1,7 @@
 /*
- * tp_geo.h - terrapatch coordinate conversions behind plain C: geographic <-> UTM/UPS, MGRS,
- * Earth-centred (ECEF) coordinates, the exact transverse Mercator projection and the inverse
- * geodesic problem, all on the WGS84 ellipsoid.
+ * tp_geo.h - terrapatch coordinate conversions behind plain C: geographic <-> UTM/UPS (and the
+ * text of a zone), MGRS, Earth-centred (ECEF) coordinates, the exact transverse Mercator
+ * projection and the inverse geodesic problem, all on the WGS84 ellipsoid.
  *
  * C11 header; the C++17 implementation (io/src/geo.cpp) is a thin shim over GeographicLib
  * (C. F. F. Karney, "Transverse Mercator with an accuracy of a few nanometers", J. Geodesy 85,

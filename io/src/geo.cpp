@@ -243,6 +243,7 @@ extern "C" tp_status tp_geo_from_utmups(int zone, int northp, double easting_m, 
     }
 }
 
+/* Calls only the two functions above, which catch everything: no try needed here. */
 extern "C" tp_status tp_utmups_to_standard(int zone, int northp, double easting_m,
                                            double northing_m, int* std_zone, int* std_northp,
                                            double* std_easting_m, double* std_northing_m,

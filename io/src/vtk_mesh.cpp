@@ -861,6 +861,7 @@ tp_status summarise(const char* path, const Loaded& in, tp_mesh_format format, t
 /* ---------------------------------------------------------------------------------------------
  * C interface
  */
+/* Integer comparisons and a message: nothing here can throw. */
 extern "C" tp_status tp_mesh_check_size(tp_mesh_format format, size_t point_count,
                                         size_t triangle_count, tp_error* err)
 {
@@ -919,12 +920,8 @@ extern "C" tp_status tp_mesh_write(const char* path, tp_mesh_format format, cons
                             i / 3, mesh->point_count, (unsigned long long)mesh->triangles[i]);
         quiet_vtk();
         return format == TP_MESH_VTM ? write_vtm(p, mesh, err) : write_single(p, format, mesh, err);
-    } catch (const std::bad_alloc&) {
-        return fail(err, TP_ERR_OUT_OF_MEMORY, "%s: out of memory building the mesh file", path);
-    } catch (const std::exception& e) {
-        return fail(err, TP_ERR_BACKEND, "%s: %s", path, e.what());
     } catch (...) {
-        return fail(err, TP_ERR_BACKEND, "%s: unknown exception writing the mesh", path);
+        return tpio::caught(err, path);
     }
 }
 
@@ -957,11 +954,7 @@ extern "C" tp_status tp_mesh_inspect(const char* path, tp_mesh_summary* out, tp_
         if (s == TP_OK)
             *out = summary;
         return s;
-    } catch (const std::bad_alloc&) {
-        return fail(err, TP_ERR_OUT_OF_MEMORY, "%s: out of memory reading the mesh", path);
-    } catch (const std::exception& e) {
-        return fail(err, TP_ERR_BACKEND, "%s: %s", path, e.what());
     } catch (...) {
-        return fail(err, TP_ERR_BACKEND, "%s: unknown exception reading the mesh", path);
+        return tpio::caught(err, path);
     }
 }
