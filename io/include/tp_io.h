@@ -219,7 +219,7 @@ typedef struct tp_mesh {
     /* Field data (strings may be NULL or ""): */
     const char* crs_wkt;
     int epsg;
-    const char* utm_zone;       /* e.g. "31n" */
+    const char* utm_zone; /* e.g. "31n", "UPS n" (tp_zone_format, TP_ZONE_STYLE_SHORT) */
     const char* source_file;
     const char* camera;         /* the camera as a --camera-geo / --camera string */
     const char* lod_params;     /* e.g. "mode=error tau_px=1" */

@@ -861,31 +861,34 @@ tp_status summarise(const char* path, const Loaded& in, tp_mesh_format format, t
 /* ---------------------------------------------------------------------------------------------
  * C interface
  */
-/* Integer comparisons and a message: nothing here can throw. */
 extern "C" tp_status tp_mesh_check_size(tp_mesh_format format, size_t point_count,
                                         size_t triangle_count, tp_error* err)
 {
     if (format != TP_MESH_DEFAULT && format != TP_MESH_VTP && format != TP_MESH_VTK &&
         format != TP_MESH_VTM)
         return fail(err, TP_ERR_INVALID_ARG, "mesh: unknown mesh format %d", (int)format);
-    /* Every format numbers points, and the connectivity (3 ids per triangle, offsets up to
-     * 3 * triangles), in vtkIdType. */
-    const char* name = format == TP_MESH_VTP   ? "a .vtp file"
-                       : format == TP_MESH_VTK ? "a legacy .vtk file"
-                       : format == TP_MESH_VTM ? "a .vtm file"
-                                               : "a mesh file";
-    const unsigned long long id_max = (unsigned long long)VTK_ID_MAX;
-    const int id_bits = (int)(8 * sizeof(vtkIdType));
-    if ((unsigned long long)point_count > id_max)
-        return fail(err, TP_ERR_INVALID_ARG,
-                    "%zu points: %s holds at most %llu (VTK's %d-bit vtkIdType)", point_count,
-                    name, id_max, id_bits);
-    if ((unsigned long long)triangle_count > (id_max - 1) / 3)
-        return fail(err, TP_ERR_INVALID_ARG,
-                    "%zu triangles: %s holds at most %llu (3 point ids each, in VTK's %d-bit "
-                    "vtkIdType, up to %llu)",
-                    triangle_count, name, (id_max - 1) / 3, id_bits, id_max);
-    return TP_OK;
+    try { /* integer comparisons and a message: nothing should throw */
+        /* Every format numbers points, and the connectivity (3 ids per triangle, offsets up to
+         * 3 * triangles), in vtkIdType. */
+        const char* name = format == TP_MESH_VTP   ? "a .vtp file"
+                           : format == TP_MESH_VTK ? "a legacy .vtk file"
+                           : format == TP_MESH_VTM ? "a .vtm file"
+                                                   : "a mesh file";
+        const unsigned long long id_max = (unsigned long long)VTK_ID_MAX;
+        const int id_bits = (int)(8 * sizeof(vtkIdType));
+        if ((unsigned long long)point_count > id_max)
+            return fail(err, TP_ERR_INVALID_ARG,
+                        "%zu points: %s holds at most %llu (VTK's %d-bit vtkIdType)", point_count,
+                        name, id_max, id_bits);
+        if ((unsigned long long)triangle_count > (id_max - 1) / 3)
+            return fail(err, TP_ERR_INVALID_ARG,
+                        "%zu triangles: %s holds at most %llu (3 point ids each, in VTK's %d-bit "
+                        "vtkIdType, up to %llu)",
+                        triangle_count, name, (id_max - 1) / 3, id_bits, id_max);
+        return TP_OK;
+    } catch (...) {
+        return tpio::caught(err, "mesh");
+    }
 }
 
 extern "C" tp_status tp_mesh_write(const char* path, tp_mesh_format format, const tp_mesh* mesh,
