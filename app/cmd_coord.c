@@ -507,11 +507,11 @@ static int convert_position(const coord_options* o, const position* pos, char* m
     case OUT_UTM: {
         if (!standard_grid(pos, &zone, &northp, &e, &n, msg))
             return 0;
-        char zone_name[8];
-        if (zone == TP_ZONE_UPS)
-            snprintf(zone_name, sizeof zone_name, "%c", northp ? 'n' : 's');
-        else
-            snprintf(zone_name, sizeof zone_name, "%02d%c", zone, northp ? 'n' : 's');
+        char zone_name[TP_ZONE_TEXT_SIZE];
+        s = tp_zone_format(zone, northp, TP_ZONE_STYLE_GEOCONVERT, zone_name, sizeof zone_name,
+                           &err);
+        if (s != TP_OK)
+            return geo_failed(s, &err, msg);
         printf("%s %.3f %.3f\n", zone_name, unsigned_zero(e), unsigned_zero(n));
         return 1;
     }

@@ -9,6 +9,7 @@
 #include "scene.h"
 
 #include "tp_core.h"
+#include "tp_geo.h"
 #include "tp_io.h"
 
 #include <getopt.h>
@@ -101,23 +102,6 @@ static const char* fit_name(tp_fit fit)
     return fit == TP_FIT_RESAMPLE ? "resample" : "pad";
 }
 
-/* The CRS's name from its WKT: the first quoted string, as in PROJCRS["NAD83 / UTM zone 10N",
- * ...]. Writes "" if there is none. */
-static void crs_name(const char* wkt, char* out, size_t cap)
-{
-    out[0] = '\0';
-    const char* a = strchr(wkt, '"');
-    const char* b = a ? strchr(a + 1, '"') : NULL;
-    if (b)
-        snprintf(out, cap, "%.*s", (int)(b - a - 1), a + 1);
-}
-
-/* WKT2 geographic CRSs start with GEOGCRS (GEODCRS for geocentric, never a DEM's). */
-static int crs_is_geographic(const tp_dem* dem)
-{
-    return !strncmp(dem->crs_wkt, "GEOGCRS", 7) || !strncmp(dem->crs_wkt, "GEODCRS", 7);
-}
-
 /* Geographic extent of the drawn grid: south, west, north, east (degrees), from its corners
  * and edge midpoints. Returns 0 when the grid has no CRS. */
 static int geo_extent(const tp_scene* sc, double out[4])
@@ -148,14 +132,12 @@ static void proj_extent(const tp_scene* sc, double out[4])
     out[0] = fmin(e0, e1), out[1] = fmin(n0, n1), out[2] = fmax(e0, e1), out[3] = fmax(n0, n1);
 }
 
-static void zone_text(const tp_render_grid* g, char* out, size_t cap)
+/* The render grid's UTM/UPS zone ("31n", "UPS north"); 0 (and "") when it is in none. */
+static int zone_text(const tp_render_grid* g, char* out, size_t cap)
 {
-    if (g->utm_zone > 0)
-        snprintf(out, cap, "%d%c", g->utm_zone, g->northp ? 'n' : 's');
-    else if (g->utm_zone == 0)
-        snprintf(out, cap, "UPS %s", g->northp ? "north" : "south");
-    else
-        snprintf(out, cap, "none");
+    out[0] = '\0';
+    return g->utm_zone >= 0 &&
+           tp_zone_format(g->utm_zone, g->northp, TP_ZONE_STYLE_LONG, out, cap, NULL) == TP_OK;
 }
 
 static void print_text(const tp_scene* sc, const char* path)
@@ -164,25 +146,25 @@ static void print_text(const tp_scene* sc, const char* path)
     const tp_render_grid* g = sc->grid;
     const tp_terrain_info* in = &sc->info;
     const double* gt = dem->geotransform;
-    char name[256], zone[32];
-    crs_name(dem->crs_wkt, name, sizeof name);
-    zone_text(g, zone, sizeof zone);
+    char zone[TP_ZONE_TEXT_SIZE];
+    tp_crs_info crs = {0}; /* stays zero (no name, not geographic) if GDAL cannot read it */
+    tp_crs_describe(dem->crs_wkt, &crs, NULL);
 
     printf("file           %s\n", path);
     printf("driver         %s\n", dem->driver);
     printf("data type      %s%s%s\n", dem->data_type, dem->units[0] ? ", units " : "", dem->units);
     printf("size           %d x %d samples\n", dem->width, dem->height);
     if (dem->epsg)
-        printf("CRS            EPSG:%d (%s)\n", dem->epsg, name);
+        printf("CRS            EPSG:%d (%s)\n", dem->epsg, crs.name);
     else if (dem->crs_wkt[0])
-        printf("CRS            %s (no EPSG code)\n", name[0] ? name : dem->crs_wkt);
+        printf("CRS            %s (no EPSG code)\n", crs.name[0] ? crs.name : dem->crs_wkt);
     else
         printf("CRS            none in the file\n");
     if (dem->has_geotransform) {
         printf("geotransform   %.17g, %.17g, %.17g, %.17g, %.17g, %.17g\n", gt[0], gt[1], gt[2],
                gt[3], gt[4], gt[5]);
         printf("pixel size     %.10g x %.10g %s\n", fabs(gt[1]), fabs(gt[5]),
-               crs_is_geographic(dem) ? "degrees" : "CRS units");
+               crs.geographic ? "degrees" : "CRS units");
     } else {
         printf("geotransform   none in the file: %.10g m posts, north-west corner at (0, 0)\n",
                fabs(gt[1]));
@@ -200,7 +182,7 @@ static void print_text(const tp_scene* sc, const char* path)
     printf("  CRS          %s%s\n", g->crs_name, g->epsg ? "" : "");
     if (g->epsg)
         printf("  EPSG         %d\n", g->epsg);
-    printf("  UTM zone     %s\n", zone);
+    printf("  UTM zone     %s\n", zone_text(g, zone, sizeof zone) ? zone : "none");
     printf("  to WGS84     %s", tp_georef_datum_note(sc->georef));
     double acc = tp_georef_datum_accuracy_m(sc->georef);
     if (acc > 0)
@@ -341,15 +323,11 @@ static void print_json(const tp_scene* sc, const char* path)
         tp_json_string(&j, g->crs_name);
     key_string(&j, "render_crs_name", g->crs_name);
     tp_json_key(&j, "utm_zone");
-    if (g->utm_zone > 0) {
-        char zone[32];
-        zone_text(g, zone, sizeof zone);
+    char zone[TP_ZONE_TEXT_SIZE];
+    if (zone_text(g, zone, sizeof zone))
         tp_json_string(&j, zone);
-    } else if (g->utm_zone == 0) {
-        tp_json_string(&j, g->northp ? "UPS north" : "UPS south");
-    } else {
+    else
         tp_json_null(&j);
-    }
     key_string(&j, "datum_to_wgs84", tp_georef_datum_note(sc->georef));
     key_number(&j, "datum_accuracy_m", tp_georef_datum_accuracy_m(sc->georef));
     tp_json_key(&j, "render_grid");

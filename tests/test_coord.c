@@ -470,10 +470,10 @@ TEST(utm_mgrs_edge_cases_match_geoconvert)
             continue;
         }
         /* as GeoConvert -u -p 3 prints it */
-        if (zone == TP_ZONE_UPS)
-            snprintf(got, sizeof got, "%s %.3f %.3f", northp ? "n" : "s", e, n);
-        else
-            snprintf(got, sizeof got, "%02d%s %.3f %.3f", zone, northp ? "n" : "s", e, n);
+        char zone_text[TP_ZONE_TEXT_SIZE] = "?";
+        EXPECT_OK(tp_zone_format(zone, northp, TP_ZONE_STYLE_GEOCONVERT, zone_text,
+                                 sizeof zone_text, &err));
+        snprintf(got, sizeof got, "%s %.3f %.3f", zone_text, e, n);
         snprintf(want, sizeof want, "%s %s %s", zone_s, east_s, north_s);
         if (strcmp(got, want) != 0)
             ADD_FAILURE("row %d (%.9g %.9g): UTM/UPS '%s', expected '%s'", rows, lat, lon, got,
@@ -974,6 +974,97 @@ TEST(null_outputs_are_rejected_not_dereferenced)
 #endif
 }
 
+/* ---------------------------------------------------------------------------------------------
+ * Zone text
+ */
+TEST(zone_format_writes_every_zone_in_every_style)
+{
+    REQUIRE_IO();
+#ifndef TP_TEST_NO_IO
+    /* per style: the UTM zone's printf form, and UPS north, UPS south */
+    static const struct {
+        tp_zone_style style;
+        const char *utm_n, *utm_s, *ups_n, *ups_s;
+        int digits;
+    } styles[] = {
+        {TP_ZONE_STYLE_DEFAULT, "n", "s", "UPS n", "UPS s", 1},
+        {TP_ZONE_STYLE_SHORT, "n", "s", "UPS n", "UPS s", 1},
+        {TP_ZONE_STYLE_GEOCONVERT, "n", "s", "n", "s", 2},
+        {TP_ZONE_STYLE_UPPER, "N", "S", "UPS N", "UPS S", 1},
+        {TP_ZONE_STYLE_LONG, "n", "s", "UPS north", "UPS south", 1},
+    };
+    for (size_t i = 0; i < sizeof styles / sizeof styles[0]; ++i) {
+        for (int zone = 0; zone <= 60; ++zone) {
+            for (int northp = 0; northp <= 1; ++northp) {
+                char got[TP_ZONE_TEXT_SIZE], want[TP_ZONE_TEXT_SIZE];
+                tp_error err = {{0}};
+                if (zone == TP_ZONE_UPS)
+                    snprintf(want, sizeof want, "%s", northp ? styles[i].ups_n : styles[i].ups_s);
+                else
+                    snprintf(want, sizeof want, "%0*d%s", styles[i].digits, zone,
+                             northp ? styles[i].utm_n : styles[i].utm_s);
+                tp_status s = tp_zone_format(zone, northp, styles[i].style, got, sizeof got, &err);
+                if (s != TP_OK || strcmp(got, want) != 0)
+                    ADD_FAILURE("style %d zone %d northp %d: got '%s' (%s), expected '%s'",
+                                (int)styles[i].style, zone, northp, s == TP_OK ? got : "",
+                                err.message, want);
+            }
+        }
+    }
+#endif
+}
+
+TEST(zone_format_spot_checks)
+{
+    REQUIRE_IO();
+#ifndef TP_TEST_NO_IO
+    char z[TP_ZONE_TEXT_SIZE];
+    EXPECT_OK(tp_zone_format(4, 0, TP_ZONE_STYLE_GEOCONVERT, z, sizeof z, NULL));
+    EXPECT_EQ_STR("04s", z);
+    EXPECT_OK(tp_zone_format(31, 1, TP_ZONE_STYLE_SHORT, z, sizeof z, NULL));
+    EXPECT_EQ_STR("31n", z);
+    EXPECT_OK(tp_zone_format(10, 1, TP_ZONE_STYLE_UPPER, z, sizeof z, NULL));
+    EXPECT_EQ_STR("10N", z);
+    EXPECT_OK(tp_zone_format(TP_ZONE_UPS, 0, TP_ZONE_STYLE_LONG, z, sizeof z, NULL));
+    EXPECT_EQ_STR("UPS south", z);
+    EXPECT_OK(tp_zone_format(TP_ZONE_UPS, 1, TP_ZONE_STYLE_GEOCONVERT, z, sizeof z, NULL));
+    EXPECT_EQ_STR("n", z);
+    /* any non-zero northp is north */
+    EXPECT_OK(tp_zone_format(60, 7, TP_ZONE_STYLE_DEFAULT, z, sizeof z, NULL));
+    EXPECT_EQ_STR("60n", z);
+    /* exactly enough room */
+    char four[4];
+    EXPECT_OK(tp_zone_format(33, 0, TP_ZONE_STYLE_GEOCONVERT, four, sizeof four, NULL));
+    EXPECT_EQ_STR("33s", four);
+#endif
+}
+
+TEST(zone_format_rejects_bad_input_and_leaves_out_alone)
+{
+    REQUIRE_IO();
+#ifndef TP_TEST_NO_IO
+    char z[TP_ZONE_TEXT_SIZE] = "keep";
+    tp_error err = {{0}};
+    EXPECT_STATUS(TP_ERR_INVALID_ARG,
+                  tp_zone_format(61, 1, TP_ZONE_STYLE_SHORT, z, sizeof z, &err));
+    EXPECT_CONTAINS(err.message, "zone 61");
+    EXPECT_STATUS(TP_ERR_INVALID_ARG,
+                  tp_zone_format(-1, 1, TP_ZONE_STYLE_SHORT, z, sizeof z, &err));
+    EXPECT_CONTAINS(err.message, "zone -1");
+    EXPECT_STATUS(TP_ERR_INVALID_ARG, tp_zone_format(31, 1, (tp_zone_style)99, z, sizeof z, &err));
+    EXPECT_CONTAINS(err.message, "style 99");
+    EXPECT_STATUS(TP_ERR_INVALID_ARG, tp_zone_format(31, 1, (tp_zone_style)-1, z, sizeof z, &err));
+    /* "UPS north" needs 10 bytes */
+    EXPECT_STATUS(TP_ERR_INVALID_ARG,
+                  tp_zone_format(TP_ZONE_UPS, 1, TP_ZONE_STYLE_LONG, z, 9, &err));
+    EXPECT_CONTAINS(err.message, "needs 10 bytes");
+    EXPECT_STATUS(TP_ERR_INVALID_ARG, tp_zone_format(31, 1, TP_ZONE_STYLE_SHORT, z, 0, NULL));
+    EXPECT_EQ_STR("keep", z);
+    EXPECT_STATUS(TP_ERR_INVALID_ARG, tp_zone_format(31, 1, TP_ZONE_STYLE_SHORT, NULL, 8, &err));
+    EXPECT_CONTAINS(err.message, "tp_zone_format");
+#endif
+}
+
 #define TESTS(X)                                                                                   \
     X(geodesic_inverse_matches_geodtest_first2000)                                                 \
     X(tm_exact_matches_tmcoords_first2000)                                                         \
@@ -994,5 +1085,8 @@ TEST(null_outputs_are_rejected_not_dereferenced)
     X(longitudes_are_normalised)                                                                   \
     X(latitude_91_is_rejected_everywhere)                                                          \
     X(utm_input_out_of_range_is_rejected)                                                          \
-    X(null_outputs_are_rejected_not_dereferenced)
+    X(null_outputs_are_rejected_not_dereferenced)                                                  \
+    X(zone_format_writes_every_zone_in_every_style)                                                \
+    X(zone_format_spot_checks)                                                                     \
+    X(zone_format_rejects_bad_input_and_leaves_out_alone)
 TP_TEST_MAIN(TESTS)

@@ -58,7 +58,9 @@
     X(projected_feet_dem_is_warped)                                                                \
     X(cubic_resampling_is_used)                                                                    \
     X(georef_rejects_impossible_points)                                                            \
-    X(longitude_beyond_180_same_position)
+    X(longitude_beyond_180_same_position)                                                          \
+    X(georef_conversion_errors_stay_inside_io)                                                     \
+    X(terrain_desc_of_null_grid_is_refused)
 
 #ifdef TP_TEST_NO_IO
 /* Every test skips; the TEST lines below are not compiled. */
@@ -1510,6 +1512,49 @@ TEST(georef_rejects_impossible_points)
     check_impossible_points(ref);
     tp_georef_destroy(ref);
     tp_render_grid_destroy(g);
+}
+
+/* GeographicLib throws (GeographicErr) for a UTM easting beyond its range: the throw stays
+ * inside io, as TP_ERR_INVALID_ARG with GeographicLib's reason; non-finite input and NULL
+ * pointers are refused before any conversion. Outputs are never written. */
+TEST(georef_conversion_errors_stay_inside_io)
+{
+    tp_dem* dem = synth_dem(20, 20, 5.0, 0.01, 45.5, -0.01);
+    tp_render_grid* g;
+    tp_georef* ref;
+    double lat = 1, lon = 2, e = 3, n = 4;
+    tp_error err;
+    synth_finish(dem);
+    g = build_with_crs(dem, "EPSG:4326"); /* warped to WGS84 UTM 31N: GeographicLib's UTMUPS */
+    ref = grid_georef(g);
+    memset(&err, 0, sizeof err);
+    EXPECT_STATUS(TP_ERR_INVALID_ARG, tp_georef_proj_to_geo(ref, 1e12, 5e6, &lat, &lon, &err));
+    EXPECT_CONTAINS(err.message, "Easting");
+    EXPECT_STATUS(TP_ERR_INVALID_ARG, tp_georef_proj_to_geo(ref, NAN, 5e6, &lat, &lon, &err));
+    EXPECT_CONTAINS(err.message, "not a position");
+    EXPECT_STATUS(TP_ERR_INVALID_ARG, tp_georef_proj_to_geo(ref, 5e5, INFINITY, &lat, &lon, NULL));
+    EXPECT_STATUS(TP_ERR_INVALID_ARG, tp_georef_proj_to_geo(NULL, 5e5, 5e6, &lat, &lon, &err));
+    EXPECT_STATUS(TP_ERR_INVALID_ARG, tp_georef_proj_to_geo(ref, 5e5, 5e6, NULL, &lon, &err));
+    EXPECT_EQ_DBL(1, lat);
+    EXPECT_EQ_DBL(2, lon);
+    EXPECT_STATUS(TP_ERR_INVALID_ARG, tp_georef_geo_to_proj(ref, 45, 5, &e, NULL, &err));
+    EXPECT_CONTAINS(err.message, "tp_georef_geo_to_proj");
+    EXPECT_EQ_DBL(3, e);
+    EXPECT_EQ_DBL(4, n);
+    tp_georef_destroy(ref);
+    tp_render_grid_destroy(g);
+    tp_dem_destroy(dem);
+}
+
+/* tp_render_grid_terrain_desc(NULL) is a desc without heights, which the core refuses. */
+TEST(terrain_desc_of_null_grid_is_refused)
+{
+    tp_terrain_desc d = tp_render_grid_terrain_desc(NULL, 17, TP_FIT_PAD);
+    tp_terrain* t = NULL;
+    EXPECT_TRUE(d.heights == NULL);
+    EXPECT_EQ_INT(17, d.patch_size);
+    EXPECT_TRUE(tp_terrain_create(&d, &t, NULL) != TP_OK);
+    EXPECT_TRUE(t == NULL);
 }
 
 /* 180.3E and 179.7W are the same place: the same (E, N) in the antimeridian scene's zone. */

@@ -626,6 +626,58 @@ TEST(nan_outside_grid_and_over_nodata)
     tp_terrain_destroy(t);
 }
 
+TEST(grid_height_at_equals_terrain_height_at_on_random_points)
+{
+    /* Integer heights are stored exactly (unit step), so the plain grid's surface and the
+     * terrain's are the same numbers: voids, the padded edge and points outside included. */
+    int w = 57, h = 41, i, compared = 0, nans = 0;
+    float* src = (float*)malloc(sizeof(float) * w * h);
+    tp_terrain* t;
+    tp_rng rng = tp_rng_seed(907);
+    ASSERT_TRUE(src != NULL);
+    tpt_rough_heights(src, w, h, 908, 500.0, 200.0, 30.0, 1);
+    for (i = 0; i < 40; ++i) /* scattered voids */
+        src[(size_t)tp_rng_range(&rng, 0, h - 1) * w + (size_t)tp_rng_range(&rng, 0, w - 1)] = NAN;
+    t = tpt_terrain_create(src, w, h, 17, TP_FIT_PAD, NULL); /* padded to 65 x 49 */
+    for (i = 0; i < 50000; ++i) {
+        double x = tp_rng_range(&rng, -1, w + 1), y = tp_rng_range(&rng, -1, h + 1);
+        if (i % 3 == 0)
+            x = floor(x); /* on grid lines and vertices too */
+        if (i % 4 == 0)
+            y = floor(y);
+        if (i % 7 == 0) /* on a cell diagonal */
+            x = floor(x) + 1.0 - (y - floor(y));
+        double want = tp_terrain_height_at(t, x, y);
+        double got = tp_grid_height_at(src, (size_t)w * h, w, h, x, y);
+        if (isnan(want) != isnan(got) || (!isnan(want) && want != got)) {
+            ADD_FAILURE("(%.9g, %.9g): grid %.12g, terrain %.12g", x, y, got, want);
+            break;
+        }
+        compared++;
+        nans += isnan(want);
+    }
+    EXPECT_GT(nans, 1000); /* outside and over voids: both NaN */
+    EXPECT_GT(compared - nans, 30000);
+    tp_terrain_destroy(t);
+    free(src);
+}
+
+TEST(grid_height_at_splits_along_the_documented_diagonal)
+{
+    /* (0,0)=0 (1,0)=1 / (0,1)=2 (1,1)=4: the diagonal runs from (1,0) to (0,1) */
+    static const float z[4] = {0, 1, 2, 4};
+    EXPECT_NEAR(0.75, tp_grid_height_at(z, 4, 2, 2, 0.25, 0.25), 1e-12);
+    EXPECT_NEAR(2.75, tp_grid_height_at(z, 4, 2, 2, 0.75, 0.75), 1e-12);
+    EXPECT_NEAR(1.5, tp_grid_height_at(z, 4, 2, 2, 0.5, 0.5), 1e-12); /* on the diagonal */
+    EXPECT_EQ_DBL(4.0, tp_grid_height_at(z, 4, 2, 2, 1, 1));
+    EXPECT_NAN(tp_grid_height_at(z, 4, 2, 2, 1.0001, 0.5));
+    EXPECT_NAN(tp_grid_height_at(z, 4, 2, 2, NAN, 0.5));
+    /* too small to hold a triangle */
+    EXPECT_NAN(tp_grid_height_at(z, 2, 2, 1, 0.5, 0));
+    EXPECT_NAN(tp_grid_height_at(z, 1, 1, 1, 0, 0));
+    EXPECT_NAN(tp_grid_height_at(NULL, 0, 0, 0, 0, 0));
+}
+
 TEST(flat_ground_is_flat)
 {
     static float h[40 * 30];
@@ -1225,6 +1277,8 @@ TEST(bytes_per_source_sample_at_most_2_5_on_real_dems)
     X(height_at_on_edge_of_drawn_area_is_drawn)                                                    \
     X(height_at_on_a_lone_drawn_triangle)                                                          \
     X(nan_outside_grid_and_over_nodata)                                                            \
+    X(grid_height_at_equals_terrain_height_at_on_random_points)                                    \
+    X(grid_height_at_splits_along_the_documented_diagonal)                                         \
     X(flat_ground_is_flat)                                                                         \
     X(small_and_thin_grids_are_padded_and_padding_never_drawn)                                     \
     X(pad_keeps_geotransform)                                                                      \

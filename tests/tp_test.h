@@ -251,6 +251,12 @@ static inline const char* tp_test_status_name_(tp_status s)
 #define EXPECT_OK(got) TP_STATUS_(0, TP_OK, got)
 #define ASSERT_CONTAINS(hay, needle) TP_CONTAINS_(1, hay, needle)
 #define EXPECT_CONTAINS(hay, needle) TP_CONTAINS_(0, hay, needle)
+#define EXPECT_EQ_STR(expected, got)                                                               \
+    do {                                                                                           \
+        const char *tp_e_ = (expected), *tp_g_ = (got);                                            \
+        TP_CHECK_(0, tp_e_&& tp_g_&& strcmp(tp_e_, tp_g_) == 0, "%s == %s: \"%s\" vs \"%s\"",      \
+                  #expected, #got, tp_e_ ? tp_e_ : "(null)", tp_g_ ? tp_g_ : "(null)");            \
+    } while (0)
 /* A failure with a message of one's own: FAIL("patch %d: ...", p) ends the test. */
 #define FAIL(...) TP_CHECK_(1, 0, __VA_ARGS__)
 #define ADD_FAILURE(...) TP_CHECK_(0, 0, __VA_ARGS__)

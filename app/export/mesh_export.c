@@ -1,6 +1,8 @@
 /* mesh_export.c - a selection's drawn geometry as one mesh (see mesh_export.h). */
 #include "mesh_export.h"
 
+#include "tp_geo.h"
+
 #include <math.h>
 #include <stdarg.h>
 #include <stdint.h>
@@ -222,11 +224,10 @@ tp_status tp_export_selection(const tp_scene* sc, const tp_selection* sel,
             tri[3 * t + 2] = s;
         }
 
-    char zone[16] = "";
-    if (sc->grid->utm_zone > 0)
-        snprintf(zone, sizeof zone, "%d%c", sc->grid->utm_zone, sc->grid->northp ? 'n' : 's');
-    else if (sc->grid->utm_zone == 0)
-        snprintf(zone, sizeof zone, "UPS %s", sc->grid->northp ? "n" : "s");
+    char zone[TP_ZONE_TEXT_SIZE] = ""; /* stays "" when the render CRS is no UTM/UPS zone */
+    if (sc->grid->utm_zone >= 0)
+        tp_zone_format(sc->grid->utm_zone, sc->grid->northp, TP_ZONE_STYLE_SHORT, zone, sizeof zone,
+                       NULL);
     tp_mesh mesh = {
         .point_count = points, .xyz = xyz, .elevation_m = elev, .void_filled = filled,
         .triangle_count = tris, .triangles = tri, .patch_id = patch, .lod = lod,

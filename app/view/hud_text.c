@@ -29,11 +29,8 @@ void tp_view_position_text(const tp_scene* sc, double e, double n, char* out, si
     if (tp_geo_to_utmups(lat, lon, &zone, &northp, &ue, &un, NULL) != TP_OK ||
         tp_mgrs_forward(zone, northp, ue, un, lat, 5, mgrs, sizeof mgrs, NULL) != TP_OK)
         mgrs[0] = '\0';
-    char zname[8];
-    if (zone == TP_ZONE_UPS)
-        snprintf(zname, sizeof zname, "%s", northp ? "UPS N" : "UPS S");
-    else
-        snprintf(zname, sizeof zname, "%d%c", zone, northp ? 'N' : 'S');
+    char zname[TP_ZONE_TEXT_SIZE] = "";
+    tp_zone_format(zone, northp, TP_ZONE_STYLE_UPPER, zname, sizeof zname, NULL);
     snprintf(out, cap, "%.5f%c %.5f%c  UTM %s %.0f %.0f  MGRS %s", fabs(lat), lat >= 0 ? 'N' : 'S',
              fabs(lon), lon >= 0 ? 'E' : 'W', zname, ue, un, mgrs);
 }

@@ -201,6 +201,14 @@ tp_sample_class tp_terrain_sample_class(const tp_terrain* t, int x, int y);
  * vertex is on every triangle that touches it), outside the grid, or for NaN coordinates. */
 double tp_terrain_height_at(const tp_terrain* t, double x, double y);
 
+/* Query: the same surface over a plain grid, before any terrain exists: heights is
+ * width * height floats, row-major, row 0 first, NaN = no height (height_count must be
+ * width * height). Heights are used as given, not quantised, so on a terrain's own source grid
+ * the result differs from tp_terrain_height_at by at most the quantisation error. NaN outside
+ * the grid, where no triangle with three heights contains the point, and for grids under 2 x 2. */
+double tp_grid_height_at(const float* heights, size_t height_count, int width, int height,
+                         double x, double y);
+
 /* Writes the unit surface normal (world frame: east, north, up) at sample (x, y), from central
  * differences of the decoded grid (one-sided at borders and next to undrawn samples; a slope
  * with no drawn neighbour counts as 0, so an isolated or outside sample gets (0, 0, 1)).

@@ -370,51 +370,18 @@ tp_sample_class tp_terrain_sample_class(const tp_terrain* t, int x, int y)
     return TP_SAMPLE_VALID;
 }
 
-/* Height (steps) on one triangle of cell (cx, cy) at offsets fx, fy in [0, 1]: the strips
- * split each cell along the diagonal from (c+1, r) to (c, r+1). NaN if a vertex is not drawn. */
-static double half_cell(const tp_terrain* t, int cx, int cy, double fx, double fy, int upper)
+/* Quantised height (steps) of sample (x, y) for tp__split_height; NaN if it is not drawn. */
+static double q_height(const void* grid, int x, int y)
 {
-    if (cx < 0 || cy < 0)
-        return NAN;
-    int32_t a, b, c;
-    if (!upper) {
-        a = tp__q(t, cx, cy), b = tp__q(t, cx + 1, cy), c = tp__q(t, cx, cy + 1);
-        if (a == INT32_MIN || b == INT32_MIN || c == INT32_MIN)
-            return NAN;
-        return a + fx * ((double)b - a) + fy * ((double)c - a);
-    }
-    a = tp__q(t, cx + 1, cy + 1), b = tp__q(t, cx, cy + 1), c = tp__q(t, cx + 1, cy);
-    if (a == INT32_MIN || b == INT32_MIN || c == INT32_MIN)
-        return NAN;
-    return a + (1 - fx) * ((double)b - a) + (1 - fy) * ((double)c - a);
-}
-
-/* Either triangle of the cell that contains the point (both on the diagonal). */
-static double cell_height(const tp_terrain* t, int cx, int cy, double fx, double fy)
-{
-    double z = fx + fy <= 1 ? half_cell(t, cx, cy, fx, fy, 0) : NAN;
-    return isnan(z) && fx + fy >= 1 ? half_cell(t, cx, cy, fx, fy, 1) : z;
+    int32_t q = tp__q((const tp_terrain*)grid, x, y);
+    return q == INT32_MIN ? NAN : (double)q;
 }
 
 double tp_terrain_height_at(const tp_terrain* t, double x, double y)
 {
     assert(t);
-    if (!(x >= 0 && y >= 0 && x <= t->w - 1 && y <= t->h - 1))
-        return NAN; /* also NaN inputs */
-    int cx = (int)x, cy = (int)y;
-    cx = cx > t->w - 2 ? t->w - 2 : cx;
-    cy = cy > t->h - 2 ? t->h - 2 : cy;
-    double fx = x - cx, fy = y - cy;
-    /* A point on an edge also lies on the triangles across it, which may be drawn when this
-     * one is not (next to nodata or padding). */
-    double z = cell_height(t, cx, cy, fx, fy);
-    if (isnan(z) && fx == 0)
-        z = cell_height(t, cx - 1, cy, 1, fy);
-    if (isnan(z) && fy == 0)
-        z = cell_height(t, cx, cy - 1, fx, 1);
-    if (isnan(z) && fx == 0 && fy == 0)
-        z = cell_height(t, cx - 1, cy - 1, 1, 1);
-    return z * t->step;
+    /* in steps, then metres: the same rounding as interpolating the decoded heights' integers */
+    return tp__split_height(q_height, t, t->w, t->h, x, y) * t->step;
 }
 
 /* Slope along one axis from the decoded grid: central where both neighbours exist. */

@@ -1,7 +1,7 @@
 /*
- * tp_geo.h - terrapatch coordinate conversions behind plain C: geographic <-> UTM/UPS, MGRS,
- * Earth-centred (ECEF) coordinates, the exact transverse Mercator projection and the inverse
- * geodesic problem, all on the WGS84 ellipsoid.
+ * tp_geo.h - terrapatch coordinate conversions behind plain C: geographic <-> UTM/UPS (and the
+ * text of a zone), MGRS, Earth-centred (ECEF) coordinates, the exact transverse Mercator
+ * projection and the inverse geodesic problem, all on the WGS84 ellipsoid.
  *
  * C11 header; the C++17 implementation (io/src/geo.cpp) is a thin shim over GeographicLib
  * (C. F. F. Karney, "Transverse Mercator with an accuracy of a few nanometers", J. Geodesy 85,
@@ -89,6 +89,25 @@ tp_status tp_geo_from_utmups(int zone, int northp, double easting_m, double nort
 tp_status tp_utmups_to_standard(int zone, int northp, double easting_m, double northing_m,
                                 int* std_zone, int* std_northp, double* std_easting_m,
                                 double* std_northing_m, tp_error* err);
+
+/* How tp_zone_format writes a zone. Each is the text one program already shows, kept as is. */
+typedef enum tp_zone_style {
+    TP_ZONE_STYLE_DEFAULT = 0, /* = TP_ZONE_STYLE_SHORT */
+    TP_ZONE_STYLE_SHORT,       /* "31n", "4s", "UPS n", "UPS s" (mesh field data "utm_zone") */
+    TP_ZONE_STYLE_GEOCONVERT,  /* "31n", "04s", "n", "s" (GeoConvert -u, `terrapatch coord`) */
+    TP_ZONE_STYLE_UPPER,       /* "31N", "4S", "UPS N", "UPS S" (the viewer's overlay) */
+    TP_ZONE_STYLE_LONG         /* "31n", "4s", "UPS north", "UPS south" (`terrapatch info`) */
+} tp_zone_style;
+
+/* Bytes that always hold a zone written by tp_zone_format, NUL included ("UPS north" is 9). */
+#define TP_ZONE_TEXT_SIZE 16
+
+/* Writes UTM zone 1..60 or TP_ZONE_UPS, hemisphere northp (1 north, 0 south), as text in the
+ * given style into out, a buffer of out_size bytes (TP_ZONE_TEXT_SIZE always suffices),
+ * NUL-terminated. TP_ERR_INVALID_ARG for a zone outside [0, 60], an unknown style, a NULL
+ * out or an out_size too small (out is then left untouched). */
+tp_status tp_zone_format(int zone, int northp, tp_zone_style style, char* out, size_t out_size,
+                         tp_error* err);
 
 /* ---------------------------------------------------------------------------------------------
  * MGRS (Military Grid Reference System), as GeographicLib's MGRS class writes and reads it.

@@ -1,9 +1,21 @@
 /*
- * tp_io.h - terrapatch input/output behind plain C: DEM rasters through GDAL.
+ * tp_io.h - terrapatch input/output behind plain C: DEM rasters (GDAL), heightmap and RGBA
+ * images (OpenImageIO), CRS descriptions (GDAL's OGR), the metric render grid (GDAL, PROJ),
+ * textures draped on it, triangle meshes for ParaView (VTK), and the georeference between grid,
+ * render CRS and WGS84 (PROJ, GeographicLib). Conversions between geographic, UTM/UPS, MGRS and
+ * other WGS84 coordinates are in tp_geo.h.
  *
- * C11 header; the C++17 implementation lives in io/src, and no GDAL, VTK, OpenImageIO or
- * GeographicLib type appears here. Every function catches C++ exceptions and turns them into a
- * tp_status with a message (TP_ERR_BACKEND).
+ * C11 header; the C++17 implementation lives in io/src, and no GDAL, PROJ, VTK, OpenImageIO or
+ * GeographicLib type appears here.
+ *
+ * Errors: every function that returns a tp_status checks its arguments (a NULL pointer not
+ * documented as allowed is TP_ERR_INVALID_ARG), catches every C++ exception inside it
+ * (std::bad_alloc becomes TP_ERR_OUT_OF_MEMORY, any other exception TP_ERR_BACKEND with the
+ * exception's message, unless the function says otherwise), and leaves its out-parameters
+ * untouched on failure; with an err, the message says what went wrong. The functions that
+ * return anything else (the _destroy functions, which accept NULL; the _terrain_desc copies;
+ * tp_is_heightmap_image; the tp_georef accessors and grid <-> CRS arithmetic) call nothing that
+ * throws, and take valid pointers unless they say otherwise.
  */
 #ifndef TP_IO_H
 #define TP_IO_H
@@ -43,12 +55,28 @@ typedef struct tp_dem {
  *                         geotransforms, gt[1] < 0, geographic rows beyond +-90 degrees, a read
  *                         that fails part way, no valid sample;
  *   TP_ERR_OUT_OF_MEMORY  heights that would not fit in this machine's memory (refused before
- *                         allocating; the message says how much they would need). */
+ *                         allocating; the message says how much they would need);
+ *   TP_ERR_INVALID_ARG    a NULL or empty path, a NULL out. */
 tp_status tp_dem_read(const char* path, tp_dem** out, tp_error* err);
 void tp_dem_destroy(tp_dem* dem); /* accepts NULL */
 
-/* A tp_terrain_desc pointing into dem (valid while dem lives), with the given patch size/fit. */
+/* A tp_terrain_desc pointing into dem (valid while dem lives), with the given patch size/fit.
+ * dem NULL gives a desc without heights, which tp_terrain_create refuses. */
 tp_terrain_desc tp_dem_terrain_desc(const tp_dem* dem, int patch_size, tp_fit fit);
+
+/* ---------------------------------------------------------------------------------------------
+ * Coordinate reference systems (io/src/crs.cpp, through GDAL's OGR)
+ */
+typedef struct tp_crs_info {
+    char name[160]; /* the CRS's own name, e.g. "NAD83 / UTM zone 10N"; "" when it has none */
+    int epsg;       /* its EPSG code, or the one GDAL recognises (AutoIdentifyEPSG); else 0 */
+    int geographic; /* 1 for a geographic CRS (latitude and longitude), 0 otherwise */
+} tp_crs_info;
+
+/* Describes a CRS given as GDAL/PROJ read it: WKT (a tp_dem's crs_wkt), "EPSG:N", a PROJ
+ * string. "" means no CRS: TP_OK with every field zero. TP_ERR_BAD_DATA for text GDAL cannot
+ * read as a CRS; *out is untouched on failure. */
+tp_status tp_crs_describe(const char* crs, tp_crs_info* out, tp_error* err);
 
 /* ---------------------------------------------------------------------------------------------
  * Heightmap images without georeference (io/src/image_read.cpp, through OpenImageIO)
@@ -143,7 +171,8 @@ tp_status tp_render_grid_build(const tp_dem* dem, const tp_grid_options* options
                                tp_render_grid** out, tp_error* err);
 void tp_render_grid_destroy(tp_render_grid* grid); /* accepts NULL */
 
-/* A tp_terrain_desc pointing into grid (valid while grid lives). */
+/* A tp_terrain_desc pointing into grid (valid while grid lives); grid NULL as for
+ * tp_dem_terrain_desc. */
 tp_terrain_desc tp_render_grid_terrain_desc(const tp_render_grid* grid, int patch_size,
                                             tp_fit fit);
 
@@ -168,6 +197,8 @@ typedef struct tp_texture {
     int georeferenced; /* 1 if warped from the image's own georeference */
 } tp_texture;
 
+/* Errors name the file: TP_ERR_INVALID_ARG for max_size < 1, TP_ERR_IO for a file that cannot
+ * be opened or read, TP_ERR_BACKEND when GDAL or OpenImageIO fails. */
 tp_status tp_texture_build(const char* path, const tp_render_grid* grid, int max_size,
                            tp_texture** out, tp_error* err);
 void tp_texture_destroy(tp_texture* tex); /* accepts NULL */
@@ -188,7 +219,7 @@ typedef struct tp_mesh {
     /* Field data (strings may be NULL or ""): */
     const char* crs_wkt;
     int epsg;
-    const char* utm_zone;       /* e.g. "31n" */
+    const char* utm_zone; /* e.g. "31n", "UPS n" (tp_zone_format, TP_ZONE_STYLE_SHORT) */
     const char* source_file;
     const char* camera;         /* the camera as a --camera-geo / --camera string */
     const char* lod_params;     /* e.g. "mode=error tau_px=1" */
@@ -262,7 +293,9 @@ void tp_georef_grid_to_proj(const tp_georef* g, double x, double y, double* e_m,
 void tp_georef_proj_to_grid(const tp_georef* g, double e_m, double n_m, double* x, double* y);
 
 /* Render CRS (E, N) <-> WGS84 latitude, longitude (degrees; longitude in [-180, 180]).
- * TP_ERR_INVALID_ARG when there is no CRS or the point cannot be converted. */
+ * TP_ERR_INVALID_ARG when there is no CRS, for coordinates that are not finite (or a latitude
+ * beyond +-90), and when the point cannot be converted (outside the range of GeographicLib's
+ * UTMUPS, for instance: its message is kept). */
 tp_status tp_georef_proj_to_geo(const tp_georef* g, double e_m, double n_m, double* lat_deg,
                                 double* lon_deg, tp_error* err);
 tp_status tp_georef_geo_to_proj(const tp_georef* g, double lat_deg, double lon_deg, double* e_m,
@@ -272,7 +305,8 @@ tp_status tp_georef_geo_to_proj(const tp_georef* g, double lat_deg, double lon_d
  * accuracy of the operation it uses, or -1 when PROJ gives none (a ballpark datum shift used
  * because the datum grids are missing: expect errors of a metre or more). */
 double tp_georef_datum_accuracy_m(const tp_georef* g);
-/* One line describing that step, e.g. "exact (WGS 84)" or the PROJ operation's name. */
+/* One line describing that step, e.g. "exact (WGS 84)" or the PROJ operation's name; owned by g,
+ * valid while g lives. */
 const char* tp_georef_datum_note(const tp_georef* g);
 
 #ifdef __cplusplus

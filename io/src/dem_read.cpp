@@ -37,6 +37,7 @@
 
 #include <unistd.h>
 
+#include "crs.hpp"
 #include "gdal_util.hpp"
 
 namespace {
@@ -63,12 +64,6 @@ std::string gdal_message(const char* path)
     return m.empty() ? std::string("GDAL gave no detail") : m;
 }
 
-struct SrsDeleter {
-    void operator()(OGRSpatialReference* srs) const
-    {
-        OGRSpatialReference::DestroySpatialReference(srs);
-    }
-};
 struct DemDeleter {
     void operator()(tp_dem* dem) const
     {
@@ -81,37 +76,14 @@ void copy_name(char* dst, size_t cap, const char* src)
     std::snprintf(dst, cap, "%s", src ? src : "");
 }
 
-/* WKT2 of the CRS ("" when the file has none) and its EPSG code when one can be found. */
+/* WKT2 of the CRS ("" when the file has none) and its EPSG code when one can be found: most
+ * GeoTIFFs carry the code already; otherwise GDAL recognises common CRSs (UTM, WGS84, ...). */
 bool read_crs(const GDALDataset& ds, tp_dem* dem)
 {
-    std::string wkt;
-    int epsg = 0;
     const OGRSpatialReference* srs = ds.GetSpatialRef();
-    if (srs && !srs->IsEmpty()) {
-        char* text = nullptr;
-        const char* const options[] = {"FORMAT=WKT2", nullptr};
-        if (srs->exportToWkt(&text, options) == OGRERR_NONE && text)
-            wkt = text;
-        CPLFree(text);
-
-        /* Most GeoTIFFs carry the code already; otherwise let GDAL recognise common CRSs
-         * (UTM, WGS84, ...) on a copy, since AutoIdentifyEPSG modifies its object. */
-        const char* auth = srs->GetAuthorityName(nullptr);
-        const char* code = srs->GetAuthorityCode(nullptr);
-        if (auth && code && EQUAL(auth, "EPSG")) {
-            epsg = std::atoi(code);
-        } else {
-            std::unique_ptr<OGRSpatialReference, SrsDeleter> copy(srs->Clone());
-            if (copy && copy->AutoIdentifyEPSG() == OGRERR_NONE) {
-                auth = copy->GetAuthorityName(nullptr);
-                code = copy->GetAuthorityCode(nullptr);
-                if (auth && code && EQUAL(auth, "EPSG"))
-                    epsg = std::atoi(code);
-            }
-        }
-    }
-    dem->crs_wkt = dup_c(wkt);
-    dem->epsg = epsg;
+    const bool has = tpio::crs_present(srs);
+    dem->crs_wkt = dup_c(has ? tpio::crs_wkt2(*srs) : std::string());
+    dem->epsg = has ? tpio::crs_epsg(*srs, true) : 0;
     return dem->crs_wkt != nullptr;
 }
 
@@ -297,7 +269,7 @@ tp_status read_dem(const char* path, tp_dem** out, tp_error* err)
         std::memcpy(gt, unit, sizeof gt);
     }
     const OGRSpatialReference* srs = ds->GetSpatialRef();
-    if (has_gt && srs && !srs->IsEmpty()) {
+    if (has_gt && tpio::crs_present(srs)) {
         const tp_status s = check_latitude(path, *srs, gt, h, err);
         if (s != TP_OK)
             return s;
@@ -471,12 +443,9 @@ extern "C" tp_status tp_dem_read(const char* path, tp_dem** out, tp_error* err)
     }
     try {
         return read_dem(path, out, err);
-    } catch (const std::exception& e) {
-        set_error(err, "%s: reading failed in GDAL/C++ (%s)", path, e.what());
     } catch (...) {
-        set_error(err, "%s: reading failed in GDAL/C++ (unknown exception)", path);
+        return tpio::caught(err, path);
     }
-    return TP_ERR_BACKEND;
 }
 
 /* Only free() below: nothing can throw. */

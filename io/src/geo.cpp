@@ -123,14 +123,12 @@ bool check_zone(int zone, tp_error* err)
     return true;
 }
 
-/* "33n", "01s", "n" (UPS), as GeoConvert writes zones. */
+/* "33n", "01s", "n" (UPS), as GeoConvert writes zones; for messages, so "?" if out of range. */
 std::string zone_text(int zone, int northp)
 {
-    char buf[8];
-    if (zone == TP_ZONE_UPS)
-        std::snprintf(buf, sizeof buf, "%s", northp ? "n" : "s");
-    else
-        std::snprintf(buf, sizeof buf, "%02d%s", zone, northp ? "n" : "s");
+    char buf[TP_ZONE_TEXT_SIZE];
+    if (tp_zone_format(zone, northp, TP_ZONE_STYLE_GEOCONVERT, buf, sizeof buf, nullptr) != TP_OK)
+        return "?";
     return buf;
 }
 
@@ -252,24 +250,28 @@ extern "C" tp_status tp_utmups_to_standard(int zone, int northp, double easting_
 {
     if (!std_zone || !std_northp || !std_easting_m || !std_northing_m)
         return missing_output(err, "tp_utmups_to_standard");
-    double lat, lon, e, n;
-    int z, north;
-    tp_status s = tp_geo_from_utmups(zone, northp, easting_m, northing_m, &lat, &lon, err);
-    if (s == TP_OK)
-        s = tp_geo_to_utmups(lat, lon, &z, &north, &e, &n, err);
-    if (s != TP_OK)
-        return s;
-    /* tp_geo_to_utmups puts latitude +0 north; the equator belongs to both hemispheres */
-    if (z == zone && (north == (northp != 0) || lat == 0)) {
-        north = northp != 0;
-        e = easting_m;
-        n = northing_m;
+    try { /* the two conversions catch everything themselves; this is for what comes later */
+        double lat, lon, e, n;
+        int z, north;
+        tp_status s = tp_geo_from_utmups(zone, northp, easting_m, northing_m, &lat, &lon, err);
+        if (s == TP_OK)
+            s = tp_geo_to_utmups(lat, lon, &z, &north, &e, &n, err);
+        if (s != TP_OK)
+            return s;
+        /* tp_geo_to_utmups puts latitude +0 north; the equator belongs to both hemispheres */
+        if (z == zone && (north == (northp != 0) || lat == 0)) {
+            north = northp != 0;
+            e = easting_m;
+            n = northing_m;
+        }
+        *std_zone = z;
+        *std_northp = north;
+        *std_easting_m = e;
+        *std_northing_m = n;
+        return TP_OK;
+    } catch (...) {
+        return failed(err, "tp_utmups_to_standard");
     }
-    *std_zone = z;
-    *std_northp = north;
-    *std_easting_m = e;
-    *std_northing_m = n;
-    return TP_OK;
 }
 
 extern "C" tp_status tp_mgrs_forward(int zone, int northp, double easting_m, double northing_m,
@@ -460,5 +462,50 @@ extern "C" tp_status tp_geodesic_inverse(double lat1_deg, double lon1_deg, doubl
         return TP_OK;
     } catch (...) {
         return failed(err, "tp_geodesic_inverse");
+    }
+}
+
+extern "C" tp_status tp_zone_format(int zone, int northp, tp_zone_style style, char* out,
+                                    size_t out_size, tp_error* err)
+{
+    if (!out)
+        return missing_output(err, "tp_zone_format");
+    if (!check_zone(zone, err))
+        return TP_ERR_INVALID_ARG;
+    try { /* snprintf only: nothing should throw, but nothing may escape */
+        /* per style: digits of a UTM zone (at least), its hemisphere letters, the UPS texts */
+        struct Style {
+            int digits;
+            char north, south;
+            const char *ups_north, *ups_south;
+        };
+        static const Style styles[] = {
+            {1, 'n', 's', "UPS n", "UPS s"},         /* TP_ZONE_STYLE_DEFAULT */
+            {1, 'n', 's', "UPS n", "UPS s"},         /* TP_ZONE_STYLE_SHORT */
+            {2, 'n', 's', "n", "s"},                 /* TP_ZONE_STYLE_GEOCONVERT */
+            {1, 'N', 'S', "UPS N", "UPS S"},         /* TP_ZONE_STYLE_UPPER */
+            {1, 'n', 's', "UPS north", "UPS south"}, /* TP_ZONE_STYLE_LONG */
+        };
+        const int index = (int)style;
+        if (index < 0 || (size_t)index >= sizeof styles / sizeof styles[0]) {
+            set_error(err, "tp_zone_format: unknown zone style %d", index);
+            return TP_ERR_INVALID_ARG;
+        }
+        const Style& st = styles[index];
+        char text[TP_ZONE_TEXT_SIZE];
+        if (zone == TP_ZONE_UPS)
+            std::snprintf(text, sizeof text, "%s", northp ? st.ups_north : st.ups_south);
+        else
+            std::snprintf(text, sizeof text, "%0*d%c", st.digits, zone,
+                          northp ? st.north : st.south);
+        size_t need = std::strlen(text) + 1;
+        if (need > out_size) {
+            set_error(err, "zone %s needs %zu bytes, the buffer has %zu", text, need, out_size);
+            return TP_ERR_INVALID_ARG;
+        }
+        std::memcpy(out, text, need);
+        return TP_OK;
+    } catch (...) {
+        return failed(err, "tp_zone_format");
     }
 }

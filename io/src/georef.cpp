@@ -5,14 +5,17 @@
  * UTMUPS in the scene's zone. Anything else goes through PROJ (the C API, for the accuracy of
  * the operation it picks: GDAL's OGRCoordinateTransformation does not report it).
  */
+#include "crs.hpp"
 #include "gdal_util.hpp"
 #include "tp_io.h"
 
 #include <GeographicLib/UTMUPS.hpp>
 #include <proj.h>
 
+#include <cassert>
 #include <cmath>
 #include <exception>
+#include <memory>
 #include <string>
 
 struct tp_georef {
@@ -30,38 +33,35 @@ namespace {
 
 using tpio::fail;
 
+struct GeorefDeleter {
+    void operator()(tp_georef* g) const
+    {
+        tp_georef_destroy(g);
+    }
+};
+
 tp_status create(const char* wkt, const double gt[6], tp_georef** out, tp_error* err)
 {
-    auto* g = new tp_georef();
+    /* freed on every early return and exception; released to *out on success */
+    std::unique_ptr<tp_georef, GeorefDeleter> g(new tp_georef());
     std::memcpy(g->gt, gt, sizeof g->gt);
     if (!wkt || !*wkt) {
         g->note = "no CRS (local metres)";
-        *out = g;
+        *out = g.release();
         return TP_OK;
     }
     OGRSpatialReference srs;
     if (srs.importFromWkt(wkt) != OGRERR_NONE) {
-        delete g;
         return fail(err, TP_ERR_BAD_DATA, "georeference: unreadable CRS");
     }
     g->has_geo = 1;
-    int north = 0, zone = srs.GetUTMZone(&north);
-    const char* auth = srs.GetAuthorityName(nullptr);
-    const char* code = srs.GetAuthorityCode(nullptr);
-    int epsg = auth && code && EQUAL(auth, "EPSG") ? std::atoi(code) : 0;
-    OGRSpatialReference wgs84;
-    wgs84.SetWellKnownGeogCS("WGS84");
-    OGRSpatialReference* geog = srs.CloneGeogCS();
-    const char* const same_opts[] = {"IGNORE_DATA_AXIS_TO_SRS_AXIS_MAPPING=YES",
-                                     "CRITERION=EQUIVALENT_EXCEPT_AXIS_ORDER_GEOGCRS", nullptr};
-    bool on_wgs84 = geog && geog->IsSame(&wgs84, same_opts);
-    OGRSpatialReference::DestroySpatialReference(geog);
-    if (on_wgs84 && (zone > 0 || epsg == 32661 || epsg == 32761)) {
+    int north = 0, zone = tpio::crs_utmups_zone(srs, &north);
+    if (zone >= 0 && tpio::crs_on_wgs84(srs)) {
         g->utm = 1;
-        g->zone = zone > 0 ? zone : GeographicLib::UTMUPS::UPS;
-        g->northp = zone > 0 ? north : epsg == 32661;
+        g->zone = zone;
+        g->northp = north;
         g->note = "exact (WGS 84, GeographicLib UTMUPS)";
-        *out = g;
+        *out = g.release();
         return TP_OK;
     }
 
@@ -92,13 +92,10 @@ tp_status create(const char* wkt, const double gt[6], tp_georef** out, tp_error*
     proj_operation_factory_context_destroy(fc);
     proj_destroy(src);
     proj_destroy(dst);
-    if (!g->op) {
-        tp_status s = fail(err, TP_ERR_BACKEND, "georeference: PROJ has no operation to WGS84: %s",
-                           proj_context_errno_string(g->ctx, proj_context_errno(g->ctx)));
-        tp_georef_destroy(g);
-        return s;
-    }
-    *out = g;
+    if (!g->op)
+        return fail(err, TP_ERR_BACKEND, "georeference: PROJ has no operation to WGS84: %s",
+                    proj_context_errno_string(g->ctx, proj_context_errno(g->ctx)));
+    *out = g.release();
     return TP_OK;
 }
 
@@ -111,10 +108,8 @@ extern "C" tp_status tp_georef_create(const char* crs_wkt, const double geotrans
         return fail(err, TP_ERR_INVALID_ARG, "georeference: geotransform and out must not be NULL");
     try {
         return create(crs_wkt, geotransform, out, err);
-    } catch (const std::exception& e) {
-        return fail(err, TP_ERR_BACKEND, "georeference: %s", e.what());
     } catch (...) {
-        return fail(err, TP_ERR_BACKEND, "georeference: unknown C++ exception");
+        return tpio::caught(err, "georeference");
     }
 }
 
@@ -128,28 +123,50 @@ extern "C" void tp_georef_destroy(tp_georef* g)
     delete g;
 }
 
+/* The accessors and the grid <-> CRS arithmetic below return no status: a NULL is a caller bug
+ * (assert), and they call nothing that throws. */
 extern "C" int tp_georef_has_geo(const tp_georef* g)
 {
+    assert(g);
     return g->has_geo;
 }
 
 extern "C" void tp_georef_grid_to_proj(const tp_georef* g, double x, double y, double* e, double* n)
 {
+    assert(g && e && n);
     *e = g->gt[0] + (x + 0.5) * g->gt[1];
     *n = g->gt[3] + (y + 0.5) * g->gt[5];
 }
 
 extern "C" void tp_georef_proj_to_grid(const tp_georef* g, double e, double n, double* x, double* y)
 {
+    assert(g && x && y);
     *x = (e - g->gt[0]) / g->gt[1] - 0.5;
     *y = (n - g->gt[3]) / g->gt[5] - 0.5;
+}
+
+/* Inside a catch (...) of the conversions: GeographicLib throws GeographicErr for coordinates
+ * outside UTMUPS's range, a point that cannot be converted; anything else is a failure. */
+static tp_status conversion_failed(tp_error* err, const char* what)
+{
+    try {
+        throw;
+    } catch (const GeographicLib::GeographicErr& e) {
+        return fail(err, TP_ERR_INVALID_ARG, "%s: %s", what, e.what());
+    } catch (...) {
+        return tpio::caught(err, what);
+    }
 }
 
 extern "C" tp_status tp_georef_proj_to_geo(const tp_georef* g, double e, double n, double* lat,
                                            double* lon, tp_error* err)
 {
+    if (!g || !lat || !lon)
+        return fail(err, TP_ERR_INVALID_ARG, "tp_georef_proj_to_geo: expected non-NULL pointers");
     if (!g->has_geo)
         return fail(err, TP_ERR_INVALID_ARG, "no CRS: positions have no latitude and longitude");
+    if (!std::isfinite(e) || !std::isfinite(n))
+        return fail(err, TP_ERR_INVALID_ARG, "E %g, N %g: not a position", e, n);
     try {
         if (g->utm) {
             double la, lo;
@@ -165,14 +182,16 @@ extern "C" tp_status tp_georef_proj_to_geo(const tp_georef* g, double e, double 
         *lon = c.xy.x;
         *lat = c.xy.y;
         return TP_OK;
-    } catch (const std::exception& ex) {
-        return fail(err, TP_ERR_INVALID_ARG, "E %.3f N %.3f: %s", e, n, ex.what());
+    } catch (...) {
+        return conversion_failed(err, CPLSPrintf("E %.3f N %.3f", e, n));
     }
 }
 
 extern "C" tp_status tp_georef_geo_to_proj(const tp_georef* g, double lat, double lon, double* e,
                                            double* n, tp_error* err)
 {
+    if (!g || !e || !n)
+        return fail(err, TP_ERR_INVALID_ARG, "tp_georef_geo_to_proj: expected non-NULL pointers");
     if (!g->has_geo)
         return fail(err, TP_ERR_INVALID_ARG, "no CRS: positions have no latitude and longitude");
     if (!(std::fabs(lat) <= 90) || !std::isfinite(lon))
@@ -199,17 +218,19 @@ extern "C" tp_status tp_georef_geo_to_proj(const tp_georef* g, double lat, doubl
         *e = c.xy.x;
         *n = c.xy.y;
         return TP_OK;
-    } catch (const std::exception& ex) {
-        return fail(err, TP_ERR_INVALID_ARG, "latitude %g, longitude %g: %s", lat, lon, ex.what());
+    } catch (...) {
+        return conversion_failed(err, CPLSPrintf("latitude %g, longitude %g", lat, lon));
     }
 }
 
 extern "C" double tp_georef_datum_accuracy_m(const tp_georef* g)
 {
+    assert(g);
     return g->utm || !g->has_geo ? 0 : g->accuracy;
 }
 
 extern "C" const char* tp_georef_datum_note(const tp_georef* g)
 {
+    assert(g);
     return g->note.c_str();
 }

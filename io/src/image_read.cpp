@@ -5,6 +5,7 @@
  * Samples are taken as raw counts: OpenImageIO would otherwise normalise integer pixels to
  * [0, 1] when converting to float.
  */
+#include "crs.hpp"
 #include "gdal_util.hpp"
 #include "tp_io.h"
 
@@ -43,7 +44,7 @@ tp_status refuse_georeferenced(const char* path, tp_error* err)
         return TP_OK; /* not GDAL's: OpenImageIO's to read or to refuse */
     const OGRSpatialReference* srs = ds->GetSpatialRef();
     double gt[6];
-    bool has_crs = srs && !srs->IsEmpty(), has_gt = ds->GetGeoTransform(gt) == CE_None;
+    bool has_crs = tpio::crs_present(srs), has_gt = ds->GetGeoTransform(gt) == CE_None;
     if (!has_crs && !has_gt)
         return TP_OK;
     std::string what = has_crs ? std::string("CRS ") + srs->GetName() : "a geotransform, no CRS";
@@ -144,15 +145,10 @@ tp_status read(const char* path, const tp_image_options* opt, tp_dem** out, tp_e
         bool northp;
         double e, nn;
         GeographicLib::UTMUPS::Forward(o.origin_lat_deg, o.origin_lon_deg, zone, northp, e, nn);
-        int epsg = zone == GeographicLib::UTMUPS::UPS ? (northp ? 32661 : 32761)
-                                                      : (northp ? 32600 : 32700) + zone;
+        int epsg = tpio::utmups_epsg(zone, northp);
         OGRSpatialReference srs;
         srs.importFromEPSG(epsg);
-        char* text = nullptr;
-        const char* const wopts[] = {"FORMAT=WKT2", nullptr};
-        if (srs.exportToWkt(&text, wopts) == OGRERR_NONE && text)
-            wkt = text;
-        CPLFree(text);
+        wkt = tpio::crs_wkt2(srs);
         dem->epsg = epsg;
         /* the image's centre at the origin */
         gt[0] = e - w / 2.0 * spacing;
@@ -176,6 +172,7 @@ tp_status read(const char* path, const tp_image_options* opt, tp_dem** out, tp_e
 
 } // namespace
 
+/* C string functions only: nothing can throw; NULL is not an image. */
 extern "C" int tp_is_heightmap_image(const char* path)
 {
     static const char* const exts[] = {".png", ".jpg", ".jpeg", ".exr", ".pgm", ".ppm",
@@ -196,11 +193,7 @@ extern "C" tp_status tp_dem_read_image(const char* path, const tp_image_options*
         return fail(err, TP_ERR_INVALID_ARG, "image: path and out must not be NULL");
     try {
         return read(path, options, out, err);
-    } catch (const std::bad_alloc&) {
-        return fail(err, TP_ERR_OUT_OF_MEMORY, "%s: out of memory", path);
-    } catch (const std::exception& e) {
-        return fail(err, TP_ERR_BACKEND, "%s: %s", path, e.what());
     } catch (...) {
-        return fail(err, TP_ERR_BACKEND, "%s: unknown C++ exception", path);
+        return tpio::caught(err, path);
     }
 }

@@ -49,10 +49,10 @@ extern "C" tp_status tp_image_write_rgba(const char* path, int w, int h, const u
             return fail(err, TP_ERR_IO, "%s: cannot write: %s", path, std::strerror(errno));
         }
         return TP_OK;
-    } catch (const std::exception& e) {
+    } catch (...) {
         if (!tmp.empty())
             std::remove(tmp.c_str());
-        return fail(err, TP_ERR_BACKEND, "%s: %s", path, e.what());
+        return tpio::caught(err, path);
     }
 }
 
@@ -86,7 +86,7 @@ extern "C" tp_status tp_image_read_rgba(const char* path, int* w, int* h, uint8_
         *h = ih;
         *rgba = out;
         return TP_OK;
-    } catch (const std::exception& e) {
-        return fail(err, TP_ERR_BACKEND, "%s: %s", path, e.what());
+    } catch (...) {
+        return tpio::caught(err, path);
     }
 }

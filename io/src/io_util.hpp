@@ -7,6 +7,8 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <exception>
+#include <new>
 #include <string>
 
 namespace tpio {
@@ -38,6 +40,22 @@ inline tp_status fail(tp_error* err, tp_status s, const char* fmt, ...)
     vset_error(err, fmt, ap);
     va_end(ap);
     return s;
+}
+
+/* Call inside a catch (...) handler: sorts the exception in flight into a status and a message
+ * starting with `what` (the file or the function): std::bad_alloc -> TP_ERR_OUT_OF_MEMORY, any
+ * other exception -> TP_ERR_BACKEND with its what(). So no exception reaches C code. */
+inline tp_status caught(tp_error* err, const char* what)
+{
+    try {
+        throw;
+    } catch (const std::bad_alloc&) {
+        return fail(err, TP_ERR_OUT_OF_MEMORY, "%s: out of memory", what);
+    } catch (const std::exception& e) {
+        return fail(err, TP_ERR_BACKEND, "%s: %s", what, e.what());
+    } catch (...) {
+        return fail(err, TP_ERR_BACKEND, "%s: unknown C++ exception", what);
+    }
 }
 
 /* malloc'd copy, so C code can free() it. */

@@ -6,6 +6,7 @@
  * (GDALFillNodata); PROJ (through OGRCoordinateTransformation) maps posts between CRSs to
  * measure the warp error; GeographicLib picks the UTM/UPS zone.
  */
+#include "crs.hpp"
 #include "gdal_util.hpp"
 #include "tp_io.h"
 
@@ -27,58 +28,12 @@ struct Grid {
     std::vector<float> z;
 };
 
-/* The rendered surface (the core's triangle split) of a float grid at (x, y) in grid units. */
-double surface_at(const Grid& g, double x, double y)
-{
-    if (!(x >= 0 && y >= 0 && x <= g.w - 1 && y <= g.h - 1) || g.w < 2 || g.h < 2)
-        return NAN;
-    int cx = std::min((int)x, g.w - 2), cy = std::min((int)y, g.h - 2);
-    double fx = x - cx, fy = y - cy;
-    auto at = [&](int i, int j) { return (double)g.z[(size_t)j * g.w + i]; };
-    if (fx + fy <= 1)
-        return at(cx, cy) + fx * (at(cx + 1, cy) - at(cx, cy)) + fy * (at(cx, cy + 1) - at(cx, cy));
-    return at(cx + 1, cy + 1) + (1 - fx) * (at(cx, cy + 1) - at(cx + 1, cy + 1)) +
-           (1 - fy) * (at(cx + 1, cy) - at(cx + 1, cy + 1));
-}
-
 /* Target CRS for a warp: the WGS84 UTM zone (or UPS) of (lat, lon). */
 int utm_epsg(double lat, double lon, int* zone, int* northp)
 {
     *zone = GeographicLib::UTMUPS::StandardZone(lat, lon);
     *northp = lat >= 0;
-    if (*zone == GeographicLib::UTMUPS::UPS)
-        return *northp ? 32661 : 32761;
-    return (*northp ? 32600 : 32700) + *zone;
-}
-
-std::string wkt_of(const OGRSpatialReference& srs)
-{
-    char* text = nullptr;
-    const char* const options[] = {"FORMAT=WKT2", nullptr};
-    std::string wkt;
-    if (srs.exportToWkt(&text, options) == OGRERR_NONE && text)
-        wkt = text;
-    CPLFree(text);
-    return wkt;
-}
-
-int epsg_of(const OGRSpatialReference& srs)
-{
-    const char* auth = srs.GetAuthorityName(nullptr);
-    const char* code = srs.GetAuthorityCode(nullptr);
-    return auth && code && EQUAL(auth, "EPSG") ? std::atoi(code) : 0;
-}
-
-bool datum_is_wgs84(const OGRSpatialReference& srs)
-{
-    OGRSpatialReference wgs84;
-    wgs84.SetWellKnownGeogCS("WGS84");
-    const char* const options[] = {"IGNORE_DATA_AXIS_TO_SRS_AXIS_MAPPING=YES",
-                                   "CRITERION=EQUIVALENT_EXCEPT_AXIS_ORDER_GEOGCRS", nullptr};
-    OGRSpatialReference* geog = srs.CloneGeogCS();
-    bool same = geog && geog->IsSame(&wgs84, options);
-    OGRSpatialReference::DestroySpatialReference(geog);
-    return same;
+    return tpio::utmups_epsg(*zone, *northp);
 }
 
 /* Finest post spacing (metres, target CRS) of the source grid: a one-column and a one-row step
@@ -260,9 +215,7 @@ tp_status build(const tp_dem* dem, const tp_grid_options* opt, tp_render_grid** 
                             lat_a);
         }
         /* The zone of the centre, for the whole scene. */
-        OGRSpatialReference wgs84;
-        wgs84.SetWellKnownGeogCS("WGS84");
-        wgs84.SetAxisMappingStrategy(OAMS_TRADITIONAL_GIS_ORDER);
+        OGRSpatialReference wgs84 = tpio::crs_wgs84();
         std::unique_ptr<OGRCoordinateTransformation> to_geo(
             OGRCreateCoordinateTransformation(&src, &wgs84));
         if (!to_geo)
@@ -353,7 +306,10 @@ tp_status build(const tp_dem* dem, const tp_grid_options* opt, tp_render_grid** 
                 float s = dem->heights[(size_t)r * dem->width + c];
                 if (!ok[c] || std::isnan(s))
                     continue;
-                double z = surface_at(grid, (xs[c] - gt[0]) / gt[1] - 0.5, (ys[c] - gt[3]) / gt[5] - 0.5);
+                /* the rendered surface: the core's triangle split */
+                double z = tp_grid_height_at(grid.z.data(), grid.z.size(), grid.w, grid.h,
+                                             (xs[c] - gt[0]) / gt[1] - 0.5,
+                                             (ys[c] - gt[3]) / gt[5] - 0.5);
                 if (std::isnan(z))
                     continue;
                 double e = std::fabs(z - s);
@@ -368,19 +324,11 @@ tp_status build(const tp_dem* dem, const tp_grid_options* opt, tp_render_grid** 
     }
 
     if (has_crs) {
-        int north = 0;
-        int zone = dst.GetUTMZone(&north);
         const char* name = dst.GetName();
         std::snprintf(g->crs_name, sizeof g->crs_name, "%s", name ? name : "unnamed CRS");
-        g->epsg = epsg_of(dst);
-        g->wgs84 = datum_is_wgs84(dst);
-        if (zone > 0) {
-            g->utm_zone = zone;
-            g->northp = north;
-        } else if (g->epsg == 32661 || g->epsg == 32761) {
-            g->utm_zone = 0;
-            g->northp = g->epsg == 32661;
-        }
+        g->epsg = tpio::crs_epsg(dst);
+        g->wgs84 = tpio::crs_on_wgs84(dst);
+        g->utm_zone = tpio::crs_utmups_zone(dst, &g->northp);
     } else {
         std::snprintf(g->crs_name, sizeof g->crs_name, "local metres (no CRS)");
     }
@@ -397,7 +345,7 @@ tp_status build(const tp_dem* dem, const tp_grid_options* opt, tp_render_grid** 
     g->spacing_m = std::min(std::fabs(gt[1]), std::fabs(gt[5]));
     g->heights = static_cast<float*>(std::malloc(n * sizeof(float)));
     g->filled = static_cast<uint8_t*>(std::malloc(n));
-    g->crs_wkt = tpio::dup_c(has_crs ? wkt_of(dst) : std::string());
+    g->crs_wkt = tpio::dup_c(has_crs ? tpio::crs_wkt2(dst) : std::string());
     g->warnings = tpio::dup_c(warnings);
     if (!g->heights || !g->filled || !g->crs_wkt || !g->warnings)
         return fail(err, TP_ERR_OUT_OF_MEMORY, "render grid: out of memory for %dx%d samples",
@@ -417,15 +365,12 @@ extern "C" tp_status tp_render_grid_build(const tp_dem* dem, const tp_grid_optio
         return fail(err, TP_ERR_INVALID_ARG, "render grid: dem and out must not be NULL");
     try {
         return build(dem, options, out, err);
-    } catch (const std::bad_alloc&) {
-        return fail(err, TP_ERR_OUT_OF_MEMORY, "render grid: out of memory");
-    } catch (const std::exception& e) {
-        return fail(err, TP_ERR_BACKEND, "render grid: %s", e.what());
     } catch (...) {
-        return fail(err, TP_ERR_BACKEND, "render grid: unknown C++ exception");
+        return tpio::caught(err, "render grid");
     }
 }
 
+/* Only free() here and plain field copies below: nothing can throw. */
 extern "C" void tp_render_grid_destroy(tp_render_grid* grid)
 {
     if (!grid)
@@ -441,6 +386,10 @@ extern "C" tp_terrain_desc tp_render_grid_terrain_desc(const tp_render_grid* gri
                                                        tp_fit fit)
 {
     tp_terrain_desc d{};
+    d.patch_size = patch_size;
+    d.fit = fit;
+    if (!grid) /* as tp_dem_terrain_desc: a desc tp_terrain_create refuses */
+        return d;
     d.heights = grid->heights;
     d.height_count = (size_t)grid->width * grid->height;
     d.width = grid->width;
@@ -448,7 +397,5 @@ extern "C" tp_terrain_desc tp_render_grid_terrain_desc(const tp_render_grid* gri
     std::memcpy(d.geotransform, grid->geotransform, sizeof d.geotransform);
     d.filled = grid->filled;
     d.filled_count = d.height_count;
-    d.patch_size = patch_size;
-    d.fit = fit;
     return d;
 }

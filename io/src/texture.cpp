@@ -5,6 +5,7 @@
  * geographic image follows the same UTM warp as its DEM); others through OpenImageIO, resized
  * by OpenImageIO's ImageBufAlgo when larger than max_size.
  */
+#include "crs.hpp"
 #include "gdal_util.hpp"
 #include "tp_io.h"
 
@@ -210,7 +211,7 @@ tp_status build(const char* path, const tp_render_grid* g, int max_size, tp_text
             return fail(err, TP_ERR_BAD_DATA, "%s: has no raster bands to drape", path);
         double gt[6];
         const OGRSpatialReference* srs = ds->GetSpatialRef();
-        if (ds->GetGeoTransform(gt) == CE_None && srs && !srs->IsEmpty() && g->crs_wkt[0])
+        if (ds->GetGeoTransform(gt) == CE_None && tpio::crs_present(srs) && g->crs_wkt[0])
             return warp_georeferenced(path, ds.get(), g, max_size, out, err);
     }
     return read_plain(path, g, max_size, out, err);
@@ -225,13 +226,12 @@ extern "C" tp_status tp_texture_build(const char* path, const tp_render_grid* gr
         return fail(err, TP_ERR_INVALID_ARG, "texture: bad arguments");
     try {
         return build(path, grid, max_size, out, err);
-    } catch (const std::bad_alloc&) {
-        return fail(err, TP_ERR_OUT_OF_MEMORY, "%s: out of memory", path);
-    } catch (const std::exception& e) {
-        return fail(err, TP_ERR_BACKEND, "%s: %s", path, e.what());
+    } catch (...) {
+        return tpio::caught(err, path);
     }
 }
 
+/* Only free(): nothing can throw. */
 extern "C" void tp_texture_destroy(tp_texture* tex)
 {
     if (!tex)

@@ -867,24 +867,28 @@ extern "C" tp_status tp_mesh_check_size(tp_mesh_format format, size_t point_coun
     if (format != TP_MESH_DEFAULT && format != TP_MESH_VTP && format != TP_MESH_VTK &&
         format != TP_MESH_VTM)
         return fail(err, TP_ERR_INVALID_ARG, "mesh: unknown mesh format %d", (int)format);
-    /* Every format numbers points, and the connectivity (3 ids per triangle, offsets up to
-     * 3 * triangles), in vtkIdType. */
-    const char* name = format == TP_MESH_VTP   ? "a .vtp file"
-                       : format == TP_MESH_VTK ? "a legacy .vtk file"
-                       : format == TP_MESH_VTM ? "a .vtm file"
-                                               : "a mesh file";
-    const unsigned long long id_max = (unsigned long long)VTK_ID_MAX;
-    const int id_bits = (int)(8 * sizeof(vtkIdType));
-    if ((unsigned long long)point_count > id_max)
-        return fail(err, TP_ERR_INVALID_ARG,
-                    "%zu points: %s holds at most %llu (VTK's %d-bit vtkIdType)", point_count,
-                    name, id_max, id_bits);
-    if ((unsigned long long)triangle_count > (id_max - 1) / 3)
-        return fail(err, TP_ERR_INVALID_ARG,
-                    "%zu triangles: %s holds at most %llu (3 point ids each, in VTK's %d-bit "
-                    "vtkIdType, up to %llu)",
-                    triangle_count, name, (id_max - 1) / 3, id_bits, id_max);
-    return TP_OK;
+    try { /* integer comparisons and a message: nothing should throw */
+        /* Every format numbers points, and the connectivity (3 ids per triangle, offsets up to
+         * 3 * triangles), in vtkIdType. */
+        const char* name = format == TP_MESH_VTP   ? "a .vtp file"
+                           : format == TP_MESH_VTK ? "a legacy .vtk file"
+                           : format == TP_MESH_VTM ? "a .vtm file"
+                                                   : "a mesh file";
+        const unsigned long long id_max = (unsigned long long)VTK_ID_MAX;
+        const int id_bits = (int)(8 * sizeof(vtkIdType));
+        if ((unsigned long long)point_count > id_max)
+            return fail(err, TP_ERR_INVALID_ARG,
+                        "%zu points: %s holds at most %llu (VTK's %d-bit vtkIdType)", point_count,
+                        name, id_max, id_bits);
+        if ((unsigned long long)triangle_count > (id_max - 1) / 3)
+            return fail(err, TP_ERR_INVALID_ARG,
+                        "%zu triangles: %s holds at most %llu (3 point ids each, in VTK's %d-bit "
+                        "vtkIdType, up to %llu)",
+                        triangle_count, name, (id_max - 1) / 3, id_bits, id_max);
+        return TP_OK;
+    } catch (...) {
+        return tpio::caught(err, "mesh");
+    }
 }
 
 extern "C" tp_status tp_mesh_write(const char* path, tp_mesh_format format, const tp_mesh* mesh,
@@ -919,12 +923,8 @@ extern "C" tp_status tp_mesh_write(const char* path, tp_mesh_format format, cons
                             i / 3, mesh->point_count, (unsigned long long)mesh->triangles[i]);
         quiet_vtk();
         return format == TP_MESH_VTM ? write_vtm(p, mesh, err) : write_single(p, format, mesh, err);
-    } catch (const std::bad_alloc&) {
-        return fail(err, TP_ERR_OUT_OF_MEMORY, "%s: out of memory building the mesh file", path);
-    } catch (const std::exception& e) {
-        return fail(err, TP_ERR_BACKEND, "%s: %s", path, e.what());
     } catch (...) {
-        return fail(err, TP_ERR_BACKEND, "%s: unknown exception writing the mesh", path);
+        return tpio::caught(err, path);
     }
 }
 
@@ -957,11 +957,7 @@ extern "C" tp_status tp_mesh_inspect(const char* path, tp_mesh_summary* out, tp_
         if (s == TP_OK)
             *out = summary;
         return s;
-    } catch (const std::bad_alloc&) {
-        return fail(err, TP_ERR_OUT_OF_MEMORY, "%s: out of memory reading the mesh", path);
-    } catch (const std::exception& e) {
-        return fail(err, TP_ERR_BACKEND, "%s: %s", path, e.what());
     } catch (...) {
-        return fail(err, TP_ERR_BACKEND, "%s: unknown exception reading the mesh", path);
+        return tpio::caught(err, path);
     }
 }
