@@ -15,8 +15,8 @@
 #      analyst does (with its Recommends, so python3-paraview too).
 #   2. apt-get -s (simulation): the old package list (libvtk9-dev) cannot be installed next to
 #      ParaView (python3-vtk9 vs python3-paraview), the list tools/deps.sh chooses can.
-#   3. Copy the working tree (tracked and untracked, not ignored) to CHROOT/work/terrapatch and
-#      ../shared/data (the test DEMs) to CHROOT/work/shared/data; there run
+#   3. Copy the working tree (tracked and untracked, not ignored) to CHROOT/src/terrapatch and
+#      ../shared/data (the test DEMs) to CHROOT/src/shared/data; there run
 #      `make deps build` and `ctest -R '^(export|deps)\.'`.
 # Exit 0 when every step succeeds. /proc, /dev and /dev/pts are bind-mounted into CHROOT
 # while it runs and unmounted on exit; remove CHROOT by hand when done (rm -rf, not mounted).
@@ -71,17 +71,17 @@ if [ "$with_paraview" = 1 ]; then
 fi
 
 # 2. Simulations.
-rm -rf "$root/work/terrapatch"
-mkdir -p "$root/work/terrapatch" "$root/work/shared"
+rm -rf "$root/src/terrapatch"
+mkdir -p "$root/src/terrapatch" "$root/src/shared"
 (cd "$repo" && git -c safe.directory="$repo" ls-files -z --cached --others --exclude-standard |
     xargs -0 sh -c 'for f; do [ -e "$f" ] && printf "%s\0" "$f"; done' sh |
-    tar --null -T - -cf -) | tar -xf - -C "$root/work/terrapatch"
+    tar --null -T - -cf -) | tar -xf - -C "$root/src/terrapatch"
 if [ -d "$repo/../shared/data" ]; then
-    rm -rf "$root/work/shared/data"
-    cp -r "$repo/../shared/data" "$root/work/shared/data"
+    rm -rf "$root/src/shared/data"
+    cp -r "$repo/../shared/data" "$root/src/shared/data"
 fi
-new=$(in_root 'sh /work/terrapatch/tools/deps.sh --dry-run' | sed -n 's/^packages: //p')
-say "tools/deps.sh chooses: $(in_root 'sh /work/terrapatch/tools/deps.sh --dry-run' | sed -n 's/^vtk: //p') VTK"
+new=$(in_root 'sh /src/terrapatch/tools/deps.sh --dry-run' | sed -n 's/^packages: //p')
+say "tools/deps.sh chooses: $(in_root 'sh /src/terrapatch/tools/deps.sh --dry-run' | sed -n 's/^vtk: //p') VTK"
 if [ "$with_paraview" = 1 ]; then
     say "simulate the old list (libvtk9-dev): must fail next to ParaView"
     if in_root 'apt-get -s install --no-install-recommends libvtk9-dev' > "$root/tmp/old.log" 2>&1; then
@@ -97,11 +97,11 @@ in_root "apt-get -s install --no-install-recommends $new" > "$root/tmp/new.log" 
 grep -E 'newly installed' "$root/tmp/new.log" || true
 
 # 3. The real thing.
-say "make deps build (in $root/work/terrapatch)"
-in_root 'cd /work/terrapatch && rm -rf build && make deps build'
-grep -E '^VTK_DIR' "$root/work/terrapatch/build/CMakeCache.txt"
+say "make deps build (in $root/src/terrapatch)"
+in_root 'cd /src/terrapatch && rm -rf build && make deps build'
+grep -E '^VTK_DIR' "$root/src/terrapatch/build/CMakeCache.txt"
 say "ctest -R '^(export|deps)\\.'"
-in_root "cd /work/terrapatch && ctest --test-dir build --output-on-failure -R '^(export|deps)\\.'"
+in_root "cd /src/terrapatch && ctest --test-dir build --output-on-failure -R '^(export|deps)\\.'"
 if [ "$with_paraview" = 1 ]; then
     in_root "dpkg-query -W -f='\${Package} \${db:Status-Abbrev}\n' paraview python3-paraview \
         libvtk9-dev python3-vtk9 2>/dev/null || true"
