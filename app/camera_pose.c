@@ -15,15 +15,19 @@ void tp_camera_pose(double e, double n, double h, double yaw_deg, double pitch_d
 }
 
 void tp_camera_default(const tp_scene* sc, double fov_deg, int width_px, int height_px,
-                       tp_camera* cam)
+                       double vertical_scale, tp_camera* cam)
 {
     const tp_terrain_info* in = &sc->info;
     double e0, n0, e1, n1;
     tp_terrain_grid_to_world(sc->terrain, 0, 0, &e0, &n0);
     tp_terrain_grid_to_world(sc->terrain, in->src_width - 1, in->src_height - 1, &e1, &n1);
     double size = fmax(fabs(e1 - e0), fabs(n1 - n0));
-    double pitch = -50, d = 0.45 * size / tan(fov_deg * DEG / 2);
-    double target[3] = {(e0 + e1) / 2, (n0 + n1) / 2, (in->min_height_m + in->max_height_m) / 2};
+    /* exaggerated relief: aim at its middle and back off by the extra height */
+    double zs = vertical_scale > 0 ? vertical_scale : 1;
+    double extra = fmax(zs - 1, 0) * (in->max_height_m - in->min_height_m);
+    double pitch = -50, d = (0.45 * size + extra) / tan(fov_deg * DEG / 2);
+    double target[3] = {(e0 + e1) / 2, (n0 + n1) / 2,
+                        zs * (in->min_height_m + in->max_height_m) / 2};
     tp_camera_pose(target[0], target[1] - d * cos(pitch * DEG), target[2] - d * sin(pitch * DEG), 0,
                    pitch, fov_deg, width_px, height_px, cam);
 }

@@ -11,8 +11,10 @@
 void tp_camera_pose(double e, double n, double h, double yaw_deg, double pitch_deg, double fov_deg,
                     int width_px, int height_px, tp_camera* cam);
 
-/* The whole DEM in view, from the south, 50 degrees down. */
+/* The whole DEM in view, from the south, 50 degrees down; vertical_scale (view's
+ * --exaggeration; 1 elsewhere) is the drawn relief's, which the camera backs off from. */
 void tp_camera_default(const tp_scene* sc, double fov_deg, int width_px, int height_px,
+                       double vertical_scale,
                        tp_camera* cam);
 
 /* --camera E,N,H,YAW,PITCH (geo = 0) or --camera-geo LAT,LON,H,YAW,PITCH (geo = 1) to a camera;

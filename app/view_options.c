@@ -14,6 +14,7 @@ void tp_view_setup_default(tp_view_setup* v)
     memset(v, 0, sizeof *v);
     v->lod.mode = TP_LOD_ERROR;
     v->fov_deg = 60;
+    v->vertical_scale = 1;
     v->w = 1280;
     v->h = 720;
 }
@@ -102,7 +103,8 @@ void tp_view_options_help(FILE* out)
           "  --exp E               distance mode: exponent of the rule (default 1)\n"
           "camera:\n"
           "  --camera E,N,H,YAW,PITCH      position in the render grid's projected CRS (metres),\n"
-          "                                height H above the DEM's vertical datum, yaw degrees\n"
+          "                                height H above the DEM's vertical datum (times view's\n"
+          "                                --exaggeration: the drawn space), yaw degrees\n"
           "                                clockwise from grid north, pitch degrees (-90: down)\n"
           "  --camera-geo LAT,LON,H,YAW,PITCH   the same with a WGS84 position\n"
           "  --fov DEG             vertical field of view (default 60)\n"
@@ -133,7 +135,7 @@ int tp_view_setup_camera(const tp_scene* sc, const tp_view_setup* v, tp_camera* 
                          const char* cmd)
 {
     if (!v->has_camera) {
-        tp_camera_default(sc, v->fov_deg, v->w, v->h, cam);
+        tp_camera_default(sc, v->fov_deg, v->w, v->h, v->vertical_scale, cam);
         return 1;
     }
     return tp_camera_from_option(sc, v->camera_geo, v->camera, v->fov_deg, v->w, v->h, cam, cmd);

@@ -14,6 +14,8 @@ typedef struct tp_view_setup {
     int has_camera, camera_geo;
     double camera[5];       /* E or lat, N or lon, H, yaw, pitch */
     double fov_deg;         /* default 60 */
+    double vertical_scale;  /* view --exaggeration: the default camera looks at the drawn
+                               (exaggerated) terrain; default 1 */
     int w, h;               /* default 1280 x 720 */
 } tp_view_setup;
 

@@ -60,7 +60,9 @@ static void print_help(void)
           "  --stats-json FILE     write the last frame's statistics\n"
           "  --clear-color R,G,B   background, 0..1 each\n"
           "  --wireframe, --color-lod   draw edges only / colour patches by level\n"
-          "  --exaggeration X      vertical exaggeration (default 1)\n"
+          "  --exaggeration X      vertical exaggeration, 0.001 to 1000 (default 1): the drawn\n"
+          "                        surface everywhere (culling, LoD, picking); camera heights\n"
+          "                        (--camera H, the default view, C) are in the drawn space\n"
           "  --sun AZ,EL           hillshade light: azimuth clockwise from grid north and\n"
           "                        elevation, degrees (default 315,45)\n"
           "  --hide-filled         draw filled voids like measured ground (default: tinted)\n"
@@ -164,9 +166,11 @@ static int parse_options(int argc, char** argv, view_options* o)
             continue;
         switch (c) {
         case OPT_EXAG:
-            if (!tp_parse_numbers(optarg, v, 1) || !(v[0] > 0))
-                return bad("--exaggeration", "a number > 0", optarg);
+            if (!tp_parse_numbers(optarg, v, 1) ||
+                !(v[0] >= TP_VERTICAL_SCALE_MIN && v[0] <= TP_VERTICAL_SCALE_MAX))
+                return bad("--exaggeration", "a number from 0.001 to 1000", optarg);
             o->render.exaggeration = v[0];
+            o->vs.vertical_scale = v[0];
             break;
         case OPT_HEADLESS: o->headless = 1; break;
         case OPT_FRAMES: {
@@ -240,9 +244,13 @@ static void warn_if_empty(const tp_scene* sc, const frame_result* fr)
 {
     if (fr->core.triangles > 0)
         return;
-    if (sc->info.valid_samples + sc->info.filled_samples < 4 || fr->core.visible_patches > 0)
+    if (sc->info.valid_samples + sc->info.filled_samples < 4)
         fprintf(stderr, "terrapatch view: warning: %s: the frame shows no terrain: the DEM has no "
                         "2x2 block of valid samples to draw a triangle from\n", sc->path);
+    else if (fr->core.visible_patches > 0)
+        fprintf(stderr, "terrapatch view: warning: %s: the frame shows no terrain: the %d patches "
+                        "in view hold only nodata or padding (the camera may be inside or under "
+                        "the surface)\n", sc->path, fr->core.visible_patches);
     else
         fprintf(stderr, "terrapatch view: warning: %s: the frame shows no terrain: the camera "
                         "looks away from the DEM (all %d patches culled; try without --camera)\n",

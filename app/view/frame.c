@@ -7,6 +7,7 @@
 
 #include <epoxy/gl.h>
 
+#include <assert.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <time.h>
@@ -25,7 +26,9 @@ void tp_view_frame(tp_selection* sel, tp_renderer* r, const tp_camera* cam,
     double t0 = tp_view_now_ms();
     tp_error err;
     /* the core selects, culls and measures the surface as drawn: exaggerated */
-    tp_selection_set_vertical_scale(sel, render->exaggeration);
+    tp_status st = tp_selection_set_vertical_scale(sel, render->exaggeration);
+    assert(st == TP_OK); /* the options and keys keep it in the core's range */
+    (void)st;
     if (!frozen)
         tp_selection_update(sel, cam, lod, &err);
     out->select_ms = tp_view_now_ms() - t0;

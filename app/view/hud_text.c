@@ -26,13 +26,16 @@ void tp_view_position_text(const tp_scene* sc, double e, double n, char* out, si
     out[0] = '\0';
     if (tp_georef_proj_to_geo(sc->georef, e, n, &lat, &lon, NULL) != TP_OK)
         return;
-    if (tp_geo_to_utmups(lat, lon, &zone, &northp, &ue, &un, NULL) != TP_OK ||
-        tp_mgrs_forward(zone, northp, ue, un, lat, 5, mgrs, sizeof mgrs, NULL) != TP_OK)
-        mgrs[0] = '\0';
+    int at = snprintf(out, cap, "%.5f%c %.5f%c", fabs(lat), lat >= 0 ? 'N' : 'S', fabs(lon),
+                      lon >= 0 ? 'E' : 'W');
     char zname[TP_ZONE_TEXT_SIZE] = "";
-    tp_zone_format(zone, northp, TP_ZONE_STYLE_UPPER, zname, sizeof zname, NULL);
-    snprintf(out, cap, "%.5f%c %.5f%c  UTM %s %.0f %.0f  MGRS %s", fabs(lat), lat >= 0 ? 'N' : 'S',
-             fabs(lon), lon >= 0 ? 'E' : 'W', zname, ue, un, mgrs);
+    if (at < 0 || (size_t)at >= cap ||
+        tp_geo_to_utmups(lat, lon, &zone, &northp, &ue, &un, NULL) != TP_OK ||
+        tp_zone_format(zone, northp, TP_ZONE_STYLE_UPPER, zname, sizeof zname, NULL) != TP_OK)
+        return; /* lat/lon only */
+    if (tp_mgrs_forward(zone, northp, ue, un, lat, 5, mgrs, sizeof mgrs, NULL) != TP_OK)
+        mgrs[0] = '\0';
+    snprintf(out + at, cap - (size_t)at, "  UTM %s %.0f %.0f  MGRS %s", zname, ue, un, mgrs);
 }
 
 void tp_view_hud_text(const tp_scene* sc, const tp_selection* sel, const tp_camera* cam,

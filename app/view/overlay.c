@@ -31,15 +31,22 @@ static int is_free(const layout* l, float x0, float y0, float x1, float y1)
     return 1;
 }
 
-/* Draws text at (x, y), wrapped to max_w pixels, and marks its box taken; returns the
- * box's height. */
-static float block(tp_hud* hud, layout* l, int w, int h, float x, float y, float max_w, float s,
-                   const char* text)
+/* Draws text at (x, y), wrapped to max_w pixels, with the lines that do not fit in max_h
+ * pixels left out, and marks its box taken; returns the box's height. */
+static float block(tp_hud* hud, layout* l, int w, int h, float x, float y, float max_w,
+                   float max_h, float s, const char* text)
 {
     char wrapped[4096];
     tp_hud_wrap(text, max_w / s, wrapped, sizeof wrapped);
     float tw, th;
     tp_hud_measure(wrapped, &tw, &th);
+    while (th * s > max_h) {
+        char* last = strrchr(wrapped, '\n');
+        if (!last)
+            return 0; /* not even one line fits */
+        *last = '\0';
+        tp_hud_measure(wrapped, &tw, &th);
+    }
     tp_hud_text(hud, w, h, x, y, s, wrapped);
     occupy(l, x - 2, y - 2, x + tw * s + 2, y + th * s + 2);
     return th * s;
@@ -61,6 +68,10 @@ static void grid_labels(tp_hud* hud, layout* l, const tp_scene* sc, const tp_sel
     int w = cam->viewport_w_px, h = cam->viewport_h_px;
     double zs = tp_selection_vertical_scale(sel);
     double e0 = floor(g[0] / spacing) * spacing, n0 = floor(g[1] / spacing) * spacing;
+    /* kilometres with as many decimals as the spacing needs (1500 m: 4501.5, 250 m: 5023.25) */
+    int decimals = 0;
+    while (decimals < 3 && fmod(spacing, 1000 / pow(10, decimals)) != 0)
+        decimals++;
     for (int j = -4; j <= 5; j++)
         for (int i = -4; i <= 5; i++) {
             double p[3] = {e0 + i * spacing, n0 + j * spacing, 0}, x, y, px[2];
@@ -70,10 +81,8 @@ static void grid_labels(tp_hud* hud, layout* l, const tp_scene* sc, const tp_sel
                 px[0] >= w || px[1] >= h)
                 continue;
             char text[64];
-            if (spacing >= 1000)
-                snprintf(text, sizeof text, "%.0fE %.0fN", p[0] / 1000, p[1] / 1000);
-            else
-                snprintf(text, sizeof text, "%.1fE %.1fN", p[0] / 1000, p[1] / 1000);
+            snprintf(text, sizeof text, "%.*fE %.*fN", decimals, p[0] / 1000, decimals,
+                     p[1] / 1000);
             float tw, th, x0 = (float)px[0] + 3, y0 = (float)px[1] + 3;
             tp_hud_measure(text, &tw, &th);
             float x1 = x0 + tw * scale, y1 = y0 + th * scale;
@@ -156,14 +165,16 @@ void tp_view_overlay_draw(tp_hud* hud, const tp_scene* sc, const tp_selection* s
         tp_hud_wrap(ov->measure_line, (w - 16) / s, wrapped, sizeof wrapped);
         tp_hud_measure(wrapped, &tw, &th);
         bottom = (float)h - 10 * s - th * s;
-        block(hud, &l, w, h, 10, bottom, w - 16, s, ov->measure_line);
+        block(hud, &l, w, h, 10, bottom, w - 16, th * s, s, ov->measure_line);
         bottom -= 4 * s;
     }
     if (ov->hud_text) {
         compass_and_scale(hud, &l, sc, sel, cam, bottom, s);
-        float y = 10 + block(hud, &l, w, h, 10, 10, w - 16, s, ov->hud_text);
+        /* the HUD and the help end above the north arrow (about 105 px at scale 1) */
+        float room = bottom - 105 * s - 10;
+        float y = 10 + block(hud, &l, w, h, 10, 10, w - 16, room, s, ov->hud_text);
         if (ov->help_text)
-            block(hud, &l, w, h, 10, y + 12 * s, w - 16, s, ov->help_text);
+            block(hud, &l, w, h, 10, y + 12 * s, w - 16, room - (y + 2 * s), s, ov->help_text);
     }
     if (ov->grid_m > 0)
         grid_labels(hud, &l, sc, sel, cam, ov->grid_m, s);

@@ -468,6 +468,8 @@ void tp_renderer_draw(tp_renderer* r, tp_selection* sel, const tp_camera* cam,
     glGetIntegerv(GL_VIEWPORT, vp);
     w = vp[2], h = vp[3];
     /* Far plane: the farthest corner of the terrain's box, with room. */
+    /* the selection culled and chose levels for this exaggeration: draw exactly that surface */
+    double exag = tp_selection_vertical_scale(sel);
     double far_m = cam->far_m;
     if (far_m <= 0) {
         double e0, n0, e1, n1;
@@ -475,8 +477,8 @@ void tp_renderer_draw(tp_renderer* r, tp_selection* sel, const tp_camera* cam,
         tp_terrain_grid_to_world(r->t, r->info.width - 1, r->info.height - 1, &e1, &n1);
         double dx = fmax(fabs(e0 - cam->position[0]), fabs(e1 - cam->position[0]));
         double dy = fmax(fabs(n0 - cam->position[1]), fabs(n1 - cam->position[1]));
-        double dz = fmax(fabs(r->info.max_height_m * st->exaggeration - cam->position[2]),
-                         fabs(r->info.min_height_m * st->exaggeration - cam->position[2]));
+        double dz = fmax(fabs(r->info.max_height_m * exag - cam->position[2]),
+                         fabs(r->info.min_height_m * exag - cam->position[2]));
         far_m = 1.1 * sqrt(dx * dx + dy * dy + dz * dz) + 10;
     }
     tp_camera view = *cam;
@@ -504,7 +506,7 @@ void tp_renderer_draw(tp_renderer* r, tp_selection* sel, const tp_camera* cam,
     glUniform2f(r->u_frac, (float)((cx - fx) * gt[1]), (float)((cy - fy) * gt[5]));
     glUniform2f(r->u_spacing, (float)gt[1], (float)gt[5]);
     glUniform1f(r->u_cam_z, (float)cam->position[2]);
-    glUniform1f(r->u_exag, (float)st->exaggeration);
+    glUniform1f(r->u_exag, (float)exag);
     glUniformMatrix4fv(r->u_viewproj, 1, GL_FALSE, vpm);
     double az = st->sun_azimuth_deg * 3.14159265358979323846 / 180,
            el = st->sun_elevation_deg * 3.14159265358979323846 / 180;

@@ -24,7 +24,8 @@ typedef struct tp_renderer tp_renderer;
 typedef struct tp_render_settings {
     double sun_azimuth_deg;   /* clockwise from grid north; default 315 (north-west) */
     double sun_elevation_deg; /* default 45 */
-    double exaggeration;      /* vertical; default 1 */
+    double exaggeration;      /* vertical; default 1 (the frame hands it to the selection,
+                                 whose scale the renderer draws with) */
     int wireframe;
     int color_lod;            /* colour patches by level */
     int hide_filled;          /* draw filled voids untinted */

@@ -44,7 +44,10 @@ typedef struct window_state {
 
 static const char* lod_name(tp_lod_mode m)
 {
-    return m == TP_LOD_DISTANCE ? "distance" : m == TP_LOD_FULL ? "full" : "error";
+    return m == TP_LOD_DISTANCE ? "distance"
+         : m == TP_LOD_FULL       ? "full"
+         : m == TP_LOD_MAX_ERROR  ? "max-error"
+                                  : "error";
 }
 
 /* Scales tau (error mode) or maxdist (distance mode) by f, defaults made explicit. */
@@ -97,6 +100,8 @@ static void print_camera(const window_state* s)
         printf("--camera-geo %.9f,%.9f,%.2f,%.2f,%.2f\n", lat, lon, cam->position[2], yaw, pitch);
     printf("--camera %.3f,%.3f,%.2f,%.2f,%.2f\n", cam->position[0], cam->position[1],
            cam->position[2], yaw, pitch);
+    if (s->o->render.exaggeration != 1) /* the heights above are in the exaggerated space */
+        printf("--exaggeration %.17g\n", s->o->render.exaggeration);
     fflush(stdout);
 }
 
@@ -160,11 +165,9 @@ static void on_key(window_state* s, int key)
     case GLFW_KEY_K: rs->sun_azimuth_deg = fmod(rs->sun_azimuth_deg + 15, 360); break;
     case GLFW_KEY_U: rs->sun_elevation_deg = fmin(90, rs->sun_elevation_deg + 5); break;
     case GLFW_KEY_N: rs->sun_elevation_deg = fmax(0, rs->sun_elevation_deg - 5); break;
-    case GLFW_KEY_X: rs->exaggeration *= 1.25; break;
-    case GLFW_KEY_Z: rs->exaggeration /= 1.25; break;
+    case GLFW_KEY_X: rs->exaggeration = fmin(rs->exaggeration * 1.25, TP_VERTICAL_SCALE_MAX); break;
+    case GLFW_KEY_Z: rs->exaggeration = fmax(rs->exaggeration / 1.25, TP_VERTICAL_SCALE_MIN); break;
     case GLFW_KEY_M: s->lod.mode = s->lod.mode == TP_LOD_ERROR ? TP_LOD_DISTANCE : TP_LOD_ERROR; break;
-    case GLFW_KEY_KP_ADD: scale_lod(s, 1.5); break;
-    case GLFW_KEY_KP_SUBTRACT: scale_lod(s, 1 / 1.5); break;
     case GLFW_KEY_F1: s->show_help = !s->show_help; break;
     case GLFW_KEY_P: s->want_shot = 1; break;
     case GLFW_KEY_Y: export_view(s); break;

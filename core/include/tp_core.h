@@ -514,13 +514,18 @@ tp_status tp_selection_measure_screen_error(const tp_selection* s, const tp_came
 tp_status tp_selection_patch_screen_error(const tp_selection* s, const tp_camera* cam, int patch,
                                           int k, double* out_px);
 
+/* The vertical scales a selection accepts: below 1/1000 a drawn height loses its metres to
+ * rounding (the ray cast divides by the scale), above 1000 nothing is terrain any more. */
+#define TP_VERTICAL_SCALE_MIN 1e-3
+#define TP_VERTICAL_SCALE_MAX 1e3
+
 /* Vertical exaggeration: the surface is drawn with heights times scale (> 0; 1 by default).
  * Everything that depends on the drawn geometry follows it: culling boxes, the error LoD's
  * projection (tau holds on screen), the screen-error measures, tp_selection_keep_above and
  * tp_selection_ray_cast, whose positions are in drawn space (E, N, height * scale). Errors
  * in metres (tp_frame_stats, tp_selection_measure_error) and tp_selection_drawn_height_at stay
  * true heights. Returns TP_OK; TP_ERR_INVALID_ARG, scale unchanged, for a scale that is not a
- * finite number > 0 (below 1e6) (it comes from the command line). */
+ * number in [TP_VERTICAL_SCALE_MIN, TP_VERTICAL_SCALE_MAX] (it comes from the command line). */
 tp_status tp_selection_set_vertical_scale(tp_selection* s, double scale);
 /* Returns the current vertical scale. */
 double tp_selection_vertical_scale(const tp_selection* s);

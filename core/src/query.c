@@ -186,7 +186,7 @@ tp_status tp_selection_ray_cast(const tp_selection* s, const double origin[3],
     assert(s && origin && dir && out);
     const tp_terrain* t = s->t;
     double len = sqrt(dir[0] * dir[0] + dir[1] * dir[1] + dir[2] * dir[2]);
-    if (!(len > 0) || isnan(origin[0] + origin[1] + origin[2]))
+    if (!(len > 0 && isfinite(len)) || !isfinite(origin[0] + origin[1] + origin[2]))
         return TP_ERR_INVALID_ARG;
     double d[3] = {dir[0] / len, dir[1] / len, dir[2] / len};
     const double* gt = t->info.geotransform;

@@ -132,7 +132,7 @@ void tp_selection_set_level(tp_selection* s, int patch, int k)
 tp_status tp_selection_set_vertical_scale(tp_selection* s, double scale)
 {
     assert(s);
-    if (!(scale > 0 && scale < 1e6))
+    if (!(scale >= TP_VERTICAL_SCALE_MIN && scale <= TP_VERTICAL_SCALE_MAX))
         return TP_ERR_INVALID_ARG;
     s->zscale = scale;
     return TP_OK;
