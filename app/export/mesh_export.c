@@ -4,23 +4,10 @@
 #include "tp_geo.h"
 
 #include <math.h>
-#include <stdarg.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-
-/* Fills err (when not NULL) with a printf-style message; returns s. */
-static tp_status fail(tp_error* err, tp_status s, const char* fmt, ...)
-{
-    if (err) {
-        va_list ap;
-        va_start(ap, fmt);
-        vsnprintf(err->message, sizeof err->message, fmt, ap);
-        va_end(ap);
-    }
-    return s;
-}
 
 /* The source height of sample (x, y) of the tiled grid: the render grid's value (quantisation
  * counts against the mesh), or the decoded height where the fit resampled the grid. */
@@ -171,7 +158,7 @@ tp_status tp_export_selection(const tp_scene* sc, const tp_selection* sel,
             /* refuse what the file could not hold before allocating for it */
             tp_error size_err;
             if (path && tp_mesh_check_size(o->format, points, tris, &size_err) != TP_OK) {
-                st = fail(err, TP_ERR_INVALID_ARG, "%s: %s", path, size_err.message);
+                st = tp_error_set(err, TP_ERR_INVALID_ARG, "%s: %s", path, size_err.message);
                 goto done;
             }
             xyz = malloc(3 * points * sizeof *xyz);
@@ -193,7 +180,7 @@ tp_status tp_export_selection(const tp_scene* sc, const tp_selection* sel,
         }
     }
     if (tris == 0) {
-        st = fail(err, TP_ERR_INVALID_ARG,
+        st = tp_error_set(err, TP_ERR_INVALID_ARG,
                          "%s: nothing to export (no drawn triangle in the selection)", name);
         goto done;
     }
@@ -254,7 +241,7 @@ tp_status tp_export_selection(const tp_scene* sc, const tp_selection* sel,
     st = TP_OK;
 done:
     if (oom)
-        st = fail(err, TP_ERR_OUT_OF_MEMORY, "%s: out of memory building the mesh", name);
+        st = tp_error_set(err, TP_ERR_OUT_OF_MEMORY, "%s: out of memory building the mesh", name);
     free(index);
     free(seen);
     free(vb);

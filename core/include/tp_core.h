@@ -79,6 +79,14 @@ typedef struct tp_error {
     char message[512];
 } tp_error;
 
+/* Writes a printf-style message into err->message (when err is not NULL) and returns s: how
+ * every function that takes a tp_error* fails, in the core and above it. */
+tp_status tp_error_set(tp_error* err, tp_status s, const char* fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 3, 4)))
+#endif
+    ;
+
 /* ---------------------------------------------------------------------------------------------
  * Triangle strips (one per level, shared by every patch of one size)
  *

@@ -47,12 +47,8 @@ void* tp__alloc(const tp_allocator* a, size_t count, size_t size);
 void* tp__calloc(const tp_allocator* a, size_t count, size_t size);
 void tp__free(const tp_allocator* a, void* p);
 
-/* Sets err->message (printf-style) when err is not NULL. Returns s. */
-tp_status tp__fail(tp_error* err, tp_status s, const char* fmt, ...)
-#if defined(__GNUC__)
-    __attribute__((format(printf, 3, 4)))
-#endif
-    ;
+/* The core's name for tp_error_set. */
+#define tp__fail tp_error_set
 
 /* The patch that stores sample x (columns) or y (rows): the last patch owns the far border. */
 static inline int tp__owner(int coord, int n, int patches)

@@ -20,7 +20,7 @@ const char* tp_status_str(tp_status s)
     return "unknown status";
 }
 
-tp_status tp__fail(tp_error* err, tp_status s, const char* fmt, ...)
+tp_status tp_error_set(tp_error* err, tp_status s, const char* fmt, ...)
 {
     if (err) {
         va_list ap;
