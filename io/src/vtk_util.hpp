@@ -1,0 +1,41 @@
+/* vtk_util.hpp - what io/src's VTK writer and reader share (private): VTK's messages, kept
+ * for ours and never printed, and the mesh formats' file names. */
+#pragma once
+
+#include "tp_io.h"
+
+#include <string>
+
+namespace tpvtk {
+
+/* The first VTK error of the current call on this thread (vtk_util.cpp). */
+extern thread_local std::string t_vtk_error;
+
+/* Replaces VTK's output window for the whole process (it would print to stderr, in colour,
+ * through its logger as well) by one that keeps the text for our messages. */
+void quiet_vtk();
+
+/* Clears the kept error at the start of a call. */
+struct VtkErrors {
+    VtkErrors()
+    {
+        quiet_vtk();
+        t_vtk_error.clear();
+    }
+    bool any() const
+    {
+        return !t_vtk_error.empty();
+    }
+    const char* text() const
+    {
+        return t_vtk_error.empty() ? "unknown error" : t_vtk_error.c_str();
+    }
+};
+
+/* The lower-case extension of path (".vtp"), or "" without one. */
+std::string lower_ext(const std::string& path);
+
+/* The mesh format of a file name's extension; TP_MESH_DEFAULT for none of ours. */
+tp_mesh_format format_of(const std::string& path);
+
+} // namespace tpvtk
