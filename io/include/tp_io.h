@@ -204,7 +204,7 @@ tp_status tp_texture_build(const char* path, const tp_render_grid* grid, int max
 void tp_texture_destroy(tp_texture* tex); /* accepts NULL */
 
 /* ---------------------------------------------------------------------------------------------
- * Triangle meshes for ParaView (io/src/vtk_mesh.cpp, VTK's own writers and readers)
+ * Triangle meshes for ParaView (io/src/vtk_mesh_write.cpp and vtk_mesh_inspect.cpp, VTK's own writers and readers)
  */
 typedef struct tp_mesh {
     size_t point_count;
