@@ -117,7 +117,9 @@ tp_status tp_output_check(const char* path, tp_error* err);
  * file or folder of the writers is live; at any other moment they restore the default action
  * and re-raise it, so the program dies as it would without them (nothing of ours is on disk).
  * Once recorded, the writers remove their temporaries and fail; tp_interrupted() returns the
- * signal (0 if none), and the program should exit with status 128 + that signal.
+ * signal (0 if none), and the program should exit with status 128 + that signal. (A signal
+ * after a writer's last look, during the rename, lets that file complete; it is still
+ * recorded.)
  * tp_interrupt_hold/release bracket other work that checks tp_interrupted() itself (nested
  * holds count; the writers hold while a temporary lives). Main thread only. */
 void tp_interrupt_install(void);
