@@ -249,11 +249,12 @@ int tp_cli_export(int argc, char** argv)
     tp_export_result res;
     if (code == TP_EXIT_OK) {
         if (tp_export_selection(&sc, sel, &eo, o.out, &res, &err) != TP_OK) {
-            if (tp_interrupted()) /* nothing written, the temporary file removed */
+            if (tp_interrupted()) { /* nothing written, the temporary file removed */
                 code = tp_cli_interrupted();
-            else
+            } else {
                 fprintf(stderr, "terrapatch: %s\n", err.message);
-            code = code == TP_EXIT_OK ? TP_EXIT_FAILURE : code;
+                code = TP_EXIT_FAILURE;
+            }
         } else {
             size_t full = tp_full_mesh_triangles(&sc);
             printf("wrote %s: %zu points, %zu triangles (%.1f%% of the %zu of the full mesh), "
