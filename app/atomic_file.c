@@ -2,15 +2,18 @@
 #define _POSIX_C_SOURCE 200809L
 #include "atomic_file.h"
 
+#include "tp_io.h"
+
 #include <errno.h>
+#include <stdlib.h>
 #include <string.h>
-#include <unistd.h>
 
 int tp_atomic_open(tp_atomic_file* a, const char* path)
 {
     a->path = path;
-    snprintf(a->tmp, sizeof a->tmp, "%s.tmp%ld", path, (long)getpid());
-    a->f = fopen(a->tmp, "w");
+    a->buf = NULL;
+    a->size = 0;
+    a->f = open_memstream(&a->buf, &a->size);
     if (!a->f)
         fprintf(stderr, "terrapatch: %s: cannot write: %s\n", path, strerror(errno));
     return a->f != NULL;
@@ -19,27 +22,25 @@ int tp_atomic_open(tp_atomic_file* a, const char* path)
 int tp_atomic_commit(tp_atomic_file* a)
 {
     int ok = !ferror(a->f);
-    ok &= fclose(a->f) == 0;
-    if (!ok || rename(a->tmp, a->path) != 0) {
-        fprintf(stderr, "terrapatch: %s: cannot write: %s\n", a->path, strerror(errno));
-        remove(a->tmp);
-        return 0;
+    ok &= fclose(a->f) == 0; /* sets buf and size */
+    tp_error err;
+    if (!ok) {
+        fprintf(stderr, "terrapatch: %s: cannot write: out of memory\n", a->path);
+    } else if (tp_file_write(a->path, a->buf, a->size, &err) != TP_OK) {
+        if (!tp_interrupted()) /* else main says "interrupted" */
+            fprintf(stderr, "terrapatch: %s\n", err.message);
+        ok = 0;
     }
-    return 1;
+    free(a->buf);
+    a->buf = NULL;
+    return ok;
 }
 
 int tp_atomic_check_dir(const char* path)
 {
-    char dir[4096];
-    const char* slash = strrchr(path, '/');
-    if (!slash)
-        snprintf(dir, sizeof dir, ".");
-    else if (slash == path)
-        snprintf(dir, sizeof dir, "/");
-    else
-        snprintf(dir, sizeof dir, "%.*s", (int)(slash - path), path);
-    if (access(dir, W_OK | X_OK) != 0) {
-        fprintf(stderr, "terrapatch: %s: cannot write: %s: %s\n", path, dir, strerror(errno));
+    tp_error err;
+    if (tp_output_check(path, &err) != TP_OK) {
+        fprintf(stderr, "terrapatch: %s\n", err.message);
         return 0;
     }
     return 1;

@@ -1,25 +1,29 @@
 /*
- * atomic_file.h - text outputs (statistics JSON, CSV) written whole or not at all: into a
- * temporary file beside the target, renamed over it on success, removed on failure.
+ * atomic_file.h - text outputs (statistics JSON, CSV) printed with stdio into memory
+ * (open_memstream) and handed whole to io's atomic writer (tp_file_write in tp_io.h): the
+ * target is replaced only by a complete file, and any failure leaves it as it was.
  */
 #ifndef TP_APP_ATOMIC_FILE_H
 #define TP_APP_ATOMIC_FILE_H
 
+#include <stddef.h>
 #include <stdio.h>
 
 typedef struct tp_atomic_file {
-    FILE* f;
+    FILE* f; /* print here: a stream into memory, no file on disk */
     const char* path;
-    char tmp[4096];
+    char* buf;
+    size_t size;
 } tp_atomic_file;
 
-/* Opens the temporary file; 0 after a one-line message naming path. */
+/* Opens the stream; 0 after a one-line message naming path (out of memory). */
 int tp_atomic_open(tp_atomic_file* a, const char* path);
-/* Finishes the write (flush, close, rename); 0 after a message, with nothing left behind. */
+/* Writes what was printed as the file path (tp_file_write) and frees the stream; 0 after a
+ * one-line message, with nothing left behind and an older file untouched. */
 int tp_atomic_commit(tp_atomic_file* a);
 
-/* Checks that path's folder exists and is writable (before a long run that ends by writing
- * path); 0 after a one-line message naming path. */
+/* Checks that path can be written (tp_output_check: its folder exists and is writable), before
+ * a long run that ends by writing path; 0 after a one-line message naming path. */
 int tp_atomic_check_dir(const char* path);
 
 #endif

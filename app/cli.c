@@ -1,6 +1,8 @@
 /* cli.c - what every subcommand's command line shares (see cli.h). */
 #include "cli.h"
 
+#include "tp_io.h"
+
 #include <errno.h>
 #include <math.h>
 #include <stdio.h>
@@ -14,6 +16,14 @@ int tp_cli_finish(int code)
         return TP_EXIT_FAILURE;
     }
     return code;
+}
+
+int tp_cli_interrupted(void)
+{
+    static int said;
+    if (!said++)
+        fputs("terrapatch: interrupted\n", stderr);
+    return 128 + tp_interrupted();
 }
 
 int tp_parse_numbers(const char* s, double* v, int n)

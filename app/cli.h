@@ -11,6 +11,8 @@
 #define TP_EXIT_OK 0
 #define TP_EXIT_FAILURE 1 /* the work failed: unreadable DEM, bad data, ... */
 #define TP_EXIT_USAGE 2   /* bad command line */
+/* SIGINT or SIGTERM during a write: 128 + the signal (130, 143), as a shell reports a process
+ * the signal killed; tp_cli_interrupted() returns it. */
 
 /* `terrapatch info [options] DEM`. argv[0] is "info"; returns an exit code. */
 int tp_cli_info(int argc, char** argv);
@@ -29,6 +31,10 @@ int tp_cli_bench(int argc, char** argv);
 
 /* Flushes stdout; on a write error prints one line and returns TP_EXIT_FAILURE, else code. */
 int tp_cli_finish(int code);
+
+/* After SIGINT/SIGTERM (tp_interrupted() in tp_io.h, installed by main): prints
+ * "terrapatch: interrupted" (once per process) and returns 128 + the signal. */
+int tp_cli_interrupted(void);
 
 /* Parses "a,b,c" into n finite numbers; 1 on success. */
 int tp_parse_numbers(const char* s, double* v, int n);

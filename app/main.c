@@ -5,6 +5,7 @@
 #include "cli.h"
 
 #include "tp_core.h"
+#include "tp_io.h"
 
 #include <stdio.h>
 #include <string.h>
@@ -25,11 +26,13 @@ static void print_help(FILE* f)
           "  coord       convert coordinates: lat/lon, UTM/UPS, MGRS, ECEF; geodesics\n"
           "\n"
           "Run 'terrapatch COMMAND --help' for the options of a command.\n"
-          "Exit status: 0 success, 1 failure, 2 usage error.\n",
+          "Exit status: 0 success, 1 failure, 2 usage error, 130/143 after SIGINT/SIGTERM\n"
+          "(files are written whole or not at all: a temporary file beside each output,\n"
+          "removed on any failure or signal, renamed into place when complete).\n",
           f);
 }
 
-int main(int argc, char** argv)
+static int run_command(int argc, char** argv)
 {
     if (argc < 2) {
         fputs("terrapatch: missing command (try 'terrapatch --help')\n", stderr);
@@ -59,4 +62,13 @@ int main(int argc, char** argv)
     else
         fprintf(stderr, "terrapatch: unknown command '%s' (try 'terrapatch --help')\n", cmd);
     return TP_EXIT_USAGE;
+}
+
+int main(int argc, char** argv)
+{
+    /* SIGINT/SIGTERM kill at once, except while a file is being written: then the writer
+     * removes its temporary file first and we exit with 128 + the signal. */
+    tp_interrupt_install();
+    int code = run_command(argc, argv);
+    return tp_interrupted() ? tp_cli_interrupted() : code;
 }

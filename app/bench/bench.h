@@ -104,8 +104,9 @@ typedef struct tp_bench_point {
 
 /* Plots a --sweep with gnuplot into png: fps against measured maximum and RMS screen error
  * (log scales; an error of 0 px is drawn at 0.01 px), each mode's configurations and Pareto
- * front, full resolution as a line at full_fps. The PNG is written to a temporary file and
- * renamed. Returns 1, or 0 after a one-line message. */
+ * front, full resolution as a line at full_fps. gnuplot draws into a private temporary folder
+ * (mkdtemp) beside png, removed afterwards; the PNG then goes through tp_file_write. Returns 1,
+ * or 0 after a one-line message. */
 int tp_bench_plot(const tp_bench_point* pts, int count, const char* png, const char* title,
                   double full_fps);
 

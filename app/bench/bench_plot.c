@@ -2,6 +2,8 @@
 #define _POSIX_C_SOURCE 200809L
 #include "bench.h"
 
+#include "tp_io.h"
+
 #include <errno.h>
 #include <math.h>
 #include <fcntl.h>
@@ -128,25 +130,82 @@ static int run_gnuplot(const char* script)
     return 1;
 }
 
+/* The whole of a file of ours into memory (malloc'd); NULL on failure. */
+static unsigned char* read_all(const char* path, size_t* size)
+{
+    FILE* f = fopen(path, "rb");
+    unsigned char* buf = NULL;
+    size_t cap = 0, n = 0;
+    int failed = !f;
+    while (!failed) {
+        if (n == cap) {
+            unsigned char* b = realloc(buf, cap = cap ? 2 * cap : (size_t)1 << 16);
+            if (!b) {
+                failed = 1;
+                break;
+            }
+            buf = b;
+        }
+        size_t got = fread(buf + n, 1, cap - n, f);
+        n += got;
+        if (got == 0)
+            break;
+    }
+    if (f) {
+        failed |= ferror(f);
+        fclose(f);
+    }
+    if (failed || n == 0) {
+        free(buf);
+        return NULL;
+    }
+    *size = n;
+    return buf;
+}
+
 int tp_bench_plot(const tp_bench_point* pts, int count, const char* png, const char* title,
                   double full_fps)
 {
-    char tmp_png[4200], script[4200];
-    snprintf(tmp_png, sizeof tmp_png, "%s.tmp%ld.png", png, (long)getpid());
-    snprintf(script, sizeof script, "%s.tmp%ld.gp", png, (long)getpid());
-    FILE* f = fopen(script, "w");
-    if (!f) {
+    /* gnuplot writes into a private folder of ours (mkdtemp: a new, unguessable name, mode
+     * 0700); the PNG then goes through the atomic writer like every other output. */
+    char dir[4200], tmp_png[4300], script[4300];
+    snprintf(dir, sizeof dir, "%s.tmpXXXXXX", png);
+    tp_interrupt_hold(); /* a signal now only sets the flag: the folder is removed below */
+    if (!mkdtemp(dir)) {
         fprintf(stderr, "terrapatch: %s: cannot write the plot: %s\n", png, strerror(errno));
+        tp_interrupt_release();
         return 0;
     }
-    write_script(f, pts, count, tmp_png, title, full_fps);
-    int ok = fclose(f) == 0 && run_gnuplot(script);
-    if (ok && rename(tmp_png, png) != 0) {
+    snprintf(tmp_png, sizeof tmp_png, "%s/plot.png", dir);
+    snprintf(script, sizeof script, "%s/plot.gp", dir);
+    FILE* f = fopen(script, "w");
+    int ok = f != NULL;
+    if (!f)
         fprintf(stderr, "terrapatch: %s: cannot write the plot: %s\n", png, strerror(errno));
+    if (ok) {
+        write_script(f, pts, count, tmp_png, title, full_fps);
+        ok = fclose(f) == 0 && !tp_interrupted() && run_gnuplot(script);
+    }
+    size_t size = 0;
+    unsigned char* bytes = ok && !tp_interrupted() ? read_all(tmp_png, &size) : NULL;
+    if (ok && !bytes && !tp_interrupted()) {
+        fprintf(stderr, "terrapatch: %s: gnuplot wrote no plot\n", png);
         ok = 0;
     }
     remove(script);
     remove(tmp_png);
+    rmdir(dir);
+    tp_interrupt_release();
+    if (ok && bytes) {
+        tp_error err;
+        if (tp_file_write(png, bytes, size, &err) != TP_OK) {
+            if (!tp_interrupted())
+                fprintf(stderr, "terrapatch: %s\n", err.message);
+            ok = 0;
+        }
+    }
+    ok = ok && bytes;
+    free(bytes);
     if (ok)
         fprintf(stderr, "terrapatch: wrote %s\n", png);
     return ok;

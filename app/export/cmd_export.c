@@ -3,6 +3,7 @@
  * with VTK for ParaView: full resolution, the view-dependent mesh of a camera, or a static
  * error-bounded mesh.
  */
+#include "atomic_file.h"
 #include "camera_pose.h"
 #include "cli.h"
 #include "mesh_export.h"
@@ -67,8 +68,10 @@ static void print_help(void)
           "DEM:\n",
           stdout);
     tp_scene_options_help(stdout);
-    fputs("\nWrites atomically (a temporary file, then a rename): a failure leaves no file.\n"
-          "Exit status: 0 success, 1 failure, 2 usage error.\n",
+    fputs("\nWrites atomically (a temporary file of a random name beside OUT, then a rename): a\n"
+          "failure, a full disk or SIGINT/SIGTERM leaves no temporary file and an older OUT as it\n"
+          "was. OUT's folder is checked before the DEM is read.\n"
+          "Exit status: 0 success, 1 failure, 2 usage error, 130/143 after SIGINT/SIGTERM.\n",
           stdout);
 }
 
@@ -184,6 +187,9 @@ int tp_cli_export(int argc, char** argv)
     int code = parse_options(argc, argv, &o);
     if (code >= 0)
         return code;
+    /* An unwritable output is found before the DEM is read, not after the mesh is built. */
+    if (!tp_atomic_check_dir(o.out))
+        return TP_EXIT_FAILURE;
     tp_scene sc;
     if ((code = tp_scene_load(o.path, &o.scene, &sc)) != TP_EXIT_OK)
         return code;
@@ -243,8 +249,12 @@ int tp_cli_export(int argc, char** argv)
     tp_export_result res;
     if (code == TP_EXIT_OK) {
         if (tp_export_selection(&sc, sel, &eo, o.out, &res, &err) != TP_OK) {
-            fprintf(stderr, "terrapatch: %s\n", err.message);
-            code = TP_EXIT_FAILURE;
+            if (tp_interrupted()) { /* nothing written, the temporary file removed */
+                code = tp_cli_interrupted();
+            } else {
+                fprintf(stderr, "terrapatch: %s\n", err.message);
+                code = TP_EXIT_FAILURE;
+            }
         } else {
             size_t full = tp_full_mesh_triangles(&sc);
             printf("wrote %s: %zu points, %zu triangles (%.1f%% of the %zu of the full mesh), "

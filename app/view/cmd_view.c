@@ -9,6 +9,7 @@
 #define _POSIX_C_SOURCE 200809L
 #include "view.h"
 
+#include "atomic_file.h"
 #include "cli.h"
 #include "hud.h"
 #include "hud_text.h"
@@ -93,7 +94,9 @@ static void print_help(void)
           "C print the camera as --camera-geo and --camera options, H hide the HUD, right-click\n"
           "twice to measure, ? key help, Esc quit. Keys are queued: a tap shorter than a frame\n"
           "still counts.\n"
-          "\nExit status: 0 success, 1 failure, 2 usage error.\n",
+          "\nOutputs are checked before rendering and written whole or not at all (a full disk or\n"
+          "SIGINT/SIGTERM leaves an older file as it was).\n"
+          "Exit status: 0 success, 1 failure, 2 usage error, 130/143 after SIGINT/SIGTERM.\n",
           stdout);
 }
 
@@ -326,6 +329,10 @@ int tp_cli_view(int argc, char** argv)
     int code = parse_options(argc, argv, &o);
     if (code >= 0)
         return code;
+    /* Every output can be written, or nothing is rendered and nothing written. */
+    if ((o.screenshot && !tp_atomic_check_dir(o.screenshot)) ||
+        (o.stats_json && !tp_atomic_check_dir(o.stats_json)))
+        return TP_EXIT_FAILURE;
     tp_scene sc;
     if ((code = tp_scene_load(o.path, &o.scene, &sc)) != TP_EXIT_OK)
         return code;

@@ -89,7 +89,8 @@ int tp_view_screenshot(tp_gl_context* ctx, const char* path)
     tp_status s = tp_image_write_rgba(path, w, h, px, &err);
     free(px);
     if (s != TP_OK) {
-        fprintf(stderr, "terrapatch: %s\n", err.message);
+        if (!tp_interrupted()) /* else main says "interrupted" */
+            fprintf(stderr, "terrapatch: %s\n", err.message);
         return 0;
     }
     return 1;

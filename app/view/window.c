@@ -85,7 +85,7 @@ static void export_view(window_state* s)
         printf("exported %s: %zu triangles, measured error max %.2f m\n", name, er.triangles,
                er.max_error_m);
         fflush(stdout);
-    } else {
+    } else if (!tp_interrupted()) { /* else main says "interrupted" */
         fprintf(stderr, "terrapatch: %s\n", err.message);
     }
 }
@@ -203,7 +203,9 @@ int tp_view_window_run(tp_scene* sc, tp_gl_context* ctx, tp_renderer* r, tp_sele
     tp_measured_error me = {0};
     double measured_at = -1e9, fps = 0, last = glfwGetTime(), mx0 = 0, my0 = 0;
     int dragging = 0, frames = 0;
-    while (!glfwWindowShouldClose(win) && !s.quit) {
+    /* Ctrl-C kills the window at once, except during a screenshot or an export (Y): then the
+     * writer cleans up, and the loop ends here (main exits with 130/143). */
+    while (!glfwWindowShouldClose(win) && !s.quit && !tp_interrupted()) {
         tp_input_begin_frame(&in);
         glfwPollEvents();
         double now = glfwGetTime(), dt = now - last;

@@ -79,6 +79,55 @@ typedef struct tp_crs_info {
 tp_status tp_crs_describe(const char* crs, tp_crs_info* out, tp_error* err);
 
 /* ---------------------------------------------------------------------------------------------
+ * Files written whole or not at all (io/src/atomic_write.cpp)
+ *
+ * Every file terrapatch writes (images, meshes, JSON, CSV) goes through this writer. The bytes
+ * go to a new temporary file beside path, named path + ".tmp" + 8 random characters and created
+ * with O_CREAT | O_EXCL | O_NOFOLLOW (a file or symlink planted there is never opened, let
+ * alone followed); every write() is checked (ENOSPC, EFBIG, EDQUOT, EIO end the write, EINTR
+ * is retried); commit checks the size on disk, fsyncs, closes (checked), renames over path and
+ * fsyncs the folder. On any failure, and on SIGINT/SIGTERM once tp_interrupt_install has run,
+ * the temporary file is removed and path is left exactly as it was: the old file, or none.
+ * Messages name path: "PATH: cannot write: No space left on device", "PATH: interrupted
+ * (SIGTERM): not written".
+ */
+typedef struct tp_file_writer tp_file_writer;
+
+/* Creates the temporary file. TP_ERR_INVALID_ARG for a name ending in '/', TP_ERR_IO when the
+ * folder does not exist or is not writable (or after a signal). */
+tp_status tp_file_begin(const char* path, tp_file_writer** out, tp_error* err);
+/* Appends size bytes, in pieces of at most 4 MiB with the signal flag checked between them.
+ * On failure the temporary file is already gone; w must still be aborted (or committed, which
+ * returns the same failure). */
+tp_status tp_file_append(tp_file_writer* w, const void* data, size_t size, tp_error* err);
+/* Makes the file path: fsync, close, rename, fsync of the folder. Frees w, whatever happens. */
+tp_status tp_file_commit(tp_file_writer* w, tp_error* err);
+/* Removes the temporary file and frees w; path is untouched. Accepts NULL. */
+void tp_file_abort(tp_file_writer* w);
+/* begin, append, commit: the whole of data as the file path. */
+tp_status tp_file_write(const char* path, const void* data, size_t size, tp_error* err);
+
+/* Checks, before long work that ends by writing path, that it can be written: its folder
+ * exists and is writable and path is not a folder. Writes nothing. TP_ERR_IO (or
+ * TP_ERR_INVALID_ARG for "" or a name ending in '/') with a message naming path. */
+tp_status tp_output_check(const char* path, tp_error* err);
+
+/* SIGINT and SIGTERM. tp_interrupt_install sets handlers (not for a signal the program started
+ * with ignored, as nohup and background jobs do) that only record the signal while a temporary
+ * file or folder of the writers is live; at any other moment they restore the default action
+ * and re-raise it, so the program dies as it would without them (nothing of ours is on disk).
+ * Once recorded, the writers remove their temporaries and fail; tp_interrupted() returns the
+ * signal (0 if none), and the program should exit with status 128 + that signal. (A signal
+ * after a writer's last look, during the rename, lets that file complete; it is still
+ * recorded.)
+ * tp_interrupt_hold/release bracket other work that checks tp_interrupted() itself (nested
+ * holds count; the writers hold while a temporary lives). Main thread only. */
+void tp_interrupt_install(void);
+int tp_interrupted(void);
+void tp_interrupt_hold(void);
+void tp_interrupt_release(void);
+
+/* ---------------------------------------------------------------------------------------------
  * Heightmap images without georeference (io/src/image_read.cpp, through OpenImageIO)
  */
 typedef struct tp_image_options {
@@ -103,8 +152,9 @@ tp_status tp_dem_read_image(const char* path, const tp_image_options* options, t
                             tp_error* err);
 
 /* Writes an RGBA8 image (w x h, top row first) to path through OpenImageIO, the format from the
- * extension (.png, .jpg, .tif, ...). Atomic: a temporary file beside it, then a rename, so a
- * failure leaves nothing behind. */
+ * extension (.png, .jpg, .tif, ...). The image is encoded in memory and written with
+ * tp_file_write: a failure (full disk, signal) leaves nothing behind and an older file as it
+ * was. TP_ERR_INVALID_ARG for an extension OpenImageIO cannot encode in memory. */
 tp_status tp_image_write_rgba(const char* path, int w, int h, const uint8_t* rgba, tp_error* err);
 
 /* Reads an image as RGBA8 (w x h, top row first; grey and RGB are expanded, alpha 255).
@@ -244,10 +294,12 @@ tp_status tp_mesh_check_size(tp_mesh_format format, size_t point_count, size_t t
                              tp_error* err);
 
 /* Writes the mesh with VTK's writers: points as doubles, triangles as cells (not strips), the
- * point, cell and field data above (field data also holds "triangle_count"). Atomic: written to
- * a temporary file beside path and renamed; on any failure (unwritable directory, full disk,
- * bad extension, counts beyond tp_mesh_check_size's limits) nothing is left behind and the
- * message names the path. */
+ * point, cell and field data above (field data also holds "triangle_count"). Atomic: .vtp and
+ * .vtk go through tp_file_write; a .vtm's index and pieces are built in a new temporary folder
+ * of an unpredictable name beside path and renamed into place. On any failure (unwritable
+ * directory, full disk, bad extension, counts beyond tp_mesh_check_size's limits, SIGINT or
+ * SIGTERM after tp_interrupt_install: tp_interrupted() then says which) nothing is left behind,
+ * older files stay as they were, and the message names the path. */
 tp_status tp_mesh_write(const char* path, tp_mesh_format format, const tp_mesh* mesh,
                         tp_error* err);
 

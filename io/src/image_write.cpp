@@ -2,13 +2,12 @@
 #include "io_util.hpp"
 #include "tp_io.h"
 
+#include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imageio.h>
 
-#include <cerrno>
 #include <cstdio>
 #include <exception>
 #include <string>
-#include <unistd.h>
 #include <vector>
 
 namespace OIIO = OIIO_NAMESPACE;
@@ -19,39 +18,29 @@ extern "C" tp_status tp_image_write_rgba(const char* path, int w, int h, const u
 {
     if (!path || !rgba || w < 1 || h < 1)
         return fail(err, TP_ERR_INVALID_ARG, "image: bad arguments");
-    std::string tmp;
     try {
-        /* the temporary keeps the extension so OpenImageIO picks the same format */
-        std::string p = path;
-        size_t slash = p.find_last_of('/'), dot = p.find_last_of('.');
-        std::string ext = dot != std::string::npos && (slash == std::string::npos || dot > slash)
-                              ? p.substr(dot) : std::string(".png");
-        tmp = p + ".tmp" + std::to_string((long)getpid()) + ext;
-        /* A clear reason (no such directory, permission) before the image library's own. */
-        if (FILE* probe = std::fopen(tmp.c_str(), "wb"))
-            std::fclose(probe);
-        else
-            return fail(err, TP_ERR_IO, "%s: cannot write: %s", path, std::strerror(errno));
-        auto out = OIIO::ImageOutput::create(tmp);
-        if (!out) {
-            std::remove(tmp.c_str());
+        /* Encoded in memory, so that OpenImageIO never writes a file itself: its writers do not
+         * report a full disk reliably (a cut PNG was renamed into place), and the bytes then go
+         * through the one atomic writer. */
+        auto out = OIIO::ImageOutput::create(path);
+        if (!out)
             return fail(err, TP_ERR_INVALID_ARG, "%s: no image format for this name: %s", path,
                         OIIO::geterror().c_str());
-        }
+        if (!out->supports("ioproxy"))
+            return fail(err, TP_ERR_INVALID_ARG,
+                        "%s: OpenImageIO's %s writer cannot encode in memory; use .png, .tif or "
+                        ".jpg", path, out->format_name());
+        std::vector<unsigned char> bytes;
+        OIIO::Filesystem::IOVecOutput vec(bytes);
         OIIO::ImageSpec spec(w, h, 4, OIIO::TypeDesc::UINT8);
-        if (!out->open(tmp, spec) || !out->write_image(OIIO::TypeDesc::UINT8, rgba) || !out->close()) {
-            std::string why = out->geterror();
-            std::remove(tmp.c_str());
-            return fail(err, TP_ERR_IO, "%s: cannot write: %s", path, why.c_str());
-        }
-        if (std::rename(tmp.c_str(), path) != 0) {
-            std::remove(tmp.c_str());
-            return fail(err, TP_ERR_IO, "%s: cannot write: %s", path, std::strerror(errno));
-        }
-        return TP_OK;
+        if (!out->set_ioproxy(&vec) || !out->open(path, spec) ||
+            !out->write_image(OIIO::TypeDesc::UINT8, rgba) || !out->close())
+            return fail(err, TP_ERR_BACKEND, "%s: OpenImageIO could not encode the image: %s", path,
+                        out->geterror().c_str());
+        if (bytes.empty())
+            return fail(err, TP_ERR_BACKEND, "%s: OpenImageIO encoded an empty image", path);
+        return tp_file_write(path, bytes.data(), bytes.size(), err);
     } catch (...) {
-        if (!tmp.empty())
-            std::remove(tmp.c_str());
         return tpio::caught(err, path);
     }
 }

@@ -10,16 +10,19 @@
  *    1 even when the file could not be opened), and a full disk or a quota may only show at
  *    fsync() or close(), which VTK does not check; our own write(), fsync() and close() say
  *    what went wrong (strerror).
- * Every file goes to a new temporary name beside its final one (O_EXCL, so nothing of anyone
- * else's is overwritten) and is renamed into place only when complete.
+ * A .vtp or .vtk goes through tp_file_write (atomic_write.cpp): a new temporary file of an
+ * unpredictable name beside its final one, renamed into place only when complete.
  *
  * A .vtm is an index plus a folder of pieces: x.vtm names x/x_0.vtp, x/x_1.vtp, ... (VTK's
  * vtkXMLMultiBlockDataWriter uses the same layout; we write the pieces with vtkXMLPolyDataWriter
  * for the reason above, and the few lines of index ourselves). Both are built inside one
  * temporary folder beside x.vtm; then the folder of pieces is renamed into place (an older one
  * of the same name is moved aside first, and only if it holds nothing but pieces), then the
- * index. Any failure undoes the renames and removes the temporary folder.
+ * index. Any failure undoes the renames and removes the temporary folder; so does SIGINT or
+ * SIGTERM (checked between pieces and between each piece's chunks), the folder holding off
+ * the signal's default action while it lives.
  */
+#include "atomic_write.hpp"
 #include "io_util.hpp"
 #include "vtk_util.hpp"
 #include "tp_io.h"
@@ -63,109 +66,27 @@ namespace fs = std::filesystem;
 
 namespace {
 
-std::string dir_of(const std::string& path)
-{
-    size_t slash = path.find_last_of('/');
-    return slash == std::string::npos ? std::string(".")
-           : slash == 0               ? std::string("/")
-                                      : path.substr(0, slash);
-}
-
 std::string base_of(const std::string& path)
 {
     size_t slash = path.find_last_of('/');
     return slash == std::string::npos ? path : path.substr(slash + 1);
 }
 
-/* path + ".tmp<pid>_<n>": unique per process and call. */
-std::string temp_name(const std::string& path)
-{
-    static std::atomic<unsigned> counter{0};
-    return path + ".tmp" + std::to_string((long)getpid()) + "_" + std::to_string(counter++);
-}
-
-/* Writes data into a file that must not exist yet; fsync'd and closed. Returns 0 or an errno
- * value; on failure the file is removed. */
-int write_new_file(const std::string& name, const char* data, size_t size)
-{
-    int fd = open(name.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
-    if (fd < 0)
-        return errno;
-    int e = 0;
-    size_t done = 0;
-    while (done < size && !e) {
-        ssize_t n = write(fd, data + done, std::min(size - done, (size_t)1 << 30));
-        if (n > 0)
-            done += (size_t)n;
-        else if (n < 0 && errno != EINTR)
-            e = errno;
-        else if (n == 0)
-            e = EIO;
-    }
-    struct stat st;
-    if (!e && fstat(fd, &st) != 0)
-        e = errno;
-    if (!e && (uintmax_t)st.st_size != (uintmax_t)size)
-        e = EIO; /* the file is not what was written */
-    /* Delayed allocation: a full disk, a quota or NFS may only say so here. */
-    if (!e && fsync(fd) != 0)
-        e = errno;
-    if (close(fd) != 0 && !e)
-        e = errno;
-    if (e)
-        unlink(name.c_str());
-    return e;
-}
-
-/* A new file of a unique temporary name beside path: 0 or errno. *tmp is set only on
- * success, so that it never names a file of someone else's. */
-int write_temp_file(const std::string& path, const char* data, size_t size, std::string* tmp)
-{
-    for (int attempt = 0; attempt < 100; ++attempt) {
-        std::string name = temp_name(path);
-        int e = write_new_file(name, data, size);
-        if (e == 0)
-            *tmp = name;
-        if (e != EEXIST)
-            return e;
-    }
-    return EEXIST;
-}
-
-/* Makes a new folder of a unique temporary name beside path: 0 or errno (*tmp as above). */
-int make_temp_dir(const std::string& path, std::string* tmp)
-{
-    for (int attempt = 0; attempt < 100; ++attempt) {
-        std::string name = temp_name(path);
-        if (mkdir(name.c_str(), 0777) == 0) {
-            *tmp = name;
-            return 0;
-        }
-        if (errno != EEXIST)
-            return errno;
-    }
-    return EEXIST;
-}
-
-void sync_dir(const std::string& dir) /* best effort: the renames reach the disk */
-{
-    int fd = open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
-    if (fd >= 0) {
-        (void)fsync(fd);
-        close(fd);
-    }
-}
-
-/* Removes a file or folder we created, whatever happens to our caller. */
+/* Holds interruption (a signal only sets the flag) while the temporary folder lives, and
+ * removes it whatever happens to our caller. */
 struct TempGuard {
     std::string name;
+    TempGuard() { tp_interrupt_hold(); }
     ~TempGuard()
     {
         if (!name.empty()) {
             std::error_code ec;
             fs::remove_all(name, ec);
         }
+        tp_interrupt_release();
     }
+    TempGuard(const TempGuard&) = delete;
+    TempGuard& operator=(const TempGuard&) = delete;
 };
 
 /* ---------------------------------------------------------------------------------------------
@@ -361,15 +282,7 @@ tp_status write_single(const std::string& path, tp_mesh_format format, const tp_
     if (!data || size == 0)
         return fail(err, TP_ERR_BACKEND, "%s: VTK wrote an empty file", path.c_str());
 
-    TempGuard guard;
-    int e = write_temp_file(path, data, size, &guard.name);
-    if (e == 0 && std::rename(guard.name.c_str(), path.c_str()) != 0)
-        e = errno;
-    if (e) /* the guard removes the temporary file */
-        return fail(err, TP_ERR_IO, "%s: cannot write: %s", path.c_str(), std::strerror(e));
-    guard.name.clear(); /* renamed: nothing left to remove */
-    sync_dir(dir_of(path));
-    return TP_OK;
+    return tp_file_write(path.c_str(), data, size, err);
 }
 
 /* Escapes text for an XML attribute value. */
@@ -408,7 +321,7 @@ bool only_pieces(const std::string& dir, const std::string& prefix)
 
 tp_status write_vtm(const std::string& path, const tp_mesh* m, tp_error* err)
 {
-    const std::string dir = dir_of(path), name = base_of(path);
+    const std::string dir = tpio::dir_of(path), name = base_of(path);
     const size_t dot = name.find_last_of('.');
     if (dot == std::string::npos || dot == 0)
         return fail(err, TP_ERR_INVALID_ARG,
@@ -438,9 +351,9 @@ tp_status write_vtm(const std::string& path, const tp_mesh* m, tp_error* err)
     }
 
     TempGuard guard;
-    int e = make_temp_dir(path, &guard.name);
+    int e = tpio::make_temp_dir(path, &guard.name);
     if (e)
-        return fail(err, TP_ERR_IO, "%s: cannot write: %s", path.c_str(), std::strerror(e));
+        return tpio::write_failed(err, path, e);
     const std::string tmp = guard.name;
     if (mkdir((tmp + "/" + prefix).c_str(), 0777) != 0)
         return fail(err, TP_ERR_IO, "%s: cannot write: %s", path.c_str(), std::strerror(errno));
@@ -474,27 +387,31 @@ tp_status write_vtm(const std::string& path, const tp_mesh* m, tp_error* err)
         for (size_t p : points)
             local_of[p] = -1;
 
+        if (tp_interrupted())
+            return tpio::write_failed(err, path, EINTR);
         vtkSmartPointer<vtkPolyData> pd = build_polydata(m, &tris, &points, &local);
         std::string bytes, why;
         if (!vtp_bytes(pd, &bytes, &why))
             return fail(err, TP_ERR_BACKEND, "%s: VTK could not write the mesh: %s", path.c_str(),
                         why.c_str());
         const std::string file = prefix + "/" + prefix + "_" + std::to_string(block) + ".vtp";
-        e = write_new_file(tmp + "/" + file, bytes.data(), bytes.size());
+        e = tpio::write_new_file(tmp + "/" + file, bytes.data(), bytes.size());
         if (e)
-            return fail(err, TP_ERR_IO, "%s: cannot write: %s", path.c_str(), std::strerror(e));
+            return tpio::write_failed(err, path, e);
         index += "    <DataSet index=\"" + std::to_string(block) + "\" name=\"patch_" +
                  std::to_string(id) + "\" file=\"" + xml_attr(file) + "\"/>\n";
         ++block;
         begin = end;
     }
     index += "  </vtkMultiBlockDataSet>\n</VTKFile>\n";
-    e = write_new_file(tmp + "/" + name, index.data(), index.size());
+    e = tpio::write_new_file(tmp + "/" + name, index.data(), index.size());
     if (e)
-        return fail(err, TP_ERR_IO, "%s: cannot write: %s", path.c_str(), std::strerror(e));
+        return tpio::write_failed(err, path, e);
     const bool have_pieces = block > 0; /* no triangles: an index of no blocks, no folder */
     if (have_pieces)
-        sync_dir(tmp + "/" + prefix);
+        tpio::sync_dir(tmp + "/" + prefix);
+    if (tp_interrupted()) /* the last moment to stop with nothing changed */
+        return tpio::write_failed(err, path, EINTR);
 
     /* Into place: the old pieces aside, the new pieces, then the index (which replaces any
      * older index atomically). Each failure undoes what was done; the guard removes tmp. */
@@ -516,7 +433,7 @@ tp_status write_vtm(const std::string& path, const tp_mesh* m, tp_error* err)
             (void)std::rename(old.c_str(), pieces.c_str());
         return fail(err, TP_ERR_IO, "%s: cannot write: %s", path.c_str(), std::strerror(e));
     }
-    sync_dir(dir);
+    tpio::sync_dir(dir);
     return TP_OK; /* the guard removes tmp with the old pieces in it */
 }
 
