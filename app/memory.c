@@ -16,9 +16,9 @@ static const struct {
 } costs[] = {
     [TP_MEMORY_USE_INFO] = {"info", 160, 30},
     [TP_MEMORY_USE_VIEW] = {"view", 250, 70},
-    [TP_MEMORY_USE_EXPORT] = {"export", 170, 100},
-    [TP_MEMORY_USE_EXPORT_FULL] = {"export --full", 170, 420},
-    [TP_MEMORY_USE_BENCH] = {"bench", 250, 80},
+    [TP_MEMORY_USE_EXPORT] = {"export", 170, 40},
+    [TP_MEMORY_USE_EXPORT_FULL] = {"export --full", 170, 390},
+    [TP_MEMORY_USE_BENCH] = {"bench", 250, 150},
 };
 
 const char* tp_memory_use_name(tp_memory_use use)
