@@ -6,6 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/resource.h>
+#include <unistd.h>
 
 /* Base (MiB) and bytes per fitted sample, per command: peaks measured on N42E001.hgt at 1201^2
  * and 3601^2, mt_rainier_90m.tif, front_range_srtmgl3_758.asc and lf_elev_220_mt_hood_utm.tif
@@ -123,7 +124,12 @@ void tp_memory_room_now(tp_memory_room* r)
             cur = file_number("/sys/fs/cgroup/memory.current");
         consider(r, max, cur, "the cgroup's memory.max");
     }
-    consider(r, proc_kb("/proc/meminfo", "MemAvailable"), 0, "MemAvailable");
+    uint64_t avail = proc_kb("/proc/meminfo", "MemAvailable");
+    if (!avail) { /* no /proc: free pages (page cache not counted, so on the safe side) */
+        long pages = sysconf(_SC_AVPHYS_PAGES), page = sysconf(_SC_PAGESIZE);
+        avail = pages > 0 && page > 0 ? (uint64_t)pages * (uint64_t)page : 0;
+    }
+    consider(r, avail, 0, "MemAvailable");
 }
 
 uint64_t tp_memory_peak_rss(void)
