@@ -102,24 +102,68 @@ static const char* fit_name(tp_fit fit)
     return fit == TP_FIT_RESAMPLE ? "resample" : "pad";
 }
 
-/* Geographic extent of the drawn grid: south, west, north, east (degrees), from its corners
- * and edge midpoints. Returns 0 when the grid has no CRS. */
-static int geo_extent(const tp_scene* sc, double out[4])
+/* Geographic extent of the drawn grid: south, west, north, east (degrees), from every edge
+ * sample (an extent in UTM/UPS bends: corners and midpoints miss where it reaches furthest).
+ * When the grid holds a pole, that latitude is +-90 and the longitudes are -180 .. 180. The
+ * longitudes are the shortest interval holding every edge sample: west > east when it crosses
+ * the antimeridian (*crosses set to 1). Returns 0 when the grid has no CRS. */
+static int cmp_double(const void* a, const void* b)
 {
+    double x = *(const double*)a, y = *(const double*)b;
+    return (x > y) - (x < y);
+}
+
+static int geo_extent(const tp_scene* sc, double out[4], int* crosses)
+{
+    *crosses = 0;
     if (!tp_georef_has_geo(sc->georef))
         return 0;
-    out[0] = out[1] = INFINITY;
-    out[2] = out[3] = -INFINITY;
-    double w = sc->grid->width - 1, h = sc->grid->height - 1;
-    const double at[8][2] = {{0, 0}, {w, 0}, {0, h}, {w, h}, {w / 2, 0}, {w / 2, h}, {0, h / 2}, {w, h / 2}};
-    for (int i = 0; i < 8; i++) {
-        double e, n, lat, lon;
-        tp_georef_grid_to_proj(sc->georef, at[i][0], at[i][1], &e, &n);
-        if (tp_georef_proj_to_geo(sc->georef, e, n, &lat, &lon, NULL) != TP_OK)
+    int w = sc->grid->width, h = sc->grid->height;
+    size_t cap = 2 * (size_t)w + 2 * (size_t)h, n = 0;
+    double* lons = malloc(cap * sizeof *lons);
+    if (!lons)
+        return 0;
+    out[0] = INFINITY, out[2] = -INFINITY;
+    for (size_t i = 0; i < cap; i++) {
+        double x, y; /* the bottom and top rows, then the left and right columns */
+        if (i < 2 * (size_t)w)
+            x = (double)(i % w), y = i < (size_t)w ? 0 : h - 1;
+        else
+            x = (i - 2 * (size_t)w) < (size_t)h ? 0 : w - 1, y = (double)((i - 2 * (size_t)w) % h);
+        double e, nn, lat, lon;
+        tp_georef_grid_to_proj(sc->georef, x, y, &e, &nn);
+        if (tp_georef_proj_to_geo(sc->georef, e, nn, &lat, &lon, NULL) != TP_OK) {
+            free(lons);
             return 0;
-        out[0] = fmin(out[0], lat), out[1] = fmin(out[1], lon);
-        out[2] = fmax(out[2], lat), out[3] = fmax(out[3], lon);
+        }
+        out[0] = fmin(out[0], lat), out[2] = fmax(out[2], lat);
+        lons[n++] = remainder(lon, 360.0);
     }
+    /* A pole inside the grid: the latitudes reach it and every longitude is covered. */
+    for (int pole = -1; pole <= 1; pole += 2) {
+        double e, nn, x, y;
+        if (tp_georef_geo_to_proj(sc->georef, 90.0 * pole, 0, &e, &nn, NULL) != TP_OK)
+            continue;
+        tp_georef_proj_to_grid(sc->georef, e, nn, &x, &y);
+        if (x >= 0 && y >= 0 && x <= w - 1 && y <= h - 1) {
+            out[pole < 0 ? 0 : 2] = 90.0 * pole;
+            out[1] = -180, out[3] = 180;
+            free(lons);
+            return 1;
+        }
+    }
+    /* The longitudes: the complement of the widest gap between neighbours on the circle. */
+    qsort(lons, n, sizeof *lons, cmp_double);
+    double gap = lons[0] + 360.0 - lons[n - 1]; /* the gap across the antimeridian */
+    out[1] = lons[0], out[3] = lons[n - 1];
+    for (size_t i = 1; i < n; i++) {
+        if (lons[i] - lons[i - 1] > gap) {
+            gap = lons[i] - lons[i - 1];
+            out[1] = lons[i], out[3] = lons[i - 1];
+            *crosses = 1;
+        }
+    }
+    free(lons);
     return 1;
 }
 
@@ -203,9 +247,10 @@ static void print_text(const tp_scene* sc, const char* path)
     double ext[4];
     proj_extent(sc, ext);
     printf("  extent       E %.3f .. %.3f, N %.3f .. %.3f\n", ext[0], ext[2], ext[1], ext[3]);
-    if (geo_extent(sc, ext))
-        printf("  geographic   lat %.6f .. %.6f, lon %.6f .. %.6f\n", ext[0], ext[2], ext[1],
-               ext[3]);
+    int crosses = 0;
+    if (geo_extent(sc, ext, &crosses))
+        printf("  geographic   lat %.6f .. %.6f, lon %.6f .. %.6f%s\n", ext[0], ext[2], ext[1],
+               ext[3], crosses ? " (crosses the antimeridian)" : "");
 
     printf("\npatches\n");
     printf("  fitted size  %d x %d samples (%s", in->width, in->height, fit_name(in->fit));
@@ -347,14 +392,16 @@ static void print_json(const tp_scene* sc, const char* path)
     proj_extent(sc, ext);
     key_numbers(&j, "extent_proj", ext, 4);
     tp_json_key(&j, "extent_geo");
-    if (geo_extent(sc, ext)) {
-        tp_json_array_begin(&j);
+    int crosses = 0;
+    if (geo_extent(sc, ext, &crosses)) {
+        tp_json_array_begin(&j); /* south, west, north, east: west > east across the antimeridian */
         for (int i = 0; i < 4; ++i)
             tp_json_number(&j, ext[i]);
         tp_json_array_end(&j);
     } else {
         tp_json_null(&j);
     }
+    key_bool(&j, "extent_crosses_antimeridian", crosses);
     tp_json_key(&j, "render_warnings");
     json_lines(&j, g->warnings);
 

@@ -150,7 +150,20 @@ int tp_scene_load(const char* path, const tp_scene_options* o, tp_scene* scene)
         fprintf(stderr, "terrapatch: warning: %.*s\n", len, w);
         w += len + (nl ? 1 : 0);
     }
-    s = tp_render_grid_build(scene->dem, &o->grid, &scene->grid, &err);
+    /* The memory the command will need, from the planned render grid fitted to whole patches
+     * (padding rounds each side up to patches of patch_size - 1 cells), before any of it. */
+    int plan_w = 0, plan_h = 0;
+    s = tp_render_grid_plan(scene->dem, &o->grid, &plan_w, &plan_h, &err);
+    if (s == TP_OK) {
+        int cells = o->patch_size - 1;
+        int fit_w = (plan_w - 1 + cells - 1) / cells * cells + 1;
+        int fit_h = (plan_h - 1 + cells - 1) / cells * cells + 1;
+        if (tp_memory_check(path, o->use, fit_w, fit_h) < 0) {
+            tp_scene_free(scene);
+            return TP_EXIT_FAILURE;
+        }
+        s = tp_render_grid_build(scene->dem, &o->grid, &scene->grid, &err);
+    }
     if (s == TP_OK) {
         tp_print_warnings(path, scene->grid->warnings);
         tp_terrain_desc desc = tp_render_grid_terrain_desc(scene->grid, o->patch_size, o->fit);

@@ -9,6 +9,8 @@
 #include "tp_core.h"
 #include "tp_io.h"
 
+#include "memory.h"
+
 #include <getopt.h>
 #include <stdio.h>
 
@@ -18,6 +20,7 @@ typedef struct tp_scene_options {
     tp_grid_options grid;    /* --crs, --resampling, --fill-max */
     tp_image_options image;  /* --spacing, --zscale, --origin (heightmap images) */
     int image_given;         /* one of those was given: read through OpenImageIO */
+    tp_memory_use use;       /* the command, for the up-front memory check (memory.h) */
 } tp_scene_options;
 
 /* getopt_long codes of the DEM options (each command adds its own beside them). */
@@ -59,7 +62,9 @@ typedef struct tp_scene {
     tp_terrain_info info;
 } tp_scene;
 
-/* Loads path through the whole pipeline. Prints warnings ("terrapatch: warning: ...") and, on
+/* Loads path through the whole pipeline. Once the DEM is read, the render grid is planned and
+ * o->use of it checked against the memory left (memory.h): one line and TP_EXIT_FAILURE when it
+ * would not fit, before the warp, the terrain or the command's own buffers are allocated. Prints warnings ("terrapatch: warning: ...") and, on
  * failure, one error line naming the file; returns TP_EXIT_OK, TP_EXIT_FAILURE, or TP_EXIT_USAGE
  * when the heightmap options do not fit the file (--spacing on a georeferenced raster). On failure
  * the scene holds nothing. */

@@ -152,6 +152,37 @@ TEST(status_str_names_every_status)
     EXPECT_TRUE(tp_status_str((tp_status)99) != NULL);
 }
 
+/* A message longer than tp_error's buffer keeps its start and its end ("PATH: reason" keeps its
+ * reason), the cut marked "..." and never inside a UTF-8 character. */
+TEST(error_set_keeps_the_reason_of_a_long_message)
+{
+    char path[701];
+    for (size_t i = 0; i + 2 < sizeof path; i += 2)
+        path[i] = (char)0xC3, path[i + 1] = (char)0xA9; /* "é" x 350 */
+    path[sizeof path - 1] = '\0';
+    tp_error err;
+    ASSERT_TRUE(tp_error_set(&err, TP_ERR_IO, "/data/%s.tif: No such file or directory", path) ==
+                TP_ERR_IO);
+    size_t n = strlen(err.message);
+    const char* reason = ".tif: No such file or directory";
+    EXPECT_TRUE(n < sizeof err.message && n > sizeof err.message - 8);
+    EXPECT_TRUE(strncmp(err.message, "/data/", 6) == 0);
+    EXPECT_TRUE(strstr(err.message, "...") != NULL);
+    EXPECT_TRUE(n > strlen(reason) && strcmp(err.message + n - strlen(reason), reason) == 0);
+    for (size_t i = 0; i < n; i++) { /* every continuation byte follows a lead or another */
+        unsigned char c = (unsigned char)err.message[i];
+        if ((c & 0xC0) == 0x80) {
+            ASSERT_TRUE(i > 0);
+            EXPECT_TRUE(((unsigned char)err.message[i - 1] & 0x80) != 0);
+        }
+        if (c == 0xC3)
+            EXPECT_TRUE(i + 1 < n && ((unsigned char)err.message[i + 1] & 0xC0) == 0x80);
+    }
+    /* a short message is untouched */
+    tp_error_set(&err, TP_ERR_IO, "%s: %s", "a.tif", "gone");
+    EXPECT_TRUE(strcmp(err.message, "a.tif: gone") == 0);
+}
+
 TEST(plane_has_zero_delta_at_every_level)
 {
     static float h[65 * 49];
@@ -1262,6 +1293,7 @@ TEST(bytes_per_source_sample_at_most_2_5_on_real_dems)
 
 #define TESTS(X)                                                                                   \
     X(status_str_names_every_status)                                                               \
+    X(error_set_keeps_the_reason_of_a_long_message)                                                \
     X(plane_has_zero_delta_at_every_level)                                                         \
     X(spike_between_coarse_vertices_gives_full_height_delta)                                       \
     X(spike_on_a_level_2_vertex_gives_hat_function_deltas)                                         \

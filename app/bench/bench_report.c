@@ -75,6 +75,11 @@ int tp_bench_write_json(const bench_run* b, const char* renderer_name, const con
     KN("patches", b->sc->info.patch_count);
     KN("patch_size", b->sc->info.patch_size);
     KS("renderer", renderer_name);
+    /* the program's own accounting: measured peak against the up-front check's estimate */
+    KN("peak_rss_bytes", (double)tp_memory_peak_rss());
+    KN("memory_estimate_bytes",
+       (double)tp_memory_estimate(TP_MEMORY_USE_BENCH,
+                                  (uint64_t)b->sc->info.width * (uint64_t)b->sc->info.height));
     json_lod(&j, &best->lod);
     json_config(&j, best);
     tp_json_key(&j, "full_res");
@@ -160,6 +165,11 @@ void tp_bench_print_table(const bench_run* b, const char* renderer_name, const c
                o->sweep && c[k].pareto && k > 0 ? "  pareto" : "");
     printf("error mode (tau = %g px) vs full resolution: %.2fx the frame rate\n", c[best].lod.tau_px,
            c[best].fps_median / c[0].fps_median);
+    uint64_t samples = (uint64_t)b->sc->info.width * (uint64_t)b->sc->info.height;
+    printf("memory: peak resident %.0f MiB, estimated %.0f MiB for the %dx%d fitted grid\n",
+           tp_memory_peak_rss() / 1048576.0,
+           tp_memory_estimate(TP_MEMORY_USE_BENCH, samples) / 1048576.0, b->sc->info.width,
+           b->sc->info.height);
     if (c[best].oracle_triangles > 0)
         printf("error mode (tau = %g px): %.0f triangles if every patch were at the coarsest level "
                "its measured error allows (%.0f patches could be coarser; median per frame)\n",

@@ -504,6 +504,7 @@ int tp_cli_bench(int argc, char** argv)
         if (outputs[i] && !tp_atomic_check_dir(outputs[i]))
             return TP_EXIT_FAILURE;
     tp_scene sc;
+    o.scene.use = TP_MEMORY_USE_BENCH;
     if ((code = tp_scene_load(o.dem, &o.scene, &sc)) != TP_EXIT_OK)
         return code;
     if (o.is_static) {

@@ -191,6 +191,7 @@ int tp_cli_export(int argc, char** argv)
     if (!tp_atomic_check_dir(o.out))
         return TP_EXIT_FAILURE;
     tp_scene sc;
+    o.scene.use = o.mode == MODE_FULL ? TP_MEMORY_USE_EXPORT_FULL : TP_MEMORY_USE_EXPORT;
     if ((code = tp_scene_load(o.path, &o.scene, &sc)) != TP_EXIT_OK)
         return code;
     tp_view_setup_warn(&sc, &o.vs, "export");

@@ -334,6 +334,7 @@ int tp_cli_view(int argc, char** argv)
         (o.stats_json && !tp_atomic_check_dir(o.stats_json)))
         return TP_EXIT_FAILURE;
     tp_scene sc;
+    o.scene.use = TP_MEMORY_USE_VIEW;
     if ((code = tp_scene_load(o.path, &o.scene, &sc)) != TP_EXIT_OK)
         return code;
     tp_view_setup_warn(&sc, &o.vs, "view");

@@ -43,6 +43,7 @@
 #ifndef TP_CORE_H
 #define TP_CORE_H
 
+#include <stdarg.h>
 #include <stddef.h>
 #include <stdint.h>
 
@@ -80,12 +81,17 @@ typedef struct tp_error {
 } tp_error;
 
 /* Writes a printf-style message into err->message (when err is not NULL) and returns s: how
- * every function that takes a tp_error* fails, in the core and above it. */
+ * every function that takes a tp_error* fails, in the core and above it. A message longer than
+ * the buffer keeps its start and its end with "..." between them (cut on UTF-8 character
+ * boundaries), so the reason at the end of "PATH: reason" survives a very long path. */
 tp_status tp_error_set(tp_error* err, tp_status s, const char* fmt, ...)
 #if defined(__GNUC__)
     __attribute__((format(printf, 3, 4)))
 #endif
     ;
+
+/* tp_error_set with a va_list (for wrappers that take their own "..."). */
+tp_status tp_error_setv(tp_error* err, tp_status s, const char* fmt, va_list ap);
 
 /* ---------------------------------------------------------------------------------------------
  * Triangle strips (one per level, shared by every patch of one size)

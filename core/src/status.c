@@ -20,14 +20,51 @@ const char* tp_status_str(tp_status s)
     return "unknown status";
 }
 
+/* Keeps the first `head` bytes of text (len bytes) and its end, "..." between, in cap bytes. */
+static void shorten_middle(char* dst, size_t cap, const char* text, size_t len)
+{
+    static const char dots[] = "...";
+    size_t room = cap - 1 - (sizeof dots - 1);
+    size_t head = room / 3, tail = room - head;
+    while (head > 0 && ((unsigned char)text[head] & 0xC0) == 0x80)
+        head--; /* do not split a UTF-8 character */
+    size_t from = len - tail;
+    while (from < len && ((unsigned char)text[from] & 0xC0) == 0x80)
+        from++;
+    memcpy(dst, text, head);
+    memcpy(dst + head, dots, sizeof dots - 1);
+    memcpy(dst + head + sizeof dots - 1, text + from, len - from);
+    dst[head + sizeof dots - 1 + (len - from)] = '\0';
+}
+
+tp_status tp_error_setv(tp_error* err, tp_status s, const char* fmt, va_list ap)
+{
+    if (!err)
+        return s;
+    va_list again;
+    va_copy(again, ap);
+    int n = vsnprintf(err->message, sizeof err->message, fmt, ap);
+    if (n >= (int)sizeof err->message) {
+        /* Too long: format whole on the heap, then cut the middle (usually the path). */
+        char* full = malloc((size_t)n + 1);
+        if (full) {
+            vsnprintf(full, (size_t)n + 1, fmt, again);
+            shorten_middle(err->message, sizeof err->message, full, (size_t)n);
+            free(full);
+        }
+    } else if (n < 0) {
+        snprintf(err->message, sizeof err->message, "(message could not be formatted)");
+    }
+    va_end(again);
+    return s;
+}
+
 tp_status tp_error_set(tp_error* err, tp_status s, const char* fmt, ...)
 {
-    if (err) {
-        va_list ap;
-        va_start(ap, fmt);
-        vsnprintf(err->message, sizeof err->message, fmt, ap);
-        va_end(ap);
-    }
+    va_list ap;
+    va_start(ap, fmt);
+    tp_error_setv(err, s, fmt, ap);
+    va_end(ap);
     return s;
 }
 

@@ -215,11 +215,25 @@ typedef struct tp_render_grid {
 /* Builds the render grid of a DEM. A warped grid keeps only samples inside the hull of the
  * source posts (GDAL's output reaches half a post further, where it would only repeat the edge).
  * Errors: TP_ERR_INVALID_ARG for an unknown options->crs or geographic posts beyond +-90
- * degrees; TP_ERR_BAD_DATA for an unreadable dem->crs_wkt; TP_ERR_BACKEND when GDAL or PROJ
+ * degrees; TP_ERR_BAD_DATA for an unreadable dem->crs_wkt or a DEM one UTM/UPS zone cannot
+ * hold (see tp_render_grid_plan); TP_ERR_BACKEND when GDAL or PROJ
  * fails. *out is untouched on failure. */
 tp_status tp_render_grid_build(const tp_dem* dem, const tp_grid_options* options,
                                tp_render_grid** out, tp_error* err);
 void tp_render_grid_destroy(tp_render_grid* grid); /* accepts NULL */
+
+/* The width and height tp_render_grid_build would give dem with these options, without warping
+ * (cheap: the warp is planned from the DEM's edges), for checking memory before building. Fails
+ * as tp_render_grid_build does for a DEM no zone can hold (below).
+ *
+ * Warps are bounded by the source: a geographic DEM whose edge posts the zone of its centre would
+ * scale by more than 5% (UTM keeps within 0.1%: a DEM many zones wide, or one reaching from a
+ * pole far into UTM latitudes) is TP_ERR_BAD_DATA, with a message naming the extent and a CRS to
+ * reproject to first; and a warp whose finest post spacing would give more than 4x the source's
+ * samples (posts converging near a pole, very anisotropic cells) uses posts as many as the
+ * source's over the warped extent instead, with a warning saying so. */
+tp_status tp_render_grid_plan(const tp_dem* dem, const tp_grid_options* options, int* width,
+                              int* height, tp_error* err);
 
 /* A tp_terrain_desc pointing into grid (valid while grid lives); grid NULL as for
  * tp_dem_terrain_desc. */

@@ -18,7 +18,7 @@ inline void vset_error(tp_error* err, const char* fmt, va_list ap)
 {
     if (!err)
         return;
-    std::vsnprintf(err->message, sizeof err->message, fmt, ap);
+    tp_error_setv(err, TP_OK, fmt, ap); /* a long message loses its middle, not its reason */
     for (char* c = err->message; *c; ++c)
         if (*c == '\n' || *c == '\r')
             *c = ' ';

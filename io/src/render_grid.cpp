@@ -151,7 +151,74 @@ void add_warning(std::string& w, const std::string& line)
     w += line;
 }
 
-tp_status build(const tp_dem* dem, const tp_grid_options* opt, tp_render_grid** out, tp_error* err)
+/* Largest scale error (|k - 1|, spherical approximation) of the zone chosen for a geographic DEM
+ * at its edge posts, and where: TM scale k0 / sqrt(1 - (cos(lat) sin(dlon))^2) with dlon from
+ * the central meridian, UPS k0 * 2 / (1 + sin|lat|). UTM itself keeps within 0.1%. */
+double zone_scale_error(const tp_dem* dem, int zone, double* at_lat, double* at_lon)
+{
+    const double* t = dem->geotransform;
+    const double d2r = M_PI / 180.0, k0 = zone == 0 ? 0.994 : 0.9996;
+    const double cm = zone == 0 ? 0.0 : -183.0 + 6.0 * zone;
+    double worst = 0;
+    auto visit = [&](double c, double r) {
+        double lon = t[0] + (c + 0.5) * t[1], lat = t[3] + (r + 0.5) * t[5];
+        double k = zone == 0 ? k0 * 2.0 / (1.0 + std::sin(std::fabs(lat) * d2r))
+                             : k0 / std::sqrt(std::max(1e-12, 1.0 - std::pow(std::cos(lat * d2r) *
+                                                                                 std::sin(std::remainder(lon - cm, 360.0) * d2r),
+                                                                             2)));
+        if (std::fabs(k - 1.0) > worst)
+            worst = std::fabs(k - 1.0), *at_lat = lat, *at_lon = lon;
+    };
+    for (int c = 0; c < dem->width; c++)
+        visit(c, 0), visit(c, dem->height - 1);
+    for (int r = 0; r < dem->height; r++)
+        visit(0, r), visit(dem->width - 1, r);
+    return worst;
+}
+
+/* The extent GDALWarp will give the warped grid (GDALSuggestedWarpOutput2 over the source's
+ * edges, as gdalwarp does): min x, min y, max x, max y in the target CRS. A dataset without
+ * bands is enough: nothing is read. */
+bool warp_extent(const tp_dem* dem, const double gt[6], const OGRSpatialReference& src,
+                 const std::string& t_srs, double ext[4])
+{
+    GDALDriver* mem = GetGDALDriverManager()->GetDriverByName("MEM");
+    if (!mem)
+        return false;
+    tpio::Dataset ds(mem->Create("", dem->width, dem->height, 0, GDT_Float32, nullptr));
+    if (!ds)
+        return false;
+    ds->SetGeoTransform(const_cast<double*>(gt));
+    ds->SetSpatialRef(&src);
+    std::string dst = "DST_SRS=" + t_srs;
+    const char* topt[] = {dst.c_str(), nullptr};
+    void* tr = GDALCreateGenImgProjTransformer2(GDALDataset::ToHandle(ds.get()), nullptr,
+                                                const_cast<char**>(topt));
+    if (!tr)
+        return false;
+    double ogt[6];
+    int px = 0, ln = 0;
+    CPLErr e = GDALSuggestedWarpOutput2(GDALDataset::ToHandle(ds.get()), GDALGenImgProjTransform,
+                                        tr, ogt, &px, &ln, ext, 0);
+    GDALDestroyGenImgProjTransformer(tr);
+    return e == CE_None && std::isfinite(ext[0]) && std::isfinite(ext[2]) && ext[2] > ext[0] &&
+           ext[3] > ext[1];
+}
+
+/* A CRS to suggest when one zone cannot hold the DEM: polar stereographic near a pole, else a
+ * world projection in metres. */
+const char* suggested_crs(double lat_min, double lat_max)
+{
+    if (lat_min > 45)
+        return "EPSG:3413 (NSIDC polar stereographic north)";
+    if (lat_max < -45)
+        return "EPSG:3031 (Antarctic polar stereographic)";
+    return "EPSG:8857 (Equal Earth), or a regional projected CRS";
+}
+
+/* plan_w/plan_h not NULL: only plan, returning the render grid's size without warping. */
+tp_status build(const tp_dem* dem, const tp_grid_options* opt, tp_render_grid** out, tp_error* err,
+                int* plan_w = nullptr, int* plan_h = nullptr)
 {
     tpio::register_drivers();
     tpio::QuietGdal quiet;
@@ -195,6 +262,10 @@ tp_status build(const tp_dem* dem, const tp_grid_options* opt, tp_render_grid** 
     dst.SetAxisMappingStrategy(OAMS_TRADITIONAL_GIS_ORDER);
     bool use_as_is = !has_crs || (src.IsProjected() && std::fabs(src.GetLinearUnits() - 1.0) < 1e-12);
 
+    if (use_as_is && plan_w) {
+        *plan_w = dem->width, *plan_h = dem->height;
+        return TP_OK;
+    }
     if (use_as_is) {
         grid.w = dem->width;
         grid.h = dem->height;
@@ -236,11 +307,61 @@ tp_status build(const tp_dem* dem, const tp_grid_options* opt, tp_render_grid** 
         if (!std::isfinite(res) || res <= 0)
             return fail(err, TP_ERR_BACKEND, "could not measure the DEM's post spacing in EPSG:%d",
                         epsg);
+        std::string t_srs = "EPSG:" + std::to_string(epsg);
+        const double* sg = dem->geotransform;
+
+        /* One zone must hold the DEM sensibly: a geographic DEM whose edges the zone would scale
+         * by more than 5% (UTM keeps within 0.1%) is refused, not drawn distorted. */
+        if (src.IsGeographic()) {
+            double k_lat = 0, k_lon = 0, k_err = zone_scale_error(dem, zone, &k_lat, &k_lon);
+            if (k_err > 0.05) {
+                double lat0 = sg[3] + (dem->height - 0.5) * sg[5], lat1 = sg[3] + 0.5 * sg[5];
+                double lon0 = sg[0] + 0.5 * sg[1], lon1 = sg[0] + (dem->width - 0.5) * sg[1];
+                return fail(err, TP_ERR_BAD_DATA,
+                            "the DEM's posts span lon %.6g .. %.6g, lat %.6g .. %.6g: %s, the "
+                            "zone of its centre, would scale it by up to %.0f%% (at lat %.4g, "
+                            "lon %.4g; UTM keeps within 0.1%%), so one UTM/UPS zone cannot hold "
+                            "it; reproject it first, e.g. 'gdalwarp -t_srs %s IN OUT.tif', or "
+                            "cut it into smaller pieces",
+                            lon0, lon1, std::min(lat0, lat1), std::max(lat0, lat1),
+                            zone == 0 ? (northp ? "UPS north (EPSG:32661)" : "UPS south (EPSG:32761)")
+                                      : CPLSPrintf("UTM zone %d%s (EPSG:%d)", zone, northp ? "N" : "S", epsg),
+                            100.0 * k_err, k_lat, k_lon,
+                            suggested_crs(std::min(lat0, lat1), std::max(lat0, lat1)));
+            }
+        }
+
+        /* The grid GDALWarp will make at that spacing must stay near the source's size: the
+         * finest spacing of a DEM whose columns converge (near a pole) or of very anisotropic
+         * posts would make millions of samples from a few thousand. Beyond 4x the source's
+         * samples, posts as many as the source's, spread evenly over the warped extent. */
+        double ext[4];
+        if (!warp_extent(dem, gt, src, t_srs, ext))
+            return fail(err, TP_ERR_BACKEND, "warp to EPSG:%d: no output extent: %s", epsg,
+                        tpio::gdal_message().c_str());
+        const double src_samples = (double)dem->width * dem->height;
+        double pw = std::ceil((ext[2] - ext[0]) / res), ph = std::ceil((ext[3] - ext[1]) / res);
+        const double bound = std::max(4.0 * src_samples, 4096.0);
+        if (pw * ph > bound) {
+            double coarse = std::sqrt((ext[2] - ext[0]) * (ext[3] - ext[1]) / src_samples);
+            add_warning(warnings,
+                        CPLSPrintf("warping to EPSG:%d at the finest post spacing %.3g m would "
+                                   "make a %.0fx%.0f grid (%.3g times the DEM's %dx%d samples): "
+                                   "posts %.6g m apart instead (as many samples as the DEM)",
+                                   epsg, res, pw, ph, pw * ph / src_samples, dem->width,
+                                   dem->height, coarse));
+            res = coarse;
+            pw = std::ceil((ext[2] - ext[0]) / res), ph = std::ceil((ext[3] - ext[1]) / res);
+        }
+        if (plan_w) {
+            *plan_w = (int)std::min(pw, 2147483647.0), *plan_h = (int)std::min(ph, 2147483647.0);
+            return TP_OK;
+        }
 
         tpio::Dataset src_ds = tpio::mem_dataset(dem->heights, dem->width, dem->height, gt, &src);
         if (!src_ds)
             return fail(err, TP_ERR_BACKEND, "warp: %s", tpio::gdal_message().c_str());
-        std::string t_srs = "EPSG:" + std::to_string(epsg), tr = CPLSPrintf("%.17g", res);
+        std::string tr = CPLSPrintf("%.17g", res);
         const char* resampling = o.resampling == TP_RESAMPLING_CUBIC ? "cubic" : "bilinear";
         const char* args[] = {"-t_srs", t_srs.c_str(), "-tr", tr.c_str(), tr.c_str(), "-r",
                               resampling, "-srcnodata", "nan", "-dstnodata", "nan", "-ot",
@@ -365,6 +486,18 @@ extern "C" tp_status tp_render_grid_build(const tp_dem* dem, const tp_grid_optio
         return fail(err, TP_ERR_INVALID_ARG, "render grid: dem and out must not be NULL");
     try {
         return build(dem, options, out, err);
+    } catch (...) {
+        return tpio::caught(err, "render grid");
+    }
+}
+
+extern "C" tp_status tp_render_grid_plan(const tp_dem* dem, const tp_grid_options* options,
+                                         int* width, int* height, tp_error* err)
+{
+    if (!dem || !width || !height)
+        return fail(err, TP_ERR_INVALID_ARG, "render grid: dem, width and height must not be NULL");
+    try {
+        return build(dem, options, nullptr, err, width, height);
     } catch (...) {
         return tpio::caught(err, "render grid");
     }
