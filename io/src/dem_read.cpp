@@ -254,7 +254,7 @@ tp_status check_ranges(const char* path, const OGRSpatialReference* srs, const d
                           "the Earth's circumference from the origin)",
                           path, axis ? (i ? "last row's" : "first row's") : (i ? "east" : "west"),
                           axis ? "y" : "x", v, has ? " m" : "", TP_COORD_MAX_M, TP_COORD_MAX_M,
-                          has ? "m" : "(no CRS: metres)");
+                          has ? "m" : "(no CRS: degrees or metres)");
                 return TP_ERR_BAD_DATA;
             }
         }
