@@ -86,7 +86,9 @@ uint32_t crc32_update(uint32_t crc, const unsigned char* p, size_t n)
  * pixels than the file can hold is refused before anything that size is allocated: deflate
  * expands at most 1032:1, so N bytes of IDAT hold at most 1032 N bytes of rows. Files that do
  * not start with the PNG signature are left to OpenImageIO. */
-tp_status check_png(const char* path, tp_error* err)
+} // namespace
+
+tp_status tpio::check_png(const char* path, tp_error* err)
 {
     static const unsigned char sig[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
     std::unique_ptr<FILE, int (*)(FILE*)> f(std::fopen(path, "rb"), &std::fclose);
@@ -173,6 +175,10 @@ tp_status check_png(const char* path, tp_error* err)
     }
     return TP_OK;
 }
+
+namespace {
+
+using tpio::check_png;
 
 /* The image options describe a raster without georeference of its own. One that GDAL reads
  * with a CRS or a geotransform (a GeoTIFF, an .hgt) must keep them, and its nodata: read here

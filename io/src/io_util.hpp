@@ -133,6 +133,12 @@ struct QuietStderr {
     QuietStderr& operator=(const QuietStderr&) = delete;
 };
 
+/* A PNG's chunks walked before a decoder sees them: TP_ERR_BAD_DATA when one is cut short or
+ * fails its CRC, or when the header claims more pixels than the compressed data can hold
+ * (deflate expands at most 1032:1); TP_OK for anything else, PNG or not (the decoder decides).
+ * Reads the file once, allocating nothing of the image's size. Defined in image_read.cpp. */
+tp_status check_png(const char* path, tp_error* err);
+
 /* malloc'd copy, so C code can free() it. */
 inline char* dup_c(const std::string& s)
 {

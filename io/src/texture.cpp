@@ -170,7 +170,21 @@ tp_status warp_georeferenced(const char* path, GDALDataset* src, const tp_render
 tp_status read_plain(const char* path, const tp_render_grid* g, int max_size, tp_texture** out,
                      tp_error* err)
 {
+    if (tp_status s = tpio::check_png(path, err))
+        return s;
     OIIO::ImageBuf src(path);
+    {
+        tpio::QuietStderr quiet;
+        const OIIO::ImageSpec& spec = src.spec(); /* the header only */
+        if (src.has_error())
+            return fail(err, TP_ERR_IO, "%s: cannot read as an image: %s", path,
+                        src.geterror().c_str());
+        /* the decoder's copy of the pixels and our 8-bit one */
+        if (tp_status s = tpio::check_fits_in_memory(
+                path, spec.width, spec.height,
+                (double)spec.nchannels * (spec.format.size() + 1), "for the pixels", err))
+            return s;
+    }
     {
         tpio::QuietStderr quiet; /* libpng's own "libpng error: ..." line; its text is in ours */
         if (!src.read(0, 0, true, OIIO::TypeDesc::UINT8))
