@@ -236,7 +236,11 @@ typedef struct tp_texture {
 } tp_texture;
 
 /* Errors name the file: TP_ERR_INVALID_ARG for max_size < 1, TP_ERR_IO for a file that cannot
- * be opened or read, TP_ERR_BACKEND when GDAL or OpenImageIO fails. */
+ * be opened or read (and, before opening, a path that is not a regular file: a FIFO would
+ * block), TP_ERR_BAD_DATA for a PNG cut short, failing a CRC or claiming more pixels than its
+ * data holds, TP_ERR_OUT_OF_MEMORY for an image whose pixels would not fit in memory (from its
+ * header, before decoding), TP_ERR_BACKEND when GDAL or OpenImageIO fails. The codecs' own
+ * stderr lines are kept off stderr; their text is in err. */
 tp_status tp_texture_build(const char* path, const tp_render_grid* grid, int max_size,
                            tp_texture** out, tp_error* err);
 void tp_texture_destroy(tp_texture* tex); /* accepts NULL */
