@@ -535,7 +535,7 @@ tp_status read_dem(const char* path, tp_dem** out, tp_error* err)
         const size_t at = m.find("at column");
         if (at != std::string::npos)
             m = m.substr(at);
-        while (!m.empty() && m.back() == ' ')
+        while (!m.empty() && std::isspace(static_cast<unsigned char>(m.back())))
             m.pop_back();
         set_error(err,
                   "%s: DTED checksum mismatch, the elevations are corrupt (%s); set "
