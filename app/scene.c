@@ -70,9 +70,13 @@ int tp_scene_option(int opt, const char* arg, tp_scene_options* o, const char* c
     case TP_OPT_SPACING:
     case TP_OPT_ZSCALE: {
         double v = strtod(arg, &end);
-        if (*arg == '\0' || *end != '\0' || !(v > 0) || !isfinite(v)) {
-            fprintf(stderr, "terrapatch %s: --%s: expected a number > 0, got %s\n", cmd,
-                    opt == TP_OPT_SPACING ? "spacing" : "zscale", arg);
+        int spacing = opt == TP_OPT_SPACING;
+        double lo = spacing ? TP_IMAGE_SPACING_MIN_M : TP_IMAGE_ZSCALE_MIN;
+        double hi = spacing ? TP_IMAGE_SPACING_MAX_M : TP_IMAGE_ZSCALE_MAX;
+        if (*arg == '\0' || *end != '\0' || !(v >= lo && v <= hi)) {
+            fprintf(stderr, "terrapatch %s: --%s: expected a number from %g to %g%s, got %s\n",
+                    cmd, spacing ? "spacing" : "zscale", lo, hi,
+                    spacing ? " (metres)" : " (metres per count)", arg);
             return -1;
         }
         *(opt == TP_OPT_SPACING ? &o->image.spacing_m : &o->image.zscale) = v;
@@ -112,8 +116,9 @@ void tp_scene_options_help(FILE* f)
           "  --fill-max N        fill interior voids up to N x N samples by interpolation and\n"
           "                      mark them (default 64; 0 fills nothing)\n"
           "  --spacing METRES    heightmap images (PNG, ...; read with OpenImageIO): post\n"
-          "                      spacing (default 1)\n"
-          "  --zscale S          heightmap images: metres per count (default 1)\n"
+          "                      spacing, 0.001 to 1e6 (default 1)\n"
+          "  --zscale S          heightmap images: metres per count, 1e-6 to 1e5 (default 1);\n"
+          "                      heights beyond +-1e5 m after scaling are refused\n"
           "  --origin LAT,LON    heightmap images: put the image's centre there (WGS84), in the\n"
           "                      UTM/UPS zone of that point; default: local metres\n"
           "                      (these three are refused for rasters with a CRS or geotransform)\n",

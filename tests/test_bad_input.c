@@ -7,7 +7,11 @@
  *
  * Every file is built by hand at test time in a fresh mkdtemp directory and removed afterwards:
  * GeoTIFFs by a small TIFF writer below (header, then the IFD, then tag data, then the image,
- * so that a cut in the image leaves the IFD whole), ESRI ASCII grids and VRT XML as text.
+ * so that a cut in the image leaves the IFD whole), ESRI ASCII grids and VRT XML as text, PNGs
+ * chunk by chunk (stored deflate blocks, CRCs computed here), FIFOs with mkfifo. Heightmap
+ * images (by extension, as `terrapatch` chooses) go through tp_dem_read_image, the rest through
+ * tp_dem_read. Damaged copies of real files (a DTED tile, an ESRI ASCII grid) are made from
+ * shared/data at test time.
  *
  * `test_bad_input --write-files DIR` writes the file of each case into DIR instead of running
  * tests: tests/CMakeLists.txt runs it as a ctest fixture, then `terrapatch info` on each file
@@ -420,6 +424,192 @@ static int make_cut_strips(const char* path)
     return size && tiff_write(path, &striped, size - 64 * 8 * 2 * 3 - 100);
 }
 
+/* ---------------------------------------------------------------------------------------------
+ * PNG files: signature, IHDR, IDAT, IEND with real CRCs (libpng checks them), the image data a
+ * zlib stream of stored (uncompressed) deflate blocks, so no zlib is needed here.
+ */
+static uint32_t crc32_of(uint32_t crc, const unsigned char* p, size_t n)
+{
+    size_t i;
+    int k;
+    crc = ~crc;
+    for (i = 0; i < n; ++i) {
+        crc ^= p[i];
+        for (k = 0; k < 8; ++k)
+            crc = crc & 1 ? 0xedb88320u ^ (crc >> 1) : crc >> 1;
+    }
+    return ~crc;
+}
+static void put_be32(bytes* b, uint32_t v)
+{
+    unsigned char c[4] = {(unsigned char)(v >> 24), (unsigned char)(v >> 16 & 0xff),
+                          (unsigned char)(v >> 8 & 0xff), (unsigned char)(v & 0xff)};
+    put(b, c, 4);
+}
+static void png_chunk(bytes* b, const char* type, const unsigned char* data, size_t n)
+{
+    uint32_t crc = crc32_of(0, (const unsigned char*)type, 4);
+    crc = crc32_of(crc, data, n);
+    put_be32(b, (uint32_t)n);
+    put(b, type, 4);
+    if (n)
+        put(b, data, n);
+    put_be32(b, crc);
+}
+/* A PNG of w x h 16-bit grey pixels: IDAT holds `idat` (NULL: the real rows, sample x + y). */
+static int png_build(uint32_t w, uint32_t h, const unsigned char* idat, size_t idat_size,
+                     bytes* out)
+{
+    static const unsigned char sig[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
+    unsigned char ihdr[13] = {0, 0, 0, 0, 0, 0, 0, 0, 16, 0, 0, 0, 0};
+    bytes z = {0}, rows = {0};
+    uint32_t x, y, a = 1, b2 = 0;
+    size_t i;
+    memset(out, 0, sizeof *out);
+    for (i = 0; i < 4; ++i) {
+        ihdr[i] = (unsigned char)(w >> (24 - 8 * i));
+        ihdr[4 + i] = (unsigned char)(h >> (24 - 8 * i));
+    }
+    put(out, sig, 8);
+    png_chunk(out, "IHDR", ihdr, 13);
+    if (!idat) {
+        for (y = 0; y < h; ++y) {
+            unsigned char f = 0;
+            put(&rows, &f, 1); /* filter: none */
+            for (x = 0; x < w; ++x) {
+                unsigned char v[2] = {(unsigned char)((x + y) >> 8), (unsigned char)(x + y)};
+                put(&rows, v, 2);
+            }
+        }
+        put(&z, "\x78\x01", 2);
+        for (i = 0; i < rows.size; i += 65535) { /* stored blocks */
+            size_t n = rows.size - i < 65535 ? rows.size - i : 65535;
+            unsigned char hd[5] = {(unsigned char)(i + n == rows.size), (unsigned char)(n & 0xff),
+                                   (unsigned char)(n >> 8), (unsigned char)(~n & 0xff),
+                                   (unsigned char)(~n >> 8 & 0xff)};
+            put(&z, hd, 5);
+            put(&z, rows.p + i, n);
+        }
+        for (i = 0; i < rows.size; ++i) {
+            a = (a + rows.p[i]) % 65521;
+            b2 = (b2 + a) % 65521;
+        }
+        put_be32(&z, b2 << 16 | a);
+        idat = z.p;
+        idat_size = z.size;
+    }
+    png_chunk(out, "IDAT", idat, idat_size);
+    png_chunk(out, "IEND", NULL, 0);
+    free(z.p);
+    free(rows.p);
+    return !out->failed && !z.failed && !rows.failed;
+}
+static int png_write(const char* path, uint32_t w, uint32_t h, const unsigned char* idat,
+                     size_t idat_size, size_t keep)
+{
+    bytes b;
+    int ok = png_build(w, h, idat, idat_size, &b) &&
+             write_bytes(path, b.p, keep < b.size ? keep : b.size);
+    free(b.p);
+    return ok;
+}
+
+static int make_fifo(const char* path)
+{
+    unlink(path); /* from an earlier run */
+    return mkfifo(path, 0600) == 0;
+}
+/* The file: 4 KiB whose IHDR claims 60000 x 60000 16-bit grey (7.2 GB of pixels). */
+static int make_png_huge_header(const char* path)
+{
+    unsigned char idat[4000];
+    tp_rng r = tp_rng_seed(4);
+    size_t i;
+    for (i = 0; i < sizeof idat; ++i)
+        idat[i] = (unsigned char)(tp_rng_u64(&r) >> 56);
+    return png_write(path, 60000, 60000, idat, sizeof idat, (size_t)-1);
+}
+static int make_png_truncated(const char* path)
+{
+    return png_write(path, 64, 64, NULL, 0, 33 + 8 + 4000); /* inside IDAT */
+}
+static int make_png_bad_crc(const char* path)
+{
+    bytes b;
+    int ok = png_build(16, 16, NULL, 0, &b);
+    if (ok) {
+        b.p[8 + 8 + 5] ^= 0x40; /* a bit of the IHDR's height: its CRC no longer matches */
+        ok = write_bytes(path, b.p, b.size);
+    }
+    free(b.p);
+    return ok;
+}
+/* Chunks and CRCs whole, the deflate stream inside IDAT garbage: only the decoder (libpng) can
+ * find it, and libpng prints "libpng error: ..." itself. */
+static int make_png_corrupt_idat(const char* path)
+{
+    unsigned char idat[600];
+    tp_rng r = tp_rng_seed(5);
+    size_t i;
+    for (i = 0; i < sizeof idat; ++i)
+        idat[i] = (unsigned char)(tp_rng_u64(&r) >> 56);
+    idat[0] = 0x78; /* a valid zlib header, then garbage */
+    idat[1] = 0x01;
+    return png_write(path, 16, 16, idat, sizeof idat, (size_t)-1);
+}
+/* A binary PGM header claiming 10^6 x 10^6 16-bit samples: 8e12 bytes to decode and keep. */
+static int make_pgm_huge(const char* path)
+{
+    return write_text(path, "P5\n1000000 1000000\n65535\n0123456789abcdef");
+}
+static int make_asc_bad_token(const char* path)
+{
+    return write_text(path, "ncols 3\nnrows 2\nxllcorner 100\nyllcorner 200\ncellsize 10\n"
+                            "1 2 3\n4 307x 6\n");
+}
+static int make_asc_extra_rows(const char* path)
+{
+    return write_text(path, "ncols 3\nnrows 2\nxllcorner 100\nyllcorner 200\ncellsize 10\n"
+                            "1 2 3\n4 5 6\n7 8 9\n10 11 12\n");
+}
+static int make_tiny_pixel(const char* path)
+{
+    return write_vrt(path, 8, 8, NULL, "500000, 1e-300, 0, 4600000, 0, -1e-300");
+}
+static int make_huge_pixel(const char* path)
+{
+    return write_vrt(path, 8, 8, NULL, "0, 1e300, 0, 0, 0, -1e300");
+}
+static int make_far_origin(const char* path)
+{
+    return write_vrt(path, 8, 8, "EPSG:32631", "1e12, 30, 0, 4600000, 0, -30");
+}
+/* shared/data/N42E001.dt1 with one bit of column 100 flipped (see the DTED test); writes
+ * nothing when the shared data is missing (the CLI test is registered only when it is there). */
+static char* read_whole(const char* path, size_t* size);
+static int make_dted_bad_checksum(const char* path)
+{
+    char src[1024];
+    size_t size = 0;
+    char* p;
+    int ok;
+    if (!tp_test_data_path(src, sizeof src, "TP_SHARED_DATA_DIR", "N42E001.dt1"))
+        return 1;
+    p = read_whole(src, &size);
+    if (!p || size != 2902642) {
+        free(p);
+        return 0;
+    }
+    p[3428 + 100 * 2414 + 8 + 600 * 2] ^= 0x40; /* +16384 m */
+    ok = write_bytes(path, p, size);
+    free(p);
+    return ok;
+}
+static int make_geographic_huge_pixel(const char* path)
+{
+    return write_vrt(path, 4, 3, "EPSG:4326", "10, 20, 0, 50, 0, -20");
+}
+
 typedef struct bad_case {
     const char* name;
     const char* file;
@@ -453,6 +643,35 @@ static const bad_case bad_cases[] = {
      "rows reach latitude 94.75"},
     {"cut_strips", "cut_strips.tif", make_cut_strips, TP_ERR_BAD_DATA,
      "reading the heights of band 1 failed"},
+    {"fifo", "fifo.tif", make_fifo, TP_ERR_IO, "it is a FIFO (named pipe), not a regular file"},
+    {"fifo_png", "fifo.png", make_fifo, TP_ERR_IO, "it is a FIFO (named pipe), not a regular file"},
+    {"directory_png", "a_directory.png", make_directory, TP_ERR_IO,
+     "Is a directory, expected an image file"},
+    {"png_huge_header", "huge_header.png", make_png_huge_header, TP_ERR_BAD_DATA,
+     "PNG header claims 60000x60000 16-bit grey pixels (7.2 GB), but its 4000 bytes"},
+    {"png_truncated", "truncated.png", make_png_truncated, TP_ERR_BAD_DATA,
+     "PNG is truncated: chunk IDAT at byte 33"},
+    {"png_bad_crc", "bad_crc.png", make_png_bad_crc, TP_ERR_BAD_DATA,
+     "PNG chunk IHDR at byte 8 is corrupt: CRC"},
+    {"png_corrupt_idat", "corrupt_idat.png", make_png_corrupt_idat, TP_ERR_BAD_DATA,
+     "cannot read the pixels"},
+    {"pgm_huge", "huge.pgm", make_pgm_huge, TP_ERR_OUT_OF_MEMORY,
+     "1000000x1000000 samples would need 7450.6 GiB"},
+    {"asc_bad_token", "bad_token.asc", make_asc_bad_token, TP_ERR_BAD_DATA,
+     "line 7: '307x' is not a number"},
+    {"asc_extra_rows", "extra_rows.asc", make_asc_extra_rows, TP_ERR_BAD_DATA,
+     "12 values where the header's nrows 2 x ncols 3 asks for 6 (2 extra rows): the extra values "
+     "start on line 8"},
+    {"tiny_pixel", "tiny_pixel.vrt", make_tiny_pixel, TP_ERR_BAD_DATA,
+     "pixel width 1e-300 (gt[1]) is outside 1e-08 .. 1e+06"},
+    {"huge_pixel", "huge_pixel.vrt", make_huge_pixel, TP_ERR_BAD_DATA,
+     "pixel width 1e+300 (gt[1]) is outside 1e-08 .. 1e+06"},
+    {"far_origin", "far_origin.vrt", make_far_origin, TP_ERR_BAD_DATA,
+     "west edge at x = 1e+12 m is outside -1e+08 .. 1e+08 m"},
+    {"dted_bad_checksum", "N42E001.dt1", make_dted_bad_checksum, TP_ERR_BAD_DATA,
+     "DTED checksum mismatch, the elevations are corrupt (at column 100"},
+    {"geographic_huge_pixel", "geographic_huge_pixel.vrt", make_geographic_huge_pixel,
+     TP_ERR_BAD_DATA, "pixel width 20 degrees (gt[1]) is outside 1e-08 .. 10 degrees"},
 };
 #define BAD_CASE_COUNT (sizeof bad_cases / sizeof bad_cases[0])
 
@@ -525,6 +744,13 @@ static void tmp_path(char* buf, size_t cap, const char* file)
  */
 #define REQUIRE_IO() ((void)0)
 
+/* As `terrapatch` reads a DEM (app/scene.c): heightmap images through OpenImageIO. */
+static tp_status read_any(const char* path, tp_dem** out, tp_error* err)
+{
+    return tp_is_heightmap_image(path) ? tp_dem_read_image(path, NULL, out, err)
+                                       : tp_dem_read(path, out, err);
+}
+
 /* tp_dem_read(path) must give `status`, a message naming `name` and containing `needle`, and
  * leave the out-parameter alone; also with a NULL tp_error. Returns the message. */
 static const char* expect_refused(const char* path, const char* name, tp_status status,
@@ -535,7 +761,7 @@ static const char* expect_refused(const char* path, const char* name, tp_status 
     tp_dem* out = sentinel;
     tp_status s;
     memset(&err, 0, sizeof err);
-    s = tp_dem_read(path, &out, &err);
+    s = read_any(path, &out, &err);
     if (s == TP_OK && out != sentinel)
         tp_dem_destroy(out);
     EXPECT_STATUS(status, s);
@@ -545,7 +771,7 @@ static const char* expect_refused(const char* path, const char* name, tp_status 
         EXPECT_CONTAINS(err.message, needle);
     EXPECT_TRUE(strchr(err.message, '\n') == NULL);
     out = sentinel;
-    s = tp_dem_read(path, &out, NULL);
+    s = read_any(path, &out, NULL);
     if (s == TP_OK && out != sentinel)
         tp_dem_destroy(out);
     EXPECT_STATUS(status, s);
@@ -935,6 +1161,321 @@ TEST(truncated_strip_data_fails_while_reading)
 #endif
 }
 
+/* ---------------------------------------------------------------------------------------------
+ * Inputs that are not regular files: opening a FIFO blocks until a writer comes, so these are
+ * refused before anything opens them. alarm() turns a regression into a failure, not a hang
+ * (and tests/CMakeLists.txt gives the test a short TIMEOUT as well).
+ */
+TEST(fifo_is_refused_without_blocking)
+{
+    REQUIRE_IO();
+#ifndef TP_TEST_NO_IO
+    alarm(20);
+    check_case("fifo");
+    check_case("fifo_png");
+    alarm(0);
+#endif
+}
+
+TEST(directory_as_heightmap_is_io_error)
+{
+    REQUIRE_IO();
+#ifndef TP_TEST_NO_IO
+    check_case("directory_png");
+#endif
+}
+
+/* ---------------------------------------------------------------------------------------------
+ * Heightmap images: the header is checked before anything of its size is allocated.
+ */
+TEST(png_header_larger_than_its_data_is_refused_before_decoding)
+{
+    REQUIRE_IO();
+#ifndef TP_TEST_NO_IO
+    check_case("png_huge_header");
+#endif
+}
+
+TEST(truncated_png_is_refused_saying_where)
+{
+    REQUIRE_IO();
+#ifndef TP_TEST_NO_IO
+    check_case("png_truncated");
+#endif
+}
+
+TEST(png_with_bad_crc_is_refused)
+{
+    REQUIRE_IO();
+#ifndef TP_TEST_NO_IO
+    check_case("png_bad_crc");
+#endif
+}
+
+/* The decoder's failure is ours to report: the message carries libpng's text. The same PNG
+ * writer's whole files read, sample for sample. */
+TEST(png_with_corrupt_image_data_is_refused)
+{
+    REQUIRE_IO();
+#ifndef TP_TEST_NO_IO
+    check_case("png_corrupt_idat");
+    {
+        char path[512];
+        tp_dem* dem = NULL;
+        tp_error err;
+        tmp_begin();
+        tmp_path(path, sizeof path, "whole.png");
+        ASSERT_TRUE(png_write(path, 300, 200, NULL, 0, (size_t)-1));
+        memset(&err, 0, sizeof err);
+        if (tp_dem_read_image(path, NULL, &dem, &err) != TP_OK)
+            FAIL("tp_dem_read_image(%s): %s", path, err.message);
+        EXPECT_EQ_INT(300, dem->width);
+        EXPECT_EQ_INT(200, dem->height);
+        EXPECT_EQ_DBL(0.0, dem->min_m);
+        EXPECT_EQ_DBL(299.0 + 199.0, dem->max_m);
+        EXPECT_EQ_DBL(5.0 + 7.0, dem->heights[7 * 300 + 5]);
+        tp_dem_destroy(dem);
+        tmp_end();
+    }
+#endif
+}
+
+TEST(heightmap_larger_than_memory_is_refused_before_allocating)
+{
+    REQUIRE_IO();
+#ifndef TP_TEST_NO_IO
+    const char* msg;
+    char path[512];
+    check_case("pgm_huge");
+    tmp_begin();
+    tmp_path(path, sizeof path, "huge.pgm");
+    ASSERT_TRUE(make_pgm_huge(path));
+    msg = expect_refused(path, "huge.pgm", TP_ERR_OUT_OF_MEMORY, "GiB of memory this machine has");
+    EXPECT_CONTAINS(msg, "for the decoded pixels, a copy of them and the heights");
+    tmp_end();
+#endif
+}
+
+/* ---------------------------------------------------------------------------------------------
+ * Damaged copies of real files.
+ */
+static char* read_whole(const char* path, size_t* size)
+{
+    FILE* f = fopen(path, "rb");
+    char* p = NULL;
+    long n;
+    if (!f)
+        return NULL;
+    if (fseek(f, 0, SEEK_END) == 0 && (n = ftell(f)) >= 0 && fseek(f, 0, SEEK_SET) == 0 &&
+        (p = (char*)malloc((size_t)n + 1)) != NULL) {
+        *size = fread(p, 1, (size_t)n, f);
+        p[*size] = '\0';
+    }
+    fclose(f);
+    return p;
+}
+
+/* Where line `line` (1-based) starts in text. */
+static size_t line_start(const char* text, int line)
+{
+    size_t at = 0;
+    while (--line > 0 && text[at]) {
+        while (text[at] && text[at] != '\n')
+            ++at;
+        if (text[at])
+            ++at;
+    }
+    return at;
+}
+
+/* DTED Level 1 (shared/data/N42E001.dt1, 1201 x 1201): header 3428 bytes, then one 2414-byte
+ * record per column (8 bytes, 1201 big-endian samples, a 4-byte checksum). One bit of column
+ * 100 flipped: refused, naming the column; DTED_VERIFY_CHECKSUM=NO reads it anyway; the
+ * undamaged copy reads. */
+TEST(dted_with_bad_checksum_is_refused)
+{
+    REQUIRE_IO();
+#ifndef TP_TEST_NO_IO
+    char src[1024], path[512];
+    size_t size = 0;
+    char* p;
+    const char* msg;
+    tp_dem* dem;
+    REQUIRE_DATA_FILE(src, "TP_SHARED_DATA_DIR", "N42E001.dt1");
+    p = read_whole(src, &size);
+    ASSERT_TRUE(p != NULL && size == 2902642);
+    tmp_begin();
+    tmp_path(path, sizeof path, "N42E001.dt1");
+    ASSERT_TRUE(write_bytes(path, p, size));
+    dem = expect_read(path);
+    EXPECT_EQ_DBL(3100.0, dem->max_m);
+    tp_dem_destroy(dem);
+    free(p);
+    ASSERT_TRUE(make_dted_bad_checksum(path));
+    msg = expect_refused(path, "N42E001.dt1", TP_ERR_BAD_DATA, "DTED checksum mismatch");
+    EXPECT_CONTAINS(msg, "at column 100");
+    EXPECT_CONTAINS(msg, "DTED_VERIFY_CHECKSUM=NO");
+    setenv("DTED_VERIFY_CHECKSUM", "NO", 1);
+    dem = expect_read(path);
+    unsetenv("DTED_VERIFY_CHECKSUM");
+    EXPECT_TRUE(dem->max_m > 16384.0);
+    tp_dem_destroy(dem);
+    tmp_end();
+#endif
+}
+
+/* ESRI ASCII grids: GDAL reads "307x" as 307 and ignores rows past nrows. Hand-made grids, then
+ * copies of shared/data/front_range_srtmgl3_144.asc (6 header lines, then one line per row). */
+TEST(ascii_grid_token_that_is_not_a_number_is_refused)
+{
+    REQUIRE_IO();
+#ifndef TP_TEST_NO_IO
+    char src[1024], path[512];
+    size_t size = 0, at;
+    char* p;
+    FILE* f;
+    check_case("asc_bad_token");
+    REQUIRE_DATA_FILE(src, "TP_SHARED_DATA_DIR", "front_range_srtmgl3_144.asc");
+    p = read_whole(src, &size);
+    ASSERT_TRUE(p != NULL);
+    tmp_begin();
+    tmp_path(path, sizeof path, "front_range_bad_token.asc");
+    at = line_start(p, 20);
+    while (p[at] == ' ')
+        ++at;
+    while (p[at] >= '0' && p[at] <= '9')
+        ++at; /* the end of the first value on line 20 */
+    f = fopen(path, "wb");
+    ASSERT_TRUE(f != NULL);
+    ASSERT_TRUE(fwrite(p, 1, at, f) == at && fputc('x', f) == 'x' &&
+                fwrite(p + at, 1, size - at, f) == size - at);
+    ASSERT_TRUE(fclose(f) == 0);
+    free(p);
+    expect_refused(path, "front_range_bad_token.asc", TP_ERR_BAD_DATA, "line 20: '2882x'");
+    tmp_end();
+#endif
+}
+
+TEST(ascii_grid_with_more_or_fewer_values_than_its_header_is_refused)
+{
+    REQUIRE_IO();
+#ifndef TP_TEST_NO_IO
+    char src[1024], path[512];
+    size_t size = 0, rows_at, extra_end;
+    char* p;
+    FILE* f;
+    tp_dem* dem;
+    check_case("asc_extra_rows");
+    REQUIRE_DATA_FILE(src, "TP_SHARED_DATA_DIR", "front_range_srtmgl3_144.asc");
+    p = read_whole(src, &size);
+    ASSERT_TRUE(p != NULL && size > 0 && p[size - 1] == '\n');
+    tmp_begin();
+    /* 164 rows under "nrows 144": the first 20 rows again at the end */
+    tmp_path(path, sizeof path, "front_range_164_rows.asc");
+    rows_at = line_start(p, 7);
+    extra_end = line_start(p, 27);
+    f = fopen(path, "wb");
+    ASSERT_TRUE(f != NULL);
+    ASSERT_TRUE(fwrite(p, 1, size, f) == size &&
+                fwrite(p + rows_at, 1, extra_end - rows_at, f) == extra_end - rows_at);
+    ASSERT_TRUE(fclose(f) == 0);
+    expect_refused(path, "front_range_164_rows.asc", TP_ERR_BAD_DATA,
+                   "23616 values where the header's nrows 144 x ncols 144 asks for 20736 (20 "
+                   "extra rows): the extra values start on line 151");
+    /* 100 rows of the 144 */
+    tmp_path(path, sizeof path, "front_range_100_rows.asc");
+    ASSERT_TRUE(write_bytes(path, p, line_start(p, 107)));
+    expect_refused(path, "front_range_100_rows.asc", TP_ERR_BAD_DATA,
+                   "only 14400 values where the header's nrows 144 x ncols 144 asks for 20736");
+    /* the whole file reads, as before */
+    tmp_path(path, sizeof path, "front_range.asc");
+    ASSERT_TRUE(write_bytes(path, p, size));
+    dem = expect_read(path);
+    EXPECT_EQ_DBL(2186.0, dem->min_m);
+    EXPECT_EQ_DBL(3345.0, dem->max_m);
+    tp_dem_destroy(dem);
+    free(p);
+    tmp_end();
+#endif
+}
+
+/* ---------------------------------------------------------------------------------------------
+ * Georeferences out of range (tp_io.h's TP_PIXEL_SIZE_* and TP_COORD_MAX_M).
+ */
+TEST(absurd_pixel_sizes_and_extents_are_refused)
+{
+    REQUIRE_IO();
+#ifndef TP_TEST_NO_IO
+    check_case("tiny_pixel");
+    check_case("huge_pixel");
+    check_case("far_origin");
+    check_case("geographic_huge_pixel");
+    {
+        char path[512];
+        tmp_begin();
+        tmp_path(path, sizeof path, "mm_pixels.vrt"); /* 0.1 mm in UTM */
+        ASSERT_TRUE(write_vrt(path, 8, 8, "EPSG:32631", "500000, 1e-4, 0, 4600000, 0, -1e-4"));
+        expect_refused(path, "mm_pixels.vrt", TP_ERR_BAD_DATA,
+                       "pixel width 0.0001 m (gt[1]) is outside 0.001 .. 1e+06 m");
+        tmp_path(path, sizeof path, "east_of_540.vrt");
+        ASSERT_TRUE(write_vrt(path, 100, 10, "EPSG:4326", "300, 1, 0, 50, 0, -1"));
+        expect_refused(path, "east_of_540.vrt", TP_ERR_BAD_DATA,
+                       "east edge at longitude 400 is outside -360 .. 360 degrees");
+        /* the ends of the ranges are read */
+        tmp_path(path, sizeof path, "metre_km.vrt");
+        ASSERT_TRUE(write_vrt(path, 8, 8, "EPSG:32631", "500000, 0.001, 0, 4600000, 0, -1000"));
+        tp_dem_destroy(expect_read(path));
+        tmp_end();
+    }
+#endif
+}
+
+/* ---------------------------------------------------------------------------------------------
+ * Read, with a warning.
+ */
+TEST(unreadable_prj_is_warned_about)
+{
+    REQUIRE_IO();
+#ifndef TP_TEST_NO_IO
+    char path[512], prj[512];
+    tp_dem* dem;
+    tmp_begin();
+    tmp_path(path, sizeof path, "grid.asc");
+    tmp_path(prj, sizeof prj, "grid.prj");
+    ASSERT_TRUE(write_text(path, "ncols 3\nnrows 2\nxllcorner 100\nyllcorner 200\ncellsize 10\n"
+                                 "1 2 3\n4 5 6\n"));
+    dem = expect_read(path);
+    EXPECT_TRUE(dem->warnings[0] == '\0');
+    tp_dem_destroy(dem);
+    ASSERT_TRUE(write_text(prj, "this is { not a CRS\n"));
+    dem = expect_read(path);
+    EXPECT_TRUE(dem->crs_wkt[0] == '\0');
+    EXPECT_CONTAINS(dem->warnings, "grid.asc: ");
+    EXPECT_CONTAINS(dem->warnings, "grid.prj could not be read as a CRS");
+    tp_dem_destroy(dem);
+    tmp_end();
+#endif
+}
+
+TEST(no_crs_and_no_geotransform_is_warned_about)
+{
+    REQUIRE_IO();
+#ifndef TP_TEST_NO_IO
+    char path[512];
+    tp_dem* dem;
+    tmp_begin();
+    tmp_path(path, sizeof path, "bare.vrt");
+    ASSERT_TRUE(write_text(path, "<VRTDataset rasterXSize=\"4\" rasterYSize=\"3\">\n"
+                                 "  <VRTRasterBand dataType=\"Float32\" band=\"1\"/>\n"
+                                 "</VRTDataset>\n"));
+    dem = expect_read(path);
+    EXPECT_EQ_INT(0, dem->has_geotransform);
+    EXPECT_CONTAINS(dem->warnings, "bare.vrt: no CRS and no geotransform");
+    tp_dem_destroy(dem);
+    tmp_end();
+#endif
+}
+
 #define TESTS(X)                                                                                   \
     X(missing_file_is_io_error)                                                                    \
     X(directory_is_io_error)                                                                       \
@@ -955,7 +1496,20 @@ TEST(truncated_strip_data_fails_while_reading)
     X(infinite_heights_are_nodata_with_warning)                                                    \
     X(latitude_beyond_90_is_bad_data)                                                              \
     X(global_grid_with_posts_on_the_poles_is_read)                                                 \
-    X(truncated_strip_data_fails_while_reading)
+    X(truncated_strip_data_fails_while_reading)                                                    \
+    X(fifo_is_refused_without_blocking)                                                            \
+    X(directory_as_heightmap_is_io_error)                                                          \
+    X(png_header_larger_than_its_data_is_refused_before_decoding)                                  \
+    X(truncated_png_is_refused_saying_where)                                                       \
+    X(png_with_bad_crc_is_refused)                                                                 \
+    X(png_with_corrupt_image_data_is_refused)                                                      \
+    X(heightmap_larger_than_memory_is_refused_before_allocating)                                   \
+    X(dted_with_bad_checksum_is_refused)                                                           \
+    X(ascii_grid_token_that_is_not_a_number_is_refused)                                            \
+    X(ascii_grid_with_more_or_fewer_values_than_its_header_is_refused)                             \
+    X(absurd_pixel_sizes_and_extents_are_refused)                                                  \
+    X(unreadable_prj_is_warned_about)                                                              \
+    X(no_crs_and_no_geotransform_is_warned_about)
 
 /* The runner of tp_test.h, plus `--write-files DIR` for the command-line tests. */
 static const tp_test_case tp_test_cases_[] = {TESTS(TP_TEST_CASE_)};

@@ -111,6 +111,34 @@ TEST(bad_image_options_and_files_are_refused)
     EXPECT_TRUE(dem == (tp_dem*)(uintptr_t)0x1); /* untouched */
 }
 
+/* tp_io.h's ranges: spacing 0.001 .. 1e6 m, zscale 1e-6 .. 1e5, heights within +-1e5 m after
+ * scaling (a zscale of 1e38 gave "heights out of range (inf .. -inf)" in the core). */
+TEST(image_options_outside_their_ranges_are_refused)
+{
+    char path[1024];
+    tp_dem* dem = (tp_dem*)(uintptr_t)0x1;
+    tp_error err;
+    const tp_image_options tiny = {.spacing_m = 1e-300}, huge = {.spacing_m = 1e300};
+    const tp_image_options zbig = {.spacing_m = 160, .zscale = 1e38};
+    const tp_image_options tall = {.spacing_m = 160, .zscale = 100}; /* 43798 counts: 4380 km */
+    const tp_image_options edge = {.spacing_m = 1e6, .zscale = 2}; /* 87.6 km: read */
+    REQUIRE_DATA_FILE(path, "TP_SHARED_DATA_DIR", "ps_height_1k.png");
+    EXPECT_STATUS(TP_ERR_INVALID_ARG, tp_dem_read_image(path, &tiny, &dem, &err));
+    EXPECT_CONTAINS(err.message, "--spacing 1e-300 m is outside 0.001 .. 1e+06 m");
+    EXPECT_STATUS(TP_ERR_INVALID_ARG, tp_dem_read_image(path, &huge, &dem, &err));
+    EXPECT_CONTAINS(err.message, "--spacing 1e+300 m is outside");
+    EXPECT_STATUS(TP_ERR_INVALID_ARG, tp_dem_read_image(path, &zbig, &dem, &err));
+    EXPECT_CONTAINS(err.message, "--zscale 1e+38 is outside 1e-06 .. 100000 m per count");
+    EXPECT_STATUS(TP_ERR_INVALID_ARG, tp_dem_read_image(path, &tall, &dem, &err));
+    EXPECT_CONTAINS(err.message, "ps_height_1k.png: heights reach 4.3798e+06 m at --zscale 100");
+    EXPECT_TRUE(dem == (tp_dem*)(uintptr_t)0x1); /* untouched */
+    dem = NULL;
+    EXPECT_STATUS(TP_OK, tp_dem_read_image(path, &edge, &dem, &err));
+    if (dem)
+        EXPECT_NEAR(87596.0, dem->max_m, 1e-3);
+    tp_dem_destroy(dem);
+}
+
 /* --spacing/--zscale describe heightmaps without georeference: a georeferenced raster keeps its
  * CRS, geotransform and nodata, so these options are refused (read through OpenImageIO it
  * became raw counts, its 32767 nodata 32,767 m walls; an .hgt an OpenImageIO error). */
@@ -158,6 +186,7 @@ TEST(image_extensions_are_recognised)
     X(png_without_spacing_warns_and_takes_1m)                                                      \
     X(png_with_origin_is_centred_in_its_utm_zone)                                                  \
     X(bad_image_options_and_files_are_refused)                                                     \
+    X(image_options_outside_their_ranges_are_refused)                                              \
     X(georeferenced_geotiff_is_refused_with_its_crs)                                               \
     X(georeferenced_hgt_is_refused_with_its_crs)                                                   \
     X(image_extensions_are_recognised)

@@ -47,13 +47,35 @@ typedef struct tp_dem {
     char* warnings;
 } tp_dem;
 
+/* The georeference a DEM may have. Outside these ranges a geotransform is damage (a pixel of
+ * 1e-300 m, an extent of 1e300 m), not a place on the Earth: tp_dem_read refuses it, saying
+ * which value is outside which range. Pixel sizes in metres apply to projected CRSs (in their
+ * own linear unit converted to metres), those in degrees to geographic ones; a DEM without a CRS
+ * may have either (its units are unknown). Corner coordinates: projected within
+ * +-TP_COORD_MAX_M, geographic longitudes within +-TP_LON_MAX_DEG (latitudes: sample centres
+ * within +-90). */
+#define TP_PIXEL_SIZE_MIN_M 1e-3
+#define TP_PIXEL_SIZE_MAX_M 1e6
+#define TP_PIXEL_SIZE_MIN_DEG 1e-8
+#define TP_PIXEL_SIZE_MAX_DEG 10.0
+#define TP_COORD_MAX_M 1e8
+#define TP_LON_MAX_DEG 360.0
+
 /* Reads band 1 of any raster GDAL opens. Int16 rasters without a nodata tag have -32768 and
  * -32767 taken as nodata, with a warning; +-Inf and +-FLT_MAX heights are nodata too (with a
- * warning). Errors name the file and what was wrong; on failure *out is untouched:
- *   TP_ERR_IO             missing file, a directory GDAL cannot open;
+ * warning). Also warned about: a .prj beside the file that GDAL cannot read as a CRS, and a
+ * raster with neither CRS nor geotransform (taken as 1 m posts). DTED checksums are verified
+ * (GDAL's DTED_VERIFY_CHECKSUM, unless the environment sets it), and ESRI ASCII grids get a
+ * pass over their text (GDAL reads "307x" as 307 and ignores values past nrows x ncols).
+ * Errors name the file and what was wrong; on failure *out is untouched:
+ *   TP_ERR_IO             missing file, a directory GDAL cannot open, a FIFO, device or socket
+ *                         (refused before opening: reading one could block forever);
  *   TP_ERR_BAD_DATA       empty or unreadable files, non-finite, rotated or zero-size
- *                         geotransforms, gt[1] < 0, geographic rows beyond +-90 degrees, a read
- *                         that fails part way, no valid sample;
+ *                         geotransforms, gt[1] < 0, pixel sizes or corners outside the ranges
+ *                         above, geographic rows beyond +-90 degrees, a read that fails part
+ *                         way, a DTED column whose checksum does not match, an ASCII grid with
+ *                         a token that is not a number or more or fewer values than nrows x
+ *                         ncols (the message gives the line), no valid sample;
  *   TP_ERR_OUT_OF_MEMORY  heights that would not fit in this machine's memory (refused before
  *                         allocating; the message says how much they would need);
  *   TP_ERR_INVALID_ARG    a NULL or empty path, a NULL out. */
@@ -130,9 +152,20 @@ void tp_interrupt_release(void);
 /* ---------------------------------------------------------------------------------------------
  * Heightmap images without georeference (io/src/image_read.cpp, through OpenImageIO)
  */
+/* The ranges of tp_image_options' spacing_m and zscale (besides 0, the default), and the
+ * heights the scaled counts may reach (either sign): beyond them tp_dem_read_image refuses the
+ * options with TP_ERR_INVALID_ARG. */
+#define TP_IMAGE_SPACING_MIN_M TP_PIXEL_SIZE_MIN_M
+#define TP_IMAGE_SPACING_MAX_M TP_PIXEL_SIZE_MAX_M
+#define TP_IMAGE_ZSCALE_MIN 1e-6
+#define TP_IMAGE_ZSCALE_MAX 1e5
+#define TP_IMAGE_HEIGHT_MAX_M 1e5
+
 typedef struct tp_image_options {
-    double spacing_m;        /* post spacing; 0 means 1 m (with a warning) */
-    double zscale;           /* metres per count of channel 0; 0 means 1 */
+    double spacing_m;        /* post spacing, TP_IMAGE_SPACING_MIN_M .. _MAX_M; 0 means 1 m
+                                (with a warning) */
+    double zscale;           /* metres per count of channel 0, TP_IMAGE_ZSCALE_MIN .. _MAX; 0
+                                means 1 */
     int has_origin;          /* place the image's centre at (origin_lat, origin_lon) in the */
     double origin_lat_deg;   /* WGS84 UTM/UPS zone of that point; otherwise the grid is in */
     double origin_lon_deg;   /* local metres with its north-west corner at (0, 0) */
@@ -147,7 +180,12 @@ int tp_is_heightmap_image(const char* path);
  * georeference: a file that is not a heightmap image by extension and that GDAL reads with a
  * CRS or a geotransform (a GeoTIFF, an .hgt) is refused with TP_ERR_INVALID_ARG ("FILE is
  * georeferenced (CRS ...); --spacing/--zscale apply only to ..."); read it with tp_dem_read.
- * Errors name the file; *out is untouched on failure. */
+ * So are spacing_m and zscale outside their ranges, and heights beyond +-TP_IMAGE_HEIGHT_MAX_M
+ * after scaling. Before decoding: a path that is not a regular file is TP_ERR_IO; a PNG whose
+ * chunks are cut short or fail their CRC, or whose header claims more pixels than its
+ * compressed data can hold, TP_ERR_BAD_DATA; an image that would not fit in memory,
+ * TP_ERR_OUT_OF_MEMORY. The codecs' own messages (libpng's "libpng error: ...") are kept off
+ * stderr: their text is in err. Errors name the file; *out is untouched on failure. */
 tp_status tp_dem_read_image(const char* path, const tp_image_options* options, tp_dem** out,
                             tp_error* err);
 
@@ -262,7 +300,11 @@ typedef struct tp_texture {
 } tp_texture;
 
 /* Errors name the file: TP_ERR_INVALID_ARG for max_size < 1, TP_ERR_IO for a file that cannot
- * be opened or read, TP_ERR_BACKEND when GDAL or OpenImageIO fails. */
+ * be opened or read (and, before opening, a path that is not a regular file: a FIFO would
+ * block), TP_ERR_BAD_DATA for a PNG cut short, failing a CRC or claiming more pixels than its
+ * data holds, TP_ERR_OUT_OF_MEMORY for an image whose pixels would not fit in memory (from its
+ * header, before decoding), TP_ERR_BACKEND when GDAL or OpenImageIO fails. The codecs' own
+ * stderr lines are kept off stderr; their text is in err. */
 tp_status tp_texture_build(const char* path, const tp_render_grid* grid, int max_size,
                            tp_texture** out, tp_error* err);
 void tp_texture_destroy(tp_texture* tex); /* accepts NULL */

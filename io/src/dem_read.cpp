@@ -22,6 +22,7 @@
 #include <ogr_spatialref.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cerrno>
 #include <cfloat>
 #include <cmath>
@@ -34,6 +35,7 @@
 #include <memory>
 #include <mutex>
 #include <string>
+#include <vector>
 
 #include <unistd.h>
 
@@ -201,10 +203,218 @@ tp_status check_latitude(const char* path, const OGRSpatialReference& srs, const
     return TP_OK;
 }
 
+/* The georeference within the ranges tp_io.h gives (TP_PIXEL_SIZE_*, TP_COORD_MAX_M,
+ * TP_LON_MAX_DEG): a pixel of 1e-300 m or a corner at 1e300 m is damage, not a place, and
+ * would go on to print 300-digit extents or overflow the render grid. */
+tp_status check_ranges(const char* path, const OGRSpatialReference* srs, const double gt[6],
+                       int w, int h, tp_error* err)
+{
+    const bool has = tpio::crs_present(srs);
+    const bool geographic = has && srs->IsGeographic();
+    double unit = 1.0; /* metres, or degrees, per CRS unit */
+    const char* name = "m";
+    double lo = TP_PIXEL_SIZE_MIN_M, hi = TP_PIXEL_SIZE_MAX_M;
+    if (geographic) {
+        unit = srs->GetAngularUnits(nullptr) * 180.0 / 3.14159265358979323846;
+        name = "degrees";
+        lo = TP_PIXEL_SIZE_MIN_DEG;
+        hi = TP_PIXEL_SIZE_MAX_DEG;
+    } else if (has) {
+        unit = srs->GetLinearUnits(nullptr);
+    } else {
+        name = "(no CRS: degrees or metres)";
+        lo = TP_PIXEL_SIZE_MIN_DEG;
+    }
+    if (!(unit > 0.0) || !std::isfinite(unit))
+        unit = 1.0;
+    const double px[2] = {std::fabs(gt[1]) * unit, std::fabs(gt[5]) * unit};
+    for (int i = 0; i < 2; ++i)
+        if (!(px[i] >= lo && px[i] <= hi)) {
+            set_error(err, "%s: pixel %s %.6g%s%s (gt[%d]) is outside %g .. %g %s", path,
+                      i ? "height" : "width", px[i], has ? " " : "", has ? name : "", i ? 5 : 1,
+                      lo, hi, name);
+            return TP_ERR_BAD_DATA;
+        }
+    const double xs[2] = {gt[0] * unit, (gt[0] + w * gt[1]) * unit};
+    const double ys[2] = {gt[3] * unit, (gt[3] + h * gt[5]) * unit};
+    for (int i = 0; i < 2; ++i) {
+        if (geographic) {
+            if (!(std::fabs(xs[i]) <= TP_LON_MAX_DEG)) {
+                set_error(err, "%s: %s edge at longitude %.6g is outside -%g .. %g degrees", path,
+                          i ? "east" : "west", xs[i], TP_LON_MAX_DEG, TP_LON_MAX_DEG);
+                return TP_ERR_BAD_DATA;
+            }
+            continue; /* latitudes: check_latitude */
+        }
+        for (int axis = 0; axis < 2; ++axis) {
+            const double v = axis ? ys[i] : xs[i];
+            if (!(std::fabs(v) <= TP_COORD_MAX_M)) {
+                set_error(err,
+                          "%s: %s edge at %s = %.6g%s is outside -%g .. %g %s (more than twice "
+                          "the Earth's circumference from the origin)",
+                          path, axis ? (i ? "last row's" : "first row's") : (i ? "east" : "west"),
+                          axis ? "y" : "x", v, has ? " m" : "", TP_COORD_MAX_M, TP_COORD_MAX_M,
+                          has ? "m" : "(no CRS: degrees or metres)");
+                return TP_ERR_BAD_DATA;
+            }
+        }
+    }
+    return TP_OK;
+}
+
+/* DTED stores a checksum with every column; GDAL checks it only when DTED_VERIFY_CHECKSUM is
+ * set when the file is opened. Corrupt elevations must not be used without a word, so ask,
+ * unless the user has set the option (DTED_VERIFY_CHECKSUM=NO reads a damaged file anyway). */
+struct VerifyDtedChecksums {
+    bool set = false;
+    VerifyDtedChecksums()
+    {
+        if (!CPLGetConfigOption("DTED_VERIFY_CHECKSUM", nullptr)) {
+            CPLSetThreadLocalConfigOption("DTED_VERIFY_CHECKSUM", "YES");
+            set = true;
+        }
+    }
+    ~VerifyDtedChecksums()
+    {
+        if (set)
+            CPLSetThreadLocalConfigOption("DTED_VERIFY_CHECKSUM", nullptr);
+    }
+    VerifyDtedChecksums(const VerifyDtedChecksums&) = delete;
+    VerifyDtedChecksums& operator=(const VerifyDtedChecksums&) = delete;
+};
+
+/* GDAL's AAIGrid driver is lenient: it reads "307x" as 307, and ignores values past nrows x
+ * ncols (164 rows under "nrows 144"), so damaged text would be drawn without a word. One pass
+ * over the text: after the header lines (a known key and its value), every token must be a
+ * whole number in C syntax (strtod) and there must be exactly w x h of them. The message
+ * names the line of the first bad token, or where the extra values start. */
+tp_status check_ascii_grid(const char* path, int w, int h, tp_error* err)
+{
+    static const char* const keys[] = {"ncols",     "nrows",     "xllcorner", "yllcorner",
+                                       "xllcenter", "yllcenter", "cellsize",  "dx",
+                                       "dy",        "nodata_value", "nodata"};
+    VSILFILE* f = VSIFOpenL(path, "rb");
+    if (!f) {
+        set_error(err, "%s: cannot open: %s", path, std::strerror(errno ? errno : EIO));
+        return TP_ERR_IO;
+    }
+    std::unique_ptr<VSILFILE, int (*)(VSILFILE*)> closer(f, &VSIFCloseL);
+    const uint64_t expected = static_cast<uint64_t>(w) * static_cast<uint64_t>(h);
+    uint64_t values = 0, line = 1, extra_line = 0, last_value_line = 0;
+    bool header = true, line_start = true, skip_value = false;
+    std::string token;
+    uint64_t token_line = 1;
+    std::vector<char> buf(1 << 20);
+    tp_status status = TP_OK;
+    const auto finish_token = [&]() -> bool {
+        if (token.empty())
+            return true;
+        const bool first_on_line = line_start;
+        line_start = false;
+        if (header) {
+            if (skip_value) {
+                skip_value = false;
+                token.clear();
+                return true;
+            }
+            if (first_on_line) {
+                std::string lower = token;
+                for (char& c : lower)
+                    c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+                for (const char* k : keys)
+                    if (lower == k) {
+                        skip_value = true;
+                        token.clear();
+                        return true;
+                    }
+            }
+            header = false;
+        }
+        char* end = nullptr;
+        errno = 0;
+        std::strtod(token.c_str(), &end);
+        if (end == token.c_str() || *end != '\0') {
+            set_error(err, "%s: line %llu: '%.40s' is not a number", path,
+                      static_cast<unsigned long long>(token_line), token.c_str());
+            status = TP_ERR_BAD_DATA;
+            return false;
+        }
+        if (++values == expected + 1)
+            extra_line = token_line;
+        last_value_line = token_line;
+        token.clear();
+        return true;
+    };
+    for (;;) {
+        const size_t got = VSIFReadL(buf.data(), 1, buf.size(), f);
+        for (size_t i = 0; i < got; ++i) {
+            const char c = buf[i];
+            if (c == ' ' || c == '\t' || c == '\r' || c == '\n' || c == '\f' || c == '\v') {
+                if (!finish_token())
+                    return status;
+                if (c == '\n') {
+                    ++line;
+                    line_start = true;
+                }
+            } else {
+                if (token.empty())
+                    token_line = line;
+                if (token.size() < 64)
+                    token += c;
+            }
+        }
+        if (got < buf.size())
+            break;
+    }
+    if (!finish_token())
+        return status;
+    if (values > expected) {
+        const uint64_t more = values - expected;
+        char rows[64] = "";
+        if (more % static_cast<uint64_t>(w) == 0)
+            std::snprintf(rows, sizeof rows, " (%llu extra rows)",
+                          static_cast<unsigned long long>(more / w));
+        set_error(err,
+                  "%s: %llu values where the header's nrows %d x ncols %d asks for %llu%s: the "
+                  "extra values start on line %llu",
+                  path, static_cast<unsigned long long>(values), h, w,
+                  static_cast<unsigned long long>(expected), rows,
+                  static_cast<unsigned long long>(extra_line));
+        return TP_ERR_BAD_DATA;
+    }
+    if (values < expected) {
+        set_error(err,
+                  "%s: only %llu values where the header's nrows %d x ncols %d asks for %llu: "
+                  "the last one is on line %llu",
+                  path, static_cast<unsigned long long>(values), h, w,
+                  static_cast<unsigned long long>(expected),
+                  static_cast<unsigned long long>(last_value_line));
+        return TP_ERR_BAD_DATA;
+    }
+    return TP_OK;
+}
+
+/* The .prj among the dataset's files, "" when there is none. */
+std::string prj_of(GDALDataset& ds)
+{
+    char** files = ds.GetFileList();
+    std::string prj;
+    for (char** f = files; f && *f; ++f)
+        if (has_extension(*f, ".prj"))
+            prj = *f;
+    CSLDestroy(files);
+    return prj;
+}
+
 tp_status read_dem(const char* path, tp_dem** out, tp_error* err)
 {
     register_drivers();
     QuietGdal quiet;
+
+    /* A FIFO or a device would block GDAL's open (or never end): refuse what is not a regular
+     * file or a directory before anything opens it. */
+    if (const tp_status s = tpio::check_input_file(path, "a raster", true, err))
+        return s;
 
     /* Tell "no such file" and "a directory" (I/O problems) apart from "a file GDAL does not
      * understand", and an empty file from a corrupt one. */
@@ -232,6 +442,7 @@ tp_status read_dem(const char* path, tp_dem** out, tp_error* err)
 
     /* A directory can still be a raster (an ArcInfo binary grid is one), so GDAL has the first
      * word; if it cannot open it, the answer is that it is a directory. */
+    VerifyDtedChecksums verify;
     std::unique_ptr<GDALDataset, DatasetCloser> ds(
         GDALDataset::Open(path, GDAL_OF_RASTER | GDAL_OF_READONLY | GDAL_OF_VERBOSE_ERROR, nullptr,
                           nullptr, nullptr));
@@ -269,6 +480,11 @@ tp_status read_dem(const char* path, tp_dem** out, tp_error* err)
         std::memcpy(gt, unit, sizeof gt);
     }
     const OGRSpatialReference* srs = ds->GetSpatialRef();
+    if (has_gt) {
+        const tp_status s = check_ranges(path, srs, gt, w, h, err);
+        if (s != TP_OK)
+            return s;
+    }
     if (has_gt && tpio::crs_present(srs)) {
         const tp_status s = check_latitude(path, *srs, gt, h, err);
         if (s != TP_OK)
@@ -276,22 +492,18 @@ tp_status read_dem(const char* path, tp_dem** out, tp_error* err)
     }
 
     /* The heights are read whole as 32-bit floats: refuse a size this machine cannot hold
-     * before asking for it (a header is all it takes to claim 10^12 samples). */
+     * before asking for it. */
+    if (const tp_status s =
+            tpio::check_fits_in_memory(path, w, h, sizeof(float), "for the heights", err))
+        return s;
     const size_t count = static_cast<size_t>(w) * static_cast<size_t>(h);
     const double need = static_cast<double>(w) * static_cast<double>(h) * sizeof(float);
-    const uint64_t have = usable_memory_bytes();
-    if (count > SIZE_MAX / sizeof(float) || (have && need > static_cast<double>(have))) {
-        if (have)
-            set_error(err,
-                      "%s: %dx%d samples would need %.1f GiB for the heights (4 bytes each), "
-                      "more than the %.1f GiB of memory this machine has",
-                      path, w, h, gib(need), gib(static_cast<double>(have)));
-        else
-            set_error(err,
-                      "%s: %dx%d samples would need %.1f GiB for the heights, more than "
-                      "this machine can address",
-                      path, w, h, gib(need));
-        return TP_ERR_OUT_OF_MEMORY;
+
+    const char* driver = ds->GetDriver() ? ds->GetDriver()->GetDescription() : "";
+    if (EQUAL(driver, "AAIGrid")) {
+        const tp_status s = check_ascii_grid(path, w, h, err);
+        if (s != TP_OK)
+            return s;
     }
 
     std::unique_ptr<tp_dem, DemDeleter> dem(static_cast<tp_dem*>(std::calloc(1, sizeof(tp_dem))));
@@ -315,6 +527,22 @@ tp_status read_dem(const char* path, tp_dem** out, tp_error* err)
     const CPLErr io =
         band->RasterIO(GF_Read, 0, 0, w, h, dem->heights, w, h, GDT_Float32, 0, 0, nullptr);
     const CPLErr last = CPLGetLastErrorType();
+    if ((io != CE_None || last != CE_None) && EQUAL(driver, "DTED") &&
+        std::strstr(CPLGetLastErrorMsg(), "hecksum")) {
+        /* GDAL: "... checksum that do not match at column 100. Computed 0x2871C, read
+         * 0x2871B" behind its IReadBlock prefix: keep the part that says where */
+        std::string m = gdal_message(path);
+        const size_t at = m.find("at column");
+        if (at != std::string::npos)
+            m = m.substr(at);
+        while (!m.empty() && std::isspace(static_cast<unsigned char>(m.back())))
+            m.pop_back();
+        set_error(err,
+                  "%s: DTED checksum mismatch, the elevations are corrupt (%s); set "
+                  "DTED_VERIFY_CHECKSUM=NO to read them anyway",
+                  path, m.c_str());
+        return TP_ERR_BAD_DATA;
+    }
     if (io != CE_None || last == CE_Failure || last == CE_Fatal) {
         set_error(err,
                   "%s: reading the heights of band 1 failed, the file is truncated or "
@@ -416,6 +644,28 @@ tp_status read_dem(const char* path, tp_dem** out, tp_error* err)
             warnings += '\n';
         warnings += line;
     }
+    const bool has_crs = tpio::crs_present(srs);
+    if (!has_crs) {
+        const std::string prj = prj_of(*ds);
+        if (!prj.empty()) {
+            std::snprintf(line, sizeof line,
+                          "%s: %s could not be read as a CRS (GDAL/PROJ do not understand its "
+                          "text): the DEM is read without a CRS",
+                          path, prj.c_str());
+            if (!warnings.empty())
+                warnings += '\n';
+            warnings += line;
+        }
+    }
+    if (!has_crs && !has_gt) {
+        std::snprintf(line, sizeof line,
+                      "%s: no CRS and no geotransform: posts taken as 1 m apart in local "
+                      "metres, north-west corner at (0, 0)",
+                      path);
+        if (!warnings.empty())
+            warnings += '\n';
+        warnings += line;
+    }
     dem->warnings = dup_c(warnings);
 
     dem->has_geotransform = has_gt ? 1 : 0;
@@ -474,4 +724,26 @@ extern "C" tp_terrain_desc tp_dem_terrain_desc(const tp_dem* dem, int patch_size
     desc.height = dem->height;
     std::memcpy(desc.geotransform, dem->geotransform, sizeof desc.geotransform);
     return desc;
+}
+
+/* Declared in io_util.hpp; the one check of a raster's size against memory (tp_dem_read here,
+ * heightmap images in image_read.cpp). */
+tp_status tpio::check_fits_in_memory(const char* path, int w, int h, double bytes_per_sample,
+                                     const char* what, tp_error* err)
+{
+    const double need = static_cast<double>(w) * static_cast<double>(h) * bytes_per_sample;
+    const uint64_t have = usable_memory_bytes();
+    if (need < static_cast<double>(SIZE_MAX) && (!have || need <= static_cast<double>(have)))
+        return TP_OK;
+    if (have)
+        set_error(err,
+                  "%s: %dx%d samples would need %.1f GiB %s (%g bytes each), more than the "
+                  "%.1f GiB of memory this machine has",
+                  path, w, h, gib(need), what, bytes_per_sample, gib(static_cast<double>(have)));
+    else
+        set_error(err,
+                  "%s: %dx%d samples would need %.1f GiB %s, more than this machine can "
+                  "address",
+                  path, w, h, gib(need), what);
+    return TP_ERR_OUT_OF_MEMORY;
 }

@@ -170,9 +170,27 @@ tp_status warp_georeferenced(const char* path, GDALDataset* src, const tp_render
 tp_status read_plain(const char* path, const tp_render_grid* g, int max_size, tp_texture** out,
                      tp_error* err)
 {
+    if (tp_status s = tpio::check_png(path, err))
+        return s;
     OIIO::ImageBuf src(path);
-    if (!src.read(0, 0, true, OIIO::TypeDesc::UINT8))
-        return fail(err, TP_ERR_IO, "%s: cannot read as an image: %s", path, src.geterror().c_str());
+    {
+        tpio::QuietStderr quiet;
+        const OIIO::ImageSpec& spec = src.spec(); /* the header only */
+        if (src.has_error())
+            return fail(err, TP_ERR_IO, "%s: cannot read as an image: %s", path,
+                        src.geterror().c_str());
+        /* the decoder's copy of the pixels and our 8-bit one */
+        if (tp_status s = tpio::check_fits_in_memory(
+                path, spec.width, spec.height,
+                (double)spec.nchannels * (spec.format.size() + 1), "for the pixels", err))
+            return s;
+    }
+    {
+        tpio::QuietStderr quiet; /* libpng's own "libpng error: ..." line; its text is in ours */
+        if (!src.read(0, 0, true, OIIO::TypeDesc::UINT8))
+            return fail(err, TP_ERR_IO, "%s: cannot read as an image: %s", path,
+                        src.geterror().c_str());
+    }
     int w, h;
     texture_size(g, src.spec().width, src.spec().height, max_size, &w, &h);
     OIIO::ImageBuf sized = OIIO::ImageBufAlgo::resize(src, "", 0, OIIO::ROI(0, w, 0, h, 0, 1, 0, src.nchannels()));
@@ -201,6 +219,9 @@ tp_status build(const char* path, const tp_render_grid* g, int max_size, tp_text
     VSIStatBufL st;
     if (VSIStatL(path, &st) != 0)
         return fail(err, TP_ERR_IO, "%s: cannot open: %s", path, std::strerror(ENOENT));
+    /* a FIFO would block GDAL's or OpenImageIO's open */
+    if (tp_status s = tpio::check_input_file(path, "an image", false, err))
+        return s;
     if (!tp_is_heightmap_image(path)) {
         tpio::register_drivers();
         tpio::QuietGdal quiet;
