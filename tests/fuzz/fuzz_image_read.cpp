@@ -1,0 +1,54 @@
+/*
+ * fuzz_image_read.cpp - libFuzzer entry point for tp_dem_read_image (io/src/image_read.cpp),
+ * the heightmap-image reader (`--spacing/--zscale` DEMs, through OpenImageIO). The first byte
+ * picks the file name, so the extension (and OpenImageIO's first reader; it tries the others
+ * when that one fails); the rest is written to a file in a private temporary folder, as the
+ * reader takes a path. ".raw" is not a heightmap extension: that name goes through the GDAL
+ * check that refuses georeferenced rasters first, as a GeoTIFF would.
+ */
+#include "fuzz_util.h"
+#include "tp_io.h"
+
+#include <OpenImageIO/imageio.h>
+
+namespace {
+const char* const kNames[] = {"h.png", "h.pgm", "h.ppm", "h.tga", "h.bmp", "h.hdr",
+                              "h.exr", "h.jpg", "h.webp", "h.raw"};
+}
+
+extern "C" int LLVMFuzzerInitialize(int*, char***)
+{
+    OIIO::attribute("threads", 1); /* one core per fuzzer: the machine is shared */
+    OIIO::attribute("exr_threads", 1);
+    return 0;
+}
+
+extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size)
+{
+    if (size < 1)
+        return 0;
+    const char* name = kNames[data[0] % (sizeof kNames / sizeof kNames[0])];
+    const char* path = tp_fuzz_write_file(name, data + 1, size - 1);
+    if (!path)
+        return 0;
+    tp_image_options options = {};
+    options.spacing_m = 30;
+    options.zscale = 0.1;
+    if (data[0] & 0x80) { /* placed on the globe: the UTM path */
+        options.has_origin = 1;
+        options.origin_lat_deg = 45.37;
+        options.origin_lon_deg = -121.7;
+    }
+    tp_dem* dem = nullptr;
+    tp_error err = {{0}};
+    tp_status s = tp_dem_read_image(path, &options, &dem, &err);
+    if (s == TP_OK) {
+        TP_FUZZ_CHECK(dem && dem->width > 0 && dem->height > 0 && dem->heights,
+                      "TP_OK without heights");
+        tp_dem_destroy(dem);
+    } else {
+        TP_FUZZ_CHECK(dem == nullptr, "status %d wrote *out", (int)s);
+        TP_FUZZ_CHECK(err.message[0] != '\0', "status %d without a message", (int)s);
+    }
+    return 0;
+}

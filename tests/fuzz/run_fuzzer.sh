@@ -1,0 +1,27 @@
+#!/bin/sh
+# run_fuzzer.sh MODE FUZZER SOURCE_DIR WORK_DIR SECONDS [libFuzzer options...]
+#   MODE replay: run every input of SOURCE_DIR/corpus/NAME and SOURCE_DIR/regressions/NAME once;
+#   MODE run:    fuzz for SECONDS from them (and from what earlier runs kept in
+#                WORK_DIR/corpus/NAME, where new inputs go); a crash is saved in
+#                WORK_DIR/artifacts/ and fails the test.
+# NAME is the fuzzer's file name. Memory is bounded: a reader that asks for more than 2 GiB
+# fails the run (libFuzzer's -rss_limit_mb and -malloc_limit_mb).
+set -eu
+mode=$1 fuzzer=$2 src=$3 work=$4 seconds=$5
+shift 5
+name=$(basename "$fuzzer")
+mkdir -p "$work/corpus/$name" "$work/artifacts"
+dirs=
+for d in "$src/corpus/$name" "$src/regressions/$name"; do
+    [ -d "$d" ] && dirs="$dirs $d"
+done
+common="-rss_limit_mb=2048 -malloc_limit_mb=2048 -timeout=20 -artifact_prefix=$work/artifacts/$name-"
+export ASAN_OPTIONS="${ASAN_OPTIONS:-allocator_may_return_null=1:detect_leaks=1}"
+export UBSAN_OPTIONS="${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}"
+case "$mode" in
+    # -runs=0: read (so run) every input, then stop
+    replay) exec "$fuzzer" $common "$@" -runs=0 $dirs ;;
+    run) exec "$fuzzer" $common "$@" -max_total_time="$seconds" -print_final_stats=1 \
+        "$work/corpus/$name" $dirs ;;
+    *) echo "run_fuzzer.sh: MODE must be replay or run, not '$mode'" >&2; exit 2 ;;
+esac
