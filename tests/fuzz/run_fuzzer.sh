@@ -17,6 +17,7 @@ for d in "$src/corpus/$name" "$src/regressions/$name"; do
 done
 common="-rss_limit_mb=2048 -malloc_limit_mb=2048 -timeout=20 -artifact_prefix=$work/artifacts/$name-"
 export ASAN_OPTIONS="${ASAN_OPTIONS:-allocator_may_return_null=1:detect_leaks=1}"
+export LSAN_OPTIONS="${LSAN_OPTIONS:-suppressions=$src/lsan.supp}"
 export UBSAN_OPTIONS="${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}"
 case "$mode" in
     # -runs=0: read (so run) every input, then stop
