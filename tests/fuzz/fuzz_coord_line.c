@@ -22,6 +22,13 @@ static void mgrs_reverse(const char* text, int centerp)
     double e = -1.5, n = -1.5;
     tp_error err = {{0}};
     tp_status s = tp_mgrs_reverse(text, centerp, &zone, &northp, &e, &n, &precision, &err);
+    /* GeographicLib 2.1.2 overflows an int on 10 or more leading digits (UBSan at its
+     * src/MGRS.cpp:185), which this build cannot see (the library is not instrumented):
+     * tp_mgrs_reverse must refuse more than 2 before calling it
+     * (regressions/fuzz_coord_line/mgrs_long_zone). */
+    if (strspn(text, "0123456789") > 2)
+        TP_FUZZ_CHECK(s == TP_ERR_INVALID_ARG && strstr(err.message, "zone of 1 or 2 digits"),
+                      "'%s' was handed to GeographicLib: %s", text, err.message);
     if (s != TP_OK) {
         TP_FUZZ_CHECK(zone == -7 && northp == -7 && precision == -7 && e == -1.5 && n == -1.5,
                       "status %d wrote an output", (int)s);

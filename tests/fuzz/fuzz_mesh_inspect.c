@@ -11,10 +11,11 @@
  * and we cannot check a legacy file for it short of parsing it ourselves; tp_mesh_inspect
  * reads back files terrapatch itself wrote (tests, `export --check`), not files from outside.
  *
- * Skipped: XML files with a type="..." that VTK does not know. VTK 9.1's XML reader
- * dereferences NULL for a DataArray of an unknown type ("Int33": SEGV in
- * vtkXMLReader::ReadXMLInformation, libvtkIOXML-9.1.so.1+0x98753; the input is
- * tests/fuzz/third_party/vtk_xml_unknown_array_type_segv.vtp.bin).
+ * Skipped: XML files with a type="..." that VTK does not know, or an array element without a
+ * type. VTK 9.1's XML reader dereferences NULL for a DataArray of an unknown type ("Int33") or
+ * none (SEGV in vtkXMLReader::ReadXMLInformation, libvtkIOXML-9.1.so.1+0x98753; the inputs
+ * are tests/fuzz/third_party/vtk_xml_unknown_array_type_segv.vtp.bin and
+ * vtk_xml_array_without_type_segv.vtp.bin).
  */
 #include "fuzz_util.h"
 #include "tp_io.h"
@@ -47,11 +48,32 @@ static int types_known(const uint8_t* data, size_t size)
     return 1;
 }
 
+/* 1 if every <DataArray and <Array element of data has a type="..." attribute. */
+static int arrays_typed(const uint8_t* data, size_t size)
+{
+    static const char* const tags[] = {"<DataArray", "<Array"};
+    for (size_t i = 0; i < size; ++i) {
+        for (int t = 0; t < 2; ++t) {
+            size_t n = strlen(tags[t]);
+            if (i + n > size || memcmp(data + i, tags[t], n) != 0)
+                continue;
+            const uint8_t* end = memchr(data + i, '>', size - i);
+            size_t len = end ? (size_t)(end - (data + i)) : size - i;
+            int typed = 0;
+            for (size_t k = i; k + 7 <= i + len && !typed; ++k)
+                typed = !memcmp(data + k, " type=\"", 7);
+            if (!typed)
+                return 0;
+        }
+    }
+    return 1;
+}
+
 static const char* const names[] = {"m.vtp", "m.vtm"}; /* no "m.vtk": see above */
 
 int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size)
 {
-    if (size < 1 || !types_known(data + 1, size - 1))
+    if (size < 1 || !types_known(data + 1, size - 1) || !arrays_typed(data + 1, size - 1))
         return 0;
     const char* path = tp_fuzz_write_file(names[data[0] % 2], data + 1, size - 1);
     if (!path)
