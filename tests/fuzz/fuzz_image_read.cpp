@@ -14,17 +14,53 @@
  * header here first): a 90-byte WebP may claim 16383 x 16383 pixels, and the reader then
  * rightly allocates and decodes a gigabyte, a timeout for the fuzzer but no bug. Sizes beyond
  * memory are tp_dem_read_image's to refuse, tested in tests/test_image.c.
+ *
+ * OpenEXR files whose header attributes claim more bytes than the file holds are skipped:
+ * OpenEXR 3.1 allocates and clears what a string attribute's size says (800 MB from a
+ * 113-byte file: "capDate" of size 0x30000013) before it finds the file short, 20 s and more
+ * under ASan (tests/fuzz/third_party/openexr_string_attribute_size.exr.bin). Not ours.
  */
 #include "fuzz_util.h"
 #include "tp_io.h"
 
 #include <OpenImageIO/imageio.h>
 
+#include <cstdint>
+#include <cstring>
+
 namespace {
 constexpr long long kMaxSamples = 1 << 16; /* 256 x 256 x 1: the seeds are 16 x 16 */
 const char* const kNames[] = {"h.png", "h.pgm", "h.ppm", "h.tga", "h.bmp", "h.hdr",
                               "h.exr", "h.jpg", "h.webp", "h.tif"};
+/* 1 if an OpenEXR header's attributes (name NUL type NUL int32-size value ...) each fit in the
+ * file; anything that is not an OpenEXR header passes. */
+bool exr_sizes_fit(const uint8_t* p, size_t n)
+{
+    if (n < 8 || p[0] != 0x76 || p[1] != 0x2f || p[2] != 0x31 || p[3] != 0x01)
+        return true;
+    size_t i = 8;
+    for (int attr = 0; attr < 1000; ++attr) {
+        for (int field = 0; field < 2; ++field) { /* name, type */
+            const void* nul = i < n ? std::memchr(p + i, 0, n - i) : nullptr;
+            if (!nul)
+                return true; /* cut short: OpenEXR refuses it quickly */
+            size_t len = static_cast<size_t>(static_cast<const uint8_t*>(nul) - (p + i));
+            if (field == 0 && len == 0)
+                return true; /* the end of the header */
+            i += len + 1;
+        }
+        if (i + 4 > n)
+            return true;
+        uint32_t size = p[i] | p[i + 1] << 8 | p[i + 2] << 16 | static_cast<uint32_t>(p[i + 3]) << 24;
+        i += 4;
+        if (size > n - i)
+            return false;
+        i += size;
+    }
+    return true;
 }
+
+} // namespace
 
 extern "C" int LLVMFuzzerInitialize(int*, char***)
 {
@@ -37,6 +73,8 @@ extern "C" int LLVMFuzzerInitialize(int*, char***)
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size)
 {
     if (size < 1)
+        return 0;
+    if (!exr_sizes_fit(data + 1, size - 1))
         return 0;
     const char* name = kNames[data[0] % (sizeof kNames / sizeof kNames[0])];
     const char* path = tp_fuzz_write_file(name, data + 1, size - 1);
