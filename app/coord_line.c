@@ -151,12 +151,13 @@ static int parse_zone(const char* token, int* zone, int* northp, char* msg)
     return 1;
 }
 
-/* MGRS by shape: up to 2 digits (the zone; none for UPS), a letter, then letters and digits
- * only. Whether it is a legal reference is GeographicLib's to say (tp_mgrs_reverse). */
+/* MGRS by shape: digits (the zone; none for UPS), a letter, then letters and digits only.
+ * Whether it is a legal reference is tp_mgrs_reverse's to say, a zone of more than 2 digits
+ * included ("MGRS 110087268780A: expected a zone of 1 or 2 digits"). */
 static int looks_like_mgrs(const char* token)
 {
     size_t i = 0;
-    while (i < 2 && isdigit((unsigned char)token[i]))
+    while (isdigit((unsigned char)token[i]))
         ++i;
     if (!isalpha((unsigned char)token[i]))
         return 0;
@@ -246,14 +247,15 @@ static int parse_position(const fields* f, position* pos, char* msg)
                  "expected LAT LON, ZONE E N or an MGRS reference, got an empty line");
         return 0;
     case 1:
-        if (looks_like_mgrs(field[0]))
-            return position_from_mgrs(field[0], pos, msg);
-        if (parse_number(field[0], &a) == 1)
+        if (parse_number(field[0], &a) == 1) { /* before MGRS: "1e5" has its shape */
             snprintf(msg, MSG_SIZE, "expected LAT LON, got a single number %s",
                      quoted(field[0], q, sizeof q));
-        else
-            snprintf(msg, MSG_SIZE, "expected LAT LON, ZONE E N or an MGRS reference, got %s",
-                     quoted(field[0], q, sizeof q));
+            return 0;
+        }
+        if (looks_like_mgrs(field[0]))
+            return position_from_mgrs(field[0], pos, msg);
+        snprintf(msg, MSG_SIZE, "expected LAT LON, ZONE E N or an MGRS reference, got %s",
+                 quoted(field[0], q, sizeof q));
         return 0;
     case 2:
         if (!read_number(field[0], "latitude", &a, msg) ||

@@ -1097,6 +1097,7 @@ TEST(zone_format_rejects_bad_input_and_leaves_out_alone)
     X(mgrs_reverse_then_forward_is_stable)                                                         \
     X(mgrs_truncates_rather_than_rounds)                                                           \
     X(mgrs_forward_rejects_bad_input)                                                              \
+    X(mgrs_zone_of_more_than_two_digits_is_refused_before_geographiclib)                           \
     X(malformed_mgrs_is_rejected_with_reason)                                                      \
     X(utm_mgrs_edge_cases_match_geoconvert)                                                        \
     X(standard_zone_rules)                                                                         \
