@@ -6,6 +6,10 @@
 #                WORK_DIR/artifacts/ and fails the test.
 # NAME is the fuzzer's file name. Memory is bounded: a reader that asks for more than 2 GiB
 # fails the run (libFuzzer's -rss_limit_mb and -malloc_limit_mb).
+#
+# TP_FUZZ_THIRD_PARTY (a grep -E pattern, e.g. 'libvtk'): in MODE run, fuzz in fork mode,
+# going on after crashes, and fail only for a crash whose top frame does not match it: for a
+# library whose own crashes turn up in minutes (docs/fuzzing.md), so that ours still fail.
 set -eu
 mode=$1 fuzzer=$2 src=$3 work=$4 seconds=$5
 shift 5
@@ -22,7 +26,29 @@ export UBSAN_OPTIONS="${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}"
 case "$mode" in
     # -runs=0: read (so run) every input, then stop
     replay) exec "$fuzzer" $common "$@" -runs=0 $dirs ;;
-    run) exec "$fuzzer" $common "$@" -max_total_time="$seconds" -print_final_stats=1 \
-        "$work/corpus/$name" $dirs ;;
+    run) ;;
     *) echo "run_fuzzer.sh: MODE must be replay or run, not '$mode'" >&2; exit 2 ;;
 esac
+if [ -z "${TP_FUZZ_THIRD_PARTY:-}" ]; then
+    exec "$fuzzer" $common "$@" -max_total_time="$seconds" -print_final_stats=1 \
+        "$work/corpus/$name" $dirs
+fi
+stamp="$work/artifacts/.$name-start"
+touch "$stamp"
+"$fuzzer" $common "$@" -fork=1 -ignore_crashes=1 -ignore_ooms=1 -ignore_timeouts=1 \
+    -max_total_time="$seconds" "$work/corpus/$name" $dirs || true
+status=0
+for a in $(find "$work/artifacts" -newer "$stamp" -type f -name "$name-timeout-*"); do
+    echo "slow input (a timeout on a loaded machine is no failure): $a"
+done
+for a in $(find "$work/artifacts" -newer "$stamp" -type f \( -name "$name-crash-*" -o \
+    -name "$name-leak-*" -o -name "$name-oom-*" \)); do
+    top=$("$fuzzer" "$a" 2>&1 | grep -m1 -E '^ *#0 ' || true)
+    if printf '%s\n' "$top" | grep -qE "$TP_FUZZ_THIRD_PARTY"; then
+        echo "known third-party failure (not ours): $a: $top"
+    else
+        echo "FAILURE: $a: ${top:-no stack}"
+        status=1
+    fi
+done
+exit $status
