@@ -16,7 +16,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define MAX_FIELDS 4                /* most fields a line may have (--geodesic); more are only counted */
+#define MAX_FIELDS 4 /* most fields a line may have (--geodesic); more are only counted */
 #define MSG_SIZE TP_COORD_TEXT_SIZE /* one error message or output line */
 #define QUOTE_LIMIT 40              /* characters of a bad token echoed back */
 
@@ -310,10 +310,10 @@ static int standard_grid(const position* pos, int* zone, int* northp, double* e,
                          char* msg)
 {
     tp_error err = {{0}};
-    tp_status s = pos->has_grid ? tp_utmups_to_standard(pos->zone, pos->northp, pos->easting_m,
-                                                        pos->northing_m, zone, northp, e, n, &err)
-                                : tp_geo_to_utmups(pos->lat_deg, pos->lon_deg, zone, northp, e, n,
-                                                   &err);
+    tp_status s = pos->has_grid
+                      ? tp_utmups_to_standard(pos->zone, pos->northp, pos->easting_m,
+                                              pos->northing_m, zone, northp, e, n, &err)
+                      : tp_geo_to_utmups(pos->lat_deg, pos->lon_deg, zone, northp, e, n, &err);
     return s == TP_OK ? 1 : geo_failed(s, &err, msg);
 }
 
@@ -331,7 +331,8 @@ static int convert_position(const tp_coord_request* o, const position* pos, char
     }
     switch (o->to) {
     case TP_COORD_TO_GEO:
-        snprintf(msg, MSG_SIZE, "%.9f %.9f", unsigned_zero(pos->lat_deg), unsigned_zero(pos->lon_deg));
+        snprintf(msg, MSG_SIZE, "%.9f %.9f", unsigned_zero(pos->lat_deg),
+                 unsigned_zero(pos->lon_deg));
         return 1;
     case TP_COORD_TO_UTM: {
         if (!standard_grid(pos, &zone, &northp, &e, &n, msg))
@@ -360,7 +361,8 @@ static int convert_position(const tp_coord_request* o, const position* pos, char
         s = tp_geo_to_ecef(pos->lat_deg, pos->lon_deg, pos->h_m, &x, &y, &z, &err);
         if (s != TP_OK)
             return geo_failed(s, &err, msg);
-        snprintf(msg, MSG_SIZE, "%.6f %.6f %.6f", unsigned_zero(x), unsigned_zero(y), unsigned_zero(z));
+        snprintf(msg, MSG_SIZE, "%.6f %.6f %.6f", unsigned_zero(x), unsigned_zero(y),
+                 unsigned_zero(z));
         return 1;
     }
     }
@@ -386,7 +388,8 @@ static int convert_geodesic(const fields* f, char* msg)
     tp_status s = tp_geodesic_inverse(v[0], v[1], v[2], v[3], &azi1, &azi2, &s12, &err);
     if (s != TP_OK)
         return geo_failed(s, &err, msg);
-    snprintf(msg, MSG_SIZE, "%.12f %.12f %.9f", unsigned_zero(azi1), unsigned_zero(azi2), unsigned_zero(s12));
+    snprintf(msg, MSG_SIZE, "%.12f %.12f %.9f", unsigned_zero(azi1), unsigned_zero(azi2),
+             unsigned_zero(s12));
     return 1;
 }
 

@@ -26,12 +26,11 @@ namespace {
 
 /* The file names the first byte chooses from: extensions GDAL's DEM drivers know; the .hgt
  * and .dt1 names are real tile names (SRTMHGT reads the position from the name). */
-const char* const kNames[] = {"dem.tif", "dem.asc", "dem.xyz", "dem.dem", "dem.bt",
-                              "dem.grd", "dem.ter", "dem.img", "N42E001.hgt", "n42.dt1",
-                              "dem.txt", "dem"};
-const char* const kDrivers[] = {"GTiff",  "COG",      "AAIGrid", "GRASSASCIIGrid", "XYZ",
-                                "USGSDEM", "BT",      "GSAG",    "GSBG",           "GS7BG",
-                                "Terragen", "HFA",    "SRTMHGT", "DTED",           "MEM"};
+const char* const kNames[] = {"dem.tif", "dem.asc", "dem.xyz",     "dem.dem", "dem.bt",  "dem.grd",
+                              "dem.ter", "dem.img", "N42E001.hgt", "n42.dt1", "dem.txt", "dem"};
+const char* const kDrivers[] = {"GTiff",    "COG", "AAIGrid", "GRASSASCIIGrid", "XYZ",
+                                "USGSDEM",  "BT",  "GSAG",    "GSBG",           "GS7BG",
+                                "Terragen", "HFA", "SRTMHGT", "DTED",           "MEM"};
 constexpr long long kMaxPixels = 1 << 16; /* 256 x 256: 16 x 16 seeds, 4 MB heights were slow */
 
 } // namespace
@@ -72,8 +71,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size)
     bool small = true;
     CPLPushErrorHandler(CPLQuietErrorHandler);
     if (GDALDatasetH ds = GDALOpenEx(path.c_str(), GDAL_OF_RASTER, nullptr, nullptr, nullptr)) {
-        small = static_cast<long long>(GDALGetRasterXSize(ds)) * GDALGetRasterYSize(ds) <=
-                kMaxPixels;
+        small =
+            static_cast<long long>(GDALGetRasterXSize(ds)) * GDALGetRasterYSize(ds) <= kMaxPixels;
         GDALClose(ds);
     }
     CPLPopErrorHandler();

@@ -30,8 +30,8 @@
 
 namespace {
 constexpr long long kMaxSamples = 1 << 16; /* 256 x 256 x 1: the seeds are 16 x 16 */
-const char* const kNames[] = {"h.png", "h.pgm", "h.ppm", "h.tga", "h.bmp", "h.hdr",
-                              "h.exr", "h.jpg", "h.webp", "h.tif"};
+const char* const kNames[] = {"h.png", "h.pgm", "h.ppm", "h.tga",  "h.bmp",
+                              "h.hdr", "h.exr", "h.jpg", "h.webp", "h.tif"};
 /* 1 if an OpenEXR header's attributes (name NUL type NUL int32-size value ...) each fit in the
  * file; anything that is not an OpenEXR header passes. */
 bool exr_sizes_fit(const uint8_t* p, size_t n)
@@ -51,7 +51,8 @@ bool exr_sizes_fit(const uint8_t* p, size_t n)
         }
         if (i + 4 > n)
             return true;
-        uint32_t size = p[i] | p[i + 1] << 8 | p[i + 2] << 16 | static_cast<uint32_t>(p[i + 3]) << 24;
+        uint32_t size =
+            p[i] | p[i + 1] << 8 | p[i + 2] << 16 | static_cast<uint32_t>(p[i + 3]) << 24;
         i += 4;
         if (size > n - i)
             return false;

@@ -25,9 +25,12 @@
 /* 1 if every type="..." in data is a VTK XML data set or array type. */
 static int types_known(const uint8_t* data, size_t size)
 {
-    static const char* const known[] = {"PolyData", "vtkMultiBlockDataSet", "Int8", "UInt8",
-                                        "Int16",    "UInt16",               "Int32", "UInt32",
-                                        "Int64",    "UInt64",               "Float32", "Float64",
+    static const char* const known[] = {"PolyData", "vtkMultiBlockDataSet",
+                                        "Int8",     "UInt8",
+                                        "Int16",    "UInt16",
+                                        "Int32",    "UInt32",
+                                        "Int64",    "UInt64",
+                                        "Float32",  "Float64",
                                         "String"};
     static const char key[] = "type=\"";
     const size_t klen = sizeof key - 1;

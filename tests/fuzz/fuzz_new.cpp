@@ -77,8 +77,14 @@ void* allocate(std::size_t size, bool array)
 }
 } // namespace
 
-void* operator new(std::size_t size) { return allocate(size, false); }
-void* operator new[](std::size_t size) { return allocate(size, true); }
+void* operator new(std::size_t size)
+{
+    return allocate(size, false);
+}
+void* operator new[](std::size_t size)
+{
+    return allocate(size, true);
+}
 void* operator new(std::size_t size, const std::nothrow_t&) noexcept
 {
     return try_allocate(size, false);
@@ -87,9 +93,27 @@ void* operator new[](std::size_t size, const std::nothrow_t&) noexcept
 {
     return try_allocate(size, true);
 }
-void operator delete(void* p) noexcept { release(p); }
-void operator delete[](void* p) noexcept { release(p); }
-void operator delete(void* p, std::size_t) noexcept { release(p); }
-void operator delete[](void* p, std::size_t) noexcept { release(p); }
-void operator delete(void* p, const std::nothrow_t&) noexcept { release(p); }
-void operator delete[](void* p, const std::nothrow_t&) noexcept { release(p); }
+void operator delete(void* p) noexcept
+{
+    release(p);
+}
+void operator delete[](void* p) noexcept
+{
+    release(p);
+}
+void operator delete(void* p, std::size_t) noexcept
+{
+    release(p);
+}
+void operator delete[](void* p, std::size_t) noexcept
+{
+    release(p);
+}
+void operator delete(void* p, const std::nothrow_t&) noexcept
+{
+    release(p);
+}
+void operator delete[](void* p, const std::nothrow_t&) noexcept
+{
+    release(p);
+}

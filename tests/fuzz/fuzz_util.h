@@ -16,14 +16,14 @@ extern "C" {
 
 /* An invariant of our API broke (an output written on failure, a status without a message):
  * print why and abort, which libFuzzer saves as a crash input. */
-#define TP_FUZZ_CHECK(cond, ...)                                                                    \
-    do {                                                                                            \
-        if (!(cond)) {                                                                              \
-            fprintf(stderr, "fuzz check failed: %s: ", #cond);                                      \
-            fprintf(stderr, __VA_ARGS__);                                                           \
-            fputc('\n', stderr);                                                                    \
-            abort();                                                                                \
-        }                                                                                           \
+#define TP_FUZZ_CHECK(cond, ...)                                                                   \
+    do {                                                                                           \
+        if (!(cond)) {                                                                             \
+            fprintf(stderr, "fuzz check failed: %s: ", #cond);                                     \
+            fprintf(stderr, __VA_ARGS__);                                                          \
+            fputc('\n', stderr);                                                                   \
+            abort();                                                                               \
+        }                                                                                          \
     } while (0)
 
 /* Writes data to <private folder>/<name> (the folder is made on the first call and removed at

@@ -41,7 +41,8 @@ void save(const std::string& fuzzer, const std::string& name, unsigned char pick
     VSIMkdirRecursive(dir.c_str(), 0755);
     std::ofstream f(dir + "/" + name, std::ios::binary);
     f.put(static_cast<char>(pick));
-    f.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
+    f.write(reinterpret_cast<const char*>(bytes.data()),
+            static_cast<std::streamsize>(bytes.size()));
     ++g_count;
 }
 
@@ -84,11 +85,10 @@ void dem(const std::string& src, const std::string& name, unsigned char pick,
 void image(const std::string& name, unsigned char pick, const OIIO::ImageSpec& spec,
            const void* pixels)
 {
-    std::string path = std::string(std::getenv("TMPDIR") ? std::getenv("TMPDIR") : "/tmp") +
-                       "/tp_seed_" + name;
+    std::string path =
+        std::string(std::getenv("TMPDIR") ? std::getenv("TMPDIR") : "/tmp") + "/tp_seed_" + name;
     auto out = OIIO::ImageOutput::create(path);
-    if (!out || !out->open(path, spec) || !out->write_image(spec.format, pixels) ||
-        !out->close()) {
+    if (!out || !out->open(path, spec) || !out->write_image(spec.format, pixels) || !out->close()) {
         std::fprintf(stderr, "skipped %s: %s\n", name.c_str(), OIIO::geterror().c_str());
         return;
     }
@@ -132,8 +132,8 @@ void mesh(const std::string& name, unsigned char pick, tp_mesh_format format)
     m.camera = "--camera-geo 46.09,-113.26,3500,0,-30";
     m.lod_params = "mode=error tau_px=1";
     m.program_version = "terrapatch seeds";
-    std::string dir = std::string(std::getenv("TMPDIR") ? std::getenv("TMPDIR") : "/tmp") +
-                      "/tp_seed_mesh";
+    std::string dir =
+        std::string(std::getenv("TMPDIR") ? std::getenv("TMPDIR") : "/tmp") + "/tp_seed_mesh";
     VSIMkdirRecursive(dir.c_str(), 0755);
     std::string path = dir + "/" + name;
     tp_error err = {{0}};
@@ -158,14 +158,15 @@ int main(int argc, char** argv)
 
     /* DEMs; picks index fuzz_dem_read.cpp's kNames (0 .tif, 1 .asc, 2 .xyz, 3 .dem, 4 .bt,
      * 5 .grd, 6 .ter, 7 .img, 9 .dt1, 10 .txt) */
-    const std::string storml = data + "/storml_elev_orig.tif", hood = data + "/lf_elev_220_mt_hood_utm.tif",
+    const std::string storml = data + "/storml_elev_orig.tif",
+                      hood = data + "/lf_elev_220_mt_hood_utm.tif",
                       crater = data + "/craterlake-elev-16bit-30m.tif",
                       rainier = data + "/mt_rainier_90m.tif",
                       front = data + "/front_range_srtmgl3_144.asc", dted = data + "/N42E001.dt1";
     dem(storml, "storml_edge.tif", 0, {"-srcwin", "0", "0", "16", "16"});
     dem(storml, "storml_deflate_tiled.tif", 0,
-        {"-srcwin", "60", "40", "16", "16", "-co", "COMPRESS=DEFLATE", "-co", "TILED=YES",
-         "-co", "BLOCKXSIZE=16", "-co", "BLOCKYSIZE=16"});
+        {"-srcwin", "60", "40", "16", "16", "-co", "COMPRESS=DEFLATE", "-co", "TILED=YES", "-co",
+         "BLOCKXSIZE=16", "-co", "BLOCKYSIZE=16"});
     dem(hood, "hood_lzw.tif", 0, {"-srcwin", "500", "400", "16", "16", "-co", "COMPRESS=LZW"});
     dem(crater, "crater_point.tif", 0, {"-srcwin", "200", "140", "16", "16"});
     dem(rainier, "rainier_nodata.tif", 0, {"-srcwin", "0", "0", "12", "12"});
@@ -181,8 +182,8 @@ int main(int argc, char** argv)
     dem(storml, "storml_binary.grd", 5, {"-srcwin", "60", "40", "16", "16", "-of", "GSBG"});
     dem(storml, "storml_surfer7.grd", 5, {"-srcwin", "60", "40", "16", "16", "-of", "GS7BG"});
     dem(storml, "storml.ter", 6,
-        {"-srcwin", "60", "40", "16", "16", "-ot", "Float32", "-of", "Terragen", "-co", "MINUSERPIXELVALUE=2400",
-         "-co", "MAXUSERPIXELVALUE=3100"});
+        {"-srcwin", "60", "40", "16", "16", "-ot", "Float32", "-of", "Terragen", "-co",
+         "MINUSERPIXELVALUE=2400", "-co", "MAXUSERPIXELVALUE=3100"});
     dem(storml, "storml.img", 7, {"-srcwin", "60", "40", "16", "16", "-of", "HFA"});
     dem(dted, "n42_level0.dt1", 9, {"-outsize", "121", "121", "-of", "DTED"});
     dem(front, "front_range.txt", 10, {"-srcwin", "0", "0", "8", "8", "-of", "AAIGrid"});
@@ -205,9 +206,9 @@ int main(int argc, char** argv)
                 for (int c = 0; c < 3; ++c)
                     rgb[(y * n + x) * 3 + c] = static_cast<uint8_t>(v >> 8);
             }
-        OIIO::ImageSpec grey16(n, n, 1, OIIO::TypeDesc::UINT16), grey8(n, n, 1, OIIO::TypeDesc::UINT8),
-            rgb8(n, n, 3, OIIO::TypeDesc::UINT8), grey32f(n, n, 1, OIIO::TypeDesc::FLOAT),
-            rgb32f(n, n, 3, OIIO::TypeDesc::FLOAT);
+        OIIO::ImageSpec grey16(n, n, 1, OIIO::TypeDesc::UINT16),
+            grey8(n, n, 1, OIIO::TypeDesc::UINT8), rgb8(n, n, 3, OIIO::TypeDesc::UINT8),
+            grey32f(n, n, 1, OIIO::TypeDesc::FLOAT), rgb32f(n, n, 3, OIIO::TypeDesc::FLOAT);
         std::vector<uint8_t> crop8(n * n);
         std::vector<float> frgb(n * n * 3);
         for (int i = 0; i < n * n; ++i) {
@@ -234,7 +235,8 @@ int main(int argc, char** argv)
         if (GDALDatasetH src = GDALOpen(storml.c_str(), GA_ReadOnly)) {
             if (GDALDatasetH ds = GDALTranslate("/vsimem/geo.tif", src, o, nullptr)) {
                 GDALClose(ds);
-                save("fuzz_image_read", "storml_georeferenced.tif", 9, vsimem_bytes("/vsimem/geo.tif"));
+                save("fuzz_image_read", "storml_georeferenced.tif", 9,
+                     vsimem_bytes("/vsimem/geo.tif"));
             }
             GDALClose(src);
         }
