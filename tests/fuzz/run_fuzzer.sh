@@ -7,9 +7,10 @@
 # NAME is the fuzzer's file name. Memory is bounded: a reader that asks for more than 2 GiB
 # fails the run (libFuzzer's -rss_limit_mb and -malloc_limit_mb).
 #
-# TP_FUZZ_THIRD_PARTY (a grep -E pattern, e.g. 'libvtk'): in MODE run, fuzz in fork mode,
-# going on after crashes, and fail only for a crash whose top frame does not match it: for a
-# library whose own crashes turn up in minutes (docs/fuzzing.md), so that ours still fail.
+# TP_FUZZ_THIRD_PARTY (a grep -E pattern, e.g. 'libvtk'): in MODE run, fuzz in fork mode, going
+# on after crashes, and fail only for a crash whose top frame (outside libc and libstdc++) does
+# not match it: for a library whose own crashes turn up in minutes (docs/fuzzing.md), so that
+# ours still fail.
 set -eu
 mode=$1 fuzzer=$2 src=$3 work=$4 seconds=$5
 shift 5
@@ -43,7 +44,9 @@ for a in $(find "$work/artifacts" -newer "$stamp" -type f -name "$name-timeout-*
 done
 for a in $(find "$work/artifacts" -newer "$stamp" -type f \( -name "$name-crash-*" -o \
     -name "$name-leak-*" -o -name "$name-oom-*" \)); do
-    top=$("$fuzzer" "$a" 2>&1 | grep -m1 -E '^ *#0 ' || true)
+    # the first frame outside the C and C++ runtimes ("#0 in std::string::_M_assign" is VTK's)
+    top=$("$fuzzer" "$a" 2>&1 | grep -E '^ *#[0-9]+ ' | grep -vE 'libstdc\+\+|libc\.so|libm\.so' |
+        head -n 1 || true)
     if printf '%s\n' "$top" | grep -qE "$TP_FUZZ_THIRD_PARTY"; then
         echo "known third-party failure (not ours): $a: $top"
     else
