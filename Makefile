@@ -4,7 +4,7 @@
 JOBS := $(shell nproc 2>/dev/null || echo 2)
 SCENE := data/lf_elev_220_mt_hood_utm.tif
 
-.PHONY: deps build run test test-sanitize clean
+.PHONY: deps build run test test-sanitize fuzz clean
 
 # tools/deps.sh picks the packages (VTK from libvtk9-dev, or ParaView's own VTK where ParaView is
 # installed: the two conflict) and installs the missing ones; one dpkg-query when none is.
@@ -36,5 +36,17 @@ test-sanitize: deps
 	cmake --build build-asan -j$(JOBS)
 	ctest --test-dir build-asan --output-on-failure -j$(JOBS)
 
+# libFuzzer entry points (tests/fuzz, docs/fuzzing.md), built with clang in build-fuzz/: every
+# seed and past finding replayed, then each fuzzer for FUZZ_SECONDS (one at a time). A long run
+# of one fuzzer: build-fuzz/fuzz/fuzz_coord_line -runs=1000000 tests/fuzz/corpus/fuzz_coord_line
+FUZZ_SECONDS := 20
+fuzz:
+	@TP_DEPS_FUZZ=1 sh tools/deps.sh
+	cmake -S . -B build-fuzz -DCMAKE_BUILD_TYPE=RelWithDebInfo -DTP_FUZZ=ON \
+	    -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ -DTP_BUILD_APP=OFF \
+	    -DTP_BUILD_TESTS=OFF -DTP_BUILD_BENCH=OFF -DTP_FUZZ_SECONDS=$(FUZZ_SECONDS)
+	cmake --build build-fuzz -j$(JOBS)
+	ctest --test-dir build-fuzz --output-on-failure -j$(JOBS) -L fuzz
+
 clean:
-	rm -rf build build-asan
+	rm -rf build build-asan build-fuzz

@@ -380,6 +380,29 @@ TEST(mgrs_forward_rejects_bad_input)
 #endif
 }
 
+/* GeographicLib 2.1.2 reads every leading digit of an MGRS string into an int before it counts
+ * them: 10 or more overflow it (UBSan at its src/MGRS.cpp:185; found by fuzz_coord_line, the
+ * input is tests/fuzz/regressions/coord_line/mgrs_long_zone). The zone is refused first. */
+TEST(mgrs_zone_of_more_than_two_digits_is_refused_before_geographiclib)
+{
+    REQUIRE_IO();
+#ifndef TP_TEST_NO_IO
+    static const char* const bad[] = {"110087268780A", "333TWN00", "010TWN00",
+                                      "99999999999999999999999999TWN00"};
+    for (size_t i = 0; i < sizeof bad / sizeof bad[0]; ++i) {
+        int zone = -7, northp = -7, prec = -7;
+        double e = SENTINEL, n = SENTINEL;
+        tp_error err = {{0}};
+        EXPECT_STATUS(TP_ERR_INVALID_ARG,
+                      tp_mgrs_reverse(bad[i], 1, &zone, &northp, &e, &n, &prec, &err));
+        EXPECT_CONTAINS(err.message, "expected a zone of 1 or 2 digits (1..60)");
+        EXPECT_CONTAINS(err.message, bad[i]);
+        if (zone != -7 || northp != -7 || prec != -7 || e != SENTINEL || n != SENTINEL)
+            ADD_FAILURE("'%s': outputs written on failure", bad[i]);
+    }
+#endif
+}
+
 TEST(malformed_mgrs_is_rejected_with_reason)
 {
     REQUIRE_IO();
@@ -1074,6 +1097,7 @@ TEST(zone_format_rejects_bad_input_and_leaves_out_alone)
     X(mgrs_reverse_then_forward_is_stable)                                                         \
     X(mgrs_truncates_rather_than_rounds)                                                           \
     X(mgrs_forward_rejects_bad_input)                                                              \
+    X(mgrs_zone_of_more_than_two_digits_is_refused_before_geographiclib)                           \
     X(malformed_mgrs_is_rejected_with_reason)                                                      \
     X(utm_mgrs_edge_cases_match_geoconvert)                                                        \
     X(standard_zone_rules)                                                                         \

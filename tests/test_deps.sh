@@ -87,6 +87,14 @@ libdouble-conversion-dev zlib1g-dev libutfcpp-dev"
 expect_eq complete-paraview vtk paraview
 expect_eq complete-paraview missing ""
 
+# The fuzz build (TP_DEPS_FUZZ=1, `make fuzz`) adds clang and its runtimes; others do not ask.
+run "" TP_DEPS_FUZZ=1
+expect fuzz packages clang
+expect fuzz missing libclang-rt-14-dev
+run ""
+expect_not no-fuzz packages clang
+expect_not no-fuzz packages libclang-rt-14-dev
+
 # TP_VTK forces a choice; a wrong value is a usage error.
 run "paraview python3-paraview" TP_VTK=system
 expect_eq forced-system vtk system

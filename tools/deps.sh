@@ -16,6 +16,9 @@
 #             python3-paraview (its VTKPython targets name vtkmodules/*.so, checked on load)
 #             and the -dev packages its find_package calls want for the modules we use.
 #
+# TP_DEPS_FUZZ=1 adds the packages of the fuzz build (`make fuzz`, tests/fuzz): clang and
+# libclang-rt-14-dev.
+#
 # TP_VTK=auto (default) picks `system` when libvtk9-dev is installed, else `paraview` when any
 # of paraview, python3-paraview or paraview-dev is installed, else `system`. TP_VTK=system or
 # TP_VTK=paraview forces one.
@@ -34,6 +37,9 @@ VTK_SYSTEM="libvtk9-dev"
 VTK_PARAVIEW="paraview-dev python3-paraview libexpat1-dev liblzma-dev liblz4-dev
 libdouble-conversion-dev zlib1g-dev libutfcpp-dev"
 PARAVIEW_MARKERS="paraview python3-paraview paraview-dev"
+# `make fuzz` (TP_DEPS_FUZZ=1) also needs clang and its runtimes: libFuzzer, ASan and UBSan for
+# clang are in libclang-rt-14-dev (Debian 12's clang is clang 14).
+FUZZ="clang libclang-rt-14-dev"
 
 dry_run=0
 case "${1:-}" in
@@ -44,7 +50,7 @@ case "${1:-}" in
 esac
 
 # Every package either flavour might need, asked about at once.
-all=$(echo $COMMON $VTK_SYSTEM $VTK_PARAVIEW paraview | tr ' ' '\n' | sort -u | tr '\n' ' ')
+all=$(echo $COMMON $VTK_SYSTEM $VTK_PARAVIEW paraview $FUZZ | tr ' ' '\n' | sort -u | tr '\n' ' ')
 if [ -n "${TP_DEPS_INSTALLED+set}" ]; then
     installed=" $(echo $TP_DEPS_INSTALLED) "
 else
@@ -69,6 +75,7 @@ esac
 if [ "$vtk" = paraview ]; then vtk_debs=$VTK_PARAVIEW; else vtk_debs=$VTK_SYSTEM; fi
 
 packages=$(echo $COMMON $vtk_debs)
+[ "${TP_DEPS_FUZZ:-0}" = 1 ] && packages="$packages $FUZZ"
 missing=
 for p in $packages; do
     is_installed "$p" || missing="$missing $p"

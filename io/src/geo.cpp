@@ -328,6 +328,17 @@ extern "C" tp_status tp_mgrs_reverse(const char* mgrs, int centerp, int* zone, i
         set_error(err, "MGRS reference of %zu characters is too long (at most 27)", len);
         return TP_ERR_INVALID_ARG;
     }
+    /* The zone is at most 2 digits. GeographicLib (2.1.2, MGRS::Reverse) reads every leading
+     * digit into an int before it checks their count, so that 10 or more of them overflow it
+     * (undefined behaviour, found by tests/fuzz/fuzz_coord_line: "110087268780A"). */
+    size_t zone_digits = 0;
+    while (mgrs[zone_digits] >= '0' && mgrs[zone_digits] <= '9')
+        ++zone_digits;
+    if (zone_digits > 2) {
+        set_error(err, "MGRS %s: expected a zone of 1 or 2 digits (1..60), got %zu digits", mgrs,
+                  zone_digits);
+        return TP_ERR_INVALID_ARG;
+    }
     try {
         int z, prec;
         bool north;
