@@ -285,9 +285,11 @@ struct VerifyDtedChecksums {
 
 /* GDAL's AAIGrid driver is lenient: it reads "307x" as 307, and ignores values past nrows x
  * ncols (164 rows under "nrows 144"), so damaged text would be drawn without a word. One pass
- * over the text: after the header lines (a known key and its value), every token must be a
- * whole number in C syntax (strtod) and there must be exactly w x h of them. The message
- * names the line of the first bad token, or where the extra values start. */
+ * over the text: after the header (known keys and their values, one or more to a line, as
+ * GDAL takes them), every token must be a number in C syntax (strtod: decimals, signs,
+ * exponents), a number with a decimal comma ("1,5", which GDAL reads as 1.5) or "null" (GDAL's
+ * nodata token), and there must be exactly w x h of them. The message names the line of the
+ * first bad token, or where the extra values start. */
 tp_status check_ascii_grid(const char* path, int w, int h, tp_error* err)
 {
     static const char* const keys[] = {"ncols",     "nrows",     "xllcorner", "yllcorner",
@@ -301,7 +303,7 @@ tp_status check_ascii_grid(const char* path, int w, int h, tp_error* err)
     std::unique_ptr<VSILFILE, int (*)(VSILFILE*)> closer(f, &VSIFCloseL);
     const uint64_t expected = static_cast<uint64_t>(w) * static_cast<uint64_t>(h);
     uint64_t values = 0, line = 1, extra_line = 0, last_value_line = 0;
-    bool header = true, line_start = true, skip_value = false;
+    bool header = true, skip_value = false;
     std::string token;
     uint64_t token_line = 1;
     std::vector<char> buf(1 << 20);
@@ -309,31 +311,30 @@ tp_status check_ascii_grid(const char* path, int w, int h, tp_error* err)
     const auto finish_token = [&]() -> bool {
         if (token.empty())
             return true;
-        const bool first_on_line = line_start;
-        line_start = false;
         if (header) {
             if (skip_value) {
                 skip_value = false;
                 token.clear();
                 return true;
             }
-            if (first_on_line) {
-                std::string lower = token;
-                for (char& c : lower)
-                    c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-                for (const char* k : keys)
-                    if (lower == k) {
-                        skip_value = true;
-                        token.clear();
-                        return true;
-                    }
-            }
+            std::string lower = token;
+            for (char& c : lower)
+                c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+            for (const char* k : keys)
+                if (lower == k) {
+                    skip_value = true;
+                    token.clear();
+                    return true;
+                }
             header = false;
         }
+        /* GDAL reads values with CPLAtofM, which takes a decimal comma too ("1,5" is 1.5), and
+         * "null" as nodata: both are values, not damage. */
+        std::string number = token;
+        std::replace(number.begin(), number.end(), ',', '.');
         char* end = nullptr;
-        errno = 0;
-        std::strtod(token.c_str(), &end);
-        if (end == token.c_str() || *end != '\0') {
+        std::strtod(number.c_str(), &end);
+        if (token != "null" && (end == number.c_str() || *end != '\0')) {
             set_error(err, "%s: line %llu: '%.40s' is not a number", path,
                       static_cast<unsigned long long>(token_line), token.c_str());
             status = TP_ERR_BAD_DATA;
@@ -352,14 +353,12 @@ tp_status check_ascii_grid(const char* path, int w, int h, tp_error* err)
             if (c == ' ' || c == '\t' || c == '\r' || c == '\n' || c == '\f' || c == '\v') {
                 if (!finish_token())
                     return status;
-                if (c == '\n') {
+                if (c == '\n')
                     ++line;
-                    line_start = true;
-                }
             } else {
                 if (token.empty())
                     token_line = line;
-                if (token.size() < 64)
+                if (token.size() < 512) /* longer than GDAL's own limit: still not a number */
                     token += c;
             }
         }
