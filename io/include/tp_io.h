@@ -264,7 +264,7 @@ void tp_render_grid_destroy(tp_render_grid* grid); /* accepts NULL */
  * (cheap: the warp is planned from the DEM's edges), for checking memory before building. Fails
  * as tp_render_grid_build does for a DEM no zone can hold (below).
  *
- * Warps are bounded by the source: a geographic DEM whose edge posts the zone of its centre would
+ * Warps are bounded by the source: a geographic DEM whose posts the zone of its centre would
  * scale by more than 5% (UTM keeps within 0.1%: a DEM many zones wide, or one reaching from a
  * pole far into UTM latitudes) is TP_ERR_BAD_DATA, with a message naming the extent and a CRS to
  * reproject to first; and a warp whose finest post spacing would give more than 4x the source's
