@@ -1460,9 +1460,21 @@ TEST(absurd_pixel_sizes_and_extents_are_refused)
         expect_refused(path, "mm_pixels.vrt", TP_ERR_BAD_DATA,
                        "pixel width 0.0001 m (gt[1]) is outside 0.001 .. 1e+06 m");
         tmp_path(path, sizeof path, "east_of_540.vrt");
-        ASSERT_TRUE(write_vrt(path, 100, 10, "EPSG:4326", "300, 1, 0, 50, 0, -1"));
+        ASSERT_TRUE(write_vrt(path, 100, 10, "EPSG:4326", "500, 1, 0, 50, 0, -1"));
         expect_refused(path, "east_of_540.vrt", TP_ERR_BAD_DATA,
-                       "east edge at longitude 400 is outside -360 .. 360 degrees");
+                       "east edge at longitude 600 is outside -540 .. 540 degrees");
+        tmp_path(path, sizeof path, "span_400.vrt");
+        ASSERT_TRUE(write_vrt(path, 100, 10, "EPSG:4326", "-100, 4, 0, 50, 0, -1"));
+        expect_refused(path, "span_400.vrt", TP_ERR_BAD_DATA,
+                       "spans 400 degrees of longitude (west edge -100, east edge 300)");
+        /* longitudes past 360 in a 0 .. 360 grid are places: Britain at 355 .. 365 */
+        tmp_path(path, sizeof path, "britain_0_360.vrt");
+        ASSERT_TRUE(write_vrt(path, 100, 50, "EPSG:4326", "355, 0.1, 0, 55, 0, -0.1"));
+        tp_dem_destroy(expect_read(path));
+        /* a global grid with its first column repeated at the end */
+        tmp_path(path, sizeof path, "wrap_column.vrt");
+        ASSERT_TRUE(write_vrt(path, 145, 60, "EPSG:4326", "-1.25, 2.5, 0, 75, 0, -2.5"));
+        tp_dem_destroy(expect_read(path));
         /* the ends of the ranges are read */
         tmp_path(path, sizeof path, "metre_km.vrt");
         ASSERT_TRUE(write_vrt(path, 8, 8, "EPSG:32631", "500000, 0.001, 0, 4600000, 0, -1000"));

@@ -244,6 +244,14 @@ tp_status check_ranges(const char* path, const OGRSpatialReference* srs, const d
                           i ? "east" : "west", xs[i], TP_LON_MAX_DEG, TP_LON_MAX_DEG);
                 return TP_ERR_BAD_DATA;
             }
+            /* a grid over the whole Earth may repeat its first column at the end */
+            if (i == 1 && !(std::fabs(xs[1] - xs[0]) <= 360.0 + px[0] + 1e-9)) {
+                set_error(err,
+                          "%s: spans %.6g degrees of longitude (west edge %.6g, east edge %.6g), "
+                          "more than the Earth's 360 and one wrap-around column",
+                          path, std::fabs(xs[1] - xs[0]), xs[0], xs[1]);
+                return TP_ERR_BAD_DATA;
+            }
             continue; /* latitudes: check_latitude */
         }
         for (int axis = 0; axis < 2; ++axis) {
