@@ -1401,7 +1401,8 @@ TEST(ascii_grid_with_more_or_fewer_values_than_its_header_is_refused)
 
 /* The text pass must not refuse what real grids hold and GDAL reads: decimals, signs,
  * exponents, tabs, CRLF, trailing blanks, xllcenter and dx/dy headers, keys in any case or
- * several to a line, a decimal comma and "null" (both read by GDAL's CPLAtofM / nodata). */
+ * several to a line, a decimal comma and "null" (both read by GDAL's CPLAtofM / nodata), and
+ * a DOS end-of-file mark (0x1a) after the last row. */
 TEST(ascii_grid_valid_variants_are_read)
 {
     REQUIRE_IO();
@@ -1415,6 +1416,8 @@ TEST(ascii_grid_valid_variants_are_read)
         "ncols 3 nrows 3\nxllcorner 500000 yllcorner 4000000\ncellsize 30\n1 2 3 4 5 6 7 8 9\n",
         "ncols 3\nnrows 3\nxllcorner 500000\nyllcorner 4000000\ncellsize 30\n"
         "1,5 2,25 3\n4 null 6\n7 8 9\n",
+        "ncols 3\r\nnrows 3\r\nxllcorner 0\r\nyllcorner 0\r\ncellsize 1\r\n"
+        "1 2 3\r\n4 5 6\r\n7 8 9\r\n\x1a", /* DOS end-of-file mark */
     };
     char path[512], name[32];
     size_t i;
@@ -1436,6 +1439,13 @@ TEST(ascii_grid_valid_variants_are_read)
                            "1,5,3 2 3\n4 5 6\n7 8 9\n";
         ASSERT_TRUE(write_bytes(path, bad, sizeof bad - 1));
         expect_refused(path, "two_commas.asc", TP_ERR_BAD_DATA, "line 6: '1,5,3' is not a number");
+    }
+    tmp_path(path, sizeof path, "control_byte.asc");
+    {
+        const char bad[] = "ncols 3\nnrows 3\nxllcorner 0\nyllcorner 0\ncellsize 1\n"
+                           "1 2 3\n4 5\x01 6\n7 8 9\n";
+        ASSERT_TRUE(write_bytes(path, bad, sizeof bad - 1));
+        expect_refused(path, "control_byte.asc", TP_ERR_BAD_DATA, "line 7: '5\\x01' is not a number");
     }
     tmp_end();
 #endif

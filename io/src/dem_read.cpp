@@ -343,8 +343,15 @@ tp_status check_ascii_grid(const char* path, int w, int h, tp_error* err)
         char* end = nullptr;
         std::strtod(number.c_str(), &end);
         if (token != "null" && (end == number.c_str() || *end != '\0')) {
-            set_error(err, "%s: line %llu: '%.40s' is not a number", path,
-                      static_cast<unsigned long long>(token_line), token.c_str());
+            std::string shown; /* bytes that do not print, as \xNN: the message stays readable */
+            for (const char ch : token.substr(0, 40)) {
+                if (std::isprint(static_cast<unsigned char>(ch)))
+                    shown += ch;
+                else
+                    shown += CPLSPrintf("\\x%02x", static_cast<unsigned char>(ch));
+            }
+            set_error(err, "%s: line %llu: '%s' is not a number", path,
+                      static_cast<unsigned long long>(token_line), shown.c_str());
             status = TP_ERR_BAD_DATA;
             return false;
         }
@@ -358,7 +365,9 @@ tp_status check_ascii_grid(const char* path, int w, int h, tp_error* err)
         const size_t got = VSIFReadL(buf.data(), 1, buf.size(), f);
         for (size_t i = 0; i < got; ++i) {
             const char c = buf[i];
-            if (c == ' ' || c == '\t' || c == '\r' || c == '\n' || c == '\f' || c == '\v') {
+            /* 0x1a: the DOS end-of-file mark some old exporters put after the last row */
+            if (c == ' ' || c == '\t' || c == '\r' || c == '\n' || c == '\f' || c == '\v' ||
+                c == '\x1a') {
                 if (!finish_token())
                     return status;
                 if (c == '\n')
