@@ -3,7 +3,9 @@
 
 #include "cli.h"
 
+#include <limits.h>
 #include <math.h>
+#include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -160,10 +162,12 @@ int tp_scene_load(const char* path, const tp_scene_options* o, tp_scene* scene)
     int plan_w = 0, plan_h = 0;
     s = tp_render_grid_plan(scene->dem, &o->grid, &plan_w, &plan_h, &err);
     if (s == TP_OK) {
-        int cells = o->patch_size - 1;
-        int fit_w = (plan_w - 1 + cells - 1) / cells * cells + 1;
-        int fit_h = (plan_h - 1 + cells - 1) / cells * cells + 1;
-        if (tp_memory_check(path, o->use, fit_w, fit_h) < 0) {
+        /* in 64 bits: a planned side near INT_MAX would overflow when rounded up */
+        int64_t cells = o->patch_size - 1;
+        int64_t fit_w = ((int64_t)plan_w - 1 + cells - 1) / cells * cells + 1;
+        int64_t fit_h = ((int64_t)plan_h - 1 + cells - 1) / cells * cells + 1;
+        if (tp_memory_check(path, o->use, (int)(fit_w < INT_MAX ? fit_w : INT_MAX),
+                            (int)(fit_h < INT_MAX ? fit_h : INT_MAX)) < 0) {
             tp_scene_free(scene);
             return TP_EXIT_FAILURE;
         }

@@ -1399,6 +1399,58 @@ TEST(ascii_grid_with_more_or_fewer_values_than_its_header_is_refused)
 #endif
 }
 
+/* The text pass must not refuse what real grids hold and GDAL reads: decimals, signs,
+ * exponents, tabs, CRLF, trailing blanks, xllcenter and dx/dy headers, keys in any case or
+ * several to a line, a decimal comma and "null" (both read by GDAL's CPLAtofM / nodata), and
+ * a DOS end-of-file mark (0x1a) after the last row. */
+TEST(ascii_grid_valid_variants_are_read)
+{
+    REQUIRE_IO();
+#ifndef TP_TEST_NO_IO
+    static const char* const grids[] = {
+        "ncols 3\nnrows 3\nxllcorner 500000.5\nyllcorner 4000000\ncellsize 30\n"
+        "NODATA_value -9999.0\n1.5 -2.25 1e3\n-9999 -9999.0 4.0E+01\n+7 .5 9.\n",
+        "NCOLS\t3\r\nNROWS\t3\r\nXLLCENTER\t500000\r\nYLLCENTER\t4000000\r\nCELLSIZE\t30\r\n"
+        "NODATA_VALUE\t-9999\r\n1\t2\t3   \r\n4 5 6 \r\n7 8 9\r\n",
+        "ncols 3\nnrows 3\nxllcorner 500000\nyllcorner 4000000\ndx 30\ndy 30\n1 2 3\n4 5 6\n7 8 9",
+        "ncols 3 nrows 3\nxllcorner 500000 yllcorner 4000000\ncellsize 30\n1 2 3 4 5 6 7 8 9\n",
+        "ncols 3\nnrows 3\nxllcorner 500000\nyllcorner 4000000\ncellsize 30\n"
+        "1,5 2,25 3\n4 null 6\n7 8 9\n",
+        "ncols 3\r\nnrows 3\r\nxllcorner 0\r\nyllcorner 0\r\ncellsize 1\r\n"
+        "1 2 3\r\n4 5 6\r\n7 8 9\r\n\x1a", /* DOS end-of-file mark */
+    };
+    char path[512], name[32];
+    size_t i;
+    tp_dem* dem;
+    tmp_begin();
+    for (i = 0; i < sizeof grids / sizeof grids[0]; ++i) {
+        snprintf(name, sizeof name, "valid_%u.asc", (unsigned)i);
+        tmp_path(path, sizeof path, name);
+        ASSERT_TRUE(write_bytes(path, grids[i], strlen(grids[i])));
+        dem = expect_read(path);
+        EXPECT_EQ_INT(3, dem->width);
+        EXPECT_EQ_INT(3, dem->height);
+        tp_dem_destroy(dem);
+    }
+    /* and what is still damage */
+    tmp_path(path, sizeof path, "two_commas.asc");
+    {
+        const char bad[] = "ncols 3\nnrows 3\nxllcorner 0\nyllcorner 0\ncellsize 1\n"
+                           "1,5,3 2 3\n4 5 6\n7 8 9\n";
+        ASSERT_TRUE(write_bytes(path, bad, sizeof bad - 1));
+        expect_refused(path, "two_commas.asc", TP_ERR_BAD_DATA, "line 6: '1,5,3' is not a number");
+    }
+    tmp_path(path, sizeof path, "control_byte.asc");
+    {
+        const char bad[] = "ncols 3\nnrows 3\nxllcorner 0\nyllcorner 0\ncellsize 1\n"
+                           "1 2 3\n4 5\x01 6\n7 8 9\n";
+        ASSERT_TRUE(write_bytes(path, bad, sizeof bad - 1));
+        expect_refused(path, "control_byte.asc", TP_ERR_BAD_DATA, "line 7: '5\\x01' is not a number");
+    }
+    tmp_end();
+#endif
+}
+
 /* ---------------------------------------------------------------------------------------------
  * Georeferences out of range (tp_io.h's TP_PIXEL_SIZE_* and TP_COORD_MAX_M).
  */
@@ -1418,9 +1470,21 @@ TEST(absurd_pixel_sizes_and_extents_are_refused)
         expect_refused(path, "mm_pixels.vrt", TP_ERR_BAD_DATA,
                        "pixel width 0.0001 m (gt[1]) is outside 0.001 .. 1e+06 m");
         tmp_path(path, sizeof path, "east_of_540.vrt");
-        ASSERT_TRUE(write_vrt(path, 100, 10, "EPSG:4326", "300, 1, 0, 50, 0, -1"));
+        ASSERT_TRUE(write_vrt(path, 100, 10, "EPSG:4326", "500, 1, 0, 50, 0, -1"));
         expect_refused(path, "east_of_540.vrt", TP_ERR_BAD_DATA,
-                       "east edge at longitude 400 is outside -360 .. 360 degrees");
+                       "east edge at longitude 600 is outside -540 .. 540 degrees");
+        tmp_path(path, sizeof path, "span_400.vrt");
+        ASSERT_TRUE(write_vrt(path, 100, 10, "EPSG:4326", "-100, 4, 0, 50, 0, -1"));
+        expect_refused(path, "span_400.vrt", TP_ERR_BAD_DATA,
+                       "spans 400 degrees of longitude (west edge -100, east edge 300)");
+        /* longitudes past 360 in a 0 .. 360 grid are places: Britain at 355 .. 365 */
+        tmp_path(path, sizeof path, "britain_0_360.vrt");
+        ASSERT_TRUE(write_vrt(path, 100, 50, "EPSG:4326", "355, 0.1, 0, 55, 0, -0.1"));
+        tp_dem_destroy(expect_read(path));
+        /* a global grid with its first column repeated at the end */
+        tmp_path(path, sizeof path, "wrap_column.vrt");
+        ASSERT_TRUE(write_vrt(path, 145, 60, "EPSG:4326", "-1.25, 2.5, 0, 75, 0, -2.5"));
+        tp_dem_destroy(expect_read(path));
         /* the ends of the ranges are read */
         tmp_path(path, sizeof path, "metre_km.vrt");
         ASSERT_TRUE(write_vrt(path, 8, 8, "EPSG:32631", "500000, 0.001, 0, 4600000, 0, -1000"));
@@ -1507,6 +1571,7 @@ TEST(no_crs_and_no_geotransform_is_warned_about)
     X(dted_with_bad_checksum_is_refused)                                                           \
     X(ascii_grid_token_that_is_not_a_number_is_refused)                                            \
     X(ascii_grid_with_more_or_fewer_values_than_its_header_is_refused)                             \
+    X(ascii_grid_valid_variants_are_read)                                                          \
     X(absurd_pixel_sizes_and_extents_are_refused)                                                  \
     X(unreadable_prj_is_warned_about)                                                              \
     X(no_crs_and_no_geotransform_is_warned_about)

@@ -4,8 +4,15 @@
  * shared/data (1025x1025 16-bit PNG, 160 m posts, 0.1 m per count: PROVENANCE.md) against the
  * same file read through GDAL.
  */
+#define _GNU_SOURCE /* mkdtemp, lstat (tp_test_tmp.h) */
 #include "tp_io.h"
 #include "tp_test.h"
+
+#include <float.h>
+#include <math.h>
+
+#define TP_TMP_PREFIX "tp_image_"
+#include "tp_test_tmp.h"
 
 static tp_dem* read_image(const char* file, const tp_image_options* o)
 {
@@ -139,6 +146,32 @@ TEST(image_options_outside_their_ranges_are_refused)
     tp_dem_destroy(dem);
 }
 
+/* A float heightmap's nodata, +-FLT_MAX or +-Inf, is nodata: not a height that fails the
+ * +-1e5 m check with "check --zscale" (a PFM: "Pf", width height, -1 for little-endian, rows
+ * bottom-up). */
+TEST(float_heightmap_nodata_is_not_a_height)
+{
+    char path[600];
+    const float vals[16] = {100, 200, -FLT_MAX, 300, 100, 200, FLT_MAX,   300,
+                            100, 200, -INFINITY, 300, 100, 200, INFINITY, 300};
+    const tp_image_options o = {.spacing_m = 10};
+    tp_dem* dem = NULL;
+    tp_error err;
+    FILE* f;
+    snprintf(path, sizeof path, "%s/nodata.pfm", make_tmp_dir());
+    f = fopen(path, "wb");
+    ASSERT_TRUE(f != NULL);
+    fputs("Pf\n4 4\n-1.0\n", f);
+    ASSERT_EQ_INT(16, (int)fwrite(vals, sizeof vals[0], 16, f));
+    ASSERT_EQ_INT(0, fclose(f));
+    if (tp_dem_read_image(path, &o, &dem, &err) != TP_OK)
+        FAIL("tp_dem_read_image(%s): %s", path, err.message);
+    EXPECT_EQ_INT(4, (int)dem->void_count);
+    EXPECT_EQ_DBL(100.0, dem->min_m);
+    EXPECT_EQ_DBL(300.0, dem->max_m);
+    tp_dem_destroy(dem);
+}
+
 /* --spacing/--zscale describe heightmaps without georeference: a georeferenced raster keeps its
  * CRS, geotransform and nodata, so these options are refused (read through OpenImageIO it
  * became raw counts, its 32767 nodata 32,767 m walls; an .hgt an OpenImageIO error). */
@@ -187,6 +220,7 @@ TEST(image_extensions_are_recognised)
     X(png_with_origin_is_centred_in_its_utm_zone)                                                  \
     X(bad_image_options_and_files_are_refused)                                                     \
     X(image_options_outside_their_ranges_are_refused)                                              \
+    X(float_heightmap_nodata_is_not_a_height)                                                      \
     X(georeferenced_geotiff_is_refused_with_its_crs)                                               \
     X(georeferenced_hgt_is_refused_with_its_crs)                                                   \
     X(image_extensions_are_recognised)

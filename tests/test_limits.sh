@@ -8,6 +8,8 @@
 #   memory_ulimit_passes  ulimit -v generous: info runs
 #   warp_pole             143x107 0.01-degree cells at the north pole: a grid near the DEM's size, fast
 #   warp_world            143x107 cells over most of the world: refused, the extent named
+#   warp_globe            the whole globe, -180 .. 180 (edges 180 degrees from the zone's
+#                         meridian scale by almost nothing; the inside does not): refused
 #   warp_anisotropic      posts 1e-7 degrees wide, 1 degree tall: no 10^18-byte grid
 #   long_path             a missing DEM under a 600-byte path: the reason survives
 #   extent_antimeridian   info says the extent crosses the antimeridian, text and JSON
@@ -72,6 +74,11 @@ warp_world)
     run 30 info --crs EPSG:4326 world.asc
     [ $rc -eq 1 ] || fail "exit $rc, expected 1"; one_line
     grep -q "span lon -179.2 .. 48, lat -84.8 .. 84.8.*cannot hold it; reproject it first" err || fail "no message naming the extent" ;;
+warp_globe)
+    asc globe -180 -85 2.5 2.5 144 68
+    run 30 info --crs EPSG:4326 globe.asc
+    [ $rc -eq 1 ] || fail "exit $rc, expected 1"; one_line
+    grep -q "span lon -178.75 .. 178.75, lat -83.75 .. 83.75.*by more than 1000%.*cannot hold it; reproject it first, e.g. .gdalwarp -t_srs EPSG:8857 IN OUT.tif. (Equal Earth" err || fail "no message naming the extent and a CRS" ;;
 warp_anisotropic)
     asc aniso 10 40 0.0000001 1 143 3
     run 30 info --json --crs EPSG:4326 aniso.asc

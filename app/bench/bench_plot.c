@@ -119,6 +119,8 @@ static int run_gnuplot(const char* script)
     int status = 0;
     while (waitpid(pid, &status, 0) < 0 && errno == EINTR)
         ;
+    if (tp_interrupted()) /* Ctrl-C reached gnuplot too; main says "interrupted" */
+        return 0;
     if (!WIFEXITED(status) || WEXITSTATUS(status) != 0) {
         fprintf(stderr, "terrapatch bench: gnuplot failed (exit %d)%s\n",
                 WIFEXITED(status) ? WEXITSTATUS(status) : -1,
@@ -184,7 +186,14 @@ int tp_bench_plot(const tp_bench_point* pts, int count, const char* png, const c
         fprintf(stderr, "terrapatch: %s: cannot write the plot: %s\n", png, strerror(errno));
     if (ok) {
         write_script(f, pts, count, tmp_png, title, full_fps);
-        ok = fclose(f) == 0 && !tp_interrupted() && run_gnuplot(script);
+        int bad = ferror(f);
+        if (fclose(f) != 0 || bad) { /* a full disk: say so, as for every other output */
+            fprintf(stderr, "terrapatch: %s: cannot write the plot's script: %s\n", png,
+                    bad ? "write error" : strerror(errno));
+            ok = 0;
+        } else {
+            ok = !tp_interrupted() && run_gnuplot(script);
+        }
     }
     size_t size = 0;
     unsigned char* bytes = ok && !tp_interrupted() ? read_all(tmp_png, &size) : NULL;

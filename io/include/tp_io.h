@@ -52,14 +52,15 @@ typedef struct tp_dem {
  * which value is outside which range. Pixel sizes in metres apply to projected CRSs (in their
  * own linear unit converted to metres), those in degrees to geographic ones; a DEM without a CRS
  * may have either (its units are unknown). Corner coordinates: projected within
- * +-TP_COORD_MAX_M, geographic longitudes within +-TP_LON_MAX_DEG (latitudes: sample centres
- * within +-90). */
+ * +-TP_COORD_MAX_M, geographic longitudes within +-TP_LON_MAX_DEG (a grid in 0 .. 360 may reach
+ * past 360: 355 .. 365 is a place) spanning at most 360 degrees plus one wrap-around column
+ * (latitudes: sample centres within +-90). */
 #define TP_PIXEL_SIZE_MIN_M 1e-3
 #define TP_PIXEL_SIZE_MAX_M 1e6
 #define TP_PIXEL_SIZE_MIN_DEG 1e-8
 #define TP_PIXEL_SIZE_MAX_DEG 10.0
 #define TP_COORD_MAX_M 1e8
-#define TP_LON_MAX_DEG 360.0
+#define TP_LON_MAX_DEG 540.0
 
 /* Reads band 1 of any raster GDAL opens. Int16 rasters without a nodata tag have -32768 and
  * -32767 taken as nodata, with a warning; +-Inf and +-FLT_MAX heights are nodata too (with a
@@ -264,7 +265,7 @@ void tp_render_grid_destroy(tp_render_grid* grid); /* accepts NULL */
  * (cheap: the warp is planned from the DEM's edges), for checking memory before building. Fails
  * as tp_render_grid_build does for a DEM no zone can hold (below).
  *
- * Warps are bounded by the source: a geographic DEM whose edge posts the zone of its centre would
+ * Warps are bounded by the source: a geographic DEM whose posts the zone of its centre would
  * scale by more than 5% (UTM keeps within 0.1%: a DEM many zones wide, or one reaching from a
  * pole far into UTM latitudes) is TP_ERR_BAD_DATA, with a message naming the extent and a CRS to
  * reproject to first; and a warp whose finest post spacing would give more than 4x the source's

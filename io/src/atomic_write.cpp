@@ -240,9 +240,10 @@ extern "C" tp_status tp_file_begin(const char* path, tp_file_writer** out, tp_er
         return fail(err, TP_ERR_INVALID_ARG, "file: bad arguments (path or out is NULL)");
     if (path[std::strlen(path) - 1] == '/')
         return fail(err, TP_ERR_INVALID_ARG, "%s: a file name is needed, not a folder", path);
+    tp_interrupt_hold(); /* before the file exists: a signal now only sets the flag */
+    tp_file_writer* w = nullptr; /* owns the hold once it exists (destroy releases it) */
     try {
-        tp_interrupt_hold(); /* before the file exists: a signal now only sets the flag */
-        auto* w = new (std::nothrow) tp_file_writer;
+        w = new (std::nothrow) tp_file_writer;
         if (!w) {
             tp_interrupt_release();
             return fail(err, TP_ERR_OUT_OF_MEMORY, "%s: out of memory", path);
@@ -253,20 +254,26 @@ extern "C" tp_status tp_file_begin(const char* path, tp_file_writer** out, tp_er
             w->tmp = tpio::temp_name(w->path);
             fd = tpio::create_new(w->tmp);
         }
-        if (fd < 0) {
-            std::string p = w->path;
-            w->tmp.clear();
+        if (fd < 0 || g_signal) {
+            const std::string p = w->path; /* may throw: before destroy */
+            if (fd >= 0)
+                w->fd = fd; /* destroy removes it */
+            else
+                w->tmp.clear();
             destroy(w);
-            return tpio::write_failed(err, p, -fd);
+            w = nullptr;
+            return tpio::write_failed(err, p, fd < 0 ? -fd : EINTR);
         }
         w->fd = fd;
-        if (g_signal) {
-            destroy(w);
-            return tpio::write_failed(err, path, EINTR);
-        }
         *out = w;
         return TP_OK;
     } catch (...) {
+        /* std::bad_alloc from a string: neither the writer (with its temporary file) nor the
+         * hold may outlive us, or a later Ctrl-C would only set the flag */
+        if (w)
+            destroy(w);
+        else
+            tp_interrupt_release();
         return tpio::caught(err, path);
     }
 }

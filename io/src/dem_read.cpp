@@ -244,6 +244,14 @@ tp_status check_ranges(const char* path, const OGRSpatialReference* srs, const d
                           i ? "east" : "west", xs[i], TP_LON_MAX_DEG, TP_LON_MAX_DEG);
                 return TP_ERR_BAD_DATA;
             }
+            /* a grid over the whole Earth may repeat its first column at the end */
+            if (i == 1 && !(std::fabs(xs[1] - xs[0]) <= 360.0 + px[0] + 1e-9)) {
+                set_error(err,
+                          "%s: spans %.6g degrees of longitude (west edge %.6g, east edge %.6g), "
+                          "more than the Earth's 360 and one wrap-around column",
+                          path, std::fabs(xs[1] - xs[0]), xs[0], xs[1]);
+                return TP_ERR_BAD_DATA;
+            }
             continue; /* latitudes: check_latitude */
         }
         for (int axis = 0; axis < 2; ++axis) {
@@ -285,9 +293,11 @@ struct VerifyDtedChecksums {
 
 /* GDAL's AAIGrid driver is lenient: it reads "307x" as 307, and ignores values past nrows x
  * ncols (164 rows under "nrows 144"), so damaged text would be drawn without a word. One pass
- * over the text: after the header lines (a known key and its value), every token must be a
- * whole number in C syntax (strtod) and there must be exactly w x h of them. The message
- * names the line of the first bad token, or where the extra values start. */
+ * over the text: after the header (known keys and their values, one or more to a line, as
+ * GDAL takes them), every token must be a number in C syntax (strtod: decimals, signs,
+ * exponents), a number with a decimal comma ("1,5", which GDAL reads as 1.5) or "null" (GDAL's
+ * nodata token), and there must be exactly w x h of them. The message names the line of the
+ * first bad token, or where the extra values start. */
 tp_status check_ascii_grid(const char* path, int w, int h, tp_error* err)
 {
     static const char* const keys[] = {"ncols",     "nrows",     "xllcorner", "yllcorner",
@@ -301,7 +311,7 @@ tp_status check_ascii_grid(const char* path, int w, int h, tp_error* err)
     std::unique_ptr<VSILFILE, int (*)(VSILFILE*)> closer(f, &VSIFCloseL);
     const uint64_t expected = static_cast<uint64_t>(w) * static_cast<uint64_t>(h);
     uint64_t values = 0, line = 1, extra_line = 0, last_value_line = 0;
-    bool header = true, line_start = true, skip_value = false;
+    bool header = true, skip_value = false;
     std::string token;
     uint64_t token_line = 1;
     std::vector<char> buf(1 << 20);
@@ -309,33 +319,39 @@ tp_status check_ascii_grid(const char* path, int w, int h, tp_error* err)
     const auto finish_token = [&]() -> bool {
         if (token.empty())
             return true;
-        const bool first_on_line = line_start;
-        line_start = false;
         if (header) {
             if (skip_value) {
                 skip_value = false;
                 token.clear();
                 return true;
             }
-            if (first_on_line) {
-                std::string lower = token;
-                for (char& c : lower)
-                    c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-                for (const char* k : keys)
-                    if (lower == k) {
-                        skip_value = true;
-                        token.clear();
-                        return true;
-                    }
-            }
+            std::string lower = token;
+            for (char& c : lower)
+                c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+            for (const char* k : keys)
+                if (lower == k) {
+                    skip_value = true;
+                    token.clear();
+                    return true;
+                }
             header = false;
         }
+        /* GDAL reads values with CPLAtofM, which takes a decimal comma too ("1,5" is 1.5), and
+         * "null" as nodata: both are values, not damage. */
+        std::string number = token;
+        std::replace(number.begin(), number.end(), ',', '.');
         char* end = nullptr;
-        errno = 0;
-        std::strtod(token.c_str(), &end);
-        if (end == token.c_str() || *end != '\0') {
-            set_error(err, "%s: line %llu: '%.40s' is not a number", path,
-                      static_cast<unsigned long long>(token_line), token.c_str());
+        std::strtod(number.c_str(), &end);
+        if (token != "null" && (end == number.c_str() || *end != '\0')) {
+            std::string shown; /* bytes that do not print, as \xNN: the message stays readable */
+            for (const char ch : token.substr(0, 40)) {
+                if (std::isprint(static_cast<unsigned char>(ch)))
+                    shown += ch;
+                else
+                    shown += CPLSPrintf("\\x%02x", static_cast<unsigned char>(ch));
+            }
+            set_error(err, "%s: line %llu: '%s' is not a number", path,
+                      static_cast<unsigned long long>(token_line), shown.c_str());
             status = TP_ERR_BAD_DATA;
             return false;
         }
@@ -349,17 +365,17 @@ tp_status check_ascii_grid(const char* path, int w, int h, tp_error* err)
         const size_t got = VSIFReadL(buf.data(), 1, buf.size(), f);
         for (size_t i = 0; i < got; ++i) {
             const char c = buf[i];
-            if (c == ' ' || c == '\t' || c == '\r' || c == '\n' || c == '\f' || c == '\v') {
+            /* 0x1a: the DOS end-of-file mark some old exporters put after the last row */
+            if (c == ' ' || c == '\t' || c == '\r' || c == '\n' || c == '\f' || c == '\v' ||
+                c == '\x1a') {
                 if (!finish_token())
                     return status;
-                if (c == '\n') {
+                if (c == '\n')
                     ++line;
-                    line_start = true;
-                }
             } else {
                 if (token.empty())
                     token_line = line;
-                if (token.size() < 64)
+                if (token.size() < 512) /* longer than GDAL's own limit: still not a number */
                     token += c;
             }
         }

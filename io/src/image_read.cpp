@@ -14,6 +14,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cfloat>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -41,7 +42,14 @@ double counts_to_heights(const void* src, size_t n, size_t stride, double z, flo
     const T* p = static_cast<const T*>(src);
     double top = 0;
     for (size_t i = 0; i < n; i++) {
-        const double v = static_cast<double>(p[i * stride]) * z;
+        const double raw = static_cast<double>(p[i * stride]);
+        /* +-Inf and +-FLT_MAX are float grids' nodata (as tp_dem_read takes them), not heights
+         * for the --zscale check */
+        if (!(std::fabs(raw) < FLT_MAX)) {
+            out[i] = NAN;
+            continue;
+        }
+        const double v = raw * z;
         if (std::isfinite(v))
             top = std::max(top, std::fabs(v));
         out[i] = std::fabs(v) <= max_height_m ? static_cast<float>(v) : NAN;

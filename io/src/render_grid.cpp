@@ -152,7 +152,7 @@ void add_warning(std::string& w, const std::string& line)
 }
 
 /* Largest scale error (|k - 1|, spherical approximation) of the zone chosen for a geographic DEM
- * at its edge posts, and where: TM scale k0 / sqrt(1 - (cos(lat) sin(dlon))^2) with dlon from
+ * over its posts (the edges, and inside where TM's scale peaks), and where: TM scale k0 / sqrt(1 - (cos(lat) sin(dlon))^2) with dlon from
  * the central meridian, UPS k0 * 2 / (1 + sin|lat|). UTM itself keeps within 0.1%. */
 double zone_scale_error(const tp_dem* dem, int zone, double* at_lat, double* at_lon)
 {
@@ -160,8 +160,7 @@ double zone_scale_error(const tp_dem* dem, int zone, double* at_lat, double* at_
     const double d2r = M_PI / 180.0, k0 = zone == 0 ? 0.994 : 0.9996;
     const double cm = zone == 0 ? 0.0 : -183.0 + 6.0 * zone;
     double worst = 0;
-    auto visit = [&](double c, double r) {
-        double lon = t[0] + (c + 0.5) * t[1], lat = t[3] + (r + 0.5) * t[5];
+    auto visit_at = [&](double lon, double lat) {
         double k = zone == 0 ? k0 * 2.0 / (1.0 + std::sin(std::fabs(lat) * d2r))
                              : k0 / std::sqrt(std::max(1e-12, 1.0 - std::pow(std::cos(lat * d2r) *
                                                                                  std::sin(std::remainder(lon - cm, 360.0) * d2r),
@@ -169,10 +168,26 @@ double zone_scale_error(const tp_dem* dem, int zone, double* at_lat, double* at_
         if (std::fabs(k - 1.0) > worst)
             worst = std::fabs(k - 1.0), *at_lat = lat, *at_lon = lon;
     };
+    auto visit = [&](double c, double r) {
+        visit_at(t[0] + (c + 0.5) * t[1], t[3] + (r + 0.5) * t[5]);
+    };
     for (int c = 0; c < dem->width; c++)
         visit(c, 0), visit(c, dem->height - 1);
     for (int r = 0; r < dem->height; r++)
         visit(0, r), visit(dem->width - 1, r);
+    /* TM's scale grows with |sin(dlon)| and falls with |lat|: over a DEM more than ~174 degrees
+     * wide its largest value is inside, 90 degrees from the central meridian at the latitude
+     * nearest the equator (a global grid's edges, 180 degrees away, scale by almost nothing). */
+    if (zone != 0) {
+        const double lon0 = t[0] + 0.5 * t[1], lon1 = t[0] + (dem->width - 0.5) * t[1];
+        const double lat_a = t[3] + 0.5 * t[5], lat_b = t[3] + (dem->height - 0.5) * t[5];
+        const double lat_near = std::min(std::max(0.0, std::min(lat_a, lat_b)), std::max(lat_a, lat_b));
+        for (int turn = -3; turn <= 3; turn++) {
+            const double lon = cm + 90.0 + 180.0 * turn; /* every meridian 90 degrees away */
+            if (lon >= std::min(lon0, lon1) && lon <= std::max(lon0, lon1))
+                visit_at(lon, lat_near);
+        }
+    }
     return worst;
 }
 
@@ -206,14 +221,14 @@ bool warp_extent(const tp_dem* dem, const double gt[6], const OGRSpatialReferenc
 }
 
 /* A CRS to suggest when one zone cannot hold the DEM: polar stereographic near a pole, else a
- * world projection in metres. */
-const char* suggested_crs(double lat_min, double lat_max)
+ * world projection in metres. *what says what it is. */
+const char* suggested_crs(double lat_min, double lat_max, const char** what)
 {
     if (lat_min > 45)
-        return "EPSG:3413 (NSIDC polar stereographic north)";
+        return *what = "NSIDC polar stereographic north", "EPSG:3413";
     if (lat_max < -45)
-        return "EPSG:3031 (Antarctic polar stereographic)";
-    return "EPSG:8857 (Equal Earth), or a regional projected CRS";
+        return *what = "Antarctic polar stereographic", "EPSG:3031";
+    return *what = "Equal Earth, or a regional projected CRS", "EPSG:8857";
 }
 
 /* plan_w/plan_h not NULL: only plan, returning the render grid's size without warping. */
@@ -310,24 +325,28 @@ tp_status build(const tp_dem* dem, const tp_grid_options* opt, tp_render_grid** 
         std::string t_srs = "EPSG:" + std::to_string(epsg);
         const double* sg = dem->geotransform;
 
-        /* One zone must hold the DEM sensibly: a geographic DEM whose edges the zone would scale
+        /* One zone must hold the DEM sensibly: a geographic DEM whose posts the zone would scale
          * by more than 5% (UTM keeps within 0.1%) is refused, not drawn distorted. */
         if (src.IsGeographic()) {
             double k_lat = 0, k_lon = 0, k_err = zone_scale_error(dem, zone, &k_lat, &k_lon);
             if (k_err > 0.05) {
                 double lat0 = sg[3] + (dem->height - 0.5) * sg[5], lat1 = sg[3] + 0.5 * sg[5];
                 double lon0 = sg[0] + 0.5 * sg[1], lon1 = sg[0] + (dem->width - 0.5) * sg[1];
+                const char* what = "";
+                const char* crs = suggested_crs(std::min(lat0, lat1), std::max(lat0, lat1), &what);
+                /* near 90 degrees from the meridian the scale has no useful bound */
+                const std::string scale = k_err < 10.0 ? CPLSPrintf("up to %.0f%%", 100.0 * k_err)
+                                                       : std::string("more than 1000%");
                 return fail(err, TP_ERR_BAD_DATA,
                             "the DEM's posts span lon %.6g .. %.6g, lat %.6g .. %.6g: %s, the "
-                            "zone of its centre, would scale it by up to %.0f%% (at lat %.4g, "
-                            "lon %.4g; UTM keeps within 0.1%%), so one UTM/UPS zone cannot hold "
-                            "it; reproject it first, e.g. 'gdalwarp -t_srs %s IN OUT.tif', or "
+                            "zone of its centre, would scale it by %s (at lat %.4g, lon %.4g; "
+                            "UTM keeps within 0.1%%), so one UTM/UPS zone cannot hold it; "
+                            "reproject it first, e.g. 'gdalwarp -t_srs %s IN OUT.tif' (%s), or "
                             "cut it into smaller pieces",
                             lon0, lon1, std::min(lat0, lat1), std::max(lat0, lat1),
                             zone == 0 ? (northp ? "UPS north (EPSG:32661)" : "UPS south (EPSG:32761)")
                                       : CPLSPrintf("UTM zone %d%s (EPSG:%d)", zone, northp ? "N" : "S", epsg),
-                            100.0 * k_err, k_lat, k_lon,
-                            suggested_crs(std::min(lat0, lat1), std::max(lat0, lat1)));
+                            scale.c_str(), k_lat, k_lon, crs, what);
             }
         }
 
