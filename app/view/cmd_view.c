@@ -330,8 +330,12 @@ int tp_cli_view(int argc, char** argv)
     if (code >= 0)
         return code;
     /* Every output can be written, or nothing is rendered and nothing written. */
-    if ((o.screenshot && !tp_atomic_check_dir(o.screenshot)) ||
-        (o.stats_json && !tp_atomic_check_dir(o.stats_json)))
+    tp_error err;
+    if (o.screenshot && tp_image_output_check(o.screenshot, &err) != TP_OK) {
+        fprintf(stderr, "terrapatch: %s\n", err.message);
+        return TP_EXIT_FAILURE;
+    }
+    if (o.stats_json && !tp_atomic_check_dir(o.stats_json))
         return TP_EXIT_FAILURE;
     tp_scene sc;
     o.scene.use = TP_MEMORY_USE_VIEW;
@@ -355,7 +359,6 @@ int tp_cli_view(int argc, char** argv)
     }
     tp_renderer* r = tp_renderer_create(sc.terrain, msg, sizeof msg);
     tp_selection* sel = NULL;
-    tp_error err;
     if (!r || tp_selection_create(sc.terrain, &sel, &err) != TP_OK) {
         fprintf(stderr, "terrapatch view: %s\n", r ? err.message : msg);
         tp_renderer_destroy(r);

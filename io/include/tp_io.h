@@ -195,6 +195,9 @@ tp_status tp_dem_read_image(const char* path, const tp_image_options* options, t
  * tp_file_write: a failure (full disk, signal) leaves nothing behind and an older file as it
  * was. TP_ERR_INVALID_ARG for an extension OpenImageIO cannot encode in memory. */
 tp_status tp_image_write_rgba(const char* path, int w, int h, const uint8_t* rgba, tp_error* err);
+/* tp_output_check, and that path's extension names a format tp_image_write_rgba can write: for
+ * a screenshot path, before the rendering. Writes nothing. */
+tp_status tp_image_output_check(const char* path, tp_error* err);
 
 /* Reads an image as RGBA8 (w x h, top row first; grey and RGB are expanded, alpha 255).
  * *rgba is malloc'd: free() it. */

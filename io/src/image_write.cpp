@@ -7,11 +7,46 @@
 
 #include <cstdio>
 #include <exception>
+#include <memory>
 #include <string>
 #include <vector>
 
 namespace OIIO = OIIO_NAMESPACE;
 using tpio::fail;
+
+namespace {
+/* OpenImageIO's writer for path's extension, able to encode in memory; NULL after a message. */
+std::unique_ptr<OIIO::ImageOutput> memory_encoder(const char* path, tp_error* err)
+{
+    auto out = OIIO::ImageOutput::create(path);
+    if (!out) {
+        fail(err, TP_ERR_INVALID_ARG, "%s: no image format for this name: %s", path,
+             OIIO::geterror().c_str());
+        return nullptr;
+    }
+    if (!out->supports("ioproxy")) {
+        fail(err, TP_ERR_INVALID_ARG,
+             "%s: OpenImageIO's %s writer cannot encode in memory; use .png, .tif or .jpg", path,
+             out->format_name());
+        return nullptr;
+    }
+    return out;
+}
+} // namespace
+
+extern "C" tp_status tp_image_output_check(const char* path, tp_error* err)
+{
+    if (!path)
+        return fail(err, TP_ERR_INVALID_ARG, "image: bad arguments");
+    tp_status s = tp_output_check(path, err);
+    if (s != TP_OK)
+        return s;
+    try {
+        return memory_encoder(path, err) ? TP_OK : TP_ERR_INVALID_ARG;
+    } catch (...) {
+        return tpio::caught(err, path);
+    }
+}
 
 extern "C" tp_status tp_image_write_rgba(const char* path, int w, int h, const uint8_t* rgba,
                                          tp_error* err)
@@ -22,14 +57,9 @@ extern "C" tp_status tp_image_write_rgba(const char* path, int w, int h, const u
         /* Encoded in memory, so that OpenImageIO never writes a file itself: its writers do not
          * report a full disk reliably (a cut PNG was renamed into place), and the bytes then go
          * through the one atomic writer. */
-        auto out = OIIO::ImageOutput::create(path);
+        auto out = memory_encoder(path, err);
         if (!out)
-            return fail(err, TP_ERR_INVALID_ARG, "%s: no image format for this name: %s", path,
-                        OIIO::geterror().c_str());
-        if (!out->supports("ioproxy"))
-            return fail(err, TP_ERR_INVALID_ARG,
-                        "%s: OpenImageIO's %s writer cannot encode in memory; use .png, .tif or "
-                        ".jpg", path, out->format_name());
+            return TP_ERR_INVALID_ARG;
         std::vector<unsigned char> bytes;
         OIIO::Filesystem::IOVecOutput vec(bytes);
         OIIO::ImageSpec spec(w, h, 4, OIIO::TypeDesc::UINT8);
