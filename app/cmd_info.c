@@ -106,14 +106,15 @@ static const char* fit_name(tp_fit fit)
  * sample (an extent in UTM/UPS bends: corners and midpoints miss where it reaches furthest).
  * When the grid holds a pole, that latitude is +-90 and the longitudes are -180 .. 180. The
  * longitudes are the shortest interval holding every edge sample: west > east when it crosses
- * the antimeridian (*crosses set to 1). Returns 0 when the grid has no CRS. */
+ * the antimeridian (*crosses set to 1). Returns 1, 0 when the grid has no CRS, -1 (with *why)
+ * when an edge post is outside what the zone converts (a grid far wider than its zone). */
 static int cmp_double(const void* a, const void* b)
 {
     double x = *(const double*)a, y = *(const double*)b;
     return (x > y) - (x < y);
 }
 
-static int geo_extent(const tp_scene* sc, double out[4], int* crosses)
+static int geo_extent(const tp_scene* sc, double out[4], int* crosses, tp_error* why)
 {
     *crosses = 0;
     if (!tp_georef_has_geo(sc->georef))
@@ -132,9 +133,9 @@ static int geo_extent(const tp_scene* sc, double out[4], int* crosses)
             x = (i - 2 * (size_t)w) < (size_t)h ? 0 : w - 1, y = (double)((i - 2 * (size_t)w) % h);
         double e, nn, lat, lon;
         tp_georef_grid_to_proj(sc->georef, x, y, &e, &nn);
-        if (tp_georef_proj_to_geo(sc->georef, e, nn, &lat, &lon, NULL) != TP_OK) {
+        if (tp_georef_proj_to_geo(sc->georef, e, nn, &lat, &lon, why) != TP_OK) {
             free(lons);
-            return 0;
+            return -1;
         }
         out[0] = fmin(out[0], lat), out[2] = fmax(out[2], lat);
         lons[n++] = remainder(lon, 360.0);
@@ -248,9 +249,14 @@ static void print_text(const tp_scene* sc, const char* path)
     proj_extent(sc, ext);
     printf("  extent       E %.3f .. %.3f, N %.3f .. %.3f\n", ext[0], ext[2], ext[1], ext[3]);
     int crosses = 0;
-    if (geo_extent(sc, ext, &crosses))
+    tp_error why;
+    int geo = geo_extent(sc, ext, &crosses, &why);
+    if (geo > 0)
         printf("  geographic   lat %.6f .. %.6f, lon %.6f .. %.6f%s\n", ext[0], ext[2], ext[1],
                ext[3], crosses ? " (crosses the antimeridian)" : "");
+    else if (geo < 0)
+        printf("  geographic   not available: an edge post of the render grid is outside what "
+               "the zone converts (%s)\n", why.message);
 
     printf("\npatches\n");
     printf("  fitted size  %d x %d samples (%s", in->width, in->height, fit_name(in->fit));
@@ -393,7 +399,8 @@ static void print_json(const tp_scene* sc, const char* path)
     key_numbers(&j, "extent_proj", ext, 4);
     tp_json_key(&j, "extent_geo");
     int crosses = 0;
-    if (geo_extent(sc, ext, &crosses)) {
+    tp_error why;
+    if (geo_extent(sc, ext, &crosses, &why) > 0) {
         tp_json_array_begin(&j); /* south, west, north, east: west > east across the antimeridian */
         for (int i = 0; i < 4; ++i)
             tp_json_number(&j, ext[i]);

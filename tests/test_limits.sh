@@ -14,6 +14,7 @@
 #   long_path             a missing DEM under a 600-byte path: the reason survives
 #   extent_antimeridian   info says the extent crosses the antimeridian, text and JSON
 #   extent_pole           a grid holding the pole reaches lat 90
+#   extent_outside_zone   an edge the zone cannot convert: info says so, not a silent gap
 set -u
 EXE=$1 DATA=$2 WORK=$3 CASE=$4
 mkdir -p "$WORK" && cd "$WORK" || exit 1
@@ -112,6 +113,13 @@ extent_antimeridian)
     awk -v w="$west" 'BEGIN { exit !(w <= 179.005) }' || fail "west $west is east of the first posts (179.005)"
     run 30 info --json --crs EPSG:4326 anti.asc
     grep -q '"extent_crosses_antimeridian": *true' out || fail "JSON does not say it crosses" ;;
+extent_outside_zone)
+    # 355..370 E at 50..60 N in UTM 31N: the west edge has a negative easting
+    asc wrap 355 50 0.25 0.25 60 40
+    run 30 info --crs EPSG:4326 wrap.asc
+    [ $rc -eq 0 ] || fail "exit $rc, expected 0"
+    grep -q "geographic   not available: .*Easting -[0-9.]*km not in UTM range" out ||
+        fail "no word on the geographic extent" ;;
 extent_pole)
     asc southpole 0 -90 0.01 0.01 143 107
     run 30 info --crs EPSG:4326 southpole.asc
