@@ -21,6 +21,7 @@
  */
 #define _POSIX_C_SOURCE 200809L
 #include "tp_test.h"
+#include "tp_test_child.h"
 #ifndef TP_TEST_NO_IO
 #include "tp_io.h"
 #endif
@@ -34,7 +35,6 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
-extern char** environ;
 
 #define STORML "storml_elev_orig.tif"        /* data/ (TP_SAMPLE_DATA_DIR), Int16 */
 #define MT_HOOD "lf_elev_220_mt_hood_utm.tif" /* data/, 1013 x 799, integer heights */
@@ -201,25 +201,6 @@ static char* read_file(const char* path, size_t* size)
     return buf;
 }
 
-/* The children's environment: ours, with LeakSanitizer off in the child. Under TP_SANITIZE the
- * terrapatch binary is instrumented too, and eglTerminate unloads Mesa's driver, after which
- * LSan reports the driver's still-referenced allocations as leaks (as in test_view.c);
- * AddressSanitizer's other checks stay on in the child. */
-static char** child_environment(char* asan_buf, size_t cap)
-{
-    static char* envp[512];
-    size_t n = 0, i;
-    const char* asan = getenv("ASAN_OPTIONS");
-    snprintf(asan_buf, cap, "ASAN_OPTIONS=%s%sdetect_leaks=0", asan ? asan : "",
-             asan && *asan ? ":" : "");
-    for (i = 0; environ[i] && n + 2 < sizeof envp / sizeof envp[0]; ++i)
-        if (strncmp(environ[i], "ASAN_OPTIONS=", 13) != 0)
-            envp[n++] = environ[i];
-    envp[n++] = asan_buf;
-    envp[n] = NULL;
-    return envp;
-}
-
 /* Runs a->v with stdin from /dev/null and stdout/stderr into files of the log directory. */
 static void run(const args* a, run_result* r)
 {
@@ -237,7 +218,7 @@ static void run(const args* a, run_result* r)
     posix_spawn_file_actions_addopen(&fa, 0, "/dev/null", O_RDONLY, 0);
     posix_spawn_file_actions_addopen(&fa, 1, out_path, O_WRONLY | O_CREAT | O_TRUNC, 0644);
     posix_spawn_file_actions_addopen(&fa, 2, err_path, O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    rc = posix_spawn(&pid, a->v[0], &fa, NULL, a->v, child_environment(asan, sizeof asan));
+    rc = posix_spawn(&pid, a->v[0], &fa, NULL, a->v, tp_test_child_environment(asan, sizeof asan));
     posix_spawn_file_actions_destroy(&fa);
     if (rc != 0)
         FAIL("posix_spawn(%s): %s", a->v[0], strerror(rc));

@@ -6,6 +6,7 @@
 #define _POSIX_C_SOURCE 200809L
 #include "tp_io.h"
 #include "tp_test.h"
+#include "tp_test_child.h"
 
 #include <errno.h>
 #include <fcntl.h>
@@ -13,7 +14,6 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
-extern char** environ;
 
 /* Runs `terrapatch CMD args...` (NULL-terminated); returns the exit status, stderr in err. The
  * child runs without LeakSanitizer: `view` opens Mesa, whose unloaded driver looks leaky. */
@@ -39,17 +39,8 @@ static int run_cmd(const char* cmd, const char* const* args, char* err, size_t e
     posix_spawn_file_actions_addopen(&fa, 1, "/dev/null", O_WRONLY, 0);
     posix_spawn_file_actions_addopen(&fa, 2, err_path, O_WRONLY | O_TRUNC, 0644);
     pid_t pid;
-    static char* envp[512];
     static char asan[512];
-    const char* old = getenv("ASAN_OPTIONS");
-    snprintf(asan, sizeof asan, "ASAN_OPTIONS=%s%sdetect_leaks=0", old ? old : "",
-             old && *old ? ":" : "");
-    size_t ne = 0;
-    for (size_t i = 0; environ[i] && ne + 2 < sizeof envp / sizeof envp[0]; i++)
-        if (strncmp(environ[i], "ASAN_OPTIONS=", 13) != 0)
-            envp[ne++] = environ[i];
-    envp[ne++] = asan;
-    envp[ne] = NULL;
+    char** envp = tp_test_child_environment(asan, sizeof asan);
     int rc = posix_spawn(&pid, exe, &fa, NULL, (char* const*)argv, envp);
     posix_spawn_file_actions_destroy(&fa);
     ASSERT_EQ_INT(0, rc);

@@ -9,6 +9,7 @@
 #define _GNU_SOURCE
 #include "tp_io.h"
 #include "tp_test.h"
+#include "tp_test_child.h"
 
 #include <dirent.h>
 #include <errno.h>
@@ -25,7 +26,6 @@
 #define TP_TMP_PREFIX "tp_writes_"
 #include "tp_test_tmp.h"
 
-extern char** environ;
 
 typedef struct child_opts {
     rlim_t fsize_limit;    /* bytes; 0: none */
@@ -74,17 +74,8 @@ static pid_t start(const char* const* args, const child_opts* o)
         argv[n++] = args[i];
     argv[n] = NULL;
     /* Mesa's unloaded driver looks leaky to LeakSanitizer (as in test_view.c) */
-    static char* envp[512];
     static char asan[512];
-    const char* old = getenv("ASAN_OPTIONS");
-    snprintf(asan, sizeof asan, "ASAN_OPTIONS=%s%sdetect_leaks=0", old ? old : "",
-             old && *old ? ":" : "");
-    size_t ne = 0;
-    for (size_t i = 0; environ[i] && ne + 2 < sizeof envp / sizeof envp[0]; i++)
-        if (strncmp(environ[i], "ASAN_OPTIONS=", 13) != 0)
-            envp[ne++] = environ[i];
-    envp[ne++] = asan;
-    envp[ne] = NULL;
+    char** envp = tp_test_child_environment(asan, sizeof asan);
     fflush(NULL);
     pid_t pid = fork();
     ASSERT_TRUE(pid >= 0);
