@@ -574,6 +574,236 @@ typedef struct tp_ray_hit {
 tp_status tp_selection_ray_cast(const tp_selection* s, const double origin[3],
                                 const double dir[3], tp_ray_hit* out);
 
+/* ---------------------------------------------------------------------------------------------
+ * Hierarchy: a tree of nodes over the patch grid, by nested decimation (issue 12)
+ *
+ * The full-resolution grid is fitted as tp_terrain's TP_FIT_PAD does: cols * 2^n + 1 by
+ * rows * 2^n + 1 samples, the samples at x >= src_width or y >= src_height being padding (never
+ * drawn). Leaves (scale 0) are today's patches: leaf (c, r) covers samples [c*2^n, (c+1)*2^n] x
+ * [r*2^n, (r+1)*2^n]. A node of scale s covers 2^s x 2^s leaves with every 2^s-th sample: its
+ * (2^n+1)^2 samples lie at grid coordinates (c*2^(n+s) + i*2^s, r*2^(n+s) + j*2^s), i, j in
+ * 0..2^n. So a parent's samples are samples of its children (its level k is, sample for sample,
+ * the children's level k-1) and vertex moving keeps shared edges bit-identical between nodes of
+ * any size.
+ *
+ * Node (s, c, r) exists iff (c+1) * 2^s <= cols and (r+1) * 2^s <= rows: only whole quadtree
+ * nodes exist. A node whose parent does not exist is a root: one root over the whole map when
+ * cols = rows = 2^S, else a few more roots along the far edges (a forest; every leaf lies under
+ * exactly one root). Node ids run from the top scale down, row-major within a scale:
+ * id = first_node[s] + r * node_cols[s] + c, so the largest nodes come first.
+ *
+ * A node at level k draws the level-k strip over its own samples: vertex stride 2^(n-k+s) grid
+ * samples. "Complete" means every full-resolution sample of its AREA is drawn; only complete
+ * nodes are drawn at a level below n... (see tp_tree_select).
+ */
+#define TP_TREE_MAX_SCALES 24
+
+typedef struct tp_tree_geometry {
+    int n;                          /* node size 2^n + 1 (4 .. TP_MAX_N) */
+    int src_width, src_height;      /* the grid before padding */
+    int width, height;              /* fitted: cols * 2^n + 1, rows * 2^n + 1 */
+    int cols, rows;                 /* leaves */
+    int scales;                     /* scales 0 .. scales-1 hold at least one node */
+    int node_cols[TP_TREE_MAX_SCALES], node_rows[TP_TREE_MAX_SCALES]; /* cols >> s, rows >> s */
+    int64_t first_node[TP_TREE_MAX_SCALES]; /* id of node (s, 0, 0) */
+    int64_t node_count;
+    int64_t root_count;             /* nodes without a parent */
+} tp_tree_geometry;
+
+/* Writes the geometry of a src_width x src_height grid (each 1 .. 2^30) tiled into nodes of
+ * patch_size (17, 33, 65, 129 or 257). TP_ERR_INVALID_ARG for sizes out of range. */
+tp_status tp_tree_geometry_init(int src_width, int src_height, int patch_size,
+                                tp_tree_geometry* out, tp_error* err);
+
+/* Node ids <-> (scale, column, row). Caller bugs (an id or position that does not exist) are
+ * asserted. tp_tree_node_parent returns -1 for a root; tp_tree_node_child writes the 4 children
+ * (quadrant q = 0 top-left, 1 top-right, 2 bottom-left, 3 bottom-right) of a node of scale >= 1
+ * (they always exist). */
+int64_t tp_tree_node_id(const tp_tree_geometry* g, int s, int c, int r);
+void tp_tree_node_locate(const tp_tree_geometry* g, int64_t id, int* s, int* c, int* r);
+int64_t tp_tree_node_parent(const tp_tree_geometry* g, int64_t id);
+int64_t tp_tree_node_child(const tp_tree_geometry* g, int64_t id, int q);
+/* Writes the ids of every root, in id order, into roots (root_count of them). */
+void tp_tree_roots(const tp_tree_geometry* g, int64_t* roots, size_t root_capacity);
+
+/* A node's samples as stored and resident: (2^n+1)^2 uint16 in row-major order, each the
+ * global quantised height minus the node's qmin, TP_TREE_NO_HEIGHT where the sample is not
+ * drawn (nodata, padding). The decoded height of a sample is (stored + qmin) * height_step_m,
+ * the same in every node that holds it. */
+#define TP_TREE_NO_HEIGHT 0xFFFFu
+
+/* What the tree keeps about every node, resident or not (the store's node table). Errors are
+ * uint16 in units of the tree's err_unit (TP_NODE_ERR_SAT: "at least this large"; the bound is
+ * then the node's area range). Every bound is against EVERY full-resolution sample of the
+ * node's area, rounded up; quantisation is not included (add quant_max_error_m). */
+#define TP_NODE_ERR_SAT 0xFFFFu
+enum { TP_NODE_COMPLETE = 1, TP_NODE_HAS_DRAWN = 2 };
+typedef struct tp_node_meta {
+    int32_t qmin, qmax;   /* global quantised range over the node's OWN drawn samples (its
+                             drawn geometry: the AABB); qmin > qmax when none */
+    int32_t area_qmin, area_qmax; /* over every drawn full-resolution sample of its area */
+    uint8_t flags;        /* TP_NODE_COMPLETE: every full-resolution sample of the area is
+                             drawn; TP_NODE_HAS_DRAWN: at least one is */
+    uint8_t pad_[3];
+    /* delta[k], k = 0..n: the unstitched level-k triangulation of the node's samples against
+     * every full-resolution sample of its area. */
+    uint16_t delta[TP_MAX_LEVELS];
+    /* eps[side][kn], kn = 0..n-1: any triangle with a vertex moved by a neighbour at (relative)
+     * level kn on that side, over every level k > kn, against every full-resolution sample it
+     * covers. */
+    uint16_t eps[4][TP_MAX_N];
+} tp_node_meta;
+
+/* The error unit of a tree (steps): step/16, or the finest power of two of steps up to 1 for
+ * which the global height range (steps, >= 0) fits TP_NODE_ERR_SAT - 1 units. */
+double tp_tree_err_unit_steps(double range_steps);
+
+/* Computes the meta of one node from its own samples q ((2^n+1)^2 global quantised heights,
+ * row-major, INT32_MIN where not drawn) and, for a node of scale >= 1, its 4 children's metas
+ * (children[q] as tp_tree_node_child numbers them; NULL for a leaf): the children carry the
+ * error of the full-resolution samples between this node's samples, and the area's range and
+ * flags. err_unit_steps from tp_tree_err_unit_steps. Cannot fail. */
+void tp_node_meta_compute(int n, int scale, const int32_t* q, const tp_node_meta* const children[4],
+                          double err_unit_steps, tp_node_meta* out);
+
+/* Bound (metres, quantisation NOT included) of node's vertical error at level k with the given
+ * relative neighbour levels (as tp_patch_error_bound; TP_NO_NEIGHBOR for none or for "no vertex
+ * moves on that side"). */
+double tp_node_error_bound(const tp_node_meta* m, int n, int k, const int neighbor_levels[4],
+                           double step_m, double err_unit_steps);
+
+/* ---- building a tree, one band of leaf rows at a time (tree_build.c) ----
+ *
+ * The builder takes the fitted grid top to bottom in bands of 2^n + 1 rows (band r is rows
+ * r*2^n .. (r+1)*2^n: consecutive bands share a row), computes every leaf of the band, keeps the
+ * decimated rows each coarser scale needs, and emits each node once, as soon as its samples and
+ * its children are known: every node after its 4 children. Memory: about 2 * (2^n + 1) * width
+ * int32 plus one row of metas per scale, whatever the height.
+ * The per-node work (tp_node_meta_compute) may be spread over threads by the caller's
+ * parallel_for. */
+typedef struct tp_tree_builder tp_tree_builder;
+
+typedef struct tp_tree_builder_desc {
+    tp_tree_geometry geometry;
+    double err_unit_steps;
+    /* Called once per node, in an order where children precede parents (from one thread at a
+     * time). q: the node's (2^n+1)^2 global quantised heights (INT32_MIN = not drawn), valid
+     * during the call. Returning non-zero stops the build (tp_tree_builder_add_band then fails
+     * with TP_ERR_IO and the message the callback left in err). */
+    int (*emit)(int64_t node, const tp_node_meta* meta, const int32_t* q, void* user,
+                tp_error* err);
+    /* Optional: run fn(i, ctx) for i in 0..count-1, possibly on several threads at once;
+     * NULL runs them in order here. */
+    void (*parallel_for)(int count, void (*fn)(int i, void* ctx), void* ctx, void* user);
+    void* user;
+    tp_allocator allocator;
+} tp_tree_builder_desc;
+
+tp_status tp_tree_builder_create(const tp_tree_builder_desc* desc, tp_tree_builder** out,
+                                 tp_error* err);
+/* Adds band r (0 .. rows-1, in order): q holds (2^n+1) rows of `width` global quantised heights
+ * (INT32_MIN = not drawn, padding included), q_count = (2^n+1) * width. Emits the band's leaves
+ * and every node completed by them. TP_ERR_INVALID_ARG for a band out of order; the emit
+ * callback's failure. */
+tp_status tp_tree_builder_add_band(tp_tree_builder* b, int r, const int32_t* q, size_t q_count,
+                                   tp_error* err);
+void tp_tree_builder_destroy(tp_tree_builder* b); /* accepts NULL */
+
+/* ---- the tree at run time: metas for every node, samples for the resident ones ---- */
+typedef struct tp_tree tp_tree;
+
+typedef struct tp_tree_desc {
+    tp_tree_geometry geometry;
+    double geotransform[6];    /* of the fitted grid */
+    double height_step_m;      /* global quantisation step */
+    double quant_max_error_m;  /* max |source - decoded| over valid samples */
+    double err_unit_steps;
+    const tp_node_meta* metas; /* node_count of them, borrowed (may be memory-mapped); must
+                                  outlive the tree */
+    size_t meta_count;
+    tp_allocator allocator;
+} tp_tree_desc;
+
+tp_status tp_tree_create(const tp_tree_desc* desc, tp_tree** out, tp_error* err);
+void tp_tree_destroy(tp_tree* t); /* accepts NULL */
+const tp_tree_geometry* tp_tree_get_geometry(const tp_tree* t);
+const tp_node_meta* tp_tree_meta(const tp_tree* t, int64_t node);
+
+/* Residency: the caller owns node sample blocks ((2^n+1)^2 uint16, see TP_TREE_NO_HEIGHT) and
+ * attaches them while they are valid; the tree only reads them. Attach / detach from the
+ * thread that selects and draws (a loader thread decodes into a block, the render thread
+ * attaches it). */
+void tp_tree_attach(tp_tree* t, int64_t node, const uint16_t* samples);
+void tp_tree_detach(tp_tree* t, int64_t node);
+const uint16_t* tp_tree_samples(const tp_tree* t, int64_t node); /* NULL when not resident */
+
+/* Builds a whole tree in memory from a float grid (NaN = nodata): metas and every node's samples
+ * owned by the tree and attached. For tests and small grids; the store build uses the builder.
+ * height_step_m 0: automatic as tp_terrain_create (1 m for integral heights). */
+tp_status tp_tree_create_from_grid(const float* heights, size_t height_count, int width,
+                                   int height, const double geotransform[6], int patch_size,
+                                   double height_step_m, tp_tree** out, tp_error* err);
+
+/* Query: decoded height of full-resolution sample (x, y) if a resident node holds it at that
+ * position (the finest resident one), else NaN. */
+double tp_tree_sample(const tp_tree* t, int x, int y);
+
+/* ---- selection over the tree: the drawn cut (tree_select.c, tree_stitch.c) ----
+ *
+ * From the roots down: a node outside the frustum (its drawn AABB) is culled and not visited
+ * further; a node whose level-n bound (stitching as in tp_node_error_bound) projects above tau
+ * (error mode, the same projection bound as tp_selection_update) or that is not complete, is
+ * replaced by its 4 children; else it is drawn at its coarsest level whose bound projects to
+ * <= tau. Then levels are raised (never lowered) until every pair of visible nodes sharing an
+ * edge can be stitched by moving the finer side's vertices onto the coarser side's: the coarser
+ * stride must divide the finer node's side (its corners are vertices of both), and a coarser
+ * stride may only be on the larger (or equal) node. Children that are not resident are not
+ * entered: their ancestor is drawn in their place ("substituted"), and they are listed as
+ * requests for the loader, nearest first. Cost is proportional to the nodes visited. */
+typedef struct tp_cut_node {
+    int64_t node;
+    int8_t level;       /* 0..n */
+    int8_t nb[4];       /* neighbour level per side, relative to this node's own samples, as
+                           tp_patch_vertices takes it: kn < level moves this side's vertices
+                           onto every 2^(level-kn)-th; TP_NO_NEIGHBOR: nothing moves */
+    uint8_t substituted;/* drawn in place of finer nodes that are not resident */
+    float bound_px;     /* the projected error bound of this node as drawn (error mode) */
+} tp_cut_node;
+
+typedef struct tp_cut_stats {
+    int visited, drawn, culled;
+    int substituted;           /* drawn nodes standing in for missing descendants */
+    int requests;
+    int nodes_per_scale[TP_TREE_MAX_SCALES];
+    size_t triangles;          /* non-degenerate triangles of the drawn nodes */
+    double max_bound_px;       /* largest projected bound among drawn nodes (error mode) */
+    double substitution_bound_px; /* largest projected bound among substituted nodes */
+} tp_cut_stats;
+
+typedef struct tp_cut tp_cut;
+tp_status tp_cut_create(const tp_tree* t, tp_cut** out, tp_error* err);
+void tp_cut_destroy(tp_cut* c); /* accepts NULL */
+/* Selects the cut for cam (error, distance or full mode; params NULL = defaults). Only
+ * resident nodes are drawn. TP_ERR_INVALID_ARG for bad params, TP_ERR_OUT_OF_MEMORY. */
+tp_status tp_cut_update(tp_cut* c, const tp_camera* cam, const tp_lod_params* params,
+                        tp_error* err);
+/* The drawn nodes of the last update (visible only), and the nodes it wanted but found not
+ * resident, most urgent first (their priorities: larger = sooner). Valid until the next update. */
+const tp_cut_node* tp_cut_nodes(const tp_cut* c, size_t* count);
+const int64_t* tp_cut_requests(const tp_cut* c, size_t* count);
+void tp_cut_get_stats(const tp_cut* c, tp_cut_stats* out);
+/* Vertex data of drawn node i (0..count-1) after crack removal: (2^level+1)^2 vertices as
+ * tp_patch_vertices writes them (global grid coordinates, decoded heights). */
+void tp_cut_vertices(const tp_cut* c, size_t i, tp_vertex* vertices, size_t vertex_capacity);
+/* Height (m) of the surface the cut draws at grid (x, y); NaN where nothing is drawn. */
+double tp_cut_drawn_height_at(const tp_cut* c, double x, double y);
+/* Screen error (px) of the drawn cut against every full-resolution sample of the drawn nodes'
+ * areas that is in view, as tp_selection_measure_screen_error; needs the full-resolution
+ * samples: it reads the resident leaves, and skips (counting them in *skipped) samples whose
+ * leaf is not resident. */
+tp_status tp_cut_measure_screen_error(const tp_cut* c, const tp_camera* cam, double* max_px,
+                                      double* rms_px, size_t* samples, size_t* skipped);
+
 #ifdef __cplusplus
 }
 #endif
