@@ -421,6 +421,64 @@ double tp_georef_datum_accuracy_m(const tp_georef* g);
  * valid while g lives. */
 const char* tp_georef_datum_note(const tp_georef* g);
 
+/* ---------------------------------------------------------------------------------------------
+ * Terrain stores (.tpt): a built tp_tree on disk (io/src/store_*.cpp; format in docs/store.md)
+ *
+ * A versioned little-endian file: a header (geometry, georeference, quantisation, CRS, the
+ * sources it was built from), the node table (every node's tp_node_meta, the offset, size and
+ * CRC32 of its data) and each node's samples, compressed. Written atomically through
+ * tp_file_* (an interrupted or failed write leaves no file); read with one open file shared by
+ * threads (pread), each node checked against its CRC32 when read.
+ */
+#define TP_STORE_VERSION 1
+
+typedef struct tp_store_header {
+    tp_tree_geometry geometry;
+    double geotransform[6];    /* of the fitted grid, render CRS */
+    double height_step_m;
+    double quant_max_error_m;
+    double err_unit_steps;
+    size_t valid_samples, nodata_samples; /* of the source grid (padding not counted) */
+    const char* crs_wkt;       /* render CRS as WKT; "" for none */
+    const char* notes;         /* free text: sources, mosaic and warp decisions ('\n'-separated) */
+} tp_store_header;
+
+typedef struct tp_store_writer tp_store_writer;
+/* Starts writing path (tp_file_begin). TP_ERR_IO / TP_ERR_INVALID_ARG with a message naming
+ * path. */
+tp_status tp_store_writer_begin(const char* path, const tp_store_header* header,
+                                tp_store_writer** out, tp_error* err);
+/* Adds one node (any order; each node exactly once): its meta and its (2^n+1)^2 global
+ * quantised heights (INT32_MIN = not drawn), which the writer stores relative to meta->qmin. */
+tp_status tp_store_writer_add_node(tp_store_writer* w, int64_t node, const tp_node_meta* meta,
+                                   const int32_t* q, tp_error* err);
+/* Writes the node table and makes the file (fails if a node is missing). Frees w. */
+tp_status tp_store_writer_commit(tp_store_writer* w, tp_error* err);
+void tp_store_writer_abort(tp_store_writer* w); /* accepts NULL; leaves no file */
+
+typedef struct tp_store tp_store;
+typedef struct tp_store_info {
+    tp_store_header header;    /* strings owned by the store */
+    uint32_t version;
+    uint64_t file_bytes, data_bytes, table_bytes;
+    double bytes_per_sample;   /* file_bytes / (src_width * src_height) */
+} tp_store_info;
+
+/* Opens a store: checks magic, version (a newer one: "written by a newer terrapatch (format N;
+ * this one reads up to M)"), the header's and the node table's checksums and sizes against the
+ * file. TP_ERR_BAD_DATA / TP_ERR_IO with a message naming path. */
+tp_status tp_store_open(const char* path, tp_store** out, tp_error* err);
+void tp_store_close(tp_store* s); /* accepts NULL */
+void tp_store_get_info(const tp_store* s, tp_store_info* out);
+/* Every node's meta (node_count of them), valid while s is open. */
+const tp_node_meta* tp_store_metas(const tp_store* s, size_t* count);
+/* Reads, checks (CRC32) and decodes node's samples into samples ((2^n+1)^2 uint16 relative to
+ * its qmin, TP_TREE_NO_HEIGHT where not drawn; sample_capacity at least that). Thread-safe.
+ * TP_ERR_BAD_DATA for a checksum or decoding failure, TP_ERR_IO for a read failure, each with a
+ * message naming the file, the node and its byte offset. */
+tp_status tp_store_read_node(const tp_store* s, int64_t node, uint16_t* samples,
+                             size_t sample_capacity, tp_error* err);
+
 #ifdef __cplusplus
 }
 #endif
