@@ -784,7 +784,30 @@ typedef struct tp_cut tp_cut;
 tp_status tp_cut_create(const tp_tree* t, tp_cut** out, tp_error* err);
 void tp_cut_destroy(tp_cut* c); /* accepts NULL */
 /* Selects the cut for cam (error, distance or full mode; params NULL = defaults). Only
- * resident nodes are drawn. TP_ERR_INVALID_ARG for bad params, TP_ERR_OUT_OF_MEMORY. */
+ * resident nodes are drawn. TP_ERR_INVALID_ARG for bad params and for TP_LOD_MAX_ERROR;
+ * TP_ERR_OUT_OF_MEMORY (the cut is then empty until the next successful update).
+ * Details:
+ *   - Culling: the traversal stops at a node whose AREA box (area_qmin..area_qmax: every
+ *     descendant's geometry) is outside the frustum; a node chosen for drawing is culled when
+ *     its own drawn box (qmin..qmax) is. A node with nothing drawn in its area is skipped.
+ *   - Error mode: a node is refined while it is incomplete or its level-n bound plus
+ *     quant_max_error_m projects above tau (lod.c's bound over its area box); else it is drawn
+ *     at the coarsest level k such that k and every finer level project to <= tau.
+ *   - Distance mode (Vanek & Jezek over strides): at distance d (eye to the area box) the leaf
+ *     formula's level kl asks for vertex stride 2^(n-kl) grid samples; beyond maxdist the
+ *     stride doubles with every doubling of d (2^(n + floor(log2(d / maxdist))))), so far
+ *     terrain collapses into large nodes. A node of scale s (strides 2^s .. 2^(s+n)) is
+ *     refined when that stride is below 2^s, else drawn at the level giving that stride
+ *     (level 0 when the stride is coarser still). mindist = maxdist = 0: 1 and 24 LEAF widths.
+ *   - Full mode: every visible leaf at level n.
+ *   - Stitching (tree_stitch.c): levels only go up; where two drawn neighbours differ by more
+ *     than n scales the larger one is split if its children are resident, else the smaller
+ *     one's ancestor n scales below the larger is drawn at level n instead (substituted).
+ *     Culled nodes are not stitched against. A crack can remain only between two roots more
+ *     than n scales apart whose larger one's children are not resident.
+ *   - Requests: children the cut wanted but found not resident (a root not resident, which
+ *     leaves a hole, is requested first). Priority: the parent's projected level-n bound
+ *     (error mode), else 1 / (1 + distance). */
 tp_status tp_cut_update(tp_cut* c, const tp_camera* cam, const tp_lod_params* params,
                         tp_error* err);
 /* The drawn nodes of the last update (visible only), and the nodes it wanted but found not
@@ -800,9 +823,18 @@ double tp_cut_drawn_height_at(const tp_cut* c, double x, double y);
 /* Screen error (px) of the drawn cut against every full-resolution sample of the drawn nodes'
  * areas that is in view, as tp_selection_measure_screen_error; needs the full-resolution
  * samples: it reads the resident leaves, and skips (counting them in *skipped) samples whose
- * leaf is not resident. */
+ * leaf is not resident. Any of the outputs may be NULL. Allocates nothing: cannot fail (it
+ * returns TP_OK). */
 tp_status tp_cut_measure_screen_error(const tp_cut* c, const tp_camera* cam, double* max_px,
                                       double* rms_px, size_t* samples, size_t* skipped);
+
+/* Test hook: installs a hand-made cut, nodes[i] drawn at levels[i] (resident, distinct, not
+ * overlapping; incomplete nodes at n), every node visible, no camera, and runs the stitching
+ * pass on it (levels raised, nodes split or collapsed as in tp_cut_update; a split child keeps
+ * its parent's stride). tp_cut_nodes, _vertices and _drawn_height_at then describe it.
+ * TP_ERR_OUT_OF_MEMORY (the cut is then empty). */
+tp_status tp_cut_set_nodes(tp_cut* c, const int64_t* nodes, const int* levels, size_t count,
+                           tp_error* err);
 
 #ifdef __cplusplus
 }

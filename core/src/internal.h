@@ -174,6 +174,12 @@ typedef struct tp__proj_bound {
     double zmin; /* smallest depth of the box's corners */
 } tp__proj_bound;
 
+/* The bound for the box bmin..bmax (drawn space) seen from v, and the pixels a vertical error
+ * of d metres (drawn space) inside that box projects to at most: 0 for d = 0, INFINITY when
+ * the box reaches the near plane (lod.c). */
+tp__proj_bound tp__proj_bound_box(const tp__view* v, const double bmin[3], const double bmax[3]);
+double tp__projected_px(const tp__proj_bound* pb, double vz, double d);
+
 /* Written only by the functions that take a non-const tp_selection*; the const ones (measure.c,
  * query.c) only read it, so that several threads may measure one selection at once. */
 struct tp_selection {
@@ -203,5 +209,80 @@ int tp__neighbor(const tp_terrain* t, int p, int side);
 double tp__patch_vertical_error(const tp_terrain* t, int p, int k, const int nb[4],
                                 const float* ref, tp_vertex* vbuf, uint32_t* tbuf);
 
+/* ---- the cut: selection over a tree (tree_select.c, tree_stitch.c) ----
+ *
+ * Every node the update visits gets a record, found again through a hash of node ids (open
+ * addressing; a slot counts only in the generation of the current update, so nothing is
+ * cleared per frame). A visited node is INTERIOR (refined: its 4 children have records too) or
+ * a terminal: DRAWN (visible), CULLED (its box is outside the frustum) or EMPTY (nothing drawn
+ * in its area). Every point of the map lies in exactly one terminal of a visited root. */
+enum { TP__CUT_INTERIOR = 1, TP__CUT_DRAWN, TP__CUT_CULLED, TP__CUT_EMPTY, TP__CUT_REMOVED };
+
+typedef struct tp__cut_rec {
+    int64_t node;
+    int32_t c, r;
+    int8_t s, level, state;
+    uint8_t substituted; /* drawn in place of children that are not resident */
+    uint8_t frozen;      /* collapsed onto by the stitching pass: never split again */
+    float bound_px;
+    int32_t out;         /* index in the output (tp_cut_nodes) when drawn */
+    tp__proj_bound pb;   /* error mode, visible nodes: of the node's area box */
+} tp__cut_rec;
+
+typedef struct tp__cut_req {
+    int64_t node;
+    double prio;
+} tp__cut_req;
+
+struct tp_cut {
+    const tp_tree* t;
+    tp_allocator alloc;
+    tp_tree_geometry g;
+    int n;
+    double gt[6], step, quant, err_unit, zscale;
+    int64_t* roots;
+    tp__cut_rec* rec;
+    size_t rec_count, rec_cap;
+    int64_t* hkey;
+    int32_t* hval; /* record index; -2: requested, not visited */
+    uint32_t* hgen;
+    size_t hcap, hused;
+    uint32_t gen;
+    tp_cut_node* out;
+    size_t out_count, out_cap;
+    tp__cut_req* req;
+    int64_t* req_ids;
+    size_t req_count, req_cap, req_ids_cap;
+    /* the last update */
+    tp_lod_params lp;
+    int have_view; /* 0 for a cut installed by tp_cut_set_nodes */
+    tp__view v;
+    tp_frustum f;
+    int visited, unresolved;
+    int oom;
+};
+
+/* Record of node, or -1 when it was not visited this update (tree_select.c). */
+int tp__cut_find(const tp_cut* c, int64_t node);
+/* Adds a record for node (state 0) and returns its index, or -1 (c->oom set) without memory. */
+int tp__cut_add(tp_cut* c, int64_t node);
+/* Decides record i as a terminal without refining it: EMPTY, CULLED, or DRAWN at the level the
+ * mode asks (n if it is incomplete or wants refining). */
+void tp__cut_settle(tp_cut* c, int i);
+/* Box of record i's area (area = 1) or own samples, drawn space; 0 if it has none. */
+int tp__cut_box(const tp_cut* c, int i, int area, double bmin[3], double bmax[3]);
+/* Lists node as a request (once per update) with priority prio. */
+void tp__cut_request(tp_cut* c, int64_t node, double prio);
+/* Whether every child of record i that has something to draw in view is resident (requesting
+ * those that are not). */
+int tp__cut_children_ready(tp_cut* c, int i);
+/* The stitching pass: splits, collapses and raised levels until every pair of drawn
+ * neighbours can be stitched (tree_stitch.c). */
+void tp__cut_constrain(tp_cut* c);
+/* The drawn neighbour on a side of drawn record i, of equal or larger scale; -1 if none
+ * (border, culled, or smaller nodes there) (tree_stitch.c). */
+int tp__cut_neighbor(const tp_cut* c, int i, int side);
+/* Relative neighbour levels of drawn record i (tree_stitch.c). */
+void tp__cut_nb(const tp_cut* c, int i, int nb[4]);
 
 #endif
