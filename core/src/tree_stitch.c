@@ -18,7 +18,8 @@
  * adjacent roots differ by more than n scales, and B's children are not resident) does a
  * crack remain: counted in tp_cut's `unresolved`.
  * In error mode a coarser neighbour is also raised while the finer node's stitched bound (its
- * eps table) projects above tau, as tp_selection_update does.
+ * eps table) projects above tau, as tp_selection_update does; one already at level n (so
+ * larger than the finer node) is split when its children are resident.
  */
 #include "internal.h"
 
@@ -154,7 +155,7 @@ void tp__cut_constrain(tp_cut* c)
                         changed = 1;
                     }
                     int kn = b->level - ds;
-                    if (error && b->level < n && kn < a->level) {
+                    if (error && kn < a->level) {
                         int nb[4] = {TP_NO_NEIGHBOR, TP_NO_NEIGHBOR, TP_NO_NEIGHBOR,
                                      TP_NO_NEIGHBOR};
                         nb[side] = kn;
@@ -162,8 +163,13 @@ void tp__cut_constrain(tp_cut* c)
                         double geo = tp_node_error_bound(m, n, a->level, nb, c->step, c->err_unit);
                         double d = (geo + c->quant) * c->zscale;
                         if (geo > 0 && tp__projected_px(&a->pb, c->v.fwd[2], d) > c->lp.tau_px) {
-                            b->level++;
-                            changed = 1;
+                            /* Finer B, or at level n (so larger than A) its children. */
+                            if (b->level < n) {
+                                b->level++;
+                                changed = 1;
+                            } else if (split(c, j)) {
+                                changed = 1;
+                            }
                         }
                     }
                 } else if (la > lb && ds > 0) {
