@@ -120,7 +120,7 @@ static int collapse(tp_cut* c, int i, int s)
         return 0;
     remove_below(c, j);
     c->rec[j].frozen = 1;
-    c->rec[j].substituted = 1;
+    c->rec[j].substituted = 0; /* its own children may be resident: B's are not */
     tp__cut_settle(c, j); /* drawn at n: it wants refining, or is culled */
     c->rec[j].level = (int8_t)c->n;
     return 1;
