@@ -422,26 +422,48 @@ TEST(watertight_for_adversarial_cuts)
         }
     }
     {
-        /* A leaf (scale 0) in the corner next to a scale-5 node: collapse or split. */
+        /* A leaf (scale 0) next to a scale-5 node at level 0: split, or collapse. */
         size_t count = 0;
         int64_t big = tp_tree_node_id(g, 5, 1, 0);
         nodes[count] = big, levels[count++] = 0;
         nodes[count] = tp_tree_node_id(g, 5, 0, 1), levels[count++] = 0;
         nodes[count] = tp_tree_node_id(g, 5, 1, 1), levels[count++] = 0;
         int64_t q = tp_tree_node_id(g, 5, 0, 0);
-        for (int s = 5; s > 0; s--) {
-            for (int k = 1; k < 4; k++)
-                nodes[count] = tp_tree_node_child(g, q, k), levels[count++] = 0;
-            q = tp_tree_node_child(g, q, 0);
+        for (int s = 5; s > 0; s--) { /* down to the leaf in the top-right corner */
+            for (int k = 0; k < 4; k++)
+                if (k != 1)
+                    nodes[count] = tp_tree_node_child(g, q, k), levels[count++] = 0;
+            q = tp_tree_node_child(g, q, 1);
         }
         nodes[count] = q, levels[count++] = g->n;
-        ASSERT_OK(tp_cut_set_nodes(cut, nodes, levels, count, NULL));
-        EXPECT_EQ_INT(0, check_watertight(t, cut, covered));
-        size_t gaps = 0;
-        for (int y = 0; y < 1025; y++)
-            for (int x = 0; x < 1025; x++)
-                gaps += !covered[(size_t)y * g->width + x];
-        EXPECT_EQ_INT(0, (int)gaps);
+        for (int resident = 1; resident >= 0; resident--) {
+            /* Without the big node's children the leaf's ancestor of scale 5 - n is drawn. */
+            const uint16_t* kept[4];
+            for (int k = 0; k < 4; k++) {
+                int64_t ch = tp_tree_node_child(g, big, k);
+                kept[k] = tp_tree_samples(t, ch);
+                if (!resident)
+                    tp_tree_detach(t, ch);
+            }
+            ASSERT_OK(tp_cut_set_nodes(cut, nodes, levels, count, NULL));
+            EXPECT_EQ_INT(0, check_watertight(t, cut, covered));
+            size_t gaps = 0;
+            for (int y = 0; y < 1025; y++)
+                for (int x = 0; x < 1025; x++)
+                    gaps += !covered[(size_t)y * g->width + x];
+            EXPECT_EQ_INT(0, (int)gaps);
+            size_t drawn;
+            const tp_cut_node* out = tp_cut_nodes(cut, &drawn);
+            int has_big = 0, has_collapsed = 0;
+            for (size_t i = 0; i < drawn; i++) {
+                has_big |= out[i].node == big;
+                has_collapsed |= out[i].node == tp_tree_node_id(g, 5 - g->n, (32 >> (5 - g->n)) - 1, 0);
+            }
+            EXPECT_EQ_INT(!resident, has_big);
+            EXPECT_EQ_INT(!resident, has_collapsed);
+            for (int k = 0; k < 4; k++)
+                tp_tree_attach(t, tp_tree_node_child(g, big, k), kept[k]);
+        }
     }
     free(covered);
     free(nodes);

@@ -10,7 +10,6 @@
  */
 #include "internal.h"
 
-#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -422,17 +421,6 @@ static tp_status finish(tp_cut* c, tp_error* err)
         if (c->have_view && c->lp.mode == TP_LOD_ERROR)
             r->bound_px = (float)bound_px(c, (int)i, r->level, nb);
         o->bound_px = r->bound_px;
-        if (getenv("TP_CUT_DEBUG") && r->bound_px > c->lp.tau_px) {
-            fprintf(stderr, "DBG node %lld s %d level %d nb %d %d %d %d bound %g (own %g)\n",
-                    (long long)r->node, r->s, r->level, nb[0], nb[1], nb[2], nb[3], r->bound_px,
-                    bound_px(c, (int)i, r->level, no_nb));
-            for (int sd = 0; sd < 4; sd++) {
-                int j = tp__cut_neighbor(c, (int)i, sd);
-                if (j >= 0)
-                    fprintf(stderr, "   side %d: node %lld s %d level %d\n", sd,
-                            (long long)c->rec[j].node, c->rec[j].s, c->rec[j].level);
-            }
-        }
     }
     qsort(c->req, c->req_count, sizeof *c->req, req_cmp);
     for (size_t i = 0; i < c->req_count; i++)
