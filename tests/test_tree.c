@@ -370,6 +370,65 @@ TEST(bounds_hold_with_padding_and_voids_n5)
     free(src);
 }
 
+TEST(bounds_hold_on_spiky_synthetic_terrain)
+{
+    /* integer heights on a smooth base with sharp spikes and pits (10% of the samples): the
+     * stitched triangles' edges cross cells next to spikes outside them */
+    int w = 129, h = 129;
+    float* src = (float*)malloc(sizeof(float) * w * h);
+    ASSERT_TRUE(src != NULL);
+    tp_rng rng = tp_rng_seed(77);
+    for (int y = 0; y < h; y++)
+        for (int x = 0; x < w; x++) {
+            double z = 1000 + 200 * sin(x / 20.0) * cos(y / 17.0);
+            if (tp_rng_int(&rng, 0, 9) == 0)
+                z += tp_rng_range(&rng, -300, 300);
+            src[(size_t)y * w + x] = (float)floor(z);
+        }
+    check_bounds(src, w, h, 17, 4);
+    free(src);
+}
+
+TEST(stitched_bound_covers_samples_between_node_samples)
+{
+    /* The full resolution IS the scale-1 node's surface S_n (every odd sample interpolated
+     * from the even ones along the strips' diagonal), so the children's errors at level n-1
+     * are 0: the carry adds nothing. A stitched triangle of the node at level n still has
+     * errors at odd samples, where its moved edge crosses S_n's cells: the bound must come from
+     * the cells it touches, not from the node's samples inside it (measuring those alone, this
+     * test fails). */
+    int w = 33, h = 33, cw = 17;
+    float* src = (float*)malloc(sizeof(float) * w * h);
+    int* coarse = (int*)malloc(sizeof(int) * cw * cw);
+    ASSERT_TRUE(src && coarse);
+    tp_rng rng = tp_rng_seed(5);
+    /* even values (midpoints are integers); a plane on the border ring, so that the node's
+     * own samples inside its stitched triangles (on the border) have no error at all */
+    for (int j = 0; j < cw; j++)
+        for (int i = 0; i < cw; i++)
+            coarse[j * cw + i] = i == 0 || j == 0 || i == cw - 1 || j == cw - 1
+                                     ? 2 * (100 + 3 * i + 5 * j)
+                                     : 2 * tp_rng_int(&rng, 0, 400);
+#define C(i, j) coarse[(j) * cw + (i)]
+    for (int y = 0; y < h; y++)
+        for (int x = 0; x < w; x++) {
+            int i = x / 2, j = y / 2, z;
+            if (x % 2 == 0 && y % 2 == 0)
+                z = C(i, j);
+            else if (y % 2 == 0)
+                z = (C(i, j) + C(i + 1, j)) / 2;
+            else if (x % 2 == 0)
+                z = (C(i, j) + C(i, j + 1)) / 2;
+            else
+                z = (C(i + 1, j) + C(i, j + 1)) / 2; /* on the diagonal (c+1, r)-(c, r+1) */
+            src[(size_t)y * w + x] = (float)z;
+        }
+#undef C
+    check_bounds(src, w, h, 17, 60);
+    free(coarse);
+    free(src);
+}
+
 /* ---------------------------------------------------------------------------------------------
  * Leaves are patches
  */
@@ -877,6 +936,8 @@ TEST(tree_create_checks_its_desc)
     X(geometry_rejects_bad_sizes)                                                                  \
     X(bounds_hold_against_full_resolution_n4)                                                      \
     X(bounds_hold_with_padding_and_voids_n5)                                                       \
+    X(bounds_hold_on_spiky_synthetic_terrain)                                                      \
+    X(stitched_bound_covers_samples_between_node_samples)                                          \
     X(leaf_metas_equal_patch_tables)                                                               \
     X(builder_emits_children_first_each_node_once)                                                 \
     X(builder_refuses_bands_out_of_order)                                                          \
