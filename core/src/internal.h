@@ -318,10 +318,6 @@ struct tp_cut {
     int oom;
 };
 
-/* The description the tree was created with (tree.c; the cut needs its step, errors and
- * geotransform). */
-const tp_tree_desc* tp__tree_desc(const tp_tree* t);
-
 /* Record of node, or -1 when it was not visited this update (tree_select.c). */
 int tp__cut_find(const tp_cut* c, int64_t node);
 /* Adds a record for node (state 0) and returns its index, or -1 (c->oom set) without memory. */

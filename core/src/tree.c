@@ -186,12 +186,6 @@ void tp__tree_own(tp_tree* t, tp_node_meta* metas, uint16_t* samples)
     t->owned_samples = samples;
 }
 
-const tp_tree_desc* tp__tree_desc(const tp_tree* t)
-{
-    assert(t);
-    return &t->desc;
-}
-
 const tp_tree_geometry* tp_tree_get_geometry(const tp_tree* t)
 {
     assert(t);

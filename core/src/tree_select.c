@@ -322,8 +322,8 @@ void tp__cut_settle(tp_cut* c, int i)
 tp_status tp_cut_create(const tp_tree* t, tp_cut** out, tp_error* err)
 {
     assert(t && out);
-    const tp_tree_desc* d = tp__tree_desc(t);
-    tp_allocator a = d->allocator;
+    const tp_tree_desc* d = &t->desc;
+    tp_allocator a = t->alloc;
     tp_cut* c = tp__calloc(&a, 1, sizeof *c);
     if (!c)
         return tp__fail(err, TP_ERR_OUT_OF_MEMORY, "cut: out of memory");
