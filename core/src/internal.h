@@ -280,6 +280,7 @@ typedef struct tp__cut_rec {
     int8_t s, level, state;
     uint8_t substituted; /* drawn in place of children that are not resident */
     uint8_t frozen;      /* collapsed onto by the stitching pass: never split again */
+    uint8_t queued;      /* in the stitching pass's work list */
     float bound_px;
     int32_t out;         /* index in the output (tp_cut_nodes) when drawn */
     tp__proj_bound pb;   /* error mode, visible nodes: of the node's area box */
@@ -314,10 +315,15 @@ struct tp_cut {
     int have_view; /* 0 for a cut installed by tp_cut_set_nodes */
     tp__view v;
     tp_frustum f;
+    int32_t* work;       /* the stitching pass's work list */
+    size_t work_count, work_cap;
     int visited, unresolved;
     int oom;
 };
 
+/* Grows the array *p of *cap elements of size bytes to at least need (doubling); 0, c->oom
+ * set, without memory. */
+int tp__cut_grow(tp_cut* c, void** p, size_t* cap, size_t need, size_t size);
 /* Record of node, or -1 when it was not visited this update (tree_select.c). */
 int tp__cut_find(const tp_cut* c, int64_t node);
 /* Adds a record for node (state 0) and returns its index, or -1 (c->oom set) without memory. */

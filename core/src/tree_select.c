@@ -17,7 +17,7 @@ static const int no_nb[4] = {TP_NO_NEIGHBOR, TP_NO_NEIGHBOR, TP_NO_NEIGHBOR, TP_
 
 /* ---- growing arrays and the node hash ---- */
 
-static int grow(tp_cut* c, void** p, size_t* cap, size_t need, size_t size)
+int tp__cut_grow(tp_cut* c, void** p, size_t* cap, size_t need, size_t size)
 {
     if (need <= *cap)
         return 1;
@@ -112,7 +112,7 @@ int tp__cut_find(const tp_cut* c, int64_t node)
 
 int tp__cut_add(tp_cut* c, int64_t node)
 {
-    if (!grow(c, (void**)&c->rec, &c->rec_cap, c->rec_count + 1, sizeof *c->rec))
+    if (!tp__cut_grow(c, (void**)&c->rec, &c->rec_cap, c->rec_count + 1, sizeof *c->rec))
         return -1;
     int i = (int)c->rec_count;
     if (!hash_put(c, node, i))
@@ -132,7 +132,7 @@ void tp__cut_request(tp_cut* c, int64_t node, double prio)
 {
     if (hash_get(c, node) != -1) /* visited or already requested */
         return;
-    if (!grow(c, (void**)&c->req, &c->req_cap, c->req_count + 1, sizeof *c->req) ||
+    if (!tp__cut_grow(c, (void**)&c->req, &c->req_cap, c->req_count + 1, sizeof *c->req) ||
         !hash_put(c, node, -2))
         return;
     c->req[c->req_count++] = (tp__cut_req){node, prio};
@@ -360,6 +360,7 @@ void tp_cut_destroy(tp_cut* c)
     tp__free(a, c->out);
     tp__free(a, c->req);
     tp__free(a, c->req_ids);
+    tp__free(a, c->work);
     tp__free(a, c);
 }
 
@@ -396,8 +397,8 @@ static tp_status finish(tp_cut* c, tp_error* err)
     size_t drawn = 0;
     for (size_t i = 0; i < c->rec_count; i++)
         drawn += c->rec[i].state == TP__CUT_DRAWN;
-    if (c->oom || !grow(c, (void**)&c->out, &c->out_cap, drawn, sizeof *c->out) ||
-        !grow(c, (void**)&c->req_ids, &c->req_ids_cap, c->req_count, sizeof *c->req_ids)) {
+    if (c->oom || !tp__cut_grow(c, (void**)&c->out, &c->out_cap, drawn, sizeof *c->out) ||
+        !tp__cut_grow(c, (void**)&c->req_ids, &c->req_ids_cap, c->req_count, sizeof *c->req_ids)) {
         c->rec_count = c->out_count = c->req_count = 0;
         return tp__fail(err, TP_ERR_OUT_OF_MEMORY, "cut: out of memory after %d nodes",
                         c->visited);
@@ -412,6 +413,10 @@ static tp_status finish(tp_cut* c, tp_error* err)
         tp_cut_node* o = &c->out[c->out_count++];
         int nb[4];
         tp__cut_nb(c, (int)i, nb);
+        for (int sd = 0; sd < 4; sd++) {
+            int j = tp__cut_neighbor(c, (int)i, sd);
+            c->unresolved += j >= 0 && c->rec[j].s - r->s > c->n;
+        }
         o->node = r->node;
         o->level = r->level;
         for (int s = 0; s < 4; s++)
