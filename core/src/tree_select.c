@@ -381,12 +381,37 @@ static void begin(tp_cut* c)
     c->oom = 0;
 }
 
-static int req_cmp(const void* a, const void* b)
+/* Whether request a goes before b: higher priority first, then lower id. */
+static int req_before(const tp__cut_req* a, const tp__cut_req* b)
 {
-    const tp__cut_req *x = a, *y = b;
-    if (x->prio != y->prio)
-        return x->prio > y->prio ? -1 : 1;
-    return x->node < y->node ? -1 : x->node > y->node;
+    return a->prio > b->prio || (a->prio == b->prio && a->node < b->node);
+}
+
+/* Heap sort of the requests, most urgent first (qsort may allocate). */
+static void sort_requests(tp__cut_req* r, size_t count)
+{
+    for (size_t end = count, start = count / 2;;) {
+        size_t root;
+        if (start > 0)
+            root = --start;
+        else if (end > 1) {
+            tp__cut_req tmp = r[0];
+            r[0] = r[--end];
+            r[end] = tmp;
+            root = 0;
+        } else
+            return;
+        /* The top of the heap is the least urgent: it goes to the end. */
+        for (size_t child; (child = 2 * root + 1) < end; root = child) {
+            if (child + 1 < end && req_before(&r[child], &r[child + 1]))
+                child++;
+            if (!req_before(&r[root], &r[child]))
+                break;
+            tp__cut_req tmp = r[root];
+            r[root] = r[child];
+            r[child] = tmp;
+        }
+    }
 }
 
 /* Stitching, then the output arrays. */
@@ -427,7 +452,7 @@ static tp_status finish(tp_cut* c, tp_error* err)
             r->bound_px = (float)bound_px(c, (int)i, r->level, nb);
         o->bound_px = r->bound_px;
     }
-    qsort(c->req, c->req_count, sizeof *c->req, req_cmp);
+    sort_requests(c->req, c->req_count);
     for (size_t i = 0; i < c->req_count; i++)
         c->req_ids[i] = c->req[i].node;
     return TP_OK;
