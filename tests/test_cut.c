@@ -162,8 +162,11 @@ static void mark(int x, int y, double z, void* user)
 /* Checks the drawn cut: shared edges identical from both sides, no fold-over, and every
  * sample of every drawn complete node's area covered. Fills *covered (grid-sized, 0/1) when
  * not NULL. Returns the number of failures (also reported). */
+static size_t last_triangles; /* drawn triangles counted by the last check_watertight */
+
 static int check_watertight(const tp_tree* t, const tp_cut* cut, uint8_t* covered)
 {
+    last_triangles = 0;
     const tp_tree_geometry* g = tp_tree_get_geometry(t);
     size_t count;
     const tp_cut_node* nodes = tp_cut_nodes(cut, &count);
@@ -183,6 +186,7 @@ static int check_watertight(const tp_tree* t, const tp_cut* cut, uint8_t* covere
         int k = nodes[i].level, vs = (1 << k) + 1;
         tp_cut_vertices(cut, i, v, (size_t)vs * vs);
         size_t nt = tp_patch_triangles(v, k, tri, 2 * (size_t)(vs - 1) * (vs - 1));
+        last_triangles += nt;
         ng[i].segs = malloc(3 * nt * sizeof(seg) + 1);
         for (size_t j = 0; j < nt; j++) {
             const tp_vertex* p[3] = {&v[tri[3 * j]], &v[tri[3 * j + 1]], &v[tri[3 * j + 2]]};
@@ -326,6 +330,10 @@ TEST(watertight_for_random_views)
         tp_cut_nodes(cut, &count);
         EXPECT_GT((double)count, 0);
         int f = check_watertight(t, cut, NULL);
+        tp_cut_stats st;
+        tp_cut_get_stats(cut, &st);
+        EXPECT_EQ_INT((int)last_triangles, (int)st.triangles);
+        EXPECT_EQ_INT((int)count, st.drawn);
         if (f)
             fprintf(stderr, "view %d (mode %d, tau %g): %d failures\n", it, (int)lp.mode,
                     lp.tau_px, f);
@@ -558,6 +566,10 @@ TEST(substitution_keeps_the_surface_whole)
         EXPECT_EQ_INT(0, memcmp(full_cov, sub_cov, cells));
         tp_cut_get_stats(cut, &st);
         EXPECT_GT(st.substituted, 0);
+        size_t measured, skipped;
+        ASSERT_OK(tp_cut_measure_screen_error(cut, &cam, NULL, NULL, &measured, &skipped));
+        EXPECT_GT((double)skipped, 0); /* detached leaves cannot be measured */
+        EXPECT_GT((double)measured, 0);
         size_t count, nreq;
         const tp_cut_node* nodes = tp_cut_nodes(cut, &count);
         const int64_t* req = tp_cut_requests(cut, &nreq);
@@ -698,6 +710,20 @@ TEST(cost_does_not_grow_with_the_map)
     free(h);
 }
 
+typedef struct height_probe {
+    const tp_cut* cut;
+    size_t count;
+    double max_diff;
+} height_probe;
+
+static void probe(int x, int y, double z, void* user)
+{
+    height_probe* hp = user;
+    double d = fabs(tp_cut_drawn_height_at(hp->cut, x, y) - z);
+    hp->max_diff = isnan(d) ? INFINITY : fmax(hp->max_diff, d);
+    hp->count++;
+}
+
 TEST(drawn_height_follows_the_triangles)
 {
     LOAD_OR_SKIP(h, 500, 500, 300, 300);
@@ -726,6 +752,26 @@ TEST(drawn_height_follows_the_triangles)
         }
     }
     EXPECT_GT((double)checked, 100);
+    /* Every sample under every drawn triangle: the drawn height is the triangle's. */
+    height_probe hp = {cut, 0, 0};
+    uint32_t tri[2 * 16 * 16 * 3];
+    for (size_t i = 0; i < count; i++) {
+        int k = nodes[i].level;
+        tp_cut_vertices(cut, i, v, 17 * 17);
+        size_t nt = tp_patch_triangles(v, k, tri, 2 * 16 * 16);
+        for (size_t j = 0; j < nt; j++) {
+            const tp_vertex *a = &v[tri[3 * j]], *b = &v[tri[3 * j + 1]], *c = &v[tri[3 * j + 2]];
+            int32_t pa[2] = {a->x, a->y}, pb[2] = {b->x, b->y}, pc[2] = {c->x, c->y};
+            tp_triangle_rasterize(pa, pb, pc, a->z_m, b->z_m, c->z_m, probe, &hp);
+        }
+    }
+    EXPECT_GT((double)hp.count, 10000);
+    int stitched = 0; /* the view has moved vertices: the border strips are searched */
+    for (size_t i = 0; i < count; i++)
+        for (int side = 0; side < 4; side++)
+            stitched += nodes[i].nb[side] >= 0;
+    EXPECT_GT(stitched, 0);
+    EXPECT_LE(hp.max_diff, 1e-3);
     EXPECT_NAN(tp_cut_drawn_height_at(cut, -1, 5));
     tp_cut_destroy(cut);
     tp_tree_destroy(t);
