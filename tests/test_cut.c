@@ -724,6 +724,25 @@ static void probe(int x, int y, double z, void* user)
     hp->count++;
 }
 
+static height_probe probe_cut(const tp_cut* cut)
+{
+    height_probe hp = {cut, 0, 0};
+    size_t count;
+    const tp_cut_node* nodes = tp_cut_nodes(cut, &count);
+    tp_vertex v[17 * 17];
+    uint32_t tri[2 * 16 * 16 * 3];
+    for (size_t i = 0; i < count; i++) {
+        tp_cut_vertices(cut, i, v, 17 * 17);
+        size_t nt = tp_patch_triangles(v, nodes[i].level, tri, 2 * 16 * 16);
+        for (size_t j = 0; j < nt; j++) {
+            const tp_vertex *a = &v[tri[3 * j]], *b = &v[tri[3 * j + 1]], *c = &v[tri[3 * j + 2]];
+            int32_t pa[2] = {a->x, a->y}, pb[2] = {b->x, b->y}, pc[2] = {c->x, c->y};
+            tp_triangle_rasterize(pa, pb, pc, a->z_m, b->z_m, c->z_m, probe, &hp);
+        }
+    }
+    return hp;
+}
+
 TEST(drawn_height_follows_the_triangles)
 {
     LOAD_OR_SKIP(h, 500, 500, 300, 300);
@@ -753,26 +772,36 @@ TEST(drawn_height_follows_the_triangles)
     }
     EXPECT_GT((double)checked, 100);
     /* Every sample under every drawn triangle: the drawn height is the triangle's. */
-    height_probe hp = {cut, 0, 0};
-    uint32_t tri[2 * 16 * 16 * 3];
-    for (size_t i = 0; i < count; i++) {
-        int k = nodes[i].level;
-        tp_cut_vertices(cut, i, v, 17 * 17);
-        size_t nt = tp_patch_triangles(v, k, tri, 2 * 16 * 16);
-        for (size_t j = 0; j < nt; j++) {
-            const tp_vertex *a = &v[tri[3 * j]], *b = &v[tri[3 * j + 1]], *c = &v[tri[3 * j + 2]];
-            int32_t pa[2] = {a->x, a->y}, pb[2] = {b->x, b->y}, pc[2] = {c->x, c->y};
-            tp_triangle_rasterize(pa, pb, pc, a->z_m, b->z_m, c->z_m, probe, &hp);
-        }
-    }
+    height_probe hp = probe_cut(cut);
     EXPECT_GT((double)hp.count, 10000);
+    EXPECT_LE(hp.max_diff, 1e-3);
     int stitched = 0; /* the view has moved vertices: the border strips are searched */
     for (size_t i = 0; i < count; i++)
         for (int side = 0; side < 4; side++)
             stitched += nodes[i].nb[side] >= 0;
     EXPECT_GT(stitched, 0);
     EXPECT_LE(hp.max_diff, 1e-3);
+    /* A leaf at level n between neighbours at level 0 (vertices moved by up to 8 cells) and
+     * a node of scale 1 at level 1 below it. */
+    const tp_tree_geometry* g = tp_tree_get_geometry(t);
+    int64_t hand[5] = {tp_tree_node_id(g, 0, 1, 1), tp_tree_node_id(g, 0, 0, 1),
+                       tp_tree_node_id(g, 0, 2, 1), tp_tree_node_id(g, 0, 1, 0),
+                       tp_tree_node_id(g, 1, 0, 1)};
+    int hand_levels[5] = {g->n, 0, 0, 0, 1};
+    ASSERT_OK(tp_cut_set_nodes(cut, hand, hand_levels, 4, NULL));
+    hp = probe_cut(cut);
+    EXPECT_GT((double)hp.count, 300);
+    EXPECT_LE(hp.max_diff, 1e-3);
+    hand[0] = tp_tree_node_id(g, 0, 1, 0), hand[1] = tp_tree_node_id(g, 0, 0, 0);
+    hand[2] = tp_tree_node_id(g, 0, 2, 0), hand[3] = tp_tree_node_id(g, 0, 3, 0);
+    hand[4] = tp_tree_node_id(g, 1, 0, 1);
+    int hl2[5] = {g->n, 0, 0, 2, 0};
+    ASSERT_OK(tp_cut_set_nodes(cut, hand, hl2, 5, NULL));
+    hp = probe_cut(cut);
+    EXPECT_GT((double)hp.count, 300);
+    EXPECT_LE(hp.max_diff, 1e-3);
     EXPECT_NAN(tp_cut_drawn_height_at(cut, -1, 5));
+    EXPECT_NAN(tp_cut_drawn_height_at(cut, 100, 100)); /* not in the hand-made cut */
     tp_cut_destroy(cut);
     tp_tree_destroy(t);
     free(h);
