@@ -807,6 +807,42 @@ TEST(drawn_height_follows_the_triangles)
     free(h);
 }
 
+TEST(tiny_grids)
+{
+    /* 1x1 (one sample: nothing to draw), 2x2, 18x17 (two leaf roots), 49x40 (padded forest). */
+    const int sizes[][2] = {{1, 1}, {2, 2}, {18, 17}, {49, 40}};
+    for (int i = 0; i < 4; i++) {
+        int w = sizes[i][0], hh = sizes[i][1];
+        LOAD_OR_SKIP(h, 400, 400, w, hh);
+        tp_tree* t = make_tree(h, w, hh, 17);
+        tp_cut* cut;
+        ASSERT_OK(tp_cut_create(t, &cut, NULL));
+        tp_camera cam;
+        camera_at(t, 0, 0, 300, 135, -45, &cam);
+        for (int m = 0; m < 3; m++) {
+            tp_lod_params lp = {.mode = m == 0 ? TP_LOD_ERROR : m == 1 ? TP_LOD_DISTANCE : TP_LOD_FULL};
+            ASSERT_OK(tp_cut_update(cut, &cam, &lp, NULL));
+            size_t count;
+            const tp_cut_node* nodes = tp_cut_nodes(cut, &count);
+            EXPECT_EQ_INT(0, check_watertight(t, cut, NULL));
+            for (size_t k = 0; k < count; k++)
+                if (!(tp_tree_meta(t, nodes[k].node)->flags & TP_NODE_COMPLETE))
+                    EXPECT_EQ_INT(tp_tree_get_geometry(t)->n, nodes[k].level);
+            if (w == 1)
+                EXPECT_EQ_INT(0, (int)last_triangles);
+            else
+                EXPECT_GT((double)last_triangles, 0);
+            double mx = -1;
+            ASSERT_OK(tp_cut_measure_screen_error(cut, &cam, &mx, NULL, NULL, NULL));
+            if (m == 2)
+                EXPECT_EQ_DBL(0, mx); /* leaves at level n draw the samples themselves */
+        }
+        tp_cut_destroy(cut);
+        tp_tree_destroy(t);
+        free(h);
+    }
+}
+
 TEST(rejects_max_error_mode)
 {
     LOAD_OR_SKIP(h, 0, 0, 65, 65);
@@ -833,5 +869,6 @@ TEST(rejects_max_error_mode)
     X(substitution_keeps_the_surface_whole)                                                        \
     X(cost_does_not_grow_with_the_map)                                                             \
     X(drawn_height_follows_the_triangles)                                                          \
+    X(tiny_grids)                                                                                  \
     X(rejects_max_error_mode)
 TP_TEST_MAIN(TESTS)
