@@ -286,6 +286,12 @@ typedef struct tp__cut_rec {
     tp__proj_bound pb;   /* error mode, visible nodes: of the node's area box */
 } tp__cut_rec;
 
+typedef struct tp__cut_slot {
+    int64_t key;  /* node id */
+    int32_t val;  /* record index; -2: requested, not visited */
+    uint32_t gen; /* the update that wrote it; other generations are empty slots */
+} tp__cut_slot;
+
 typedef struct tp__cut_req {
     int64_t node;
     double prio;
@@ -300,9 +306,7 @@ struct tp_cut {
     int64_t* roots;
     tp__cut_rec* rec;
     size_t rec_count, rec_cap;
-    int64_t* hkey;
-    int32_t* hval; /* record index; -2: requested, not visited */
-    uint32_t* hgen;
+    tp__cut_slot* hash;
     size_t hcap, hused;
     uint32_t gen;
     tp_cut_node* out;
@@ -344,7 +348,9 @@ void tp__cut_constrain(tp_cut* c);
 /* The drawn neighbour on a side of drawn record i, of equal or larger scale; -1 if none
  * (border, culled, or smaller nodes there) (tree_stitch.c). */
 int tp__cut_neighbor(const tp_cut* c, int i, int side);
-/* Relative neighbour levels of drawn record i (tree_stitch.c). */
-void tp__cut_nb(const tp_cut* c, int i, int nb[4]);
+/* Relative neighbour levels of drawn record i; returns the number of its sides left with a
+ * crack (a neighbour more than n scales larger that could be neither split nor collapsed
+ * against) (tree_stitch.c). */
+int tp__cut_nb(const tp_cut* c, int i, int nb[4]);
 
 #endif

@@ -39,8 +39,13 @@ int tp__cut_grow(tp_cut* c, void** p, size_t* cap, size_t need, size_t size)
 
 static size_t hash_slot(int64_t key, size_t cap)
 {
-    uint64_t h = (uint64_t)key * 0x9E3779B97F4A7C15ull;
-    return (size_t)(h >> 17) & (cap - 1);
+    uint64_t h = (uint64_t)key; /* MurmurHash3's finaliser: node ids are dense */
+    h ^= h >> 33;
+    h *= 0xff51afd7ed558ccdull;
+    h ^= h >> 33;
+    h *= 0xc4ceb9fe1a85ec53ull;
+    h ^= h >> 33;
+    return (size_t)h & (cap - 1);
 }
 
 static int hash_put(tp_cut* c, int64_t key, int32_t val);
@@ -48,27 +53,18 @@ static int hash_put(tp_cut* c, int64_t key, int32_t val);
 static int hash_grow(tp_cut* c)
 {
     size_t ncap = c->hcap ? c->hcap * 2 : 1024;
-    int64_t* k = tp__alloc(&c->alloc, ncap, sizeof *k);
-    int32_t* v = tp__alloc(&c->alloc, ncap, sizeof *v);
-    uint32_t* g = tp__calloc(&c->alloc, ncap, sizeof *g);
-    if (!k || !v || !g) {
-        tp__free(&c->alloc, k);
-        tp__free(&c->alloc, v);
-        tp__free(&c->alloc, g);
+    tp__cut_slot* h = tp__calloc(&c->alloc, ncap, sizeof *h);
+    if (!h) {
         c->oom = 1;
         return 0;
     }
-    int64_t* ok = c->hkey;
-    int32_t* ov = c->hval;
-    uint32_t* og = c->hgen;
+    tp__cut_slot* old = c->hash;
     size_t ocap = c->hcap;
-    c->hkey = k, c->hval = v, c->hgen = g, c->hcap = ncap, c->hused = 0;
+    c->hash = h, c->hcap = ncap, c->hused = 0;
     for (size_t i = 0; i < ocap; i++)
-        if (og[i] == c->gen)
-            hash_put(c, ok[i], ov[i]);
-    tp__free(&c->alloc, ok);
-    tp__free(&c->alloc, ov);
-    tp__free(&c->alloc, og);
+        if (old[i].gen == c->gen)
+            hash_put(c, old[i].key, old[i].val);
+    tp__free(&c->alloc, old);
     return 1;
 }
 
@@ -78,15 +74,14 @@ static int hash_put(tp_cut* c, int64_t key, int32_t val)
     if (2 * (c->hused + 1) > c->hcap && !hash_grow(c))
         return 0;
     for (size_t i = hash_slot(key, c->hcap);; i = (i + 1) & (c->hcap - 1)) {
-        if (c->hgen[i] != c->gen) {
-            c->hgen[i] = c->gen;
-            c->hkey[i] = key;
-            c->hval[i] = val;
+        tp__cut_slot* sl = &c->hash[i];
+        if (sl->gen != c->gen) {
+            *sl = (tp__cut_slot){key, val, c->gen};
             c->hused++;
             return 1;
         }
-        if (c->hkey[i] == key) {
-            c->hval[i] = val;
+        if (sl->key == key) {
+            sl->val = val;
             return 1;
         }
     }
@@ -97,10 +92,11 @@ static int32_t hash_get(const tp_cut* c, int64_t key)
     if (!c->hcap)
         return -1;
     for (size_t i = hash_slot(key, c->hcap);; i = (i + 1) & (c->hcap - 1)) {
-        if (c->hgen[i] != c->gen)
+        const tp__cut_slot* sl = &c->hash[i];
+        if (sl->gen != c->gen)
             return -1;
-        if (c->hkey[i] == key)
-            return c->hval[i];
+        if (sl->key == key)
+            return sl->val;
     }
 }
 
@@ -354,9 +350,7 @@ void tp_cut_destroy(tp_cut* c)
     const tp_allocator* a = &c->alloc;
     tp__free(a, c->roots);
     tp__free(a, c->rec);
-    tp__free(a, c->hkey);
-    tp__free(a, c->hval);
-    tp__free(a, c->hgen);
+    tp__free(a, c->hash);
     tp__free(a, c->out);
     tp__free(a, c->req);
     tp__free(a, c->req_ids);
@@ -369,7 +363,7 @@ static void begin(tp_cut* c)
     c->gen++;
     if (c->gen == 0) { /* wrapped: every slot would look current */
         if (c->hcap)
-            memset(c->hgen, 0, c->hcap * sizeof *c->hgen);
+            memset(c->hash, 0, c->hcap * sizeof *c->hash);
         c->gen = 1;
     }
     c->hused = 0;
@@ -437,11 +431,7 @@ static tp_status finish(tp_cut* c, tp_error* err)
         r->out = (int32_t)c->out_count;
         tp_cut_node* o = &c->out[c->out_count++];
         int nb[4];
-        tp__cut_nb(c, (int)i, nb);
-        for (int sd = 0; sd < 4; sd++) {
-            int j = tp__cut_neighbor(c, (int)i, sd);
-            c->unresolved += j >= 0 && c->rec[j].s - r->s > c->n;
-        }
+        c->unresolved += tp__cut_nb(c, (int)i, nb);
         o->node = r->node;
         o->level = r->level;
         for (int s = 0; s < 4; s++)

@@ -51,19 +51,22 @@ static int stride_log(const tp__cut_rec* r, int n)
     return r->s + n - r->level;
 }
 
-void tp__cut_nb(const tp_cut* c, int i, int nb[4])
+int tp__cut_nb(const tp_cut* c, int i, int nb[4])
 {
     const tp__cut_rec* a = &c->rec[i];
+    int cracks = 0;
     for (int side = 0; side < 4; side++) {
         nb[side] = TP_NO_NEIGHBOR;
         int j = tp__cut_neighbor(c, i, side);
         if (j < 0)
             continue;
         const tp__cut_rec* b = &c->rec[j];
+        cracks += b->s - a->s > c->n;
         int kn = b->level - (b->s - a->s);
         if (stride_log(b, c->n) > stride_log(a, c->n) && kn >= 0)
             nb[side] = kn;
     }
+    return cracks;
 }
 
 /* Queues drawn record i for (re)checking. */
