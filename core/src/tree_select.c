@@ -471,8 +471,8 @@ tp_status tp_cut_update(tp_cut* c, const tp_camera* cam, const tp_lod_params* pa
     c->have_view = 1;
     tp__view_from_camera(cam, &c->v);
     tp_frustum_from_camera(cam, &c->f);
-    /* Depth first from each root; the children of a refined node are pushed onto the record
-     * array itself, so the "stack" is the records not yet classified. */
+    /* Breadth first from each root: the children of a refined node are appended to the
+     * records, so the queue is the records not yet classified. */
     for (int64_t ri = 0; ri < c->g.root_count && !c->oom; ri++) {
         int64_t root = c->roots[ri];
         if (!tp_tree_samples(c->t, root)) {
