@@ -377,14 +377,37 @@ TEST(watertight_for_adversarial_cuts)
     int64_t roots[64];
     tp_tree_roots(g, roots, 64);
     uint8_t* covered = malloc((size_t)g->width * g->height);
-    for (int it = 0; it < 60; it++) {
+    uint8_t* keep = malloc((size_t)g->node_count);
+    const uint16_t** saved = calloc((size_t)g->node_count, sizeof *saved);
+    int collapses = 0;
+    for (int it = 0; it < 80; it++) {
         size_t count = 0;
         for (int64_t ri = 0; ri < g->root_count; ri++)
             random_cut(g, roots[ri], 0.95, nodes, levels, &count);
+        if (it % 2) {
+            /* Detach a third of the nodes neither drawn nor above a drawn one, so that splits
+             * fail and the stitching pass collapses instead (onto resident ancestors). */
+            memset(keep, 0, (size_t)g->node_count);
+            for (size_t i = 0; i < count; i++)
+                for (int64_t p = tp_tree_node_parent(g, nodes[i]); p >= 0;
+                     p = tp_tree_node_parent(g, p))
+                    keep[p] = 1; /* above a drawn node */
+            for (size_t i = 0; i < count; i++)
+                keep[nodes[i]] = 2;
+            for (int64_t id = 0; id < g->node_count; id++)
+                if (!keep[id] && rnd() < 0.33) {
+                    saved[id] = tp_tree_samples(t, id);
+                    tp_tree_detach(t, id);
+                }
+        }
         ASSERT_OK(tp_cut_set_nodes(cut, nodes, levels, count, NULL));
         size_t drawn;
         const tp_cut_node* out = tp_cut_nodes(cut, &drawn);
         ASSERT_GT((double)drawn, 0);
+        for (size_t i = 0; it % 2 && i < drawn; i++) {
+            collapses += keep[out[i].node] == 1; /* drawn above installed nodes */
+            EXPECT_TRUE(tp_tree_samples(t, out[i].node) != NULL);
+        }
         /* Levels only go up. */
         for (size_t i = 0; i < drawn; i++)
             for (size_t j = 0; j < count; j++)
@@ -398,7 +421,16 @@ TEST(watertight_for_adversarial_cuts)
             for (int x = 0; x < 1025; x++)
                 gaps += !covered[(size_t)y * g->width + x];
         EXPECT_EQ_INT(0, (int)gaps);
+        for (int64_t id = 0; id < g->node_count; id++)
+            if (saved[id]) {
+                tp_tree_attach(t, id, saved[id]);
+                saved[id] = NULL;
+            }
     }
+    printf("random cuts: %d nodes collapsed onto\n", collapses);
+    EXPECT_GT(collapses, 0);
+    free(keep);
+    free(saved);
     /* Every configuration of one node of scale 1 against its 4 neighbours: each neighbour
      * region drawn as one node of scale 1 at level 0 or n, or as scale-0 nodes, plus a
      * scale-5 neighbour next to a leaf (n + 1 apart). */
