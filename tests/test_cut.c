@@ -90,8 +90,8 @@ static void grid_to_world(double x, double y, double* e, double* n)
 }
 
 /* A camera above grid point (x, y) of the tree, `above` metres over the surface. */
-static void camera_at(const tp_tree* t, double x, double y, double above, double yaw,
-                      double pitch, tp_camera* cam)
+static void camera_at(const tp_tree* t, double x, double y, double above, double yaw, double pitch,
+                      tp_camera* cam)
 {
     double z = tp_tree_sample(t, (int)x, (int)y);
     for (int r = 1; isnan(z) && r < 64; r++) /* over a void: the nearest height along the row */
@@ -196,8 +196,7 @@ static int check_watertight(const tp_tree* t, const tp_cut* cut, uint8_t* covere
             if (!sign)
                 sign = sg;
             if (sg != sign && failures++ < 5)
-                fprintf(stderr, "fold-over: node %lld triangle %zu\n",
-                        (long long)nodes[i].node, j);
+                fprintf(stderr, "fold-over: node %lld triangle %zu\n", (long long)nodes[i].node, j);
             int32_t pa[2] = {p[0]->x, p[0]->y}, pb[2] = {p[1]->x, p[1]->y},
                     pc[2] = {p[2]->x, p[2]->y};
             tp_triangle_rasterize(pa, pb, pc, 0, 0, 0, mark, &cov);
@@ -268,8 +267,8 @@ static int check_watertight(const tp_tree* t, const tp_cut* cut, uint8_t* covere
                         int found = 0, overlaps = 0;
                         for (size_t l = 0; l < ny; l++) {
                             found |= seg_match(&x[k], &y[l]);
-                            overlaps |= x[k].a[along] < y[l].b[along] &&
-                                        y[l].a[along] < x[k].b[along];
+                            overlaps |=
+                                x[k].a[along] < y[l].b[along] && y[l].a[along] < x[k].b[along];
                         }
                         same = found || !overlaps;
                     }
@@ -335,8 +334,8 @@ TEST(watertight_for_random_views)
         EXPECT_EQ_INT((int)last_triangles, (int)st.triangles);
         EXPECT_EQ_INT((int)count, st.drawn);
         if (f)
-            fprintf(stderr, "view %d (mode %d, tau %g): %d failures\n", it, (int)lp.mode,
-                    lp.tau_px, f);
+            fprintf(stderr, "view %d (mode %d, tau %g): %d failures\n", it, (int)lp.mode, lp.tau_px,
+                    f);
         EXPECT_EQ_INT(0, f);
     }
     tp_cut_destroy(cut);
@@ -497,7 +496,8 @@ TEST(watertight_for_adversarial_cuts)
             int has_big = 0, has_collapsed = 0;
             for (size_t i = 0; i < drawn; i++) {
                 has_big |= out[i].node == big;
-                has_collapsed |= out[i].node == tp_tree_node_id(g, 5 - g->n, (32 >> (5 - g->n)) - 1, 0);
+                has_collapsed |=
+                    out[i].node == tp_tree_node_id(g, 5 - g->n, (32 >> (5 - g->n)) - 1, 0);
             }
             EXPECT_EQ_INT(!resident, has_big);
             EXPECT_EQ_INT(!resident, has_collapsed);
@@ -714,8 +714,10 @@ TEST(cost_does_not_grow_with_the_map)
             double ms_b = time_view(cb, &cam_b, &lp, &sb);
             printf("%-14s yaw %3.0f: 1201^2: visited %5d drawn %5d %7.3f ms | 4801^2: visited "
                    "%5d drawn %5d %7.3f ms\n",
-                   m == 0 ? "error far40km" : m == 1 ? "distance" : "error", yaws[i], ss.visited,
-                   ss.drawn, ms_s, sb.visited, sb.drawn, ms_b);
+                   m == 0   ? "error far40km"
+                   : m == 1 ? "distance"
+                            : "error",
+                   yaws[i], ss.visited, ss.drawn, ms_s, sb.visited, sb.drawn, ms_b);
             /* Same terrain in view: the big map adds only the 2 scales of nodes above the
              * small map's root, and their culled children (each level of the descent visits
              * at most a few nodes outside the view before culling stops it). */
@@ -852,7 +854,9 @@ TEST(tiny_grids)
         tp_camera cam;
         camera_at(t, 0, 0, 300, 135, -45, &cam);
         for (int m = 0; m < 3; m++) {
-            tp_lod_params lp = {.mode = m == 0 ? TP_LOD_ERROR : m == 1 ? TP_LOD_DISTANCE : TP_LOD_FULL};
+            tp_lod_params lp = {.mode = m == 0   ? TP_LOD_ERROR
+                                        : m == 1 ? TP_LOD_DISTANCE
+                                                 : TP_LOD_FULL};
             ASSERT_OK(tp_cut_update(cut, &cam, &lp, NULL));
             size_t count;
             const tp_cut_node* nodes = tp_cut_nodes(cut, &count);

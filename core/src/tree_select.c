@@ -208,8 +208,7 @@ static int mode_wants(tp_cut* c, int i, int* level)
     if (!c->have_view) /* an installed cut: nothing to ask */
         return 0;
     switch (c->lp.mode) {
-    case TP_LOD_FULL:
-        return r->s > 0;
+    case TP_LOD_FULL: return r->s > 0;
     case TP_LOD_DISTANCE: {
         double bmin[3], bmax[3];
         tp__cut_box(c, i, 1, bmin, bmax);
@@ -419,8 +418,7 @@ static tp_status finish(tp_cut* c, tp_error* err)
     if (c->oom || !tp__cut_grow(c, (void**)&c->out, &c->out_cap, drawn, sizeof *c->out) ||
         !tp__cut_grow(c, (void**)&c->req_ids, &c->req_ids_cap, c->req_count, sizeof *c->req_ids)) {
         c->rec_count = c->out_count = c->req_count = 0;
-        return tp__fail(err, TP_ERR_OUT_OF_MEMORY, "cut: out of memory after %d nodes",
-                        c->visited);
+        return tp__fail(err, TP_ERR_OUT_OF_MEMORY, "cut: out of memory after %d nodes", c->visited);
     }
     c->out_count = 0;
     for (size_t i = 0; i < c->rec_count; i++) {
@@ -448,8 +446,7 @@ static tp_status finish(tp_cut* c, tp_error* err)
     return TP_OK;
 }
 
-tp_status tp_cut_update(tp_cut* c, const tp_camera* cam, const tp_lod_params* params,
-                        tp_error* err)
+tp_status tp_cut_update(tp_cut* c, const tp_camera* cam, const tp_lod_params* params, tp_error* err)
 {
     assert(c && cam);
     tp_lod_params lp;
@@ -502,8 +499,8 @@ tp_status tp_cut_set_nodes(tp_cut* c, const int64_t* nodes, const int* levels, s
     c->have_view = 0;
     c->lp = (tp_lod_params){0};
     for (size_t i = 0; i < count && !c->oom; i++) {
-        assert(nodes[i] >= 0 && nodes[i] < c->g.node_count && levels[i] >= 0 &&
-               levels[i] <= c->n && tp__cut_find(c, nodes[i]) < 0);
+        assert(nodes[i] >= 0 && nodes[i] < c->g.node_count && levels[i] >= 0 && levels[i] <= c->n &&
+               tp__cut_find(c, nodes[i]) < 0);
         int r = tp__cut_add(c, nodes[i]);
         if (r < 0)
             break;

@@ -218,7 +218,7 @@ static void check(tp_cut* c, int i)
                 push(c, i);
             else
                 collapse(c, i, bs - n); /* else unresolved: counted when the cut is output */
-            continue; /* records may have moved; the state check ends the loop */
+            continue;                   /* records may have moved; the state check ends the loop */
         }
         int la = a->s + n - a->level, lb = b->s + n - b->level;
         if (lb > la) {
@@ -233,8 +233,7 @@ static void check(tp_cut* c, int i)
                 const tp_node_meta* m = tp_tree_meta(c->t, c->rec[i].node);
                 double geo = tp_node_error_bound(m, n, c->rec[i].level, nb, c->step, c->err_unit);
                 double d = (geo + c->quant) * c->zscale;
-                if (geo > 0 &&
-                    tp__projected_px(&c->rec[i].pb, c->v.fwd[2], d) > c->lp.tau_px) {
+                if (geo > 0 && tp__projected_px(&c->rec[i].pb, c->v.fwd[2], d) > c->lp.tau_px) {
                     /* Finer B, or at level n (so larger than A) its children. */
                     if (c->rec[j].level < n) {
                         c->rec[j].level++;
@@ -272,8 +271,8 @@ typedef struct node_view {
     const tp_cut* c;
     const uint16_t* q; /* its samples */
     int32_t qmin;
-    int64_t x0, y0;     /* grid position of sample (0, 0) */
-    int s, k, shift;    /* scale, level, n - k */
+    int64_t x0, y0;  /* grid position of sample (0, 0) */
+    int s, k, shift; /* scale, level, n - k */
     int nb[4];
 } node_view;
 
@@ -334,8 +333,7 @@ void tp_cut_vertices(const tp_cut* c, size_t i, tp_vertex* vertices, size_t vert
 }
 
 /* Triangle h (0, 1) of cell (cx, cy) as drawn: 0 if it is not (undrawn vertex, zero area). */
-static int cell_triangle(const node_view* nv, int cx, int cy, int h, int32_t pos[3][2],
-                         double q[3])
+static int cell_triangle(const node_view* nv, int cx, int cy, int h, int32_t pos[3][2], double q[3])
 {
     static const int tri[2][3][2] = {{{0, 0}, {0, 1}, {1, 0}}, {{1, 0}, {0, 1}, {1, 1}}};
     int ok = 1;
@@ -556,8 +554,8 @@ tp_status tp_cut_measure_screen_error(const tp_cut* c, const tp_camera* cam, dou
                     if (!cell_triangle(&nv, cx, cy, h, pos, q) || q[0] == INT32_MIN ||
                         q[1] == INT32_MIN || q[2] == INT32_MIN)
                         continue;
-                    tp__raster_triangle(pos[0], pos[1], pos[2], q[0], q[1], q[2],
-                                        screen_sample, &m);
+                    tp__raster_triangle(pos[0], pos[1], pos[2], q[0], q[1], q[2], screen_sample,
+                                        &m);
                 }
     }
     if (max_px)
