@@ -594,7 +594,7 @@ tp_status tp_selection_ray_cast(const tp_selection* s, const double origin[3],
  *
  * A node at level k draws the level-k strip over its own samples: vertex stride 2^(n-k+s) grid
  * samples. "Complete" means every full-resolution sample of its AREA is drawn; only complete
- * nodes are drawn at a level below n... (see tp_tree_select).
+ * nodes are drawn at a level below n (see tp_cut_update).
  */
 #define TP_TREE_MAX_SCALES 24
 
