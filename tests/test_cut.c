@@ -841,6 +841,65 @@ TEST(drawn_height_follows_the_triangles)
     free(h);
 }
 
+/* The distance mode as tp_cut_update documents it: log2 of the stride asked for at d. */
+static int asked_stride_log(int n, double d, double mindist, double maxdist)
+{
+    if (d > maxdist)
+        return n + (int)floor(log2(d / maxdist));
+    int k;
+    ASSERT_OK(tp_lod_level_distance(n, d, mindist, maxdist, 1, &k, NULL));
+    return n - k;
+}
+
+TEST(distance_mode_never_coarser_than_asked)
+{
+    LOAD_OR_SKIP(h, 0, 0, 1201, 1201);
+    fill_voids(h, 1201, 1201); /* incomplete nodes are refined whatever the distance */
+    tp_tree* t = make_tree(h, 1201, 1201, 17);
+    const tp_tree_geometry* g = tp_tree_get_geometry(t);
+    tp_cut* cut;
+    ASSERT_OK(tp_cut_create(t, &cut, NULL));
+    const double leaf_m = 16 * 90.0;
+    int coarse = 0, levels_below_n = 0;
+    for (int it = 0; it < 20; it++) {
+        tp_camera cam;
+        random_camera(t, &cam);
+        tp_lod_params lp = {.mode = TP_LOD_DISTANCE};
+        if (it % 2) /* explicit, short distances: far terrain in big nodes */
+            lp.mindist_m = 500, lp.maxdist_m = 4000;
+        double mind = it % 2 ? 500 : leaf_m, maxd = it % 2 ? 4000 : 24 * leaf_m;
+        ASSERT_OK(tp_cut_update(cut, &cam, &lp, NULL));
+        size_t count;
+        const tp_cut_node* nodes = tp_cut_nodes(cut, &count);
+        for (size_t i = 0; i < count; i++) {
+            int sc, c, r;
+            tp_tree_node_locate(g, nodes[i].node, &sc, &c, &r);
+            const tp_node_meta* m = tp_tree_meta(t, nodes[i].node);
+            double span = (double)(1 << (g->n + sc)), bmin[3], bmax[3];
+            grid_to_world(c * span, (r + 1) * span, &bmin[0], &bmin[1]);
+            grid_to_world((c + 1) * span, r * span, &bmax[0], &bmax[1]);
+            bmin[2] = m->area_qmin, bmax[2] = m->area_qmax; /* 1 m steps (integral heights) */
+            double d2 = 0;
+            for (int a = 0; a < 3; a++) {
+                double e = cam.position[a] < bmin[a]   ? bmin[a] - cam.position[a]
+                           : cam.position[a] > bmax[a] ? cam.position[a] - bmax[a]
+                                                       : 0;
+                d2 += e * e;
+            }
+            int stride_log = sc + g->n - nodes[i].level;
+            int asked = asked_stride_log(g->n, sqrt(d2), mind, maxd);
+            EXPECT_LE_INT(stride_log, asked);
+            coarse += sc >= 2;
+            levels_below_n += nodes[i].level < g->n;
+        }
+    }
+    EXPECT_GT(coarse, 0); /* the views reach far terrain */
+    EXPECT_GT(levels_below_n, 0);
+    tp_cut_destroy(cut);
+    tp_tree_destroy(t);
+    free(h);
+}
+
 TEST(tiny_grids)
 {
     /* 1x1 (one sample: nothing to draw), 2x2, 18x17 (two leaf roots), 49x40 (padded forest). */
@@ -905,6 +964,7 @@ TEST(rejects_max_error_mode)
     X(substitution_keeps_the_surface_whole)                                                        \
     X(cost_does_not_grow_with_the_map)                                                             \
     X(drawn_height_follows_the_triangles)                                                          \
+    X(distance_mode_never_coarser_than_asked)                                                      \
     X(tiny_grids)                                                                                  \
     X(rejects_max_error_mode)
 TP_TEST_MAIN(TESTS)
