@@ -718,11 +718,13 @@ TEST(cost_does_not_grow_with_the_map)
                    : m == 1 ? "distance"
                             : "error",
                    yaws[i], ss.visited, ss.drawn, ms_s, sb.visited, sb.drawn, ms_b);
-            /* Same terrain in view: the big map adds only the 2 scales of nodes above the
-             * small map's root, and their culled children (each level of the descent visits
-             * at most a few nodes outside the view before culling stops it). */
+            /* Same terrain in view: the big map adds the 2 scales of nodes above the small
+             * map's root, and the nodes beyond the small map's edges that the (conservative)
+             * box test cannot cull at once: those straddling the frustum's outline near the
+             * far plane, whose number depends on the view (the outline's length over the node
+             * size there), not on the map. Measured: +8 to +100. */
             if (m == 0)
-                EXPECT_LE(sb.visited, ss.visited + 100);
+                EXPECT_LE(sb.visited, ss.visited + 250);
             /* Distance mode: beyond maxdist the stride doubles with the distance, so each
              * doubling of the view's depth adds one ring of nodes of a fixed count (their
              * size grows with the distance as the ring does); the big map is 8x deeper
