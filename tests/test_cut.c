@@ -314,32 +314,36 @@ TEST(watertight_for_random_views)
 {
     /* 700 x 420: not 2^n k + 1, so padded, and a forest of roots of different scales. */
     LOAD_OR_SKIP(h, 250, 300, 700, 420);
-    tp_tree* t = make_tree(h, 700, 420, 17);
-    tp_cut* cut;
-    ASSERT_OK(tp_cut_create(t, &cut, NULL));
-    const double taus[] = {0.5, 1, 4, 16};
-    for (int it = 0; it < 40; it++) {
-        tp_camera cam;
-        random_camera(t, &cam);
-        tp_lod_params lp = {0};
-        lp.mode = it % 8 == 6 ? TP_LOD_DISTANCE : it % 8 == 7 ? TP_LOD_FULL : TP_LOD_ERROR;
-        lp.tau_px = taus[it % 4];
-        ASSERT_OK(tp_cut_update(cut, &cam, &lp, NULL));
-        size_t count;
-        tp_cut_nodes(cut, &count);
-        EXPECT_GT((double)count, 0);
-        int f = check_watertight(t, cut, NULL);
-        tp_cut_stats st;
-        tp_cut_get_stats(cut, &st);
-        EXPECT_EQ_INT((int)last_triangles, (int)st.triangles);
-        EXPECT_EQ_INT((int)count, st.drawn);
-        if (f)
-            fprintf(stderr, "view %d (mode %d, tau %g): %d failures\n", it, (int)lp.mode, lp.tau_px,
-                    f);
-        EXPECT_EQ_INT(0, f);
+    for (int ps = 17; ps <= 33; ps += 16) { /* n = 4 and 5 */
+        tp_tree* t = make_tree(h, 700, 420, ps);
+        tp_cut* cut;
+        ASSERT_OK(tp_cut_create(t, &cut, NULL));
+        const double taus[] = {0.5, 1, 4, 16};
+        size_t total = 0;
+        for (int it = 0; it < 40; it++) {
+            tp_camera cam;
+            random_camera(t, &cam);
+            tp_lod_params lp = {0};
+            lp.mode = it % 8 == 6 ? TP_LOD_DISTANCE : it % 8 == 7 ? TP_LOD_FULL : TP_LOD_ERROR;
+            lp.tau_px = taus[it % 4];
+            ASSERT_OK(tp_cut_update(cut, &cam, &lp, NULL));
+            size_t count;
+            tp_cut_nodes(cut, &count);
+            total += count;
+            int f = check_watertight(t, cut, NULL);
+            tp_cut_stats st;
+            tp_cut_get_stats(cut, &st);
+            EXPECT_EQ_INT((int)last_triangles, (int)st.triangles);
+            EXPECT_EQ_INT((int)count, st.drawn);
+            if (f)
+                fprintf(stderr, "view %d (mode %d, tau %g): %d failures\n", it, (int)lp.mode,
+                        lp.tau_px, f);
+            EXPECT_EQ_INT(0, f);
+        }
+        EXPECT_GT((double)total, 40 * 50); /* the views see the terrain */
+        tp_cut_destroy(cut);
+        tp_tree_destroy(t);
     }
-    tp_cut_destroy(cut);
-    tp_tree_destroy(t);
     free(h);
 }
 
