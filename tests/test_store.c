@@ -445,6 +445,98 @@ TEST(round_trip_small_and_awkward_grids)
         }
 }
 
+/* The real producer: tp_tree_builder's emit callback writes straight into the store (its order:
+ * children before parents), and the store reads back exactly the metas and samples of
+ * tp_tree_create_from_grid on the same grid (same step, same error unit). */
+static int emit_to_store(int64_t node, const tp_node_meta* meta, const int32_t* q, void* user,
+                         tp_error* err)
+{
+    return tp_store_writer_add_node((tp_store_writer*)user, node, meta, q, err) != TP_OK;
+}
+
+TEST(tree_builder_into_store_matches_tree_from_grid)
+{
+    int w, h;
+    char* crs;
+    float* heights = read_dem("lf_elev_220_mt_hood_utm.tif", &w, &h, &crs);
+    const int patch = 65;
+    const double gt[6] = {587049.617, 30, 0, 5037312.407, 0, -30};
+    tp_tree* t = NULL;
+    tp_error err = {{0}};
+    ASSERT_OK(tp_tree_create_from_grid(heights, (size_t)w * h, w, h, gt, patch, 1.0, &t, &err));
+    const tp_tree_geometry* g = tp_tree_get_geometry(t);
+    float lo = INFINITY, hi = -INFINITY;
+    for (size_t i = 0; i < (size_t)w * h; i++)
+        if (isfinite(heights[i]))
+            lo = heights[i] < lo ? heights[i] : lo, hi = heights[i] > hi ? heights[i] : hi;
+    const double unit = tp_tree_err_unit_steps(floor(hi + 0.5) - floor(lo + 0.5));
+
+    char path[600];
+    snprintf(path, sizeof path, "%s/built.tpt", make_tmp_dir());
+    tp_store_header hd;
+    memset(&hd, 0, sizeof hd);
+    hd.geometry = *g;
+    memcpy(hd.geotransform, gt, sizeof gt);
+    hd.height_step_m = 1.0, hd.err_unit_steps = unit, hd.crs_wkt = crs, hd.notes = "built";
+    tp_store_writer* sw;
+    ASSERT_OK(tp_store_writer_begin(path, &hd, &sw, &err));
+    tp_tree_builder_desc bd;
+    memset(&bd, 0, sizeof bd);
+    bd.geometry = *g;
+    bd.err_unit_steps = unit;
+    bd.emit = emit_to_store;
+    bd.user = sw;
+    tp_tree_builder* b;
+    ASSERT_OK(tp_tree_builder_create(&bd, &b, &err));
+    const int side = patch;
+    int32_t* band = malloc((size_t)side * g->width * sizeof *band);
+    ASSERT_TRUE(band != NULL);
+    for (int r = 0; r < g->rows; r++) {
+        for (int j = 0; j < side; j++) {
+            int y = r * (side - 1) + j;
+            for (int x = 0; x < g->width; x++) {
+                float v = x < w && y < h ? heights[(size_t)y * w + x] : NAN;
+                band[(size_t)j * g->width + x] = isfinite(v) ? (int32_t)floor(v + 0.5) : INT32_MIN;
+            }
+        }
+        tp_status s = tp_tree_builder_add_band(b, r, band, (size_t)side * g->width, &err);
+        if (s != TP_OK)
+            tp_test_note("%s", err.message);
+        ASSERT_OK(s);
+    }
+    tp_tree_builder_destroy(b);
+    ASSERT_OK(tp_store_writer_commit(sw, &err));
+
+    tp_store* st;
+    ASSERT_OK(tp_store_open(path, &st, &err));
+    size_t count;
+    const tp_node_meta* metas = tp_store_metas(st, &count);
+    ASSERT_EQ_INT(count, g->node_count);
+    const size_t per = (size_t)side * side;
+    uint16_t* samples = malloc(per * sizeof *samples);
+    long bad_metas = 0, bad_nodes = 0;
+    for (int64_t id = 0; id < g->node_count; id++) {
+        const tp_node_meta* want = tp_tree_meta(t, id);
+        bad_metas += memcmp(&metas[id], want, sizeof *want) != 0;
+        ASSERT_OK(tp_store_read_node(st, id, samples, per, &err));
+        const uint16_t* resident = tp_tree_samples(t, id);
+        ASSERT_TRUE(resident != NULL);
+        bad_nodes += memcmp(samples, resident, per * sizeof *samples) != 0;
+    }
+    EXPECT_EQ_INT(bad_metas, 0);
+    EXPECT_EQ_INT(bad_nodes, 0);
+    tp_store_info info;
+    tp_store_get_info(st, &info);
+    tp_test_note("%lld nodes from the builder, %.3f bytes per source sample",
+                 (long long)g->node_count, info.bytes_per_sample);
+    free(samples);
+    free(band);
+    tp_store_close(st);
+    tp_tree_destroy(t);
+    free(heights);
+    free(crs);
+}
+
 /* Several threads read every node of one open store at once (tp_store_read_node is thread-safe). */
 typedef struct reader_job {
     const tp_store* st;
@@ -914,6 +1006,7 @@ TEST(full_disk_leaves_no_file)
     X(round_trip_mt_hood_nodata_33)                                                                \
     X(round_trip_storm_lake_nodata_edges_17)                                                       \
     X(round_trip_small_and_awkward_grids)                                                          \
+    X(tree_builder_into_store_matches_tree_from_grid)                                              \
     X(threads_read_one_store_at_once)                                                              \
     X(flipped_node_byte_fails_that_node_only)                                                      \
     X(node_with_matching_checksum_but_wrong_content_fails)                                         \
