@@ -6,8 +6,9 @@
 #            continuous: the seam post is the grid's edge post, its neighbours mirror each
 #            other, no repeated sample (a flat step) and no jump larger than inside the tile;
 #            400 posts over all four orientations equal the grid's post they mirror
-#   small    SIZE 2 (one cropped copy); --keep-voids keeps the tile's voids, the default fills
-#   errors   SIZE 1, a SIZE that is not a number, a missing tile, missing GDAL tools: exit
+#   small    SIZE 2 (one cropped copy); --keep-voids keeps the tile's voids, the default fills;
+#            a tile already in its UTM zone keeps its posts
+#   errors   SIZE 1, a SIZE that is not a number, a missing tile, a tile without a CRS, missing GDAL tools: exit
 #            non-zero with a message naming the problem, nothing written
 set -u
 TOOL=$1 DATA=$2 WORK=$3 CASE=$4
@@ -106,7 +107,15 @@ small)
     "$TOOL" --keep-voids 2 . "$TILE" > out 2> err || fail "--keep-voids: exit $?"
     [ -f N42E001_voids_0.bil ] || fail "no N42E001_voids_0.bil"
     gdalinfo -stats N42E001_voids_0.bil | grep -q 'STATISTICS_VALID_PERCENT=99\.' || fail "--keep-voids: expected 99.x% valid"
-    gdalinfo -stats N42E001_filled_0.bil | grep -q 'STATISTICS_VALID_PERCENT=100$' || fail "the filled grid has voids" ;;
+    gdalinfo -stats N42E001_filled_0.bil | grep -q 'STATISTICS_VALID_PERCENT=100$' || fail "the filled grid has voids"
+    # A tile already in its UTM zone (storml_elev.tif, 143x107, EPSG:32612) keeps its own posts:
+    # same size, same values (bilinear at a post is the post), no half-post shift.
+    "$TOOL" 2 . "$DATA/storml_elev.tif" > out 2> err || fail "storml_elev.tif: exit $?"
+    [ "$(size storml_elev_filled_0.bil)" = "143 107" ] || fail "storml_elev.tif's grid is $(size storml_elev_filled_0.bil), not 143 107"
+    printf '0 0\n142 0\n0 106\n142 106\n71 53\n5 100\n' > at
+    gdallocationinfo -valonly "$DATA/storml_elev.tif" < at > z_tile
+    gdallocationinfo -valonly storml_elev_filled_0.bil < at | awk '{ printf "%.6g\n", $1 }' > z_grid
+    awk '{ printf "%.6g\n", $1 }' z_tile | cmp -s - z_grid || fail "storml_elev.tif's posts moved: $(paste z_tile z_grid | tr '\n' ' ')" ;;
 errors)
     expect_error() { # expect_error PATTERN ARGS...: non-zero exit, PATTERN on stderr, no VRT
         local pat=$1; shift
@@ -119,10 +128,12 @@ errors)
     expect_error "span 1000 km" "$TOOL" 100001 o "$TILE"
     expect_error "tile .*/no_such.hgt not found" "$TOOL" 8193 o "$DATA/no_such.hgt"
     expect_error "expected SIZE OUT_DIR" "$TOOL" 8193
+    expect_error "front_range_srtmgl3_144.asc has no CRS" "$TOOL" 8193 o "$DATA/front_range_srtmgl3_144.asc"
     # no GDAL tools on the PATH: only python3
     mkdir -p bin && ln -sf "$(python3 -c "import sys; print(sys.executable)")" bin/python3
     expect_error "gdalinfo not found.*make deps" env PATH="$PWD/bin" python3 "$TOOL" 8193 o "$TILE"
-    "$TOOL" --help | grep -q "compressed horizontally" || fail "--help does not explain the relief" ;;
+    "$TOOL" --help > out 2> err || fail "--help: exit $?"
+    grep -q "compressed horizontally" out || fail "--help does not explain the relief" ;;
 *) fail "unknown case" ;;
 esac
 echo "ok ($CASE)"
