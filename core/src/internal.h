@@ -139,10 +139,66 @@ static inline const uint16_t* tp__eps_tab(const tp_terrain* t, int patch, int si
 /* Computes the delta and eps tables of every patch (patch_error.c). */
 tp_status tp__patch_errors_compute(tp_terrain* t, tp_error* err);
 
+/* Crack removal on the level-k vertex lattice (0..2^k per side) of a patch or tree node:
+ * writes where vertex (i, j) goes against the given neighbour levels (NULL: nowhere), in
+ * level-k vertex units. Returns 1 if it was moved (stitch.c). */
+int tp__lattice_vertex(int k, const int nb[4], int i, int j, int* mi, int* mj);
+
 /* Position (global grid coordinates) of vertex (i, j) of patch p at level k after crack
  * removal against the given neighbour levels (stitch.c). Returns 1 if it was moved. */
 int tp__vertex_position(const tp_terrain* t, int patch, int k, const int nb[4], int i, int j,
                         int32_t* gx, int32_t* gy);
+
+/* The same for node `node` of a tree geometry (vertex stride 2^(n-k+s) grid samples), for the
+ * tree's selection and its tests (stitch.c). */
+int tp__node_vertex_position(const tp_tree_geometry* g, int64_t node, int k, const int nb[4],
+                             int i, int j, int32_t* gx, int32_t* gy);
+
+/* ---- error tables over one lattice of (2^n+1)^2 samples (node_meta.c) ----
+ *
+ * The lattice is a patch's samples, or a tree node's (every 2^s-th sample); q holds their
+ * global quantised heights row-major, INT32_MIN where a sample is not drawn. Errors are in
+ * steps. Both tp_terrain's patch tables (patch_error.c) and tree nodes' metas use these. */
+
+/* Largest |S_k - q| over the lattice samples under the drawn triangles of the unstitched
+ * level-k triangulation (delta_k of the lattice). */
+double tp__lattice_level_error(int n, const int32_t* q, int k);
+
+/* eps[side][kn], kn = 0..n-1: the largest error of any triangle with a vertex moved by a
+ * neighbour at level kn on that side, over every level k > kn. cells = 0: measured at the lattice
+ * samples the triangle covers (exact against the lattice samples: a patch, a leaf); cells = 1:
+ * at every corner of every lattice cell the triangle touches, with the triangle's plane extended
+ * there (a bound against the lattice's full-resolution surface S_n, see node_meta.c). */
+void tp__lattice_eps(int n, const int32_t* q, int cells, double eps[4][TP_MAX_N]);
+
+/* An error of `steps` in table units of unit_steps, rounded up; TP__ERR_SAT when it does not
+ * fit. */
+static inline uint16_t tp__err_units(double steps, double unit_steps)
+{
+    double u = ceil(steps / unit_steps - 1e-9);
+    return u >= TP__ERR_SAT ? (uint16_t)TP__ERR_SAT : (uint16_t)(u < 0 ? 0 : u);
+}
+
+/* The tree at run time (tree.c). Core code (the cut) reads desc for the step, quantisation
+ * error, err_unit and metas. */
+struct tp_tree {
+    tp_tree_desc desc;          /* metas borrowed (or owned, below) */
+    tp_allocator alloc;         /* always set */
+    const uint16_t** samples;   /* node_count pointers, NULL when not resident */
+    tp_node_meta* owned_metas;  /* tp_tree_create_from_grid: metas and samples owned */
+    uint16_t* owned_samples;
+};
+
+/* The tree takes ownership of metas and samples (tree.c; for tp_tree_create_from_grid). */
+void tp__tree_own(tp_tree* t, tp_node_meta* metas, uint16_t* samples);
+
+/* The automatic quantisation step (terrain.c): 1 m for integral heights, else the finest power
+ * of two 2^-p m (p <= 10), coarser where a range would not fit 65534 steps; 0 if none fits. */
+typedef struct tp__range {
+    double lo, hi; /* lo > hi when empty */
+} tp__range;
+int tp__step_fits(const tp__range* r, int count, double step);
+double tp__choose_step(const tp__range* r, int count, int integral);
 
 /* Bilinear resample of a float grid (NaN = nodata) to a new size (fit.c). */
 tp_status tp__fit_resample(const tp_allocator* a, const float* src, const uint8_t* src_filled,
@@ -174,6 +230,12 @@ typedef struct tp__proj_bound {
     double zmin; /* smallest depth of the box's corners */
 } tp__proj_bound;
 
+/* The bound for the box bmin..bmax (drawn space) seen from v, and the pixels a vertical error
+ * of d metres (drawn space) inside that box projects to at most: 0 for d = 0, INFINITY when
+ * the box reaches the near plane (lod.c). */
+tp__proj_bound tp__proj_bound_box(const tp__view* v, const double bmin[3], const double bmax[3]);
+double tp__projected_px(const tp__proj_bound* pb, double vz, double d);
+
 /* Written only by the functions that take a non-const tp_selection*; the const ones (measure.c,
  * query.c) only read it, so that several threads may measure one selection at once. */
 struct tp_selection {
@@ -203,5 +265,80 @@ int tp__neighbor(const tp_terrain* t, int p, int side);
 double tp__patch_vertical_error(const tp_terrain* t, int p, int k, const int nb[4],
                                 const float* ref, tp_vertex* vbuf, uint32_t* tbuf);
 
+/* ---- the cut: selection over a tree (tree_select.c, tree_stitch.c) ----
+ *
+ * Every node the update visits gets a record, found again through a hash of node ids (open
+ * addressing; a slot counts only in the generation of the current update, so nothing is
+ * cleared per frame). A visited node is INTERIOR (refined: its 4 children have records too) or
+ * a terminal: DRAWN (visible), CULLED (its box is outside the frustum) or EMPTY (nothing drawn
+ * in its area). Every point of the map lies in exactly one terminal of a visited root. */
+enum { TP__CUT_INTERIOR = 1, TP__CUT_DRAWN, TP__CUT_CULLED, TP__CUT_EMPTY, TP__CUT_REMOVED };
+
+typedef struct tp__cut_rec {
+    int64_t node;
+    int32_t c, r;
+    int8_t s, level, state;
+    uint8_t substituted; /* drawn in place of children that are not resident */
+    uint8_t frozen;      /* collapsed onto by the stitching pass: never split again */
+    float bound_px;
+    int32_t out;         /* index in the output (tp_cut_nodes) when drawn */
+    tp__proj_bound pb;   /* error mode, visible nodes: of the node's area box */
+} tp__cut_rec;
+
+typedef struct tp__cut_req {
+    int64_t node;
+    double prio;
+} tp__cut_req;
+
+struct tp_cut {
+    const tp_tree* t;
+    tp_allocator alloc;
+    tp_tree_geometry g;
+    int n;
+    double gt[6], step, quant, err_unit, zscale;
+    int64_t* roots;
+    tp__cut_rec* rec;
+    size_t rec_count, rec_cap;
+    int64_t* hkey;
+    int32_t* hval; /* record index; -2: requested, not visited */
+    uint32_t* hgen;
+    size_t hcap, hused;
+    uint32_t gen;
+    tp_cut_node* out;
+    size_t out_count, out_cap;
+    tp__cut_req* req;
+    int64_t* req_ids;
+    size_t req_count, req_cap, req_ids_cap;
+    /* the last update */
+    tp_lod_params lp;
+    int have_view; /* 0 for a cut installed by tp_cut_set_nodes */
+    tp__view v;
+    tp_frustum f;
+    int visited, unresolved;
+    int oom;
+};
+
+/* Record of node, or -1 when it was not visited this update (tree_select.c). */
+int tp__cut_find(const tp_cut* c, int64_t node);
+/* Adds a record for node (state 0) and returns its index, or -1 (c->oom set) without memory. */
+int tp__cut_add(tp_cut* c, int64_t node);
+/* Decides record i as a terminal without refining it: EMPTY, CULLED, or DRAWN at the level the
+ * mode asks (n if it is incomplete or wants refining). */
+void tp__cut_settle(tp_cut* c, int i);
+/* Box of record i's area (area = 1) or own samples, drawn space; 0 if it has none. */
+int tp__cut_box(const tp_cut* c, int i, int area, double bmin[3], double bmax[3]);
+/* Lists node as a request (once per update) with priority prio. */
+void tp__cut_request(tp_cut* c, int64_t node, double prio);
+/* Whether every child of record i that has something to draw in view is resident (requesting
+ * those that are not). */
+int tp__cut_children_ready(tp_cut* c, int i);
+/* The stitching pass: splits, collapses and raised levels until every pair of drawn
+ * neighbours can be stitched (tree_stitch.c). */
+void tp__cut_constrain(tp_cut* c);
+/* The drawn neighbour on a side of drawn record i, of equal or larger scale; -1 if none
+ * (border, culled, or smaller nodes there) (tree_stitch.c). */
+int tp__cut_neighbor(const tp_cut* c, int i, int side);
+/* Relative neighbour levels of drawn record i (tree_stitch.c). */
+void tp__cut_nb(const tp_cut* c, int i, int nb[4]);
 
 #endif

@@ -113,3 +113,34 @@ tp_status tp_lod_params_resolve(const tp_terrain* t, const tp_lod_params* in, tp
     *out = p;
     return TP_OK;
 }
+
+tp__proj_bound tp__proj_bound_box(const tp__view* v, const double bmin[3], const double bmax[3])
+{
+    /* The world's vertical in camera coordinates. */
+    double vx = v->right[2], vy = v->up[2], vz = v->fwd[2];
+    double zmin = INFINITY, amax = 0, bmax_ = 0;
+    for (int c = 0; c < 8; c++) {
+        double d[3] = {(c & 1 ? bmax[0] : bmin[0]) - v->pos[0],
+                       (c & 2 ? bmax[1] : bmin[1]) - v->pos[1],
+                       (c & 4 ? bmax[2] : bmin[2]) - v->pos[2]};
+        double x = d[0] * v->right[0] + d[1] * v->right[1] + d[2] * v->right[2];
+        double y = d[0] * v->up[0] + d[1] * v->up[1] + d[2] * v->up[2];
+        double z = d[0] * v->fwd[0] + d[1] * v->fwd[1] + d[2] * v->fwd[2];
+        double A = fabs(vx * z - x * vz), B = fabs(vy * z - y * vz);
+        zmin = z < zmin ? z : zmin;
+        amax = A > amax ? A : amax;
+        bmax_ = B > bmax_ ? B : bmax_;
+    }
+    tp__proj_bound pb = {INFINITY, zmin};
+    if (zmin > v->near_m)
+        pb.num = v->f_px * sqrt(amax * amax + bmax_ * bmax_) / zmin;
+    return pb;
+}
+
+double tp__projected_px(const tp__proj_bound* pb, double vz, double d)
+{
+    if (d == 0)
+        return 0;
+    double den = pb->zmin - d * fabs(vz);
+    return den > 0 ? d * pb->num / den : INFINITY;
+}

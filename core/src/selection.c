@@ -165,32 +165,12 @@ void tp_selection_cull(tp_selection* s, const tp_camera* cam)
 
 static tp__proj_bound projection_bound(const tp__view* v, const tp_patch_info* pi)
 {
-    /* The world's vertical in camera coordinates. */
-    double vx = v->right[2], vy = v->up[2], vz = v->fwd[2];
-    double zmin = INFINITY, amax = 0, bmax = 0;
-    for (int c = 0; c < 8; c++) {
-        double d[3] = {(c & 1 ? pi->aabb_max[0] : pi->aabb_min[0]) - v->pos[0],
-                       (c & 2 ? pi->aabb_max[1] : pi->aabb_min[1]) - v->pos[1],
-                       (c & 4 ? pi->aabb_max[2] : pi->aabb_min[2]) - v->pos[2]};
-        double x = d[0] * v->right[0] + d[1] * v->right[1] + d[2] * v->right[2];
-        double y = d[0] * v->up[0] + d[1] * v->up[1] + d[2] * v->up[2];
-        double z = d[0] * v->fwd[0] + d[1] * v->fwd[1] + d[2] * v->fwd[2];
-        double A = fabs(vx * z - x * vz), B = fabs(vy * z - y * vz);
-        zmin = z < zmin ? z : zmin;
-        amax = A > amax ? A : amax;
-        bmax = B > bmax ? B : bmax;
-    }
-    tp__proj_bound pb = {INFINITY, zmin};
-    if (zmin > v->near_m)
-        pb.num = v->f_px * sqrt(amax * amax + bmax * bmax) / zmin;
-    return pb;
+    return tp__proj_bound_box(v, pi->aabb_min, pi->aabb_max);
 }
 
-/* Pixels that a vertical error of d metres in the patch can project to at most. */
 static double projected_px(const tp__proj_bound* pb, double vz, double d)
 {
-    double den = pb->zmin - d * fabs(vz);
-    return den > 0 ? d * pb->num / den : INFINITY;
+    return tp__projected_px(pb, vz, d);
 }
 
 static double aabb_distance(const double pos[3], const tp_patch_info* pi)

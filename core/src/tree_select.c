@@ -1,0 +1,518 @@
+/* tree_select.c - the cut: which tree nodes are drawn, at which level, for one view.
+ *
+ * From the roots down, each node visited is culled (area box outside the frustum), refined
+ * (the mode asks for more detail than its level n gives, or it is incomplete, and its children
+ * are resident) or drawn at the coarsest level the mode allows. The error mode uses lod.c's
+ * projection bound on the node's area box, so tau holds anywhere on screen; the distance mode
+ * generalises Vanek & Jezek's formula to vertex strides (see tp_cut in tp_core.h). Then
+ * tree_stitch.c makes neighbours stitchable. Cost: O(1) per visited node (a hash of node ids
+ * instead of per-node arrays), and no allocation once the arrays have grown to the view.
+ */
+#include "internal.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+static const int no_nb[4] = {TP_NO_NEIGHBOR, TP_NO_NEIGHBOR, TP_NO_NEIGHBOR, TP_NO_NEIGHBOR};
+
+/* ---- growing arrays and the node hash ---- */
+
+static int grow(tp_cut* c, void** p, size_t* cap, size_t need, size_t size)
+{
+    if (need <= *cap)
+        return 1;
+    size_t ncap = *cap ? *cap : 64;
+    while (ncap < need)
+        ncap *= 2;
+    void* q = tp__alloc(&c->alloc, ncap, size);
+    if (!q) {
+        c->oom = 1;
+        return 0;
+    }
+    if (*cap)
+        memcpy(q, *p, *cap * size);
+    tp__free(&c->alloc, *p);
+    *p = q;
+    *cap = ncap;
+    return 1;
+}
+
+static size_t hash_slot(int64_t key, size_t cap)
+{
+    uint64_t h = (uint64_t)key * 0x9E3779B97F4A7C15ull;
+    return (size_t)(h >> 17) & (cap - 1);
+}
+
+static int hash_put(tp_cut* c, int64_t key, int32_t val);
+
+static int hash_grow(tp_cut* c)
+{
+    size_t ncap = c->hcap ? c->hcap * 2 : 1024;
+    int64_t* k = tp__alloc(&c->alloc, ncap, sizeof *k);
+    int32_t* v = tp__alloc(&c->alloc, ncap, sizeof *v);
+    uint32_t* g = tp__calloc(&c->alloc, ncap, sizeof *g);
+    if (!k || !v || !g) {
+        tp__free(&c->alloc, k);
+        tp__free(&c->alloc, v);
+        tp__free(&c->alloc, g);
+        c->oom = 1;
+        return 0;
+    }
+    int64_t* ok = c->hkey;
+    int32_t* ov = c->hval;
+    uint32_t* og = c->hgen;
+    size_t ocap = c->hcap;
+    c->hkey = k, c->hval = v, c->hgen = g, c->hcap = ncap, c->hused = 0;
+    for (size_t i = 0; i < ocap; i++)
+        if (og[i] == c->gen)
+            hash_put(c, ok[i], ov[i]);
+    tp__free(&c->alloc, ok);
+    tp__free(&c->alloc, ov);
+    tp__free(&c->alloc, og);
+    return 1;
+}
+
+/* Sets key's value (inserting it). */
+static int hash_put(tp_cut* c, int64_t key, int32_t val)
+{
+    if (2 * (c->hused + 1) > c->hcap && !hash_grow(c))
+        return 0;
+    for (size_t i = hash_slot(key, c->hcap);; i = (i + 1) & (c->hcap - 1)) {
+        if (c->hgen[i] != c->gen) {
+            c->hgen[i] = c->gen;
+            c->hkey[i] = key;
+            c->hval[i] = val;
+            c->hused++;
+            return 1;
+        }
+        if (c->hkey[i] == key) {
+            c->hval[i] = val;
+            return 1;
+        }
+    }
+}
+
+static int32_t hash_get(const tp_cut* c, int64_t key)
+{
+    if (!c->hcap)
+        return -1;
+    for (size_t i = hash_slot(key, c->hcap);; i = (i + 1) & (c->hcap - 1)) {
+        if (c->hgen[i] != c->gen)
+            return -1;
+        if (c->hkey[i] == key)
+            return c->hval[i];
+    }
+}
+
+int tp__cut_find(const tp_cut* c, int64_t node)
+{
+    int32_t v = hash_get(c, node);
+    return v >= 0 ? v : -1;
+}
+
+int tp__cut_add(tp_cut* c, int64_t node)
+{
+    if (!grow(c, (void**)&c->rec, &c->rec_cap, c->rec_count + 1, sizeof *c->rec))
+        return -1;
+    int i = (int)c->rec_count;
+    if (!hash_put(c, node, i))
+        return -1;
+    c->rec_count++;
+    tp__cut_rec* r = &c->rec[i];
+    memset(r, 0, sizeof *r);
+    r->node = node;
+    int s, cc, rr;
+    tp_tree_node_locate(&c->g, node, &s, &cc, &rr);
+    r->s = (int8_t)s, r->c = cc, r->r = rr;
+    c->visited++;
+    return i;
+}
+
+void tp__cut_request(tp_cut* c, int64_t node, double prio)
+{
+    if (hash_get(c, node) != -1) /* visited or already requested */
+        return;
+    if (!grow(c, (void**)&c->req, &c->req_cap, c->req_count + 1, sizeof *c->req) ||
+        !hash_put(c, node, -2))
+        return;
+    c->req[c->req_count++] = (tp__cut_req){node, prio};
+}
+
+/* ---- boxes and the modes ---- */
+
+static void node_box(const tp_cut* c, int s, int cc, int rr, int32_t qlo, int32_t qhi,
+                     double bmin[3], double bmax[3])
+{
+    int64_t span = (int64_t)1 << (c->n + s);
+    double x0 = (double)(cc * span), x1 = (double)((cc + 1) * span);
+    double y0 = (double)(rr * span), y1 = (double)((rr + 1) * span);
+    double e0 = c->gt[0] + (x0 + 0.5) * c->gt[1], e1 = c->gt[0] + (x1 + 0.5) * c->gt[1];
+    double n0 = c->gt[3] + (y0 + 0.5) * c->gt[5], n1 = c->gt[3] + (y1 + 0.5) * c->gt[5];
+    bmin[0] = fmin(e0, e1), bmax[0] = fmax(e0, e1);
+    bmin[1] = fmin(n0, n1), bmax[1] = fmax(n0, n1);
+    bmin[2] = qlo * c->step * c->zscale, bmax[2] = qhi * c->step * c->zscale;
+}
+
+int tp__cut_box(const tp_cut* c, int i, int area, double bmin[3], double bmax[3])
+{
+    const tp__cut_rec* r = &c->rec[i];
+    const tp_node_meta* m = tp_tree_meta(c->t, r->node);
+    int32_t lo = area ? m->area_qmin : m->qmin, hi = area ? m->area_qmax : m->qmax;
+    if (lo > hi)
+        return 0;
+    node_box(c, r->s, r->c, r->r, lo, hi, bmin, bmax);
+    return 1;
+}
+
+static double box_distance(const double pos[3], const double bmin[3], const double bmax[3])
+{
+    double d2 = 0;
+    for (int a = 0; a < 3; a++) {
+        double d = pos[a] < bmin[a] ? bmin[a] - pos[a] : pos[a] > bmax[a] ? pos[a] - bmax[a] : 0;
+        d2 += d * d;
+    }
+    return sqrt(d2);
+}
+
+/* Bound (m, drawn space, quantisation included) of record i at level k with neighbours nb. */
+static double bound_m(const tp_cut* c, int i, int k, const int nb[4])
+{
+    const tp_node_meta* m = tp_tree_meta(c->t, c->rec[i].node);
+    return (tp_node_error_bound(m, c->n, k, nb, c->step, c->err_unit) + c->quant) * c->zscale;
+}
+
+static double bound_px(const tp_cut* c, int i, int k, const int nb[4])
+{
+    return tp__projected_px(&c->rec[i].pb, c->v.fwd[2], bound_m(c, i, k, nb));
+}
+
+/* Distance mode: log2 of the vertex stride (grid samples) the leaf formula asks for at
+ * distance d; beyond maxdist one more for every doubling of the distance. */
+static int wanted_stride_log(const tp_cut* c, double d)
+{
+    const tp_lod_params* p = &c->lp;
+    if (!(d >= 0))
+        return 0; /* NaN eye: full resolution */
+    if (d <= p->maxdist_m || p->maxdist_m <= 0) {
+        int k = c->n;
+        tp_lod_level_distance(c->n, d, p->mindist_m, p->maxdist_m, p->exponent, &k, NULL);
+        return c->n - k;
+    }
+    double e = floor(log2(d / p->maxdist_m));
+    return c->n + (e > 60 ? 60 : (int)e);
+}
+
+/* What the mode asks of record i (visible, complete or not): 1 to refine; else *level. */
+static int mode_wants(tp_cut* c, int i, int* level)
+{
+    tp__cut_rec* r = &c->rec[i];
+    const tp_node_meta* m = tp_tree_meta(c->t, r->node);
+    int n = c->n, complete = m->flags & TP_NODE_COMPLETE;
+    *level = n;
+    if (!c->have_view) /* an installed cut: nothing to ask */
+        return 0;
+    switch (c->lp.mode) {
+    case TP_LOD_FULL:
+        return r->s > 0;
+    case TP_LOD_DISTANCE: {
+        double bmin[3], bmax[3];
+        tp__cut_box(c, i, 1, bmin, bmax);
+        int want = wanted_stride_log(c, box_distance(c->v.pos, bmin, bmax));
+        if (want < r->s || !complete)
+            return r->s > 0;
+        int k = n + r->s - want;
+        *level = k < 0 ? 0 : k;
+        return 0;
+    }
+    default: {
+        if (!complete || bound_px(c, i, n, no_nb) > c->lp.tau_px)
+            return r->s > 0;
+        int k = n;
+        while (k > 0 && bound_px(c, i, k - 1, no_nb) <= c->lp.tau_px)
+            k--;
+        *level = k;
+        return 0;
+    }
+    }
+}
+
+/* Priority of a request for a child of record i: its projected error (error mode), else
+ * nearness. */
+static double request_prio(const tp_cut* c, int i, int64_t child)
+{
+    if (c->have_view && c->lp.mode == TP_LOD_ERROR)
+        return bound_px(c, i, c->n, no_nb);
+    int s, cc, rr;
+    tp_tree_node_locate(&c->g, child, &s, &cc, &rr);
+    const tp_node_meta* m = tp_tree_meta(c->t, child);
+    double bmin[3], bmax[3];
+    node_box(c, s, cc, rr, m->area_qmin, m->area_qmax, bmin, bmax);
+    return c->have_view ? 1.0 / (1.0 + box_distance(c->v.pos, bmin, bmax)) : 0;
+}
+
+/* Whether a node has something to draw in view (its area box in the frustum). */
+static int in_view(const tp_cut* c, int64_t node)
+{
+    const tp_node_meta* m = tp_tree_meta(c->t, node);
+    if (!(m->flags & TP_NODE_HAS_DRAWN) || m->area_qmin > m->area_qmax)
+        return 0;
+    if (!c->have_view)
+        return 1;
+    int s, cc, rr;
+    tp_tree_node_locate(&c->g, node, &s, &cc, &rr);
+    double bmin[3], bmax[3];
+    node_box(c, s, cc, rr, m->area_qmin, m->area_qmax, bmin, bmax);
+    return tp_frustum_test_aabb(&c->f, bmin, bmax) != TP_CULL_OUTSIDE;
+}
+
+int tp__cut_children_ready(tp_cut* c, int i)
+{
+    if (c->rec[i].s == 0)
+        return 0;
+    int ready = 1;
+    for (int q = 0; q < 4; q++) {
+        int64_t ch = tp_tree_node_child(&c->g, c->rec[i].node, q);
+        if (in_view(c, ch) && !tp_tree_samples(c->t, ch)) {
+            tp__cut_request(c, ch, request_prio(c, i, ch));
+            ready = 0;
+        }
+    }
+    return ready;
+}
+
+/* Classifies record i; returns 1 if it is to be refined (its children are ready). */
+static int classify(tp_cut* c, int i, int may_refine)
+{
+    const tp_node_meta* m = tp_tree_meta(c->t, c->rec[i].node);
+    if (!in_view(c, c->rec[i].node)) {
+        c->rec[i].state = (m->flags & TP_NODE_HAS_DRAWN) ? TP__CUT_CULLED : TP__CUT_EMPTY;
+        return 0;
+    }
+    if (c->have_view && c->lp.mode == TP_LOD_ERROR) {
+        double bmin[3], bmax[3];
+        tp__cut_box(c, i, 1, bmin, bmax);
+        c->rec[i].pb = tp__proj_bound_box(&c->v, bmin, bmax);
+    }
+    int k, refine = mode_wants(c, i, &k);
+    if (refine && may_refine) {
+        if (tp__cut_children_ready(c, i)) {
+            c->rec[i].state = TP__CUT_INTERIOR;
+            return 1;
+        }
+        c->rec[i].substituted = 1;
+    }
+    if (refine || !(m->flags & TP_NODE_COMPLETE))
+        k = c->n;
+    c->rec[i].level = (int8_t)k;
+    /* Drawn only if its own samples' box is in view. */
+    double bmin[3], bmax[3];
+    int vis = tp__cut_box(c, i, 0, bmin, bmax) &&
+              (!c->have_view || tp_frustum_test_aabb(&c->f, bmin, bmax) != TP_CULL_OUTSIDE);
+    c->rec[i].state = vis ? TP__CUT_DRAWN : TP__CUT_CULLED;
+    return 0;
+}
+
+void tp__cut_settle(tp_cut* c, int i)
+{
+    classify(c, i, 0);
+}
+
+/* ---- the update ---- */
+
+tp_status tp_cut_create(const tp_tree* t, tp_cut** out, tp_error* err)
+{
+    assert(t && out);
+    const tp_tree_desc* d = &t->desc;
+    tp_allocator a = t->alloc;
+    tp_cut* c = tp__calloc(&a, 1, sizeof *c);
+    if (!c)
+        return tp__fail(err, TP_ERR_OUT_OF_MEMORY, "cut: out of memory");
+    c->t = t;
+    c->alloc = a;
+    c->g = *tp_tree_get_geometry(t);
+    c->n = c->g.n;
+    memcpy(c->gt, d->geotransform, sizeof c->gt);
+    c->step = d->height_step_m;
+    c->quant = d->quant_max_error_m;
+    c->err_unit = d->err_unit_steps;
+    c->zscale = 1;
+    c->roots = tp__alloc(&a, (size_t)c->g.root_count, sizeof *c->roots);
+    if (!c->roots) {
+        tp_cut_destroy(c);
+        return tp__fail(err, TP_ERR_OUT_OF_MEMORY, "cut: out of memory for %lld roots",
+                        (long long)c->g.root_count);
+    }
+    tp_tree_roots(&c->g, c->roots, (size_t)c->g.root_count);
+    *out = c;
+    return TP_OK;
+}
+
+void tp_cut_destroy(tp_cut* c)
+{
+    if (!c)
+        return;
+    const tp_allocator* a = &c->alloc;
+    tp__free(a, c->roots);
+    tp__free(a, c->rec);
+    tp__free(a, c->hkey);
+    tp__free(a, c->hval);
+    tp__free(a, c->hgen);
+    tp__free(a, c->out);
+    tp__free(a, c->req);
+    tp__free(a, c->req_ids);
+    tp__free(a, c);
+}
+
+static void begin(tp_cut* c)
+{
+    c->gen++;
+    if (c->gen == 0) { /* wrapped: every slot would look current */
+        if (c->hcap)
+            memset(c->hgen, 0, c->hcap * sizeof *c->hgen);
+        c->gen = 1;
+    }
+    c->hused = 0;
+    c->rec_count = 0;
+    c->req_count = 0;
+    c->out_count = 0;
+    c->visited = 0;
+    c->unresolved = 0;
+    c->oom = 0;
+}
+
+static int req_cmp(const void* a, const void* b)
+{
+    const tp__cut_req *x = a, *y = b;
+    if (x->prio != y->prio)
+        return x->prio > y->prio ? -1 : 1;
+    return x->node < y->node ? -1 : x->node > y->node;
+}
+
+/* Stitching, then the output arrays. */
+static tp_status finish(tp_cut* c, tp_error* err)
+{
+    if (!c->oom)
+        tp__cut_constrain(c);
+    size_t drawn = 0;
+    for (size_t i = 0; i < c->rec_count; i++)
+        drawn += c->rec[i].state == TP__CUT_DRAWN;
+    if (c->oom || !grow(c, (void**)&c->out, &c->out_cap, drawn, sizeof *c->out) ||
+        !grow(c, (void**)&c->req_ids, &c->req_ids_cap, c->req_count, sizeof *c->req_ids)) {
+        c->rec_count = c->out_count = c->req_count = 0;
+        return tp__fail(err, TP_ERR_OUT_OF_MEMORY, "cut: out of memory after %d nodes",
+                        c->visited);
+    }
+    c->out_count = 0;
+    for (size_t i = 0; i < c->rec_count; i++) {
+        tp__cut_rec* r = &c->rec[i];
+        r->out = -1;
+        if (r->state != TP__CUT_DRAWN)
+            continue;
+        r->out = (int32_t)c->out_count;
+        tp_cut_node* o = &c->out[c->out_count++];
+        int nb[4];
+        tp__cut_nb(c, (int)i, nb);
+        o->node = r->node;
+        o->level = r->level;
+        for (int s = 0; s < 4; s++)
+            o->nb[s] = (int8_t)nb[s];
+        o->substituted = r->substituted;
+        r->bound_px = 0;
+        if (c->have_view && c->lp.mode == TP_LOD_ERROR)
+            r->bound_px = (float)bound_px(c, (int)i, r->level, nb);
+        o->bound_px = r->bound_px;
+    }
+    qsort(c->req, c->req_count, sizeof *c->req, req_cmp);
+    for (size_t i = 0; i < c->req_count; i++)
+        c->req_ids[i] = c->req[i].node;
+    return TP_OK;
+}
+
+tp_status tp_cut_update(tp_cut* c, const tp_camera* cam, const tp_lod_params* params,
+                        tp_error* err)
+{
+    assert(c && cam);
+    tp_lod_params lp;
+    tp_status st = tp_lod_params_resolve(NULL, params, &lp, err);
+    if (st != TP_OK)
+        return st;
+    if (lp.mode == TP_LOD_MAX_ERROR)
+        return tp__fail(err, TP_ERR_INVALID_ARG,
+                        "cut: the max-error mode is not available over a tree (use error, "
+                        "distance or full)");
+    if (!params || (params->mindist_m == 0 && params->maxdist_m == 0)) {
+        /* The defaults in leaf widths, as tp_lod_params_resolve does with patch widths. */
+        double leaf_m = (double)(1 << c->n) * fmax(fabs(c->gt[1]), fabs(c->gt[5]));
+        lp.mindist_m = leaf_m;
+        lp.maxdist_m = 24 * leaf_m;
+    }
+    begin(c);
+    c->lp = lp;
+    c->have_view = 1;
+    tp__view_from_camera(cam, &c->v);
+    tp_frustum_from_camera(cam, &c->f);
+    /* Depth first from each root; the children of a refined node are pushed onto the record
+     * array itself, so the "stack" is the records not yet classified. */
+    for (int64_t ri = 0; ri < c->g.root_count && !c->oom; ri++) {
+        int64_t root = c->roots[ri];
+        if (!tp_tree_samples(c->t, root)) {
+            if (in_view(c, root))
+                tp__cut_request(c, root, INFINITY);
+            continue; /* a hole: roots are to stay resident */
+        }
+        size_t first = c->rec_count;
+        if (tp__cut_add(c, root) < 0)
+            break;
+        for (size_t i = first; i < c->rec_count && !c->oom; i++) {
+            if (!classify(c, (int)i, 1))
+                continue;
+            for (int q = 0; q < 4; q++)
+                if (tp__cut_add(c, tp_tree_node_child(&c->g, c->rec[i].node, q)) < 0)
+                    break;
+        }
+    }
+    return finish(c, err);
+}
+
+tp_status tp_cut_set_nodes(tp_cut* c, const int64_t* nodes, const int* levels, size_t count,
+                           tp_error* err)
+{
+    assert(c && (nodes || count == 0) && (levels || count == 0));
+    begin(c);
+    c->have_view = 0;
+    c->lp = (tp_lod_params){0};
+    for (size_t i = 0; i < count && !c->oom; i++) {
+        assert(nodes[i] >= 0 && nodes[i] < c->g.node_count && levels[i] >= 0 &&
+               levels[i] <= c->n && tp__cut_find(c, nodes[i]) < 0);
+        int r = tp__cut_add(c, nodes[i]);
+        if (r < 0)
+            break;
+        const tp_node_meta* m = tp_tree_meta(c->t, nodes[i]);
+        c->rec[r].level = (int8_t)((m->flags & TP_NODE_COMPLETE) ? levels[i] : c->n);
+        c->rec[r].state = m->qmin <= m->qmax ? TP__CUT_DRAWN : TP__CUT_EMPTY;
+    }
+    /* Ancestors as refined nodes, so that the stitching pass may collapse onto them. */
+    for (size_t i = 0; i < count && !c->oom; i++)
+        for (int64_t p = tp_tree_node_parent(&c->g, nodes[i]); p >= 0 && tp__cut_find(c, p) < 0;
+             p = tp_tree_node_parent(&c->g, p)) {
+            int r = tp__cut_add(c, p);
+            if (r < 0)
+                break;
+            c->rec[r].state = TP__CUT_INTERIOR;
+        }
+    return finish(c, err);
+}
+
+const tp_cut_node* tp_cut_nodes(const tp_cut* c, size_t* count)
+{
+    assert(c && count);
+    *count = c->out_count;
+    return c->out;
+}
+
+const int64_t* tp_cut_requests(const tp_cut* c, size_t* count)
+{
+    assert(c && count);
+    *count = c->req_count;
+    return c->req_ids;
+}

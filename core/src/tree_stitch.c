@@ -1,0 +1,487 @@
+/* tree_stitch.c - crack removal between drawn tree nodes of any size and level, and what the
+ * stitched cut draws (vertex data, heights, screen error, statistics).
+ *
+ * Vertex strides are powers of two of grid samples: 2^(s+n-k) for a node of scale s at level
+ * k, and every node's vertices lie on multiples of its stride. Two drawn nodes A and B share
+ * part of an edge; say stride(B) > stride(A). A's side vertices can move onto B's vertices
+ * (stitch.c's snapping on A's lattice, relative level kn = level(B) - (scale(B) - scale(A)))
+ * when
+ *   1. stride(B) <= side(A) = 2^(n+scale(A)): A's corners are vertices of B, so A's moved side
+ *      is exactly B's vertex-to-vertex segments (kn >= 0);
+ *   2. scale(B) >= scale(A): a side carries one relative level, so only a side with a single
+ *      neighbour (the smaller or equal node's) may move; the larger node's side never moves.
+ * Levels are raised (only up) until both hold; 1 can fail only when scale(B) - scale(A) > n,
+ * and then B is split into its children when they are resident, else A's ancestor of scale
+ * scale(B) - n is drawn instead (at level n, frozen: never split again in this update), which
+ * is always resident since the update went through it. Each node is frozen at most once and
+ * splits only go down, so the pass ends. Only if A has no such ancestor (a forest whose
+ * adjacent roots differ by more than n scales, and B's children are not resident) does a
+ * crack remain: counted in tp_cut's `unresolved`.
+ * In error mode a coarser neighbour is also raised while the finer node's stitched bound (its
+ * eps table) projects above tau, as tp_selection_update does; one already at level n (so
+ * larger than the finer node) is split when its children are resident.
+ */
+#include "internal.h"
+
+#include <string.h>
+
+static const int dcol[4] = {0, 1, 0, -1}, drow[4] = {-1, 0, 1, 0};
+
+int tp__cut_neighbor(const tp_cut* c, int i, int side)
+{
+    const tp__cut_rec* a = &c->rec[i];
+    int64_t cc = (int64_t)a->c + dcol[side], rr = (int64_t)a->r + drow[side];
+    if (cc < 0 || rr < 0)
+        return -1;
+    for (int s = a->s; s < c->g.scales; s++, cc >>= 1, rr >>= 1) {
+        if (cc >= c->g.node_cols[s] || rr >= c->g.node_rows[s])
+            return -1; /* no node there at this scale, so none above */
+        int j = tp__cut_find(c, tp_tree_node_id(&c->g, s, (int)cc, (int)rr));
+        if (j < 0 || c->rec[j].state == TP__CUT_REMOVED)
+            continue;
+        return c->rec[j].state == TP__CUT_DRAWN ? j : -1; /* INTERIOR: smaller nodes there */
+    }
+    return -1;
+}
+
+static int stride_log(const tp__cut_rec* r, int n)
+{
+    return r->s + n - r->level;
+}
+
+void tp__cut_nb(const tp_cut* c, int i, int nb[4])
+{
+    const tp__cut_rec* a = &c->rec[i];
+    for (int side = 0; side < 4; side++) {
+        nb[side] = TP_NO_NEIGHBOR;
+        int j = tp__cut_neighbor(c, i, side);
+        if (j < 0)
+            continue;
+        const tp__cut_rec* b = &c->rec[j];
+        int kn = b->level - (b->s - a->s);
+        if (stride_log(b, c->n) > stride_log(a, c->n) && kn >= 0)
+            nb[side] = kn;
+    }
+}
+
+/* Marks every record under record i (exclusive) removed. */
+static void remove_below(tp_cut* c, int i)
+{
+    if (c->rec[i].s == 0)
+        return;
+    for (int q = 0; q < 4; q++) {
+        int j = tp__cut_find(c, tp_tree_node_child(&c->g, c->rec[i].node, q));
+        if (j < 0 || c->rec[j].state == TP__CUT_REMOVED)
+            continue;
+        if (c->rec[j].state == TP__CUT_INTERIOR)
+            remove_below(c, j);
+        c->rec[j].state = TP__CUT_REMOVED;
+    }
+}
+
+/* Replaces drawn record i by its children; 0 if they are not all ready (or it is frozen). */
+static int split(tp_cut* c, int i)
+{
+    if (c->rec[i].frozen || !tp__cut_children_ready(c, i))
+        return 0;
+    int64_t node = c->rec[i].node;
+    int k = c->rec[i].level;
+    for (int q = 0; q < 4; q++) {
+        int64_t ch = tp_tree_node_child(&c->g, node, q);
+        int j = tp__cut_find(c, ch);
+        if (j < 0)
+            j = tp__cut_add(c, ch);
+        if (j < 0)
+            return 1; /* out of memory: the update fails */
+        c->rec[j].level = 0;
+        c->rec[j].substituted = 0;
+        tp__cut_settle(c, j);
+        if (!c->have_view && c->rec[j].state == TP__CUT_DRAWN) {
+            /* An installed cut: the children keep the parent's stride where they can. */
+            const tp_node_meta* m = tp_tree_meta(c->t, ch);
+            c->rec[j].level = (int8_t)((m->flags & TP_NODE_COMPLETE) && k > 0 ? k - 1 : c->n);
+        }
+    }
+    c->rec[i].state = TP__CUT_INTERIOR;
+    return 1;
+}
+
+/* Draws the ancestor of record i at scale s instead of everything under it; 0 if there is none
+ * (or it is not resident). */
+static int collapse(tp_cut* c, int i, int s)
+{
+    int64_t p = c->rec[i].node;
+    for (int k = c->rec[i].s; k < s && p >= 0; k++)
+        p = tp_tree_node_parent(&c->g, p);
+    if (p < 0 || !tp_tree_samples(c->t, p))
+        return 0;
+    int j = tp__cut_find(c, p);
+    if (j < 0)
+        return 0;
+    remove_below(c, j);
+    c->rec[j].frozen = 1;
+    c->rec[j].substituted = 0; /* its own children may be resident: B's are not */
+    tp__cut_settle(c, j); /* drawn at n: it wants refining, or is culled */
+    c->rec[j].level = (int8_t)c->n;
+    return 1;
+}
+
+void tp__cut_constrain(tp_cut* c)
+{
+    int n = c->n;
+    int error = c->have_view && c->lp.mode == TP_LOD_ERROR;
+    int changed = 1;
+    while (changed && !c->oom) {
+        changed = 0;
+        c->unresolved = 0;
+        for (size_t i = 0; i < c->rec_count && !c->oom; i++) {
+            for (int side = 0; side < 4 && c->rec[i].state == TP__CUT_DRAWN; side++) {
+                int j = tp__cut_neighbor(c, (int)i, side);
+                if (j < 0)
+                    continue;
+                tp__cut_rec *a = &c->rec[i], *b = &c->rec[j];
+                int ds = b->s - a->s;
+                if (ds > n) {
+                    if (split(c, j) || collapse(c, (int)i, b->s - n))
+                        changed = 1;
+                    else
+                        c->unresolved++;
+                    continue; /* records may have moved; the state check ends the loop */
+                }
+                int la = stride_log(a, n), lb = stride_log(b, n);
+                if (lb > la) {
+                    if (b->level < ds) {
+                        b->level = (int8_t)ds;
+                        changed = 1;
+                    }
+                    int kn = b->level - ds;
+                    if (error && kn < a->level) {
+                        int nb[4] = {TP_NO_NEIGHBOR, TP_NO_NEIGHBOR, TP_NO_NEIGHBOR,
+                                     TP_NO_NEIGHBOR};
+                        nb[side] = kn;
+                        const tp_node_meta* m = tp_tree_meta(c->t, a->node);
+                        double geo = tp_node_error_bound(m, n, a->level, nb, c->step, c->err_unit);
+                        double d = (geo + c->quant) * c->zscale;
+                        if (geo > 0 && tp__projected_px(&a->pb, c->v.fwd[2], d) > c->lp.tau_px) {
+                            /* Finer B, or at level n (so larger than A) its children. */
+                            if (b->level < n) {
+                                b->level++;
+                                changed = 1;
+                            } else if (split(c, j)) {
+                                changed = 1;
+                            }
+                        }
+                    }
+                } else if (la > lb && ds > 0) {
+                    a->level = (int8_t)(a->level + (la - lb));
+                    changed = 1;
+                }
+            }
+        }
+    }
+}
+
+/* ---- the drawn geometry of one node ---- */
+
+typedef struct node_view {
+    const tp_cut* c;
+    const uint16_t* q; /* its samples */
+    int32_t qmin;
+    int64_t x0, y0;     /* grid position of sample (0, 0) */
+    int s, k, shift;    /* scale, level, n - k */
+    int nb[4];
+} node_view;
+
+static void node_view_init(const tp_cut* c, size_t i, node_view* nv)
+{
+    const tp_cut_node* o = &c->out[i];
+    int s, cc, rr;
+    tp_tree_node_locate(&c->g, o->node, &s, &cc, &rr);
+    nv->c = c;
+    nv->q = tp_tree_samples(c->t, o->node);
+    assert(nv->q); /* drawn nodes are resident until the next update */
+    nv->qmin = tp_tree_meta(c->t, o->node)->qmin;
+    nv->x0 = (int64_t)cc << (c->n + s);
+    nv->y0 = (int64_t)rr << (c->n + s);
+    nv->s = s;
+    nv->k = o->level;
+    nv->shift = c->n - o->level;
+    for (int side = 0; side < 4; side++)
+        nv->nb[side] = o->nb[side];
+}
+
+/* Vertex (i, j) after crack removal: grid position, global quantised height (INT32_MIN when
+ * none) and whether the ORIGINAL vertex is drawn. */
+static int node_vertex(const node_view* nv, int i, int j, int32_t* gx, int32_t* gy, int32_t* q)
+{
+    int mi, mj, v = (1 << nv->c->n) + 1;
+    tp__lattice_vertex(nv->k, nv->nb, i, j, &mi, &mj);
+    *gx = (int32_t)(nv->x0 + ((int64_t)mi << (nv->shift + nv->s)));
+    *gy = (int32_t)(nv->y0 + ((int64_t)mj << (nv->shift + nv->s)));
+    uint16_t st = nv->q[(size_t)(mj << nv->shift) * v + (size_t)(mi << nv->shift)];
+    *q = st == TP_TREE_NO_HEIGHT ? INT32_MIN : (int32_t)st + nv->qmin;
+    return nv->q[(size_t)(j << nv->shift) * v + (size_t)(i << nv->shift)] != TP_TREE_NO_HEIGHT;
+}
+
+void tp_cut_vertices(const tp_cut* c, size_t i, tp_vertex* vertices, size_t vertex_capacity)
+{
+    assert(c && i < c->out_count && vertices);
+    node_view nv;
+    node_view_init(c, i, &nv);
+    int v = (1 << nv.k) + 1;
+    assert(vertex_capacity >= (size_t)v * v);
+    (void)vertex_capacity;
+    for (int j = 0; j < v; j++)
+        for (int ii = 0; ii < v; ii++) {
+            tp_vertex* o = &vertices[j * v + ii];
+            int32_t q;
+            int drawn = node_vertex(&nv, ii, j, &o->x, &o->y, &q);
+            o->z_m = q == INT32_MIN ? NAN : (float)(q * c->step);
+            if (drawn)
+                o->cls = TP_SAMPLE_VALID;
+            else {
+                int64_t ox = nv.x0 + ((int64_t)ii << (nv.shift + nv.s));
+                int64_t oy = nv.y0 + ((int64_t)j << (nv.shift + nv.s));
+                o->cls = ox >= c->g.src_width || oy >= c->g.src_height ? TP_SAMPLE_PADDING
+                                                                       : TP_SAMPLE_NODATA;
+            }
+        }
+}
+
+/* Triangle h (0, 1) of cell (cx, cy) as drawn: 0 if it is not (undrawn vertex, zero area). */
+static int cell_triangle(const node_view* nv, int cx, int cy, int h, int32_t pos[3][2],
+                         double q[3])
+{
+    static const int tri[2][3][2] = {{{0, 0}, {0, 1}, {1, 0}}, {{1, 0}, {0, 1}, {1, 1}}};
+    int ok = 1;
+    for (int v = 0; v < 3; v++) {
+        int32_t qq;
+        ok &= node_vertex(nv, cx + tri[h][v][0], cy + tri[h][v][1], &pos[v][0], &pos[v][1], &qq);
+        q[v] = qq;
+    }
+    int64_t area = (int64_t)(pos[1][0] - pos[0][0]) * (pos[2][1] - pos[0][1]) -
+                   (int64_t)(pos[1][1] - pos[0][1]) * (pos[2][0] - pos[0][0]);
+    return ok && area != 0;
+}
+
+void tp_cut_get_stats(const tp_cut* c, tp_cut_stats* out)
+{
+    assert(c && out);
+    memset(out, 0, sizeof *out);
+    out->visited = c->visited;
+    out->requests = (int)c->req_count;
+    for (size_t i = 0; i < c->rec_count; i++)
+        out->culled += c->rec[i].state == TP__CUT_CULLED;
+    for (size_t i = 0; i < c->out_count; i++) {
+        const tp_cut_node* o = &c->out[i];
+        node_view nv;
+        node_view_init(c, i, &nv);
+        out->drawn++;
+        out->nodes_per_scale[nv.s]++;
+        out->substituted += o->substituted;
+        if (o->bound_px > out->max_bound_px)
+            out->max_bound_px = o->bound_px;
+        if (o->substituted && o->bound_px > out->substitution_bound_px)
+            out->substitution_bound_px = o->bound_px;
+        int last = 1 << nv.k;
+        for (int cy = 0; cy < last; cy++)
+            for (int cx = 0; cx < last; cx++)
+                for (int h = 0; h < 2; h++) {
+                    int32_t pos[3][2];
+                    double q[3];
+                    out->triangles += (size_t)cell_triangle(&nv, cx, cy, h, pos, q);
+                }
+    }
+}
+
+/* ---- heights of the drawn surface ---- */
+
+/* Height (steps) at (x, y) of triangle h of cell (cx, cy), if the triangle contains it. */
+static int cell_height(const node_view* nv, int cx, int cy, double x, double y, double* z)
+{
+    for (int h = 0; h < 2; h++) {
+        int32_t pos[3][2];
+        double q[3];
+        if (!cell_triangle(nv, cx, cy, h, pos, q) || q[0] == INT32_MIN || q[1] == INT32_MIN ||
+            q[2] == INT32_MIN)
+            continue;
+        double area = (double)(pos[1][0] - pos[0][0]) * (pos[2][1] - pos[0][1]) -
+                      (double)(pos[1][1] - pos[0][1]) * (pos[2][0] - pos[0][0]);
+        double w[3];
+        for (int v = 0; v < 3; v++) {
+            const int32_t* a = pos[(v + 1) % 3];
+            const int32_t* b = pos[(v + 2) % 3];
+            w[v] = ((b[0] - a[0]) * (y - a[1]) - (b[1] - a[1]) * (x - a[0])) / area;
+        }
+        const double eps = 1e-9;
+        if (w[0] >= -eps && w[1] >= -eps && w[2] >= -eps) {
+            *z = w[0] * q[0] + w[1] * q[1] + w[2] * q[2];
+            return 1;
+        }
+    }
+    return 0;
+}
+
+static double node_drawn_height(const node_view* nv, double x, double y)
+{
+    int last = 1 << nv->k;
+    double cell = (double)((int64_t)1 << (nv->shift + nv->s));
+    double lx = (x - nv->x0) / cell, ly = (y - nv->y0) / cell;
+    int cx = (int)lx < last ? (int)lx : last - 1, cy = (int)ly < last ? (int)ly : last - 1;
+    double z;
+    for (int dy = 0; dy <= (ly == cy && cy > 0); dy++)
+        for (int dx = 0; dx <= (lx == cx && cx > 0); dx++)
+            if (cell_height(nv, cx - dx, cy - dy, x, y, &z))
+                return z;
+    /* In a stitched border strip moved vertices shift the triangles along the side. */
+    for (int side = 0; side < 4; side++) {
+        if (nv->nb[side] < 0 || nv->nb[side] >= nv->k)
+            continue;
+        for (int i = 0; i < last; i++) {
+            int ccx = side == TP_SIDE_LEFT ? 0 : side == TP_SIDE_RIGHT ? last - 1 : i;
+            int ccy = side == TP_SIDE_TOP ? 0 : side == TP_SIDE_BOTTOM ? last - 1 : i;
+            if (cell_height(nv, ccx, ccy, x, y, &z))
+                return z;
+        }
+    }
+    return NAN;
+}
+
+/* Index in the output of the drawn node covering leaf (lc, lr), or -1. */
+static int drawn_at_leaf(const tp_cut* c, int lc, int lr)
+{
+    for (int s = 0; s < c->g.scales; s++, lc >>= 1, lr >>= 1) {
+        if (lc >= c->g.node_cols[s] || lr >= c->g.node_rows[s])
+            return -1;
+        int j = tp__cut_find(c, tp_tree_node_id(&c->g, s, lc, lr));
+        if (j < 0 || c->rec[j].state == TP__CUT_REMOVED)
+            continue;
+        return c->rec[j].state == TP__CUT_DRAWN ? c->rec[j].out : -1;
+    }
+    return -1;
+}
+
+double tp_cut_drawn_height_at(const tp_cut* c, double x, double y)
+{
+    assert(c);
+    if (!(x >= 0 && y >= 0 && x <= c->g.width - 1 && y <= c->g.height - 1))
+        return NAN;
+    int span = 1 << c->n;
+    int lc = (int)x >> c->n, lr = (int)y >> c->n;
+    lc = lc < c->g.cols ? lc : c->g.cols - 1;
+    lr = lr < c->g.rows ? lr : c->g.rows - 1;
+    int bx = lc > 0 && x == (double)lc * span, by = lr > 0 && y == (double)lr * span;
+    for (int dy = 0; dy <= by; dy++)
+        for (int dx = 0; dx <= bx; dx++) {
+            int o = drawn_at_leaf(c, lc - dx, lr - dy);
+            if (o < 0)
+                continue;
+            node_view nv;
+            node_view_init(c, (size_t)o, &nv);
+            double z = node_drawn_height(&nv, x, y);
+            if (!isnan(z))
+                return z * c->step;
+        }
+    return NAN;
+}
+
+/* ---- the screen error of the cut ---- */
+
+typedef struct screen_measure {
+    const tp_cut* c;
+    const tp__view* v;
+    int64_t x1, y1; /* the node's far edges: samples there belong to the next node */
+    double max, sum;
+    size_t count, skipped;
+} screen_measure;
+
+static void to_camera(const tp__view* v, const double w[3], double out[3])
+{
+    double d[3] = {w[0] - v->pos[0], w[1] - v->pos[1], w[2] - v->pos[2]};
+    out[0] = d[0] * v->right[0] + d[1] * v->right[1] + d[2] * v->right[2];
+    out[1] = d[0] * v->up[0] + d[1] * v->up[1] + d[2] * v->up[2];
+    out[2] = d[0] * v->fwd[0] + d[1] * v->fwd[1] + d[2] * v->fwd[2];
+}
+
+static void screen_sample(int x, int y, double z, void* user)
+{
+    screen_measure* m = user;
+    const tp_cut* c = m->c;
+    /* Each sample once: one on a shared edge is counted by the node after it. */
+    if ((x == m->x1 && x != c->g.width - 1) || (y == m->y1 && y != c->g.height - 1))
+        return;
+    int lc = x >> c->n, lr = y >> c->n;
+    lc = lc < c->g.cols ? lc : c->g.cols - 1;
+    lr = lr < c->g.rows ? lr : c->g.rows - 1;
+    int64_t leaf = tp_tree_node_id(&c->g, 0, lc, lr);
+    const uint16_t* q = tp_tree_samples(c->t, leaf);
+    if (!q) {
+        m->skipped++;
+        return;
+    }
+    int v = (1 << c->n) + 1;
+    uint16_t st = q[(size_t)(y - (lr << c->n)) * v + (size_t)(x - (lc << c->n))];
+    if (st == TP_TREE_NO_HEIGHT)
+        return;
+    double truth = ((int32_t)st + tp_tree_meta(c->t, leaf)->qmin) * c->step * c->zscale;
+    double ws[3], wd[3], cs[3], cd[3];
+    ws[0] = wd[0] = c->gt[0] + (x + 0.5) * c->gt[1];
+    ws[1] = wd[1] = c->gt[3] + (y + 0.5) * c->gt[5];
+    ws[2] = truth;
+    wd[2] = z * c->step * c->zscale;
+    const tp__view* vw = m->v;
+    to_camera(vw, ws, cs);
+    if (cs[2] < vw->near_m || (vw->far_m > 0 && cs[2] > vw->far_m) ||
+        fabs(cs[0]) > vw->tan_x * cs[2] || fabs(cs[1]) > vw->tan_y * cs[2])
+        return;
+    to_camera(vw, wd, cd);
+    double e;
+    if (wd[2] == ws[2])
+        e = 0;
+    else if (cd[2] <= 0)
+        e = INFINITY;
+    else {
+        double du = vw->f_px * (cd[0] / cd[2] - cs[0] / cs[2]);
+        double dv = vw->f_px * (cd[1] / cd[2] - cs[1] / cs[2]);
+        e = sqrt(du * du + dv * dv);
+    }
+    m->max = e > m->max ? e : m->max;
+    m->sum += e * e;
+    m->count++;
+}
+
+tp_status tp_cut_measure_screen_error(const tp_cut* c, const tp_camera* cam, double* max_px,
+                                      double* rms_px, size_t* samples, size_t* skipped)
+{
+    assert(c && cam);
+    tp__view v;
+    tp__view_from_camera(cam, &v);
+    screen_measure m = {c, &v, 0, 0, 0, 0, 0, 0};
+    for (size_t i = 0; i < c->out_count; i++) {
+        node_view nv;
+        node_view_init(c, i, &nv);
+        m.x1 = nv.x0 + ((int64_t)1 << (c->n + nv.s));
+        m.y1 = nv.y0 + ((int64_t)1 << (c->n + nv.s));
+        int last = 1 << nv.k;
+        for (int cy = 0; cy < last; cy++)
+            for (int cx = 0; cx < last; cx++)
+                for (int h = 0; h < 2; h++) {
+                    int32_t pos[3][2];
+                    double q[3];
+                    if (!cell_triangle(&nv, cx, cy, h, pos, q) || q[0] == INT32_MIN ||
+                        q[1] == INT32_MIN || q[2] == INT32_MIN)
+                        continue;
+                    tp__raster_triangle(pos[0], pos[1], pos[2], q[0], q[1], q[2],
+                                        screen_sample, &m);
+                }
+    }
+    if (max_px)
+        *max_px = m.max;
+    if (rms_px)
+        *rms_px = m.count ? sqrt(m.sum / (double)m.count) : 0;
+    if (samples)
+        *samples = m.count;
+    if (skipped)
+        *skipped = m.skipped;
+    return TP_OK;
+}

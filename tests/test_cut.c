@@ -1,0 +1,762 @@
+/* test_cut.c - the cut over a tree (tree_select.c, tree_stitch.c) on real relief: watertight
+ * for random views and for adversarial hand-made cuts, the error bound on screen, substitution
+ * of nodes that are not resident, and a cost that does not grow with the map.
+ */
+#include "tp_test.h"
+
+#include <stdint.h>
+
+/* ---- data ---- */
+
+/* A w x h crop at (x0, y0) of N42E001.hgt (SRTM3, 1201 x 1201 big-endian int16, -32768 void),
+ * or NULL when the file is missing. */
+static float* load_hgt(int x0, int y0, int w, int h)
+{
+    char path[1024];
+    if (!tp_test_data_path(path, sizeof path, "TP_SHARED_DATA_DIR", "N42E001.hgt"))
+        return NULL;
+    FILE* f = fopen(path, "rb");
+    if (!f)
+        return NULL;
+    unsigned char* raw = malloc((size_t)1201 * 1201 * 2);
+    size_t got = fread(raw, 1, (size_t)1201 * 1201 * 2, f);
+    fclose(f);
+    if (got != (size_t)1201 * 1201 * 2) {
+        free(raw);
+        return NULL;
+    }
+    float* out = malloc((size_t)w * h * sizeof *out);
+    for (int y = 0; y < h; y++)
+        for (int x = 0; x < w; x++) {
+            size_t i = ((size_t)(y0 + y) * 1201 + (size_t)(x0 + x)) * 2;
+            int16_t v = (int16_t)((raw[i] << 8) | raw[i + 1]);
+            out[(size_t)y * w + x] = v == -32768 ? NAN : (float)v;
+        }
+    free(raw);
+    return out;
+}
+
+/* Fills voids with the last height before them in the row (or after, at the row's start), for
+ * tests that compare covered areas. */
+static void fill_voids(float* hts, int w, int h)
+{
+    for (int y = 0; y < h; y++) {
+        float* row = hts + (size_t)y * w;
+        float last = NAN;
+        for (int x = 0; x < w; x++)
+            if (isnan(row[x]))
+                row[x] = last;
+            else
+                last = row[x];
+        for (int x = w - 1; x >= 0; x--)
+            if (isnan(row[x]))
+                row[x] = last;
+            else
+                last = row[x];
+    }
+}
+
+#define LOAD_OR_SKIP(var, x0, y0, w, h)                                                            \
+    float* var = load_hgt(x0, y0, w, h);                                                           \
+    if (!var)                                                                                      \
+    SKIP("N42E001.hgt not found (set TP_SHARED_DATA_DIR)")
+
+static const double GT[6] = {400000, 90, 0, 4800000, 0, -90}; /* SRTM3 at about 90 m */
+
+static tp_tree* make_tree(const float* hts, int w, int h, int patch_size)
+{
+    tp_tree* t = NULL;
+    tp_error e = {{0}};
+    tp_status st = tp_tree_create_from_grid(hts, (size_t)w * h, w, h, GT, patch_size, 0, &t, &e);
+    if (st != TP_OK)
+        fprintf(stderr, "tree: %s\n", e.message);
+    ASSERT_OK(st);
+    return t;
+}
+
+static uint64_t rng_state = 88172645463325252ull;
+static double rnd(void)
+{
+    rng_state ^= rng_state << 13;
+    rng_state ^= rng_state >> 7;
+    rng_state ^= rng_state << 17;
+    return (double)(rng_state >> 11) / 9007199254740992.0;
+}
+
+static void grid_to_world(double x, double y, double* e, double* n)
+{
+    *e = GT[0] + (x + 0.5) * GT[1];
+    *n = GT[3] + (y + 0.5) * GT[5];
+}
+
+/* A camera above grid point (x, y) of the tree, `above` metres over the surface. */
+static void camera_at(const tp_tree* t, double x, double y, double above, double yaw,
+                      double pitch, tp_camera* cam)
+{
+    double z = tp_tree_sample(t, (int)x, (int)y);
+    for (int r = 1; isnan(z) && r < 64; r++) /* over a void: the nearest height along the row */
+        z = tp_tree_sample(t, (int)x + r, (int)y);
+    double pos[3];
+    grid_to_world(x, y, &pos[0], &pos[1]);
+    pos[2] = (isnan(z) ? 0 : z) + above;
+    tp_camera_from_pose(pos, yaw, pitch, 60, 1280, 720, cam);
+}
+
+static void random_camera(const tp_tree* t, tp_camera* cam)
+{
+    const tp_tree_geometry* g = tp_tree_get_geometry(t);
+    camera_at(t, rnd() * (g->src_width - 1), rnd() * (g->src_height - 1), 30 + rnd() * 3000,
+              rnd() * 360, -5 - rnd() * 80, cam);
+}
+
+/* ---- the watertight check ---- */
+
+typedef struct seg {
+    int32_t a[2], b[2]; /* a < b */
+    float za, zb;
+} seg;
+
+typedef struct node_geom {
+    int64_t x0, y0, x1, y1;
+    int complete;
+    seg* segs; /* triangle edges on the node's border */
+    size_t seg_count;
+} node_geom;
+
+static int seg_cmp(const void* p, const void* q)
+{
+    const seg *a = p, *b = q;
+    for (int i = 0; i < 2; i++) {
+        if (a->a[i] != b->a[i])
+            return a->a[i] < b->a[i] ? -1 : 1;
+        if (a->b[i] != b->b[i])
+            return a->b[i] < b->b[i] ? -1 : 1;
+    }
+    return 0;
+}
+
+static int seg_match(const seg* a, const seg* b)
+{
+    return seg_cmp(a, b) == 0 && memcmp(&a->za, &b->za, sizeof(float)) == 0 &&
+           memcmp(&a->zb, &b->zb, sizeof(float)) == 0;
+}
+
+static int on_border(const node_geom* ng, const int32_t p[2], const int32_t q[2])
+{
+    return (p[0] == q[0] && (p[0] == ng->x0 || p[0] == ng->x1)) ||
+           (p[1] == q[1] && (p[1] == ng->y0 || p[1] == ng->y1));
+}
+
+typedef struct cover {
+    uint8_t* bits;
+    int w;
+} cover;
+
+static void mark(int x, int y, double z, void* user)
+{
+    (void)z;
+    cover* c = user;
+    c->bits[(size_t)y * c->w + x] = 1;
+}
+
+/* Checks the drawn cut: shared edges identical from both sides, no fold-over, and every
+ * sample of every drawn complete node's area covered. Fills *covered (grid-sized, 0/1) when
+ * not NULL. Returns the number of failures (also reported). */
+static int check_watertight(const tp_tree* t, const tp_cut* cut, uint8_t* covered)
+{
+    const tp_tree_geometry* g = tp_tree_get_geometry(t);
+    size_t count;
+    const tp_cut_node* nodes = tp_cut_nodes(cut, &count);
+    size_t vmax = ((size_t)1 << g->n) + 1;
+    tp_vertex* v = malloc(vmax * vmax * sizeof *v);
+    uint32_t* tri = malloc(6 * (vmax - 1) * (vmax - 1) * sizeof *tri);
+    node_geom* ng = calloc(count ? count : 1, sizeof *ng);
+    cover cov = {calloc((size_t)g->width * g->height, 1), g->width};
+    int failures = 0, sign = 0;
+    for (size_t i = 0; i < count; i++) {
+        int s, c, r;
+        tp_tree_node_locate(g, nodes[i].node, &s, &c, &r);
+        int64_t span = (int64_t)1 << (g->n + s);
+        ng[i].x0 = c * span, ng[i].x1 = (c + 1) * span;
+        ng[i].y0 = r * span, ng[i].y1 = (r + 1) * span;
+        ng[i].complete = tp_tree_meta(t, nodes[i].node)->flags & TP_NODE_COMPLETE;
+        int k = nodes[i].level, vs = (1 << k) + 1;
+        tp_cut_vertices(cut, i, v, (size_t)vs * vs);
+        size_t nt = tp_patch_triangles(v, k, tri, 2 * (size_t)(vs - 1) * (vs - 1));
+        ng[i].segs = malloc(3 * nt * sizeof(seg) + 1);
+        for (size_t j = 0; j < nt; j++) {
+            const tp_vertex* p[3] = {&v[tri[3 * j]], &v[tri[3 * j + 1]], &v[tri[3 * j + 2]]};
+            int64_t area = ((int64_t)p[1]->x - p[0]->x) * ((int64_t)p[2]->y - p[0]->y) -
+                           ((int64_t)p[1]->y - p[0]->y) * ((int64_t)p[2]->x - p[0]->x);
+            int sg = area > 0 ? 1 : -1;
+            if (!sign)
+                sign = sg;
+            if (sg != sign && failures++ < 5)
+                fprintf(stderr, "fold-over: node %lld triangle %zu\n",
+                        (long long)nodes[i].node, j);
+            int32_t pa[2] = {p[0]->x, p[0]->y}, pb[2] = {p[1]->x, p[1]->y},
+                    pc[2] = {p[2]->x, p[2]->y};
+            tp_triangle_rasterize(pa, pb, pc, 0, 0, 0, mark, &cov);
+            for (int e = 0; e < 3; e++) {
+                const tp_vertex *u = p[e], *w = p[(e + 1) % 3];
+                int32_t a[2] = {u->x, u->y}, b[2] = {w->x, w->y};
+                if (!on_border(&ng[i], a, b))
+                    continue;
+                seg sgm;
+                int swap = a[0] > b[0] || (a[0] == b[0] && a[1] > b[1]);
+                memcpy(sgm.a, swap ? b : a, sizeof sgm.a);
+                memcpy(sgm.b, swap ? a : b, sizeof sgm.b);
+                sgm.za = swap ? w->z_m : u->z_m;
+                sgm.zb = swap ? u->z_m : w->z_m;
+                ng[i].segs[ng[i].seg_count++] = sgm;
+            }
+        }
+        qsort(ng[i].segs, ng[i].seg_count, sizeof(seg), seg_cmp);
+    }
+    /* Every pair of drawn nodes sharing part of an edge: the same segments on the overlap. */
+    seg* sa = malloc(4 * vmax * sizeof *sa * 4);
+    seg* sb = malloc(4 * vmax * sizeof *sb * 4);
+    for (size_t i = 0; i < count; i++)
+        for (size_t j = i + 1; j < count; j++) {
+            node_geom *A = &ng[i], *B = &ng[j];
+            int vertical = A->x1 == B->x0 || B->x1 == A->x0; /* shared line x = const */
+            int horizontal = A->y1 == B->y0 || B->y1 == A->y0;
+            int64_t lo, hi, line;
+            if (vertical) {
+                lo = A->y0 > B->y0 ? A->y0 : B->y0, hi = A->y1 < B->y1 ? A->y1 : B->y1;
+                line = A->x1 == B->x0 ? A->x1 : A->x0;
+            } else if (horizontal) {
+                lo = A->x0 > B->x0 ? A->x0 : B->x0, hi = A->x1 < B->x1 ? A->x1 : B->x1;
+                line = A->y1 == B->y0 ? A->y1 : A->y0;
+            } else
+                continue;
+            if (hi <= lo)
+                continue;
+            size_t na = 0, nb = 0;
+            for (int side = 0; side < 2; side++) {
+                node_geom* N = side ? B : A;
+                seg* out = side ? sb : sa;
+                size_t* no = side ? &nb : &na;
+                for (size_t k = 0; k < N->seg_count; k++) {
+                    seg* q = &N->segs[k];
+                    int along = vertical ? 1 : 0, across = 1 - along;
+                    if (q->a[across] != line || q->b[across] != line)
+                        continue;
+                    if (q->a[along] < lo || q->b[along] > hi)
+                        continue;
+                    out[(*no)++] = *q;
+                }
+            }
+            /* Complete nodes: the same segments. Next to undrawn samples a side may lack a
+             * triangle: then each segment of one side is either the other side's too or meets
+             * none of the other's (a T-junction overlaps without matching). */
+            int same = 1;
+            if (A->complete && B->complete) {
+                same = na == nb;
+                for (size_t k = 0; same && k < na; k++)
+                    same = seg_match(&sa[k], &sb[k]);
+            } else {
+                int along = vertical ? 1 : 0;
+                for (int side = 0; side < 2 && same; side++) {
+                    seg *x = side ? sb : sa, *y = side ? sa : sb;
+                    size_t nx = side ? nb : na, ny = side ? na : nb;
+                    for (size_t k = 0; k < nx && same; k++) {
+                        int found = 0, overlaps = 0;
+                        for (size_t l = 0; l < ny; l++) {
+                            found |= seg_match(&x[k], &y[l]);
+                            overlaps |= x[k].a[along] < y[l].b[along] &&
+                                        y[l].a[along] < x[k].b[along];
+                        }
+                        same = found || !overlaps;
+                    }
+                }
+            }
+            if (!same && failures++ < 5) {
+                fprintf(stderr,
+                        "crack between nodes %lld (level %d nb %d %d %d %d) and %lld (level %d nb "
+                        "%d %d %d %d): %zu vs %zu segments\n",
+                        (long long)nodes[i].node, nodes[i].level, nodes[i].nb[0], nodes[i].nb[1],
+                        nodes[i].nb[2], nodes[i].nb[3], (long long)nodes[j].node, nodes[j].level,
+                        nodes[j].nb[0], nodes[j].nb[1], nodes[j].nb[2], nodes[j].nb[3], na, nb);
+            }
+        }
+    /* No gap: every sample of a complete drawn node's area under a triangle. */
+    for (size_t i = 0; i < count; i++) {
+        if (!ng[i].complete)
+            continue;
+        int64_t missing = 0;
+        for (int64_t y = ng[i].y0; y <= ng[i].y1; y++)
+            for (int64_t x = ng[i].x0; x <= ng[i].x1; x++)
+                missing += !cov.bits[(size_t)y * g->width + (size_t)x];
+        if (missing && failures++ < 5)
+            fprintf(stderr, "gap: %lld samples of node %lld not covered\n", (long long)missing,
+                    (long long)nodes[i].node);
+    }
+    if (covered)
+        memcpy(covered, cov.bits, (size_t)g->width * g->height);
+    for (size_t i = 0; i < count; i++)
+        free(ng[i].segs);
+    free(ng);
+    free(sa);
+    free(sb);
+    free(v);
+    free(tri);
+    free(cov.bits);
+    return failures;
+}
+
+/* ---- tests ---- */
+
+TEST(watertight_for_random_views)
+{
+    /* 700 x 420: not 2^n k + 1, so padded, and a forest of roots of different scales. */
+    LOAD_OR_SKIP(h, 250, 300, 700, 420);
+    tp_tree* t = make_tree(h, 700, 420, 17);
+    tp_cut* cut;
+    ASSERT_OK(tp_cut_create(t, &cut, NULL));
+    const double taus[] = {0.5, 1, 4, 16};
+    for (int it = 0; it < 40; it++) {
+        tp_camera cam;
+        random_camera(t, &cam);
+        tp_lod_params lp = {0};
+        lp.mode = it % 8 == 6 ? TP_LOD_DISTANCE : it % 8 == 7 ? TP_LOD_FULL : TP_LOD_ERROR;
+        lp.tau_px = taus[it % 4];
+        ASSERT_OK(tp_cut_update(cut, &cam, &lp, NULL));
+        size_t count;
+        tp_cut_nodes(cut, &count);
+        EXPECT_GT((double)count, 0);
+        int f = check_watertight(t, cut, NULL);
+        if (f)
+            fprintf(stderr, "view %d (mode %d, tau %g): %d failures\n", it, (int)lp.mode,
+                    lp.tau_px, f);
+        EXPECT_EQ_INT(0, f);
+    }
+    tp_cut_destroy(cut);
+    tp_tree_destroy(t);
+    free(h);
+}
+
+/* Random hand-made cuts: from the roots, split at random (deep on one side, shallow on the
+ * other, so neighbours differ by up to the tree's depth in scale), random levels. */
+static void random_cut(const tp_tree_geometry* g, int64_t node, double p_split, int64_t* nodes,
+                       int* levels, size_t* count)
+{
+    int s, c, r;
+    tp_tree_node_locate(g, node, &s, &c, &r);
+    if (s > 0 && rnd() < p_split) {
+        for (int q = 0; q < 4; q++)
+            random_cut(g, tp_tree_node_child(g, node, q), q == 0 ? 0.9 : p_split * 0.6, nodes,
+                       levels, count);
+        return;
+    }
+    nodes[*count] = node;
+    levels[*count] = (int)(rnd() * (g->n + 1));
+    (*count)++;
+}
+
+TEST(watertight_for_adversarial_cuts)
+{
+    /* 1025 x 1025 with n = 4: 64 x 64 leaves under one root of scale 6, so neighbours can
+     * differ by more than n scales (split or collapse). */
+    LOAD_OR_SKIP(h, 100, 100, 1025, 1025);
+    fill_voids(h, 1025, 1025);
+    tp_tree* t = make_tree(h, 1025, 1025, 17);
+    const tp_tree_geometry* g = tp_tree_get_geometry(t);
+    tp_cut* cut;
+    ASSERT_OK(tp_cut_create(t, &cut, NULL));
+    int64_t* nodes = malloc((size_t)g->node_count * sizeof *nodes);
+    int* levels = malloc((size_t)g->node_count * sizeof *levels);
+    int64_t roots[64];
+    tp_tree_roots(g, roots, 64);
+    uint8_t* covered = malloc((size_t)g->width * g->height);
+    for (int it = 0; it < 60; it++) {
+        size_t count = 0;
+        for (int64_t ri = 0; ri < g->root_count; ri++)
+            random_cut(g, roots[ri], 0.95, nodes, levels, &count);
+        ASSERT_OK(tp_cut_set_nodes(cut, nodes, levels, count, NULL));
+        size_t drawn;
+        const tp_cut_node* out = tp_cut_nodes(cut, &drawn);
+        ASSERT_GT((double)drawn, 0);
+        /* Levels only go up. */
+        for (size_t i = 0; i < drawn; i++)
+            for (size_t j = 0; j < count; j++)
+                if (nodes[j] == out[i].node)
+                    EXPECT_GE_INT(out[i].level, levels[j]);
+        int f = check_watertight(t, cut, covered);
+        EXPECT_EQ_INT(0, f);
+        /* The whole map stays covered (the crop has no voids). */
+        size_t gaps = 0;
+        for (int y = 0; y < 1025; y++)
+            for (int x = 0; x < 1025; x++)
+                gaps += !covered[(size_t)y * g->width + x];
+        EXPECT_EQ_INT(0, (int)gaps);
+    }
+    /* Every configuration of one node of scale 1 against its 4 neighbours: each neighbour
+     * region drawn as one node of scale 1 at level 0 or n, or as scale-0 nodes, plus a
+     * scale-5 neighbour next to a leaf (n + 1 apart). */
+    int64_t center = tp_tree_node_id(g, 1, 10, 10);
+    for (int conf = 0; conf < 81; conf++) {
+        size_t count = 0;
+        int code = conf;
+        uint8_t taken[4] = {0};
+        for (int side = 0; side < 4; side++, code /= 3) {
+            static const int dc[4] = {0, 1, 0, -1}, dr[4] = {-1, 0, 1, 0};
+            int64_t nbn = tp_tree_node_id(g, 1, 10 + dc[side], 10 + dr[side]);
+            if (code % 3 < 2) {
+                nodes[count] = nbn;
+                levels[count++] = code % 3 ? g->n : 0;
+            } else
+                for (int q = 0; q < 4; q++) {
+                    nodes[count] = tp_tree_node_child(g, nbn, q);
+                    levels[count++] = q;
+                }
+            taken[side] = 1;
+        }
+        (void)taken;
+        for (int lv = 0; lv <= g->n; lv++) {
+            size_t c2 = count;
+            nodes[c2] = center;
+            levels[c2++] = lv;
+            ASSERT_OK(tp_cut_set_nodes(cut, nodes, levels, c2, NULL));
+            EXPECT_EQ_INT(0, check_watertight(t, cut, NULL));
+        }
+    }
+    {
+        /* A leaf (scale 0) next to a scale-5 node at level 0: split, or collapse. */
+        size_t count = 0;
+        int64_t big = tp_tree_node_id(g, 5, 1, 0);
+        nodes[count] = big, levels[count++] = 0;
+        nodes[count] = tp_tree_node_id(g, 5, 0, 1), levels[count++] = 0;
+        nodes[count] = tp_tree_node_id(g, 5, 1, 1), levels[count++] = 0;
+        int64_t q = tp_tree_node_id(g, 5, 0, 0);
+        for (int s = 5; s > 0; s--) { /* down to the leaf in the top-right corner */
+            for (int k = 0; k < 4; k++)
+                if (k != 1)
+                    nodes[count] = tp_tree_node_child(g, q, k), levels[count++] = 0;
+            q = tp_tree_node_child(g, q, 1);
+        }
+        nodes[count] = q, levels[count++] = g->n;
+        for (int resident = 1; resident >= 0; resident--) {
+            /* Without the big node's children the leaf's ancestor of scale 5 - n is drawn. */
+            const uint16_t* kept[4];
+            for (int k = 0; k < 4; k++) {
+                int64_t ch = tp_tree_node_child(g, big, k);
+                kept[k] = tp_tree_samples(t, ch);
+                if (!resident)
+                    tp_tree_detach(t, ch);
+            }
+            ASSERT_OK(tp_cut_set_nodes(cut, nodes, levels, count, NULL));
+            EXPECT_EQ_INT(0, check_watertight(t, cut, covered));
+            size_t gaps = 0;
+            for (int y = 0; y < 1025; y++)
+                for (int x = 0; x < 1025; x++)
+                    gaps += !covered[(size_t)y * g->width + x];
+            EXPECT_EQ_INT(0, (int)gaps);
+            size_t drawn;
+            const tp_cut_node* out = tp_cut_nodes(cut, &drawn);
+            int has_big = 0, has_collapsed = 0;
+            for (size_t i = 0; i < drawn; i++) {
+                has_big |= out[i].node == big;
+                has_collapsed |= out[i].node == tp_tree_node_id(g, 5 - g->n, (32 >> (5 - g->n)) - 1, 0);
+            }
+            EXPECT_EQ_INT(!resident, has_big);
+            EXPECT_EQ_INT(!resident, has_collapsed);
+            for (int k = 0; k < 4; k++)
+                tp_tree_attach(t, tp_tree_node_child(g, big, k), kept[k]);
+        }
+    }
+    free(covered);
+    free(nodes);
+    free(levels);
+    tp_cut_destroy(cut);
+    tp_tree_destroy(t);
+    free(h);
+}
+
+TEST(screen_error_within_tau)
+{
+    LOAD_OR_SKIP(h, 300, 200, 800, 700);
+    tp_tree* t = make_tree(h, 800, 700, 17);
+    tp_cut* cut;
+    ASSERT_OK(tp_cut_create(t, &cut, NULL));
+    const double taus[] = {0.5, 1, 4};
+    double worst_ratio = 0;
+    size_t total = 0;
+    for (int it = 0; it < 30; it++) {
+        tp_camera cam;
+        random_camera(t, &cam);
+        tp_lod_params lp = {.mode = TP_LOD_ERROR, .tau_px = taus[it % 3]};
+        ASSERT_OK(tp_cut_update(cut, &cam, &lp, NULL));
+        double max_px = -1, rms_px;
+        size_t samples, skipped;
+        ASSERT_OK(tp_cut_measure_screen_error(cut, &cam, &max_px, &rms_px, &samples, &skipped));
+        EXPECT_EQ_INT(0, (int)skipped);
+        EXPECT_LE(max_px, lp.tau_px + 1e-6);
+        tp_cut_stats st;
+        tp_cut_get_stats(cut, &st);
+        EXPECT_EQ_INT(0, st.substituted);
+        EXPECT_LE(st.max_bound_px, lp.tau_px + 1e-6);
+        worst_ratio = fmax(worst_ratio, max_px / lp.tau_px);
+        total += samples;
+    }
+    EXPECT_GT((double)total, 1e5); /* the views see the terrain */
+    printf("worst measured / tau: %.3f over %zu samples\n", worst_ratio, total);
+    tp_cut_destroy(cut);
+    tp_tree_destroy(t);
+    free(h);
+}
+
+static int cut_equal(const tp_cut* a, const tp_cut_node* saved, size_t saved_count)
+{
+    size_t n;
+    const tp_cut_node* x = tp_cut_nodes(a, &n);
+    if (n != saved_count)
+        return 0;
+    for (size_t i = 0; i < n; i++)
+        if (x[i].node != saved[i].node || x[i].level != saved[i].level ||
+            memcmp(x[i].nb, saved[i].nb, 4) != 0)
+            return 0;
+    return 1;
+}
+
+TEST(substitution_keeps_the_surface_whole)
+{
+    LOAD_OR_SKIP(h, 0, 0, 1201, 1201);
+    fill_voids(h, 1201, 1201);
+    tp_tree* t = make_tree(h, 1201, 1201, 17);
+    const tp_tree_geometry* g = tp_tree_get_geometry(t);
+    tp_cut* cut;
+    ASSERT_OK(tp_cut_create(t, &cut, NULL));
+    size_t cells = (size_t)g->width * g->height;
+    uint8_t* full_cov = malloc(cells);
+    uint8_t* sub_cov = malloc(cells);
+    const uint16_t** saved = calloc((size_t)g->node_count, sizeof *saved);
+    for (int it = 0; it < 6; it++) {
+        /* High above the middle, looking down: the whole tile in view. */
+        tp_camera cam;
+        camera_at(t, 600, 600, 110000 + 20000 * it, 0, -90, &cam);
+        tp_lod_params lp = {.mode = TP_LOD_ERROR, .tau_px = 0.5};
+        ASSERT_OK(tp_cut_update(cut, &cam, &lp, NULL));
+        size_t full_count;
+        const tp_cut_node* fn = tp_cut_nodes(cut, &full_count);
+        tp_cut_node* full = malloc(full_count * sizeof *full);
+        memcpy(full, fn, full_count * sizeof *full);
+        ASSERT_EQ_INT(0, check_watertight(t, cut, full_cov));
+        tp_cut_stats st;
+        tp_cut_get_stats(cut, &st);
+        ASSERT_EQ_INT(0, st.culled);
+        /* Detach a random third of the non-root nodes. */
+        int detached = 0;
+        for (int64_t id = 0; id < g->node_count; id++)
+            if (tp_tree_node_parent(g, id) >= 0 && rnd() < 0.33) {
+                saved[id] = tp_tree_samples(t, id);
+                tp_tree_detach(t, id);
+                detached++;
+            }
+        ASSERT_OK(tp_cut_update(cut, &cam, &lp, NULL));
+        EXPECT_EQ_INT(0, check_watertight(t, cut, sub_cov));
+        EXPECT_EQ_INT(0, memcmp(full_cov, sub_cov, cells));
+        tp_cut_get_stats(cut, &st);
+        EXPECT_GT(st.substituted, 0);
+        size_t count, nreq;
+        const tp_cut_node* nodes = tp_cut_nodes(cut, &count);
+        const int64_t* req = tp_cut_requests(cut, &nreq);
+        EXPECT_EQ_INT(st.requests, (int)nreq);
+        for (size_t i = 0; i < count; i++) {
+            EXPECT_TRUE(tp_tree_samples(t, nodes[i].node) != NULL);
+            if (!nodes[i].substituted)
+                continue;
+            int s, c, r;
+            tp_tree_node_locate(g, nodes[i].node, &s, &c, &r);
+            ASSERT_GT(s, 0);
+            int missing = 0;
+            for (int q = 0; q < 4; q++) {
+                int64_t ch = tp_tree_node_child(g, nodes[i].node, q);
+                if (tp_tree_samples(t, ch))
+                    continue;
+                missing++;
+                int listed = 0;
+                for (size_t k = 0; k < nreq; k++)
+                    listed |= req[k] == ch;
+                EXPECT_TRUE(listed);
+            }
+            EXPECT_GT(missing, 0);
+        }
+        for (size_t k = 0; k < nreq; k++)
+            EXPECT_TRUE(tp_tree_samples(t, req[k]) == NULL);
+        /* Re-attach: the full cut again, nothing requested. */
+        for (int64_t id = 0; id < g->node_count; id++)
+            if (saved[id]) {
+                tp_tree_attach(t, id, saved[id]);
+                saved[id] = NULL;
+            }
+        ASSERT_OK(tp_cut_update(cut, &cam, &lp, NULL));
+        EXPECT_TRUE(cut_equal(cut, full, full_count));
+        tp_cut_requests(cut, &nreq);
+        EXPECT_EQ_INT(0, (int)nreq);
+        if (it == 0)
+            printf("substitution: %d detached, %d drawn -> %d drawn, %d substituted, %d "
+                   "requests\n",
+                   detached, (int)full_count, st.drawn, st.substituted, st.requests);
+        free(full);
+    }
+    free(saved);
+    free(full_cov);
+    free(sub_cov);
+    tp_cut_destroy(cut);
+    tp_tree_destroy(t);
+    free(h);
+}
+
+static double now_s(void)
+{
+    struct timespec ts;
+    timespec_get(&ts, TIME_UTC);
+    return ts.tv_sec + ts.tv_nsec * 1e-9;
+}
+
+/* Update time (ms, best of a few) and stats of one view. */
+static double time_view(tp_cut* cut, const tp_camera* cam, const tp_lod_params* lp,
+                        tp_cut_stats* st)
+{
+    double best = INFINITY;
+    for (int i = 0; i < 5; i++) {
+        double t0 = now_s();
+        ASSERT_OK(tp_cut_update(cut, cam, lp, NULL));
+        best = fmin(best, now_s() - t0);
+    }
+    tp_cut_get_stats(cut, st);
+    return best * 1e3;
+}
+
+TEST(cost_does_not_grow_with_the_map)
+{
+    LOAD_OR_SKIP(h, 0, 0, 1201, 1201);
+    /* Voids filled: an incomplete node is refined down to its leaves at any distance (only
+     * complete nodes are drawn coarse), so the tile's ~7600 void samples, mirrored 16 times,
+     * would put leaves all over the far terrain. */
+    fill_voids(h, 1201, 1201);
+    /* 4801 x 4801: the tile mirrored 4 x 4 (continuous across the seams), tile (0, 0) as is. */
+    const int W = 4801;
+    float* big = malloc((size_t)W * W * sizeof *big);
+    for (int y = 0; y < W; y++) {
+        int ty = y % 2400, sy = ty <= 1200 ? ty : 2400 - ty;
+        for (int x = 0; x < W; x++) {
+            int tx = x % 2400, sx = tx <= 1200 ? tx : 2400 - tx;
+            big[(size_t)y * W + x] = h[(size_t)sy * 1201 + sx];
+        }
+    }
+    tp_tree* small_t = make_tree(h, 1201, 1201, 17);
+    tp_tree* big_t = make_tree(big, W, W, 17);
+    free(big);
+    tp_cut *cs, *cb;
+    ASSERT_OK(tp_cut_create(small_t, &cs, NULL));
+    ASSERT_OK(tp_cut_create(big_t, &cb, NULL));
+    /* Hovering 500 m above sample (600, 600), looking at the horizon in 4 directions; 3 setups:
+     * error mode with a 40 km far plane (both maps show the same terrain: the big one's tile
+     * (0, 0) is the small one), distance mode without a far plane (the big map shows 8x deeper
+     * terrain), and error mode without a far plane (reported only: see below). */
+    const double yaws[] = {45, 135, 225, 315};
+    for (int m = 0; m < 3; m++)
+        for (int i = 0; i < 4; i++) {
+            tp_camera cam_s, cam_b;
+            camera_at(small_t, 600, 600, 500, yaws[i], -2, &cam_s);
+            camera_at(big_t, 600, 600, 500, yaws[i], -2, &cam_b);
+            if (m == 0)
+                cam_s.far_m = cam_b.far_m = 40000;
+            tp_lod_params lp = {.mode = m == 1 ? TP_LOD_DISTANCE : TP_LOD_ERROR, .tau_px = 1};
+            tp_cut_stats ss, sb;
+            double ms_s = time_view(cs, &cam_s, &lp, &ss);
+            double ms_b = time_view(cb, &cam_b, &lp, &sb);
+            printf("%-14s yaw %3.0f: 1201^2: visited %5d drawn %5d %7.3f ms | 4801^2: visited "
+                   "%5d drawn %5d %7.3f ms\n",
+                   m == 0 ? "error far40km" : m == 1 ? "distance" : "error", yaws[i], ss.visited,
+                   ss.drawn, ms_s, sb.visited, sb.drawn, ms_b);
+            /* Same terrain in view: the big map adds only the 2 scales of nodes above the
+             * small map's root, and their culled children (each level of the descent visits
+             * at most a few nodes outside the view before culling stops it). */
+            if (m == 0)
+                EXPECT_LE(sb.visited, ss.visited + 100);
+            /* Distance mode: beyond maxdist the stride doubles with the distance, so each
+             * doubling of the view's depth adds one ring of nodes of a fixed count (their
+             * size grows with the distance as the ring does); the big map is 8x deeper
+             * here: 3 rings, plus the 2 extra scales of roots. */
+            if (m == 1)
+                EXPECT_LE(sb.visited, ss.visited + 150);
+            /* Error mode without a far plane has no such bound: the Pyrenees' relief 400 km
+             * away still projects above 1 px for nodes of 1-3 km, so the cut grows with the
+             * visible terrain (not with the map: yaw 315 looks off both maps and is equal). */
+            EXPECT_GT(sb.visited, 0);
+        }
+    printf("leaves: %d x %d vs %d x %d\n", tp_tree_get_geometry(small_t)->cols,
+           tp_tree_get_geometry(small_t)->rows, tp_tree_get_geometry(big_t)->cols,
+           tp_tree_get_geometry(big_t)->rows);
+    tp_cut_destroy(cs);
+    tp_cut_destroy(cb);
+    tp_tree_destroy(small_t);
+    tp_tree_destroy(big_t);
+    free(h);
+}
+
+TEST(drawn_height_follows_the_triangles)
+{
+    LOAD_OR_SKIP(h, 500, 500, 300, 300);
+    tp_tree* t = make_tree(h, 300, 300, 17);
+    tp_cut* cut;
+    ASSERT_OK(tp_cut_create(t, &cut, NULL));
+    tp_camera cam;
+    camera_at(t, 20, 20, 200, 135, -20, &cam);
+    tp_lod_params lp = {.mode = TP_LOD_ERROR, .tau_px = 2};
+    ASSERT_OK(tp_cut_update(cut, &cam, &lp, NULL));
+    size_t count;
+    const tp_cut_node* nodes = tp_cut_nodes(cut, &count);
+    ASSERT_GT((double)count, 0);
+    /* Every vertex of every drawn node: the drawn height there is the vertex's height. */
+    size_t checked = 0;
+    tp_vertex v[17 * 17];
+    for (size_t i = 0; i < count; i++) {
+        int vs = (1 << nodes[i].level) + 1;
+        tp_cut_vertices(cut, i, v, 17 * 17);
+        for (int j = 0; j < vs * vs; j++) {
+            if (isnan(v[j].z_m) || v[j].cls != TP_SAMPLE_VALID)
+                continue;
+            double z = tp_cut_drawn_height_at(cut, v[j].x, v[j].y);
+            EXPECT_NEAR(v[j].z_m, z, 1e-3);
+            checked++;
+        }
+    }
+    EXPECT_GT((double)checked, 100);
+    EXPECT_NAN(tp_cut_drawn_height_at(cut, -1, 5));
+    tp_cut_destroy(cut);
+    tp_tree_destroy(t);
+    free(h);
+}
+
+TEST(rejects_max_error_mode)
+{
+    LOAD_OR_SKIP(h, 0, 0, 65, 65);
+    tp_tree* t = make_tree(h, 65, 65, 17);
+    tp_cut* cut;
+    ASSERT_OK(tp_cut_create(t, &cut, NULL));
+    tp_camera cam;
+    camera_at(t, 10, 10, 100, 0, -30, &cam);
+    tp_lod_params lp = {.mode = TP_LOD_MAX_ERROR, .max_error_m = 1};
+    tp_error e = {{0}};
+    EXPECT_STATUS(TP_ERR_INVALID_ARG, tp_cut_update(cut, &cam, &lp, &e));
+    EXPECT_CONTAINS(e.message, "max-error");
+    lp = (tp_lod_params){.mode = TP_LOD_ERROR, .tau_px = -1};
+    EXPECT_STATUS(TP_ERR_INVALID_ARG, tp_cut_update(cut, &cam, &lp, NULL));
+    tp_cut_destroy(cut);
+    tp_tree_destroy(t);
+    free(h);
+}
+
+#define TESTS(X)                                                                                   \
+    X(watertight_for_random_views)                                                                 \
+    X(watertight_for_adversarial_cuts)                                                             \
+    X(screen_error_within_tau)                                                                     \
+    X(substitution_keeps_the_surface_whole)                                                        \
+    X(cost_does_not_grow_with_the_map)                                                             \
+    X(drawn_height_follows_the_triangles)                                                          \
+    X(rejects_max_error_mode)
+TP_TEST_MAIN(TESTS)
