@@ -64,6 +64,9 @@ struct tp_renderer {
     tp_render_item* items;
     size_t item_cap;
     uint8_t* complete; /* per patch */
+    /* tp_renderer_draw_cut: what fill_node reads */
+    const tp_tree* tree;
+    const tp_cut* cut;
 };
 
 static double now_ms(void)
@@ -706,6 +709,18 @@ tp_renderer* tp_renderer_create(const tp_terrain* t, char* msg, size_t msg_size)
     return r;
 }
 
+static int grow_items(tp_renderer* r, size_t count)
+{
+    if (count <= r->item_cap)
+        return 1;
+    tp_render_item* items = realloc(r->items, count * sizeof *items);
+    if (!items)
+        return 0;
+    r->items = items;
+    r->item_cap = count;
+    return 1;
+}
+
 static void fill_patch(void* user, size_t i, tp_vertex* v, float (*normals)[3], uint8_t* filled)
 {
     const tp_renderer* r = user;
@@ -726,14 +741,9 @@ void tp_renderer_draw(tp_renderer* r, tp_selection* sel, const tp_camera* cam,
     assert(r->terrain);
     tp_terrain_info in;
     tp_terrain_get_info(r->terrain, &in);
-    if ((size_t)in.patch_count > r->item_cap) {
-        tp_render_item* items = realloc(r->items, (size_t)in.patch_count * sizeof *items);
-        if (!items) {
-            memset(stats, 0, sizeof *stats);
-            return;
-        }
-        r->items = items;
-        r->item_cap = (size_t)in.patch_count;
+    if (!grow_items(r, (size_t)in.patch_count)) {
+        memset(stats, 0, sizeof *stats);
+        return;
     }
     size_t count = 0;
     for (int p = 0; p < in.patch_count; p++) {
@@ -752,4 +762,51 @@ void tp_renderer_draw(tp_renderer* r, tp_selection* sel, const tp_camera* cam,
     tp_selection_clear_dirty(sel);
     tp_renderer_draw_items(r, r->items, count, fill_patch, r, cam, s,
                            tp_selection_vertical_scale(sel), finish, stats);
+}
+
+/* ---- the nodes of a cut over a tree ---- */
+
+static void fill_node(void* user, size_t i, tp_vertex* v, float (*normals)[3], uint8_t* filled)
+{
+    const tp_renderer* r = user;
+    const tp_render_item* it = &r->items[i];
+    int side = (1 << it->level) + 1;
+    size_t count = (size_t)side * side;
+    tp_cut_vertices(r->cut, i, v, count);
+    for (size_t j = 0; j < count; j++) {
+        filled[j] = 0;
+        if (isnan(v[j].z_m)) {
+            normals[j][0] = normals[j][1] = 0;
+            normals[j][2] = 1;
+        } else {
+            tp_tree_node_normal(r->tree, it->key, v[j].x, v[j].y, normals[j]);
+        }
+    }
+}
+
+void tp_renderer_draw_cut(tp_renderer* r, const tp_tree* tree, const tp_cut* cut,
+                          const tp_camera* cam, const tp_render_settings* s, double zscale,
+                          int finish, tp_render_stats* stats)
+{
+    size_t count = 0;
+    const tp_cut_node* nodes = tp_cut_nodes(cut, &count);
+    if (!grow_items(r, count)) {
+        memset(stats, 0, sizeof *stats);
+        return;
+    }
+    for (size_t i = 0; i < count; i++) {
+        tp_render_item* it = &r->items[i];
+        it->key = nodes[i].node;
+        it->level = nodes[i].level;
+        for (int side = 0; side < 4; side++)
+            it->nb[side] = (int8_t)(nodes[i].nb[side] >= 0 && nodes[i].nb[side] < nodes[i].level
+                                        ? nodes[i].nb[side]
+                                        : TP_NO_NEIGHBOR);
+        it->incomplete = !(tp_tree_meta(tree, nodes[i].node)->flags & TP_NODE_COMPLETE);
+    }
+    r->tree = tree;
+    r->cut = cut;
+    tp_renderer_draw_items(r, r->items, count, fill_node, r, cam, s, zscale, finish, stats);
+    r->tree = NULL;
+    r->cut = NULL;
 }

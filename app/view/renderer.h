@@ -93,4 +93,9 @@ void tp_renderer_draw_items(tp_renderer* r, const tp_render_item* items, size_t 
 void tp_renderer_draw(tp_renderer* r, tp_selection* sel, const tp_camera* cam,
                       const tp_render_settings* s, int finish, tp_render_stats* stats);
 
+/* The nodes of a cut over a tree (keys: node ids), heights times zscale. */
+void tp_renderer_draw_cut(tp_renderer* r, const tp_tree* tree, const tp_cut* cut,
+                          const tp_camera* cam, const tp_render_settings* s, double zscale,
+                          int finish, tp_render_stats* stats);
+
 #endif
