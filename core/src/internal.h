@@ -139,10 +139,56 @@ static inline const uint16_t* tp__eps_tab(const tp_terrain* t, int patch, int si
 /* Computes the delta and eps tables of every patch (patch_error.c). */
 tp_status tp__patch_errors_compute(tp_terrain* t, tp_error* err);
 
+/* Crack removal on the level-k vertex lattice (0..2^k per side) of a patch or tree node:
+ * writes where vertex (i, j) goes against the given neighbour levels (NULL: nowhere), in
+ * level-k vertex units. Returns 1 if it was moved (stitch.c). */
+int tp__lattice_vertex(int k, const int nb[4], int i, int j, int* mi, int* mj);
+
 /* Position (global grid coordinates) of vertex (i, j) of patch p at level k after crack
  * removal against the given neighbour levels (stitch.c). Returns 1 if it was moved. */
 int tp__vertex_position(const tp_terrain* t, int patch, int k, const int nb[4], int i, int j,
                         int32_t* gx, int32_t* gy);
+
+/* The same for node `node` of a tree geometry (vertex stride 2^(n-k+s) grid samples), for the
+ * tree's selection and its tests (stitch.c). */
+int tp__node_vertex_position(const tp_tree_geometry* g, int64_t node, int k, const int nb[4],
+                             int i, int j, int32_t* gx, int32_t* gy);
+
+/* ---- error tables over one lattice of (2^n+1)^2 samples (node_meta.c) ----
+ *
+ * The lattice is a patch's samples, or a tree node's (every 2^s-th sample); q holds their
+ * global quantised heights row-major, INT32_MIN where a sample is not drawn. Errors are in
+ * steps. Both tp_terrain's patch tables (patch_error.c) and tree nodes' metas use these. */
+
+/* Largest |S_k - q| over the lattice samples under the drawn triangles of the unstitched
+ * level-k triangulation (delta_k of the lattice). */
+double tp__lattice_level_error(int n, const int32_t* q, int k);
+
+/* eps[side][kn], kn = 0..n-1: the largest error of any triangle with a vertex moved by a
+ * neighbour at level kn on that side, over every level k > kn. cells = 0: measured at the lattice
+ * samples the triangle covers (exact against the lattice samples: a patch, a leaf); cells = 1:
+ * at every corner of every lattice cell the triangle touches, with the triangle's plane extended
+ * there (a bound against the lattice's full-resolution surface S_n, see node_meta.c). */
+void tp__lattice_eps(int n, const int32_t* q, int cells, double eps[4][TP_MAX_N]);
+
+/* An error of `steps` in table units of unit_steps, rounded up; TP__ERR_SAT when it does not
+ * fit. */
+static inline uint16_t tp__err_units(double steps, double unit_steps)
+{
+    double u = ceil(steps / unit_steps - 1e-9);
+    return u >= TP__ERR_SAT ? (uint16_t)TP__ERR_SAT : (uint16_t)(u < 0 ? 0 : u);
+}
+
+/* The tree takes ownership of metas and samples (tree.c; for tp_tree_create_from_grid). */
+void tp__tree_own(tp_tree* t, tp_node_meta* metas, uint16_t* samples);
+
+/* The automatic quantisation step (terrain.c): 1 m for integral heights, else the finest power
+ * of two 2^-p m (p <= 10), coarser where a range would not fit 65534 steps; 0 if none fits. */
+typedef struct tp__range {
+    double lo, hi; /* lo > hi when empty */
+} tp__range;
+int tp__step_fits(const tp__range* r, int count, double step);
+double tp__choose_step(const tp__range* r, int count, int integral);
 
 /* Bilinear resample of a float grid (NaN = nodata) to a new size (fit.c). */
 tp_status tp__fit_resample(const tp_allocator* a, const float* src, const uint8_t* src_filled,

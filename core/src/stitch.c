@@ -30,11 +30,9 @@ static int snap(int a, int m, int last, int toward_low_at_middle)
     return toward_low_at_middle ? a - r : a + m - r;
 }
 
-int tp__vertex_position(const tp_terrain* t, int patch, int k, const int nb[4], int i, int j,
-                        int32_t* gx, int32_t* gy)
+int tp__lattice_vertex(int k, const int nb[4], int i, int j, int* mi_out, int* mj_out)
 {
-    int pc = t->info.patch_cols, last = 1 << k, s = 1 << (t->n - k);
-    int x0 = (patch % pc) * t->ps, y0 = (patch / pc) * t->ps;
+    int last = 1 << k;
     int mi = i, mj = j;
     if (nb) {
         int on_x_edge = (i == 0 || i == last), on_y_edge = (j == 0 || j == last);
@@ -55,9 +53,34 @@ int tp__vertex_position(const tp_terrain* t, int patch, int k, const int nb[4], 
             }
         }
     }
+    *mi_out = mi;
+    *mj_out = mj;
+    return mi != i || mj != j;
+}
+
+int tp__vertex_position(const tp_terrain* t, int patch, int k, const int nb[4], int i, int j,
+                        int32_t* gx, int32_t* gy)
+{
+    int pc = t->info.patch_cols, s = 1 << (t->n - k);
+    int x0 = (patch % pc) * t->ps, y0 = (patch / pc) * t->ps;
+    int mi, mj;
+    int moved = tp__lattice_vertex(k, nb, i, j, &mi, &mj);
     *gx = x0 + mi * s;
     *gy = y0 + mj * s;
-    return mi != i || mj != j;
+    return moved;
+}
+
+int tp__node_vertex_position(const tp_tree_geometry* g, int64_t node, int k, const int nb[4],
+                             int i, int j, int32_t* gx, int32_t* gy)
+{
+    assert(g && k >= 0 && k <= g->n);
+    int s, c, r, mi, mj;
+    tp_tree_node_locate(g, node, &s, &c, &r);
+    int moved = tp__lattice_vertex(k, nb, i, j, &mi, &mj);
+    int shift = g->n - k + s; /* vertex stride 2^(n-k+s) grid samples */
+    *gx = (int32_t)(((int64_t)c << (g->n + s)) + ((int64_t)mi << shift));
+    *gy = (int32_t)(((int64_t)r << (g->n + s)) + ((int64_t)mj << shift));
+    return moved;
 }
 
 void tp_patch_vertices(const tp_terrain* t, int patch, int k, const int neighbor_levels[4],

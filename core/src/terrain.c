@@ -21,12 +21,8 @@ static int patch_n(int patch_size)
     return -1;
 }
 
-typedef struct {
-    double lo, hi; /* over valid samples the patch owns; lo > hi when none */
-} range;
-
-/* Does every patch's owned range fit 16 bits (with 0xFFFF reserved) at this step? */
-static int step_fits(const range* r, int count, double step)
+/* Does every range (owned by a patch) fit 16 bits (with 0xFFFF reserved) at this step? */
+int tp__step_fits(const tp__range* r, int count, double step)
 {
     for (int p = 0; p < count; p++) {
         if (r[p].lo > r[p].hi)
@@ -38,12 +34,12 @@ static int step_fits(const range* r, int count, double step)
     return 1;
 }
 
-static double choose_step(const range* r, int count, int integral)
+double tp__choose_step(const tp__range* r, int count, int integral)
 {
     /* Integer data: 1 m is exact. Otherwise the finest power of two down to 2^-10 m. */
     for (int e = integral ? 0 : -10; e <= 60; e++) {
         double step = ldexp(1.0, e);
-        if (step_fits(r, count, step))
+        if (tp__step_fits(r, count, step))
             return step;
     }
     return 0;
@@ -196,7 +192,7 @@ tp_status tp_terrain_create(const tp_terrain_desc* desc, tp_terrain** out, tp_er
 
     tp_status status = TP_OK;
     tp_terrain* t = tp__calloc(a, 1, sizeof *t);
-    range* ranges = NULL;
+    tp__range* ranges = NULL;
     if (!t)
         goto oom;
     t->alloc = *a;
@@ -223,14 +219,14 @@ tp_status tp_terrain_create(const tp_terrain_desc* desc, tp_terrain** out, tp_er
     int integral = 1, any_filled = 0;
     size_t valid = 0;
     for (int p = 0; p < count; p++)
-        ranges[p] = (range){INFINITY, -INFINITY};
+        ranges[p] = (tp__range){INFINITY, -INFINITY};
     for (int y = 0; y < t->sh; y++)
         for (int x = 0; x < t->sw; x++) {
             float s = src[(size_t)y * t->sw + x];
             if (!isfinite(s))
                 continue;
             valid++;
-            range* r = &ranges[tp__owner(y, n, pr) * pc + tp__owner(x, n, pc)];
+            tp__range* r = &ranges[tp__owner(y, n, pr) * pc + tp__owner(x, n, pc)];
             r->lo = s < r->lo ? s : r->lo;
             r->hi = s > r->hi ? s : r->hi;
             if (s != floorf(s))
@@ -244,7 +240,7 @@ tp_status tp_terrain_create(const tp_terrain_desc* desc, tp_terrain** out, tp_er
         goto fail;
     }
     if (step_req > 0) {
-        if (!step_fits(ranges, count, step_req)) {
+        if (!tp__step_fits(ranges, count, step_req)) {
             status = tp__fail(err, TP_ERR_INVALID_ARG,
                               "terrain: height step %g m is too fine: a patch spans more than "
                               "65534 steps",
@@ -253,7 +249,7 @@ tp_status tp_terrain_create(const tp_terrain_desc* desc, tp_terrain** out, tp_er
         }
         t->step = step_req;
     } else {
-        t->step = choose_step(ranges, count, integral);
+        t->step = tp__choose_step(ranges, count, integral);
         if (t->step == 0) {
             status = tp__fail(err, TP_ERR_BAD_DATA, "terrain: heights out of range (%g .. %g)",
                               ranges[0].lo, ranges[0].hi);

@@ -1,0 +1,357 @@
+/* node_meta.c - error tables over one lattice of (2^n+1)^2 samples, for tp_terrain's patches
+ * and for the nodes of a tree (tp_node_meta).
+ *
+ * delta_k (Brodersen section 3): the largest vertical distance between a sample and the level-k
+ * triangulation (same split as the strips). Stitching: crack removal moves border vertices
+ * (stitch.c), so the border triangles belong to neither level's triangulation; for every side
+ * and every neighbour level kn < n, eps[side][kn] is the largest error of any triangle with a
+ * vertex moved by that side, over every level k > kn. With nearest-vertex snapping toward the
+ * corners, a triangle with vertices moved by two sides collapses for k >= 2 (the vertices next
+ * to a corner both snap onto it), so one side at a time is exact there; at k = 1 all 16
+ * combinations of moved sides are measured.
+ *
+ * A leaf of a tree (and a patch) holds every full-resolution sample of its area, so measuring
+ * at its own samples is exact. A node of scale s >= 1 holds every 2^s-th sample only; its
+ * bounds against the full resolution come from nested decimation (see tp_node_meta_compute).
+ */
+#include "internal.h"
+
+#include <string.h>
+
+static inline int32_t lq(const int32_t* q, int side, int i, int j)
+{
+    return q[(size_t)j * (size_t)side + (size_t)i];
+}
+
+double tp__lattice_level_error(int n, const int32_t* q, int k)
+{
+    assert(q && n >= 0 && n <= TP_MAX_N && k >= 0 && k <= n);
+    int side = (1 << n) + 1;
+    int s = 1 << (n - k), cells = 1 << k;
+    double mx = 0;
+    for (int cy = 0; cy < cells; cy++)
+        for (int cx = 0; cx < cells; cx++) {
+            int xa = cx * s, ya = cy * s;
+            int32_t q00 = lq(q, side, xa, ya), q10 = lq(q, side, xa + s, ya);
+            int32_t q01 = lq(q, side, xa, ya + s), q11 = lq(q, side, xa + s, ya + s);
+            int lower = q00 != INT32_MIN && q10 != INT32_MIN && q01 != INT32_MIN;
+            int upper = q11 != INT32_MIN && q10 != INT32_MIN && q01 != INT32_MIN;
+            for (int j = 0; j <= s; j++)
+                for (int i = 0; i <= s; i++) {
+                    int32_t v = lq(q, side, xa + i, ya + j);
+                    if (v == INT32_MIN)
+                        continue;
+                    double fx = (double)i / s, fy = (double)j / s, z;
+                    /* Exact: i/s is dyadic and heights are integers. */
+                    if (i + j <= s && lower)
+                        z = q00 + fx * ((double)q10 - q00) + fy * ((double)q01 - q00);
+                    else if (i + j >= s && upper)
+                        z = q11 + (1 - fx) * ((double)q01 - q11) + (1 - fy) * ((double)q10 - q11);
+                    else
+                        continue;
+                    double e = fabs(z - v);
+                    mx = e > mx ? e : mx;
+                }
+        }
+    return mx;
+}
+
+/* Vertex (i, j) of level k lies on which side (-1 for none or a corner)? */
+static int side_of(int i, int j, int last)
+{
+    int corner = (i == 0 || i == last) && (j == 0 || j == last);
+    if (corner)
+        return -1;
+    if (j == 0)
+        return TP_SIDE_TOP;
+    if (i == last)
+        return TP_SIDE_RIGHT;
+    if (j == last)
+        return TP_SIDE_BOTTOM;
+    if (i == 0)
+        return TP_SIDE_LEFT;
+    return -1;
+}
+
+typedef struct {
+    const int32_t* q;
+    int side;
+    double max; /* in steps */
+} err_acc;
+
+static void acc_sample(int x, int y, double z, void* user)
+{
+    err_acc* a = user;
+    int32_t v = lq(a->q, a->side, x, y);
+    if (v == INT32_MIN)
+        return;
+    double e = fabs(z - v);
+    a->max = e > a->max ? e : a->max;
+}
+
+static int64_t edge(const int32_t a[2], const int32_t b[2], int64_t x, int64_t y)
+{
+    return ((int64_t)b[0] - a[0]) * (y - a[1]) - ((int64_t)b[1] - a[1]) * (x - a[0]);
+}
+
+/* The cell bound of a node of scale >= 1 (cells = 1 in tp__lattice_eps).
+ *
+ * A stitched triangle T is not a union of the fine triangles of the lattice surface S_n (its
+ * moved vertex makes edges that cross lattice cells), so the lattice samples inside T do not
+ * bound its error. Every point x of T lies in some lattice cell C that T touches (closed sets),
+ * in one of C's two triangles t, where S_n is linear. T's plane extended over t is linear too,
+ * so T - S_n is linear on t and |T(x) - S_n(x)| <= max over t's vertices of |T - S_n|, which
+ * are corners of C, where S_n is the sample itself. So the maximum over the corners of every
+ * touched cell of |T_extended(p) - q(p)| bounds |T - S_n| over all of T (including where T's
+ * edges cross cell edges); the caller adds the carry |S_n - f| of the children. Cells are
+ * found in T's bounding box and kept when no edge of T separates them (exact integer test). */
+static double cell_bound(const int32_t* q, int side, const int32_t pos[3][2], const double z[3])
+{
+    int64_t area = edge(pos[0], pos[1], pos[2][0], pos[2][1]);
+    if (area == 0)
+        return 0; /* collapsed: not drawn */
+    int64_t sign = area > 0 ? 1 : -1;
+    int32_t x0 = pos[0][0], x1 = pos[0][0], y0 = pos[0][1], y1 = pos[0][1];
+    for (int v = 1; v < 3; v++) {
+        x0 = pos[v][0] < x0 ? pos[v][0] : x0;
+        x1 = pos[v][0] > x1 ? pos[v][0] : x1;
+        y0 = pos[v][1] < y0 ? pos[v][1] : y0;
+        y1 = pos[v][1] > y1 ? pos[v][1] : y1;
+    }
+    double inv = 1.0 / (double)area, mx = 0;
+    for (int32_t cy = y0; cy < y1; cy++)
+        for (int32_t cx = x0; cx < x1; cx++) {
+            int separated = 0;
+            for (int e = 0; e < 3 && !separated; e++) {
+                const int32_t* a = pos[(e + 1) % 3];
+                const int32_t* b = pos[(e + 2) % 3];
+                int outside = 0;
+                for (int k = 0; k < 4; k++)
+                    outside += edge(a, b, cx + (k & 1), cy + (k >> 1)) * sign < 0;
+                separated = outside == 4;
+            }
+            if (separated)
+                continue;
+            for (int k = 0; k < 4; k++) {
+                int px = cx + (k & 1), py = cy + (k >> 1);
+                int32_t v = lq(q, side, px, py);
+                if (v == INT32_MIN)
+                    continue;
+                double wa = (double)edge(pos[1], pos[2], px, py);
+                double wb = (double)edge(pos[2], pos[0], px, py);
+                double wc = (double)edge(pos[0], pos[1], px, py);
+                double zt = (wa * z[0] + wb * z[1] + wc * z[2]) * inv;
+                double err = fabs(zt - v);
+                mx = err > mx ? err : mx;
+            }
+        }
+    return mx;
+}
+
+/* Measures the stitched triangles of cells [cx0, cx1) x [cy0, cy1) of the level-k
+ * triangulation with neighbour levels nb; each triangle's error (steps) is folded into out[side]
+ * for every side that moved one of its vertices. */
+static void stitched_error(int n, const int32_t* q, int cells_mode, int k, const int nb[4],
+                           int cx0, int cx1, int cy0, int cy1, double out[4])
+{
+    int last = 1 << k, stride = 1 << (n - k), side = (1 << n) + 1;
+    for (int cy = cy0; cy < cy1; cy++)
+        for (int cx = cx0; cx < cx1; cx++) {
+            /* The two triangles of the cell, in strip winding. */
+            static const int tri[2][3][2] = {{{0, 0}, {0, 1}, {1, 0}}, {{1, 0}, {0, 1}, {1, 1}}};
+            for (int h = 0; h < 2; h++) {
+                int32_t pos[3][2];
+                double z[3];
+                int sides = 0, drawn = 1;
+                for (int v = 0; v < 3; v++) {
+                    int i = cx + tri[h][v][0], j = cy + tri[h][v][1], mi, mj;
+                    if (lq(q, side, i * stride, j * stride) == INT32_MIN)
+                        drawn = 0;
+                    if (tp__lattice_vertex(k, nb, i, j, &mi, &mj))
+                        sides |= 1 << side_of(i, j, last);
+                    pos[v][0] = mi * stride;
+                    pos[v][1] = mj * stride;
+                    int32_t qv = lq(q, side, pos[v][0], pos[v][1]);
+                    drawn &= qv != INT32_MIN;
+                    z[v] = qv;
+                }
+                if (!sides || !drawn)
+                    continue;
+                double e;
+                if (cells_mode) {
+                    e = cell_bound(q, side, pos, z);
+                } else {
+                    err_acc a = {q, side, 0};
+                    tp__raster_triangle(pos[0], pos[1], pos[2], z[0], z[1], z[2], acc_sample, &a);
+                    e = a.max;
+                }
+                for (int s = 0; s < 4; s++)
+                    if (sides >> s & 1)
+                        out[s] = e > out[s] ? e : out[s];
+            }
+        }
+}
+
+void tp__lattice_eps(int n, const int32_t* q, int cells, double eps[4][TP_MAX_N])
+{
+    assert(q && n >= 1 && n <= TP_MAX_N);
+    memset(eps, 0, sizeof(double) * 4 * TP_MAX_N);
+    for (int k = 1; k <= n; k++) {
+        int cn = 1 << k;
+        for (int kn = 0; kn < k; kn++)
+            for (int s = 0; s < 4; s++) {
+                int nb[4] = {TP_NO_NEIGHBOR, TP_NO_NEIGHBOR, TP_NO_NEIGHBOR, TP_NO_NEIGHBOR};
+                nb[s] = kn;
+                double e[4] = {0, 0, 0, 0};
+                /* Only the strip of cells along side s has moved vertices. */
+                int cx0 = s == TP_SIDE_RIGHT ? cn - 1 : 0;
+                int cx1 = s == TP_SIDE_LEFT ? 1 : cn;
+                int cy0 = s == TP_SIDE_BOTTOM ? cn - 1 : 0;
+                int cy1 = s == TP_SIDE_TOP ? 1 : cn;
+                stitched_error(n, q, cells, k, nb, cx0, cx1, cy0, cy1, e);
+                eps[s][kn] = e[s] > eps[s][kn] ? e[s] : eps[s][kn];
+            }
+        if (k == 1) /* every side touches every cell: measure all combinations */
+            for (int mask = 1; mask < 16; mask++) {
+                int nb[4];
+                for (int s = 0; s < 4; s++)
+                    nb[s] = mask >> s & 1 ? 0 : TP_NO_NEIGHBOR;
+                double e[4] = {0, 0, 0, 0};
+                stitched_error(n, q, cells, 1, nb, 0, 2, 0, 2, e);
+                for (int s = 0; s < 4; s++)
+                    eps[s][0] = e[s] > eps[s][0] ? e[s] : eps[s][0];
+            }
+    }
+}
+
+/* ---------------------------------------------------------------------------------------------
+ * Tree nodes
+ */
+double tp_tree_err_unit_steps(double range_steps)
+{
+    double u = 1.0 / 16;
+    while (u < 1 && range_steps / u > (double)(TP_NODE_ERR_SAT - 1))
+        u *= 2;
+    return u;
+}
+
+static uint16_t add_units(unsigned a, unsigned b, unsigned cap)
+{
+    unsigned s = a + b;
+    s = s > cap ? cap : s;
+    return (uint16_t)s;
+}
+
+/* For a node of scale s >= 1 (nested decimation): the node's level-n surface S_n is,
+ * geometrically, its 4 children's level n-1 surfaces (vertex stride 2^s in both), and each
+ * level's triangulation refines the coarser ones with the same diagonal everywhere. So for a
+ * full-resolution sample p under a level-k triangle,
+ *   |S_k(p) - f(p)| <= |S_k(p) - S_n(p)| + |S_n(p) - f(p)| <= delta_own(k) + carry,
+ * where S_k - S_n is linear on each S_n triangle (so its maximum is at the node's own samples:
+ * delta_own, measured as for a leaf) and carry = max over children of child.delta[n-1], which
+ * already holds against full resolution (induction from the leaves, where it is exact).
+ * delta[n] = carry. Stitched triangles use the cell bound (cell_bound above) plus carry.
+ * Incomplete nodes: S_n is missing where a sample is not drawn, so the sum does not hold there;
+ * their levels below n and their eps are the area range instead (every drawn triangle
+ * interpolates drawn samples of the area, and every drawn sample of the area lies in the
+ * range), which also fits the rule that only complete nodes are drawn below level n. Every
+ * bound is clamped to the area range (area_qmax - area_qmin). With err_unit_steps from
+ * tp_tree_err_unit_steps of the global range, that range fits 65534 units, so TP_NODE_ERR_SAT
+ * is never stored then (it can be only when the global range exceeds 65534 steps). */
+void tp_node_meta_compute(int n, int scale, const int32_t* q, const tp_node_meta* const children[4],
+                          double err_unit_steps, tp_node_meta* out)
+{
+    assert(n >= 1 && n <= TP_MAX_N && scale >= 0 && scale < TP_TREE_MAX_SCALES && q && out);
+    assert(scale == 0 || (children && children[0] && children[1] && children[2] && children[3]));
+    assert(err_unit_steps > 0);
+    int side = (1 << n) + 1;
+    tp_node_meta m;
+    memset(&m, 0, sizeof m);
+    int32_t lo = INT32_MAX, hi = INT32_MIN;
+    int all = 1;
+    for (int i = 0; i < side * side; i++) {
+        int32_t v = q[i];
+        if (v == INT32_MIN) {
+            all = 0;
+            continue;
+        }
+        lo = v < lo ? v : lo;
+        hi = v > hi ? v : hi;
+    }
+    int own = lo <= hi;
+    m.qmin = own ? lo : 0;
+    m.qmax = own ? hi : -1;
+    if (scale == 0) {
+        m.area_qmin = m.qmin;
+        m.area_qmax = m.qmax;
+        m.flags = (uint8_t)((all ? TP_NODE_COMPLETE : 0) | (own ? TP_NODE_HAS_DRAWN : 0));
+    } else {
+        int32_t alo = INT32_MAX, ahi = INT32_MIN;
+        int complete = 1, any = 0;
+        for (int c = 0; c < 4; c++) {
+            const tp_node_meta* ch = children[c];
+            complete &= (ch->flags & TP_NODE_COMPLETE) != 0;
+            if (!(ch->flags & TP_NODE_HAS_DRAWN))
+                continue;
+            any = 1;
+            alo = ch->area_qmin < alo ? ch->area_qmin : alo;
+            ahi = ch->area_qmax > ahi ? ch->area_qmax : ahi;
+        }
+        m.area_qmin = any ? alo : 0;
+        m.area_qmax = any ? ahi : -1;
+        m.flags = (uint8_t)((complete ? TP_NODE_COMPLETE : 0) | (any ? TP_NODE_HAS_DRAWN : 0));
+    }
+    if (!(m.flags & TP_NODE_HAS_DRAWN)) { /* nothing drawn: no error anywhere */
+        *out = m;
+        return;
+    }
+    unsigned range = tp__err_units((double)m.area_qmax - m.area_qmin, err_unit_steps);
+    unsigned carry = 0;
+    if (scale > 0)
+        for (int c = 0; c < 4; c++) {
+            unsigned d = children[c]->delta[n - 1];
+            carry = d > carry ? d : carry;
+        }
+    if (scale > 0 && !(m.flags & TP_NODE_COMPLETE)) {
+        for (int k = 0; k < n; k++)
+            m.delta[k] = (uint16_t)range;
+        m.delta[n] = (uint16_t)(carry < range ? carry : range);
+        for (int s = 0; s < 4; s++)
+            for (int kn = 0; kn < n; kn++)
+                m.eps[s][kn] = (uint16_t)range;
+        *out = m;
+        return;
+    }
+    for (int k = 0; k <= n; k++) {
+        unsigned own_units = k < n || scale == 0
+                                 ? tp__err_units(tp__lattice_level_error(n, q, k), err_unit_steps)
+                                 : 0;
+        m.delta[k] = add_units(own_units, carry, range);
+    }
+    double eps[4][TP_MAX_N];
+    tp__lattice_eps(n, q, scale > 0, eps);
+    for (int s = 0; s < 4; s++)
+        for (int kn = 0; kn < n; kn++)
+            /* Interpolation at moved vertices is not exact: round up generously. */
+            m.eps[s][kn] = add_units(tp__err_units(eps[s][kn] + 1e-6, err_unit_steps), carry, range);
+    *out = m;
+}
+
+double tp_node_error_bound(const tp_node_meta* m, int n, int k, const int neighbor_levels[4],
+                           double step_m, double err_unit_steps)
+{
+    assert(m && n >= 1 && n <= TP_MAX_N && k >= 0 && k <= n);
+    (void)n; /* only asserted */
+    unsigned units = m->delta[k];
+    for (int s = 0; neighbor_levels && s < 4; s++) {
+        int kn = neighbor_levels[s];
+        if (kn >= 0 && kn < k) {
+            unsigned e = m->eps[s][kn];
+            units = e > units ? e : units;
+        }
+    }
+    double range = m->area_qmax >= m->area_qmin ? (double)m->area_qmax - m->area_qmin : 0;
+    /* A saturated entry falls back to the area range, which bounds any error. */
+    double steps = units >= TP_NODE_ERR_SAT ? range : units * err_unit_steps;
+    return (steps < range ? steps : range) * step_m;
+}
