@@ -1,0 +1,262 @@
+/* store_write.cpp - writes a terrain store (.tpt; tp_io.h "Terrain stores", docs/store.md)
+ * append-only through tp_file_*: the header first, each node's data as it arrives (in the
+ * builder's order, children before parents), then the node table in id order and the footer
+ * that points to it. Only the encoded table (entry_bytes(n) per node) and one node's scratch
+ * are kept in memory, never the data already written. */
+#include "io_util.hpp"
+#include "store_format.hpp"
+#include "tp_io.h"
+
+#include <zstd.h>
+
+#include <climits>
+#include <new>
+#include <string>
+#include <vector>
+
+using namespace tpio::store;
+using tpio::fail;
+
+namespace {
+/* zstd level of node data: docs/store.md has the measurements (level 3 is no smaller than 1
+ * on terrain residuals, and decoding speed does not depend on it). */
+constexpr int ZSTD_LEVEL = 1;
+} // namespace
+
+struct tp_store_writer {
+    std::string path;
+    tp_file_writer* file = nullptr;
+    tp_tree_geometry geometry;
+    size_t entry_size = 0;
+    std::vector<uint8_t> table;   /* node_count * entry_size, filled as nodes arrive */
+    std::vector<bool> have;       /* node written */
+    int64_t missing = 0;          /* nodes not written yet */
+    uint64_t offset = 0;          /* file size so far */
+    ZSTD_CCtx* cctx = nullptr;
+    std::vector<uint16_t> rel;    /* one node's samples relative to its qmin */
+    std::vector<uint8_t> scratch, packed;
+    tp_status failed = TP_OK;     /* a write failed: every later call returns it */
+    ~tp_store_writer()
+    {
+        tp_file_abort(file);
+        ZSTD_freeCCtx(cctx);
+    }
+};
+
+namespace {
+
+std::vector<uint8_t> encode_header(const tp_store_header* h, const std::string& crs,
+                                   const std::string& notes)
+{
+    const size_t size = H_FIXED_BYTES + crs.size() + notes.size() + 4;
+    std::vector<uint8_t> b(size, 0);
+    uint8_t* p = b.data();
+    std::memcpy(p + H_MAGIC, MAGIC, 8);
+    put_u32(p + H_VERSION, TP_STORE_VERSION);
+    put_u32(p + H_HEADER_BYTES, (uint32_t)size);
+    const tp_tree_geometry& g = h->geometry;
+    put_u32(p + H_N, (uint32_t)g.n);
+    put_u32(p + H_SRC_WIDTH, (uint32_t)g.src_width);
+    put_u32(p + H_SRC_HEIGHT, (uint32_t)g.src_height);
+    put_u32(p + H_WIDTH, (uint32_t)g.width);
+    put_u32(p + H_HEIGHT, (uint32_t)g.height);
+    put_u32(p + H_COLS, (uint32_t)g.cols);
+    put_u32(p + H_ROWS, (uint32_t)g.rows);
+    put_u32(p + H_SCALES, (uint32_t)g.scales);
+    put_u64(p + H_NODE_COUNT, (uint64_t)g.node_count);
+    put_u64(p + H_ROOT_COUNT, (uint64_t)g.root_count);
+    for (int i = 0; i < 6; ++i)
+        put_f64(p + H_GEOTRANSFORM + 8 * i, h->geotransform[i]);
+    put_f64(p + H_HEIGHT_STEP, h->height_step_m);
+    put_f64(p + H_QUANT_MAX_ERROR, h->quant_max_error_m);
+    put_f64(p + H_ERR_UNIT, h->err_unit_steps);
+    put_u64(p + H_VALID_SAMPLES, (uint64_t)h->valid_samples);
+    put_u64(p + H_NODATA_SAMPLES, (uint64_t)h->nodata_samples);
+    put_u32(p + H_CRS_BYTES, (uint32_t)crs.size());
+    put_u32(p + H_NOTES_BYTES, (uint32_t)notes.size());
+    std::memcpy(p + H_FIXED_BYTES, crs.data(), crs.size());
+    std::memcpy(p + H_FIXED_BYTES + crs.size(), notes.data(), notes.size());
+    put_u32(p + size - 4, crc32_of(p, size - 4));
+    return b;
+}
+
+void encode_entry(uint8_t* e, int n, uint64_t offset, uint32_t bytes, uint32_t crc, Codec codec,
+                  const tp_node_meta* m)
+{
+    put_u64(e + E_OFFSET, offset);
+    put_u32(e + E_BYTES, bytes);
+    put_u32(e + E_CRC, crc);
+    e[E_CODEC] = codec;
+    e[E_FLAGS] = m->flags;
+    put_u16(e + E_RESERVED, 0);
+    put_u32(e + E_QMIN, (uint32_t)m->qmin);
+    put_u32(e + E_QMIN + 4, (uint32_t)m->qmax);
+    put_u32(e + E_QMIN + 8, (uint32_t)m->area_qmin);
+    put_u32(e + E_QMIN + 12, (uint32_t)m->area_qmax);
+    uint8_t* p = e + E_DELTA;
+    for (int k = 0; k <= n; ++k, p += 2)
+        put_u16(p, m->delta[k]);
+    for (int side = 0; side < 4; ++side)
+        for (int k = 0; k < n; ++k, p += 2)
+            put_u16(p, m->eps[side][k]);
+}
+
+/* Remembers a write failure, so that commit reports it too. */
+tp_status note(tp_store_writer* w, tp_status s)
+{
+    if (s != TP_OK && s != TP_ERR_INVALID_ARG)
+        w->failed = s;
+    return s;
+}
+
+} // namespace
+
+extern "C" tp_status tp_store_writer_begin(const char* path, const tp_store_header* header,
+                                           tp_store_writer** out, tp_error* err)
+{
+    if (!path || !header || !out)
+        return fail(err, TP_ERR_INVALID_ARG, "store: bad arguments (path, header or out is NULL)");
+    tp_store_writer* w = nullptr;
+    try {
+        const tp_tree_geometry& g = header->geometry;
+        tp_tree_geometry want;
+        std::string why;
+        if (!geometry_for(g.n, g.src_width, g.src_height, &want))
+            return fail(err, TP_ERR_INVALID_ARG,
+                        "%s: store geometry out of range (n %d, source %d x %d)", path, g.n,
+                        g.src_width, g.src_height);
+        if (!geometry_same(g, want, &why))
+            return fail(err, TP_ERR_INVALID_ARG, "%s: inconsistent store geometry: %s", path,
+                        why.c_str());
+        const std::string crs = header->crs_wkt ? header->crs_wkt : "";
+        const std::string notes = header->notes ? header->notes : "";
+        if (crs.size() > MAX_STRING_BYTES || notes.size() > MAX_STRING_BYTES)
+            return fail(err, TP_ERR_INVALID_ARG, "%s: CRS or notes longer than %u bytes", path,
+                        (unsigned)MAX_STRING_BYTES);
+        const std::vector<uint8_t> head = encode_header(header, crs, notes);
+
+        w = new tp_store_writer;
+        w->path = path;
+        w->geometry = g;
+        w->entry_size = entry_bytes(g.n);
+        w->table.assign((size_t)g.node_count * w->entry_size, 0);
+        w->have.assign((size_t)g.node_count, false);
+        w->missing = g.node_count;
+        w->rel.resize(sample_count(g.n));
+        w->cctx = ZSTD_createCCtx();
+        if (!w->cctx)
+            throw std::bad_alloc();
+        tp_status s = tp_file_begin(path, &w->file, err);
+        if (s == TP_OK)
+            s = tp_file_append(w->file, head.data(), head.size(), err);
+        if (s != TP_OK) {
+            delete w;
+            return s;
+        }
+        w->offset = head.size();
+        *out = w;
+        return TP_OK;
+    } catch (...) {
+        delete w;
+        return tpio::caught(err, path);
+    }
+}
+
+extern "C" tp_status tp_store_writer_add_node(tp_store_writer* w, int64_t node,
+                                              const tp_node_meta* meta, const int32_t* q,
+                                              tp_error* err)
+{
+    if (!w || !meta || !q)
+        return fail(err, TP_ERR_INVALID_ARG, "store: bad arguments (writer, meta or q is NULL)");
+    const char* path = w->path.c_str();
+    if (w->failed != TP_OK)
+        return fail(err, w->failed, "%s: an earlier write failed", path);
+    const tp_tree_geometry& g = w->geometry;
+    if (node < 0 || node >= g.node_count)
+        return fail(err, TP_ERR_INVALID_ARG, "%s: node %lld does not exist (%lld nodes)", path,
+                    (long long)node, (long long)g.node_count);
+    if (w->have[(size_t)node])
+        return fail(err, TP_ERR_INVALID_ARG, "%s: node %lld added twice", path, (long long)node);
+    if (meta->flags & ~(TP_NODE_COMPLETE | TP_NODE_HAS_DRAWN))
+        return fail(err, TP_ERR_INVALID_ARG, "%s: node %lld: unknown meta flags 0x%02x", path,
+                    (long long)node, meta->flags);
+    try {
+        /* relative to qmin, every drawn sample within [qmin, qmax], a range that fits below
+         * TP_TREE_NO_HEIGHT */
+        const size_t count = sample_count(g.n);
+        const int64_t qmin = meta->qmin, qmax = meta->qmax;
+        if (qmin <= qmax && qmax - qmin >= (int64_t)TP_TREE_NO_HEIGHT)
+            return fail(err, TP_ERR_INVALID_ARG,
+                        "%s: node %lld: height range %lld .. %lld is wider than %u steps", path,
+                        (long long)node, (long long)qmin, (long long)qmax,
+                        (unsigned)TP_TREE_NO_HEIGHT - 1);
+        for (size_t k = 0; k < count; ++k) {
+            if (q[k] == INT32_MIN) {
+                w->rel[k] = TP_TREE_NO_HEIGHT;
+            } else if (q[k] < qmin || q[k] > qmax) {
+                return fail(err, TP_ERR_INVALID_ARG,
+                            "%s: node %lld: sample %zu is %d, outside the meta's range %lld .. %lld",
+                            path, (long long)node, k, q[k], (long long)qmin, (long long)qmax);
+            } else {
+                w->rel[k] = (uint16_t)(q[k] - qmin);
+            }
+        }
+        const int side = (1 << g.n) + 1;
+        const Codec codec =
+            encode_node(w->rel.data(), side, ZSTD_LEVEL, w->cctx, &w->scratch, &w->packed);
+        const tp_status s = tp_file_append(w->file, w->packed.data(), w->packed.size(), err);
+        if (s != TP_OK)
+            return note(w, s);
+        encode_entry(w->table.data() + (size_t)node * w->entry_size, g.n, w->offset,
+                     (uint32_t)w->packed.size(), crc32_of(w->packed.data(), w->packed.size()),
+                     codec, meta);
+        w->offset += w->packed.size();
+        w->have[(size_t)node] = true;
+        --w->missing;
+        return TP_OK;
+    } catch (...) {
+        return note(w, tpio::caught(err, path));
+    }
+}
+
+extern "C" tp_status tp_store_writer_commit(tp_store_writer* w, tp_error* err)
+{
+    if (!w)
+        return fail(err, TP_ERR_INVALID_ARG, "store: bad arguments (writer is NULL)");
+    tp_status s = TP_OK;
+    try {
+        const char* path = w->path.c_str();
+        if (w->failed != TP_OK) {
+            s = fail(err, w->failed, "%s: an earlier write failed; not written", path);
+        } else if (w->missing > 0) {
+            int64_t first = 0;
+            while (w->have[(size_t)first])
+                ++first;
+            s = fail(err, TP_ERR_INVALID_ARG,
+                     "%s: %lld of %lld nodes were not added (the first: node %lld); not written",
+                     path, (long long)w->missing, (long long)w->geometry.node_count,
+                     (long long)first);
+        } else {
+            uint8_t footer[FOOTER_BYTES];
+            put_u64(footer + F_TABLE_OFFSET, w->offset);
+            put_u64(footer + F_TABLE_BYTES, w->table.size());
+            put_u32(footer + F_TABLE_CRC, crc32_of(w->table.data(), w->table.size()));
+            put_u32(footer + F_FOOTER_CRC, crc32_of(footer, F_FOOTER_CRC));
+            std::memcpy(footer + F_END_MAGIC, END_MAGIC, 8);
+            s = tp_file_append(w->file, w->table.data(), w->table.size(), err);
+            if (s == TP_OK)
+                s = tp_file_append(w->file, footer, sizeof footer, err);
+            if (s == TP_OK) {
+                tp_file_writer* file = w->file;
+                w->file = nullptr; /* commit frees it, whatever happens */
+                s = tp_file_commit(file, err);
+            }
+        }
+    } catch (...) {
+        s = tpio::caught(err, w->path.c_str());
+    }
+    delete w; /* aborts the file unless committed */
+    return s;
+}
+
+extern "C" void tp_store_writer_abort(tp_store_writer* w) { delete w; }
