@@ -222,7 +222,11 @@ tpio::Dataset build_vrt(tp_mosaic* m, const std::vector<std::string>& files,
     const std::string dst = vsimem_name(m, what);
     GDALDatasetH h = GDALBuildVRT(dst.c_str(), (int)names.size(), nullptr, names.data(), o, &usage);
     GDALBuildVRTOptionsFree(o);
-    return tpio::Dataset(GDALDataset::FromHandle(h));
+    if (!h)
+        return nullptr;
+    /* written on close; reopened by name so that a warped VRT may refer to it */
+    GDALClose(h);
+    return tpio::Dataset(GDALDataset::Open(dst.c_str(), GDAL_OF_RASTER | GDAL_OF_READONLY));
 }
 
 tpio::Dataset warp_vrt(tp_mosaic* m, GDALDataset* src, const std::vector<std::string>& args,
