@@ -382,6 +382,8 @@ tp_status open_mosaic(const char* const* paths, size_t count, const tp_mosaic_op
             std::vector<std::string> args = tpio::render_grid_warp_args(plan, "VRT");
             if (untagged_int16 && count == 1)
                 args.insert(args.end(), {"-srcnodata", "-32768"});
+            /* the plan's source CRS: --crs, or EPSG:4326 for a grid plainly in degrees */
+            args.insert(args.end(), {"-s_srs", tpio::crs_wkt2(plan.src)});
             tpio::Dataset w = warp_vrt(m, base.get(), args, "warp");
             if (!w)
                 return fail(err, TP_ERR_BACKEND, "%s: warp to %s failed: %s", paths[0],
