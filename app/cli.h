@@ -29,6 +29,9 @@ int tp_cli_export(int argc, char** argv);
 /* `terrapatch bench [options] DEM`. argv[0] is "bench"; returns an exit code. */
 int tp_cli_bench(int argc, char** argv);
 
+/* `terrapatch build [options] SOURCE... -o NAME.tpt`. argv[0] is "build"; returns an exit code. */
+int tp_cli_build(int argc, char** argv);
+
 /* Flushes stdout; on a write error prints one line and returns TP_EXIT_FAILURE, else code. */
 int tp_cli_finish(int code);
 
