@@ -17,6 +17,9 @@
 /* `terrapatch info [options] DEM`. argv[0] is "info"; returns an exit code. */
 int tp_cli_info(int argc, char** argv);
 
+/* `terrapatch info [--json] STORE.tpt` (cmd_info_store.c): called by tp_cli_info for a store. */
+int tp_info_store(const char* path, int json);
+
 /* `terrapatch coord [options] [INPUT ...]`. argv[0] is "coord"; returns an exit code. */
 int tp_cli_coord(int argc, char** argv);
 
