@@ -1,6 +1,6 @@
 #!/bin/bash
 # test_info_store.sh EXE DATA_DIR WORK_DIR CASE: `terrapatch info` on a built store (.tpt).
-#   sound       a store of N42E001.hgt: exit 0; every node checked, none damaged; text and JSON
+#   sound       a store of storml_elev.tif: exit 0; every node checked, none damaged; text and JSON
 #               agree with the build's own --json (nodes, bytes); the build's notes are shown
 #   damaged     one byte of one node's data flipped: exit 1, one error line naming the file, the
 #               node and its byte offset; the other nodes still checked (the count is printed)
@@ -13,7 +13,7 @@ fail() { echo "FAIL ($CASE): $*"; [ -f out ] && { echo '--- stdout'; cat out; };
 run() { local t=$1; shift; timeout "$t" "$EXE" "$@" > out 2> err; rc=$?; }
 
 rm -f s.tpt build.json
-"$EXE" build --quiet --patch 33 --json build.json "$DATA/N42E001.hgt" -o s.tpt 2> build.err ||
+"$EXE" build --quiet --patch 17 --json build.json "$DATA/storml_elev.tif" -o s.tpt 2> build.err ||
     { cat build.err; fail "build failed"; }
 nodes=$(sed -n 's/.*"nodes": *\([0-9]*\).*/\1/p' build.json)
 bytes=$(stat -c %s s.tpt)
@@ -26,7 +26,7 @@ sound)
     run 60 info s.tpt
     [ $rc -eq 0 ] || fail "exit $rc"
     grep -q "checked: *$nodes nodes, 0 damaged" out || fail "expected all $nodes nodes checked"
-    grep -q "note: *source: .*N42E001.hgt" out || fail "the build's notes are not shown"
+    grep -q "note: *source: .*storml_elev.tif" out || fail "the build's notes are not shown"
     grep -q "$bytes bytes" out || fail "file size $bytes not shown"
     run 60 info --json s.tpt
     [ $rc -eq 0 ] || fail "exit $rc (json)"
