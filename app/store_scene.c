@@ -1,15 +1,21 @@
 /* store_scene.c - a built store opened for drawing (see store_scene.h). */
+#define _POSIX_C_SOURCE 200809L
 #include "store_scene.h"
 
 #include "cli.h"
 
 #include <stdio.h>
 #include <string.h>
+#include <sys/stat.h>
 
 int tp_is_store_path(const char* path)
 {
     static const unsigned char magic[8] = {0x89, 'T', 'P', 'T', '\r', '\n', 0x1A, '\n'};
     unsigned char head[8];
+    struct stat st;
+    /* never open a FIFO or a device to look: it could block; the readers refuse those */
+    if (stat(path, &st) != 0 || !S_ISREG(st.st_mode))
+        return 0;
     FILE* f = fopen(path, "rb");
     if (!f)
         return 0;
