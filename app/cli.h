@@ -17,6 +17,9 @@
 /* `terrapatch info [options] DEM`. argv[0] is "info"; returns an exit code. */
 int tp_cli_info(int argc, char** argv);
 
+/* `terrapatch info [--json] STORE.tpt` (cmd_info_store.c): called by tp_cli_info for a store. */
+int tp_info_store(const char* path, int json);
+
 /* `terrapatch coord [options] [INPUT ...]`. argv[0] is "coord"; returns an exit code. */
 int tp_cli_coord(int argc, char** argv);
 
@@ -28,6 +31,9 @@ int tp_cli_export(int argc, char** argv);
 
 /* `terrapatch bench [options] DEM`. argv[0] is "bench"; returns an exit code. */
 int tp_cli_bench(int argc, char** argv);
+
+/* `terrapatch build [options] SOURCE... -o NAME.tpt`. argv[0] is "build"; returns an exit code. */
+int tp_cli_build(int argc, char** argv);
 
 /* Flushes stdout; on a write error prints one line and returns TP_EXIT_FAILURE, else code. */
 int tp_cli_finish(int code);

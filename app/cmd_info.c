@@ -6,7 +6,9 @@
  */
 #include "cli.h"
 #include "json.h"
+#include "extent.h"
 #include "scene.h"
+#include "store_scene.h"
 
 #include "tp_core.h"
 #include "tp_geo.h"
@@ -28,11 +30,13 @@ enum { OPT_JSON = 256 };
 
 static void print_help(void)
 {
-    fputs("usage: terrapatch info [options] DEM\n"
+    fputs("usage: terrapatch info [options] DEM|STORE.tpt\n"
           "\n"
           "Reads band 1 of DEM (any raster GDAL opens), puts it on the metric grid the viewer\n"
           "draws (geographic DEMs are warped to the UTM/UPS zone of their centre), tiles it\n"
-          "into patches, and describes each stage.\n"
+          "into patches, and describes each stage. Given a store (.tpt, made by 'terrapatch\n"
+          "build'), reads and checks every node and describes the store (the DEM options do\n"
+          "not apply to it).\n"
           "\n"
           "options:\n",
           stdout);
@@ -41,7 +45,8 @@ static void print_help(void)
           "  -h, --help          show this help\n"
           "\n"
           "Heights are shown as stored in the DEM (SRTM: metres above the EGM96 geoid).\n"
-          "Exit status: 0 success, 1 the DEM could not be read or tiled, 2 usage error.\n",
+          "Exit status: 0 success, 1 the DEM could not be read or tiled or the store has a\n"
+          "damaged node, 2 usage error.\n",
           stdout);
 }
 
@@ -100,81 +105,6 @@ static int parse_options(int argc, char** argv, info_options* o)
 static const char* fit_name(tp_fit fit)
 {
     return fit == TP_FIT_RESAMPLE ? "resample" : "pad";
-}
-
-/* Geographic extent of the drawn grid: south, west, north, east (degrees), from every edge
- * sample (an extent in UTM/UPS bends: corners and midpoints miss where it reaches furthest).
- * When the grid holds a pole, that latitude is +-90 and the longitudes are -180 .. 180. The
- * longitudes are the shortest interval holding every edge sample: west > east when it crosses
- * the antimeridian (*crosses set to 1). Returns 1, 0 when the grid has no CRS, -1 (with *why)
- * when an edge post is outside what the zone converts (a grid far wider than its zone). */
-static int cmp_double(const void* a, const void* b)
-{
-    double x = *(const double*)a, y = *(const double*)b;
-    return (x > y) - (x < y);
-}
-
-static int geo_extent(const tp_scene* sc, double out[4], int* crosses, tp_error* why)
-{
-    *crosses = 0;
-    if (!tp_georef_has_geo(sc->georef))
-        return 0;
-    int w = sc->grid->width, h = sc->grid->height;
-    size_t cap = 2 * (size_t)w + 2 * (size_t)h, n = 0;
-    double* lons = malloc(cap * sizeof *lons);
-    if (!lons)
-        return 0;
-    out[0] = INFINITY, out[2] = -INFINITY;
-    for (size_t i = 0; i < cap; i++) {
-        double x, y; /* the bottom and top rows, then the left and right columns */
-        if (i < 2 * (size_t)w)
-            x = (double)(i % w), y = i < (size_t)w ? 0 : h - 1;
-        else
-            x = (i - 2 * (size_t)w) < (size_t)h ? 0 : w - 1, y = (double)((i - 2 * (size_t)w) % h);
-        double e, nn, lat, lon;
-        tp_georef_grid_to_proj(sc->georef, x, y, &e, &nn);
-        if (tp_georef_proj_to_geo(sc->georef, e, nn, &lat, &lon, why) != TP_OK) {
-            free(lons);
-            return -1;
-        }
-        out[0] = fmin(out[0], lat), out[2] = fmax(out[2], lat);
-        lons[n++] = remainder(lon, 360.0);
-    }
-    /* A pole inside the grid: the latitudes reach it and every longitude is covered. */
-    for (int pole = -1; pole <= 1; pole += 2) {
-        double e, nn, x, y;
-        if (tp_georef_geo_to_proj(sc->georef, 90.0 * pole, 0, &e, &nn, NULL) != TP_OK)
-            continue;
-        tp_georef_proj_to_grid(sc->georef, e, nn, &x, &y);
-        if (x >= 0 && y >= 0 && x <= w - 1 && y <= h - 1) {
-            out[pole < 0 ? 0 : 2] = 90.0 * pole;
-            out[1] = -180, out[3] = 180;
-            free(lons);
-            return 1;
-        }
-    }
-    /* The longitudes: the complement of the widest gap between neighbours on the circle. */
-    qsort(lons, n, sizeof *lons, cmp_double);
-    double gap = lons[0] + 360.0 - lons[n - 1]; /* the gap across the antimeridian */
-    out[1] = lons[0], out[3] = lons[n - 1];
-    for (size_t i = 1; i < n; i++) {
-        if (lons[i] - lons[i - 1] > gap) {
-            gap = lons[i] - lons[i - 1];
-            out[1] = lons[i], out[3] = lons[i - 1];
-            *crosses = 1;
-        }
-    }
-    free(lons);
-    return 1;
-}
-
-/* Projected extent of the drawn grid's sample centres: min E, min N, max E, max N. */
-static void proj_extent(const tp_scene* sc, double out[4])
-{
-    double e0, n0, e1, n1;
-    tp_georef_grid_to_proj(sc->georef, 0, 0, &e0, &n0);
-    tp_georef_grid_to_proj(sc->georef, sc->grid->width - 1, sc->grid->height - 1, &e1, &n1);
-    out[0] = fmin(e0, e1), out[1] = fmin(n0, n1), out[2] = fmax(e0, e1), out[3] = fmax(n0, n1);
 }
 
 /* The render grid's UTM/UPS zone ("31n", "UPS north"); 0 (and "") when it is in none. */
@@ -246,11 +176,11 @@ static void print_text(const tp_scene* sc, const char* path)
     printf("  voids        %zu filled (interior), %zu in large voids, %zu outside the data\n",
            g->filled_samples, g->large_void_samples, g->outside_samples);
     double ext[4];
-    proj_extent(sc, ext);
+    tp_proj_extent(sc->georef, sc->grid->width, sc->grid->height, ext);
     printf("  extent       E %.3f .. %.3f, N %.3f .. %.3f\n", ext[0], ext[2], ext[1], ext[3]);
     int crosses = 0;
     tp_error why;
-    int geo = geo_extent(sc, ext, &crosses, &why);
+    int geo = tp_geo_extent(sc->georef, sc->grid->width, sc->grid->height, ext, &crosses, &why);
     if (geo > 0)
         printf("  geographic   lat %.6f .. %.6f, lon %.6f .. %.6f%s\n", ext[0], ext[2], ext[1],
                ext[3], crosses ? " (crosses the antimeridian)" : "");
@@ -395,12 +325,12 @@ static void print_json(const tp_scene* sc, const char* path)
     key_size(&j, "large_void_samples", g->large_void_samples);
     key_size(&j, "outside_samples", g->outside_samples);
     double ext[4];
-    proj_extent(sc, ext);
+    tp_proj_extent(sc->georef, sc->grid->width, sc->grid->height, ext);
     key_numbers(&j, "extent_proj", ext, 4);
     tp_json_key(&j, "extent_geo");
     int crosses = 0;
     tp_error why;
-    if (geo_extent(sc, ext, &crosses, &why) > 0) {
+    if (tp_geo_extent(sc->georef, sc->grid->width, sc->grid->height, ext, &crosses, &why) > 0) {
         tp_json_array_begin(&j); /* south, west, north, east: west > east across the antimeridian */
         for (int i = 0; i < 4; ++i)
             tp_json_number(&j, ext[i]);
@@ -454,6 +384,8 @@ int tp_cli_info(int argc, char** argv)
     int code = parse_options(argc, argv, &o);
     if (code >= 0)
         return code;
+    if (tp_is_store_path(o.path))
+        return tp_info_store(o.path, o.json);
     tp_scene sc;
     if ((code = tp_scene_load(o.path, &o.scene, &sc)) != TP_EXIT_OK)
         return code;

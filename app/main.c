@@ -23,6 +23,7 @@ static void print_help(FILE* f)
           "  view [DEM]  show the terrain in a window, or headless to a PNG (--headless)\n"
           "  export DEM -o OUT   write the mesh terrapatch draws (VTK .vtp/.vtk/.vtm)\n"
           "  bench DEM   frame rate against measured error, headless, for every LoD mode\n"
+          "  build SOURCE... -o NAME.tpt   build a terrain store from DEM tiles (any size)\n"
           "  coord       convert coordinates: lat/lon, UTM/UPS, MGRS, ECEF; geodesics\n"
           "\n"
           "Run 'terrapatch COMMAND --help' for the options of a command.\n"
@@ -57,6 +58,8 @@ static int run_command(int argc, char** argv)
         return tp_cli_export(argc - 1, argv + 1);
     if (!strcmp(cmd, "bench"))
         return tp_cli_bench(argc - 1, argv + 1);
+    if (!strcmp(cmd, "build"))
+        return tp_cli_build(argc - 1, argv + 1);
     if (cmd[0] == '-')
         fprintf(stderr, "terrapatch: unknown option '%s' (try 'terrapatch --help')\n", cmd);
     else

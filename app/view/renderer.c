@@ -6,6 +6,7 @@
 
 #include <epoxy/gl.h>
 
+#include <assert.h>
 #include <limits.h>
 #include <math.h>
 #include <stdio.h>
@@ -21,34 +22,51 @@ typedef struct gpu_vertex {
     uint8_t flags;   /* bits 0-3: level, bit 4: filled void */
 } gpu_vertex;
 
+/* One slot of the vertex pool: room for an item at level n. */
+typedef struct slot {
+    int64_t key;          /* -1: free */
+    int8_t level, nb[4];  /* what its vertex data was built for */
+    int region;           /* triangle-list region of an incomplete item, else -1 */
+    uint64_t stamp;       /* last frame drawn */
+} slot;
+
 struct tp_renderer {
-    const tp_terrain* t;
-    tp_terrain_info info;
+    tp_render_grid_desc grid;
     GLuint prog, vao, vbo, ibo, ibo_custom;
     GLenum index_type;
     size_t level_offset[TP_MAX_LEVELS], level_count[TP_MAX_LEVELS];
-    size_t slot_verts; /* (2^n+1)^2: one slot holds a patch at any level */
-    int slots;      /* pool capacity */
-    int* patch_slot;
-    int* slot_patch;
-    uint64_t* slot_stamp;
-    uint8_t* patch_current; /* slot holds the patch's current vertex data */
-    int* patch_custom;      /* incomplete patches: their triangle-list region, else -1 */
-    GLsizei* custom_count;
-    size_t custom_stride;   /* indices per region: 6 * 4^n */
-    int custom_regions;
+    size_t slot_verts; /* (2^n+1)^2: one slot holds an item at any level */
+    int slots;         /* pool capacity */
+    slot* slot;
+    int* map;          /* open addressing, key -> slot index (-1 empty); map_cap = 2^k >= 2 slots */
+    size_t map_cap;
+    int* region_free;  /* free triangle-list regions */
+    int regions, regions_free;
+    GLsizei* region_count;
+    size_t custom_stride; /* indices per region: 6 * 4^n */
     uint64_t frame;
     tp_vertex* vtmp;
+    float (*ntmp)[3];
+    uint8_t* ftmp;
     gpu_vertex* gtmp;
     uint32_t* ttmp;
     GLsizei* counts;
     void** offsets;
     GLint* bases;
+    size_t draw_cap;
     GLint u_cell, u_frac, u_spacing, u_cam_z, u_exag, u_viewproj, u_sun, u_color_lod,
         u_hide_filled, u_hrange, u_textured, u_tex, u_tex_scale, u_tex_offset, u_grid,
         u_grid_origin;
     GLuint tex;
     float tex_scale[2], tex_offset[2];
+    /* tp_renderer_create / tp_renderer_draw: the terrain whose patches it draws */
+    const tp_terrain* terrain;
+    tp_render_item* items;
+    size_t item_cap;
+    uint8_t* complete; /* per patch */
+    /* tp_renderer_draw_cut: what fill_node reads */
+    const tp_tree* tree;
+    const tp_cut* cut;
 };
 
 static double now_ms(void)
@@ -158,6 +176,50 @@ static void setup_vertex_format(tp_renderer* r)
                            (void*)offsetof(gpu_vertex, flags));
 }
 
+
+static size_t hash_key(int64_t key, size_t cap)
+{
+    uint64_t h = (uint64_t)key * 0x9E3779B97F4A7C15ull;
+    return (size_t)(h >> 17) & (cap - 1);
+}
+
+/* The slot holding key, or -1. */
+static int map_find(const tp_renderer* r, int64_t key)
+{
+    for (size_t i = hash_key(key, r->map_cap);; i = (i + 1) & (r->map_cap - 1)) {
+        int s = r->map[i];
+        if (s < 0)
+            return -1;
+        if (r->slot[s].key == key)
+            return s;
+    }
+}
+
+static void map_insert(tp_renderer* r, int64_t key, int s)
+{
+    size_t i = hash_key(key, r->map_cap);
+    while (r->map[i] >= 0)
+        i = (i + 1) & (r->map_cap - 1);
+    r->map[i] = s;
+}
+
+/* Removes key (present) with backward-shift deletion: no tombstones. */
+static void map_remove(tp_renderer* r, int64_t key)
+{
+    size_t mask = r->map_cap - 1, i = hash_key(key, r->map_cap);
+    while (r->slot[r->map[i]].key != key)
+        i = (i + 1) & mask;
+    for (size_t j = (i + 1) & mask; r->map[j] >= 0; j = (j + 1) & mask) {
+        size_t home = hash_key(r->slot[r->map[j]].key, r->map_cap);
+        /* move j into the hole at i when its home is not in (i, j] cyclically */
+        if (((j - home) & mask) >= ((j - i) & mask)) {
+            r->map[i] = r->map[j];
+            i = j;
+        }
+    }
+    r->map[i] = -1;
+}
+
 /* Grows the vertex pool to `slots` slots, keeping what it holds. */
 static int grow_pool(tp_renderer* r, int slots)
 {
@@ -165,18 +227,29 @@ static int grow_pool(tp_renderer* r, int slots)
     if ((size_t)slots > (size_t)INT_MAX / r->slot_verts)
         return 0;
     size_t bytes = (size_t)slots * r->slot_verts * sizeof(gpu_vertex);
-    int* sp = realloc(r->slot_patch, (size_t)slots * sizeof *sp);
-    if (sp)
-        r->slot_patch = sp;
-    uint64_t* ss = realloc(r->slot_stamp, (size_t)slots * sizeof *ss);
-    if (ss)
-        r->slot_stamp = ss;
-    if (!sp || !ss)
+    size_t cap = 16;
+    while (cap < 2 * (size_t)slots)
+        cap *= 2;
+    slot* sl = realloc(r->slot, (size_t)slots * sizeof *sl);
+    if (sl)
+        r->slot = sl;
+    int* map = malloc(cap * sizeof *map);
+    if (!sl || !map) {
+        free(map);
         return 0;
-    for (int i = r->slots; i < slots; i++) {
-        r->slot_patch[i] = -1;
-        r->slot_stamp[i] = 0;
     }
+    for (int i = r->slots; i < slots; i++) {
+        r->slot[i].key = -1;
+        r->slot[i].region = -1;
+        r->slot[i].stamp = 0;
+    }
+    free(r->map);
+    r->map = map;
+    r->map_cap = cap;
+    memset(map, 0xFF, cap * sizeof *map);
+    for (int i = 0; i < r->slots; i++)
+        if (r->slot[i].key >= 0)
+            map_insert(r, r->slot[i].key, i);
     GLuint vbo;
     glGenBuffers(1, &vbo);
     glBindBuffer(GL_COPY_WRITE_BUFFER, vbo);
@@ -193,16 +266,50 @@ static int grow_pool(tp_renderer* r, int slots)
     return 1;
 }
 
-tp_renderer* tp_renderer_create(const tp_terrain* t, char* msg, size_t msg_size)
+/* A triangle-list region for an incomplete item; the region buffer doubles when all are used. */
+static int take_region(tp_renderer* r)
+{
+    if (r->regions_free > 0)
+        return r->region_free[--r->regions_free];
+    int old = r->regions, want = old ? 2 * old : 16;
+    int* fr = realloc(r->region_free, (size_t)want * sizeof *fr);
+    if (fr)
+        r->region_free = fr;
+    GLsizei* rc = realloc(r->region_count, (size_t)want * sizeof *rc);
+    if (rc)
+        r->region_count = rc;
+    if (!fr || !rc)
+        return -1;
+    size_t stride_bytes = r->custom_stride * 4;
+    GLuint ibo;
+    glGenBuffers(1, &ibo);
+    glBindBuffer(GL_COPY_WRITE_BUFFER, ibo);
+    glBufferData(GL_COPY_WRITE_BUFFER, (GLsizeiptr)((size_t)want * stride_bytes), NULL,
+                 GL_DYNAMIC_DRAW);
+    if (r->ibo_custom) {
+        glBindBuffer(GL_COPY_READ_BUFFER, r->ibo_custom);
+        glCopyBufferSubData(GL_COPY_READ_BUFFER, GL_COPY_WRITE_BUFFER, 0, 0,
+                            (GLsizeiptr)((size_t)old * stride_bytes));
+        glDeleteBuffers(1, &r->ibo_custom);
+    }
+    r->ibo_custom = ibo;
+    for (int i = want - 1; i > old; i--)
+        r->region_free[r->regions_free++] = i;
+    for (int i = old; i < want; i++)
+        r->region_count[i] = 0;
+    r->regions = want;
+    return old;
+}
+
+tp_renderer* tp_renderer_create_desc(const tp_render_grid_desc* d, char* msg, size_t msg_size)
 {
     tp_renderer* r = calloc(1, sizeof *r);
     if (!r) {
         snprintf(msg, msg_size, "out of memory");
         return NULL;
     }
-    r->t = t;
-    tp_terrain_get_info(t, &r->info);
-    int n = r->info.n, pc = r->info.patch_count;
+    r->grid = *d;
+    int n = d->n;
     size_t v = ((size_t)1 << n) + 1;
     r->slot_verts = v * v;
 
@@ -236,18 +343,13 @@ tp_renderer* tp_renderer_create(const tp_terrain* t, char* msg, size_t msg_size)
     for (int k = 0; k <= n; k++)
         total += tp_strip_index_count(k);
     void* idx = malloc(total * isize);
-    r->patch_slot = malloc((size_t)pc * sizeof *r->patch_slot);
-    r->patch_current = calloc((size_t)pc, 1);
-    r->patch_custom = malloc((size_t)pc * sizeof *r->patch_custom);
     r->vtmp = malloc(r->slot_verts * sizeof *r->vtmp);
+    r->ntmp = malloc(r->slot_verts * sizeof *r->ntmp);
+    r->ftmp = malloc(r->slot_verts);
     r->gtmp = malloc(r->slot_verts * sizeof *r->gtmp);
     r->custom_stride = 6 * ((size_t)1 << (2 * n));
     r->ttmp = malloc(r->custom_stride * sizeof *r->ttmp);
-    r->counts = malloc((size_t)pc * sizeof *r->counts);
-    r->offsets = malloc((size_t)pc * sizeof *r->offsets);
-    r->bases = malloc((size_t)pc * sizeof *r->bases);
-    if (!idx || !r->patch_slot || !r->patch_current || !r->patch_custom || !r->vtmp ||
-        !r->gtmp || !r->ttmp || !r->counts || !r->offsets || !r->bases) {
+    if (!idx || !r->vtmp || !r->ntmp || !r->ftmp || !r->gtmp || !r->ttmp) {
         free(idx);
         snprintf(msg, msg_size, "out of memory");
         tp_renderer_destroy(r);
@@ -270,23 +372,8 @@ tp_renderer* tp_renderer_create(const tp_terrain* t, char* msg, size_t msg_size)
     glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, r->ibo);
     glBufferData(GL_ELEMENT_ARRAY_BUFFER, (GLsizeiptr)(total * isize), idx, GL_STATIC_DRAW);
     free(idx);
-
-    /* Patches next to nodata or padding draw their own triangle lists (always level n). */
-    for (int p = 0; p < pc; p++) {
-        tp_patch_info pi;
-        tp_patch_get_info(t, p, &pi);
-        r->patch_custom[p] = pi.complete ? -1 : r->custom_regions++;
-        r->patch_slot[p] = -1;
-    }
-    r->custom_count = calloc((size_t)(r->custom_regions + 1), sizeof *r->custom_count);
-    glGenBuffers(1, &r->ibo_custom);
-    glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, r->ibo_custom);
-    glBufferData(GL_ELEMENT_ARRAY_BUFFER,
-                 (GLsizeiptr)((size_t)(r->custom_regions ? r->custom_regions : 1) *
-                              r->custom_stride * 4),
-                 NULL, GL_DYNAMIC_DRAW);
     /* Start with room for a typical visible set; the pool grows when a frame needs more. */
-    if (!r->custom_count || !grow_pool(r, pc < 512 ? pc : 512)) {
+    if (!grow_pool(r, 256)) {
         snprintf(msg, msg_size, "out of memory");
         tp_renderer_destroy(r);
         return NULL;
@@ -303,20 +390,23 @@ void tp_renderer_destroy(tp_renderer* r)
         glDeleteTextures(1, &r->tex);
     glDeleteBuffers(1, &r->vbo);
     glDeleteBuffers(1, &r->ibo);
-    glDeleteBuffers(1, &r->ibo_custom);
+    if (r->ibo_custom)
+        glDeleteBuffers(1, &r->ibo_custom);
     glDeleteVertexArrays(1, &r->vao);
-    free(r->patch_slot);
-    free(r->slot_patch);
-    free(r->slot_stamp);
-    free(r->patch_current);
-    free(r->patch_custom);
-    free(r->custom_count);
+    free(r->slot);
+    free(r->map);
+    free(r->region_free);
+    free(r->region_count);
     free(r->vtmp);
+    free(r->ntmp);
+    free(r->ftmp);
     free(r->gtmp);
     free(r->ttmp);
     free(r->counts);
     free(r->offsets);
     free(r->bases);
+    free(r->items);
+    free(r->complete);
     free(r);
 }
 
@@ -356,129 +446,156 @@ void tp_render_settings_default(tp_render_settings* s)
     s->clear_rgb[2] = 0.90f;
 }
 
-/* A slot for patch p: its own, a free one, or the least recently used one not drawn this
- * frame; the pool doubles when every slot is in use this frame. */
-static int slot_for(tp_renderer* r, int p)
+/* A slot for key: its own, a free one, or the least recently used one not drawn this frame;
+ * the pool doubles when every slot is in use this frame. *fresh: the slot's data is not key's. */
+static int slot_for(tp_renderer* r, int64_t key, int* fresh)
 {
-    if (r->patch_slot[p] >= 0)
-        return r->patch_slot[p];
+    int s = map_find(r, key);
+    *fresh = 0;
+    if (s >= 0)
+        return s;
     int best = -1;
     for (int i = 0; i < r->slots; i++) {
-        if (r->slot_patch[i] < 0) {
+        if (r->slot[i].key < 0) {
             best = i;
             break;
         }
-        if (r->slot_stamp[i] != r->frame && (best < 0 || r->slot_stamp[i] < r->slot_stamp[best]))
+        if (r->slot[i].stamp != r->frame && (best < 0 || r->slot[i].stamp < r->slot[best].stamp))
             best = i;
     }
     if (best < 0) {
-        int old = r->slots, want = old * 2 > r->info.patch_count ? r->info.patch_count : old * 2;
-        if (want <= old || !grow_pool(r, want))
+        int old = r->slots;
+        if (!grow_pool(r, old * 2))
             return -1;
         best = old;
     }
-    if (r->slot_patch[best] >= 0) {
-        r->patch_slot[r->slot_patch[best]] = -1;
-        r->patch_current[r->slot_patch[best]] = 0;
-    }
-    r->slot_patch[best] = p;
-    r->patch_slot[p] = best;
-    r->patch_current[p] = 0;
+    slot* sl = &r->slot[best];
+    if (sl->key >= 0)
+        map_remove(r, sl->key);
+    sl->key = key;
+    map_insert(r, key, best);
+    *fresh = 1;
     return best;
 }
 
-static void upload(tp_renderer* r, tp_selection* sel, int p, int slot)
+static void upload(tp_renderer* r, const tp_render_item* it, size_t i, tp_render_fill_fn fill,
+                   void* user, int s)
 {
-    int k = tp_selection_level(sel, p), nb[4];
-    tp_selection_neighbor_levels(sel, p, nb);
-    int v = (1 << k) + 1, count = v * v;
-    tp_patch_vertices(r->t, p, k, nb, r->vtmp, r->slot_verts);
-    for (int i = 0; i < count; i++) {
-        const tp_vertex* s = &r->vtmp[i];
-        gpu_vertex* g = &r->gtmp[i];
-        float nrm[3];
-        tp_terrain_normal(r->t, s->x, s->y, nrm);
-        g->x = s->x;
-        g->y = s->y;
-        g->z = isnan(s->z_m) ? 0.0f : s->z_m;
+    slot* sl = &r->slot[s];
+    int k = it->level, v = (1 << k) + 1, count = v * v;
+    fill(user, i, r->vtmp, r->ntmp, r->ftmp);
+    for (int j = 0; j < count; j++) {
+        const tp_vertex* src = &r->vtmp[j];
+        gpu_vertex* g = &r->gtmp[j];
+        g->x = src->x;
+        g->y = src->y;
+        g->z = isnan(src->z_m) ? 0.0f : src->z_m;
         for (int a = 0; a < 3; a++)
-            g->n[a] = (int8_t)lrintf(nrm[a] * 127.0f);
-        int filled = tp_terrain_sample_class(r->t, s->x, s->y) == TP_SAMPLE_FILLED;
-        g->flags = (uint8_t)(k | (filled << 4));
+            g->n[a] = (int8_t)lrintf(r->ntmp[j][a] * 127.0f);
+        g->flags = (uint8_t)(k | ((r->ftmp[j] ? 1 : 0) << 4));
     }
     glBindBuffer(GL_ARRAY_BUFFER, r->vbo);
-    glBufferSubData(GL_ARRAY_BUFFER, (GLintptr)((size_t)slot * r->slot_verts * sizeof(gpu_vertex)),
+    glBufferSubData(GL_ARRAY_BUFFER, (GLintptr)((size_t)s * r->slot_verts * sizeof(gpu_vertex)),
                     (GLsizeiptr)(count * sizeof(gpu_vertex)), r->gtmp);
-    int c = r->patch_custom[p];
-    if (c >= 0) {
+    if (it->incomplete && sl->region < 0)
+        sl->region = take_region(r);
+    if (!it->incomplete && sl->region >= 0) {
+        r->region_free[r->regions_free++] = sl->region;
+        sl->region = -1;
+    }
+    if (sl->region >= 0) {
         size_t nt = tp_patch_triangles(r->vtmp, k, r->ttmp, r->custom_stride / 3);
-        r->custom_count[c] = (GLsizei)(3 * nt);
+        r->region_count[sl->region] = (GLsizei)(3 * nt);
         glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, r->ibo_custom);
-        glBufferSubData(GL_ELEMENT_ARRAY_BUFFER, (GLintptr)((size_t)c * r->custom_stride * 4),
+        glBufferSubData(GL_ELEMENT_ARRAY_BUFFER,
+                        (GLintptr)((size_t)sl->region * r->custom_stride * 4),
                         (GLsizeiptr)(3 * nt * 4), r->ttmp);
     }
-    r->patch_current[p] = 1;
+    sl->level = it->level;
+    memcpy(sl->nb, it->nb, sizeof sl->nb);
 }
 
-void tp_renderer_draw(tp_renderer* r, tp_selection* sel, const tp_camera* cam,
-                      const tp_render_settings* st, int finish, tp_render_stats* stats)
+static int grow_draws(tp_renderer* r, size_t count)
+{
+    if (count <= r->draw_cap)
+        return 1;
+    size_t cap = r->draw_cap ? r->draw_cap : 256;
+    while (cap < count)
+        cap *= 2;
+    GLsizei* c = realloc(r->counts, cap * sizeof *c);
+    if (c)
+        r->counts = c;
+    void** o = realloc(r->offsets, cap * sizeof *o);
+    if (o)
+        r->offsets = o;
+    GLint* b = realloc(r->bases, cap * sizeof *b);
+    if (b)
+        r->bases = b;
+    if (!c || !o || !b)
+        return 0;
+    r->draw_cap = cap;
+    return 1;
+}
+
+void tp_renderer_draw_items(tp_renderer* r, const tp_render_item* items, size_t count,
+                            tp_render_fill_fn fill, void* user, const tp_camera* cam,
+                            const tp_render_settings* st, double exag, int finish,
+                            tp_render_stats* stats)
 {
     memset(stats, 0, sizeof *stats);
     r->frame++;
     /* Element-buffer bindings belong to the bound vertex array: bind ours before any upload. */
     glBindVertexArray(r->vao);
-    int pc = r->info.patch_count;
     double t0 = now_ms();
-    /* Vertex data goes stale when the patch's or a neighbour's level changed. */
-    for (int p = 0; p < pc; p++)
-        if (tp_selection_dirty(sel, p))
-            r->patch_current[p] = 0;
-    tp_selection_clear_dirty(sel);
-    int strips = 0, lists = 0;
-    for (int p = 0; p < pc; p++) {
-        if (!tp_selection_visible(sel, p))
+    if (!grow_draws(r, count))
+        count = r->draw_cap; /* draw what fits; the next frame tries again */
+    size_t strips = 0, lists = 0;
+    for (size_t i = 0; i < count; i++) {
+        const tp_render_item* it = &items[i];
+        int fresh;
+        int s = slot_for(r, it->key, &fresh);
+        if (s < 0)
             continue;
-        int slot = slot_for(r, p);
-        if (slot < 0)
-            continue;
-        r->slot_stamp[slot] = r->frame;
-        if (!r->patch_current[p]) {
-            upload(r, sel, p, slot);
+        slot* sl = &r->slot[s];
+        sl->stamp = r->frame;
+        if (fresh || sl->level != it->level || memcmp(sl->nb, it->nb, sizeof sl->nb) ||
+            (it->incomplete != 0) != (sl->region >= 0)) {
+            upload(r, it, i, fill, user, s);
             stats->uploads++;
         }
         stats->patches_drawn++;
-        int c = r->patch_custom[p];
-        /* A patch of nodata or padding only has no triangles. It must not become a zero-count
-         * draw: Mesa 22.3 (llvmpipe) applies the wrong base vertex to the draws after a
-         * zero-count one in glMultiDrawElementsBaseVertex, which dropped border patches. */
-        if (c >= 0 && r->custom_count[c] == 0)
+        int c = sl->region;
+        if (it->incomplete && c < 0)
+            continue; /* no region could be made */
+        /* An item of nodata only has no triangles. It must not become a zero-count draw: Mesa
+         * 22.3 (llvmpipe) applies the wrong base vertex to the draws after a zero-count one in
+         * glMultiDrawElementsBaseVertex, which dropped border patches. */
+        if (c >= 0 && r->region_count[c] == 0)
             continue;
         /* strips fill the arrays from the front, triangle lists from the back */
-        int at = c < 0 ? strips++ : pc - 1 - lists++;
-        int k = tp_selection_level(sel, p);
-        r->counts[at] = c < 0 ? (GLsizei)r->level_count[k] : r->custom_count[c];
+        size_t at = c < 0 ? strips++ : count - 1 - lists++;
+        int k = it->level;
+        r->counts[at] = c < 0 ? (GLsizei)r->level_count[k] : r->region_count[c];
         r->offsets[at] = (void*)(c < 0 ? r->level_offset[k] : (size_t)c * r->custom_stride * 4);
-        r->bases[at] = (GLint)((size_t)slot * r->slot_verts); /* < INT_MAX: grow_pool */
+        r->bases[at] = (GLint)((size_t)s * r->slot_verts); /* < INT_MAX: grow_pool */
     }
     double t1 = now_ms();
     stats->upload_ms = t1 - t0;
 
-    int w = 0, h = 0;
     GLint vp[4];
     glGetIntegerv(GL_VIEWPORT, vp);
-    w = vp[2], h = vp[3];
+    int w = vp[2], h = vp[3];
+    const double* gt = r->grid.geotransform;
     /* Far plane: the farthest corner of the terrain's box, with room. */
-    /* the selection culled and chose levels for this exaggeration: draw exactly that surface */
-    double exag = tp_selection_vertical_scale(sel);
     double far_m = cam->far_m;
     if (far_m <= 0) {
-        double e0, n0, e1, n1;
-        tp_terrain_grid_to_world(r->t, 0, 0, &e0, &n0);
-        tp_terrain_grid_to_world(r->t, r->info.width - 1, r->info.height - 1, &e1, &n1);
+        double e0 = gt[0] + 0.5 * gt[1], n0 = gt[3] + 0.5 * gt[5];
+        double e1 = gt[0] + (r->grid.width - 0.5) * gt[1],
+               n1 = gt[3] + (r->grid.height - 0.5) * gt[5];
         double dx = fmax(fabs(e0 - cam->position[0]), fabs(e1 - cam->position[0]));
         double dy = fmax(fabs(n0 - cam->position[1]), fabs(n1 - cam->position[1]));
-        double dz = fmax(fabs(r->info.max_height_m * exag - cam->position[2]),
-                         fabs(r->info.min_height_m * exag - cam->position[2]));
+        double dz = fmax(fabs(r->grid.max_height_m * exag - cam->position[2]),
+                         fabs(r->grid.min_height_m * exag - cam->position[2]));
         far_m = 1.1 * sqrt(dx * dx + dy * dy + dz * dz) + 10;
     }
     tp_camera view = *cam;
@@ -489,10 +606,10 @@ void tp_renderer_draw(tp_renderer* r, tp_selection* sel, const tp_camera* cam,
     tp_camera_view_projection(&view, far_m, vpd);
     for (int i = 0; i < 16; i++)
         vpm[i] = (float)vpd[i];
-    double cx, cy;
-    tp_terrain_world_to_grid(r->t, cam->position[0], cam->position[1], &cx, &cy);
+    /* grid coordinates of the camera (the inverse of sample (x, y) at gt0 + (x + 0.5) * gt1) */
+    double cx = (cam->position[0] - gt[0]) / gt[1] - 0.5;
+    double cy = (cam->position[1] - gt[3]) / gt[5] - 0.5;
     double fx = floor(cx), fy = floor(cy);
-    const double* gt = r->info.geotransform;
 
     glClearColor(st->clear_rgb[0], st->clear_rgb[1], st->clear_rgb[2], 1);
     glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
@@ -513,7 +630,7 @@ void tp_renderer_draw(tp_renderer* r, tp_selection* sel, const tp_camera* cam,
     glUniform3f(r->u_sun, (float)(sin(az) * cos(el)), (float)(cos(az) * cos(el)), (float)sin(el));
     glUniform1i(r->u_color_lod, st->color_lod);
     glUniform1i(r->u_hide_filled, st->hide_filled);
-    glUniform2f(r->u_hrange, (float)r->info.min_height_m, (float)r->info.max_height_m);
+    glUniform2f(r->u_hrange, (float)r->grid.min_height_m, (float)r->grid.max_height_m);
     glUniform1i(r->u_textured, r->tex != 0 && !st->color_lod);
     glUniform1f(r->u_grid, (float)st->grid_m);
     if (st->grid_m > 0)
@@ -529,26 +646,29 @@ void tp_renderer_draw(tp_renderer* r, tp_selection* sel, const tp_camera* cam,
     glBindVertexArray(r->vao);
     if (st->one_draw_per_patch) {
         glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, r->ibo);
-        for (int i = 0; i < strips; i++)
+        for (size_t i = 0; i < strips; i++)
             glDrawElementsBaseVertex(GL_TRIANGLE_STRIP, r->counts[i], r->index_type,
                                      r->offsets[i], r->bases[i]);
-        glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, r->ibo_custom);
-        for (int i = pc - lists; i < pc; i++)
-            glDrawElementsBaseVertex(GL_TRIANGLES, r->counts[i], GL_UNSIGNED_INT, r->offsets[i],
-                                     r->bases[i]);
-        stats->draw_calls = strips + lists;
+        if (lists) {
+            glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, r->ibo_custom);
+            for (size_t i = count - lists; i < count; i++)
+                glDrawElementsBaseVertex(GL_TRIANGLES, r->counts[i], GL_UNSIGNED_INT,
+                                         r->offsets[i], r->bases[i]);
+        }
+        stats->draw_calls = (int)(strips + lists);
     } else {
         if (strips) {
             glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, r->ibo);
             glMultiDrawElementsBaseVertex(GL_TRIANGLE_STRIP, r->counts, r->index_type,
-                                          (const void* const*)r->offsets, strips, r->bases);
+                                          (const void* const*)r->offsets, (GLsizei)strips,
+                                          r->bases);
             stats->draw_calls++;
         }
         if (lists) {
             glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, r->ibo_custom);
-            glMultiDrawElementsBaseVertex(GL_TRIANGLES, r->counts + pc - lists, GL_UNSIGNED_INT,
-                                          (const void* const*)(r->offsets + pc - lists), lists,
-                                          r->bases + pc - lists);
+            glMultiDrawElementsBaseVertex(GL_TRIANGLES, r->counts + count - lists, GL_UNSIGNED_INT,
+                                          (const void* const*)(r->offsets + count - lists),
+                                          (GLsizei)lists, r->bases + count - lists);
             stats->draw_calls++;
         }
     }
@@ -557,7 +677,136 @@ void tp_renderer_draw(tp_renderer* r, tp_selection* sel, const tp_camera* cam,
         glFinish();
     stats->draw_ms = now_ms() - t1;
     stats->gpu_bytes = (size_t)r->slots * r->slot_verts * sizeof(gpu_vertex) +
-                       (size_t)r->custom_regions * r->custom_stride * 4;
-    for (int k = 0; k <= r->info.n; k++)
+                       (size_t)r->regions * r->custom_stride * 4;
+    for (int k = 0; k <= r->grid.n; k++)
         stats->gpu_bytes += r->level_count[k] * (r->index_type == GL_UNSIGNED_SHORT ? 2 : 4);
+}
+
+/* ---- the patches of a resident terrain ---- */
+
+tp_renderer* tp_renderer_create(const tp_terrain* t, char* msg, size_t msg_size)
+{
+    tp_terrain_info in;
+    tp_terrain_get_info(t, &in);
+    tp_render_grid_desc d = {.n = in.n, .width = in.width, .height = in.height,
+                             .min_height_m = in.min_height_m, .max_height_m = in.max_height_m};
+    memcpy(d.geotransform, in.geotransform, sizeof d.geotransform);
+    tp_renderer* r = tp_renderer_create_desc(&d, msg, msg_size);
+    if (!r)
+        return NULL;
+    r->terrain = t;
+    r->complete = malloc((size_t)in.patch_count);
+    if (!r->complete) {
+        snprintf(msg, msg_size, "out of memory");
+        tp_renderer_destroy(r);
+        return NULL;
+    }
+    for (int p = 0; p < in.patch_count; p++) {
+        tp_patch_info pi;
+        tp_patch_get_info(t, p, &pi);
+        r->complete[p] = (uint8_t)pi.complete;
+    }
+    return r;
+}
+
+static int grow_items(tp_renderer* r, size_t count)
+{
+    if (count <= r->item_cap)
+        return 1;
+    tp_render_item* items = realloc(r->items, count * sizeof *items);
+    if (!items)
+        return 0;
+    r->items = items;
+    r->item_cap = count;
+    return 1;
+}
+
+static void fill_patch(void* user, size_t i, tp_vertex* v, float (*normals)[3], uint8_t* filled)
+{
+    const tp_renderer* r = user;
+    const tp_render_item* it = &r->items[i];
+    int nb[4] = {it->nb[0], it->nb[1], it->nb[2], it->nb[3]};
+    int k = it->level, side = (1 << k) + 1;
+    size_t count = (size_t)side * side;
+    tp_patch_vertices(r->terrain, (int)it->key, k, nb, v, count);
+    for (size_t j = 0; j < count; j++) {
+        tp_terrain_normal(r->terrain, v[j].x, v[j].y, normals[j]);
+        filled[j] = tp_terrain_sample_class(r->terrain, v[j].x, v[j].y) == TP_SAMPLE_FILLED;
+    }
+}
+
+void tp_renderer_draw(tp_renderer* r, tp_selection* sel, const tp_camera* cam,
+                      const tp_render_settings* s, int finish, tp_render_stats* stats)
+{
+    assert(r->terrain);
+    tp_terrain_info in;
+    tp_terrain_get_info(r->terrain, &in);
+    if (!grow_items(r, (size_t)in.patch_count)) {
+        memset(stats, 0, sizeof *stats);
+        return;
+    }
+    size_t count = 0;
+    for (int p = 0; p < in.patch_count; p++) {
+        if (!tp_selection_visible(sel, p))
+            continue;
+        tp_render_item* it = &r->items[count++];
+        int nb[4], k = tp_selection_level(sel, p);
+        tp_selection_neighbor_levels(sel, p, nb);
+        it->key = p;
+        it->level = (int8_t)k;
+        /* only a coarser neighbour moves vertices: others need no new upload when they change */
+        for (int side = 0; side < 4; side++)
+            it->nb[side] = (int8_t)(nb[side] >= 0 && nb[side] < k ? nb[side] : TP_NO_NEIGHBOR);
+        it->incomplete = !r->complete[p];
+    }
+    tp_selection_clear_dirty(sel);
+    tp_renderer_draw_items(r, r->items, count, fill_patch, r, cam, s,
+                           tp_selection_vertical_scale(sel), finish, stats);
+}
+
+/* ---- the nodes of a cut over a tree ---- */
+
+static void fill_node(void* user, size_t i, tp_vertex* v, float (*normals)[3], uint8_t* filled)
+{
+    const tp_renderer* r = user;
+    const tp_render_item* it = &r->items[i];
+    int side = (1 << it->level) + 1;
+    size_t count = (size_t)side * side;
+    tp_cut_vertices(r->cut, i, v, count);
+    for (size_t j = 0; j < count; j++) {
+        filled[j] = 0;
+        if (isnan(v[j].z_m)) {
+            normals[j][0] = normals[j][1] = 0;
+            normals[j][2] = 1;
+        } else {
+            tp_tree_node_normal(r->tree, it->key, v[j].x, v[j].y, normals[j]);
+        }
+    }
+}
+
+void tp_renderer_draw_cut(tp_renderer* r, const tp_tree* tree, const tp_cut* cut,
+                          const tp_camera* cam, const tp_render_settings* s, double zscale,
+                          int finish, tp_render_stats* stats)
+{
+    size_t count = 0;
+    const tp_cut_node* nodes = tp_cut_nodes(cut, &count);
+    if (!grow_items(r, count)) {
+        memset(stats, 0, sizeof *stats);
+        return;
+    }
+    for (size_t i = 0; i < count; i++) {
+        tp_render_item* it = &r->items[i];
+        it->key = nodes[i].node;
+        it->level = nodes[i].level;
+        for (int side = 0; side < 4; side++)
+            it->nb[side] = (int8_t)(nodes[i].nb[side] >= 0 && nodes[i].nb[side] < nodes[i].level
+                                        ? nodes[i].nb[side]
+                                        : TP_NO_NEIGHBOR);
+        it->incomplete = !(tp_tree_meta(tree, nodes[i].node)->flags & TP_NODE_COMPLETE);
+    }
+    r->tree = tree;
+    r->cut = cut;
+    tp_renderer_draw_items(r, r->items, count, fill_node, r, cam, s, zscale, finish, stats);
+    r->tree = NULL;
+    r->cut = NULL;
 }

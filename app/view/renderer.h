@@ -46,8 +46,17 @@ typedef struct tp_render_stats {
     double draw_ms;           /* submitting and finishing the draw (glFinish) */
 } tp_render_stats;
 
-/* Creates the GPU resources for a terrain (a current GL context is needed). NULL + msg on
- * failure. */
+/* What the renderer needs to know about the grid it draws. */
+typedef struct tp_render_grid_desc {
+    int n;                       /* items are (2^n+1)^2 at most (level n) */
+    double geotransform[6];      /* of the full-resolution grid */
+    int width, height;           /* full-resolution grid (for the far plane) */
+    double min_height_m, max_height_m; /* for the far plane and the hypsometric colours */
+} tp_render_grid_desc;
+
+/* Creates the GPU resources (a current GL context is needed). NULL + msg on failure. */
+tp_renderer* tp_renderer_create_desc(const tp_render_grid_desc* d, char* msg, size_t msg_size);
+/* The same for a resident terrain (its patches). */
 tp_renderer* tp_renderer_create(const tp_terrain* t, char* msg, size_t msg_size);
 void tp_renderer_destroy(tp_renderer* r);
 
@@ -57,9 +66,36 @@ void tp_renderer_destroy(tp_renderer* r);
 int tp_renderer_set_texture(tp_renderer* r, const uint8_t* rgba, int w, int h,
                             const float scale[2], const float offset[2]);
 
-/* Uploads what changed, then draws the visible patches of sel for cam, and clears dirty flags.
- * finish: wait for the GPU (glFinish) so that draw_ms is the real draw time. */
+/* One thing to draw: a patch of a terrain or a node of a tree, at one level, with the
+ * neighbour levels its crack removal used. The vertex data held for a key is rebuilt only when
+ * its level or neighbour levels change (or it was evicted from the pool). */
+typedef struct tp_render_item {
+    int64_t key;
+    int8_t level;      /* 0..n */
+    int8_t nb[4];
+    uint8_t incomplete;/* has undrawn samples: drawn as its own triangle list */
+} tp_render_item;
+
+/* Writes item i's vertex data: (2^level+1)^2 vertices (as tp_patch_vertices), their unit
+ * normals (east, north, up) and whether each is a filled void. */
+typedef void (*tp_render_fill_fn)(void* user, size_t i, tp_vertex* vertices, float (*normals)[3],
+                                  uint8_t* filled);
+
+/* Uploads what changed, then draws the items for cam with heights times zscale. finish: wait
+ * for the GPU (glFinish) so that draw_ms is the real draw time. */
+void tp_renderer_draw_items(tp_renderer* r, const tp_render_item* items, size_t count,
+                            tp_render_fill_fn fill, void* user, const tp_camera* cam,
+                            const tp_render_settings* s, double zscale, int finish,
+                            tp_render_stats* stats);
+
+/* The visible patches of a selection (render_patches.c): items from its levels, vertex data
+ * from the terrain the renderer was created for (tp_renderer_create); clears dirty flags. */
 void tp_renderer_draw(tp_renderer* r, tp_selection* sel, const tp_camera* cam,
                       const tp_render_settings* s, int finish, tp_render_stats* stats);
+
+/* The nodes of a cut over a tree (keys: node ids), heights times zscale. */
+void tp_renderer_draw_cut(tp_renderer* r, const tp_tree* tree, const tp_cut* cut,
+                          const tp_camera* cam, const tp_render_settings* s, double zscale,
+                          int finish, tp_render_stats* stats);
 
 #endif

@@ -768,6 +768,22 @@ tp_status tp_tree_create_from_grid(const float* heights, size_t height_count, in
                                    int height, const double geotransform[6], int patch_size,
                                    double height_step_m, tp_tree** out, tp_error* err);
 
+/* The tree's georeference, quantisation and height range (over every drawn sample: the roots'
+ * area ranges). */
+typedef struct tp_tree_info {
+    double geotransform[6];
+    double height_step_m, quant_max_error_m, err_unit_steps;
+    double min_height_m, max_height_m; /* NaN when nothing is drawn */
+} tp_tree_info;
+void tp_tree_get_info(const tp_tree* t, tp_tree_info* out);
+
+/* Writes the unit normal (east, north, up) at grid sample (x, y) of resident node `node` (a
+ * position on its lattice, inside it), from central differences of the node's own samples at
+ * its stride, one-sided at its border and next to undrawn samples, (0, 0, 1) where no slope is
+ * known: tp_terrain_normal on the node's lattice. A coarse node is shaded from the terrain at
+ * its own scale. */
+void tp_tree_node_normal(const tp_tree* t, int64_t node, int32_t x, int32_t y, float normal[3]);
+
 /* Query: decoded height of full-resolution sample (x, y) if a resident node holds it at that
  * position (the finest resident one), else NaN. */
 double tp_tree_sample(const tp_tree* t, int x, int y);

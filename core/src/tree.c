@@ -251,3 +251,73 @@ double tp_tree_sample(const tp_tree* t, int x, int y)
     }
     return NAN;
 }
+
+void tp_tree_get_info(const tp_tree* t, tp_tree_info* out)
+{
+    assert(t && out);
+    memset(out, 0, sizeof *out);
+    memcpy(out->geotransform, t->desc.geotransform, sizeof out->geotransform);
+    out->height_step_m = t->desc.height_step_m;
+    out->quant_max_error_m = t->desc.quant_max_error_m;
+    out->err_unit_steps = t->desc.err_unit_steps;
+    const tp_tree_geometry* g = &t->desc.geometry;
+    int32_t lo = INT32_MAX, hi = INT32_MIN;
+    for (int64_t id = 0; id < g->node_count; id++) {
+        if (tp_tree_node_parent(g, id) >= 0)
+            continue; /* roots only; they come first, but not only first (far-edge roots) */
+        const tp_node_meta* m = &t->desc.metas[id];
+        if (!(m->flags & TP_NODE_HAS_DRAWN))
+            continue;
+        lo = m->area_qmin < lo ? m->area_qmin : lo;
+        hi = m->area_qmax > hi ? m->area_qmax : hi;
+    }
+    out->min_height_m = lo <= hi ? lo * t->desc.height_step_m : NAN;
+    out->max_height_m = lo <= hi ? hi * t->desc.height_step_m : NAN;
+}
+
+/* Height (steps) of lattice sample (i, j) of a node, or NAN outside it or where not drawn. */
+static double lattice_q(const uint16_t* smp, const tp_node_meta* m, int v, int i, int j)
+{
+    if (i < 0 || j < 0 || i >= v || j >= v)
+        return NAN;
+    uint16_t q = smp[(size_t)j * v + i];
+    return q == TP_TREE_NO_HEIGHT ? NAN : (double)q + m->qmin;
+}
+
+static double lattice_slope(const uint16_t* smp, const tp_node_meta* m, int v, int i, int j,
+                            int di, int dj, double spacing)
+{
+    double c = lattice_q(smp, m, v, i, j);
+    double a = lattice_q(smp, m, v, i - di, j - dj), b = lattice_q(smp, m, v, i + di, j + dj);
+    if (!isnan(a) && !isnan(b))
+        return (b - a) / (2 * spacing);
+    if (!isnan(b) && !isnan(c))
+        return (b - c) / spacing;
+    if (!isnan(a) && !isnan(c))
+        return (c - a) / spacing;
+    return 0;
+}
+
+void tp_tree_node_normal(const tp_tree* t, int64_t node, int32_t x, int32_t y, float normal[3])
+{
+    assert(t && normal);
+    const uint16_t* smp = tp_tree_samples(t, node);
+    assert(smp);
+    const tp_tree_geometry* g = &t->desc.geometry;
+    int s, c, r;
+    tp_tree_node_locate(g, node, &s, &c, &r);
+    int v = (1 << g->n) + 1;
+    int64_t x0 = (int64_t)c << (g->n + s), y0 = (int64_t)r << (g->n + s);
+    int i = (int)((x - x0) >> s), j = (int)((y - y0) >> s);
+    assert(i >= 0 && j >= 0 && i < v && j < v);
+    const tp_node_meta* m = &t->desc.metas[node];
+    double step = t->desc.height_step_m, stride = (double)((int64_t)1 << s);
+    const double* gt = t->desc.geotransform;
+    /* dz/dE and dz/dN in metres: a lattice step moves stride * gt[1] east, stride * gt[5] north */
+    double gx = lattice_slope(smp, m, v, i, j, 1, 0, stride * gt[1]) * step;
+    double gy = lattice_slope(smp, m, v, i, j, 0, 1, stride * gt[5]) * step;
+    double len = sqrt(gx * gx + gy * gy + 1);
+    normal[0] = (float)(-gx / len);
+    normal[1] = (float)(-gy / len);
+    normal[2] = (float)(1 / len);
+}

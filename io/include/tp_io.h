@@ -283,6 +283,72 @@ tp_terrain_desc tp_render_grid_terrain_desc(const tp_render_grid* grid, int patc
                                             tp_fit fit);
 
 /* ---------------------------------------------------------------------------------------------
+ * Mosaics read in bands (io/src/mosaic.cpp): any number of sources as one render grid, for
+ * grids larger than memory (terrapatch build)
+ *
+ * Sources GDAL opens (tiles of any format mix, a .vrt) become one terrain through GDAL's VRT
+ * machinery: sources that share CRS and post spacing are mosaicked with GDALBuildVRT; sources
+ * of different CRSs or spacings are each warped (GDALWarp to a VRT) onto one grid and those are
+ * mosaicked. Where sources overlap, the later one wins (as GDAL's VRT does); gaps are nodata.
+ * The render grid is chosen as tp_render_grid_build chooses it for one DEM (the UTM/UPS zone of
+ * the centre for geographic sources, the sources' own projected CRS in metres, options->crs
+ * overriding the sources' CRS; the finest post spacing among the sources; north-up, square
+ * posts), and one DEM gives the same grid and, sample for sample, the same heights as
+ * tp_dem_read + tp_render_grid_build, except that voids are NOT filled here (they stay NaN).
+ * Nothing is read whole: tp_mosaic_read_rows reads a window of rows through GDAL's block cache
+ * (sized from options->memory_mb), so memory follows the window, not the grid.
+ */
+typedef struct tp_mosaic tp_mosaic;
+
+typedef struct tp_mosaic_options {
+    const char* crs;          /* as tp_grid_options.crs: overrides every source's CRS */
+    tp_resampling resampling; /* for warps */
+    int memory_mb;            /* budget of the whole process; GDAL's block cache gets a quarter.
+                                 0 means 1024 */
+} tp_mosaic_options;
+
+typedef struct tp_mosaic_info {
+    int width, height;          /* the render grid */
+    double geotransform[6];     /* render CRS */
+    const char* crs_wkt;        /* render CRS as WKT2; "" for local metres. Owned by the mosaic */
+    char crs_name[160];
+    int epsg;                   /* of the render CRS when known, else 0 */
+    double spacing_m;           /* post spacing of the render grid */
+    int source_count;
+    int warped;                 /* 1 if any source is resampled onto the grid */
+    int integer_sources;        /* 1 if every source's band 1 has an integer type */
+    /* Statistics every source carries (exact ones, as GDAL writes them), and so a bound of the
+     * grid's heights without reading them (resampling: bilinear only; cubic overshoots): 1 and
+     * the range, else 0. */
+    int has_range;
+    double min_m, max_m;
+    /* What was decided, one line each ('\n'-separated): the sources, warps, CRS and spacing
+     * differences, overlaps ("A and B overlap by one row (SRTM tiles share their edge); GDAL's
+     * VRT takes the later one"), gaps, nodata guesses. Owned by the mosaic. */
+    const char* notes;
+} tp_mosaic_info;
+
+/* Opens the sources (paths[0 .. path_count-1], path_count >= 1) and plans the grid; reads no
+ * heights. Each source is checked as tp_dem_read checks a DEM before reading it (a FIFO or
+ * device refused before opening, georeference within its ranges, DTED checksums verified on
+ * read, an ASCII grid's text) and the errors name the file: TP_ERR_IO (missing, not a regular
+ * file), TP_ERR_BAD_DATA (not a raster, bad georeference; with several sources, one without a
+ * geotransform), TP_ERR_INVALID_ARG (an unknown options->crs), TP_ERR_BACKEND (GDAL fails to
+ * mosaic or warp). */
+tp_status tp_mosaic_open(const char* const* paths, size_t path_count,
+                         const tp_mosaic_options* options, tp_mosaic** out, tp_error* err);
+void tp_mosaic_close(tp_mosaic* m); /* accepts NULL */
+void tp_mosaic_get_info(const tp_mosaic* m, tp_mosaic_info* out);
+
+/* Reads rows y0 .. y0+rows-1 (within the grid) of the render grid into heights (rows * width
+ * floats, row-major; height_count >= that): metres, NaN where nothing is drawn (nodata, gaps,
+ * outside the warped sources; untagged Int16 -32768/-32767 and +-Inf/+-FLT_MAX as tp_dem_read).
+ * Not thread-safe for one mosaic. TP_ERR_BAD_DATA (naming the source when GDAL says which) when
+ * a read fails part way, e.g. a truncated tile or a DTED checksum mismatch. */
+tp_status tp_mosaic_read_rows(tp_mosaic* m, int y0, int rows, float* heights, size_t height_count,
+                              tp_error* err);
+
+/* ---------------------------------------------------------------------------------------------
  * Textures draped on the render grid (io/src/texture.cpp)
  *
  * A georeferenced image (an orthophoto GeoTIFF, any CRS) is warped by GDAL onto the render

@@ -8,6 +8,7 @@
  */
 #include "crs.hpp"
 #include "gdal_util.hpp"
+#include "render_grid.hpp"
 #include "tp_io.h"
 
 #include <GeographicLib/UTMUPS.hpp>
@@ -231,17 +232,19 @@ const char* suggested_crs(double lat_min, double lat_max, const char** what)
     return *what = "Equal Earth, or a regional projected CRS", "EPSG:8857";
 }
 
-/* plan_w/plan_h not NULL: only plan, returning the render grid's size without warping. */
-tp_status build(const tp_dem* dem, const tp_grid_options* opt, tp_render_grid** out, tp_error* err,
-                int* plan_w = nullptr, int* plan_h = nullptr)
+} // namespace
+
+/* The render grid's CRS, spacing and size for dem (heights unused): see render_grid.hpp. */
+tp_status tpio::render_grid_plan(const tp_dem* dem, const tp_grid_options* opt, GridPlan* plan,
+                                 tp_error* err)
 {
     tpio::register_drivers();
     tpio::QuietGdal quiet;
     tp_grid_options o = opt ? *opt : tp_grid_options{};
-    int fill_max = o.fill_max_px == 0 ? 64 : o.fill_max_px;
-    std::string warnings;
+    std::string& warnings = plan->warnings;
+    OGRSpatialReference& src = plan->src;
+    OGRSpatialReference& dst = plan->dst;
 
-    OGRSpatialReference src;
     src.SetAxisMappingStrategy(OAMS_TRADITIONAL_GIS_ORDER);
     bool has_crs = false;
     if (o.crs && *o.crs) {
@@ -265,26 +268,15 @@ tp_status build(const tp_dem* dem, const tp_grid_options* opt, tp_render_grid** 
                                t[3] + dem->height * t[5], t[3]));
     }
 
-    std::unique_ptr<tp_render_grid, GridDeleter> g(
-        static_cast<tp_render_grid*>(std::calloc(1, sizeof(tp_render_grid))));
-    if (!g)
-        return fail(err, TP_ERR_OUT_OF_MEMORY, "render grid: out of memory");
-    g->utm_zone = -1;
-    Grid grid;
     double gt[6];
     std::memcpy(gt, dem->geotransform, sizeof gt);
-    OGRSpatialReference dst;
     dst.SetAxisMappingStrategy(OAMS_TRADITIONAL_GIS_ORDER);
     bool use_as_is = !has_crs || (src.IsProjected() && std::fabs(src.GetLinearUnits() - 1.0) < 1e-12);
+    plan->has_crs = has_crs;
+    plan->warp = !use_as_is;
 
-    if (use_as_is && plan_w) {
-        *plan_w = dem->width, *plan_h = dem->height;
-        return TP_OK;
-    }
     if (use_as_is) {
-        grid.w = dem->width;
-        grid.h = dem->height;
-        grid.z.assign(dem->heights, dem->heights + (size_t)dem->width * dem->height);
+        plan->width = dem->width, plan->height = dem->height;
         if (has_crs)
             dst = src;
         else if (dem->has_geotransform) /* images without one were described by the user */
@@ -372,20 +364,111 @@ tp_status build(const tp_dem* dem, const tp_grid_options* opt, tp_render_grid** 
             res = coarse;
             pw = std::ceil((ext[2] - ext[0]) / res), ph = std::ceil((ext[3] - ext[1]) / res);
         }
-        if (plan_w) {
-            *plan_w = (int)std::min(pw, 2147483647.0), *plan_h = (int)std::min(ph, 2147483647.0);
-            return TP_OK;
-        }
+        plan->width = (int)std::min(pw, 2147483647.0), plan->height = (int)std::min(ph, 2147483647.0);
+        plan->epsg = epsg;
+        plan->res = res;
+        plan->t_srs = t_srs;
+        plan->resampling = o.resampling;
+    }
+    return TP_OK;
+}
 
+double tpio::grid_finest_spacing(OGRCoordinateTransformation* ct, const double gt[6], int w, int h)
+{
+    return finest_spacing(ct, gt, w, h);
+}
+
+bool tpio::grid_warp_extent(const tp_dem* dem, const OGRSpatialReference& src,
+                            const std::string& t_srs, double ext[4])
+{
+    return warp_extent(dem, dem->geotransform, src, t_srs, ext);
+}
+
+std::vector<std::string> tpio::render_grid_warp_args(const GridPlan& p, const char* format)
+{
+    const std::string tr = CPLSPrintf("%.17g", p.res);
+    const char* resampling = p.resampling == TP_RESAMPLING_CUBIC ? "cubic" : "bilinear";
+    /* -et 0: exact transformations for every post. GDAL's default (0.125 px) interpolates
+     * along each row of a warp chunk, so the heights would depend on how the warp is chunked
+     * (whole in memory here, block by block in a warped VRT read in bands): one grid, one
+     * answer. */
+    return {"-t_srs", p.t_srs, "-tr", tr, tr, "-r", resampling, "-et", "0", "-dstnodata", "nan",
+            "-ot", "Float32", "-of", format};
+}
+
+void tpio::mask_outside_hull(OGRCoordinateTransformation& back, bool geographic,
+                             const double sgt[6], int sw, int sh, const double gt[6], int w,
+                             int y0, int rows, float* z)
+{
+    std::vector<double> ex(w), ny(w);
+    std::vector<int> inside(w);
+    const double lon_mid = sgt[0] + sw / 2.0 * sgt[1];
+    for (int r = 0; r < rows; r++) {
+        for (int c = 0; c < w; c++) {
+            ex[c] = gt[0] + (c + 0.5) * gt[1];
+            ny[c] = gt[3] + (y0 + r + 0.5) * gt[5];
+        }
+        back.Transform(w, ex.data(), ny.data(), nullptr, inside.data());
+        for (int c = 0; c < w; c++) {
+            if (geographic) /* longitudes come back in [-180, 180]: unwrap near the DEM's */
+                ex[c] += 360.0 * std::round((lon_mid - ex[c]) / 360.0);
+            double u = (ex[c] - sgt[0]) / sgt[1] - 0.5, v = (ny[c] - sgt[3]) / sgt[5] - 0.5;
+            const double tol = 1e-6;
+            if (!inside[c] || !(u >= -tol && v >= -tol && u <= sw - 1 + tol && v <= sh - 1 + tol))
+                z[(size_t)r * w + c] = NAN;
+        }
+    }
+}
+
+namespace {
+
+/* plan_w/plan_h not NULL: only plan, returning the render grid's size without warping. */
+tp_status build(const tp_dem* dem, const tp_grid_options* opt, tp_render_grid** out, tp_error* err,
+                int* plan_w = nullptr, int* plan_h = nullptr)
+{
+    tpio::register_drivers();
+    tpio::QuietGdal quiet;
+    tp_grid_options o = opt ? *opt : tp_grid_options{};
+    int fill_max = o.fill_max_px == 0 ? 64 : o.fill_max_px;
+    tpio::GridPlan plan;
+    if (const tp_status st = tpio::render_grid_plan(dem, opt, &plan, err))
+        return st;
+    if (plan_w) {
+        *plan_w = plan.width, *plan_h = plan.height;
+        return TP_OK;
+    }
+    std::string warnings = plan.warnings;
+    const OGRSpatialReference& src = plan.src;
+    const OGRSpatialReference& dst = plan.dst;
+    const bool has_crs = plan.has_crs;
+    std::unique_ptr<tp_render_grid, GridDeleter> g(
+        static_cast<tp_render_grid*>(std::calloc(1, sizeof(tp_render_grid))));
+    if (!g)
+        return fail(err, TP_ERR_OUT_OF_MEMORY, "render grid: out of memory");
+    g->utm_zone = -1;
+    Grid grid;
+    double gt[6];
+    std::memcpy(gt, dem->geotransform, sizeof gt);
+    if (!plan.warp) {
+        grid.w = dem->width;
+        grid.h = dem->height;
+        grid.z.assign(dem->heights, dem->heights + (size_t)dem->width * dem->height);
+    } else {
+        const int epsg = plan.epsg;
+        std::unique_ptr<OGRCoordinateTransformation> ct(OGRCreateCoordinateTransformation(&src, &dst));
+        if (!ct)
+            return fail(err, TP_ERR_BACKEND, "no transformation to EPSG:%d: %s", epsg,
+                        tpio::gdal_message().c_str());
         tpio::Dataset src_ds = tpio::mem_dataset(dem->heights, dem->width, dem->height, gt, &src);
         if (!src_ds)
             return fail(err, TP_ERR_BACKEND, "warp: %s", tpio::gdal_message().c_str());
-        std::string tr = CPLSPrintf("%.17g", res);
-        const char* resampling = o.resampling == TP_RESAMPLING_CUBIC ? "cubic" : "bilinear";
-        const char* args[] = {"-t_srs", t_srs.c_str(), "-tr", tr.c_str(), tr.c_str(), "-r",
-                              resampling, "-srcnodata", "nan", "-dstnodata", "nan", "-ot",
-                              "Float32", "-of", "MEM", nullptr};
-        GDALWarpAppOptions* wo = GDALWarpAppOptionsNew(const_cast<char**>(args), nullptr);
+        std::vector<std::string> argv = tpio::render_grid_warp_args(plan, "MEM");
+        argv.insert(argv.end(), {"-srcnodata", "nan"});
+        std::vector<char*> args;
+        for (auto& a : argv)
+            args.push_back(const_cast<char*>(a.c_str()));
+        args.push_back(nullptr);
+        GDALWarpAppOptions* wo = GDALWarpAppOptionsNew(args.data(), nullptr);
         GDALDatasetH in = GDALDataset::ToHandle(src_ds.get());
         int usage = 0;
         tpio::Dataset warped(GDALDataset::FromHandle(GDALWarp("", nullptr, 1, &in, wo, &usage)));
@@ -409,27 +492,8 @@ tp_status build(const tp_dem* dem, const tp_grid_options* opt, tp_render_grid** 
         if (!back)
             return fail(err, TP_ERR_BACKEND, "no transformation back from EPSG:%d: %s", epsg,
                         tpio::gdal_message().c_str());
-        std::vector<double> ex(grid.w), ny(grid.w);
-        std::vector<int> inside(grid.w);
-        const double* sgt = dem->geotransform;
-        bool geographic = src.IsGeographic();
-        double lon_mid = sgt[0] + dem->width / 2.0 * sgt[1];
-        for (int r = 0; r < grid.h; r++) {
-            for (int c = 0; c < grid.w; c++) {
-                ex[c] = gt[0] + (c + 0.5) * gt[1];
-                ny[c] = gt[3] + (r + 0.5) * gt[5];
-            }
-            back->Transform(grid.w, ex.data(), ny.data(), nullptr, inside.data());
-            for (int c = 0; c < grid.w; c++) {
-                if (geographic) /* longitudes come back in [-180, 180]: unwrap near the DEM's */
-                    ex[c] += 360.0 * std::round((lon_mid - ex[c]) / 360.0);
-                double u = (ex[c] - sgt[0]) / sgt[1] - 0.5, v = (ny[c] - sgt[3]) / sgt[5] - 0.5;
-                const double tol = 1e-6;
-                if (!inside[c] || !(u >= -tol && v >= -tol && u <= dem->width - 1 + tol &&
-                                    v <= dem->height - 1 + tol))
-                    grid.z[(size_t)r * grid.w + c] = NAN;
-            }
-        }
+        tpio::mask_outside_hull(*back, src.IsGeographic(), dem->geotransform, dem->width,
+                                dem->height, gt, grid.w, 0, grid.h, grid.z.data());
 
         /* The rendered surface against every valid source post. */
         double mx = 0, sum = 0;

@@ -1,0 +1,36 @@
+/*
+ * store_scene.h - what every command that draws or measures a built store (.tpt) opens: the
+ * store, the tree over its node table, the georeference, and the stream that loads nodes as
+ * the view needs them (issue 12).
+ */
+#ifndef TP_APP_STORE_SCENE_H
+#define TP_APP_STORE_SCENE_H
+
+#include "tp_core.h"
+#include "tp_io.h"
+
+#include "stream.h"
+
+typedef struct tp_store_scene {
+    const char* path;        /* borrowed from the caller */
+    tp_store* store;
+    tp_store_info info;      /* header strings owned by the store */
+    tp_tree* tree;           /* metas from the store; samples attached by the stream */
+    tp_tree_info tree_info;
+    tp_georef* georef;       /* grid <-> render CRS <-> WGS84 */
+    tp_stream* stream;       /* NULL until tp_store_scene_stream */
+} tp_store_scene;
+
+/* 1 if path names a terrapatch store (its first bytes are the store's magic). */
+int tp_is_store_path(const char* path);
+
+/* Opens the store, its tree and georeference. Prints one error line naming the file and returns
+ * TP_EXIT_FAILURE on failure (the scene then holds nothing), TP_EXIT_OK on success. */
+int tp_store_scene_open(const char* path, tp_store_scene* sc);
+
+/* Starts streaming (loads the roots now). TP_EXIT_FAILURE with one line on failure. */
+int tp_store_scene_stream(tp_store_scene* sc, const tp_stream_options* o);
+
+void tp_store_scene_close(tp_store_scene* sc); /* accepts a zeroed scene */
+
+#endif /* TP_APP_STORE_SCENE_H */

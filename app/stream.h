@@ -1,0 +1,74 @@
+/*
+ * stream.h - the nodes of a store in memory as the view needs them (issue 12, section 3).
+ *
+ * A loader thread reads and decodes nodes (tp_store_read_node: pread, CRC32, zstd) into blocks
+ * of its own; the render thread attaches finished blocks to the tree once per frame
+ * (tp_stream_frame), so the tree and the cut are only ever touched by the render thread. What
+ * is loaded, in order:
+ *   1. the roots, at once and before the first frame (tp_stream_create): every frame can then
+ *      draw something everywhere, and a node that is not loaded yet is drawn as its loaded
+ *      ancestor, never as a hole (tp_cut_update does the substitution);
+ *   2. the nodes the current cut asked for (tp_cut_requests), most urgent first;
+ *   3. prefetch along the camera's motion: the requests of a second cut selected for where the
+ *      camera will be a moment later (Luo & Duan section 3.3 predicts from the shift of the
+ *      clip centre between frames; this is the same idea applied to geometry).
+ * When the decoded nodes exceed the memory budget, the ones not drawn this frame (nor an
+ * ancestor of a drawn one, nor a root) are released farthest-behind-first: projected on the
+ * direction of motion, the most negative first (Luo & Duan section 3.4), by distance when the
+ * camera stands still. A node whose data fails its checksum is reported once, and its ancestor
+ * keeps being drawn in its place.
+ */
+#ifndef TP_APP_STREAM_H
+#define TP_APP_STREAM_H
+
+#include "tp_core.h"
+#include "tp_io.h"
+
+#include <stddef.h>
+#include <stdint.h>
+
+typedef struct tp_stream tp_stream;
+
+typedef struct tp_stream_options {
+    size_t memory_bytes;     /* budget of decoded node samples; 0: 1 GiB */
+    double prefetch_s;       /* how far ahead the motion is extrapolated; 0: 0.5 s */
+    int no_loader;           /* tests: load nothing in the background (only tp_stream_require) */
+} tp_stream_options;
+
+typedef struct tp_stream_stats {
+    size_t resident_nodes, resident_bytes; /* decoded samples in RAM, own accounting */
+    size_t budget_bytes;
+    int pending;             /* queued or being read */
+    int attached;            /* nodes attached this frame */
+    int released;            /* nodes released this frame */
+    int failed;              /* nodes that failed to read (in total) */
+    double frame_ms;         /* time spent in tp_stream_frame */
+} tp_stream_stats;
+
+/* Creates the stream and loads the roots (synchronously). The store and the tree must outlive
+ * it; the tree must have been created from the store's metas. NULL and a message (naming the
+ * store file and the node) on failure. */
+tp_stream* tp_stream_create(const tp_store* store, tp_tree* tree, const tp_stream_options* o,
+                            char* msg, size_t msg_size);
+/* Stops the loader, detaches and frees every block. Accepts NULL. */
+void tp_stream_destroy(tp_stream* s);
+
+/* Once per frame, on the render thread, after tp_cut_update(cut, cam): attaches what the loader
+ * finished, queues the cut's requests and the prefetch (prefetch_cut: a second cut the stream
+ * updates itself for the extrapolated camera; may be NULL for none), and releases blocks over
+ * budget. lod: the parameters the cut was selected with. */
+void tp_stream_frame(tp_stream* s, const tp_cut* cut, tp_cut* prefetch_cut, const tp_camera* cam,
+                     const tp_lod_params* lod, tp_stream_stats* stats);
+
+/* Makes node and all its ancestors resident now (reading on the calling thread: the render
+ * thread, as for a height query that needs full resolution). Returns 0 and a message when a
+ * read fails. */
+int tp_stream_require(tp_stream* s, int64_t node, char* msg, size_t msg_size);
+
+/* The first read failure not reported yet (one line naming the file, node and offset), or
+ * NULL; each failure is returned once. */
+const char* tp_stream_take_failure(tp_stream* s);
+
+void tp_stream_get_stats(const tp_stream* s, tp_stream_stats* out);
+
+#endif /* TP_APP_STREAM_H */

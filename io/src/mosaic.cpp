@@ -1,0 +1,647 @@
+/*
+ * mosaic.cpp - tp_mosaic: many sources as one render grid, read a window of rows at a time.
+ *
+ * GDAL does the mosaicking (GDALBuildVRT) and the warping (GDALWarp to a VRT, read block by
+ * block on demand); the grid is planned by render_grid.hpp's functions, the same as for one
+ * DEM in memory, so a single source gives tp_render_grid_build's grid and heights. The VRTs
+ * live in /vsimem/ under names private to the mosaic, removed on close.
+ */
+#include "crs.hpp"
+#include "dem_check.hpp"
+#include "gdal_util.hpp"
+#include "render_grid.hpp"
+#include "tp_io.h"
+
+#include <gdal_utils.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cerrno>
+#include <cfloat>
+#include <cmath>
+#include <memory>
+#include <string>
+#include <vector>
+
+using tpio::fail;
+
+namespace {
+
+struct Source {
+    std::string path, name; /* name: the file name without folders, for notes */
+    int w = 0, h = 0;
+    double gt[6] = {0, 1, 0, 0, 0, -1};
+    bool has_gt = false;
+    OGRSpatialReference srs;
+    bool has_crs = false;
+    GDALDataType type = GDT_Unknown;
+    bool has_nodata = false;
+    double nodata = 0;
+    std::string driver;
+    bool has_stats = false;
+    double stat_min = 0, stat_max = 0;
+};
+
+/* GDAL's argument vectors from strings. */
+struct Args {
+    std::vector<std::string> s;
+    std::vector<char*> v;
+    char** get()
+    {
+        v.clear();
+        for (auto& a : s)
+            v.push_back(const_cast<char*>(a.c_str()));
+        v.push_back(nullptr);
+        return v.data();
+    }
+};
+
+void add_note(std::string& notes, const std::string& line)
+{
+    if (!notes.empty())
+        notes += '\n';
+    notes += line;
+}
+
+std::string base_name(const std::string& p)
+{
+    size_t at = p.find_last_of('/');
+    return at == std::string::npos ? p : p.substr(at + 1);
+}
+
+bool same_spacing(double a, double b)
+{
+    return std::fabs(a - b) <= 1e-9 * std::max(std::fabs(a), std::fabs(b));
+}
+
+/* The value GDAL writes into a Float32 buffer for a nodata tag (clamped to the float range). */
+float as_float(double v)
+{
+    if (std::isnan(v))
+        return NAN;
+    if (v > FLT_MAX)
+        return FLT_MAX;
+    if (v < -FLT_MAX)
+        return -FLT_MAX;
+    return (float)v;
+}
+
+std::atomic<unsigned> mosaic_serial{0};
+
+} // namespace
+
+struct tp_mosaic {
+    std::vector<std::string> vsimem; /* files to unlink on close */
+    tpio::Dataset ds;                /* what is read: a source, a mosaic VRT or a warped VRT */
+    int w = 0, h = 0;
+    double gt[6] = {0, 1, 0, 0, 0, -1};
+    std::string crs_wkt, notes;
+    char crs_name[160] = "";
+    int epsg = 0;
+    double spacing_m = 0;
+    int source_count = 0;
+    bool warped = false, integer = true;
+    bool has_range = false;
+    double min_m = 0, max_m = 0;
+    /* nodata of what is read */
+    bool has_nodata = false;
+    float nodata = 0;
+    bool int16_guess = false;
+    /* warp of one geographic mosaic: the rim outside its posts' hull is not drawn */
+    std::unique_ptr<OGRCoordinateTransformation> back;
+    bool back_geographic = false;
+    double sgt[6] = {0, 1, 0, 0, 0, -1};
+    int sw = 0, sh = 0;
+    std::string last_source_error;
+
+    ~tp_mosaic()
+    {
+        back.reset();
+        ds.reset();
+        for (auto it = vsimem.rbegin(); it != vsimem.rend(); ++it)
+            VSIUnlink(it->c_str());
+    }
+};
+
+namespace {
+
+tp_status open_source(const char* path, Source* s, tp_error* err)
+{
+    if (const tp_status st = tpio::check_input_file(path, "a raster", true, err))
+        return st;
+    tpio::Dataset ds(GDALDataset::Open(path, GDAL_OF_RASTER | GDAL_OF_READONLY, nullptr, nullptr,
+                                       nullptr));
+    if (!ds)
+        return fail(err, TP_ERR_BAD_DATA, "%s: not a raster GDAL can open (%s)", path,
+                    tpio::gdal_message().c_str());
+    if (ds->GetRasterCount() < 1)
+        return fail(err, TP_ERR_BAD_DATA, "%s: expected at least 1 raster band, got 0", path);
+    s->path = path;
+    s->name = base_name(path);
+    s->w = ds->GetRasterXSize();
+    s->h = ds->GetRasterYSize();
+    if (s->w < 1 || s->h < 1)
+        return fail(err, TP_ERR_BAD_DATA, "%s: expected a raster of at least 1x1, got %dx%d", path,
+                    s->w, s->h);
+    s->has_gt = ds->GetGeoTransform(s->gt) == CE_None;
+    const OGRSpatialReference* srs = ds->GetSpatialRef();
+    s->has_crs = tpio::crs_present(srs);
+    if (s->has_crs) {
+        s->srs = *srs;
+        s->srs.SetAxisMappingStrategy(OAMS_TRADITIONAL_GIS_ORDER);
+    }
+    if (s->has_gt) {
+        if (const tp_status st = tpio::check_geotransform(path, s->gt, err))
+            return st;
+        if (const tp_status st = tpio::check_ranges(path, s->has_crs ? &s->srs : nullptr, s->gt,
+                                                    s->w, s->h, err))
+            return st;
+        if (s->has_crs)
+            if (const tp_status st = tpio::check_latitude(path, s->srs, s->gt, s->h, err))
+                return st;
+    } else {
+        const double unit[6] = {0.0, 1.0, 0.0, 0.0, 0.0, -1.0};
+        std::memcpy(s->gt, unit, sizeof unit);
+    }
+    s->driver = ds->GetDriver() ? ds->GetDriver()->GetDescription() : "";
+    if (EQUAL(s->driver.c_str(), "AAIGrid"))
+        if (const tp_status st = tpio::check_ascii_grid(path, s->w, s->h, err))
+            return st;
+    GDALRasterBand* b = ds->GetRasterBand(1);
+    s->type = b->GetRasterDataType();
+    int has = 0;
+    s->nodata = b->GetNoDataValue(&has);
+    s->has_nodata = has != 0;
+    const char* mn = b->GetMetadataItem("STATISTICS_MINIMUM");
+    const char* mx = b->GetMetadataItem("STATISTICS_MAXIMUM");
+    const char* approx = b->GetMetadataItem("STATISTICS_APPROXIMATE");
+    if (mn && mx && !(approx && EQUAL(approx, "YES"))) {
+        s->has_stats = true;
+        s->stat_min = CPLAtof(mn);
+        s->stat_max = CPLAtof(mx);
+    }
+    return TP_OK;
+}
+
+/* The plan's input: a tp_dem with the dataset's size, georeference and CRS, no heights. */
+struct PlanDem {
+    tp_dem dem{};
+    std::string wkt;
+    PlanDem(int w, int h, const double gt[6], bool has_gt, const OGRSpatialReference* srs)
+    {
+        dem.width = w;
+        dem.height = h;
+        std::memcpy(dem.geotransform, gt, sizeof dem.geotransform);
+        dem.has_geotransform = has_gt;
+        wkt = srs ? tpio::crs_wkt2(*srs) : std::string();
+        dem.crs_wkt = const_cast<char*>(wkt.c_str());
+    }
+};
+
+std::string vsimem_name(tp_mosaic* m, const char* what)
+{
+    std::string name = CPLSPrintf("/vsimem/terrapatch_mosaic_%u_%p_%s.vrt", mosaic_serial++,
+                                  (void*)m, what);
+    m->vsimem.push_back(name);
+    return name;
+}
+
+/* GDALBuildVRT of the named files into a /vsimem/ VRT; extra: more arguments. */
+tpio::Dataset build_vrt(tp_mosaic* m, const std::vector<std::string>& files,
+                        const std::vector<std::string>& extra, const char* what)
+{
+    Args a;
+    a.s = extra;
+    GDALBuildVRTOptions* o = GDALBuildVRTOptionsNew(a.get(), nullptr);
+    if (!o)
+        return nullptr;
+    std::vector<const char*> names;
+    for (auto& f : files)
+        names.push_back(f.c_str());
+    int usage = 0;
+    const std::string dst = vsimem_name(m, what);
+    GDALDatasetH h = GDALBuildVRT(dst.c_str(), (int)names.size(), nullptr, names.data(), o, &usage);
+    GDALBuildVRTOptionsFree(o);
+    if (!h)
+        return nullptr;
+    /* written on close; reopened by name so that a warped VRT may refer to it */
+    GDALClose(h);
+    return tpio::Dataset(GDALDataset::Open(dst.c_str(), GDAL_OF_RASTER | GDAL_OF_READONLY));
+}
+
+tpio::Dataset warp_vrt(tp_mosaic* m, GDALDataset* src, const std::vector<std::string>& args,
+                       const char* what)
+{
+    Args a;
+    a.s = args;
+    GDALWarpAppOptions* o = GDALWarpAppOptionsNew(a.get(), nullptr);
+    if (!o)
+        return nullptr;
+    GDALDatasetH in = GDALDataset::ToHandle(src);
+    int usage = 0;
+    const std::string dst = vsimem_name(m, what);
+    GDALDatasetH h = GDALWarp(dst.c_str(), nullptr, 1, &in, o, &usage);
+    GDALWarpAppOptionsFree(o);
+    if (!h)
+        return nullptr;
+    /* the VRT is written on close; reopen it by name so that a later VRT may refer to it */
+    GDALClose(h);
+    return tpio::Dataset(GDALDataset::Open(dst.c_str(), GDAL_OF_RASTER | GDAL_OF_READONLY));
+}
+
+/* Overlaps and gaps of sources sharing one grid (same CRS and spacing): notes. */
+void note_overlaps(const std::vector<Source>& src, const double mgt[6], int mw, int mh,
+                   std::string& notes)
+{
+    struct Rect { long long x0, y0, x1, y1; }; /* [x0, x1) x [y0, y1) in mosaic samples */
+    std::vector<Rect> r;
+    for (const Source& s : src) {
+        long long x0 = std::llround((s.gt[0] - mgt[0]) / mgt[1]);
+        long long y0 = std::llround((s.gt[3] - mgt[3]) / mgt[5]);
+        r.push_back({x0, y0, x0 + s.w, y0 + s.h});
+    }
+    long long overlap_total = 0;
+    int said = 0;
+    for (size_t i = 0; i < r.size(); i++)
+        for (size_t j = i + 1; j < r.size(); j++) {
+            long long ox = std::min(r[i].x1, r[j].x1) - std::max(r[i].x0, r[j].x0);
+            long long oy = std::min(r[i].y1, r[j].y1) - std::max(r[i].y0, r[j].y0);
+            if (ox <= 0 || oy <= 0)
+                continue;
+            overlap_total += ox * oy;
+            if (said++ >= 20)
+                continue;
+            const bool srtm = src[i].driver == "SRTMHGT" && src[j].driver == "SRTMHGT";
+            std::string by;
+            if (oy == 1 && ox > 1)
+                by = "one row";
+            else if (ox == 1 && oy > 1)
+                by = "one column";
+            else
+                by = CPLSPrintf("%lld x %lld samples", ox, oy);
+            add_note(notes, CPLSPrintf("%s and %s overlap by %s%s; GDAL's VRT takes the later one "
+                                       "(%s)",
+                                       src[i].name.c_str(), src[j].name.c_str(), by.c_str(),
+                                       srtm && (oy == 1 || ox == 1)
+                                           ? " (SRTM tiles share their edge)"
+                                           : "",
+                                       src[j].name.c_str()));
+        }
+    if (said > 20)
+        add_note(notes, CPLSPrintf("... and %d more overlaps", said - 20));
+    long long covered = -overlap_total;
+    for (const Rect& q : r)
+        covered += (q.x1 - q.x0) * (q.y1 - q.y0);
+    const long long all = (long long)mw * mh;
+    if (src.size() > 1 && covered < all) /* an estimate when three sources overlap at once */
+        add_note(notes, CPLSPrintf("gaps between the sources: about %lld of the mosaic's %dx%d "
+                                   "samples are covered by none and are nodata",
+                                   all - covered, mw, mh));
+}
+
+tp_status open_mosaic(const char* const* paths, size_t count, const tp_mosaic_options* opt,
+                      tp_mosaic* m, tp_error* err)
+{
+    tpio::register_drivers();
+    tpio::QuietGdal quiet;
+    tp_mosaic_options o = opt ? *opt : tp_mosaic_options{};
+    const int memory_mb = o.memory_mb > 0 ? o.memory_mb : 1024;
+    GDALSetCacheMax64((GIntBig)memory_mb * 1024 * 1024 / 4);
+
+    OGRSpatialReference over;
+    over.SetAxisMappingStrategy(OAMS_TRADITIONAL_GIS_ORDER);
+    const bool has_over = o.crs && *o.crs;
+    if (has_over && over.SetFromUserInput(o.crs) != OGRERR_NONE)
+        return fail(err, TP_ERR_INVALID_ARG, "CRS '%s' is not one GDAL/PROJ knows", o.crs);
+
+    std::vector<Source> src(count);
+    for (size_t i = 0; i < count; i++) {
+        if (const tp_status st = open_source(paths[i], &src[i], err))
+            return st;
+        if (count > 1 && !src[i].has_gt)
+            return fail(err, TP_ERR_BAD_DATA,
+                        "%s: no geotransform: a mosaic of several sources needs to know where "
+                        "each one lies",
+                        paths[i]);
+        if (has_over) {
+            src[i].srs = over;
+            src[i].has_crs = true;
+        }
+        m->integer = m->integer && GDALDataTypeIsInteger(src[i].type);
+    }
+    m->source_count = (int)count;
+    if (count > 1)
+        add_note(m->notes, CPLSPrintf("%zu sources", count));
+
+    /* One shared CRS and spacing: one GDALBuildVRT. */
+    bool shared = true;
+    for (size_t i = 1; i < count && shared; i++) {
+        shared = src[i].has_crs == src[0].has_crs &&
+                 (!src[0].has_crs || src[i].srs.IsSame(&src[0].srs)) &&
+                 same_spacing(src[i].gt[1], src[0].gt[1]) && same_spacing(src[i].gt[5], src[0].gt[5]);
+    }
+    bool untagged_int16 = false;
+    for (const Source& s : src)
+        untagged_int16 |= s.type == GDT_Int16 && !s.has_nodata;
+
+    tpio::Dataset base; /* the grid before any warp: one source, or the mosaic VRT */
+    if (shared) {
+        if (count == 1) {
+            base.reset(GDALDataset::Open(paths[0], GDAL_OF_RASTER | GDAL_OF_READONLY));
+        } else {
+            std::vector<std::string> files, extra;
+            for (const Source& s : src)
+                files.push_back(s.path);
+            if (untagged_int16) /* as tp_dem_read: SRTM's void value */
+                extra = {"-srcnodata", "-32768", "-vrtnodata", "-32768"};
+            extra.insert(extra.end(), {"-b", "1"});
+            base = build_vrt(m, files, extra, "mosaic");
+        }
+        if (!base)
+            return fail(err, TP_ERR_BACKEND, "%s: mosaic: %s", paths[0], tpio::gdal_message().c_str());
+        if (has_over)
+            base->SetSpatialRef(&over);
+        double bgt[6];
+        base->GetGeoTransform(bgt);
+        if (count > 1)
+            note_overlaps(src, bgt, base->GetRasterXSize(), base->GetRasterYSize(), m->notes);
+
+        PlanDem pd(base->GetRasterXSize(), base->GetRasterYSize(), src[0].gt, src[0].has_gt,
+                   src[0].has_crs ? &src[0].srs : nullptr);
+        std::memcpy(pd.dem.geotransform, bgt, sizeof bgt);
+        tpio::GridPlan plan;
+        tp_grid_options go{};
+        go.resampling = o.resampling;
+        if (const tp_status st = tpio::render_grid_plan(&pd.dem, &go, &plan, err)) {
+            std::string msg = err ? err->message : "";
+            return fail(err, st, "%s: %s", paths[0], msg.c_str());
+        }
+        if (!plan.warnings.empty())
+            add_note(m->notes, plan.warnings);
+        if (plan.warp) {
+            std::vector<std::string> args = tpio::render_grid_warp_args(plan, "VRT");
+            if (untagged_int16 && count == 1)
+                args.insert(args.end(), {"-srcnodata", "-32768"});
+            /* the plan's source CRS: --crs, or EPSG:4326 for a grid plainly in degrees */
+            args.insert(args.end(), {"-s_srs", tpio::crs_wkt2(plan.src)});
+            tpio::Dataset w = warp_vrt(m, base.get(), args, "warp");
+            if (!w)
+                return fail(err, TP_ERR_BACKEND, "%s: warp to %s failed: %s", paths[0],
+                            plan.t_srs.c_str(), tpio::gdal_message().c_str());
+            add_note(m->notes, CPLSPrintf("warped from %s to %s (%s), posts %.6g m apart",
+                                          plan.src.GetName() ? plan.src.GetName() : "its CRS",
+                                          plan.dst.GetName() ? plan.dst.GetName() : "",
+                                          plan.t_srs.c_str(), plan.res));
+            m->back.reset(OGRCreateCoordinateTransformation(&plan.dst, &plan.src));
+            if (!m->back)
+                return fail(err, TP_ERR_BACKEND, "no transformation back from %s: %s",
+                            plan.t_srs.c_str(), tpio::gdal_message().c_str());
+            m->back_geographic = plan.src.IsGeographic();
+            std::memcpy(m->sgt, bgt, sizeof bgt);
+            m->sw = base->GetRasterXSize();
+            m->sh = base->GetRasterYSize();
+            m->warped = true;
+            m->ds = std::move(w); /* it opens the mosaic itself, by name */
+        } else {
+            m->ds = std::move(base);
+        }
+        if (plan.has_crs) {
+            m->crs_wkt = tpio::crs_wkt2(plan.dst);
+            const char* name = plan.dst.GetName();
+            std::snprintf(m->crs_name, sizeof m->crs_name, "%s", name ? name : "unnamed CRS");
+            m->epsg = tpio::crs_epsg(plan.dst);
+        } else {
+            std::snprintf(m->crs_name, sizeof m->crs_name, "local metres (no CRS)");
+        }
+    } else {
+        /* Different CRSs or spacings: each source warped onto one grid, then mosaicked. */
+        for (const Source& s : src)
+            if (!s.has_crs)
+                return fail(err, TP_ERR_BAD_DATA,
+                            "%s: no CRS, and the other sources differ in CRS or spacing: give "
+                            "--crs, or sources that share one",
+                            s.path.c_str());
+        /* The render CRS: the sources' own when all of them are in one projected CRS in metres;
+         * else the UTM/UPS zone of the centre of their geographic extent. */
+        OGRSpatialReference dst;
+        dst.SetAxisMappingStrategy(OAMS_TRADITIONAL_GIS_ORDER);
+        bool one_projected = true;
+        for (const Source& s : src)
+            one_projected = one_projected && s.srs.IsProjected() &&
+                            std::fabs(s.srs.GetLinearUnits() - 1.0) < 1e-12 && s.srs.IsSame(&src[0].srs);
+        if (one_projected) {
+            dst = src[0].srs;
+        } else {
+            OGRSpatialReference wgs84 = tpio::crs_wgs84();
+            double lon0 = INFINITY, lon1 = -INFINITY, lat0 = INFINITY, lat1 = -INFINITY;
+            for (const Source& s : src) {
+                std::unique_ptr<OGRCoordinateTransformation> ct(
+                    OGRCreateCoordinateTransformation(&s.srs, &wgs84));
+                if (!ct)
+                    return fail(err, TP_ERR_BACKEND, "%s: no transformation to WGS84: %s",
+                                s.path.c_str(), tpio::gdal_message().c_str());
+                for (int k = 0; k < 4; k++) {
+                    double x = s.gt[0] + (k & 1 ? s.w - 0.5 : 0.5) * s.gt[1];
+                    double y = s.gt[3] + (k & 2 ? s.h - 0.5 : 0.5) * s.gt[5];
+                    if (!ct->Transform(1, &x, &y))
+                        continue;
+                    lon0 = std::min(lon0, x), lon1 = std::max(lon1, x);
+                    lat0 = std::min(lat0, y), lat1 = std::max(lat1, y);
+                }
+            }
+            if (!(lon1 >= lon0 && lat1 >= lat0))
+                return fail(err, TP_ERR_BACKEND, "%s: the sources have no WGS84 extent", paths[0]);
+            /* The zone as one geographic DEM over that extent would get it. */
+            const double egt[6] = {lon0, (lon1 - lon0) / 2, 0, lat1, 0, -(lat1 - lat0) / 2};
+            PlanDem pd(2, 2, egt, true, &wgs84);
+            if (egt[1] <= 0 || egt[5] >= 0) { /* a point: widen it a little */
+                pd.dem.geotransform[1] = 1e-4;
+                pd.dem.geotransform[5] = -1e-4;
+            }
+            tpio::GridPlan zplan;
+            if (const tp_status st = tpio::render_grid_plan(&pd.dem, nullptr, &zplan, err))
+                return st;
+            dst = zplan.dst;
+        }
+        const std::string t_srs = tpio::crs_wkt2(dst);
+        double res = INFINITY, ext[4] = {INFINITY, INFINITY, -INFINITY, -INFINITY};
+        for (Source& s : src) {
+            std::unique_ptr<OGRCoordinateTransformation> ct(
+                OGRCreateCoordinateTransformation(&s.srs, &dst));
+            if (!ct)
+                return fail(err, TP_ERR_BACKEND, "%s: no transformation to the render CRS: %s",
+                            s.path.c_str(), tpio::gdal_message().c_str());
+            res = std::min(res, tpio::grid_finest_spacing(ct.get(), s.gt, s.w, s.h));
+            PlanDem pd(s.w, s.h, s.gt, true, &s.srs);
+            double e[4];
+            if (!tpio::grid_warp_extent(&pd.dem, s.srs, t_srs, e))
+                return fail(err, TP_ERR_BACKEND, "%s: no extent in the render CRS: %s",
+                            s.path.c_str(), tpio::gdal_message().c_str());
+            ext[0] = std::min(ext[0], e[0]), ext[1] = std::min(ext[1], e[1]);
+            ext[2] = std::max(ext[2], e[2]), ext[3] = std::max(ext[3], e[3]);
+        }
+        if (!std::isfinite(res) || res <= 0)
+            return fail(err, TP_ERR_BACKEND, "%s: could not measure the post spacing", paths[0]);
+        /* a grid aligned on the spacing, holding every source */
+        const double x0 = std::floor(ext[0] / res) * res, y1 = std::ceil(ext[3] / res) * res;
+        const double x1 = x0 + std::ceil((ext[2] - x0) / res) * res;
+        const double y0 = y1 - std::ceil((y1 - ext[1]) / res) * res;
+        const char* dst_name = dst.GetName() ? dst.GetName() : "the render CRS";
+        std::vector<std::string> files;
+        for (size_t i = 0; i < count; i++) {
+            const Source& s = src[i];
+            tpio::Dataset in(GDALDataset::Open(s.path.c_str(), GDAL_OF_RASTER | GDAL_OF_READONLY));
+            if (!in)
+                return fail(err, TP_ERR_BAD_DATA, "%s: cannot reopen: %s", s.path.c_str(),
+                            tpio::gdal_message().c_str());
+            if (has_over)
+                in->SetSpatialRef(&over);
+            const std::string tr = CPLSPrintf("%.17g", res);
+            std::vector<std::string> args = {
+                "-t_srs", t_srs, "-tr", tr, tr, "-te", CPLSPrintf("%.17g", x0),
+                CPLSPrintf("%.17g", y0), CPLSPrintf("%.17g", x1), CPLSPrintf("%.17g", y1), "-r",
+                o.resampling == TP_RESAMPLING_CUBIC ? "cubic" : "bilinear", "-et", "0",
+                "-dstnodata", "nan", "-ot", "Float32", "-of", "VRT"};
+            if (s.type == GDT_Int16 && !s.has_nodata)
+                args.insert(args.end(), {"-srcnodata", "-32768"});
+            tpio::Dataset w = warp_vrt(m, in.get(), args, CPLSPrintf("warp%zu", i));
+            if (!w)
+                return fail(err, TP_ERR_BACKEND, "%s: warp to %s failed: %s", s.path.c_str(),
+                            dst_name, tpio::gdal_message().c_str());
+            files.push_back(m->vsimem.back());
+            const bool same_crs = s.srs.IsSame(&dst);
+            add_note(m->notes,
+                     CPLSPrintf("%s: %s, posts %.6g x %.6g%s: %s onto %s, posts %.6g m apart",
+                                s.name.c_str(), s.srs.GetName() ? s.srs.GetName() : "its CRS",
+                                std::fabs(s.gt[1]), std::fabs(s.gt[5]),
+                                s.srs.IsGeographic() ? " degrees" : "",
+                                same_crs ? "resampled" : "warped", dst_name, res));
+            m->warped = true;
+        }
+        add_note(m->notes, "the sources differ in CRS or post spacing: each is warped onto one "
+                           "grid and GDAL's VRT mosaics them (a later source wins where they "
+                           "overlap)");
+        tpio::Dataset v = build_vrt(m, files, {"-b", "1"}, "mosaic");
+        if (!v)
+            return fail(err, TP_ERR_BACKEND, "%s: mosaic: %s", paths[0], tpio::gdal_message().c_str());
+        m->ds = std::move(v);
+        m->crs_wkt = t_srs;
+        std::snprintf(m->crs_name, sizeof m->crs_name, "%s", dst_name);
+        m->epsg = tpio::crs_epsg(dst);
+    }
+
+    m->w = m->ds->GetRasterXSize();
+    m->h = m->ds->GetRasterYSize();
+    m->ds->GetGeoTransform(m->gt);
+    m->spacing_m = std::min(std::fabs(m->gt[1]), std::fabs(m->gt[5]));
+    GDALRasterBand* b = m->ds->GetRasterBand(1);
+    int has = 0;
+    double nd = b->GetNoDataValue(&has);
+    m->has_nodata = has != 0;
+    m->nodata = as_float(nd);
+    m->int16_guess = !m->warped && untagged_int16 && !m->has_nodata;
+    if (untagged_int16)
+        add_note(m->notes, "Int16 sources without a nodata tag: -32768 taken as nodata");
+
+    /* A bound of the heights without reading them: every source's exact statistics. */
+    bool stats = o.resampling != TP_RESAMPLING_CUBIC;
+    for (const Source& s : src)
+        stats = stats && s.has_stats;
+    if (stats) {
+        m->has_range = true;
+        m->min_m = src[0].stat_min, m->max_m = src[0].stat_max;
+        for (const Source& s : src)
+            m->min_m = std::min(m->min_m, s.stat_min), m->max_m = std::max(m->max_m, s.stat_max);
+    }
+    return TP_OK;
+}
+
+} // namespace
+
+extern "C" tp_status tp_mosaic_open(const char* const* paths, size_t path_count,
+                                    const tp_mosaic_options* options, tp_mosaic** out,
+                                    tp_error* err)
+{
+    if (!paths || path_count < 1 || !out)
+        return fail(err, TP_ERR_INVALID_ARG, "mosaic: paths and out must not be NULL");
+    for (size_t i = 0; i < path_count; i++)
+        if (!paths[i] || !*paths[i])
+            return fail(err, TP_ERR_INVALID_ARG, "mosaic: source %zu has an empty name", i + 1);
+    try {
+        std::unique_ptr<tp_mosaic> m(new tp_mosaic);
+        /* DTED checksums are verified when read (tp_dem_read does the same) */
+        if (!CPLGetConfigOption("DTED_VERIFY_CHECKSUM", nullptr))
+            CPLSetConfigOption("DTED_VERIFY_CHECKSUM", "YES");
+        const tp_status st = open_mosaic(paths, path_count, options, m.get(), err);
+        if (st != TP_OK)
+            return st;
+        *out = m.release();
+        return TP_OK;
+    } catch (...) {
+        return tpio::caught(err, "mosaic");
+    }
+}
+
+extern "C" void tp_mosaic_close(tp_mosaic* m)
+{
+    try {
+        delete m;
+    } catch (...) {
+    }
+}
+
+extern "C" void tp_mosaic_get_info(const tp_mosaic* m, tp_mosaic_info* out)
+{
+    *out = tp_mosaic_info{};
+    out->width = m->w;
+    out->height = m->h;
+    std::memcpy(out->geotransform, m->gt, sizeof m->gt);
+    out->crs_wkt = m->crs_wkt.c_str();
+    std::memcpy(out->crs_name, m->crs_name, sizeof out->crs_name);
+    out->epsg = m->epsg;
+    out->spacing_m = m->spacing_m;
+    out->source_count = m->source_count;
+    out->warped = m->warped;
+    out->integer_sources = m->integer;
+    out->has_range = m->has_range;
+    out->min_m = m->min_m;
+    out->max_m = m->max_m;
+    out->notes = m->notes.c_str();
+}
+
+extern "C" tp_status tp_mosaic_read_rows(tp_mosaic* m, int y0, int rows, float* heights,
+                                         size_t height_count, tp_error* err)
+{
+    if (!m || !heights || y0 < 0 || rows < 1 || y0 + rows > m->h ||
+        height_count < (size_t)rows * m->w)
+        return fail(err, TP_ERR_INVALID_ARG, "mosaic: rows %d .. %d outside the grid's %d rows",
+                    y0, y0 + rows - 1, m ? m->h : 0);
+    try {
+        tpio::QuietGdal quiet;
+        CPLErrorReset();
+        const CPLErr io = m->ds->GetRasterBand(1)->RasterIO(GF_Read, 0, y0, m->w, rows, heights,
+                                                            m->w, rows, GDT_Float32, 0, 0, nullptr);
+        const CPLErr last = CPLGetLastErrorType();
+        if (io != CE_None || last == CE_Failure || last == CE_Fatal)
+            return fail(err, TP_ERR_BAD_DATA,
+                        "reading rows %d .. %d of the mosaic failed, a source is truncated or "
+                        "corrupt (%s)",
+                        y0, y0 + rows - 1, tpio::gdal_message().c_str());
+        const size_t n = (size_t)rows * m->w;
+        const float nd = m->nodata;
+        const bool tag = m->has_nodata, nd_nan = std::isnan(nd), guess = m->int16_guess;
+        for (size_t i = 0; i < n; i++) {
+            float v = heights[i];
+            if ((tag && (v == nd || (nd_nan && std::isnan(v)))) ||
+                (guess && (v == -32768.0f || v == -32767.0f)) || std::isinf(v) || v == FLT_MAX ||
+                v == -FLT_MAX)
+                heights[i] = NAN;
+        }
+        if (m->back)
+            tpio::mask_outside_hull(*m->back, m->back_geographic, m->sgt, m->sw, m->sh, m->gt,
+                                    m->w, y0, rows, heights);
+        return TP_OK;
+    } catch (...) {
+        return tpio::caught(err, "mosaic");
+    }
+}

@@ -1,0 +1,402 @@
+/*
+ * test_build.c - the mosaic read in bands (tp_mosaic, io/src/mosaic.cpp) and `terrapatch build`
+ * (app/cmd_build.c) on the real DEMs: one DEM gives the single-DEM pipeline's grid and heights;
+ * two adjacent SRTM tiles give one seamless grid, the same store as their .vrt; bad sources and
+ * signals leave nothing behind.
+ */
+#define _GNU_SOURCE
+#include "tp_io.h"
+#include "tp_test.h"
+
+#include <dirent.h>
+#include <math.h>
+#include <signal.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#define TP_TMP_PREFIX "tp_build_"
+#include "tp_test_tmp.h"
+
+static const char* terrapatch(void)
+{
+    const char* exe = getenv("TP_TERRAPATCH");
+    if (!exe || access(exe, X_OK) != 0)
+        SKIP("TP_TERRAPATCH not set: the terrapatch binary is not built");
+    return exe;
+}
+
+/* The whole render grid through the mosaic, band by band (65 rows at a time). */
+static float* mosaic_grid(tp_mosaic* m, int* w, int* h)
+{
+    tp_mosaic_info mi;
+    tp_mosaic_get_info(m, &mi);
+    *w = mi.width, *h = mi.height;
+    float* z = malloc((size_t)mi.width * mi.height * sizeof *z);
+    ASSERT_TRUE(z != NULL);
+    for (int y = 0; y < mi.height; y += 65) {
+        int n = mi.height - y < 65 ? mi.height - y : 65;
+        tp_error err = {0};
+        ASSERT_EQ_INT(TP_OK, tp_mosaic_read_rows(m, y, n, z + (size_t)y * mi.width,
+                                                 (size_t)n * mi.width, &err));
+    }
+    return z;
+}
+
+/* One DEM: the mosaic's grid is tp_render_grid_build's (voids not filled), sample for sample. */
+static void check_single(const char* file)
+{
+    char path[1024];
+    REQUIRE_DATA_FILE(path, "TP_SHARED_DATA_DIR", file);
+    tp_error err = {0};
+    tp_dem* dem = NULL;
+    ASSERT_EQ_INT(TP_OK, tp_dem_read(path, &dem, &err));
+    tp_render_grid* g = NULL;
+    tp_grid_options go = {.fill_max_px = -1};
+    ASSERT_EQ_INT(TP_OK, tp_render_grid_build(dem, &go, &g, &err));
+    tp_mosaic* m = NULL;
+    const char* paths[1] = {path};
+    ASSERT_EQ_INT(TP_OK, tp_mosaic_open(paths, 1, NULL, &m, &err));
+    tp_mosaic_info mi;
+    tp_mosaic_get_info(m, &mi);
+    ASSERT_EQ_INT(g->width, mi.width);
+    ASSERT_EQ_INT(g->height, mi.height);
+    for (int i = 0; i < 6; i++)
+        EXPECT_NEAR(g->geotransform[i], mi.geotransform[i], 1e-6);
+    EXPECT_EQ_INT(g->epsg, mi.epsg);
+    EXPECT_EQ_INT(g->warped, mi.warped);
+    int w, h;
+    float* z = mosaic_grid(m, &w, &h);
+    size_t differ = 0, nan_differ = 0, valid = 0;
+    double worst = 0;
+    for (size_t i = 0; i < (size_t)w * h; i++) {
+        float a = g->heights[i], b = z[i];
+        if (isnan(a) != isnan(b)) {
+            nan_differ++;
+            continue;
+        }
+        if (isnan(a))
+            continue;
+        valid++;
+        if (a != b) {
+            differ++;
+            worst = fabs(a - b) > worst ? fabs(a - b) : worst;
+        }
+    }
+    EXPECT_TRUE(valid > 0);
+    EXPECT_EQ_INT(0, (long long)nan_differ);
+    EXPECT_EQ_INT(0, (long long)differ);
+    if (differ)
+        fprintf(stderr, "%s: %zu samples differ, worst by %g m\n", file, differ, worst);
+    free(z);
+    tp_mosaic_close(m);
+    tp_render_grid_destroy(g);
+    tp_dem_destroy(dem);
+}
+
+TEST(single_hgt_same_grid_as_render_grid) { check_single("N42E001.hgt"); }
+TEST(single_dt1_same_grid_as_render_grid) { check_single("N42E001.dt1"); }
+TEST(single_geotiff_same_grid_as_render_grid) { check_single("mt_rainier_90m.tif"); }
+TEST(single_utm_nodata_same_grid_as_render_grid) { check_single("lf_elev_220_mt_hood_utm.tif"); }
+TEST(single_asc_same_grid_as_render_grid) { check_single("front_range_srtmgl3_144.asc"); }
+/* Not yet: craterlake-elev-16bit-30m.tif (untagged Int16, geographic) has -32767 voids that
+ * tp_dem_read turns into NaN before its warp, while the mosaic's warp gets only
+ * -srcnodata -32768 (GDALWarp takes one nodata value per band): 1292 samples differ. */
+
+/* Two adjacent SRTM tiles: the union, warped to UTM 31N; the shared row reported; no nodata row
+ * and no step at the 42N seam. */
+TEST(two_tiles_one_seamless_grid)
+{
+    char a[1024], b[1024];
+    REQUIRE_DATA_FILE(a, "TP_SHARED_DATA_DIR", "N41E001.hgt");
+    REQUIRE_DATA_FILE(b, "TP_SHARED_DATA_DIR", "N42E001.hgt");
+    const char* paths[2] = {a, b};
+    tp_error err = {0};
+    tp_mosaic* m = NULL;
+    ASSERT_EQ_INT(TP_OK, tp_mosaic_open(paths, 2, NULL, &m, &err));
+    tp_mosaic_info mi;
+    tp_mosaic_get_info(m, &mi);
+    EXPECT_EQ_INT(32631, mi.epsg);
+    EXPECT_TRUE(mi.warped);
+    EXPECT_TRUE(strstr(mi.notes, "N41E001.hgt and N42E001.hgt overlap by one row") != NULL);
+    EXPECT_TRUE(strstr(mi.notes, "SRTM tiles share their edge") != NULL);
+    /* 2401 rows of 3" = 2 degrees of latitude, about 222 km; posts of ~68 m at 41-43N */
+    const double north_south_m = mi.height * fabs(mi.geotransform[5]);
+    EXPECT_TRUE(north_south_m > 221000 && north_south_m < 225000);
+    int w, h;
+    float* z = mosaic_grid(m, &w, &h);
+    /* The row nearest 42N at the grid's middle column: 42N, 1.5E in UTM 31N is N ~ 4650 km. */
+    tp_georef* geo = NULL;
+    ASSERT_EQ_INT(TP_OK, tp_georef_create(mi.crs_wkt, mi.geotransform, &geo, &err));
+    double e, n, x, y;
+    ASSERT_EQ_INT(TP_OK, tp_georef_geo_to_proj(geo, 42.0, 1.5, &e, &n, &err));
+    tp_georef_proj_to_grid(geo, e, n, &x, &y);
+    tp_georef_destroy(geo);
+    const int seam = (int)floor(y);
+    ASSERT_TRUE(seam > 100 && seam < h - 100);
+    /* every row near the seam has many valid samples */
+    for (int r = seam - 3; r <= seam + 3; r++) {
+        int valid = 0;
+        for (int c = 0; c < w; c++)
+            valid += !isnan(z[(size_t)r * w + c]);
+        EXPECT_TRUE(valid > w / 2);
+    }
+    /* the largest difference between adjacent rows: at the seam, as inside the tiles */
+    double seam_step = 0, inside_step = 0;
+    for (int r = 1; r < h; r++) {
+        double mx = 0;
+        for (int c = 0; c < w; c++) {
+            float p = z[(size_t)(r - 1) * w + c], q = z[(size_t)r * w + c];
+            if (!isnan(p) && !isnan(q) && fabs(p - q) > mx)
+                mx = fabs(p - q);
+        }
+        if (r >= seam - 2 && r <= seam + 3)
+            seam_step = mx > seam_step ? mx : seam_step;
+        else if (abs(r - seam) > 50)
+            inside_step = mx > inside_step ? mx : inside_step;
+    }
+    EXPECT_TRUE(inside_step > 0);
+    EXPECT_LE(seam_step, inside_step);
+    free(z);
+    tp_mosaic_close(m);
+}
+
+/* Runs `terrapatch build ARGS` with stderr to err_path (may be NULL); returns the exit status. */
+static int run_build(const char* args, const char* err_path)
+{
+    char cmd[4096];
+    snprintf(cmd, sizeof cmd, "'%s' build %s 2>'%s' >/dev/null", terrapatch(), args,
+             err_path ? err_path : "/dev/null");
+    int st = system(cmd);
+    return WIFEXITED(st) ? WEXITSTATUS(st) : 128 + WTERMSIG(st);
+}
+
+static char* slurp(const char* path)
+{
+    FILE* f = fopen(path, "rb");
+    if (!f)
+        return NULL;
+    static char buf[65536];
+    size_t n = fread(buf, 1, sizeof buf - 1, f);
+    buf[n] = 0;
+    fclose(f);
+    return buf;
+}
+
+static int dir_entries(const char* dir)
+{
+    DIR* d = opendir(dir);
+    int n = 0;
+    for (struct dirent* e; d && (e = readdir(d));)
+        n += strcmp(e->d_name, ".") && strcmp(e->d_name, "..");
+    if (d)
+        closedir(d);
+    return n;
+}
+
+/* The two tiles, and a .vrt of them (gdalbuildvrt), give the same store: metas and samples. */
+TEST(two_tiles_and_their_vrt_give_the_same_store)
+{
+    char a[1024], b[1024], args[4096], p1[1024], p2[1024], vrt[1024];
+    REQUIRE_DATA_FILE(a, "TP_SHARED_DATA_DIR", "N41E001.hgt");
+    REQUIRE_DATA_FILE(b, "TP_SHARED_DATA_DIR", "N42E001.hgt");
+    if (system("gdalbuildvrt --version >/dev/null 2>&1") != 0)
+        SKIP("gdalbuildvrt (gdal-bin) is not installed");
+    const char* dir = make_tmp_dir();
+    snprintf(p1, sizeof p1, "%s/tiles.tpt", dir);
+    snprintf(p2, sizeof p2, "%s/vrt.tpt", dir);
+    snprintf(vrt, sizeof vrt, "%s/tiles.vrt", dir);
+    snprintf(args, sizeof args, "gdalbuildvrt -q '%s' '%s' '%s'", vrt, a, b);
+    ASSERT_EQ_INT(0, system(args));
+    snprintf(args, sizeof args, "'%s' '%s' -o '%s' --patch 33", a, b, p1);
+    ASSERT_EQ_INT(0, run_build(args, NULL));
+    snprintf(args, sizeof args, "'%s' -o '%s' --patch 33 --threads 1", vrt, p2);
+    ASSERT_EQ_INT(0, run_build(args, NULL));
+    tp_error err = {0};
+    tp_store *s1 = NULL, *s2 = NULL;
+    ASSERT_EQ_INT(TP_OK, tp_store_open(p1, &s1, &err));
+    ASSERT_EQ_INT(TP_OK, tp_store_open(p2, &s2, &err));
+    tp_store_info i1, i2;
+    tp_store_get_info(s1, &i1);
+    tp_store_get_info(s2, &i2);
+    EXPECT_TRUE(strstr(i1.header.notes, "overlap by one row") != NULL);
+    ASSERT_EQ_INT(i1.header.geometry.src_width, i2.header.geometry.src_width);
+    ASSERT_EQ_INT(i1.header.geometry.src_height, i2.header.geometry.src_height);
+    EXPECT_EQ_DBL(i1.header.height_step_m, i2.header.height_step_m);
+    size_t c1, c2;
+    const tp_node_meta* m1 = tp_store_metas(s1, &c1);
+    const tp_node_meta* m2 = tp_store_metas(s2, &c2);
+    ASSERT_EQ_INT((long long)c1, (long long)c2);
+    EXPECT_TRUE(memcmp(m1, m2, c1 * sizeof *m1) == 0);
+    const size_t ns = 33 * 33;
+    uint16_t *d1 = malloc(ns * 2), *d2 = malloc(ns * 2);
+    size_t differ = 0;
+    for (size_t i = 0; i < c1; i++) {
+        ASSERT_EQ_INT(TP_OK, tp_store_read_node(s1, (int64_t)i, d1, ns, &err));
+        ASSERT_EQ_INT(TP_OK, tp_store_read_node(s2, (int64_t)i, d2, ns, &err));
+        differ += memcmp(d1, d2, ns * 2) != 0;
+    }
+    EXPECT_EQ_INT(0, (long long)differ);
+    free(d1), free(d2);
+    tp_store_close(s1);
+    tp_store_close(s2);
+}
+
+/* The store's leaves hold tp_terrain's decoded heights of the same render grid and step. */
+TEST(store_leaves_equal_terrain_heights)
+{
+    char a[1024], args[4096], out[1024];
+    REQUIRE_DATA_FILE(a, "TP_SHARED_DATA_DIR", "lf_elev_220_mt_hood_utm.tif");
+    const char* dir = make_tmp_dir();
+    snprintf(out, sizeof out, "%s/hood.tpt", dir);
+    snprintf(args, sizeof args, "'%s' -o '%s' --patch 33", a, out);
+    ASSERT_EQ_INT(0, run_build(args, NULL));
+    tp_error err = {0};
+    tp_store* s = NULL;
+    ASSERT_EQ_INT(TP_OK, tp_store_open(out, &s, &err));
+    tp_store_info si;
+    tp_store_get_info(s, &si);
+    tp_dem* dem = NULL;
+    ASSERT_EQ_INT(TP_OK, tp_dem_read(a, &dem, &err));
+    tp_render_grid* g = NULL;
+    tp_grid_options go = {.fill_max_px = -1};
+    ASSERT_EQ_INT(TP_OK, tp_render_grid_build(dem, &go, &g, &err));
+    tp_terrain_desc td = tp_render_grid_terrain_desc(g, 33, TP_FIT_PAD);
+    td.height_step_m = si.header.height_step_m;
+    tp_terrain* t = NULL;
+    ASSERT_EQ_INT(TP_OK, tp_terrain_create(&td, &t, &err));
+    const tp_tree_geometry* geo = &si.header.geometry;
+    size_t count;
+    const tp_node_meta* metas = tp_store_metas(s, &count);
+    uint16_t block[33 * 33];
+    size_t compared = 0, differ = 0;
+    for (int r = 0; r < geo->rows; r++)
+        for (int c = 0; c < geo->cols; c++) {
+            int64_t id = tp_tree_node_id(geo, 0, c, r);
+            ASSERT_EQ_INT(TP_OK, tp_store_read_node(s, id, block, 33 * 33, &err));
+            for (int j = 0; j <= 32; j++)
+                for (int i = 0; i <= 32; i++) {
+                    uint16_t v = block[j * 33 + i];
+                    double stored = v == TP_TREE_NO_HEIGHT
+                                        ? NAN
+                                        : (v + (double)metas[id].qmin) * si.header.height_step_m;
+                    double want = tp_terrain_sample(t, c * 32 + i, r * 32 + j);
+                    compared++;
+                    if (!(isnan(stored) && isnan(want)) && stored != want)
+                        differ++;
+                }
+        }
+    EXPECT_TRUE(compared > 800000);
+    EXPECT_EQ_INT(0, (long long)differ);
+    tp_terrain_destroy(t);
+    tp_render_grid_destroy(g);
+    tp_dem_destroy(dem);
+    tp_store_close(s);
+}
+
+/* Sources in different CRSs (geographic + UTM) are warped onto one grid, and said so. */
+TEST(different_crs_warped_and_reported)
+{
+    char a[1024], b[1024], args[4096], out[1024], errp[1024];
+    REQUIRE_DATA_FILE(a, "TP_SHARED_DATA_DIR", "mt_rainier_90m.tif");
+    REQUIRE_DATA_FILE(b, "TP_SHARED_DATA_DIR", "lf_elev_220_mt_hood_utm.tif");
+    const char* dir = make_tmp_dir();
+    snprintf(out, sizeof out, "%s/mixed.tpt", dir);
+    snprintf(errp, sizeof errp, "%s/err.txt", dir);
+    snprintf(args, sizeof args, "'%s' '%s' -o '%s' --patch 33", a, b, out);
+    ASSERT_EQ_INT(0, run_build(args, errp));
+    const char* e = slurp(errp);
+    ASSERT_TRUE(e != NULL);
+    EXPECT_TRUE(strstr(e, "differ in CRS or post spacing") != NULL);
+    EXPECT_TRUE(strstr(e, "mt_rainier_90m.tif: WGS 84") != NULL);
+    EXPECT_TRUE(strstr(e, "warped onto") != NULL);
+    struct stat st;
+    EXPECT_TRUE(stat(out, &st) == 0 && st.st_size > 1000);
+}
+
+/* Missing, not-a-raster and FIFO sources: exit 1 naming the file, nothing written. */
+TEST(bad_sources_exit_1_and_write_nothing)
+{
+    char a[1024], args[4096], out[1024], errp[1024], bad[1024], fifo[1024];
+    REQUIRE_DATA_FILE(a, "TP_SHARED_DATA_DIR", "N42E001.hgt");
+    const char* dir = make_tmp_dir();
+    const char* odir = make_tmp_dir();
+    snprintf(out, sizeof out, "%s/x.tpt", odir);
+    snprintf(errp, sizeof errp, "%s/err.txt", dir);
+    snprintf(bad, sizeof bad, "%s/notes.txt", dir);
+    FILE* f = fopen(bad, "w");
+    ASSERT_TRUE(f != NULL);
+    fputs("not a raster\n", f);
+    fclose(f);
+    snprintf(fifo, sizeof fifo, "%s/pipe.hgt", dir);
+    ASSERT_EQ_INT(0, mkfifo(fifo, 0600));
+    const char* cases[3][2] = {{"/nonexistent-dir/no_such_tile.hgt", "no_such_tile.hgt"},
+                               {bad, "notes.txt: not a raster"},
+                               {fifo, "pipe.hgt: cannot open: it is a FIFO"}};
+    for (int i = 0; i < 3; i++) {
+        snprintf(args, sizeof args, "'%s' '%s' -o '%s'", a, cases[i][0], out);
+        EXPECT_EQ_INT(1, run_build(args, errp));
+        const char* e = slurp(errp);
+        EXPECT_TRUE(e && strstr(e, cases[i][1]) != NULL);
+        EXPECT_EQ_INT(0, dir_entries(odir));
+    }
+}
+
+/* An output folder that cannot be written: a clear error before any work. */
+TEST(unwritable_output_folder_fails_first)
+{
+    char a[1024], args[4096], errp[1024];
+    REQUIRE_DATA_FILE(a, "TP_SHARED_DATA_DIR", "N42E001.hgt");
+    const char* dir = make_tmp_dir();
+    snprintf(errp, sizeof errp, "%s/err.txt", dir);
+    /* a missing source too: the output is checked before the sources are opened */
+    snprintf(args, sizeof args, "/nonexistent-src.hgt -o /nonexistent-dir/x.tpt");
+    EXPECT_EQ_INT(1, run_build(args, errp));
+    const char* e = slurp(errp);
+    EXPECT_TRUE(e && strstr(e, "/nonexistent-dir/x.tpt") != NULL);
+    EXPECT_TRUE(e && strstr(e, "nonexistent-src") == NULL);
+}
+
+/* --json: the keys, with sane values. */
+TEST(json_keys_present_and_sane)
+{
+    char a[1024], args[4096], out[1024], js[1024];
+    REQUIRE_DATA_FILE(a, "TP_SHARED_DATA_DIR", "storml_elev.tif");
+    const char* dir = make_tmp_dir();
+    snprintf(out, sizeof out, "%s/s.tpt", dir);
+    snprintf(js, sizeof js, "%s/s.json", dir);
+    snprintf(args, sizeof args, "'%s' -o '%s' --patch 17 --json '%s' --quiet", a, out, js);
+    ASSERT_EQ_INT(0, run_build(args, NULL));
+    const char* j = slurp(js);
+    ASSERT_TRUE(j != NULL);
+    const char* keys[] = {"\"samples\": 15301", "\"nodes\": ", "\"bytes\": ",
+                          "\"bytes_per_sample\": ", "\"seconds\": ", "\"rss_peak_mb\": ",
+                          "\"width\": 143", "\"height\": 107", "\"patch_size\": 17", "\"step\": "};
+    for (size_t i = 0; i < sizeof keys / sizeof keys[0]; i++)
+        EXPECT_TRUE(strstr(j, keys[i]) != NULL);
+    struct stat st;
+    ASSERT_TRUE(stat(out, &st) == 0);
+    char want[64];
+    snprintf(want, sizeof want, "\"bytes\": %lld", (long long)st.st_size);
+    EXPECT_TRUE(strstr(j, want) != NULL);
+    const char* r = strstr(j, "\"rss_peak_mb\": ");
+    EXPECT_TRUE(r && atof(r + 15) > 1 && atof(r + 15) < 1024);
+}
+
+#define TESTS(X)                                                                                   \
+    X(single_hgt_same_grid_as_render_grid)                                                         \
+    X(single_dt1_same_grid_as_render_grid)                                                         \
+    X(single_geotiff_same_grid_as_render_grid)                                                     \
+    X(single_utm_nodata_same_grid_as_render_grid)                                                  \
+    X(single_asc_same_grid_as_render_grid)                                                         \
+    X(two_tiles_one_seamless_grid)                                                                 \
+    X(two_tiles_and_their_vrt_give_the_same_store)                                                 \
+    X(store_leaves_equal_terrain_heights)                                                          \
+    X(different_crs_warped_and_reported)                                                           \
+    X(bad_sources_exit_1_and_write_nothing)                                                        \
+    X(unwritable_output_folder_fails_first)                                                        \
+    X(json_keys_present_and_sane)
+TP_TEST_MAIN(TESTS)

@@ -1,0 +1,417 @@
+/* test_stream.c - app/stream.c: the loader thread, the memory budget, substitution instead of
+ * holes, and read failures, over a store written from a real DEM. */
+#define _POSIX_C_SOURCE 200809L
+#include "tp_core.h"
+#include "tp_io.h"
+#include "tp_test.h"
+
+#include "stream.h"
+
+#include <fcntl.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+#include <unistd.h>
+
+#define TP_TMP_PREFIX "tp_stream_"
+#include "tp_test_tmp.h"
+
+/* A store written from a crop of N42E001 (real relief and real SRTM voids), nodes of 17
+ * samples so that the tree is deep. first: the node written first (its data starts right after
+ * the header), or -1 for id order from the leaves up. */
+typedef struct fixture {
+    char path[600];
+    tp_tree* full;    /* every node resident: the reference */
+    tp_store* store;
+    tp_tree* tree;    /* metas from the store, samples from the stream */
+    float* heights;
+    int w, h;
+    double gt[6];
+} fixture;
+
+static void sleep_ms(int ms)
+{
+    struct timespec ts = {0, ms * 1000000L};
+    nanosleep(&ts, NULL);
+}
+
+static int write_store(fixture* fx, int64_t first)
+{
+    tp_error err = {{0}};
+    const tp_tree_geometry* g = tp_tree_get_geometry(fx->full);
+    tp_tree_info ti;
+    tp_tree_get_info(fx->full, &ti);
+    tp_store_header hd;
+    memset(&hd, 0, sizeof hd);
+    hd.geometry = *g;
+    memcpy(hd.geotransform, ti.geotransform, sizeof hd.geotransform);
+    hd.height_step_m = ti.height_step_m;
+    hd.quant_max_error_m = ti.quant_max_error_m;
+    hd.err_unit_steps = ti.err_unit_steps;
+    hd.crs_wkt = "";
+    hd.notes = "test_stream";
+    tp_store_writer* w;
+    if (tp_store_writer_begin(fx->path, &hd, &w, &err) != TP_OK) {
+        tp_test_note("%s", err.message);
+        return 0;
+    }
+    size_t v = ((size_t)1 << g->n) + 1;
+    int32_t* q = malloc(v * v * sizeof *q);
+    for (int64_t k = -1; k < g->node_count; k++) {
+        int64_t id = k < 0 ? first : g->node_count - 1 - k; /* leaves first, like the builder */
+        if (id < 0 || (k >= 0 && id == first))
+            continue;
+        const uint16_t* s = tp_tree_samples(fx->full, id);
+        const tp_node_meta* m = tp_tree_meta(fx->full, id);
+        for (size_t i = 0; i < v * v; i++)
+            q[i] = s[i] == TP_TREE_NO_HEIGHT ? INT32_MIN : (int32_t)s[i] + m->qmin;
+        if (tp_store_writer_add_node(w, id, m, q, &err) != TP_OK) {
+            tp_test_note("%s", err.message);
+            free(q);
+            tp_store_writer_abort(w);
+            return 0;
+        }
+    }
+    free(q);
+    if (tp_store_writer_commit(w, &err) != TP_OK) {
+        tp_test_note("%s", err.message);
+        return 0;
+    }
+    return 1;
+}
+
+static int open_fixture(fixture* fx, int64_t first, int corrupt)
+{
+    memset(fx, 0, sizeof *fx);
+    char dem_path[600];
+    if (!tp_test_data_path(dem_path, sizeof dem_path, "TP_SHARED_DATA_DIR", "N42E001.hgt"))
+        return 0;
+    tp_dem* dem = NULL;
+    tp_error err = {{0}};
+    if (tp_dem_read(dem_path, &dem, &err) != TP_OK) {
+        tp_test_note("%s", err.message);
+        return 0;
+    }
+    /* 385 x 289 samples from the middle of the tile; 90 m posts as a metric grid */
+    fx->w = 385, fx->h = 289;
+    fx->heights = malloc((size_t)fx->w * fx->h * sizeof *fx->heights);
+    for (int y = 0; y < fx->h; y++)
+        for (int x = 0; x < fx->w; x++)
+            fx->heights[(size_t)y * fx->w + x] = dem->heights[(size_t)(400 + y) * dem->width + 300 + x];
+    tp_dem_destroy(dem);
+    const double gt[6] = {400000, 90, 0, 4700000, 0, -90};
+    memcpy(fx->gt, gt, sizeof gt);
+    if (tp_tree_create_from_grid(fx->heights, (size_t)fx->w * fx->h, fx->w, fx->h, gt, 17, 0,
+                                 &fx->full, &err) != TP_OK) {
+        tp_test_note("%s", err.message);
+        return 0;
+    }
+    snprintf(fx->path, sizeof fx->path, "%s/stream.tpt", make_tmp_dir());
+    if (!write_store(fx, first))
+        return 0;
+    if (corrupt) {
+        /* a byte inside the first node's data, which starts right after the header */
+        int fd = open(fx->path, O_RDWR);
+        uint8_t hdr[16];
+        if (fd < 0 || pread(fd, hdr, 16, 0) != 16)
+            return 0;
+        uint32_t hsize = hdr[12] | hdr[13] << 8 | hdr[14] << 16 | (uint32_t)hdr[15] << 24;
+        uint8_t b;
+        if (pread(fd, &b, 1, hsize + 4) != 1)
+            return 0;
+        b ^= 0x5A;
+        if (pwrite(fd, &b, 1, hsize + 4) != 1)
+            return 0;
+        close(fd);
+    }
+    if (tp_store_open(fx->path, &fx->store, &err) != TP_OK) {
+        tp_test_note("%s", err.message);
+        return 0;
+    }
+    size_t count;
+    const tp_node_meta* metas = tp_store_metas(fx->store, &count);
+    tp_store_info si;
+    tp_store_get_info(fx->store, &si);
+    tp_tree_desc td;
+    memset(&td, 0, sizeof td);
+    td.geometry = si.header.geometry;
+    memcpy(td.geotransform, si.header.geotransform, sizeof td.geotransform);
+    td.height_step_m = si.header.height_step_m;
+    td.quant_max_error_m = si.header.quant_max_error_m;
+    td.err_unit_steps = si.header.err_unit_steps;
+    td.metas = metas;
+    td.meta_count = count;
+    if (tp_tree_create(&td, &fx->tree, &err) != TP_OK) {
+        tp_test_note("%s", err.message);
+        return 0;
+    }
+    return 1;
+}
+
+static void close_fixture(fixture* fx)
+{
+    tp_tree_destroy(fx->tree);
+    tp_store_close(fx->store);
+    tp_tree_destroy(fx->full);
+    free(fx->heights);
+    unlink(fx->path);
+}
+
+/* A camera 300 m above the ground at grid (x, y), looking along yaw, 20 degrees down. */
+static void camera_at(const fixture* fx, double x, double y, double yaw, tp_camera* cam)
+{
+    double e = fx->gt[0] + (x + 0.5) * fx->gt[1], n = fx->gt[3] + (y + 0.5) * fx->gt[5];
+    double z = tp_tree_sample(fx->full, (int)x, (int)y);
+    double pos[3] = {e, n, (isnan(z) ? 1500 : z) + 300};
+    tp_camera_from_pose(pos, yaw, -20, 60, 640, 360, cam);
+}
+
+/* Leaves (by leaf column and row) covered by the drawn nodes of a cut, as a bitmap. */
+static void covered_leaves(const tp_tree* t, const tp_cut* c, uint8_t* bits)
+{
+    const tp_tree_geometry* g = tp_tree_get_geometry(t);
+    memset(bits, 0, (size_t)g->cols * g->rows);
+    size_t count;
+    const tp_cut_node* nodes = tp_cut_nodes(c, &count);
+    for (size_t i = 0; i < count; i++) {
+        int s, col, row;
+        tp_tree_node_locate(g, nodes[i].node, &s, &col, &row);
+        for (int r = row << s; r < (row + 1) << s; r++)
+            for (int q = col << s; q < (col + 1) << s; q++)
+                bits[(size_t)r * g->cols + q] = 1;
+    }
+}
+
+/* Runs frames at cam until nothing is pending and the cut asks for nothing (or max_ms). */
+static int settle(fixture* fx, tp_stream* st, tp_cut* cut, const tp_camera* cam, int max_ms)
+{
+    tp_error err;
+    tp_stream_stats ss;
+    for (int waited = 0; waited < max_ms; waited += 2) {
+        if (tp_cut_update(cut, cam, NULL, &err) != TP_OK)
+            return 0;
+        tp_stream_frame(st, cut, NULL, cam, NULL, &ss);
+        size_t nreq;
+        tp_cut_requests(cut, &nreq);
+        if (ss.pending == 0 && nreq == 0)
+            return 1;
+        sleep_ms(2);
+    }
+    (void)fx;
+    return 0;
+}
+
+TEST(roots_first_then_the_view_fills_in_without_holes)
+{
+    fixture fx;
+    ASSERT_TRUE(open_fixture(&fx, -1, 0));
+    char msg[512];
+    tp_stream_options o = {.memory_bytes = 64u << 20};
+    tp_stream* st = tp_stream_create(fx.store, fx.tree, &o, msg, sizeof msg);
+    if (!st)
+        tp_test_note("%s", msg);
+    ASSERT_TRUE(st != NULL);
+    const tp_tree_geometry* g = tp_tree_get_geometry(fx.tree);
+    tp_stream_stats ss;
+    tp_stream_get_stats(st, &ss);
+    EXPECT_EQ_INT(ss.resident_nodes, g->root_count);
+
+    tp_cut *cut = NULL, *ref = NULL;
+    tp_error err;
+    ASSERT_OK(tp_cut_create(fx.tree, &cut, &err));
+    ASSERT_OK(tp_cut_create(fx.full, &ref, &err));
+    tp_camera cam;
+    camera_at(&fx, 120, 200, 45, &cam);
+    /* The first frame: only the roots, so everything drawn is a substitute, and the view's
+     * leaves are all covered all the same (no hole). */
+    ASSERT_OK(tp_cut_update(cut, &cam, NULL, &err));
+    ASSERT_OK(tp_cut_update(ref, &cam, NULL, &err));
+    uint8_t* a = malloc((size_t)g->cols * g->rows);
+    uint8_t* b = malloc((size_t)g->cols * g->rows);
+    covered_leaves(fx.tree, cut, a);
+    covered_leaves(fx.full, ref, b);
+    size_t holes = 0;
+    for (size_t i = 0; i < (size_t)g->cols * g->rows; i++)
+        holes += b[i] && !a[i];
+    EXPECT_EQ_INT(holes, 0);
+    tp_cut_stats cs;
+    tp_cut_get_stats(cut, &cs);
+    EXPECT_TRUE(cs.substituted > 0);
+    EXPECT_TRUE(cs.requests > 0);
+
+    /* Then the loader fills in the view: the cut becomes the fully resident one. */
+    ASSERT_TRUE(settle(&fx, st, cut, &cam, 10000));
+    tp_cut_get_stats(cut, &cs);
+    EXPECT_EQ_INT(cs.substituted, 0);
+    size_t n1, n2;
+    const tp_cut_node* x1 = tp_cut_nodes(cut, &n1);
+    const tp_cut_node* x2 = tp_cut_nodes(ref, &n2);
+    ASSERT_EQ_INT(n1, n2);
+    size_t differ = 0;
+    for (size_t i = 0; i < n1; i++)
+        differ += x1[i].node != x2[i].node || x1[i].level != x2[i].level;
+    EXPECT_EQ_INT(differ, 0);
+    /* and the streamed samples are the store's: the drawn surface is the same */
+    size_t bad = 0;
+    for (int y = 0; y < fx.h; y += 7)
+        for (int x = 0; x < fx.w; x += 7) {
+            double p = tp_cut_drawn_height_at(cut, x, y), q = tp_cut_drawn_height_at(ref, x, y);
+            bad += !(p == q || (isnan(p) && isnan(q)));
+        }
+    EXPECT_EQ_INT(bad, 0);
+    tp_stream_get_stats(st, &ss);
+    tp_test_note("%zu nodes resident (%.1f MB) of %lld after settling", ss.resident_nodes,
+                 ss.resident_bytes / 1e6, (long long)g->node_count);
+    EXPECT_TRUE(ss.resident_nodes < (size_t)g->node_count);
+    free(a);
+    free(b);
+    tp_cut_destroy(cut);
+    tp_cut_destroy(ref);
+    tp_stream_destroy(st);
+    close_fixture(&fx);
+}
+
+TEST(budget_is_honoured_along_a_flight_and_nothing_is_ever_a_hole)
+{
+    fixture fx;
+    ASSERT_TRUE(open_fixture(&fx, -1, 0));
+    const tp_tree_geometry* g = tp_tree_get_geometry(fx.tree);
+    size_t block = (((size_t)1 << g->n) + 1) * (((size_t)1 << g->n) + 1) * 2;
+    /* room for the roots and 150 more nodes: far less than the flight touches */
+    size_t budget = ((size_t)g->root_count + 150) * block;
+    char msg[512];
+    tp_stream_options o = {.memory_bytes = budget};
+    tp_stream* st = tp_stream_create(fx.store, fx.tree, &o, msg, sizeof msg);
+    ASSERT_TRUE(st != NULL);
+    tp_cut *cut = NULL, *ref = NULL, *pre = NULL;
+    tp_error err;
+    ASSERT_OK(tp_cut_create(fx.tree, &cut, &err));
+    ASSERT_OK(tp_cut_create(fx.tree, &pre, &err));
+    ASSERT_OK(tp_cut_create(fx.full, &ref, &err));
+    uint8_t* a = malloc((size_t)g->cols * g->rows);
+    uint8_t* b = malloc((size_t)g->cols * g->rows);
+    size_t max_resident = 0, holes = 0, released = 0, substituted_frames = 0;
+    const int frames = 300;
+    for (int i = 0; i < frames; i++) {
+        /* west to east and back along the crop, low */
+        double t = (double)i / (frames - 1), x = 20 + (fx.w - 40) * (t < 0.5 ? 2 * t : 2 - 2 * t);
+        tp_camera cam;
+        camera_at(&fx, x, fx.h / 2.0, t < 0.5 ? 90 : 270, &cam);
+        ASSERT_OK(tp_cut_update(cut, &cam, NULL, &err));
+        tp_stream_stats ss;
+        tp_stream_frame(st, cut, pre, &cam, NULL, &ss);
+        ASSERT_OK(tp_cut_update(ref, &cam, NULL, &err));
+        covered_leaves(fx.tree, cut, a);
+        covered_leaves(fx.full, ref, b);
+        for (size_t k = 0; k < (size_t)g->cols * g->rows; k++)
+            holes += b[k] && !a[k];
+        max_resident = ss.resident_bytes > max_resident ? ss.resident_bytes : max_resident;
+        released += (size_t)ss.released;
+        tp_cut_stats cs;
+        tp_cut_get_stats(cut, &cs);
+        substituted_frames += cs.substituted > 0;
+        sleep_ms(1);
+    }
+    tp_test_note("budget %.2f MB: at most %.2f MB resident, %zu nodes released, %zu of %d "
+                 "frames with substitutes",
+                 budget / 1e6, max_resident / 1e6, released, substituted_frames, frames);
+    EXPECT_EQ_INT(holes, 0);
+    EXPECT_TRUE(max_resident <= budget);
+    EXPECT_TRUE(released > 0); /* the flight needed more than the budget: it had to release */
+    free(a);
+    free(b);
+    tp_cut_destroy(cut);
+    tp_cut_destroy(pre);
+    tp_cut_destroy(ref);
+    tp_stream_destroy(st);
+    close_fixture(&fx);
+}
+
+TEST(a_damaged_node_is_reported_once_and_its_ancestor_drawn)
+{
+    fixture fx;
+    /* the leaf under the camera is written first; a byte of its data is then damaged */
+    ASSERT_TRUE(open_fixture(&fx, -1, 0));
+    const tp_tree_geometry* g = tp_tree_get_geometry(fx.full);
+    int64_t leaf = tp_tree_node_id(g, 0, 7, 10);
+    close_fixture(&fx);
+    ASSERT_TRUE(open_fixture(&fx, leaf, 1));
+    char msg[512];
+    tp_stream* st = tp_stream_create(fx.store, fx.tree, NULL, msg, sizeof msg);
+    ASSERT_TRUE(st != NULL);
+    tp_cut* cut = NULL;
+    tp_error err;
+    ASSERT_OK(tp_cut_create(fx.tree, &cut, &err));
+    tp_camera cam;
+    /* right above that leaf (17-sample leaves: column 7 is x = 112 .. 128), looking down */
+    double e = fx.gt[0] + 120.5 * fx.gt[1], n = fx.gt[3] + 168.5 * fx.gt[5];
+    double pos[3] = {e, n, 3200};
+    tp_camera_from_pose(pos, 0, -89, 60, 640, 360, &cam);
+    for (int i = 0; i < 2000; i++) {
+        ASSERT_OK(tp_cut_update(cut, &cam, NULL, &err));
+        tp_stream_stats ss;
+        tp_stream_frame(st, cut, NULL, &cam, NULL, &ss);
+        if (ss.failed && ss.pending == 0)
+            break;
+        sleep_ms(2);
+    }
+    const char* f = tp_stream_take_failure(st);
+    ASSERT_TRUE(f != NULL);
+    tp_test_note("reported: %s", f);
+    EXPECT_TRUE(strstr(f, "stream.tpt") != NULL);
+    EXPECT_TRUE(strstr(f, "node") != NULL);
+    EXPECT_TRUE(tp_stream_take_failure(st) == NULL); /* once */
+    /* the leaf is never drawn; what covers it is a substitute, and there is no hole there */
+    ASSERT_OK(tp_cut_update(cut, &cam, NULL, &err));
+    size_t count;
+    const tp_cut_node* nodes = tp_cut_nodes(cut, &count);
+    int leaf_drawn = 0, covered = 0;
+    for (size_t i = 0; i < count; i++) {
+        int s, c, r;
+        tp_tree_node_locate(g, nodes[i].node, &s, &c, &r);
+        leaf_drawn |= nodes[i].node == leaf;
+        covered |= (7 >> s) == c && (10 >> s) == r;
+    }
+    EXPECT_FALSE(leaf_drawn);
+    EXPECT_TRUE(covered);
+    tp_cut_destroy(cut);
+    tp_stream_destroy(st);
+    close_fixture(&fx);
+}
+
+TEST(require_loads_a_node_and_its_ancestors_now)
+{
+    fixture fx;
+    ASSERT_TRUE(open_fixture(&fx, -1, 0));
+    char msg[512];
+    tp_stream_options o = {.no_loader = 1};
+    tp_stream* st = tp_stream_create(fx.store, fx.tree, &o, msg, sizeof msg);
+    ASSERT_TRUE(st != NULL);
+    const tp_tree_geometry* g = tp_tree_get_geometry(fx.tree);
+    int64_t leaf = tp_tree_node_id(g, 0, 3, 5);
+    EXPECT_TRUE(tp_tree_samples(fx.tree, leaf) == NULL);
+    ASSERT_TRUE(tp_stream_require(st, leaf, msg, sizeof msg));
+    for (int64_t id = leaf; id >= 0; id = tp_tree_node_parent(g, id)) {
+        const uint16_t* s = tp_tree_samples(fx.tree, id);
+        ASSERT_TRUE(s != NULL);
+        size_t v = ((size_t)1 << g->n) + 1;
+        EXPECT_TRUE(memcmp(s, tp_tree_samples(fx.full, id), v * v * 2) == 0);
+    }
+    /* full resolution there: the height query answers as the resident tree does */
+    for (int y = 5 * 16; y <= 6 * 16; y++)
+        for (int x = 3 * 16; x <= 4 * 16; x++) {
+            double p = tp_tree_sample(fx.tree, x, y), q = tp_tree_sample(fx.full, x, y);
+            ASSERT_TRUE(p == q || (isnan(p) && isnan(q)));
+        }
+    tp_stream_destroy(st);
+    close_fixture(&fx);
+}
+
+#define TESTS(X)                                                                                   \
+    X(roots_first_then_the_view_fills_in_without_holes)                                            \
+    X(budget_is_honoured_along_a_flight_and_nothing_is_ever_a_hole)                                \
+    X(a_damaged_node_is_reported_once_and_its_ancestor_drawn)                                      \
+    X(require_loads_a_node_and_its_ancestors_now)
+TP_TEST_MAIN(TESTS)
