@@ -603,7 +603,8 @@ typedef struct tp_tree_geometry {
     int src_width, src_height;      /* the grid before padding */
     int width, height;              /* fitted: cols * 2^n + 1, rows * 2^n + 1 */
     int cols, rows;                 /* leaves */
-    int scales;                     /* scales 0 .. scales-1 hold at least one node */
+    int scales;                     /* scales 0 .. scales-1 hold at least one node (at most
+                                       TP_TREE_MAX_SCALES: coarser nodes are not built) */
     int node_cols[TP_TREE_MAX_SCALES], node_rows[TP_TREE_MAX_SCALES]; /* cols >> s, rows >> s */
     int64_t first_node[TP_TREE_MAX_SCALES]; /* id of node (s, 0, 0) */
     int64_t node_count;
@@ -640,8 +641,9 @@ void tp_tree_roots(const tp_tree_geometry* g, int64_t* roots, size_t root_capaci
 enum { TP_NODE_COMPLETE = 1, TP_NODE_HAS_DRAWN = 2 };
 typedef struct tp_node_meta {
     int32_t qmin, qmax;   /* global quantised range over the node's OWN drawn samples (its
-                             drawn geometry: the AABB); qmin > qmax when none */
-    int32_t area_qmin, area_qmax; /* over every drawn full-resolution sample of its area */
+                             drawn geometry: the AABB); 0, -1 when none */
+    int32_t area_qmin, area_qmax; /* over every drawn full-resolution sample of its area;
+                                     0, -1 when none */
     uint8_t flags;        /* TP_NODE_COMPLETE: every full-resolution sample of the area is
                              drawn; TP_NODE_HAS_DRAWN: at least one is */
     uint8_t pad_[3];
@@ -655,20 +657,28 @@ typedef struct tp_node_meta {
 } tp_node_meta;
 
 /* The error unit of a tree (steps): step/16, or the finest power of two of steps up to 1 for
- * which the global height range (steps, >= 0) fits TP_NODE_ERR_SAT - 1 units. */
+ * which the global height range (steps, >= 0) fits TP_NODE_ERR_SAT - 1 units. Every bound is
+ * clamped to its node's area range, so with this unit TP_NODE_ERR_SAT is never stored unless
+ * the global range exceeds 65534 steps (tp_tree_create_from_grid never lets it). */
 double tp_tree_err_unit_steps(double range_steps);
 
 /* Computes the meta of one node from its own samples q ((2^n+1)^2 global quantised heights,
  * row-major, INT32_MIN where not drawn) and, for a node of scale >= 1, its 4 children's metas
  * (children[q] as tp_tree_node_child numbers them; NULL for a leaf): the children carry the
  * error of the full-resolution samples between this node's samples, and the area's range and
- * flags. err_unit_steps from tp_tree_err_unit_steps. Cannot fail. */
+ * flags. err_unit_steps from tp_tree_err_unit_steps. A leaf's tables are exactly
+ * tp_terrain's patch tables for the same samples (one implementation). For scale >= 1:
+ * delta[k] = delta_own(k) + carry, delta[n] = carry, eps = the stitched triangles' error at the
+ * corners of every cell they touch + carry, carry = max of the children's delta[n-1] (see
+ * node_meta.c); a node that is not COMPLETE gets its area range for every level below n and
+ * every eps (it is only drawn at level n). Cannot fail. */
 void tp_node_meta_compute(int n, int scale, const int32_t* q, const tp_node_meta* const children[4],
                           double err_unit_steps, tp_node_meta* out);
 
 /* Bound (metres, quantisation NOT included) of node's vertical error at level k with the given
  * relative neighbour levels (as tp_patch_error_bound; TP_NO_NEIGHBOR for none or for "no vertex
- * moves on that side"). */
+ * moves on that side"; neighbor_levels may be NULL), against every full-resolution sample
+ * under the node's drawn triangles. Cannot fail. */
 double tp_node_error_bound(const tp_node_meta* m, int n, int k, const int neighbor_levels[4],
                            double step_m, double err_unit_steps);
 
@@ -677,8 +687,12 @@ double tp_node_error_bound(const tp_node_meta* m, int n, int k, const int neighb
  * The builder takes the fitted grid top to bottom in bands of 2^n + 1 rows (band r is rows
  * r*2^n .. (r+1)*2^n: consecutive bands share a row), computes every leaf of the band, keeps the
  * decimated rows each coarser scale needs, and emits each node once, as soon as its samples and
- * its children are known: every node after its 4 children. Memory: about 2 * (2^n + 1) * width
- * int32 plus one row of metas per scale, whatever the height.
+ * its children are known: every node after its 4 children (within a band: its leaves left to
+ * right, then each coarser scale's completed row). Memory, all allocated by
+ * tp_tree_builder_create, nothing per band, whatever the height: at most
+ *   4 (2^n+1) ((2 + 2^-n) width + scales) + 4 cols sizeof(tp_node_meta) + 2048 bytes
+ * (the decimated rows of every scale, one block of samples per node of a row, two rows of
+ * metas per scale).
  * The per-node work (tp_node_meta_compute) may be spread over threads by the caller's
  * parallel_for. */
 typedef struct tp_tree_builder tp_tree_builder;
@@ -702,9 +716,10 @@ typedef struct tp_tree_builder_desc {
 tp_status tp_tree_builder_create(const tp_tree_builder_desc* desc, tp_tree_builder** out,
                                  tp_error* err);
 /* Adds band r (0 .. rows-1, in order): q holds (2^n+1) rows of `width` global quantised heights
- * (INT32_MIN = not drawn, padding included), q_count = (2^n+1) * width. Emits the band's leaves
- * and every node completed by them. TP_ERR_INVALID_ARG for a band out of order; the emit
- * callback's failure. */
+ * (INT32_MIN = not drawn, padding included), q_count = (2^n+1) * width (asserted). Emits the
+ * band's leaves and every node completed by them. TP_ERR_INVALID_ARG for a band out of order
+ * (nothing emitted, the builder unchanged) or after an emit failure (the builder then refuses
+ * every band); TP_ERR_IO when emit returns non-zero. */
 tp_status tp_tree_builder_add_band(tp_tree_builder* b, int r, const int32_t* q, size_t q_count,
                                    tp_error* err);
 void tp_tree_builder_destroy(tp_tree_builder* b); /* accepts NULL */
@@ -724,6 +739,9 @@ typedef struct tp_tree_desc {
     tp_allocator allocator;
 } tp_tree_desc;
 
+/* TP_ERR_INVALID_ARG for a geometry not from tp_tree_geometry_init, metas NULL or meta_count
+ * not node_count, a step or unit not > 0, a half-set allocator; TP_ERR_OUT_OF_MEMORY. No node
+ * is resident at first. */
 tp_status tp_tree_create(const tp_tree_desc* desc, tp_tree** out, tp_error* err);
 void tp_tree_destroy(tp_tree* t); /* accepts NULL */
 const tp_tree_geometry* tp_tree_get_geometry(const tp_tree* t);
@@ -739,7 +757,13 @@ const uint16_t* tp_tree_samples(const tp_tree* t, int64_t node); /* NULL when no
 
 /* Builds a whole tree in memory from a float grid (NaN = nodata): metas and every node's samples
  * owned by the tree and attached. For tests and small grids; the store build uses the builder.
- * height_step_m 0: automatic as tp_terrain_create (1 m for integral heights). */
+ * geotransform NULL or all zeros: (0, 1, 0, 0, 0, -1); patch_size 0: TP_DEFAULT_PATCH_SIZE.
+ * height_step_m 0: automatic as tp_terrain_create (1 m for integral heights, else the finest
+ * 2^-p m, p <= 10), but for ONE range: every node up to the root stores its samples in 16 bits,
+ * so the global range must fit 65534 steps (a coarser step is chosen where it does not).
+ * TP_ERR_INVALID_ARG for a count that does not match, sizes or patch size out of range, a
+ * rotated geotransform, an explicit step too fine; TP_ERR_BAD_DATA if no height is valid;
+ * TP_ERR_OUT_OF_MEMORY. */
 tp_status tp_tree_create_from_grid(const float* heights, size_t height_count, int width,
                                    int height, const double geotransform[6], int patch_size,
                                    double height_step_m, tp_tree** out, tp_error* err);

@@ -179,6 +179,16 @@ static inline uint16_t tp__err_units(double steps, double unit_steps)
     return u >= TP__ERR_SAT ? (uint16_t)TP__ERR_SAT : (uint16_t)(u < 0 ? 0 : u);
 }
 
+/* The tree at run time (tree.c). Core code (the cut) reads desc for the step, quantisation
+ * error, err_unit and metas. */
+struct tp_tree {
+    tp_tree_desc desc;          /* metas borrowed (or owned, below) */
+    tp_allocator alloc;         /* always set */
+    const uint16_t** samples;   /* node_count pointers, NULL when not resident */
+    tp_node_meta* owned_metas;  /* tp_tree_create_from_grid: metas and samples owned */
+    uint16_t* owned_samples;
+};
+
 /* The tree takes ownership of metas and samples (tree.c; for tp_tree_create_from_grid). */
 void tp__tree_own(tp_tree* t, tp_node_meta* metas, uint16_t* samples);
 

@@ -123,14 +123,6 @@ void tp_tree_roots(const tp_tree_geometry* g, int64_t* roots, size_t root_capaci
 /* ---------------------------------------------------------------------------------------------
  * The tree at run time
  */
-struct tp_tree {
-    tp_tree_desc desc;          /* metas borrowed (or owned, below) */
-    tp_allocator alloc;         /* always set */
-    const uint16_t** samples;   /* node_count pointers, NULL when not resident */
-    tp_node_meta* owned_metas;  /* tp_tree_create_from_grid: metas and samples owned */
-    uint16_t* owned_samples;
-};
-
 tp_status tp_tree_create(const tp_tree_desc* desc, tp_tree** out, tp_error* err)
 {
     assert(desc && out);

@@ -510,15 +510,23 @@ typedef struct tp_store_header {
 } tp_store_header;
 
 typedef struct tp_store_writer tp_store_writer;
-/* Starts writing path (tp_file_begin). TP_ERR_IO / TP_ERR_INVALID_ARG with a message naming
- * path. */
+/* Starts writing path (tp_file_begin) and writes the header. TP_ERR_INVALID_ARG for a geometry
+ * that is not the one of (n, src_width, src_height) (the message names the field), a CRS or notes
+ * over 16 MiB; TP_ERR_IO; each with a message naming path. *out written only on success. The
+ * writer keeps the node table in memory (38 + 10n bytes per node), never the data. */
 tp_status tp_store_writer_begin(const char* path, const tp_store_header* header,
                                 tp_store_writer** out, tp_error* err);
 /* Adds one node (any order; each node exactly once): its meta and its (2^n+1)^2 global
- * quantised heights (INT32_MIN = not drawn), which the writer stores relative to meta->qmin. */
+ * quantised heights (INT32_MIN = not drawn), which the writer stores relative to meta->qmin,
+ * compressed, and appends to the file at once. TP_ERR_INVALID_ARG (nothing written, w still
+ * usable) for a node that does not exist or was added already, unknown flags, a drawn height
+ * outside meta's qmin..qmax or a range wider than 65534 steps; TP_ERR_IO when the write fails
+ * (then every later call and the commit fail the same way: abort w). */
 tp_status tp_store_writer_add_node(tp_store_writer* w, int64_t node, const tp_node_meta* meta,
                                    const int32_t* q, tp_error* err);
-/* Writes the node table and makes the file (fails if a node is missing). Frees w. */
+/* Writes the node table and the footer and makes the file (tp_file_commit). Frees w, whatever
+ * happens. TP_ERR_INVALID_ARG when a node is missing (the message says how many and the first),
+ * TP_ERR_IO; on failure no file is left and an older path is as it was. */
 tp_status tp_store_writer_commit(tp_store_writer* w, tp_error* err);
 void tp_store_writer_abort(tp_store_writer* w); /* accepts NULL; leaves no file */
 
@@ -530,18 +538,27 @@ typedef struct tp_store_info {
     double bytes_per_sample;   /* file_bytes / (src_width * src_height) */
 } tp_store_info;
 
-/* Opens a store: checks magic, version (a newer one: "written by a newer terrapatch (format N;
- * this one reads up to M)"), the header's and the node table's checksums and sizes against the
- * file. TP_ERR_BAD_DATA / TP_ERR_IO with a message naming path. */
+/* Opens a store: checks magic ("not a terrapatch store"), the header's checksum, the version (a
+ * newer one: "written by a newer terrapatch (format N; this one reads up to M)"), the geometry
+ * against the one n and the source size define, the footer's and the node table's checksums,
+ * and that every node's data lies inside the file. Keeps the decoded metas and where each
+ * node's data is: 128 bytes per node. TP_ERR_BAD_DATA (damaged, truncated, not a store) /
+ * TP_ERR_IO (cannot read; a FIFO, device or folder) with a message naming path; *out written
+ * only on success. */
 tp_status tp_store_open(const char* path, tp_store** out, tp_error* err);
 void tp_store_close(tp_store* s); /* accepts NULL */
 void tp_store_get_info(const tp_store* s, tp_store_info* out);
-/* Every node's meta (node_count of them), valid while s is open. */
+/* Every node's meta (node_count of them, in id order; delta[k > n], eps[][kn >= n] and pad_
+ * are 0), owned by s and valid while s is open. */
 const tp_node_meta* tp_store_metas(const tp_store* s, size_t* count);
 /* Reads, checks (CRC32) and decodes node's samples into samples ((2^n+1)^2 uint16 relative to
- * its qmin, TP_TREE_NO_HEIGHT where not drawn; sample_capacity at least that). Thread-safe.
- * TP_ERR_BAD_DATA for a checksum or decoding failure, TP_ERR_IO for a read failure, each with a
- * message naming the file, the node and its byte offset. */
+ * its qmin, TP_TREE_NO_HEIGHT where not drawn; sample_capacity at least that; node in
+ * 0..node_count-1). Thread-safe: any number of threads may read one open store at once (pread;
+ * each thread keeps its own zstd context and buffers for its lifetime). About 15 us for a
+ * 65x65 node (docs/store.md). TP_ERR_BAD_DATA for a checksum or decoding failure or a sample
+ * outside the node's range, TP_ERR_IO for a read failure, each with a message naming the file,
+ * the node ("node 38 (scale 0, column 3, row 4)") and its byte offset; samples are written
+ * only on success. */
 tp_status tp_store_read_node(const tp_store* s, int64_t node, uint16_t* samples,
                              size_t sample_capacity, tp_error* err);
 

@@ -119,10 +119,8 @@ inline double get_f64(const uint8_t* p)
 /* zlib's CRC32 (the one of gzip and PNG) of any length. */
 uint32_t crc32_of(const void* data, size_t size);
 
-/* The geometry a store of n, src_width x src_height must have (as tp_core.h's "Hierarchy"
- * defines it: the fewest leaves covering the grid, ids from the top scale down). false when
- * the sizes are outside their ranges (n 4..TP_MAX_N, sizes 1..2^30, at most
- * TP_TREE_MAX_SCALES scales). */
+/* The geometry a store of n, src_width x src_height must have: tp_tree_geometry_init's. false
+ * when the sizes are outside its ranges (n 4..TP_MAX_N, sizes 1..2^30). */
 bool geometry_for(int n, int src_width, int src_height, tp_tree_geometry* out);
 /* Compares the fields that define a geometry (scales 0..scales-1 only); on a mismatch writes
  * which field differs ("cols 3, expected 4") into why and returns false. */

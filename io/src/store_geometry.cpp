@@ -1,56 +1,16 @@
-/* store_geometry.cpp - the tree geometry a store's header must describe, derived from n and the
- * source size as tp_core.h's "Hierarchy" section defines it, so that a reader trusts no count
- * in a file it has not recomputed (docs/store.md, "Geometry"). */
+/* store_geometry.cpp - the tree geometry a store's header must describe: tp_tree_geometry_init
+ * of n and the source size, so that a reader trusts no count in a file it has not recomputed
+ * (docs/store.md, "Header"); and a node's place, for the messages. */
 #include "store_format.hpp"
-
-#include <algorithm>
 
 namespace tpio {
 namespace store {
 
 bool geometry_for(int n, int src_width, int src_height, tp_tree_geometry* out)
 {
-    if (n < 4 || n > TP_MAX_N || src_width < 1 || src_height < 1 || src_width > (1 << 30) ||
-        src_height > (1 << 30))
+    if (n < 4 || n > TP_MAX_N)
         return false;
-    tp_tree_geometry g;
-    std::memset(&g, 0, sizeof g);
-    g.n = n;
-    g.src_width = src_width;
-    g.src_height = src_height;
-    const int64_t step = (int64_t)1 << n;
-    /* the fewest leaves whose samples cover the grid: cols * 2^n + 1 >= src_width */
-    g.cols = (int)std::max<int64_t>(1, (src_width - 1 + step - 1) / step);
-    g.rows = (int)std::max<int64_t>(1, (src_height - 1 + step - 1) / step);
-    g.width = (int)(g.cols * step + 1);
-    g.height = (int)(g.rows * step + 1);
-    int scales = 0;
-    while (scales < 31 && (g.cols >> scales) >= 1 && (g.rows >> scales) >= 1)
-        ++scales;
-    if (scales > TP_TREE_MAX_SCALES)
-        return false;
-    g.scales = scales;
-    for (int s = 0; s < TP_TREE_MAX_SCALES; ++s) {
-        g.node_cols[s] = g.cols >> s;
-        g.node_rows[s] = g.rows >> s;
-    }
-    int64_t id = 0;
-    for (int s = scales - 1; s >= 0; --s) {
-        g.first_node[s] = id;
-        id += (int64_t)g.node_cols[s] * g.node_rows[s];
-    }
-    g.node_count = id;
-    /* roots: every node of the top scale, and below it the nodes whose parent (c/2, r/2) does
-     * not exist */
-    int64_t roots = (int64_t)g.node_cols[scales - 1] * g.node_rows[scales - 1];
-    for (int s = 0; s + 1 < scales; ++s) {
-        const int64_t covered_c = std::min<int64_t>(g.node_cols[s], 2 * (int64_t)g.node_cols[s + 1]);
-        const int64_t covered_r = std::min<int64_t>(g.node_rows[s], 2 * (int64_t)g.node_rows[s + 1]);
-        roots += (int64_t)g.node_cols[s] * g.node_rows[s] - covered_c * covered_r;
-    }
-    g.root_count = roots;
-    *out = g;
-    return true;
+    return tp_tree_geometry_init(src_width, src_height, (1 << n) + 1, out, nullptr) == TP_OK;
 }
 
 bool geometry_same(const tp_tree_geometry& got, const tp_tree_geometry& want, std::string* why)
@@ -93,13 +53,7 @@ bool geometry_same(const tp_tree_geometry& got, const tp_tree_geometry& want, st
 
 void node_locate(const tp_tree_geometry& g, int64_t id, int* s, int* c, int* r)
 {
-    int scale = 0;
-    while (scale + 1 < g.scales && id < g.first_node[scale])
-        ++scale;
-    const int64_t k = id - g.first_node[scale];
-    *s = scale;
-    *c = (int)(k % g.node_cols[scale]);
-    *r = (int)(k / g.node_cols[scale]);
+    tp_tree_node_locate(&g, id, s, c, r);
 }
 
 } // namespace store

@@ -35,7 +35,8 @@ struct tp_store_writer {
     ZSTD_CCtx* cctx = nullptr;
     std::vector<uint16_t> rel;    /* one node's samples relative to its qmin */
     std::vector<uint8_t> scratch, packed;
-    tp_status failed = TP_OK;     /* a write failed: every later call returns it */
+    tp_status failed = TP_OK;     /* a write failed: every later call returns it, */
+    std::string failure;          /* with its message */
     ~tp_store_writer()
     {
         tp_file_abort(file);
@@ -101,11 +102,16 @@ void encode_entry(uint8_t* e, int n, uint64_t offset, uint32_t bytes, uint32_t c
             put_u16(p, m->eps[side][k]);
 }
 
-/* Remembers a write failure, so that commit reports it too. */
-tp_status note(tp_store_writer* w, tp_status s)
+/* Remembers a write failure, so that later calls and commit report it too. */
+tp_status note(tp_store_writer* w, tp_status s, const tp_error* err)
 {
-    if (s != TP_OK && s != TP_ERR_INVALID_ARG)
+    if (s != TP_OK && s != TP_ERR_INVALID_ARG) {
         w->failed = s;
+        try {
+            w->failure = err ? err->message : w->path + ": cannot write";
+        } catch (...) {
+        }
+    }
     return s;
 }
 
@@ -170,7 +176,7 @@ extern "C" tp_status tp_store_writer_add_node(tp_store_writer* w, int64_t node,
         return fail(err, TP_ERR_INVALID_ARG, "store: bad arguments (writer, meta or q is NULL)");
     const char* path = w->path.c_str();
     if (w->failed != TP_OK)
-        return fail(err, w->failed, "%s: an earlier write failed", path);
+        return fail(err, w->failed, "%s", w->failure.empty() ? path : w->failure.c_str());
     const tp_tree_geometry& g = w->geometry;
     if (node < 0 || node >= g.node_count)
         return fail(err, TP_ERR_INVALID_ARG, "%s: node %lld does not exist (%lld nodes)", path,
@@ -206,7 +212,7 @@ extern "C" tp_status tp_store_writer_add_node(tp_store_writer* w, int64_t node,
             encode_node(w->rel.data(), side, ZSTD_LEVEL, w->cctx, &w->scratch, &w->packed);
         const tp_status s = tp_file_append(w->file, w->packed.data(), w->packed.size(), err);
         if (s != TP_OK)
-            return note(w, s);
+            return note(w, s, err);
         encode_entry(w->table.data() + (size_t)node * w->entry_size, g.n, w->offset,
                      (uint32_t)w->packed.size(), crc32_of(w->packed.data(), w->packed.size()),
                      codec, meta);
@@ -215,7 +221,7 @@ extern "C" tp_status tp_store_writer_add_node(tp_store_writer* w, int64_t node,
         --w->missing;
         return TP_OK;
     } catch (...) {
-        return note(w, tpio::caught(err, path));
+        return note(w, tpio::caught(err, path), err);
     }
 }
 
@@ -227,7 +233,7 @@ extern "C" tp_status tp_store_writer_commit(tp_store_writer* w, tp_error* err)
     try {
         const char* path = w->path.c_str();
         if (w->failed != TP_OK) {
-            s = fail(err, w->failed, "%s: an earlier write failed; not written", path);
+            s = fail(err, w->failed, "%s", w->failure.empty() ? path : w->failure.c_str());
         } else if (w->missing > 0) {
             int64_t first = 0;
             while (w->have[(size_t)first])

@@ -1,13 +1,15 @@
 /*
- * make_seeds.cpp - writes the seed corpora of fuzz_dem_read, fuzz_image_read and
- * fuzz_mesh_inspect (corpus/<fuzzer>/) from the real files: 16x16 crops of the shared DEMs
- * (../shared/data, PROVENANCE.md) through GDAL in each DEM format the reader documents, crops
- * of the Puget Sound heightmap through OpenImageIO in each heightmap format, and a 3x3-post
- * mesh written by tp_mesh_write in each VTK format. Each seed is the byte that picks the file
+ * make_seeds.cpp - writes the seed corpora of fuzz_dem_read, fuzz_image_read,
+ * fuzz_mesh_inspect and fuzz_store_read (corpus/<fuzzer>/) from the real files: 16x16 crops of
+ * the shared DEMs (../shared/data, PROVENANCE.md) through GDAL in each DEM format the reader
+ * documents, crops of the Puget Sound heightmap through OpenImageIO in each heightmap format, a
+ * 3x3-post mesh written by tp_mesh_write in each VTK format, and a 49x33 crop of Storm Lake
+ * (with its nodata edge) as a terrain store of 17x17 nodes. Each seed is the byte that picks the file
  * name in the fuzzer (its kNames) and the file. Built in build-fuzz/ (not a test):
  *   build-fuzz/fuzz/tp_fuzz_make_seeds ../shared/data tests/fuzz/corpus
  */
 #include "tp_io.h"
+#include "../tp_test_tree.h"
 
 #include <OpenImageIO/imageio.h>
 #include <cpl_conv.h>
@@ -16,7 +18,10 @@
 #include <gdal.h>
 #include <gdal_utils.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <cstdlib>
 #include <fstream>
 #include <iterator>
@@ -144,6 +149,64 @@ void mesh(const std::string& name, unsigned char pick, tp_mesh_format format)
     VSIRmdirRecursive(dir.c_str());
 }
 
+/* A 49 x 33 crop of a DEM (1 m steps) as a store of 17 x 17 nodes (3 x 2 leaves and their
+ * parent: 7 nodes), written leaves first as the tree builder does. */
+void store(const std::string& src, const std::string& name)
+{
+    tp_dem* d = nullptr;
+    tp_error err = {{0}};
+    if (tp_dem_read(src.c_str(), &d, &err) != TP_OK || d->width < 49 || d->height < 33) {
+        std::fprintf(stderr, "skipped %s: %s\n", name.c_str(), err.message);
+        tp_dem_destroy(d);
+        return;
+    }
+    const int w = 49, h = 33, side = 17;
+    tp_store_header hd = {};
+    tpt_tree_geometry(w, h, side, &hd.geometry);
+    std::memcpy(hd.geotransform, d->geotransform, sizeof hd.geotransform);
+    hd.height_step_m = 1;
+    hd.quant_max_error_m = 0.5;
+    hd.err_unit_steps = 1.0 / 16;
+    hd.crs_wkt = "EPSG:26912";
+    hd.notes = "seed: storml_elev_orig.tif 49x33";
+    const std::string path =
+        std::string(std::getenv("TMPDIR") ? std::getenv("TMPDIR") : "/tmp") + "/tp_seed.tpt";
+    tp_store_writer* sw = nullptr;
+    tp_status s = tp_store_writer_begin(path.c_str(), &hd, &sw, &err);
+    const tp_tree_geometry& g = hd.geometry;
+    for (int sc = 0; s == TP_OK && sc < g.scales; ++sc)
+        for (int r = 0; s == TP_OK && r < g.node_rows[sc]; ++r)
+            for (int c = 0; s == TP_OK && c < g.node_cols[sc]; ++c) {
+                std::vector<int32_t> q(side * side);
+                tp_node_meta m = {};
+                m.qmin = INT32_MAX, m.qmax = INT32_MIN;
+                for (int j = 0; j < side; ++j)
+                    for (int i = 0; i < side; ++i) {
+                        const int x = (c << (4 + sc)) + (i << sc), y = (r << (4 + sc)) + (j << sc);
+                        const float v = x < w && y < h ? d->heights[y * d->width + x] : NAN;
+                        const int32_t qv = std::isnan(v) ? INT32_MIN : (int32_t)std::lrint(v);
+                        q[j * side + i] = qv;
+                        if (qv != INT32_MIN)
+                            m.qmin = std::min(m.qmin, qv), m.qmax = std::max(m.qmax, qv);
+                    }
+                m.flags = m.qmin <= m.qmax ? TP_NODE_HAS_DRAWN : 0;
+                for (int k = 0; k <= 4; ++k)
+                    m.delta[k] = (uint16_t)(40 >> k);
+                const int64_t id = g.first_node[sc] + (int64_t)r * g.node_cols[sc] + c;
+                s = tp_store_writer_add_node(sw, id, &m, q.data(), &err);
+            }
+    if (s == TP_OK)
+        s = tp_store_writer_commit(sw, &err);
+    else
+        tp_store_writer_abort(sw);
+    if (s != TP_OK)
+        std::fprintf(stderr, "skipped %s: %s\n", name.c_str(), err.message);
+    else
+        save("fuzz_store_read", name, 1, slurp(path)); /* 1: the fuzzer fixes checksums */
+    std::remove(path.c_str());
+    tp_dem_destroy(d);
+}
+
 } // namespace
 
 int main(int argc, char** argv)
@@ -155,6 +218,8 @@ int main(int argc, char** argv)
     const std::string data = argv[1];
     g_out = argv[2];
     GDALAllRegister();
+
+    store(data + "/storml_elev_orig.tif", "storml_49x33.tpt");
 
     /* DEMs; picks index fuzz_dem_read.cpp's kNames (0 .tif, 1 .asc, 2 .xyz, 3 .dem, 4 .bt,
      * 5 .grd, 6 .ter, 7 .img, 9 .dt1, 10 .txt) */
