@@ -7,8 +7,12 @@
  * and every neighbour level kn < n, eps[side][kn] is the largest error of any triangle with a
  * vertex moved by that side, over every level k > kn. With nearest-vertex snapping toward the
  * corners, a triangle with vertices moved by two sides collapses for k >= 2 (the vertices next
- * to a corner both snap onto it), so one side at a time is exact there; at k = 1 all 16
- * combinations of moved sides are measured.
+ * to a corner both snap onto it), so one side at a time is exact there. At k = 1 a triangle's
+ * vertices can be moved by the two sides of its cell's corner (the cell's other vertices are a
+ * corner and the centre, which never move): a triangle's error depends only on the moves of its
+ * own vertices, so one more measure per cell, with both of its sides moved, covers every
+ * combination of moved sides (measuring all 16 combinations over the whole lattice gave the
+ * same values, 15 times slower).
  *
  * A leaf of a tree (and a patch) holds every full-resolution sample of its area, so measuring
  * at its own samples is exact. A node of scale s >= 1 holds every 2^s-th sample only; its
@@ -28,7 +32,11 @@ double tp__lattice_level_error(int n, const int32_t* q, int k)
     assert(q && n >= 0 && n <= TP_MAX_N && k >= 0 && k <= n);
     int side = (1 << n) + 1;
     int s = 1 << (n - k), cells = 1 << k;
-    double mx = 0;
+    /* In integers scaled by s: the plane at (i, j) of a cell is z = q00 + (i dx + j dy) / s, so
+     * s |z - v| = |s q00 + i dx + j dy - s v| exactly (|q| < 2^31, s <= 2^8: fits 64 bits), and
+     * dividing the largest by s (a power of two) gives the same double as measuring each in
+     * doubles would. */
+    int64_t mx = 0;
     for (int cy = 0; cy < cells; cy++)
         for (int cx = 0; cx < cells; cx++) {
             int xa = cx * s, ya = cy * s;
@@ -36,24 +44,31 @@ double tp__lattice_level_error(int n, const int32_t* q, int k)
             int32_t q01 = lq(q, side, xa, ya + s), q11 = lq(q, side, xa + s, ya + s);
             int lower = q00 != INT32_MIN && q10 != INT32_MIN && q01 != INT32_MIN;
             int upper = q11 != INT32_MIN && q10 != INT32_MIN && q01 != INT32_MIN;
-            for (int j = 0; j <= s; j++)
-                for (int i = 0; i <= s; i++) {
-                    int32_t v = lq(q, side, xa + i, ya + j);
+            if (!lower && !upper)
+                continue;
+            /* lower: i + j <= s, z s = q00 s + i (q10 - q00) + j (q01 - q00); upper (the rest,
+             * or all of i + j >= s when lower is not drawn): q11 s + (s - i)(q01 - q11) +
+             * (s - j)(q10 - q11) */
+            const int64_t ldx = (int64_t)q10 - q00, ldy = (int64_t)q01 - q00;
+            const int64_t udx = (int64_t)q11 - q01, udy = (int64_t)q11 - q10;
+            const int64_t l0 = (int64_t)q00 * s, u0 = (int64_t)q11 * s - (int64_t)s * udx -
+                                                      (int64_t)s * udy;
+            for (int j = 0; j <= s; j++) {
+                const int32_t* row = q + (size_t)(ya + j) * (size_t)side + xa;
+                int i0 = lower ? 0 : s - j, i1 = upper ? s : s - j;
+                for (int i = i0; i <= i1; i++) {
+                    int32_t v = row[i];
                     if (v == INT32_MIN)
                         continue;
-                    double fx = (double)i / s, fy = (double)j / s, z;
-                    /* Exact: i/s is dyadic and heights are integers. */
-                    if (i + j <= s && lower)
-                        z = q00 + fx * ((double)q10 - q00) + fy * ((double)q01 - q00);
-                    else if (i + j >= s && upper)
-                        z = q11 + (1 - fx) * ((double)q01 - q11) + (1 - fy) * ((double)q10 - q11);
-                    else
-                        continue;
-                    double e = fabs(z - v);
+                    int64_t zs = lower && i + j <= s ? l0 + i * ldx + j * ldy
+                                                     : u0 + i * udx + j * udy;
+                    int64_t e = zs - (int64_t)v * s;
+                    e = e < 0 ? -e : e;
                     mx = e > mx ? e : mx;
                 }
+            }
         }
-    return mx;
+    return (double)mx / s;
 }
 
 /* Vertex (i, j) of level k lies on which side (-1 for none or a corner)? */
@@ -73,25 +88,44 @@ static int side_of(int i, int j, int last)
     return -1;
 }
 
-typedef struct {
-    const int32_t* q;
-    int side;
-    double max; /* in steps */
-} err_acc;
-
-static void acc_sample(int x, int y, double z, void* user)
-{
-    err_acc* a = user;
-    int32_t v = lq(a->q, a->side, x, y);
-    if (v == INT32_MIN)
-        return;
-    double e = fabs(z - v);
-    a->max = e > a->max ? e : a->max;
-}
-
 static int64_t edge(const int32_t a[2], const int32_t b[2], int64_t x, int64_t y)
 {
     return ((int64_t)b[0] - a[0]) * (y - a[1]) - ((int64_t)b[1] - a[1]) * (x - a[0]);
+}
+
+/* The largest |T - q| over the lattice samples a triangle T covers (closed), as
+ * tp__raster_triangle visits them, with its arithmetic (so the same doubles), inline. */
+static double raster_error(const int32_t* q, int side, const int32_t pos[3][2], const double z[3])
+{
+    const int32_t *a = pos[0], *b = pos[1], *c = pos[2];
+    int64_t area = edge(a, b, c[0], c[1]);
+    if (area == 0)
+        return 0;
+    int32_t x0 = a[0], x1 = a[0], y0 = a[1], y1 = a[1];
+    for (int v = 1; v < 3; v++) {
+        x0 = pos[v][0] < x0 ? pos[v][0] : x0;
+        x1 = pos[v][0] > x1 ? pos[v][0] : x1;
+        y0 = pos[v][1] < y0 ? pos[v][1] : y0;
+        y1 = pos[v][1] > y1 ? pos[v][1] : y1;
+    }
+    double inv = 1.0 / (double)area, mx = 0;
+    int64_t sa = -((int64_t)c[1] - b[1]), sb = -((int64_t)a[1] - c[1]), sc = -((int64_t)b[1] - a[1]);
+    int64_t sign = area > 0 ? 1 : -1;
+    for (int32_t y = y0; y <= y1; y++) {
+        int64_t wa = edge(b, c, x0, y), wb = edge(c, a, x0, y), wc = edge(a, b, x0, y);
+        const int32_t* row = q + (size_t)y * (size_t)side;
+        for (int32_t x = x0; x <= x1; x++, wa += sa, wb += sb, wc += sc) {
+            if (wa * sign < 0 || wb * sign < 0 || wc * sign < 0)
+                continue;
+            int32_t v = row[x];
+            if (v == INT32_MIN)
+                continue;
+            double zt = ((double)wa * z[0] + (double)wb * z[1] + (double)wc * z[2]) * inv;
+            double e = fabs(zt - v);
+            mx = e > mx ? e : mx;
+        }
+    }
+    return mx;
 }
 
 /* The cell bound of a node of scale >= 1 (cells = 1 in tp__lattice_eps).
@@ -177,14 +211,7 @@ static void stitched_error(int n, const int32_t* q, int cells_mode, int k, const
                 }
                 if (!sides || !drawn)
                     continue;
-                double e;
-                if (cells_mode) {
-                    e = cell_bound(q, side, pos, z);
-                } else {
-                    err_acc a = {q, side, 0};
-                    tp__raster_triangle(pos[0], pos[1], pos[2], z[0], z[1], z[2], acc_sample, &a);
-                    e = a.max;
-                }
+                double e = cells_mode ? cell_bound(q, side, pos, z) : raster_error(q, side, pos, z);
                 for (int s = 0; s < 4; s++)
                     if (sides >> s & 1)
                         out[s] = e > out[s] ? e : out[s];
@@ -211,13 +238,14 @@ void tp__lattice_eps(int n, const int32_t* q, int cells, double eps[4][TP_MAX_N]
                 stitched_error(n, q, cells, k, nb, cx0, cx1, cy0, cy1, e);
                 eps[s][kn] = e[s] > eps[s][kn] ? e[s] : eps[s][kn];
             }
-        if (k == 1) /* every side touches every cell: measure all combinations */
-            for (int mask = 1; mask < 16; mask++) {
-                int nb[4];
-                for (int s = 0; s < 4; s++)
-                    nb[s] = mask >> s & 1 ? 0 : TP_NO_NEIGHBOR;
+        if (k == 1) /* both sides of each cell's corner moved (see the top of this file) */
+            for (int c = 0; c < 4; c++) {
+                int cx = c & 1, cy = c >> 1;
+                int nb[4] = {TP_NO_NEIGHBOR, TP_NO_NEIGHBOR, TP_NO_NEIGHBOR, TP_NO_NEIGHBOR};
+                nb[cy ? TP_SIDE_BOTTOM : TP_SIDE_TOP] = 0;
+                nb[cx ? TP_SIDE_RIGHT : TP_SIDE_LEFT] = 0;
                 double e[4] = {0, 0, 0, 0};
-                stitched_error(n, q, cells, 1, nb, 0, 2, 0, 2, e);
+                stitched_error(n, q, cells, 1, nb, cx, cx + 1, cy, cy + 1, e);
                 for (int s = 0; s < 4; s++)
                     eps[s][0] = e[s] > eps[s][0] ? e[s] : eps[s][0];
             }
