@@ -93,9 +93,33 @@ static int64_t edge(const int32_t a[2], const int32_t b[2], int64_t x, int64_t y
     return ((int64_t)b[0] - a[0]) * (y - a[1]) - ((int64_t)b[1] - a[1]) * (x - a[0]);
 }
 
-/* The largest |T - q| over the lattice samples a triangle T covers (closed), as
- * tp__raster_triangle visits them, with its arithmetic (so the same doubles), inline. */
-static double raster_error(const int32_t* q, int side, const int32_t pos[3][2], const double z[3])
+static int64_t floor_div(int64_t a, int64_t b) /* b > 0 */
+{
+    int64_t d = a / b;
+    return d - (a % b != 0 && a < 0);
+}
+
+/* Narrows [*x0, *x1] to the x where sign * (w + s (x - xs)) >= 0 (w at xs, s per step in x). */
+static void clip_span(int64_t w, int64_t s, int64_t xs, int64_t* x0, int64_t* x1)
+{
+    if (s == 0) {
+        if (w < 0)
+            *x1 = *x0 - 1; /* empty */
+        return;
+    }
+    if (s > 0) { /* x >= xs + ceil(-w / s) */
+        int64_t lo = xs - floor_div(w, s);
+        *x0 = lo > *x0 ? lo : *x0;
+    } else { /* x <= xs + floor(w / -s) */
+        int64_t hi = xs + floor_div(w, -s);
+        *x1 = hi < *x1 ? hi : *x1;
+    }
+}
+
+/* The largest |T - q| over the lattice samples a triangle T covers (closed), the samples
+ * tp__raster_triangle visits, a span per row. Exact (tp__raster_triangle's doubles round by
+ * 1/area: up to ~1e-12 apart, below the 1e-6 the units add). */
+static double raster_error(const int32_t* q, int side, const int32_t pos[3][2], const int64_t z[3])
 {
     const int32_t *a = pos[0], *b = pos[1], *c = pos[2];
     int64_t area = edge(a, b, c[0], c[1]);
@@ -108,24 +132,32 @@ static double raster_error(const int32_t* q, int side, const int32_t pos[3][2], 
         y0 = pos[v][1] < y0 ? pos[v][1] : y0;
         y1 = pos[v][1] > y1 ? pos[v][1] : y1;
     }
-    double inv = 1.0 / (double)area, mx = 0;
+    /* In integers: the plane at a sample is N / area with N = wa za + wb zb + wc zc (|w| <=
+     * 2^17, |z| < 2^31: N fits 64 bits), so |T - v| = |N - v area| / |area|, exactly. */
     int64_t sa = -((int64_t)c[1] - b[1]), sb = -((int64_t)a[1] - c[1]), sc = -((int64_t)b[1] - a[1]);
-    int64_t sign = area > 0 ? 1 : -1;
+    int64_t sign = area > 0 ? 1 : -1, abs_area = area * sign, mx = 0;
+    const int64_t dn = (sa * z[0] + sb * z[1] + sc * z[2]) * sign;
     for (int32_t y = y0; y <= y1; y++) {
         int64_t wa = edge(b, c, x0, y), wb = edge(c, a, x0, y), wc = edge(a, b, x0, y);
+        /* the samples inside (every weight of the area's sign) form one span of the row */
+        int64_t xa = x0, xb = x1;
+        clip_span(wa * sign, sa * sign, x0, &xa, &xb);
+        clip_span(wb * sign, sb * sign, x0, &xa, &xb);
+        clip_span(wc * sign, sc * sign, x0, &xa, &xb);
+        if (xa > xb)
+            continue;
+        wa += sa * (xa - x0), wb += sb * (xa - x0), wc += sc * (xa - x0);
+        int64_t nn = (wa * z[0] + wb * z[1] + wc * z[2]) * sign; /* N |area| / area */
         const int32_t* row = q + (size_t)y * (size_t)side;
-        for (int32_t x = x0; x <= x1; x++, wa += sa, wb += sb, wc += sc) {
-            if (wa * sign < 0 || wb * sign < 0 || wc * sign < 0)
-                continue;
+        for (int64_t x = xa; x <= xb; x++, nn += dn) {
             int32_t v = row[x];
-            if (v == INT32_MIN)
-                continue;
-            double zt = ((double)wa * z[0] + (double)wb * z[1] + (double)wc * z[2]) * inv;
-            double e = fabs(zt - v);
+            int64_t e = nn - (int64_t)v * abs_area;
+            e = e < 0 ? -e : e;
+            e = v == INT32_MIN ? 0 : e;
             mx = e > mx ? e : mx;
         }
     }
-    return mx;
+    return (double)mx / (double)abs_area;
 }
 
 /* The cell bound of a node of scale >= 1 (cells = 1 in tp__lattice_eps).
@@ -139,7 +171,7 @@ static double raster_error(const int32_t* q, int side, const int32_t pos[3][2], 
  * touched cell of |T_extended(p) - q(p)| bounds |T - S_n| over all of T (including where T's
  * edges cross cell edges); the caller adds the carry |S_n - f| of the children. Cells are
  * found in T's bounding box and kept when no edge of T separates them (exact integer test). */
-static double cell_bound(const int32_t* q, int side, const int32_t pos[3][2], const double z[3])
+static double cell_bound(const int32_t* q, int side, const int32_t pos[3][2], const int64_t z[3])
 {
     int64_t area = edge(pos[0], pos[1], pos[2][0], pos[2][1]);
     if (area == 0)
@@ -152,34 +184,59 @@ static double cell_bound(const int32_t* q, int side, const int32_t pos[3][2], co
         y0 = pos[v][1] < y0 ? pos[v][1] : y0;
         y1 = pos[v][1] > y1 ? pos[v][1] : y1;
     }
-    double inv = 1.0 / (double)area, mx = 0;
-    for (int32_t cy = y0; cy < y1; cy++)
-        for (int32_t cx = x0; cx < x1; cx++) {
+    /* An edge separates a cell when all 4 corners are strictly outside it, i.e. when its
+     * function (linear) is negative at the corner where it is largest: one corner per edge. */
+    int dx[3], dy[3];
+    for (int e = 0; e < 3; e++) {
+        const int32_t* a = pos[(e + 1) % 3];
+        const int32_t* b = pos[(e + 2) % 3];
+        dx[e] = -((int64_t)b[1] - a[1]) * sign > 0;
+        dy[e] = ((int64_t)b[0] - a[0]) * sign > 0;
+    }
+    /* Kept cells of each cell row: one interval (T and the row's strip are convex); the
+     * corners of kept cells of point row py are those of cell rows py - 1 and py. Each corner
+     * is measured once (the same value as once per cell it belongs to). */
+    int64_t abs_area = area * sign, mx = 0; /* in integers as raster_error */
+    int32_t prev_lo = 1, prev_hi = 0; /* kept cells of the cell row above, empty */
+    for (int32_t py = y0; py <= y1; py++) {
+        int32_t lo = 1, hi = 0; /* kept cells of cell row py (none for py == y1) */
+        for (int32_t cx = x0; py < y1 && cx < x1; cx++) {
             int separated = 0;
-            for (int e = 0; e < 3 && !separated; e++) {
-                const int32_t* a = pos[(e + 1) % 3];
-                const int32_t* b = pos[(e + 2) % 3];
-                int outside = 0;
-                for (int k = 0; k < 4; k++)
-                    outside += edge(a, b, cx + (k & 1), cy + (k >> 1)) * sign < 0;
-                separated = outside == 4;
-            }
+            for (int e = 0; e < 3 && !separated; e++)
+                separated = edge(pos[(e + 1) % 3], pos[(e + 2) % 3], cx + dx[e], py + dy[e]) *
+                                sign < 0;
             if (separated)
                 continue;
-            for (int k = 0; k < 4; k++) {
-                int px = cx + (k & 1), py = cy + (k >> 1);
+            if (lo > hi)
+                lo = cx;
+            hi = cx;
+        }
+        /* points: corners of cells prev_lo..prev_hi and lo..hi, i.e. x in [l, h + 1] */
+        for (int pass = 0; pass < 2; pass++) {
+            int32_t l = pass ? lo : prev_lo, h = pass ? hi : prev_hi;
+            if (l > h)
+                continue;
+            if (pass == 1 && prev_lo <= prev_hi) { /* skip what pass 0 measured */
+                if (l >= prev_lo && h <= prev_hi)
+                    continue;
+            }
+            for (int32_t px = l; px <= h + 1; px++) {
+                if (pass == 1 && prev_lo <= prev_hi && px >= prev_lo && px <= prev_hi + 1)
+                    continue;
                 int32_t v = lq(q, side, px, py);
                 if (v == INT32_MIN)
                     continue;
-                double wa = (double)edge(pos[1], pos[2], px, py);
-                double wb = (double)edge(pos[2], pos[0], px, py);
-                double wc = (double)edge(pos[0], pos[1], px, py);
-                double zt = (wa * z[0] + wb * z[1] + wc * z[2]) * inv;
-                double err = fabs(zt - v);
-                mx = err > mx ? err : mx;
+                int64_t nn = (edge(pos[1], pos[2], px, py) * z[0] +
+                              edge(pos[2], pos[0], px, py) * z[1] +
+                              edge(pos[0], pos[1], px, py) * z[2]) * sign;
+                int64_t e = nn - (int64_t)v * abs_area;
+                e = e < 0 ? -e : e;
+                mx = e > mx ? e : mx;
             }
         }
-    return mx;
+        prev_lo = lo, prev_hi = hi;
+    }
+    return (double)mx / (double)abs_area;
 }
 
 /* Measures the stitched triangles of cells [cx0, cx1) x [cy0, cy1) of the level-k
@@ -195,7 +252,7 @@ static void stitched_error(int n, const int32_t* q, int cells_mode, int k, const
             static const int tri[2][3][2] = {{{0, 0}, {0, 1}, {1, 0}}, {{1, 0}, {0, 1}, {1, 1}}};
             for (int h = 0; h < 2; h++) {
                 int32_t pos[3][2];
-                double z[3];
+                int64_t z[3];
                 int sides = 0, drawn = 1;
                 for (int v = 0; v < 3; v++) {
                     int i = cx + tri[h][v][0], j = cy + tri[h][v][1], mi, mj;
