@@ -278,6 +278,21 @@ static int emit_node(int64_t node, const tp_node_meta* meta, const int32_t* q, v
     return 0;
 }
 
+/* What the build allocates that grows with the grid (bytes): the band read (floats) and
+ * quantised (int32), the tree builder (tp_core.h: its decimated rows, a block of samples per
+ * node of a row, two rows of metas per scale) and the store writer's node table (docs/store.md:
+ * 38 + 10n bytes per node, and a bit). GDAL's block cache comes on top (a quarter of --memory);
+ * the libraries' own (about 110 MB resident: docs/PERFORMANCE.md) is not counted. */
+static double build_memory_bytes(const tp_tree_geometry* g, int src_width)
+{
+    const double side = (1 << g->n) + 1;
+    const double band = side * src_width * sizeof(float) + side * g->width * sizeof(int32_t);
+    const double builder = 4 * side * ((2 + 1.0 / (1 << g->n)) * g->width + g->scales) +
+                           4.0 * g->cols * sizeof(tp_node_meta) + 2048;
+    const double table = (double)g->node_count * (38 + 10 * g->n + 0.125);
+    return band + builder + table + (1 << 20) /* zstd's context, one node's scratch */;
+}
+
 /* The store's notes: the sources, then the mosaic's own. NULL when out of memory. */
 static char* build_notes(const build_options* o, const tp_mosaic_info* mi)
 {
@@ -521,6 +536,36 @@ int tp_cli_build(int argc, char** argv)
     }
     const int ps = 1 << g.n, band_rows = ps + 1;
     const double samples = (double)mi.width * mi.height;
+    /* The budget, checked before any reading: GDAL's block cache has a quarter of it
+     * (tp_mosaic_open); what grows with the grid must fit the other three quarters. */
+    const double need_mb = build_memory_bytes(&g, mi.width) / (1024.0 * 1024.0);
+    if (need_mb > o.memory_mb * 0.75) {
+        /* the node size that needs least: small nodes make a large table, large ones wide bands */
+        int best = o.patch_size;
+        double best_mb = need_mb;
+        for (int p = 17; p <= 257; p = 2 * p - 1) {
+            tp_tree_geometry gp;
+            tp_error e2;
+            if (tp_tree_geometry_init(mi.width, mi.height, p, &gp, &e2) != TP_OK)
+                continue;
+            double mb = build_memory_bytes(&gp, mi.width) / (1024.0 * 1024.0);
+            if (mb < best_mb)
+                best = p, best_mb = mb;
+        }
+        char alt[96] = "";
+        if (best != o.patch_size)
+            snprintf(alt, sizeof alt, " (or --memory %.0f with --patch %d)", ceil(best_mb / 0.75),
+                     best);
+        fprintf(stderr,
+                "terrapatch: build: --memory %d MB is too small for a %dx%d grid in %dx%d "
+                "nodes: one band of %d rows, the tree builder and the store's node table need "
+                "%.0f MB, besides GDAL's block cache (a quarter of the budget); give --memory "
+                "%.0f or more%s\n",
+                o.memory_mb, mi.width, mi.height, ps + 1, ps + 1, band_rows, need_mb,
+                ceil(need_mb / 0.75), alt);
+        tp_mosaic_close(m);
+        return TP_EXIT_FAILURE;
+    }
     float* rows = malloc((size_t)band_rows * mi.width * sizeof *rows);
     int32_t* q = malloc((size_t)band_rows * g.width * sizeof *q);
     if (!rows || !q) {
