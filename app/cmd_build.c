@@ -282,7 +282,7 @@ static int emit_node(int64_t node, const tp_node_meta* meta, const int32_t* q, v
  * quantised (int32), the tree builder (tp_core.h: its decimated rows, a block of samples per
  * node of a row, two rows of metas per scale) and the store writer's node table (docs/store.md:
  * 38 + 10n bytes per node, and a bit). GDAL's block cache comes on top (a quarter of --memory);
- * the libraries' own (about 110 MB resident: docs/PERFORMANCE.md) is not counted. */
+ * the program's fixed part (libraries, about 156 MB resident: docs/PERFORMANCE.md) is not counted. */
 static double build_memory_bytes(const tp_tree_geometry* g, int src_width)
 {
     const double side = (1 << g->n) + 1;
