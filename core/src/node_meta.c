@@ -55,15 +55,23 @@ double tp__lattice_level_error(int n, const int32_t* q, int k)
                                                       (int64_t)s * udy;
             for (int j = 0; j <= s; j++) {
                 const int32_t* row = q + (size_t)(ya + j) * (size_t)side + xa;
-                int i0 = lower ? 0 : s - j, i1 = upper ? s : s - j;
-                for (int i = i0; i <= i1; i++) {
+                /* lower triangle: i in 0 .. s - j; upper: the rest (all of s - j .. s when the
+                 * lower one is not drawn) */
+                int split = lower ? s - j : s - j - 1; /* last i of the lower part */
+                int64_t zs = l0 + j * ldy;
+                for (int i = 0; lower && i <= split; i++, zs += ldx) {
                     int32_t v = row[i];
-                    if (v == INT32_MIN)
-                        continue;
-                    int64_t zs = lower && i + j <= s ? l0 + i * ldx + j * ldy
-                                                     : u0 + i * udx + j * udy;
                     int64_t e = zs - (int64_t)v * s;
                     e = e < 0 ? -e : e;
+                    e = v == INT32_MIN ? 0 : e;
+                    mx = e > mx ? e : mx;
+                }
+                zs = u0 + (int64_t)(split + 1) * udx + j * udy;
+                for (int i = split + 1; upper && i <= s; i++, zs += udx) {
+                    int32_t v = row[i];
+                    int64_t e = zs - (int64_t)v * s;
+                    e = e < 0 ? -e : e;
+                    e = v == INT32_MIN ? 0 : e;
                     mx = e > mx ? e : mx;
                 }
             }
@@ -139,6 +147,20 @@ static double raster_error(const int32_t* q, int side, const int32_t pos[3][2], 
     const int64_t dn = (sa * z[0] + sb * z[1] + sc * z[2]) * sign;
     for (int32_t y = y0; y <= y1; y++) {
         int64_t wa = edge(b, c, x0, y), wb = edge(c, a, x0, y), wc = edge(a, b, x0, y);
+        const int32_t* row = q + (size_t)y * (size_t)side;
+        if (x1 - x0 < 16) { /* narrow: test each sample (cheaper than the spans' divisions) */
+            int64_t nn = (wa * z[0] + wb * z[1] + wc * z[2]) * sign;
+            for (int32_t x = x0; x <= x1; x++, wa += sa, wb += sb, wc += sc, nn += dn) {
+                int32_t v = row[x];
+                int64_t e = nn - (int64_t)v * abs_area;
+                e = e < 0 ? -e : e;
+                int in = (wa * sign >= 0) & (wb * sign >= 0) & (wc * sign >= 0) &
+                         (v != INT32_MIN);
+                e = in ? e : 0;
+                mx = e > mx ? e : mx;
+            }
+            continue;
+        }
         /* the samples inside (every weight of the area's sign) form one span of the row */
         int64_t xa = x0, xb = x1;
         clip_span(wa * sign, sa * sign, x0, &xa, &xb);
@@ -148,7 +170,6 @@ static double raster_error(const int32_t* q, int side, const int32_t pos[3][2], 
             continue;
         wa += sa * (xa - x0), wb += sb * (xa - x0), wc += sc * (xa - x0);
         int64_t nn = (wa * z[0] + wb * z[1] + wc * z[2]) * sign; /* N |area| / area */
-        const int32_t* row = q + (size_t)y * (size_t)side;
         for (int64_t x = xa; x <= xb; x++, nn += dn) {
             int32_t v = row[x];
             int64_t e = nn - (int64_t)v * abs_area;
