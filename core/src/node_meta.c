@@ -32,6 +32,8 @@ static inline int32_t lq(const int32_t* q, int side, int i, int j)
 double tp__lattice_level_error(int n, const int32_t* q, int k)
 {
     assert(q && n >= 0 && n <= TP_MAX_N && k >= 0 && k <= n);
+    if (k == n)
+        return 0; /* every sample is a vertex of its own level */
     int side = (1 << n) + 1;
     int s = 1 << (n - k), cells = 1 << k;
     /* In integers scaled by s: the plane at (i, j) of a cell is z = q00 + (i dx + j dy) / s, so
