@@ -372,6 +372,7 @@ typedef struct build_pass {
     double lo, hi;
     int quiet, threads;
     const char* out;
+    const char* source; /* the first, for messages */
     /* out */
     int outside; /* a height outside the bound: nothing written, build again */
     size_t valid;
@@ -475,6 +476,9 @@ static tp_status run_build_pass(build_pass* p, const tp_store_header* h, tp_erro
         progress_update(&pr, r + 1, g->rows, (double)(read_to + 1) * mi->width);
     }
     tp_tree_builder_destroy(b);
+    if (st == TP_OK && !p->outside && valid == 0) /* a bound from the files, none in the grid */
+        st = tp_error_set(err, TP_ERR_BAD_DATA, "%s: no valid height in the %dx%d grid",
+                          p->source, mi->width, mi->height);
     if (st == TP_OK && !p->outside) {
         tp_store_writer_set_totals(w, qerr, valid, (size_t)mi->width * mi->height - valid);
         st = tp_store_writer_commit(w, err);
@@ -620,7 +624,7 @@ int tp_cli_build(int argc, char** argv)
         h.notes = notes;
         build_pass bp = {.m = m, .mi = &mi, .g = &g, .rows = rows, .q = q, .step = step,
                          .bounded = bounded, .lo = lo, .hi = hi, .quiet = o.quiet,
-                         .threads = o.threads, .out = o.out};
+                         .threads = o.threads, .out = o.out, .source = o.sources[0]};
         st = run_build_pass(&bp, &h, &err);
         if (st == TP_OK && bp.outside) {
             /* a VRT that scales its sources: the bound did not hold; measure the range */
@@ -632,11 +636,6 @@ int tp_cli_build(int argc, char** argv)
             if (attempt == 0)
                 continue;
             snprintf(err.message, sizeof err.message, "build: the heights changed between reads");
-            st = TP_ERR_BAD_DATA;
-        }
-        if (st == TP_OK && bp.valid == 0) {
-            snprintf(err.message, sizeof err.message, "%s: no valid height in the %dx%d grid",
-                     o.sources[0], mi.width, mi.height);
             st = TP_ERR_BAD_DATA;
         }
         valid = bp.valid;

@@ -495,6 +495,50 @@ TEST(vrt_scaling_beyond_its_files_bound_builds_again_right)
     free(z);
 }
 
+/* A VRT whose only source lies outside its grid: the files' min/max bound the heights (so no
+ * range pass), but the grid has none: exit 1, "no valid height", no store left. */
+TEST(bounded_grid_without_any_height_writes_nothing)
+{
+    char t[1024], vrt[1024], out[1024], errp[1024], args[4096];
+    REQUIRE_DATA_FILE(t, "TP_SHARED_DATA_DIR", "storml_elev.tif");
+    const char* dir = make_tmp_dir();
+    const char* odir = make_tmp_dir();
+    snprintf(vrt, sizeof vrt, "%s/empty.vrt", dir);
+    snprintf(out, sizeof out, "%s/empty.tpt", odir);
+    snprintf(errp, sizeof errp, "%s/err.txt", dir);
+    FILE* f = fopen(vrt, "w");
+    ASSERT_TRUE(f != NULL);
+    fprintf(f,
+            "<VRTDataset rasterXSize=\"300\" rasterYSize=\"300\">\n"
+            "  <SRS>EPSG:26912</SRS>\n"
+            "  <GeoTransform>323476.0, 30, 0, 5105082.0, 0, -30</GeoTransform>\n"
+            "  <VRTRasterBand dataType=\"Float32\" band=\"1\">\n"
+            "    <NoDataValue>-99999</NoDataValue>\n"
+            "    <ComplexSource>\n"
+            "      <SourceFilename relativeToVRT=\"0\">%s</SourceFilename>\n"
+            "      <SourceBand>1</SourceBand>\n"
+            "      <SrcRect xOff=\"0\" yOff=\"0\" xSize=\"143\" ySize=\"107\"/>\n"
+            "      <DstRect xOff=\"1000\" yOff=\"0\" xSize=\"143\" ySize=\"107\"/>\n"
+            "      <NODATA>32767</NODATA>\n"
+            "    </ComplexSource>\n"
+            "  </VRTRasterBand>\n</VRTDataset>\n",
+            t);
+    fclose(f);
+    const char* paths[1] = {vrt};
+    tp_error err = {0};
+    tp_mosaic* m = NULL;
+    ASSERT_EQ_INT(TP_OK, tp_mosaic_open(paths, 1, NULL, &m, &err));
+    tp_mosaic_info mi;
+    tp_mosaic_get_info(m, &mi);
+    EXPECT_EQ_INT(1, mi.has_range); /* the case under test: no range pass */
+    tp_mosaic_close(m);
+    snprintf(args, sizeof args, "'%s' -o '%s' --patch 17", vrt, out);
+    EXPECT_EQ_INT(1, run_build(args, errp));
+    const char* e = slurp(errp);
+    EXPECT_TRUE(e && strstr(e, "no valid height in the 300x300 grid") != NULL);
+    EXPECT_EQ_INT(0, dir_entries(odir));
+}
+
 /* ---------------------------------------------------------------------------------------------
  * Faults: signals, a full disk, a budget too small
  */
@@ -735,6 +779,7 @@ TEST(memory_too_small_for_one_band_fails_up_front)
     X(unwritable_output_folder_fails_first)                                                        \
     X(json_keys_present_and_sane)                                                                  \
     X(vrt_scaling_beyond_its_files_bound_builds_again_right)                                       \
+    X(bounded_grid_without_any_height_writes_nothing)                                              \
     X(sigterm_during_build_leaves_nothing)                                                         \
     X(sigint_during_build_leaves_nothing)                                                          \
     X(full_disk_exit_1_and_leaves_nothing)                                                         \
