@@ -318,6 +318,8 @@ struct tp_cut {
     int oom;
 };
 
+/* Index in the drawn output of the node covering leaf (lc, lr), or -1 (tree_stitch.c). */
+int tp__cut_drawn_at_leaf(const tp_cut* c, int lc, int lr);
 /* Record of node, or -1 when it was not visited this update (tree_select.c). */
 int tp__cut_find(const tp_cut* c, int64_t node);
 /* Adds a record for node (state 0) and returns its index, or -1 (c->oom set) without memory. */
