@@ -177,10 +177,14 @@ typedef struct view_spec {
     int w, h;
     tp_lod_params lod; /* mode TP_LOD_DEFAULT: no --lod option (the CLI default, error, tau 1) */
     int magenta;       /* --clear-color 1,0,1 */
+    int store;         /* through a store (the default path); 0: --whole, the old path, whose
+                          tp_selection these tests compute in-process to compare with */
 } view_spec;
 
 static void args_add_view(args* a, const char* dem, const view_spec* v)
 {
+    if (!v->store)
+        args_add(a, "--whole");
     args_add(a, "--headless");
     args_add(a, "--no-hud"); /* the terrain only: the HUD has timings and the camera's position */
     args_add(a, "--size");
@@ -244,7 +248,7 @@ static const view_spec distance_lod_view = {
     640,
     360,
     {.mode = TP_LOD_DISTANCE, .mindist_m = 300, .maxdist_m = 4000, .exponent = 0.3},
-    1};
+    1, 0};
 
 /* ---------------------------------------------------------------------------------------------
  * Images and statistics read back
@@ -709,7 +713,7 @@ TEST(utm_and_local_origin_render_alike)
         write_local_vrt(dir, dem_path, dem);
         snprintf(vrt, sizeof vrt, "%s/local.vrt", dir);
         for (i = 0; i < (int)(sizeof cams / sizeof cams[0]); ++i) {
-            view_spec utm = {{0, 0, 0, 0, 0}, 1280, 720, {.mode = TP_LOD_DEFAULT}, 1};
+            view_spec utm = {{0, 0, 0, 0, 0}, 1280, 720, {.mode = TP_LOD_DEFAULT}, 1, 0};
             view_spec local;
             image a, b;
             view_stats sa, sb;
@@ -759,7 +763,7 @@ TEST(stats_json_equals_core_selection_error_lod)
 #ifndef TP_TEST_NO_IO
     {
         const char* dem;
-        view_spec v = {{598000, 5012000, 4500, 15, -35}, 640, 360, {.mode = TP_LOD_ERROR, .tau_px = 2.5}, 0};
+        view_spec v = {{598000, 5012000, 4500, 15, -35}, 640, 360, {.mode = TP_LOD_ERROR, .tau_px = 2.5}, 0, 0};
         dem = sample_dem();
         expect_stats_match_core(dem, &v);
     }
@@ -773,7 +777,7 @@ TEST(stats_json_equals_core_selection_distance_lod)
     {
         const char* dem;
         view_spec v = {
-            {609000, 5033000, 2600, 225, -25}, 512, 384, {.mode = TP_LOD_DISTANCE, .mindist_m = 500, .maxdist_m = 9000, .exponent = 1.7}, 0};
+            {609000, 5033000, 2600, 225, -25}, 512, 384, {.mode = TP_LOD_DISTANCE, .mindist_m = 500, .maxdist_m = 9000, .exponent = 1.7}, 0, 0};
         dem = sample_dem();
         expect_stats_match_core(dem, &v);
     }
@@ -790,7 +794,7 @@ TEST(looking_at_the_sky_culls_every_patch)
     {
         const char *dem, *dir;
         /* 1079 m above the summit, 60 degrees up: the lowest ray of the view climbs 30 degrees */
-        view_spec v = {{602125, 5025267, 4500, 0, 60}, 320, 180, {.mode = TP_LOD_DEFAULT}, 1};
+        view_spec v = {{602125, 5025267, 4500, 0, 60}, 320, 180, {.mode = TP_LOD_DEFAULT}, 1, 0};
         core_scene cs;
         view_stats st;
         image im;
@@ -821,7 +825,7 @@ TEST(looking_north_culls_the_patches_behind)
     {
         const char *dem, *dir;
         /* 300 m above the ground 1.6 km from the south edge, 10 degrees down, looking north */
-        view_spec v = {{602125, 5015000, 1500, 0, -10}, 320, 180, {.mode = TP_LOD_DEFAULT}, 1};
+        view_spec v = {{602125, 5015000, 1500, 0, -10}, 320, 180, {.mode = TP_LOD_DEFAULT}, 1, 0};
         core_scene cs;
         view_stats st;
         image im;
@@ -870,7 +874,7 @@ TEST(reference_view_matches_committed_image)
     {
         const char *dem, *dir;
         char ref_path[1024], got_path[1024];
-        view_spec v = {{598000, 5012000, 4500, 15, -35}, 480, 270, {.mode = TP_LOD_DEFAULT}, 0};
+        view_spec v = {{598000, 5012000, 4500, 15, -35}, 480, 270, {.mode = TP_LOD_DEFAULT}, 0, 0};
         image got, ref;
         tp_error err;
         double sum[3] = {0, 0, 0}, mad[3];
@@ -937,7 +941,7 @@ TEST(texture_drapes_the_imagery)
     {
         char dem[1024], ortho[1024];
         const char* dir;
-        view_spec v = {{0, 0, 0, 0, 0}, 320, 240, {.mode = TP_LOD_DEFAULT}, 1};
+        view_spec v = {{0, 0, 0, 0, 0}, 320, 240, {.mode = TP_LOD_DEFAULT}, 1, 0};
         image plain, tex, img;
         tp_error err;
         long terrain = 0, differ = 0, blue_tex = 0, blue_plain = 0, valid = 0, blue_img = 0;
@@ -1216,7 +1220,7 @@ TEST(exaggeration_keeps_patches_that_rise_into_view)
     {
         /* 3600 m over the south of Mt Hood (summit 3426 m) looking 32 degrees up: the true
          * terrain is below the view, drawn three times as high it rises into it */
-        view_spec v = {{602000, 5008000, 3600, 0, 32}, 320, 180, {.mode = TP_LOD_DEFAULT}, 0};
+        view_spec v = {{602000, 5008000, 3600, 0, 32}, 320, 180, {.mode = TP_LOD_DEFAULT}, 0, 0};
         view_stats flat, tall;
         stats_for(sample_dem(), &v, NULL, &flat);
         stats_for(sample_dem(), &v, "3", &tall);
@@ -1231,7 +1235,7 @@ TEST(exaggeration_error_lod_keeps_tau_on_screen)
     REQUIRE_IO();
 #ifndef TP_TEST_NO_IO
     {
-        view_spec v = {{598000, 5012000, 4500, 15, -35}, 640, 360, {.mode = TP_LOD_ERROR, .tau_px = 1}, 0};
+        view_spec v = {{598000, 5012000, 4500, 15, -35}, 640, 360, {.mode = TP_LOD_ERROR, .tau_px = 1}, 0, 0};
         view_stats flat, tall;
         stats_for(sample_dem(), &v, NULL, &flat);
         stats_for(sample_dem(), &v, "3", &tall);
@@ -1247,7 +1251,7 @@ TEST(exaggeration_error_lod_keeps_tau_on_screen)
  * 1 cm) and project back onto the pixel, also with exaggeration. */
 static void expect_picks_on_surface(const char* exag, double zs)
 {
-    view_spec v = {{598000, 5012000, 4500, 15, -35}, 640, 360, {.mode = TP_LOD_ERROR, .tau_px = 1}, 0};
+    view_spec v = {{598000, 5012000, 4500, 15, -35}, 640, 360, {.mode = TP_LOD_ERROR, .tau_px = 1}, 0, 0};
     v.cam[2] *= zs; /* above the exaggerated mountains too */
     const char* dir = make_tmp_dir();
     core_scene cs;

@@ -47,6 +47,7 @@ enum {
     OPT_MEMORY,
     OPT_GPU_MEMORY,
     OPT_CACHE_DIR,
+    OPT_WHOLE,
 };
 
 static void print_help(void)
@@ -91,6 +92,8 @@ static void print_help(void)
           "                        HUD's GPU MB shows by how much\n"
           "  --cache-dir DIR       where DEMs are built into stores (default $TP_CACHE_DIR, else\n"
           "                        $XDG_CACHE_HOME/terrapatch, else ~/.cache/terrapatch)\n"
+          "  --whole               draw the DEM whole, without a store (the old path: the DEM\n"
+          "                        and its render grid in memory, patches selected every frame)\n"
           "  A DEM is drawn whole, without a store (the old path), when it is a heightmap image\n"
           "  (--spacing, --zscale, --origin or a PNG/JPEG/...), or --fill-max, --fit or\n"
           "  --texture is given: stores do not fill voids, always pad and carry no texture.\n"
@@ -165,6 +168,7 @@ static int parse_options(int argc, char** argv, view_options* o)
         {"memory", required_argument, NULL, OPT_MEMORY},
         {"gpu-memory", required_argument, NULL, OPT_GPU_MEMORY},
         {"cache-dir", required_argument, NULL, OPT_CACHE_DIR},
+        {"whole", no_argument, NULL, OPT_WHOLE},
         {"exaggeration", required_argument, NULL, OPT_EXAG},
         {"one-draw-per-patch", no_argument, NULL, OPT_ONE_DRAW},
         {"help", no_argument, NULL, 'h'},
@@ -213,6 +217,7 @@ static int parse_options(int argc, char** argv, view_options* o)
             break;
         }
         case OPT_CACHE_DIR: o->cache_dir = optarg; break;
+        case OPT_WHOLE: o->old_path = 1; break;
         case OPT_FRAMES: {
             long n = strtol(optarg, &end, 10);
             if (*end || n < 1 || n > 1000000)
@@ -285,7 +290,8 @@ static void warn_if_empty(const tp_view_scene* v, const frame_result* fr)
     if (fr->core.triangles > 0)
         return;
     const tp_scene* sc = v->dem;
-    if (sc && sc->info.valid_samples + sc->info.filled_samples < 4)
+    if (sc ? sc->info.valid_samples + sc->info.filled_samples < 4
+           : v->store->info.header.valid_samples < 4)
         fprintf(stderr, "terrapatch view: warning: %s: the frame shows no terrain: the DEM has no "
                         "2x2 block of valid samples to draw a triangle from\n", v->path);
     else if (fr->core.visible_patches > 0)
@@ -474,8 +480,8 @@ int tp_cli_view(int argc, char** argv)
         return TP_EXIT_FAILURE;
     if (tp_is_store_path(o.path)) {
         if (o.texture || o.old_path || o.scene.image_given) {
-            fprintf(stderr, "terrapatch view: %s is a store: --texture, --fill-max, --fit and the "
-                            "heightmap options apply to a DEM only\n", o.path);
+            fprintf(stderr, "terrapatch view: %s is a store: --texture, --fill-max, --fit, --whole "
+                            "and the heightmap options apply to a DEM only\n", o.path);
             return TP_EXIT_USAGE;
         }
         code = view_store(o.path, &o);
