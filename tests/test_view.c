@@ -1406,7 +1406,185 @@ TEST(frame_without_terrain_says_so)
 #endif
 }
 
+/* ---------------------------------------------------------------------------------------------
+ * Stores: the default path. The same magenta check, and the two-tile seam of issue 12 section 4.
+ */
+#ifndef TP_TEST_NO_IO
+/* Renders v through a store and checks: no magenta pixel in rows y0.. (below the horizon), the
+ * frame complete (nothing pending, nothing substituted), and at least min_levels levels. */
+static void expect_store_no_magenta(const char* path, const view_spec* v, int patch, int y0,
+                                    const char* what, int min_levels)
+{
+    const char* dir = make_tmp_dir();
+    image im;
+    char text[8192], json[1024];
+    int fx, fy, lines;
+    view_spec sv = *v;
+    sv.store = 1;
+    sv.magenta = 1;
+    args a;
+    args_view(&a);
+    args_add(&a, "--screenshot");
+    args_add(&a, "%s/view.png", dir);
+    args_add(&a, "--stats-json");
+    args_add(&a, "%s/view.json", dir);
+    if (patch) {
+        args_add(&a, "--patch");
+        args_add(&a, "%d", patch);
+    }
+    args_add_view(&a, path, &sv);
+    run_ok(&a, dir);
+    image_read(dir, "view.png", &im);
+    snprintf(json, sizeof json, "%s/view.json", dir);
+    read_text(json, text, sizeof text, &lines);
+    long n = count_magenta_rows(&im, y0, im.h, &fx, &fy);
+    view_stats st;
+    stats_read(dir, "view.json", &st);
+    tp_test_note("%s: %ld magenta pixels below row %d; %.0f nodes drawn, %.0f substituted, "
+                 "%.0f pending, %d levels", what, n, y0, json_number(text, "nodes_drawn"),
+                 json_number(text, "substituted_nodes"), json_number(text, "pending"),
+                 distinct_levels(&st));
+    EXPECT_EQ_INT(0, n);
+    if (n)
+        ADD_FAILURE("%s: first magenta pixel at (%d, %d)", what, fx, fy);
+    EXPECT_EQ_DBL(0, json_number(text, "pending"));
+    EXPECT_EQ_DBL(0, json_number(text, "substituted_nodes"));
+    EXPECT_GT(json_number(text, "nodes_drawn"), 0);
+    EXPECT_GE_INT(distinct_levels(&st), min_levels);
+}
+#endif
+
+/* The error-LoD crack views of no_cracks_oblique_error_lod, drawn through a store (the sample
+ * DEM built into the cache first, with the old path's patch size so nodes are small). */
+TEST(store_no_cracks_oblique_error_lod)
+{
+    REQUIRE_IO();
+#ifndef TP_TEST_NO_IO
+    {
+        const char* dem = sample_dem();
+        view_spec v = distance_lod_view;
+        v.lod.mode = TP_LOD_ERROR;
+        v.lod.tau_px = 6;
+        v.cam[0] = 614000, v.cam[1] = 5030000, v.cam[2] = 2811, v.cam[3] = 270, v.cam[4] = -55;
+        expect_store_no_magenta(dem, &v, 17, 0, "east side, 1500 m above", 2);
+        v.lod.tau_px = 1;
+        v.cam[0] = 602125, v.cam[1] = 5018000, v.cam[2] = 2950, v.cam[3] = 0;
+        expect_store_no_magenta(dem, &v, 17, 0, "south flank, 1500 m above, tau 1", 1);
+    }
+#endif
+}
+
+/* Issue 12 section 4: N41E001 + N42E001 built into one store; a low view from the south across
+ * the 42N seam shows no background below the horizon, and along the seam the full-resolution
+ * surface has no gap and the drawn surface (a full-resolution cut of that view) is the
+ * full-resolution surface on the seam and half a sample either side of it. */
+TEST(two_tile_seam_shows_no_crack_and_no_step)
+{
+    REQUIRE_IO();
+#ifndef TP_TEST_NO_IO
+    {
+        char tiles[2][1024], store_path[1200];
+        if (!tp_test_data_path(tiles[0], sizeof tiles[0], "TP_SHARED_DATA_DIR", "N41E001.hgt") ||
+            !tp_test_data_path(tiles[1], sizeof tiles[1], "TP_SHARED_DATA_DIR", "N42E001.hgt"))
+            SKIP("N41E001.hgt / N42E001.hgt not found (set TP_SHARED_DATA_DIR)");
+        const char* dir = make_tmp_dir();
+        snprintf(store_path, sizeof store_path, "%s/two.tpt", dir);
+        args a;
+        args_view(&a);
+        a.n = 1; /* the binary, then build's arguments */
+        args_add(&a, "build");
+        args_add(&a, "--quiet");
+        args_add(&a, "%s", tiles[0]);
+        args_add(&a, "%s", tiles[1]);
+        args_add(&a, "-o");
+        args_add(&a, "%s", store_path);
+        run_ok(&a, dir);
+
+        tp_store* st = NULL;
+        tp_error err = {{0}};
+        ASSERT_OK(tp_store_open(store_path, &st, &err));
+        tp_store_info si;
+        tp_store_get_info(st, &si);
+        size_t count = 0;
+        const tp_node_meta* metas = tp_store_metas(st, &count);
+        tp_tree_desc td;
+        memset(&td, 0, sizeof td);
+        td.geometry = si.header.geometry;
+        memcpy(td.geotransform, si.header.geotransform, sizeof td.geotransform);
+        td.height_step_m = si.header.height_step_m;
+        td.quant_max_error_m = si.header.quant_max_error_m;
+        td.err_unit_steps = si.header.err_unit_steps;
+        td.metas = metas;
+        td.meta_count = count;
+        tp_tree* t = NULL;
+        ASSERT_OK(tp_tree_create(&td, &t, &err));
+        const tp_tree_geometry* g = tp_tree_get_geometry(t);
+        size_t side = ((size_t)1 << g->n) + 1;
+        uint16_t* blocks = malloc((size_t)g->node_count * side * side * sizeof *blocks);
+        ASSERT_TRUE(blocks != NULL);
+        for (int64_t i = 0; i < g->node_count; i++) {
+            ASSERT_OK(tp_store_read_node(st, i, blocks + (size_t)i * side * side, side * side, &err));
+            tp_tree_attach(t, i, blocks + (size_t)i * side * side);
+        }
+        tp_georef* geo = NULL;
+        ASSERT_OK(tp_georef_create(si.header.crs_wkt, si.header.geotransform, &geo, &err));
+
+        /* from 12 km south of the seam at 1.5E, 350 m above the highest ground, looking north */
+        tp_tree_info ti;
+        tp_tree_get_info(t, &ti);
+        double ce, cn;
+        ASSERT_OK(tp_georef_geo_to_proj(geo, 41.89, 1.5, &ce, &cn, &err));
+        view_spec v = {{ce, cn, 0, 0, -6}, 640, 360, {.mode = TP_LOD_ERROR, .tau_px = 1}, 1, 1};
+        double cx, cy;
+        tp_tree_world_to_grid(t, ce, cn, &cx, &cy);
+        v.cam[2] = 350 + fmax(tp_tree_height_at(t, cx, cy), 600);
+        /* the horizon: the far plane of a flat earth at the eye's height is at the image centre;
+         * terrain rises above it, so only rows below the middle must be ground */
+        expect_store_no_magenta(store_path, &v, 0, v.h / 2 + 2, "across the 42N seam", 2);
+
+        /* the seam in the drawn surface */
+        tp_cut* cut = NULL;
+        ASSERT_OK(tp_cut_create(t, &cut, &err));
+        tp_camera cam;
+        camera_from(&v, &cam);
+        tp_lod_params full = {.mode = TP_LOD_FULL};
+        ASSERT_OK(tp_cut_update(cut, &cam, &full, &err));
+        int along = 0, defined = 0, drawn = 0;
+        double worst = 0;
+        for (double lon = 1.02; lon <= 1.98; lon += 0.0005) {
+            double e, n, x, y;
+            ASSERT_OK(tp_georef_geo_to_proj(geo, 42.0, lon, &e, &n, &err));
+            tp_tree_world_to_grid(t, e, n, &x, &y);
+            along++;
+            for (int k = -1; k <= 1; k++) {
+                double yy = y + 0.5 * k, h = tp_tree_height_at(t, x, yy);
+                if (isnan(h))
+                    continue;
+                defined += k == 0;
+                double d = tp_cut_drawn_height_at(cut, x, yy);
+                if (isnan(d))
+                    continue; /* outside the view */
+                drawn++;
+                worst = fmax(worst, fabs(d - h));
+            }
+        }
+        tp_test_note("seam: %d points, %d with a full-resolution height, %d drawn samples; "
+                     "largest |drawn - full| %.3g m", along, defined, drawn, worst);
+        EXPECT_EQ_INT(along, defined); /* no gap between the tiles */
+        EXPECT_GT(drawn, along);       /* the view covers the seam */
+        EXPECT_LE(worst, 1e-3);
+        tp_cut_destroy(cut);
+        tp_georef_destroy(geo);
+        tp_tree_destroy(t);
+        free(blocks);
+        tp_store_close(st);
+    }
+#endif
+}
+
 #define TESTS(X)                                                                                   \
+    X(store_no_cracks_oblique_error_lod)                                                           \
+    X(two_tile_seam_shows_no_crack_and_no_step)                                                    \
     X(no_cracks_top_down_distance_lod)                                                             \
     X(no_cracks_oblique_distance_lod)                                                              \
     X(no_cracks_oblique_error_lod)                                                                 \
