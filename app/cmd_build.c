@@ -262,7 +262,6 @@ static void progress_update(progress* p, double done, double total, double sampl
 }
 
 /* ---- the build ---- */
-#define STEP_CANDIDATES 11 /* 2^-p m, p = 0 .. 10 */
 
 
 static int emit_node(int64_t node, const tp_node_meta* meta, const int32_t* q, void* user,
@@ -277,6 +276,212 @@ static int emit_node(int64_t node, const tp_node_meta* meta, const int32_t* q, v
         return 1;
     e->nodes++;
     return 0;
+}
+
+/* What the build allocates that grows with the grid (bytes): the band read (floats) and
+ * quantised (int32), the tree builder (tp_core.h: its decimated rows, a block of samples per
+ * node of a row, two rows of metas per scale) and the store writer's node table (docs/store.md:
+ * 38 + 10n bytes per node, and a bit). GDAL's block cache comes on top (a quarter of --memory);
+ * the program's fixed part (libraries, about 156 MB resident: docs/PERFORMANCE.md) is not counted. */
+static double build_memory_bytes(const tp_tree_geometry* g, int src_width)
+{
+    const double side = (1 << g->n) + 1;
+    const double band = side * src_width * sizeof(float) + side * g->width * sizeof(int32_t);
+    const double builder = 4 * side * ((2 + 1.0 / (1 << g->n)) * g->width + g->scales) +
+                           4.0 * g->cols * sizeof(tp_node_meta) + 2048;
+    const double table = (double)g->node_count * (38 + 10 * g->n + 0.125);
+    return band + builder + table + (1 << 20) /* zstd's context, one node's scratch */;
+}
+
+/* The store's notes: the sources, then the mosaic's own. NULL when out of memory. */
+static char* build_notes(const build_options* o, const tp_mosaic_info* mi)
+{
+    size_t cap = strlen(mi->notes) + 64;
+    for (int i = 0; i < o->source_count; i++)
+        cap += strlen(o->sources[i]) + 16;
+    char* notes = malloc(cap);
+    if (!notes)
+        return NULL;
+    size_t at = 0;
+    for (int i = 0; i < o->source_count; i++)
+        at += (size_t)snprintf(notes + at, cap - at, "source: %s\n", o->sources[i]);
+    snprintf(notes + at, cap - at, "%s%svoids are not filled", mi->notes, mi->notes[0] ? "\n" : "");
+    return notes;
+}
+
+/* The range pass: the grid's height range and valid samples, read in bands. */
+static tp_status range_pass(tp_mosaic* m, const tp_mosaic_info* mi, float* rows, int band_rows,
+                            int quiet, double* lo_out, double* hi_out, size_t* valid_out,
+                            tp_error* err)
+{
+    float lo = INFINITY, hi = -INFINITY;
+    size_t valid = 0;
+    progress pr;
+    progress_start(&pr, !quiet, "range");
+    for (int y = 0; y < mi->height; y += band_rows) {
+        int n = mi->height - y < band_rows ? mi->height - y : band_rows;
+        tp_status st = tp_mosaic_read_rows(m, y, n, rows, (size_t)n * mi->width, err);
+        if (st != TP_OK)
+            return st;
+        const size_t count = (size_t)n * mi->width;
+        for (size_t i = 0; i < count; i++) {
+            float v = rows[i];
+            valid += v == v;
+            lo = v < lo ? v : lo; /* NaN compares false: skipped */
+            hi = v > hi ? v : hi;
+        }
+        progress_update(&pr, y + n, mi->height, (double)(y + n) * mi->width);
+        if (tp_interrupted())
+            return tp_error_set(err, TP_ERR_IO, "interrupted");
+    }
+    *lo_out = lo, *hi_out = hi, *valid_out = valid;
+    return TP_OK;
+}
+
+/* One global step: 1 m for integer sources, else the finest 2^-p m (p <= 10) whose quantised
+ * range fits 65534 steps (coarser powers of two beyond 65534 m). */
+static double choose_step(double lo, double hi, int integer)
+{
+    double step = 1;
+    if (!integer)
+        for (int p = 10; p >= 0; p--) {
+            double s = ldexp(1.0, -p);
+            if (floor(hi / s + 0.5) - floor(lo / s + 0.5) <= 65534) {
+                step = s;
+                break;
+            }
+        }
+    while (floor(hi / step + 0.5) - floor(lo / step + 0.5) > 65534)
+        step *= 2;
+    return step;
+}
+
+/* The build pass: in, what it reads and how; out, what it saw. */
+typedef struct build_pass {
+    tp_mosaic* m;
+    const tp_mosaic_info* mi;
+    const tp_tree_geometry* g;
+    float* rows; /* band_rows * width */
+    int32_t* q;  /* band_rows * g->width */
+    double step;
+    int bounded; /* lo .. hi is a bound given before reading: check it */
+    double lo, hi;
+    int quiet, threads;
+    const char* out;
+    /* out */
+    int outside; /* a height outside the bound: nothing written, build again */
+    size_t valid;
+    double quant_err, seen_lo, seen_hi;
+    int64_t nodes;
+} build_pass;
+
+/* floor(x + 0.5) for |x| < 2^31 without a libm call (the loop then vectorises) */
+static inline int32_t round_half_up(double x)
+{
+    double y = x + 0.5;
+    int32_t t = (int32_t)y;
+    return t - (y < (double)t);
+}
+
+/* Quantises one row of the band (NaN: not drawn) and accumulates what the pass sees. */
+static void quantise_row(const float* src, int width, double step, int32_t* dst, size_t* valid,
+                         double* qerr, float* lo, float* hi)
+{
+    const double inv = 1.0 / step; /* a power of two: exact */
+    size_t n = 0;
+    double e_max = *qerr;
+    float l = *lo, h = *hi;
+    for (int x = 0; x < width; x++) {
+        float v = src[x];
+        int drawn = v == v;
+        double t = drawn ? v * inv : 0;
+        int32_t qv = round_half_up(t);
+        double e = fabs(qv * step - (drawn ? v : 0));
+        e_max = e > e_max ? e : e_max;
+        dst[x] = drawn ? qv : INT32_MIN;
+        n += drawn;
+        l = v < l ? v : l;
+        h = v > h ? v : h;
+    }
+    *valid += n, *qerr = e_max, *lo = l, *hi = h;
+}
+
+static tp_status run_build_pass(build_pass* p, const tp_store_header* h, tp_error* err)
+{
+    const tp_tree_geometry* g = p->g;
+    const tp_mosaic_info* mi = p->mi;
+    const int ps = 1 << g->n, band_rows = ps + 1;
+    tp_store_writer* w = NULL;
+    emit_ctx ec = {.threads = p->threads};
+    tp_tree_builder* b = NULL;
+    tp_status st = tp_store_writer_begin(p->out, h, &w, err);
+    if (st == TP_OK) {
+        ec.writer = w;
+        tp_tree_builder_desc bd = {0};
+        bd.geometry = *g;
+        bd.err_unit_steps = h->err_unit_steps;
+        bd.emit = emit_node;
+        bd.parallel_for = parallel_for;
+        bd.user = &ec;
+        st = tp_tree_builder_create(&bd, &b, err);
+    }
+    float lo = INFINITY, hi = -INFINITY;
+    double qerr = 0;
+    size_t valid = 0;
+    int32_t* q = p->q;
+    progress pr;
+    progress_start(&pr, !p->quiet, "build");
+    /* Band r = fitted rows r*ps .. (r+1)*ps; the first row is the last one of the band before
+     * (kept in q), so each source row is read once. */
+    for (int r = 0; r < g->rows && st == TP_OK; r++) {
+        const int y_first = r * ps;
+        const int skip = r > 0 ? 1 : 0;
+        if (skip)
+            memcpy(q, q + (size_t)ps * g->width, (size_t)g->width * sizeof *q);
+        const int y0 = y_first + skip, y1 = y_first + ps; /* rows to fill, inclusive */
+        int read_to = y1 < mi->height - 1 ? y1 : mi->height - 1;
+        int nread = read_to >= y0 ? read_to - y0 + 1 : 0;
+        if (nread > 0)
+            st = tp_mosaic_read_rows(p->m, y0, nread, p->rows, (size_t)nread * mi->width, err);
+        if (st != TP_OK)
+            break;
+        for (int y = y0; y <= y1; y++) {
+            int32_t* dst = q + (size_t)(y - y_first) * g->width;
+            int x = 0;
+            if (y < mi->height) {
+                quantise_row(p->rows + (size_t)(y - y0) * mi->width, mi->width, p->step, dst,
+                             &valid, &qerr, &lo, &hi);
+                x = mi->width;
+            }
+            for (; x < g->width; x++)
+                dst[x] = INT32_MIN;
+        }
+        /* the bound may come from rounded statistics: a step of slack, if the range still fits */
+        if (p->bounded && (lo < p->lo - p->step || hi > p->hi + p->step ||
+                           floor(hi / p->step + 0.5) - floor(lo / p->step + 0.5) > 65534)) {
+            p->outside = 1;
+            break;
+        }
+        if (tp_interrupted()) {
+            st = TP_ERR_IO;
+            snprintf(err->message, sizeof err->message, "%s: interrupted: not written", p->out);
+            break;
+        }
+        st = tp_tree_builder_add_band(b, r, q, (size_t)band_rows * g->width, err);
+        progress_update(&pr, r + 1, g->rows, (double)(read_to + 1) * mi->width);
+    }
+    tp_tree_builder_destroy(b);
+    if (st == TP_OK && !p->outside) {
+        tp_store_writer_set_totals(w, qerr, valid, (size_t)mi->width * mi->height - valid);
+        st = tp_store_writer_commit(w, err);
+    } else {
+        tp_store_writer_abort(w);
+    }
+    p->valid = valid;
+    p->quant_err = qerr;
+    p->seen_lo = lo, p->seen_hi = hi;
+    p->nodes = ec.nodes;
+    return st;
 }
 
 static uint64_t file_size(const char* path)
@@ -331,6 +536,36 @@ int tp_cli_build(int argc, char** argv)
     }
     const int ps = 1 << g.n, band_rows = ps + 1;
     const double samples = (double)mi.width * mi.height;
+    /* The budget, checked before any reading: GDAL's block cache has a quarter of it
+     * (tp_mosaic_open); what grows with the grid must fit the other three quarters. */
+    const double need_mb = build_memory_bytes(&g, mi.width) / (1024.0 * 1024.0);
+    if (need_mb > o.memory_mb * 0.75) {
+        /* the node size that needs least: small nodes make a large table, large ones wide bands */
+        int best = o.patch_size;
+        double best_mb = need_mb;
+        for (int p = 17; p <= 257; p = 2 * p - 1) {
+            tp_tree_geometry gp;
+            tp_error e2;
+            if (tp_tree_geometry_init(mi.width, mi.height, p, &gp, &e2) != TP_OK)
+                continue;
+            double mb = build_memory_bytes(&gp, mi.width) / (1024.0 * 1024.0);
+            if (mb < best_mb)
+                best = p, best_mb = mb;
+        }
+        char alt[96] = "";
+        if (best != o.patch_size)
+            snprintf(alt, sizeof alt, " (or --memory %.0f with --patch %d)", ceil(best_mb / 0.75),
+                     best);
+        fprintf(stderr,
+                "terrapatch: build: --memory %d MB is too small for a %dx%d grid in %dx%d "
+                "nodes: one band of %d rows, the tree builder and the store's node table need "
+                "%.0f MB, besides GDAL's block cache (a quarter of the budget); give --memory "
+                "%.0f or more%s\n",
+                o.memory_mb, mi.width, mi.height, ps + 1, ps + 1, band_rows, need_mb,
+                ceil(need_mb / 0.75), alt);
+        tp_mosaic_close(m);
+        return TP_EXIT_FAILURE;
+    }
     float* rows = malloc((size_t)band_rows * mi.width * sizeof *rows);
     int32_t* q = malloc((size_t)band_rows * g.width * sizeof *q);
     if (!rows || !q) {
@@ -338,151 +573,84 @@ int tp_cli_build(int argc, char** argv)
         return fail_line("build: out of memory for one band of rows");
     }
 
-    /* Pass 1: range, valid samples, and each candidate step's quantisation error. */
-    double lo = INFINITY, hi = -INFINITY, qerr[STEP_CANDIDATES] = {0};
+    /* The height range decides the step (written first, in the header): a bound the mosaic
+     * knows without reading the grid (sources' statistics, or the few files a VRT repeats), or
+     * else a first pass over the grid. The quantisation error and the valid samples are counted
+     * while building and given to the store at commit. */
+    double lo = mi.min_m, hi = mi.max_m;
+    int bounded = mi.has_range;
     size_t valid = 0;
-    progress pr;
-    progress_start(&pr, !o.quiet, "range");
+    double quant_err = 0, seen_lo = INFINITY, seen_hi = -INFINITY;
+    double step = 1, err_unit = 1;
     tp_status st = TP_OK;
-    for (int y = 0; y < mi.height && st == TP_OK; y += band_rows) {
-        int n = mi.height - y < band_rows ? mi.height - y : band_rows;
-        st = tp_mosaic_read_rows(m, y, n, rows, (size_t)n * mi.width, &err);
-        if (st != TP_OK)
-            break;
-        const size_t count = (size_t)n * mi.width;
-        for (size_t i = 0; i < count; i++) {
-            float v = rows[i];
-            if (isnan(v))
-                continue;
-            valid++;
-            lo = v < lo ? v : lo;
-            hi = v > hi ? v : hi;
-            for (int p = 0; p < STEP_CANDIDATES; p++) {
-                double s = ldexp(1.0, -p), e = fabs(floor(v / s + 0.5) * s - v);
-                qerr[p] = e > qerr[p] ? e : qerr[p];
-            }
-        }
-        progress_update(&pr, y + n, mi.height, (double)(y + n) * mi.width);
-    }
-    if (st == TP_OK && valid == 0) {
-        snprintf(err.message, sizeof err.message, "%s: no valid height in the %dx%d grid",
-                 o.sources[0], mi.width, mi.height);
-        st = TP_ERR_BAD_DATA;
-    }
-    if (st != TP_OK) {
-        free(rows), free(q), tp_mosaic_close(m);
-        return fail_line(err.message);
-    }
-
-    /* One global step: 1 m for integer sources, else the finest 2^-p m (p <= 10) whose
-     * quantised range fits 65534 steps (coarser powers of two beyond 65534 m). */
-    double step = 1;
-    int cand = 0;
-    if (!mi.integer_sources) {
-        for (int p = 10; p >= 0; p--) {
-            double s = ldexp(1.0, -p);
-            if (floor(hi / s + 0.5) - floor(lo / s + 0.5) <= 65534) {
-                step = s, cand = p;
-                break;
-            }
-        }
-    }
-    while (floor(hi / step + 0.5) - floor(lo / step + 0.5) > 65534)
-        step *= 2, cand = -1;
-    const double quant_err = cand >= 0 ? qerr[cand] : step / 2;
-    const double range_steps = floor(hi / step + 0.5) - floor(lo / step + 0.5);
-    const double err_unit = tp_tree_err_unit_steps(range_steps);
-
-    tp_store_header h = {0};
-    h.geometry = g;
-    memcpy(h.geotransform, mi.geotransform, sizeof h.geotransform);
-    h.height_step_m = step;
-    h.quant_max_error_m = quant_err;
-    h.err_unit_steps = err_unit;
-    h.valid_samples = valid;
-    h.nodata_samples = (size_t)mi.width * mi.height - valid;
-    h.crs_wkt = mi.crs_wkt;
-    /* notes: the sources, then the mosaic's own */
-    size_t notes_cap = strlen(mi.notes) + 64;
-    for (int i = 0; i < o.source_count; i++)
-        notes_cap += strlen(o.sources[i]) + 16;
-    char* notes = malloc(notes_cap);
+    int64_t nodes = 0;
+    char* notes = build_notes(&o, &mi);
     if (!notes) {
         free(rows), free(q), tp_mosaic_close(m);
         return fail_line("build: out of memory");
     }
-    size_t at = 0;
-    for (int i = 0; i < o.source_count; i++)
-        at += (size_t)snprintf(notes + at, notes_cap - at, "source: %s\n", o.sources[i]);
-    snprintf(notes + at, notes_cap - at, "%s%svoids are not filled", mi.notes,
-             mi.notes[0] ? "\n" : "");
-    h.notes = notes;
-
-    tp_store_writer* w = NULL;
-    emit_ctx ec = {.threads = o.threads};
-    tp_tree_builder* b = NULL;
-    st = tp_store_writer_begin(o.out, &h, &w, &err);
-    if (st == TP_OK) {
-        ec.writer = w;
-        tp_tree_builder_desc bd = {0};
-        bd.geometry = g;
-        bd.err_unit_steps = err_unit;
-        bd.emit = emit_node;
-        bd.parallel_for = parallel_for;
-        bd.user = &ec;
-        st = tp_tree_builder_create(&bd, &b, &err);
-    }
-
-    /* Pass 2: band r = fitted rows r*ps .. (r+1)*ps; the first row is the last one of the band
-     * before (kept in q), so each source row is read once. */
-    progress_start(&pr, !o.quiet, "build");
-    for (int r = 0; r < g.rows && st == TP_OK; r++) {
-        const int y_first = r * ps;
-        const int skip = r > 0 ? 1 : 0;
-        if (skip)
-            memcpy(q, q + (size_t)ps * g.width, (size_t)g.width * sizeof *q);
-        const int y0 = y_first + skip, y1 = y_first + ps; /* rows to fill, inclusive */
-        int read_to = y1 < mi.height - 1 ? y1 : mi.height - 1;
-        int nread = read_to >= y0 ? read_to - y0 + 1 : 0;
-        if (nread > 0)
-            st = tp_mosaic_read_rows(m, y0, nread, rows, (size_t)nread * mi.width, &err);
-        if (st != TP_OK)
-            break;
-        for (int y = y0; y <= y1; y++) {
-            int32_t* dst = q + (size_t)(y - y_first) * g.width;
-            if (y >= mi.height) {
-                for (int x = 0; x < g.width; x++)
-                    dst[x] = INT32_MIN;
-                continue;
+    for (int attempt = 0;; attempt++) {
+        if (!bounded) {
+            st = range_pass(m, &mi, rows, band_rows, o.quiet, &lo, &hi, &valid, &err);
+            if (st == TP_OK && valid == 0) {
+                snprintf(err.message, sizeof err.message, "%s: no valid height in the %dx%d grid",
+                         o.sources[0], mi.width, mi.height);
+                st = TP_ERR_BAD_DATA;
             }
-            const float* src = rows + (size_t)(y - y0) * mi.width;
-            for (int x = 0; x < mi.width; x++)
-                dst[x] = isnan(src[x]) ? INT32_MIN : (int32_t)floor(src[x] / step + 0.5);
-            for (int x = mi.width; x < g.width; x++)
-                dst[x] = INT32_MIN;
+            if (st != TP_OK)
+                break;
         }
-        if (tp_interrupted()) {
-            st = TP_ERR_IO;
-            snprintf(err.message, sizeof err.message, "%s: interrupted: not written", o.out);
-            break;
+        step = choose_step(lo, hi, mi.integer_sources);
+        const double range_steps = floor(hi / step + 0.5) - floor(lo / step + 0.5);
+        err_unit = tp_tree_err_unit_steps(range_steps);
+
+        tp_store_header h = {0};
+        h.geometry = g;
+        memcpy(h.geotransform, mi.geotransform, sizeof h.geotransform);
+        h.height_step_m = step;
+        h.quant_max_error_m = step / 2; /* the totals replace these at commit */
+        h.err_unit_steps = err_unit;
+        h.valid_samples = 0;
+        h.nodata_samples = (size_t)mi.width * mi.height;
+        h.crs_wkt = mi.crs_wkt;
+        h.notes = notes;
+        build_pass bp = {.m = m, .mi = &mi, .g = &g, .rows = rows, .q = q, .step = step,
+                         .bounded = bounded, .lo = lo, .hi = hi, .quiet = o.quiet,
+                         .threads = o.threads, .out = o.out};
+        st = run_build_pass(&bp, &h, &err);
+        if (st == TP_OK && bp.outside) {
+            /* a VRT that scales its sources: the bound did not hold; measure the range */
+            if (!o.quiet)
+                fprintf(stderr, "terrapatch build: heights %g .. %g m outside the bound %g .. %g "
+                        "m the sources gave: building again after a range pass\n",
+                        bp.seen_lo, bp.seen_hi, lo, hi);
+            bounded = 0;
+            if (attempt == 0)
+                continue;
+            snprintf(err.message, sizeof err.message, "build: the heights changed between reads");
+            st = TP_ERR_BAD_DATA;
         }
-        st = tp_tree_builder_add_band(b, r, q, (size_t)band_rows * g.width, &err);
-        progress_update(&pr, r + 1, g.rows, (double)(read_to + 1) * mi.width);
+        if (st == TP_OK && bp.valid == 0) {
+            snprintf(err.message, sizeof err.message, "%s: no valid height in the %dx%d grid",
+                     o.sources[0], mi.width, mi.height);
+            st = TP_ERR_BAD_DATA;
+        }
+        valid = bp.valid;
+        quant_err = bp.quant_err;
+        seen_lo = bp.seen_lo, seen_hi = bp.seen_hi;
+        nodes = bp.nodes;
+        break;
     }
-    tp_tree_builder_destroy(b);
     free(rows);
     free(q);
     tp_mosaic_close(m);
-    if (st == TP_OK)
-        st = tp_store_writer_commit(w, &err);
-    else
-        tp_store_writer_abort(w);
     free(notes);
     if (st != TP_OK) {
         if (tp_interrupted())
             return tp_cli_interrupted();
         return fail_line(err.message);
     }
+    lo = seen_lo, hi = seen_hi;
 
     const double seconds = now_s() - t0;
     const uint64_t bytes = file_size(o.out);
@@ -491,7 +659,7 @@ int tp_cli_build(int argc, char** argv)
         fprintf(stderr,
                 "terrapatch build: %s: %dx%d samples, %lld nodes, %.3f bytes/sample, step %g m, "
                 "%.1f s, peak RSS %.0f MB\n",
-                o.out, mi.width, mi.height, (long long)ec.nodes, bytes / samples, step, seconds,
+                o.out, mi.width, mi.height, (long long)nodes, bytes / samples, step, seconds,
                 rss_mb);
     if (o.json) {
         tp_atomic_file af;
@@ -511,7 +679,7 @@ int tp_cli_build(int argc, char** argv)
         tp_json_key(&j, "samples"), tp_json_number(&j, samples);
         tp_json_key(&j, "valid_samples"), tp_json_size(&j, valid);
         tp_json_key(&j, "patch_size"), tp_json_int(&j, ps + 1);
-        tp_json_key(&j, "nodes"), tp_json_int(&j, ec.nodes);
+        tp_json_key(&j, "nodes"), tp_json_int(&j, nodes);
         tp_json_key(&j, "bytes"), tp_json_number(&j, (double)bytes);
         tp_json_key(&j, "bytes_per_sample"), tp_json_number(&j, bytes / samples);
         tp_json_key(&j, "step"), tp_json_number(&j, step);

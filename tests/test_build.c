@@ -2,13 +2,20 @@
  * test_build.c - the mosaic read in bands (tp_mosaic, io/src/mosaic.cpp) and `terrapatch build`
  * (app/cmd_build.c) on the real DEMs: one DEM gives the single-DEM pipeline's grid and heights;
  * two adjacent SRTM tiles give one seamless grid, the same store as their .vrt; bad sources and
- * signals leave nothing behind.
+ * signals, a full disk and a memory budget too small leave nothing behind.
  */
 #define _GNU_SOURCE
 #include "tp_io.h"
 #include "tp_test.h"
+#include "tp_test_child.h"
 
 #include <dirent.h>
+#include <errno.h>
+#include <fcntl.h>
+#include <poll.h>
+#include <sys/inotify.h>
+#include <sys/resource.h>
+#include <time.h>
 #include <math.h>
 #include <signal.h>
 #include <stdio.h>
@@ -386,6 +393,232 @@ TEST(json_keys_present_and_sane)
     EXPECT_TRUE(r && atof(r + 15) > 1 && atof(r + 15) < 1024);
 }
 
+/* ---------------------------------------------------------------------------------------------
+ * Faults: signals, a full disk, a budget too small
+ */
+
+/* Starts `terrapatch build args...` (NULL-terminated) with stderr to err_path, SIGINT/SIGTERM
+ * at their defaults and, if fsize_limit, a "full disk" (RLIMIT_FSIZE, SIGXFSZ ignored: write()
+ * fails with EFBIG as on ENOSPC, as tests/test_writes.c does). */
+static pid_t start_build(const char* const* args, rlim_t fsize_limit, const char* err_path)
+{
+    const char* exe = terrapatch();
+    const char* argv[64];
+    int n = 0;
+    argv[n++] = exe;
+    argv[n++] = "build";
+    for (int i = 0; args[i] && n < 62; i++)
+        argv[n++] = args[i];
+    argv[n] = NULL;
+    static char asan[512];
+    char** envp = tp_test_child_environment(asan, sizeof asan);
+    fflush(NULL);
+    pid_t pid = fork();
+    ASSERT_TRUE(pid >= 0);
+    if (pid == 0) {
+        int null = open("/dev/null", O_RDWR);
+        int err = open(err_path, O_WRONLY | O_CREAT | O_TRUNC, 0644);
+        if (null < 0 || err < 0)
+            _exit(98);
+        dup2(null, 0);
+        dup2(null, 1);
+        dup2(err, 2);
+        signal(SIGINT, SIG_DFL);
+        signal(SIGTERM, SIG_DFL);
+        if (fsize_limit) {
+            struct rlimit rl = {fsize_limit, fsize_limit};
+            signal(SIGXFSZ, SIG_IGN);
+            if (setrlimit(RLIMIT_FSIZE, &rl) != 0)
+                _exit(97);
+        }
+        execve(exe, (char* const*)argv, envp);
+        _exit(96);
+    }
+    return pid;
+}
+
+/* The exit status; 128 + the signal for a child a signal killed (as a shell says). */
+static int finish_child(pid_t pid)
+{
+    int status = 0;
+    while (waitpid(pid, &status, 0) < 0)
+        if (errno != EINTR)
+            FAIL("waitpid: %s", strerror(errno));
+    return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+}
+
+/* Waits (up to 120 s) until a name holding ".tmp" is created in the folder inotify fd watches:
+ * 1; 0 if the child exited first or time ran out. */
+static int wait_for_temp(int fd, pid_t child)
+{
+    char buf[4096] __attribute__((aligned(__alignof__(struct inotify_event))));
+    for (int waited_ms = 0; waited_ms < 120000; waited_ms += 50) {
+        struct pollfd p = {.fd = fd, .events = POLLIN};
+        if (poll(&p, 1, 50) > 0) {
+            ssize_t n = read(fd, buf, sizeof buf);
+            for (char* q = buf; n > 0 && q < buf + n;) {
+                struct inotify_event* ev = (struct inotify_event*)q;
+                if ((ev->mask & IN_CREATE) && ev->len && strstr(ev->name, ".tmp"))
+                    return 1;
+                q += sizeof *ev + ev->len;
+            }
+        }
+        siginfo_t info = {0};
+        if (waitid(P_PID, (id_t)child, &info, WEXITED | WNOHANG | WNOWAIT) == 0 && info.si_pid)
+            return 0;
+    }
+    return 0;
+}
+
+/* The names in dir, sorted, each followed by one space. */
+static void names_in(const char* dir, char* out, size_t cap)
+{
+    struct dirent** list = NULL;
+    int n = scandir(dir, &list, NULL, alphasort);
+    ASSERT_TRUE(n >= 0);
+    out[0] = 0;
+    for (int i = 0; i < n; i++) {
+        if (strcmp(list[i]->d_name, ".") && strcmp(list[i]->d_name, ".."))
+            snprintf(out + strlen(out), cap - strlen(out), "%s ", list[i]->d_name);
+        free(list[i]);
+    }
+    free(list);
+}
+
+static void put_text(const char* path, const char* text)
+{
+    FILE* f = fopen(path, "wb");
+    ASSERT_TRUE(f != NULL);
+    fputs(text, f);
+    fclose(f);
+}
+
+/* A build of the two SRTM tiles (a range pass, then some seconds of building) gets sig as soon
+ * as its temporary file appears: it must stop (exit 128 + sig, "interrupted"), leave no store
+ * and no temporary file, and an older store at the path as it was. A build that ignored the
+ * signal would finish: exit 0 and the old file replaced. */
+static void build_killed(int sig)
+{
+    char a[1024], b[1024], out[1024], errp[1024], list[1024];
+    REQUIRE_DATA_FILE(a, "TP_SHARED_DATA_DIR", "N41E001.hgt");
+    REQUIRE_DATA_FILE(b, "TP_SHARED_DATA_DIR", "N42E001.hgt");
+    const char* dir = make_tmp_dir();
+    const char* edir = make_tmp_dir();
+    snprintf(out, sizeof out, "%s/tiles.tpt", dir);
+    snprintf(errp, sizeof errp, "%s/err.txt", edir);
+    const char old[] = "an older store\n";
+    put_text(out, old);
+    int fd = inotify_init1(IN_CLOEXEC);
+    ASSERT_TRUE(fd >= 0);
+    ASSERT_TRUE(inotify_add_watch(fd, dir, IN_CREATE) >= 0);
+    const char* args[] = {a, b, "-o", out, "--patch", "17", "--threads", "2", NULL};
+    pid_t pid = start_build(args, 0, errp);
+    int seen = wait_for_temp(fd, pid);
+    struct timespec t0, t1;
+    clock_gettime(CLOCK_MONOTONIC, &t0);
+    if (seen)
+        kill(pid, sig);
+    close(fd);
+    int rc = finish_child(pid);
+    clock_gettime(CLOCK_MONOTONIC, &t1);
+    ASSERT_TRUE(seen); /* else the build never wrote a temporary file */
+    const char* e = slurp(errp);
+    EXPECT_EQ_INT(128 + sig, rc);
+    EXPECT_TRUE(e && strstr(e, "interrupted") != NULL);
+    if (e && !strstr(e, "interrupted"))
+        fprintf(stderr, "stderr: %s\n", e);
+    const char* now = slurp(out);
+    EXPECT_TRUE(now && !strcmp(now, old)); /* the older store, as it was */
+    names_in(dir, list, sizeof list);
+    EXPECT_EQ_STR("tiles.tpt ", list); /* no temporary file */
+    /* it stopped at once (the next band), not after building everything */
+    double waited = (t1.tv_sec - t0.tv_sec) + (t1.tv_nsec - t0.tv_nsec) * 1e-9;
+    EXPECT_TRUE(waited < 10);
+}
+
+TEST(sigterm_during_build_leaves_nothing) { build_killed(SIGTERM); }
+TEST(sigint_during_build_leaves_nothing) { build_killed(SIGINT); }
+
+/* A disk that takes 256 KiB (the store is about 2.5 MB): exit 1, the reason named, no store, no
+ * temporary file, an older store as it was. */
+TEST(full_disk_exit_1_and_leaves_nothing)
+{
+    char a[1024], out[1024], errp[1024], list[1024];
+    REQUIRE_DATA_FILE(a, "TP_SHARED_DATA_DIR", "N42E001.hgt");
+    const char* dir = make_tmp_dir();
+    const char* edir = make_tmp_dir();
+    snprintf(out, sizeof out, "%s/tile.tpt", dir);
+    snprintf(errp, sizeof errp, "%s/err.txt", edir);
+    const char old[] = "an older store\n";
+    put_text(out, old);
+    const char* args[] = {a, "-o", out, "--quiet", NULL};
+    EXPECT_EQ_INT(1, finish_child(start_build(args, 256 * 1024, errp)));
+    const char* e = slurp(errp);
+    EXPECT_TRUE(e && strstr(e, "tile.tpt: cannot write: File too large") != NULL);
+    if (e && !strstr(e, "File too large"))
+        fprintf(stderr, "stderr: %s\n", e);
+    const char* now = slurp(out);
+    EXPECT_TRUE(now && !strcmp(now, old));
+    names_in(dir, list, sizeof list);
+    EXPECT_EQ_STR("tile.tpt ", list);
+    /* the same build with room: it fits (the failure above was the disk) */
+    EXPECT_EQ_INT(0, finish_child(start_build(args, 0, errp)));
+    struct stat st;
+    EXPECT_TRUE(stat(out, &st) == 0 && st.st_size > 256 * 1024);
+}
+
+/* A 40000 x 40000 grid (a VRT with one small UTM tile in it, the rest nodata) with --memory 64:
+ * one band, the builder and the node table do not fit three quarters of 64 MB, so the build
+ * refuses before reading anything, saying what would do; with enough memory the same grid
+ * gets past that check (it is then interrupted: building 1.6 billion nodata samples is not the
+ * point). */
+TEST(memory_too_small_for_one_band_fails_up_front)
+{
+    char t[1024], vrt[1024], out[1024], errp[1024], cmd[4096], list[1024];
+    REQUIRE_DATA_FILE(t, "TP_SHARED_DATA_DIR", "lf_elev_220_mt_hood_utm.tif");
+    if (system("gdalbuildvrt --version >/dev/null 2>&1") != 0)
+        SKIP("gdalbuildvrt (gdal-bin) is not installed");
+    const char* dir = make_tmp_dir();
+    const char* odir = make_tmp_dir();
+    snprintf(vrt, sizeof vrt, "%s/big.vrt", dir);
+    snprintf(out, sizeof out, "%s/big.tpt", odir);
+    snprintf(errp, sizeof errp, "%s/err.txt", dir);
+    /* the tile's corner is near (590000, 5020000) in UTM 10N; 1 m posts, 40 km square */
+    snprintf(cmd, sizeof cmd,
+             "gdalbuildvrt -q -tr 1 1 -te 560000 4990000 600000 5030000 '%s' '%s'", vrt, t);
+    ASSERT_EQ_INT(0, system(cmd));
+    const char* args[] = {vrt, "-o", out, "--memory", "64", NULL};
+    struct timespec t0, t1;
+    clock_gettime(CLOCK_MONOTONIC, &t0);
+    EXPECT_EQ_INT(1, finish_child(start_build(args, 0, errp)));
+    clock_gettime(CLOCK_MONOTONIC, &t1);
+    const char* e = slurp(errp);
+    EXPECT_TRUE(e && strstr(e, "--memory 64 MB is too small for a 40000x40000 grid") != NULL);
+    EXPECT_TRUE(e && strstr(e, "give --memory ") != NULL);
+    if (e && !strstr(e, "too small"))
+        fprintf(stderr, "stderr: %s\n", e);
+    names_in(odir, list, sizeof list);
+    EXPECT_EQ_STR("", list);
+    EXPECT_TRUE((t1.tv_sec - t0.tv_sec) < 20); /* up front, not after reading 6 GB */
+    /* the figure it gives is enough: the build starts (its temporary file appears) */
+    int need = e && strstr(e, "give --memory ") ? atoi(strstr(e, "give --memory ") + 14) : 0;
+    ASSERT_TRUE(need > 64);
+    char mem[32];
+    snprintf(mem, sizeof mem, "%d", need);
+    const char* enough[] = {vrt, "-o", out, "--memory", mem, "--quiet", NULL};
+    int fd = inotify_init1(IN_CLOEXEC);
+    ASSERT_TRUE(fd >= 0);
+    ASSERT_TRUE(inotify_add_watch(fd, odir, IN_CREATE) >= 0);
+    pid_t pid = start_build(enough, 0, errp);
+    int seen = wait_for_temp(fd, pid);
+    kill(pid, SIGTERM);
+    close(fd);
+    EXPECT_EQ_INT(128 + SIGTERM, finish_child(pid));
+    EXPECT_TRUE(seen);
+    names_in(odir, list, sizeof list);
+    EXPECT_EQ_STR("", list);
+}
+
 #define TESTS(X)                                                                                   \
     X(single_hgt_same_grid_as_render_grid)                                                         \
     X(single_dt1_same_grid_as_render_grid)                                                         \
@@ -398,5 +631,9 @@ TEST(json_keys_present_and_sane)
     X(different_crs_warped_and_reported)                                                           \
     X(bad_sources_exit_1_and_write_nothing)                                                        \
     X(unwritable_output_folder_fails_first)                                                        \
-    X(json_keys_present_and_sane)
+    X(json_keys_present_and_sane)                                                                  \
+    X(sigterm_during_build_leaves_nothing)                                                         \
+    X(sigint_during_build_leaves_nothing)                                                          \
+    X(full_disk_exit_1_and_leaves_nothing)                                                         \
+    X(memory_too_small_for_one_band_fails_up_front)
 TP_TEST_MAIN(TESTS)

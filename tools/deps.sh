@@ -28,9 +28,10 @@
 # packages are installed, in place of asking dpkg.
 set -eu
 
+# gdal-bin: the GDAL command-line tools tools/make_mirror_dem.py (and its test) run.
 COMMON="cmake pkg-config gcc g++ libgdal-dev libproj-dev libgeographiclib-dev libopenimageio-dev
 libglfw3-dev libepoxy-dev libegl-dev libgl-dev libgl1-mesa-dri libegl-mesa0 libstb-dev gnuplot-nox
-xvfb xdotool libzstd-dev zlib1g-dev"
+xvfb xdotool libzstd-dev zlib1g-dev gdal-bin"
 VTK_SYSTEM="libvtk9-dev"
 # ParaView's VTK config finds Threads, EXPAT, LZMA, LZ4, double-conversion, ZLIB and utf8cpp
 # for CommonCore, IOCore, IOXML, IOLegacy, FiltersCore and their dependencies.

@@ -18,9 +18,11 @@ Options:
 What it makes:
   1. The tile's render grid, once: the tile warped (gdalwarp, bilinear, Float32, nodata
      -32768) to the WGS84 UTM zone of its centre, at a square pixel equal to its finest post
-     spacing (what `terrapatch info` warps to; 66.7 m for N42E001 in EPSG:32631), cropped to
+     spacing (what `terrapatch info` warps to; 67.93 m for N42E001 in EPSG:32631), cropped to
      the largest axis-aligned rectangle inside the tile's footprint, so the slanted edges of a
-     geographic tile in UTM leave no nodata margin.
+     geographic tile in UTM leave no nodata margin (N42E001: 1181 x 1614 posts). A tile
+     already in its zone keeps its own posts. A tile whose data does not fill its rectangle
+     (nodata margins) gets them filled with made-up heights: prefer full tiles (SRTM).
   2. Its voids filled (gdal_fillnodata.py, every void whatever its size), so the mosaic has
      relief everywhere: a benchmark over it measures terrain, not holes. --keep-voids keeps
      them, mirrored with the rest, for testing how the viewer handles voids at scale.
@@ -102,6 +104,10 @@ def raster_size(path):
 def render_grid(tile, out_dir, stem, fill):
     """Steps 1-2: the cropped, filled UTM grid of TILE as OUT_DIR/<stem>_0.bil; (w, h, epsg,
     res_m, voids_found, voids_left)."""
+    info = run(["gdalinfo", tile])
+    if "Coordinate System is `'" in info or "Coordinate System is:" not in info:
+        die("%s has no CRS: the tool needs one to find its UTM zone (a .prj beside it, or "
+            "gdal_translate -a_srs EPSG:N)" % tile)
     tw, th = raster_size(tile)
     if tw < 2 or th < 2:
         die("%s is %dx%d: a tile needs at least 2x2 posts" % (tile, tw, th))
@@ -134,14 +140,18 @@ def render_grid(tile, out_dir, stem, fill):
         x0, x1 = x1, x0
     if y1 < y0:
         y0, y1 = y1, y0
-    w, h = int((x1 - x0) / res), int((y1 - y0) / res)
+    # Posts from (x0, y1) on, every res: the first post on the footprint's corner, so a tile
+    # already in the zone keeps its own posts (bilinear at a post is the post).
+    w, h = int((x1 - x0) / res + 1e-6) + 1, int((y1 - y0) / res + 1e-6) + 1
+    if not res > 0.01:
+        die("%s: its post spacing in %s is %g m" % (tile, t_srs, res))
     if w < 2 or h < 2:
         die("%s: its grid in %s is only %dx%d posts" % (tile, t_srs, w, h))
 
     warped = os.path.join(out_dir, stem + "_warp.tif")
     run(["gdalwarp", "-q", "-overwrite", "-t_srs", t_srs, "-r", "bilinear", "-ot", "Float32",
-         "-dstnodata", "%g" % NODATA, "-te", "%.6f" % x0, "%.6f" % y0, "%.6f" % (x0 + w * res),
-         "%.6f" % (y0 + h * res), "-ts", str(w), str(h), tile, warped])
+         "-dstnodata", "%g" % NODATA, "-te", "%.6f" % (x0 - res / 2), "%.6f" % (y1 - (h - 0.5) * res),
+         "%.6f" % (x0 + (w - 0.5) * res), "%.6f" % (y1 + res / 2), "-ts", str(w), str(h), tile, warped])
     src = warped
     if fill:
         need_tool("gdal_fillnodata.py")

@@ -7,8 +7,12 @@
  * and every neighbour level kn < n, eps[side][kn] is the largest error of any triangle with a
  * vertex moved by that side, over every level k > kn. With nearest-vertex snapping toward the
  * corners, a triangle with vertices moved by two sides collapses for k >= 2 (the vertices next
- * to a corner both snap onto it), so one side at a time is exact there; at k = 1 all 16
- * combinations of moved sides are measured.
+ * to a corner both snap onto it), so one side at a time is exact there. At k = 1 a triangle's
+ * vertices can be moved by the two sides of its cell's corner (the cell's other vertices are a
+ * corner and the centre, which never move): a triangle's error depends only on the moves of its
+ * own vertices, so one more measure per cell, with both of its sides moved, covers every
+ * combination of moved sides (measuring all 16 combinations over the whole lattice gave the
+ * same values, 15 times slower).
  *
  * A leaf of a tree (and a patch) holds every full-resolution sample of its area, so measuring
  * at its own samples is exact. A node of scale s >= 1 holds every 2^s-th sample only; its
@@ -28,7 +32,11 @@ double tp__lattice_level_error(int n, const int32_t* q, int k)
     assert(q && n >= 0 && n <= TP_MAX_N && k >= 0 && k <= n);
     int side = (1 << n) + 1;
     int s = 1 << (n - k), cells = 1 << k;
-    double mx = 0;
+    /* In integers scaled by s: the plane at (i, j) of a cell is z = q00 + (i dx + j dy) / s, so
+     * s |z - v| = |s q00 + i dx + j dy - s v| exactly (|q| < 2^31, s <= 2^8: fits 64 bits), and
+     * dividing the largest by s (a power of two) gives the same double as measuring each in
+     * doubles would. */
+    int64_t mx = 0;
     for (int cy = 0; cy < cells; cy++)
         for (int cx = 0; cx < cells; cx++) {
             int xa = cx * s, ya = cy * s;
@@ -36,24 +44,31 @@ double tp__lattice_level_error(int n, const int32_t* q, int k)
             int32_t q01 = lq(q, side, xa, ya + s), q11 = lq(q, side, xa + s, ya + s);
             int lower = q00 != INT32_MIN && q10 != INT32_MIN && q01 != INT32_MIN;
             int upper = q11 != INT32_MIN && q10 != INT32_MIN && q01 != INT32_MIN;
-            for (int j = 0; j <= s; j++)
-                for (int i = 0; i <= s; i++) {
-                    int32_t v = lq(q, side, xa + i, ya + j);
+            if (!lower && !upper)
+                continue;
+            /* lower: i + j <= s, z s = q00 s + i (q10 - q00) + j (q01 - q00); upper (the rest,
+             * or all of i + j >= s when lower is not drawn): q11 s + (s - i)(q01 - q11) +
+             * (s - j)(q10 - q11) */
+            const int64_t ldx = (int64_t)q10 - q00, ldy = (int64_t)q01 - q00;
+            const int64_t udx = (int64_t)q11 - q01, udy = (int64_t)q11 - q10;
+            const int64_t l0 = (int64_t)q00 * s, u0 = (int64_t)q11 * s - (int64_t)s * udx -
+                                                      (int64_t)s * udy;
+            for (int j = 0; j <= s; j++) {
+                const int32_t* row = q + (size_t)(ya + j) * (size_t)side + xa;
+                int i0 = lower ? 0 : s - j, i1 = upper ? s : s - j;
+                for (int i = i0; i <= i1; i++) {
+                    int32_t v = row[i];
                     if (v == INT32_MIN)
                         continue;
-                    double fx = (double)i / s, fy = (double)j / s, z;
-                    /* Exact: i/s is dyadic and heights are integers. */
-                    if (i + j <= s && lower)
-                        z = q00 + fx * ((double)q10 - q00) + fy * ((double)q01 - q00);
-                    else if (i + j >= s && upper)
-                        z = q11 + (1 - fx) * ((double)q01 - q11) + (1 - fy) * ((double)q10 - q11);
-                    else
-                        continue;
-                    double e = fabs(z - v);
+                    int64_t zs = lower && i + j <= s ? l0 + i * ldx + j * ldy
+                                                     : u0 + i * udx + j * udy;
+                    int64_t e = zs - (int64_t)v * s;
+                    e = e < 0 ? -e : e;
                     mx = e > mx ? e : mx;
                 }
+            }
         }
-    return mx;
+    return (double)mx / s;
 }
 
 /* Vertex (i, j) of level k lies on which side (-1 for none or a corner)? */
@@ -73,25 +88,76 @@ static int side_of(int i, int j, int last)
     return -1;
 }
 
-typedef struct {
-    const int32_t* q;
-    int side;
-    double max; /* in steps */
-} err_acc;
-
-static void acc_sample(int x, int y, double z, void* user)
-{
-    err_acc* a = user;
-    int32_t v = lq(a->q, a->side, x, y);
-    if (v == INT32_MIN)
-        return;
-    double e = fabs(z - v);
-    a->max = e > a->max ? e : a->max;
-}
-
 static int64_t edge(const int32_t a[2], const int32_t b[2], int64_t x, int64_t y)
 {
     return ((int64_t)b[0] - a[0]) * (y - a[1]) - ((int64_t)b[1] - a[1]) * (x - a[0]);
+}
+
+static int64_t floor_div(int64_t a, int64_t b) /* b > 0 */
+{
+    int64_t d = a / b;
+    return d - (a % b != 0 && a < 0);
+}
+
+/* Narrows [*x0, *x1] to the x where sign * (w + s (x - xs)) >= 0 (w at xs, s per step in x). */
+static void clip_span(int64_t w, int64_t s, int64_t xs, int64_t* x0, int64_t* x1)
+{
+    if (s == 0) {
+        if (w < 0)
+            *x1 = *x0 - 1; /* empty */
+        return;
+    }
+    if (s > 0) { /* x >= xs + ceil(-w / s) */
+        int64_t lo = xs - floor_div(w, s);
+        *x0 = lo > *x0 ? lo : *x0;
+    } else { /* x <= xs + floor(w / -s) */
+        int64_t hi = xs + floor_div(w, -s);
+        *x1 = hi < *x1 ? hi : *x1;
+    }
+}
+
+/* The largest |T - q| over the lattice samples a triangle T covers (closed), the samples
+ * tp__raster_triangle visits, a span per row. Exact (tp__raster_triangle's doubles round by
+ * 1/area: up to ~1e-12 apart, below the 1e-6 the units add). */
+static double raster_error(const int32_t* q, int side, const int32_t pos[3][2], const int64_t z[3])
+{
+    const int32_t *a = pos[0], *b = pos[1], *c = pos[2];
+    int64_t area = edge(a, b, c[0], c[1]);
+    if (area == 0)
+        return 0;
+    int32_t x0 = a[0], x1 = a[0], y0 = a[1], y1 = a[1];
+    for (int v = 1; v < 3; v++) {
+        x0 = pos[v][0] < x0 ? pos[v][0] : x0;
+        x1 = pos[v][0] > x1 ? pos[v][0] : x1;
+        y0 = pos[v][1] < y0 ? pos[v][1] : y0;
+        y1 = pos[v][1] > y1 ? pos[v][1] : y1;
+    }
+    /* In integers: the plane at a sample is N / area with N = wa za + wb zb + wc zc (|w| <=
+     * 2^17, |z| < 2^31: N fits 64 bits), so |T - v| = |N - v area| / |area|, exactly. */
+    int64_t sa = -((int64_t)c[1] - b[1]), sb = -((int64_t)a[1] - c[1]), sc = -((int64_t)b[1] - a[1]);
+    int64_t sign = area > 0 ? 1 : -1, abs_area = area * sign, mx = 0;
+    const int64_t dn = (sa * z[0] + sb * z[1] + sc * z[2]) * sign;
+    for (int32_t y = y0; y <= y1; y++) {
+        int64_t wa = edge(b, c, x0, y), wb = edge(c, a, x0, y), wc = edge(a, b, x0, y);
+        /* the samples inside (every weight of the area's sign) form one span of the row */
+        int64_t xa = x0, xb = x1;
+        clip_span(wa * sign, sa * sign, x0, &xa, &xb);
+        clip_span(wb * sign, sb * sign, x0, &xa, &xb);
+        clip_span(wc * sign, sc * sign, x0, &xa, &xb);
+        if (xa > xb)
+            continue;
+        wa += sa * (xa - x0), wb += sb * (xa - x0), wc += sc * (xa - x0);
+        int64_t nn = (wa * z[0] + wb * z[1] + wc * z[2]) * sign; /* N |area| / area */
+        const int32_t* row = q + (size_t)y * (size_t)side;
+        for (int64_t x = xa; x <= xb; x++, nn += dn) {
+            int32_t v = row[x];
+            int64_t e = nn - (int64_t)v * abs_area;
+            e = e < 0 ? -e : e;
+            e = v == INT32_MIN ? 0 : e;
+            mx = e > mx ? e : mx;
+        }
+    }
+    return (double)mx / (double)abs_area;
 }
 
 /* The cell bound of a node of scale >= 1 (cells = 1 in tp__lattice_eps).
@@ -105,7 +171,7 @@ static int64_t edge(const int32_t a[2], const int32_t b[2], int64_t x, int64_t y
  * touched cell of |T_extended(p) - q(p)| bounds |T - S_n| over all of T (including where T's
  * edges cross cell edges); the caller adds the carry |S_n - f| of the children. Cells are
  * found in T's bounding box and kept when no edge of T separates them (exact integer test). */
-static double cell_bound(const int32_t* q, int side, const int32_t pos[3][2], const double z[3])
+static double cell_bound(const int32_t* q, int side, const int32_t pos[3][2], const int64_t z[3])
 {
     int64_t area = edge(pos[0], pos[1], pos[2][0], pos[2][1]);
     if (area == 0)
@@ -118,34 +184,59 @@ static double cell_bound(const int32_t* q, int side, const int32_t pos[3][2], co
         y0 = pos[v][1] < y0 ? pos[v][1] : y0;
         y1 = pos[v][1] > y1 ? pos[v][1] : y1;
     }
-    double inv = 1.0 / (double)area, mx = 0;
-    for (int32_t cy = y0; cy < y1; cy++)
-        for (int32_t cx = x0; cx < x1; cx++) {
+    /* An edge separates a cell when all 4 corners are strictly outside it, i.e. when its
+     * function (linear) is negative at the corner where it is largest: one corner per edge. */
+    int dx[3], dy[3];
+    for (int e = 0; e < 3; e++) {
+        const int32_t* a = pos[(e + 1) % 3];
+        const int32_t* b = pos[(e + 2) % 3];
+        dx[e] = -((int64_t)b[1] - a[1]) * sign > 0;
+        dy[e] = ((int64_t)b[0] - a[0]) * sign > 0;
+    }
+    /* Kept cells of each cell row: one interval (T and the row's strip are convex); the
+     * corners of kept cells of point row py are those of cell rows py - 1 and py. Each corner
+     * is measured once (the same value as once per cell it belongs to). */
+    int64_t abs_area = area * sign, mx = 0; /* in integers as raster_error */
+    int32_t prev_lo = 1, prev_hi = 0; /* kept cells of the cell row above, empty */
+    for (int32_t py = y0; py <= y1; py++) {
+        int32_t lo = 1, hi = 0; /* kept cells of cell row py (none for py == y1) */
+        for (int32_t cx = x0; py < y1 && cx < x1; cx++) {
             int separated = 0;
-            for (int e = 0; e < 3 && !separated; e++) {
-                const int32_t* a = pos[(e + 1) % 3];
-                const int32_t* b = pos[(e + 2) % 3];
-                int outside = 0;
-                for (int k = 0; k < 4; k++)
-                    outside += edge(a, b, cx + (k & 1), cy + (k >> 1)) * sign < 0;
-                separated = outside == 4;
-            }
+            for (int e = 0; e < 3 && !separated; e++)
+                separated = edge(pos[(e + 1) % 3], pos[(e + 2) % 3], cx + dx[e], py + dy[e]) *
+                                sign < 0;
             if (separated)
                 continue;
-            for (int k = 0; k < 4; k++) {
-                int px = cx + (k & 1), py = cy + (k >> 1);
+            if (lo > hi)
+                lo = cx;
+            hi = cx;
+        }
+        /* points: corners of cells prev_lo..prev_hi and lo..hi, i.e. x in [l, h + 1] */
+        for (int pass = 0; pass < 2; pass++) {
+            int32_t l = pass ? lo : prev_lo, h = pass ? hi : prev_hi;
+            if (l > h)
+                continue;
+            if (pass == 1 && prev_lo <= prev_hi) { /* skip what pass 0 measured */
+                if (l >= prev_lo && h <= prev_hi)
+                    continue;
+            }
+            for (int32_t px = l; px <= h + 1; px++) {
+                if (pass == 1 && prev_lo <= prev_hi && px >= prev_lo && px <= prev_hi + 1)
+                    continue;
                 int32_t v = lq(q, side, px, py);
                 if (v == INT32_MIN)
                     continue;
-                double wa = (double)edge(pos[1], pos[2], px, py);
-                double wb = (double)edge(pos[2], pos[0], px, py);
-                double wc = (double)edge(pos[0], pos[1], px, py);
-                double zt = (wa * z[0] + wb * z[1] + wc * z[2]) * inv;
-                double err = fabs(zt - v);
-                mx = err > mx ? err : mx;
+                int64_t nn = (edge(pos[1], pos[2], px, py) * z[0] +
+                              edge(pos[2], pos[0], px, py) * z[1] +
+                              edge(pos[0], pos[1], px, py) * z[2]) * sign;
+                int64_t e = nn - (int64_t)v * abs_area;
+                e = e < 0 ? -e : e;
+                mx = e > mx ? e : mx;
             }
         }
-    return mx;
+        prev_lo = lo, prev_hi = hi;
+    }
+    return (double)mx / (double)abs_area;
 }
 
 /* Measures the stitched triangles of cells [cx0, cx1) x [cy0, cy1) of the level-k
@@ -161,7 +252,7 @@ static void stitched_error(int n, const int32_t* q, int cells_mode, int k, const
             static const int tri[2][3][2] = {{{0, 0}, {0, 1}, {1, 0}}, {{1, 0}, {0, 1}, {1, 1}}};
             for (int h = 0; h < 2; h++) {
                 int32_t pos[3][2];
-                double z[3];
+                int64_t z[3];
                 int sides = 0, drawn = 1;
                 for (int v = 0; v < 3; v++) {
                     int i = cx + tri[h][v][0], j = cy + tri[h][v][1], mi, mj;
@@ -177,14 +268,7 @@ static void stitched_error(int n, const int32_t* q, int cells_mode, int k, const
                 }
                 if (!sides || !drawn)
                     continue;
-                double e;
-                if (cells_mode) {
-                    e = cell_bound(q, side, pos, z);
-                } else {
-                    err_acc a = {q, side, 0};
-                    tp__raster_triangle(pos[0], pos[1], pos[2], z[0], z[1], z[2], acc_sample, &a);
-                    e = a.max;
-                }
+                double e = cells_mode ? cell_bound(q, side, pos, z) : raster_error(q, side, pos, z);
                 for (int s = 0; s < 4; s++)
                     if (sides >> s & 1)
                         out[s] = e > out[s] ? e : out[s];
@@ -211,13 +295,14 @@ void tp__lattice_eps(int n, const int32_t* q, int cells, double eps[4][TP_MAX_N]
                 stitched_error(n, q, cells, k, nb, cx0, cx1, cy0, cy1, e);
                 eps[s][kn] = e[s] > eps[s][kn] ? e[s] : eps[s][kn];
             }
-        if (k == 1) /* every side touches every cell: measure all combinations */
-            for (int mask = 1; mask < 16; mask++) {
-                int nb[4];
-                for (int s = 0; s < 4; s++)
-                    nb[s] = mask >> s & 1 ? 0 : TP_NO_NEIGHBOR;
+        if (k == 1) /* both sides of each cell's corner moved (see the top of this file) */
+            for (int c = 0; c < 4; c++) {
+                int cx = c & 1, cy = c >> 1;
+                int nb[4] = {TP_NO_NEIGHBOR, TP_NO_NEIGHBOR, TP_NO_NEIGHBOR, TP_NO_NEIGHBOR};
+                nb[cy ? TP_SIDE_BOTTOM : TP_SIDE_TOP] = 0;
+                nb[cx ? TP_SIDE_RIGHT : TP_SIDE_LEFT] = 0;
                 double e[4] = {0, 0, 0, 0};
-                stitched_error(n, q, cells, 1, nb, 0, 2, 0, 2, e);
+                stitched_error(n, q, cells, 1, nb, cx, cx + 1, cy, cy + 1, e);
                 for (int s = 0; s < 4; s++)
                     eps[s][0] = e[s] > eps[s][0] ? e[s] : eps[s][0];
             }

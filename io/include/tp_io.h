@@ -123,6 +123,11 @@ tp_status tp_file_begin(const char* path, tp_file_writer** out, tp_error* err);
  * On failure the temporary file is already gone; w must still be aborted (or committed, which
  * returns the same failure). */
 tp_status tp_file_append(tp_file_writer* w, const void* data, size_t size, tp_error* err);
+/* Overwrites size bytes at offset of what was appended already (offset + size <= the bytes
+ * appended so far; else TP_ERR_INVALID_ARG): for a header whose values are known only at the
+ * end. Fails as tp_file_append does. */
+tp_status tp_file_rewrite(tp_file_writer* w, uint64_t offset, const void* data, size_t size,
+                          tp_error* err);
 /* Makes the file path: fsync, close, rename, fsync of the folder. Frees w, whatever happens. */
 tp_status tp_file_commit(tp_file_writer* w, tp_error* err);
 /* Removes the temporary file and frees w; path is untouched. Accepts NULL. */
@@ -317,9 +322,11 @@ typedef struct tp_mosaic_info {
     int source_count;
     int warped;                 /* 1 if any source is resampled onto the grid */
     int integer_sources;        /* 1 if every source's band 1 has an integer type */
-    /* Statistics every source carries (exact ones, as GDAL writes them), and so a bound of the
-     * grid's heights without reading them (resampling: bilinear only; cubic overshoots): 1 and
-     * the range, else 0. */
+    /* A bound of the grid's heights known without reading the grid: statistics every source
+     * carries (exact ones, as GDAL writes them; resampling bilinear only, cubic overshoots), or,
+     * for a grid read without resampling from files holding at most half its samples (a VRT
+     * repeating a few small files), those files' exact min/max (read at open). 1 and the range,
+     * else 0. A VRT that scales its sources can exceed it: check what is read. */
     int has_range;
     double min_m, max_m;
     /* What was decided, one line each ('\n'-separated): the sources, warps, CRS and spacing
@@ -524,6 +531,13 @@ tp_status tp_store_writer_begin(const char* path, const tp_store_header* header,
  * (then every later call and the commit fail the same way: abort w). */
 tp_status tp_store_writer_add_node(tp_store_writer* w, int64_t node, const tp_node_meta* meta,
                                    const int32_t* q, tp_error* err);
+/* The header's values known only once the whole grid has been read (a build that reads its
+ * sources once): they replace the header's quant_max_error_m, valid_samples and nodata_samples
+ * given to tp_store_writer_begin; commit writes the header again with them (tp_file_rewrite of
+ * the same bytes with those three fields and its CRC32 changed; the format is unchanged). Any
+ * time before commit; the last call wins. */
+void tp_store_writer_set_totals(tp_store_writer* w, double quant_max_error_m,
+                                size_t valid_samples, size_t nodata_samples);
 /* Writes the node table and the footer and makes the file (tp_file_commit). Frees w, whatever
  * happens. TP_ERR_INVALID_ARG when a node is missing (the message says how many and the first),
  * TP_ERR_IO; on failure no file is left and an older path is as it was. */

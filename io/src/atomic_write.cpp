@@ -293,6 +293,33 @@ extern "C" tp_status tp_file_append(tp_file_writer* w, const void* data, size_t 
     return w->error ? tpio::write_failed(err, w->path, w->error) : TP_OK;
 }
 
+extern "C" tp_status tp_file_rewrite(tp_file_writer* w, uint64_t offset, const void* data,
+                                     size_t size, tp_error* err)
+{
+    if (!w || (!data && size))
+        return fail(err, TP_ERR_INVALID_ARG, "file: bad arguments (writer or data is NULL)");
+    if (offset > w->size || size > w->size - offset)
+        return fail(err, TP_ERR_INVALID_ARG,
+                    "%s: rewrite of bytes %llu .. %llu beyond the %llu written", w->path.c_str(),
+                    (unsigned long long)offset, (unsigned long long)(offset + size),
+                    (unsigned long long)w->size);
+    const char* p = static_cast<const char*>(data);
+    for (size_t done = 0; !w->error && done < size;) {
+        if (g_signal) {
+            drop(w, EINTR);
+            break;
+        }
+        ssize_t n = pwrite(w->fd, p + done, size - done, (off_t)(offset + done));
+        if (n > 0)
+            done += (size_t)n;
+        else if (n < 0 && errno != EINTR)
+            drop(w, errno);
+        else if (n == 0)
+            drop(w, EIO);
+    }
+    return w->error ? tpio::write_failed(err, w->path, w->error) : TP_OK;
+}
+
 extern "C" tp_status tp_file_commit(tp_file_writer* w, tp_error* err)
 {
     if (!w)

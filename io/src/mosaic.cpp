@@ -299,6 +299,59 @@ void note_overlaps(const std::vector<Source>& src, const double mgt[6], int mw, 
                                    all - covered, mw, mh));
 }
 
+/* A grid read without resampling from raster files that hold at most half its samples (a VRT
+ * that repeats a few small files, as tools/make_mirror_dem.py's): the exact minimum and maximum
+ * of every band of those files (GDAL skips each file's nodata) bound its heights, for a fraction
+ * of a read of the grid. Not when a bound touches the grid's nodata value (a file without the
+ * tag whose voids the VRT masks) or GDAL cannot say. A VRT that scales its sources breaks the
+ * bound: the caller checks it against what it reads (terrapatch build does). */
+void range_of_files(tp_mosaic* m)
+{
+    char** list = m->ds->GetFileList();
+    const std::string self = m->ds->GetDescription();
+    const double grid = (double)m->w * m->h;
+    double total = 0, lo = INFINITY, hi = -INFINITY;
+    bool ok = list != nullptr;
+    std::vector<tpio::Dataset> files;
+    for (char** f = list; ok && f && *f; ++f) {
+        if (self == *f || !GDALIdentifyDriver(*f, nullptr))
+            continue; /* the VRT itself, sidecars (.hdr, .prj, .aux.xml) */
+        tpio::Dataset d(GDALDataset::Open(*f, GDAL_OF_RASTER | GDAL_OF_READONLY));
+        if (!d || d->GetRasterCount() < 1) {
+            ok = false;
+            break;
+        }
+        total += (double)d->GetRasterXSize() * d->GetRasterYSize() * d->GetRasterCount();
+        ok = total <= grid / 2;
+        files.push_back(std::move(d));
+    }
+    CSLDestroy(list);
+    ok = ok && !files.empty();
+    for (auto& d : files) {
+        for (int b = 1; ok && b <= d->GetRasterCount(); b++) {
+            double mm[2];
+            CPLErrorReset();
+            if (GDALComputeRasterMinMax(GDALRasterBand::ToHandle(d->GetRasterBand(b)), FALSE,
+                                        mm) != CE_None ||
+                CPLGetLastErrorType() == CE_Failure || !std::isfinite(mm[0]) ||
+                !std::isfinite(mm[1]))
+                ok = false;
+            lo = std::min(lo, mm[0]), hi = std::max(hi, mm[1]);
+        }
+        if (!ok)
+            break;
+    }
+    if (!ok)
+        return;
+    for (double v : {lo, hi})
+        if ((m->has_nodata && (float)v == m->nodata) ||
+            (m->int16_guess && (v == -32768.0 || v == -32767.0)) || std::fabs(v) >= FLT_MAX)
+            return;
+    m->has_range = true;
+    m->min_m = lo;
+    m->max_m = hi;
+}
+
 tp_status open_mosaic(const char* const* paths, size_t count, const tp_mosaic_options* opt,
                       tp_mosaic* m, tp_error* err)
 {
@@ -552,6 +605,8 @@ tp_status open_mosaic(const char* const* paths, size_t count, const tp_mosaic_op
         m->min_m = src[0].stat_min, m->max_m = src[0].stat_max;
         for (const Source& s : src)
             m->min_m = std::min(m->min_m, s.stat_min), m->max_m = std::max(m->max_m, s.stat_max);
+    } else if (!m->warped) {
+        range_of_files(m);
     }
     return TP_OK;
 }

@@ -32,6 +32,10 @@ struct tp_store_writer {
     std::vector<bool> have;       /* node written */
     int64_t missing = 0;          /* nodes not written yet */
     uint64_t offset = 0;          /* file size so far */
+    std::vector<uint8_t> head;    /* the encoded header, rewritten at commit with the totals */
+    bool totals = false;          /* tp_store_writer_set_totals was called */
+    double quant_max_error_m = 0;
+    uint64_t valid_samples = 0, nodata_samples = 0;
     ZSTD_CCtx* cctx = nullptr;
     std::vector<uint16_t> rel;    /* one node's samples relative to its qmin */
     std::vector<uint8_t> scratch, packed;
@@ -160,6 +164,7 @@ extern "C" tp_status tp_store_writer_begin(const char* path, const tp_store_head
             return s;
         }
         w->offset = head.size();
+        w->head = head;
         *out = w;
         return TP_OK;
     } catch (...) {
@@ -252,6 +257,14 @@ extern "C" tp_status tp_store_writer_commit(tp_store_writer* w, tp_error* err)
             s = tp_file_append(w->file, w->table.data(), w->table.size(), err);
             if (s == TP_OK)
                 s = tp_file_append(w->file, footer, sizeof footer, err);
+            if (s == TP_OK && w->totals) {
+                uint8_t* h = w->head.data();
+                put_f64(h + H_QUANT_MAX_ERROR, w->quant_max_error_m);
+                put_u64(h + H_VALID_SAMPLES, w->valid_samples);
+                put_u64(h + H_NODATA_SAMPLES, w->nodata_samples);
+                put_u32(h + w->head.size() - 4, crc32_of(h, w->head.size() - 4));
+                s = tp_file_rewrite(w->file, 0, h, w->head.size(), err);
+            }
             if (s == TP_OK) {
                 tp_file_writer* file = w->file;
                 w->file = nullptr; /* commit frees it, whatever happens */
@@ -263,6 +276,17 @@ extern "C" tp_status tp_store_writer_commit(tp_store_writer* w, tp_error* err)
     }
     delete w; /* aborts the file unless committed */
     return s;
+}
+
+extern "C" void tp_store_writer_set_totals(tp_store_writer* w, double quant_max_error_m,
+                                           size_t valid_samples, size_t nodata_samples)
+{
+    if (!w)
+        return;
+    w->totals = true;
+    w->quant_max_error_m = quant_max_error_m;
+    w->valid_samples = valid_samples;
+    w->nodata_samples = nodata_samples;
 }
 
 extern "C" void tp_store_writer_abort(tp_store_writer* w) { delete w; }
