@@ -454,6 +454,14 @@ static int view_store(const char* path, view_options* o)
     }
     v.path = o->path;
     const tp_tree_geometry* g = tp_tree_get_geometry(st.tree);
+    /* as tp_view_setup_warn says for a DEM drawn whole: one leaf is 2^n grid steps */
+    double leaf_m = (double)(1 << g->n) * fmin(fabs(v.gt[1]), fabs(v.gt[5]));
+    if (o->vs.lod.mode == TP_LOD_DISTANCE && o->vs.lod.maxdist_m > 0 &&
+        o->vs.lod.maxdist_m < leaf_m)
+        fprintf(stderr,
+                "terrapatch view: warning: --maxdist %g m is less than one patch width (%.0f m): "
+                "every node farther than %g m is drawn at its coarsest (distances are in "
+                "metres)\n", o->vs.lod.maxdist_m, leaf_m, o->vs.lod.maxdist_m);
     tp_render_grid_desc gd = {.n = g->n, .width = g->width, .height = g->height,
                               .min_height_m = v.min_height_m, .max_height_m = v.max_height_m,
                               .pool_budget_bytes = o->gpu_memory_mb << 20};
