@@ -1582,9 +1582,97 @@ TEST(two_tile_seam_shows_no_crack_and_no_step)
 #endif
 }
 
+/* A store with one damaged node: the view says so once (one line naming the node), draws its
+ * ancestor there (a substitution, no hole) and exits 0; a tiny --gpu-memory still draws every
+ * node (the pool grows past it for that frame). */
+TEST(store_damaged_node_is_reported_once_and_drawn_as_its_ancestor)
+{
+    REQUIRE_IO();
+#ifndef TP_TEST_NO_IO
+    {
+        const char* dir = make_tmp_dir();
+        char store_path[1200], text[8192], json[1200];
+        snprintf(store_path, sizeof store_path, "%s/hood.tpt", dir);
+        args a;
+        args_view(&a);
+        a.n = 1;
+        args_add(&a, "build");
+        args_add(&a, "--quiet");
+        args_add(&a, "--patch");
+        args_add(&a, "17");
+        args_add(&a, "%s", sample_dem());
+        args_add(&a, "-o");
+        args_add(&a, "%s", store_path);
+        run_ok(&a, dir);
+        char ok_path[1300];
+        snprintf(ok_path, sizeof ok_path, "%s/hood_ok.tpt", dir);
+        copy_file(store_path, ok_path);
+        /* --lod full draws every leaf in view: damage node data a third into the file (the
+         * node table is at the end) */
+        FILE* f = fopen(store_path, "r+b");
+        ASSERT_TRUE(f != NULL);
+        fseek(f, 0, SEEK_END);
+        long size = ftell(f);
+        fseek(f, size / 3, SEEK_SET);
+        int c = fgetc(f);
+        fseek(f, size / 3, SEEK_SET);
+        fputc(c ^ 0x5A, f);
+        fclose(f);
+        image ok_im;
+        for (int frames = 0; frames <= 3; frames += 2) { /* 0: the intact store */
+            run_result rr;
+            args_view(&a);
+            args_add(&a, "--headless");
+            args_add(&a, "--size");
+            args_add(&a, "320x180");
+            args_add(&a, "--clear-color");
+            args_add(&a, "1,0,1");
+            args_add(&a, "--camera");
+            args_add(&a, "602125,5025267,40000,0,-90"); /* straight down on the whole map */
+            args_add(&a, "--lod");
+            args_add(&a, "full");
+            args_add(&a, "--gpu-memory");
+            args_add(&a, "16");
+            args_add(&a, "--frames");
+            args_add(&a, "%d", frames > 0 ? frames : 1);
+            args_add(&a, "--stats-json");
+            args_add(&a, "%s/bad.json", dir);
+            args_add(&a, "--screenshot");
+            args_add(&a, "%s/%s", dir, frames ? "bad.png" : "ok.png");
+            args_add(&a, "%s", frames ? store_path : ok_path);
+            run(&a, dir, &rr);
+            if (!frames) {
+                EXPECT_EQ_INT(0, rr.exit_code);
+                EXPECT_EQ_INT(0, rr.err_lines);
+                image_read(dir, "ok.png", &ok_im);
+                continue;
+            }
+            tp_test_note("frames %d: exit %d, stderr: %s", frames, rr.exit_code, rr.err);
+            EXPECT_EQ_INT(0, rr.exit_code);
+            EXPECT_EQ_INT(1, rr.err_lines);
+            EXPECT_CONTAINS(rr.err, "checksum");
+            EXPECT_CONTAINS(rr.err, "drawing its ancestor instead");
+            snprintf(json, sizeof json, "%s/bad.json", dir);
+            int lines;
+            read_text(json, text, sizeof text, &lines);
+            EXPECT_GE(json_number(text, "substituted_nodes"), 1);
+            EXPECT_EQ_DBL(0, json_number(text, "pending"));
+            EXPECT_GT(json_number(text, "gpu_mb"), 16 * 1.048576); /* grown past the budget */
+            image im;
+            image_read(dir, "bad.png", &im);
+            long n = 0;
+            for (size_t i = 0; i < (size_t)im.w * im.h; i++)
+                n += is_magenta(im.px + 4 * i) && !is_magenta(ok_im.px + 4 * i);
+            EXPECT_EQ_INT(0, n); /* the ancestor covers the damaged node: no hole */
+        }
+    }
+#endif
+}
+
 #define TESTS(X)                                                                                   \
     X(store_no_cracks_oblique_error_lod)                                                           \
     X(two_tile_seam_shows_no_crack_and_no_step)                                                    \
+    X(store_damaged_node_is_reported_once_and_drawn_as_its_ancestor)                               \
     X(no_cracks_top_down_distance_lod)                                                             \
     X(no_cracks_oblique_distance_lod)                                                              \
     X(no_cracks_oblique_error_lod)                                                                 \
