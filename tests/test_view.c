@@ -1451,6 +1451,7 @@ static void expect_store_no_magenta(const char* path, const view_spec* v, int pa
     EXPECT_EQ_DBL(0, json_number(text, "substituted_nodes"));
     EXPECT_GT(json_number(text, "nodes_drawn"), 0);
     EXPECT_GE_INT(distinct_levels(&st), min_levels);
+    free(im.px);
 }
 #endif
 
@@ -1664,7 +1665,9 @@ TEST(store_damaged_node_is_reported_once_and_drawn_as_its_ancestor)
             for (size_t i = 0; i < (size_t)im.w * im.h; i++)
                 n += is_magenta(im.px + 4 * i) && !is_magenta(ok_im.px + 4 * i);
             EXPECT_EQ_INT(0, n); /* the ancestor covers the damaged node: no hole */
+            free(im.px);
         }
+        free(ok_im.px);
     }
 #endif
 }
