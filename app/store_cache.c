@@ -77,8 +77,22 @@ static int store_matches(const char* path, const char* abs_path, int patch_size)
     return ok;
 }
 
-int tp_store_cache_get(const char* dem, const tp_store_cache_options* o, char* out, size_t cap)
+void tp_store_cache_remove_temporary(const char* path)
 {
+    char dir[PATH_MAX];
+    snprintf(dir, sizeof dir, "%s", path);
+    char* slash = strrchr(dir, '/');
+    unlink(path);
+    if (slash) {
+        *slash = '\0';
+        rmdir(dir);
+    }
+}
+
+int tp_store_cache_get(const char* dem, const tp_store_cache_options* o, char* out, size_t cap,
+                       int* temporary_out)
+{
+    *temporary_out = 0;
     char abs_path[PATH_MAX];
     struct stat sb;
     if (!realpath(dem, abs_path) || stat(abs_path, &sb) != 0) {
@@ -107,7 +121,8 @@ int tp_store_cache_get(const char* dem, const tp_store_cache_options* o, char* o
             return TP_EXIT_FAILURE;
         }
         fprintf(stderr, "terrapatch: the cache directory %s is not writable: building in %s "
-                        "instead (not reused; choose one with --cache-dir)\n", dir, tdir);
+                        "instead (removed after the view; choose one with --cache-dir)\n", dir,
+                tdir);
         snprintf(dir, sizeof dir, "%s", tdir);
         temporary = 1;
     }
@@ -148,5 +163,8 @@ int tp_store_cache_get(const char* dem, const tp_store_cache_options* o, char* o
     argv[argc] = NULL;
     int code = tp_cli_build(argc, argv);
     optind = 1;
+    if (temporary && code != TP_EXIT_OK)
+        rmdir(dir);
+    *temporary_out = temporary && code == TP_EXIT_OK;
     return code;
 }

@@ -1672,10 +1672,56 @@ TEST(store_damaged_node_is_reported_once_and_drawn_as_its_ancestor)
 #endif
 }
 
+/* `view DEM` builds the DEM into a store in the cache once and reuses it; another patch size
+ * is another store; a cache directory that cannot be written builds in a temporary one. */
+TEST(dem_is_built_into_the_cache_once)
+{
+    REQUIRE_IO();
+#ifndef TP_TEST_NO_IO
+    {
+        const char* dir = make_tmp_dir();
+        char cache[1200], ro[1200];
+        snprintf(cache, sizeof cache, "%s/cache", dir);
+        /* below a plain file: not creatable, even for root */
+        snprintf(ro, sizeof ro, "%s/plain", dir);
+        FILE* pf = fopen(ro, "w");
+        ASSERT_TRUE(pf != NULL);
+        fclose(pf);
+        snprintf(ro, sizeof ro, "%s/plain/cache", dir);
+        const char* want[4] = {"building a store", NULL, "building a store", "not writable"};
+        for (int i = 0; i < 4; i++) {
+            args a;
+            run_result rr;
+            args_view(&a);
+            args_add(&a, "--headless");
+            args_add(&a, "--size");
+            args_add(&a, "64x36");
+            args_add(&a, "--cache-dir");
+            args_add(&a, "%s", i == 3 ? ro : cache);
+            if (i == 2) {
+                args_add(&a, "--patch");
+                args_add(&a, "33");
+            }
+            args_add(&a, "%s", sample_dem());
+            run(&a, dir, &rr);
+            tp_test_note("run %d: exit %d, stderr: %s", i, rr.exit_code, rr.err);
+            EXPECT_EQ_INT(0, rr.exit_code);
+            if (want[i])
+                EXPECT_CONTAINS(rr.err, want[i]);
+            else
+                EXPECT_TRUE(strstr(rr.err, "building") == NULL); /* reused */
+        }
+        EXPECT_EQ_INT(2, dir_entries(cache)); /* one store per patch size, no temp files */
+        /* the temporary store is not left in the cache: TMPDIR got it */
+    }
+#endif
+}
+
 #define TESTS(X)                                                                                   \
     X(store_no_cracks_oblique_error_lod)                                                           \
     X(two_tile_seam_shows_no_crack_and_no_step)                                                    \
     X(store_damaged_node_is_reported_once_and_drawn_as_its_ancestor)                               \
+    X(dem_is_built_into_the_cache_once)                                                            \
     X(no_cracks_top_down_distance_lod)                                                             \
     X(no_cracks_oblique_distance_lod)                                                              \
     X(no_cracks_oblique_error_lod)                                                                 \

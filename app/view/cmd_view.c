@@ -502,9 +502,12 @@ int tp_cli_view(int argc, char** argv)
                                      .crs = o.scene.grid.crs,
                                      .resampling = o.scene.grid.resampling,
                                      .cmd = "view"};
-        code = tp_store_cache_get(o.path, &co, store, sizeof store);
+        int temporary = 0;
+        code = tp_store_cache_get(o.path, &co, store, sizeof store, &temporary);
         if (code == TP_EXIT_OK)
             code = view_store(store, &o);
+        if (temporary)
+            tp_store_cache_remove_temporary(store);
     }
     return code == TP_EXIT_OK ? tp_cli_finish(code) : code;
 }
