@@ -5,11 +5,15 @@
 
 #include <stdio.h>
 #include <string.h>
+#include <sys/stat.h>
 
 int tp_is_store_path(const char* path)
 {
     static const unsigned char magic[8] = {0x89, 'T', 'P', 'T', '\r', '\n', 0x1A, '\n'};
     unsigned char head[8];
+    struct stat sb;
+    if (stat(path, &sb) != 0 || !S_ISREG(sb.st_mode))
+        return 0; /* a FIFO would block fopen */
     FILE* f = fopen(path, "rb");
     if (!f)
         return 0;

@@ -22,6 +22,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #define TP_SAMPLE_SCENE "data/lf_elev_220_mt_hood_utm.tif"
@@ -472,6 +473,12 @@ static int view_store(const char* path, view_options* o)
     return code;
 }
 
+static int is_regular_file(const char* path)
+{
+    struct stat sb;
+    return stat(path, &sb) == 0 && S_ISREG(sb.st_mode);
+}
+
 int tp_cli_view(int argc, char** argv)
 {
     view_options o;
@@ -493,7 +500,10 @@ int tp_cli_view(int argc, char** argv)
             return TP_EXIT_USAGE;
         }
         code = view_store(o.path, &o);
-    } else if (o.old_path || o.texture || o.scene.image_given || tp_is_heightmap_image(o.path)) {
+    } else if (o.old_path || o.texture || o.scene.image_given || !is_regular_file(o.path) ||
+               tp_is_heightmap_image(o.path)) {
+        /* (not a plain file: a FIFO, a GDAL /vsi path or a missing one: the DEM reader says
+         * what it is, as before) */
         code = view_dem(&o);
     } else {
         char store[4096];
