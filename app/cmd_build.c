@@ -4,9 +4,12 @@
  * the node hierarchy band by band (tp_tree_builder) and written as a terrain store
  * (tp_store_writer), atomically. Memory follows the band, not the map.
  *
- * Two passes over the grid: the first finds the height range, the valid samples and the
- * quantisation error of every candidate step (the store's header, written first, holds them);
- * the second quantises and builds.
+ * The grid is read once when its height range is bounded beforehand (sources' statistics, or
+ * the few files a VRT repeats: tp_mosaic_info.has_range): the range gives the step, which the
+ * store's header (written first) holds; the quantisation error and the valid samples are
+ * counted while building and given to the store at commit (tp_store_writer_set_totals). A bound
+ * that does not hold (a VRT that scales its sources) costs one more build. Without a bound, a
+ * range pass reads the grid first. docs/PERFORMANCE.md "Building stores" has the profile.
  */
 #include "atomic_file.h"
 #include "cli.h"
@@ -60,7 +63,8 @@ static void print_help(void)
           "  --patch N           node size: 17, 33, 65, 129 or 257 (default 65)\n"
           "  --crs CRS           the sources' CRS (EPSG:N, WKT, PROJ), overriding theirs\n"
           "  --resampling R      bilinear (default) or cubic, for warps\n"
-          "  --memory MB         memory budget (default 1024); GDAL's cache gets a quarter\n"
+          "  --memory MB         memory budget (default 1024); GDAL's cache gets a quarter;\n"
+          "                      refused at once when one band of rows does not fit\n"
           "  --threads N         threads (default: every core)\n"
           "  --json FILE|-       statistics as JSON (samples, nodes, bytes, seconds, ...)\n"
           "  --quiet             no progress, no notes\n"

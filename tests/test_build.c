@@ -393,6 +393,108 @@ TEST(json_keys_present_and_sane)
     EXPECT_TRUE(r && atof(r + 15) > 1 && atof(r + 15) < 1024);
 }
 
+/* A VRT whose second source is scaled (ComplexSource ScaleRatio 7.3, ScaleOffset 1000.5) breaks
+ * the bound the mosaic takes from its files' min/max (storml_elev.tif, ~1.4 .. 2 km): the build
+ * sees heights outside it, says so, builds again after a range pass, and the store has the step
+ * of the true range and the header totals of the grid as read (valid samples, nodata, the
+ * quantisation error: counted while building, given at commit). */
+TEST(vrt_scaling_beyond_its_files_bound_builds_again_right)
+{
+    char t[1024], vrt[1024], out[1024], errp[1024], args[4096];
+    REQUIRE_DATA_FILE(t, "TP_SHARED_DATA_DIR", "storml_elev.tif");
+    const char* dir = make_tmp_dir();
+    snprintf(vrt, sizeof vrt, "%s/scaled.vrt", dir);
+    snprintf(out, sizeof out, "%s/scaled.tpt", dir);
+    snprintf(errp, sizeof errp, "%s/err.txt", dir);
+    FILE* f = fopen(vrt, "w");
+    ASSERT_TRUE(f != NULL);
+    fprintf(f,
+            "<VRTDataset rasterXSize=\"286\" rasterYSize=\"107\">\n"
+            "  <SRS>EPSG:26912</SRS>\n"
+            "  <GeoTransform>323476.071970862976741, 30, 0, 5105081.98303137999028, 0, "
+            "-30</GeoTransform>\n"
+            "  <VRTRasterBand dataType=\"Float32\" band=\"1\">\n"
+            "    <NoDataValue>-99999</NoDataValue>\n");
+    for (int i = 0; i < 2; i++)
+        fprintf(f,
+                "    <ComplexSource>\n"
+                "      <SourceFilename relativeToVRT=\"0\">%s</SourceFilename>\n"
+                "      <SourceBand>1</SourceBand>\n"
+                "      <SrcRect xOff=\"0\" yOff=\"0\" xSize=\"143\" ySize=\"107\"/>\n"
+                "      <DstRect xOff=\"%d\" yOff=\"0\" xSize=\"143\" ySize=\"107\"/>\n"
+                "      <NODATA>32767</NODATA>\n%s"
+                "    </ComplexSource>\n",
+                t, 143 * i, i ? "      <ScaleOffset>1000.5</ScaleOffset>\n"
+                                "      <ScaleRatio>7.3</ScaleRatio>\n" : "");
+    fprintf(f, "  </VRTRasterBand>\n</VRTDataset>\n");
+    fclose(f);
+
+    /* the grid as the mosaic reads it, and the bound it gives beforehand */
+    const char* paths[1] = {vrt};
+    tp_error err = {0};
+    tp_mosaic* m = NULL;
+    ASSERT_EQ_INT(TP_OK, tp_mosaic_open(paths, 1, NULL, &m, &err));
+    tp_mosaic_info mi;
+    tp_mosaic_get_info(m, &mi);
+    EXPECT_EQ_INT(0, mi.warped);
+    EXPECT_EQ_INT(1, mi.has_range); /* the tif's min/max: 15301 samples, half the grid */
+    int w, h;
+    float* z = mosaic_grid(m, &w, &h);
+    double lo = INFINITY, hi = -INFINITY;
+    size_t valid = 0;
+    for (size_t i = 0; i < (size_t)w * h; i++)
+        if (!isnan(z[i])) {
+            valid++;
+            lo = z[i] < lo ? z[i] : lo;
+            hi = z[i] > hi ? z[i] : hi;
+        }
+    ASSERT_TRUE(valid > 0);
+    EXPECT_TRUE(hi > mi.max_m + 1000); /* the bound does not hold */
+    tp_mosaic_close(m);
+
+    snprintf(args, sizeof args, "'%s' -o '%s' --patch 17", vrt, out);
+    ASSERT_EQ_INT(0, run_build(args, errp));
+    const char* e = slurp(errp);
+    EXPECT_TRUE(e && strstr(e, "outside the bound") != NULL);
+    tp_store* st = NULL;
+    ASSERT_EQ_INT(TP_OK, tp_store_open(out, &st, &err));
+    tp_store_info info;
+    tp_store_get_info(st, &info);
+    /* the finest 2^-p m whose quantised true range fits 65534 steps */
+    double want = 1;
+    for (int p = 10; p >= 0; p--) {
+        double sp = ldexp(1.0, -p);
+        if (floor(hi / sp + 0.5) - floor(lo / sp + 0.5) <= 65534) {
+            want = sp;
+            break;
+        }
+    }
+    EXPECT_EQ_DBL(want, info.header.height_step_m);
+    EXPECT_EQ_INT((long long)valid, (long long)info.header.valid_samples);
+    EXPECT_EQ_INT((long long)((size_t)w * h - valid), (long long)info.header.nodata_samples);
+    double qerr = 0;
+    for (size_t i = 0; i < (size_t)w * h; i++)
+        if (!isnan(z[i])) {
+            double e2 = fabs(floor(z[i] / want + 0.5) * want - z[i]);
+            qerr = e2 > qerr ? e2 : qerr;
+        }
+    EXPECT_TRUE(qerr > 0);
+    EXPECT_EQ_DBL(qerr, info.header.quant_max_error_m);
+    /* the nodes' range is the grid's */
+    size_t count;
+    const tp_node_meta* metas = tp_store_metas(st, &count);
+    int32_t qlo = INT32_MAX, qhi = INT32_MIN;
+    for (size_t i = 0; i < count; i++)
+        if (metas[i].flags & TP_NODE_HAS_DRAWN) {
+            qlo = metas[i].area_qmin < qlo ? metas[i].area_qmin : qlo;
+            qhi = metas[i].area_qmax > qhi ? metas[i].area_qmax : qhi;
+        }
+    EXPECT_EQ_INT((long long)floor(lo / want + 0.5), qlo);
+    EXPECT_EQ_INT((long long)floor(hi / want + 0.5), qhi);
+    tp_store_close(st);
+    free(z);
+}
+
 /* ---------------------------------------------------------------------------------------------
  * Faults: signals, a full disk, a budget too small
  */
@@ -632,6 +734,7 @@ TEST(memory_too_small_for_one_band_fails_up_front)
     X(bad_sources_exit_1_and_write_nothing)                                                        \
     X(unwritable_output_folder_fails_first)                                                        \
     X(json_keys_present_and_sane)                                                                  \
+    X(vrt_scaling_beyond_its_files_bound_builds_again_right)                                       \
     X(sigterm_during_build_leaves_nothing)                                                         \
     X(sigint_during_build_leaves_nothing)                                                          \
     X(full_disk_exit_1_and_leaves_nothing)                                                         \

@@ -1000,6 +1000,81 @@ TEST(full_disk_leaves_no_file)
     free(crs);
 }
 
+/* Totals given last (tp_store_writer_set_totals: what a build knows only at the end) replace
+ * the header's three fields; everything else, the nodes included, is as without them. */
+TEST(totals_given_at_commit_rewrite_the_header)
+{
+    int w, h;
+    char* crs;
+    float* heights = read_dem("storml_elev_orig.tif", &w, &h, &crs);
+    fixture fx;
+    fixture_make(&fx, heights, w, h, 17);
+    const char* dir = make_tmp_dir();
+    char p1[600], p2[600];
+    snprintf(p1, sizeof p1, "%s/plain.tpt", dir);
+    snprintf(p2, sizeof p2, "%s/totals.tpt", dir);
+    fixture_write(&fx, p1, crs);
+    tp_store_header hd = fixture_header(&fx, crs);
+    tp_store_writer* wr = NULL;
+    tp_error err = {{0}};
+    ASSERT_OK(tp_store_writer_begin(p2, &hd, &wr, &err));
+    tp_store_writer_set_totals(wr, 99.0, 1, 2); /* replaced by the next call */
+    for (int64_t i = 0; i < fx.g.node_count; i++) {
+        int64_t id = fx.order[i];
+        ASSERT_OK(tp_store_writer_add_node(wr, id, &fx.metas[id], fx.q + (size_t)id * fx.count,
+                                           &err));
+    }
+    const size_t all = (size_t)w * h;
+    tp_store_writer_set_totals(wr, 0.25, all - 3, 3);
+    ASSERT_OK(tp_store_writer_commit(wr, &err));
+    tp_store* st = NULL;
+    ASSERT_OK(tp_store_open(p2, &st, &err)); /* the rewritten header's CRC32 holds */
+    tp_store_info info;
+    tp_store_get_info(st, &info);
+    EXPECT_EQ_DBL(0.25, info.header.quant_max_error_m);
+    EXPECT_EQ_INT((long long)(all - 3), (long long)info.header.valid_samples);
+    EXPECT_EQ_INT(3, (long long)info.header.nodata_samples);
+    EXPECT_EQ_DBL(hd.height_step_m, info.header.height_step_m);
+    tp_store_close(st);
+    /* byte for byte the plain store but for those fields and the header's CRC32 */
+    file_buf a = slurp(p1), b = slurp(p2);
+    ASSERT_EQ_INT((long long)a.size, (long long)b.size);
+    const uint32_t hsize = le32(a.data + 12);
+    size_t differ = 0;
+    for (size_t i = 0; i < a.size; i++) {
+        int field = (i >= 120 && i < 128) || (i >= 136 && i < 152) || (i >= hsize - 4 && i < hsize);
+        if (!field)
+            differ += a.data[i] != b.data[i];
+    }
+    EXPECT_EQ_INT(0, (long long)differ);
+    EXPECT_TRUE(memcmp(a.data + 120, b.data + 120, 8) != 0);
+    free(a.data), free(b.data);
+    fixture_free(&fx);
+    free(heights);
+    free(crs);
+}
+
+/* tp_file_rewrite: only bytes already written. */
+TEST(file_rewrite_only_within_what_was_written)
+{
+    char path[600];
+    snprintf(path, sizeof path, "%s/f.bin", make_tmp_dir());
+    tp_file_writer* f = NULL;
+    tp_error err = {{0}};
+    ASSERT_OK(tp_file_begin(path, &f, &err));
+    ASSERT_OK(tp_file_append(f, "abcdef", 6, &err));
+    EXPECT_EQ_INT(TP_ERR_INVALID_ARG, tp_file_rewrite(f, 4, "XYZ", 3, &err));
+    EXPECT_TRUE(strstr(err.message, "beyond the 6 written") != NULL);
+    ASSERT_OK(tp_file_rewrite(f, 1, "XY", 2, &err));
+    ASSERT_OK(tp_file_rewrite(f, 4, "ZW", 2, &err));
+    ASSERT_OK(tp_file_append(f, "g", 1, &err));
+    ASSERT_OK(tp_file_commit(f, &err));
+    file_buf b = slurp(path);
+    ASSERT_EQ_INT(7, (long long)b.size);
+    EXPECT_TRUE(memcmp(b.data, "aXYdZWg", 7) == 0);
+    free(b.data);
+}
+
 #define TESTS(X)                                                                                   \
     X(round_trip_n42e001_65)                                                                       \
     X(round_trip_mt_rainier_129)                                                                   \
@@ -1022,5 +1097,7 @@ TEST(full_disk_leaves_no_file)
     X(abort_leaves_no_file)                                                                        \
     X(bad_nodes_refused_by_the_writer)                                                             \
     X(inconsistent_geometry_refused_by_the_writer)                                                 \
-    X(full_disk_leaves_no_file)
+    X(full_disk_leaves_no_file)                                                                    \
+    X(totals_given_at_commit_rewrite_the_header)                                                   \
+    X(file_rewrite_only_within_what_was_written)
 TP_TEST_MAIN(TESTS)

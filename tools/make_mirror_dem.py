@@ -136,15 +136,14 @@ def render_grid(tile, out_dir, stem, fill):
     bottom = transform(tile, t_srs, [(x, th - 0.5) for x in edge(tw)])
     x0, x1 = max(q[0] for q in left), min(q[0] for q in right)
     y0, y1 = max(q[1] for q in bottom), min(q[1] for q in top)
-    if x1 < x0:  # a tile stored right to left or bottom up
-        x0, x1 = x1, x0
-    if y1 < y0:
-        y0, y1 = y1, y0
+    if not res > 0.01:
+        die("%s: its post spacing in %s is %g m" % (tile, t_srs, res))
+    if x1 <= x0 or y1 <= y0:
+        die("%s is not stored north up, west to east (or is too rotated in %s): no box fits "
+            "inside it" % (tile, t_srs))
     # Posts from (x0, y1) on, every res: the first post on the footprint's corner, so a tile
     # already in the zone keeps its own posts (bilinear at a post is the post).
     w, h = int((x1 - x0) / res + 1e-6) + 1, int((y1 - y0) / res + 1e-6) + 1
-    if not res > 0.01:
-        die("%s: its post spacing in %s is %g m" % (tile, t_srs, res))
     if w < 2 or h < 2:
         die("%s: its grid in %s is only %dx%d posts" % (tile, t_srs, w, h))
 

@@ -20,7 +20,9 @@
  */
 #include "internal.h"
 
+#include <stdlib.h>
 #include <string.h>
+#include <threads.h>
 
 static inline int32_t lq(const int32_t* q, int side, int i, int j)
 {
@@ -55,15 +57,23 @@ double tp__lattice_level_error(int n, const int32_t* q, int k)
                                                       (int64_t)s * udy;
             for (int j = 0; j <= s; j++) {
                 const int32_t* row = q + (size_t)(ya + j) * (size_t)side + xa;
-                int i0 = lower ? 0 : s - j, i1 = upper ? s : s - j;
-                for (int i = i0; i <= i1; i++) {
+                /* lower triangle: i in 0 .. s - j; upper: the rest (all of s - j .. s when the
+                 * lower one is not drawn) */
+                int split = lower ? s - j : s - j - 1; /* last i of the lower part */
+                int64_t zs = l0 + j * ldy;
+                for (int i = 0; lower && i <= split; i++, zs += ldx) {
                     int32_t v = row[i];
-                    if (v == INT32_MIN)
-                        continue;
-                    int64_t zs = lower && i + j <= s ? l0 + i * ldx + j * ldy
-                                                     : u0 + i * udx + j * udy;
                     int64_t e = zs - (int64_t)v * s;
                     e = e < 0 ? -e : e;
+                    e = v == INT32_MIN ? 0 : e;
+                    mx = e > mx ? e : mx;
+                }
+                zs = u0 + (int64_t)(split + 1) * udx + j * udy;
+                for (int i = split + 1; upper && i <= s; i++, zs += udx) {
+                    int32_t v = row[i];
+                    int64_t e = zs - (int64_t)v * s;
+                    e = e < 0 ? -e : e;
+                    e = v == INT32_MIN ? 0 : e;
                     mx = e > mx ? e : mx;
                 }
             }
@@ -139,6 +149,20 @@ static double raster_error(const int32_t* q, int side, const int32_t pos[3][2], 
     const int64_t dn = (sa * z[0] + sb * z[1] + sc * z[2]) * sign;
     for (int32_t y = y0; y <= y1; y++) {
         int64_t wa = edge(b, c, x0, y), wb = edge(c, a, x0, y), wc = edge(a, b, x0, y);
+        const int32_t* row = q + (size_t)y * (size_t)side;
+        if (x1 - x0 < 16) { /* narrow: test each sample (cheaper than the spans' divisions) */
+            int64_t nn = (wa * z[0] + wb * z[1] + wc * z[2]) * sign;
+            for (int32_t x = x0; x <= x1; x++, wa += sa, wb += sb, wc += sc, nn += dn) {
+                int32_t v = row[x];
+                int64_t e = nn - (int64_t)v * abs_area;
+                e = e < 0 ? -e : e;
+                int in = (wa * sign >= 0) & (wb * sign >= 0) & (wc * sign >= 0) &
+                         (v != INT32_MIN);
+                e = in ? e : 0;
+                mx = e > mx ? e : mx;
+            }
+            continue;
+        }
         /* the samples inside (every weight of the area's sign) form one span of the row */
         int64_t xa = x0, xb = x1;
         clip_span(wa * sign, sa * sign, x0, &xa, &xb);
@@ -148,7 +172,6 @@ static double raster_error(const int32_t* q, int side, const int32_t pos[3][2], 
             continue;
         wa += sa * (xa - x0), wb += sb * (xa - x0), wc += sc * (xa - x0);
         int64_t nn = (wa * z[0] + wb * z[1] + wc * z[2]) * sign; /* N |area| / area */
-        const int32_t* row = q + (size_t)y * (size_t)side;
         for (int64_t x = xa; x <= xb; x++, nn += dn) {
             int32_t v = row[x];
             int64_t e = nn - (int64_t)v * abs_area;
@@ -276,9 +299,8 @@ static void stitched_error(int n, const int32_t* q, int cells_mode, int k, const
         }
 }
 
-void tp__lattice_eps(int n, const int32_t* q, int cells, double eps[4][TP_MAX_N])
+static void lattice_eps_direct(int n, const int32_t* q, int cells, double eps[4][TP_MAX_N])
 {
-    assert(q && n >= 1 && n <= TP_MAX_N);
     memset(eps, 0, sizeof(double) * 4 * TP_MAX_N);
     for (int k = 1; k <= n; k++) {
         int cn = 1 << k;
@@ -306,6 +328,268 @@ void tp__lattice_eps(int n, const int32_t* q, int cells, double eps[4][TP_MAX_N]
                 for (int s = 0; s < 4; s++)
                     eps[s][0] = e[s] > eps[s][0] ? e[s] : eps[s][0];
             }
+    }
+}
+
+/* ---------------------------------------------------------------------------------------------
+ * The same measure from a plan: which triangles the stitched triangulations have, and which
+ * lattice positions each one's error is taken at, depend only on n (and the mode), not on the
+ * heights. So they are worked out once per (n, mode) (lattice_vertex, areas, the spans of each
+ * row, the cell bound's kept corners) and each node only runs the spans: the same positions and
+ * the same integers as lattice_eps_direct, without its per-triangle setup.
+ */
+typedef struct {
+    int16_t y, xa, xb; /* lattice positions x = xa .. xb of row y */
+    int32_t wa, wb, wc; /* edge weights at (xa, y) */
+} plan_span;
+
+typedef struct {
+    int32_t orig[3], pos[3]; /* lattice indices of the unmoved and the moved vertices */
+    int32_t sa, sb, sc;      /* weight steps per x */
+    int32_t abs_area;
+    int8_t sign;
+    uint8_t kn, sides;       /* folded into eps[side][kn] for each side bit */
+    uint32_t span0, span_count;
+} plan_tri;
+
+typedef struct {
+    plan_tri* tris;
+    plan_span* spans;
+    size_t tri_count, span_count, tri_cap, span_cap;
+    int failed;
+} eps_plan;
+
+static void plan_add_span(eps_plan* p, int y, int64_t xa, int64_t xb, const int32_t pos[3][2])
+{
+    if (xa > xb || p->failed)
+        return;
+    if (p->span_count == p->span_cap) {
+        size_t cap = p->span_cap ? 2 * p->span_cap : 4096;
+        plan_span* sp = realloc(p->spans, cap * sizeof *sp);
+        if (!sp) {
+            p->failed = 1;
+            return;
+        }
+        p->spans = sp, p->span_cap = cap;
+    }
+    plan_span* sp = &p->spans[p->span_count++];
+    sp->y = (int16_t)y, sp->xa = (int16_t)xa, sp->xb = (int16_t)xb;
+    sp->wa = (int32_t)edge(pos[1], pos[2], xa, y);
+    sp->wb = (int32_t)edge(pos[2], pos[0], xa, y);
+    sp->wc = (int32_t)edge(pos[0], pos[1], xa, y);
+}
+
+/* One triangle (moved positions pos, unmoved orig) and the positions its error is taken at. */
+static void plan_add_tri(eps_plan* p, int side, int cells, const int32_t orig[3][2],
+                         const int32_t pos[3][2], int kn, int sides)
+{
+    int64_t area = edge(pos[0], pos[1], pos[2][0], pos[2][1]);
+    if (area == 0 || p->failed)
+        return; /* collapsed: measured as 0 */
+    if (p->tri_count == p->tri_cap) {
+        size_t cap = p->tri_cap ? 2 * p->tri_cap : 1024;
+        plan_tri* t = realloc(p->tris, cap * sizeof *t);
+        if (!t) {
+            p->failed = 1;
+            return;
+        }
+        p->tris = t, p->tri_cap = cap;
+    }
+    plan_tri* t = &p->tris[p->tri_count];
+    int64_t sign = area > 0 ? 1 : -1;
+    for (int v = 0; v < 3; v++) {
+        t->orig[v] = orig[v][1] * side + orig[v][0];
+        t->pos[v] = pos[v][1] * side + pos[v][0];
+    }
+    const int32_t *a = pos[0], *b = pos[1], *c = pos[2];
+    t->sa = -(c[1] - b[1]), t->sb = -(a[1] - c[1]), t->sc = -(b[1] - a[1]);
+    t->abs_area = (int32_t)(area * sign);
+    t->sign = (int8_t)sign;
+    t->kn = (uint8_t)kn, t->sides = (uint8_t)sides;
+    t->span0 = (uint32_t)p->span_count;
+    int32_t x0 = a[0], x1 = a[0], y0 = a[1], y1 = a[1];
+    for (int v = 1; v < 3; v++) {
+        x0 = pos[v][0] < x0 ? pos[v][0] : x0;
+        x1 = pos[v][0] > x1 ? pos[v][0] : x1;
+        y0 = pos[v][1] < y0 ? pos[v][1] : y0;
+        y1 = pos[v][1] > y1 ? pos[v][1] : y1;
+    }
+    if (!cells) { /* the samples inside, as raster_error */
+        for (int32_t y = y0; y <= y1; y++) {
+            int64_t xa = x0, xb = x1;
+            clip_span(edge(b, c, x0, y) * sign, t->sa * sign, x0, &xa, &xb);
+            clip_span(edge(c, a, x0, y) * sign, t->sb * sign, x0, &xa, &xb);
+            clip_span(edge(a, b, x0, y) * sign, t->sc * sign, x0, &xa, &xb);
+            plan_add_span(p, y, xa, xb, pos);
+        }
+    } else { /* the corners of the kept cells, each once, as cell_bound */
+        int dx[3], dy[3];
+        for (int e = 0; e < 3; e++) {
+            const int32_t* ea = pos[(e + 1) % 3];
+            const int32_t* eb = pos[(e + 2) % 3];
+            dx[e] = -((int64_t)eb[1] - ea[1]) * sign > 0;
+            dy[e] = ((int64_t)eb[0] - ea[0]) * sign > 0;
+        }
+        int32_t prev_lo = 1, prev_hi = 0;
+        for (int32_t py = y0; py <= y1; py++) {
+            int32_t lo = 1, hi = 0;
+            for (int32_t cx = x0; py < y1 && cx < x1; cx++) {
+                int separated = 0;
+                for (int e = 0; e < 3 && !separated; e++)
+                    separated = edge(pos[(e + 1) % 3], pos[(e + 2) % 3], cx + dx[e],
+                                     py + dy[e]) * sign < 0;
+                if (separated)
+                    continue;
+                if (lo > hi)
+                    lo = cx;
+                hi = cx;
+            }
+            int have_prev = prev_lo <= prev_hi;
+            if (have_prev)
+                plan_add_span(p, py, prev_lo, prev_hi + 1, pos);
+            if (lo <= hi) {
+                if (!have_prev) {
+                    plan_add_span(p, py, lo, hi + 1, pos);
+                } else { /* what [lo, hi + 1] adds to [prev_lo, prev_hi + 1] */
+                    if (lo < prev_lo)
+                        plan_add_span(p, py, lo, (hi + 1 < prev_lo - 1 ? hi + 1 : prev_lo - 1), pos);
+                    if (hi + 1 > prev_hi + 1)
+                        plan_add_span(p, py, (lo > prev_hi + 2 ? lo : prev_hi + 2), hi + 1, pos);
+                }
+            }
+            prev_lo = lo, prev_hi = hi;
+        }
+    }
+    t->span_count = (uint32_t)(p->span_count - t->span0);
+    if (!p->failed)
+        p->tri_count++;
+}
+
+/* The triangles of stitched_error's loops in lattice_eps_direct's order. */
+static void plan_cells(eps_plan* p, int n, int cells, int k, int kn, const int nb[4], int cx0,
+                       int cx1, int cy0, int cy1)
+{
+    int last = 1 << k, stride = 1 << (n - k), side = (1 << n) + 1;
+    static const int tri[2][3][2] = {{{0, 0}, {0, 1}, {1, 0}}, {{1, 0}, {0, 1}, {1, 1}}};
+    for (int cy = cy0; cy < cy1; cy++)
+        for (int cx = cx0; cx < cx1; cx++)
+            for (int h = 0; h < 2; h++) {
+                int32_t orig[3][2], pos[3][2];
+                int sides = 0;
+                for (int v = 0; v < 3; v++) {
+                    int i = cx + tri[h][v][0], j = cy + tri[h][v][1], mi, mj;
+                    if (tp__lattice_vertex(k, nb, i, j, &mi, &mj))
+                        sides |= 1 << side_of(i, j, last);
+                    orig[v][0] = i * stride, orig[v][1] = j * stride;
+                    pos[v][0] = mi * stride, pos[v][1] = mj * stride;
+                }
+                if (sides)
+                    plan_add_tri(p, side, cells, orig, pos, kn, sides);
+            }
+}
+
+static eps_plan* plan_build(int n, int cells)
+{
+    eps_plan* p = calloc(1, sizeof *p);
+    if (!p)
+        return NULL;
+    for (int k = 1; k <= n; k++) {
+        int cn = 1 << k;
+        for (int kn = 0; kn < k; kn++)
+            for (int s = 0; s < 4; s++) {
+                int nb[4] = {TP_NO_NEIGHBOR, TP_NO_NEIGHBOR, TP_NO_NEIGHBOR, TP_NO_NEIGHBOR};
+                nb[s] = kn;
+                plan_cells(p, n, cells, k, kn, nb, s == TP_SIDE_RIGHT ? cn - 1 : 0,
+                           s == TP_SIDE_LEFT ? 1 : cn, s == TP_SIDE_BOTTOM ? cn - 1 : 0,
+                           s == TP_SIDE_TOP ? 1 : cn);
+            }
+        if (k == 1)
+            for (int c = 0; c < 4; c++) {
+                int cx = c & 1, cy = c >> 1;
+                int nb[4] = {TP_NO_NEIGHBOR, TP_NO_NEIGHBOR, TP_NO_NEIGHBOR, TP_NO_NEIGHBOR};
+                nb[cy ? TP_SIDE_BOTTOM : TP_SIDE_TOP] = 0;
+                nb[cx ? TP_SIDE_RIGHT : TP_SIDE_LEFT] = 0;
+                plan_cells(p, n, cells, 1, 0, nb, cx, cx + 1, cy, cy + 1);
+            }
+    }
+    if (p->failed) {
+        free(p->tris), free(p->spans), free(p);
+        return NULL;
+    }
+    return p;
+}
+
+/* One plan per (n, mode), made once (call_once: nodes are measured on many threads) and kept
+ * for the process (n = 8: a few MB). NULL (out of memory): the direct measure is used. */
+static eps_plan* g_plans[TP_MAX_N + 1][2];
+#define PLAN_ONCE(N, C)                                                                            \
+    static once_flag once_##N##_##C = ONCE_FLAG_INIT;                                              \
+    static void make_##N##_##C(void) { g_plans[N][C] = plan_build(N, C); }
+PLAN_ONCE(1, 0) PLAN_ONCE(2, 0) PLAN_ONCE(3, 0) PLAN_ONCE(4, 0)
+PLAN_ONCE(5, 0) PLAN_ONCE(6, 0) PLAN_ONCE(7, 0) PLAN_ONCE(8, 0)
+PLAN_ONCE(1, 1) PLAN_ONCE(2, 1) PLAN_ONCE(3, 1) PLAN_ONCE(4, 1)
+PLAN_ONCE(5, 1) PLAN_ONCE(6, 1) PLAN_ONCE(7, 1) PLAN_ONCE(8, 1)
+#undef PLAN_ONCE
+
+static const eps_plan* plan_get(int n, int cells)
+{
+#define PLAN_CASE(N)                                                                               \
+    case N:                                                                                        \
+        if (cells)                                                                                 \
+            call_once(&once_##N##_1, make_##N##_1);                                                \
+        else                                                                                       \
+            call_once(&once_##N##_0, make_##N##_0);                                                \
+        break;
+    switch (n) {
+        PLAN_CASE(1) PLAN_CASE(2) PLAN_CASE(3) PLAN_CASE(4)
+        PLAN_CASE(5) PLAN_CASE(6) PLAN_CASE(7) PLAN_CASE(8)
+    default: return NULL;
+    }
+#undef PLAN_CASE
+    return g_plans[n][cells ? 1 : 0];
+}
+
+void tp__lattice_eps(int n, const int32_t* q, int cells, double eps[4][TP_MAX_N])
+{
+    assert(q && n >= 1 && n <= TP_MAX_N);
+    _Static_assert(TP_MAX_N == 8, "one plan per n: PLAN_ONCE above");
+    const eps_plan* p = plan_get(n, cells);
+    if (!p) {
+        lattice_eps_direct(n, q, cells, eps);
+        return;
+    }
+    memset(eps, 0, sizeof(double) * 4 * TP_MAX_N);
+    const int side = (1 << n) + 1;
+    for (size_t i = 0; i < p->tri_count; i++) {
+        const plan_tri* t = &p->tris[i];
+        int64_t z[3];
+        int drawn = 1;
+        for (int v = 0; v < 3; v++) {
+            int32_t qv = q[t->pos[v]];
+            drawn &= (q[t->orig[v]] != INT32_MIN) & (qv != INT32_MIN);
+            z[v] = qv;
+        }
+        if (!drawn)
+            continue;
+        const int64_t sign = t->sign, abs_area = t->abs_area;
+        const int64_t dn = ((int64_t)t->sa * z[0] + (int64_t)t->sb * z[1] + (int64_t)t->sc * z[2]) * sign;
+        int64_t mx = 0;
+        const plan_span* sp = p->spans + t->span0;
+        for (uint32_t k = 0; k < t->span_count; k++, sp++) {
+            int64_t nn = ((int64_t)sp->wa * z[0] + (int64_t)sp->wb * z[1] + (int64_t)sp->wc * z[2]) * sign;
+            const int32_t* row = q + (size_t)sp->y * (size_t)side;
+            for (int x = sp->xa; x <= sp->xb; x++, nn += dn) {
+                int32_t v = row[x];
+                int64_t e = nn - (int64_t)v * abs_area;
+                e = e < 0 ? -e : e;
+                e = v == INT32_MIN ? 0 : e;
+                mx = e > mx ? e : mx;
+            }
+        }
+        double e = (double)mx / (double)abs_area;
+        for (int s = 0; s < 4; s++)
+            if (t->sides >> s & 1)
+                eps[s][t->kn] = e > eps[s][t->kn] ? e : eps[s][t->kn];
     }
 }
 
