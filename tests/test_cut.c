@@ -314,32 +314,36 @@ TEST(watertight_for_random_views)
 {
     /* 700 x 420: not 2^n k + 1, so padded, and a forest of roots of different scales. */
     LOAD_OR_SKIP(h, 250, 300, 700, 420);
-    tp_tree* t = make_tree(h, 700, 420, 17);
-    tp_cut* cut;
-    ASSERT_OK(tp_cut_create(t, &cut, NULL));
-    const double taus[] = {0.5, 1, 4, 16};
-    for (int it = 0; it < 40; it++) {
-        tp_camera cam;
-        random_camera(t, &cam);
-        tp_lod_params lp = {0};
-        lp.mode = it % 8 == 6 ? TP_LOD_DISTANCE : it % 8 == 7 ? TP_LOD_FULL : TP_LOD_ERROR;
-        lp.tau_px = taus[it % 4];
-        ASSERT_OK(tp_cut_update(cut, &cam, &lp, NULL));
-        size_t count;
-        tp_cut_nodes(cut, &count);
-        EXPECT_GT((double)count, 0);
-        int f = check_watertight(t, cut, NULL);
-        tp_cut_stats st;
-        tp_cut_get_stats(cut, &st);
-        EXPECT_EQ_INT((int)last_triangles, (int)st.triangles);
-        EXPECT_EQ_INT((int)count, st.drawn);
-        if (f)
-            fprintf(stderr, "view %d (mode %d, tau %g): %d failures\n", it, (int)lp.mode, lp.tau_px,
-                    f);
-        EXPECT_EQ_INT(0, f);
+    for (int ps = 17; ps <= 33; ps += 16) { /* n = 4 and 5 */
+        tp_tree* t = make_tree(h, 700, 420, ps);
+        tp_cut* cut;
+        ASSERT_OK(tp_cut_create(t, &cut, NULL));
+        const double taus[] = {0.5, 1, 4, 16};
+        size_t total = 0;
+        for (int it = 0; it < 40; it++) {
+            tp_camera cam;
+            random_camera(t, &cam);
+            tp_lod_params lp = {0};
+            lp.mode = it % 8 == 6 ? TP_LOD_DISTANCE : it % 8 == 7 ? TP_LOD_FULL : TP_LOD_ERROR;
+            lp.tau_px = taus[it % 4];
+            ASSERT_OK(tp_cut_update(cut, &cam, &lp, NULL));
+            size_t count;
+            tp_cut_nodes(cut, &count);
+            total += count;
+            int f = check_watertight(t, cut, NULL);
+            tp_cut_stats st;
+            tp_cut_get_stats(cut, &st);
+            EXPECT_EQ_INT((int)last_triangles, (int)st.triangles);
+            EXPECT_EQ_INT((int)count, st.drawn);
+            if (f)
+                fprintf(stderr, "view %d (mode %d, tau %g): %d failures\n", it, (int)lp.mode,
+                        lp.tau_px, f);
+            EXPECT_EQ_INT(0, f);
+        }
+        EXPECT_GT((double)total, 40 * 5); /* the views see the terrain */
+        tp_cut_destroy(cut);
+        tp_tree_destroy(t);
     }
-    tp_cut_destroy(cut);
-    tp_tree_destroy(t);
     free(h);
 }
 
@@ -541,6 +545,42 @@ TEST(screen_error_within_tau)
     }
     EXPECT_GT((double)total, 1e5); /* the views see the terrain */
     printf("worst measured / tau: %.3f over %zu samples\n", worst_ratio, total);
+    /* Exaggerated 3x: tau still holds on screen. */
+    EXPECT_STATUS(TP_ERR_INVALID_ARG, tp_cut_set_vertical_scale(cut, 0));
+    EXPECT_STATUS(TP_ERR_INVALID_ARG, tp_cut_set_vertical_scale(cut, NAN));
+    ASSERT_OK(tp_cut_set_vertical_scale(cut, 3));
+    int too_coarse = 0;
+    for (int it = 0; it < 10; it++) {
+        tp_camera cam;
+        random_camera(t, &cam);
+        cam.position[2] *= 3; /* above the exaggerated surface */
+        tp_lod_params lp = {.mode = TP_LOD_ERROR, .tau_px = 1};
+        /* The cut of the plain surface, measured exaggerated (the scale takes effect at the
+         * next update), shows what the scale changes; the exaggerated cut holds tau. */
+        ASSERT_OK(tp_cut_set_vertical_scale(cut, 1));
+        ASSERT_OK(tp_cut_update(cut, &cam, &lp, NULL));
+        ASSERT_OK(tp_cut_set_vertical_scale(cut, 3));
+        double plain_px = -1, max_px = -1;
+        ASSERT_OK(tp_cut_measure_screen_error(cut, &cam, &plain_px, NULL, NULL, NULL));
+        too_coarse += plain_px > lp.tau_px;
+        ASSERT_OK(tp_cut_update(cut, &cam, &lp, NULL));
+        tp_cut_stats st;
+        tp_cut_get_stats(cut, &st);
+        ASSERT_OK(tp_cut_measure_screen_error(cut, &cam, &max_px, NULL, NULL, NULL));
+        EXPECT_LE(max_px, lp.tau_px + 1e-6);
+        EXPECT_LE(st.max_bound_px, lp.tau_px + 1e-6);
+        /* Heights stay true. */
+        size_t count;
+        const tp_cut_node* nodes = tp_cut_nodes(cut, &count);
+        if (count) {
+            tp_vertex v[17 * 17];
+            tp_cut_vertices(cut, 0, v, 17 * 17);
+            if (!isnan(v[0].z_m))
+                EXPECT_EQ_DBL(v[0].z_m, tp_tree_sample(t, v[0].x, v[0].y));
+            (void)nodes;
+        }
+    }
+    EXPECT_GT(too_coarse, 0); /* some plain cuts are too coarse for 3x the relief */
     tp_cut_destroy(cut);
     tp_tree_destroy(t);
     free(h);

@@ -871,6 +871,13 @@ double tp_cut_drawn_height_at(const tp_cut* c, double x, double y);
 tp_status tp_cut_measure_screen_error(const tp_cut* c, const tp_camera* cam, double* max_px,
                                       double* rms_px, size_t* samples, size_t* skipped);
 
+/* Vertical exaggeration, as tp_selection_set_vertical_scale: boxes, the error mode's projection
+ * and tp_cut_measure_screen_error follow heights times scale (tau holds on screen); heights
+ * (vertices, tp_cut_drawn_height_at) stay true. Takes effect at the next update. Returns
+ * TP_OK; TP_ERR_INVALID_ARG, scale unchanged, outside [TP_VERTICAL_SCALE_MIN,
+ * TP_VERTICAL_SCALE_MAX] or NaN. */
+tp_status tp_cut_set_vertical_scale(tp_cut* c, double scale);
+
 /* Test hook: installs a hand-made cut, nodes[i] drawn at levels[i] (resident, distinct, not
  * overlapping; incomplete nodes at n), every node visible, no camera, and runs the stitching
  * pass on it (levels raised, nodes split or collapsed as in tp_cut_update; a split child keeps

@@ -520,6 +520,15 @@ tp_status tp_cut_set_nodes(tp_cut* c, const int64_t* nodes, const int* levels, s
     return finish(c, err);
 }
 
+tp_status tp_cut_set_vertical_scale(tp_cut* c, double scale)
+{
+    assert(c);
+    if (!(scale >= TP_VERTICAL_SCALE_MIN && scale <= TP_VERTICAL_SCALE_MAX))
+        return TP_ERR_INVALID_ARG;
+    c->zscale = scale;
+    return TP_OK;
+}
+
 const tp_cut_node* tp_cut_nodes(const tp_cut* c, size_t* count)
 {
     assert(c && count);
