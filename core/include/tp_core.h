@@ -905,12 +905,8 @@ int64_t tp_tree_leaf_at(const tp_tree* t, double x, double y);
  * holds the point, and where the leaf holding it is not resident (tp_tree_leaf_at). */
 double tp_tree_height_at(const tp_tree* t, double x, double y);
 
-/* Vertical exaggeration of the cut, as tp_selection_set_vertical_scale: the next
- * tp_cut_update culls and projects errors with heights times scale, the screen-error measure,
- * tp_cut_keep_above and tp_cut_ray_cast work in drawn space (E, N, height * scale);
- * tp_cut_drawn_height_at and tp_tree_height_at stay true heights. TP_ERR_INVALID_ARG, scale
- * unchanged, for a scale outside [TP_VERTICAL_SCALE_MIN, TP_VERTICAL_SCALE_MAX] or NaN. */
-tp_status tp_cut_set_vertical_scale(tp_cut* c, double scale);
+/* The scale tp_cut_set_vertical_scale set (1 by default). tp_cut_keep_above and
+ * tp_cut_ray_cast work in drawn space (E, N, height * scale); tp_tree_height_at stays true. */
 double tp_cut_vertical_scale(const tp_cut* c);
 
 /* Casts the ray origin + t * dir (t >= 0, drawn space, dir need not be unit) against the

@@ -1,6 +1,7 @@
 /*
  * cut_query.c - what the viewer asks of the terrain while nodes stream in: grid <-> world, the
- * full-resolution surface from resident leaves, the cut's vertical exaggeration, ray casts
+ * full-resolution surface from resident leaves, the cut's vertical scale (its setter is
+ * tree_select.c's), ray casts
  * against the drawn cut and camera collision (see tp_core.h, "queries on the tree and the cut").
  *
  * The ray cast is tp_selection_ray_cast's walk one level down: a 2D DDA (Amanatides & Woo)
@@ -56,15 +57,6 @@ double tp_tree_height_at(const tp_tree* t, double x, double y)
         return NAN;
     const tp_tree_geometry* g = &t->desc.geometry;
     return tp__split_height(tree_height, t, g->width, g->height, x, y);
-}
-
-tp_status tp_cut_set_vertical_scale(tp_cut* c, double scale)
-{
-    assert(c);
-    if (!(scale >= TP_VERTICAL_SCALE_MIN && scale <= TP_VERTICAL_SCALE_MAX))
-        return TP_ERR_INVALID_ARG;
-    c->zscale = scale;
-    return TP_OK;
 }
 
 double tp_cut_vertical_scale(const tp_cut* c)
