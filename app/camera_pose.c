@@ -18,16 +18,22 @@ void tp_camera_default(const tp_scene* sc, double fov_deg, int width_px, int hei
                        double vertical_scale, tp_camera* cam)
 {
     const tp_terrain_info* in = &sc->info;
-    double e0, n0, e1, n1;
-    tp_terrain_grid_to_world(sc->terrain, 0, 0, &e0, &n0);
-    tp_terrain_grid_to_world(sc->terrain, in->src_width - 1, in->src_height - 1, &e1, &n1);
+    tp_camera_default_extent(in->geotransform, in->src_width, in->src_height, in->min_height_m,
+                             in->max_height_m, fov_deg, width_px, height_px, vertical_scale, cam);
+}
+
+void tp_camera_default_extent(const double gt[6], int src_width, int src_height,
+                              double min_height_m, double max_height_m, double fov_deg,
+                              int width_px, int height_px, double vertical_scale, tp_camera* cam)
+{
+    double e0 = gt[0] + 0.5 * gt[1], n0 = gt[3] + 0.5 * gt[5];
+    double e1 = gt[0] + (src_width - 0.5) * gt[1], n1 = gt[3] + (src_height - 0.5) * gt[5];
     double size = fmax(fabs(e1 - e0), fabs(n1 - n0));
     /* exaggerated relief: aim at its middle and back off by the extra height */
     double zs = vertical_scale > 0 ? vertical_scale : 1;
-    double extra = fmax(zs - 1, 0) * (in->max_height_m - in->min_height_m);
+    double extra = fmax(zs - 1, 0) * (max_height_m - min_height_m);
     double pitch = -50, d = (0.45 * size + extra) / tan(fov_deg * DEG / 2);
-    double target[3] = {(e0 + e1) / 2, (n0 + n1) / 2,
-                        zs * (in->min_height_m + in->max_height_m) / 2};
+    double target[3] = {(e0 + e1) / 2, (n0 + n1) / 2, zs * (min_height_m + max_height_m) / 2};
     tp_camera_pose(target[0], target[1] - d * cos(pitch * DEG), target[2] - d * sin(pitch * DEG), 0,
                    pitch, fov_deg, width_px, height_px, cam);
 }
@@ -35,10 +41,16 @@ void tp_camera_default(const tp_scene* sc, double fov_deg, int width_px, int hei
 int tp_camera_from_option(const tp_scene* sc, int geo, const double v[5], double fov_deg,
                           int width_px, int height_px, tp_camera* cam, const char* cmd)
 {
+    return tp_camera_from_option_georef(sc->georef, geo, v, fov_deg, width_px, height_px, cam, cmd);
+}
+
+int tp_camera_from_option_georef(const tp_georef* g, int geo, const double v[5], double fov_deg,
+                                 int width_px, int height_px, tp_camera* cam, const char* cmd)
+{
     double e = v[0], n = v[1];
     if (geo) {
         tp_error err;
-        if (tp_georef_geo_to_proj(sc->georef, v[0], v[1], &e, &n, &err) != TP_OK) {
+        if (tp_georef_geo_to_proj(g, v[0], v[1], &e, &n, &err) != TP_OK) {
             fprintf(stderr, "terrapatch %s: --camera-geo: %s\n", cmd, err.message);
             return 0;
         }
@@ -49,13 +61,17 @@ int tp_camera_from_option(const tp_scene* sc, int geo, const double v[5], double
 
 void tp_camera_text(const tp_scene* sc, const tp_camera* cam, char* out, size_t cap)
 {
+    tp_camera_text_georef(sc->georef, cam, out, cap);
+}
+
+void tp_camera_text_georef(const tp_georef* g, const tp_camera* cam, char* out, size_t cap)
+{
     double yaw, pitch, lat, lon;
     tp_camera_get_pose(cam, &yaw, &pitch);
     int at = snprintf(out, cap, "--camera %.3f,%.3f,%.2f,%.2f,%.2f", cam->position[0],
                       cam->position[1], cam->position[2], yaw, pitch);
     if (at > 0 && (size_t)at < cap &&
-        tp_georef_proj_to_geo(sc->georef, cam->position[0], cam->position[1], &lat, &lon, NULL) ==
-            TP_OK)
+        tp_georef_proj_to_geo(g, cam->position[0], cam->position[1], &lat, &lon, NULL) == TP_OK)
         snprintf(out + at, cap - at, " --camera-geo %.9f,%.9f,%.2f,%.2f,%.2f", lat, lon,
                  cam->position[2], yaw, pitch);
 }

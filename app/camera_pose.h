@@ -17,13 +17,23 @@ void tp_camera_default(const tp_scene* sc, double fov_deg, int width_px, int hei
                        double vertical_scale,
                        tp_camera* cam);
 
+/* The same from a grid's extent (the fitted grid's geotransform, its unpadded size, its
+ * heights): a store has no tp_scene. */
+void tp_camera_default_extent(const double gt[6], int src_width, int src_height,
+                              double min_height_m, double max_height_m, double fov_deg,
+                              int width_px, int height_px, double vertical_scale, tp_camera* cam);
+
 /* --camera E,N,H,YAW,PITCH (geo = 0) or --camera-geo LAT,LON,H,YAW,PITCH (geo = 1) to a camera;
  * prints a one-line message naming cmd and returns 0 when the position has no render-grid
  * coordinates. */
 int tp_camera_from_option(const tp_scene* sc, int geo, const double v[5], double fov_deg,
                           int width_px, int height_px, tp_camera* cam, const char* cmd);
 
+int tp_camera_from_option_georef(const tp_georef* g, int geo, const double v[5], double fov_deg,
+                                 int width_px, int height_px, tp_camera* cam, const char* cmd);
+
 /* The camera as option strings, e.g. "--camera-geo 45.1,-121.7,3000.00,20.00,-30.00". */
 void tp_camera_text(const tp_scene* sc, const tp_camera* cam, char* out, size_t cap);
+void tp_camera_text_georef(const tp_georef* g, const tp_camera* cam, char* out, size_t cap);
 
 #endif

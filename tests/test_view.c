@@ -177,10 +177,14 @@ typedef struct view_spec {
     int w, h;
     tp_lod_params lod; /* mode TP_LOD_DEFAULT: no --lod option (the CLI default, error, tau 1) */
     int magenta;       /* --clear-color 1,0,1 */
+    int store;         /* through a store (the default path); 0: --whole, the old path, whose
+                          tp_selection these tests compute in-process to compare with */
 } view_spec;
 
 static void args_add_view(args* a, const char* dem, const view_spec* v)
 {
+    if (!v->store)
+        args_add(a, "--whole");
     args_add(a, "--headless");
     args_add(a, "--no-hud"); /* the terrain only: the HUD has timings and the camera's position */
     args_add(a, "--size");
@@ -244,7 +248,7 @@ static const view_spec distance_lod_view = {
     640,
     360,
     {.mode = TP_LOD_DISTANCE, .mindist_m = 300, .maxdist_m = 4000, .exponent = 0.3},
-    1};
+    1, 0};
 
 /* ---------------------------------------------------------------------------------------------
  * Images and statistics read back
@@ -709,7 +713,7 @@ TEST(utm_and_local_origin_render_alike)
         write_local_vrt(dir, dem_path, dem);
         snprintf(vrt, sizeof vrt, "%s/local.vrt", dir);
         for (i = 0; i < (int)(sizeof cams / sizeof cams[0]); ++i) {
-            view_spec utm = {{0, 0, 0, 0, 0}, 1280, 720, {.mode = TP_LOD_DEFAULT}, 1};
+            view_spec utm = {{0, 0, 0, 0, 0}, 1280, 720, {.mode = TP_LOD_DEFAULT}, 1, 0};
             view_spec local;
             image a, b;
             view_stats sa, sb;
@@ -759,7 +763,7 @@ TEST(stats_json_equals_core_selection_error_lod)
 #ifndef TP_TEST_NO_IO
     {
         const char* dem;
-        view_spec v = {{598000, 5012000, 4500, 15, -35}, 640, 360, {.mode = TP_LOD_ERROR, .tau_px = 2.5}, 0};
+        view_spec v = {{598000, 5012000, 4500, 15, -35}, 640, 360, {.mode = TP_LOD_ERROR, .tau_px = 2.5}, 0, 0};
         dem = sample_dem();
         expect_stats_match_core(dem, &v);
     }
@@ -773,7 +777,7 @@ TEST(stats_json_equals_core_selection_distance_lod)
     {
         const char* dem;
         view_spec v = {
-            {609000, 5033000, 2600, 225, -25}, 512, 384, {.mode = TP_LOD_DISTANCE, .mindist_m = 500, .maxdist_m = 9000, .exponent = 1.7}, 0};
+            {609000, 5033000, 2600, 225, -25}, 512, 384, {.mode = TP_LOD_DISTANCE, .mindist_m = 500, .maxdist_m = 9000, .exponent = 1.7}, 0, 0};
         dem = sample_dem();
         expect_stats_match_core(dem, &v);
     }
@@ -790,7 +794,7 @@ TEST(looking_at_the_sky_culls_every_patch)
     {
         const char *dem, *dir;
         /* 1079 m above the summit, 60 degrees up: the lowest ray of the view climbs 30 degrees */
-        view_spec v = {{602125, 5025267, 4500, 0, 60}, 320, 180, {.mode = TP_LOD_DEFAULT}, 1};
+        view_spec v = {{602125, 5025267, 4500, 0, 60}, 320, 180, {.mode = TP_LOD_DEFAULT}, 1, 0};
         core_scene cs;
         view_stats st;
         image im;
@@ -821,7 +825,7 @@ TEST(looking_north_culls_the_patches_behind)
     {
         const char *dem, *dir;
         /* 300 m above the ground 1.6 km from the south edge, 10 degrees down, looking north */
-        view_spec v = {{602125, 5015000, 1500, 0, -10}, 320, 180, {.mode = TP_LOD_DEFAULT}, 1};
+        view_spec v = {{602125, 5015000, 1500, 0, -10}, 320, 180, {.mode = TP_LOD_DEFAULT}, 1, 0};
         core_scene cs;
         view_stats st;
         image im;
@@ -870,7 +874,7 @@ TEST(reference_view_matches_committed_image)
     {
         const char *dem, *dir;
         char ref_path[1024], got_path[1024];
-        view_spec v = {{598000, 5012000, 4500, 15, -35}, 480, 270, {.mode = TP_LOD_DEFAULT}, 0};
+        view_spec v = {{598000, 5012000, 4500, 15, -35}, 480, 270, {.mode = TP_LOD_DEFAULT}, 0, 0};
         image got, ref;
         tp_error err;
         double sum[3] = {0, 0, 0}, mad[3];
@@ -937,7 +941,7 @@ TEST(texture_drapes_the_imagery)
     {
         char dem[1024], ortho[1024];
         const char* dir;
-        view_spec v = {{0, 0, 0, 0, 0}, 320, 240, {.mode = TP_LOD_DEFAULT}, 1};
+        view_spec v = {{0, 0, 0, 0, 0}, 320, 240, {.mode = TP_LOD_DEFAULT}, 1, 0};
         image plain, tex, img;
         tp_error err;
         long terrain = 0, differ = 0, blue_tex = 0, blue_plain = 0, valid = 0, blue_img = 0;
@@ -1216,7 +1220,7 @@ TEST(exaggeration_keeps_patches_that_rise_into_view)
     {
         /* 3600 m over the south of Mt Hood (summit 3426 m) looking 32 degrees up: the true
          * terrain is below the view, drawn three times as high it rises into it */
-        view_spec v = {{602000, 5008000, 3600, 0, 32}, 320, 180, {.mode = TP_LOD_DEFAULT}, 0};
+        view_spec v = {{602000, 5008000, 3600, 0, 32}, 320, 180, {.mode = TP_LOD_DEFAULT}, 0, 0};
         view_stats flat, tall;
         stats_for(sample_dem(), &v, NULL, &flat);
         stats_for(sample_dem(), &v, "3", &tall);
@@ -1231,7 +1235,7 @@ TEST(exaggeration_error_lod_keeps_tau_on_screen)
     REQUIRE_IO();
 #ifndef TP_TEST_NO_IO
     {
-        view_spec v = {{598000, 5012000, 4500, 15, -35}, 640, 360, {.mode = TP_LOD_ERROR, .tau_px = 1}, 0};
+        view_spec v = {{598000, 5012000, 4500, 15, -35}, 640, 360, {.mode = TP_LOD_ERROR, .tau_px = 1}, 0, 0};
         view_stats flat, tall;
         stats_for(sample_dem(), &v, NULL, &flat);
         stats_for(sample_dem(), &v, "3", &tall);
@@ -1247,7 +1251,7 @@ TEST(exaggeration_error_lod_keeps_tau_on_screen)
  * 1 cm) and project back onto the pixel, also with exaggeration. */
 static void expect_picks_on_surface(const char* exag, double zs)
 {
-    view_spec v = {{598000, 5012000, 4500, 15, -35}, 640, 360, {.mode = TP_LOD_ERROR, .tau_px = 1}, 0};
+    view_spec v = {{598000, 5012000, 4500, 15, -35}, 640, 360, {.mode = TP_LOD_ERROR, .tau_px = 1}, 0, 0};
     v.cam[2] *= zs; /* above the exaggerated mountains too */
     const char* dir = make_tmp_dir();
     core_scene cs;
@@ -1402,7 +1406,322 @@ TEST(frame_without_terrain_says_so)
 #endif
 }
 
+/* ---------------------------------------------------------------------------------------------
+ * Stores: the default path. The same magenta check, and the two-tile seam of issue 12 section 4.
+ */
+#ifndef TP_TEST_NO_IO
+/* Renders v through a store and checks: no magenta pixel in rows y0.. (below the horizon), the
+ * frame complete (nothing pending, nothing substituted), and at least min_levels levels. */
+static void expect_store_no_magenta(const char* path, const view_spec* v, int patch, int y0,
+                                    const char* what, int min_levels)
+{
+    const char* dir = make_tmp_dir();
+    image im;
+    char text[8192], json[1024];
+    int fx, fy, lines;
+    view_spec sv = *v;
+    sv.store = 1;
+    sv.magenta = 1;
+    args a;
+    args_view(&a);
+    args_add(&a, "--screenshot");
+    args_add(&a, "%s/view.png", dir);
+    args_add(&a, "--stats-json");
+    args_add(&a, "%s/view.json", dir);
+    if (patch) {
+        args_add(&a, "--patch");
+        args_add(&a, "%d", patch);
+    }
+    args_add_view(&a, path, &sv);
+    run_ok(&a, dir);
+    image_read(dir, "view.png", &im);
+    snprintf(json, sizeof json, "%s/view.json", dir);
+    read_text(json, text, sizeof text, &lines);
+    long n = count_magenta_rows(&im, y0, im.h, &fx, &fy);
+    view_stats st;
+    stats_read(dir, "view.json", &st);
+    tp_test_note("%s: %ld magenta pixels below row %d; %.0f nodes drawn, %.0f substituted, "
+                 "%.0f pending, %d levels", what, n, y0, json_number(text, "nodes_drawn"),
+                 json_number(text, "substituted_nodes"), json_number(text, "pending"),
+                 distinct_levels(&st));
+    EXPECT_EQ_INT(0, n);
+    if (n)
+        ADD_FAILURE("%s: first magenta pixel at (%d, %d)", what, fx, fy);
+    EXPECT_EQ_DBL(0, json_number(text, "pending"));
+    EXPECT_EQ_DBL(0, json_number(text, "substituted_nodes"));
+    EXPECT_GT(json_number(text, "nodes_drawn"), 0);
+    EXPECT_GE_INT(distinct_levels(&st), min_levels);
+    free(im.px);
+}
+#endif
+
+/* The error-LoD crack views of no_cracks_oblique_error_lod, drawn through a store (the sample
+ * DEM built into the cache first, with the old path's patch size so nodes are small). */
+TEST(store_no_cracks_oblique_error_lod)
+{
+    REQUIRE_IO();
+#ifndef TP_TEST_NO_IO
+    {
+        const char* dem = sample_dem();
+        view_spec v = distance_lod_view;
+        v.lod.mode = TP_LOD_ERROR;
+        v.lod.tau_px = 6;
+        v.cam[0] = 614000, v.cam[1] = 5030000, v.cam[2] = 2811, v.cam[3] = 270, v.cam[4] = -55;
+        expect_store_no_magenta(dem, &v, 17, 0, "east side, 1500 m above", 2);
+        v.lod.tau_px = 1;
+        v.cam[0] = 602125, v.cam[1] = 5018000, v.cam[2] = 2950, v.cam[3] = 0;
+        expect_store_no_magenta(dem, &v, 17, 0, "south flank, 1500 m above, tau 1", 1);
+    }
+#endif
+}
+
+/* Issue 12 section 4: N41E001 + N42E001 built into one store; a low view from the south across
+ * the 42N seam shows no background below the horizon, and along the seam the full-resolution
+ * surface has no gap and the drawn surface (a full-resolution cut of that view) is the
+ * full-resolution surface on the seam and half a sample either side of it. */
+TEST(two_tile_seam_shows_no_crack_and_no_step)
+{
+    REQUIRE_IO();
+#ifndef TP_TEST_NO_IO
+    {
+        char tiles[2][1024], store_path[1200];
+        if (!tp_test_data_path(tiles[0], sizeof tiles[0], "TP_SHARED_DATA_DIR", "N41E001.hgt") ||
+            !tp_test_data_path(tiles[1], sizeof tiles[1], "TP_SHARED_DATA_DIR", "N42E001.hgt"))
+            SKIP("N41E001.hgt / N42E001.hgt not found (set TP_SHARED_DATA_DIR)");
+        const char* dir = make_tmp_dir();
+        snprintf(store_path, sizeof store_path, "%s/two.tpt", dir);
+        args a;
+        args_view(&a);
+        a.n = 1; /* the binary, then build's arguments */
+        args_add(&a, "build");
+        args_add(&a, "--quiet");
+        args_add(&a, "%s", tiles[0]);
+        args_add(&a, "%s", tiles[1]);
+        args_add(&a, "-o");
+        args_add(&a, "%s", store_path);
+        run_ok(&a, dir);
+
+        tp_store* st = NULL;
+        tp_error err = {{0}};
+        ASSERT_OK(tp_store_open(store_path, &st, &err));
+        tp_store_info si;
+        tp_store_get_info(st, &si);
+        size_t count = 0;
+        const tp_node_meta* metas = tp_store_metas(st, &count);
+        tp_tree_desc td;
+        memset(&td, 0, sizeof td);
+        td.geometry = si.header.geometry;
+        memcpy(td.geotransform, si.header.geotransform, sizeof td.geotransform);
+        td.height_step_m = si.header.height_step_m;
+        td.quant_max_error_m = si.header.quant_max_error_m;
+        td.err_unit_steps = si.header.err_unit_steps;
+        td.metas = metas;
+        td.meta_count = count;
+        tp_tree* t = NULL;
+        ASSERT_OK(tp_tree_create(&td, &t, &err));
+        const tp_tree_geometry* g = tp_tree_get_geometry(t);
+        size_t side = ((size_t)1 << g->n) + 1;
+        uint16_t* blocks = malloc((size_t)g->node_count * side * side * sizeof *blocks);
+        ASSERT_TRUE(blocks != NULL);
+        for (int64_t i = 0; i < g->node_count; i++) {
+            ASSERT_OK(tp_store_read_node(st, i, blocks + (size_t)i * side * side, side * side, &err));
+            tp_tree_attach(t, i, blocks + (size_t)i * side * side);
+        }
+        tp_georef* geo = NULL;
+        ASSERT_OK(tp_georef_create(si.header.crs_wkt, si.header.geotransform, &geo, &err));
+
+        /* from 12 km south of the seam at 1.5E, 350 m above the highest ground, looking north */
+        tp_tree_info ti;
+        tp_tree_get_info(t, &ti);
+        double ce, cn;
+        ASSERT_OK(tp_georef_geo_to_proj(geo, 41.89, 1.5, &ce, &cn, &err));
+        view_spec v = {{ce, cn, 0, 0, -6}, 640, 360, {.mode = TP_LOD_ERROR, .tau_px = 1}, 1, 1};
+        double cx, cy;
+        tp_tree_world_to_grid(t, ce, cn, &cx, &cy);
+        v.cam[2] = 350 + fmax(tp_tree_height_at(t, cx, cy), 600);
+        /* the horizon: the far plane of a flat earth at the eye's height is at the image centre;
+         * terrain rises above it, so only rows below the middle must be ground */
+        expect_store_no_magenta(store_path, &v, 0, v.h / 2 + 2, "across the 42N seam", 2);
+
+        /* the seam in the drawn surface */
+        tp_cut* cut = NULL;
+        ASSERT_OK(tp_cut_create(t, &cut, &err));
+        tp_camera cam;
+        camera_from(&v, &cam);
+        tp_lod_params full = {.mode = TP_LOD_FULL};
+        ASSERT_OK(tp_cut_update(cut, &cam, &full, &err));
+        int along = 0, defined = 0, drawn = 0;
+        double worst = 0;
+        for (double lon = 1.02; lon <= 1.98; lon += 0.0005) {
+            double e, n, x, y;
+            ASSERT_OK(tp_georef_geo_to_proj(geo, 42.0, lon, &e, &n, &err));
+            tp_tree_world_to_grid(t, e, n, &x, &y);
+            along++;
+            for (int k = -1; k <= 1; k++) {
+                double yy = y + 0.5 * k, h = tp_tree_height_at(t, x, yy);
+                if (isnan(h))
+                    continue;
+                defined += k == 0;
+                double d = tp_cut_drawn_height_at(cut, x, yy);
+                if (isnan(d))
+                    continue; /* outside the view */
+                drawn++;
+                worst = fmax(worst, fabs(d - h));
+            }
+        }
+        tp_test_note("seam: %d points, %d with a full-resolution height, %d drawn samples; "
+                     "largest |drawn - full| %.3g m", along, defined, drawn, worst);
+        EXPECT_EQ_INT(along, defined); /* no gap between the tiles */
+        EXPECT_GT(drawn, along);       /* the view covers the seam */
+        EXPECT_LE(worst, 1e-3);
+        tp_cut_destroy(cut);
+        tp_georef_destroy(geo);
+        tp_tree_destroy(t);
+        free(blocks);
+        tp_store_close(st);
+    }
+#endif
+}
+
+/* A store with one damaged node: the view says so once (one line naming the node), draws its
+ * ancestor there (a substitution, no hole) and exits 0; a tiny --gpu-memory still draws every
+ * node (the pool grows past it for that frame). */
+TEST(store_damaged_node_is_reported_once_and_drawn_as_its_ancestor)
+{
+    REQUIRE_IO();
+#ifndef TP_TEST_NO_IO
+    {
+        const char* dir = make_tmp_dir();
+        char store_path[1200], text[8192], json[1200];
+        snprintf(store_path, sizeof store_path, "%s/hood.tpt", dir);
+        args a;
+        args_view(&a);
+        a.n = 1;
+        args_add(&a, "build");
+        args_add(&a, "--quiet");
+        args_add(&a, "--patch");
+        args_add(&a, "17");
+        args_add(&a, "%s", sample_dem());
+        args_add(&a, "-o");
+        args_add(&a, "%s", store_path);
+        run_ok(&a, dir);
+        char ok_path[1300];
+        snprintf(ok_path, sizeof ok_path, "%s/hood_ok.tpt", dir);
+        copy_file(store_path, ok_path);
+        /* --lod full draws every leaf in view: damage node data a third into the file (the
+         * node table is at the end) */
+        FILE* f = fopen(store_path, "r+b");
+        ASSERT_TRUE(f != NULL);
+        fseek(f, 0, SEEK_END);
+        long size = ftell(f);
+        fseek(f, size / 3, SEEK_SET);
+        int c = fgetc(f);
+        fseek(f, size / 3, SEEK_SET);
+        fputc(c ^ 0x5A, f);
+        fclose(f);
+        image ok_im;
+        for (int frames = 0; frames <= 3; frames += 2) { /* 0: the intact store */
+            run_result rr;
+            args_view(&a);
+            args_add(&a, "--headless");
+            args_add(&a, "--size");
+            args_add(&a, "320x180");
+            args_add(&a, "--clear-color");
+            args_add(&a, "1,0,1");
+            args_add(&a, "--camera");
+            args_add(&a, "602125,5025267,40000,0,-90"); /* straight down on the whole map */
+            args_add(&a, "--lod");
+            args_add(&a, "full");
+            args_add(&a, "--gpu-memory");
+            args_add(&a, "16");
+            args_add(&a, "--frames");
+            args_add(&a, "%d", frames > 0 ? frames : 1);
+            args_add(&a, "--stats-json");
+            args_add(&a, "%s/bad.json", dir);
+            args_add(&a, "--screenshot");
+            args_add(&a, "%s/%s", dir, frames ? "bad.png" : "ok.png");
+            args_add(&a, "%s", frames ? store_path : ok_path);
+            run(&a, dir, &rr);
+            if (!frames) {
+                EXPECT_EQ_INT(0, rr.exit_code);
+                EXPECT_EQ_INT(0, rr.err_lines);
+                image_read(dir, "ok.png", &ok_im);
+                continue;
+            }
+            tp_test_note("frames %d: exit %d, stderr: %s", frames, rr.exit_code, rr.err);
+            EXPECT_EQ_INT(0, rr.exit_code);
+            EXPECT_EQ_INT(1, rr.err_lines);
+            EXPECT_CONTAINS(rr.err, "checksum");
+            EXPECT_CONTAINS(rr.err, "drawing its ancestor instead");
+            snprintf(json, sizeof json, "%s/bad.json", dir);
+            int lines;
+            read_text(json, text, sizeof text, &lines);
+            EXPECT_GE(json_number(text, "substituted_nodes"), 1);
+            EXPECT_EQ_DBL(0, json_number(text, "pending"));
+            EXPECT_GT(json_number(text, "gpu_mb"), 16 * 1.048576); /* grown past the budget */
+            image im;
+            image_read(dir, "bad.png", &im);
+            long n = 0;
+            for (size_t i = 0; i < (size_t)im.w * im.h; i++)
+                n += is_magenta(im.px + 4 * i) && !is_magenta(ok_im.px + 4 * i);
+            EXPECT_EQ_INT(0, n); /* the ancestor covers the damaged node: no hole */
+            free(im.px);
+        }
+        free(ok_im.px);
+    }
+#endif
+}
+
+/* `view DEM` builds the DEM into a store in the cache once and reuses it; another patch size
+ * is another store; a cache directory that cannot be written builds in a temporary one. */
+TEST(dem_is_built_into_the_cache_once)
+{
+    REQUIRE_IO();
+#ifndef TP_TEST_NO_IO
+    {
+        const char* dir = make_tmp_dir();
+        char cache[1200], ro[1200];
+        snprintf(cache, sizeof cache, "%s/cache", dir);
+        /* below a plain file: not creatable, even for root */
+        snprintf(ro, sizeof ro, "%s/plain", dir);
+        FILE* pf = fopen(ro, "w");
+        ASSERT_TRUE(pf != NULL);
+        fclose(pf);
+        snprintf(ro, sizeof ro, "%s/plain/cache", dir);
+        const char* want[4] = {"building a store", NULL, "building a store", "not writable"};
+        for (int i = 0; i < 4; i++) {
+            args a;
+            run_result rr;
+            args_view(&a);
+            args_add(&a, "--headless");
+            args_add(&a, "--size");
+            args_add(&a, "64x36");
+            args_add(&a, "--cache-dir");
+            args_add(&a, "%s", i == 3 ? ro : cache);
+            if (i == 2) {
+                args_add(&a, "--patch");
+                args_add(&a, "33");
+            }
+            args_add(&a, "%s", sample_dem());
+            run(&a, dir, &rr);
+            tp_test_note("run %d: exit %d, stderr: %s", i, rr.exit_code, rr.err);
+            EXPECT_EQ_INT(0, rr.exit_code);
+            if (want[i])
+                EXPECT_CONTAINS(rr.err, want[i]);
+            else
+                EXPECT_TRUE(strstr(rr.err, "building") == NULL); /* reused */
+        }
+        EXPECT_EQ_INT(2, dir_entries(cache)); /* one store per patch size, no temp files */
+        /* the temporary store is not left in the cache: TMPDIR got it */
+    }
+#endif
+}
+
 #define TESTS(X)                                                                                   \
+    X(store_no_cracks_oblique_error_lod)                                                           \
+    X(two_tile_seam_shows_no_crack_and_no_step)                                                    \
+    X(store_damaged_node_is_reported_once_and_drawn_as_its_ancestor)                               \
+    X(dem_is_built_into_the_cache_once)                                                            \
     X(no_cracks_top_down_distance_lod)                                                             \
     X(no_cracks_oblique_distance_lod)                                                              \
     X(no_cracks_oblique_error_lod)                                                                 \

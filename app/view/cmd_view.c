@@ -10,16 +10,19 @@
 #include "view.h"
 
 #include "atomic_file.h"
+#include "camera_pose.h"
 #include "cli.h"
 #include "hud.h"
 #include "hud_text.h"
 #include "overlay.h"
 #include "pick.h"
+#include "store_cache.h"
 
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #define TP_SAMPLE_SCENE "data/lf_elev_220_mt_hood_utm.tif"
@@ -42,15 +45,21 @@ enum {
     OPT_MEASURE,
     OPT_SUN,
     OPT_PICK,
+    OPT_MEMORY,
+    OPT_GPU_MEMORY,
+    OPT_CACHE_DIR,
+    OPT_WHOLE,
 };
 
 static void print_help(void)
 {
-    fputs("usage: terrapatch view [options] [DEM]\n"
+    fputs("usage: terrapatch view [options] [DEM or STORE.tpt]\n"
           "\n"
-          "Shows DEM (default: the sample " TP_SAMPLE_SCENE ") as shaded terrain, each patch\n"
-          "at its own level of detail. In a window when there is a display; --headless renders\n"
-          "offscreen (EGL, no display needed) and writes --screenshot.\n"
+          "Shows DEM (default: the sample " TP_SAMPLE_SCENE ") as shaded terrain through its\n"
+          "hierarchy, each node at its own level of detail, loading nodes as the view needs them.\n"
+          "A DEM is built into a store first (once, in the cache directory; reused next time).\n"
+          "In a window when there is a display; --headless renders offscreen (EGL, no display\n"
+          "needed) and writes --screenshot.\n"
           "\n",
           stdout);
     tp_view_options_help(stdout);
@@ -77,6 +86,19 @@ static void print_help(void)
           "  --texture FILE        drape an image: an orthophoto georeferenced through GDAL (warped\n"
           "                        onto the render grid), or any image covering the DEM's extent\n"
           "  --one-draw-per-patch  one draw call per patch instead of multi-draw\n"
+          "stores:\n"
+          "  --memory MB           budget of decoded terrain in RAM (default 1024)\n"
+          "  --gpu-memory MB       budget of the GPU vertex pool (default 256); a frame that\n"
+          "                        needs more grows the pool past it (never a hole) and the\n"
+          "                        HUD's GPU MB shows by how much\n"
+          "  --cache-dir DIR       where DEMs are built into stores (default $TP_CACHE_DIR, else\n"
+          "                        $XDG_CACHE_HOME/terrapatch, else ~/.cache/terrapatch)\n"
+          "  --whole               draw the DEM whole, without a store (the old path: the DEM\n"
+          "                        and its render grid in memory, patches selected every frame)\n"
+          "  A DEM is drawn whole, without a store (the old path), when it is a heightmap image\n"
+          "  (--spacing, --zscale, --origin or a PNG/JPEG/...), or --fill-max, --fit or\n"
+          "  --texture is given: stores do not fill voids, always pad and carry no texture.\n"
+          "  Stores default to --patch 65 (a DEM drawn whole: 17).\n"
           "  --no-hud              no text overlay (frame times, triangles, levels, error,\n"
           "                        camera and centre position as lat/lon, UTM and MGRS)\n"
           "  --hud                 headless frames too get the overlay (off by default there,\n"
@@ -144,6 +166,10 @@ static int parse_options(int argc, char** argv, view_options* o)
         {"measure", required_argument, NULL, OPT_MEASURE},
         {"sun", required_argument, NULL, OPT_SUN},
         {"pick", required_argument, NULL, OPT_PICK},
+        {"memory", required_argument, NULL, OPT_MEMORY},
+        {"gpu-memory", required_argument, NULL, OPT_GPU_MEMORY},
+        {"cache-dir", required_argument, NULL, OPT_CACHE_DIR},
+        {"whole", no_argument, NULL, OPT_WHOLE},
         {"exaggeration", required_argument, NULL, OPT_EXAG},
         {"one-draw-per-patch", no_argument, NULL, OPT_ONE_DRAW},
         {"help", no_argument, NULL, 'h'},
@@ -154,6 +180,8 @@ static int parse_options(int argc, char** argv, view_options* o)
     tp_render_settings_default(&o->render);
     tp_view_setup_default(&o->vs);
     o->frames = 1;
+    o->memory_mb = 1024;
+    o->gpu_memory_mb = 256;
     opterr = 0;
     optind = 1;
     int c;
@@ -161,6 +189,10 @@ static int parse_options(int argc, char** argv, view_options* o)
     char* end;
     while ((c = getopt_long(argc, argv, ":h", longs, NULL)) != -1) {
         int taken = c == '?' || c == ':' ? 0 : tp_scene_option(c, optarg, &o->scene, "view");
+        if (taken > 0 && c == TP_OPT_PATCH)
+            o->patch_given = 1;
+        if (taken > 0 && (c == TP_OPT_FILL_MAX || c == TP_OPT_FIT))
+            o->old_path = 1;
         if (!taken && c != '?' && c != ':')
             taken = tp_view_option(c, optarg, &o->vs, "view");
         if (taken < 0)
@@ -176,6 +208,17 @@ static int parse_options(int argc, char** argv, view_options* o)
             o->vs.vertical_scale = v[0];
             break;
         case OPT_HEADLESS: o->headless = 1; break;
+        case OPT_MEMORY:
+        case OPT_GPU_MEMORY: {
+            long n = strtol(optarg, &end, 10);
+            if (*end || n < 16 || n > (1L << 24))
+                return bad(c == OPT_MEMORY ? "--memory" : "--gpu-memory", "megabytes, 16 or more",
+                           optarg);
+            *(c == OPT_MEMORY ? &o->memory_mb : &o->gpu_memory_mb) = (size_t)n;
+            break;
+        }
+        case OPT_CACHE_DIR: o->cache_dir = optarg; break;
+        case OPT_WHOLE: o->old_path = 1; break;
         case OPT_FRAMES: {
             long n = strtol(optarg, &end, 10);
             if (*end || n < 1 || n > 1000000)
@@ -243,24 +286,27 @@ static int parse_options(int argc, char** argv, view_options* o)
 }
 
 /* Says on stderr why a frame shows no terrain at all. */
-static void warn_if_empty(const tp_scene* sc, const frame_result* fr)
+static void warn_if_empty(const tp_view_scene* v, const frame_result* fr)
 {
     if (fr->core.triangles > 0)
         return;
-    if (sc->info.valid_samples + sc->info.filled_samples < 4)
+    const tp_scene* sc = v->dem;
+    if (sc ? sc->info.valid_samples + sc->info.filled_samples < 4
+           : v->store->info.header.valid_samples < 4)
         fprintf(stderr, "terrapatch view: warning: %s: the frame shows no terrain: the DEM has no "
-                        "2x2 block of valid samples to draw a triangle from\n", sc->path);
+                        "2x2 block of valid samples to draw a triangle from\n", v->path);
     else if (fr->core.visible_patches > 0)
-        fprintf(stderr, "terrapatch view: warning: %s: the frame shows no terrain: the %d patches "
+        fprintf(stderr, "terrapatch view: warning: %s: the frame shows no terrain: the %d %s "
                         "in view hold only nodata or padding (the camera may be inside or under "
-                        "the surface)\n", sc->path, fr->core.visible_patches);
+                        "the surface)\n", v->path, fr->core.visible_patches,
+                fr->store ? "nodes" : "patches");
     else
         fprintf(stderr, "terrapatch view: warning: %s: the frame shows no terrain: the camera "
-                        "looks away from the DEM (all %d patches culled; try without --camera)\n",
-                sc->path, fr->core.culled_patches);
+                        "looks away from the DEM (all %d %s culled; try without --camera)\n",
+                v->path, fr->core.culled_patches, fr->store ? "nodes" : "patches");
 }
 
-static int run_headless(tp_scene* sc, tp_gl_context* ctx, tp_renderer* r, tp_selection* sel,
+static int run_headless(tp_view_scene* v, tp_gl_context* ctx, tp_renderer* r,
                         const tp_camera* cam, view_options* o)
 {
     int code = TP_EXIT_OK;
@@ -270,29 +316,32 @@ static int run_headless(tp_scene* sc, tp_gl_context* ctx, tp_renderer* r, tp_sel
     char measure_line[512] = "";
     int measured = 0;
     for (int i = 0; i < o->frames; i++) {
+        /* a store: every node the view wants is loaded before the frame (complete and
+         * deterministic, as a DEM's headless frames are) */
+        tp_view_scene_set_vertical_scale(v, o->render.exaggeration);
+        tp_view_scene_settle(v, cam, &o->vs.lod, 120);
         tp_gl_context_begin_frame(ctx);
         double t0 = tp_view_now_ms();
-        tp_view_frame(sel, r, cam, &o->render, &o->vs.lod, 0, &fr);
+        tp_view_frame(v, r, cam, &o->render, &o->vs.lod, 0, &fr);
         if (o->has_measure && !measured) {
             double e[2] = {o->measure[0], o->measure[2]}, n[2] = {o->measure[1], o->measure[3]};
-            measured = tp_view_measure_points(sc, sel, e, n, measure_line, sizeof measure_line)
-                           ? 1 : -1;
+            measured = tp_view_measure_points(v, e, n, measure_line, sizeof measure_line) ? 1 : -1;
         }
         char text[4096];
         tp_overlay ov = {.grid_m = o->render.grid_m, .measure_line = measure_line};
         if (with_hud) {
             tp_measured_error me;
-            tp_view_measure_now(sel, cam, &me);
+            tp_view_measure_now(v, cam, &me);
             tp_hud_state hs = {.fps = 1000 / fmax(tp_view_now_ms() - t0, 1e-6),
                                .exaggeration = o->render.exaggeration};
-            tp_view_hud_text(sc, sel, cam, &o->vs.lod, &fr, &me, &hs, text, sizeof text);
+            tp_view_hud_text(v, cam, &o->vs.lod, &fr, &me, &hs, text, sizeof text);
             ov.hud_text = text;
         }
-        tp_view_overlay_draw(hud, sc, sel, cam, &ov);
+        tp_view_overlay_draw(hud, v, cam, &ov);
         tp_gl_context_end_frame(ctx);
     }
     tp_hud_destroy(hud);
-    warn_if_empty(sc, &fr);
+    warn_if_empty(v, &fr);
     if (o->screenshot && !tp_view_screenshot(ctx, o->screenshot))
         code = TP_EXIT_FAILURE;
     if (o->has_measure) {
@@ -305,7 +354,7 @@ static int run_headless(tp_scene* sc, tp_gl_context* ctx, tp_renderer* r, tp_sel
     }
     for (int i = 0; i < o->pick_count; i++) {
         double g[3];
-        if (tp_view_pick(sc, sel, cam, o->pick[i][0], o->pick[i][1], g)) {
+        if (tp_view_pick(v, cam, o->pick[i][0], o->pick[i][1], g)) {
             printf("pick %.1f,%.1f: E %.3f N %.3f height %.3f m\n", o->pick[i][0],
                    o->pick[i][1], g[0], g[1], g[2]);
         } else {
@@ -313,14 +362,121 @@ static int run_headless(tp_scene* sc, tp_gl_context* ctx, tp_renderer* r, tp_sel
         }
     }
     if (o->stats_json && code == TP_EXIT_OK) {
-        tp_error_measure em = {0};
-        double max_px = 0, rms_px = 0;
-        tp_selection_measure_error(sel, &em);
-        tp_selection_measure_screen_error(sel, cam, &max_px, &rms_px, NULL);
-        if (!tp_view_write_stats(o->stats_json, &fr, &em, max_px, rms_px, sc->info.levels))
+        double max_m, rms_m, max_px, rms_px;
+        tp_view_scene_measure(v, cam, &max_m, &rms_m, &max_px, &rms_px);
+        tp_error_measure em = {.max_error_m = max_m, .rms_error_m = rms_m};
+        if (!tp_view_write_stats(o->stats_json, &fr, v->store ? NULL : &em, max_px, rms_px,
+                                 v->n + 1))
             code = TP_EXIT_FAILURE;
     }
     return code;
+}
+
+/* Runs the view on an open scene (either path): camera, context, renderer, the frames. */
+static int run_view(tp_view_scene* v, view_options* o, tp_render_grid_desc* gd)
+{
+    tp_camera cam;
+    if (o->vs.has_camera) {
+        if (!tp_camera_from_option_georef(v->georef, o->vs.camera_geo, o->vs.camera, o->vs.fov_deg,
+                                          o->vs.w, o->vs.h, &cam, "view"))
+            return TP_EXIT_FAILURE;
+    } else {
+        tp_camera_default_extent(v->gt, v->src_width, v->src_height, v->min_height_m,
+                                 v->max_height_m, o->vs.fov_deg, o->vs.w, o->vs.h,
+                                 o->vs.vertical_scale, &cam);
+    }
+    char msg[512];
+    tp_gl_context* ctx = NULL;
+    int ok = o->headless ? tp_gl_context_create_headless(o->vs.w, o->vs.h, &ctx, msg, sizeof msg)
+                         : tp_gl_context_create_window(o->vs.w, o->vs.h, "terrapatch", &ctx, msg,
+                                                       sizeof msg);
+    if (!ok) {
+        fprintf(stderr, "terrapatch view: %s\n", msg);
+        return TP_EXIT_FAILURE;
+    }
+    tp_renderer* r = v->dem ? tp_renderer_create(v->dem->terrain, msg, sizeof msg)
+                            : tp_renderer_create_desc(gd, msg, sizeof msg);
+    if (!r) {
+        fprintf(stderr, "terrapatch view: %s\n", msg);
+        tp_gl_context_destroy(ctx);
+        return TP_EXIT_FAILURE;
+    }
+    int code = TP_EXIT_OK;
+    if (o->texture && !tp_view_load_texture(v->dem, r, o->texture))
+        code = TP_EXIT_FAILURE;
+    if (code == TP_EXIT_OK)
+        code = o->headless ? run_headless(v, ctx, r, &cam, o)
+                           : tp_view_window_run(v, ctx, r, &cam, o);
+    tp_renderer_destroy(r);
+    tp_gl_context_destroy(ctx);
+    return code;
+}
+
+/* The old path: the DEM read whole into a tp_terrain (heightmap images, --fill-max, --fit,
+ * --texture). */
+static int view_dem(view_options* o)
+{
+    tp_scene sc;
+    o->scene.use = TP_MEMORY_USE_VIEW;
+    int code = tp_scene_load(o->path, &o->scene, &sc);
+    if (code != TP_EXIT_OK)
+        return code;
+    tp_view_setup_warn(&sc, &o->vs, "view");
+    tp_selection* sel = NULL;
+    tp_error err;
+    if (tp_selection_create(sc.terrain, &sel, &err) != TP_OK) {
+        fprintf(stderr, "terrapatch view: %s\n", err.message);
+        tp_scene_free(&sc);
+        return TP_EXIT_FAILURE;
+    }
+    tp_view_scene v;
+    tp_view_scene_from_dem(&v, &sc, sel);
+    code = run_view(&v, o, NULL);
+    tp_selection_destroy(sel);
+    tp_scene_free(&sc);
+    return code;
+}
+
+static int view_store(const char* path, view_options* o)
+{
+    tp_store_scene st;
+    int code = tp_store_scene_open(path, &st);
+    if (code != TP_EXIT_OK)
+        return code;
+    tp_stream_options so = {.memory_bytes = o->memory_mb << 20};
+    if ((code = tp_store_scene_stream(&st, &so)) != TP_EXIT_OK) {
+        tp_store_scene_close(&st);
+        return code;
+    }
+    tp_view_scene v;
+    if (!tp_view_scene_from_store(&v, &st)) {
+        tp_store_scene_close(&st);
+        return TP_EXIT_FAILURE;
+    }
+    v.path = o->path;
+    const tp_tree_geometry* g = tp_tree_get_geometry(st.tree);
+    /* as tp_view_setup_warn says for a DEM drawn whole: one leaf is 2^n grid steps */
+    double leaf_m = (double)(1 << g->n) * fmin(fabs(v.gt[1]), fabs(v.gt[5]));
+    if (o->vs.lod.mode == TP_LOD_DISTANCE && o->vs.lod.maxdist_m > 0 &&
+        o->vs.lod.maxdist_m < leaf_m)
+        fprintf(stderr,
+                "terrapatch view: warning: --maxdist %g m is less than one patch width (%.0f m): "
+                "every node farther than %g m is drawn at its coarsest (distances are in "
+                "metres)\n", o->vs.lod.maxdist_m, leaf_m, o->vs.lod.maxdist_m);
+    tp_render_grid_desc gd = {.n = g->n, .width = g->width, .height = g->height,
+                              .min_height_m = v.min_height_m, .max_height_m = v.max_height_m,
+                              .pool_budget_bytes = o->gpu_memory_mb << 20};
+    memcpy(gd.geotransform, v.gt, sizeof gd.geotransform);
+    code = run_view(&v, o, &gd);
+    tp_view_scene_release(&v);
+    tp_store_scene_close(&st);
+    return code;
+}
+
+static int is_regular_file(const char* path)
+{
+    struct stat sb;
+    return stat(path, &sb) == 0 && S_ISREG(sb.st_mode);
 }
 
 int tp_cli_view(int argc, char** argv)
@@ -337,48 +493,31 @@ int tp_cli_view(int argc, char** argv)
     }
     if (o.stats_json && !tp_atomic_check_dir(o.stats_json))
         return TP_EXIT_FAILURE;
-    tp_scene sc;
-    o.scene.use = TP_MEMORY_USE_VIEW;
-    if ((code = tp_scene_load(o.path, &o.scene, &sc)) != TP_EXIT_OK)
-        return code;
-    tp_view_setup_warn(&sc, &o.vs, "view");
-    tp_camera cam;
-    if (!tp_view_setup_camera(&sc, &o.vs, &cam, "view")) {
-        tp_scene_free(&sc);
-        return TP_EXIT_FAILURE;
+    if (tp_is_store_path(o.path)) {
+        if (o.texture || o.old_path || o.scene.image_given) {
+            fprintf(stderr, "terrapatch view: %s is a store: --texture, --fill-max, --fit, --whole "
+                            "and the heightmap options apply to a DEM only\n", o.path);
+            return TP_EXIT_USAGE;
+        }
+        code = view_store(o.path, &o);
+    } else if (o.old_path || o.texture || o.scene.image_given || !is_regular_file(o.path) ||
+               tp_is_heightmap_image(o.path)) {
+        /* (not a plain file: a FIFO, a GDAL /vsi path or a missing one: the DEM reader says
+         * what it is, as before) */
+        code = view_dem(&o);
+    } else {
+        char store[4096];
+        tp_store_cache_options co = {.cache_dir = o.cache_dir,
+                                     .patch_size = o.patch_given ? o.scene.patch_size : 65,
+                                     .crs = o.scene.grid.crs,
+                                     .resampling = o.scene.grid.resampling,
+                                     .cmd = "view"};
+        int temporary = 0;
+        code = tp_store_cache_get(o.path, &co, store, sizeof store, &temporary);
+        if (code == TP_EXIT_OK)
+            code = view_store(store, &o);
+        if (temporary)
+            tp_store_cache_remove_temporary(store);
     }
-
-    char msg[512];
-    tp_gl_context* ctx = NULL;
-    int ok = o.headless ? tp_gl_context_create_headless(o.vs.w, o.vs.h, &ctx, msg, sizeof msg)
-                        : tp_gl_context_create_window(o.vs.w, o.vs.h, "terrapatch", &ctx, msg, sizeof msg);
-    if (!ok) {
-        fprintf(stderr, "terrapatch view: %s\n", msg);
-        tp_scene_free(&sc);
-        return TP_EXIT_FAILURE;
-    }
-    tp_renderer* r = tp_renderer_create(sc.terrain, msg, sizeof msg);
-    tp_selection* sel = NULL;
-    if (!r || tp_selection_create(sc.terrain, &sel, &err) != TP_OK) {
-        fprintf(stderr, "terrapatch view: %s\n", r ? err.message : msg);
-        tp_renderer_destroy(r);
-        tp_gl_context_destroy(ctx);
-        tp_scene_free(&sc);
-        return TP_EXIT_FAILURE;
-    }
-
-    if (o.texture && !tp_view_load_texture(&sc, r, o.texture)) {
-        tp_selection_destroy(sel);
-        tp_renderer_destroy(r);
-        tp_gl_context_destroy(ctx);
-        tp_scene_free(&sc);
-        return TP_EXIT_FAILURE;
-    }
-    code = o.headless ? run_headless(&sc, ctx, r, sel, &cam, &o)
-                      : tp_view_window_run(&sc, ctx, r, sel, &cam, &o);
-    tp_selection_destroy(sel);
-    tp_renderer_destroy(r);
-    tp_gl_context_destroy(ctx);
-    tp_scene_free(&sc);
     return code == TP_EXIT_OK ? tp_cli_finish(code) : code;
 }

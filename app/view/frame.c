@@ -9,7 +9,9 @@
 
 #include <assert.h>
 #include <stdio.h>
+#include <math.h>
 #include <stdlib.h>
+#include <string.h>
 #include <time.h>
 
 double tp_view_now_ms(void)
@@ -19,21 +21,45 @@ double tp_view_now_ms(void)
     return ts.tv_sec * 1e3 + ts.tv_nsec / 1e6;
 }
 
-void tp_view_frame(tp_selection* sel, tp_renderer* r, const tp_camera* cam,
+void tp_view_frame(tp_view_scene* v, tp_renderer* r, const tp_camera* cam,
                    const tp_render_settings* render, const tp_lod_params* lod, int frozen,
                    frame_result* out)
 {
     double t0 = tp_view_now_ms();
     tp_error err;
     /* the core selects, culls and measures the surface as drawn: exaggerated */
-    tp_status st = tp_selection_set_vertical_scale(sel, render->exaggeration);
-    assert(st == TP_OK); /* the options and keys keep it in the core's range */
-    (void)st;
+    tp_view_scene_set_vertical_scale(v, render->exaggeration);
+    if (!v->store) {
+        if (!frozen)
+            tp_selection_update(v->sel, cam, lod, &err);
+        out->select_ms = tp_view_now_ms() - t0;
+        tp_renderer_draw(r, v->sel, cam, render, 1, &out->render);
+        tp_selection_stats(v->sel, &out->core);
+        out->store = 0;
+        return;
+    }
     if (!frozen)
-        tp_selection_update(sel, cam, lod, &err);
+        tp_cut_update(v->cut, cam, lod, &err);
+    tp_stream_frame(v->store->stream, v->cut, frozen ? NULL : v->prefetch, cam, lod, &out->stream);
+    tp_view_scene_report_failures(v);
     out->select_ms = tp_view_now_ms() - t0;
-    tp_renderer_draw(r, sel, cam, render, 1, &out->render);
-    tp_selection_stats(sel, &out->core);
+    tp_renderer_draw_cut(r, v->store->tree, v->cut, cam, render, render->exaggeration, 1,
+                         &out->render);
+    tp_cut_stats cs;
+    tp_cut_get_stats(v->cut, &cs);
+    memset(&out->core, 0, sizeof out->core);
+    size_t count = 0;
+    const tp_cut_node* nodes = tp_cut_nodes(v->cut, &count);
+    for (size_t i = 0; i < count; i++)
+        out->core.patches_per_level[nodes[i].level]++;
+    out->core.visible_patches = cs.drawn;
+    out->core.culled_patches = cs.culled;
+    out->core.triangles = cs.triangles;
+    out->core.bound_max_error_m = out->core.bound_rms_error_m = NAN;
+    out->store = 1;
+    out->nodes_drawn = cs.drawn;
+    out->substituted = cs.substituted;
+    out->bound_max_px = cs.max_bound_px;
 }
 
 int tp_view_write_stats(const char* path, const frame_result* f, const tp_error_measure* em,
@@ -63,11 +89,22 @@ int tp_view_write_stats(const char* path, const frame_result* f, const tp_error_
     KEY_NUM("draw_ms", f->render.draw_ms);
     KEY_SIZE("uploads", (size_t)f->render.uploads);
     KEY_SIZE("gpu_bytes", f->render.gpu_bytes);
-    KEY_NUM("max_error_m", em->max_error_m);
-    KEY_NUM("rms_error_m", em->rms_error_m);
+    if (em) {
+        KEY_NUM("max_error_m", em->max_error_m);
+        KEY_NUM("rms_error_m", em->rms_error_m);
+    }
     KEY_NUM("max_error_px", max_px);
     KEY_NUM("rms_error_px", rms_px);
-    KEY_NUM("bound_max_error_m", f->core.bound_max_error_m);
+    if (!f->store) {
+        KEY_NUM("bound_max_error_m", f->core.bound_max_error_m);
+    } else {
+        KEY_NUM("bound_max_px", f->bound_max_px);
+        KEY_NUM("resident_mb", f->stream.resident_bytes / 1e6);
+        KEY_NUM("gpu_mb", f->render.gpu_bytes / 1e6);
+        KEY_SIZE("nodes_drawn", (size_t)f->nodes_drawn);
+        KEY_SIZE("substituted_nodes", (size_t)f->substituted);
+        KEY_SIZE("pending", (size_t)f->stream.pending);
+    }
 #undef KEY_NUM
 #undef KEY_SIZE
     tp_json_object_end(&j);

@@ -9,22 +9,19 @@
 #include <stdio.h>
 #include <string.h>
 
-void tp_view_measure_now(const tp_selection* sel, const tp_camera* cam, tp_measured_error* m)
+void tp_view_measure_now(const tp_view_scene* v, const tp_camera* cam, tp_measured_error* m)
 {
-    tp_error_measure em = {0};
-    m->valid = tp_selection_measure_error(sel, &em) == TP_OK &&
-               tp_selection_measure_screen_error(sel, cam, &m->max_px, &m->rms_px, NULL) == TP_OK;
-    m->max_m = em.max_error_m;
-    m->rms_m = em.rms_error_m;
+    tp_view_scene_measure(v, cam, &m->max_m, &m->rms_m, &m->max_px, &m->rms_px);
+    m->valid = 1;
 }
 
-void tp_view_position_text(const tp_scene* sc, double e, double n, char* out, size_t cap)
+void tp_view_position_text(const tp_georef* g, double e, double n, char* out, size_t cap)
 {
     double lat, lon, ue, un;
     int zone, northp;
     char mgrs[TP_MGRS_SIZE];
     out[0] = '\0';
-    if (tp_georef_proj_to_geo(sc->georef, e, n, &lat, &lon, NULL) != TP_OK)
+    if (tp_georef_proj_to_geo(g, e, n, &lat, &lon, NULL) != TP_OK)
         return;
     int at = snprintf(out, cap, "%.5f%c %.5f%c", fabs(lat), lat >= 0 ? 'N' : 'S', fabs(lon),
                       lon >= 0 ? 'E' : 'W');
@@ -38,20 +35,23 @@ void tp_view_position_text(const tp_scene* sc, double e, double n, char* out, si
     snprintf(out + at, cap - (size_t)at, "  UTM %s %.0f %.0f  MGRS %s", zname, ue, un, mgrs);
 }
 
-void tp_view_hud_text(const tp_scene* sc, const tp_selection* sel, const tp_camera* cam,
+void tp_view_hud_text(tp_view_scene* v, const tp_camera* cam,
                       const tp_lod_params* lod, const frame_result* fr,
                       const tp_measured_error* me, const tp_hud_state* st, char* out, size_t cap)
 {
     char measured[160] = "";
-    if (me && me->valid)
+    if (me && me->valid && !isnan(me->max_m))
         snprintf(measured, sizeof measured, "   measured max %.2f m / %.2f px, RMS %.2f m / %.2f px",
                  me->max_m, me->max_px, me->rms_m, me->rms_px);
+    else if (me && me->valid)
+        snprintf(measured, sizeof measured, "   measured max %.2f px, RMS %.2f px", me->max_px,
+                 me->rms_px);
     char pos[256], ground[640] = "";
     double g[3];
-    tp_view_position_text(sc, cam->position[0], cam->position[1], pos, sizeof pos);
-    if (tp_view_pick_centre(sc, sel, cam, g)) {
+    tp_view_position_text(v->georef, cam->position[0], cam->position[1], pos, sizeof pos);
+    if (tp_view_pick_centre(v, cam, g)) {
         char gp[256];
-        tp_view_position_text(sc, g[0], g[1], gp, sizeof gp);
+        tp_view_position_text(v->georef, g[0], g[1], gp, sizeof gp);
         snprintf(ground, sizeof ground, "centre  %s   elevation %.1f m", gp[0] ? gp : "(no CRS)",
                  g[2]);
     } else {
@@ -59,11 +59,11 @@ void tp_view_hud_text(const tp_scene* sc, const tp_selection* sel, const tp_came
     }
     char levels[128] = "";
     size_t at = 0;
-    for (int k = 0; k < sc->info.levels && at < sizeof levels; k++)
+    for (int k = 0; k <= v->n && at < sizeof levels; k++)
         at += (size_t)snprintf(levels + at, sizeof levels - at, " %d", fr->core.patches_per_level[k]);
     double x, y, yaw, pitch;
-    tp_terrain_world_to_grid(sc->terrain, cam->position[0], cam->position[1], &x, &y);
-    double below = tp_terrain_height_at(sc->terrain, x, y);
+    tp_view_scene_world_to_grid(v, cam->position[0], cam->position[1], &x, &y);
+    double below = tp_view_scene_ground_height(v, x, y);
     tp_camera_get_pose(cam, &yaw, &pitch);
     char agl[96], lod_text[128], mode[160];
     if (lod->mode == TP_LOD_ERROR)
@@ -87,19 +87,30 @@ void tp_view_hud_text(const tp_scene* sc, const tp_selection* sel, const tp_came
     char exag[64] = "";
     if (ex != 1)
         snprintf(exag, sizeof exag, "   vertical exaggeration x%.3g", ex);
+    char store_line[256] = "", bound[96];
+    if (fr->store) {
+        snprintf(store_line, sizeof store_line,
+                 "\nstore: %d nodes drawn (%d substituted)   resident %.1f MB   %d loads pending",
+                 fr->nodes_drawn, fr->substituted, fr->stream.resident_bytes / 1e6,
+                 fr->stream.pending);
+        snprintf(bound, sizeof bound, "error bound max %.2f px", fr->bound_max_px);
+    } else {
+        snprintf(bound, sizeof bound, "error bound max %.2f m, RMS %.2f m",
+                 fr->core.bound_max_error_m, fr->core.bound_rms_error_m);
+    }
     snprintf(out, cap,
              "%.1f fps   CPU %.2f ms (select %.2f, upload %.2f)   draw %.2f ms   GPU %.1f MB\n"
-             "%zu triangles   %d draw calls   %d patches drawn, %d culled   per level k=0..%d:%s\n"
-             "LoD %s%s   error bound max %.2f m, RMS %.2f m%s\n"
+             "%zu triangles   %d draw calls   %d %s drawn, %d culled   per level k=0..%d:%s%s\n"
+             "LoD %s%s   %s%s\n"
              "camera  %s   height %.1f m, %s   heading %.0f deg, pitch %.0f deg\n"
              "%s\n"
              "%s%s\n"
              "heights as in the DEM (SRTM/DTED: EGM96 geoid)   ? help",
              st->fps, fr->select_ms + fr->render.upload_ms, fr->select_ms, fr->render.upload_ms,
              fr->render.draw_ms, fr->render.gpu_bytes / 1e6, fr->core.triangles,
-             fr->render.draw_calls, fr->render.patches_drawn, fr->core.culled_patches,
-             sc->info.n, levels, lod_text, st->frozen ? " (frozen)" : "",
-             fr->core.bound_max_error_m, fr->core.bound_rms_error_m, measured,
+             fr->render.draw_calls, fr->render.patches_drawn, fr->store ? "nodes" : "patches",
+             fr->core.culled_patches, v->n, levels, store_line, lod_text,
+             st->frozen ? " (frozen)" : "", bound, measured,
              pos[0] ? pos : "(no CRS: local metres)", cam->position[2], agl, yaw, pitch, ground,
              mode, exag);
 }

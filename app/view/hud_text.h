@@ -14,7 +14,7 @@ typedef struct tp_measured_error {
     int valid;
 } tp_measured_error;
 
-void tp_view_measure_now(const tp_selection* sel, const tp_camera* cam, tp_measured_error* m);
+void tp_view_measure_now(const tp_view_scene* v, const tp_camera* cam, tp_measured_error* m);
 
 /* What the frame loop knows that the scene does not. */
 typedef struct tp_hud_state {
@@ -27,10 +27,10 @@ typedef struct tp_hud_state {
 
 /* A position as "45.37312N 121.69512W  UTM 10N 600000 5012000  MGRS 10T FR 00000 12000", or
  * "" without a CRS. */
-void tp_view_position_text(const tp_scene* sc, double e, double n, char* out, size_t cap);
+void tp_view_position_text(const tp_georef* g, double e, double n, char* out, size_t cap);
 
 /* The overlay's text, '\n'-separated lines (unwrapped). me may be NULL. */
-void tp_view_hud_text(const tp_scene* sc, const tp_selection* sel, const tp_camera* cam,
+void tp_view_hud_text(tp_view_scene* v, const tp_camera* cam,
                       const tp_lod_params* lod, const frame_result* fr,
                       const tp_measured_error* me, const tp_hud_state* st, char* out,
                       size_t cap);

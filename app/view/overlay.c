@@ -59,14 +59,14 @@ float tp_overlay_scale(int w, int h)
 
 /* Labels the grid intersections around the point the camera looks at with their grid values
  * (kilometres of easting and northing, as read off a map), where they cover nothing else. */
-static void grid_labels(tp_hud* hud, layout* l, const tp_scene* sc, const tp_selection* sel,
-                        const tp_camera* cam, double spacing, float scale)
+static void grid_labels(tp_hud* hud, layout* l, const tp_view_scene* v, const tp_camera* cam,
+                        double spacing, float scale)
 {
     double g[3];
-    if (spacing <= 0 || !tp_view_pick_centre(sc, sel, cam, g))
+    if (spacing <= 0 || !tp_view_pick_centre(v, cam, g))
         return;
     int w = cam->viewport_w_px, h = cam->viewport_h_px;
-    double zs = tp_selection_vertical_scale(sel);
+    double zs = tp_view_scene_vertical_scale(v);
     double e0 = floor(g[0] / spacing) * spacing, n0 = floor(g[1] / spacing) * spacing;
     /* kilometres with as many decimals as the spacing needs (1500 m: 4501.5, 250 m: 5023.25) */
     int decimals = 0;
@@ -75,8 +75,8 @@ static void grid_labels(tp_hud* hud, layout* l, const tp_scene* sc, const tp_sel
     for (int j = -4; j <= 5; j++)
         for (int i = -4; i <= 5; i++) {
             double p[3] = {e0 + i * spacing, n0 + j * spacing, 0}, x, y, px[2];
-            tp_terrain_world_to_grid(sc->terrain, p[0], p[1], &x, &y);
-            p[2] = tp_selection_drawn_height_at(sel, x, y) * zs;
+            tp_view_scene_world_to_grid(v, p[0], p[1], &x, &y);
+            p[2] = tp_view_scene_drawn_height(v, x, y) * zs;
             if (isnan(p[2]) || !tp_camera_project(cam, p, px, NULL) || px[0] < 0 || px[1] < 0 ||
                 px[0] >= w || px[1] >= h)
                 continue;
@@ -95,13 +95,13 @@ static void grid_labels(tp_hud* hud, layout* l, const tp_scene* sc, const tp_sel
 
 /* North arrow and scale bar at the bottom right, measured at the ground point the camera
  * looks at: "N" sits where grid north points on screen, the bar spans a round distance. */
-static void compass_and_scale(tp_hud* hud, layout* l, const tp_scene* sc, const tp_selection* sel,
+static void compass_and_scale(tp_hud* hud, layout* l, const tp_view_scene* v,
                               const tp_camera* cam, float bottom, float scale)
 {
     double g[3], c[2], pn[2], pe[2];
-    if (!tp_view_pick_centre(sc, sel, cam, g))
+    if (!tp_view_pick_centre(v, cam, g))
         return;
-    g[2] *= tp_selection_vertical_scale(sel); /* drawn space */
+    g[2] *= tp_view_scene_vertical_scale(v); /* drawn space */
     if (!tp_camera_project(cam, g, c, NULL))
         return;
     double north[3] = {g[0], g[1] + 100, g[2]}, east[3] = {g[0] + 100, g[1], g[2]};
@@ -148,8 +148,8 @@ static void compass_and_scale(tp_hud* hud, layout* l, const tp_scene* sc, const 
     }
 }
 
-void tp_view_overlay_draw(tp_hud* hud, const tp_scene* sc, const tp_selection* sel,
-                          const tp_camera* cam, const tp_overlay* ov)
+void tp_view_overlay_draw(tp_hud* hud, const tp_view_scene* v, const tp_camera* cam,
+                          const tp_overlay* ov)
 {
     if (!hud)
         return;
@@ -169,7 +169,7 @@ void tp_view_overlay_draw(tp_hud* hud, const tp_scene* sc, const tp_selection* s
         bottom -= 4 * s;
     }
     if (ov->hud_text) {
-        compass_and_scale(hud, &l, sc, sel, cam, bottom, s);
+        compass_and_scale(hud, &l, v, cam, bottom, s);
         /* the HUD and the help end above the north arrow (about 105 px at scale 1) */
         float room = bottom - 105 * s - 10;
         float y = 10 + block(hud, &l, w, h, 10, 10, w - 16, room, s, ov->hud_text);
@@ -177,5 +177,5 @@ void tp_view_overlay_draw(tp_hud* hud, const tp_scene* sc, const tp_selection* s
             block(hud, &l, w, h, 10, y + 12 * s, w - 16, room - (y + 2 * s), s, ov->help_text);
     }
     if (ov->grid_m > 0)
-        grid_labels(hud, &l, sc, sel, cam, ov->grid_m, s);
+        grid_labels(hud, &l, v, cam, ov->grid_m, s);
 }

@@ -19,7 +19,7 @@ typedef struct tp_overlay {
 /* The text scale the overlay uses for a viewport: 2 from 1000 px wide, else 1. */
 float tp_overlay_scale(int w, int h);
 
-void tp_view_overlay_draw(tp_hud* hud, const tp_scene* sc, const tp_selection* sel,
-                          const tp_camera* cam, const tp_overlay* ov);
+void tp_view_overlay_draw(tp_hud* hud, const tp_view_scene* v, const tp_camera* cam,
+                          const tp_overlay* ov);
 
 #endif

@@ -6,45 +6,43 @@
 #include <math.h>
 #include <stdio.h>
 
-int tp_view_pick(const tp_scene* sc, const tp_selection* sel, const tp_camera* cam, double x_px,
-                 double y_px, double out[3])
+int tp_view_pick(const tp_view_scene* v, const tp_camera* cam, double x_px, double y_px,
+                 double out[3])
 {
-    (void)sc;
     double dir[3];
     tp_camera_pixel_ray(cam, x_px, y_px, dir);
     tp_ray_hit hit;
-    if (tp_selection_ray_cast(sel, cam->position, dir, &hit) != TP_OK || !hit.hit)
+    if (!tp_view_scene_ray_cast(v, cam->position, dir, &hit))
         return 0;
     for (int i = 0; i < 3; i++)
         out[i] = hit.position[i];
     return 1;
 }
 
-int tp_view_pick_centre(const tp_scene* sc, const tp_selection* sel, const tp_camera* cam,
-                        double out[3])
+int tp_view_pick_centre(const tp_view_scene* v, const tp_camera* cam, double out[3])
 {
     tp_camera_frame f;
     tp_camera_get_frame(cam, &f);
-    return tp_view_pick(sc, sel, cam, f.width_px / 2.0, f.height_px / 2.0, out);
+    return tp_view_pick(v, cam, f.width_px / 2.0, f.height_px / 2.0, out);
 }
 
-int tp_view_measure_points(const tp_scene* sc, const tp_selection* sel, const double e[2],
-                           const double n[2], char* text, size_t cap)
+int tp_view_measure_points(tp_view_scene* v, const double e[2], const double n[2], char* text,
+                           size_t cap)
 {
     double h[2];
     for (int i = 0; i < 2; i++) {
         double x, y;
-        tp_terrain_world_to_grid(sc->terrain, e[i], n[i], &x, &y);
-        h[i] = tp_selection_drawn_height_at(sel, x, y);
+        tp_view_scene_world_to_grid(v, e[i], n[i], &x, &y);
+        h[i] = tp_view_scene_drawn_height(v, x, y);
         if (isnan(h[i]))
-            h[i] = tp_terrain_height_at(sc->terrain, x, y);
+            h[i] = tp_view_scene_ground_height(v, x, y);
         if (isnan(h[i])) {
             snprintf(text, cap, "point %d (E %.3f, N %.3f) is not on the terrain", i + 1, e[i], n[i]);
             return 0;
         }
     }
     tp_measurement m;
-    if (!tp_measure(sc->georef, e, n, h, &m)) {
+    if (!tp_measure(v->georef, e, n, h, &m)) {
         snprintf(text, cap, "the points have no geographic position");
         return 0;
     }

@@ -37,6 +37,7 @@ struct tp_renderer {
     size_t level_offset[TP_MAX_LEVELS], level_count[TP_MAX_LEVELS];
     size_t slot_verts; /* (2^n+1)^2: one slot holds an item at any level */
     int slots;         /* pool capacity */
+    int budget_slots;  /* the pool grows past this only for a frame that needs more; 0: none */
     slot* slot;
     int* map;          /* open addressing, key -> slot index (-1 empty); map_cap = 2^k >= 2 slots */
     size_t map_cap;
@@ -373,7 +374,12 @@ tp_renderer* tp_renderer_create_desc(const tp_render_grid_desc* d, char* msg, si
     glBufferData(GL_ELEMENT_ARRAY_BUFFER, (GLsizeiptr)(total * isize), idx, GL_STATIC_DRAW);
     free(idx);
     /* Start with room for a typical visible set; the pool grows when a frame needs more. */
-    if (!grow_pool(r, 256)) {
+    size_t slot_bytes = r->slot_verts * sizeof(gpu_vertex);
+    if (d->pool_budget_bytes > 0) {
+        size_t b = d->pool_budget_bytes / slot_bytes;
+        r->budget_slots = b < 1 ? 1 : b > (size_t)INT_MAX / 2 ? INT_MAX / 2 : (int)b;
+    }
+    if (!grow_pool(r, r->budget_slots > 0 && r->budget_slots < 256 ? r->budget_slots : 256)) {
         snprintf(msg, msg_size, "out of memory");
         tp_renderer_destroy(r);
         return NULL;
@@ -464,8 +470,10 @@ static int slot_for(tp_renderer* r, int64_t key, int* fresh)
             best = i;
     }
     if (best < 0) {
-        int old = r->slots;
-        if (!grow_pool(r, old * 2))
+        int old = r->slots, want = old * 2;
+        if (r->budget_slots > 0 && old < r->budget_slots && want > r->budget_slots)
+            want = r->budget_slots; /* up to the budget, no further unless a frame needs it */
+        if (!grow_pool(r, want))
             return -1;
         best = old;
     }

@@ -52,6 +52,11 @@ typedef struct tp_render_grid_desc {
     double geotransform[6];      /* of the full-resolution grid */
     int width, height;           /* full-resolution grid (for the far plane) */
     double min_height_m, max_height_m; /* for the far plane and the hypsometric colours */
+    /* Budget of the vertex pool (--gpu-memory); 0: none. The pool grows (doubling) up to the
+     * budget, then reuses the least-recently-used slots not drawn this frame. A frame whose
+     * items alone need more slots than the budget holds grows the pool past it (every item is
+     * drawn, never a hole) and the pool stays that size: gpu_bytes then exceeds the budget. */
+    size_t pool_budget_bytes;
 } tp_render_grid_desc;
 
 /* Creates the GPU resources (a current GL context is needed). NULL + msg on failure. */

@@ -14,6 +14,7 @@
 #include "renderer.h"
 #include "scene.h"
 #include "view_options.h"
+#include "view_scene.h"
 
 typedef struct view_options {
     tp_scene_options scene;
@@ -28,19 +29,27 @@ typedef struct view_options {
     int pick_count;
     const char* stats_json;
     const char* path;
+    size_t memory_mb, gpu_memory_mb; /* --memory, --gpu-memory (stores) */
+    const char* cache_dir;           /* --cache-dir */
+    int old_path;                    /* the DEM is drawn whole (see --help) */
+    int patch_given;
 } view_options;
 
 typedef struct frame_result {
-    tp_frame_stats core;
+    tp_frame_stats core;      /* a cut: drawn nodes per level, triangles, culled nodes */
     tp_render_stats render;
     double select_ms;
+    int store;                /* the frame of a store: the fields below are set */
+    int nodes_drawn, substituted;
+    double bound_max_px;      /* largest projected bound of a drawn node */
+    tp_stream_stats stream;   /* resident MB, pending loads */
 } frame_result;
 
 /* Monotonic clock in milliseconds. */
 double tp_view_now_ms(void);
 
 /* One frame: select levels and cull (unless frozen), upload, draw, statistics. */
-void tp_view_frame(tp_selection* sel, tp_renderer* r, const tp_camera* cam,
+void tp_view_frame(tp_view_scene* v, tp_renderer* r, const tp_camera* cam,
                    const tp_render_settings* render, const tp_lod_params* lod, int frozen,
                    frame_result* out);
 
@@ -50,13 +59,14 @@ int tp_view_screenshot(tp_gl_context* ctx, const char* path);
 /* Writes the statistics JSON (atomically); 0 after a message. */
 int tp_view_write_stats(const char* path, const frame_result* f, const tp_error_measure* em,
                         double max_px, double rms_px, int levels);
+/* em NULL: no metre errors (a store's frame). */
 
 /* Builds the texture of --texture for the render grid and hands it to the renderer; 0 after a
  * message. */
 int tp_view_load_texture(const tp_scene* sc, tp_renderer* r, const char* path);
 
 /* The interactive viewer: the frame loop of a window until Esc or close. Returns an exit code. */
-int tp_view_window_run(tp_scene* sc, tp_gl_context* ctx, tp_renderer* r, tp_selection* sel,
-                       tp_camera* cam, view_options* o);
+int tp_view_window_run(tp_view_scene* v, tp_gl_context* ctx, tp_renderer* r, tp_camera* cam,
+                       view_options* o);
 
 #endif

@@ -30,8 +30,7 @@ static const char* help_text =
     "C print camera   H hide HUD   right-click twice: measure   ? this help   Esc quit";
 
 typedef struct window_state {
-    tp_scene* sc;
-    tp_selection* sel;
+    tp_view_scene* v;
     tp_camera* cam;
     view_options* o;
     tp_nav nav;
@@ -54,7 +53,14 @@ static const char* lod_name(tp_lod_mode m)
 static void scale_lod(window_state* s, double f)
 {
     tp_lod_params full;
-    if (tp_lod_params_resolve(s->sc->terrain, &s->lod, &full, NULL) != TP_OK)
+    if (!s->v->dem) { /* a store: the cut resolves its own defaults */
+        if (s->lod.mode == TP_LOD_DISTANCE && s->lod.maxdist_m > 0)
+            s->lod.maxdist_m *= f;
+        else if (s->lod.mode != TP_LOD_DISTANCE)
+            s->lod.tau_px = (s->lod.tau_px > 0 ? s->lod.tau_px : 1) * f;
+        return;
+    }
+    if (tp_lod_params_resolve(s->v->dem->terrain, &s->lod, &full, NULL) != TP_OK)
         return;
     s->lod.tau_px = full.tau_px * (s->lod.mode == TP_LOD_ERROR ? f : 1);
     s->lod.mindist_m = full.mindist_m;
@@ -65,7 +71,12 @@ static void scale_lod(window_state* s, double f)
 static void scale_mindist(window_state* s, double f)
 {
     tp_lod_params full;
-    if (tp_lod_params_resolve(s->sc->terrain, &s->lod, &full, NULL) != TP_OK)
+    if (!s->v->dem) {
+        if (s->lod.mindist_m > 0)
+            s->lod.mindist_m *= f;
+        return;
+    }
+    if (tp_lod_params_resolve(s->v->dem->terrain, &s->lod, &full, NULL) != TP_OK)
         return;
     s->lod.mindist_m = fmin(full.mindist_m * f, full.maxdist_m);
     s->lod.maxdist_m = full.maxdist_m;
@@ -74,14 +85,18 @@ static void scale_mindist(window_state* s, double f)
 static void export_view(window_state* s)
 {
     char name[64], cam_text[256], lod_text[96];
+    if (!s->v->dem) {
+        fprintf(stderr, "terrapatch: Y: exporting the view's mesh is not available on a store yet\n");
+        return;
+    }
     snprintf(name, sizeof name, "terrapatch-view-%03d.vtp", s->exports++);
-    tp_camera_text(s->sc, s->cam, cam_text, sizeof cam_text);
+    tp_camera_text_georef(s->v->georef, s->cam, cam_text, sizeof cam_text);
     snprintf(lod_text, sizeof lod_text, "mode=%s tau_px=%g", lod_name(s->lod.mode),
              s->lod.tau_px > 0 ? s->lod.tau_px : 1);
     tp_export_options eo = {.camera_text = cam_text, .lod_text = lod_text};
     tp_export_result er;
     tp_error err;
-    if (tp_export_selection(s->sc, s->sel, &eo, name, &er, &err) == TP_OK) {
+    if (tp_export_selection(s->v->dem, s->v->sel, &eo, name, &er, &err) == TP_OK) {
         printf("exported %s: %zu triangles, measured error max %.2f m\n", name, er.triangles,
                er.max_error_m);
         fflush(stdout);
@@ -95,7 +110,7 @@ static void print_camera(const window_state* s)
     double lat, lon, yaw, pitch;
     const tp_camera* cam = s->cam;
     tp_camera_get_pose(cam, &yaw, &pitch);
-    if (tp_georef_proj_to_geo(s->sc->georef, cam->position[0], cam->position[1], &lat, &lon,
+    if (tp_georef_proj_to_geo(s->v->georef, cam->position[0], cam->position[1], &lat, &lon,
                               NULL) == TP_OK)
         printf("--camera-geo %.9f,%.9f,%.2f,%.2f,%.2f\n", lat, lon, cam->position[2], yaw, pitch);
     printf("--camera %.3f,%.3f,%.2f,%.2f,%.2f\n", cam->position[0], cam->position[1],
@@ -112,12 +127,12 @@ static void measure_click(window_state* s, GLFWwindow* win, double x, double y)
     glfwGetWindowSize(win, &ww, &wh);
     double px = x * s->cam->viewport_w_px / fmax(ww, 1), py = y * s->cam->viewport_h_px / fmax(wh, 1);
     double* p = s->picks[s->picked % 2];
-    if (!tp_view_pick(s->sc, s->sel, s->cam, px, py, p))
+    if (!tp_view_pick(s->v, s->cam, px, py, p))
         return;
     s->picked++;
     if (s->picked % 2 == 0) {
         double e[2] = {s->picks[0][0], s->picks[1][0]}, n[2] = {s->picks[0][1], s->picks[1][1]};
-        tp_view_measure_points(s->sc, s->sel, e, n, s->measure_line, sizeof s->measure_line);
+        tp_view_measure_points(s->v, e, n, s->measure_line, sizeof s->measure_line);
         printf("measure: %s\n", s->measure_line);
         fflush(stdout);
     } else {
@@ -149,9 +164,9 @@ static void on_key(window_state* s, int key)
     case GLFW_KEY_HOME: tp_nav_home(&s->nav, s->cam); break;
     case GLFW_KEY_O: {
         double g[3];
-        int hit = !s->nav.orbit && tp_view_pick_centre(s->sc, s->sel, s->cam, g);
+        int hit = !s->nav.orbit && tp_view_pick_centre(s->v, s->cam, g);
         if (hit)
-            g[2] *= tp_selection_vertical_scale(s->sel);
+            g[2] *= tp_view_scene_vertical_scale(s->v);
         tp_nav_toggle_orbit(&s->nav, s->cam, hit ? g : NULL);
         break;
     }
@@ -189,16 +204,16 @@ static tp_nav_controls controls(const tp_input* in, double look_dx, double look_
     return c;
 }
 
-int tp_view_window_run(tp_scene* sc, tp_gl_context* ctx, tp_renderer* r, tp_selection* sel,
-                       tp_camera* cam, view_options* o)
+int tp_view_window_run(tp_view_scene* v, tp_gl_context* ctx, tp_renderer* r, tp_camera* cam,
+                       view_options* o)
 {
     GLFWwindow* win = tp_gl_context_window(ctx);
     static tp_input in; /* the callbacks' user pointer: must outlive event processing */
     tp_input_attach(&in, win);
-    window_state s = {.sc = sc, .sel = sel, .cam = cam, .o = o, .lod = o->vs.lod,
+    window_state s = {.v = v, .cam = cam, .o = o, .lod = o->vs.lod,
                       .show_hud = !o->no_hud};
-    const double* gt = sc->info.geotransform;
-    tp_nav_init(&s.nav, cam, fmax(sc->info.width * fabs(gt[1]), sc->info.height * fabs(gt[5])));
+    const double* gt = v->gt;
+    tp_nav_init(&s.nav, cam, fmax(v->src_width * fabs(gt[1]), v->src_height * fabs(gt[5])));
     tp_hud* hud = tp_hud_create();
     tp_measured_error me = {0};
     double measured_at = -1e9, fps = 0, last = glfwGetTime(), mx0 = 0, my0 = 0;
@@ -229,15 +244,15 @@ int tp_view_window_run(tp_scene* sc, tp_gl_context* ctx, tp_renderer* r, tp_sele
 
         /* navigation in drawn space (heights times the exaggeration), then terrain following */
         double zs = o->render.exaggeration, x, y;
-        tp_selection_set_vertical_scale(sel, zs);
-        tp_terrain_world_to_grid(sc->terrain, cam->position[0], cam->position[1], &x, &y);
-        double ground = tp_terrain_height_at(sc->terrain, x, y) * zs;
+        tp_view_scene_set_vertical_scale(v, zs);
+        tp_view_scene_world_to_grid(v, cam->position[0], cam->position[1], &x, &y);
+        double ground = tp_view_scene_ground_height(v, x, y) * zs;
         tp_nav_controls c = controls(&in, look_dx, look_dy);
         tp_nav_step(&s.nav, &c, dt, ground, cam);
-        tp_selection_keep_above(sel, cam->position, 2.0);
+        tp_view_scene_keep_above(v, cam->position, 2.0);
         if (s.nav.orbit) { /* the target follows the ground as it pans */
-            tp_terrain_world_to_grid(sc->terrain, s.nav.target[0], s.nav.target[1], &x, &y);
-            double tz = tp_terrain_height_at(sc->terrain, x, y);
+            tp_view_scene_world_to_grid(v, s.nav.target[0], s.nav.target[1], &x, &y);
+            double tz = tp_view_scene_ground_height(v, x, y);
             if (!isnan(tz))
                 s.nav.target[2] = tz * zs;
         }
@@ -248,7 +263,7 @@ int tp_view_window_run(tp_scene* sc, tp_gl_context* ctx, tp_renderer* r, tp_sele
 
         tp_gl_context_begin_frame(ctx);
         frame_result fr;
-        tp_view_frame(sel, r, cam, &o->render, &s.lod, s.frozen, &fr);
+        tp_view_frame(v, r, cam, &o->render, &s.lod, s.frozen, &fr);
         /* the first dt only spans the set-up before the first poll */
         if (frames++ > 0)
             fps = fps > 0 ? 0.9 * fps + 0.1 / fmax(dt, 1e-6) : 1 / fmax(dt, 1e-6);
@@ -256,16 +271,16 @@ int tp_view_window_run(tp_scene* sc, tp_gl_context* ctx, tp_renderer* r, tp_sele
         tp_overlay ov = {.grid_m = o->render.grid_m, .measure_line = s.measure_line};
         if (s.show_hud) {
             if (now - measured_at > 1.0) { /* once a second */
-                tp_view_measure_now(sel, cam, &me);
+                tp_view_measure_now(v, cam, &me);
                 measured_at = now;
             }
             tp_hud_state hs = {.fps = fps, .frozen = s.frozen, .orbit = s.nav.orbit,
                                .speed_mps = s.nav.speed_mps, .exaggeration = zs};
-            tp_view_hud_text(sc, sel, cam, &s.lod, &fr, &me, &hs, text, sizeof text);
+            tp_view_hud_text(v, cam, &s.lod, &fr, &me, &hs, text, sizeof text);
             ov.hud_text = text;
             ov.help_text = s.show_help ? help_text : NULL;
         }
-        tp_view_overlay_draw(hud, sc, sel, cam, &ov);
+        tp_view_overlay_draw(hud, v, cam, &ov);
         if (s.want_shot) {
             char name[64];
             snprintf(name, sizeof name, "terrapatch-%03d.png", s.shots++);

@@ -561,7 +561,8 @@ typedef struct tp_ray_hit {
     int hit;            /* 1 if the ray meets a drawn triangle */
     double position[3]; /* E, N and the TRUE height of the drawn surface there */
     double distance_m;  /* from the origin along the ray, in drawn space */
-    int patch;          /* the patch hit; -1 if none */
+    int patch;          /* the patch hit; -1 if none (and for tp_cut_ray_cast) */
+    int64_t node;       /* tp_cut_ray_cast: the tree node hit; -1 if none (and for a selection) */
 } tp_ray_hit;
 
 /* Casts the ray origin + t * dir (t >= 0; drawn space: heights times the vertical scale; dir
@@ -884,6 +885,45 @@ tp_status tp_cut_set_vertical_scale(tp_cut* c, double scale);
  * TP_ERR_OUT_OF_MEMORY (the cut is then empty). */
 tp_status tp_cut_set_nodes(tp_cut* c, const int64_t* nodes, const int* levels, size_t count,
                            tp_error* err);
+
+/* ---- queries on the tree and the cut (cut_query.c) ----
+ *
+ * The same questions the viewer asks a tp_selection, asked of a tree whose nodes stream in.
+ * Grid coordinates are those of the fitted grid; the tree's geotransform puts sample (x, y) at
+ * E = gt[0] + (x + 0.5) * gt[1], N = gt[3] + (y + 0.5) * gt[5] (as tp_terrain does). */
+void tp_tree_world_to_grid(const tp_tree* t, double e, double n, double* x, double* y);
+void tp_tree_grid_to_world(const tp_tree* t, double x, double y, double* e, double* n);
+
+/* The leaf whose square holds grid (x, y) (a point on a shared border: the leaf after it, the
+ * one holding the split cell there; the last leaf at the far edges), or -1 outside the grid or
+ * for NaN. Make it resident
+ * before a full-resolution query there. */
+int64_t tp_tree_leaf_at(const tp_tree* t, double x, double y);
+
+/* Height (m) of the full-resolution surface at grid (x, y): the split cells of
+ * tp_terrain_height_at over the decoded samples. NaN outside the grid, where no drawn triangle
+ * holds the point, and where the leaf holding it is not resident (tp_tree_leaf_at). */
+double tp_tree_height_at(const tp_tree* t, double x, double y);
+
+/* The scale tp_cut_set_vertical_scale set (1 by default). tp_cut_keep_above and
+ * tp_cut_ray_cast work in drawn space (E, N, height * scale); tp_tree_height_at stays true. */
+double tp_cut_vertical_scale(const tp_cut* c);
+
+/* Casts the ray origin + t * dir (t >= 0, drawn space, dir need not be unit) against the
+ * triangles the cut draws (levels and crack removal as drawn) and writes the nearest hit
+ * (out->node, out->patch = -1). Exact up to rounding, as tp_selection_ray_cast: walks the
+ * leaves the ray's ground track crosses, nearest first (a 2D DDA), and in each drawn node the
+ * ray's box test passes, the cells its track crosses (the whole border strip where a side is
+ * stitched). TP_ERR_INVALID_ARG for a zero or NaN direction or a NaN origin, *out untouched;
+ * else TP_OK, also when nothing is hit. */
+tp_status tp_cut_ray_cast(const tp_cut* c, const double origin[3], const double dir[3],
+                          tp_ray_hit* out);
+
+/* Camera collision, as tp_selection_keep_above: raises position[2] (drawn space) to
+ * clearance_m above the higher of the full-resolution surface (tp_tree_height_at: make the
+ * leaf under the eye resident first, else only the drawn surface counts) and the drawn surface
+ * at its (E, N). 1 if it moved the eye, 0 otherwise. */
+int tp_cut_keep_above(const tp_cut* c, double position[3], double clearance_m);
 
 #ifdef __cplusplus
 }

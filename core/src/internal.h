@@ -325,6 +325,8 @@ struct tp_cut {
     int oom;
 };
 
+/* Index in the drawn output of the node covering leaf (lc, lr), or -1 (tree_stitch.c). */
+int tp__cut_drawn_at_leaf(const tp_cut* c, int lc, int lr);
 /* Grows the array *p of *cap elements of size bytes to at least need (doubling); 0, c->oom
  * set, without memory. */
 int tp__cut_grow(tp_cut* c, void** p, size_t* cap, size_t need, size_t size);

@@ -196,6 +196,7 @@ tp_status tp_selection_ray_cast(const tp_selection* s, const double origin[3],
     double t0 = 0, t1 = INFINITY;
     tp_ray_hit res = {0};
     res.patch = -1;
+    res.node = -1;
     if (!slab(x0, gx, 0, t->w - 1, &t0, &t1) || !slab(y0, gy, 0, t->h - 1, &t0, &t1) ||
         !slab(origin[2], d[2], fmin(zlo, zhi), fmax(zlo, zhi), &t0, &t1)) {
         *out = res;

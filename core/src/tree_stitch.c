@@ -431,7 +431,7 @@ static double node_drawn_height(const node_view* nv, double x, double y)
 }
 
 /* Index in the output of the drawn node covering leaf (lc, lr), or -1. */
-static int drawn_at_leaf(const tp_cut* c, int lc, int lr)
+int tp__cut_drawn_at_leaf(const tp_cut* c, int lc, int lr)
 {
     for (int s = 0; s < c->g.scales; s++, lc >>= 1, lr >>= 1) {
         if (lc >= c->g.node_cols[s] || lr >= c->g.node_rows[s])
@@ -456,7 +456,7 @@ double tp_cut_drawn_height_at(const tp_cut* c, double x, double y)
     int bx = lc > 0 && x == (double)lc * span, by = lr > 0 && y == (double)lr * span;
     for (int dy = 0; dy <= by; dy++)
         for (int dx = 0; dx <= bx; dx++) {
-            int o = drawn_at_leaf(c, lc - dx, lr - dy);
+            int o = tp__cut_drawn_at_leaf(c, lc - dx, lr - dy);
             if (o < 0)
                 continue;
             node_view nv;

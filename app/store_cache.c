@@ -1,0 +1,170 @@
+/* store_cache.c - DEMs built into stores once, reused next time (see store_cache.h). */
+#define _DEFAULT_SOURCE
+#include "store_cache.h"
+
+#include "cli.h"
+
+#include <errno.h>
+#include <limits.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+
+void tp_store_cache_dir(const char* cache_dir, char* out, size_t cap)
+{
+    const char* env;
+    if (cache_dir && cache_dir[0])
+        snprintf(out, cap, "%s", cache_dir);
+    else if ((env = getenv("TP_CACHE_DIR")) && env[0])
+        snprintf(out, cap, "%s", env);
+    else if ((env = getenv("XDG_CACHE_HOME")) && env[0])
+        snprintf(out, cap, "%s/terrapatch", env);
+    else if ((env = getenv("HOME")) && env[0])
+        snprintf(out, cap, "%s/.cache/terrapatch", env);
+    else
+        snprintf(out, cap, ".terrapatch-cache");
+}
+
+/* mkdir -p; 1 when dir exists and is writable afterwards. */
+static int make_dirs(const char* dir)
+{
+    char p[PATH_MAX];
+    if (snprintf(p, sizeof p, "%s", dir) >= (int)sizeof p)
+        return 0;
+    for (char* s = p + 1; *s; s++)
+        if (*s == '/') {
+            *s = '\0';
+            if (mkdir(p, 0755) != 0 && errno != EEXIST)
+                return 0;
+            *s = '/';
+        }
+    if (mkdir(p, 0755) != 0 && errno != EEXIST)
+        return 0;
+    return access(p, W_OK | X_OK) == 0;
+}
+
+static uint64_t fnv(uint64_t h, const void* data, size_t n)
+{
+    const unsigned char* p = data;
+    for (size_t i = 0; i < n; i++)
+        h = (h ^ p[i]) * 0x100000001b3ull;
+    return h;
+}
+
+static uint64_t fnv_str(uint64_t h, const char* s)
+{
+    return fnv(h, s ? s : "", (s ? strlen(s) : 0) + 1);
+}
+
+/* 1 when path opens as a store built from abs_path with the given patch size. */
+static int store_matches(const char* path, const char* abs_path, int patch_size)
+{
+    tp_store* st = NULL;
+    tp_error err;
+    if (access(path, R_OK) != 0 || tp_store_open(path, &st, &err) != TP_OK)
+        return 0;
+    tp_store_info in;
+    tp_store_get_info(st, &in);
+    char want[PATH_MAX + 16];
+    snprintf(want, sizeof want, "source: %s\n", abs_path);
+    int ok = in.header.notes && strstr(in.header.notes, want) &&
+             (1 << in.header.geometry.n) + 1 == patch_size;
+    tp_store_close(st);
+    return ok;
+}
+
+void tp_store_cache_remove_temporary(const char* path)
+{
+    char dir[PATH_MAX];
+    snprintf(dir, sizeof dir, "%s", path);
+    char* slash = strrchr(dir, '/');
+    unlink(path);
+    if (slash) {
+        *slash = '\0';
+        rmdir(dir);
+    }
+}
+
+int tp_store_cache_get(const char* dem, const tp_store_cache_options* o, char* out, size_t cap,
+                       int* temporary_out)
+{
+    *temporary_out = 0;
+    char abs_path[PATH_MAX];
+    struct stat sb;
+    if (!realpath(dem, abs_path) || stat(abs_path, &sb) != 0) {
+        fprintf(stderr, "terrapatch: %s: %s\n", dem, strerror(errno));
+        return TP_EXIT_FAILURE;
+    }
+    uint64_t h = 0xcbf29ce484222325ull;
+    h = fnv_str(h, "terrapatch store cache 1");
+    h = fnv_str(h, abs_path);
+    int64_t meta[4] = {(int64_t)sb.st_size, (int64_t)sb.st_mtim.tv_sec,
+                       (int64_t)sb.st_mtim.tv_nsec, o->patch_size};
+    h = fnv(h, meta, sizeof meta);
+    h = fnv_str(h, o->crs);
+    h = fnv(h, &o->resampling, sizeof o->resampling);
+
+    char dir[PATH_MAX];
+    tp_store_cache_dir(o->cache_dir, dir, sizeof dir);
+    int temporary = 0;
+    if (!make_dirs(dir)) {
+        const char* tmp = getenv("TMPDIR");
+        char tdir[PATH_MAX];
+        snprintf(tdir, sizeof tdir, "%s/terrapatch-XXXXXX", tmp && tmp[0] ? tmp : "/tmp");
+        if (!mkdtemp(tdir)) {
+            fprintf(stderr, "terrapatch: cannot write the store cache %s nor a temporary "
+                            "directory %s: %s\n", dir, tdir, strerror(errno));
+            return TP_EXIT_FAILURE;
+        }
+        fprintf(stderr, "terrapatch: the cache directory %s is not writable: building in %s "
+                        "instead (removed after the view; choose one with --cache-dir)\n", dir,
+                tdir);
+        snprintf(dir, sizeof dir, "%s", tdir);
+        temporary = 1;
+    }
+    const char* base = strrchr(abs_path, '/');
+    base = base ? base + 1 : abs_path;
+    char name[256];
+    snprintf(name, sizeof name, "%.200s", base);
+    char* dot = strrchr(name, '.');
+    if (dot && dot != name)
+        *dot = '\0';
+    if (snprintf(out, cap, "%s/%s-%016llx.tpt", dir, name, (unsigned long long)h) >= (int)cap) {
+        fprintf(stderr, "terrapatch: %s: the cache path is too long\n", dir);
+        return TP_EXIT_FAILURE;
+    }
+    if (!temporary && store_matches(out, abs_path, o->patch_size))
+        return TP_EXIT_OK;
+
+    fprintf(stderr, "terrapatch: building a store of %s in %s (once; reused next time)\n", dem,
+            dir);
+    char patch[16];
+    snprintf(patch, sizeof patch, "%d", o->patch_size);
+    char* argv[12];
+    int argc = 0;
+    argv[argc++] = "build";
+    argv[argc++] = abs_path;
+    argv[argc++] = "-o";
+    argv[argc++] = out;
+    argv[argc++] = "--patch";
+    argv[argc++] = patch;
+    if (o->crs) {
+        argv[argc++] = "--crs";
+        argv[argc++] = (char*)o->crs;
+    }
+    if (o->resampling == TP_RESAMPLING_CUBIC) {
+        argv[argc++] = "--resampling";
+        argv[argc++] = "cubic";
+    }
+    argv[argc] = NULL;
+    int code = tp_cli_build(argc, argv);
+    optind = 1;
+    if (temporary && code != TP_EXIT_OK)
+        rmdir(dir);
+    *temporary_out = temporary && code == TP_EXIT_OK;
+    return code;
+}

@@ -1,0 +1,42 @@
+/*
+ * store_cache.h - `terrapatch view DEM` draws every DEM through a store: the DEM is built into
+ * one once (terrapatch build), in a cache directory, and reused while the DEM and the options
+ * that shape the store stay the same (issue 12, section 1: one code path).
+ *
+ * The directory: --cache-dir DIR, else $TP_CACHE_DIR, else $XDG_CACHE_HOME/terrapatch, else
+ * ~/.cache/terrapatch. When it cannot be created or written, the store is built in a fresh
+ * temporary directory (mkdtemp under $TMPDIR, else /tmp) and one line says so; that store is
+ * removed after the view. The file is NAME-KEY.tpt, KEY a 64-bit FNV-1a hash of the DEM's absolute path,
+ * size and modification time and of every build option that changes the store (patch size,
+ * --crs, --resampling) and the store format's version; a cached file is used only if it opens
+ * as a store and its header and notes match (the source path, the patch size), else it is
+ * rebuilt.
+ */
+#ifndef TP_APP_STORE_CACHE_H
+#define TP_APP_STORE_CACHE_H
+
+#include "tp_io.h"
+
+#include <stddef.h>
+
+typedef struct tp_store_cache_options {
+    const char* cache_dir;    /* --cache-dir; NULL: the environment's */
+    int patch_size;           /* 17 .. 257 */
+    const char* crs;          /* NULL: the DEM's */
+    tp_resampling resampling;
+    const char* cmd;          /* for messages: "view" */
+} tp_store_cache_options;
+
+/* Writes into out (cap bytes) the path of a store of dem, building it first if the cache has
+ * none that matches (one line "terrapatch: building a store of DEM in DIR (once; reused next
+ * time)" and the build's progress on stderr). Returns TP_EXIT_OK, or the build's exit code
+ * after its message. */
+int tp_store_cache_get(const char* dem, const tp_store_cache_options* o, char* out, size_t cap,
+                       int* temporary);
+/* Removes a temporary store (*temporary was set) and its directory. */
+void tp_store_cache_remove_temporary(const char* path);
+
+/* The cache directory the options and environment name (not created). */
+void tp_store_cache_dir(const char* cache_dir, char* out, size_t cap);
+
+#endif

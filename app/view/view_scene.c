@@ -1,0 +1,186 @@
+/* view_scene.c - the viewer's questions to a store or a DEM (see view_scene.h). */
+#define _POSIX_C_SOURCE 200809L
+#include "view_scene.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+void tp_view_scene_from_dem(tp_view_scene* v, tp_scene* sc, tp_selection* sel)
+{
+    memset(v, 0, sizeof *v);
+    v->path = sc->path;
+    v->dem = sc;
+    v->sel = sel;
+    v->georef = sc->georef;
+    memcpy(v->gt, sc->info.geotransform, sizeof v->gt);
+    v->src_width = sc->info.src_width;
+    v->src_height = sc->info.src_height;
+    v->n = sc->info.n;
+    v->min_height_m = sc->info.min_height_m;
+    v->max_height_m = sc->info.max_height_m;
+}
+
+int tp_view_scene_from_store(tp_view_scene* v, tp_store_scene* st)
+{
+    memset(v, 0, sizeof *v);
+    v->path = st->path;
+    v->store = st;
+    v->georef = st->georef;
+    memcpy(v->gt, st->tree_info.geotransform, sizeof v->gt);
+    const tp_tree_geometry* g = tp_tree_get_geometry(st->tree);
+    v->src_width = g->src_width;
+    v->src_height = g->src_height;
+    v->n = g->n;
+    v->min_height_m = isnan(st->tree_info.min_height_m) ? 0 : st->tree_info.min_height_m;
+    v->max_height_m = isnan(st->tree_info.max_height_m) ? 0 : st->tree_info.max_height_m;
+    tp_error err = {{0}};
+    if (tp_cut_create(st->tree, &v->cut, &err) != TP_OK ||
+        tp_cut_create(st->tree, &v->prefetch, &err) != TP_OK) {
+        fprintf(stderr, "terrapatch: %s: %s\n", st->path, err.message);
+        tp_view_scene_release(v);
+        return 0;
+    }
+    return 1;
+}
+
+void tp_view_scene_release(tp_view_scene* v)
+{
+    tp_cut_destroy(v->cut);
+    tp_cut_destroy(v->prefetch);
+    v->cut = v->prefetch = NULL;
+}
+
+void tp_view_scene_world_to_grid(const tp_view_scene* v, double e, double n, double* x, double* y)
+{
+    *x = (e - v->gt[0]) / v->gt[1] - 0.5;
+    *y = (n - v->gt[3]) / v->gt[5] - 0.5;
+}
+
+double tp_view_scene_drawn_height(const tp_view_scene* v, double x, double y)
+{
+    return v->store ? tp_cut_drawn_height_at(v->cut, x, y) : tp_selection_drawn_height_at(v->sel, x, y);
+}
+
+/* Makes the leaf under grid (x, y) resident (a store); 0 when it cannot be read. */
+static int require_leaf(tp_view_scene* v, double x, double y)
+{
+    int64_t leaf = tp_tree_leaf_at(v->store->tree, x, y);
+    if (leaf < 0 || tp_tree_samples(v->store->tree, leaf))
+        return 1;
+    char msg[600];
+    if (tp_stream_require(v->store->stream, leaf, msg, sizeof msg))
+        return 1;
+    tp_view_scene_report_failures(v); /* the stream reports it once */
+    return 0;
+}
+
+double tp_view_scene_ground_height(tp_view_scene* v, double x, double y)
+{
+    if (!v->store)
+        return tp_terrain_height_at(v->dem->terrain, x, y);
+    require_leaf(v, x, y);
+    double z = tp_tree_height_at(v->store->tree, x, y);
+    return isnan(z) ? tp_cut_drawn_height_at(v->cut, x, y) : z;
+}
+
+int tp_view_scene_ray_cast(const tp_view_scene* v, const double o[3], const double d[3],
+                           tp_ray_hit* hit)
+{
+    tp_status s = v->store ? tp_cut_ray_cast(v->cut, o, d, hit) : tp_selection_ray_cast(v->sel, o, d, hit);
+    return s == TP_OK && hit->hit;
+}
+
+void tp_view_scene_keep_above(tp_view_scene* v, double position[3], double clearance_m)
+{
+    if (!v->store) {
+        tp_selection_keep_above(v->sel, position, clearance_m);
+        return;
+    }
+    double x, y;
+    tp_view_scene_world_to_grid(v, position[0], position[1], &x, &y);
+    require_leaf(v, x, y);
+    tp_cut_keep_above(v->cut, position, clearance_m);
+}
+
+void tp_view_scene_set_vertical_scale(tp_view_scene* v, double scale)
+{
+    /* the options and keys keep it in the core's range */
+    if (v->store) {
+        tp_cut_set_vertical_scale(v->cut, scale);
+        tp_cut_set_vertical_scale(v->prefetch, scale);
+    } else {
+        tp_selection_set_vertical_scale(v->sel, scale);
+    }
+}
+
+double tp_view_scene_vertical_scale(const tp_view_scene* v)
+{
+    return v->store ? tp_cut_vertical_scale(v->cut) : tp_selection_vertical_scale(v->sel);
+}
+
+void tp_view_scene_measure(const tp_view_scene* v, const tp_camera* cam, double* max_m,
+                           double* rms_m, double* max_px, double* rms_px)
+{
+    *max_m = *rms_m = NAN;
+    *max_px = *rms_px = 0;
+    if (v->store) {
+        tp_cut_measure_screen_error(v->cut, cam, max_px, rms_px, NULL, NULL);
+        return;
+    }
+    tp_error_measure em = {0};
+    if (tp_selection_measure_error(v->sel, &em) == TP_OK) {
+        *max_m = em.max_error_m;
+        *rms_m = em.rms_error_m;
+    }
+    tp_selection_measure_screen_error(v->sel, cam, max_px, rms_px, NULL);
+}
+
+static double now_s(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return ts.tv_sec + ts.tv_nsec / 1e9;
+}
+
+int tp_view_scene_settle(tp_view_scene* v, const tp_camera* cam, const tp_lod_params* lod,
+                         double timeout_s)
+{
+    if (!v->store)
+        return 0;
+    double t0 = now_s();
+    int it = 0, idle_before = 0;
+    for (;;) {
+        tp_error err;
+        tp_cut_update(v->cut, cam, lod, &err);
+        tp_stream_stats st;
+        tp_stream_frame(v->store->stream, v->cut, v->prefetch, cam, lod, &st);
+        tp_view_scene_report_failures(v);
+        it++;
+        /* Done when nothing arrived after a frame that attached nothing (so its cut saw every
+         * node there was) and left nothing loading: what the cut still requests then is a node
+         * that failed (its ancestor is drawn) or one the budget cannot hold. A load that
+         * finishes before the stats are taken is attached by the next frame. */
+        if ((st.attached == 0 && idle_before) || now_s() - t0 > timeout_s)
+            break;
+        idle_before = st.pending == 0 && st.attached == 0;
+        if (st.attached == 0) {
+            struct timespec ts = {0, 1000000};
+            nanosleep(&ts, NULL);
+        }
+    }
+    return it;
+}
+
+void tp_view_scene_report_failures(tp_view_scene* v)
+{
+    if (!v->store)
+        return;
+    const char* m;
+    while ((m = tp_stream_take_failure(v->store->stream)) != NULL) {
+        fprintf(stderr, "terrapatch: %s (drawing its ancestor instead)\n", m);
+        v->failures++;
+    }
+}

@@ -1,0 +1,60 @@
+/*
+ * view_scene.h - what the viewer looks at, behind one set of questions: a built store drawn
+ * through its hierarchy (tp_cut over a streamed tp_tree: every DEM goes this way, built into a
+ * cached store first, store_cache.c) or, for heightmap images only, a DEM loaded whole
+ * (tp_selection over a tp_terrain, the old path). Picking, collision, measuring, the overlay
+ * and the HUD ask these functions and never which of the two it is.
+ */
+#ifndef TP_APP_VIEW_SCENE_H
+#define TP_APP_VIEW_SCENE_H
+
+#include "renderer.h"
+#include "scene.h"
+#include "store_scene.h"
+
+typedef struct tp_view_scene {
+    const char* path;
+    /* exactly one of the two */
+    tp_scene* dem;            /* heightmap images: the old path */
+    tp_selection* sel;
+    tp_store_scene* store;    /* a store */
+    tp_cut* cut;              /* the drawn cut */
+    tp_cut* prefetch;         /* the stream's look-ahead cut */
+    tp_georef* georef;
+    double gt[6];             /* of the fitted grid */
+    int src_width, src_height, n;
+    double min_height_m, max_height_m;
+    int failures;             /* damaged nodes reported */
+} tp_view_scene;
+
+void tp_view_scene_from_dem(tp_view_scene* v, tp_scene* sc, tp_selection* sel);
+/* Creates the cuts; 0 after a message. */
+int tp_view_scene_from_store(tp_view_scene* v, tp_store_scene* st);
+void tp_view_scene_release(tp_view_scene* v); /* the cuts (the scenes belong to the caller) */
+
+void tp_view_scene_world_to_grid(const tp_view_scene* v, double e, double n, double* x, double* y);
+/* Height (true metres) of the drawn surface at grid (x, y); NaN where nothing is drawn. */
+double tp_view_scene_drawn_height(const tp_view_scene* v, double x, double y);
+/* Height of the full-resolution surface; a store reads the leaf there first if needed (on this
+ * thread: "a query may wait for its own node only"). */
+double tp_view_scene_ground_height(tp_view_scene* v, double x, double y);
+int tp_view_scene_ray_cast(const tp_view_scene* v, const double o[3], const double d[3],
+                           tp_ray_hit* hit);
+/* Collision (drawn space), the leaf under the eye made resident first. */
+void tp_view_scene_keep_above(tp_view_scene* v, double position[3], double clearance_m);
+void tp_view_scene_set_vertical_scale(tp_view_scene* v, double scale);
+double tp_view_scene_vertical_scale(const tp_view_scene* v);
+/* The drawn surface's screen error for cam (px); metres where the path measures them (NaN
+ * else). */
+void tp_view_scene_measure(const tp_view_scene* v, const tp_camera* cam, double* max_m,
+                           double* rms_m, double* max_px, double* rms_px);
+
+/* A store: selects and streams without drawing until nothing is pending (headless frames are
+ * complete), at most timeout_s. Returns the iterations. */
+int tp_view_scene_settle(tp_view_scene* v, const tp_camera* cam, const tp_lod_params* lod,
+                         double timeout_s);
+
+/* Prints each damaged node's message once (stderr). */
+void tp_view_scene_report_failures(tp_view_scene* v);
+
+#endif
