@@ -11,7 +11,7 @@
  * hundred frames sample the whole map and still fly as a viewer flies: the camera advances
  * speed / 30 m per frame (a 30 Hz flight). Before each stretch the camera jumps there, waits
  * until the stream has loaded what the view asks for (untimed: a viewer flying continuously
- * would have been loading on the way) and flies 15 untimed frames into the stretch, so the
+ * would have been loading on the way) and flies 5 untimed frames into the stretch, so the
  * prefetch knows the motion.
  */
 #define _POSIX_C_SOURCE 200809L
@@ -34,7 +34,7 @@
 #include <unistd.h>
 
 #define FRAME_HZ 30.0
-#define WARMUP_FRAMES 15
+#define WARMUP_FRAMES 5
 #define SETTLE_MAX_MS 20000.0
 
 typedef struct store_row {

@@ -95,7 +95,7 @@ static void print_help(void)
           "streaming instead: the error mode at --tau, then the distance mode, each from a cold\n"
           "start; --path low|high; the flight is --segments stretches of continuous flight at\n"
           "--speed (30 frames a second) spread across the map, each reached by a jump, the\n"
-          "stream then left to load what the view asks for, and 15 untimed frames of flight.\n"
+          "stream then left to load what the view asks for, and 5 untimed frames of flight.\n"
           "  --memory MB            the stream's budget of decoded nodes (default 1024)\n"
           "  --segments N           stretches of flight (default 4); --frames are split among them\n"
           "  --error-every N        measure the screen error on every N-th frame (default 1),\n"
