@@ -74,6 +74,7 @@ typedef struct store_bench {
     double t_open_ms;
     double first_frame_ms, first_frame_open_ms; /* from process start / from opening */
     double open_ms, context_ms; /* opening the store (metas, tree); the GL context */
+    double base_rss_mb, base_anon_mb; /* after opening the store and the GL context */
     uint16_t* leaf;             /* the leaf ground_m read last */
     int64_t leaf_id;
 } store_bench;
@@ -482,6 +483,9 @@ static int write_json(const store_bench* b, const char* renderer_name, const sto
     KN("store_open_ms", b->open_ms);
     KN("gl_context_ms", b->context_ms);
     KN("peak_rss_mb", tp_memory_peak_rss() / 1e6);
+    /* before any node, cut or renderer: libraries, the GL driver, the store's node table */
+    KN("base_rss_mb", b->base_rss_mb);
+    KN("base_rss_anon_mb", b->base_anon_mb);
     json_result(&j, &c[0]); /* the headline: the first configuration (error mode) */
     tp_json_key(&j, "configurations");
     tp_json_array_begin(&j);
@@ -534,6 +538,9 @@ static void print_table(const store_bench* b, const char* renderer_name, const s
     printf("first frame %.0f ms after the process started, %.0f ms after opening the store "
            "(open %.0f ms, GL context %.0f ms)\n",
            b->first_frame_ms, b->first_frame_open_ms, b->open_ms, b->context_ms);
+    printf("memory before the first node: %.0f MB resident, %.0f MB anonymous (libraries, GL "
+           "driver, node table)\n",
+           b->base_rss_mb, b->base_anon_mb);
     printf("%-16s %7s %8s %7s %7s %7s %7s %7s %9s %6s %6s %8s %7s %7s %7s %7s %7s\n", "lod", "fps",
            "frame ms", "p99 ms", "cpu ms", "cut ms", "strm ms", "draw ms", "triangles", "nodes",
            "subst", "subst fr", "rss MB", "anon MB", "res MB", "gpu MB", "max px");
@@ -580,6 +587,7 @@ int tp_bench_store(const bench_options* o)
         return TP_EXIT_FAILURE;
     }
     b.context_ms = now_ms() - b.t_open_ms - b.open_ms;
+    read_rss(&b.base_rss_mb, &b.base_anon_mb);
     const char* renderer_name = (const char*)glGetString(GL_RENDERER);
     renderer_name = renderer_name ? renderer_name : "?";
     store_result c[2];
