@@ -32,6 +32,7 @@ typedef struct bench_options {
     int memory_mb;     /* --memory: the stream's budget of decoded nodes; default 1024 */
     int segments;      /* --segments: stretches of continuous flight; default 4 */
     int error_every;   /* --error-every N: measure the error on every N-th frame; default 1 */
+    int realtime;      /* --realtime: the camera moves by the time that really passed */
 } bench_options;
 
 typedef struct frame_row {

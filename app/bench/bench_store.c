@@ -12,7 +12,9 @@
  * speed / 30 m per frame (a 30 Hz flight). Before each stretch the camera jumps there, waits
  * until the stream has loaded what the view asks for (untimed: a viewer flying continuously
  * would have been loading on the way) and flies 5 untimed frames into the stretch, so the
- * prefetch knows the motion.
+ * prefetch knows the motion. With --realtime the camera instead moves by speed x the time
+ * that really passed since the stretch began (what a viewer does), so a slow frame is a jump
+ * and the loader gets only real time.
  */
 #define _POSIX_C_SOURCE 200809L
 #include "atomic_file.h"
@@ -183,6 +185,8 @@ static void flight_camera(store_bench* b, int seg, double d, tp_camera* cam)
     int high = !strcmp(o->path_name, "high");
     double a0 = high ? 0.1 : 0.05, a1 = high ? 0.9 : 0.95; /* fractions of the width */
     double len_px = b->per_segment * b->step_m / b->spacing_m;
+    if (o->realtime) /* a stretch lasts as long as its frames take: leave room for 10 s */
+        len_px = fmax(len_px, 10 * o->speed_mps / b->spacing_m);
     double room = fmax((a1 - a0) * w - len_px, 0);
     double x = a0 * w + (b->segments > 1 ? room * seg / (b->segments - 1) : 0) + d / b->spacing_m;
     double e = gt[0] + x * gt[1];
@@ -348,8 +352,13 @@ static int run_store_config(store_bench* b, store_result* c, int first, const ch
             c->settle_timeouts++;
         if (seg == 0)
             c->settle_ms = now_ms() - t_settle;
+        double t_fly = now_ms();
         for (int i = -WARMUP_FRAMES; i < b->per_segment; i++) {
-            flight_camera(b, seg, i * b->step_m, &cam);
+            /* --realtime: where the camera is after the time that really passed */
+            double d = o->realtime ? (-WARMUP_FRAMES * b->step_m +
+                                      o->speed_mps * (now_ms() - t_fly) / 1e3)
+                                   : i * b->step_m;
+            flight_camera(b, seg, d, &cam);
             store_row* row = i >= 0 ? &c->rows[seg * b->per_segment + i] : NULL;
             tp_gl_context_begin_frame(b->ctx);
             double t0 = now_ms();
@@ -467,6 +476,8 @@ static int write_json(const store_bench* b, const char* renderer_name, const sto
     KS("size", size);
     KS("path", o->path_name);
     KN("speed_mps", o->speed_mps);
+    tp_json_key(&j, "realtime");
+    tp_json_bool(&j, o->realtime);
     KN("frames", b->segments * b->per_segment);
     KN("segments", b->segments);
     KN("samples", (double)b->g->src_width * b->g->src_height);
@@ -531,10 +542,10 @@ static void print_table(const store_bench* b, const char* renderer_name, const s
 {
     const bench_options* o = b->o;
     int frames = b->segments * b->per_segment;
-    printf("%s, %dx%d samples, %dx%d, %s path at %g m/s, %d frames in %d stretches, memory "
+    printf("%s, %dx%d samples, %dx%d, %s path at %g m/s%s, %d frames in %d stretches, memory "
            "budget %d MB, renderer %s\n",
            o->dem, b->g->src_width, b->g->src_height, o->vs.w, o->vs.h, o->path_name,
-           o->speed_mps, frames, b->segments, o->memory_mb, renderer_name);
+           o->speed_mps, o->realtime ? " (real time)" : " (30 Hz steps)", frames, b->segments, o->memory_mb, renderer_name);
     printf("first frame %.0f ms after the process started, %.0f ms after opening the store "
            "(open %.0f ms, GL context %.0f ms)\n",
            b->first_frame_ms, b->first_frame_open_ms, b->open_ms, b->context_ms);

@@ -40,6 +40,7 @@ enum {
     OPT_MEMORY,
     OPT_SEGMENTS,
     OPT_ERROR_EVERY,
+    OPT_REALTIME,
 };
 
 /* The sweep's grid: distance mode in patch widths (W = 2^n sample spacings), error mode in px. */
@@ -98,6 +99,9 @@ static void print_help(void)
           "stream then left to load what the view asks for, and 5 untimed frames of flight.\n"
           "  --memory MB            the stream's budget of decoded nodes (default 1024)\n"
           "  --segments N           stretches of flight (default 4); --frames are split among them\n"
+          "  --realtime             the camera moves by speed x the time that really passed\n"
+          "                         (a slow frame is a jump, as in the viewer), not speed / 30\n"
+          "                         per frame\n"
           "  --error-every N        measure the screen error on every N-th frame (default 1),\n"
           "                         only frames drawn without substitution, only samples whose\n"
           "                         leaf is resident (the JSON says how many were skipped)\n"
@@ -137,6 +141,7 @@ static int parse_options(int argc, char** argv, bench_options* o)
         {"memory", required_argument, NULL, OPT_MEMORY},
         {"segments", required_argument, NULL, OPT_SEGMENTS},
         {"error-every", required_argument, NULL, OPT_ERROR_EVERY},
+        {"realtime", no_argument, NULL, OPT_REALTIME},
         {"help", no_argument, NULL, 'h'},
         {NULL, 0, NULL, 0},
     };
@@ -221,6 +226,7 @@ static int parse_options(int argc, char** argv, bench_options* o)
                 o->error_every = (int)n;
             break;
         }
+        case OPT_REALTIME: o->realtime = 1; break;
         case 'h': print_help(); return tp_cli_finish(TP_EXIT_OK);
         case ':':
             fprintf(stderr, "terrapatch bench: missing value for %s\n", argv[optind - 1]);
@@ -247,6 +253,8 @@ static int parse_options(int argc, char** argv, bench_options* o)
         const char* no = o->sweep ? "--sweep" : o->is_static ? "--static" : o->path_file ? "--path-file"
                          : o->vs.has_camera ? "--camera" : !strcmp(o->path_name, "orbit") ? "--path orbit"
                          : NULL;
+        if (!no && o->realtime && o->speed_mps <= 0)
+            no = "--realtime with --speed 0";
         if (no) {
             fprintf(stderr, "terrapatch bench: %s is not available for a store (%s)\n", no, o->dem);
             return TP_EXIT_USAGE;
