@@ -33,6 +33,7 @@ typedef struct bench_options {
     int segments;      /* --segments: stretches of continuous flight; default 4 */
     int error_every;   /* --error-every N: measure the error on every N-th frame; default 1 */
     int realtime;      /* --realtime: the camera moves by the time that really passed */
+    int no_prefetch;   /* --no-prefetch: the stream gets no prefetch cut (what it costs) */
 } bench_options;
 
 typedef struct frame_row {

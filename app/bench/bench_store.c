@@ -288,7 +288,7 @@ static int settle(store_bench* b, tp_cut* cut, tp_cut* pre, const tp_camera* cam
         if (tp_cut_update(cut, cam, lod, &err) != TP_OK)
             return 0;
         tp_stream_stats ss;
-        tp_stream_frame(b->sc.stream, cut, pre, cam, lod, &ss);
+        tp_stream_frame(b->sc.stream, cut, b->o->no_prefetch ? NULL : pre, cam, lod, &ss);
         size_t nreq = 0;
         tp_cut_requests(cut, &nreq);
         if (nreq == 0 && ss.pending == 0)
@@ -341,7 +341,7 @@ static int run_store_config(store_bench* b, store_result* c, int first, const ch
             tp_gl_context_begin_frame(b->ctx);
             if (tp_cut_update(cut, &cam, &c->lod, &err) != TP_OK)
                 goto cut_failed;
-            tp_stream_frame(b->sc.stream, cut, pre, &cam, &c->lod, &ss);
+            tp_stream_frame(b->sc.stream, cut, o->no_prefetch ? NULL : pre, &cam, &c->lod, &ss);
             tp_renderer_draw_cut(r, b->sc.tree, cut, &cam, &rs, 1, 1, &st);
             tp_gl_context_end_frame(b->ctx);
             b->first_frame_ms = ms_since_process_start();
@@ -365,7 +365,7 @@ static int run_store_config(store_bench* b, store_result* c, int first, const ch
             if (tp_cut_update(cut, &cam, &c->lod, &err) != TP_OK)
                 goto cut_failed;
             double t1 = now_ms();
-            tp_stream_frame(b->sc.stream, cut, pre, &cam, &c->lod, &ss);
+            tp_stream_frame(b->sc.stream, cut, o->no_prefetch ? NULL : pre, &cam, &c->lod, &ss);
             double t2 = now_ms();
             tp_renderer_draw_cut(r, b->sc.tree, cut, &cam, &rs, 1, 1, &st);
             tp_gl_context_end_frame(b->ctx);
@@ -478,6 +478,8 @@ static int write_json(const store_bench* b, const char* renderer_name, const sto
     KN("speed_mps", o->speed_mps);
     tp_json_key(&j, "realtime");
     tp_json_bool(&j, o->realtime);
+    tp_json_key(&j, "prefetch");
+    tp_json_bool(&j, !o->no_prefetch);
     KN("frames", b->segments * b->per_segment);
     KN("segments", b->segments);
     KN("samples", (double)b->g->src_width * b->g->src_height);

@@ -41,6 +41,7 @@ enum {
     OPT_SEGMENTS,
     OPT_ERROR_EVERY,
     OPT_REALTIME,
+    OPT_NO_PREFETCH,
 };
 
 /* The sweep's grid: distance mode in patch widths (W = 2^n sample spacings), error mode in px. */
@@ -102,6 +103,7 @@ static void print_help(void)
           "  --realtime             the camera moves by speed x the time that really passed\n"
           "                         (a slow frame is a jump, as in the viewer), not speed / 30\n"
           "                         per frame\n"
+          "  --no-prefetch          no prefetch cut (to measure what the prefetch costs)\n"
           "  --error-every N        measure the screen error on every N-th frame (default 1),\n"
           "                         only frames drawn without substitution, only samples whose\n"
           "                         leaf is resident (the JSON says how many were skipped)\n"
@@ -142,6 +144,7 @@ static int parse_options(int argc, char** argv, bench_options* o)
         {"segments", required_argument, NULL, OPT_SEGMENTS},
         {"error-every", required_argument, NULL, OPT_ERROR_EVERY},
         {"realtime", no_argument, NULL, OPT_REALTIME},
+        {"no-prefetch", no_argument, NULL, OPT_NO_PREFETCH},
         {"help", no_argument, NULL, 'h'},
         {NULL, 0, NULL, 0},
     };
@@ -227,6 +230,7 @@ static int parse_options(int argc, char** argv, bench_options* o)
             break;
         }
         case OPT_REALTIME: o->realtime = 1; break;
+        case OPT_NO_PREFETCH: o->no_prefetch = 1; break;
         case 'h': print_help(); return tp_cli_finish(TP_EXIT_OK);
         case ':':
             fprintf(stderr, "terrapatch bench: missing value for %s\n", argv[optind - 1]);
