@@ -90,8 +90,8 @@ static void grid_to_world(double x, double y, double* e, double* n)
 }
 
 /* A camera above grid point (x, y) of the tree, `above` metres over the surface. */
-static void camera_at(const tp_tree* t, double x, double y, double above, double yaw,
-                      double pitch, tp_camera* cam)
+static void camera_at(const tp_tree* t, double x, double y, double above, double yaw, double pitch,
+                      tp_camera* cam)
 {
     double z = tp_tree_sample(t, (int)x, (int)y);
     for (int r = 1; isnan(z) && r < 64; r++) /* over a void: the nearest height along the row */
@@ -162,8 +162,11 @@ static void mark(int x, int y, double z, void* user)
 /* Checks the drawn cut: shared edges identical from both sides, no fold-over, and every
  * sample of every drawn complete node's area covered. Fills *covered (grid-sized, 0/1) when
  * not NULL. Returns the number of failures (also reported). */
+static size_t last_triangles; /* drawn triangles counted by the last check_watertight */
+
 static int check_watertight(const tp_tree* t, const tp_cut* cut, uint8_t* covered)
 {
+    last_triangles = 0;
     const tp_tree_geometry* g = tp_tree_get_geometry(t);
     size_t count;
     const tp_cut_node* nodes = tp_cut_nodes(cut, &count);
@@ -183,6 +186,7 @@ static int check_watertight(const tp_tree* t, const tp_cut* cut, uint8_t* covere
         int k = nodes[i].level, vs = (1 << k) + 1;
         tp_cut_vertices(cut, i, v, (size_t)vs * vs);
         size_t nt = tp_patch_triangles(v, k, tri, 2 * (size_t)(vs - 1) * (vs - 1));
+        last_triangles += nt;
         ng[i].segs = malloc(3 * nt * sizeof(seg) + 1);
         for (size_t j = 0; j < nt; j++) {
             const tp_vertex* p[3] = {&v[tri[3 * j]], &v[tri[3 * j + 1]], &v[tri[3 * j + 2]]};
@@ -192,8 +196,7 @@ static int check_watertight(const tp_tree* t, const tp_cut* cut, uint8_t* covere
             if (!sign)
                 sign = sg;
             if (sg != sign && failures++ < 5)
-                fprintf(stderr, "fold-over: node %lld triangle %zu\n",
-                        (long long)nodes[i].node, j);
+                fprintf(stderr, "fold-over: node %lld triangle %zu\n", (long long)nodes[i].node, j);
             int32_t pa[2] = {p[0]->x, p[0]->y}, pb[2] = {p[1]->x, p[1]->y},
                     pc[2] = {p[2]->x, p[2]->y};
             tp_triangle_rasterize(pa, pb, pc, 0, 0, 0, mark, &cov);
@@ -264,8 +267,8 @@ static int check_watertight(const tp_tree* t, const tp_cut* cut, uint8_t* covere
                         int found = 0, overlaps = 0;
                         for (size_t l = 0; l < ny; l++) {
                             found |= seg_match(&x[k], &y[l]);
-                            overlaps |= x[k].a[along] < y[l].b[along] &&
-                                        y[l].a[along] < x[k].b[along];
+                            overlaps |=
+                                x[k].a[along] < y[l].b[along] && y[l].a[along] < x[k].b[along];
                         }
                         same = found || !overlaps;
                     }
@@ -311,28 +314,36 @@ TEST(watertight_for_random_views)
 {
     /* 700 x 420: not 2^n k + 1, so padded, and a forest of roots of different scales. */
     LOAD_OR_SKIP(h, 250, 300, 700, 420);
-    tp_tree* t = make_tree(h, 700, 420, 17);
-    tp_cut* cut;
-    ASSERT_OK(tp_cut_create(t, &cut, NULL));
-    const double taus[] = {0.5, 1, 4, 16};
-    for (int it = 0; it < 40; it++) {
-        tp_camera cam;
-        random_camera(t, &cam);
-        tp_lod_params lp = {0};
-        lp.mode = it % 8 == 6 ? TP_LOD_DISTANCE : it % 8 == 7 ? TP_LOD_FULL : TP_LOD_ERROR;
-        lp.tau_px = taus[it % 4];
-        ASSERT_OK(tp_cut_update(cut, &cam, &lp, NULL));
-        size_t count;
-        tp_cut_nodes(cut, &count);
-        EXPECT_GT((double)count, 0);
-        int f = check_watertight(t, cut, NULL);
-        if (f)
-            fprintf(stderr, "view %d (mode %d, tau %g): %d failures\n", it, (int)lp.mode,
-                    lp.tau_px, f);
-        EXPECT_EQ_INT(0, f);
+    for (int ps = 17; ps <= 33; ps += 16) { /* n = 4 and 5 */
+        tp_tree* t = make_tree(h, 700, 420, ps);
+        tp_cut* cut;
+        ASSERT_OK(tp_cut_create(t, &cut, NULL));
+        const double taus[] = {0.5, 1, 4, 16};
+        size_t total = 0;
+        for (int it = 0; it < 40; it++) {
+            tp_camera cam;
+            random_camera(t, &cam);
+            tp_lod_params lp = {0};
+            lp.mode = it % 8 == 6 ? TP_LOD_DISTANCE : it % 8 == 7 ? TP_LOD_FULL : TP_LOD_ERROR;
+            lp.tau_px = taus[it % 4];
+            ASSERT_OK(tp_cut_update(cut, &cam, &lp, NULL));
+            size_t count;
+            tp_cut_nodes(cut, &count);
+            total += count;
+            int f = check_watertight(t, cut, NULL);
+            tp_cut_stats st;
+            tp_cut_get_stats(cut, &st);
+            EXPECT_EQ_INT((int)last_triangles, (int)st.triangles);
+            EXPECT_EQ_INT((int)count, st.drawn);
+            if (f)
+                fprintf(stderr, "view %d (mode %d, tau %g): %d failures\n", it, (int)lp.mode,
+                        lp.tau_px, f);
+            EXPECT_EQ_INT(0, f);
+        }
+        EXPECT_GT((double)total, 40 * 5); /* the views see the terrain */
+        tp_cut_destroy(cut);
+        tp_tree_destroy(t);
     }
-    tp_cut_destroy(cut);
-    tp_tree_destroy(t);
     free(h);
 }
 
@@ -369,14 +380,37 @@ TEST(watertight_for_adversarial_cuts)
     int64_t roots[64];
     tp_tree_roots(g, roots, 64);
     uint8_t* covered = malloc((size_t)g->width * g->height);
-    for (int it = 0; it < 60; it++) {
+    uint8_t* keep = malloc((size_t)g->node_count);
+    const uint16_t** saved = calloc((size_t)g->node_count, sizeof *saved);
+    int collapses = 0;
+    for (int it = 0; it < 80; it++) {
         size_t count = 0;
         for (int64_t ri = 0; ri < g->root_count; ri++)
             random_cut(g, roots[ri], 0.95, nodes, levels, &count);
+        if (it % 2) {
+            /* Detach a third of the nodes neither drawn nor above a drawn one, so that splits
+             * fail and the stitching pass collapses instead (onto resident ancestors). */
+            memset(keep, 0, (size_t)g->node_count);
+            for (size_t i = 0; i < count; i++)
+                for (int64_t p = tp_tree_node_parent(g, nodes[i]); p >= 0;
+                     p = tp_tree_node_parent(g, p))
+                    keep[p] = 1; /* above a drawn node */
+            for (size_t i = 0; i < count; i++)
+                keep[nodes[i]] = 2;
+            for (int64_t id = 0; id < g->node_count; id++)
+                if (!keep[id] && rnd() < 0.33) {
+                    saved[id] = tp_tree_samples(t, id);
+                    tp_tree_detach(t, id);
+                }
+        }
         ASSERT_OK(tp_cut_set_nodes(cut, nodes, levels, count, NULL));
         size_t drawn;
         const tp_cut_node* out = tp_cut_nodes(cut, &drawn);
         ASSERT_GT((double)drawn, 0);
+        for (size_t i = 0; it % 2 && i < drawn; i++) {
+            collapses += keep[out[i].node] == 1; /* drawn above installed nodes */
+            EXPECT_TRUE(tp_tree_samples(t, out[i].node) != NULL);
+        }
         /* Levels only go up. */
         for (size_t i = 0; i < drawn; i++)
             for (size_t j = 0; j < count; j++)
@@ -390,7 +424,16 @@ TEST(watertight_for_adversarial_cuts)
             for (int x = 0; x < 1025; x++)
                 gaps += !covered[(size_t)y * g->width + x];
         EXPECT_EQ_INT(0, (int)gaps);
+        for (int64_t id = 0; id < g->node_count; id++)
+            if (saved[id]) {
+                tp_tree_attach(t, id, saved[id]);
+                saved[id] = NULL;
+            }
     }
+    printf("random cuts: %d nodes collapsed onto\n", collapses);
+    EXPECT_GT(collapses, 0);
+    free(keep);
+    free(saved);
     /* Every configuration of one node of scale 1 against its 4 neighbours: each neighbour
      * region drawn as one node of scale 1 at level 0 or n, or as scale-0 nodes, plus a
      * scale-5 neighbour next to a leaf (n + 1 apart). */
@@ -457,7 +500,8 @@ TEST(watertight_for_adversarial_cuts)
             int has_big = 0, has_collapsed = 0;
             for (size_t i = 0; i < drawn; i++) {
                 has_big |= out[i].node == big;
-                has_collapsed |= out[i].node == tp_tree_node_id(g, 5 - g->n, (32 >> (5 - g->n)) - 1, 0);
+                has_collapsed |=
+                    out[i].node == tp_tree_node_id(g, 5 - g->n, (32 >> (5 - g->n)) - 1, 0);
             }
             EXPECT_EQ_INT(!resident, has_big);
             EXPECT_EQ_INT(!resident, has_collapsed);
@@ -501,6 +545,42 @@ TEST(screen_error_within_tau)
     }
     EXPECT_GT((double)total, 1e5); /* the views see the terrain */
     printf("worst measured / tau: %.3f over %zu samples\n", worst_ratio, total);
+    /* Exaggerated 3x: tau still holds on screen. */
+    EXPECT_STATUS(TP_ERR_INVALID_ARG, tp_cut_set_vertical_scale(cut, 0));
+    EXPECT_STATUS(TP_ERR_INVALID_ARG, tp_cut_set_vertical_scale(cut, NAN));
+    ASSERT_OK(tp_cut_set_vertical_scale(cut, 3));
+    int too_coarse = 0;
+    for (int it = 0; it < 10; it++) {
+        tp_camera cam;
+        random_camera(t, &cam);
+        cam.position[2] *= 3; /* above the exaggerated surface */
+        tp_lod_params lp = {.mode = TP_LOD_ERROR, .tau_px = 1};
+        /* The cut of the plain surface, measured exaggerated (the scale takes effect at the
+         * next update), shows what the scale changes; the exaggerated cut holds tau. */
+        ASSERT_OK(tp_cut_set_vertical_scale(cut, 1));
+        ASSERT_OK(tp_cut_update(cut, &cam, &lp, NULL));
+        ASSERT_OK(tp_cut_set_vertical_scale(cut, 3));
+        double plain_px = -1, max_px = -1;
+        ASSERT_OK(tp_cut_measure_screen_error(cut, &cam, &plain_px, NULL, NULL, NULL));
+        too_coarse += plain_px > lp.tau_px;
+        ASSERT_OK(tp_cut_update(cut, &cam, &lp, NULL));
+        tp_cut_stats st;
+        tp_cut_get_stats(cut, &st);
+        ASSERT_OK(tp_cut_measure_screen_error(cut, &cam, &max_px, NULL, NULL, NULL));
+        EXPECT_LE(max_px, lp.tau_px + 1e-6);
+        EXPECT_LE(st.max_bound_px, lp.tau_px + 1e-6);
+        /* Heights stay true. */
+        size_t count;
+        const tp_cut_node* nodes = tp_cut_nodes(cut, &count);
+        if (count) {
+            tp_vertex v[17 * 17];
+            tp_cut_vertices(cut, 0, v, 17 * 17);
+            if (!isnan(v[0].z_m))
+                EXPECT_EQ_DBL(v[0].z_m, tp_tree_sample(t, v[0].x, v[0].y));
+            (void)nodes;
+        }
+    }
+    EXPECT_GT(too_coarse, 0); /* some plain cuts are too coarse for 3x the relief */
     tp_cut_destroy(cut);
     tp_tree_destroy(t);
     free(h);
@@ -558,6 +638,10 @@ TEST(substitution_keeps_the_surface_whole)
         EXPECT_EQ_INT(0, memcmp(full_cov, sub_cov, cells));
         tp_cut_get_stats(cut, &st);
         EXPECT_GT(st.substituted, 0);
+        size_t measured, skipped;
+        ASSERT_OK(tp_cut_measure_screen_error(cut, &cam, NULL, NULL, &measured, &skipped));
+        EXPECT_GT((double)skipped, 0); /* detached leaves cannot be measured */
+        EXPECT_GT((double)measured, 0);
         size_t count, nreq;
         const tp_cut_node* nodes = tp_cut_nodes(cut, &count);
         const int64_t* req = tp_cut_requests(cut, &nreq);
@@ -670,13 +754,17 @@ TEST(cost_does_not_grow_with_the_map)
             double ms_b = time_view(cb, &cam_b, &lp, &sb);
             printf("%-14s yaw %3.0f: 1201^2: visited %5d drawn %5d %7.3f ms | 4801^2: visited "
                    "%5d drawn %5d %7.3f ms\n",
-                   m == 0 ? "error far40km" : m == 1 ? "distance" : "error", yaws[i], ss.visited,
-                   ss.drawn, ms_s, sb.visited, sb.drawn, ms_b);
-            /* Same terrain in view: the big map adds only the 2 scales of nodes above the
-             * small map's root, and their culled children (each level of the descent visits
-             * at most a few nodes outside the view before culling stops it). */
+                   m == 0   ? "error far40km"
+                   : m == 1 ? "distance"
+                            : "error",
+                   yaws[i], ss.visited, ss.drawn, ms_s, sb.visited, sb.drawn, ms_b);
+            /* Nearly the same terrain in view: the big map adds the 2 scales of nodes above
+             * the small map's root, and what the frustum's far corners (40 km away, +-46
+             * degrees) reach past the small tile's edges (54 km from the eye): a fixed part
+             * of the view, so a fixed number of nodes whatever the map's size. Measured: +8
+             * (looking off both maps) to +100 (looking across the tile's corner). */
             if (m == 0)
-                EXPECT_LE(sb.visited, ss.visited + 100);
+                EXPECT_LE(sb.visited, ss.visited + 250);
             /* Distance mode: beyond maxdist the stride doubles with the distance, so each
              * doubling of the view's depth adds one ring of nodes of a fixed count (their
              * size grows with the distance as the ring does); the big map is 8x deeper
@@ -696,6 +784,39 @@ TEST(cost_does_not_grow_with_the_map)
     tp_tree_destroy(small_t);
     tp_tree_destroy(big_t);
     free(h);
+}
+
+typedef struct height_probe {
+    const tp_cut* cut;
+    size_t count;
+    double max_diff;
+} height_probe;
+
+static void probe(int x, int y, double z, void* user)
+{
+    height_probe* hp = user;
+    double d = fabs(tp_cut_drawn_height_at(hp->cut, x, y) - z);
+    hp->max_diff = isnan(d) ? INFINITY : fmax(hp->max_diff, d);
+    hp->count++;
+}
+
+static height_probe probe_cut(const tp_cut* cut)
+{
+    height_probe hp = {cut, 0, 0};
+    size_t count;
+    const tp_cut_node* nodes = tp_cut_nodes(cut, &count);
+    tp_vertex v[17 * 17];
+    uint32_t tri[2 * 16 * 16 * 3];
+    for (size_t i = 0; i < count; i++) {
+        tp_cut_vertices(cut, i, v, 17 * 17);
+        size_t nt = tp_patch_triangles(v, nodes[i].level, tri, 2 * 16 * 16);
+        for (size_t j = 0; j < nt; j++) {
+            const tp_vertex *a = &v[tri[3 * j]], *b = &v[tri[3 * j + 1]], *c = &v[tri[3 * j + 2]];
+            int32_t pa[2] = {a->x, a->y}, pb[2] = {b->x, b->y}, pc[2] = {c->x, c->y};
+            tp_triangle_rasterize(pa, pb, pc, a->z_m, b->z_m, c->z_m, probe, &hp);
+        }
+    }
+    return hp;
 }
 
 TEST(drawn_height_follows_the_triangles)
@@ -726,10 +847,137 @@ TEST(drawn_height_follows_the_triangles)
         }
     }
     EXPECT_GT((double)checked, 100);
+    /* Every sample under every drawn triangle: the drawn height is the triangle's. */
+    height_probe hp = probe_cut(cut);
+    EXPECT_GT((double)hp.count, 10000);
+    EXPECT_LE(hp.max_diff, 1e-3);
+    int stitched = 0; /* the view has moved vertices: the border strips are searched */
+    for (size_t i = 0; i < count; i++)
+        for (int side = 0; side < 4; side++)
+            stitched += nodes[i].nb[side] >= 0;
+    EXPECT_GT(stitched, 0);
+    EXPECT_LE(hp.max_diff, 1e-3);
+    /* A leaf at level n between neighbours at level 0 (vertices moved by up to 8 cells) and
+     * a node of scale 1 at level 1 below it. */
+    const tp_tree_geometry* g = tp_tree_get_geometry(t);
+    int64_t hand[5] = {tp_tree_node_id(g, 0, 1, 1), tp_tree_node_id(g, 0, 0, 1),
+                       tp_tree_node_id(g, 0, 2, 1), tp_tree_node_id(g, 0, 1, 0),
+                       tp_tree_node_id(g, 1, 0, 1)};
+    int hand_levels[5] = {g->n, 0, 0, 0, 1};
+    ASSERT_OK(tp_cut_set_nodes(cut, hand, hand_levels, 4, NULL));
+    hp = probe_cut(cut);
+    EXPECT_GT((double)hp.count, 300);
+    EXPECT_LE(hp.max_diff, 1e-3);
+    hand[0] = tp_tree_node_id(g, 0, 1, 0), hand[1] = tp_tree_node_id(g, 0, 0, 0);
+    hand[2] = tp_tree_node_id(g, 0, 2, 0), hand[3] = tp_tree_node_id(g, 0, 3, 0);
+    hand[4] = tp_tree_node_id(g, 1, 0, 1);
+    int hl2[5] = {g->n, 0, 0, 2, 0};
+    ASSERT_OK(tp_cut_set_nodes(cut, hand, hl2, 5, NULL));
+    hp = probe_cut(cut);
+    EXPECT_GT((double)hp.count, 300);
+    EXPECT_LE(hp.max_diff, 1e-3);
     EXPECT_NAN(tp_cut_drawn_height_at(cut, -1, 5));
+    EXPECT_NAN(tp_cut_drawn_height_at(cut, 100, 100)); /* not in the hand-made cut */
     tp_cut_destroy(cut);
     tp_tree_destroy(t);
     free(h);
+}
+
+/* The distance mode as tp_cut_update documents it: log2 of the stride asked for at d. */
+static int asked_stride_log(int n, double d, double mindist, double maxdist)
+{
+    if (d > maxdist)
+        return n + (int)floor(log2(d / maxdist));
+    int k;
+    ASSERT_OK(tp_lod_level_distance(n, d, mindist, maxdist, 1, &k, NULL));
+    return n - k;
+}
+
+TEST(distance_mode_never_coarser_than_asked)
+{
+    LOAD_OR_SKIP(h, 0, 0, 1201, 1201);
+    fill_voids(h, 1201, 1201); /* incomplete nodes are refined whatever the distance */
+    tp_tree* t = make_tree(h, 1201, 1201, 17);
+    const tp_tree_geometry* g = tp_tree_get_geometry(t);
+    tp_cut* cut;
+    ASSERT_OK(tp_cut_create(t, &cut, NULL));
+    const double leaf_m = 16 * 90.0;
+    int coarse = 0, levels_below_n = 0;
+    for (int it = 0; it < 20; it++) {
+        tp_camera cam;
+        random_camera(t, &cam);
+        tp_lod_params lp = {.mode = TP_LOD_DISTANCE};
+        if (it % 2) /* explicit, short distances: far terrain in big nodes */
+            lp.mindist_m = 500, lp.maxdist_m = 4000;
+        double mind = it % 2 ? 500 : leaf_m, maxd = it % 2 ? 4000 : 24 * leaf_m;
+        ASSERT_OK(tp_cut_update(cut, &cam, &lp, NULL));
+        size_t count;
+        const tp_cut_node* nodes = tp_cut_nodes(cut, &count);
+        for (size_t i = 0; i < count; i++) {
+            int sc, c, r;
+            tp_tree_node_locate(g, nodes[i].node, &sc, &c, &r);
+            const tp_node_meta* m = tp_tree_meta(t, nodes[i].node);
+            double span = (double)(1 << (g->n + sc)), bmin[3], bmax[3];
+            grid_to_world(c * span, (r + 1) * span, &bmin[0], &bmin[1]);
+            grid_to_world((c + 1) * span, r * span, &bmax[0], &bmax[1]);
+            bmin[2] = m->area_qmin, bmax[2] = m->area_qmax; /* 1 m steps (integral heights) */
+            double d2 = 0;
+            for (int a = 0; a < 3; a++) {
+                double e = cam.position[a] < bmin[a]   ? bmin[a] - cam.position[a]
+                           : cam.position[a] > bmax[a] ? cam.position[a] - bmax[a]
+                                                       : 0;
+                d2 += e * e;
+            }
+            int stride_log = sc + g->n - nodes[i].level;
+            int asked = asked_stride_log(g->n, sqrt(d2), mind, maxd);
+            EXPECT_LE_INT(stride_log, asked);
+            coarse += sc >= 2;
+            levels_below_n += nodes[i].level < g->n;
+        }
+    }
+    EXPECT_GT(coarse, 0); /* the views reach far terrain */
+    EXPECT_GT(levels_below_n, 0);
+    tp_cut_destroy(cut);
+    tp_tree_destroy(t);
+    free(h);
+}
+
+TEST(tiny_grids)
+{
+    /* 1x1 (one sample: nothing to draw), 2x2, 18x17 (two leaf roots), 49x40 (padded forest). */
+    const int sizes[][2] = {{1, 1}, {2, 2}, {18, 17}, {49, 40}};
+    for (int i = 0; i < 4; i++) {
+        int w = sizes[i][0], hh = sizes[i][1];
+        LOAD_OR_SKIP(h, 400, 400, w, hh);
+        tp_tree* t = make_tree(h, w, hh, 17);
+        tp_cut* cut;
+        ASSERT_OK(tp_cut_create(t, &cut, NULL));
+        tp_camera cam;
+        camera_at(t, 0, 0, 300, 135, -45, &cam);
+        for (int m = 0; m < 3; m++) {
+            tp_lod_params lp = {.mode = m == 0   ? TP_LOD_ERROR
+                                        : m == 1 ? TP_LOD_DISTANCE
+                                                 : TP_LOD_FULL};
+            ASSERT_OK(tp_cut_update(cut, &cam, &lp, NULL));
+            size_t count;
+            const tp_cut_node* nodes = tp_cut_nodes(cut, &count);
+            EXPECT_EQ_INT(0, check_watertight(t, cut, NULL));
+            for (size_t k = 0; k < count; k++)
+                if (!(tp_tree_meta(t, nodes[k].node)->flags & TP_NODE_COMPLETE))
+                    EXPECT_EQ_INT(tp_tree_get_geometry(t)->n, nodes[k].level);
+            if (w == 1)
+                EXPECT_EQ_INT(0, (int)last_triangles);
+            else
+                EXPECT_GT((double)last_triangles, 0);
+            double mx = -1;
+            ASSERT_OK(tp_cut_measure_screen_error(cut, &cam, &mx, NULL, NULL, NULL));
+            if (m == 2)
+                EXPECT_EQ_DBL(0, mx); /* leaves at level n draw the samples themselves */
+        }
+        tp_cut_destroy(cut);
+        tp_tree_destroy(t);
+        free(h);
+    }
 }
 
 TEST(rejects_max_error_mode)
@@ -758,5 +1006,7 @@ TEST(rejects_max_error_mode)
     X(substitution_keeps_the_surface_whole)                                                        \
     X(cost_does_not_grow_with_the_map)                                                             \
     X(drawn_height_follows_the_triangles)                                                          \
+    X(distance_mode_never_coarser_than_asked)                                                      \
+    X(tiny_grids)                                                                                  \
     X(rejects_max_error_mode)
 TP_TEST_MAIN(TESTS)

@@ -594,7 +594,7 @@ tp_status tp_selection_ray_cast(const tp_selection* s, const double origin[3],
  *
  * A node at level k draws the level-k strip over its own samples: vertex stride 2^(n-k+s) grid
  * samples. "Complete" means every full-resolution sample of its AREA is drawn; only complete
- * nodes are drawn at a level below n... (see tp_tree_select).
+ * nodes are drawn at a level below n (see tp_cut_update).
  */
 #define TP_TREE_MAX_SCALES 24
 
@@ -790,8 +790,8 @@ double tp_tree_sample(const tp_tree* t, int x, int y);
 
 /* ---- selection over the tree: the drawn cut (tree_select.c, tree_stitch.c) ----
  *
- * From the roots down: a node outside the frustum (its drawn AABB) is culled and not visited
- * further; a node whose level-n bound (stitching as in tp_node_error_bound) projects above tau
+ * From the roots down: a node outside the frustum (its area's AABB, which holds every
+ * descendant; see tp_cut_update) is culled and not visited further; a node whose level-n bound (stitching as in tp_node_error_bound) projects above tau
  * (error mode, the same projection bound as tp_selection_update) or that is not complete, is
  * replaced by its 4 children; else it is drawn at its coarsest level whose bound projects to
  * <= tau. Then levels are raised (never lowered) until every pair of visible nodes sharing an
@@ -842,7 +842,8 @@ void tp_cut_destroy(tp_cut* c); /* accepts NULL */
  *   - Full mode: every visible leaf at level n.
  *   - Stitching (tree_stitch.c): levels only go up; where two drawn neighbours differ by more
  *     than n scales the larger one is split if its children are resident, else the smaller
- *     one's ancestor n scales below the larger is drawn at level n instead (substituted).
+ *     one's ancestor n scales below the larger is drawn at level n instead (not marked
+ *     substituted: its own children may well be resident).
  *     Culled nodes are not stitched against. A crack can remain only between two roots more
  *     than n scales apart whose larger one's children are not resident.
  *   - Requests: children the cut wanted but found not resident (a root not resident, which
@@ -856,7 +857,8 @@ const tp_cut_node* tp_cut_nodes(const tp_cut* c, size_t* count);
 const int64_t* tp_cut_requests(const tp_cut* c, size_t* count);
 void tp_cut_get_stats(const tp_cut* c, tp_cut_stats* out);
 /* Vertex data of drawn node i (0..count-1) after crack removal: (2^level+1)^2 vertices as
- * tp_patch_vertices writes them (global grid coordinates, decoded heights). */
+ * tp_patch_vertices writes them (global grid coordinates, decoded heights; cls is VALID,
+ * NODATA or PADDING: a tree does not keep FILLED). */
 void tp_cut_vertices(const tp_cut* c, size_t i, tp_vertex* vertices, size_t vertex_capacity);
 /* Height (m) of the surface the cut draws at grid (x, y); NaN where nothing is drawn. */
 double tp_cut_drawn_height_at(const tp_cut* c, double x, double y);
@@ -867,6 +869,13 @@ double tp_cut_drawn_height_at(const tp_cut* c, double x, double y);
  * returns TP_OK). */
 tp_status tp_cut_measure_screen_error(const tp_cut* c, const tp_camera* cam, double* max_px,
                                       double* rms_px, size_t* samples, size_t* skipped);
+
+/* Vertical exaggeration, as tp_selection_set_vertical_scale: boxes, the error mode's projection
+ * and tp_cut_measure_screen_error follow heights times scale (tau holds on screen); heights
+ * (vertices, tp_cut_drawn_height_at) stay true. Takes effect at the next update. Returns
+ * TP_OK; TP_ERR_INVALID_ARG, scale unchanged, outside [TP_VERTICAL_SCALE_MIN,
+ * TP_VERTICAL_SCALE_MAX] or NaN. */
+tp_status tp_cut_set_vertical_scale(tp_cut* c, double scale);
 
 /* Test hook: installs a hand-made cut, nodes[i] drawn at levels[i] (resident, distinct, not
  * overlapping; incomplete nodes at n), every node visible, no camera, and runs the stitching

@@ -280,10 +280,17 @@ typedef struct tp__cut_rec {
     int8_t s, level, state;
     uint8_t substituted; /* drawn in place of children that are not resident */
     uint8_t frozen;      /* collapsed onto by the stitching pass: never split again */
+    uint8_t queued;      /* in the stitching pass's work list */
     float bound_px;
     int32_t out;         /* index in the output (tp_cut_nodes) when drawn */
     tp__proj_bound pb;   /* error mode, visible nodes: of the node's area box */
 } tp__cut_rec;
+
+typedef struct tp__cut_slot {
+    int64_t key;  /* node id */
+    int32_t val;  /* record index; -2: requested, not visited */
+    uint32_t gen; /* the update that wrote it; other generations are empty slots */
+} tp__cut_slot;
 
 typedef struct tp__cut_req {
     int64_t node;
@@ -299,9 +306,7 @@ struct tp_cut {
     int64_t* roots;
     tp__cut_rec* rec;
     size_t rec_count, rec_cap;
-    int64_t* hkey;
-    int32_t* hval; /* record index; -2: requested, not visited */
-    uint32_t* hgen;
+    tp__cut_slot* hash;
     size_t hcap, hused;
     uint32_t gen;
     tp_cut_node* out;
@@ -314,10 +319,15 @@ struct tp_cut {
     int have_view; /* 0 for a cut installed by tp_cut_set_nodes */
     tp__view v;
     tp_frustum f;
+    int32_t* work;       /* the stitching pass's work list */
+    size_t work_count, work_cap;
     int visited, unresolved;
     int oom;
 };
 
+/* Grows the array *p of *cap elements of size bytes to at least need (doubling); 0, c->oom
+ * set, without memory. */
+int tp__cut_grow(tp_cut* c, void** p, size_t* cap, size_t need, size_t size);
 /* Record of node, or -1 when it was not visited this update (tree_select.c). */
 int tp__cut_find(const tp_cut* c, int64_t node);
 /* Adds a record for node (state 0) and returns its index, or -1 (c->oom set) without memory. */
@@ -338,7 +348,9 @@ void tp__cut_constrain(tp_cut* c);
 /* The drawn neighbour on a side of drawn record i, of equal or larger scale; -1 if none
  * (border, culled, or smaller nodes there) (tree_stitch.c). */
 int tp__cut_neighbor(const tp_cut* c, int i, int side);
-/* Relative neighbour levels of drawn record i (tree_stitch.c). */
-void tp__cut_nb(const tp_cut* c, int i, int nb[4]);
+/* Relative neighbour levels of drawn record i; returns the number of its sides left with a
+ * crack (a neighbour more than n scales larger that could be neither split nor collapsed
+ * against) (tree_stitch.c). */
+int tp__cut_nb(const tp_cut* c, int i, int nb[4]);
 
 #endif

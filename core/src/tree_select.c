@@ -17,7 +17,7 @@ static const int no_nb[4] = {TP_NO_NEIGHBOR, TP_NO_NEIGHBOR, TP_NO_NEIGHBOR, TP_
 
 /* ---- growing arrays and the node hash ---- */
 
-static int grow(tp_cut* c, void** p, size_t* cap, size_t need, size_t size)
+int tp__cut_grow(tp_cut* c, void** p, size_t* cap, size_t need, size_t size)
 {
     if (need <= *cap)
         return 1;
@@ -39,8 +39,13 @@ static int grow(tp_cut* c, void** p, size_t* cap, size_t need, size_t size)
 
 static size_t hash_slot(int64_t key, size_t cap)
 {
-    uint64_t h = (uint64_t)key * 0x9E3779B97F4A7C15ull;
-    return (size_t)(h >> 17) & (cap - 1);
+    uint64_t h = (uint64_t)key; /* MurmurHash3's finaliser: node ids are dense */
+    h ^= h >> 33;
+    h *= 0xff51afd7ed558ccdull;
+    h ^= h >> 33;
+    h *= 0xc4ceb9fe1a85ec53ull;
+    h ^= h >> 33;
+    return (size_t)h & (cap - 1);
 }
 
 static int hash_put(tp_cut* c, int64_t key, int32_t val);
@@ -48,27 +53,18 @@ static int hash_put(tp_cut* c, int64_t key, int32_t val);
 static int hash_grow(tp_cut* c)
 {
     size_t ncap = c->hcap ? c->hcap * 2 : 1024;
-    int64_t* k = tp__alloc(&c->alloc, ncap, sizeof *k);
-    int32_t* v = tp__alloc(&c->alloc, ncap, sizeof *v);
-    uint32_t* g = tp__calloc(&c->alloc, ncap, sizeof *g);
-    if (!k || !v || !g) {
-        tp__free(&c->alloc, k);
-        tp__free(&c->alloc, v);
-        tp__free(&c->alloc, g);
+    tp__cut_slot* h = tp__calloc(&c->alloc, ncap, sizeof *h);
+    if (!h) {
         c->oom = 1;
         return 0;
     }
-    int64_t* ok = c->hkey;
-    int32_t* ov = c->hval;
-    uint32_t* og = c->hgen;
+    tp__cut_slot* old = c->hash;
     size_t ocap = c->hcap;
-    c->hkey = k, c->hval = v, c->hgen = g, c->hcap = ncap, c->hused = 0;
+    c->hash = h, c->hcap = ncap, c->hused = 0;
     for (size_t i = 0; i < ocap; i++)
-        if (og[i] == c->gen)
-            hash_put(c, ok[i], ov[i]);
-    tp__free(&c->alloc, ok);
-    tp__free(&c->alloc, ov);
-    tp__free(&c->alloc, og);
+        if (old[i].gen == c->gen)
+            hash_put(c, old[i].key, old[i].val);
+    tp__free(&c->alloc, old);
     return 1;
 }
 
@@ -78,15 +74,14 @@ static int hash_put(tp_cut* c, int64_t key, int32_t val)
     if (2 * (c->hused + 1) > c->hcap && !hash_grow(c))
         return 0;
     for (size_t i = hash_slot(key, c->hcap);; i = (i + 1) & (c->hcap - 1)) {
-        if (c->hgen[i] != c->gen) {
-            c->hgen[i] = c->gen;
-            c->hkey[i] = key;
-            c->hval[i] = val;
+        tp__cut_slot* sl = &c->hash[i];
+        if (sl->gen != c->gen) {
+            *sl = (tp__cut_slot){key, val, c->gen};
             c->hused++;
             return 1;
         }
-        if (c->hkey[i] == key) {
-            c->hval[i] = val;
+        if (sl->key == key) {
+            sl->val = val;
             return 1;
         }
     }
@@ -97,10 +92,11 @@ static int32_t hash_get(const tp_cut* c, int64_t key)
     if (!c->hcap)
         return -1;
     for (size_t i = hash_slot(key, c->hcap);; i = (i + 1) & (c->hcap - 1)) {
-        if (c->hgen[i] != c->gen)
+        const tp__cut_slot* sl = &c->hash[i];
+        if (sl->gen != c->gen)
             return -1;
-        if (c->hkey[i] == key)
-            return c->hval[i];
+        if (sl->key == key)
+            return sl->val;
     }
 }
 
@@ -112,7 +108,7 @@ int tp__cut_find(const tp_cut* c, int64_t node)
 
 int tp__cut_add(tp_cut* c, int64_t node)
 {
-    if (!grow(c, (void**)&c->rec, &c->rec_cap, c->rec_count + 1, sizeof *c->rec))
+    if (!tp__cut_grow(c, (void**)&c->rec, &c->rec_cap, c->rec_count + 1, sizeof *c->rec))
         return -1;
     int i = (int)c->rec_count;
     if (!hash_put(c, node, i))
@@ -132,7 +128,7 @@ void tp__cut_request(tp_cut* c, int64_t node, double prio)
 {
     if (hash_get(c, node) != -1) /* visited or already requested */
         return;
-    if (!grow(c, (void**)&c->req, &c->req_cap, c->req_count + 1, sizeof *c->req) ||
+    if (!tp__cut_grow(c, (void**)&c->req, &c->req_cap, c->req_count + 1, sizeof *c->req) ||
         !hash_put(c, node, -2))
         return;
     c->req[c->req_count++] = (tp__cut_req){node, prio};
@@ -212,8 +208,7 @@ static int mode_wants(tp_cut* c, int i, int* level)
     if (!c->have_view) /* an installed cut: nothing to ask */
         return 0;
     switch (c->lp.mode) {
-    case TP_LOD_FULL:
-        return r->s > 0;
+    case TP_LOD_FULL: return r->s > 0;
     case TP_LOD_DISTANCE: {
         double bmin[3], bmax[3];
         tp__cut_box(c, i, 1, bmin, bmax);
@@ -354,12 +349,11 @@ void tp_cut_destroy(tp_cut* c)
     const tp_allocator* a = &c->alloc;
     tp__free(a, c->roots);
     tp__free(a, c->rec);
-    tp__free(a, c->hkey);
-    tp__free(a, c->hval);
-    tp__free(a, c->hgen);
+    tp__free(a, c->hash);
     tp__free(a, c->out);
     tp__free(a, c->req);
     tp__free(a, c->req_ids);
+    tp__free(a, c->work);
     tp__free(a, c);
 }
 
@@ -368,7 +362,7 @@ static void begin(tp_cut* c)
     c->gen++;
     if (c->gen == 0) { /* wrapped: every slot would look current */
         if (c->hcap)
-            memset(c->hgen, 0, c->hcap * sizeof *c->hgen);
+            memset(c->hash, 0, c->hcap * sizeof *c->hash);
         c->gen = 1;
     }
     c->hused = 0;
@@ -380,12 +374,37 @@ static void begin(tp_cut* c)
     c->oom = 0;
 }
 
-static int req_cmp(const void* a, const void* b)
+/* Whether request a goes before b: higher priority first, then lower id. */
+static int req_before(const tp__cut_req* a, const tp__cut_req* b)
 {
-    const tp__cut_req *x = a, *y = b;
-    if (x->prio != y->prio)
-        return x->prio > y->prio ? -1 : 1;
-    return x->node < y->node ? -1 : x->node > y->node;
+    return a->prio > b->prio || (a->prio == b->prio && a->node < b->node);
+}
+
+/* Heap sort of the requests, most urgent first (qsort may allocate). */
+static void sort_requests(tp__cut_req* r, size_t count)
+{
+    for (size_t end = count, start = count / 2;;) {
+        size_t root;
+        if (start > 0)
+            root = --start;
+        else if (end > 1) {
+            tp__cut_req tmp = r[0];
+            r[0] = r[--end];
+            r[end] = tmp;
+            root = 0;
+        } else
+            return;
+        /* The top of the heap is the least urgent: it goes to the end. */
+        for (size_t child; (child = 2 * root + 1) < end; root = child) {
+            if (child + 1 < end && req_before(&r[child], &r[child + 1]))
+                child++;
+            if (!req_before(&r[root], &r[child]))
+                break;
+            tp__cut_req tmp = r[root];
+            r[root] = r[child];
+            r[child] = tmp;
+        }
+    }
 }
 
 /* Stitching, then the output arrays. */
@@ -396,11 +415,10 @@ static tp_status finish(tp_cut* c, tp_error* err)
     size_t drawn = 0;
     for (size_t i = 0; i < c->rec_count; i++)
         drawn += c->rec[i].state == TP__CUT_DRAWN;
-    if (c->oom || !grow(c, (void**)&c->out, &c->out_cap, drawn, sizeof *c->out) ||
-        !grow(c, (void**)&c->req_ids, &c->req_ids_cap, c->req_count, sizeof *c->req_ids)) {
+    if (c->oom || !tp__cut_grow(c, (void**)&c->out, &c->out_cap, drawn, sizeof *c->out) ||
+        !tp__cut_grow(c, (void**)&c->req_ids, &c->req_ids_cap, c->req_count, sizeof *c->req_ids)) {
         c->rec_count = c->out_count = c->req_count = 0;
-        return tp__fail(err, TP_ERR_OUT_OF_MEMORY, "cut: out of memory after %d nodes",
-                        c->visited);
+        return tp__fail(err, TP_ERR_OUT_OF_MEMORY, "cut: out of memory after %d nodes", c->visited);
     }
     c->out_count = 0;
     for (size_t i = 0; i < c->rec_count; i++) {
@@ -411,7 +429,7 @@ static tp_status finish(tp_cut* c, tp_error* err)
         r->out = (int32_t)c->out_count;
         tp_cut_node* o = &c->out[c->out_count++];
         int nb[4];
-        tp__cut_nb(c, (int)i, nb);
+        c->unresolved += tp__cut_nb(c, (int)i, nb);
         o->node = r->node;
         o->level = r->level;
         for (int s = 0; s < 4; s++)
@@ -422,14 +440,13 @@ static tp_status finish(tp_cut* c, tp_error* err)
             r->bound_px = (float)bound_px(c, (int)i, r->level, nb);
         o->bound_px = r->bound_px;
     }
-    qsort(c->req, c->req_count, sizeof *c->req, req_cmp);
+    sort_requests(c->req, c->req_count);
     for (size_t i = 0; i < c->req_count; i++)
         c->req_ids[i] = c->req[i].node;
     return TP_OK;
 }
 
-tp_status tp_cut_update(tp_cut* c, const tp_camera* cam, const tp_lod_params* params,
-                        tp_error* err)
+tp_status tp_cut_update(tp_cut* c, const tp_camera* cam, const tp_lod_params* params, tp_error* err)
 {
     assert(c && cam);
     tp_lod_params lp;
@@ -451,8 +468,8 @@ tp_status tp_cut_update(tp_cut* c, const tp_camera* cam, const tp_lod_params* pa
     c->have_view = 1;
     tp__view_from_camera(cam, &c->v);
     tp_frustum_from_camera(cam, &c->f);
-    /* Depth first from each root; the children of a refined node are pushed onto the record
-     * array itself, so the "stack" is the records not yet classified. */
+    /* Breadth first from each root: the children of a refined node are appended to the
+     * records, so the queue is the records not yet classified. */
     for (int64_t ri = 0; ri < c->g.root_count && !c->oom; ri++) {
         int64_t root = c->roots[ri];
         if (!tp_tree_samples(c->t, root)) {
@@ -482,8 +499,8 @@ tp_status tp_cut_set_nodes(tp_cut* c, const int64_t* nodes, const int* levels, s
     c->have_view = 0;
     c->lp = (tp_lod_params){0};
     for (size_t i = 0; i < count && !c->oom; i++) {
-        assert(nodes[i] >= 0 && nodes[i] < c->g.node_count && levels[i] >= 0 &&
-               levels[i] <= c->n && tp__cut_find(c, nodes[i]) < 0);
+        assert(nodes[i] >= 0 && nodes[i] < c->g.node_count && levels[i] >= 0 && levels[i] <= c->n &&
+               tp__cut_find(c, nodes[i]) < 0);
         int r = tp__cut_add(c, nodes[i]);
         if (r < 0)
             break;
@@ -501,6 +518,15 @@ tp_status tp_cut_set_nodes(tp_cut* c, const int64_t* nodes, const int* levels, s
             c->rec[r].state = TP__CUT_INTERIOR;
         }
     return finish(c, err);
+}
+
+tp_status tp_cut_set_vertical_scale(tp_cut* c, double scale)
+{
+    assert(c);
+    if (!(scale >= TP_VERTICAL_SCALE_MIN && scale <= TP_VERTICAL_SCALE_MAX))
+        return TP_ERR_INVALID_ARG;
+    c->zscale = scale;
+    return TP_OK;
 }
 
 const tp_cut_node* tp_cut_nodes(const tp_cut* c, size_t* count)

@@ -17,6 +17,8 @@
  * splits only go down, so the pass ends. Only if A has no such ancestor (a forest whose
  * adjacent roots differ by more than n scales, and B's children are not resident) does a
  * crack remain: counted in tp_cut's `unresolved`.
+ * The pass runs over a work list: every drawn node once, then only nodes whose neighbourhood
+ * changed (a node whose level changed, and its neighbours of its size or smaller).
  * In error mode a coarser neighbour is also raised while the finer node's stitched bound (its
  * eps table) projects above tau, as tp_selection_update does; one already at level n (so
  * larger than the finer node) is split when its children are resident.
@@ -49,19 +51,86 @@ static int stride_log(const tp__cut_rec* r, int n)
     return r->s + n - r->level;
 }
 
-void tp__cut_nb(const tp_cut* c, int i, int nb[4])
+int tp__cut_nb(const tp_cut* c, int i, int nb[4])
 {
     const tp__cut_rec* a = &c->rec[i];
+    int cracks = 0;
     for (int side = 0; side < 4; side++) {
         nb[side] = TP_NO_NEIGHBOR;
         int j = tp__cut_neighbor(c, i, side);
         if (j < 0)
             continue;
         const tp__cut_rec* b = &c->rec[j];
+        cracks += b->s - a->s > c->n;
         int kn = b->level - (b->s - a->s);
         if (stride_log(b, c->n) > stride_log(a, c->n) && kn >= 0)
             nb[side] = kn;
     }
+    return cracks;
+}
+
+/* Queues drawn record i for (re)checking. */
+static void push(tp_cut* c, int i)
+{
+    if (c->rec[i].state != TP__CUT_DRAWN || c->rec[i].queued ||
+        !tp__cut_grow(c, (void**)&c->work, &c->work_cap, c->work_count + 1, sizeof *c->work))
+        return;
+    c->rec[i].queued = 1;
+    c->work[c->work_count++] = i;
+}
+
+static const int side_quads[4][2] = {{0, 1}, {1, 3}, {2, 3}, {0, 2}}; /* children on a side */
+
+/* Queues the drawn nodes under record j that touch side `side` of j's square. */
+static void push_along(tp_cut* c, int j, int side)
+{
+    if (c->rec[j].state == TP__CUT_DRAWN) {
+        push(c, j);
+        return;
+    }
+    if (c->rec[j].state != TP__CUT_INTERIOR || c->rec[j].s == 0)
+        return;
+    for (int q = 0; q < 2; q++) {
+        int k = tp__cut_find(c, tp_tree_node_child(&c->g, c->rec[j].node, side_quads[side][q]));
+        if (k >= 0)
+            push_along(c, k, side);
+    }
+}
+
+/* The same for the square (s, cc, rr), which need not be a node: past the last whole node
+ * (a forest's far edges) its smaller parts are. */
+static void push_square(tp_cut* c, int s, int64_t cc, int64_t rr, int side)
+{
+    if ((cc << s) >= c->g.cols || (rr << s) >= c->g.rows)
+        return; /* outside the map */
+    if (cc < c->g.node_cols[s] && rr < c->g.node_rows[s]) {
+        int j = tp__cut_find(c, tp_tree_node_id(&c->g, s, (int)cc, (int)rr));
+        if (j >= 0)
+            push_along(c, j, side);
+        return;
+    }
+    for (int q = 0; s > 0 && q < 2; q++) {
+        int quad = side_quads[side][q];
+        push_square(c, s - 1, 2 * cc + (quad & 1), 2 * rr + (quad >> 1), side);
+    }
+}
+
+/* Queues the drawn neighbours of record i's square of its scale or smaller (those that check
+ * their relation with i, or with what replaced it). */
+static void push_smaller(tp_cut* c, int i)
+{
+    for (int side = 0; side < 4; side++) {
+        int64_t cc = (int64_t)c->rec[i].c + dcol[side], rr = (int64_t)c->rec[i].r + drow[side];
+        if (cc >= 0 && rr >= 0)
+            push_square(c, c->rec[i].s, cc, rr, (side + 2) % 4); /* their side facing i */
+    }
+}
+
+/* A record's level changed: it and its smaller neighbours are checked again. */
+static void changed(tp_cut* c, int i)
+{
+    push(c, i);
+    push_smaller(c, i);
 }
 
 /* Marks every record under record i (exclusive) removed. */
@@ -95,14 +164,17 @@ static int split(tp_cut* c, int i)
             return 1; /* out of memory: the update fails */
         c->rec[j].level = 0;
         c->rec[j].substituted = 0;
+        c->rec[j].queued = 0;
         tp__cut_settle(c, j);
         if (!c->have_view && c->rec[j].state == TP__CUT_DRAWN) {
             /* An installed cut: the children keep the parent's stride where they can. */
             const tp_node_meta* m = tp_tree_meta(c->t, ch);
             c->rec[j].level = (int8_t)((m->flags & TP_NODE_COMPLETE) && k > 0 ? k - 1 : c->n);
         }
+        push(c, j);
     }
     c->rec[i].state = TP__CUT_INTERIOR;
+    push_smaller(c, i);
     return 1;
 }
 
@@ -121,63 +193,75 @@ static int collapse(tp_cut* c, int i, int s)
     remove_below(c, j);
     c->rec[j].frozen = 1;
     c->rec[j].substituted = 0; /* its own children may be resident: B's are not */
+    c->rec[j].queued = 0;
     tp__cut_settle(c, j); /* drawn at n: it wants refining, or is culled */
     c->rec[j].level = (int8_t)c->n;
+    changed(c, j);
     return 1;
+}
+
+/* Checks drawn record i against its neighbours of its scale or larger, changing what the rules
+ * ask and queueing what that affects. */
+static void check(tp_cut* c, int i)
+{
+    int n = c->n;
+    int error = c->have_view && c->lp.mode == TP_LOD_ERROR;
+    for (int side = 0; side < 4 && c->rec[i].state == TP__CUT_DRAWN && !c->oom; side++) {
+        int j = tp__cut_neighbor(c, i, side);
+        if (j < 0)
+            continue;
+        tp__cut_rec *a = &c->rec[i], *b = &c->rec[j];
+        int ds = b->s - a->s;
+        if (ds > n) {
+            int bs = b->s;
+            if (split(c, j))
+                push(c, i);
+            else
+                collapse(c, i, bs - n); /* else unresolved: counted when the cut is output */
+            continue;                   /* records may have moved; the state check ends the loop */
+        }
+        int la = a->s + n - a->level, lb = b->s + n - b->level;
+        if (lb > la) {
+            if (b->level < ds) {
+                b->level = (int8_t)ds;
+                changed(c, j);
+            }
+            int kn = c->rec[j].level - ds;
+            if (error && kn < c->rec[i].level) {
+                int nb[4] = {TP_NO_NEIGHBOR, TP_NO_NEIGHBOR, TP_NO_NEIGHBOR, TP_NO_NEIGHBOR};
+                nb[side] = kn;
+                const tp_node_meta* m = tp_tree_meta(c->t, c->rec[i].node);
+                double geo = tp_node_error_bound(m, n, c->rec[i].level, nb, c->step, c->err_unit);
+                double d = (geo + c->quant) * c->zscale;
+                if (geo > 0 && tp__projected_px(&c->rec[i].pb, c->v.fwd[2], d) > c->lp.tau_px) {
+                    /* Finer B, or at level n (so larger than A) its children. */
+                    if (c->rec[j].level < n) {
+                        c->rec[j].level++;
+                        changed(c, j);
+                        side--; /* check this side again */
+                    } else if (split(c, j)) {
+                        push(c, i);
+                    }
+                }
+            }
+        } else if (la > lb && ds > 0) {
+            a->level = (int8_t)(a->level + (la - lb));
+            changed(c, i);
+        }
+    }
 }
 
 void tp__cut_constrain(tp_cut* c)
 {
-    int n = c->n;
-    int error = c->have_view && c->lp.mode == TP_LOD_ERROR;
-    int changed = 1;
-    while (changed && !c->oom) {
-        changed = 0;
-        c->unresolved = 0;
-        for (size_t i = 0; i < c->rec_count && !c->oom; i++) {
-            for (int side = 0; side < 4 && c->rec[i].state == TP__CUT_DRAWN; side++) {
-                int j = tp__cut_neighbor(c, (int)i, side);
-                if (j < 0)
-                    continue;
-                tp__cut_rec *a = &c->rec[i], *b = &c->rec[j];
-                int ds = b->s - a->s;
-                if (ds > n) {
-                    if (split(c, j) || collapse(c, (int)i, b->s - n))
-                        changed = 1;
-                    else
-                        c->unresolved++;
-                    continue; /* records may have moved; the state check ends the loop */
-                }
-                int la = stride_log(a, n), lb = stride_log(b, n);
-                if (lb > la) {
-                    if (b->level < ds) {
-                        b->level = (int8_t)ds;
-                        changed = 1;
-                    }
-                    int kn = b->level - ds;
-                    if (error && kn < a->level) {
-                        int nb[4] = {TP_NO_NEIGHBOR, TP_NO_NEIGHBOR, TP_NO_NEIGHBOR,
-                                     TP_NO_NEIGHBOR};
-                        nb[side] = kn;
-                        const tp_node_meta* m = tp_tree_meta(c->t, a->node);
-                        double geo = tp_node_error_bound(m, n, a->level, nb, c->step, c->err_unit);
-                        double d = (geo + c->quant) * c->zscale;
-                        if (geo > 0 && tp__projected_px(&a->pb, c->v.fwd[2], d) > c->lp.tau_px) {
-                            /* Finer B, or at level n (so larger than A) its children. */
-                            if (b->level < n) {
-                                b->level++;
-                                changed = 1;
-                            } else if (split(c, j)) {
-                                changed = 1;
-                            }
-                        }
-                    }
-                } else if (la > lb && ds > 0) {
-                    a->level = (int8_t)(a->level + (la - lb));
-                    changed = 1;
-                }
-            }
-        }
+    c->work_count = 0;
+    for (size_t i = 0; i < c->rec_count; i++) {
+        c->rec[i].queued = 0;
+        push(c, (int)i);
+    }
+    while (c->work_count > 0 && !c->oom) {
+        int i = c->work[--c->work_count];
+        c->rec[i].queued = 0;
+        check(c, i);
     }
 }
 
@@ -187,8 +271,8 @@ typedef struct node_view {
     const tp_cut* c;
     const uint16_t* q; /* its samples */
     int32_t qmin;
-    int64_t x0, y0;     /* grid position of sample (0, 0) */
-    int s, k, shift;    /* scale, level, n - k */
+    int64_t x0, y0;  /* grid position of sample (0, 0) */
+    int s, k, shift; /* scale, level, n - k */
     int nb[4];
 } node_view;
 
@@ -249,8 +333,7 @@ void tp_cut_vertices(const tp_cut* c, size_t i, tp_vertex* vertices, size_t vert
 }
 
 /* Triangle h (0, 1) of cell (cx, cy) as drawn: 0 if it is not (undrawn vertex, zero area). */
-static int cell_triangle(const node_view* nv, int cx, int cy, int h, int32_t pos[3][2],
-                         double q[3])
+static int cell_triangle(const node_view* nv, int cx, int cy, int h, int32_t pos[3][2], double q[3])
 {
     static const int tri[2][3][2] = {{{0, 0}, {0, 1}, {1, 0}}, {{1, 0}, {0, 1}, {1, 1}}};
     int ok = 1;
@@ -471,8 +554,8 @@ tp_status tp_cut_measure_screen_error(const tp_cut* c, const tp_camera* cam, dou
                     if (!cell_triangle(&nv, cx, cy, h, pos, q) || q[0] == INT32_MIN ||
                         q[1] == INT32_MIN || q[2] == INT32_MIN)
                         continue;
-                    tp__raster_triangle(pos[0], pos[1], pos[2], q[0], q[1], q[2],
-                                        screen_sample, &m);
+                    tp__raster_triangle(pos[0], pos[1], pos[2], q[0], q[1], q[2], screen_sample,
+                                        &m);
                 }
     }
     if (max_px)
