@@ -451,8 +451,9 @@ static void json_result(tp_json* j, const store_result* c)
     KN("settle_ms", c->settle_ms);
     KN("settle_timeouts", c->settle_timeouts);
     KN("error_frames_measured", c->error_frames);
-    KN("max_screen_error_px", c->error_frames ? c->max_px : NAN);
-    KN("rms_screen_error_px", c->error_frames ? c->rms_px : NAN);
+    /* null when no sample was measured (every leaf in view not resident) */
+    KN("max_screen_error_px", c->error_frames && c->samples > 0 ? c->max_px : NAN);
+    KN("rms_screen_error_px", c->error_frames && c->samples > 0 ? c->rms_px : NAN);
     KN("error_samples", c->samples);
     KN("error_samples_skipped", c->skipped);
 #undef KN
@@ -563,7 +564,8 @@ static void print_table(const store_bench* b, const char* renderer_name, const s
                c[k].label, c[k].fps_median, c[k].frame_ms, c[k].frame_ms_p99, c[k].cpu_ms,
                c[k].cut_ms, c[k].stream_ms, c[k].draw_ms, c[k].triangles, c[k].nodes,
                c[k].substituted_max, 100.0 * c[k].frames_with_substitution / frames, c[k].rss_mb,
-               c[k].rss_anon_mb, c[k].resident_mb, c[k].gpu_mb, c[k].max_px);
+               c[k].rss_anon_mb, c[k].resident_mb, c[k].gpu_mb,
+               c[k].samples > 0 ? c[k].max_px : NAN);
     for (int k = 0; k < nc; k++)
         if (!o->no_error)
             printf("%s: screen error measured on %d frames without substitution (%.0f samples, "
