@@ -28,6 +28,12 @@ typedef struct bench_options {
     double max_errors[16];
     int max_error_count;
     const char* dem;
+    /* stores (.tpt, bench_store.c) */
+    int memory_mb;     /* --memory: the stream's budget of decoded nodes; default 1024 */
+    int segments;      /* --segments: stretches of continuous flight; default 4 */
+    int error_every;   /* --error-every N: measure the error on every N-th frame; default 1 */
+    int realtime;      /* --realtime: the camera moves by the time that really passed */
+    int no_prefetch;   /* --no-prefetch: the stream gets no prefetch cut (what it costs) */
 } bench_options;
 
 typedef struct frame_row {
@@ -94,6 +100,10 @@ int tp_bench_write_sweep_csv(const bench_options* o, const config_result* c, int
  * table; --json / --csv outputs when non-NULL. Returns TP_EXIT_*. */
 int tp_bench_static(const tp_scene* sc, const char* dem, const double* max_errors, int count,
                     const char* json, const char* csv);
+
+/* `bench X.tpt`: flights over a built store through the hierarchy with streaming (the error
+ * mode at --tau, then the distance mode), a table, --json and --csv. Returns TP_EXIT_*. */
+int tp_bench_store(const bench_options* o);
 
 /* One configuration of a --sweep, as plotted. */
 typedef struct tp_bench_point {

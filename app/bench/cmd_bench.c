@@ -13,6 +13,7 @@
 #include "json.h"
 #include "renderer.h"
 #include "scene.h"
+#include "store_scene.h"
 #include "view_options.h"
 
 #include <epoxy/gl.h>
@@ -36,6 +37,11 @@ enum {
     OPT_PLOT,
     OPT_STATIC,
     OPT_MAX_ERROR,
+    OPT_MEMORY,
+    OPT_SEGMENTS,
+    OPT_ERROR_EVERY,
+    OPT_REALTIME,
+    OPT_NO_PREFETCH,
 };
 
 /* The sweep's grid: distance mode in patch widths (W = 2^n sample spacings), error mode in px. */
@@ -48,7 +54,7 @@ static const double sweep_tau[] = {0.5, 1, 2, 4, 8, 16};
 
 static void print_help(void)
 {
-    fputs("usage: terrapatch bench [options] DEM\n"
+    fputs("usage: terrapatch bench [options] DEM|X.tpt\n"
           "\n"
           "Renders headless frames (EGL) along a deterministic camera path for full resolution\n"
           "(frustum-culled), the distance LoD and the error LoD, in one run, and reports per\n"
@@ -86,6 +92,26 @@ static void print_help(void)
           "                         no frames: builds the static mesh of 'export --max-error M'\n"
           "                         for each bound and reports triangles, points, build time and\n"
           "                         the measured maximum and RMS error against the source\n"
+          "\n"
+          "A built store (X.tpt, see 'terrapatch build') is flown through its hierarchy with\n"
+          "streaming instead: the error mode at --tau, then the distance mode, each from a cold\n"
+          "start; --path low|high; the flight is --segments stretches of continuous flight at\n"
+          "--speed (30 frames a second) spread across the map, each reached by a jump, the\n"
+          "stream then left to load what the view asks for, and 5 untimed frames of flight.\n"
+          "  --memory MB            the stream's budget of decoded nodes (default 1024)\n"
+          "  --segments N           stretches of flight (default 4); --frames are split among them\n"
+          "  --realtime             the camera moves by speed x the time that really passed\n"
+          "                         (a slow frame is a jump, as in the viewer), not speed / 30\n"
+          "                         per frame\n"
+          "  --no-prefetch          no prefetch cut (to measure what the prefetch costs)\n"
+          "  --error-every N        measure the screen error on every N-th frame (default 1),\n"
+          "                         only frames drawn without substitution, only samples whose\n"
+          "                         leaf is resident (the JSON says how many were skipped)\n"
+          "--json adds rss_mb, rss_anon_mb (/proc/self/status VmRSS, RssAnon; max over the\n"
+          "timed frames), resident_mb (the stream's accounting), gpu_mb, first_frame_ms (from\n"
+          "the process's start to the end of the first drawn frame), frame_ms_p99,\n"
+          "nodes_drawn_median, substituted_nodes_max, frames_with_substitution.\n"
+          "\n"
           "DEM:\n",
           stdout);
     tp_scene_options_help(stdout);
@@ -114,6 +140,11 @@ static int parse_options(int argc, char** argv, bench_options* o)
         {"plot", required_argument, NULL, OPT_PLOT},
         {"static", no_argument, NULL, OPT_STATIC},
         {"max-error", required_argument, NULL, OPT_MAX_ERROR},
+        {"memory", required_argument, NULL, OPT_MEMORY},
+        {"segments", required_argument, NULL, OPT_SEGMENTS},
+        {"error-every", required_argument, NULL, OPT_ERROR_EVERY},
+        {"realtime", no_argument, NULL, OPT_REALTIME},
+        {"no-prefetch", no_argument, NULL, OPT_NO_PREFETCH},
         {"help", no_argument, NULL, 'h'},
         {NULL, 0, NULL, 0},
     };
@@ -122,6 +153,9 @@ static int parse_options(int argc, char** argv, bench_options* o)
     o->path_name = "low";
     o->frames = 60;
     o->speed_mps = 100;
+    o->memory_mb = 1024;
+    o->segments = 4;
+    o->error_every = 1;
     tp_view_setup_default(&o->vs);
     opterr = 0;
     optind = 1;
@@ -178,6 +212,25 @@ static int parse_options(int argc, char** argv, bench_options* o)
             }
             break;
         }
+        case OPT_MEMORY:
+        case OPT_SEGMENTS:
+        case OPT_ERROR_EVERY: {
+            long n = strtol(optarg, &end, 10);
+            long lo = c == OPT_MEMORY ? 16 : 1, hi = c == OPT_MEMORY ? 1 << 20 : 100000;
+            if (*end || end == optarg || n < lo || n > hi)
+                return bad(c == OPT_MEMORY ? "--memory" : c == OPT_SEGMENTS ? "--segments"
+                                                                            : "--error-every",
+                           c == OPT_MEMORY ? "megabytes, 16 or more" : "a count >= 1", optarg);
+            if (c == OPT_MEMORY)
+                o->memory_mb = (int)n;
+            else if (c == OPT_SEGMENTS)
+                o->segments = (int)n;
+            else
+                o->error_every = (int)n;
+            break;
+        }
+        case OPT_REALTIME: o->realtime = 1; break;
+        case OPT_NO_PREFETCH: o->no_prefetch = 1; break;
         case 'h': print_help(); return tp_cli_finish(TP_EXIT_OK);
         case ':':
             fprintf(stderr, "terrapatch bench: missing value for %s\n", argv[optind - 1]);
@@ -200,6 +253,17 @@ static int parse_options(int argc, char** argv, bench_options* o)
     }
     if (tp_view_setup_check(&o->vs, "bench") < 0)
         return TP_EXIT_USAGE;
+    if (tp_is_store_path(o->dem)) {
+        const char* no = o->sweep ? "--sweep" : o->is_static ? "--static" : o->path_file ? "--path-file"
+                         : o->vs.has_camera ? "--camera" : !strcmp(o->path_name, "orbit") ? "--path orbit"
+                         : NULL;
+        if (!no && o->realtime && o->speed_mps <= 0)
+            no = "--realtime with --speed 0";
+        if (no) {
+            fprintf(stderr, "terrapatch bench: %s is not available for a store (%s)\n", no, o->dem);
+            return TP_EXIT_USAGE;
+        }
+    }
     if (o->is_static != (o->max_error_count > 0)) {
         fprintf(stderr, "terrapatch bench: --static and --max-error go together "
                         "(e.g. --static --max-error 1,5,20)\n");
@@ -503,6 +567,8 @@ int tp_cli_bench(int argc, char** argv)
     for (int i = 0; i < 3; i++)
         if (outputs[i] && !tp_atomic_check_dir(outputs[i]))
             return TP_EXIT_FAILURE;
+    if (tp_is_store_path(o.dem))
+        return tp_bench_store(&o);
     tp_scene sc;
     o.scene.use = TP_MEMORY_USE_BENCH;
     if ((code = tp_scene_load(o.dem, &o.scene, &sc)) != TP_EXIT_OK)

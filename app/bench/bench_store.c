@@ -1,0 +1,635 @@
+/*
+ * bench_store.c - `terrapatch bench X.tpt`: flights over a built store through the hierarchy
+ * (issue 12). Every frame: tp_cut_update (the error or the distance mode), tp_stream_frame
+ * (with a prefetch cut), tp_renderer_draw_cut, timed as the DEM bench times its frames; then,
+ * outside the timed part, the process's memory (/proc/self/status) and the measured screen
+ * error of frames drawn without substitution.
+ *
+ * A flight is `segments` stretches of continuous flight at --speed spread evenly along a line
+ * across the map (low: the middle row, 60 m above the ground, west to east; high: along the
+ * south edge, 0.35 x the map's size above its highest point, 35 degrees down), so that a few
+ * hundred frames sample the whole map and still fly as a viewer flies: the camera advances
+ * speed / 30 m per frame (a 30 Hz flight). Before each stretch the camera jumps there, waits
+ * until the stream has loaded what the view asks for (untimed: a viewer flying continuously
+ * would have been loading on the way) and flies 5 untimed frames into the stretch, so the
+ * prefetch knows the motion. With --realtime the camera instead moves by speed x the time
+ * that really passed since the stretch began (what a viewer does), so a slow frame is a jump
+ * and the loader gets only real time.
+ */
+#define _POSIX_C_SOURCE 200809L
+#include "atomic_file.h"
+#include "bench.h"
+#include "camera_pose.h"
+#include "cli.h"
+#include "gl_context.h"
+#include "json.h"
+#include "memory.h"
+#include "renderer.h"
+#include "store_scene.h"
+
+#include <epoxy/gl.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+#include <unistd.h>
+
+#define FRAME_HZ 30.0
+#define WARMUP_FRAMES 5
+#define SETTLE_MAX_MS 20000.0
+
+typedef struct store_row {
+    double cut_ms, stream_ms, upload_ms, draw_ms, frame_ms, cpu_ms;
+    size_t triangles, gpu_bytes, resident_bytes;
+    int nodes, visited, substituted, requests, uploads, pending;
+    double substitution_px;
+    double rss_mb, rss_anon_mb;
+    int measured;               /* error measured (frame without substitution) */
+    double max_px, rms_px;
+    size_t samples, skipped;
+} store_row;
+
+typedef struct store_result {
+    tp_lod_params lod;
+    char label[64];
+    store_row* rows;
+    double fps_median, frame_ms, frame_ms_p99, cpu_ms, cut_ms, stream_ms, upload_ms, draw_ms;
+    double triangles, nodes, visited, uploads;
+    int substituted_max, frames_with_substitution, pending_max;
+    double rss_mb, rss_anon_mb, resident_mb, gpu_mb; /* max over timed frames */
+    int error_frames;           /* frames measured */
+    double max_px, rms_px;      /* over measured frames */
+    double samples, skipped;    /* totals over measured frames */
+    double settle_ms;           /* first stretch: open... until nothing is missing */
+    int settle_timeouts;
+} store_result;
+
+typedef struct store_bench {
+    const bench_options* o;
+    tp_store_scene sc;
+    const tp_tree_geometry* g;
+    double spacing_m;
+    tp_gl_context* ctx;
+    int segments, per_segment;
+    double step_m; /* per frame */
+    double t_open_ms;
+    double first_frame_ms, first_frame_open_ms; /* from process start / from opening */
+    double open_ms, context_ms; /* opening the store (metas, tree); the GL context */
+    double base_rss_mb, base_anon_mb; /* after opening the store and the GL context */
+    uint16_t* leaf;             /* the leaf ground_m read last */
+    int64_t leaf_id;
+} store_bench;
+
+static double now_ms(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return ts.tv_sec * 1e3 + ts.tv_nsec / 1e6;
+}
+
+/* Milliseconds since the process started (its start time in /proc/self/stat, in clock ticks
+ * since boot, against CLOCK_BOOTTIME); NaN when unknown. Resolution: one tick (10 ms). */
+static double ms_since_process_start(void)
+{
+    FILE* f = fopen("/proc/self/stat", "r");
+    if (!f)
+        return NAN;
+    char buf[2048];
+    size_t n = fread(buf, 1, sizeof buf - 1, f);
+    fclose(f);
+    buf[n] = '\0';
+    char* p = strrchr(buf, ')'); /* the command name may hold spaces */
+    if (!p)
+        return NAN;
+    unsigned long long start = 0;
+    /* fields after ')': 3 state ... 22 starttime */
+    int field = 2;
+    for (char* s = p + 1; *s && field < 22; s++)
+        if (*s == ' ' && ++field == 22)
+            start = strtoull(s + 1, NULL, 10);
+    long hz = sysconf(_SC_CLK_TCK);
+    struct timespec ts;
+    if (field != 22 || hz <= 0 || clock_gettime(CLOCK_BOOTTIME, &ts) != 0)
+        return NAN;
+    return ts.tv_sec * 1e3 + ts.tv_nsec / 1e6 - (double)start * 1e3 / (double)hz;
+}
+
+/* VmRSS and RssAnon of this process, MB (10^6 bytes); NaN when not readable. */
+static void read_rss(double* rss_mb, double* anon_mb)
+{
+    *rss_mb = *anon_mb = NAN;
+    FILE* f = fopen("/proc/self/status", "r");
+    if (!f)
+        return;
+    char line[256];
+    double kb;
+    while (fgets(line, sizeof line, f)) {
+        if (sscanf(line, "VmRSS: %lf", &kb) == 1)
+            *rss_mb = kb * 1024 / 1e6;
+        else if (sscanf(line, "RssAnon: %lf", &kb) == 1)
+            *anon_mb = kb * 1024 / 1e6;
+    }
+    fclose(f);
+}
+
+/* The highest sample of leaf (c, r)'s area (m), or the map's lowest where it draws nothing. */
+static double leaf_top_m(const store_bench* b, int c, int r)
+{
+    const tp_node_meta* m = tp_tree_meta(b->sc.tree, tp_tree_node_id(b->g, 0, c, r));
+    return m->flags & TP_NODE_HAS_DRAWN ? m->area_qmax * b->sc.tree_info.height_step_m
+                                        : b->sc.tree_info.min_height_m;
+}
+
+/* Ground height (m) at grid (x, y): bilinear between the full-resolution samples of the leaf
+ * under it, read from the store into the bench's own buffer (outside the stream and the
+ * timed part of a frame: a height query); where the leaf has undrawn samples there, or cannot
+ * be read, the highest sample of its area. */
+static double ground_m(store_bench* b, double x, double y)
+{
+    const tp_tree_geometry* g = b->g;
+    int w = 1 << g->n, v = w + 1;
+    int c = (int)fmin(fmax(floor(x / w), 0), g->cols - 1);
+    int r = (int)fmin(fmax(floor(y / w), 0), g->rows - 1);
+    int64_t id = tp_tree_node_id(g, 0, c, r);
+    if (id != b->leaf_id) {
+        tp_error err;
+        b->leaf_id = tp_store_read_node(b->sc.store, id, b->leaf, (size_t)v * v, &err) == TP_OK
+                         ? id
+                         : -1;
+        if (b->leaf_id < 0)
+            return leaf_top_m(b, c, r);
+    }
+    double lx = fmin(fmax(x - (double)c * w, 0), w), ly = fmin(fmax(y - (double)r * w, 0), w);
+    int i = (int)fmin(floor(lx), w - 1), j = (int)fmin(floor(ly), w - 1);
+    double tx = lx - i, ty = ly - j, q[4];
+    for (int k = 0; k < 4; k++) {
+        uint16_t s = b->leaf[(size_t)(j + k / 2) * v + (size_t)(i + k % 2)];
+        if (s == TP_TREE_NO_HEIGHT)
+            return leaf_top_m(b, c, r);
+        q[k] = s;
+    }
+    double qmin = tp_tree_meta(b->sc.tree, id)->qmin;
+    double s = (1 - ty) * ((1 - tx) * q[0] + tx * q[1]) + ty * ((1 - tx) * q[2] + tx * q[3]);
+    return (s + qmin) * b->sc.tree_info.height_step_m;
+}
+
+/* The camera d metres along stretch seg (negative: before its start). */
+static void flight_camera(store_bench* b, int seg, double d, tp_camera* cam)
+{
+    const bench_options* o = b->o;
+    const tp_tree_geometry* g = b->g;
+    const double* gt = b->sc.tree_info.geotransform;
+    double w = g->src_width - 1, hgt = g->src_height - 1;
+    double size_m = fmax(w, hgt) * b->spacing_m;
+    int high = !strcmp(o->path_name, "high");
+    double a0 = high ? 0.1 : 0.05, a1 = high ? 0.9 : 0.95; /* fractions of the width */
+    double len_px = b->per_segment * b->step_m / b->spacing_m;
+    if (o->realtime) /* a stretch lasts as long as its frames take: leave room for 10 s */
+        len_px = fmax(len_px, 10 * o->speed_mps / b->spacing_m);
+    double room = fmax((a1 - a0) * w - len_px, 0);
+    double x = a0 * w + (b->segments > 1 ? room * seg / (b->segments - 1) : 0) + d / b->spacing_m;
+    double e = gt[0] + x * gt[1];
+    if (high) {
+        double n = fmin(gt[3], gt[3] + hgt * gt[5]) - 0.15 * size_m;
+        tp_camera_pose(e, n, b->sc.tree_info.max_height_m + 0.35 * size_m, 0, -35, o->vs.fov_deg,
+                       o->vs.w, o->vs.h, cam);
+    } else {
+        double y = hgt / 2, n = gt[3] + y * gt[5];
+        tp_camera_pose(e, n, ground_m(b, x, y) + 60, 90, -10, o->vs.fov_deg, o->vs.w, o->vs.h,
+                       cam);
+    }
+}
+
+static int cmp_double(const void* a, const void* b)
+{
+    double x = *(const double*)a, y = *(const double*)b;
+    return (x > y) - (x < y);
+}
+
+static double median(double* v, int n)
+{
+    qsort(v, (size_t)n, sizeof *v, cmp_double);
+    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+/* The 99th percentile (nearest rank) of sorted v. */
+static double p99(const double* v, int n)
+{
+    int k = (int)ceil(0.99 * n) - 1;
+    return v[k < 0 ? 0 : k];
+}
+
+#define ROWS_OF(expr)                                                                              \
+    do {                                                                                           \
+        for (int i = 0; i < n; i++) {                                                              \
+            const store_row* r = &c->rows[i];                                                      \
+            v[i] = (double)(expr);                                                                 \
+        }                                                                                          \
+    } while (0)
+
+static void summarize(store_result* c, int n)
+{
+    double* v = malloc((size_t)n * sizeof *v);
+    if (!v)
+        return;
+    ROWS_OF(r->frame_ms);
+    c->frame_ms = median(v, n);
+    c->frame_ms_p99 = p99(v, n);
+    c->fps_median = 1000 / c->frame_ms;
+    ROWS_OF(r->cpu_ms);
+    c->cpu_ms = median(v, n);
+    ROWS_OF(r->cut_ms);
+    c->cut_ms = median(v, n);
+    ROWS_OF(r->stream_ms);
+    c->stream_ms = median(v, n);
+    ROWS_OF(r->upload_ms);
+    c->upload_ms = median(v, n);
+    ROWS_OF(r->draw_ms);
+    c->draw_ms = median(v, n);
+    ROWS_OF(r->triangles);
+    c->triangles = median(v, n);
+    ROWS_OF(r->nodes);
+    c->nodes = median(v, n);
+    ROWS_OF(r->visited);
+    c->visited = median(v, n);
+    ROWS_OF(r->uploads);
+    c->uploads = median(v, n);
+    double sum_px = 0;
+    for (int i = 0; i < n; i++) {
+        const store_row* r = &c->rows[i];
+        c->substituted_max = r->substituted > c->substituted_max ? r->substituted : c->substituted_max;
+        c->frames_with_substitution += r->substituted > 0;
+        c->pending_max = r->pending > c->pending_max ? r->pending : c->pending_max;
+        c->rss_mb = fmax(c->rss_mb, r->rss_mb);
+        c->rss_anon_mb = fmax(c->rss_anon_mb, r->rss_anon_mb);
+        c->resident_mb = fmax(c->resident_mb, r->resident_bytes / 1e6);
+        c->gpu_mb = fmax(c->gpu_mb, r->gpu_bytes / 1e6);
+        if (r->measured) {
+            c->error_frames++;
+            c->max_px = fmax(c->max_px, r->max_px);
+            sum_px += r->rms_px * r->rms_px;
+            c->samples += (double)r->samples;
+            c->skipped += (double)r->skipped;
+        }
+    }
+    c->rms_px = c->error_frames ? sqrt(sum_px / c->error_frames) : 0;
+    free(v);
+}
+
+/* Untimed frames at cam without drawing until the cut asks for nothing and the stream has
+ * nothing pending (or SETTLE_MAX_MS passed: 0 is returned then). */
+static int settle(store_bench* b, tp_cut* cut, tp_cut* pre, const tp_camera* cam,
+                  const tp_lod_params* lod)
+{
+    double t0 = now_ms();
+    tp_error err;
+    for (;;) {
+        if (tp_cut_update(cut, cam, lod, &err) != TP_OK)
+            return 0;
+        tp_stream_stats ss;
+        tp_stream_frame(b->sc.stream, cut, b->o->no_prefetch ? NULL : pre, cam, lod, &ss);
+        size_t nreq = 0;
+        tp_cut_requests(cut, &nreq);
+        if (nreq == 0 && ss.pending == 0)
+            return 1;
+        if (now_ms() - t0 > SETTLE_MAX_MS)
+            return 0;
+        nanosleep(&(struct timespec){0, 1000000}, NULL);
+    }
+}
+
+/* One configuration: a fresh stream, renderer and cuts (cold, as a viewer starts), the flight's
+ * frames. Returns TP_EXIT_*. */
+static int run_store_config(store_bench* b, store_result* c, int first, const char* progress)
+{
+    const bench_options* o = b->o;
+    int frames = b->segments * b->per_segment;
+    c->rows = calloc((size_t)frames, sizeof *c->rows);
+    tp_stream_options so = {.memory_bytes = (size_t)o->memory_mb << 20};
+    if (!c->rows)
+        return TP_EXIT_FAILURE;
+    if (tp_store_scene_stream(&b->sc, &so) != TP_EXIT_OK)
+        return TP_EXIT_FAILURE;
+    const tp_tree_geometry* g = b->g;
+    tp_render_grid_desc rd = {.n = g->n, .width = g->width, .height = g->height,
+                              .min_height_m = b->sc.tree_info.min_height_m,
+                              .max_height_m = b->sc.tree_info.max_height_m};
+    memcpy(rd.geotransform, b->sc.tree_info.geotransform, sizeof rd.geotransform);
+    char msg[512];
+    tp_renderer* r = tp_renderer_create_desc(&rd, msg, sizeof msg);
+    tp_cut *cut = NULL, *pre = NULL;
+    tp_error err;
+    int code = TP_EXIT_FAILURE;
+    if (!r) {
+        fprintf(stderr, "terrapatch bench: %s\n", msg);
+        goto done;
+    }
+    if (tp_cut_create(b->sc.tree, &cut, &err) != TP_OK ||
+        tp_cut_create(b->sc.tree, &pre, &err) != TP_OK) {
+        fprintf(stderr, "terrapatch bench: %s\n", err.message);
+        goto done;
+    }
+    tp_render_settings rs;
+    tp_render_settings_default(&rs);
+    tp_render_stats st;
+    tp_stream_stats ss;
+    for (int seg = 0; seg < b->segments; seg++) {
+        tp_camera cam;
+        flight_camera(b, seg, -WARMUP_FRAMES * b->step_m, &cam);
+        if (first && seg == 0) { /* the first frame: what a viewer shows right after start */
+            tp_gl_context_begin_frame(b->ctx);
+            if (tp_cut_update(cut, &cam, &c->lod, &err) != TP_OK)
+                goto cut_failed;
+            tp_stream_frame(b->sc.stream, cut, o->no_prefetch ? NULL : pre, &cam, &c->lod, &ss);
+            tp_renderer_draw_cut(r, b->sc.tree, cut, &cam, &rs, 1, 1, &st);
+            tp_gl_context_end_frame(b->ctx);
+            b->first_frame_ms = ms_since_process_start();
+            b->first_frame_open_ms = now_ms() - b->t_open_ms;
+        }
+        double t_settle = now_ms();
+        if (!settle(b, cut, pre, &cam, &c->lod))
+            c->settle_timeouts++;
+        if (seg == 0)
+            c->settle_ms = now_ms() - t_settle;
+        double t_fly = now_ms();
+        for (int i = -WARMUP_FRAMES; i < b->per_segment; i++) {
+            /* --realtime: where the camera is after the time that really passed */
+            double d = o->realtime ? (-WARMUP_FRAMES * b->step_m +
+                                      o->speed_mps * (now_ms() - t_fly) / 1e3)
+                                   : i * b->step_m;
+            flight_camera(b, seg, d, &cam);
+            store_row* row = i >= 0 ? &c->rows[seg * b->per_segment + i] : NULL;
+            tp_gl_context_begin_frame(b->ctx);
+            double t0 = now_ms();
+            if (tp_cut_update(cut, &cam, &c->lod, &err) != TP_OK)
+                goto cut_failed;
+            double t1 = now_ms();
+            tp_stream_frame(b->sc.stream, cut, o->no_prefetch ? NULL : pre, &cam, &c->lod, &ss);
+            double t2 = now_ms();
+            tp_renderer_draw_cut(r, b->sc.tree, cut, &cam, &rs, 1, 1, &st);
+            tp_gl_context_end_frame(b->ctx);
+            double t3 = now_ms();
+            if (!row)
+                continue;
+            /* outside the timed part */
+            tp_cut_stats cs;
+            tp_cut_get_stats(cut, &cs);
+            row->cut_ms = t1 - t0;
+            row->stream_ms = t2 - t1;
+            row->upload_ms = st.upload_ms;
+            row->draw_ms = st.draw_ms;
+            row->frame_ms = t3 - t0;
+            row->cpu_ms = row->cut_ms + row->stream_ms + row->upload_ms;
+            row->triangles = cs.triangles;
+            row->nodes = cs.drawn;
+            row->visited = cs.visited;
+            row->substituted = cs.substituted;
+            row->substitution_px = cs.substitution_bound_px;
+            row->requests = cs.requests;
+            row->uploads = st.uploads;
+            row->gpu_bytes = st.gpu_bytes;
+            row->resident_bytes = ss.resident_bytes;
+            row->pending = ss.pending;
+            read_rss(&row->rss_mb, &row->rss_anon_mb);
+            int k = seg * b->per_segment + i;
+            if (!o->no_error && cs.substituted == 0 && k % o->error_every == 0) {
+                row->measured = 1;
+                tp_cut_measure_screen_error(cut, &cam, &row->max_px, &row->rms_px, &row->samples,
+                                            &row->skipped);
+            }
+            const char* failure = tp_stream_take_failure(b->sc.stream);
+            if (failure)
+                fprintf(stderr, "\nterrapatch bench: %s\n", failure);
+            fprintf(stderr, "\rterrapatch: bench %s: frame %d/%d, %.1f ms, %d nodes   ", progress,
+                    k + 1, frames, row->frame_ms, row->nodes);
+        }
+    }
+    fprintf(stderr, "\n");
+    summarize(c, frames);
+    code = TP_EXIT_OK;
+    goto done;
+cut_failed:
+    fprintf(stderr, "\nterrapatch bench: selecting the cut: %s\n",
+            err.message[0] ? err.message : "failed");
+done:
+    tp_cut_destroy(pre);
+    tp_cut_destroy(cut);
+    tp_renderer_destroy(r);
+    tp_stream_destroy(b->sc.stream);
+    b->sc.stream = NULL;
+    return code;
+}
+
+static void json_result(tp_json* j, const store_result* c)
+{
+#define KN(k, v) (tp_json_key(j, k), tp_json_number(j, v))
+    tp_json_key(j, "lod_mode");
+    tp_json_string(j, c->lod.mode == TP_LOD_ERROR ? "error" : "distance");
+    if (c->lod.mode == TP_LOD_ERROR)
+        KN("tau_px", c->lod.tau_px > 0 ? c->lod.tau_px : 1);
+    KN("fps_median", c->fps_median);
+    KN("frame_ms_median", c->frame_ms);
+    KN("frame_ms_p99", c->frame_ms_p99);
+    KN("p99_over_median", c->frame_ms_p99 / c->frame_ms);
+    KN("cpu_ms", c->cpu_ms);
+    KN("cut_ms_median", c->cut_ms);
+    KN("stream_ms_median", c->stream_ms);
+    KN("upload_ms_median", c->upload_ms);
+    KN("draw_ms_median", c->draw_ms);
+    KN("triangles_median", c->triangles);
+    KN("nodes_drawn_median", c->nodes);
+    KN("nodes_visited_median", c->visited);
+    KN("uploads_median", c->uploads);
+    KN("substituted_nodes_max", c->substituted_max);
+    KN("frames_with_substitution", c->frames_with_substitution);
+    KN("pending_max", c->pending_max);
+    KN("rss_mb", c->rss_mb);
+    KN("rss_anon_mb", c->rss_anon_mb);
+    KN("resident_mb", c->resident_mb);
+    KN("gpu_mb", c->gpu_mb);
+    KN("settle_ms", c->settle_ms);
+    KN("settle_timeouts", c->settle_timeouts);
+    KN("error_frames_measured", c->error_frames);
+    /* null when no sample was measured (every leaf in view not resident) */
+    KN("max_screen_error_px", c->error_frames && c->samples > 0 ? c->max_px : NAN);
+    KN("rms_screen_error_px", c->error_frames && c->samples > 0 ? c->rms_px : NAN);
+    KN("error_samples", c->samples);
+    KN("error_samples_skipped", c->skipped);
+#undef KN
+}
+
+static int write_json(const store_bench* b, const char* renderer_name, const store_result* c,
+                      int nc)
+{
+    const bench_options* o = b->o;
+    tp_atomic_file file;
+    if (!tp_atomic_open(&file, o->json))
+        return 0;
+    tp_json j;
+    tp_json_init(&j, file.f);
+    tp_json_object_begin(&j);
+#define KS(k, v) (tp_json_key(&j, k), tp_json_string(&j, v))
+#define KN(k, v) (tp_json_key(&j, k), tp_json_number(&j, v))
+    KS("store", o->dem);
+    char size[32];
+    snprintf(size, sizeof size, "%dx%d", o->vs.w, o->vs.h);
+    KS("size", size);
+    KS("path", o->path_name);
+    KN("speed_mps", o->speed_mps);
+    tp_json_key(&j, "realtime");
+    tp_json_bool(&j, o->realtime);
+    tp_json_key(&j, "prefetch");
+    tp_json_bool(&j, !o->no_prefetch);
+    KN("frames", b->segments * b->per_segment);
+    KN("segments", b->segments);
+    KN("samples", (double)b->g->src_width * b->g->src_height);
+    KN("src_width", b->g->src_width);
+    KN("src_height", b->g->src_height);
+    KN("nodes", (double)b->g->node_count);
+    KN("patch_size", (1 << b->g->n) + 1);
+    KN("memory_budget_mb", (double)((size_t)o->memory_mb << 20) / 1e6);
+    KS("renderer", renderer_name);
+    /* first_frame_ms: from the process's start (/proc/self/stat, 10 ms ticks) to the end of
+     * the first drawn frame (glFinish); first_frame_from_open_ms: from opening the store */
+    KN("first_frame_ms", b->first_frame_ms);
+    KN("first_frame_from_open_ms", b->first_frame_open_ms);
+    KN("store_open_ms", b->open_ms);
+    KN("gl_context_ms", b->context_ms);
+    KN("peak_rss_mb", tp_memory_peak_rss() / 1e6);
+    /* before any node, cut or renderer: libraries, the GL driver, the store's node table */
+    KN("base_rss_mb", b->base_rss_mb);
+    KN("base_rss_anon_mb", b->base_anon_mb);
+    json_result(&j, &c[0]); /* the headline: the first configuration (error mode) */
+    tp_json_key(&j, "configurations");
+    tp_json_array_begin(&j);
+    for (int i = 0; i < nc; i++) {
+        tp_json_object_begin(&j);
+        json_result(&j, &c[i]);
+        tp_json_object_end(&j);
+    }
+    tp_json_array_end(&j);
+#undef KS
+#undef KN
+    tp_json_object_end(&j);
+    fputc('\n', file.f);
+    return tp_atomic_commit(&file);
+}
+
+static int write_csv(const store_bench* b, const store_result* c, int nc)
+{
+    tp_atomic_file file;
+    if (!tp_atomic_open(&file, b->o->csv))
+        return 0;
+    FILE* f = file.f;
+    fprintf(f, "lod_mode,frame,frame_ms,cut_ms,stream_ms,upload_ms,draw_ms,cpu_ms,triangles,nodes,"
+               "visited,substituted,requests,uploads,pending,gpu_bytes,resident_bytes,rss_mb,"
+               "rss_anon_mb,measured,max_screen_error_px,rms_screen_error_px,samples,skipped\n");
+    int frames = b->segments * b->per_segment;
+    for (int k = 0; k < nc; k++)
+        for (int i = 0; i < frames; i++) {
+            const store_row* r = &c[k].rows[i];
+            fprintf(f, "%s,%d,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%zu,%d,%d,%d,%d,%d,%d,%zu,%zu,%.1f,"
+                       "%.1f,%d,%.4f,%.4f,%zu,%zu\n",
+                    c[k].lod.mode == TP_LOD_ERROR ? "error" : "distance", i, r->frame_ms,
+                    r->cut_ms, r->stream_ms, r->upload_ms, r->draw_ms, r->cpu_ms, r->triangles,
+                    r->nodes, r->visited, r->substituted, r->requests, r->uploads, r->pending,
+                    r->gpu_bytes, r->resident_bytes, r->rss_mb, r->rss_anon_mb, r->measured,
+                    r->max_px, r->rms_px, r->samples, r->skipped);
+        }
+    return tp_atomic_commit(&file);
+}
+
+static void print_table(const store_bench* b, const char* renderer_name, const store_result* c,
+                        int nc)
+{
+    const bench_options* o = b->o;
+    int frames = b->segments * b->per_segment;
+    printf("%s, %dx%d samples, %dx%d, %s path at %g m/s%s, %d frames in %d stretches, memory "
+           "budget %d MB, renderer %s\n",
+           o->dem, b->g->src_width, b->g->src_height, o->vs.w, o->vs.h, o->path_name,
+           o->speed_mps, o->realtime ? " (real time)" : " (30 Hz steps)", frames, b->segments, o->memory_mb, renderer_name);
+    printf("first frame %.0f ms after the process started, %.0f ms after opening the store "
+           "(open %.0f ms, GL context %.0f ms)\n",
+           b->first_frame_ms, b->first_frame_open_ms, b->open_ms, b->context_ms);
+    printf("memory before the first node: %.0f MB resident, %.0f MB anonymous (libraries, GL "
+           "driver, node table)\n",
+           b->base_rss_mb, b->base_anon_mb);
+    printf("%-16s %7s %8s %7s %7s %7s %7s %7s %9s %6s %6s %8s %7s %7s %7s %7s %7s\n", "lod", "fps",
+           "frame ms", "p99 ms", "cpu ms", "cut ms", "strm ms", "draw ms", "triangles", "nodes",
+           "subst", "subst fr", "rss MB", "anon MB", "res MB", "gpu MB", "max px");
+    for (int k = 0; k < nc; k++)
+        printf("%-16s %7.2f %8.2f %7.2f %7.3f %7.3f %7.3f %7.2f %9.0f %6.0f %6d %7.1f%% %7.0f "
+               "%7.0f %7.0f %7.0f %7.3f\n",
+               c[k].label, c[k].fps_median, c[k].frame_ms, c[k].frame_ms_p99, c[k].cpu_ms,
+               c[k].cut_ms, c[k].stream_ms, c[k].draw_ms, c[k].triangles, c[k].nodes,
+               c[k].substituted_max, 100.0 * c[k].frames_with_substitution / frames, c[k].rss_mb,
+               c[k].rss_anon_mb, c[k].resident_mb, c[k].gpu_mb,
+               c[k].samples > 0 ? c[k].max_px : NAN);
+    for (int k = 0; k < nc; k++)
+        if (!o->no_error)
+            printf("%s: screen error measured on %d frames without substitution (%.0f samples, "
+                   "%.0f skipped: leaves not resident)\n",
+                   c[k].label, c[k].error_frames, c[k].samples, c[k].skipped);
+}
+
+int tp_bench_store(const bench_options* o)
+{
+    store_bench b;
+    memset(&b, 0, sizeof b);
+    b.o = o;
+    b.t_open_ms = now_ms();
+    if (tp_store_scene_open(o->dem, &b.sc) != TP_EXIT_OK)
+        return TP_EXIT_FAILURE;
+    b.open_ms = now_ms() - b.t_open_ms;
+    b.g = tp_tree_get_geometry(b.sc.tree);
+    b.leaf_id = -1;
+    b.leaf = malloc(((size_t)1 << b.g->n | 1) * (((size_t)1 << b.g->n) + 1) * sizeof *b.leaf);
+    if (!b.leaf) {
+        fprintf(stderr, "terrapatch bench: out of memory\n");
+        tp_store_scene_close(&b.sc);
+        return TP_EXIT_FAILURE;
+    }
+    b.spacing_m = fabs(b.sc.tree_info.geotransform[1]);
+    b.segments = o->segments < o->frames ? o->segments : o->frames;
+    b.per_segment = o->frames / b.segments;
+    b.step_m = o->speed_mps / FRAME_HZ;
+    char msg[512];
+    if (!tp_gl_context_create_headless(o->vs.w, o->vs.h, &b.ctx, msg, sizeof msg)) {
+        fprintf(stderr, "terrapatch bench: %s\n", msg);
+        free(b.leaf);
+        tp_store_scene_close(&b.sc);
+        return TP_EXIT_FAILURE;
+    }
+    b.context_ms = now_ms() - b.t_open_ms - b.open_ms;
+    read_rss(&b.base_rss_mb, &b.base_anon_mb);
+    const char* renderer_name = (const char*)glGetString(GL_RENDERER);
+    renderer_name = renderer_name ? renderer_name : "?";
+    store_result c[2];
+    memset(c, 0, sizeof c);
+    c[0].lod = o->vs.lod;
+    c[0].lod.mode = TP_LOD_ERROR;
+    c[1].lod = o->vs.lod;
+    c[1].lod.mode = TP_LOD_DISTANCE;
+    snprintf(c[0].label, sizeof c[0].label, "error tau=%g", o->vs.lod.tau_px > 0 ? o->vs.lod.tau_px : 1);
+    snprintf(c[1].label, sizeof c[1].label, "distance");
+    int nc = 2, code = TP_EXIT_OK;
+    for (int k = 0; k < nc && code == TP_EXIT_OK; k++) {
+        char progress[96];
+        snprintf(progress, sizeof progress, "%s (%d/%d)", c[k].label, k + 1, nc);
+        code = run_store_config(&b, &c[k], k == 0, progress);
+    }
+    if (code == TP_EXIT_OK) {
+        print_table(&b, renderer_name, c, nc);
+        if (o->json && !write_json(&b, renderer_name, c, nc))
+            code = TP_EXIT_FAILURE;
+        if (o->csv && !write_csv(&b, c, nc))
+            code = TP_EXIT_FAILURE;
+    }
+    for (int k = 0; k < nc; k++)
+        free(c[k].rows);
+    free(b.leaf);
+    tp_gl_context_destroy(b.ctx);
+    tp_store_scene_close(&b.sc);
+    return code == TP_EXIT_OK ? tp_cli_finish(code) : code;
+}
