@@ -42,6 +42,7 @@
 typedef struct store_row {
     double cut_ms, stream_ms, upload_ms, draw_ms, frame_ms, cpu_ms;
     size_t triangles, gpu_bytes, resident_bytes;
+    int dropped;
     int nodes, visited, substituted, requests, uploads, pending;
     double substitution_px;
     double rss_mb, rss_anon_mb;
@@ -57,6 +58,7 @@ typedef struct store_result {
     double fps_median, frame_ms, frame_ms_p99, cpu_ms, cut_ms, stream_ms, upload_ms, draw_ms;
     double triangles, nodes, visited, uploads;
     int substituted_max, frames_with_substitution, pending_max;
+    int dropped_max; /* items the renderer could not hold (TP_RENDER_POOL_MAX_BYTES) */
     double rss_mb, rss_anon_mb, resident_mb, gpu_mb; /* max over timed frames */
     int error_frames;           /* frames measured */
     double max_px, rms_px;      /* over measured frames */
@@ -260,6 +262,7 @@ static void summarize(store_result* c, int n)
         const store_row* r = &c->rows[i];
         c->substituted_max = r->substituted > c->substituted_max ? r->substituted : c->substituted_max;
         c->frames_with_substitution += r->substituted > 0;
+        c->dropped_max = r->dropped > c->dropped_max ? r->dropped : c->dropped_max;
         c->pending_max = r->pending > c->pending_max ? r->pending : c->pending_max;
         c->rss_mb = fmax(c->rss_mb, r->rss_mb);
         c->rss_anon_mb = fmax(c->rss_anon_mb, r->rss_anon_mb);
@@ -389,6 +392,7 @@ static int run_store_config(store_bench* b, store_result* c, int first, const ch
             row->requests = cs.requests;
             row->uploads = st.uploads;
             row->gpu_bytes = st.gpu_bytes;
+            row->dropped = st.dropped;
             row->resident_bytes = ss.resident_bytes;
             row->pending = ss.pending;
             read_rss(&row->rss_mb, &row->rss_anon_mb);
@@ -443,6 +447,7 @@ static void json_result(tp_json* j, const store_result* c)
     KN("uploads_median", c->uploads);
     KN("substituted_nodes_max", c->substituted_max);
     KN("frames_with_substitution", c->frames_with_substitution);
+    KN("dropped_nodes_max", c->dropped_max);
     KN("pending_max", c->pending_max);
     KN("rss_mb", c->rss_mb);
     KN("rss_anon_mb", c->rss_anon_mb);

@@ -227,6 +227,11 @@ static int grow_pool(tp_renderer* r, int slots)
     /* Draws address a slot by its first vertex as a GLint base vertex. */
     if ((size_t)slots > (size_t)INT_MAX / r->slot_verts)
         return 0;
+    size_t max_slots = TP_RENDER_POOL_MAX_BYTES / (r->slot_verts * sizeof(gpu_vertex));
+    if ((size_t)slots > max_slots)
+        slots = (int)max_slots;
+    if (slots <= r->slots)
+        return 0;
     size_t bytes = (size_t)slots * r->slot_verts * sizeof(gpu_vertex);
     size_t cap = 16;
     while (cap < 2 * (size_t)slots)
@@ -562,8 +567,10 @@ void tp_renderer_draw_items(tp_renderer* r, const tp_render_item* items, size_t 
         const tp_render_item* it = &items[i];
         int fresh;
         int s = slot_for(r, it->key, &fresh);
-        if (s < 0)
+        if (s < 0) {
+            stats->dropped++;
             continue;
+        }
         slot* sl = &r->slot[s];
         sl->stamp = r->frame;
         if (fresh || sl->level != it->level || memcmp(sl->nb, it->nb, sizeof sl->nb) ||

@@ -44,7 +44,14 @@ typedef struct tp_render_stats {
     size_t gpu_bytes;         /* resident GPU buffers */
     double upload_ms;         /* building and uploading vertex data */
     double draw_ms;           /* submitting and finishing the draw (glFinish) */
+    int dropped;              /* items not drawn: the vertex pool is at TP_RENDER_POOL_MAX_BYTES
+                                 and every slot is drawn this frame (or memory ran out) */
 } tp_render_stats;
+
+/* The vertex pool never grows past this, whatever a frame asks for: llvmpipe (Mesa 22.3) crashes
+ * drawing from a buffer past 2 GiB (bench over a 20481^2 store at tau = 1), and no frame that
+ * needs more can be interactive. Items beyond it are dropped (counted in tp_render_stats). */
+#define TP_RENDER_POOL_MAX_BYTES ((size_t)1 << 30)
 
 /* What the renderer needs to know about the grid it draws. */
 typedef struct tp_render_grid_desc {
