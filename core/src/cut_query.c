@@ -80,45 +80,6 @@ int tp_cut_keep_above(const tp_cut* c, double position[3], double clearance_m)
 
 /* ---- ray casting ---- */
 
-/* Clips [*t0, *t1] to the t where o + t d lies in [lo, hi]; 0 if empty. */
-static int slab(double o, double d, double lo, double hi, double* t0, double* t1)
-{
-    if (d == 0)
-        return o >= lo && o <= hi;
-    double a = (lo - o) / d, b = (hi - o) / d;
-    if (a > b) {
-        double c = a;
-        a = b;
-        b = c;
-    }
-    *t0 = a > *t0 ? a : *t0;
-    *t1 = b < *t1 ? b : *t1;
-    return *t0 <= *t1;
-}
-
-/* Nearest t >= 0 where the ray (origin at 0, direction d) meets triangle (a, b, c), or -1;
- * edges and vertices count (query.c's test). */
-static double ray_triangle(const double d[3], const double a[3], const double b[3],
-                           const double c[3])
-{
-    double e1[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
-    double e2[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
-    double p[3] = {d[1] * e2[2] - d[2] * e2[1], d[2] * e2[0] - d[0] * e2[2],
-                   d[0] * e2[1] - d[1] * e2[0]};
-    double det = e1[0] * p[0] + e1[1] * p[1] + e1[2] * p[2];
-    if (det == 0)
-        return -1;
-    double s[3] = {-a[0], -a[1], -a[2]};
-    double u = (s[0] * p[0] + s[1] * p[1] + s[2] * p[2]) / det;
-    double q[3] = {s[1] * e1[2] - s[2] * e1[1], s[2] * e1[0] - s[0] * e1[2],
-                   s[0] * e1[1] - s[1] * e1[0]};
-    double v = (d[0] * q[0] + d[1] * q[1] + d[2] * q[2]) / det;
-    const double eps = 1e-12;
-    if (u < -eps || v < -eps || u + v > 1 + eps)
-        return -1;
-    double t = (e2[0] * q[0] + e2[1] * q[1] + e2[2] * q[2]) / det;
-    return t >= 0 ? t : -1;
-}
 
 /* A 2D DDA over a grid of square cells: cell (cx, cy) spans [ox + cx * size, ox + (cx+1) *
  * size] in x (the same in y); the ray's ground track is (x0 + t gx, y0 + t gy). */
@@ -188,7 +149,7 @@ static double cell_hit(const ray_ctx* r, int vs, int cx, int cy, double best)
         }
         if (!ok)
             continue;
-        double t = ray_triangle(r->d, w[0], w[1], w[2]);
+        double t = tp__ray_triangle(r->d, w[0], w[1], w[2]);
         if (t >= 0 && (best < 0 || t < best))
             best = t;
     }
@@ -206,7 +167,8 @@ static double node_hit(ray_ctx* r, size_t i)
     tp_cut_vertices(c, i, r->v, (size_t)vs * vs);
     double span = (double)((int64_t)1 << (c->n + s)), ox = nc * span, oy = nr * span;
     double t0 = 0, t1 = INFINITY;
-    if (!slab(r->x0, r->gx, ox, ox + span, &t0, &t1) || !slab(r->y0, r->gy, oy, oy + span, &t0, &t1))
+    if (!tp__slab(r->x0, r->gx, ox, ox + span, &t0, &t1) ||
+        !tp__slab(r->y0, r->gy, oy, oy + span, &t0, &t1))
         return -1;
     double best = -1;
     dda w;
@@ -246,9 +208,9 @@ tp_status tp_cut_ray_cast(const tp_cut* c, const double origin[3], const double 
     tp_tree_get_info(c->t, &ti);
     double zlo = ti.min_height_m * c->zscale, zhi = ti.max_height_m * c->zscale;
     double t0 = 0, t1 = INFINITY;
-    if (c->out_count == 0 || isnan(zlo) || !slab(r.x0, r.gx, 0, c->g.width - 1, &t0, &t1) ||
-        !slab(r.y0, r.gy, 0, c->g.height - 1, &t0, &t1) ||
-        !slab(origin[2], r.d[2], fmin(zlo, zhi), fmax(zlo, zhi), &t0, &t1)) {
+    if (c->out_count == 0 || isnan(zlo) || !tp__slab(r.x0, r.gx, 0, c->g.width - 1, &t0, &t1) ||
+        !tp__slab(r.y0, r.gy, 0, c->g.height - 1, &t0, &t1) ||
+        !tp__slab(origin[2], r.d[2], fmin(zlo, zhi), fmax(zlo, zhi), &t0, &t1)) {
         *out = res;
         return TP_OK;
     }

@@ -114,45 +114,6 @@ int tp_selection_keep_above(const tp_selection* s, double position[3], double cl
  * crack removal, so the first patch with a hit holds the nearest hit.
  */
 
-/* Clips [*t0, *t1] to the t where o + t d lies in [lo, hi]; 0 if empty. */
-static int slab(double o, double d, double lo, double hi, double* t0, double* t1)
-{
-    if (d == 0)
-        return o >= lo && o <= hi;
-    double a = (lo - o) / d, b = (hi - o) / d;
-    if (a > b) {
-        double c = a;
-        a = b;
-        b = c;
-    }
-    *t0 = a > *t0 ? a : *t0;
-    *t1 = b < *t1 ? b : *t1;
-    return *t0 <= *t1;
-}
-
-/* Nearest t >= 0 where the ray (origin at 0, direction d) meets triangle (a, b, c), or -1.
- * Edges and vertices count, so a ray through a shared edge hits one of its triangles. */
-static double ray_triangle(const double d[3], const double a[3], const double b[3],
-                           const double c[3])
-{
-    double e1[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
-    double e2[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
-    double p[3] = {d[1] * e2[2] - d[2] * e2[1], d[2] * e2[0] - d[0] * e2[2],
-                   d[0] * e2[1] - d[1] * e2[0]};
-    double det = e1[0] * p[0] + e1[1] * p[1] + e1[2] * p[2];
-    if (det == 0)
-        return -1;
-    double s[3] = {-a[0], -a[1], -a[2]};
-    double u = (s[0] * p[0] + s[1] * p[1] + s[2] * p[2]) / det;
-    double q[3] = {s[1] * e1[2] - s[2] * e1[1], s[2] * e1[0] - s[0] * e1[2],
-                   s[0] * e1[1] - s[1] * e1[0]};
-    double v = (d[0] * q[0] + d[1] * q[1] + d[2] * q[2]) / det;
-    const double eps = 1e-12;
-    if (u < -eps || v < -eps || u + v > 1 + eps)
-        return -1;
-    double t = (e2[0] * q[0] + e2[1] * q[1] + e2[2] * q[2]) / det;
-    return t >= 0 ? t : -1;
-}
 
 /* Nearest hit with patch p's drawn triangles (relative to origin o), or -1. */
 static double ray_patch(const tp_selection* s, int p, const double o[3], const double d[3],
@@ -173,7 +134,7 @@ static double ray_patch(const tp_selection* s, int p, const double o[3], const d
             w[j][1] -= o[1];
             w[j][2] = (double)v->z_m * s->zscale - o[2];
         }
-        double h = ray_triangle(d, w[0], w[1], w[2]);
+        double h = tp__ray_triangle(d, w[0], w[1], w[2]);
         if (h >= 0 && (best < 0 || h < best))
             best = h;
     }
@@ -197,8 +158,8 @@ tp_status tp_selection_ray_cast(const tp_selection* s, const double origin[3],
     tp_ray_hit res = {0};
     res.patch = -1;
     res.node = -1;
-    if (!slab(x0, gx, 0, t->w - 1, &t0, &t1) || !slab(y0, gy, 0, t->h - 1, &t0, &t1) ||
-        !slab(origin[2], d[2], fmin(zlo, zhi), fmax(zlo, zhi), &t0, &t1)) {
+    if (!tp__slab(x0, gx, 0, t->w - 1, &t0, &t1) || !tp__slab(y0, gy, 0, t->h - 1, &t0, &t1) ||
+        !tp__slab(origin[2], d[2], fmin(zlo, zhi), fmax(zlo, zhi), &t0, &t1)) {
         *out = res;
         return TP_OK;
     }
