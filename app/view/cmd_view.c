@@ -511,6 +511,7 @@ int tp_cli_view(int argc, char** argv)
                                      .patch_size = o.patch_given ? o.scene.patch_size : 65,
                                      .crs = o.scene.grid.crs,
                                      .resampling = o.scene.grid.resampling,
+                                     .fill_max_px = o.scene.grid.fill_max_px,
                                      .cmd = "view"};
         int temporary = 0;
         code = tp_store_cache_get(o.path, &co, store, sizeof store, &temporary);
