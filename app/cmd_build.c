@@ -39,12 +39,13 @@ typedef struct build_options {
     const char* crs;
     tp_resampling resampling;
     int memory_mb;
+    int fill_max; /* samples; 0 fills nothing */
     int threads;
     const char* json; /* NULL, "-" or a path */
     int quiet;
 } build_options;
 
-enum { OPT_CRS = 256, OPT_RESAMPLING, OPT_MEMORY, OPT_THREADS, OPT_JSON, OPT_QUIET, OPT_PATCH };
+enum { OPT_CRS = 256, OPT_RESAMPLING, OPT_MEMORY, OPT_THREADS, OPT_JSON, OPT_QUIET, OPT_PATCH, OPT_FILL_MAX };
 
 static void print_help(void)
 {
@@ -56,13 +57,17 @@ static void print_help(void)
           "spacings differ; geographic sources are warped to the UTM/UPS zone of the centre.\n"
           "The grid is read in bands of rows, quantised with one global height step and built\n"
           "into a hierarchy of (2^n+1)^2 nodes; memory stays within --memory whatever the size.\n"
-          "Voids are not filled (they stay nodata, never drawn).\n"
+          "Interior voids up to --fill-max samples are filled as the viewer fills a DEM's\n"
+          "(GDALFillNodata), larger ones and those on the border stay nodata (never drawn);\n"
+          "stores keep no per-sample \"filled\" mark (the viewer cannot tint filled voids).\n"
           "\n"
           "options:\n"
           "  -o, --output FILE   the store to write (written whole or not at all)\n"
           "  --patch N           node size: 17, 33, 65, 129 or 257 (default 65)\n"
           "  --crs CRS           the sources' CRS (EPSG:N, WKT, PROJ), overriding theirs\n"
           "  --resampling R      bilinear (default) or cubic, for warps\n"
+          "  --fill-max N        fill interior voids up to N x N samples by interpolation\n"
+          "                      (default 64; 0 fills nothing); not marked in the store\n"
           "  --memory MB         memory budget (default 1024); GDAL's cache gets a quarter;\n"
           "                      refused at once when one band of rows does not fit\n"
           "  --threads N         threads (default: every core)\n"
@@ -104,6 +109,7 @@ static int parse_options(int argc, char** argv, build_options* o)
         {"crs", required_argument, NULL, OPT_CRS},
         {"resampling", required_argument, NULL, OPT_RESAMPLING},
         {"memory", required_argument, NULL, OPT_MEMORY},
+        {"fill-max", required_argument, NULL, OPT_FILL_MAX},
         {"threads", required_argument, NULL, OPT_THREADS},
         {"json", required_argument, NULL, OPT_JSON},
         {"quiet", no_argument, NULL, OPT_QUIET},
@@ -113,6 +119,7 @@ static int parse_options(int argc, char** argv, build_options* o)
     *o = (build_options){0};
     o->patch_size = 65;
     o->memory_mb = 1024;
+    o->fill_max = 64;
     opterr = 0;
     optind = 1;
     int c;
@@ -139,6 +146,11 @@ static int parse_options(int argc, char** argv, build_options* o)
         case OPT_MEMORY:
             if (!parse_int(optarg, 64, 1 << 24, &o->memory_mb))
                 return tp_option_error("build", "--memory", "megabytes, 64 or more", optarg),
+                       TP_EXIT_USAGE;
+            break;
+        case OPT_FILL_MAX:
+            if (!parse_int(optarg, 0, 100000, &o->fill_max))
+                return tp_option_error("build", "--fill-max", "0 .. 100000 samples", optarg),
                        TP_EXIT_USAGE;
             break;
         case OPT_THREADS:
@@ -287,20 +299,26 @@ static int emit_node(int64_t node, const tp_node_meta* meta, const int32_t* q, v
  * node of a row, two rows of metas per scale) and the store writer's node table (docs/store.md:
  * 38 + 10n bytes per node, and a bit). GDAL's block cache comes on top (a quarter of --memory);
  * the program's fixed part (libraries, about 156 MB resident: docs/PERFORMANCE.md) is not counted. */
-static double build_memory_bytes(const tp_tree_geometry* g, int src_width)
+static double build_memory_bytes(const tp_tree_geometry* g, int src_width, int fill_max)
 {
     const double side = (1 << g->n) + 1;
+    /* void filling: the mosaic's window (fill_max + 1 rows each side) as read and filled, its
+     * regions (int) and marks (byte) while it holds a void */
+    const double fill = fill_max > 0 ? (side + 2.0 * (fill_max + 1)) * src_width * 13.0 : 0;
     const double band = side * src_width * sizeof(float) + side * g->width * sizeof(int32_t);
     const double builder = 4 * side * ((2 + 1.0 / (1 << g->n)) * g->width + g->scales) +
                            4.0 * g->cols * sizeof(tp_node_meta) + 2048;
     const double table = (double)g->node_count * (38 + 10 * g->n + 0.125);
-    return band + builder + table + (1 << 20) /* zstd's context, one node's scratch */;
+    return band + fill + builder + table + (1 << 20) /* zstd's context, one node's scratch */;
 }
 
-/* The store's notes: the sources, then the mosaic's own. NULL when out of memory. */
-static char* build_notes(const build_options* o, const tp_mosaic_info* mi)
+/* The store's notes: the sources, then the mosaic's own, then the void filling with `filled`
+ * samples, padded with spaces to the length of a 20-digit count (the header written first gets
+ * 0; the count replaces it at commit: tp_store_writer_set_notes keeps the length). NULL when out
+ * of memory. */
+static char* build_notes(const build_options* o, const tp_mosaic_info* mi, size_t filled)
 {
-    size_t cap = strlen(mi->notes) + 64;
+    size_t cap = strlen(mi->notes) + 256;
     for (int i = 0; i < o->source_count; i++)
         cap += strlen(o->sources[i]) + 16;
     char* notes = malloc(cap);
@@ -309,7 +327,18 @@ static char* build_notes(const build_options* o, const tp_mosaic_info* mi)
     size_t at = 0;
     for (int i = 0; i < o->source_count; i++)
         at += (size_t)snprintf(notes + at, cap - at, "source: %s\n", o->sources[i]);
-    snprintf(notes + at, cap - at, "%s%svoids are not filled", mi->notes, mi->notes[0] ? "\n" : "");
+    at += (size_t)snprintf(notes + at, cap - at, "%s%s", mi->notes, mi->notes[0] ? "\n" : "");
+    if (o->fill_max <= 0) {
+        snprintf(notes + at, cap - at, "voids are not filled (--fill-max 0)");
+        return notes;
+    }
+    int digits = snprintf(notes + at, cap - at,
+                          "voids up to %d x %d samples filled by interpolation (GDALFillNodata): "
+                          "%zu samples (not marked per sample)",
+                          o->fill_max, o->fill_max, filled);
+    int count_digits = snprintf(NULL, 0, "%zu", filled);
+    at += (size_t)digits;
+    snprintf(notes + at, cap - at, "%*s", 20 - count_digits, "");
     return notes;
 }
 
@@ -362,6 +391,7 @@ static double choose_step(double lo, double hi, int integer)
 
 /* The build pass: in, what it reads and how; out, what it saw. */
 typedef struct build_pass {
+    const build_options* o;
     tp_mosaic* m;
     const tp_mosaic_info* mi;
     const tp_tree_geometry* g;
@@ -481,7 +511,14 @@ static tp_status run_build_pass(build_pass* p, const tp_store_header* h, tp_erro
                           p->source, mi->width, mi->height);
     if (st == TP_OK && !p->outside) {
         tp_store_writer_set_totals(w, qerr, valid, (size_t)mi->width * mi->height - valid);
-        st = tp_store_writer_commit(w, err);
+        char* notes = build_notes(p->o, mi, tp_mosaic_filled_samples(p->m));
+        st = notes ? tp_store_writer_set_notes(w, notes, err)
+                   : tp_error_set(err, TP_ERR_OUT_OF_MEMORY, "build: out of memory");
+        free(notes);
+        if (st == TP_OK)
+            st = tp_store_writer_commit(w, err);
+        else
+            tp_store_writer_abort(w);
     } else {
         tp_store_writer_abort(w);
     }
@@ -522,7 +559,8 @@ int tp_cli_build(int argc, char** argv)
         return TP_EXIT_FAILURE;
 
     tp_mosaic* m = NULL;
-    tp_mosaic_options mo = {.crs = o.crs, .resampling = o.resampling, .memory_mb = o.memory_mb};
+    tp_mosaic_options mo = {.crs = o.crs, .resampling = o.resampling, .memory_mb = o.memory_mb,
+                            .fill_max = o.fill_max};
     if (tp_mosaic_open(o.sources, (size_t)o.source_count, &mo, &m, &err) != TP_OK)
         return fail_line(err.message);
     tp_mosaic_info mi;
@@ -546,7 +584,7 @@ int tp_cli_build(int argc, char** argv)
     const double samples = (double)mi.width * mi.height;
     /* The budget, checked before any reading: GDAL's block cache has a quarter of it
      * (tp_mosaic_open); what grows with the grid must fit the other three quarters. */
-    const double need_mb = build_memory_bytes(&g, mi.width) / (1024.0 * 1024.0);
+    const double need_mb = build_memory_bytes(&g, mi.width, o.fill_max) / (1024.0 * 1024.0);
     if (need_mb > o.memory_mb * 0.75) {
         /* the node size that needs least: small nodes make a large table, large ones wide bands */
         int best = o.patch_size;
@@ -556,7 +594,7 @@ int tp_cli_build(int argc, char** argv)
             tp_error e2;
             if (tp_tree_geometry_init(mi.width, mi.height, p, &gp, &e2) != TP_OK)
                 continue;
-            double mb = build_memory_bytes(&gp, mi.width) / (1024.0 * 1024.0);
+            double mb = build_memory_bytes(&gp, mi.width, o.fill_max) / (1024.0 * 1024.0);
             if (mb < best_mb)
                 best = p, best_mb = mb;
         }
@@ -592,7 +630,7 @@ int tp_cli_build(int argc, char** argv)
     double step = 1, err_unit = 1;
     tp_status st = TP_OK;
     int64_t nodes = 0;
-    char* notes = build_notes(&o, &mi);
+    char* notes = build_notes(&o, &mi, 0);
     if (!notes) {
         free(rows), free(q), tp_mosaic_close(m);
         return fail_line("build: out of memory");
@@ -622,7 +660,7 @@ int tp_cli_build(int argc, char** argv)
         h.nodata_samples = (size_t)mi.width * mi.height;
         h.crs_wkt = mi.crs_wkt;
         h.notes = notes;
-        build_pass bp = {.m = m, .mi = &mi, .g = &g, .rows = rows, .q = q, .step = step,
+        build_pass bp = {.o = &o, .m = m, .mi = &mi, .g = &g, .rows = rows, .q = q, .step = step,
                          .bounded = bounded, .lo = lo, .hi = hi, .quiet = o.quiet,
                          .threads = o.threads, .out = o.out, .source = o.sources[0]};
         st = run_build_pass(&bp, &h, &err);
@@ -646,6 +684,7 @@ int tp_cli_build(int argc, char** argv)
     }
     free(rows);
     free(q);
+    const size_t filled = tp_mosaic_filled_samples(m);
     tp_mosaic_close(m);
     free(notes);
     if (st != TP_OK) {
@@ -693,6 +732,8 @@ int tp_cli_build(int argc, char** argv)
         tp_json_key(&j, "warped"), tp_json_bool(&j, mi.warped);
         tp_json_key(&j, "threads"), tp_json_int(&j, o.threads);
         tp_json_key(&j, "memory_mb"), tp_json_int(&j, o.memory_mb);
+        tp_json_key(&j, "fill_max"), tp_json_int(&j, o.fill_max);
+        tp_json_key(&j, "filled_samples"), tp_json_number(&j, (double)filled);
         tp_json_key(&j, "seconds"), tp_json_number(&j, seconds);
         tp_json_key(&j, "rss_peak_mb"), tp_json_number(&j, rss_mb);
         tp_json_object_end(&j);

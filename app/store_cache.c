@@ -107,6 +107,8 @@ int tp_store_cache_get(const char* dem, const tp_store_cache_options* o, char* o
     h = fnv(h, meta, sizeof meta);
     h = fnv_str(h, o->crs);
     h = fnv(h, &o->resampling, sizeof o->resampling);
+    const int fill_max = o->fill_max_px == 0 ? 64 : o->fill_max_px < 0 ? 0 : o->fill_max_px;
+    h = fnv(h, &fill_max, sizeof fill_max);
 
     char dir[PATH_MAX];
     tp_store_cache_dir(o->cache_dir, dir, sizeof dir);
@@ -144,7 +146,9 @@ int tp_store_cache_get(const char* dem, const tp_store_cache_options* o, char* o
             dir);
     char patch[16];
     snprintf(patch, sizeof patch, "%d", o->patch_size);
-    char* argv[12];
+    char fill[16];
+    snprintf(fill, sizeof fill, "%d", fill_max);
+    char* argv[14];
     int argc = 0;
     argv[argc++] = "build";
     argv[argc++] = abs_path;
@@ -152,6 +156,8 @@ int tp_store_cache_get(const char* dem, const tp_store_cache_options* o, char* o
     argv[argc++] = out;
     argv[argc++] = "--patch";
     argv[argc++] = patch;
+    argv[argc++] = "--fill-max";
+    argv[argc++] = fill;
     if (o->crs) {
         argv[argc++] = "--crs";
         argv[argc++] = (char*)o->crs;

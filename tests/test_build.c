@@ -252,14 +252,18 @@ TEST(two_tiles_and_their_vrt_give_the_same_store)
     tp_store_close(s2);
 }
 
-/* The store's leaves hold tp_terrain's decoded heights of the same render grid and step. */
-TEST(store_leaves_equal_terrain_heights)
+/* The store's leaves hold tp_terrain's decoded heights of the same render grid and step, voids
+ * filled by the build (--fill-max fill_arg) as tp_render_grid_build fills them (fill_max_px):
+ * exactly, since the build's window reaches fill_max + 1 rows beyond each band and
+ * GDALFillNodata looks no further than fill_max samples. Returns the nodata samples. */
+static size_t check_store_leaves(const char* file, int patch, const char* fill_arg,
+                                 int fill_max_px)
 {
     char a[1024], args[4096], out[1024];
-    REQUIRE_DATA_FILE(a, "TP_SHARED_DATA_DIR", "lf_elev_220_mt_hood_utm.tif");
+    REQUIRE_DATA_FILE(a, "TP_SHARED_DATA_DIR", file);
     const char* dir = make_tmp_dir();
-    snprintf(out, sizeof out, "%s/hood.tpt", dir);
-    snprintf(args, sizeof args, "'%s' -o '%s' --patch 33", a, out);
+    snprintf(out, sizeof out, "%s/leaves.tpt", dir);
+    snprintf(args, sizeof args, "'%s' -o '%s' --patch %d %s", a, out, patch, fill_arg);
     ASSERT_EQ_INT(0, run_build(args, NULL));
     tp_error err = {0};
     tp_store* s = NULL;
@@ -269,39 +273,110 @@ TEST(store_leaves_equal_terrain_heights)
     tp_dem* dem = NULL;
     ASSERT_EQ_INT(TP_OK, tp_dem_read(a, &dem, &err));
     tp_render_grid* g = NULL;
-    tp_grid_options go = {.fill_max_px = -1};
+    tp_grid_options go = {.fill_max_px = fill_max_px};
     ASSERT_EQ_INT(TP_OK, tp_render_grid_build(dem, &go, &g, &err));
-    tp_terrain_desc td = tp_render_grid_terrain_desc(g, 33, TP_FIT_PAD);
+    /* the notes say how many were filled: the single-DEM path's count */
+    char said[128];
+    if (g->filled_samples)
+        snprintf(said, sizeof said, "(GDALFillNodata): %zu samples", g->filled_samples);
+    else
+        snprintf(said, sizeof said, "%s", fill_max_px < 0 ? "voids are not filled" : ": 0 samples");
+    EXPECT_TRUE(strstr(si.header.notes, said) != NULL);
+    if (!strstr(si.header.notes, said))
+        fprintf(stderr, "notes: %s\nwanted: %s\n", si.header.notes, said);
+    tp_terrain_desc td = tp_render_grid_terrain_desc(g, patch, TP_FIT_PAD);
     td.height_step_m = si.header.height_step_m;
     tp_terrain* t = NULL;
     ASSERT_EQ_INT(TP_OK, tp_terrain_create(&td, &t, &err));
     const tp_tree_geometry* geo = &si.header.geometry;
     size_t count;
     const tp_node_meta* metas = tp_store_metas(s, &count);
-    uint16_t block[33 * 33];
-    size_t compared = 0, differ = 0;
+    const int ps = patch - 1;
+    uint16_t* block = malloc((size_t)patch * patch * sizeof *block);
+    ASSERT_TRUE(block != NULL);
+    size_t compared = 0, differ = 0, nodata = 0;
     for (int r = 0; r < geo->rows; r++)
         for (int c = 0; c < geo->cols; c++) {
             int64_t id = tp_tree_node_id(geo, 0, c, r);
-            ASSERT_EQ_INT(TP_OK, tp_store_read_node(s, id, block, 33 * 33, &err));
-            for (int j = 0; j <= 32; j++)
-                for (int i = 0; i <= 32; i++) {
-                    uint16_t v = block[j * 33 + i];
+            ASSERT_EQ_INT(TP_OK, tp_store_read_node(s, id, block, (size_t)patch * patch, &err));
+            for (int j = 0; j <= ps; j++)
+                for (int i = 0; i <= ps; i++) {
+                    uint16_t v = block[j * patch + i];
                     double stored = v == TP_TREE_NO_HEIGHT
                                         ? NAN
                                         : (v + (double)metas[id].qmin) * si.header.height_step_m;
-                    double want = tp_terrain_sample(t, c * 32 + i, r * 32 + j);
+                    double want = tp_terrain_sample(t, c * ps + i, r * ps + j);
                     compared++;
+                    if (c * ps + i < g->width && r * ps + j < g->height && isnan(stored))
+                        nodata++;
                     if (!(isnan(stored) && isnan(want)) && stored != want)
                         differ++;
                 }
         }
-    EXPECT_TRUE(compared > 800000);
+    EXPECT_TRUE(compared >= (size_t)g->width * g->height);
     EXPECT_EQ_INT(0, (long long)differ);
+    free(block);
     tp_terrain_destroy(t);
     tp_render_grid_destroy(g);
     tp_dem_destroy(dem);
     tp_store_close(s);
+    return nodata;
+}
+
+TEST(store_leaves_equal_terrain_heights)
+{
+    check_store_leaves("lf_elev_220_mt_hood_utm.tif", 33, "--fill-max 0", -1);
+}
+
+/* SRTM voids: filled by default as the single-DEM path fills them; --fill-max 0 leaves them;
+ * a small --fill-max fills the small ones only, larger voids stay nodata. */
+TEST(store_voids_filled_as_single_dem)
+{
+    size_t none = check_store_leaves("N42E001.hgt", 65, "--fill-max 0", -1);
+    size_t all = check_store_leaves("N42E001.hgt", 65, "", 64);
+    size_t small = check_store_leaves("N42E001.hgt", 65, "--fill-max 3", 3);
+    /* N42E001 has voids, some wider than 3 samples, all on a warped grid's interior */
+    EXPECT_TRUE(none > all);
+    EXPECT_TRUE(small > all && small < none);
+    if (!(small > all && small < none && none > all))
+        fprintf(stderr, "nodata: --fill-max 0 %zu, 3 %zu, 64 %zu\n", none, small, all);
+    check_store_leaves("lf_elev_220_mt_hood_utm.tif", 33, "--fill-max 64", 64);
+    check_store_leaves("lf_elev_220_mt_hood_utm.tif", 65, "--fill-max 5", 5);
+}
+
+/* The mosaic's filled grid, read in bands of 65 rows, is tp_render_grid_build's float for float. */
+TEST(mosaic_filled_grid_equals_render_grid)
+{
+    const char* files[2] = {"N42E001.hgt", "lf_elev_220_mt_hood_utm.tif"};
+    for (int f = 0; f < 2; f++) {
+        char path[1024];
+        REQUIRE_DATA_FILE(path, "TP_SHARED_DATA_DIR", files[f]);
+        tp_error err = {0};
+        tp_dem* dem = NULL;
+        ASSERT_EQ_INT(TP_OK, tp_dem_read(path, &dem, &err));
+        tp_render_grid* g = NULL;
+        tp_grid_options go = {.fill_max_px = 64};
+        ASSERT_EQ_INT(TP_OK, tp_render_grid_build(dem, &go, &g, &err));
+        tp_mosaic* m = NULL;
+        const char* paths[1] = {path};
+        tp_mosaic_options mo = {.fill_max = 64};
+        ASSERT_EQ_INT(TP_OK, tp_mosaic_open(paths, 1, &mo, &m, &err));
+        int w, h;
+        float* z = mosaic_grid(m, &w, &h);
+        ASSERT_EQ_INT(g->width, w);
+        ASSERT_EQ_INT(g->height, h);
+        size_t differ = 0;
+        for (size_t i = 0; i < (size_t)w * h; i++)
+            differ += !(isnan(z[i]) && isnan(g->heights[i])) && z[i] != g->heights[i];
+        EXPECT_EQ_INT(0, (long long)differ);
+        EXPECT_EQ_INT((long long)g->filled_samples, (long long)tp_mosaic_filled_samples(m));
+        if (f == 0)
+            EXPECT_TRUE(g->filled_samples > 1000); /* the test sees voids */
+        free(z);
+        tp_mosaic_close(m);
+        tp_render_grid_destroy(g);
+        tp_dem_destroy(dem);
+    }
 }
 
 /* Sources in different CRSs (geographic + UTM) are warped onto one grid, and said so. */
@@ -774,6 +849,8 @@ TEST(memory_too_small_for_one_band_fails_up_front)
     X(two_tiles_one_seamless_grid)                                                                 \
     X(two_tiles_and_their_vrt_give_the_same_store)                                                 \
     X(store_leaves_equal_terrain_heights)                                                          \
+    X(store_voids_filled_as_single_dem)                                                            \
+    X(mosaic_filled_grid_equals_render_grid)                                                       \
     X(different_crs_warped_and_reported)                                                           \
     X(bad_sources_exit_1_and_write_nothing)                                                        \
     X(unwritable_output_folder_fails_first)                                                        \

@@ -96,8 +96,9 @@ static void print_help(void)
           "  --whole               draw the DEM whole, without a store (the old path: the DEM\n"
           "                        and its render grid in memory, patches selected every frame)\n"
           "  A DEM is drawn whole, without a store (the old path), when it is a heightmap image\n"
-          "  (--spacing, --zscale, --origin or a PNG/JPEG/...), or --fill-max, --fit or\n"
-          "  --texture is given: stores do not fill voids, always pad and carry no texture.\n"
+          "  (--spacing, --zscale, --origin or a PNG/JPEG/...), or --fit or --texture is given:\n"
+          "  stores always pad and carry no texture. A store fills voids as --fill-max says\n"
+          "  (passed to the build) but marks no sample filled: no filled-void tint (V).\n"
           "  Stores default to --patch 65 (a DEM drawn whole: 17).\n"
           "  --no-hud              no text overlay (frame times, triangles, levels, error,\n"
           "                        camera and centre position as lat/lon, UTM and MGRS)\n"
@@ -191,7 +192,7 @@ static int parse_options(int argc, char** argv, view_options* o)
         int taken = c == '?' || c == ':' ? 0 : tp_scene_option(c, optarg, &o->scene, "view");
         if (taken > 0 && c == TP_OPT_PATCH)
             o->patch_given = 1;
-        if (taken > 0 && (c == TP_OPT_FILL_MAX || c == TP_OPT_FIT))
+        if (taken > 0 && c == TP_OPT_FIT)
             o->old_path = 1;
         if (!taken && c != '?' && c != ':')
             taken = tp_view_option(c, optarg, &o->vs, "view");
@@ -511,6 +512,7 @@ int tp_cli_view(int argc, char** argv)
                                      .patch_size = o.patch_given ? o.scene.patch_size : 65,
                                      .crs = o.scene.grid.crs,
                                      .resampling = o.scene.grid.resampling,
+                                     .fill_max_px = o.scene.grid.fill_max_px,
                                      .cmd = "view"};
         int temporary = 0;
         code = tp_store_cache_get(o.path, &co, store, sizeof store, &temporary);

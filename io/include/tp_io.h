@@ -299,7 +299,8 @@ tp_terrain_desc tp_render_grid_terrain_desc(const tp_render_grid* grid, int patc
  * the centre for geographic sources, the sources' own projected CRS in metres, options->crs
  * overriding the sources' CRS; the finest post spacing among the sources; north-up, square
  * posts), and one DEM gives the same grid and, sample for sample, the same heights as
- * tp_dem_read + tp_render_grid_build, except that voids are NOT filled here (they stay NaN).
+ * tp_dem_read + tp_render_grid_build with the same fill_max (voids filled in windows of rows:
+ * see tp_mosaic_options.fill_max).
  * Nothing is read whole: tp_mosaic_read_rows reads a window of rows through GDAL's block cache
  * (sized from options->memory_mb), so memory follows the window, not the grid.
  */
@@ -310,6 +311,12 @@ typedef struct tp_mosaic_options {
     tp_resampling resampling; /* for warps */
     int memory_mb;            /* budget of the whole process; GDAL's block cache gets a quarter.
                                  0 means 1024 */
+    /* Voids filled as tp_render_grid_build fills them (fill_max_px, the same regions and the
+     * same GDALFillNodata), read in bands: a window reaching fill_max + 1 rows beyond the rows
+     * asked for ((rows + 2 fill_max + 2) * width floats, and as many ints and bytes while a
+     * window holds a void) decides which regions are small and interior. 0 (or less) fills
+     * nothing; unlike tp_grid_options, 0 does not mean 64. No per-sample "filled" mark is kept. */
+    int fill_max;
 } tp_mosaic_options;
 
 typedef struct tp_mosaic_info {
@@ -354,6 +361,9 @@ void tp_mosaic_get_info(const tp_mosaic* m, tp_mosaic_info* out);
  * a read fails part way, e.g. a truncated tile or a DTED checksum mismatch. */
 tp_status tp_mosaic_read_rows(tp_mosaic* m, int y0, int rows, float* heights, size_t height_count,
                               tp_error* err);
+/* Samples filled so far (options->fill_max) in the rows above the furthest row read: each row
+ * counted once, so reading the grid down, once or more, counts each filled sample once. */
+size_t tp_mosaic_filled_samples(const tp_mosaic* m);
 
 /* ---------------------------------------------------------------------------------------------
  * Textures draped on the render grid (io/src/texture.cpp)
@@ -538,6 +548,10 @@ tp_status tp_store_writer_add_node(tp_store_writer* w, int64_t node, const tp_no
  * time before commit; the last call wins. */
 void tp_store_writer_set_totals(tp_store_writer* w, double quant_max_error_m,
                                 size_t valid_samples, size_t nodata_samples);
+/* Replaces the header's notes by notes of the same length in bytes (for counts known only at
+ * the end: the begin's notes reserve room, e.g. with trailing spaces); commit writes them.
+ * TP_ERR_INVALID_ARG when the length differs (w is unchanged). */
+tp_status tp_store_writer_set_notes(tp_store_writer* w, const char* notes, tp_error* err);
 /* Writes the node table and the footer and makes the file (tp_file_commit). Frees w, whatever
  * happens. TP_ERR_INVALID_ARG when a node is missing (the message says how many and the first),
  * TP_ERR_IO; on failure no file is left and an older path is as it was. */

@@ -19,6 +19,7 @@
 #include <cerrno>
 #include <cfloat>
 #include <cmath>
+#include <cstring>
 #include <memory>
 #include <string>
 #include <vector>
@@ -113,6 +114,15 @@ struct tp_mosaic {
     double sgt[6] = {0, 1, 0, 0, 0, -1};
     int sw = 0, sh = 0;
     std::string last_source_error;
+    /* void filling (fill_max > 0): a window of rows win_y0 .. win_y0+win_rows-1 as read
+     * (converted and masked, not filled), kept between reads; filled samples counted in rows
+     * below counted_to */
+    int fill_max = 0;
+    std::vector<float> win;
+    int win_y0 = 0, win_rows = 0;
+    int counted_to = 0;
+    size_t filled = 0;
+    std::vector<uint8_t> filled_mask;
 
     ~tp_mosaic()
     {
@@ -360,6 +370,7 @@ tp_status open_mosaic(const char* const* paths, size_t count, const tp_mosaic_op
     tp_mosaic_options o = opt ? *opt : tp_mosaic_options{};
     const int memory_mb = o.memory_mb > 0 ? o.memory_mb : 1024;
     GDALSetCacheMax64((GIntBig)memory_mb * 1024 * 1024 / 4);
+    m->fill_max = o.fill_max > 0 ? o.fill_max : 0;
 
     OGRSpatialReference over;
     over.SetAxisMappingStrategy(OAMS_TRADITIONAL_GIS_ORDER);
@@ -611,6 +622,86 @@ tp_status open_mosaic(const char* const* paths, size_t count, const tp_mosaic_op
     return TP_OK;
 }
 
+/* Rows y0 .. y0+rows-1 as read: nodata and the rim outside the hull become NaN; no filling. */
+tp_status read_raw(tp_mosaic* m, int y0, int rows, float* heights, tp_error* err)
+{
+    tpio::QuietGdal quiet;
+    CPLErrorReset();
+    const CPLErr io = m->ds->GetRasterBand(1)->RasterIO(GF_Read, 0, y0, m->w, rows, heights, m->w,
+                                                        rows, GDT_Float32, 0, 0, nullptr);
+    const CPLErr last = CPLGetLastErrorType();
+    if (io != CE_None || last == CE_Failure || last == CE_Fatal)
+        return fail(err, TP_ERR_BAD_DATA,
+                    "reading rows %d .. %d of the mosaic failed, a source is truncated or "
+                    "corrupt (%s)",
+                    y0, y0 + rows - 1, tpio::gdal_message().c_str());
+    const size_t n = (size_t)rows * m->w;
+    const float nd = m->nodata;
+    const bool tag = m->has_nodata, nd_nan = std::isnan(nd), guess = m->int16_guess;
+    for (size_t i = 0; i < n; i++) {
+        float v = heights[i];
+        if ((tag && (v == nd || (nd_nan && std::isnan(v)))) ||
+            (guess && (v == -32768.0f || v == -32767.0f)) || std::isinf(v) || v == FLT_MAX ||
+            v == -FLT_MAX)
+            heights[i] = NAN;
+    }
+    if (m->back)
+        tpio::mask_outside_hull(*m->back, m->back_geographic, m->sgt, m->sw, m->sh, m->gt, m->w,
+                                y0, rows, heights);
+    return TP_OK;
+}
+
+/* Rows y0 .. y0+rows-1 with their voids filled: the window reaches fill_max + 1 rows beyond
+ * them (within the grid), so that every region reaching them is either seen whole or taller
+ * than fill_max (see tpio::fill_voids); rows already in the window are kept, not read again. */
+tp_status read_filled(tp_mosaic* m, int y0, int rows, float* heights, tp_error* err)
+{
+    const int margin = m->fill_max + 1;
+    const int wy0 = std::max(0, y0 - margin), wy1 = std::min(m->h, y0 + rows + margin);
+    const size_t w = (size_t)m->w;
+    /* keep the rows the old window shares with the new one (reads go down the grid) */
+    int keep_from = wy0, keep_to = wy0; /* rows kept: keep_from .. keep_to-1 */
+    if (m->win_rows > 0 && m->win_y0 <= wy0 && m->win_y0 + m->win_rows > wy0) {
+        keep_to = std::min(wy1, m->win_y0 + m->win_rows);
+        std::memmove(m->win.data(), m->win.data() + (size_t)(wy0 - m->win_y0) * w,
+                     (size_t)(keep_to - keep_from) * w * sizeof(float));
+    }
+    m->win.resize((size_t)(wy1 - wy0) * w);
+    m->win_y0 = wy0, m->win_rows = 0;
+    if (keep_to < wy1) {
+        tp_status st = read_raw(m, keep_to, wy1 - keep_to, m->win.data() + (size_t)(keep_to - wy0) * w, err);
+        if (st != TP_OK)
+            return st;
+    }
+    m->win_rows = wy1 - wy0;
+    const float* band = m->win.data() + (size_t)(y0 - wy0) * w;
+    bool any_nan = false;
+    for (const float v : m->win)
+        if (std::isnan(v)) {
+            any_nan = true;
+            break;
+        }
+    if (!any_nan) { /* nothing to fill */
+        std::memcpy(heights, band, (size_t)rows * w * sizeof(float));
+        return TP_OK;
+    }
+    std::vector<float> z(m->win); /* the window stays as read: the next read reuses it */
+    double gt[6];
+    std::memcpy(gt, m->gt, sizeof gt);
+    gt[3] += wy0 * gt[5];
+    tpio::VoidCounts counts;
+    tp_status st = tpio::fill_voids(z.data(), m->w, wy1 - wy0, gt, m->fill_max, wy0 == 0,
+                                    wy1 == m->h, m->filled_mask, &counts, err);
+    if (st != TP_OK)
+        return st;
+    std::memcpy(heights, z.data() + (size_t)(y0 - wy0) * w, (size_t)rows * w * sizeof(float));
+    for (int y = std::max(y0, m->counted_to); y < y0 + rows; y++)
+        for (size_t x = 0; x < w; x++)
+            m->filled += m->filled_mask[(size_t)(y - wy0) * w + x];
+    m->counted_to = std::max(m->counted_to, y0 + rows);
+    return TP_OK;
+}
+
 } // namespace
 
 extern "C" tp_status tp_mosaic_open(const char* const* paths, size_t path_count,
@@ -672,31 +763,12 @@ extern "C" tp_status tp_mosaic_read_rows(tp_mosaic* m, int y0, int rows, float* 
         return fail(err, TP_ERR_INVALID_ARG, "mosaic: rows %d .. %d outside the grid's %d rows",
                     y0, y0 + rows - 1, m ? m->h : 0);
     try {
-        tpio::QuietGdal quiet;
-        CPLErrorReset();
-        const CPLErr io = m->ds->GetRasterBand(1)->RasterIO(GF_Read, 0, y0, m->w, rows, heights,
-                                                            m->w, rows, GDT_Float32, 0, 0, nullptr);
-        const CPLErr last = CPLGetLastErrorType();
-        if (io != CE_None || last == CE_Failure || last == CE_Fatal)
-            return fail(err, TP_ERR_BAD_DATA,
-                        "reading rows %d .. %d of the mosaic failed, a source is truncated or "
-                        "corrupt (%s)",
-                        y0, y0 + rows - 1, tpio::gdal_message().c_str());
-        const size_t n = (size_t)rows * m->w;
-        const float nd = m->nodata;
-        const bool tag = m->has_nodata, nd_nan = std::isnan(nd), guess = m->int16_guess;
-        for (size_t i = 0; i < n; i++) {
-            float v = heights[i];
-            if ((tag && (v == nd || (nd_nan && std::isnan(v)))) ||
-                (guess && (v == -32768.0f || v == -32767.0f)) || std::isinf(v) || v == FLT_MAX ||
-                v == -FLT_MAX)
-                heights[i] = NAN;
-        }
-        if (m->back)
-            tpio::mask_outside_hull(*m->back, m->back_geographic, m->sgt, m->sw, m->sh, m->gt,
-                                    m->w, y0, rows, heights);
-        return TP_OK;
+        if (m->fill_max > 0)
+            return read_filled(m, y0, rows, heights, err);
+        return read_raw(m, y0, rows, heights, err);
     } catch (...) {
         return tpio::caught(err, "mosaic");
     }
 }
+
+extern "C" size_t tp_mosaic_filled_samples(const tp_mosaic* m) { return m ? m->filled : 0; }

@@ -61,10 +61,17 @@ double finest_spacing(OGRCoordinateTransformation* ct, const double gt[6], int w
     return best;
 }
 
-/* Connected nodata regions: fill the small interior ones with GDALFillNodata, keep the rest. */
-tp_status classify_and_fill(Grid& g, const double gt[6], int fill_max, std::vector<uint8_t>& filled,
-                            tp_render_grid* out, tp_error* err)
+} // namespace
+
+/* See render_grid.hpp. */
+tp_status tpio::fill_voids(float* z_io, int w, int h, const double gt[6], int fill_max,
+                           bool top_is_border, bool bottom_is_border, std::vector<uint8_t>& filled,
+                           VoidCounts* counts, tp_error* err)
 {
+    struct {
+        int w, h;
+        float* z;
+    } g = {w, h, z_io};
     size_t n = (size_t)g.w * g.h;
     filled.assign(n, 0);
     std::vector<int> region(n, -1);
@@ -76,7 +83,7 @@ tp_status classify_and_fill(Grid& g, const double gt[6], int fill_max, std::vect
             continue;
         int id = (int)fillable.size();
         int x0 = g.w, x1 = -1, y0 = g.h, y1 = -1;
-        bool border = false;
+        bool border = false, cut = false; /* cut: touches a window edge inside the grid */
         size_t count = 0;
         stack.assign(1, start);
         region[start] = id;
@@ -86,7 +93,9 @@ tp_status classify_and_fill(Grid& g, const double gt[6], int fill_max, std::vect
             count++;
             int x = (int)(i % g.w), y = (int)(i / g.w);
             x0 = std::min(x0, x), x1 = std::max(x1, x), y0 = std::min(y0, y), y1 = std::max(y1, y);
-            border |= x == 0 || y == 0 || x == g.w - 1 || y == g.h - 1;
+            border |= x == 0 || x == g.w - 1 || (y == 0 && top_is_border) ||
+                      (y == g.h - 1 && bottom_is_border);
+            cut |= (y == 0 && !top_is_border) || (y == g.h - 1 && !bottom_is_border);
             const int nx[4] = {x - 1, x + 1, x, x}, ny[4] = {y, y, y - 1, y + 1};
             for (int k = 0; k < 4; k++) {
                 if (nx[k] < 0 || ny[k] < 0 || nx[k] >= g.w || ny[k] >= g.h)
@@ -99,17 +108,21 @@ tp_status classify_and_fill(Grid& g, const double gt[6], int fill_max, std::vect
             }
         }
         bool small = fill_max > 0 && x1 - x0 + 1 <= fill_max && y1 - y0 + 1 <= fill_max;
-        fillable.push_back(!border && small);
-        any_fillable |= !border && small;
+        /* a cut region reaches beyond the window: taller than it, never small, and counted
+         * where the window holds all of it */
+        fillable.push_back(!border && !cut && small);
+        any_fillable |= !border && !cut && small;
+        if (cut)
+            continue;
         if (border)
-            out->outside_samples += count;
+            counts->outside += count;
         else if (!small)
-            out->large_void_samples += count;
+            counts->large += count;
     }
     if (!any_fillable)
         return TP_OK;
 
-    tpio::Dataset ds = tpio::mem_dataset(g.z.data(), g.w, g.h, gt, nullptr);
+    tpio::Dataset ds = tpio::mem_dataset(g.z, g.w, g.h, gt, nullptr);
     if (!ds)
         return fail(err, TP_ERR_BACKEND, "void filling: %s", tpio::gdal_message().c_str());
     GDALRasterBand* band = ds->GetRasterBand(1);
@@ -125,10 +138,12 @@ tp_status classify_and_fill(Grid& g, const double gt[6], int fill_max, std::vect
             continue; /* valid, not to be filled, or out of the search distance */
         g.z[i] = z[i];
         filled[i] = 1;
-        out->filled_samples++;
+        counts->filled++;
     }
     return TP_OK;
 }
+
+namespace {
 
 struct GridDeleter {
     void operator()(tp_render_grid* g) const { tp_render_grid_destroy(g); }
@@ -538,9 +553,14 @@ tp_status build(const tp_dem* dem, const tp_grid_options* opt, tp_render_grid** 
     }
 
     std::vector<uint8_t> filled;
-    tp_status st = classify_and_fill(grid, gt, fill_max, filled, g.get(), err);
+    tpio::VoidCounts voids;
+    tp_status st = tpio::fill_voids(grid.z.data(), grid.w, grid.h, gt, fill_max, true, true, filled,
+                                    &voids, err);
     if (st != TP_OK)
         return st;
+    g->outside_samples += voids.outside;
+    g->large_void_samples += voids.large;
+    g->filled_samples += voids.filled;
 
     size_t n = (size_t)grid.w * grid.h;
     g->width = grid.w;

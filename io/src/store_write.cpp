@@ -34,6 +34,7 @@ struct tp_store_writer {
     uint64_t offset = 0;          /* file size so far */
     std::vector<uint8_t> head;    /* the encoded header, rewritten at commit with the totals */
     bool totals = false;          /* tp_store_writer_set_totals was called */
+    bool rewrite = false;         /* tp_store_writer_set_notes was called */
     double quant_max_error_m = 0;
     uint64_t valid_samples = 0, nodata_samples = 0;
     ZSTD_CCtx* cctx = nullptr;
@@ -257,11 +258,13 @@ extern "C" tp_status tp_store_writer_commit(tp_store_writer* w, tp_error* err)
             s = tp_file_append(w->file, w->table.data(), w->table.size(), err);
             if (s == TP_OK)
                 s = tp_file_append(w->file, footer, sizeof footer, err);
-            if (s == TP_OK && w->totals) {
+            if (s == TP_OK && (w->totals || w->rewrite)) {
                 uint8_t* h = w->head.data();
-                put_f64(h + H_QUANT_MAX_ERROR, w->quant_max_error_m);
-                put_u64(h + H_VALID_SAMPLES, w->valid_samples);
-                put_u64(h + H_NODATA_SAMPLES, w->nodata_samples);
+                if (w->totals) {
+                    put_f64(h + H_QUANT_MAX_ERROR, w->quant_max_error_m);
+                    put_u64(h + H_VALID_SAMPLES, w->valid_samples);
+                    put_u64(h + H_NODATA_SAMPLES, w->nodata_samples);
+                }
                 put_u32(h + w->head.size() - 4, crc32_of(h, w->head.size() - 4));
                 s = tp_file_rewrite(w->file, 0, h, w->head.size(), err);
             }
@@ -287,6 +290,21 @@ extern "C" void tp_store_writer_set_totals(tp_store_writer* w, double quant_max_
     w->quant_max_error_m = quant_max_error_m;
     w->valid_samples = valid_samples;
     w->nodata_samples = nodata_samples;
+}
+
+extern "C" tp_status tp_store_writer_set_notes(tp_store_writer* w, const char* notes,
+                                               tp_error* err)
+{
+    if (!w || !notes)
+        return fail(err, TP_ERR_INVALID_ARG, "store: bad arguments (w or notes is NULL)");
+    uint8_t* h = w->head.data();
+    const uint32_t crs_bytes = get_u32(h + H_CRS_BYTES), notes_bytes = get_u32(h + H_NOTES_BYTES);
+    if (std::strlen(notes) != notes_bytes)
+        return fail(err, TP_ERR_INVALID_ARG, "%s: new notes of %zu bytes for %u", w->path.c_str(),
+                    std::strlen(notes), notes_bytes);
+    std::memcpy(h + H_FIXED_BYTES + crs_bytes, notes, notes_bytes);
+    w->rewrite = true;
+    return TP_OK;
 }
 
 extern "C" void tp_store_writer_abort(tp_store_writer* w) { delete w; }
