@@ -99,7 +99,8 @@ static void print_help(void)
           "  (--spacing, --zscale, --origin or a PNG/JPEG/...), or --fit or --texture is given:\n"
           "  stores always pad and carry no texture. A store fills voids as --fill-max says\n"
           "  (passed to the build) but marks no sample filled: no filled-void tint (V).\n"
-          "  Stores default to --patch 65 (a DEM drawn whole: 17).\n"
+          "  A DEM's store is built with the view's --patch (default 17, as a DEM drawn whole);\n"
+          "  'terrapatch build' defaults to 65, for large maps.\n"
           "  --no-hud              no text overlay (frame times, triangles, levels, error,\n"
           "                        camera and centre position as lat/lon, UTM and MGRS)\n"
           "  --hud                 headless frames too get the overlay (off by default there,\n"
@@ -509,7 +510,7 @@ int tp_cli_view(int argc, char** argv)
     } else {
         char store[4096];
         tp_store_cache_options co = {.cache_dir = o.cache_dir,
-                                     .patch_size = o.patch_given ? o.scene.patch_size : 65,
+                                     .patch_size = o.scene.patch_size, /* 17 unless --patch */
                                      .crs = o.scene.grid.crs,
                                      .resampling = o.scene.grid.resampling,
                                      .fill_max_px = o.scene.grid.fill_max_px,
