@@ -213,3 +213,28 @@ void tp_camera_view_projection(const tp_camera* cam, double far_m, double out[16
     }
     out[14] = B;
 }
+
+static void to_camera(const tp__view* v, const double w[3], double c[3])
+{
+    double d[3] = {w[0] - v->pos[0], w[1] - v->pos[1], w[2] - v->pos[2]};
+    c[0] = d[0] * v->right[0] + d[1] * v->right[1] + d[2] * v->right[2];
+    c[1] = d[0] * v->up[0] + d[1] * v->up[1] + d[2] * v->up[2];
+    c[2] = d[0] * v->fwd[0] + d[1] * v->fwd[1] + d[2] * v->fwd[2];
+}
+
+double tp__screen_error_px(const tp__view* v, const double truth[3], const double drawn[3])
+{
+    double cs[3], cd[3];
+    to_camera(v, truth, cs);
+    if (cs[2] < v->near_m || (v->far_m > 0 && cs[2] > v->far_m) ||
+        fabs(cs[0]) > v->tan_x * cs[2] || fabs(cs[1]) > v->tan_y * cs[2])
+        return NAN;
+    if (drawn[2] == truth[2])
+        return 0;
+    to_camera(v, drawn, cd);
+    if (cd[2] <= 0)
+        return INFINITY;
+    double du = v->f_px * (cd[0] / cd[2] - cs[0] / cs[2]);
+    double dv = v->f_px * (cd[1] / cd[2] - cs[1] / cs[2]);
+    return sqrt(du * du + dv * dv);
+}

@@ -221,6 +221,12 @@ typedef struct tp__view {
 } tp__view;
 void tp__view_from_camera(const tp_camera* cam, tp__view* v);
 
+/* Screen error (px) between a sample's true position and the drawn surface's point vertically
+ * above or below it (world, drawn space), as the screen-error measures define it: NaN when the
+ * true position is outside the view (behind the near plane, past the far plane, outside the
+ * frustum's sides), INFINITY when only the drawn point is behind the eye (camera.c). */
+double tp__screen_error_px(const tp__view* v, const double truth[3], const double drawn[3]);
+
 /* ---- selections (selection.c, measure.c, query.c) ---- */
 
 /* The error-mode bound of one patch for the current view (see lod.c): a vertical error of d

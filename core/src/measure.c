@@ -67,14 +67,6 @@ static void vertical_sample(int x, int y, double z, void* user)
     m->count++;
 }
 
-static void to_camera(const tp__view* v, const double w[3], double c[3])
-{
-    double d[3] = {w[0] - v->pos[0], w[1] - v->pos[1], w[2] - v->pos[2]};
-    c[0] = d[0] * v->right[0] + d[1] * v->right[1] + d[2] * v->right[2];
-    c[1] = d[0] * v->up[0] + d[1] * v->up[1] + d[2] * v->up[2];
-    c[2] = d[0] * v->fwd[0] + d[1] * v->fwd[1] + d[2] * v->fwd[2];
-}
-
 static void screen_sample(int x, int y, double z, void* user)
 {
     measure* m = user;
@@ -82,30 +74,16 @@ static void screen_sample(int x, int y, double z, void* user)
     int32_t q = tp__q(m->t, x, y);
     if (q == INT32_MIN)
         return;
-    double ws[3], wd[3], cs[3], cd[3];
+    double ws[3], wd[3];
     tp_terrain_grid_to_world(m->t, x, y, &ws[0], &ws[1]);
     wd[0] = ws[0];
     wd[1] = ws[1];
     ws[2] = q * m->t->step * m->zscale;
     wd[2] = z * m->t->step * m->zscale;
-    to_camera(v, ws, cs);
     /* Only samples inside the view and in front of the near plane count. */
-    if (cs[2] < v->near_m || (v->far_m > 0 && cs[2] > v->far_m) ||
-        fabs(cs[0]) > v->tan_x * cs[2] || fabs(cs[1]) > v->tan_y * cs[2])
+    double e = tp__screen_error_px(v, ws, wd);
+    if (isnan(e) || !first_visit(m, x, y))
         return;
-    if (!first_visit(m, x, y))
-        return;
-    to_camera(v, wd, cd);
-    double e;
-    if (wd[2] == ws[2])
-        e = 0;
-    else if (cd[2] <= 0)
-        e = INFINITY;
-    else {
-        double du = v->f_px * (cd[0] / cd[2] - cs[0] / cs[2]);
-        double dv = v->f_px * (cd[1] / cd[2] - cs[1] / cs[2]);
-        e = sqrt(du * du + dv * dv);
-    }
     m->max = e > m->max ? e : m->max;
     m->sum += e * e;
     m->count++;

@@ -478,14 +478,6 @@ typedef struct screen_measure {
     size_t count, skipped;
 } screen_measure;
 
-static void to_camera(const tp__view* v, const double w[3], double out[3])
-{
-    double d[3] = {w[0] - v->pos[0], w[1] - v->pos[1], w[2] - v->pos[2]};
-    out[0] = d[0] * v->right[0] + d[1] * v->right[1] + d[2] * v->right[2];
-    out[1] = d[0] * v->up[0] + d[1] * v->up[1] + d[2] * v->up[2];
-    out[2] = d[0] * v->fwd[0] + d[1] * v->fwd[1] + d[2] * v->fwd[2];
-}
-
 static void screen_sample(int x, int y, double z, void* user)
 {
     screen_measure* m = user;
@@ -507,27 +499,14 @@ static void screen_sample(int x, int y, double z, void* user)
     if (st == TP_TREE_NO_HEIGHT)
         return;
     double truth = ((int32_t)st + tp_tree_meta(c->t, leaf)->qmin) * c->step * c->zscale;
-    double ws[3], wd[3], cs[3], cd[3];
+    double ws[3], wd[3];
     ws[0] = wd[0] = c->gt[0] + (x + 0.5) * c->gt[1];
     ws[1] = wd[1] = c->gt[3] + (y + 0.5) * c->gt[5];
     ws[2] = truth;
     wd[2] = z * c->step * c->zscale;
-    const tp__view* vw = m->v;
-    to_camera(vw, ws, cs);
-    if (cs[2] < vw->near_m || (vw->far_m > 0 && cs[2] > vw->far_m) ||
-        fabs(cs[0]) > vw->tan_x * cs[2] || fabs(cs[1]) > vw->tan_y * cs[2])
+    double e = tp__screen_error_px(m->v, ws, wd);
+    if (isnan(e))
         return;
-    to_camera(vw, wd, cd);
-    double e;
-    if (wd[2] == ws[2])
-        e = 0;
-    else if (cd[2] <= 0)
-        e = INFINITY;
-    else {
-        double du = vw->f_px * (cd[0] / cd[2] - cs[0] / cs[2]);
-        double dv = vw->f_px * (cd[1] / cd[2] - cs[1] / cs[2]);
-        e = sqrt(du * du + dv * dv);
-    }
     m->max = e > m->max ? e : m->max;
     m->sum += e * e;
     m->count++;
