@@ -330,6 +330,63 @@ TEST(keep_above_uses_the_full_resolution_leaf)
     free(h);
 }
 
+/* Vertex normals: where the leaves are resident every node, whatever its scale, gives the
+ * terrain's full-resolution normal at its vertices (so nodes of different scales shade alike
+ * across their borders); where they are not, the node's own lattice. */
+TEST(node_normals_are_the_terrains_where_leaves_are_resident)
+{
+    LOAD_OR_SKIP(h, 600, 200, 150, 97);
+    tp_tree* t = make_tree(h, 150, 97, 17);
+    tp_terrain* ter = NULL;
+    tp_terrain_desc td = {.heights = h, .height_count = (size_t)150 * 97, .width = 150,
+                          .height = 97, .patch_size = 17, .fit = TP_FIT_PAD};
+    memcpy(td.geotransform, GT, sizeof GT);
+    ASSERT_OK(tp_terrain_create(&td, &ter, NULL));
+    const tp_tree_geometry* g = tp_tree_get_geometry(t);
+    int compared = 0;
+    for (int64_t id = 0; id < g->node_count; id++) {
+        int s, c, r;
+        tp_tree_node_locate(g, id, &s, &c, &r);
+        int step = 1 << s, x0 = c << (g->n + s), y0 = r << (g->n + s);
+        for (int j = 0; j <= 16; j += 4)
+            for (int i = 0; i <= 16; i += 4) {
+                int x = x0 + i * step, y = y0 + j * step;
+                if (isnan(tp_terrain_sample(ter, x, y)))
+                    continue;
+                float a[3], b[3];
+                tp_tree_node_normal(t, id, x, y, a);
+                tp_terrain_normal(ter, x, y, b);
+                for (int k = 0; k < 3; k++)
+                    EXPECT_NEAR(a[k], b[k], 1e-6);
+                compared++;
+            }
+    }
+    EXPECT_GT(compared, 500);
+    /* without the leaves, a parent shades from its own lattice: a coarser slope */
+    int64_t parent = tp_tree_node_id(g, 1, 1, 1);
+    const uint16_t* kept[4];
+    for (int q = 0; q < 4; q++) {
+        int64_t ch = tp_tree_node_child(g, parent, q);
+        kept[q] = tp_tree_samples(t, ch);
+        tp_tree_detach(t, ch);
+    }
+    int differ = 0;
+    for (int j = 2; j <= 14; j += 4)
+        for (int i = 2; i <= 14; i += 4) {
+            int x = 32 + 2 * i, y = 32 + 2 * j;
+            float a[3], b[3];
+            tp_tree_node_normal(t, parent, x, y, a);
+            tp_terrain_normal(ter, x, y, b);
+            differ += fabs(a[0] - b[0]) + fabs(a[1] - b[1]) > 1e-4;
+        }
+    EXPECT_GT(differ, 0);
+    for (int q = 0; q < 4; q++)
+        tp_tree_attach(t, tp_tree_node_child(g, parent, q), kept[q]);
+    tp_terrain_destroy(ter);
+    tp_tree_destroy(t);
+    free(h);
+}
+
 #define TESTS(X)                                                                                   \
     X(ray_cast_hits_lie_on_the_drawn_surface)                                                      \
     X(ray_cast_across_stitched_coarse_cuts)                                                        \
@@ -337,5 +394,6 @@ TEST(keep_above_uses_the_full_resolution_leaf)
     X(ray_cast_rejects_a_zero_direction)                                                           \
     X(vertical_scale_refines_the_cut)                                                              \
     X(tree_height_is_the_full_resolution_surface)                                                  \
-    X(keep_above_uses_the_full_resolution_leaf)
+    X(keep_above_uses_the_full_resolution_leaf)                                                    \
+    X(node_normals_are_the_terrains_where_leaves_are_resident)
 TP_TEST_MAIN(TESTS)

@@ -779,10 +779,10 @@ typedef struct tp_tree_info {
 void tp_tree_get_info(const tp_tree* t, tp_tree_info* out);
 
 /* Writes the unit normal (east, north, up) at grid sample (x, y) of resident node `node` (a
- * position on its lattice, inside it), from central differences of the node's own samples at
- * its stride, one-sided at its border and next to undrawn samples, (0, 0, 1) where no slope is
- * known: tp_terrain_normal on the node's lattice. A coarse node is shaded from the terrain at
- * its own scale. */
+ * position on its lattice, inside it): from the full-resolution samples around it when the
+ * leaves there are resident (central differences, one-sided next to undrawn samples: what
+ * tp_terrain_normal gives on the same grid, so neighbouring nodes of any scale agree); else
+ * from the node's own samples at its stride ((0, 0, 1) where no slope is known). */
 void tp_tree_node_normal(const tp_tree* t, int64_t node, int32_t x, int32_t y, float normal[3]);
 
 /* Query: decoded height of full-resolution sample (x, y) if a resident node holds it at that

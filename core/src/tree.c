@@ -298,6 +298,22 @@ static double lattice_slope(const uint16_t* smp, const tp_node_meta* m, int v, i
     return 0;
 }
 
+/* Slope (m/m) along one axis from resident full-resolution samples, central where both
+ * neighbours are known, else one-sided; NaN when neither neighbour is (not resident or not
+ * drawn). */
+static double full_slope(const tp_tree* t, int x, int y, int dx, int dy, double spacing)
+{
+    double a = tp_tree_sample(t, x - dx, y - dy), b = tp_tree_sample(t, x + dx, y + dy);
+    if (!isnan(a) && !isnan(b))
+        return (b - a) / (2 * spacing);
+    double c = tp_tree_sample(t, x, y);
+    if (!isnan(b) && !isnan(c))
+        return (b - c) / spacing;
+    if (!isnan(a) && !isnan(c))
+        return (c - a) / spacing;
+    return NAN;
+}
+
 void tp_tree_node_normal(const tp_tree* t, int64_t node, int32_t x, int32_t y, float normal[3])
 {
     assert(t && normal);
@@ -313,9 +329,16 @@ void tp_tree_node_normal(const tp_tree* t, int64_t node, int32_t x, int32_t y, f
     const tp_node_meta* m = &t->desc.metas[node];
     double step = t->desc.height_step_m, stride = (double)((int64_t)1 << s);
     const double* gt = t->desc.geotransform;
-    /* dz/dE and dz/dN in metres: a lattice step moves stride * gt[1] east, stride * gt[5] north */
-    double gx = lattice_slope(smp, m, v, i, j, 1, 0, stride * gt[1]) * step;
-    double gy = lattice_slope(smp, m, v, i, j, 0, 1, stride * gt[5]) * step;
+    /* Full resolution where the leaves around the vertex are resident: the normals of a
+     * terrain's grid, the same for every node that has the vertex, so nodes of different
+     * scales shade alike across their borders (from each node's own lattice, the borders of
+     * coarse nodes showed as squares). Else, far away and not loaded, the node's lattice. */
+    double gx = full_slope(t, x, y, 1, 0, gt[1]), gy = full_slope(t, x, y, 0, 1, gt[5]);
+    if (isnan(gx) || isnan(gy)) {
+        /* dz/dE and dz/dN: a lattice step moves stride * gt[1] east, stride * gt[5] north */
+        gx = lattice_slope(smp, m, v, i, j, 1, 0, stride * gt[1]) * step;
+        gy = lattice_slope(smp, m, v, i, j, 0, 1, stride * gt[5]) * step;
+    }
     double len = sqrt(gx * gx + gy * gy + 1);
     normal[0] = (float)(-gx / len);
     normal[1] = (float)(-gy / len);
