@@ -334,7 +334,8 @@ TEST(a_damaged_node_is_reported_once_and_its_ancestor_drawn)
     fixture fx;
     /* the leaf under the camera is written first; a byte of its data is then damaged */
     ASSERT_TRUE(open_fixture(&fx, -1, 0));
-    const tp_tree_geometry* g = tp_tree_get_geometry(fx.full);
+    /* a copy: the fixture's trees go with close_fixture */
+    const tp_tree_geometry geometry = *tp_tree_get_geometry(fx.full), *g = &geometry;
     int64_t leaf = tp_tree_node_id(g, 0, 7, 10);
     close_fixture(&fx);
     ASSERT_TRUE(open_fixture(&fx, leaf, 1));
