@@ -8,32 +8,7 @@
 
 #include <stdint.h>
 
-/* A w x h crop at (x0, y0) of N42E001.hgt (SRTM3, -32768 = void), or NULL without the file. */
-static float* load_hgt(int x0, int y0, int w, int h)
-{
-    char path[1024];
-    if (!tp_test_data_path(path, sizeof path, "TP_SHARED_DATA_DIR", "N42E001.hgt"))
-        return NULL;
-    FILE* f = fopen(path, "rb");
-    if (!f)
-        return NULL;
-    unsigned char* raw = malloc((size_t)1201 * 1201 * 2);
-    size_t got = fread(raw, 1, (size_t)1201 * 1201 * 2, f);
-    fclose(f);
-    if (got != (size_t)1201 * 1201 * 2) {
-        free(raw);
-        return NULL;
-    }
-    float* out = malloc((size_t)w * h * sizeof *out);
-    for (int y = 0; y < h; y++)
-        for (int x = 0; x < w; x++) {
-            size_t i = ((size_t)(y0 + y) * 1201 + (size_t)(x0 + x)) * 2;
-            int16_t v = (int16_t)((raw[i] << 8) | raw[i + 1]);
-            out[(size_t)y * w + x] = v == -32768 ? NAN : (float)v;
-        }
-    free(raw);
-    return out;
-}
+#include "tp_test_hgt.h"
 
 #define LOAD_OR_SKIP(var, x0, y0, w, h)                                                            \
     float* var = load_hgt(x0, y0, w, h);                                                           \
