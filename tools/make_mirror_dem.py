@@ -11,6 +11,10 @@ TILE      default ../shared/data/N42E001.hgt (beside the repository): any DEM GD
 
 Options:
   --pixel-m M     pixel size of the mosaic in metres (default 10)
+  --real-slopes   resample the tile's grid to --pixel-m posts (cubic spline) before mirroring,
+                  so the relief keeps its real size and slopes (smooth between the tile's own
+                  posts) instead of being compressed horizontally; the VRT is then named
+                  mirror_<SIZE>_real.vrt
   --keep-voids    keep the tile's voids (SRTM holes) instead of filling them
   --read          read the whole mosaic once (gdalinfo -stats) and print the time and MB/s
   -h, --help      this text
@@ -40,7 +44,11 @@ Georeference: the tile's UTM zone (EPSG:326zz or 327zz), pixel --pixel-m, centre
 zone's central meridian at 45 degrees latitude (northing 4985000, or 5015000 in the south),
 so 65537^2 at 10 m (655 km) spans eastings 172..828 km and stays a sensible UTM map. The
 relief is the tile's real relief compressed horizontally (66.7 m posts drawn 10 m apart for
-N42E001, x6.7): heights are real, slopes are steeper than real.
+N42E001, x6.7): heights are real, slopes are steeper than real. With --real-slopes the tile's
+grid is first resampled to --pixel-m posts (gdal_translate -r cubicspline; N42E001 at 10 m:
+8018 x 10958 posts, 351 MB per copy): real slopes at 10 m posts, but with no detail finer than
+the tile's 68 m between them. Real 10 m DEMs lie between the two: the compressed mosaic is
+the hard case for a level-of-detail renderer, the resampled one the easy case.
 
 Needs the GDAL command-line tools (Debian: gdal-bin; `make deps` installs it) and Python 3
 (no Python GDAL module is used: the flips are done on the raw files).
@@ -169,6 +177,24 @@ def render_grid(tile, out_dir, stem, fill):
     return w, h, epsg, res, voids_found, voids_left
 
 
+def resample(out_dir, stem, w, h, res, pixel_m):
+    """--real-slopes: <stem>_0.bil (w x h posts every res m) resampled in place to posts every
+    pixel_m over the same span (edge posts kept); the new (w, h)."""
+    nw = int(round((w - 1) * res / pixel_m)) + 1
+    nh = int(round((h - 1) * res / pixel_m)) + 1
+    base = os.path.join(out_dir, stem + "_0.bil")
+    tmp = os.path.join(out_dir, stem + "_rs.bil")
+    run(["gdal_translate", "-q", "-of", "EHdr", "-ot", "Float32", "-r", "cubicspline",
+         "-outsize", str(nw), str(nh), base, tmp])
+    for ext in (".bil", ".hdr"):
+        os.replace(tmp[:-4] + ext, base[:-4] + ext)
+    for ext in (".prj", ".bil.aux.xml"):
+        for f in (tmp[:-4] + ext, base[:-4] + ext):
+            if os.path.exists(f) and f.startswith(tmp[:-4]):
+                os.remove(f)
+    return nw, nh
+
+
 def read_floats(path, w, h):
     """Float32 samples of a raw .bil (native order after swapping per its .hdr)."""
     a = array.array("f")
@@ -280,7 +306,7 @@ def write_vrt(path, size, stem, w, h, epsg, pixel_m, north):
 
 
 def main(argv):
-    pixel_m, fill, read, pos = 10.0, True, False, []
+    pixel_m, fill, read, real, pos = 10.0, True, False, False, []
     i = 0
     while i < len(argv):
         a = argv[i]
@@ -291,6 +317,8 @@ def main(argv):
             fill = False
         elif a == "--read":
             read = True
+        elif a == "--real-slopes":
+            real = True
         elif a == "--pixel-m":
             i += 1
             try:
@@ -330,19 +358,26 @@ def main(argv):
 
     t0 = time.time()
     stem = os.path.splitext(os.path.basename(tile))[0] + ("_filled" if fill else "_voids")
+    if real:
+        stem += "_real%g" % pixel_m
     w, h, epsg, res, voids_found, voids_left = render_grid(tile, out_dir, stem, fill)
+    tile_w, tile_h = w, h
+    if real:
+        w, h = resample(out_dir, stem, w, h, res, pixel_m)
     write_copies(out_dir, stem, w, h)
-    vrt = os.path.join(out_dir, "mirror_%d.vrt" % size)
+    vrt = os.path.join(out_dir, "mirror_%d%s.vrt" % (size, "_real" if real else ""))
     nsrc, ext = write_vrt(vrt, size, stem, w, h, epsg, pixel_m, epsg < 32700)
     made_s = time.time() - t0
 
     print("tile:    %s" % tile)
-    print("grid:    %dx%d at %.2f m in EPSG:%d (%s_{0,x,y,xy}.bil, %.1f MB each); %d void "
-          "samples in the tile's grid, %d left%s"
-          % (w, h, res, epsg, stem, w * h * 4 / 1e6, voids_found, voids_left,
-             "" if fill else " (--keep-voids)"))
-    print("mosaic:  %s: %dx%d Float32 at %g m (x%.1f horizontal compression), %d sources, "
-          "copies every %dx%d samples" % (vrt, size, size, pixel_m, res / pixel_m, nsrc, w - 1, h - 1))
+    print("grid:    %dx%d at %.2f m in EPSG:%d; %d void samples in the tile's grid, %d left%s"
+          % (tile_w, tile_h, res, epsg, voids_found, voids_left, "" if fill else " (--keep-voids)"))
+    if real:
+        print("resampled: %dx%d at %g m (cubic spline; real slopes)" % (w, h, pixel_m))
+    print("copies:  %s_{0,x,y,xy}.bil, %.1f MB each" % (stem, w * h * 4 / 1e6))
+    print("mosaic:  %s: %dx%d Float32 at %g m (%s), %d sources, copies every %dx%d samples"
+          % (vrt, size, size, pixel_m, "real size" if real else
+             "x%.1f horizontal compression" % (res / pixel_m), nsrc, w - 1, h - 1))
     print("extent:  EPSG:%d x %.0f .. %.0f, y %.0f .. %.0f (%.1f km square)"
           % (epsg, ext[0], ext[2], ext[1], ext[3], size * pixel_m / 1e3))
     print("made in: %.1f s; a full read is %.2f GB of Float32" % (made_s, size * size * 4 / 1e9))
