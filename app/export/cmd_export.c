@@ -8,6 +8,8 @@
 #include "cli.h"
 #include "mesh_export.h"
 #include "scene.h"
+#include "store_export.h"
+#include "store_scene.h"
 #include "view_options.h"
 
 #include <math.h>
@@ -190,6 +192,22 @@ int tp_cli_export(int argc, char** argv)
     /* An unwritable output is found before the DEM is read, not after the mesh is built. */
     if (!tp_atomic_check_dir(o.out))
         return TP_EXIT_FAILURE;
+    if (tp_is_store_path(o.path)) {
+        if (o.no_cull || o.per_patch || o.scene.image_given) {
+            fprintf(stderr, "terrapatch export: %s is a store: --no-cull, --per-patch and the "
+                            "heightmap options apply to a DEM only\n", o.path);
+            return TP_EXIT_USAGE;
+        }
+        tp_store_export_request r = {
+            .store_path = o.path, .out = o.out, .max_error_m = o.max_error_m, .vs = &o.vs,
+            .format = o.format, .origin_local = o.origin_local,
+            .mode = o.mode == MODE_FULL        ? TP_STORE_EXPORT_FULL
+                    : o.mode == MODE_MAX_ERROR ? TP_STORE_EXPORT_MAX_ERROR
+                                               : TP_STORE_EXPORT_VIEW,
+        };
+        code = tp_export_store(&r);
+        return code == TP_EXIT_OK ? tp_cli_finish(code) : code;
+    }
     tp_scene sc;
     o.scene.use = o.mode == MODE_FULL ? TP_MEMORY_USE_EXPORT_FULL : TP_MEMORY_USE_EXPORT;
     if ((code = tp_scene_load(o.path, &o.scene, &sc)) != TP_EXIT_OK)

@@ -418,6 +418,8 @@ typedef struct tp_mesh {
     const char* lod_params;     /* e.g. "mode=error tau_px=1" */
     const char* program_version;
     double origin[3];           /* subtracted from every point (0 unless --origin local) */
+    const char* void_filled_note; /* field data "void_filled_note" (NULL or "": none), e.g.
+                                     why void_filled is not known (a store's export) */
 } tp_mesh;
 
 typedef enum tp_mesh_format {
