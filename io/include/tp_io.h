@@ -463,6 +463,12 @@ typedef struct tp_mesh_summary {
 
 tp_status tp_mesh_inspect(const char* path, tp_mesh_summary* out, tp_error* err);
 
+/* The points of a .vtp or .vtk mesh (3 doubles each, in file order), read back with VTK's
+ * readers (tests comparing two meshes point for point). *xyz is allocated with malloc (the
+ * caller frees it); *xyz and *count are written only on success. TP_ERR_INVALID_ARG for
+ * another extension, TP_ERR_IO, TP_ERR_BAD_DATA as tp_mesh_inspect. */
+tp_status tp_mesh_read_points(const char* path, double** xyz, size_t* count, tp_error* err);
+
 /* ---------------------------------------------------------------------------------------------
  * Georeference (io/src/georef.cpp): grid (x, y) <-> render CRS (E, N) <-> WGS84 (lat, lon).
  *
