@@ -267,6 +267,7 @@ typedef struct store_export {
     double step_m, unit, quant_m;
     int n;
     size_t tris_cut; /* triangles of the final cut (for the size check) */
+    size_t drawn;    /* nodes of the final cut */
 } store_export;
 
 static int fail(store_export* x, const char* what)
@@ -632,6 +633,7 @@ static int build_mesh(store_export* x, mesh_build* m, double* sum, size_t* count
         code = fail(x, "out of memory");
         goto done;
     }
+    x->drawn = nodes;
     for (size_t i = 0; i < nodes; i++)
         keep[out[i].node] = 1;
     res_release_except(&x->res, keep);
@@ -762,9 +764,11 @@ static int write_mesh(store_export* x, mesh_build* m, const char* camera_text,
     size_t full = (size_t)2 * (size_t)(x->g->src_width - 1) * (size_t)(x->g->src_height - 1);
     printf("wrote %s: %zu points, %zu triangles (%.2f%% of the at most %zu of the full mesh), "
            "measured error (against the store's full-resolution samples) max %.3f m, RMS %.3f m; "
-           "nodes read: %zu resident at most (%.1f MiB), %zu leaves read for the error\n",
+           "%zu nodes drawn, %zu resident at most (%.1f MiB), %zu more leaves read for the "
+           "error\n",
            x->r->out, m->points, m->tris, 100.0 * m->tris / (full ? full : 1), full, mx,
-           count ? sqrt(sum / count) : 0.0, x->res.peak_bytes / (x->res.block_samples * 2),
+           count ? sqrt(sum / count) : 0.0, x->drawn,
+           x->res.peak_bytes / (x->res.block_samples * 2),
            x->res.peak_bytes / 1048576.0, x->cache->reads);
     return TP_EXIT_OK;
 }
