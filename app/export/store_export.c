@@ -284,7 +284,7 @@ static int too_many(store_export* x, size_t tris, const char* how)
             "or distance mode\n",
             x->r->store_path, how, tris, TP_STORE_EXPORT_MAX_TRIANGLES,
             "TP_STORE_EXPORT_MAX_TRIANGLES, app/export/store_export.h");
-    return TP_EXIT_USAGE;
+    return TP_EXIT_FAILURE; /* as the DEM path's --full over the memory available */
 }
 
 /* The camera's cut with every node it draws resident: update, read what it requests, again,
@@ -642,8 +642,13 @@ static int build_mesh(store_export* x, mesh_build* m, double* sum, size_t* count
         size_t nt = tp_patch_triangles(vb, out[i].level, tb, tcap);
         for (size_t t = 0; t < nt; t++) {
             const tp_vertex* v[3] = {&vb[tb[3 * t]], &vb[tb[3 * t + 1]], &vb[tb[3 * t + 2]]};
-            if (x->r->mode == TP_STORE_EXPORT_FULL && !full_cell(x->cache, v))
+            if (x->r->mode == TP_STORE_EXPORT_FULL && !full_cell(x->cache, v)) {
+                if (x->cache->failed) {
+                    code = fail(x, x->res.err.message);
+                    goto done;
+                }
                 continue;
+            }
             uint64_t p[3];
             for (int c = 0; c < 3; c++)
                 if ((p[c] = point_of(m, v[c]->x, v[c]->y, (double)v[c]->z_m)) == UINT64_MAX) {

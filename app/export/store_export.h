@@ -38,8 +38,10 @@ typedef struct tp_store_export_request {
 } tp_store_export_request;
 
 /* Runs the export; prints one line on success ("wrote ...") or one error line naming the file
- * and returns the command's exit status (TP_EXIT_OK, TP_EXIT_FAILURE, TP_EXIT_USAGE for a
- * --max-error below the store's quantisation error, or tp_cli_interrupted()'s). */
+ * and returns the command's exit status: TP_EXIT_OK; TP_EXIT_FAILURE for an unreadable store
+ * or node, an unwritable output, or a mesh over TP_STORE_EXPORT_MAX_TRIANGLES (the message
+ * names the count and the limit and points to --max-error or a camera); TP_EXIT_USAGE for a
+ * --max-error below the store's quantisation error; tp_cli_interrupted()'s after a signal. */
 int tp_export_store(const tp_store_export_request* r);
 
 #endif
