@@ -254,9 +254,35 @@ TEST(store_options_for_a_dem_only_are_refused)
     remove(store);
 }
 
+TEST(damaged_node_fails_and_writes_nothing)
+{
+    /* a byte flipped in the middle of the file lands in some node's compressed samples: the
+     * export reads every node it draws, so it must fail naming the node, with no output */
+    char store[1024], out[1024], err[4096];
+    out_path(store, sizeof store, "damaged.tpt");
+    const char* files[] = {"storml_elev.tif", NULL};
+    build_store(store, "64", files);
+    FILE* f = fopen(store, "r+b");
+    ASSERT_TRUE(f != NULL);
+    ASSERT_EQ_INT(0, fseek(f, 0, SEEK_END));
+    long size = ftell(f);
+    ASSERT_EQ_INT(0, fseek(f, size / 2, SEEK_SET));
+    int c = fgetc(f);
+    ASSERT_EQ_INT(0, fseek(f, size / 2, SEEK_SET));
+    fputc(c ^ 0x5A, f);
+    fclose(f);
+    out_path(out, sizeof out, "damaged.vtp");
+    const char* args[] = {"--full", store, "-o", out, NULL};
+    EXPECT_EQ_INT(1, run_cmd("export", args, err, sizeof err));
+    EXPECT_TRUE(strstr(err, "node") != NULL);
+    EXPECT_TRUE(access(out, F_OK) != 0);
+    remove(store);
+}
+
 #define TESTS(X)                                                                                   \
     X(seam_store_cuts_are_watertight)                                                              \
     X(void_store_cuts_are_watertight_and_keep_max_error)                                           \
     X(store_and_dem_exports_have_the_same_points)                                                  \
-    X(store_options_for_a_dem_only_are_refused)
+    X(store_options_for_a_dem_only_are_refused)                                                    \
+    X(damaged_node_fails_and_writes_nothing)
 TP_TEST_MAIN(TESTS)
