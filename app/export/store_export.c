@@ -272,7 +272,10 @@ typedef struct store_export {
 
 static int fail(store_export* x, const char* what)
 {
-    fprintf(stderr, "terrapatch: %s: %s\n", x->r->store_path, what);
+    if (strstr(what, x->r->store_path)) /* the store's messages name the file */
+        fprintf(stderr, "terrapatch: %s\n", what);
+    else
+        fprintf(stderr, "terrapatch: %s: %s\n", x->r->store_path, what);
     return TP_EXIT_FAILURE;
 }
 
