@@ -140,11 +140,14 @@ TEST(seam_store_cuts_are_watertight)
     EXPECT_LT((double)d.triangles, 0.5 * (double)f.triangles);
     EXPECT_EQ_INT(0, d.non_manifold_edges);
     EXPECT_EQ_INT(f.boundary_loops, d.boundary_loops);
+    /* without the pass that raises a coarser neighbour whose stitching passes M, this cut
+     * measured 40 m at M = 30 (and 9.4 m at M = 8 on Mt Hood, below) */
     const char* me[] = {"--max-error", "30", store, "-o", out, NULL};
     tp_mesh_summary m = export_and_inspect(me);
     EXPECT_EQ_INT(f.boundary_loops, m.boundary_loops);
     EXPECT_EQ_INT(0, m.non_manifold_edges);
     EXPECT_LE(m.max_error_m, 30.0);
+    EXPECT_GT(m.max_error_m, 10.0);
     EXPECT_LT((double)m.triangles, 0.6 * (double)f.triangles);
     remove(out);
     remove(store);
