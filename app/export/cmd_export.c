@@ -8,6 +8,8 @@
 #include "cli.h"
 #include "mesh_export.h"
 #include "scene.h"
+#include "store_export.h"
+#include "store_scene.h"
 #include "view_options.h"
 
 #include <math.h>
@@ -40,7 +42,7 @@ enum {
 
 static void print_help(void)
 {
-    fputs("usage: terrapatch export [options] DEM -o OUT\n"
+    fputs("usage: terrapatch export [options] DEM|STORE.tpt -o OUT\n"
           "\n"
           "Writes the triangle mesh terrapatch draws, for ParaView and GIS comparison: points in\n"
           "double precision in the render CRS (true UTM/projected metres, elevation in metres),\n"
@@ -57,13 +59,21 @@ static void print_help(void)
           "  --max-error M         static, crack-free mesh: every patch at the coarsest level\n"
           "                        whose measured error stays <= M metres\n"
           "  --no-cull             view-dependent mesh: keep the patches outside the view too\n"
+          "                        (DEMs only)\n"
+          "on a store (.tpt): the same modes over the tree's cut. Every node the mesh draws is\n"
+          "read at full detail first (nothing substituted), nodes no longer needed are released;\n"
+          "default: the cut the viewer draws for the camera; --max-error M: each node at the\n"
+          "coarsest level whose stored bound (stitching and quantisation included) is <= M;\n"
+          "--full is refused above 50 M triangles (the other modes when their cut passes it).\n"
+          "patch_id is the node id; max_error_m is measured against the store's full-resolution\n"
+          "samples; void_filled is 0 (field data void_filled_note says whether that is known).\n"
           "view-dependent options (as for view):\n",
           stdout);
     tp_view_options_help(stdout);
     fputs(
           "output:\n"
           "  -o, --output OUT      .vtp (VTK XML, binary, compressed), .vtk (legacy) or .vtm\n"
-          "  --per-patch           one block per patch (.vtm)\n"
+          "  --per-patch           one block per patch (.vtm; DEMs only)\n"
           "  --origin local        subtract a scene origin (written to the field data)\n"
           "DEM:\n",
           stdout);
@@ -190,6 +200,22 @@ int tp_cli_export(int argc, char** argv)
     /* An unwritable output is found before the DEM is read, not after the mesh is built. */
     if (!tp_atomic_check_dir(o.out))
         return TP_EXIT_FAILURE;
+    if (tp_is_store_path(o.path)) {
+        if (o.no_cull || o.per_patch || o.scene.image_given) {
+            fprintf(stderr, "terrapatch export: %s is a store: --no-cull, --per-patch and the "
+                            "heightmap options apply to a DEM only\n", o.path);
+            return TP_EXIT_USAGE;
+        }
+        tp_store_export_request r = {
+            .store_path = o.path, .out = o.out, .max_error_m = o.max_error_m, .vs = &o.vs,
+            .format = o.format, .origin_local = o.origin_local,
+            .mode = o.mode == MODE_FULL        ? TP_STORE_EXPORT_FULL
+                    : o.mode == MODE_MAX_ERROR ? TP_STORE_EXPORT_MAX_ERROR
+                                               : TP_STORE_EXPORT_VIEW,
+        };
+        code = tp_export_store(&r);
+        return code == TP_EXIT_OK ? tp_cli_finish(code) : code;
+    }
     tp_scene sc;
     o.scene.use = o.mode == MODE_FULL ? TP_MEMORY_USE_EXPORT_FULL : TP_MEMORY_USE_EXPORT;
     if ((code = tp_scene_load(o.path, &o.scene, &sc)) != TP_EXIT_OK)

@@ -418,6 +418,8 @@ typedef struct tp_mesh {
     const char* lod_params;     /* e.g. "mode=error tau_px=1" */
     const char* program_version;
     double origin[3];           /* subtracted from every point (0 unless --origin local) */
+    const char* void_filled_note; /* field data "void_filled_note" (NULL or "": none), e.g.
+                                     why void_filled is not known (a store's export) */
 } tp_mesh;
 
 typedef enum tp_mesh_format {
@@ -460,6 +462,12 @@ typedef struct tp_mesh_summary {
 } tp_mesh_summary;
 
 tp_status tp_mesh_inspect(const char* path, tp_mesh_summary* out, tp_error* err);
+
+/* The points of a .vtp or .vtk mesh (3 doubles each, in file order), read back with VTK's
+ * readers (tests comparing two meshes point for point). *xyz is allocated with malloc (the
+ * caller frees it); *xyz and *count are written only on success. TP_ERR_INVALID_ARG for
+ * another extension, TP_ERR_IO, TP_ERR_BAD_DATA as tp_mesh_inspect. */
+tp_status tp_mesh_read_points(const char* path, double** xyz, size_t* count, tp_error* err);
 
 /* ---------------------------------------------------------------------------------------------
  * Georeference (io/src/georef.cpp): grid (x, y) <-> render CRS (E, N) <-> WGS84 (lat, lon).

@@ -38,6 +38,7 @@
 #include <cerrno>
 #include <cmath>
 #include <cstdint>
+#include <cstdlib>
 #include <cstring>
 #include <exception>
 #include <memory>
@@ -303,6 +304,37 @@ extern "C" tp_status tp_mesh_inspect(const char* path, tp_mesh_summary* out, tp_
         if (s == TP_OK)
             *out = summary;
         return s;
+    } catch (...) {
+        return tpio::caught(err, path);
+    }
+}
+
+extern "C" tp_status tp_mesh_read_points(const char* path, double** xyz, size_t* count,
+                                         tp_error* err)
+{
+    if (!path || !*path || !xyz || !count)
+        return fail(err, TP_ERR_INVALID_ARG, "mesh: bad arguments (path, xyz or count is NULL)");
+    try {
+        tp_mesh_format format = format_of(path);
+        if (format != TP_MESH_VTP && format != TP_MESH_VTK)
+            return fail(err, TP_ERR_INVALID_ARG, "%s: expected a .vtp or .vtk file", path);
+        struct stat st;
+        if (stat(path, &st) != 0 || !S_ISREG(st.st_mode))
+            return fail(err, TP_ERR_IO, "%s: cannot open: %s", path, std::strerror(errno));
+        Loaded loaded;
+        tp_status s = load(path, format, &loaded, err);
+        if (s != TP_OK)
+            return s;
+        vtkPoints* pts = loaded.blocks[0]->GetPoints();
+        size_t n = pts ? (size_t)pts->GetNumberOfPoints() : 0;
+        double* out = (double*)std::malloc(3 * (n ? n : 1) * sizeof(double));
+        if (!out)
+            return fail(err, TP_ERR_OUT_OF_MEMORY, "%s: out of memory reading the points", path);
+        for (size_t i = 0; i < n; i++)
+            pts->GetPoint((vtkIdType)i, out + 3 * i);
+        *xyz = out;
+        *count = n;
+        return TP_OK;
     } catch (...) {
         return tpio::caught(err, path);
     }

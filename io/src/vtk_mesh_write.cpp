@@ -115,6 +115,7 @@ void add_field_data(vtkFieldData* fd, const tp_mesh* m, size_t triangle_count)
     add_string(fd, "camera", m->camera);
     add_string(fd, "lod_params", m->lod_params);
     add_string(fd, "program_version", m->program_version);
+    add_string(fd, "void_filled_note", m->void_filled_note);
     vtkNew<vtkDoubleArray> origin;
     origin->SetName("origin");
     origin->SetNumberOfComponents(3);

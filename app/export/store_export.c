@@ -1,0 +1,888 @@
+/* store_export.c - `terrapatch export` on a store (see store_export.h). */
+#include "store_export.h"
+
+#include "camera_pose.h"
+#include "cli.h"
+#include "store_scene.h"
+#include "tp_geo.h"
+
+#include <math.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* ---- nodes read synchronously, owned here, attached to the tree while needed ---- */
+
+typedef struct residency {
+    tp_store_scene* sc;
+    size_t block_samples;
+    uint16_t** block;        /* per node id; NULL when not resident */
+    int64_t* ids;            /* resident node ids (order of loading) */
+    size_t count, cap;
+    size_t bytes, peak_bytes;
+    tp_error err;            /* the first read failure */
+} residency;
+
+static int res_load(residency* r, int64_t node)
+{
+    if (r->block[node])
+        return 1;
+    if (r->count == r->cap) {
+        size_t cap = r->cap ? 2 * r->cap : 1024;
+        int64_t* p = realloc(r->ids, cap * sizeof *p);
+        if (!p)
+            return tp_error_set(&r->err, TP_ERR_OUT_OF_MEMORY, "out of memory"), 0;
+        r->ids = p;
+        r->cap = cap;
+    }
+    uint16_t* b = malloc(r->block_samples * sizeof *b);
+    if (!b)
+        return tp_error_set(&r->err, TP_ERR_OUT_OF_MEMORY, "out of memory"), 0;
+    if (tp_store_read_node(r->sc->store, node, b, r->block_samples, &r->err) != TP_OK) {
+        free(b);
+        return 0;
+    }
+    r->block[node] = b;
+    r->ids[r->count++] = node;
+    tp_tree_attach(r->sc->tree, node, b);
+    r->bytes += r->block_samples * sizeof *b;
+    r->peak_bytes = r->bytes > r->peak_bytes ? r->bytes : r->peak_bytes;
+    return 1;
+}
+
+/* Releases every resident node for which keep[node] is 0 (keep NULL: all). */
+static void res_release_except(residency* r, const uint8_t* keep)
+{
+    size_t w = 0;
+    for (size_t i = 0; i < r->count; i++) {
+        int64_t id = r->ids[i];
+        if (keep && keep[id]) {
+            r->ids[w++] = id;
+            continue;
+        }
+        tp_tree_detach(r->sc->tree, id);
+        free(r->block[id]);
+        r->block[id] = NULL;
+        r->bytes -= r->block_samples * sizeof(uint16_t);
+    }
+    r->count = w;
+}
+
+/* ---- full-resolution samples, read through a direct-mapped cache of leaves ---- */
+
+#define LEAF_CACHE_SLOTS 4096
+
+typedef struct leaf_cache {
+    residency* res;
+    const tp_tree_geometry* g;
+    double step_m;
+    const tp_node_meta* metas;
+    int64_t key[LEAF_CACHE_SLOTS];
+    uint16_t* slot[LEAF_CACHE_SLOTS];
+    size_t reads;
+    int failed;
+} leaf_cache;
+
+/* Decoded height of full-resolution sample (x, y), NaN where none is drawn (or a read failed:
+ * then failed is set and res->err holds the message). */
+static double leaf_sample(leaf_cache* lc, int x, int y)
+{
+    const tp_tree_geometry* g = lc->g;
+    int n = g->n, c = x >> n, r = y >> n;
+    c = c < g->cols ? c : g->cols - 1;
+    r = r < g->rows ? r : g->rows - 1;
+    int64_t leaf = tp_tree_node_id(g, 0, c, r);
+    const uint16_t* q = lc->res->block[leaf];
+    if (!q) {
+        size_t s = (size_t)leaf % LEAF_CACHE_SLOTS;
+        if (lc->key[s] != leaf) {
+            if (!lc->slot[s] && !(lc->slot[s] = malloc(lc->res->block_samples * sizeof(uint16_t)))) {
+                lc->failed = 1;
+                tp_error_set(&lc->res->err, TP_ERR_OUT_OF_MEMORY, "out of memory");
+                return NAN;
+            }
+            lc->key[s] = -1;
+            if (tp_store_read_node(lc->res->sc->store, leaf, lc->slot[s], lc->res->block_samples,
+                                   &lc->res->err) != TP_OK) {
+                lc->failed = 1;
+                return NAN;
+            }
+            lc->key[s] = leaf;
+            lc->reads++;
+        }
+        q = lc->slot[s];
+    }
+    int v = (1 << n) + 1;
+    uint16_t st = q[(size_t)(y - (r << n)) * v + (size_t)(x - (c << n))];
+    return st == TP_TREE_NO_HEIGHT ? NAN : ((double)st + lc->metas[leaf].qmin) * lc->step_m;
+}
+
+typedef struct tri_error {
+    leaf_cache* lc;
+    double max, sum;
+    size_t count;
+} tri_error;
+
+static void error_at(int x, int y, double z, void* user)
+{
+    tri_error* e = user;
+    double s = leaf_sample(e->lc, x, y);
+    if (isnan(s))
+        return;
+    double d = fabs(z - s);
+    e->max = d > e->max ? d : e->max;
+    e->sum += d * d;
+    e->count++;
+}
+
+/* ---- the mesh: points merged by grid position (open addressing), triangles ---- */
+
+typedef struct mesh_build {
+    uint64_t* key;           /* (x << 32 | y) + 1; 0 = empty */
+    uint64_t* val;
+    size_t hcap;
+    int32_t *px, *py;
+    double* pz;
+    size_t points, cap_x, cap_y, cap_z;
+    uint64_t* tri;
+    int32_t* patch;
+    uint8_t* lod;
+    double* err;
+    size_t tris, cap_tri, cap_patch, cap_lod, cap_err;
+} mesh_build;
+
+static int grow(void** p, size_t* cap, size_t need, size_t size)
+{
+    if (need <= *cap)
+        return 1;
+    size_t c = *cap ? *cap : 4096;
+    while (c < need)
+        c *= 2;
+    void* q = realloc(*p, c * size);
+    if (!q)
+        return 0;
+    *p = q;
+    *cap = c;
+    return 1;
+}
+
+static uint64_t hash64(uint64_t k)
+{
+    k ^= k >> 33;
+    k *= 0xff51afd7ed558ccdULL;
+    k ^= k >> 33;
+    return k;
+}
+
+static int rehash(mesh_build* m, size_t cap)
+{
+    uint64_t* key = calloc(cap, sizeof *key);
+    uint64_t* val = malloc(cap * sizeof *val);
+    if (!key || !val) {
+        free(key);
+        free(val);
+        return 0;
+    }
+    for (size_t i = 0; i < m->hcap; i++)
+        if (m->key[i]) {
+            size_t h = hash64(m->key[i]) & (cap - 1);
+            while (key[h])
+                h = (h + 1) & (cap - 1);
+            key[h] = m->key[i];
+            val[h] = m->val[i];
+        }
+    free(m->key);
+    free(m->val);
+    m->key = key;
+    m->val = val;
+    m->hcap = cap;
+    return 1;
+}
+
+/* Index of the point at grid (x, y), added with height z if new; UINT64_MAX when out of memory. */
+static uint64_t point_of(mesh_build* m, int32_t x, int32_t y, double z)
+{
+    if (2 * (m->points + 1) > m->hcap && !rehash(m, m->hcap ? 2 * m->hcap : 1 << 16))
+        return UINT64_MAX;
+    uint64_t k = (((uint64_t)(uint32_t)x << 32) | (uint32_t)y) + 1;
+    size_t h = hash64(k) & (m->hcap - 1);
+    while (m->key[h]) {
+        if (m->key[h] == k)
+            return m->val[h];
+        h = (h + 1) & (m->hcap - 1);
+    }
+    if (!grow((void**)&m->px, &m->cap_x, m->points + 1, sizeof *m->px) ||
+        !grow((void**)&m->py, &m->cap_y, m->points + 1, sizeof *m->py) ||
+        !grow((void**)&m->pz, &m->cap_z, m->points + 1, sizeof *m->pz))
+        return UINT64_MAX;
+    m->key[h] = k;
+    m->val[h] = m->points;
+    m->px[m->points] = x;
+    m->py[m->points] = y;
+    m->pz[m->points] = z;
+    return m->points++;
+}
+
+static int add_triangle(mesh_build* m, const uint64_t p[3], int32_t patch, uint8_t lod, double e)
+{
+    if (!grow((void**)&m->tri, &m->cap_tri, 3 * (m->tris + 1), sizeof *m->tri) ||
+        !grow((void**)&m->patch, &m->cap_patch, m->tris + 1, sizeof *m->patch) ||
+        !grow((void**)&m->lod, &m->cap_lod, m->tris + 1, sizeof *m->lod) ||
+        !grow((void**)&m->err, &m->cap_err, m->tris + 1, sizeof *m->err))
+        return 0;
+    for (int c = 0; c < 3; c++)
+        m->tri[3 * m->tris + c] = p[c];
+    m->patch[m->tris] = patch;
+    m->lod[m->tris] = lod;
+    m->err[m->tris] = e;
+    m->tris++;
+    return 1;
+}
+
+static void mesh_build_free(mesh_build* m)
+{
+    free(m->key);
+    free(m->val);
+    free(m->px);
+    free(m->py);
+    free(m->pz);
+    free(m->tri);
+    free(m->patch);
+    free(m->lod);
+    free(m->err);
+    memset(m, 0, sizeof *m);
+}
+
+/* ---- the export ---- */
+
+typedef struct store_export {
+    const tp_store_export_request* r;
+    tp_store_scene sc;
+    const tp_tree_geometry* g;
+    const tp_node_meta* metas;
+    residency res;
+    leaf_cache* cache;
+    tp_cut* cut;
+    double step_m, unit, quant_m;
+    int n;
+    size_t tris_cut; /* triangles of the final cut (for the size check) */
+    size_t drawn;    /* nodes of the final cut */
+} store_export;
+
+static int fail(store_export* x, const char* what)
+{
+    if (strstr(what, x->r->store_path)) /* the store's messages name the file */
+        fprintf(stderr, "terrapatch: %s\n", what);
+    else
+        fprintf(stderr, "terrapatch: %s: %s\n", x->r->store_path, what);
+    return TP_EXIT_FAILURE;
+}
+
+static int too_many(store_export* x, size_t tris, const char* how)
+{
+    fprintf(stderr,
+            "terrapatch export: %s: %s %zu triangles, over the export limit of %zu (%s); "
+            "export a coarser mesh: --max-error M, or a camera (--camera/--camera-geo) in error "
+            "or distance mode\n",
+            x->r->store_path, how, tris, TP_STORE_EXPORT_MAX_TRIANGLES,
+            "TP_STORE_EXPORT_MAX_TRIANGLES, app/export/store_export.h");
+    return TP_EXIT_FAILURE; /* as the DEM path's --full over the memory available */
+}
+
+/* The camera's cut with every node it draws resident: update, read what it requests, again,
+ * until it requests nothing (then nothing is substituted). */
+static int cut_for_camera(store_export* x, const tp_camera* cam, const tp_lod_params* lod)
+{
+    int64_t* roots = malloc((size_t)x->g->root_count * sizeof *roots);
+    if (!roots)
+        return fail(x, "out of memory");
+    tp_tree_roots(x->g, roots, (size_t)x->g->root_count);
+    for (int64_t i = 0; i < x->g->root_count; i++)
+        if (!res_load(&x->res, roots[i])) {
+            free(roots);
+            return fail(x, x->res.err.message);
+        }
+    free(roots);
+    tp_error err;
+    for (int it = 0;; it++) {
+        if (tp_cut_update(x->cut, cam, lod, &err) != TP_OK)
+            return fail(x, err.message);
+        tp_cut_stats st;
+        tp_cut_get_stats(x->cut, &st);
+        if (st.triangles > TP_STORE_EXPORT_MAX_TRIANGLES)
+            return too_many(x, st.triangles, "the camera's cut draws at least");
+        size_t nr;
+        const int64_t* req = tp_cut_requests(x->cut, &nr);
+        if (nr == 0) {
+            if (st.substituted != 0) /* cannot happen: a substituted node requests */
+                return fail(x, "the cut still substitutes nodes with nothing left to read");
+            x->tris_cut = st.triangles;
+            break;
+        }
+        /* the requests are valid until the next update: copy them before reading */
+        int64_t* ids = malloc(nr * sizeof *ids);
+        if (!ids)
+            return fail(x, "out of memory");
+        memcpy(ids, req, nr * sizeof *ids);
+        for (size_t i = 0; i < nr; i++)
+            if (!res_load(&x->res, ids[i])) {
+                free(ids);
+                return fail(x, x->res.err.message);
+            }
+        free(ids);
+        if (tp_interrupted())
+            return tp_cli_interrupted();
+    }
+    return TP_EXIT_OK;
+}
+
+/* ---- --max-error: a static cut chosen on the node table ---- */
+
+static double bound_m(const store_export* x, int64_t node, int k, const int nb[4])
+{
+    return tp_node_error_bound(&x->metas[node], x->n, k, nb, x->step_m, x->unit) + x->quant_m;
+}
+
+/* The coarsest level k of node whose bound (no stitching) stays <= M at k and every finer
+ * level, or -1 when the node is to be replaced by its children. */
+static int static_level(const store_export* x, int64_t node, int scale)
+{
+    const tp_node_meta* m = &x->metas[node];
+    double M = x->r->max_error_m;
+    if (scale > 0 && (!(m->flags & TP_NODE_COMPLETE) || bound_m(x, node, x->n, NULL) > M))
+        return -1;
+    if (!(m->flags & TP_NODE_COMPLETE))
+        return x->n; /* an incomplete leaf: only drawn at n */
+    int k = x->n;
+    while (k > 0 && bound_m(x, node, k - 1, NULL) <= M)
+        k--;
+    return k;
+}
+
+typedef struct choice {
+    int8_t* level;           /* per node: drawn level, -1 when not chosen */
+    int64_t* ids;            /* chosen ids (may hold stale ones: level -1) */
+    size_t count, cap;
+} choice;
+
+/* Chooses node, or the nodes under it, at their static levels. */
+static int choose(store_export* x, choice* ch, int64_t node)
+{
+    int64_t stack[4 * TP_TREE_MAX_SCALES + 4];
+    int top = 0;
+    stack[top++] = node;
+    while (top > 0) {
+        int64_t id = stack[--top];
+        if (!(x->metas[id].flags & TP_NODE_HAS_DRAWN))
+            continue;
+        int s, c, r;
+        tp_tree_node_locate(x->g, id, &s, &c, &r);
+        int k = static_level(x, id, s);
+        if (k < 0) {
+            for (int q = 0; q < 4; q++)
+                stack[top++] = tp_tree_node_child(x->g, id, q);
+            continue;
+        }
+        if (!grow((void**)&ch->ids, &ch->cap, ch->count + 1, sizeof *ch->ids))
+            return 0;
+        ch->level[id] = (int8_t)k;
+        ch->ids[ch->count++] = id;
+    }
+    return 1;
+}
+
+/* The chosen node of scale >= the scale of `node` that borders it on side (0 top, 1 right,
+ * 2 bottom, 3 left), or -1 (smaller nodes there, or the map's edge). */
+static int64_t chosen_neighbor(const store_export* x, const choice* ch, int64_t node, int side)
+{
+    static const int dc[4] = {0, 1, 0, -1}, dr[4] = {-1, 0, 1, 0};
+    int s, c, r;
+    tp_tree_node_locate(x->g, node, &s, &c, &r);
+    int64_t cc = (int64_t)c + dc[side], rr = (int64_t)r + dr[side];
+    if (cc < 0 || rr < 0)
+        return -1;
+    for (; s < x->g->scales; s++, cc >>= 1, rr >>= 1) {
+        if (cc >= x->g->node_cols[s] || rr >= x->g->node_rows[s])
+            return -1;
+        int64_t id = tp_tree_node_id(x->g, s, (int)cc, (int)rr);
+        if (ch->level[id] >= 0)
+            return id;
+    }
+    return -1;
+}
+
+/* Replaces chosen node b by its children at their static levels. */
+static int split_choice(store_export* x, choice* ch, int64_t b)
+{
+    ch->level[b] = -1;
+    for (int q = 0; q < 4; q++)
+        if (!choose(x, ch, tp_tree_node_child(x->g, b, q)))
+            return 0;
+    return 1;
+}
+
+/* No two chosen neighbours more than n scales apart (the stitching could not join them without
+ * drawing an ancestor at level n, whose error is not bounded by M): the larger one is split. */
+static int balance(store_export* x, choice* ch)
+{
+    for (int changed = 1; changed;) {
+        changed = 0;
+        for (size_t i = 0; i < ch->count; i++) {
+            int64_t a = ch->ids[i];
+            if (ch->level[a] < 0)
+                continue;
+            int sa, c, r;
+            tp_tree_node_locate(x->g, a, &sa, &c, &r);
+            for (int side = 0; side < 4; side++) {
+                int64_t b = chosen_neighbor(x, ch, a, side);
+                int sb;
+                if (b < 0)
+                    continue;
+                tp_tree_node_locate(x->g, b, &sb, &c, &r);
+                if (sb - sa > x->n) {
+                    if (!split_choice(x, ch, b))
+                        return 0;
+                    changed = 1;
+                }
+            }
+        }
+    }
+    size_t w = 0; /* drop the stale ids */
+    for (size_t i = 0; i < ch->count; i++)
+        if (ch->level[ch->ids[i]] >= 0)
+            ch->ids[w++] = ch->ids[i];
+    ch->count = w;
+    return 1;
+}
+
+/* Installs the chosen nodes as the cut (tp_cut_set_nodes stitches them) with them resident and
+ * nothing else. */
+static int install(store_export* x, choice* ch, uint8_t* keep)
+{
+    int* levels = malloc((ch->count ? ch->count : 1) * sizeof *levels);
+    if (!levels)
+        return fail(x, "out of memory");
+    for (size_t i = 0; i < ch->count; i++) {
+        levels[i] = ch->level[ch->ids[i]];
+        keep[ch->ids[i]] = 1;
+    }
+    res_release_except(&x->res, keep);
+    for (size_t i = 0; i < ch->count; i++) {
+        keep[ch->ids[i]] = 0;
+        if (!res_load(&x->res, ch->ids[i])) {
+            free(levels);
+            return fail(x, x->res.err.message);
+        }
+    }
+    tp_error err;
+    tp_status st = tp_cut_set_nodes(x->cut, ch->ids, levels, ch->count, &err);
+    free(levels);
+    return st == TP_OK ? TP_EXIT_OK : fail(x, err.message);
+}
+
+/* --max-error M: chosen on the node table, stitched, and where a stitched node's bound (its
+ * eps table for the neighbour levels it really has) passes M, the coarser neighbour that moves
+ * its vertices is raised one level (split at level n), until no drawn node passes M. */
+static int cut_max_error(store_export* x)
+{
+    double M = x->r->max_error_m;
+    choice ch = {0};
+    uint8_t* keep = calloc((size_t)x->g->node_count, 1);
+    ch.level = malloc((size_t)x->g->node_count);
+    int64_t* roots = malloc((size_t)x->g->root_count * sizeof *roots);
+    int code = TP_EXIT_OK;
+    if (!keep || !ch.level || !roots) {
+        code = fail(x, "out of memory");
+        goto done;
+    }
+    memset(ch.level, -1, (size_t)x->g->node_count);
+    tp_tree_roots(x->g, roots, (size_t)x->g->root_count);
+    for (int64_t i = 0; i < x->g->root_count; i++)
+        if (!choose(x, &ch, roots[i])) {
+            code = fail(x, "out of memory");
+            goto done;
+        }
+    for (int round = 0;; round++) {
+        if (!balance(x, &ch)) {
+            code = fail(x, "out of memory");
+            goto done;
+        }
+        size_t tris = 0;
+        for (size_t i = 0; i < ch.count; i++)
+            tris += (size_t)2 << (2 * ch.level[ch.ids[i]]);
+        if (tris > TP_STORE_EXPORT_MAX_TRIANGLES) {
+            code = too_many(x, tris, "--max-error's cut draws up to");
+            goto done;
+        }
+        if ((code = install(x, &ch, keep)) != TP_EXIT_OK)
+            goto done;
+        size_t count;
+        const tp_cut_node* out = tp_cut_nodes(x->cut, &count);
+        for (size_t i = 0; i < count; i++) /* the stitching only raises levels */
+            ch.level[out[i].node] = out[i].level;
+        int raised = 0;
+        for (size_t i = 0; i < count; i++) {
+            int nb[4];
+            memcpy(nb, (int[4]){out[i].nb[0], out[i].nb[1], out[i].nb[2], out[i].nb[3]},
+                   sizeof nb);
+            if (bound_m(x, out[i].node, out[i].level, nb) <= M)
+                continue;
+            for (int side = 0; side < 4; side++) {
+                int one[4] = {TP_NO_NEIGHBOR, TP_NO_NEIGHBOR, TP_NO_NEIGHBOR, TP_NO_NEIGHBOR};
+                one[side] = nb[side];
+                if (nb[side] == TP_NO_NEIGHBOR || bound_m(x, out[i].node, out[i].level, one) <= M)
+                    continue;
+                int64_t b = chosen_neighbor(x, &ch, out[i].node, side);
+                if (b < 0 || b == out[i].node)
+                    continue;
+                if (ch.level[b] < x->n) {
+                    ch.level[b]++;
+                } else {
+                    int sb, c, r;
+                    tp_tree_node_locate(x->g, b, &sb, &c, &r);
+                    if (sb == 0)
+                        continue; /* a leaf at n moves nothing of a node of its size */
+                    if (!split_choice(x, &ch, b)) {
+                        code = fail(x, "out of memory");
+                        goto done;
+                    }
+                }
+                raised++;
+            }
+        }
+        if (!raised)
+            break;
+        if (round > 64 * (x->n + x->g->scales)) {
+            code = fail(x, "--max-error: the stitched cut does not settle (a bug)");
+            goto done;
+        }
+    }
+    {
+        tp_cut_stats st;
+        tp_cut_get_stats(x->cut, &st);
+        x->tris_cut = st.triangles;
+    }
+done:
+    free(keep);
+    free(ch.level);
+    free(ch.ids);
+    free(roots);
+    return code;
+}
+
+/* --full: every leaf at level n (the size was checked before). */
+static int cut_full(store_export* x)
+{
+    choice ch = {0};
+    uint8_t* keep = calloc((size_t)x->g->node_count, 1);
+    ch.level = malloc((size_t)x->g->node_count);
+    int code = TP_EXIT_OK;
+    if (!keep || !ch.level) {
+        code = fail(x, "out of memory");
+        goto done;
+    }
+    memset(ch.level, -1, (size_t)x->g->node_count);
+    for (int r = 0; r < x->g->rows; r++)
+        for (int c = 0; c < x->g->cols; c++) {
+            int64_t id = tp_tree_node_id(x->g, 0, c, r);
+            if (!(x->metas[id].flags & TP_NODE_HAS_DRAWN))
+                continue;
+            if (!grow((void**)&ch.ids, &ch.cap, ch.count + 1, sizeof *ch.ids)) {
+                code = fail(x, "out of memory");
+                goto done;
+            }
+            ch.level[id] = (int8_t)x->n;
+            ch.ids[ch.count++] = id;
+        }
+    code = install(x, &ch, keep);
+done:
+    free(keep);
+    free(ch.level);
+    free(ch.ids);
+    return code;
+}
+
+/* Whether the cell of triangle t (level n: one grid cell) has four drawn samples. */
+static int full_cell(leaf_cache* lc, const tp_vertex* t[3])
+{
+    int x0 = t[0]->x, y0 = t[0]->y;
+    for (int i = 1; i < 3; i++) {
+        x0 = t[i]->x < x0 ? t[i]->x : x0;
+        y0 = t[i]->y < y0 ? t[i]->y : y0;
+    }
+    for (int y = y0; y <= y0 + 1; y++)
+        for (int xx = x0; xx <= x0 + 1; xx++)
+            if (isnan(leaf_sample(lc, xx, y)))
+                return 0;
+    return 1;
+}
+
+/* The drawn nodes' triangles into m, each with its measured error; only drawn nodes stay
+ * resident meanwhile. */
+static int build_mesh(store_export* x, mesh_build* m, double* sum, size_t* count)
+{
+    size_t nodes;
+    const tp_cut_node* out = tp_cut_nodes(x->cut, &nodes);
+    /* what the cut draws stays; ancestors read for the traversal go */
+    uint8_t* keep = calloc((size_t)x->g->node_count, 1);
+    size_t vcap = ((size_t)1 << x->n) + 1;
+    vcap *= vcap;
+    size_t tcap = (size_t)2 << (2 * x->n);
+    tp_vertex* vb = malloc(vcap * sizeof *vb);
+    uint32_t* tb = malloc(3 * tcap * sizeof *tb);
+    int code = TP_EXIT_OK;
+    if (!keep || !vb || !tb) {
+        code = fail(x, "out of memory");
+        goto done;
+    }
+    x->drawn = nodes;
+    for (size_t i = 0; i < nodes; i++)
+        keep[out[i].node] = 1;
+    res_release_except(&x->res, keep);
+    for (size_t i = 0; i < nodes && code == TP_EXIT_OK; i++) {
+        tp_cut_vertices(x->cut, i, vb, vcap);
+        size_t nt = tp_patch_triangles(vb, out[i].level, tb, tcap);
+        for (size_t t = 0; t < nt; t++) {
+            const tp_vertex* v[3] = {&vb[tb[3 * t]], &vb[tb[3 * t + 1]], &vb[tb[3 * t + 2]]};
+            if (x->r->mode == TP_STORE_EXPORT_FULL && !full_cell(x->cache, v)) {
+                if (x->cache->failed) {
+                    code = fail(x, x->res.err.message);
+                    goto done;
+                }
+                continue;
+            }
+            uint64_t p[3];
+            for (int c = 0; c < 3; c++)
+                if ((p[c] = point_of(m, v[c]->x, v[c]->y, (double)v[c]->z_m)) == UINT64_MAX) {
+                    code = fail(x, "out of memory building the mesh");
+                    goto done;
+                }
+            int32_t a[2] = {v[0]->x, v[0]->y}, b[2] = {v[1]->x, v[1]->y}, cc[2] = {v[2]->x, v[2]->y};
+            tri_error e = {x->cache, 0, 0, 0};
+            tp_triangle_rasterize(a, b, cc, v[0]->z_m, v[1]->z_m, v[2]->z_m, error_at, &e);
+            if (x->cache->failed) {
+                code = fail(x, x->res.err.message);
+                goto done;
+            }
+            *sum += e.sum;
+            *count += e.count;
+            if (!add_triangle(m, p, (int32_t)out[i].node, (uint8_t)out[i].level, e.max)) {
+                code = fail(x, "out of memory building the mesh");
+                goto done;
+            }
+        }
+        if (tp_interrupted()) {
+            code = tp_cli_interrupted();
+            goto done;
+        }
+    }
+done:
+    free(keep);
+    free(vb);
+    free(tb);
+    return code;
+}
+
+/* "31n" etc. from the store's EPSG code (WGS 84 UTM and UPS); "" otherwise. */
+static void zone_text(int epsg, char* out, size_t cap)
+{
+    out[0] = '\0';
+    if (epsg > 32600 && epsg <= 32660)
+        tp_zone_format(epsg - 32600, 1, TP_ZONE_STYLE_SHORT, out, cap, NULL);
+    else if (epsg > 32700 && epsg <= 32760)
+        tp_zone_format(epsg - 32700, 0, TP_ZONE_STYLE_SHORT, out, cap, NULL);
+    else if (epsg == 32661 || epsg == 32761)
+        tp_zone_format(TP_ZONE_UPS, epsg == 32661, TP_ZONE_STYLE_SHORT, out, cap, NULL);
+}
+
+static int write_mesh(store_export* x, mesh_build* m, const char* camera_text,
+                      const char* lod_text, double sum, size_t count)
+{
+    const tp_store_header* h = &x->sc.info.header;
+    if (m->tris == 0) {
+        fprintf(stderr, "terrapatch: %s: nothing to export (no drawn triangle in the cut)\n",
+                x->r->store_path);
+        return TP_EXIT_FAILURE;
+    }
+    tp_error err;
+    if (tp_mesh_check_size(x->r->format, m->points, m->tris, &err) != TP_OK) {
+        fprintf(stderr, "terrapatch: %s: %s\n", x->r->out, err.message);
+        return TP_EXIT_FAILURE;
+    }
+    double* xyz = malloc(3 * m->points * sizeof *xyz);
+    uint8_t* filled = calloc(m->points, 1); /* see void_filled_note */
+    if (!xyz || !filled) {
+        free(xyz);
+        free(filled);
+        return fail(x, "out of memory building the mesh");
+    }
+    double origin[3] = {0, 0, 0};
+    if (x->r->origin_local) {
+        double e, nn;
+        tp_georef_grid_to_proj(x->sc.georef, 0, 0, &e, &nn);
+        origin[0] = floor(e / 1000) * 1000;
+        origin[1] = floor(nn / 1000) * 1000;
+    }
+    for (size_t i = 0; i < m->points; i++) {
+        double e, nn;
+        tp_georef_grid_to_proj(x->sc.georef, m->px[i], m->py[i], &e, &nn);
+        xyz[3 * i + 0] = e - origin[0];
+        xyz[3 * i + 1] = nn - origin[1];
+        xyz[3 * i + 2] = m->pz[i] - origin[2];
+    }
+    /* clockwise in (column, row) as the DEM path's strips: reversed unless north-up */
+    if (!(h->geotransform[1] * h->geotransform[5] < 0))
+        for (size_t t = 0; t < m->tris; t++) {
+            uint64_t s = m->tri[3 * t + 1];
+            m->tri[3 * t + 1] = m->tri[3 * t + 2];
+            m->tri[3 * t + 2] = s;
+        }
+    tp_crs_info ci;
+    memset(&ci, 0, sizeof ci);
+    tp_crs_describe(h->crs_wkt, &ci, NULL);
+    char zone[TP_ZONE_TEXT_SIZE];
+    zone_text(ci.epsg, zone, sizeof zone);
+    /* The store keeps heights, not which of them the build filled: known only when it filled
+     * none (its notes say so). */
+    int unfilled = h->notes && strstr(h->notes, "voids are not filled") != NULL;
+    const char* note = unfilled ? "the store's build filled no voids: void_filled is exact (0)"
+                                : "unknown: a store does not keep which samples its build "
+                                  "filled; void_filled is 0 everywhere";
+    tp_mesh mesh = {
+        .point_count = m->points, .xyz = xyz, .elevation_m = m->pz, .void_filled = filled,
+        .triangle_count = m->tris, .triangles = m->tri, .patch_id = m->patch, .lod = m->lod,
+        .max_error_m = m->err, .crs_wkt = h->crs_wkt, .epsg = ci.epsg, .utm_zone = zone,
+        .source_file = x->r->store_path, .camera = camera_text, .lod_params = lod_text,
+        .program_version = "terrapatch " TP_VERSION,
+        .origin = {origin[0], origin[1], origin[2]}, .void_filled_note = note,
+    };
+    tp_status st = tp_mesh_write(x->r->out, x->r->format, &mesh, &err);
+    free(xyz);
+    free(filled);
+    if (st != TP_OK) {
+        if (tp_interrupted())
+            return tp_cli_interrupted();
+        fprintf(stderr, "terrapatch: %s\n", err.message);
+        return TP_EXIT_FAILURE;
+    }
+    double mx = 0;
+    for (size_t t = 0; t < m->tris; t++)
+        mx = m->err[t] > mx ? m->err[t] : mx;
+    size_t full = (size_t)2 * (size_t)(x->g->src_width - 1) * (size_t)(x->g->src_height - 1);
+    printf("wrote %s: %zu points, %zu triangles (%.2f%% of the at most %zu of the full mesh), "
+           "measured error (against the store's full-resolution samples) max %.3f m, RMS %.3f m; "
+           "%zu nodes drawn, %zu resident at most (%.1f MiB), %zu more leaves read for the "
+           "error\n",
+           x->r->out, m->points, m->tris, 100.0 * m->tris / (full ? full : 1), full, mx,
+           count ? sqrt(sum / count) : 0.0, x->drawn,
+           x->res.peak_bytes / (x->res.block_samples * 2),
+           x->res.peak_bytes / 1048576.0, x->cache->reads);
+    return TP_EXIT_OK;
+}
+
+int tp_export_store(const tp_store_export_request* r)
+{
+    store_export x;
+    memset(&x, 0, sizeof x);
+    x.r = r;
+    int code = tp_store_scene_open(r->store_path, &x.sc);
+    if (code != TP_EXIT_OK)
+        return code;
+    x.g = tp_tree_get_geometry(x.sc.tree);
+    size_t count;
+    x.metas = tp_store_metas(x.sc.store, &count);
+    x.n = x.g->n;
+    x.step_m = x.sc.info.header.height_step_m;
+    x.unit = x.sc.info.header.err_unit_steps;
+    x.quant_m = x.sc.info.header.quant_max_error_m;
+    x.res.sc = &x.sc;
+    x.res.block_samples = (((size_t)1 << x.n) + 1) * (((size_t)1 << x.n) + 1);
+    x.res.block = calloc((size_t)x.g->node_count, sizeof *x.res.block);
+    x.cache = calloc(1, sizeof *x.cache);
+    mesh_build m = {0};
+    char camera_text[256] = "", lod_text[200] = "";
+    double sum = 0;
+    size_t samples = 0;
+    tp_error err;
+    if (!x.res.block || !x.cache) {
+        code = fail(&x, "out of memory");
+        goto done;
+    }
+    x.cache->res = &x.res;
+    x.cache->g = x.g;
+    x.cache->step_m = x.step_m;
+    x.cache->metas = x.metas;
+    for (int i = 0; i < LEAF_CACHE_SLOTS; i++)
+        x.cache->key[i] = -1;
+    if (tp_cut_create(x.sc.tree, &x.cut, &err) != TP_OK) {
+        code = fail(&x, err.message);
+        goto done;
+    }
+    if (r->mode == TP_STORE_EXPORT_FULL) {
+        size_t full = (size_t)2 * (size_t)(x.g->src_width - 1) * (size_t)(x.g->src_height - 1);
+        if (full > TP_STORE_EXPORT_MAX_TRIANGLES) {
+            code = too_many(&x, full, "--full would write up to");
+            goto done;
+        }
+        snprintf(lod_text, sizeof lod_text, "mode=full");
+        code = cut_full(&x);
+    } else if (r->mode == TP_STORE_EXPORT_MAX_ERROR) {
+        if (r->max_error_m < x.quant_m) {
+            fprintf(stderr,
+                    "terrapatch export: --max-error %g m is below the quantisation error of this "
+                    "store (%g m, half of its %g m height step at most)\n",
+                    r->max_error_m, x.quant_m, x.step_m);
+            code = TP_EXIT_USAGE;
+            goto done;
+        }
+        snprintf(lod_text, sizeof lod_text, "mode=max-error max_error_m=%g", r->max_error_m);
+        code = cut_max_error(&x);
+    } else {
+        const tp_view_setup* vs = r->vs;
+        tp_camera cam;
+        if (vs->has_camera) {
+            if (!tp_camera_from_option_georef(x.sc.georef, vs->camera_geo, vs->camera, vs->fov_deg,
+                                              vs->w, vs->h, &cam, "export")) {
+                code = TP_EXIT_FAILURE;
+                goto done;
+            }
+        } else {
+            const tp_tree_info* ti = &x.sc.tree_info;
+            tp_camera_default_extent(ti->geotransform, x.g->src_width, x.g->src_height,
+                                     isnan(ti->min_height_m) ? 0 : ti->min_height_m,
+                                     isnan(ti->max_height_m) ? 0 : ti->max_height_m, vs->fov_deg,
+                                     vs->w, vs->h, 1, &cam);
+        }
+        tp_camera_text_georef(x.sc.georef, &cam, camera_text, sizeof camera_text);
+        const tp_lod_params* lp = &vs->lod;
+        snprintf(lod_text, sizeof lod_text,
+                 "mode=%s tau_px=%g mindist_m=%g maxdist_m=%g exp=%g fov_deg=%g size=%dx%d "
+                 "(store cut; 0 = default)",
+                 lp->mode == TP_LOD_DISTANCE ? "distance" : lp->mode == TP_LOD_FULL ? "full"
+                                                                                   : "error",
+                 lp->tau_px, lp->mindist_m, lp->maxdist_m, lp->exponent, vs->fov_deg, vs->w,
+                 vs->h);
+        code = cut_for_camera(&x, &cam, lp);
+    }
+    if (code == TP_EXIT_OK)
+        code = build_mesh(&x, &m, &sum, &samples);
+    if (code == TP_EXIT_OK) {
+        /* the nodes are no longer needed: release them before the writer allocates */
+        res_release_except(&x.res, NULL);
+        code = write_mesh(&x, &m, camera_text, lod_text, sum, samples);
+    }
+done:
+    mesh_build_free(&m);
+    if (x.cache)
+        for (int i = 0; i < LEAF_CACHE_SLOTS; i++)
+            free(x.cache->slot[i]);
+    free(x.cache);
+    tp_cut_destroy(x.cut);
+    if (x.res.block)
+        res_release_except(&x.res, NULL);
+    free(x.res.block);
+    free(x.res.ids);
+    tp_store_scene_close(&x.sc);
+    return code;
+}
