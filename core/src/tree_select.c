@@ -205,14 +205,21 @@ static int in_view(const tp_cut* c, int64_t node);
  * each at the coarsest level its own bound allows, culled ones not at all, may draw fewer
  * triangles: then refine. Only complete children whose level n already meets tau are counted
  * (others would refine further: no estimate), so the cut stays within tau either way.
+ * Each node also costs NODE_COST_TRIANGLES triangles' worth: a node is visited, stitched,
+ * streamed, drawn with its own call and held in a vertex slot whatever its level, so without
+ * it the cut splits far terrain into thousands of nodes of 2-32 triangles.
  * Measured (N42E001, default view, tau 1, 17-sample nodes): 324k triangles in 1054 nodes
- * without this test, 103k in 5139 with it (the DEM path: 95k in 7254 patches); counting each
- * node as 16 more triangles (a draw's overhead) gave 131k in 3055: not worth it. */
+ * without this test, 103k in 5139 with it (the DEM path: 95k in 7254 patches). The node cost
+ * (docs/PERFORMANCE.md, "Node cost"): 20481² real-relief store, high path, 0 -> 64: nodes drawn
+ * 9,844 -> 1,777, cut 40 -> 6.6 ms, GPU vertex data 1,074 -> 138 MB, triangles 194k -> 315k,
+ * fps +30%; on the 1201² tile (17-sample nodes) triangles +7%, nodes -14%. */
+enum { NODE_COST_TRIANGLES = 64 };
+
 static int children_cheaper(tp_cut* c, int i, int k)
 {
     const tp__cut_rec* r = &c->rec[i];
     int n = c->n;
-    double parent = 2.0 * (double)((int64_t)1 << (2 * k)), kids = 0;
+    double parent = 2.0 * (double)((int64_t)1 << (2 * k)) + NODE_COST_TRIANGLES, kids = 0;
     for (int q = 0; q < 4; q++) {
         int64_t ch = tp_tree_node_child(&c->g, r->node, q);
         if (!in_view(c, ch))
@@ -233,7 +240,7 @@ static int children_cheaper(tp_cut* c, int i, int k)
         }
         if (kc == n)
             return 0; /* even level n is above tau: the child would refine */
-        kids += 2.0 * (double)((int64_t)1 << (2 * (kc + 1)));
+        kids += 2.0 * (double)((int64_t)1 << (2 * (kc + 1))) + NODE_COST_TRIANGLES;
         if (kids >= parent)
             return 0;
     }
