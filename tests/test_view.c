@@ -1486,6 +1486,10 @@ TEST(store_frames_reuse_the_drivers_memory)
     REQUIRE_IO();
 #if defined(__SANITIZE_ADDRESS__)
     SKIP("under AddressSanitizer malloc is ASan's: mallopt does not apply");
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+    SKIP("under AddressSanitizer malloc is ASan's: mallopt does not apply");
+#endif
 #endif
 #ifndef TP_TEST_NO_IO
     {
