@@ -41,6 +41,7 @@
 
 typedef struct store_row {
     double cut_ms, stream_ms, upload_ms, draw_ms, frame_ms, cpu_ms;
+    long page_faults;           /* minor page faults during the draw */
     size_t triangles, gpu_bytes, resident_bytes;
     int dropped;
     int nodes, visited, substituted, requests, uploads, pending;
@@ -56,7 +57,7 @@ typedef struct store_result {
     char label[64];
     store_row* rows;
     double fps_median, frame_ms, frame_ms_p99, cpu_ms, cut_ms, stream_ms, upload_ms, draw_ms;
-    double triangles, nodes, visited, uploads;
+    double triangles, nodes, visited, uploads, page_faults;
     int substituted_max, frames_with_substitution, pending_max;
     int dropped_max; /* items the renderer could not hold (TP_RENDER_POOL_MAX_BYTES) */
     double rss_mb, rss_anon_mb, resident_mb, gpu_mb; /* max over timed frames */
@@ -249,6 +250,8 @@ static void summarize(store_result* c, int n)
     c->upload_ms = median(v, n);
     ROWS_OF(r->draw_ms);
     c->draw_ms = median(v, n);
+    ROWS_OF(r->page_faults);
+    c->page_faults = median(v, n);
     ROWS_OF(r->triangles);
     c->triangles = median(v, n);
     ROWS_OF(r->nodes);
@@ -382,6 +385,7 @@ static int run_store_config(store_bench* b, store_result* c, int first, const ch
             row->stream_ms = t2 - t1;
             row->upload_ms = st.upload_ms;
             row->draw_ms = st.draw_ms;
+            row->page_faults = st.page_faults;
             row->frame_ms = t3 - t0;
             row->cpu_ms = row->cut_ms + row->stream_ms + row->upload_ms;
             row->triangles = cs.triangles;
@@ -441,6 +445,7 @@ static void json_result(tp_json* j, const store_result* c)
     KN("stream_ms_median", c->stream_ms);
     KN("upload_ms_median", c->upload_ms);
     KN("draw_ms_median", c->draw_ms);
+    KN("draw_page_faults_median", c->page_faults);
     KN("triangles_median", c->triangles);
     KN("nodes_drawn_median", c->nodes);
     KN("nodes_visited_median", c->visited);

@@ -87,6 +87,7 @@ int tp_view_write_stats(const char* path, const frame_result* f, const tp_error_
     KEY_NUM("select_ms", f->select_ms);
     KEY_NUM("upload_ms", f->render.upload_ms);
     KEY_NUM("draw_ms", f->render.draw_ms);
+    KEY_SIZE("draw_page_faults", (size_t)(f->render.page_faults > 0 ? f->render.page_faults : 0));
     KEY_SIZE("uploads", (size_t)f->render.uploads);
     KEY_SIZE("gpu_bytes", f->render.gpu_bytes);
     if (em) {

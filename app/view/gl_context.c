@@ -7,6 +7,9 @@
 #define GLFW_INCLUDE_NONE
 #include <GLFW/glfw3.h>
 
+#ifdef __GLIBC__
+#include <malloc.h>
+#endif
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -20,6 +23,22 @@ struct tp_gl_context {
     /* window */
     GLFWwindow* win;
 };
+
+/* Keeps the driver's per-frame memory in the heap between frames. A software rasteriser
+ * (llvmpipe) bins each frame's triangles into tens of MB of malloc'd blocks and frees them at the
+ * end of the frame. glibc returns the top of the heap to the system when more than
+ * M_TRIM_THRESHOLD is free there (128 KB unless the process has already freed a large mapped
+ * block, which raises it to up to 64 MB): the next frame then faults every page in again. A
+ * process that loaded a DEM had raised it (the DEM path); a store's viewer had not, and paid
+ * 4,500 page faults per frame (18 MB; measured in docs/PERFORMANCE.md, "the draw"). These are
+ * the values glibc's own dynamic rule reaches, set from the start. */
+static void keep_frame_memory(void)
+{
+#ifdef __GLIBC__
+    mallopt(M_MMAP_THRESHOLD, 32 << 20);
+    mallopt(M_TRIM_THRESHOLD, 64 << 20);
+#endif
+}
 
 int tp_gl_context_create_headless(int w, int h, tp_gl_context** out, char* msg, size_t msg_size)
 {
@@ -56,6 +75,7 @@ int tp_gl_context_create_headless(int w, int h, tp_gl_context** out, char* msg, 
         free(c);
         return 0;
     }
+    keep_frame_memory();
     glGenFramebuffers(1, &c->fbo);
     glBindFramebuffer(GL_FRAMEBUFFER, c->fbo);
     glGenRenderbuffers(1, &c->color);
@@ -101,6 +121,7 @@ int tp_gl_context_create_window(int w, int h, const char* title, tp_gl_context**
     }
     glfwMakeContextCurrent(win);
     glfwSwapInterval(1);
+    keep_frame_memory();
     tp_gl_context* c = calloc(1, sizeof *c);
     if (!c) {
         glfwDestroyWindow(win);

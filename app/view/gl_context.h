@@ -11,6 +11,9 @@
 
 typedef struct tp_gl_context tp_gl_context;
 
+/* Both constructors also fix glibc's malloc thresholds for the process (M_MMAP_THRESHOLD 32 MB,
+ * M_TRIM_THRESHOLD 64 MB): a software GL driver frees and mallocs its whole binned frame every
+ * frame, which glibc would otherwise return to the system and fault in again (gl_context.c). */
 /* Offscreen w x h context; no multisampling. Returns 0 and writes msg on failure. */
 int tp_gl_context_create_headless(int w, int h, tp_gl_context** out, char* msg, size_t msg_size);
 /* A window with a 3.3 core context. Returns 0 and writes msg (e.g. no display) on failure. */

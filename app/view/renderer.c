@@ -1,5 +1,5 @@
 /* renderer.c - the patch renderer (see renderer.h). */
-#define _POSIX_C_SOURCE 199309L
+#define _POSIX_C_SOURCE 200112L
 #include "renderer.h"
 
 #include "gl_context.h"
@@ -13,6 +13,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
+#include <sys/resource.h>
 
 /* One vertex on the GPU: 16 bytes. */
 typedef struct gpu_vertex {
@@ -75,6 +76,12 @@ static double now_ms(void)
     struct timespec ts;
     clock_gettime(CLOCK_MONOTONIC, &ts);
     return ts.tv_sec * 1e3 + ts.tv_nsec / 1e6;
+}
+
+static long minor_faults(void)
+{
+    struct rusage u;
+    return getrusage(RUSAGE_SELF, &u) == 0 ? u.ru_minflt : 0;
 }
 
 /* Shading is per vertex (hillshade, hypsometric or LoD colour, the filled-void tint): the
@@ -596,6 +603,7 @@ void tp_renderer_draw_items(tp_renderer* r, const tp_render_item* items, size_t 
     }
     double t1 = now_ms();
     stats->upload_ms = t1 - t0;
+    long faults0 = minor_faults();
 
     GLint vp[4];
     glGetIntegerv(GL_VIEWPORT, vp);
@@ -691,6 +699,7 @@ void tp_renderer_draw_items(tp_renderer* r, const tp_render_item* items, size_t 
     if (finish)
         glFinish();
     stats->draw_ms = now_ms() - t1;
+    stats->page_faults = minor_faults() - faults0;
     stats->gpu_bytes = (size_t)r->slots * r->slot_verts * sizeof(gpu_vertex) +
                        (size_t)r->regions * r->custom_stride * 4;
     for (int k = 0; k <= r->grid.n; k++)

@@ -44,6 +44,8 @@ typedef struct tp_render_stats {
     size_t gpu_bytes;         /* resident GPU buffers */
     double upload_ms;         /* building and uploading vertex data */
     double draw_ms;           /* submitting and finishing the draw (glFinish) */
+    long page_faults;         /* minor page faults of the process while drawing (getrusage):
+                                 memory the GL driver maps in; ~0 once frames repeat */
     int dropped;              /* items not drawn: the vertex pool is at TP_RENDER_POOL_MAX_BYTES
                                  and every slot is drawn this frame (or memory ran out) */
 } tp_render_stats;
