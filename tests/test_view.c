@@ -1484,11 +1484,14 @@ TEST(store_no_cracks_oblique_error_lod)
 TEST(store_frames_reuse_the_drivers_memory)
 {
     REQUIRE_IO();
+    /* Under AddressSanitizer malloc is ASan's and mallopt does not apply: the view is still
+     * drawn and its statistics checked, the fault count is not. */
+    int asan = 0;
 #if defined(__SANITIZE_ADDRESS__)
-    SKIP("under AddressSanitizer malloc is ASan's: mallopt does not apply");
+    asan = 1;
 #elif defined(__has_feature)
 #if __has_feature(address_sanitizer)
-    SKIP("under AddressSanitizer malloc is ASan's: mallopt does not apply");
+    asan = 1;
 #endif
 #endif
 #ifndef TP_TEST_NO_IO
@@ -1518,7 +1521,9 @@ TEST(store_frames_reuse_the_drivers_memory)
                      triangles, json_number(text, "nodes_drawn"), json_number(text, "draw_ms"),
                      faults);
         EXPECT_GT(triangles, 100000); /* a view whose scene is megabytes */
-        EXPECT_LT(faults, 512);       /* 2 MB; 4,539 before */
+        EXPECT_GE(faults, 0); /* the key is there */
+        if (!asan)
+            EXPECT_LT(faults, 512); /* 2 MB; 4,539 before */
     }
 #endif
 }
