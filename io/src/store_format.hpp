@@ -70,6 +70,7 @@ static_assert(offsetof(tp_node_meta, qmin) == 0 && offsetof(tp_node_meta, qmax) 
                   TP_MAX_LEVELS == 9 && TP_MAX_N == 8 && alignof(tp_node_meta) <= 8,
               "tp_node_meta's layout changed: a new store format (docs/store.md)");
 constexpr size_t META_USED_BYTES = 38 + 2 * 4 * TP_MAX_N; /* 102: then 2 bytes of padding */
+static_assert(META_BYTES % 8 == 0, "node table entries keep 8-byte alignment");
 
 /* Location table entry (LOC_BYTES each, in node id order). */
 enum : size_t {

@@ -247,6 +247,21 @@ tp_status load(tp_store* s, tp_error* err)
      * CRC32s match: a damaged table is reported as damage, not as one odd entry. */
     const uint64_t max_bytes = max_stored_bytes(g.n);
     std::vector<uint8_t> piece(CHECK_PIECE_BYTES);
+    /* The bytes of a node table entry that must be 0: pad_, delta[k > n], eps[][kn >= n] and the
+     * trailing padding (all ones there, as 13 words in the host's order: it is little-endian). */
+    uint64_t zero_mask[META_BYTES / 8];
+    {
+        uint8_t mask[META_BYTES];
+        std::memset(mask, 0, sizeof mask);
+        std::memset(mask + offsetof(tp_node_meta, pad_), 0xFF, sizeof(tp_node_meta::pad_));
+        for (int j = g.n + 1; j < TP_MAX_LEVELS; ++j)
+            std::memset(mask + offsetof(tp_node_meta, delta) + 2 * j, 0xFF, 2);
+        for (int side = 0; side < 4; ++side)
+            for (int j = g.n; j < TP_MAX_N; ++j)
+                std::memset(mask + offsetof(tp_node_meta, eps) + 2 * (TP_MAX_N * side + j), 0xFF, 2);
+        std::memset(mask + META_USED_BYTES, 0xFF, META_BYTES - META_USED_BYTES);
+        std::memcpy(zero_mask, mask, sizeof mask);
+    }
     uint32_t meta_crc = 0, loc_crc = 0;
     tp_error bad_entry;
     bad_entry.message[0] = '\0';
@@ -268,25 +283,20 @@ tp_status load(tp_store* s, tp_error* err)
             const char* problem = nullptr;
             Entry en{};
             if (metas) {
-                tp_node_meta m;
-                std::memcpy(&m, e, sizeof m);
-                if (m.flags & ~(TP_NODE_COMPLETE | TP_NODE_HAS_DRAWN))
-                    problem = "unknown flags";
-                else if (m.qmin <= m.qmax && (int64_t)m.qmax - m.qmin >= (int64_t)TP_TREE_NO_HEIGHT)
-                    problem = "height range too wide";
-                else {
-                    /* the bytes the format leaves 0: pad_, delta[k > n], eps[][kn >= n], padding */
-                    bool zero = m.pad_[0] == 0 && m.pad_[1] == 0 && m.pad_[2] == 0;
-                    for (int j = g.n + 1; j < TP_MAX_LEVELS; ++j)
-                        zero = zero && m.delta[j] == 0;
-                    for (int side = 0; side < 4; ++side)
-                        for (int j = g.n; j < TP_MAX_N; ++j)
-                            zero = zero && m.eps[side][j] == 0;
-                    for (size_t j = META_USED_BYTES; j < META_BYTES; ++j)
-                        zero = zero && e[j] == 0;
-                    if (!zero)
-                        problem = "unused bytes not 0";
+                /* flags, range, and the bytes the format leaves 0 (the mask, 8 bytes at a time) */
+                uint64_t nonzero = 0;
+                for (size_t j = 0; j < META_BYTES / 8; ++j) {
+                    uint64_t word;
+                    std::memcpy(&word, e + 8 * j, 8);
+                    nonzero |= word & zero_mask[j];
                 }
+                const int32_t qmin = (int32_t)get_u32(e), qmax = (int32_t)get_u32(e + 4);
+                if (e[16] & ~(TP_NODE_COMPLETE | TP_NODE_HAS_DRAWN))
+                    problem = "unknown flags";
+                else if (qmin <= qmax && (int64_t)qmax - qmin >= (int64_t)TP_TREE_NO_HEIGHT)
+                    problem = "height range too wide";
+                else if (nonzero)
+                    problem = "unused bytes not 0";
             } else {
                 en = decode_loc(e);
                 bool zero = true;
