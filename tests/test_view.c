@@ -1608,15 +1608,27 @@ TEST(store_damaged_node_is_reported_once_and_drawn_as_its_ancestor)
         char ok_path[1300];
         snprintf(ok_path, sizeof ok_path, "%s/hood_ok.tpt", dir);
         copy_file(store_path, ok_path);
-        /* --lod full draws every leaf in view: damage node data a third into the file (the
-         * node table is at the end) */
+        /* --lod full draws every leaf in view: damage node data a third into the data area,
+         * which starts after the location table (docs/store.md: its offset and size are u64s
+         * at 16 and 24 in the 56-byte footer) */
         FILE* f = fopen(store_path, "r+b");
         ASSERT_TRUE(f != NULL);
         fseek(f, 0, SEEK_END);
         long size = ftell(f);
-        fseek(f, size / 3, SEEK_SET);
+        uint8_t foot[56];
+        fseek(f, size - 56, SEEK_SET);
+        ASSERT_TRUE(fread(foot, 1, 56, f) == 56);
+        long data = 0;
+        for (int k = 7; k >= 0; k--)
+            data = data << 8 | foot[16 + k];
+        long loc_bytes = 0;
+        for (int k = 7; k >= 0; k--)
+            loc_bytes = loc_bytes << 8 | foot[24 + k];
+        data += loc_bytes;
+        const long at = data + (size - 56 - data) / 3;
+        fseek(f, at, SEEK_SET);
         int c = fgetc(f);
-        fseek(f, size / 3, SEEK_SET);
+        fseek(f, at, SEEK_SET);
         fputc(c ^ 0x5A, f);
         fclose(f);
         image ok_im;
