@@ -576,11 +576,12 @@ typedef struct tp_store_info {
  * checksums, every meta's flags and range, and that every node's data lies inside the file (one
  * pass of pread over the tables, 128 bytes per node). Then maps the tables read-only: the store
  * takes a few KB of the process's own memory whatever its node count (the mapped pages are the
- * file's, shared with the page cache). Do not truncate or rewrite an open store in place (a
- * truncated mapping is SIGBUS; terrapatch itself always writes a new file and renames it).
- * TP_ERR_BAD_DATA (damaged, truncated, not a store) /
- * TP_ERR_IO (cannot read; a FIFO, device or folder) with a message naming path; *out written
- * only on success. */
+ * file's, shared with the page cache). Do not truncate an open store (a mapping past the end of
+ * its file is SIGBUS) nor rewrite it in place (the metas would change under the tree; node reads
+ * check their location's bounds again); terrapatch itself always writes a new file and renames
+ * it. TP_ERR_BAD_DATA (damaged, truncated, an older or newer format, not a store) / TP_ERR_IO
+ * (cannot read or map; a FIFO, device or folder) / TP_ERR_BACKEND (a big-endian host) with a
+ * message naming path; *out written only on success. */
 tp_status tp_store_open(const char* path, tp_store** out, tp_error* err);
 void tp_store_close(tp_store* s); /* accepts NULL */
 void tp_store_get_info(const tp_store* s, tp_store_info* out);
