@@ -296,8 +296,8 @@ static int emit_node(int64_t node, const tp_node_meta* meta, const int32_t* q, v
 
 /* What the build allocates that grows with the grid (bytes): the band read (floats) and
  * quantised (int32), the tree builder (tp_core.h: its decimated rows, a block of samples per
- * node of a row, two rows of metas per scale) and the store writer's node table (docs/store.md:
- * 38 + 10n bytes per node, and a bit). GDAL's block cache comes on top (a quarter of --memory);
+ * node of a row, two rows of metas per scale) and the store writer's bit per node (it writes
+ * the node and location tables into the file as nodes come: docs/store.md). GDAL's block cache comes on top (a quarter of --memory);
  * the program's fixed part (libraries, about 156 MB resident: docs/PERFORMANCE.md) is not counted. */
 static double build_memory_bytes(const tp_tree_geometry* g, int src_width, int fill_max)
 {
@@ -308,8 +308,9 @@ static double build_memory_bytes(const tp_tree_geometry* g, int src_width, int f
     const double band = side * src_width * sizeof(float) + side * g->width * sizeof(int32_t);
     const double builder = 4 * side * ((2 + 1.0 / (1 << g->n)) * g->width + g->scales) +
                            4.0 * g->cols * sizeof(tp_node_meta) + 2048;
-    const double table = (double)g->node_count * (38 + 10 * g->n + 0.125);
-    return band + fill + builder + table + (1 << 20) /* zstd's context, one node's scratch */;
+    const double added = (double)g->node_count / 8;
+    /* zstd's context, one node's scratch, the writer's run of table entries and read-back buffer */
+    return band + fill + builder + added + (1 << 20);
 }
 
 /* The store's notes: the sources, then the mosaic's own, then the void filling with `filled`
@@ -604,7 +605,7 @@ int tp_cli_build(int argc, char** argv)
                      best);
         fprintf(stderr,
                 "terrapatch: build: --memory %d MB is too small for a %dx%d grid in %dx%d "
-                "nodes: one band of %d rows, the tree builder and the store's node table need "
+                "nodes: one band of %d rows, the tree builder and the store writer need "
                 "%.0f MB, besides GDAL's block cache (a quarter of the budget); give --memory "
                 "%.0f or more%s\n",
                 o.memory_mb, mi.width, mi.height, ps + 1, ps + 1, band_rows, need_mb,

@@ -6,6 +6,7 @@
 #               node and its byte offset; the other nodes still checked (the count is printed)
 #   truncated   the store cut short: exit 1, one line naming the file, no crash
 #   newer       a version number above this reader's (header CRC fixed up): exit 1, "newer"
+#   older       format 1 (header CRC fixed up): exit 1, "older" and "rebuild it with terrapatch build"
 set -u
 EXE=$1 DATA=$2 WORK=$3 CASE=$4
 mkdir -p "$WORK" && cd "$WORK" || exit 1
@@ -18,8 +19,18 @@ rm -f s.tpt build.json
 nodes=$(sed -n 's/.*"nodes": *\([0-9]*\).*/\1/p' build.json)
 bytes=$(stat -c %s s.tpt)
 [ -n "$nodes" ] || fail "no node count in the build's JSON: $(cat build.json)"
-# u32 little-endian at offset 12: the header's size; node data starts right after it
+# u32 little-endian at offset 12: the header's size (docs/store.md); node data starts after the
+# location table, whose offset and size are the footer's (the last 56 bytes) u64s at 16 and 24
 hsize=$(od -An -tu4 -j12 -N4 s.tpt | tr -d ' ')
+loc_offset=$(od -An -tu8 -j$((bytes - 56 + 16)) -N8 s.tpt | tr -d ' ')
+loc_bytes=$(od -An -tu8 -j$((bytes - 56 + 24)) -N8 s.tpt | tr -d ' ')
+data_offset=$((loc_offset + loc_bytes))
+# set_version V: the format version at offset 8, then the header's CRC32 (its last 4 bytes)
+set_version() {
+    printf "\\00$1" | dd of=s.tpt bs=1 seek=8 conv=notrunc 2> /dev/null
+    crc=$(head -c $((hsize - 4)) s.tpt | gzip -c | tail -c 8 | head -c 4 | od -An -tx1 | tr -d ' \n')
+    printf "$(echo "$crc" | sed 's/\(..\)/\\x\1/g')" | dd of=s.tpt bs=1 seek=$((hsize - 4)) conv=notrunc 2> /dev/null
+}
 
 case "$CASE" in
 sound)
@@ -36,7 +47,7 @@ sound)
     ;;
 damaged)
     # flip one byte a little into the first node's data
-    off=$((hsize + 5))
+    off=$((data_offset + 5))
     b=$(od -An -tu1 -j$off -N1 s.tpt | tr -d ' ')
     printf "$(printf '\\%03o' $(( (b ^ 0x5A) & 255 )))" | dd of=s.tpt bs=1 seek=$off conv=notrunc 2> /dev/null
     run 60 info s.tpt
@@ -54,13 +65,18 @@ truncated)
     grep -q "t.tpt" err || fail "file not named"
     ;;
 newer)
-    # version 2 at offset 8, then the header's CRC32 (its last 4 bytes) recomputed
-    printf '\002' | dd of=s.tpt bs=1 seek=8 conv=notrunc 2> /dev/null
-    crc=$(head -c $((hsize - 4)) s.tpt | gzip -c | tail -c 8 | head -c 4 | od -An -tx1 | tr -d ' \n')
-    printf "$(echo "$crc" | sed 's/\(..\)/\\x\1/g')" | dd of=s.tpt bs=1 seek=$((hsize - 4)) conv=notrunc 2> /dev/null
+    set_version 3
     run 60 info s.tpt
     [ $rc -eq 1 ] || fail "exit $rc, expected 1"
-    grep -q "newer terrapatch" err || fail "expected the newer-version message"
+    grep -q "newer terrapatch (format 3" err || fail "expected the newer-version message"
+    ;;
+older)
+    set_version 1
+    run 60 info s.tpt
+    [ $rc -eq 1 ] || fail "exit $rc, expected 1"
+    [ "$(wc -l < err)" -eq 1 ] || fail "expected one line on stderr"
+    grep -q "s.tpt: written by an older terrapatch (format 1.*rebuild it with terrapatch build" err ||
+        fail "expected the older-version message"
     ;;
 *) fail "unknown case" ;;
 esac

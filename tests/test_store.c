@@ -2,7 +2,9 @@
  * test_store.c - the terrain store (.tpt; io/src/store_*.cpp, docs/store.md): exact round
  * trips of real DEMs cut into nodes (written in a builder's order: children before parents,
  * not id order), small and awkward grids, and damaged files: a flipped byte in a node, the
- * header, the table or the footer; files cut short at many lengths; a newer format version;
+ * header, either table or the footer; files cut short at many lengths, tables cut short; a
+ * location outside the data area (at open, and when changed in place after open); a newer and
+ * an older (1) format version; the node table mapped from the file, not copied;
  * another file type; a FIFO. Writes: a missing node, abort, and a full disk (RLIMIT_FSIZE in a
  * child) leave no file. The test reads the file with its own parser of docs/store.md's layout
  * and its own CRC32, so the documentation is checked too.
@@ -13,6 +15,7 @@
 #include "tp_test_tree.h"
 
 #include <errno.h>
+#include <limits.h>
 #include <fcntl.h>
 #include <pthread.h>
 #include <signal.h>
@@ -75,11 +78,14 @@ static void spill(const char* path, const uint8_t* data, size_t size)
     ASSERT_TRUE(fclose(f) == 0);
 }
 
-/* Where things are, per docs/store.md. */
+/* Where things are, per docs/store.md (format 2). */
+#define FOOTER 56
+#define META_ENTRY 104
+#define LOC_ENTRY 24
 typedef struct layout {
     uint32_t header_bytes;
-    uint64_t table_offset, table_bytes;
-    size_t entry_bytes;
+    uint64_t node_count;
+    uint64_t meta_offset, meta_bytes, loc_offset, loc_bytes, data_offset, data_end;
 } layout;
 
 static layout parse_layout(const file_buf* b)
@@ -87,22 +93,45 @@ static layout parse_layout(const file_buf* b)
     layout l;
     ASSERT_TRUE(b->size > 200);
     ASSERT_TRUE(memcmp(b->data, "\x89TPT\r\n\x1a\n", 8) == 0);
+    ASSERT_EQ_INT(2, le32(b->data + 8));
     l.header_bytes = le32(b->data + 12);
-    const uint8_t* foot = b->data + b->size - 32;
-    ASSERT_TRUE(memcmp(foot + 24, "TPTEND\r\n", 8) == 0);
-    l.table_offset = le64(foot);
-    l.table_bytes = le64(foot + 8);
-    l.entry_bytes = 38 + 10 * (size_t)le32(b->data + 16);
-    ASSERT_EQ_INT(l.table_offset + l.table_bytes + 32, b->size);
+    l.node_count = le64(b->data + 48);
+    const uint8_t* foot = b->data + b->size - FOOTER;
+    ASSERT_TRUE(memcmp(foot + 48, "TPTEND\r\n", 8) == 0);
+    l.meta_offset = le64(foot);
+    l.meta_bytes = le64(foot + 8);
+    l.loc_offset = le64(foot + 16);
+    l.loc_bytes = le64(foot + 24);
+    ASSERT_EQ_INT(l.meta_offset, (l.header_bytes + 7) / 8 * 8);
+    ASSERT_EQ_INT(l.meta_bytes, l.node_count * META_ENTRY);
+    ASSERT_EQ_INT(l.loc_offset, l.meta_offset + l.meta_bytes);
+    ASSERT_EQ_INT(l.loc_bytes, l.node_count * LOC_ENTRY);
+    ASSERT_EQ_INT(0, le32(foot + 40));
+    l.data_offset = l.loc_offset + l.loc_bytes;
+    l.data_end = b->size - FOOTER;
     return l;
+}
+
+static uint8_t* loc_entry(const file_buf* b, const layout* l, int64_t node)
+{
+    return b->data + l->loc_offset + (size_t)node * LOC_ENTRY;
 }
 
 static void node_extent(const file_buf* b, const layout* l, int64_t node, uint64_t* offset,
                         uint32_t* bytes)
 {
-    const uint8_t* e = b->data + l->table_offset + (size_t)node * l->entry_bytes;
+    const uint8_t* e = loc_entry(b, l, node);
     *offset = le64(e);
     *bytes = le32(e + 8);
+}
+
+/* Both tables' CRC32s and the footer's made to match the bytes again. */
+static void fix_table_crcs(file_buf* b, const layout* l)
+{
+    uint8_t* foot = b->data + b->size - FOOTER;
+    put32(foot + 32, crc32_ref(b->data + l->meta_offset, l->meta_bytes));
+    put32(foot + 36, crc32_ref(b->data + l->loc_offset, l->loc_bytes));
+    put32(foot + 44, crc32_ref(foot, 44));
 }
 
 /* ---------------------------------------------------------------------------------------------
@@ -284,8 +313,22 @@ static void fixture_check(const fixture* fx, const char* path, const char* crs)
     struct stat sb;
     ASSERT_TRUE(stat(path, &sb) == 0);
     EXPECT_EQ_INT(info.file_bytes, sb.st_size);
-    EXPECT_EQ_INT(info.table_bytes, (uint64_t)b->node_count * (38 + 10 * (uint64_t)b->n));
+    EXPECT_EQ_INT(info.table_bytes, (uint64_t)b->node_count * (META_ENTRY + LOC_ENTRY));
     EXPECT_TRUE(info.data_bytes > 0 && info.data_bytes < info.file_bytes - info.table_bytes);
+    file_buf fb = slurp(path);
+    const layout l = parse_layout(&fb);
+    EXPECT_EQ_INT(info.data_bytes, l.data_end - l.data_offset);
+    /* the node table is the metas' array as in memory, unused bytes 0 */
+    for (int64_t id = 0; id < b->node_count; id++) {
+        uint8_t want_meta[META_ENTRY];
+        memset(want_meta, 0, sizeof want_meta);
+        memcpy(want_meta, &fx->metas[id], 102);
+        if (memcmp(fb.data + l.meta_offset + (size_t)id * META_ENTRY, want_meta, META_ENTRY)) {
+            EXPECT_TRUE(!"node table entry differs from the meta's bytes");
+            break;
+        }
+    }
+    free(fb.data);
     EXPECT_NEAR(info.bytes_per_sample,
                 (double)sb.st_size / ((double)b->src_width * b->src_height), 1e-12);
 
@@ -642,7 +685,7 @@ TEST(node_with_matching_checksum_but_wrong_content_fails)
     file_buf b = slurp(path);
     layout l = parse_layout(&b);
     /* node victim's entry points at node 0's data */
-    uint8_t* e0 = b.data + l.table_offset;
+    uint8_t* e0 = loc_entry(&b, &l, 0);
     int64_t victim = -1;
     /* find a node with a smaller range than node 0's data: its samples fall outside */
     for (int64_t id = 1; id < fx.g.node_count && victim < 0; id++)
@@ -650,10 +693,9 @@ TEST(node_with_matching_checksum_but_wrong_content_fails)
                                                             fx.metas[id].qmax - fx.metas[id].qmin + 10)
             victim = id;
     ASSERT_TRUE(victim > 0);
-    uint8_t* ev = e0 + (size_t)victim * l.entry_bytes;
-    memcpy(ev, e0, 17); /* offset, bytes, CRC, codec: node 0's data */
-    put32(b.data + b.size - 32 + 16, crc32_ref(b.data + l.table_offset, l.table_bytes));
-    put32(b.data + b.size - 32 + 20, crc32_ref(b.data + b.size - 32, 20));
+    uint8_t* ev = loc_entry(&b, &l, victim);
+    memcpy(ev, e0, LOC_ENTRY); /* offset, bytes, CRC, codec: node 0's data */
+    fix_table_crcs(&b, &l);
     spill(path, b.data, b.size);
     tp_store* st;
     tp_error err = {{0}};
@@ -698,14 +740,34 @@ TEST(flipped_table_byte_fails_open)
     small_store(&fx, path, sizeof path);
     file_buf b = slurp(path);
     layout l = parse_layout(&b);
-    const uint64_t where[] = {l.table_offset, l.table_offset + l.table_bytes / 2,
-                              l.table_offset + l.table_bytes - 1};
-    for (size_t i = 0; i < 3; i++) {
+    const uint64_t where[] = {l.meta_offset, l.meta_offset + l.meta_bytes / 2 + 16,
+                              l.loc_offset - 1, l.loc_offset, l.loc_offset + l.loc_bytes / 2,
+                              l.data_offset - 1};
+    for (size_t i = 0; i < 6; i++) {
         b.data[where[i]] ^= 0x80;
         spill(path, b.data, b.size);
-        expect_open_fails(path, TP_ERR_BAD_DATA, "damaged node table");
+        expect_open_fails(path, TP_ERR_BAD_DATA,
+                          where[i] < l.loc_offset ? "damaged node table" : "damaged location table");
         b.data[where[i]] ^= 0x80;
     }
+    /* a byte the format leaves 0 (a meta's padding, a location's reserved bytes), the
+     * checksums made to match: the entry is refused, naming the node */
+    const uint64_t unused[] = {l.meta_offset + 3 * META_ENTRY + 17, l.meta_offset + 3 * META_ENTRY + 103,
+                               l.loc_offset + 3 * LOC_ENTRY + 20};
+    for (size_t i = 0; i < 3; i++) {
+        b.data[unused[i]] ^= 0x01;
+        fix_table_crcs(&b, &l);
+        spill(path, b.data, b.size);
+        expect_open_fails(path, TP_ERR_BAD_DATA, "node 3 (scale");
+        expect_open_fails(path, TP_ERR_BAD_DATA, i < 2 ? "unused bytes not 0" : "reserved bytes not 0");
+        b.data[unused[i]] ^= 0x01;
+    }
+    fix_table_crcs(&b, &l);
+    spill(path, b.data, b.size); /* restored: opens again */
+    tp_store* st;
+    tp_error err;
+    ASSERT_OK(tp_store_open(path, &st, &err));
+    tp_store_close(st);
     free(b.data);
     fixture_free(&fx);
 }
@@ -716,8 +778,10 @@ TEST(flipped_footer_byte_fails_open)
     char path[600];
     small_store(&fx, path, sizeof path);
     file_buf b = slurp(path);
-    const size_t backs[] = {32, 20, 12}; /* the table offset, its CRC, the footer's CRC */
-    for (size_t i = 0; i < 3; i++) {
+    /* the node table's offset, the location table's size, the node table's CRC, the location
+     * table's, the reserved word, the footer's CRC */
+    const size_t backs[] = {56, 32, 24, 20, 16, 12};
+    for (size_t i = 0; i < 6; i++) {
         b.data[b.size - backs[i]] ^= 0x01;
         spill(path, b.data, b.size);
         expect_open_fails(path, TP_ERR_BAD_DATA, "damaged footer");
@@ -730,8 +794,8 @@ TEST(flipped_footer_byte_fails_open)
     fixture_free(&fx);
 }
 
-/* A table whose entry points outside the data area, checksums made to match: refused at open,
- * naming the node. */
+/* A location outside the data area (into the footer, past the end of the file, into the
+ * tables), checksums made to match: refused at open, naming the node. */
 TEST(entry_outside_the_data_area_fails_open)
 {
     fixture fx;
@@ -739,13 +803,97 @@ TEST(entry_outside_the_data_area_fails_open)
     small_store(&fx, path, sizeof path);
     file_buf b = slurp(path);
     layout l = parse_layout(&b);
-    uint8_t* e = b.data + l.table_offset + 5 * l.entry_bytes;
-    put32(e, (uint32_t)(l.table_offset - 3)); /* offset: its bytes would run into the table */
-    put32(b.data + b.size - 32 + 16, crc32_ref(b.data + l.table_offset, l.table_bytes));
-    put32(b.data + b.size - 32 + 20, crc32_ref(b.data + b.size - 32, 20));
-    spill(path, b.data, b.size);
-    expect_open_fails(path, TP_ERR_BAD_DATA, "node 5 (scale");
-    expect_open_fails(path, TP_ERR_BAD_DATA, "data outside the data area");
+    uint8_t* e = loc_entry(&b, &l, 5);
+    const uint64_t offsets[] = {l.data_end - 3, b.size + 100, l.data_offset - 8, l.meta_offset};
+    for (size_t i = 0; i < sizeof offsets / sizeof offsets[0]; i++) {
+        file_buf c = {malloc(b.size), b.size};
+        memcpy(c.data, b.data, b.size);
+        put32(c.data + (e - b.data), (uint32_t)offsets[i]);
+        put32(c.data + (e - b.data) + 4, (uint32_t)(offsets[i] >> 32));
+        fix_table_crcs(&c, &l);
+        spill(path, c.data, c.size);
+        expect_open_fails(path, TP_ERR_BAD_DATA, "location table, node 5 (scale");
+        expect_open_fails(path, TP_ERR_BAD_DATA, "data outside the data area");
+        free(c.data);
+    }
+    free(b.data);
+    fixture_free(&fx);
+}
+
+/* The location table is read from the mapping when a node is read, so a file changed in place
+ * after open (which terrapatch never does, but another program may) must not send the read
+ * outside the data area: the bounds are checked again then. */
+TEST(location_changed_after_open_is_checked_when_read)
+{
+    fixture fx;
+    char path[600];
+    small_store(&fx, path, sizeof path);
+    file_buf b = slurp(path);
+    layout l = parse_layout(&b);
+    tp_store* st;
+    tp_error err = {{0}};
+    ASSERT_OK(tp_store_open(path, &st, &err));
+    uint8_t loc[LOC_ENTRY];
+    memcpy(loc, loc_entry(&b, &l, 7), sizeof loc);
+    put32(loc, (uint32_t)(b.size - 10)); /* its bytes now run past the end of the file */
+    int fd = open(path, O_WRONLY);
+    ASSERT_TRUE(fd >= 0);
+    ASSERT_TRUE(pwrite(fd, loc, sizeof loc, (off_t)(l.loc_offset + 7 * LOC_ENTRY)) == sizeof loc);
+    close(fd);
+    uint16_t* samples = malloc(fx.count * sizeof *samples);
+    memset(samples, 0xAB, fx.count * sizeof *samples);
+    EXPECT_STATUS(TP_ERR_BAD_DATA, tp_store_read_node(st, 7, samples, fx.count, &err));
+    EXPECT_CONTAINS(err.message, "node 7 (scale");
+    EXPECT_CONTAINS(err.message, "data outside the data area");
+    EXPECT_EQ_INT(0xABAB, samples[0]);
+    ASSERT_OK(tp_store_read_node(st, 6, samples, fx.count, &err)); /* the others still read */
+    EXPECT_TRUE(memcmp(samples, fx.rel + 6 * fx.count, fx.count * 2) == 0);
+    free(samples);
+    free(b.data);
+    tp_store_close(st);
+    fixture_free(&fx);
+}
+
+/* tp_store_metas is the file's node table mapped read-only (the process's anonymous memory does
+ * not grow with the node count): the pointer lies in a read-only mapping of path, at the node
+ * table's offset. */
+TEST(metas_are_mapped_from_the_file)
+{
+    fixture fx;
+    char path[600];
+    small_store(&fx, path, sizeof path);
+    file_buf b = slurp(path);
+    layout l = parse_layout(&b);
+    tp_store* st;
+    tp_error err = {{0}};
+    ASSERT_OK(tp_store_open(path, &st, &err));
+    size_t count = 0;
+    const tp_node_meta* metas = tp_store_metas(st, &count);
+    EXPECT_EQ_INT(0, (uintptr_t)metas % 8);
+    char real[PATH_MAX];
+    ASSERT_TRUE(realpath(path, real) != NULL);
+    FILE* f = fopen("/proc/self/maps", "r");
+    ASSERT_TRUE(f != NULL);
+    char line[PATH_MAX + 256];
+    int found = 0;
+    while (fgets(line, sizeof line, f)) {
+        unsigned long long lo, hi, off;
+        char perms[8];
+        int name_at = 0;
+        if (sscanf(line, "%llx-%llx %7s %llx %*s %*s %n", &lo, &hi, perms, &off, &name_at) < 4)
+            continue;
+        const uintptr_t p = (uintptr_t)metas;
+        if (p < lo || p >= hi)
+            continue;
+        line[strcspn(line, "\n")] = '\0';
+        EXPECT_EQ_STR(real, line + name_at);
+        EXPECT_TRUE(perms[0] == 'r' && perms[1] == '-');
+        EXPECT_EQ_INT(l.meta_offset, off + (p - lo));
+        found = 1;
+    }
+    fclose(f);
+    EXPECT_TRUE(found);
+    tp_store_close(st);
     free(b.data);
     fixture_free(&fx);
 }
@@ -758,12 +906,24 @@ TEST(truncated_files_fail_clearly)
     file_buf b = slurp(path);
     layout l = parse_layout(&b);
     const size_t lengths[] = {0, 1, 7, 8, 12, 100, l.header_bytes - 1, l.header_bytes,
-                              l.header_bytes + 31, l.header_bytes + 1000, b.size / 2,
-                              (size_t)l.table_offset, (size_t)l.table_offset + 50, b.size - 32,
+                              l.header_bytes + 55, l.header_bytes + 1000, b.size / 2,
+                              (size_t)l.loc_offset, (size_t)l.data_offset + 50, b.size - FOOTER,
                               b.size - 1};
     for (size_t i = 0; i < sizeof lengths / sizeof lengths[0]; i++) {
         spill(path, b.data, lengths[i]);
         expect_open_fails(path, TP_ERR_BAD_DATA, lengths[i] < 8 ? "not a terrapatch store" : "truncated");
+    }
+    /* the tables cut short, a sound footer after them (a copy that lost a middle part) */
+    const size_t keeps[] = {(size_t)l.meta_offset + 10, (size_t)l.loc_offset + l.loc_bytes / 2,
+                            (size_t)l.data_offset - 1};
+    for (size_t i = 0; i < 3; i++) {
+        file_buf c = {malloc(keeps[i] + FOOTER), keeps[i] + FOOTER};
+        memcpy(c.data, b.data, keeps[i]);
+        memcpy(c.data + keeps[i], b.data + b.size - FOOTER, FOOTER);
+        spill(path, c.data, c.size);
+        expect_open_fails(path, TP_ERR_BAD_DATA, "truncated");
+        expect_open_fails(path, TP_ERR_BAD_DATA, "tables end at byte");
+        free(c.data);
     }
     free(b.data);
     fixture_free(&fx);
@@ -784,6 +944,25 @@ TEST(newer_version_says_so)
     snprintf(want, sizeof want, "written by a newer terrapatch (format %d; this one reads up to %d)",
              TP_STORE_VERSION + 1, TP_STORE_VERSION);
     expect_open_fails(path, TP_ERR_BAD_DATA, want);
+    free(b.data);
+    fixture_free(&fx);
+}
+
+/* A sound store of format 1 (the header's version and CRC32 are all a reader looks at before
+ * refusing it): refused with what to do. */
+TEST(older_version_says_rebuild)
+{
+    fixture fx;
+    char path[600];
+    small_store(&fx, path, sizeof path);
+    file_buf b = slurp(path);
+    layout l = parse_layout(&b);
+    put32(b.data + 8, 1);
+    put32(b.data + l.header_bytes - 4, crc32_ref(b.data, l.header_bytes - 4));
+    spill(path, b.data, b.size);
+    expect_open_fails(path, TP_ERR_BAD_DATA,
+                      "written by an older terrapatch (format 1; this one reads format 2): "
+                      "rebuild it with terrapatch build");
     free(b.data);
     fixture_free(&fx);
 }
@@ -1089,8 +1268,11 @@ TEST(file_rewrite_only_within_what_was_written)
     X(flipped_table_byte_fails_open)                                                               \
     X(flipped_footer_byte_fails_open)                                                              \
     X(entry_outside_the_data_area_fails_open)                                                      \
+    X(location_changed_after_open_is_checked_when_read)                                            \
+    X(metas_are_mapped_from_the_file)                                                              \
     X(truncated_files_fail_clearly)                                                                \
     X(newer_version_says_so)                                                                       \
+    X(older_version_says_rebuild)                                                                  \
     X(other_files_are_not_stores)                                                                  \
     X(fifo_folder_and_missing_file_refused)                                                        \
     X(missing_node_at_commit_fails_and_leaves_no_file)                                             \

@@ -8,6 +8,7 @@
 #include "stream.h"
 
 #include <fcntl.h>
+#include <sys/stat.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -112,17 +113,25 @@ static int open_fixture(fixture* fx, int64_t first, int corrupt)
     if (!write_store(fx, first))
         return 0;
     if (corrupt) {
-        /* a byte inside the first node's data, which starts right after the header */
+        /* a byte inside the first node's data, which starts right after the location table
+         * (docs/store.md: its offset and size are u64s at 16 and 24 in the 56-byte footer) */
         int fd = open(fx->path, O_RDWR);
-        uint8_t hdr[16];
-        if (fd < 0 || pread(fd, hdr, 16, 0) != 16)
+        struct stat sb;
+        uint8_t foot[56];
+        if (fd < 0 || fstat(fd, &sb) != 0 || pread(fd, foot, 56, sb.st_size - 56) != 56)
             return 0;
-        uint32_t hsize = hdr[12] | hdr[13] << 8 | hdr[14] << 16 | (uint32_t)hdr[15] << 24;
+        uint64_t data_offset = 0;
+        for (int k = 7; k >= 0; k--)
+            data_offset = data_offset << 8 | foot[16 + k];
+        uint64_t loc_bytes = 0;
+        for (int k = 7; k >= 0; k--)
+            loc_bytes = loc_bytes << 8 | foot[24 + k];
+        data_offset += loc_bytes;
         uint8_t b;
-        if (pread(fd, &b, 1, hsize + 4) != 1)
+        if (pread(fd, &b, 1, (off_t)data_offset + 4) != 1)
             return 0;
         b ^= 0x5A;
-        if (pwrite(fd, &b, 1, hsize + 4) != 1)
+        if (pwrite(fd, &b, 1, (off_t)data_offset + 4) != 1)
             return 0;
         close(fd);
     }

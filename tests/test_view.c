@@ -1661,15 +1661,27 @@ TEST(store_damaged_node_is_reported_once_and_drawn_as_its_ancestor)
         char ok_path[1300];
         snprintf(ok_path, sizeof ok_path, "%s/hood_ok.tpt", dir);
         copy_file(store_path, ok_path);
-        /* --lod full draws every leaf in view: damage node data a third into the file (the
-         * node table is at the end) */
+        /* --lod full draws every leaf in view: damage node data a third into the data area,
+         * which starts after the location table (docs/store.md: its offset and size are u64s
+         * at 16 and 24 in the 56-byte footer) */
         FILE* f = fopen(store_path, "r+b");
         ASSERT_TRUE(f != NULL);
         fseek(f, 0, SEEK_END);
         long size = ftell(f);
-        fseek(f, size / 3, SEEK_SET);
+        uint8_t foot[56];
+        fseek(f, size - 56, SEEK_SET);
+        ASSERT_TRUE(fread(foot, 1, 56, f) == 56);
+        long data = 0;
+        for (int k = 7; k >= 0; k--)
+            data = data << 8 | foot[16 + k];
+        long loc_bytes = 0;
+        for (int k = 7; k >= 0; k--)
+            loc_bytes = loc_bytes << 8 | foot[24 + k];
+        data += loc_bytes;
+        const long at = data + (size - 56 - data) / 3;
+        fseek(f, at, SEEK_SET);
         int c = fgetc(f);
-        fseek(f, size / 3, SEEK_SET);
+        fseek(f, at, SEEK_SET);
         fputc(c ^ 0x5A, f);
         fclose(f);
         image ok_im;
@@ -1770,12 +1782,80 @@ TEST(dem_is_built_into_the_cache_once)
 #endif
 }
 
+/* A store of an older format in the cache (left there by an earlier terrapatch) is stale: the
+ * next `view DEM` builds it again, over it, and views. */
+TEST(older_format_store_in_the_cache_is_rebuilt)
+{
+    REQUIRE_IO();
+#ifndef TP_TEST_NO_IO
+    {
+        const char* dir = make_tmp_dir();
+        char cache[1200];
+        snprintf(cache, sizeof cache, "%s/cache", dir);
+        char store[1600] = "";
+        for (int i = 0; i < 2; i++) {
+            args a;
+            run_result rr;
+            args_view(&a);
+            args_add(&a, "--headless");
+            args_add(&a, "--size");
+            args_add(&a, "64x36");
+            args_add(&a, "--cache-dir");
+            args_add(&a, "%s", cache);
+            args_add(&a, "%s", sample_dem());
+            run(&a, dir, &rr);
+            tp_test_note("run %d: exit %d, stderr: %s", i, rr.exit_code, rr.err);
+            EXPECT_EQ_INT(0, rr.exit_code);
+            EXPECT_CONTAINS(rr.err, "building a store");
+            ASSERT_EQ_INT(1, dir_entries(cache));
+            DIR* d = opendir(cache);
+            struct dirent* e;
+            while ((e = readdir(d)) != NULL)
+                if (e->d_name[0] != '.')
+                    snprintf(store, sizeof store, "%s/%s", cache, e->d_name);
+            closedir(d);
+            /* the header's version (u32 at 8) and CRC32 (its last 4 bytes): docs/store.md */
+            int fd = open(store, O_RDWR);
+            ASSERT_TRUE(fd >= 0);
+            uint8_t head[160];
+            ASSERT_TRUE(pread(fd, head, sizeof head, 0) == (ssize_t)sizeof head);
+            const uint32_t version = (uint32_t)head[8] | (uint32_t)head[9] << 8;
+            EXPECT_EQ_INT(TP_STORE_VERSION, version);
+            if (i == 0) {
+                const uint32_t hsize = (uint32_t)head[12] | (uint32_t)head[13] << 8 |
+                                       (uint32_t)head[14] << 16 | (uint32_t)head[15] << 24;
+                uint8_t* h = malloc(hsize);
+                ASSERT_TRUE(h && pread(fd, h, hsize, 0) == (ssize_t)hsize);
+                h[8] = 1, h[9] = h[10] = h[11] = 0;
+                uint32_t c = 0xFFFFFFFFu;
+                for (uint32_t k = 0; k < hsize - 4; k++) {
+                    c ^= h[k];
+                    for (int b = 0; b < 8; b++)
+                        c = (c >> 1) ^ (0xEDB88320u & (0u - (c & 1u)));
+                }
+                c = ~c;
+                for (int b = 0; b < 4; b++)
+                    h[hsize - 4 + b] = (uint8_t)(c >> (8 * b));
+                ASSERT_TRUE(pwrite(fd, h, hsize, 0) == (ssize_t)hsize);
+                free(h);
+                tp_store* st = NULL;
+                tp_error err = {{0}};
+                EXPECT_STATUS(TP_ERR_BAD_DATA, tp_store_open(store, &st, &err));
+                EXPECT_CONTAINS(err.message, "older terrapatch (format 1");
+            }
+            close(fd);
+        }
+    }
+#endif
+}
+
 #define TESTS(X)                                                                                   \
     X(store_no_cracks_oblique_error_lod)                                                           \
     X(store_frames_reuse_the_drivers_memory)                                                       \
     X(two_tile_seam_shows_no_crack_and_no_step)                                                    \
     X(store_damaged_node_is_reported_once_and_drawn_as_its_ancestor)                               \
     X(dem_is_built_into_the_cache_once)                                                            \
+    X(older_format_store_in_the_cache_is_rebuilt)                                                  \
     X(no_cracks_top_down_distance_lod)                                                             \
     X(no_cracks_oblique_distance_lod)                                                              \
     X(no_cracks_oblique_error_lod)                                                                 \

@@ -516,12 +516,14 @@ const char* tp_georef_datum_note(const tp_georef* g);
  * Terrain stores (.tpt): a built tp_tree on disk (io/src/store_*.cpp; format in docs/store.md)
  *
  * A versioned little-endian file: a header (geometry, georeference, quantisation, CRS, the
- * sources it was built from), the node table (every node's tp_node_meta, the offset, size and
- * CRC32 of its data) and each node's samples, compressed. Written atomically through
- * tp_file_* (an interrupted or failed write leaves no file); read with one open file shared by
- * threads (pread), each node checked against its CRC32 when read.
+ * sources it was built from), the node table (every node's tp_node_meta, laid out as in memory so
+ * that it is mapped, not decoded), the location table (the offset, size, CRC32 and codec of every
+ * node's data) and each node's samples, compressed. Written atomically through tp_file_* (an
+ * interrupted or failed write leaves no file); read with one open file shared by threads
+ * (pread), each node checked against its CRC32 when read. Format 2 is written and read on
+ * little-endian hosts only (TP_ERR_BACKEND elsewhere).
  */
-#define TP_STORE_VERSION 1
+#define TP_STORE_VERSION 2
 
 typedef struct tp_store_header {
     tp_tree_geometry geometry;
@@ -538,7 +540,8 @@ typedef struct tp_store_writer tp_store_writer;
 /* Starts writing path (tp_file_begin) and writes the header. TP_ERR_INVALID_ARG for a geometry
  * that is not the one of (n, src_width, src_height) (the message names the field), a CRS or notes
  * over 16 MiB; TP_ERR_IO; each with a message naming path. *out written only on success. The
- * writer keeps the node table in memory (38 + 10n bytes per node), never the data. */
+ * writer writes each node's table entries into place as the node is added and keeps one bit per
+ * node in memory, never the tables or the data. */
 tp_status tp_store_writer_begin(const char* path, const tp_store_header* header,
                                 tp_store_writer** out, tp_error* err);
 /* Adds one node (any order; each node exactly once): its meta and its (2^n+1)^2 global
@@ -560,7 +563,7 @@ void tp_store_writer_set_totals(tp_store_writer* w, double quant_max_error_m,
  * the end: the begin's notes reserve room, e.g. with trailing spaces); commit writes them.
  * TP_ERR_INVALID_ARG when the length differs (w is unchanged). */
 tp_status tp_store_writer_set_notes(tp_store_writer* w, const char* notes, tp_error* err);
-/* Writes the node table and the footer and makes the file (tp_file_commit). Frees w, whatever
+/* Checksums the tables (read back), writes the footer and makes the file (tp_file_commit). Frees w, whatever
  * happens. TP_ERR_INVALID_ARG when a node is missing (the message says how many and the first),
  * TP_ERR_IO; on failure no file is left and an older path is as it was. */
 tp_status tp_store_writer_commit(tp_store_writer* w, tp_error* err);
@@ -575,17 +578,23 @@ typedef struct tp_store_info {
 } tp_store_info;
 
 /* Opens a store: checks magic ("not a terrapatch store"), the header's checksum, the version (a
- * newer one: "written by a newer terrapatch (format N; this one reads up to M)"), the geometry
- * against the one n and the source size define, the footer's and the node table's checksums,
- * and that every node's data lies inside the file. Keeps the decoded metas and where each
- * node's data is: 128 bytes per node. TP_ERR_BAD_DATA (damaged, truncated, not a store) /
- * TP_ERR_IO (cannot read; a FIFO, device or folder) with a message naming path; *out written
- * only on success. */
+ * newer one: "written by a newer terrapatch (format N; this one reads up to M)"; an older one:
+ * "written by an older terrapatch (format N; ...): rebuild it with terrapatch build"), the
+ * geometry against the one n and the source size define, the footer's and both tables'
+ * checksums, every meta's flags and range, and that every node's data lies inside the file (one
+ * pass of pread over the tables, 128 bytes per node). Then maps the tables read-only: the store
+ * takes a few KB of the process's own memory whatever its node count (the mapped pages are the
+ * file's, shared with the page cache). Do not truncate an open store (a mapping past the end of
+ * its file is SIGBUS) nor rewrite it in place (the metas would change under the tree; node reads
+ * check their location's bounds again); terrapatch itself always writes a new file and renames
+ * it. TP_ERR_BAD_DATA (damaged, truncated, an older or newer format, not a store) / TP_ERR_IO
+ * (cannot read or map; a FIFO, device or folder) / TP_ERR_BACKEND (a big-endian host) with a
+ * message naming path; *out written only on success. */
 tp_status tp_store_open(const char* path, tp_store** out, tp_error* err);
 void tp_store_close(tp_store* s); /* accepts NULL */
 void tp_store_get_info(const tp_store* s, tp_store_info* out);
 /* Every node's meta (node_count of them, in id order; delta[k > n], eps[][kn >= n] and pad_
- * are 0), owned by s and valid while s is open. */
+ * are 0), owned by s and valid while s is open: a read-only mapping of the file's node table. */
 const tp_node_meta* tp_store_metas(const tp_store* s, size_t* count);
 /* Reads, checks (CRC32) and decodes node's samples into samples ((2^n+1)^2 uint16 relative to
  * its qmin, TP_TREE_NO_HEIGHT where not drawn; sample_capacity at least that; node in

@@ -117,7 +117,7 @@ std::string temp_name(const std::string& path)
 
 int create_new(const std::string& name)
 {
-    int fd = open(name.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0666);
+    int fd = open(name.c_str(), O_RDWR | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0666);
     return fd >= 0 ? fd : -errno;
 }
 
@@ -319,6 +319,46 @@ extern "C" tp_status tp_file_rewrite(tp_file_writer* w, uint64_t offset, const v
     }
     return w->error ? tpio::write_failed(err, w->path, w->error) : TP_OK;
 }
+
+namespace tpio {
+
+tp_status file_reserve(tp_file_writer* w, uint64_t size, tp_error* err)
+{
+    if (!w->error && size > 0) {
+        const uintmax_t end = w->size + size;
+        if (g_signal)
+            drop(w, EINTR);
+        else if (end > (uintmax_t)INT64_MAX || ftruncate(w->fd, (off_t)end) != 0)
+            drop(w, end > (uintmax_t)INT64_MAX ? EFBIG : errno);
+        else if (lseek(w->fd, 0, SEEK_END) < 0)
+            drop(w, errno);
+        else
+            w->size = end;
+    }
+    return w->error ? write_failed(err, w->path, w->error) : TP_OK;
+}
+
+tp_status file_read_back(tp_file_writer* w, uint64_t offset, void* data, size_t size,
+                         tp_error* err)
+{
+    if (offset > w->size || size > w->size - offset)
+        return fail(err, TP_ERR_INVALID_ARG, "%s: read back of bytes %llu .. %llu beyond the %llu written",
+                    w->path.c_str(), (unsigned long long)offset, (unsigned long long)(offset + size),
+                    (unsigned long long)w->size);
+    char* p = static_cast<char*>(data);
+    for (size_t done = 0; !w->error && done < size;) {
+        ssize_t n = pread(w->fd, p + done, size - done, (off_t)(offset + done));
+        if (n > 0)
+            done += (size_t)n;
+        else if (n < 0 && errno != EINTR)
+            drop(w, errno);
+        else if (n == 0)
+            drop(w, EIO);
+    }
+    return w->error ? write_failed(err, w->path, w->error) : TP_OK;
+}
+
+} // namespace tpio
 
 extern "C" tp_status tp_file_commit(tp_file_writer* w, tp_error* err)
 {

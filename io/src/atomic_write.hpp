@@ -3,7 +3,7 @@
  * value; EINTR means SIGINT/SIGTERM arrived (tp_interrupted), never a retried system call. */
 #pragma once
 
-#include "tp_core.h"
+#include "tp_io.h"
 
 #include <cstddef>
 #include <cstdint>
@@ -34,5 +34,13 @@ void sync_dir(const std::string& dir);
 const char* interrupt_name(void);
 /* TP_ERR_IO with "PATH: cannot write: <strerror(e)>" or, for EINTR, "PATH: interrupted ...". */
 tp_status write_failed(tp_error* err, const std::string& path, int e);
+
+/* For a writer that fills parts of a tp_file_writer's file out of order (the store's tables):
+ * file_reserve appends size zero bytes (a hole: ftruncate, nothing written), which
+ * tp_file_rewrite may then overwrite; file_read_back reads bytes already appended or reserved
+ * (pread). Both fail as tp_file_append does (the temporary file is gone, w must be aborted). */
+tp_status file_reserve(tp_file_writer* w, uint64_t size, tp_error* err);
+tp_status file_read_back(tp_file_writer* w, uint64_t offset, void* data, size_t size,
+                         tp_error* err);
 
 } // namespace tpio

@@ -19,9 +19,11 @@
 namespace tpio {
 namespace store {
 
-uint32_t crc32_of(const void* data, size_t size)
+uint32_t crc32_of(const void* data, size_t size) { return crc32_continue(0, data, size); }
+
+uint32_t crc32_continue(uint32_t crc_so_far, const void* data, size_t size)
 {
-    uLong crc = crc32(0L, Z_NULL, 0);
+    uLong crc = crc_so_far;
     const Bytef* p = static_cast<const Bytef*>(data);
     while (size > 0) { /* zlib takes uInt lengths */
         const uInt piece = (uInt)std::min<size_t>(size, UINT_MAX);

@@ -1,13 +1,14 @@
 /* store_format.hpp - the byte layout of a terrain store (.tpt), shared by store_write.cpp and
  * store_read.cpp; docs/store.md describes it byte by byte. Private to io/.
  *
- *   [header: magic, version, header_bytes, fields, CRS, notes, CRC32]
+ *   [header: magic, version, header_bytes, fields, CRS, notes, CRC32] [0..7 zero bytes]
+ *   [node table: node_count tp_node_meta, in id order, as in memory]      (META_BYTES each)
+ *   [location table: node_count entries, in id order]                     (LOC_BYTES each)
  *   [node data, in the order the writer received the nodes]
- *   [node table: node_count entries of entry_bytes(n), in id order]
- *   [footer: table offset and size, table CRC32, footer CRC32, end magic]  (FOOTER_BYTES)
+ *   [footer: the tables' offsets, sizes and CRC32s, footer CRC32, end magic]  (FOOTER_BYTES)
  *
  * Every integer is little-endian, every double an IEEE 754 binary64 stored as its bits, also
- * little-endian; nothing depends on the host's struct layout. */
+ * little-endian. Only the node table depends on a struct layout, tp_node_meta's, pinned below. */
 #pragma once
 
 #include "tp_core.h"
@@ -55,28 +56,69 @@ enum : size_t {
 };
 constexpr uint32_t MAX_STRING_BYTES = 16u << 20; /* each of crs_wkt, notes */
 
-/* Node table entry (entry_bytes(n) each, in node id order). */
+/* Format 2: after the header (and zero bytes up to the next multiple of 8), the node table
+ * laid out exactly as an array of the host's tp_node_meta, so that a reader can map it and hand
+ * it out as it is (little-endian hosts; the static asserts catch a layout change), then the
+ * location table (LOC_BYTES per node), then the nodes' data, then the footer. Both tables'
+ * places follow from the header's size and node_count (Tables). */
+constexpr size_t META_BYTES = 104;
+static_assert(sizeof(tp_node_meta) == META_BYTES, "tp_node_meta changed: a new store format");
+static_assert(offsetof(tp_node_meta, qmin) == 0 && offsetof(tp_node_meta, qmax) == 4 &&
+                  offsetof(tp_node_meta, area_qmin) == 8 && offsetof(tp_node_meta, area_qmax) == 12 &&
+                  offsetof(tp_node_meta, flags) == 16 && offsetof(tp_node_meta, pad_) == 17 &&
+                  offsetof(tp_node_meta, delta) == 20 && offsetof(tp_node_meta, eps) == 38 &&
+                  TP_MAX_LEVELS == 9 && TP_MAX_N == 8 && alignof(tp_node_meta) <= 8,
+              "tp_node_meta's layout changed: a new store format (docs/store.md)");
+constexpr size_t META_USED_BYTES = 38 + 2 * 4 * TP_MAX_N; /* 102: then 2 bytes of padding */
+static_assert(META_BYTES % 8 == 0, "node table entries keep 8-byte alignment");
+
+/* Location table entry (LOC_BYTES each, in node id order). */
 enum : size_t {
-    E_OFFSET = 0,    /* u64: byte offset of the node's data in the file */
-    E_BYTES = 8,     /* u32: bytes stored */
-    E_CRC = 12,      /* u32: CRC32 of those bytes */
-    E_CODEC = 16,    /* u8: Codec */
-    E_FLAGS = 17,    /* u8: tp_node_meta.flags */
-    E_RESERVED = 18, /* u16: 0 */
-    E_QMIN = 20,     /* i32 x 4: qmin, qmax, area_qmin, area_qmax */
-    E_DELTA = 36,    /* u16 x (n+1): delta[0..n]; then u16 x 4n: eps[side][0..n-1] */
+    L_OFFSET = 0,    /* u64: byte offset of the node's data in the file */
+    L_BYTES = 8,     /* u32: bytes stored */
+    L_CRC = 12,      /* u32: CRC32 of those bytes */
+    L_CODEC = 16,    /* u8: Codec; then 7 bytes 0 */
+    LOC_BYTES = 24,
 };
-inline size_t entry_bytes(int n) { return E_DELTA + 2 * (size_t)(n + 1) + 8 * (size_t)n; }
 
 /* Footer: the last FOOTER_BYTES of the file. */
 enum : size_t {
-    F_TABLE_OFFSET = 0, /* u64 */
-    F_TABLE_BYTES = 8,  /* u64 */
-    F_TABLE_CRC = 16,   /* u32 */
-    F_FOOTER_CRC = 20,  /* u32: CRC32 of footer bytes 0..19 */
-    F_END_MAGIC = 24,   /* 8 bytes */
-    FOOTER_BYTES = 32,
+    F_META_OFFSET = 0, /* u64: node table */
+    F_META_BYTES = 8,  /* u64 */
+    F_LOC_OFFSET = 16, /* u64: location table */
+    F_LOC_BYTES = 24,  /* u64 */
+    F_META_CRC = 32,   /* u32: CRC32 of the node table */
+    F_LOC_CRC = 36,    /* u32: CRC32 of the location table */
+    F_RESERVED = 40,   /* u32: 0 */
+    F_FOOTER_CRC = 44, /* u32: CRC32 of footer bytes 0..43 */
+    F_END_MAGIC = 48,  /* 8 bytes */
+    FOOTER_BYTES = 56,
 };
+
+/* Where the tables and the data area start in a file whose header takes header_bytes. */
+struct Tables {
+    uint64_t meta_offset, meta_bytes, loc_offset, loc_bytes, data_offset;
+};
+inline Tables tables_at(uint64_t header_bytes, uint64_t node_count)
+{
+    Tables t;
+    t.meta_offset = (header_bytes + 7) & ~(uint64_t)7;
+    t.meta_bytes = node_count * META_BYTES;
+    t.loc_offset = t.meta_offset + t.meta_bytes;
+    t.loc_bytes = node_count * LOC_BYTES;
+    t.data_offset = t.loc_offset + t.loc_bytes;
+    return t;
+}
+
+/* True on a little-endian host, the only kind that reads or writes format 2 (its node table is
+ * the host's tp_node_meta array). */
+inline bool host_little_endian()
+{
+    const uint16_t one = 1;
+    uint8_t b;
+    std::memcpy(&b, &one, 1);
+    return b == 1;
+}
 
 /* How a node's samples are stored (per node, in its table entry). */
 enum Codec : uint8_t {
@@ -118,6 +160,9 @@ inline double get_f64(const uint8_t* p)
 
 /* zlib's CRC32 (the one of gzip and PNG) of any length. */
 uint32_t crc32_of(const void* data, size_t size);
+/* The CRC32 of the bytes whose CRC32 is crc_so_far followed by data (crc32_of(nullptr, 0) = 0
+ * to start). */
+uint32_t crc32_continue(uint32_t crc_so_far, const void* data, size_t size);
 
 /* The geometry a store of n, src_width x src_height must have: tp_tree_geometry_init's. false
  * when the sizes are outside its ranges (n 4..TP_MAX_N, sizes 1..2^30). */

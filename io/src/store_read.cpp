@@ -1,13 +1,19 @@
 /* store_read.cpp - opens a terrain store (.tpt; tp_io.h "Terrain stores", docs/store.md) and
- * reads its nodes. tp_store_open reads and checks the header, the footer and the node table and
- * keeps them (decoded) in memory; tp_store_read_node reads one node with pread, so any number
- * of threads can read at once: the store is not changed after open, and each thread keeps its
- * own zstd context and buffers (thread_local), reused from one node to the next. */
+ * reads its nodes. tp_store_open reads and checks the header and the footer, checks the node
+ * and location tables in one streaming pass (pread into a small buffer: their pages enter the
+ * page cache, not the process's anonymous memory) and maps them read-only: tp_store_metas is a
+ * pointer into that mapping, so the memory a store takes does not grow with its node count.
+ * tp_store_read_node reads one node with pread, so any number of threads can read at once:
+ * the store is not changed after open, and each thread keeps its own zstd context and buffers
+ * (thread_local), reused from one node to the next. */
 #include "io_util.hpp"
 #include "store_format.hpp"
 #include "tp_io.h"
 
 #include <zstd.h>
+
+#include <sys/mman.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <cassert>
@@ -21,24 +27,39 @@ using namespace tpio::store;
 using tpio::fail;
 
 namespace {
+/* Bytes of the tables read at a time by the checking pass (a multiple of both entry sizes). */
+constexpr size_t CHECK_PIECE_BYTES = 64 * 3 * 4 * 104;
+static_assert(CHECK_PIECE_BYTES % META_BYTES == 0 && CHECK_PIECE_BYTES % LOC_BYTES == 0, "");
+
+/* A node's location table entry, decoded. */
 struct Entry {
     uint64_t offset;
     uint32_t bytes, crc;
     Codec codec;
 };
+Entry decode_loc(const uint8_t* e)
+{
+    return Entry{get_u64(e + L_OFFSET), get_u32(e + L_BYTES), get_u32(e + L_CRC),
+                 (Codec)e[L_CODEC]};
+}
 } // namespace
 
 struct tp_store {
     std::string path;
     int fd = -1;
     uint32_t version = 0;
-    uint64_t file_bytes = 0, header_bytes = 0, table_offset = 0, table_bytes = 0;
+    uint64_t file_bytes = 0, header_bytes = 0, data_end = 0;
+    Tables tables{};
     tp_store_header header;
     std::string crs, notes;
-    std::vector<tp_node_meta> metas;
-    std::vector<Entry> entries;
+    void* map = nullptr;       /* both tables, read-only (mmap) */
+    size_t map_bytes = 0;
+    const tp_node_meta* metas = nullptr; /* node_count, inside map */
+    const uint8_t* locs = nullptr;       /* node_count * LOC_BYTES, inside map */
     ~tp_store()
     {
+        if (map)
+            munmap(map, map_bytes);
         if (fd >= 0)
             close(fd);
     }
@@ -127,6 +148,16 @@ tp_status load(tp_store* s, tp_error* err)
                     s->version, TP_STORE_VERSION);
     if (s->version == 0)
         return fail(err, TP_ERR_BAD_DATA, "%s: damaged header: format version 0", path);
+    if (s->version < TP_STORE_VERSION)
+        return fail(err, TP_ERR_BAD_DATA,
+                    "%s: written by an older terrapatch (format %u; this one reads format %d): "
+                    "rebuild it with terrapatch build",
+                    path, s->version, TP_STORE_VERSION);
+    if (!host_little_endian())
+        return fail(err, TP_ERR_BACKEND,
+                    "%s: stores of format %d are read on little-endian hosts only (their node "
+                    "table is mapped as it is); this host is big-endian",
+                    path, TP_STORE_VERSION);
     s->header_bytes = header_bytes;
 
     /* Geometry: recomputed from n and the source size; every stored count must agree. */
@@ -169,12 +200,15 @@ tp_status load(tp_store* s, tp_error* err)
         return fail(err, TP_ERR_BAD_DATA, "%s: bad header: a NUL byte inside the CRS or notes",
                     path);
 
-    /* Footer: where the table is. */
+    /* Footer: where the tables are (they follow from the header's size and node_count). */
+    const uint64_t count = (uint64_t)g.node_count;
+    const Tables t = tables_at(header_bytes, count);
+    s->tables = t;
+    uint8_t foot[FOOTER_BYTES];
     if (s->file_bytes < header_bytes + (uint64_t)FOOTER_BYTES)
         return fail(err, TP_ERR_BAD_DATA,
                     "%s: truncated: %" PRIu64 " bytes, no room for the footer after the header",
                     path, s->file_bytes);
-    uint8_t foot[FOOTER_BYTES];
     if (int e = read_at(s->fd, foot, sizeof foot, s->file_bytes - FOOTER_BYTES))
         return fail(err, TP_ERR_IO, "%s: cannot read the footer: %s", path, std::strerror(e));
     if (std::memcmp(foot + F_END_MAGIC, END_MAGIC, 8) != 0)
@@ -189,74 +223,134 @@ tp_status load(tp_store* s, tp_error* err)
                     "): checksum mismatch (stored 0x%08x, computed 0x%08x)",
                     path, s->file_bytes - FOOTER_BYTES, s->file_bytes - 1,
                     get_u32(foot + F_FOOTER_CRC), foot_crc);
-    s->table_offset = get_u64(foot + F_TABLE_OFFSET);
-    s->table_bytes = get_u64(foot + F_TABLE_BYTES);
-    const size_t esize = entry_bytes(g.n);
-    const uint64_t count = (uint64_t)g.node_count;
-    if (s->table_offset < header_bytes || s->table_bytes > s->file_bytes ||
-        s->table_offset != s->file_bytes - FOOTER_BYTES - s->table_bytes)
+    if (get_u64(foot + F_META_OFFSET) != t.meta_offset ||
+        get_u64(foot + F_META_BYTES) != t.meta_bytes ||
+        get_u64(foot + F_LOC_OFFSET) != t.loc_offset || get_u64(foot + F_LOC_BYTES) != t.loc_bytes ||
+        get_u32(foot + F_RESERVED) != 0)
         return fail(err, TP_ERR_BAD_DATA,
-                    "%s: damaged footer: a node table of %" PRIu64 " bytes at byte %" PRIu64
-                    " does not end where the footer starts (byte %" PRIu64 ")",
-                    path, s->table_bytes, s->table_offset, s->file_bytes - FOOTER_BYTES);
-    if (s->table_bytes / esize != count || s->table_bytes % esize != 0)
+                    "%s: damaged footer: node table at byte %" PRIu64 " (%" PRIu64
+                    " bytes), location table at byte %" PRIu64 " (%" PRIu64
+                    " bytes), but %" PRIu64 " nodes after a header of %u bytes put them at %" PRIu64
+                    " (%" PRIu64 ") and %" PRIu64 " (%" PRIu64 ")",
+                    path, get_u64(foot + F_META_OFFSET), get_u64(foot + F_META_BYTES),
+                    get_u64(foot + F_LOC_OFFSET), get_u64(foot + F_LOC_BYTES), count, header_bytes,
+                    t.meta_offset, t.meta_bytes, t.loc_offset, t.loc_bytes);
+    if (t.data_offset > s->file_bytes - FOOTER_BYTES)
         return fail(err, TP_ERR_BAD_DATA,
-                    "%s: the node table holds %" PRIu64 " bytes, but %" PRIu64
-                    " nodes of %zu bytes each are expected",
-                    path, s->table_bytes, count, esize);
+                    "%s: truncated: %" PRIu64 " bytes, but its node and location tables end at "
+                    "byte %" PRIu64 " (before the footer's %zu)",
+                    path, s->file_bytes, t.data_offset, (size_t)FOOTER_BYTES);
+    s->data_end = s->file_bytes - FOOTER_BYTES;
 
-    /* The table. */
-    std::vector<uint8_t> table((size_t)s->table_bytes);
-    if (int e = read_at(s->fd, table.data(), table.size(), s->table_offset))
-        return fail(err, TP_ERR_IO, "%s: cannot read the node table: %s", path, std::strerror(e));
-    const uint32_t table_crc = crc32_of(table.data(), table.size());
-    if (table_crc != get_u32(foot + F_TABLE_CRC))
+    /* Both tables, checked in one streaming pass (pread, not the mapping: the checks leave
+     * nothing in the process's memory). The first bad entry is reported only once the tables'
+     * CRC32s match: a damaged table is reported as damage, not as one odd entry. */
+    const uint64_t max_bytes = max_stored_bytes(g.n);
+    std::vector<uint8_t> piece(CHECK_PIECE_BYTES);
+    /* The bytes of a node table entry that must be 0: pad_, delta[k > n], eps[][kn >= n] and the
+     * trailing padding (all ones there, as 13 words in the host's order: it is little-endian). */
+    uint64_t zero_mask[META_BYTES / 8];
+    {
+        uint8_t mask[META_BYTES];
+        std::memset(mask, 0, sizeof mask);
+        std::memset(mask + offsetof(tp_node_meta, pad_), 0xFF, sizeof(tp_node_meta::pad_));
+        for (int j = g.n + 1; j < TP_MAX_LEVELS; ++j)
+            std::memset(mask + offsetof(tp_node_meta, delta) + 2 * j, 0xFF, 2);
+        for (int side = 0; side < 4; ++side)
+            for (int j = g.n; j < TP_MAX_N; ++j)
+                std::memset(mask + offsetof(tp_node_meta, eps) + 2 * (TP_MAX_N * side + j), 0xFF, 2);
+        std::memset(mask + META_USED_BYTES, 0xFF, META_BYTES - META_USED_BYTES);
+        std::memcpy(zero_mask, mask, sizeof mask);
+    }
+    uint32_t meta_crc = 0, loc_crc = 0;
+    tp_error bad_entry;
+    bad_entry.message[0] = '\0';
+    for (uint64_t at = t.meta_offset; at < t.data_offset;) {
+        const bool metas = at < t.loc_offset;
+        const uint64_t end = metas ? t.loc_offset : t.data_offset;
+        const size_t size = (size_t)std::min<uint64_t>(end - at, piece.size());
+        if (int e = read_at(s->fd, piece.data(), size, at))
+            return fail(err, TP_ERR_IO, "%s: cannot read the %s table: %s", path,
+                        metas ? "node" : "location", std::strerror(e));
+        if (metas)
+            meta_crc = crc32_continue(meta_crc, piece.data(), size);
+        else
+            loc_crc = crc32_continue(loc_crc, piece.data(), size);
+        const size_t esize = metas ? META_BYTES : LOC_BYTES;
+        const uint64_t first = (at - (metas ? t.meta_offset : t.loc_offset)) / esize;
+        for (size_t k = 0; k * esize < size; ++k) {
+            const uint8_t* e = piece.data() + k * esize;
+            const char* problem = nullptr;
+            Entry en{};
+            if (metas) {
+                /* flags, range, and the bytes the format leaves 0 (the mask, 8 bytes at a time) */
+                uint64_t nonzero = 0;
+                for (size_t j = 0; j < META_BYTES / 8; ++j) {
+                    uint64_t word;
+                    std::memcpy(&word, e + 8 * j, 8);
+                    nonzero |= word & zero_mask[j];
+                }
+                const int32_t qmin = (int32_t)get_u32(e), qmax = (int32_t)get_u32(e + 4);
+                if (e[16] & ~(TP_NODE_COMPLETE | TP_NODE_HAS_DRAWN))
+                    problem = "unknown flags";
+                else if (qmin <= qmax && (int64_t)qmax - qmin >= (int64_t)TP_TREE_NO_HEIGHT)
+                    problem = "height range too wide";
+                else if (nonzero)
+                    problem = "unused bytes not 0";
+            } else {
+                en = decode_loc(e);
+                bool zero = true;
+                for (size_t j = L_CODEC + 1; j < LOC_BYTES; ++j)
+                    zero = zero && e[j] == 0;
+                if (en.codec != CODEC_RAW && en.codec != CODEC_PLANAR_ZSTD)
+                    problem = "unknown codec";
+                else if (!zero)
+                    problem = "reserved bytes not 0";
+                else if (en.bytes == 0 || en.bytes > max_bytes)
+                    problem = "impossible data size";
+                else if (en.offset < t.data_offset || en.offset > s->data_end ||
+                         en.bytes > s->data_end - en.offset)
+                    problem = "data outside the data area";
+            }
+            if (!problem || bad_entry.message[0])
+                continue;
+            if (metas)
+                fail(&bad_entry, TP_ERR_BAD_DATA, "%s: node table, %s: %s", path,
+                            node_name(s, (int64_t)(first + k)).c_str(), problem);
+            else
+                fail(&bad_entry, TP_ERR_BAD_DATA,
+                            "%s: location table, %s: %s (codec %d, %u bytes at byte %" PRIu64
+                            "; data area %" PRIu64 "..%" PRIu64 ")",
+                            path, node_name(s, (int64_t)(first + k)).c_str(), problem,
+                            (int)en.codec, en.bytes, en.offset, t.data_offset, s->data_end);
+        }
+        at += size;
+    }
+    if (meta_crc != get_u32(foot + F_META_CRC))
         return fail(err, TP_ERR_BAD_DATA,
                     "%s: damaged node table (bytes %" PRIu64 "..%" PRIu64
                     "): checksum mismatch (stored 0x%08x, computed 0x%08x)",
-                    path, s->table_offset, s->table_offset + s->table_bytes - 1,
-                    get_u32(foot + F_TABLE_CRC), table_crc);
-    s->metas.assign((size_t)count, tp_node_meta());
-    s->entries.resize((size_t)count);
-    const uint64_t max_bytes = max_stored_bytes(g.n);
-    for (uint64_t id = 0; id < count; ++id) {
-        const uint8_t* e = table.data() + id * esize;
-        Entry& en = s->entries[(size_t)id];
-        tp_node_meta& m = s->metas[(size_t)id];
-        en.offset = get_u64(e + E_OFFSET);
-        en.bytes = get_u32(e + E_BYTES);
-        en.crc = get_u32(e + E_CRC);
-        en.codec = (Codec)e[E_CODEC];
-        m.flags = e[E_FLAGS];
-        m.qmin = (int32_t)get_u32(e + E_QMIN);
-        m.qmax = (int32_t)get_u32(e + E_QMIN + 4);
-        m.area_qmin = (int32_t)get_u32(e + E_QMIN + 8);
-        m.area_qmax = (int32_t)get_u32(e + E_QMIN + 12);
-        const uint8_t* p = e + E_DELTA;
-        for (int k = 0; k <= g.n; ++k, p += 2)
-            m.delta[k] = get_u16(p);
-        for (int side = 0; side < 4; ++side)
-            for (int k = 0; k < g.n; ++k, p += 2)
-                m.eps[side][k] = get_u16(p);
-        const char* problem = nullptr;
-        if (en.codec != CODEC_RAW && en.codec != CODEC_PLANAR_ZSTD)
-            problem = "unknown codec";
-        else if (en.bytes == 0 || en.bytes > max_bytes)
-            problem = "impossible data size";
-        else if (en.offset < header_bytes || en.offset > s->table_offset ||
-                 en.bytes > s->table_offset - en.offset)
-            problem = "data outside the data area";
-        else if (m.flags & ~(TP_NODE_COMPLETE | TP_NODE_HAS_DRAWN))
-            problem = "unknown flags";
-        else if (m.qmin <= m.qmax && (int64_t)m.qmax - m.qmin >= (int64_t)TP_TREE_NO_HEIGHT)
-            problem = "height range too wide";
-        if (problem)
-            return fail(err, TP_ERR_BAD_DATA,
-                        "%s: node table, %s: %s (codec %d, %u bytes at byte %" PRIu64
-                        "; data area %" PRIu64 "..%" PRIu64 ")",
-                        path, node_name(s, (int64_t)id).c_str(), problem, (int)en.codec, en.bytes,
-                        en.offset, (uint64_t)header_bytes, s->table_offset);
-    }
+                    path, t.meta_offset, t.loc_offset - 1, get_u32(foot + F_META_CRC), meta_crc);
+    if (loc_crc != get_u32(foot + F_LOC_CRC))
+        return fail(err, TP_ERR_BAD_DATA,
+                    "%s: damaged location table (bytes %" PRIu64 "..%" PRIu64
+                    "): checksum mismatch (stored 0x%08x, computed 0x%08x)",
+                    path, t.loc_offset, t.data_offset - 1, get_u32(foot + F_LOC_CRC), loc_crc);
+    if (bad_entry.message[0])
+        return fail(err, TP_ERR_BAD_DATA, "%s", bad_entry.message);
+
+    /* Map both tables (page-aligned start). */
+    const long page = sysconf(_SC_PAGESIZE);
+    const uint64_t map_from = t.meta_offset - t.meta_offset % (uint64_t)(page > 0 ? page : 4096);
+    s->map_bytes = (size_t)(t.data_offset - map_from);
+    void* map = mmap(nullptr, s->map_bytes, PROT_READ, MAP_SHARED, s->fd, (off_t)map_from);
+    if (map == MAP_FAILED)
+        return fail(err, TP_ERR_IO, "%s: cannot map its node table (%zu bytes): %s", path,
+                    s->map_bytes, std::strerror(errno));
+    s->map = map;
+    const uint8_t* base = static_cast<const uint8_t*>(map) - map_from;
+    s->metas = reinterpret_cast<const tp_node_meta*>(base + t.meta_offset);
+    s->locs = base + t.loc_offset;
     s->header.crs_wkt = s->crs.c_str();
     s->header.notes = s->notes.c_str();
     return TP_OK;
@@ -303,8 +397,8 @@ extern "C" void tp_store_get_info(const tp_store* s, tp_store_info* out)
     out->header = s->header;
     out->version = s->version;
     out->file_bytes = s->file_bytes;
-    out->data_bytes = s->table_offset - s->header_bytes;
-    out->table_bytes = s->table_bytes;
+    out->data_bytes = s->data_end - s->tables.data_offset;
+    out->table_bytes = s->tables.meta_bytes + s->tables.loc_bytes;
     out->bytes_per_sample = (double)s->file_bytes /
                             ((double)s->header.geometry.src_width * s->header.geometry.src_height);
 }
@@ -312,21 +406,30 @@ extern "C" void tp_store_get_info(const tp_store* s, tp_store_info* out)
 extern "C" const tp_node_meta* tp_store_metas(const tp_store* s, size_t* count)
 {
     assert(s && count);
-    *count = s->metas.size();
-    return s->metas.data();
+    *count = (size_t)s->header.geometry.node_count;
+    return s->metas;
 }
 
 extern "C" tp_status tp_store_read_node(const tp_store* s, int64_t node, uint16_t* samples,
                                         size_t sample_capacity, tp_error* err)
 {
     assert(s && samples);
-    assert(node >= 0 && node < (int64_t)s->entries.size());
+    assert(node >= 0 && node < s->header.geometry.node_count);
     const size_t count = sample_count(s->header.geometry.n);
     assert(sample_capacity >= count);
     (void)sample_capacity;
     const char* path = s->path.c_str();
     try {
-        const Entry& e = s->entries[(size_t)node];
+        /* Read once from the mapping and checked again: open checked every entry, but the
+         * file may have been changed in place since (bounds only; the CRC32 does the rest). */
+        const Entry e = decode_loc(s->locs + (size_t)node * LOC_BYTES);
+        if (e.bytes == 0 || e.bytes > max_stored_bytes(s->header.geometry.n) ||
+            e.offset < s->tables.data_offset || e.offset > s->data_end ||
+            e.bytes > s->data_end - e.offset)
+            return fail(err, TP_ERR_BAD_DATA,
+                        "%s: %s, %u bytes at byte %" PRIu64
+                        ": data outside the data area (was the file changed?)",
+                        path, node_name(s, node).c_str(), e.bytes, e.offset);
         ThreadScratch& t = t_scratch;
         t.stored.resize(e.bytes);
         if (int code = read_at(s->fd, t.stored.data(), e.bytes, e.offset))
@@ -349,7 +452,7 @@ extern "C" tp_status tp_store_read_node(const tp_store* s, int64_t node, uint16_
             return fail(err, TP_ERR_BAD_DATA, "%s: %s, %u bytes at byte %" PRIu64 ": %s", path,
                         node_name(s, node).c_str(), e.bytes, e.offset, why.c_str());
         /* every drawn sample inside the node's range (a wrong table or an encoder bug) */
-        const tp_node_meta& m = s->metas[(size_t)node];
+        const tp_node_meta m = s->metas[(size_t)node];
         const uint32_t top = m.qmin <= m.qmax ? (uint32_t)((int64_t)m.qmax - m.qmin) : 0;
         const bool none = m.qmin > m.qmax;
         for (size_t k = 0; k < count; ++k) {

@@ -1,14 +1,19 @@
 /* store_write.cpp - writes a terrain store (.tpt; tp_io.h "Terrain stores", docs/store.md)
- * append-only through tp_file_*: the header first, each node's data as it arrives (in the
- * builder's order, children before parents), then the node table in id order and the footer
- * that points to it. Only the encoded table (entry_bytes(n) per node) and one node's scratch
- * are kept in memory, never the data already written. */
+ * through tp_file_*: the header first, then room for the node and location tables (a hole,
+ * their places follow from the header and node_count), each node's data appended as it arrives
+ * (in the builder's order, children before parents) while its meta and location are written
+ * into their places in the tables (tp_file_rewrite, a run of consecutive ids at a time), then
+ * the footer with the tables' CRC32 (read back in small pieces). In memory: one bit per node
+ * (added or not), one run of table entries and one node's scratch, never the tables or the
+ * data already written. */
+#include "atomic_write.hpp"
 #include "io_util.hpp"
 #include "store_format.hpp"
 #include "tp_io.h"
 
 #include <zstd.h>
 
+#include <algorithm>
 #include <climits>
 #include <new>
 #include <string>
@@ -21,15 +26,22 @@ namespace {
 /* zstd level of node data: docs/store.md has the measurements (level 3 is no smaller than 1
  * on terrain residuals, and decoding speed does not depend on it). */
 constexpr int ZSTD_LEVEL = 1;
+/* Table entries of consecutive ids written in one tp_file_rewrite (the builder emits a band's
+ * leaves left to right: consecutive ids). */
+constexpr size_t RUN_NODES = 512;
+/* Bytes read back at a time to checksum the tables at commit. */
+constexpr size_t READ_BACK_BYTES = 64 << 10;
 } // namespace
 
 struct tp_store_writer {
     std::string path;
     tp_file_writer* file = nullptr;
     tp_tree_geometry geometry;
-    size_t entry_size = 0;
-    std::vector<uint8_t> table;   /* node_count * entry_size, filled as nodes arrive */
+    Tables tables;
     std::vector<bool> have;       /* node written */
+    int64_t run_first = 0;        /* the run of table entries not written yet: ids run_first.. */
+    size_t run_count = 0;         /* ..run_first + run_count - 1 */
+    std::vector<uint8_t> run_metas, run_locs; /* RUN_NODES entries each */
     int64_t missing = 0;          /* nodes not written yet */
     uint64_t offset = 0;          /* file size so far */
     std::vector<uint8_t> head;    /* the encoded header, rewritten at commit with the totals */
@@ -86,25 +98,33 @@ std::vector<uint8_t> encode_header(const tp_store_header* h, const std::string& 
     return b;
 }
 
-void encode_entry(uint8_t* e, int n, uint64_t offset, uint32_t bytes, uint32_t crc, Codec codec,
-                  const tp_node_meta* m)
+/* The node table's entry of m: the tp_node_meta's own bytes with every byte the format does
+ * not use (pad_, delta[k > n], eps[][kn >= n], the trailing padding) 0. */
+void encode_meta(uint8_t* e, int n, const tp_node_meta* m)
 {
-    put_u64(e + E_OFFSET, offset);
-    put_u32(e + E_BYTES, bytes);
-    put_u32(e + E_CRC, crc);
-    e[E_CODEC] = codec;
-    e[E_FLAGS] = m->flags;
-    put_u16(e + E_RESERVED, 0);
-    put_u32(e + E_QMIN, (uint32_t)m->qmin);
-    put_u32(e + E_QMIN + 4, (uint32_t)m->qmax);
-    put_u32(e + E_QMIN + 8, (uint32_t)m->area_qmin);
-    put_u32(e + E_QMIN + 12, (uint32_t)m->area_qmax);
-    uint8_t* p = e + E_DELTA;
-    for (int k = 0; k <= n; ++k, p += 2)
-        put_u16(p, m->delta[k]);
+    tp_node_meta z;
+    std::memset(&z, 0, sizeof z);
+    z.qmin = m->qmin;
+    z.qmax = m->qmax;
+    z.area_qmin = m->area_qmin;
+    z.area_qmax = m->area_qmax;
+    z.flags = m->flags;
+    for (int k = 0; k <= n; ++k)
+        z.delta[k] = m->delta[k];
     for (int side = 0; side < 4; ++side)
-        for (int k = 0; k < n; ++k, p += 2)
-            put_u16(p, m->eps[side][k]);
+        for (int k = 0; k < n; ++k)
+            z.eps[side][k] = m->eps[side][k];
+    std::memset(e, 0, META_BYTES); /* the padding, whatever the assignments did to z's */
+    std::memcpy(e, &z, META_USED_BYTES);
+}
+
+void encode_loc(uint8_t* e, uint64_t offset, uint32_t bytes, uint32_t crc, Codec codec)
+{
+    std::memset(e, 0, LOC_BYTES);
+    put_u64(e + L_OFFSET, offset);
+    put_u32(e + L_BYTES, bytes);
+    put_u32(e + L_CRC, crc);
+    e[L_CODEC] = codec;
 }
 
 /* Remembers a write failure, so that later calls and commit report it too. */
@@ -120,6 +140,39 @@ tp_status note(tp_store_writer* w, tp_status s, const tp_error* err)
     return s;
 }
 
+/* Writes the run of table entries into their places. */
+tp_status flush_run(tp_store_writer* w, tp_error* err)
+{
+    if (w->run_count == 0)
+        return TP_OK;
+    const uint64_t first = (uint64_t)w->run_first;
+    tp_status s = tp_file_rewrite(w->file, w->tables.meta_offset + first * META_BYTES,
+                                  w->run_metas.data(), w->run_count * META_BYTES, err);
+    if (s == TP_OK)
+        s = tp_file_rewrite(w->file, w->tables.loc_offset + first * LOC_BYTES,
+                            w->run_locs.data(), w->run_count * LOC_BYTES, err);
+    w->run_count = 0;
+    return note(w, s, err);
+}
+
+/* CRC32 of bytes offset .. offset + size - 1 of what was written, read back in small pieces. */
+tp_status crc_read_back(tp_store_writer* w, uint64_t offset, uint64_t size, uint32_t* out,
+                        tp_error* err)
+{
+    std::vector<uint8_t> buf((size_t)std::min<uint64_t>(size, READ_BACK_BYTES));
+    uint32_t crc = crc32_of(nullptr, 0);
+    for (uint64_t done = 0; done < size;) {
+        const size_t piece = (size_t)std::min<uint64_t>(size - done, buf.size());
+        const tp_status s = tpio::file_read_back(w->file, offset + done, buf.data(), piece, err);
+        if (s != TP_OK)
+            return note(w, s, err);
+        crc = crc32_continue(crc, buf.data(), piece);
+        done += piece;
+    }
+    *out = crc;
+    return TP_OK;
+}
+
 } // namespace
 
 extern "C" tp_status tp_store_writer_begin(const char* path, const tp_store_header* header,
@@ -127,6 +180,11 @@ extern "C" tp_status tp_store_writer_begin(const char* path, const tp_store_head
 {
     if (!path || !header || !out)
         return fail(err, TP_ERR_INVALID_ARG, "store: bad arguments (path, header or out is NULL)");
+    if (!host_little_endian())
+        return fail(err, TP_ERR_BACKEND,
+                    "%s: stores of format %d are written on little-endian hosts only (their node "
+                    "table is the in-memory one); this host is big-endian",
+                    path, TP_STORE_VERSION);
     tp_store_writer* w = nullptr;
     try {
         const tp_tree_geometry& g = header->geometry;
@@ -149,9 +207,10 @@ extern "C" tp_status tp_store_writer_begin(const char* path, const tp_store_head
         w = new tp_store_writer;
         w->path = path;
         w->geometry = g;
-        w->entry_size = entry_bytes(g.n);
-        w->table.assign((size_t)g.node_count * w->entry_size, 0);
+        w->tables = tables_at(head.size(), (uint64_t)g.node_count);
         w->have.assign((size_t)g.node_count, false);
+        w->run_metas.resize(RUN_NODES * META_BYTES);
+        w->run_locs.resize(RUN_NODES * LOC_BYTES);
         w->missing = g.node_count;
         w->rel.resize(sample_count(g.n));
         w->cctx = ZSTD_createCCtx();
@@ -160,11 +219,13 @@ extern "C" tp_status tp_store_writer_begin(const char* path, const tp_store_head
         tp_status s = tp_file_begin(path, &w->file, err);
         if (s == TP_OK)
             s = tp_file_append(w->file, head.data(), head.size(), err);
+        if (s == TP_OK) /* the tables' room: a hole until their entries arrive */
+            s = tpio::file_reserve(w->file, w->tables.data_offset - head.size(), err);
         if (s != TP_OK) {
             delete w;
             return s;
         }
-        w->offset = head.size();
+        w->offset = w->tables.data_offset;
         w->head = head;
         *out = w;
         return TP_OK;
@@ -219,9 +280,18 @@ extern "C" tp_status tp_store_writer_add_node(tp_store_writer* w, int64_t node,
         const tp_status s = tp_file_append(w->file, w->packed.data(), w->packed.size(), err);
         if (s != TP_OK)
             return note(w, s, err);
-        encode_entry(w->table.data() + (size_t)node * w->entry_size, g.n, w->offset,
-                     (uint32_t)w->packed.size(), crc32_of(w->packed.data(), w->packed.size()),
-                     codec, meta);
+        if (w->run_count > 0 && (w->run_count == RUN_NODES ||
+                                 node != w->run_first + (int64_t)w->run_count)) {
+            const tp_status fs = flush_run(w, err);
+            if (fs != TP_OK)
+                return fs;
+        }
+        if (w->run_count == 0)
+            w->run_first = node;
+        encode_meta(w->run_metas.data() + w->run_count * META_BYTES, g.n, meta);
+        encode_loc(w->run_locs.data() + w->run_count * LOC_BYTES, w->offset,
+                   (uint32_t)w->packed.size(), crc32_of(w->packed.data(), w->packed.size()), codec);
+        ++w->run_count;
         w->offset += w->packed.size();
         w->have[(size_t)node] = true;
         --w->missing;
@@ -249,13 +319,22 @@ extern "C" tp_status tp_store_writer_commit(tp_store_writer* w, tp_error* err)
                      path, (long long)w->missing, (long long)w->geometry.node_count,
                      (long long)first);
         } else {
-            uint8_t footer[FOOTER_BYTES];
-            put_u64(footer + F_TABLE_OFFSET, w->offset);
-            put_u64(footer + F_TABLE_BYTES, w->table.size());
-            put_u32(footer + F_TABLE_CRC, crc32_of(w->table.data(), w->table.size()));
+            const Tables& t = w->tables;
+            uint32_t meta_crc = 0, loc_crc = 0;
+            s = flush_run(w, err);
+            if (s == TP_OK)
+                s = crc_read_back(w, t.meta_offset, t.meta_bytes, &meta_crc, err);
+            if (s == TP_OK)
+                s = crc_read_back(w, t.loc_offset, t.loc_bytes, &loc_crc, err);
+            uint8_t footer[FOOTER_BYTES] = {0};
+            put_u64(footer + F_META_OFFSET, t.meta_offset);
+            put_u64(footer + F_META_BYTES, t.meta_bytes);
+            put_u64(footer + F_LOC_OFFSET, t.loc_offset);
+            put_u64(footer + F_LOC_BYTES, t.loc_bytes);
+            put_u32(footer + F_META_CRC, meta_crc);
+            put_u32(footer + F_LOC_CRC, loc_crc);
             put_u32(footer + F_FOOTER_CRC, crc32_of(footer, F_FOOTER_CRC));
             std::memcpy(footer + F_END_MAGIC, END_MAGIC, 8);
-            s = tp_file_append(w->file, w->table.data(), w->table.size(), err);
             if (s == TP_OK)
                 s = tp_file_append(w->file, footer, sizeof footer, err);
             if (s == TP_OK && (w->totals || w->rewrite)) {

@@ -2,8 +2,8 @@
  * fuzz_store_read.cpp - libFuzzer entry point for the terrain store reader (io/src/
  * store_read.cpp): tp_store_open, then tp_store_read_node on every node. The first byte of the
  * input is a switch, the rest the file. With bit 0 of the switch set, the harness first
- * rewrites every checksum it can locate (docs/store.md's layout: the header's, each node's in
- * the table, the table's and the footer's) to match the bytes, so that mutations get past the
+ * rewrites every checksum it can locate (docs/store.md's layout, format 2: the header's, each
+ * node's in the location table, both tables' and the footer's) to match the bytes, so that mutations get past the
  * CRC32 checks and reach the geometry, table and decoder checks behind them; with it clear the
  * file is read as it is, which exercises the checksums themselves. Invariants checked: a
  * failure has a message and leaves *out alone, metas match the geometry, every decoded sample
@@ -48,23 +48,26 @@ void fix_checksums(std::vector<uint8_t>& f)
         if (hb >= 164 && hb <= size)
             put32(&f[hb - 4], crc32_ref(f.data(), hb - 4));
     }
-    if (size < 32 + 20)
+    /* format 2: the node table (104-byte metas) and the location table (24-byte entries: data
+     * offset, size, CRC32, codec) at the places the footer names */
+    if (size < 56 + 20)
         return;
-    uint8_t* foot = &f[size - 32];
-    const uint64_t table_offset = le64(foot), table_bytes = le64(foot + 8);
-    const uint32_t n = le32(&f[16]);
-    if (n <= 16 && table_offset <= size - 32 && table_bytes <= size - 32 - table_offset) {
-        const size_t entry = 38 + 10 * (size_t)n;
-        for (uint64_t e = 0; e + entry <= table_bytes; e += entry) {
-            uint8_t* p = &f[table_offset + e];
+    uint8_t* foot = &f[size - 56];
+    const uint64_t meta_offset = le64(foot), meta_bytes = le64(foot + 8);
+    const uint64_t loc_offset = le64(foot + 16), loc_bytes = le64(foot + 24);
+    if (loc_offset <= size - 56 && loc_bytes <= size - 56 - loc_offset) {
+        for (uint64_t e = 0; e + 24 <= loc_bytes; e += 24) {
+            uint8_t* p = &f[loc_offset + e];
             const uint64_t off = le64(p);
             const uint32_t bytes = le32(p + 8);
             if (off <= size && bytes <= size - off)
                 put32(p + 12, crc32_ref(&f[off], bytes));
         }
-        put32(foot + 16, crc32_ref(&f[table_offset], (size_t)table_bytes));
+        put32(foot + 36, crc32_ref(&f[loc_offset], (size_t)loc_bytes));
     }
-    put32(foot + 20, crc32_ref(foot, 20));
+    if (meta_offset <= size - 56 && meta_bytes <= size - 56 - meta_offset)
+        put32(foot + 32, crc32_ref(&f[meta_offset], (size_t)meta_bytes));
+    put32(foot + 44, crc32_ref(foot, 44));
 }
 
 } // namespace
