@@ -392,6 +392,10 @@ TEST(watertight_for_adversarial_cuts)
                     EXPECT_GE_INT(out[i].level, levels[j]);
         int f = check_watertight(t, cut, covered);
         EXPECT_EQ_INT(0, f);
+        /* The stats' triangles (a table by level and neighbour levels) are the drawn ones. */
+        tp_cut_stats st;
+        tp_cut_get_stats(cut, &st);
+        EXPECT_EQ_INT((int)last_triangles, (int)st.triangles);
         /* The whole map stays covered (the crop has no voids). */
         size_t gaps = 0;
         for (int y = 0; y < 1025; y++)
@@ -436,6 +440,9 @@ TEST(watertight_for_adversarial_cuts)
             levels[c2++] = lv;
             ASSERT_OK(tp_cut_set_nodes(cut, nodes, levels, c2, NULL));
             EXPECT_EQ_INT(0, check_watertight(t, cut, NULL));
+            tp_cut_stats st;
+            tp_cut_get_stats(cut, &st);
+            EXPECT_EQ_INT((int)last_triangles, (int)st.triangles);
         }
     }
     {

@@ -380,6 +380,20 @@ tp_status tp_cut_create(const tp_tree* t, tp_cut** out, tp_error* err)
                         (long long)c->g.root_count);
     }
     tp_tree_roots(&c->g, c->roots, (size_t)c->g.root_count);
+    for (int k = 0; k <= c->n; k++)
+        c->tri_memo_count += (size_t)(k + 1) * (k + 1) * (k + 1) * (k + 1);
+    c->tri_memo = tp__alloc(&a, c->tri_memo_count, sizeof *c->tri_memo);
+    if (!c->tri_memo) {
+        tp_cut_destroy(c);
+        return tp__fail(err, TP_ERR_OUT_OF_MEMORY, "cut: out of memory");
+    }
+    memset(c->tri_memo, 0xFF, c->tri_memo_count * sizeof *c->tri_memo);
+    c->tri_cache = tp__alloc(&a, TP__CUT_TRIS_CACHE, sizeof *c->tri_cache);
+    if (!c->tri_cache) {
+        tp_cut_destroy(c);
+        return tp__fail(err, TP_ERR_OUT_OF_MEMORY, "cut: out of memory");
+    }
+    memset(c->tri_cache, 0xFF, TP__CUT_TRIS_CACHE * sizeof *c->tri_cache);
     *out = c;
     return TP_OK;
 }
@@ -396,6 +410,8 @@ void tp_cut_destroy(tp_cut* c)
     tp__free(a, c->req);
     tp__free(a, c->req_ids);
     tp__free(a, c->work);
+    tp__free(a, c->tri_memo);
+    tp__free(a, c->tri_cache);
     tp__free(a, c);
 }
 
@@ -466,6 +482,7 @@ static tp_status finish(tp_cut* c, tp_error* err)
     for (size_t i = 0; i < c->rec_count; i++) {
         tp__cut_rec* r = &c->rec[i];
         r->out = -1;
+        r->tris = -1;
         if (r->state != TP__CUT_DRAWN)
             continue;
         r->out = (int32_t)c->out_count;
@@ -481,6 +498,7 @@ static tp_status finish(tp_cut* c, tp_error* err)
         if (c->have_view && c->lp.mode == TP_LOD_ERROR)
             r->bound_px = (float)bound_px(c, (int)i, r->level, nb);
         o->bound_px = r->bound_px;
+        r->tris = tp__cut_triangles(c, (int)i, nb);
     }
     sort_requests(c->req, c->req_count);
     for (size_t i = 0; i < c->req_count; i++)
