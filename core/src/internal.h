@@ -289,7 +289,9 @@ typedef struct tp__cut_rec {
     uint8_t queued;      /* in the stitching pass's work list */
     float bound_px;
     int32_t out;         /* index in the output (tp_cut_nodes) when drawn */
-    int32_t tris;        /* drawn and complete: its triangles (finish); else -1 */
+    int32_t tris;        /* drawn: its triangles (finish); else -1 */
+    uint8_t view;        /* 0: not tested yet; else 1 + whether its area box is in view */
+    uint8_t pb_known;    /* pb is computed (error mode) */
     tp__proj_bound pb;   /* error mode, visible nodes: of the node's area box */
 } tp__cut_rec;
 
@@ -333,6 +335,13 @@ struct tp_cut {
     int have_view; /* 0 for a cut installed by tp_cut_set_nodes */
     tp__view v;
     tp_frustum f;
+    /* What was learnt about the children of record kid_rec while classifying it (in view:
+     * -1 unknown, 0, 1; error mode: their area boxes' projection bounds), handed to their
+     * records when it is refined: each is computed once per update. */
+    int kid_rec;
+    int8_t kid_in[4];
+    uint8_t kid_pb_known[4];
+    tp__proj_bound kid_pb[4];
     int32_t* tri_memo;   /* triangles of a complete node by level and neighbour levels (-1:
                             not counted yet; tree_stitch.c), tri_memo_count entries */
     size_t tri_memo_count;
