@@ -310,7 +310,7 @@ static double request_prio(const tp_cut* c, int i, int64_t child)
 }
 
 /* Whether node (scale s, column cc, row rr) has something to draw in view (its area box in
- * the frustum). */
+ * the frustum): 0 no, 1 partly, 2 wholly inside the frustum. */
 static int in_view_at(const tp_cut* c, int64_t node, int s, int cc, int rr)
 {
     const tp_node_meta* m = tp_tree_meta(c->t, node);
@@ -320,7 +320,8 @@ static int in_view_at(const tp_cut* c, int64_t node, int s, int cc, int rr)
         return 1;
     double bmin[3], bmax[3];
     node_box(c, s, cc, rr, m->area_qmin, m->area_qmax, bmin, bmax);
-    return tp_frustum_test_aabb(&c->f, bmin, bmax) != TP_CULL_OUTSIDE;
+    tp_cull v = tp_frustum_test_aabb(&c->f, bmin, bmax);
+    return v == TP_CULL_OUTSIDE ? 0 : v == TP_CULL_INSIDE ? 2 : 1;
 }
 
 /* in_view_at for record i. */
@@ -389,10 +390,14 @@ static int classify(tp_cut* c, int i, int may_refine)
     if (refine || !(m->flags & TP_NODE_COMPLETE))
         k = c->n;
     c->rec[i].level = (int8_t)k;
-    /* Drawn only if its own samples' box is in view. */
+    /* Drawn only if its own samples' box is in view: surely so when that box lies in its area
+     * box and the area box is wholly inside. */
     double bmin[3], bmax[3];
-    int vis = tp__cut_box(c, i, 0, bmin, bmax) &&
-              (!c->have_view || tp_frustum_test_aabb(&c->f, bmin, bmax) != TP_CULL_OUTSIDE);
+    int inside = rec_in_view(c, i) == 2 && m->qmin <= m->qmax && m->qmin >= m->area_qmin &&
+                 m->qmax <= m->area_qmax;
+    int vis = inside || (tp__cut_box(c, i, 0, bmin, bmax) &&
+                         (!c->have_view ||
+                          tp_frustum_test_aabb(&c->f, bmin, bmax) != TP_CULL_OUTSIDE));
     c->rec[i].state = vis ? TP__CUT_DRAWN : TP__CUT_CULLED;
     return 0;
 }

@@ -386,34 +386,33 @@ int32_t tp__cut_complete_triangles(tp_cut* c, int k, const int nb[4])
     return *e = count;
 }
 
-/* Triangles of drawn output node o (incomplete: drawn at level n) with its vertices' drawn flags:
- * off the border no vertex moves, so only the flags of a cell's corners count there. */
-static int32_t incomplete_triangles(const tp_cut* c, size_t o)
+/* Triangles of drawn output node o (incomplete: drawn at level n): those of a complete node
+ * with its level and neighbour levels, less those with an undrawn vertex (by its samples' drawn
+ * flags, as cell_triangle decides) that stitching left with an area. */
+static int32_t incomplete_triangles(tp_cut* c, size_t o)
 {
     node_view nv;
     node_view_init(c, o, &nv);
-    int last = 1 << nv.k, side = (1 << c->n) + 1;
-    int32_t count = 0;
+    int k = nv.k, last = 1 << k, side = (1 << c->n) + 1;
+    int32_t lost = 0;
     for (int cy = 0; cy < last; cy++) {
         const uint16_t* row = nv.q + (size_t)(cy << nv.shift) * side;
         const uint16_t* next = nv.q + (size_t)((cy + 1) << nv.shift) * side;
         for (int cx = 0; cx < last; cx++) {
+            int d00 = row[cx << nv.shift] != TP_TREE_NO_HEIGHT;
+            int d10 = row[(cx + 1) << nv.shift] != TP_TREE_NO_HEIGHT;
+            int d01 = next[cx << nv.shift] != TP_TREE_NO_HEIGHT;
+            int d11 = next[(cx + 1) << nv.shift] != TP_TREE_NO_HEIGHT;
+            int t0 = d00 & d01 & d10, t1 = d10 & d01 & d11;
             if (cy > 0 && cy < last - 1 && cx > 0 && cx < last - 1) {
-                int d00 = row[cx << nv.shift] != TP_TREE_NO_HEIGHT;
-                int d10 = row[(cx + 1) << nv.shift] != TP_TREE_NO_HEIGHT;
-                int d01 = next[cx << nv.shift] != TP_TREE_NO_HEIGHT;
-                int d11 = next[(cx + 1) << nv.shift] != TP_TREE_NO_HEIGHT;
-                count += (d00 & d01 & d10) + (d10 & d01 & d11);
+                lost += !t0 + !t1; /* off the border no vertex moves: both have an area */
                 continue;
             }
-            for (int h = 0; h < 2; h++) {
-                int32_t pos[3][2];
-                double q[3];
-                count += cell_triangle(&nv, cx, cy, h, pos, q);
-            }
+            lost += !t0 && lattice_triangle(k, nv.nb, cx, cy, 0);
+            lost += !t1 && lattice_triangle(k, nv.nb, cx, cy, 1);
         }
     }
-    return count;
+    return tp__cut_complete_triangles(c, k, nv.nb) - lost;
 }
 
 int32_t tp__cut_triangles(tp_cut* c, int i, const int nb[4])

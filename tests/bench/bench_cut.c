@@ -1,7 +1,8 @@
 /* bench_cut.c - the CPU side of a store's frame without a GL context (not a test; not run by
  * ctest): every node of the store resident, a low flight along the map's middle row as
  * `terrapatch bench --segments F --frames F` flies it (60 m above the ground, west to east, 10
- * degrees down, 1280x720, 60 degrees; one frame per stretch), and per frame the median time of tp_cut_update (error mode, tau), of a second
+ * degrees down, 1280x720, 60 degrees; one timed frame per stretch after 5 untimed ones of
+ * flight at 30 Hz), and per timed frame the median time of tp_cut_update (error mode, tau), of a second
  * tp_cut_update for the camera 0.5 s ahead (what the stream's prefetch runs), and of
  * tp_cut_get_stats. Also the checksum of the cuts (nodes, levels, neighbours), to compare
  * builds.
@@ -124,6 +125,10 @@ int main(int argc, char** argv)
             /* spread along the row as `bench --segments frames` spreads its stretches */
             double x = 0.05 * w + (frames > 1 ? 0.9 * w * f / (frames - 1) : 0);
             tp_camera cam, ahead;
+            for (int j = 5; j > 0; j--) { /* untimed lead-in frames of a 30 Hz flight */
+                camera(tree, gt, x - j * speed / 30 / fabs(gt[1]), y, &cam);
+                tp_cut_update(cut, &cam, &lod, &err);
+            }
             camera(tree, gt, x, y, &cam);
             ahead = cam;
             ahead.position[0] += speed * 0.5 * (gt[1] > 0 ? 1 : -1);
