@@ -485,7 +485,7 @@ void tp_stream_frame(tp_stream* s, const tp_cut* cut, tp_cut* prefetch_cut, cons
         if (prefetch_stale(s, prefetch_cut, ahead.position, fr.forward, speed * s->prefetch_s)) {
             tp_error err;
             s->pre_cut = NULL;
-            if (tp_cut_update(prefetch_cut, &ahead, lod, &err) == TP_OK) {
+            if (tp_cut_update_requests(prefetch_cut, &ahead, lod, &err) == TP_OK) {
                 s->pre_cut = prefetch_cut;
                 memcpy(s->pre_at, ahead.position, sizeof s->pre_at);
                 memcpy(s->pre_fwd, fr.forward, sizeof s->pre_fwd);

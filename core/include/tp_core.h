@@ -852,6 +852,13 @@ void tp_cut_destroy(tp_cut* c); /* accepts NULL */
  *     (error mode), else 1 / (1 + distance). */
 tp_status tp_cut_update(tp_cut* c, const tp_camera* cam, const tp_lod_params* params,
                         tp_error* err);
+/* tp_cut_update for its requests only (a prefetch: what a camera elsewhere would ask for):
+ * the same selection without the stitching pass and without output, so tp_cut_nodes is
+ * empty afterwards. Its requests are tp_cut_update's, less those only the stitching pass
+ * makes (splitting a node more than n scales larger than its neighbour). About 40% cheaper
+ * (docs/PERFORMANCE.md, "The CPU side of a frame"). Same errors as tp_cut_update. */
+tp_status tp_cut_update_requests(tp_cut* c, const tp_camera* cam, const tp_lod_params* params,
+                                 tp_error* err);
 /* The drawn nodes of the last update (visible only), and the nodes it wanted but found not
  * resident, most urgent first (their priorities: larger = sooner). Valid until the next update. */
 const tp_cut_node* tp_cut_nodes(const tp_cut* c, size_t* count);

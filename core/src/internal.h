@@ -351,6 +351,7 @@ struct tp_cut {
     size_t work_count, work_cap;
     int visited, unresolved;
     int oom;
+    int requests_only; /* tp_cut_update_requests: no stitching, no output */
 };
 
 /* Index in the drawn output of the node covering leaf (lc, lr), or -1 (tree_stitch.c). */

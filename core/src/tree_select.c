@@ -522,10 +522,10 @@ static void sort_requests(tp__cut_req* r, size_t count)
 /* Stitching, then the output arrays. */
 static tp_status finish(tp_cut* c, tp_error* err)
 {
-    if (!c->oom)
+    if (!c->oom && !c->requests_only)
         tp__cut_constrain(c);
     size_t drawn = 0;
-    for (size_t i = 0; i < c->rec_count; i++)
+    for (size_t i = 0; i < c->rec_count && !c->requests_only; i++)
         drawn += c->rec[i].state == TP__CUT_DRAWN;
     if (c->oom || !tp__cut_grow(c, (void**)&c->out, &c->out_cap, drawn, sizeof *c->out) ||
         !tp__cut_grow(c, (void**)&c->req_ids, &c->req_ids_cap, c->req_count, sizeof *c->req_ids)) {
@@ -537,7 +537,7 @@ static tp_status finish(tp_cut* c, tp_error* err)
         tp__cut_rec* r = &c->rec[i];
         r->out = -1;
         r->tris = -1;
-        if (r->state != TP__CUT_DRAWN)
+        if (r->state != TP__CUT_DRAWN || c->requests_only)
             continue;
         r->out = (int32_t)c->out_count;
         tp_cut_node* o = &c->out[c->out_count++];
@@ -617,6 +617,16 @@ tp_status tp_cut_update(tp_cut* c, const tp_camera* cam, const tp_lod_params* pa
         }
     }
     return finish(c, err);
+}
+
+tp_status tp_cut_update_requests(tp_cut* c, const tp_camera* cam, const tp_lod_params* params,
+                                 tp_error* err)
+{
+    assert(c && cam);
+    c->requests_only = 1;
+    tp_status st = tp_cut_update(c, cam, params, err);
+    c->requests_only = 0;
+    return st;
 }
 
 tp_status tp_cut_set_nodes(tp_cut* c, const int64_t* nodes, const int* levels, size_t count,

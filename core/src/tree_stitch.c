@@ -438,7 +438,7 @@ void tp_cut_get_stats(const tp_cut* c, tp_cut_stats* out)
     for (size_t i = 0; i < c->rec_count; i++) {
         const tp__cut_rec* r = &c->rec[i];
         out->culled += r->state == TP__CUT_CULLED;
-        if (r->state != TP__CUT_DRAWN)
+        if (r->state != TP__CUT_DRAWN || r->out < 0) /* r->out < 0: tp_cut_update_requests */
             continue;
         const tp_cut_node* o = &c->out[r->out];
         out->drawn++;

@@ -2,8 +2,9 @@
  * ctest): every node of the store resident, a low flight along the map's middle row as
  * `terrapatch bench --segments F --frames F` flies it (60 m above the ground, west to east, 10
  * degrees down, 1280x720, 60 degrees; one timed frame per stretch after 5 untimed ones of
- * flight at 30 Hz), and per timed frame the median time of tp_cut_update (error mode, tau), of a second
- * tp_cut_update for the camera 0.5 s ahead (what the stream's prefetch runs), and of
+ * flight at 30 Hz), and per timed frame the median time of tp_cut_update (error mode, tau), of
+ * tp_cut_update_requests for the camera 0.5 s ahead (what the stream's prefetch runs; binaries
+ * built before that function existed ran tp_cut_update there), and of
  * tp_cut_get_stats. Also the checksum of the cuts (nodes, levels, neighbours), to compare
  * builds.
  *
@@ -138,7 +139,7 @@ int main(int argc, char** argv)
                 return 1;
             }
             double t1 = now_ms();
-            tp_cut_update(pre, &ahead, &lod, &err);
+            tp_cut_update_requests(pre, &ahead, &lod, &err);
             double t2 = now_ms();
             tp_cut_stats cs;
             tp_cut_get_stats(cut, &cs);
