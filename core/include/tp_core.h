@@ -863,6 +863,9 @@ tp_status tp_cut_update_requests(tp_cut* c, const tp_camera* cam, const tp_lod_p
  * resident, most urgent first (their priorities: larger = sooner). Valid until the next update. */
 const tp_cut_node* tp_cut_nodes(const tp_cut* c, size_t* count);
 const int64_t* tp_cut_requests(const tp_cut* c, size_t* count);
+/* Statistics of the last update. O(visited nodes), cheap enough for every frame: each drawn
+ * node's triangles were counted by the update (complete nodes from a table by level and
+ * neighbour levels, incomplete ones once per node and neighbour levels, cached in the cut). */
 void tp_cut_get_stats(const tp_cut* c, tp_cut_stats* out);
 /* Vertex data of drawn node i (0..count-1) after crack removal: (2^level+1)^2 vertices as
  * tp_patch_vertices writes them (global grid coordinates, decoded heights; cls is VALID,
