@@ -2,6 +2,7 @@
 #define _POSIX_C_SOURCE 200809L
 #include "stream.h"
 
+#include <assert.h>
 #include <math.h>
 #include <pthread.h>
 #include <stdio.h>
@@ -43,6 +44,13 @@ struct tp_stream {
     double last_pos[3];
     double last_time_ms;
     int have_last;
+    double frame_s;      /* > 0: the clock advances by this much per frame (tp_stream_options) */
+    double clock_ms;     /* that clock */
+
+    /* The prefetch cut of the last update (its requests stay valid until the next one). */
+    const tp_cut* pre_cut;
+    double pre_at[3];    /* where its camera stood */
+    double pre_fwd[3];   /* and looked */
 
     /* shared with the loader, under mu */
     pthread_mutex_t mu;
@@ -216,6 +224,7 @@ tp_stream* tp_stream_create(const tp_store* store, tp_tree* tree, const tp_strea
     s->block_bytes = s->block_samples * sizeof(uint16_t);
     s->budget = o && o->memory_bytes ? o->memory_bytes : (size_t)1 << 30;
     s->prefetch_s = o && o->prefetch_s > 0 ? o->prefetch_s : 0.5;
+    s->frame_s = o && o->frame_s > 0 ? o->frame_s : 0;
     size_t count = (size_t)s->g->node_count;
     s->state = calloc(count, 1);
     s->res_index = malloc(count * sizeof *s->res_index);
@@ -383,6 +392,26 @@ static int release_over_budget(tp_stream* s, const tp_camera* cam, const double 
     return released;
 }
 
+/* Whether the prefetch cut must be selected again: the camera it would now be selected for
+ * (ahead, looking along fwd) drifted from the last one's by more than a quarter of the
+ * look-ahead distance (lead_m), or turned by more than 5 degrees. The prefetch looks 0.5 s
+ * ahead: at 30 Hz in straight flight that is every 4th frame, at 60 Hz every 8th, and its
+ * requests still reach at least 3/4 of the way ahead in between. Measured (docs/PERFORMANCE.md,
+ * "The CPU side"): the second selection was half of the stream's frame time. */
+static int prefetch_stale(const tp_stream* s, const tp_cut* prefetch_cut, const double ahead[3],
+                          const double fwd[3], double lead_m)
+{
+    if (s->pre_cut != prefetch_cut)
+        return 1;
+    double d2 = 0, dot = 0;
+    for (int a = 0; a < 3; a++) {
+        double d = ahead[a] - s->pre_at[a];
+        d2 += d * d;
+        dot += fwd[a] * s->pre_fwd[a];
+    }
+    return d2 > 0.0625 * lead_m * lead_m || dot < 0.99619469809; /* cos 5 degrees */
+}
+
 void tp_stream_frame(tp_stream* s, const tp_cut* cut, tp_cut* prefetch_cut, const tp_camera* cam,
                      const tp_lod_params* lod, tp_stream_stats* stats)
 {
@@ -430,9 +459,10 @@ void tp_stream_frame(tp_stream* s, const tp_cut* cut, tp_cut* prefetch_cut, cons
         mark_used(s, drawn[i].node);
 
     /* 3. The next queue: this frame's requests, then the prefetch. Requests still queued from
-     * the last frame and not asked for again are dropped. */
+     * the last frame and not asked for again are dropped; the prefetch cut's requests are asked
+     * for again on every frame until it is next selected. */
     double motion[3] = {0, 0, 0};
-    double t = now_ms();
+    double t = s->frame_s > 0 ? (s->clock_ms += s->frame_s * 1e3) : now_ms();
     if (s->have_last && t > s->last_time_ms)
         for (int a = 0; a < 3; a++)
             motion[a] = (cam->position[a] - s->last_pos[a]) / (t - s->last_time_ms) * 1e3; /* m/s */
@@ -445,13 +475,27 @@ void tp_stream_frame(tp_stream* s, const tp_cut* cut, tp_cut* prefetch_cut, cons
     size_t npre = 0;
     const int64_t* pre = NULL;
     double speed = sqrt(motion[0] * motion[0] + motion[1] * motion[1] + motion[2] * motion[2]);
+    int pre_updated = 0;
     if (prefetch_cut && speed > 0) {
         tp_camera ahead = *cam;
         for (int a = 0; a < 3; a++)
             ahead.position[a] += motion[a] * s->prefetch_s;
-        tp_error err;
-        if (tp_cut_update(prefetch_cut, &ahead, lod, &err) == TP_OK)
+        tp_camera_frame fr;
+        tp_camera_get_frame(cam, &fr);
+        if (prefetch_stale(s, prefetch_cut, ahead.position, fr.forward, speed * s->prefetch_s)) {
+            tp_error err;
+            s->pre_cut = NULL;
+            if (tp_cut_update_requests(prefetch_cut, &ahead, lod, &err) == TP_OK) {
+                s->pre_cut = prefetch_cut;
+                memcpy(s->pre_at, ahead.position, sizeof s->pre_at);
+                memcpy(s->pre_fwd, fr.forward, sizeof s->pre_fwd);
+            }
+            pre_updated = 1;
+        }
+        if (s->pre_cut)
             pre = tp_cut_requests(prefetch_cut, &npre);
+    } else {
+        s->pre_cut = NULL; /* standing still (or no prefetch): nothing ahead to load */
     }
     pthread_mutex_lock(&s->mu);
     for (size_t i = s->queue_head; i < s->queue_len; i++)
@@ -474,11 +518,18 @@ void tp_stream_frame(tp_stream* s, const tp_cut* cut, tp_cut* prefetch_cut, cons
     }
 
     tp_stream_get_stats(s, &s->last);
+    s->last.prefetch_updated = pre_updated;
     s->last.attached = attached;
     s->last.released = released;
     s->last.frame_ms = now_ms() - t0;
     if (stats)
         *stats = s->last;
+}
+
+int tp_stream_is_queued(const tp_stream* s, int64_t node)
+{
+    assert(s && node >= 0 && node < s->g->node_count);
+    return s->state[node] == ST_QUEUED;
 }
 
 int tp_stream_require(tp_stream* s, int64_t node, char* msg, size_t msg_size)

@@ -11,7 +11,10 @@
  *   2. the nodes the current cut asked for (tp_cut_requests), most urgent first;
  *   3. prefetch along the camera's motion: the requests of a second cut selected for where the
  *      camera will be a moment later (Luo & Duan section 3.3 predicts from the shift of the
- *      clip centre between frames; this is the same idea applied to geometry).
+ *      clip centre between frames; this is the same idea applied to geometry). That cut is
+ *      selected again only when the predicted camera drifted by a quarter of the look-ahead
+ *      distance or turned by 5 degrees (every 4th frame of a straight flight at 30 Hz); its
+ *      requests stay queued on the frames in between.
  * When the decoded nodes exceed the memory budget, the ones not drawn this frame (nor an
  * ancestor of a drawn one, nor a root) are released farthest-behind-first: projected on the
  * direction of motion, the most negative first (Luo & Duan section 3.4), by distance when the
@@ -33,6 +36,9 @@ typedef struct tp_stream_options {
     size_t memory_bytes;     /* budget of decoded node samples; 0: 1 GiB */
     double prefetch_s;       /* how far ahead the motion is extrapolated; 0: 0.5 s */
     int no_loader;           /* tests: load nothing in the background (only tp_stream_require) */
+    double frame_s;          /* > 0: each tp_stream_frame is this much later than the last, for
+                                the motion estimate (a bench flying a fixed-rate flight faster
+                                than it draws); 0: the real clock */
 } tp_stream_options;
 
 typedef struct tp_stream_stats {
@@ -42,6 +48,7 @@ typedef struct tp_stream_stats {
     int attached;            /* nodes attached this frame */
     int released;            /* nodes released this frame */
     int failed;              /* nodes that failed to read (in total) */
+    int prefetch_updated;    /* 1 if the prefetch cut was selected this frame */
     double frame_ms;         /* time spent in tp_stream_frame */
 } tp_stream_stats;
 
@@ -55,10 +62,14 @@ void tp_stream_destroy(tp_stream* s);
 
 /* Once per frame, on the render thread, after tp_cut_update(cut, cam): attaches what the loader
  * finished, queues the cut's requests and the prefetch (prefetch_cut: a second cut the stream
- * updates itself for the extrapolated camera; may be NULL for none), and releases blocks over
- * budget. lod: the parameters the cut was selected with. */
+ * updates itself for the extrapolated camera, not every frame, and reads between its updates:
+ * the caller must not update it; may be NULL for none), and releases blocks over budget. lod:
+ * the parameters the cut was selected with. */
 void tp_stream_frame(tp_stream* s, const tp_cut* cut, tp_cut* prefetch_cut, const tp_camera* cam,
                      const tp_lod_params* lod, tp_stream_stats* stats);
+
+/* Whether node waits for the loader (queued or being read). */
+int tp_stream_is_queued(const tp_stream* s, int64_t node);
 
 /* Makes node and all its ancestors resident now (reading on the calling thread: the render
  * thread, as for a height query that needs full resolution). Returns 0 and a message when a

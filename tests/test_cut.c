@@ -392,6 +392,10 @@ TEST(watertight_for_adversarial_cuts)
                     EXPECT_GE_INT(out[i].level, levels[j]);
         int f = check_watertight(t, cut, covered);
         EXPECT_EQ_INT(0, f);
+        /* The stats' triangles (a table by level and neighbour levels) are the drawn ones. */
+        tp_cut_stats st;
+        tp_cut_get_stats(cut, &st);
+        EXPECT_EQ_INT((int)last_triangles, (int)st.triangles);
         /* The whole map stays covered (the crop has no voids). */
         size_t gaps = 0;
         for (int y = 0; y < 1025; y++)
@@ -436,6 +440,9 @@ TEST(watertight_for_adversarial_cuts)
             levels[c2++] = lv;
             ASSERT_OK(tp_cut_set_nodes(cut, nodes, levels, c2, NULL));
             EXPECT_EQ_INT(0, check_watertight(t, cut, NULL));
+            tp_cut_stats st;
+            tp_cut_get_stats(cut, &st);
+            EXPECT_EQ_INT((int)last_triangles, (int)st.triangles);
         }
     }
     {
@@ -973,6 +980,56 @@ TEST(rejects_max_error_mode)
     free(h);
 }
 
+/* tp_cut_update_requests asks for what tp_cut_update asks for (less requests only its stitching
+ * pass makes) and draws nothing, over a tree with a third of its nodes below the roots not
+ * resident. */
+TEST(requests_only_update_asks_as_the_full_update)
+{
+    LOAD_OR_SKIP(h, 250, 300, 700, 420);
+    tp_tree* t = make_tree(h, 700, 420, 17);
+    const tp_tree_geometry* g = tp_tree_get_geometry(t);
+    for (int64_t id = 0; id < g->node_count; id++)
+        if (tp_tree_node_parent(g, id) >= 0 && rnd() < 0.33)
+            tp_tree_detach(t, id);
+    tp_cut *full, *req;
+    ASSERT_OK(tp_cut_create(t, &full, NULL));
+    ASSERT_OK(tp_cut_create(t, &req, NULL));
+    size_t asked = 0, same = 0, extra = 0;
+    for (int it = 0; it < 40; it++) {
+        tp_camera cam;
+        random_camera(t, &cam);
+        tp_lod_params lp = {.mode = it % 4 == 3 ? TP_LOD_DISTANCE : TP_LOD_ERROR, .tau_px = 1};
+        ASSERT_OK(tp_cut_update(full, &cam, &lp, NULL));
+        ASSERT_OK(tp_cut_update_requests(req, &cam, &lp, NULL));
+        size_t nf, nr, nodes;
+        const int64_t* rf = tp_cut_requests(full, &nf);
+        const int64_t* rr = tp_cut_requests(req, &nr);
+        tp_cut_nodes(req, &nodes);
+        EXPECT_EQ_INT(0, (int)nodes);
+        asked += nf;
+        for (size_t i = 0; i < nr; i++) {
+            int found = 0;
+            for (size_t j = 0; j < nf && !found; j++)
+                found = rr[i] == rf[j];
+            same += found;
+            extra += !found;
+        }
+        tp_cut_stats st;
+        tp_cut_get_stats(req, &st);
+        EXPECT_EQ_INT(0, st.drawn);
+        EXPECT_EQ_INT((int)nr, st.requests);
+    }
+    printf("requests: %zu by the full updates, %zu of them by the requests-only ones\n", asked,
+           same);
+    EXPECT_EQ_INT(0, (int)extra);
+    EXPECT_GT((double)asked, 40);
+    EXPECT_GE_INT((int)same, (int)(0.95 * (double)asked));
+    tp_cut_destroy(full);
+    tp_cut_destroy(req);
+    tp_tree_destroy(t);
+    free(h);
+}
+
 #define TESTS(X)                                                                                   \
     X(watertight_for_random_views)                                                                 \
     X(watertight_for_adversarial_cuts)                                                             \
@@ -982,5 +1039,6 @@ TEST(rejects_max_error_mode)
     X(drawn_height_follows_the_triangles)                                                          \
     X(distance_mode_never_coarser_than_asked)                                                      \
     X(tiny_grids)                                                                                  \
-    X(rejects_max_error_mode)
+    X(rejects_max_error_mode)                                                                      \
+    X(requests_only_update_asks_as_the_full_update)
 TP_TEST_MAIN(TESTS)

@@ -419,9 +419,129 @@ TEST(require_loads_a_node_and_its_ancestors_now)
     close_fixture(&fx);
 }
 
+/* Requests of cut a not among cut b's, not resident, into out (at most cap); their count. */
+static size_t requests_not_in(const tp_tree* t, const tp_cut* a, const tp_cut* b, int64_t* out,
+                              size_t cap)
+{
+    size_t na, nb, k = 0;
+    const int64_t* ra = tp_cut_requests(a, &na);
+    const int64_t* rb = tp_cut_requests(b, &nb);
+    for (size_t i = 0; i < na && k < cap; i++) {
+        int found = 0;
+        for (size_t j = 0; j < nb && !found; j++)
+            found = ra[i] == rb[j];
+        if (!found && !tp_tree_samples(t, ra[i]))
+            out[k++] = ra[i];
+    }
+    return k;
+}
+
+/* A flight east along the crop's middle row at 270 m/s on a 30 Hz clock, looking 5 s ahead
+ * (1350 m: 15 samples, about a leaf), every node above the leaves resident so that the cuts
+ * ask for leaves. */
+static tp_stream* prefetch_fixture(fixture* fx, int loader)
+{
+    char msg[512];
+    tp_stream_options o = {.no_loader = !loader, .frame_s = 1.0 / 30, .prefetch_s = 5};
+    tp_stream* st = tp_stream_create(fx->store, fx->tree, &o, msg, sizeof msg);
+    if (!st)
+        return NULL;
+    const tp_tree_geometry* g = tp_tree_get_geometry(fx->tree);
+    for (int64_t id = 0; id < g->node_count; id++) {
+        int s, c, r;
+        tp_tree_node_locate(g, id, &s, &c, &r);
+        if (s > 0 && !tp_stream_require(st, id, msg, sizeof msg)) {
+            tp_test_note("%s", msg);
+            tp_stream_destroy(st);
+            return NULL;
+        }
+    }
+    return st;
+}
+
+TEST(prefetch_requests_stay_queued_between_prefetch_updates)
+{
+    fixture fx;
+    ASSERT_TRUE(open_fixture(&fx, -1, 0));
+    tp_stream* st = prefetch_fixture(&fx, 0);
+    ASSERT_TRUE(st != NULL);
+    tp_cut *cut = NULL, *pre = NULL;
+    tp_error err;
+    ASSERT_OK(tp_cut_create(fx.tree, &cut, &err));
+    ASSERT_OK(tp_cut_create(fx.tree, &pre, &err));
+    int64_t ahead[256];
+    size_t nahead = 0, checked = 0, missing = 0;
+    int updates = 0;
+    const int frames = 120;
+    for (int i = 0; i < frames; i++) {
+        tp_camera cam;
+        camera_at(&fx, 20 + 0.1 * i, fx.h / 2.0, 90, &cam); /* 9 m per frame */
+        ASSERT_OK(tp_cut_update(cut, &cam, NULL, &err));
+        tp_stream_stats ss;
+        tp_stream_frame(st, cut, pre, &cam, NULL, &ss);
+        if (ss.prefetch_updated) {
+            updates++;
+            nahead = requests_not_in(fx.tree, pre, cut, ahead, 256);
+            continue;
+        }
+        /* between updates: what the prefetch asked for is still waiting for the loader */
+        for (size_t k = 0; k < nahead; k++, checked++)
+            missing += !tp_stream_is_queued(st, ahead[k]);
+    }
+    tp_test_note("%d prefetch updates in %d frames; %zu checks of prefetch-only requests "
+                 "between updates, %zu not queued", updates, frames, checked, missing);
+    /* straight flight at 30 Hz: the prefetch cut is selected every 4th frame or so */
+    EXPECT_TRUE(updates >= frames / 6 && updates <= frames / 3);
+    EXPECT_TRUE(checked > 0);
+    EXPECT_EQ_INT(missing, 0);
+    tp_cut_destroy(cut);
+    tp_cut_destroy(pre);
+    tp_stream_destroy(st);
+    close_fixture(&fx);
+}
+
+TEST(a_prefetch_request_is_served_before_the_cut_asks_for_it)
+{
+    fixture fx;
+    ASSERT_TRUE(open_fixture(&fx, -1, 0));
+    tp_stream* st = prefetch_fixture(&fx, 1);
+    ASSERT_TRUE(st != NULL);
+    tp_cut *cut = NULL, *pre = NULL;
+    tp_error err;
+    ASSERT_OK(tp_cut_create(fx.tree, &cut, &err));
+    ASSERT_OK(tp_cut_create(fx.tree, &pre, &err));
+    tp_camera cam;
+    camera_at(&fx, 20, fx.h / 2.0, 90, &cam);
+    ASSERT_TRUE(settle(&fx, st, cut, &cam, 5000));
+    int64_t ahead[4096];
+    size_t nahead = 0;
+    for (int i = 0; i < 120; i++) {
+        camera_at(&fx, 20 + 0.1 * i, fx.h / 2.0, 90, &cam);
+        ASSERT_OK(tp_cut_update(cut, &cam, NULL, &err));
+        tp_stream_stats ss;
+        tp_stream_frame(st, cut, pre, &cam, NULL, &ss);
+        if (ss.prefetch_updated && nahead < 4096)
+            nahead += requests_not_in(fx.tree, pre, cut, ahead + nahead, 4096 - nahead);
+        sleep_ms(1);
+    }
+    /* every node only the prefetch asked for arrived (none is released: no budget) */
+    size_t served = 0;
+    for (size_t k = 0; k < nahead; k++)
+        served += tp_tree_samples(fx.tree, ahead[k]) != NULL;
+    tp_test_note("%zu of %zu prefetch-only requests resident", served, nahead);
+    EXPECT_TRUE(nahead > 0);
+    EXPECT_EQ_INT(served, nahead);
+    tp_cut_destroy(cut);
+    tp_cut_destroy(pre);
+    tp_stream_destroy(st);
+    close_fixture(&fx);
+}
+
 #define TESTS(X)                                                                                   \
     X(roots_first_then_the_view_fills_in_without_holes)                                            \
     X(budget_is_honoured_along_a_flight_and_nothing_is_ever_a_hole)                                \
     X(a_damaged_node_is_reported_once_and_its_ancestor_drawn)                                      \
-    X(require_loads_a_node_and_its_ancestors_now)
+    X(require_loads_a_node_and_its_ancestors_now)                                                  \
+    X(prefetch_requests_stay_queued_between_prefetch_updates)                                      \
+    X(a_prefetch_request_is_served_before_the_cut_asks_for_it)
 TP_TEST_MAIN(TESTS)

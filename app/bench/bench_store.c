@@ -312,7 +312,10 @@ static int run_store_config(store_bench* b, store_result* c, int first, const ch
     const bench_options* o = b->o;
     int frames = b->segments * b->per_segment;
     c->rows = calloc((size_t)frames, sizeof *c->rows);
-    tp_stream_options so = {.memory_bytes = (size_t)o->memory_mb << 20};
+    /* The stream's motion estimate follows the flight's own clock (FRAME_HZ), not the draw's:
+     * frames that take 0.1-3 s here would otherwise make a 300 m/s flight look like 3-30 m/s. */
+    tp_stream_options so = {.memory_bytes = (size_t)o->memory_mb << 20,
+                            .frame_s = o->realtime ? 0 : 1.0 / FRAME_HZ};
     if (!c->rows)
         return TP_EXIT_FAILURE;
     if (tp_store_scene_stream(&b->sc, &so) != TP_EXIT_OK)

@@ -852,10 +852,20 @@ void tp_cut_destroy(tp_cut* c); /* accepts NULL */
  *     (error mode), else 1 / (1 + distance). */
 tp_status tp_cut_update(tp_cut* c, const tp_camera* cam, const tp_lod_params* params,
                         tp_error* err);
+/* tp_cut_update for its requests only (a prefetch: what a camera elsewhere would ask for):
+ * the same selection without the stitching pass and without output, so tp_cut_nodes is
+ * empty afterwards. Its requests are tp_cut_update's, less those only the stitching pass
+ * makes (splitting a node more than n scales larger than its neighbour). About 40% cheaper
+ * (docs/PERFORMANCE.md, "The CPU side of a frame"). Same errors as tp_cut_update. */
+tp_status tp_cut_update_requests(tp_cut* c, const tp_camera* cam, const tp_lod_params* params,
+                                 tp_error* err);
 /* The drawn nodes of the last update (visible only), and the nodes it wanted but found not
  * resident, most urgent first (their priorities: larger = sooner). Valid until the next update. */
 const tp_cut_node* tp_cut_nodes(const tp_cut* c, size_t* count);
 const int64_t* tp_cut_requests(const tp_cut* c, size_t* count);
+/* Statistics of the last update. O(visited nodes), cheap enough for every frame: each drawn
+ * node's triangles were counted by the update (complete nodes from a table by level and
+ * neighbour levels, incomplete ones once per node and neighbour levels, cached in the cut). */
 void tp_cut_get_stats(const tp_cut* c, tp_cut_stats* out);
 /* Vertex data of drawn node i (0..count-1) after crack removal: (2^level+1)^2 vertices as
  * tp_patch_vertices writes them (global grid coordinates, decoded heights; cls is VALID,

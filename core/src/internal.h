@@ -289,6 +289,9 @@ typedef struct tp__cut_rec {
     uint8_t queued;      /* in the stitching pass's work list */
     float bound_px;
     int32_t out;         /* index in the output (tp_cut_nodes) when drawn */
+    int32_t tris;        /* drawn: its triangles (finish); else -1 */
+    uint8_t view;        /* 0: not tested yet; else 1 + whether its area box is in view */
+    uint8_t pb_known;    /* pb is computed (error mode) */
     tp__proj_bound pb;   /* error mode, visible nodes: of the node's area box */
 } tp__cut_rec;
 
@@ -297,6 +300,13 @@ typedef struct tp__cut_slot {
     int32_t val;  /* record index; -2: requested, not visited */
     uint32_t gen; /* the update that wrote it; other generations are empty slots */
 } tp__cut_slot;
+
+typedef struct tp__cut_tris {
+    int64_t node;  /* -1: empty */
+    int32_t nb;    /* the neighbour levels it was counted with, packed */
+    int32_t tris;
+} tp__cut_tris;
+enum { TP__CUT_TRIS_CACHE = 4096 };
 
 typedef struct tp__cut_req {
     int64_t node;
@@ -325,10 +335,23 @@ struct tp_cut {
     int have_view; /* 0 for a cut installed by tp_cut_set_nodes */
     tp__view v;
     tp_frustum f;
+    /* What was learnt about the children of record kid_rec while classifying it (in view:
+     * -1 unknown, 0, 1; error mode: their area boxes' projection bounds), handed to their
+     * records when it is refined: each is computed once per update. */
+    int kid_rec;
+    int8_t kid_in[4];
+    uint8_t kid_pb_known[4];
+    tp__proj_bound kid_pb[4];
+    int32_t* tri_memo;   /* triangles of a complete node by level and neighbour levels (-1:
+                            not counted yet; tree_stitch.c), tri_memo_count entries */
+    size_t tri_memo_count;
+    tp__cut_tris* tri_cache; /* triangles of incomplete drawn nodes, direct-mapped by node,
+                                kept across updates (a node's samples never change) */
     int32_t* work;       /* the stitching pass's work list */
     size_t work_count, work_cap;
     int visited, unresolved;
     int oom;
+    int requests_only; /* tp_cut_update_requests: no stitching, no output */
 };
 
 /* Index in the drawn output of the node covering leaf (lc, lr), or -1 (tree_stitch.c). */
@@ -356,6 +379,13 @@ void tp__cut_constrain(tp_cut* c);
 /* The drawn neighbour on a side of drawn record i, of equal or larger scale; -1 if none
  * (border, culled, or smaller nodes there) (tree_stitch.c). */
 int tp__cut_neighbor(const tp_cut* c, int i, int side);
+/* Non-degenerate triangles of drawn record i with neighbour levels nb: complete nodes from
+ * tp__cut_complete_triangles, incomplete ones counted on their samples once and cached. */
+int32_t tp__cut_triangles(tp_cut* c, int i, const int nb[4]);
+/* Non-degenerate triangles of a complete node drawn at level k with relative neighbour levels
+ * nb (every vertex drawn: only stitching removes triangles), from c->tri_memo (filled on first
+ * use) (tree_stitch.c). */
+int32_t tp__cut_complete_triangles(tp_cut* c, int k, const int nb[4]);
 /* Relative neighbour levels of drawn record i; returns the number of its sides left with a
  * crack (a neighbour more than n scales larger that could be neither split nor collapsed
  * against) (tree_stitch.c). */

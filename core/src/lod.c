@@ -119,13 +119,19 @@ tp__proj_bound tp__proj_bound_box(const tp__view* v, const double bmin[3], const
     /* The world's vertical in camera coordinates. */
     double vx = v->right[2], vy = v->up[2], vz = v->fwd[2];
     double zmin = INFINITY, amax = 0, bmax_ = 0;
+    /* The products of each corner coordinate with each axis, once (18 instead of 72); summed
+     * per corner in the same order as a dot product, so the results are the same bits. */
+    double px[3][2], py[3][2], pz[3][2];
+    for (int a = 0; a < 3; a++)
+        for (int h = 0; h < 2; h++) {
+            double d = (h ? bmax[a] : bmin[a]) - v->pos[a];
+            px[a][h] = d * v->right[a], py[a][h] = d * v->up[a], pz[a][h] = d * v->fwd[a];
+        }
     for (int c = 0; c < 8; c++) {
-        double d[3] = {(c & 1 ? bmax[0] : bmin[0]) - v->pos[0],
-                       (c & 2 ? bmax[1] : bmin[1]) - v->pos[1],
-                       (c & 4 ? bmax[2] : bmin[2]) - v->pos[2]};
-        double x = d[0] * v->right[0] + d[1] * v->right[1] + d[2] * v->right[2];
-        double y = d[0] * v->up[0] + d[1] * v->up[1] + d[2] * v->up[2];
-        double z = d[0] * v->fwd[0] + d[1] * v->fwd[1] + d[2] * v->fwd[2];
+        int h0 = c & 1, h1 = (c >> 1) & 1, h2 = c >> 2;
+        double x = px[0][h0] + px[1][h1] + px[2][h2];
+        double y = py[0][h0] + py[1][h1] + py[2][h2];
+        double z = pz[0][h0] + pz[1][h1] + pz[2][h2];
         double A = fabs(vx * z - x * vz), B = fabs(vy * z - y * vz);
         zmin = z < zmin ? z : zmin;
         amax = A > amax ? A : amax;

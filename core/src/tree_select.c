@@ -106,7 +106,8 @@ int tp__cut_find(const tp_cut* c, int64_t node)
     return v >= 0 ? v : -1;
 }
 
-int tp__cut_add(tp_cut* c, int64_t node)
+/* tp__cut_add for node at scale s, column cc, row rr. */
+static int add_at(tp_cut* c, int64_t node, int s, int cc, int rr)
 {
     if (!tp__cut_grow(c, (void**)&c->rec, &c->rec_cap, c->rec_count + 1, sizeof *c->rec))
         return -1;
@@ -117,11 +118,26 @@ int tp__cut_add(tp_cut* c, int64_t node)
     tp__cut_rec* r = &c->rec[i];
     memset(r, 0, sizeof *r);
     r->node = node;
-    int s, cc, rr;
-    tp_tree_node_locate(&c->g, node, &s, &cc, &rr);
     r->s = (int8_t)s, r->c = cc, r->r = rr;
     c->visited++;
     return i;
+}
+
+int tp__cut_add(tp_cut* c, int64_t node)
+{
+    int s, cc, rr;
+    tp_tree_node_locate(&c->g, node, &s, &cc, &rr);
+    return add_at(c, node, s, cc, rr);
+}
+
+/* Child q of record i: its id, column and row (scale rec[i].s - 1), without a search of the
+ * node's scale as tp_tree_node_child does. */
+static int64_t kid(const tp_cut* c, int i, int q, int* cc, int* rr)
+{
+    const tp__cut_rec* r = &c->rec[i];
+    int s = r->s - 1;
+    *cc = 2 * r->c + (q & 1), *rr = 2 * r->r + (q >> 1);
+    return c->g.first_node[s] + (int64_t)*rr * c->g.node_cols[s] + *cc;
 }
 
 void tp__cut_request(tp_cut* c, int64_t node, double prio)
@@ -144,8 +160,9 @@ static void node_box(const tp_cut* c, int s, int cc, int rr, int32_t qlo, int32_
     double y0 = (double)(rr * span), y1 = (double)((rr + 1) * span);
     double e0 = c->gt[0] + (x0 + 0.5) * c->gt[1], e1 = c->gt[0] + (x1 + 0.5) * c->gt[1];
     double n0 = c->gt[3] + (y0 + 0.5) * c->gt[5], n1 = c->gt[3] + (y1 + 0.5) * c->gt[5];
-    bmin[0] = fmin(e0, e1), bmax[0] = fmax(e0, e1);
-    bmin[1] = fmin(n0, n1), bmax[1] = fmax(n0, n1);
+    /* not fmin/fmax: finite values, and those are calls into libm here */
+    bmin[0] = e0 < e1 ? e0 : e1, bmax[0] = e0 < e1 ? e1 : e0;
+    bmin[1] = n0 < n1 ? n0 : n1, bmax[1] = n0 < n1 ? n1 : n0;
     bmin[2] = qlo * c->step * c->zscale, bmax[2] = qhi * c->step * c->zscale;
 }
 
@@ -198,7 +215,7 @@ static int wanted_stride_log(const tp_cut* c, double d)
     return c->n + (e > 60 ? 60 : (int)e);
 }
 
-static int in_view(const tp_cut* c, int64_t node);
+static int64_t kid_in_view(tp_cut* c, int i, int q, int* in);
 
 /* Error mode: drawing record i at level k puts its whole area at one vertex density, set by
  * its roughest part (and its bound adds its children's on top of its own). Its 4 children,
@@ -221,16 +238,21 @@ static int children_cheaper(tp_cut* c, int i, int k)
     int n = c->n;
     double parent = 2.0 * (double)((int64_t)1 << (2 * k)) + NODE_COST_TRIANGLES, kids = 0;
     for (int q = 0; q < 4; q++) {
-        int64_t ch = tp_tree_node_child(&c->g, r->node, q);
-        if (!in_view(c, ch))
+        int in;
+        int64_t ch = kid_in_view(c, i, q, &in);
+        if (!in)
             continue;
         const tp_node_meta* m = tp_tree_meta(c->t, ch);
         if (!(m->flags & TP_NODE_COMPLETE) || m->area_qmin > m->area_qmax)
             return 0;
-        double bmin[3], bmax[3];
-        node_box(c, r->s - 1, 2 * r->c + (q & 1), 2 * r->r + (q >> 1), m->area_qmin,
-                 m->area_qmax, bmin, bmax);
-        tp__proj_bound pb = tp__proj_bound_box(&c->v, bmin, bmax);
+        if (!c->kid_pb_known[q]) {
+            double bmin[3], bmax[3];
+            node_box(c, r->s - 1, 2 * r->c + (q & 1), 2 * r->r + (q >> 1), m->area_qmin,
+                     m->area_qmax, bmin, bmax);
+            c->kid_pb[q] = tp__proj_bound_box(&c->v, bmin, bmax);
+            c->kid_pb_known[q] = 1;
+        }
+        const tp__proj_bound pb = c->kid_pb[q];
         int kc = n;
         for (; kc >= 0; kc--) {
             double b = (tp_node_error_bound(m, n, kc, no_nb, c->step, c->err_unit) + c->quant) *
@@ -294,19 +316,44 @@ static double request_prio(const tp_cut* c, int i, int64_t child)
     return c->have_view ? 1.0 / (1.0 + box_distance(c->v.pos, bmin, bmax)) : 0;
 }
 
-/* Whether a node has something to draw in view (its area box in the frustum). */
-static int in_view(const tp_cut* c, int64_t node)
+/* Whether node (scale s, column cc, row rr) has something to draw in view (its area box in
+ * the frustum): 0 no, 1 partly, 2 wholly inside the frustum. */
+static int in_view_at(const tp_cut* c, int64_t node, int s, int cc, int rr)
 {
     const tp_node_meta* m = tp_tree_meta(c->t, node);
     if (!(m->flags & TP_NODE_HAS_DRAWN) || m->area_qmin > m->area_qmax)
         return 0;
     if (!c->have_view)
         return 1;
-    int s, cc, rr;
-    tp_tree_node_locate(&c->g, node, &s, &cc, &rr);
     double bmin[3], bmax[3];
     node_box(c, s, cc, rr, m->area_qmin, m->area_qmax, bmin, bmax);
-    return tp_frustum_test_aabb(&c->f, bmin, bmax) != TP_CULL_OUTSIDE;
+    tp_cull v = tp_frustum_test_aabb(&c->f, bmin, bmax);
+    return v == TP_CULL_OUTSIDE ? 0 : v == TP_CULL_INSIDE ? 2 : 1;
+}
+
+/* in_view_at for record i. */
+static int rec_in_view(tp_cut* c, int i)
+{
+    tp__cut_rec* r = &c->rec[i];
+    if (!r->view)
+        r->view = (uint8_t)(1 + in_view_at(c, r->node, r->s, r->c, r->r));
+    return r->view - 1;
+}
+
+/* Child q of record i, and whether it is in view (computed once per record and update). */
+static int64_t kid_in_view(tp_cut* c, int i, int q, int* in)
+{
+    if (c->kid_rec != i) {
+        c->kid_rec = i;
+        memset(c->kid_in, -1, sizeof c->kid_in);
+        memset(c->kid_pb_known, 0, sizeof c->kid_pb_known);
+    }
+    int cc, rr;
+    int64_t ch = kid(c, i, q, &cc, &rr);
+    if (c->kid_in[q] < 0)
+        c->kid_in[q] = (int8_t)in_view_at(c, ch, c->rec[i].s - 1, cc, rr);
+    *in = c->kid_in[q];
+    return ch;
 }
 
 int tp__cut_children_ready(tp_cut* c, int i)
@@ -315,8 +362,9 @@ int tp__cut_children_ready(tp_cut* c, int i)
         return 0;
     int ready = 1;
     for (int q = 0; q < 4; q++) {
-        int64_t ch = tp_tree_node_child(&c->g, c->rec[i].node, q);
-        if (in_view(c, ch) && !tp_tree_samples(c->t, ch)) {
+        int in;
+        int64_t ch = kid_in_view(c, i, q, &in);
+        if (in && !tp_tree_samples(c->t, ch)) {
             tp__cut_request(c, ch, request_prio(c, i, ch));
             ready = 0;
         }
@@ -328,14 +376,15 @@ int tp__cut_children_ready(tp_cut* c, int i)
 static int classify(tp_cut* c, int i, int may_refine)
 {
     const tp_node_meta* m = tp_tree_meta(c->t, c->rec[i].node);
-    if (!in_view(c, c->rec[i].node)) {
+    if (!rec_in_view(c, i)) {
         c->rec[i].state = (m->flags & TP_NODE_HAS_DRAWN) ? TP__CUT_CULLED : TP__CUT_EMPTY;
         return 0;
     }
-    if (c->have_view && c->lp.mode == TP_LOD_ERROR) {
+    if (c->have_view && c->lp.mode == TP_LOD_ERROR && !c->rec[i].pb_known) {
         double bmin[3], bmax[3];
         tp__cut_box(c, i, 1, bmin, bmax);
         c->rec[i].pb = tp__proj_bound_box(&c->v, bmin, bmax);
+        c->rec[i].pb_known = 1;
     }
     int k, refine = mode_wants(c, i, &k);
     if (refine && may_refine) {
@@ -348,10 +397,14 @@ static int classify(tp_cut* c, int i, int may_refine)
     if (refine || !(m->flags & TP_NODE_COMPLETE))
         k = c->n;
     c->rec[i].level = (int8_t)k;
-    /* Drawn only if its own samples' box is in view. */
+    /* Drawn only if its own samples' box is in view: surely so when that box lies in its area
+     * box and the area box is wholly inside. */
     double bmin[3], bmax[3];
-    int vis = tp__cut_box(c, i, 0, bmin, bmax) &&
-              (!c->have_view || tp_frustum_test_aabb(&c->f, bmin, bmax) != TP_CULL_OUTSIDE);
+    int inside = rec_in_view(c, i) == 2 && m->qmin <= m->qmax && m->qmin >= m->area_qmin &&
+                 m->qmax <= m->area_qmax;
+    int vis = inside || (tp__cut_box(c, i, 0, bmin, bmax) &&
+                         (!c->have_view ||
+                          tp_frustum_test_aabb(&c->f, bmin, bmax) != TP_CULL_OUTSIDE));
     c->rec[i].state = vis ? TP__CUT_DRAWN : TP__CUT_CULLED;
     return 0;
 }
@@ -387,6 +440,20 @@ tp_status tp_cut_create(const tp_tree* t, tp_cut** out, tp_error* err)
                         (long long)c->g.root_count);
     }
     tp_tree_roots(&c->g, c->roots, (size_t)c->g.root_count);
+    for (int k = 0; k <= c->n; k++)
+        c->tri_memo_count += (size_t)(k + 1) * (k + 1) * (k + 1) * (k + 1);
+    c->tri_memo = tp__alloc(&a, c->tri_memo_count, sizeof *c->tri_memo);
+    if (!c->tri_memo) {
+        tp_cut_destroy(c);
+        return tp__fail(err, TP_ERR_OUT_OF_MEMORY, "cut: out of memory");
+    }
+    memset(c->tri_memo, 0xFF, c->tri_memo_count * sizeof *c->tri_memo);
+    c->tri_cache = tp__alloc(&a, TP__CUT_TRIS_CACHE, sizeof *c->tri_cache);
+    if (!c->tri_cache) {
+        tp_cut_destroy(c);
+        return tp__fail(err, TP_ERR_OUT_OF_MEMORY, "cut: out of memory");
+    }
+    memset(c->tri_cache, 0xFF, TP__CUT_TRIS_CACHE * sizeof *c->tri_cache);
     *out = c;
     return TP_OK;
 }
@@ -403,6 +470,8 @@ void tp_cut_destroy(tp_cut* c)
     tp__free(a, c->req);
     tp__free(a, c->req_ids);
     tp__free(a, c->work);
+    tp__free(a, c->tri_memo);
+    tp__free(a, c->tri_cache);
     tp__free(a, c);
 }
 
@@ -419,6 +488,7 @@ static void begin(tp_cut* c)
     c->req_count = 0;
     c->out_count = 0;
     c->visited = 0;
+    c->kid_rec = -1;
     c->unresolved = 0;
     c->oom = 0;
 }
@@ -459,10 +529,10 @@ static void sort_requests(tp__cut_req* r, size_t count)
 /* Stitching, then the output arrays. */
 static tp_status finish(tp_cut* c, tp_error* err)
 {
-    if (!c->oom)
+    if (!c->oom && !c->requests_only)
         tp__cut_constrain(c);
     size_t drawn = 0;
-    for (size_t i = 0; i < c->rec_count; i++)
+    for (size_t i = 0; i < c->rec_count && !c->requests_only; i++)
         drawn += c->rec[i].state == TP__CUT_DRAWN;
     if (c->oom || !tp__cut_grow(c, (void**)&c->out, &c->out_cap, drawn, sizeof *c->out) ||
         !tp__cut_grow(c, (void**)&c->req_ids, &c->req_ids_cap, c->req_count, sizeof *c->req_ids)) {
@@ -473,7 +543,8 @@ static tp_status finish(tp_cut* c, tp_error* err)
     for (size_t i = 0; i < c->rec_count; i++) {
         tp__cut_rec* r = &c->rec[i];
         r->out = -1;
-        if (r->state != TP__CUT_DRAWN)
+        r->tris = -1;
+        if (r->state != TP__CUT_DRAWN || c->requests_only)
             continue;
         r->out = (int32_t)c->out_count;
         tp_cut_node* o = &c->out[c->out_count++];
@@ -488,6 +559,7 @@ static tp_status finish(tp_cut* c, tp_error* err)
         if (c->have_view && c->lp.mode == TP_LOD_ERROR)
             r->bound_px = (float)bound_px(c, (int)i, r->level, nb);
         o->bound_px = r->bound_px;
+        r->tris = tp__cut_triangles(c, (int)i, nb);
     }
     sort_requests(c->req, c->req_count);
     for (size_t i = 0; i < c->req_count; i++)
@@ -522,7 +594,9 @@ tp_status tp_cut_update(tp_cut* c, const tp_camera* cam, const tp_lod_params* pa
     for (int64_t ri = 0; ri < c->g.root_count && !c->oom; ri++) {
         int64_t root = c->roots[ri];
         if (!tp_tree_samples(c->t, root)) {
-            if (in_view(c, root))
+            int s, cc, rr;
+            tp_tree_node_locate(&c->g, root, &s, &cc, &rr);
+            if (in_view_at(c, root, s, cc, rr))
                 tp__cut_request(c, root, INFINITY);
             continue; /* a hole: roots are to stay resident */
         }
@@ -532,12 +606,34 @@ tp_status tp_cut_update(tp_cut* c, const tp_camera* cam, const tp_lod_params* pa
         for (size_t i = first; i < c->rec_count && !c->oom; i++) {
             if (!classify(c, (int)i, 1))
                 continue;
-            for (int q = 0; q < 4; q++)
-                if (tp__cut_add(c, tp_tree_node_child(&c->g, c->rec[i].node, q)) < 0)
+            /* What classifying it learnt about its children goes with them. */
+            int known = c->kid_rec == (int)i;
+            for (int q = 0; q < 4; q++) {
+                int cc, rr;
+                int64_t ch = kid(c, (int)i, q, &cc, &rr);
+                int j = add_at(c, ch, c->rec[i].s - 1, cc, rr);
+                if (j < 0)
                     break;
+                if (known && c->kid_in[q] >= 0)
+                    c->rec[j].view = (uint8_t)(1 + c->kid_in[q]);
+                if (known && c->kid_pb_known[q]) {
+                    c->rec[j].pb = c->kid_pb[q];
+                    c->rec[j].pb_known = 1;
+                }
+            }
         }
     }
     return finish(c, err);
+}
+
+tp_status tp_cut_update_requests(tp_cut* c, const tp_camera* cam, const tp_lod_params* params,
+                                 tp_error* err)
+{
+    assert(c && cam);
+    c->requests_only = 1;
+    tp_status st = tp_cut_update(c, cam, params, err);
+    c->requests_only = 0;
+    return st;
 }
 
 tp_status tp_cut_set_nodes(tp_cut* c, const int64_t* nodes, const int* levels, size_t count,

@@ -347,33 +347,108 @@ static int cell_triangle(const node_view* nv, int cx, int cy, int h, int32_t pos
     return ok && area != 0;
 }
 
+/* Whether lattice triangle h of cell (cx, cy) at level k keeps an area after stitching. */
+static int lattice_triangle(int k, const int nb[4], int cx, int cy, int h)
+{
+    static const int tri[2][3][2] = {{{0, 0}, {0, 1}, {1, 0}}, {{1, 0}, {0, 1}, {1, 1}}};
+    int p[3][2];
+    for (int v = 0; v < 3; v++)
+        tp__lattice_vertex(k, nb, cx + tri[h][v][0], cy + tri[h][v][1], &p[v][0], &p[v][1]);
+    return (p[1][0] - p[0][0]) * (p[2][1] - p[0][1]) - (p[1][1] - p[0][1]) * (p[2][0] - p[0][0]) != 0;
+}
+
+/* Only side vertices move (tp__lattice_vertex), so every cell off the border keeps both its
+ * triangles: counting the border ring once per (k, nb) makes a node's count O(1) afterwards. */
+int32_t tp__cut_complete_triangles(tp_cut* c, int k, const int nb[4])
+{
+    assert(k >= 0 && k <= c->n);
+    size_t at = 0, w = (size_t)k + 1;
+    for (int l = 0; l < k; l++)
+        at += (size_t)(l + 1) * (l + 1) * (l + 1) * (l + 1);
+    int m[4];
+    size_t idx = 0;
+    for (int side = 0; side < 4; side++) {
+        m[side] = nb[side] >= 0 && nb[side] < k ? nb[side] : TP_NO_NEIGHBOR; /* others move nothing */
+        idx = idx * w + (size_t)(m[side] + 1);
+    }
+    at += idx;
+    int32_t* e = &c->tri_memo[at];
+    if (*e >= 0)
+        return *e;
+    int last = 1 << k;
+    int32_t count = last > 2 ? 2 * (last - 2) * (last - 2) : 0;
+    for (int cy = 0; cy < last; cy++)
+        for (int cx = 0; cx < last; cx++) {
+            if (cy > 0 && cy < last - 1 && cx > 0 && cx < last - 1)
+                continue; /* inside: counted above */
+            count += lattice_triangle(k, m, cx, cy, 0) + lattice_triangle(k, m, cx, cy, 1);
+        }
+    return *e = count;
+}
+
+/* Triangles of drawn output node o (incomplete: drawn at level n): those of a complete node
+ * with its level and neighbour levels, less those with an undrawn vertex (by its samples' drawn
+ * flags, as cell_triangle decides) that stitching left with an area. */
+static int32_t incomplete_triangles(tp_cut* c, size_t o)
+{
+    node_view nv;
+    node_view_init(c, o, &nv);
+    int k = nv.k, last = 1 << k, side = (1 << c->n) + 1;
+    int32_t lost = 0;
+    for (int cy = 0; cy < last; cy++) {
+        const uint16_t* row = nv.q + (size_t)(cy << nv.shift) * side;
+        const uint16_t* next = nv.q + (size_t)((cy + 1) << nv.shift) * side;
+        for (int cx = 0; cx < last; cx++) {
+            int d00 = row[cx << nv.shift] != TP_TREE_NO_HEIGHT;
+            int d10 = row[(cx + 1) << nv.shift] != TP_TREE_NO_HEIGHT;
+            int d01 = next[cx << nv.shift] != TP_TREE_NO_HEIGHT;
+            int d11 = next[(cx + 1) << nv.shift] != TP_TREE_NO_HEIGHT;
+            int t0 = d00 & d01 & d10, t1 = d10 & d01 & d11;
+            if (cy > 0 && cy < last - 1 && cx > 0 && cx < last - 1) {
+                lost += !t0 + !t1; /* off the border no vertex moves: both have an area */
+                continue;
+            }
+            lost += !t0 && lattice_triangle(k, nv.nb, cx, cy, 0);
+            lost += !t1 && lattice_triangle(k, nv.nb, cx, cy, 1);
+        }
+    }
+    return tp__cut_complete_triangles(c, k, nv.nb) - lost;
+}
+
+int32_t tp__cut_triangles(tp_cut* c, int i, const int nb[4])
+{
+    const tp__cut_rec* r = &c->rec[i];
+    if (tp_tree_meta(c->t, r->node)->flags & TP_NODE_COMPLETE)
+        return tp__cut_complete_triangles(c, r->level, nb);
+    int32_t key = r->level;
+    for (int side = 0; side < 4; side++)
+        key = key * 16 + (nb[side] + 1); /* levels 0..TP_MAX_N fit 4 bits */
+    tp__cut_tris* e = &c->tri_cache[(uint64_t)r->node % TP__CUT_TRIS_CACHE];
+    if (e->node != r->node || e->nb != key)
+        *e = (tp__cut_tris){r->node, key, incomplete_triangles(c, (size_t)r->out)};
+    return e->tris;
+}
+
 void tp_cut_get_stats(const tp_cut* c, tp_cut_stats* out)
 {
     assert(c && out);
     memset(out, 0, sizeof *out);
     out->visited = c->visited;
     out->requests = (int)c->req_count;
-    for (size_t i = 0; i < c->rec_count; i++)
-        out->culled += c->rec[i].state == TP__CUT_CULLED;
-    for (size_t i = 0; i < c->out_count; i++) {
-        const tp_cut_node* o = &c->out[i];
-        node_view nv;
-        node_view_init(c, i, &nv);
+    for (size_t i = 0; i < c->rec_count; i++) {
+        const tp__cut_rec* r = &c->rec[i];
+        out->culled += r->state == TP__CUT_CULLED;
+        if (r->state != TP__CUT_DRAWN || r->out < 0) /* r->out < 0: tp_cut_update_requests */
+            continue;
+        const tp_cut_node* o = &c->out[r->out];
         out->drawn++;
-        out->nodes_per_scale[nv.s]++;
+        out->nodes_per_scale[r->s]++;
         out->substituted += o->substituted;
         if (o->bound_px > out->max_bound_px)
             out->max_bound_px = o->bound_px;
         if (o->substituted && o->bound_px > out->substitution_bound_px)
             out->substitution_bound_px = o->bound_px;
-        int last = 1 << nv.k;
-        for (int cy = 0; cy < last; cy++)
-            for (int cx = 0; cx < last; cx++)
-                for (int h = 0; h < 2; h++) {
-                    int32_t pos[3][2];
-                    double q[3];
-                    out->triangles += (size_t)cell_triangle(&nv, cx, cy, h, pos, q);
-                }
+        out->triangles += (size_t)r->tris;
     }
 }
 

@@ -1,0 +1,169 @@
+/* bench_cut.c - the CPU side of a store's frame without a GL context (not a test; not run by
+ * ctest): every node of the store resident, a low flight along the map's middle row as
+ * `terrapatch bench --segments F --frames F` flies it (60 m above the ground, west to east, 10
+ * degrees down, 1280x720, 60 degrees; one timed frame per stretch after 5 untimed ones of
+ * flight at 30 Hz), and per timed frame the median time of tp_cut_update (error mode, tau), of
+ * tp_cut_update_requests for the camera 0.5 s ahead (what the stream's prefetch runs; binaries
+ * built before that function existed ran tp_cut_update there), and of
+ * tp_cut_get_stats. Also the checksum of the cuts (nodes, levels, neighbours), to compare
+ * builds.
+ *
+ *   build/tp_bench_cut STORE.tpt [frames] [tau_px] [speed_mps] [repeats]
+ *
+ * Made to be run under callgrind or perf too (everything resident: no loader thread). */
+#define _POSIX_C_SOURCE 200809L
+#include "tp_core.h"
+#include "tp_io.h"
+
+#include <math.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+static double now_ms(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return ts.tv_sec * 1e3 + ts.tv_nsec / 1e6;
+}
+
+static int cmp(const void* a, const void* b)
+{
+    double x = *(const double*)a, y = *(const double*)b;
+    return (x > y) - (x < y);
+}
+
+static double median(double* v, size_t n)
+{
+    qsort(v, n, sizeof *v, cmp);
+    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+static void camera(const tp_tree* t, const double gt[6], double x, double y, tp_camera* cam)
+{
+    double z = tp_tree_sample(t, (int)x, (int)y);
+    double pos[3] = {gt[0] + x * gt[1], gt[3] + y * gt[5], (isnan(z) ? 0 : z) + 60};
+    tp_camera_from_pose(pos, 90, -10, 60, 1280, 720, cam);
+}
+
+static uint64_t cut_hash(const tp_cut* c)
+{
+    size_t count;
+    const tp_cut_node* o = tp_cut_nodes(c, &count);
+    uint64_t h = 1469598103934665603ull;
+    for (size_t i = 0; i < count; i++) {
+        uint64_t v[3] = {(uint64_t)o[i].node, (uint64_t)o[i].level,
+                         (uint64_t)(uint8_t)o[i].nb[0] | (uint64_t)(uint8_t)o[i].nb[1] << 8 |
+                             (uint64_t)(uint8_t)o[i].nb[2] << 16 | (uint64_t)(uint8_t)o[i].nb[3] << 24};
+        for (int k = 0; k < 3; k++)
+            h = (h ^ v[k]) * 1099511628211ull;
+    }
+    return h;
+}
+
+int main(int argc, char** argv)
+{
+    if (argc < 2) {
+        fprintf(stderr, "usage: %s STORE.tpt [frames] [tau_px] [speed_mps] [repeats]\n", argv[0]);
+        return 2;
+    }
+    int frames = argc > 2 ? atoi(argv[2]) : 60;
+    double tau = argc > 3 ? atof(argv[3]) : 1;
+    double speed = argc > 4 ? atof(argv[4]) : 100;
+    int repeats = argc > 5 ? atoi(argv[5]) : 3;
+    tp_error err;
+    tp_store* store;
+    if (tp_store_open(argv[1], &store, &err) != TP_OK) {
+        fprintf(stderr, "%s\n", err.message);
+        return 1;
+    }
+    size_t count;
+    const tp_node_meta* metas = tp_store_metas(store, &count);
+    tp_store_info si;
+    tp_store_get_info(store, &si);
+    tp_tree_desc td;
+    memset(&td, 0, sizeof td);
+    td.geometry = si.header.geometry;
+    memcpy(td.geotransform, si.header.geotransform, sizeof td.geotransform);
+    td.height_step_m = si.header.height_step_m;
+    td.quant_max_error_m = si.header.quant_max_error_m;
+    td.err_unit_steps = si.header.err_unit_steps;
+    td.metas = metas;
+    td.meta_count = count;
+    tp_tree* tree;
+    if (tp_tree_create(&td, &tree, &err) != TP_OK) {
+        fprintf(stderr, "%s\n", err.message);
+        return 1;
+    }
+    const tp_tree_geometry* g = tp_tree_get_geometry(tree);
+    size_t v = ((size_t)1 << g->n) + 1;
+    uint16_t* blocks = malloc((size_t)g->node_count * v * v * sizeof *blocks);
+    if (!blocks)
+        return 1;
+    for (int64_t id = 0; id < g->node_count; id++) {
+        uint16_t* b = blocks + (size_t)id * v * v;
+        if (tp_store_read_node(store, id, b, v * v, &err) != TP_OK) {
+            fprintf(stderr, "%s\n", err.message);
+            return 1;
+        }
+        tp_tree_attach(tree, id, b);
+    }
+    tp_cut *cut, *pre;
+    if (tp_cut_create(tree, &cut, &err) != TP_OK || tp_cut_create(tree, &pre, &err) != TP_OK)
+        return 1;
+    tp_lod_params lod = {.mode = TP_LOD_ERROR, .tau_px = tau};
+    const double* gt = td.geotransform;
+    double w = g->src_width - 1, y = (g->src_height - 1) / 2.0;
+    double* t_cut = malloc((size_t)frames * repeats * sizeof *t_cut);
+    double* t_pre = malloc((size_t)frames * repeats * sizeof *t_pre);
+    double* t_stats = malloc((size_t)frames * repeats * sizeof *t_stats);
+    double visited = 0, drawn = 0, tris = 0;
+    uint64_t h = 0;
+    for (int rep = 0; rep < repeats; rep++)
+        for (int f = 0; f < frames; f++) {
+            /* spread along the row as `bench --segments frames` spreads its stretches */
+            double x = 0.05 * w + (frames > 1 ? 0.9 * w * f / (frames - 1) : 0);
+            tp_camera cam, ahead;
+            for (int j = 5; j > 0; j--) { /* untimed lead-in frames of a 30 Hz flight */
+                camera(tree, gt, x - j * speed / 30 / fabs(gt[1]), y, &cam);
+                tp_cut_update(cut, &cam, &lod, &err);
+            }
+            camera(tree, gt, x, y, &cam);
+            ahead = cam;
+            ahead.position[0] += speed * 0.5 * (gt[1] > 0 ? 1 : -1);
+            double t0 = now_ms();
+            if (tp_cut_update(cut, &cam, &lod, &err) != TP_OK) {
+                fprintf(stderr, "%s\n", err.message);
+                return 1;
+            }
+            double t1 = now_ms();
+            tp_cut_update_requests(pre, &ahead, &lod, &err);
+            double t2 = now_ms();
+            tp_cut_stats cs;
+            tp_cut_get_stats(cut, &cs);
+            double t3 = now_ms();
+            size_t k = (size_t)rep * frames + f;
+            t_cut[k] = t1 - t0, t_pre[k] = t2 - t1, t_stats[k] = t3 - t2;
+            if (rep == 0) {
+                visited += cs.visited, drawn += cs.drawn, tris += (double)cs.triangles;
+                h = h * 31 + cut_hash(cut);
+            }
+        }
+    size_t n = (size_t)frames * repeats;
+    printf("%s: %d frames x %d, tau %.2f, %.0f m/s: cut %.4f ms, prefetch cut %.4f ms, stats "
+           "%.4f ms (medians); mean visited %.0f, drawn %.0f, triangles %.0f; cuts %016llx\n",
+           argv[1], frames, repeats, tau, speed, median(t_cut, n), median(t_pre, n),
+           median(t_stats, n), visited / frames, drawn / frames, tris / frames,
+           (unsigned long long)h);
+    free(t_cut);
+    free(t_pre);
+    free(t_stats);
+    tp_cut_destroy(cut);
+    tp_cut_destroy(pre);
+    tp_tree_destroy(tree);
+    free(blocks);
+    tp_store_close(store);
+    return 0;
+}
