@@ -15,51 +15,9 @@
 #include <unistd.h>
 
 
-/* Runs `terrapatch CMD args...` (NULL-terminated); returns the exit status, stderr in err. The
- * child runs without LeakSanitizer: `view` opens Mesa, whose unloaded driver looks leaky. */
-static int run_cmd(const char* cmd, const char* const* args, char* err, size_t err_cap)
-{
-    const char* exe = getenv("TP_TERRAPATCH");
-    if (!exe || access(exe, X_OK) != 0)
-        SKIP("TP_TERRAPATCH not set: the terrapatch binary is not built");
-    const char* argv[64];
-    int n = 0;
-    argv[n++] = exe;
-    argv[n++] = cmd;
-    for (int i = 0; args[i] && n < 62; i++)
-        argv[n++] = args[i];
-    argv[n] = NULL;
-    char err_path[] = "/tmp/tp_export_errXXXXXX";
-    int fd = mkstemp(err_path);
-    ASSERT_TRUE(fd >= 0);
-    close(fd);
-    posix_spawn_file_actions_t fa;
-    posix_spawn_file_actions_init(&fa);
-    posix_spawn_file_actions_addopen(&fa, 0, "/dev/null", O_RDONLY, 0);
-    posix_spawn_file_actions_addopen(&fa, 1, "/dev/null", O_WRONLY, 0);
-    posix_spawn_file_actions_addopen(&fa, 2, err_path, O_WRONLY | O_TRUNC, 0644);
-    pid_t pid;
-    static char asan[512];
-    char** envp = tp_test_child_environment(asan, sizeof asan);
-    int rc = posix_spawn(&pid, exe, &fa, NULL, (char* const*)argv, envp);
-    posix_spawn_file_actions_destroy(&fa);
-    ASSERT_EQ_INT(0, rc);
-    int status = 0;
-    while (waitpid(pid, &status, 0) < 0)
-        if (errno != EINTR)
-            FAIL("waitpid: %s", strerror(errno));
-    FILE* f = fopen(err_path, "r");
-    size_t got = f ? fread(err, 1, err_cap - 1, f) : 0;
-    err[got] = '\0';
-    if (f)
-        fclose(f);
-    remove(err_path);
-    return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-}
-
 static int run_export(const char* const* args, char* err, size_t err_cap)
 {
-    return run_cmd("export", args, err, err_cap);
+    return tp_test_run_terrapatch("export", args, err, err_cap);
 }
 
 static void data_path(char* buf, size_t cap, const char* file)
@@ -196,7 +154,7 @@ TEST(view_dependent_mesh_has_the_viewers_triangles)
     /* --whole: export draws a DEM whole, so the viewer's old path is the one to compare */
     const char* vargs[] = {"--whole", "--headless", "--no-hud", "--size", "1280x720", "--camera", cam,
                            "--tau", "2", "--stats-json", json, dem, NULL};
-    int rc = run_cmd("view", vargs, err, sizeof err);
+    int rc = tp_test_run_terrapatch("view", vargs, err, sizeof err);
     if (rc == 1 && strstr(err, "EGL"))
         SKIP("no headless OpenGL here: %s", err);
     ASSERT_EQ_INT(0, rc);

@@ -16,47 +16,6 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
-/* Runs `terrapatch CMD args...` (NULL-terminated); returns the exit status, stderr in err. */
-static int run_cmd(const char* cmd, const char* const* args, char* err, size_t err_cap)
-{
-    const char* exe = getenv("TP_TERRAPATCH");
-    if (!exe || access(exe, X_OK) != 0)
-        SKIP("TP_TERRAPATCH not set: the terrapatch binary is not built");
-    const char* argv[64];
-    int n = 0;
-    argv[n++] = exe;
-    argv[n++] = cmd;
-    for (int i = 0; args[i] && n < 62; i++)
-        argv[n++] = args[i];
-    argv[n] = NULL;
-    char err_path[] = "/tmp/tp_export_store_errXXXXXX";
-    int fd = mkstemp(err_path);
-    ASSERT_TRUE(fd >= 0);
-    close(fd);
-    posix_spawn_file_actions_t fa;
-    posix_spawn_file_actions_init(&fa);
-    posix_spawn_file_actions_addopen(&fa, 0, "/dev/null", O_RDONLY, 0);
-    posix_spawn_file_actions_addopen(&fa, 1, "/dev/null", O_WRONLY, 0);
-    posix_spawn_file_actions_addopen(&fa, 2, err_path, O_WRONLY | O_TRUNC, 0644);
-    pid_t pid;
-    static char asan[512];
-    char** envp = tp_test_child_environment(asan, sizeof asan);
-    int rc = posix_spawn(&pid, exe, &fa, NULL, (char* const*)argv, envp);
-    posix_spawn_file_actions_destroy(&fa);
-    ASSERT_EQ_INT(0, rc);
-    int status = 0;
-    while (waitpid(pid, &status, 0) < 0)
-        if (errno != EINTR)
-            FAIL("waitpid: %s", strerror(errno));
-    FILE* f = fopen(err_path, "r");
-    size_t got = f ? fread(err, 1, err_cap - 1, f) : 0;
-    err[got] = '\0';
-    if (f)
-        fclose(f);
-    remove(err_path);
-    return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-}
-
 static void data_path(char* buf, size_t cap, const char* file)
 {
     if (!tp_test_data_path(buf, cap, "TP_SHARED_DATA_DIR", file))
@@ -86,7 +45,7 @@ static void build_store(const char* out, const char* fill_max, const char* const
     args[n++] = "-o";
     args[n++] = out;
     args[n] = NULL;
-    int rc = run_cmd("build", args, err, sizeof err);
+    int rc = tp_test_run_terrapatch("build", args, err, sizeof err);
     if (rc != 0)
         FAIL("terrapatch build %s: exit %d: %s", out, rc, err);
 }
@@ -94,7 +53,7 @@ static void build_store(const char* out, const char* fill_max, const char* const
 static tp_mesh_summary export_and_inspect(const char* const* args)
 {
     char err[4096];
-    int rc = run_cmd("export", args, err, sizeof err);
+    int rc = tp_test_run_terrapatch("export", args, err, sizeof err);
     if (rc != 0)
         FAIL("terrapatch export: exit %d: %s", rc, err);
     const char* out = NULL;
@@ -251,7 +210,7 @@ TEST(store_options_for_a_dem_only_are_refused)
     build_store(store, "64", files);
     out_path(out, sizeof out, "small.vtp");
     const char* nc[] = {"--no-cull", store, "-o", out, NULL};
-    EXPECT_EQ_INT(2, run_cmd("export", nc, err, sizeof err));
+    EXPECT_EQ_INT(2, tp_test_run_terrapatch("export", nc, err, sizeof err));
     EXPECT_TRUE(strstr(err, "is a store") != NULL);
     EXPECT_TRUE(access(out, F_OK) != 0);
     remove(store);
@@ -276,7 +235,7 @@ TEST(damaged_node_fails_and_writes_nothing)
     fclose(f);
     out_path(out, sizeof out, "damaged.vtp");
     const char* args[] = {"--full", store, "-o", out, NULL};
-    EXPECT_EQ_INT(1, run_cmd("export", args, err, sizeof err));
+    EXPECT_EQ_INT(1, tp_test_run_terrapatch("export", args, err, sizeof err));
     EXPECT_TRUE(strstr(err, "node") != NULL);
     EXPECT_TRUE(access(out, F_OK) != 0);
     remove(store);

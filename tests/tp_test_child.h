@@ -31,4 +31,56 @@ static char** tp_test_child_environment(char* asan_buf, size_t cap)
     return envp;
 }
 
+#ifdef TP_TEST_H
+#include <errno.h>
+#include <fcntl.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+/* Runs `terrapatch CMD args...` (args NULL-terminated; the binary from $TP_TERRAPATCH, stdin and
+ * stdout /dev/null) in the child environment above; returns the exit status (128 + signal when
+ * killed), its stderr in err. Needs tp_test.h included first (SKIP, ASSERT). */
+static inline int tp_test_run_terrapatch(const char* cmd, const char* const* args, char* err,
+                                         size_t err_cap)
+{
+    const char* exe = getenv("TP_TERRAPATCH");
+    if (!exe || access(exe, X_OK) != 0)
+        SKIP("TP_TERRAPATCH not set: the terrapatch binary is not built");
+    const char* argv[64];
+    int n = 0;
+    argv[n++] = exe;
+    argv[n++] = cmd;
+    for (int i = 0; args[i] && n < 62; i++)
+        argv[n++] = args[i];
+    argv[n] = NULL;
+    char err_path[] = "/tmp/tp_test_child_errXXXXXX";
+    int fd = mkstemp(err_path);
+    ASSERT_TRUE(fd >= 0);
+    close(fd);
+    posix_spawn_file_actions_t fa;
+    posix_spawn_file_actions_init(&fa);
+    posix_spawn_file_actions_addopen(&fa, 0, "/dev/null", O_RDONLY, 0);
+    posix_spawn_file_actions_addopen(&fa, 1, "/dev/null", O_WRONLY, 0);
+    posix_spawn_file_actions_addopen(&fa, 2, err_path, O_WRONLY | O_TRUNC, 0644);
+    pid_t pid;
+    static char asan[512];
+    char** envp = tp_test_child_environment(asan, sizeof asan);
+    int rc = posix_spawn(&pid, exe, &fa, NULL, (char* const*)argv, envp);
+    posix_spawn_file_actions_destroy(&fa);
+    ASSERT_EQ_INT(0, rc);
+    int status = 0;
+    while (waitpid(pid, &status, 0) < 0)
+        if (errno != EINTR)
+            FAIL("waitpid: %s", strerror(errno));
+    FILE* f = fopen(err_path, "r");
+    size_t got = f ? fread(err, 1, err_cap - 1, f) : 0;
+    err[got] = '\0';
+    if (f)
+        fclose(f);
+    remove(err_path);
+    return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+}
+#endif
+
 #endif

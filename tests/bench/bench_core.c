@@ -8,31 +8,13 @@
  * dirty patches, and the exact error measurement. Medians, because the machines are shared. */
 #define _POSIX_C_SOURCE 199309L
 #include "tp_io.h"
+#include "bench_util.h"
 
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
-
-static double now_ms(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return ts.tv_sec * 1e3 + ts.tv_nsec / 1e6;
-}
-
-static int cmp(const void* a, const void* b)
-{
-    double x = *(const double*)a, y = *(const double*)b;
-    return (x > y) - (x < y);
-}
-
-static double median(double* v, int n)
-{
-    qsort(v, (size_t)n, sizeof *v, cmp);
-    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
 
 int main(int argc, char** argv)
 {
@@ -58,12 +40,12 @@ int main(int argc, char** argv)
     tp_terrain* t = NULL;
     for (int i = 0; i < BUILDS; i++) {
         tp_terrain_destroy(t);
-        double t0 = now_ms();
+        double t0 = bench_now_ms();
         if (tp_terrain_create(&desc, &t, &err) != TP_OK) {
             fprintf(stderr, "%s\n", err.message);
             return 1;
         }
-        build[i] = now_ms() - t0;
+        build[i] = bench_now_ms() - t0;
     }
     tp_terrain_info ti;
     tp_terrain_get_info(t, &ti);
@@ -87,9 +69,9 @@ int main(int argc, char** argv)
         tp_terrain_world_to_grid(t, cam.position[0], cam.position[1], &x, &y);
         double g = tp_terrain_height_at(t, x, y);
         cam.position[2] = (isnan(g) ? ti.max_height_m : g) + 60;
-        double t0 = now_ms();
+        double t0 = bench_now_ms();
         tp_selection_update(s, &cam, &lp, &err);
-        double t1 = now_ms();
+        double t1 = bench_now_ms();
         for (int p = 0; p < ti.patch_count; p++)
             if (tp_selection_dirty(s, p) && tp_selection_visible(s, p)) {
                 int nb[4];
@@ -97,15 +79,15 @@ int main(int argc, char** argv)
                 tp_patch_vertices(t, p, tp_selection_level(s, p), nb, vb, vcap);
             }
         tp_selection_clear_dirty(s);
-        verts[f] = now_ms() - t1;
+        verts[f] = bench_now_ms() - t1;
         update[f] = t1 - t0;
         if (f == FRAMES / 2) {
             tp_frame_stats st;
             tp_selection_stats(s, &st);
             tris = st.triangles;
-            double m0 = now_ms(), mx, rms;
+            double m0 = bench_now_ms(), mx, rms;
             tp_selection_measure_screen_error(s, &cam, &mx, &rms, NULL);
-            meas = now_ms() - m0;
+            meas = bench_now_ms() - m0;
             printf("mid-flight frame: %d visible patches, %zu triangles, screen error max %.3f "
                    "px, rms %.3f px\n",
                    st.visible_patches, tris, mx, rms);
@@ -113,9 +95,9 @@ int main(int argc, char** argv)
     }
     printf("%s, patch %d: %dx%d, %d patches, %.3f bytes/sample\n", argv[1], patch, ti.width,
            ti.height, ti.patch_count, ti.bytes_per_source_sample);
-    printf("terrain build     median %8.2f ms (%d runs)\n", median(build, BUILDS), BUILDS);
-    printf("selection update  median %8.3f ms (%d frames)\n", median(update, FRAMES), FRAMES);
-    printf("dirty vertex data median %8.3f ms\n", median(verts, FRAMES));
+    printf("terrain build     median %8.2f ms (%d runs)\n", bench_median(build, (size_t)BUILDS), BUILDS);
+    printf("selection update  median %8.3f ms (%d frames)\n", bench_median(update, (size_t)FRAMES), FRAMES);
+    printf("dirty vertex data median %8.3f ms\n", bench_median(verts, (size_t)FRAMES));
     printf("screen error measurement %8.2f ms (one frame)\n", meas);
     free(vb);
     tp_selection_destroy(s);

@@ -14,6 +14,7 @@
 #define _POSIX_C_SOURCE 200809L
 #include "tp_core.h"
 #include "tp_io.h"
+#include "bench_util.h"
 
 #include <math.h>
 #include <stdint.h>
@@ -21,25 +22,6 @@
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
-
-static double now_ms(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return ts.tv_sec * 1e3 + ts.tv_nsec / 1e6;
-}
-
-static int cmp(const void* a, const void* b)
-{
-    double x = *(const double*)a, y = *(const double*)b;
-    return (x > y) - (x < y);
-}
-
-static double median(double* v, size_t n)
-{
-    qsort(v, n, sizeof *v, cmp);
-    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
 
 static void camera(const tp_tree* t, const double gt[6], double x, double y, tp_camera* cam)
 {
@@ -133,17 +115,17 @@ int main(int argc, char** argv)
             camera(tree, gt, x, y, &cam);
             ahead = cam;
             ahead.position[0] += speed * 0.5 * (gt[1] > 0 ? 1 : -1);
-            double t0 = now_ms();
+            double t0 = bench_now_ms();
             if (tp_cut_update(cut, &cam, &lod, &err) != TP_OK) {
                 fprintf(stderr, "%s\n", err.message);
                 return 1;
             }
-            double t1 = now_ms();
+            double t1 = bench_now_ms();
             tp_cut_update_requests(pre, &ahead, &lod, &err);
-            double t2 = now_ms();
+            double t2 = bench_now_ms();
             tp_cut_stats cs;
             tp_cut_get_stats(cut, &cs);
-            double t3 = now_ms();
+            double t3 = bench_now_ms();
             size_t k = (size_t)rep * frames + f;
             t_cut[k] = t1 - t0, t_pre[k] = t2 - t1, t_stats[k] = t3 - t2;
             if (rep == 0) {
@@ -154,8 +136,8 @@ int main(int argc, char** argv)
     size_t n = (size_t)frames * repeats;
     printf("%s: %d frames x %d, tau %.2f, %.0f m/s: cut %.4f ms, prefetch cut %.4f ms, stats "
            "%.4f ms (medians); mean visited %.0f, drawn %.0f, triangles %.0f; cuts %016llx\n",
-           argv[1], frames, repeats, tau, speed, median(t_cut, n), median(t_pre, n),
-           median(t_stats, n), visited / frames, drawn / frames, tris / frames,
+           argv[1], frames, repeats, tau, speed, bench_median(t_cut, n), bench_median(t_pre, n),
+           bench_median(t_stats, n), visited / frames, drawn / frames, tris / frames,
            (unsigned long long)h);
     free(t_cut);
     free(t_pre);

@@ -15,6 +15,7 @@
 #include "tp_io.h"
 
 #include "stream.h"
+#include "bench_util.h"
 
 #include <math.h>
 #include <stdint.h>
@@ -22,25 +23,6 @@
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
-
-static double now_ms(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return ts.tv_sec * 1e3 + ts.tv_nsec / 1e6;
-}
-
-static int cmp(const void* a, const void* b)
-{
-    double x = *(const double*)a, y = *(const double*)b;
-    return (x > y) - (x < y);
-}
-
-static double median(double* v, size_t n)
-{
-    qsort(v, n, sizeof *v, cmp);
-    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
 
 int main(int argc, char** argv)
 {
@@ -126,18 +108,18 @@ int main(int argc, char** argv)
     double* t_stream = malloc((size_t)frames * sizeof *t_stream);
     double* t_cpu = malloc((size_t)frames * sizeof *t_cpu);
     int subst_frames = 0, subst_max = 0, overrun = 0;
-    double start = now_ms();
+    double start = bench_now_ms();
     for (int f = 0; f < frames; f++) {
         double x = fmin(x0 + f * step_px, w);
         pos[0] = gt[0] + x * gt[1];
         pos[2] = ground[f] + 60;
         tp_camera_from_pose(pos, 90, -10, 60, 1280, 720, &cam);
-        double t0 = now_ms();
+        double t0 = bench_now_ms();
         tp_cut_update(cut, &cam, &lod, &err);
-        double t1 = now_ms();
+        double t1 = bench_now_ms();
         tp_stream_stats ss;
         tp_stream_frame(st, cut, no_prefetch ? NULL : pre, &cam, &lod, &ss);
-        double t2 = now_ms();
+        double t2 = bench_now_ms();
         t_cut[f] = t1 - t0, t_stream[f] = t2 - t1, t_cpu[f] = t2 - t0;
         /* from the nodes, not tp_cut_get_stats: that counted triangles cell by cell before
          * (14-30 ms a frame here), which would leave no 30 Hz flight to compare with */
@@ -149,7 +131,7 @@ int main(int argc, char** argv)
         subst_frames += substituted > 0;
         subst_max = substituted > subst_max ? substituted : subst_max;
         double next = start + (f + 1) * 1000.0 / 30;
-        double left = next - now_ms();
+        double left = next - bench_now_ms();
         if (left > 0) {
             struct timespec ts = {0, (long)(left * 1e6)};
             nanosleep(&ts, NULL);
@@ -161,8 +143,8 @@ int main(int argc, char** argv)
            "cut+stream %.3f ms (medians); %d frames with substitution (at most %d nodes); %d "
            "frames over 1/30 s\n",
            argv[1], frames, speed, tau, memory_mb, no_prefetch ? ", no prefetch" : "",
-           median(t_cut, (size_t)frames), median(t_stream, (size_t)frames),
-           median(t_cpu, (size_t)frames), subst_frames, subst_max, overrun);
+           bench_median(t_cut, (size_t)frames), bench_median(t_stream, (size_t)frames),
+           bench_median(t_cpu, (size_t)frames), subst_frames, subst_max, overrun);
     free(t_cut);
     free(t_stream);
     free(t_cpu);

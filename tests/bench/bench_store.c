@@ -15,6 +15,7 @@
 #define _POSIX_C_SOURCE 200809L
 #include "tp_io.h"
 #include "../tp_test_tree.h"
+#include "bench_util.h"
 
 #include <zstd.h>
 
@@ -25,25 +26,6 @@
 #include <string.h>
 #include <time.h>
 #include <unistd.h>
-
-static double now_us(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return ts.tv_sec * 1e6 + ts.tv_nsec / 1e3;
-}
-
-static int cmp(const void* a, const void* b)
-{
-    double x = *(const double*)a, y = *(const double*)b;
-    return (x > y) - (x < y);
-}
-
-static double median(double* v, size_t n)
-{
-    qsort(v, n, sizeof *v, cmp);
-    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
 
 enum { PRED_NONE_RAW, PRED_NONE, PRED_LEFT, PRED_PLANAR, PRED_MED };
 static const char* const pred_names[] = {"raw", "zstd", "left", "planar", "med"};
@@ -209,9 +191,9 @@ int main(int argc, char** argv)
                         memcpy(packed, nodes[t].rel, 2 * count);
                     double best = 1e30; /* min of 3: the machine is shared */
                     for (int rep = 0; rep < 3; rep++) {
-                        double t0 = now_us();
+                        double t0 = (1e3 * bench_now_ms());
                         decode(pred, packed, got, side, planes, back, dctx);
-                        double dt = now_us() - t0;
+                        double dt = (1e3 * bench_now_ms()) - t0;
                         best = dt < best ? dt : best;
                     }
                     if (memcmp(back, nodes[t].rel, 2 * count) != 0) {
@@ -222,7 +204,7 @@ int main(int argc, char** argv)
                 }
             }
             printf("%-34s %-8s %5d %9.3f %11.1f\n", base, pred_names[pred], level, bytes / src,
-                   median(times, leaves));
+                   bench_median(times, leaves));
         }
 
         /* The real store, written in the builder's order (leaves first). */
@@ -240,7 +222,7 @@ int main(int argc, char** argv)
         hd.valid_samples = (size_t)w * h - dem->void_count, hd.nodata_samples = dem->void_count;
         hd.crs_wkt = dem->crs_wkt, hd.notes = argv[a];
         tp_store_writer* sw;
-        double t0 = now_us();
+        double t0 = (1e3 * bench_now_ms());
         if (tp_store_writer_begin(path, &hd, &sw, &err) != TP_OK) {
             fprintf(stderr, "%s\n", err.message);
             return 1;
@@ -258,7 +240,7 @@ int main(int argc, char** argv)
             fprintf(stderr, "%s\n", err.message);
             return 1;
         }
-        double write_ms = (now_us() - t0) / 1e3;
+        double write_ms = ((1e3 * bench_now_ms()) - t0) / 1e3;
         tp_store* st;
         if (tp_store_open(path, &st, &err) != TP_OK) {
             fprintf(stderr, "%s\n", err.message);
@@ -269,19 +251,19 @@ int main(int argc, char** argv)
         for (size_t t = 0; t < leaves; t++) {
             double best = 1e30;
             for (int rep = 0; rep < 3; rep++) {
-                double t1 = now_us();
+                double t1 = (1e3 * bench_now_ms());
                 if (tp_store_read_node(st, nodes[t].id, back, count, &err) != TP_OK) {
                     fprintf(stderr, "%s\n", err.message);
                     return 1;
                 }
-                double dt = now_us() - t1;
+                double dt = (1e3 * bench_now_ms()) - t1;
                 best = dt < best ? dt : best;
             }
             times[t] = best;
         }
         printf("%-34s %-8s %5s %9.3f %11.1f  (file %llu bytes: data %llu, table %llu; %zu nodes; "
                "written in %.0f ms)\n",
-               base, "store", "-", info.bytes_per_sample, median(times, leaves),
+               base, "store", "-", info.bytes_per_sample, bench_median(times, leaves),
                (unsigned long long)info.file_bytes, (unsigned long long)info.data_bytes,
                (unsigned long long)info.table_bytes, node_count, write_ms);
         tp_store_close(st);
