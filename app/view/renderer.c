@@ -23,7 +23,7 @@ typedef struct gpu_vertex {
     uint8_t flags;   /* bits 0-3: level, bit 4: filled void */
 } gpu_vertex;
 
-/* One slot of the vertex pool: room for an item at level n. */
+/* One slot of a vertex pool: room for one item at the pool's level. */
 typedef struct slot {
     int64_t key;          /* -1: free */
     int8_t level, nb[4];  /* what its vertex data was built for */
@@ -31,17 +31,33 @@ typedef struct slot {
     uint64_t stamp;       /* last frame drawn */
 } slot;
 
+/* The vertex pool of one level k: slots of (2^k+1)^2 vertices in one buffer, so an item takes
+ * the room its level needs, not the finest level's (an item at level 2 of a 65x65 node holds 25
+ * vertices, not 4,225). An item whose level changes moves to the other level's pool. */
+typedef struct pool {
+    GLuint vbo;
+    size_t verts;      /* (2^k+1)^2 */
+    int slots;         /* capacity */
+    int budget_slots;  /* grows past this only for a frame that needs more; 0: none */
+    slot* slot;
+    int* free_slot;    /* slots holding no item (a stack) */
+    int free_count;
+} pool;
+
+/* A map value: slot index * POOL_LEVELS + level. */
+#define POOL_LEVELS 16
+
 struct tp_renderer {
     tp_render_grid_desc grid;
-    GLuint prog, vao, vbo, ibo, ibo_custom;
+    GLuint prog, vao, ibo, ibo_custom;
     GLenum index_type;
     size_t level_offset[TP_MAX_LEVELS], level_count[TP_MAX_LEVELS];
-    size_t slot_verts; /* (2^n+1)^2: one slot holds an item at any level */
-    int slots;         /* pool capacity */
-    int budget_slots;  /* the pool grows past this only for a frame that needs more; 0: none */
-    slot* slot;
-    int* map;          /* open addressing, key -> slot index (-1 empty); map_cap = 2^k >= 2 slots */
-    size_t map_cap;
+    size_t slot_verts; /* (2^n+1)^2: the finest level's item */
+    pool pool[TP_MAX_LEVELS];
+    int* map;          /* open addressing, key -> slot index * POOL_LEVELS + level (-1 empty);
+                          map_cap = 2^k >= 2 * items held */
+    size_t map_cap, map_used;
+    int* draw_level;   /* per drawn item: its level (the pool it is drawn from) */
     int* region_free;  /* free triangle-list regions */
     int regions, regions_free;
     GLsizei* region_count;
@@ -52,9 +68,12 @@ struct tp_renderer {
     uint8_t* ftmp;
     gpu_vertex* gtmp;
     uint32_t* ttmp;
-    GLsizei* counts;
+    GLsizei* counts;   /* per drawn item, in item order; then grouped by level */
     void** offsets;
     GLint* bases;
+    GLsizei* gcounts;
+    void** goffsets;
+    GLint* gbases;
     size_t draw_cap;
     GLint u_cell, u_frac, u_spacing, u_cam_z, u_exag, u_viewproj, u_sun, u_color_lod,
         u_hide_filled, u_hrange, u_textured, u_tex, u_tex_scale, u_tex_offset, u_grid,
@@ -169,10 +188,12 @@ static const char* fs_src =
     "    o_color = vec4(c, 1.0);\n"
     "}\n";
 
-static void setup_vertex_format(tp_renderer* r)
+/* Points the vertex attributes at one pool's buffer (the array buffer binding is not part of
+ * the vertex array's state: the attribute pointers are). */
+static void setup_vertex_format(tp_renderer* r, GLuint vbo)
 {
     glBindVertexArray(r->vao);
-    glBindBuffer(GL_ARRAY_BUFFER, r->vbo);
+    glBindBuffer(GL_ARRAY_BUFFER, vbo);
     glEnableVertexAttribArray(0);
     glVertexAttribIPointer(0, 2, GL_INT, sizeof(gpu_vertex), (void*)offsetof(gpu_vertex, x));
     glEnableVertexAttribArray(1);
@@ -191,34 +212,41 @@ static size_t hash_key(int64_t key, size_t cap)
     return (size_t)(h >> 17) & (cap - 1);
 }
 
-/* The slot holding key, or -1. */
+static slot* map_slot(const tp_renderer* r, int v)
+{
+    return &r->pool[v % POOL_LEVELS].slot[v / POOL_LEVELS];
+}
+
+/* The map value of key (slot index * POOL_LEVELS + level), or -1. */
 static int map_find(const tp_renderer* r, int64_t key)
 {
     for (size_t i = hash_key(key, r->map_cap);; i = (i + 1) & (r->map_cap - 1)) {
-        int s = r->map[i];
-        if (s < 0)
+        int v = r->map[i];
+        if (v < 0)
             return -1;
-        if (r->slot[s].key == key)
-            return s;
+        if (map_slot(r, v)->key == key)
+            return v;
     }
 }
 
-static void map_insert(tp_renderer* r, int64_t key, int s)
+static void map_insert(tp_renderer* r, int64_t key, int v)
 {
     size_t i = hash_key(key, r->map_cap);
     while (r->map[i] >= 0)
         i = (i + 1) & (r->map_cap - 1);
-    r->map[i] = s;
+    r->map[i] = v;
+    r->map_used++;
 }
 
 /* Removes key (present) with backward-shift deletion: no tombstones. */
 static void map_remove(tp_renderer* r, int64_t key)
 {
     size_t mask = r->map_cap - 1, i = hash_key(key, r->map_cap);
-    while (r->slot[r->map[i]].key != key)
+    while (map_slot(r, r->map[i])->key != key)
         i = (i + 1) & mask;
+    r->map_used--;
     for (size_t j = (i + 1) & mask; r->map[j] >= 0; j = (j + 1) & mask) {
-        size_t home = hash_key(r->slot[r->map[j]].key, r->map_cap);
+        size_t home = hash_key(map_slot(r, r->map[j])->key, r->map_cap);
         /* move j into the hole at i when its home is not in (i, j] cyclically */
         if (((j - home) & mask) >= ((j - i) & mask)) {
             r->map[i] = r->map[j];
@@ -228,54 +256,70 @@ static void map_remove(tp_renderer* r, int64_t key)
     r->map[i] = -1;
 }
 
-/* Grows the vertex pool to `slots` slots, keeping what it holds. */
-static int grow_pool(tp_renderer* r, int slots)
+/* Makes the map hold at least `items` keys at load <= 1/2 (rehashing what it holds). */
+static int grow_map(tp_renderer* r, size_t items)
 {
-    /* Draws address a slot by its first vertex as a GLint base vertex. */
-    if ((size_t)slots > (size_t)INT_MAX / r->slot_verts)
-        return 0;
-    size_t max_slots = TP_RENDER_POOL_MAX_BYTES / (r->slot_verts * sizeof(gpu_vertex));
-    if ((size_t)slots > max_slots)
-        slots = (int)max_slots;
-    if (slots <= r->slots)
-        return 0;
-    size_t bytes = (size_t)slots * r->slot_verts * sizeof(gpu_vertex);
-    size_t cap = 16;
-    while (cap < 2 * (size_t)slots)
+    if (2 * items <= r->map_cap)
+        return 1;
+    size_t cap = r->map_cap ? r->map_cap : 16;
+    while (cap < 2 * items)
         cap *= 2;
-    slot* sl = realloc(r->slot, (size_t)slots * sizeof *sl);
-    if (sl)
-        r->slot = sl;
     int* map = malloc(cap * sizeof *map);
-    if (!sl || !map) {
-        free(map);
+    if (!map)
         return 0;
-    }
-    for (int i = r->slots; i < slots; i++) {
-        r->slot[i].key = -1;
-        r->slot[i].region = -1;
-        r->slot[i].stamp = 0;
-    }
-    free(r->map);
+    int* old = r->map;
+    size_t old_cap = r->map_cap;
     r->map = map;
     r->map_cap = cap;
+    r->map_used = 0;
     memset(map, 0xFF, cap * sizeof *map);
-    for (int i = 0; i < r->slots; i++)
-        if (r->slot[i].key >= 0)
-            map_insert(r, r->slot[i].key, i);
+    for (size_t i = 0; i < old_cap; i++)
+        if (old[i] >= 0)
+            map_insert(r, map_slot(r, old[i])->key, old[i]);
+    free(old);
+    return 1;
+}
+
+/* Grows level k's pool to `slots` slots, keeping what it holds. */
+static int grow_pool(tp_renderer* r, int k, int slots)
+{
+    pool* p = &r->pool[k];
+    /* Draws address a slot by its first vertex as a GLint base vertex; map values hold
+     * slot * POOL_LEVELS. */
+    if ((size_t)slots > (size_t)INT_MAX / p->verts || slots > INT_MAX / POOL_LEVELS)
+        return 0;
+    size_t max_slots = TP_RENDER_POOL_MAX_BYTES / (p->verts * sizeof(gpu_vertex));
+    if ((size_t)slots > max_slots)
+        slots = (int)max_slots;
+    if (slots <= p->slots)
+        return 0;
+    size_t bytes = (size_t)slots * p->verts * sizeof(gpu_vertex);
+    slot* sl = realloc(p->slot, (size_t)slots * sizeof *sl);
+    if (sl)
+        p->slot = sl;
+    int* fr = realloc(p->free_slot, (size_t)slots * sizeof *fr);
+    if (fr)
+        p->free_slot = fr;
+    if (!sl || !fr)
+        return 0;
+    for (int i = slots - 1; i >= p->slots; i--) {
+        p->slot[i].key = -1;
+        p->slot[i].region = -1;
+        p->slot[i].stamp = 0;
+        p->free_slot[p->free_count++] = i;
+    }
     GLuint vbo;
     glGenBuffers(1, &vbo);
     glBindBuffer(GL_COPY_WRITE_BUFFER, vbo);
     glBufferData(GL_COPY_WRITE_BUFFER, (GLsizeiptr)bytes, NULL, GL_DYNAMIC_DRAW);
-    if (r->vbo) {
-        glBindBuffer(GL_COPY_READ_BUFFER, r->vbo);
+    if (p->vbo) {
+        glBindBuffer(GL_COPY_READ_BUFFER, p->vbo);
         glCopyBufferSubData(GL_COPY_READ_BUFFER, GL_COPY_WRITE_BUFFER, 0, 0,
-                            (GLsizeiptr)((size_t)r->slots * r->slot_verts * sizeof(gpu_vertex)));
-        glDeleteBuffers(1, &r->vbo);
+                            (GLsizeiptr)((size_t)p->slots * p->verts * sizeof(gpu_vertex)));
+        glDeleteBuffers(1, &p->vbo);
     }
-    r->vbo = vbo;
-    r->slots = slots;
-    setup_vertex_format(r);
+    p->vbo = vbo;
+    p->slots = slots;
     return 1;
 }
 
@@ -385,17 +429,29 @@ tp_renderer* tp_renderer_create_desc(const tp_render_grid_desc* d, char* msg, si
     glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, r->ibo);
     glBufferData(GL_ELEMENT_ARRAY_BUFFER, (GLsizeiptr)(total * isize), idx, GL_STATIC_DRAW);
     free(idx);
-    /* Start with room for a typical visible set; the pool grows when a frame needs more. */
-    size_t slot_bytes = r->slot_verts * sizeof(gpu_vertex);
-    if (d->pool_budget_bytes > 0) {
-        size_t b = d->pool_budget_bytes / slot_bytes;
-        r->budget_slots = b < 1 ? 1 : b > (size_t)INT_MAX / 2 ? INT_MAX / 2 : (int)b;
+    /* Each level's pool starts with room for a typical visible set and grows when a frame
+     * needs more; the budget is shared evenly between the levels' pools. */
+    for (int k = 0; k <= n; k++) {
+        pool* p = &r->pool[k];
+        size_t side = ((size_t)1 << k) + 1;
+        p->verts = side * side;
+        size_t slot_bytes = p->verts * sizeof(gpu_vertex);
+        if (d->pool_budget_bytes > 0) {
+            size_t b = d->pool_budget_bytes / (size_t)(n + 1) / slot_bytes;
+            p->budget_slots = b < 1 ? 1 : b > (size_t)INT_MAX / 2 ? INT_MAX / 2 : (int)b;
+        }
+        if (!grow_pool(r, k, p->budget_slots > 0 && p->budget_slots < 64 ? p->budget_slots : 64)) {
+            snprintf(msg, msg_size, "out of memory");
+            tp_renderer_destroy(r);
+            return NULL;
+        }
     }
-    if (!grow_pool(r, r->budget_slots > 0 && r->budget_slots < 256 ? r->budget_slots : 256)) {
+    if (!grow_map(r, 64)) {
         snprintf(msg, msg_size, "out of memory");
         tp_renderer_destroy(r);
         return NULL;
     }
+    setup_vertex_format(r, r->pool[n].vbo);
     return r;
 }
 
@@ -406,13 +462,21 @@ void tp_renderer_destroy(tp_renderer* r)
     glDeleteProgram(r->prog);
     if (r->tex)
         glDeleteTextures(1, &r->tex);
-    glDeleteBuffers(1, &r->vbo);
+    for (int k = 0; k < TP_MAX_LEVELS; k++) {
+        if (r->pool[k].vbo)
+            glDeleteBuffers(1, &r->pool[k].vbo);
+        free(r->pool[k].slot);
+        free(r->pool[k].free_slot);
+    }
     glDeleteBuffers(1, &r->ibo);
     if (r->ibo_custom)
         glDeleteBuffers(1, &r->ibo_custom);
     glDeleteVertexArrays(1, &r->vao);
-    free(r->slot);
     free(r->map);
+    free(r->draw_level);
+    free(r->gcounts);
+    free(r->goffsets);
+    free(r->gbases);
     free(r->region_free);
     free(r->region_count);
     free(r->vtmp);
@@ -464,45 +528,81 @@ void tp_render_settings_default(tp_render_settings* s)
     s->clear_rgb[2] = 0.90f;
 }
 
-/* A slot for key: its own, a free one, or the least recently used one not drawn this frame;
- * the pool doubles when every slot is in use this frame. *fresh: the slot's data is not key's. */
-static int slot_for(tp_renderer* r, int64_t key, int* fresh)
+/* Empties the slot of map value v: the key leaves the map, a triangle-list region goes back. */
+static void release_slot(tp_renderer* r, int v)
 {
-    int s = map_find(r, key);
+    slot* sl = map_slot(r, v);
+    pool* p = &r->pool[v % POOL_LEVELS];
+    map_remove(r, sl->key);
+    sl->key = -1;
+    sl->stamp = 0;
+    if (sl->region >= 0) {
+        r->region_free[r->regions_free++] = sl->region;
+        sl->region = -1;
+    }
+    p->free_slot[p->free_count++] = v / POOL_LEVELS;
+}
+
+/* A slot for key at level k (a map value): its own, a free one of level k's pool, or that
+ * pool's least recently used one not drawn this frame; the pool doubles when every slot is in
+ * use this frame. An item that changed level leaves its old pool's slot. *fresh: the slot's
+ * data is not key's. */
+static int slot_for(tp_renderer* r, int64_t key, int k, int* fresh)
+{
+    int v = map_find(r, key);
     *fresh = 0;
-    if (s >= 0)
-        return s;
+    if (v >= 0) {
+        if (v % POOL_LEVELS == k)
+            return v;
+        release_slot(r, v);
+    }
+    pool* p = &r->pool[k];
     int best = -1;
-    for (int i = 0; i < r->slots; i++) {
-        if (r->slot[i].key < 0) {
+    while (p->free_count > 0 && best < 0) {
+        int i = p->free_slot[--p->free_count];
+        if (p->slot[i].key < 0)
             best = i;
+    }
+    for (int i = 0; best < 0 && i < p->slots; i++)
+        if (p->slot[i].stamp != r->frame)
+            best = i;
+    if (best >= 0 && p->slot[best].key >= 0) /* the least recently used one */
+        for (int i = best + 1; i < p->slots; i++)
+            if (p->slot[i].stamp != r->frame && p->slot[i].stamp < p->slot[best].stamp)
+                best = i;
+    if (best < 0) {
+        int old = p->slots, want = old * 2;
+        if (p->budget_slots > 0 && old < p->budget_slots && want > p->budget_slots)
+            want = p->budget_slots; /* up to the budget, no further unless a frame needs it */
+        if (!grow_pool(r, k, want))
+            return -1;
+        best = p->free_slot[--p->free_count];
+    }
+    if (p->slot[best].key >= 0)
+        release_slot(r, best * POOL_LEVELS + k);
+    /* release_slot pushed it back: take it off again */
+    for (int i = p->free_count - 1; i >= 0; i--)
+        if (p->free_slot[i] == best) {
+            p->free_slot[i] = p->free_slot[--p->free_count];
             break;
         }
-        if (r->slot[i].stamp != r->frame && (best < 0 || r->slot[i].stamp < r->slot[best].stamp))
-            best = i;
-    }
-    if (best < 0) {
-        int old = r->slots, want = old * 2;
-        if (r->budget_slots > 0 && old < r->budget_slots && want > r->budget_slots)
-            want = r->budget_slots; /* up to the budget, no further unless a frame needs it */
-        if (!grow_pool(r, want))
-            return -1;
-        best = old;
-    }
-    slot* sl = &r->slot[best];
-    if (sl->key >= 0)
-        map_remove(r, sl->key);
+    if (!grow_map(r, r->map_used + 1))
+        return -1;
+    slot* sl = &p->slot[best];
     sl->key = key;
-    map_insert(r, key, best);
+    v = best * POOL_LEVELS + k;
+    map_insert(r, key, v);
     *fresh = 1;
-    return best;
+    return v;
 }
 
 static void upload(tp_renderer* r, const tp_render_item* it, size_t i, tp_render_fill_fn fill,
-                   void* user, int s)
+                   void* user, int mv)
 {
-    slot* sl = &r->slot[s];
+    slot* sl = map_slot(r, mv);
+    const pool* p = &r->pool[mv % POOL_LEVELS];
     int k = it->level, v = (1 << k) + 1, count = v * v;
+    assert(k == mv % POOL_LEVELS);
     fill(user, i, r->vtmp, r->ntmp, r->ftmp);
     for (int j = 0; j < count; j++) {
         const tp_vertex* src = &r->vtmp[j];
@@ -514,8 +614,9 @@ static void upload(tp_renderer* r, const tp_render_item* it, size_t i, tp_render
             g->n[a] = (int8_t)lrintf(r->ntmp[j][a] * 127.0f);
         g->flags = (uint8_t)(k | ((r->ftmp[j] ? 1 : 0) << 4));
     }
-    glBindBuffer(GL_ARRAY_BUFFER, r->vbo);
-    glBufferSubData(GL_ARRAY_BUFFER, (GLintptr)((size_t)s * r->slot_verts * sizeof(gpu_vertex)),
+    glBindBuffer(GL_ARRAY_BUFFER, p->vbo);
+    glBufferSubData(GL_ARRAY_BUFFER,
+                    (GLintptr)((size_t)(mv / POOL_LEVELS) * p->verts * sizeof(gpu_vertex)),
                     (GLsizeiptr)(count * sizeof(gpu_vertex)), r->gtmp);
     if (it->incomplete && sl->region < 0)
         sl->region = take_region(r);
@@ -551,7 +652,19 @@ static int grow_draws(tp_renderer* r, size_t count)
     GLint* b = realloc(r->bases, cap * sizeof *b);
     if (b)
         r->bases = b;
-    if (!c || !o || !b)
+    GLsizei* gc = realloc(r->gcounts, cap * sizeof *gc);
+    if (gc)
+        r->gcounts = gc;
+    void** go = realloc(r->goffsets, cap * sizeof *go);
+    if (go)
+        r->goffsets = go;
+    GLint* gb = realloc(r->gbases, cap * sizeof *gb);
+    if (gb)
+        r->gbases = gb;
+    int* dl = realloc(r->draw_level, cap * sizeof *dl);
+    if (dl)
+        r->draw_level = dl;
+    if (!c || !o || !b || !gc || !go || !gb || !dl)
         return 0;
     r->draw_cap = cap;
     return 1;
@@ -569,20 +682,20 @@ void tp_renderer_draw_items(tp_renderer* r, const tp_render_item* items, size_t 
     double t0 = now_ms();
     if (!grow_draws(r, count))
         count = r->draw_cap; /* draw what fits; the next frame tries again */
-    size_t strips = 0, lists = 0;
+    size_t drawn = 0;
     for (size_t i = 0; i < count; i++) {
         const tp_render_item* it = &items[i];
         int fresh;
-        int s = slot_for(r, it->key, &fresh);
-        if (s < 0) {
+        int mv = slot_for(r, it->key, it->level, &fresh);
+        if (mv < 0) {
             stats->dropped++;
             continue;
         }
-        slot* sl = &r->slot[s];
+        slot* sl = map_slot(r, mv);
         sl->stamp = r->frame;
         if (fresh || sl->level != it->level || memcmp(sl->nb, it->nb, sizeof sl->nb) ||
             (it->incomplete != 0) != (sl->region >= 0)) {
-            upload(r, it, i, fill, user, s);
+            upload(r, it, i, fill, user, mv);
             stats->uploads++;
         }
         stats->patches_drawn++;
@@ -594,12 +707,26 @@ void tp_renderer_draw_items(tp_renderer* r, const tp_render_item* items, size_t 
          * glMultiDrawElementsBaseVertex, which dropped border patches. */
         if (c >= 0 && r->region_count[c] == 0)
             continue;
-        /* strips fill the arrays from the front, triangle lists from the back */
-        size_t at = c < 0 ? strips++ : count - 1 - lists++;
         int k = it->level;
-        r->counts[at] = c < 0 ? (GLsizei)r->level_count[k] : r->region_count[c];
-        r->offsets[at] = (void*)(c < 0 ? r->level_offset[k] : (size_t)c * r->custom_stride * 4);
-        r->bases[at] = (GLint)((size_t)s * r->slot_verts); /* < INT_MAX: grow_pool */
+        r->draw_level[drawn] = 2 * k + (c >= 0); /* the group: level, strip or triangle list */
+        r->counts[drawn] = c < 0 ? (GLsizei)r->level_count[k] : r->region_count[c];
+        r->offsets[drawn] = (void*)(c < 0 ? r->level_offset[k] : (size_t)c * r->custom_stride * 4);
+        r->bases[drawn] = (GLint)((size_t)(mv / POOL_LEVELS) * r->pool[k].verts); /* grow_pool */
+        drawn++;
+    }
+    /* One multi-draw per group (each level's pool is its own buffer): group the draws. */
+    size_t group_at[2 * TP_MAX_LEVELS + 1] = {0};
+    for (size_t j = 0; j < drawn; j++)
+        group_at[r->draw_level[j] + 1]++;
+    for (int g = 0; g < 2 * TP_MAX_LEVELS; g++)
+        group_at[g + 1] += group_at[g];
+    size_t group_end[2 * TP_MAX_LEVELS];
+    memcpy(group_end, group_at, sizeof group_end);
+    for (size_t j = 0; j < drawn; j++) {
+        size_t at = group_end[r->draw_level[j]]++;
+        r->gcounts[at] = r->counts[j];
+        r->goffsets[at] = r->offsets[j];
+        r->gbases[at] = r->bases[j];
     }
     double t1 = now_ms();
     stats->upload_ms = t1 - t0;
@@ -666,33 +793,29 @@ void tp_renderer_draw_items(tp_renderer* r, const tp_render_item* items, size_t 
         glActiveTexture(GL_TEXTURE0);
         glBindTexture(GL_TEXTURE_2D, r->tex);
     }
-    glBindVertexArray(r->vao);
-    if (st->one_draw_per_patch) {
-        glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, r->ibo);
-        for (size_t i = 0; i < strips; i++)
-            glDrawElementsBaseVertex(GL_TRIANGLE_STRIP, r->counts[i], r->index_type,
-                                     r->offsets[i], r->bases[i]);
-        if (lists) {
-            glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, r->ibo_custom);
-            for (size_t i = count - lists; i < count; i++)
-                glDrawElementsBaseVertex(GL_TRIANGLES, r->counts[i], GL_UNSIGNED_INT,
-                                         r->offsets[i], r->bases[i]);
-        }
-        stats->draw_calls = (int)(strips + lists);
-    } else {
-        if (strips) {
-            glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, r->ibo);
-            glMultiDrawElementsBaseVertex(GL_TRIANGLE_STRIP, r->counts, r->index_type,
-                                          (const void* const*)r->offsets, (GLsizei)strips,
-                                          r->bases);
-            stats->draw_calls++;
-        }
-        if (lists) {
-            glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, r->ibo_custom);
-            glMultiDrawElementsBaseVertex(GL_TRIANGLES, r->counts + count - lists, GL_UNSIGNED_INT,
-                                          (const void* const*)(r->offsets + count - lists),
-                                          (GLsizei)lists, r->bases + count - lists);
-            stats->draw_calls++;
+    for (int k = 0; k <= r->grid.n; k++) {
+        size_t s0 = group_at[2 * k], s1 = group_at[2 * k + 1], l1 = group_at[2 * k + 2];
+        if (s0 == l1)
+            continue;
+        setup_vertex_format(r, r->pool[k].vbo);
+        for (int list = 0; list < 2; list++) {
+            size_t a = list ? s1 : s0, b = list ? l1 : s1;
+            if (a == b)
+                continue;
+            GLenum mode = list ? GL_TRIANGLES : GL_TRIANGLE_STRIP;
+            GLenum type = list ? GL_UNSIGNED_INT : r->index_type;
+            glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, list ? r->ibo_custom : r->ibo);
+            if (st->one_draw_per_patch) {
+                for (size_t j = a; j < b; j++)
+                    glDrawElementsBaseVertex(mode, r->gcounts[j], type, r->goffsets[j],
+                                             r->gbases[j]);
+                stats->draw_calls += (int)(b - a);
+            } else {
+                glMultiDrawElementsBaseVertex(mode, r->gcounts + a, type,
+                                              (const void* const*)(r->goffsets + a),
+                                              (GLsizei)(b - a), r->gbases + a);
+                stats->draw_calls++;
+            }
         }
     }
     glPolygonMode(GL_FRONT_AND_BACK, GL_FILL);
@@ -700,8 +823,9 @@ void tp_renderer_draw_items(tp_renderer* r, const tp_render_item* items, size_t 
         glFinish();
     stats->draw_ms = now_ms() - t1;
     stats->page_faults = minor_faults() - faults0;
-    stats->gpu_bytes = (size_t)r->slots * r->slot_verts * sizeof(gpu_vertex) +
-                       (size_t)r->regions * r->custom_stride * 4;
+    stats->gpu_bytes = (size_t)r->regions * r->custom_stride * 4;
+    for (int k = 0; k <= r->grid.n; k++)
+        stats->gpu_bytes += (size_t)r->pool[k].slots * r->pool[k].verts * sizeof(gpu_vertex);
     for (int k = 0; k <= r->grid.n; k++)
         stats->gpu_bytes += r->level_count[k] * (r->index_type == GL_UNSIGNED_SHORT ? 2 : 4);
 }
