@@ -2,8 +2,9 @@
  * renderer.h - draws a tp_selection with OpenGL 3.3 core, Direct3D-style buffers as in
  * Vanek & Jezek: one index buffer per level shared by every patch (a triangle strip with
  * degenerate triangles), per-patch vertex data carrying the crack fix, uploaded only when the
- * patch's or a neighbour's level changed, into a pool of vertex slots inside ONE buffer reused
- * least-recently-used (Brodersen section 5), so that all visible patches draw with one
+ * patch's or a neighbour's level changed, into pools of vertex slots reused least-recently-used
+ * (Brodersen section 5): one buffer per level k whose slots hold (2^k+1)^2 vertices, so an item
+ * takes the room its level needs, and all visible patches of a level draw with one
  * glMultiDrawElementsBaseVertex call (plus one for patches next to nodata, which use their own
  * triangle lists).
  *
@@ -46,11 +47,12 @@ typedef struct tp_render_stats {
     double draw_ms;           /* submitting and finishing the draw (glFinish) */
     long page_faults;         /* minor page faults of the process while drawing (getrusage):
                                  memory the GL driver maps in; ~0 once frames repeat */
-    int dropped;              /* items not drawn: the vertex pool is at TP_RENDER_POOL_MAX_BYTES
-                                 and every slot is drawn this frame (or memory ran out) */
+    int dropped;              /* items not drawn: their level's vertex pool is at
+                                 TP_RENDER_POOL_MAX_BYTES and every slot is drawn this frame (or
+                                 memory ran out) */
 } tp_render_stats;
 
-/* The vertex pool never grows past this, whatever a frame asks for: llvmpipe (Mesa 22.3) crashes
+/* No level's vertex pool grows past this, whatever a frame asks for: llvmpipe (Mesa 22.3) crashes
  * drawing from a buffer past 2 GiB (bench over a 20481^2 store at tau = 1), and no frame that
  * needs more can be interactive. Items beyond it are dropped (counted in tp_render_stats). */
 #define TP_RENDER_POOL_MAX_BYTES ((size_t)1 << 30)
@@ -61,10 +63,11 @@ typedef struct tp_render_grid_desc {
     double geotransform[6];      /* of the full-resolution grid */
     int width, height;           /* full-resolution grid (for the far plane) */
     double min_height_m, max_height_m; /* for the far plane and the hypsometric colours */
-    /* Budget of the vertex pool (--gpu-memory); 0: none. The pool grows (doubling) up to the
-     * budget, then reuses the least-recently-used slots not drawn this frame. A frame whose
-     * items alone need more slots than the budget holds grows the pool past it (every item is
-     * drawn, never a hole) and the pool stays that size: gpu_bytes then exceeds the budget. */
+    /* Budget of the vertex pools (--gpu-memory), shared evenly between the n+1 levels' pools; 0:
+     * none. A pool grows (doubling) up to its share, then reuses its least-recently-used slots
+     * not drawn this frame. A frame whose items alone need more slots than a share holds grows
+     * that pool past it (every item is drawn, never a hole) and the pool stays that size:
+     * gpu_bytes then exceeds the budget. */
     size_t pool_budget_bytes;
 } tp_render_grid_desc;
 
