@@ -1,7 +1,8 @@
 /*
  * tp_geo.h - terrapatch coordinate conversions behind plain C: geographic <-> UTM/UPS (and the
  * text of a zone), MGRS, Earth-centred (ECEF) coordinates, the exact transverse Mercator
- * projection and the inverse geodesic problem, all on the WGS84 ellipsoid.
+ * projection, the inverse geodesic problem, all on the WGS84 ellipsoid, and angles as degrees,
+ * minutes and seconds.
  *
  * C11 header; the C++17 implementation (io/src/geo.cpp) is a thin shim over GeographicLib
  * (C. F. F. Karney, "Transverse Mercator with an accuracy of a few nanometers", J. Geodesy 85,
@@ -57,6 +58,44 @@ extern "C" {
  * Math::AngNormalize, exact: 180 stays 180, -180 stays -180, 540 is 180, 360 is 0). */
 tp_status tp_geo_normalize(double lat_deg, double lon_deg, double* lat_out_deg, double* lon_out_deg,
                            tp_error* err);
+
+/* ---------------------------------------------------------------------------------------------
+ * Degrees, minutes and seconds (GeographicLib's DMS class, as GeoConvert reads and writes them)
+ */
+
+/* Reads a latitude and a longitude, each in any form GeographicLib's DMS::Decode accepts:
+ * decimal degrees ("40.446", "-79.98"), degrees-minutes-seconds with d, ', " or the Unicode
+ * degree, prime and double-prime signs ("40d26'46\"N", "40°26′46″"), colon-separated
+ * ("40:26:46N", "-79:58:56"), a hemisphere letter N, S, E or W before or after the number
+ * instead of a sign ("N40d26'46\"", "79d58'56\"W"). Without hemisphere letters `a` is the
+ * latitude and `b` the longitude; with them either order works ("79:58:56W 40:26:46N"), as in
+ * GeographicLib's DMS::DecodeLatLon (longfirst false). Writes *lat_deg in [-90, 90] and
+ * *lon_deg as given (within [-540, 540]; reduce it with tp_geo_normalize). Each string is at
+ * most 64 bytes. TP_ERR_INVALID_ARG with GeographicLib's reason ("Both 40N and 41N interpreted
+ * as latitudes", "Illegal character g in DMS string garbage") for anything else, NaN and
+ * infinities included. */
+tp_status tp_dms_decode_latlon(const char* a, const char* b, double* lat_deg, double* lon_deg,
+                               tp_error* err);
+
+/* What tp_dms_encode writes after the angle. */
+typedef enum tp_dms_kind {
+    TP_DMS_PLAIN = 0,  /* signed, no hemisphere letter: "-79d58'56\"" */
+    TP_DMS_LATITUDE,   /* no sign, 2-digit degrees, N or S after: "40d26'46\"N" */
+    TP_DMS_LONGITUDE   /* no sign, 3-digit degrees, E or W after: "079d58'56\"W" */
+} tp_dms_kind;
+
+/* Bytes that always hold an angle written by tp_dms_encode (with up to 9 decimals of a
+ * second), NUL included. */
+#define TP_DMS_TEXT_SIZE 40
+
+/* Writes angle_deg (finite; a latitude within [-90, 90]) as degrees, minutes and seconds with
+ * seconds_decimals decimals (0..9), rounded, into out (out_size >= TP_DMS_TEXT_SIZE), as
+ * GeoConvert -d writes it (GeographicLib's DMS::Encode with trailing component SECOND):
+ * 40.446111 at 1 decimal is "40d26'46.0\"N" as TP_DMS_LATITUDE. TP_ERR_INVALID_ARG for a
+ * non-finite angle, a latitude out of range, decimals out of range or a short buffer (out
+ * untouched). */
+tp_status tp_dms_encode(double angle_deg, tp_dms_kind kind, int seconds_decimals, char* out,
+                        size_t out_size, tp_error* err);
 
 /* ---------------------------------------------------------------------------------------------
  * UTM / UPS

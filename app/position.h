@@ -1,0 +1,68 @@
+/*
+ * position.h - a position as people type it on the command line, read in one place for every
+ * command that takes one (`coord`, `point`; `los`, `viewshed`, `profile` next), and written
+ * back as people read it (MGRS with spaces). app/position.c; its fuzz entry point is
+ * tests/fuzz/fuzz_position.c.
+ *
+ * The text is split into fields at white space and commas (a comma is a space, as in
+ * GeographicLib's GeoCoords, so "45.5,-122.68" and "45.5, -122.68" are LAT LON). Then, by the
+ * number of fields, as GeoConvert reads them:
+ *   1  MGRS, any precision, any letter case (33TWN0000049776), read as the centre of its
+ *      square; a grid zone designator alone (33T) is refused.
+ *   2  LAT LON: decimal degrees, or degrees-minutes-seconds in any form GeographicLib's
+ *      DMS::Decode reads (40d26'46"N 79d58'56"W, 40:26:46N 079:58:56W, N40.446 W79.982,
+ *      40°26′46″ -79°58′56″); with hemisphere letters either order works. Latitude in
+ *      [-90, 90], longitude in [-540, 540] (reduced to [-180, 180]).
+ *   3  ZONE E N (UTM 1n..60n/1s..60s, UPS n/s; metres), or LAT LON H (decimal degrees and an
+ *      ellipsoidal height in metres: only where the caller allows heights).
+ * Decimal numbers are read strictly (no "nan", "inf", hex or trailing text); everything else
+ * that is not MGRS or a zone goes to GeographicLib, whose reason is kept in the message.
+ */
+#ifndef TP_APP_POSITION_H
+#define TP_APP_POSITION_H
+
+#include <stddef.h>
+
+typedef struct tp_position {
+    double lat_deg, lon_deg; /* WGS84; lon in [-180, 180] */
+    double h_m;              /* ellipsoidal height; 0 unless has_h */
+    int has_h;               /* the input was LAT LON H */
+    /* The input was ZONE E N or MGRS: its grid coordinates as given (zone 0 = UPS). Callers
+     * that work in the same zone use these, not lat/lon, so that nothing moves by rounding. */
+    int has_grid;
+    int zone, northp;
+    double easting_m, northing_m;
+} tp_position;
+
+/* Bytes that always hold a message of tp_position_parse, NUL included. */
+#define TP_POSITION_MSG_SIZE 768
+
+/* Reads the len bytes of text (need not be NUL-terminated; a NUL among them is an error) as
+ * one position. allow_height: 1 accepts LAT LON H, 0 refuses it. Returns 1 with *out, or 0
+ * with the reason in msg (msg_size >= TP_POSITION_MSG_SIZE), e.g. "latitude 91 is outside
+ * [-90, 90]"; *out is written only on success. */
+int tp_position_parse(const char* text, size_t len, int allow_height, tp_position* out,
+                      char* msg, size_t msg_size);
+
+/* A decimal number and nothing else: [+-]digits[.digits][(e|E)[+-]digits], with at least one
+ * digit before or after the point (strtod alone would also take "nan", "inf", hex and leading
+ * blanks). Returns 1 and *v; 0 for text that is not such a number; -1 for a number too large
+ * for a double. */
+int tp_position_decimal(const char* s, double* v);
+
+/* Joins argv[0 .. count-1] with spaces into buf (cap bytes) for tp_position_parse, so that
+ * `point DEM 45.5 -122.68` and `point DEM "45.5 -122.68"` read alike. Returns the length, or 0
+ * when it does not fit (or count is 0). */
+size_t tp_position_join(char* const* argv, int count, char* buf, size_t cap);
+
+/* Bytes that always hold tp_position_mgrs_spaced's output ("60X AB 12345678901 12345678901"). */
+#define TP_POSITION_MGRS_SPACED_SIZE 40
+
+/* Writes an MGRS reference as printed on maps, with spaces between the grid zone designator,
+ * the 100 km square letters and the easting and northing digits: "31TCH7665100831" ->
+ * "31T CH 76651 00831", "ZAA0000033272" -> "Z AA 00000 33272". A reference without digits
+ * keeps its letters ("31T CH"). Returns 0 (out untouched) when mgrs does not have that shape or
+ * out (cap bytes) is too small. */
+int tp_position_mgrs_spaced(const char* mgrs, char* out, size_t cap);
+
+#endif /* TP_APP_POSITION_H */
