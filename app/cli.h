@@ -23,6 +23,9 @@ int tp_info_store(const char* path, int json);
 /* `terrapatch coord [options] [INPUT ...]`. argv[0] is "coord"; returns an exit code. */
 int tp_cli_coord(int argc, char** argv);
 
+/* `terrapatch point DEM|STORE POS [options]`: what is here. argv[0] is "point". */
+int tp_cli_point(int argc, char** argv);
+
 /* `terrapatch view [options] [DEM]`. argv[0] is "view"; returns an exit code. */
 int tp_cli_view(int argc, char** argv);
 

@@ -25,6 +25,7 @@ static void print_help(FILE* f)
           "  bench DEM   frame rate against measured error, headless, for every LoD mode\n"
           "  build SOURCE... -o NAME.tpt   build a terrain store from DEM tiles (any size)\n"
           "  coord       convert coordinates: lat/lon, UTM/UPS, MGRS, ECEF; geodesics\n"
+          "  point DEM POS   what is here: position in every form, elevation, slope, aspect\n"
           "\n"
           "Run 'terrapatch COMMAND --help' for the options of a command.\n"
           "Exit status: 0 success, 1 failure, 2 usage error, 130/143 after SIGINT/SIGTERM\n"
@@ -52,6 +53,8 @@ static int run_command(int argc, char** argv)
         return tp_cli_info(argc - 1, argv + 1);
     if (!strcmp(cmd, "coord"))
         return tp_cli_coord(argc - 1, argv + 1);
+    if (!strcmp(cmd, "point"))
+        return tp_cli_point(argc - 1, argv + 1);
     if (!strcmp(cmd, "view"))
         return tp_cli_view(argc - 1, argv + 1);
     if (!strcmp(cmd, "export"))

@@ -83,6 +83,20 @@ typedef struct tp_dem {
 tp_status tp_dem_read(const char* path, tp_dem** out, tp_error* err);
 void tp_dem_destroy(tp_dem* dem); /* accepts NULL */
 
+/* What a DEM file states about its heights' datum (io/src/vertical_datum.cpp). Heights are
+ * never converted; this only reports. */
+typedef struct tp_vertical_info {
+    char datum[160]; /* the name of the file's vertical CRS ("EGM96 height", "NAVD88 height"),
+                        "" when the file states none (then the datum is unknown to us) */
+    char units[32];  /* band 1's unit type ("metre", "m", "" when unknown) */
+    char driver[32]; /* GDAL driver short name ("SRTMHGT", "GTiff", ...) */
+} tp_vertical_info;
+
+/* Opens path with GDAL (no heights read) and writes what its CRS says of the vertical datum.
+ * TP_ERR_IO for a missing file or one that is not regular (a FIFO would block),
+ * TP_ERR_BAD_DATA for one GDAL cannot open; *out written only on success. */
+tp_status tp_dem_vertical_info(const char* path, tp_vertical_info* out, tp_error* err);
+
 /* A tp_terrain_desc pointing into dem (valid while dem lives), with the given patch size/fit.
  * dem NULL gives a desc without heights, which tp_terrain_create refuses. */
 tp_terrain_desc tp_dem_terrain_desc(const tp_dem* dem, int patch_size, tp_fit fit);

@@ -1,0 +1,193 @@
+/*
+ * cmd_point.c - `terrapatch point DEM|STORE POS`: what is here? The position in every form a
+ * planner reads (decimal degrees, DMS, MGRS with spaces, UTM), the ground's height as stored
+ * with what is known of its vertical datum, and the slope and aspect there (issue 13, section
+ * 1). Positions are read by position.c, the ground by ground.c; the same readout is the
+ * viewer's pick (view/point_pick.c) through tp_point_readout.
+ */
+#include "cli.h"
+#include "atomic_file.h"
+#include "ground.h"
+#include "json.h"
+#include "point_readout.h"
+#include "position.h"
+
+#include "tp_geo.h"
+
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define DEFAULT_PRECISION 5
+
+typedef struct point_options {
+    const char* path;
+    char* pos_args[8];
+    int pos_count;
+    int precision;
+    const char* json;
+    const char* cache_dir;
+} point_options;
+
+static void print_help(void)
+{
+    fputs("usage: terrapatch point DEM|STORE POS [--precision N] [--json F] [--cache-dir DIR]\n"
+          "\n"
+          "What is here: the position POS on the ground of DEM (any raster GDAL reads, built\n"
+          "into the store cache first as 'terrapatch view' does) or of a store (.tpt). Prints\n"
+          "the position as latitude/longitude (decimal degrees and degrees-minutes-seconds),\n"
+          "MGRS with spaces, UTM/UPS, the elevation as stored (with the vertical datum as the\n"
+          "file states it, else 'unknown'), and the slope and aspect of the ground there.\n"
+          "\n"
+          "POS, in any form 'terrapatch coord' reads (one argument or several):\n"
+          "  45.373 -121.696            decimal degrees, latitude first\n"
+          "  45.373,-121.696            the same with a comma\n"
+          "  45d22'23\"N 121d41'45\"W     degrees-minutes-seconds (GeographicLib's DMS rules:\n"
+          "  45:22:23N 121:41:45W       d ' \" or : separators, N S E W before or after;\n"
+          "                             with hemisphere letters either order works)\n"
+          "  10n 601000 5026000         UTM zone and hemisphere, easting, northing (metres)\n"
+          "  10TER0100026000            MGRS, any precision (the centre of its square)\n"
+          "\n"
+          "The height is that of the full-resolution surface at POS (the store's triangulated\n"
+          "posts: exact at a post, as stored). Slope (degrees from horizontal) and aspect (the\n"
+          "direction the slope faces, downhill, degrees clockwise from true north; also from\n"
+          "grid north, with the meridian convergence between them) come from central\n"
+          "differences of that surface one post either side.\n"
+          "\n"
+          "options:\n"
+          "  --precision N    MGRS digits per coordinate, 0..11 (default 5 = 1 m)\n"
+          "  --json F         also write the readout as JSON to F ('-' for stdout, instead of\n"
+          "                   the text)\n"
+          "  --cache-dir DIR  the store cache for a DEM (as 'terrapatch view')\n"
+          "  -h, --help       show this help\n"
+          "\n"
+          "example:\n"
+          "  $ terrapatch point lf_elev_220_mt_hood_utm.tif 45.3736 -121.6959\n"
+          "\n"
+          "Exit status: 0 done; 1 the DEM cannot be read, or POS is outside the DEM or in a\n"
+          "void (no height there); 2 usage error (a position that cannot be read included).\n",
+          stdout);
+}
+
+static int usage(const char* what)
+{
+    fprintf(stderr, "terrapatch point: %s (see 'terrapatch point --help')\n", what);
+    return TP_EXIT_USAGE;
+}
+
+/* A value of an option: the next argument, or after '='. */
+static const char* option_value(int argc, char** argv, int* i, const char* name)
+{
+    size_t len = strlen(name);
+    if (strncmp(argv[*i], name, len) == 0 && argv[*i][len] == '=')
+        return argv[*i] + len + 1;
+    if (*i + 1 >= argc)
+        return NULL;
+    return argv[++*i];
+}
+
+/* -1 when fine, else the exit code. Options may come anywhere; an argument starting with '-'
+ * and then a digit or '.' is a position (-121.7), not an option. */
+static int parse_options(int argc, char** argv, point_options* o)
+{
+    memset(o, 0, sizeof *o);
+    o->precision = DEFAULT_PRECISION;
+    int dashdash = 0;
+    for (int i = 1; i < argc; ++i) {
+        const char* a = argv[i];
+        int is_option = !dashdash && a[0] == '-' && a[1] && a[1] != '.' &&
+                        !(a[1] >= '0' && a[1] <= '9');
+        if (is_option) {
+            if (!strcmp(a, "--")) {
+                dashdash = 1;
+            } else if (!strcmp(a, "-h") || !strcmp(a, "--help")) {
+                print_help();
+                return tp_cli_finish(TP_EXIT_OK);
+            } else if (!strncmp(a, "--precision", 11) && (a[11] == '\0' || a[11] == '=')) {
+                const char* v = option_value(argc, argv, &i, "--precision");
+                char* end;
+                errno = 0;
+                long p = v ? strtol(v, &end, 10) : -1;
+                if (!v || !*v || *end || errno || p < 0 || p > 11)
+                    return tp_option_error("point", "--precision", "an integer from 0 to 11",
+                                           v ? v : ""),
+                           TP_EXIT_USAGE;
+                o->precision = (int)p;
+            } else if (!strncmp(a, "--json", 6) && (a[6] == '\0' || a[6] == '=')) {
+                if (!(o->json = option_value(argc, argv, &i, "--json")))
+                    return usage("missing value for --json");
+            } else if (!strncmp(a, "--cache-dir", 11) && (a[11] == '\0' || a[11] == '=')) {
+                if (!(o->cache_dir = option_value(argc, argv, &i, "--cache-dir")))
+                    return usage("missing value for --cache-dir");
+            } else {
+                fprintf(stderr, "terrapatch point: unknown option '%s' (see 'terrapatch point "
+                                "--help')\n", a);
+                return TP_EXIT_USAGE;
+            }
+            continue;
+        }
+        if (!o->path) {
+            o->path = a;
+        } else {
+            if (o->pos_count == (int)(sizeof o->pos_args / sizeof o->pos_args[0]))
+                return usage("too many arguments for a position");
+            o->pos_args[o->pos_count++] = argv[i];
+        }
+    }
+    if (!o->path)
+        return usage("missing DEM and position");
+    if (!o->pos_count)
+        return usage("missing position (e.g. 45.37 -121.69, or 10n 601000 5026000)");
+    return -1;
+}
+
+int tp_cli_point(int argc, char** argv)
+{
+    point_options o;
+    int code = parse_options(argc, argv, &o);
+    if (code >= 0)
+        return code;
+    char text[1024], msg[TP_POSITION_MSG_SIZE];
+    size_t len = tp_position_join(o.pos_args, o.pos_count, text, sizeof text);
+    if (!len)
+        return usage("the position is too long");
+    tp_position pos;
+    if (!tp_position_parse(text, len, 0, &pos, msg, sizeof msg)) {
+        fprintf(stderr, "terrapatch point: position '%s': %s\n", text, msg);
+        return TP_EXIT_USAGE;
+    }
+    if (o.json && strcmp(o.json, "-") && !tp_atomic_check_dir(o.json))
+        return TP_EXIT_FAILURE;
+
+    tp_ground* g = NULL;
+    tp_ground_options go = {.cache_dir = o.cache_dir, .cmd = "point"};
+    if ((code = tp_ground_open(o.path, &go, &g)) != TP_EXIT_OK)
+        return code;
+    tp_point_readout r;
+    code = tp_point_readout_at_position(g, o.path, &pos, text, o.precision, &r, msg, sizeof msg)
+               ? TP_EXIT_OK
+               : TP_EXIT_FAILURE;
+    if (code != TP_EXIT_OK) {
+        fprintf(stderr, "terrapatch: %s: %s\n", o.path, msg);
+    } else if (o.json && !strcmp(o.json, "-")) {
+        tp_point_readout_json(&r, stdout);
+    } else {
+        char buf[2048];
+        tp_point_readout_text(&r, buf, sizeof buf);
+        fputs(buf, stdout);
+        if (o.json) {
+            tp_atomic_file af;
+            if (!tp_atomic_open(&af, o.json)) {
+                code = TP_EXIT_FAILURE;
+            } else {
+                tp_point_readout_json(&r, af.f);
+                if (!tp_atomic_commit(&af))
+                    code = TP_EXIT_FAILURE;
+            }
+        }
+    }
+    tp_ground_destroy(g);
+    return code == TP_EXIT_OK ? tp_cli_finish(code) : code;
+}

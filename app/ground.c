@@ -1,0 +1,313 @@
+/*
+ * ground.c - the full-resolution ground at a position (ground.h): a tree of its own over a
+ * store's node table, leaves read on demand into a direct-mapped cache (the pattern of the leaf
+ * cache in export/store_export.c), heights from tp_tree_height_at, slope and aspect from
+ * central differences of that surface.
+ */
+#define _POSIX_C_SOURCE 200809L
+#include "ground.h"
+
+#include "cli.h"
+#include "store_cache.h"
+
+#include "tp_geo.h"
+
+#include <assert.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define DEFAULT_CACHE_BYTES ((size_t)16 << 20)
+#define MIN_SLOTS 4
+#define CONVERGENCE_STEP_M 10.0 /* up the grid's N axis, for the azimuth of grid north */
+#define DEG_PER_RAD 57.29577951308232
+
+struct tp_ground {
+    const tp_store_scene* sc;
+    tp_tree* tree;                  /* ours: leaves attached from the cache below */
+    const tp_tree_geometry* geom;
+    size_t block_samples;           /* (2^n+1)^2 */
+    size_t slot_count;
+    int64_t* key;                   /* leaf in each slot, -1 when empty */
+    uint16_t** slot;                /* allocated on first use */
+    size_t reads;
+    /* tp_ground_open only: the scene we own and what to remove when done */
+    tp_store_scene owned;
+    int owns;
+    char store_path[4096];
+    int temporary;
+};
+
+tp_status tp_ground_create(const tp_store_scene* sc, const tp_ground_options* o,
+                           tp_ground** out, tp_error* err)
+{
+    assert(sc && sc->store && out);
+    tp_ground* g = calloc(1, sizeof *g);
+    if (!g)
+        return tp_error_set(err, TP_ERR_OUT_OF_MEMORY, "out of memory");
+    g->sc = sc;
+    size_t count = 0;
+    const tp_node_meta* metas = tp_store_metas(sc->store, &count);
+    tp_tree_desc td;
+    memset(&td, 0, sizeof td);
+    td.geometry = sc->info.header.geometry;
+    memcpy(td.geotransform, sc->info.header.geotransform, sizeof td.geotransform);
+    td.height_step_m = sc->info.header.height_step_m;
+    td.quant_max_error_m = sc->info.header.quant_max_error_m;
+    td.err_unit_steps = sc->info.header.err_unit_steps;
+    td.metas = metas;
+    td.meta_count = count;
+    tp_status s = tp_tree_create(&td, &g->tree, err);
+    if (s != TP_OK) {
+        free(g);
+        return s;
+    }
+    g->geom = tp_tree_get_geometry(g->tree);
+    size_t v = ((size_t)1 << g->geom->n) + 1;
+    g->block_samples = v * v;
+    size_t bytes = o && o->cache_bytes ? o->cache_bytes : DEFAULT_CACHE_BYTES;
+    g->slot_count = bytes / (g->block_samples * sizeof(uint16_t));
+    if (g->slot_count < MIN_SLOTS)
+        g->slot_count = MIN_SLOTS;
+    g->key = malloc(g->slot_count * sizeof *g->key);
+    g->slot = calloc(g->slot_count, sizeof *g->slot);
+    if (!g->key || !g->slot) {
+        tp_ground_destroy(g);
+        return tp_error_set(err, TP_ERR_OUT_OF_MEMORY, "out of memory");
+    }
+    for (size_t i = 0; i < g->slot_count; ++i)
+        g->key[i] = -1;
+    *out = g;
+    return TP_OK;
+}
+
+int tp_ground_open(const char* path, const tp_ground_options* o, tp_ground** out)
+{
+    tp_ground_options opts = o ? *o : (tp_ground_options){0};
+    const char* cmd = opts.cmd ? opts.cmd : "point";
+    char store[4096];
+    int temporary = 0;
+    if (tp_is_store_path(path)) {
+        snprintf(store, sizeof store, "%s", path);
+    } else {
+        /* the options view uses by default, so that both share one cached store */
+        tp_store_cache_options co = {.cache_dir = opts.cache_dir,
+                                     .patch_size = TP_DEFAULT_PATCH_SIZE,
+                                     .cmd = cmd};
+        int code = tp_store_cache_get(path, &co, store, sizeof store, &temporary);
+        if (code != TP_EXIT_OK)
+            return code;
+    }
+    tp_ground* g = calloc(1, sizeof *g);
+    if (!g) {
+        fprintf(stderr, "terrapatch: %s: out of memory\n", path);
+        if (temporary)
+            tp_store_cache_remove_temporary(store);
+        return TP_EXIT_FAILURE;
+    }
+    memcpy(g->store_path, store, sizeof store);
+    g->temporary = temporary;
+    /* the scene borrows its path: ours lives as long as it */
+    int code = tp_store_scene_open(g->store_path, &g->owned);
+    if (code != TP_EXIT_OK) {
+        if (temporary)
+            tp_store_cache_remove_temporary(g->store_path);
+        free(g);
+        return code;
+    }
+    tp_ground* q = NULL;
+    tp_error err = {{0}};
+    if (tp_ground_create(&g->owned, &opts, &q, &err) != TP_OK) {
+        fprintf(stderr, "terrapatch: %s: %s\n", path, err.message);
+        tp_store_scene_close(&g->owned);
+        if (temporary)
+            tp_store_cache_remove_temporary(g->store_path);
+        free(g);
+        return TP_EXIT_FAILURE;
+    }
+    /* move the scene and the paths into the ground tp_ground_create made */
+    q->owned = g->owned;
+    q->sc = &q->owned;
+    q->owned.path = q->store_path;
+    memcpy(q->store_path, g->store_path, sizeof q->store_path);
+    q->temporary = g->temporary;
+    q->owns = 1;
+    free(g);
+    *out = q;
+    return TP_EXIT_OK;
+}
+
+void tp_ground_destroy(tp_ground* g)
+{
+    if (!g)
+        return;
+    tp_tree_destroy(g->tree); /* detaches nothing of ours: the blocks go below */
+    if (g->slot)
+        for (size_t i = 0; i < g->slot_count; ++i)
+            free(g->slot[i]);
+    free(g->slot);
+    free(g->key);
+    if (g->owns) {
+        tp_store_scene_close(&g->owned);
+        if (g->temporary)
+            tp_store_cache_remove_temporary(g->store_path);
+    }
+    free(g);
+}
+
+const tp_store_scene* tp_ground_scene(const tp_ground* g)
+{
+    return g->sc;
+}
+
+size_t tp_ground_reads(const tp_ground* g)
+{
+    return g->reads;
+}
+
+/* Makes the leaf holding grid (x, y) resident. */
+static tp_status ensure_leaf(tp_ground* g, double x, double y, tp_error* err)
+{
+    int64_t leaf = tp_tree_leaf_at(g->tree, x, y);
+    if (leaf < 0 || tp_tree_samples(g->tree, leaf))
+        return TP_OK;
+    size_t s = (size_t)leaf % g->slot_count;
+    if (!g->slot[s] && !(g->slot[s] = malloc(g->block_samples * sizeof(uint16_t))))
+        return tp_error_set(err, TP_ERR_OUT_OF_MEMORY, "out of memory");
+    if (g->key[s] >= 0) {
+        tp_tree_detach(g->tree, g->key[s]);
+        g->key[s] = -1;
+    }
+    tp_status st = tp_store_read_node(g->sc->store, leaf, g->slot[s], g->block_samples, err);
+    if (st != TP_OK)
+        return st;
+    g->key[s] = leaf;
+    g->reads++;
+    tp_tree_attach(g->tree, leaf, g->slot[s]);
+    return TP_OK;
+}
+
+static int on_dem(const tp_ground* g, double x, double y)
+{
+    return x >= 0.0 && y >= 0.0 && x <= (double)(g->geom->src_width - 1) &&
+           y <= (double)(g->geom->src_height - 1);
+}
+
+tp_status tp_ground_height(tp_ground* g, double x, double y, double* height_m, tp_error* err)
+{
+    assert(g && height_m);
+    if (!on_dem(g, x, y))
+        return tp_error_set(err, TP_ERR_INVALID_ARG,
+                            "grid (%.3f, %.3f) is outside the DEM (0..%d, 0..%d)", x, y,
+                            g->geom->src_width - 1, g->geom->src_height - 1);
+    tp_status s = ensure_leaf(g, x, y, err);
+    if (s != TP_OK)
+        return s;
+    *height_m = tp_tree_height_at(g->tree, x, y);
+    return TP_OK;
+}
+
+/* Height one post away, NaN off the DEM or on a read failure (then *failed and err). */
+static double neighbour(tp_ground* g, double x, double y, tp_status* failed, tp_error* err)
+{
+    double h = NAN;
+    if (!on_dem(g, x, y))
+        return NAN;
+    tp_status s = tp_ground_height(g, x, y, &h, err);
+    if (s != TP_OK) {
+        *failed = s;
+        return NAN;
+    }
+    return h;
+}
+
+/* d height / d grid step along one axis from heights at -1, 0, +1: central where both
+ * neighbours are known, else one-sided; NaN when neither is. */
+static double derivative(double hm, double h0, double hp)
+{
+    if (!isnan(hm) && !isnan(hp))
+        return (hp - hm) / 2.0;
+    if (!isnan(hp) && !isnan(h0))
+        return hp - h0;
+    if (!isnan(hm) && !isnan(h0))
+        return h0 - hm;
+    return NAN;
+}
+
+static double wrap360(double a)
+{
+    a = fmod(a, 360.0);
+    if (a < 0.0)
+        a += 360.0;
+    return a >= 360.0 ? 0.0 : a;
+}
+
+/* Bearing of grid north, clockwise from true north, at render (e, n). */
+static double convergence_deg(const tp_ground* g, double e, double n)
+{
+    const tp_georef* geo = g->sc->georef;
+    if (!geo || !tp_georef_has_geo(geo))
+        return NAN;
+    double lat1, lon1, lat2, lon2, azi1, azi2, s12;
+    if (tp_georef_proj_to_geo(geo, e, n, &lat1, &lon1, NULL) != TP_OK ||
+        tp_georef_proj_to_geo(geo, e, n + CONVERGENCE_STEP_M, &lat2, &lon2, NULL) != TP_OK ||
+        tp_geodesic_inverse(lat1, lon1, lat2, lon2, &azi1, &azi2, &s12, NULL) != TP_OK)
+        return NAN;
+    return azi1;
+}
+
+tp_status tp_ground_query_grid(tp_ground* g, double x, double y, tp_ground_sample* out,
+                               tp_error* err)
+{
+    assert(g && out);
+    double h;
+    tp_status s = tp_ground_height(g, x, y, &h, err);
+    if (s != TP_OK)
+        return s;
+    tp_ground_sample r;
+    memset(&r, 0, sizeof r);
+    r.x = x;
+    r.y = y;
+    tp_tree_grid_to_world(g->tree, x, y, &r.e_m, &r.n_m);
+    r.height_m = h;
+    tp_status failed = TP_OK;
+    double hx0 = neighbour(g, x - 1.0, y, &failed, err);
+    double hx1 = neighbour(g, x + 1.0, y, &failed, err);
+    double hy0 = neighbour(g, x, y - 1.0, &failed, err);
+    double hy1 = neighbour(g, x, y + 1.0, &failed, err);
+    if (failed != TP_OK)
+        return failed;
+    const double* gt = g->sc->info.header.geotransform;
+    double dhdx = derivative(hx0, h, hx1), dhdy = derivative(hy0, h, hy1);
+    /* per metre east and north: E grows with x by gt[1], N with y by gt[5] (< 0 north-up) */
+    double dzde = dhdx / gt[1], dzdn = dhdy / gt[5];
+    if (isnan(dzde) || isnan(dzdn)) {
+        r.normal[2] = 1.0;
+        r.slope_deg = r.aspect_grid_deg = r.aspect_true_deg = NAN;
+    } else {
+        double len = sqrt(dzde * dzde + dzdn * dzdn + 1.0);
+        r.normal[0] = -dzde / len;
+        r.normal[1] = -dzdn / len;
+        r.normal[2] = 1.0 / len;
+        r.slope_deg = atan(hypot(dzde, dzdn)) * DEG_PER_RAD;
+        /* downhill is -gradient; its bearing from north, clockwise */
+        r.aspect_grid_deg = (dzde == 0.0 && dzdn == 0.0)
+                                ? NAN
+                                : wrap360(atan2(-dzde, -dzdn) * DEG_PER_RAD);
+    }
+    r.convergence_deg = convergence_deg(g, r.e_m, r.n_m);
+    r.aspect_true_deg = isnan(r.aspect_grid_deg) || isnan(r.convergence_deg)
+                            ? NAN
+                            : wrap360(r.aspect_grid_deg + r.convergence_deg);
+    *out = r;
+    return TP_OK;
+}
+
+tp_status tp_ground_query_world(tp_ground* g, double e_m, double n_m, tp_ground_sample* out,
+                                tp_error* err)
+{
+    double x, y;
+    tp_tree_world_to_grid(g->tree, e_m, n_m, &x, &y);
+    return tp_ground_query_grid(g, x, y, out, err);
+}
