@@ -1,0 +1,366 @@
+/*
+ * test_point.c - `terrapatch point` (app/cmd_point.c over app/ground.c) run as a child, its
+ * JSON read back, against values computed here independently:
+ *   - heights at grid posts of a real DEM read with GDAL's C API (Mt Hood, NAD83 / UTM 10N:
+ *     the store keeps the DEM's own grid, Int16 heights in 1 m steps, so exactly the sample);
+ *     the position is the post's centre turned into latitude/longitude by GDAL/PROJ here;
+ *   - a warped DEM (N42E001.hgt): the height at a source post lies within the range of the
+ *     source posts around it;
+ *   - slope and aspect on synthetic planes written here with GDAL (known gradient: slope
+ *     atan|g|, aspect the bearing of -g), convergence by the spherical formula;
+ *   - positions outside the DEM and in a void (the DEM's nodata collar; a synthetic hole too
+ *     large to be filled): exit 1, one message naming the file and the position.
+ */
+#define _POSIX_C_SOURCE 200809L
+
+#include "tp_test.h"
+#include "tp_io.h"
+
+#include "tp_test_child.h"
+
+#include <gdal.h>
+#include <cpl_conv.h>
+#include <ogr_srs_api.h>
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#define DEG (180.0 / 3.14159265358979323846)
+#define HOOD "lf_elev_220_mt_hood_utm.tif"
+#define HOOD_NODATA 32767
+
+/* ---- helpers ---- */
+
+static char g_dir[64];
+
+static const char* tmp_dir(void)
+{
+    if (!g_dir[0]) {
+        strcpy(g_dir, "/tmp/tp_test_pointXXXXXX");
+        if (!mkdtemp(g_dir))
+            FAIL("mkdtemp failed");
+    }
+    return g_dir;
+}
+
+/* Reads a whole small file into buf. */
+static void read_text(const char* path, char* buf, size_t cap)
+{
+    FILE* f = fopen(path, "r");
+    if (!f)
+        FAIL("cannot open %s", path);
+    size_t got = fread(buf, 1, cap - 1, f);
+    buf[got] = '\0';
+    fclose(f);
+}
+
+/* The number after "key": in JSON text (keys are unique in the readout); NaN for null. */
+static double json_number(const char* json, const char* key)
+{
+    char pat[64];
+    snprintf(pat, sizeof pat, "\"%s\": ", key);
+    const char* p = strstr(json, pat);
+    if (!p)
+        FAIL("no key %s in %s", key, json);
+    p += strlen(pat);
+    if (!strncmp(p, "null", 4))
+        return NAN;
+    return strtod(p, NULL);
+}
+
+/* Runs `terrapatch point DEM POS --json F`; returns the exit status, the JSON in json (on 0)
+ * and stderr in err. */
+static int run_point(const char* dem, const char* pos, char* json, size_t json_cap, char* err,
+                     size_t err_cap)
+{
+    char out[256];
+    snprintf(out, sizeof out, "%s/point.json", tmp_dir());
+    remove(out);
+    const char* args[] = {dem, pos, "--json", out, NULL};
+    int rc = tp_test_run_terrapatch("point", args, err, err_cap);
+    if (rc == 0)
+        read_text(out, json, json_cap);
+    else
+        EXPECT_TRUE(access(out, F_OK) != 0); /* nothing written on failure */
+    return rc;
+}
+
+/* Latitude, longitude of (e, n) in the CRS of ds, by GDAL/PROJ. */
+static void to_lat_lon(GDALDatasetH ds, double e, double n, double* lat, double* lon)
+{
+    OGRSpatialReferenceH src = OSRNewSpatialReference(GDALGetProjectionRef(ds));
+    OGRSpatialReferenceH dst = OSRNewSpatialReference(NULL);
+    OSRImportFromEPSG(dst, 4326);
+    OSRSetAxisMappingStrategy(src, OAMS_TRADITIONAL_GIS_ORDER);
+    OSRSetAxisMappingStrategy(dst, OAMS_TRADITIONAL_GIS_ORDER);
+    OGRCoordinateTransformationH ct = OCTNewCoordinateTransformation(src, dst);
+    ASSERT_TRUE(ct != NULL);
+    double x = e, y = n, z = 0;
+    ASSERT_TRUE(OCTTransform(ct, 1, &x, &y, &z));
+    *lon = x;
+    *lat = y;
+    OCTDestroyCoordinateTransformation(ct);
+    OSRDestroySpatialReference(src);
+    OSRDestroySpatialReference(dst);
+}
+
+static double sample(GDALDatasetH ds, int c, int r)
+{
+    float v;
+    ASSERT_TRUE(GDALRasterIO(GDALGetRasterBand(ds, 1), GF_Read, c, r, 1, 1, &v, 1, 1,
+                             GDT_Float32, 0, 0) == CE_None);
+    return v;
+}
+
+static GDALDatasetH open_shared(const char* file, char* path, size_t cap)
+{
+    if (!tp_test_data_path(path, cap, "TP_SHARED_DATA_DIR", file))
+        SKIP("%s not found (set TP_SHARED_DATA_DIR)", file);
+    GDALAllRegister();
+    GDALDatasetH ds = GDALOpen(path, GA_ReadOnly);
+    ASSERT_TRUE(ds != NULL);
+    return ds;
+}
+
+/* ---- heights at posts ---- */
+
+TEST(post_height_equals_gdal_sample)
+{
+    char path[1024], json[8192], err[2048], pos[128];
+    GDALDatasetH ds = open_shared(HOOD, path, sizeof path);
+    double gt[6];
+    ASSERT_TRUE(GDALGetGeoTransform(ds, gt) == CE_None);
+    const int posts[][2] = {{501, 400}, {100, 100}, {900, 700}, {37, 612}, {640, 33}};
+    int checked = 0;
+    for (size_t i = 0; i < sizeof posts / sizeof posts[0]; ++i) {
+        int c = posts[i][0], r = posts[i][1];
+        double want = sample(ds, c, r);
+        if (want == HOOD_NODATA)
+            continue;
+        double lat, lon;
+        to_lat_lon(ds, gt[0] + (c + 0.5) * gt[1], gt[3] + (r + 0.5) * gt[5], &lat, &lon);
+        snprintf(pos, sizeof pos, "%.17g,%.17g", lat, lon);
+        ASSERT_EQ_INT(0, run_point(path, pos, json, sizeof json, err, sizeof err));
+        EXPECT_NEAR(json_number(json, "x"), c, 1e-4);
+        EXPECT_NEAR(json_number(json, "y"), r, 1e-4);
+        /* the post itself, up to the round trip through latitude/longitude (micrometres):
+         * its neighbours differ by metres, the store's step is 1 m */
+        EXPECT_NEAR(json_number(json, "elevation_m"), want, 1e-3);
+        EXPECT_NEAR(json_number(json, "lat_deg"), lat, 1e-12);
+        ++checked;
+    }
+    EXPECT_GE_INT(checked, 4);
+    GDALClose(ds);
+}
+
+/* The .hgt is warped to UTM 31N: a source post is not a render post, but the surface there
+ * stays within the range of the 3x3 source posts around it. */
+TEST(warped_dem_height_within_source_neighbourhood)
+{
+    char path[1024], json[8192], err[2048], pos[128];
+    GDALDatasetH ds = open_shared("N42E001.hgt", path, sizeof path);
+    const int posts[][2] = {{600, 600}, {200, 900}, {1000, 300}};
+    for (size_t i = 0; i < 3; ++i) {
+        int c = posts[i][0], r = posts[i][1];
+        double lo = INFINITY, hi = -INFINITY;
+        for (int dy = -1; dy <= 1; ++dy)
+            for (int dx = -1; dx <= 1; ++dx) {
+                double v = sample(ds, c + dx, r + dy);
+                lo = fmin(lo, v);
+                hi = fmax(hi, v);
+            }
+        /* SRTM3: posts at 43 - r/1200 N, 1 + c/1200 E (pixel-is-point) */
+        snprintf(pos, sizeof pos, "%.10f %.10f", 43.0 - r / 1200.0, 1.0 + c / 1200.0);
+        ASSERT_EQ_INT(0, run_point(path, pos, json, sizeof json, err, sizeof err));
+        double h = json_number(json, "elevation_m");
+        EXPECT_TRUE(h >= lo - 0.5 && h <= hi + 0.5);
+        if (!(h >= lo - 0.5 && h <= hi + 0.5))
+            tp_test_note("post (%d, %d): %g not in [%g, %g]", c, r, h, lo, hi);
+    }
+    GDALClose(ds);
+}
+
+/* ---- slope and aspect on planes ---- */
+
+#define PLANE_W 64
+#define PLANE_H 48
+#define PLANE_STEP_M 10.0
+#define PLANE_E0 500000.0
+#define PLANE_N0 4650000.0
+
+/* Writes a GeoTIFF (WGS 84 / UTM 33N, 10 m posts, north-up) of z = 1000 + a (E - E0) +
+ * b (N - N0), with a hole of hole x hole posts of nodata in the middle when hole > 0. */
+static void write_plane(const char* path, double a, double b, int w, int h, int hole)
+{
+    GDALAllRegister();
+    GDALDriverH drv = GDALGetDriverByName("GTiff");
+    ASSERT_TRUE(drv != NULL);
+    GDALDatasetH ds = GDALCreate(drv, path, w, h, 1, GDT_Float32, NULL);
+    ASSERT_TRUE(ds != NULL);
+    double gt[6] = {PLANE_E0, PLANE_STEP_M, 0, PLANE_N0, 0, -PLANE_STEP_M};
+    GDALSetGeoTransform(ds, gt);
+    OGRSpatialReferenceH srs = OSRNewSpatialReference(NULL);
+    OSRImportFromEPSG(srs, 32633);
+    char* wkt = NULL;
+    OSRExportToWkt(srs, &wkt);
+    GDALSetProjection(ds, wkt);
+    CPLFree(wkt);
+    OSRDestroySpatialReference(srs);
+    GDALRasterBandH band = GDALGetRasterBand(ds, 1);
+    GDALSetRasterNoDataValue(band, -9999.0);
+    float* z = malloc(sizeof(float) * (size_t)w * (size_t)h);
+    ASSERT_TRUE(z != NULL);
+    for (int r = 0; r < h; ++r)
+        for (int c = 0; c < w; ++c) {
+            double e = gt[0] + (c + 0.5) * gt[1], n = gt[3] + (r + 0.5) * gt[5];
+            int in_hole = hole > 0 && abs(c - w / 2) < hole / 2 && abs(r - h / 2) < hole / 2;
+            z[(size_t)r * w + c] =
+                in_hole ? -9999.0f : (float)(1000.0 + a * (e - PLANE_E0) + b * (n - PLANE_N0));
+        }
+    ASSERT_TRUE(GDALRasterIO(band, GF_Write, 0, 0, w, h, z, w, h, GDT_Float32, 0, 0) == CE_None);
+    free(z);
+    GDALClose(ds);
+}
+
+/* Checks the readout at the plane's post (c, r) against the gradient (a, b). */
+static void check_plane(double a, double b, const char* name)
+{
+    char path[256], json[8192], err[2048], pos[128];
+    snprintf(path, sizeof path, "%s/%s.tif", tmp_dir(), name);
+    write_plane(path, a, b, PLANE_W, PLANE_H, 0);
+    int c = 20, r = 30;
+    double e = PLANE_E0 + (c + 0.5) * PLANE_STEP_M, n = PLANE_N0 - (r + 0.5) * PLANE_STEP_M;
+    snprintf(pos, sizeof pos, "33n %.3f %.3f", e, n);
+    ASSERT_EQ_INT(0, run_point(path, pos, json, sizeof json, err, sizeof err));
+    EXPECT_NEAR(json_number(json, "elevation_m"), 1000.0 + a * (e - PLANE_E0) + b * (n - PLANE_N0),
+                0.01);
+    double slope = atan(hypot(a, b)) * DEG;
+    EXPECT_NEAR(json_number(json, "slope_deg"), slope, 0.02);
+    if (a == 0 && b == 0) {
+        EXPECT_NAN(json_number(json, "aspect_grid_deg"));
+        EXPECT_NAN(json_number(json, "aspect_deg"));
+        return;
+    }
+    double aspect = atan2(-a, -b) * DEG; /* downhill, clockwise from north */
+    if (aspect < 0)
+        aspect += 360;
+    double got = json_number(json, "aspect_grid_deg");
+    EXPECT_NEAR(fmod(got - aspect + 540.0, 360.0) - 180.0, 0.0, 0.05);
+    /* grid north's bearing from true north in UTM: atan(tan(lon - lon0) sin(lat)) on the
+     * sphere (good to ~1e-5 deg this near the central meridian, 15 E) */
+    double lat = json_number(json, "lat_deg"), lon = json_number(json, "lon_deg");
+    double gamma = atan(tan((lon - 15.0) / DEG) * sin(lat / DEG)) * DEG;
+    EXPECT_NEAR(json_number(json, "convergence_deg"), gamma, 1e-3);
+    double true_aspect = fmod(aspect + gamma + 360.0, 360.0);
+    got = json_number(json, "aspect_deg");
+    EXPECT_NEAR(fmod(got - true_aspect + 540.0, 360.0) - 180.0, 0.0, 0.05);
+}
+
+TEST(plane_slope_and_aspect)
+{
+    check_plane(0.1, -0.2, "plane_nnw");  /* downhill towards 333.4 deg */
+    check_plane(-0.5, 0.0, "plane_east"); /* faces east: 90 deg, 26.57 deg steep */
+    check_plane(0.0, 0.3, "plane_south"); /* faces south: 180 deg */
+    check_plane(0.0, 0.0, "plane_flat");  /* no aspect */
+}
+
+/* A plane built into a store first: `point STORE` reads the same ground as `point DEM`. */
+TEST(store_answers_as_its_dem)
+{
+    char dem[256], store[256], json[8192], err[2048];
+    snprintf(dem, sizeof dem, "%s/plane_store.tif", tmp_dir());
+    snprintf(store, sizeof store, "%s/plane_store.tpt", tmp_dir());
+    write_plane(dem, 0.2, 0.1, PLANE_W, PLANE_H, 0);
+    const char* args[] = {dem, "-o", store, "--quiet", NULL};
+    ASSERT_EQ_INT(0, tp_test_run_terrapatch("build", args, err, sizeof err));
+    const char* pos = "33n 500205 4649695"; /* post (20, 30) */
+    ASSERT_EQ_INT(0, run_point(store, pos, json, sizeof json, err, sizeof err));
+    double h_store = json_number(json, "elevation_m"), s_store = json_number(json, "slope_deg");
+    ASSERT_EQ_INT(0, run_point(dem, pos, json, sizeof json, err, sizeof err));
+    EXPECT_EQ_DBL(h_store, json_number(json, "elevation_m"));
+    EXPECT_EQ_DBL(s_store, json_number(json, "slope_deg"));
+    EXPECT_NEAR(h_store, 1000.0 + 0.2 * 205 + 0.1 * (-305), 0.01);
+}
+
+/* ---- bad positions ---- */
+
+TEST(outside_dem_exits_1)
+{
+    char path[1024], json[64], err[2048];
+    GDALDatasetH ds = open_shared(HOOD, path, sizeof path);
+    GDALClose(ds);
+    EXPECT_EQ_INT(1, run_point(path, "45.0 -110.0", json, sizeof json, err, sizeof err));
+    EXPECT_CONTAINS(err, "outside the DEM");
+    EXPECT_CONTAINS(err, HOOD);
+    EXPECT_CONTAINS(err, "45.0 -110.0");
+    /* one post beyond the east edge (NAD83 ~ WGS84 here: 1013 posts of 30 m from E 587049.6) */
+    EXPECT_EQ_INT(1, run_point(path, "10n 617500 5025000", json, sizeof json, err, sizeof err));
+    EXPECT_CONTAINS(err, "outside the DEM");
+}
+
+TEST(void_in_nodata_collar_exits_1)
+{
+    char path[1024], json[64], err[2048], pos[128];
+    GDALDatasetH ds = open_shared(HOOD, path, sizeof path);
+    double gt[6];
+    ASSERT_TRUE(GDALGetGeoTransform(ds, gt) == CE_None);
+    /* a nodata post whose 5x5 neighbourhood is all nodata (the collar at the corners) */
+    int found = 0, fc = 0, fr = 0;
+    for (int r = 2; r < 40 && !found; ++r)
+        for (int c = 2; c < 40 && !found; ++c) {
+            int all = 1;
+            for (int dy = -2; dy <= 2 && all; ++dy)
+                for (int dx = -2; dx <= 2 && all; ++dx)
+                    all = sample(ds, c + dx, r + dy) == HOOD_NODATA;
+            if (all)
+                found = 1, fc = c, fr = r;
+        }
+    ASSERT_TRUE(found);
+    double lat, lon;
+    to_lat_lon(ds, gt[0] + (fc + 0.5) * gt[1], gt[3] + (fr + 0.5) * gt[5], &lat, &lon);
+    GDALClose(ds);
+    snprintf(pos, sizeof pos, "%.9f %.9f", lat, lon);
+    EXPECT_EQ_INT(1, run_point(path, pos, json, sizeof json, err, sizeof err));
+    EXPECT_CONTAINS(err, "in a void");
+    EXPECT_CONTAINS(err, HOOD);
+    EXPECT_CONTAINS(err, pos);
+}
+
+/* A hole of 80 x 80 posts is beyond the default --fill-max (64): not filled, a void. */
+TEST(void_in_large_hole_exits_1)
+{
+    char path[256], json[8192], err[2048];
+    snprintf(path, sizeof path, "%s/plane_hole.tif", tmp_dir());
+    write_plane(path, 0.1, 0.1, 120, 120, 80);
+    /* the centre post (60, 60) */
+    const char* pos = "33n 500605 4649395";
+    EXPECT_EQ_INT(1, run_point(path, pos, json, sizeof json, err, sizeof err));
+    EXPECT_CONTAINS(err, "in a void");
+    EXPECT_CONTAINS(err, "plane_hole.tif");
+    /* and outside the hole the plane is there */
+    EXPECT_EQ_INT(0, run_point(path, "33n 500055 4649945", json, sizeof json, err, sizeof err));
+    EXPECT_NEAR(json_number(json, "elevation_m"), 1000.0 + 0.1 * 55 - 0.1 * 55, 0.01);
+}
+
+TEST(unreadable_position_exits_2)
+{
+    char path[1024], json[64], err[2048];
+    GDALDatasetH ds = open_shared(HOOD, path, sizeof path);
+    GDALClose(ds);
+    EXPECT_EQ_INT(2, run_point(path, "40N 41N", json, sizeof json, err, sizeof err));
+    EXPECT_CONTAINS(err, "Both 40N and 41N interpreted as latitudes");
+}
+
+#define TESTS(X)                                                                                   \
+    X(post_height_equals_gdal_sample)                                                              \
+    X(warped_dem_height_within_source_neighbourhood)                                               \
+    X(plane_slope_and_aspect)                                                                      \
+    X(store_answers_as_its_dem)                                                                    \
+    X(outside_dem_exits_1)                                                                         \
+    X(void_in_nodata_collar_exits_1)                                                               \
+    X(void_in_large_hole_exits_1)                                                                  \
+    X(unreadable_position_exits_2)
+TP_TEST_MAIN(TESTS)
