@@ -11,6 +11,7 @@
 #include "navigate.h"
 #include "overlay.h"
 #include "pick.h"
+#include "point_readout.h"
 #include "tp_geo.h"
 
 #include <epoxy/gl.h>
@@ -27,7 +28,8 @@ static const char* help_text =
     "L colour by level   T wireframe   F freeze LoD and culling   M LoD mode\n"
     "+/- tau (or maxdist)   [ ] mindist   , . exp   X/Z exaggeration   V filled-void tint\n"
     "J/K sun azimuth   U/N sun elevation   G 1 km grid   P screenshot   Y export mesh\n"
-    "C print camera   H hide HUD   right-click twice: measure   ? this help   Esc quit";
+    "C print camera   H hide HUD   right-click twice: measure   I or middle-click: what is here\n"
+    "? this help   Esc quit";
 
 typedef struct window_state {
     tp_view_scene* v;
@@ -39,6 +41,7 @@ typedef struct window_state {
     double picks[2][3];
     int picked;
     char measure_line[512];
+    tp_ground* ground; /* the point readout's full-resolution queries; made on first use */
 } window_state;
 
 static const char* lod_name(tp_lod_mode m)
@@ -141,6 +144,44 @@ static void measure_click(window_state* s, GLFWwindow* win, double x, double y)
     }
 }
 
+/* The point readout ("what is here?", I or a middle click): the ground under the cursor,
+ * printed to stdout as `terrapatch point` prints it and shown on the HUD where the measuring
+ * tool's line goes. */
+static void point_click(window_state* s, GLFWwindow* win, double x, double y)
+{
+    int ww, wh;
+    glfwGetWindowSize(win, &ww, &wh);
+    double px = x * s->cam->viewport_w_px / fmax(ww, 1), py = y * s->cam->viewport_h_px / fmax(wh, 1);
+    double p[3];
+    if (!s->v->store) {
+        snprintf(s->measure_line, sizeof s->measure_line,
+                 "point readout: only on a georeferenced DEM or a store");
+        return;
+    }
+    if (!tp_view_pick(s->v, s->cam, px, py, p)) {
+        snprintf(s->measure_line, sizeof s->measure_line, "point readout: no ground under the cursor");
+        return;
+    }
+    tp_error err = {{0}};
+    if (!s->ground && tp_ground_create(s->v->store, NULL, &s->ground, &err) != TP_OK) {
+        snprintf(s->measure_line, sizeof s->measure_line, "point readout: %.400s", err.message);
+        return;
+    }
+    tp_point_readout r;
+    char msg[1024];
+    const char* source = s->v->path ? s->v->path : s->v->store->path;
+    if (!tp_point_readout_at_world(s->ground, source, p[0], p[1], 5, &r, msg, sizeof msg)) {
+        snprintf(s->measure_line, sizeof s->measure_line, "point readout: %.400s", msg);
+        printf("point: %s\n", msg);
+    } else {
+        char text[2048];
+        tp_point_readout_text(&r, text, sizeof text);
+        printf("point:\n%s", text);
+        tp_point_readout_hud(&r, s->measure_line, sizeof s->measure_line);
+    }
+    fflush(stdout);
+}
+
 static void on_char(window_state* s, int c)
 {
     switch (c) {
@@ -187,6 +228,12 @@ static void on_key(window_state* s, int key)
     case GLFW_KEY_P: s->want_shot = 1; break;
     case GLFW_KEY_Y: export_view(s); break;
     case GLFW_KEY_C: print_camera(s); break;
+    case GLFW_KEY_I: {
+        double mx, my;
+        glfwGetCursorPos(glfwGetCurrentContext(), &mx, &my);
+        point_click(s, glfwGetCurrentContext(), mx, my);
+        break;
+    }
     }
 }
 
@@ -233,6 +280,8 @@ int tp_view_window_run(tp_view_scene* v, tp_gl_context* ctx, tp_renderer* r, tp_
                 on_char(&s, ev.key);
             else if (ev.kind == TP_INPUT_CLICK && ev.key == GLFW_MOUSE_BUTTON_RIGHT)
                 measure_click(&s, win, ev.x, ev.y);
+            else if (ev.kind == TP_INPUT_CLICK && ev.key == GLFW_MOUSE_BUTTON_MIDDLE)
+                point_click(&s, win, ev.x, ev.y);
         }
         double mx, my, look_dx = 0, look_dy = 0;
         glfwGetCursorPos(win, &mx, &my);
@@ -297,5 +346,6 @@ int tp_view_window_run(tp_view_scene* v, tp_gl_context* ctx, tp_renderer* r, tp_
         glfwSetWindowTitle(win, title);
     }
     tp_hud_destroy(hud);
+    tp_ground_destroy(s.ground);
     return TP_EXIT_OK;
 }
