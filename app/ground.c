@@ -7,9 +7,6 @@
 #define _POSIX_C_SOURCE 200809L
 #include "ground.h"
 
-#include "cli.h"
-#include "store_cache.h"
-
 #include "tp_geo.h"
 
 #include <assert.h>
@@ -32,12 +29,16 @@ struct tp_ground {
     int64_t* key;                   /* leaf in each slot, -1 when empty */
     uint16_t** slot;                /* allocated on first use */
     size_t reads;
-    /* tp_ground_open only: the scene we own and what to remove when done */
-    tp_store_scene owned;
-    int owns;
-    char store_path[4096];
-    int temporary;
+    /* tp_ground_open only: what owns the scene, released after the ground */
+    void (*release)(void* owner);
+    void* owner;
 };
+
+void tp__ground_set_owner(tp_ground* g, void (*release)(void* owner), void* owner)
+{
+    g->release = release;
+    g->owner = owner;
+}
 
 tp_status tp_ground_create(const tp_store_scene* sc, const tp_ground_options* o,
                            tp_ground** out, tp_error* err)
@@ -82,62 +83,6 @@ tp_status tp_ground_create(const tp_store_scene* sc, const tp_ground_options* o,
     return TP_OK;
 }
 
-int tp_ground_open(const char* path, const tp_ground_options* o, tp_ground** out)
-{
-    tp_ground_options opts = o ? *o : (tp_ground_options){0};
-    const char* cmd = opts.cmd ? opts.cmd : "point";
-    char store[4096];
-    int temporary = 0;
-    if (tp_is_store_path(path)) {
-        snprintf(store, sizeof store, "%s", path);
-    } else {
-        /* the options view uses by default, so that both share one cached store */
-        tp_store_cache_options co = {.cache_dir = opts.cache_dir,
-                                     .patch_size = TP_DEFAULT_PATCH_SIZE,
-                                     .cmd = cmd};
-        int code = tp_store_cache_get(path, &co, store, sizeof store, &temporary);
-        if (code != TP_EXIT_OK)
-            return code;
-    }
-    tp_ground* g = calloc(1, sizeof *g);
-    if (!g) {
-        fprintf(stderr, "terrapatch: %s: out of memory\n", path);
-        if (temporary)
-            tp_store_cache_remove_temporary(store);
-        return TP_EXIT_FAILURE;
-    }
-    memcpy(g->store_path, store, sizeof store);
-    g->temporary = temporary;
-    /* the scene borrows its path: ours lives as long as it */
-    int code = tp_store_scene_open(g->store_path, &g->owned);
-    if (code != TP_EXIT_OK) {
-        if (temporary)
-            tp_store_cache_remove_temporary(g->store_path);
-        free(g);
-        return code;
-    }
-    tp_ground* q = NULL;
-    tp_error err = {{0}};
-    if (tp_ground_create(&g->owned, &opts, &q, &err) != TP_OK) {
-        fprintf(stderr, "terrapatch: %s: %s\n", path, err.message);
-        tp_store_scene_close(&g->owned);
-        if (temporary)
-            tp_store_cache_remove_temporary(g->store_path);
-        free(g);
-        return TP_EXIT_FAILURE;
-    }
-    /* move the scene and the paths into the ground tp_ground_create made */
-    q->owned = g->owned;
-    q->sc = &q->owned;
-    q->owned.path = q->store_path;
-    memcpy(q->store_path, g->store_path, sizeof q->store_path);
-    q->temporary = g->temporary;
-    q->owns = 1;
-    free(g);
-    *out = q;
-    return TP_EXIT_OK;
-}
-
 void tp_ground_destroy(tp_ground* g)
 {
     if (!g)
@@ -148,12 +93,11 @@ void tp_ground_destroy(tp_ground* g)
             free(g->slot[i]);
     free(g->slot);
     free(g->key);
-    if (g->owns) {
-        tp_store_scene_close(&g->owned);
-        if (g->temporary)
-            tp_store_cache_remove_temporary(g->store_path);
-    }
+    void (*release)(void*) = g->release;
+    void* owner = g->owner;
     free(g);
+    if (release)
+        release(owner);
 }
 
 const tp_store_scene* tp_ground_scene(const tp_ground* g)

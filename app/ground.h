@@ -1,7 +1,7 @@
 /*
  * ground.h - the full-resolution ground under a position, for every command and tool that
  * asks "what is the ground here?" (`terrapatch point`, the viewer's point readout; line of
- * sight, viewsheds and profiles next). app/ground.c.
+ * sight, viewsheds and profiles next). app/ground.c; tp_ground_open in app/ground_open.c.
  *
  * A tp_ground answers on a built store (.tpt): a DEM is first built into the store cache as
  * `terrapatch view` builds it (store_cache.c, the same cached file), so that every command
@@ -86,6 +86,10 @@ tp_status tp_ground_query_grid(tp_ground* g, double x, double y, tp_ground_sampl
 /* The same at render-CRS (E, N). */
 tp_status tp_ground_query_world(tp_ground* g, double e_m, double n_m, tp_ground_sample* out,
                                 tp_error* err);
+
+/* For tp_ground_open (ground_open.c): release(owner) runs when g is destroyed, after g is
+ * gone (it closes the scene g borrowed). */
+void tp__ground_set_owner(tp_ground* g, void (*release)(void* owner), void* owner);
 
 /* Leaves read from the store so far (cache misses). */
 size_t tp_ground_reads(const tp_ground* g);
