@@ -162,6 +162,11 @@ TEST(bad_positions_say_why)
     parse_fails("nan 3", 0, "got 'nan'");
     parse_fails("inf 0d", 0, "");
     parse_fails("40d61'N 3", 0, "");
+    /* GeographicLib 2.1.2 writes past its arrays on a ':' after the seconds (found by
+     * tests/fuzz/fuzz_position): refused before it is called */
+    parse_fails("7\"9:58:56W 40:26:46N", 0, "more than 3 components");
+    parse_fails("1:2:3:4 5", 0, "more than 3 components");
+    parse_fails("1''2:3 5", 0, "more than 3 components");
     parse_fails("", 0, "got an empty line");
     parse_fails("1 2 3 4", 0, "got 4 fields");
     parse_fails("45 7 100", 0, "are not a position here");

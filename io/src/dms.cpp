@@ -44,6 +44,36 @@ tp_status failed(tp_error* err, const char* what)
     }
 }
 
+/* GeographicLib 2.1.2's DMS::InternalDecode takes a ':' as "the next component" without
+ * checking that there is one: after a seconds component (or two colons) the next ':' writes
+ * past its 3-element arrays and reads components_[3] (a crash, found by
+ * tests/fuzz/fuzz_position: 7"9:58:56W). Refused here before the call: a ':' where the
+ * components seen so far may already be 3. The bound is an upper one: d is the 1st, ' (or a
+ * UTF-8 symbol, which GeographicLib may read as any of them, so as the 3rd) the 2nd, " or ''
+ * the 3rd, ':' one more than the last. */
+bool colon_past_seconds(const char* s)
+{
+    int pieces = 0;
+    for (const unsigned char* p = (const unsigned char*)s; *p; ++p) {
+        unsigned char c = *p;
+        if (c == 'd' || c == 'D') {
+            pieces = pieces > 1 ? pieces : 1;
+        } else if (c == '\'' && p[1] == '\'') {
+            pieces = 3;
+            ++p;
+        } else if (c == '\'') {
+            pieces = pieces > 2 ? pieces : 2;
+        } else if (c == '"' || c >= 0x80) {
+            pieces = 3;
+        } else if (c == ':') {
+            if (pieces >= 3)
+                return true;
+            ++pieces;
+        }
+    }
+    return false;
+}
+
 } // namespace
 
 extern "C" tp_status tp_dms_decode_latlon(const char* a, const char* b, double* lat_deg,
@@ -61,6 +91,10 @@ extern "C" tp_status tp_dms_decode_latlon(const char* a, const char* b, double* 
         }
         if (len > kMaxDmsInput) {
             set_error(err, "angle of %zu characters is too long (at most %zu)", len, kMaxDmsInput);
+            return TP_ERR_INVALID_ARG;
+        }
+        if (colon_past_seconds(s)) {
+            set_error(err, "%s: more than 3 components (degrees, minutes, seconds)", s);
             return TP_ERR_INVALID_ARG;
         }
     }
