@@ -165,7 +165,7 @@ TEST(bad_positions_say_why)
     /* GeographicLib 2.1.2 writes past its arrays on a ':' after the seconds (found by
      * tests/fuzz/fuzz_position): refused before it is called */
     parse_fails("7\"9:58:56W 40:26:46N", 0, "more than 3 components");
-    parse_fails("1:2:3:4 5", 0, "more than 3 components");
+    parse_fails("1:2:3:4 5", 0, "Extra text following seconds");
     parse_fails("1''2:3 5", 0, "more than 3 components");
     parse_fails("", 0, "got an empty line");
     parse_fails("1 2 3 4", 0, "got 4 fields");
