@@ -168,6 +168,18 @@ void tp_view_overlay_draw(tp_hud* hud, const tp_view_scene* v, const tp_camera* 
         block(hud, &l, w, h, 10, bottom, w - 16, th * s, s, ov->measure_line);
         bottom -= 4 * s;
     }
+    if (ov->has_mark) {
+        /* drawn space: heights times the exaggeration, as the terrain is drawn */
+        double p[3] = {ov->mark_enh[0], ov->mark_enh[1],
+                       ov->mark_enh[2] * tp_view_scene_vertical_scale(v)},
+               px[2];
+        if (tp_camera_project(cam, p, px, NULL) && px[0] >= 0 && px[1] >= 0 && px[0] < w &&
+            px[1] < h) {
+            float x0 = (float)px[0] - 2.5f * s, y0 = (float)px[1] - 3.5f * s;
+            tp_hud_text(hud, w, h, x0, y0, s, "+");
+            occupy(&l, x0 - 2, y0 - 2, x0 + 7 * s, y0 + 9 * s);
+        }
+    }
     if (ov->hud_text) {
         compass_and_scale(hud, &l, v, cam, bottom, s);
         /* the HUD and the help end above the north arrow (about 105 px at scale 1) */

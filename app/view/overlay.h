@@ -14,6 +14,8 @@ typedef struct tp_overlay {
     const char* help_text;    /* NULL: none */
     const char* measure_line; /* NULL or "": none */
     double grid_m;            /* grid label spacing (0: no labels) */
+    int has_mark;             /* mark_enh: a ground point marked with "+" (the point readout) */
+    double mark_enh[3];       /* E, N (render CRS) and true height (m) */
 } tp_overlay;
 
 /* The text scale the overlay uses for a viewport: 2 from 1000 px wide, else 1. */

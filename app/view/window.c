@@ -42,6 +42,8 @@ typedef struct window_state {
     int picked;
     char measure_line[512];
     tp_ground* ground; /* the point readout's full-resolution queries; made on first use */
+    int has_mark;      /* the last point readout's ground point, marked on screen */
+    double mark[3];
 } window_state;
 
 static const char* lod_name(tp_lod_mode m)
@@ -133,6 +135,7 @@ static void measure_click(window_state* s, GLFWwindow* win, double x, double y)
     if (!tp_view_pick(s->v, s->cam, px, py, p))
         return;
     s->picked++;
+    s->has_mark = 0; /* the measurement replaces the point readout on the HUD */
     if (s->picked % 2 == 0) {
         double e[2] = {s->picks[0][0], s->picks[1][0]}, n[2] = {s->picks[0][1], s->picks[1][1]};
         tp_view_measure_points(s->v, e, n, s->measure_line, sizeof s->measure_line);
@@ -178,6 +181,10 @@ static void point_click(window_state* s, GLFWwindow* win, double x, double y)
         tp_point_readout_text(&r, text, sizeof text);
         printf("point:\n%s", text);
         tp_point_readout_hud(&r, s->measure_line, sizeof s->measure_line);
+        s->has_mark = 1;
+        s->mark[0] = p[0];
+        s->mark[1] = p[1];
+        s->mark[2] = r.ground.height_m;
     }
     fflush(stdout);
 }
@@ -317,7 +324,9 @@ int tp_view_window_run(tp_view_scene* v, tp_gl_context* ctx, tp_renderer* r, tp_
         if (frames++ > 0)
             fps = fps > 0 ? 0.9 * fps + 0.1 / fmax(dt, 1e-6) : 1 / fmax(dt, 1e-6);
         char text[4096];
-        tp_overlay ov = {.grid_m = o->render.grid_m, .measure_line = s.measure_line};
+        tp_overlay ov = {.grid_m = o->render.grid_m, .measure_line = s.measure_line,
+                         .has_mark = s.has_mark};
+        memcpy(ov.mark_enh, s.mark, sizeof ov.mark_enh);
         if (s.show_hud) {
             if (now - measured_at > 1.0) { /* once a second */
                 tp_view_measure_now(v, cam, &me);
