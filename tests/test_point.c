@@ -193,6 +193,8 @@ TEST(warped_dem_height_within_source_neighbourhood)
 
 /* Writes a GeoTIFF (WGS 84 / UTM 33N, 10 m posts, north-up) of z = 1000 + a (E - E0) +
  * b (N - N0), with a hole of hole x hole posts of nodata in the middle when hole > 0. */
+static const char* g_plane_crs = "EPSG:32633"; /* what write_plane tags the plane with */
+
 static void write_plane(const char* path, double a, double b, int w, int h, int hole)
 {
     GDALAllRegister();
@@ -203,7 +205,7 @@ static void write_plane(const char* path, double a, double b, int w, int h, int 
     double gt[6] = {PLANE_E0, PLANE_STEP_M, 0, PLANE_N0, 0, -PLANE_STEP_M};
     GDALSetGeoTransform(ds, gt);
     OGRSpatialReferenceH srs = OSRNewSpatialReference(NULL);
-    OSRImportFromEPSG(srs, 32633);
+    ASSERT_TRUE(OSRSetFromUserInput(srs, g_plane_crs) == OGRERR_NONE);
     char* wkt = NULL;
     OSRExportToWkt(srs, &wkt);
     GDALSetProjection(ds, wkt);
@@ -285,6 +287,36 @@ TEST(store_answers_as_its_dem)
     EXPECT_NEAR(h_store, 1000.0 + 0.2 * 205 + 0.1 * (-305), 0.01);
 }
 
+/* ---- the vertical datum: what the file states, else unknown (SRTM: assumed EGM96) ---- */
+
+static void datum_of(const char* dem, const char* pos, char* json, size_t cap)
+{
+    char err[2048];
+    ASSERT_EQ_INT(0, run_point(dem, pos, json, cap, err, sizeof err));
+}
+
+TEST(vertical_datum_as_the_file_states)
+{
+    char path[1024], json[8192];
+    /* a compound CRS: WGS 84 / UTM 33N + EGM96 height (EPSG:5773) */
+    snprintf(path, sizeof path, "%s/plane_egm96.tif", tmp_dir());
+    g_plane_crs = "EPSG:32633+5773";
+    write_plane(path, 0.1, 0.1, PLANE_W, PLANE_H, 0);
+    g_plane_crs = "EPSG:32633";
+    datum_of(path, "33n 500205 4649695", json, sizeof json);
+    EXPECT_CONTAINS(json, "\"vertical_datum\": \"EGM96 height (as the file states)\"");
+    /* a plain projected CRS says nothing */
+    snprintf(path, sizeof path, "%s/plane_nodatum.tif", tmp_dir());
+    write_plane(path, 0.1, 0.1, PLANE_W, PLANE_H, 0);
+    datum_of(path, "33n 500205 4649695", json, sizeof json);
+    EXPECT_CONTAINS(json, "\"vertical_datum\": \"unknown (the file states none)\"");
+    /* SRTM states none either: the assumption is named as one */
+    if (!tp_test_data_path(path, sizeof path, "TP_SHARED_DATA_DIR", "N42E001.hgt"))
+        SKIP("N42E001.hgt not found (set TP_SHARED_DATA_DIR)");
+    datum_of(path, "42.5 1.5", json, sizeof json);
+    EXPECT_CONTAINS(json, "assumed EGM96");
+}
+
 /* ---- bad positions ---- */
 
 TEST(outside_dem_exits_1)
@@ -359,6 +391,7 @@ TEST(unreadable_position_exits_2)
     X(warped_dem_height_within_source_neighbourhood)                                               \
     X(plane_slope_and_aspect)                                                                      \
     X(store_answers_as_its_dem)                                                                    \
+    X(vertical_datum_as_the_file_states)                                                           \
     X(outside_dem_exits_1)                                                                         \
     X(void_in_nodata_collar_exits_1)                                                               \
     X(void_in_large_hole_exits_1)                                                                  \
