@@ -204,13 +204,15 @@ static void write_plane(const char* path, double a, double b, int w, int h, int 
     ASSERT_TRUE(ds != NULL);
     double gt[6] = {PLANE_E0, PLANE_STEP_M, 0, PLANE_N0, 0, -PLANE_STEP_M};
     GDALSetGeoTransform(ds, gt);
-    OGRSpatialReferenceH srs = OSRNewSpatialReference(NULL);
-    ASSERT_TRUE(OSRSetFromUserInput(srs, g_plane_crs) == OGRERR_NONE);
-    char* wkt = NULL;
-    OSRExportToWkt(srs, &wkt);
-    GDALSetProjection(ds, wkt);
-    CPLFree(wkt);
-    OSRDestroySpatialReference(srs);
+    if (g_plane_crs[0]) { /* "": no CRS at all */
+        OGRSpatialReferenceH srs = OSRNewSpatialReference(NULL);
+        ASSERT_TRUE(OSRSetFromUserInput(srs, g_plane_crs) == OGRERR_NONE);
+        char* wkt = NULL;
+        OSRExportToWkt(srs, &wkt);
+        GDALSetProjection(ds, wkt);
+        CPLFree(wkt);
+        OSRDestroySpatialReference(srs);
+    }
     GDALRasterBandH band = GDALGetRasterBand(ds, 1);
     GDALSetRasterNoDataValue(band, -9999.0);
     float* z = malloc(sizeof(float) * (size_t)w * (size_t)h);
@@ -377,6 +379,18 @@ TEST(void_in_large_hole_exits_1)
     EXPECT_NEAR(json_number(json, "elevation_m"), 1000.0 + 0.1 * 55 - 0.1 * 55, 0.01);
 }
 
+/* A DEM without a CRS has no latitude or longitude: no position can be put on it. */
+TEST(dem_without_crs_exits_1)
+{
+    char path[256], json[64], err[2048];
+    snprintf(path, sizeof path, "%s/plane_nocrs.tif", tmp_dir());
+    g_plane_crs = "";
+    write_plane(path, 0.1, 0.1, PLANE_W, PLANE_H, 0);
+    g_plane_crs = "EPSG:32633";
+    EXPECT_EQ_INT(1, run_point(path, "45 7", json, sizeof json, err, sizeof err));
+    EXPECT_CONTAINS(err, "plane_nocrs.tif: has no CRS");
+}
+
 TEST(unreadable_position_exits_2)
 {
     char path[1024], json[64], err[2048];
@@ -395,5 +409,6 @@ TEST(unreadable_position_exits_2)
     X(outside_dem_exits_1)                                                                         \
     X(void_in_nodata_collar_exits_1)                                                               \
     X(void_in_large_hole_exits_1)                                                                  \
+    X(dem_without_crs_exits_1)                                                                     \
     X(unreadable_position_exits_2)
 TP_TEST_MAIN(TESTS)
