@@ -624,6 +624,94 @@ TEST(screen_error_within_tau)
     free(h);
 }
 
+/* Drawn nodes of the last update that are incomplete, and of those, how many lie above the
+ * leaves (scale >= 1) or below their finest level. */
+static void count_incomplete(const tp_tree* t, const tp_cut* cut, int* incomplete, int* collapsed)
+{
+    const tp_tree_geometry* g = tp_tree_get_geometry(t);
+    size_t count;
+    const tp_cut_node* nodes = tp_cut_nodes(cut, &count);
+    *incomplete = *collapsed = 0;
+    for (size_t i = 0; i < count; i++) {
+        if (tp_tree_meta(t, nodes[i].node)->flags & TP_NODE_COMPLETE)
+            continue;
+        int s, c, r;
+        tp_tree_node_locate(g, nodes[i].node, &s, &c, &r);
+        (*incomplete)++;
+        *collapsed += s > 0 || nodes[i].level < g->n;
+    }
+}
+
+/* The whole SRTM tile with its voids (some hundreds of samples wide in the high Pyrenees),
+ * seen from far: nodes over a void's edge collapse like the others instead of staying leaves
+ * at full resolution, tau still holds, no crack, and holes stay within a cell. With holes
+ * forbidden (what the export asks), every incomplete node drawn is a leaf at level n. */
+TEST(incomplete_nodes_collapse_far_away)
+{
+    LOAD_OR_SKIP(h, 0, 0, 1201, 1201);
+    size_t voids = 0;
+    for (size_t i = 0; i < (size_t)1201 * 1201; i++)
+        voids += isnan(h[i]);
+    ASSERT_TRUE(voids > 1000); /* the raw tile has its voids */
+    tp_tree* t = make_tree(h, 1201, 1201, 17);
+    tp_cut* cut;
+    ASSERT_OK(tp_cut_create(t, &cut, NULL));
+    const double heights[] = {8000, 30000, 80000};
+    int collapsed_total = 0;
+    for (int v = 0; v < 3; v++) {
+        tp_camera cam; /* from the south-west corner, looking north-east over the tile */
+        camera_at(t, 100, 1100, heights[v], 45, -35, &cam);
+        tp_lod_params lp = {.mode = TP_LOD_ERROR, .tau_px = 1};
+        for (int hp = 1; getenv("TP_HOLE_SWEEP") && hp <= 16; hp *= 2) {
+            lp.hole_px = hp;
+            ASSERT_OK(tp_cut_update(cut, &cam, &lp, NULL));
+            int i2, c2;
+            count_incomplete(t, cut, &i2, &c2);
+            tp_cut_stats s2;
+            tp_cut_get_stats(cut, &s2);
+            printf("hole %2d px: %d nodes (%d incomplete, %d collapsed), %zu triangles\n", hp,
+                   s2.drawn, i2, c2, s2.triangles);
+        }
+        lp.hole_px = 0;
+        ASSERT_OK(tp_cut_update(cut, &cam, &lp, NULL));
+        int inc, col;
+        count_incomplete(t, cut, &inc, &col);
+        tp_cut_stats st;
+        tp_cut_get_stats(cut, &st);
+        double max_px = -1;
+        ASSERT_OK(tp_cut_measure_screen_error(cut, &cam, &max_px, NULL, NULL, NULL));
+        EXPECT_LE(max_px, lp.tau_px + 1e-6);
+        EXPECT_EQ_INT(0, check_watertight(t, cut, NULL));
+        /* holes forbidden: the old cut, every incomplete node a leaf at level n */
+        lp.hole_px = 1e-300;
+        ASSERT_OK(tp_cut_update(cut, &cam, &lp, NULL));
+        int inc_exact, col_exact;
+        count_incomplete(t, cut, &inc_exact, &col_exact);
+        tp_cut_stats ex;
+        tp_cut_get_stats(cut, &ex);
+        EXPECT_EQ_INT(0, col_exact);
+        EXPECT_GE(inc_exact, inc);
+        EXPECT_GE(ex.drawn, st.drawn);
+        EXPECT_EQ_INT(0, check_watertight(t, cut, NULL));
+        printf("%6.0f m up: %d nodes drawn (%d incomplete, %d of them collapsed), %zu "
+               "triangles; holes forbidden: %d nodes (%d incomplete), %zu triangles; "
+               "measured %.3f px\n",
+               heights[v], st.drawn, inc, col, st.triangles, ex.drawn, inc_exact, ex.triangles,
+               max_px);
+        collapsed_total += col;
+    }
+    EXPECT_GT(collapsed_total, 0);
+    tp_lod_params bad = {.mode = TP_LOD_ERROR, .hole_px = -1};
+    tp_camera cam;
+    camera_at(t, 100, 1100, 8000, 45, -35, &cam);
+    EXPECT_STATUS(TP_ERR_INVALID_ARG, tp_cut_update(cut, &cam, &bad, NULL));
+    bad.hole_px = NAN;
+    EXPECT_STATUS(TP_ERR_INVALID_ARG, tp_cut_update(cut, &cam, &bad, NULL));
+    tp_cut_destroy(cut);
+    tp_tree_destroy(t);
+    free(h);
+}
+
 static int cut_equal(const tp_cut* a, const tp_cut_node* saved, size_t saved_count)
 {
     size_t n;
@@ -1091,6 +1179,7 @@ TEST(requests_only_update_asks_as_the_full_update)
     X(watertight_for_random_views)                                                                 \
     X(watertight_for_adversarial_cuts)                                                             \
     X(screen_error_within_tau)                                                                     \
+    X(incomplete_nodes_collapse_far_away)                                                          \
     X(substitution_keeps_the_surface_whole)                                                        \
     X(cost_does_not_grow_with_the_map)                                                             \
     X(drawn_height_follows_the_triangles)                                                          \

@@ -324,6 +324,10 @@ typedef enum tp_lod_mode {
                            <= max_error_m everywhere (see tp_selection_update) */
 } tp_lod_mode;
 
+/* The default widest hole along a void's edge (tp_lod_params.hole_px): docs/hierarchy.md,
+ * "Voids", says how it was chosen. */
+#define TP_DEFAULT_HOLE_PX 4.0
+
 typedef struct tp_lod_params {
     tp_lod_mode mode;
     /* distance mode. mindist and maxdist BOTH zero mean defaults derived from the terrain:
@@ -333,7 +337,8 @@ typedef struct tp_lod_params {
     double tau_px; /* error mode: screen-space error threshold in pixels; 0 means 1 */
     /* error mode over a tree (tp_cut_update): the widest hole, in pixels, that an incomplete
      * node drawn below its finest level may leave along a void's edge (valid samples in cells
-     * that are not whole, see tp_node_mask_from_q); 0 means tau_px. Infinity: no limit. */
+     * that are not whole, see tp_node_mask_from_q); 0 means TP_DEFAULT_HOLE_PX. Infinity: no
+     * limit; a tiny value keeps every such node at full resolution (what an export wants). */
     double hole_px;
     /* max-error mode: the bound (metres, finite, > 0; no default). The error is measured
      * against reference_heights when given: the source grid as given to tp_terrain_create
