@@ -611,6 +611,37 @@ const tp_node_meta* tp_store_metas(const tp_store* s, size_t* count);
 tp_status tp_store_read_node(const tp_store* s, int64_t node, uint16_t* samples,
                              size_t sample_capacity, tp_error* err);
 
+/* ---------------------------------------------------------------------------------------------
+ * Viewsheds through GDAL (io/src/viewshed_gdal.cpp)
+ *
+ * The core computes viewsheds itself (tp_viewshed_compute); these are for comparing with GDAL
+ * and for saving the result.
+ */
+
+/* GDAL's own viewshed (GDALViewshedGenerate, the library form of gdal_viewshed, mode GVM_Edge
+ * as gdal_viewshed's default, values 255 / 0 / 0 outside the radius) of the same in-memory grid
+ * and observer, with tp_viewshed_compute's arguments, into out (out_count >= width * height; the
+ * samples outside GDAL's window are 0). The grid goes to GDAL as a Float32 MEM dataset (NaN =
+ * nodata) whose CRS is a sphere of options->earth_radius_m (GDAL takes the curvature's earth
+ * from the CRS's semi-major axis), and the observer as its sample's centre. Fails as
+ * tp_viewshed_compute does for the observer (outside the grid: TP_ERR_INVALID_ARG; on nodata:
+ * TP_ERR_BAD_DATA, checked here since GDAL would spread the NaN); TP_ERR_BACKEND when GDAL
+ * fails. out is untouched on failure. */
+tp_status tp_gdal_viewshed(const float* heights, size_t height_count, int width, int height,
+                           const double geotransform[6], int observer_x, int observer_y,
+                           const tp_viewshed_options* options, uint8_t* out, size_t out_count,
+                           tp_error* err);
+
+/* Writes a viewshed (values, width * height bytes = value_count, row 0 first) as a one-band
+ * Byte GeoTIFF (DEFLATE) with geotransform and crs_wkt ("" or NULL: none), e.g. a render
+ * grid's: encoded in memory by GDAL, then written with tp_file_write (whole or not at all; an
+ * older file stays as it was on failure). No nodata tag: 0 is "not seen". TP_ERR_INVALID_ARG
+ * for NULL values or path, a size mismatch, a bad path (as tp_file_begin); TP_ERR_BAD_DATA for
+ * a crs_wkt GDAL cannot read; TP_ERR_IO when writing fails; TP_ERR_BACKEND when GDAL does. */
+tp_status tp_viewshed_write_geotiff(const char* path, const uint8_t* values, size_t value_count,
+                                    int width, int height, const double geotransform[6],
+                                    const char* crs_wkt, tp_error* err);
+
 #ifdef __cplusplus
 }
 #endif
