@@ -280,15 +280,15 @@ static void progress_update(progress* p, double done, double total, double sampl
 /* ---- the build ---- */
 
 
-static int emit_node(int64_t node, const tp_node_meta* meta, const int32_t* q, void* user,
-                     tp_error* err)
+static int emit_node(int64_t node, const tp_node_meta* meta, const int32_t* q,
+                     const uint16_t* mask, void* user, tp_error* err)
 {
     emit_ctx* e = user;
     if (tp_interrupted()) {
         snprintf(err->message, sizeof err->message, "interrupted");
         return 1;
     }
-    if (tp_store_writer_add_node(e->writer, node, meta, q, err) != TP_OK)
+    if (tp_store_writer_add_node(e->writer, node, meta, q, mask, err) != TP_OK)
         return 1;
     e->nodes++;
     return 0;
@@ -296,7 +296,7 @@ static int emit_node(int64_t node, const tp_node_meta* meta, const int32_t* q, v
 
 /* What the build allocates that grows with the grid (bytes): the band read (floats) and
  * quantised (int32), the tree builder (tp_core.h: its decimated rows, a block of samples per
- * node of a row, two rows of metas per scale) and the store writer's bit per node (it writes
+ * node of a row, two rows of metas and masks per scale) and the store writer's bit per node (it writes
  * the node and location tables into the file as nodes come: docs/store.md). GDAL's block cache comes on top (a quarter of --memory);
  * the program's fixed part (libraries, about 156 MB resident: docs/PERFORMANCE.md) is not counted. */
 static double build_memory_bytes(const tp_tree_geometry* g, int src_width, int fill_max)
@@ -307,7 +307,8 @@ static double build_memory_bytes(const tp_tree_geometry* g, int src_width, int f
     const double fill = fill_max > 0 ? (side + 2.0 * (fill_max + 1)) * src_width * 13.0 : 0;
     const double band = side * src_width * sizeof(float) + side * g->width * sizeof(int32_t);
     const double builder = 4 * side * ((2 + 1.0 / (1 << g->n)) * g->width + g->scales) +
-                           4.0 * g->cols * sizeof(tp_node_meta) + 2048;
+                           4.0 * g->cols * (sizeof(tp_node_meta) + (1u << (2 * g->n - 3))) +
+                           2048;
     const double added = (double)g->node_count / 8;
     /* zstd's context, one node's scratch, the writer's run of table entries and read-back buffer */
     return band + fill + builder + added + (1 << 20);

@@ -219,8 +219,7 @@ tp_stream* tp_stream_create(const tp_store* store, tp_tree* tree, const tp_strea
     s->tree = tree;
     tp_store_get_info(store, &s->info);
     s->g = tp_tree_get_geometry(tree);
-    size_t v = ((size_t)1 << s->g->n) + 1;
-    s->block_samples = v * v;
+    s->block_samples = tp_tree_block_words(s->g->n); /* samples and cell mask */
     s->block_bytes = s->block_samples * sizeof(uint16_t);
     s->budget = o && o->memory_bytes ? o->memory_bytes : (size_t)1 << 30;
     s->prefetch_s = o && o->prefetch_s > 0 ? o->prefetch_s : 0.5;

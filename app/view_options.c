@@ -45,6 +45,11 @@ int tp_view_option(int opt, const char* arg, tp_view_setup* v, const char* cmd)
         *field[opt - TP_OPT_TAU] = x;
         return 1;
     }
+    case TP_OPT_HOLE:
+        if (!tp_parse_numbers(arg, &x, 1) || !(x > 0))
+            return tp_option_error(cmd, "--hole", "pixels > 0", arg);
+        v->lod.hole_px = x;
+        return 1;
     case TP_OPT_FOV:
         if (!tp_parse_numbers(arg, &x, 1) || !(x > 0 && x < 180))
             return tp_option_error(cmd, "--fov", "degrees in (0, 180)", arg);
@@ -101,6 +106,10 @@ void tp_view_options_help(FILE* out)
           "                        (defaults: 1 and 24 patch widths, e.g. 480 and 11520 m for\n"
           "                        17-sample patches at 30 m spacing; the HUD shows them)\n"
           "  --exp E               distance mode: exponent of the rule (default 1)\n"
+          "  --hole PX             a built store: the widest gap a node over a void's edge may\n"
+          "                        leave along the void when drawn coarser than its samples\n"
+          "                        (default 4; smaller keeps more nodes at full resolution;\n"
+          "                        export ignores it and keeps every drawn sample)\n"
           "camera:\n"
           "  --camera E,N,H,YAW,PITCH      position in the render grid's projected CRS (metres),\n"
           "                                height H above the DEM's vertical datum (times view's\n"

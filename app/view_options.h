@@ -25,6 +25,7 @@ enum {
     TP_OPT_MINDIST,
     TP_OPT_MAXDIST,
     TP_OPT_EXP,
+    TP_OPT_HOLE,
     TP_OPT_CAMERA,
     TP_OPT_CAMERA_GEO,
     TP_OPT_FOV,
@@ -36,6 +37,7 @@ enum {
         {"mindist", required_argument, NULL, TP_OPT_MINDIST},                                      \
         {"maxdist", required_argument, NULL, TP_OPT_MAXDIST},                                      \
         {"exp", required_argument, NULL, TP_OPT_EXP},                                              \
+        {"hole", required_argument, NULL, TP_OPT_HOLE},                                            \
         {"camera", required_argument, NULL, TP_OPT_CAMERA},                                        \
         {"camera-geo", required_argument, NULL, TP_OPT_CAMERA_GEO},                                \
         {"fov", required_argument, NULL, TP_OPT_FOV}, {"size", required_argument, NULL, TP_OPT_SIZE}

@@ -93,6 +93,8 @@ typedef struct seg {
 typedef struct node_geom {
     int64_t x0, y0, x1, y1;
     int complete;
+    int mask_rule;   /* incomplete, drawn by its cell mask */
+    int64_t cell;    /* its cell size (grid samples) */
     seg* segs; /* triangle edges on the node's border */
     size_t seg_count;
 } node_geom;
@@ -125,6 +127,18 @@ typedef struct cover {
     uint8_t* bits;
     int w;
 } cover;
+
+typedef struct void_probe {
+    const tp_tree* t;
+    int voids;
+} void_probe;
+
+static void count_void(int x, int y, double z, void* user)
+{
+    (void)z;
+    void_probe* p = user;
+    p->voids += isnan(tp_tree_sample(p->t, x, y));
+}
 
 static void mark(int x, int y, double z, void* user)
 {
@@ -159,8 +173,27 @@ static int check_watertight(const tp_tree* t, const tp_cut* cut, uint8_t* covere
         ng[i].complete = tp_tree_meta(t, nodes[i].node)->flags & TP_NODE_COMPLETE;
         int k = nodes[i].level, vs = (1 << k) + 1;
         tp_cut_vertices(cut, i, v, (size_t)vs * vs);
-        size_t nt = tp_patch_triangles(v, k, tri, 2 * (size_t)(vs - 1) * (vs - 1));
+        size_t nt = tp_cut_triangles(cut, i, v, tri, 2 * (size_t)(vs - 1) * (vs - 1));
         last_triangles += nt;
+        /* An incomplete node below a leaf's level n: no triangle covers an undrawn sample. */
+        ng[i].mask_rule = !ng[i].complete && !(s == 0 && k == g->n);
+        /* its cell, or where a coarser neighbour moves its border vertices, the neighbour's
+         * (a stitched triangle over a partly undrawn stretch of border is not drawn) */
+        int kmin = k;
+        for (int side = 0; side < 4; side++)
+            if (nodes[i].nb[side] >= 0 && nodes[i].nb[side] < kmin)
+                kmin = nodes[i].nb[side];
+        ng[i].cell = (int64_t)1 << (g->n - kmin + s);
+        for (size_t j = 0; ng[i].mask_rule && j < nt; j++) {
+            const tp_vertex* p[3] = {&v[tri[3 * j]], &v[tri[3 * j + 1]], &v[tri[3 * j + 2]]};
+            int32_t pa[2] = {p[0]->x, p[0]->y}, pb[2] = {p[1]->x, p[1]->y},
+                    pc[2] = {p[2]->x, p[2]->y};
+            void_probe vp = {t, 0};
+            tp_triangle_rasterize(pa, pb, pc, 0, 0, 0, count_void, &vp);
+            if (vp.voids && failures++ < 5)
+                fprintf(stderr, "node %lld (incomplete, level %d): a triangle covers %d undrawn "
+                        "samples\n", (long long)nodes[i].node, k, vp.voids);
+        }
         ng[i].segs = malloc(3 * nt * sizeof(seg) + 1);
         for (size_t j = 0; j < nt; j++) {
             const tp_vertex* p[3] = {&v[tri[3 * j]], &v[tri[3 * j + 1]], &v[tri[3 * j + 2]]};
@@ -257,6 +290,30 @@ static int check_watertight(const tp_tree* t, const tp_cut* cut, uint8_t* covere
                         nodes[j].nb[0], nodes[j].nb[1], nodes[j].nb[2], nodes[j].nb[3], na, nb);
             }
         }
+    /* Holes: a drawn sample of an incomplete node drawn by its mask that no triangle covers
+     * lies within one of its cells (2^(n-k+s) samples; a coarser neighbour's along a stitched
+     * side) of an undrawn sample. */
+    for (size_t i = 0; i < count; i++) {
+        if (!ng[i].mask_rule)
+            continue;
+        int64_t far = 0, d = ng[i].cell;
+        for (int64_t y = ng[i].y0; y <= ng[i].y1; y++)
+            for (int64_t x = ng[i].x0; x <= ng[i].x1; x++) {
+                if (cov.bits[(size_t)y * g->width + (size_t)x] ||
+                    isnan(tp_tree_sample(t, (int)x, (int)y)))
+                    continue;
+                int near = 0;
+                for (int64_t yy = y - d; yy <= y + d && !near; yy++)
+                    for (int64_t xx = x - d; xx <= x + d && !near; xx++)
+                        near = xx < 0 || yy < 0 || xx >= g->width || yy >= g->height ||
+                               isnan(tp_tree_sample(t, (int)xx, (int)yy));
+                far += !near;
+            }
+        if (far && failures++ < 5)
+            fprintf(stderr, "hole: %lld drawn samples of node %lld (level %d) not covered and "
+                    "farther than %lld from a void\n", (long long)far,
+                    (long long)nodes[i].node, nodes[i].level, (long long)d);
+    }
     /* No gap: every sample of a complete drawn node's area under a triangle. */
     for (size_t i = 0; i < count; i++) {
         if (!ng[i].complete)
@@ -567,6 +624,94 @@ TEST(screen_error_within_tau)
     free(h);
 }
 
+/* Drawn nodes of the last update that are incomplete, and of those, how many lie above the
+ * leaves (scale >= 1) or below their finest level. */
+static void count_incomplete(const tp_tree* t, const tp_cut* cut, int* incomplete, int* collapsed)
+{
+    const tp_tree_geometry* g = tp_tree_get_geometry(t);
+    size_t count;
+    const tp_cut_node* nodes = tp_cut_nodes(cut, &count);
+    *incomplete = *collapsed = 0;
+    for (size_t i = 0; i < count; i++) {
+        if (tp_tree_meta(t, nodes[i].node)->flags & TP_NODE_COMPLETE)
+            continue;
+        int s, c, r;
+        tp_tree_node_locate(g, nodes[i].node, &s, &c, &r);
+        (*incomplete)++;
+        *collapsed += s > 0 || nodes[i].level < g->n;
+    }
+}
+
+/* The whole SRTM tile with its voids (some hundreds of samples wide in the high Pyrenees),
+ * seen from far: nodes over a void's edge collapse like the others instead of staying leaves
+ * at full resolution, tau still holds, no crack, and holes stay within a cell. With holes
+ * forbidden (what the export asks), every incomplete node drawn is a leaf at level n. */
+TEST(incomplete_nodes_collapse_far_away)
+{
+    LOAD_OR_SKIP(h, 0, 0, 1201, 1201);
+    size_t voids = 0;
+    for (size_t i = 0; i < (size_t)1201 * 1201; i++)
+        voids += isnan(h[i]);
+    ASSERT_TRUE(voids > 1000); /* the raw tile has its voids */
+    tp_tree* t = make_tree(h, 1201, 1201, 17);
+    tp_cut* cut;
+    ASSERT_OK(tp_cut_create(t, &cut, NULL));
+    const double heights[] = {8000, 30000, 80000};
+    int collapsed_total = 0;
+    for (int v = 0; v < 3; v++) {
+        tp_camera cam; /* from the south-west corner, looking north-east over the tile */
+        camera_at(t, 100, 1100, heights[v], 45, -35, &cam);
+        tp_lod_params lp = {.mode = TP_LOD_ERROR, .tau_px = 1};
+        for (int hp = 1; getenv("TP_HOLE_SWEEP") && hp <= 16; hp *= 2) {
+            lp.hole_px = hp;
+            ASSERT_OK(tp_cut_update(cut, &cam, &lp, NULL));
+            int i2, c2;
+            count_incomplete(t, cut, &i2, &c2);
+            tp_cut_stats s2;
+            tp_cut_get_stats(cut, &s2);
+            printf("hole %2d px: %d nodes (%d incomplete, %d collapsed), %zu triangles\n", hp,
+                   s2.drawn, i2, c2, s2.triangles);
+        }
+        lp.hole_px = 0;
+        ASSERT_OK(tp_cut_update(cut, &cam, &lp, NULL));
+        int inc, col;
+        count_incomplete(t, cut, &inc, &col);
+        tp_cut_stats st;
+        tp_cut_get_stats(cut, &st);
+        double max_px = -1;
+        ASSERT_OK(tp_cut_measure_screen_error(cut, &cam, &max_px, NULL, NULL, NULL));
+        EXPECT_LE(max_px, lp.tau_px + 1e-6);
+        EXPECT_EQ_INT(0, check_watertight(t, cut, NULL));
+        /* holes forbidden: the old cut, every incomplete node a leaf at level n */
+        lp.hole_px = 1e-300;
+        ASSERT_OK(tp_cut_update(cut, &cam, &lp, NULL));
+        int inc_exact, col_exact;
+        count_incomplete(t, cut, &inc_exact, &col_exact);
+        tp_cut_stats ex;
+        tp_cut_get_stats(cut, &ex);
+        EXPECT_EQ_INT(0, col_exact);
+        EXPECT_GE(inc_exact, inc);
+        EXPECT_GE(ex.drawn, st.drawn);
+        EXPECT_EQ_INT(0, check_watertight(t, cut, NULL));
+        printf("%6.0f m up: %d nodes drawn (%d incomplete, %d of them collapsed), %zu "
+               "triangles; holes forbidden: %d nodes (%d incomplete), %zu triangles; "
+               "measured %.3f px\n",
+               heights[v], st.drawn, inc, col, st.triangles, ex.drawn, inc_exact, ex.triangles,
+               max_px);
+        collapsed_total += col;
+    }
+    EXPECT_GT(collapsed_total, 0);
+    tp_lod_params bad = {.mode = TP_LOD_ERROR, .hole_px = -1};
+    tp_camera cam;
+    camera_at(t, 100, 1100, 8000, 45, -35, &cam);
+    EXPECT_STATUS(TP_ERR_INVALID_ARG, tp_cut_update(cut, &cam, &bad, NULL));
+    bad.hole_px = NAN;
+    EXPECT_STATUS(TP_ERR_INVALID_ARG, tp_cut_update(cut, &cam, &bad, NULL));
+    tp_cut_destroy(cut);
+    tp_tree_destroy(t);
+    free(h);
+}
+
 static int cut_equal(const tp_cut* a, const tp_cut_node* saved, size_t saved_count)
 {
     size_t n;
@@ -785,12 +930,12 @@ static height_probe probe_cut(const tp_cut* cut)
 {
     height_probe hp = {cut, 0, 0};
     size_t count;
-    const tp_cut_node* nodes = tp_cut_nodes(cut, &count);
+    tp_cut_nodes(cut, &count);
     tp_vertex v[17 * 17];
     uint32_t tri[2 * 16 * 16 * 3];
     for (size_t i = 0; i < count; i++) {
         tp_cut_vertices(cut, i, v, 17 * 17);
-        size_t nt = tp_patch_triangles(v, nodes[i].level, tri, 2 * 16 * 16);
+        size_t nt = tp_cut_triangles(cut, i, v, tri, 2 * 16 * 16);
         for (size_t j = 0; j < nt; j++) {
             const tp_vertex *a = &v[tri[3 * j]], *b = &v[tri[3 * j + 1]], *c = &v[tri[3 * j + 2]];
             int32_t pa[2] = {a->x, a->y}, pb[2] = {b->x, b->y}, pc[2] = {c->x, c->y};
@@ -1034,6 +1179,7 @@ TEST(requests_only_update_asks_as_the_full_update)
     X(watertight_for_random_views)                                                                 \
     X(watertight_for_adversarial_cuts)                                                             \
     X(screen_error_within_tau)                                                                     \
+    X(incomplete_nodes_collapse_far_away)                                                          \
     X(substitution_keeps_the_surface_whole)                                                        \
     X(cost_does_not_grow_with_the_map)                                                             \
     X(drawn_height_follows_the_triangles)                                                          \

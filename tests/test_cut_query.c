@@ -47,7 +47,7 @@ static void random_camera(const tp_tree* t, double zs, tp_camera* cam)
 }
 
 /* Brute force: the nearest t over every triangle of every drawn node (tp_cut_vertices through
- * tp_patch_triangles, the renderer's own decoding of the strips), -1 if none. */
+ * tp_cut_triangles, the renderer's own decoding of the strips), -1 if none. */
 static double brute_ray(const tp_cut* cut, const tp_tree* t, const double o[3], const double d[3],
                         double zs)
 {
@@ -61,7 +61,8 @@ static double brute_ray(const tp_cut* cut, const tp_tree* t, const double o[3], 
     for (size_t i = 0; i < count; i++) {
         int k = nodes[i].level;
         tp_cut_vertices(cut, i, v, vs * vs);
-        size_t nt = tp_patch_triangles(v, k, tri, 2 * (vs - 1) * (vs - 1));
+        (void)k;
+        size_t nt = tp_cut_triangles(cut, i, v, tri, 2 * (vs - 1) * (vs - 1));
         for (size_t j = 0; j < nt; j++) {
             double p[3][3];
             for (int a = 0; a < 3; a++) {

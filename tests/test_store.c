@@ -93,7 +93,7 @@ static layout parse_layout(const file_buf* b)
     layout l;
     ASSERT_TRUE(b->size > 200);
     ASSERT_TRUE(memcmp(b->data, "\x89TPT\r\n\x1a\n", 8) == 0);
-    ASSERT_EQ_INT(2, le32(b->data + 8));
+    ASSERT_EQ_INT(TP_STORE_VERSION, le32(b->data + 8));
     l.header_bytes = le32(b->data + 12);
     l.node_count = le64(b->data + 48);
     const uint8_t* foot = b->data + b->size - FOOTER;
@@ -144,8 +144,12 @@ typedef struct fixture {
     int32_t* q;            /* node_count * count global quantised heights */
     uint16_t* rel;         /* the same relative to qmin, TP_TREE_NO_HEIGHT where not drawn */
     tp_node_meta* metas;   /* node_count */
+    uint16_t* masks;       /* node_count cell masks (tp_node_mask_from_q of each node's q) */
     int64_t* order;        /* the writing order: children before parents, not id order */
 } fixture;
+
+/* Node id's cell mask in fixture fx. */
+#define FX_MASK(fx, id) ((fx).masks + (size_t)(id) * tp_node_mask_words((fx).g.n))
 
 static uint32_t hash32(uint64_t x)
 {
@@ -185,7 +189,8 @@ static void fixture_make(fixture* fx, const float* heights, int w, int h, int pa
     fx->rel = malloc((size_t)g->node_count * fx->count * sizeof *fx->rel);
     fx->metas = calloc((size_t)g->node_count, sizeof *fx->metas);
     fx->order = malloc((size_t)g->node_count * sizeof *fx->order);
-    ASSERT_TRUE(fx->q && fx->rel && fx->metas && fx->order);
+    fx->masks = malloc((size_t)g->node_count * tp_node_mask_words(n) * sizeof *fx->masks);
+    ASSERT_TRUE(fx->q && fx->rel && fx->metas && fx->order && fx->masks);
     for (int64_t id = 0; id < g->node_count; id++) {
         int s, c, r;
         locate(g, id, &s, &c, &r);
@@ -204,6 +209,7 @@ static void fixture_make(fixture* fx, const float* heights, int w, int h, int pa
                     m->qmax = qv > m->qmax ? qv : m->qmax;
                 }
             }
+        tp_node_mask_from_q(n, q, FX_MASK(*fx, id));
         for (size_t k = 0; k < fx->count; k++)
             fx->rel[(size_t)id * fx->count + k] =
                 q[k] == INT32_MIN ? TP_TREE_NO_HEIGHT : (uint16_t)(q[k] - m->qmin);
@@ -231,7 +237,7 @@ static void fixture_make(fixture* fx, const float* heights, int w, int h, int pa
 
 static void fixture_free(fixture* fx)
 {
-    free(fx->q), free(fx->rel), free(fx->metas), free(fx->order);
+    free(fx->q), free(fx->rel), free(fx->metas), free(fx->order), free(fx->masks);
 }
 
 static const char* const k_notes = "sources: test\nwarp: none\nUTF-8: Montréal, Sør-Trøndelag";
@@ -261,7 +267,8 @@ static void fixture_write(const fixture* fx, const char* path, const char* crs)
     ASSERT_OK(tp_store_writer_begin(path, &h, &w, &err));
     for (int64_t i = 0; i < fx->g.node_count; i++) {
         int64_t id = fx->order[i];
-        tp_status s = tp_store_writer_add_node(w, id, &fx->metas[id], fx->q + (size_t)id * fx->count, &err);
+        tp_status s = tp_store_writer_add_node(w, id, &fx->metas[id], fx->q + (size_t)id * fx->count,
+                                               FX_MASK(*fx, id), &err);
         if (s != TP_OK)
             tp_test_note("%s", err.message);
         ASSERT_OK(s);
@@ -491,10 +498,10 @@ TEST(round_trip_small_and_awkward_grids)
 /* The real producer: tp_tree_builder's emit callback writes straight into the store (its order:
  * children before parents), and the store reads back exactly the metas and samples of
  * tp_tree_create_from_grid on the same grid (same step, same error unit). */
-static int emit_to_store(int64_t node, const tp_node_meta* meta, const int32_t* q, void* user,
-                         tp_error* err)
+static int emit_to_store(int64_t node, const tp_node_meta* meta, const int32_t* q,
+                         const uint16_t* mask, void* user, tp_error* err)
 {
-    return tp_store_writer_add_node((tp_store_writer*)user, node, meta, q, err) != TP_OK;
+    return tp_store_writer_add_node((tp_store_writer*)user, node, meta, q, mask, err) != TP_OK;
 }
 
 TEST(tree_builder_into_store_matches_tree_from_grid)
@@ -687,11 +694,21 @@ TEST(node_with_matching_checksum_but_wrong_content_fails)
     /* node victim's entry points at node 0's data */
     uint8_t* e0 = loc_entry(&b, &l, 0);
     int64_t victim = -1;
-    /* find a node with a smaller range than node 0's data: its samples fall outside */
-    for (int64_t id = 1; id < fx.g.node_count && victim < 0; id++)
-        if (fx.metas[id].qmin <= fx.metas[id].qmax && fx.metas[0].qmax - fx.metas[0].qmin >
-                                                            fx.metas[id].qmax - fx.metas[id].qmin + 10)
+    /* find a node with a smaller range than node 0's data: its samples fall outside; and
+     * which keeps a cell mask after its samples exactly when node 0 does */
+    int s0, c0, r0;
+    locate(&fx.g, 0, &s0, &c0, &r0);
+    int mask0 = s0 > 0 && (fx.metas[0].flags & TP_NODE_HAS_DRAWN) &&
+                !(fx.metas[0].flags & TP_NODE_COMPLETE);
+    for (int64_t id = 1; id < fx.g.node_count && victim < 0; id++) {
+        int s, c, r;
+        locate(&fx.g, id, &s, &c, &r);
+        int mask = s > 0 && (fx.metas[id].flags & TP_NODE_HAS_DRAWN) &&
+                   !(fx.metas[id].flags & TP_NODE_COMPLETE);
+        if (mask == mask0 && fx.metas[id].qmin <= fx.metas[id].qmax &&
+            fx.metas[0].qmax - fx.metas[0].qmin > fx.metas[id].qmax - fx.metas[id].qmin + 10)
             victim = id;
+    }
     ASSERT_TRUE(victim > 0);
     uint8_t* ev = loc_entry(&b, &l, victim);
     memcpy(ev, e0, LOC_ENTRY); /* offset, bytes, CRC, codec: node 0's data */
@@ -957,11 +974,11 @@ TEST(older_version_says_rebuild)
     small_store(&fx, path, sizeof path);
     file_buf b = slurp(path);
     layout l = parse_layout(&b);
-    put32(b.data + 8, 1);
+    put32(b.data + 8, 2);
     put32(b.data + l.header_bytes - 4, crc32_ref(b.data, l.header_bytes - 4));
     spill(path, b.data, b.size);
     expect_open_fails(path, TP_ERR_BAD_DATA,
-                      "written by an older terrapatch (format 1; this one reads format 2): "
+                      "written by an older terrapatch (format 2; this one reads format 3): "
                       "rebuild it with terrapatch build");
     free(b.data);
     fixture_free(&fx);
@@ -1016,7 +1033,8 @@ TEST(missing_node_at_commit_fails_and_leaves_no_file)
     for (int64_t i = 0; i < fx.g.node_count; i++)
         if (fx.order[i] != skipped)
             ASSERT_OK(tp_store_writer_add_node(wr, fx.order[i], &fx.metas[fx.order[i]],
-                                               fx.q + (size_t)fx.order[i] * fx.count, &err));
+                                               fx.q + (size_t)fx.order[i] * fx.count,
+                                               FX_MASK(fx, fx.order[i]), &err));
     EXPECT_STATUS(TP_ERR_INVALID_ARG, tp_store_writer_commit(wr, &err));
     char want[64];
     snprintf(want, sizeof want, "(the first: node %lld)", (long long)skipped);
@@ -1041,7 +1059,8 @@ TEST(abort_leaves_no_file)
         ASSERT_OK(tp_store_writer_begin(path, &hd, &wr, &err));
         for (int64_t i = 0; i < nodes * 10; i++)
             ASSERT_OK(tp_store_writer_add_node(wr, fx.order[i], &fx.metas[fx.order[i]],
-                                               fx.q + (size_t)fx.order[i] * fx.count, &err));
+                                               fx.q + (size_t)fx.order[i] * fx.count,
+                                               FX_MASK(fx, fx.order[i]), &err));
         tp_store_writer_abort(wr);
         file_buf now = slurp(path); /* the older store, byte for byte */
         EXPECT_TRUE(now.size == old.size && memcmp(now.data, old.data, old.size) == 0);
@@ -1074,20 +1093,21 @@ TEST(bad_nodes_refused_by_the_writer)
     int32_t* q = fx.q + (size_t)id * fx.count;
     tp_node_meta m = fx.metas[id];
     m.qmax = m.qmin + 2; /* its samples are outside that range */
-    EXPECT_STATUS(TP_ERR_INVALID_ARG, tp_store_writer_add_node(wr, id, &m, q, &err));
+    EXPECT_STATUS(TP_ERR_INVALID_ARG, tp_store_writer_add_node(wr, id, &m, q, FX_MASK(fx, id), &err));
     EXPECT_CONTAINS(err.message, "outside the meta's range");
     m.qmax = m.qmin + 70000; /* wider than 16 bits */
-    EXPECT_STATUS(TP_ERR_INVALID_ARG, tp_store_writer_add_node(wr, id, &m, q, &err));
+    EXPECT_STATUS(TP_ERR_INVALID_ARG, tp_store_writer_add_node(wr, id, &m, q, FX_MASK(fx, id), &err));
     EXPECT_CONTAINS(err.message, "wider than");
-    EXPECT_STATUS(TP_ERR_INVALID_ARG, tp_store_writer_add_node(wr, fx.g.node_count, &fx.metas[id], q, &err));
+    EXPECT_STATUS(TP_ERR_INVALID_ARG, tp_store_writer_add_node(wr, fx.g.node_count, &fx.metas[id], q, FX_MASK(fx, id), &err));
     EXPECT_CONTAINS(err.message, "does not exist");
-    ASSERT_OK(tp_store_writer_add_node(wr, id, &fx.metas[id], q, &err));
-    EXPECT_STATUS(TP_ERR_INVALID_ARG, tp_store_writer_add_node(wr, id, &fx.metas[id], q, &err));
+    ASSERT_OK(tp_store_writer_add_node(wr, id, &fx.metas[id], q, FX_MASK(fx, id), &err));
+    EXPECT_STATUS(TP_ERR_INVALID_ARG, tp_store_writer_add_node(wr, id, &fx.metas[id], q, FX_MASK(fx, id), &err));
     EXPECT_CONTAINS(err.message, "added twice");
     /* the refusals changed nothing: the rest of the nodes make a sound store */
     for (int64_t i = 1; i < fx.g.node_count; i++)
         ASSERT_OK(tp_store_writer_add_node(wr, fx.order[i], &fx.metas[fx.order[i]],
-                                           fx.q + (size_t)fx.order[i] * fx.count, &err));
+                                           fx.q + (size_t)fx.order[i] * fx.count,
+                                               FX_MASK(fx, fx.order[i]), &err));
     ASSERT_OK(tp_store_writer_commit(wr, &err));
     fixture_check(&fx, path, crs);
     fixture_free(&fx);
@@ -1150,7 +1170,8 @@ TEST(full_disk_leaves_no_file)
             tp_status s = tp_store_writer_begin(path, &hd, &wr, &err);
             for (int64_t i = 0; s == TP_OK && i < fx.g.node_count; i++)
                 s = tp_store_writer_add_node(wr, fx.order[i], &fx.metas[fx.order[i]],
-                                             fx.q + (size_t)fx.order[i] * fx.count, &err);
+                                             fx.q + (size_t)fx.order[i] * fx.count,
+                                               FX_MASK(fx, fx.order[i]), &err);
             if (s == TP_OK)
                 s = tp_store_writer_commit(wr, &err);
             else if (wr && s != TP_OK && li > 0)
@@ -1201,7 +1222,7 @@ TEST(totals_given_at_commit_rewrite_the_header)
     for (int64_t i = 0; i < fx.g.node_count; i++) {
         int64_t id = fx.order[i];
         ASSERT_OK(tp_store_writer_add_node(wr, id, &fx.metas[id], fx.q + (size_t)id * fx.count,
-                                           &err));
+                                           FX_MASK(fx, id), &err));
     }
     const size_t all = (size_t)w * h;
     tp_store_writer_set_totals(wr, 0.25, all - 3, 3);

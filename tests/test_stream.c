@@ -68,7 +68,7 @@ static int write_store(fixture* fx, int64_t first)
         const tp_node_meta* m = tp_tree_meta(fx->full, id);
         for (size_t i = 0; i < v * v; i++)
             q[i] = s[i] == TP_TREE_NO_HEIGHT ? INT32_MIN : (int32_t)s[i] + m->qmin;
-        if (tp_store_writer_add_node(w, id, m, q, &err) != TP_OK) {
+        if (tp_store_writer_add_node(w, id, m, q, s + v * v, &err) != TP_OK) {
             tp_test_note("%s", err.message);
             free(q);
             tp_store_writer_abort(w);

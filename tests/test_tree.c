@@ -227,12 +227,28 @@ static double node_true_error(const tp_tree* t, const tp_terrain* stencil, int64
         vbuf[i].z_m = (float)z;
         vbuf[i].cls = isnan(zo) || isnan(z) ? TP_SAMPLE_NODATA : TP_SAMPLE_VALID;
     }
+    /* An incomplete node below a leaf's level n draws a triangle only where every
+     * full-resolution sample of its bounding box is drawn (tp_node_mask_from_q): all of them
+     * are vertices' of the vertex rule then, so filter the vertex rule's triangles. */
+    int mask_rule = !(tp_tree_meta(t, node)->flags & TP_NODE_COMPLETE) && !(s == 0 && k == g->n);
     size_t nt = tp_patch_triangles(vbuf, k, tbuf, (size_t)2 << (2 * k));
     brute b = {t, 0, 0};
     for (size_t i = 0; i < nt; i++) {
         const tp_vertex *A = &vbuf[tbuf[3 * i]], *B = &vbuf[tbuf[3 * i + 1]],
                         *C = &vbuf[tbuf[3 * i + 2]];
         int32_t a[2] = {A->x, A->y}, bb[2] = {B->x, B->y}, cc[2] = {C->x, C->y};
+        if (mask_rule) {
+            int whole = 1;
+            int bx0 = A->x < B->x ? A->x : B->x, bx1 = A->x > B->x ? A->x : B->x;
+            int by0 = A->y < B->y ? A->y : B->y, by1 = A->y > B->y ? A->y : B->y;
+            bx0 = C->x < bx0 ? C->x : bx0, bx1 = C->x > bx1 ? C->x : bx1;
+            by0 = C->y < by0 ? C->y : by0, by1 = C->y > by1 ? C->y : by1;
+            for (int y = by0; y <= by1 && whole; y++)
+                for (int x = bx0; x <= bx1 && whole; x++)
+                    whole = !isnan(tp_tree_sample(t, x, y));
+            if (!whole)
+                continue;
+        }
         /* heights in double from the decoded samples (z_m is a float) */
         tp_triangle_rasterize(a, bb, cc, tp_tree_sample(t, A->x, A->y),
                               tp_tree_sample(t, B->x, B->y), tp_tree_sample(t, C->x, C->y),
@@ -458,8 +474,11 @@ TEST(leaf_metas_equal_patch_tables)
             EXPECT_EQ_INT(pi.complete, (m->flags & TP_NODE_COMPLETE) != 0);
             EXPECT_EQ_DBL(pi.aabb_min[2], m->qmin * step);
             EXPECT_EQ_DBL(pi.aabb_max[2], m->qmax * step);
-            for (int k = 0; k <= n; k++)
-                for (int side = -1; side < 4; side++)
+            /* an incomplete patch is drawn at level n only; an incomplete leaf at any level,
+             * by its cell mask: below n their tables differ, and so do the eps, which cover
+             * every level (bounds_hold_* checks those) */
+            for (int k = pi.complete ? 0 : n; k <= n; k++)
+                for (int side = -1; side < (pi.complete ? 4 : 0); side++)
                     for (int kn = 0; kn < (side < 0 ? 1 : k); kn++) {
                         int nb[4];
                         tpt_fill4(nb, TP_NO_NEIGHBOR);
@@ -490,11 +509,12 @@ typedef struct order_log {
     int errors;
     tp_node_meta* metas;   /* optional: copies */
     uint64_t* q_hash;      /* optional */
+    uint16_t* masks;       /* optional: copies, tp_node_mask_words(n) per node */
     int stop_at;           /* emit fails at this count (-1: never) */
 } order_log;
 
-static int log_emit(int64_t node, const tp_node_meta* meta, const int32_t* q, void* user,
-                    tp_error* err)
+static int log_emit(int64_t node, const tp_node_meta* meta, const int32_t* q,
+                    const uint16_t* mask, void* user, tp_error* err)
 {
     order_log* l = (order_log*)user;
     if (l->emitted == l->stop_at) {
@@ -515,6 +535,10 @@ static int log_emit(int64_t node, const tp_node_meta* meta, const int32_t* q, vo
     }
     if (l->metas)
         l->metas[node] = *meta;
+    if (l->masks) {
+        size_t words = tp_node_mask_words(l->g->n);
+        memcpy(l->masks + (size_t)node * words, mask, words * sizeof *mask);
+    }
     if (l->q_hash) {
         uint64_t hsh = 1469598103934665603ull;
         int side = (1 << l->g->n) + 1;
@@ -687,6 +711,8 @@ TEST(builder_reversed_parallel_for_gives_identical_metas)
     b.metas = (tp_node_meta*)calloc((size_t)g.node_count, sizeof(tp_node_meta));
     a.q_hash = (uint64_t*)calloc((size_t)g.node_count, sizeof(uint64_t));
     b.q_hash = (uint64_t*)calloc((size_t)g.node_count, sizeof(uint64_t));
+    size_t words = tp_node_mask_words(4);
+    a.masks = (uint16_t*)calloc((size_t)g.node_count * words, sizeof(uint16_t));
     run_builder(src, w, h, 17, NULL, &a, NULL);
     run_builder(src, w, h, 17, reverse_for, &b, NULL);
     EXPECT_EQ_INT(g.node_count, b.emitted);
@@ -705,15 +731,31 @@ TEST(builder_reversed_parallel_for_gives_identical_metas)
                 float v = x < w && y < h ? src[(size_t)y * w + x] : NAN;
                 q[j * side + i] = isfinite(v) ? (int32_t)floor(v + 0.5) : INT32_MIN;
             }
+        /* the cell mask, from the source grid: every full-resolution sample of the cell */
+        const uint16_t* mask = a.masks + (size_t)id * words;
+        int wrong = 0;
+        for (int cy = 0; cy < ps; cy++)
+            for (int cx = 0; cx < ps; cx++) {
+                int whole = 1;
+                for (int y = (r * ps + cy) << s; y <= (r * ps + cy + 1) << s; y++)
+                    for (int x = (c * ps + cx) << s; x <= (c * ps + cx + 1) << s; x++)
+                        whole &= x < w && y < h && isfinite(src[(size_t)y * w + x]);
+                int b = cy * ps + cx;
+                wrong += whole != (mask[b / 16] >> (b % 16) & 1);
+            }
+        if (wrong)
+            ADD_FAILURE("node %lld (s %d, %d, %d): %d mask cells differ from the grid's",
+                        (long long)id, s, c, r, wrong);
         const tp_node_meta* ch[4] = {NULL, NULL, NULL, NULL};
         for (int k = 0; s > 0 && k < 4; k++)
             ch[k] = &a.metas[tp_tree_node_child(&g, id, k)];
         tp_node_meta m;
-        tp_node_meta_compute(4, s, q, s > 0 ? ch : NULL, 1.0 / 16, &m);
+        tp_node_meta_compute(4, s, q, mask, s > 0 ? ch : NULL, 1.0 / 16, &m);
         if (memcmp(&m, &a.metas[id], sizeof m) != 0)
             ADD_FAILURE("node %lld (s %d, %d, %d): builder meta differs", (long long)id, s, c, r);
     }
     free(q);
+    free(a.masks);
     free(a.seen);
     free(b.seen);
     free(a.metas);
@@ -817,9 +859,13 @@ TEST(complete_flags_follow_voids_up_the_tree)
     EXPECT_EQ_INT(0, COMPLETE(1, 0, 1));
     EXPECT_EQ_INT(0, COMPLETE(1, 1, 1));
     EXPECT_EQ_INT(0, COMPLETE(2, 0, 0));
-    /* the level-n bound of an incomplete node is still its children's; below n, its range */
+    /* an incomplete node's bounds count only what its mask draws: its level 0 (one cell over
+     * a void) draws nothing of its own, so only its children's carry (= its level n's), no
+     * longer its area range */
     const tp_node_meta* m = tp_tree_meta(t, tp_tree_node_id(g, 1, 0, 0));
-    EXPECT_EQ_INT(m->area_qmax - m->area_qmin, (int)(m->delta[0] / 16));
+    EXPECT_EQ_INT(m->delta[g->n], m->delta[0]);
+    EXPECT_TRUE(m->delta[g->n] > 0);
+    EXPECT_LT(m->delta[0] / 16.0, (double)(m->area_qmax - m->area_qmin));
     tp_tree_destroy(t);
 
     /* padding counts as not drawn: 60 wide, so x >= 60 is padding in the last leaf column */

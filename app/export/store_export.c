@@ -642,7 +642,7 @@ static int build_mesh(store_export* x, mesh_build* m, double* sum, size_t* count
     res_release_except(&x->res, keep);
     for (size_t i = 0; i < nodes && code == TP_EXIT_OK; i++) {
         tp_cut_vertices(x->cut, i, vb, vcap);
-        size_t nt = tp_patch_triangles(vb, out[i].level, tb, tcap);
+        size_t nt = tp_cut_triangles(x->cut, i, vb, tb, tcap);
         for (size_t t = 0; t < nt; t++) {
             const tp_vertex* v[3] = {&vb[tb[3 * t]], &vb[tb[3 * t + 1]], &vb[tb[3 * t + 2]]};
             if (x->r->mode == TP_STORE_EXPORT_FULL && !full_cell(x->cache, v)) {
@@ -797,7 +797,7 @@ int tp_export_store(const tp_store_export_request* r)
     x.unit = x.sc.info.header.err_unit_steps;
     x.quant_m = x.sc.info.header.quant_max_error_m;
     x.res.sc = &x.sc;
-    x.res.block_samples = (((size_t)1 << x.n) + 1) * (((size_t)1 << x.n) + 1);
+    x.res.block_samples = tp_tree_block_words(x.n); /* samples and cell mask */
     x.res.block = calloc((size_t)x.g->node_count, sizeof *x.res.block);
     x.cache = calloc(1, sizeof *x.cache);
     mesh_build m = {0};
@@ -863,7 +863,11 @@ int tp_export_store(const tp_store_export_request* r)
                                                                                    : "error",
                  lp->tau_px, lp->mindist_m, lp->maxdist_m, lp->exponent, vs->fov_deg, vs->w,
                  vs->h);
-        code = cut_for_camera(&x, &cam, lp);
+        /* An export keeps every drawn sample: no holes along voids (incomplete nodes at full
+         * resolution), so its outline is the data's, at any camera. */
+        tp_lod_params exact = *lp;
+        exact.hole_px = 1e-300;
+        code = cut_for_camera(&x, &cam, &exact);
     }
     if (code == TP_EXIT_OK)
         code = build_mesh(&x, &m, &sum, &samples);

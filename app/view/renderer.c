@@ -625,7 +625,9 @@ static void upload(tp_renderer* r, const tp_render_item* it, size_t i, tp_render
         sl->region = -1;
     }
     if (sl->region >= 0) {
-        size_t nt = tp_patch_triangles(r->vtmp, k, r->ttmp, r->custom_stride / 3);
+        size_t cap = r->custom_stride / 3;
+        size_t nt = r->cut ? tp_cut_triangles(r->cut, i, r->vtmp, r->ttmp, cap)
+                           : tp_patch_triangles(r->vtmp, k, r->ttmp, cap);
         r->region_count[sl->region] = (GLsizei)(3 * nt);
         glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, r->ibo_custom);
         glBufferSubData(GL_ELEMENT_ARRAY_BUFFER,

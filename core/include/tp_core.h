@@ -324,6 +324,10 @@ typedef enum tp_lod_mode {
                            <= max_error_m everywhere (see tp_selection_update) */
 } tp_lod_mode;
 
+/* The default widest hole along a void's edge (tp_lod_params.hole_px): docs/hierarchy.md,
+ * "Voids", says how it was chosen. */
+#define TP_DEFAULT_HOLE_PX 4.0
+
 typedef struct tp_lod_params {
     tp_lod_mode mode;
     /* distance mode. mindist and maxdist BOTH zero mean defaults derived from the terrain:
@@ -331,6 +335,11 @@ typedef struct tp_lod_params {
      * (mindist 0 is valid). exponent 0 means 1. */
     double mindist_m, maxdist_m, exponent;
     double tau_px; /* error mode: screen-space error threshold in pixels; 0 means 1 */
+    /* error mode over a tree (tp_cut_update): the widest hole, in pixels, that an incomplete
+     * node drawn below its finest level may leave along a void's edge (valid samples in cells
+     * that are not whole, see tp_node_mask_from_q); 0 means TP_DEFAULT_HOLE_PX. Infinity: no
+     * limit; a tiny value keeps every such node at full resolution (what an export wants). */
+    double hole_px;
     /* max-error mode: the bound (metres, finite, > 0; no default). The error is measured
      * against reference_heights when given: the source grid as given to tp_terrain_create
      * (src_width * src_height values, row-major, NaN = none; padded fits only), so that
@@ -594,8 +603,8 @@ tp_status tp_selection_ray_cast(const tp_selection* s, const double origin[3],
  * id = first_node[s] + r * node_cols[s] + c, so the largest nodes come first.
  *
  * A node at level k draws the level-k strip over its own samples: vertex stride 2^(n-k+s) grid
- * samples. "Complete" means every full-resolution sample of its AREA is drawn; only complete
- * nodes are drawn at a level below n (see tp_cut_update).
+ * samples. "Complete" means every full-resolution sample of its AREA is drawn; an incomplete
+ * node draws only the triangles its cell mask allows (tp_node_mask_from_q).
  */
 #define TP_TREE_MAX_SCALES 24
 
@@ -631,8 +640,10 @@ void tp_tree_roots(const tp_tree_geometry* g, int64_t* roots, size_t root_capaci
 /* A node's samples as stored and resident: (2^n+1)^2 uint16 in row-major order, each the
  * global quantised height minus the node's qmin, TP_TREE_NO_HEIGHT where the sample is not
  * drawn (nodata, padding). The decoded height of a sample is (stored + qmin) * height_step_m,
- * the same in every node that holds it. */
+ * the same in every node that holds it. A resident node's block is its samples followed by
+ * its cell mask (tp_node_mask_words(n) words; see tp_node_mask_from_q): tp_tree_block_words. */
 #define TP_TREE_NO_HEIGHT 0xFFFFu
+size_t tp_tree_block_words(int n); /* (2^n+1)^2 + tp_node_mask_words(n) */
 
 /* What the tree keeps about every node, resident or not (the store's node table). Errors are
  * uint16 in units of the tree's err_unit (TP_NODE_ERR_SAT: "at least this large"; the bound is
@@ -663,18 +674,46 @@ typedef struct tp_node_meta {
  * the global range exceeds 65534 steps (tp_tree_create_from_grid never lets it). */
 double tp_tree_err_unit_steps(double range_steps);
 
+/* Cell masks: which parts of an incomplete node are drawn below its finest triangles.
+ *
+ * A node's level-n lattice has 2^n x 2^n cells; cell (cx, cy) spans its samples (cx, cy) ..
+ * (cx+1, cy+1), i.e. 2^s x 2^s full-resolution cells. Its mask bit (bit b % 16 of word b / 16,
+ * b = cy * 2^n + cx) is set iff EVERY full-resolution sample of the closed cell is drawn: for a
+ * leaf, its 4 corners; for a node of scale >= 1, the child's level n-1 cell there, i.e. the 2x2
+ * cells of the child's mask. A level-k cell (2^(n-k) lattice cells a side) is "whole" iff every
+ * lattice cell in it is set. Drawing rule (tp_cut_triangles, the error tables, the queries): a
+ * leaf at level n draws each triangle whose three vertices are drawn (as tp_patch_triangles);
+ * anything else draws a triangle only if every lattice cell in the bounding box of its
+ * (stitched) vertices is set, so no drawn triangle covers an undrawn sample and every bound
+ * holds against every full-resolution sample under it. Valid samples in cells that are not
+ * whole are not drawn: a hole of at most one level-k cell (wider only next to a coarser
+ * neighbour's stitched triangles). A complete node's mask is all set. */
+size_t tp_node_mask_words(int n); /* uint16 words of a mask: 4^n / 16 (n >= 2) */
+/* Leaf masks from its samples: q as tp_node_meta_compute takes them (INT32_MIN = not drawn) or
+ * as stored (TP_TREE_NO_HEIGHT = not drawn). */
+void tp_node_mask_from_q(int n, const int32_t* q, uint16_t* mask);
+void tp_node_mask_from_samples(int n, const uint16_t* samples, uint16_t* mask);
+/* The mask of a node of scale >= 1 from its 4 children's masks (quadrants as
+ * tp_tree_node_child numbers them). */
+void tp_node_mask_from_children(int n, const uint16_t* const children[4], uint16_t* mask);
+/* 1 if every lattice cell (x, y), x0 <= x < x1, y0 <= y < y1 (inside 0..2^n), is set. */
+int tp_node_mask_all(const uint16_t* mask, int n, int x0, int y0, int x1, int y1);
+
 /* Computes the meta of one node from its own samples q ((2^n+1)^2 global quantised heights,
- * row-major, INT32_MIN where not drawn) and, for a node of scale >= 1, its 4 children's metas
+ * row-major, INT32_MIN where not drawn), its cell mask (from tp_node_mask_from_q for a leaf,
+ * tp_node_mask_from_children above) and, for a node of scale >= 1, its 4 children's metas
  * (children[q] as tp_tree_node_child numbers them; NULL for a leaf): the children carry the
  * error of the full-resolution samples between this node's samples, and the area's range and
- * flags. err_unit_steps from tp_tree_err_unit_steps. A leaf's tables are exactly
- * tp_terrain's patch tables for the same samples (one implementation). For scale >= 1:
+ * flags. err_unit_steps from tp_tree_err_unit_steps. A complete leaf's tables are
+ * exactly tp_terrain's patch tables for the same samples (one implementation; an incomplete
+ * patch is drawn only at level n, an incomplete leaf at any level by its mask). For scale >= 1:
  * delta[k] = delta_own(k) + carry, delta[n] = carry, eps = the stitched triangles' error at the
  * corners of every cell they touch + carry, carry = max of the children's delta[n-1] (see
- * node_meta.c); a node that is not COMPLETE gets its area range for every level below n and
- * every eps (it is only drawn at level n). Cannot fail. */
-void tp_node_meta_compute(int n, int scale, const int32_t* q, const tp_node_meta* const children[4],
-                          double err_unit_steps, tp_node_meta* out);
+ * node_meta.c); an incomplete node's tables count only the triangles the mask lets it draw.
+ * Cannot fail. */
+void tp_node_meta_compute(int n, int scale, const int32_t* q, const uint16_t* mask,
+                          const tp_node_meta* const children[4], double err_unit_steps,
+                          tp_node_meta* out);
 
 /* Bound (metres, quantisation NOT included) of node's vertical error at level k with the given
  * relative neighbour levels (as tp_patch_error_bound; TP_NO_NEIGHBOR for none or for "no vertex
@@ -691,9 +730,10 @@ double tp_node_error_bound(const tp_node_meta* m, int n, int k, const int neighb
  * its children are known: every node after its 4 children (within a band: its leaves left to
  * right, then each coarser scale's completed row). Memory, all allocated by
  * tp_tree_builder_create, nothing per band, whatever the height: at most
- *   4 (2^n+1) ((2 + 2^-n) width + scales) + 4 cols sizeof(tp_node_meta) + 2048 bytes
+ *   4 (2^n+1) ((2 + 2^-n) width + scales) + 4 cols (sizeof(tp_node_meta) + 2^(2n-3))
+ *   + 2048 bytes
  * (the decimated rows of every scale, one block of samples per node of a row, two rows of
- * metas per scale).
+ * metas and masks per scale).
  * The per-node work (tp_node_meta_compute) may be spread over threads by the caller's
  * parallel_for. */
 typedef struct tp_tree_builder tp_tree_builder;
@@ -702,11 +742,11 @@ typedef struct tp_tree_builder_desc {
     tp_tree_geometry geometry;
     double err_unit_steps;
     /* Called once per node, in an order where children precede parents (from one thread at a
-     * time). q: the node's (2^n+1)^2 global quantised heights (INT32_MIN = not drawn), valid
-     * during the call. Returning non-zero stops the build (tp_tree_builder_add_band then fails
+     * time). q: the node's (2^n+1)^2 global quantised heights (INT32_MIN = not drawn), mask its
+     * cell mask (tp_node_mask_words(n) words), valid during the call. Returning non-zero stops the build (tp_tree_builder_add_band then fails
      * with TP_ERR_IO and the message the callback left in err). */
-    int (*emit)(int64_t node, const tp_node_meta* meta, const int32_t* q, void* user,
-                tp_error* err);
+    int (*emit)(int64_t node, const tp_node_meta* meta, const int32_t* q, const uint16_t* mask,
+                void* user, tp_error* err);
     /* Optional: run fn(i, ctx) for i in 0..count-1, possibly on several threads at once;
      * NULL runs them in order here. */
     void (*parallel_for)(int count, void (*fn)(int i, void* ctx), void* ctx, void* user);
@@ -748,7 +788,8 @@ void tp_tree_destroy(tp_tree* t); /* accepts NULL */
 const tp_tree_geometry* tp_tree_get_geometry(const tp_tree* t);
 const tp_node_meta* tp_tree_meta(const tp_tree* t, int64_t node);
 
-/* Residency: the caller owns node sample blocks ((2^n+1)^2 uint16, see TP_TREE_NO_HEIGHT) and
+/* Residency: the caller owns node blocks (tp_tree_block_words(n) uint16: samples and cell
+ * mask, see TP_TREE_NO_HEIGHT) and
  * attaches them while they are valid; the tree only reads them. Attach / detach from the
  * thread that selects and draws (a loader thread decodes into a block, the render thread
  * attaches it). */
@@ -792,10 +833,11 @@ double tp_tree_sample(const tp_tree* t, int x, int y);
 /* ---- selection over the tree: the drawn cut (tree_select.c, tree_stitch.c) ----
  *
  * From the roots down: a node outside the frustum (its area's AABB, which holds every
- * descendant; see tp_cut_update) is culled and not visited further; a node whose level-n bound (stitching as in tp_node_error_bound) projects above tau
- * (error mode, the same projection bound as tp_selection_update) or that is not complete, is
- * replaced by its 4 children; else it is drawn at its coarsest level whose bound projects to
- * <= tau. Then levels are raised (never lowered) until every pair of visible nodes sharing an
+ * descendant; see tp_cut_update) is culled and not visited further; a node whose level-n
+ * bound (stitching as in tp_node_error_bound) projects above tau (error mode, the same
+ * projection bound as tp_selection_update), or whose holes would be wider than hole_px (an
+ * incomplete node, see tp_node_mask_from_q), is replaced by its 4 children; else it is drawn at
+ * its coarsest level whose bound projects to <= tau and whose holes stay within hole_px. Then levels are raised (never lowered) until every pair of visible nodes sharing an
  * edge can be stitched by moving the finer side's vertices onto the coarser side's: the coarser
  * stride must divide the finer node's side (its corners are vertices of both), and a coarser
  * stride may only be on the larger (or equal) node. Children that are not resident are not
@@ -831,9 +873,10 @@ void tp_cut_destroy(tp_cut* c); /* accepts NULL */
  *   - Culling: the traversal stops at a node whose AREA box (area_qmin..area_qmax: every
  *     descendant's geometry) is outside the frustum; a node chosen for drawing is culled when
  *     its own drawn box (qmin..qmax) is. A node with nothing drawn in its area is skipped.
- *   - Error mode: a node is refined while it is incomplete or its level-n bound plus
- *     quant_max_error_m projects above tau (lod.c's bound over its area box); else it is drawn
- *     at the coarsest level k such that k and every finer level project to <= tau.
+ *   - Error mode: a node is refined while its level-n bound plus quant_max_error_m projects
+ *     above tau (lod.c's bound over its area box) or, incomplete, the holes it may leave at
+ *     level n exceed hole_px (see hole_ok in tree_select.c); else it is drawn at the coarsest
+ *     level k such that k and every finer level meet both.
  *   - Distance mode (Vanek & Jezek over strides): at distance d (eye to the area box) the leaf
  *     formula's level kl asks for vertex stride 2^(n-kl) grid samples; beyond maxdist the
  *     stride doubles with every doubling of d (2^(n + floor(log2(d / maxdist))))), so far
@@ -871,6 +914,12 @@ void tp_cut_get_stats(const tp_cut* c, tp_cut_stats* out);
  * tp_patch_vertices writes them (global grid coordinates, decoded heights; cls is VALID,
  * NODATA or PADDING: a tree does not keep FILLED). */
 void tp_cut_vertices(const tp_cut* c, size_t i, tp_vertex* vertices, size_t vertex_capacity);
+/* The triangles drawn node i draws, from its vertex data (tp_cut_vertices): as
+ * tp_patch_triangles (strip order and winding, index triples, returns the count, writes the
+ * first triangle_capacity), by the cell mask's rule for an incomplete node below a leaf's level
+ * n (tp_node_mask_from_q). What the viewer and the export draw of an incomplete node. */
+size_t tp_cut_triangles(const tp_cut* c, size_t i, const tp_vertex* vertices,
+                        uint32_t* triangles, size_t triangle_capacity);
 /* Height (m) of the surface the cut draws at grid (x, y); NaN where nothing is drawn. */
 double tp_cut_drawn_height_at(const tp_cut* c, double x, double y);
 /* Screen error (px) of the drawn cut against every full-resolution sample of the drawn nodes'
@@ -889,7 +938,7 @@ tp_status tp_cut_measure_screen_error(const tp_cut* c, const tp_camera* cam, dou
 tp_status tp_cut_set_vertical_scale(tp_cut* c, double scale);
 
 /* Test hook: installs a hand-made cut, nodes[i] drawn at levels[i] (resident, distinct, not
- * overlapping; incomplete nodes at n), every node visible, no camera, and runs the stitching
+ * overlapping), every node visible, no camera, and runs the stitching
  * pass on it (levels raised, nodes split or collapsed as in tp_cut_update; a split child keeps
  * its parent's stride). tp_cut_nodes, _vertices and _drawn_height_at then describe it.
  * TP_ERR_OUT_OF_MEMORY (the cut is then empty). */
@@ -934,6 +983,60 @@ tp_status tp_cut_ray_cast(const tp_cut* c, const double origin[3], const double 
  * leaf under the eye resident first, else only the drawn surface counts) and the drawn surface
  * at its (E, N). 1 if it moved the eye, 0 otherwise. */
 int tp_cut_keep_above(const tp_cut* c, double position[3], double clearance_m);
+
+/* ---------------------------------------------------------------------------------------------
+ * Viewshed (viewshed.c): which samples an observer sees
+ *
+ * One pass over the grid outwards from the observer carrying a horizon height per sample
+ * (Wang, Robinson & White 2000; GDAL's GVM_Edge mode of GDALViewshedGenerate), O(samples) in
+ * the radius' window: about 10 ms for a 20 km radius on 30 m posts (docs/PERFORMANCE.md).
+ * docs/field.md states its error behaviour and where it differs from gdal_viewshed.
+ *
+ * Conventions are gdal_viewshed's: heights above the ground (observer 2 m, target 0 m); a
+ * sample's height is lowered by curvature_coeff * d^2 / (2 * earth_radius_m) at horizontal
+ * distance d from the observer (0.85714 = curvature with standard refraction, 1 = curvature
+ * without refraction, 0 = a flat earth: as GDAL's -cc, which "1" does NOT turn off); distances
+ * are between sample centres, in the units of the geotransform (metres on a render grid), and
+ * use |gt[1]| and |gt[5]| (rotated grids are refused). A target at a sample is seen when its
+ * corrected height plus target_height_m reaches the horizon there (equal counts as seen).
+ * Values: TP_VIEWSHED_VISIBLE (255), TP_VIEWSHED_HIDDEN (0), TP_VIEWSHED_OUTSIDE (0: beyond
+ * the radius), as GDALViewshedGenerate's defaults; a nodata sample (NaN) is never seen (0) and
+ * does not block the view (a sight line passes over it at the horizon it inherits). The
+ * observer's sample and its eight neighbours are always seen (no sample lies between).
+ */
+#define TP_VIEWSHED_VISIBLE 255
+#define TP_VIEWSHED_HIDDEN 0
+#define TP_VIEWSHED_OUTSIDE 0
+#define TP_VIEWSHED_OBSERVER_HEIGHT_M 2.0
+#define TP_VIEWSHED_TARGET_HEIGHT_M 0.0
+#define TP_VIEWSHED_CURVATURE_COEFF 0.85714
+
+typedef struct tp_viewshed_options {
+    double observer_height_m; /* eye above the ground at the observer's sample, >= 0 */
+    double target_height_m;   /* target above the ground at each sample, >= 0 */
+    double curvature_coeff;   /* >= 0; see above */
+    double radius_m;          /* samples further than this are TP_VIEWSHED_OUTSIDE; 0: no limit */
+    double earth_radius_m;    /* the sphere of the curvature term (GDAL: the CRS's semi-major
+                                 axis); 0 means WGS84's 6378137 m */
+} tp_viewshed_options;
+
+/* gdal_viewshed's defaults: 2 m, 0 m, 0.85714, no radius limit, WGS84's semi-major axis.
+ * (A zeroed struct is valid too: an eye on the ground, a flat earth.) */
+tp_viewshed_options tp_viewshed_options_default(void);
+
+/* Computes the viewshed of an observer standing on sample (observer_x, observer_y) (column,
+ * row) of heights (width * height floats, row 0 first, NaN = nodata; height_count = width *
+ * height) into out (out_count >= width * height bytes, one per sample, the values above). Every
+ * byte of out is written, those outside the radius' window too (0). The georeference is the
+ * GDAL geotransform of the grid (only its post spacings matter).
+ * Fails (out untouched) with TP_ERR_INVALID_ARG for an observer outside the grid, a non-finite
+ * or rotated geotransform, a zero post spacing, options outside their ranges (negative or NaN
+ * heights, radius or coefficient); TP_ERR_BAD_DATA for an observer on a nodata sample;
+ * TP_ERR_OUT_OF_MEMORY (three rows of doubles of scratch). Reentrant: no state between calls. */
+tp_status tp_viewshed_compute(const float* heights, size_t height_count, int width, int height,
+                              const double geotransform[6], int observer_x, int observer_y,
+                              const tp_viewshed_options* options, uint8_t* out,
+                              size_t out_count, tp_error* err);
 
 #ifdef __cplusplus
 }

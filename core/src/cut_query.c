@@ -128,6 +128,7 @@ typedef struct ray_ctx {
     double d[3];          /* unit direction */
     double x0, y0, gx, gy; /* the ground track in grid coordinates */
     tp_vertex* v;         /* a node's vertices, (2^n+1)^2 */
+    tp__node_draw draw;   /* which of its triangles it draws */
 } ray_ctx;
 
 /* Nearest hit with the two triangles of cell (cx, cy) of a node whose vertices are in r->v
@@ -138,16 +139,18 @@ static double cell_hit(const ray_ctx* r, int vs, int cx, int cy, double best)
     static const int tri[2][3][2] = {{{0, 0}, {0, 1}, {1, 0}}, {{1, 0}, {0, 1}, {1, 1}}};
     for (int h = 0; h < 2; h++) {
         double w[3][3];
+        int32_t pos[3][2];
         int ok = 1;
-        for (int k = 0; k < 3 && ok; k++) {
+        for (int k = 0; k < 3; k++) {
             const tp_vertex* v = &r->v[(size_t)(cy + tri[h][k][1]) * vs + (cx + tri[h][k][0])];
-            ok = v->cls == TP_SAMPLE_VALID && !isnan(v->z_m);
+            ok &= v->cls == TP_SAMPLE_VALID && !isnan(v->z_m);
+            pos[k][0] = v->x, pos[k][1] = v->y;
             tp_tree_grid_to_world(r->c->t, v->x, v->y, &w[k][0], &w[k][1]);
             w[k][0] -= r->o[0];
             w[k][1] -= r->o[1];
             w[k][2] = (double)v->z_m * r->c->zscale - r->o[2];
         }
-        if (!ok)
+        if (!tp__tri_drawn(&r->draw, pos, ok))
             continue;
         double t = tp__ray_triangle(r->d, w[0], w[1], w[2]);
         if (t >= 0 && (best < 0 || t < best))
@@ -165,6 +168,7 @@ static double node_hit(ray_ctx* r, size_t i)
     tp_tree_node_locate(&c->g, cn->node, &s, &nc, &nr);
     int k = cn->level, vs = (1 << k) + 1, cells = 1 << k;
     tp_cut_vertices(c, i, r->v, (size_t)vs * vs);
+    tp__cut_node_draw(c, i, &r->draw);
     double span = (double)((int64_t)1 << (c->n + s)), ox = nc * span, oy = nr * span;
     double t0 = 0, t1 = INFINITY;
     if (!tp__slab(r->x0, r->gx, ox, ox + span, &t0, &t1) ||
@@ -199,7 +203,7 @@ tp_status tp_cut_ray_cast(const tp_cut* c, const double origin[3], const double 
     tp_ray_hit res = {0};
     res.patch = -1;
     res.node = -1;
-    ray_ctx r = {c, origin, {dir[0] / len, dir[1] / len, dir[2] / len}, 0, 0, 0, 0, NULL};
+    ray_ctx r = {c, origin, {dir[0] / len, dir[1] / len, dir[2] / len}, 0, 0, 0, 0, NULL, {0}};
     const double* gt = c->gt;
     r.gx = r.d[0] / gt[1];
     r.gy = r.d[1] / gt[5];

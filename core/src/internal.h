@@ -160,16 +160,28 @@ int tp__node_vertex_position(const tp_tree_geometry* g, int64_t node, int k, con
  * global quantised heights row-major, INT32_MIN where a sample is not drawn. Errors are in
  * steps. Both tp_terrain's patch tables (patch_error.c) and tree nodes' metas use these. */
 
+/* tp_patch_triangles with another rule: keep(a, b, c, user) says whether the strip's
+ * triangle (a, b, c) is drawn (NULL: when its three vertices are). Zero-area triangles are
+ * skipped either way (stitch.c). */
+typedef int (*tp__tri_keep)(const tp_vertex* a, const tp_vertex* b, const tp_vertex* c,
+                            void* user);
+size_t tp__strip_triangles(const tp_vertex* vertices, int k, tp__tri_keep keep, void* user,
+                           uint32_t* triangles, size_t triangle_capacity);
+
 /* Largest |S_k - q| over the lattice samples under the drawn triangles of the unstitched
- * level-k triangulation (delta_k of the lattice). */
-double tp__lattice_level_error(int n, const int32_t* q, int k);
+ * level-k triangulation (delta_k of the lattice). mask NULL: a triangle is drawn when its
+ * vertices are (a patch); else by the cell mask's rule (tp_node_mask_from_q: a node). */
+double tp__lattice_level_error(int n, const int32_t* q, const uint16_t* mask, int k);
 
 /* eps[side][kn], kn = 0..n-1: the largest error of any triangle with a vertex moved by a
  * neighbour at level kn on that side, over every level k > kn. cells = 0: measured at the lattice
  * samples the triangle covers (exact against the lattice samples: a patch, a leaf); cells = 1:
  * at every corner of every lattice cell the triangle touches, with the triangle's plane extended
  * there (a bound against the lattice's full-resolution surface S_n, see node_meta.c). */
-void tp__lattice_eps(int n, const int32_t* q, int cells, double eps[4][TP_MAX_N]);
+/* mask: as tp__lattice_level_error (with a mask, a leaf's level-n triangles still follow
+ * their vertices: cells = 0 and k = n). */
+void tp__lattice_eps(int n, const int32_t* q, const uint16_t* mask, int cells,
+                     double eps[4][TP_MAX_N]);
 
 /* An error of `steps` in table units of unit_steps, rounded up; TP__ERR_SAT when it does not
  * fit. */
@@ -342,6 +354,8 @@ struct tp_cut {
     int8_t kid_in[4];
     uint8_t kid_pb_known[4];
     tp__proj_bound kid_pb[4];
+    double kid_dist[4];  /* eye to each child's area box (incomplete children only) */
+    double cell_m;       /* the larger grid spacing (m): hole widths */
     int32_t* tri_memo;   /* triangles of a complete node by level and neighbour levels (-1:
                             not counted yet; tree_stitch.c), tri_memo_count entries */
     size_t tri_memo_count;
@@ -356,6 +370,18 @@ struct tp_cut {
 
 /* Index in the drawn output of the node covering leaf (lc, lr), or -1 (tree_stitch.c). */
 int tp__cut_drawn_at_leaf(const tp_cut* c, int lc, int lr);
+
+/* Which triangles drawn node i (output index) draws (tp_node_mask_from_q's rule). */
+typedef struct tp__node_draw {
+    const uint16_t* mask; /* NULL: a triangle is drawn when its vertices are (a complete node,
+                             a leaf at level n) */
+    int n, s;
+    int64_t x0, y0;       /* grid position of the node's sample (0, 0) */
+} tp__node_draw;
+void tp__cut_node_draw(const tp_cut* c, size_t i, tp__node_draw* d);
+/* Whether the triangle with (stitched) grid positions pos is drawn; vertices_drawn: whether
+ * its vertices, original and moved, are. */
+int tp__tri_drawn(const tp__node_draw* d, const int32_t pos[3][2], int vertices_drawn);
 /* Grows the array *p of *cap elements of size bytes to at least need (doubling); 0, c->oom
  * set, without memory. */
 int tp__cut_grow(tp_cut* c, void** p, size_t* cap, size_t need, size_t size);

@@ -110,6 +110,11 @@ tp_status tp_lod_params_resolve(const tp_terrain* t, const tp_lod_params* in, tp
         p.exponent = 1;
     if (p.tau_px == 0)
         p.tau_px = 1;
+    if (!(p.hole_px >= 0)) /* infinity is valid */
+        return tp__fail(err, TP_ERR_INVALID_ARG, "lod: expected a hole width >= 0 px, got %g",
+                        p.hole_px);
+    if (p.hole_px == 0)
+        p.hole_px = TP_DEFAULT_HOLE_PX;
     *out = p;
     return TP_OK;
 }

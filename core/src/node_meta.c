@@ -29,7 +29,7 @@ static inline int32_t lq(const int32_t* q, int side, int i, int j)
     return q[(size_t)j * (size_t)side + (size_t)i];
 }
 
-double tp__lattice_level_error(int n, const int32_t* q, int k)
+double tp__lattice_level_error(int n, const int32_t* q, const uint16_t* mask, int k)
 {
     assert(q && n >= 0 && n <= TP_MAX_N && k >= 0 && k <= n);
     if (k == n)
@@ -46,8 +46,12 @@ double tp__lattice_level_error(int n, const int32_t* q, int k)
             int xa = cx * s, ya = cy * s;
             int32_t q00 = lq(q, side, xa, ya), q10 = lq(q, side, xa + s, ya);
             int32_t q01 = lq(q, side, xa, ya + s), q11 = lq(q, side, xa + s, ya + s);
-            int lower = q00 != INT32_MIN && q10 != INT32_MIN && q01 != INT32_MIN;
-            int upper = q11 != INT32_MIN && q10 != INT32_MIN && q01 != INT32_MIN;
+            int lower, upper;
+            if (mask) /* a whole cell or nothing; then every sample in it is drawn */
+                lower = upper = tp_node_mask_all(mask, n, xa, ya, xa + s, ya + s);
+            else
+                lower = q00 != INT32_MIN && q10 != INT32_MIN && q01 != INT32_MIN,
+                upper = q11 != INT32_MIN && q10 != INT32_MIN && q01 != INT32_MIN;
             if (!lower && !upper)
                 continue;
             /* lower: i + j <= s, z s = q00 s + i (q10 - q00) + j (q01 - q00); upper (the rest,
@@ -267,8 +271,32 @@ static double cell_bound(const int32_t* q, int side, const int32_t pos[3][2], co
 /* Measures the stitched triangles of cells [cx0, cx1) x [cy0, cy1) of the level-k
  * triangulation with neighbour levels nb; each triangle's error (steps) is folded into out[side]
  * for every side that moved one of its vertices. */
-static void stitched_error(int n, const int32_t* q, int cells_mode, int k, const int nb[4],
-                           int cx0, int cx1, int cy0, int cy1, double out[4])
+/* Whether a triangle with unmoved lattice positions orig and moved ones pos, of a level-k
+ * triangulation, is drawn (see tp_node_mask_from_q): with a mask and not a leaf's level n, when
+ * every lattice cell of pos's bounding box is set; else when every vertex is drawn. */
+static int tri_drawn(int n, const int32_t* q, const uint16_t* mask, int vertex_rule,
+                     const int32_t orig[3][2], const int32_t pos[3][2])
+{
+    int side = (1 << n) + 1;
+    if (!mask || vertex_rule) {
+        for (int v = 0; v < 3; v++)
+            if (lq(q, side, orig[v][0], orig[v][1]) == INT32_MIN ||
+                lq(q, side, pos[v][0], pos[v][1]) == INT32_MIN)
+                return 0;
+        return 1;
+    }
+    int32_t x0 = pos[0][0], x1 = pos[0][0], y0 = pos[0][1], y1 = pos[0][1];
+    for (int v = 1; v < 3; v++) {
+        x0 = pos[v][0] < x0 ? pos[v][0] : x0;
+        x1 = pos[v][0] > x1 ? pos[v][0] : x1;
+        y0 = pos[v][1] < y0 ? pos[v][1] : y0;
+        y1 = pos[v][1] > y1 ? pos[v][1] : y1;
+    }
+    return tp_node_mask_all(mask, n, x0, y0, x1, y1);
+}
+
+static void stitched_error(int n, const int32_t* q, const uint16_t* mask, int cells_mode, int k,
+                           const int nb[4], int cx0, int cx1, int cy0, int cy1, double out[4])
 {
     int last = 1 << k, stride = 1 << (n - k), side = (1 << n) + 1;
     for (int cy = cy0; cy < cy1; cy++)
@@ -276,22 +304,19 @@ static void stitched_error(int n, const int32_t* q, int cells_mode, int k, const
             /* The two triangles of the cell, in strip winding. */
             static const int tri[2][3][2] = {{{0, 0}, {0, 1}, {1, 0}}, {{1, 0}, {0, 1}, {1, 1}}};
             for (int h = 0; h < 2; h++) {
-                int32_t pos[3][2];
+                int32_t orig[3][2], pos[3][2];
                 int64_t z[3];
-                int sides = 0, drawn = 1;
+                int sides = 0;
                 for (int v = 0; v < 3; v++) {
                     int i = cx + tri[h][v][0], j = cy + tri[h][v][1], mi, mj;
-                    if (lq(q, side, i * stride, j * stride) == INT32_MIN)
-                        drawn = 0;
                     if (tp__lattice_vertex(k, nb, i, j, &mi, &mj))
                         sides |= 1 << side_of(i, j, last);
+                    orig[v][0] = i * stride, orig[v][1] = j * stride;
                     pos[v][0] = mi * stride;
                     pos[v][1] = mj * stride;
-                    int32_t qv = lq(q, side, pos[v][0], pos[v][1]);
-                    drawn &= qv != INT32_MIN;
-                    z[v] = qv;
+                    z[v] = lq(q, side, pos[v][0], pos[v][1]);
                 }
-                if (!sides || !drawn)
+                if (!sides || !tri_drawn(n, q, mask, !cells_mode && k == n, orig, pos))
                     continue;
                 double e = cells_mode ? cell_bound(q, side, pos, z) : raster_error(q, side, pos, z);
                 for (int s = 0; s < 4; s++)
@@ -301,7 +326,8 @@ static void stitched_error(int n, const int32_t* q, int cells_mode, int k, const
         }
 }
 
-static void lattice_eps_direct(int n, const int32_t* q, int cells, double eps[4][TP_MAX_N])
+static void lattice_eps_direct(int n, const int32_t* q, const uint16_t* mask, int cells,
+                               double eps[4][TP_MAX_N])
 {
     memset(eps, 0, sizeof(double) * 4 * TP_MAX_N);
     for (int k = 1; k <= n; k++) {
@@ -316,7 +342,7 @@ static void lattice_eps_direct(int n, const int32_t* q, int cells, double eps[4]
                 int cx1 = s == TP_SIDE_LEFT ? 1 : cn;
                 int cy0 = s == TP_SIDE_BOTTOM ? cn - 1 : 0;
                 int cy1 = s == TP_SIDE_TOP ? 1 : cn;
-                stitched_error(n, q, cells, k, nb, cx0, cx1, cy0, cy1, e);
+                stitched_error(n, q, mask, cells, k, nb, cx0, cx1, cy0, cy1, e);
                 eps[s][kn] = e[s] > eps[s][kn] ? e[s] : eps[s][kn];
             }
         if (k == 1) /* both sides of each cell's corner moved (see the top of this file) */
@@ -326,7 +352,7 @@ static void lattice_eps_direct(int n, const int32_t* q, int cells, double eps[4]
                 nb[cy ? TP_SIDE_BOTTOM : TP_SIDE_TOP] = 0;
                 nb[cx ? TP_SIDE_RIGHT : TP_SIDE_LEFT] = 0;
                 double e[4] = {0, 0, 0, 0};
-                stitched_error(n, q, cells, 1, nb, cx, cx + 1, cy, cy + 1, e);
+                stitched_error(n, q, mask, cells, 1, nb, cx, cx + 1, cy, cy + 1, e);
                 for (int s = 0; s < 4; s++)
                     eps[s][0] = e[s] > eps[s][0] ? e[s] : eps[s][0];
             }
@@ -351,6 +377,8 @@ typedef struct {
     int32_t abs_area;
     int8_t sign;
     uint8_t kn, sides;       /* folded into eps[side][kn] for each side bit */
+    uint8_t vertex_rule;     /* a leaf's level n: drawn when its vertices are */
+    int16_t box[4];          /* x0, y0, x1, y1: the lattice cells of pos's bounding box */
     uint32_t span0, span_count;
 } plan_tri;
 
@@ -382,9 +410,10 @@ static void plan_add_span(eps_plan* p, int y, int64_t xa, int64_t xb, const int3
 }
 
 /* One triangle (moved positions pos, unmoved orig) and the positions its error is taken at. */
-static void plan_add_tri(eps_plan* p, int side, int cells, const int32_t orig[3][2],
+static void plan_add_tri(eps_plan* p, int n, int k, int cells, const int32_t orig[3][2],
                          const int32_t pos[3][2], int kn, int sides)
 {
+    int side = (1 << n) + 1;
     int64_t area = edge(pos[0], pos[1], pos[2][0], pos[2][1]);
     if (area == 0 || p->failed)
         return; /* collapsed: measured as 0 */
@@ -416,6 +445,9 @@ static void plan_add_tri(eps_plan* p, int side, int cells, const int32_t orig[3]
         y0 = pos[v][1] < y0 ? pos[v][1] : y0;
         y1 = pos[v][1] > y1 ? pos[v][1] : y1;
     }
+    t->vertex_rule = (uint8_t)(!cells && k == n);
+    t->box[0] = (int16_t)x0, t->box[1] = (int16_t)y0, t->box[2] = (int16_t)x1,
+    t->box[3] = (int16_t)y1;
     if (!cells) { /* the samples inside, as raster_error */
         for (int32_t y = y0; y <= y1; y++) {
             int64_t xa = x0, xb = x1;
@@ -471,7 +503,7 @@ static void plan_add_tri(eps_plan* p, int side, int cells, const int32_t orig[3]
 static void plan_cells(eps_plan* p, int n, int cells, int k, int kn, const int nb[4], int cx0,
                        int cx1, int cy0, int cy1)
 {
-    int last = 1 << k, stride = 1 << (n - k), side = (1 << n) + 1;
+    int last = 1 << k, stride = 1 << (n - k);
     static const int tri[2][3][2] = {{{0, 0}, {0, 1}, {1, 0}}, {{1, 0}, {0, 1}, {1, 1}}};
     for (int cy = cy0; cy < cy1; cy++)
         for (int cx = cx0; cx < cx1; cx++)
@@ -486,7 +518,7 @@ static void plan_cells(eps_plan* p, int n, int cells, int k, int kn, const int n
                     pos[v][0] = mi * stride, pos[v][1] = mj * stride;
                 }
                 if (sides)
-                    plan_add_tri(p, side, cells, orig, pos, kn, sides);
+                    plan_add_tri(p, n, k, cells, orig, pos, kn, sides);
             }
 }
 
@@ -551,13 +583,14 @@ static const eps_plan* plan_get(int n, int cells)
     return g_plans[n][cells ? 1 : 0];
 }
 
-void tp__lattice_eps(int n, const int32_t* q, int cells, double eps[4][TP_MAX_N])
+void tp__lattice_eps(int n, const int32_t* q, const uint16_t* mask, int cells,
+                     double eps[4][TP_MAX_N])
 {
     assert(q && n >= 1 && n <= TP_MAX_N);
     _Static_assert(TP_MAX_N == 8, "one plan per n: PLAN_ONCE above");
     const eps_plan* p = plan_get(n, cells);
     if (!p) {
-        lattice_eps_direct(n, q, cells, eps);
+        lattice_eps_direct(n, q, mask, cells, eps);
         return;
     }
     memset(eps, 0, sizeof(double) * 4 * TP_MAX_N);
@@ -571,6 +604,8 @@ void tp__lattice_eps(int n, const int32_t* q, int cells, double eps[4][TP_MAX_N]
             drawn &= (q[t->orig[v]] != INT32_MIN) & (qv != INT32_MIN);
             z[v] = qv;
         }
+        if (mask && !t->vertex_rule) /* as tri_drawn */
+            drawn = tp_node_mask_all(mask, n, t->box[0], t->box[1], t->box[2], t->box[3]);
         if (!drawn)
             continue;
         const int64_t sign = t->sign, abs_area = t->abs_area;
@@ -622,18 +657,20 @@ static uint16_t add_units(unsigned a, unsigned b, unsigned cap)
  * delta_own, measured as for a leaf) and carry = max over children of child.delta[n-1], which
  * already holds against full resolution (induction from the leaves, where it is exact).
  * delta[n] = carry. Stitched triangles use the cell bound (cell_bound above) plus carry.
- * Incomplete nodes: S_n is missing where a sample is not drawn, so the sum does not hold there;
- * their levels below n and their eps are the area range instead (every drawn triangle
- * interpolates drawn samples of the area, and every drawn sample of the area lies in the
- * range), which also fits the rule that only complete nodes are drawn below level n. Every
+ * Incomplete nodes: S_n is missing where a sample is not drawn, so only the triangles the cell
+ * mask draws are measured (tp_node_mask_from_q): each lies in set lattice cells, which are the
+ * children's whole level n-1 cells, where S_n exists and the children's delta[n-1] (measured
+ * the same way) holds, so the sum holds for every triangle drawn. Every
  * bound is clamped to the area range (area_qmax - area_qmin). With err_unit_steps from
  * tp_tree_err_unit_steps of the global range, that range fits 65534 units, so TP_NODE_ERR_SAT
  * is never stored then (it can be only when the global range exceeds 65534 steps). */
-void tp_node_meta_compute(int n, int scale, const int32_t* q, const tp_node_meta* const children[4],
-                          double err_unit_steps, tp_node_meta* out)
+void tp_node_meta_compute(int n, int scale, const int32_t* q, const uint16_t* mask,
+                          const tp_node_meta* const children[4], double err_unit_steps,
+                          tp_node_meta* out)
 {
     assert(n >= 1 && n <= TP_MAX_N && scale >= 0 && scale < TP_TREE_MAX_SCALES && q && out);
     assert(scale == 0 || (children && children[0] && children[1] && children[2] && children[3]));
+    assert(mask);
     assert(err_unit_steps > 0);
     int side = (1 << n) + 1;
     tp_node_meta m;
@@ -683,24 +720,17 @@ void tp_node_meta_compute(int n, int scale, const int32_t* q, const tp_node_meta
             unsigned d = children[c]->delta[n - 1];
             carry = d > carry ? d : carry;
         }
-    if (scale > 0 && !(m.flags & TP_NODE_COMPLETE)) {
-        for (int k = 0; k < n; k++)
-            m.delta[k] = (uint16_t)range;
-        m.delta[n] = (uint16_t)(carry < range ? carry : range);
-        for (int s = 0; s < 4; s++)
-            for (int kn = 0; kn < n; kn++)
-                m.eps[s][kn] = (uint16_t)range;
-        *out = m;
-        return;
-    }
+    /* A complete node's mask is all set: the vertex rule draws the same triangles, faster. */
+    const uint16_t* mk = (m.flags & TP_NODE_COMPLETE) ? NULL : mask;
     for (int k = 0; k <= n; k++) {
-        unsigned own_units = k < n || scale == 0
-                                 ? tp__err_units(tp__lattice_level_error(n, q, k), err_unit_steps)
-                                 : 0;
+        unsigned own_units =
+            k < n || scale == 0
+                ? tp__err_units(tp__lattice_level_error(n, q, mk, k), err_unit_steps)
+                : 0;
         m.delta[k] = add_units(own_units, carry, range);
     }
     double eps[4][TP_MAX_N];
-    tp__lattice_eps(n, q, scale > 0, eps);
+    tp__lattice_eps(n, q, mk, scale > 0, eps);
     for (int s = 0; s < 4; s++)
         for (int kn = 0; kn < n; kn++)
             /* Interpolation at moved vertices is not exact: round up generously. */

@@ -35,9 +35,9 @@ tp_status tp__patch_errors_compute(tp_terrain* t, tp_error* err)
             for (int x = 0; x < side; x++)
                 q[y * side + x] = tp__q(t, x0 + x, y0 + y);
         for (int k = 0; k <= n; k++)
-            tab[k] = tp__err_units(tp__lattice_level_error(n, q, k), t->err_unit);
+            tab[k] = tp__err_units(tp__lattice_level_error(n, q, NULL, k), t->err_unit);
         double eps[4][TP_MAX_N];
-        tp__lattice_eps(n, q, 0, eps);
+        tp__lattice_eps(n, q, NULL, 0, eps);
         for (int s = 0; s < 4; s++)
             for (int kn = 0; kn < n; kn++)
                 /* Interpolation at moved vertices is not exact: round up generously. */

@@ -110,6 +110,12 @@ static int drawn(const tp_vertex* v)
 size_t tp_patch_triangles(const tp_vertex* vertices, int k, uint32_t* triangles,
                           size_t triangle_capacity)
 {
+    return tp__strip_triangles(vertices, k, NULL, NULL, triangles, triangle_capacity);
+}
+
+size_t tp__strip_triangles(const tp_vertex* vertices, int k, tp__tri_keep keep, void* user,
+                           uint32_t* triangles, size_t triangle_capacity)
+{
     assert(vertices && k >= 0 && k <= TP_MAX_N && (triangles || triangle_capacity == 0));
     /* Decode the level's strip: triangle t is (i_t, i_t+1, i_t+2), odd ones swap the first two
      * so that all keep the same winding. */
@@ -138,7 +144,7 @@ size_t tp_patch_triangles(const tp_vertex* vertices, int k, uint32_t* triangles,
                 b = tmp;
             }
             const tp_vertex *A = &vertices[a], *B = &vertices[b], *C = &vertices[c3];
-            if (!drawn(A) || !drawn(B) || !drawn(C))
+            if (keep ? !keep(A, B, C, user) : (!drawn(A) || !drawn(B) || !drawn(C)))
                 continue;
             int64_t area = ((int64_t)B->x - A->x) * ((int64_t)C->y - A->y) -
                            ((int64_t)B->y - A->y) * ((int64_t)C->x - A->x);

@@ -21,6 +21,8 @@ struct tp_tree_builder {
     int32_t* rows[TP_TREE_MAX_SCALES];     /* scale s >= 1: side rows of rw[s] samples */
     int rw[TP_TREE_MAX_SCALES];            /* node_cols[s] * 2^n + 1 */
     tp_node_meta* metas[TP_TREE_MAX_SCALES]; /* 2 rows (by row parity) of node_cols[s] */
+    uint16_t* masks[TP_TREE_MAX_SCALES];     /* their cell masks, mask_words each */
+    size_t mask_words;
     int32_t* scratch;                       /* cols blocks of side^2: one node's q per item */
     /* the row of nodes being computed by the parallel_for */
     int cur_s, cur_r;
@@ -34,6 +36,7 @@ static void destroy(tp_tree_builder* b)
     for (int s = 0; s < TP_TREE_MAX_SCALES; s++) {
         tp__free(&a, b->rows[s]);
         tp__free(&a, b->metas[s]);
+        tp__free(&a, b->masks[s]);
     }
     tp__free(&a, b->scratch);
     tp__free(&a, b);
@@ -67,6 +70,7 @@ tp_status tp_tree_builder_create(const tp_tree_builder_desc* desc, tp_tree_build
     b->ps = 1 << g->n;
     b->side = b->ps + 1;
     b->width = g->width;
+    b->mask_words = tp_node_mask_words(g->n);
     for (int s = 0; s < g->scales; s++) {
         if (s >= 1) {
             b->rw[s] = g->node_cols[s] * b->ps + 1;
@@ -75,7 +79,9 @@ tp_status tp_tree_builder_create(const tp_tree_builder_desc* desc, tp_tree_build
                 goto oom;
         }
         b->metas[s] = tp__calloc(&a, 2 * (size_t)g->node_cols[s], sizeof(tp_node_meta));
-        if (!b->metas[s])
+        b->masks[s] = tp__calloc(&a, 2 * (size_t)g->node_cols[s] * b->mask_words,
+                                 sizeof(uint16_t));
+        if (!b->metas[s] || !b->masks[s])
             goto oom;
     }
     b->scratch = tp__alloc(&a, (size_t)g->cols * (size_t)b->side * (size_t)b->side,
@@ -107,6 +113,12 @@ static tp_node_meta* meta_at(const tp_tree_builder* b, int s, int c, int r)
     return &b->metas[s][(size_t)(r & 1) * (size_t)b->d.geometry.node_cols[s] + (size_t)c];
 }
 
+static uint16_t* mask_at(const tp_tree_builder* b, int s, int c, int r)
+{
+    size_t i = (size_t)(r & 1) * (size_t)b->d.geometry.node_cols[s] + (size_t)c;
+    return b->masks[s] + i * b->mask_words;
+}
+
 /* One node of the current row: gather its samples, compute its meta. Items touch only their
  * own scratch block and meta slot, so any order and any threads give the same result. */
 static void node_item(int c, void* ctx)
@@ -118,10 +130,18 @@ static void node_item(int c, void* ctx)
         memcpy(q + (size_t)j * side, b->cur_src + (size_t)j * b->cur_src_w + (size_t)c * ps,
                sizeof(int32_t) * (size_t)side);
     const tp_node_meta* children[4] = {NULL, NULL, NULL, NULL};
-    if (s > 0)
-        for (int k = 0; k < 4; k++)
+    const uint16_t* kid_masks[4] = {NULL, NULL, NULL, NULL};
+    uint16_t* mask = mask_at(b, s, c, r);
+    if (s > 0) {
+        for (int k = 0; k < 4; k++) {
             children[k] = meta_at(b, s - 1, 2 * c + (k & 1), 2 * r + (k >> 1));
-    tp_node_meta_compute(b->n, s, q, s > 0 ? children : NULL, b->d.err_unit_steps,
+            kid_masks[k] = mask_at(b, s - 1, 2 * c + (k & 1), 2 * r + (k >> 1));
+        }
+        tp_node_mask_from_children(b->n, kid_masks, mask);
+    } else {
+        tp_node_mask_from_q(b->n, q, mask);
+    }
+    tp_node_meta_compute(b->n, s, q, mask, s > 0 ? children : NULL, b->d.err_unit_steps,
                          meta_at(b, s, c, r));
 }
 
@@ -145,7 +165,8 @@ static tp_status node_row(tp_tree_builder* b, int s, int r, const int32_t* src, 
         tp_error e;
         snprintf(e.message, sizeof e.message, "tree builder: the emit callback stopped the "
                  "build at node %lld", (long long)id);
-        if (b->d.emit(id, meta_at(b, s, c, r), item_q(b, c), b->d.user, &e)) {
+        if (b->d.emit(id, meta_at(b, s, c, r), item_q(b, c), mask_at(b, s, c, r), b->d.user,
+                      &e)) {
             b->failed = 1;
             if (err)
                 *err = e;
@@ -217,18 +238,19 @@ tp_status tp_tree_builder_add_band(tp_tree_builder* b, int r, const int32_t* q, 
 typedef struct {
     tp_node_meta* metas;
     uint16_t* samples;
-    size_t block; /* samples per node */
+    size_t count, block; /* samples per node, words per block (samples and mask) */
 } grid_sink;
 
-static int keep_node(int64_t node, const tp_node_meta* meta, const int32_t* q, void* user,
-                     tp_error* err)
+static int keep_node(int64_t node, const tp_node_meta* meta, const int32_t* q,
+                     const uint16_t* mask, void* user, tp_error* err)
 {
     (void)err;
     grid_sink* k = user;
     k->metas[node] = *meta;
     uint16_t* dst = k->samples + (size_t)node * k->block;
-    for (size_t i = 0; i < k->block; i++)
+    for (size_t i = 0; i < k->count; i++)
         dst[i] = q[i] == INT32_MIN ? (uint16_t)TP_TREE_NO_HEIGHT : (uint16_t)(q[i] - meta->qmin);
+    memcpy(dst + k->count, mask, (k->block - k->count) * sizeof *mask);
     return 0;
 }
 
@@ -303,7 +325,8 @@ tp_status tp_tree_create_from_grid(const float* heights, size_t height_count, in
     tp_allocator a = {0};
     int side = (1 << g.n) + 1;
     grid_sink sink = {0};
-    sink.block = (size_t)side * (size_t)side;
+    sink.count = (size_t)side * (size_t)side;
+    sink.block = tp_tree_block_words(g.n);
     sink.metas = tp__calloc(&a, (size_t)g.node_count, sizeof(tp_node_meta));
     sink.samples = tp__alloc(&a, (size_t)g.node_count, sink.block * sizeof(uint16_t));
     int32_t* band = tp__alloc(&a, (size_t)side * (size_t)g.width, sizeof(int32_t));

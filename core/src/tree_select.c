@@ -1,9 +1,9 @@
 /* tree_select.c - the cut: which tree nodes are drawn, at which level, for one view.
  *
  * From the roots down, each node visited is culled (area box outside the frustum), refined
- * (the mode asks for more detail than its level n gives, or it is incomplete, and its children
- * are resident) or drawn at the coarsest level the mode allows. The error mode uses lod.c's
- * projection bound on the node's area box, so tau holds anywhere on screen; the distance mode
+ * (the mode asks for more detail than its level n gives, or its holes would be too wide, and
+ * its children are resident) or drawn at the coarsest level the mode allows. The error mode
+ * uses lod.c's projection bound on the node's area box, so tau holds anywhere on screen; the distance mode
  * generalises Vanek & Jezek's formula to vertex strides (see tp_cut in tp_core.h). Then
  * tree_stitch.c makes neighbours stitchable. Cost: O(1) per visited node (a hash of node ids
  * instead of per-node arrays), and no allocation once the arrays have grown to the view.
@@ -217,6 +217,28 @@ static int wanted_stride_log(const tp_cut* c, double d)
 
 static int64_t kid_in_view(tp_cut* c, int i, int q, int* in);
 
+/* Error mode: whether a node of scale s at level k keeps the holes it may leave within
+ * hole_px. Only incomplete nodes leave holes (not whole: !(COMPLETE) with something drawn), and
+ * not a leaf at level n (its triangles follow its samples): one level-k cell, 2^(n-k+s)
+ * samples wide, at most (tp_node_mask_from_q). A horizontal length w at distance >= R from the
+ * eye spans at most about w / R radians, and at most twice that many focal lengths of pixels
+ * anywhere in a view up to 90 degrees wide: 2 f w / R. R is the eye's distance to the node's
+ * area box (0 inside it: any hole is too wide). */
+static int hole_ok(const tp_cut* c, int s, int whole, double R, int k)
+{
+    if (whole || (s == 0 && k == c->n))
+        return 1;
+    if (!(R > 0))
+        return 0;
+    double w = (double)((int64_t)1 << (c->n - k + s)) * c->cell_m;
+    return 2 * c->v.f_px * w / R <= c->lp.hole_px;
+}
+
+static int whole(const tp_node_meta* m)
+{
+    return (m->flags & TP_NODE_COMPLETE) || !(m->flags & TP_NODE_HAS_DRAWN);
+}
+
 /* Error mode: drawing record i at level k puts its whole area at one vertex density, set by
  * its roughest part (and its bound adds its children's on top of its own). Its 4 children,
  * each at the coarsest level its own bound allows, culled ones not at all, may draw fewer
@@ -243,13 +265,15 @@ static int children_cheaper(tp_cut* c, int i, int k)
         if (!in)
             continue;
         const tp_node_meta* m = tp_tree_meta(c->t, ch);
-        if (!(m->flags & TP_NODE_COMPLETE) || m->area_qmin > m->area_qmax)
+        if (m->area_qmin > m->area_qmax)
             return 0;
+        int w = whole(m);
         if (!c->kid_pb_known[q]) {
             double bmin[3], bmax[3];
             node_box(c, r->s - 1, 2 * r->c + (q & 1), 2 * r->r + (q >> 1), m->area_qmin,
                      m->area_qmax, bmin, bmax);
             c->kid_pb[q] = tp__proj_bound_box(&c->v, bmin, bmax);
+            c->kid_dist[q] = w ? 0 : box_distance(c->v.pos, bmin, bmax);
             c->kid_pb_known[q] = 1;
         }
         const tp__proj_bound pb = c->kid_pb[q];
@@ -257,7 +281,8 @@ static int children_cheaper(tp_cut* c, int i, int k)
         for (; kc >= 0; kc--) {
             double b = (tp_node_error_bound(m, n, kc, no_nb, c->step, c->err_unit) + c->quant) *
                        c->zscale;
-            if (tp__projected_px(&pb, c->v.fwd[2], b) > c->lp.tau_px)
+            if (tp__projected_px(&pb, c->v.fwd[2], b) > c->lp.tau_px ||
+                !hole_ok(c, r->s - 1, w, c->kid_dist[q], kc))
                 break;
         }
         if (kc == n)
@@ -274,7 +299,7 @@ static int mode_wants(tp_cut* c, int i, int* level)
 {
     tp__cut_rec* r = &c->rec[i];
     const tp_node_meta* m = tp_tree_meta(c->t, r->node);
-    int n = c->n, complete = m->flags & TP_NODE_COMPLETE;
+    int n = c->n;
     *level = n;
     if (!c->have_view) /* an installed cut: nothing to ask */
         return 0;
@@ -284,17 +309,29 @@ static int mode_wants(tp_cut* c, int i, int* level)
         double bmin[3], bmax[3];
         tp__cut_box(c, i, 1, bmin, bmax);
         int want = wanted_stride_log(c, box_distance(c->v.pos, bmin, bmax));
-        if (want < r->s || !complete)
+        if (want < r->s)
             return r->s > 0;
-        int k = n + r->s - want;
-        *level = k < 0 ? 0 : k;
-        return 0;
+        int k = n + r->s - want, w = whole(m);
+        k = k < 0 ? 0 : k;
+        double R = w ? 0 : box_distance(c->v.pos, bmin, bmax);
+        while (k < n && !hole_ok(c, r->s, w, R, k))
+            k++;
+        *level = k;
+        return r->s > 0 && !hole_ok(c, r->s, w, R, k);
     }
     default: {
-        if (!complete || bound_px(c, i, n, no_nb) > c->lp.tau_px)
+        int w = whole(m);
+        double R = 0;
+        if (!w) {
+            double bmin[3], bmax[3];
+            tp__cut_box(c, i, 1, bmin, bmax);
+            R = box_distance(c->v.pos, bmin, bmax);
+        }
+        if (bound_px(c, i, n, no_nb) > c->lp.tau_px || !hole_ok(c, r->s, w, R, n))
             return r->s > 0;
         int k = n;
-        while (k > 0 && bound_px(c, i, k - 1, no_nb) <= c->lp.tau_px)
+        while (k > 0 && bound_px(c, i, k - 1, no_nb) <= c->lp.tau_px &&
+               hole_ok(c, r->s, w, R, k - 1))
             k--;
         *level = k;
         return r->s > 0 && k > 0 && children_cheaper(c, i, k);
@@ -394,7 +431,7 @@ static int classify(tp_cut* c, int i, int may_refine)
         }
         c->rec[i].substituted = 1;
     }
-    if (refine || !(m->flags & TP_NODE_COMPLETE))
+    if (refine)
         k = c->n;
     c->rec[i].level = (int8_t)k;
     /* Drawn only if its own samples' box is in view: surely so when that box lies in its area
@@ -429,6 +466,7 @@ tp_status tp_cut_create(const tp_tree* t, tp_cut** out, tp_error* err)
     c->g = *tp_tree_get_geometry(t);
     c->n = c->g.n;
     memcpy(c->gt, d->geotransform, sizeof c->gt);
+    c->cell_m = fmax(fabs(c->gt[1]), fabs(c->gt[5]));
     c->step = d->height_step_m;
     c->quant = d->quant_max_error_m;
     c->err_unit = d->err_unit_steps;
@@ -650,7 +688,7 @@ tp_status tp_cut_set_nodes(tp_cut* c, const int64_t* nodes, const int* levels, s
         if (r < 0)
             break;
         const tp_node_meta* m = tp_tree_meta(c->t, nodes[i]);
-        c->rec[r].level = (int8_t)((m->flags & TP_NODE_COMPLETE) ? levels[i] : c->n);
+        c->rec[r].level = (int8_t)levels[i];
         c->rec[r].state = m->qmin <= m->qmax ? TP__CUT_DRAWN : TP__CUT_EMPTY;
     }
     /* Ancestors as refined nodes, so that the stitching pass may collapse onto them. */

@@ -168,8 +168,7 @@ static int split(tp_cut* c, int i)
         tp__cut_settle(c, j);
         if (!c->have_view && c->rec[j].state == TP__CUT_DRAWN) {
             /* An installed cut: the children keep the parent's stride where they can. */
-            const tp_node_meta* m = tp_tree_meta(c->t, ch);
-            c->rec[j].level = (int8_t)((m->flags & TP_NODE_COMPLETE) && k > 0 ? k - 1 : c->n);
+            c->rec[j].level = (int8_t)(k > 0 ? k - 1 : c->n);
         }
         push(c, j);
     }
@@ -274,7 +273,41 @@ typedef struct node_view {
     int64_t x0, y0;  /* grid position of sample (0, 0) */
     int s, k, shift; /* scale, level, n - k */
     int nb[4];
+    tp__node_draw draw;
 } node_view;
+
+void tp__cut_node_draw(const tp_cut* c, size_t i, tp__node_draw* d)
+{
+    const tp_cut_node* o = &c->out[i];
+    int s, cc, rr;
+    tp_tree_node_locate(&c->g, o->node, &s, &cc, &rr);
+    const uint16_t* q = tp_tree_samples(c->t, o->node);
+    assert(q); /* drawn nodes are resident until the next update */
+    int side = (1 << c->n) + 1;
+    int vertex_rule = (tp_tree_meta(c->t, o->node)->flags & TP_NODE_COMPLETE) ||
+                      (s == 0 && o->level == c->n);
+    d->mask = vertex_rule ? NULL : q + (size_t)side * side;
+    d->n = c->n, d->s = s;
+    d->x0 = (int64_t)cc << (c->n + s);
+    d->y0 = (int64_t)rr << (c->n + s);
+}
+
+int tp__tri_drawn(const tp__node_draw* d, const int32_t pos[3][2], int vertices_drawn)
+{
+    if (!d->mask)
+        return vertices_drawn;
+    int64_t x0 = pos[0][0], x1 = pos[0][0], y0 = pos[0][1], y1 = pos[0][1];
+    for (int v = 1; v < 3; v++) {
+        x0 = pos[v][0] < x0 ? pos[v][0] : x0;
+        x1 = pos[v][0] > x1 ? pos[v][0] : x1;
+        y0 = pos[v][1] < y0 ? pos[v][1] : y0;
+        y1 = pos[v][1] > y1 ? pos[v][1] : y1;
+    }
+    /* positions lie on the node's lattice: 2^s grid samples per lattice cell */
+    return tp_node_mask_all(d->mask, d->n, (int)((x0 - d->x0) >> d->s),
+                            (int)((y0 - d->y0) >> d->s), (int)((x1 - d->x0) >> d->s),
+                            (int)((y1 - d->y0) >> d->s));
+}
 
 static void node_view_init(const tp_cut* c, size_t i, node_view* nv)
 {
@@ -292,6 +325,7 @@ static void node_view_init(const tp_cut* c, size_t i, node_view* nv)
     nv->shift = c->n - o->level;
     for (int side = 0; side < 4; side++)
         nv->nb[side] = o->nb[side];
+    tp__cut_node_draw(c, i, &nv->draw);
 }
 
 /* Vertex (i, j) after crack removal: grid position, global quantised height (INT32_MIN when
@@ -332,7 +366,7 @@ void tp_cut_vertices(const tp_cut* c, size_t i, tp_vertex* vertices, size_t vert
         }
 }
 
-/* Triangle h (0, 1) of cell (cx, cy) as drawn: 0 if it is not (undrawn vertex, zero area). */
+/* Triangle h (0, 1) of cell (cx, cy) as drawn: 0 if it is not (tp__tri_drawn, zero area). */
 static int cell_triangle(const node_view* nv, int cx, int cy, int h, int32_t pos[3][2], double q[3])
 {
     static const int tri[2][3][2] = {{{0, 0}, {0, 1}, {1, 0}}, {{1, 0}, {0, 1}, {1, 1}}};
@@ -340,11 +374,12 @@ static int cell_triangle(const node_view* nv, int cx, int cy, int h, int32_t pos
     for (int v = 0; v < 3; v++) {
         int32_t qq;
         ok &= node_vertex(nv, cx + tri[h][v][0], cy + tri[h][v][1], &pos[v][0], &pos[v][1], &qq);
+        ok &= qq != INT32_MIN;
         q[v] = qq;
     }
     int64_t area = (int64_t)(pos[1][0] - pos[0][0]) * (pos[2][1] - pos[0][1]) -
                    (int64_t)(pos[1][1] - pos[0][1]) * (pos[2][0] - pos[0][0]);
-    return ok && area != 0;
+    return area != 0 && tp__tri_drawn(&nv->draw, pos, ok);
 }
 
 /* Whether lattice triangle h of cell (cx, cy) at level k keeps an area after stitching. */
@@ -386,33 +421,49 @@ int32_t tp__cut_complete_triangles(tp_cut* c, int k, const int nb[4])
     return *e = count;
 }
 
-/* Triangles of drawn output node o (incomplete: drawn at level n): those of a complete node
- * with its level and neighbour levels, less those with an undrawn vertex (by its samples' drawn
- * flags, as cell_triangle decides) that stitching left with an area. */
+/* Triangles of drawn output node o (incomplete): every cell's, by cell_triangle's rule. */
 static int32_t incomplete_triangles(tp_cut* c, size_t o)
 {
     node_view nv;
     node_view_init(c, o, &nv);
-    int k = nv.k, last = 1 << k, side = (1 << c->n) + 1;
-    int32_t lost = 0;
-    for (int cy = 0; cy < last; cy++) {
-        const uint16_t* row = nv.q + (size_t)(cy << nv.shift) * side;
-        const uint16_t* next = nv.q + (size_t)((cy + 1) << nv.shift) * side;
-        for (int cx = 0; cx < last; cx++) {
-            int d00 = row[cx << nv.shift] != TP_TREE_NO_HEIGHT;
-            int d10 = row[(cx + 1) << nv.shift] != TP_TREE_NO_HEIGHT;
-            int d01 = next[cx << nv.shift] != TP_TREE_NO_HEIGHT;
-            int d11 = next[(cx + 1) << nv.shift] != TP_TREE_NO_HEIGHT;
-            int t0 = d00 & d01 & d10, t1 = d10 & d01 & d11;
-            if (cy > 0 && cy < last - 1 && cx > 0 && cx < last - 1) {
-                lost += !t0 + !t1; /* off the border no vertex moves: both have an area */
-                continue;
+    int last = 1 << nv.k;
+    int32_t count = 0;
+    for (int cy = 0; cy < last; cy++)
+        for (int cx = 0; cx < last; cx++)
+            for (int h = 0; h < 2; h++) {
+                int32_t pos[3][2];
+                double q[3];
+                count += cell_triangle(&nv, cx, cy, h, pos, q);
             }
-            lost += !t0 && lattice_triangle(k, nv.nb, cx, cy, 0);
-            lost += !t1 && lattice_triangle(k, nv.nb, cx, cy, 1);
-        }
+    return count;
+}
+
+typedef struct keep_ctx {
+    const tp__node_draw* d;
+} keep_ctx;
+
+static int keep_tri(const tp_vertex* a, const tp_vertex* b, const tp_vertex* c, void* user)
+{
+    const keep_ctx* k = user;
+    const tp_vertex* v[3] = {a, b, c};
+    int32_t pos[3][2];
+    int ok = 1;
+    for (int i = 0; i < 3; i++) {
+        pos[i][0] = v[i]->x, pos[i][1] = v[i]->y;
+        ok &= v[i]->cls == TP_SAMPLE_VALID && !isnan(v[i]->z_m);
     }
-    return tp__cut_complete_triangles(c, k, nv.nb) - lost;
+    return tp__tri_drawn(k->d, pos, ok);
+}
+
+size_t tp_cut_triangles(const tp_cut* c, size_t i, const tp_vertex* vertices,
+                        uint32_t* triangles, size_t triangle_capacity)
+{
+    assert(c && i < c->out_count && vertices);
+    tp__node_draw d;
+    tp__cut_node_draw(c, i, &d);
+    keep_ctx k = {&d};
+    return tp__strip_triangles(vertices, c->out[i].level, keep_tri, &k, triangles,
+                               triangle_capacity);
 }
 
 int32_t tp__cut_triangles(tp_cut* c, int i, const int nb[4])
@@ -460,8 +511,7 @@ static int cell_height(const node_view* nv, int cx, int cy, double x, double y, 
     for (int h = 0; h < 2; h++) {
         int32_t pos[3][2];
         double q[3];
-        if (!cell_triangle(nv, cx, cy, h, pos, q) || q[0] == INT32_MIN || q[1] == INT32_MIN ||
-            q[2] == INT32_MIN)
+        if (!cell_triangle(nv, cx, cy, h, pos, q))
             continue;
         double area = (double)(pos[1][0] - pos[0][0]) * (pos[2][1] - pos[0][1]) -
                       (double)(pos[1][1] - pos[0][1]) * (pos[2][0] - pos[0][0]);
@@ -605,8 +655,7 @@ tp_status tp_cut_measure_screen_error(const tp_cut* c, const tp_camera* cam, dou
                 for (int h = 0; h < 2; h++) {
                     int32_t pos[3][2];
                     double q[3];
-                    if (!cell_triangle(&nv, cx, cy, h, pos, q) || q[0] == INT32_MIN ||
-                        q[1] == INT32_MIN || q[2] == INT32_MIN)
+                    if (!cell_triangle(&nv, cx, cy, h, pos, q))
                         continue;
                     tp__raster_triangle(pos[0], pos[1], pos[2], q[0], q[1], q[2], screen_sample,
                                         &m);

@@ -532,12 +532,13 @@ const char* tp_georef_datum_note(const tp_georef* g);
  * A versioned little-endian file: a header (geometry, georeference, quantisation, CRS, the
  * sources it was built from), the node table (every node's tp_node_meta, laid out as in memory so
  * that it is mapped, not decoded), the location table (the offset, size, CRC32 and codec of every
- * node's data) and each node's samples, compressed. Written atomically through tp_file_* (an
+ * node's data) and each node's samples, compressed (and, from format 3, the cell mask of the
+ * nodes above the leaves that are drawn in part). Written atomically through tp_file_* (an
  * interrupted or failed write leaves no file); read with one open file shared by threads
- * (pread), each node checked against its CRC32 when read. Format 2 is written and read on
- * little-endian hosts only (TP_ERR_BACKEND elsewhere).
+ * (pread), each node checked against its CRC32 when read. Formats 2 and 3 are written and read
+ * on little-endian hosts only (TP_ERR_BACKEND elsewhere).
  */
-#define TP_STORE_VERSION 2
+#define TP_STORE_VERSION 3
 
 typedef struct tp_store_header {
     tp_tree_geometry geometry;
@@ -558,14 +559,16 @@ typedef struct tp_store_writer tp_store_writer;
  * node in memory, never the tables or the data. */
 tp_status tp_store_writer_begin(const char* path, const tp_store_header* header,
                                 tp_store_writer** out, tp_error* err);
-/* Adds one node (any order; each node exactly once): its meta and its (2^n+1)^2 global
+/* Adds one node (any order; each node exactly once): its meta, its (2^n+1)^2 global
  * quantised heights (INT32_MIN = not drawn), which the writer stores relative to meta->qmin,
- * compressed, and appends to the file at once. TP_ERR_INVALID_ARG (nothing written, w still
- * usable) for a node that does not exist or was added already, unknown flags, a drawn height
- * outside meta's qmin..qmax or a range wider than 65534 steps; TP_ERR_IO when the write fails
+ * compressed, and its cell mask (tp_node_mask_words(n) words, as the tree builder emits it;
+ * stored only for a node of scale >= 1 drawn in part, may be NULL for others), appended to the
+ * file at once. TP_ERR_INVALID_ARG (nothing written, w still usable) for a node that does not
+ * exist or was added already, unknown flags, a missing mask, a drawn height outside meta's
+ * qmin..qmax or a range wider than 65534 steps; TP_ERR_IO when the write fails
  * (then every later call and the commit fail the same way: abort w). */
 tp_status tp_store_writer_add_node(tp_store_writer* w, int64_t node, const tp_node_meta* meta,
-                                   const int32_t* q, tp_error* err);
+                                   const int32_t* q, const uint16_t* mask, tp_error* err);
 /* The header's values known only once the whole grid has been read (a build that reads its
  * sources once): they replace the header's quant_max_error_m, valid_samples and nodata_samples
  * given to tp_store_writer_begin; commit writes the header again with them (tp_file_rewrite of
@@ -612,14 +615,46 @@ void tp_store_get_info(const tp_store* s, tp_store_info* out);
 const tp_node_meta* tp_store_metas(const tp_store* s, size_t* count);
 /* Reads, checks (CRC32) and decodes node's samples into samples ((2^n+1)^2 uint16 relative to
  * its qmin, TP_TREE_NO_HEIGHT where not drawn; sample_capacity at least that; node in
- * 0..node_count-1). Thread-safe: any number of threads may read one open store at once (pread;
+ * 0..node_count-1). With sample_capacity >= tp_tree_block_words(n), the node's cell mask
+ * follows the samples (stored, or made from its samples or flags): a block for tp_tree_attach. Thread-safe: any number of threads may read one open store at once (pread;
  * each thread keeps its own zstd context and buffers for its lifetime). About 15 us for a
- * 65x65 node (docs/store.md). TP_ERR_BAD_DATA for a checksum or decoding failure or a sample
- * outside the node's range, TP_ERR_IO for a read failure, each with a message naming the file,
+ * 65x65 node (docs/store.md). TP_ERR_BAD_DATA for a checksum or decoding failure, a sample
+ * outside the node's range or a cell mask that marks a cell with an undrawn corner whole, TP_ERR_IO for a read failure, each with a message naming the file,
  * the node ("node 38 (scale 0, column 3, row 4)") and its byte offset; samples are written
  * only on success. */
 tp_status tp_store_read_node(const tp_store* s, int64_t node, uint16_t* samples,
                              size_t sample_capacity, tp_error* err);
+
+/* ---------------------------------------------------------------------------------------------
+ * Viewsheds through GDAL (io/src/viewshed_gdal.cpp)
+ *
+ * The core computes viewsheds itself (tp_viewshed_compute); these are for comparing with GDAL
+ * and for saving the result.
+ */
+
+/* GDAL's own viewshed (GDALViewshedGenerate, the library form of gdal_viewshed, mode GVM_Edge
+ * as gdal_viewshed's default, values 255 / 0 / 0 outside the radius) of the same in-memory grid
+ * and observer, with tp_viewshed_compute's arguments, into out (out_count >= width * height; the
+ * samples outside GDAL's window are 0). The grid goes to GDAL as a Float32 MEM dataset (NaN =
+ * nodata) whose CRS is a sphere of options->earth_radius_m (GDAL takes the curvature's earth
+ * from the CRS's semi-major axis), and the observer as its sample's centre. Fails as
+ * tp_viewshed_compute does for the observer (outside the grid: TP_ERR_INVALID_ARG; on nodata:
+ * TP_ERR_BAD_DATA, checked here since GDAL would spread the NaN); TP_ERR_BACKEND when GDAL
+ * fails. out is untouched on failure. */
+tp_status tp_gdal_viewshed(const float* heights, size_t height_count, int width, int height,
+                           const double geotransform[6], int observer_x, int observer_y,
+                           const tp_viewshed_options* options, uint8_t* out, size_t out_count,
+                           tp_error* err);
+
+/* Writes a viewshed (values, width * height bytes = value_count, row 0 first) as a one-band
+ * Byte GeoTIFF (DEFLATE) with geotransform and crs_wkt ("" or NULL: none), e.g. a render
+ * grid's: encoded in memory by GDAL, then written with tp_file_write (whole or not at all; an
+ * older file stays as it was on failure). No nodata tag: 0 is "not seen". TP_ERR_INVALID_ARG
+ * for NULL values or path, a size mismatch, a bad path (as tp_file_begin); TP_ERR_BAD_DATA for
+ * a crs_wkt GDAL cannot read; TP_ERR_IO when writing fails; TP_ERR_BACKEND when GDAL does. */
+tp_status tp_viewshed_write_geotiff(const char* path, const uint8_t* values, size_t value_count,
+                                    int width, int height, const double geotransform[6],
+                                    const char* crs_wkt, tp_error* err);
 
 #ifdef __cplusplus
 }

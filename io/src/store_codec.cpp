@@ -37,7 +37,7 @@ uint32_t crc32_continue(uint32_t crc_so_far, const void* data, size_t size)
 size_t max_stored_bytes(int n)
 {
     const size_t raw = 2 * sample_count(n);
-    return std::max(raw, ZSTD_compressBound(raw));
+    return std::max(raw, ZSTD_compressBound(raw)) + mask_bytes(n);
 }
 
 namespace {

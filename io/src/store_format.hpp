@@ -110,7 +110,7 @@ inline Tables tables_at(uint64_t header_bytes, uint64_t node_count)
     return t;
 }
 
-/* True on a little-endian host, the only kind that reads or writes format 2 (its node table is
+/* True on a little-endian host, the only kind that reads or writes format 2 or 3 (its node table is
  * the host's tp_node_meta array). */
 inline bool host_little_endian()
 {
@@ -175,7 +175,16 @@ void node_locate(const tp_tree_geometry& g, int64_t id, int* s, int* c, int* r);
 
 /* ---- node samples ---- */
 inline size_t sample_count(int n) { return ((size_t)1 << n | 1) * (((size_t)1 << n) | 1); }
-/* Upper bound of the bytes one node can take in the file (either codec). */
+/* Format 3: a node of scale >= 1 that is drawn in part (TP_NODE_HAS_DRAWN without
+ * TP_NODE_COMPLETE) stores its cell mask (tp_node_mask_from_children) after its encoded
+ * samples, as tp_node_mask_words(n) little-endian uint16: mask_bytes(n). Other nodes' masks
+ * follow from their samples (a leaf) or flags (all set, or none). */
+inline size_t mask_bytes(int n) { return 2 * tp_node_mask_words(n); }
+inline bool stores_mask(const tp_node_meta& m, int scale)
+{
+    return scale > 0 && (m.flags & TP_NODE_HAS_DRAWN) && !(m.flags & TP_NODE_COMPLETE);
+}
+/* Upper bound of the bytes one node can take in the file (either codec, a mask included). */
 size_t max_stored_bytes(int n);
 
 /* Encodes side x side samples with codec CODEC_PLANAR_ZSTD at zstd level `level` (ctx: a

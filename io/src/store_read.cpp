@@ -91,7 +91,7 @@ int read_at(int fd, void* buf, size_t size, uint64_t offset)
 struct ThreadScratch {
     ZSTD_DCtx* dctx = nullptr;
     std::vector<uint8_t> stored, planes;
-    std::vector<uint16_t> samples;
+    std::vector<uint16_t> samples, mask;
     ~ThreadScratch() { ZSTD_freeDCtx(dctx); }
 };
 thread_local ThreadScratch t_scratch;
@@ -417,7 +417,6 @@ extern "C" tp_status tp_store_read_node(const tp_store* s, int64_t node, uint16_
     assert(node >= 0 && node < s->header.geometry.node_count);
     const size_t count = sample_count(s->header.geometry.n);
     assert(sample_capacity >= count);
-    (void)sample_capacity;
     const char* path = s->path.c_str();
     try {
         /* Read once from the mapping and checked again: open checked every entry, but the
@@ -446,13 +445,20 @@ extern "C" tp_status tp_store_read_node(const tp_store* s, int64_t node, uint16_
             throw std::bad_alloc();
         t.samples.resize(count);
         std::string why;
-        const int side = (1 << s->header.geometry.n) + 1;
-        if (!decode_node(e.codec, t.stored.data(), e.bytes, side, t.dctx, &t.planes,
+        const int n = s->header.geometry.n, side = (1 << n) + 1;
+        const tp_node_meta m = s->metas[(size_t)node];
+        int scale, col, row;
+        node_locate(s->header.geometry, node, &scale, &col, &row);
+        const size_t mbytes = stores_mask(m, scale) ? mask_bytes(n) : 0;
+        if (e.bytes <= mbytes)
+            return fail(err, TP_ERR_BAD_DATA,
+                        "%s: %s, %u bytes at byte %" PRIu64 ": too short for its cell mask",
+                        path, node_name(s, node).c_str(), e.bytes, e.offset);
+        if (!decode_node(e.codec, t.stored.data(), e.bytes - mbytes, side, t.dctx, &t.planes,
                          t.samples.data(), &why))
             return fail(err, TP_ERR_BAD_DATA, "%s: %s, %u bytes at byte %" PRIu64 ": %s", path,
                         node_name(s, node).c_str(), e.bytes, e.offset, why.c_str());
         /* every drawn sample inside the node's range (a wrong table or an encoder bug) */
-        const tp_node_meta m = s->metas[(size_t)node];
         const uint32_t top = m.qmin <= m.qmax ? (uint32_t)((int64_t)m.qmax - m.qmin) : 0;
         const bool none = m.qmin > m.qmax;
         for (size_t k = 0; k < count; ++k) {
@@ -463,7 +469,38 @@ extern "C" tp_status tp_store_read_node(const tp_store* s, int64_t node, uint16_
                             ": sample %zu is %u, outside the node's range 0..%u",
                             path, node_name(s, node).c_str(), e.bytes, e.offset, k, v, top);
         }
+        const size_t words = tp_node_mask_words(n);
+        if (mbytes) { /* a whole cell's corners must be drawn: what drawing relies on */
+            t.mask.resize(words);
+            const uint8_t* mp = t.stored.data() + (e.bytes - mbytes);
+            for (size_t k = 0; k < words; ++k)
+                t.mask[k] = get_u16(mp + 2 * k);
+            const int cells = 1 << n;
+            for (int y = 0; y < cells; ++y)
+                for (int x = 0; x < cells; ++x) {
+                    const size_t b = ((size_t)y << n) + (size_t)x;
+                    if (!(t.mask[b >> 4] >> (b & 15) & 1))
+                        continue;
+                    const uint16_t* a = t.samples.data() + (size_t)y * side + x;
+                    if (a[0] == TP_TREE_NO_HEIGHT || a[1] == TP_TREE_NO_HEIGHT ||
+                        a[side] == TP_TREE_NO_HEIGHT || a[side + 1] == TP_TREE_NO_HEIGHT)
+                        return fail(err, TP_ERR_BAD_DATA,
+                                    "%s: %s, %u bytes at byte %" PRIu64
+                                    ": its cell mask has cell (%d, %d) whole, but a corner of "
+                                    "it is not drawn",
+                                    path, node_name(s, node).c_str(), e.bytes, e.offset, x, y);
+                }
+        }
         std::memcpy(samples, t.samples.data(), count * sizeof *samples);
+        if (sample_capacity >= count + words) { /* a whole block: the mask follows */
+            uint16_t* mask = samples + count;
+            if (mbytes)
+                std::memcpy(mask, t.mask.data(), words * sizeof *mask);
+            else if (scale == 0)
+                tp_node_mask_from_samples(n, samples, mask);
+            else
+                std::memset(mask, (m.flags & TP_NODE_COMPLETE) ? 0xFF : 0, words * sizeof *mask);
+        }
         return TP_OK;
     } catch (...) {
         return tpio::caught(err, path);

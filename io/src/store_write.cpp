@@ -237,7 +237,7 @@ extern "C" tp_status tp_store_writer_begin(const char* path, const tp_store_head
 
 extern "C" tp_status tp_store_writer_add_node(tp_store_writer* w, int64_t node,
                                               const tp_node_meta* meta, const int32_t* q,
-                                              tp_error* err)
+                                              const uint16_t* mask, tp_error* err)
 {
     if (!w || !meta || !q)
         return fail(err, TP_ERR_INVALID_ARG, "store: bad arguments (writer, meta or q is NULL)");
@@ -253,6 +253,13 @@ extern "C" tp_status tp_store_writer_add_node(tp_store_writer* w, int64_t node,
     if (meta->flags & ~(TP_NODE_COMPLETE | TP_NODE_HAS_DRAWN))
         return fail(err, TP_ERR_INVALID_ARG, "%s: node %lld: unknown meta flags 0x%02x", path,
                     (long long)node, meta->flags);
+    int scale, col, row;
+    node_locate(g, node, &scale, &col, &row);
+    const bool with_mask = stores_mask(*meta, scale);
+    if (with_mask && !mask)
+        return fail(err, TP_ERR_INVALID_ARG,
+                    "%s: node %lld: a node of scale %d drawn in part needs its cell mask", path,
+                    (long long)node, scale);
     try {
         /* relative to qmin, every drawn sample within [qmin, qmax], a range that fits below
          * TP_TREE_NO_HEIGHT */
@@ -277,6 +284,12 @@ extern "C" tp_status tp_store_writer_add_node(tp_store_writer* w, int64_t node,
         const int side = (1 << g.n) + 1;
         const Codec codec =
             encode_node(w->rel.data(), side, ZSTD_LEVEL, w->cctx, &w->scratch, &w->packed);
+        if (with_mask) {
+            const size_t at = w->packed.size(), words = tp_node_mask_words(g.n);
+            w->packed.resize(at + mask_bytes(g.n));
+            for (size_t k = 0; k < words; ++k)
+                put_u16(w->packed.data() + at + 2 * k, mask[k]);
+        }
         const tp_status s = tp_file_append(w->file, w->packed.data(), w->packed.size(), err);
         if (s != TP_OK)
             return note(w, s, err);

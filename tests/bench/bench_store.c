@@ -231,7 +231,7 @@ int main(int argc, char** argv)
             tp_node_meta m;
             memset(&m, 0, sizeof m);
             m.qmin = nodes[t].qmin, m.qmax = nodes[t].qmax;
-            if (tp_store_writer_add_node(sw, nodes[t].id, &m, nodes[t].q, &err) != TP_OK) {
+            if (tp_store_writer_add_node(sw, nodes[t].id, &m, nodes[t].q, NULL, &err) != TP_OK) {
                 fprintf(stderr, "%s\n", err.message);
                 return 1;
             }

@@ -193,7 +193,9 @@ void store(const std::string& src, const std::string& name)
                 for (int k = 0; k <= 4; ++k)
                     m.delta[k] = (uint16_t)(40 >> k);
                 const int64_t id = g.first_node[sc] + (int64_t)r * g.node_cols[sc] + c;
-                s = tp_store_writer_add_node(sw, id, &m, q.data(), &err);
+                std::vector<uint16_t> mask(tp_node_mask_words(4));
+                tp_node_mask_from_q(4, q.data(), mask.data());
+                s = tp_store_writer_add_node(sw, id, &m, q.data(), mask.data(), &err);
             }
     if (s == TP_OK)
         s = tp_store_writer_commit(sw, &err);

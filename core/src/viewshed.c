@@ -1,0 +1,230 @@
+/* viewshed.c - which samples of a height grid an observer sees: one pass over the grid from
+ * the observer outwards, carrying a "horizon" height per sample (Wang, Robinson & White; XDraw).
+ *
+ * This work is based on:
+ *   J. Wang, G. J. Robinson, K. White, "Generating Viewsheds without Using Sightlines",
+ *     Photogrammetric Engineering & Remote Sensing 66(1), 2000, pp. 87-90
+ *   W. R. Franklin, C. Ray, "Higher isn't Necessarily Better: Visibility Algorithms and
+ *     Experiments", 6th Int. Symposium on Spatial Data Handling, 1994 (R3, R2, XDraw)
+ *
+ * Every sample stores H, the height (relative to the eye, corrected for curvature) that a
+ * target there must reach to be seen from beyond it: the larger of its own height and the
+ * horizon projected onto it. A sample's horizon is the H of the two samples of the previous
+ * ring that the sight line passes between, interpolated linearly where the line crosses the
+ * segment between them and scaled from that distance to the sample's own (similar triangles:
+ * H is a height on a cone through the eye). Rows are swept outwards from the observer's row,
+ * each row from the observer's column outwards, so both samples are ready when needed: a
+ * sample nearer the row axis (|dx| < |dy|) uses two samples of the previous row, one nearer the
+ * column axis (|dx| >= |dy|) the previous sample of its own row and the one diagonal to it.
+ * This is GDAL's GVM_Edge mode (gdal_viewshed's default); docs/field.md gives the error
+ * behaviour and where this differs from GDAL (nodata, the eight neighbours).
+ */
+#include "internal.h"
+
+#include <float.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define WGS84_SEMI_MAJOR_M 6378137.0
+/* H of a sample that constrains nothing (a nodata sample next to the observer): a sight line
+ * falling a million metres per sample, far below any terrain, still finite after scaling. */
+#define NO_HORIZON_SLOPE (-1e6)
+
+tp_viewshed_options tp_viewshed_options_default(void)
+{
+    tp_viewshed_options o;
+    memset(&o, 0, sizeof o);
+    o.observer_height_m = TP_VIEWSHED_OBSERVER_HEIGHT_M;
+    o.target_height_m = TP_VIEWSHED_TARGET_HEIGHT_M;
+    o.curvature_coeff = TP_VIEWSHED_CURVATURE_COEFF;
+    o.radius_m = 0.0;
+    o.earth_radius_m = WGS84_SEMI_MAJOR_M;
+    return o;
+}
+
+/* The state of one sweep. */
+typedef struct {
+    const float* heights;
+    int width;
+    int ox, oy;          /* observer sample */
+    int x0, x1;          /* window columns (inclusive) */
+    double eye_m;        /* observer's ground + observer height */
+    double target_m;
+    double k_curv;       /* curvature_coeff / earth diameter (1/m) */
+    double r2;           /* radius squared (m^2); DBL_MAX when unlimited */
+    double sx2, sy2;     /* squared post spacings */
+    uint8_t* out;
+} sweep;
+
+/* Fills row y (|y - oy| = ay) of cur from prev (the row one step nearer the observer; unused
+ * when ay == 0). H arrays are indexed by column - x0. */
+static void sweep_row(const sweep* s, int y, int ay, const double* prev, double* cur)
+{
+    const float* z = s->heights + (size_t)y * s->width;
+    uint8_t* out = s->out + (size_t)y * s->width;
+    const int oi = s->ox - s->x0;
+    const double dy2 = (double)ay * ay * s->sy2;
+    if (dy2 > s->r2) /* the whole row is beyond the radius (its corner of the window) */
+        return;
+
+    /* the observer's column: a line along the column axis */
+    if (ay == 0) {
+        cur[oi] = z[s->ox] - s->eye_m; /* the observer's own ground */
+        out[s->ox] = TP_VIEWSHED_VISIBLE;
+    } else {
+        const double own = (double)z[s->ox] - s->eye_m - s->k_curv * dy2;
+        double horizon = ay == 1 ? -DBL_MAX : prev[oi] * ay / (ay - 1);
+        if (ay == 1 && own != own)
+            horizon = NO_HORIZON_SLOPE;
+        if (own == own) { /* not nodata */
+            out[s->ox] = own + s->target_m >= horizon ? TP_VIEWSHED_VISIBLE : TP_VIEWSHED_HIDDEN;
+            cur[oi] = own > horizon ? own : horizon;
+        } else {
+            cur[oi] = horizon;
+        }
+    }
+
+    /* both halves of the row, outwards: dir -1 (west) then +1 (east) */
+    for (int dir = -1; dir <= 1; dir += 2) {
+        const int end = dir < 0 ? s->x0 - 1 : s->x1 + 1;
+        for (int x = s->ox + dir, ax = 1; x != end; x += dir, ++ax) {
+            const double d2 = (double)ax * ax * s->sx2 + dy2;
+            if (d2 > s->r2)
+                break; /* the rest of this half is further still: left at 0 */
+            const int i = x - s->x0;
+            const double own = (double)z[x] - s->eye_m - s->k_curv * d2;
+            double horizon;
+            if (ax <= 1 && ay <= 1) {
+                /* a neighbour: the sight line crosses no other sample */
+                horizon = own == own ? -DBL_MAX : NO_HORIZON_SLOPE;
+            } else if (ay == 0) {
+                horizon = cur[i - dir] * ax / (ax - 1);
+            } else if (ax >= ay) {
+                /* crosses the previous column between the diagonal and the row neighbour */
+                horizon = (prev[i - dir] * ay + cur[i - dir] * (ax - ay)) / (ax - 1);
+            } else {
+                /* crosses the previous row between the diagonal and the column neighbour */
+                horizon = (prev[i - dir] * ax + prev[i] * (ay - ax)) / (ay - 1);
+            }
+            if (own == own) {
+                out[x] = own + s->target_m >= horizon ? TP_VIEWSHED_VISIBLE : TP_VIEWSHED_HIDDEN;
+                cur[i] = own > horizon ? own : horizon;
+            } else {
+                cur[i] = horizon; /* nodata: seen through, never seen */
+            }
+        }
+    }
+}
+
+static int finite_d(double v) { return v == v && v - v == 0.0; }
+
+tp_status tp_viewshed_compute(const float* heights, size_t height_count, int width, int height,
+                              const double geotransform[6], int observer_x, int observer_y,
+                              const tp_viewshed_options* options, uint8_t* out,
+                              size_t out_count, tp_error* err)
+{
+    assert(heights && geotransform && options && out);
+    assert(width > 0 && height > 0);
+    assert(height_count == (size_t)width * (size_t)height);
+    assert(out_count >= height_count);
+    (void)height_count;
+    (void)out_count;
+
+    const double* gt = geotransform;
+    for (int i = 0; i < 6; ++i)
+        if (!finite_d(gt[i]))
+            return tp_error_set(err, TP_ERR_INVALID_ARG,
+                                "viewshed: geotransform[%d] is %g, expected a finite number", i,
+                                gt[i]);
+    if (gt[1] == 0.0 || gt[5] == 0.0 || gt[2] != 0.0 || gt[4] != 0.0)
+        return tp_error_set(err, TP_ERR_INVALID_ARG,
+                            "viewshed: expected a north-up grid with non-zero posts, got "
+                            "geotransform (%g, %g, %g, %g, %g, %g)",
+                            gt[0], gt[1], gt[2], gt[3], gt[4], gt[5]);
+    const tp_viewshed_options* o = options;
+    if (!finite_d(o->observer_height_m) || o->observer_height_m < 0.0)
+        return tp_error_set(err, TP_ERR_INVALID_ARG,
+                            "viewshed: observer height %g m, expected a finite height >= 0",
+                            o->observer_height_m);
+    if (!finite_d(o->target_height_m) || o->target_height_m < 0.0)
+        return tp_error_set(err, TP_ERR_INVALID_ARG,
+                            "viewshed: target height %g m, expected a finite height >= 0",
+                            o->target_height_m);
+    if (!finite_d(o->curvature_coeff) || o->curvature_coeff < 0.0)
+        return tp_error_set(err, TP_ERR_INVALID_ARG,
+                            "viewshed: curvature coefficient %g, expected a finite value >= 0 "
+                            "(0.85714 with refraction, 1 without, 0 for a flat earth)",
+                            o->curvature_coeff);
+    if (!finite_d(o->radius_m) || o->radius_m < 0.0)
+        return tp_error_set(err, TP_ERR_INVALID_ARG,
+                            "viewshed: radius %g m, expected a finite distance >= 0 (0: no limit)",
+                            o->radius_m);
+    if (!finite_d(o->earth_radius_m) || o->earth_radius_m < 0.0)
+        return tp_error_set(err, TP_ERR_INVALID_ARG,
+                            "viewshed: earth radius %g m, expected a finite radius > 0 (0: WGS84)",
+                            o->earth_radius_m);
+    if (observer_x < 0 || observer_x >= width || observer_y < 0 || observer_y >= height)
+        return tp_error_set(err, TP_ERR_INVALID_ARG,
+                            "viewshed: observer at sample (%d, %d), outside the %dx%d grid",
+                            observer_x, observer_y, width, height);
+    const float ground = heights[(size_t)observer_y * width + observer_x];
+    if (ground != ground)
+        return tp_error_set(err, TP_ERR_BAD_DATA,
+                            "viewshed: observer at sample (%d, %d) stands on nodata (no ground "
+                            "height there)",
+                            observer_x, observer_y);
+
+    sweep s;
+    s.heights = heights;
+    s.width = width;
+    s.ox = observer_x;
+    s.oy = observer_y;
+    s.eye_m = (double)ground + o->observer_height_m;
+    s.target_m = o->target_height_m;
+    const double earth = o->earth_radius_m > 0.0 ? o->earth_radius_m : WGS84_SEMI_MAJOR_M;
+    s.k_curv = o->curvature_coeff / (2.0 * earth);
+    s.sx2 = gt[1] * gt[1];
+    s.sy2 = gt[5] * gt[5];
+    s.r2 = o->radius_m > 0.0 ? o->radius_m * o->radius_m : DBL_MAX;
+    s.out = out;
+
+    /* the window the radius reaches (samples within it may still be beyond the radius) */
+    int y0 = 0, y1 = height - 1;
+    s.x0 = 0;
+    s.x1 = width - 1;
+    if (o->radius_m > 0.0) {
+        const double rx = floor(o->radius_m / fabs(gt[1])), ry = floor(o->radius_m / fabs(gt[5]));
+        if (rx < observer_x)
+            s.x0 = observer_x - (int)rx;
+        if (rx < width - 1 - observer_x)
+            s.x1 = observer_x + (int)rx;
+        if (ry < observer_y)
+            y0 = observer_y - (int)ry;
+        if (ry < height - 1 - observer_y)
+            y1 = observer_y + (int)ry;
+    }
+    const size_t ww = (size_t)(s.x1 - s.x0 + 1);
+    double* rows = malloc(3 * ww * sizeof *rows);
+    if (!rows)
+        return tp_error_set(err, TP_ERR_OUT_OF_MEMORY,
+                            "viewshed: out of memory for 3 rows of %zu samples", ww);
+    double* axis = rows;        /* the observer's row, start of both sweeps */
+    double* prev = rows + ww;
+    double* cur = rows + 2 * ww;
+
+    memset(out, TP_VIEWSHED_OUTSIDE, (size_t)width * height);
+    sweep_row(&s, observer_y, 0, NULL, axis);
+    for (int dir = -1; dir <= 1; dir += 2) { /* north (up the rows), then south */
+        const int end = dir < 0 ? y0 - 1 : y1 + 1;
+        const double* last = axis;
+        for (int y = observer_y + dir, ay = 1; y != end; y += dir, ++ay) {
+            sweep_row(&s, y, ay, last, cur);
+            double* t = prev; /* cur becomes the previous row */
+            prev = cur;
+            cur = t;
+            last = prev;
+        }
+    }
+    free(rows);
+    return TP_OK;
+}
