@@ -4,9 +4,9 @@
  * degenerate triangles), per-patch vertex data carrying the crack fix, uploaded only when the
  * patch's or a neighbour's level changed, into pools of vertex slots reused least-recently-used
  * (Brodersen section 5): one buffer per level k whose slots hold (2^k+1)^2 vertices, so an item
- * takes the room its level needs, and all visible patches of a level draw with one
- * glMultiDrawElementsBaseVertex call (plus one for patches next to nodata, which use their own
- * triangle lists).
+ * takes the room its level needs (vertex_pool.h), and all visible patches of a level draw with
+ * one glMultiDrawElementsBaseVertex call (plus one for patches next to nodata, which use their
+ * own triangle lists).
  *
  * Precision: vertices carry global integer grid coordinates; the vertex shader subtracts the
  * camera's integer cell in integers, so every patch goes through the same camera-rebased
