@@ -14,7 +14,9 @@
 /* A handle: slot index * POOL_LEVELS + level. */
 #define POOL_LEVELS 16
 
-/* The vertex pool of one level k: slots of (2^k+1)^2 vertices in one buffer. */
+/* The vertex pool of one level k: slots of (2^k+1)^2 vertices in one buffer; and the
+ * triangle-list regions of its incomplete items, 6 * 4^k indices each (a level-k item draws at
+ * most 2 * 4^k triangles) in one index buffer. */
 typedef struct pool {
     GLuint vbo;
     size_t verts;      /* (2^k+1)^2 */
@@ -23,6 +25,11 @@ typedef struct pool {
     tp_pool_slot* slot;
     int* free_slot;    /* slots holding no item (a stack) */
     int free_count;
+    GLuint ibo;        /* the regions; 0 until one is needed */
+    size_t stride;     /* indices per region: 6 * 4^k */
+    int regions, regions_free;
+    int* region_free;  /* regions holding no list (a stack) */
+    GLsizei* region_count;
 } pool;
 
 struct tp_vertex_pool {
@@ -31,12 +38,6 @@ struct tp_vertex_pool {
     pool pool[TP_MAX_LEVELS];
     int* map;          /* open addressing, key -> handle (-1 empty); map_cap = 2^k >= 2 * items */
     size_t map_cap, map_used;
-    /* triangle-list regions of incomplete items, custom_stride indices each */
-    GLuint ibo_custom;
-    int* region_free;
-    int regions, regions_free;
-    GLsizei* region_count;
-    size_t custom_stride; /* indices per region: 6 * 4^n */
     uint64_t frame;
 };
 
@@ -157,8 +158,8 @@ static int grow_pool(tp_vertex_pool* vp, int k, int slots)
     return 1;
 }
 
-/* A triangle-list region for an incomplete item; the region buffer doubles when all are used. */
-static int take_region(tp_vertex_pool* p)
+/* A triangle-list region of pool p; its index buffer doubles when all are used. */
+static int take_region(pool* p)
 {
     if (p->regions_free > 0)
         return p->region_free[--p->regions_free];
@@ -171,19 +172,19 @@ static int take_region(tp_vertex_pool* p)
         p->region_count = rc;
     if (!fr || !rc)
         return -1;
-    size_t stride_bytes = p->custom_stride * 4;
+    size_t stride_bytes = p->stride * 4;
     GLuint ibo;
     glGenBuffers(1, &ibo);
     glBindBuffer(GL_COPY_WRITE_BUFFER, ibo);
     glBufferData(GL_COPY_WRITE_BUFFER, (GLsizeiptr)((size_t)want * stride_bytes), NULL,
                  GL_DYNAMIC_DRAW);
-    if (p->ibo_custom) {
-        glBindBuffer(GL_COPY_READ_BUFFER, p->ibo_custom);
+    if (p->ibo) {
+        glBindBuffer(GL_COPY_READ_BUFFER, p->ibo);
         glCopyBufferSubData(GL_COPY_READ_BUFFER, GL_COPY_WRITE_BUFFER, 0, 0,
                             (GLsizeiptr)((size_t)old * stride_bytes));
-        glDeleteBuffers(1, &p->ibo_custom);
+        glDeleteBuffers(1, &p->ibo);
     }
-    p->ibo_custom = ibo;
+    p->ibo = ibo;
     for (int i = want - 1; i > old; i--)
         p->region_free[p->regions_free++] = i;
     for (int i = old; i < want; i++)
@@ -206,13 +207,13 @@ tp_vertex_pool* tp_vertex_pool_create(int n, size_t vertex_bytes, size_t budget_
     p->n = n;
     p->vertex_bytes = vertex_bytes;
     p->max_pool_bytes = max_pool_bytes;
-    p->custom_stride = 6 * ((size_t)1 << (2 * n));
     /* Each level's pool starts with room for a typical visible set and grows when a frame
      * needs more; the budget is shared evenly between the levels' pools. */
     for (int k = 0; k <= n; k++) {
         pool* q = &p->pool[k];
         size_t side = ((size_t)1 << k) + 1;
         q->verts = side * side;
+        q->stride = 6 * ((size_t)1 << (2 * k));
         size_t slot_bytes = q->verts * vertex_bytes;
         if (budget_bytes > 0) {
             size_t b = budget_bytes / (size_t)(n + 1) / slot_bytes;
@@ -241,14 +242,14 @@ void tp_vertex_pool_destroy(tp_vertex_pool* p)
     for (int k = 0; k < TP_MAX_LEVELS; k++) {
         if (p->pool[k].vbo)
             glDeleteBuffers(1, &p->pool[k].vbo);
+        if (p->pool[k].ibo)
+            glDeleteBuffers(1, &p->pool[k].ibo);
         free(p->pool[k].slot);
         free(p->pool[k].free_slot);
+        free(p->pool[k].region_free);
+        free(p->pool[k].region_count);
     }
-    if (p->ibo_custom)
-        glDeleteBuffers(1, &p->ibo_custom);
     free(p->map);
-    free(p->region_free);
-    free(p->region_count);
     free(p);
 }
 
@@ -347,29 +348,30 @@ void tp_vertex_pool_write(tp_vertex_pool* vp, int handle, const void* vertices, 
 size_t tp_vertex_pool_region_indices(const tp_vertex_pool* p, int k)
 {
     assert(k >= 0 && k <= p->n);
-    (void)k;
-    return p->custom_stride;
+    return p->pool[k].stride;
 }
 
-int tp_vertex_pool_write_triangles(tp_vertex_pool* p, int handle, const uint32_t* indices,
+int tp_vertex_pool_write_triangles(tp_vertex_pool* vp, int handle, const uint32_t* indices,
                                    size_t index_count)
 {
-    tp_pool_slot* sl = map_slot(p, handle);
-    assert(index_count <= p->custom_stride);
+    tp_pool_slot* sl = map_slot(vp, handle);
+    pool* p = &vp->pool[handle % POOL_LEVELS];
+    assert(index_count <= p->stride);
     if (sl->region < 0)
         sl->region = take_region(p);
     if (sl->region < 0)
         return 0;
     p->region_count[sl->region] = (GLsizei)index_count;
-    glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, p->ibo_custom);
-    glBufferSubData(GL_ELEMENT_ARRAY_BUFFER, (GLintptr)((size_t)sl->region * p->custom_stride * 4),
+    glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, p->ibo);
+    glBufferSubData(GL_ELEMENT_ARRAY_BUFFER, (GLintptr)((size_t)sl->region * p->stride * 4),
                     (GLsizeiptr)(index_count * 4), indices);
     return 1;
 }
 
-void tp_vertex_pool_drop_triangles(tp_vertex_pool* p, int handle)
+void tp_vertex_pool_drop_triangles(tp_vertex_pool* vp, int handle)
 {
-    tp_pool_slot* sl = map_slot(p, handle);
+    tp_pool_slot* sl = map_slot(vp, handle);
+    pool* p = &vp->pool[handle % POOL_LEVELS];
     if (sl->region < 0)
         return;
     p->region_free[p->regions_free++] = sl->region;
@@ -391,24 +393,26 @@ int32_t tp_vertex_pool_base_vertex(const tp_vertex_pool* p, int handle)
 unsigned int tp_vertex_pool_index_buffer(const tp_vertex_pool* p, int k)
 {
     assert(k >= 0 && k <= p->n);
-    (void)k;
-    return p->ibo_custom;
+    return p->pool[k].ibo;
 }
 
 size_t tp_vertex_pool_triangles(const tp_vertex_pool* p, int handle, size_t* offset_bytes)
 {
     const tp_pool_slot* sl = map_slot(p, handle);
+    const pool* q = &p->pool[handle % POOL_LEVELS];
     *offset_bytes = 0;
     if (sl->region < 0)
         return 0;
-    *offset_bytes = (size_t)sl->region * p->custom_stride * 4;
-    return (size_t)p->region_count[sl->region];
+    *offset_bytes = (size_t)sl->region * q->stride * 4;
+    return (size_t)q->region_count[sl->region];
 }
 
 size_t tp_vertex_pool_gpu_bytes(const tp_vertex_pool* p)
 {
-    size_t bytes = (size_t)p->regions * p->custom_stride * 4;
-    for (int k = 0; k <= p->n; k++)
-        bytes += (size_t)p->pool[k].slots * p->pool[k].verts * p->vertex_bytes;
+    size_t bytes = 0;
+    for (int k = 0; k <= p->n; k++) {
+        const pool* q = &p->pool[k];
+        bytes += (size_t)q->slots * q->verts * p->vertex_bytes + (size_t)q->regions * q->stride * 4;
+    }
     return bytes;
 }

@@ -4,7 +4,8 @@
  * hold (2^k+1)^2 vertices, so an item takes the room its level needs, not the finest level's
  * (an item at level 2 of a 65x65 node holds 25 vertices, not 4,225); a map from item key to
  * slot; a free list per level; and, for an item drawn as its own triangle list (an incomplete
- * one), a region of an index buffer that belongs to its slot.
+ * one, at any level), a region of its level's index buffer, 6 * 4^k indices (a level-k item
+ * draws at most 2 * 4^k triangles), that belongs to its slot.
  *
  * A slot is named by a handle (>= 0) that stays valid until the next tp_vertex_pool_take: a take
  * may evict any slot not taken in the current frame, or grow a buffer. Every call but the
