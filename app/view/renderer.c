@@ -221,7 +221,8 @@ tp_renderer* tp_renderer_create_desc(const tp_render_grid_desc* d, char* msg, si
     r->ftmp = malloc(r->slot_verts);
     r->gtmp = malloc(r->slot_verts * sizeof *r->gtmp);
     r->pool = tp_vertex_pool_create(n, sizeof(gpu_vertex), d->pool_budget_bytes,
-                                    TP_RENDER_POOL_MAX_BYTES, 64, msg, msg_size);
+                                    TP_RENDER_POOL_MAX_BYTES, TP_RENDER_POOL_INITIAL_BYTES, msg,
+                                    msg_size);
     if (!r->pool) {
         free(idx);
         tp_renderer_destroy(r);

@@ -57,6 +57,11 @@ typedef struct tp_render_stats {
  * needs more can be interactive. Items beyond it are dropped (counted in tp_render_stats). */
 #define TP_RENDER_POOL_MAX_BYTES ((size_t)1 << 30)
 
+/* Each level's vertex pool starts with the slots that fit in this (at least one): a view draws
+ * a few levels, and a pool doubles when a frame needs more. 64 slots a level were 5.9 MB for
+ * 65-sample nodes whatever the view drew (docs/PERFORMANCE.md, "Per-level vertex pools"). */
+#define TP_RENDER_POOL_INITIAL_BYTES ((size_t)64 << 10)
+
 /* What the renderer needs to know about the grid it draws. */
 typedef struct tp_render_grid_desc {
     int n;                       /* items are (2^n+1)^2 at most (level n) */

@@ -194,11 +194,11 @@ static int take_region(pool* p)
 }
 
 tp_vertex_pool* tp_vertex_pool_create(int n, size_t vertex_bytes, size_t budget_bytes,
-                                      size_t max_pool_bytes, int initial_slots, char* msg,
+                                      size_t max_pool_bytes, size_t initial_bytes, char* msg,
                                       size_t msg_size)
 {
     assert(n >= 0 && n < TP_MAX_LEVELS && n < POOL_LEVELS);
-    assert(vertex_bytes > 0 && initial_slots > 0);
+    assert(vertex_bytes > 0);
     tp_vertex_pool* p = calloc(1, sizeof *p);
     if (!p) {
         snprintf(msg, msg_size, "out of memory");
@@ -207,8 +207,8 @@ tp_vertex_pool* tp_vertex_pool_create(int n, size_t vertex_bytes, size_t budget_
     p->n = n;
     p->vertex_bytes = vertex_bytes;
     p->max_pool_bytes = max_pool_bytes;
-    /* Each level's pool starts with room for a typical visible set and grows when a frame
-     * needs more; the budget is shared evenly between the levels' pools. */
+    /* Each level's pool starts small (a view draws a few levels; the pool doubles when a frame
+     * needs more) and its budget is an even share. */
     for (int k = 0; k <= n; k++) {
         pool* q = &p->pool[k];
         size_t side = ((size_t)1 << k) + 1;
@@ -219,8 +219,10 @@ tp_vertex_pool* tp_vertex_pool_create(int n, size_t vertex_bytes, size_t budget_
             size_t b = budget_bytes / (size_t)(n + 1) / slot_bytes;
             q->budget_slots = b < 1 ? 1 : b > (size_t)INT_MAX / 2 ? INT_MAX / 2 : (int)b;
         }
-        int first = q->budget_slots > 0 && q->budget_slots < initial_slots ? q->budget_slots
-                                                                           : initial_slots;
+        size_t b = initial_bytes / slot_bytes;
+        int first = b < 1 ? 1 : b > 4096 ? 4096 : (int)b;
+        if (q->budget_slots > 0 && q->budget_slots < first)
+            first = q->budget_slots;
         if (!grow_pool(p, k, first)) {
             snprintf(msg, msg_size, "out of memory");
             tp_vertex_pool_destroy(p);

@@ -35,10 +35,12 @@ typedef struct tp_pool_slot {
 /* Pools for levels 0..n of vertices of vertex_bytes each. budget_bytes (0: none) is shared
  * evenly between the n+1 pools: a pool grows (doubling) up to its share, then reuses its
  * least-recently-used slots not taken this frame; a frame whose items alone need more grows it
- * past its share (up to max_pool_bytes a pool). Each starts with initial_slots slots (fewer if
- * its share holds fewer). Returns NULL and writes msg on failure. */
+ * past its share (up to max_pool_bytes a pool). Each starts with the slots that fit in
+ * initial_bytes (at least 1, at most 4096, and no more than its share holds); regions are made
+ * when the first incomplete item of a level needs one (16, then doubling). Returns NULL and
+ * writes msg on failure. */
 tp_vertex_pool* tp_vertex_pool_create(int n, size_t vertex_bytes, size_t budget_bytes,
-                                      size_t max_pool_bytes, int initial_slots, char* msg,
+                                      size_t max_pool_bytes, size_t initial_bytes, char* msg,
                                       size_t msg_size);
 void tp_vertex_pool_destroy(tp_vertex_pool* p); /* accepts NULL */
 
