@@ -32,18 +32,7 @@ int tp_store_scene_open(const char* path, tp_store_scene* sc)
     tp_status s = tp_store_open(path, &sc->store, &err);
     if (s == TP_OK) {
         tp_store_get_info(sc->store, &sc->info);
-        size_t count = 0;
-        const tp_node_meta* metas = tp_store_metas(sc->store, &count);
-        tp_tree_desc td;
-        memset(&td, 0, sizeof td);
-        td.geometry = sc->info.header.geometry;
-        memcpy(td.geotransform, sc->info.header.geotransform, sizeof td.geotransform);
-        td.height_step_m = sc->info.header.height_step_m;
-        td.quant_max_error_m = sc->info.header.quant_max_error_m;
-        td.err_unit_steps = sc->info.header.err_unit_steps;
-        td.metas = metas;
-        td.meta_count = count;
-        s = tp_tree_create(&td, &sc->tree, &err);
+        s = tp_tree_create_from_store(sc->store, &sc->tree, &err);
     }
     if (s == TP_OK) {
         tp_tree_get_info(sc->tree, &sc->tree_info);

@@ -204,32 +204,7 @@ static void flight_camera(store_bench* b, int seg, double d, tp_camera* cam)
     }
 }
 
-static int cmp_double(const void* a, const void* b)
-{
-    double x = *(const double*)a, y = *(const double*)b;
-    return (x > y) - (x < y);
-}
-
-static double median(double* v, int n)
-{
-    qsort(v, (size_t)n, sizeof *v, cmp_double);
-    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
-
-/* The 99th percentile (nearest rank) of sorted v. */
-static double p99(const double* v, int n)
-{
-    int k = (int)ceil(0.99 * n) - 1;
-    return v[k < 0 ? 0 : k];
-}
-
-#define ROWS_OF(expr)                                                                              \
-    do {                                                                                           \
-        for (int i = 0; i < n; i++) {                                                              \
-            const store_row* r = &c->rows[i];                                                      \
-            v[i] = (double)(expr);                                                                 \
-        }                                                                                          \
-    } while (0)
+#define ROWS_OF(expr) TP_BENCH_COLUMN(v, store_row, c->rows, n, expr)
 
 static void summarize(store_result* c, int n)
 {
@@ -237,29 +212,29 @@ static void summarize(store_result* c, int n)
     if (!v)
         return;
     ROWS_OF(r->frame_ms);
-    c->frame_ms = median(v, n);
-    c->frame_ms_p99 = p99(v, n);
+    c->frame_ms = tp_bench_median(v, n);
+    c->frame_ms_p99 = tp_bench_p99(v, n);
     c->fps_median = 1000 / c->frame_ms;
     ROWS_OF(r->cpu_ms);
-    c->cpu_ms = median(v, n);
+    c->cpu_ms = tp_bench_median(v, n);
     ROWS_OF(r->cut_ms);
-    c->cut_ms = median(v, n);
+    c->cut_ms = tp_bench_median(v, n);
     ROWS_OF(r->stream_ms);
-    c->stream_ms = median(v, n);
+    c->stream_ms = tp_bench_median(v, n);
     ROWS_OF(r->upload_ms);
-    c->upload_ms = median(v, n);
+    c->upload_ms = tp_bench_median(v, n);
     ROWS_OF(r->draw_ms);
-    c->draw_ms = median(v, n);
+    c->draw_ms = tp_bench_median(v, n);
     ROWS_OF(r->page_faults);
-    c->page_faults = median(v, n);
+    c->page_faults = tp_bench_median(v, n);
     ROWS_OF(r->triangles);
-    c->triangles = median(v, n);
+    c->triangles = tp_bench_median(v, n);
     ROWS_OF(r->nodes);
-    c->nodes = median(v, n);
+    c->nodes = tp_bench_median(v, n);
     ROWS_OF(r->visited);
-    c->visited = median(v, n);
+    c->visited = tp_bench_median(v, n);
     ROWS_OF(r->uploads);
-    c->uploads = median(v, n);
+    c->uploads = tp_bench_median(v, n);
     double sum_px = 0;
     for (int i = 0; i < n; i++) {
         const store_row* r = &c->rows[i];

@@ -313,25 +313,7 @@ static double now_ms(void)
     return ts.tv_sec * 1e3 + ts.tv_nsec / 1e6;
 }
 
-static int cmp_double(const void* a, const void* b)
-{
-    double x = *(const double*)a, y = *(const double*)b;
-    return (x > y) - (x < y);
-}
-
-static double median(double* v, int n)
-{
-    qsort(v, (size_t)n, sizeof *v, cmp_double);
-    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
-
-#define MEDIAN_OF(field_expr)                                                                      \
-    do {                                                                                           \
-        for (int i = 0; i < n; i++) {                                                              \
-            const frame_row* r = &c->rows[i];                                                      \
-            v[i] = (double)(field_expr);                                                           \
-        }                                                                                          \
-    } while (0)
+#define MEDIAN_OF(expr) TP_BENCH_COLUMN(v, frame_row, c->rows, n, expr)
 
 static void summarize(config_result* c, int n)
 {
@@ -339,22 +321,22 @@ static void summarize(config_result* c, int n)
     if (!v)
         return;
     MEDIAN_OF(r->frame_ms);
-    c->frame_ms = median(v, n);
+    c->frame_ms = tp_bench_median(v, n);
     c->fps_median = 1000 / c->frame_ms;
     MEDIAN_OF(r->select_ms + r->upload_ms);
-    c->cpu_ms = median(v, n);
+    c->cpu_ms = tp_bench_median(v, n);
     MEDIAN_OF(r->draw_ms);
-    c->draw_ms = median(v, n);
+    c->draw_ms = tp_bench_median(v, n);
     MEDIAN_OF(r->triangles);
-    c->triangles = median(v, n);
+    c->triangles = tp_bench_median(v, n);
     MEDIAN_OF(r->draw_calls);
-    c->draw_calls = median(v, n);
+    c->draw_calls = tp_bench_median(v, n);
     MEDIAN_OF(r->uploads);
-    c->uploads = median(v, n);
+    c->uploads = tp_bench_median(v, n);
     MEDIAN_OF(r->oracle_triangles);
-    c->oracle_triangles = median(v, n);
+    c->oracle_triangles = tp_bench_median(v, n);
     MEDIAN_OF(r->oracle_patches);
-    c->oracle_patches = median(v, n);
+    c->oracle_patches = tp_bench_median(v, n);
     double sum_m = 0, sum_px = 0;
     c->gpu_bytes = 0;
     for (int i = 0; i < n; i++) {
