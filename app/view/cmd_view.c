@@ -388,7 +388,8 @@ static int take_georef(tp_view_scene* v, tp_store_scene* st)
 
 /* Runs the view on an open scene (either path; st: the store, whose georeference may still be
  * in the making): camera, context, renderer, the frames. */
-static int run_view(tp_view_scene* v, view_options* o, tp_render_grid_desc* gd, tp_store_scene* st)
+static int run_view(tp_view_scene* v, view_options* o, tp_render_grid_desc* gd,
+                    tp_store_scene* st)
 {
     tp_camera cam;
     if (o->vs.has_camera && !take_georef(v, st)) /* --camera-geo */

@@ -66,13 +66,13 @@ static void* module_symbol(const char* name)
     return f;
 }
 
-/* ret name params: looks the module's name up once (a pointer stored atomically: any thread
- * may call first) and calls it with args; fail is what a tp_status function returns when the
- * module is missing. */
-#define FORWARD(name, params, args, err)                                                          \
+/* Defines tp_status name params, which looks the module's function up once (the pointer is
+ * stored atomically: any thread may call first) and calls it with args; err is the argument
+ * that receives the message when the module cannot be loaded. */
+#define FORWARD(name, params, args, err)                                                           \
     tp_status name params                                                                          \
     {                                                                                              \
-        typedef tp_status(*fn_type) params;                                                       \
+        typedef tp_status(*fn_type) params;                                                        \
         static fn_type fn;                                                                         \
         fn_type f = __atomic_load_n(&fn, __ATOMIC_ACQUIRE);                                        \
         if (!f) {                                                                                  \
