@@ -109,8 +109,10 @@ static void print_help(void)
           "                         leaf is resident (the JSON says how many were skipped)\n"
           "--json adds rss_mb, rss_anon_mb (/proc/self/status VmRSS, RssAnon; max over the\n"
           "timed frames), resident_mb (the stream's accounting), gpu_mb, first_frame_ms (from\n"
-          "the process's start to the end of the first drawn frame), frame_ms_p99,\n"
-          "nodes_drawn_median, substituted_nodes_max, frames_with_substitution.\n"
+          "the process's start to the end of the first drawn frame) and its parts\n"
+          "(startup_to_bench_ms, store_open_ms, gl_context_ms, renderer_create_ms,\n"
+          "stream_create_ms, georef_wait_ms, first_cut_stream_ms, first_draw_ms),\n"
+          "frame_ms_p99, nodes_drawn_median, substituted_nodes_max, frames_with_substitution.\n"
           "\n"
           "DEM:\n",
           stdout);
