@@ -140,7 +140,9 @@ tp_status tp_los_compute(const double geotransform[6], double from_x, double fro
         }
         const double line = r.eye_m + f * (target_c - r.eye_m) + drop;
         const double clearance = line - ground; /* NaN in a void */
-        const int tested = f * span >= 1.0 && (1.0 - f) * span >= 1.0;
+        /* posts from either end, without rounding at exactly one post */
+        const double last = (double)(count - 1);
+        const int tested = (double)i * span / last >= 1.0 && (last - (double)i) * span / last >= 1.0;
         if (samples) {
             tp_los_sample* p = &samples[i];
             p->x = x;
