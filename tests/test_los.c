@@ -218,6 +218,7 @@ TEST(profile_samples_follow_the_line)
         EXPECT_NEAR(s[i].clearance_m, s[i].line_m - s[i].ground_m, 1e-12);
         EXPECT_EQ_INT(s[i].distance_m >= 30.0 && s[i].distance_m <= 2370.0, s[i].tested);
     }
+    EXPECT_EQ_INT(r.visible, s[n - 1].seen);
     free(s);
     /* a post apart: nothing between, seen, no clearance */
     r = los_ok(&g, 10.0, 11.0, &o);
@@ -228,6 +229,54 @@ TEST(profile_samples_follow_the_line)
     r = los_ok(&g, 10.0, 10.0, &o);
     EXPECT_TRUE(r.visible);
     EXPECT_NEAR(r.distance_m, 0.0, 0.0);
+}
+
+/* Seen or hidden along the ground, by the line from the eye over each crest, flat earth: eye
+ * 2 m up at column 10; the 10 m crest at 50 casts a shadow along the line through the eye and
+ * the crest, rising 8 m per 40 posts (0.2 m per post): the flat ground behind it and the foot
+ * of a 40 m ridge at 70 are hidden, its upper part (above 2 + 0.2 (x - 10)) seen. */
+TEST(seen_and_hidden_along_the_ground)
+{
+    tp_los_options o = tp_los_options_default();
+    o.curvature_coeff = 0.0;
+    ground g = one_ridge(10.0);
+    g.ridge_x[1] = 70.0;
+    g.ridge_h[1] = 40.0;
+    size_t n = tp_los_sample_count(10.0, 7.0, 90.0, 7.0, &o);
+    tp_los_sample* s = (tp_los_sample*)malloc(n * sizeof *s);
+    tp_los_result r;
+    tp_error err;
+    memset(&err, 0, sizeof err);
+    ASSERT_OK(tp_los_compute(GT30, 10.0, 7.0, 90.0, 7.0, &o, ground_at, &g, s, n, &r, &err));
+    int checked = 0;
+    for (size_t i = 0; i < n; ++i) {
+        const double x = s[i].x;
+        double want;
+        if (x <= 50.0) {
+            want = 1; /* flat ground and the front face, nothing higher before them */
+        } else {
+            /* the shadow of the highest horizon so far: the first crest, or (past the second
+             * crest, 70) the second one, whose line from the eye is steeper */
+            const double shadow = x <= 70.0 ? 2.0 + 0.2 * (x - 10.0)
+                                            : 2.0 + (40.0 - 2.0) / 60.0 * (x - 10.0);
+            const double ground_here = s[i].ground_m;
+            if (fabs(ground_here - shadow) < 1e-6)
+                continue; /* grazing: either answer */
+            if ((x > 50.0 && x < 51.0) || (x > 70.0 && x < 71.0))
+                continue; /* a crest less than a post behind is not counted yet (as the
+                             viewshed takes a sample's horizon from a post nearer) */
+            want = ground_here > shadow;
+        }
+        EXPECT_EQ_INT((int)want, s[i].seen);
+        ++checked;
+    }
+    EXPECT_GE_INT(checked, 300);
+    /* the upper face of the 40 m ridge is seen, its foot and the ground behind it not */
+    EXPECT_EQ_INT(1, s[(size_t)((70.0 - 10.0) * 4)].seen);
+    EXPECT_EQ_INT(0, s[(size_t)((64.0 - 10.0) * 4)].seen);
+    EXPECT_EQ_INT(0, s[(size_t)((80.0 - 10.0) * 4)].seen);
+    EXPECT_EQ_INT(r.visible, s[n - 1].seen);
+    free(s);
 }
 
 TEST(bad_options_and_callback_errors)
@@ -443,6 +492,7 @@ TEST(agrees_with_r3_and_the_viewsheds_on_n42e001)
     X(flat_ground_beyond_the_curvature_horizon_is_hidden)                                         \
     X(voids_block_nothing_and_are_counted)                                                        \
     X(profile_samples_follow_the_line)                                                            \
+    X(seen_and_hidden_along_the_ground)                                                           \
     X(bad_options_and_callback_errors)                                                            \
     X(agrees_with_r3_and_the_viewsheds_on_n42e001)
 TP_TEST_MAIN(TESTS)

@@ -124,6 +124,14 @@ tp_status tp_los_compute(const double geotransform[6], double from_x, double fro
     /* The profile goes straight into samples: a callback failing mid-way leaves them partly
      * written (the header says so); *out is written only at the end. */
     int in_run = 0, run_done = 0;
+    /* For each sample's seen: the steepest corrected ground (slope from the eye) over the
+     * samples at least one post past the observer and one post before it; lag is that post in
+     * samples. */
+    const double last_i = (double)(count - 1);
+    size_t lag = 1;
+    while (span > 0.0 && (double)lag * span / last_i < 1.0)
+        lag++;
+    double horizon = -INFINITY; /* only with samples: it looks back at them */
     for (size_t i = 0; i < count; ++i) {
         const double f = (double)i / (double)(count - 1);
         const double x = i + 1 == count ? to_x : from_x + f * dx;
@@ -141,8 +149,8 @@ tp_status tp_los_compute(const double geotransform[6], double from_x, double fro
         const double line = r.eye_m + f * (target_c - r.eye_m) + drop;
         const double clearance = line - ground; /* NaN in a void */
         /* posts from either end, without rounding at exactly one post */
-        const double last = (double)(count - 1);
-        const int tested = (double)i * span / last >= 1.0 && (last - (double)i) * span / last >= 1.0;
+        const int tested =
+            (double)i * span / last_i >= 1.0 && (last_i - (double)i) * span / last_i >= 1.0;
         if (samples) {
             tp_los_sample* p = &samples[i];
             p->x = x;
@@ -152,6 +160,18 @@ tp_status tp_los_compute(const double geotransform[6], double from_x, double fro
             p->line_m = line;
             p->clearance_m = clearance;
             p->tested = tested;
+            if (i >= lag) { /* sample i - lag is now a post behind: it may hide this one */
+                const size_t j = i - lag;
+                const tp_los_sample* q = &samples[j];
+                if ((double)j * span / last_i >= 1.0 && q->ground_m == q->ground_m)
+                    horizon = fmax(horizon, (q->ground_m - k * q->distance_m * q->distance_m -
+                                             r.eye_m) / q->distance_m);
+            }
+            if ((double)i * span / last_i < 1.0)
+                p->seen = 1; /* the observer's own neighbourhood */
+            else
+                p->seen = ground == ground &&
+                          (ground - drop + o->target_height_m - r.eye_m) / d >= horizon;
         }
         if (!tested)
             continue;
