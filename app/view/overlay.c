@@ -148,6 +148,48 @@ static void compass_and_scale(tp_hud* hud, layout* l, const tp_view_scene* v,
     }
 }
 
+/* The line of sight's ground track, a segment per pair of samples coloured by the nearer
+ * one's flag, and the obstruction's "X". */
+static void los_track(tp_hud* hud, layout* l, const tp_view_scene* v, const tp_camera* cam,
+                      const tp_overlay_los* los, float s)
+{
+    const unsigned char green[4] = {40, 220, 60, 255}, red[4] = {235, 40, 30, 255},
+                        dark[4] = {0, 0, 0, 200};
+    const double zs = tp_view_scene_vertical_scale(v);
+    int w = cam->viewport_w_px, h = cam->viewport_h_px;
+    double prev[2];
+    int have_prev = 0;
+    for (int pass = 0; pass < 2; pass++) { /* a dark outline under the colours */
+        have_prev = 0;
+        for (size_t i = 0; i < los->count; i++) {
+            const double* p = los->enh + 3 * i;
+            double q[3] = {p[0], p[1], p[2] * zs}, px[2];
+            if (isnan(p[2]) || !tp_camera_project(cam, q, px, NULL)) {
+                have_prev = 0;
+                continue;
+            }
+            if (have_prev)
+                tp_hud_line(hud, w, h, (float)prev[0], (float)prev[1], (float)px[0],
+                            (float)px[1], pass == 0 ? 5.0f * s : 3.0f * s,
+                            pass == 0 ? dark : los->seen[i] ? green : red);
+            prev[0] = px[0];
+            prev[1] = px[1];
+            have_prev = 1;
+        }
+    }
+    if (los->has_obstruction) {
+        const double* p = los->obstruction_enh;
+        double q[3] = {p[0], p[1], p[2] * zs}, px[2];
+        if (tp_camera_project(cam, q, px, NULL) && px[0] >= 0 && px[1] >= 0 && px[0] < w &&
+            px[1] < h) {
+            float x0 = (float)px[0] - 2.5f * s, y0 = (float)px[1] - 3.5f * s;
+            tp_hud_text(hud, w, h, x0, y0, s, "X");
+            tp_hud_text(hud, w, h, x0 + 8 * s, y0 - 10 * s, s, "obstruction");
+            occupy(l, x0 - 2, y0 - 12 * s, x0 + 70 * s, y0 + 9 * s);
+        }
+    }
+}
+
 void tp_view_overlay_draw(tp_hud* hud, const tp_view_scene* v, const tp_camera* cam,
                           const tp_overlay* ov)
 {
@@ -168,6 +210,8 @@ void tp_view_overlay_draw(tp_hud* hud, const tp_view_scene* v, const tp_camera* 
         block(hud, &l, w, h, 10, bottom, w - 16, th * s, s, ov->measure_line);
         bottom -= 4 * s;
     }
+    if (ov->los && ov->los->count > 1)
+        los_track(hud, &l, v, cam, ov->los, s);
     if (ov->has_mark) {
         /* drawn space: heights times the exaggeration, as the terrain is drawn */
         double p[3] = {ov->mark_enh[0], ov->mark_enh[1],
