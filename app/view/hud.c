@@ -145,3 +145,34 @@ void tp_hud_line(tp_hud* h, int w, int hgt, float x0, float y0, float x1, float 
     glDrawElements(GL_TRIANGLES, 6, GL_UNSIGNED_INT, NULL);
     glEnable(GL_DEPTH_TEST);
 }
+
+void tp_hud_dots(tp_hud* h, int w, int hgt, const float* xy, int count, float side_px,
+                 const unsigned char rgba[4])
+{
+    if (count <= 0)
+        return;
+    if (count > HUD_MAX_QUADS)
+        count = HUD_MAX_QUADS;
+    const float r = side_px * 0.5f, c[4][2] = {{-1, -1}, {1, -1}, {1, 1}, {-1, 1}};
+    char* v = h->verts;
+    for (int i = 0; i < count; i++)
+        for (int k = 0; k < 4; k++) {
+            float xyz[3] = {xy[2 * i] + c[k][0] * r, xy[2 * i + 1] + c[k][1] * r, 0.0f};
+            memcpy(v + 16 * (4 * i + k), xyz, 12);
+            memcpy(v + 16 * (4 * i + k) + 12, rgba, 4);
+        }
+    glDisable(GL_DEPTH_TEST);
+    glDisable(GL_CULL_FACE);
+    glPolygonMode(GL_FRONT_AND_BACK, GL_FILL);
+    glEnable(GL_BLEND);
+    glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
+    glUseProgram(h->prog);
+    glBindVertexArray(h->vao);
+    glBindBuffer(GL_ARRAY_BUFFER, h->vbo);
+    glBufferSubData(GL_ARRAY_BUFFER, 0, (GLsizeiptr)count * 4 * 16, h->verts);
+    glUniform2f(h->u_screen, (float)w, (float)hgt);
+    glUniform3f(h->u_offset, 0.0f, 0.0f, 1.0f);
+    glDrawElements(GL_TRIANGLES, count * 6, GL_UNSIGNED_INT, NULL);
+    glDisable(GL_BLEND);
+    glEnable(GL_DEPTH_TEST);
+}

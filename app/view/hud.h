@@ -19,6 +19,11 @@ void tp_hud_text(tp_hud* h, int w, int hgt, float x, float y, float scale, const
 void tp_hud_line(tp_hud* h, int w, int hgt, float x0, float y0, float x1, float y1,
                  float width_px, const unsigned char rgba[4]);
 
+/* Draws count squares side_px wide centred on the points (x, y pairs, pixels), in rgba blended
+ * over what is drawn (alpha). At most 20000 per call. */
+void tp_hud_dots(tp_hud* h, int w, int hgt, const float* xy, int count, float side_px,
+                 const unsigned char rgba[4]);
+
 /* Width and height (pixels, at scale 1) of the text. */
 void tp_hud_measure(const char* text, float* w, float* h);
 
