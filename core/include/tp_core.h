@@ -1095,11 +1095,12 @@ typedef struct tp_los_sample {
                            corrected line + drop, so that it plots against ground_m */
     double clearance_m; /* line_m - ground_m; NaN in a void */
     int tested;         /* 0 within one post of either end */
-    int seen;           /* a target target_height_m above the ground here would be seen from
-                           the eye over the samples before it (those a post or more from both
-                           ends, as above): the line seen / hidden along the ground. The last
-                           sample's is the result's visible. 0 in a void and at the observer's
-                           own neighbours never: 1 within one post of the observer. */
+    int seen;           /* only when samples are asked for: a target target_height_m above
+                           the ground here would be seen from the eye over the samples at
+                           least one post from the observer and one post before this one (its
+                           slope from the eye against theirs): the line seen / hidden along the
+                           ground. The last sample's equals the result's visible. Always 1
+                           within one post of the observer; 0 in a void. */
 } tp_los_sample;
 
 typedef struct tp_los_result {
