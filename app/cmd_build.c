@@ -31,6 +31,9 @@
 #include <time.h>
 #include <unistd.h>
 
+/* The smallest --memory accepted (MB): the program's fixed part alone is more than that. */
+#define BUILD_MIN_MEMORY_MB 64
+
 typedef struct build_options {
     const char** sources;
     int source_count;
@@ -144,7 +147,7 @@ static int parse_options(int argc, char** argv, build_options* o)
                        TP_EXIT_USAGE;
             break;
         case OPT_MEMORY:
-            if (!parse_int(optarg, 64, 1 << 24, &o->memory_mb))
+            if (!parse_int(optarg, BUILD_MIN_MEMORY_MB, 1 << 24, &o->memory_mb))
                 return tp_option_error("build", "--memory", "megabytes, 64 or more", optarg),
                        TP_EXIT_USAGE;
             break;
@@ -299,6 +302,14 @@ static int emit_node(int64_t node, const tp_node_meta* meta, const int32_t* q,
  * node of a row, two rows of metas and masks per scale) and the store writer's bit per node (it writes
  * the node and location tables into the file as nodes come: docs/store.md). GDAL's block cache comes on top (a quarter of --memory);
  * the program's fixed part (libraries, about 156 MB resident: docs/PERFORMANCE.md) is not counted. */
+/* The --memory (MB) to suggest for need_mb of what grows with the grid: that in three quarters
+ * of the budget, never below what --memory accepts. */
+static double memory_to_suggest(double need_mb)
+{
+    double mb = ceil(need_mb / 0.75);
+    return mb < BUILD_MIN_MEMORY_MB ? BUILD_MIN_MEMORY_MB : mb;
+}
+
 static double build_memory_bytes(const tp_tree_geometry* g, int src_width, int fill_max)
 {
     const double side = (1 << g->n) + 1;
@@ -602,15 +613,15 @@ int tp_cli_build(int argc, char** argv)
         }
         char alt[96] = "";
         if (best != o.patch_size)
-            snprintf(alt, sizeof alt, " (or --memory %.0f with --patch %d)", ceil(best_mb / 0.75),
-                     best);
+            snprintf(alt, sizeof alt, " (or --memory %.0f with --patch %d)",
+                     memory_to_suggest(best_mb), best);
         fprintf(stderr,
                 "terrapatch: build: --memory %d MB is too small for a %dx%d grid in %dx%d "
                 "nodes: one band of %d rows, the tree builder and the store writer need "
                 "%.0f MB, besides GDAL's block cache (a quarter of the budget); give --memory "
                 "%.0f or more%s\n",
                 o.memory_mb, mi.width, mi.height, ps + 1, ps + 1, band_rows, need_mb,
-                ceil(need_mb / 0.75), alt);
+                memory_to_suggest(need_mb), alt);
         tp_mosaic_close(m);
         return TP_EXIT_FAILURE;
     }

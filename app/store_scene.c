@@ -4,7 +4,9 @@
 
 #include "cli.h"
 
+#include <pthread.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
 
@@ -24,40 +26,119 @@ int tp_is_store_path(const char* path)
     return got == sizeof head && memcmp(head, magic, sizeof magic) == 0;
 }
 
+/* One error line naming the file; the store's messages name it, the others do not. */
+static void report(const char* path, tp_status s, const tp_error* err)
+{
+    if (strstr(err->message, path))
+        fprintf(stderr, "terrapatch: %s\n", err->message);
+    else
+        fprintf(stderr, "terrapatch: %s: %s\n", path,
+                err->message[0] ? err->message : tp_status_str(s));
+}
+
+/* The store and the tree over its node table. */
+static tp_status open_store_tree(const char* path, tp_store_scene* sc, tp_error* err)
+{
+    tp_status s = tp_store_open(path, &sc->store, err);
+    if (s != TP_OK)
+        return s;
+    tp_store_get_info(sc->store, &sc->info);
+    s = tp_tree_create_from_store(sc->store, &sc->tree, err);
+    if (s == TP_OK)
+        tp_tree_get_info(sc->tree, &sc->tree_info);
+    return s;
+}
+
 int tp_store_scene_open(const char* path, tp_store_scene* sc)
 {
     memset(sc, 0, sizeof *sc);
     sc->path = path;
     tp_error err = {{0}};
-    tp_status s = tp_store_open(path, &sc->store, &err);
-    if (s == TP_OK) {
-        tp_store_get_info(sc->store, &sc->info);
-        size_t count = 0;
-        const tp_node_meta* metas = tp_store_metas(sc->store, &count);
-        tp_tree_desc td;
-        memset(&td, 0, sizeof td);
-        td.geometry = sc->info.header.geometry;
-        memcpy(td.geotransform, sc->info.header.geotransform, sizeof td.geotransform);
-        td.height_step_m = sc->info.header.height_step_m;
-        td.quant_max_error_m = sc->info.header.quant_max_error_m;
-        td.err_unit_steps = sc->info.header.err_unit_steps;
-        td.metas = metas;
-        td.meta_count = count;
-        s = tp_tree_create(&td, &sc->tree, &err);
-    }
-    if (s == TP_OK) {
-        tp_tree_get_info(sc->tree, &sc->tree_info);
+    tp_status s = open_store_tree(path, sc, &err);
+    if (s == TP_OK)
         s = tp_georef_create(sc->info.header.crs_wkt, sc->info.header.geotransform, &sc->georef,
                              &err);
-    }
     if (s != TP_OK) {
-        /* the store's messages name the file; the others do not */
-        if (strstr(err.message, path))
-            fprintf(stderr, "terrapatch: %s\n", err.message);
-        else
-            fprintf(stderr, "terrapatch: %s: %s\n", path,
-                    err.message[0] ? err.message : tp_status_str(s));
+        report(path, s, &err);
         tp_store_scene_close(sc);
+        return TP_EXIT_FAILURE;
+    }
+    return TP_EXIT_OK;
+}
+
+/* The georeference made on its own thread: reads the store's header (not changed after open),
+ * writes only its own fields; joined by tp_store_scene_georef_wait or tp_store_scene_close. */
+struct tp_store_georef_job {
+    pthread_t thread;
+    const char* crs_wkt;
+    const double* geotransform;
+    tp_georef* georef;
+    tp_status status;
+    tp_error err;
+};
+
+static void* georef_thread(void* arg)
+{
+    struct tp_store_georef_job* job = arg;
+    job->status = tp_georef_create(job->crs_wkt, job->geotransform, &job->georef, &job->err);
+    return NULL;
+}
+
+int tp_store_scene_open_deferred(const char* path, tp_store_scene* sc)
+{
+    memset(sc, 0, sizeof *sc);
+    sc->path = path;
+    tp_error err = {{0}};
+    tp_status s = open_store_tree(path, sc, &err);
+    if (s != TP_OK) {
+        report(path, s, &err);
+        tp_store_scene_close(sc);
+        return TP_EXIT_FAILURE;
+    }
+    struct tp_store_georef_job* job = calloc(1, sizeof *job);
+    if (job) {
+        job->crs_wkt = sc->info.header.crs_wkt;
+        job->geotransform = sc->info.header.geotransform;
+        if (pthread_create(&job->thread, NULL, georef_thread, job) == 0) {
+            sc->georef_job = job;
+            return TP_EXIT_OK;
+        }
+        free(job);
+    }
+    /* no thread: made here, as tp_store_scene_open does */
+    s = tp_georef_create(sc->info.header.crs_wkt, sc->info.header.geotransform, &sc->georef,
+                         &err);
+    if (s != TP_OK) {
+        report(path, s, &err);
+        tp_store_scene_close(sc);
+        return TP_EXIT_FAILURE;
+    }
+    return TP_EXIT_OK;
+}
+
+/* Joins the job (if any) and takes its georeference; its status (TP_OK without a job). */
+static tp_status join_georef(tp_store_scene* sc, tp_error* err)
+{
+    struct tp_store_georef_job* job = sc->georef_job;
+    if (!job)
+        return TP_OK;
+    pthread_join(job->thread, NULL);
+    sc->georef_job = NULL;
+    tp_status s = job->status;
+    if (s == TP_OK)
+        sc->georef = job->georef;
+    else if (err)
+        *err = job->err;
+    free(job);
+    return s;
+}
+
+int tp_store_scene_georef_wait(tp_store_scene* sc)
+{
+    tp_error err = {{0}};
+    tp_status s = join_georef(sc, &err);
+    if (s != TP_OK) {
+        report(sc->path, s, &err);
         return TP_EXIT_FAILURE;
     }
     return TP_EXIT_OK;
@@ -79,6 +160,7 @@ int tp_store_scene_stream(tp_store_scene* sc, const tp_stream_options* o)
 
 void tp_store_scene_close(tp_store_scene* sc)
 {
+    join_georef(sc, NULL);         /* a georeference still being made: taken, then freed */
     tp_stream_destroy(sc->stream); /* detaches every block before the tree goes */
     tp_georef_destroy(sc->georef);
     tp_tree_destroy(sc->tree);

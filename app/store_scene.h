@@ -17,8 +17,10 @@ typedef struct tp_store_scene {
     tp_store_info info;      /* header strings owned by the store */
     tp_tree* tree;           /* metas from the store; samples attached by the stream */
     tp_tree_info tree_info;
-    tp_georef* georef;       /* grid <-> render CRS <-> WGS84 */
+    tp_georef* georef;       /* grid <-> render CRS <-> WGS84 (see tp_store_scene_open_deferred) */
     tp_stream* stream;       /* NULL until tp_store_scene_stream */
+    /* private */
+    struct tp_store_georef_job* georef_job; /* the georeference being made on a thread */
 } tp_store_scene;
 
 /* 1 if path names a terrapatch store (its first bytes are the store's magic). */
@@ -27,6 +29,16 @@ int tp_is_store_path(const char* path);
 /* Opens the store, its tree and georeference. Prints one error line naming the file and returns
  * TP_EXIT_FAILURE on failure (the scene then holds nothing), TP_EXIT_OK on success. */
 int tp_store_scene_open(const char* path, tp_store_scene* sc);
+
+/* tp_store_scene_open with the georeference made on a thread: resolving the CRS (GDAL, PROJ's
+ * database) takes 50-250 ms, which a viewer spends creating its GL context meanwhile
+ * (docs/PERFORMANCE.md, "First frame"). sc->georef is NULL until tp_store_scene_georef_wait. */
+int tp_store_scene_open_deferred(const char* path, tp_store_scene* sc);
+
+/* Waits for the georeference of tp_store_scene_open_deferred and sets sc->georef: TP_EXIT_OK,
+ * or one error line naming the file and TP_EXIT_FAILURE (sc->georef stays NULL). TP_EXIT_OK at
+ * once when sc->georef is already there. */
+int tp_store_scene_georef_wait(tp_store_scene* sc);
 
 /* Starts streaming (loads the roots now). TP_EXIT_FAILURE with one line on failure. */
 int tp_store_scene_stream(tp_store_scene* sc, const tp_stream_options* o);

@@ -840,6 +840,44 @@ TEST(memory_too_small_for_one_band_fails_up_front)
     EXPECT_EQ_STR("", list);
 }
 
+/* With --fill-max 0 a 60000 x 40000 grid (the same kind of VRT) does not fit --memory 64 in
+ * 65-sample nodes but fits in 17-sample ones, in less than 64 MB: the message used to suggest
+ * "--memory 27 with --patch 17", which --memory refuses. Every --memory it names is one the
+ * option accepts (64 or more), and the suggested node size is given with it. */
+TEST(memory_suggestions_are_never_below_the_options_floor)
+{
+    char t[1024], vrt[1024], out[1024], errp[1024], cmd[4096], list[1024];
+    REQUIRE_DATA_FILE(t, "TP_SHARED_DATA_DIR", "lf_elev_220_mt_hood_utm.tif");
+    if (system("gdalbuildvrt --version >/dev/null 2>&1") != 0)
+        SKIP("gdalbuildvrt (gdal-bin) is not installed");
+    const char* dir = make_tmp_dir();
+    const char* odir = make_tmp_dir();
+    snprintf(vrt, sizeof vrt, "%s/wide.vrt", dir);
+    snprintf(out, sizeof out, "%s/wide.tpt", odir);
+    snprintf(errp, sizeof errp, "%s/err.txt", dir);
+    snprintf(cmd, sizeof cmd,
+             "gdalbuildvrt -q -tr 1 1 -te 560000 4990000 620000 5030000 '%s' '%s'", vrt, t);
+    ASSERT_EQ_INT(0, system(cmd));
+    const char* args[] = {vrt, "-o", out, "--memory", "64", "--fill-max", "0", NULL};
+    EXPECT_EQ_INT(1, finish_child(start_build(args, 0, errp)));
+    const char* e = slurp(errp);
+    ASSERT_TRUE(e != NULL);
+    if (!strstr(e, "too small"))
+        fprintf(stderr, "stderr: %s\n", e);
+    EXPECT_TRUE(strstr(e, "--memory 64 MB is too small for a 60000x40000 grid in 65x65") != NULL);
+    EXPECT_TRUE(strstr(e, " with --patch 17)") != NULL); /* smaller nodes need least here */
+    int suggestions = 0;
+    for (const char* p = strstr(e, "--memory "); p; p = strstr(p + 1, "--memory ")) {
+        int mb = atoi(p + 9);
+        tp_test_note("suggests --memory %d", mb);
+        EXPECT_GE_INT(mb, 64);
+        suggestions++;
+    }
+    EXPECT_EQ_INT(3, suggestions); /* the one given, "give --memory N", the alternative */
+    names_in(odir, list, sizeof list);
+    EXPECT_EQ_STR("", list);
+}
+
 #define TESTS(X)                                                                                   \
     X(single_hgt_same_grid_as_render_grid)                                                         \
     X(single_dt1_same_grid_as_render_grid)                                                         \
@@ -860,5 +898,6 @@ TEST(memory_too_small_for_one_band_fails_up_front)
     X(sigterm_during_build_leaves_nothing)                                                         \
     X(sigint_during_build_leaves_nothing)                                                          \
     X(full_disk_exit_1_and_leaves_nothing)                                                         \
-    X(memory_too_small_for_one_band_fails_up_front)
+    X(memory_too_small_for_one_band_fails_up_front)                                                \
+    X(memory_suggestions_are_never_below_the_options_floor)
 TP_TEST_MAIN(TESTS)

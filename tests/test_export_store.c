@@ -141,6 +141,37 @@ TEST(void_store_cuts_are_watertight_and_keep_max_error)
     remove(store);
 }
 
+/* What export --full on a store reports as the full mesh: the triangles of every cell with four
+ * drawn samples, i.e. exactly what it wrote; it used to be two per cell of the whole grid, void
+ * and outside samples included (1,613,952 for Mt Hood's 1013 x 799 grid, 26,820 of its samples
+ * nodata, so "96.0% of the at most ..."). */
+TEST(full_export_reports_the_drawn_cells_of_the_full_mesh)
+{
+    char store[1024], out[1024], text[4096], err[4096];
+    out_path(store, sizeof store, "hood_count.tpt");
+    const char* files[] = {"lf_elev_220_mt_hood_utm.tif", NULL};
+    build_store(store, "0", files);
+    out_path(out, sizeof out, "hood_count.vtp");
+    const char* full[] = {"--full", store, "-o", out, NULL};
+    int rc = tp_test_run_terrapatch_out("export", full, text, sizeof text, err, sizeof err);
+    if (rc != 0)
+        FAIL("terrapatch export: exit %d: %s", rc, err);
+    tp_mesh_summary f;
+    tp_error e;
+    ASSERT_OK(tp_mesh_inspect(out, &f, &e));
+    tp_test_note("%s", text);
+    const char* p = strstr(text, "% of the ");
+    ASSERT_TRUE(p != NULL);
+    p += strlen("% of the ");
+    EXPECT_TRUE(strncmp(p, "at most", 7) != 0); /* an exact count */
+    double reported = strtod(p, NULL);
+    EXPECT_EQ_DBL((double)f.triangles, reported);
+    EXPECT_LT(reported, 2.0 * 1012 * 798 - 40000);
+    EXPECT_TRUE(strstr(text, "(100.00% of the ") != NULL);
+    remove(out);
+    remove(store);
+}
+
 static int cmp_xy(const void* a, const void* b)
 {
     const double *p = a, *q = b;
@@ -244,6 +275,7 @@ TEST(damaged_node_fails_and_writes_nothing)
 #define TESTS(X)                                                                                   \
     X(seam_store_cuts_are_watertight)                                                              \
     X(void_store_cuts_are_watertight_and_keep_max_error)                                           \
+    X(full_export_reports_the_drawn_cells_of_the_full_mesh)                                        \
     X(store_and_dem_exports_have_the_same_points)                                                  \
     X(store_options_for_a_dem_only_are_refused)                                                    \
     X(damaged_node_fails_and_writes_nothing)

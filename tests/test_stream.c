@@ -139,20 +139,7 @@ static int open_fixture(fixture* fx, int64_t first, int corrupt)
         tp_test_note("%s", err.message);
         return 0;
     }
-    size_t count;
-    const tp_node_meta* metas = tp_store_metas(fx->store, &count);
-    tp_store_info si;
-    tp_store_get_info(fx->store, &si);
-    tp_tree_desc td;
-    memset(&td, 0, sizeof td);
-    td.geometry = si.header.geometry;
-    memcpy(td.geotransform, si.header.geotransform, sizeof td.geotransform);
-    td.height_step_m = si.header.height_step_m;
-    td.quant_max_error_m = si.header.quant_max_error_m;
-    td.err_unit_steps = si.header.err_unit_steps;
-    td.metas = metas;
-    td.meta_count = count;
-    if (tp_tree_create(&td, &fx->tree, &err) != TP_OK) {
+    if (tp_tree_create_from_store(fx->store, &fx->tree, &err) != TP_OK) {
         tp_test_note("%s", err.message);
         return 0;
     }

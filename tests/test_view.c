@@ -1737,6 +1737,72 @@ TEST(store_damaged_node_is_reported_once_and_drawn_as_its_ancestor)
 #endif
 }
 
+/* The renderer's vertex pools (app/view/vertex_pool.c) hold what the frame draws at the levels
+ * it draws: N42E001 through a 65-sample store, seen whole from above, draws its nodes at levels
+ * 0..6, most of them at 2..4. GPU memory (gpu_bytes) is bounded here from the frame's level mix
+ * alone, as the renderer documents its pools: a pool per level k of (2^k+1)^2-vertex slots, 16
+ * bytes a vertex, starting with the slots that fit in 64 KB (at least one) and doubling, so at
+ * most max(start, 2 * drawn) slots; triangle-list regions of 6 * 4^k uint32 indices, 16 then
+ * doubling, at most max(16, 2 * drawn) at a drawn level; and the strips of levels 0..n (16-bit
+ * indices up to n = 7). Slots of the finest level for every node (the pools before per-level
+ * slots), 64 slots a level to start with, or regions of 6 * 4^n indices at every level, each
+ * breaks the bound. */
+TEST(store_vertex_pools_hold_the_levels_drawn)
+{
+    REQUIRE_IO();
+#ifndef TP_TEST_NO_IO
+    {
+        char dem[1024], text[8192], json[1200];
+        if (!tp_test_data_path(dem, sizeof dem, "TP_SHARED_DATA_DIR", "N42E001.hgt"))
+            SKIP("N42E001.hgt not found (set TP_SHARED_DATA_DIR)");
+        const char* dir = make_tmp_dir();
+        args a;
+        args_view(&a);
+        args_add(&a, "--headless");
+        args_add(&a, "--no-hud");
+        args_add(&a, "--size");
+        args_add(&a, "640x360");
+        args_add(&a, "--patch");
+        args_add(&a, "65");
+        args_add(&a, "--stats-json");
+        args_add(&a, "%s/view.json", dir);
+        args_add(&a, "%s", dem);
+        run_ok(&a, dir);
+        view_stats st;
+        stats_read(dir, "view.json", &st);
+        snprintf(json, sizeof json, "%s/view.json", dir);
+        read_text(json, text, sizeof text, NULL);
+        double gpu = json_number(text, "gpu_bytes");
+        ASSERT_EQ_INT(7, st.level_count); /* levels 0..6: 65-sample nodes */
+        int n = st.level_count - 1;
+        double vertex_bytes = 16, nodes = 0, bound = 0;
+        double finest_slot = ((1 << n) + 1) * ((1 << n) + 1) * vertex_bytes;
+        for (int k = 0; k <= n; k++) {
+            double slot = ((1 << k) + 1) * ((1 << k) + 1) * vertex_bytes;
+            double start = floor(65536 / slot) < 1 ? 1 : floor(65536 / slot);
+            double drawn = st.levels[k];
+            nodes += drawn;
+            bound += fmax(start, 2 * drawn) * slot;
+            if (drawn > 0)
+                bound += fmax(16, 2 * drawn) * 6 * pow(4, k) * 4;
+            bound += (double)tp_strip_index_count(k) * 2;
+        }
+        double finest = nodes * finest_slot;
+        tp_test_note("levels 0..6: %d %d %d %d %d %d %d (%.0f nodes); gpu_bytes %.0f, bound from "
+                     "the levels %.0f, finest-level slots %.0f", st.levels[0], st.levels[1],
+                     st.levels[2], st.levels[3], st.levels[4], st.levels[5], st.levels[6], nodes,
+                     gpu, bound, finest);
+        /* the view is one where the level mix matters: most nodes coarser than level n */
+        ASSERT_TRUE(nodes >= 50);
+        ASSERT_TRUE(st.levels[n] < nodes / 4);
+        ASSERT_TRUE(bound < finest / 2);
+        EXPECT_GT(gpu, 0);
+        EXPECT_LE(gpu, bound);
+        EXPECT_LT(gpu, finest / 2);
+    }
+#endif
+}
+
 /* `view DEM` builds the DEM into a store in the cache once and reuses it; another patch size
  * is another store; a cache directory that cannot be written builds in a temporary one. */
 TEST(dem_is_built_into_the_cache_once)
@@ -1854,6 +1920,7 @@ TEST(older_format_store_in_the_cache_is_rebuilt)
     X(store_frames_reuse_the_drivers_memory)                                                       \
     X(two_tile_seam_shows_no_crack_and_no_step)                                                    \
     X(store_damaged_node_is_reported_once_and_drawn_as_its_ancestor)                               \
+    X(store_vertex_pools_hold_the_levels_drawn)                                                    \
     X(dem_is_built_into_the_cache_once)                                                            \
     X(older_format_store_in_the_cache_is_rebuilt)                                                  \
     X(no_cracks_top_down_distance_lod)                                                             \

@@ -38,11 +38,23 @@ static char** tp_test_child_environment(char* asan_buf, size_t cap)
 #include <sys/wait.h>
 #include <unistd.h>
 
-/* Runs `terrapatch CMD args...` (args NULL-terminated; the binary from $TP_TERRAPATCH, stdin and
- * stdout /dev/null) in the child environment above; returns the exit status (128 + signal when
- * killed), its stderr in err. Needs tp_test.h included first (SKIP, ASSERT). */
-static inline int tp_test_run_terrapatch(const char* cmd, const char* const* args, char* err,
-                                         size_t err_cap)
+/* Reads the file at path (at most cap - 1 bytes, NUL-terminated) into buf and removes it. */
+static inline void tp_test_take_file(const char* path, char* buf, size_t cap)
+{
+    FILE* f = fopen(path, "r");
+    size_t got = f ? fread(buf, 1, cap - 1, f) : 0;
+    buf[got] = '\0';
+    if (f)
+        fclose(f);
+    remove(path);
+}
+
+/* Runs `terrapatch CMD args...` (args NULL-terminated; the binary from $TP_TERRAPATCH, stdin
+ * /dev/null) in the child environment above; returns the exit status (128 + signal when
+ * killed), its stdout in out (NULL: to /dev/null) and its stderr in err. Needs tp_test.h
+ * included first (SKIP, ASSERT). */
+static inline int tp_test_run_terrapatch_out(const char* cmd, const char* const* args, char* out,
+                                             size_t out_cap, char* err, size_t err_cap)
 {
     const char* exe = getenv("TP_TERRAPATCH");
     if (!exe || access(exe, X_OK) != 0)
@@ -61,7 +73,13 @@ static inline int tp_test_run_terrapatch(const char* cmd, const char* const* arg
     posix_spawn_file_actions_t fa;
     posix_spawn_file_actions_init(&fa);
     posix_spawn_file_actions_addopen(&fa, 0, "/dev/null", O_RDONLY, 0);
-    posix_spawn_file_actions_addopen(&fa, 1, "/dev/null", O_WRONLY, 0);
+    char out_path[] = "/tmp/tp_test_child_outXXXXXX";
+    if (out) {
+        int ofd = mkstemp(out_path);
+        ASSERT_TRUE(ofd >= 0);
+        close(ofd);
+    }
+    posix_spawn_file_actions_addopen(&fa, 1, out ? out_path : "/dev/null", O_WRONLY | O_TRUNC, 0644);
     posix_spawn_file_actions_addopen(&fa, 2, err_path, O_WRONLY | O_TRUNC, 0644);
     pid_t pid;
     static char asan[512];
@@ -73,13 +91,17 @@ static inline int tp_test_run_terrapatch(const char* cmd, const char* const* arg
     while (waitpid(pid, &status, 0) < 0)
         if (errno != EINTR)
             FAIL("waitpid: %s", strerror(errno));
-    FILE* f = fopen(err_path, "r");
-    size_t got = f ? fread(err, 1, err_cap - 1, f) : 0;
-    err[got] = '\0';
-    if (f)
-        fclose(f);
-    remove(err_path);
+    tp_test_take_file(err_path, err, err_cap);
+    if (out)
+        tp_test_take_file(out_path, out, out_cap);
     return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+}
+
+/* tp_test_run_terrapatch_out with stdout to /dev/null. */
+static inline int tp_test_run_terrapatch(const char* cmd, const char* const* args, char* err,
+                                         size_t err_cap)
+{
+    return tp_test_run_terrapatch_out(cmd, args, NULL, 0, err, err_cap);
 }
 #endif
 

@@ -1,7 +1,8 @@
 /*
  * bench.h - the parts of `terrapatch bench`: options and the frame loop (cmd_bench.c), camera
  * paths (bench_path.c), the table, JSON and CSV it writes (bench_report.c), the static meshes of
- * `export --max-error` (bench_static.c) and the sweep's plot (bench_plot.c).
+ * `export --max-error` (bench_static.c), the sweep's plot (bench_plot.c) and the medians of
+ * both benches' frames (bench_stats.c).
  */
 #ifndef TP_APP_BENCH_H
 #define TP_APP_BENCH_H
@@ -119,5 +120,18 @@ typedef struct tp_bench_point {
  * or 0 after a one-line message. */
 int tp_bench_plot(const tp_bench_point* pts, int count, const char* png, const char* title,
                   double full_fps);
+
+/* The median of v[0..n-1] (n >= 1); sorts v. */
+double tp_bench_median(double* v, int n);
+/* The 99th percentile (nearest rank) of v[0..n-1], sorted (n >= 1). */
+double tp_bench_p99(const double* v, int n);
+/* One column of a run's frames: v[i] = expr for i < n, with r = &rows[i] (of type row_type). */
+#define TP_BENCH_COLUMN(v, row_type, rows, n, expr)                                                \
+    do {                                                                                           \
+        for (int i_ = 0; i_ < (n); i_++) {                                                         \
+            const row_type* r = &(rows)[i_];                                                       \
+            (v)[i_] = (double)(expr);                                                              \
+        }                                                                                          \
+    } while (0)
 
 #endif

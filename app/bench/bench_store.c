@@ -79,6 +79,11 @@ typedef struct store_bench {
     double t_open_ms;
     double first_frame_ms, first_frame_open_ms; /* from process start / from opening */
     double open_ms, context_ms; /* opening the store (metas, tree); the GL context */
+    /* the first frame's parts (ms): process start to this command (the dynamic loader, the
+     * libraries' initialisers, main); the renderer (shaders) and the stream (loader thread);
+     * the first cut and stream frame; the first draw until glFinish */
+    double entered_ms, renderer_ms, stream_create_ms, first_cut_ms, first_draw_ms;
+    double georef_wait_ms; /* waiting for the georeference made on a thread since the open */
     double base_rss_mb, base_anon_mb; /* after opening the store and the GL context */
     uint16_t* leaf;             /* the leaf ground_m read last */
     int64_t leaf_id;
@@ -204,32 +209,7 @@ static void flight_camera(store_bench* b, int seg, double d, tp_camera* cam)
     }
 }
 
-static int cmp_double(const void* a, const void* b)
-{
-    double x = *(const double*)a, y = *(const double*)b;
-    return (x > y) - (x < y);
-}
-
-static double median(double* v, int n)
-{
-    qsort(v, (size_t)n, sizeof *v, cmp_double);
-    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
-
-/* The 99th percentile (nearest rank) of sorted v. */
-static double p99(const double* v, int n)
-{
-    int k = (int)ceil(0.99 * n) - 1;
-    return v[k < 0 ? 0 : k];
-}
-
-#define ROWS_OF(expr)                                                                              \
-    do {                                                                                           \
-        for (int i = 0; i < n; i++) {                                                              \
-            const store_row* r = &c->rows[i];                                                      \
-            v[i] = (double)(expr);                                                                 \
-        }                                                                                          \
-    } while (0)
+#define ROWS_OF(expr) TP_BENCH_COLUMN(v, store_row, c->rows, n, expr)
 
 static void summarize(store_result* c, int n)
 {
@@ -237,29 +217,29 @@ static void summarize(store_result* c, int n)
     if (!v)
         return;
     ROWS_OF(r->frame_ms);
-    c->frame_ms = median(v, n);
-    c->frame_ms_p99 = p99(v, n);
+    c->frame_ms = tp_bench_median(v, n);
+    c->frame_ms_p99 = tp_bench_p99(v, n);
     c->fps_median = 1000 / c->frame_ms;
     ROWS_OF(r->cpu_ms);
-    c->cpu_ms = median(v, n);
+    c->cpu_ms = tp_bench_median(v, n);
     ROWS_OF(r->cut_ms);
-    c->cut_ms = median(v, n);
+    c->cut_ms = tp_bench_median(v, n);
     ROWS_OF(r->stream_ms);
-    c->stream_ms = median(v, n);
+    c->stream_ms = tp_bench_median(v, n);
     ROWS_OF(r->upload_ms);
-    c->upload_ms = median(v, n);
+    c->upload_ms = tp_bench_median(v, n);
     ROWS_OF(r->draw_ms);
-    c->draw_ms = median(v, n);
+    c->draw_ms = tp_bench_median(v, n);
     ROWS_OF(r->page_faults);
-    c->page_faults = median(v, n);
+    c->page_faults = tp_bench_median(v, n);
     ROWS_OF(r->triangles);
-    c->triangles = median(v, n);
+    c->triangles = tp_bench_median(v, n);
     ROWS_OF(r->nodes);
-    c->nodes = median(v, n);
+    c->nodes = tp_bench_median(v, n);
     ROWS_OF(r->visited);
-    c->visited = median(v, n);
+    c->visited = tp_bench_median(v, n);
     ROWS_OF(r->uploads);
-    c->uploads = median(v, n);
+    c->uploads = tp_bench_median(v, n);
     double sum_px = 0;
     for (int i = 0; i < n; i++) {
         const store_row* r = &c->rows[i];
@@ -318,15 +298,21 @@ static int run_store_config(store_bench* b, store_result* c, int first, const ch
                             .frame_s = o->realtime ? 0 : 1.0 / FRAME_HZ};
     if (!c->rows)
         return TP_EXIT_FAILURE;
+    double t_setup = now_ms();
     if (tp_store_scene_stream(&b->sc, &so) != TP_EXIT_OK)
         return TP_EXIT_FAILURE;
+    if (first)
+        b->stream_create_ms = now_ms() - t_setup;
     const tp_tree_geometry* g = b->g;
     tp_render_grid_desc rd = {.n = g->n, .width = g->width, .height = g->height,
                               .min_height_m = b->sc.tree_info.min_height_m,
                               .max_height_m = b->sc.tree_info.max_height_m};
     memcpy(rd.geotransform, b->sc.tree_info.geotransform, sizeof rd.geotransform);
     char msg[512];
+    t_setup = now_ms();
     tp_renderer* r = tp_renderer_create_desc(&rd, msg, sizeof msg);
+    if (first)
+        b->renderer_ms = now_ms() - t_setup;
     tp_cut *cut = NULL, *pre = NULL;
     tp_error err;
     int code = TP_EXIT_FAILURE;
@@ -347,12 +333,20 @@ static int run_store_config(store_bench* b, store_result* c, int first, const ch
         tp_camera cam;
         flight_camera(b, seg, -WARMUP_FRAMES * b->step_m, &cam);
         if (first && seg == 0) { /* the first frame: what a viewer shows right after start */
+            double t0 = now_ms();
+            if (tp_store_scene_georef_wait(&b->sc) != TP_EXIT_OK)
+                goto done;
+            b->georef_wait_ms = now_ms() - t0;
+            t0 = now_ms();
             tp_gl_context_begin_frame(b->ctx);
             if (tp_cut_update(cut, &cam, &c->lod, &err) != TP_OK)
                 goto cut_failed;
             tp_stream_frame(b->sc.stream, cut, o->no_prefetch ? NULL : pre, &cam, &c->lod, &ss);
+            double t1 = now_ms();
             tp_renderer_draw_cut(r, b->sc.tree, cut, &cam, &rs, 1, 1, &st);
             tp_gl_context_end_frame(b->ctx);
+            b->first_cut_ms = t1 - t0;
+            b->first_draw_ms = now_ms() - t1;
             b->first_frame_ms = ms_since_process_start();
             b->first_frame_open_ms = now_ms() - b->t_open_ms;
         }
@@ -509,6 +503,12 @@ static int write_json(const store_bench* b, const char* renderer_name, const sto
     KN("first_frame_from_open_ms", b->first_frame_open_ms);
     KN("store_open_ms", b->open_ms);
     KN("gl_context_ms", b->context_ms);
+    KN("startup_to_bench_ms", b->entered_ms);
+    KN("renderer_create_ms", b->renderer_ms);
+    KN("stream_create_ms", b->stream_create_ms);
+    KN("first_cut_stream_ms", b->first_cut_ms);
+    KN("first_draw_ms", b->first_draw_ms);
+    KN("georef_wait_ms", b->georef_wait_ms);
     KN("peak_rss_mb", tp_memory_peak_rss() / 1e6);
     /* before any node, cut or renderer: libraries, the GL driver, the store's node table */
     KN("base_rss_mb", b->base_rss_mb);
@@ -565,6 +565,10 @@ static void print_table(const store_bench* b, const char* renderer_name, const s
     printf("first frame %.0f ms after the process started, %.0f ms after opening the store "
            "(open %.0f ms, GL context %.0f ms)\n",
            b->first_frame_ms, b->first_frame_open_ms, b->open_ms, b->context_ms);
+    printf("first frame's parts: start to bench %.0f, open %.0f, GL context %.0f, renderer %.0f, "
+           "stream %.0f, georef wait %.0f, cut %.0f, draw %.0f ms\n",
+           b->entered_ms, b->open_ms, b->context_ms, b->renderer_ms, b->stream_create_ms,
+           b->georef_wait_ms, b->first_cut_ms, b->first_draw_ms);
     printf("memory before the first node: %.0f MB resident, %.0f MB anonymous (libraries, GL "
            "driver, node table)\n",
            b->base_rss_mb, b->base_anon_mb);
@@ -591,8 +595,11 @@ int tp_bench_store(const bench_options* o)
     store_bench b;
     memset(&b, 0, sizeof b);
     b.o = o;
+    b.entered_ms = ms_since_process_start();
     b.t_open_ms = now_ms();
-    if (tp_store_scene_open(o->dem, &b.sc) != TP_EXIT_OK)
+    /* as the viewer opens a store: the georeference is made on a thread meanwhile, and waited
+     * for before the first frame (the bench itself does not use it) */
+    if (tp_store_scene_open_deferred(o->dem, &b.sc) != TP_EXIT_OK)
         return TP_EXIT_FAILURE;
     b.open_ms = now_ms() - b.t_open_ms;
     b.g = tp_tree_get_geometry(b.sc.tree);

@@ -109,8 +109,10 @@ static void print_help(void)
           "                         leaf is resident (the JSON says how many were skipped)\n"
           "--json adds rss_mb, rss_anon_mb (/proc/self/status VmRSS, RssAnon; max over the\n"
           "timed frames), resident_mb (the stream's accounting), gpu_mb, first_frame_ms (from\n"
-          "the process's start to the end of the first drawn frame), frame_ms_p99,\n"
-          "nodes_drawn_median, substituted_nodes_max, frames_with_substitution.\n"
+          "the process's start to the end of the first drawn frame) and its parts\n"
+          "(startup_to_bench_ms, store_open_ms, gl_context_ms, renderer_create_ms,\n"
+          "stream_create_ms, georef_wait_ms, first_cut_stream_ms, first_draw_ms),\n"
+          "frame_ms_p99, nodes_drawn_median, substituted_nodes_max, frames_with_substitution.\n"
           "\n"
           "DEM:\n",
           stdout);
@@ -313,25 +315,7 @@ static double now_ms(void)
     return ts.tv_sec * 1e3 + ts.tv_nsec / 1e6;
 }
 
-static int cmp_double(const void* a, const void* b)
-{
-    double x = *(const double*)a, y = *(const double*)b;
-    return (x > y) - (x < y);
-}
-
-static double median(double* v, int n)
-{
-    qsort(v, (size_t)n, sizeof *v, cmp_double);
-    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
-
-#define MEDIAN_OF(field_expr)                                                                      \
-    do {                                                                                           \
-        for (int i = 0; i < n; i++) {                                                              \
-            const frame_row* r = &c->rows[i];                                                      \
-            v[i] = (double)(field_expr);                                                           \
-        }                                                                                          \
-    } while (0)
+#define MEDIAN_OF(expr) TP_BENCH_COLUMN(v, frame_row, c->rows, n, expr)
 
 static void summarize(config_result* c, int n)
 {
@@ -339,22 +323,22 @@ static void summarize(config_result* c, int n)
     if (!v)
         return;
     MEDIAN_OF(r->frame_ms);
-    c->frame_ms = median(v, n);
+    c->frame_ms = tp_bench_median(v, n);
     c->fps_median = 1000 / c->frame_ms;
     MEDIAN_OF(r->select_ms + r->upload_ms);
-    c->cpu_ms = median(v, n);
+    c->cpu_ms = tp_bench_median(v, n);
     MEDIAN_OF(r->draw_ms);
-    c->draw_ms = median(v, n);
+    c->draw_ms = tp_bench_median(v, n);
     MEDIAN_OF(r->triangles);
-    c->triangles = median(v, n);
+    c->triangles = tp_bench_median(v, n);
     MEDIAN_OF(r->draw_calls);
-    c->draw_calls = median(v, n);
+    c->draw_calls = tp_bench_median(v, n);
     MEDIAN_OF(r->uploads);
-    c->uploads = median(v, n);
+    c->uploads = tp_bench_median(v, n);
     MEDIAN_OF(r->oracle_triangles);
-    c->oracle_triangles = median(v, n);
+    c->oracle_triangles = tp_bench_median(v, n);
     MEDIAN_OF(r->oracle_patches);
-    c->oracle_patches = median(v, n);
+    c->oracle_patches = tp_bench_median(v, n);
     double sum_m = 0, sum_px = 0;
     c->gpu_bytes = 0;
     for (int i = 0; i < n; i++) {

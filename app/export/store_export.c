@@ -684,6 +684,18 @@ done:
     return code;
 }
 
+/* Triangles of the full mesh (two per cell whose four samples are drawn: what --full writes) at
+ * most, from the header alone: two per cell of the grid, and no more than two per drawn sample
+ * (such a cell's top-left corner is one), so void and outside samples count for nothing. A
+ * cut can draw a little more than the full mesh: at a void's edge a leaf draws the triangles
+ * whose three vertices are drawn. */
+static size_t full_mesh_bound(const store_export* x)
+{
+    size_t cells = (size_t)2 * (size_t)(x->g->src_width - 1) * (size_t)(x->g->src_height - 1);
+    size_t drawn = (size_t)2 * x->sc.info.header.valid_samples;
+    return drawn < cells ? drawn : cells;
+}
+
 /* "31n" etc. from the store's EPSG code (WGS 84 UTM and UPS); "" otherwise. */
 static void zone_text(int epsg, char* out, size_t cap)
 {
@@ -769,12 +781,16 @@ static int write_mesh(store_export* x, mesh_build* m, const char* camera_text,
     double mx = 0;
     for (size_t t = 0; t < m->tris; t++)
         mx = m->err[t] > mx ? m->err[t] : mx;
-    size_t full = (size_t)2 * (size_t)(x->g->src_width - 1) * (size_t)(x->g->src_height - 1);
-    printf("wrote %s: %zu points, %zu triangles (%.2f%% of the at most %zu of the full mesh), "
+    /* --full writes the full mesh: its count is exact; the other modes give a bound from the
+     * drawn samples (reading every leaf to count would cost the whole store) */
+    int exact = x->r->mode == TP_STORE_EXPORT_FULL;
+    size_t full = exact ? m->tris : full_mesh_bound(x);
+    printf("wrote %s: %zu points, %zu triangles (%.2f%% of the %s%zu of the full mesh), "
            "measured error (against the store's full-resolution samples) max %.3f m, RMS %.3f m; "
            "%zu nodes drawn, %zu resident at most (%.1f MiB), %zu more leaves read for the "
            "error\n",
-           x->r->out, m->points, m->tris, 100.0 * m->tris / (full ? full : 1), full, mx,
+           x->r->out, m->points, m->tris, 100.0 * m->tris / (full ? full : 1),
+           exact ? "" : "at most ", full, mx,
            count ? sqrt(sum / count) : 0.0, x->drawn,
            x->res.peak_bytes / (x->res.block_samples * 2),
            x->res.peak_bytes / 1048576.0, x->cache->reads);
@@ -820,7 +836,7 @@ int tp_export_store(const tp_store_export_request* r)
         goto done;
     }
     if (r->mode == TP_STORE_EXPORT_FULL) {
-        size_t full = (size_t)2 * (size_t)(x.g->src_width - 1) * (size_t)(x.g->src_height - 1);
+        size_t full = full_mesh_bound(&x);
         if (full > TP_STORE_EXPORT_MAX_TRIANGLES) {
             code = too_many(&x, full, "--full would write up to");
             goto done;

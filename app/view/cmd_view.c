@@ -374,10 +374,26 @@ static int run_headless(tp_view_scene* v, tp_gl_context* ctx, tp_renderer* r,
     return code;
 }
 
-/* Runs the view on an open scene (either path): camera, context, renderer, the frames. */
-static int run_view(tp_view_scene* v, view_options* o, tp_render_grid_desc* gd)
+/* A store's georeference, made on a thread since it was opened (tp_store_scene_open_deferred),
+ * taken into v. */
+static int take_georef(tp_view_scene* v, tp_store_scene* st)
+{
+    if (!st || st->georef)
+        return 1;
+    if (tp_store_scene_georef_wait(st) != TP_EXIT_OK)
+        return 0;
+    v->georef = st->georef;
+    return 1;
+}
+
+/* Runs the view on an open scene (either path; st: the store, whose georeference may still be
+ * in the making): camera, context, renderer, the frames. */
+static int run_view(tp_view_scene* v, view_options* o, tp_render_grid_desc* gd,
+                    tp_store_scene* st)
 {
     tp_camera cam;
+    if (o->vs.has_camera && !take_georef(v, st)) /* --camera-geo */
+        return TP_EXIT_FAILURE;
     if (o->vs.has_camera) {
         if (!tp_camera_from_option_georef(v->georef, o->vs.camera_geo, o->vs.camera, o->vs.fov_deg,
                                           o->vs.w, o->vs.h, &cam, "view"))
@@ -404,7 +420,10 @@ static int run_view(tp_view_scene* v, view_options* o, tp_render_grid_desc* gd)
         return TP_EXIT_FAILURE;
     }
     int code = TP_EXIT_OK;
-    if (o->texture && !tp_view_load_texture(v->dem, r, o->texture))
+    /* the frames need the georeference (the HUD, picking, measuring): made meanwhile */
+    if (!take_georef(v, st))
+        code = TP_EXIT_FAILURE;
+    if (code == TP_EXIT_OK && o->texture && !tp_view_load_texture(v->dem, r, o->texture))
         code = TP_EXIT_FAILURE;
     if (code == TP_EXIT_OK)
         code = o->headless ? run_headless(v, ctx, r, &cam, o)
@@ -433,7 +452,7 @@ static int view_dem(view_options* o)
     }
     tp_view_scene v;
     tp_view_scene_from_dem(&v, &sc, sel);
-    code = run_view(&v, o, NULL);
+    code = run_view(&v, o, NULL, NULL);
     tp_selection_destroy(sel);
     tp_scene_free(&sc);
     return code;
@@ -442,7 +461,8 @@ static int view_dem(view_options* o)
 static int view_store(const char* path, view_options* o)
 {
     tp_store_scene st;
-    int code = tp_store_scene_open(path, &st);
+    /* the georeference is made on a thread while the GL context is created (run_view) */
+    int code = tp_store_scene_open_deferred(path, &st);
     if (code != TP_EXIT_OK)
         return code;
     tp_stream_options so = {.memory_bytes = o->memory_mb << 20};
@@ -469,7 +489,7 @@ static int view_store(const char* path, view_options* o)
                               .min_height_m = v.min_height_m, .max_height_m = v.max_height_m,
                               .pool_budget_bytes = o->gpu_memory_mb << 20};
     memcpy(gd.geotransform, v.gt, sizeof gd.geotransform);
-    code = run_view(&v, o, &gd);
+    code = run_view(&v, o, &gd, &st);
     tp_view_scene_release(&v);
     tp_store_scene_close(&st);
     return code;

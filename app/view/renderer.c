@@ -3,11 +3,11 @@
 #include "renderer.h"
 
 #include "gl_context.h"
+#include "vertex_pool.h"
 
 #include <epoxy/gl.h>
 
 #include <assert.h>
-#include <limits.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -23,46 +23,14 @@ typedef struct gpu_vertex {
     uint8_t flags;   /* bits 0-3: level, bit 4: filled void */
 } gpu_vertex;
 
-/* One slot of a vertex pool: room for one item at the pool's level. */
-typedef struct slot {
-    int64_t key;          /* -1: free */
-    int8_t level, nb[4];  /* what its vertex data was built for */
-    int region;           /* triangle-list region of an incomplete item, else -1 */
-    uint64_t stamp;       /* last frame drawn */
-} slot;
-
-/* The vertex pool of one level k: slots of (2^k+1)^2 vertices in one buffer, so an item takes
- * the room its level needs, not the finest level's (an item at level 2 of a 65x65 node holds 25
- * vertices, not 4,225). An item whose level changes moves to the other level's pool. */
-typedef struct pool {
-    GLuint vbo;
-    size_t verts;      /* (2^k+1)^2 */
-    int slots;         /* capacity */
-    int budget_slots;  /* grows past this only for a frame that needs more; 0: none */
-    slot* slot;
-    int* free_slot;    /* slots holding no item (a stack) */
-    int free_count;
-} pool;
-
-/* A map value: slot index * POOL_LEVELS + level. */
-#define POOL_LEVELS 16
-
 struct tp_renderer {
     tp_render_grid_desc grid;
-    GLuint prog, vao, ibo, ibo_custom;
+    GLuint prog, vao, ibo;
     GLenum index_type;
     size_t level_offset[TP_MAX_LEVELS], level_count[TP_MAX_LEVELS];
     size_t slot_verts; /* (2^n+1)^2: the finest level's item */
-    pool pool[TP_MAX_LEVELS];
-    int* map;          /* open addressing, key -> slot index * POOL_LEVELS + level (-1 empty);
-                          map_cap = 2^k >= 2 * items held */
-    size_t map_cap, map_used;
-    int* draw_level;   /* per drawn item: its level (the pool it is drawn from) */
-    int* region_free;  /* free triangle-list regions */
-    int regions, regions_free;
-    GLsizei* region_count;
-    size_t custom_stride; /* indices per region: 6 * 4^n */
-    uint64_t frame;
+    tp_vertex_pool* pool; /* the items' vertex data and triangle lists */
+    int* draw_level;   /* per drawn item: its group (level, strip or triangle list) */
     tp_vertex* vtmp;
     float (*ntmp)[3];
     uint8_t* ftmp;
@@ -206,158 +174,6 @@ static void setup_vertex_format(tp_renderer* r, GLuint vbo)
 }
 
 
-static size_t hash_key(int64_t key, size_t cap)
-{
-    uint64_t h = (uint64_t)key * 0x9E3779B97F4A7C15ull;
-    return (size_t)(h >> 17) & (cap - 1);
-}
-
-static slot* map_slot(const tp_renderer* r, int v)
-{
-    return &r->pool[v % POOL_LEVELS].slot[v / POOL_LEVELS];
-}
-
-/* The map value of key (slot index * POOL_LEVELS + level), or -1. */
-static int map_find(const tp_renderer* r, int64_t key)
-{
-    for (size_t i = hash_key(key, r->map_cap);; i = (i + 1) & (r->map_cap - 1)) {
-        int v = r->map[i];
-        if (v < 0)
-            return -1;
-        if (map_slot(r, v)->key == key)
-            return v;
-    }
-}
-
-static void map_insert(tp_renderer* r, int64_t key, int v)
-{
-    size_t i = hash_key(key, r->map_cap);
-    while (r->map[i] >= 0)
-        i = (i + 1) & (r->map_cap - 1);
-    r->map[i] = v;
-    r->map_used++;
-}
-
-/* Removes key (present) with backward-shift deletion: no tombstones. */
-static void map_remove(tp_renderer* r, int64_t key)
-{
-    size_t mask = r->map_cap - 1, i = hash_key(key, r->map_cap);
-    while (map_slot(r, r->map[i])->key != key)
-        i = (i + 1) & mask;
-    r->map_used--;
-    for (size_t j = (i + 1) & mask; r->map[j] >= 0; j = (j + 1) & mask) {
-        size_t home = hash_key(map_slot(r, r->map[j])->key, r->map_cap);
-        /* move j into the hole at i when its home is not in (i, j] cyclically */
-        if (((j - home) & mask) >= ((j - i) & mask)) {
-            r->map[i] = r->map[j];
-            i = j;
-        }
-    }
-    r->map[i] = -1;
-}
-
-/* Makes the map hold at least `items` keys at load <= 1/2 (rehashing what it holds). */
-static int grow_map(tp_renderer* r, size_t items)
-{
-    if (2 * items <= r->map_cap)
-        return 1;
-    size_t cap = r->map_cap ? r->map_cap : 16;
-    while (cap < 2 * items)
-        cap *= 2;
-    int* map = malloc(cap * sizeof *map);
-    if (!map)
-        return 0;
-    int* old = r->map;
-    size_t old_cap = r->map_cap;
-    r->map = map;
-    r->map_cap = cap;
-    r->map_used = 0;
-    memset(map, 0xFF, cap * sizeof *map);
-    for (size_t i = 0; i < old_cap; i++)
-        if (old[i] >= 0)
-            map_insert(r, map_slot(r, old[i])->key, old[i]);
-    free(old);
-    return 1;
-}
-
-/* Grows level k's pool to `slots` slots, keeping what it holds. */
-static int grow_pool(tp_renderer* r, int k, int slots)
-{
-    pool* p = &r->pool[k];
-    /* Draws address a slot by its first vertex as a GLint base vertex; map values hold
-     * slot * POOL_LEVELS. */
-    if ((size_t)slots > (size_t)INT_MAX / p->verts || slots > INT_MAX / POOL_LEVELS)
-        return 0;
-    size_t max_slots = TP_RENDER_POOL_MAX_BYTES / (p->verts * sizeof(gpu_vertex));
-    if ((size_t)slots > max_slots)
-        slots = (int)max_slots;
-    if (slots <= p->slots)
-        return 0;
-    size_t bytes = (size_t)slots * p->verts * sizeof(gpu_vertex);
-    slot* sl = realloc(p->slot, (size_t)slots * sizeof *sl);
-    if (sl)
-        p->slot = sl;
-    int* fr = realloc(p->free_slot, (size_t)slots * sizeof *fr);
-    if (fr)
-        p->free_slot = fr;
-    if (!sl || !fr)
-        return 0;
-    for (int i = slots - 1; i >= p->slots; i--) {
-        p->slot[i].key = -1;
-        p->slot[i].region = -1;
-        p->slot[i].stamp = 0;
-        p->free_slot[p->free_count++] = i;
-    }
-    GLuint vbo;
-    glGenBuffers(1, &vbo);
-    glBindBuffer(GL_COPY_WRITE_BUFFER, vbo);
-    glBufferData(GL_COPY_WRITE_BUFFER, (GLsizeiptr)bytes, NULL, GL_DYNAMIC_DRAW);
-    if (p->vbo) {
-        glBindBuffer(GL_COPY_READ_BUFFER, p->vbo);
-        glCopyBufferSubData(GL_COPY_READ_BUFFER, GL_COPY_WRITE_BUFFER, 0, 0,
-                            (GLsizeiptr)((size_t)p->slots * p->verts * sizeof(gpu_vertex)));
-        glDeleteBuffers(1, &p->vbo);
-    }
-    p->vbo = vbo;
-    p->slots = slots;
-    return 1;
-}
-
-/* A triangle-list region for an incomplete item; the region buffer doubles when all are used. */
-static int take_region(tp_renderer* r)
-{
-    if (r->regions_free > 0)
-        return r->region_free[--r->regions_free];
-    int old = r->regions, want = old ? 2 * old : 16;
-    int* fr = realloc(r->region_free, (size_t)want * sizeof *fr);
-    if (fr)
-        r->region_free = fr;
-    GLsizei* rc = realloc(r->region_count, (size_t)want * sizeof *rc);
-    if (rc)
-        r->region_count = rc;
-    if (!fr || !rc)
-        return -1;
-    size_t stride_bytes = r->custom_stride * 4;
-    GLuint ibo;
-    glGenBuffers(1, &ibo);
-    glBindBuffer(GL_COPY_WRITE_BUFFER, ibo);
-    glBufferData(GL_COPY_WRITE_BUFFER, (GLsizeiptr)((size_t)want * stride_bytes), NULL,
-                 GL_DYNAMIC_DRAW);
-    if (r->ibo_custom) {
-        glBindBuffer(GL_COPY_READ_BUFFER, r->ibo_custom);
-        glCopyBufferSubData(GL_COPY_READ_BUFFER, GL_COPY_WRITE_BUFFER, 0, 0,
-                            (GLsizeiptr)((size_t)old * stride_bytes));
-        glDeleteBuffers(1, &r->ibo_custom);
-    }
-    r->ibo_custom = ibo;
-    for (int i = want - 1; i > old; i--)
-        r->region_free[r->regions_free++] = i;
-    for (int i = old; i < want; i++)
-        r->region_count[i] = 0;
-    r->regions = want;
-    return old;
-}
-
 tp_renderer* tp_renderer_create_desc(const tp_render_grid_desc* d, char* msg, size_t msg_size)
 {
     tp_renderer* r = calloc(1, sizeof *r);
@@ -404,8 +220,15 @@ tp_renderer* tp_renderer_create_desc(const tp_render_grid_desc* d, char* msg, si
     r->ntmp = malloc(r->slot_verts * sizeof *r->ntmp);
     r->ftmp = malloc(r->slot_verts);
     r->gtmp = malloc(r->slot_verts * sizeof *r->gtmp);
-    r->custom_stride = 6 * ((size_t)1 << (2 * n));
-    r->ttmp = malloc(r->custom_stride * sizeof *r->ttmp);
+    r->pool = tp_vertex_pool_create(n, sizeof(gpu_vertex), d->pool_budget_bytes,
+                                    TP_RENDER_POOL_MAX_BYTES, TP_RENDER_POOL_INITIAL_BYTES, msg,
+                                    msg_size);
+    if (!r->pool) {
+        free(idx);
+        tp_renderer_destroy(r);
+        return NULL;
+    }
+    r->ttmp = malloc(tp_vertex_pool_region_indices(r->pool, n) * sizeof *r->ttmp);
     if (!idx || !r->vtmp || !r->ntmp || !r->ftmp || !r->gtmp || !r->ttmp) {
         free(idx);
         snprintf(msg, msg_size, "out of memory");
@@ -429,29 +252,7 @@ tp_renderer* tp_renderer_create_desc(const tp_render_grid_desc* d, char* msg, si
     glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, r->ibo);
     glBufferData(GL_ELEMENT_ARRAY_BUFFER, (GLsizeiptr)(total * isize), idx, GL_STATIC_DRAW);
     free(idx);
-    /* Each level's pool starts with room for a typical visible set and grows when a frame
-     * needs more; the budget is shared evenly between the levels' pools. */
-    for (int k = 0; k <= n; k++) {
-        pool* p = &r->pool[k];
-        size_t side = ((size_t)1 << k) + 1;
-        p->verts = side * side;
-        size_t slot_bytes = p->verts * sizeof(gpu_vertex);
-        if (d->pool_budget_bytes > 0) {
-            size_t b = d->pool_budget_bytes / (size_t)(n + 1) / slot_bytes;
-            p->budget_slots = b < 1 ? 1 : b > (size_t)INT_MAX / 2 ? INT_MAX / 2 : (int)b;
-        }
-        if (!grow_pool(r, k, p->budget_slots > 0 && p->budget_slots < 64 ? p->budget_slots : 64)) {
-            snprintf(msg, msg_size, "out of memory");
-            tp_renderer_destroy(r);
-            return NULL;
-        }
-    }
-    if (!grow_map(r, 64)) {
-        snprintf(msg, msg_size, "out of memory");
-        tp_renderer_destroy(r);
-        return NULL;
-    }
-    setup_vertex_format(r, r->pool[n].vbo);
+    setup_vertex_format(r, tp_vertex_pool_vertex_buffer(r->pool, n));
     return r;
 }
 
@@ -462,23 +263,13 @@ void tp_renderer_destroy(tp_renderer* r)
     glDeleteProgram(r->prog);
     if (r->tex)
         glDeleteTextures(1, &r->tex);
-    for (int k = 0; k < TP_MAX_LEVELS; k++) {
-        if (r->pool[k].vbo)
-            glDeleteBuffers(1, &r->pool[k].vbo);
-        free(r->pool[k].slot);
-        free(r->pool[k].free_slot);
-    }
+    tp_vertex_pool_destroy(r->pool);
     glDeleteBuffers(1, &r->ibo);
-    if (r->ibo_custom)
-        glDeleteBuffers(1, &r->ibo_custom);
     glDeleteVertexArrays(1, &r->vao);
-    free(r->map);
     free(r->draw_level);
     free(r->gcounts);
     free(r->goffsets);
     free(r->gbases);
-    free(r->region_free);
-    free(r->region_count);
     free(r->vtmp);
     free(r->ntmp);
     free(r->ftmp);
@@ -528,81 +319,13 @@ void tp_render_settings_default(tp_render_settings* s)
     s->clear_rgb[2] = 0.90f;
 }
 
-/* Empties the slot of map value v: the key leaves the map, a triangle-list region goes back. */
-static void release_slot(tp_renderer* r, int v)
-{
-    slot* sl = map_slot(r, v);
-    pool* p = &r->pool[v % POOL_LEVELS];
-    map_remove(r, sl->key);
-    sl->key = -1;
-    sl->stamp = 0;
-    if (sl->region >= 0) {
-        r->region_free[r->regions_free++] = sl->region;
-        sl->region = -1;
-    }
-    p->free_slot[p->free_count++] = v / POOL_LEVELS;
-}
-
-/* A slot for key at level k (a map value): its own, a free one of level k's pool, or that
- * pool's least recently used one not drawn this frame; the pool doubles when every slot is in
- * use this frame. An item that changed level leaves its old pool's slot. *fresh: the slot's
- * data is not key's. */
-static int slot_for(tp_renderer* r, int64_t key, int k, int* fresh)
-{
-    int v = map_find(r, key);
-    *fresh = 0;
-    if (v >= 0) {
-        if (v % POOL_LEVELS == k)
-            return v;
-        release_slot(r, v);
-    }
-    pool* p = &r->pool[k];
-    int best = -1;
-    while (p->free_count > 0 && best < 0) {
-        int i = p->free_slot[--p->free_count];
-        if (p->slot[i].key < 0)
-            best = i;
-    }
-    for (int i = 0; best < 0 && i < p->slots; i++)
-        if (p->slot[i].stamp != r->frame)
-            best = i;
-    if (best >= 0 && p->slot[best].key >= 0) /* the least recently used one */
-        for (int i = best + 1; i < p->slots; i++)
-            if (p->slot[i].stamp != r->frame && p->slot[i].stamp < p->slot[best].stamp)
-                best = i;
-    if (best < 0) {
-        int old = p->slots, want = old * 2;
-        if (p->budget_slots > 0 && old < p->budget_slots && want > p->budget_slots)
-            want = p->budget_slots; /* up to the budget, no further unless a frame needs it */
-        if (!grow_pool(r, k, want))
-            return -1;
-        best = p->free_slot[--p->free_count];
-    }
-    if (p->slot[best].key >= 0)
-        release_slot(r, best * POOL_LEVELS + k);
-    /* release_slot pushed it back: take it off again */
-    for (int i = p->free_count - 1; i >= 0; i--)
-        if (p->free_slot[i] == best) {
-            p->free_slot[i] = p->free_slot[--p->free_count];
-            break;
-        }
-    if (!grow_map(r, r->map_used + 1))
-        return -1;
-    slot* sl = &p->slot[best];
-    sl->key = key;
-    v = best * POOL_LEVELS + k;
-    map_insert(r, key, v);
-    *fresh = 1;
-    return v;
-}
-
+/* Builds item i's vertex data (and its triangle list if it is incomplete) into slot h. */
 static void upload(tp_renderer* r, const tp_render_item* it, size_t i, tp_render_fill_fn fill,
-                   void* user, int mv)
+                   void* user, int h)
 {
-    slot* sl = map_slot(r, mv);
-    const pool* p = &r->pool[mv % POOL_LEVELS];
+    tp_pool_slot* sl = tp_vertex_pool_slot(r->pool, h);
     int k = it->level, v = (1 << k) + 1, count = v * v;
-    assert(k == mv % POOL_LEVELS);
+    assert(k == tp_vertex_pool_level(h));
     fill(user, i, r->vtmp, r->ntmp, r->ftmp);
     for (int j = 0; j < count; j++) {
         const tp_vertex* src = &r->vtmp[j];
@@ -614,25 +337,14 @@ static void upload(tp_renderer* r, const tp_render_item* it, size_t i, tp_render
             g->n[a] = (int8_t)lrintf(r->ntmp[j][a] * 127.0f);
         g->flags = (uint8_t)(k | ((r->ftmp[j] ? 1 : 0) << 4));
     }
-    glBindBuffer(GL_ARRAY_BUFFER, p->vbo);
-    glBufferSubData(GL_ARRAY_BUFFER,
-                    (GLintptr)((size_t)(mv / POOL_LEVELS) * p->verts * sizeof(gpu_vertex)),
-                    (GLsizeiptr)(count * sizeof(gpu_vertex)), r->gtmp);
-    if (it->incomplete && sl->region < 0)
-        sl->region = take_region(r);
-    if (!it->incomplete && sl->region >= 0) {
-        r->region_free[r->regions_free++] = sl->region;
-        sl->region = -1;
-    }
-    if (sl->region >= 0) {
-        size_t cap = r->custom_stride / 3;
+    tp_vertex_pool_write(r->pool, h, r->gtmp, (size_t)count);
+    if (it->incomplete) {
+        size_t cap = tp_vertex_pool_region_indices(r->pool, k) / 3;
         size_t nt = r->cut ? tp_cut_triangles(r->cut, i, r->vtmp, r->ttmp, cap)
                            : tp_patch_triangles(r->vtmp, k, r->ttmp, cap);
-        r->region_count[sl->region] = (GLsizei)(3 * nt);
-        glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, r->ibo_custom);
-        glBufferSubData(GL_ELEMENT_ARRAY_BUFFER,
-                        (GLintptr)((size_t)sl->region * r->custom_stride * 4),
-                        (GLsizeiptr)(3 * nt * 4), r->ttmp);
+        tp_vertex_pool_write_triangles(r->pool, h, r->ttmp, 3 * (nt < cap ? nt : cap));
+    } else {
+        tp_vertex_pool_drop_triangles(r->pool, h);
     }
     sl->level = it->level;
     memcpy(sl->nb, it->nb, sizeof sl->nb);
@@ -678,7 +390,7 @@ void tp_renderer_draw_items(tp_renderer* r, const tp_render_item* items, size_t 
                             tp_render_stats* stats)
 {
     memset(stats, 0, sizeof *stats);
-    r->frame++;
+    tp_vertex_pool_begin_frame(r->pool);
     /* Element-buffer bindings belong to the bound vertex array: bind ours before any upload. */
     glBindVertexArray(r->vao);
     double t0 = now_ms();
@@ -688,32 +400,32 @@ void tp_renderer_draw_items(tp_renderer* r, const tp_render_item* items, size_t 
     for (size_t i = 0; i < count; i++) {
         const tp_render_item* it = &items[i];
         int fresh;
-        int mv = slot_for(r, it->key, it->level, &fresh);
-        if (mv < 0) {
+        int h = tp_vertex_pool_take(r->pool, it->key, it->level, &fresh);
+        if (h < 0) {
             stats->dropped++;
             continue;
         }
-        slot* sl = map_slot(r, mv);
-        sl->stamp = r->frame;
+        const tp_pool_slot* sl = tp_vertex_pool_slot(r->pool, h);
         if (fresh || sl->level != it->level || memcmp(sl->nb, it->nb, sizeof sl->nb) ||
             (it->incomplete != 0) != (sl->region >= 0)) {
-            upload(r, it, i, fill, user, mv);
+            upload(r, it, i, fill, user, h);
             stats->uploads++;
         }
         stats->patches_drawn++;
         int c = sl->region;
         if (it->incomplete && c < 0)
             continue; /* no region could be made */
+        size_t list_offset = 0, list_count = tp_vertex_pool_triangles(r->pool, h, &list_offset);
         /* An item of nodata only has no triangles. It must not become a zero-count draw: Mesa
          * 22.3 (llvmpipe) applies the wrong base vertex to the draws after a zero-count one in
          * glMultiDrawElementsBaseVertex, which dropped border patches. */
-        if (c >= 0 && r->region_count[c] == 0)
+        if (c >= 0 && list_count == 0)
             continue;
         int k = it->level;
         r->draw_level[drawn] = 2 * k + (c >= 0); /* the group: level, strip or triangle list */
-        r->counts[drawn] = c < 0 ? (GLsizei)r->level_count[k] : r->region_count[c];
-        r->offsets[drawn] = (void*)(c < 0 ? r->level_offset[k] : (size_t)c * r->custom_stride * 4);
-        r->bases[drawn] = (GLint)((size_t)(mv / POOL_LEVELS) * r->pool[k].verts); /* grow_pool */
+        r->counts[drawn] = (GLsizei)(c < 0 ? r->level_count[k] : list_count);
+        r->offsets[drawn] = (void*)(c < 0 ? r->level_offset[k] : list_offset);
+        r->bases[drawn] = tp_vertex_pool_base_vertex(r->pool, h);
         drawn++;
     }
     /* One multi-draw per group (each level's pool is its own buffer): group the draws. */
@@ -799,14 +511,15 @@ void tp_renderer_draw_items(tp_renderer* r, const tp_render_item* items, size_t 
         size_t s0 = group_at[2 * k], s1 = group_at[2 * k + 1], l1 = group_at[2 * k + 2];
         if (s0 == l1)
             continue;
-        setup_vertex_format(r, r->pool[k].vbo);
+        setup_vertex_format(r, tp_vertex_pool_vertex_buffer(r->pool, k));
         for (int list = 0; list < 2; list++) {
             size_t a = list ? s1 : s0, b = list ? l1 : s1;
             if (a == b)
                 continue;
             GLenum mode = list ? GL_TRIANGLES : GL_TRIANGLE_STRIP;
             GLenum type = list ? GL_UNSIGNED_INT : r->index_type;
-            glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, list ? r->ibo_custom : r->ibo);
+            glBindBuffer(GL_ELEMENT_ARRAY_BUFFER,
+                         list ? tp_vertex_pool_index_buffer(r->pool, k) : r->ibo);
             if (st->one_draw_per_patch) {
                 for (size_t j = a; j < b; j++)
                     glDrawElementsBaseVertex(mode, r->gcounts[j], type, r->goffsets[j],
@@ -825,9 +538,7 @@ void tp_renderer_draw_items(tp_renderer* r, const tp_render_item* items, size_t 
         glFinish();
     stats->draw_ms = now_ms() - t1;
     stats->page_faults = minor_faults() - faults0;
-    stats->gpu_bytes = (size_t)r->regions * r->custom_stride * 4;
-    for (int k = 0; k <= r->grid.n; k++)
-        stats->gpu_bytes += (size_t)r->pool[k].slots * r->pool[k].verts * sizeof(gpu_vertex);
+    stats->gpu_bytes = tp_vertex_pool_gpu_bytes(r->pool);
     for (int k = 0; k <= r->grid.n; k++)
         stats->gpu_bytes += r->level_count[k] * (r->index_type == GL_UNSIGNED_SHORT ? 2 : 4);
 }

@@ -4,9 +4,9 @@
  * degenerate triangles), per-patch vertex data carrying the crack fix, uploaded only when the
  * patch's or a neighbour's level changed, into pools of vertex slots reused least-recently-used
  * (Brodersen section 5): one buffer per level k whose slots hold (2^k+1)^2 vertices, so an item
- * takes the room its level needs, and all visible patches of a level draw with one
- * glMultiDrawElementsBaseVertex call (plus one for patches next to nodata, which use their own
- * triangle lists).
+ * takes the room its level needs (vertex_pool.h), and all visible patches of a level draw with
+ * one glMultiDrawElementsBaseVertex call (plus one for patches next to nodata, which use their
+ * own triangle lists).
  *
  * Precision: vertices carry global integer grid coordinates; the vertex shader subtracts the
  * camera's integer cell in integers, so every patch goes through the same camera-rebased
@@ -56,6 +56,11 @@ typedef struct tp_render_stats {
  * drawing from a buffer past 2 GiB (bench over a 20481^2 store at tau = 1), and no frame that
  * needs more can be interactive. Items beyond it are dropped (counted in tp_render_stats). */
 #define TP_RENDER_POOL_MAX_BYTES ((size_t)1 << 30)
+
+/* Each level's vertex pool starts with the slots that fit in this (at least one): a view draws
+ * a few levels, and a pool doubles when a frame needs more. 64 slots a level were 5.9 MB for
+ * 65-sample nodes whatever the view drew (docs/PERFORMANCE.md, "Per-level vertex pools"). */
+#define TP_RENDER_POOL_INITIAL_BYTES ((size_t)64 << 10)
 
 /* What the renderer needs to know about the grid it draws. */
 typedef struct tp_render_grid_desc {

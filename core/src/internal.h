@@ -160,6 +160,18 @@ int tp__node_vertex_position(const tp_tree_geometry* g, int64_t node, int k, con
  * global quantised heights row-major, INT32_MIN where a sample is not drawn. Errors are in
  * steps. Both tp_terrain's patch tables (patch_error.c) and tree nodes' metas use these. */
 
+/* The bounding box of a triangle's 3 lattice or grid positions: b = x0, y0, x1, y1. */
+static inline void tp__tri_box(const int32_t pos[3][2], int32_t b[4])
+{
+    b[0] = b[2] = pos[0][0], b[1] = b[3] = pos[0][1];
+    for (int v = 1; v < 3; v++) {
+        b[0] = pos[v][0] < b[0] ? pos[v][0] : b[0];
+        b[2] = pos[v][0] > b[2] ? pos[v][0] : b[2];
+        b[1] = pos[v][1] < b[1] ? pos[v][1] : b[1];
+        b[3] = pos[v][1] > b[3] ? pos[v][1] : b[3];
+    }
+}
+
 /* tp_patch_triangles with another rule: keep(a, b, c, user) says whether the strip's
  * triangle (a, b, c) is drawn (NULL: when its three vertices are). Zero-area triangles are
  * skipped either way (stitch.c). */

@@ -141,13 +141,9 @@ static double raster_error(const int32_t* q, int side, const int32_t pos[3][2], 
     int64_t area = edge(a, b, c[0], c[1]);
     if (area == 0)
         return 0;
-    int32_t x0 = a[0], x1 = a[0], y0 = a[1], y1 = a[1];
-    for (int v = 1; v < 3; v++) {
-        x0 = pos[v][0] < x0 ? pos[v][0] : x0;
-        x1 = pos[v][0] > x1 ? pos[v][0] : x1;
-        y0 = pos[v][1] < y0 ? pos[v][1] : y0;
-        y1 = pos[v][1] > y1 ? pos[v][1] : y1;
-    }
+    int32_t bx[4];
+    tp__tri_box(pos, bx);
+    int32_t x0 = bx[0], y0 = bx[1], x1 = bx[2], y1 = bx[3];
     /* In integers: the plane at a sample is N / area with N = wa za + wb zb + wc zc (|w| <=
      * 2^17, |z| < 2^31: N fits 64 bits), so |T - v| = |N - v area| / |area|, exactly. */
     int64_t sa = -((int64_t)c[1] - b[1]), sb = -((int64_t)a[1] - c[1]), sc = -((int64_t)b[1] - a[1]);
@@ -206,13 +202,9 @@ static double cell_bound(const int32_t* q, int side, const int32_t pos[3][2], co
     if (area == 0)
         return 0; /* collapsed: not drawn */
     int64_t sign = area > 0 ? 1 : -1;
-    int32_t x0 = pos[0][0], x1 = pos[0][0], y0 = pos[0][1], y1 = pos[0][1];
-    for (int v = 1; v < 3; v++) {
-        x0 = pos[v][0] < x0 ? pos[v][0] : x0;
-        x1 = pos[v][0] > x1 ? pos[v][0] : x1;
-        y0 = pos[v][1] < y0 ? pos[v][1] : y0;
-        y1 = pos[v][1] > y1 ? pos[v][1] : y1;
-    }
+    int32_t bx[4];
+    tp__tri_box(pos, bx);
+    int32_t x0 = bx[0], y0 = bx[1], x1 = bx[2], y1 = bx[3];
     /* An edge separates a cell when all 4 corners are strictly outside it, i.e. when its
      * function (linear) is negative at the corner where it is largest: one corner per edge. */
     int dx[3], dy[3];
@@ -285,13 +277,9 @@ static int tri_drawn(int n, const int32_t* q, const uint16_t* mask, int vertex_r
                 return 0;
         return 1;
     }
-    int32_t x0 = pos[0][0], x1 = pos[0][0], y0 = pos[0][1], y1 = pos[0][1];
-    for (int v = 1; v < 3; v++) {
-        x0 = pos[v][0] < x0 ? pos[v][0] : x0;
-        x1 = pos[v][0] > x1 ? pos[v][0] : x1;
-        y0 = pos[v][1] < y0 ? pos[v][1] : y0;
-        y1 = pos[v][1] > y1 ? pos[v][1] : y1;
-    }
+    int32_t bx[4];
+    tp__tri_box(pos, bx);
+    int32_t x0 = bx[0], y0 = bx[1], x1 = bx[2], y1 = bx[3];
     return tp_node_mask_all(mask, n, x0, y0, x1, y1);
 }
 
@@ -438,13 +426,9 @@ static void plan_add_tri(eps_plan* p, int n, int k, int cells, const int32_t ori
     t->sign = (int8_t)sign;
     t->kn = (uint8_t)kn, t->sides = (uint8_t)sides;
     t->span0 = (uint32_t)p->span_count;
-    int32_t x0 = a[0], x1 = a[0], y0 = a[1], y1 = a[1];
-    for (int v = 1; v < 3; v++) {
-        x0 = pos[v][0] < x0 ? pos[v][0] : x0;
-        x1 = pos[v][0] > x1 ? pos[v][0] : x1;
-        y0 = pos[v][1] < y0 ? pos[v][1] : y0;
-        y1 = pos[v][1] > y1 ? pos[v][1] : y1;
-    }
+    int32_t bx[4];
+    tp__tri_box(pos, bx);
+    int32_t x0 = bx[0], y0 = bx[1], x1 = bx[2], y1 = bx[3];
     t->vertex_rule = (uint8_t)(!cells && k == n);
     t->box[0] = (int16_t)x0, t->box[1] = (int16_t)y0, t->box[2] = (int16_t)x1,
     t->box[3] = (int16_t)y1;

@@ -296,17 +296,12 @@ int tp__tri_drawn(const tp__node_draw* d, const int32_t pos[3][2], int vertices_
 {
     if (!d->mask)
         return vertices_drawn;
-    int64_t x0 = pos[0][0], x1 = pos[0][0], y0 = pos[0][1], y1 = pos[0][1];
-    for (int v = 1; v < 3; v++) {
-        x0 = pos[v][0] < x0 ? pos[v][0] : x0;
-        x1 = pos[v][0] > x1 ? pos[v][0] : x1;
-        y0 = pos[v][1] < y0 ? pos[v][1] : y0;
-        y1 = pos[v][1] > y1 ? pos[v][1] : y1;
-    }
+    int32_t b[4];
+    tp__tri_box(pos, b);
     /* positions lie on the node's lattice: 2^s grid samples per lattice cell */
-    return tp_node_mask_all(d->mask, d->n, (int)((x0 - d->x0) >> d->s),
-                            (int)((y0 - d->y0) >> d->s), (int)((x1 - d->x0) >> d->s),
-                            (int)((y1 - d->y0) >> d->s));
+    return tp_node_mask_all(d->mask, d->n, (int)((b[0] - d->x0) >> d->s),
+                            (int)((b[1] - d->y0) >> d->s), (int)((b[2] - d->x0) >> d->s),
+                            (int)((b[3] - d->y0) >> d->s));
 }
 
 static void node_view_init(const tp_cut* c, size_t i, node_view* nv)

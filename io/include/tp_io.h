@@ -624,6 +624,12 @@ const tp_node_meta* tp_store_metas(const tp_store* s, size_t* count);
  * only on success. */
 tp_status tp_store_read_node(const tp_store* s, int64_t node, uint16_t* samples,
                              size_t sample_capacity, tp_error* err);
+/* The tree of an open store (tp_tree_create with the header's geometry, geotransform, height
+ * step, quantisation error and error unit, and the store's metas): no node resident yet; attach
+ * blocks read with tp_store_read_node. The tree borrows the store's metas: destroy it before
+ * closing s. Fails as tp_tree_create (TP_ERR_OUT_OF_MEMORY; tp_store_open has checked the rest);
+ * *out written only on success. */
+tp_status tp_tree_create_from_store(const tp_store* s, tp_tree** out, tp_error* err);
 
 /* ---------------------------------------------------------------------------------------------
  * Viewsheds through GDAL (io/src/viewshed_gdal.cpp)

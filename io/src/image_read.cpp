@@ -21,7 +21,6 @@
 #include <memory>
 #include <cstdio>
 #include <exception>
-#include <strings.h>
 #include <vector>
 
 namespace {
@@ -355,20 +354,6 @@ tp_status read(const char* path, const tp_image_options* opt, tp_dem** out, tp_e
 }
 
 } // namespace
-
-/* C string functions only: nothing can throw; NULL is not an image. */
-extern "C" int tp_is_heightmap_image(const char* path)
-{
-    static const char* const exts[] = {".png", ".jpg", ".jpeg", ".exr", ".pgm", ".ppm",
-                                       ".tga", ".bmp", ".hdr", ".webp"};
-    size_t len = path ? std::strlen(path) : 0;
-    for (const char* e : exts) {
-        size_t el = std::strlen(e);
-        if (len > el && strcasecmp(path + len - el, e) == 0)
-            return 1;
-    }
-    return 0;
-}
 
 extern "C" tp_status tp_dem_read_image(const char* path, const tp_image_options* options,
                                        tp_dem** out, tp_error* err)

@@ -61,32 +61,20 @@ int main(int argc, char** argv)
         fprintf(stderr, "%s\n", err.message);
         return 1;
     }
-    size_t count;
-    const tp_node_meta* metas = tp_store_metas(store, &count);
-    tp_store_info si;
-    tp_store_get_info(store, &si);
-    tp_tree_desc td;
-    memset(&td, 0, sizeof td);
-    td.geometry = si.header.geometry;
-    memcpy(td.geotransform, si.header.geotransform, sizeof td.geotransform);
-    td.height_step_m = si.header.height_step_m;
-    td.quant_max_error_m = si.header.quant_max_error_m;
-    td.err_unit_steps = si.header.err_unit_steps;
-    td.metas = metas;
-    td.meta_count = count;
     tp_tree* tree;
-    if (tp_tree_create(&td, &tree, &err) != TP_OK) {
+    if (tp_tree_create_from_store(store, &tree, &err) != TP_OK) {
         fprintf(stderr, "%s\n", err.message);
         return 1;
     }
     const tp_tree_geometry* g = tp_tree_get_geometry(tree);
-    size_t v = ((size_t)1 << g->n) + 1;
-    uint16_t* blocks = malloc((size_t)g->node_count * v * v * sizeof *blocks);
+    /* samples and cell mask: what tp_tree_attach reads */
+    size_t words = tp_tree_block_words(g->n);
+    uint16_t* blocks = malloc((size_t)g->node_count * words * sizeof *blocks);
     if (!blocks)
         return 1;
     for (int64_t id = 0; id < g->node_count; id++) {
-        uint16_t* b = blocks + (size_t)id * v * v;
-        if (tp_store_read_node(store, id, b, v * v, &err) != TP_OK) {
+        uint16_t* b = blocks + (size_t)id * words;
+        if (tp_store_read_node(store, id, b, words, &err) != TP_OK) {
             fprintf(stderr, "%s\n", err.message);
             return 1;
         }
@@ -96,7 +84,9 @@ int main(int argc, char** argv)
     if (tp_cut_create(tree, &cut, &err) != TP_OK || tp_cut_create(tree, &pre, &err) != TP_OK)
         return 1;
     tp_lod_params lod = {.mode = TP_LOD_ERROR, .tau_px = tau};
-    const double* gt = td.geotransform;
+    tp_tree_info ti;
+    tp_tree_get_info(tree, &ti);
+    const double* gt = ti.geotransform;
     double w = g->src_width - 1, y = (g->src_height - 1) / 2.0;
     double* t_cut = malloc((size_t)frames * repeats * sizeof *t_cut);
     double* t_pre = malloc((size_t)frames * repeats * sizeof *t_pre);

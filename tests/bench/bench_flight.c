@@ -42,21 +42,8 @@ int main(int argc, char** argv)
         fprintf(stderr, "%s\n", err.message);
         return 1;
     }
-    size_t count;
-    const tp_node_meta* metas = tp_store_metas(store, &count);
-    tp_store_info si;
-    tp_store_get_info(store, &si);
-    tp_tree_desc td;
-    memset(&td, 0, sizeof td);
-    td.geometry = si.header.geometry;
-    memcpy(td.geotransform, si.header.geotransform, sizeof td.geotransform);
-    td.height_step_m = si.header.height_step_m;
-    td.quant_max_error_m = si.header.quant_max_error_m;
-    td.err_unit_steps = si.header.err_unit_steps;
-    td.metas = metas;
-    td.meta_count = count;
     tp_tree* tree;
-    if (tp_tree_create(&td, &tree, &err) != TP_OK) {
+    if (tp_tree_create_from_store(store, &tree, &err) != TP_OK) {
         fprintf(stderr, "%s\n", err.message);
         return 1;
     }
@@ -72,7 +59,9 @@ int main(int argc, char** argv)
         return 1;
     tp_lod_params lod = {.mode = TP_LOD_ERROR, .tau_px = tau};
     const tp_tree_geometry* g = tp_tree_get_geometry(tree);
-    const double* gt = td.geotransform;
+    tp_tree_info ti;
+    tp_tree_get_info(tree, &ti);
+    const double* gt = ti.geotransform;
     double w = g->src_width - 1, y = (g->src_height - 1) / 2.0, x0 = 0.05 * w;
     double step_px = speed / 30 / fabs(gt[1]);
     /* The ground under the camera from the leaf there, read now (the flight is known ahead). */
@@ -86,7 +75,7 @@ int main(int argc, char** argv)
         if (b && tp_store_read_node(store, leaf, b, v * v, &err) == TP_OK) {
             uint16_t q = b[(size_t)((int)y & ((1 << g->n) - 1)) * v + ((int)x & ((1 << g->n) - 1))];
             if (q != TP_TREE_NO_HEIGHT)
-                ground[f] = (q + metas[leaf].qmin) * td.height_step_m;
+                ground[f] = (q + tp_tree_meta(tree, leaf)->qmin) * ti.height_step_m;
         }
         free(b);
     }

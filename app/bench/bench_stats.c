@@ -1,0 +1,24 @@
+/* bench_stats.c - the medians and percentiles of a run's frames, for both benches (the DEM's in
+ * cmd_bench.c, the store's in bench_store.c). */
+#include "bench.h"
+
+#include <math.h>
+#include <stdlib.h>
+
+static int cmp_double(const void* a, const void* b)
+{
+    double x = *(const double*)a, y = *(const double*)b;
+    return (x > y) - (x < y);
+}
+
+double tp_bench_median(double* v, int n)
+{
+    qsort(v, (size_t)n, sizeof *v, cmp_double);
+    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+double tp_bench_p99(const double* v, int n)
+{
+    int k = (int)ceil(0.99 * n) - 1;
+    return v[k < 0 ? 0 : k];
+}
