@@ -26,6 +26,12 @@ int tp_cli_coord(int argc, char** argv);
 /* `terrapatch point DEM|STORE POS [options]`: what is here. argv[0] is "point". */
 int tp_cli_point(int argc, char** argv);
 
+/* `terrapatch los DEM|STORE --from POS --to POS [options]` (cmd_los.c): line of sight. */
+int tp_cli_los(int argc, char** argv);
+
+/* `terrapatch viewshed DEM|STORE --observer POS -o OUT.tif [options]` (cmd_viewshed.c). */
+int tp_cli_viewshed(int argc, char** argv);
+
 /* `terrapatch view [options] [DEM]`. argv[0] is "view"; returns an exit code. */
 int tp_cli_view(int argc, char** argv);
 

@@ -26,6 +26,8 @@ static void print_help(FILE* f)
           "  build SOURCE... -o NAME.tpt   build a terrain store from DEM tiles (any size)\n"
           "  coord       convert coordinates: lat/lon, UTM/UPS, MGRS, ECEF; geodesics\n"
           "  point DEM POS   what is here: position in every form, elevation, slope, aspect\n"
+          "  los DEM --from POS --to POS   line of sight: seen or not, what is in the way\n"
+          "  viewshed DEM --observer POS -o OUT.tif   what an observer sees (GeoTIFF)\n"
           "\n"
           "Run 'terrapatch COMMAND --help' for the options of a command.\n"
           "Exit status: 0 success, 1 failure, 2 usage error, 130/143 after SIGINT/SIGTERM\n"
@@ -55,6 +57,10 @@ static int run_command(int argc, char** argv)
         return tp_cli_coord(argc - 1, argv + 1);
     if (!strcmp(cmd, "point"))
         return tp_cli_point(argc - 1, argv + 1);
+    if (!strcmp(cmd, "los"))
+        return tp_cli_los(argc - 1, argv + 1);
+    if (!strcmp(cmd, "viewshed"))
+        return tp_cli_viewshed(argc - 1, argv + 1);
     if (!strcmp(cmd, "view"))
         return tp_cli_view(argc - 1, argv + 1);
     if (!strcmp(cmd, "export"))

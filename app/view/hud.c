@@ -6,6 +6,7 @@
 #include <epoxy/gl.h>
 #include <stb/stb_easy_font.h>
 
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -113,5 +114,65 @@ void tp_hud_text(tp_hud* h, int w, int hgt, float x, float y, float scale, const
     unsigned char shadow[4] = {0, 0, 0, 255}, light[4] = {255, 255, 240, 255};
     draw(h, w, hgt, x + scale, y + scale, scale, text, shadow);
     draw(h, w, hgt, x, y, scale, text, light);
+    glEnable(GL_DEPTH_TEST);
+}
+
+void tp_hud_line(tp_hud* h, int w, int hgt, float x0, float y0, float x1, float y1,
+                 float width_px, const unsigned char rgba[4])
+{
+    float dx = x1 - x0, dy = y1 - y0, len = sqrtf(dx * dx + dy * dy);
+    if (len < 1e-3f)
+        return;
+    /* half the width across the segment */
+    float nx = -dy / len * width_px * 0.5f, ny = dx / len * width_px * 0.5f;
+    const float p[4][2] = {{x0 + nx, y0 + ny}, {x1 + nx, y1 + ny}, {x1 - nx, y1 - ny},
+                           {x0 - nx, y0 - ny}};
+    char* v = h->verts;
+    for (int i = 0; i < 4; i++) {
+        float xyz[3] = {p[i][0], p[i][1], 0.0f};
+        memcpy(v + 16 * i, xyz, 12);
+        memcpy(v + 16 * i + 12, rgba, 4);
+    }
+    glDisable(GL_DEPTH_TEST);
+    glDisable(GL_CULL_FACE);
+    glPolygonMode(GL_FRONT_AND_BACK, GL_FILL);
+    glUseProgram(h->prog);
+    glBindVertexArray(h->vao);
+    glBindBuffer(GL_ARRAY_BUFFER, h->vbo);
+    glBufferSubData(GL_ARRAY_BUFFER, 0, 4 * 16, h->verts);
+    glUniform2f(h->u_screen, (float)w, (float)hgt);
+    glUniform3f(h->u_offset, 0.0f, 0.0f, 1.0f);
+    glDrawElements(GL_TRIANGLES, 6, GL_UNSIGNED_INT, NULL);
+    glEnable(GL_DEPTH_TEST);
+}
+
+void tp_hud_dots(tp_hud* h, int w, int hgt, const float* xy, int count, float side_px,
+                 const unsigned char rgba[4])
+{
+    if (count <= 0)
+        return;
+    if (count > HUD_MAX_QUADS)
+        count = HUD_MAX_QUADS;
+    const float r = side_px * 0.5f, c[4][2] = {{-1, -1}, {1, -1}, {1, 1}, {-1, 1}};
+    char* v = h->verts;
+    for (int i = 0; i < count; i++)
+        for (int k = 0; k < 4; k++) {
+            float xyz[3] = {xy[2 * i] + c[k][0] * r, xy[2 * i + 1] + c[k][1] * r, 0.0f};
+            memcpy(v + 16 * (4 * i + k), xyz, 12);
+            memcpy(v + 16 * (4 * i + k) + 12, rgba, 4);
+        }
+    glDisable(GL_DEPTH_TEST);
+    glDisable(GL_CULL_FACE);
+    glPolygonMode(GL_FRONT_AND_BACK, GL_FILL);
+    glEnable(GL_BLEND);
+    glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
+    glUseProgram(h->prog);
+    glBindVertexArray(h->vao);
+    glBindBuffer(GL_ARRAY_BUFFER, h->vbo);
+    glBufferSubData(GL_ARRAY_BUFFER, 0, (GLsizeiptr)count * 4 * 16, h->verts);
+    glUniform2f(h->u_screen, (float)w, (float)hgt);
+    glUniform3f(h->u_offset, 0.0f, 0.0f, 1.0f);
+    glDrawElements(GL_TRIANGLES, count * 6, GL_UNSIGNED_INT, NULL);
+    glDisable(GL_BLEND);
     glEnable(GL_DEPTH_TEST);
 }

@@ -14,6 +14,16 @@ void tp_hud_destroy(tp_hud* h);
  * each font pixel `scale` screen pixels, light text with a dark shadow. */
 void tp_hud_text(tp_hud* h, int w, int hgt, float x, float y, float scale, const char* text);
 
+/* Draws a straight segment from (x0, y0) to (x1, y1) pixels, width_px wide, in rgba (over the
+ * terrain, as the text). */
+void tp_hud_line(tp_hud* h, int w, int hgt, float x0, float y0, float x1, float y1,
+                 float width_px, const unsigned char rgba[4]);
+
+/* Draws count squares side_px wide centred on the points (x, y pairs, pixels), in rgba blended
+ * over what is drawn (alpha). At most 20000 per call. */
+void tp_hud_dots(tp_hud* h, int w, int hgt, const float* xy, int count, float side_px,
+                 const unsigned char rgba[4]);
+
 /* Width and height (pixels, at scale 1) of the text. */
 void tp_hud_measure(const char* text, float* w, float* h);
 

@@ -148,6 +148,86 @@ static void compass_and_scale(tp_hud* hud, layout* l, const tp_view_scene* v,
     }
 }
 
+/* The line of sight's ground track, a segment per pair of samples coloured by the nearer
+ * one's flag, and the obstruction's "X". */
+static void los_track(tp_hud* hud, layout* l, const tp_view_scene* v, const tp_camera* cam,
+                      const tp_overlay_los* los, float s)
+{
+    const unsigned char green[4] = {40, 220, 60, 255}, red[4] = {235, 40, 30, 255},
+                        dark[4] = {0, 0, 0, 200};
+    const double zs = tp_view_scene_vertical_scale(v);
+    int w = cam->viewport_w_px, h = cam->viewport_h_px;
+    double prev[2];
+    int have_prev = 0;
+    for (int pass = 0; pass < 2; pass++) { /* a dark outline under the colours */
+        have_prev = 0;
+        for (size_t i = 0; i < los->count; i++) {
+            const double* p = los->enh + 3 * i;
+            double q[3] = {p[0], p[1], p[2] * zs}, px[2];
+            if (isnan(p[2]) || !tp_camera_project(cam, q, px, NULL)) {
+                have_prev = 0;
+                continue;
+            }
+            if (have_prev)
+                tp_hud_line(hud, w, h, (float)prev[0], (float)prev[1], (float)px[0],
+                            (float)px[1], pass == 0 ? 5.0f * s : 3.0f * s,
+                            pass == 0 ? dark : los->seen[i] ? green : red);
+            prev[0] = px[0];
+            prev[1] = px[1];
+            have_prev = 1;
+        }
+    }
+    if (los->has_obstruction) {
+        const double* p = los->obstruction_enh;
+        double q[3] = {p[0], p[1], p[2] * zs}, px[2];
+        if (tp_camera_project(cam, q, px, NULL) && px[0] >= 0 && px[1] >= 0 && px[0] < w &&
+            px[1] < h) {
+            float x0 = (float)px[0] - 2.5f * s, y0 = (float)px[1] - 3.5f * s;
+            tp_hud_text(hud, w, h, x0, y0, s, "X");
+            tp_hud_text(hud, w, h, x0 + 8 * s, y0 - 10 * s, s, "obstruction");
+            occupy(l, x0 - 2, y0 - 12 * s, x0 + 70 * s, y0 + 9 * s);
+        }
+    }
+}
+
+/* The viewshed's hidden posts as translucent red squares the size of their spacing on screen
+ * (measured at the observer), the observer marked "O". */
+static void viewshed_tint(tp_hud* hud, layout* l, const tp_view_scene* v, const tp_camera* cam,
+                          const tp_overlay_viewshed* vs, float s)
+{
+    static float xy[2 * 20000];
+    const double zs = tp_view_scene_vertical_scale(v);
+    int w = cam->viewport_w_px, h = cam->viewport_h_px;
+    const double* o = vs->observer_enh;
+    double a[3] = {o[0], o[1], o[2] * zs}, b[3] = {o[0] + vs->spacing_m, o[1], o[2] * zs}, pa[2],
+           pb[2];
+    float side = 3.0f;
+    if (tp_camera_project(cam, a, pa, NULL) && tp_camera_project(cam, b, pb, NULL))
+        side = (float)fmin(fmax(hypot(pb[0] - pa[0], pb[1] - pa[1]), 2.0), 24.0);
+    const unsigned char tint[4] = {220, 30, 30, 120};
+    int n = 0;
+    for (size_t i = 0; i < vs->count; i++) {
+        const double* p = vs->enh + 3 * i;
+        double q[3] = {p[0], p[1], p[2] * zs}, px[2];
+        if (!tp_camera_project(cam, q, px, NULL) || px[0] < -side || px[1] < -side ||
+            px[0] > w + side || px[1] > h + side)
+            continue;
+        xy[2 * n] = (float)px[0];
+        xy[2 * n + 1] = (float)px[1];
+        if (++n == 20000) {
+            tp_hud_dots(hud, w, h, xy, n, side, tint);
+            n = 0;
+        }
+    }
+    tp_hud_dots(hud, w, h, xy, n, side, tint);
+    if (tp_camera_project(cam, a, pa, NULL) && pa[0] >= 0 && pa[1] >= 0 && pa[0] < w && pa[1] < h) {
+        float x0 = (float)pa[0] - 2.5f * s, y0 = (float)pa[1] - 3.5f * s;
+        tp_hud_text(hud, w, h, x0, y0, s, "O");
+        tp_hud_text(hud, w, h, x0 + 8 * s, y0 - 10 * s, s, "observer");
+        occupy(l, x0 - 2, y0 - 12 * s, x0 + 60 * s, y0 + 9 * s);
+    }
+}
+
 void tp_view_overlay_draw(tp_hud* hud, const tp_view_scene* v, const tp_camera* cam,
                           const tp_overlay* ov)
 {
@@ -168,6 +248,10 @@ void tp_view_overlay_draw(tp_hud* hud, const tp_view_scene* v, const tp_camera* 
         block(hud, &l, w, h, 10, bottom, w - 16, th * s, s, ov->measure_line);
         bottom -= 4 * s;
     }
+    if (ov->viewshed && ov->viewshed->count)
+        viewshed_tint(hud, &l, v, cam, ov->viewshed, s);
+    if (ov->los && ov->los->count > 1)
+        los_track(hud, &l, v, cam, ov->los, s);
     if (ov->has_mark) {
         /* drawn space: heights times the exaggeration, as the terrain is drawn */
         double p[3] = {ov->mark_enh[0], ov->mark_enh[1],

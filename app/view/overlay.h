@@ -9,6 +9,25 @@
 #include "hud.h"
 #include "view.h"
 
+/* The line of sight drawn on the ground (window.c's line-of-sight mode): the ground track
+ * from the observer to the target, green where a target there is seen, red where hidden, the
+ * first obstruction marked "X". */
+typedef struct tp_overlay_los {
+    const double* enh;          /* count points: E, N (render CRS), ground height (m) */
+    const unsigned char* seen;  /* count flags */
+    size_t count;
+    int has_obstruction;
+    double obstruction_enh[3];
+} tp_overlay_los;
+
+/* A viewshed (window.c's B): the posts the observer cannot see, tinted red. */
+typedef struct tp_overlay_viewshed {
+    const double* enh;      /* count posts: E, N, ground height (m) */
+    size_t count;
+    double spacing_m;       /* between the posts kept (the dots' size on screen) */
+    double observer_enh[3];
+} tp_overlay_viewshed;
+
 typedef struct tp_overlay {
     const char* hud_text;     /* NULL: no HUD (nor north arrow and scale bar) */
     const char* help_text;    /* NULL: none */
@@ -16,6 +35,8 @@ typedef struct tp_overlay {
     double grid_m;            /* grid label spacing (0: no labels) */
     int has_mark;             /* mark_enh: a ground point marked with "+" (the point readout) */
     double mark_enh[3];       /* E, N (render CRS) and true height (m) */
+    const tp_overlay_los* los; /* NULL: no line of sight drawn */
+    const tp_overlay_viewshed* viewshed; /* NULL: none */
 } tp_overlay;
 
 /* The text scale the overlay uses for a viewport: 2 from 1000 px wide, else 1. */

@@ -7,6 +7,8 @@
 #include "hud.h"
 #include "hud_text.h"
 #include "input.h"
+#include "los_pick.h"
+#include "viewshed_pick.h"
 #include "mesh_export.h"
 #include "navigate.h"
 #include "overlay.h"
@@ -29,6 +31,8 @@ static const char* help_text =
     "+/- tau (or maxdist)   [ ] mindist   , . exp   X/Z exaggeration   V filled-void tint\n"
     "J/K sun azimuth   U/N sun elevation   G 1 km grid   P screenshot   Y export mesh\n"
     "C print camera   H hide HUD   right-click twice: measure   I or middle-click: what is here\n"
+    "R line-of-sight mode (right-click observer, then target: green seen, red hidden)\n"
+    "B viewshed from the ground under the cursor, 10 km (red: not seen; B again: off)\n"
     "? this help   Esc quit";
 
 typedef struct window_state {
@@ -44,6 +48,9 @@ typedef struct window_state {
     tp_ground* ground; /* the point readout's full-resolution queries; made on first use */
     int has_mark;      /* the last point readout's ground point, marked on screen */
     double mark[3];
+    int los_mode;      /* R: right clicks pick a line of sight instead of measuring */
+    tp_view_los los;
+    tp_view_viewshed viewshed; /* B */
 } window_state;
 
 static const char* lod_name(tp_lod_mode m)
@@ -189,6 +196,63 @@ static void point_click(window_state* s, GLFWwindow* win, double x, double y)
     fflush(stdout);
 }
 
+/* Line-of-sight mode: a right click picks the observer, the next the target. */
+static void los_click(window_state* s, GLFWwindow* win, double x, double y)
+{
+    int ww, wh;
+    glfwGetWindowSize(win, &ww, &wh);
+    double px = x * s->cam->viewport_w_px / fmax(ww, 1), py = y * s->cam->viewport_h_px / fmax(wh, 1);
+    double p[3];
+    if (!s->v->store) {
+        snprintf(s->measure_line, sizeof s->measure_line,
+                 "line of sight: only on a georeferenced DEM or a store");
+        return;
+    }
+    if (!tp_view_pick(s->v, s->cam, px, py, p)) {
+        snprintf(s->measure_line, sizeof s->measure_line, "line of sight: no ground under the cursor");
+        return;
+    }
+    tp_error err = {{0}};
+    if (!s->ground && tp_ground_create(s->v->store, NULL, &s->ground, &err) != TP_OK) {
+        snprintf(s->measure_line, sizeof s->measure_line, "line of sight: %.400s", err.message);
+        return;
+    }
+    s->has_mark = 0;
+    tp_view_los_click(&s->los, s->ground, p[0], p[1], s->measure_line, sizeof s->measure_line);
+}
+
+/* B: the viewshed from the ground under the cursor; B again: off. */
+static void viewshed_key(window_state* s, GLFWwindow* win)
+{
+    if (s->viewshed.overlay.count) {
+        tp_view_viewshed_free(&s->viewshed);
+        snprintf(s->measure_line, sizeof s->measure_line, "viewshed: off");
+        return;
+    }
+    double x, y, p[3];
+    int ww, wh;
+    glfwGetCursorPos(win, &x, &y);
+    glfwGetWindowSize(win, &ww, &wh);
+    double px = x * s->cam->viewport_w_px / fmax(ww, 1), py = y * s->cam->viewport_h_px / fmax(wh, 1);
+    if (!s->v->store) {
+        snprintf(s->measure_line, sizeof s->measure_line,
+                 "viewshed: only on a georeferenced DEM or a store");
+        return;
+    }
+    if (!tp_view_pick(s->v, s->cam, px, py, p)) {
+        snprintf(s->measure_line, sizeof s->measure_line, "viewshed: no ground under the cursor");
+        return;
+    }
+    tp_error err = {{0}};
+    if (!s->ground && tp_ground_create(s->v->store, NULL, &s->ground, &err) != TP_OK) {
+        snprintf(s->measure_line, sizeof s->measure_line, "viewshed: %.400s", err.message);
+        return;
+    }
+    s->has_mark = 0;
+    tp_view_viewshed_at(&s->viewshed, s->ground, p[0], p[1], TP_VIEW_VIEWSHED_RADIUS_M,
+                        s->measure_line, sizeof s->measure_line);
+}
+
 static void on_char(window_state* s, int c)
 {
     switch (c) {
@@ -235,6 +299,14 @@ static void on_key(window_state* s, int key)
     case GLFW_KEY_P: s->want_shot = 1; break;
     case GLFW_KEY_Y: export_view(s); break;
     case GLFW_KEY_C: print_camera(s); break;
+    case GLFW_KEY_B: viewshed_key(s, glfwGetCurrentContext()); break;
+    case GLFW_KEY_R:
+        s->los_mode = !s->los_mode;
+        s->los.picked = 0;
+        snprintf(s->measure_line, sizeof s->measure_line, "%s",
+                 s->los_mode ? "line of sight: right-click the observer, then the target"
+                             : "measure: right-click two points");
+        break;
     case GLFW_KEY_I: {
         double mx, my;
         glfwGetCursorPos(glfwGetCurrentContext(), &mx, &my);
@@ -285,6 +357,8 @@ int tp_view_window_run(tp_view_scene* v, tp_gl_context* ctx, tp_renderer* r, tp_
                 on_key(&s, ev.key);
             else if (ev.kind == TP_INPUT_CHAR)
                 on_char(&s, ev.key);
+            else if (ev.kind == TP_INPUT_CLICK && ev.key == GLFW_MOUSE_BUTTON_RIGHT && s.los_mode)
+                los_click(&s, win, ev.x, ev.y);
             else if (ev.kind == TP_INPUT_CLICK && ev.key == GLFW_MOUSE_BUTTON_RIGHT)
                 measure_click(&s, win, ev.x, ev.y);
             else if (ev.kind == TP_INPUT_CLICK && ev.key == GLFW_MOUSE_BUTTON_MIDDLE)
@@ -327,6 +401,10 @@ int tp_view_window_run(tp_view_scene* v, tp_gl_context* ctx, tp_renderer* r, tp_
         tp_overlay ov = {.grid_m = o->render.grid_m, .measure_line = s.measure_line,
                          .has_mark = s.has_mark};
         memcpy(ov.mark_enh, s.mark, sizeof ov.mark_enh);
+        if (s.los.count > 1)
+            ov.los = &s.los.overlay;
+        if (s.viewshed.overlay.count)
+            ov.viewshed = &s.viewshed.overlay;
         if (s.show_hud) {
             if (now - measured_at > 1.0) { /* once a second */
                 tp_view_measure_now(v, cam, &me);
@@ -355,6 +433,8 @@ int tp_view_window_run(tp_view_scene* v, tp_gl_context* ctx, tp_renderer* r, tp_
         glfwSetWindowTitle(win, title);
     }
     tp_hud_destroy(hud);
+    tp_view_los_free(&s.los);
+    tp_view_viewshed_free(&s.viewshed);
     tp_ground_destroy(s.ground);
     return TP_EXIT_OK;
 }

@@ -1,0 +1,451 @@
+/*
+ * cmd_los.c - `terrapatch los DEM|STORE --from POS --to POS`: does the observer at POS see the
+ * target, and if not what is in the way (issue 13, section 2). Positions are read by
+ * position.c, the ground by ground.c (full resolution, as `point`), the line by the core's
+ * tp_los_compute (gdal_viewshed's conventions); the profile is drawn by gnuplot (gnuplot.c).
+ */
+#include "cli.h"
+#include "atomic_file.h"
+#include "gnuplot.h"
+#include "ground.h"
+#include "ground_locate.h"
+#include "json.h"
+#include "position.h"
+
+#include "tp_core.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+typedef struct los_options {
+    const char* path;
+    const char* from;
+    const char* to;
+    double from_height_m, to_height_m, curvature_coeff;
+    const char* json;
+    const char* profile;
+    const char* csv;
+    const char* cache_dir;
+} los_options;
+
+static void print_help(void)
+{
+    fputs("usage: terrapatch los DEM|STORE --from POS --to POS [--from-height M] [--to-height M]\n"
+          "                      [--curvature-coeff C] [--json F] [--profile F.png] [--csv F]\n"
+          "                      [--cache-dir DIR]\n"
+          "\n"
+          "Line of sight: whether an observer at --from sees a target at --to over the ground of\n"
+          "DEM (any raster GDAL reads, built into the store cache first as 'terrapatch view' does)\n"
+          "or of a store (.tpt), the first obstruction (where, how far, by how many metres its\n"
+          "ground rises above the sight line) and the smallest clearance along the line.\n"
+          "\n"
+          "The ground is the full-resolution surface ('terrapatch point' reads the same), sampled\n"
+          "every quarter post along the straight line on the render grid; the ground within one\n"
+          "post of either end is where observer and target stand and is not tested; voids block\n"
+          "nothing. Conventions are gdal_viewshed's: heights above the ground, every height\n"
+          "lowered by C * d^2 / (2 * 6378137 m) at distance d from the observer (0.85714: the\n"
+          "earth's curvature with standard refraction; 1: curvature without refraction; 0: a\n"
+          "flat earth), distances horizontal on the render grid (metres).\n"
+          "\n"
+          "POS: one argument, in any form 'terrapatch coord' reads (quote it when it has\n"
+          "spaces): \"45.373 -121.696\", 45.373,-121.696, \"10n 601000 5026000\", 10TER0100026000,\n"
+          "\"45d22'23\\\"N 121d41'45\\\"W\".\n"
+          "\n"
+          "options:\n"
+          "  --from POS             the observer (required)\n"
+          "  --to POS               the target (required)\n"
+          "  --from-height M        eye above the ground at --from (default 2)\n"
+          "  --to-height M          target above the ground at --to (default 0)\n"
+          "  --curvature-coeff C    curvature and refraction coefficient (default 0.85714)\n"
+          "  --json F               also write the result as JSON to F ('-' for stdout, instead\n"
+          "                         of the text)\n"
+          "  --profile F.png        draw the ground profile with the sight line (gnuplot)\n"
+          "  --csv F                write the profile samples as CSV\n"
+          "  --cache-dir DIR        the store cache for a DEM (as 'terrapatch view')\n"
+          "  -h, --help             show this help\n"
+          "\n"
+          "example:\n"
+          "  $ terrapatch los N42E001.hgt --from 42.5,1.5 --to 42.6,1.6 --profile los.png\n"
+          "\n"
+          "Exit status: 0 done (seen or not); 1 the DEM cannot be read, a position is outside it\n"
+          "or in a void, an output cannot be written (the profile too: the rest is still\n"
+          "written); 2 usage error (a position that cannot be read included).\n",
+          stdout);
+}
+
+static int usage(const char* what)
+{
+    fprintf(stderr, "terrapatch los: %s (see 'terrapatch los --help')\n", what);
+    return TP_EXIT_USAGE;
+}
+
+/* A value of an option: the next argument, or after '='. */
+static const char* option_value(int argc, char** argv, int* i, const char* name)
+{
+    size_t len = strlen(name);
+    if (strncmp(argv[*i], name, len) == 0 && argv[*i][len] == '=')
+        return argv[*i] + len + 1;
+    if (*i + 1 >= argc)
+        return NULL;
+    return argv[++*i];
+}
+
+static int is_option(const char* a, const char* name)
+{
+    size_t len = strlen(name);
+    return !strncmp(a, name, len) && (a[len] == '\0' || a[len] == '=');
+}
+
+/* -1 when fine, else the exit code. */
+static int parse_options(int argc, char** argv, los_options* o)
+{
+    memset(o, 0, sizeof *o);
+    o->from_height_m = TP_VIEWSHED_OBSERVER_HEIGHT_M;
+    o->to_height_m = TP_VIEWSHED_TARGET_HEIGHT_M;
+    o->curvature_coeff = TP_VIEWSHED_CURVATURE_COEFF;
+    static const char* const text_opts[] = {"--from", "--to", "--json", "--profile", "--csv",
+                                            "--cache-dir"};
+    static const char* const num_opts[] = {"--from-height", "--to-height", "--curvature-coeff"};
+    for (int i = 1; i < argc; ++i) {
+        const char* a = argv[i];
+        if (!strcmp(a, "-h") || !strcmp(a, "--help")) {
+            print_help();
+            return tp_cli_finish(TP_EXIT_OK);
+        }
+        if (a[0] != '-' || !a[1]) {
+            if (o->path)
+                return usage("more than one DEM given (quote a position with spaces: --from "
+                             "\"45.37 -121.69\")");
+            o->path = a;
+            continue;
+        }
+        int done = 0;
+        for (size_t k = 0; k < sizeof num_opts / sizeof num_opts[0] && !done; ++k) {
+            if (!is_option(a, num_opts[k]))
+                continue;
+            const char* v = option_value(argc, argv, &i, num_opts[k]);
+            double d;
+            if (!v || tp_position_decimal(v, &d) != 1 || d < 0.0)
+                return tp_option_error("los", num_opts[k], "a number >= 0", v ? v : ""),
+                       TP_EXIT_USAGE;
+            *(k == 0 ? &o->from_height_m : k == 1 ? &o->to_height_m : &o->curvature_coeff) = d;
+            done = 1;
+        }
+        for (size_t k = 0; k < sizeof text_opts / sizeof text_opts[0] && !done; ++k) {
+            if (!is_option(a, text_opts[k]))
+                continue;
+            const char* v = option_value(argc, argv, &i, text_opts[k]);
+            if (!v) {
+                fprintf(stderr, "terrapatch los: missing value for %s (see 'terrapatch los "
+                                "--help')\n", text_opts[k]);
+                return TP_EXIT_USAGE;
+            }
+            const char** slot[] = {&o->from, &o->to, &o->json, &o->profile, &o->csv,
+                                   &o->cache_dir};
+            *slot[k] = v;
+            done = 1;
+        }
+        if (!done) {
+            fprintf(stderr, "terrapatch los: unknown option '%s' (see 'terrapatch los --help')\n",
+                    a);
+            return TP_EXIT_USAGE;
+        }
+    }
+    if (!o->path)
+        return usage("missing DEM");
+    if (!o->from)
+        return usage("missing --from POS (the observer)");
+    if (!o->to)
+        return usage("missing --to POS (the target)");
+    return -1;
+}
+
+static tp_status ground_height(void* user, double x, double y, double* h, tp_error* err)
+{
+    return tp_ground_height((tp_ground*)user, x, y, h, err);
+}
+
+/* Everything the outputs print. */
+typedef struct los_report {
+    const los_options* o;
+    tp_ground* g;
+    tp_los_result r;
+    tp_los_sample* samples;
+    double from_lat, from_lon, to_lat, to_lon;
+    double from_ground_m, to_ground_m;
+    double obs_lat, obs_lon, min_lat, min_lon;
+} los_report;
+
+static void write_text(const los_report* p, FILE* f)
+{
+    const tp_los_result* r = &p->r;
+    fprintf(f, "from        %.6f %.6f  ground %.1f m, eye %.1f m (%.1f m above)\n", p->from_lat,
+            p->from_lon, p->from_ground_m, r->eye_m, p->o->from_height_m);
+    fprintf(f, "to          %.6f %.6f  ground %.1f m, target %.1f m (%.1f m above)\n", p->to_lat,
+            p->to_lon, p->to_ground_m, r->target_m, p->o->to_height_m);
+    fprintf(f, "distance    %.1f m (curvature coefficient %g: %.2f m of drop at the target)\n",
+            r->distance_m, p->o->curvature_coeff, r->drop_m);
+    fprintf(f, "visible     %s\n", r->visible ? "yes" : "no");
+    if (r->obstructed)
+        fprintf(f, "obstruction %.6f %.6f at %.1f m: the ground is %.1f m above the sight line\n",
+                p->obs_lat, p->obs_lon, r->obstruction_distance_m, r->obstruction_blocking_m);
+    else
+        fprintf(f, "obstruction none\n");
+    if (isnan(r->min_clearance_m))
+        fprintf(f, "clearance   none tested (the two are within a post of each other)\n");
+    else
+        fprintf(f, "clearance   %.1f m at least, at %.1f m (%.6f %.6f)\n", r->min_clearance_m,
+                r->min_clearance_distance_m, p->min_lat, p->min_lon);
+    if (r->void_count)
+        fprintf(f, "voids       %zu of %zu samples along the line have no height (seen over)\n",
+                r->void_count, r->void_count + r->tested_count);
+}
+
+static void write_json(const los_report* p, FILE* f)
+{
+    const tp_los_result* r = &p->r;
+    tp_json j;
+    tp_json_init(&j, f);
+    tp_json_object_begin(&j);
+    tp_json_key(&j, "source");
+    tp_json_string(&j, p->o->path);
+    tp_json_key(&j, "visible");
+    tp_json_bool(&j, r->visible);
+    tp_json_key(&j, "distance_m");
+    tp_json_number(&j, r->distance_m);
+    tp_json_key(&j, "from");
+    tp_json_object_begin(&j);
+    tp_json_key(&j, "lat");
+    tp_json_number(&j, p->from_lat);
+    tp_json_key(&j, "lon");
+    tp_json_number(&j, p->from_lon);
+    tp_json_key(&j, "ground_m");
+    tp_json_number(&j, p->from_ground_m);
+    tp_json_key(&j, "eye_m");
+    tp_json_number(&j, r->eye_m);
+    tp_json_object_end(&j);
+    tp_json_key(&j, "to");
+    tp_json_object_begin(&j);
+    tp_json_key(&j, "lat");
+    tp_json_number(&j, p->to_lat);
+    tp_json_key(&j, "lon");
+    tp_json_number(&j, p->to_lon);
+    tp_json_key(&j, "ground_m");
+    tp_json_number(&j, p->to_ground_m);
+    tp_json_key(&j, "target_m");
+    tp_json_number(&j, r->target_m);
+    tp_json_object_end(&j);
+    tp_json_key(&j, "obstruction");
+    if (r->obstructed) {
+        tp_json_object_begin(&j);
+        tp_json_key(&j, "lat");
+        tp_json_number(&j, p->obs_lat);
+        tp_json_key(&j, "lon");
+        tp_json_number(&j, p->obs_lon);
+        tp_json_key(&j, "distance_m");
+        tp_json_number(&j, r->obstruction_distance_m);
+        tp_json_key(&j, "blocking_m");
+        tp_json_number(&j, r->obstruction_blocking_m);
+        tp_json_object_end(&j);
+    } else {
+        tp_json_null(&j);
+    }
+    tp_json_key(&j, "min_clearance_m");
+    tp_json_number(&j, r->min_clearance_m);
+    tp_json_key(&j, "min_clearance_distance_m");
+    tp_json_number(&j, r->min_clearance_distance_m);
+    tp_json_key(&j, "from_height_m");
+    tp_json_number(&j, p->o->from_height_m);
+    tp_json_key(&j, "to_height_m");
+    tp_json_number(&j, p->o->to_height_m);
+    tp_json_key(&j, "curvature_coeff");
+    tp_json_number(&j, p->o->curvature_coeff);
+    tp_json_key(&j, "curvature_drop_m");
+    tp_json_number(&j, r->drop_m);
+    tp_json_key(&j, "samples");
+    tp_json_size(&j, r->sample_count);
+    tp_json_key(&j, "void_samples");
+    tp_json_size(&j, r->void_count);
+    tp_json_object_end(&j);
+    fputc('\n', f);
+}
+
+static void write_csv(const los_report* p, FILE* f)
+{
+    fputs("distance_m,lat,lon,ground_m,line_m,clearance_m,blocks\n", f);
+    for (size_t i = 0; i < p->r.sample_count; ++i) {
+        const tp_los_sample* s = &p->samples[i];
+        double lat, lon;
+        tp_ground_grid_latlon(p->g, s->x, s->y, &lat, &lon);
+        fprintf(f, "%.3f,%.8f,%.8f,", s->distance_m, lat, lon);
+        if (isnan(s->ground_m))
+            fprintf(f, ",%.3f,,0\n", s->line_m);
+        else
+            fprintf(f, "%.3f,%.3f,%.3f,%d\n", s->ground_m, s->line_m, s->clearance_m,
+                    s->tested && s->clearance_m < 0.0);
+    }
+}
+
+/* gnuplot: the ground (filled), the sight line, blocked ground red, the obstruction marked. */
+static void write_plot(FILE* f, void* user)
+{
+    const los_report* p = user;
+    const tp_los_result* r = &p->r;
+    const double km = 0.001;
+    fputs("$ground << EOD\n", f);
+    for (size_t i = 0; i < r->sample_count; ++i) {
+        const tp_los_sample* s = &p->samples[i];
+        if (isnan(s->ground_m))
+            fputs("\n", f); /* a gap in the line */
+        else
+            fprintf(f, "%.6f %.3f %.3f %d\n", s->distance_m * km, s->ground_m, s->line_m,
+                    s->tested && s->clearance_m < 0.0);
+    }
+    fputs("EOD\n$line << EOD\n", f);
+    for (size_t i = 0; i < r->sample_count; ++i)
+        fprintf(f, "%.6f %.3f\n", p->samples[i].distance_m * km, p->samples[i].line_m);
+    fputs("EOD\n", f);
+    char title[1024];
+    snprintf(title, sizeof title,
+             "Line of sight %.5f %.5f -> %.5f %.5f: %s (%.0f m; eye %.1f m, target %.1f m above "
+             "the ground; curvature coefficient %g)",
+             p->from_lat, p->from_lon, p->to_lat, p->to_lon,
+             r->visible ? "VISIBLE" : "HIDDEN", r->distance_m, p->o->from_height_m,
+             p->o->to_height_m, p->o->curvature_coeff);
+    fputs("set title ", f);
+    tp_gnuplot_quoted(f, title);
+    fputs(" noenhanced\n"
+          "set xlabel 'distance from the observer (km)'\n"
+          "set ylabel 'height (m, as stored)'\n"
+          "set grid lc rgb '#dddddd'\n"
+          "set key below horizontal\n"
+          "set style fill solid 1.0 noborder\n",
+          f);
+    if (r->obstructed) {
+        char label[256];
+        snprintf(label, sizeof label, "obstruction: %.1f m above the line at %.2f km",
+                 r->obstruction_blocking_m, r->obstruction_distance_m * km);
+        fprintf(f, "set label 1 at %.6f,%.3f point pt 7 ps 1.5 lc rgb '#c00000' offset 1,1 ",
+                r->obstruction_distance_m * km, r->obstruction_ground_m);
+        tp_gnuplot_quoted(f, label);
+        fputs(" tc rgb '#c00000' front\n", f);
+    }
+    double lo = INFINITY, hi = -INFINITY;
+    for (size_t i = 0; i < r->sample_count; ++i) {
+        const tp_los_sample* s = &p->samples[i];
+        lo = fmin(lo, fmin(isnan(s->ground_m) ? s->line_m : s->ground_m, s->line_m));
+        hi = fmax(hi, fmax(isnan(s->ground_m) ? s->line_m : s->ground_m, s->line_m));
+    }
+    const double pad = fmax(1.0, 0.08 * (hi - lo));
+    fprintf(f, "set yrange [%.3f:%.3f]\nset xrange [0:%.6f]\n", lo - pad, hi + pad,
+            r->distance_m * km);
+    fprintf(f, "plot $ground using 1:2 with filledcurves y=%.3f lc rgb '#d8c8a8' notitle, \\\n",
+            lo - pad);
+    fputs(
+          "  $ground using 1:2 with lines lw 1.5 lc rgb '#6b4f2a' title 'ground (full "
+          "resolution)', \\\n"
+          "  $ground using 1:($4 > 0 ? $2 : 1/0) with points pt 7 ps 0.4 lc rgb '#c00000' "
+          "title 'ground above the sight line', \\\n"
+          "  $line using 1:2 with lines lw 2 lc rgb '#0070c0' title 'sight line (eye to target, "
+          "curvature applied)'\n",
+          f);
+}
+
+int tp_cli_los(int argc, char** argv)
+{
+    los_options o;
+    int code = parse_options(argc, argv, &o);
+    if (code >= 0)
+        return code;
+    tp_position from, to;
+    char msg[TP_POSITION_MSG_SIZE];
+    if (!tp_position_parse(o.from, strlen(o.from), 0, &from, msg, sizeof msg)) {
+        fprintf(stderr, "terrapatch los: --from '%s': %s\n", o.from, msg);
+        return TP_EXIT_USAGE;
+    }
+    if (!tp_position_parse(o.to, strlen(o.to), 0, &to, msg, sizeof msg)) {
+        fprintf(stderr, "terrapatch los: --to '%s': %s\n", o.to, msg);
+        return TP_EXIT_USAGE;
+    }
+    const char* outs[3] = {o.json, o.profile, o.csv};
+    for (int i = 0; i < 3; ++i)
+        if (outs[i] && strcmp(outs[i], "-") && !tp_atomic_check_dir(outs[i]))
+            return TP_EXIT_FAILURE;
+
+    tp_ground* g = NULL;
+    tp_ground_options go = {.cache_dir = o.cache_dir, .cmd = "los"};
+    if ((code = tp_ground_open(o.path, &go, &g)) != TP_EXIT_OK)
+        return code;
+    los_report p;
+    memset(&p, 0, sizeof p);
+    p.o = &o;
+    p.g = g;
+    double fx, fy, tx, ty;
+    char lmsg[1024];
+    if (!tp_ground_locate(g, &from, o.from, &fx, &fy, &p.from_ground_m, lmsg, sizeof lmsg) ||
+        !tp_ground_locate(g, &to, o.to, &tx, &ty, &p.to_ground_m, lmsg, sizeof lmsg)) {
+        fprintf(stderr, "terrapatch los: %s: %s\n", o.path, lmsg);
+        tp_ground_destroy(g);
+        return TP_EXIT_FAILURE;
+    }
+    tp_los_options lo = tp_los_options_default();
+    lo.observer_height_m = o.from_height_m;
+    lo.target_height_m = o.to_height_m;
+    lo.curvature_coeff = o.curvature_coeff;
+    size_t n = tp_los_sample_count(fx, fy, tx, ty, &lo);
+    p.samples = malloc(n * sizeof *p.samples);
+    tp_error err = {{0}};
+    tp_status s = p.samples ? tp_los_compute(tp_ground_scene(g)->info.header.geotransform, fx, fy,
+                                             tx, ty, &lo, ground_height, g, p.samples, n, &p.r,
+                                             &err)
+                            : tp_error_set(&err, TP_ERR_OUT_OF_MEMORY,
+                                           "out of memory for %zu profile samples", n);
+    if (s != TP_OK) {
+        fprintf(stderr, "terrapatch los: %s: %s\n", o.path, err.message);
+        free(p.samples);
+        tp_ground_destroy(g);
+        return TP_EXIT_FAILURE;
+    }
+    tp_ground_grid_latlon(g, fx, fy, &p.from_lat, &p.from_lon);
+    tp_ground_grid_latlon(g, tx, ty, &p.to_lat, &p.to_lon);
+    if (p.r.obstructed)
+        tp_ground_grid_latlon(g, p.r.obstruction_x, p.r.obstruction_y, &p.obs_lat, &p.obs_lon);
+    if (!isnan(p.r.min_clearance_m))
+        tp_ground_grid_latlon(g, p.r.min_clearance_x, p.r.min_clearance_y, &p.min_lat,
+                              &p.min_lon);
+
+    code = TP_EXIT_OK;
+    if (o.json && !strcmp(o.json, "-"))
+        write_json(&p, stdout);
+    else
+        write_text(&p, stdout);
+    if (o.json && strcmp(o.json, "-")) {
+        tp_atomic_file af;
+        if (!tp_atomic_open(&af, o.json)) {
+            code = TP_EXIT_FAILURE;
+        } else {
+            write_json(&p, af.f);
+            if (!tp_atomic_commit(&af))
+                code = TP_EXIT_FAILURE;
+        }
+    }
+    if (o.csv) {
+        tp_atomic_file af;
+        if (!tp_atomic_open(&af, o.csv)) {
+            code = TP_EXIT_FAILURE;
+        } else {
+            write_csv(&p, af.f);
+            if (!tp_atomic_commit(&af))
+                code = TP_EXIT_FAILURE;
+        }
+    }
+    if (o.profile && !tp_gnuplot_png(o.profile, 1400, 600, write_plot, &p, "los"))
+        code = TP_EXIT_FAILURE;
+    free(p.samples);
+    tp_ground_destroy(g);
+    if (tp_interrupted())
+        return tp_cli_interrupted();
+    return code == TP_EXIT_OK ? tp_cli_finish(code) : code;
+}

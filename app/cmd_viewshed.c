@@ -1,0 +1,268 @@
+/*
+ * cmd_viewshed.c - `terrapatch viewshed DEM|STORE --observer POS -o OUT.tif`: which samples of
+ * the render grid an observer sees (issue 13, section 3). The window of the render grid the
+ * radius reaches (the whole grid without a radius, as gdal_viewshed's default -md 0) is read
+ * at its posts through the ground module (the stored samples, as `point` reads them), the core's
+ * tp_viewshed_compute sweeps it, and tp_viewshed_write_geotiff writes it on the render grid's
+ * georeference, atomically.
+ */
+#define _POSIX_C_SOURCE 200809L
+#include "cli.h"
+#include "ground.h"
+#include "ground_locate.h"
+#include "position.h"
+
+#include "tp_core.h"
+#include "tp_io.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+typedef struct viewshed_cli {
+    const char* path;
+    const char* observer;
+    const char* out;
+    const char* cache_dir;
+    double observer_height_m, target_height_m, radius_m, curvature_coeff;
+} viewshed_cli;
+
+static void print_help(void)
+{
+    fputs("usage: terrapatch viewshed DEM|STORE --observer POS -o OUT.tif [--observer-height M]\n"
+          "                           [--target-height M] [--radius M] [--curvature-coeff C]\n"
+          "                           [--cache-dir DIR]\n"
+          "\n"
+          "What an observer at POS sees of the ground of DEM (any raster GDAL reads, built into\n"
+          "the store cache first as 'terrapatch view' does) or of a store (.tpt): a one-band Byte\n"
+          "GeoTIFF on the render grid (the DEM's own grid, or a geographic DEM warped to the\n"
+          "UTM/UPS zone of its centre), 255 where a target on the ground is seen, 0 where it is\n"
+          "not, 0 beyond the radius (gdal_viewshed's values). It covers the window of the grid\n"
+          "the radius reaches around the observer (the whole grid without --radius, as\n"
+          "gdal_viewshed's default) with the grid's georeference. The observer stands on the\n"
+          "nearest post. The algorithm and its agreement with GDAL's are in docs/field.md.\n"
+          "\n"
+          "Conventions are gdal_viewshed's: heights above the ground, every height lowered by\n"
+          "C * d^2 / (2 * 6378137 m) at distance d from the observer (0.85714: curvature with\n"
+          "standard refraction; 1: curvature without refraction; 0: a flat earth).\n"
+          "\n"
+          "options:\n"
+          "  --observer POS         where the observer stands (required; any form 'terrapatch\n"
+          "                         coord' reads, one argument: quote it when it has spaces)\n"
+          "  -o, --output OUT.tif   the GeoTIFF to write (required)\n"
+          "  --observer-height M    eye above the ground (default 2)\n"
+          "  --target-height M      target above the ground (default 0)\n"
+          "  --radius M             how far to look, metres (default 0: the whole grid)\n"
+          "  --curvature-coeff C    curvature and refraction coefficient (default 0.85714)\n"
+          "  --cache-dir DIR        the store cache for a DEM (as 'terrapatch view')\n"
+          "  -h, --help             show this help\n"
+          "\n"
+          "example:\n"
+          "  $ terrapatch viewshed N42E001.hgt --observer 42.5,1.5 --radius 20000 -o seen.tif\n"
+          "\n"
+          "Exit status: 0 written; 1 the DEM cannot be read, the observer is outside it or in a\n"
+          "void, OUT.tif cannot be written (nothing is left behind); 2 usage error.\n",
+          stdout);
+}
+
+static int usage(const char* what)
+{
+    fprintf(stderr, "terrapatch viewshed: %s (see 'terrapatch viewshed --help')\n", what);
+    return TP_EXIT_USAGE;
+}
+
+static const char* option_value(int argc, char** argv, int* i, const char* name)
+{
+    size_t len = strlen(name);
+    if (strncmp(argv[*i], name, len) == 0 && argv[*i][len] == '=')
+        return argv[*i] + len + 1;
+    if (*i + 1 >= argc)
+        return NULL;
+    return argv[++*i];
+}
+
+static int is_option(const char* a, const char* name)
+{
+    size_t len = strlen(name);
+    return !strncmp(a, name, len) && (a[len] == '\0' || a[len] == '=');
+}
+
+static int parse_options(int argc, char** argv, viewshed_cli* o)
+{
+    memset(o, 0, sizeof *o);
+    o->observer_height_m = TP_VIEWSHED_OBSERVER_HEIGHT_M;
+    o->target_height_m = TP_VIEWSHED_TARGET_HEIGHT_M;
+    o->curvature_coeff = TP_VIEWSHED_CURVATURE_COEFF;
+    static const char* const num_opts[] = {"--observer-height", "--target-height", "--radius",
+                                           "--curvature-coeff"};
+    for (int i = 1; i < argc; ++i) {
+        const char* a = argv[i];
+        if (!strcmp(a, "-h") || !strcmp(a, "--help")) {
+            print_help();
+            return tp_cli_finish(TP_EXIT_OK);
+        }
+        if (a[0] != '-' || !a[1]) {
+            if (o->path)
+                return usage("more than one DEM given (quote a position with spaces: "
+                             "--observer \"45.37 -121.69\")");
+            o->path = a;
+            continue;
+        }
+        int done = 0;
+        for (size_t k = 0; k < sizeof num_opts / sizeof num_opts[0] && !done; ++k) {
+            if (!is_option(a, num_opts[k]))
+                continue;
+            const char* v = option_value(argc, argv, &i, num_opts[k]);
+            double d;
+            if (!v || tp_position_decimal(v, &d) != 1 || d < 0.0)
+                return tp_option_error("viewshed", num_opts[k], "a number >= 0", v ? v : ""),
+                       TP_EXIT_USAGE;
+            double* slot[] = {&o->observer_height_m, &o->target_height_m, &o->radius_m,
+                              &o->curvature_coeff};
+            *slot[k] = d;
+            done = 1;
+        }
+        const char** text = is_option(a, "--observer") ? &o->observer
+                            : (is_option(a, "-o") || is_option(a, "--output")) ? &o->out
+                            : is_option(a, "--cache-dir") ? &o->cache_dir
+                                                          : NULL;
+        if (!done && text) {
+            const char* name = is_option(a, "--observer")  ? "--observer"
+                               : is_option(a, "-o")        ? "-o"
+                               : is_option(a, "--output")  ? "--output"
+                                                           : "--cache-dir";
+            if (!(*text = option_value(argc, argv, &i, name))) {
+                fprintf(stderr, "terrapatch viewshed: missing value for %s (see 'terrapatch "
+                                "viewshed --help')\n", name);
+                return TP_EXIT_USAGE;
+            }
+            done = 1;
+        }
+        if (!done) {
+            fprintf(stderr, "terrapatch viewshed: unknown option '%s' (see 'terrapatch viewshed "
+                            "--help')\n", a);
+            return TP_EXIT_USAGE;
+        }
+    }
+    if (!o->path)
+        return usage("missing DEM");
+    if (!o->observer)
+        return usage("missing --observer POS");
+    if (!o->out)
+        return usage("missing -o OUT.tif");
+    return -1;
+}
+
+static double now_s(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return ts.tv_sec + 1e-9 * ts.tv_nsec;
+}
+
+int tp_cli_viewshed(int argc, char** argv)
+{
+    viewshed_cli o;
+    int code = parse_options(argc, argv, &o);
+    if (code >= 0)
+        return code;
+    tp_position pos;
+    char msg[TP_POSITION_MSG_SIZE];
+    if (!tp_position_parse(o.observer, strlen(o.observer), 0, &pos, msg, sizeof msg)) {
+        fprintf(stderr, "terrapatch viewshed: --observer '%s': %s\n", o.observer, msg);
+        return TP_EXIT_USAGE;
+    }
+    tp_error err = {{0}};
+    if (tp_output_check(o.out, &err) != TP_OK) {
+        fprintf(stderr, "terrapatch viewshed: %s\n", err.message);
+        return TP_EXIT_FAILURE;
+    }
+    tp_ground* g = NULL;
+    tp_ground_options go = {.cache_dir = o.cache_dir, .cmd = "viewshed"};
+    if ((code = tp_ground_open(o.path, &go, &g)) != TP_EXIT_OK)
+        return code;
+    const tp_store_scene* sc = tp_ground_scene(g);
+    const tp_tree_geometry* geom = &sc->info.header.geometry;
+    const double* gt = sc->info.header.geotransform;
+    double fx, fy, fh;
+    char lmsg[1024];
+    if (!tp_ground_locate(g, &pos, o.observer, &fx, &fy, &fh, lmsg, sizeof lmsg)) {
+        fprintf(stderr, "terrapatch viewshed: %s: %s\n", o.path, lmsg);
+        tp_ground_destroy(g);
+        return TP_EXIT_FAILURE;
+    }
+    /* the window the radius reaches, as tp_viewshed_compute clips it, on the DEM's posts */
+    const int ox = (int)lround(fx), oy = (int)lround(fy);
+    int x0 = 0, y0 = 0, x1 = geom->src_width - 1, y1 = geom->src_height - 1;
+    if (o.radius_m > 0.0) {
+        const double rx = floor(o.radius_m / fabs(gt[1])), ry = floor(o.radius_m / fabs(gt[5]));
+        if (rx < ox - x0)
+            x0 = ox - (int)rx;
+        if (rx < x1 - ox)
+            x1 = ox + (int)rx;
+        if (ry < oy - y0)
+            y0 = oy - (int)ry;
+        if (ry < y1 - oy)
+            y1 = oy + (int)ry;
+    }
+    const int w = x1 - x0 + 1, h = y1 - y0 + 1;
+    const size_t n = (size_t)w * h;
+    float* z = malloc(n * sizeof *z);
+    uint8_t* seen = malloc(n);
+    tp_status s = z && seen ? TP_OK
+                            : tp_error_set(&err, TP_ERR_OUT_OF_MEMORY,
+                                           "out of memory for a %dx%d window", w, h);
+    const double t0 = now_s();
+    for (int y = 0; y < h && s == TP_OK; ++y)
+        for (int x = 0; x < w && s == TP_OK; ++x) {
+            double v;
+            s = tp_ground_height(g, x0 + x, y0 + y, &v, &err);
+            z[(size_t)y * w + x] = (float)v;
+        }
+    const double t1 = now_s();
+    const double wgt[6] = {gt[0] + x0 * gt[1], gt[1], 0.0, gt[3] + y0 * gt[5], 0.0, gt[5]};
+    tp_viewshed_options vo = tp_viewshed_options_default();
+    vo.observer_height_m = o.observer_height_m;
+    vo.target_height_m = o.target_height_m;
+    vo.curvature_coeff = o.curvature_coeff;
+    vo.radius_m = o.radius_m;
+    if (s == TP_OK)
+        s = tp_viewshed_compute(z, n, w, h, wgt, ox - x0, oy - y0, &vo, seen, n, &err);
+    const double t2 = now_s();
+    if (s == TP_OK)
+        s = tp_viewshed_write_geotiff(o.out, seen, n, w, h, wgt, sc->info.header.crs_wkt, &err);
+    if (s != TP_OK) {
+        if (!tp_interrupted())
+            fprintf(stderr, "terrapatch viewshed: %s: %s\n", o.path, err.message);
+        free(z);
+        free(seen);
+        tp_ground_destroy(g);
+        return tp_interrupted() ? tp_cli_interrupted() : TP_EXIT_FAILURE;
+    }
+    size_t visible = 0, valid = 0;
+    for (size_t i = 0; i < n; ++i) {
+        visible += seen[i] == TP_VIEWSHED_VISIBLE;
+        valid += z[i] == z[i];
+    }
+    double lat, lon;
+    tp_ground_grid_latlon(g, ox, oy, &lat, &lon);
+    printf("observer   %.6f %.6f on post (%d, %d), ground %.1f m, eye %.1f m\n", lat, lon, ox,
+           oy, (double)z[(size_t)(oy - y0) * w + (ox - x0)],
+           z[(size_t)(oy - y0) * w + (ox - x0)] + o.observer_height_m);
+    if (o.radius_m > 0.0)
+        printf("window     %dx%d posts from (%d, %d) (radius %.0f m)\n", w, h, x0, y0,
+               o.radius_m);
+    else
+        printf("window     %dx%d posts: the whole grid (no radius)\n", w, h);
+    printf("seen       %zu of %zu posts with a height (%.1f%%)\n", visible, valid,
+           valid ? 100.0 * visible / valid : 0.0);
+    printf("time       %.1f ms reading the ground, %.1f ms for the viewshed\n",
+           1e3 * (t1 - t0), 1e3 * (t2 - t1));
+    fprintf(stderr, "terrapatch: wrote %s\n", o.out);
+    free(z);
+    free(seen);
+    tp_ground_destroy(g);
+    return tp_cli_finish(TP_EXIT_OK);
+}
