@@ -249,8 +249,54 @@ static int parse_lat_lon(char* a, char* b, tp_position* pos, char* msg)
     return position_from_geo(lat, lon, pos, msg);
 }
 
+/* MGRS written with spaces, as tp_position_mgrs_spaced writes it ("31T CH 76651 00831", also
+ * "31TCH 76651 00831" or "31T CH7665100831"): 2 to 4 fields of letters and digits that start
+ * with a zone (up to 2 digits and a band letter, or a UPS letter) followed by the 100 km square's
+ * letters, in the first field or starting the second (so "n 2000000 2000000", a UPS grid
+ * position, is not one), joined into out. */
+static int join_spaced_mgrs(const fields* f, char* out, size_t cap)
+{
+    if (f->count < 2 || f->count > 4)
+        return 0;
+    const char* z = f->field[0];
+    size_t d = 0;
+    while (isdigit((unsigned char)z[d]))
+        ++d;
+    if (d > 2 || !isalpha((unsigned char)z[d]) ||
+        (d == 0 && !strchr("ABYZabyz", z[0]))) /* no digits: a UPS band */
+        return 0;
+    size_t e = d + 1; /* then the square's 2 letters and digits, or nothing */
+    if (z[e]) {
+        if (!isalpha((unsigned char)z[e]) || !isalpha((unsigned char)z[e + 1]))
+            return 0;
+        for (e += 2; isdigit((unsigned char)z[e]); ++e)
+            ;
+        if (z[e])
+            return 0;
+    } else if (!isalpha((unsigned char)f->field[1][0])) {
+        return 0; /* no square letters: not MGRS */
+    }
+    size_t at = 0;
+    for (int k = 0; k < f->count; ++k) {
+        const char* p = f->field[k];
+        for (const char* c = p; *c; ++c)
+            if (!isalnum((unsigned char)*c))
+                return 0;
+        size_t len = strlen(p);
+        if (at + len + 1 > cap)
+            return 0;
+        memcpy(out + at, p, len);
+        at += len;
+    }
+    out[at] = '\0';
+    return looks_like_mgrs(out);
+}
+
 static int parse_fields(const fields* f, int allow_height, tp_position* pos, char* msg)
 {
+    char joined[64];
+    if (join_spaced_mgrs(f, joined, sizeof joined))
+        return position_from_mgrs(joined, pos, msg);
     char* const* field = f->field;
     char q[QUOTE_LIMIT + 8];
     double a, b, c;

@@ -212,6 +212,21 @@ TEST(mgrs_with_spaces)
     EXPECT_FALSE(tp_position_mgrs_spaced("31T", out, sizeof out));
     EXPECT_FALSE(tp_position_mgrs_spaced("31TCH7665100831", out, 10));
     EXPECT_EQ_STR("keep", out);
+    /* and read back in every spacing, as the one-token form */
+    tp_position a = parse_ok("31TCH7665100831");
+    const char* spaced[] = {"31T CH 76651 00831", "31TCH 76651 00831", "31T CH7665100831",
+                            "31t ch 76651 00831"};
+    for (int i = 0; i < 4; i++) {
+        tp_position b = parse_ok(spaced[i]);
+        EXPECT_EQ_DBL(a.lat_deg, b.lat_deg);
+        EXPECT_EQ_DBL(a.lon_deg, b.lon_deg);
+    }
+    tp_position u = parse_ok("Z AA 00000 33272"); /* UPS north */
+    EXPECT_TRUE(u.lat_deg > 83.0);
+    tp_position g = parse_ok("n 2000000 2000000"); /* a UPS grid position, not MGRS */
+    EXPECT_TRUE(g.has_grid);
+    EXPECT_EQ_DBL(90.0, g.lat_deg);
+    parse_fails("31T CH 7665 00831", 0, "MGRS"); /* easting and northing of different lengths */
 }
 
 #define TESTS(X)                                                                                   \
