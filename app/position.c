@@ -16,7 +16,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define MAX_FIELDS 3   /* most fields a position has; more are only counted */
+#define MAX_FIELDS 4   /* most fields a position has (MGRS with spaces); more are only counted */
 #define QUOTE_LIMIT 40 /* characters of a bad token echoed back */
 
 typedef struct fields {
@@ -256,7 +256,7 @@ static int parse_lat_lon(char* a, char* b, tp_position* pos, char* msg)
  * position, is not one), joined into out. */
 static int join_spaced_mgrs(const fields* f, char* out, size_t cap)
 {
-    if (f->count < 2 || f->count > 4)
+    if (f->count < 2 || f->count > MAX_FIELDS)
         return 0;
     const char* z = f->field[0];
     size_t d = 0;
