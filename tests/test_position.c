@@ -165,7 +165,11 @@ TEST(bad_positions_say_why)
     /* GeographicLib 2.1.2 writes past its arrays on a ':' after the seconds (found by
      * tests/fuzz/fuzz_position): refused before it is called */
     parse_fails("7\"9:58:56W 40:26:46N", 0, "more than 3 components");
-    parse_fails("1:2:3:4 5", 0, "Extra text following seconds");
+    parse_fails("1:2:3:4 5", 0, "more than 3 components");
+    parse_fails("1`41:2:3:4.3424%5 52n", 0, "more than 3 components"); /* fuzz_position */
+    parse_fails("40d26:46 79:58:56W", 0, "more than 3 components"); /* marks and colons */
+    tp_position ok = parse_ok("40:26:46N 79:58:56W");
+    EXPECT_NEAR(ok.lat_deg, LAT_PITTSBURGH, TOL_DEG);
     parse_fails("1''2:3 5", 0, "more than 3 components");
     parse_fails("", 0, "got an empty line");
     parse_fails("1 2 3 4", 0, "got 4 fields");

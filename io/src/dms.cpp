@@ -45,33 +45,21 @@ tp_status failed(tp_error* err, const char* what)
 }
 
 /* GeographicLib 2.1.2's DMS::InternalDecode takes a ':' as "the next component" without
- * checking that there is one: after a seconds component (or two colons) the next ':' writes
- * past its 3-element arrays and reads components_[3] (a crash, found by
- * tests/fuzz/fuzz_position: 7"9:58:56W). Refused here before the call: a ':' where the
- * components seen so far may already be 3. The bound is an upper one: d is the 1st, ' (or a
- * UTF-8 symbol, which GeographicLib may read as any of them, so as the 3rd) the 2nd, " or ''
- * the 3rd, ':' one more than the last. */
+ * checking that there is one: past 3 components the next ':' writes beyond its 3-element
+ * arrays and reads components_[3] (a crash, found by tests/fuzz/fuzz_position: 7"9:58:56W,
+ * then 1`41:2:3:4). Refused here before the call, by a rule that does not need to know how
+ * GeographicLib counts: colons only in the pure colon form, at most two of them (d:m:s). Any
+ * symbol it reads as a degree, minute or second mark (d D ' ` " * and every non-ASCII byte,
+ * since it maps UTF-8 marks to those) next to a ':' is refused, as are 3 or more colons. */
 bool colon_past_seconds(const char* s)
 {
-    int pieces = 0;
+    int colons = 0, marks = 0;
     for (const unsigned char* p = (const unsigned char*)s; *p; ++p) {
         unsigned char c = *p;
-        if (c == 'd' || c == 'D') {
-            pieces = pieces > 1 ? pieces : 1;
-        } else if (c == '\'' && p[1] == '\'') {
-            pieces = 3;
-            ++p;
-        } else if (c == '\'') {
-            pieces = pieces > 2 ? pieces : 2;
-        } else if (c == '"' || c >= 0x80) {
-            pieces = 3;
-        } else if (c == ':') {
-            if (pieces >= 3)
-                return true;
-            ++pieces;
-        }
+        colons += c == ':';
+        marks += c >= 0x80 || std::strchr("dD'`\"*", c) != nullptr;
     }
-    return false;
+    return colons > 2 || (colons > 0 && marks > 0);
 }
 
 } // namespace
@@ -94,7 +82,8 @@ extern "C" tp_status tp_dms_decode_latlon(const char* a, const char* b, double* 
             return TP_ERR_INVALID_ARG;
         }
         if (colon_past_seconds(s)) {
-            set_error(err, "%s: more than 3 components (degrees, minutes, seconds)", s);
+            set_error(err, "%s: more than 3 components (degrees, minutes, seconds), or colons "
+                           "mixed with degree, minute or second marks", s);
             return TP_ERR_INVALID_ARG;
         }
     }
