@@ -41,7 +41,8 @@ typedef struct tp_features {
     char* strings;       /* the names' storage */
 } tp_features;
 
-/* Frees a set made by any function here; accepts NULL. */
+/* Frees a set made by any function here (the set and its three arrays, each from malloc);
+ * accepts NULL. */
 void tp_features_destroy(tp_features* f);
 
 #ifdef __cplusplus
