@@ -18,6 +18,7 @@
     X(agrees_with_gdal_on_mt_hood)                                                                 \
     X(agrees_with_gdal_on_n42e001)                                                                 \
     X(observer_at_the_grid_edge_agrees_with_gdal)                                                  \
+    X(exact_near_the_observer_agrees_with_r3)                                                      \
     X(geotiff_round_trip)                                                                          \
     X(geotiff_in_a_missing_folder_writes_nothing)
 
@@ -277,6 +278,7 @@ static void check_dem(const char* file, double radius_m)
     tp_render_grid* g = grid_or_skip(file);
     tp_viewshed_options o = tp_viewshed_options_default();
     o.radius_m = radius_m;
+    o.exact_radius_px = 0; /* GDAL's GVM_Edge everywhere: the same propagation as GDAL's */
     int xs[3], ys[3];
     xs[0] = g->width / 2;
     ys[0] = g->height / 2;
@@ -597,6 +599,7 @@ TEST(observer_at_the_grid_edge_agrees_with_gdal)
 {
     tp_render_grid* g = grid_or_skip("lf_elev_220_mt_hood_utm.tif");
     tp_viewshed_options o = tp_viewshed_options_default();
+    o.exact_radius_px = 0; /* GDAL's propagation */
     /* the first valid sample from the middle of each edge: west, east, north, south */
     for (int side = 0; side < 4; ++side) {
         int x = -1, y = -1;
@@ -615,6 +618,73 @@ TEST(observer_at_the_grid_edge_agrees_with_gdal)
         ASSERT_TRUE(x == 0 || x == g->width - 1 || y == 0 || y == g->height - 1);
         check_observer("mt hood edge", g, x, y, &o);
     }
+    tp_render_grid_destroy(g);
+}
+
+/* ---------------------------------------------------------------------------------------------
+ * Exact near the observer (exact_radius_px)
+ */
+
+/* R3's answer on every sample within the exact square (the same definition: ours may differ
+ * only on sight lines that graze, within float rounding), and against R3 on random samples
+ * within radius_m better than interpolating everywhere. Prints the shares per exact radius. */
+static void check_exact(const char* what, const tp_render_grid* g, int ox, int oy,
+                        double radius_m)
+{
+    const int w = g->width, h = g->height, radii[4] = {0, 32, 64, 128};
+    double right[4];
+    for (int k = 0; k < 4; ++k) {
+        tp_viewshed_options o = tp_viewshed_options_default();
+        o.radius_m = radius_m;
+        o.exact_radius_px = radii[k];
+        uint8_t* v = viewshed_ok(g->heights, w, h, g->geotransform, ox, oy, &o);
+        tp_rng rng = tp_rng_seed(0xe8ac7);
+        const int rpx = (int)(radius_m / fabs(g->geotransform[1]));
+        size_t sampled = 0, ok = 0, inner = 0, inner_ok = 0;
+        while (sampled < 4000) {
+            int x = ox - rpx + (int)(tp_rng_unit(&rng) * (2 * rpx + 1));
+            int y = oy - rpx + (int)(tp_rng_unit(&rng) * (2 * rpx + 1));
+            if (x < 0 || y < 0 || x >= w || y >= h || g->heights[(size_t)y * w + x] !=
+                                                        g->heights[(size_t)y * w + x] ||
+                hypot((x - ox) * g->geotransform[1], (y - oy) * g->geotransform[5]) > radius_m)
+                continue;
+            sampled++;
+            ok += r3_visible(g->heights, w, g->geotransform, ox, oy, x, y, &o) ==
+                  (v[(size_t)y * w + x] == TP_VIEWSHED_VISIBLE);
+        }
+        /* every sample of the exact square */
+        for (int y = oy - radii[k]; y <= oy + radii[k]; ++y)
+            for (int x = ox - radii[k]; x <= ox + radii[k]; ++x) {
+                if (x < 0 || y < 0 || x >= w || y >= h || g->heights[(size_t)y * w + x] !=
+                                                            g->heights[(size_t)y * w + x])
+                    continue;
+                inner++;
+                inner_ok += r3_visible(g->heights, w, g->geotransform, ox, oy, x, y, &o) ==
+                            (v[(size_t)y * w + x] == TP_VIEWSHED_VISIBLE);
+            }
+        right[k] = (double)ok / sampled;
+        tp_test_note("%s, exact within %d posts: R3 agrees on %.2f%% of 4000 random samples "
+                     "within %.0f km, on %zu of %zu in the exact square",
+                     what, radii[k], 100.0 * right[k], radius_m / 1000, inner_ok, inner);
+        EXPECT_GE((double)inner_ok, 0.999 * (double)inner);
+        free(v);
+    }
+    EXPECT_EQ_INT(TP_VIEWSHED_EXACT_RADIUS_PX, radii[2]);
+    EXPECT_GE(right[2], right[0]); /* the default does not do worse than interpolation */
+}
+
+TEST(exact_near_the_observer_agrees_with_r3)
+{
+    tp_render_grid* g = grid_or_skip("N42E001.hgt");
+    int x = g->width / 2, y = g->height / 2;
+    valid_near(g, &x, &y);
+    check_exact("N42E001 centre", g, x, y, 15000.0);
+    summit(g, &x, &y);
+    check_exact("N42E001 summit", g, x, y, 15000.0);
+    tp_render_grid_destroy(g);
+    g = grid_or_skip("lf_elev_220_mt_hood_utm.tif");
+    summit(g, &x, &y);
+    check_exact("Mt Hood summit", g, x, y, 10000.0);
     tp_render_grid_destroy(g);
 }
 

@@ -1010,6 +1010,12 @@ int tp_cut_keep_above(const tp_cut* c, double position[3], double clearance_m);
 #define TP_VIEWSHED_OBSERVER_HEIGHT_M 2.0
 #define TP_VIEWSHED_TARGET_HEIGHT_M 0.0
 #define TP_VIEWSHED_CURVATURE_COEFF 0.85714
+/* Within this many posts of the observer (Chebyshev) a sample gets the exact horizon of its
+ * sight line instead of the interpolated one, and the sweep carries on from those: XDraw's
+ * interpolation errs most where the rings are short (a ridge a few posts away smeared across a
+ * whole sector behind it), and the exact test there costs about (2K+1)^2 * K steps (1 M for
+ * 64, about 2 ms). docs/field.md "Exact near the observer" gives the measured effect. */
+#define TP_VIEWSHED_EXACT_RADIUS_PX 64
 
 typedef struct tp_viewshed_options {
     double observer_height_m; /* eye above the ground at the observer's sample, >= 0 */
@@ -1018,10 +1024,15 @@ typedef struct tp_viewshed_options {
     double radius_m;          /* samples further than this are TP_VIEWSHED_OUTSIDE; 0: no limit */
     double earth_radius_m;    /* the sphere of the curvature term (GDAL: the CRS's semi-major
                                  axis); 0 means WGS84's 6378137 m */
+    int exact_radius_px;      /* >= 0: samples within this many posts (Chebyshev) get the exact
+                                 horizon (R3: the ground linear between the posts where the
+                                 sight line crosses each grid line); 0: interpolated everywhere,
+                                 exactly GDAL's GVM_Edge */
 } tp_viewshed_options;
 
-/* gdal_viewshed's defaults: 2 m, 0 m, 0.85714, no radius limit, WGS84's semi-major axis.
- * (A zeroed struct is valid too: an eye on the ground, a flat earth.) */
+/* gdal_viewshed's defaults: 2 m, 0 m, 0.85714, no radius limit, WGS84's semi-major axis; exact
+ * within TP_VIEWSHED_EXACT_RADIUS_PX. (A zeroed struct is valid too: an eye on the ground, a
+ * flat earth, GDAL's interpolation everywhere.) */
 tp_viewshed_options tp_viewshed_options_default(void);
 
 /* Computes the viewshed of an observer standing on sample (observer_x, observer_y) (column,

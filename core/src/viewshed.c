@@ -39,6 +39,7 @@ tp_viewshed_options tp_viewshed_options_default(void)
     o.curvature_coeff = TP_VIEWSHED_CURVATURE_COEFF;
     o.radius_m = 0.0;
     o.earth_radius_m = WGS84_SEMI_MAJOR_M;
+    o.exact_radius_px = TP_VIEWSHED_EXACT_RADIUS_PX;
     return o;
 }
 
@@ -53,8 +54,53 @@ typedef struct {
     double k_curv;       /* curvature_coeff / earth diameter (1/m) */
     double r2;           /* radius squared (m^2); DBL_MAX when unlimited */
     double sx2, sy2;     /* squared post spacings */
+    int exact;           /* samples with max(|dx|, |dy|) <= exact get the exact horizon */
     uint8_t* out;
 } sweep;
+
+/* The exact horizon of the sight line from the observer to sample (x, y), at distance^2 d2:
+ * the highest of the ground (relative to the eye, curvature-corrected) where the line crosses
+ * each grid line between them, linear between the two posts there, scaled to the sample's
+ * distance (a height on the cone through the eye, as H). Crossings next to nodata block
+ * nothing (nodata is seen through). -DBL_MAX when no crossing has ground. */
+static double exact_horizon(const sweep* s, int x, int y, double d2)
+{
+    const int dx = x - s->ox, dy = y - s->oy;
+    const int ax = dx < 0 ? -dx : dx, ay = dy < 0 ? -dy : dy;
+    const int sx = dx < 0 ? -1 : 1, sy = dy < 0 ? -1 : 1;
+    double best = -DBL_MAX;
+    /* vertical grid lines x = ox + i (the line between rows yc and yc + sy there) */
+    for (int i = 1; i < ax; ++i) {
+        const double t = (double)i / ax, fy = t * ay;
+        const int j = (int)fy;
+        const double f = fy - j;
+        const float* a = s->heights + (size_t)(s->oy + sy * j) * s->width + s->ox + sx * i;
+        const double za = a[0], zb = f > 0.0 ? a[(ptrdiff_t)sy * s->width] : za;
+        if (za != za || zb != zb)
+            continue;
+        const double dc2 = t * t * d2;
+        const double h = za + f * (zb - za) - s->eye_m - s->k_curv * dc2;
+        const double scaled = h / t;
+        if (scaled > best)
+            best = scaled;
+    }
+    /* horizontal grid lines y = oy + j */
+    for (int j = 1; j < ay; ++j) {
+        const double t = (double)j / ay, fx = t * ax;
+        const int i = (int)fx;
+        const double f = fx - i;
+        const float* a = s->heights + (size_t)(s->oy + sy * j) * s->width + s->ox + sx * i;
+        const double za = a[0], zb = f > 0.0 ? a[sx] : za;
+        if (za != za || zb != zb)
+            continue;
+        const double dc2 = t * t * d2;
+        const double h = za + f * (zb - za) - s->eye_m - s->k_curv * dc2;
+        const double scaled = h / t;
+        if (scaled > best)
+            best = scaled;
+    }
+    return best;
+}
 
 /* Fills row y (|y - oy| = ay) of cur from prev (the row one step nearer the observer; unused
  * when ay == 0). H arrays are indexed by column - x0. */
@@ -99,6 +145,10 @@ static void sweep_row(const sweep* s, int y, int ay, const double* prev, double*
                 horizon = own == own ? -DBL_MAX : NO_HORIZON_SLOPE;
             } else if (ay == 0) {
                 horizon = cur[i - dir] * ax / (ax - 1);
+            } else if (ax <= s->exact && ay <= s->exact) {
+                horizon = exact_horizon(s, x, y, d2);
+                if (horizon == -DBL_MAX && own != own)
+                    horizon = NO_HORIZON_SLOPE;
             } else if (ax >= ay) {
                 /* crosses the previous column between the diagonal and the row neighbour */
                 horizon = (prev[i - dir] * ay + cur[i - dir] * (ax - ay)) / (ax - 1);
@@ -159,6 +209,11 @@ tp_status tp_viewshed_compute(const float* heights, size_t height_count, int wid
         return tp_error_set(err, TP_ERR_INVALID_ARG,
                             "viewshed: radius %g m, expected a finite distance >= 0 (0: no limit)",
                             o->radius_m);
+    if (o->exact_radius_px < 0)
+        return tp_error_set(err, TP_ERR_INVALID_ARG,
+                            "viewshed: exact radius %d posts, expected >= 0 (0: interpolated "
+                            "everywhere)",
+                            o->exact_radius_px);
     if (!finite_d(o->earth_radius_m) || o->earth_radius_m < 0.0)
         return tp_error_set(err, TP_ERR_INVALID_ARG,
                             "viewshed: earth radius %g m, expected a finite radius > 0 (0: WGS84)",
@@ -186,6 +241,7 @@ tp_status tp_viewshed_compute(const float* heights, size_t height_count, int wid
     s.sx2 = gt[1] * gt[1];
     s.sy2 = gt[5] * gt[5];
     s.r2 = o->radius_m > 0.0 ? o->radius_m * o->radius_m : DBL_MAX;
+    s.exact = o->exact_radius_px;
     s.out = out;
 
     /* the window the radius reaches (samples within it may still be beyond the radius) */
