@@ -183,6 +183,15 @@ TEST(geopackage_epsg4326_axis_order)
     expect_name(&f->items[0], "Andorra la Vella"); /* the field is "NAME": any case */
     expect_vertex(f, 0, 0, 42.50630, 1.52180);
     tp_features_destroy(f);
+    /* a latitude-first target (EPSG:4326 itself): still E (longitude) first in xy. OGR's
+     * drivers already give their layers the traditional order, so only the target's setting
+     * is seen here (the source's is kept for layers that come without it) */
+    wkt = epsg_wkt(4326);
+    ASSERT_OK(tp_vector_read(path, wkt, &f, &err));
+    CPLFree(wkt);
+    EXPECT_NEAR(1.52180, f->xy[0], 1e-9);
+    EXPECT_NEAR(42.50630, f->xy[1], 1e-9);
+    tp_features_destroy(f);
 }
 
 /* A projected source: ETRS89 / UTM 31N to WGS 84 / UTM 31N (the same numbers within a metre:
