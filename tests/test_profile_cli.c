@@ -1,0 +1,396 @@
+/*
+ * test_profile_cli.c - `terrapatch profile` (app/cmd_profile.c) run as a child on stores it
+ * builds, its figures measured again here:
+ *   - the GPX track of data/vectors over N42E001: the track's latitude/longitude read here
+ *     with OGR's C API, put into UTM 31N with GeographicLib (tp_geo_to_utmups, not OGR/PROJ),
+ *     every leg split into equal pieces no longer than the grid spacing, the heights asked of
+ *     the ground (app/ground.c on the same store); lengths 2D and 3D, climb, descent, lowest,
+ *     highest, steepest from those; the ellipsoidal length from GeographicLib's geodesics; the
+ *     start against GDAL's own reading of the .hgt;
+ *   - bad input: an unreadable file, an empty GPX, a file without a line, a --feature beyond
+ *     the lines, a route across a void (N42E001's warp collar), a route leaving the DEM
+ *     (storml_elev.tif, which has no collar): exit 1, a message naming the file, nothing written.
+ */
+#define _POSIX_C_SOURCE 200809L
+
+#include "tp_test.h"
+#include "tp_geo.h"
+#include "tp_io.h"
+
+#include "tp_test_child.h"
+
+#include "ground.h"
+#include "store_scene.h"
+
+#include <gdal.h>
+#include <ogr_api.h>
+
+#include <dirent.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+static char g_dir[64];
+
+static const char* tmp_dir(void)
+{
+    if (!g_dir[0]) {
+        strcpy(g_dir, "/tmp/tp_test_profileXXXXXX");
+        if (!mkdtemp(g_dir))
+            FAIL("mkdtemp failed");
+    }
+    return g_dir;
+}
+
+static void read_text(const char* path, char* buf, size_t cap)
+{
+    FILE* f = fopen(path, "r");
+    if (!f)
+        FAIL("cannot open %s", path);
+    size_t got = fread(buf, 1, cap - 1, f);
+    buf[got] = '\0';
+    fclose(f);
+}
+
+/* The number after the first "key": at or after from. */
+static double json_number_after(const char* json, const char* from, const char* key)
+{
+    const char* start = from ? strstr(json, from) : json;
+    if (!start)
+        FAIL("no %s in %s", from, json);
+    char pat[64];
+    snprintf(pat, sizeof pat, "\"%s\": ", key);
+    const char* p = strstr(start, pat);
+    if (!p)
+        FAIL("no key %s in %s", key, json);
+    p += strlen(pat);
+    if (!strncmp(p, "null", 4))
+        return NAN;
+    return strtod(p, NULL);
+}
+
+/* Builds dem (shared data) into a store in the temporary folder; its path in store. */
+static void build_store(const char* dem_file, char* dem, size_t dem_cap, char* store,
+                        size_t store_cap)
+{
+    if (!tp_test_data_path(dem, dem_cap, "TP_SHARED_DATA_DIR", dem_file))
+        SKIP("%s not found (set TP_SHARED_DATA_DIR)", dem_file);
+    snprintf(store, store_cap, "%s/%s.tpt", tmp_dir(), dem_file);
+    char err[4096];
+    const char* args[] = {dem, "-o", store, "--quiet", NULL};
+    ASSERT_EQ_INT(0, tp_test_run_terrapatch("build", args, err, sizeof err));
+}
+
+/* Runs `terrapatch profile store --route route [extra] --json J --csv C --png P` in the
+ * temporary folder (out.json, out.csv, out.png). */
+static int run_profile(const char* store, const char* route, const char* const* extra, char* err,
+                       size_t err_cap)
+{
+    char json[256], csv[256], png[256];
+    snprintf(json, sizeof json, "%s/out.json", tmp_dir());
+    snprintf(csv, sizeof csv, "%s/out.csv", tmp_dir());
+    snprintf(png, sizeof png, "%s/out.png", tmp_dir());
+    remove(json);
+    remove(csv);
+    remove(png);
+    const char* args[24] = {store, "--route", route, "--json", json, "--csv", csv};
+    int n = 7;
+    for (int i = 0; extra && extra[i]; ++i)
+        args[n++] = extra[i];
+    args[n] = NULL;
+    return tp_test_run_terrapatch("profile", args, err, err_cap);
+}
+
+static int nothing_named(const char* prefix)
+{
+    DIR* d = opendir(tmp_dir());
+    ASSERT_TRUE(d != NULL);
+    int found = 0;
+    for (struct dirent* e; (e = readdir(d));)
+        found |= !strncmp(e->d_name, prefix, strlen(prefix));
+    closedir(d);
+    return !found;
+}
+
+/* The track's vertices (lat, lon) as typed in the GPX, read with OGR here. */
+static size_t gpx_track(const char* path, double* lat, double* lon, size_t cap)
+{
+    GDALAllRegister();
+    GDALDatasetH ds = GDALOpenEx(path, GDAL_OF_VECTOR, NULL, NULL, NULL);
+    ASSERT_TRUE(ds != NULL);
+    OGRLayerH layer = GDALDatasetGetLayerByName(ds, "tracks");
+    ASSERT_TRUE(layer != NULL);
+    OGRFeatureH f = OGR_L_GetNextFeature(layer);
+    ASSERT_TRUE(f != NULL);
+    OGRGeometryH ml = OGR_F_GetGeometryRef(f);
+    ASSERT_EQ_INT(1, OGR_G_GetGeometryCount(ml));
+    OGRGeometryH line = OGR_G_GetGeometryRef(ml, 0);
+    size_t n = (size_t)OGR_G_GetPointCount(line);
+    ASSERT_TRUE(n <= cap);
+    for (size_t i = 0; i < n; ++i) {
+        lon[i] = OGR_G_GetX(line, (int)i);
+        lat[i] = OGR_G_GetY(line, (int)i);
+    }
+    OGR_F_Destroy(f);
+    GDALClose(ds);
+    return n;
+}
+
+typedef struct measured {
+    size_t samples;
+    double len2, len3, climb, descent, lo, hi, steep_pct, steep_from_m, geodesic;
+} measured;
+
+/* The route measured on the ground here (see the file's comment). */
+static measured measure_here(tp_ground* g, const double* lat, const double* lon, size_t nv)
+{
+    const tp_store_scene* sc = tp_ground_scene(g);
+    const double step = fabs(sc->info.header.geotransform[1]);
+    measured m = {0};
+    m.lo = INFINITY;
+    m.hi = -INFINITY;
+    double e[64], n[64];
+    ASSERT_TRUE(nv <= 64);
+    for (size_t i = 0; i < nv; ++i) {
+        int zone, northp;
+        ASSERT_OK(tp_geo_to_utmups(lat[i], lon[i], &zone, &northp, &e[i], &n[i], NULL));
+        ASSERT_EQ_INT(31, zone);
+        if (i) {
+            double a1, a2, s;
+            ASSERT_OK(tp_geodesic_inverse(lat[i - 1], lon[i - 1], lat[i], lon[i], &a1, &a2, &s,
+                                          NULL));
+            m.geodesic += s;
+        }
+    }
+    double prev_h = NAN, prev_d = 0.0, d0 = 0.0, best = -1.0;
+    for (size_t i = 0; i + 1 < nv; ++i) {
+        double len = hypot(e[i + 1] - e[i], n[i + 1] - n[i]);
+        int pieces = (int)ceil(len / step);
+        if (pieces < 1)
+            pieces = 1;
+        for (int j = 0; j <= pieces; ++j) {
+            if (j == pieces && i + 2 < nv)
+                break; /* the next leg starts there */
+            double t = (double)j / pieces;
+            double x, y, h, d = d0 + t * len;
+            tp_tree_world_to_grid(sc->tree, e[i] + t * (e[i + 1] - e[i]),
+                                  n[i] + t * (n[i + 1] - n[i]), &x, &y);
+            ASSERT_OK(tp_ground_height(g, x, y, &h, NULL));
+            ASSERT_FALSE(isnan(h));
+            m.samples++;
+            m.lo = fmin(m.lo, h);
+            m.hi = fmax(m.hi, h);
+            if (!isnan(prev_h)) {
+                double dd = d - prev_d, dh = h - prev_h;
+                m.len2 += dd;
+                m.len3 += sqrt(dd * dd + dh * dh);
+                m.climb += fmax(0.0, dh);
+                m.descent += fmax(0.0, -dh);
+                if (fabs(dh) / dd > best) {
+                    best = fabs(dh) / dd;
+                    m.steep_pct = 100.0 * dh / dd;
+                    m.steep_from_m = prev_d;
+                }
+            }
+            prev_h = h;
+            prev_d = d;
+        }
+        d0 += len;
+    }
+    return m;
+}
+
+/* GDAL's own nearest sample of the .hgt at (lat, lon). */
+static double hgt_sample(const char* hgt, double lat, double lon)
+{
+    GDALDatasetH ds = GDALOpen(hgt, GA_ReadOnly);
+    ASSERT_TRUE(ds != NULL);
+    double gt[6];
+    GDALGetGeoTransform(ds, gt);
+    int c = (int)floor((lon - gt[0]) / gt[1]), r = (int)floor((lat - gt[3]) / gt[5]);
+    float v;
+    ASSERT_TRUE(GDALRasterIO(GDALGetRasterBand(ds, 1), GF_Read, c, r, 1, 1, &v, 1, 1,
+                             GDT_Float32, 0, 0) == CE_None);
+    GDALClose(ds);
+    return v;
+}
+
+TEST(gpx_track_figures_match_an_independent_measure)
+{
+    char dem[1024], store[256], gpx[1024], err[4096], json[8192], path[256];
+    build_store("N42E001.hgt", dem, sizeof dem, store, sizeof store);
+    REQUIRE_DATA_FILE(gpx, "TP_SAMPLE_DATA_DIR", "vectors/coma_pedrosa.gpx");
+    const char* png_args[] = {"--png", NULL, NULL};
+    char png[256];
+    snprintf(png, sizeof png, "%s/out.png", tmp_dir());
+    png_args[1] = png;
+    int have_gnuplot = access("/usr/bin/gnuplot", X_OK) == 0;
+    ASSERT_EQ_INT(0, run_profile(store, gpx, have_gnuplot ? png_args : NULL, err, sizeof err));
+    snprintf(path, sizeof path, "%s/out.json", tmp_dir());
+    read_text(path, json, sizeof json);
+
+    double lat[64], lon[64];
+    size_t nv = gpx_track(gpx, lat, lon, 64);
+    ASSERT_EQ_INT(7, (int)nv);
+    tp_store_scene sc;
+    ASSERT_EQ_INT(0, tp_store_scene_open(store, &sc));
+    tp_ground* g = NULL;
+    ASSERT_OK(tp_ground_create(&sc, NULL, &g, NULL));
+    measured m = measure_here(g, lat, lon, nv);
+    tp_ground_destroy(g);
+    tp_store_scene_close(&sc);
+
+    EXPECT_EQ_INT((int)m.samples, (int)json_number_after(json, NULL, "samples"));
+    EXPECT_EQ_INT(7, (int)json_number_after(json, NULL, "vertices"));
+    EXPECT_NEAR(m.len2, json_number_after(json, NULL, "length_2d_m"), 1e-3);
+    EXPECT_NEAR(m.len3, json_number_after(json, NULL, "length_3d_m"), 1e-3);
+    EXPECT_NEAR(m.geodesic, json_number_after(json, NULL, "length_geodesic_m"), 1e-3);
+    EXPECT_NEAR(m.climb, json_number_after(json, NULL, "climb_m"), 1e-3);
+    EXPECT_NEAR(m.descent, json_number_after(json, NULL, "descent_m"), 1e-3);
+    EXPECT_NEAR(m.lo, json_number_after(json, NULL, "min_elevation_m"), 1e-3);
+    EXPECT_NEAR(m.hi, json_number_after(json, NULL, "max_elevation_m"), 1e-3);
+    EXPECT_NEAR(m.steep_pct, json_number_after(json, "\"steepest\"", "grade_pct"), 1e-3);
+    EXPECT_NEAR(m.steep_from_m, json_number_after(json, "\"steepest\"", "from_distance_m"), 1e-3);
+    /* the map's length is the ellipsoid's times the UTM scale near lon 1.46 (0.99977 at 1.54
+     * degrees from the central meridian) */
+    EXPECT_NEAR(m.len2 / m.geodesic, 0.9996 * (1.0 + pow(1.54 * 3.14159265358979 / 180.0 * 0.7365, 2) / 2),
+                2e-5);
+    /* climb minus descent is the height gained end to end */
+    EXPECT_NEAR(m.climb - m.descent,
+                json_number_after(json, "\"end\"", "elevation_m") -
+                    json_number_after(json, "\"start\"", "elevation_m"),
+                1e-6);
+    /* the start on the ground, and against GDAL's nearest post of the .hgt (3" posts) */
+    EXPECT_NEAR(lat[0], json_number_after(json, "\"start\"", "lat"), 1e-7);
+    EXPECT_NEAR(lon[0], json_number_after(json, "\"start\"", "lon"), 1e-7);
+    EXPECT_NEAR(hgt_sample(dem, lat[0], lon[0]),
+                json_number_after(json, "\"start\"", "elevation_m"), 20.0);
+    tp_test_note("Arinsal -> Coma Pedrosa: %.1f m 3D, %.1f m 2D, %.1f m ellipsoid, +%.1f / -%.1f "
+                 "m, %.1f..%.1f m, steepest %+.1f %%, %zu samples",
+                 m.len3, m.len2, m.geodesic, m.climb, m.descent, m.lo, m.hi, m.steep_pct,
+                 m.samples);
+    EXPECT_GT(m.climb, 1000.0);
+    /* the CSV: a header and one row per sample, the last at the 2D length */
+    char csv[65536];
+    snprintf(path, sizeof path, "%s/out.csv", tmp_dir());
+    read_text(path, csv, sizeof csv);
+    size_t rows = 0;
+    for (const char* c = csv; *c; ++c)
+        rows += *c == '\n';
+    EXPECT_EQ_INT((int)m.samples + 1, (int)rows);
+    EXPECT_CONTAINS(csv, "distance_m,e_m,n_m,lat,lon,elevation_m,grade_pct\n0.000,");
+    const char* last = csv + strlen(csv) - 2;
+    while (last > csv && *last != '\n')
+        --last;
+    EXPECT_NEAR(m.len2, strtod(last + 1, NULL), 1e-3);
+    if (have_gnuplot) {
+        char head[8] = {0};
+        FILE* f = fopen(png, "rb");
+        ASSERT_TRUE(f != NULL);
+        ASSERT_EQ_INT(8, (int)fread(head, 1, 8, f));
+        fclose(f);
+        EXPECT_TRUE(!memcmp(head, "\x89PNG", 4));
+    }
+}
+
+/* Writes a GeoJSON LineString (lat, lon pairs) as name in the temporary folder. */
+static void write_line(const char* name, const double* lat, const double* lon, int n,
+                       char* path, size_t cap)
+{
+    snprintf(path, cap, "%s/%s", tmp_dir(), name);
+    FILE* f = fopen(path, "w");
+    ASSERT_TRUE(f != NULL);
+    fputs("{\"type\":\"FeatureCollection\",\"features\":[{\"type\":\"Feature\",\"properties\":"
+          "{\"name\":\"test\"},\"geometry\":{\"type\":\"LineString\",\"coordinates\":[",
+          f);
+    for (int i = 0; i < n; ++i)
+        fprintf(f, "%s[%.9f,%.9f]", i ? "," : "", lon[i], lat[i]);
+    fputs("]}}]}\n", f);
+    fclose(f);
+}
+
+TEST(bad_routes_exit_1_and_write_nothing)
+{
+    char dem[1024], store[256], err[4096], path[1024], route[256];
+    build_store("N42E001.hgt", dem, sizeof dem, store, sizeof store);
+    const char* files[] = {"vectors/empty.gpx", "vectors/tristaina.geojson"};
+    const char* says[] = {"no features", "has no line to follow (0 points, 2 polygon rings)"};
+    for (int i = 0; i < 2; ++i) {
+        REQUIRE_DATA_FILE(path, "TP_SAMPLE_DATA_DIR", files[i]);
+        EXPECT_EQ_INT(1, run_profile(store, path, NULL, err, sizeof err));
+        EXPECT_CONTAINS(err, path);
+        EXPECT_CONTAINS(err, says[i]);
+        EXPECT_TRUE(nothing_named("out."));
+    }
+    /* not a vector file */
+    EXPECT_EQ_INT(1, run_profile(store, dem, NULL, err, sizeof err));
+    EXPECT_CONTAINS(err, "OGR cannot open it as a vector file");
+    EXPECT_CONTAINS(err, "N42E001.hgt");
+    EXPECT_TRUE(nothing_named("out."));
+    /* the second line of a file with one */
+    REQUIRE_DATA_FILE(path, "TP_SAMPLE_DATA_DIR", "vectors/coma_pedrosa.gpx");
+    const char* second[] = {"--feature", "2", NULL};
+    EXPECT_EQ_INT(1, run_profile(store, path, second, err, sizeof err));
+    EXPECT_CONTAINS(err, "--feature 2");
+    EXPECT_CONTAINS(err, "has 1 line");
+    EXPECT_TRUE(nothing_named("out."));
+
+    /* across a void: from the tile's centre to the collar the warp leaves south-west of it
+     * (the render grid's corner post, outside the tile: no height, found on the ground here) */
+    tp_store_scene sc;
+    ASSERT_EQ_INT(0, tp_store_scene_open(store, &sc));
+    tp_ground* g = NULL;
+    ASSERT_OK(tp_ground_create(&sc, NULL, &g, NULL));
+    const int w = sc.info.header.geometry.src_width, h = sc.info.header.geometry.src_height;
+    double corner_h, e, n, lat[2] = {42.5, 0}, lon[2] = {1.5, 0};
+    ASSERT_OK(tp_ground_height(g, 0.0, h - 1.0, &corner_h, NULL));
+    ASSERT_NAN(corner_h);
+    tp_tree_grid_to_world(sc.tree, 0.0, h - 1.0, &e, &n);
+    ASSERT_OK(tp_georef_proj_to_geo(sc.georef, e, n, &lat[1], &lon[1], NULL));
+    EXPECT_LT(lat[1], 42.0); /* south of the tile */
+    tp_ground_destroy(g);
+    tp_store_scene_close(&sc);
+    write_line("void.geojson", lat, lon, 2, route, sizeof route);
+    EXPECT_EQ_INT(1, run_profile(store, route, NULL, err, sizeof err));
+    EXPECT_CONTAINS(err, "void.geojson");
+    EXPECT_CONTAINS(err, "crosses a void at");
+    EXPECT_CONTAINS(err, "nothing written");
+    EXPECT_TRUE(nothing_named("out."));
+    (void)w;
+}
+
+TEST(route_leaving_the_dem_exits_1)
+{
+    char dem[1024], store[256], err[4096], route[256];
+    build_store("storml_elev.tif", dem, sizeof dem, store, sizeof store);
+    tp_store_scene sc;
+    ASSERT_EQ_INT(0, tp_store_scene_open(store, &sc));
+    const int w = sc.info.header.geometry.src_width, h = sc.info.header.geometry.src_height;
+    double lat[2], lon[2], e, n;
+    /* from the centre post to 20 posts east of the last column */
+    tp_tree_grid_to_world(sc.tree, w / 2, h / 2, &e, &n);
+    ASSERT_OK(tp_georef_proj_to_geo(sc.georef, e, n, &lat[0], &lon[0], NULL));
+    tp_tree_grid_to_world(sc.tree, w + 20.0, h / 2, &e, &n);
+    ASSERT_OK(tp_georef_proj_to_geo(sc.georef, e, n, &lat[1], &lon[1], NULL));
+    tp_store_scene_close(&sc);
+    write_line("east.geojson", lat, lon, 2, route, sizeof route);
+    EXPECT_EQ_INT(1, run_profile(store, route, NULL, err, sizeof err));
+    EXPECT_CONTAINS(err, "east.geojson");
+    EXPECT_CONTAINS(err, "leaves the DEM at");
+    EXPECT_CONTAINS(err, "storml_elev.tif.tpt");
+    EXPECT_TRUE(nothing_named("out."));
+    /* the same line the other way round leaves at once */
+    double rlat[2] = {lat[1], lat[0]}, rlon[2] = {lon[1], lon[0]};
+    write_line("west.geojson", rlat, rlon, 2, route, sizeof route);
+    EXPECT_EQ_INT(1, run_profile(store, route, NULL, err, sizeof err));
+    EXPECT_CONTAINS(err, "leaves the DEM at 0.0 m");
+    EXPECT_TRUE(nothing_named("out."));
+}
+
+#define TESTS(X)                                                                                   \
+    X(gpx_track_figures_match_an_independent_measure)                                             \
+    X(bad_routes_exit_1_and_write_nothing)                                                        \
+    X(route_leaving_the_dem_exits_1)
+TP_TEST_MAIN(TESTS)
