@@ -32,6 +32,9 @@ int tp_cli_los(int argc, char** argv);
 /* `terrapatch viewshed DEM|STORE --observer POS -o OUT.tif [options]` (cmd_viewshed.c). */
 int tp_cli_viewshed(int argc, char** argv);
 
+/* `terrapatch contours DEM|STORE --interval M -o OUT [options]` (cmd_contours.c). */
+int tp_cli_contours(int argc, char** argv);
+
 /* `terrapatch view [options] [DEM]`. argv[0] is "view"; returns an exit code. */
 int tp_cli_view(int argc, char** argv);
 
