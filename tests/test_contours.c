@@ -481,7 +481,7 @@ static long long read_back(const char* path, const tp_features* f, int check_all
                              : GDALDatasetGetLayer(ds, 0);
     ASSERT_TRUE(l != NULL);
     OGRFeatureDefnH d = OGR_L_GetLayerDefn(l);
-    /* a Shapefile keeps 10 characters; KML (GDAL's LIBKML driver) makes the first two
+    /* a Shapefile keeps 10 characters; KML (GDAL's KML driver) makes the first two
      * fields each placemark's name and description */
     int ie = OGR_FD_GetFieldIndex(d, "elevation_m"), ii = OGR_FD_GetFieldIndex(d, "index");
     if (ie < 0)

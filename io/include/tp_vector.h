@@ -87,7 +87,7 @@ tp_status tp_contours_generate(const float* heights, size_t height_count, int wi
  * index contour). A TP_FEATURE_RING is written as a closed LINESTRING (its first vertex repeated
  * at the end); points are not written. crs_wkt (WKT or anything OGRSpatialReference's
  * SetFromUserInput reads; NULL or "" for none) is the layer's CRS; formats bound to WGS 84 (KML,
- * GPX) reproject to it as their OGR driver does (GDAL's LIBKML driver also makes the two fields
+ * GPX) reproject to it as their OGR driver does (GDAL's KML driver also makes the two fields
  * each placemark's name and description). An empty set gives a valid file with an empty layer.
  *
  * Atomic: the file (and every sidecar of it a driver writes: a Shapefile's .shx, .dbf, .prj,
