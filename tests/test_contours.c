@@ -34,15 +34,15 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
-static char g_dir[64];
+#define TP_TMP_PREFIX "tp_contours_"
+#include "tp_test_tmp.h"
 
-static const char* tmp_dir(void)
+static const char* g_dir;
+
+static const char* tmp_dir(void) /* one per test process, removed at exit */
 {
-    if (!g_dir[0]) {
-        strcpy(g_dir, "/tmp/tp_test_contoursXXXXXX");
-        if (!mkdtemp(g_dir))
-            FAIL("mkdtemp failed");
-    }
+    if (!g_dir)
+        g_dir = make_tmp_dir();
     return g_dir;
 }
 
