@@ -34,6 +34,8 @@ int tp_cli_viewshed(int argc, char** argv);
 
 /* `terrapatch profile DEM|STORE --route FILE [options]` (cmd_profile.c): a route's profile. */
 int tp_cli_profile(int argc, char** argv);
+/* `terrapatch contours DEM|STORE --interval M -o OUT [options]` (cmd_contours.c). */
+int tp_cli_contours(int argc, char** argv);
 
 /* `terrapatch view [options] [DEM]`. argv[0] is "view"; returns an exit code. */
 int tp_cli_view(int argc, char** argv);

@@ -29,6 +29,7 @@ static void print_help(FILE* f)
           "  los DEM --from POS --to POS   line of sight: seen or not, what is in the way\n"
           "  viewshed DEM --observer POS -o OUT.tif   what an observer sees (GeoTIFF)\n"
           "  profile DEM --route FILE   a route's elevation profile: length, climb, steepest\n"
+          "  contours DEM --interval M -o OUT   contour lines (GDAL) as a vector file\n"
           "\n"
           "Run 'terrapatch COMMAND --help' for the options of a command.\n"
           "Exit status: 0 success, 1 failure, 2 usage error, 130/143 after SIGINT/SIGTERM\n"
@@ -64,6 +65,8 @@ static int run_command(int argc, char** argv)
         return tp_cli_viewshed(argc - 1, argv + 1);
     if (!strcmp(cmd, "profile"))
         return tp_cli_profile(argc - 1, argv + 1);
+    if (!strcmp(cmd, "contours"))
+        return tp_cli_contours(argc - 1, argv + 1);
     if (!strcmp(cmd, "view"))
         return tp_cli_view(argc - 1, argv + 1);
     if (!strcmp(cmd, "export"))

@@ -76,6 +76,67 @@ void tp_features_destroy(tp_features* f);
  * TP_ERR_OUT_OF_MEMORY. *out is written only on success (free it with tp_features_destroy). */
 tp_status tp_vector_read(const char* path, const char* target_crs_wkt, tp_features** out,
                          tp_error* err);
+ * Contours (io/src/contours.cpp): GDAL's contour generator over a grid of heights, and contour
+ * lines written as an OGR vector file. TP_EXPERIMENTAL.
+ */
+
+/* Contour lines of a grid of heights, computed by GDAL's contour generator
+ * (GDALContourGenerateEx, the library form of gdal_contour), not by us.
+ *
+ * heights: width * height floats (= height_count), row 0 first, metres; NaN is a void. They
+ * are given to GDAL as a Float32 MEM dataset with geotransform (GDAL's: corner of the top-left
+ * sample, sample (x, y) centred at gt[0] + (x + 0.5) gt[1], gt[3] + (y + 0.5) gt[5]), voids as
+ * its nodata: no contour crosses a void (GDAL ends a line at the void's edge; see docs/field.md
+ * for where exactly). Levels are base_m + k * interval_m for every integer k. Vertices are in
+ * the geotransform's CRS (the render CRS when it is the render grid's).
+ *
+ * *out gets one feature per line: value = its elevation (m), index = 1 on an index contour,
+ * when (value - base_m) is a multiple of index_every * interval_m (index_every 0: none), else 0,
+ * name NULL. A line that closes on itself (GDAL repeats its first vertex at its end) is a
+ * TP_FEATURE_RING, the repeated vertex dropped; any other is a TP_FEATURE_LINE (it ends on the
+ * grid's border or on a void). Lines come in GDAL's order. A grid with no level inside its range
+ * (flat ground, all void, 1x1) gives an empty set (count 0): TP_OK.
+ *
+ * TP_ERR_INVALID_ARG for NULL pointers, width or height < 1, height_count != width * height, a
+ * geotransform that is not finite or has gt[1] or gt[5] == 0, interval_m not finite or <= 0,
+ * base_m not finite, index_every < 0, or an interval that would give more than
+ * TP_CONTOURS_MAX_LEVELS levels over the heights' range; TP_ERR_BAD_DATA for an infinite height;
+ * TP_ERR_OUT_OF_MEMORY; TP_ERR_BACKEND when GDAL fails (its message). *out is written only on
+ * TP_OK; free it with tp_features_destroy. */
+#define TP_CONTOURS_MAX_LEVELS 100000
+tp_status tp_contours_generate(const float* heights, size_t height_count, int width, int height,
+                               const double geotransform[6], double interval_m, double base_m,
+                               int index_every, tp_features** out, tp_error* err);
+
+/* Writes contour lines as a vector file in the OGR format that path's extension names (case
+ * ignored): .gpkg GeoPackage, .shp ESRI Shapefile, .geojson/.json GeoJSON, .kml KML, .gml GML,
+ * .csv CSV (geometry as a WKT column), .fgb FlatGeobuf, .sqlite SQLite, .gpx, .dxf, or any other
+ * extension an OGR driver that creates vector files declares. One LINESTRING layer named
+ * "contours" (a Shapefile's layer is named after its file) with the fields elevation_m (Real;
+ * "elevation_" in a Shapefile, whose field names hold 10 characters) and index (Integer: 1 on an
+ * index contour). A TP_FEATURE_RING is written as a closed LINESTRING (its first vertex repeated
+ * at the end); points are not written. crs_wkt (WKT or anything OGRSpatialReference's
+ * SetFromUserInput reads; NULL or "" for none) is the layer's CRS; formats bound to WGS 84 (KML,
+ * GPX) reproject to it as their OGR driver does (GDAL's KML driver also makes the two fields
+ * each placemark's name and description). An empty set gives a valid file with an empty layer.
+ *
+ * Atomic: the file (and every sidecar of it a driver writes: a Shapefile's .shx, .dbf, .prj,
+ * .cpg) is made in a new temporary folder beside path, then renamed into place file by file
+ * when complete; sidecars of an older Shapefile of the same name that the new one lacks (.prj,
+ * .cpg, .qix, .sbn, .sbx) are removed with it. On any failure nothing is left behind and older
+ * files stay as they were (SIGINT/SIGTERM after tp_interrupt_install as tp_file_write).
+ *
+ * TP_ERR_INVALID_ARG for NULL f or path, "" or an extension no OGR driver writes (the message
+ * names the file and the extensions above); TP_ERR_BAD_DATA for a crs_wkt GDAL cannot read;
+ * TP_ERR_IO when path's folder cannot be written; TP_ERR_BACKEND when the driver fails (its
+ * message). */
+tp_status tp_contours_write(const char* path, const tp_features* f, const char* crs_wkt,
+                            tp_error* err);
+
+/* Checks, before long work that ends in tp_contours_write(path, ...), that an OGR driver writes
+ * path's extension and that path can be written (tp_output_check). Writes nothing; the errors
+ * are tp_contours_write's. */
+tp_status tp_contours_check_output(const char* path, tp_error* err);
 
 #ifdef __cplusplus
 }

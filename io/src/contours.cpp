@@ -1,0 +1,471 @@
+/* contours.cpp - contour lines by GDAL's contour generator, and contour lines written as an OGR
+ * vector file (see tp_vector.h, "Contours").
+ *
+ * The generator is GDAL's (alg/contour.cpp: marching squares over the sample centres, Hugo
+ * Mercier's 2018 rewrite of Frank Warmerdam's 2003 generator); we only hand it the grid and read
+ * its lines back. Voids go in as a finite nodata value below every height (GDAL turns nodata
+ * into its own "no value" inside the generator; NaN itself is not a nodata value GDAL's
+ * equality tests can match).
+ *
+ * The writer makes the file in a new temporary folder beside its target, with the driver the
+ * extension names, and renames what the driver made into place only when it is complete: a
+ * driver may write several files (a Shapefile's .shp, .shx, .dbf, .prj, .cpg) and may leave
+ * a half-written file behind when it fails, so it never writes beside the target itself.
+ */
+#include "atomic_write.hpp"
+#include "gdal_util.hpp"
+#include "tp_io.h"
+#include "tp_vector.h"
+
+#include <gdal_alg.h>
+#include <ogrsf_frmts.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cerrno>
+#include <cfloat>
+#include <cmath>
+#include <dirent.h>
+#include <filesystem>
+#include <string>
+#include <sys/stat.h>
+#include <vector>
+
+using tpio::fail;
+
+namespace {
+
+namespace fs = std::filesystem;
+
+/* ---------------------------------------------------------------------------------------------
+ * Generation
+ */
+struct Line {
+    double value;
+    bool ring;
+    size_t first, count;
+};
+
+bool is_index(double value, double base, double interval, int every)
+{
+    if (every <= 0)
+        return false;
+    const double k = (value - base) / interval / every;
+    return std::fabs(k - std::round(k)) < 1e-6;
+}
+
+/* The lines of one geometry (a LineString, or each part of a MultiLineString) appended. */
+void take_geometry(const OGRGeometry* g, double value, std::vector<double>* xy,
+                   std::vector<Line>* lines)
+{
+    if (!g)
+        return;
+    const OGRwkbGeometryType t = wkbFlatten(g->getGeometryType());
+    if (t == wkbMultiLineString || t == wkbGeometryCollection) {
+        const auto* c = g->toGeometryCollection();
+        for (int i = 0; i < c->getNumGeometries(); ++i)
+            take_geometry(c->getGeometryRef(i), value, xy, lines);
+        return;
+    }
+    if (t != wkbLineString)
+        return;
+    const OGRLineString* ls = g->toLineString();
+    int n = ls->getNumPoints();
+    if (n < 2)
+        return;
+    const bool ring = n >= 4 && ls->getX(0) == ls->getX(n - 1) && ls->getY(0) == ls->getY(n - 1);
+    if (ring)
+        --n; /* tp_feature's ring does not repeat its first vertex */
+    lines->push_back({value, ring, xy->size() / 2, (size_t)n});
+    for (int i = 0; i < n; ++i) {
+        xy->push_back(ls->getX(i));
+        xy->push_back(ls->getY(i));
+    }
+}
+
+} // namespace
+
+extern "C" tp_status tp_contours_generate(const float* heights, size_t height_count, int width,
+                                          int height, const double geotransform[6],
+                                          double interval_m, double base_m, int index_every,
+                                          tp_features** out, tp_error* err)
+{
+    if (!heights || !geotransform || !out)
+        return fail(err, TP_ERR_INVALID_ARG, "contours: NULL heights, geotransform or out");
+    if (width < 1 || height < 1 || height_count != (size_t)width * (size_t)height)
+        return fail(err, TP_ERR_INVALID_ARG,
+                    "contours: expected a grid of at least 1x1 with width * height heights, got "
+                    "%dx%d and %zu heights",
+                    width, height, height_count);
+    for (int i = 0; i < 6; ++i)
+        if (!std::isfinite(geotransform[i]))
+            return fail(err, TP_ERR_INVALID_ARG, "contours: geotransform[%d] is not finite", i);
+    if (geotransform[1] == 0.0 || geotransform[5] == 0.0)
+        return fail(err, TP_ERR_INVALID_ARG,
+                    "contours: expected a geotransform with non-zero sample sizes, got %g, %g",
+                    geotransform[1], geotransform[5]);
+    if (!std::isfinite(interval_m) || interval_m <= 0.0)
+        return fail(err, TP_ERR_INVALID_ARG,
+                    "contours: expected an interval > 0 m, got %g", interval_m);
+    if (!std::isfinite(base_m))
+        return fail(err, TP_ERR_INVALID_ARG, "contours: expected a finite base, got %g", base_m);
+    if (index_every < 0)
+        return fail(err, TP_ERR_INVALID_ARG,
+                    "contours: expected index_every >= 0 (0: no index contours), got %d",
+                    index_every);
+    float lo = FLT_MAX, hi = -FLT_MAX;
+    for (size_t i = 0; i < height_count; ++i) {
+        const float z = heights[i];
+        if (std::isnan(z))
+            continue;
+        if (std::isinf(z))
+            return fail(err, TP_ERR_BAD_DATA, "contours: height %zu (x %zu, y %zu) is infinite",
+                        i, i % (size_t)width, i / (size_t)width);
+        lo = std::min(lo, z);
+        hi = std::max(hi, z);
+    }
+    if (lo <= hi && ((double)hi - lo) / interval_m > TP_CONTOURS_MAX_LEVELS)
+        return fail(err, TP_ERR_INVALID_ARG,
+                    "contours: an interval of %g m gives %.0f levels over the heights %.1f .. "
+                    "%.1f m (at most %d)",
+                    interval_m, ((double)hi - lo) / interval_m, (double)lo, (double)hi,
+                    TP_CONTOURS_MAX_LEVELS);
+    std::vector<double> xy;
+    std::vector<Line> lines;
+    try {
+        if (lo <= hi && width > 1 && height > 1) {
+            tpio::register_drivers();
+            tpio::QuietGdal quiet;
+            /* voids: a value far below the heights, yet finite, as GDAL's nodata */
+            const float nodata = lo - 1e6f;
+            std::vector<float> z(heights, heights + height_count);
+            for (float& v : z)
+                if (std::isnan(v))
+                    v = nodata;
+            tpio::Dataset src = tpio::mem_dataset(z.data(), width, height, geotransform, nullptr);
+            if (!src)
+                return fail(err, TP_ERR_BACKEND, "contours: cannot make a MEM dataset: %s",
+                            tpio::gdal_message().c_str());
+            src->GetRasterBand(1)->SetNoDataValue(nodata);
+            GDALDriver* memv = GetGDALDriverManager()->GetDriverByName("Memory");
+            if (!memv)
+                return fail(err, TP_ERR_BACKEND, "contours: GDAL has no Memory vector driver");
+            tpio::Dataset dst(memv->Create("", 0, 0, 0, GDT_Unknown, nullptr));
+            OGRLayer* layer = dst ? dst->CreateLayer("contours", nullptr, wkbLineString, nullptr)
+                                  : nullptr;
+            if (!layer)
+                return fail(err, TP_ERR_BACKEND, "contours: cannot make a Memory layer: %s",
+                            tpio::gdal_message().c_str());
+            OGRFieldDefn id("id", OFTInteger), elev("elevation_m", OFTReal);
+            if (layer->CreateField(&id) != OGRERR_NONE || layer->CreateField(&elev) != OGRERR_NONE)
+                return fail(err, TP_ERR_BACKEND, "contours: cannot make the fields: %s",
+                            tpio::gdal_message().c_str());
+            char interval[64], base[64], nd[64];
+            std::snprintf(interval, sizeof interval, "LEVEL_INTERVAL=%.17g", interval_m);
+            std::snprintf(base, sizeof base, "LEVEL_BASE=%.17g", base_m);
+            std::snprintf(nd, sizeof nd, "NODATA=%.17g", (double)nodata);
+            const char* opts[] = {interval, base, nd, "ID_FIELD=0", "ELEV_FIELD=1", nullptr};
+            CPLErr e = GDALContourGenerateEx(
+                GDALGetRasterBand(GDALDataset::ToHandle(src.get()), 1),
+                OGRLayer::ToHandle(layer), const_cast<char**>(opts), nullptr, nullptr);
+            if (e != CE_None)
+                return fail(err, TP_ERR_BACKEND, "contours: GDALContourGenerateEx failed: %s",
+                            tpio::gdal_message().c_str());
+            layer->ResetReading();
+            for (auto& feat : *layer)
+                take_geometry(feat->GetGeometryRef(), feat->GetFieldAsDouble(1), &xy, &lines);
+        }
+        tp_features* f = (tp_features*)std::calloc(1, sizeof *f);
+        tp_feature* items =
+            (tp_feature*)std::malloc(std::max<size_t>(1, lines.size()) * sizeof *items);
+        double* v = (double*)std::malloc(std::max<size_t>(1, xy.size()) * sizeof *v);
+        if (!f || !items || !v) {
+            std::free(f);
+            std::free(items);
+            std::free(v);
+            return fail(err, TP_ERR_OUT_OF_MEMORY, "contours: out of memory for %zu lines",
+                        lines.size());
+        }
+        for (size_t i = 0; i < lines.size(); ++i) {
+            const Line& l = lines[i];
+            items[i] = tp_feature{l.ring ? TP_FEATURE_RING : TP_FEATURE_LINE,
+                                  l.first,
+                                  l.count,
+                                  l.value,
+                                  is_index(l.value, base_m, interval_m, index_every) ? 1 : 0,
+                                  nullptr};
+        }
+        if (!xy.empty())
+            std::memcpy(v, xy.data(), xy.size() * sizeof *v);
+        f->items = items;
+        f->count = lines.size();
+        f->xy = v;
+        f->vertex_count = xy.size() / 2;
+        f->strings = nullptr;
+        *out = f;
+        return TP_OK;
+    } catch (...) {
+        return tpio::caught(err, "contours");
+    }
+}
+
+/* ---------------------------------------------------------------------------------------------
+ * Writing
+ */
+namespace {
+
+std::string lower(std::string s)
+{
+    for (char& c : s)
+        c = (char)std::tolower((unsigned char)c);
+    return s;
+}
+
+/* The driver that writes vector files with extension ext (lower case, no dot), or nullptr. */
+GDALDriver* driver_for(const std::string& ext)
+{
+    static const char* const known[][2] = {
+        {"gpkg", "GPKG"},       {"shp", "ESRI Shapefile"}, {"geojson", "GeoJSON"},
+        {"json", "GeoJSON"},    {"kml", "KML"},            {"gml", "GML"},
+        {"csv", "CSV"},         {"fgb", "FlatGeobuf"},     {"sqlite", "SQLite"},
+        {"gpx", "GPX"},         {"dxf", "DXF"},            {"geojsonl", "GeoJSONSeq"},
+        {"geojsons", "GeoJSONSeq"}, {"tab", "MapInfo File"}, {"mif", "MapInfo File"}};
+    GDALDriverManager* dm = GetGDALDriverManager();
+    auto writes_vectors = [](GDALDriver* d) {
+        return d && d->GetMetadataItem(GDAL_DCAP_VECTOR) && d->GetMetadataItem(GDAL_DCAP_CREATE);
+    };
+    for (const auto& k : known)
+        if (ext == k[0]) {
+            GDALDriver* d = dm->GetDriverByName(k[1]);
+            if (writes_vectors(d))
+                return d;
+        }
+    for (int i = 0; i < dm->GetDriverCount(); ++i) {
+        GDALDriver* d = dm->GetDriver(i);
+        const char* exts = d ? d->GetMetadataItem(GDAL_DMD_EXTENSIONS) : nullptr;
+        if (!writes_vectors(d) || !exts || d->GetMetadataItem(GDAL_DCAP_RASTER))
+            continue;
+        CPLStringList list(CSLTokenizeString(exts));
+        for (int j = 0; j < list.size(); ++j)
+            if (lower(list[j]) == ext)
+                return d;
+    }
+    return nullptr;
+}
+
+/* Holds interruption while the temporary folder lives and removes it (with whatever older
+ * files were moved aside into it) whatever happens. */
+struct TempDir {
+    std::string name;
+    TempDir() { tp_interrupt_hold(); }
+    ~TempDir()
+    {
+        if (!name.empty()) {
+            std::error_code ec;
+            fs::remove_all(name, ec);
+        }
+        tp_interrupt_release();
+    }
+    TempDir(const TempDir&) = delete;
+    TempDir& operator=(const TempDir&) = delete;
+};
+
+bool exists(const std::string& p)
+{
+    struct stat st;
+    return lstat(p.c_str(), &st) == 0;
+}
+
+/* The vector file in memory order: build it with the driver at file (in the temporary folder). */
+tp_status build_file(GDALDriver* drv, const std::string& file, const std::string& path,
+                     const tp_features* f, const OGRSpatialReference* srs, tp_error* err)
+{
+    tpio::Dataset ds(drv->Create(file.c_str(), 0, 0, 0, GDT_Unknown, nullptr));
+    if (!ds)
+        return fail(err, TP_ERR_BACKEND, "%s: %s cannot create the file: %s", path.c_str(),
+                    drv->GetDescription(), tpio::gdal_message().c_str());
+    const bool csv = !std::strcmp(drv->GetDescription(), "CSV");
+    const char* lco[] = {csv ? "GEOMETRY=AS_WKT" : nullptr, nullptr};
+    OGRLayer* layer =
+        ds->CreateLayer("contours", const_cast<OGRSpatialReference*>(srs), wkbLineString, const_cast<char**>(lco));
+    if (!layer)
+        return fail(err, TP_ERR_BACKEND, "%s: %s cannot make the contours layer: %s",
+                    path.c_str(), drv->GetDescription(), tpio::gdal_message().c_str());
+    OGRFieldDefn elev("elevation_m", OFTReal), idx("index", OFTInteger);
+    if (layer->CreateField(&elev) != OGRERR_NONE || layer->CreateField(&idx) != OGRERR_NONE)
+        return fail(err, TP_ERR_BACKEND, "%s: %s cannot make the fields: %s", path.c_str(),
+                    drv->GetDescription(), tpio::gdal_message().c_str());
+    const bool tx = layer->TestCapability(OLCTransactions) != 0;
+    if (tx && layer->StartTransaction() != OGRERR_NONE)
+        return fail(err, TP_ERR_BACKEND, "%s: %s cannot start a transaction: %s", path.c_str(),
+                    drv->GetDescription(), tpio::gdal_message().c_str());
+    for (size_t i = 0; i < f->count; ++i) {
+        const tp_feature& it = f->items[i];
+        if (it.kind == TP_FEATURE_POINT || it.count < 2)
+            continue;
+        if ((i & 1023) == 0 && tp_interrupted())
+            return tpio::write_failed(err, path, EINTR);
+        OGRFeature feat(layer->GetLayerDefn());
+        OGRLineString ls;
+        const bool ring = it.kind == TP_FEATURE_RING;
+        ls.setNumPoints((int)(it.count + (ring ? 1 : 0)), FALSE);
+        for (size_t k = 0; k < it.count; ++k)
+            ls.setPoint((int)k, f->xy[2 * (it.first + k)], f->xy[2 * (it.first + k) + 1]);
+        if (ring)
+            ls.setPoint((int)it.count, f->xy[2 * it.first], f->xy[2 * it.first + 1]);
+        feat.SetField(0, it.value);
+        feat.SetField(1, it.index);
+        feat.SetGeometry(&ls);
+        if (layer->CreateFeature(&feat) != OGRERR_NONE)
+            return fail(err, TP_ERR_BACKEND, "%s: %s cannot write line %zu: %s", path.c_str(),
+                        drv->GetDescription(), i, tpio::gdal_message().c_str());
+    }
+    if (tx && layer->CommitTransaction() != OGRERR_NONE)
+        return fail(err, TP_ERR_BACKEND, "%s: %s cannot commit: %s", path.c_str(),
+                    drv->GetDescription(), tpio::gdal_message().c_str());
+    CPLErrorReset();
+    ds.reset(); /* closed: everything flushed into the temporary folder */
+    if (CPLGetLastErrorType() == CE_Failure)
+        return fail(err, TP_ERR_BACKEND, "%s: %s cannot finish the file: %s", path.c_str(),
+                    drv->GetDescription(), tpio::gdal_message().c_str());
+    return TP_OK;
+}
+
+/* Moves the files of folder tmp (plain files only) into dir, each older one of the same name,
+ * and stale (older sidecars the new set lacks), into tmp/old first; undoes every move on
+ * failure. */
+tp_status move_into_place(const std::string& tmp, const std::string& dir,
+                          const std::vector<std::string>& stale, const std::string& path,
+                          tp_error* err)
+{
+    std::vector<std::string> names;
+    if (DIR* d = opendir(tmp.c_str())) {
+        while (struct dirent* e = readdir(d))
+            if (std::strcmp(e->d_name, ".") && std::strcmp(e->d_name, ".."))
+                names.push_back(e->d_name);
+        closedir(d);
+    }
+    std::sort(names.begin(), names.end());
+    if (names.empty())
+        return fail(err, TP_ERR_BACKEND, "%s: the OGR driver wrote no file", path.c_str());
+    const std::string old = tmp + "/old";
+    if (mkdir(old.c_str(), 0700) != 0)
+        return tpio::write_failed(err, path, errno);
+    std::vector<std::string> aside, placed; /* names moved to old/, and into dir */
+    auto undo = [&]() {
+        for (const std::string& n : placed)
+            (void)std::rename((dir + "/" + n).c_str(), (tmp + "/" + n).c_str());
+        for (const std::string& n : aside)
+            (void)std::rename((old + "/" + n).c_str(), (dir + "/" + n).c_str());
+    };
+    std::vector<std::string> to_aside = names;
+    to_aside.insert(to_aside.end(), stale.begin(), stale.end());
+    for (const std::string& n : to_aside) {
+        if (!exists(dir + "/" + n) || std::find(aside.begin(), aside.end(), n) != aside.end())
+            continue;
+        if (std::rename((dir + "/" + n).c_str(), (old + "/" + n).c_str()) != 0) {
+            const int e = errno;
+            undo();
+            return fail(err, TP_ERR_IO, "%s: cannot write: moving the older %s aside: %s",
+                        path.c_str(), n.c_str(), std::strerror(e));
+        }
+        aside.push_back(n);
+    }
+    if (tp_interrupted()) { /* the last moment to stop with nothing changed */
+        undo();
+        return tpio::write_failed(err, path, EINTR);
+    }
+    for (const std::string& n : names) {
+        if (std::rename((tmp + "/" + n).c_str(), (dir + "/" + n).c_str()) != 0) {
+            const int e = errno;
+            undo();
+            return fail(err, TP_ERR_IO, "%s: cannot write %s: %s", path.c_str(), n.c_str(),
+                        std::strerror(e));
+        }
+        placed.push_back(n);
+    }
+    tpio::sync_dir(dir);
+    return TP_OK;
+}
+
+/* The driver for path's extension and the output check; name and dot of the file name. */
+tp_status output_driver(const std::string& path, GDALDriver** drv, std::string* name,
+                        size_t* dot, tp_error* err)
+{
+    const size_t slash = path.rfind('/');
+    *name = slash == std::string::npos ? path : path.substr(slash + 1);
+    *dot = name->rfind('.');
+    const std::string ext = *dot == std::string::npos || *dot == 0
+                                ? std::string()
+                                : lower(name->substr(*dot + 1));
+    tpio::register_drivers();
+    *drv = ext.empty() ? nullptr : driver_for(ext);
+    if (!*drv) {
+        const std::string what =
+            ext.empty() ? std::string("no extension") : "unknown extension '." + ext + "'";
+        return fail(err, TP_ERR_INVALID_ARG,
+                    "%s: %s: no OGR driver writes vector files so named (use .gpkg, .shp, "
+                    ".geojson, .kml, .gml, .csv, .fgb, ...)",
+                    path.c_str(), what.c_str());
+    }
+    return tp_output_check(path.c_str(), err);
+}
+
+} // namespace
+
+extern "C" tp_status tp_contours_check_output(const char* path, tp_error* err)
+{
+    if (!path || !*path)
+        return fail(err, TP_ERR_INVALID_ARG, "contours: write: NULL or empty path");
+    try {
+        GDALDriver* drv;
+        std::string name;
+        size_t dot;
+        return output_driver(path, &drv, &name, &dot, err);
+    } catch (...) {
+        return tpio::caught(err, path);
+    }
+}
+
+extern "C" tp_status tp_contours_write(const char* path_c, const tp_features* f,
+                                       const char* crs_wkt, tp_error* err)
+{
+    if (!path_c || !*path_c || !f)
+        return fail(err, TP_ERR_INVALID_ARG, "contours: write: NULL or empty path, or NULL set");
+    try {
+        const std::string path = path_c;
+        GDALDriver* drv;
+        std::string name;
+        size_t dot;
+        tp_status s = output_driver(path, &drv, &name, &dot, err);
+        if (s != TP_OK)
+            return s;
+        tpio::QuietGdal quiet;
+        OGRSpatialReference srs;
+        const bool has_crs = crs_wkt && *crs_wkt;
+        if (has_crs) {
+            if (srs.SetFromUserInput(crs_wkt) != OGRERR_NONE)
+                return fail(err, TP_ERR_BAD_DATA, "%s: GDAL cannot read the CRS: %s", path_c,
+                            tpio::gdal_message().c_str());
+            srs.SetAxisMappingStrategy(OAMS_TRADITIONAL_GIS_ORDER);
+        }
+        TempDir tmp;
+        int e = tpio::make_temp_dir(path, &tmp.name);
+        if (e)
+            return tpio::write_failed(err, path, e);
+        s = build_file(drv, tmp.name + "/" + name, path, f, has_crs ? &srs : nullptr, err);
+        if (s != TP_OK)
+            return s;
+        /* an older Shapefile's sidecars the new one may lack */
+        std::vector<std::string> stale;
+        if (!std::strcmp(drv->GetDescription(), "ESRI Shapefile")) {
+            const std::string stem = name.substr(0, dot);
+            for (const char* x : {".shp", ".shx", ".dbf", ".prj", ".cpg", ".qix", ".sbn", ".sbx",
+                                  ".SHP", ".SHX", ".DBF", ".PRJ", ".CPG", ".QIX", ".SBN", ".SBX"})
+                stale.push_back(stem + x);
+        }
+        return move_into_place(tmp.name, tpio::dir_of(path), stale, path, err);
+    } catch (...) {
+        return tpio::caught(err, path_c);
+    }
+}
