@@ -330,7 +330,8 @@ static int run_headless(tp_view_scene* v, tp_gl_context* ctx, tp_renderer* r,
             measured = tp_view_measure_points(v, e, n, measure_line, sizeof measure_line) ? 1 : -1;
         }
         char text[4096];
-        tp_overlay ov = {.grid_m = o->render.grid_m, .measure_line = measure_line};
+        tp_overlay ov = {.grid_m = o->render.grid_m, .measure_line = measure_line,
+                         .near_m = fr.render.near_m, .far_m = fr.render.far_m};
         if (with_hud) {
             tp_measured_error me;
             tp_view_measure_now(v, cam, &me);

@@ -20,14 +20,14 @@ struct tp_hud {
 
 static const char* vs =
     "#version 330 core\n"
-    "layout(location = 0) in vec2 a_pos;\n"
+    "layout(location = 0) in vec3 a_pos; // pixels, and the depth for depth-tested lines\n"
     "layout(location = 1) in vec4 a_color;\n"
     "uniform vec2 u_screen;\n"
     "uniform vec3 u_offset; // x, y, scale\n"
     "out vec4 v_color;\n"
     "void main() {\n"
-    "    vec2 p = a_pos * u_offset.z + u_offset.xy;\n"
-    "    gl_Position = vec4(p.x / u_screen.x * 2.0 - 1.0, 1.0 - p.y / u_screen.y * 2.0, 0.0, 1.0);\n"
+    "    vec2 p = a_pos.xy * u_offset.z + u_offset.xy;\n"
+    "    gl_Position = vec4(p.x / u_screen.x * 2.0 - 1.0, 1.0 - p.y / u_screen.y * 2.0, a_pos.z, 1.0);\n"
     "    v_color = a_color;\n"
     "}\n";
 static const char* fs =
@@ -67,7 +67,7 @@ tp_hud* tp_hud_create(void)
     glBufferData(GL_ELEMENT_ARRAY_BUFFER, HUD_MAX_QUADS * 6 * sizeof *idx, idx, GL_STATIC_DRAW);
     free(idx);
     glEnableVertexAttribArray(0);
-    glVertexAttribPointer(0, 2, GL_FLOAT, GL_FALSE, 16, (void*)0);
+    glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 16, (void*)0);
     glEnableVertexAttribArray(1);
     glVertexAttribPointer(1, 4, GL_UNSIGNED_BYTE, GL_TRUE, 16, (void*)12);
     return h;
@@ -146,22 +146,17 @@ void tp_hud_line(tp_hud* h, int w, int hgt, float x0, float y0, float x1, float 
     glEnable(GL_DEPTH_TEST);
 }
 
-void tp_hud_dots(tp_hud* h, int w, int hgt, const float* xy, int count, float side_px,
-                 const unsigned char rgba[4])
+/* Draws quads (4 vertices each in h->verts), blended, with or without the depth test (which
+ * never writes depth: what the overlay draws hides nothing). */
+static void draw_quads(tp_hud* h, int w, int hgt, int quads, int depth_test)
 {
-    if (count <= 0)
-        return;
-    if (count > HUD_MAX_QUADS)
-        count = HUD_MAX_QUADS;
-    const float r = side_px * 0.5f, c[4][2] = {{-1, -1}, {1, -1}, {1, 1}, {-1, 1}};
-    char* v = h->verts;
-    for (int i = 0; i < count; i++)
-        for (int k = 0; k < 4; k++) {
-            float xyz[3] = {xy[2 * i] + c[k][0] * r, xy[2 * i + 1] + c[k][1] * r, 0.0f};
-            memcpy(v + 16 * (4 * i + k), xyz, 12);
-            memcpy(v + 16 * (4 * i + k) + 12, rgba, 4);
-        }
-    glDisable(GL_DEPTH_TEST);
+    if (depth_test) {
+        glEnable(GL_DEPTH_TEST);
+        glDepthFunc(GL_LEQUAL);
+    } else {
+        glDisable(GL_DEPTH_TEST);
+    }
+    glDepthMask(GL_FALSE);
     glDisable(GL_CULL_FACE);
     glPolygonMode(GL_FRONT_AND_BACK, GL_FILL);
     glEnable(GL_BLEND);
@@ -169,10 +164,70 @@ void tp_hud_dots(tp_hud* h, int w, int hgt, const float* xy, int count, float si
     glUseProgram(h->prog);
     glBindVertexArray(h->vao);
     glBindBuffer(GL_ARRAY_BUFFER, h->vbo);
-    glBufferSubData(GL_ARRAY_BUFFER, 0, (GLsizeiptr)count * 4 * 16, h->verts);
+    glBufferSubData(GL_ARRAY_BUFFER, 0, (GLsizeiptr)quads * 4 * 16, h->verts);
     glUniform2f(h->u_screen, (float)w, (float)hgt);
     glUniform3f(h->u_offset, 0.0f, 0.0f, 1.0f);
-    glDrawElements(GL_TRIANGLES, count * 6, GL_UNSIGNED_INT, NULL);
+    glDrawElements(GL_TRIANGLES, quads * 6, GL_UNSIGNED_INT, NULL);
     glDisable(GL_BLEND);
+    glDepthMask(GL_TRUE);
+    glDepthFunc(GL_LESS);
     glEnable(GL_DEPTH_TEST);
+}
+
+static void put_vertex(char* v, float x, float y, float z, const unsigned char rgba[4])
+{
+    const float xyz[3] = {x, y, z};
+    memcpy(v, xyz, 12);
+    memcpy(v + 12, rgba, 4);
+}
+
+void tp_hud_dots(tp_hud* h, int w, int hgt, const float* xyz, int count, float side_px,
+                 const unsigned char rgba[4], int depth_test)
+{
+    if (count <= 0)
+        return;
+    if (count > HUD_MAX_QUADS)
+        count = HUD_MAX_QUADS;
+    const float r = side_px * 0.5f, c[4][2] = {{-1, -1}, {1, -1}, {1, 1}, {-1, 1}};
+    for (int i = 0; i < count; i++)
+        for (int k = 0; k < 4; k++)
+            put_vertex(h->verts + 16 * (4 * i + k), xyz[3 * i] + c[k][0] * r,
+                       xyz[3 * i + 1] + c[k][1] * r, depth_test ? xyz[3 * i + 2] : 0.0f, rgba);
+    draw_quads(h, w, hgt, count, depth_test);
+}
+
+void tp_hud_polyline_depth(tp_hud* h, int w, int hgt, const float* xyz, int count,
+                           float width_px, const unsigned char rgba[4])
+{
+    int quads = 0;
+    for (int i = 0; i + 1 < count; i++) {
+        const float* a = xyz + 3 * i;
+        const float* b = a + 3;
+        float dx = b[0] - a[0], dy = b[1] - a[1], len = sqrtf(dx * dx + dy * dy);
+        if (len < 1e-3f)
+            continue;
+        /* half the width across, and as much past each end so that joints close */
+        float ux = dx / len * width_px * 0.5f, uy = dy / len * width_px * 0.5f;
+        char* v = h->verts + 16 * 4 * quads;
+        put_vertex(v, a[0] - ux - uy, a[1] - uy + ux, a[2], rgba);
+        put_vertex(v + 16, b[0] + ux - uy, b[1] + uy + ux, b[2], rgba);
+        put_vertex(v + 32, b[0] + ux + uy, b[1] + uy - ux, b[2], rgba);
+        put_vertex(v + 48, a[0] - ux + uy, a[1] - uy - ux, a[2], rgba);
+        if (++quads == HUD_MAX_QUADS) {
+            draw_quads(h, w, hgt, quads, 1);
+            quads = 0;
+        }
+    }
+    if (quads)
+        draw_quads(h, w, hgt, quads, 1);
+}
+
+float tp_hud_depth(double depth_m, double near_m, double far_m)
+{
+    /* the depth buffer's step (24 bits) at this distance: d^2 (f - n) / (2^24 f n) */
+    double step = depth_m * depth_m * (far_m - near_m) / (16777216.0 * far_m * near_m);
+    double d = depth_m - 0.003 * depth_m - 4 * step;
+    if (d < near_m)
+        d = near_m;
+    return (float)((far_m + near_m) / (far_m - near_m) - 2 * far_m * near_m / ((far_m - near_m) * d));
 }

@@ -6,6 +6,7 @@
 
 #include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #define MAX_RECTS 160
@@ -148,34 +149,64 @@ static void compass_and_scale(tp_hud* hud, layout* l, const tp_view_scene* v,
     }
 }
 
-/* The line of sight's ground track, a segment per pair of samples coloured by the nearer
- * one's flag, and the obstruction's "X". */
-static void los_track(tp_hud* hud, layout* l, const tp_view_scene* v, const tp_camera* cam,
-                      const tp_overlay_los* los, float s)
+/* Projects ground point p (E, N, true height) to pixels and depth (x, y, z); 0 behind the
+ * eye. Without a depth range the depth is the nearest (drawn over everything). */
+static int project_draped(const tp_camera* cam, const tp_overlay* ov, double zs,
+                          const double p[3], float out[3])
 {
+    double q[3] = {p[0], p[1], p[2] * zs}, px[2], depth;
+    if (p[2] != p[2] || !tp_camera_project(cam, q, px, &depth))
+        return 0;
+    out[0] = (float)px[0];
+    out[1] = (float)px[1];
+    out[2] = ov->far_m > 0 ? tp_hud_depth(depth, ov->near_m, ov->far_m) : -1.0f;
+    return 1;
+}
+
+#define RUN_MAX 4096
+
+/* Draws the polyline through count ground points (enh triples), broken where a point is
+ * behind the eye, in runs of at most RUN_MAX points. */
+static void draped_line(tp_hud* hud, const tp_camera* cam, const tp_overlay* ov, double zs,
+                        const double* enh, size_t count, float width, const unsigned char rgba[4])
+{
+    static float xyz[3 * RUN_MAX];
+    int w = cam->viewport_w_px, h = cam->viewport_h_px, n = 0;
+    for (size_t i = 0; i < count; i++) {
+        const int keep = project_draped(cam, ov, zs, enh + 3 * i, xyz + 3 * n);
+        n += keep;
+        if (keep && n < RUN_MAX && i + 1 < count)
+            continue;
+        if (n >= 2)
+            tp_hud_polyline_depth(hud, w, h, xyz, n, width, rgba);
+        n = 0;
+        if (keep && i + 1 < count) { /* full: the next run starts where this one ended */
+            memmove(xyz, xyz + 3 * (RUN_MAX - 1), sizeof(float) * 3);
+            n = 1;
+        }
+    }
+}
+
+/* The line of sight's ground track, green where a target there is seen and red where hidden,
+ * on a dark outline, and the obstruction's "X". */
+static void los_track(tp_hud* hud, layout* l, const tp_view_scene* v, const tp_camera* cam,
+                      const tp_overlay* ov, float s)
+{
+    const tp_overlay_los* los = ov->los;
     const unsigned char green[4] = {40, 220, 60, 255}, red[4] = {235, 40, 30, 255},
                         dark[4] = {0, 0, 0, 200};
     const double zs = tp_view_scene_vertical_scale(v);
     int w = cam->viewport_w_px, h = cam->viewport_h_px;
-    double prev[2];
-    int have_prev = 0;
-    for (int pass = 0; pass < 2; pass++) { /* a dark outline under the colours */
-        have_prev = 0;
-        for (size_t i = 0; i < los->count; i++) {
-            const double* p = los->enh + 3 * i;
-            double q[3] = {p[0], p[1], p[2] * zs}, px[2];
-            if (isnan(p[2]) || !tp_camera_project(cam, q, px, NULL)) {
-                have_prev = 0;
-                continue;
-            }
-            if (have_prev)
-                tp_hud_line(hud, w, h, (float)prev[0], (float)prev[1], (float)px[0],
-                            (float)px[1], pass == 0 ? 5.0f * s : 3.0f * s,
-                            pass == 0 ? dark : los->seen[i] ? green : red);
-            prev[0] = px[0];
-            prev[1] = px[1];
-            have_prev = 1;
-        }
+    draped_line(hud, cam, ov, zs, los->enh, los->count, 5.0f * s, dark);
+    /* each colour over the segments that start at a point of its flag (and the next point) */
+    for (size_t i = 0; i + 1 < los->count; i++) {
+        size_t j = i;
+        while (j + 1 < los->count && (los->seen[j + 1] != 0) == (los->seen[i] != 0))
+            j++;
+        size_t end = j + 1 < los->count ? j + 1 : j; /* through the first of the next run */
+        draped_line(hud, cam, ov, zs, los->enh + 3 * i, end - i + 1, 3.0f * s,
+                    los->seen[i] ? green : red);
+        i = j;
     }
     if (los->has_obstruction) {
         const double* p = los->obstruction_enh;
@@ -191,11 +222,12 @@ static void los_track(tp_hud* hud, layout* l, const tp_view_scene* v, const tp_c
 }
 
 /* The viewshed's hidden posts as translucent red squares the size of their spacing on screen
- * (measured at the observer), the observer marked "O". */
+ * (measured at the observer), hidden behind nearer terrain, the observer marked "O". */
 static void viewshed_tint(tp_hud* hud, layout* l, const tp_view_scene* v, const tp_camera* cam,
-                          const tp_overlay_viewshed* vs, float s)
+                          const tp_overlay* ov, float s)
 {
-    static float xy[2 * 20000];
+    static float xyz[3 * 20000];
+    const tp_overlay_viewshed* vs = ov->viewshed;
     const double zs = tp_view_scene_vertical_scale(v);
     int w = cam->viewport_w_px, h = cam->viewport_h_px;
     const double* o = vs->observer_enh;
@@ -205,26 +237,82 @@ static void viewshed_tint(tp_hud* hud, layout* l, const tp_view_scene* v, const 
     if (tp_camera_project(cam, a, pa, NULL) && tp_camera_project(cam, b, pb, NULL))
         side = (float)fmin(fmax(hypot(pb[0] - pa[0], pb[1] - pa[1]), 2.0), 24.0);
     const unsigned char tint[4] = {220, 30, 30, 120};
+    const int depth = ov->far_m > 0;
     int n = 0;
     for (size_t i = 0; i < vs->count; i++) {
-        const double* p = vs->enh + 3 * i;
-        double q[3] = {p[0], p[1], p[2] * zs}, px[2];
-        if (!tp_camera_project(cam, q, px, NULL) || px[0] < -side || px[1] < -side ||
-            px[0] > w + side || px[1] > h + side)
+        float* p = xyz + 3 * n;
+        if (!project_draped(cam, ov, zs, vs->enh + 3 * i, p) || p[0] < -side || p[1] < -side ||
+            p[0] > w + side || p[1] > h + side)
             continue;
-        xy[2 * n] = (float)px[0];
-        xy[2 * n + 1] = (float)px[1];
         if (++n == 20000) {
-            tp_hud_dots(hud, w, h, xy, n, side, tint);
+            tp_hud_dots(hud, w, h, xyz, n, side, tint, depth);
             n = 0;
         }
     }
-    tp_hud_dots(hud, w, h, xy, n, side, tint);
+    tp_hud_dots(hud, w, h, xyz, n, side, tint, depth);
     if (tp_camera_project(cam, a, pa, NULL) && pa[0] >= 0 && pa[1] >= 0 && pa[0] < w && pa[1] < h) {
         float x0 = (float)pa[0] - 2.5f * s, y0 = (float)pa[1] - 3.5f * s;
         tp_hud_text(hud, w, h, x0, y0, s, "O");
         tp_hud_text(hud, w, h, x0 + 8 * s, y0 - 10 * s, s, "observer");
         occupy(l, x0 - 2, y0 - 12 * s, x0 + 60 * s, y0 + 9 * s);
+    }
+}
+
+/* Text at pixel (x, y) (its top-left corner a little right of and above the point) where it
+ * covers nothing drawn already. */
+static void label_at(tp_hud* hud, layout* l, int w, int h, double x, double y, float s,
+                     const char* text)
+{
+    float tw, th, x0 = (float)x + 5 * s, y0 = (float)y - 12 * s;
+    tp_hud_measure(text, &tw, &th);
+    float x1 = x0 + tw * s, y1 = y0 + th * s;
+    if (x0 < 0 || y0 < 0 || x1 > w || y1 > h || !is_free(l, x0 - 3, y0 - 2, x1 + 3, y1 + 2))
+        return;
+    tp_hud_text(hud, w, h, x0, y0, s, text);
+    occupy(l, x0 - 3, y0 - 2, x1 + 3, y1 + 2);
+}
+
+/* Features draped on the ground: lines and rings, index contours thicker and labelled with
+ * their elevation at the middle of the part, points as dots with their names. */
+static void drape_features(tp_hud* hud, layout* l, const tp_view_scene* v, const tp_camera* cam,
+                           const tp_overlay* ov, const tp_overlay_drape* od, float s)
+{
+    const tp_drape* d = od->drape;
+    const double zs = tp_view_scene_vertical_scale(v);
+    int w = cam->viewport_w_px, h = cam->viewport_h_px;
+    for (size_t i = 0; i < d->part_count; i++) {
+        const tp_drape_part* p = &d->parts[i];
+        float width = od->width_px * s * (p->index ? 2.5f : 1.0f);
+        draped_line(hud, cam, ov, zs, d->enh + 3 * p->first, p->count, width, od->rgba);
+    }
+    if (od->label_values)
+        for (size_t i = 0; i < d->part_count; i++) {
+            const tp_drape_part* p = &d->parts[i];
+            float px[3];
+            if (!p->index || p->value != p->value ||
+                !project_draped(cam, ov, zs, d->enh + 3 * (p->first + p->count / 2), px) ||
+                px[0] < 0 || px[1] < 0 || px[0] >= w || px[1] >= h)
+                continue;
+            char text[32];
+            snprintf(text, sizeof text, "%.0f", p->value);
+            label_at(hud, l, w, h, px[0], px[1], s, text);
+        }
+    if (d->point_count) {
+        float* xyz = malloc(sizeof(float) * 3 * d->point_count);
+        int n = 0;
+        for (size_t i = 0; xyz && i < d->point_count; i++)
+            if (project_draped(cam, ov, zs, d->points[i].enh, xyz + 3 * n)) {
+                const float* q = xyz + 3 * n++;
+                if (d->points[i].name && q[0] >= 0 && q[1] >= 0 && q[0] < w && q[1] < h)
+                    label_at(hud, l, w, h, q[0], q[1], s, d->points[i].name);
+            }
+        const unsigned char dark[4] = {0, 0, 0, 220};
+        for (int k = 0; k < n; k += 20000) {
+            int m = n - k < 20000 ? n - k : 20000;
+            tp_hud_dots(hud, w, h, xyz + 3 * k, m, 9.0f * s, dark, ov->far_m > 0);
+            tp_hud_dots(hud, w, h, xyz + 3 * k, m, 6.0f * s, od->rgba, ov->far_m > 0);
+        }
+        free(xyz);
     }
 }
 
@@ -248,10 +336,12 @@ void tp_view_overlay_draw(tp_hud* hud, const tp_view_scene* v, const tp_camera* 
         block(hud, &l, w, h, 10, bottom, w - 16, th * s, s, ov->measure_line);
         bottom -= 4 * s;
     }
+    for (size_t i = 0; i < ov->drape_count; i++)
+        drape_features(hud, &l, v, cam, ov, &ov->drapes[i], s);
     if (ov->viewshed && ov->viewshed->count)
-        viewshed_tint(hud, &l, v, cam, ov->viewshed, s);
+        viewshed_tint(hud, &l, v, cam, ov, s);
     if (ov->los && ov->los->count > 1)
-        los_track(hud, &l, v, cam, ov->los, s);
+        los_track(hud, &l, v, cam, ov, s);
     if (ov->has_mark) {
         /* drawn space: heights times the exaggeration, as the terrain is drawn */
         double p[3] = {ov->mark_enh[0], ov->mark_enh[1],

@@ -6,6 +6,7 @@
 #ifndef TP_APP_OVERLAY_H
 #define TP_APP_OVERLAY_H
 
+#include "drape.h"
 #include "hud.h"
 #include "view.h"
 
@@ -28,6 +29,15 @@ typedef struct tp_overlay_viewshed {
     double observer_enh[3];
 } tp_overlay_viewshed;
 
+/* Features draped on the ground (contours, --overlay files): lines and rings hidden where the
+ * terrain in front hides them, points as dots with their names. */
+typedef struct tp_overlay_drape {
+    const tp_drape* drape;
+    unsigned char rgba[4];
+    float width_px;        /* at overlay scale 1; index contours 2.5 times */
+    int label_values;      /* label index contours with their elevation ("1500") */
+} tp_overlay_drape;
+
 typedef struct tp_overlay {
     const char* hud_text;     /* NULL: no HUD (nor north arrow and scale bar) */
     const char* help_text;    /* NULL: none */
@@ -37,6 +47,10 @@ typedef struct tp_overlay {
     double mark_enh[3];       /* E, N (render CRS) and true height (m) */
     const tp_overlay_los* los; /* NULL: no line of sight drawn */
     const tp_overlay_viewshed* viewshed; /* NULL: none */
+    const tp_overlay_drape* drapes;      /* drape_count of them, drawn first to last */
+    size_t drape_count;
+    double near_m, far_m; /* the terrain's depth range (tp_render_stats): what is draped on the
+                             ground is hidden behind it; far_m 0: drawn over everything */
 } tp_overlay;
 
 /* The text scale the overlay uses for a viewport: 2 from 1000 px wide, else 1. */

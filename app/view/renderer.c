@@ -468,6 +468,8 @@ void tp_renderer_draw_items(tp_renderer* r, const tp_render_item* items, size_t 
     double vpd[16];
     float vpm[16];
     tp_camera_view_projection(&view, far_m, vpd);
+    stats->near_m = cam->near_m > 0 ? cam->near_m : 1.0; /* as tp_camera_view_projection */
+    stats->far_m = far_m;
     for (int i = 0; i < 16; i++)
         vpm[i] = (float)vpd[i];
     /* grid coordinates of the camera (the inverse of sample (x, y) at gt0 + (x + 0.5) * gt1) */

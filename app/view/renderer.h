@@ -47,6 +47,8 @@ typedef struct tp_render_stats {
     double draw_ms;           /* submitting and finishing the draw (glFinish) */
     long page_faults;         /* minor page faults of the process while drawing (getrusage):
                                  memory the GL driver maps in; ~0 once frames repeat */
+    double near_m, far_m;     /* the depth range the terrain was drawn with (what the overlay's
+                                 draped lines must match to be hidden by it) */
     int dropped;              /* items not drawn: their level's vertex pool is at
                                  TP_RENDER_POOL_MAX_BYTES and every slot is drawn this frame (or
                                  memory ran out) */

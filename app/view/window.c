@@ -399,7 +399,8 @@ int tp_view_window_run(tp_view_scene* v, tp_gl_context* ctx, tp_renderer* r, tp_
             fps = fps > 0 ? 0.9 * fps + 0.1 / fmax(dt, 1e-6) : 1 / fmax(dt, 1e-6);
         char text[4096];
         tp_overlay ov = {.grid_m = o->render.grid_m, .measure_line = s.measure_line,
-                         .has_mark = s.has_mark};
+                         .has_mark = s.has_mark, .near_m = fr.render.near_m,
+                         .far_m = fr.render.far_m};
         memcpy(ov.mark_enh, s.mark, sizeof ov.mark_enh);
         if (s.los.count > 1)
             ov.los = &s.los.overlay;

@@ -76,8 +76,10 @@ void tp_features_destroy(tp_features* f);
  * TP_ERR_OUT_OF_MEMORY. *out is written only on success (free it with tp_features_destroy). */
 tp_status tp_vector_read(const char* path, const char* target_crs_wkt, tp_features** out,
                          tp_error* err);
+
+/* ---------------------------------------------------------------------------------------------
  * Contours (io/src/contours.cpp): GDAL's contour generator over a grid of heights, and contour
- * lines written as an OGR vector file. TP_EXPERIMENTAL.
+ * lines written as an OGR vector file.
  */
 
 /* Contour lines of a grid of heights, computed by GDAL's contour generator
