@@ -10,6 +10,8 @@
 #define TP_TMP_PREFIX "tp_bookmarks_"
 #include "tp_test_tmp.h"
 
+#include "tp_test_child.h"
+
 #include "bookmarks.h"
 
 #include <stdio.h>
@@ -199,6 +201,75 @@ TEST(default_path_is_keyed_by_the_dem_file_name)
     EXPECT_EQ_STR("/home/u/.config/terrapatch/bookmarks/N42E001.hgt.bookmarks", out);
 }
 
+/* `terrapatch view --headless` on Mount Hood with args; stdout in out, stderr in err. */
+static int view(const char* const* args, char* out, size_t out_cap, char* err, size_t err_cap)
+{
+    const char* dir = getenv("TP_SHARED_DATA_DIR");
+    static char dem[1024];
+    snprintf(dem, sizeof dem, "%s/lf_elev_220_mt_hood_utm.tif", dir ? dir : TP_TEST_DEFAULT_SHARED_DATA_DIR);
+    if (access(dem, R_OK) != 0)
+        SKIP("%s missing", dem);
+    const char* argv[32];
+    int n = 0;
+    argv[n++] = "--headless";
+    argv[n++] = "--size";
+    argv[n++] = "320x180";
+    for (int i = 0; args[i]; i++)
+        argv[n++] = args[i];
+    argv[n++] = dem;
+    argv[n] = NULL;
+    return tp_test_run_terrapatch_out("view", argv, out, out_cap, err, err_cap);
+}
+
+TEST(view_saves_and_recalls_a_bookmark_on_a_real_dem)
+{
+    const char* dir = make_tmp_dir();
+    char file[1024], out[4096], err[4096], out2[4096], text[1024];
+    snprintf(file, sizeof file, "%s/hood.bookmarks", dir);
+    const char* save[] = {"--bookmarks", file, "--camera-geo", "45.37,-121.70,9000,30,-90",
+                          "--save-bookmark", "summit from above", "--pick", "160,90", NULL};
+    ASSERT_EQ_INT(0, view(save, out, sizeof out, err, sizeof err));
+    EXPECT_CONTAINS(out, "bookmark 'summit from above' saved in");
+    read_text(file, text, sizeof text);
+    EXPECT_CONTAINS(text, "\nsummit from above --camera-geo 45.370000000,-121.700000000,9000.00,30.00,-90.00\n");
+    const char* recall[] = {"--bookmarks", file, "--bookmark", "summit from above", "--pick",
+                            "160,90", NULL};
+    ASSERT_EQ_INT(0, view(recall, out2, sizeof out2, err, sizeof err));
+    /* the same view: the same ground under the same pixel */
+    const char* a = strstr(out, "pick 160.0,90.0: E ");
+    const char* b = strstr(out2, "pick 160.0,90.0: E ");
+    ASSERT_TRUE(a && b);
+    EXPECT_EQ_INT(0, strncmp(a, b, strcspn(a, "\n")));
+    EXPECT_TRUE(strstr(a, "no ground") == NULL);
+}
+
+TEST(view_unknown_bookmark_exits_1_listing_the_known)
+{
+    const char* dir = make_tmp_dir();
+    char file[1024], out[1024], err[4096];
+    snprintf(file, sizeof file, "%s/hood.bookmarks", dir);
+    write_text(file, "ridge --camera-geo 45.3,-121.7,4000,0,-30\nview 2 --camera-geo 45.4,-121.7,4000,180,-30\n");
+    const char* args[] = {"--bookmarks", file, "--bookmark", "summit", NULL};
+    EXPECT_EQ_INT(1, view(args, out, sizeof out, err, sizeof err));
+    EXPECT_CONTAINS(err, "no bookmark 'summit' in");
+    EXPECT_CONTAINS(err, "(known: 'ridge', 'view 2')");
+    /* a corrupted file: named with its line */
+    write_text(file, "ridge --camera-geo 45.3,-121.7,4000,0,-30\nsummit --camera-geo 45.3,-121.7\n");
+    const char* args2[] = {"--bookmarks", file, "--bookmark", "ridge", NULL};
+    EXPECT_EQ_INT(1, view(args2, out, sizeof out, err, sizeof err));
+    char want[1100];
+    snprintf(want, sizeof want, "%s:2: --camera-geo: expected five numbers", file);
+    EXPECT_CONTAINS(err, want);
+    /* a missing file: no bookmarks */
+    snprintf(file, sizeof file, "%s/none.bookmarks", dir);
+    EXPECT_EQ_INT(1, view(args, out, sizeof out, err, sizeof err));
+    EXPECT_CONTAINS(err, "(known: none)");
+    /* --bookmark with --camera: one start view only */
+    const char* both[] = {"--bookmark", "ridge", "--camera", "1,2,3,4,5", NULL};
+    EXPECT_EQ_INT(2, view(both, out, sizeof out, err, sizeof err));
+    EXPECT_CONTAINS(err, "give one");
+}
+
 #define TESTS(X)                                                                                   \
     X(round_trip_keeps_names_with_spaces_and_values)                                               \
     X(hand_written_file_with_comments_blank_lines_and_spaces)                                      \
@@ -206,5 +277,7 @@ TEST(default_path_is_keyed_by_the_dem_file_name)
     X(missing_file_is_no_bookmarks_and_unreadable_is_an_error)                                     \
     X(names_that_would_not_read_back_are_refused)                                                  \
     X(failed_save_names_the_file_and_leaves_what_was_there)                                        \
-    X(default_path_is_keyed_by_the_dem_file_name)
+    X(default_path_is_keyed_by_the_dem_file_name)                                                \
+    X(view_saves_and_recalls_a_bookmark_on_a_real_dem)                                             \
+    X(view_unknown_bookmark_exits_1_listing_the_known)
 TP_TEST_MAIN(TESTS)
