@@ -143,7 +143,7 @@ static void outlined(tp_hud* hud, int w, int h, float x0, float y0, float x1, fl
  * screenshots). The arrow shows grid north turned by the camera's heading (screen up is where
  * the camera faces, straight down as on a map, the same looking along the horizon), with true
  * north (a gold line, "TN") beside it when the two differ by more than half a degree (grid
- * convergence away from a UTM zone's central meridian; drawn at least 30 degrees apart, as a map's
+ * convergence away from a UTM zone's central meridian; drawn at least 40 degrees apart, as a map's
  * declination diagram is, the true angle written under it, measured at the ground point the
  * camera looks at); the bar spans a round length (1, 2 or 5 x 10^k m) measured
  * across the screen at the look point, or says that there is no ground to measure at. */
@@ -174,14 +174,14 @@ static void compass_and_scale(tp_hud* hud, layout* l, const tp_view_scene* v,
     occupy(l, x0, y0, x1, y1);
 
     /* north arrow */
-    float cx = x1 - 44 * s, cy = y0 + 40 * s, r = 24 * s;
+    float cx = x1 - 44 * s, cy = y0 + 42 * s, r = 28 * s;
     /* from the heading: screen up is the way the camera faces, as on a map turned to it (a
      * ground vector projected at a grazing look point would point sideways) */
     const double rad = 3.14159265358979323846 / 180;
     double gn[2] = {-sin(yaw * rad), -cos(yaw * rad)}, tn[2] = {gn[0], gn[1]};
     int two = ground && fabs(true_north_deg) > 0.5;
-    if (two) { /* drawn at least 30 degrees away, on its side */
-        double t = (true_north_deg < 0 ? fmin(true_north_deg, -30) : fmax(true_north_deg, 30)) * rad;
+    if (two) { /* drawn at least 40 degrees away, on its side */
+        double t = (true_north_deg < 0 ? fmin(true_north_deg, -40) : fmax(true_north_deg, 40)) * rad;
         tn[0] = gn[0] * cos(t) - gn[1] * sin(t);
         tn[1] = gn[0] * sin(t) + gn[1] * cos(t);
     }
