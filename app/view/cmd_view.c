@@ -17,6 +17,7 @@
 #include "overlay.h"
 #include "pick.h"
 #include "store_cache.h"
+#include "view_bookmarks.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -49,6 +50,10 @@ enum {
     OPT_GPU_MEMORY,
     OPT_CACHE_DIR,
     OPT_WHOLE,
+    /* bookmarks (view_bookmarks.h) */
+    OPT_BOOKMARK,
+    OPT_SAVE_BOOKMARK,
+    OPT_BOOKMARKS,
 };
 
 static void print_help(void)
@@ -86,6 +91,13 @@ static void print_help(void)
           "  --texture FILE        drape an image: an orthophoto georeferenced through GDAL (warped\n"
           "                        onto the render grid), or any image covering the DEM's extent\n"
           "  --one-draw-per-patch  one draw call per patch instead of multi-draw\n"
+          "bookmarks (named views; docs/field.md, \"Map reading\"):\n"
+          "  --bookmark NAME       start from bookmark NAME (instead of --camera)\n"
+          "  --save-bookmark NAME  save the start view (--camera, --camera-geo or the default) as\n"
+          "                        NAME, replacing one of that name\n"
+          "  --bookmarks FILE      the bookmarks file (default: $XDG_CONFIG_HOME/terrapatch/\n"
+          "                        bookmarks/DEMFILE.bookmarks, else ~/.config/...), one line a\n"
+          "                        view: NAME --camera-geo LAT,LON,H,YAW,PITCH\n"
           "stores:\n"
           "  --memory MB           budget of decoded terrain in RAM (default 1024)\n"
           "  --gpu-memory MB       budget of the GPU vertex pool (default 256); a frame that\n"
@@ -118,6 +130,8 @@ static void print_help(void)
           "C print the camera as --camera-geo and --camera options, H hide the HUD, right-click\n"
           "twice to measure, ? key help, Esc quit. Keys are queued: a tap shorter than a frame\n"
           "still counts.\n"
+          "Bookmarks: Ctrl+1..9 saves the view as \"view N\", 1..9 goes back to it, Tab and\n"
+          "Shift+Tab step through every bookmark of the file.\n"
           "\nOutputs are checked before rendering and written whole or not at all (a full disk or\n"
           "SIGINT/SIGTERM leaves an older file as it was).\n"
           "Exit status: 0 success, 1 failure, 2 usage error, 130/143 after SIGINT/SIGTERM.\n",
@@ -174,6 +188,9 @@ static int parse_options(int argc, char** argv, view_options* o)
         {"whole", no_argument, NULL, OPT_WHOLE},
         {"exaggeration", required_argument, NULL, OPT_EXAG},
         {"one-draw-per-patch", no_argument, NULL, OPT_ONE_DRAW},
+        {"bookmark", required_argument, NULL, OPT_BOOKMARK},
+        {"save-bookmark", required_argument, NULL, OPT_SAVE_BOOKMARK},
+        {"bookmarks", required_argument, NULL, OPT_BOOKMARKS},
         {"help", no_argument, NULL, 'h'},
         {NULL, 0, NULL, 0},
     };
@@ -266,6 +283,9 @@ static int parse_options(int argc, char** argv, view_options* o)
             o->render.grid_m = v[0];
             break;
         case OPT_ONE_DRAW: o->render.one_draw_per_patch = 1; break;
+        case OPT_BOOKMARK: o->bookmark = optarg; break;
+        case OPT_SAVE_BOOKMARK: o->save_bookmark = optarg; break;
+        case OPT_BOOKMARKS: o->bookmarks_path = optarg; break;
         case 'h': print_help(); return tp_cli_finish(TP_EXIT_OK);
         case ':':
             fprintf(stderr, "terrapatch view: missing value for %s\n", argv[optind - 1]);
@@ -282,6 +302,11 @@ static int parse_options(int argc, char** argv, view_options* o)
         return TP_EXIT_USAGE;
     }
     o->path = optind < argc ? argv[optind] : sample_scene();
+    if (o->bookmark && o->vs.has_camera) {
+        fprintf(stderr, "terrapatch view: --bookmark and --camera/--camera-geo both give the "
+                        "start view: give one\n");
+        return TP_EXIT_USAGE;
+    }
     if (tp_view_setup_check(&o->vs, "view") < 0)
         return TP_EXIT_USAGE;
     return -1;
@@ -403,6 +428,17 @@ static int run_view(tp_view_scene* v, view_options* o, tp_render_grid_desc* gd,
         tp_camera_default_extent(v->gt, v->src_width, v->src_height, v->min_height_m,
                                  v->max_height_m, o->vs.fov_deg, o->vs.w, o->vs.h,
                                  o->vs.vertical_scale, &cam);
+    }
+    if (o->bookmark && (!take_georef(v, st) || !tp_view_bookmark_camera(v, o, o->bookmark, &cam)))
+        return TP_EXIT_FAILURE;
+    if (o->save_bookmark) {
+        char line[1024];
+        if (!take_georef(v, st) ||
+            !tp_view_bookmark_save(v, o, &cam, o->save_bookmark, line, sizeof line)) {
+            fprintf(stderr, "terrapatch view: --save-bookmark: %s\n", line);
+            return TP_EXIT_FAILURE;
+        }
+        printf("%s\n", line);
     }
     char msg[512];
     tp_gl_context* ctx = NULL;

@@ -2,6 +2,7 @@
 #include "overlay.h"
 
 #include "hud_text.h"
+#include "map_grid.h"
 #include "pick.h"
 
 #include <math.h>
@@ -58,95 +59,203 @@ float tp_overlay_scale(int w, int h)
     return w >= 1000 && h >= 500 ? 2.0f : 1.0f;
 }
 
-/* Labels the grid intersections around the point the camera looks at with their grid values
- * (kilometres of easting and northing, as read off a map), where they cover nothing else. */
+/* Labels the grid intersections around the point the camera looks at, nearest the centre of
+ * the view first, where they cover nothing else and where the intersection itself is seen (a
+ * ridge between the eye and the line hides its label): on a UTM/UPS render grid as a military
+ * map does, the principal digits of easting and northing ("76 00", MGRS truncation) with the
+ * grid zone and 100 km square ("31T CH 76 00") on the first label of each square; on any other
+ * CRS its kilometres (map_grid.h). */
 static void grid_labels(tp_hud* hud, layout* l, const tp_view_scene* v, const tp_camera* cam,
                         double spacing, float scale)
 {
     double g[3];
     if (spacing <= 0 || !tp_view_pick_centre(v, cam, g))
         return;
+    tp_map_grid mg;
+    tp_map_grid_init(&mg, v->georef, v->gt, v->src_width, v->src_height, spacing);
     int w = cam->viewport_w_px, h = cam->viewport_h_px;
     double zs = tp_view_scene_vertical_scale(v);
     double e0 = floor(g[0] / spacing) * spacing, n0 = floor(g[1] / spacing) * spacing;
-    /* kilometres with as many decimals as the spacing needs (1500 m: 4501.5, 250 m: 5023.25) */
-    int decimals = 0;
-    while (decimals < 3 && fmod(spacing, 1000 / pow(10, decimals)) != 0)
-        decimals++;
-    for (int j = -4; j <= 5; j++)
-        for (int i = -4; i <= 5; i++) {
-            double p[3] = {e0 + i * spacing, n0 + j * spacing, 0}, x, y, px[2];
-            tp_view_scene_world_to_grid(v, p[0], p[1], &x, &y);
-            p[2] = tp_view_scene_drawn_height(v, x, y) * zs;
-            if (isnan(p[2]) || !tp_camera_project(cam, p, px, NULL) || px[0] < 0 || px[1] < 0 ||
-                px[0] >= w || px[1] >= h)
+    enum { R = 6, N = (2 * R) * (2 * R) };
+    struct cand {
+        double p[3], px[2], d2;
+    } c[N];
+    int count = 0;
+    for (int j = -R + 1; j <= R; j++)
+        for (int i = -R + 1; i <= R; i++) {
+            struct cand* k = &c[count];
+            double x, y;
+            k->p[0] = e0 + i * spacing;
+            k->p[1] = n0 + j * spacing;
+            tp_view_scene_world_to_grid(v, k->p[0], k->p[1], &x, &y);
+            k->p[2] = tp_view_scene_drawn_height(v, x, y);
+            double q[3] = {k->p[0], k->p[1], k->p[2] * zs};
+            if (isnan(k->p[2]) || !tp_camera_project(cam, q, k->px, NULL) || k->px[0] < 0 ||
+                k->px[1] < 0 || k->px[0] >= w || k->px[1] >= h)
                 continue;
-            char text[64];
-            snprintf(text, sizeof text, "%.*fE %.*fN", decimals, p[0] / 1000, decimals,
-                     p[1] / 1000);
-            float tw, th, x0 = (float)px[0] + 3, y0 = (float)px[1] + 3;
-            tp_hud_measure(text, &tw, &th);
-            float x1 = x0 + tw * scale, y1 = y0 + th * scale;
-            if (x1 > w || y1 > h || !is_free(l, x0 - 4, y0 - 2, x1 + 4, y1 + 2))
-                continue;
-            tp_hud_text(hud, w, h, x0, y0, scale, text);
-            occupy(l, x0 - 4, y0 - 2, x1 + 4, y1 + 2);
+            k->d2 = pow(k->px[0] - w / 2.0, 2) + pow(k->px[1] - h / 2.0, 2);
+            count++;
         }
+    /* nearest the centre first (insertion sort: at most 144) */
+    for (int i = 1; i < count; i++)
+        for (int k = i; k > 0 && c[k].d2 < c[k - 1].d2; k--) {
+            struct cand t = c[k];
+            c[k] = c[k - 1];
+            c[k - 1] = t;
+        }
+    char squares[8][16]; /* the squares named on a label already */
+    int named = 0;
+    for (int i = 0; i < count; i++) {
+        char square[16], digits[32], text[64];
+        tp_map_grid_label(&mg, c[i].p[0], c[i].p[1], square, digits);
+        int known = !square[0];
+        for (int k = 0; k < named && !known; k++)
+            known = strcmp(squares[k], square) == 0;
+        if (known)
+            snprintf(text, sizeof text, "%s", digits[0] ? digits : square);
+        else
+            snprintf(text, sizeof text, "%s%s%s", square, digits[0] ? " " : "", digits);
+        float tw, th, x0 = (float)c[i].px[0] + 3, y0 = (float)c[i].px[1] + 3;
+        tp_hud_measure(text, &tw, &th);
+        float x1 = x0 + tw * scale, y1 = y0 + th * scale;
+        if (x1 > w || y1 > h || !is_free(l, x0 - 4, y0 - 2, x1 + 4, y1 + 2) ||
+            !tp_view_ground_visible(v, cam, c[i].p))
+            continue;
+        tp_hud_text(hud, w, h, x0, y0, scale, text);
+        occupy(l, x0 - 4, y0 - 2, x1 + 4, y1 + 2);
+        if (!known && named < 8)
+            snprintf(squares[named++], sizeof squares[0], "%s", square);
+    }
 }
 
-/* North arrow and scale bar at the bottom right, measured at the ground point the camera
- * looks at: "N" sits where grid north points on screen, the bar spans a round distance. */
+/* A segment with a dark outline under it. */
+static void outlined(tp_hud* hud, int w, int h, float x0, float y0, float x1, float y1,
+                     float width, const unsigned char rgba[4], int pass)
+{
+    static const unsigned char dark[4] = {0, 0, 0, 255};
+    if (pass == 0)
+        tp_hud_line(hud, w, h, x0, y0, x1, y1, width + 4, dark);
+    else
+        tp_hud_line(hud, w, h, x0, y0, x1, y1, width, rgba);
+}
+
+/* North arrow and scale bar at the bottom right, drawn so that they read on any
+ * ground (white strokes on a dark outline, no panel: the HUD's blending is not kept in
+ * screenshots). The arrow shows grid north turned by the camera's heading (screen up is where
+ * the camera faces, straight down as on a map, the same looking along the horizon), with true
+ * north (a gold line, "TN") beside it when the two differ by more than half a degree (grid
+ * convergence away from a UTM zone's central meridian; drawn at least 40 degrees apart, as a map's
+ * declination diagram is, the true angle written under it, measured at the ground point the
+ * camera looks at); the bar spans a round length (1, 2 or 5 x 10^k m) measured
+ * across the screen at the look point, or says that there is no ground to measure at. */
 static void compass_and_scale(tp_hud* hud, layout* l, const tp_view_scene* v,
                               const tp_camera* cam, float bottom, float scale)
 {
-    double g[3], c[2], pn[2], pe[2];
-    if (!tp_view_pick_centre(v, cam, g))
-        return;
-    g[2] *= tp_view_scene_vertical_scale(v); /* drawn space */
-    if (!tp_camera_project(cam, g, c, NULL))
-        return;
-    double north[3] = {g[0], g[1] + 100, g[2]}, east[3] = {g[0] + 100, g[1], g[2]};
+    const float s = scale;
+    static const unsigned char white[4] = {255, 255, 255, 255},
+                               gold[4] = {255, 210, 60, 255}, grey[4] = {40, 40, 40, 255};
     int w = cam->viewport_w_px, h = cam->viewport_h_px;
-    float cx = (float)w - 70 * scale, cy = bottom - 60 * scale;
-    occupy(l, cx - 45 * scale, cy - 45 * scale, (float)w, bottom);
-    if (tp_camera_project(cam, north, pn, NULL)) {
-        double vx = pn[0] - c[0], vy = pn[1] - c[1], len = hypot(vx, vy);
-        if (len > 1e-6) {
-            tp_hud_text(hud, w, h, cx - 2 * scale, cy - 3 * scale, scale, "+");
-            for (int i = 1; i <= 4; i++) /* a dotted shaft toward north */
-                tp_hud_text(hud, w, h, cx + (float)(vx / len * 7 * i) * scale - 1 * scale,
-                            cy + (float)(vy / len * 7 * i) * scale - 4 * scale, scale, ".");
-            tp_hud_text(hud, w, h, cx + (float)(vx / len * 36) * scale - 2 * scale,
-                        cy + (float)(vy / len * 36) * scale - 3 * scale, scale, "N");
-        }
+    double g[3], c[2], yaw, pitch;
+    tp_camera_get_pose(cam, &yaw, &pitch);
+    int ground = tp_view_pick_centre(v, cam, g);
+    double true_north_deg = 0; /* bearing of true north from grid north, at g */
+    if (ground) {
+        double lat, lon, e, n;
+        if (tp_georef_proj_to_geo(v->georef, g[0], g[1], &lat, &lon, NULL) == TP_OK &&
+            tp_georef_geo_to_proj(v->georef, fmin(lat + 0.01, 90), lon, &e, &n, NULL) == TP_OK)
+            true_north_deg = atan2(e - g[0], n - g[1]) * 180 / 3.14159265358979323846;
+        g[2] *= tp_view_scene_vertical_scale(v); /* drawn space */
+        ground = tp_camera_project(cam, g, c, NULL);
     }
-    if (tp_camera_project(cam, east, pe, NULL)) {
-        double m_per_px = 100 / fmax(hypot(pe[0] - c[0], pe[1] - c[1]), 1e-6);
-        /* a round length about 120 px long: 1, 2 or 5 times a power of ten */
-        double want = 120 * scale * m_per_px, p10 = pow(10, floor(log10(want))), len = p10;
-        if (5 * p10 <= want)
-            len = 5 * p10;
-        else if (2 * p10 <= want)
-            len = 2 * p10;
-        float fw, fh;
-        tp_hud_measure("-", &fw, &fh);
-        int chars = (int)(len / m_per_px / (fw * scale) + 0.5);
-        char bar[160];
-        int at = snprintf(bar, sizeof bar, "|");
-        for (int i = 0; i < chars && at < (int)sizeof bar - 40; i++)
-            bar[at++] = '-';
-        if (len >= 1000)
-            snprintf(bar + at, sizeof bar - at, "| %g km", len / 1000);
-        else
-            snprintf(bar + at, sizeof bar - at, "| %g m", len);
-        float bw, bh;
-        tp_hud_measure(bar, &bw, &bh);
-        float x = (float)w - bw * scale - 130 * scale, y = bottom - 20 * scale;
-        if (x > 0) {
-            tp_hud_text(hud, w, h, x, y, scale, bar);
-            occupy(l, x - 2, y - 2, x + bw * scale, bottom);
-        }
+    /* the panel: compass on the right, scale bar left of it */
+    float x1 = (float)w - 6 * s, y0 = bottom - 98 * s, y1 = bottom - 6 * s;
+    float x0 = x1 - 250 * s;
+    if (x0 < 0 || y0 < 0)
+        return;
+    occupy(l, x0, y0, x1, y1);
+
+    /* north arrow */
+    float cx = x1 - 44 * s, cy = y0 + 42 * s, r = 28 * s;
+    /* from the heading: screen up is the way the camera faces, as on a map turned to it (a
+     * ground vector projected at a grazing look point would point sideways) */
+    const double rad = 3.14159265358979323846 / 180;
+    double gn[2] = {-sin(yaw * rad), -cos(yaw * rad)}, tn[2] = {gn[0], gn[1]};
+    int two = ground && fabs(true_north_deg) > 0.5;
+    if (two) { /* drawn at least 40 degrees away, on its side */
+        double t = (true_north_deg < 0 ? fmin(true_north_deg, -40) : fmax(true_north_deg, 40)) * rad;
+        tn[0] = gn[0] * cos(t) - gn[1] * sin(t);
+        tn[1] = gn[0] * sin(t) + gn[1] * cos(t);
     }
+    for (int pass = 0; pass < 2; pass++) {
+        float tx = cx + (float)gn[0] * r, ty = cy + (float)gn[1] * r;
+        outlined(hud, w, h, cx - (float)gn[0] * r * 0.6f, cy - (float)gn[1] * r * 0.6f, tx, ty,
+                 2.5f * s, white, pass);
+        for (int side = -1; side <= 1; side += 2) { /* the head */
+            double ca = cos(side * 2.6), sa = sin(side * 2.6);
+            float hx = tx + (float)((gn[0] * ca - gn[1] * sa) * 11 * s),
+                  hy = ty + (float)((gn[0] * sa + gn[1] * ca) * 11 * s);
+            outlined(hud, w, h, tx, ty, hx, hy, 2.5f * s, white, pass);
+        }
+        if (two)
+            outlined(hud, w, h, cx, cy, cx + (float)tn[0] * r * 0.8f,
+                     cy + (float)tn[1] * r * 0.8f, 2.0f * s, gold, pass);
+    }
+    const char* nl = two ? "GN" : "N";
+    float tw, th;
+    tp_hud_measure(nl, &tw, &th);
+    tp_hud_text(hud, w, h, cx + (float)gn[0] * (r + 9 * s) - tw * s / 2,
+                cy + (float)gn[1] * (r + 9 * s) - th * s / 2, s, nl);
+    if (two) {
+        char tl[32];
+        snprintf(tl, sizeof tl, "TN %.1f %s", fabs(true_north_deg), true_north_deg < 0 ? "W" : "E");
+        tp_hud_measure("TN", &tw, &th);
+        float tx = cx + (float)tn[0] * (r * 0.8f + 9 * s), ty = cy + (float)tn[1] * (r * 0.8f + 9 * s);
+        tp_hud_text(hud, w, h, tx - tw * s / 2, ty - th * s / 2, s, "TN");
+        tp_hud_measure(tl, &tw, &th);
+        tp_hud_text(hud, w, h, cx - tw * s / 2, y1 - th * s, s, tl);
+    }
+
+    /* scale bar, measured across the screen at the look point */
+    float bx1 = x1 - 96 * s, by = y1 - 26 * s;
+    if (!ground) {
+        tp_hud_text(hud, w, h, x0 + 6 * s, by - 10 * s, s, "no ground at the\ncentre: no scale");
+        return;
+    }
+    tp_camera_frame f;
+    tp_camera_get_frame(cam, &f);
+    double rx = f.right[0], ry = f.right[1], rl = hypot(rx, ry);
+    if (!(rl > 1e-9)) {
+        rx = 1, ry = 0, rl = 1;
+    }
+    double q[3] = {g[0] + 100 * rx / rl, g[1] + 100 * ry / rl, g[2]}, pq[2];
+    if (!tp_camera_project(cam, q, pq, NULL))
+        return;
+    double m_per_px = 100 / fmax(hypot(pq[0] - c[0], pq[1] - c[1]), 1e-6);
+    /* a round length at most 130 px long: 1, 2 or 5 times a power of ten */
+    double want = 130 * s * m_per_px, p10 = pow(10, floor(log10(want))), len = p10;
+    if (5 * p10 <= want)
+        len = 5 * p10;
+    else if (2 * p10 <= want)
+        len = 2 * p10;
+    float bar = (float)(len / m_per_px), bx0 = bx1 - bar;
+    for (int pass = 0; pass < 2; pass++) {
+        for (int k = 0; k < 4; k++) /* four segments, alternately light and dark */
+            outlined(hud, w, h, bx0 + bar * k / 4, by, bx0 + bar * (k + 1) / 4, by, 5 * s,
+                     k % 2 ? grey : white, pass);
+        for (int k = 0; k <= 2; k++) /* ticks at 0, half and the end */
+            outlined(hud, w, h, bx0 + bar * k / 2, by - 9 * s, bx0 + bar * k / 2, by + 2 * s,
+                     1.5f * s, white, pass);
+    }
+    char label[48];
+    if (len >= 1000)
+        snprintf(label, sizeof label, "%g km", len / 1000);
+    else
+        snprintf(label, sizeof label, "%g m", len);
+    tp_hud_measure(label, &tw, &th);
+    tp_hud_text(hud, w, h, bx1 - tw * s / 2, by - 12 * s - th * s, s, label);
+    tp_hud_text(hud, w, h, bx0 - 3 * s, by - 12 * s - th * s, s, "0");
+    if (pitch > -60) /* perspective: the scale holds at the centre only */
+        tp_hud_text(hud, w, h, bx0, by + 6 * s, s, "at the centre");
 }
 
 /* Projects ground point p (E, N, true height) to pixels and depth (x, y, z); 0 behind the

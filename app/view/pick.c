@@ -49,3 +49,19 @@ int tp_view_measure_points(tp_view_scene* v, const double e[2], const double n[2
     tp_measurement_text(&m, text, cap);
     return 1;
 }
+
+int tp_view_ground_visible(const tp_view_scene* v, const tp_camera* cam, const double p[3])
+{
+    const double zs = tp_view_scene_vertical_scale(v);
+    const double* o = cam->position;
+    double d[3] = {p[0] - o[0], p[1] - o[1], p[2] * zs - o[2]};
+    double dist = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+    if (!(dist > 0))
+        return 0; /* NaN or the eye itself */
+    tp_ray_hit hit;
+    if (!tp_view_scene_ray_cast(v, o, d, &hit))
+        return 1; /* the ray misses the surface (p just off a drawn triangle's edge) */
+    double h[3] = {hit.position[0] - o[0], hit.position[1] - o[1], hit.position[2] * zs - o[2]};
+    double at = sqrt(h[0] * h[0] + h[1] * h[1] + h[2] * h[2]);
+    return at >= dist - TP_VIEW_VISIBLE_TOLERANCE * dist - 1.0;
+}

@@ -16,6 +16,17 @@ int tp_view_pick(const tp_view_scene* v, const tp_camera* cam, double x_px, doub
 /* The ground point at the centre of the view. */
 int tp_view_pick_centre(const tp_view_scene* v, const tp_camera* cam, double out[3]);
 
+/* Share of the eye's distance to a point by which the surface may come before it and the point
+ * still count as seen (the drawn surface near a grazing ray, rounding). */
+#define TP_VIEW_VISIBLE_TOLERANCE 0.01
+
+/* Whether the drawn ground point p (E, N and its TRUE height, as tp_view_pick writes it) is seen
+ * from cam: the ray from the eye to p (drawn space: heights times the exaggeration) meets the
+ * drawn surface no sooner than 1% of the distance plus 1 m before p (TP_VIEW_VISIBLE_TOLERANCE).
+ * A ridge between the eye and p hides it. Points behind the eye are not checked here (project
+ * them first). 0 for a NaN point. */
+int tp_view_ground_visible(const tp_view_scene* v, const tp_camera* cam, const double p[3]);
+
 /* Measures between two ground points given by E, N (render CRS) at their drawn heights; writes
  * one line of text (the result, or why not) and returns 1 on success, 0 off the data. */
 int tp_view_measure_points(tp_view_scene* v, const double e[2], const double n[2], char* text,

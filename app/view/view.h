@@ -33,6 +33,9 @@ typedef struct view_options {
     const char* cache_dir;           /* --cache-dir */
     int old_path;                    /* the DEM is drawn whole (see --help) */
     int patch_given;
+    const char* bookmark;            /* --bookmark NAME: start from that view */
+    const char* save_bookmark;       /* --save-bookmark NAME: save the start view as NAME */
+    const char* bookmarks_path;      /* --bookmarks FILE (default: view_bookmarks.h) */
 } view_options;
 
 typedef struct frame_result {

@@ -15,6 +15,7 @@
 #include "pick.h"
 #include "point_readout.h"
 #include "tp_geo.h"
+#include "view_bookmarks.h"
 
 #include <epoxy/gl.h>
 #define GLFW_INCLUDE_NONE
@@ -33,6 +34,7 @@ static const char* help_text =
     "C print camera   H hide HUD   right-click twice: measure   I or middle-click: what is here\n"
     "R line-of-sight mode (right-click observer, then target: green seen, red hidden)\n"
     "B viewshed from the ground under the cursor, 10 km (red: not seen; B again: off)\n"
+    "Ctrl+1..9 save the view as bookmark \"view N\"   1..9 back to it   Tab/Shift+Tab every bookmark\n"
     "? this help   Esc quit";
 
 typedef struct window_state {
@@ -51,6 +53,7 @@ typedef struct window_state {
     int los_mode;      /* R: right clicks pick a line of sight instead of measuring */
     tp_view_los los;
     tp_view_viewshed viewshed; /* B */
+    int bookmark;      /* place in the bookmarks file of the last one shown (-1: none) */
 } window_state;
 
 static const char* lod_name(tp_lod_mode m)
@@ -316,6 +319,40 @@ static void on_key(window_state* s, int key)
     }
 }
 
+/* Bookmarks (view_bookmarks.h): Ctrl+1..9 saves the view as "view N", 1..9 goes back to it,
+ * Tab / Shift+Tab step through the file. Returns 1 when the key was one of them. */
+static int bookmark_key(window_state* s, int key, int mods)
+{
+    int ok;
+    if (key == GLFW_KEY_TAB) {
+        ok = tp_view_bookmark_cycle(s->v, s->o, s->cam, &s->bookmark,
+                                    mods & GLFW_MOD_SHIFT ? -1 : 1, s->measure_line,
+                                    sizeof s->measure_line);
+    } else if (key >= GLFW_KEY_1 && key <= GLFW_KEY_9) {
+        char name[16];
+        snprintf(name, sizeof name, "view %d", key - GLFW_KEY_0);
+        if (mods & GLFW_MOD_CONTROL) {
+            tp_view_bookmark_save(s->v, s->o, s->cam, name, s->measure_line,
+                                  sizeof s->measure_line);
+            printf("%s\n", s->measure_line);
+            fflush(stdout);
+            return 1;
+        }
+        ok = tp_view_bookmark_recall(s->v, s->o, s->cam, name, &s->bookmark, s->measure_line,
+                                     sizeof s->measure_line);
+    } else {
+        return 0;
+    }
+    if (ok) { /* flying from the bookmark, as from Home */
+        s->nav.orbit = 0;
+        tp_camera_get_pose(s->cam, &s->nav.yaw_deg, &s->nav.pitch_deg);
+        s->has_mark = 0;
+    }
+    printf("%s\n", s->measure_line);
+    fflush(stdout);
+    return 1;
+}
+
 /* The controls held during this frame. */
 static tp_nav_controls controls(const tp_input* in, double look_dx, double look_dy)
 {
@@ -337,7 +374,7 @@ int tp_view_window_run(tp_view_scene* v, tp_gl_context* ctx, tp_renderer* r, tp_
     static tp_input in; /* the callbacks' user pointer: must outlive event processing */
     tp_input_attach(&in, win);
     window_state s = {.v = v, .cam = cam, .o = o, .lod = o->vs.lod,
-                      .show_hud = !o->no_hud};
+                      .show_hud = !o->no_hud, .bookmark = -1};
     const double* gt = v->gt;
     tp_nav_init(&s.nav, cam, fmax(v->src_width * fabs(gt[1]), v->src_height * fabs(gt[5])));
     tp_hud* hud = tp_hud_create();
@@ -353,6 +390,8 @@ int tp_view_window_run(tp_view_scene* v, tp_gl_context* ctx, tp_renderer* r, tp_
         last = now;
         tp_input_event ev;
         while (tp_input_next(&in, &ev)) {
+            if (ev.kind == TP_INPUT_KEY && bookmark_key(&s, ev.key, ev.mods))
+                continue;
             if (ev.kind == TP_INPUT_KEY)
                 on_key(&s, ev.key);
             else if (ev.kind == TP_INPUT_CHAR)
