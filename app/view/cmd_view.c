@@ -16,6 +16,7 @@
 #include "hud_text.h"
 #include "overlay.h"
 #include "pick.h"
+#include "layers.h"
 #include "store_cache.h"
 #include "view_bookmarks.h"
 
@@ -54,6 +55,9 @@ enum {
     OPT_BOOKMARK,
     OPT_SAVE_BOOKMARK,
     OPT_BOOKMARKS,
+    /* planning layers (layers.h) */
+    OPT_OVERLAY,
+    OPT_CONTOURS,
 };
 
 static void print_help(void)
@@ -91,6 +95,15 @@ static void print_help(void)
           "  --texture FILE        drape an image: an orthophoto georeferenced through GDAL (warped\n"
           "                        onto the render grid), or any image covering the DEM's extent\n"
           "  --one-draw-per-patch  one draw call per patch instead of multi-draw\n"
+          "planning layers (docs/field.md):\n"
+          "  --overlay FILE        drape a vector file on the terrain: GPX, KML, GeoJSON,\n"
+          "                        Shapefile, GeoPackage or anything OGR reads, reprojected to\n"
+          "                        the render CRS; lines, polygon outlines, points with their\n"
+          "                        names; one colour per file; repeatable (8 at most)\n"
+          "  --contours M          contour lines every M metres (0: a round interval for the\n"
+          "                        relief) within 10 km of the point looked at, by GDAL's\n"
+          "                        contour generator; every fifth thicker and labelled (F2 in\n"
+          "                        the window: contours around the point looked at, or off)\n"
           "bookmarks (named views; docs/field.md, \"Map reading\"):\n"
           "  --bookmark NAME       start from bookmark NAME (instead of --camera)\n"
           "  --save-bookmark NAME  save the start view (--camera, --camera-geo or the default) as\n"
@@ -188,6 +201,8 @@ static int parse_options(int argc, char** argv, view_options* o)
         {"whole", no_argument, NULL, OPT_WHOLE},
         {"exaggeration", required_argument, NULL, OPT_EXAG},
         {"one-draw-per-patch", no_argument, NULL, OPT_ONE_DRAW},
+        {"overlay", required_argument, NULL, OPT_OVERLAY},
+        {"contours", required_argument, NULL, OPT_CONTOURS},
         {"bookmark", required_argument, NULL, OPT_BOOKMARK},
         {"save-bookmark", required_argument, NULL, OPT_SAVE_BOOKMARK},
         {"bookmarks", required_argument, NULL, OPT_BOOKMARKS},
@@ -283,6 +298,18 @@ static int parse_options(int argc, char** argv, view_options* o)
             o->render.grid_m = v[0];
             break;
         case OPT_ONE_DRAW: o->render.one_draw_per_patch = 1; break;
+        case OPT_OVERLAY:
+            if (o->overlay_count == (int)(sizeof o->overlays / sizeof o->overlays[0]))
+                return bad("--overlay", "at most 8 --overlay files", optarg);
+            o->overlays[o->overlay_count++] = optarg;
+            break;
+        case OPT_CONTOURS:
+            if (!tp_parse_numbers(optarg, v, 1) || !(v[0] >= 0 && v[0] <= 100000))
+                return bad("--contours", "an interval in metres, 0 to 100000 (0: chosen from the "
+                                         "relief)", optarg);
+            o->contours = 1;
+            o->contours_m = v[0];
+            break;
         case OPT_BOOKMARK: o->bookmark = optarg; break;
         case OPT_SAVE_BOOKMARK: o->save_bookmark = optarg; break;
         case OPT_BOOKMARKS: o->bookmarks_path = optarg; break;
@@ -339,7 +366,7 @@ static int run_headless(tp_view_scene* v, tp_gl_context* ctx, tp_renderer* r,
     int code = TP_EXIT_OK;
     frame_result fr = {0};
     int with_hud = o->hud && !o->no_hud;
-    tp_hud* hud = with_hud || o->render.grid_m > 0 ? tp_hud_create() : NULL;
+    tp_hud* hud = with_hud || o->render.grid_m > 0 || o->layers ? tp_hud_create() : NULL;
     char measure_line[512] = "";
     int measured = 0;
     for (int i = 0; i < o->frames; i++) {
@@ -355,8 +382,14 @@ static int run_headless(tp_view_scene* v, tp_gl_context* ctx, tp_renderer* r,
             measured = tp_view_measure_points(v, e, n, measure_line, sizeof measure_line) ? 1 : -1;
         }
         char text[4096];
+        if (i == 0 && o->contours && o->layers) {
+            char line[600];
+            tp_view_contours_at_centre(v, cam, o, o->contours_m, line, sizeof line);
+        }
         tp_overlay ov = {.grid_m = o->render.grid_m, .measure_line = measure_line,
                          .near_m = fr.render.near_m, .far_m = fr.render.far_m};
+        if (o->layers)
+            ov.drape_count = tp_view_layers_drawn(o->layers, &ov.drapes);
         if (with_hud) {
             tp_measured_error me;
             tp_view_measure_now(v, cam, &me);
@@ -412,6 +445,45 @@ static int take_georef(tp_view_scene* v, tp_store_scene* st)
     return 1;
 }
 
+/* --overlay files read and draped, on the full-resolution ground of the store (o->ground,
+ * o->layers set). TP_EXIT_OK, or one line naming the file and TP_EXIT_FAILURE. */
+static int load_layers(tp_view_scene* v, view_options* o, tp_view_layers* layers)
+{
+    if (!v->store) {
+        fprintf(stderr, "terrapatch view: --overlay and --contours need a georeferenced DEM or a "
+                        "store (%s is drawn whole: a heightmap image, --fit, --texture or "
+                        "--whole)\n", o->path);
+        return TP_EXIT_FAILURE;
+    }
+    tp_error err = {{0}};
+    if (tp_ground_create(v->store, NULL, &o->ground, &err) != TP_OK) {
+        fprintf(stderr, "terrapatch view: %s: %s\n", o->path, err.message);
+        return TP_EXIT_FAILURE;
+    }
+    o->layers = layers;
+    for (int i = 0; i < o->overlay_count; i++) {
+        char msg[1200];
+        if (!tp_view_layers_add_overlay(layers, o->ground, o->overlays[i], msg, sizeof msg)) {
+            fprintf(stderr, "terrapatch view: --overlay %s\n", msg);
+            return TP_EXIT_FAILURE;
+        }
+    }
+    return TP_EXIT_OK;
+}
+
+/* Contours around the point the camera looks at (else the DEM's centre), for --contours at the
+ * first frame. */
+void tp_view_contours_at_centre(tp_view_scene* v, const tp_camera* cam, view_options* o,
+                                double interval_m, char* line, size_t cap)
+{
+    double p[3];
+    if (!tp_view_pick_centre(v, cam, p)) {
+        p[0] = v->gt[0] + 0.5 * v->src_width * v->gt[1];
+        p[1] = v->gt[3] + 0.5 * v->src_height * v->gt[5];
+    }
+    tp_view_layers_contours_at(o->layers, o->ground, p[0], p[1], interval_m, line, cap);
+}
+
 /* Runs the view on an open scene (either path; st: the store, whose georeference may still be
  * in the making): camera, context, renderer, the frames. */
 static int run_view(tp_view_scene* v, view_options* o, tp_render_grid_desc* gd,
@@ -462,9 +534,18 @@ static int run_view(tp_view_scene* v, view_options* o, tp_render_grid_desc* gd,
         code = TP_EXIT_FAILURE;
     if (code == TP_EXIT_OK && o->texture && !tp_view_load_texture(v->dem, r, o->texture))
         code = TP_EXIT_FAILURE;
+    tp_view_layers layers;
+    memset(&layers, 0, sizeof layers);
+    /* a window always has them (F2); headless frames when asked */
+    if (code == TP_EXIT_OK && (o->overlay_count || o->contours || (!o->headless && v->store)))
+        code = load_layers(v, o, &layers);
     if (code == TP_EXIT_OK)
         code = o->headless ? run_headless(v, ctx, r, &cam, o)
                            : tp_view_window_run(v, ctx, r, &cam, o);
+    tp_view_layers_free(&layers);
+    tp_ground_destroy(o->ground);
+    o->ground = NULL;
+    o->layers = NULL;
     tp_renderer_destroy(r);
     tp_gl_context_destroy(ctx);
     return code;

@@ -381,40 +381,31 @@ static void label_at(tp_hud* hud, layout* l, int w, int h, double x, double y, f
     occupy(l, x0 - 3, y0 - 2, x1 + 3, y1 + 2);
 }
 
-/* Features draped on the ground: lines and rings, index contours thicker and labelled with
- * their elevation at the middle of the part, points as dots with their names. */
+/* Features draped on the ground: lines and rings (index contours thicker), points as dots
+ * (pass 0, with the terrain); the points' names (pass 1) and the index contours' elevations at
+ * the middle of each part (pass 2), each where its ground point is seen and the text covers
+ * nothing laid out before it. */
 static void drape_features(tp_hud* hud, layout* l, const tp_view_scene* v, const tp_camera* cam,
-                           const tp_overlay* ov, const tp_overlay_drape* od, float s)
+                           const tp_overlay* ov, const tp_overlay_drape* od, float s, int pass)
 {
     const tp_drape* d = od->drape;
     const double zs = tp_view_scene_vertical_scale(v);
     int w = cam->viewport_w_px, h = cam->viewport_h_px;
-    for (size_t i = 0; i < d->part_count; i++) {
-        const tp_drape_part* p = &d->parts[i];
-        float width = od->width_px * s * (p->index ? 2.5f : 1.0f);
-        draped_line(hud, cam, ov, zs, d->enh + 3 * p->first, p->count, width, od->rgba);
-    }
-    if (od->label_values)
+    if (pass == 0) {
         for (size_t i = 0; i < d->part_count; i++) {
             const tp_drape_part* p = &d->parts[i];
-            float px[3];
-            if (!p->index || p->value != p->value ||
-                !project_draped(cam, ov, zs, d->enh + 3 * (p->first + p->count / 2), px) ||
-                px[0] < 0 || px[1] < 0 || px[0] >= w || px[1] >= h)
-                continue;
-            char text[32];
-            snprintf(text, sizeof text, "%.0f", p->value);
-            label_at(hud, l, w, h, px[0], px[1], s, text);
+            const double* e = d->enh + 3 * p->first;
+            float width = od->width_px * s * (p->index ? 2.0f : 1.0f);
+            if (!od->label_values && width >= 2.5f) { /* outlined: readable on any ground */
+                const unsigned char dark[4] = {0, 0, 0, 200};
+                draped_line(hud, cam, ov, zs, e, p->count, width + 2 * s, dark);
+            }
+            draped_line(hud, cam, ov, zs, e, p->count, width, od->rgba);
         }
-    if (d->point_count) {
-        float* xyz = malloc(sizeof(float) * 3 * d->point_count);
+        float* xyz = d->point_count ? malloc(sizeof(float) * 3 * d->point_count) : NULL;
         int n = 0;
         for (size_t i = 0; xyz && i < d->point_count; i++)
-            if (project_draped(cam, ov, zs, d->points[i].enh, xyz + 3 * n)) {
-                const float* q = xyz + 3 * n++;
-                if (d->points[i].name && q[0] >= 0 && q[1] >= 0 && q[0] < w && q[1] < h)
-                    label_at(hud, l, w, h, q[0], q[1], s, d->points[i].name);
-            }
+            n += project_draped(cam, ov, zs, d->points[i].enh, xyz + 3 * n);
         const unsigned char dark[4] = {0, 0, 0, 220};
         for (int k = 0; k < n; k += 20000) {
             int m = n - k < 20000 ? n - k : 20000;
@@ -422,6 +413,24 @@ static void drape_features(tp_hud* hud, layout* l, const tp_view_scene* v, const
             tp_hud_dots(hud, w, h, xyz + 3 * k, m, 6.0f * s, od->rgba, ov->far_m > 0);
         }
         free(xyz);
+        return;
+    }
+    for (size_t i = 0; pass == 1 && i < d->point_count; i++) {
+        float q[3];
+        if (d->points[i].name && project_draped(cam, ov, zs, d->points[i].enh, q) && q[0] >= 0 &&
+            q[1] >= 0 && q[0] < w && q[1] < h && tp_view_ground_visible(v, cam, d->points[i].enh))
+            label_at(hud, l, w, h, q[0], q[1], s, d->points[i].name);
+    }
+    for (size_t i = 0; pass == 2 && od->label_values && i < d->part_count; i++) {
+        const tp_drape_part* p = &d->parts[i];
+        const double* at = d->enh + 3 * (p->first + p->count / 2);
+        float q[3];
+        if (!p->index || p->value != p->value || !project_draped(cam, ov, zs, at, q) ||
+            q[0] < 0 || q[1] < 0 || q[0] >= w || q[1] >= h || !tp_view_ground_visible(v, cam, at))
+            continue;
+        char text[32];
+        snprintf(text, sizeof text, "%.0f", p->value);
+        label_at(hud, l, w, h, q[0], q[1], s, text);
     }
 }
 
@@ -446,7 +455,7 @@ void tp_view_overlay_draw(tp_hud* hud, const tp_view_scene* v, const tp_camera* 
         bottom -= 4 * s;
     }
     for (size_t i = 0; i < ov->drape_count; i++)
-        drape_features(hud, &l, v, cam, ov, &ov->drapes[i], s);
+        drape_features(hud, &l, v, cam, ov, &ov->drapes[i], s, 0);
     if (ov->viewshed && ov->viewshed->count)
         viewshed_tint(hud, &l, v, cam, ov, s);
     if (ov->los && ov->los->count > 1)
@@ -471,6 +480,10 @@ void tp_view_overlay_draw(tp_hud* hud, const tp_view_scene* v, const tp_camera* 
         if (ov->help_text)
             block(hud, &l, w, h, 10, y + 12 * s, w - 16, room - (y + 2 * s), s, ov->help_text);
     }
+    /* names of points, then contour elevations, then grid labels, where room is left */
+    for (int pass = 1; pass <= 2; pass++)
+        for (size_t i = 0; i < ov->drape_count; i++)
+            drape_features(hud, &l, v, cam, ov, &ov->drapes[i], s, pass);
     if (ov->grid_m > 0)
         grid_labels(hud, &l, v, cam, ov->grid_m, s);
 }

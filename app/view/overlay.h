@@ -34,7 +34,8 @@ typedef struct tp_overlay_viewshed {
 typedef struct tp_overlay_drape {
     const tp_drape* drape;
     unsigned char rgba[4];
-    float width_px;        /* at overlay scale 1; index contours 2.5 times */
+    float width_px;        /* at overlay scale 1; index contours twice; a dark outline under
+                              lines 2.5 px wide or more, contours aside */
     int label_values;      /* label index contours with their elevation ("1500") */
 } tp_overlay_drape;
 

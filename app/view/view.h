@@ -36,6 +36,13 @@ typedef struct view_options {
     const char* bookmark;            /* --bookmark NAME: start from that view */
     const char* save_bookmark;       /* --save-bookmark NAME: save the start view as NAME */
     const char* bookmarks_path;      /* --bookmarks FILE (default: view_bookmarks.h) */
+    /* the planner's layers (layers.h) */
+    const char* overlays[8];         /* --overlay FILE, repeatable */
+    int overlay_count;
+    int contours;                    /* --contours M given */
+    double contours_m;               /* its interval (0: chosen from the relief) */
+    struct tp_view_layers* layers;   /* loaded before the frames (run_view), or NULL */
+    struct tp_ground* ground;        /* the layers' ground (run_view owns it), or NULL */
 } view_options;
 
 typedef struct frame_result {
@@ -47,6 +54,11 @@ typedef struct frame_result {
     double bound_max_px;      /* largest projected bound of a drawn node */
     tp_stream_stats stream;   /* resident MB, pending loads */
 } frame_result;
+
+/* Contours (layers.h) around the point cam looks at (else the DEM's centre) into o->layers:
+ * --contours at the first frame, F2 in the window. line gets what happened. */
+void tp_view_contours_at_centre(tp_view_scene* v, const tp_camera* cam, view_options* o,
+                                double interval_m, char* line, size_t cap);
 
 /* Monotonic clock in milliseconds. */
 double tp_view_now_ms(void);

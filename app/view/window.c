@@ -11,6 +11,7 @@
 #include "viewshed_pick.h"
 #include "mesh_export.h"
 #include "navigate.h"
+#include "layers.h"
 #include "overlay.h"
 #include "pick.h"
 #include "point_readout.h"
@@ -34,6 +35,7 @@ static const char* help_text =
     "C print camera   H hide HUD   right-click twice: measure   I or middle-click: what is here\n"
     "R line-of-sight mode (right-click observer, then target: green seen, red hidden)\n"
     "B viewshed from the ground under the cursor, 10 km (red: not seen; B again: off)\n"
+    "F2 contours within 10 km of the point looked at (F2 again: off)\n"
     "Ctrl+1..9 save the view as bookmark \"view N\"   1..9 back to it   Tab/Shift+Tab every bookmark\n"
     "? this help   Esc quit";
 
@@ -224,6 +226,24 @@ static void los_click(window_state* s, GLFWwindow* win, double x, double y)
     tp_view_los_click(&s->los, s->ground, p[0], p[1], s->measure_line, sizeof s->measure_line);
 }
 
+/* F2: contours around the point looked at (--contours' interval, else one for the relief);
+ * F2 again: off. */
+static void contours_key(window_state* s)
+{
+    if (s->o->layers && s->o->layers->contours.part_count) {
+        tp_drape_free(&s->o->layers->contours);
+        snprintf(s->measure_line, sizeof s->measure_line, "contours: off");
+        return;
+    }
+    if (!s->o->layers || !s->o->ground) {
+        snprintf(s->measure_line, sizeof s->measure_line,
+                 "contours: only on a georeferenced DEM or a store");
+        return;
+    }
+    tp_view_contours_at_centre(s->v, s->cam, s->o, s->o->contours_m, s->measure_line,
+                               sizeof s->measure_line);
+}
+
 /* B: the viewshed from the ground under the cursor; B again: off. */
 static void viewshed_key(window_state* s, GLFWwindow* win)
 {
@@ -303,6 +323,7 @@ static void on_key(window_state* s, int key)
     case GLFW_KEY_Y: export_view(s); break;
     case GLFW_KEY_C: print_camera(s); break;
     case GLFW_KEY_B: viewshed_key(s, glfwGetCurrentContext()); break;
+    case GLFW_KEY_F2: contours_key(s); break;
     case GLFW_KEY_R:
         s->los_mode = !s->los_mode;
         s->los.picked = 0;
@@ -374,7 +395,7 @@ int tp_view_window_run(tp_view_scene* v, tp_gl_context* ctx, tp_renderer* r, tp_
     static tp_input in; /* the callbacks' user pointer: must outlive event processing */
     tp_input_attach(&in, win);
     window_state s = {.v = v, .cam = cam, .o = o, .lod = o->vs.lod,
-                      .show_hud = !o->no_hud, .bookmark = -1};
+                      .show_hud = !o->no_hud, .bookmark = -1, .ground = o->ground};
     const double* gt = v->gt;
     tp_nav_init(&s.nav, cam, fmax(v->src_width * fabs(gt[1]), v->src_height * fabs(gt[5])));
     tp_hud* hud = tp_hud_create();
@@ -445,6 +466,8 @@ int tp_view_window_run(tp_view_scene* v, tp_gl_context* ctx, tp_renderer* r, tp_
             ov.los = &s.los.overlay;
         if (s.viewshed.overlay.count)
             ov.viewshed = &s.viewshed.overlay;
+        if (o->layers)
+            ov.drape_count = tp_view_layers_drawn(o->layers, &ov.drapes);
         if (s.show_hud) {
             if (now - measured_at > 1.0) { /* once a second */
                 tp_view_measure_now(v, cam, &me);
@@ -475,6 +498,7 @@ int tp_view_window_run(tp_view_scene* v, tp_gl_context* ctx, tp_renderer* r, tp_
     tp_hud_destroy(hud);
     tp_view_los_free(&s.los);
     tp_view_viewshed_free(&s.viewshed);
-    tp_ground_destroy(s.ground);
+    if (s.ground != o->ground) /* the layers' ground is run_view's */
+        tp_ground_destroy(s.ground);
     return TP_EXIT_OK;
 }
