@@ -719,7 +719,15 @@ int tp_cli_build(int argc, char** argv)
     free(rows);
     free(q);
     const size_t filled = tp_mosaic_filled_samples(m);
+    tp_mosaic_voids mv;
+    tp_mosaic_get_voids(m, &mv);
     tp_mosaic_close(m);
+    if (st == TP_OK && mv.too_large_samples > 0)
+        fprintf(stderr,
+                "terrapatch build: warning: %zu void samples left unfilled: their voids need a "
+                "window of more than %d rows to be filled whole (an eighth of --memory %d); "
+                "give more --memory to fill them\n",
+                mv.too_large_samples, mv.max_void_rows, o.memory_mb);
     free(notes);
     if (st != TP_OK) {
         if (tp_interrupted())
@@ -768,6 +776,8 @@ int tp_cli_build(int argc, char** argv)
         tp_json_key(&j, "memory_mb"), tp_json_int(&j, o.memory_mb);
         tp_json_key(&j, "fill_max"), tp_json_int(&j, o.fill_max);
         tp_json_key(&j, "filled_samples"), tp_json_number(&j, (double)filled);
+        tp_json_key(&j, "filled_from_samples"), tp_json_number(&j, (double)mv.filled_from_samples);
+        tp_json_key(&j, "void_samples_too_large"), tp_json_number(&j, (double)mv.too_large_samples);
         tp_json_key(&j, "seconds"), tp_json_number(&j, seconds);
         tp_json_key(&j, "rss_peak_mb"), tp_json_number(&j, rss_mb);
         tp_json_object_end(&j);
