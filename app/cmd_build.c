@@ -42,13 +42,15 @@ typedef struct build_options {
     const char* crs;
     tp_resampling resampling;
     int memory_mb;
-    int fill_max; /* samples; 0 fills nothing */
+    int fill_max; /* samples; 0 fills nothing; TP_FILL_MAX_ANY (the default) any size */
+    const char* fill_from; /* --fill-from: fill voids from this raster */
     int threads;
     const char* json; /* NULL, "-" or a path */
     int quiet;
 } build_options;
 
-enum { OPT_CRS = 256, OPT_RESAMPLING, OPT_MEMORY, OPT_THREADS, OPT_JSON, OPT_QUIET, OPT_PATCH, OPT_FILL_MAX };
+enum { OPT_CRS = 256, OPT_RESAMPLING, OPT_MEMORY, OPT_THREADS, OPT_JSON, OPT_QUIET, OPT_PATCH, OPT_FILL_MAX,
+       OPT_FILL_FROM };
 
 static void print_help(void)
 {
@@ -60,17 +62,22 @@ static void print_help(void)
           "spacings differ; geographic sources are warped to the UTM/UPS zone of the centre.\n"
           "The grid is read in bands of rows, quantised with one global height step and built\n"
           "into a hierarchy of (2^n+1)^2 nodes; memory stays within --memory whatever the size.\n"
-          "Interior voids up to --fill-max samples are filled as the viewer fills a DEM's\n"
-          "(GDALFillNodata), larger ones and those on the border stay nodata (never drawn);\n"
-          "stores keep no per-sample \"filled\" mark (the viewer cannot tint filled voids).\n"
+          "Interior voids of any size (up to --fill-max samples when given) are filled as the\n"
+          "viewer fills a DEM's: interpolated (GDALFillNodata) or, with --fill-from, from a\n"
+          "second raster shifted to meet the ground around each void; voids on the border\n"
+          "stay nodata (never drawn), and so does a void too tall for the memory given to\n"
+          "the window it is filled in (a warning says so); stores keep no per-sample\n"
+          "\"filled\" mark (the viewer cannot tint filled voids).\n"
           "\n"
           "options:\n"
           "  -o, --output FILE   the store to write (written whole or not at all)\n"
           "  --patch N           node size: 17, 33, 65, 129 or 257 (default 65)\n"
           "  --crs CRS           the sources' CRS (EPSG:N, WKT, PROJ), overriding theirs\n"
           "  --resampling R      bilinear (default) or cubic, for warps\n"
-          "  --fill-max N        fill interior voids up to N x N samples by interpolation\n"
-          "                      (default 64; 0 fills nothing); not marked in the store\n"
+          "  --fill-max N        fill interior voids up to N x N samples only (default: any\n"
+          "                      size; 0 fills nothing); not marked in the store\n"
+          "  --fill-from FILE    fill voids from this raster (any CRS and resolution),\n"
+          "                      shifted onto the ground around each void\n"
           "  --memory MB         memory budget (default 1024); GDAL's cache gets a quarter;\n"
           "                      refused at once when one band of rows does not fit\n"
           "  --threads N         threads (default: every core)\n"
@@ -113,6 +120,7 @@ static int parse_options(int argc, char** argv, build_options* o)
         {"resampling", required_argument, NULL, OPT_RESAMPLING},
         {"memory", required_argument, NULL, OPT_MEMORY},
         {"fill-max", required_argument, NULL, OPT_FILL_MAX},
+        {"fill-from", required_argument, NULL, OPT_FILL_FROM},
         {"threads", required_argument, NULL, OPT_THREADS},
         {"json", required_argument, NULL, OPT_JSON},
         {"quiet", no_argument, NULL, OPT_QUIET},
@@ -122,7 +130,7 @@ static int parse_options(int argc, char** argv, build_options* o)
     *o = (build_options){0};
     o->patch_size = 65;
     o->memory_mb = 1024;
-    o->fill_max = 64;
+    o->fill_max = TP_FILL_MAX_ANY;
     opterr = 0;
     optind = 1;
     int c;
@@ -155,6 +163,12 @@ static int parse_options(int argc, char** argv, build_options* o)
             if (!parse_int(optarg, 0, 100000, &o->fill_max))
                 return tp_option_error("build", "--fill-max", "0 .. 100000 samples", optarg),
                        TP_EXIT_USAGE;
+            break;
+        case OPT_FILL_FROM:
+            if (!*optarg)
+                return tp_option_error("build", "--fill-from", "a raster file", optarg),
+                       TP_EXIT_USAGE;
+            o->fill_from = optarg;
             break;
         case OPT_THREADS:
             if (!parse_int(optarg, 1, 1024, &o->threads))
@@ -313,9 +327,10 @@ static double memory_to_suggest(double need_mb)
 static double build_memory_bytes(const tp_tree_geometry* g, int src_width, int fill_max)
 {
     const double side = (1 << g->n) + 1;
-    /* void filling: the mosaic's window (fill_max + 1 rows each side) as read and filled, its
-     * regions (int) and marks (byte) while it holds a void */
-    const double fill = fill_max > 0 ? (side + 2.0 * (fill_max + 1)) * src_width * 13.0 : 0;
+    /* void filling: the mosaic's window (2 rows each side at least) as read and filled, its
+     * regions (int) and marks (byte) while it holds a void; a window grown for a void takes
+     * what is left of the budget (tp_mosaic_options.fill_window_mb, set once the need is known) */
+    const double fill = fill_max > 0 ? (side + 4.0) * src_width * 13.0 : 0;
     const double band = side * src_width * sizeof(float) + side * g->width * sizeof(int32_t);
     const double builder = 4 * side * ((2 + 1.0 / (1 << g->n)) * g->width + g->scales) +
                            4.0 * g->cols * (sizeof(tp_node_meta) + (1u << (2 * g->n - 3))) +
@@ -334,6 +349,7 @@ static char* build_notes(const build_options* o, const tp_mosaic_info* mi, size_
     size_t cap = strlen(mi->notes) + 256;
     for (int i = 0; i < o->source_count; i++)
         cap += strlen(o->sources[i]) + 16;
+    cap += 320;
     char* notes = malloc(cap);
     if (!notes)
         return NULL;
@@ -345,10 +361,15 @@ static char* build_notes(const build_options* o, const tp_mosaic_info* mi, size_
         snprintf(notes + at, cap - at, "voids are not filled (--fill-max 0)");
         return notes;
     }
-    int digits = snprintf(notes + at, cap - at,
-                          "voids up to %d x %d samples filled by interpolation (GDALFillNodata): "
-                          "%zu samples (not marked per sample)",
-                          o->fill_max, o->fill_max, filled);
+    char size[64] = "voids of any size";
+    if (o->fill_max != TP_FILL_MAX_ANY)
+        snprintf(size, sizeof size, "voids up to %d x %d samples", o->fill_max, o->fill_max);
+    char how[320] = "by interpolation (GDALFillNodata)";
+    if (o->fill_from)
+        snprintf(how, sizeof how, "from %.250s (shifted onto the ground around each void)",
+                 o->fill_from);
+    int digits = snprintf(notes + at, cap - at, "%s filled %s: %zu samples (not marked per sample)",
+                          size, how, filled);
     int count_digits = snprintf(NULL, 0, "%zu", filled);
     at += (size_t)digits;
     snprintf(notes + at, cap - at, "%*s", 20 - count_digits, "");
@@ -573,7 +594,7 @@ int tp_cli_build(int argc, char** argv)
 
     tp_mosaic* m = NULL;
     tp_mosaic_options mo = {.crs = o.crs, .resampling = o.resampling, .memory_mb = o.memory_mb,
-                            .fill_max = o.fill_max};
+                            .fill_max = o.fill_max, .fill_from = o.fill_from};
     if (tp_mosaic_open(o.sources, (size_t)o.source_count, &mo, &m, &err) != TP_OK)
         return fail_line(err.message);
     tp_mosaic_info mi;
@@ -698,7 +719,15 @@ int tp_cli_build(int argc, char** argv)
     free(rows);
     free(q);
     const size_t filled = tp_mosaic_filled_samples(m);
+    tp_mosaic_voids mv;
+    tp_mosaic_get_voids(m, &mv);
     tp_mosaic_close(m);
+    if (st == TP_OK && mv.too_large_samples > 0)
+        fprintf(stderr,
+                "terrapatch build: warning: %zu void samples left unfilled: their voids need a "
+                "window of more than %d rows to be filled whole (an eighth of --memory %d); "
+                "give more --memory to fill them\n",
+                mv.too_large_samples, mv.max_void_rows, o.memory_mb);
     free(notes);
     if (st != TP_OK) {
         if (tp_interrupted())
@@ -747,6 +776,8 @@ int tp_cli_build(int argc, char** argv)
         tp_json_key(&j, "memory_mb"), tp_json_int(&j, o.memory_mb);
         tp_json_key(&j, "fill_max"), tp_json_int(&j, o.fill_max);
         tp_json_key(&j, "filled_samples"), tp_json_number(&j, (double)filled);
+        tp_json_key(&j, "filled_from_samples"), tp_json_number(&j, (double)mv.filled_from_samples);
+        tp_json_key(&j, "void_samples_too_large"), tp_json_number(&j, (double)mv.too_large_samples);
         tp_json_key(&j, "seconds"), tp_json_number(&j, seconds);
         tp_json_key(&j, "rss_peak_mb"), tp_json_number(&j, rss_mb);
         tp_json_object_end(&j);

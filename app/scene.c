@@ -69,6 +69,13 @@ int tp_scene_option(int opt, const char* arg, tp_scene_options* o, const char* c
         o->grid.fill_max_px = v == 0 ? -1 : (int)v; /* 0 on the command line: fill nothing */
         return 1;
     }
+    case TP_OPT_FILL_FROM:
+        if (!*arg) {
+            fprintf(stderr, "terrapatch %s: --fill-from: expected a raster file\n", cmd);
+            return -1;
+        }
+        o->grid.fill_from = arg;
+        return 1;
     case TP_OPT_SPACING:
     case TP_OPT_ZSCALE: {
         double v = strtod(arg, &end);
@@ -115,8 +122,10 @@ void tp_scene_options_help(FILE* f)
           "                      0.1, extent within +-180/+-90), else as metres\n"
           "  --resampling bilinear|cubic\n"
           "                      how geographic DEMs are warped to UTM/UPS (default bilinear)\n"
-          "  --fill-max N        fill interior voids up to N x N samples by interpolation and\n"
-          "                      mark them (default 64; 0 fills nothing)\n"
+          "  --fill-max N        fill interior voids up to N x N samples only (default: any\n"
+          "                      size; 0 fills nothing); filled samples are tinted\n"
+          "  --fill-from FILE    fill voids from this raster (any CRS and resolution), shifted\n"
+          "                      to meet the ground around each void; else interpolated\n"
           "  --spacing METRES    heightmap images (PNG, ...; read with OpenImageIO): post\n"
           "                      spacing, 0.001 to 1e6 (default 1)\n"
           "  --zscale S          heightmap images: metres per count, 1e-6 to 1e5 (default 1);\n"

@@ -17,7 +17,7 @@
 typedef struct tp_scene_options {
     int patch_size;          /* 17 .. 257 */
     tp_fit fit;
-    tp_grid_options grid;    /* --crs, --resampling, --fill-max */
+    tp_grid_options grid;    /* --crs, --resampling, --fill-max, --fill-from */
     tp_image_options image;  /* --spacing, --zscale, --origin (heightmap images) */
     int image_given;         /* one of those was given: read through OpenImageIO */
     tp_memory_use use;       /* the command, for the up-front memory check (memory.h) */
@@ -33,6 +33,7 @@ enum {
     TP_OPT_SPACING,
     TP_OPT_ZSCALE,
     TP_OPT_ORIGIN,
+    TP_OPT_FILL_FROM,
 };
 
 #define TP_SCENE_LONG_OPTIONS                                                                      \
@@ -40,6 +41,7 @@ enum {
         {"fit", required_argument, NULL, TP_OPT_FIT}, {"crs", required_argument, NULL, TP_OPT_CRS}, \
         {"resampling", required_argument, NULL, TP_OPT_RESAMPLING},                                \
         {"fill-max", required_argument, NULL, TP_OPT_FILL_MAX},                                    \
+        {"fill-from", required_argument, NULL, TP_OPT_FILL_FROM},                                  \
         {"spacing", required_argument, NULL, TP_OPT_SPACING},                                      \
         {"zscale", required_argument, NULL, TP_OPT_ZSCALE},                                        \
         {"origin", required_argument, NULL, TP_OPT_ORIGIN}

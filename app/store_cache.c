@@ -107,8 +107,22 @@ int tp_store_cache_get(const char* dem, const tp_store_cache_options* o, char* o
     h = fnv(h, meta, sizeof meta);
     h = fnv_str(h, o->crs);
     h = fnv(h, &o->resampling, sizeof o->resampling);
-    const int fill_max = o->fill_max_px == 0 ? 64 : o->fill_max_px < 0 ? 0 : o->fill_max_px;
+    const int fill_max = o->fill_max_px == 0 ? TP_FILL_MAX_ANY : o->fill_max_px < 0 ? 0 : o->fill_max_px;
     h = fnv(h, &fill_max, sizeof fill_max);
+    char from_path[PATH_MAX] = "";
+    if (o->fill_from && *o->fill_from) {
+        /* the second source's identity: a changed file makes a new store */
+        struct stat fb;
+        if (!realpath(o->fill_from, from_path) || stat(from_path, &fb) != 0) {
+            fprintf(stderr, "terrapatch: --fill-from %s: %s\n", o->fill_from, strerror(errno));
+            return TP_EXIT_FAILURE;
+        }
+        int64_t fmeta[3] = {(int64_t)fb.st_size, (int64_t)fb.st_mtim.tv_sec,
+                            (int64_t)fb.st_mtim.tv_nsec};
+        h = fnv_str(h, "fill-from");
+        h = fnv_str(h, from_path);
+        h = fnv(h, fmeta, sizeof fmeta);
+    }
 
     char dir[PATH_MAX];
     tp_store_cache_dir(o->cache_dir, dir, sizeof dir);
@@ -148,7 +162,7 @@ int tp_store_cache_get(const char* dem, const tp_store_cache_options* o, char* o
     snprintf(patch, sizeof patch, "%d", o->patch_size);
     char fill[16];
     snprintf(fill, sizeof fill, "%d", fill_max);
-    char* argv[14];
+    char* argv[16];
     int argc = 0;
     argv[argc++] = "build";
     argv[argc++] = abs_path;
@@ -156,8 +170,14 @@ int tp_store_cache_get(const char* dem, const tp_store_cache_options* o, char* o
     argv[argc++] = out;
     argv[argc++] = "--patch";
     argv[argc++] = patch;
-    argv[argc++] = "--fill-max";
-    argv[argc++] = fill;
+    if (fill_max != TP_FILL_MAX_ANY) {
+        argv[argc++] = "--fill-max";
+        argv[argc++] = fill;
+    }
+    if (from_path[0]) {
+        argv[argc++] = "--fill-from";
+        argv[argc++] = from_path;
+    }
     if (o->crs) {
         argv[argc++] = "--crs";
         argv[argc++] = (char*)o->crs;

@@ -8,7 +8,8 @@
  * temporary directory (mkdtemp under $TMPDIR, else /tmp) and one line says so; that store is
  * removed after the view. The file is NAME-KEY.tpt, KEY a 64-bit FNV-1a hash of the DEM's absolute path,
  * size and modification time and of every build option that changes the store (patch size,
- * --crs, --resampling, --fill-max) and the store format's version; a cached file is used only if it opens
+ * --crs, --resampling, --fill-max, --fill-from and that file's path, size and time) and the
+ * store format's version; a cached file is used only if it opens
  * as a store and its header and notes match (the source path, the patch size), else it is
  * rebuilt.
  */
@@ -24,7 +25,9 @@ typedef struct tp_store_cache_options {
     int patch_size;           /* 17 .. 257 */
     const char* crs;          /* NULL: the DEM's */
     tp_resampling resampling;
-    int fill_max_px;          /* as tp_grid_options.fill_max_px: 0 means 64, < 0 fills nothing */
+    int fill_max_px;          /* as tp_grid_options.fill_max_px: 0 any size, < 0 fills nothing */
+    const char* fill_from;    /* --fill-from; NULL: interpolate. Its absolute path, size and
+                                 modification time are part of the key */
     const char* cmd;          /* for messages: "view" */
 } tp_store_cache_options;
 

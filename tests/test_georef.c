@@ -27,7 +27,7 @@
     X(n42e001_negative_fill_max_fills_nothing)                                                     \
     X(interior_hole_filled_and_flagged)                                                            \
     X(hole_touching_border_is_outside)                                                             \
-    X(large_hole_not_filled_by_default)                                                            \
+    X(large_hole_filled_by_default)                                                                \
     X(fill_max_px_bounds_the_void_box)                                                             \
     X(diagonal_voids_are_separate_regions)                                                         \
     X(no_crs_taken_as_metres_with_warning)                                                         \
@@ -699,8 +699,9 @@ TEST(hole_touching_border_is_outside)
     tp_dem_destroy(dem);
 }
 
-/* A 100x100 hole in a 300x300 grid is wider than the default 64: a large void, not fabricated. */
-TEST(large_hole_not_filled_by_default)
+/* A 100x100 hole in a 300x300 grid: filled by default (it was left as a large void before, when
+ * the default was --fill-max 64); with fill_max_px 64 it is a large void, not fabricated. */
+TEST(large_hole_filled_by_default)
 {
     tp_dem* dem = synth_plane(300, 300);
     tp_render_grid* g;
@@ -708,6 +709,14 @@ TEST(large_hole_not_filled_by_default)
     punch(dem, 100, 100, 100, 100);
     synth_finish(dem);
     g = build_ok(dem, NULL);
+    k = count_grid(g);
+    EXPECT_EQ_INT(10000, g->filled_samples);
+    EXPECT_EQ_INT(0, g->large_void_samples);
+    EXPECT_EQ_INT(0, k.nan);
+    EXPECT_EQ_INT(1, g->filled[(size_t)150 * 300 + 150]);
+    tp_render_grid_destroy(g);
+    tp_grid_options opt = {.fill_max_px = 64};
+    g = build_ok(dem, &opt);
     k = count_grid(g);
     EXPECT_EQ_INT(0, g->filled_samples);
     EXPECT_EQ_INT(10000, g->large_void_samples);
@@ -718,7 +727,8 @@ TEST(large_hole_not_filled_by_default)
     tp_dem_destroy(dem);
 }
 
-/* "bounding box at most fill_max_px samples wide and high": 64 wide is filled by default, 65 is
+/* By default every interior void is filled, 65 wide too (it was left before: --fill-max 64);
+ * "bounding box at most fill_max_px samples wide and high": with 64, 64 wide is filled and 65 is
  * not; with fill_max_px = 3 a 3x3 hole is filled and a 4x1 one is not. */
 TEST(fill_max_px_bounds_the_void_box)
 {
@@ -731,6 +741,13 @@ TEST(fill_max_px_bounds_the_void_box)
     punch(dem, 20, 30, 4, 1);  /* 4 x 1 */
     synth_finish(dem);
     memset(&opt, 0, sizeof opt);
+    g = build_ok(dem, &opt);
+    EXPECT_EQ_INT(64 + 65 + 9 + 4, g->filled_samples);
+    EXPECT_EQ_INT(0, g->large_void_samples);
+    EXPECT_EQ_INT(1, g->filled[(size_t)20 * 100 + 74]);
+    check_void_accounting(g);
+    tp_render_grid_destroy(g);
+    opt.fill_max_px = 64;
     g = build_ok(dem, &opt);
     EXPECT_EQ_INT(64 + 9 + 4, g->filled_samples);
     EXPECT_EQ_INT(65, g->large_void_samples);

@@ -363,12 +363,24 @@ TEST(void_in_nodata_collar_exits_1)
     EXPECT_CONTAINS(err, pos);
 }
 
-/* A hole of 80 x 80 posts is beyond the default --fill-max (64): not filled, a void. */
+/* A hole of 80 x 80 posts open on the DEM's edge: outside the data, not filled, a void. */
 TEST(void_in_large_hole_exits_1)
 {
     char path[256], json[8192], err[2048];
     snprintf(path, sizeof path, "%s/plane_hole.tif", tmp_dir());
     write_plane(path, 0.1, 0.1, 120, 120, 80);
+    /* interior voids of any size are filled: a hole stays a void only where it opens on the
+     * edge, so a channel 3 posts wide joins this one to the top edge */
+    {
+        GDALDatasetH ds = GDALOpen(path, GA_Update);
+        ASSERT_TRUE(ds != NULL);
+        float nd[3 * 60];
+        for (int i = 0; i < 3 * 60; i++)
+            nd[i] = -9999.0f;
+        ASSERT_EQ_INT(CE_None, GDALRasterIO(GDALGetRasterBand(ds, 1), GF_Write, 59, 0, 3, 60, nd,
+                                            3, 60, GDT_Float32, 0, 0));
+        GDALClose(ds);
+    }
     /* the centre post (60, 60) */
     const char* pos = "33n 500605 4649395";
     EXPECT_EQ_INT(1, run_point(path, pos, json, sizeof json, err, sizeof err));

@@ -652,6 +652,7 @@ int tp_cli_view(int argc, char** argv)
                                      .crs = o.scene.grid.crs,
                                      .resampling = o.scene.grid.resampling,
                                      .fill_max_px = o.scene.grid.fill_max_px,
+                                     .fill_from = o.scene.grid.fill_from,
                                      .cmd = "view"};
         int temporary = 0;
         code = tp_store_cache_get(o.path, &co, store, sizeof store, &temporary);

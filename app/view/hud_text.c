@@ -35,6 +35,35 @@ void tp_view_position_text(const tp_georef* g, double e, double n, char* out, si
     snprintf(out + at, cap - (size_t)at, "  UTM %s %.0f %.0f  MGRS %s", zname, ue, un, mgrs);
 }
 
+/* The legend of the filled-void tint: what filled the voids and how many samples. A DEM read
+ * whole knows (its render grid); a store says it in its notes (the line cmd_build writes:
+ * "voids ... filled by interpolation ...: N samples") and marks no sample, so nothing is tinted. */
+static void voids_text(const tp_view_scene* v, char* out, size_t cap)
+{
+    out[0] = '\0';
+    if (v->dem && v->dem->grid) {
+        const tp_render_grid* g = v->dem->grid;
+        if (g->filled_samples == 0)
+            return;
+        if (g->filled_from_samples)
+            snprintf(out, cap, "\ntint: voids filled from a second source, shifted onto the ground "
+                               "(%zu samples; %zu interpolated)",
+                     g->filled_from_samples, g->filled_samples - g->filled_from_samples);
+        else
+            snprintf(out, cap, "\ntint: voids filled by interpolation (%zu samples)",
+                     g->filled_samples);
+        return;
+    }
+    const char* notes = v->store ? v->store->info.header.notes : NULL;
+    const char* line = notes ? strstr(notes, "filled ") : NULL;
+    const char* count = line ? strstr(line, "): ") : NULL;
+    unsigned long long n = 0;
+    if (!count || sscanf(count + 3, "%llu", &n) != 1 || n == 0)
+        return;
+    snprintf(out, cap, "\nvoids: %llu samples filled %s (a store marks none: no tint)", n,
+             strncmp(line, "filled from", 11) == 0 ? "from a second source" : "by interpolation");
+}
+
 void tp_view_hud_text(tp_view_scene* v, const tp_camera* cam,
                       const tp_lod_params* lod, const frame_result* fr,
                       const tp_measured_error* me, const tp_hud_state* st, char* out, size_t cap)
@@ -87,7 +116,8 @@ void tp_view_hud_text(tp_view_scene* v, const tp_camera* cam,
     char exag[64] = "";
     if (ex != 1)
         snprintf(exag, sizeof exag, "   vertical exaggeration x%.3g", ex);
-    char store_line[256] = "", bound[96];
+    char store_line[256] = "", bound[96], voids[192];
+    voids_text(v, voids, sizeof voids);
     if (fr->store) {
         snprintf(store_line, sizeof store_line,
                  "\nstore: %d nodes drawn (%d substituted)   resident %.1f MB   %d loads pending",
@@ -105,14 +135,14 @@ void tp_view_hud_text(tp_view_scene* v, const tp_camera* cam,
              "camera  %s   height %.1f m, %s   heading %.0f deg, pitch %.0f deg\n"
              "%s\n"
              "%s%s\n"
-             "heights as in the DEM (SRTM/DTED: EGM96 geoid)   ? help",
+             "heights as in the DEM (SRTM/DTED: EGM96 geoid)   ? help%s",
              st->fps, fr->select_ms + fr->render.upload_ms, fr->select_ms, fr->render.upload_ms,
              fr->render.draw_ms, fr->render.gpu_bytes / 1e6, fr->core.triangles,
              fr->render.draw_calls, fr->render.patches_drawn, fr->store ? "nodes" : "patches",
              fr->core.culled_patches, v->n, levels, store_line, lod_text,
              st->frozen ? " (frozen)" : "", bound, measured,
              pos[0] ? pos : "(no CRS: local metres)", cam->position[2], agl, yaw, pitch, ground,
-             mode, exag);
+             mode, exag, voids);
 }
 
 static float width_of(const char* s, size_t n)

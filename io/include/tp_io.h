@@ -234,12 +234,18 @@ tp_status tp_image_read_rgba(const char* path, int* w, int* h, uint8_t** rgba, t
  * / +-90: an ASCII grid in degrees without its .prj) is taken as EPSG:4326; any other as
  * metres. Both with a warning.
  *
- * Nodata is classified on the render grid into connected regions (4-neighbour): a region that
- * touches the grid's border is outside the data (a collar, a warp's wedges); a region that
- * does not and whose bounding box is at most fill_max_px samples wide and high is an interior
- * void, filled by GDALFillNodata (inverse-distance interpolation from the valid samples around
- * it, search distance fill_max_px, no smoothing) and marked as filled; anything else is a
- * large void. Outside and large voids stay NaN: never drawn, never fabricated.
+ * Voids. Nodata is classified on the render grid into connected regions (4-neighbour): a
+ * region that touches the grid's border (its first or last row or column) is outside the data (a
+ * collar, a warp's wedges) and is never filled; a region that does not is an interior void,
+ * filled whatever its size unless fill_max_px caps it (bounding box at most fill_max_px samples
+ * wide and high), and marked as filled. Each void is filled on its own crop, its bounding box
+ * grown on every side by its reach (the box's longer side + 1): by GDALFillNodata
+ * (inverse-distance interpolation from the valid samples around it, search distance the reach, no
+ * smoothing), or, with fill_from, from that second source (any GDAL raster, any CRS and
+ * resolution, warped bilinearly onto the render grid) shifted onto the surrounding ground: delta
+ * = DEM - OTHER on the valid samples around the void is interpolated across it as above, and
+ * the void gets OTHER + delta (no step at its rim); where OTHER has no data the void's samples
+ * are interpolated. Outside voids and capped ones stay NaN: never drawn, never fabricated.
  */
 typedef enum tp_resampling {
     TP_RESAMPLING_DEFAULT = 0, /* = bilinear */
@@ -250,13 +256,17 @@ typedef enum tp_resampling {
 typedef struct tp_grid_options {
     const char* crs;        /* overrides the DEM's CRS ("EPSG:4326", WKT, ...); NULL: the file's */
     tp_resampling resampling;
-    int fill_max_px;        /* 0 means 64; negative: fill nothing */
+    int fill_max_px;        /* 0: any size; > 0: voids up to N x N samples; negative: none */
+    /* Fill voids from this raster (--fill-from), shifted onto the DEM (above); NULL or "":
+     * interpolate. Errors name the file: TP_ERR_IO (missing), TP_ERR_BAD_DATA (not a raster,
+     * no georeference or CRS, no overlap with the DEM or no data over it). */
+    const char* fill_from;
 } tp_grid_options;
 
 typedef struct tp_render_grid {
     int width, height;
     float* heights;          /* width * height; NaN = not drawn */
-    uint8_t* filled;         /* width * height; 1 = interior void filled by interpolation */
+    uint8_t* filled;         /* width * height; 1 = interior void filled (see "Voids") */
     double geotransform[6];  /* render CRS */
     char* crs_wkt;           /* render CRS as WKT2; "" for local metres (no CRS). Owned */
     int epsg;                /* of the render CRS when known, else 0 */
@@ -271,6 +281,7 @@ typedef struct tp_render_grid {
     size_t filled_samples;   /* interior voids filled */
     size_t large_void_samples, outside_samples; /* not drawn */
     char* warnings;          /* '\n'-separated lines for the user, "" when none. Owned */
+    size_t filled_from_samples; /* of filled_samples, those from options->fill_from */
 } tp_render_grid;
 
 /* Builds the render grid of a DEM. A warped grid keeps only samples inside the hull of the
@@ -325,13 +336,21 @@ typedef struct tp_mosaic_options {
     tp_resampling resampling; /* for warps */
     int memory_mb;            /* budget of the whole process; GDAL's block cache gets a quarter.
                                  0 means 1024 */
-    /* Voids filled as tp_render_grid_build fills them (fill_max_px, the same regions and the
-     * same GDALFillNodata), read in bands: a window reaching fill_max + 1 rows beyond the rows
-     * asked for ((rows + 2 fill_max + 2) * width floats, and as many ints and bytes while a
-     * window holds a void) decides which regions are small and interior. 0 (or less) fills
-     * nothing; unlike tp_grid_options, 0 does not mean 64. No per-sample "filled" mark is kept. */
+    /* Voids filled as tp_render_grid_build fills them (the same regions, crops and
+     * GDALFillNodata, so the same heights), read in bands: largest void side filled, in
+     * samples; TP_FILL_MAX_ANY: any size; 0 (or less) fills nothing (unlike tp_grid_options,
+     * 0 is not "any"). The window of rows read grows until it holds whole, with its crop, every
+     * void reaching the rows asked for; a void whose crop (its rows and its reach, the bounding
+     * box's longer side + 1, above and below) is taller than fill_window_mb holds at about 60
+     * bytes a sample of a row stays a void (tp_mosaic_get_voids counts it). No per-sample
+     * "filled" mark is kept. */
     int fill_max;
+    const char* fill_from;    /* as tp_grid_options.fill_from (warped VRT, read in bands) */
+    int fill_window_mb;       /* memory for the void window; 0: memory_mb / 8, taken from GDAL's
+                                 block cache (which then gets an eighth, not a quarter) */
 } tp_mosaic_options;
+
+#define TP_FILL_MAX_ANY 0x7fffffff /* tp_mosaic_options.fill_max: voids of any size */
 
 typedef struct tp_mosaic_info {
     int width, height;          /* the render grid */
@@ -378,6 +397,16 @@ tp_status tp_mosaic_read_rows(tp_mosaic* m, int y0, int rows, float* heights, si
 /* Samples filled so far (options->fill_max) in the rows above the furthest row read: each row
  * counted once, so reading the grid down, once or more, counts each filled sample once. */
 size_t tp_mosaic_filled_samples(const tp_mosaic* m);
+
+/* What became of the voids in the rows read so far (each row counted once, as above). */
+typedef struct tp_mosaic_voids {
+    size_t filled_samples;      /* = tp_mosaic_filled_samples */
+    size_t filled_from_samples; /* of those, from options->fill_from */
+    size_t too_large_samples;   /* interior voids within fill_max left because their crop is
+                                   taller than max_void_rows */
+    int max_void_rows;          /* the tallest crop the window may hold; 0 when not filling */
+} tp_mosaic_voids;
+void tp_mosaic_get_voids(const tp_mosaic* m, tp_mosaic_voids* out); /* m NULL: all 0 */
 
 /* ---------------------------------------------------------------------------------------------
  * Textures draped on the render grid (io/src/texture.cpp)

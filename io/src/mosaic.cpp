@@ -10,6 +10,7 @@
 #include "dem_check.hpp"
 #include "gdal_util.hpp"
 #include "render_grid.hpp"
+#include "void_fill.hpp"
 #include "tp_io.h"
 
 #include <gdal_utils.h>
@@ -18,6 +19,7 @@
 #include <atomic>
 #include <cerrno>
 #include <cfloat>
+#include <climits>
 #include <cmath>
 #include <cstring>
 #include <memory>
@@ -115,18 +117,22 @@ struct tp_mosaic {
     int sw = 0, sh = 0;
     std::string last_source_error;
     /* void filling (fill_max > 0): a window of rows win_y0 .. win_y0+win_rows-1 as read
-     * (converted and masked, not filled), kept between reads; filled samples counted in rows
-     * below counted_to */
+     * (converted and masked, not filled), and of the --fill-from source (other) when there is
+     * one, kept between reads; filled samples counted in rows below counted_to. A void whose
+     * crop is taller than fill_max_rows stays (too_large counts its samples). */
     int fill_max = 0;
-    std::vector<float> win;
+    int fill_max_rows = INT_MAX;
+    tpio::Dataset other;
+    std::vector<float> win, win_other;
     int win_y0 = 0, win_rows = 0;
     int counted_to = 0;
-    size_t filled = 0;
+    size_t filled = 0, from_other = 0, too_large = 0;
     std::vector<uint8_t> filled_mask;
 
     ~tp_mosaic()
     {
         back.reset();
+        other.reset();
         ds.reset();
         for (auto it = vsimem.rbegin(); it != vsimem.rend(); ++it)
             VSIUnlink(it->c_str());
@@ -369,8 +375,11 @@ tp_status open_mosaic(const char* const* paths, size_t count, const tp_mosaic_op
     tpio::QuietGdal quiet;
     tp_mosaic_options o = opt ? *opt : tp_mosaic_options{};
     const int memory_mb = o.memory_mb > 0 ? o.memory_mb : 1024;
-    GDALSetCacheMax64((GIntBig)memory_mb * 1024 * 1024 / 4);
     m->fill_max = o.fill_max > 0 ? o.fill_max : 0;
+    /* a quarter of the budget: GDAL's block cache, or, when filling voids without a
+     * fill_window_mb, half of it the cache and half the void window */
+    const bool split = m->fill_max > 0 && o.fill_window_mb <= 0;
+    GDALSetCacheMax64((GIntBig)memory_mb * 1024 * 1024 / (split ? 8 : 4));
 
     OGRSpatialReference over;
     over.SetAxisMappingStrategy(OAMS_TRADITIONAL_GIS_ORDER);
@@ -604,6 +613,22 @@ tp_status open_mosaic(const char* const* paths, size_t count, const tp_mosaic_op
     m->has_nodata = has != 0;
     m->nodata = as_float(nd);
     m->int16_guess = !m->warped && untagged_int16 && !m->has_nodata;
+
+    /* void filling: the window a void is filled in may take fill_window_mb (about 60 bytes a
+     * sample of a row: the window as read and filled, the second source, labels, marks, crops) */
+    if (m->fill_max > 0) {
+        const double bytes = (o.fill_window_mb > 0 ? o.fill_window_mb : memory_mb / 8.0) * 1048576.0;
+        m->fill_max_rows = (int)std::min<double>(INT_MAX, std::max(8.0, bytes / (60.0 * m->w)));
+    }
+    if (o.fill_from && *o.fill_from) {
+        const std::string name = vsimem_name(m, "fill_from");
+        if (const tp_status st = tpio::fill_source_open(o.fill_from, m->gt, m->w, m->h,
+                                                        m->crs_wkt, "VRT", name, &m->other, err))
+            return st;
+        add_note(m->notes, CPLSPrintf("voids filled from %s (warped onto the grid, shifted to "
+                                      "meet the ground around each void)",
+                                      base_name(o.fill_from).c_str()));
+    }
     if (untagged_int16)
         add_note(m->notes, "Int16 sources without a nodata tag: -32768 taken as nodata");
 
@@ -651,30 +676,112 @@ tp_status read_raw(tp_mosaic* m, int y0, int rows, float* heights, tp_error* err
     return TP_OK;
 }
 
-/* Rows y0 .. y0+rows-1 with their voids filled: the window reaches fill_max + 1 rows beyond
- * them (within the grid), so that every region reaching them is either seen whole or taller
- * than fill_max (see tpio::fill_voids); rows already in the window are kept, not read again. */
+/* Rows y0 .. y0+rows-1 of the --fill-from source on the grid (NaN: no data). */
+tp_status read_other(tp_mosaic* m, int y0, int rows, float* out, tp_error* err)
+{
+    tpio::QuietGdal quiet;
+    if (m->other->GetRasterBand(1)->RasterIO(GF_Read, 0, y0, m->w, rows, out, m->w, rows,
+                                             GDT_Float32, 0, 0, nullptr) != CE_None)
+        return fail(err, TP_ERR_BAD_DATA, "--fill-from: reading rows %d .. %d failed (%s)", y0,
+                    y0 + rows - 1, tpio::gdal_message().c_str());
+    return TP_OK;
+}
+
+/* Makes the window rows a .. b-1 (as read, and of the second source), keeping the rows the old
+ * window shares with it. */
+tp_status load_window(tp_mosaic* m, int a, int b, tp_error* err)
+{
+    const size_t w = (size_t)m->w;
+    const int oa = m->win_y0, ob = m->win_y0 + m->win_rows;
+    const int ka = std::max(a, oa), kb = std::min(b, ob); /* rows kept */
+    const bool keep = m->win_rows > 0 && ka < kb;
+    if (keep && ka == a && kb == b && oa == a && ob == b)
+        return TP_OK;
+    const bool two = (bool)m->other;
+    std::vector<float> nw((size_t)(b - a) * w), no(two ? nw.size() : 0);
+    auto rows_of = [&](std::vector<float>& v, int y) { return v.data() + (size_t)(y - a) * w; };
+    if (keep) {
+        std::memcpy(rows_of(nw, ka), m->win.data() + (size_t)(ka - oa) * w,
+                    (size_t)(kb - ka) * w * sizeof(float));
+        if (two)
+            std::memcpy(rows_of(no, ka), m->win_other.data() + (size_t)(ka - oa) * w,
+                        (size_t)(kb - ka) * w * sizeof(float));
+    }
+    const int ranges[2][2] = {{a, keep ? ka : b}, {keep ? kb : b, b}};
+    for (const auto& r : ranges) {
+        if (r[1] <= r[0])
+            continue;
+        if (const tp_status st = read_raw(m, r[0], r[1] - r[0], rows_of(nw, r[0]), err))
+            return st;
+        if (two)
+            if (const tp_status st = read_other(m, r[0], r[1] - r[0], rows_of(no, r[0]), err))
+                return st;
+    }
+    m->win.swap(nw), m->win_other.swap(no);
+    m->win_y0 = a, m->win_rows = b - a;
+    return TP_OK;
+}
+
+/* Rows y0 .. y0+rows-1 with their voids filled as tpio::fill_voids fills the whole grid. The
+ * window grows until it holds whole, with its crop, every void reaching those rows that is to be
+ * filled: a void cut by the window's edge widens it (doubling), one seen whole sets it to its
+ * crop. A void whose crop would be taller than fill_max_rows (the memory given to the window)
+ * stays, whichever rows are read, and is counted in too_large. Rows already in the window are
+ * kept, not read again. */
 tp_status read_filled(tp_mosaic* m, int y0, int rows, float* heights, tp_error* err)
 {
-    const int margin = m->fill_max + 1;
-    const int wy0 = std::max(0, y0 - margin), wy1 = std::min(m->h, y0 + rows + margin);
-    const size_t w = (size_t)m->w;
-    /* keep the rows the old window shares with the new one (reads go down the grid) */
-    int keep_from = wy0, keep_to = wy0; /* rows kept: keep_from .. keep_to-1 */
-    if (m->win_rows > 0 && m->win_y0 <= wy0 && m->win_y0 + m->win_rows > wy0) {
-        keep_to = std::min(wy1, m->win_y0 + m->win_rows);
-        std::memmove(m->win.data(), m->win.data() + (size_t)(wy0 - m->win_y0) * w,
-                     (size_t)(keep_to - keep_from) * w * sizeof(float));
-    }
-    m->win.resize((size_t)(wy1 - wy0) * w);
-    m->win_y0 = wy0, m->win_rows = 0;
-    if (keep_to < wy1) {
-        tp_status st = read_raw(m, keep_to, wy1 - keep_to, m->win.data() + (size_t)(keep_to - wy0) * w, err);
-        if (st != TP_OK)
+    const int W = m->w, H = m->h;
+    const size_t w = (size_t)W;
+    int a = std::max(0, y0 - 2), b = std::min(H, y0 + rows + 2);
+    std::vector<int> label;
+    std::vector<size_t> stack;
+    std::vector<uint8_t> large; /* per region of the last labelling: left for memory */
+    for (;;) {
+        if (const tp_status st = load_window(m, a, b, err))
             return st;
+        /* the voids reaching the rows asked for */
+        const float* z = m->win.data();
+        label.assign(m->win.size(), -1);
+        large.clear();
+        int na = a, nb = b;
+        for (size_t s0 = (size_t)(y0 - a) * w; s0 < (size_t)(y0 + rows - a) * w; s0++) {
+            if (!std::isnan(z[s0]) || label[s0] >= 0)
+                continue;
+            const int id = (int)large.size();
+            int x0 = W, x1 = -1, ry0 = INT_MAX, ry1 = -1;
+            bool border = false;
+            stack.assign(1, s0);
+            label[s0] = id;
+            while (!stack.empty()) {
+                const size_t i = stack.back();
+                stack.pop_back();
+                const int x = (int)(i % w), y = a + (int)(i / w);
+                x0 = std::min(x0, x), x1 = std::max(x1, x), ry0 = std::min(ry0, y), ry1 = std::max(ry1, y);
+                border |= x == 0 || x == W - 1 || y == 0 || y == H - 1;
+                const int nx[4] = {x - 1, x + 1, x, x}, ny[4] = {y, y, y - 1, y + 1};
+                for (int k = 0; k < 4; k++) {
+                    if (nx[k] < 0 || nx[k] >= W || ny[k] < a || ny[k] >= b)
+                        continue;
+                    const size_t j = (size_t)(ny[k] - a) * w + nx[k];
+                    if (label[j] < 0 && std::isnan(z[j]))
+                        label[j] = id, stack.push_back(j);
+                }
+            }
+            const int bw = x1 - x0 + 1, bh = ry1 - ry0 + 1;
+            const bool too_big = tpio::fill_crop_rows(bw, bh) > m->fill_max_rows;
+            large.push_back(!border && bw <= m->fill_max && bh <= m->fill_max && too_big);
+            if (border || bw > m->fill_max || bh > m->fill_max || too_big)
+                continue; /* stays, whatever more of it there is */
+            const int reach = tpio::fill_reach(bw, bh), grow = std::max(b - a, 16);
+            na = std::min(na, ry0 == a && a > 0 ? a - grow : ry0 - reach);
+            nb = std::max(nb, ry1 == b - 1 && b < H ? b + grow : ry1 + reach + 1);
+        }
+        na = std::max(0, na), nb = std::min(H, nb);
+        if (na == a && nb == b)
+            break;
+        a = std::min(a, na), b = std::max(b, nb);
     }
-    m->win_rows = wy1 - wy0;
-    const float* band = m->win.data() + (size_t)(y0 - wy0) * w;
+    const float* band = m->win.data() + (size_t)(y0 - a) * w;
     bool any_nan = false;
     for (const float v : m->win)
         if (std::isnan(v)) {
@@ -688,16 +795,25 @@ tp_status read_filled(tp_mosaic* m, int y0, int rows, float* heights, tp_error* 
     std::vector<float> z(m->win); /* the window stays as read: the next read reuses it */
     double gt[6];
     std::memcpy(gt, m->gt, sizeof gt);
-    gt[3] += wy0 * gt[5];
+    gt[3] += a * gt[5];
+    tpio::FillSpec spec;
+    spec.fill_max = m->fill_max;
+    spec.max_rows = m->fill_max_rows;
+    spec.other = m->other ? m->win_other.data() : nullptr;
+    spec.rows_y0 = y0 - a, spec.rows_y1 = y0 + rows - a;
     tpio::VoidCounts counts;
-    tp_status st = tpio::fill_voids(z.data(), m->w, wy1 - wy0, gt, m->fill_max, wy0 == 0,
-                                    wy1 == m->h, m->filled_mask, &counts, err);
+    tp_status st = tpio::fill_voids(z.data(), W, b - a, gt, spec, a == 0, b == H, m->filled_mask,
+                                    &counts, err);
     if (st != TP_OK)
         return st;
-    std::memcpy(heights, z.data() + (size_t)(y0 - wy0) * w, (size_t)rows * w * sizeof(float));
+    std::memcpy(heights, z.data() + (size_t)(y0 - a) * w, (size_t)rows * w * sizeof(float));
     for (int y = std::max(y0, m->counted_to); y < y0 + rows; y++)
-        for (size_t x = 0; x < w; x++)
-            m->filled += m->filled_mask[(size_t)(y - wy0) * w + x];
+        for (size_t x = 0; x < w; x++) {
+            const size_t i = (size_t)(y - a) * w + x;
+            m->filled += m->filled_mask[i];
+            m->from_other += m->filled_mask[i] && spec.other && !std::isnan(spec.other[i]);
+            m->too_large += label[i] >= 0 && large[label[i]];
+        }
     m->counted_to = std::max(m->counted_to, y0 + rows);
     return TP_OK;
 }
@@ -772,3 +888,14 @@ extern "C" tp_status tp_mosaic_read_rows(tp_mosaic* m, int y0, int rows, float* 
 }
 
 extern "C" size_t tp_mosaic_filled_samples(const tp_mosaic* m) { return m ? m->filled : 0; }
+
+extern "C" void tp_mosaic_get_voids(const tp_mosaic* m, tp_mosaic_voids* out)
+{
+    *out = tp_mosaic_voids{};
+    if (!m)
+        return;
+    out->filled_samples = m->filled;
+    out->filled_from_samples = m->from_other;
+    out->too_large_samples = m->too_large;
+    out->max_void_rows = m->fill_max > 0 ? m->fill_max_rows : 0;
+}

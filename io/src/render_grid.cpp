@@ -9,6 +9,7 @@
 #include "crs.hpp"
 #include "gdal_util.hpp"
 #include "render_grid.hpp"
+#include "void_fill.hpp"
 #include "tp_io.h"
 
 #include <GeographicLib/UTMUPS.hpp>
@@ -16,6 +17,7 @@
 #include <gdal_utils.h>
 
 #include <algorithm>
+#include <climits>
 #include <cmath>
 #include <exception>
 #include <vector>
@@ -62,86 +64,6 @@ double finest_spacing(OGRCoordinateTransformation* ct, const double gt[6], int w
 }
 
 } // namespace
-
-/* See render_grid.hpp. */
-tp_status tpio::fill_voids(float* z_io, int w, int h, const double gt[6], int fill_max,
-                           bool top_is_border, bool bottom_is_border, std::vector<uint8_t>& filled,
-                           VoidCounts* counts, tp_error* err)
-{
-    struct {
-        int w, h;
-        float* z;
-    } g = {w, h, z_io};
-    size_t n = (size_t)g.w * g.h;
-    filled.assign(n, 0);
-    std::vector<int> region(n, -1);
-    std::vector<uint8_t> fillable; /* per region */
-    std::vector<size_t> stack;
-    bool any_fillable = false;
-    for (size_t start = 0; start < n; start++) {
-        if (!std::isnan(g.z[start]) || region[start] >= 0)
-            continue;
-        int id = (int)fillable.size();
-        int x0 = g.w, x1 = -1, y0 = g.h, y1 = -1;
-        bool border = false, cut = false; /* cut: touches a window edge inside the grid */
-        size_t count = 0;
-        stack.assign(1, start);
-        region[start] = id;
-        while (!stack.empty()) {
-            size_t i = stack.back();
-            stack.pop_back();
-            count++;
-            int x = (int)(i % g.w), y = (int)(i / g.w);
-            x0 = std::min(x0, x), x1 = std::max(x1, x), y0 = std::min(y0, y), y1 = std::max(y1, y);
-            border |= x == 0 || x == g.w - 1 || (y == 0 && top_is_border) ||
-                      (y == g.h - 1 && bottom_is_border);
-            cut |= (y == 0 && !top_is_border) || (y == g.h - 1 && !bottom_is_border);
-            const int nx[4] = {x - 1, x + 1, x, x}, ny[4] = {y, y, y - 1, y + 1};
-            for (int k = 0; k < 4; k++) {
-                if (nx[k] < 0 || ny[k] < 0 || nx[k] >= g.w || ny[k] >= g.h)
-                    continue;
-                size_t j = (size_t)ny[k] * g.w + nx[k];
-                if (region[j] < 0 && std::isnan(g.z[j])) {
-                    region[j] = id;
-                    stack.push_back(j);
-                }
-            }
-        }
-        bool small = fill_max > 0 && x1 - x0 + 1 <= fill_max && y1 - y0 + 1 <= fill_max;
-        /* a cut region reaches beyond the window: taller than it, never small, and counted
-         * where the window holds all of it */
-        fillable.push_back(!border && !cut && small);
-        any_fillable |= !border && !cut && small;
-        if (cut)
-            continue;
-        if (border)
-            counts->outside += count;
-        else if (!small)
-            counts->large += count;
-    }
-    if (!any_fillable)
-        return TP_OK;
-
-    tpio::Dataset ds = tpio::mem_dataset(g.z, g.w, g.h, gt, nullptr);
-    if (!ds)
-        return fail(err, TP_ERR_BACKEND, "void filling: %s", tpio::gdal_message().c_str());
-    GDALRasterBand* band = ds->GetRasterBand(1);
-    if (GDALFillNodata(GDALRasterBand::ToHandle(band), nullptr, fill_max, 0, 0, nullptr, nullptr,
-                       nullptr) != CE_None)
-        return fail(err, TP_ERR_BACKEND, "void filling: %s", tpio::gdal_message().c_str());
-    std::vector<float> z(n);
-    if (band->RasterIO(GF_Read, 0, 0, g.w, g.h, z.data(), g.w, g.h, GDT_Float32, 0, 0, nullptr) !=
-        CE_None)
-        return fail(err, TP_ERR_BACKEND, "void filling: %s", tpio::gdal_message().c_str());
-    for (size_t i = 0; i < n; i++) {
-        if (region[i] < 0 || !fillable[region[i]] || std::isnan(z[i]))
-            continue; /* valid, not to be filled, or out of the search distance */
-        g.z[i] = z[i];
-        filled[i] = 1;
-        counts->filled++;
-    }
-    return TP_OK;
-}
 
 namespace {
 
@@ -444,7 +366,7 @@ tp_status build(const tp_dem* dem, const tp_grid_options* opt, tp_render_grid** 
     tpio::register_drivers();
     tpio::QuietGdal quiet;
     tp_grid_options o = opt ? *opt : tp_grid_options{};
-    int fill_max = o.fill_max_px == 0 ? 64 : o.fill_max_px;
+    const int fill_max = o.fill_max_px == 0 ? INT_MAX : o.fill_max_px; /* < 0: nothing */
     tpio::GridPlan plan;
     if (const tp_status st = tpio::render_grid_plan(dem, opt, &plan, err))
         return st;
@@ -552,15 +474,39 @@ tp_status build(const tp_dem* dem, const tp_grid_options* opt, tp_render_grid** 
         std::snprintf(g->crs_name, sizeof g->crs_name, "local metres (no CRS)");
     }
 
+    tpio::FillSpec spec;
+    spec.fill_max = fill_max;
+    std::vector<float> other;
+    if (o.fill_from && *o.fill_from) {
+        /* the second source on the render grid, checked even when nothing is to be filled */
+        tpio::Dataset ods;
+        if (const tp_status st =
+                tpio::fill_source_open(o.fill_from, gt, grid.w, grid.h,
+                                       has_crs ? tpio::crs_wkt2(dst) : std::string(), "MEM", "",
+                                       &ods, err))
+            return st;
+        other.resize(grid.z.size());
+        if (ods->GetRasterBand(1)->RasterIO(GF_Read, 0, 0, grid.w, grid.h, other.data(), grid.w,
+                                            grid.h, GDT_Float32, 0, 0, nullptr) != CE_None)
+            return fail(err, TP_ERR_BACKEND, "--fill-from %s: %s", o.fill_from,
+                        tpio::gdal_message().c_str());
+        if (std::none_of(other.begin(), other.end(), [](float v) { return !std::isnan(v); }))
+            return fail(err, TP_ERR_BAD_DATA,
+                        "--fill-from %s: no data where the DEM lies (every sample warped onto "
+                        "the DEM's grid is nodata)",
+                        o.fill_from);
+        spec.other = other.data();
+    }
     std::vector<uint8_t> filled;
     tpio::VoidCounts voids;
-    tp_status st = tpio::fill_voids(grid.z.data(), grid.w, grid.h, gt, fill_max, true, true, filled,
+    tp_status st = tpio::fill_voids(grid.z.data(), grid.w, grid.h, gt, spec, true, true, filled,
                                     &voids, err);
     if (st != TP_OK)
         return st;
     g->outside_samples += voids.outside;
     g->large_void_samples += voids.large;
     g->filled_samples += voids.filled;
+    g->filled_from_samples += voids.from_other;
 
     size_t n = (size_t)grid.w * grid.h;
     g->width = grid.w;

@@ -50,24 +50,4 @@ double grid_finest_spacing(OGRCoordinateTransformation* ct, const double gt[6], 
 bool grid_warp_extent(const tp_dem* dem, const OGRSpatialReference& src, const std::string& t_srs,
                       double ext[4]);
 
-/* Nodata samples by what became of them (fill_voids). */
-struct VoidCounts {
-    size_t outside = 0; /* in regions touching the grid's border */
-    size_t large = 0;   /* in interior regions larger than fill_max x fill_max */
-    size_t filled = 0;  /* filled */
-};
-
-/* Fills the voids of z (w x h, row-major, NaN = nodata; geotransform gt) as tp_render_grid_build
- * does: connected (4-neighbour) NaN regions whose bounding box is at most fill_max x fill_max
- * samples and that touch no border are filled by GDALFillNodata (maxSearchDist fill_max, no
- * smoothing); the rest stay NaN. z may be a window of rows of a larger grid: its left and right
- * columns are the grid's, its first row is the grid's border iff top_is_border, its last iff
- * bottom_is_border; a region touching a window edge that is not the grid's reaches beyond the
- * window and is neither filled nor counted (the window must reach more than fill_max rows beyond
- * the rows used, so that such a region is taller than fill_max where it matters). filled: one
- * byte per sample, 1 where filled; counts are added to. TP_ERR_BACKEND when GDAL fails. */
-tp_status fill_voids(float* z, int w, int h, const double gt[6], int fill_max, bool top_is_border,
-                     bool bottom_is_border, std::vector<uint8_t>& filled, VoidCounts* counts,
-                     tp_error* err);
-
 } // namespace tpio
