@@ -3,6 +3,7 @@
 
 #include "hud.h"
 #include "pick.h"
+#include "position.h"
 #include "tp_geo.h"
 
 #include <math.h>
@@ -30,9 +31,10 @@ void tp_view_position_text(const tp_georef* g, double e, double n, char* out, si
         tp_geo_to_utmups(lat, lon, &zone, &northp, &ue, &un, NULL) != TP_OK ||
         tp_zone_format(zone, northp, TP_ZONE_STYLE_UPPER, zname, sizeof zname, NULL) != TP_OK)
         return; /* lat/lon only */
-    if (tp_mgrs_forward(zone, northp, ue, un, lat, 5, mgrs, sizeof mgrs, NULL) != TP_OK)
-        mgrs[0] = '\0';
-    snprintf(out + at, cap - (size_t)at, "  UTM %s %.0f %.0f  MGRS %s", zname, ue, un, mgrs);
+    char spaced[TP_POSITION_MGRS_SPACED_SIZE] = "";
+    if (tp_mgrs_forward(zone, northp, ue, un, lat, 5, mgrs, sizeof mgrs, NULL) == TP_OK)
+        tp_position_mgrs_spaced(mgrs, spaced, sizeof spaced); /* as on maps: "31T CH 76651 00831" */
+    snprintf(out + at, cap - (size_t)at, "  UTM %s %.0f %.0f  MGRS %s", zname, ue, un, spaced);
 }
 
 /* The legend of the filled-void tint: what filled the voids and how many samples. A DEM read
