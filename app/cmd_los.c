@@ -13,6 +13,7 @@
 #include "position.h"
 
 #include "tp_core.h"
+#include "tp_geo.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -176,6 +177,7 @@ typedef struct los_report {
     double from_lat, from_lon, to_lat, to_lon;
     double from_ground_m, to_ground_m;
     double obs_lat, obs_lon, min_lat, min_lon;
+    double geodesic_m; /* from -> to on the WGS84 ellipsoid (NaN without a geographic CRS) */
 } los_report;
 
 static void write_text(const los_report* p, FILE* f)
@@ -185,8 +187,9 @@ static void write_text(const los_report* p, FILE* f)
             p->from_lon, p->from_ground_m, r->eye_m, p->o->from_height_m);
     fprintf(f, "to          %.6f %.6f  ground %.1f m, target %.1f m (%.1f m above)\n", p->to_lat,
             p->to_lon, p->to_ground_m, r->target_m, p->o->to_height_m);
-    fprintf(f, "distance    %.1f m (curvature coefficient %g: %.2f m of drop at the target)\n",
-            r->distance_m, p->o->curvature_coeff, r->drop_m);
+    fprintf(f, "distance    %.1f m on the grid, %.1f m on the ellipsoid (curvature coefficient "
+               "%g: %.2f m of drop at the target)\n",
+            r->distance_m, p->geodesic_m, p->o->curvature_coeff, r->drop_m);
     fprintf(f, "visible     %s\n", r->visible ? "yes" : "no");
     if (r->obstructed)
         fprintf(f, "obstruction %.6f %.6f at %.1f m: the ground is %.1f m above the sight line\n",
@@ -215,6 +218,8 @@ static void write_json(const los_report* p, FILE* f)
     tp_json_bool(&j, r->visible);
     tp_json_key(&j, "distance_m");
     tp_json_number(&j, r->distance_m);
+    tp_json_key(&j, "geodesic_distance_m");
+    tp_json_number(&j, p->geodesic_m);
     tp_json_key(&j, "from");
     tp_json_object_begin(&j);
     tp_json_key(&j, "lat");
@@ -410,6 +415,11 @@ int tp_cli_los(int argc, char** argv)
     }
     tp_ground_grid_latlon(g, fx, fy, &p.from_lat, &p.from_lon);
     tp_ground_grid_latlon(g, tx, ty, &p.to_lat, &p.to_lon);
+    double azi1, azi2;
+    if (isnan(p.from_lat) || isnan(p.to_lat) ||
+        tp_geodesic_inverse(p.from_lat, p.from_lon, p.to_lat, p.to_lon, &azi1, &azi2,
+                            &p.geodesic_m, NULL) != TP_OK)
+        p.geodesic_m = NAN;
     if (p.r.obstructed)
         tp_ground_grid_latlon(g, p.r.obstruction_x, p.r.obstruction_y, &p.obs_lat, &p.obs_lon);
     if (!isnan(p.r.min_clearance_m))
