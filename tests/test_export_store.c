@@ -27,7 +27,8 @@ static void out_path(char* buf, size_t cap, const char* name)
     snprintf(buf, cap, "/tmp/tp_export_store_%ld_%s", (long)getpid(), name);
 }
 
-/* Builds a store of 17-sample nodes from the NULL-terminated data files, with extra options. */
+/* Builds a store of 17-sample nodes from the NULL-terminated data files, --fill-max fill_max
+ * (NULL: the default, any size, as a DEM read whole). */
 static void build_store(const char* out, const char* fill_max, const char* const* files)
 {
     char paths[4][1024], err[4096];
@@ -36,8 +37,10 @@ static void build_store(const char* out, const char* fill_max, const char* const
     args[n++] = "--quiet";
     args[n++] = "--patch";
     args[n++] = "17";
-    args[n++] = "--fill-max";
-    args[n++] = fill_max;
+    if (fill_max) {
+        args[n++] = "--fill-max";
+        args[n++] = fill_max;
+    }
     for (int i = 0; files[i]; i++) {
         data_path(paths[i], sizeof paths[i], files[i]);
         args[n++] = paths[i];
@@ -188,7 +191,7 @@ TEST(store_and_dem_exports_have_the_same_points)
     char store[1024], dem[1024], a[1024], b[1024];
     out_path(store, sizeof store, "n42.tpt");
     const char* files[] = {"N42E001.hgt", NULL};
-    build_store(store, "64", files);
+    build_store(store, NULL, files); /* the default void filling, as the DEM's export */
     data_path(dem, sizeof dem, "N42E001.hgt");
     out_path(a, sizeof a, "n42_dem.vtp");
     out_path(b, sizeof b, "n42_store.vtp");
