@@ -393,8 +393,11 @@ static int run_headless(tp_view_scene* v, tp_gl_context* ctx, tp_renderer* r,
         if (with_hud) {
             tp_measured_error me;
             tp_view_measure_now(v, cam, &me);
+            char legend[512] = "";
+            if (o->layers)
+                tp_view_layers_legend(o->layers, legend, sizeof legend);
             tp_hud_state hs = {.fps = 1000 / fmax(tp_view_now_ms() - t0, 1e-6),
-                               .exaggeration = o->render.exaggeration};
+                               .exaggeration = o->render.exaggeration, .layers = legend};
             tp_view_hud_text(v, cam, &o->vs.lod, &fr, &me, &hs, text, sizeof text);
             ov.hud_text = text;
         }

@@ -145,6 +145,10 @@ void tp_view_hud_text(tp_view_scene* v, const tp_camera* cam,
              st->frozen ? " (frozen)" : "", bound, measured,
              pos[0] ? pos : "(no CRS: local metres)", cam->position[2], agl, yaw, pitch, ground,
              mode, exag, voids);
+    if (st->layers && st->layers[0]) {
+        size_t at = strlen(out);
+        snprintf(out + at, cap - at, "\n%s", st->layers);
+    }
 }
 
 static float width_of(const char* s, size_t n)

@@ -143,6 +143,21 @@ int tp_view_layers_contours_at(tp_view_layers* l, tp_ground* g, double e_m, doub
     return 1;
 }
 
+void tp_view_layers_legend(const tp_view_layers* l, char* out, size_t cap)
+{
+    size_t at = 0;
+    out[0] = '\0';
+    for (size_t i = 0; i < l->overlay_count && at < cap; i++) {
+        const char* slash = strrchr(l->overlay_paths[i], '/');
+        int n = snprintf(out + at, cap - at, "%s%s %s", i ? ", " : "overlays: ",
+                         slash ? slash + 1 : l->overlay_paths[i], overlay_colour_name[i]);
+        at += n > 0 ? (size_t)n : 0;
+    }
+    if (l->contours.part_count && at < cap)
+        snprintf(out + at, cap - at, "%scontours every %g m (index %g m; F2: off)",
+                 at ? "   " : "", l->contour_interval_m, 5 * l->contour_interval_m);
+}
+
 size_t tp_view_layers_drawn(tp_view_layers* l, const tp_overlay_drape** out)
 {
     size_t n = 0;

@@ -44,6 +44,10 @@ int tp_view_layers_add_overlay(tp_view_layers* l, tp_ground* g, const char* path
 int tp_view_layers_contours_at(tp_view_layers* l, tp_ground* g, double e_m, double n_m,
                                double interval_m, char* line, size_t cap);
 
+/* The HUD's legend: "overlays: coma_pedrosa.gpx magenta, andorra.kml cyan   contours every
+ * 50 m (index 250 m, F2: off)"; "" without layers. */
+void tp_view_layers_legend(const tp_view_layers* l, char* out, size_t cap);
+
 /* What the overlay draws: contours first, then the overlays in their order. */
 size_t tp_view_layers_drawn(tp_view_layers* l, const tp_overlay_drape** out);
 

@@ -473,8 +473,12 @@ int tp_view_window_run(tp_view_scene* v, tp_gl_context* ctx, tp_renderer* r, tp_
                 tp_view_measure_now(v, cam, &me);
                 measured_at = now;
             }
+            char legend[512] = "";
+            if (o->layers)
+                tp_view_layers_legend(o->layers, legend, sizeof legend);
             tp_hud_state hs = {.fps = fps, .frozen = s.frozen, .orbit = s.nav.orbit,
-                               .speed_mps = s.nav.speed_mps, .exaggeration = zs};
+                               .speed_mps = s.nav.speed_mps, .exaggeration = zs,
+                               .layers = legend};
             tp_view_hud_text(v, cam, &s.lod, &fr, &me, &hs, text, sizeof text);
             ov.hud_text = text;
             ov.help_text = s.show_help ? help_text : NULL;
