@@ -16,6 +16,8 @@ struct tp_hud {
     GLuint prog, vao, vbo, ibo;
     GLint u_screen, u_offset;
     char* verts; /* stb_easy_font output: 16 bytes per vertex (x, y, z floats, rgba bytes) */
+    int pending;     /* depth-tested line quads gathered in verts, not drawn yet */
+    int pending_w, pending_h;
 };
 
 static const char* vs =
@@ -106,6 +108,7 @@ static void draw(tp_hud* h, int w, int hgt, float x, float y, float scale, const
 
 void tp_hud_text(tp_hud* h, int w, int hgt, float x, float y, float scale, const char* text)
 {
+    tp_hud_flush(h);
     glDisable(GL_DEPTH_TEST);
     glDisable(GL_CULL_FACE);
     glPolygonMode(GL_FRONT_AND_BACK, GL_FILL);
@@ -120,6 +123,7 @@ void tp_hud_text(tp_hud* h, int w, int hgt, float x, float y, float scale, const
 void tp_hud_line(tp_hud* h, int w, int hgt, float x0, float y0, float x1, float y1,
                  float width_px, const unsigned char rgba[4])
 {
+    tp_hud_flush(h);
     float dx = x1 - x0, dy = y1 - y0, len = sqrtf(dx * dx + dy * dy);
     if (len < 1e-3f)
         return;
@@ -185,6 +189,7 @@ static void put_vertex(char* v, float x, float y, float z, const unsigned char r
 void tp_hud_dots(tp_hud* h, int w, int hgt, const float* xyz, int count, float side_px,
                  const unsigned char rgba[4], int depth_test)
 {
+    tp_hud_flush(h);
     if (count <= 0)
         return;
     if (count > HUD_MAX_QUADS)
@@ -197,10 +202,23 @@ void tp_hud_dots(tp_hud* h, int w, int hgt, const float* xyz, int count, float s
     draw_quads(h, w, hgt, count, depth_test);
 }
 
+void tp_hud_flush(tp_hud* h)
+{
+    if (h && h->pending) {
+        int quads = h->pending;
+        h->pending = 0;
+        draw_quads(h, h->pending_w, h->pending_h, quads, 1);
+    }
+}
+
 void tp_hud_polyline_depth(tp_hud* h, int w, int hgt, const float* xyz, int count,
                            float width_px, const unsigned char rgba[4])
 {
-    int quads = 0;
+    if (h->pending && (w != h->pending_w || hgt != h->pending_h))
+        tp_hud_flush(h);
+    h->pending_w = w;
+    h->pending_h = hgt;
+    int quads = h->pending;
     for (int i = 0; i + 1 < count; i++) {
         const float* a = xyz + 3 * i;
         const float* b = a + 3;
@@ -219,8 +237,7 @@ void tp_hud_polyline_depth(tp_hud* h, int w, int hgt, const float* xyz, int coun
             quads = 0;
         }
     }
-    if (quads)
-        draw_quads(h, w, hgt, quads, 1);
+    h->pending = quads; /* drawn by the next flush: many lines in one draw call */
 }
 
 float tp_hud_depth(double depth_m, double near_m, double far_m)

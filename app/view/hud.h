@@ -27,9 +27,14 @@ void tp_hud_dots(tp_hud* h, int w, int hgt, const float* xyz, int count, float s
 
 /* Draws the polyline through count points (x, y, z triples: pixels and the depth of
  * tp_hud_depth) width_px wide in rgba, hidden where the terrain drawn is nearer: a line draped
- * on the ground that a ridge in front hides. Any number of points. */
+ * on the ground that a ridge in front hides. Any number of points. The quads are gathered and
+ * drawn together (one draw call for many lines) by the next tp_hud_flush or any other tp_hud_
+ * drawing call. */
 void tp_hud_polyline_depth(tp_hud* h, int w, int hgt, const float* xyz, int count,
                            float width_px, const unsigned char rgba[4]);
+
+/* Draws what tp_hud_polyline_depth gathered. Accepts NULL. */
+void tp_hud_flush(tp_hud* h);
 
 /* The depth (OpenGL normalised device z) of a point depth_m along the view axis, for a
  * terrain drawn with the depth range near_m .. far_m (tp_render_stats), pulled toward the eye

@@ -274,22 +274,47 @@ static int project_draped(const tp_camera* cam, const tp_overlay* ov, double zs,
 
 #define RUN_MAX 4096
 
+/* Which side of the viewport (grown by m pixels) a projected point lies beyond: bits 1 left,
+ * 2 right, 4 above, 8 below; 0 inside. */
+static int outside(const float* p, int w, int h, float m)
+{
+    return (p[0] < -m) | (p[0] > w + m) << 1 | (p[1] < -m) << 2 | (p[1] > h + m) << 3;
+}
+
 /* Draws the polyline through count ground points (enh triples), broken where a point is
- * behind the eye, in runs of at most RUN_MAX points. */
+ * behind the eye, in runs of at most RUN_MAX points. What cannot show is left out: segments
+ * whose ends both lie beyond the same side of the viewport, and points closer than a pixel to
+ * the last one kept (far contours have many vertices a pixel). */
 static void draped_line(tp_hud* hud, const tp_camera* cam, const tp_overlay* ov, double zs,
                         const double* enh, size_t count, float width, const unsigned char rgba[4])
 {
     static float xyz[3 * RUN_MAX];
-    int w = cam->viewport_w_px, h = cam->viewport_h_px, n = 0;
+    const int w = cam->viewport_w_px, h = cam->viewport_h_px;
+    const float margin = width + 2;
+    int n = 0;
     for (size_t i = 0; i < count; i++) {
-        const int keep = project_draped(cam, ov, zs, enh + 3 * i, xyz + 3 * n);
+        float* p = xyz + 3 * n;
+        const int keep = project_draped(cam, ov, zs, enh + 3 * i, p);
+        const int last = i + 1 == count;
+        if (keep && n > 0) {
+            const float* q = p - 3;
+            if (outside(q, w, h, margin) & outside(p, w, h, margin)) { /* off screen */
+                if (n >= 2)
+                    tp_hud_polyline_depth(hud, w, h, xyz, n, width, rgba);
+                memmove(xyz, p, sizeof(float) * 3);
+                n = 1;
+                continue;
+            }
+            if (!last && fabsf(p[0] - q[0]) + fabsf(p[1] - q[1]) < 1.0f)
+                continue; /* under a pixel from the last point kept */
+        }
         n += keep;
-        if (keep && n < RUN_MAX && i + 1 < count)
+        if (keep && n < RUN_MAX && !last)
             continue;
         if (n >= 2)
             tp_hud_polyline_depth(hud, w, h, xyz, n, width, rgba);
         n = 0;
-        if (keep && i + 1 < count) { /* full: the next run starts where this one ended */
+        if (keep && !last) { /* full: the next run starts where this one ended */
             memmove(xyz, xyz + 3 * (RUN_MAX - 1), sizeof(float) * 3);
             n = 1;
         }
@@ -367,15 +392,18 @@ static void viewshed_tint(tp_hud* hud, layout* l, const tp_view_scene* v, const 
     }
 }
 
-/* Text at pixel (x, y) (its top-left corner a little right of and above the point) where it
- * covers nothing drawn already. */
-static void label_at(tp_hud* hud, layout* l, int w, int h, double x, double y, float s,
-                     const char* text)
+/* Places text at pixel (x, y) (its top-left corner a little right of and above the point)
+ * when it covers nothing drawn already and the ground point p is seen from the eye (the ray
+ * cast last: it is the expensive test). */
+static void label_at(tp_hud* hud, layout* l, const tp_view_scene* v, const tp_camera* cam,
+                     const double p[3], double x, double y, float s, const char* text)
 {
+    const int w = cam->viewport_w_px, h = cam->viewport_h_px;
     float tw, th, x0 = (float)x + 5 * s, y0 = (float)y - 12 * s;
     tp_hud_measure(text, &tw, &th);
     float x1 = x0 + tw * s, y1 = y0 + th * s;
-    if (x0 < 0 || y0 < 0 || x1 > w || y1 > h || !is_free(l, x0 - 3, y0 - 2, x1 + 3, y1 + 2))
+    if (x0 < 0 || y0 < 0 || x1 > w || y1 > h || !is_free(l, x0 - 3, y0 - 2, x1 + 3, y1 + 2) ||
+        !tp_view_ground_visible(v, cam, p))
         return;
     tp_hud_text(hud, w, h, x0, y0, s, text);
     occupy(l, x0 - 3, y0 - 2, x1 + 3, y1 + 2);
@@ -417,20 +445,18 @@ static void drape_features(tp_hud* hud, layout* l, const tp_view_scene* v, const
     }
     for (size_t i = 0; pass == 1 && i < d->point_count; i++) {
         float q[3];
-        if (d->points[i].name && project_draped(cam, ov, zs, d->points[i].enh, q) && q[0] >= 0 &&
-            q[1] >= 0 && q[0] < w && q[1] < h && tp_view_ground_visible(v, cam, d->points[i].enh))
-            label_at(hud, l, w, h, q[0], q[1], s, d->points[i].name);
+        if (d->points[i].name && project_draped(cam, ov, zs, d->points[i].enh, q))
+            label_at(hud, l, v, cam, d->points[i].enh, q[0], q[1], s, d->points[i].name);
     }
     for (size_t i = 0; pass == 2 && od->label_values && i < d->part_count; i++) {
         const tp_drape_part* p = &d->parts[i];
         const double* at = d->enh + 3 * (p->first + p->count / 2);
         float q[3];
-        if (!p->index || p->value != p->value || !project_draped(cam, ov, zs, at, q) ||
-            q[0] < 0 || q[1] < 0 || q[0] >= w || q[1] >= h || !tp_view_ground_visible(v, cam, at))
+        if (!p->index || p->value != p->value || !project_draped(cam, ov, zs, at, q))
             continue;
         char text[32];
         snprintf(text, sizeof text, "%.0f", p->value);
-        label_at(hud, l, w, h, q[0], q[1], s, text);
+        label_at(hud, l, v, cam, at, q[0], q[1], s, text);
     }
 }
 
@@ -486,4 +512,5 @@ void tp_view_overlay_draw(tp_hud* hud, const tp_view_scene* v, const tp_camera* 
             drape_features(hud, &l, v, cam, ov, &ov->drapes[i], s, pass);
     if (ov->grid_m > 0)
         grid_labels(hud, &l, v, cam, ov->grid_m, s);
+    tp_hud_flush(hud);
 }
