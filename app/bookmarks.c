@@ -61,6 +61,16 @@ int tp_bookmark_parse_line(const char* line, tp_bookmark* out, char* why, size_t
         snprintf(why, why_cap, "name longer than %d characters", TP_BOOKMARK_NAME_SIZE - 1);
         return -1;
     }
+    for (size_t i = 0; i < name_len; i++) { /* what tp_bookmarks_set refuses, refused here */
+        if (i + 8 <= name_len && !strncmp(s + i, "--camera", 8)) {
+            snprintf(why, why_cap, "a name may not hold '--camera': '%.*s'", (int)name_len, s);
+            return -1;
+        }
+        if ((unsigned char)s[i] < 0x20 && s[i] != '\t') {
+            snprintf(why, why_cap, "a control character (0x%02x) in the name", (unsigned char)s[i]);
+            return -1;
+        }
+    }
     int geo = strncmp(opt, "--camera-geo", 12) == 0;
     const char* nums = opt + (geo ? 12 : 8);
     if (*nums != ' ' && *nums != '\t') {
