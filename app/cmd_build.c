@@ -332,12 +332,13 @@ static double build_memory_bytes(const tp_tree_geometry* g, int src_width, int f
      * regions (int) and marks (byte) while it holds a void; a window grown for a void takes
      * what is left of the budget (tp_mosaic_options.fill_window_mb, set once the need is known) */
     const double fill = fill_max > 0 ? (side + 4.0) * src_width * 13.0 +
-                                           side * (src_width + 2.0 * g->width) /* flags */
+                                           side * (src_width + (double)g->width) /* flags */
                                      : 0;
     const double band = side * src_width * sizeof(float) + side * g->width * sizeof(int32_t);
     const double builder = 4 * side * ((2 + 1.0 / (1 << g->n)) * g->width + g->scales) +
                            4.0 * g->cols * (sizeof(tp_node_meta) + (1u << (2 * g->n - 3))) +
-                           2048;
+                           (double)g->cols * ((1u << (2 * g->n - 3)) + (1u << (g->n - 2)) + 2) +
+                           (fill_max > 0 ? side * (g->width + g->scales) : 0) + 2048;
     const double added = (double)g->node_count / 8;
     /* zstd's context, one node's scratch, the writer's run of table entries and read-back buffer */
     return band + fill + builder + added + (1 << 20);

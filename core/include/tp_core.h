@@ -741,9 +741,10 @@ double tp_node_error_bound(const tp_node_meta* m, int n, int k, const int neighb
  * right, then each coarser scale's completed row). Memory, all allocated by
  * tp_tree_builder_create, nothing per band, whatever the height: at most
  *   4 (2^n+1) ((2 + 2^-n) width + scales) + 4 cols (sizeof(tp_node_meta) + 2^(2n-3))
- *   + 2048 bytes
+ *   + cols (2^(2n-3) + 2^(n-2) + 2) + 2048 bytes
  * (the decimated rows of every scale, one block of samples per node of a row, two rows of
- * metas and masks per scale).
+ * metas and masks per scale, a row of nodes' filled bits), plus (2^n+1) (width + scales) bytes
+ * once filled flags are given (tp_tree_builder_add_band_filled: the decimated rows' flags).
  * The per-node work (tp_node_meta_compute) may be spread over threads by the caller's
  * parallel_for. */
 typedef struct tp_tree_builder tp_tree_builder;
