@@ -342,8 +342,8 @@ typedef struct tp_mosaic_options {
      * 0 is not "any"). The window of rows read grows until it holds whole, with its crop, every
      * void reaching the rows asked for; a void whose crop (its rows and its reach, the bounding
      * box's longer side + 1, above and below) is taller than fill_window_mb holds at about 60
-     * bytes a sample of a row stays a void (tp_mosaic_get_voids counts it). No per-sample
-     * "filled" mark is kept. */
+     * bytes a sample of a row stays a void (tp_mosaic_get_voids counts it). The per-sample
+     * "filled" marks come with tp_mosaic_read_rows_filled. */
     int fill_max;
     const char* fill_from;    /* as tp_grid_options.fill_from (warped VRT, read in bands) */
     int fill_window_mb;       /* memory for the void window; 0: memory_mb / 8, taken from GDAL's
