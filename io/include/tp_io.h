@@ -567,7 +567,8 @@ const char* tp_georef_datum_note(const tp_georef* g);
  * sources it was built from), the node table (every node's tp_node_meta, laid out as in memory so
  * that it is mapped, not decoded), the location table (the offset, size, CRC32 and codec of every
  * node's data) and each node's samples, compressed (and, from format 3, the cell mask of the
- * nodes above the leaves that are drawn in part). Written atomically through tp_file_* (an
+ * nodes above the leaves that are drawn in part; from format 4, the filled bits of the nodes
+ * holding filled void samples). Written atomically through tp_file_* (an
  * interrupted or failed write leaves no file); read with one open file shared by threads
  * (pread), each node checked against its CRC32 when read. Formats 2 and 3 are written and read
  * on little-endian hosts only (TP_ERR_BACKEND elsewhere).
