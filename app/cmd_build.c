@@ -297,15 +297,16 @@ static void progress_update(progress* p, double done, double total, double sampl
 /* ---- the build ---- */
 
 
+/* Each node with its filled bits (TP_NODE_HAS_FILLED): the store marks filled void samples. */
 static int emit_node(int64_t node, const tp_node_meta* meta, const int32_t* q,
-                     const uint16_t* mask, void* user, tp_error* err)
+                     const uint16_t* mask, const uint16_t* filled, void* user, tp_error* err)
 {
     emit_ctx* e = user;
     if (tp_interrupted()) {
         snprintf(err->message, sizeof err->message, "interrupted");
         return 1;
     }
-    if (tp_store_writer_add_node(e->writer, node, meta, q, mask, err) != TP_OK)
+    if (tp_store_writer_add_node_filled(e->writer, node, meta, q, mask, filled, err) != TP_OK)
         return 1;
     e->nodes++;
     return 0;
@@ -330,11 +331,14 @@ static double build_memory_bytes(const tp_tree_geometry* g, int src_width, int f
     /* void filling: the mosaic's window (2 rows each side at least) as read and filled, its
      * regions (int) and marks (byte) while it holds a void; a window grown for a void takes
      * what is left of the budget (tp_mosaic_options.fill_window_mb, set once the need is known) */
-    const double fill = fill_max > 0 ? (side + 4.0) * src_width * 13.0 : 0;
+    const double fill = fill_max > 0 ? (side + 4.0) * src_width * 13.0 +
+                                           side * (src_width + (double)g->width) /* flags */
+                                     : 0;
     const double band = side * src_width * sizeof(float) + side * g->width * sizeof(int32_t);
     const double builder = 4 * side * ((2 + 1.0 / (1 << g->n)) * g->width + g->scales) +
                            4.0 * g->cols * (sizeof(tp_node_meta) + (1u << (2 * g->n - 3))) +
-                           2048;
+                           (double)g->cols * ((1u << (2 * g->n - 3)) + (1u << (g->n - 2)) + 2) +
+                           (fill_max > 0 ? side * (g->width + g->scales) : 0) + 2048;
     const double added = (double)g->node_count / 8;
     /* zstd's context, one node's scratch, the writer's run of table entries and read-back buffer */
     return band + fill + builder + added + (1 << 20);
@@ -368,7 +372,7 @@ static char* build_notes(const build_options* o, const tp_mosaic_info* mi, size_
     if (o->fill_from)
         snprintf(how, sizeof how, "from %.250s (shifted onto the ground around each void)",
                  o->fill_from);
-    int digits = snprintf(notes + at, cap - at, "%s filled %s: %zu samples (not marked per sample)",
+    int digits = snprintf(notes + at, cap - at, "%s filled %s: %zu samples (marked per sample)",
                           size, how, filled);
     int count_digits = snprintf(NULL, 0, "%zu", filled);
     at += (size_t)digits;
@@ -431,6 +435,8 @@ typedef struct build_pass {
     const tp_tree_geometry* g;
     float* rows; /* band_rows * width */
     int32_t* q;  /* band_rows * g->width */
+    uint8_t* frows; /* band_rows * width: filled flags as read; NULL when voids are not filled */
+    uint8_t* fq;    /* band_rows * g->width: the band's filled flags */
     double step;
     int bounded; /* lo .. hi is a bound given before reading: check it */
     double lo, hi;
@@ -489,7 +495,7 @@ static tp_status run_build_pass(build_pass* p, const tp_store_header* h, tp_erro
         tp_tree_builder_desc bd = {0};
         bd.geometry = *g;
         bd.err_unit_steps = h->err_unit_steps;
-        bd.emit = emit_node;
+        bd.emit_filled = emit_node;
         bd.parallel_for = parallel_for;
         bd.user = &ec;
         st = tp_tree_builder_create(&bd, &b, err);
@@ -507,11 +513,14 @@ static tp_status run_build_pass(build_pass* p, const tp_store_header* h, tp_erro
         const int skip = r > 0 ? 1 : 0;
         if (skip)
             memcpy(q, q + (size_t)ps * g->width, (size_t)g->width * sizeof *q);
+        if (skip && p->fq)
+            memcpy(p->fq, p->fq + (size_t)ps * g->width, (size_t)g->width);
         const int y0 = y_first + skip, y1 = y_first + ps; /* rows to fill, inclusive */
         int read_to = y1 < mi->height - 1 ? y1 : mi->height - 1;
         int nread = read_to >= y0 ? read_to - y0 + 1 : 0;
         if (nread > 0)
-            st = tp_mosaic_read_rows(p->m, y0, nread, p->rows, (size_t)nread * mi->width, err);
+            st = tp_mosaic_read_rows_filled(p->m, y0, nread, p->rows, (size_t)nread * mi->width,
+                                            p->frows, err);
         if (st != TP_OK)
             break;
         for (int y = y0; y <= y1; y++) {
@@ -524,6 +533,12 @@ static tp_status run_build_pass(build_pass* p, const tp_store_header* h, tp_erro
             }
             for (; x < g->width; x++)
                 dst[x] = INT32_MIN;
+            if (p->fq) {
+                uint8_t* fd = p->fq + (size_t)(y - y_first) * g->width;
+                memset(fd, 0, (size_t)g->width);
+                if (y < mi->height)
+                    memcpy(fd, p->frows + (size_t)(y - y0) * mi->width, (size_t)mi->width);
+            }
         }
         /* the bound may come from rounded statistics: a step of slack, if the range still fits */
         if (p->bounded && (lo < p->lo - p->step || hi > p->hi + p->step ||
@@ -536,7 +551,7 @@ static tp_status run_build_pass(build_pass* p, const tp_store_header* h, tp_erro
             snprintf(err->message, sizeof err->message, "%s: interrupted: not written", p->out);
             break;
         }
-        st = tp_tree_builder_add_band(b, r, q, (size_t)band_rows * g->width, err);
+        st = tp_tree_builder_add_band_filled(b, r, q, p->fq, (size_t)band_rows * g->width, err);
         progress_update(&pr, r + 1, g->rows, (double)(read_to + 1) * mi->width);
     }
     tp_tree_builder_destroy(b);
@@ -648,8 +663,10 @@ int tp_cli_build(int argc, char** argv)
     }
     float* rows = malloc((size_t)band_rows * mi.width * sizeof *rows);
     int32_t* q = malloc((size_t)band_rows * g.width * sizeof *q);
-    if (!rows || !q) {
-        free(rows), free(q), tp_mosaic_close(m);
+    uint8_t* frows = o.fill_max > 0 ? malloc((size_t)band_rows * mi.width) : NULL;
+    uint8_t* fq = o.fill_max > 0 ? malloc((size_t)band_rows * g.width) : NULL;
+    if (!rows || !q || (o.fill_max > 0 && (!frows || !fq))) {
+        free(rows), free(q), free(frows), free(fq), tp_mosaic_close(m);
         return fail_line("build: out of memory for one band of rows");
     }
 
@@ -666,7 +683,7 @@ int tp_cli_build(int argc, char** argv)
     int64_t nodes = 0;
     char* notes = build_notes(&o, &mi, 0);
     if (!notes) {
-        free(rows), free(q), tp_mosaic_close(m);
+        free(rows), free(q), free(frows), free(fq), tp_mosaic_close(m);
         return fail_line("build: out of memory");
     }
     for (int attempt = 0;; attempt++) {
@@ -694,7 +711,7 @@ int tp_cli_build(int argc, char** argv)
         h.nodata_samples = (size_t)mi.width * mi.height;
         h.crs_wkt = mi.crs_wkt;
         h.notes = notes;
-        build_pass bp = {.o = &o, .m = m, .mi = &mi, .g = &g, .rows = rows, .q = q, .step = step,
+        build_pass bp = {.o = &o, .m = m, .mi = &mi, .g = &g, .rows = rows, .q = q, .frows = frows, .fq = fq, .step = step,
                          .bounded = bounded, .lo = lo, .hi = hi, .quiet = o.quiet,
                          .threads = o.threads, .out = o.out, .source = o.sources[0]};
         st = run_build_pass(&bp, &h, &err);
@@ -718,6 +735,8 @@ int tp_cli_build(int argc, char** argv)
     }
     free(rows);
     free(q);
+    free(frows);
+    free(fq);
     const size_t filled = tp_mosaic_filled_samples(m);
     tp_mosaic_voids mv;
     tp_mosaic_get_voids(m, &mv);

@@ -65,17 +65,17 @@ truncated)
     grep -q "t.tpt" err || fail "file not named"
     ;;
 newer)
-    set_version 4
+    set_version 5
     run 60 info s.tpt
     [ $rc -eq 1 ] || fail "exit $rc, expected 1"
-    grep -q "newer terrapatch (format 4" err || fail "expected the newer-version message"
+    grep -q "newer terrapatch (format 5" err || fail "expected the newer-version message"
     ;;
 older)
-    set_version 2
+    set_version 3
     run 60 info s.tpt
     [ $rc -eq 1 ] || fail "exit $rc, expected 1"
     [ "$(wc -l < err)" -eq 1 ] || fail "expected one line on stderr"
-    grep -q "s.tpt: written by an older terrapatch (format 2.*rebuild it with terrapatch build" err ||
+    grep -q "s.tpt: written by an older terrapatch (format 3.*rebuild it with terrapatch build" err ||
         fail "expected the older-version message"
     ;;
 *) fail "unknown case" ;;

@@ -974,11 +974,11 @@ TEST(older_version_says_rebuild)
     small_store(&fx, path, sizeof path);
     file_buf b = slurp(path);
     layout l = parse_layout(&b);
-    put32(b.data + 8, 2);
+    put32(b.data + 8, 3);
     put32(b.data + l.header_bytes - 4, crc32_ref(b.data, l.header_bytes - 4));
     spill(path, b.data, b.size);
     expect_open_fails(path, TP_ERR_BAD_DATA,
-                      "written by an older terrapatch (format 2; this one reads format 3): "
+                      "written by an older terrapatch (format 3; this one reads format 4): "
                       "rebuild it with terrapatch build");
     free(b.data);
     fixture_free(&fx);

@@ -817,9 +817,11 @@ TEST(builder_memory_does_not_depend_on_height)
         EXPECT_EQ_INT(0, cnt.now); /* everything released */
         peak[i] = cnt.peak;
         /* the header's formula: 4 (2^n+1) ((2 + 2^-n) width + scales)
-         *                       + 4 cols sizeof(tp_node_meta) + 2048 */
+         *   + 4 cols (sizeof(tp_node_meta) + 2^(2n-3)) + cols (2^(2n-3) + 2^(n-2) + 2) + 2048 */
         double formula = 4.0 * 17 * ((2 + 1.0 / 16) * g.width + g.scales) +
-                         4.0 * g.cols * sizeof(tp_node_meta) + 2048;
+                         4.0 * g.cols * (sizeof(tp_node_meta) + (1 << (2 * 4 - 3))) +
+                         g.cols * ((1 << (2 * 4 - 3)) + (1 << (4 - 2)) + 2) /* filled bits */ +
+                         2048;
         EXPECT_EQ_INT(6, g.scales);
         tp_test_note("%dx%d: builder peak %zu bytes, formula %.0f, scales %d", w, h, cnt.peak,
                      formula, g.scales);

@@ -1892,7 +1892,7 @@ TEST(older_format_store_in_the_cache_is_rebuilt)
                                        (uint32_t)head[14] << 16 | (uint32_t)head[15] << 24;
                 uint8_t* h = malloc(hsize);
                 ASSERT_TRUE(h && pread(fd, h, hsize, 0) == (ssize_t)hsize);
-                h[8] = 1, h[9] = h[10] = h[11] = 0;
+                h[8] = TP_STORE_VERSION - 1, h[9] = h[10] = h[11] = 0; /* format 3: no filled bits */
                 uint32_t c = 0xFFFFFFFFu;
                 for (uint32_t k = 0; k < hsize - 4; k++) {
                     c ^= h[k];
@@ -1907,7 +1907,9 @@ TEST(older_format_store_in_the_cache_is_rebuilt)
                 tp_store* st = NULL;
                 tp_error err = {{0}};
                 EXPECT_STATUS(TP_ERR_BAD_DATA, tp_store_open(store, &st, &err));
-                EXPECT_CONTAINS(err.message, "older terrapatch (format 1");
+                char want[64];
+                snprintf(want, sizeof want, "older terrapatch (format %d", TP_STORE_VERSION - 1);
+                EXPECT_CONTAINS(err.message, want);
             }
             close(fd);
         }

@@ -469,7 +469,272 @@ TEST(build_fill_from_notes_and_bad_sources)
     }
 }
 
+/* ---- stores mark their filled samples (format 4) ---- */
+
+static uint32_t crc32_ref(const uint8_t* p, size_t n) /* zlib's CRC32, as docs/store.md says */
+{
+    uint32_t c = 0xFFFFFFFFu;
+    for (size_t i = 0; i < n; i++) {
+        c ^= p[i];
+        for (int k = 0; k < 8; k++)
+            c = (c >> 1) ^ (0xEDB88320u & (0u - (c & 1)));
+    }
+    return ~c;
+}
+static uint32_t le32(const uint8_t* p)
+{
+    return (uint32_t)p[0] | (uint32_t)p[1] << 8 | (uint32_t)p[2] << 16 | (uint32_t)p[3] << 24;
+}
+static uint64_t le64(const uint8_t* p) { return le32(p) | (uint64_t)le32(p + 4) << 32; }
+static void put32(uint8_t* p, uint32_t v)
+{
+    for (int i = 0; i < 4; i++)
+        p[i] = (uint8_t)(v >> (8 * i));
+}
+
+/* The punched DEM built into a store (once per process; --patch 17: 5 scales). */
+static const char* filled_store(void)
+{
+    static char out[600];
+    if (out[0])
+        return out;
+    setup();
+    char err[4096];
+    snprintf(out, sizeof out, "%s.filled.tpt", F.holes);
+    const char* args[] = {F.holes, "-o", out, "--quiet", "--patch", "17", NULL};
+    int code = tp_test_run_terrapatch("build", args, err, sizeof err);
+    if (code != 0)
+        fprintf(stderr, "%s", err);
+    ASSERT_EQ_INT(0, code);
+    return out;
+}
+
+/* Every node's filled bits, at every scale, are tp_render_grid_build's `filled` at the samples
+ * the node holds (its vertices: full-resolution samples every 2^scale), and only nodes holding
+ * one carry TP_NODE_HAS_FILLED; the mosaic's per-sample flags are the same. */
+TEST(store_marks_exactly_the_filled_samples)
+{
+    const char* path = filled_store();
+    tp_render_grid* g = grid_of(F.holes, 0, NULL);
+    ASSERT_TRUE(g->filled_samples > 100 * 90); /* the punched holes and SRTM's own voids */
+    tp_error err = {0};
+    tp_store* s = NULL;
+    ASSERT_EQ_INT(TP_OK, tp_store_open(path, &s, &err));
+    tp_store_info si;
+    tp_store_get_info(s, &si);
+    EXPECT_TRUE(strstr(si.header.notes, "(marked per sample)") != NULL);
+    const tp_tree_geometry* geo = &si.header.geometry;
+    size_t count;
+    const tp_node_meta* metas = tp_store_metas(s, &count);
+    const int n = geo->n, side = (1 << n) + 1;
+    const size_t samples = (size_t)side * side, words = tp_tree_block_words(n);
+    const size_t fat = samples + tp_node_mask_words(n);
+    uint16_t* block = malloc(words * sizeof *block);
+    ASSERT_TRUE(block != NULL);
+    size_t differ = 0, flagged_nodes = 0, bad_flags = 0, leaf_marked = 0;
+    size_t flagged_by_scale[TP_TREE_MAX_SCALES] = {0};
+    for (int64_t id = 0; id < (int64_t)count; id++) {
+        int sc, c, r;
+        tp_tree_node_locate(geo, id, &sc, &c, &r);
+        memset(block, 0xAB, words * sizeof *block); /* the read must write the bits */
+        ASSERT_EQ_INT(TP_OK, tp_store_read_node(s, id, block, words, &err));
+        size_t here = 0;
+        for (int j = 0; j < side; j++)
+            for (int i = 0; i < side; i++) {
+                const long x = ((long)c << (n + sc)) + ((long)i << sc);
+                const long y = ((long)r << (n + sc)) + ((long)j << sc);
+                const int want = x < g->width && y < g->height && g->filled[(size_t)y * g->width + x];
+                const size_t k = (size_t)j * side + i;
+                const int got = block[fat + (k >> 4)] >> (k & 15) & 1;
+                differ += want != got;
+                here += got;
+                if (sc == 0 && got && i < side - 1 && j < side - 1)
+                    leaf_marked++; /* each sample once: leaves share their last row and column */
+            }
+        const int has = (metas[id].flags & TP_NODE_HAS_FILLED) != 0;
+        bad_flags += has != (here > 0);
+        flagged_nodes += has;
+        flagged_by_scale[sc] += has;
+    }
+    EXPECT_EQ_INT(0, (long long)differ);
+    EXPECT_EQ_INT(0, (long long)bad_flags);
+    /* the leaves' own rows and columns: all but the grid's last row and column, none filled */
+    EXPECT_EQ_INT((long long)g->filled_samples, (long long)leaf_marked);
+    EXPECT_TRUE(flagged_nodes > 0 && flagged_nodes < count);
+    for (int sc = 0; sc < geo->scales; sc++)
+        fprintf(stderr, "scale %d: %zu nodes with filled samples\n", sc, flagged_by_scale[sc]);
+    EXPECT_TRUE(flagged_by_scale[1] > 0 && flagged_by_scale[2] > 0); /* coarser nodes too */
+    fprintf(stderr, "%zu of %zu nodes hold filled samples (%zu samples)\n", flagged_nodes, count,
+            g->filled_samples);
+
+    /* tp_mosaic_read_rows_filled: the same flags, sample for sample */
+    const char* paths[] = {F.holes};
+    tp_mosaic_options mo = {.fill_max = TP_FILL_MAX_ANY};
+    tp_mosaic* m = NULL;
+    ASSERT_EQ_INT(TP_OK, tp_mosaic_open(paths, 1, &mo, &m, &err));
+    float* z = malloc((size_t)F.w * 65 * sizeof *z);
+    uint8_t* f = malloc((size_t)F.w * 65);
+    ASSERT_TRUE(z && f);
+    size_t fdiffer = 0;
+    for (int y = 0; y < F.h; y += 65) {
+        const int rows = F.h - y < 65 ? F.h - y : 65;
+        ASSERT_EQ_INT(TP_OK, tp_mosaic_read_rows_filled(m, y, rows, z, (size_t)rows * F.w, f, &err));
+        for (size_t i = 0; i < (size_t)rows * F.w; i++)
+            fdiffer += (f[i] != 0) != (g->filled[(size_t)y * F.w + i] != 0);
+    }
+    EXPECT_EQ_INT(0, (long long)fdiffer);
+    free(z), free(f), free(block);
+    tp_mosaic_close(m);
+    tp_store_close(s);
+    tp_render_grid_destroy(g);
+}
+
+/* The file's bytes, read whole. */
+static uint8_t* slurp(const char* path, size_t* size)
+{
+    FILE* fp = fopen(path, "rb");
+    ASSERT_TRUE(fp != NULL);
+    fseek(fp, 0, SEEK_END);
+    *size = (size_t)ftell(fp);
+    fseek(fp, 0, SEEK_SET);
+    uint8_t* b = malloc(*size);
+    ASSERT_TRUE(b != NULL);
+    ASSERT_EQ_INT(1, (long long)fread(b, *size, 1, fp));
+    fclose(fp);
+    return b;
+}
+static void spill(const char* path, const uint8_t* b, size_t size)
+{
+    FILE* fp = fopen(path, "wb");
+    ASSERT_TRUE(fp != NULL);
+    ASSERT_EQ_INT(1, (long long)fwrite(b, size, 1, fp));
+    fclose(fp);
+}
+
+/* A node whose filled table is damaged (its frame's size past the node, the node's and the
+ * tables' checksums made to match, as a writer bug would leave it): that node fails, naming
+ * the file and the node; the others read. */
+TEST(damaged_filled_table_fails_naming_file_and_node)
+{
+    const char* path = filled_store();
+    size_t size;
+    uint8_t* b = slurp(path, &size);
+    const uint32_t header_bytes = le32(b + 12);
+    const uint64_t count = le64(b + 48);
+    const uint64_t meta_at = (header_bytes + 7) & ~(uint64_t)7, loc_at = meta_at + 104 * count;
+    int64_t victim = -1, other = -1;
+    for (uint64_t id = 0; id < count && (victim < 0 || other < 0); id++) {
+        if (b[meta_at + 104 * id + 16] & TP_NODE_HAS_FILLED)
+            victim = victim < 0 ? (int64_t)id : victim;
+        else
+            other = other < 0 ? (int64_t)id : other;
+    }
+    ASSERT_TRUE(victim >= 0 && other >= 0);
+    uint8_t* loc = b + loc_at + 24 * (uint64_t)victim;
+    const uint64_t off = le64(loc);
+    const uint32_t bytes = le32(loc + 8);
+    put32(b + off + bytes - 4, bytes); /* the frame's size: more than the node holds */
+    put32(loc + 12, crc32_ref(b + off, bytes));
+    /* the location table's CRC32 in the footer, then the footer's own */
+    uint8_t* foot = b + size - 56;
+    put32(foot + 36, crc32_ref(b + loc_at, 24 * count));
+    put32(foot + 44, crc32_ref(foot, 44));
+    char bad[700];
+    snprintf(bad, sizeof bad, "%s.damaged.tpt", F.holes);
+    spill(bad, b, size);
+    free(b);
+    tp_error err = {0};
+    tp_store* s = NULL;
+    ASSERT_EQ_INT(TP_OK, tp_store_open(bad, &s, &err));
+    const size_t words = tp_tree_block_words(4);
+    uint16_t* block = malloc(words * sizeof *block);
+    ASSERT_TRUE(block != NULL);
+    EXPECT_EQ_INT(TP_ERR_BAD_DATA, tp_store_read_node(s, victim, block, words, &err));
+    char node[64];
+    snprintf(node, sizeof node, "node %lld (", (long long)victim);
+    fprintf(stderr, "%s\n", err.message);
+    EXPECT_TRUE(strstr(err.message, bad) != NULL);
+    EXPECT_TRUE(strstr(err.message, node) != NULL);
+    EXPECT_TRUE(strstr(err.message, "damaged filled table") != NULL);
+    EXPECT_EQ_INT(TP_OK, tp_store_read_node(s, other, block, words, &err));
+    free(block);
+    tp_store_close(s);
+}
+
+/* A sound store of format 3 (before the filled bits): refused, saying to rebuild it. */
+TEST(format_3_store_refused_rebuild_it)
+{
+    const char* path = filled_store();
+    size_t size;
+    uint8_t* b = slurp(path, &size);
+    const uint32_t header_bytes = le32(b + 12);
+    put32(b + 8, 3);
+    put32(b + header_bytes - 4, crc32_ref(b, header_bytes - 4));
+    char old[700];
+    snprintf(old, sizeof old, "%s.v3.tpt", F.holes);
+    spill(old, b, size);
+    free(b);
+    tp_error err = {0};
+    tp_store* s = NULL;
+    EXPECT_EQ_INT(TP_ERR_BAD_DATA, tp_store_open(old, &s, &err));
+    EXPECT_TRUE(strstr(err.message, "written by an older terrapatch (format 3; this one reads "
+                                    "format 4): rebuild it with terrapatch build") != NULL);
+    fprintf(stderr, "%s\n", err.message);
+}
+
+/* Pixels of the filled-void tint (mix(ground, (0.85, 0.25, 0.75), 0.65), shaded): red and
+ * blue well above green, which neither the hypsometric ground nor the sky has. */
+static long tint_pixels(const char* png, long* total)
+{
+    int w, h;
+    uint8_t* px = NULL;
+    tp_error err = {0};
+    ASSERT_EQ_INT(TP_OK, tp_image_read_rgba(png, &w, &h, &px, &err));
+    long n = 0;
+    for (size_t i = 0; i < (size_t)w * h; i++) {
+        const uint8_t* p = px + 4 * i;
+        n += p[0] > p[1] + 40 && p[2] > p[1] + 40;
+    }
+    *total = (long)w * h;
+    free(px);
+    return n;
+}
+
+/* The viewer tints a store's filled samples (the 100 x 90 hole, seen from above), and
+ * --hide-filled draws them as ground. */
+TEST(view_of_store_tints_filled_voids)
+{
+    const char* path = filled_store();
+    const hole* q = &HOLES[3];
+    const double e = F.gt[0] + (q->x + q->w / 2.0) * F.gt[1];
+    const double nn = F.gt[3] + (q->y + q->h / 2.0) * F.gt[5];
+    char cam[160], shot[2][700];
+    snprintf(cam, sizeof cam, "%.3f,%.3f,14000,0,-90", e, nn);
+    long tinted[2], total = 0;
+    for (int hide = 0; hide < 2; hide++) {
+        snprintf(shot[hide], sizeof shot[hide], "%s.view%d.png", F.holes, hide);
+        const char* args[] = {"--headless", "--no-hud", "--size", "320x240", "--lod", "full",
+                              "--camera", cam, "--screenshot", shot[hide], path,
+                              hide ? "--hide-filled" : NULL, NULL};
+        char err[4096];
+        int code = tp_test_run_terrapatch("view", args, err, sizeof err);
+        if (code != 0)
+            fprintf(stderr, "%s", err);
+        ASSERT_EQ_INT(0, code);
+        tinted[hide] = tint_pixels(shot[hide], &total);
+    }
+    fprintf(stderr, "tinted pixels: %ld of %ld, with --hide-filled %ld\n", tinted[0], total,
+            tinted[1]);
+    /* the hole is 100 x 90 of about 9 x 8 km in a view about 16 km wide: a good part of it */
+    EXPECT_TRUE(tinted[0] > total / 20);
+    EXPECT_EQ_INT(0, tinted[1]);
+}
+
 #define TESTS(X)                                                                                   \
+    X(store_marks_exactly_the_filled_samples)                                                      \
+    X(damaged_filled_table_fails_naming_file_and_node)                                             \
+    X(format_3_store_refused_rebuild_it)                                                           \
+    X(view_of_store_tints_filled_voids)                                                            \
     X(interpolation_fills_holes_of_any_size)                                                       \
     X(fill_from_coarse_copy_beats_interpolation)                                                   \
     X(fill_max_still_caps)                                                                         \

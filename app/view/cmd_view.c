@@ -123,7 +123,7 @@ static void print_help(void)
           "  A DEM is drawn whole, without a store (the old path), when it is a heightmap image\n"
           "  (--spacing, --zscale, --origin or a PNG/JPEG/...), or --fit or --texture is given:\n"
           "  stores always pad and carry no texture. A store fills voids as --fill-max says\n"
-          "  (passed to the build) but marks no sample filled: no filled-void tint (V).\n"
+          "  (passed to the build) and marks each filled sample: tinted (V) as a DEM drawn whole.\n"
           "  A DEM's store is built with the view's --patch (default 17, as a DEM drawn whole);\n"
           "  'terrapatch build' defaults to 65, for large maps.\n"
           "  --no-hud              no text overlay (frame times, triangles, levels, error,\n"

@@ -39,7 +39,8 @@ void tp_view_position_text(const tp_georef* g, double e, double n, char* out, si
 
 /* The legend of the filled-void tint: what filled the voids and how many samples. A DEM read
  * whole knows (its render grid); a store says it in its notes (the line cmd_build writes:
- * "voids ... filled by interpolation ...: N samples") and marks no sample, so nothing is tinted. */
+ * "voids ... filled by interpolation ...: N samples (marked per sample)") and marks each filled
+ * sample in its nodes' filled bits (format 4), which the renderer tints. */
 static void voids_text(const tp_view_scene* v, char* out, size_t cap)
 {
     out[0] = '\0';
@@ -62,8 +63,9 @@ static void voids_text(const tp_view_scene* v, char* out, size_t cap)
     unsigned long long n = 0;
     if (!count || sscanf(count + 3, "%llu", &n) != 1 || n == 0)
         return;
-    snprintf(out, cap, "\nvoids: %llu samples filled %s (a store marks none: no tint)", n,
-             strncmp(line, "filled from", 11) == 0 ? "from a second source" : "by interpolation");
+    snprintf(out, cap, "\ntint: %llu samples filled %s", n,
+             strncmp(line, "filled from", 11) == 0 ? "from a second source, shifted onto the ground"
+                                                    : "by interpolation");
 }
 
 void tp_view_hud_text(tp_view_scene* v, const tp_camera* cam,

@@ -637,7 +637,7 @@ static void fill_node(void* user, size_t i, tp_vertex* v, float (*normals)[3], u
     size_t count = (size_t)side * side;
     tp_cut_vertices(r->cut, i, v, count);
     for (size_t j = 0; j < count; j++) {
-        filled[j] = 0;
+        filled[j] = v[j].cls == TP_SAMPLE_FILLED; /* the store's filled bits (format 4) */
         if (isnan(v[j].z_m)) {
             normals[j][0] = normals[j][1] = 0;
             normals[j][2] = 1;

@@ -641,16 +641,26 @@ void tp_tree_roots(const tp_tree_geometry* g, int64_t* roots, size_t root_capaci
  * global quantised height minus the node's qmin, TP_TREE_NO_HEIGHT where the sample is not
  * drawn (nodata, padding). The decoded height of a sample is (stored + qmin) * height_step_m,
  * the same in every node that holds it. A resident node's block is its samples followed by
- * its cell mask (tp_node_mask_words(n) words; see tp_node_mask_from_q): tp_tree_block_words. */
+ * its cell mask (tp_node_mask_words(n) words; see tp_node_mask_from_q), then its filled bits
+ * (tp_node_filled_words(n) words; see TP_NODE_HAS_FILLED): tp_tree_block_words. */
 #define TP_TREE_NO_HEIGHT 0xFFFFu
-size_t tp_tree_block_words(int n); /* (2^n+1)^2 + tp_node_mask_words(n) */
+size_t tp_tree_block_words(int n); /* (2^n+1)^2 + tp_node_mask_words(n) + tp_node_filled_words(n) */
+/* Filled bits: bit k % 16 of word k / 16 for sample k (row-major, k = j (2^n+1) + i) is set when
+ * that sample is drawn but was not measured: an interior void filled by the build (by
+ * interpolation or from a second source). A node's samples are full-resolution samples (nested
+ * decimation), so a sample's bit is the same in every node that holds it. Only nodes with
+ * TP_NODE_HAS_FILLED have any set; a block's filled bits are all 0 otherwise. */
+size_t tp_node_filled_words(int n); /* ceil((2^n+1)^2 / 16) */
 
 /* What the tree keeps about every node, resident or not (the store's node table). Errors are
  * uint16 in units of the tree's err_unit (TP_NODE_ERR_SAT: "at least this large"; the bound is
  * then the node's area range). Every bound is against EVERY full-resolution sample of the
  * node's area, rounded up; quantisation is not included (add quant_max_error_m). */
 #define TP_NODE_ERR_SAT 0xFFFFu
-enum { TP_NODE_COMPLETE = 1, TP_NODE_HAS_DRAWN = 2 };
+/* TP_NODE_HAS_FILLED: at least one of the node's OWN samples is a filled void sample (its
+ * block's filled bits say which); set by the tree builder when given filled flags
+ * (tp_tree_builder_add_band_filled), never by tp_node_meta_compute. */
+enum { TP_NODE_COMPLETE = 1, TP_NODE_HAS_DRAWN = 2, TP_NODE_HAS_FILLED = 4 };
 typedef struct tp_node_meta {
     int32_t qmin, qmax;   /* global quantised range over the node's OWN drawn samples (its
                              drawn geometry: the AABB); 0, -1 when none */
@@ -731,9 +741,10 @@ double tp_node_error_bound(const tp_node_meta* m, int n, int k, const int neighb
  * right, then each coarser scale's completed row). Memory, all allocated by
  * tp_tree_builder_create, nothing per band, whatever the height: at most
  *   4 (2^n+1) ((2 + 2^-n) width + scales) + 4 cols (sizeof(tp_node_meta) + 2^(2n-3))
- *   + 2048 bytes
+ *   + cols (2^(2n-3) + 2^(n-2) + 2) + 2048 bytes
  * (the decimated rows of every scale, one block of samples per node of a row, two rows of
- * metas and masks per scale).
+ * metas and masks per scale, a row of nodes' filled bits), plus (2^n+1) (width + scales) bytes
+ * once filled flags are given (tp_tree_builder_add_band_filled: the decimated rows' flags).
  * The per-node work (tp_node_meta_compute) may be spread over threads by the caller's
  * parallel_for. */
 typedef struct tp_tree_builder tp_tree_builder;
@@ -747,6 +758,11 @@ typedef struct tp_tree_builder_desc {
      * with TP_ERR_IO and the message the callback left in err). */
     int (*emit)(int64_t node, const tp_node_meta* meta, const int32_t* q, const uint16_t* mask,
                 void* user, tp_error* err);
+    /* Optional, called instead of emit when set: also the node's filled bits
+     * (tp_node_filled_words(n) words, see tp_node_filled_words), NULL when the node has none
+     * (meta lacks TP_NODE_HAS_FILLED). */
+    int (*emit_filled)(int64_t node, const tp_node_meta* meta, const int32_t* q,
+                       const uint16_t* mask, const uint16_t* filled, void* user, tp_error* err);
     /* Optional: run fn(i, ctx) for i in 0..count-1, possibly on several threads at once;
      * NULL runs them in order here. */
     void (*parallel_for)(int count, void (*fn)(int i, void* ctx), void* ctx, void* user);
@@ -763,6 +779,13 @@ tp_status tp_tree_builder_create(const tp_tree_builder_desc* desc, tp_tree_build
  * every band); TP_ERR_IO when emit returns non-zero. */
 tp_status tp_tree_builder_add_band(tp_tree_builder* b, int r, const int32_t* q, size_t q_count,
                                    tp_error* err);
+/* tp_tree_builder_add_band with, for each of its samples, whether it is a filled void sample
+ * (filled[i] != 0; drawn samples only, a flag on an undrawn one is ignored; NULL: none). The
+ * builder keeps the flags of the decimated rows beside the heights (one byte a sample: the
+ * memory bound above grows by a quarter) and marks every node holding a flagged sample
+ * TP_NODE_HAS_FILLED. */
+tp_status tp_tree_builder_add_band_filled(tp_tree_builder* b, int r, const int32_t* q,
+                                          const uint8_t* filled, size_t q_count, tp_error* err);
 void tp_tree_builder_destroy(tp_tree_builder* b); /* accepts NULL */
 
 /* ---- the tree at run time: metas for every node, samples for the resident ones ---- */
@@ -912,7 +935,10 @@ const int64_t* tp_cut_requests(const tp_cut* c, size_t* count);
 void tp_cut_get_stats(const tp_cut* c, tp_cut_stats* out);
 /* Vertex data of drawn node i (0..count-1) after crack removal: (2^level+1)^2 vertices as
  * tp_patch_vertices writes them (global grid coordinates, decoded heights; cls is VALID,
- * NODATA or PADDING: a tree does not keep FILLED). */
+ * FILLED, NODATA or PADDING). FILLED where the node's filled bits (TP_NODE_HAS_FILLED) mark
+ * the sample the vertex stands on: a vertex that crack removal moves onto a coarser
+ * neighbour's lattice vertex takes that sample's height and so its flag; drawn or not is the
+ * original vertex's, as before. */
 void tp_cut_vertices(const tp_cut* c, size_t i, tp_vertex* vertices, size_t vertex_capacity);
 /* The triangles drawn node i draws, from its vertex data (tp_cut_vertices): as
  * tp_patch_triangles (strip order and winding, index triples, returns the count, writes the

@@ -143,7 +143,7 @@ static double cell_hit(const ray_ctx* r, int vs, int cx, int cy, double best)
         int ok = 1;
         for (int k = 0; k < 3; k++) {
             const tp_vertex* v = &r->v[(size_t)(cy + tri[h][k][1]) * vs + (cx + tri[h][k][0])];
-            ok &= v->cls == TP_SAMPLE_VALID && !isnan(v->z_m);
+            ok &= (v->cls == TP_SAMPLE_VALID || v->cls == TP_SAMPLE_FILLED) && !isnan(v->z_m);
             pos[k][0] = v->x, pos[k][1] = v->y;
             tp_tree_grid_to_world(r->c->t, v->x, v->y, &w[k][0], &w[k][1]);
             w[k][0] -= r->o[0];

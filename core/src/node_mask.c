@@ -16,10 +16,17 @@ size_t tp_node_mask_words(int n)
     return ((size_t)1 << (2 * n)) / 16;
 }
 
+size_t tp_node_filled_words(int n)
+{
+    assert(n >= 2 && n <= TP_MAX_N);
+    size_t side = ((size_t)1 << n) + 1;
+    return (side * side + 15) / 16;
+}
+
 size_t tp_tree_block_words(int n)
 {
     size_t side = ((size_t)1 << n) + 1;
-    return side * side + tp_node_mask_words(n);
+    return side * side + tp_node_mask_words(n) + tp_node_filled_words(n);
 }
 
 static inline int bit(const uint16_t* mask, int n, int x, int y)

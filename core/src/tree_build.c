@@ -19,14 +19,20 @@ struct tp_tree_builder {
     int n, ps, side, width;
     int next_band, failed;
     int32_t* rows[TP_TREE_MAX_SCALES];     /* scale s >= 1: side rows of rw[s] samples */
+    uint8_t* frows[TP_TREE_MAX_SCALES];    /* their filled flags (allocated with the first
+                                              flags given; until then none is filled) */
     int rw[TP_TREE_MAX_SCALES];            /* node_cols[s] * 2^n + 1 */
     tp_node_meta* metas[TP_TREE_MAX_SCALES]; /* 2 rows (by row parity) of node_cols[s] */
     uint16_t* masks[TP_TREE_MAX_SCALES];     /* their cell masks, mask_words each */
     size_t mask_words;
     int32_t* scratch;                       /* cols blocks of side^2: one node's q per item */
+    uint16_t* fscratch;                     /* cols blocks of filled_words: their filled bits */
+    size_t filled_words;
+    int flagged;                            /* frows exist: flags were given */
     /* the row of nodes being computed by the parallel_for */
     int cur_s, cur_r;
     const int32_t* cur_src; /* scale 0: the band; else rows[cur_s] */
+    const uint8_t* cur_fsrc; /* its filled flags, or NULL */
     int cur_src_w;
 };
 
@@ -35,10 +41,12 @@ static void destroy(tp_tree_builder* b)
     tp_allocator a = b->a;
     for (int s = 0; s < TP_TREE_MAX_SCALES; s++) {
         tp__free(&a, b->rows[s]);
+        tp__free(&a, b->frows[s]);
         tp__free(&a, b->metas[s]);
         tp__free(&a, b->masks[s]);
     }
     tp__free(&a, b->scratch);
+    tp__free(&a, b->fscratch);
     tp__free(&a, b);
 }
 
@@ -55,7 +63,7 @@ tp_status tp_tree_builder_create(const tp_tree_builder_desc* desc, tp_tree_build
         return tp__fail(err, TP_ERR_INVALID_ARG,
                         "tree builder: geometry not initialised (n %d, %dx%d leaves)", g->n,
                         g->cols, g->rows);
-    if (!desc->emit)
+    if (!desc->emit && !desc->emit_filled)
         return tp__fail(err, TP_ERR_INVALID_ARG, "tree builder: expected an emit callback");
     if (!(desc->err_unit_steps > 0) || !isfinite(desc->err_unit_steps))
         return tp__fail(err, TP_ERR_INVALID_ARG,
@@ -71,6 +79,7 @@ tp_status tp_tree_builder_create(const tp_tree_builder_desc* desc, tp_tree_build
     b->side = b->ps + 1;
     b->width = g->width;
     b->mask_words = tp_node_mask_words(g->n);
+    b->filled_words = tp_node_filled_words(g->n);
     for (int s = 0; s < g->scales; s++) {
         if (s >= 1) {
             b->rw[s] = g->node_cols[s] * b->ps + 1;
@@ -86,7 +95,8 @@ tp_status tp_tree_builder_create(const tp_tree_builder_desc* desc, tp_tree_build
     }
     b->scratch = tp__alloc(&a, (size_t)g->cols * (size_t)b->side * (size_t)b->side,
                            sizeof(int32_t));
-    if (!b->scratch)
+    b->fscratch = tp__calloc(&a, (size_t)g->cols * b->filled_words, sizeof(uint16_t));
+    if (!b->scratch || !b->fscratch)
         goto oom;
     *out = b;
     return TP_OK;
@@ -106,6 +116,11 @@ void tp_tree_builder_destroy(tp_tree_builder* b)
 static int32_t* item_q(const tp_tree_builder* b, int c)
 {
     return b->scratch + (size_t)c * (size_t)b->side * (size_t)b->side;
+}
+
+static uint16_t* item_filled(const tp_tree_builder* b, int c)
+{
+    return b->fscratch + (size_t)c * b->filled_words;
 }
 
 static tp_node_meta* meta_at(const tp_tree_builder* b, int s, int c, int r)
@@ -141,19 +156,38 @@ static void node_item(int c, void* ctx)
     } else {
         tp_node_mask_from_q(b->n, q, mask);
     }
-    tp_node_meta_compute(b->n, s, q, mask, s > 0 ? children : NULL, b->d.err_unit_steps,
-                         meta_at(b, s, c, r));
+    tp_node_meta* m = meta_at(b, s, c, r);
+    tp_node_meta_compute(b->n, s, q, mask, s > 0 ? children : NULL, b->d.err_unit_steps, m);
+    /* filled bits: the flags of the node's own drawn samples */
+    uint16_t* fb = item_filled(b, c);
+    memset(fb, 0, b->filled_words * sizeof *fb);
+    if (b->cur_fsrc) {
+        int any = 0;
+        for (int j = 0; j < side; j++) {
+            const uint8_t* f = b->cur_fsrc + (size_t)j * b->cur_src_w + (size_t)c * ps;
+            const int32_t* qq = q + (size_t)j * side;
+            for (int i = 0; i < side; i++)
+                if (f[i] && qq[i] != INT32_MIN) {
+                    size_t k = (size_t)j * side + (size_t)i;
+                    fb[k >> 4] |= (uint16_t)(1u << (k & 15));
+                    any = 1;
+                }
+        }
+        if (any)
+            m->flags |= TP_NODE_HAS_FILLED;
+    }
 }
 
 /* Computes and emits row r of scale s (its samples in src, rows of src_w). */
-static tp_status node_row(tp_tree_builder* b, int s, int r, const int32_t* src, int src_w,
-                          tp_error* err)
+static tp_status node_row(tp_tree_builder* b, int s, int r, const int32_t* src,
+                          const uint8_t* fsrc, int src_w, tp_error* err)
 {
     const tp_tree_geometry* g = &b->d.geometry;
     int count = g->node_cols[s];
     b->cur_s = s;
     b->cur_r = r;
     b->cur_src = src;
+    b->cur_fsrc = fsrc;
     b->cur_src_w = src_w;
     if (b->d.parallel_for)
         b->d.parallel_for(count, node_item, b, b->d.user);
@@ -165,8 +199,14 @@ static tp_status node_row(tp_tree_builder* b, int s, int r, const int32_t* src, 
         tp_error e;
         snprintf(e.message, sizeof e.message, "tree builder: the emit callback stopped the "
                  "build at node %lld", (long long)id);
-        if (b->d.emit(id, meta_at(b, s, c, r), item_q(b, c), mask_at(b, s, c, r), b->d.user,
-                      &e)) {
+        const tp_node_meta* m = meta_at(b, s, c, r);
+        int stop = b->d.emit_filled
+                       ? b->d.emit_filled(id, m, item_q(b, c), mask_at(b, s, c, r),
+                                          (m->flags & TP_NODE_HAS_FILLED) ? item_filled(b, c)
+                                                                          : NULL,
+                                          b->d.user, &e)
+                       : b->d.emit(id, m, item_q(b, c), mask_at(b, s, c, r), b->d.user, &e);
+        if (stop) {
             b->failed = 1;
             if (err)
                 *err = e;
@@ -179,7 +219,7 @@ static tp_status node_row(tp_tree_builder* b, int s, int r, const int32_t* src, 
 /* Keeps decimated row y (full-resolution row, its samples in `row`) for every scale that uses
  * it. The row that closes a scale-s band goes to its last slot; it starts the next band once
  * that band's nodes are computed (tp_tree_builder_add_band). */
-static void keep_row(tp_tree_builder* b, int y, const int32_t* row)
+static void keep_row(tp_tree_builder* b, int y, const int32_t* row, const uint8_t* frow)
 {
     const tp_tree_geometry* g = &b->d.geometry;
     for (int s = 1; s < g->scales && (y & ((1 << s) - 1)) == 0; s++) {
@@ -196,11 +236,22 @@ static void keep_row(tp_tree_builder* b, int y, const int32_t* row)
         int32_t* dst = b->rows[s] + (size_t)slot * (size_t)b->rw[s];
         for (int xs = 0; xs < b->rw[s]; xs++)
             dst[xs] = row[(size_t)xs << s];
+        if (b->flagged) {
+            uint8_t* fdst = b->frows[s] + (size_t)slot * (size_t)b->rw[s];
+            for (int xs = 0; xs < b->rw[s]; xs++)
+                fdst[xs] = frow ? frow[(size_t)xs << s] : 0;
+        }
     }
 }
 
 tp_status tp_tree_builder_add_band(tp_tree_builder* b, int r, const int32_t* q, size_t q_count,
                                    tp_error* err)
+{
+    return tp_tree_builder_add_band_filled(b, r, q, NULL, q_count, err);
+}
+
+tp_status tp_tree_builder_add_band_filled(tp_tree_builder* b, int r, const int32_t* q,
+                                          const uint8_t* filled, size_t q_count, tp_error* err)
 {
     assert(b && q && q_count == (size_t)b->side * (size_t)b->width);
     (void)q_count; /* only asserted */
@@ -212,21 +263,36 @@ tp_status tp_tree_builder_add_band(tp_tree_builder* b, int r, const int32_t* q, 
         return tp__fail(err, TP_ERR_INVALID_ARG,
                         "tree builder: expected band %d (bands go in order, 0 .. %d), got %d",
                         b->next_band, g->rows - 1, r);
+    if (filled && !b->flagged) { /* the first flags: rows of flags, none filled so far */
+        for (int s = 1; s < g->scales; s++) {
+            b->frows[s] = tp__calloc(&b->a, (size_t)b->side * (size_t)b->rw[s], 1);
+            if (!b->frows[s]) {
+                b->failed = 1;
+                return tp__fail(err, TP_ERR_OUT_OF_MEMORY,
+                                "tree builder: out of memory for the filled flags");
+            }
+        }
+        b->flagged = 1;
+    }
     /* row 0 of band r > 0 is the last row of band r-1, already kept */
     for (int j = r == 0 ? 0 : 1; j <= b->ps; j++)
-        keep_row(b, r * b->ps + j, q + (size_t)j * (size_t)b->width);
-    tp_status st = node_row(b, 0, r, q, b->width, err);
+        keep_row(b, r * b->ps + j, q + (size_t)j * (size_t)b->width,
+                 filled ? filled + (size_t)j * (size_t)b->width : NULL);
+    tp_status st = node_row(b, 0, r, q, filled, b->width, err);
     if (st != TP_OK)
         return st;
     for (int s = 1; s < g->scales && ((r + 1) & ((1 << s) - 1)) == 0; s++) {
         int rs = ((r + 1) >> s) - 1;
         if (rs >= g->node_rows[s])
             break; /* no node of this scale (or above) ends here */
-        st = node_row(b, s, rs, b->rows[s], b->rw[s], err);
+        st = node_row(b, s, rs, b->rows[s], b->flagged ? b->frows[s] : NULL, b->rw[s], err);
         if (st != TP_OK)
             return st;
         memcpy(b->rows[s], b->rows[s] + (size_t)b->ps * (size_t)b->rw[s],
                sizeof(int32_t) * (size_t)b->rw[s]);
+        if (b->flagged)
+            memcpy(b->frows[s], b->frows[s] + (size_t)b->ps * (size_t)b->rw[s],
+                   (size_t)b->rw[s]);
     }
     b->next_band++;
     return TP_OK;
@@ -238,7 +304,8 @@ tp_status tp_tree_builder_add_band(tp_tree_builder* b, int r, const int32_t* q, 
 typedef struct {
     tp_node_meta* metas;
     uint16_t* samples;
-    size_t count, block; /* samples per node, words per block (samples and mask) */
+    size_t count, block; /* samples per node, words per block (samples, mask, filled bits) */
+    int n;
 } grid_sink;
 
 static int keep_node(int64_t node, const tp_node_meta* meta, const int32_t* q,
@@ -250,7 +317,9 @@ static int keep_node(int64_t node, const tp_node_meta* meta, const int32_t* q,
     uint16_t* dst = k->samples + (size_t)node * k->block;
     for (size_t i = 0; i < k->count; i++)
         dst[i] = q[i] == INT32_MIN ? (uint16_t)TP_TREE_NO_HEIGHT : (uint16_t)(q[i] - meta->qmin);
-    memcpy(dst + k->count, mask, (k->block - k->count) * sizeof *mask);
+    size_t mw = tp_node_mask_words(k->n);
+    memcpy(dst + k->count, mask, mw * sizeof *mask);
+    memset(dst + k->count + mw, 0, (k->block - k->count - mw) * sizeof *dst); /* none filled */
     return 0;
 }
 
@@ -327,6 +396,7 @@ tp_status tp_tree_create_from_grid(const float* heights, size_t height_count, in
     grid_sink sink = {0};
     sink.count = (size_t)side * (size_t)side;
     sink.block = tp_tree_block_words(g.n);
+    sink.n = g.n;
     sink.metas = tp__calloc(&a, (size_t)g.node_count, sizeof(tp_node_meta));
     sink.samples = tp__alloc(&a, (size_t)g.node_count, sink.block * sizeof(uint16_t));
     int32_t* band = tp__alloc(&a, (size_t)side * (size_t)g.width, sizeof(int32_t));

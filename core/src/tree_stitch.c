@@ -269,6 +269,7 @@ void tp__cut_constrain(tp_cut* c)
 typedef struct node_view {
     const tp_cut* c;
     const uint16_t* q; /* its samples */
+    const uint16_t* filled; /* its filled bits, NULL when it has none */
     int32_t qmin;
     int64_t x0, y0;  /* grid position of sample (0, 0) */
     int s, k, shift; /* scale, level, n - k */
@@ -312,7 +313,12 @@ static void node_view_init(const tp_cut* c, size_t i, node_view* nv)
     nv->c = c;
     nv->q = tp_tree_samples(c->t, o->node);
     assert(nv->q); /* drawn nodes are resident until the next update */
-    nv->qmin = tp_tree_meta(c->t, o->node)->qmin;
+    const tp_node_meta* m = tp_tree_meta(c->t, o->node);
+    nv->qmin = m->qmin;
+    size_t side = ((size_t)1 << c->n) + 1;
+    nv->filled = (m->flags & TP_NODE_HAS_FILLED)
+                     ? nv->q + side * side + tp_node_mask_words(c->n)
+                     : NULL;
     nv->x0 = (int64_t)cc << (c->n + s);
     nv->y0 = (int64_t)rr << (c->n + s);
     nv->s = s;
@@ -324,16 +330,26 @@ static void node_view_init(const tp_cut* c, size_t i, node_view* nv)
 }
 
 /* Vertex (i, j) after crack removal: grid position, global quantised height (INT32_MIN when
- * none) and whether the ORIGINAL vertex is drawn. */
-static int node_vertex(const node_view* nv, int i, int j, int32_t* gx, int32_t* gy, int32_t* q)
+ * none) and whether the ORIGINAL vertex is drawn; *filled (when not NULL): the filled bit of
+ * the sample the vertex stands on (after the move: the one whose height it takes). */
+static int node_vertex_f(const node_view* nv, int i, int j, int32_t* gx, int32_t* gy,
+                         int32_t* q, int* filled)
 {
     int mi, mj, v = (1 << nv->c->n) + 1;
     tp__lattice_vertex(nv->k, nv->nb, i, j, &mi, &mj);
     *gx = (int32_t)(nv->x0 + ((int64_t)mi << (nv->shift + nv->s)));
     *gy = (int32_t)(nv->y0 + ((int64_t)mj << (nv->shift + nv->s)));
-    uint16_t st = nv->q[(size_t)(mj << nv->shift) * v + (size_t)(mi << nv->shift)];
+    size_t at = (size_t)(mj << nv->shift) * v + (size_t)(mi << nv->shift);
+    uint16_t st = nv->q[at];
+    if (filled)
+        *filled = nv->filled ? nv->filled[at >> 4] >> (at & 15) & 1 : 0;
     *q = st == TP_TREE_NO_HEIGHT ? INT32_MIN : (int32_t)st + nv->qmin;
     return nv->q[(size_t)(j << nv->shift) * v + (size_t)(i << nv->shift)] != TP_TREE_NO_HEIGHT;
+}
+
+static int node_vertex(const node_view* nv, int i, int j, int32_t* gx, int32_t* gy, int32_t* q)
+{
+    return node_vertex_f(nv, i, j, gx, gy, q, NULL);
 }
 
 void tp_cut_vertices(const tp_cut* c, size_t i, tp_vertex* vertices, size_t vertex_capacity)
@@ -348,10 +364,11 @@ void tp_cut_vertices(const tp_cut* c, size_t i, tp_vertex* vertices, size_t vert
         for (int ii = 0; ii < v; ii++) {
             tp_vertex* o = &vertices[j * v + ii];
             int32_t q;
-            int drawn = node_vertex(&nv, ii, j, &o->x, &o->y, &q);
+            int filled;
+            int drawn = node_vertex_f(&nv, ii, j, &o->x, &o->y, &q, &filled);
             o->z_m = q == INT32_MIN ? NAN : (float)(q * c->step);
             if (drawn)
-                o->cls = TP_SAMPLE_VALID;
+                o->cls = filled ? TP_SAMPLE_FILLED : TP_SAMPLE_VALID;
             else {
                 int64_t ox = nv.x0 + ((int64_t)ii << (nv.shift + nv.s));
                 int64_t oy = nv.y0 + ((int64_t)j << (nv.shift + nv.s));
@@ -445,7 +462,7 @@ static int keep_tri(const tp_vertex* a, const tp_vertex* b, const tp_vertex* c, 
     int ok = 1;
     for (int i = 0; i < 3; i++) {
         pos[i][0] = v[i]->x, pos[i][1] = v[i]->y;
-        ok &= v[i]->cls == TP_SAMPLE_VALID && !isnan(v[i]->z_m);
+        ok &= (v[i]->cls == TP_SAMPLE_VALID || v[i]->cls == TP_SAMPLE_FILLED) && !isnan(v[i]->z_m);
     }
     return tp__tri_drawn(k->d, pos, ok);
 }

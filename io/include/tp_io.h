@@ -342,8 +342,8 @@ typedef struct tp_mosaic_options {
      * 0 is not "any"). The window of rows read grows until it holds whole, with its crop, every
      * void reaching the rows asked for; a void whose crop (its rows and its reach, the bounding
      * box's longer side + 1, above and below) is taller than fill_window_mb holds at about 60
-     * bytes a sample of a row stays a void (tp_mosaic_get_voids counts it). No per-sample
-     * "filled" mark is kept. */
+     * bytes a sample of a row stays a void (tp_mosaic_get_voids counts it). The per-sample
+     * "filled" marks come with tp_mosaic_read_rows_filled. */
     int fill_max;
     const char* fill_from;    /* as tp_grid_options.fill_from (warped VRT, read in bands) */
     int fill_window_mb;       /* memory for the void window; 0: memory_mb / 8, taken from GDAL's
@@ -397,6 +397,11 @@ tp_status tp_mosaic_read_rows(tp_mosaic* m, int y0, int rows, float* heights, si
 /* Samples filled so far (options->fill_max) in the rows above the furthest row read: each row
  * counted once, so reading the grid down, once or more, counts each filled sample once. */
 size_t tp_mosaic_filled_samples(const tp_mosaic* m);
+/* tp_mosaic_read_rows that also writes, for each sample read, 1 where it is a filled void
+ * sample (options->fill_max), else 0 (filled: rows * width bytes; NULL: as tp_mosaic_read_rows).
+ * The same samples tp_render_grid_build's `filled` marks for one DEM. */
+tp_status tp_mosaic_read_rows_filled(tp_mosaic* m, int y0, int rows, float* heights,
+                                     size_t height_count, uint8_t* filled, tp_error* err);
 
 /* What became of the voids in the rows read so far (each row counted once, as above). */
 typedef struct tp_mosaic_voids {
@@ -562,12 +567,13 @@ const char* tp_georef_datum_note(const tp_georef* g);
  * sources it was built from), the node table (every node's tp_node_meta, laid out as in memory so
  * that it is mapped, not decoded), the location table (the offset, size, CRC32 and codec of every
  * node's data) and each node's samples, compressed (and, from format 3, the cell mask of the
- * nodes above the leaves that are drawn in part). Written atomically through tp_file_* (an
+ * nodes above the leaves that are drawn in part; from format 4, the filled bits of the nodes
+ * holding filled void samples). Written atomically through tp_file_* (an
  * interrupted or failed write leaves no file); read with one open file shared by threads
  * (pread), each node checked against its CRC32 when read. Formats 2 and 3 are written and read
  * on little-endian hosts only (TP_ERR_BACKEND elsewhere).
  */
-#define TP_STORE_VERSION 3
+#define TP_STORE_VERSION 4 /* 4: filled bits of the nodes holding filled void samples */
 
 typedef struct tp_store_header {
     tp_tree_geometry geometry;
@@ -598,6 +604,15 @@ tp_status tp_store_writer_begin(const char* path, const tp_store_header* header,
  * (then every later call and the commit fail the same way: abort w). */
 tp_status tp_store_writer_add_node(tp_store_writer* w, int64_t node, const tp_node_meta* meta,
                                    const int32_t* q, const uint16_t* mask, tp_error* err);
+/* tp_store_writer_add_node with the node's filled bits (tp_node_filled_words(n) words, as the
+ * tree builder's emit_filled gives them): required when meta has TP_NODE_HAS_FILLED, NULL
+ * otherwise; stored compressed after the node's samples and mask (docs/store.md, format 4).
+ * TP_ERR_INVALID_ARG also for bits missing or given against the flag, a bit on a sample not
+ * drawn or past the samples, or the flag with no bit set. */
+tp_status tp_store_writer_add_node_filled(tp_store_writer* w, int64_t node,
+                                          const tp_node_meta* meta, const int32_t* q,
+                                          const uint16_t* mask, const uint16_t* filled,
+                                          tp_error* err);
 /* The header's values known only once the whole grid has been read (a build that reads its
  * sources once): they replace the header's quant_max_error_m, valid_samples and nodata_samples
  * given to tp_store_writer_begin; commit writes the header again with them (tp_file_rewrite of

@@ -728,7 +728,8 @@ tp_status load_window(tp_mosaic* m, int a, int b, tp_error* err)
  * crop. A void whose crop would be taller than fill_max_rows (the memory given to the window)
  * stays, whichever rows are read, and is counted in too_large. Rows already in the window are
  * kept, not read again. */
-tp_status read_filled(tp_mosaic* m, int y0, int rows, float* heights, tp_error* err)
+tp_status read_filled(tp_mosaic* m, int y0, int rows, float* heights, uint8_t* filled,
+                      tp_error* err)
 {
     const int W = m->w, H = m->h;
     const size_t w = (size_t)W;
@@ -790,6 +791,8 @@ tp_status read_filled(tp_mosaic* m, int y0, int rows, float* heights, tp_error* 
         }
     if (!any_nan) { /* nothing to fill */
         std::memcpy(heights, band, (size_t)rows * w * sizeof(float));
+        if (filled)
+            std::memset(filled, 0, (size_t)rows * w);
         return TP_OK;
     }
     std::vector<float> z(m->win); /* the window stays as read: the next read reuses it */
@@ -807,6 +810,8 @@ tp_status read_filled(tp_mosaic* m, int y0, int rows, float* heights, tp_error* 
     if (st != TP_OK)
         return st;
     std::memcpy(heights, z.data() + (size_t)(y0 - a) * w, (size_t)rows * w * sizeof(float));
+    if (filled)
+        std::memcpy(filled, m->filled_mask.data() + (size_t)(y0 - a) * w, (size_t)rows * w);
     for (int y = std::max(y0, m->counted_to); y < y0 + rows; y++)
         for (size_t x = 0; x < w; x++) {
             const size_t i = (size_t)(y - a) * w + x;
@@ -874,13 +879,22 @@ extern "C" void tp_mosaic_get_info(const tp_mosaic* m, tp_mosaic_info* out)
 extern "C" tp_status tp_mosaic_read_rows(tp_mosaic* m, int y0, int rows, float* heights,
                                          size_t height_count, tp_error* err)
 {
+    return tp_mosaic_read_rows_filled(m, y0, rows, heights, height_count, nullptr, err);
+}
+
+extern "C" tp_status tp_mosaic_read_rows_filled(tp_mosaic* m, int y0, int rows, float* heights,
+                                                size_t height_count, uint8_t* filled,
+                                                tp_error* err)
+{
     if (!m || !heights || y0 < 0 || rows < 1 || y0 + rows > m->h ||
         height_count < (size_t)rows * m->w)
         return fail(err, TP_ERR_INVALID_ARG, "mosaic: rows %d .. %d outside the grid's %d rows",
                     y0, y0 + rows - 1, m ? m->h : 0);
     try {
         if (m->fill_max > 0)
-            return read_filled(m, y0, rows, heights, err);
+            return read_filled(m, y0, rows, heights, filled, err);
+        if (filled)
+            std::memset(filled, 0, (size_t)rows * m->w);
         return read_raw(m, y0, rows, heights, err);
     } catch (...) {
         return tpio::caught(err, "mosaic");

@@ -15,6 +15,7 @@
 
 #include <algorithm>
 #include <climits>
+#include <new>
 
 namespace tpio {
 namespace store {
@@ -37,7 +38,44 @@ uint32_t crc32_continue(uint32_t crc_so_far, const void* data, size_t size)
 size_t max_stored_bytes(int n)
 {
     const size_t raw = 2 * sample_count(n);
-    return std::max(raw, ZSTD_compressBound(raw)) + mask_bytes(n);
+    return std::max(raw, ZSTD_compressBound(raw)) + mask_bytes(n) +
+           ZSTD_compressBound(filled_raw_bytes(n)) + 4;
+}
+
+void encode_filled(const uint16_t* bits, size_t words, int level, void* cctx,
+                   std::vector<uint8_t>* out)
+{
+    std::vector<uint8_t> raw(2 * words);
+    for (size_t k = 0; k < words; ++k)
+        put_u16(raw.data() + 2 * k, bits[k]);
+    const size_t at = out->size();
+    out->resize(at + ZSTD_compressBound(raw.size()));
+    const size_t got = ZSTD_compressCCtx((ZSTD_CCtx*)cctx, out->data() + at, out->size() - at,
+                                         raw.data(), raw.size(), level);
+    if (ZSTD_isError(got))
+        throw std::bad_alloc(); /* cannot happen with a correct bound */
+    out->resize(at + got);
+}
+
+bool decode_filled(const uint8_t* data, size_t size, size_t words, void* dctx,
+                   std::vector<uint8_t>* scratch, uint16_t* bits, std::string* why)
+{
+    const unsigned long long content = ZSTD_getFrameContentSize(data, size);
+    if (content != 2 * words) {
+        *why = "its filled bits are not a zstd frame of " + std::to_string(2 * words) + " bytes";
+        return false;
+    }
+    scratch->resize(2 * words);
+    const size_t got = ZSTD_decompressDCtx((ZSTD_DCtx*)dctx, scratch->data(), scratch->size(),
+                                           data, size);
+    if (ZSTD_isError(got) || got != 2 * words) {
+        *why = std::string("its filled bits do not decode: ") +
+               (ZSTD_isError(got) ? ZSTD_getErrorName(got) : "wrong size");
+        return false;
+    }
+    for (size_t k = 0; k < words; ++k)
+        bits[k] = get_u16(scratch->data() + 2 * k);
+    return true;
 }
 
 namespace {

@@ -184,8 +184,23 @@ inline bool stores_mask(const tp_node_meta& m, int scale)
 {
     return scale > 0 && (m.flags & TP_NODE_HAS_DRAWN) && !(m.flags & TP_NODE_COMPLETE);
 }
-/* Upper bound of the bytes one node can take in the file (either codec, a mask included). */
+/* Format 4: a node with TP_NODE_HAS_FILLED in its meta ends with its filled bits
+ * (tp_node_filled_words(n) little-endian uint16, see tp_node_filled_words) as one zstd frame
+ * (its content size 2 tp_node_filled_words(n)), then that frame's size as a u32: after the
+ * samples and the mask, inside the node's stored size and CRC32. */
+inline size_t filled_raw_bytes(int n) { return 2 * tp_node_filled_words(n); }
+inline bool stores_filled(const tp_node_meta& m) { return (m.flags & TP_NODE_HAS_FILLED) != 0; }
+constexpr uint8_t KNOWN_FLAGS = TP_NODE_COMPLETE | TP_NODE_HAS_DRAWN | TP_NODE_HAS_FILLED;
+/* Upper bound of the bytes one node can take in the file (either codec, a mask and the
+ * filled bits included). */
 size_t max_stored_bytes(int n);
+/* The filled bits (words of them) as a zstd frame at level `level` into out (appended). */
+void encode_filled(const uint16_t* bits, size_t words, int level, void* cctx,
+                   std::vector<uint8_t>* out);
+/* Decodes a frame of filled bits into bits (words); false with why when it does not decode to
+ * exactly 2 words bytes. */
+bool decode_filled(const uint8_t* data, size_t size, size_t words, void* dctx,
+                   std::vector<uint8_t>* scratch, uint16_t* bits, std::string* why);
 
 /* Encodes side x side samples with codec CODEC_PLANAR_ZSTD at zstd level `level` (ctx: a
  * ZSTD_CCtx*), falling back to CODEC_RAW when that is not smaller. Writes into out (resized),

@@ -91,7 +91,7 @@ int read_at(int fd, void* buf, size_t size, uint64_t offset)
 struct ThreadScratch {
     ZSTD_DCtx* dctx = nullptr;
     std::vector<uint8_t> stored, planes;
-    std::vector<uint16_t> samples, mask;
+    std::vector<uint16_t> samples, mask, filled;
     ~ThreadScratch() { ZSTD_freeDCtx(dctx); }
 };
 thread_local ThreadScratch t_scratch;
@@ -291,8 +291,10 @@ tp_status load(tp_store* s, tp_error* err)
                     nonzero |= word & zero_mask[j];
                 }
                 const int32_t qmin = (int32_t)get_u32(e), qmax = (int32_t)get_u32(e + 4);
-                if (e[16] & ~(TP_NODE_COMPLETE | TP_NODE_HAS_DRAWN))
+                if (e[16] & ~KNOWN_FLAGS)
                     problem = "unknown flags";
+                else if ((e[16] & TP_NODE_HAS_FILLED) && !(e[16] & TP_NODE_HAS_DRAWN))
+                    problem = "filled samples but nothing drawn";
                 else if (qmin <= qmax && (int64_t)qmax - qmin >= (int64_t)TP_TREE_NO_HEIGHT)
                     problem = "height range too wide";
                 else if (nonzero)
@@ -450,11 +452,29 @@ extern "C" tp_status tp_store_read_node(const tp_store* s, int64_t node, uint16_
         int scale, col, row;
         node_locate(s->header.geometry, node, &scale, &col, &row);
         const size_t mbytes = stores_mask(m, scale) ? mask_bytes(n) : 0;
-        if (e.bytes <= mbytes)
+        /* format 4: the filled bits' frame and its size end the node's bytes */
+        size_t fbytes = 0;
+        const size_t fwords = tp_node_filled_words(n);
+        if (stores_filled(m)) {
+            const uint32_t frame = e.bytes >= 4 ? get_u32(t.stored.data() + e.bytes - 4) : 0;
+            if (e.bytes < 4 || frame == 0 || frame > e.bytes - 4 - mbytes - 1)
+                return fail(err, TP_ERR_BAD_DATA,
+                            "%s: %s, %u bytes at byte %" PRIu64
+                            ": damaged filled table: its size (%u bytes) does not fit the node",
+                            path, node_name(s, node).c_str(), e.bytes, e.offset, frame);
+            fbytes = (size_t)frame + 4;
+            t.filled.resize(fwords);
+            if (!decode_filled(t.stored.data() + e.bytes - fbytes, frame, fwords, t.dctx,
+                               &t.planes, t.filled.data(), &why))
+                return fail(err, TP_ERR_BAD_DATA,
+                            "%s: %s, %u bytes at byte %" PRIu64 ": damaged filled table: %s",
+                            path, node_name(s, node).c_str(), e.bytes, e.offset, why.c_str());
+        }
+        if (e.bytes <= mbytes + fbytes)
             return fail(err, TP_ERR_BAD_DATA,
                         "%s: %s, %u bytes at byte %" PRIu64 ": too short for its cell mask",
                         path, node_name(s, node).c_str(), e.bytes, e.offset);
-        if (!decode_node(e.codec, t.stored.data(), e.bytes - mbytes, side, t.dctx, &t.planes,
+        if (!decode_node(e.codec, t.stored.data(), e.bytes - mbytes - fbytes, side, t.dctx, &t.planes,
                          t.samples.data(), &why))
             return fail(err, TP_ERR_BAD_DATA, "%s: %s, %u bytes at byte %" PRIu64 ": %s", path,
                         node_name(s, node).c_str(), e.bytes, e.offset, why.c_str());
@@ -472,7 +492,7 @@ extern "C" tp_status tp_store_read_node(const tp_store* s, int64_t node, uint16_
         const size_t words = tp_node_mask_words(n);
         if (mbytes) { /* a whole cell's corners must be drawn: what drawing relies on */
             t.mask.resize(words);
-            const uint8_t* mp = t.stored.data() + (e.bytes - mbytes);
+            const uint8_t* mp = t.stored.data() + (e.bytes - fbytes - mbytes);
             for (size_t k = 0; k < words; ++k)
                 t.mask[k] = get_u16(mp + 2 * k);
             const int cells = 1 << n;
@@ -491,7 +511,33 @@ extern "C" tp_status tp_store_read_node(const tp_store* s, int64_t node, uint16_
                                     path, node_name(s, node).c_str(), e.bytes, e.offset, x, y);
                 }
         }
+        if (fbytes) { /* filled: drawn samples only, at least one, no bit past the samples */
+            bool any = false;
+            for (size_t k = 0; k < 16 * fwords; ++k) {
+                if (!(t.filled[k >> 4] >> (k & 15) & 1))
+                    continue;
+                if (k >= count || t.samples[k] == TP_TREE_NO_HEIGHT)
+                    return fail(err, TP_ERR_BAD_DATA,
+                                "%s: %s, %u bytes at byte %" PRIu64
+                                ": damaged filled table: sample %zu is marked filled but %s",
+                                path, node_name(s, node).c_str(), e.bytes, e.offset, k,
+                                k >= count ? "does not exist" : "is not drawn");
+                any = true;
+            }
+            if (!any)
+                return fail(err, TP_ERR_BAD_DATA,
+                            "%s: %s, %u bytes at byte %" PRIu64
+                            ": damaged filled table: the node is marked filled but no sample is",
+                            path, node_name(s, node).c_str(), e.bytes, e.offset);
+        }
         std::memcpy(samples, t.samples.data(), count * sizeof *samples);
+        if (sample_capacity >= count + words + fwords) { /* a whole block: mask, filled bits */
+            uint16_t* fb = samples + count + words;
+            if (fbytes)
+                std::memcpy(fb, t.filled.data(), fwords * sizeof *fb);
+            else
+                std::memset(fb, 0, fwords * sizeof *fb);
+        }
         if (sample_capacity >= count + words) { /* a whole block: the mask follows */
             uint16_t* mask = samples + count;
             if (mbytes)

@@ -239,6 +239,14 @@ extern "C" tp_status tp_store_writer_add_node(tp_store_writer* w, int64_t node,
                                               const tp_node_meta* meta, const int32_t* q,
                                               const uint16_t* mask, tp_error* err)
 {
+    return tp_store_writer_add_node_filled(w, node, meta, q, mask, nullptr, err);
+}
+
+extern "C" tp_status tp_store_writer_add_node_filled(tp_store_writer* w, int64_t node,
+                                                     const tp_node_meta* meta, const int32_t* q,
+                                                     const uint16_t* mask,
+                                                     const uint16_t* filled, tp_error* err)
+{
     if (!w || !meta || !q)
         return fail(err, TP_ERR_INVALID_ARG, "store: bad arguments (writer, meta or q is NULL)");
     const char* path = w->path.c_str();
@@ -250,7 +258,7 @@ extern "C" tp_status tp_store_writer_add_node(tp_store_writer* w, int64_t node,
                     (long long)node, (long long)g.node_count);
     if (w->have[(size_t)node])
         return fail(err, TP_ERR_INVALID_ARG, "%s: node %lld added twice", path, (long long)node);
-    if (meta->flags & ~(TP_NODE_COMPLETE | TP_NODE_HAS_DRAWN))
+    if (meta->flags & ~KNOWN_FLAGS)
         return fail(err, TP_ERR_INVALID_ARG, "%s: node %lld: unknown meta flags 0x%02x", path,
                     (long long)node, meta->flags);
     int scale, col, row;
@@ -260,6 +268,12 @@ extern "C" tp_status tp_store_writer_add_node(tp_store_writer* w, int64_t node,
         return fail(err, TP_ERR_INVALID_ARG,
                     "%s: node %lld: a node of scale %d drawn in part needs its cell mask", path,
                     (long long)node, scale);
+    const bool with_filled = stores_filled(*meta);
+    if (with_filled != (filled != nullptr))
+        return fail(err, TP_ERR_INVALID_ARG,
+                    "%s: node %lld: %s", path, (long long)node,
+                    with_filled ? "a node marked TP_NODE_HAS_FILLED needs its filled bits"
+                                : "filled bits given for a node not marked TP_NODE_HAS_FILLED");
     try {
         /* relative to qmin, every drawn sample within [qmin, qmax], a range that fits below
          * TP_TREE_NO_HEIGHT */
@@ -281,6 +295,27 @@ extern "C" tp_status tp_store_writer_add_node(tp_store_writer* w, int64_t node,
                 w->rel[k] = (uint16_t)(q[k] - qmin);
             }
         }
+        if (with_filled) { /* set on drawn samples only, and at least one */
+            const size_t words = tp_node_filled_words(g.n);
+            bool any = false;
+            for (size_t k = 0; k < count; ++k)
+                if (filled[k >> 4] >> (k & 15) & 1) {
+                    if (q[k] == INT32_MIN)
+                        return fail(err, TP_ERR_INVALID_ARG,
+                                    "%s: node %lld: sample %zu is marked filled but not drawn",
+                                    path, (long long)node, k);
+                    any = true;
+                }
+            for (size_t k = count; k < 16 * words; ++k)
+                if (filled[k >> 4] >> (k & 15) & 1)
+                    return fail(err, TP_ERR_INVALID_ARG,
+                                "%s: node %lld: filled bit %zu is past its %zu samples", path,
+                                (long long)node, k, count);
+            if (!any)
+                return fail(err, TP_ERR_INVALID_ARG,
+                            "%s: node %lld: marked TP_NODE_HAS_FILLED but no sample is filled",
+                            path, (long long)node);
+        }
         const int side = (1 << g.n) + 1;
         const Codec codec =
             encode_node(w->rel.data(), side, ZSTD_LEVEL, w->cctx, &w->scratch, &w->packed);
@@ -289,6 +324,13 @@ extern "C" tp_status tp_store_writer_add_node(tp_store_writer* w, int64_t node,
             w->packed.resize(at + mask_bytes(g.n));
             for (size_t k = 0; k < words; ++k)
                 put_u16(w->packed.data() + at + 2 * k, mask[k]);
+        }
+        if (with_filled) {
+            const size_t at = w->packed.size();
+            encode_filled(filled, tp_node_filled_words(g.n), ZSTD_LEVEL, w->cctx, &w->packed);
+            const size_t frame = w->packed.size() - at;
+            w->packed.resize(w->packed.size() + 4);
+            put_u32(w->packed.data() + w->packed.size() - 4, (uint32_t)frame);
         }
         const tp_status s = tp_file_append(w->file, w->packed.data(), w->packed.size(), err);
         if (s != TP_OK)
