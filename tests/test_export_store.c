@@ -201,6 +201,12 @@ TEST(store_and_dem_exports_have_the_same_points)
     tp_mesh_summary ds = export_and_inspect(da), ss = export_and_inspect(sa);
     EXPECT_EQ_INT(ds.points, ss.points);
     EXPECT_EQ_INT(ds.triangles, ss.triangles);
+    /* the same samples marked filled: the DEM's render grid knows them, the store (format 4)
+     * keeps them */
+    tp_test_note("void_filled points: DEM %zu, store %zu", ds.void_filled_points,
+                 ss.void_filled_points);
+    EXPECT_GT((double)ds.void_filled_points, 1000.0);
+    EXPECT_EQ_INT(ds.void_filled_points, ss.void_filled_points);
     double *pa = NULL, *pb = NULL;
     size_t na = 0, nb = 0;
     tp_error e;

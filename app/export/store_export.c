@@ -144,7 +144,8 @@ typedef struct mesh_build {
     size_t hcap;
     int32_t *px, *py;
     double* pz;
-    size_t points, cap_x, cap_y, cap_z;
+    uint8_t* pf;             /* 1: a filled void sample (the store's filled bits) */
+    size_t points, cap_x, cap_y, cap_z, cap_f;
     uint64_t* tri;
     int32_t* patch;
     uint8_t* lod;
@@ -201,7 +202,7 @@ static int rehash(mesh_build* m, size_t cap)
 }
 
 /* Index of the point at grid (x, y), added with height z if new; UINT64_MAX when out of memory. */
-static uint64_t point_of(mesh_build* m, int32_t x, int32_t y, double z)
+static uint64_t point_of(mesh_build* m, int32_t x, int32_t y, double z, int filled)
 {
     if (2 * (m->points + 1) > m->hcap && !rehash(m, m->hcap ? 2 * m->hcap : 1 << 16))
         return UINT64_MAX;
@@ -214,13 +215,15 @@ static uint64_t point_of(mesh_build* m, int32_t x, int32_t y, double z)
     }
     if (!grow((void**)&m->px, &m->cap_x, m->points + 1, sizeof *m->px) ||
         !grow((void**)&m->py, &m->cap_y, m->points + 1, sizeof *m->py) ||
-        !grow((void**)&m->pz, &m->cap_z, m->points + 1, sizeof *m->pz))
+        !grow((void**)&m->pz, &m->cap_z, m->points + 1, sizeof *m->pz) ||
+        !grow((void**)&m->pf, &m->cap_f, m->points + 1, sizeof *m->pf))
         return UINT64_MAX;
     m->key[h] = k;
     m->val[h] = m->points;
     m->px[m->points] = x;
     m->py[m->points] = y;
     m->pz[m->points] = z;
+    m->pf[m->points] = (uint8_t)filled;
     return m->points++;
 }
 
@@ -247,6 +250,7 @@ static void mesh_build_free(mesh_build* m)
     free(m->px);
     free(m->py);
     free(m->pz);
+    free(m->pf);
     free(m->tri);
     free(m->patch);
     free(m->lod);
@@ -654,7 +658,8 @@ static int build_mesh(store_export* x, mesh_build* m, double* sum, size_t* count
             }
             uint64_t p[3];
             for (int c = 0; c < 3; c++)
-                if ((p[c] = point_of(m, v[c]->x, v[c]->y, (double)v[c]->z_m)) == UINT64_MAX) {
+                if ((p[c] = point_of(m, v[c]->x, v[c]->y, (double)v[c]->z_m,
+                                     v[c]->cls == TP_SAMPLE_FILLED)) == UINT64_MAX) {
                     code = fail(x, "out of memory building the mesh");
                     goto done;
                 }
@@ -723,12 +728,8 @@ static int write_mesh(store_export* x, mesh_build* m, const char* camera_text,
         return TP_EXIT_FAILURE;
     }
     double* xyz = malloc(3 * m->points * sizeof *xyz);
-    uint8_t* filled = calloc(m->points, 1); /* see void_filled_note */
-    if (!xyz || !filled) {
-        free(xyz);
-        free(filled);
+    if (!xyz)
         return fail(x, "out of memory building the mesh");
-    }
     double origin[3] = {0, 0, 0};
     if (x->r->origin_local) {
         double e, nn;
@@ -755,14 +756,10 @@ static int write_mesh(store_export* x, mesh_build* m, const char* camera_text,
     tp_crs_describe(h->crs_wkt, &ci, NULL);
     char zone[TP_ZONE_TEXT_SIZE];
     zone_text(ci.epsg, zone, sizeof zone);
-    /* The store keeps heights, not which of them the build filled: known only when it filled
-     * none (its notes say so). */
-    int unfilled = h->notes && strstr(h->notes, "voids are not filled") != NULL;
-    const char* note = unfilled ? "the store's build filled no voids: void_filled is exact (0)"
-                                : "unknown: a store does not keep which samples its build "
-                                  "filled; void_filled is 0 everywhere";
+    /* format 4 keeps which samples the build filled (tp_cut_vertices' TP_SAMPLE_FILLED) */
+    const char* note = "from the store's filled bits: 1 where the build filled an interior void";
     tp_mesh mesh = {
-        .point_count = m->points, .xyz = xyz, .elevation_m = m->pz, .void_filled = filled,
+        .point_count = m->points, .xyz = xyz, .elevation_m = m->pz, .void_filled = m->pf,
         .triangle_count = m->tris, .triangles = m->tri, .patch_id = m->patch, .lod = m->lod,
         .max_error_m = m->err, .crs_wkt = h->crs_wkt, .epsg = ci.epsg, .utm_zone = zone,
         .source_file = x->r->store_path, .camera = camera_text, .lod_params = lod_text,
@@ -771,7 +768,6 @@ static int write_mesh(store_export* x, mesh_build* m, const char* camera_text,
     };
     tp_status st = tp_mesh_write(x->r->out, x->r->format, &mesh, &err);
     free(xyz);
-    free(filled);
     if (st != TP_OK) {
         if (tp_interrupted())
             return tp_cli_interrupted();

@@ -221,6 +221,9 @@ tp_status summarise(const char* path, const Loaded& in, tp_mesh_format format, t
         vtkCellData* cd = pd->GetCellData();
         s->has_elevation &= ptd->GetAbstractArray("elevation_m") != nullptr;
         s->has_void_filled &= ptd->GetAbstractArray("void_filled") != nullptr;
+        if (vtkDataArray* vf = ptd->GetArray("void_filled"))
+            for (vtkIdType i = 0; i < vf->GetNumberOfTuples(); ++i)
+                s->void_filled_points += vf->GetComponent(i, 0) != 0;
         s->has_patch_id &= cd->GetAbstractArray("patch_id") != nullptr;
         s->has_lod &= cd->GetAbstractArray("lod") != nullptr;
         vtkDataArray* e = cd->GetArray("max_error_m");
