@@ -88,17 +88,13 @@ static int parse_options(int argc, char** argv, contours_cli* o)
     int has_interval = 0;
     for (int i = 1; i < argc; ++i) {
         const char* a = argv[i];
-        if (!strcmp(a, "-h") || !strcmp(a, "--help")) {
-            print_help();
-            return tp_cli_finish(TP_EXIT_OK);
-        }
-        if (a[0] != '-' || !a[1]) {
-            if (o->path)
-                return tp_planner_usage("contours", "more than one DEM given (quote a position "
-                                                    "with spaces: --around \"45.37 -121.69\")");
-            o->path = a;
+        const int arg = tp_planner_argument("contours", a, print_help, &o->path,
+                                            " (quote a position with spaces: --around "
+                                            "\"45.37 -121.69\")");
+        if (arg == TP_PLANNER_NEXT)
             continue;
-        }
+        if (arg != TP_PLANNER_OPTION)
+            return arg;
         static const char* const names[] = {"--interval", "--base",      "--radius",
                                             "--index-every", "--area",   "--around",
                                             "-o",          "--output",   "--cache-dir"};

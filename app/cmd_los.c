@@ -85,17 +85,13 @@ static int parse_options(int argc, char** argv, los_options* o)
     static const char* const num_opts[] = {"--from-height", "--to-height", "--curvature-coeff"};
     for (int i = 1; i < argc; ++i) {
         const char* a = argv[i];
-        if (!strcmp(a, "-h") || !strcmp(a, "--help")) {
-            print_help();
-            return tp_cli_finish(TP_EXIT_OK);
-        }
-        if (a[0] != '-' || !a[1]) {
-            if (o->path)
-                return tp_planner_usage("los", "more than one DEM given (quote a position with "
-                                               "spaces: --from \"45.37 -121.69\")");
-            o->path = a;
+        const int arg = tp_planner_argument("los", a, print_help, &o->path,
+                                            " (quote a position with spaces: --from "
+                                            "\"45.37 -121.69\")");
+        if (arg == TP_PLANNER_NEXT)
             continue;
-        }
+        if (arg != TP_PLANNER_OPTION)
+            return arg;
         int done = 0;
         for (size_t k = 0; k < sizeof num_opts / sizeof num_opts[0] && !done; ++k) {
             if (!tp_planner_is_option(a, num_opts[k]))

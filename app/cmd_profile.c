@@ -87,16 +87,11 @@ static int parse_options(int argc, char** argv, profile_options* o)
     static const char* const text_opts[] = {"--route", "--png", "--csv", "--json", "--cache-dir"};
     for (int i = 1; i < argc; ++i) {
         const char* a = argv[i];
-        if (!strcmp(a, "-h") || !strcmp(a, "--help")) {
-            print_help();
-            return tp_cli_finish(TP_EXIT_OK);
-        }
-        if (a[0] != '-' || !a[1]) {
-            if (o->path)
-                return tp_planner_usage("profile", "more than one DEM given");
-            o->path = a;
+        const int arg = tp_planner_argument("profile", a, print_help, &o->path, "");
+        if (arg == TP_PLANNER_NEXT)
             continue;
-        }
+        if (arg != TP_PLANNER_OPTION)
+            return arg;
         if (tp_planner_is_option(a, "--step")) {
             const char* v = tp_planner_option_value(argc, argv, &i, "--step");
             if (!tp_planner_number("profile", "--step", v, TP_PLANNER_ABOVE_0,

@@ -25,6 +25,21 @@ int tp_planner_usage(const char* cmd, const char* what, ...)
     return TP_EXIT_USAGE;
 }
 
+int tp_planner_argument(const char* cmd, const char* a, void (*print_help)(void),
+                        const char** path, const char* hint)
+{
+    if (!strcmp(a, "-h") || !strcmp(a, "--help")) {
+        print_help();
+        return tp_cli_finish(TP_EXIT_OK);
+    }
+    if (a[0] == '-' && a[1])
+        return TP_PLANNER_OPTION;
+    if (*path)
+        return tp_planner_usage(cmd, "more than one DEM given%s", hint);
+    *path = a;
+    return TP_PLANNER_NEXT;
+}
+
 int tp_planner_is_option(const char* arg, const char* name)
 {
     size_t len = strlen(name);

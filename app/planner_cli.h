@@ -29,6 +29,17 @@ __attribute__((format(printf, 2, 3)))
 #endif
 int tp_planner_usage(const char* cmd, const char* what, ...);
 
+/* What a planner command's parser does first with each argument a: -h or --help prints the
+ * help (print_help) and ends the parse with tp_cli_finish(TP_EXIT_OK); an argument that is no
+ * option (not starting with '-', or "-" alone) is the DEM, into *path, and a second one is the
+ * usage error "more than one DEM given" followed by hint (e.g. " (quote a position with
+ * spaces: ...)", or ""). Returns the exit code that ends the parse, TP_PLANNER_NEXT when a was
+ * the DEM, or TP_PLANNER_OPTION when a is an option for the command to read. */
+#define TP_PLANNER_NEXT (-1)
+#define TP_PLANNER_OPTION (-2)
+int tp_planner_argument(const char* cmd, const char* a, void (*print_help)(void),
+                        const char** path, const char* hint);
+
 /* 1 when arg is the option name, alone or as "NAME=VALUE". */
 int tp_planner_is_option(const char* arg, const char* name);
 
