@@ -17,6 +17,7 @@
 #include "tp_io.h"
 
 #include "tp_test_child.h"
+#include "tp_test_gdal.h"
 #include "tp_test_r3.h"
 
 #include <cpl_conv.h>
@@ -53,24 +54,6 @@ static int run_los(const char* dem, const char* from, const char* to, const char
     if (access(out, F_OK) == 0)
         tp_test_read_text(out, json, json_cap);
     return rc;
-}
-
-static void to_lat_lon(const char* wkt, double e, double n, double* lat, double* lon)
-{
-    OGRSpatialReferenceH src = OSRNewSpatialReference(wkt);
-    OGRSpatialReferenceH dst = OSRNewSpatialReference(NULL);
-    OSRImportFromEPSG(dst, 4326);
-    OSRSetAxisMappingStrategy(src, OAMS_TRADITIONAL_GIS_ORDER);
-    OSRSetAxisMappingStrategy(dst, OAMS_TRADITIONAL_GIS_ORDER);
-    OGRCoordinateTransformationH ct = OCTNewCoordinateTransformation(src, dst);
-    ASSERT_TRUE(ct != NULL);
-    double x = e, y = n, z = 0;
-    ASSERT_TRUE(OCTTransform(ct, 1, &x, &y, &z));
-    *lon = x;
-    *lat = y;
-    OCTDestroyCoordinateTransformation(ct);
-    OSRDestroySpatialReference(src);
-    OSRDestroySpatialReference(dst);
 }
 
 static char* utm33_wkt(void)
@@ -140,7 +123,8 @@ TEST(ridge_pairs_worked_out_by_hand)
             /* where: the crest post of row 10, by PROJ here */
             double lat, lon;
             char* wkt = utm33_wkt();
-            to_lat_lon(wkt, RIDGE_E0 + 50.5 * STEP_M, RIDGE_N0 - 10.5 * STEP_M, &lat, &lon);
+            tp_test_gdal_lat_lon(wkt, RIDGE_E0 + 50.5 * STEP_M, RIDGE_N0 - 10.5 * STEP_M, &lat,
+                                 &lon);
             CPLFree(wkt);
             EXPECT_NEAR(tp_test_json_number_after(json, "\"obstruction\"", "lat"), lat, 1e-7);
             EXPECT_NEAR(tp_test_json_number_after(json, "\"obstruction\"", "lon"), lon, 1e-7);
@@ -226,8 +210,8 @@ static tp_render_grid* n42_grid(char* path, size_t cap)
 static void post_lat_lon(const tp_render_grid* g, int c, int r, char* out, size_t cap)
 {
     double lat, lon;
-    to_lat_lon(g->crs_wkt, g->geotransform[0] + (c + 0.5) * g->geotransform[1],
-               g->geotransform[3] + (r + 0.5) * g->geotransform[5], &lat, &lon);
+    tp_test_gdal_lat_lon(g->crs_wkt, g->geotransform[0] + (c + 0.5) * g->geotransform[1],
+                         g->geotransform[3] + (r + 0.5) * g->geotransform[5], &lat, &lon);
     snprintf(out, cap, "%.12f,%.12f", lat, lon);
 }
 

@@ -17,6 +17,7 @@
 #include "tp_io.h"
 
 #include "tp_test_child.h"
+#include "tp_test_gdal.h"
 
 #include <gdal.h>
 #include <cpl_conv.h>
@@ -57,20 +58,7 @@ static int run_point(const char* dem, const char* pos, char* json, size_t json_c
 /* Latitude, longitude of (e, n) in the CRS of ds, by GDAL/PROJ. */
 static void to_lat_lon(GDALDatasetH ds, double e, double n, double* lat, double* lon)
 {
-    OGRSpatialReferenceH src = OSRNewSpatialReference(GDALGetProjectionRef(ds));
-    OGRSpatialReferenceH dst = OSRNewSpatialReference(NULL);
-    OSRImportFromEPSG(dst, 4326);
-    OSRSetAxisMappingStrategy(src, OAMS_TRADITIONAL_GIS_ORDER);
-    OSRSetAxisMappingStrategy(dst, OAMS_TRADITIONAL_GIS_ORDER);
-    OGRCoordinateTransformationH ct = OCTNewCoordinateTransformation(src, dst);
-    ASSERT_TRUE(ct != NULL);
-    double x = e, y = n, z = 0;
-    ASSERT_TRUE(OCTTransform(ct, 1, &x, &y, &z));
-    *lon = x;
-    *lat = y;
-    OCTDestroyCoordinateTransformation(ct);
-    OSRDestroySpatialReference(src);
-    OSRDestroySpatialReference(dst);
+    tp_test_gdal_lat_lon(GDALGetProjectionRef(ds), e, n, lat, lon);
 }
 
 static double sample(GDALDatasetH ds, int c, int r)
