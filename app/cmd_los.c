@@ -92,28 +92,16 @@ static int parse_options(int argc, char** argv, los_options* o)
             continue;
         if (arg != TP_PLANNER_OPTION)
             return arg;
-        int done = 0;
-        for (size_t k = 0; k < sizeof num_opts / sizeof num_opts[0] && !done; ++k) {
-            if (!tp_planner_is_option(a, num_opts[k]))
-                continue;
-            const char* v = tp_planner_option_value(argc, argv, &i, num_opts[k]);
-            double* slot[] = {&o->from_height_m, &o->to_height_m, &o->curvature_coeff};
-            if (!tp_planner_number("los", num_opts[k], v, TP_PLANNER_AT_LEAST_0, "a number >= 0",
-                                   slot[k]))
-                return TP_EXIT_USAGE;
-            done = 1;
-        }
-        for (size_t k = 0; k < sizeof text_opts / sizeof text_opts[0] && !done; ++k) {
-            if (!tp_planner_is_option(a, text_opts[k]))
-                continue;
-            const char* v = tp_planner_option_value(argc, argv, &i, text_opts[k]);
-            if (!v)
-                return tp_planner_usage("los", "missing value for %s", text_opts[k]);
-            const char** slot[] = {&o->from, &o->to, &o->json, &o->profile, &o->csv,
-                                   &o->cache_dir};
-            *slot[k] = v;
-            done = 1;
-        }
+        double* const num_slots[] = {&o->from_height_m, &o->to_height_m, &o->curvature_coeff};
+        const char** const text_slots[] = {&o->from,    &o->to,  &o->json,
+                                           &o->profile, &o->csv, &o->cache_dir};
+        int done = tp_planner_number_options("los", argc, argv, &i, num_opts, num_slots,
+                                             TP_PLANNER_COUNT(num_opts));
+        if (!done)
+            done = tp_planner_text_options("los", argc, argv, &i, text_opts, text_slots,
+                                           TP_PLANNER_COUNT(text_opts));
+        if (done < 0)
+            return TP_EXIT_USAGE;
         if (!done)
             return tp_planner_usage("los", "unknown option '%s'", a);
     }

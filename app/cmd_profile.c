@@ -106,17 +106,11 @@ static int parse_options(int argc, char** argv, profile_options* o)
                 return TP_EXIT_USAGE;
             continue;
         }
-        int done = 0;
-        for (size_t k = 0; k < sizeof text_opts / sizeof text_opts[0] && !done; ++k) {
-            if (!tp_planner_is_option(a, text_opts[k]))
-                continue;
-            const char* v = tp_planner_option_value(argc, argv, &i, text_opts[k]);
-            if (!v)
-                return tp_planner_usage("profile", "missing value for %s", text_opts[k]);
-            const char** slot[] = {&o->route, &o->png, &o->csv, &o->json, &o->cache_dir};
-            *slot[k] = v;
-            done = 1;
-        }
+        const char** const slots[] = {&o->route, &o->png, &o->csv, &o->json, &o->cache_dir};
+        const int done = tp_planner_text_options("profile", argc, argv, &i, text_opts, slots,
+                                                 TP_PLANNER_COUNT(text_opts));
+        if (done < 0)
+            return TP_EXIT_USAGE;
         if (!done)
             return tp_planner_usage("profile", "unknown option '%s'", a);
     }

@@ -73,6 +73,7 @@ static int parse_options(int argc, char** argv, viewshed_cli* o)
     o->curvature_coeff = TP_VIEWSHED_CURVATURE_COEFF;
     static const char* const num_opts[] = {"--observer-height", "--target-height", "--radius",
                                            "--curvature-coeff"};
+    static const char* const text_opts[] = {"--observer", "-o", "--output", "--cache-dir"};
     for (int i = 1; i < argc; ++i) {
         const char* a = argv[i];
         const int arg = tp_planner_argument("viewshed", a, print_help, &o->path,
@@ -82,32 +83,16 @@ static int parse_options(int argc, char** argv, viewshed_cli* o)
             continue;
         if (arg != TP_PLANNER_OPTION)
             return arg;
-        int done = 0;
-        for (size_t k = 0; k < sizeof num_opts / sizeof num_opts[0] && !done; ++k) {
-            if (!tp_planner_is_option(a, num_opts[k]))
-                continue;
-            const char* v = tp_planner_option_value(argc, argv, &i, num_opts[k]);
-            double* slot[] = {&o->observer_height_m, &o->target_height_m, &o->radius_m,
-                              &o->curvature_coeff};
-            if (!tp_planner_number("viewshed", num_opts[k], v, TP_PLANNER_AT_LEAST_0,
-                                   "a number >= 0", slot[k]))
-                return TP_EXIT_USAGE;
-            done = 1;
-        }
-        const int output = tp_planner_is_option(a, "-o") || tp_planner_is_option(a, "--output");
-        const char** text = tp_planner_is_option(a, "--observer")    ? &o->observer
-                            : output                                 ? &o->out
-                            : tp_planner_is_option(a, "--cache-dir") ? &o->cache_dir
-                                                                     : NULL;
-        if (!done && text) {
-            const char* name = tp_planner_is_option(a, "--observer") ? "--observer"
-                               : tp_planner_is_option(a, "-o")       ? "-o"
-                               : tp_planner_is_option(a, "--output") ? "--output"
-                                                                     : "--cache-dir";
-            if (!(*text = tp_planner_option_value(argc, argv, &i, name)))
-                return tp_planner_usage("viewshed", "missing value for %s", name);
-            done = 1;
-        }
+        double* const num_slots[] = {&o->observer_height_m, &o->target_height_m, &o->radius_m,
+                                     &o->curvature_coeff};
+        const char** const text_slots[] = {&o->observer, &o->out, &o->out, &o->cache_dir};
+        int done = tp_planner_number_options("viewshed", argc, argv, &i, num_opts, num_slots,
+                                             TP_PLANNER_COUNT(num_opts));
+        if (!done)
+            done = tp_planner_text_options("viewshed", argc, argv, &i, text_opts, text_slots,
+                                           TP_PLANNER_COUNT(text_opts));
+        if (done < 0)
+            return TP_EXIT_USAGE;
         if (!done)
             return tp_planner_usage("viewshed", "unknown option '%s'", a);
     }

@@ -56,6 +56,34 @@ const char* tp_planner_option_value(int argc, char** argv, int* i, const char* n
     return argv[++*i];
 }
 
+int tp_planner_text_options(const char* cmd, int argc, char** argv, int* i,
+                            const char* const* names, const char** const* slots, size_t count)
+{
+    for (size_t k = 0; k < count; ++k) {
+        if (!tp_planner_is_option(argv[*i], names[k]))
+            continue;
+        if (!(*slots[k] = tp_planner_option_value(argc, argv, i, names[k])))
+            return tp_planner_usage(cmd, "missing value for %s", names[k]), -1;
+        return 1;
+    }
+    return 0;
+}
+
+int tp_planner_number_options(const char* cmd, int argc, char** argv, int* i,
+                              const char* const* names, double* const* slots, size_t count)
+{
+    for (size_t k = 0; k < count; ++k) {
+        if (!tp_planner_is_option(argv[*i], names[k]))
+            continue;
+        const char* v = tp_planner_option_value(argc, argv, i, names[k]);
+        return tp_planner_number(cmd, names[k], v, TP_PLANNER_AT_LEAST_0, "a number >= 0",
+                                 slots[k])
+                   ? 1
+                   : -1;
+    }
+    return 0;
+}
+
 int tp_planner_number(const char* cmd, const char* opt, const char* v, tp_planner_range range,
                       const char* expected, double* out)
 {

@@ -47,6 +47,17 @@ int tp_planner_is_option(const char* arg, const char* name);
  * it); NULL when there is none. */
 const char* tp_planner_option_value(int argc, char** argv, int* i, const char* name);
 
+/* Tables of options: names[k] (count of them) puts its value into *slots[k]. When argv[*i] is
+ * one of them (tp_planner_is_option), reads its value (tp_planner_option_value) and returns 1;
+ * 0 when it is none of them; -1 after one line (a usage error): a text option without a value
+ * ("missing value for NAME", as tp_planner_usage), a number that is missing or not >= 0
+ * (tp_planner_number's "expected a number >= 0"). TP_PLANNER_COUNT(names) gives count. */
+#define TP_PLANNER_COUNT(a) (sizeof(a) / sizeof((a)[0]))
+int tp_planner_text_options(const char* cmd, int argc, char** argv, int* i,
+                            const char* const* names, const char** const* slots, size_t count);
+int tp_planner_number_options(const char* cmd, int argc, char** argv, int* i,
+                              const char* const* names, double* const* slots, size_t count);
+
 /* Which numbers an option takes. */
 typedef enum tp_planner_range {
     TP_PLANNER_ANY = 0,   /* any finite number */
