@@ -8,10 +8,9 @@
  */
 #define _POSIX_C_SOURCE 200809L
 #include "cli.h"
-#include "ground.h"
 #include "ground_locate.h"
 #include "memory.h"
-#include "position.h"
+#include "planner_cli.h"
 
 #include "tp_core.h"
 #include "tp_io.h"
@@ -21,8 +20,6 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
-#include <unistd.h>
 
 /* The most posts one run reads: 64 Mi posts (8192 x 8192) take 768 MiB in three float copies
  * (ours, the void-marked copy, GDAL's MEM dataset) before any line is drawn. */
@@ -84,28 +81,6 @@ static void print_help(void)
           stdout);
 }
 
-static int usage(const char* what)
-{
-    fprintf(stderr, "terrapatch contours: %s (see 'terrapatch contours --help')\n", what);
-    return TP_EXIT_USAGE;
-}
-
-static const char* option_value(int argc, char** argv, int* i, const char* name)
-{
-    size_t len = strlen(name);
-    if (strncmp(argv[*i], name, len) == 0 && argv[*i][len] == '=')
-        return argv[*i] + len + 1;
-    if (*i + 1 >= argc)
-        return NULL;
-    return argv[++*i];
-}
-
-static int is_option(const char* a, const char* name)
-{
-    size_t len = strlen(name);
-    return !strncmp(a, name, len) && (a[len] == '\0' || a[len] == '=');
-}
-
 static int parse_options(int argc, char** argv, contours_cli* o)
 {
     memset(o, 0, sizeof *o);
@@ -113,58 +88,44 @@ static int parse_options(int argc, char** argv, contours_cli* o)
     int has_interval = 0;
     for (int i = 1; i < argc; ++i) {
         const char* a = argv[i];
-        if (!strcmp(a, "-h") || !strcmp(a, "--help")) {
-            print_help();
-            return tp_cli_finish(TP_EXIT_OK);
-        }
-        if (a[0] != '-' || !a[1]) {
-            if (o->path)
-                return usage("more than one DEM given (quote a position with spaces: "
-                             "--around \"45.37 -121.69\")");
-            o->path = a;
+        const int arg = tp_planner_argument("contours", a, print_help, &o->path,
+                                            " (quote a position with spaces: --around "
+                                            "\"45.37 -121.69\")");
+        if (arg == TP_PLANNER_NEXT)
             continue;
-        }
+        if (arg != TP_PLANNER_OPTION)
+            return arg;
         static const char* const names[] = {"--interval", "--base",      "--radius",
                                             "--index-every", "--area",   "--around",
                                             "-o",          "--output",   "--cache-dir"};
         int k = -1;
         for (int j = 0; j < (int)(sizeof names / sizeof names[0]); ++j)
-            if (is_option(a, names[j]))
+            if (tp_planner_is_option(a, names[j]))
                 k = j;
-        if (k < 0) {
-            fprintf(stderr, "terrapatch contours: unknown option '%s' (see 'terrapatch contours "
-                            "--help')\n", a);
-            return TP_EXIT_USAGE;
-        }
-        const char* v = option_value(argc, argv, &i, names[k]);
-        if (!v) {
-            fprintf(stderr, "terrapatch contours: missing value for %s (see 'terrapatch "
-                            "contours --help')\n", names[k]);
-            return TP_EXIT_USAGE;
-        }
-        double d;
+        if (k < 0)
+            return tp_planner_usage("contours", "unknown option '%s'", a);
+        const char* v = tp_planner_option_value(argc, argv, &i, names[k]);
+        if (!v)
+            return tp_planner_usage("contours", "missing value for %s", names[k]);
+        long n;
         switch (k) {
         case 0: /* --interval */
         case 2: /* --radius */
-            if (tp_position_decimal(v, &d) != 1 || !(d > 0.0))
-                return tp_option_error("contours", names[k], "a number > 0", v), TP_EXIT_USAGE;
-            *(k == 0 ? &o->interval_m : &o->radius_m) = d;
+            if (!tp_planner_number("contours", names[k], v, TP_PLANNER_ABOVE_0, "a number > 0",
+                                   k == 0 ? &o->interval_m : &o->radius_m))
+                return TP_EXIT_USAGE;
             *(k == 0 ? &has_interval : &o->has_radius) = 1;
             break;
         case 1: /* --base */
-            if (tp_position_decimal(v, &d) != 1)
-                return tp_option_error("contours", names[k], "a number", v), TP_EXIT_USAGE;
-            o->base_m = d;
+            if (!tp_planner_number("contours", names[k], v, TP_PLANNER_ANY, "a number",
+                                   &o->base_m))
+                return TP_EXIT_USAGE;
             break;
-        case 3: { /* --index-every */
-            char* end;
-            long n = strtol(v, &end, 10);
-            if (end == v || *end || n < 0 || n > 1000000)
-                return tp_option_error("contours", names[k], "an integer >= 0", v),
-                       TP_EXIT_USAGE;
+        case 3: /* --index-every */
+            if (!tp_planner_integer("contours", names[k], v, 0, 1000000, "an integer >= 0", &n))
+                return TP_EXIT_USAGE;
             o->index_every = (int)n;
             break;
-        }
         case 4: /* --area */
             if (!tp_parse_numbers(v, o->area, 4) || !(o->area[0] < o->area[2]) ||
                 !(o->area[1] < o->area[3]))
@@ -186,23 +147,18 @@ static int parse_options(int argc, char** argv, contours_cli* o)
         }
     }
     if (!o->path)
-        return usage("missing DEM");
+        return tp_planner_usage("contours", "missing DEM");
     if (!has_interval)
-        return usage("missing --interval M");
+        return tp_planner_usage("contours", "missing --interval M");
     if (!o->out)
-        return usage("missing -o OUT");
+        return tp_planner_usage("contours", "missing -o OUT");
     if (o->has_area && o->around)
-        return usage("--area and --around exclude each other");
+        return tp_planner_usage("contours", "--area and --around exclude each other");
     if (!!o->around != o->has_radius)
-        return usage(o->around ? "--around needs --radius M" : "--radius needs --around POS");
+        return tp_planner_usage("contours", "%s",
+                                o->around ? "--around needs --radius M"
+                                          : "--radius needs --around POS");
     return -1;
-}
-
-static double now_s(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return ts.tv_sec + 1e-9 * ts.tv_nsec;
 }
 
 /* Sum of the lengths of the lines (rings closed), metres. */
@@ -227,19 +183,15 @@ int tp_cli_contours(int argc, char** argv)
     if (code >= 0)
         return code;
     tp_position pos;
-    char msg[TP_POSITION_MSG_SIZE];
-    if (o.around && !tp_position_parse(o.around, strlen(o.around), 0, &pos, msg, sizeof msg)) {
-        fprintf(stderr, "terrapatch contours: --around '%s': %s\n", o.around, msg);
+    if (o.around && !tp_planner_position("contours", "--around", o.around, &pos))
         return TP_EXIT_USAGE;
-    }
     tp_error err = {{0}};
     if (tp_contours_check_output(o.out, &err) != TP_OK) {
         fprintf(stderr, "terrapatch contours: %s\n", err.message);
         return TP_EXIT_FAILURE;
     }
     tp_ground* g = NULL;
-    tp_ground_options go = {.cache_dir = o.cache_dir, .cmd = "contours"};
-    if ((code = tp_ground_open(o.path, &go, &g)) != TP_EXIT_OK)
+    if ((code = tp_planner_ground_open("contours", o.path, o.cache_dir, &g)) != TP_EXIT_OK)
         return code;
     const tp_store_scene* sc = tp_ground_scene(g);
     const tp_tree_geometry* geom = &sc->info.header.geometry;
@@ -307,45 +259,28 @@ int tp_cli_contours(int argc, char** argv)
     tp_status s = z ? TP_OK
                     : tp_error_set(&err, TP_ERR_OUT_OF_MEMORY,
                                    "out of memory for a %dx%d window", w, h);
-    const int progress = n >= ((size_t)4 << 20);
-    const int tty = isatty(STDERR_FILENO);
-    int shown = -1;
-    const double t0 = now_s();
-    for (int y = 0; y < h && s == TP_OK; ++y) {
-        if (progress) {
-            const int pct = (int)(100.0 * y / h) / 10 * 10;
-            if (pct != shown) {
-                fprintf(stderr, "terrapatch: contours: reading the ground %3d%%%s", pct,
-                        tty ? "\r" : "\n");
-                shown = pct;
-            }
-        }
-        for (int x = 0; x < w && s == TP_OK; ++x) {
-            double v;
-            s = tp_ground_height(g, x0 + x, y0 + y, &v, &err);
-            z[(size_t)y * w + x] = (float)v;
-        }
-    }
-    const double t1 = now_s();
-    if (progress && s == TP_OK)
-        fprintf(stderr, "terrapatch: contours: reading the ground 100%%, drawing the lines%s",
-                tty ? "\n" : "\n");
+    const double t0 = tp_planner_now_s();
+    if (s == TP_OK)
+        s = tp_planner_read_posts(g, x0, y0, w, h, z, "contours", &err);
+    const double t1 = tp_planner_now_s();
+    if (n >= TP_PLANNER_PROGRESS_POSTS && s == TP_OK)
+        fputs("terrapatch: contours: reading the ground 100%, drawing the lines\n", stderr);
     const double wgt[6] = {gt[0] + x0 * gt[1], gt[1], 0.0, gt[3] + y0 * gt[5], 0.0, gt[5]};
     tp_features* f = NULL;
     if (s == TP_OK)
         s = tp_contours_generate(z, n, w, h, wgt, o.interval_m, o.base_m, o.index_every, &f,
                                  &err);
-    const double t2 = now_s();
+    const double t2 = tp_planner_now_s();
     if (s == TP_OK)
         s = tp_contours_write(o.out, f, sc->info.header.crs_wkt, &err);
-    const double t3 = now_s();
+    const double t3 = tp_planner_now_s();
     if (s != TP_OK) {
         if (!tp_interrupted())
             fprintf(stderr, "terrapatch contours: %s: %s\n", o.path, err.message);
         free(z);
         tp_features_destroy(f);
         tp_ground_destroy(g);
-        return tp_interrupted() ? tp_cli_interrupted() : TP_EXIT_FAILURE;
+        return tp_planner_finish(TP_EXIT_FAILURE);
     }
     float lo = INFINITY, hi = -INFINITY;
     size_t voids = 0;

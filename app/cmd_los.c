@@ -5,12 +5,9 @@
  * tp_los_compute (gdal_viewshed's conventions); the profile is drawn by gnuplot (gnuplot.c).
  */
 #include "cli.h"
-#include "atomic_file.h"
-#include "gnuplot.h"
-#include "ground.h"
 #include "ground_locate.h"
 #include "json.h"
-#include "position.h"
+#include "planner_cli.h"
 
 #include "tp_core.h"
 #include "tp_geo.h"
@@ -76,29 +73,6 @@ static void print_help(void)
           stdout);
 }
 
-static int usage(const char* what)
-{
-    fprintf(stderr, "terrapatch los: %s (see 'terrapatch los --help')\n", what);
-    return TP_EXIT_USAGE;
-}
-
-/* A value of an option: the next argument, or after '='. */
-static const char* option_value(int argc, char** argv, int* i, const char* name)
-{
-    size_t len = strlen(name);
-    if (strncmp(argv[*i], name, len) == 0 && argv[*i][len] == '=')
-        return argv[*i] + len + 1;
-    if (*i + 1 >= argc)
-        return NULL;
-    return argv[++*i];
-}
-
-static int is_option(const char* a, const char* name)
-{
-    size_t len = strlen(name);
-    return !strncmp(a, name, len) && (a[len] == '\0' || a[len] == '=');
-}
-
 /* -1 when fine, else the exit code. */
 static int parse_options(int argc, char** argv, los_options* o)
 {
@@ -111,55 +85,32 @@ static int parse_options(int argc, char** argv, los_options* o)
     static const char* const num_opts[] = {"--from-height", "--to-height", "--curvature-coeff"};
     for (int i = 1; i < argc; ++i) {
         const char* a = argv[i];
-        if (!strcmp(a, "-h") || !strcmp(a, "--help")) {
-            print_help();
-            return tp_cli_finish(TP_EXIT_OK);
-        }
-        if (a[0] != '-' || !a[1]) {
-            if (o->path)
-                return usage("more than one DEM given (quote a position with spaces: --from "
-                             "\"45.37 -121.69\")");
-            o->path = a;
+        const int arg = tp_planner_argument("los", a, print_help, &o->path,
+                                            " (quote a position with spaces: --from "
+                                            "\"45.37 -121.69\")");
+        if (arg == TP_PLANNER_NEXT)
             continue;
-        }
-        int done = 0;
-        for (size_t k = 0; k < sizeof num_opts / sizeof num_opts[0] && !done; ++k) {
-            if (!is_option(a, num_opts[k]))
-                continue;
-            const char* v = option_value(argc, argv, &i, num_opts[k]);
-            double d;
-            if (!v || tp_position_decimal(v, &d) != 1 || d < 0.0)
-                return tp_option_error("los", num_opts[k], "a number >= 0", v ? v : ""),
-                       TP_EXIT_USAGE;
-            *(k == 0 ? &o->from_height_m : k == 1 ? &o->to_height_m : &o->curvature_coeff) = d;
-            done = 1;
-        }
-        for (size_t k = 0; k < sizeof text_opts / sizeof text_opts[0] && !done; ++k) {
-            if (!is_option(a, text_opts[k]))
-                continue;
-            const char* v = option_value(argc, argv, &i, text_opts[k]);
-            if (!v) {
-                fprintf(stderr, "terrapatch los: missing value for %s (see 'terrapatch los "
-                                "--help')\n", text_opts[k]);
-                return TP_EXIT_USAGE;
-            }
-            const char** slot[] = {&o->from, &o->to, &o->json, &o->profile, &o->csv,
-                                   &o->cache_dir};
-            *slot[k] = v;
-            done = 1;
-        }
-        if (!done) {
-            fprintf(stderr, "terrapatch los: unknown option '%s' (see 'terrapatch los --help')\n",
-                    a);
+        if (arg != TP_PLANNER_OPTION)
+            return arg;
+        double* const num_slots[] = {&o->from_height_m, &o->to_height_m, &o->curvature_coeff};
+        const char** const text_slots[] = {&o->from,    &o->to,  &o->json,
+                                           &o->profile, &o->csv, &o->cache_dir};
+        int done = tp_planner_number_options("los", argc, argv, &i, num_opts, num_slots,
+                                             TP_PLANNER_COUNT(num_opts));
+        if (!done)
+            done = tp_planner_text_options("los", argc, argv, &i, text_opts, text_slots,
+                                           TP_PLANNER_COUNT(text_opts));
+        if (done < 0)
             return TP_EXIT_USAGE;
-        }
+        if (!done)
+            return tp_planner_usage("los", "unknown option '%s'", a);
     }
     if (!o->path)
-        return usage("missing DEM");
+        return tp_planner_usage("los", "missing DEM");
     if (!o->from)
-        return usage("missing --from POS (the observer)");
+        return tp_planner_usage("los", "missing --from POS (the observer)");
     if (!o->to)
-        return usage("missing --to POS (the target)");
+        return tp_planner_usage("los", "missing --to POS (the target)");
     return -1;
 }
 
@@ -180,8 +131,9 @@ typedef struct los_report {
     double geodesic_m; /* from -> to on the WGS84 ellipsoid (NaN without a geographic CRS) */
 } los_report;
 
-static void write_text(const los_report* p, FILE* f)
+static void write_text(FILE* f, void* report)
 {
+    const los_report* p = report;
     const tp_los_result* r = &p->r;
     fprintf(f, "from        %.6f %.6f  ground %.1f m, eye %.1f m (%.1f m above)\n", p->from_lat,
             p->from_lon, p->from_ground_m, r->eye_m, p->o->from_height_m);
@@ -206,8 +158,9 @@ static void write_text(const los_report* p, FILE* f)
                 r->void_count, r->void_count + r->tested_count);
 }
 
-static void write_json(const los_report* p, FILE* f)
+static void write_json(FILE* f, void* report)
 {
+    const los_report* p = report;
     const tp_los_result* r = &p->r;
     tp_json j;
     tp_json_init(&j, f);
@@ -277,8 +230,9 @@ static void write_json(const los_report* p, FILE* f)
     fputc('\n', f);
 }
 
-static void write_csv(const los_report* p, FILE* f)
+static void write_csv(FILE* f, void* report)
 {
+    const los_report* p = report;
     fputs("distance_m,lat,lon,ground_m,line_m,clearance_m,blocks\n", f);
     for (size_t i = 0; i < p->r.sample_count; ++i) {
         const tp_los_sample* s = &p->samples[i];
@@ -365,33 +319,23 @@ int tp_cli_los(int argc, char** argv)
     if (code >= 0)
         return code;
     tp_position from, to;
-    char msg[TP_POSITION_MSG_SIZE];
-    if (!tp_position_parse(o.from, strlen(o.from), 0, &from, msg, sizeof msg)) {
-        fprintf(stderr, "terrapatch los: --from '%s': %s\n", o.from, msg);
+    if (!tp_planner_position("los", "--from", o.from, &from) ||
+        !tp_planner_position("los", "--to", o.to, &to))
         return TP_EXIT_USAGE;
-    }
-    if (!tp_position_parse(o.to, strlen(o.to), 0, &to, msg, sizeof msg)) {
-        fprintf(stderr, "terrapatch los: --to '%s': %s\n", o.to, msg);
-        return TP_EXIT_USAGE;
-    }
     const char* outs[3] = {o.json, o.profile, o.csv};
-    for (int i = 0; i < 3; ++i)
-        if (outs[i] && strcmp(outs[i], "-") && !tp_atomic_check_dir(outs[i]))
-            return TP_EXIT_FAILURE;
+    if (!tp_planner_check_outputs(outs, 3))
+        return TP_EXIT_FAILURE;
 
     tp_ground* g = NULL;
-    tp_ground_options go = {.cache_dir = o.cache_dir, .cmd = "los"};
-    if ((code = tp_ground_open(o.path, &go, &g)) != TP_EXIT_OK)
+    if ((code = tp_planner_ground_open("los", o.path, o.cache_dir, &g)) != TP_EXIT_OK)
         return code;
     los_report p;
     memset(&p, 0, sizeof p);
     p.o = &o;
     p.g = g;
     double fx, fy, tx, ty;
-    char lmsg[1024];
-    if (!tp_ground_locate(g, &from, o.from, &fx, &fy, &p.from_ground_m, lmsg, sizeof lmsg) ||
-        !tp_ground_locate(g, &to, o.to, &tx, &ty, &p.to_ground_m, lmsg, sizeof lmsg)) {
-        fprintf(stderr, "terrapatch los: %s: %s\n", o.path, lmsg);
+    if (!tp_planner_locate("los", o.path, g, &from, o.from, &fx, &fy, &p.from_ground_m) ||
+        !tp_planner_locate("los", o.path, g, &to, o.to, &tx, &ty, &p.to_ground_m)) {
         tp_ground_destroy(g);
         return TP_EXIT_FAILURE;
     }
@@ -426,36 +370,12 @@ int tp_cli_los(int argc, char** argv)
         tp_ground_grid_latlon(g, p.r.min_clearance_x, p.r.min_clearance_y, &p.min_lat,
                               &p.min_lon);
 
-    code = TP_EXIT_OK;
-    if (o.json && !strcmp(o.json, "-"))
-        write_json(&p, stdout);
-    else
-        write_text(&p, stdout);
-    if (o.json && strcmp(o.json, "-")) {
-        tp_atomic_file af;
-        if (!tp_atomic_open(&af, o.json)) {
-            code = TP_EXIT_FAILURE;
-        } else {
-            write_json(&p, af.f);
-            if (!tp_atomic_commit(&af))
-                code = TP_EXIT_FAILURE;
-        }
-    }
-    if (o.csv) {
-        tp_atomic_file af;
-        if (!tp_atomic_open(&af, o.csv)) {
-            code = TP_EXIT_FAILURE;
-        } else {
-            write_csv(&p, af.f);
-            if (!tp_atomic_commit(&af))
-                code = TP_EXIT_FAILURE;
-        }
-    }
-    if (o.profile && !tp_gnuplot_png(o.profile, 1400, 600, write_plot, &p, "los"))
-        code = TP_EXIT_FAILURE;
+    const tp_planner_outputs out = {.json = o.json, .csv = o.csv, .png = o.profile,
+                                    .write_text = write_text, .write_json = write_json,
+                                    .write_csv = write_csv, .write_plot = write_plot,
+                                    .png_width_px = 1400, .png_height_px = 600};
+    code = tp_planner_write_outputs("los", &out, &p) ? TP_EXIT_OK : TP_EXIT_FAILURE;
     free(p.samples);
     tp_ground_destroy(g);
-    if (tp_interrupted())
-        return tp_cli_interrupted();
-    return code == TP_EXIT_OK ? tp_cli_finish(code) : code;
+    return tp_planner_finish(code);
 }

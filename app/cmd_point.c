@@ -6,15 +6,11 @@
  * viewer's pick (view/point_pick.c) through tp_point_readout.
  */
 #include "cli.h"
-#include "atomic_file.h"
-#include "ground.h"
-#include "json.h"
+#include "planner_cli.h"
 #include "point_readout.h"
-#include "position.h"
 
 #include "tp_geo.h"
 
-#include <errno.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -71,23 +67,6 @@ static void print_help(void)
           stdout);
 }
 
-static int usage(const char* what)
-{
-    fprintf(stderr, "terrapatch point: %s (see 'terrapatch point --help')\n", what);
-    return TP_EXIT_USAGE;
-}
-
-/* A value of an option: the next argument, or after '='. */
-static const char* option_value(int argc, char** argv, int* i, const char* name)
-{
-    size_t len = strlen(name);
-    if (strncmp(argv[*i], name, len) == 0 && argv[*i][len] == '=')
-        return argv[*i] + len + 1;
-    if (*i + 1 >= argc)
-        return NULL;
-    return argv[++*i];
-}
-
 /* -1 when fine, else the exit code. Options may come anywhere; an argument starting with '-'
  * and then a digit or '.' is a position (-121.7), not an option. */
 static int parse_options(int argc, char** argv, point_options* o)
@@ -105,26 +84,21 @@ static int parse_options(int argc, char** argv, point_options* o)
             } else if (!strcmp(a, "-h") || !strcmp(a, "--help")) {
                 print_help();
                 return tp_cli_finish(TP_EXIT_OK);
-            } else if (!strncmp(a, "--precision", 11) && (a[11] == '\0' || a[11] == '=')) {
-                const char* v = option_value(argc, argv, &i, "--precision");
-                char* end;
-                errno = 0;
-                long p = v ? strtol(v, &end, 10) : -1;
-                if (!v || !*v || *end || errno || p < 0 || p > 11)
-                    return tp_option_error("point", "--precision", "an integer from 0 to 11",
-                                           v ? v : ""),
-                           TP_EXIT_USAGE;
+            } else if (tp_planner_is_option(a, "--precision")) {
+                const char* v = tp_planner_option_value(argc, argv, &i, "--precision");
+                long p;
+                if (!tp_planner_integer("point", "--precision", v, 0, 11,
+                                        "an integer from 0 to 11", &p))
+                    return TP_EXIT_USAGE;
                 o->precision = (int)p;
-            } else if (!strncmp(a, "--json", 6) && (a[6] == '\0' || a[6] == '=')) {
-                if (!(o->json = option_value(argc, argv, &i, "--json")))
-                    return usage("missing value for --json");
-            } else if (!strncmp(a, "--cache-dir", 11) && (a[11] == '\0' || a[11] == '=')) {
-                if (!(o->cache_dir = option_value(argc, argv, &i, "--cache-dir")))
-                    return usage("missing value for --cache-dir");
+            } else if (tp_planner_is_option(a, "--json")) {
+                if (!(o->json = tp_planner_option_value(argc, argv, &i, "--json")))
+                    return tp_planner_usage("point", "missing value for --json");
+            } else if (tp_planner_is_option(a, "--cache-dir")) {
+                if (!(o->cache_dir = tp_planner_option_value(argc, argv, &i, "--cache-dir")))
+                    return tp_planner_usage("point", "missing value for --cache-dir");
             } else {
-                fprintf(stderr, "terrapatch point: unknown option '%s' (see 'terrapatch point "
-                                "--help')\n", a);
-                return TP_EXIT_USAGE;
+                return tp_planner_usage("point", "unknown option '%s'", a);
             }
             continue;
         }
@@ -132,15 +106,29 @@ static int parse_options(int argc, char** argv, point_options* o)
             o->path = a;
         } else {
             if (o->pos_count == (int)(sizeof o->pos_args / sizeof o->pos_args[0]))
-                return usage("too many arguments for a position");
+                return tp_planner_usage("point", "too many arguments for a position");
             o->pos_args[o->pos_count++] = argv[i];
         }
     }
     if (!o->path)
-        return usage("missing DEM and position");
+        return tp_planner_usage("point", "missing DEM and position");
     if (!o->pos_count)
-        return usage("missing position (e.g. 45.37 -121.69, or 10n 601000 5026000)");
+        return tp_planner_usage("point",
+                                "missing position (e.g. 45.37 -121.69, or 10n 601000 5026000)");
     return -1;
+}
+
+/* The readout as text, and as JSON (tp_planner_write_fn). */
+static void write_text(FILE* f, void* readout)
+{
+    char buf[2048];
+    tp_point_readout_text(readout, buf, sizeof buf);
+    fputs(buf, f);
+}
+
+static void write_json(FILE* f, void* readout)
+{
+    tp_point_readout_json(readout, f);
 }
 
 int tp_cli_point(int argc, char** argv)
@@ -150,44 +138,27 @@ int tp_cli_point(int argc, char** argv)
     if (code >= 0)
         return code;
     char text[1024], msg[TP_POSITION_MSG_SIZE];
-    size_t len = tp_position_join(o.pos_args, o.pos_count, text, sizeof text);
-    if (!len)
-        return usage("the position is too long");
+    if (!tp_position_join(o.pos_args, o.pos_count, text, sizeof text))
+        return tp_planner_usage("point", "the position is too long");
     tp_position pos;
-    if (!tp_position_parse(text, len, 0, &pos, msg, sizeof msg)) {
-        fprintf(stderr, "terrapatch point: position '%s': %s\n", text, msg);
+    if (!tp_planner_position("point", "position", text, &pos))
         return TP_EXIT_USAGE;
-    }
-    if (o.json && strcmp(o.json, "-") && !tp_atomic_check_dir(o.json))
+    if (!tp_planner_check_outputs(&o.json, 1))
         return TP_EXIT_FAILURE;
 
     tp_ground* g = NULL;
-    tp_ground_options go = {.cache_dir = o.cache_dir, .cmd = "point"};
-    if ((code = tp_ground_open(o.path, &go, &g)) != TP_EXIT_OK)
+    if ((code = tp_planner_ground_open("point", o.path, o.cache_dir, &g)) != TP_EXIT_OK)
         return code;
     tp_point_readout r;
-    code = tp_point_readout_at_position(g, o.path, &pos, text, o.precision, &r, msg, sizeof msg)
-               ? TP_EXIT_OK
-               : TP_EXIT_FAILURE;
-    if (code != TP_EXIT_OK) {
+    if (!tp_point_readout_at_position(g, o.path, &pos, text, o.precision, &r, msg, sizeof msg)) {
         fprintf(stderr, "terrapatch: %s: %s\n", o.path, msg);
-    } else if (o.json && !strcmp(o.json, "-")) {
-        tp_point_readout_json(&r, stdout);
+        code = TP_EXIT_FAILURE;
     } else {
-        char buf[2048];
-        tp_point_readout_text(&r, buf, sizeof buf);
-        fputs(buf, stdout);
-        if (o.json) {
-            tp_atomic_file af;
-            if (!tp_atomic_open(&af, o.json)) {
-                code = TP_EXIT_FAILURE;
-            } else {
-                tp_point_readout_json(&r, af.f);
-                if (!tp_atomic_commit(&af))
-                    code = TP_EXIT_FAILURE;
-            }
-        }
+        const tp_planner_outputs out = {.json = o.json, .write_text = write_text,
+                                        .write_json = write_json};
+        code = tp_planner_write_outputs("point", &out, &r) ? TP_EXIT_OK : TP_EXIT_FAILURE;
     }
     tp_ground_destroy(g);
+    /* no interruption check: nothing after the ground's opening waits on a signal */
     return code == TP_EXIT_OK ? tp_cli_finish(code) : code;
 }

@@ -7,18 +7,15 @@
  * Outputs as `los`: text, --json, --csv (atomic_file.c), --png (gnuplot.c).
  */
 #include "cli.h"
-#include "atomic_file.h"
-#include "gnuplot.h"
-#include "ground.h"
-#include "ground_locate.h"
 #include "json.h"
-#include "position.h"
+#include "planner_cli.h"
 
 #include "tp_core.h"
 #include "tp_geo.h"
 #include "tp_io.h"
 #include "tp_vector.h"
 
+#include <limits.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -83,28 +80,6 @@ static void print_help(void)
           stdout);
 }
 
-static int usage(const char* what)
-{
-    fprintf(stderr, "terrapatch profile: %s (see 'terrapatch profile --help')\n", what);
-    return TP_EXIT_USAGE;
-}
-
-static const char* option_value(int argc, char** argv, int* i, const char* name)
-{
-    size_t len = strlen(name);
-    if (strncmp(argv[*i], name, len) == 0 && argv[*i][len] == '=')
-        return argv[*i] + len + 1;
-    if (*i + 1 >= argc)
-        return NULL;
-    return argv[++*i];
-}
-
-static int is_option(const char* a, const char* name)
-{
-    size_t len = strlen(name);
-    return !strncmp(a, name, len) && (a[len] == '\0' || a[len] == '=');
-}
-
 /* -1 when fine, else the exit code. */
 static int parse_options(int argc, char** argv, profile_options* o)
 {
@@ -112,61 +87,37 @@ static int parse_options(int argc, char** argv, profile_options* o)
     static const char* const text_opts[] = {"--route", "--png", "--csv", "--json", "--cache-dir"};
     for (int i = 1; i < argc; ++i) {
         const char* a = argv[i];
-        if (!strcmp(a, "-h") || !strcmp(a, "--help")) {
-            print_help();
-            return tp_cli_finish(TP_EXIT_OK);
-        }
-        if (a[0] != '-' || !a[1]) {
-            if (o->path)
-                return usage("more than one DEM given");
-            o->path = a;
+        const int arg = tp_planner_argument("profile", a, print_help, &o->path, "");
+        if (arg == TP_PLANNER_NEXT)
             continue;
-        }
-        if (is_option(a, "--step")) {
-            const char* v = option_value(argc, argv, &i, "--step");
-            double d;
-            if (!v || tp_position_decimal(v, &d) != 1 || !(d > 0.0) || !isfinite(d))
-                return tp_option_error("profile", "--step", "a number of metres > 0",
-                                       v ? v : ""),
-                       TP_EXIT_USAGE;
-            o->step_m = d;
-            continue;
-        }
-        if (is_option(a, "--feature")) {
-            const char* v = option_value(argc, argv, &i, "--feature");
-            char* end = NULL;
-            long n = v ? strtol(v, &end, 10) : 0;
-            if (!v || !*v || *end || n < 1)
-                return tp_option_error("profile", "--feature", "an integer >= 1", v ? v : ""),
-                       TP_EXIT_USAGE;
-            o->feature = n;
-            continue;
-        }
-        int done = 0;
-        for (size_t k = 0; k < sizeof text_opts / sizeof text_opts[0] && !done; ++k) {
-            if (!is_option(a, text_opts[k]))
-                continue;
-            const char* v = option_value(argc, argv, &i, text_opts[k]);
-            if (!v) {
-                fprintf(stderr, "terrapatch profile: missing value for %s (see 'terrapatch "
-                                "profile --help')\n", text_opts[k]);
+        if (arg != TP_PLANNER_OPTION)
+            return arg;
+        if (tp_planner_is_option(a, "--step")) {
+            const char* v = tp_planner_option_value(argc, argv, &i, "--step");
+            if (!tp_planner_number("profile", "--step", v, TP_PLANNER_ABOVE_0,
+                                   "a number of metres > 0", &o->step_m))
                 return TP_EXIT_USAGE;
-            }
-            const char** slot[] = {&o->route, &o->png, &o->csv, &o->json, &o->cache_dir};
-            *slot[k] = v;
-            done = 1;
+            continue;
         }
-        if (!done) {
-            fprintf(stderr,
-                    "terrapatch profile: unknown option '%s' (see 'terrapatch profile --help')\n",
-                    a);
+        if (tp_planner_is_option(a, "--feature")) {
+            const char* v = tp_planner_option_value(argc, argv, &i, "--feature");
+            if (!tp_planner_integer("profile", "--feature", v, 1, LONG_MAX, "an integer >= 1",
+                                    &o->feature))
+                return TP_EXIT_USAGE;
+            continue;
+        }
+        const char** const slots[] = {&o->route, &o->png, &o->csv, &o->json, &o->cache_dir};
+        const int done = tp_planner_text_options("profile", argc, argv, &i, text_opts, slots,
+                                                 TP_PLANNER_COUNT(text_opts));
+        if (done < 0)
             return TP_EXIT_USAGE;
-        }
+        if (!done)
+            return tp_planner_usage("profile", "unknown option '%s'", a);
     }
     if (!o->path)
-        return usage("missing DEM");
+        return tp_planner_usage("profile", "missing DEM");
     if (!o->route)
-        return usage("missing --route FILE");
+        return tp_planner_usage("profile", "missing --route FILE");
     return -1;
 }
 
@@ -322,8 +273,9 @@ static void write_point(tp_json* j, const char* key, const profile_sample* s)
     tp_json_object_end(j);
 }
 
-static void write_json(const profile_report* p, FILE* f)
+static void write_json(FILE* f, void* report)
 {
+    const profile_report* p = report;
     tp_json j;
     tp_json_init(&j, f);
     tp_json_object_begin(&j);
@@ -388,8 +340,9 @@ static void write_json(const profile_report* p, FILE* f)
     fputc('\n', f);
 }
 
-static void write_text(const profile_report* p, FILE* f)
+static void write_text(FILE* f, void* report)
 {
+    const profile_report* p = report;
     const profile_sample* s = p->s;
     fprintf(f, "route       %s: line %zu of %zu", p->o->route, p->line_number, p->line_count);
     if (p->line->name)
@@ -417,8 +370,9 @@ static void write_text(const profile_report* p, FILE* f)
     }
 }
 
-static void write_csv(const profile_report* p, FILE* f)
+static void write_csv(FILE* f, void* report)
 {
+    const profile_report* p = report;
     fputs("distance_m,e_m,n_m,lat,lon,elevation_m,grade_pct\n", f);
     for (size_t i = 0; i < p->n; ++i) {
         const profile_sample* s = &p->s[i];
@@ -509,37 +463,6 @@ static const tp_feature* pick_line(const profile_options* o, const tp_features* 
     return pick;
 }
 
-static int write_outputs(const profile_report* p)
-{
-    const profile_options* o = p->o;
-    int ok = 1;
-    if (o->json && !strcmp(o->json, "-"))
-        write_json(p, stdout);
-    else
-        write_text(p, stdout);
-    if (o->json && strcmp(o->json, "-")) {
-        tp_atomic_file af;
-        if (!tp_atomic_open(&af, o->json)) {
-            ok = 0;
-        } else {
-            write_json(p, af.f);
-            ok &= tp_atomic_commit(&af);
-        }
-    }
-    if (o->csv) {
-        tp_atomic_file af;
-        if (!tp_atomic_open(&af, o->csv)) {
-            ok = 0;
-        } else {
-            write_csv(p, af.f);
-            ok &= tp_atomic_commit(&af);
-        }
-    }
-    if (o->png && !tp_gnuplot_png(o->png, 1400, 600, write_plot, (void*)p, "profile"))
-        ok = 0;
-    return ok;
-}
-
 int tp_cli_profile(int argc, char** argv)
 {
     profile_options o;
@@ -547,13 +470,11 @@ int tp_cli_profile(int argc, char** argv)
     if (code >= 0)
         return code;
     const char* outs[3] = {o.json, o.png, o.csv};
-    for (int i = 0; i < 3; ++i)
-        if (outs[i] && strcmp(outs[i], "-") && !tp_atomic_check_dir(outs[i]))
-            return TP_EXIT_FAILURE;
+    if (!tp_planner_check_outputs(outs, 3))
+        return TP_EXIT_FAILURE;
 
     tp_ground* g = NULL;
-    tp_ground_options go = {.cache_dir = o.cache_dir, .cmd = "profile"};
-    if ((code = tp_ground_open(o.path, &go, &g)) != TP_EXIT_OK)
+    if ((code = tp_planner_ground_open("profile", o.path, o.cache_dir, &g)) != TP_EXIT_OK)
         return code;
     const tp_store_scene* sc = tp_ground_scene(g);
     if (!sc->georef || !tp_georef_has_geo(sc->georef)) {
@@ -579,12 +500,14 @@ int tp_cli_profile(int argc, char** argv)
     code = TP_EXIT_FAILURE;
     if (p.line && sample_route(g, &p)) {
         measure(&p);
-        code = write_outputs(&p) ? TP_EXIT_OK : TP_EXIT_FAILURE;
+        const tp_planner_outputs out = {.json = o.json, .csv = o.csv, .png = o.png,
+                                        .write_text = write_text, .write_json = write_json,
+                                        .write_csv = write_csv, .write_plot = write_plot,
+                                        .png_width_px = 1400, .png_height_px = 600};
+        code = tp_planner_write_outputs("profile", &out, &p) ? TP_EXIT_OK : TP_EXIT_FAILURE;
     }
     free(p.s);
     tp_features_destroy(f);
     tp_ground_destroy(g);
-    if (tp_interrupted())
-        return tp_cli_interrupted();
-    return code == TP_EXIT_OK ? tp_cli_finish(code) : code;
+    return tp_planner_finish(code);
 }

@@ -8,9 +8,8 @@
  */
 #define _POSIX_C_SOURCE 200809L
 #include "cli.h"
-#include "ground.h"
 #include "ground_locate.h"
-#include "position.h"
+#include "planner_cli.h"
 
 #include "tp_core.h"
 #include "tp_io.h"
@@ -19,7 +18,6 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 
 typedef struct viewshed_cli {
     const char* path;
@@ -67,28 +65,6 @@ static void print_help(void)
           stdout);
 }
 
-static int usage(const char* what)
-{
-    fprintf(stderr, "terrapatch viewshed: %s (see 'terrapatch viewshed --help')\n", what);
-    return TP_EXIT_USAGE;
-}
-
-static const char* option_value(int argc, char** argv, int* i, const char* name)
-{
-    size_t len = strlen(name);
-    if (strncmp(argv[*i], name, len) == 0 && argv[*i][len] == '=')
-        return argv[*i] + len + 1;
-    if (*i + 1 >= argc)
-        return NULL;
-    return argv[++*i];
-}
-
-static int is_option(const char* a, const char* name)
-{
-    size_t len = strlen(name);
-    return !strncmp(a, name, len) && (a[len] == '\0' || a[len] == '=');
-}
-
 static int parse_options(int argc, char** argv, viewshed_cli* o)
 {
     memset(o, 0, sizeof *o);
@@ -97,69 +73,36 @@ static int parse_options(int argc, char** argv, viewshed_cli* o)
     o->curvature_coeff = TP_VIEWSHED_CURVATURE_COEFF;
     static const char* const num_opts[] = {"--observer-height", "--target-height", "--radius",
                                            "--curvature-coeff"};
+    static const char* const text_opts[] = {"--observer", "-o", "--output", "--cache-dir"};
     for (int i = 1; i < argc; ++i) {
         const char* a = argv[i];
-        if (!strcmp(a, "-h") || !strcmp(a, "--help")) {
-            print_help();
-            return tp_cli_finish(TP_EXIT_OK);
-        }
-        if (a[0] != '-' || !a[1]) {
-            if (o->path)
-                return usage("more than one DEM given (quote a position with spaces: "
-                             "--observer \"45.37 -121.69\")");
-            o->path = a;
+        const int arg = tp_planner_argument("viewshed", a, print_help, &o->path,
+                                            " (quote a position with spaces: --observer "
+                                            "\"45.37 -121.69\")");
+        if (arg == TP_PLANNER_NEXT)
             continue;
-        }
-        int done = 0;
-        for (size_t k = 0; k < sizeof num_opts / sizeof num_opts[0] && !done; ++k) {
-            if (!is_option(a, num_opts[k]))
-                continue;
-            const char* v = option_value(argc, argv, &i, num_opts[k]);
-            double d;
-            if (!v || tp_position_decimal(v, &d) != 1 || d < 0.0)
-                return tp_option_error("viewshed", num_opts[k], "a number >= 0", v ? v : ""),
-                       TP_EXIT_USAGE;
-            double* slot[] = {&o->observer_height_m, &o->target_height_m, &o->radius_m,
-                              &o->curvature_coeff};
-            *slot[k] = d;
-            done = 1;
-        }
-        const char** text = is_option(a, "--observer") ? &o->observer
-                            : (is_option(a, "-o") || is_option(a, "--output")) ? &o->out
-                            : is_option(a, "--cache-dir") ? &o->cache_dir
-                                                          : NULL;
-        if (!done && text) {
-            const char* name = is_option(a, "--observer")  ? "--observer"
-                               : is_option(a, "-o")        ? "-o"
-                               : is_option(a, "--output")  ? "--output"
-                                                           : "--cache-dir";
-            if (!(*text = option_value(argc, argv, &i, name))) {
-                fprintf(stderr, "terrapatch viewshed: missing value for %s (see 'terrapatch "
-                                "viewshed --help')\n", name);
-                return TP_EXIT_USAGE;
-            }
-            done = 1;
-        }
-        if (!done) {
-            fprintf(stderr, "terrapatch viewshed: unknown option '%s' (see 'terrapatch viewshed "
-                            "--help')\n", a);
+        if (arg != TP_PLANNER_OPTION)
+            return arg;
+        double* const num_slots[] = {&o->observer_height_m, &o->target_height_m, &o->radius_m,
+                                     &o->curvature_coeff};
+        const char** const text_slots[] = {&o->observer, &o->out, &o->out, &o->cache_dir};
+        int done = tp_planner_number_options("viewshed", argc, argv, &i, num_opts, num_slots,
+                                             TP_PLANNER_COUNT(num_opts));
+        if (!done)
+            done = tp_planner_text_options("viewshed", argc, argv, &i, text_opts, text_slots,
+                                           TP_PLANNER_COUNT(text_opts));
+        if (done < 0)
             return TP_EXIT_USAGE;
-        }
+        if (!done)
+            return tp_planner_usage("viewshed", "unknown option '%s'", a);
     }
     if (!o->path)
-        return usage("missing DEM");
+        return tp_planner_usage("viewshed", "missing DEM");
     if (!o->observer)
-        return usage("missing --observer POS");
+        return tp_planner_usage("viewshed", "missing --observer POS");
     if (!o->out)
-        return usage("missing -o OUT.tif");
+        return tp_planner_usage("viewshed", "missing -o OUT.tif");
     return -1;
-}
-
-static double now_s(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return ts.tv_sec + 1e-9 * ts.tv_nsec;
 }
 
 int tp_cli_viewshed(int argc, char** argv)
@@ -169,27 +112,21 @@ int tp_cli_viewshed(int argc, char** argv)
     if (code >= 0)
         return code;
     tp_position pos;
-    char msg[TP_POSITION_MSG_SIZE];
-    if (!tp_position_parse(o.observer, strlen(o.observer), 0, &pos, msg, sizeof msg)) {
-        fprintf(stderr, "terrapatch viewshed: --observer '%s': %s\n", o.observer, msg);
+    if (!tp_planner_position("viewshed", "--observer", o.observer, &pos))
         return TP_EXIT_USAGE;
-    }
     tp_error err = {{0}};
     if (tp_output_check(o.out, &err) != TP_OK) {
         fprintf(stderr, "terrapatch viewshed: %s\n", err.message);
         return TP_EXIT_FAILURE;
     }
     tp_ground* g = NULL;
-    tp_ground_options go = {.cache_dir = o.cache_dir, .cmd = "viewshed"};
-    if ((code = tp_ground_open(o.path, &go, &g)) != TP_EXIT_OK)
+    if ((code = tp_planner_ground_open("viewshed", o.path, o.cache_dir, &g)) != TP_EXIT_OK)
         return code;
     const tp_store_scene* sc = tp_ground_scene(g);
     const tp_tree_geometry* geom = &sc->info.header.geometry;
     const double* gt = sc->info.header.geotransform;
     double fx, fy, fh;
-    char lmsg[1024];
-    if (!tp_ground_locate(g, &pos, o.observer, &fx, &fy, &fh, lmsg, sizeof lmsg)) {
-        fprintf(stderr, "terrapatch viewshed: %s: %s\n", o.path, lmsg);
+    if (!tp_planner_locate("viewshed", o.path, g, &pos, o.observer, &fx, &fy, &fh)) {
         tp_ground_destroy(g);
         return TP_EXIT_FAILURE;
     }
@@ -214,14 +151,10 @@ int tp_cli_viewshed(int argc, char** argv)
     tp_status s = z && seen ? TP_OK
                             : tp_error_set(&err, TP_ERR_OUT_OF_MEMORY,
                                            "out of memory for a %dx%d window", w, h);
-    const double t0 = now_s();
-    for (int y = 0; y < h && s == TP_OK; ++y)
-        for (int x = 0; x < w && s == TP_OK; ++x) {
-            double v;
-            s = tp_ground_height(g, x0 + x, y0 + y, &v, &err);
-            z[(size_t)y * w + x] = (float)v;
-        }
-    const double t1 = now_s();
+    const double t0 = tp_planner_now_s();
+    if (s == TP_OK)
+        s = tp_planner_read_posts(g, x0, y0, w, h, z, NULL, &err);
+    const double t1 = tp_planner_now_s();
     const double wgt[6] = {gt[0] + x0 * gt[1], gt[1], 0.0, gt[3] + y0 * gt[5], 0.0, gt[5]};
     tp_viewshed_options vo = tp_viewshed_options_default();
     vo.observer_height_m = o.observer_height_m;
@@ -230,7 +163,7 @@ int tp_cli_viewshed(int argc, char** argv)
     vo.radius_m = o.radius_m;
     if (s == TP_OK)
         s = tp_viewshed_compute(z, n, w, h, wgt, ox - x0, oy - y0, &vo, seen, n, &err);
-    const double t2 = now_s();
+    const double t2 = tp_planner_now_s();
     if (s == TP_OK)
         s = tp_viewshed_write_geotiff(o.out, seen, n, w, h, wgt, sc->info.header.crs_wkt, &err);
     if (s != TP_OK) {
@@ -239,7 +172,7 @@ int tp_cli_viewshed(int argc, char** argv)
         free(z);
         free(seen);
         tp_ground_destroy(g);
-        return tp_interrupted() ? tp_cli_interrupted() : TP_EXIT_FAILURE;
+        return tp_planner_finish(TP_EXIT_FAILURE);
     }
     size_t visible = 0, valid = 0;
     for (size_t i = 0; i < n; ++i) {

@@ -13,88 +13,21 @@
 #include "tp_geo.h"
 
 #include <assert.h>
-#include <ctype.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
-#define MAX_FIELDS 4 /* most fields a line may have (--geodesic); more are only counted */
 #define MSG_SIZE TP_COORD_TEXT_SIZE /* one error message or output line */
-#define QUOTE_LIMIT 40              /* characters of a bad token echoed back */
 
 /* ---------------------------------------------------------------------------------------------
  * Parsing one line
  */
 
-typedef struct fields {
-    int count; /* all fields on the line */
-    char* field[MAX_FIELDS];
-} fields;
+typedef tp__fields fields;
 
-/* Splits line in place at white space. */
-static fields split_fields(char* line)
-{
-    fields f = {0};
-    char* p = line;
-    for (;;) {
-        while (*p && isspace((unsigned char)*p))
-            ++p;
-        if (!*p)
-            break;
-        if (f.count < MAX_FIELDS)
-            f.field[f.count] = p;
-        ++f.count;
-        while (*p && !isspace((unsigned char)*p))
-            ++p;
-        if (*p)
-            *p++ = '\0';
-    }
-    return f;
-}
-
-/* 'token' for a message: at most QUOTE_LIMIT characters, unprintable bytes as '?'. */
-static const char* quoted(const char* token, char* buf, size_t cap)
-{
-    size_t n = 0, len = strlen(token);
-    size_t keep = len > QUOTE_LIMIT ? QUOTE_LIMIT : len;
-    if (cap < QUOTE_LIMIT + 8) {
-        buf[0] = '\0';
-        return buf;
-    }
-    buf[n++] = '\'';
-    for (size_t i = 0; i < keep; ++i)
-        buf[n++] = isprint((unsigned char)token[i]) ? token[i] : '?';
-    if (keep < len) {
-        memcpy(buf + n, "...", 3);
-        n += 3;
-    }
-    buf[n++] = '\'';
-    buf[n] = '\0';
-    return buf;
-}
-
-/* Reads field `token` as the number called `name`; on failure writes msg. */
-static int read_number(const char* token, const char* name, double* v, char* msg)
-{
-    char q[QUOTE_LIMIT + 8];
-    int r = tp_position_decimal(token, v);
-    if (r == 1)
-        return 1;
-    if (r < 0)
-        snprintf(msg, MSG_SIZE, "%s %s is too large", name, quoted(token, q, sizeof q));
-    else
-        snprintf(msg, MSG_SIZE, "%s: expected a decimal number, got %s", name,
-                 quoted(token, q, sizeof q));
-    return 0;
-}
-
-/* Copies a tp_error message into msg (tp_status_str when the message is empty). */
-static int geo_failed(tp_status s, const tp_error* err, char* msg)
-{
-    snprintf(msg, MSG_SIZE, "%s", err->message[0] ? err->message : tp_status_str(s));
-    return 0;
-}
+/* tp__position_read_number and tp__position_failed write msg at position.c's size */
+_Static_assert(MSG_SIZE == TP_POSITION_MSG_SIZE, "coord's messages are position.c's size");
 
 /* ---------------------------------------------------------------------------------------------
  * Converting
@@ -117,7 +50,7 @@ static int standard_grid(const tp_position* pos, int* zone, int* northp, double*
                       ? tp_utmups_to_standard(pos->zone, pos->northp, pos->easting_m,
                                               pos->northing_m, zone, northp, e, n, &err)
                       : tp_geo_to_utmups(pos->lat_deg, pos->lon_deg, zone, northp, e, n, &err);
-    return s == TP_OK ? 1 : geo_failed(s, &err, msg);
+    return s == TP_OK ? 1 : tp__position_failed(s, &err, msg);
 }
 
 /* Converts one parsed position and writes the output line into msg. Returns 1, or 0 with
@@ -144,7 +77,7 @@ static int convert_position(const tp_coord_request* o, const tp_position* pos, c
         s = tp_zone_format(zone, northp, TP_ZONE_STYLE_GEOCONVERT, zone_name, sizeof zone_name,
                            &err);
         if (s != TP_OK)
-            return geo_failed(s, &err, msg);
+            return tp__position_failed(s, &err, msg);
         snprintf(msg, MSG_SIZE, "%s %.3f %.3f", zone_name, unsigned_zero(e), unsigned_zero(n));
         return 1;
     }
@@ -155,7 +88,7 @@ static int convert_position(const tp_coord_request* o, const tp_position* pos, c
         s = tp_mgrs_forward(zone, northp, e, n, pos->lat_deg, o->precision, mgrs, sizeof mgrs,
                             &err);
         if (s != TP_OK)
-            return geo_failed(s, &err, msg);
+            return tp__position_failed(s, &err, msg);
         snprintf(msg, MSG_SIZE, "%s", mgrs);
         return 1;
     }
@@ -163,7 +96,7 @@ static int convert_position(const tp_coord_request* o, const tp_position* pos, c
         double x, y, z;
         s = tp_geo_to_ecef(pos->lat_deg, pos->lon_deg, pos->h_m, &x, &y, &z, &err);
         if (s != TP_OK)
-            return geo_failed(s, &err, msg);
+            return tp__position_failed(s, &err, msg);
         snprintf(msg, MSG_SIZE, "%.6f %.6f %.6f", unsigned_zero(x), unsigned_zero(y),
                  unsigned_zero(z));
         return 1;
@@ -184,13 +117,13 @@ static int convert_geodesic(const fields* f, char* msg)
         return 0;
     }
     for (int i = 0; i < 4; ++i)
-        if (!read_number(field[i], names[i], &v[i], msg))
+        if (!tp__position_read_number(field[i], names[i], &v[i], msg))
             return 0;
     tp_error err = {{0}};
     double azi1, azi2, s12;
     tp_status s = tp_geodesic_inverse(v[0], v[1], v[2], v[3], &azi1, &azi2, &s12, &err);
     if (s != TP_OK)
-        return geo_failed(s, &err, msg);
+        return tp__position_failed(s, &err, msg);
     snprintf(msg, MSG_SIZE, "%.12f %.12f %.9f", unsigned_zero(azi1), unsigned_zero(azi2),
              unsigned_zero(s12));
     return 1;
@@ -206,7 +139,7 @@ int tp_coord_line_convert(const tp_coord_request* req, char* line, size_t len, c
         return 0;
     }
     if (req->geodesic) {
-        fields f = split_fields(line);
+        fields f = tp__position_split(line, 0);
         return convert_geodesic(&f, out);
     }
     tp_position pos;

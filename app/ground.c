@@ -48,18 +48,8 @@ tp_status tp_ground_create(const tp_store_scene* sc, const tp_ground_options* o,
     if (!g)
         return tp_error_set(err, TP_ERR_OUT_OF_MEMORY, "out of memory");
     g->sc = sc;
-    size_t count = 0;
-    const tp_node_meta* metas = tp_store_metas(sc->store, &count);
-    tp_tree_desc td;
-    memset(&td, 0, sizeof td);
-    td.geometry = sc->info.header.geometry;
-    memcpy(td.geotransform, sc->info.header.geotransform, sizeof td.geotransform);
-    td.height_step_m = sc->info.header.height_step_m;
-    td.quant_max_error_m = sc->info.header.quant_max_error_m;
-    td.err_unit_steps = sc->info.header.err_unit_steps;
-    td.metas = metas;
-    td.meta_count = count;
-    tp_status s = tp_tree_create(&td, &g->tree, err);
+    /* a tree of its own over the store's metas, as the scene's (never the viewer's tree) */
+    tp_status s = tp_tree_create_from_store(sc->store, &g->tree, err);
     if (s != TP_OK) {
         free(g);
         return s;

@@ -16,34 +16,31 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define MAX_FIELDS 4   /* most fields a position has (MGRS with spaces); more are only counted */
+#define MAX_FIELDS TP__POSITION_MAX_FIELDS
 #define QUOTE_LIMIT 40 /* characters of a bad token echoed back */
 
-typedef struct fields {
-    int count; /* all fields of the text */
-    char* field[MAX_FIELDS];
-} fields;
+typedef tp__fields fields;
 
-/* A comma is a space, as in GeographicLib's GeoCoords::Reset ("45.5,-122.68"). */
-static int is_separator(unsigned char c)
+/* A separator: white space, and a comma where commas (a comma is a space, as in
+ * GeographicLib's GeoCoords::Reset: "45.5,-122.68"). */
+static int is_separator(unsigned char c, int commas)
 {
-    return isspace(c) || c == ',';
+    return isspace(c) || (commas && c == ',');
 }
 
-/* Splits line in place at separators. */
-static fields split_fields(char* line)
+tp__fields tp__position_split(char* line, int commas)
 {
     fields f = {0};
     char* p = line;
     for (;;) {
-        while (*p && is_separator((unsigned char)*p))
+        while (*p && is_separator((unsigned char)*p, commas))
             ++p;
         if (!*p)
             break;
         if (f.count < MAX_FIELDS)
             f.field[f.count] = p;
         ++f.count;
-        while (*p && !is_separator((unsigned char)*p))
+        while (*p && !is_separator((unsigned char)*p, commas))
             ++p;
         if (*p)
             *p++ = '\0';
@@ -104,8 +101,7 @@ int tp_position_decimal(const char* s, double* v)
     return 1;
 }
 
-/* Reads field `token` as the number called `name`; on failure writes msg. */
-static int read_number(const char* token, const char* name, double* v, char* msg)
+int tp__position_read_number(const char* token, const char* name, double* v, char* msg)
 {
     char q[QUOTE_LIMIT + 8];
     int r = tp_position_decimal(token, v);
@@ -159,7 +155,7 @@ static int looks_like_mgrs(const char* token)
     return 1;
 }
 
-static int geo_failed(tp_status s, const tp_error* err, char* msg)
+int tp__position_failed(tp_status s, const tp_error* err, char* msg)
 {
     snprintf(msg, TP_POSITION_MSG_SIZE, "%s", err->message[0] ? err->message : tp_status_str(s));
     return 0;
@@ -172,7 +168,7 @@ static int position_from_grid(int zone, int northp, double e, double n, tp_posit
     double lat, lon;
     tp_status s = tp_geo_from_utmups(zone, northp, e, n, &lat, &lon, &err);
     if (s != TP_OK)
-        return geo_failed(s, &err, msg);
+        return tp__position_failed(s, &err, msg);
     *pos = (tp_position){.lat_deg = lat,
                          .lon_deg = lon,
                          .has_grid = 1,
@@ -189,7 +185,7 @@ static int position_from_geo(double lat, double lon, tp_position* pos, char* msg
     double lat_n, lon_n;
     tp_status s = tp_geo_normalize(lat, lon, &lat_n, &lon_n, &err);
     if (s != TP_OK)
-        return geo_failed(s, &err, msg);
+        return tp__position_failed(s, &err, msg);
     *pos = (tp_position){.lat_deg = lat_n, .lon_deg = lon_n};
     return 1;
 }
@@ -201,7 +197,7 @@ static int position_from_mgrs(const char* token, tp_position* pos, char* msg)
     double e, n;
     tp_status s = tp_mgrs_reverse(token, 1, &zone, &northp, &e, &n, &precision, &err);
     if (s != TP_OK)
-        return geo_failed(s, &err, msg);
+        return tp__position_failed(s, &err, msg);
     if (precision < 0) {
         /* GeographicLib returns "some suitable (but essentially arbitrary) point" of the zone */
         char q[QUOTE_LIMIT + 8];
@@ -232,9 +228,9 @@ static int parse_lat_lon(char* a, char* b, tp_position* pos, char* msg)
     if (ra == 1 && rb == 1)
         return position_from_geo(lat, lon, pos, msg);
     if (ra < 0)
-        return read_number(a, "latitude", &lat, msg);
+        return tp__position_read_number(a, "latitude", &lat, msg);
     if (rb < 0)
-        return read_number(b, "longitude", &lon, msg);
+        return tp__position_read_number(b, "longitude", &lon, msg);
     if (!has_digit(a) || !has_digit(b)) {
         int first = !has_digit(a);
         snprintf(msg, TP_POSITION_MSG_SIZE,
@@ -245,7 +241,7 @@ static int parse_lat_lon(char* a, char* b, tp_position* pos, char* msg)
     tp_error err = {{0}};
     tp_status s = tp_dms_decode_latlon(a, b, &lat, &lon, &err);
     if (s != TP_OK)
-        return geo_failed(s, &err, msg);
+        return tp__position_failed(s, &err, msg);
     return position_from_geo(lat, lon, pos, msg);
 }
 
@@ -322,7 +318,7 @@ static int parse_fields(const fields* f, int allow_height, tp_position* pos, cha
     case 3:
         if (tp_position_decimal(field[0], &a) == 1 &&
             parse_zone(field[2], &zone, &northp, msg) == 1) { /* E N ZONE, as GeoConvert */
-            if (!read_number(field[1], "northing", &b, msg))
+            if (!tp__position_read_number(field[1], "northing", &b, msg))
                 return 0;
             return position_from_grid(zone, northp, a, b, pos, msg);
         }
@@ -333,8 +329,9 @@ static int parse_fields(const fields* f, int allow_height, tp_position* pos, cha
                          forms);
                 return 0;
             }
-            if (!read_number(field[1], "longitude", &b, msg) ||
-                !read_number(field[2], "height", &c, msg) || !position_from_geo(a, b, pos, msg))
+            if (!tp__position_read_number(field[1], "longitude", &b, msg) ||
+                !tp__position_read_number(field[2], "height", &c, msg) ||
+                !position_from_geo(a, b, pos, msg))
                 return 0;
             pos->h_m = c;
             pos->has_h = 1;
@@ -350,8 +347,8 @@ static int parse_fields(const fields* f, int allow_height, tp_position* pos, cha
             return 0;
         default: return 0;
         }
-        if (!read_number(field[1], "easting", &a, msg) ||
-            !read_number(field[2], "northing", &b, msg))
+        if (!tp__position_read_number(field[1], "easting", &a, msg) ||
+            !tp__position_read_number(field[2], "northing", &b, msg))
             return 0;
         return position_from_grid(zone, northp, a, b, pos, msg);
     default:
@@ -376,7 +373,7 @@ int tp_position_parse(const char* text, size_t len, int allow_height, tp_positio
     }
     memcpy(line, text, len);
     line[len] = '\0';
-    fields f = split_fields(line);
+    fields f = tp__position_split(line, 1);
     tp_position pos;
     int ok = parse_fields(&f, allow_height, &pos, msg);
     free(line);

@@ -21,6 +21,8 @@
 #ifndef TP_APP_POSITION_H
 #define TP_APP_POSITION_H
 
+#include "tp_core.h"
+
 #include <stddef.h>
 
 typedef struct tp_position {
@@ -64,5 +66,26 @@ size_t tp_position_join(char* const* argv, int count, char* buf, size_t cap);
  * keeps its letters ("31T CH"). Returns 0 (out untouched) when mgrs does not have that shape or
  * out (cap bytes) is too small. */
 int tp_position_mgrs_spaced(const char* mgrs, char* out, size_t cap);
+
+/* ---- shared with coord_line.c (tp__: between our own .c files, not for commands) ---- */
+
+#define TP__POSITION_MAX_FIELDS 4 /* fields kept (MGRS with spaces, --geodesic's four) */
+
+typedef struct tp__fields {
+    int count; /* all fields of the text; only the first TP__POSITION_MAX_FIELDS are kept */
+    char* field[TP__POSITION_MAX_FIELDS];
+} tp__fields;
+
+/* Splits line in place at white space, and at commas too where commas. */
+tp__fields tp__position_split(char* line, int commas);
+
+/* Reads token as the number called name (tp_position_decimal). 1 with *v; else 0 with msg
+ * (TP_POSITION_MSG_SIZE bytes): "NAME: expected a decimal number, got 'TOKEN'" or
+ * "NAME 'TOKEN' is too large" (the token cut to 40 characters, unprintable bytes as '?'). */
+int tp__position_read_number(const char* token, const char* name, double* v, char* msg);
+
+/* Writes err's message (tp_status_str(s) when it is empty) into msg (TP_POSITION_MSG_SIZE
+ * bytes); returns 0. */
+int tp__position_failed(tp_status s, const tp_error* err, char* msg);
 
 #endif /* TP_APP_POSITION_H */

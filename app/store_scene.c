@@ -49,23 +49,6 @@ static tp_status open_store_tree(const char* path, tp_store_scene* sc, tp_error*
     return s;
 }
 
-int tp_store_scene_open(const char* path, tp_store_scene* sc)
-{
-    memset(sc, 0, sizeof *sc);
-    sc->path = path;
-    tp_error err = {{0}};
-    tp_status s = open_store_tree(path, sc, &err);
-    if (s == TP_OK)
-        s = tp_georef_create(sc->info.header.crs_wkt, sc->info.header.geotransform, &sc->georef,
-                             &err);
-    if (s != TP_OK) {
-        report(path, s, &err);
-        tp_store_scene_close(sc);
-        return TP_EXIT_FAILURE;
-    }
-    return TP_EXIT_OK;
-}
-
 /* The georeference made on its own thread: reads the store's header (not changed after open),
  * writes only its own fields; joined by tp_store_scene_georef_wait or tp_store_scene_close. */
 struct tp_store_georef_job {
@@ -84,36 +67,51 @@ static void* georef_thread(void* arg)
     return NULL;
 }
 
-int tp_store_scene_open_deferred(const char* path, tp_store_scene* sc)
+/* Starts the georeference's thread; 0 when it cannot be started (nothing left behind). */
+static int start_georef_job(tp_store_scene* sc)
+{
+    struct tp_store_georef_job* job = calloc(1, sizeof *job);
+    if (!job)
+        return 0;
+    job->crs_wkt = sc->info.header.crs_wkt;
+    job->geotransform = sc->info.header.geotransform;
+    if (pthread_create(&job->thread, NULL, georef_thread, job) != 0) {
+        free(job);
+        return 0;
+    }
+    sc->georef_job = job;
+    return 1;
+}
+
+/* The store, its tree, and the georeference: on a thread of its own when deferred (made here
+ * when no thread can be started). */
+static int open_scene(const char* path, tp_store_scene* sc, int deferred)
 {
     memset(sc, 0, sizeof *sc);
     sc->path = path;
     tp_error err = {{0}};
     tp_status s = open_store_tree(path, sc, &err);
-    if (s != TP_OK) {
-        report(path, s, &err);
-        tp_store_scene_close(sc);
-        return TP_EXIT_FAILURE;
-    }
-    struct tp_store_georef_job* job = calloc(1, sizeof *job);
-    if (job) {
-        job->crs_wkt = sc->info.header.crs_wkt;
-        job->geotransform = sc->info.header.geotransform;
-        if (pthread_create(&job->thread, NULL, georef_thread, job) == 0) {
-            sc->georef_job = job;
-            return TP_EXIT_OK;
-        }
-        free(job);
-    }
-    /* no thread: made here, as tp_store_scene_open does */
-    s = tp_georef_create(sc->info.header.crs_wkt, sc->info.header.geotransform, &sc->georef,
-                         &err);
+    if (s == TP_OK && deferred && start_georef_job(sc))
+        return TP_EXIT_OK;
+    if (s == TP_OK)
+        s = tp_georef_create(sc->info.header.crs_wkt, sc->info.header.geotransform, &sc->georef,
+                             &err);
     if (s != TP_OK) {
         report(path, s, &err);
         tp_store_scene_close(sc);
         return TP_EXIT_FAILURE;
     }
     return TP_EXIT_OK;
+}
+
+int tp_store_scene_open(const char* path, tp_store_scene* sc)
+{
+    return open_scene(path, sc, 0);
+}
+
+int tp_store_scene_open_deferred(const char* path, tp_store_scene* sc)
+{
+    return open_scene(path, sc, 1);
 }
 
 /* Joins the job (if any) and takes its georeference; its status (TP_OK without a job). */

@@ -4,6 +4,7 @@
  * against the viewshed core's and GDAL's answer for the target's sample. */
 #include "tp_io.h"
 #include "tp_test.h"
+#include "tp_test_r3.h"
 
 #define EARTH_M 6378137.0
 
@@ -339,44 +340,14 @@ static tp_status grid_at(void* user, double x, double y, double* out, tp_error* 
     return TP_OK;
 }
 
-/* Exact visibility (R3): the sight line against the ground where it crosses every column and
- * row line between the two samples (linear between the two posts on that line), with the same
- * curvature; the lines within one post of either end are not tested (as tp_los_compute).
- * Returns the smallest clearance (negative: hidden). */
+/* Exact visibility (R3, tp_test_r3.h) with tp_los_compute's conventions: the lines within one
+ * post of either end are not tested. Returns the smallest clearance (negative: hidden). */
 static double r3_clearance(const float* z, int w, const double gt[6], int ox, int oy, int tx,
                            int ty, const tp_los_options* o)
 {
-    const double k = o->curvature_coeff / (2.0 * EARTH_M);
-    const double sx = fabs(gt[1]), sy = fabs(gt[5]);
-    const double eye = z[(size_t)oy * w + ox] + o->observer_height_m;
-    const double dx = tx - ox, dy = ty - oy;
-    const double dt2 = dx * dx * sx * sx + dy * dy * sy * sy;
-    const double target = z[(size_t)ty * w + tx] - k * dt2 + o->target_height_m;
-    const double span = fmax(fabs(dx), fabs(dy));
-    double best = INFINITY;
-    for (int axis = 0; axis < 2; ++axis) {
-        const double along = axis == 0 ? dx : dy, across = axis == 0 ? dy : dx;
-        const int steps = (int)fabs(along);
-        for (int i = 1; i < steps; ++i) {
-            const double f = (double)i / steps;
-            if (f * span < 1.0 || (1.0 - f) * span < 1.0)
-                continue;
-            const double c = across * f;
-            const int c0 = (int)floor(c);
-            const double t = c - c0;
-            double zs[2];
-            for (int e = 0; e < 2; ++e) {
-                const int a = (int)(along > 0 ? i : -i), b = c0 + e;
-                const int x = axis == 0 ? ox + a : ox + b, y = axis == 0 ? oy + b : oy + a;
-                zs[e] = (e == 1 && t == 0.0) ? zs[0] : z[(size_t)y * w + x];
-            }
-            if (zs[0] != zs[0] || zs[1] != zs[1])
-                continue;
-            const double ground = zs[0] + t * (zs[1] - zs[0]) - k * f * f * dt2;
-            best = fmin(best, eye + f * (target - eye) - ground);
-        }
-    }
-    return best;
+    const tp_test_r3 r3 = {o->observer_height_m, o->target_height_m, o->curvature_coeff, EARTH_M,
+                           1};
+    return tp_test_r3_clearance(z, w, gt, ox, oy, tx, ty, &r3);
 }
 
 static tp_render_grid* n42_grid(void)

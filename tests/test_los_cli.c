@@ -17,12 +17,13 @@
 #include "tp_io.h"
 
 #include "tp_test_child.h"
+#include "tp_test_gdal.h"
+#include "tp_test_r3.h"
 
 #include <cpl_conv.h>
 #include <gdal.h>
 #include <ogr_srs_api.h>
 
-#include <dirent.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -33,44 +34,8 @@
 #define RIDGE_N0 4700000.0
 #define STEP_M 30.0
 
-static char g_dir[64];
-
-static const char* tmp_dir(void)
-{
-    if (!g_dir[0]) {
-        strcpy(g_dir, "/tmp/tp_test_losXXXXXX");
-        if (!mkdtemp(g_dir))
-            FAIL("mkdtemp failed");
-    }
-    return g_dir;
-}
-
-static void read_text(const char* path, char* buf, size_t cap)
-{
-    FILE* f = fopen(path, "r");
-    if (!f)
-        FAIL("cannot open %s", path);
-    size_t got = fread(buf, 1, cap - 1, f);
-    buf[got] = '\0';
-    fclose(f);
-}
-
-/* The number after the first "key": at or after from in JSON text; NaN for null. */
-static double json_number_after(const char* json, const char* from, const char* key)
-{
-    const char* start = from ? strstr(json, from) : json;
-    if (!start)
-        FAIL("no %s in %s", from, json);
-    char pat[64];
-    snprintf(pat, sizeof pat, "\"%s\": ", key);
-    const char* p = strstr(start, pat);
-    if (!p)
-        FAIL("no key %s in %s", key, json);
-    p += strlen(pat);
-    if (!strncmp(p, "null", 4))
-        return NAN;
-    return strtod(p, NULL);
-}
+/* The test folder (tp_test_child.h). */
+static const char* tmp_dir(void) { return tp_test_child_dir("los"); }
 
 /* Runs `terrapatch los DEM --from A --to B [extra...] --json F`: exit status, JSON, stderr. */
 static int run_los(const char* dem, const char* from, const char* to, const char* const* extra,
@@ -87,26 +52,8 @@ static int run_los(const char* dem, const char* from, const char* to, const char
     int rc = tp_test_run_terrapatch("los", args, err, err_cap);
     json[0] = '\0';
     if (access(out, F_OK) == 0)
-        read_text(out, json, json_cap);
+        tp_test_read_text(out, json, json_cap);
     return rc;
-}
-
-static void to_lat_lon(const char* wkt, double e, double n, double* lat, double* lon)
-{
-    OGRSpatialReferenceH src = OSRNewSpatialReference(wkt);
-    OGRSpatialReferenceH dst = OSRNewSpatialReference(NULL);
-    OSRImportFromEPSG(dst, 4326);
-    OSRSetAxisMappingStrategy(src, OAMS_TRADITIONAL_GIS_ORDER);
-    OSRSetAxisMappingStrategy(dst, OAMS_TRADITIONAL_GIS_ORDER);
-    OGRCoordinateTransformationH ct = OCTNewCoordinateTransformation(src, dst);
-    ASSERT_TRUE(ct != NULL);
-    double x = e, y = n, z = 0;
-    ASSERT_TRUE(OCTTransform(ct, 1, &x, &y, &z));
-    *lon = x;
-    *lat = y;
-    OCTDestroyCoordinateTransformation(ct);
-    OSRDestroySpatialReference(src);
-    OSRDestroySpatialReference(dst);
 }
 
 static char* utm33_wkt(void)
@@ -165,27 +112,28 @@ TEST(ridge_pairs_worked_out_by_hand)
         const double t = atof(heights[i]);
         const char* extra[] = {"--curvature-coeff", "0", "--to-height", heights[i], NULL};
         ASSERT_EQ_INT(0, run_los(dem, from, to, extra, json, sizeof json, err, sizeof err));
-        EXPECT_NEAR(json_number_after(json, NULL, "distance_m"), 2400.0, 1e-6);
-        EXPECT_NEAR(json_number_after(json, "\"from\"", "eye_m"), 1002.0, 1e-6);
+        EXPECT_NEAR(tp_test_json_number_after(json, NULL, "distance_m"), 2400.0, 1e-6);
+        EXPECT_NEAR(tp_test_json_number_after(json, "\"from\"", "eye_m"), 1002.0, 1e-6);
         const double blocking = 10.0 - (2.0 + t) / 2.0;
         if (blocking > 0.0) {
             EXPECT_CONTAINS(json, "\"visible\": false");
-            EXPECT_NEAR(json_number_after(json, "\"obstruction\"", "distance_m"), 1200.0, 1e-3);
-            EXPECT_NEAR(json_number_after(json, "\"obstruction\"", "blocking_m"), blocking, 1e-3);
-            EXPECT_NEAR(json_number_after(json, NULL, "min_clearance_m"), -blocking, 1e-3);
+            EXPECT_NEAR(tp_test_json_number_after(json, "\"obstruction\"", "distance_m"), 1200.0, 1e-3);
+            EXPECT_NEAR(tp_test_json_number_after(json, "\"obstruction\"", "blocking_m"), blocking, 1e-3);
+            EXPECT_NEAR(tp_test_json_number_after(json, NULL, "min_clearance_m"), -blocking, 1e-3);
             /* where: the crest post of row 10, by PROJ here */
             double lat, lon;
             char* wkt = utm33_wkt();
-            to_lat_lon(wkt, RIDGE_E0 + 50.5 * STEP_M, RIDGE_N0 - 10.5 * STEP_M, &lat, &lon);
+            tp_test_gdal_lat_lon(wkt, RIDGE_E0 + 50.5 * STEP_M, RIDGE_N0 - 10.5 * STEP_M, &lat,
+                                 &lon);
             CPLFree(wkt);
-            EXPECT_NEAR(json_number_after(json, "\"obstruction\"", "lat"), lat, 1e-7);
-            EXPECT_NEAR(json_number_after(json, "\"obstruction\"", "lon"), lon, 1e-7);
+            EXPECT_NEAR(tp_test_json_number_after(json, "\"obstruction\"", "lat"), lat, 1e-7);
+            EXPECT_NEAR(tp_test_json_number_after(json, "\"obstruction\"", "lon"), lon, 1e-7);
         } else {
             EXPECT_CONTAINS(json, "\"visible\": true");
             EXPECT_CONTAINS(json, "\"obstruction\": null");
             /* the smallest clearance: at the crest, or one post from the observer */
             const double expect = fmin(-blocking, 2.0 + (t - 2.0) / 80.0);
-            EXPECT_NEAR(json_number_after(json, NULL, "min_clearance_m"), expect, 1e-3);
+            EXPECT_NEAR(tp_test_json_number_after(json, NULL, "min_clearance_m"), expect, 1e-3);
         }
     }
     /* the default curvature: a 0.85714 / (2 R) * d^2 drop, 0.39 m at the target, 0.1 m at
@@ -194,7 +142,7 @@ TEST(ridge_pairs_worked_out_by_hand)
     ASSERT_EQ_INT(0, run_los(dem, from, to, extra, json, sizeof json, err, sizeof err));
     const double k = 0.85714 / (2.0 * 6378137.0);
     const double line = 1000.0 + 9.0 - k * 2400.0 * 2400.0 / 2.0 + k * 1200.0 * 1200.0;
-    EXPECT_NEAR(json_number_after(json, "\"obstruction\"", "blocking_m"), 1010.0 - line, 1e-3);
+    EXPECT_NEAR(tp_test_json_number_after(json, "\"obstruction\"", "blocking_m"), 1010.0 - line, 1e-3);
 }
 
 /* The profile: CSV rows and a PNG from gnuplot; without gnuplot a clear message, exit 1, the
@@ -212,7 +160,7 @@ TEST(profile_csv_and_png)
     const char* extra[] = {"--csv", csv, "--profile", png, NULL};
     ASSERT_EQ_INT(0, run_los(dem, from, to, extra, json, sizeof json, err, sizeof err));
     char text[200000];
-    read_text(csv, text, sizeof text);
+    tp_test_read_text(csv, text, sizeof text);
     EXPECT_TRUE(!strncmp(text, "distance_m,lat,lon,ground_m,line_m,clearance_m,blocks\n", 54));
     int rows = 0;
     for (const char* p = text; *p; ++p)
@@ -262,48 +210,19 @@ static tp_render_grid* n42_grid(char* path, size_t cap)
 static void post_lat_lon(const tp_render_grid* g, int c, int r, char* out, size_t cap)
 {
     double lat, lon;
-    to_lat_lon(g->crs_wkt, g->geotransform[0] + (c + 0.5) * g->geotransform[1],
-               g->geotransform[3] + (r + 0.5) * g->geotransform[5], &lat, &lon);
+    tp_test_gdal_lat_lon(g->crs_wkt, g->geotransform[0] + (c + 0.5) * g->geotransform[1],
+                         g->geotransform[3] + (r + 0.5) * g->geotransform[5], &lat, &lon);
     snprintf(out, cap, "%.12f,%.12f", lat, lon);
 }
 
-/* Exact visibility (R3) on the render grid, as in test_los.c: the sight line against the
- * ground where it crosses every column and row line (linear between the two posts there),
- * lines within one post of either end not tested. The smallest clearance (negative: hidden). */
+/* Exact visibility (R3, tp_test_r3.h) on the render grid, as in test_los.c: lines within one
+ * post of either end not tested. The smallest clearance (negative: hidden). */
 static double r3_clearance(const float* z, int w, const double gt[6], int ox, int oy, int tx,
                            int ty, const tp_los_options* o)
 {
-    const double k = o->curvature_coeff / (2.0 * 6378137.0);
-    const double sx = fabs(gt[1]), sy = fabs(gt[5]);
-    const double eye = z[(size_t)oy * w + ox] + o->observer_height_m;
-    const double dx = tx - ox, dy = ty - oy;
-    const double dt2 = dx * dx * sx * sx + dy * dy * sy * sy;
-    const double target = z[(size_t)ty * w + tx] - k * dt2 + o->target_height_m;
-    const double span = fmax(fabs(dx), fabs(dy));
-    double best = INFINITY;
-    for (int axis = 0; axis < 2; ++axis) {
-        const double along = axis == 0 ? dx : dy, across = axis == 0 ? dy : dx;
-        const int steps = (int)fabs(along);
-        for (int i = 1; i < steps; ++i) {
-            const double f = (double)i / steps;
-            if (f * span < 1.0 || (1.0 - f) * span < 1.0)
-                continue;
-            const double c = across * f;
-            const int c0 = (int)floor(c);
-            const double t = c - c0;
-            double zs[2];
-            for (int e = 0; e < 2; ++e) {
-                const int a = (int)(along > 0 ? i : -i), b = c0 + e;
-                const int x = axis == 0 ? ox + a : ox + b, y = axis == 0 ? oy + b : oy + a;
-                zs[e] = (e == 1 && t == 0.0) ? zs[0] : z[(size_t)y * w + x];
-            }
-            if (zs[0] != zs[0] || zs[1] != zs[1])
-                continue;
-            const double ground = zs[0] + t * (zs[1] - zs[0]) - k * f * f * dt2;
-            best = fmin(best, eye + f * (target - eye) - ground);
-        }
-    }
-    return best;
+    const tp_test_r3 r3 = {o->observer_height_m, o->target_height_m, o->curvature_coeff,
+                           6378137.0, 1};
+    return tp_test_r3_clearance(z, w, gt, ox, oy, tx, ty, &r3);
 }
 
 /* From the centre of N42E001's render grid to 40 posts within 15 km (half of them near samples
@@ -386,18 +305,6 @@ static int run_viewshed(const char* dem, const char* observer, const char* out,
         args[n++] = extra[i];
     args[n] = NULL;
     return tp_test_run_terrapatch("viewshed", args, err, cap);
-}
-
-/* No file in the test folder whose name starts with prefix. */
-static int nothing_named(const char* prefix)
-{
-    DIR* d = opendir(tmp_dir());
-    ASSERT_TRUE(d != NULL);
-    int found = 0;
-    for (struct dirent* e; (e = readdir(d));)
-        found |= !strncmp(e->d_name, prefix, strlen(prefix));
-    closedir(d);
-    return !found;
 }
 
 TEST(viewshed_geotiff_has_the_grid_georeference_and_the_core_values)
@@ -500,7 +407,7 @@ TEST(viewshed_bad_input_exits_1_and_writes_nothing)
     EXPECT_EQ_INT(1, run_viewshed(path, "41.5,1.5", out, NULL, err, sizeof err));
     EXPECT_CONTAINS(err, "outside the DEM");
     EXPECT_CONTAINS(err, "N42E001.hgt");
-    EXPECT_TRUE(nothing_named("bad.tif"));
+    EXPECT_TRUE(tp_test_nothing_named(tmp_dir(), "bad.tif"));
     /* an output folder that does not exist */
     EXPECT_EQ_INT(1, run_viewshed(path, "42.5,1.5", "/nonexistent/dir/x.tif", NULL, err,
                                   sizeof err));
@@ -509,7 +416,7 @@ TEST(viewshed_bad_input_exits_1_and_writes_nothing)
     EXPECT_EQ_INT(1, run_viewshed(path, hole, out, NULL, err, sizeof err));
     EXPECT_CONTAINS(err, "in a void");
     EXPECT_CONTAINS(err, hole);
-    EXPECT_TRUE(nothing_named("bad.tif"));
+    EXPECT_TRUE(tp_test_nothing_named(tmp_dir(), "bad.tif"));
     /* los: the same refusals, no JSON */
     char json[256];
     EXPECT_EQ_INT(1, run_los(path, "42.5,1.5", "41.5,1.5", NULL, json, sizeof json, err,

@@ -17,6 +17,7 @@
 #include "tp_io.h"
 
 #include "tp_test_child.h"
+#include "tp_test_gdal.h"
 
 #include <gdal.h>
 #include <cpl_conv.h>
@@ -34,42 +35,8 @@
 
 /* ---- helpers ---- */
 
-static char g_dir[64];
-
-static const char* tmp_dir(void)
-{
-    if (!g_dir[0]) {
-        strcpy(g_dir, "/tmp/tp_test_pointXXXXXX");
-        if (!mkdtemp(g_dir))
-            FAIL("mkdtemp failed");
-    }
-    return g_dir;
-}
-
-/* Reads a whole small file into buf. */
-static void read_text(const char* path, char* buf, size_t cap)
-{
-    FILE* f = fopen(path, "r");
-    if (!f)
-        FAIL("cannot open %s", path);
-    size_t got = fread(buf, 1, cap - 1, f);
-    buf[got] = '\0';
-    fclose(f);
-}
-
-/* The number after "key": in JSON text (keys are unique in the readout); NaN for null. */
-static double json_number(const char* json, const char* key)
-{
-    char pat[64];
-    snprintf(pat, sizeof pat, "\"%s\": ", key);
-    const char* p = strstr(json, pat);
-    if (!p)
-        FAIL("no key %s in %s", key, json);
-    p += strlen(pat);
-    if (!strncmp(p, "null", 4))
-        return NAN;
-    return strtod(p, NULL);
-}
+/* The test folder (tp_test_child.h). */
+static const char* tmp_dir(void) { return tp_test_child_dir("point"); }
 
 /* Runs `terrapatch point DEM POS --json F`; returns the exit status, the JSON in json (on 0)
  * and stderr in err. */
@@ -82,7 +49,7 @@ static int run_point(const char* dem, const char* pos, char* json, size_t json_c
     const char* args[] = {dem, pos, "--json", out, NULL};
     int rc = tp_test_run_terrapatch("point", args, err, err_cap);
     if (rc == 0)
-        read_text(out, json, json_cap);
+        tp_test_read_text(out, json, json_cap);
     else
         EXPECT_TRUE(access(out, F_OK) != 0); /* nothing written on failure */
     return rc;
@@ -91,20 +58,7 @@ static int run_point(const char* dem, const char* pos, char* json, size_t json_c
 /* Latitude, longitude of (e, n) in the CRS of ds, by GDAL/PROJ. */
 static void to_lat_lon(GDALDatasetH ds, double e, double n, double* lat, double* lon)
 {
-    OGRSpatialReferenceH src = OSRNewSpatialReference(GDALGetProjectionRef(ds));
-    OGRSpatialReferenceH dst = OSRNewSpatialReference(NULL);
-    OSRImportFromEPSG(dst, 4326);
-    OSRSetAxisMappingStrategy(src, OAMS_TRADITIONAL_GIS_ORDER);
-    OSRSetAxisMappingStrategy(dst, OAMS_TRADITIONAL_GIS_ORDER);
-    OGRCoordinateTransformationH ct = OCTNewCoordinateTransformation(src, dst);
-    ASSERT_TRUE(ct != NULL);
-    double x = e, y = n, z = 0;
-    ASSERT_TRUE(OCTTransform(ct, 1, &x, &y, &z));
-    *lon = x;
-    *lat = y;
-    OCTDestroyCoordinateTransformation(ct);
-    OSRDestroySpatialReference(src);
-    OSRDestroySpatialReference(dst);
+    tp_test_gdal_lat_lon(GDALGetProjectionRef(ds), e, n, lat, lon);
 }
 
 static double sample(GDALDatasetH ds, int c, int r)
@@ -144,12 +98,12 @@ TEST(post_height_equals_gdal_sample)
         to_lat_lon(ds, gt[0] + (c + 0.5) * gt[1], gt[3] + (r + 0.5) * gt[5], &lat, &lon);
         snprintf(pos, sizeof pos, "%.17g,%.17g", lat, lon);
         ASSERT_EQ_INT(0, run_point(path, pos, json, sizeof json, err, sizeof err));
-        EXPECT_NEAR(json_number(json, "x"), c, 1e-4);
-        EXPECT_NEAR(json_number(json, "y"), r, 1e-4);
+        EXPECT_NEAR(tp_test_json_number_after(json, NULL, "x"), c, 1e-4);
+        EXPECT_NEAR(tp_test_json_number_after(json, NULL, "y"), r, 1e-4);
         /* the post itself, up to the round trip through latitude/longitude (micrometres):
          * its neighbours differ by metres, the store's step is 1 m */
-        EXPECT_NEAR(json_number(json, "elevation_m"), want, 1e-3);
-        EXPECT_NEAR(json_number(json, "lat_deg"), lat, 1e-12);
+        EXPECT_NEAR(tp_test_json_number_after(json, NULL, "elevation_m"), want, 1e-3);
+        EXPECT_NEAR(tp_test_json_number_after(json, NULL, "lat_deg"), lat, 1e-12);
         ++checked;
     }
     EXPECT_GE_INT(checked, 4);
@@ -175,7 +129,7 @@ TEST(warped_dem_height_within_source_neighbourhood)
         /* SRTM3: posts at 43 - r/1200 N, 1 + c/1200 E (pixel-is-point) */
         snprintf(pos, sizeof pos, "%.10f %.10f", 43.0 - r / 1200.0, 1.0 + c / 1200.0);
         ASSERT_EQ_INT(0, run_point(path, pos, json, sizeof json, err, sizeof err));
-        double h = json_number(json, "elevation_m");
+        double h = tp_test_json_number_after(json, NULL, "elevation_m");
         EXPECT_TRUE(h >= lo - 0.5 && h <= hi + 0.5);
         if (!(h >= lo - 0.5 && h <= hi + 0.5))
             tp_test_note("post (%d, %d): %g not in [%g, %g]", c, r, h, lo, hi);
@@ -239,27 +193,27 @@ static void check_plane(double a, double b, const char* name)
     double e = PLANE_E0 + (c + 0.5) * PLANE_STEP_M, n = PLANE_N0 - (r + 0.5) * PLANE_STEP_M;
     snprintf(pos, sizeof pos, "33n %.3f %.3f", e, n);
     ASSERT_EQ_INT(0, run_point(path, pos, json, sizeof json, err, sizeof err));
-    EXPECT_NEAR(json_number(json, "elevation_m"), 1000.0 + a * (e - PLANE_E0) + b * (n - PLANE_N0),
+    EXPECT_NEAR(tp_test_json_number_after(json, NULL, "elevation_m"), 1000.0 + a * (e - PLANE_E0) + b * (n - PLANE_N0),
                 0.01);
     double slope = atan(hypot(a, b)) * DEG;
-    EXPECT_NEAR(json_number(json, "slope_deg"), slope, 0.02);
+    EXPECT_NEAR(tp_test_json_number_after(json, NULL, "slope_deg"), slope, 0.02);
     if (a == 0 && b == 0) {
-        EXPECT_NAN(json_number(json, "aspect_grid_deg"));
-        EXPECT_NAN(json_number(json, "aspect_deg"));
+        EXPECT_NAN(tp_test_json_number_after(json, NULL, "aspect_grid_deg"));
+        EXPECT_NAN(tp_test_json_number_after(json, NULL, "aspect_deg"));
         return;
     }
     double aspect = atan2(-a, -b) * DEG; /* downhill, clockwise from north */
     if (aspect < 0)
         aspect += 360;
-    double got = json_number(json, "aspect_grid_deg");
+    double got = tp_test_json_number_after(json, NULL, "aspect_grid_deg");
     EXPECT_NEAR(fmod(got - aspect + 540.0, 360.0) - 180.0, 0.0, 0.05);
     /* grid north's bearing from true north in UTM: atan(tan(lon - lon0) sin(lat)) on the
      * sphere (good to ~1e-5 deg this near the central meridian, 15 E) */
-    double lat = json_number(json, "lat_deg"), lon = json_number(json, "lon_deg");
+    double lat = tp_test_json_number_after(json, NULL, "lat_deg"), lon = tp_test_json_number_after(json, NULL, "lon_deg");
     double gamma = atan(tan((lon - 15.0) / DEG) * sin(lat / DEG)) * DEG;
-    EXPECT_NEAR(json_number(json, "convergence_deg"), gamma, 1e-3);
+    EXPECT_NEAR(tp_test_json_number_after(json, NULL, "convergence_deg"), gamma, 1e-3);
     double true_aspect = fmod(aspect + gamma + 360.0, 360.0);
-    got = json_number(json, "aspect_deg");
+    got = tp_test_json_number_after(json, NULL, "aspect_deg");
     EXPECT_NEAR(fmod(got - true_aspect + 540.0, 360.0) - 180.0, 0.0, 0.05);
 }
 
@@ -282,10 +236,10 @@ TEST(store_answers_as_its_dem)
     ASSERT_EQ_INT(0, tp_test_run_terrapatch("build", args, err, sizeof err));
     const char* pos = "33n 500205 4649695"; /* post (20, 30) */
     ASSERT_EQ_INT(0, run_point(store, pos, json, sizeof json, err, sizeof err));
-    double h_store = json_number(json, "elevation_m"), s_store = json_number(json, "slope_deg");
+    double h_store = tp_test_json_number_after(json, NULL, "elevation_m"), s_store = tp_test_json_number_after(json, NULL, "slope_deg");
     ASSERT_EQ_INT(0, run_point(dem, pos, json, sizeof json, err, sizeof err));
-    EXPECT_EQ_DBL(h_store, json_number(json, "elevation_m"));
-    EXPECT_EQ_DBL(s_store, json_number(json, "slope_deg"));
+    EXPECT_EQ_DBL(h_store, tp_test_json_number_after(json, NULL, "elevation_m"));
+    EXPECT_EQ_DBL(s_store, tp_test_json_number_after(json, NULL, "slope_deg"));
     EXPECT_NEAR(h_store, 1000.0 + 0.2 * 205 + 0.1 * (-305), 0.01);
 }
 
@@ -388,7 +342,7 @@ TEST(void_in_large_hole_exits_1)
     EXPECT_CONTAINS(err, "plane_hole.tif");
     /* and outside the hole the plane is there */
     EXPECT_EQ_INT(0, run_point(path, "33n 500055 4649945", json, sizeof json, err, sizeof err));
-    EXPECT_NEAR(json_number(json, "elevation_m"), 1000.0 + 0.1 * 55 - 0.1 * 55, 0.01);
+    EXPECT_NEAR(tp_test_json_number_after(json, NULL, "elevation_m"), 1000.0 + 0.1 * 55 - 0.1 * 55, 0.01);
 }
 
 /* A DEM without a CRS has no latitude or longitude: no position can be put on it. */

@@ -25,51 +25,14 @@
 #include <gdal.h>
 #include <ogr_api.h>
 
-#include <dirent.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
 
-static char g_dir[64];
-
-static const char* tmp_dir(void)
-{
-    if (!g_dir[0]) {
-        strcpy(g_dir, "/tmp/tp_test_profileXXXXXX");
-        if (!mkdtemp(g_dir))
-            FAIL("mkdtemp failed");
-    }
-    return g_dir;
-}
-
-static void read_text(const char* path, char* buf, size_t cap)
-{
-    FILE* f = fopen(path, "r");
-    if (!f)
-        FAIL("cannot open %s", path);
-    size_t got = fread(buf, 1, cap - 1, f);
-    buf[got] = '\0';
-    fclose(f);
-}
-
-/* The number after the first "key": at or after from. */
-static double json_number_after(const char* json, const char* from, const char* key)
-{
-    const char* start = from ? strstr(json, from) : json;
-    if (!start)
-        FAIL("no %s in %s", from, json);
-    char pat[64];
-    snprintf(pat, sizeof pat, "\"%s\": ", key);
-    const char* p = strstr(start, pat);
-    if (!p)
-        FAIL("no key %s in %s", key, json);
-    p += strlen(pat);
-    if (!strncmp(p, "null", 4))
-        return NAN;
-    return strtod(p, NULL);
-}
+/* The test folder (tp_test_child.h). */
+static const char* tmp_dir(void) { return tp_test_child_dir("profile"); }
 
 /* Builds dem (shared data) into a store in the temporary folder; its path in store. */
 static void build_store(const char* dem_file, char* dem, size_t dem_cap, char* store,
@@ -101,17 +64,6 @@ static int run_profile(const char* store, const char* route, const char* const* 
         args[n++] = extra[i];
     args[n] = NULL;
     return tp_test_run_terrapatch("profile", args, err, err_cap);
-}
-
-static int nothing_named(const char* prefix)
-{
-    DIR* d = opendir(tmp_dir());
-    ASSERT_TRUE(d != NULL);
-    int found = 0;
-    for (struct dirent* e; (e = readdir(d));)
-        found |= !strncmp(e->d_name, prefix, strlen(prefix));
-    closedir(d);
-    return !found;
 }
 
 /* The track's vertices (lat, lon) as typed in the GPX, read with OGR here. */
@@ -229,7 +181,7 @@ TEST(gpx_track_figures_match_an_independent_measure)
     int have_gnuplot = access("/usr/bin/gnuplot", X_OK) == 0;
     ASSERT_EQ_INT(0, run_profile(store, gpx, have_gnuplot ? png_args : NULL, err, sizeof err));
     snprintf(path, sizeof path, "%s/out.json", tmp_dir());
-    read_text(path, json, sizeof json);
+    tp_test_read_text(path, json, sizeof json);
 
     double lat[64], lon[64];
     size_t nv = gpx_track(gpx, lat, lon, 64);
@@ -242,31 +194,31 @@ TEST(gpx_track_figures_match_an_independent_measure)
     tp_ground_destroy(g);
     tp_store_scene_close(&sc);
 
-    EXPECT_EQ_INT((int)m.samples, (int)json_number_after(json, NULL, "samples"));
-    EXPECT_EQ_INT(7, (int)json_number_after(json, NULL, "vertices"));
-    EXPECT_NEAR(m.len2, json_number_after(json, NULL, "length_2d_m"), 1e-3);
-    EXPECT_NEAR(m.len3, json_number_after(json, NULL, "length_3d_m"), 1e-3);
-    EXPECT_NEAR(m.geodesic, json_number_after(json, NULL, "length_geodesic_m"), 1e-3);
-    EXPECT_NEAR(m.climb, json_number_after(json, NULL, "climb_m"), 1e-3);
-    EXPECT_NEAR(m.descent, json_number_after(json, NULL, "descent_m"), 1e-3);
-    EXPECT_NEAR(m.lo, json_number_after(json, NULL, "min_elevation_m"), 1e-3);
-    EXPECT_NEAR(m.hi, json_number_after(json, NULL, "max_elevation_m"), 1e-3);
-    EXPECT_NEAR(m.steep_pct, json_number_after(json, "\"steepest\"", "grade_pct"), 1e-3);
-    EXPECT_NEAR(m.steep_from_m, json_number_after(json, "\"steepest\"", "from_distance_m"), 1e-3);
+    EXPECT_EQ_INT((int)m.samples, (int)tp_test_json_number_after(json, NULL, "samples"));
+    EXPECT_EQ_INT(7, (int)tp_test_json_number_after(json, NULL, "vertices"));
+    EXPECT_NEAR(m.len2, tp_test_json_number_after(json, NULL, "length_2d_m"), 1e-3);
+    EXPECT_NEAR(m.len3, tp_test_json_number_after(json, NULL, "length_3d_m"), 1e-3);
+    EXPECT_NEAR(m.geodesic, tp_test_json_number_after(json, NULL, "length_geodesic_m"), 1e-3);
+    EXPECT_NEAR(m.climb, tp_test_json_number_after(json, NULL, "climb_m"), 1e-3);
+    EXPECT_NEAR(m.descent, tp_test_json_number_after(json, NULL, "descent_m"), 1e-3);
+    EXPECT_NEAR(m.lo, tp_test_json_number_after(json, NULL, "min_elevation_m"), 1e-3);
+    EXPECT_NEAR(m.hi, tp_test_json_number_after(json, NULL, "max_elevation_m"), 1e-3);
+    EXPECT_NEAR(m.steep_pct, tp_test_json_number_after(json, "\"steepest\"", "grade_pct"), 1e-3);
+    EXPECT_NEAR(m.steep_from_m, tp_test_json_number_after(json, "\"steepest\"", "from_distance_m"), 1e-3);
     /* the map's length is the ellipsoid's times the UTM scale near lon 1.46 (0.99977 at 1.54
      * degrees from the central meridian) */
     EXPECT_NEAR(m.len2 / m.geodesic, 0.9996 * (1.0 + pow(1.54 * 3.14159265358979 / 180.0 * 0.7365, 2) / 2),
                 2e-5);
     /* climb minus descent is the height gained end to end */
     EXPECT_NEAR(m.climb - m.descent,
-                json_number_after(json, "\"end\"", "elevation_m") -
-                    json_number_after(json, "\"start\"", "elevation_m"),
+                tp_test_json_number_after(json, "\"end\"", "elevation_m") -
+                    tp_test_json_number_after(json, "\"start\"", "elevation_m"),
                 1e-6);
     /* the start on the ground, and against GDAL's nearest post of the .hgt (3" posts) */
-    EXPECT_NEAR(lat[0], json_number_after(json, "\"start\"", "lat"), 1e-7);
-    EXPECT_NEAR(lon[0], json_number_after(json, "\"start\"", "lon"), 1e-7);
+    EXPECT_NEAR(lat[0], tp_test_json_number_after(json, "\"start\"", "lat"), 1e-7);
+    EXPECT_NEAR(lon[0], tp_test_json_number_after(json, "\"start\"", "lon"), 1e-7);
     EXPECT_NEAR(hgt_sample(dem, lat[0], lon[0]),
-                json_number_after(json, "\"start\"", "elevation_m"), 20.0);
+                tp_test_json_number_after(json, "\"start\"", "elevation_m"), 20.0);
     tp_test_note("Arinsal -> Coma Pedrosa: %.1f m 3D, %.1f m 2D, %.1f m ellipsoid, +%.1f / -%.1f "
                  "m, %.1f..%.1f m, steepest %+.1f %%, %zu samples",
                  m.len3, m.len2, m.geodesic, m.climb, m.descent, m.lo, m.hi, m.steep_pct,
@@ -275,7 +227,7 @@ TEST(gpx_track_figures_match_an_independent_measure)
     /* the CSV: a header and one row per sample, the last at the 2D length */
     char csv[65536];
     snprintf(path, sizeof path, "%s/out.csv", tmp_dir());
-    read_text(path, csv, sizeof csv);
+    tp_test_read_text(path, csv, sizeof csv);
     size_t rows = 0;
     for (const char* c = csv; *c; ++c)
         rows += *c == '\n';
@@ -322,20 +274,20 @@ TEST(bad_routes_exit_1_and_write_nothing)
         EXPECT_EQ_INT(1, run_profile(store, path, NULL, err, sizeof err));
         EXPECT_CONTAINS(err, path);
         EXPECT_CONTAINS(err, says[i]);
-        EXPECT_TRUE(nothing_named("out."));
+        EXPECT_TRUE(tp_test_nothing_named(tmp_dir(), "out."));
     }
     /* not a vector file */
     EXPECT_EQ_INT(1, run_profile(store, dem, NULL, err, sizeof err));
     EXPECT_CONTAINS(err, "OGR cannot open it as a vector file");
     EXPECT_CONTAINS(err, "N42E001.hgt");
-    EXPECT_TRUE(nothing_named("out."));
+    EXPECT_TRUE(tp_test_nothing_named(tmp_dir(), "out."));
     /* the second line of a file with one */
     REQUIRE_DATA_FILE(path, "TP_SAMPLE_DATA_DIR", "vectors/coma_pedrosa.gpx");
     const char* second[] = {"--feature", "2", NULL};
     EXPECT_EQ_INT(1, run_profile(store, path, second, err, sizeof err));
     EXPECT_CONTAINS(err, "--feature 2");
     EXPECT_CONTAINS(err, "has 1 line");
-    EXPECT_TRUE(nothing_named("out."));
+    EXPECT_TRUE(tp_test_nothing_named(tmp_dir(), "out."));
 
     /* across a void: from the tile's centre to the collar the warp leaves south-west of it
      * (the render grid's corner post, outside the tile: no height, found on the ground here) */
@@ -357,7 +309,7 @@ TEST(bad_routes_exit_1_and_write_nothing)
     EXPECT_CONTAINS(err, "void.geojson");
     EXPECT_CONTAINS(err, "crosses a void at");
     EXPECT_CONTAINS(err, "nothing written");
-    EXPECT_TRUE(nothing_named("out."));
+    EXPECT_TRUE(tp_test_nothing_named(tmp_dir(), "out."));
     (void)w;
 }
 
@@ -380,13 +332,13 @@ TEST(route_leaving_the_dem_exits_1)
     EXPECT_CONTAINS(err, "east.geojson");
     EXPECT_CONTAINS(err, "leaves the DEM at");
     EXPECT_CONTAINS(err, "storml_elev.tif.tpt");
-    EXPECT_TRUE(nothing_named("out."));
+    EXPECT_TRUE(tp_test_nothing_named(tmp_dir(), "out."));
     /* the same line the other way round leaves at once */
     double rlat[2] = {lat[1], lat[0]}, rlon[2] = {lon[1], lon[0]};
     write_line("west.geojson", rlat, rlon, 2, route, sizeof route);
     EXPECT_EQ_INT(1, run_profile(store, route, NULL, err, sizeof err));
     EXPECT_CONTAINS(err, "leaves the DEM at 0.0 m");
-    EXPECT_TRUE(nothing_named("out."));
+    EXPECT_TRUE(tp_test_nothing_named(tmp_dir(), "out."));
 }
 
 #define TESTS(X)                                                                                   \

@@ -3,6 +3,7 @@
  * GDALViewshedGenerate) and with an exact ray test (R3) where the two differ. */
 #include "tp_io.h"
 #include "tp_test.h"
+#include "tp_test_r3.h"
 
 #define TESTS(X)                                                                                   \
     X(flat_ground_is_all_visible)                                                                  \
@@ -64,44 +65,14 @@ static uint8_t* gdal_ok(const float* z, int w, int h, const double gt[6], int ox
     return out;
 }
 
-/* Exact visibility (R3, Franklin & Ray): the sight line from the eye to the target against the
- * ground where it crosses every column and row line between them, the ground there linear
- * between the two samples on that line, lowered by the same curvature term. Nodata samples
- * are skipped (they block nothing). Written from the geometry, not from viewshed.c. */
+/* Exact visibility (R3, tp_test_r3.h: written from the geometry, not from viewshed.c): every
+ * crossing between the two samples tested, nodata blocking nothing. */
 static int r3_visible(const float* z, int w, const double gt[6], int ox, int oy, int tx, int ty,
                       const tp_viewshed_options* o)
 {
-    const double k = o->curvature_coeff / (2.0 * (o->earth_radius_m > 0 ? o->earth_radius_m
-                                                                         : 6378137.0));
-    const double sx = fabs(gt[1]), sy = fabs(gt[5]);
-    const double eye = z[(size_t)oy * w + ox] + o->observer_height_m;
-    const double dx = tx - ox, dy = ty - oy;
-    const double dt2 = dx * dx * sx * sx + dy * dy * sy * sy;
-    const double target = z[(size_t)ty * w + tx] - k * dt2 + o->target_height_m;
-    /* column lines x = ox + i (0 < |i| < |dx|), then row lines y = oy + j */
-    for (int axis = 0; axis < 2; ++axis) {
-        const double along = axis == 0 ? dx : dy, across = axis == 0 ? dy : dx;
-        const int steps = (int)fabs(along);
-        for (int i = 1; i < steps; ++i) {
-            const double f = (double)i / steps;
-            const double c = across * f; /* offset on the crossed line */
-            const int c0 = (int)floor(c);
-            const double t = c - c0;
-            double zs[2];
-            for (int e = 0; e < 2; ++e) {
-                const int a = (int)(along > 0 ? i : -i), b = c0 + e;
-                const int x = axis == 0 ? ox + a : ox + b, y = axis == 0 ? oy + b : oy + a;
-                zs[e] = (e == 1 && t == 0.0) ? zs[0] : z[(size_t)y * w + x];
-            }
-            if (zs[0] != zs[0] || zs[1] != zs[1])
-                continue;
-            const double ground = zs[0] + t * (zs[1] - zs[0]) - k * f * f * dt2;
-            const double line = eye + f * (target - eye);
-            if (ground > line + 1e-9)
-                return 0;
-        }
-    }
-    return 1;
+    const tp_test_r3 r3 = {o->observer_height_m, o->target_height_m, o->curvature_coeff,
+                           o->earth_radius_m, 0};
+    return tp_test_r3_clearance(z, w, gt, ox, oy, tx, ty, &r3) >= -1e-9;
 }
 
 typedef struct {

@@ -103,6 +103,66 @@ static inline int tp_test_run_terrapatch(const char* cmd, const char* const* arg
 {
     return tp_test_run_terrapatch_out(cmd, args, NULL, 0, err, err_cap);
 }
+
+/* ---- what the tests of the planner commands (point, los, viewshed, profile) share ---- */
+
+#include <dirent.h>
+#include <math.h>
+
+/* One folder for the test process, made on first use: /tmp/tp_test_NAMEXXXXXX (mkdtemp). */
+static inline const char* tp_test_child_dir(const char* name)
+{
+    static char dir[64];
+    if (!dir[0]) {
+        snprintf(dir, sizeof dir, "/tmp/tp_test_%sXXXXXX", name);
+        if (!mkdtemp(dir))
+            FAIL("mkdtemp failed");
+    }
+    return dir;
+}
+
+/* Reads a whole small file into buf (at most cap - 1 bytes, NUL-terminated); fails the test
+ * when it cannot be opened. */
+static inline void tp_test_read_text(const char* path, char* buf, size_t cap)
+{
+    FILE* f = fopen(path, "r");
+    if (!f)
+        FAIL("cannot open %s", path);
+    size_t got = fread(buf, 1, cap - 1, f);
+    buf[got] = '\0';
+    fclose(f);
+}
+
+/* The number after the first "key": in JSON text, at or after the first from (NULL: the
+ * start); NaN for null. Fails the test when from or the key is not there. */
+static inline double tp_test_json_number_after(const char* json, const char* from,
+                                               const char* key)
+{
+    const char* start = from ? strstr(json, from) : json;
+    if (!start)
+        FAIL("no %s in %s", from, json);
+    char pat[64];
+    snprintf(pat, sizeof pat, "\"%s\": ", key);
+    const char* p = strstr(start, pat);
+    if (!p)
+        FAIL("no key %s in %s", key, json);
+    p += strlen(pat);
+    if (!strncmp(p, "null", 4))
+        return NAN;
+    return strtod(p, NULL);
+}
+
+/* 1 when no file in dir has a name starting with prefix. */
+static inline int tp_test_nothing_named(const char* dir, const char* prefix)
+{
+    DIR* d = opendir(dir);
+    ASSERT_TRUE(d != NULL);
+    int found = 0;
+    for (struct dirent* e; (e = readdir(d));)
+        found |= !strncmp(e->d_name, prefix, strlen(prefix));
+    closedir(d);
+    return !found;
+}
 #endif
 
 #endif

@@ -10,53 +10,17 @@
 set -u
 exe=$1 dem=$2 dir=$3
 mkdir -p "$dir"
-for tool in Xvfb xdotool; do
-    command -v "$tool" >/dev/null || { echo "window_field: $tool is missing (make deps installs it)"; exit 1; }
-done
-display=
-for n in $(seq 161 230); do
-    if [ ! -e "/tmp/.X$n-lock" ] && [ ! -e "/tmp/.X11-unix/X$n" ]; then display=$n; break; fi
-done
-[ -n "$display" ] || { echo "window_field: no free X display number"; exit 1; }
-Xvfb ":$display" -screen 0 1280x800x24 -nolisten tcp >"$dir/xvfb.log" 2>&1 &
-xpid=$!
-vpid=
-cleanup() {
-    [ -n "$vpid" ] && kill "$vpid" 2>/dev/null
-    kill "$xpid" 2>/dev/null
-    wait 2>/dev/null
-}
-trap cleanup EXIT
-export DISPLAY=":$display"
-for _ in $(seq 50); do xdotool getdisplaygeometry >/dev/null 2>&1 && break; sleep 0.1; done
-
-"$exe" view --size 960x540 "$dem" >"$dir/stdout.txt" 2>"$dir/stderr.txt" &
-vpid=$!
-wid=
-for _ in $(seq 300); do
-    wid=$(xdotool search --name '^terrapatch' 2>/dev/null | head -n1)
-    [ -n "$wid" ] && break
-    kill -0 "$vpid" 2>/dev/null || break
-    sleep 0.1
-done
-[ -n "$wid" ] || { echo "window_field: no terrapatch window appeared"; cat "$dir/stderr.txt"; exit 1; }
-for _ in $(seq 300); do
-    xdotool getwindowname "$wid" 2>/dev/null | grep -q fps && break
-    sleep 0.1
-done
-xdotool windowfocus --sync "$wid" 2>/dev/null || true
-sleep 1
+name=window_field
+. "$(dirname "$0")/window_lib.sh"
+window_xvfb 161 230
+window_view "$dem"
+window_focus
 xdotool key --clearmodifiers r; sleep 0.5
 xdotool mousemove --window "$wid" 700 260; sleep 0.3; xdotool click 3; sleep 0.8
 xdotool mousemove --window "$wid" 480 290; sleep 0.3; xdotool click 3; sleep 1.5
 xdotool mousemove --window "$wid" 468 258; sleep 0.3
 xdotool key --clearmodifiers b; sleep 2
-xdotool key Escape
-for _ in $(seq 100); do kill -0 "$vpid" 2>/dev/null || break; sleep 0.1; done
-kill "$vpid" 2>/dev/null
-wait "$vpid"
-rc=$?
-vpid=
+window_close
 fail=0
 [ "$rc" = 0 ] || { echo "FAIL: the viewer exited with $rc"; cat "$dir/stderr.txt"; fail=1; }
 los=$(grep '^los: from ' "$dir/stdout.txt" | head -n1)

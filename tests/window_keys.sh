@@ -11,47 +11,12 @@
 set -u
 exe=$1 dem=$2 dir=$3
 mkdir -p "$dir"
-for tool in Xvfb xdotool; do
-    command -v "$tool" >/dev/null || { echo "window_keys: $tool is missing (make deps installs it)"; exit 1; }
-done
-
-display=
-for n in $(seq 91 160); do
-    if [ ! -e "/tmp/.X$n-lock" ] && [ ! -e "/tmp/.X11-unix/X$n" ]; then display=$n; break; fi
-done
-[ -n "$display" ] || { echo "window_keys: no free X display number"; exit 1; }
-Xvfb ":$display" -screen 0 1280x800x24 -nolisten tcp >"$dir/xvfb.log" 2>&1 &
-xpid=$!
-vpid=
-cleanup() {
-    [ -n "$vpid" ] && kill "$vpid" 2>/dev/null
-    kill "$xpid" 2>/dev/null
-    wait 2>/dev/null
-}
-trap cleanup EXIT
-export DISPLAY=":$display"
-for _ in $(seq 50); do xdotool getdisplaygeometry >/dev/null 2>&1 && break; sleep 0.1; done
-
-"$exe" view --size 960x540 "$dem" >"$dir/stdout.txt" 2>"$dir/stderr.txt" &
-vpid=$!
-wid=
-for _ in $(seq 300); do
-    wid=$(xdotool search --name '^terrapatch' 2>/dev/null | head -n1)
-    [ -n "$wid" ] && break
-    kill -0 "$vpid" 2>/dev/null || break
-    sleep 0.1
-done
-if [ -z "$wid" ]; then
-    echo "window_keys: no terrapatch window appeared"; cat "$dir/stderr.txt"; exit 1
-fi
-# the frame loop runs once the title shows a frame rate
-for _ in $(seq 300); do
-    xdotool getwindowname "$wid" 2>/dev/null | grep -q fps && break
-    sleep 0.1
-done
+name=window_keys
+. "$(dirname "$0")/window_lib.sh"
+window_xvfb 91 160
+window_view "$dem"
 xdotool mousemove --window "$wid" 480 270
-xdotool windowfocus --sync "$wid" 2>/dev/null || true
-sleep 1
+window_focus
 
 tap() { xdotool key --clearmodifiers --delay 0 "$1"; sleep 0.4; }
 for _ in 1 2 3 4 5; do tap c; done
@@ -61,17 +26,9 @@ tap c
 tap Home
 sleep 0.5
 tap c
-xdotool key Escape
+window_close
 fail=0
-for _ in $(seq 100); do kill -0 "$vpid" 2>/dev/null || break; sleep 0.1; done
-if kill -0 "$vpid" 2>/dev/null; then
-    echo "FAIL: a tap of Esc did not close the viewer"
-    fail=1
-    kill "$vpid"
-fi
-wait "$vpid"
-rc=$?
-vpid=
+[ "$escaped" = 1 ] || { echo "FAIL: a tap of Esc did not close the viewer"; fail=1; }
 lines=$(grep -c '^--camera ' "$dir/stdout.txt")
 echo "window_keys: viewer exit status $rc; $lines camera lines:"
 grep '^--camera ' "$dir/stdout.txt"

@@ -137,14 +137,45 @@ static void print_camera(const window_state* s)
     fflush(stdout);
 }
 
-/* The measuring tool: a right click picks a ground point; every second one measures. */
-static void measure_click(window_state* s, GLFWwindow* win, double x, double y)
+/* Picks the ground at window coordinates (x, y) (screen coordinates, as GLFW gives the cursor)
+ * into p (render CRS E, N and height); 0 where no ground is under them. */
+static int pick_window(window_state* s, GLFWwindow* win, double x, double y, double p[3])
 {
     int ww, wh;
     glfwGetWindowSize(win, &ww, &wh);
     double px = x * s->cam->viewport_w_px / fmax(ww, 1), py = y * s->cam->viewport_h_px / fmax(wh, 1);
+    return tp_view_pick(s->v, s->cam, px, py, p);
+}
+
+/* The ground under window coordinates (x, y) for a field tool (the point readout, line of
+ * sight, the viewshed), with s->ground made on first use: 1 with p as pick_window's; else 0
+ * with "TOOL: why" on the HUD's line (no store, no ground under the cursor, the ground's
+ * error). */
+static int ground_under(window_state* s, GLFWwindow* win, double x, double y, const char* tool,
+                        double p[3])
+{
+    if (!s->v->store) {
+        snprintf(s->measure_line, sizeof s->measure_line,
+                 "%s: only on a georeferenced DEM or a store", tool);
+        return 0;
+    }
+    if (!pick_window(s, win, x, y, p)) {
+        snprintf(s->measure_line, sizeof s->measure_line, "%s: no ground under the cursor", tool);
+        return 0;
+    }
+    tp_error err = {{0}};
+    if (!s->ground && tp_ground_create(s->v->store, NULL, &s->ground, &err) != TP_OK) {
+        snprintf(s->measure_line, sizeof s->measure_line, "%s: %.400s", tool, err.message);
+        return 0;
+    }
+    return 1;
+}
+
+/* The measuring tool: a right click picks a ground point; every second one measures. */
+static void measure_click(window_state* s, GLFWwindow* win, double x, double y)
+{
     double* p = s->picks[s->picked % 2];
-    if (!tp_view_pick(s->v, s->cam, px, py, p))
+    if (!pick_window(s, win, x, y, p))
         return;
     s->picked++;
     s->has_mark = 0; /* the measurement replaces the point readout on the HUD */
@@ -164,24 +195,9 @@ static void measure_click(window_state* s, GLFWwindow* win, double x, double y)
  * tool's line goes. */
 static void point_click(window_state* s, GLFWwindow* win, double x, double y)
 {
-    int ww, wh;
-    glfwGetWindowSize(win, &ww, &wh);
-    double px = x * s->cam->viewport_w_px / fmax(ww, 1), py = y * s->cam->viewport_h_px / fmax(wh, 1);
     double p[3];
-    if (!s->v->store) {
-        snprintf(s->measure_line, sizeof s->measure_line,
-                 "point readout: only on a georeferenced DEM or a store");
+    if (!ground_under(s, win, x, y, "point readout", p))
         return;
-    }
-    if (!tp_view_pick(s->v, s->cam, px, py, p)) {
-        snprintf(s->measure_line, sizeof s->measure_line, "point readout: no ground under the cursor");
-        return;
-    }
-    tp_error err = {{0}};
-    if (!s->ground && tp_ground_create(s->v->store, NULL, &s->ground, &err) != TP_OK) {
-        snprintf(s->measure_line, sizeof s->measure_line, "point readout: %.400s", err.message);
-        return;
-    }
     tp_point_readout r;
     char msg[1024];
     const char* source = s->v->path ? s->v->path : s->v->store->path;
@@ -204,24 +220,9 @@ static void point_click(window_state* s, GLFWwindow* win, double x, double y)
 /* Line-of-sight mode: a right click picks the observer, the next the target. */
 static void los_click(window_state* s, GLFWwindow* win, double x, double y)
 {
-    int ww, wh;
-    glfwGetWindowSize(win, &ww, &wh);
-    double px = x * s->cam->viewport_w_px / fmax(ww, 1), py = y * s->cam->viewport_h_px / fmax(wh, 1);
     double p[3];
-    if (!s->v->store) {
-        snprintf(s->measure_line, sizeof s->measure_line,
-                 "line of sight: only on a georeferenced DEM or a store");
+    if (!ground_under(s, win, x, y, "line of sight", p))
         return;
-    }
-    if (!tp_view_pick(s->v, s->cam, px, py, p)) {
-        snprintf(s->measure_line, sizeof s->measure_line, "line of sight: no ground under the cursor");
-        return;
-    }
-    tp_error err = {{0}};
-    if (!s->ground && tp_ground_create(s->v->store, NULL, &s->ground, &err) != TP_OK) {
-        snprintf(s->measure_line, sizeof s->measure_line, "line of sight: %.400s", err.message);
-        return;
-    }
     s->has_mark = 0;
     tp_view_los_click(&s->los, s->ground, p[0], p[1], s->measure_line, sizeof s->measure_line);
 }
@@ -253,24 +254,9 @@ static void viewshed_key(window_state* s, GLFWwindow* win)
         return;
     }
     double x, y, p[3];
-    int ww, wh;
     glfwGetCursorPos(win, &x, &y);
-    glfwGetWindowSize(win, &ww, &wh);
-    double px = x * s->cam->viewport_w_px / fmax(ww, 1), py = y * s->cam->viewport_h_px / fmax(wh, 1);
-    if (!s->v->store) {
-        snprintf(s->measure_line, sizeof s->measure_line,
-                 "viewshed: only on a georeferenced DEM or a store");
+    if (!ground_under(s, win, x, y, "viewshed", p))
         return;
-    }
-    if (!tp_view_pick(s->v, s->cam, px, py, p)) {
-        snprintf(s->measure_line, sizeof s->measure_line, "viewshed: no ground under the cursor");
-        return;
-    }
-    tp_error err = {{0}};
-    if (!s->ground && tp_ground_create(s->v->store, NULL, &s->ground, &err) != TP_OK) {
-        snprintf(s->measure_line, sizeof s->measure_line, "viewshed: %.400s", err.message);
-        return;
-    }
     s->has_mark = 0;
     tp_view_viewshed_at(&s->viewshed, s->ground, p[0], p[1], TP_VIEW_VIEWSHED_RADIUS_M,
                         s->measure_line, sizeof s->measure_line);

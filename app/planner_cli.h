@@ -1,0 +1,134 @@
+/*
+ * planner_cli.h - the prologue and outputs every planner command shares (`point`, `los`,
+ * `viewshed`, `contours`, `profile`): the pieces their option parsers are made of, a position
+ * read from the command line and placed on the ground (with the messages), the ground opened,
+ * the posts of a window read, and the outputs written (the text or JSON on stdout, JSON and CSV
+ * files atomically, a gnuplot PNG). Each command keeps its own options, computation and report
+ * in its cmd_*.c. app/planner_cli.c.
+ *
+ * Messages are those of cli.h: "terrapatch CMD: ..." on stderr, cmd naming the command ("los").
+ */
+#ifndef TP_APP_PLANNER_CLI_H
+#define TP_APP_PLANNER_CLI_H
+
+#include "gnuplot.h"
+#include "ground.h"
+#include "position.h"
+
+#include "tp_core.h"
+
+#include <stddef.h>
+#include <stdio.h>
+
+/* ---- the command line ---- */
+
+/* Prints "terrapatch CMD: WHAT (see 'terrapatch CMD --help')" (what as printf's format) and
+ * returns TP_EXIT_USAGE. */
+#if defined(__GNUC__)
+__attribute__((format(printf, 2, 3)))
+#endif
+int tp_planner_usage(const char* cmd, const char* what, ...);
+
+/* What a planner command's parser does first with each argument a: -h or --help prints the
+ * help (print_help) and ends the parse with tp_cli_finish(TP_EXIT_OK); an argument that is no
+ * option (not starting with '-', or "-" alone) is the DEM, into *path, and a second one is the
+ * usage error "more than one DEM given" followed by hint (e.g. " (quote a position with
+ * spaces: ...)", or ""). Returns the exit code that ends the parse, TP_PLANNER_NEXT when a was
+ * the DEM, or TP_PLANNER_OPTION when a is an option for the command to read. */
+#define TP_PLANNER_NEXT (-1)
+#define TP_PLANNER_OPTION (-2)
+int tp_planner_argument(const char* cmd, const char* a, void (*print_help)(void),
+                        const char** path, const char* hint);
+
+/* 1 when arg is the option name, alone or as "NAME=VALUE". */
+int tp_planner_is_option(const char* arg, const char* name);
+
+/* The value of the option name at argv[*i]: after '=', else the next argument (*i moves on to
+ * it); NULL when there is none. */
+const char* tp_planner_option_value(int argc, char** argv, int* i, const char* name);
+
+/* Tables of options: names[k] (count of them) puts its value into *slots[k]. When argv[*i] is
+ * one of them (tp_planner_is_option), reads its value (tp_planner_option_value) and returns 1;
+ * 0 when it is none of them; -1 after one line (a usage error): a text option without a value
+ * ("missing value for NAME", as tp_planner_usage), a number that is missing or not >= 0
+ * (tp_planner_number's "expected a number >= 0"). TP_PLANNER_COUNT(names) gives count. */
+#define TP_PLANNER_COUNT(a) (sizeof(a) / sizeof((a)[0]))
+int tp_planner_text_options(const char* cmd, int argc, char** argv, int* i,
+                            const char* const* names, const char** const* slots, size_t count);
+int tp_planner_number_options(const char* cmd, int argc, char** argv, int* i,
+                              const char* const* names, double* const* slots, size_t count);
+
+/* Which numbers an option takes. */
+typedef enum tp_planner_range {
+    TP_PLANNER_ANY = 0,   /* any finite number */
+    TP_PLANNER_AT_LEAST_0, /* >= 0 */
+    TP_PLANNER_ABOVE_0,    /* > 0 */
+} tp_planner_range;
+
+/* The value v of option opt (NULL: it was missing) as a decimal number (tp_position_decimal)
+ * in range. 1 with *out; else 0 after tp_option_error's line ("expected EXPECTED, got 'V'"),
+ * *out untouched. */
+int tp_planner_number(const char* cmd, const char* opt, const char* v, tp_planner_range range,
+                      const char* expected, double* out);
+
+/* The same for an integer (strtol, base 10, nothing after it) in lo .. hi. */
+int tp_planner_integer(const char* cmd, const char* opt, const char* v, long lo, long hi,
+                       const char* expected, long* out);
+
+/* ---- positions and the ground ---- */
+
+/* Reads text (NUL-terminated) as one position, without a height. 1 with *pos; else 0 after
+ * "terrapatch CMD: WHAT 'TEXT': why" (what names it: "--from", "position"); the caller exits
+ * with TP_EXIT_USAGE. */
+int tp_planner_position(const char* cmd, const char* what, const char* text, tp_position* pos);
+
+/* Checks that each of the count paths can be written (tp_atomic_check_dir), NULL and "-"
+ * (stdout) passed over; 0 after the first one's message. */
+int tp_planner_check_outputs(const char* const* paths, int count);
+
+/* tp_ground_open with the command's options: the exit code, *g on TP_EXIT_OK. */
+int tp_planner_ground_open(const char* cmd, const char* path, const char* cache_dir,
+                           tp_ground** g);
+
+/* tp_ground_locate: 1 with grid (x, y) and the ground's height; else 0 after
+ * "terrapatch CMD: PATH: why" (input is the position as typed). */
+int tp_planner_locate(const char* cmd, const char* path, tp_ground* g, const tp_position* pos,
+                      const char* input, double* x, double* y, double* height_m);
+
+/* Windows of at least this many posts show their reading's progress. */
+#define TP_PLANNER_PROGRESS_POSTS ((size_t)4 << 20)
+
+/* Reads the ground's heights (tp_ground_height: NaN in a void) at the w x h posts from grid
+ * (x0, y0) into z (w * h floats, row by row). With progress (a command's name) and a window of
+ * TP_PLANNER_PROGRESS_POSTS or more, "terrapatch: PROGRESS: reading the ground NN%" every 10%
+ * on stderr (one line rewritten on a terminal). tp_ground_height's errors. */
+tp_status tp_planner_read_posts(tp_ground* g, int x0, int y0, int w, int h, float* z,
+                                const char* progress, tp_error* err);
+
+/* Seconds on a monotonic clock, for the timings the commands print. */
+double tp_planner_now_s(void);
+
+/* ---- the outputs ---- */
+
+/* Writes one output of report to f. */
+typedef void (*tp_planner_write_fn)(FILE* f, void* report);
+
+typedef struct tp_planner_outputs {
+    const char* json; /* a JSON file; "-": the JSON on stdout instead of the text; NULL: none */
+    const char* csv;  /* a CSV file, or NULL */
+    const char* png;  /* a gnuplot PNG, or NULL */
+    tp_planner_write_fn write_text, write_json, write_csv;
+    tp_gnuplot_script_fn write_plot; /* with png: png_width_px x png_height_px */
+    int png_width_px, png_height_px;
+} tp_planner_outputs;
+
+/* Prints the text (the JSON for json "-") on stdout, then writes the JSON file, the CSV file
+ * (each through atomic_file.h) and the PNG (tp_gnuplot_png) that o names. 1 when all were
+ * written; 0 after a line for each that was not (the others are still written). */
+int tp_planner_write_outputs(const char* cmd, const tp_planner_outputs* o, void* report);
+
+/* The exit after the work: after SIGINT/SIGTERM tp_cli_interrupted(); else code, stdout
+ * flushed (tp_cli_finish) when it is TP_EXIT_OK. */
+int tp_planner_finish(int code);
+
+#endif /* TP_APP_PLANNER_CLI_H */
