@@ -1039,8 +1039,9 @@ int tp_cut_keep_above(const tp_cut* c, double position[3], double clearance_m);
 /* Within this many posts of the observer (Chebyshev) a sample gets the exact horizon of its
  * sight line instead of the interpolated one, and the sweep carries on from those: XDraw's
  * interpolation errs most where the rings are short (a ridge a few posts away smeared across a
- * whole sector behind it), and the exact test there costs about (2K+1)^2 * K steps (1 M for
- * 64, about 2 ms). docs/field.md "Exact near the observer" gives the measured effect. */
+ * whole sector behind it), and the exact test there costs about (2K+1)^2 * K steps (1.4 M for
+ * 64: 5-16 ms more than interpolating, measured under load). docs/field.md "Exact near the
+ * observer" gives the measured effect. */
 #define TP_VIEWSHED_EXACT_RADIUS_PX 64
 
 typedef struct tp_viewshed_options {

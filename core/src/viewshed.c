@@ -67,37 +67,26 @@ static double exact_horizon(const sweep* s, int x, int y, double d2)
 {
     const int dx = x - s->ox, dy = y - s->oy;
     const int ax = dx < 0 ? -dx : dx, ay = dy < 0 ? -dy : dy;
-    const int sx = dx < 0 ? -1 : 1, sy = dy < 0 ? -1 : 1;
+    const ptrdiff_t sx = dx < 0 ? -1 : 1, sy = dy < 0 ? -(ptrdiff_t)s->width : s->width;
+    const float* o = s->heights + (size_t)s->oy * s->width + s->ox;
     double best = -DBL_MAX;
-    /* vertical grid lines x = ox + i (the line between rows yc and yc + sy there) */
-    for (int i = 1; i < ax; ++i) {
-        const double t = (double)i / ax, fy = t * ay;
-        const int j = (int)fy;
-        const double f = fy - j;
-        const float* a = s->heights + (size_t)(s->oy + sy * j) * s->width + s->ox + sx * i;
-        const double za = a[0], zb = f > 0.0 ? a[(ptrdiff_t)sy * s->width] : za;
-        if (za != za || zb != zb)
-            continue;
-        const double dc2 = t * t * d2;
-        const double h = za + f * (zb - za) - s->eye_m - s->k_curv * dc2;
-        const double scaled = h / t;
-        if (scaled > best)
-            best = scaled;
-    }
-    /* horizontal grid lines y = oy + j */
-    for (int j = 1; j < ay; ++j) {
-        const double t = (double)j / ay, fx = t * ax;
-        const int i = (int)fx;
-        const double f = fx - i;
-        const float* a = s->heights + (size_t)(s->oy + sy * j) * s->width + s->ox + sx * i;
-        const double za = a[0], zb = f > 0.0 ? a[sx] : za;
-        if (za != za || zb != zb)
-            continue;
-        const double dc2 = t * t * d2;
-        const double h = za + f * (zb - za) - s->eye_m - s->k_curv * dc2;
-        const double scaled = h / t;
-        if (scaled > best)
-            best = scaled;
+    /* axis 0: the column lines x = ox + i (the line passes between two rows there);
+     * axis 1: the row lines y = oy + i (between two columns) */
+    for (int axis = 0; axis < 2; ++axis) {
+        const int along = axis == 0 ? ax : ay, across = axis == 0 ? ay : ax;
+        const ptrdiff_t step_along = axis == 0 ? sx : sy, step_across = axis == 0 ? sy : sx;
+        for (int i = 1; i < along; ++i) {
+            const double t = (double)i / along, c = t * across;
+            const int j = (int)c;
+            const double f = c - j;
+            const float* a = o + i * step_along + j * step_across;
+            const double za = a[0], zb = f > 0.0 ? a[step_across] : za;
+            if (za != za || zb != zb)
+                continue;
+            const double h = za + f * (zb - za) - s->eye_m - s->k_curv * t * t * d2;
+            if (h / t > best)
+                best = h / t;
+        }
     }
     return best;
 }
