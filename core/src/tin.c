@@ -14,6 +14,23 @@
 #include <stdlib.h>
 #include <string.h>
 
+typedef struct tin_tri {
+    uint32_t v[3];  /* vertices; half-edge 3t+i runs from v[i] to v[(i+1)%3] */
+    int32_t he[3];  /* twin of half-edge 3t+i, -1 on the outline */
+    uint32_t cand;  /* worst valid sample's index */
+    float err;      /* its error (rounded up) */
+    uint32_t ver;   /* bumped on every rewrite: heap entries of older versions are stale */
+    uint32_t pend;  /* 1 while in the pending list */
+} tin_tri;
+
+typedef struct heap_ent {
+    float err;
+    uint32_t t, ver;
+} heap_ent;
+
+#define TV(b, e) ((b)->T[(e) / 3].v[(e) % 3])
+#define HE(b, e) ((b)->T[(e) / 3].he[(e) % 3])
+
 typedef struct tin_build {
     const float* h;
     int w, hgt;
@@ -23,17 +40,14 @@ typedef struct tin_build {
     int32_t* vx;      /* 2 per vertex */
     float* vz;
     size_t nv, cap_v;
-    /* triangles */
-    uint32_t* tri;    /* 3 per triangle */
-    int32_t* he;      /* 3 per triangle */
-    uint32_t* cand;   /* worst sample's index, per triangle */
-    float* terr;      /* its error */
-    int32_t* hpos;    /* position in the heap, -1 when not in it */
-    uint8_t* pend;    /* 1 while in the pending list */
+    /* triangles, one cache-friendly record each */
+    tin_tri* T;
     size_t nt, cap_t;
-    /* heap of triangle ids, max error first */
-    uint32_t* heap;
-    size_t nh;
+    /* heap of triangles above the bound, max error first, keys kept in the entries; a rewritten
+     * triangle's entry is left in place and skipped when it surfaces (lazy deletion: no sift for
+     * the 4 to 8 triangles each insertion rewrites) */
+    heap_ent* heap;
+    size_t nh, cap_h;
     /* triangles to rasterise */
     uint32_t* pending;
     size_t np;
@@ -70,28 +84,10 @@ static int reserve_triangles(tin_build* b, size_t need)
     while (c < need)
         c *= 2;
     void* p;
-    if (!(p = realloc(b->tri, c * 3 * sizeof *b->tri)))
+    if (!(p = realloc(b->T, c * sizeof *b->T)))
         return 0;
-    b->tri = p;
-    if (!(p = realloc(b->he, c * 3 * sizeof *b->he)))
-        return 0;
-    b->he = p;
-    if (!(p = realloc(b->cand, c * sizeof *b->cand)))
-        return 0;
-    b->cand = p;
-    if (!(p = realloc(b->terr, c * sizeof *b->terr)))
-        return 0;
-    b->terr = p;
-    if (!(p = realloc(b->hpos, c * sizeof *b->hpos)))
-        return 0;
-    b->hpos = p;
-    if (!(p = realloc(b->pend, c)))
-        return 0;
-    b->pend = p;
-    /* the heap and the pending list hold at most one entry per triangle */
-    if (!(p = realloc(b->heap, c * sizeof *b->heap)))
-        return 0;
-    b->heap = p;
+    b->T = p;
+    /* the pending list holds at most one entry per triangle */
     if (!(p = realloc(b->pending, c * sizeof *b->pending)))
         return 0;
     b->pending = p;
@@ -132,63 +128,65 @@ static inline double incircle(const tin_build* bd, const int32_t* a, const int32
 
 /* ---- heap (max error at the top) ---- */
 
-static inline void heap_set(tin_build* b, size_t i, uint32_t t)
-{
-    b->heap[i] = t;
-    b->hpos[t] = (int32_t)i;
-}
-
 static void heap_up(tin_build* b, size_t i)
 {
-    uint32_t t = b->heap[i];
-    float e = b->terr[t];
+    heap_ent h = b->heap[i];
     while (i > 0) {
         size_t p = (i - 1) / 2;
-        if (b->terr[b->heap[p]] >= e)
+        if (b->heap[p].err >= h.err)
             break;
-        heap_set(b, i, b->heap[p]);
+        b->heap[i] = b->heap[p];
         i = p;
     }
-    heap_set(b, i, t);
+    b->heap[i] = h;
 }
 
 static void heap_down(tin_build* b, size_t i)
 {
-    uint32_t t = b->heap[i];
-    float e = b->terr[t];
+    heap_ent h = b->heap[i];
     for (;;) {
         size_t l = 2 * i + 1;
         if (l >= b->nh)
             break;
         size_t r = l + 1, m = l;
-        if (r < b->nh && b->terr[b->heap[r]] > b->terr[b->heap[l]])
+        if (r < b->nh && b->heap[r].err > b->heap[l].err)
             m = r;
-        if (b->terr[b->heap[m]] <= e)
+        if (b->heap[m].err <= h.err)
             break;
-        heap_set(b, i, b->heap[m]);
+        b->heap[i] = b->heap[m];
         i = m;
     }
-    heap_set(b, i, t);
+    b->heap[i] = h;
 }
 
-static void heap_push(tin_build* b, uint32_t t)
+static int heap_push(tin_build* b, uint32_t t)
 {
-    b->heap[b->nh] = t;
+    if (b->nh == b->cap_h) {
+        size_t c = b->cap_h ? 2 * b->cap_h : 1024;
+        heap_ent* p = realloc(b->heap, c * sizeof *p);
+        if (!p)
+            return 0;
+        b->heap = p;
+        b->cap_h = c;
+    }
+    b->heap[b->nh] = (heap_ent){b->T[t].err, t, b->T[t].ver};
     heap_up(b, b->nh++);
+    return 1;
 }
 
-static void heap_remove(tin_build* b, uint32_t t)
+static void heap_pop(tin_build* b)
 {
-    int32_t i = b->hpos[t];
-    if (i < 0)
-        return;
-    b->hpos[t] = -1;
-    uint32_t last = b->heap[--b->nh];
-    if ((size_t)i == b->nh)
-        return;
-    heap_set(b, (size_t)i, last);
-    heap_up(b, (size_t)i);
-    heap_down(b, (size_t)b->hpos[last]);
+    b->heap[0] = b->heap[--b->nh];
+    if (b->nh > 0)
+        heap_down(b, 0);
+}
+
+/* Drops stale entries from the top; returns 1 when a live triangle is on top. */
+static int heap_live_top(tin_build* b)
+{
+    while (b->nh > 0 && b->heap[0].ver != b->T[b->heap[0].t].ver)
+        heap_pop(b);
+    return b->nh > 0;
 }
 
 /* ---- rasterising one triangle: its worst valid sample ---- */
@@ -209,7 +207,7 @@ static inline int is_corner(const int32_t* const p[3], int32_t x, int32_t y)
 
 static void rasterise(tin_build* b, uint32_t t)
 {
-    const uint32_t* v = b->tri + 3 * (size_t)t;
+    const uint32_t* v = b->T[t].v;
     const int32_t* p[3] = {b->vx + 2 * v[0], b->vx + 2 * v[1], b->vx + 2 * v[2]};
     const double za = b->vz[v[0]], zb = b->vz[v[1]], zc = b->vz[v[2]];
     const int64_t det = orient(p[0], p[1], p[2]); /* < 0 */
@@ -273,8 +271,8 @@ static void rasterise(tin_build* b, uint32_t t)
     float f = best < 0 ? 0.0f : (float)best;
     if ((double)f < best)
         f = nextafterf(f, INFINITY);
-    b->terr[t] = f;
-    b->cand[t] = best_i;
+    b->T[t].err = f;
+    b->T[t].cand = best_i;
 }
 
 /* ---- triangulation ---- */
@@ -302,9 +300,9 @@ static uint32_t add_vertex(tin_build* b, int32_t x, int32_t y, float z)
 
 static void twin_link(tin_build* b, int32_t e, int32_t twin)
 {
-    b->he[e] = twin;
+    HE(b, e) = twin;
     if (twin >= 0)
-        b->he[twin] = e;
+        HE(b, twin) = e;
 }
 
 /* Writes triangle (a, b, c) with twins (ab, bc, ca) into slot e (a multiple of 3), or a new
@@ -314,19 +312,19 @@ static int32_t add_triangle(tin_build* b, uint32_t va, uint32_t vb, uint32_t vc,
 {
     if (e < 0) {
         e = (int32_t)(3 * b->nt++); /* capacity reserved by the caller */
-        b->hpos[e / 3] = -1;
-        b->pend[e / 3] = 0;
+        b->T[e / 3].ver = 0;
+        b->T[e / 3].pend = 0;
     }
     uint32_t t = (uint32_t)e / 3;
-    b->tri[e] = va;
-    b->tri[e + 1] = vb;
-    b->tri[e + 2] = vc;
+    TV(b, e) = va;
+    TV(b, e + 1) = vb;
+    TV(b, e + 2) = vc;
     twin_link(b, e, ab);
     twin_link(b, e + 1, bc);
     twin_link(b, e + 2, ca);
-    heap_remove(b, t);
-    if (!b->pend[t]) {
-        b->pend[t] = 1;
+    b->T[t].ver++; /* its heap entry, if any, is stale */
+    if (!b->T[t].pend) {
+        b->T[t].pend = 1;
         b->pending[b->np++] = t;
     }
     return e;
@@ -341,13 +339,13 @@ static void legalise(tin_build* b)
 {
     while (b->ns > 0) {
         int32_t a = b->stack[--b->ns];
-        int32_t bo = b->he[a];
+        int32_t bo = HE(b, a);
         if (bo < 0)
             continue;
         int32_t a0 = a - a % 3, b0 = bo - bo % 3;
         int32_t al = next_e(a), ar = prev_e(a);
         int32_t bl = prev_e(bo), br = next_e(bo);
-        uint32_t p0 = b->tri[ar], pr = b->tri[a], pl = b->tri[al], p1 = b->tri[bl];
+        uint32_t p0 = TV(b, ar), pr = TV(b, a), pl = TV(b, al), p1 = TV(b, bl);
         const int32_t *c0 = b->vx + 2 * p0, *cr = b->vx + 2 * pr, *cl = b->vx + 2 * pl,
                       *c1 = b->vx + 2 * p1;
         /* (p0, pr, pl) has orient < 0: p1 inside its circumcircle when incircle < 0 */
@@ -356,7 +354,7 @@ static void legalise(tin_build* b)
         /* the new pair must keep orient < 0 (always, when the test above is exact) */
         if (!(orient(c0, c1, cl) < 0 && orient(c1, c0, cr) < 0))
             continue;
-        int32_t hal = b->he[al], har = b->he[ar], hbl = b->he[bl], hbr = b->he[br];
+        int32_t hal = HE(b, al), har = HE(b, ar), hbl = HE(b, bl), hbr = HE(b, br);
         int32_t t0 = add_triangle(b, p0, p1, pl, -1, hbl, hal, a0);
         int32_t t1 = add_triangle(b, p1, p0, pr, t0, har, hbr, b0);
         if (!grow((void**)&b->stack, &b->cap_s, b->ns + 2, sizeof *b->stack)) {
@@ -384,9 +382,9 @@ static void push_legalise(tin_build* b, const int32_t* e, int n)
 static void split_edge(tin_build* b, uint32_t pn, int32_t a)
 {
     int32_t a0 = a - a % 3, al = next_e(a), ar = prev_e(a);
-    uint32_t p0 = b->tri[ar], pr = b->tri[a], pl = b->tri[al];
-    int32_t hal = b->he[al], har = b->he[ar];
-    int32_t bo = b->he[a];
+    uint32_t p0 = TV(b, ar), pr = TV(b, a), pl = TV(b, al);
+    int32_t hal = HE(b, al), har = HE(b, ar);
+    int32_t bo = HE(b, a);
     if (bo < 0) {
         int32_t t0 = add_triangle(b, pn, p0, pr, -1, har, -1, a0);
         int32_t t1 = add_triangle(b, p0, pn, pl, t0, -1, hal, -1);
@@ -395,8 +393,8 @@ static void split_edge(tin_build* b, uint32_t pn, int32_t a)
         return;
     }
     int32_t b0 = bo - bo % 3, bl = prev_e(bo), br = next_e(bo);
-    uint32_t p1 = b->tri[bl];
-    int32_t hbl = b->he[bl], hbr = b->he[br];
+    uint32_t p1 = TV(b, bl);
+    int32_t hbl = HE(b, bl), hbr = HE(b, br);
     int32_t t0 = add_triangle(b, p0, pr, pn, har, -1, -1, a0);
     int32_t t1 = add_triangle(b, pr, p1, pn, hbr, -1, t0 + 1, b0);
     int32_t t2 = add_triangle(b, p1, pl, pn, hbl, -1, t1 + 1, -1);
@@ -410,10 +408,10 @@ static void flush(tin_build* b)
 {
     for (size_t i = 0; i < b->np; ++i) {
         uint32_t t = b->pending[i];
-        b->pend[t] = 0;
+        b->T[t].pend = 0;
         rasterise(b, t);
-        if (b->terr[t] > b->bound)
-            heap_push(b, t);
+        if (b->T[t].err > b->bound && !heap_push(b, t))
+            b->oom = 1;
     }
     b->np = 0;
 }
@@ -421,20 +419,20 @@ static void flush(tin_build* b)
 /* Inserts the worst sample of the worst triangle. */
 static void step(tin_build* b)
 {
-    uint32_t t = b->heap[0];
-    heap_remove(b, t);
+    uint32_t t = b->heap[0].t;
+    heap_pop(b);
     /* at most two new triangles per insertion (flips add none) */
     if (!reserve_triangles(b, b->nt + 2)) {
         b->oom = 1;
         return;
     }
-    uint32_t s = b->cand[t];
+    uint32_t s = b->T[t].cand;
     int32_t x = (int32_t)(s % (uint32_t)b->w), y = (int32_t)(s / (uint32_t)b->w);
     uint32_t pn = add_vertex(b, x, y, b->h[s]);
     if (b->oom)
         return;
     int32_t e0 = (int32_t)(3 * t), e1 = e0 + 1, e2 = e0 + 2;
-    uint32_t v0 = b->tri[e0], v1 = b->tri[e1], v2 = b->tri[e2];
+    uint32_t v0 = TV(b, e0), v1 = TV(b, e1), v2 = TV(b, e2);
     const int32_t *a = b->vx + 2 * v0, *bb = b->vx + 2 * v1, *c = b->vx + 2 * v2,
                   *p = b->vx + 2 * pn;
     if (orient(a, bb, p) == 0)
@@ -444,7 +442,7 @@ static void step(tin_build* b)
     else if (orient(c, a, p) == 0)
         split_edge(b, pn, e2);
     else {
-        int32_t h0 = b->he[e0], h1 = b->he[e1], h2 = b->he[e2];
+        int32_t h0 = HE(b, e0), h1 = HE(b, e1), h2 = HE(b, e2);
         int32_t t0 = add_triangle(b, v0, v1, pn, h0, -1, -1, e0);
         int32_t t1 = add_triangle(b, v1, v2, pn, h1, -1, t0 + 1, -1);
         int32_t t2 = add_triangle(b, v2, v0, pn, h2, t0 + 2, t1 + 1, -1);
@@ -483,12 +481,7 @@ static void build_free(tin_build* b)
 {
     free(b->vx);
     free(b->vz);
-    free(b->tri);
-    free(b->he);
-    free(b->cand);
-    free(b->terr);
-    free(b->hpos);
-    free(b->pend);
+    free(b->T);
     free(b->heap);
     free(b->pending);
     free(b->stack);
@@ -584,7 +577,7 @@ tp_status tp_tin_build(const float* heights, size_t height_count, int width, int
     int32_t t0 = add_triangle(&b, p3, p0, p2, -1, -1, -1, -1);
     add_triangle(&b, p0, p3, p1, t0, -1, -1, -1);
     flush(&b);
-    while (b.nh > 0 && !b.oom)
+    while (!b.oom && heap_live_top(&b))
         step(&b);
     if (b.oom)
         goto oom;
@@ -600,11 +593,11 @@ tp_status tp_tin_build(const float* heights, size_t height_count, int width, int
     double mx = 0.0;
     for (size_t i = 0; i < b.nt; ++i) {
         /* every slot is live; in tp_tin the order is as stored (orient < 0 in (column, row)) */
-        t->triangles[3 * i] = b.tri[3 * i];
-        t->triangles[3 * i + 1] = b.tri[3 * i + 1];
-        t->triangles[3 * i + 2] = b.tri[3 * i + 2];
-        t->triangle_error_m[i] = b.terr[i];
-        mx = b.terr[i] > mx ? b.terr[i] : mx;
+        t->triangles[3 * i] = b.T[i].v[0];
+        t->triangles[3 * i + 1] = b.T[i].v[1];
+        t->triangles[3 * i + 2] = b.T[i].v[2];
+        t->triangle_error_m[i] = b.T[i].err;
+        mx = b.T[i].err > mx ? b.T[i].err : mx;
     }
     t->max_error_m = mx;
     t->samples_rasterised = b.visited;
