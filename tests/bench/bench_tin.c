@@ -1,7 +1,7 @@
 /* bench_tin.c - the error-bounded TIN (tp_tin_build) at e = 1, 5, 20 m: triangles, time (median
  * of RUNS), true max error (a checker written here: every triangle rasterised with barycentric
- * weights, every valid sample compared), peak memory (a child process runs one build; its
- * getrusage peak minus its peak before the build). docs/PERFORMANCE.md, "Error-bounded TIN".
+ * weights, every valid sample compared), peak memory (a forked child runs one build: the peak
+ * RSS it adds, VmHWM reset through /proc/self/clear_refs). docs/PERFORMANCE.md, "Error-bounded TIN".
  *
  *   tp_bench_tin DEM [RUNS [DELATIN_SCRIPT]]     (TP_BENCH_TIN_NO_4097=1: the DEM's grids only)
  *
@@ -10,15 +10,15 @@
  * made of the render grid mirrored again and again (as bench_viewshed's 3601^2 one). With
  * DELATIN_SCRIPT (tools/tin_delatin.mjs, delatin from npm), delatin meshes the filled grids in
  * the same run: its triangles, median time and peak RSS, and its true error by the same checker. */
-#define _POSIX_C_SOURCE 200809L
+#define _GNU_SOURCE /* malloc_trim */
 #include "bench_util.h"
 #include "tp_io.h"
 
+#include <malloc.h>
 #include <math.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <string.h>
-#include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -70,14 +70,23 @@ static double true_error(const float* vxyz, size_t nv, const uint32_t* tri, size
     return mx;
 }
 
-static double maxrss_mib(void)
+/* The process's peak RSS (MiB): VmHWM of /proc/self/status; -1 where it cannot be read. */
+static double peak_rss_mib(void)
 {
-    struct rusage ru;
-    getrusage(RUSAGE_SELF, &ru);
-    return ru.ru_maxrss / 1024.0; /* kB on Linux */
+    FILE* f = fopen("/proc/self/status", "r");
+    char line[256];
+    double kb = -1;
+    while (f && fgets(line, sizeof line, f))
+        if (strncmp(line, "VmHWM:", 6) == 0)
+            kb = atof(line + 6);
+    if (f)
+        fclose(f);
+    return kb < 0 ? -1 : kb / 1024.0;
 }
 
-/* Peak memory of one build, in a child: its peak after minus before (MiB). */
+/* Peak memory one build adds, in a forked child: its peak RSS is reset to its current RSS
+ * (Linux: "5" written to /proc/self/clear_refs), then read after the build. MiB; -1 if not
+ * measurable. */
 static double build_peak_mib(const float* z, int w, int h, double e)
 {
     int fd[2];
@@ -86,11 +95,16 @@ static double build_peak_mib(const float* z, int w, int h, double e)
     pid_t pid = fork();
     if (pid == 0) {
         close(fd[0]);
-        double before = maxrss_mib();
-        tp_tin* t = NULL;
-        tp_tin_build(z, (size_t)w * h, w, h, e, &t, NULL);
-        double d = maxrss_mib() - before;
-        tp_tin_destroy(t);
+        double d = -1;
+        malloc_trim(0); /* the parent's freed heap would otherwise be reused unseen */
+        FILE* c = fopen("/proc/self/clear_refs", "w");
+        if (c && fputs("5", c) >= 0 && fclose(c) == 0) {
+            double before = peak_rss_mib();
+            tp_tin* t = NULL;
+            tp_tin_build(z, (size_t)w * h, w, h, e, &t, NULL);
+            d = peak_rss_mib() - before;
+            tp_tin_destroy(t);
+        }
         if (write(fd[1], &d, sizeof d) != (ssize_t)sizeof d)
             _exit(1);
         _exit(0);
