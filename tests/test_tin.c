@@ -20,6 +20,7 @@
     X(zero_error_on_random_data_inserts_every_sample)                                              \
     X(random_grids_hold_the_bound)                                                                 \
     X(bad_arguments_are_refused)                                                                   \
+    X(wide_grid_takes_the_double_incircle_path)                                                    \
     X(mt_hood_holds_the_bound)                                                                     \
     X(n42e001_holds_the_bound)                                                                     \
     X(crater_lake_holds_the_bound)
@@ -370,6 +371,22 @@ TEST(random_grids_hold_the_bound)
         tp_tin_destroy(t);
         free(z);
     }
+}
+
+TEST(wide_grid_takes_the_double_incircle_path)
+{
+    /* wider than 2^14: the in-circle test runs in doubles, flips guarded by convexity */
+    const int w = 17001, h = 4;
+    tp_rng r = tp_rng_seed(16384);
+    float* z = grid_new(w, h, 0.0f);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x)
+            z[y * w + x] = (float)(300.0 * sin(x * 0.003) + 20.0 * sin(x * 0.05 + y) +
+                                   tp_rng_range(&r, 0, 1));
+    tp_tin* t = build_checked(z, w, h, 3.0);
+    EXPECT_TRUE(t->triangle_count > 100);
+    tp_tin_destroy(t);
+    free(z);
 }
 
 TEST(bad_arguments_are_refused)
