@@ -1173,6 +1173,61 @@ tp_status tp_los_compute(const double geotransform[6], double from_x, double fro
                          void* user, tp_los_sample* samples, size_t sample_capacity,
                          tp_los_result* out, tp_error* err);
 
+/* ---------------------------------------------------------------------------------------------
+ * Error-bounded TIN (tin.c, issue 14; docs/tin.md): a triangulated irregular network over a
+ * height grid whose vertical error is at most max_error_m at every valid sample
+ *
+ * Greedy insertion of the worst sample into a Delaunay triangulation (Garland & Heckbert 1995,
+ * "Fast polygonal approximation of terrains and height fields", algorithm III; as mapbox's
+ * delatin): start from the grid's four corners (two triangles), find each triangle's worst
+ * sample by rasterising it over the grid, keep the triangles above the bound in a max-heap and
+ * insert the worst one's sample until none is left above it; each insertion re-rasterises only
+ * the triangles it created (split and Lawson-flipped). O(s) per rasterised triangle of s
+ * samples, O(log t) per heap operation: about O(samples x log) in practice.
+ *
+ * The bound: the error at a valid sample is |sample height - the linear interpolation of the
+ * triangle that contains it (closed) at the sample|; the build measures it at every valid sample
+ * of every output triangle (exact integer inside tests, double interpolation) and returns only
+ * when every one is <= max_error_m. A sample on a shared edge interpolates the same from both
+ * sides (up to double rounding, about 1e-12 m).
+ *
+ * Grid coordinates as everywhere in this header: vertex (x, y) is sample (column, row); x, y are
+ * integers (exact in the floats below up to 2^24). Triangles are counter-clockwise seen from
+ * above on a north-up grid, rows running south: (b - a) x (c - a) < 0 in (column, row), i.e.
+ * positive area in (column, -row). Every vertex is distinct; the triangles tile the rectangle
+ * [0, width-1] x [0, height-1] exactly (watertight: each interior edge in two triangles, the
+ * boundary is the grid's outline).
+ *
+ * Voids (NaN samples): ignored by the bound (no error is measured there) and never inserted, so
+ * triangles span voids; a corner vertex that falls in a void takes the height of the nearest
+ * valid sample (Chebyshev rings around the corner, the first found in row order). The full
+ * resolution export draws no triangle over a void; a TIN does (docs/tin.md says what is left).
+ *
+ * Degenerate grids: width or height 1 has no area: no triangles, and every valid sample is a
+ * vertex (a polyline, lossless). A grid with no valid sample gives no vertex and no triangle.
+ */
+typedef struct tp_tin {
+    size_t vertex_count;
+    float* vertices;          /* vertex_count * 3: grid x, grid y, height (m) */
+    size_t triangle_count;
+    uint32_t* triangles;      /* triangle_count * 3 vertex indices, counter-clockwise from above */
+    float* triangle_error_m;  /* triangle_count: max error over the valid samples it covers */
+    double max_error_m;       /* max of triangle_error_m (0 with no triangle) */
+    size_t samples_rasterised; /* work done: samples visited measuring errors (for benches) */
+} tp_tin;
+
+/* Builds the TIN of a width x height row-major grid (NaN = void) with error <= max_error_m at
+ * every valid sample, into *out (free with tp_tin_destroy). height_count must be width * height
+ * (asserted). Fails (*out untouched) with TP_ERR_INVALID_ARG for width or height < 1, a grid of
+ * 2^32 samples or more, max_error_m negative or not finite; TP_ERR_OUT_OF_MEMORY. Reentrant.
+ * max_error_m = 0 inserts every sample that any interpolation misses (on random data every
+ * sample: 2 (width-1)(height-1) triangles). */
+tp_status tp_tin_build(const float* heights, size_t height_count, int width, int height,
+                       double max_error_m, tp_tin** out, tp_error* err);
+
+/* Frees a TIN; NULL is allowed. */
+void tp_tin_destroy(tp_tin* tin);
+
 #ifdef __cplusplus
 }
 #endif
