@@ -1,9 +1,5 @@
-/* test_tin.c - the error-bounded TIN (tp_tin_build) checked by a checker written here, not
- * taken from tin.c: every triangle rasterised over its bounding box with barycentric weights
- * from exact integer areas; every sample must be covered, and every valid sample's error
- * |height - interpolation| must be <= the bound. The triangulation is checked to tile the grid's
- * rectangle: positive area seen from above (north-up), each directed edge once, every edge
- * without a twin on the outline, areas summing to the rectangle's, no duplicated vertex. */
+/* test_tin.c - the error-bounded TIN (tp_tin_build) checked by tp_test_tin.h's checker, written
+ * apart from tin.c. */
 #include "tp_io.h"
 #include "tp_test.h"
 
@@ -23,146 +19,36 @@
     X(wide_grid_takes_the_double_incircle_path)                                                    \
     X(mt_hood_holds_the_bound)                                                                     \
     X(n42e001_holds_the_bound)                                                                     \
-    X(crater_lake_holds_the_bound)
+    X(crater_lake_holds_the_bound)                                                                 \
+    X(cut_without_voids_changes_nothing)                                                           \
+    X(cut_covers_exactly_the_valid_cells)                                                          \
+    X(cut_single_void_in_a_plane)                                                                  \
+    X(cut_checkerboard_and_edge_voids)                                                             \
+    X(cut_all_void_and_no_valid_cell_are_empty)                                                    \
+    X(cut_mt_hood_with_holes_holds_the_bound)
 
-/* Float rounding of the interpolation (doubles of float heights up to a few km) */
-#define TOL_M 1e-6
+#include "tp_test_tin.h"
 
-static int64_t orient_xy(const float* a, const float* b, const float* c)
-{
-    int64_t ax = (int64_t)a[0], ay = (int64_t)a[1], bx = (int64_t)b[0], by = (int64_t)b[1];
-    int64_t cx = (int64_t)c[0], cy = (int64_t)c[1];
-    return (bx - ax) * (cy - ay) - (by - ay) * (cx - ax);
-}
-
-static int cmp_u64(const void* a, const void* b)
-{
-    uint64_t x = *(const uint64_t*)a, y = *(const uint64_t*)b;
-    return (x > y) - (x < y);
-}
-
-static int on_outline(const float* a, const float* b, int w, int h)
-{
-    float X = (float)(w - 1), Y = (float)(h - 1);
-    return (a[0] == 0 && b[0] == 0) || (a[0] == X && b[0] == X) || (a[1] == 0 && b[1] == 0) ||
-           (a[1] == Y && b[1] == Y);
-}
-
-/* Checks the triangulation and the bound; returns the measured max error. */
-static double check_tin(const tp_tin* t, const float* z, int w, int h, double bound_m)
-{
-    const size_t n = (size_t)w * h;
-    /* vertices: integer grid positions inside the grid, distinct; height = the sample's where
-     * the sample is valid */
-    uint8_t* seen = (uint8_t*)calloc(n, 1);
-    ASSERT_TRUE(seen != NULL);
-    for (size_t i = 0; i < t->vertex_count; ++i) {
-        const float* v = t->vertices + 3 * i;
-        ASSERT_TRUE(v[0] == floorf(v[0]) && v[1] == floorf(v[1]));
-        ASSERT_TRUE(v[0] >= 0 && v[0] < w && v[1] >= 0 && v[1] < h);
-        size_t s = (size_t)v[1] * w + (size_t)v[0];
-        ASSERT_EQ_INT(0, seen[s]);
-        seen[s] = 1;
-        if (z[s] == z[s])
-            ASSERT_TRUE(v[2] == z[s]);
-        ASSERT_TRUE(v[2] == v[2]);
-    }
-    free(seen);
-    if (w < 2 || h < 2) {
-        EXPECT_EQ_INT(0, (int)t->triangle_count);
-        return 0.0;
-    }
-    /* triangles: positive area on the map (negative in (column, row)), directed edges once,
-     * twins or the outline, areas summing to the rectangle */
-    const size_t m = t->triangle_count;
-    uint64_t* edges = (uint64_t*)malloc(sizeof(uint64_t) * (3 * m + 1));
-    ASSERT_TRUE(edges != NULL);
-    int64_t area2 = 0;
-    for (size_t i = 0; i < m; ++i) {
-        const uint32_t* tr = t->triangles + 3 * i;
-        for (int k = 0; k < 3; ++k)
-            ASSERT_TRUE(tr[k] < t->vertex_count);
-        const float *a = t->vertices + 3 * tr[0], *b = t->vertices + 3 * tr[1],
-                    *c = t->vertices + 3 * tr[2];
-        int64_t o = orient_xy(a, b, c);
-        if (o >= 0)
-            FAIL("triangle %zu is not counter-clockwise on the map (orient %lld)", i, (long long)o);
-        area2 += -o;
-        for (int k = 0; k < 3; ++k)
-            edges[3 * i + k] = ((uint64_t)tr[k] << 32) | tr[(k + 1) % 3];
-    }
-    EXPECT_EQ_INT(2 * (int64_t)(w - 1) * (h - 1), area2);
-    qsort(edges, 3 * m, sizeof *edges, cmp_u64);
-    int64_t outline_len = 0;
-    for (size_t i = 0; i < 3 * m; ++i) {
-        if (i > 0 && edges[i] == edges[i - 1])
-            FAIL("directed edge %llx twice", (unsigned long long)edges[i]);
-        uint32_t u = (uint32_t)(edges[i] >> 32), v = (uint32_t)edges[i];
-        uint64_t rev = ((uint64_t)v << 32) | u;
-        if (!bsearch(&rev, edges, 3 * m, sizeof *edges, cmp_u64)) {
-            const float *a = t->vertices + 3 * u, *b = t->vertices + 3 * v;
-            if (!on_outline(a, b, w, h))
-                FAIL("edge (%g,%g)-(%g,%g) has one triangle but is not on the outline", a[0],
-                     a[1], b[0], b[1]);
-            outline_len += (int64_t)(fabsf(a[0] - b[0]) + fabsf(a[1] - b[1]));
-        }
-    }
-    EXPECT_EQ_INT(2 * (int64_t)(w - 1) + 2 * (int64_t)(h - 1), outline_len);
-    free(edges);
-
-    /* the bound, sample by sample, by barycentric weights */
-    double* worst = (double*)malloc(sizeof(double) * n);
-    ASSERT_TRUE(worst != NULL);
-    for (size_t i = 0; i < n; ++i)
-        worst[i] = -1.0;
-    for (size_t i = 0; i < m; ++i) {
-        const uint32_t* tr = t->triangles + 3 * i;
-        const float *a = t->vertices + 3 * tr[0], *b = t->vertices + 3 * tr[1],
-                    *c = t->vertices + 3 * tr[2];
-        const double area = (double)orient_xy(a, b, c);
-        int x0 = (int)fminf(a[0], fminf(b[0], c[0])), x1 = (int)fmaxf(a[0], fmaxf(b[0], c[0]));
-        int y0 = (int)fminf(a[1], fminf(b[1], c[1])), y1 = (int)fmaxf(a[1], fmaxf(b[1], c[1]));
-        double tri_worst = 0.0;
-        for (int y = y0; y <= y1; ++y)
-            for (int x = x0; x <= x1; ++x) {
-                float p[2] = {(float)x, (float)y};
-                int64_t la = orient_xy(p, b, c), lb = orient_xy(a, p, c), lc = orient_xy(a, b, p);
-                if (la > 0 || lb > 0 || lc > 0)
-                    continue; /* outside (inside has all <= 0, as the area) */
-                double zi = (la * (double)a[2] + lb * (double)b[2] + lc * (double)c[2]) / area;
-                size_t s = (size_t)y * w + x;
-                double e = z[s] == z[s] ? fabs(z[s] - zi) : 0.0;
-                worst[s] = e > worst[s] ? e : worst[s];
-                tri_worst = e > tri_worst ? e : tri_worst;
-            }
-        /* the error the TIN reports for the triangle is what it covers */
-        EXPECT_NEAR(tri_worst, t->triangle_error_m[i], 1e-4);
-    }
-    double mx = 0.0;
-    size_t uncovered = 0, over = 0;
-    for (size_t s = 0; s < n; ++s) {
-        if (worst[s] < 0)
-            uncovered++;
-        else if (worst[s] > bound_m + TOL_M)
-            over++;
-        mx = worst[s] > mx ? worst[s] : mx;
-    }
-    free(worst);
-    EXPECT_EQ_INT(0, (int)uncovered);
-    if (over)
-        FAIL("%zu samples above the bound %g m (max %g m)", over, bound_m, mx);
-    EXPECT_NEAR(mx, t->max_error_m, 1e-4);
-    return mx;
-}
-
-static tp_tin* build_ok(const float* z, int w, int h, double e)
+static tp_tin* build_flags(const float* z, int w, int h, double e, unsigned flags)
 {
     tp_tin* t = NULL;
     tp_error err;
     memset(&err, 0, sizeof err);
-    tp_status s = tp_tin_build(z, (size_t)w * h, w, h, e, &t, &err);
+    tp_status s = tp_tin_build(z, (size_t)w * h, w, h, e, flags, &t, &err);
     if (s != TP_OK)
         FAIL("tp_tin_build %dx%d e=%g: %s: %s", w, h, e, tp_test_status_name_(s), err.message);
+    return t;
+}
+
+static tp_tin* build_ok(const float* z, int w, int h, double e)
+{
+    return build_flags(z, w, h, e, 0);
+}
+
+static tp_tin* build_cut_checked(const float* z, int w, int h, double e)
+{
+    tp_tin* t = build_flags(z, w, h, e, TP_TIN_CUT_VOIDS);
+    check_tin_mode(t, z, w, h, e, 1);
     return t;
 }
 
@@ -395,11 +281,11 @@ TEST(bad_arguments_are_refused)
     tp_tin* t = (tp_tin*)(uintptr_t)1; /* untouched on failure */
     tp_error err;
     memset(&err, 0, sizeof err);
-    EXPECT_STATUS(TP_ERR_INVALID_ARG, tp_tin_build(z, 4, 2, 2, -1.0, &t, &err));
+    EXPECT_STATUS(TP_ERR_INVALID_ARG, tp_tin_build(z, 4, 2, 2, -1.0, 0, &t, &err));
     EXPECT_CONTAINS(err.message, "max error");
-    EXPECT_STATUS(TP_ERR_INVALID_ARG, tp_tin_build(z, 4, 2, 2, NAN, &t, &err));
-    EXPECT_STATUS(TP_ERR_INVALID_ARG, tp_tin_build(z, 4, 2, 2, INFINITY, &t, NULL));
-    EXPECT_STATUS(TP_ERR_INVALID_ARG, tp_tin_build(z, 0, 0, 2, 1.0, &t, &err));
+    EXPECT_STATUS(TP_ERR_INVALID_ARG, tp_tin_build(z, 4, 2, 2, NAN, 0, &t, &err));
+    EXPECT_STATUS(TP_ERR_INVALID_ARG, tp_tin_build(z, 4, 2, 2, INFINITY, 0, &t, NULL));
+    EXPECT_STATUS(TP_ERR_INVALID_ARG, tp_tin_build(z, 0, 0, 2, 1.0, 0, &t, &err));
     EXPECT_TRUE(t == (tp_tin*)(uintptr_t)1);
     tp_tin_destroy(NULL);
 }
@@ -438,6 +324,14 @@ static void real_dem(const char* file)
         EXPECT_TRUE(t->triangle_count < 2 * (size_t)(w - 1) * (h - 1));
         prev = t->triangle_count;
         tp_tin_destroy(t);
+        /* cut at the voids (the warp's margins, SRTM's holes): the full mesh's cells exactly
+         * (at the loosest bound only: the checker's cost is in the big triangles) */
+        if (k < 2)
+            continue;
+        t = build_cut_checked(g->heights, w, h, es[k]);
+        printf("  cut at voids: %zu triangles, %zu vertices\n", t->triangle_count,
+               t->vertex_count);
+        tp_tin_destroy(t);
     }
     tp_render_grid_destroy(g);
 }
@@ -446,5 +340,162 @@ static void real_dem(const char* file)
 TEST(mt_hood_holds_the_bound) { real_dem("lf_elev_220_mt_hood_utm.tif"); }
 TEST(n42e001_holds_the_bound) { real_dem("N42E001.hgt"); }
 TEST(crater_lake_holds_the_bound) { real_dem("craterlake-elev-16bit-30m.tif"); }
+
+/* ---------------------------------------------------------------------------------------------
+ * TP_TIN_CUT_VOIDS: the TIN covers exactly the cells the full-resolution mesh draws
+ */
+static int same_tin(const tp_tin* a, const tp_tin* b)
+{
+    return a->vertex_count == b->vertex_count && a->triangle_count == b->triangle_count &&
+           !memcmp(a->vertices, b->vertices, a->vertex_count * 3 * sizeof(float)) &&
+           !memcmp(a->triangles, b->triangles, a->triangle_count * 3 * sizeof(uint32_t));
+}
+
+static float* random_relief(int w, int h, unsigned seed)
+{
+    float* z = grid_new(w, h, 0.0f);
+    srand(seed);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x)
+            z[(size_t)y * w + x] = 50.0f * sinf(x * 0.21f) * cosf(y * 0.17f) +
+                                   (float)(rand() % 1000) / 100.0f;
+    return z;
+}
+
+TEST(cut_without_voids_changes_nothing)
+{
+    const int w = 61, h = 45;
+    float* z = random_relief(w, h, 3);
+    tp_tin* a = build_ok(z, w, h, 2.0);
+    tp_tin* b = build_cut_checked(z, w, h, 2.0);
+    EXPECT_TRUE(same_tin(a, b));
+    tp_tin_destroy(a);
+    tp_tin_destroy(b);
+    free(z);
+}
+
+TEST(cut_covers_exactly_the_valid_cells)
+{
+    /* random voids from single samples to blobs, sizes that are not 2^n + 1 */
+    const int sizes[][2] = {{37, 29}, {64, 64}, {101, 57}};
+    const int percent[] = {1, 10, 40};
+    const double es[] = {0.0, 1.0, 5.0};
+    for (int si = 0; si < 3; ++si)
+        for (int pi = 0; pi < 3; ++pi) {
+            int w = sizes[si][0], h = sizes[si][1];
+            float* z = random_relief(w, h, (unsigned)(si * 7 + pi));
+            for (int k = 0; k < w * h * percent[pi] / 100; ++k) {
+                int cx = rand() % w, cy = rand() % h, r = rand() % 3;
+                for (int y = cy - r; y <= cy + r; ++y)
+                    for (int x = cx - r; x <= cx + r; ++x)
+                        if (x >= 0 && y >= 0 && x < w && y < h && rand() % 4)
+                            z[(size_t)y * w + x] = NAN;
+            }
+            for (int ei = 0; ei < 3; ++ei)
+                tp_tin_destroy(build_cut_checked(z, w, h, es[ei]));
+            free(z);
+        }
+}
+
+TEST(cut_single_void_in_a_plane)
+{
+    /* a plane with one void: the four cells around it are gone, the ring of cells around them is
+     * kept at full resolution, the rest of the plane stays coarse */
+    const int w = 41, h = 33;
+    float* z = grid_new(w, h, 0.0f);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x)
+            z[(size_t)y * w + x] = 3.0f * x - 2.0f * y + 100.0f;
+    z[(size_t)16 * w + 20] = NAN;
+    tp_tin* t = build_cut_checked(z, w, h, 0.5);
+    /* 4 x 4 cells around the void minus its 4 = 12 cells at full resolution (24 triangles), the
+     * rest of the rectangle in a handful */
+    EXPECT_TRUE(t->triangle_count >= 24 && t->triangle_count <= 24 + 24);
+    EXPECT_TRUE(!has_vertex(t, 20, 16));
+    EXPECT_TRUE(has_vertex(t, 18, 14) && has_vertex(t, 22, 18));
+    tp_tin_destroy(t);
+    free(z);
+}
+
+TEST(cut_checkerboard_and_edge_voids)
+{
+    /* every other sample void (no valid cell at all), then voids on the outline and corners */
+    const int w = 23, h = 19;
+    float* z = random_relief(w, h, 11);
+    float* c = grid_new(w, h, 0.0f);
+    memcpy(c, z, sizeof(float) * w * h);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x)
+            if ((x + y) % 2)
+                c[(size_t)y * w + x] = NAN;
+    tp_tin* t = build_cut_checked(c, w, h, 1.0);
+    EXPECT_EQ_INT(0, (int)t->triangle_count);
+    tp_tin_destroy(t);
+    z[0] = z[w - 1] = z[(size_t)(h - 1) * w] = z[(size_t)h * w - 1] = NAN; /* the 4 corners */
+    for (int x = 5; x < 12; ++x)
+        z[x] = NAN; /* a bite out of the top edge */
+    for (int y = 3; y < h; ++y)
+        z[(size_t)y * w + (w - 1)] = NAN; /* most of the right edge */
+    for (int e = 0; e <= 8; e += 4)
+        tp_tin_destroy(build_cut_checked(z, w, h, e));
+    free(z);
+    free(c);
+}
+
+TEST(cut_all_void_and_no_valid_cell_are_empty)
+{
+    const int w = 9, h = 7;
+    float* z = grid_new(w, h, NAN);
+    tp_tin* t = build_cut_checked(z, w, h, 1.0);
+    EXPECT_EQ_INT(0, (int)t->triangle_count);
+    EXPECT_EQ_INT(0, (int)t->vertex_count);
+    tp_tin_destroy(t);
+    z[3 * w + 4] = 5.0f; /* one valid sample, no valid cell */
+    t = build_cut_checked(z, w, h, 1.0);
+    EXPECT_EQ_INT(0, (int)t->triangle_count);
+    tp_tin_destroy(t);
+    free(z);
+}
+
+#ifdef TP_TEST_NO_IO
+static void mt_hood_with_holes(void) { SKIP("built without tp_io"); }
+#else
+static void mt_hood_with_holes(void)
+{
+    char path[1024];
+    tp_dem* dem = NULL;
+    tp_render_grid* g = NULL;
+    tp_error err;
+    memset(&err, 0, sizeof err);
+    REQUIRE_DATA_FILE(path, "TP_SHARED_DATA_DIR", "lf_elev_220_mt_hood_utm.tif");
+    if (tp_dem_read(path, &dem, &err) != TP_OK)
+        FAIL("tp_dem_read(%s): %s", path, err.message);
+    tp_status s = tp_render_grid_build(dem, NULL, &g, &err);
+    tp_dem_destroy(dem);
+    if (s != TP_OK)
+        FAIL("tp_render_grid_build(%s): %s", path, err.message);
+    const int w = g->width, h = g->height;
+    /* a lake-sized hole, a line of single-sample voids, a hole on the edge */
+    for (int y = 100; y < 160; ++y)
+        for (int x = 200; x < 290; ++x)
+            if ((x - 245) * (x - 245) + 2 * (y - 130) * (y - 130) < 900)
+                g->heights[(size_t)y * w + x] = NAN;
+    for (int x = 20; x < w - 20; x += 9)
+        g->heights[(size_t)(h / 2) * w + x] = NAN;
+    for (int y = 0; y < 40; ++y)
+        for (int x = 0; x < 30 - y / 2; ++x)
+            g->heights[(size_t)y * w + x] = NAN;
+    const double es[2] = {1.0, 20.0};
+    for (int k = 0; k < 2; ++k) {
+        tp_tin* t = build_cut_checked(g->heights, w, h, es[k]);
+        printf("mt hood with holes e=%g: %zu triangles, %zu vertices\n", es[k], t->triangle_count,
+               t->vertex_count);
+        tp_tin_destroy(t);
+    }
+    tp_render_grid_destroy(g);
+}
+#endif
+
+TEST(cut_mt_hood_with_holes_holds_the_bound) { mt_hood_with_holes(); }
 
 TP_TEST_MAIN(TESTS)

@@ -1200,8 +1200,12 @@ tp_status tp_los_compute(const double geotransform[6], double from_x, double fro
  *
  * Voids (NaN samples): ignored by the bound (no error is measured there) and never inserted, so
  * triangles span voids; a corner vertex that falls in a void takes the height of the nearest
- * valid sample (Chebyshev rings around the corner, the first found in row order). The full
- * resolution export draws no triangle over a void; a TIN does (docs/tin.md says what is left).
+ * valid sample (Chebyshev rings around the corner, the first found in row order). With
+ * TP_TIN_CUT_VOIDS the TIN instead covers exactly the cells the full-resolution mesh draws (a
+ * cell = four samples (x, y) .. (x+1, y+1), drawn when all four are valid): every corner of a
+ * valid cell that touches (by an edge or a corner) a cell with a void is inserted first, which
+ * triangulates those cells on their own, and the triangles over invalid cells are then dropped
+ * with the vertices only they used. Without voids the flag changes nothing.
  *
  * Degenerate grids: width or height 1 has no area: no triangles, and every valid sample is a
  * vertex (a polyline, lossless). A grid with no valid sample gives no vertex and no triangle.
@@ -1217,13 +1221,15 @@ typedef struct tp_tin {
 } tp_tin;
 
 /* Builds the TIN of a width x height row-major grid (NaN = void) with error <= max_error_m at
- * every valid sample, into *out (free with tp_tin_destroy). height_count must be width * height
+ * every valid sample (flags: 0 or TP_TIN_CUT_VOIDS), into *out (free with tp_tin_destroy). height_count must be width * height
  * (asserted). Fails (*out untouched) with TP_ERR_INVALID_ARG for width or height < 1, a grid of
  * 2^32 samples or more, max_error_m negative or not finite; TP_ERR_OUT_OF_MEMORY. Reentrant.
  * max_error_m = 0 inserts every sample that any interpolation misses (on random data every
  * sample: 2 (width-1)(height-1) triangles). */
+enum { TP_TIN_CUT_VOIDS = 1u };
+
 tp_status tp_tin_build(const float* heights, size_t height_count, int width, int height,
-                       double max_error_m, tp_tin** out, tp_error* err);
+                       double max_error_m, unsigned flags, tp_tin** out, tp_error* err);
 
 /* Frees a TIN; NULL is allowed. */
 void tp_tin_destroy(tp_tin* tin);

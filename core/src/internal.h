@@ -429,6 +429,18 @@ int32_t tp__cut_complete_triangles(tp_cut* c, int k, const int nb[4]);
  * against) (tree_stitch.c). */
 int tp__cut_nb(const tp_cut* c, int i, int nb[4]);
 
+/* ---- error-bounded TIN (tin.c) ---- */
+
+/* Marks TIN_FORCE (1) in cls (width * height, zeroed by the caller) at every corner of a valid
+ * cell that touches an invalid one (TP_TIN_CUT_VOIDS); returns whether it marked any. */
+int tp__tin_void_classes(const float* h, int w, int hg, uint8_t* cls);
+
+/* tp_tin_build after its checks, on a grid of at least 2x2 with a valid sample: cls (NULL or
+ * one byte per sample: 0 free, 1 forced, 2 skipped) says which samples are inserted first and
+ * which are never measured; cut drops the triangles over invalid cells. */
+tp_status tp__tin_build(const float* heights, int width, int height, double max_error_m,
+                        const uint8_t* cls, int cut, tp_tin** out, tp_error* err);
+
 /* ---- ray casting (query.c for selections, cut_query.c for cuts) ---- */
 
 /* Clips [*t0, *t1] to the t where o + t d lies in [lo, hi]; 0 if empty. */

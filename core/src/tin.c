@@ -28,11 +28,18 @@ typedef struct heap_ent {
     uint32_t t, ver;
 } heap_ent;
 
+/* Sample classes (tin_build.cls): a forced sample is inserted before any error counts (its
+ * error is FORCED_ERR while it is not a vertex); a skipped one is never measured nor inserted
+ * (voids are skipped without a class). */
+enum { TIN_FREE = 0, TIN_FORCE = 1, TIN_SKIP = 2 };
+#define FORCED_ERR 1e30
+
 #define TV(b, e) ((b)->T[(e) / 3].v[(e) % 3])
 #define HE(b, e) ((b)->T[(e) / 3].he[(e) % 3])
 
 typedef struct tin_build {
     const float* h;
+    const uint8_t* cls; /* per sample TIN_FREE / TIN_FORCE / TIN_SKIP; NULL: all free */
     int w, hgt;
     float bound;      /* max_error_m as float: errors are compared as floats */
     double bound_d;
@@ -254,6 +261,22 @@ static void rasterise(tin_build* b, uint32_t t)
         const float* row = b->h + (size_t)y * b->w;
         const double zrow = za + dzdy * (y - p[0][1]);
         visited += (size_t)(xr - xl + 1);
+        if (b->cls) { /* forced and skipped samples */
+            const uint8_t* crow = b->cls + (size_t)y * b->w;
+            for (int64_t x = xl; x <= xr; ++x) {
+                float s = row[x];
+                if (s != s || crow[x] == TIN_SKIP)
+                    continue;
+                double d = crow[x] == TIN_FORCE
+                               ? FORCED_ERR
+                               : fabs((double)s - (zrow + dzdx * (double)(x - p[0][0])));
+                if (d > best && !is_corner(p, (int32_t)x, y)) {
+                    best = d;
+                    best_i = (uint32_t)((size_t)y * b->w + (size_t)x);
+                }
+            }
+            continue;
+        }
         for (int64_t x = xl; x <= xr; ++x) {
             float s = row[x];
             if (s != s)
@@ -515,8 +538,148 @@ static tp_tin* tin_alloc(size_t n, size_t m)
     return t;
 }
 
+/* Whether cell (cx, cy) (corners (cx, cy) .. (cx + 1, cy + 1)) has four valid corners; cells
+ * outside the grid count as valid (the outline is no void's edge). */
+static int cell_valid(const float* h, int w, int hg, int cx, int cy)
+{
+    if (cx < 0 || cy < 0 || cx >= w - 1 || cy >= hg - 1)
+        return 1;
+    const float* r0 = h + (size_t)cy * w + cx;
+    const float* r1 = r0 + w;
+    return r0[0] == r0[0] && r0[1] == r0[1] && r1[0] == r1[0] && r1[1] == r1[1];
+}
+
+int tp__tin_void_classes(const float* h, int w, int hg, uint8_t* cls)
+{
+    int any = 0;
+    for (int cy = 0; cy < hg - 1; ++cy)
+        for (int cx = 0; cx < w - 1; ++cx) {
+            if (!cell_valid(h, w, hg, cx, cy))
+                continue;
+            int boundary = 0;
+            for (int dy = -1; dy <= 1 && !boundary; ++dy)
+                for (int dx = -1; dx <= 1 && !boundary; ++dx)
+                    boundary = !cell_valid(h, w, hg, cx + dx, cy + dy);
+            if (!boundary)
+                continue;
+            any = 1;
+            uint8_t* c0 = cls + (size_t)cy * w + cx;
+            c0[0] = c0[1] = c0[w] = c0[w + 1] = TIN_FORCE;
+        }
+    return any;
+}
+
+/* Drops the triangles over invalid cells (cut_voids) and the vertices no triangle uses. With
+ * every corner of a valid cell next to an invalid one a vertex, those cells are triangulated on
+ * their own (a unit square's circumcircle holds no other sample), so no triangle crosses from
+ * invalid cells to valid ones: its centroid's cell says which side it is on. */
+static void cut_voids(tin_build* b, uint32_t* remap)
+{
+    size_t kept = 0;
+    for (size_t t = 0; t < b->nt; ++t) {
+        const uint32_t* v = b->T[t].v;
+        int64_t sx = (int64_t)b->vx[2 * v[0]] + b->vx[2 * v[1]] + b->vx[2 * v[2]];
+        int64_t sy = (int64_t)b->vx[2 * v[0] + 1] + b->vx[2 * v[1] + 1] + b->vx[2 * v[2] + 1];
+        int cx = (int)floor_div(sx, 3), cy = (int)floor_div(sy, 3);
+        cx = cx > b->w - 2 ? b->w - 2 : cx;
+        cy = cy > b->hgt - 2 ? b->hgt - 2 : cy;
+        if (!cell_valid(b->h, b->w, b->hgt, cx, cy))
+            continue;
+        b->T[kept++] = b->T[t];
+    }
+    b->nt = kept;
+    /* vertices kept in their order: new index <= old, so the forward copy is safe */
+    for (size_t i = 0; i < b->nv; ++i)
+        remap[i] = UINT32_MAX;
+    for (size_t t = 0; t < b->nt; ++t)
+        for (int k = 0; k < 3; ++k)
+            remap[b->T[t].v[k]] = 0;
+    size_t nv = 0;
+    for (size_t i = 0; i < b->nv; ++i) {
+        if (remap[i] == UINT32_MAX)
+            continue;
+        remap[i] = (uint32_t)nv;
+        b->vx[2 * nv] = b->vx[2 * i];
+        b->vx[2 * nv + 1] = b->vx[2 * i + 1];
+        b->vz[nv] = b->vz[i];
+        ++nv;
+    }
+    for (size_t t = 0; t < b->nt; ++t)
+        for (int k = 0; k < 3; ++k)
+            b->T[t].v[k] = remap[b->T[t].v[k]];
+    b->nv = nv;
+}
+
+tp_status tp__tin_build(const float* heights, int width, int height, double max_error_m,
+                        const uint8_t* cls, int cut, tp_tin** out, tp_error* err)
+{
+    tin_build b;
+    memset(&b, 0, sizeof b);
+    b.h = heights;
+    b.cls = cls;
+    b.w = width;
+    b.hgt = height;
+    b.bound_d = max_error_m;
+    /* errors are floats: the largest float not above the bound, so "err <= bound" as floats
+     * means err <= max_error_m exactly */
+    b.bound = (float)max_error_m;
+    if ((double)b.bound > max_error_m)
+        b.bound = nextafterf(b.bound, 0.0f);
+    b.exact64 = width <= (1 << 14) && height <= (1 << 14);
+
+    const int32_t x1 = width - 1, y1 = height - 1;
+    if (!reserve_triangles(&b, 64))
+        goto oom;
+    uint32_t p0 = add_vertex(&b, 0, 0, corner_height(heights, width, height, 0, 0));
+    uint32_t p1 = add_vertex(&b, x1, 0, corner_height(heights, width, height, x1, 0));
+    uint32_t p2 = add_vertex(&b, 0, y1, corner_height(heights, width, height, 0, y1));
+    uint32_t p3 = add_vertex(&b, x1, y1, corner_height(heights, width, height, x1, y1));
+    if (b.oom)
+        goto oom;
+    int32_t t0 = add_triangle(&b, p3, p0, p2, -1, -1, -1, -1);
+    add_triangle(&b, p0, p3, p1, t0, -1, -1, -1);
+    flush(&b);
+    while (!b.oom && heap_live_top(&b))
+        step(&b);
+    if (b.oom)
+        goto oom;
+    if (cut) {
+        uint32_t* remap = malloc(b.nv * sizeof *remap);
+        if (!remap)
+            goto oom;
+        cut_voids(&b, remap);
+        free(remap);
+    }
+
+    tp_tin* t = tin_alloc(b.nv, b.nt);
+    if (!t)
+        goto oom;
+    for (size_t i = 0; i < b.nv; ++i) {
+        t->vertices[3 * i] = (float)b.vx[2 * i];
+        t->vertices[3 * i + 1] = (float)b.vx[2 * i + 1];
+        t->vertices[3 * i + 2] = b.vz[i];
+    }
+    double mx = 0.0;
+    for (size_t i = 0; i < b.nt; ++i) {
+        /* every slot is live; in tp_tin the order is as stored (orient < 0 in (column, row)) */
+        t->triangles[3 * i] = b.T[i].v[0];
+        t->triangles[3 * i + 1] = b.T[i].v[1];
+        t->triangles[3 * i + 2] = b.T[i].v[2];
+        t->triangle_error_m[i] = b.T[i].err;
+        mx = b.T[i].err > mx ? b.T[i].err : mx;
+    }
+    t->max_error_m = mx;
+    t->samples_rasterised = b.visited;
+    build_free(&b);
+    *out = t;
+    return TP_OK;
+oom:
+    build_free(&b);
+    return tp__fail(err, TP_ERR_OUT_OF_MEMORY, "tin: out of memory (%zu triangles)", b.nt);
+}
+
 tp_status tp_tin_build(const float* heights, size_t height_count, int width, int height,
-                       double max_error_m, tp_tin** out, tp_error* err)
+                       double max_error_m, unsigned flags, tp_tin** out, tp_error* err)
 {
     assert(out);
     if (width < 1 || height < 1)
@@ -552,59 +715,18 @@ tp_status tp_tin_build(const float* heights, size_t height_count, int width, int
         return TP_OK;
     }
 
-    tin_build b;
-    memset(&b, 0, sizeof b);
-    b.h = heights;
-    b.w = width;
-    b.hgt = height;
-    b.bound_d = max_error_m;
-    /* errors are floats: the largest float not above the bound, so "err <= bound" as floats
-     * means err <= max_error_m exactly */
-    b.bound = (float)max_error_m;
-    if ((double)b.bound > max_error_m)
-        b.bound = nextafterf(b.bound, 0.0f);
-    b.exact64 = width <= (1 << 14) && height <= (1 << 14);
-
-    const int32_t x1 = width - 1, y1 = height - 1;
-    if (!reserve_triangles(&b, 64))
-        goto oom;
-    uint32_t p0 = add_vertex(&b, 0, 0, corner_height(heights, width, height, 0, 0));
-    uint32_t p1 = add_vertex(&b, x1, 0, corner_height(heights, width, height, x1, 0));
-    uint32_t p2 = add_vertex(&b, 0, y1, corner_height(heights, width, height, 0, y1));
-    uint32_t p3 = add_vertex(&b, x1, y1, corner_height(heights, width, height, x1, y1));
-    if (b.oom)
-        goto oom;
-    int32_t t0 = add_triangle(&b, p3, p0, p2, -1, -1, -1, -1);
-    add_triangle(&b, p0, p3, p1, t0, -1, -1, -1);
-    flush(&b);
-    while (!b.oom && heap_live_top(&b))
-        step(&b);
-    if (b.oom)
-        goto oom;
-
-    tp_tin* t = tin_alloc(b.nv, b.nt);
-    if (!t)
-        goto oom;
-    for (size_t i = 0; i < b.nv; ++i) {
-        t->vertices[3 * i] = (float)b.vx[2 * i];
-        t->vertices[3 * i + 1] = (float)b.vx[2 * i + 1];
-        t->vertices[3 * i + 2] = b.vz[i];
+    uint8_t* cls = NULL;
+    int cut = (flags & TP_TIN_CUT_VOIDS) && valid < height_count;
+    if (cut) {
+        if (!(cls = calloc(height_count, 1)))
+            return tp__fail(err, TP_ERR_OUT_OF_MEMORY, "tin: out of memory for %dx%d classes",
+                            width, height);
+        if (!tp__tin_void_classes(heights, width, height, cls)) {
+            free(cls); /* no valid cell beside a void: nothing forced */
+            cls = NULL;
+        }
     }
-    double mx = 0.0;
-    for (size_t i = 0; i < b.nt; ++i) {
-        /* every slot is live; in tp_tin the order is as stored (orient < 0 in (column, row)) */
-        t->triangles[3 * i] = b.T[i].v[0];
-        t->triangles[3 * i + 1] = b.T[i].v[1];
-        t->triangles[3 * i + 2] = b.T[i].v[2];
-        t->triangle_error_m[i] = b.T[i].err;
-        mx = b.T[i].err > mx ? b.T[i].err : mx;
-    }
-    t->max_error_m = mx;
-    t->samples_rasterised = b.visited;
-    build_free(&b);
-    *out = t;
-    return TP_OK;
-oom:
-    build_free(&b);
-    return tp__fail(err, TP_ERR_OUT_OF_MEMORY, "tin: out of memory (%zu triangles)", b.nt);
+    tp_status st = tp__tin_build(heights, width, height, max_error_m, cls, cut, out, err);
+    free(cls);
+    return st;
 }

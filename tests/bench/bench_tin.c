@@ -101,7 +101,7 @@ static double build_peak_mib(const float* z, int w, int h, double e)
         if (c && fputs("5", c) >= 0 && fclose(c) == 0) {
             double before = peak_rss_mib();
             tp_tin* t = NULL;
-            tp_tin_build(z, (size_t)w * h, w, h, e, &t, NULL);
+            tp_tin_build(z, (size_t)w * h, w, h, e, 0, &t, NULL);
             d = peak_rss_mib() - before;
             tp_tin_destroy(t);
         }
@@ -182,7 +182,7 @@ static void run(const char* name, const float* z, int w, int h, int runs, const 
             t = NULL;
             tp_error err;
             double t0 = bench_now_ms();
-            if (tp_tin_build(z, (size_t)w * h, w, h, BOUNDS[k], &t, &err) != TP_OK) {
+            if (tp_tin_build(z, (size_t)w * h, w, h, BOUNDS[k], 0, &t, &err) != TP_OK) {
                 fprintf(stderr, "%s\n", err.message);
                 exit(1);
             }
