@@ -96,13 +96,9 @@ tp_status tp_export_tin(const tp_scene* sc, double m, const tp_export_options* o
         goto done;
     }
 
-    double origin[3] = {0, 0, 0};
-    if (o->origin_local) {
-        double e, n;
-        tp_georef_grid_to_proj(sc->georef, 0, 0, &e, &n);
-        origin[0] = floor(e / 1000) * 1000;
-        origin[1] = floor(n / 1000) * 1000;
-    }
+    double origin[3];
+    char zone[TP_ZONE_TEXT_SIZE];
+    tp_export_frame(sc, o->origin_local, origin, zone);
     for (size_t i = 0; i < np; i++) {
         const float* v = tin->vertices + 3 * i;
         int x = (int)v[0], y = (int)v[1];
@@ -133,10 +129,6 @@ tp_status tp_export_tin(const tp_scene* sc, double m, const tp_export_options* o
         tri[3 * t + 2] = k[flip ? 1 : 2];
     }
 
-    char zone[TP_ZONE_TEXT_SIZE] = "";
-    if (sc->grid->utm_zone >= 0)
-        tp_zone_format(sc->grid->utm_zone, sc->grid->northp, TP_ZONE_STYLE_SHORT, zone, sizeof zone,
-                       NULL);
     tp_mesh mesh = {
         .point_count = np, .xyz = xyz, .elevation_m = elev, .void_filled = filled,
         .triangle_count = nt, .triangles = tri, .max_error_m = tri_err,
