@@ -15,7 +15,9 @@
     X(cut_voids_across_tile_borders_and_corners)                                                   \
     X(bad_arguments_are_refused)                                                                   \
     X(mt_hood_tiled)                                                                               \
-    X(n42e001_tiled)                                                                               \
+    X(mt_hood_tiled_cut)                                                                           \
+    X(n42e001_tiled_e1)                                                                            \
+    X(n42e001_tiled_e5_e20)                                                                        \
     X(n42e001_tiled_cut)
 
 #include "tp_test_tin.h"
@@ -284,14 +286,22 @@ TEST(bad_arguments_are_refused)
 
 /* ---------------------------------------------------------------------------------------------
  * Real DEMs on their render grids, e = 1, 5, 20 m, tiles of 64 and 256: the bound, one TIN on 1
- * and 2 threads, and triangles within TILED_MARGIN of the untiled build's
+ * and 2 threads, and triangles within TILED_MARGIN of the untiled build's. Measured (these
+ * grids, e = 1, 5, 20, tiles of 64 and 256, with and without the cut): tiled / untiled from
+ * 0.987 (Mt Hood, e = 20, tiles of 64) to 1.0003; the builds are deterministic, so only a change
+ * of the algorithm moves the ratio: 3 % is over twice the largest difference seen.
  */
-#define TILED_MARGIN 0.06
+#define TILED_MARGIN 0.03
 
 #ifdef TP_TEST_NO_IO
-static void real_dem(const char* file, unsigned flags) { SKIP("built without tp_io: %s", file); }
+static void real_dem(const char* file, unsigned flags, int e_first, int e_last)
+{
+    (void)flags, (void)e_first, (void)e_last;
+    SKIP("built without tp_io: %s", file);
+}
 #else
-static void real_dem(const char* file, unsigned flags)
+/* es[e_first..e_last] of 1, 5, 20 m */
+static void real_dem(const char* file, unsigned flags, int e_first, int e_last)
 {
     char path[1024];
     tp_dem* dem = NULL;
@@ -308,7 +318,7 @@ static void real_dem(const char* file, unsigned flags)
     const int w = g->width, h = g->height;
     const double es[3] = {1.0, 5.0, 20.0};
     const int cut = (flags & TP_TIN_CUT_VOIDS) != 0;
-    for (int k = cut ? 2 : 0; k < 3; ++k) {
+    for (int k = e_first; k <= e_last; ++k) {
         tp_tin* u = NULL;
         if (tp_tin_build(g->heights, (size_t)w * h, w, h, es[k], flags, &u, &err) != TP_OK)
             FAIL("tp_tin_build: %s", err.message);
@@ -333,8 +343,11 @@ static void real_dem(const char* file, unsigned flags)
 }
 #endif
 
-TEST(mt_hood_tiled) { real_dem("lf_elev_220_mt_hood_utm.tif", 0); }
-TEST(n42e001_tiled) { real_dem("N42E001.hgt", 0); }
-TEST(n42e001_tiled_cut) { real_dem("N42E001.hgt", TP_TIN_CUT_VOIDS); }
+TEST(mt_hood_tiled) { real_dem("lf_elev_220_mt_hood_utm.tif", 0, 0, 2); }
+TEST(mt_hood_tiled_cut) { real_dem("lf_elev_220_mt_hood_utm.tif", TP_TIN_CUT_VOIDS, 1, 2); }
+TEST(n42e001_tiled_e1) { real_dem("N42E001.hgt", 0, 0, 0); }
+TEST(n42e001_tiled_e5_e20) { real_dem("N42E001.hgt", 0, 1, 2); }
+/* with the cut at the loosest bound only (the checker's cost is in the big triangles) */
+TEST(n42e001_tiled_cut) { real_dem("N42E001.hgt", TP_TIN_CUT_VOIDS, 2, 2); }
 
 TP_TEST_MAIN(TESTS)
