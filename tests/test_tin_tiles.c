@@ -220,6 +220,15 @@ TEST(voids_at_tile_corners_and_a_void_tile_without_cut)
         EXPECT_TRUE(has_vertex(t, 32, 32) && has_vertex(t, 64, 0) && has_vertex(t, 96, 64));
         tp_tin_destroy(t);
     }
+    /* a void much larger than the tiles (8 cells): corners with no valid sample within a tile
+     * take a nearer corner's height; every tile still covered, the tiles still meet */
+    for (int y = 20; y < 75; ++y)
+        for (int x = 10; x < 100; ++x)
+            z[(size_t)y * w + x] = NAN;
+    tp_tin* t = tiled_checked(z, w, h, 1.0, 0, 8);
+    EXPECT_TRUE(has_vertex(t, 56, 48));
+    tp_tin_destroy(t);
+    tp_tin_destroy(tiled_checked(z, w, h, 1.0, TP_TIN_CUT_VOIDS, 8));
     free(z);
 }
 

@@ -29,6 +29,7 @@
  * Threads take tile indices from an atomic counter; each writes only its tile's result. */
 #include "internal.h"
 
+#include <limits.h>
 #include <stdatomic.h>
 #include <stdlib.h>
 #include <string.h>
@@ -46,7 +47,6 @@ enum { CLS_FREE = 0, CLS_FORCE = 1, CLS_SKIP = 2 };
 typedef struct tile_result {
     tp_tin* tin; /* local coordinates of the tile's window; NULL: no triangle and no vertex */
     tp_status st;
-    tp_error err;
 } tile_result;
 
 typedef struct tiling {
@@ -101,27 +101,44 @@ static float ring_height(const float* h, int w, int hg, int cx, int cy, int r)
 }
 
 /* Each tile corner's height: its sample's, else the nearest valid sample within tile_cells (the
- * four tiles around it), else the nearest corner's that has one (rings on the corner lattice).
- * The grid has a valid sample, so some corner has one: every sample is within tile_cells of its
- * tile's corners. */
+ * four tiles around it), else a nearest corner's on the corner lattice that has one (breadth
+ * first over the 8 neighbours from every such corner, in row order: Chebyshev distance). The grid
+ * has a valid sample, so some corner has one: every sample is within tile_cells of its tile's
+ * corners. */
 static int corner_heights(tiling* g)
 {
     const int cw = g->ntx + 1, ch = g->nty + 1;
-    float* z0 = malloc(sizeof(float) * (size_t)cw * ch);
-    g->corner_z = malloc(sizeof(float) * (size_t)cw * ch);
-    if (!z0 || !g->corner_z) {
-        free(z0);
+    const size_t n = (size_t)cw * ch;
+    float* z = g->corner_z = malloc(sizeof(float) * n);
+    size_t* queue = malloc(sizeof(size_t) * n);
+    if (!z || !queue) {
+        free(queue);
         return 0;
     }
-    for (int j = 0; j < ch; ++j)
-        for (int i = 0; i < cw; ++i)
-            z0[(size_t)j * cw + i] = ring_height(g->h, g->w, g->hg, bx(g, i), by(g, j), g->tc);
+    size_t head = 0, tail = 0;
     for (int j = 0; j < ch; ++j)
         for (int i = 0; i < cw; ++i) {
-            float z = ring_height(z0, cw, ch, i, j, cw > ch ? cw : ch);
-            g->corner_z[(size_t)j * cw + i] = z == z ? z : 0.0f; /* always found */
+            size_t k = (size_t)j * cw + i;
+            z[k] = ring_height(g->h, g->w, g->hg, bx(g, i), by(g, j), g->tc);
+            if (z[k] == z[k])
+                queue[tail++] = k;
         }
-    free(z0);
+    while (head < tail) {
+        size_t k = queue[head++];
+        int i = (int)(k % (size_t)cw), j = (int)(k / (size_t)cw);
+        for (int dj = -1; dj <= 1; ++dj)
+            for (int di = -1; di <= 1; ++di) {
+                int ni = i + di, nj = j + dj;
+                if (ni < 0 || nj < 0 || ni >= cw || nj >= ch)
+                    continue;
+                size_t m = (size_t)nj * cw + ni;
+                if (z[m] != z[m]) {
+                    z[m] = z[k];
+                    queue[tail++] = m;
+                }
+            }
+    }
+    free(queue);
     return 1;
 }
 
@@ -311,9 +328,17 @@ oom:
     goto done;
 }
 
+/* One thread: its first failure (the tile and the message). */
+typedef struct worker_ctx {
+    tiling* g;
+    int failed_tile; /* INT_MAX: none */
+    tp_error err;
+} worker_ctx;
+
 static int worker(void* arg)
 {
-    tiling* g = arg;
+    worker_ctx* w = arg;
+    tiling* g = w->g;
     const int count = g->ntx * g->nty;
     for (;;) {
         if (atomic_load(&g->failed))
@@ -322,10 +347,12 @@ static int worker(void* arg)
         if (k >= count)
             break;
         tile_result* r = &g->res[k];
-        memset(&r->err, 0, sizeof r->err);
-        r->st = build_tile(g, k, &r->tin, &r->err);
-        if (r->st != TP_OK)
+        r->st = build_tile(g, k, &r->tin, &w->err);
+        if (r->st != TP_OK) {
+            w->failed_tile = k;
             atomic_store(&g->failed, 1);
+            break;
+        }
     }
     return 0;
 }
@@ -466,6 +493,10 @@ tp_status tp_tin_build_tiled(const float* heights, size_t height_count, int widt
     g.tc = tile_cells < longest ? tile_cells : longest;
     g.ntx = (width - 1 + g.tc - 1) / g.tc;
     g.nty = (height - 1 + g.tc - 1) / g.tc;
+    if ((int64_t)g.ntx * g.nty > INT_MAX / 2)
+        return tp__fail(err, TP_ERR_INVALID_ARG,
+                        "tin: %dx%d samples in tiles of %d cells make too many tiles", width,
+                        height, tile_cells);
     atomic_init(&g.next, 0);
     atomic_init(&g.failed, 0);
     const int count = g.ntx * g.nty;
@@ -479,24 +510,37 @@ tp_status tp_tin_build_tiled(const float* heights, size_t height_count, int widt
     int nth = threads == 0 ? online_cpus() : threads;
     nth = nth < count ? nth : count;
     thrd_t* th = nth > 1 ? malloc(sizeof(thrd_t) * (size_t)(nth - 1)) : NULL;
+    worker_ctx* ctx = calloc((size_t)nth, sizeof *ctx);
+    if (!ctx) {
+        free(th);
+        free(g.res);
+        free(g.corner_z);
+        return tp__fail(err, TP_ERR_OUT_OF_MEMORY, "tin: out of memory for %d threads", nth);
+    }
+    for (int k = 0; k < nth; ++k)
+        ctx[k] = (worker_ctx){.g = &g, .failed_tile = INT_MAX};
     int started = 0;
     for (int k = 0; th && k < nth - 1; ++k) {
-        if (thrd_create(&th[k], worker, &g) != thrd_success)
+        if (thrd_create(&th[k], worker, &ctx[k + 1]) != thrd_success)
             break; /* fewer threads: this one takes the rest */
         ++started;
     }
-    worker(&g);
+    worker(&ctx[0]);
     for (int k = 0; k < started; ++k)
         thrd_join(th[k], NULL);
     free(th);
 
+    /* the first failed tile's message (in tile order among those that ran) */
     tp_status st = TP_OK;
-    for (int k = 0; k < count && st == TP_OK; ++k)
-        if (g.res[k].st != TP_OK) {
-            st = g.res[k].st;
+    int first = INT_MAX;
+    for (int k = 0; k < nth; ++k)
+        if (ctx[k].failed_tile < first) {
+            first = ctx[k].failed_tile;
+            st = g.res[first].st;
             if (err)
-                *err = g.res[k].err;
+                *err = ctx[k].err;
         }
+    free(ctx);
     if (st == TP_OK)
         st = merge(&g, out, err);
     for (int k = 0; k < count; ++k)
