@@ -14,8 +14,8 @@
  * Beside each untiled row, the tiled build (tp_tin_build_tiled) with tiles of 256 and 512 cells
  * on 1 and 2 threads, on the same grid: triangles and median time as ratios to the untiled
  * build's, the runs of all five builds interleaved (run 1 of each, then run 2 of each, ...) so
- * that a change of the machine's load falls on all of them. TP_BENCH_TIN_NO_TILED=1 leaves the
- * tiled rows out. */
+ * that a change of the machine's load falls on all of them; the process's CPU time (all threads)
+ * beside, which a loaded machine moves less. TP_BENCH_TIN_NO_TILED=1 leaves the tiled rows out. */
 #define _GNU_SOURCE /* malloc_trim */
 #include "bench_util.h"
 #include "tp_io.h"
@@ -26,6 +26,7 @@
 #include <stdio.h>
 #include <string.h>
 #include <sys/wait.h>
+#include <time.h>
 #include <unistd.h>
 
 static const double BOUNDS[3] = {1.0, 5.0, 20.0};
@@ -191,12 +192,21 @@ static void run_delatin(const char* script, const char* name, const float* z, in
     remove(grid);
 }
 
+/* The process's CPU time (ms), all threads. */
+static double cpu_ms(void)
+{
+    struct timespec t;
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+    return (double)t.tv_sec * 1e3 + (double)t.tv_nsec / 1e6;
+}
+
 static const variant VARIANTS[5] = {{0, 1}, {256, 1}, {256, 2}, {512, 1}, {512, 2}};
 
 static void run(const char* name, const float* z, int w, int h, int runs, const char* delatin)
 {
     const int nvar = getenv("TP_BENCH_TIN_NO_TILED") ? 1 : 5;
     double* ms = malloc(sizeof(double) * runs * nvar);
+    double* cpu = malloc(sizeof(double) * runs * nvar);
     for (int k = 0; k < 3; ++k) {
         size_t tris[5] = {0};
         double te[5] = {0}, per_sample[5] = {0};
@@ -205,12 +215,13 @@ static void run(const char* name, const float* z, int w, int h, int runs, const 
             for (int v = 0; v < nvar; ++v) {
                 tp_tin* t = NULL;
                 tp_error err;
-                double t0 = bench_now_ms();
+                double t0 = bench_now_ms(), c0 = cpu_ms();
                 if (build(&VARIANTS[v], z, w, h, BOUNDS[k], &t, &err) != TP_OK) {
                     fprintf(stderr, "%s\n", err.message);
                     exit(1);
                 }
                 ms[v * runs + r] = bench_now_ms() - t0;
+                cpu[v * runs + r] = cpu_ms() - c0;
                 if (r == 0) {
                     tris[v] = t->triangle_count;
                     per_sample[v] = (double)t->samples_rasterised / ((double)w * h);
@@ -219,9 +230,10 @@ static void run(const char* name, const float* z, int w, int h, int runs, const 
                 }
                 tp_tin_destroy(t);
             }
-        const double base_ms = bench_median(ms, runs);
+        const double base_ms = bench_median(ms, runs), base_cpu = bench_median(cpu, runs);
         for (int v = 0; v < nvar; ++v) {
             double med = bench_median(ms + v * runs, runs);
+            double med_cpu = bench_median(cpu + v * runs, runs);
             double mib = build_peak_mib(&VARIANTS[v], z, w, h, BOUNDS[k]);
             char mesher[40];
             if (v == 0)
@@ -233,14 +245,16 @@ static void run(const char* name, const float* z, int w, int h, int runs, const 
                    "(%.2f samples rasterised per sample)",
                    v == 0 ? name : "", mesher, BOUNDS[k], tris[v], med, te[v], mib,
                    unc[v] ? " UNCOVERED SAMPLES" : "", per_sample[v]);
+            printf(" cpu %.0f ms", med_cpu);
             if (v > 0)
-                printf(" triangles %.4fx, time %.2fx untiled", (double)tris[v] / (double)tris[0],
-                       med / base_ms);
+                printf("; triangles %.4fx, time %.2fx, cpu %.2fx untiled",
+                       (double)tris[v] / (double)tris[0], med / base_ms, med_cpu / base_cpu);
             printf("\n");
         }
         fflush(stdout);
     }
     free(ms);
+    free(cpu);
     if (delatin)
         run_delatin(delatin, name, z, w, h, runs);
 }
