@@ -8,7 +8,12 @@
  *
  * After each insertion the triangles it created (pending) are rasterised once the flips have
  * settled: each gets its worst valid sample (the candidate) and its error; those above the bound
- * go into a max-heap by error. The build ends when the heap is empty. */
+ * go into a max-heap by error. The build ends when the heap is empty.
+ *
+ * Forced samples (classes, tp__tin_build) are inserted before any error counts: a triangle's
+ * first forced sample in scan order is found through per-row lists of them, and while some are
+ * left, a triangle without one is deferred rather than scanned (it would mostly be split again
+ * before its error counts; a tiled build forces whole tile borders). */
 #include "internal.h"
 
 #include <stdlib.h>
@@ -271,7 +276,7 @@ static int rasterise(tin_build* b, uint32_t t)
     size_t visited = 0;
     /* forced samples (rows of b->fx): the first in scan order is the candidate (nothing beats
      * FORCED_ERR and a full scan keeps the first), found without scanning the free ones */
-    for (int32_t y = y0; b->fx && y <= y1; ++y) {
+    for (int32_t y = y0; b->forced_left > 0 && y <= y1; ++y) {
         int64_t xl, xr;
         if (!row_span(p, y, b->w, &xl, &xr))
             continue;
