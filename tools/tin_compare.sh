@@ -7,7 +7,8 @@
 #   tools/tin_compare.sh install
 #       installs them there unless both are already there at those versions; prints the folder
 #   tools/tin_compare.sh run delatin|martini GRID.f32 W H RUNS OUT.mesh MAX_ERROR
-#       one mesher, one bound, in its own node process (tools/tin_compare.mjs: the file formats)
+#       one mesher, one bound, in its own node process (tools/tin_compare.mjs: the file formats);
+#       node's heap limit is TP_NODE_HEAP_MB (default 12288)
 #
 # Exit 0, or 1 after one line naming what is missing (node, npm, the network for npm install).
 set -u
@@ -52,7 +53,10 @@ run)
         echo "$me: delatin@0.2.0 and @mapbox/martini@0.2.0 are not in $dir: run '$0 install' first" >&2
         exit 1
     fi
-    TP_NPM_DIR=$dir exec node "$here/tin_compare.mjs" "$@"
+    # delatin keeps its mesh in plain JS arrays: a 4097^2 grid at e = 1 (25 M triangles) outgrows
+    # node's default heap (about 4 GB); TP_NODE_HEAP_MB sets the limit (default 12288)
+    TP_NPM_DIR=$dir exec node --max-old-space-size="${TP_NODE_HEAP_MB:-12288}" \
+        "$here/tin_compare.mjs" "$@"
     ;;
 *)
     echo "usage: $0 install | run delatin|martini GRID.f32 W H RUNS OUT.mesh MAX_ERROR" >&2

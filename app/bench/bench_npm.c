@@ -16,7 +16,8 @@
 #define TP_TOOLS_DIR "tools"
 #endif
 
-/* Runs /bin/sh SCRIPT args... with stdout on stderr; returns its exit status, or -1. */
+/* Runs /bin/sh SCRIPT args... with stdout on stderr; returns its exit status (128 + the signal
+ * that killed it), or -1 when it could not be started. */
 static int run_script(const char* script, char* const* args)
 {
     char* argv[16];
@@ -40,7 +41,7 @@ static int run_script(const char* script, char* const* args)
     while (waitpid(pid, &status, 0) < 0)
         if (errno != EINTR)
             return -1;
-    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
 }
 
 int tp_npm_open(tp_npm* n, const float* z, int w, int h)
@@ -100,8 +101,13 @@ int tp_npm_run(tp_npm* n, const char* mesher, double threshold_m, int runs, tp_n
     char* args[] = {"run", (char*)mesher, n->grid, ws, hs, rs, mesh, es, NULL};
     int rc = run_script(n->script, args);
     if (rc != 0) {
-        fprintf(stderr, "terrapatch bench: --compare: %s at %g m failed (exit %d; see above)\n",
-                mesher, threshold_m, rc);
+        fprintf(stderr,
+                "terrapatch bench: --compare: %s at %g m failed (exit %d%s; see above): no "
+                "rows\n",
+                mesher, threshold_m, rc,
+                rc > 128 ? ", killed by a signal: out of memory? (TP_NODE_HEAP_MB sets node's "
+                           "heap limit)"
+                         : "");
         return 0;
     }
     FILE* f = fopen(mesh, "rb");

@@ -206,24 +206,31 @@ static int tin_child(const tin_grid* tg, double e, int measure, child_report* ou
 /* Ours at bound e: runs builds (median time, max of the peaks), the first one measured. */
 static int tin_ours(const tin_grid* tg, double e, int runs, tin_row* row)
 {
-    double times[64];
+    double* times = malloc((size_t)runs * sizeof *times);
+    if (!times) {
+        fprintf(stderr, "terrapatch bench: out of memory\n");
+        return 0;
+    }
     row->mesher = "terrapatch tin";
     row->bound_m = row->threshold_m = e;
     row->peak_mib = -1;
     row->process_mib = -1;
     for (int r = 0; r < runs; r++) {
         child_report rep;
-        if (!tin_child(tg, e, r == 0, &rep))
+        if (!tin_child(tg, e, r == 0, &rep)) {
+            free(times);
             return 0;
+        }
         if (r == 0) {
             row->triangles = rep.triangles;
             row->points = rep.points;
             row->m = rep.m;
         }
-        times[r < 64 ? r : 63] = rep.time_s;
+        times[r] = rep.time_s;
         row->peak_mib = rep.peak_mib > row->peak_mib ? rep.peak_mib : row->peak_mib;
     }
-    row->time_s = tp_bench_median(times, runs < 64 ? runs : 64);
+    row->time_s = tp_bench_median(times, runs);
+    free(times);
     row->holds = row->m.max_error_m <= e + TIN_TOL_M;
     row->tried = 1;
     return 1;
