@@ -914,37 +914,72 @@ typedef struct static_row {
     double bound, max, rms;
     int below;
     double triangles, points;
+    /* TIN rows */
+    double time_s, uncovered, peak_mib;
+    int holds;
 } static_row;
 
-/* The JSON's "static" array; returns the number of rows. */
-static int static_rows(const char* json, static_row* rows, int cap)
+/* The rows of the JSON's "static" array whose "mesher" is mesher ("patches", "terrapatch tin",
+ * ...); returns their number. */
+static int static_rows_of(const char* json, const char* mesher, static_row* rows, int cap)
 {
-    const char *os[32], *oe[32];
-    int n = json_objects(json, "static", os, oe, cap < 32 ? cap : 32);
-    for (int i = 0; i < n; i++) {
+    const char *os[96], *oe[96];
+    int all = json_objects(json, "static", os, oe, 96), n = 0;
+    for (int k = 0; k < all && n < cap; k++) {
+        char name[64];
+        if (strcmp(json_str(os[k], oe[k], "mesher", name, sizeof name), mesher) != 0)
+            continue;
+        int i = n++;
         static_row* r = &rows[i];
         memset(r, 0, sizeof *r);
-        r->bound = json_num(os[i], oe[i], "max_error_m");
-        r->below = json_bool(os[i], oe[i], "below_quantisation");
-        if (r->below) {
-            /* nothing measured for a refused bound */
-            EXPECT_TRUE(json_value(os[i], oe[i], "triangles") == NULL);
+        r->bound = json_num(os[k], oe[k], "max_error_m");
+        r->below = json_bool(os[k], oe[k], "below_quantisation");
+        if (strcmp(mesher, "patches") != 0) { /* a TIN */
+            EXPECT_FALSE(r->below);
+            r->triangles = json_num(os[k], oe[k], "triangles");
+            r->points = json_num(os[k], oe[k], "points");
+            r->max = json_num(os[k], oe[k], "measured_max_error_m");
+            r->rms = json_num(os[k], oe[k], "measured_rms_error_m");
+            r->time_s = json_num(os[k], oe[k], "time_s");
+            r->uncovered = json_num(os[k], oe[k], "uncovered_samples");
+            /* null where /proc/self/clear_refs cannot be written (then the table says n/a) */
+            const char* peak = json_value(os[k], oe[k], "peak_mib");
+            EXPECT_TRUE(peak != NULL);
+            r->peak_mib = peak && strncmp(peak, "null", 4) ? json_num(os[k], oe[k], "peak_mib")
+                                                           : -1;
+            r->holds = json_bool(os[k], oe[k], "bound_holds");
+            EXPECT_EQ_DBL(r->bound, json_num(os[k], oe[k], "threshold_m"));
+            EXPECT_GT(r->time_s, 0.0);
             continue;
         }
-        r->triangles = json_num(os[i], oe[i], "triangles");
-        r->points = json_num(os[i], oe[i], "points");
-        r->max = json_num(os[i], oe[i], "measured_max_error_m");
-        r->rms = json_num(os[i], oe[i], "measured_rms_error_m");
-        EXPECT_GE(json_num(os[i], oe[i], "select_s"), 0.0);
-        EXPECT_GE(json_num(os[i], oe[i], "mesh_s"), 0.0);
+        if (r->below) {
+            /* nothing measured for a refused bound */
+            EXPECT_TRUE(json_value(os[k], oe[k], "triangles") == NULL);
+            continue;
+        }
+        r->triangles = json_num(os[k], oe[k], "triangles");
+        r->points = json_num(os[k], oe[k], "points");
+        r->max = json_num(os[k], oe[k], "measured_max_error_m");
+        r->rms = json_num(os[k], oe[k], "measured_rms_error_m");
+        EXPECT_GE(json_num(os[k], oe[k], "select_s"), 0.0);
+        EXPECT_GE(json_num(os[k], oe[k], "mesh_s"), 0.0);
     }
     return n;
 }
 
+/* The patch rows (`export --max-error`'s mesh). */
+static int static_rows(const char* json, static_row* rows, int cap)
+{
+    return static_rows_of(json, "patches", rows, cap);
+}
+
+/* bench --static with one timed run per TIN (the TIN rows' own test times two). */
 static void args_static(args* a, const char* bounds, const char* dir)
 {
     args_cmd(a, "bench");
     args_add(a, "--static");
+    args_add(a, "--runs");
+    args_add(a, "1");
     args_add(a, "--max-error");
     args_add(a, "%s", bounds);
     if (dir) {
@@ -1002,8 +1037,9 @@ TEST(static_bounds_hold_and_meshes_shrink)
     csv c;
     csv_read(path, &c);
     EXPECT_FALSE(c.ragged);
-    ASSERT_EQ_INT(3, c.rows);
-    for (int i = 0; i < c.rows; i++) {
+    ASSERT_EQ_INT(6, c.rows); /* the patch rows, then the TIN rows */
+    for (int i = 0; i < 3; i++) {
+        EXPECT_EQ_STR("patches", csv_str(&c, i, "mesher"));
         EXPECT_EQ_DBL(rows[i].bound, csv_num(&c, i, "max_error_m"));
         EXPECT_EQ_DBL(rows[i].triangles, csv_num(&c, i, "triangles"));
         EXPECT_EQ_DBL(full, csv_num(&c, i, "full_triangles"));
@@ -1017,6 +1053,157 @@ TEST(static_bounds_hold_and_meshes_shrink)
     char full_text[64];
     snprintf(full_text, sizeof full_text, "full mesh %.0f triangles", full);
     EXPECT_CONTAINS(r.out, full_text);
+}
+
+/* The TIN rows (tp_tin_build on the whole render grid, void outlines cut): the true error that
+ * tp_tin_measure finds is within each bound, and the TIN needs fewer triangles than the patch
+ * mesh of the same bound; JSON, CSV and table agree. */
+TEST(static_tin_rows_hold_the_bound_with_fewer_triangles_than_patches)
+{
+    static run_result r;
+    args a;
+    const char* dem = sample_path(MT_HOOD);
+    const char* dir = make_tmp_dir();
+    char path[1024], buf[64];
+    args_cmd(&a, "bench");
+    args_add(&a, "--static");
+    args_add(&a, "--max-error");
+    args_add(&a, "1,5,20");
+    args_add(&a, "--runs");
+    args_add(&a, "2");
+    args_add(&a, "--json");
+    args_add(&a, "%s/static.json", dir);
+    args_add(&a, "--csv");
+    args_add(&a, "%s/static.csv", dir);
+    args_add(&a, "%s", dem);
+    run_ok(&a, &r);
+    snprintf(path, sizeof path, "%s/static.json", dir);
+    char* json = read_file(path, NULL);
+    ASSERT_TRUE(json != NULL);
+    static_row patch[4], tin[4];
+    ASSERT_EQ_INT(3, static_rows(json, patch, 4));
+    ASSERT_EQ_INT(3, static_rows_of(json, "terrapatch tin", tin, 4));
+    EXPECT_EQ_INT(0, static_rows_of(json, "delatin 0.2.0", tin + 3, 1)); /* no --compare */
+    /* the grid: the whole render grid (Mt Hood has voids: cut) */
+    const char* grid = json_value(json, NULL, "tin_grid");
+    ASSERT_TRUE(grid != NULL);
+    EXPECT_EQ_STR("render", json_str(grid, NULL, "grid", buf, sizeof buf));
+    EXPECT_EQ_DBL(json_num(json, NULL, "render_width"), json_num(grid, NULL, "width"));
+    EXPECT_EQ_DBL(json_num(json, NULL, "render_height"), json_num(grid, NULL, "height"));
+    EXPECT_EQ_DBL(1013.0, json_num(grid, NULL, "width"));
+    EXPECT_GT(json_num(grid, NULL, "void_samples"), 0.0);
+    EXPECT_TRUE(json_bool(grid, NULL, "cut_voids"));
+    EXPECT_EQ_DBL(2.0, json_num(json, NULL, "runs"));
+    EXPECT_TRUE(json_value(json, NULL, "peak_memory") != NULL);
+    for (int i = 0; i < 3; i++) {
+        tp_test_note("bound %g m: tin %.0f triangles (patches %.0f), true max %.6f m, %.0f "
+                     "uncovered, %.3f s, peak %.1f MiB",
+                     tin[i].bound, tin[i].triangles, patch[i].triangles, tin[i].max,
+                     tin[i].uncovered, tin[i].time_s, tin[i].peak_mib);
+        EXPECT_EQ_DBL(patch[i].bound, tin[i].bound);
+        EXPECT_LE(tin[i].max, tin[i].bound + 1e-6);
+        EXPECT_GT(tin[i].max, 0.5 * tin[i].bound); /* a real relief uses its budget */
+        EXPECT_TRUE(tin[i].holds);
+        EXPECT_LT(tin[i].triangles, patch[i].triangles);
+        EXPECT_GT(tin[i].points, 2.0);
+        EXPECT_LE(tin[i].rms, tin[i].max);
+        /* cut at the voids, the TIN leaves out only the valid samples in no valid cell (as
+         * the full mesh does): a few hundred here, far under 1 % of the grid */
+        EXPECT_LT(tin[i].uncovered, 0.01 * 1013 * 799);
+        if (i > 0)
+            EXPECT_LT(tin[i].triangles, tin[i - 1].triangles);
+    }
+    if (tin[0].peak_mib >= 0) /* measured: a million-triangle build takes memory */
+        EXPECT_GT(tin[0].peak_mib, 1.0);
+    free(json);
+    /* the CSV's TIN rows are the JSON's */
+    snprintf(path, sizeof path, "%s/static.csv", dir);
+    csv c;
+    csv_read(path, &c);
+    EXPECT_FALSE(c.ragged);
+    ASSERT_EQ_INT(6, c.rows);
+    for (int i = 0; i < 3; i++) {
+        EXPECT_EQ_STR("terrapatch tin", csv_str(&c, 3 + i, "mesher"));
+        EXPECT_EQ_STR("render", csv_str(&c, 3 + i, "grid"));
+        EXPECT_EQ_DBL(tin[i].bound, csv_num(&c, 3 + i, "max_error_m"));
+        EXPECT_EQ_DBL(tin[i].triangles, csv_num(&c, 3 + i, "triangles"));
+        EXPECT_EQ_DBL(tin[i].points, csv_num(&c, 3 + i, "points"));
+        EXPECT_NEAR(tin[i].max, csv_num(&c, 3 + i, "measured_max_error_m"), 0.0000051);
+        EXPECT_EQ_DBL(tin[i].uncovered, csv_num(&c, 3 + i, "uncovered_samples"));
+        EXPECT_EQ_DBL(1.0, csv_num(&c, 3 + i, "bound_holds"));
+        EXPECT_EQ_DBL(2.0, csv_num(&c, 3 + i, "runs"));
+    }
+    csv_free(&c);
+    EXPECT_CONTAINS(r.out, "error-bounded TINs on the whole 1013x799 render grid");
+    EXPECT_CONTAINS(r.out, "terrapatch tin");
+    EXPECT_CONTAINS(r.out, "median of 2 runs");
+    EXPECT_TRUE(strstr(r.out, "bound broken") == NULL);
+}
+
+/* --compare needs node (and npm and the network once, to install delatin and martini): where
+ * one is missing the run stops with exit 1 and a message naming it, before any row, and
+ * writes nothing. (The comparison itself needs the network: it is run by hand, see
+ * docs/PERFORMANCE.md.) */
+TEST(static_compare_without_node_or_npm_exits_1_naming_it)
+{
+    static run_result r;
+    args a;
+    const char* dem = sample_path(MT_HOOD);
+    const char* dir = make_tmp_dir();
+    char bin[1024], cache[1024], link_path[1200];
+    snprintf(bin, sizeof bin, "%s/bin", dir);
+    snprintf(cache, sizeof cache, "%s/cache", dir);
+    ASSERT_EQ_INT(0, mkdir(bin, 0755));
+    ASSERT_EQ_INT(0, mkdir(cache, 0755));
+    const char* old_path = getenv("PATH");
+    const char* old_cache = getenv("XDG_CACHE_HOME");
+    char saved_path[4096], saved_cache[4096];
+    snprintf(saved_path, sizeof saved_path, "%s", old_path ? old_path : "/usr/bin:/bin");
+    snprintf(saved_cache, sizeof saved_cache, "%s", old_cache ? old_cache : "");
+    setenv("XDG_CACHE_HOME", cache, 1); /* nothing installed there */
+    unsetenv("TP_NPM_DIR");
+    args_cmd(&a, "bench");
+    args_add(&a, "--static");
+    args_add(&a, "--compare");
+    args_add(&a, "--max-error");
+    args_add(&a, "5");
+    args_add(&a, "--json");
+    args_add(&a, "%s/out.json", dir);
+    args_add(&a, "%s", dem);
+    /* 1. no node on PATH (an empty folder) */
+    setenv("PATH", bin, 1);
+    run(&a, &r);
+    setenv("PATH", saved_path, 1);
+    EXPECT_EQ_INT(1, r.exit_code);
+    EXPECT_CONTAINS(r.err, "node not found on PATH");
+    EXPECT_CONTAINS(r.err, "no comparison without delatin and martini");
+    EXPECT_TRUE(r.out[0] == '\0'); /* no table, no row */
+    EXPECT_DIR_IS(dir, "bin,cache");
+    /* 2. node but no npm, and nothing installed yet */
+    const char* node = NULL;
+    static const char* nodes[] = {"/usr/bin/node", "/usr/local/bin/node", "/bin/node"};
+    for (size_t i = 0; i < sizeof nodes / sizeof *nodes && !node; i++)
+        if (access(nodes[i], X_OK) == 0)
+            node = nodes[i];
+    if (node) {
+        snprintf(link_path, sizeof link_path, "%s/node", bin);
+        ASSERT_EQ_INT(0, symlink(node, link_path));
+        setenv("PATH", bin, 1);
+        run(&a, &r);
+        setenv("PATH", saved_path, 1);
+        EXPECT_EQ_INT(1, r.exit_code);
+        EXPECT_CONTAINS(r.err, "npm not found on PATH");
+        EXPECT_TRUE(r.out[0] == '\0');
+        EXPECT_FALSE(access(link_path, F_OK) != 0); /* still there; nothing else written */
+        remove(link_path);
+    } else {
+        tp_test_note("no node binary here: the npm case is not run");
+    }
+    if (old_cache)
+        setenv("XDG_CACHE_HOME", saved_cache, 1);
+    else
+        unsetenv("XDG_CACHE_HOME");
+    EXPECT_DIR_IS(dir, "bin,cache");
 }
 
 /* The static mesh of a bound is the mesh `export --max-error` writes for it (read back with
@@ -1124,9 +1311,15 @@ TEST(static_bound_below_quantisation_is_reported_not_measured)
     char* json = read_file(path, NULL);
     ASSERT_TRUE(json != NULL);
     EXPECT_EQ_DBL(quant, json_num(json, NULL, "quantisation_error_m"));
-    static_row rows[3];
+    static_row rows[3], tins[3];
     ASSERT_EQ_INT(3, static_rows(json, rows, 3));
+    /* the TIN is refused the same bound (as by export): rows for the other two only */
+    ASSERT_EQ_INT(2, static_rows_of(json, "terrapatch tin", tins, 3));
     free(json);
+    EXPECT_NEAR(quant, tins[0].bound, 1e-6 * quant);
+    EXPECT_EQ_DBL(1.0, tins[1].bound);
+    for (int i = 0; i < 2; i++)
+        EXPECT_LE(tins[i].max, tins[i].bound + 1e-6);
     EXPECT_TRUE(rows[0].below);
     EXPECT_FALSE(rows[1].below); /* the bound equal to the quantisation error is taken */
     EXPECT_FALSE(rows[2].below);
@@ -1138,8 +1331,10 @@ TEST(static_bound_below_quantisation_is_reported_not_measured)
     snprintf(path, sizeof path, "%s/static.csv", dir);
     csv c;
     csv_read(path, &c);
-    EXPECT_EQ_INT(3, c.rows);
-    if (c.rows == 3) {
+    EXPECT_EQ_INT(5, c.rows); /* and then the two TIN rows */
+    if (c.rows == 5) {
+        EXPECT_EQ_STR("terrapatch tin", csv_str(&c, 3, "mesher"));
+        EXPECT_EQ_STR("terrapatch tin", csv_str(&c, 4, "mesher"));
         EXPECT_EQ_DBL(0.001, csv_num(&c, 0, "max_error_m"));
         EXPECT_EQ_DBL(1.0, csv_num(&c, 0, "below_quantisation"));
         EXPECT_EQ_INT(0, (int)strlen(csv_str(&c, 0, "triangles")));
@@ -1318,6 +1513,30 @@ TEST(static_with_sweep_exits_2)
     args_outputs(&a, dir);
     args_add(&a, "%s", dem);
     expect_usage_error(&a, "--sweep", dir);
+}
+
+TEST(static_compare_and_runs_need_static_exits_2)
+{
+    args a;
+    const char* dem = sample_path(STORML);
+    const char* dir = make_tmp_dir();
+    args_bench_small(&a, 1);
+    args_add(&a, "--compare");
+    args_outputs(&a, dir);
+    args_add(&a, "%s", dem);
+    expect_usage_error(&a, "--compare needs --static", dir);
+    args_bench_small(&a, 1);
+    args_add(&a, "--runs");
+    args_add(&a, "2");
+    args_outputs(&a, dir);
+    args_add(&a, "%s", dem);
+    expect_usage_error(&a, "--runs needs --static", dir);
+    args_static(&a, "5", NULL);
+    args_add(&a, "--runs");
+    args_add(&a, "0");
+    args_outputs(&a, dir);
+    args_add(&a, "%s", dem);
+    expect_usage_error(&a, "--runs", dir);
 }
 
 TEST(bad_speed_exits_2)
@@ -1644,6 +1863,9 @@ TEST(store_refuses_what_needs_a_terrain_exits_2)
     X(sweep_plot_never_replaces_the_csv_or_json)                                                   \
     X(static_bounds_hold_and_meshes_shrink)                                                        \
     X(static_mesh_is_the_export_max_error_mesh)                                                    \
+    X(static_tin_rows_hold_the_bound_with_fewer_triangles_than_patches)                            \
+    X(static_compare_without_node_or_npm_exits_1_naming_it)                                        \
+    X(static_compare_and_runs_need_static_exits_2)                                                 \
     X(static_full_triangles_count_every_valid_cell_and_16_bounds_are_taken)                        \
     X(static_bound_below_quantisation_is_reported_not_measured)                                    \
     X(speed_lead_in_changes_uploads_not_what_is_drawn)                                             \

@@ -7,6 +7,8 @@
 #ifndef TP_APP_BENCH_H
 #define TP_APP_BENCH_H
 
+#include <stdint.h>
+
 #include "gl_context.h"
 #include "scene.h"
 #include "view_options.h"
@@ -35,6 +37,10 @@ typedef struct bench_options {
     int error_every;   /* --error-every N: measure the error on every N-th frame; default 1 */
     int realtime;      /* --realtime: the camera moves by the time that really passed */
     int no_prefetch;   /* --no-prefetch: the stream gets no prefetch cut (what it costs) */
+    /* --static */
+    int compare;       /* --compare: delatin and martini from npm beside the TIN */
+    int runs;          /* --runs: timed runs per TIN (median); default 3 */
+    int runs_given;
 } bench_options;
 
 typedef struct frame_row {
@@ -97,10 +103,40 @@ int tp_bench_write_sweep_csv(const bench_options* o, const config_result* c, int
 
 /* `bench --static --max-error M1,M2,...`: for each bound, the static mesh of
  * `export --max-error` (levels selected, mesh built and measured, nothing written): triangles,
- * points, build time, measured maximum and RMS error against the source samples. Prints a
- * table; --json / --csv outputs when non-NULL. Returns TP_EXIT_*. */
-int tp_bench_static(const tp_scene* sc, const char* dem, const double* max_errors, int count,
-                    const char* json, const char* csv);
+ * points, build time, measured maximum and RMS error against the source samples; then the
+ * error-bounded TIN (tp_tin_build) on the render grid, and with o->compare delatin, martini and
+ * martini lowered (tools/tin_compare.sh) beside it on the largest void-free (2^k+1)^2 window,
+ * every TIN measured by tp_tin_measure. Prints a table; o->json / o->csv outputs when non-NULL.
+ * Returns TP_EXIT_*. */
+int tp_bench_static(const tp_scene* sc, const bench_options* o);
+
+/* The npm meshers of `bench --static --compare` (bench_npm.c), through tools/tin_compare.sh
+ * ($TP_TIN_COMPARE, else the source tree's tools/, compiled in as TP_TOOLS_DIR). */
+typedef struct tp_npm {
+    char script[4096];
+    char dir[4096];  /* a private temporary folder (mkdtemp under $TMPDIR or /tmp) */
+    char grid[4200]; /* dir/grid.f32: the heights the meshers read */
+    const float* z;  /* borrowed: w x h, no void */
+    int w, h;
+} tp_npm;
+
+typedef struct tp_npm_mesh {
+    double median_ms, tile_ms; /* the meshing's median over the runs; martini's createTile part */
+    double peak_mib, base_mib; /* the node process's peak RSS; its RSS before the first run */
+    size_t vertex_count, triangle_count;
+    float* vertices;           /* x, y, height (from the grid) per vertex */
+    uint32_t* triangles;
+} tp_npm_mesh;
+
+/* Finds the script, runs its install step (node, npm, the network once) and writes the grid;
+ * 0 after messages naming what is missing (and nothing left behind). */
+int tp_npm_open(tp_npm* n, const float* z, int w, int h);
+/* Runs mesher ("delatin" or "martini") at threshold_m, runs times in one node process, and
+ * reads its mesh back; 0 after a message. */
+int tp_npm_run(tp_npm* n, const char* mesher, double threshold_m, int runs, tp_npm_mesh* out);
+void tp_npm_mesh_free(tp_npm_mesh* m);
+/* Removes the grid file and the folder. */
+void tp_npm_close(tp_npm* n);
 
 /* `bench X.tpt`: flights over a built store through the hierarchy with streaming (the error
  * mode at --tau, then the distance mode), a table, --json and --csv. Returns TP_EXIT_*. */

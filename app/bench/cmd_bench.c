@@ -42,6 +42,8 @@ enum {
     OPT_ERROR_EVERY,
     OPT_REALTIME,
     OPT_NO_PREFETCH,
+    OPT_COMPARE,
+    OPT_RUNS,
 };
 
 /* The sweep's grid: distance mode in patch widths (W = 2^n sample spacings), error mode in px. */
@@ -92,6 +94,25 @@ static void print_help(void)
           "                         no frames: builds the static mesh of 'export --max-error M'\n"
           "                         for each bound and reports triangles, points, build time and\n"
           "                         the measured maximum and RMS error against the source\n"
+          "                         (\"patches\": the whole render grid), and terrapatch's\n"
+          "                         error-bounded TIN (\"terrapatch tin\", tp_tin_build; void\n"
+          "                         outlines cut) on the same grid: triangles, points, median\n"
+          "                         build time, true max and RMS error (tp_tin_measure, every\n"
+          "                         valid sample), and the peak memory the build adds (each run\n"
+          "                         in a forked child, its peak RSS reset via /proc/self/clear_refs)\n"
+          "  --runs N               --static: timed runs per TIN, the median reported (default 3)\n"
+          "  --compare              --static: also delatin 0.2.0 and martini 0.2.0 (npm; RTIN),\n"
+          "                         and martini with its threshold lowered (e x 1, 0.9, .., 0.1,\n"
+          "                         0.05, 0.02) to the largest one whose true error is <= e, each\n"
+          "                         run in its own node process (peak memory: that process's peak\n"
+          "                         RSS less its RSS before meshing); every TIN then runs on one\n"
+          "                         window: the largest (2^k+1)^2 square centred in the render\n"
+          "                         grid that holds no void (martini's grid shape).\n"
+          "                         tools/tin_compare.sh installs the npm packages into\n"
+          "                         ${XDG_CACHE_HOME:-~/.cache}/terrapatch/npm (needs node, npm\n"
+          "                         and, once, the network; TP_TIN_COMPARE=PATH runs another copy\n"
+          "                         of the script); every mesh is checked by tp_tin_measure.\n"
+          "                         Missing node, npm or network: exit 1, no rows\n"
           "\n"
           "A built store (X.tpt, see 'terrapatch build') is flown through its hierarchy with\n"
           "streaming instead: the error mode at --tau, then the distance mode, each from a cold\n"
@@ -147,6 +168,8 @@ static int parse_options(int argc, char** argv, bench_options* o)
         {"error-every", required_argument, NULL, OPT_ERROR_EVERY},
         {"realtime", no_argument, NULL, OPT_REALTIME},
         {"no-prefetch", no_argument, NULL, OPT_NO_PREFETCH},
+        {"compare", no_argument, NULL, OPT_COMPARE},
+        {"runs", required_argument, NULL, OPT_RUNS},
         {"help", no_argument, NULL, 'h'},
         {NULL, 0, NULL, 0},
     };
@@ -158,6 +181,7 @@ static int parse_options(int argc, char** argv, bench_options* o)
     o->memory_mb = 1024;
     o->segments = 4;
     o->error_every = 1;
+    o->runs = 3;
     tp_view_setup_default(&o->vs);
     opterr = 0;
     optind = 1;
@@ -214,19 +238,25 @@ static int parse_options(int argc, char** argv, bench_options* o)
             }
             break;
         }
+        case OPT_COMPARE: o->compare = 1; break;
         case OPT_MEMORY:
         case OPT_SEGMENTS:
+        case OPT_RUNS:
         case OPT_ERROR_EVERY: {
             long n = strtol(optarg, &end, 10);
             long lo = c == OPT_MEMORY ? 16 : 1, hi = c == OPT_MEMORY ? 1 << 20 : 100000;
             if (*end || end == optarg || n < lo || n > hi)
-                return bad(c == OPT_MEMORY ? "--memory" : c == OPT_SEGMENTS ? "--segments"
-                                                                            : "--error-every",
+                return bad(c == OPT_MEMORY     ? "--memory"
+                           : c == OPT_SEGMENTS ? "--segments"
+                           : c == OPT_RUNS     ? "--runs"
+                                               : "--error-every",
                            c == OPT_MEMORY ? "megabytes, 16 or more" : "a count >= 1", optarg);
             if (c == OPT_MEMORY)
                 o->memory_mb = (int)n;
             else if (c == OPT_SEGMENTS)
                 o->segments = (int)n;
+            else if (c == OPT_RUNS)
+                o->runs = (int)n, o->runs_given = 1;
             else
                 o->error_every = (int)n;
             break;
@@ -269,6 +299,11 @@ static int parse_options(int argc, char** argv, bench_options* o)
     if (o->is_static != (o->max_error_count > 0)) {
         fprintf(stderr, "terrapatch bench: --static and --max-error go together "
                         "(e.g. --static --max-error 1,5,20)\n");
+        return TP_EXIT_USAGE;
+    }
+    if ((o->compare || o->runs_given) && !o->is_static) {
+        fprintf(stderr, "terrapatch bench: %s needs --static --max-error\n",
+                o->compare ? "--compare" : "--runs");
         return TP_EXIT_USAGE;
     }
     if (o->is_static && o->sweep) {
@@ -558,7 +593,7 @@ int tp_cli_bench(int argc, char** argv)
     if ((code = tp_scene_load(o.dem, &o.scene, &sc)) != TP_EXIT_OK)
         return code;
     if (o.is_static) {
-        code = tp_bench_static(&sc, o.dem, o.max_errors, o.max_error_count, o.json, o.csv);
+        code = tp_bench_static(&sc, &o);
         tp_scene_free(&sc);
         return code == TP_EXIT_OK ? tp_cli_finish(code) : code;
     }

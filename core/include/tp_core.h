@@ -1268,6 +1268,42 @@ tp_status tp_tin_build_tiled(const float* heights, size_t height_count, int widt
 /* Frees a TIN; NULL is allowed. */
 void tp_tin_destroy(tp_tin* tin);
 
+/* ---------------------------------------------------------------------------------------------
+ * True error of a triangle mesh over a height grid (tin_measure.c, issue 14): the checker that
+ * `bench --static` applies to every mesher's output (ours, delatin's, martini's), independent of
+ * how the mesh was built (it shares no code with tin.c)
+ *
+ * The mesh: vertices at integer grid positions (x = column, y = row, as in "Error-bounded TIN"),
+ * each with a height, and triangles of three vertex indices, of either orientation. Every
+ * triangle is rasterised row by row over the grid: the span of each row is solved exactly from
+ * the integer edge equations (the closed triangle: samples on an edge or a vertex are inside),
+ * and each valid sample inside gets the barycentric interpolation of the three vertex heights,
+ * with weights from exact int64 orientations. A sample inside several triangles (on shared
+ * edges, or where a broken mesh overlaps) counts with its largest error. NaN samples (voids) are
+ * ignored. Triangles of zero area cover nothing (counted apart).
+ */
+typedef struct tp_tin_measure_result {
+    double max_error_m;          /* max |sample height - interpolation| over covered valid samples
+                                    (0 when none is covered) */
+    int worst_x, worst_y;        /* a sample where max_error_m is reached (-1, -1 when none) */
+    double rms_error_m;          /* over covered valid samples, each once (its largest error) */
+    size_t covered_samples;      /* valid samples inside at least one triangle */
+    size_t uncovered_samples;    /* valid samples no triangle covers (0 for a mesh of the whole
+                                    valid grid) */
+    size_t degenerate_triangles; /* triangles of zero area (skipped) */
+} tp_tin_measure_result;
+
+/* Measures the mesh (vertices: vertex_count * 3 floats x, y, height; triangles: triangle_count
+ * * 3 indices) against the width x height row-major grid heights (height_count = width *
+ * height). Fails (*out untouched) with TP_ERR_INVALID_ARG for a grid below 1x1 or of 2^32
+ * samples or more, height_count != width * height, a vertex whose x or y is not an integer
+ * inside the grid or whose height is not finite, a triangle index >= vertex_count, NULL arrays
+ * with a non-zero count; TP_ERR_OUT_OF_MEMORY (4 bytes per sample are allocated). Reentrant.
+ * Takes O(samples covered) time plus O(rows spanned) per triangle. */
+tp_status tp_tin_measure(const float* heights, size_t height_count, int width, int height,
+                         const float* vertices, size_t vertex_count, const uint32_t* triangles,
+                         size_t triangle_count, tp_tin_measure_result* out, tp_error* err);
+
 #ifdef __cplusplus
 }
 #endif
