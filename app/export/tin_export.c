@@ -67,7 +67,8 @@ tp_status tp_export_tin(const tp_scene* sc, double m, const tp_export_options* o
                             name);
     tp_tin* tin = NULL;
     tp_error terr;
-    tp_status st = tp_tin_build(z, (size_t)w * h, w, h, m, TP_TIN_CUT_VOIDS, &tin, &terr);
+    tp_status st = tp_tin_build_tiled(z, (size_t)w * h, w, h, m, TP_TIN_CUT_VOIDS,
+                                      TP_TIN_EXPORT_TILE_CELLS, 0, &tin, &terr);
     if (st != TP_OK) {
         free(owned);
         return tp_error_set(err, st, "%s: %s", name, terr.message);

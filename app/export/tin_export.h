@@ -1,6 +1,6 @@
 /*
  * tin_export.h - the error-bounded TIN of `export --max-error M` (--mesh tin, the default):
- * tp_tin_build on the source samples, cut at the voids, written as the same mesh as the other
+ * tp_tin_build_tiled on the source samples, cut at the voids, written as the same mesh as the other
  * modes (points in the render CRS, elevation_m, void_filled, max_error_m per triangle, field
  * data), without patch_id and lod (a TIN has neither).
  */
@@ -8,6 +8,10 @@
 #define TP_APP_TIN_EXPORT_H
 
 #include "mesh_export.h"
+
+/* The TIN is built in tiles of this many cells a side on every online CPU (tp_tin_build_tiled:
+ * a tile's samples and triangles stay in cache; docs/tin.md "Tiled build"). */
+#define TP_TIN_EXPORT_TILE_CELLS 256
 
 /* Builds the TIN whose vertical error is <= m at every valid source sample (the render grid,
  * or the decoded grid where the fit resampled it) and which covers exactly the cells the full
