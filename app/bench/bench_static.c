@@ -1,13 +1,15 @@
 /* bench_static.c - `bench --static --max-error M1,M2,...` (see bench.h): the patch-based static
- * mesh of `export --max-error`, and the error-bounded TINs: terrapatch's (tp_tin_build), and with
- * --compare delatin's, martini's and martini's at a lowered threshold (bench_npm.c), all on one
- * grid, all measured by tp_tin_measure. */
+ * mesh of `export --max-error --mesh patches`, and the error-bounded TINs: terrapatch's
+ * (tp_tin_build_tiled, as export builds it), and with --compare delatin's, martini's and
+ * martini's at a lowered threshold (bench_npm.c), all on one grid, all measured by
+ * tp_tin_measure. */
 #define _POSIX_C_SOURCE 200809L
 #include "atomic_file.h"
 #include "bench.h"
 #include "cli.h"
 #include "json.h"
 #include "mesh_export.h"
+#include "tin_export.h"
 
 #include <errno.h>
 #include <math.h>
@@ -164,7 +166,9 @@ static int tin_child(const tin_grid* tg, double e, int measure, child_report* ou
         tp_error err;
         memset(&err, 0, sizeof err);
         double t0 = now_s();
-        r.st = tp_tin_build(tg->z, (size_t)tg->w * tg->h, tg->w, tg->h, e, tg->flags, &t, &err);
+        /* as export builds it: tiles on every CPU */
+        r.st = tp_tin_build_tiled(tg->z, (size_t)tg->w * tg->h, tg->w, tg->h, e, tg->flags,
+                                  TP_TIN_EXPORT_TILE_CELLS, 0, &t, &err);
         r.time_s = now_s() - t0;
         double after = vm_hwm_mib();
         r.peak_mib = before >= 0 && after >= 0 ? after - before : -1;
