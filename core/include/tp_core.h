@@ -1265,6 +1265,28 @@ tp_status tp_tin_build_tiled(const float* heights, size_t height_count, int widt
                              double max_error_m, unsigned flags, int tile_cells, int threads,
                              tp_tin** out, tp_error* err);
 
+/* One tile of that tiling built on its own, from a window of the grid: what a caller that never
+ * holds the whole grid (a store export, one window of leaves at a time) builds tile by tile.
+ *
+ * The tile is tile_w x tile_h samples (>= 2 each), its first sample at (tile_x, tile_y) of the
+ * window; the window is the tile widened by 2 samples on each side, clipped to the grid only
+ * (tile_x, tile_y in 0..2, and 0..2 samples right of and below it): the void outline rule reads
+ * them, and a window clipped anywhere else than at the grid's edge gives another answer than the
+ * whole grid. Rows are stride floats apart. corner_z: the heights of the tile's corners (top-left,
+ * top-right, bottom-left, bottom-right) used where the corner sample is void and as the ends of
+ * its sides' polylines, the same for every tile that shares the corner; required without
+ * TP_TIN_CUT_VOIDS, NULL allowed with it (the corners' own samples are used: triangles touching
+ * a void corner are cut anyway). Tiles built with the same corner heights (or none) from the
+ * same samples meet edge for edge, as in tp_tin_build_tiled.
+ *
+ * Output: the tile's TIN in the tile's own coordinates (vertex (0, 0) is the tile's first
+ * sample), or *out = NULL with TP_OK when the cut leaves nothing (no valid sample). Fails with
+ * TP_ERR_INVALID_ARG for a tile that does not fit its window as above, a bound as tp_tin_build
+ * refuses, or no corner heights without the cut; TP_ERR_OUT_OF_MEMORY. Reentrant. */
+tp_status tp_tin_build_tile(const float* window, size_t stride, int win_w, int win_h, int tile_x,
+                            int tile_y, int tile_w, int tile_h, const float corner_z[4],
+                            double max_error_m, unsigned flags, tp_tin** out, tp_error* err);
+
 /* Frees a TIN; NULL is allowed. */
 void tp_tin_destroy(tp_tin* tin);
 

@@ -53,7 +53,6 @@ typedef struct tiling {
     const float* h;
     int w, hg;
     double e;
-    float bound;     /* max_error_m as a float rounded down (tin.c's comparison) */
     int cut;
     int tc;          /* tile size in cells */
     int ntx, nty;    /* tiles per row, per column */
@@ -200,11 +199,34 @@ static double side_error(const float* win, int tw, const float* va, const float*
     return mx;
 }
 
-static tp_status build_tile(const tiling* g, int ti, tp_tin** out, tp_error* err)
+/* The largest float not above e: "err <= bound" as floats means err <= e (tin.c's rule). */
+static float bound_down(double e)
 {
-    const int i = ti % g->ntx, j = ti / g->ntx;
-    const int x0 = bx(g, i), x1 = bx(g, i + 1), y0 = by(g, j), y1 = by(g, j + 1);
-    const int tw = x1 - x0 + 1, th = y1 - y0 + 1;
+    float b = (float)e;
+    return (double)b > e ? nextafterf(b, 0.0f) : b;
+}
+
+tp_status tp_tin_build_tile(const float* window, size_t stride, int win_w, int win_h, int tile_x,
+                            int tile_y, int tile_w, int tile_h, const float corner_z[4],
+                            double max_error_m, unsigned flags, tp_tin** out, tp_error* err)
+{
+    assert(out && window);
+    *out = NULL;
+    const int cut = (flags & TP_TIN_CUT_VOIDS) != 0;
+    if (tile_w < 2 || tile_h < 2 || tile_x < 0 || tile_y < 0 || tile_x > 2 || tile_y > 2 ||
+        tile_x + tile_w > win_w || tile_y + tile_h > win_h || win_w - tile_x - tile_w > 2 ||
+        win_h - tile_y - tile_h > 2 || stride < (size_t)win_w)
+        return tp__fail(err, TP_ERR_INVALID_ARG,
+                        "tin: tile %dx%d at (%d, %d) does not fit a window of %dx%d with at most "
+                        "2 samples around it", tile_w, tile_h, tile_x, tile_y, win_w, win_h);
+    if (!(max_error_m >= 0.0) || !isfinite(max_error_m))
+        return tp__fail(err, TP_ERR_INVALID_ARG,
+                        "tin: expected a finite max error >= 0 m, got %g", max_error_m);
+    if (!cut && !corner_z)
+        return tp__fail(err, TP_ERR_INVALID_ARG, "tin: a tile without the cut needs corner heights");
+    const float bound = bound_down(max_error_m);
+    const int tw = tile_w, th = tile_h;
+    const float* tile = window + (size_t)tile_y * stride + (size_t)tile_x;
     const size_t n = (size_t)tw * th;
     const int side_max = tw > th ? tw : th;
     float* win = malloc(sizeof(float) * n);
@@ -213,76 +235,70 @@ static tp_status build_tile(const tiling* g, int ti, tp_tin** out, tp_error* err
     uint8_t* chosen = malloc((size_t)side_max);
     int* stack = malloc(sizeof(int) * 2 * (size_t)side_max);
     tp_status st = TP_OK;
-    *out = NULL;
     if (!win || !cls || !sz || !chosen || !stack)
         goto oom;
     size_t valid = 0;
     for (int y = 0; y < th; ++y) {
-        const float* src = g->h + (size_t)(y0 + y) * g->w + x0;
+        const float* src = tile + (size_t)y * stride;
         memcpy(win + (size_t)y * tw, src, sizeof(float) * tw);
         for (int x = 0; x < tw; ++x)
             valid += src[x] == src[x];
     }
 
-    /* the void rule on the window widened by 2 samples: the whole grid's answer here */
-    if (g->cut) {
-        const int mx0 = x0 - 2 < 0 ? 0 : x0 - 2, my0 = y0 - 2 < 0 ? 0 : y0 - 2;
-        const int mx1 = x1 + 2 > g->w - 1 ? g->w - 1 : x1 + 2;
-        const int my1 = y1 + 2 > g->hg - 1 ? g->hg - 1 : y1 + 2;
-        const int mw = mx1 - mx0 + 1, mh = my1 - my0 + 1;
+    /* the void rule on the whole window (the tile and 2 samples around it, where the grid has
+     * them): the whole grid's answer for the tile's samples */
+    if (cut) {
         int any_void = 0;
-        for (int y = my0; y <= my1 && !any_void; ++y)
-            for (int x = mx0; x <= mx1 && !any_void; ++x)
-                any_void = g->h[(size_t)y * g->w + x] != g->h[(size_t)y * g->w + x];
+        for (int y = 0; y < win_h && !any_void; ++y)
+            for (int x = 0; x < win_w && !any_void; ++x)
+                any_void = window[(size_t)y * stride + x] != window[(size_t)y * stride + x];
         if (any_void) {
-            float* mwin = malloc(sizeof(float) * (size_t)mw * mh);
-            uint8_t* mcls = calloc((size_t)mw * mh, 1);
+            float* mwin = malloc(sizeof(float) * (size_t)win_w * win_h);
+            uint8_t* mcls = calloc((size_t)win_w * win_h, 1);
             if (!mwin || !mcls) {
                 free(mwin);
                 free(mcls);
                 goto oom;
             }
-            for (int y = 0; y < mh; ++y)
-                memcpy(mwin + (size_t)y * mw, g->h + (size_t)(my0 + y) * g->w + mx0,
-                       sizeof(float) * mw);
-            tp__tin_void_classes(mwin, mw, mh, mcls);
+            for (int y = 0; y < win_h; ++y)
+                memcpy(mwin + (size_t)y * win_w, window + (size_t)y * stride,
+                       sizeof(float) * win_w);
+            tp__tin_void_classes(mwin, win_w, win_h, mcls);
             for (int y = 0; y < th; ++y)
-                memcpy(cls + (size_t)y * tw, mcls + (size_t)(y0 - my0 + y) * mw + (x0 - mx0),
+                memcpy(cls + (size_t)y * tw, mcls + (size_t)(tile_y + y) * win_w + tile_x,
                        (size_t)tw);
             free(mwin);
             free(mcls);
         }
     }
 
-    /* the four sides: top, bottom (rows 0, th-1), left, right (columns 0, tw-1) */
-    const int cw = g->ntx + 1;
+    /* the four sides: top, bottom (rows 0, th-1), left, right (columns 0, tw-1); corners
+     * 0 top-left, 1 top-right, 2 bottom-left, 3 bottom-right */
+    static const int ends[4][2] = {{0, 1}, {2, 3}, {0, 2}, {1, 3}};
     for (int s = 0; s < 4; ++s) {
         const int horiz = s < 2;
         const int len = horiz ? tw : th;
         const size_t base = s == 0 ? 0 : s == 1 ? (size_t)(th - 1) * tw : s == 2 ? 0 : (size_t)(tw - 1);
-        const size_t stride = horiz ? 1 : (size_t)tw;
+        const size_t step = horiz ? 1 : (size_t)tw;
         for (int k = 0; k < len; ++k) {
-            sz[k] = win[base + k * stride];
-            chosen[k] = cls[base + k * stride] == CLS_FORCE;
+            sz[k] = win[base + k * step];
+            chosen[k] = cls[base + k * step] == CLS_FORCE;
         }
-        /* the ends: the corners' shared heights */
-        int ci0 = s == 3 ? i + 1 : i, cj0 = s == 1 ? j + 1 : j;
-        int ci1 = horiz ? i + 1 : ci0, cj1 = horiz ? cj0 : j + 1;
-        sz[0] = g->corner_z[(size_t)cj0 * cw + ci0];
-        sz[len - 1] = g->corner_z[(size_t)cj1 * cw + ci1];
+        if (corner_z) { /* the ends: the corners' shared heights */
+            sz[0] = corner_z[ends[s][0]];
+            sz[len - 1] = corner_z[ends[s][1]];
+        }
         chosen[0] = chosen[len - 1] = 1;
-        simplify_side(sz, len, g->bound, chosen, stack);
+        simplify_side(sz, len, bound, chosen, stack);
         for (int k = 0; k < len; ++k)
-            cls[base + k * stride] = chosen[k] ? CLS_FORCE : CLS_SKIP;
+            cls[base + k * step] = chosen[k] ? CLS_FORCE : CLS_SKIP;
     }
     /* the corners: the shared height in a void (not with the cut: see the top of the file) */
-    if (!g->cut) {
+    if (!cut) {
         const size_t c[4] = {0, (size_t)tw - 1, (size_t)(th - 1) * tw, n - 1};
-        const size_t cz[4] = {(size_t)j * cw + i, (size_t)j * cw + i + 1,
-                              (size_t)(j + 1) * cw + i, (size_t)(j + 1) * cw + i + 1};
         for (int k = 0; k < 4; ++k)
             if (win[c[k]] != win[c[k]]) {
-                win[c[k]] = g->corner_z[cz[k]];
+                win[c[k]] = corner_z[k];
                 ++valid;
             }
     }
@@ -294,7 +310,7 @@ static tp_status build_tile(const tiling* g, int ti, tp_tin** out, tp_error* err
         goto done;
 
     tp_tin* t = NULL;
-    st = tp__tin_build(win, tw, th, g->e, cls, g->cut, &t, err);
+    st = tp__tin_build(win, tw, th, max_error_m, cls, cut, &t, err);
     if (st != TP_OK)
         goto done;
     /* the skipped border samples count in the error of the triangle whose edge they lie on */
@@ -323,9 +339,26 @@ done:
     free(stack);
     return st;
 oom:
-    st = tp__fail(err, TP_ERR_OUT_OF_MEMORY, "tin: out of memory for tile (%d, %d) of %dx%d samples",
-                  i, j, tw, th);
+    st = tp__fail(err, TP_ERR_OUT_OF_MEMORY, "tin: out of memory for a tile of %dx%d samples",
+                  tw, th);
     goto done;
+}
+
+/* Tile ti of the grid: its window (2 samples around it, clipped to the grid) and corner heights. */
+static tp_status build_tile(const tiling* g, int ti, tp_tin** out, tp_error* err)
+{
+    const int i = ti % g->ntx, j = ti / g->ntx;
+    const int x0 = bx(g, i), x1 = bx(g, i + 1), y0 = by(g, j), y1 = by(g, j + 1);
+    const int mx0 = x0 - 2 < 0 ? 0 : x0 - 2, my0 = y0 - 2 < 0 ? 0 : y0 - 2;
+    const int mx1 = x1 + 2 > g->w - 1 ? g->w - 1 : x1 + 2;
+    const int my1 = y1 + 2 > g->hg - 1 ? g->hg - 1 : y1 + 2;
+    const int cw = g->ntx + 1;
+    const float cz[4] = {g->corner_z[(size_t)j * cw + i], g->corner_z[(size_t)j * cw + i + 1],
+                         g->corner_z[(size_t)(j + 1) * cw + i],
+                         g->corner_z[(size_t)(j + 1) * cw + i + 1]};
+    return tp_tin_build_tile(g->h + (size_t)my0 * g->w + mx0, (size_t)g->w, mx1 - mx0 + 1,
+                             my1 - my0 + 1, x0 - mx0, y0 - my0, x1 - x0 + 1, y1 - y0 + 1, cz, g->e,
+                             g->cut ? TP_TIN_CUT_VOIDS : 0u, out, err);
 }
 
 /* One thread: its first failure (the tile and the message). */
@@ -485,9 +518,6 @@ tp_status tp_tin_build_tiled(const float* heights, size_t height_count, int widt
     g.w = width;
     g.hg = height;
     g.e = max_error_m;
-    g.bound = (float)max_error_m;
-    if ((double)g.bound > max_error_m)
-        g.bound = nextafterf(g.bound, 0.0f);
     g.cut = (flags & TP_TIN_CUT_VOIDS) != 0;
     const int longest = (width > height ? width : height) - 1;
     g.tc = tile_cells < longest ? tile_cells : longest;
