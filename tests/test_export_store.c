@@ -104,13 +104,26 @@ TEST(seam_store_cuts_are_watertight)
     EXPECT_EQ_INT(f.boundary_loops, d.boundary_loops);
     /* without the pass that raises a coarser neighbour whose stitching passes M, this cut
      * measured 40 m at M = 30 (and 9.4 m at M = 8 on Mt Hood, below) */
-    const char* me[] = {"--max-error", "30", store, "-o", out, NULL};
+    const char* me[] = {"--max-error", "30", "--mesh", "patches", store, "-o", out, NULL};
     tp_mesh_summary m = export_and_inspect(me);
     EXPECT_EQ_INT(f.boundary_loops, m.boundary_loops);
     EXPECT_EQ_INT(0, m.non_manifold_edges);
     EXPECT_LE(m.max_error_m, 30.0);
     EXPECT_GT(m.max_error_m, 10.0);
     EXPECT_LT((double)m.triangles, 0.6 * (double)f.triangles);
+    /* the TIN, tile by tile across both DEMs' nodes: the same outline, watertight, bounded,
+     * far fewer triangles than the patches */
+    const char* tin[] = {"--max-error", "30", store, "-o", out, NULL};
+    tp_mesh_summary t = export_and_inspect(tin);
+    EXPECT_EQ_INT(f.boundary_loops, t.boundary_loops);
+    EXPECT_EQ_INT(0, t.non_manifold_edges);
+    EXPECT_EQ_INT(0, t.downward_triangles);
+    EXPECT_LE(t.max_error_m, 30.0);
+    EXPECT_GT(t.max_error_m, 20.0);
+    EXPECT_TRUE(!t.has_patch_id && !t.has_lod && t.has_max_error && t.has_void_filled);
+    EXPECT_LT((double)t.triangles, 0.5 * (double)m.triangles);
+    for (int i = 0; i < 4; i++)
+        EXPECT_EQ_DBL(f.bounds[i], t.bounds[i]);
     remove(out);
     remove(store);
 }
@@ -129,13 +142,24 @@ TEST(void_store_cuts_are_watertight_and_keep_max_error)
     /* 26820 nodata samples: fewer than two triangles per cell of the 1013 x 799 grid */
     EXPECT_LT((double)f.triangles, 2.0 * 1012 * 798 - 40000);
     EXPECT_EQ_INT(0, f.non_manifold_edges);
-    const char* me[] = {"--max-error", "8", store, "-o", out, NULL};
+    const char* me[] = {"--max-error", "8", "--mesh", "patches", store, "-o", out, NULL};
     tp_mesh_summary m = export_and_inspect(me);
     EXPECT_EQ_INT(f.boundary_loops, m.boundary_loops);
     EXPECT_EQ_INT(0, m.non_manifold_edges);
     EXPECT_LE(m.max_error_m, 8.0);
     EXPECT_GT(m.max_error_m, 1.0); /* not the full mesh */
     EXPECT_LT((double)m.triangles, (double)f.triangles);
+    /* the TIN cut at the voids (inside and around), tile by tile: the full mesh's outline */
+    const char* tin[] = {"--max-error", "8", store, "-o", out, NULL};
+    tp_mesh_summary t = export_and_inspect(tin);
+    EXPECT_EQ_INT(f.boundary_loops, t.boundary_loops);
+    EXPECT_EQ_INT(0, t.non_manifold_edges);
+    EXPECT_EQ_INT(0, t.downward_triangles);
+    EXPECT_LE(t.max_error_m, 8.0);
+    EXPECT_GT(t.max_error_m, 4.0);
+    EXPECT_LT((double)t.triangles, 0.5 * (double)m.triangles);
+    for (int i = 0; i < 4; i++)
+        EXPECT_EQ_DBL(f.bounds[i], t.bounds[i]);
     const char* top[] = {"--lod", "error", "--tau", "4", store, "-o", out, NULL};
     tp_mesh_summary s = export_and_inspect(top);
     EXPECT_EQ_INT(f.boundary_loops, s.boundary_loops);

@@ -63,22 +63,24 @@ static void print_help(void)
           "  --full                full resolution: every drawn sample, two triangles per cell\n"
           "  --max-error M         static error-bounded mesh: vertical error <= M metres at every\n"
           "                        valid source sample (measured, per triangle in max_error_m)\n"
-          "  --mesh tin|patches    with --max-error: tin (default on a DEM) is a triangulated\n"
+          "  --mesh tin|patches    with --max-error: tin (the default) is a triangulated\n"
           "                        irregular network (greedy Delaunay insertion, near-minimal\n"
           "                        triangles) over exactly the cells the full mesh covers, cut\n"
-          "                        at voids, without patch_id and lod; patches (the default on a\n"
-          "                        store) is what the viewer draws: every patch at the coarsest\n"
+          "                        at voids, without patch_id and lod; patches is what the\n"
+          "                        viewer draws: every patch at the coarsest\n"
           "                        level whose error stays <= M, cracks removed (M may not be\n"
           "                        below the quantisation error)\n"
           "  --no-cull             view-dependent mesh: keep the patches outside the view too\n"
           "                        (DEMs only)\n"
           "on a store (.tpt): the same modes over the tree's cut. Every node the mesh draws is\n"
           "read at full detail first (nothing substituted), nodes no longer needed are released;\n"
-          "default: the cut the viewer draws for the camera; --max-error M: each node at the\n"
-          "coarsest level whose stored bound (stitching and quantisation included) is <= M;\n"
-          "--full is refused above 50 M triangles (the other modes when their cut passes it).\n"
+          "default: the cut the viewer draws for the camera; --max-error M: the TIN built in\n"
+          "tiles of 256 cells, one window of full-resolution samples at a time (the map is never\n"
+          "in memory whole), error <= M against the store's samples; with --mesh patches each\n"
+          "node at the coarsest level whose stored bound (stitching and quantisation included)\n"
+          "is <= M; --full is refused above 50 M triangles (the other modes when they pass it).\n"
           "patch_id is the node id; max_error_m is measured against the store's full-resolution\n"
-          "samples; void_filled is 0 (field data void_filled_note says whether that is known).\n"
+          "samples; void_filled comes from the store's filled bits.\n"
           "view-dependent options (as for view):\n",
           stdout);
     tp_view_options_help(stdout);
@@ -259,11 +261,6 @@ int tp_cli_export(int argc, char** argv)
     if (!tp_atomic_check_dir(o.out))
         return TP_EXIT_FAILURE;
     if (tp_is_store_path(o.path)) {
-        if (o.mesh == MESH_TIN) {
-            fprintf(stderr, "terrapatch export: %s is a store: its --max-error mesh is made of "
-                            "patches (--mesh patches); a TIN is built from a DEM\n", o.path);
-            return TP_EXIT_USAGE;
-        }
         if (o.no_cull || o.per_patch || o.scene.image_given) {
             fprintf(stderr, "terrapatch export: %s is a store: --no-cull, --per-patch and the "
                             "heightmap options apply to a DEM only\n", o.path);
@@ -272,6 +269,7 @@ int tp_cli_export(int argc, char** argv)
         tp_store_export_request r = {
             .store_path = o.path, .out = o.out, .max_error_m = o.max_error_m, .vs = &o.vs,
             .format = o.format, .origin_local = o.origin_local,
+            .tin = o.mode == MODE_MAX_ERROR && o.mesh != MESH_PATCHES,
             .mode = o.mode == MODE_FULL        ? TP_STORE_EXPORT_FULL
                     : o.mode == MODE_MAX_ERROR ? TP_STORE_EXPORT_MAX_ERROR
                                                : TP_STORE_EXPORT_VIEW,

@@ -1,6 +1,8 @@
 /* store_export.c - `terrapatch export` on a store (see store_export.h). */
 #include "store_export.h"
 #include "store_mesh.h"
+#include "store_tin.h"
+#include "tin_export.h"
 
 #include "camera_pose.h"
 #include "cli.h"
@@ -45,6 +47,7 @@ typedef struct store_export {
     int n;
     size_t tris_cut; /* triangles of the final cut (for the size check) */
     size_t drawn;    /* nodes of the final cut */
+    tp_store_tin_stats tin; /* r->tin: the tiles built */
 } store_export;
 
 static int fail(store_export* x, const char* what)
@@ -533,7 +536,8 @@ static int write_mesh(store_export* x, mesh_build* m, const char* camera_text,
     const char* note = "from the store's filled bits: 1 where the build filled an interior void";
     tp_mesh mesh = {
         .point_count = m->points, .xyz = xyz, .elevation_m = m->pz, .void_filled = m->pf,
-        .triangle_count = m->tris, .triangles = m->tri, .patch_id = m->patch, .lod = m->lod,
+        .triangle_count = m->tris, .triangles = m->tri,
+        .patch_id = x->r->tin ? NULL : m->patch, .lod = x->r->tin ? NULL : m->lod,
         .max_error_m = m->err, .crs_wkt = h->crs_wkt, .epsg = ci.epsg, .utm_zone = zone,
         .source_file = x->r->store_path, .camera = camera_text, .lod_params = lod_text,
         .program_version = "terrapatch " TP_VERSION,
@@ -554,6 +558,15 @@ static int write_mesh(store_export* x, mesh_build* m, const char* camera_text,
      * drawn samples (reading every leaf to count would cost the whole store) */
     int exact = x->r->mode == TP_STORE_EXPORT_FULL;
     size_t full = exact ? m->tris : full_mesh_bound(x);
+    if (x->r->tin) {
+        printf("wrote %s: %zu points, %zu triangles (%.2f%% of the at most %zu of the full "
+               "mesh), measured error (against the store's full-resolution samples) max %.3f m, "
+               "RMS %.3f m; %zu tiles of %d cells built one window at a time, %zu leaves read\n",
+               x->r->out, m->points, m->tris, 100.0 * m->tris / (full ? full : 1), full, mx,
+               count ? sqrt(sum / count) : 0.0, x->tin.tiles, TP_TIN_EXPORT_TILE_CELLS,
+               x->cache->reads);
+        return TP_EXIT_OK;
+    }
     printf("wrote %s: %zu points, %zu triangles (%.2f%% of the %s%zu of the full mesh), "
            "measured error (against the store's full-resolution samples) max %.3f m, RMS %.3f m; "
            "%zu nodes drawn, %zu resident at most (%.1f MiB), %zu more leaves read for the "
@@ -612,6 +625,21 @@ int tp_export_store(const tp_store_export_request* r)
         }
         snprintf(lod_text, sizeof lod_text, "mode=full");
         code = cut_full(&x);
+    } else if (r->mode == TP_STORE_EXPORT_MAX_ERROR && r->tin) {
+        snprintf(lod_text, sizeof lod_text, "mode=max-error mesh=tin max_error_m=%g",
+                 r->max_error_m);
+        if (!tp_store_tin_mesh(x.cache, x.g->src_width, x.g->src_height, r->max_error_m,
+                               TP_STORE_EXPORT_MAX_TRIANGLES, &m, &x.tin, &err)) {
+            if (tp_interrupted())
+                code = tp_cli_interrupted();
+            else if (m.tris > TP_STORE_EXPORT_MAX_TRIANGLES)
+                code = too_many(&x, m.tris, "the TIN passes");
+            else
+                code = fail(&x, err.message);
+            goto done;
+        }
+        sum = x.tin.sum_sq;
+        samples = x.tin.samples;
     } else if (r->mode == TP_STORE_EXPORT_MAX_ERROR) {
         if (r->max_error_m < x.quant_m) {
             fprintf(stderr,
@@ -654,7 +682,7 @@ int tp_export_store(const tp_store_export_request* r)
         exact.hole_px = 1e-300;
         code = cut_for_camera(&x, &cam, &exact);
     }
-    if (code == TP_EXIT_OK)
+    if (code == TP_EXIT_OK && !r->tin)
         code = build_mesh(&x, &m, &sum, &samples);
     if (code == TP_EXIT_OK) {
         /* the nodes are no longer needed: release them before the writer allocates */

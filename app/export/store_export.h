@@ -32,6 +32,7 @@ typedef struct tp_store_export_request {
     const char* out;           /* the mesh file */
     tp_store_export_mode mode;
     double max_error_m;        /* TP_STORE_EXPORT_MAX_ERROR */
+    int tin;                   /* with it: an error-bounded TIN (store_tin.h), not patches */
     const tp_view_setup* vs;   /* TP_STORE_EXPORT_VIEW: camera, LoD, field of view, size */
     tp_mesh_format format;
     int origin_local;

@@ -55,6 +55,13 @@ void tp_res_release_except(residency* r, const uint8_t* keep)
 
 double tp_leaf_sample(leaf_cache* lc, int x, int y)
 {
+    return tp_leaf_sample_filled(lc, x, y, NULL);
+}
+
+double tp_leaf_sample_filled(leaf_cache* lc, int x, int y, int* filled)
+{
+    if (filled)
+        *filled = 0;
     const tp_tree_geometry* g = lc->g;
     int n = g->n, c = x >> n, r = y >> n;
     c = c < g->cols ? c : g->cols - 1;
@@ -81,7 +88,12 @@ double tp_leaf_sample(leaf_cache* lc, int x, int y)
         q = lc->slot[s];
     }
     int v = (1 << n) + 1;
-    uint16_t st = q[(size_t)(y - (r << n)) * v + (size_t)(x - (c << n))];
+    size_t k = (size_t)(y - (r << n)) * v + (size_t)(x - (c << n));
+    uint16_t st = q[k];
+    if (filled && (lc->metas[leaf].flags & TP_NODE_HAS_FILLED)) {
+        const uint16_t* bits = q + (size_t)v * v + tp_node_mask_words(n);
+        *filled = bits[k / 16] >> (k % 16) & 1;
+    }
     return st == TP_TREE_NO_HEIGHT ? NAN : ((double)st + lc->metas[leaf].qmin) * lc->step_m;
 }
 

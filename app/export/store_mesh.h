@@ -47,6 +47,10 @@ typedef struct leaf_cache {
  * then failed is set and res->err holds the message). */
 double tp_leaf_sample(leaf_cache* lc, int x, int y);
 
+/* tp_leaf_sample, and *filled (when not NULL) 1 where the build filled that sample (a void
+ * filled by interpolation or from a second source: the store's filled bits), else 0. */
+double tp_leaf_sample_filled(leaf_cache* lc, int x, int y, int* filled);
+
 /* ---- the mesh: points merged by grid position (open addressing), triangles ---- */
 
 typedef struct mesh_build {

@@ -435,6 +435,12 @@ int tp__cut_nb(const tp_cut* c, int i, int nb[4]);
  * cell that touches an invalid one (TP_TIN_CUT_VOIDS); returns whether it marked any. */
 int tp__tin_void_classes(const float* h, int w, int hg, uint8_t* cls);
 
+/* The bound errors are compared with, as floats (each error rounded up to a float): the largest
+ * float below e (0 for e = 0), so that "err <= bound" means err < e with a margin of one float
+ * step (6e-8 relative): a measurement of the same error by another double formula, which may
+ * differ by 1e-12 m, still finds it <= e. */
+float tp__tin_bound(double e);
+
 /* tp_tin_build after its checks, on a grid of at least 2x2 with a valid sample: cls (NULL or
  * one byte per sample: 0 free, 1 forced, 2 skipped) says which samples are inserted first and
  * which are never measured; cut drops the triangles over invalid cells. */

@@ -615,6 +615,14 @@ static tp_tin* tin_alloc(size_t n, size_t m)
     return t;
 }
 
+float tp__tin_bound(double e)
+{
+    float b = (float)e;
+    while (b > 0.0f && (double)b >= e)
+        b = nextafterf(b, 0.0f);
+    return b;
+}
+
 /* Whether cell (cx, cy) (corners (cx, cy) .. (cx + 1, cy + 1)) has four valid corners; cells
  * outside the grid count as valid (the outline is no void's edge). */
 static int cell_valid(const float* h, int w, int hg, int cx, int cy)
@@ -697,11 +705,7 @@ tp_status tp__tin_build(const float* heights, int width, int height, double max_
     b.w = width;
     b.hgt = height;
     b.bound_d = max_error_m;
-    /* errors are floats: the largest float not above the bound, so "err <= bound" as floats
-     * means err <= max_error_m exactly */
-    b.bound = (float)max_error_m;
-    if ((double)b.bound > max_error_m)
-        b.bound = nextafterf(b.bound, 0.0f);
+    b.bound = tp__tin_bound(max_error_m);
     b.exact64 = width <= (1 << 14) && height <= (1 << 14);
     if (cls) { /* the forced samples by row (a tiled build forces whole tile borders) */
         size_t nf = 0, n = (size_t)width * (size_t)height;

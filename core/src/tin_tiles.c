@@ -199,13 +199,6 @@ static double side_error(const float* win, int tw, const float* va, const float*
     return mx;
 }
 
-/* The largest float not above e: "err <= bound" as floats means err <= e (tin.c's rule). */
-static float bound_down(double e)
-{
-    float b = (float)e;
-    return (double)b > e ? nextafterf(b, 0.0f) : b;
-}
-
 tp_status tp_tin_build_tile(const float* window, size_t stride, int win_w, int win_h, int tile_x,
                             int tile_y, int tile_w, int tile_h, const float corner_z[4],
                             double max_error_m, unsigned flags, tp_tin** out, tp_error* err)
@@ -224,7 +217,7 @@ tp_status tp_tin_build_tile(const float* window, size_t stride, int win_w, int w
                         "tin: expected a finite max error >= 0 m, got %g", max_error_m);
     if (!cut && !corner_z)
         return tp__fail(err, TP_ERR_INVALID_ARG, "tin: a tile without the cut needs corner heights");
-    const float bound = bound_down(max_error_m);
+    const float bound = tp__tin_bound(max_error_m);
     const int tw = tile_w, th = tile_h;
     const float* tile = window + (size_t)tile_y * stride + (size_t)tile_x;
     const size_t n = (size_t)tw * th;
