@@ -1224,23 +1224,32 @@ TEST(static_mesh_is_the_export_max_error_mesh)
     snprintf(path, sizeof path, "%s/static.json", dir);
     char* json = read_file(path, NULL);
     ASSERT_TRUE(json != NULL);
-    static_row rows[1];
+    static_row rows[1], tin[1];
     ASSERT_EQ_INT(1, static_rows(json, rows, 1));
+    ASSERT_EQ_INT(1, static_rows_of(json, "terrapatch tin", tin, 1));
     free(json);
-    args_cmd(&a, "export");
-    args_add(&a, "--max-error");
-    args_add(&a, "20");
-    args_add(&a, "%s", dem);
-    args_add(&a, "-o");
-    args_add(&a, "%s/m20.vtp", dir);
-    run_ok(&a, &r);
-    snprintf(path, sizeof path, "%s/m20.vtp", dir);
-    tp_mesh_summary s;
-    tp_error e;
-    ASSERT_OK(tp_mesh_inspect(path, &s, &e));
-    EXPECT_EQ_DBL((double)s.triangles, rows[0].triangles);
-    EXPECT_EQ_DBL((double)s.points, rows[0].points);
-    EXPECT_LE(s.max_error_m, 20.0);
+    /* the patches row is `export --max-error 20 --mesh patches`, the TIN row the default TIN */
+    for (int k = 0; k < 2; k++) {
+        args_cmd(&a, "export");
+        args_add(&a, "--max-error");
+        args_add(&a, "20");
+        if (k == 0) {
+            args_add(&a, "--mesh");
+            args_add(&a, "patches");
+        }
+        args_add(&a, "%s", dem);
+        args_add(&a, "-o");
+        args_add(&a, "%s/m20_%d.vtp", dir, k);
+        run_ok(&a, &r);
+        snprintf(path, sizeof path, "%s/m20_%d.vtp", dir, k);
+        tp_mesh_summary s;
+        tp_error e;
+        ASSERT_OK(tp_mesh_inspect(path, &s, &e));
+        const static_row* row = k == 0 ? &rows[0] : &tin[0];
+        EXPECT_EQ_DBL((double)s.triangles, row->triangles);
+        EXPECT_EQ_DBL((double)s.points, row->points);
+        EXPECT_LE(s.max_error_m, 20.0);
+    }
 #endif
 }
 

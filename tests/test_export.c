@@ -201,14 +201,146 @@ TEST(max_error_mesh_keeps_its_bound_and_is_smaller)
 
 TEST(max_error_below_quantisation_is_refused)
 {
-    /* N42E001 is warped to UTM: its heights are no longer integers and quantisation is > 0 */
+    /* N42E001 is warped to UTM: its heights are no longer integers and quantisation is > 0; the
+     * patches hold quantised heights, a TIN the source samples (no floor) */
     char dem[1024], out[1024], err[4096];
     data_path(dem, sizeof dem, "N42E001.hgt");
     out_path(out, sizeof out, "tiny.vtp");
-    const char* args[] = {"--max-error", "0.0001", dem, "-o", out, NULL};
+    const char* args[] = {"--max-error", "0.0001", "--mesh", "patches", dem, "-o", out, NULL};
     EXPECT_EQ_INT(2, run_export(args, err, sizeof err));
     EXPECT_CONTAINS(err, "quantisation");
     EXPECT_TRUE(access(out, F_OK) != 0);
+}
+
+static int cmp_xy(const void* a, const void* b)
+{
+    const double *p = a, *q = b;
+    for (int i = 0; i < 2; i++)
+        if (p[i] != q[i])
+            return p[i] < q[i] ? -1 : 1;
+    return 0;
+}
+
+/* Every point of mesh a is a point of mesh b: the same easting and northing (doubles) and a
+ * height within dz_m (b may hold quantised heights); returns a's point count. */
+static size_t points_subset(const char* a, const char* b, double dz_m)
+{
+    double *pa = NULL, *pb = NULL;
+    size_t na = 0, nb = 0;
+    tp_error e;
+    ASSERT_OK(tp_mesh_read_points(a, &pa, &na, &e));
+    ASSERT_OK(tp_mesh_read_points(b, &pb, &nb, &e));
+    qsort(pb, nb, 3 * sizeof *pb, cmp_xy);
+    size_t missing = 0, off = 0;
+    for (size_t i = 0; i < na; i++) {
+        const double* q = bsearch(pa + 3 * i, pb, nb, 3 * sizeof *pb, cmp_xy);
+        missing += !q;
+        off += q && fabs(q[2] - pa[3 * i + 2]) > dz_m;
+    }
+    EXPECT_EQ_INT(0, (int)missing);
+    EXPECT_EQ_INT(0, (int)off);
+    free(pa);
+    free(pb);
+    return na;
+}
+
+TEST(tin_is_bounded_watertight_and_on_the_full_meshs_points)
+{
+    /* N42E001 warped to UTM: void margins around the tile, so the TIN is cut at voids */
+    char dem[1024], out[1024], full[1024], pat[1024], err[4096];
+    data_path(dem, sizeof dem, "N42E001.hgt");
+    out_path(out, sizeof out, "tin20.vtp");
+    out_path(full, sizeof full, "tin20_full.vtp");
+    out_path(pat, sizeof pat, "tin20_patches.vtp");
+    const char* args[] = {"--max-error", "20", dem, "-o", out, NULL};
+    ASSERT_EQ_INT(0, run_export(args, err, sizeof err));
+    const char* fargs[] = {"--full", dem, "-o", full, NULL};
+    ASSERT_EQ_INT(0, run_export(fargs, err, sizeof err));
+    const char* pargs[] = {"--max-error", "20", "--mesh", "patches", dem, "-o", pat, NULL};
+    ASSERT_EQ_INT(0, run_export(pargs, err, sizeof err));
+    tp_mesh_summary s, f, p;
+    tp_error e;
+    ASSERT_OK(tp_mesh_inspect(out, &s, &e));
+    ASSERT_OK(tp_mesh_inspect(full, &f, &e));
+    ASSERT_OK(tp_mesh_inspect(pat, &p, &e));
+    /* the bound, measured per triangle; the fields of the other modes but patch_id and lod */
+    EXPECT_LE(s.max_error_m, 20.0);
+    EXPECT_GT(s.max_error_m, 10.0);
+    EXPECT_TRUE(s.points_are_double && s.has_elevation && s.has_void_filled && s.has_max_error &&
+                s.has_crs && s.has_source && s.has_version);
+    EXPECT_TRUE(!s.has_patch_id && !s.has_lod);
+    /* watertight over exactly the full mesh's cells: one outline, same extent, no edge shared
+     * by three triangles, every vertex a sample of the full mesh */
+    EXPECT_EQ_INT(0, s.non_manifold_edges);
+    EXPECT_EQ_INT(0, s.downward_triangles);
+    EXPECT_EQ_INT(0, f.downward_triangles);
+    EXPECT_EQ_INT(f.boundary_loops, s.boundary_loops);
+    for (int i = 0; i < 4; i++)
+        EXPECT_EQ_DBL(f.bounds[i], s.bounds[i]);
+    /* the full mesh holds the terrain's quantised heights (a step of 1/64 m here), the TIN the
+     * source samples */
+    EXPECT_GT(points_subset(out, full, 1.0 / 64), 1000);
+    /* far fewer triangles than the patches at the same bound */
+    EXPECT_LT((double)s.triangles, 0.5 * (double)p.triangles);
+    printf("N42E001 at 20 m: TIN %zu triangles, patches %zu, full %zu\n", s.triangles,
+           p.triangles, f.triangles);
+    remove(out);
+    remove(full);
+    remove(pat);
+}
+
+/* FNV-1a over the points' doubles in file order. */
+static uint64_t points_hash(const char* path, size_t* count)
+{
+    double* p = NULL;
+    tp_error e;
+    ASSERT_OK(tp_mesh_read_points(path, &p, count, &e));
+    uint64_t h = 1469598103934665603ull;
+    const unsigned char* b = (const unsigned char*)p;
+    for (size_t i = 0; i < 3 * *count * sizeof *p; i++)
+        h = (h ^ b[i]) * 1099511628211ull;
+    free(p);
+    return h;
+}
+
+TEST(mesh_patches_is_the_max_error_mesh_of_before)
+{
+    /* Pinned from terrapatch 65b6cee (before --mesh existed: --max-error meant patches), whose
+     * file for this command was byte-identical to today's --mesh patches file: 14053 points,
+     * 27616 triangles, measured error max 5.000 m, RMS 0.331 m, and these points. */
+    char dem[1024], out[1024], err[4096];
+    data_path(dem, sizeof dem, "storml_elev.tif");
+    out_path(out, sizeof out, "patches5.vtp");
+    const char* args[] = {"--max-error", "5", "--mesh", "patches", dem, "-o", out, NULL};
+    ASSERT_EQ_INT(0, run_export(args, err, sizeof err));
+    tp_mesh_summary s;
+    tp_error e;
+    ASSERT_OK(tp_mesh_inspect(out, &s, &e));
+    EXPECT_EQ_INT(14053, s.points);
+    EXPECT_EQ_INT(27616, s.triangles);
+    EXPECT_TRUE(s.has_patch_id && s.has_lod);
+    size_t n = 0;
+    uint64_t h = points_hash(out, &n);
+    printf("points hash %016llx\n", (unsigned long long)h);
+    EXPECT_TRUE(h == 0x163568587a8435e1ull);
+    remove(out);
+}
+
+TEST(tin_of_a_resampled_fit_keeps_its_bound)
+{
+    char dem[1024], out[1024], err[4096];
+    data_path(dem, sizeof dem, "storml_elev.tif");
+    out_path(out, sizeof out, "tin_resample.vtp");
+    const char* args[] = {"--max-error", "2", "--fit", "resample", dem, "-o", out, NULL};
+    ASSERT_EQ_INT(0, run_export(args, err, sizeof err));
+    tp_mesh_summary s;
+    tp_error e;
+    ASSERT_OK(tp_mesh_inspect(out, &s, &e));
+    EXPECT_LE(s.max_error_m, 2.0);
+    EXPECT_EQ_INT(1, s.boundary_loops);
+    EXPECT_EQ_INT(0, s.downward_triangles);
+    EXPECT_EQ_INT(0, s.non_manifold_edges);
+    remove(out);
 }
 
 TEST(unwritable_output_fails_and_leaves_nothing)
@@ -236,6 +368,14 @@ TEST(invalid_options_are_usage_errors)
     EXPECT_EQ_INT(2, run_export(a4, err, sizeof err));
     const char* a5[] = {"--full", dem, NULL};
     EXPECT_EQ_INT(2, run_export(a5, err, sizeof err));
+    const char* a6[] = {"--max-error", "5", "--mesh", "strips", dem, "-o", out, NULL};
+    EXPECT_EQ_INT(2, run_export(a6, err, sizeof err));
+    EXPECT_CONTAINS(err, "tin or patches");
+    const char* a7[] = {"--mesh", "tin", dem, "-o", out, NULL}; /* no --max-error */
+    EXPECT_EQ_INT(2, run_export(a7, err, sizeof err));
+    const char* a8[] = {"--max-error", "5", "--per-patch", dem, "-o", "/tmp/tp_x.vtm", NULL};
+    EXPECT_EQ_INT(2, run_export(a8, err, sizeof err));
+    EXPECT_CONTAINS(err, "--mesh patches");
     EXPECT_TRUE(access(out, F_OK) != 0);
 }
 
@@ -270,6 +410,9 @@ TEST(origin_local_shifts_points_and_records_it)
     X(view_dependent_mesh_has_the_viewers_triangles)                                               \
     X(max_error_mesh_keeps_its_bound_and_is_smaller)                                               \
     X(max_error_below_quantisation_is_refused)                                                     \
+    X(tin_is_bounded_watertight_and_on_the_full_meshs_points)                                      \
+    X(tin_of_a_resampled_fit_keeps_its_bound)                                                      \
+    X(mesh_patches_is_the_max_error_mesh_of_before)                                                \
     X(unwritable_output_fails_and_leaves_nothing)                                                  \
     X(invalid_options_are_usage_errors)                                                            \
     X(origin_local_shifts_points_and_records_it)

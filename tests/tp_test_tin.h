@@ -176,10 +176,8 @@ static double check_tin_mode(const tp_tin* t, const float* z, int w, int h, doub
             }
     free(centre);
     for (size_t s = 0; s < n; ++s) {
-        if (cut)
-            ;
-        else if (worst[s] < 0)
-            uncovered++;
+        if (!cut && worst[s] < 0)
+            uncovered++; /* cut: a valid sample of no valid cell is not covered */
         else if (worst[s] > bound_m + TOL_M)
             over++;
         mx = worst[s] > mx ? worst[s] : mx;
@@ -193,7 +191,7 @@ static double check_tin_mode(const tp_tin* t, const float* z, int w, int h, doub
 }
 
 
-static double check_tin(const tp_tin* t, const float* z, int w, int h, double bound_m)
+static inline double check_tin(const tp_tin* t, const float* z, int w, int h, double bound_m)
 {
     return check_tin_mode(t, z, w, h, bound_m, 0);
 }

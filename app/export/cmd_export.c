@@ -10,6 +10,7 @@
 #include "scene.h"
 #include "store_export.h"
 #include "store_scene.h"
+#include "tin_export.h"
 #include "view_options.h"
 
 #include <math.h>
@@ -19,10 +20,13 @@
 
 typedef enum { MODE_VIEW = 0, MODE_FULL, MODE_MAX_ERROR } export_mode;
 
+typedef enum { MESH_DEFAULT = 0, MESH_TIN, MESH_PATCHES } mesh_kind;
+
 typedef struct export_options {
     tp_scene_options scene;
     export_mode mode;
     double max_error_m;
+    mesh_kind mesh; /* --max-error: a TIN (default on a DEM) or whole patches */
     tp_view_setup vs; /* level of detail, camera, field of view, size: as for view */
     int no_cull, origin_local, per_patch;
     tp_mesh_format format;
@@ -38,6 +42,7 @@ enum {
     OPT_ORIGIN_LOCAL,
     OPT_PER_PATCH,
     OPT_FORMAT,
+    OPT_MESH,
 };
 
 static void print_help(void)
@@ -56,8 +61,15 @@ static void print_help(void)
           "                        viewer's default camera), after crack removal, culled\n"
           "                        patches left out\n"
           "  --full                full resolution: every drawn sample, two triangles per cell\n"
-          "  --max-error M         static, crack-free mesh: every patch at the coarsest level\n"
-          "                        whose measured error stays <= M metres\n"
+          "  --max-error M         static error-bounded mesh: vertical error <= M metres at every\n"
+          "                        valid source sample (measured, per triangle in max_error_m)\n"
+          "  --mesh tin|patches    with --max-error: tin (default on a DEM) is a triangulated\n"
+          "                        irregular network (greedy Delaunay insertion, near-minimal\n"
+          "                        triangles) over exactly the cells the full mesh covers, cut\n"
+          "                        at voids, without patch_id and lod; patches (the default on a\n"
+          "                        store) is what the viewer draws: every patch at the coarsest\n"
+          "                        level whose error stays <= M, cracks removed (M may not be\n"
+          "                        below the quantisation error)\n"
           "  --no-cull             view-dependent mesh: keep the patches outside the view too\n"
           "                        (DEMs only)\n"
           "on a store (.tpt): the same modes over the tree's cut. Every node the mesh draws is\n"
@@ -104,6 +116,7 @@ static int parse_options(int argc, char** argv, export_options* o)
         {"output", required_argument, NULL, OPT_OUT},
         {"full", no_argument, NULL, OPT_FULL},
         {"max-error", required_argument, NULL, OPT_MAX_ERROR},
+        {"mesh", required_argument, NULL, OPT_MESH},
         TP_VIEW_LONG_OPTIONS,
         {"no-cull", no_argument, NULL, OPT_NO_CULL},
         {"origin", required_argument, NULL, OPT_ORIGIN_LOCAL},
@@ -144,6 +157,14 @@ static int parse_options(int argc, char** argv, export_options* o)
             o->max_error_m = v;
             modes++;
             break;
+        case OPT_MESH:
+            if (!strcmp(optarg, "tin"))
+                o->mesh = MESH_TIN;
+            else if (!strcmp(optarg, "patches"))
+                o->mesh = MESH_PATCHES;
+            else
+                return bad("--mesh", "tin or patches", optarg);
+            break;
         case OPT_NO_CULL: o->no_cull = 1; break;
         case OPT_ORIGIN_LOCAL: return bad("--origin", "local (or LAT,LON for an image)", optarg);
         case OPT_PER_PATCH: o->per_patch = 1; break;
@@ -160,6 +181,11 @@ static int parse_options(int argc, char** argv, export_options* o)
     }
     if (modes > 1) {
         fprintf(stderr, "terrapatch export: --full and --max-error exclude each other\n");
+        return TP_EXIT_USAGE;
+    }
+    if (o->mesh != MESH_DEFAULT && o->mode != MODE_MAX_ERROR) {
+        fprintf(stderr, "terrapatch export: --mesh goes with --max-error M (the other modes "
+                        "write the patches drawn)\n");
         return TP_EXIT_USAGE;
     }
     if (!o->out) {
@@ -191,6 +217,38 @@ static int parse_options(int argc, char** argv, export_options* o)
     return -1;
 }
 
+static void print_written(const char* out, const tp_export_result* res, size_t full)
+{
+    printf("wrote %s: %zu points, %zu triangles (%.1f%% of the %zu of the full mesh), "
+           "measured error max %.3f m, RMS %.3f m\n",
+           out, res->points, res->triangles, 100.0 * res->triangles / (full ? full : 1), full,
+           res->max_error_m, res->rms_error_m);
+}
+
+/* --max-error M --mesh tin on a DEM; frees the scene. */
+static int export_tin(const export_options* o, tp_scene* sc)
+{
+    char lod_text[160];
+    snprintf(lod_text, sizeof lod_text, "mode=max-error mesh=tin max_error_m=%g", o->max_error_m);
+    tp_export_options eo = {.format = o->format, .origin_local = o->origin_local,
+                            .camera_text = "", .lod_text = lod_text};
+    tp_export_result res;
+    tp_error err;
+    int code = TP_EXIT_OK;
+    if (tp_export_tin(sc, o->max_error_m, &eo, o->out, &res, &err) != TP_OK) {
+        if (tp_interrupted()) {
+            code = tp_cli_interrupted();
+        } else {
+            fprintf(stderr, "terrapatch: %s\n", err.message);
+            code = TP_EXIT_FAILURE;
+        }
+    } else {
+        print_written(o->out, &res, tp_full_mesh_triangles(sc));
+    }
+    tp_scene_free(sc);
+    return code == TP_EXIT_OK ? tp_cli_finish(code) : code;
+}
+
 int tp_cli_export(int argc, char** argv)
 {
     export_options o;
@@ -201,6 +259,11 @@ int tp_cli_export(int argc, char** argv)
     if (!tp_atomic_check_dir(o.out))
         return TP_EXIT_FAILURE;
     if (tp_is_store_path(o.path)) {
+        if (o.mesh == MESH_TIN) {
+            fprintf(stderr, "terrapatch export: %s is a store: its --max-error mesh is made of "
+                            "patches (--mesh patches); a TIN is built from a DEM\n", o.path);
+            return TP_EXIT_USAGE;
+        }
         if (o.no_cull || o.per_patch || o.scene.image_given) {
             fprintf(stderr, "terrapatch export: %s is a store: --no-cull, --per-patch and the "
                             "heightmap options apply to a DEM only\n", o.path);
@@ -216,10 +279,18 @@ int tp_cli_export(int argc, char** argv)
         code = tp_export_store(&r);
         return code == TP_EXIT_OK ? tp_cli_finish(code) : code;
     }
+    int tin = o.mode == MODE_MAX_ERROR && o.mesh != MESH_PATCHES;
+    if (tin && o.per_patch) {
+        fprintf(stderr, "terrapatch export: --per-patch needs patches: add --mesh patches (a "
+                        "TIN has none)\n");
+        return TP_EXIT_USAGE;
+    }
     tp_scene sc;
     o.scene.use = o.mode == MODE_FULL ? TP_MEMORY_USE_EXPORT_FULL : TP_MEMORY_USE_EXPORT;
     if ((code = tp_scene_load(o.path, &o.scene, &sc)) != TP_EXIT_OK)
         return code;
+    if (tin)
+        return export_tin(&o, &sc);
     tp_view_setup_warn(&sc, &o.vs, "export");
     tp_selection* sel = NULL;
     tp_error err;
@@ -283,11 +354,7 @@ int tp_cli_export(int argc, char** argv)
                 code = TP_EXIT_FAILURE;
             }
         } else {
-            size_t full = tp_full_mesh_triangles(&sc);
-            printf("wrote %s: %zu points, %zu triangles (%.1f%% of the %zu of the full mesh), "
-                   "measured error max %.3f m, RMS %.3f m\n",
-                   o.out, res.points, res.triangles, 100.0 * res.triangles / (full ? full : 1),
-                   full, res.max_error_m, res.rms_error_m);
+            print_written(o.out, &res, tp_full_mesh_triangles(&sc));
         }
     }
     tp_selection_destroy(sel);

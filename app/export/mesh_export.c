@@ -186,13 +186,9 @@ tp_status tp_export_selection(const tp_scene* sc, const tp_selection* sel,
     }
 
     /* Points in the render CRS, in doubles; a local origin on request. */
-    double origin[3] = {0, 0, 0};
-    if (o->origin_local) {
-        double e, n;
-        tp_georef_grid_to_proj(sc->georef, 0, 0, &e, &n);
-        origin[0] = floor(e / 1000) * 1000;
-        origin[1] = floor(n / 1000) * 1000;
-    }
+    double origin[3];
+    char zone[TP_ZONE_TEXT_SIZE];
+    tp_export_frame(sc, o->origin_local, origin, zone);
     for (size_t i = 0; i < points; i++) {
         double e, n;
         tp_georef_grid_to_proj(sc->georef, pt_x[i], pt_y[i], &e, &n);
@@ -211,10 +207,6 @@ tp_status tp_export_selection(const tp_scene* sc, const tp_selection* sel,
             tri[3 * t + 2] = s;
         }
 
-    char zone[TP_ZONE_TEXT_SIZE] = ""; /* stays "" when the render CRS is no UTM/UPS zone */
-    if (sc->grid->utm_zone >= 0)
-        tp_zone_format(sc->grid->utm_zone, sc->grid->northp, TP_ZONE_STYLE_SHORT, zone, sizeof zone,
-                       NULL);
     tp_mesh mesh = {
         .point_count = points, .xyz = xyz, .elevation_m = elev, .void_filled = filled,
         .triangle_count = tris, .triangles = tri, .patch_id = patch, .lod = lod,
@@ -256,6 +248,22 @@ done:
     free(lod);
     free(tri_err);
     return st;
+}
+
+void tp_export_frame(const tp_scene* sc, int origin_local, double origin[3],
+                     char zone[TP_ZONE_TEXT_SIZE])
+{
+    origin[0] = origin[1] = origin[2] = 0;
+    if (origin_local) {
+        double e, n;
+        tp_georef_grid_to_proj(sc->georef, 0, 0, &e, &n);
+        origin[0] = floor(e / 1000) * 1000;
+        origin[1] = floor(n / 1000) * 1000;
+    }
+    zone[0] = '\0'; /* stays "" when the render CRS is no UTM/UPS zone */
+    if (sc->grid->utm_zone >= 0)
+        tp_zone_format(sc->grid->utm_zone, sc->grid->northp, TP_ZONE_STYLE_SHORT, zone,
+                       TP_ZONE_TEXT_SIZE, NULL);
 }
 
 size_t tp_full_mesh_triangles(const tp_scene* sc)

@@ -7,6 +7,7 @@
 #define TP_APP_MESH_EXPORT_H
 
 #include "scene.h"
+#include "tp_geo.h"
 
 typedef struct tp_export_options {
     int include_culled;   /* every patch, not only the visible ones */
@@ -33,6 +34,12 @@ tp_status tp_export_selection(const tp_scene* sc, const tp_selection* sel,
  * TP_LOD_MAX_ERROR mode, measured against the source samples (the render grid) unless the fit
  * resampled them (then against the decoded grid). */
 tp_status tp_select_max_error(const tp_scene* sc, tp_selection* sel, double m, tp_error* err);
+
+/* The frame every mesh of a DEM is written in: origin (0, or with origin_local the grid origin
+ * rounded down to whole kilometres, subtracted from every point) and the UTM/UPS zone text ("" for
+ * another CRS). */
+void tp_export_frame(const tp_scene* sc, int origin_local, double origin[3],
+                     char zone[TP_ZONE_TEXT_SIZE]);
 
 /* Triangles of the full mesh (`export --full`): two per cell of four drawn samples. */
 size_t tp_full_mesh_triangles(const tp_scene* sc);

@@ -1,5 +1,6 @@
 /* store_export.c - `terrapatch export` on a store (see store_export.h). */
 #include "store_export.h"
+#include "store_mesh.h"
 
 #include "camera_pose.h"
 #include "cli.h"
@@ -12,112 +13,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* ---- nodes read synchronously, owned here, attached to the tree while needed ---- */
-
-typedef struct residency {
-    tp_store_scene* sc;
-    size_t block_samples;
-    uint16_t** block;        /* per node id; NULL when not resident */
-    int64_t* ids;            /* resident node ids (order of loading) */
-    size_t count, cap;
-    size_t bytes, peak_bytes;
-    tp_error err;            /* the first read failure */
-} residency;
-
-static int res_load(residency* r, int64_t node)
-{
-    if (r->block[node])
-        return 1;
-    if (r->count == r->cap) {
-        size_t cap = r->cap ? 2 * r->cap : 1024;
-        int64_t* p = realloc(r->ids, cap * sizeof *p);
-        if (!p)
-            return tp_error_set(&r->err, TP_ERR_OUT_OF_MEMORY, "out of memory"), 0;
-        r->ids = p;
-        r->cap = cap;
-    }
-    uint16_t* b = malloc(r->block_samples * sizeof *b);
-    if (!b)
-        return tp_error_set(&r->err, TP_ERR_OUT_OF_MEMORY, "out of memory"), 0;
-    if (tp_store_read_node(r->sc->store, node, b, r->block_samples, &r->err) != TP_OK) {
-        free(b);
-        return 0;
-    }
-    r->block[node] = b;
-    r->ids[r->count++] = node;
-    tp_tree_attach(r->sc->tree, node, b);
-    r->bytes += r->block_samples * sizeof *b;
-    r->peak_bytes = r->bytes > r->peak_bytes ? r->bytes : r->peak_bytes;
-    return 1;
-}
-
-/* Releases every resident node for which keep[node] is 0 (keep NULL: all). */
-static void res_release_except(residency* r, const uint8_t* keep)
-{
-    size_t w = 0;
-    for (size_t i = 0; i < r->count; i++) {
-        int64_t id = r->ids[i];
-        if (keep && keep[id]) {
-            r->ids[w++] = id;
-            continue;
-        }
-        tp_tree_detach(r->sc->tree, id);
-        free(r->block[id]);
-        r->block[id] = NULL;
-        r->bytes -= r->block_samples * sizeof(uint16_t);
-    }
-    r->count = w;
-}
-
-/* ---- full-resolution samples, read through a direct-mapped cache of leaves ---- */
-
-#define LEAF_CACHE_SLOTS 4096
-
-typedef struct leaf_cache {
-    residency* res;
-    const tp_tree_geometry* g;
-    double step_m;
-    const tp_node_meta* metas;
-    int64_t key[LEAF_CACHE_SLOTS];
-    uint16_t* slot[LEAF_CACHE_SLOTS];
-    size_t reads;
-    int failed;
-} leaf_cache;
-
-/* Decoded height of full-resolution sample (x, y), NaN where none is drawn (or a read failed:
- * then failed is set and res->err holds the message). */
-static double leaf_sample(leaf_cache* lc, int x, int y)
-{
-    const tp_tree_geometry* g = lc->g;
-    int n = g->n, c = x >> n, r = y >> n;
-    c = c < g->cols ? c : g->cols - 1;
-    r = r < g->rows ? r : g->rows - 1;
-    int64_t leaf = tp_tree_node_id(g, 0, c, r);
-    const uint16_t* q = lc->res->block[leaf];
-    if (!q) {
-        size_t s = (size_t)leaf % LEAF_CACHE_SLOTS;
-        if (lc->key[s] != leaf) {
-            if (!lc->slot[s] && !(lc->slot[s] = malloc(lc->res->block_samples * sizeof(uint16_t)))) {
-                lc->failed = 1;
-                tp_error_set(&lc->res->err, TP_ERR_OUT_OF_MEMORY, "out of memory");
-                return NAN;
-            }
-            lc->key[s] = -1;
-            if (tp_store_read_node(lc->res->sc->store, leaf, lc->slot[s], lc->res->block_samples,
-                                   &lc->res->err) != TP_OK) {
-                lc->failed = 1;
-                return NAN;
-            }
-            lc->key[s] = leaf;
-            lc->reads++;
-        }
-        q = lc->slot[s];
-    }
-    int v = (1 << n) + 1;
-    uint16_t st = q[(size_t)(y - (r << n)) * v + (size_t)(x - (c << n))];
-    return st == TP_TREE_NO_HEIGHT ? NAN : ((double)st + lc->metas[leaf].qmin) * lc->step_m;
-}
-
 typedef struct tri_error {
     leaf_cache* lc;
     double max, sum;
@@ -127,135 +22,13 @@ typedef struct tri_error {
 static void error_at(int x, int y, double z, void* user)
 {
     tri_error* e = user;
-    double s = leaf_sample(e->lc, x, y);
+    double s = tp_leaf_sample(e->lc, x, y);
     if (isnan(s))
         return;
     double d = fabs(z - s);
     e->max = d > e->max ? d : e->max;
     e->sum += d * d;
     e->count++;
-}
-
-/* ---- the mesh: points merged by grid position (open addressing), triangles ---- */
-
-typedef struct mesh_build {
-    uint64_t* key;           /* (x << 32 | y) + 1; 0 = empty */
-    uint64_t* val;
-    size_t hcap;
-    int32_t *px, *py;
-    double* pz;
-    uint8_t* pf;             /* 1: a filled void sample (the store's filled bits) */
-    size_t points, cap_x, cap_y, cap_z, cap_f;
-    uint64_t* tri;
-    int32_t* patch;
-    uint8_t* lod;
-    double* err;
-    size_t tris, cap_tri, cap_patch, cap_lod, cap_err;
-} mesh_build;
-
-static int grow(void** p, size_t* cap, size_t need, size_t size)
-{
-    if (need <= *cap)
-        return 1;
-    size_t c = *cap ? *cap : 4096;
-    while (c < need)
-        c *= 2;
-    void* q = realloc(*p, c * size);
-    if (!q)
-        return 0;
-    *p = q;
-    *cap = c;
-    return 1;
-}
-
-static uint64_t hash64(uint64_t k)
-{
-    k ^= k >> 33;
-    k *= 0xff51afd7ed558ccdULL;
-    k ^= k >> 33;
-    return k;
-}
-
-static int rehash(mesh_build* m, size_t cap)
-{
-    uint64_t* key = calloc(cap, sizeof *key);
-    uint64_t* val = malloc(cap * sizeof *val);
-    if (!key || !val) {
-        free(key);
-        free(val);
-        return 0;
-    }
-    for (size_t i = 0; i < m->hcap; i++)
-        if (m->key[i]) {
-            size_t h = hash64(m->key[i]) & (cap - 1);
-            while (key[h])
-                h = (h + 1) & (cap - 1);
-            key[h] = m->key[i];
-            val[h] = m->val[i];
-        }
-    free(m->key);
-    free(m->val);
-    m->key = key;
-    m->val = val;
-    m->hcap = cap;
-    return 1;
-}
-
-/* Index of the point at grid (x, y), added with height z if new; UINT64_MAX when out of memory. */
-static uint64_t point_of(mesh_build* m, int32_t x, int32_t y, double z, int filled)
-{
-    if (2 * (m->points + 1) > m->hcap && !rehash(m, m->hcap ? 2 * m->hcap : 1 << 16))
-        return UINT64_MAX;
-    uint64_t k = (((uint64_t)(uint32_t)x << 32) | (uint32_t)y) + 1;
-    size_t h = hash64(k) & (m->hcap - 1);
-    while (m->key[h]) {
-        if (m->key[h] == k)
-            return m->val[h];
-        h = (h + 1) & (m->hcap - 1);
-    }
-    if (!grow((void**)&m->px, &m->cap_x, m->points + 1, sizeof *m->px) ||
-        !grow((void**)&m->py, &m->cap_y, m->points + 1, sizeof *m->py) ||
-        !grow((void**)&m->pz, &m->cap_z, m->points + 1, sizeof *m->pz) ||
-        !grow((void**)&m->pf, &m->cap_f, m->points + 1, sizeof *m->pf))
-        return UINT64_MAX;
-    m->key[h] = k;
-    m->val[h] = m->points;
-    m->px[m->points] = x;
-    m->py[m->points] = y;
-    m->pz[m->points] = z;
-    m->pf[m->points] = (uint8_t)filled;
-    return m->points++;
-}
-
-static int add_triangle(mesh_build* m, const uint64_t p[3], int32_t patch, uint8_t lod, double e)
-{
-    if (!grow((void**)&m->tri, &m->cap_tri, 3 * (m->tris + 1), sizeof *m->tri) ||
-        !grow((void**)&m->patch, &m->cap_patch, m->tris + 1, sizeof *m->patch) ||
-        !grow((void**)&m->lod, &m->cap_lod, m->tris + 1, sizeof *m->lod) ||
-        !grow((void**)&m->err, &m->cap_err, m->tris + 1, sizeof *m->err))
-        return 0;
-    for (int c = 0; c < 3; c++)
-        m->tri[3 * m->tris + c] = p[c];
-    m->patch[m->tris] = patch;
-    m->lod[m->tris] = lod;
-    m->err[m->tris] = e;
-    m->tris++;
-    return 1;
-}
-
-static void mesh_build_free(mesh_build* m)
-{
-    free(m->key);
-    free(m->val);
-    free(m->px);
-    free(m->py);
-    free(m->pz);
-    free(m->pf);
-    free(m->tri);
-    free(m->patch);
-    free(m->lod);
-    free(m->err);
-    memset(m, 0, sizeof *m);
 }
 
 /* ---- the export ---- */
@@ -303,7 +76,7 @@ static int cut_for_camera(store_export* x, const tp_camera* cam, const tp_lod_pa
         return fail(x, "out of memory");
     tp_tree_roots(x->g, roots, (size_t)x->g->root_count);
     for (int64_t i = 0; i < x->g->root_count; i++)
-        if (!res_load(&x->res, roots[i])) {
+        if (!tp_res_load(&x->res, roots[i])) {
             free(roots);
             return fail(x, x->res.err.message);
         }
@@ -330,7 +103,7 @@ static int cut_for_camera(store_export* x, const tp_camera* cam, const tp_lod_pa
             return fail(x, "out of memory");
         memcpy(ids, req, nr * sizeof *ids);
         for (size_t i = 0; i < nr; i++)
-            if (!res_load(&x->res, ids[i])) {
+            if (!tp_res_load(&x->res, ids[i])) {
                 free(ids);
                 return fail(x, x->res.err.message);
             }
@@ -388,7 +161,7 @@ static int choose(store_export* x, choice* ch, int64_t node)
                 stack[top++] = tp_tree_node_child(x->g, id, q);
             continue;
         }
-        if (!grow((void**)&ch->ids, &ch->cap, ch->count + 1, sizeof *ch->ids))
+        if (!tp_array_grow((void**)&ch->ids, &ch->cap, ch->count + 1, sizeof *ch->ids))
             return 0;
         ch->level[id] = (int8_t)k;
         ch->ids[ch->count++] = id;
@@ -471,10 +244,10 @@ static int install(store_export* x, choice* ch, uint8_t* keep)
         levels[i] = ch->level[ch->ids[i]];
         keep[ch->ids[i]] = 1;
     }
-    res_release_except(&x->res, keep);
+    tp_res_release_except(&x->res, keep);
     for (size_t i = 0; i < ch->count; i++) {
         keep[ch->ids[i]] = 0;
-        if (!res_load(&x->res, ch->ids[i])) {
+        if (!tp_res_load(&x->res, ch->ids[i])) {
             free(levels);
             return fail(x, x->res.err.message);
         }
@@ -592,7 +365,7 @@ static int cut_full(store_export* x)
             int64_t id = tp_tree_node_id(x->g, 0, c, r);
             if (!(x->metas[id].flags & TP_NODE_HAS_DRAWN))
                 continue;
-            if (!grow((void**)&ch.ids, &ch.cap, ch.count + 1, sizeof *ch.ids)) {
+            if (!tp_array_grow((void**)&ch.ids, &ch.cap, ch.count + 1, sizeof *ch.ids)) {
                 code = fail(x, "out of memory");
                 goto done;
             }
@@ -617,7 +390,7 @@ static int full_cell(leaf_cache* lc, const tp_vertex* t[3])
     }
     for (int y = y0; y <= y0 + 1; y++)
         for (int xx = x0; xx <= x0 + 1; xx++)
-            if (isnan(leaf_sample(lc, xx, y)))
+            if (isnan(tp_leaf_sample(lc, xx, y)))
                 return 0;
     return 1;
 }
@@ -643,7 +416,7 @@ static int build_mesh(store_export* x, mesh_build* m, double* sum, size_t* count
     x->drawn = nodes;
     for (size_t i = 0; i < nodes; i++)
         keep[out[i].node] = 1;
-    res_release_except(&x->res, keep);
+    tp_res_release_except(&x->res, keep);
     for (size_t i = 0; i < nodes && code == TP_EXIT_OK; i++) {
         tp_cut_vertices(x->cut, i, vb, vcap);
         size_t nt = tp_cut_triangles(x->cut, i, vb, tb, tcap);
@@ -658,7 +431,7 @@ static int build_mesh(store_export* x, mesh_build* m, double* sum, size_t* count
             }
             uint64_t p[3];
             for (int c = 0; c < 3; c++)
-                if ((p[c] = point_of(m, v[c]->x, v[c]->y, (double)v[c]->z_m,
+                if ((p[c] = tp_mesh_point(m, v[c]->x, v[c]->y, (double)v[c]->z_m,
                                      v[c]->cls == TP_SAMPLE_FILLED)) == UINT64_MAX) {
                     code = fail(x, "out of memory building the mesh");
                     goto done;
@@ -672,7 +445,7 @@ static int build_mesh(store_export* x, mesh_build* m, double* sum, size_t* count
             }
             *sum += e.sum;
             *count += e.count;
-            if (!add_triangle(m, p, (int32_t)out[i].node, (uint8_t)out[i].level, e.max)) {
+            if (!tp_mesh_add_triangle(m, p, (int32_t)out[i].node, (uint8_t)out[i].level, e.max)) {
                 code = fail(x, "out of memory building the mesh");
                 goto done;
             }
@@ -885,18 +658,18 @@ int tp_export_store(const tp_store_export_request* r)
         code = build_mesh(&x, &m, &sum, &samples);
     if (code == TP_EXIT_OK) {
         /* the nodes are no longer needed: release them before the writer allocates */
-        res_release_except(&x.res, NULL);
+        tp_res_release_except(&x.res, NULL);
         code = write_mesh(&x, &m, camera_text, lod_text, sum, samples);
     }
 done:
-    mesh_build_free(&m);
+    tp_mesh_build_free(&m);
     if (x.cache)
         for (int i = 0; i < LEAF_CACHE_SLOTS; i++)
             free(x.cache->slot[i]);
     free(x.cache);
     tp_cut_destroy(x.cut);
     if (x.res.block)
-        res_release_except(&x.res, NULL);
+        tp_res_release_except(&x.res, NULL);
     free(x.res.block);
     free(x.res.ids);
     tp_store_scene_close(&x.sc);

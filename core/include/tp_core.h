@@ -1231,6 +1231,40 @@ enum { TP_TIN_CUT_VOIDS = 1u };
 tp_status tp_tin_build(const float* heights, size_t height_count, int width, int height,
                        double max_error_m, unsigned flags, tp_tin** out, tp_error* err);
 
+/* The same TIN built tile by tile (tin_tiles.c; docs/tin.md "Tiled build"), on several threads,
+ * each tile with a working set of its own size: the basis for building one store node at a time.
+ *
+ * Tiles: tile_cells x tile_cells cells (tile_cells >= 1; larger than the grid: one tile), their
+ * corners at multiples of tile_cells and at the grid's last row and column (so the last tile of a
+ * row or column may be smaller, never below 1 cell); neighbouring tiles share their border
+ * samples. Each tile side (the samples between two tile corners) is simplified on its own by a
+ * 1-D greedy polyline: the worst valid sample is chosen until every valid sample of the side is
+ * within max_error_m of the line between the chosen samples around it (the corners always
+ * chosen; with TP_TIN_CUT_VOIDS the samples the void outline forces too). The tiles on both sides
+ * compute the same polyline from the same samples, and inside a tile the other border samples are
+ * neither measured nor inserted: each tile is then built as tp_tin_build builds a grid, without
+ * reading its neighbours (but for the corners' heights, below, and two samples around the tile
+ * for the void outline), and the tiles meet edge for edge.
+ *
+ * Output: one tp_tin with the conventions of tp_tin_build (counter-clockwise, the bound at every
+ * valid sample, watertight, covering the rectangle or, with TP_TIN_CUT_VOIDS, exactly the valid
+ * cells; each grid sample at most one vertex); triangle_error_m counts the border samples on a
+ * triangle's edge; samples_rasterised is summed over the tiles. Vertices and triangles come in
+ * tile order (rows of tiles from the top, left to right), so the output is the same whatever the
+ * thread count. A corner of a tile in a void takes the nearest valid sample's height within
+ * tile_cells (else the nearest such corner's), computed once on the whole grid, so all the tiles
+ * around it agree. The triangles differ from tp_tin_build's near the tile borders (the borders
+ * are polylines the Delaunay insertion cannot move): a few percent more of them
+ * (docs/PERFORMANCE.md, "Error-bounded TIN").
+ *
+ * threads: >= 1, or 0 for the online CPUs (at most 64); never more than the tiles. Memory: the
+ * tiles' outputs until the merge, and per thread one tile's build. Grids of width or height 1 and
+ * grids without a valid sample give tp_tin_build's answer. Fails (*out untouched) as tp_tin_build
+ * does, and with TP_ERR_INVALID_ARG for tile_cells < 1 or threads < 0. Reentrant. */
+tp_status tp_tin_build_tiled(const float* heights, size_t height_count, int width, int height,
+                             double max_error_m, unsigned flags, int tile_cells, int threads,
+                             tp_tin** out, tp_error* err);
+
 /* Frees a TIN; NULL is allowed. */
 void tp_tin_destroy(tp_tin* tin);
 

@@ -8,7 +8,12 @@
  *
  * After each insertion the triangles it created (pending) are rasterised once the flips have
  * settled: each gets its worst valid sample (the candidate) and its error; those above the bound
- * go into a max-heap by error. The build ends when the heap is empty. */
+ * go into a max-heap by error. The build ends when the heap is empty.
+ *
+ * Forced samples (classes, tp__tin_build) are inserted before any error counts: a triangle's
+ * first forced sample in scan order is found through per-row lists of them, and while some are
+ * left, a triangle without one is deferred rather than scanned (it would mostly be split again
+ * before its error counts; a tiled build forces whole tile borders). */
 #include "internal.h"
 
 #include <stdlib.h>
@@ -40,6 +45,13 @@ enum { TIN_FREE = 0, TIN_FORCE = 1, TIN_SKIP = 2 };
 typedef struct tin_build {
     const float* h;
     const uint8_t* cls; /* per sample TIN_FREE / TIN_FORCE / TIN_SKIP; NULL: all free */
+    uint32_t* frow;     /* NULL, or hgt + 1 offsets into fx: the forced samples of each row */
+    int32_t* fx;        /* their columns, increasing */
+    size_t forced_left; /* forced samples not yet vertices: while any, a triangle without one is
+                           deferred (deferred, nd) instead of scanned, as it will likely be
+                           split again before its error counts */
+    heap_ent* deferred;
+    size_t nd, cap_d;
     int w, hgt;
     float bound;      /* max_error_m as float: errors are compared as floats */
     double bound_d;
@@ -212,7 +224,37 @@ static inline int is_corner(const int32_t* const p[3], int32_t x, int32_t y)
            (p[2][0] == x && p[2][1] == y);
 }
 
-static void rasterise(tin_build* b, uint32_t t)
+/* The columns xl..xr of row y inside triangle p (orient < 0), clipped to the grid's w columns;
+ * 0 when none. Inside: every edge function (b - a) x (s - a) <= 0; each is A x + B, solved for
+ * the row's span exactly. */
+static inline int row_span(const int32_t* const p[3], int32_t y, int w, int64_t* xl_out,
+                           int64_t* xr_out)
+{
+    int64_t xl = INT64_MIN, xr = INT64_MAX;
+    for (int i = 0; i < 3; ++i) {
+        const int32_t* a = p[i];
+        const int32_t* c = p[(i + 1) % 3];
+        /* E(x) = (cx-ax)(y-ay) - (cy-ay)(x-ax) <= 0  <=>  (cy-ay) x >= (cx-ax)(y-ay) + (cy-ay) ax */
+        int64_t A = (int64_t)c[1] - a[1];
+        int64_t B = ((int64_t)c[0] - a[0]) * ((int64_t)y - a[1]) + A * a[0];
+        if (A > 0) {
+            int64_t lo = -floor_div(-B, A); /* ceil(B / A) */
+            xl = lo > xl ? lo : xl;
+        } else if (A < 0) {
+            int64_t hi = floor_div(-B, -A); /* x <= B / A, A < 0: floor(-B / -A) */
+            xr = hi < xr ? hi : xr;
+        } else if (B > 0) {
+            xl = 1, xr = 0; /* 0 >= B fails: empty row */
+        }
+    }
+    *xl_out = xl < 0 ? 0 : xl;
+    *xr_out = xr > w - 1 ? w - 1 : xr;
+    return *xl_out <= *xr_out;
+}
+
+/* The triangle's candidate and error. While forced samples are left (b->forced_left), only its
+ * forced samples are looked at: returns 0, writing nothing, when it has none. */
+static int rasterise(tin_build* b, uint32_t t)
 {
     const uint32_t* v = b->T[t].v;
     const int32_t* p[3] = {b->vx + 2 * v[0], b->vx + 2 * v[1], b->vx + 2 * v[2]};
@@ -232,31 +274,35 @@ static void rasterise(tin_build* b, uint32_t t)
     double best = -1.0;
     uint32_t best_i = 0;
     size_t visited = 0;
-    for (int32_t y = y0; y <= y1; ++y) {
-        /* inside: every edge function (b - a) x (s - a) <= 0 (orientation < 0); each is
-         * A x + B with A = -(by - ay) ... solved for the row's x span exactly */
-        int64_t xl = INT64_MIN, xr = INT64_MAX;
-        for (int i = 0; i < 3; ++i) {
-            const int32_t* a = p[i];
-            const int32_t* c = p[(i + 1) % 3];
-            /* E(x) = (cx-ax)(y-ay) - (cy-ay)(x-ax) <= 0  <=>  (cy-ay) x >= (cx-ax)(y-ay) + (cy-ay) ax */
-            int64_t A = (int64_t)c[1] - a[1];
-            int64_t B = ((int64_t)c[0] - a[0]) * ((int64_t)y - a[1]) + A * a[0];
-            if (A > 0) {
-                int64_t lo = -floor_div(-B, A); /* ceil(B / A) */
-                xl = lo > xl ? lo : xl;
-            } else if (A < 0) {
-                int64_t hi = floor_div(-B, -A); /* x <= B / A, A < 0: floor(-B / -A) */
-                xr = hi < xr ? hi : xr;
-            } else if (B > 0) {
-                xl = 1, xr = 0; /* 0 >= B fails: empty row */
+    /* forced samples (rows of b->fx): the first in scan order is the candidate (nothing beats
+     * FORCED_ERR and a full scan keeps the first), found without scanning the free ones */
+    for (int32_t y = y0; b->forced_left > 0 && y <= y1; ++y) {
+        int64_t xl, xr;
+        if (!row_span(p, y, b->w, &xl, &xr))
+            continue;
+        uint32_t lo = b->frow[y], hi = b->frow[y + 1];
+        while (lo < hi) { /* first forced column >= xl */
+            uint32_t mid = lo + (hi - lo) / 2;
+            if (b->fx[mid] < xl)
+                lo = mid + 1;
+            else
+                hi = mid;
+        }
+        for (; lo < b->frow[y + 1] && b->fx[lo] <= xr; ++lo) {
+            int32_t x = b->fx[lo];
+            size_t i = (size_t)y * b->w + (size_t)x;
+            if (b->h[i] == b->h[i] && !is_corner(p, x, y)) {
+                best = FORCED_ERR;
+                best_i = (uint32_t)i;
+                goto scanned;
             }
         }
-        if (xl < 0)
-            xl = 0;
-        if (xr > b->w - 1)
-            xr = b->w - 1;
-        if (xl > xr)
+    }
+    if (b->forced_left > 0)
+        return 0;
+    for (int32_t y = y0; y <= y1; ++y) {
+        int64_t xl, xr;
+        if (!row_span(p, y, b->w, &xl, &xr))
             continue;
         const float* row = b->h + (size_t)y * b->w;
         const double zrow = za + dzdy * (y - p[0][1]);
@@ -288,6 +334,7 @@ static void rasterise(tin_build* b, uint32_t t)
             }
         }
     }
+scanned:
     b->visited += visited;
     /* stored as a float rounded up, so a float comparison with the bound (rounded down) never
      * lets a double error above it through */
@@ -296,6 +343,7 @@ static void rasterise(tin_build* b, uint32_t t)
         f = nextafterf(f, INFINITY);
     b->T[t].err = f;
     b->T[t].cand = best_i;
+    return 1;
 }
 
 /* ---- triangulation ---- */
@@ -432,11 +480,33 @@ static void flush(tin_build* b)
     for (size_t i = 0; i < b->np; ++i) {
         uint32_t t = b->pending[i];
         b->T[t].pend = 0;
-        rasterise(b, t);
+        if (!rasterise(b, t)) { /* no forced sample, some left elsewhere: later */
+            if (!grow((void**)&b->deferred, &b->cap_d, b->nd + 1, sizeof *b->deferred)) {
+                b->oom = 1;
+                continue;
+            }
+            b->deferred[b->nd++] = (heap_ent){0.0f, t, b->T[t].ver};
+            continue;
+        }
         if (b->T[t].err > b->bound && !heap_push(b, t))
             b->oom = 1;
     }
     b->np = 0;
+}
+
+/* Once every forced sample is a vertex: the deferred triangles not rewritten since, scanned. */
+static void flush_deferred(tin_build* b)
+{
+    b->forced_left = 0;
+    for (size_t i = 0; i < b->nd; ++i) {
+        uint32_t t = b->deferred[i].t;
+        if (b->deferred[i].ver != b->T[t].ver)
+            continue; /* rewritten: scanned then, or deferred again */
+        rasterise(b, t);
+        if (b->T[t].err > b->bound && !heap_push(b, t))
+            b->oom = 1;
+    }
+    b->nd = 0;
 }
 
 /* Inserts the worst sample of the worst triangle. */
@@ -451,6 +521,8 @@ static void step(tin_build* b)
     }
     uint32_t s = b->T[t].cand;
     int32_t x = (int32_t)(s % (uint32_t)b->w), y = (int32_t)(s / (uint32_t)b->w);
+    if (b->cls && b->cls[s] == TIN_FORCE && b->forced_left > 0)
+        b->forced_left--;
     uint32_t pn = add_vertex(b, x, y, b->h[s]);
     if (b->oom)
         return;
@@ -474,6 +546,8 @@ static void step(tin_build* b)
     }
     if (!b->oom)
         flush(b);
+    if (!b->oom && b->forced_left == 0 && b->nd > 0)
+        flush_deferred(b);
 }
 
 /* Height for a corner in a void: the nearest valid sample by Chebyshev rings, the first in row
@@ -508,6 +582,9 @@ static void build_free(tin_build* b)
     free(b->heap);
     free(b->pending);
     free(b->stack);
+    free(b->frow);
+    free(b->fx);
+    free(b->deferred);
 }
 
 void tp_tin_destroy(tp_tin* tin)
@@ -626,6 +703,31 @@ tp_status tp__tin_build(const float* heights, int width, int height, double max_
     if ((double)b.bound > max_error_m)
         b.bound = nextafterf(b.bound, 0.0f);
     b.exact64 = width <= (1 << 14) && height <= (1 << 14);
+    if (cls) { /* the forced samples by row (a tiled build forces whole tile borders) */
+        size_t nf = 0, n = (size_t)width * (size_t)height;
+        for (size_t i = 0; i < n; ++i)
+            nf += cls[i] == TIN_FORCE;
+        if (nf) {
+            if (!(b.frow = malloc(sizeof *b.frow * ((size_t)height + 1))) ||
+                !(b.fx = malloc(sizeof *b.fx * nf)))
+                goto oom;
+            uint32_t k = 0;
+            for (int y = 0; y < height; ++y) {
+                b.frow[y] = k;
+                const uint8_t* row = cls + (size_t)y * width;
+                for (int x = 0; x < width; ++x) {
+                    if (row[x] != TIN_FORCE)
+                        continue;
+                    b.fx[k++] = x;
+                    /* those that will be inserted: valid, not one of the 4 starting corners */
+                    float z = heights[(size_t)y * width + x];
+                    int corner = (x == 0 || x == width - 1) && (y == 0 || y == height - 1);
+                    b.forced_left += z == z && !corner;
+                }
+            }
+            b.frow[height] = k;
+        }
+    }
 
     const int32_t x1 = width - 1, y1 = height - 1;
     if (!reserve_triangles(&b, 64))
@@ -639,8 +741,13 @@ tp_status tp__tin_build(const float* heights, int width, int height, double max_
     int32_t t0 = add_triangle(&b, p3, p0, p2, -1, -1, -1, -1);
     add_triangle(&b, p0, p3, p1, t0, -1, -1, -1);
     flush(&b);
-    while (!b.oom && heap_live_top(&b))
-        step(&b);
+    for (;;) {
+        while (!b.oom && heap_live_top(&b))
+            step(&b);
+        if (b.oom || b.nd == 0)
+            break;
+        flush_deferred(&b); /* (not reached: a forced sample left is in a queued triangle) */
+    }
     if (b.oom)
         goto oom;
     if (cut) {

@@ -508,6 +508,7 @@ typedef struct tp_mesh_summary {
     double bounds[6];        /* xmin, xmax, ymin, ymax, zmin, zmax */
     size_t blocks;           /* .vtm: number of blocks; else 1 */
     size_t void_filled_points; /* points whose void_filled is not 0 */
+    size_t downward_triangles; /* triangles not counter-clockwise seen from above (E, N) */
 } tp_mesh_summary;
 
 tp_status tp_mesh_inspect(const char* path, tp_mesh_summary* out, tp_error* err);

@@ -20,6 +20,7 @@
 #include <vtkDoubleArray.h>
 #include <vtkErrorCode.h>
 #include <vtkFieldData.h>
+#include <vtkIdList.h>
 #include <vtkIdTypeArray.h>
 #include <vtkIntArray.h>
 #include <vtkNew.h>
@@ -212,8 +213,20 @@ tp_status summarise(const char* path, const Loaded& in, tp_mesh_format format, t
         vtkCellArray* polys = pd->GetPolys();
         const vtkIdType npolys = polys->GetNumberOfCells();
         size_t tri = 0;
-        for (vtkIdType c = 0; c < npolys; ++c)
-            tri += polys->GetCellSize(c) == 3;
+        vtkNew<vtkIdList> ids;
+        for (vtkIdType c = 0; c < npolys; ++c) {
+            if (polys->GetCellSize(c) != 3)
+                continue;
+            tri++;
+            polys->GetCellAtId(c, ids);
+            double a[3], b[3], q[3];
+            pts->GetPoint(ids->GetId(0), a);
+            pts->GetPoint(ids->GetId(1), b);
+            pts->GetPoint(ids->GetId(2), q);
+            /* the normal's vertical part, (b - a) x (q - a) in (E, N) */
+            double nz = (b[0] - a[0]) * (q[1] - a[1]) - (b[1] - a[1]) * (q[0] - a[0]);
+            s->downward_triangles += !(nz > 0);
+        }
         s->triangles += tri;
         s->other_cells += (size_t)(pd->GetNumberOfCells() - (vtkIdType)tri);
 

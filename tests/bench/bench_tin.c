@@ -9,7 +9,13 @@
  * previous valid sample in its row, else the next: delatin has no voids), and a 4097 x 4097 grid
  * made of the render grid mirrored again and again (as bench_viewshed's 3601^2 one). With
  * DELATIN_SCRIPT (tools/tin_delatin.mjs, delatin from npm), delatin meshes the filled grids in
- * the same run: its triangles, median time and peak RSS, and its true error by the same checker. */
+ * the same run: its triangles, median time and peak RSS, and its true error by the same checker.
+ *
+ * Beside each untiled row, the tiled build (tp_tin_build_tiled) with tiles of 256 and 512 cells
+ * on 1 and 2 threads, on the same grid: triangles and median time as ratios to the untiled
+ * build's, the runs of all five builds interleaved (run 1 of each, then run 2 of each, ...) so
+ * that a change of the machine's load falls on all of them; the process's CPU time (all threads)
+ * beside, which a loaded machine moves less. TP_BENCH_TIN_NO_TILED=1 leaves the tiled rows out. */
 #define _GNU_SOURCE /* malloc_trim */
 #include "bench_util.h"
 #include "tp_io.h"
@@ -20,6 +26,7 @@
 #include <stdio.h>
 #include <string.h>
 #include <sys/wait.h>
+#include <time.h>
 #include <unistd.h>
 
 static const double BOUNDS[3] = {1.0, 5.0, 20.0};
@@ -87,7 +94,20 @@ static double peak_rss_mib(void)
 /* Peak memory one build adds, in a forked child: its peak RSS is reset to its current RSS
  * (Linux: "5" written to /proc/self/clear_refs), then read after the build. MiB; -1 if not
  * measurable. */
-static double build_peak_mib(const float* z, int w, int h, double e)
+/* A build: tile 0 is tp_tin_build, else tp_tin_build_tiled with that tile and thread count. */
+typedef struct variant {
+    int tile, threads;
+} variant;
+
+static tp_status build(const variant* v, const float* z, int w, int h, double e, tp_tin** t,
+                       tp_error* err)
+{
+    if (!v || v->tile == 0)
+        return tp_tin_build(z, (size_t)w * h, w, h, e, 0, t, err);
+    return tp_tin_build_tiled(z, (size_t)w * h, w, h, e, 0, v->tile, v->threads, t, err);
+}
+
+static double build_peak_mib(const variant* var, const float* z, int w, int h, double e)
 {
     int fd[2];
     if (pipe(fd) != 0)
@@ -101,7 +121,7 @@ static double build_peak_mib(const float* z, int w, int h, double e)
         if (c && fputs("5", c) >= 0 && fclose(c) == 0) {
             double before = peak_rss_mib();
             tp_tin* t = NULL;
-            tp_tin_build(z, (size_t)w * h, w, h, e, 0, &t, NULL);
+            build(var, z, w, h, e, &t, NULL);
             d = peak_rss_mib() - before;
             tp_tin_destroy(t);
         }
@@ -172,34 +192,69 @@ static void run_delatin(const char* script, const char* name, const float* z, in
     remove(grid);
 }
 
+/* The process's CPU time (ms), all threads. */
+static double cpu_ms(void)
+{
+    struct timespec t;
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+    return (double)t.tv_sec * 1e3 + (double)t.tv_nsec / 1e6;
+}
+
+static const variant VARIANTS[5] = {{0, 1}, {256, 1}, {256, 2}, {512, 1}, {512, 2}};
+
 static void run(const char* name, const float* z, int w, int h, int runs, const char* delatin)
 {
-    double* ms = malloc(sizeof(double) * runs);
+    const int nvar = getenv("TP_BENCH_TIN_NO_TILED") ? 1 : 5;
+    double* ms = malloc(sizeof(double) * runs * nvar);
+    double* cpu = malloc(sizeof(double) * runs * nvar);
     for (int k = 0; k < 3; ++k) {
-        tp_tin* t = NULL;
-        for (int r = 0; r < runs; ++r) {
-            tp_tin_destroy(t);
-            t = NULL;
-            tp_error err;
-            double t0 = bench_now_ms();
-            if (tp_tin_build(z, (size_t)w * h, w, h, BOUNDS[k], 0, &t, &err) != TP_OK) {
-                fprintf(stderr, "%s\n", err.message);
-                exit(1);
+        size_t tris[5] = {0};
+        double te[5] = {0}, per_sample[5] = {0};
+        size_t unc[5] = {0};
+        for (int r = 0; r < runs; ++r)
+            for (int v = 0; v < nvar; ++v) {
+                tp_tin* t = NULL;
+                tp_error err;
+                double t0 = bench_now_ms(), c0 = cpu_ms();
+                if (build(&VARIANTS[v], z, w, h, BOUNDS[k], &t, &err) != TP_OK) {
+                    fprintf(stderr, "%s\n", err.message);
+                    exit(1);
+                }
+                ms[v * runs + r] = bench_now_ms() - t0;
+                cpu[v * runs + r] = cpu_ms() - c0;
+                if (r == 0) {
+                    tris[v] = t->triangle_count;
+                    per_sample[v] = (double)t->samples_rasterised / ((double)w * h);
+                    te[v] = true_error(t->vertices, t->vertex_count, t->triangles,
+                                       t->triangle_count, z, w, h, &unc[v]);
+                }
+                tp_tin_destroy(t);
             }
-            ms[r] = bench_now_ms() - t0;
+        const double base_ms = bench_median(ms, runs), base_cpu = bench_median(cpu, runs);
+        for (int v = 0; v < nvar; ++v) {
+            double med = bench_median(ms + v * runs, runs);
+            double med_cpu = bench_median(cpu + v * runs, runs);
+            double mib = build_peak_mib(&VARIANTS[v], z, w, h, BOUNDS[k]);
+            char mesher[40];
+            if (v == 0)
+                snprintf(mesher, sizeof mesher, "terrapatch   ");
+            else
+                snprintf(mesher, sizeof mesher, "tiled %d, %d thr", VARIANTS[v].tile,
+                         VARIANTS[v].threads);
+            printf("| %-22s | %s | %4g | %9zu | %9.1f | %8.4f | %7.1f (build)    |%s "
+                   "(%.2f samples rasterised per sample)",
+                   v == 0 ? name : "", mesher, BOUNDS[k], tris[v], med, te[v], mib,
+                   unc[v] ? " UNCOVERED SAMPLES" : "", per_sample[v]);
+            printf(" cpu %.0f ms", med_cpu);
+            if (v > 0)
+                printf("; triangles %.4fx, time %.2fx, cpu %.2fx untiled",
+                       (double)tris[v] / (double)tris[0], med / base_ms, med_cpu / base_cpu);
+            printf("\n");
         }
-        size_t unc = 0;
-        double te = true_error(t->vertices, t->vertex_count, t->triangles, t->triangle_count, z,
-                               w, h, &unc);
-        double mib = build_peak_mib(z, w, h, BOUNDS[k]);
-        printf("| %-22s | terrapatch    | %4g | %9zu | %9.1f | %8.4f | %7.1f (build)    |%s "
-               "(%.2f samples rasterised per sample)\n",
-               name, BOUNDS[k], t->triangle_count, bench_median(ms, runs), te, mib,
-               unc ? " UNCOVERED SAMPLES" : "", (double)t->samples_rasterised / ((double)w * h));
         fflush(stdout);
-        tp_tin_destroy(t);
     }
     free(ms);
+    free(cpu);
     if (delatin)
         run_delatin(delatin, name, z, w, h, runs);
 }
