@@ -59,6 +59,8 @@ for f in dems:
         print("| %s | not run | | | | | | | | |" % f)
         continue
     for s in d["static"]:
+        if s.get("mesher", "patches") != "patches":
+            continue  # the TIN rows: their own table below
         if s["below_quantisation"]:
             print("| %s | %d | %g | below the quantisation error (%.3g m) | | | | | | |" % (
                 f, d["full_triangles"], s["max_error_m"], d["quantisation_error_m"]))
@@ -67,6 +69,25 @@ for f in dems:
             f, d["full_triangles"], s["max_error_m"], s["triangles"],
             100.0 * s["triangles"] / max(d["full_triangles"], 1), s["points"], s["select_s"],
             s["mesh_s"], s["measured_max_error_m"], s["measured_rms_error_m"]))
+print()
+
+print("### Error-bounded TINs (the same runs' TIN rows)\n")
+print("| DEM | grid | mesher | bound m | triangles | points | time s | true max m | uncovered | peak MiB |")
+print("|---|---|---|---|---|---|---|---|---|---|")
+for f in dems:
+    name = f.rsplit(".", 1)[0] + "_" + f.rsplit(".", 1)[1]
+    d = load(name, "static")
+    if not d or "tin_grid" not in d:
+        continue
+    g = d["tin_grid"]
+    for s in d["static"]:
+        if s.get("mesher") == "patches":
+            continue
+        print("| %s | %s %dx%d | %s | %g | %d | %d | %.3f | %.4f | %d | %s |" % (
+            f, g["grid"], g["width"], g["height"], s["mesher"], s["max_error_m"], s["triangles"],
+            s["points"],
+            s["time_s"], s["measured_max_error_m"], s["uncovered_samples"],
+            "n/a" if s["peak_mib"] is None else "%.1f" % s["peak_mib"]))
 print()
 
 print("### Sweeps (`--sweep`, low path)\n")

@@ -461,8 +461,11 @@ static void print_tins(const char* dem, const tp_scene* sc, const tin_grid* tg, 
     else
         printf("%s: error-bounded TINs on the whole %dx%d render grid (%zu void samples%s)\n", dem,
                tg->w, tg->h, tg->voids, tg->flags ? ", void outlines cut" : "");
-    printf("time: median of %d runs; true error: tp_tin_measure at every valid sample; peak: %s\n",
-           runs, PEAK_NOTE);
+    char timed[64] = "one run";
+    if (runs > 1)
+        snprintf(timed, sizeof timed, "median of %d runs", runs);
+    printf("time: %s; true error: tp_tin_measure at every valid sample; peak: %s\n", timed,
+           PEAK_NOTE);
     if (tg->flags)
         printf("uncovered: valid samples that are the corner of no valid cell (four valid "
                "samples), which the full mesh does not draw either\n");
