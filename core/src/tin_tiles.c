@@ -259,7 +259,7 @@ static tp_status build_tile(const tiling* g, int ti, tp_tin** out, tp_error* err
     for (int s = 0; s < 4; ++s) {
         const int horiz = s < 2;
         const int len = horiz ? tw : th;
-        const size_t base = s == 0 ? 0 : s == 1 ? (size_t)(th - 1) * tw : s == 2 ? 0 : (size_t)(tw - 1);
+        const size_t base = s == 1 ? (size_t)(th - 1) * tw : s == 3 ? (size_t)(tw - 1) : 0;
         const size_t stride = horiz ? 1 : (size_t)tw;
         for (int k = 0; k < len; ++k) {
             sz[k] = win[base + k * stride];
@@ -323,8 +323,8 @@ done:
     free(stack);
     return st;
 oom:
-    st = tp__fail(err, TP_ERR_OUT_OF_MEMORY, "tin: out of memory for tile (%d, %d) of %dx%d samples",
-                  i, j, tw, th);
+    st = tp__fail(err, TP_ERR_OUT_OF_MEMORY,
+                  "tin: out of memory for tile (%d, %d) of %dx%d samples", i, j, tw, th);
     goto done;
 }
 
