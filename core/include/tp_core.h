@@ -1260,7 +1260,8 @@ tp_status tp_tin_build(const float* heights, size_t height_count, int width, int
  * threads: >= 1, or 0 for the online CPUs (at most 64); never more than the tiles. Memory: the
  * tiles' outputs until the merge, and per thread one tile's build. Grids of width or height 1 and
  * grids without a valid sample give tp_tin_build's answer. Fails (*out untouched) as tp_tin_build
- * does, and with TP_ERR_INVALID_ARG for tile_cells < 1 or threads < 0. Reentrant. */
+ * does, and with TP_ERR_INVALID_ARG for tile_cells < 1, threads < 0 or over 2^30 tiles.
+ * Reentrant. */
 tp_status tp_tin_build_tiled(const float* heights, size_t height_count, int width, int height,
                              double max_error_m, unsigned flags, int tile_cells, int threads,
                              tp_tin** out, tp_error* err);
