@@ -234,7 +234,8 @@ static inline int row_span(const int32_t* const p[3], int32_t y, int w, int64_t*
     for (int i = 0; i < 3; ++i) {
         const int32_t* a = p[i];
         const int32_t* c = p[(i + 1) % 3];
-        /* E(x) = (cx-ax)(y-ay) - (cy-ay)(x-ax) <= 0  <=>  (cy-ay) x >= (cx-ax)(y-ay) + (cy-ay) ax */
+        /* E(x) = (cx-ax)(y-ay) - (cy-ay)(x-ax) <= 0
+         *   <=>  (cy-ay) x >= (cx-ax)(y-ay) + (cy-ay) ax */
         int64_t A = (int64_t)c[1] - a[1];
         int64_t B = ((int64_t)c[0] - a[0]) * ((int64_t)y - a[1]) + A * a[0];
         if (A > 0) {

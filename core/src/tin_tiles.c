@@ -271,7 +271,7 @@ tp_status tp_tin_build_tile(const float* window, size_t stride, int win_w, int w
     for (int s = 0; s < 4; ++s) {
         const int horiz = s < 2;
         const int len = horiz ? tw : th;
-        const size_t base = s == 0 ? 0 : s == 1 ? (size_t)(th - 1) * tw : s == 2 ? 0 : (size_t)(tw - 1);
+        const size_t base = s == 1 ? (size_t)(th - 1) * tw : s == 3 ? (size_t)(tw - 1) : 0;
         const size_t step = horiz ? 1 : (size_t)tw;
         for (int k = 0; k < len; ++k) {
             sz[k] = win[base + k * step];
