@@ -26,6 +26,11 @@
 #include "tp_io.h"
 #endif
 
+/* A TIN's bound holds at every sample as tin.c interpolates; the export measures each triangle
+ * again with another double formula (tp_triangle_rasterize), which may find an error of exactly
+ * M about 1e-13 m above it. */
+#define TIN_ROUNDING_M 1e-9
+
 #include <dirent.h>
 #include <errno.h>
 #include <fcntl.h>
@@ -1248,7 +1253,7 @@ TEST(static_mesh_is_the_export_max_error_mesh)
         const static_row* row = k == 0 ? &rows[0] : &tin[0];
         EXPECT_EQ_DBL((double)s.triangles, row->triangles);
         EXPECT_EQ_DBL((double)s.points, row->points);
-        EXPECT_LE(s.max_error_m, 20.0);
+        EXPECT_LE(s.max_error_m, 20.0 + TIN_ROUNDING_M);
     }
 #endif
 }

@@ -8,6 +8,11 @@
 #include "tp_test.h"
 #include "tp_test_child.h"
 
+/* A TIN's bound holds at every sample as tin.c interpolates; the export measures each triangle
+ * again with another double formula (tp_triangle_rasterize), which may find an error of exactly
+ * M about 1e-13 m above it. */
+#define TIN_ROUNDING_M 1e-9
+
 #include <errno.h>
 #include <fcntl.h>
 #include <spawn.h>
@@ -186,7 +191,7 @@ TEST(max_error_mesh_keeps_its_bound_and_is_smaller)
     tp_mesh_summary s, f;
     tp_error e;
     ASSERT_OK(tp_mesh_inspect(out, &s, &e));
-    EXPECT_LE(s.max_error_m, 20.0);
+    EXPECT_LE(s.max_error_m, 20.0 + TIN_ROUNDING_M);
     EXPECT_EQ_INT(1, s.boundary_loops);
     EXPECT_EQ_INT(0, s.non_manifold_edges);
     char full[1024];
@@ -264,7 +269,7 @@ TEST(tin_is_bounded_watertight_and_on_the_full_meshs_points)
     ASSERT_OK(tp_mesh_inspect(full, &f, &e));
     ASSERT_OK(tp_mesh_inspect(pat, &p, &e));
     /* the bound, measured per triangle; the fields of the other modes but patch_id and lod */
-    EXPECT_LE(s.max_error_m, 20.0);
+    EXPECT_LE(s.max_error_m, 20.0 + TIN_ROUNDING_M);
     EXPECT_GT(s.max_error_m, 10.0);
     EXPECT_TRUE(s.points_are_double && s.has_elevation && s.has_void_filled && s.has_max_error &&
                 s.has_crs && s.has_source && s.has_version);
@@ -336,7 +341,7 @@ TEST(tin_of_a_resampled_fit_keeps_its_bound)
     tp_mesh_summary s;
     tp_error e;
     ASSERT_OK(tp_mesh_inspect(out, &s, &e));
-    EXPECT_LE(s.max_error_m, 2.0);
+    EXPECT_LE(s.max_error_m, 2.0 + TIN_ROUNDING_M);
     EXPECT_EQ_INT(1, s.boundary_loops);
     EXPECT_EQ_INT(0, s.downward_triangles);
     EXPECT_EQ_INT(0, s.non_manifold_edges);

@@ -9,6 +9,11 @@
 #include "tp_test.h"
 #include "tp_test_child.h"
 
+/* A TIN's bound holds at every sample as tin.c interpolates; the export measures each triangle
+ * again with another double formula (tp_triangle_rasterize), which may find an error of exactly
+ * M about 1e-13 m above it. */
+#define TIN_ROUNDING_M 1e-9
+
 #include <errno.h>
 #include <math.h>
 #include <fcntl.h>
@@ -118,7 +123,7 @@ TEST(seam_store_cuts_are_watertight)
     EXPECT_EQ_INT(f.boundary_loops, t.boundary_loops);
     EXPECT_EQ_INT(0, t.non_manifold_edges);
     EXPECT_EQ_INT(0, t.downward_triangles);
-    EXPECT_LE(t.max_error_m, 30.0);
+    EXPECT_LE(t.max_error_m, 30.0 + TIN_ROUNDING_M);
     EXPECT_GT(t.max_error_m, 20.0);
     EXPECT_TRUE(!t.has_patch_id && !t.has_lod && t.has_max_error && t.has_void_filled);
     EXPECT_LT((double)t.triangles, 0.5 * (double)m.triangles);
@@ -155,7 +160,7 @@ TEST(void_store_cuts_are_watertight_and_keep_max_error)
     EXPECT_EQ_INT(f.boundary_loops, t.boundary_loops);
     EXPECT_EQ_INT(0, t.non_manifold_edges);
     EXPECT_EQ_INT(0, t.downward_triangles);
-    EXPECT_LE(t.max_error_m, 8.0);
+    EXPECT_LE(t.max_error_m, 8.0 + TIN_ROUNDING_M);
     EXPECT_GT(t.max_error_m, 4.0);
     EXPECT_LT((double)t.triangles, 0.5 * (double)m.triangles);
     for (int i = 0; i < 4; i++)

@@ -619,9 +619,7 @@ static tp_tin* tin_alloc(size_t n, size_t m)
 float tp__tin_bound(double e)
 {
     float b = (float)e;
-    while (b > 0.0f && (double)b >= e)
-        b = nextafterf(b, 0.0f);
-    return b;
+    return (double)b > e ? nextafterf(b, 0.0f) : b;
 }
 
 /* Whether cell (cx, cy) (corners (cx, cy) .. (cx + 1, cy + 1)) has four valid corners; cells
