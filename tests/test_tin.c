@@ -298,18 +298,7 @@ static void real_dem(const char* file) { SKIP("built without tp_io: %s", file); 
 #else
 static void real_dem(const char* file)
 {
-    char path[1024];
-    tp_dem* dem = NULL;
-    tp_render_grid* g = NULL;
-    tp_error err;
-    memset(&err, 0, sizeof err);
-    REQUIRE_DATA_FILE(path, "TP_SHARED_DATA_DIR", file);
-    if (tp_dem_read(path, &dem, &err) != TP_OK)
-        FAIL("tp_dem_read(%s): %s", path, err.message);
-    tp_status s = tp_render_grid_build(dem, NULL, &g, &err);
-    tp_dem_destroy(dem);
-    if (s != TP_OK)
-        FAIL("tp_render_grid_build(%s): %s", path, err.message);
+    tp_render_grid* g = tin_test_render_grid("TP_SHARED_DATA_DIR", file);
     const int w = g->width, h = g->height;
     size_t prev = (size_t)-1;
     const double es[3] = {1.0, 5.0, 20.0};
@@ -462,18 +451,7 @@ static void mt_hood_with_holes(void) { SKIP("built without tp_io"); }
 #else
 static void mt_hood_with_holes(void)
 {
-    char path[1024];
-    tp_dem* dem = NULL;
-    tp_render_grid* g = NULL;
-    tp_error err;
-    memset(&err, 0, sizeof err);
-    REQUIRE_DATA_FILE(path, "TP_SHARED_DATA_DIR", "lf_elev_220_mt_hood_utm.tif");
-    if (tp_dem_read(path, &dem, &err) != TP_OK)
-        FAIL("tp_dem_read(%s): %s", path, err.message);
-    tp_status s = tp_render_grid_build(dem, NULL, &g, &err);
-    tp_dem_destroy(dem);
-    if (s != TP_OK)
-        FAIL("tp_render_grid_build(%s): %s", path, err.message);
+    tp_render_grid* g = tin_test_render_grid("TP_SHARED_DATA_DIR", "lf_elev_220_mt_hood_utm.tif");
     const int w = g->width, h = g->height;
     /* a lake-sized hole, a line of single-sample voids, a hole on the edge */
     for (int y = 100; y < 160; ++y)

@@ -381,18 +381,7 @@ TEST(agrees_with_the_test_checker_on_mt_hood)
 #ifdef TP_TEST_NO_IO
     SKIP("built without tp_io");
 #else
-    char path[1024];
-    tp_dem* dem = NULL;
-    tp_render_grid* g = NULL;
-    tp_error err;
-    memset(&err, 0, sizeof err);
-    REQUIRE_DATA_FILE(path, "TP_SAMPLE_DATA_DIR", "lf_elev_220_mt_hood_utm.tif");
-    if (tp_dem_read(path, &dem, &err) != TP_OK)
-        FAIL("tp_dem_read(%s): %s", path, err.message);
-    tp_status s = tp_render_grid_build(dem, NULL, &g, &err);
-    tp_dem_destroy(dem);
-    if (s != TP_OK)
-        FAIL("tp_render_grid_build(%s): %s", path, err.message);
+    tp_render_grid* g = tin_test_render_grid("TP_SAMPLE_DATA_DIR", "lf_elev_220_mt_hood_utm.tif");
     agree_on(g->heights, g->width, g->height, 5, TP_TIN_CUT_VOIDS);
     tp_render_grid_destroy(g);
 #endif

@@ -312,21 +312,11 @@ static void real_dem(const char* file, unsigned flags, int e_first, int e_last)
 /* es[e_first..e_last] of 1, 5, 20 m */
 static void real_dem(const char* file, unsigned flags, int e_first, int e_last)
 {
-    char path[1024];
-    tp_dem* dem = NULL;
-    tp_render_grid* g = NULL;
-    tp_error err;
-    memset(&err, 0, sizeof err);
-    REQUIRE_DATA_FILE(path, "TP_SHARED_DATA_DIR", file);
-    if (tp_dem_read(path, &dem, &err) != TP_OK)
-        FAIL("tp_dem_read(%s): %s", path, err.message);
-    tp_status s = tp_render_grid_build(dem, NULL, &g, &err);
-    tp_dem_destroy(dem);
-    if (s != TP_OK)
-        FAIL("tp_render_grid_build(%s): %s", path, err.message);
+    tp_render_grid* g = tin_test_render_grid("TP_SHARED_DATA_DIR", file);
     const int w = g->width, h = g->height;
     const double es[3] = {1.0, 5.0, 20.0};
     const int cut = (flags & TP_TIN_CUT_VOIDS) != 0;
+    tp_error err;
     for (int k = e_first; k <= e_last; ++k) {
         tp_tin* u = NULL;
         if (tp_tin_build(g->heights, (size_t)w * h, w, h, es[k], flags, &u, &err) != TP_OK)

@@ -196,4 +196,27 @@ static inline double check_tin(const tp_tin* t, const float* z, int w, int h, do
     return check_tin_mode(t, z, w, h, bound_m, 0);
 }
 
+#ifndef TP_TEST_NO_IO
+#include "tp_io.h"
+
+/* The render grid of DEM file (found through env_var, else skipped), as every command reads it;
+ * free with tp_render_grid_destroy. */
+static tp_render_grid* tin_test_render_grid(const char* env_var, const char* file)
+{
+    char path[1024];
+    tp_dem* dem = NULL;
+    tp_render_grid* g = NULL;
+    tp_error err;
+    memset(&err, 0, sizeof err);
+    REQUIRE_DATA_FILE(path, env_var, file);
+    if (tp_dem_read(path, &dem, &err) != TP_OK)
+        FAIL("tp_dem_read(%s): %s", path, err.message);
+    tp_status s = tp_render_grid_build(dem, NULL, &g, &err);
+    tp_dem_destroy(dem);
+    if (s != TP_OK)
+        FAIL("tp_render_grid_build(%s): %s", path, err.message);
+    return g;
+}
+#endif
+
 #endif
