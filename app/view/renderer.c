@@ -45,8 +45,10 @@ struct tp_renderer {
     size_t draw_cap;
     GLint u_cell, u_frac, u_spacing, u_cam_z, u_exag, u_viewproj, u_sun, u_color_lod,
         u_hide_filled, u_hrange, u_textured, u_tex, u_tex_scale, u_tex_offset, u_grid,
-        u_grid_origin;
+        u_grid_origin, u_clip, u_clip_levels, u_clip_first, u_clip_size, u_clip_per_m,
+        u_clip_rect, u_clip_cam;
     GLuint tex;
+    tp_render_clip clip;
     float tex_scale[2], tex_offset[2];
     /* tp_renderer_create / tp_renderer_draw: the terrain whose patches it draws */
     const tp_terrain* terrain;
@@ -135,11 +137,45 @@ static const char* fs_src =
     "uniform float u_grid;        // line spacing, metres (0: none)\n"
     "uniform vec2 u_grid_origin;  // camera E, N modulo the spacing\n"
     "uniform int u_textured;      // 0 also when LoD colours are on\n"
+    "// imagery through a clipmap (clipmap.h): one layer per level, toroidal\n"
+    "uniform sampler2DArray u_clip;\n"
+    "uniform int u_clip_levels;   // 0: none\n"
+    "uniform int u_clip_first;    // finest level kept\n"
+    "uniform float u_clip_size;   // texels a side of a layer\n"
+    "uniform vec2 u_clip_per_m;   // level-0 texels per metre east and north (signed)\n"
+    "uniform vec4 u_clip_rect[16];// per level: where its bilinear footprint is valid, level\n"
+    "                             // texels from the camera\n"
+    "uniform vec2 u_clip_cam[16]; // per level: the camera's texel position modulo the size\n"
     "out vec4 o_color;\n"
+    "bool clip_at(int l, vec2 d0, out vec4 c) {\n"
+    "    vec2 d = d0 * exp2(-float(l));\n"
+    "    vec4 r = u_clip_rect[l];\n"
+    "    if (any(lessThan(d, r.xy)) || any(greaterThan(d, r.zw))) return false;\n"
+    "    c = textureLod(u_clip, vec3((u_clip_cam[l] + d) / u_clip_size, float(l)), 0.0);\n"
+    "    return true;\n"
+    "}\n"
+    "// the level from the screen derivatives (trilinear between two), else the first coarser\n"
+    "// level whose valid region holds the texel (Luo & Duan 3.5)\n"
+    "vec4 clip_sample(vec2 rel) {\n"
+    "    vec2 d0 = rel * u_clip_per_m;\n"
+    "    vec2 gx = dFdx(d0), gy = dFdy(d0);\n"
+    "    float lam = 0.5 * log2(max(max(dot(gx, gx), dot(gy, gy)), 1e-12));\n"
+    "    int l = max(int(floor(lam)), u_clip_first);\n"
+    "    float f = l == int(floor(lam)) ? fract(lam) : 0.0;\n"
+    "    vec4 a = vec4(0.0), b;\n"
+    "    for (; l < u_clip_levels; l++)\n"
+    "        if (clip_at(l, d0, a)) break;\n"
+    "    if (l + 1 < u_clip_levels && f > 0.0 && clip_at(l + 1, d0, b)) a = mix(a, b, f);\n"
+    "    return a;\n"
+    "}\n"
     "void main() {\n"
     "    vec3 base = v_base;\n"
     "    if (u_textured != 0) {\n"
     "        vec4 t = texture(u_tex, v_uv);\n"
+    "        base = mix(base, t.rgb, t.a);\n"
+    "    }\n"
+    "    if (u_clip_levels > 0) {\n"
+    "        vec4 t = clip_sample(v_rel);\n"
     "        base = mix(base, t.rgb, t.a);\n"
     "    }\n"
     "    vec3 c = mix(base, vec3(0.85, 0.25, 0.75), v_tint) * v_light;\n"
@@ -208,6 +244,13 @@ tp_renderer* tp_renderer_create_desc(const tp_render_grid_desc* d, char* msg, si
     TP_UNIFORM(u_tex_offset);
     TP_UNIFORM(u_grid);
     TP_UNIFORM(u_grid_origin);
+    TP_UNIFORM(u_clip);
+    TP_UNIFORM(u_clip_levels);
+    TP_UNIFORM(u_clip_first);
+    TP_UNIFORM(u_clip_size);
+    TP_UNIFORM(u_clip_per_m);
+    TP_UNIFORM(u_clip_rect);
+    TP_UNIFORM(u_clip_cam);
 #undef TP_UNIFORM
 
     /* The strips of every level, one after the other, in one index buffer. */
@@ -281,6 +324,48 @@ void tp_renderer_destroy(tp_renderer* r)
     free(r->items);
     free(r->complete);
     free(r);
+}
+
+void tp_renderer_set_clip(tp_renderer* r, const tp_render_clip* clip)
+{
+    if (clip && clip->texture)
+        r->clip = *clip;
+    else
+        memset(&r->clip, 0, sizeof r->clip);
+}
+
+/* The clipmap's uniforms for a camera at world (e, n): everything relative to the camera's
+ * texel position (doubles here), so that floats in the shader stay small. */
+static void set_clip_uniforms(const tp_renderer* r, double e, double n, int on)
+{
+    const tp_render_clip* c = &r->clip;
+    glUniform1i(r->u_clip, 1);
+    glUniform1i(r->u_clip_levels, c->texture && on ? c->levels : 0);
+    if (!c->texture || !on)
+        return;
+    glUniform1i(r->u_clip_first, c->first);
+    glUniform1f(r->u_clip_size, (float)c->size);
+    glUniform2f(r->u_clip_per_m, (float)(1 / c->geotransform[1]), (float)(1 / c->geotransform[5]));
+    float rect[TP_RENDER_CLIP_LEVELS][4], cam[TP_RENDER_CLIP_LEVELS][2];
+    double u0 = (e - c->geotransform[0]) / c->geotransform[1];
+    double v0 = (n - c->geotransform[3]) / c->geotransform[5];
+    for (int l = 0; l < TP_RENDER_CLIP_LEVELS; l++) {
+        double u = ldexp(u0, -l), v = ldexp(v0, -l);
+        const double* q = c->rect[l];
+        int valid = l < c->levels && q[2] - q[0] >= 1 && q[3] - q[1] >= 1;
+        /* half a texel in from each edge: the bilinear footprint stays inside */
+        rect[l][0] = valid ? (float)(q[0] + 0.5 - u) : 1;
+        rect[l][1] = valid ? (float)(q[1] + 0.5 - v) : 1;
+        rect[l][2] = valid ? (float)(q[2] - 0.5 - u) : 0;
+        rect[l][3] = valid ? (float)(q[3] - 0.5 - v) : 0;
+        cam[l][0] = (float)(u - floor(u / c->size) * c->size);
+        cam[l][1] = (float)(v - floor(v / c->size) * c->size);
+    }
+    glUniform4fv(r->u_clip_rect, TP_RENDER_CLIP_LEVELS, &rect[0][0]);
+    glUniform2fv(r->u_clip_cam, TP_RENDER_CLIP_LEVELS, &cam[0][0]);
+    glActiveTexture(GL_TEXTURE1);
+    glBindTexture(GL_TEXTURE_2D_ARRAY, c->texture);
+    glActiveTexture(GL_TEXTURE0);
 }
 
 int tp_renderer_set_texture(tp_renderer* r, const uint8_t* rgba, int w, int h,
@@ -509,6 +594,7 @@ void tp_renderer_draw_items(tp_renderer* r, const tp_render_item* items, size_t 
         glActiveTexture(GL_TEXTURE0);
         glBindTexture(GL_TEXTURE_2D, r->tex);
     }
+    set_clip_uniforms(r, cam->position[0], cam->position[1], !st->color_lod);
     for (int k = 0; k <= r->grid.n; k++) {
         size_t s0 = group_at[2 * k], s1 = group_at[2 * k + 1], l1 = group_at[2 * k + 2];
         if (s0 == l1)

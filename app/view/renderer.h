@@ -90,6 +90,23 @@ void tp_renderer_destroy(tp_renderer* r);
 int tp_renderer_set_texture(tp_renderer* r, const uint8_t* rgba, int w, int h,
                             const float scale[2], const float offset[2]);
 
+/* Imagery sampled through a clipmap (clipmap.h): a GL_TEXTURE_2D_ARRAY of one layer per level,
+ * each size x size texels holding level texel (u, v) at (u mod size, v mod size) (wrapping
+ * repeats); the shader picks per fragment the level from the screen derivatives of the level-0
+ * texel coordinates (not finer than first) and falls back to coarser levels until the texel's
+ * bilinear footprint lies inside that level's valid rectangle. */
+#define TP_RENDER_CLIP_LEVELS 16
+typedef struct tp_render_clip {
+    unsigned texture;         /* 0: no imagery */
+    int levels, size, first;
+    double geotransform[6];   /* of level 0's texels, render CRS */
+    double rect[TP_RENDER_CLIP_LEVELS][4]; /* per level: valid texels [x0, x1) x [y0, y1) as
+                                              {x0, y0, x1, y1} of that level; empty: x1 <= x0 */
+} tp_render_clip;
+
+/* The clipmap to sample from the next draw on (copied); NULL or texture 0: none. */
+void tp_renderer_set_clip(tp_renderer* r, const tp_render_clip* clip);
+
 /* One thing to draw: a patch of a terrain or a node of a tree, at one level, with the
  * neighbour levels its crack removal used. The vertex data held for a key is rebuilt only when
  * its level or neighbour levels change (or it was evicted from the pool). */
