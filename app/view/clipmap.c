@@ -11,7 +11,7 @@
 #include <time.h>
 
 #define NO_BLOCK UINT64_MAX
-#define KEEP 1e300 /* the windows' own blocks: never collected */
+#define KEEP 1e300 /* blocks a window lacks: never collected */
 
 typedef struct level {
     tp_clip_window w, pre;   /* the window, and where it will be (prefetch) */
@@ -232,18 +232,23 @@ static void want_window(tp_clipmap* m, int l, const tp_clip_window* w, double cx
         push_want(m, n, r[i].k);
 }
 
-/* Garbage collection (Luo & Duan section 3.4): a block of a current or predicted window is
- * kept; of the rest, the one farthest behind the motion goes first (the most negative
- * projection of its offset from the clip centre on the direction of motion), by distance when
- * the camera stands still; levels not kept at all (finer than first) before any. */
+/* Garbage collection (Luo & Duan section 3.4): a block a current window still lacks is kept;
+ * a block of a predicted window comes next (it will be uploaded soon); of the rest (blocks
+ * already on the GPU included: their copy in RAM only saves a read when the view returns), the
+ * one farthest behind the motion goes first (the most negative projection of its offset from
+ * the clip centre on the direction of motion), by distance when the camera stands still;
+ * levels not kept at all (finer than first) before any. */
 static double gc_score(void* user, tp_block_key k)
 {
     const tp_clipmap* m = user;
     if (k.level >= m->levels || k.level < m->first)
         return -1e200;
     const level* v = &m->lv[k.level];
-    if (tp_clip_window_contains(&v->w, k.bx, k.by) || tp_clip_window_contains(&v->pre, k.bx, k.by))
+    resident_ctx rc = {m, k.level};
+    if (tp_clip_window_contains(&v->w, k.bx, k.by) && !resident(&rc, k.bx, k.by))
         return KEEP;
+    if (tp_clip_window_contains(&v->pre, k.bx, k.by) && !tp_clip_window_contains(&v->w, k.bx, k.by))
+        return 1e200;
     double dx = ((k.bx + 0.5) * m->block - v->cx) / m->size;
     double dy = ((k.by + 0.5) * m->block - v->cy) / m->size;
     double speed = hypot(m->vel_u, m->vel_v);
