@@ -49,6 +49,9 @@ int tp_cli_bench(int argc, char** argv);
 /* `terrapatch build [options] SOURCE... -o NAME.tpt`. argv[0] is "build"; returns an exit code. */
 int tp_cli_build(int argc, char** argv);
 
+/* `terrapatch imagery STORE.tpt IMAGE... [-o OUT.tpi]` (cmd_imagery.c): an imagery pyramid. */
+int tp_cli_imagery(int argc, char** argv);
+
 /* Flushes stdout; on a write error prints one line and returns TP_EXIT_FAILURE, else code. */
 int tp_cli_finish(int code);
 

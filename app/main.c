@@ -24,6 +24,7 @@ static void print_help(FILE* f)
           "  export DEM -o OUT   write the mesh terrapatch draws (VTK .vtp/.vtk/.vtm)\n"
           "  bench DEM   frame rate against measured error, headless, for every LoD mode\n"
           "  build SOURCE... -o NAME.tpt   build a terrain store from DEM tiles (any size)\n"
+          "  imagery STORE.tpt IMAGE...   orthophotos or maps as a pyramid for the viewer\n"
           "  coord       convert coordinates: lat/lon, UTM/UPS, MGRS, ECEF; geodesics\n"
           "  point DEM POS   what is here: position in every form, elevation, slope, aspect\n"
           "  los DEM --from POS --to POS   line of sight: seen or not, what is in the way\n"
@@ -75,6 +76,8 @@ static int run_command(int argc, char** argv)
         return tp_cli_bench(argc - 1, argv + 1);
     if (!strcmp(cmd, "build"))
         return tp_cli_build(argc - 1, argv + 1);
+    if (!strcmp(cmd, "imagery"))
+        return tp_cli_imagery(argc - 1, argv + 1);
     if (cmd[0] == '-')
         fprintf(stderr, "terrapatch: unknown option '%s' (try 'terrapatch --help')\n", cmd);
     else

@@ -7,6 +7,7 @@
  */
 #include "crs.hpp"
 #include "gdal_util.hpp"
+#include "image_bands.hpp"
 #include "tp_io.h"
 
 #include <OpenImageIO/imagebuf.h>
@@ -50,58 +51,9 @@ tp_texture* alloc_texture(int w, int h)
     return t;
 }
 
-/* The bands that make colour and alpha, 1-based: Red/Green/Blue by their colour interpretation
- * wherever they are, else the first three (a NAIP RGB + near-infrared image has a fourth band
- * that is not alpha), else one grey band; alpha only from a band GDAL calls alpha (0: none). */
-struct Bands {
-    int colour[3];
-    int colour_count;
-    int alpha;
-};
-
-Bands choose_bands(GDALDataset* ds)
-{
-    Bands b{{0, 0, 0}, 0, 0};
-    int rgb[3] = {0, 0, 0}, n = ds->GetRasterCount();
-    for (int i = n; i >= 1; i--) {
-        switch (ds->GetRasterBand(i)->GetColorInterpretation()) {
-        case GCI_RedBand: rgb[0] = i; break;
-        case GCI_GreenBand: rgb[1] = i; break;
-        case GCI_BlueBand: rgb[2] = i; break;
-        case GCI_AlphaBand: b.alpha = i; break;
-        default: break;
-        }
-    }
-    std::vector<int> rest; /* the bands that are not alpha */
-    for (int i = 1; i <= n; i++)
-        if (i != b.alpha)
-            rest.push_back(i);
-    if (rest.empty()) { /* one band, called alpha: show it as grey */
-        rest.push_back(b.alpha);
-        b.alpha = 0;
-    }
-    if (rgb[0] && rgb[1] && rgb[2]) {
-        std::copy(rgb, rgb + 3, b.colour);
-        b.colour_count = 3;
-    } else {
-        b.colour_count = rest.size() >= 3 ? 3 : 1;
-        std::copy(rest.begin(), rest.begin() + b.colour_count, b.colour);
-    }
-    return b;
-}
-
-tpio::Dataset translate(GDALDataset* src, const std::vector<std::string>& opts)
-{
-    std::vector<const char*> args;
-    for (const std::string& o : opts)
-        args.push_back(o.c_str());
-    args.push_back(nullptr);
-    GDALTranslateOptions* to = GDALTranslateOptionsNew(const_cast<char**>(args.data()), nullptr);
-    int usage = 0;
-    tpio::Dataset out(GDALDataset::FromHandle(GDALTranslate("", GDALDataset::ToHandle(src), to, &usage)));
-    GDALTranslateOptionsFree(to);
-    return out;
-}
+using tpio::Bands;
+using tpio::choose_bands;
+using tpio::translate;
 
 tp_status warp_georeferenced(const char* path, GDALDataset* src, const tp_render_grid* g,
                              int max_size, tp_texture** out, tp_error* err)
@@ -116,14 +68,8 @@ tp_status warp_georeferenced(const char* path, GDALDataset* src, const tp_render
     std::string ts[2] = {std::to_string(w), std::to_string(h)};
     /* A palette band becomes red, green, blue and alpha through its colour table. */
     tpio::Dataset expanded;
-    if (src->GetRasterBand(1)->GetColorInterpretation() == GCI_PaletteIndex &&
-        src->GetRasterBand(1)->GetColorTable()) {
-        expanded = translate(src, {"-of", "VRT", "-b", "1", "-expand", "rgba"});
-        if (!expanded)
-            return fail(err, TP_ERR_BACKEND, "%s: cannot expand the colour table: %s", path,
-                        tpio::gdal_message().c_str());
-        src = expanded.get();
-    }
+    if (tp_status s = tpio::expand_palette(path, &src, &expanded, err))
+        return s;
     /* Only the chosen bands go to the warp, alpha last (GDALWarp takes a last alpha band as
      * the source's alpha); -dstalpha makes texels outside the image transparent. */
     Bands b = choose_bands(src);
