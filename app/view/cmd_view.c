@@ -8,6 +8,7 @@
  */
 #define _POSIX_C_SOURCE 200809L
 #include "view.h"
+#include "imagery_view.h"
 
 #include "atomic_file.h"
 #include "camera_pose.h"
@@ -58,6 +59,9 @@ enum {
     /* planning layers (layers.h) */
     OPT_OVERLAY,
     OPT_CONTOURS,
+    OPT_IMAGERY,
+    OPT_NO_IMAGERY,
+    OPT_CLIP_BLOCKS,
 };
 
 static void print_help(void)
@@ -95,6 +99,14 @@ static void print_help(void)
           "  --texture FILE        drape an image: an orthophoto georeferenced through GDAL (warped\n"
           "                        onto the render grid), or any image covering the DEM's extent\n"
           "  --one-draw-per-patch  one draw call per patch instead of multi-draw\n"
+          "imagery (stores; docs/imagery.md):\n"
+          "  --imagery FILE.tpi    drape an imagery pyramid made for the store by\n"
+          "                        'terrapatch imagery' (default: STORE.tpi beside the store,\n"
+          "                        when there is one), streamed through a clipmap: any size, a\n"
+          "                        fixed GPU memory (F3 in the window: on or off)\n"
+          "  --no-imagery          do not drape STORE.tpi\n"
+          "  --clip-blocks N       the clipmap's window: N x N blocks of 256 texels a level (even,\n"
+          "                        2..32; default 4: 1024 texels, 4 MiB of GPU memory a level)\n"
           "planning layers (docs/field.md):\n"
           "  --overlay FILE        drape a vector file on the terrain: GPX, KML, GeoJSON,\n"
           "                        Shapefile, GeoPackage or anything OGR reads, reprojected to\n"
@@ -206,6 +218,9 @@ static int parse_options(int argc, char** argv, view_options* o)
         {"bookmark", required_argument, NULL, OPT_BOOKMARK},
         {"save-bookmark", required_argument, NULL, OPT_SAVE_BOOKMARK},
         {"bookmarks", required_argument, NULL, OPT_BOOKMARKS},
+        {"imagery", required_argument, NULL, OPT_IMAGERY},
+        {"no-imagery", no_argument, NULL, OPT_NO_IMAGERY},
+        {"clip-blocks", required_argument, NULL, OPT_CLIP_BLOCKS},
         {"help", no_argument, NULL, 'h'},
         {NULL, 0, NULL, 0},
     };
@@ -275,6 +290,16 @@ static int parse_options(int argc, char** argv, view_options* o)
         case OPT_HUD: o->hud = 1; break;
         case OPT_HIDE_FILLED: o->render.hide_filled = 1; break;
         case OPT_TEXTURE: o->texture = optarg; break;
+        case OPT_IMAGERY: o->imagery = optarg; break;
+        case OPT_NO_IMAGERY: o->no_imagery = 1; break;
+        case OPT_CLIP_BLOCKS: {
+            char* end;
+            long n = strtol(optarg, &end, 10);
+            if (*end || n < 2 || n > 32 || n % 2)
+                return bad("--clip-blocks", "an even number from 2 to 32", optarg);
+            o->clip_blocks = (int)n;
+            break;
+        }
         case OPT_SUN:
             if (!tp_parse_numbers(optarg, v, 2) || v[1] < 0 || v[1] > 90)
                 return bad("--sun", "AZIMUTH,ELEVATION in degrees (elevation 0..90)", optarg);
@@ -487,6 +512,21 @@ void tp_view_contours_at_centre(tp_view_scene* v, const tp_camera* cam, view_opt
     tp_view_layers_contours_at(o->layers, o->ground, p[0], p[1], interval_m, line, cap);
 }
 
+/* The store's imagery: --imagery, else STORE.tpi beside it (unless --no-imagery). 0 after a
+ * message when it cannot be drawn. */
+static int open_imagery(tp_view_scene* v, const view_options* o, const tp_store_scene* st)
+{
+    char beside[4096];
+    const char* path = o->imagery;
+    if (!path && !o->no_imagery && tp_view_imagery_beside(st->path, beside, sizeof beside))
+        path = beside;
+    if (!path || o->no_imagery)
+        return 1;
+    tp_clipmap_options co = {.clip_blocks = o->clip_blocks};
+    v->imagery_settle = o->headless;
+    return tp_view_imagery_open(path, st, &co, &v->imagery);
+}
+
 /* Runs the view on an open scene (either path; st: the store, whose georeference may still be
  * in the making): camera, context, renderer, the frames. */
 static int run_view(tp_view_scene* v, view_options* o, tp_render_grid_desc* gd,
@@ -537,6 +577,13 @@ static int run_view(tp_view_scene* v, view_options* o, tp_render_grid_desc* gd,
         code = TP_EXIT_FAILURE;
     if (code == TP_EXIT_OK && o->texture && !tp_view_load_texture(v->dem, r, o->texture))
         code = TP_EXIT_FAILURE;
+    if (code == TP_EXIT_OK && o->imagery && !st) {
+        fprintf(stderr, "terrapatch view: --imagery drapes stores; %s is drawn whole (use "
+                        "--texture for an image over a DEM drawn whole)\n", v->path);
+        code = TP_EXIT_USAGE;
+    }
+    if (code == TP_EXIT_OK && st && !open_imagery(v, o, st))
+        code = TP_EXIT_FAILURE;
     tp_view_layers layers;
     memset(&layers, 0, sizeof layers);
     /* a window always has them (F2); headless frames when asked */
@@ -549,6 +596,8 @@ static int run_view(tp_view_scene* v, view_options* o, tp_render_grid_desc* gd,
     tp_ground_destroy(o->ground);
     o->ground = NULL;
     o->layers = NULL;
+    tp_view_imagery_close(v->imagery);
+    v->imagery = NULL;
     tp_renderer_destroy(r);
     tp_gl_context_destroy(ctx);
     return code;

@@ -3,6 +3,7 @@
 #include "view.h"
 
 #include "atomic_file.h"
+#include "imagery_view.h"
 #include "json.h"
 
 #include <epoxy/gl.h>
@@ -43,6 +44,14 @@ void tp_view_frame(tp_view_scene* v, tp_renderer* r, const tp_camera* cam,
     tp_stream_frame(v->store->stream, v->cut, frozen ? NULL : v->prefetch, cam, lod, &out->stream);
     tp_view_scene_report_failures(v);
     out->select_ms = tp_view_now_ms() - t0;
+    out->imagery = v->imagery && !v->imagery_hidden;
+    if (out->imagery) {
+        tp_view_imagery_frame(v->imagery, v->store, v->cut, render->exaggeration, r, cam,
+                              v->imagery_settle, &out->clip);
+        tp_view_imagery_report_failures(v->imagery);
+    } else {
+        tp_renderer_set_clip(r, NULL);
+    }
     tp_renderer_draw_cut(r, v->store->tree, v->cut, cam, render, render->exaggeration, 1,
                          &out->render);
     tp_cut_stats cs;
@@ -105,6 +114,14 @@ int tp_view_write_stats(const char* path, const frame_result* f, const tp_error_
         KEY_SIZE("nodes_drawn", (size_t)f->nodes_drawn);
         KEY_SIZE("substituted_nodes", (size_t)f->substituted);
         KEY_SIZE("pending", (size_t)f->stream.pending);
+        if (f->imagery) {
+            KEY_NUM("imagery_gpu_mb", f->clip.gpu_bytes / 1e6);
+            KEY_NUM("imagery_cache_mb", f->clip.cache_bytes / 1e6);
+            KEY_NUM("imagery_upload_ms", f->clip.upload_ms);
+            KEY_SIZE("imagery_uploads", (size_t)f->clip.uploads);
+            KEY_SIZE("imagery_first_level", (size_t)f->clip.first_level);
+            KEY_SIZE("imagery_missing_blocks", (size_t)f->clip.missing);
+        }
     }
 #undef KEY_NUM
 #undef KEY_SIZE

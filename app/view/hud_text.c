@@ -120,13 +120,21 @@ void tp_view_hud_text(tp_view_scene* v, const tp_camera* cam,
     char exag[64] = "";
     if (ex != 1)
         snprintf(exag, sizeof exag, "   vertical exaggeration x%.3g", ex);
-    char store_line[256] = "", bound[96], voids[192];
+    char store_line[400] = "", bound[96], voids[192];
     voids_text(v, voids, sizeof voids);
     if (fr->store) {
         snprintf(store_line, sizeof store_line,
                  "\nstore: %d nodes drawn (%d substituted)   resident %.1f MB   %d loads pending",
                  fr->nodes_drawn, fr->substituted, fr->stream.resident_bytes / 1e6,
                  fr->stream.pending);
+        if (fr->imagery) {
+            size_t n = strlen(store_line);
+            snprintf(store_line + n, sizeof store_line - n,
+                     "\nimagery: levels %d.. sampled   GPU %.0f MB   RAM %.0f MB   %d blocks "
+                     "pending   upload %.2f ms (F3: off)",
+                     fr->clip.first_level, fr->clip.gpu_bytes / 1e6, fr->clip.cache_bytes / 1e6,
+                     fr->clip.pending, fr->clip.upload_ms);
+        }
         snprintf(bound, sizeof bound, "error bound max %.2f px", fr->bound_max_px);
     } else {
         snprintf(bound, sizeof bound, "error bound max %.2f m, RMS %.2f m",

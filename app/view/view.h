@@ -15,6 +15,7 @@
 #include "scene.h"
 #include "view_options.h"
 #include "view_scene.h"
+#include "clipmap.h"
 
 typedef struct view_options {
     tp_scene_options scene;
@@ -23,6 +24,9 @@ typedef struct view_options {
     int headless, frames, no_hud, hud;
     const char* screenshot;
     const char* texture;
+    const char* imagery;             /* --imagery FILE.tpi (stores) */
+    int no_imagery;                  /* --no-imagery */
+    int clip_blocks;                 /* --clip-blocks N (0: the clipmap's default) */
     int has_measure;
     double measure[4]; /* E1, N1, E2, N2 */
     double pick[16][2]; /* --pick X,Y pixels */
@@ -53,6 +57,8 @@ typedef struct frame_result {
     int nodes_drawn, substituted;
     double bound_max_px;      /* largest projected bound of a drawn node */
     tp_stream_stats stream;   /* resident MB, pending loads */
+    int imagery;              /* imagery drawn: clip is set */
+    tp_clipmap_stats clip;
 } frame_result;
 
 /* Contours (layers.h) around the point cam looks at (else the DEM's centre) into o->layers:

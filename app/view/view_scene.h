@@ -25,6 +25,9 @@ typedef struct tp_view_scene {
     int src_width, src_height, n;
     double min_height_m, max_height_m;
     int failures;             /* damaged nodes reported */
+    struct tp_view_imagery* imagery; /* imagery_view.h: a store's imagery, or NULL */
+    int imagery_hidden;       /* F3: not drawn (still open) */
+    int imagery_settle;       /* headless: every clip window whole before the frame */
 } tp_view_scene;
 
 void tp_view_scene_from_dem(tp_view_scene* v, tp_scene* sc, tp_selection* sel);

@@ -310,6 +310,12 @@ static void on_key(window_state* s, int key)
     case GLFW_KEY_C: print_camera(s); break;
     case GLFW_KEY_B: viewshed_key(s, glfwGetCurrentContext()); break;
     case GLFW_KEY_F2: contours_key(s); break;
+    case GLFW_KEY_F3: /* imagery on or off */
+        s->v->imagery_hidden = !s->v->imagery_hidden;
+        snprintf(s->measure_line, sizeof s->measure_line, "%s",
+                 !s->v->imagery ? "imagery: none (terrapatch imagery STORE IMAGE... makes it)"
+                 : s->v->imagery_hidden ? "imagery: off (F3: on)" : "imagery: on (F3: off)");
+        break;
     case GLFW_KEY_R:
         s->los_mode = !s->los_mode;
         s->los.picked = 0;
