@@ -22,6 +22,7 @@
 #include "camera_pose.h"
 #include "cli.h"
 #include "gl_context.h"
+#include "imagery_view.h"
 #include "json.h"
 #include "memory.h"
 #include "renderer.h"
@@ -50,6 +51,10 @@ typedef struct store_row {
     int measured;               /* error measured (frame without substitution) */
     double max_px, rms_px;
     size_t samples, skipped;
+    /* --imagery: the clipmap's part of the frame (in frame_ms) */
+    double img_ms, img_upload_ms;
+    int img_uploads, img_missing, img_pending;
+    size_t img_gpu_bytes, img_cache_bytes;
 } store_row;
 
 typedef struct store_result {
@@ -66,6 +71,10 @@ typedef struct store_result {
     double samples, skipped;    /* totals over measured frames */
     double settle_ms;           /* first stretch: open... until nothing is missing */
     int settle_timeouts;
+    int imagery;                /* drapes o->imagery through the clipmap */
+    double img_ms, img_upload_ms, img_upload_ms_p99, img_uploads, img_gpu_mb, img_cache_mb;
+    int img_missing_max, img_frames_missing;
+    long img_final_diff;        /* tp_bench_imagery_diff */
 } store_result;
 
 typedef struct store_bench {
@@ -240,6 +249,13 @@ static void summarize(store_result* c, int n)
     c->visited = tp_bench_median(v, n);
     ROWS_OF(r->uploads);
     c->uploads = tp_bench_median(v, n);
+    ROWS_OF(r->img_ms);
+    c->img_ms = tp_bench_median(v, n);
+    ROWS_OF(r->img_upload_ms);
+    c->img_upload_ms = tp_bench_median(v, n);
+    c->img_upload_ms_p99 = tp_bench_p99(v, n);
+    ROWS_OF(r->img_uploads);
+    c->img_uploads = tp_bench_median(v, n);
     double sum_px = 0;
     for (int i = 0; i < n; i++) {
         const store_row* r = &c->rows[i];
@@ -251,6 +267,10 @@ static void summarize(store_result* c, int n)
         c->rss_anon_mb = fmax(c->rss_anon_mb, r->rss_anon_mb);
         c->resident_mb = fmax(c->resident_mb, r->resident_bytes / 1e6);
         c->gpu_mb = fmax(c->gpu_mb, r->gpu_bytes / 1e6);
+        c->img_gpu_mb = fmax(c->img_gpu_mb, r->img_gpu_bytes / 1e6);
+        c->img_cache_mb = fmax(c->img_cache_mb, r->img_cache_bytes / 1e6);
+        c->img_missing_max = r->img_missing > c->img_missing_max ? r->img_missing : c->img_missing_max;
+        c->img_frames_missing += r->img_missing > 0;
         if (r->measured) {
             c->error_frames++;
             c->max_px = fmax(c->max_px, r->max_px);
@@ -329,8 +349,14 @@ static int run_store_config(store_bench* b, store_result* c, int first, const ch
     tp_render_settings_default(&rs);
     tp_render_stats st;
     tp_stream_stats ss;
+    tp_clipmap_stats is = {0};
+    tp_view_imagery* im = NULL;
+    tp_clipmap_options co = {.clip_blocks = o->clip_blocks,
+                             .frame_s = o->realtime ? 0 : 1.0 / FRAME_HZ};
+    if (c->imagery && !tp_view_imagery_open(o->imagery, &b->sc, &co, &im))
+        goto done;
+    tp_camera cam;
     for (int seg = 0; seg < b->segments; seg++) {
-        tp_camera cam;
         flight_camera(b, seg, -WARMUP_FRAMES * b->step_m, &cam);
         if (first && seg == 0) { /* the first frame: what a viewer shows right after start */
             double t0 = now_ms();
@@ -353,6 +379,8 @@ static int run_store_config(store_bench* b, store_result* c, int first, const ch
         double t_settle = now_ms();
         if (!settle(b, cut, pre, &cam, &c->lod))
             c->settle_timeouts++;
+        if (im) /* the imagery the jump's view needs, as the terrain's */
+            tp_view_imagery_frame(im, &b->sc, cut, 1, r, &cam, 1, &is);
         if (seg == 0)
             c->settle_ms = now_ms() - t_settle;
         double t_fly = now_ms();
@@ -370,6 +398,9 @@ static int run_store_config(store_bench* b, store_result* c, int first, const ch
             double t1 = now_ms();
             tp_stream_frame(b->sc.stream, cut, o->no_prefetch ? NULL : pre, &cam, &c->lod, &ss);
             double t2 = now_ms();
+            if (im)
+                tp_view_imagery_frame(im, &b->sc, cut, 1, r, &cam, 0, &is);
+            double t2i = now_ms();
             tp_renderer_draw_cut(r, b->sc.tree, cut, &cam, &rs, 1, 1, &st);
             tp_gl_context_end_frame(b->ctx);
             double t3 = now_ms();
@@ -385,6 +416,16 @@ static int run_store_config(store_bench* b, store_result* c, int first, const ch
             row->page_faults = st.page_faults;
             row->frame_ms = t3 - t0;
             row->cpu_ms = row->cut_ms + row->stream_ms + row->upload_ms;
+            if (im) {
+                row->img_ms = t2i - t2;
+                row->img_upload_ms = is.upload_ms;
+                row->img_uploads = is.uploads;
+                row->img_missing = is.missing;
+                row->img_pending = is.pending;
+                row->img_gpu_bytes = is.gpu_bytes;
+                row->img_cache_bytes = is.cache_bytes;
+                row->cpu_ms += row->img_ms;
+            }
             row->triangles = cs.triangles;
             row->nodes = cs.drawn;
             row->visited = cs.visited;
@@ -412,12 +453,16 @@ static int run_store_config(store_bench* b, store_result* c, int first, const ch
     }
     fprintf(stderr, "\n");
     summarize(c, frames);
+    if (im) /* the last frame against a fresh clipmap's: nothing stale after the flight */
+        c->img_final_diff = tp_bench_imagery_diff(im, o->imagery, &b->sc, cut, r, b->ctx, &cam,
+                                                  o->clip_blocks);
     code = TP_EXIT_OK;
     goto done;
 cut_failed:
     fprintf(stderr, "\nterrapatch bench: selecting the cut: %s\n",
             err.message[0] ? err.message : "failed");
 done:
+    tp_view_imagery_close(im);
     tp_cut_destroy(pre);
     tp_cut_destroy(cut);
     tp_renderer_destroy(r);
@@ -457,6 +502,19 @@ static void json_result(tp_json* j, const store_result* c)
     KN("gpu_mb", c->gpu_mb);
     KN("settle_ms", c->settle_ms);
     KN("settle_timeouts", c->settle_timeouts);
+    tp_json_key(j, "imagery");
+    tp_json_bool(j, c->imagery);
+    if (c->imagery) {
+        KN("imagery_ms_median", c->img_ms);
+        KN("imagery_upload_ms_median", c->img_upload_ms);
+        KN("imagery_upload_ms_p99", c->img_upload_ms_p99);
+        KN("imagery_uploads_median", c->img_uploads);
+        KN("imagery_gpu_mb", c->img_gpu_mb);
+        KN("imagery_cache_mb", c->img_cache_mb);
+        KN("imagery_missing_blocks_max", c->img_missing_max);
+        KN("imagery_frames_missing_blocks", c->img_frames_missing);
+        KN("imagery_final_diff_pixels", (double)c->img_final_diff);
+    }
     KN("error_frames_measured", c->error_frames);
     /* null when no sample was measured (every leaf in view not resident) */
     KN("max_screen_error_px", c->error_frames && c->samples > 0 ? c->max_px : NAN);
@@ -537,18 +595,20 @@ static int write_csv(const store_bench* b, const store_result* c, int nc)
     FILE* f = file.f;
     fprintf(f, "lod_mode,frame,frame_ms,cut_ms,stream_ms,upload_ms,draw_ms,cpu_ms,triangles,nodes,"
                "visited,substituted,requests,uploads,pending,gpu_bytes,resident_bytes,rss_mb,"
-               "rss_anon_mb,measured,max_screen_error_px,rms_screen_error_px,samples,skipped\n");
+               "rss_anon_mb,measured,max_screen_error_px,rms_screen_error_px,samples,skipped,"
+               "imagery_ms,imagery_upload_ms,imagery_uploads,imagery_missing_blocks\n");
     int frames = b->segments * b->per_segment;
     for (int k = 0; k < nc; k++)
         for (int i = 0; i < frames; i++) {
             const store_row* r = &c[k].rows[i];
             fprintf(f, "%s,%d,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%zu,%d,%d,%d,%d,%d,%d,%zu,%zu,%.1f,"
-                       "%.1f,%d,%.4f,%.4f,%zu,%zu\n",
-                    c[k].lod.mode == TP_LOD_ERROR ? "error" : "distance", i, r->frame_ms,
+                       "%.1f,%d,%.4f,%.4f,%zu,%zu,%.4f,%.4f,%d,%d\n",
+                    c[k].imagery ? "error+imagery" : c[k].lod.mode == TP_LOD_ERROR ? "error" : "distance", i, r->frame_ms,
                     r->cut_ms, r->stream_ms, r->upload_ms, r->draw_ms, r->cpu_ms, r->triangles,
                     r->nodes, r->visited, r->substituted, r->requests, r->uploads, r->pending,
                     r->gpu_bytes, r->resident_bytes, r->rss_mb, r->rss_anon_mb, r->measured,
-                    r->max_px, r->rms_px, r->samples, r->skipped);
+                    r->max_px, r->rms_px, r->samples, r->skipped, r->img_ms, r->img_upload_ms,
+                    r->img_uploads, r->img_missing);
         }
     return tp_atomic_commit(&file);
 }
@@ -583,6 +643,14 @@ static void print_table(const store_bench* b, const char* renderer_name, const s
                c[k].substituted_max, 100.0 * c[k].frames_with_substitution / frames, c[k].rss_mb,
                c[k].rss_anon_mb, c[k].resident_mb, c[k].gpu_mb,
                c[k].samples > 0 ? c[k].max_px : NAN);
+    for (int k = 0; k < nc; k++)
+        if (c[k].imagery)
+            printf("%s: imagery %.3f ms a frame (upload %.3f ms median, %.3f p99; %.0f blocks), "
+                   "GPU %.1f MB, RAM %.1f MB, %d frames lacking blocks (at most %d), last frame "
+                   "vs a fresh clipmap: %ld pixels differ\n",
+                   c[k].label, c[k].img_ms, c[k].img_upload_ms, c[k].img_upload_ms_p99,
+                   c[k].img_uploads, c[k].img_gpu_mb, c[k].img_cache_mb, c[k].img_frames_missing,
+                   c[k].img_missing_max, c[k].img_final_diff);
     for (int k = 0; k < nc; k++)
         if (!o->no_error)
             printf("%s: screen error measured on %d frames without substitution (%.0f samples, "
@@ -625,7 +693,7 @@ int tp_bench_store(const bench_options* o)
     read_rss(&b.base_rss_mb, &b.base_anon_mb);
     const char* renderer_name = (const char*)glGetString(GL_RENDERER);
     renderer_name = renderer_name ? renderer_name : "?";
-    store_result c[2];
+    store_result c[3];
     memset(c, 0, sizeof c);
     c[0].lod = o->vs.lod;
     c[0].lod.mode = TP_LOD_ERROR;
@@ -634,6 +702,12 @@ int tp_bench_store(const bench_options* o)
     snprintf(c[0].label, sizeof c[0].label, "error tau=%g", o->vs.lod.tau_px > 0 ? o->vs.lod.tau_px : 1);
     snprintf(c[1].label, sizeof c[1].label, "distance");
     int nc = 2, code = TP_EXIT_OK;
+    if (o->imagery) { /* the error mode again, with imagery: fps with / fps without */
+        c[2] = c[0];
+        c[2].imagery = 1;
+        snprintf(c[2].label, sizeof c[2].label, "%.48s+imagery", c[0].label);
+        nc = 3;
+    }
     for (int k = 0; k < nc && code == TP_EXIT_OK; k++) {
         char progress[96];
         snprintf(progress, sizeof progress, "%s (%d/%d)", c[k].label, k + 1, nc);

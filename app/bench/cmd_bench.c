@@ -42,6 +42,8 @@ enum {
     OPT_ERROR_EVERY,
     OPT_REALTIME,
     OPT_NO_PREFETCH,
+    OPT_IMAGERY,
+    OPT_CLIP_BLOCKS,
     OPT_COMPARE,
     OPT_RUNS,
 };
@@ -126,6 +128,11 @@ static void print_help(void)
           "                         (a slow frame is a jump, as in the viewer), not speed / 30\n"
           "                         per frame\n"
           "  --no-prefetch          no prefetch cut (to measure what the prefetch costs)\n"
+          "  --imagery FILE.tpi     a third configuration: the error mode with this imagery\n"
+          "                         pyramid draped through the clipmap (upload ms, GPU and RAM\n"
+          "                         of the imagery per frame; the last frame compared with a\n"
+          "                         fresh clipmap's: imagery_final_diff_pixels)\n"
+          "  --clip-blocks N        the clipmap's window in blocks a side (even, 2..32; default 4)\n"
           "  --error-every N        measure the screen error on every N-th frame (default 1),\n"
           "                         only frames drawn without substitution, only samples whose\n"
           "                         leaf is resident (the JSON says how many were skipped)\n"
@@ -169,6 +176,8 @@ static int parse_options(int argc, char** argv, bench_options* o)
         {"error-every", required_argument, NULL, OPT_ERROR_EVERY},
         {"realtime", no_argument, NULL, OPT_REALTIME},
         {"no-prefetch", no_argument, NULL, OPT_NO_PREFETCH},
+        {"imagery", required_argument, NULL, OPT_IMAGERY},
+        {"clip-blocks", required_argument, NULL, OPT_CLIP_BLOCKS},
         {"compare", no_argument, NULL, OPT_COMPARE},
         {"runs", required_argument, NULL, OPT_RUNS},
         {"help", no_argument, NULL, 'h'},
@@ -264,6 +273,17 @@ static int parse_options(int argc, char** argv, bench_options* o)
         }
         case OPT_REALTIME: o->realtime = 1; break;
         case OPT_NO_PREFETCH: o->no_prefetch = 1; break;
+        case OPT_IMAGERY: o->imagery = optarg; break;
+        case OPT_CLIP_BLOCKS: {
+            char* end;
+            long n = strtol(optarg, &end, 10);
+            if (*end || n < 2 || n > 32 || n % 2) {
+                tp_option_error("bench", "--clip-blocks", "an even number from 2 to 32", optarg);
+                return TP_EXIT_USAGE;
+            }
+            o->clip_blocks = (int)n;
+            break;
+        }
         case 'h': print_help(); return tp_cli_finish(TP_EXIT_OK);
         case ':':
             fprintf(stderr, "terrapatch bench: missing value for %s\n", argv[optind - 1]);
@@ -286,6 +306,10 @@ static int parse_options(int argc, char** argv, bench_options* o)
     }
     if (tp_view_setup_check(&o->vs, "bench") < 0)
         return TP_EXIT_USAGE;
+    if (o->imagery && !tp_is_store_path(o->dem)) {
+        fprintf(stderr, "terrapatch bench: --imagery needs a store (%s is not one)\n", o->dem);
+        return TP_EXIT_USAGE;
+    }
     if (tp_is_store_path(o->dem)) {
         const char* no = o->sweep ? "--sweep" : o->is_static ? "--static" : o->path_file ? "--path-file"
                          : o->vs.has_camera ? "--camera" : !strcmp(o->path_name, "orbit") ? "--path orbit"

@@ -46,7 +46,7 @@ struct tp_renderer {
     GLint u_cell, u_frac, u_spacing, u_cam_z, u_exag, u_viewproj, u_sun, u_color_lod,
         u_hide_filled, u_hrange, u_textured, u_tex, u_tex_scale, u_tex_offset, u_grid,
         u_grid_origin, u_clip, u_clip_levels, u_clip_first, u_clip_size, u_clip_per_m,
-        u_clip_rect, u_clip_cam;
+        u_clip_rect, u_clip_cam, u_clip_lod_k;
     GLuint tex;
     tp_render_clip clip;
     float tex_scale[2], tex_offset[2];
@@ -94,8 +94,10 @@ static const char* vs_src =
     "uniform int u_color_lod;\n"
     "uniform int u_hide_filled;\n"
     "uniform vec2 u_hrange;\n"
+    "uniform float u_clip_lod_k; // level-0 texels per pixel per metre of distance (0: none)\n"
     "out vec2 v_uv;\n"
     "out vec2 v_rel;\n"
+    "out float v_lod;    // log2 of level-0 texels per pixel here (Blow: per vertex, not per pixel)\n"
     "out vec3 v_base;    // colour before light\n"
     "out float v_light;\n"
     "out float v_tint;   // filled-void tint amount\n"
@@ -124,12 +126,14 @@ static const char* vs_src =
     "    v_tint = u_hide_filled == 0 ? 0.65 * float((a_flags >> 4u) & 1u) : 0.0;\n"
     "    v_uv = vec2(a_grid) * u_tex_scale + u_tex_offset;\n"
     "    v_rel = d;\n"
+    "    v_lod = log2(max(length(vec3(d, a_z * u_exag - u_cam_z)) * u_clip_lod_k, 1.0));\n"
     "}\n";
 
 static const char* fs_src =
     "#version 330 core\n"
     "in vec2 v_uv;\n"
     "in vec2 v_rel;\n"
+    "in float v_lod;\n"
     "in vec3 v_base;\n"
     "in float v_light;\n"
     "in float v_tint;\n"
@@ -154,18 +158,13 @@ static const char* fs_src =
     "    c = textureLod(u_clip, vec3((u_clip_cam[l] + d) / u_clip_size, float(l)), 0.0);\n"
     "    return true;\n"
     "}\n"
-    "// the level from the screen derivatives (trilinear between two), else the first coarser\n"
-    "// level whose valid region holds the texel (Luo & Duan 3.5)\n"
+    "// the level the distance asks for (v_lod), else the first coarser level whose valid\n"
+    "// region holds the texel's bilinear footprint (Luo & Duan 3.5)\n"
     "vec4 clip_sample(vec2 rel) {\n"
     "    vec2 d0 = rel * u_clip_per_m;\n"
-    "    vec2 gx = dFdx(d0), gy = dFdy(d0);\n"
-    "    float lam = 0.5 * log2(max(max(dot(gx, gx), dot(gy, gy)), 1e-12));\n"
-    "    int l = max(int(floor(lam)), u_clip_first);\n"
-    "    float f = l == int(floor(lam)) ? fract(lam) : 0.0;\n"
-    "    vec4 a = vec4(0.0), b;\n"
-    "    for (; l < u_clip_levels; l++)\n"
+    "    vec4 a = vec4(0.0);\n"
+    "    for (int l = max(int(v_lod), u_clip_first); l < u_clip_levels; l++)\n"
     "        if (clip_at(l, d0, a)) break;\n"
-    "    if (l + 1 < u_clip_levels && f > 0.0 && clip_at(l + 1, d0, b)) a = mix(a, b, f);\n"
     "    return a;\n"
     "}\n"
     "void main() {\n"
@@ -251,6 +250,7 @@ tp_renderer* tp_renderer_create_desc(const tp_render_grid_desc* d, char* msg, si
     TP_UNIFORM(u_clip_per_m);
     TP_UNIFORM(u_clip_rect);
     TP_UNIFORM(u_clip_cam);
+    TP_UNIFORM(u_clip_lod_k);
 #undef TP_UNIFORM
 
     /* The strips of every level, one after the other, in one index buffer. */
@@ -334,19 +334,26 @@ void tp_renderer_set_clip(tp_renderer* r, const tp_render_clip* clip)
         memset(&r->clip, 0, sizeof r->clip);
 }
 
-/* The clipmap's uniforms for a camera at world (e, n): everything relative to the camera's
- * texel position (doubles here), so that floats in the shader stay small. */
-static void set_clip_uniforms(const tp_renderer* r, double e, double n, int on)
+/* The clipmap's uniforms for cam: everything relative to the camera's texel position (doubles
+ * here), so that floats in the shader stay small; the level per vertex from its distance
+ * (Blow's per-polygon texture level: texels per pixel = distance / (focal * texel)). */
+static void set_clip_uniforms(const tp_renderer* r, const tp_camera* cam, int on)
 {
     const tp_render_clip* c = &r->clip;
     glUniform1i(r->u_clip, 1);
     glUniform1i(r->u_clip_levels, c->texture && on ? c->levels : 0);
+    glUniform1f(r->u_clip_lod_k, 0);
     if (!c->texture || !on)
         return;
+    double e = cam->position[0], n = cam->position[1];
+    tp_camera_frame f;
+    tp_camera_get_frame(cam, &f);
+    double texel_m = fmin(fabs(c->geotransform[1]), fabs(c->geotransform[5]));
+    glUniform1f(r->u_clip_lod_k, (float)(1 / (f.focal_px * texel_m)));
     glUniform1i(r->u_clip_first, c->first);
     glUniform1f(r->u_clip_size, (float)c->size);
     glUniform2f(r->u_clip_per_m, (float)(1 / c->geotransform[1]), (float)(1 / c->geotransform[5]));
-    float rect[TP_RENDER_CLIP_LEVELS][4], cam[TP_RENDER_CLIP_LEVELS][2];
+    float rect[TP_RENDER_CLIP_LEVELS][4], at[TP_RENDER_CLIP_LEVELS][2];
     double u0 = (e - c->geotransform[0]) / c->geotransform[1];
     double v0 = (n - c->geotransform[3]) / c->geotransform[5];
     for (int l = 0; l < TP_RENDER_CLIP_LEVELS; l++) {
@@ -358,11 +365,11 @@ static void set_clip_uniforms(const tp_renderer* r, double e, double n, int on)
         rect[l][1] = valid ? (float)(q[1] + 0.5 - v) : 1;
         rect[l][2] = valid ? (float)(q[2] - 0.5 - u) : 0;
         rect[l][3] = valid ? (float)(q[3] - 0.5 - v) : 0;
-        cam[l][0] = (float)(u - floor(u / c->size) * c->size);
-        cam[l][1] = (float)(v - floor(v / c->size) * c->size);
+        at[l][0] = (float)(u - floor(u / c->size) * c->size);
+        at[l][1] = (float)(v - floor(v / c->size) * c->size);
     }
     glUniform4fv(r->u_clip_rect, TP_RENDER_CLIP_LEVELS, &rect[0][0]);
-    glUniform2fv(r->u_clip_cam, TP_RENDER_CLIP_LEVELS, &cam[0][0]);
+    glUniform2fv(r->u_clip_cam, TP_RENDER_CLIP_LEVELS, &at[0][0]);
     glActiveTexture(GL_TEXTURE1);
     glBindTexture(GL_TEXTURE_2D_ARRAY, c->texture);
     glActiveTexture(GL_TEXTURE0);
@@ -594,7 +601,7 @@ void tp_renderer_draw_items(tp_renderer* r, const tp_render_item* items, size_t 
         glActiveTexture(GL_TEXTURE0);
         glBindTexture(GL_TEXTURE_2D, r->tex);
     }
-    set_clip_uniforms(r, cam->position[0], cam->position[1], !st->color_lod);
+    set_clip_uniforms(r, cam, !st->color_lod);
     for (int k = 0; k <= r->grid.n; k++) {
         size_t s0 = group_at[2 * k], s1 = group_at[2 * k + 1], l1 = group_at[2 * k + 2];
         if (s0 == l1)
