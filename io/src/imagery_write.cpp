@@ -46,6 +46,7 @@ struct Source {
     double res = 0;            /* its pixel size on the render grid (render CRS units) */
     double extent[4] = {0};    /* its bounds in the render CRS: xmin, ymin, xmax, ymax */
     std::string resampling;
+    std::string error; /* GDAL's -et: its approximate transformer's error, in source pixels */
 };
 
 /* The grid's bounds (xmin, ymin, xmax, ymax) in its CRS, for w x h pixels of gt. */
@@ -325,7 +326,7 @@ tp_status warp_row(Build& b, std::vector<Source>& sources, const OGRSpatialRefer
         if (!overlaps(s.extent, strip))
             continue;
         const char* args[] = {"-srcalpha", "-dstalpha", "-r", s.resampling.c_str(), "-wo",
-                              threads.c_str(), "-wm", wm.c_str(), nullptr};
+                              threads.c_str(), "-wm", wm.c_str(), "-et", s.error.c_str(), nullptr};
         GDALWarpAppOptions* wo = GDALWarpAppOptionsNew(const_cast<char**>(args), nullptr);
         GDALDatasetH in = GDALDataset::ToHandle(s.rgba.get());
         int usage = 0;
@@ -382,8 +383,13 @@ tp_status build(const char* const* paths, int count, const tp_imagery_target* t,
                     "%s: a %dx%d grid at texel shift %d makes a level 0 over 2^31 texels a side",
                     out_path, t->width, t->height, shift);
     const double texel = grid_px * std::ldexp(1.0, -shift);
-    for (Source& s : sources) /* averaging where a source is finer than the texels */
+    for (Source& s : sources) {
+        /* averaging where a source is finer than the texels */
         s.resampling = texel >= 2 * s.res ? "average" : "bilinear";
+        /* GDAL's approximate transformer errs by up to -et source pixels (0.125 by default):
+         * an eighth of a texel, also where source pixels span many texels */
+        s.error = std::to_string(0.125 * std::min(1.0, texel / s.res));
+    }
 
     /* Memory: a block row of every level, the threads' scratch, GDAL's cache and warp memory */
     double rows_bytes = 0;
