@@ -46,6 +46,7 @@ struct Source {
     double res = 0;            /* its pixel size on the render grid (render CRS units) */
     double extent[4] = {0};    /* its bounds in the render CRS: xmin, ymin, xmax, ymax */
     std::string resampling;
+    bool alpha = true;       /* its RGBA view has an alpha band (else it is opaque: RGB) */
     std::string error; /* GDAL's -et: its approximate transformer's error, in source pixels */
 };
 
@@ -92,8 +93,16 @@ tp_status open_source(const char* path, const tp_imagery_target* t, Source* s, t
     std::vector<std::string> pick = {"-of", "VRT", "-ot", "Byte"};
     for (int c = 0; c < 3; c++)
         pick.insert(pick.end(), {"-b", std::to_string(b.colour[b.colour_count == 3 ? c : 0])});
-    pick.insert(pick.end(), {"-b", b.alpha ? std::to_string(b.alpha) : std::string("mask")});
-    pick.insert(pick.end(), {"-colorinterp", "red,green,blue,alpha"});
+    /* an opaque source (no alpha, every pixel valid) goes without alpha: GDAL's warp has fast
+     * kernels for sources without masks, and the warp's destination alpha still marks what it
+     * covers */
+    s->alpha = b.alpha || !(src->GetRasterBand(b.colour[0])->GetMaskFlags() & GMF_ALL_VALID);
+    if (s->alpha) {
+        pick.insert(pick.end(), {"-b", b.alpha ? std::to_string(b.alpha) : std::string("mask")});
+        pick.insert(pick.end(), {"-colorinterp", "red,green,blue,alpha"});
+    } else {
+        pick.insert(pick.end(), {"-colorinterp", "red,green,blue"});
+    }
     s->rgba = tpio::translate(src, pick);
     if (!s->rgba)
         return fail(err, TP_ERR_BACKEND, "%s: cannot select the colour bands: %s", path,
@@ -325,8 +334,9 @@ tp_status warp_row(Build& b, std::vector<Source>& sources, const OGRSpatialRefer
     for (Source& s : sources) {
         if (!overlaps(s.extent, strip))
             continue;
-        const char* args[] = {"-srcalpha", "-dstalpha", "-r", s.resampling.c_str(), "-wo",
-                              threads.c_str(), "-wm", wm.c_str(), "-et", s.error.c_str(), nullptr};
+        const char* args[] = {"-dstalpha", "-r", s.resampling.c_str(), "-wo", threads.c_str(),
+                              "-wm", wm.c_str(), "-et", s.error.c_str(),
+                              s.alpha ? "-srcalpha" : "-nosrcalpha", nullptr};
         GDALWarpAppOptions* wo = GDALWarpAppOptionsNew(const_cast<char**>(args), nullptr);
         GDALDatasetH in = GDALDataset::ToHandle(s.rgba.get());
         int usage = 0;
