@@ -13,12 +13,15 @@
  */
 #include "atomic_file.h"
 #include "cli.h"
+#include "cmd_imagery.h"
 #include "json.h"
 #include "memory.h"
 
 #include "tp_core.h"
+#include "tp_imagery.h"
 #include "tp_io.h"
 
+#include <errno.h>
 #include <getopt.h>
 #include <math.h>
 #include <pthread.h>
@@ -44,13 +47,15 @@ typedef struct build_options {
     int memory_mb;
     int fill_max; /* samples; 0 fills nothing; TP_FILL_MAX_ANY (the default) any size */
     const char* fill_from; /* --fill-from: fill voids from this raster */
+    const char* imagery[256]; /* --imagery: a pyramid NAME.tpi of these, after the store */
+    int imagery_count;
     int threads;
     const char* json; /* NULL, "-" or a path */
     int quiet;
 } build_options;
 
 enum { OPT_CRS = 256, OPT_RESAMPLING, OPT_MEMORY, OPT_THREADS, OPT_JSON, OPT_QUIET, OPT_PATCH, OPT_FILL_MAX,
-       OPT_FILL_FROM };
+       OPT_FILL_FROM, OPT_IMAGERY };
 
 static void print_help(void)
 {
@@ -78,6 +83,8 @@ static void print_help(void)
           "                      size; 0 fills nothing); not marked in the store\n"
           "  --fill-from FILE    fill voids from this raster (any CRS and resolution),\n"
           "                      shifted onto the ground around each void\n"
+          "  --imagery IMAGE     then an imagery pyramid NAME.tpi of IMAGE (repeat for a\n"
+          "                      mosaic, later ones on top), as 'terrapatch imagery' makes\n"
           "  --memory MB         memory budget (default 1024); GDAL's cache gets a quarter;\n"
           "                      refused at once when one band of rows does not fit\n"
           "  --threads N         threads (default: every core)\n"
@@ -121,6 +128,7 @@ static int parse_options(int argc, char** argv, build_options* o)
         {"memory", required_argument, NULL, OPT_MEMORY},
         {"fill-max", required_argument, NULL, OPT_FILL_MAX},
         {"fill-from", required_argument, NULL, OPT_FILL_FROM},
+        {"imagery", required_argument, NULL, OPT_IMAGERY},
         {"threads", required_argument, NULL, OPT_THREADS},
         {"json", required_argument, NULL, OPT_JSON},
         {"quiet", no_argument, NULL, OPT_QUIET},
@@ -169,6 +177,11 @@ static int parse_options(int argc, char** argv, build_options* o)
                 return tp_option_error("build", "--fill-from", "a raster file", optarg),
                        TP_EXIT_USAGE;
             o->fill_from = optarg;
+            break;
+        case OPT_IMAGERY:
+            if (o->imagery_count == 256)
+                return usage_error("more than 256 --imagery files", "");
+            o->imagery[o->imagery_count++] = optarg;
             break;
         case OPT_THREADS:
             if (!parse_int(optarg, 1, 1024, &o->threads))
@@ -606,6 +619,20 @@ int tp_cli_build(int argc, char** argv)
                    TP_EXIT_FAILURE;
     if (o.json && strcmp(o.json, "-") && !tp_atomic_check_dir(o.json))
         return TP_EXIT_FAILURE;
+    if (o.imagery_count > 0) { /* the pyramid's path too, before the long work */
+        char* tpi = tp_imagery_default_path(o.out);
+        if (!tpi)
+            return fail_line("build: out of memory");
+        tp_status s = tp_output_check(tpi, &err);
+        free(tpi);
+        if (s != TP_OK)
+            return fail_line(err.message);
+        for (int i = 0; i < o.imagery_count; i++) /* a missing image, before the store */
+            if (strncmp(o.imagery[i], "/vsi", 4) && access(o.imagery[i], R_OK) != 0)
+                return fprintf(stderr, "terrapatch: %s: cannot open: %s\n", o.imagery[i],
+                               strerror(errno)),
+                       TP_EXIT_FAILURE;
+    }
 
     tp_mosaic* m = NULL;
     tp_mosaic_options mo = {.crs = o.crs, .resampling = o.resampling, .memory_mb = o.memory_mb,
@@ -764,6 +791,14 @@ int tp_cli_build(int argc, char** argv)
                 "%.1f s, peak RSS %.0f MB\n",
                 o.out, mi.width, mi.height, (long long)nodes, bytes / samples, step, seconds,
                 rss_mb);
+    if (o.imagery_count > 0) { /* NAME.tpi beside the store, as `terrapatch imagery` makes it */
+        tp_imagery_cli ic = {.images = o.imagery, .count = o.imagery_count,
+                             .texel_shift = TP_IMAGERY_SHIFT_AUTO, .memory_mb = o.memory_mb,
+                             .threads = o.threads, .quiet = o.quiet, .who = "build"};
+        int irc = tp_imagery_cli_run(o.out, &ic);
+        if (irc != TP_EXIT_OK)
+            return irc;
+    }
     if (o.json) {
         tp_atomic_file af;
         FILE* f = stdout;

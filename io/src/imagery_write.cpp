@@ -46,6 +46,8 @@ struct Source {
     double res = 0;            /* its pixel size on the render grid (render CRS units) */
     double extent[4] = {0};    /* its bounds in the render CRS: xmin, ymin, xmax, ymax */
     std::string resampling;
+    bool alpha = true;       /* its RGBA view has an alpha band (else it is opaque: RGB) */
+    std::string error; /* GDAL's -et: its approximate transformer's error, in source pixels */
 };
 
 /* The grid's bounds (xmin, ymin, xmax, ymax) in its CRS, for w x h pixels of gt. */
@@ -91,8 +93,16 @@ tp_status open_source(const char* path, const tp_imagery_target* t, Source* s, t
     std::vector<std::string> pick = {"-of", "VRT", "-ot", "Byte"};
     for (int c = 0; c < 3; c++)
         pick.insert(pick.end(), {"-b", std::to_string(b.colour[b.colour_count == 3 ? c : 0])});
-    pick.insert(pick.end(), {"-b", b.alpha ? std::to_string(b.alpha) : std::string("mask")});
-    pick.insert(pick.end(), {"-colorinterp", "red,green,blue,alpha"});
+    /* an opaque source (no alpha, every pixel valid) goes without alpha: GDAL's warp has fast
+     * kernels for sources without masks, and the warp's destination alpha still marks what it
+     * covers */
+    s->alpha = b.alpha || !(src->GetRasterBand(b.colour[0])->GetMaskFlags() & GMF_ALL_VALID);
+    if (s->alpha) {
+        pick.insert(pick.end(), {"-b", b.alpha ? std::to_string(b.alpha) : std::string("mask")});
+        pick.insert(pick.end(), {"-colorinterp", "red,green,blue,alpha"});
+    } else {
+        pick.insert(pick.end(), {"-colorinterp", "red,green,blue"});
+    }
     s->rgba = tpio::translate(src, pick);
     if (!s->rgba)
         return fail(err, TP_ERR_BACKEND, "%s: cannot select the colour bands: %s", path,
@@ -324,8 +334,9 @@ tp_status warp_row(Build& b, std::vector<Source>& sources, const OGRSpatialRefer
     for (Source& s : sources) {
         if (!overlaps(s.extent, strip))
             continue;
-        const char* args[] = {"-srcalpha", "-dstalpha", "-r", s.resampling.c_str(), "-wo",
-                              threads.c_str(), "-wm", wm.c_str(), nullptr};
+        const char* args[] = {"-dstalpha", "-r", s.resampling.c_str(), "-wo", threads.c_str(),
+                              "-wm", wm.c_str(), "-et", s.error.c_str(),
+                              s.alpha ? "-srcalpha" : "-nosrcalpha", nullptr};
         GDALWarpAppOptions* wo = GDALWarpAppOptionsNew(const_cast<char**>(args), nullptr);
         GDALDatasetH in = GDALDataset::ToHandle(s.rgba.get());
         int usage = 0;
@@ -382,8 +393,13 @@ tp_status build(const char* const* paths, int count, const tp_imagery_target* t,
                     "%s: a %dx%d grid at texel shift %d makes a level 0 over 2^31 texels a side",
                     out_path, t->width, t->height, shift);
     const double texel = grid_px * std::ldexp(1.0, -shift);
-    for (Source& s : sources) /* averaging where a source is finer than the texels */
+    for (Source& s : sources) {
+        /* averaging where a source is finer than the texels */
         s.resampling = texel >= 2 * s.res ? "average" : "bilinear";
+        /* GDAL's approximate transformer errs by up to -et source pixels (0.125 by default):
+         * an eighth of a texel, also where source pixels span many texels */
+        s.error = std::to_string(0.125 * std::min(1.0, texel / s.res));
+    }
 
     /* Memory: a block row of every level, the threads' scratch, GDAL's cache and warp memory */
     double rows_bytes = 0;

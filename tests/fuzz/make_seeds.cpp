@@ -1,13 +1,15 @@
 /*
  * make_seeds.cpp - writes the seed corpora of fuzz_dem_read, fuzz_image_read,
- * fuzz_mesh_inspect and fuzz_store_read (corpus/<fuzzer>/) from the real files: 16x16 crops of
+ * fuzz_mesh_inspect, fuzz_store_read and fuzz_imagery_read (corpus/<fuzzer>/) from the real files: 16x16 crops of
  * the shared DEMs (../shared/data, PROVENANCE.md) through GDAL in each DEM format the reader
  * documents, crops of the Puget Sound heightmap through OpenImageIO in each heightmap format, a
  * 3x3-post mesh written by tp_mesh_write in each VTK format, and a 49x33 crop of Storm Lake
- * (with its nodata edge) as a terrain store of 17x17 nodes. Each seed is the byte that picks the file
+ * (with its nodata edge) as a terrain store of 17x17 nodes, and a 40x30 crop of the Crater Lake
+ * imagery as an imagery pyramid (fuzz_imagery_read). Each seed is the byte that picks the file
  * name in the fuzzer (its kNames) and the file. Built in build-fuzz/ (not a test):
  *   build-fuzz/fuzz/tp_fuzz_make_seeds ../shared/data tests/fuzz/corpus
  */
+#include "tp_imagery.h"
 #include "tp_io.h"
 #include "../tp_test_tree.h"
 
@@ -209,6 +211,27 @@ void store(const std::string& src, const std::string& name)
     tp_dem_destroy(d);
 }
 
+/* A 40 x 30 crop of the craterlake imagery's UTM grid (pixels of 60 m) as an imagery pyramid
+ * at texel shift 1: 80 x 60 texels, one block (tp_imagery_build, as terrapatch imagery). */
+void imagery(const std::string& data, const std::string& name)
+{
+    const std::string src = data + "/craterlake-imagery-30m.tif";
+    const char* wkt = "EPSG:32610";
+    tp_imagery_target t = {wkt, {570000.0, 60.0, 0.0, 4757000.0, 0.0, -60.0}, 40, 30};
+    tp_imagery_build_options o = {};
+    o.texel_shift = 1;
+    o.threads = 1;
+    const std::string path =
+        std::string(std::getenv("TMPDIR") ? std::getenv("TMPDIR") : "/tmp") + "/tp_seed.tpi";
+    const char* sources[1] = {src.c_str()};
+    tp_error err = {{0}};
+    if (tp_imagery_build(sources, 1, &t, &o, path.c_str(), &err) != TP_OK)
+        std::fprintf(stderr, "skipped %s: %s\n", name.c_str(), err.message);
+    else
+        save("fuzz_imagery_read", name, 1, slurp(path)); /* 1: the fuzzer fixes checksums */
+    std::remove(path.c_str());
+}
+
 } // namespace
 
 int main(int argc, char** argv)
@@ -222,6 +245,7 @@ int main(int argc, char** argv)
     GDALAllRegister();
 
     store(data + "/storml_elev_orig.tif", "storml_49x33.tpt");
+    imagery(data, "crater_40x30.tpi");
 
     /* DEMs; picks index fuzz_dem_read.cpp's kNames (0 .tif, 1 .asc, 2 .xyz, 3 .dem, 4 .bt,
      * 5 .grd, 6 .ter, 7 .img, 9 .dt1, 10 .txt) */
