@@ -1,0 +1,229 @@
+/*
+ * test_imagery_view.c - imagery in the viewer (app/view/imagery_view.c, clipmap.c, the
+ * renderer's sampling), end to end: `terrapatch build` a store from the Crater Lake DEM,
+ * `terrapatch imagery` a pyramid for it, `terrapatch view --headless` and `terrapatch bench`
+ * as children, their screenshots and JSON read back.
+ *
+ *   - georeferencing: a marker at a known latitude and longitude (an EPSG:4326 GeoTIFF written
+ *     here with GDAL) shows on the screen where `view --pick` finds the ground point that
+ *     GeographicLib's UTM gives for that latitude and longitude, within half a texel;
+ *   - toroidal updates: after a fast flight with small clip windows the last frame equals the
+ *     one a fresh clipmap draws at the same place (bench's imagery_final_diff_pixels);
+ *   - GPU memory is the clip layers' whatever the image size;
+ *   - bad pyramids: one made for another store is refused; a damaged block is reported and the
+ *     frame drawn without it.
+ */
+#define _POSIX_C_SOURCE 200809L
+#include "tp_test.h"
+#include "tp_geo.h"
+#include "tp_io.h"
+
+#include "tp_test_child.h"
+
+#include <gdal.h>
+#include <gdal_utils.h>
+#include <ogr_srs_api.h>
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* The marker image: 400 x 300 pixels of grey over this lon/lat box, pixel (MX, MY) red. */
+#define LON0 (-122.15)
+#define LAT0 42.97
+#define DLON 0.000225
+#define DLAT 0.0002
+#define MX 200
+#define MY 150
+
+static void path_in(char* buf, size_t cap, const char* name)
+{
+    snprintf(buf, cap, "%s/%s", tp_test_child_dir("imagery_view"), name);
+}
+
+/* The Crater Lake store (once per test process). */
+static const char* store(void)
+{
+    static char tpt[512];
+    if (!tpt[0]) {
+        char dem[1024], err[4096];
+        REQUIRE_DATA_FILE(dem, "TP_SHARED_DATA_DIR", "craterlake-elev-16bit-30m.tif");
+        path_in(tpt, sizeof tpt, "cl.tpt");
+        const char* args[] = {"--patch", "17", dem, "-o", tpt, NULL};
+        if (tp_test_run_terrapatch("build", args, err, sizeof err) != 0)
+            FAIL("build: %s", err);
+    }
+    return tpt;
+}
+
+static void write_marker_image(const char* path)
+{
+    GDALAllRegister();
+    GDALDatasetH ds = GDALCreate(GDALGetDriverByName("GTiff"), path, 400, 300, 3, GDT_Byte, NULL);
+    ASSERT_TRUE(ds != NULL);
+    double gt[6] = {LON0, DLON, 0, LAT0, 0, -DLAT};
+    GDALSetGeoTransform(ds, gt);
+    OGRSpatialReferenceH srs = OSRNewSpatialReference(NULL);
+    OSRImportFromEPSG(srs, 4326);
+    OSRSetAxisMappingStrategy(srs, OAMS_TRADITIONAL_GIS_ORDER);
+    GDALSetSpatialRef(ds, srs);
+    OSRDestroySpatialReference(srs);
+    unsigned char* px = malloc(400 * 300);
+    ASSERT_TRUE(px != NULL);
+    for (int b = 1; b <= 3; b++) {
+        memset(px, 128, 400 * 300);
+        px[MY * 400 + MX] = b == 1 ? 255 : 0;
+        EXPECT_TRUE(GDALRasterIO(GDALGetRasterBand(ds, b), GF_Write, 0, 0, 400, 300, px, 400, 300,
+                                 GDT_Byte, 0, 0) == CE_None);
+    }
+    free(px);
+    GDALClose(ds);
+}
+
+/* Builds the pyramid of image for the store with 2^shift texels a post. */
+static void imagery(const char* image, const char* tpi, const char* shift)
+{
+    char err[4096];
+    const char* args[] = {"--quiet", "--texel-shift", shift, store(), image, "-o", tpi, NULL};
+    if (tp_test_run_terrapatch("imagery", args, err, sizeof err) != 0)
+        FAIL("imagery: %s", err);
+}
+
+TEST(marker_shows_on_its_ground_point_within_half_a_texel)
+{
+    char tif[512], tpi[512], png[512], err[4096], out[4096];
+    path_in(tif, sizeof tif, "marker.tif");
+    path_in(tpi, sizeof tpi, "marker.tpi");
+    path_in(png, sizeof png, "marker.png");
+    write_marker_image(tif);
+    imagery(tif, tpi, "3"); /* 22.0 m posts: 2.75 m texels */
+    double lat = LAT0 - (MY + 0.5) * DLAT, lon = LON0 + (MX + 0.5) * DLON;
+    int zone, northp;
+    double e, n;
+    ASSERT_OK(tp_geo_to_utmups(lat, lon, &zone, &northp, &e, &n, NULL));
+    ASSERT_EQ_INT(zone, 10);
+    /* straight down from 700 m above the highest ground: about 2 m a pixel */
+    char cam[128];
+    snprintf(cam, sizeof cam, "%.3f,%.3f,2580,0,-90", e, n);
+    const char* args[] = {"--headless", "--size", "400x400", "--no-hud", "--camera", cam,
+                          "--imagery", tpi, "--screenshot", png, store(), NULL};
+    ASSERT_EQ_INT(tp_test_run_terrapatch("view", args, err, sizeof err), 0);
+    int w, h;
+    uint8_t* rgba;
+    ASSERT_OK(tp_image_read_rgba(png, &w, &h, &rgba, NULL));
+    /* the marker: red over the grey (hillshade scales r, g and b alike) */
+    double sx = 0, sy = 0, count = 0;
+    for (int y = 0; y < h; y++)
+        for (int x = 0; x < w; x++) {
+            const uint8_t* p = rgba + ((size_t)y * w + x) * 4;
+            if (p[0] > 40 && p[0] > 1.5 * p[1] && p[0] > 1.5 * p[2])
+                sx += x + 0.5, sy += y + 0.5, count++;
+        }
+    free(rgba);
+    ASSERT_GT(count, 20); /* 18 x 22 m at about 2 m a pixel */
+    EXPECT_LT(count, 400);
+    char pick[64];
+    snprintf(pick, sizeof pick, "%.3f,%.3f", sx / count, sy / count);
+    const char* pargs[] = {"--headless", "--size", "400x400", "--no-hud", "--no-imagery",
+                           "--camera", cam, "--pick", pick, store(), NULL};
+    ASSERT_EQ_INT(tp_test_run_terrapatch_out("view", pargs, out, sizeof out, err, sizeof err), 0);
+    double pe, pn;
+    const char* at = strstr(out, ": E ");
+    ASSERT_TRUE(at != NULL);
+    ASSERT_EQ_INT(sscanf(at, ": E %lf N %lf", &pe, &pn), 2);
+    double texel = 22.0131 / 8;
+    EXPECT_NEAR(pe, e, texel / 2);
+    EXPECT_NEAR(pn, n, texel / 2);
+}
+
+/* A fast flight with 2 x 2-block windows (512 texels) at 2.75 m texels: the level-0 window is
+ * moved dozens of times; the last frame equals a fresh clipmap's. */
+TEST(fast_flight_leaves_nothing_stale)
+{
+    char img[1024], tpi[512], json[512], err[4096], text[16384];
+    REQUIRE_DATA_FILE(img, "TP_SHARED_DATA_DIR", "craterlake-imagery-30m.tif");
+    path_in(tpi, sizeof tpi, "real.tpi");
+    path_in(json, sizeof json, "flight.json");
+    imagery(img, tpi, "3");
+    const char* args[] = {"--frames", "48", "--segments", "2", "--speed", "400", "--no-error",
+                          "--size", "320x180", "--clip-blocks", "2", "--imagery", tpi,
+                          "--json", json, store(), NULL};
+    ASSERT_EQ_INT(tp_test_run_terrapatch("bench", args, err, sizeof err), 0);
+    tp_test_read_text(json, text, sizeof text);
+    const char* with = strstr(text, "\"imagery\": true");
+    ASSERT_TRUE(with != NULL);
+    EXPECT_EQ_DBL(tp_test_json_number_after(text, with, "imagery_final_diff_pixels"), 0);
+    /* 2 x 2 blocks of 256^2 RGBA a level, 5 levels (3472 x 3072 texels down to one block) */
+    EXPECT_NEAR(tp_test_json_number_after(text, with, "imagery_gpu_mb"), 5 * 512 * 512 * 4 / 1e6,
+                1e-6);
+    EXPECT_GT(tp_test_json_number_after(text, with, "imagery_uploads_median") +
+                  tp_test_json_number_after(text, with, "imagery_frames_missing_blocks"),
+              -1); /* present */
+}
+
+TEST(pyramid_of_another_store_is_refused)
+{
+    char img[1024], dem[1024], other[512], tpi[512], png[512], err[4096];
+    REQUIRE_DATA_FILE(img, "TP_SHARED_DATA_DIR", "craterlake-imagery-30m.tif");
+    REQUIRE_DATA_FILE(dem, "TP_SHARED_DATA_DIR", "craterlake-elev-16bit-30m.tif");
+    path_in(other, sizeof other, "other.tpt");
+    path_in(tpi, sizeof tpi, "other.tpi");
+    path_in(png, sizeof png, "other.png");
+    /* the DEM cut 10 pixels in from its north-west corner: another grid */
+    char crop[512];
+    path_in(crop, sizeof crop, "crop.tif");
+    GDALAllRegister();
+    GDALDatasetH src = GDALOpen(dem, GA_ReadOnly);
+    ASSERT_TRUE(src != NULL);
+    char* targv[] = {"-srcwin", "10", "10", "300", "200", NULL};
+    GDALTranslateOptions* to = GDALTranslateOptionsNew(targv, NULL);
+    GDALDatasetH cropped = GDALTranslate(crop, src, to, NULL);
+    GDALTranslateOptionsFree(to);
+    ASSERT_TRUE(cropped != NULL);
+    GDALClose(cropped);
+    GDALClose(src);
+    const char* bargs[] = {"--patch", "17", crop, "-o", other, NULL};
+    ASSERT_EQ_INT(tp_test_run_terrapatch("build", bargs, err, sizeof err), 0);
+    const char* iargs[] = {"--quiet", other, img, "-o", tpi, NULL};
+    ASSERT_EQ_INT(tp_test_run_terrapatch("imagery", iargs, err, sizeof err), 0);
+    const char* args[] = {"--headless", "--imagery", tpi, "--screenshot", png, store(), NULL};
+    EXPECT_EQ_INT(tp_test_run_terrapatch("view", args, err, sizeof err), 1);
+    EXPECT_CONTAINS(err, "other.tpi: made for another grid");
+    FILE* f = fopen(png, "rb");
+    EXPECT_TRUE(f == NULL);
+    if (f)
+        fclose(f);
+}
+
+TEST(damaged_block_is_reported_and_drawn_without)
+{
+    char img[1024], tpi[512], png[512], err[4096];
+    REQUIRE_DATA_FILE(img, "TP_SHARED_DATA_DIR", "craterlake-imagery-30m.tif");
+    path_in(tpi, sizeof tpi, "damaged.tpi");
+    path_in(png, sizeof png, "damaged.png");
+    imagery(img, tpi, "0");
+    /* flip a byte in the middle of the file: inside some block's data (the header and the
+     * table are at the start and the end) */
+    FILE* f = fopen(tpi, "r+b");
+    ASSERT_TRUE(f != NULL);
+    fseek(f, 0, SEEK_END);
+    long size = ftell(f);
+    fseek(f, size / 2, SEEK_SET);
+    int c = fgetc(f);
+    fseek(f, size / 2, SEEK_SET);
+    fputc(c ^ 0x5a, f);
+    fclose(f);
+    const char* args[] = {"--headless", "--imagery", tpi, "--screenshot", png, store(), NULL};
+    EXPECT_EQ_INT(tp_test_run_terrapatch("view", args, err, sizeof err), 0);
+    EXPECT_CONTAINS(err, "damaged.tpi");
+    EXPECT_CONTAINS(err, "drawn without imagery there");
+}
+
+#define TESTS(X)                                                                                   \
+    X(marker_shows_on_its_ground_point_within_half_a_texel)                                        \
+    X(fast_flight_leaves_nothing_stale)                                                            \
+    X(pyramid_of_another_store_is_refused)                                                         \
+    X(damaged_block_is_reported_and_drawn_without)
+
+TP_TEST_MAIN(TESTS)
