@@ -137,7 +137,7 @@ TEST(marker_shows_on_its_ground_point_within_half_a_texel)
     EXPECT_NEAR(pn, n, texel / 2);
 }
 
-/* A fast flight with 2 x 2-block windows (512 texels) at 2.75 m texels: the level-0 window is
+/* A fast flight (3 km/s) with 2 x 2-block windows (512 texels) at 2.75 m texels: the windows are
  * moved dozens of times; the last frame equals a fresh clipmap's. */
 TEST(fast_flight_leaves_nothing_stale)
 {
@@ -146,7 +146,7 @@ TEST(fast_flight_leaves_nothing_stale)
     path_in(tpi, sizeof tpi, "real.tpi");
     path_in(json, sizeof json, "flight.json");
     imagery(img, tpi, "3");
-    const char* args[] = {"--frames", "48", "--segments", "2", "--speed", "400", "--no-error",
+    const char* args[] = {"--frames", "48", "--segments", "2", "--speed", "3000", "--no-error",
                           "--size", "320x180", "--clip-blocks", "2", "--imagery", tpi,
                           "--json", json, store(), NULL};
     ASSERT_EQ_INT(tp_test_run_terrapatch("bench", args, err, sizeof err), 0);
@@ -157,9 +157,8 @@ TEST(fast_flight_leaves_nothing_stale)
     /* 2 x 2 blocks of 256^2 RGBA a level, 5 levels (3472 x 3072 texels down to one block) */
     EXPECT_NEAR(tp_test_json_number_after(text, with, "imagery_gpu_mb"), 5 * 512 * 512 * 4 / 1e6,
                 1e-6);
-    EXPECT_GT(tp_test_json_number_after(text, with, "imagery_uploads_median") +
-                  tp_test_json_number_after(text, with, "imagery_frames_missing_blocks"),
-              -1); /* present */
+    /* the windows did move: blocks were uploaded during the timed frames */
+    EXPECT_GT(tp_test_json_number_after(text, with, "imagery_uploads_total"), 10);
 }
 
 TEST(pyramid_of_another_store_is_refused)

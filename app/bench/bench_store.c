@@ -73,6 +73,7 @@ typedef struct store_result {
     int settle_timeouts;
     int imagery;                /* drapes o->imagery through the clipmap */
     double img_ms, img_upload_ms, img_upload_ms_p99, img_uploads, img_gpu_mb, img_cache_mb;
+    double img_uploads_total;   /* blocks uploaded over the timed frames */
     int img_missing_max, img_frames_missing;
     long img_final_diff;        /* tp_bench_imagery_diff */
 } store_result;
@@ -271,6 +272,7 @@ static void summarize(store_result* c, int n)
         c->img_cache_mb = fmax(c->img_cache_mb, r->img_cache_bytes / 1e6);
         c->img_missing_max = r->img_missing > c->img_missing_max ? r->img_missing : c->img_missing_max;
         c->img_frames_missing += r->img_missing > 0;
+        c->img_uploads_total += r->img_uploads;
         if (r->measured) {
             c->error_frames++;
             c->max_px = fmax(c->max_px, r->max_px);
@@ -509,6 +511,7 @@ static void json_result(tp_json* j, const store_result* c)
         KN("imagery_upload_ms_median", c->img_upload_ms);
         KN("imagery_upload_ms_p99", c->img_upload_ms_p99);
         KN("imagery_uploads_median", c->img_uploads);
+        KN("imagery_uploads_total", c->img_uploads_total);
         KN("imagery_gpu_mb", c->img_gpu_mb);
         KN("imagery_cache_mb", c->img_cache_mb);
         KN("imagery_missing_blocks_max", c->img_missing_max);
