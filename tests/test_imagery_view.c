@@ -146,7 +146,7 @@ TEST(fast_flight_leaves_nothing_stale)
     path_in(tpi, sizeof tpi, "real.tpi");
     path_in(json, sizeof json, "flight.json");
     imagery(img, tpi, "3");
-    const char* args[] = {"--frames", "48", "--segments", "2", "--speed", "3000", "--no-error",
+    const char* args[] = {"--frames", "60", "--segments", "1", "--speed", "3000", "--no-error",
                           "--size", "320x180", "--clip-blocks", "2", "--imagery", tpi,
                           "--json", json, store(), NULL};
     ASSERT_EQ_INT(tp_test_run_terrapatch("bench", args, err, sizeof err), 0);
