@@ -16,7 +16,9 @@
 #include <libnova/solar.h>
 #include <libnova/transform.h>
 
+#include <algorithm>
 #include <cmath>
+#include <vector>
 
 namespace {
 
@@ -153,6 +155,55 @@ extern "C" tp_status tp_sun_rise_set(double lat_deg, double lon_deg, double day_
     }
     *out = d;
     return TP_OK;
+}
+
+extern "C" tp_status tp_sun_day_times(double lat_deg, double lon_deg, double start_unix_s,
+                                      double end_unix_s, int count, double* times,
+                                      tp_error* err)
+{
+    tp_status s = check_place(lat_deg, lon_deg, err);
+    if (s == TP_OK)
+        s = check_time(start_unix_s, err);
+    if (s == TP_OK)
+        s = check_time(end_unix_s, err);
+    if (s != TP_OK)
+        return s;
+    if (count < 2 || !(end_unix_s > start_unix_s))
+        return fail(err, TP_ERR_INVALID_ARG, "sun: %d times from %.0f to %.0f s", count,
+                    start_unix_s, end_unix_s);
+    try {
+        /* the cumulative density 1 / sqrt(tan(max(e, 2 degrees))), a step a minute or less */
+        const int steps = std::max(64, (int)std::ceil((end_unix_s - start_unix_s) / 60.0));
+        const double dt = (end_unix_s - start_unix_s) / steps;
+        std::vector<double> cum(steps + 1, 0.0);
+        const double floor_tan = std::tan(2.0 * M_PI / 180.0);
+        double prev = 0.0;
+        for (int i = 0; i <= steps; ++i) {
+            tp_sun_pos p;
+            s = tp_sun_position(lat_deg, lon_deg, start_unix_s + i * dt, &p, err);
+            if (s != TP_OK)
+                return s;
+            const double e = std::tan(p.apparent_elevation_deg * M_PI / 180.0);
+            const double density = 1.0 / std::sqrt(std::max(e, floor_tan));
+            if (i > 0)
+                cum[i] = cum[i - 1] + 0.5 * (prev + density) * dt;
+            prev = density;
+        }
+        int j = 0;
+        for (int k = 0; k < count; ++k) {
+            const double target = cum[steps] * k / (count - 1);
+            while (j + 1 < steps && cum[j + 1] < target)
+                ++j;
+            const double span = cum[j + 1] - cum[j];
+            const double f = span > 0.0 ? (target - cum[j]) / span : 0.0;
+            times[k] = start_unix_s + (j + std::min(1.0, std::max(0.0, f))) * dt;
+        }
+        times[0] = start_unix_s;
+        times[count - 1] = end_unix_s;
+        return TP_OK;
+    } catch (...) {
+        return tpio::caught(err, "sun");
+    }
 }
 
 extern "C" double tp_sun_local_day_start(int year, int month, int day, double lon_deg)
