@@ -32,6 +32,10 @@ int tp_cli_los(int argc, char** argv);
 /* `terrapatch viewshed DEM|STORE --observer POS -o OUT.tif [options]` (cmd_viewshed.c). */
 int tp_cli_viewshed(int argc, char** argv);
 
+/* `terrapatch light DEM|STORE --date D --time T -o OUT.tif [options]` (cmd_light.c): sunlight
+ * and the terrain's shadows at a moment. */
+int tp_cli_light(int argc, char** argv);
+
 /* `terrapatch profile DEM|STORE --route FILE [options]` (cmd_profile.c): a route's profile. */
 int tp_cli_profile(int argc, char** argv);
 /* `terrapatch contours DEM|STORE --interval M -o OUT [options]` (cmd_contours.c). */

@@ -29,6 +29,7 @@ static void print_help(FILE* f)
           "  point DEM POS   what is here: position in every form, elevation, slope, aspect\n"
           "  los DEM --from POS --to POS   line of sight: seen or not, what is in the way\n"
           "  viewshed DEM --observer POS -o OUT.tif   what an observer sees (GeoTIFF)\n"
+          "  light DEM --date D --time T -o OUT.tif   sunlight and shadows at a moment\n"
           "  profile DEM --route FILE   a route's elevation profile: length, climb, steepest\n"
           "  contours DEM --interval M -o OUT   contour lines (GDAL) as a vector file\n"
           "\n"
@@ -64,6 +65,8 @@ static int run_command(int argc, char** argv)
         return tp_cli_los(argc - 1, argv + 1);
     if (!strcmp(cmd, "viewshed"))
         return tp_cli_viewshed(argc - 1, argv + 1);
+    if (!strcmp(cmd, "light"))
+        return tp_cli_light(argc - 1, argv + 1);
     if (!strcmp(cmd, "profile"))
         return tp_cli_profile(argc - 1, argv + 1);
     if (!strcmp(cmd, "contours"))

@@ -30,9 +30,10 @@ set -eu
 
 # gdal-bin: the GDAL command-line tools tools/make_mirror_dem.py (and its test) run.
 # libzstd-dev, zlib1g-dev: the store's compression and checksums (io/src/store_codec.cpp).
+# libnova-dev: the sun's position, rise and set (io/src/sun.cpp, `terrapatch light`).
 COMMON="cmake pkg-config gcc g++ libgdal-dev libproj-dev libgeographiclib-dev libopenimageio-dev
 libglfw3-dev libepoxy-dev libegl-dev libgl-dev libgl1-mesa-dri libegl-mesa0 libstb-dev gnuplot-nox
-xvfb xdotool libzstd-dev zlib1g-dev gdal-bin"
+xvfb xdotool libzstd-dev zlib1g-dev gdal-bin libnova-dev"
 VTK_SYSTEM="libvtk9-dev"
 # ParaView's VTK config finds Threads, EXPAT, LZMA, LZ4, double-conversion, ZLIB and utf8cpp
 # for CommonCore, IOCore, IOXML, IOLegacy, FiltersCore and their dependencies.

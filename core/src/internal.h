@@ -490,4 +490,14 @@ static inline double tp__ray_triangle(const double d[3], const double a[3], cons
     return t >= 0 ? t : -1;
 }
 
+/* shadow.c: tp_shadow_compute with one more optional output: horizon_tan (out_count floats),
+ * for a shadowed sample the tangent of the elevation angle of the ground that shadows it seen
+ * from the sample (the sun must rise above it to light the sample; 0 with the sun on or below
+ * the horizon), NaN for lit samples and voids. lit, margin_m, horizon_tan may each be NULL
+ * (not all three). */
+tp_status tp__shadow_sweep(const float* heights, size_t height_count, int width, int height,
+                           double dx_m, double dy_m, double azimuth_deg, double elevation_deg,
+                           uint8_t* lit, float* margin_m, float* horizon_tan, size_t out_count,
+                           tp_error* err);
+
 #endif

@@ -698,15 +698,26 @@ tp_status tp_gdal_viewshed(const float* heights, size_t height_count, int width,
                            const tp_viewshed_options* options, uint8_t* out, size_t out_count,
                            tp_error* err);
 
-/* Writes a viewshed (values, width * height bytes = value_count, row 0 first) as a one-band
- * Byte GeoTIFF (DEFLATE) with geotransform and crs_wkt ("" or NULL: none), e.g. a render
- * grid's: encoded in memory by GDAL, then written with tp_file_write (whole or not at all; an
- * older file stays as it was on failure). No nodata tag: 0 is "not seen". TP_ERR_INVALID_ARG
- * for NULL values or path, a size mismatch, a bad path (as tp_file_begin); TP_ERR_BAD_DATA for
- * a crs_wkt GDAL cannot read; TP_ERR_IO when writing fails; TP_ERR_BACKEND when GDAL does. */
+/* Writes a viewshed as tp_byte_geotiff_write does (below), band description "visibility: 255
+ * seen, 0 not seen or beyond the radius". No nodata tag: 0 is "not seen". */
 tp_status tp_viewshed_write_geotiff(const char* path, const uint8_t* values, size_t value_count,
                                     int width, int height, const double geotransform[6],
                                     const char* crs_wkt, tp_error* err);
+
+/* ---------------------------------------------------------------------------------------------
+ * Byte GeoTIFFs (io/src/byte_geotiff.cpp): the viewshed's and the light map's outputs
+ */
+
+/* Writes values (width * height bytes = value_count, row 0 first) as a one-band Byte GeoTIFF
+ * (DEFLATE, tiled) with geotransform and crs_wkt ("" or NULL: none), e.g. a render grid's, and
+ * the band description description (NULL or "": none): encoded in memory by GDAL, then written
+ * with tp_file_write (whole or not at all; an older file stays as it was on failure). No nodata
+ * tag. TP_ERR_INVALID_ARG for NULL values or path, a size mismatch, a bad path (as
+ * tp_file_begin); TP_ERR_BAD_DATA for a crs_wkt GDAL cannot read; TP_ERR_IO when writing fails;
+ * TP_ERR_BACKEND when GDAL does. */
+tp_status tp_byte_geotiff_write(const char* path, const uint8_t* values, size_t value_count,
+                                int width, int height, const double geotransform[6],
+                                const char* crs_wkt, const char* description, tp_error* err);
 
 #ifdef __cplusplus
 }
