@@ -6,7 +6,8 @@
  * are tp_render_grid_build's, sample for sample. Synthetic GeoTIFFs written here with GDAL (a
  * smooth surface of the geographic position, voids of both values in blocks, a border strip and
  * single samples): projected (no warp) and geographic (warped), alone, as two-tile mosaics, in
- * two CRSs at once, and as the --fill-from source: no sample outside the surface's range, and
+ * two CRSs at once, and as the --fill-from source (of the build and of tp_render_grid_build):
+ * no sample outside the surface's range, and
  * the void blocks are nodata. And --crs leaves the sources' folder as it was.
  */
 #define _GNU_SOURCE
@@ -387,6 +388,21 @@ TEST(fill_from_untagged_int16_leaves_its_voids_out)
     EXPECT_TRUE(isfinite(store_at(&g, &a, 45, 45))); /* interior blocks filled */
     EXPECT_TRUE(isfinite(store_at(&g, &a, 115, 55)));
     free(g.z);
+
+    /* the viewer's in-memory path (tp_render_grid_build: the fill source warped into memory) */
+    tp_error err = {0};
+    tp_dem* dem = NULL;
+    ASSERT_EQ_INT(TP_OK, tp_dem_read(a.path, &dem, &err));
+    tp_render_grid* rg = NULL;
+    tp_grid_options go = {.fill_from = f.path};
+    ASSERT_EQ_INT(TP_OK, tp_render_grid_build(dem, &go, &rg, &err));
+    grid m = {.w = rg->width, .h = rg->height, .z = rg->heights};
+    EXPECT_TRUE(rg->filled_from_samples > 0);
+    EXPECT_EQ_INT(0, (long long)outside(&m, lo - d, hi + d, &got_lo, &got_hi));
+    tp_test_note("in memory: heights %.3f .. %.3f m, %zu filled from it", got_lo, got_hi,
+                 rg->filled_from_samples);
+    tp_render_grid_destroy(rg);
+    tp_dem_destroy(dem);
 }
 
 /* No file appears beside the sources: --crs is given to GDAL's VRT or warp, never set on a
