@@ -109,9 +109,11 @@ TEST(single_dt1_same_grid_as_render_grid) { check_single("N42E001.dt1"); }
 TEST(single_geotiff_same_grid_as_render_grid) { check_single("mt_rainier_90m.tif"); }
 TEST(single_utm_nodata_same_grid_as_render_grid) { check_single("lf_elev_220_mt_hood_utm.tif"); }
 TEST(single_asc_same_grid_as_render_grid) { check_single("front_range_srtmgl3_144.asc"); }
-/* Not yet: craterlake-elev-16bit-30m.tif (untagged Int16, geographic) has -32767 voids that
- * tp_dem_read turns into NaN before its warp, while the mosaic's warp gets only
- * -srcnodata -32768 (GDALWarp takes one nodata value per band): 1292 samples differ. */
+/* untagged Int16, geographic: its -32767 voids are nodata before the warp on both paths */
+TEST(single_untagged_int16_same_grid_as_render_grid)
+{
+    check_single("craterlake-elev-16bit-30m.tif");
+}
 
 /* Two adjacent SRTM tiles: the union, warped to UTM 31N; the shared row reported; no nodata row
  * and no step at the 42N seam. */
@@ -884,6 +886,7 @@ TEST(memory_suggestions_are_never_below_the_options_floor)
     X(single_geotiff_same_grid_as_render_grid)                                                     \
     X(single_utm_nodata_same_grid_as_render_grid)                                                  \
     X(single_asc_same_grid_as_render_grid)                                                         \
+    X(single_untagged_int16_same_grid_as_render_grid)                                              \
     X(two_tiles_one_seamless_grid)                                                                 \
     X(two_tiles_and_their_vrt_give_the_same_store)                                                 \
     X(store_leaves_equal_terrain_heights)                                                          \

@@ -10,6 +10,7 @@
 #include "crs.hpp"
 #include "dem_check.hpp"
 #include "gdal_util.hpp"
+#include "int16_voids.hpp"
 #include "render_grid.hpp"
 #include "void_fill.hpp"
 #include "tp_io.h"
@@ -44,6 +45,9 @@ struct Source {
     std::string driver;
     bool has_stats = false;
     double stat_min = 0, stat_max = 0;
+    /* Int16 without a nodata tag: -32768 (SRTM) and -32767 (DTED) are voids, as tp_dem_read
+     * takes them */
+    bool int16_voids() const { return type == GDT_Int16 && !has_nodata; }
 };
 
 /* GDAL's argument vectors from strings. */
@@ -153,6 +157,9 @@ tp_status open_source(const char* path, Source* s, tp_error* err)
         s->has_stats = true;
         s->stat_min = CPLAtof(mn);
         s->stat_max = CPLAtof(mx);
+        /* statistics of an untagged Int16 band that count its voids bound nothing */
+        if (s->int16_voids() && s->stat_min <= -32767.0)
+            s->has_stats = false;
     }
     return TP_OK;
 }
@@ -178,6 +185,15 @@ std::string vsimem_name(tp_mosaic* m, const char* what)
                                   (void*)m, what);
     m->vsimem.push_back(name);
     return name;
+}
+
+/* For GDAL's warp and VRT mosaic (one nodata value per band): source s with both its void
+ * values read as -32768, its nodata (int16_voids.hpp), under a /vsimem/ name of the mosaic's;
+ * s.srs is written into it (an override of the file's own included). Null when GDAL fails. */
+tpio::Dataset int16_voids_as_one(tp_mosaic* m, const Source& s)
+{
+    return tpio::int16_voids_vrt(s.path, s.w, s.h, s.gt, s.has_gt, s.has_crs ? &s.srs : nullptr,
+                                 vsimem_name(m, "int16"));
 }
 
 /* GDALBuildVRT of the named files into a /vsimem/ VRT; extra: more arguments. */
@@ -319,7 +335,7 @@ void range_of_files(tp_mosaic* m)
         return;
     for (double v : {lo, hi})
         if ((m->has_nodata && (float)v == m->nodata) ||
-            (m->int16_guess && (v == -32768.0 || v == -32767.0)) || std::fabs(v) >= FLT_MAX)
+            (m->int16_voids && (v == -32768.0 || v == -32767.0)) || std::fabs(v) >= FLT_MAX)
             return;
     m->has_range = true;
     m->min_m = lo;
@@ -373,24 +389,37 @@ tp_status open_mosaic(const char* const* paths, size_t count, const tp_mosaic_op
     }
     bool untagged_int16 = false;
     for (const Source& s : src)
-        untagged_int16 |= s.type == GDT_Int16 && !s.has_nodata;
+        untagged_int16 |= s.int16_voids();
+    m->int16_voids = untagged_int16;
 
     tpio::Dataset base; /* the grid before any warp: one source, or the mosaic VRT */
     if (shared) {
         if (count == 1) {
             base.reset(GDALDataset::Open(paths[0], GDAL_OF_RASTER | GDAL_OF_READONLY));
         } else {
+            /* each source's own nodata, and -32768 for the untagged Int16 ones (-32767 read
+             * as -32768 first): a source's voids leave an earlier source's heights */
             std::vector<std::string> files, extra;
-            for (const Source& s : src)
-                files.push_back(s.path);
-            if (untagged_int16) /* as tp_dem_read: SRTM's void value */
-                extra = {"-srcnodata", "-32768", "-vrtnodata", "-32768"};
+            for (const Source& s : src) {
+                if (!s.int16_voids()) {
+                    files.push_back(s.path);
+                    continue;
+                }
+                if (!int16_voids_as_one(m, s))
+                    return fail(err, TP_ERR_BACKEND, "%s: mosaic: %s", s.path.c_str(),
+                                tpio::gdal_message().c_str());
+                files.push_back(m->vsimem.back());
+            }
+            if (untagged_int16)
+                extra = {"-vrtnodata", "-32768"};
             extra.insert(extra.end(), {"-b", "1"});
             base = build_vrt(m, files, extra, "mosaic");
         }
         if (!base)
             return fail(err, TP_ERR_BACKEND, "%s: mosaic: %s", paths[0], tpio::gdal_message().c_str());
-        if (has_over)
+        /* --crs: on the mosaic VRT, never on a source's own file (GDAL would write it into a
+         * .aux.xml beside the file on close); the plan and the warp take src[0].srs */
+        if (has_over && count > 1)
             base->SetSpatialRef(&over);
         double bgt[6];
         base->GetGeoTransform(bgt);
@@ -411,8 +440,13 @@ tp_status open_mosaic(const char* const* paths, size_t count, const tp_mosaic_op
             add_note(m->notes, plan.warnings);
         if (plan.warp) {
             std::vector<std::string> args = tpio::render_grid_warp_args(plan, "VRT");
-            if (untagged_int16 && count == 1)
+            if (untagged_int16 && count == 1) { /* -32767 read as -32768 first */
+                base = int16_voids_as_one(m, src[0]);
+                if (!base)
+                    return fail(err, TP_ERR_BACKEND, "%s: %s", paths[0],
+                                tpio::gdal_message().c_str());
                 args.insert(args.end(), {"-srcnodata", "-32768"});
+            }
             /* the plan's source CRS: --crs, or EPSG:4326 for a grid plainly in degrees */
             args.insert(args.end(), {"-s_srs", tpio::crs_wkt2(plan.src)});
             tpio::Dataset w = warp_vrt(m, base.get(), args, "warp");
@@ -521,20 +555,24 @@ tp_status open_mosaic(const char* const* paths, size_t count, const tp_mosaic_op
         std::vector<std::string> files;
         for (size_t i = 0; i < count; i++) {
             const Source& s = src[i];
-            tpio::Dataset in(GDALDataset::Open(s.path.c_str(), GDAL_OF_RASTER | GDAL_OF_READONLY));
+            tpio::Dataset in; /* an untagged Int16 source: -32767 read as -32768 */
+            if (s.int16_voids())
+                in = int16_voids_as_one(m, s); /* in s.srs: --crs included */
+            else
+                in.reset(GDALDataset::Open(s.path.c_str(), GDAL_OF_RASTER | GDAL_OF_READONLY));
             if (!in)
                 return fail(err, TP_ERR_BAD_DATA, "%s: cannot reopen: %s", s.path.c_str(),
                             tpio::gdal_message().c_str());
-            if (has_over)
-                in->SetSpatialRef(&over);
             const std::string tr = CPLSPrintf("%.17g", res);
             std::vector<std::string> args = {
                 "-t_srs", t_srs, "-tr", tr, tr, "-te", CPLSPrintf("%.17g", x0),
                 CPLSPrintf("%.17g", y0), CPLSPrintf("%.17g", x1), CPLSPrintf("%.17g", y1), "-r",
                 o.resampling == TP_RESAMPLING_CUBIC ? "cubic" : "bilinear", "-et", "0",
                 "-dstnodata", "nan", "-ot", "Float32", "-of", "VRT"};
-            if (s.type == GDT_Int16 && !s.has_nodata)
+            if (s.int16_voids())
                 args.insert(args.end(), {"-srcnodata", "-32768"});
+            if (has_over) /* as the warp's, not the file's: see the shared grid's --crs */
+                args.insert(args.end(), {"-s_srs", tpio::crs_wkt2(over)});
             tpio::Dataset w = warp_vrt(m, in.get(), args, CPLSPrintf("warp%zu", i));
             if (!w)
                 return fail(err, TP_ERR_BACKEND, "%s: warp to %s failed: %s", s.path.c_str(),
@@ -580,6 +618,7 @@ tp_status open_mosaic(const char* const* paths, size_t count, const tp_mosaic_op
     }
     if (o.fill_from && *o.fill_from) {
         const std::string name = vsimem_name(m, "fill_from");
+        m->vsimem.push_back(tpio::fill_source_int16_name(name)); /* if made, unlinked too */
         if (const tp_status st = tpio::fill_source_open(o.fill_from, m->gt, m->w, m->h,
                                                         m->crs_wkt, "VRT", name, &m->other, err))
             return st;
@@ -588,7 +627,7 @@ tp_status open_mosaic(const char* const* paths, size_t count, const tp_mosaic_op
                                       base_name(o.fill_from).c_str()));
     }
     if (untagged_int16)
-        add_note(m->notes, "Int16 sources without a nodata tag: -32768 taken as nodata");
+        add_note(m->notes, "Int16 sources without a nodata tag: -32768 and -32767 taken as nodata");
 
     /* A bound of the heights without reading them: every source's exact statistics. */
     bool stats = o.resampling != TP_RESAMPLING_CUBIC;

@@ -32,7 +32,8 @@ struct tp_mosaic {
     /* nodata of what is read */
     bool has_nodata = false;
     float nodata = 0;
-    bool int16_guess = false;
+    bool int16_guess = false; /* what is read is an untagged Int16 source: -32767 too */
+    bool int16_voids = false; /* some source is an untagged Int16 one (-32768, -32767 voids) */
     /* warp of one geographic mosaic: the rim outside its posts' hull is not drawn */
     std::unique_ptr<OGRCoordinateTransformation> back;
     bool back_geographic = false;

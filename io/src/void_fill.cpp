@@ -10,12 +10,14 @@
 #include "void_fill.hpp"
 
 #include "crs.hpp"
+#include "int16_voids.hpp"
 #include "io_util.hpp"
 
 #include <gdal_alg.h>
 #include <gdal_utils.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstring>
 #include <memory>
@@ -217,11 +219,33 @@ tp_status tpio::fill_source_open(const char* path, const double gt[6], int w, in
                                   "-ot", "Float32", "-of", format};
     if (grid_crs)
         a.insert(a.begin(), {"-t_srs", crs_wkt});
+    const bool vrt = EQUAL(format, "VRT");
     GDALRasterBand* b = in->GetRasterBand(1);
     int has_nd = 0;
     b->GetNoDataValue(&has_nd);
-    if (!has_nd && b->GetRasterDataType() == GDT_Int16)
+    std::string voids_name; /* an untagged Int16 source read with -32767 as -32768 */
+    if (!has_nd && b->GetRasterDataType() == GDT_Int16) {
+        static std::atomic<unsigned> serial{0};
+        voids_name = vrt ? fill_source_int16_name(vrt_name)
+                         : CPLSPrintf("/vsimem/terrapatch_fill_int16_%u_%p.vrt", serial++,
+                                      (void*)out);
+        std::unique_ptr<OGRSpatialReference> srs(tpio::crs_present(ssrs) ? ssrs->Clone()
+                                                                          : nullptr);
+        in = tpio::int16_voids_vrt(path, sw, sh, sgt, true, srs.get(), voids_name);
+        if (!in)
+            return fail(err, TP_ERR_BACKEND, "--fill-from %s: %s", path,
+                        tpio::gdal_message().c_str());
         a.insert(a.end(), {"-srcnodata", "-32768"});
+    }
+    /* the MEM warp's own copy outlives its source: unlinked on return */
+    struct Unlink {
+        std::string name;
+        ~Unlink()
+        {
+            if (!name.empty())
+                VSIUnlink(name.c_str());
+        }
+    } unlink_voids{vrt ? std::string() : voids_name};
     std::vector<char*> v;
     for (auto& s : a)
         v.push_back(const_cast<char*>(s.c_str()));
@@ -231,7 +255,6 @@ tp_status tpio::fill_source_open(const char* path, const double gt[6], int w, in
         return fail(err, TP_ERR_BACKEND, "--fill-from %s: %s", path, tpio::gdal_message().c_str());
     GDALDatasetH src = GDALDataset::ToHandle(in.get());
     int usage = 0;
-    const bool vrt = EQUAL(format, "VRT");
     GDALDatasetH hd = GDALWarp(vrt ? vrt_name.c_str() : "", nullptr, 1, &src, wo, &usage);
     GDALWarpAppOptionsFree(wo);
     if (!hd)
@@ -247,4 +270,9 @@ tp_status tpio::fill_source_open(const char* path, const double gt[6], int w, in
         out->reset(GDALDataset::FromHandle(hd));
     }
     return TP_OK;
+}
+
+std::string tpio::fill_source_int16_name(const std::string& vrt_name)
+{
+    return vrt_name + ".int16.vrt";
 }

@@ -65,10 +65,16 @@ tp_status fill_voids(float* z, int w, int h, const double gt[6], const FillSpec&
 /* The second source of --fill-from warped onto a render grid (w x h, geotransform gt, CRS
  * crs_wkt, "" for none: then path's own coordinates are taken as the grid's) with GDALWarp,
  * bilinear, nodata NaN, Float32, as a dataset of format "MEM" or "VRT" (vrt_name: the /vsimem/
- * name for a VRT). Errors name the file: TP_ERR_IO (missing, not a regular file), TP_ERR_BAD_DATA
- * (not a raster GDAL opens, no georeference, no overlap with the grid), TP_ERR_BACKEND. */
+ * name for a VRT). An Int16 source without a nodata tag has -32768 and -32767 taken as nodata
+ * (int16_voids.hpp): for a VRT through a second one, named fill_source_int16_name(vrt_name), that
+ * the caller unlinks with vrt_name. Errors name the file: TP_ERR_IO (missing, not a regular
+ * file), TP_ERR_BAD_DATA (not a raster GDAL opens, no georeference, no overlap with the grid),
+ * TP_ERR_BACKEND. */
 tp_status fill_source_open(const char* path, const double gt[6], int w, int h,
                            const std::string& crs_wkt, const char* format,
                            const std::string& vrt_name, Dataset* out, tp_error* err);
+
+/* The name of fill_source_open's second VRT for vrt_name. */
+std::string fill_source_int16_name(const std::string& vrt_name);
 
 } // namespace tpio
