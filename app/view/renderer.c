@@ -126,7 +126,11 @@ static const char* vs_src =
     "    v_tint = u_hide_filled == 0 ? 0.65 * float((a_flags >> 4u) & 1u) : 0.0;\n"
     "    v_uv = vec2(a_grid) * u_tex_scale + u_tex_offset;\n"
     "    v_rel = d;\n"
-    "    v_lod = log2(max(length(vec3(d, a_z * u_exag - u_cam_z)) * u_clip_lod_k, 1.0));\n"
+    "    // the texel footprint grows as 1 / cos of the angle between the ray and the normal:\n"
+    "    // at grazing angles the coarser level (as GL's mipmapping takes the larger axis)\n"
+    "    vec3 ray = vec3(d, a_z * u_exag - u_cam_z);\n"
+    "    float slant = max(abs(dot(ray, n)) / max(length(ray), 1e-6), 0.125);\n"
+    "    v_lod = log2(max(length(ray) * u_clip_lod_k / slant, 1.0));\n"
     "}\n";
 
 static const char* fs_src =
