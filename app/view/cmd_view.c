@@ -62,6 +62,8 @@ enum {
     OPT_IMAGERY,
     OPT_NO_IMAGERY,
     OPT_CLIP_BLOCKS,
+    OPT_SUN_DATE,
+    OPT_SUN_TIME,
 };
 
 static void print_help(void)
@@ -88,6 +90,12 @@ static void print_help(void)
           "                        (--camera H, the default view, C) are in the drawn space\n"
           "  --sun AZ,EL           hillshade light: azimuth clockwise from grid north and\n"
           "                        elevation, degrees (default 315,45)\n"
+          "  --sun-date YYYY-MM-DD, --sun-time HH:MM[:SS][ZONE]\n"
+          "                        light from where the sun is then over the map's centre\n"
+          "                        (libnova; ZONE: Z, UTC, +02:00, -0500; default UTC), both\n"
+          "                        given; in the window PgUp and PgDn move the time by 15\n"
+          "                        minutes\n"
+          "                        (Shift: an hour); instead of --sun\n"
           "  --hide-filled         draw filled voids like measured ground (default: tinted)\n"
           "  --pick X,Y            headless: print the ground point under pixel X,Y (from the\n"
           "                        top-left corner): E, N and the drawn surface's height;\n"
@@ -221,6 +229,8 @@ static int parse_options(int argc, char** argv, view_options* o)
         {"imagery", required_argument, NULL, OPT_IMAGERY},
         {"no-imagery", no_argument, NULL, OPT_NO_IMAGERY},
         {"clip-blocks", required_argument, NULL, OPT_CLIP_BLOCKS},
+        {"sun-date", required_argument, NULL, OPT_SUN_DATE},
+        {"sun-time", required_argument, NULL, OPT_SUN_TIME},
         {"help", no_argument, NULL, 'h'},
         {NULL, 0, NULL, 0},
     };
@@ -292,6 +302,8 @@ static int parse_options(int argc, char** argv, view_options* o)
         case OPT_TEXTURE: o->texture = optarg; break;
         case OPT_IMAGERY: o->imagery = optarg; break;
         case OPT_NO_IMAGERY: o->no_imagery = 1; break;
+        case OPT_SUN_DATE: o->sun_date = optarg; break;
+        case OPT_SUN_TIME: o->sun_time = optarg; break;
         case OPT_CLIP_BLOCKS: {
             char* end;
             long n = strtol(optarg, &end, 10);
@@ -361,6 +373,16 @@ static int parse_options(int argc, char** argv, view_options* o)
     }
     if (tp_view_setup_check(&o->vs, "view") < 0)
         return TP_EXIT_USAGE;
+    if (!o->sun_date != !o->sun_time) {
+        fprintf(stderr, "terrapatch view: --sun-date and --sun-time go together: give both\n");
+        return TP_EXIT_USAGE;
+    }
+    char why[160];
+    if (o->sun_date && !tp_sun_time_parse(o->sun_date, o->sun_time, &o->sun_when, why, sizeof why)) {
+        fprintf(stderr, "terrapatch view: --sun-date %s --sun-time %s: %s\n", o->sun_date,
+                o->sun_time, why);
+        return TP_EXIT_USAGE;
+    }
     return -1;
 }
 
@@ -421,8 +443,11 @@ static int run_headless(tp_view_scene* v, tp_gl_context* ctx, tp_renderer* r,
             char legend[512] = "";
             if (o->layers)
                 tp_view_layers_legend(o->layers, legend, sizeof legend);
+            char sun[160];
+            tp_view_sun_text(&o->sun, sun, sizeof sun);
             tp_hud_state hs = {.fps = 1000 / fmax(tp_view_now_ms() - t0, 1e-6),
-                               .exaggeration = o->render.exaggeration, .layers = legend};
+                               .exaggeration = o->render.exaggeration, .layers = legend,
+                               .sun = sun};
             tp_view_hud_text(v, cam, &o->vs.lod, &fr, &me, &hs, text, sizeof text);
             ov.hud_text = text;
         }
@@ -584,6 +609,19 @@ static int run_view(tp_view_scene* v, view_options* o, tp_render_grid_desc* gd,
     }
     if (code == TP_EXIT_OK && st && !open_imagery(v, o, st))
         code = TP_EXIT_FAILURE;
+    if (code == TP_EXIT_OK && o->sun_date) { /* the sun over the map's centre */
+        double e = v->gt[0] + 0.5 * v->src_width * v->gt[1];
+        double n = v->gt[3] + 0.5 * v->src_height * v->gt[5];
+        if (tp_view_sun_init(&o->sun, &o->sun_when, v->georef, e, n, msg, sizeof msg)) {
+            tp_view_sun_apply(&o->sun, &o->render);
+            char line[256];
+            tp_view_sun_text(&o->sun, line, sizeof line);
+            fprintf(stderr, "terrapatch view: %s\n", line);
+        } else {
+            fprintf(stderr, "terrapatch view: --sun-date: %s\n", msg);
+            code = TP_EXIT_FAILURE;
+        }
+    }
     tp_view_layers layers;
     memset(&layers, 0, sizeof layers);
     /* a window always has them (F2); headless frames when asked */

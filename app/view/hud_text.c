@@ -159,6 +159,10 @@ void tp_view_hud_text(tp_view_scene* v, const tp_camera* cam,
         size_t at = strlen(out);
         snprintf(out + at, cap - at, "\n%s", st->layers);
     }
+    if (st->sun && st->sun[0]) {
+        size_t at = strlen(out);
+        snprintf(out + at, cap - at, "\n%s (PgUp/PgDn: +/-15 min)", st->sun);
+    }
 }
 
 static float width_of(const char* s, size_t n)

@@ -24,6 +24,7 @@ typedef struct tp_hud_state {
     double speed_mps;    /* flight speed (0: not flying) */
     double exaggeration; /* vertical; 1 none */
     const char* layers;  /* the planning layers' legend (tp_view_layers_legend), or NULL */
+    const char* sun;     /* the sun's time and place in the sky (tp_view_sun_text), or NULL */
 } tp_hud_state;
 
 /* A position as "45.37312N 121.69512W  UTM 10N 600000 5012000  MGRS 10T FR 00000 12000", or

@@ -16,6 +16,7 @@
 #include "view_options.h"
 #include "view_scene.h"
 #include "clipmap.h"
+#include "sun_view.h"
 
 typedef struct view_options {
     tp_scene_options scene;
@@ -27,6 +28,10 @@ typedef struct view_options {
     const char* imagery;             /* --imagery FILE.tpi (stores) */
     int no_imagery;                  /* --no-imagery */
     int clip_blocks;                 /* --clip-blocks N (0: the clipmap's default) */
+    const char* sun_date;            /* --sun-date YYYY-MM-DD */
+    const char* sun_time;            /* --sun-time HH:MM[:SS][zone] */
+    tp_sun_time sun_when;            /* both parsed */
+    tp_view_sun sun;                 /* the sun once the georeference is there */
     int has_measure;
     double measure[4]; /* E1, N1, E2, N2 */
     double pick[16][2]; /* --pick X,Y pixels */

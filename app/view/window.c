@@ -31,7 +31,8 @@ static const char* help_text =
     "Home (or 0) home view   O orbit mode (drag rotates, wheel or W/S zoom, A/D/Q/E pan)\n"
     "L colour by level   T wireframe   F freeze LoD and culling   M LoD mode\n"
     "+/- tau (or maxdist)   [ ] mindist   , . exp   X/Z exaggeration   V filled-void tint\n"
-    "J/K sun azimuth   U/N sun elevation   G 1 km grid   P screenshot   Y export mesh\n"
+    "J/K sun azimuth   U/N sun elevation   PgUp/PgDn the sun's time +/-15 min (Shift: 1 h)\n"
+    "G 1 km grid   P screenshot   Y export mesh   F3 imagery on/off\n"
     "C print camera   H hide HUD   right-click twice: measure   I or middle-click: what is here\n"
     "R line-of-sight mode (right-click observer, then target: green seen, red hidden)\n"
     "B viewshed from the ground under the cursor, 10 km (red: not seen; B again: off)\n"
@@ -277,7 +278,7 @@ static void on_char(window_state* s, int c)
     }
 }
 
-static void on_key(window_state* s, int key)
+static void on_key(window_state* s, int key, int mods)
 {
     tp_render_settings* rs = &s->o->render;
     switch (key) {
@@ -297,6 +298,16 @@ static void on_key(window_state* s, int key)
     case GLFW_KEY_H: s->show_hud = !s->show_hud; break;
     case GLFW_KEY_V: rs->hide_filled = !rs->hide_filled; break;
     case GLFW_KEY_G: rs->grid_m = rs->grid_m > 0 ? 0 : 1000; break;
+    case GLFW_KEY_PAGE_UP:
+    case GLFW_KEY_PAGE_DOWN: /* the sun's time (--sun-date, --sun-time) */
+        if (!s->o->sun.on) {
+            snprintf(s->measure_line, sizeof s->measure_line, "%s",
+                     "sun: give --sun-date and --sun-time to move it with PgUp and PgDn");
+            break;
+        }
+        tp_view_sun_step(&s->o->sun, (key == GLFW_KEY_PAGE_DOWN ? -1 : 1) *
+                                         (mods & GLFW_MOD_SHIFT ? 3600 : 900), rs);
+        break;
     case GLFW_KEY_J: rs->sun_azimuth_deg = fmod(rs->sun_azimuth_deg + 345, 360); break;
     case GLFW_KEY_K: rs->sun_azimuth_deg = fmod(rs->sun_azimuth_deg + 15, 360); break;
     case GLFW_KEY_U: rs->sun_elevation_deg = fmin(90, rs->sun_elevation_deg + 5); break;
@@ -406,7 +417,7 @@ int tp_view_window_run(tp_view_scene* v, tp_gl_context* ctx, tp_renderer* r, tp_
             if (ev.kind == TP_INPUT_KEY && bookmark_key(&s, ev.key, ev.mods))
                 continue;
             if (ev.kind == TP_INPUT_KEY)
-                on_key(&s, ev.key);
+                on_key(&s, ev.key, ev.mods);
             else if (ev.kind == TP_INPUT_CHAR)
                 on_char(&s, ev.key);
             else if (ev.kind == TP_INPUT_CLICK && ev.key == GLFW_MOUSE_BUTTON_RIGHT && s.los_mode)
@@ -468,9 +479,11 @@ int tp_view_window_run(tp_view_scene* v, tp_gl_context* ctx, tp_renderer* r, tp_
             char legend[512] = "";
             if (o->layers)
                 tp_view_layers_legend(o->layers, legend, sizeof legend);
+            char sun[160];
+            tp_view_sun_text(&o->sun, sun, sizeof sun);
             tp_hud_state hs = {.fps = fps, .frozen = s.frozen, .orbit = s.nav.orbit,
                                .speed_mps = s.nav.speed_mps, .exaggeration = zs,
-                               .layers = legend};
+                               .layers = legend, .sun = sun};
             tp_view_hud_text(v, cam, &s.lod, &fr, &me, &hs, text, sizeof text);
             ov.hud_text = text;
             ov.help_text = s.show_help ? help_text : NULL;
