@@ -11,7 +11,9 @@
  *     one a fresh clipmap draws at the same place (bench's imagery_final_diff_pixels);
  *   - GPU memory is the clip layers' whatever the image size;
  *   - bad pyramids: one made for another store is refused; a damaged block is reported and the
- *     frame drawn without it.
+ *     frame drawn without it;
+ *   - the sun of --sun-date/--sun-time: cast shadows only darken (the same frame without them
+ *     is nowhere darker) and darken more with a low sun; bad dates are usage errors.
  */
 #define _POSIX_C_SOURCE 200809L
 #include "tp_test.h"
@@ -219,10 +221,75 @@ TEST(damaged_block_is_reported_and_drawn_without)
     EXPECT_CONTAINS(err, "drawn without imagery there");
 }
 
+/* The frame with cast shadows against the same sun without them: pixels darker (by more than
+ * 2 levels of the sum of r, g, b) and brighter. */
+static void shadow_difference(const char* time, size_t* darker, size_t* brighter)
+{
+    char a[512], b[512], err[4096];
+    path_in(a, sizeof a, "sun_shadows.png");
+    path_in(b, sizeof b, "sun_plain.png");
+    const char* with[] = {"--headless", "--size", "480x270", "--no-hud", "--no-imagery",
+                          "--camera-geo", "42.93,-122.13,2500,60,-25", "--sun-date", "2026-06-21",
+                          "--sun-time", time, "--screenshot", a, store(), NULL};
+    ASSERT_EQ_INT(tp_test_run_terrapatch("view", with, err, sizeof err), 0);
+    EXPECT_CONTAINS(err, "sun 2026-06-21");
+    const char* without[] = {"--headless", "--size", "480x270", "--no-hud", "--no-imagery",
+                             "--camera-geo", "42.93,-122.13,2500,60,-25", "--sun-date",
+                             "2026-06-21", "--sun-time", time, "--no-cast-shadows",
+                             "--screenshot", b, store(), NULL};
+    ASSERT_EQ_INT(tp_test_run_terrapatch("view", without, err, sizeof err), 0);
+    int w, h, w2, h2;
+    uint8_t *pa, *pb;
+    ASSERT_OK(tp_image_read_rgba(a, &w, &h, &pa, NULL));
+    ASSERT_OK(tp_image_read_rgba(b, &w2, &h2, &pb, NULL));
+    ASSERT_TRUE(w == w2 && h == h2);
+    *darker = *brighter = 0;
+    for (size_t i = 0; i < (size_t)w * h; i++) {
+        int sa = pa[4 * i] + pa[4 * i + 1] + pa[4 * i + 2];
+        int sb = pb[4 * i] + pb[4 * i + 1] + pb[4 * i + 2];
+        *darker += sa < sb - 2;
+        *brighter += sa > sb + 2;
+    }
+    free(pa);
+    free(pb);
+}
+
+/* Crater Lake (42.9 N, 122.1 W) on the June solstice: at 06:00 PDT (13:00 UTC) the sun is
+ * 4.1 degrees up at azimuth 61 (the viewer's own line; tp_sun is checked against published
+ * positions in test_sun.c) and the crater's rim shades much of the lake; at 13:00 PDT it is
+ * 70 degrees up and shades little. */
+TEST(cast_shadows_only_darken_and_grow_with_a_low_sun)
+{
+    size_t low_dark, low_bright, high_dark, high_bright;
+    shadow_difference("06:00-07:00", &low_dark, &low_bright);
+    shadow_difference("13:00-07:00", &high_dark, &high_bright);
+    EXPECT_EQ_INT((int)low_bright, 0);
+    EXPECT_EQ_INT((int)high_bright, 0);
+    EXPECT_GT((double)low_dark, 0.05 * 480 * 270);
+    EXPECT_GT((double)low_dark, 3.0 * (double)high_dark);
+}
+
+TEST(sun_date_errors_are_usage_errors)
+{
+    char err[4096];
+    const char* only_date[] = {"--headless", "--sun-date", "2026-06-21", store(), NULL};
+    EXPECT_EQ_INT(tp_test_run_terrapatch("view", only_date, err, sizeof err), 2);
+    EXPECT_CONTAINS(err, "--sun-date and --sun-time go together");
+    const char* bad_day[] = {"--headless", "--sun-date", "2026-02-29", "--sun-time", "12:00",
+                             store(), NULL};
+    EXPECT_EQ_INT(tp_test_run_terrapatch("view", bad_day, err, sizeof err), 2);
+    EXPECT_CONTAINS(err, "2026-02-29");
+    const char* bad_zone[] = {"--headless", "--sun-date", "2026-06-21", "--sun-time",
+                              "12:00+15:00", store(), NULL};
+    EXPECT_EQ_INT(tp_test_run_terrapatch("view", bad_zone, err, sizeof err), 2);
+}
+
 #define TESTS(X)                                                                                   \
     X(marker_shows_on_its_ground_point_within_half_a_texel)                                        \
     X(fast_flight_leaves_nothing_stale)                                                            \
     X(pyramid_of_another_store_is_refused)                                                         \
-    X(damaged_block_is_reported_and_drawn_without)
+    X(damaged_block_is_reported_and_drawn_without)                                                 \
+    X(cast_shadows_only_darken_and_grow_with_a_low_sun)                                            \
+    X(sun_date_errors_are_usage_errors)
 
 TP_TEST_MAIN(TESTS)

@@ -9,6 +9,7 @@
 #define _POSIX_C_SOURCE 200809L
 #include "view.h"
 #include "imagery_view.h"
+#include "shadow_view.h"
 
 #include "atomic_file.h"
 #include "camera_pose.h"
@@ -64,6 +65,7 @@ enum {
     OPT_CLIP_BLOCKS,
     OPT_SUN_DATE,
     OPT_SUN_TIME,
+    OPT_NO_CAST_SHADOWS,
 };
 
 static void print_help(void)
@@ -94,8 +96,10 @@ static void print_help(void)
           "                        light from where the sun is then over the map's centre\n"
           "                        (libnova; ZONE: Z, UTC, +02:00, -0500; default UTC), both\n"
           "                        given; in the window PgUp and PgDn move the time by 15\n"
-          "                        minutes\n"
-          "                        (Shift: an hour); instead of --sun\n"
+          "                        minutes (Shift: an hour); the ground casts shadows over\n"
+          "                        the 1025 x 1025 posts around the point looked at (stores);\n"
+          "                        instead of --sun\n"
+          "  --no-cast-shadows     with --sun-date: the sun's light without cast shadows\n"
           "  --hide-filled         draw filled voids like measured ground (default: tinted)\n"
           "  --pick X,Y            headless: print the ground point under pixel X,Y (from the\n"
           "                        top-left corner): E, N and the drawn surface's height;\n"
@@ -231,6 +235,7 @@ static int parse_options(int argc, char** argv, view_options* o)
         {"clip-blocks", required_argument, NULL, OPT_CLIP_BLOCKS},
         {"sun-date", required_argument, NULL, OPT_SUN_DATE},
         {"sun-time", required_argument, NULL, OPT_SUN_TIME},
+        {"no-cast-shadows", no_argument, NULL, OPT_NO_CAST_SHADOWS},
         {"help", no_argument, NULL, 'h'},
         {NULL, 0, NULL, 0},
     };
@@ -304,6 +309,7 @@ static int parse_options(int argc, char** argv, view_options* o)
         case OPT_NO_IMAGERY: o->no_imagery = 1; break;
         case OPT_SUN_DATE: o->sun_date = optarg; break;
         case OPT_SUN_TIME: o->sun_time = optarg; break;
+        case OPT_NO_CAST_SHADOWS: o->no_cast_shadows = 1; break;
         case OPT_CLIP_BLOCKS: {
             char* end;
             long n = strtol(optarg, &end, 10);
@@ -509,7 +515,7 @@ static int load_layers(tp_view_scene* v, view_options* o, tp_view_layers* layers
         return TP_EXIT_FAILURE;
     }
     tp_error err = {{0}};
-    if (tp_ground_create(v->store, NULL, &o->ground, &err) != TP_OK) {
+    if (!o->ground && tp_ground_create(v->store, NULL, &o->ground, &err) != TP_OK) {
         fprintf(stderr, "terrapatch view: %s: %s\n", o->path, err.message);
         return TP_EXIT_FAILURE;
     }
@@ -597,6 +603,7 @@ static int run_view(tp_view_scene* v, view_options* o, tp_render_grid_desc* gd,
         return TP_EXIT_FAILURE;
     }
     int code = TP_EXIT_OK;
+    tp_view_shadow shadow = {0};
     /* the frames need the georeference (the HUD, picking, measuring): made meanwhile */
     if (!take_georef(v, st))
         code = TP_EXIT_FAILURE;
@@ -614,6 +621,12 @@ static int run_view(tp_view_scene* v, view_options* o, tp_render_grid_desc* gd,
         double n = v->gt[3] + 0.5 * v->src_height * v->gt[5];
         if (tp_view_sun_init(&o->sun, &o->sun_when, v->georef, e, n, msg, sizeof msg)) {
             tp_view_sun_apply(&o->sun, &o->render);
+            tp_error gerr;
+            if (st && !o->no_cast_shadows && !o->ground &&
+                tp_ground_create(st, NULL, &o->ground, &gerr) != TP_OK)
+                fprintf(stderr, "terrapatch view: no cast shadows: %s\n", gerr.message);
+            v->shadow_ground = o->no_cast_shadows ? NULL : o->ground;
+            v->shadow = &shadow;
             char line[256];
             tp_view_sun_text(&o->sun, line, sizeof line);
             fprintf(stderr, "terrapatch view: %s\n", line);
@@ -636,6 +649,9 @@ static int run_view(tp_view_scene* v, view_options* o, tp_render_grid_desc* gd,
     o->layers = NULL;
     tp_view_imagery_close(v->imagery);
     v->imagery = NULL;
+    tp_view_shadow_free(&shadow);
+    v->shadow = NULL;
+    v->shadow_ground = NULL;
     tp_renderer_destroy(r);
     tp_gl_context_destroy(ctx);
     return code;

@@ -4,6 +4,8 @@
 
 #include "atomic_file.h"
 #include "imagery_view.h"
+#include "pick.h"
+#include "shadow_view.h"
 #include "json.h"
 
 #include <epoxy/gl.h>
@@ -44,6 +46,15 @@ void tp_view_frame(tp_view_scene* v, tp_renderer* r, const tp_camera* cam,
     tp_stream_frame(v->store->stream, v->cut, frozen ? NULL : v->prefetch, cam, lod, &out->stream);
     tp_view_scene_report_failures(v);
     out->select_ms = tp_view_now_ms() - t0;
+    if (v->shadow_ground) { /* cast shadows around the point looked at */
+        double p[3], x, y;
+        if (!tp_view_pick_centre(v, cam, p))
+            p[0] = cam->position[0], p[1] = cam->position[1];
+        tp_view_scene_world_to_grid(v, p[0], p[1], &x, &y);
+        char msg[600];
+        if (!tp_view_shadow_update(v->shadow, v->shadow_ground, render, x, y, r, msg, sizeof msg))
+            fprintf(stderr, "terrapatch view: %s\n", msg);
+    }
     out->imagery = v->imagery && !v->imagery_hidden;
     if (out->imagery) {
         tp_view_imagery_frame(v->imagery, v->store, v->cut, render->exaggeration, r, cam,

@@ -46,7 +46,9 @@ struct tp_renderer {
     GLint u_cell, u_frac, u_spacing, u_cam_z, u_exag, u_viewproj, u_sun, u_color_lod,
         u_hide_filled, u_hrange, u_textured, u_tex, u_tex_scale, u_tex_offset, u_grid,
         u_grid_origin, u_clip, u_clip_levels, u_clip_first, u_clip_size, u_clip_per_m,
-        u_clip_rect, u_clip_cam, u_clip_lod_k;
+        u_clip_rect, u_clip_cam, u_clip_lod_k, u_shadow, u_shadow_on, u_shadow_win;
+    GLuint shadow_tex;
+    int shadow_win[4];
     GLuint tex;
     tp_render_clip clip;
     float tex_scale[2], tex_offset[2];
@@ -98,6 +100,9 @@ static const char* vs_src =
     "out vec2 v_uv;\n"
     "out vec2 v_rel;\n"
     "out float v_lod;    // log2 of level-0 texels per pixel here (Blow: per vertex, not per pixel)\n"
+    "uniform vec4 u_shadow_win; // cast shadows: the window's first post and its size (posts)\n"
+    "out vec2 v_shadow_uv;\n"
+    "out float v_direct; // the sun's share of v_light\n"
     "out vec3 v_base;    // colour before light\n"
     "out float v_light;\n"
     "out float v_tint;   // filled-void tint amount\n"
@@ -120,7 +125,9 @@ static const char* vs_src =
     "    vec2 d = vec2(a_grid - u_cell) * u_spacing - u_frac;\n"
     "    gl_Position = u_viewproj * vec4(d, a_z * u_exag - u_cam_z, 1.0);\n"
     "    vec3 n = normalize(vec3(a_normal.xy * u_exag, a_normal.z));\n"
-    "    v_light = 0.3 + 0.7 * max(dot(n, u_sun), 0.0);\n"
+    "    v_direct = 0.7 * max(dot(n, u_sun), 0.0);\n"
+    "    v_light = 0.3 + v_direct;\n"
+    "    v_shadow_uv = (vec2(a_grid) - u_shadow_win.xy + 0.5) / max(u_shadow_win.zw, vec2(1.0));\n"
     "    v_base = u_color_lod != 0 ? level_color(a_flags & 15u)\n"
     "                              : hypsometric((a_z - u_hrange.x) / max(u_hrange.y - u_hrange.x, 1.0));\n"
     "    v_tint = u_hide_filled == 0 ? 0.65 * float((a_flags >> 4u) & 1u) : 0.0;\n"
@@ -138,6 +145,8 @@ static const char* fs_src =
     "in vec2 v_uv;\n"
     "in vec2 v_rel;\n"
     "in float v_lod;\n"
+    "in vec2 v_shadow_uv;\n"
+    "in float v_direct;\n"
     "in vec3 v_base;\n"
     "in float v_light;\n"
     "in float v_tint;\n"
@@ -145,6 +154,8 @@ static const char* fs_src =
     "uniform float u_grid;        // line spacing, metres (0: none)\n"
     "uniform vec2 u_grid_origin;  // camera E, N modulo the spacing\n"
     "uniform int u_textured;      // 0 also when LoD colours are on\n"
+    "uniform sampler2D u_shadow;  // cast shadows over a window (1 lit, 0 shadowed)\n"
+    "uniform int u_shadow_on;\n"
     "// imagery through a clipmap (clipmap.h): one layer per level, toroidal\n"
     "uniform sampler2DArray u_clip;\n"
     "uniform int u_clip_levels;   // 0: none\n"
@@ -181,7 +192,11 @@ static const char* fs_src =
     "        vec4 t = clip_sample(v_rel);\n"
     "        base = mix(base, t.rgb, t.a);\n"
     "    }\n"
-    "    vec3 c = mix(base, vec3(0.85, 0.25, 0.75), v_tint) * v_light;\n"
+    "    float light = v_light;\n"
+    "    if (u_shadow_on != 0 && all(greaterThanEqual(v_shadow_uv, vec2(0.0))) &&\n"
+    "        all(lessThanEqual(v_shadow_uv, vec2(1.0))))\n"
+    "        light -= v_direct * (1.0 - texture(u_shadow, v_shadow_uv).r);\n"
+    "    vec3 c = mix(base, vec3(0.85, 0.25, 0.75), v_tint) * light;\n"
     "    if (u_grid > 0.0) {\n"
     "        // distance to the nearest grid line in pixels, from the screen-space derivative\n"
     "        vec2 g = (v_rel + u_grid_origin) / u_grid;\n"
@@ -255,6 +270,9 @@ tp_renderer* tp_renderer_create_desc(const tp_render_grid_desc* d, char* msg, si
     TP_UNIFORM(u_clip_rect);
     TP_UNIFORM(u_clip_cam);
     TP_UNIFORM(u_clip_lod_k);
+    TP_UNIFORM(u_shadow);
+    TP_UNIFORM(u_shadow_on);
+    TP_UNIFORM(u_shadow_win);
 #undef TP_UNIFORM
 
     /* The strips of every level, one after the other, in one index buffer. */
@@ -328,6 +346,12 @@ void tp_renderer_destroy(tp_renderer* r)
     free(r->items);
     free(r->complete);
     free(r);
+}
+
+void tp_renderer_set_shadow(tp_renderer* r, unsigned texture, int x0, int y0, int w, int h)
+{
+    r->shadow_tex = texture;
+    r->shadow_win[0] = x0, r->shadow_win[1] = y0, r->shadow_win[2] = w, r->shadow_win[3] = h;
 }
 
 void tp_renderer_set_clip(tp_renderer* r, const tp_render_clip* clip)
@@ -606,6 +630,15 @@ void tp_renderer_draw_items(tp_renderer* r, const tp_render_item* items, size_t 
         glBindTexture(GL_TEXTURE_2D, r->tex);
     }
     set_clip_uniforms(r, cam, !st->color_lod);
+    glUniform1i(r->u_shadow, 2);
+    glUniform1i(r->u_shadow_on, r->shadow_tex != 0);
+    glUniform4f(r->u_shadow_win, (float)r->shadow_win[0], (float)r->shadow_win[1],
+                (float)r->shadow_win[2], (float)r->shadow_win[3]);
+    if (r->shadow_tex) {
+        glActiveTexture(GL_TEXTURE2);
+        glBindTexture(GL_TEXTURE_2D, r->shadow_tex);
+        glActiveTexture(GL_TEXTURE0);
+    }
     for (int k = 0; k <= r->grid.n; k++) {
         size_t s0 = group_at[2 * k], s1 = group_at[2 * k + 1], l1 = group_at[2 * k + 2];
         if (s0 == l1)

@@ -104,6 +104,12 @@ typedef struct tp_render_clip {
                                               {x0, y0, x1, y1} of that level; empty: x1 <= x0 */
 } tp_render_clip;
 
+/* Cast shadows from the next draw on: texture (GL_R8, w x h texels, 255 lit, 0 shadowed) covers
+ * grid posts x0 .. x0 + w - 1, y0 .. y0 + h - 1, texel centre on post; the direct sunlight of
+ * a fragment in its shadow is taken away, the ambient term stays; outside the window nothing
+ * changes. texture 0: none (shadow_view.h). */
+void tp_renderer_set_shadow(tp_renderer* r, unsigned texture, int x0, int y0, int w, int h);
+
 /* The clipmap to sample from the next draw on (copied); NULL or texture 0: none. */
 void tp_renderer_set_clip(tp_renderer* r, const tp_render_clip* clip);
 

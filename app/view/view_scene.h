@@ -28,6 +28,9 @@ typedef struct tp_view_scene {
     struct tp_view_imagery* imagery; /* imagery_view.h: a store's imagery, or NULL */
     int imagery_hidden;       /* F3: not drawn (still open) */
     int imagery_settle;       /* headless: every clip window whole before the frame */
+    struct tp_ground* shadow_ground; /* cast shadows (--sun-date): the ground they are read
+                                        from (owned by the caller), or NULL for none */
+    struct tp_view_shadow* shadow;   /* their state (shadow_view.h) */
 } tp_view_scene;
 
 void tp_view_scene_from_dem(tp_view_scene* v, tp_scene* sc, tp_selection* sel);
