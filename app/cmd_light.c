@@ -102,6 +102,11 @@ static int parse_options(int argc, char** argv, light_cli* o)
                                            TP_PLANNER_COUNT(text_opts));
         if (done < 0)
             return TP_EXIT_USAGE;
+        if (!done && a[1] >= '0' && a[1] <= '9')
+            return tp_planner_usage("light",
+                                    "unknown option '%s' (a zone after a space must be quoted "
+                                    "with the time: --time \"18:30 %s\")",
+                                    a, a);
         if (!done)
             return tp_planner_usage("light", "unknown option '%s'", a);
     }

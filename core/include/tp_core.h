@@ -1372,7 +1372,7 @@ tp_status tp_tin_measure(const float* heights, size_t height_count, int width, i
  * (elevation_deg = 90): every valid sample lit, margins +INFINITY. Fails (outputs untouched)
  * with TP_ERR_INVALID_ARG for height_count != width * height or a grid below 1x1, spacings not
  * finite and > 0, a non-finite azimuth (any finite value is taken modulo 360) or an elevation
- * outside -90 .. 90; TP_ERR_OUT_OF_MEMORY (4 doubles and 2 bytes per post of a line of scratch).
+ * outside -90 .. 90; TP_ERR_OUT_OF_MEMORY (three floats per sample of scratch).
  * Reentrant. */
 tp_status tp_shadow_compute(const float* heights, size_t height_count, int width, int height,
                             double dx_m, double dy_m, double azimuth_deg, double elevation_deg,
