@@ -1348,8 +1348,9 @@ tp_status tp_tin_measure(const float* heights, size_t height_count, int width, i
  * the ray from the sample's height toward the sun; its margin is its height less the height of
  * the shadowing sight line above it (the top of the shadow volume): > 0 lit (how much lower it
  * could be and still be lit), < 0 in shadow (how far it would have to rise). A margin of exactly
- * 0 counts as lit. Margins change continuously with the sun's direction: interpolating them in
- * time moves shadows smoothly (tp_light_day_*).
+ * 0 counts as lit. A lit sample's margin measures the nearest sight line (often the ground just
+ * beside it), not the peak whose shadow may come: to move shadows in time, tp_light_day_*
+ * interpolate horizons instead.
  *
  * tp_shadow_compute is one sweep over the grid from the sun's side (O(samples *
  * TP_SHADOW_EXACT_LINES); docs/light.md has the timings beside a per-sample ray cast's), exact
@@ -1361,7 +1362,8 @@ tp_status tp_tin_measure(const float* heights, size_t height_count, int width, i
 #define TP_SHADOW_SHADOWED 0
 /* A ray's ground is taken exactly over the first this many grid lines it crosses (at each
  * crossing and halfway between two), the shadow volume carried from beyond interpolated only
- * there: 8 keeps the agreement with the ray cast >= 99.3% on Mt Hood and N42E001 (1: 98.5%). */
+ * there: 8 keeps the agreement with the ray cast >= 99.3% on Mt Hood and N42E001 (a plain sweep
+ * interpolating at every line, without the halfway points: 98.5%). */
 #define TP_SHADOW_EXACT_LINES 8
 
 /* Writes into lit (out_count >= width * height bytes, or NULL) TP_SHADOW_LIT or
