@@ -64,9 +64,11 @@ typedef struct tp_sun_pos {
 tp_status tp_sun_position(double lat_deg, double lon_deg, double unix_utc_s, tp_sun_pos* out,
                           tp_error* err);
 
-/* The atmospheric refraction (degrees, >= 0 above the horizon) that lifts a body at geometric
- * elevation_deg, at pressure_mbar and temperature_c (libnova's ln_get_refraction_adj: Meeus'
- * eq. 16.4, Saemundsson's formula). Cannot fail; NaN in, NaN out. */
+/* The atmospheric refraction (degrees, >= 0) that lifts a body at geometric elevation_deg, at
+ * pressure_mbar and temperature_c: libnova's ln_get_refraction_adj (Meeus' eq. 16.4,
+ * Saemundsson's formula) from -1 degree up; below, where that formula turns over (it gives
+ * 0.91 at -2 and -0.09 at -6 degrees), its value at -1 degree faded linearly to 0 at -5 degrees
+ * and 0 below. Cannot fail; NaN in, NaN out. */
 double tp_sun_refraction_deg(double elevation_deg, double pressure_mbar, double temperature_c);
 
 /* What the sun does on one day at a place. */
