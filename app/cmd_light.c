@@ -264,7 +264,7 @@ int tp_cli_light(int argc, char** argv)
     char local[48], utc[48];
     tp_sun_time_format(when.unix_s, when.zone_offset_s, local, sizeof local);
     tp_sun_time_format(when.unix_s, 0, utc, sizeof utc);
-    printf("place      %.6f %.6f (post %.0f, %.0f: the window's centre); grid north is %.3f deg "
+    printf("place      %.6f %.6f (post %.0f, %.0f: where the sun is computed); grid north is %.3f deg "
            "%s of true north\n",
            lat, lon, cx, cy, fabs(here.convergence_deg),
            here.convergence_deg >= 0.0 ? "east" : "west");
