@@ -64,7 +64,9 @@ static void print_help(void)
           "                         slopes facing away from the sun\n"
           "  --radius M             only the window of posts within M metres (east and north) of\n"
           "                         --at (a square); needs --at\n"
-          "  --at POS               the window's centre (any form 'terrapatch coord' reads)\n"
+          "  --at POS               the window's centre and the place the sun is computed for\n"
+          "                         (alone: the whole grid, the sun at POS; any form\n"
+          "                         'terrapatch coord' reads)\n"
           "  --cache-dir DIR        the store cache for a DEM (as 'terrapatch view')\n"
           "  -h, --help             show this help\n"
           "\n"
@@ -102,6 +104,11 @@ static int parse_options(int argc, char** argv, light_cli* o)
                                            TP_PLANNER_COUNT(text_opts));
         if (done < 0)
             return TP_EXIT_USAGE;
+        if (!done && a[1] >= '0' && a[1] <= '9')
+            return tp_planner_usage("light",
+                                    "unknown option '%s' (a zone after a space must be quoted "
+                                    "with the time: --time \"18:30 %s\")",
+                                    a, a);
         if (!done)
             return tp_planner_usage("light", "unknown option '%s'", a);
     }
@@ -257,7 +264,7 @@ int tp_cli_light(int argc, char** argv)
     char local[48], utc[48];
     tp_sun_time_format(when.unix_s, when.zone_offset_s, local, sizeof local);
     tp_sun_time_format(when.unix_s, 0, utc, sizeof utc);
-    printf("place      %.6f %.6f (post %.0f, %.0f: the window's centre); grid north is %.3f deg "
+    printf("place      %.6f %.6f (post %.0f, %.0f: where the sun is computed); grid north is %.3f deg "
            "%s of true north\n",
            lat, lon, cx, cy, fabs(here.convergence_deg),
            here.convergence_deg >= 0.0 ? "east" : "west");

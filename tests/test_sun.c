@@ -197,6 +197,16 @@ TEST(bad_arguments_are_refused)
     tp_sun_day d;
     EXPECT_STATUS(TP_ERR_INVALID_ARG, tp_sun_rise_set(0.0, 0.0, NAN, &d, &err));
     EXPECT_NAN(tp_sun_refraction_deg(NAN, 1010.0, 10.0));
+    /* about 34' at the horizon (Meeus ch. 16: 0.57 degree at 1010 mbar, 10 C), none deep
+     * below it, never negative, falling with elevation above -1 degree */
+    EXPECT_NEAR(tp_sun_refraction_deg(0.0, 1010.0, 10.0), 34.0 / 60.0, 0.02);
+    EXPECT_EQ_DBL(0.0, tp_sun_refraction_deg(-68.0, 1010.0, 10.0));
+    for (double e = -10.0; e < 89.0; e += 0.25) {
+        EXPECT_GE(tp_sun_refraction_deg(e, 1010.0, 10.0), 0.0);
+        if (e >= -1.0)
+            EXPECT_GE(tp_sun_refraction_deg(e, 1010.0, 10.0),
+                      tp_sun_refraction_deg(e + 0.25, 1010.0, 10.0));
+    }
 }
 
 #endif /* TP_TEST_NO_IO */

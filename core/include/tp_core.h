@@ -1405,8 +1405,9 @@ int tp_patch_texture_level(double distance_m, double focal_px, double texel_m, i
  * the ray from the sample's height toward the sun; its margin is its height less the height of
  * the shadowing sight line above it (the top of the shadow volume): > 0 lit (how much lower it
  * could be and still be lit), < 0 in shadow (how far it would have to rise). A margin of exactly
- * 0 counts as lit. Margins change continuously with the sun's direction: interpolating them in
- * time moves shadows smoothly (tp_light_day_*).
+ * 0 counts as lit. A lit sample's margin measures the nearest sight line (often the ground just
+ * beside it), not the peak whose shadow may come: to move shadows in time, tp_light_day_*
+ * interpolate horizons instead.
  *
  * tp_shadow_compute is one sweep over the grid from the sun's side (O(samples *
  * TP_SHADOW_EXACT_LINES); docs/light.md has the timings beside a per-sample ray cast's), exact
@@ -1418,7 +1419,8 @@ int tp_patch_texture_level(double distance_m, double focal_px, double texel_m, i
 #define TP_SHADOW_SHADOWED 0
 /* A ray's ground is taken exactly over the first this many grid lines it crosses (at each
  * crossing and halfway between two), the shadow volume carried from beyond interpolated only
- * there: 8 keeps the agreement with the ray cast >= 99.3% on Mt Hood and N42E001 (1: 98.5%). */
+ * there: 8 keeps the agreement with the ray cast >= 99.3% on Mt Hood and N42E001 (a plain sweep
+ * interpolating at every line, without the halfway points: 98.5%). */
 #define TP_SHADOW_EXACT_LINES 8
 
 /* Writes into lit (out_count >= width * height bytes, or NULL) TP_SHADOW_LIT or
@@ -1429,7 +1431,7 @@ int tp_patch_texture_level(double distance_m, double focal_px, double texel_m, i
  * (elevation_deg = 90): every valid sample lit, margins +INFINITY. Fails (outputs untouched)
  * with TP_ERR_INVALID_ARG for height_count != width * height or a grid below 1x1, spacings not
  * finite and > 0, a non-finite azimuth (any finite value is taken modulo 360) or an elevation
- * outside -90 .. 90; TP_ERR_OUT_OF_MEMORY (4 doubles and 2 bytes per post of a line of scratch).
+ * outside -90 .. 90; TP_ERR_OUT_OF_MEMORY (three floats per sample of scratch).
  * Reentrant. */
 tp_status tp_shadow_compute(const float* heights, size_t height_count, int width, int height,
                             double dx_m, double dy_m, double azimuth_deg, double elevation_deg,

@@ -47,26 +47,6 @@ typedef struct lines {
 
 static double lerp(double a, double b, double f) { return a + (b - a) * f; }
 
-/* Where a ray meets line `line` at position y: the post a and the fraction f towards a + 1
- * (f = 0 at a post). 0 when y is off the line (or between its last post and the edge). */
-static int locate(const lines* g, double y, int* a, double* f)
-{
-    const double a_f = floor(y);
-    if (a_f < -1.0 || a_f >= g->npos)
-        return 0;
-    *a = (int)a_f;
-    *f = y - a_f;
-    if (*f > 1.0 - AT_POST) {
-        ++*a;
-        *f = 0.0;
-    }
-    if (*f < AT_POST) {
-        *f = 0.0;
-        return *a >= 0 && *a < g->npos;
-    }
-    return *a >= 0 && *a + 1 < g->npos;
-}
-
 static size_t at(const lines* g, int line, int pos)
 {
     return (size_t)line * g->line_stride + (size_t)pos * g->pos_stride;
@@ -79,16 +59,13 @@ static double ground(const lines* g, int line, int a, double f)
     return f == 0.0 ? za : lerp(za, g->z[at(g, line, a + 1)], f);
 }
 
-/* The bilinear ground halfway between lines `line` and `line - toward` at position y (the
- * middle of a ray's run across a cell, where a ridge along the other diagonal stands highest);
- * NaN off the grid or in a cell with a void corner. */
-static double ground_between(const lines* g, int line, int toward, double y)
+/* The bilinear ground halfway between lines `line` and `line - toward` at position a + f (0 <=
+ * f < 1; the middle of a ray's run across a cell, where a ridge along the other diagonal stands
+ * highest); NaN off the grid or in a cell with a void corner. */
+static double ground_between(const lines* g, int line, int toward, int a, double f)
 {
-    const double a_f = floor(y);
-    if (a_f < 0.0 || a_f > g->npos - 1)
+    if (a < 0 || a > g->npos - 1)
         return NAN;
-    int a = (int)a_f;
-    double f = y - a_f;
     if (a == g->npos - 1) {
         if (f > 0.0)
             return NAN;
@@ -194,6 +171,24 @@ tp_status tp__shadow_sweep(const float* heights, size_t height_count, int width,
         return tp_error_set(err, TP_ERR_OUT_OF_MEMORY, "shadow: out of memory for a %dx%d grid",
                             width, height);
     }
+    /* Where the ray from post p meets the j-th line: post p + da[j] and the fraction fa[j]
+     * toward the next (0 at a post, within AT_POST of one); halfway to it: p + dm[j], fm[j].
+     * The same for every p, offset being constant. */
+    int da[SHADOW_EXACT_LINES + 1], dm[SHADOW_EXACT_LINES + 1];
+    double fa[SHADOW_EXACT_LINES + 1], fm[SHADOW_EXACT_LINES + 1];
+    for (int j = 1; j <= SHADOW_EXACT_LINES; ++j) {
+        const double y = j * offset, ym = (j - 0.5) * offset;
+        da[j] = (int)floor(y);
+        fa[j] = y - floor(y);
+        if (fa[j] > 1.0 - AT_POST) {
+            da[j] += 1;
+            fa[j] = 0.0;
+        } else if (fa[j] < AT_POST) {
+            fa[j] = 0.0;
+        }
+        dm[j] = (int)floor(ym);
+        fm[j] = ym - floor(ym);
+    }
     const int first = toward > 0 ? g.nlines - 1 : 0;
     for (int k = 0; k < g.nlines; ++k) {
         const int line = first - k * toward;
@@ -203,17 +198,18 @@ tp_status tp__shadow_sweep(const float* heights, size_t height_count, int width,
             double s = -INFINITY, sd = 0.0; /* shadow height, distance to what makes it */
             for (int j = 1; j <= SHADOW_EXACT_LINES; ++j) {
                 const int lj = line + j * toward;
-                int a;
-                double f;
-                if (lj < 0 || lj >= g.nlines || !locate(&g, p + j * offset, &a, &f))
-                    break;
+                const int a = p + da[j];
+                const double f = fa[j];
+                if (lj < 0 || lj >= g.nlines || a < 0 || a >= g.npos ||
+                    (f > 0.0 && a + 1 >= g.npos))
+                    break; /* off the grid: nothing further */
                 const double d = j * rise;
                 const double gr = ground(&g, lj, a, f);
                 if (gr - d > s) {
                     s = gr - d;
                     sd = j * run;
                 }
-                const double mid = ground_between(&g, lj, toward, p + (j - 0.5) * offset);
+                const double mid = ground_between(&g, lj, toward, p + dm[j], fm[j]);
                 if (mid - (d - 0.5 * rise) > s) {
                     s = mid - (d - 0.5 * rise);
                     sd = (j - 0.5) * run;

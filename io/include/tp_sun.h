@@ -8,11 +8,11 @@
  * the apparent sidereal time), Delta T (ln_get_jde), refraction (ln_get_refraction_adj) and
  * rise/set/transit (ln_get_body_next_rst_horizon). Two corrections are ours, for errors of
  * libnova 0.16's ln_get_solar_equ_coords: it leaves the VSOP87 longitude on the ecliptic and
- * equinox of J2000 (0.10 degree off in 1992, 0.37 degree in 2026: the "0.39 degree" of
+ * equinox of J2000 (0.10 degree of RA off in 1992, 0.40 on 2026-06-21: the "0.39 degree" of
  * Stellarium issue 672), so we add the general precession in longitude
  * p = 5029.0966" T + 1.11113" T^2 (Meeus, Astronomical Algorithms, 2nd ed., eq. 21.5; T in
  * Julian centuries of TD from J2000); and it takes the Earth's heliocentric latitude B as the
- * sun's geocentric one, whose sign is the opposite (up to 1.4" of declination). Nutation and
+ * sun's geocentric one, whose sign is the opposite (1.3" of declination in 1992). Nutation and
  * aberration (-20.4898" / R) are added as libnova does, and the horizontal position uses the
  * apparent sidereal time (ln_get_hrz_from_equ would use the mean one). tests/test_sun.c checks
  * the result against Meeus' examples 25.a and 25.b and the NREL SPA worked example (Reda &
@@ -64,9 +64,11 @@ typedef struct tp_sun_pos {
 tp_status tp_sun_position(double lat_deg, double lon_deg, double unix_utc_s, tp_sun_pos* out,
                           tp_error* err);
 
-/* The atmospheric refraction (degrees, >= 0 above the horizon) that lifts a body at geometric
- * elevation_deg, at pressure_mbar and temperature_c (libnova's ln_get_refraction_adj: Meeus'
- * eq. 16.4, Saemundsson's formula). Cannot fail; NaN in, NaN out. */
+/* The atmospheric refraction (degrees, >= 0) that lifts a body at geometric elevation_deg, at
+ * pressure_mbar and temperature_c: libnova's ln_get_refraction_adj (Meeus' eq. 16.4,
+ * Saemundsson's formula) from -1 degree up; below, where that formula turns over (it gives
+ * 0.91 at -2 and -0.09 at -6 degrees), its value at -1 degree faded linearly to 0 at -5 degrees
+ * and 0 below. Cannot fail; NaN in, NaN out. */
 double tp_sun_refraction_deg(double elevation_deg, double pressure_mbar, double temperature_c);
 
 /* What the sun does on one day at a place. */

@@ -84,7 +84,12 @@ extern "C" double tp_sun_refraction_deg(double elevation_deg, double pressure_mb
 {
     if (std::isnan(elevation_deg) || std::isnan(pressure_mbar) || std::isnan(temperature_c))
         return NAN;
-    return ln_get_refraction_adj(elevation_deg, pressure_mbar, temperature_c);
+    if (elevation_deg >= -1.0)
+        return ln_get_refraction_adj(elevation_deg, pressure_mbar, temperature_c);
+    /* the formula turns over below about -1.5 degrees: faded out linearly to 0 at -5 */
+    if (elevation_deg <= -5.0)
+        return 0.0;
+    return ln_get_refraction_adj(-1.0, pressure_mbar, temperature_c) * (elevation_deg + 5.0) / 4.0;
 }
 
 extern "C" tp_status tp_sun_position(double lat_deg, double lon_deg, double unix_utc_s,
