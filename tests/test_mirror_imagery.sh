@@ -6,7 +6,8 @@
 #            extent are the DEM's (gdalinfo); pixels of the first copy are the image's, the
 #            second copy (across the seam) its mirror image, the copy below mirrored top-bottom;
 #            --keep-alpha keeps 4 bands; usage errors exit 2 and write nothing
-#   build    `build --imagery` writes NAME.tpt and NAME.tpi (its --json: levels, blocks);
+#   build    `build --imagery` writes NAME.tpt and NAME.tpi, which `info` describes (and
+#            names beside the store);
 #            `imagery` of the store and the mirror at --texel-shift -1 agrees with the sizes
 #            the grid gives; a missing image fails before the store is built, leaving nothing
 set -u
@@ -54,6 +55,10 @@ mirror)
 build)
     "$TP" build --quiet "$DEM" -o c.tpt --imagery "$IMG" --json b.json > out 2> err || fail "build --imagery"
     [ -s c.tpt ] && [ -s c.tpi ] || fail "no c.tpt or c.tpi"
+    "$TP" info c.tpi > out 2> err || fail "info c.tpi"
+    grep -q '^checked: .* 0 damaged' out && grep -q '^level 0 ' out || fail "info c.tpi says"
+    "$TP" info c.tpt > out 2> err || fail "info c.tpt"
+    grep -q '^imagery: .*c.tpi' out || fail "info c.tpt does not name c.tpi"
     python3 "$TOOL" 1716 m --like "$DEM" > out 2> err || fail "the tool failed"
     "$TP" imagery --quiet --texel-shift -1 --json i.json c.tpt m/imagery_1716.vrt -o half.tpi > out 2> err ||
         fail "imagery"
