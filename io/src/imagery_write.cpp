@@ -26,9 +26,11 @@
 
 #include <algorithm>
 #include <atomic>
+#include <condition_variable>
 #include <cinttypes>
 #include <cmath>
 #include <memory>
+#include <mutex>
 #include <string>
 #include <thread>
 #include <vector>
@@ -291,11 +293,12 @@ tp_status finish_row(Build& b, int l, int row, tp_error* err)
     return TP_OK;
 }
 
-/* Warps every source overlapping it onto level 0's block row `row` (b.level[0]). */
-tp_status warp_row(Build& b, std::vector<Source>& sources, const OGRSpatialReference* srs,
-                   int row, double warp_mb, tp_error* err)
+/* Warps every source overlapping it onto level 0's block row `row`, into buf (a block row of
+ * level 0); warp_threads for GDAL's kernel. */
+tp_status warp_row(const Build& b, std::vector<Source>& sources, const OGRSpatialReference* srs,
+                   int row, double warp_mb, int warp_threads, std::vector<uint8_t>& buf,
+                   tp_error* err)
 {
-    std::vector<uint8_t>& buf = b.level[0];
     std::fill(buf.begin(), buf.end(), 0);
     const int w = (int)b.g.width[0];
     const int rows = (int)std::min<int64_t>(BLOCK, b.g.height[0] - (int64_t)row * BLOCK);
@@ -329,7 +332,7 @@ tp_status warp_row(Build& b, std::vector<Source>& sources, const OGRSpatialRefer
     dst->SetGeoTransform(gt);
     if (srs)
         dst->SetSpatialRef(srs);
-    const std::string threads = "NUM_THREADS=" + std::to_string(b.threads);
+    const std::string threads = "NUM_THREADS=" + std::to_string(warp_threads);
     const std::string wm = std::to_string(std::max(16.0, warp_mb));
     for (Source& s : sources) {
         if (!overlaps(s.extent, strip))
@@ -353,6 +356,87 @@ tp_status warp_row(Build& b, std::vector<Source>& sources, const OGRSpatialRefer
             buf[k - 3] = buf[k - 2] = buf[k - 1] = 0;
     return TP_OK;
 }
+
+/* Level 0's block rows warped by `workers` threads, each with its own view of the sources (a
+ * GDAL dataset is used by one thread at a time), into `slots` buffers: at most that many rows
+ * ahead of the building thread, which takes them in order (take). */
+struct Warps {
+    const Build* b = nullptr;
+    const OGRSpatialReference* srs = nullptr;
+    double warp_mb = 0;
+    int warp_threads = 1;
+    std::vector<std::vector<Source>>* views = nullptr;
+    std::vector<std::vector<uint8_t>> slot;
+    std::vector<char> ready;
+    int next = 0, consumed = 0;
+    bool stop = false;
+    tp_status status = TP_OK;
+    tp_error err{};
+    std::mutex m;
+    std::condition_variable cv;
+    std::vector<std::thread> pool;
+
+    void work(int k)
+    {
+        const int slots = (int)slot.size();
+        for (;;) {
+            std::unique_lock<std::mutex> lock(m);
+            const int row = next++;
+            if (row >= b->g.rows[0])
+                return;
+            cv.wait(lock, [&] { return stop || row < consumed + slots; });
+            if (stop)
+                return;
+            lock.unlock();
+            tp_error e{};
+            tp_status st = TP_OK;
+            try {
+                st = warp_row(*b, (*views)[(size_t)k], srs, row, warp_mb, warp_threads,
+                              slot[(size_t)(row % slots)], &e);
+            } catch (...) {
+                st = tpio::caught(&e, b->path);
+            }
+            lock.lock();
+            if (st != TP_OK && status == TP_OK)
+                status = st, err = e, stop = true;
+            ready[(size_t)(row % slots)] = 1;
+            cv.notify_all();
+        }
+    }
+    void start(int workers, size_t slot_bytes)
+    {
+        slot.assign((size_t)workers + 1, std::vector<uint8_t>(slot_bytes));
+        ready.assign(slot.size(), 0);
+        for (int k = 0; k < workers; ++k)
+            pool.emplace_back(&Warps::work, this, k);
+    }
+    /* Swaps row's texels into buf (a level-0 block row); a warp's failure otherwise. */
+    tp_status take(int row, std::vector<uint8_t>& buf, tp_error* out)
+    {
+        std::unique_lock<std::mutex> lock(m);
+        const size_t k = (size_t)(row % (int)slot.size());
+        cv.wait(lock, [&] { return stop || ready[k]; });
+        if (status != TP_OK) {
+            *out = err;
+            return status;
+        }
+        buf.swap(slot[k]);
+        ready[k] = 0;
+        consumed = row + 1;
+        cv.notify_all();
+        return TP_OK;
+    }
+    ~Warps()
+    {
+        {
+            std::lock_guard<std::mutex> lock(m);
+            stop = true;
+        }
+        cv.notify_all();
+        for (std::thread& t : pool)
+            t.join();
+    }
+};
 
 tp_status build(const char* const* paths, int count, const tp_imagery_target* t,
                 const tp_imagery_build_options* o, const char* out_path, tp_error* err)
@@ -408,7 +492,10 @@ tp_status build(const char* const* paths, int count, const tp_imagery_target* t,
     const double thread_bytes =
         (double)threads * (2.0 * BLOCK_BYTES + ZSTD_compressBound(BLOCK_BYTES) + 4 * max_block_bytes()) +
         threads * 1.5e6 /* zstd contexts */;
-    const double need = rows_bytes + thread_bytes;
+    /* level-0 warps in parallel, each into its own block row (and one more waiting) */
+    const int workers = std::max(1, std::min(threads, b.g.rows[0]));
+    const double slot_bytes = (double)b.g.cols[0] * BLOCK * BLOCK * 4;
+    const double need = rows_bytes + thread_bytes + (workers + 1) * slot_bytes;
     if (need > 0.6 * budget)
         return fail(err, TP_ERR_OUT_OF_MEMORY,
                     "%s: a %" PRId64 "x%" PRId64 " level 0 needs %.0f MB for one block row of every "
@@ -417,7 +504,7 @@ tp_status build(const char* const* paths, int count, const tp_imagery_target* t,
                     out_path, b.g.width[0], b.g.height[0], need / 1048576.0, threads,
                     budget / 1048576.0, std::ceil(need / 0.6 / 1048576.0));
     GDALSetCacheMax64((GIntBig)(budget * 0.2));
-    const double warp_mb = std::min(512.0, budget * 0.15 / 1048576.0);
+    const double warp_mb = std::min(512.0, budget * 0.15 / 1048576.0) / workers;
 
     /* Notes: the sources and the decisions */
     char line[512];
@@ -467,8 +554,28 @@ tp_status build(const char* const* paths, int count, const tp_imagery_target* t,
     if (st == TP_OK)
         st = tpio::file_reserve(b.file, b.data_offset - head.size(), err);
     b.offset = b.data_offset;
+    /* each warping thread's own view of the sources: the first the ones opened above */
+    std::vector<std::vector<Source>> views((size_t)workers);
+    views[0] = std::move(sources);
+    for (int k = 1; k < workers && st == TP_OK; ++k) {
+        views[(size_t)k].resize((size_t)count);
+        for (int i = 0; i < count && st == TP_OK; ++i) {
+            Source& v = views[(size_t)k][(size_t)i];
+            st = open_source(paths[i], t, &v, err);
+            v.resampling = views[0][(size_t)i].resampling;
+            v.error = views[0][(size_t)i].error;
+        }
+    }
+    Warps warps;
+    warps.b = &b;
+    warps.srs = has_srs ? &srs : nullptr;
+    warps.warp_mb = warp_mb;
+    warps.warp_threads = std::max(1, threads / workers);
+    warps.views = &views;
+    if (st == TP_OK)
+        warps.start(workers, (size_t)slot_bytes);
     for (int row = 0; row < b.g.rows[0] && st == TP_OK; ++row) {
-        st = warp_row(b, sources, has_srs ? &srs : nullptr, row, warp_mb, err);
+        st = warps.take(row, b.level[0], err);
         if (st == TP_OK)
             st = finish_row(b, 0, row, err);
         if (st == TP_OK && tp_interrupted())
