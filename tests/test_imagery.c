@@ -7,7 +7,8 @@
  * craterlake imagery over its DEM's render grid matches the source pixel found the same way.
  * Pyramid: every level is the alpha-weighted 2x2 mean of the one below (recomputed here from
  * the documented rule), sizes that are not multiples of the block, shifts from -3 to 3, empty
- * blocks, a mosaic of two sources (the later one on top where it has alpha). Damage: a flipped
+ * blocks, a mosaic of two sources (the later one on top where it has alpha), the same bytes
+ * from one thread or three, a memory budget too small refused up front. Damage: a flipped
  * byte in a block (that block only, named), in the header or the table, files cut short, a
  * newer version, another file type; bad sources and outputs leave no file. The damage tests
  * read the file with their own parser of docs/imagery.md's layout and their own CRC32.
@@ -36,6 +37,7 @@
 /* ---------------------------------------------------------------------------------------------
  * Helpers
  */
+static uint8_t* slurp(const char* path, size_t* size);
 
 /* A UTM zone 10N grid near Crater Lake: w x h pixels of px metres from (e0, n0), north up. */
 static tp_imagery_target utm_target(int w, int h, double px, double e0, double n0, char* wkt_buf,
@@ -522,6 +524,44 @@ TEST(shift_or_size_out_of_range_refused)
     EXPECT_STATUS(TP_ERR_INVALID_ARG, tp_imagery_build(src, 1, &t, &o, out, &err));
     EXPECT_CONTAINS(err.message, "2^31");
     EXPECT_TRUE(access(out, F_OK) != 0);
+    /* 4000 posts at 2^6 texels each: a block row of level 0 alone is 1000 blocks, 256 MB */
+    t.width = 4000;
+    t.geotransform[1] = 2.5, t.geotransform[5] = -2.5;
+    o.texel_shift = 6;
+    o.memory_bytes = 64.0 * 1024 * 1024;
+    EXPECT_STATUS(TP_ERR_OUT_OF_MEMORY, tp_imagery_build(src, 1, &t, &o, out, &err));
+    EXPECT_CONTAINS(err.message, "give");
+    EXPECT_TRUE(access(out, F_OK) != 0);
+}
+
+/* The warps of level 0's block rows run on several threads: the file is the same. */
+TEST(same_bytes_whatever_the_threads)
+{
+    const char* dir = make_tmp_dir();
+    char wkt[4096], tif[600], out[2][600];
+    const tp_imagery_target t = utm_target(300, 200, 200.0, 540000.0, 4780000.0, wkt, sizeof wkt);
+    double lon0, lat0;
+    utm_to_lonlat(wkt, 535000.0, 4785000.0, &lon0, &lat0);
+    const double gt[6] = {lon0, 0.002, 0, lat0, 0, -0.002};
+    const markers m = {{100, 300}, {50, 150}};
+    snprintf(tif, sizeof tif, "%s/m.tif", dir);
+    write_tif(tif, 400, 300, gt, 3, marker_pixel, (void*)&m);
+    const char* src[1] = {tif};
+    for (int k = 0; k < 2; k++) {
+        tp_error err = {0};
+        tp_imagery_build_options o = {0};
+        o.texel_shift = 2; /* 1200 x 800 texels: 4 block rows */
+        o.threads = k == 0 ? 1 : 3;
+        snprintf(out[k], sizeof out[k], "%s/t%d.tpi", dir, k);
+        ASSERT_OK(tp_imagery_build(src, 1, &t, &o, out[k], &err));
+    }
+    size_t n0, n1;
+    uint8_t* a = slurp(out[0], &n0);
+    uint8_t* b = slurp(out[1], &n1);
+    EXPECT_EQ_INT(n0, n1);
+    EXPECT_TRUE(n0 == n1 && memcmp(a, b, n0) == 0);
+    free(a);
+    free(b);
 }
 
 /* ---------------------------------------------------------------------------------------------
@@ -814,6 +854,7 @@ TEST(bad_sources_and_outputs_leave_no_file)
     X(levels_are_alpha_weighted_2x2_means)                                                         \
     X(sizes_shifts_and_empty_blocks)                                                               \
     X(shift_or_size_out_of_range_refused)                                                          \
+    X(same_bytes_whatever_the_threads)                                                             \
     X(later_source_drawn_over_earlier)                                                             \
     X(flipped_block_byte_fails_that_block_only)                                                    \
     X(damaged_header_table_or_footer_refused)                                                      \
