@@ -109,9 +109,8 @@ int tp_info_imagery(const char* path, int json)
                "post of the %d x %d grid)\n",
                (long long)info.width, (long long)info.height, texel, info.texel_shift,
                info.texel_shift, info.grid_width, info.grid_height);
-        printf("blocks:         %d x %d texels, %lld in %d levels, %llu with imagery\n",
-               info.block, info.block, blocks, info.levels,
-               (unsigned long long)info.nonempty_blocks);
+        printf("blocks:         %d x %d texels, %lld in %d levels, %llu with imagery\n", info.block,
+               info.block, blocks, info.levels, (unsigned long long)info.nonempty_blocks);
         for (int l = 0; l < info.levels; l++)
             printf("level %-2d        %lld x %lld texels of %.4g m, %d x %d blocks, %lld with "
                    "imagery\n",

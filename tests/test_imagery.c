@@ -113,17 +113,16 @@ static uint8_t* read_level(const tp_imagery* im, int l, int64_t* w, int64_t* h)
                     if (u < *w && v < *h)
                         memcpy(img + ((size_t)v * *w + u) * 4, s, 4);
                     else if (s[3] != 0) /* beyond the level: transparent */
-                        ADD_FAILURE("level %d texel (%lld, %lld) beyond %lldx%lld has alpha %d",
-                                    l, (long long)u, (long long)v, (long long)*w, (long long)*h,
-                                    s[3]);
+                        ADD_FAILURE("level %d texel (%lld, %lld) beyond %lldx%lld has alpha %d", l,
+                                    (long long)u, (long long)v, (long long)*w, (long long)*h, s[3]);
                 }
         }
     free(blk);
     return img;
 }
 
-static tp_imagery* build_open(const char* const* src, int n, const tp_imagery_target* t,
-                              int shift, const char* out)
+static tp_imagery* build_open(const char* const* src, int n, const tp_imagery_target* t, int shift,
+                              const char* out)
 {
     tp_error err = {0};
     tp_imagery_build_options o = {0};
@@ -195,7 +194,7 @@ static void marker_case(int shift)
     EXPECT_EQ_INT(shift, info.texel_shift);
     /* level 0's geotransform: the grid's with pixels 2^shift times smaller */
     const double f = ldexp(1.0, -shift);
-    double g0[6] = {t.geotransform[0], t.geotransform[1] * f, 0, t.geotransform[3], 0,
+    double g0[6] = {t.geotransform[0],    t.geotransform[1] * f, 0, t.geotransform[3], 0,
                     t.geotransform[5] * f};
     for (int i = 0; i < 6; i++)
         EXPECT_EQ_DBL(g0[i], info.geotransform[i]);
@@ -204,7 +203,8 @@ static void marker_case(int shift)
     for (int k = 0; k < 2; k++) {
         /* the marker pixel's centre in degrees, then in UTM by PROJ, then in texels */
         const double lon = gt[0] + (m.mx[k] + 0.5) * d, lat = gt[3] - (m.my[k] + 0.5) * d;
-        OGRSpatialReferenceH s4326 = OSRNewSpatialReference(NULL), sutm = OSRNewSpatialReference(wkt);
+        OGRSpatialReferenceH s4326 = OSRNewSpatialReference(NULL),
+                             sutm = OSRNewSpatialReference(wkt);
         OSRImportFromEPSG(s4326, 4326);
         OSRSetAxisMappingStrategy(s4326, OAMS_TRADITIONAL_GIS_ORDER);
         OSRSetAxisMappingStrategy(sutm, OAMS_TRADITIONAL_GIS_ORDER);
@@ -226,9 +226,18 @@ static void marker_case(int shift)
     tp_imagery_close(im);
 }
 
-TEST(marker_lands_on_its_texel_shift_0) { marker_case(0); }
-TEST(marker_lands_on_its_texel_shift_2) { marker_case(2); }
-TEST(marker_lands_on_its_texel_shift_minus_1) { marker_case(-1); }
+TEST(marker_lands_on_its_texel_shift_0)
+{
+    marker_case(0);
+}
+TEST(marker_lands_on_its_texel_shift_2)
+{
+    marker_case(2);
+}
+TEST(marker_lands_on_its_texel_shift_minus_1)
+{
+    marker_case(-1);
+}
 
 /* ---------------------------------------------------------------------------------------------
  * Real imagery over its DEM's render grid
@@ -291,7 +300,8 @@ TEST(real_imagery_matches_its_source_pixels)
         ASSERT_TRUE(GDALRasterIO(GDALGetRasterBand(ds, c + 1), GF_Read, 0, 0, sw, sh, px + c, sw,
                                  sh, GDT_Byte, 4, sw * 4) == CE_None);
     GDALClose(ds);
-    OGRSpatialReferenceH sutm = OSRNewSpatialReference(s.t.crs_wkt), s4326 = OSRNewSpatialReference(NULL);
+    OGRSpatialReferenceH sutm = OSRNewSpatialReference(s.t.crs_wkt),
+                         s4326 = OSRNewSpatialReference(NULL);
     OSRImportFromEPSG(s4326, 4326);
     OSRSetAxisMappingStrategy(s4326, OAMS_TRADITIONAL_GIS_ORDER);
     OSRSetAxisMappingStrategy(sutm, OAMS_TRADITIONAL_GIS_ORDER);
@@ -328,8 +338,8 @@ TEST(real_imagery_matches_its_source_pixels)
                 EXPECT_EQ_INT(0, t[3]);
             }
         }
-    tp_test_note("%zu texels checked: %zu under opaque source pixels, %zu under transparent", checked,
-                 opaque, clear);
+    tp_test_note("%zu texels checked: %zu under opaque source pixels, %zu under transparent",
+                 checked, opaque, clear);
     EXPECT_GT(opaque, 10000);
     EXPECT_GT(clear, 1000);
     OCTDestroyCoordinateTransformation(ct);
@@ -411,16 +421,16 @@ static void solid_pixel(int x, int y, uint8_t* p, void* user)
 
 /* An opaque image of colour rgba over UTM box (e0, n0)..(e1, n1) (approximately: its
  * geographic bounding box). */
-static void write_box(const char* path, const char* wkt, double e0, double n0, double e1,
-                      double n1, const uint8_t rgba[4])
+static void write_box(const char* path, const char* wkt, double e0, double n0, double e1, double n1,
+                      const uint8_t rgba[4])
 {
     double lon0, lat0, lon1, lat1;
     utm_to_lonlat(wkt, e0, n0, &lon0, &lat0);
     utm_to_lonlat(wkt, e1, n1, &lon1, &lat1);
     const double d = 0.001;
     const double gt[6] = {lon0, d, 0, lat0, 0, -d};
-    write_tif(path, (int)ceil((lon1 - lon0) / d), (int)ceil((lat0 - lat1) / d), gt, 4,
-              solid_pixel, (void*)rgba);
+    write_tif(path, (int)ceil((lon1 - lon0) / d), (int)ceil((lat0 - lat1) / d), gt, 4, solid_pixel,
+              (void*)rgba);
 }
 
 TEST(sizes_shifts_and_empty_blocks)
@@ -586,8 +596,8 @@ TEST(later_source_drawn_over_earlier)
     snprintf(a, sizeof a, "%s/red.tif", dir);
     snprintf(b, sizeof b, "%s/blue.tif", dir);
     snprintf(c, sizeof c, "%s/striped.tif", dir);
-    write_box(a, wkt, 538000.0, 4782000.0, 552000.0, 4768000.0, red);   /* west */
-    write_box(b, wkt, 546000.0, 4782000.0, 562000.0, 4768000.0, blue);  /* overlaps 546..552 */
+    write_box(a, wkt, 538000.0, 4782000.0, 552000.0, 4768000.0, red);  /* west */
+    write_box(b, wkt, 546000.0, 4782000.0, 562000.0, 4768000.0, blue); /* overlaps 546..552 */
     const uint8_t green[4] = {0, 250, 0, 255};
     double lon0, lat0;
     utm_to_lonlat(wkt, 538000.0, 4782000.0, &lon0, &lat0);
@@ -646,7 +656,10 @@ static uint32_t le32(const uint8_t* p)
 {
     return (uint32_t)p[0] | (uint32_t)p[1] << 8 | (uint32_t)p[2] << 16 | (uint32_t)p[3] << 24;
 }
-static uint64_t le64(const uint8_t* p) { return le32(p) | (uint64_t)le32(p + 4) << 32; }
+static uint64_t le64(const uint8_t* p)
+{
+    return le32(p) | (uint64_t)le32(p + 4) << 32;
+}
 static void put32(uint8_t* p, uint32_t v)
 {
     for (int i = 0; i < 4; i++)
@@ -740,8 +753,10 @@ TEST(damaged_header_table_or_footer_refused)
     const struct {
         size_t at;
         const char* says;
-    } cases[] = {{40, "damaged header"}, {(size_t)table + 5, "damaged block table"},
-                 {size - 40 + 3, "damaged footer"}, {size - 3, "truncated or damaged"}};
+    } cases[] = {{40, "damaged header"},
+                 {(size_t)table + 5, "damaged block table"},
+                 {size - 40 + 3, "damaged footer"},
+                 {size - 3, "truncated or damaged"}};
     for (size_t k = 0; k < sizeof cases / sizeof cases[0]; k++) {
         d[cases[k].at] ^= 0x10;
         spill(bad, d, size);

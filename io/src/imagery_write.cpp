@@ -26,9 +26,9 @@
 
 #include <algorithm>
 #include <atomic>
-#include <condition_variable>
 #include <cinttypes>
 #include <cmath>
+#include <condition_variable>
 #include <memory>
 #include <mutex>
 #include <string>
@@ -45,10 +45,10 @@ constexpr int ZSTD_LEVEL = 1; /* docs/imagery.md: measured */
 struct Source {
     std::string path;
     tpio::Dataset ds, expanded, rgba;
-    double res = 0;            /* its pixel size on the render grid (render CRS units) */
-    double extent[4] = {0};    /* its bounds in the render CRS: xmin, ymin, xmax, ymax */
+    double res = 0;         /* its pixel size on the render grid (render CRS units) */
+    double extent[4] = {0}; /* its bounds in the render CRS: xmin, ymin, xmax, ymax */
     std::string resampling;
-    bool alpha = true;       /* its RGBA view has an alpha band (else it is opaque: RGB) */
+    bool alpha = true; /* its RGBA view has an alpha band (else it is opaque: RGB) */
     std::string error; /* GDAL's -et: its approximate transformer's error, in source pixels */
 };
 
@@ -75,8 +75,8 @@ tp_status open_source(const char* path, const tp_imagery_target* t, Source* s, t
     s->path = path;
     if (tp_status st = tpio::check_input_file(path, "a raster", true, err))
         return st;
-    s->ds.reset(GDALDataset::FromHandle(
-        GDALOpenEx(path, GDAL_OF_RASTER, nullptr, nullptr, nullptr)));
+    s->ds.reset(
+        GDALDataset::FromHandle(GDALOpenEx(path, GDAL_OF_RASTER, nullptr, nullptr, nullptr)));
     if (!s->ds)
         return fail(err, TP_ERR_IO, "%s: cannot open: %s", path, tpio::gdal_message().c_str());
     GDALDataset* src = s->ds.get();
@@ -120,9 +120,9 @@ tp_status open_source(const char* path, const tp_imagery_target* t, Source* s, t
                     tpio::gdal_message().c_str());
     double ogt[6];
     int px = 0, py = 0;
-    const CPLErr e = GDALSuggestedWarpOutput2(GDALDataset::ToHandle(s->rgba.get()),
-                                              GDALGenImgProjTransform, tr, ogt, &px, &py,
-                                              s->extent, 0);
+    const CPLErr e =
+        GDALSuggestedWarpOutput2(GDALDataset::ToHandle(s->rgba.get()), GDALGenImgProjTransform, tr,
+                                 ogt, &px, &py, s->extent, 0);
     GDALDestroyGenImgProjTransformer(tr);
     if (e != CE_None || px < 1 || py < 1)
         return fail(err, TP_ERR_BAD_DATA, "%s: cannot be transformed to the grid's CRS: %s", path,
@@ -208,10 +208,10 @@ tp_status write_row(Build& b, int l, int row, tp_error* err)
                 const int bx = c0 + k;
                 uint8_t* g = b.gather[t].data();
                 for (int y = 0; y < BLOCK; ++y)
-                    std::memcpy(g + (size_t)y * BLOCK * 4, buf + y * stride + (size_t)bx * BLOCK * 4,
-                                (size_t)BLOCK * 4);
-                b.chunk_codec[k] = encode_block(g, ZSTD_LEVEL, b.cctx[t], &b.scratch[t],
-                                                &b.packed[t]);
+                    std::memcpy(g + (size_t)y * BLOCK * 4,
+                                buf + y * stride + (size_t)bx * BLOCK * 4, (size_t)BLOCK * 4);
+                b.chunk_codec[k] =
+                    encode_block(g, ZSTD_LEVEL, b.cctx[t], &b.scratch[t], &b.packed[t]);
                 b.chunk_out[k].assign(b.packed[t].begin(), b.packed[t].end());
             }
         };
@@ -337,9 +337,17 @@ tp_status warp_row(const Build& b, std::vector<Source>& sources, const OGRSpatia
     for (Source& s : sources) {
         if (!overlaps(s.extent, strip))
             continue;
-        const char* args[] = {"-dstalpha", "-r", s.resampling.c_str(), "-wo", threads.c_str(),
-                              "-wm", wm.c_str(), "-et", s.error.c_str(),
-                              s.alpha ? "-srcalpha" : "-nosrcalpha", nullptr};
+        const char* args[] = {"-dstalpha",
+                              "-r",
+                              s.resampling.c_str(),
+                              "-wo",
+                              threads.c_str(),
+                              "-wm",
+                              wm.c_str(),
+                              "-et",
+                              s.error.c_str(),
+                              s.alpha ? "-srcalpha" : "-nosrcalpha",
+                              nullptr};
         GDALWarpAppOptions* wo = GDALWarpAppOptionsNew(const_cast<char**>(args), nullptr);
         GDALDatasetH in = GDALDataset::ToHandle(s.rgba.get());
         int usage = 0;
@@ -490,7 +498,8 @@ tp_status build(const char* const* paths, int count, const tp_imagery_target* t,
     for (int l = 0; l < b.g.levels; ++l)
         rows_bytes += (double)b.g.cols[l] * BLOCK * BLOCK * 4;
     const double thread_bytes =
-        (double)threads * (2.0 * BLOCK_BYTES + ZSTD_compressBound(BLOCK_BYTES) + 4 * max_block_bytes()) +
+        (double)threads *
+            (2.0 * BLOCK_BYTES + ZSTD_compressBound(BLOCK_BYTES) + 4 * max_block_bytes()) +
         threads * 1.5e6 /* zstd contexts */;
     /* level-0 warps in parallel, each into its own block row (and one more waiting) */
     const int workers = std::max(1, std::min(threads, b.g.rows[0]));
@@ -498,7 +507,8 @@ tp_status build(const char* const* paths, int count, const tp_imagery_target* t,
     const double need = rows_bytes + thread_bytes + (workers + 1) * slot_bytes;
     if (need > 0.6 * budget)
         return fail(err, TP_ERR_OUT_OF_MEMORY,
-                    "%s: a %" PRId64 "x%" PRId64 " level 0 needs %.0f MB for one block row of every "
+                    "%s: a %" PRId64 "x%" PRId64
+                    " level 0 needs %.0f MB for one block row of every "
                     "level and %d threads' buffers, over 60%% of the memory budget (%.0f MB): give "
                     "%.0f MB or more",
                     out_path, b.g.width[0], b.g.height[0], need / 1048576.0, threads,
@@ -619,20 +629,22 @@ tp_status build(const char* const* paths, int count, const tp_imagery_target* t,
 
 extern "C" tp_status tp_imagery_build(const char* const* sources, int count,
                                       const tp_imagery_target* target,
-                                      const tp_imagery_build_options* options,
-                                      const char* out_path, tp_error* err)
+                                      const tp_imagery_build_options* options, const char* out_path,
+                                      tp_error* err)
 {
     if (!sources || count < 1 || !target || !out_path)
-        return fail(err, TP_ERR_INVALID_ARG, "imagery: bad arguments (no sources, target or output)");
+        return fail(err, TP_ERR_INVALID_ARG,
+                    "imagery: bad arguments (no sources, target or output)");
     for (int i = 0; i < count; ++i)
         if (!sources[i])
             return fail(err, TP_ERR_INVALID_ARG, "imagery: bad arguments (source %d is NULL)", i);
     if (target->width < 1 || target->height < 1 || !target->crs_wkt ||
         !std::isfinite(target->geotransform[1]) || !std::isfinite(target->geotransform[5]) ||
         target->geotransform[1] * target->geotransform[5] -
-                target->geotransform[2] * target->geotransform[4] == 0)
-        return fail(err, TP_ERR_INVALID_ARG, "%s: bad render grid (%dx%d)", out_path,
-                    target->width, target->height);
+                target->geotransform[2] * target->geotransform[4] ==
+            0)
+        return fail(err, TP_ERR_INVALID_ARG, "%s: bad render grid (%dx%d)", out_path, target->width,
+                    target->height);
     tp_imagery_build_options o{};
     o.texel_shift = TP_IMAGERY_SHIFT_AUTO;
     if (options)
