@@ -8,7 +8,8 @@
  * Pyramid: every level is the alpha-weighted 2x2 mean of the one below (recomputed here from
  * the documented rule), sizes that are not multiples of the block, shifts from -3 to 3, empty
  * blocks, a mosaic of two sources (the later one on top where it has alpha), the same bytes
- * from one thread or three, a memory budget too small refused up front. Damage: a flipped
+ * from one thread or three, a memory budget too small refused up front, four threads reading
+ * one open pyramid at once. Damage: a flipped
  * byte in a block (that block only, named), in the header or the table, files cut short, a
  * newer version, another file type; bad sources and outputs leave no file. The damage tests
  * read the file with their own parser of docs/imagery.md's layout and their own CRC32.
@@ -25,6 +26,7 @@
 #include <ogr_srs_api.h>
 
 #include <math.h>
+#include <pthread.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -861,6 +863,78 @@ TEST(bad_sources_and_outputs_leave_no_file)
     closedir(dd);
 }
 
+/* Any number of threads read one open pyramid at once (pread, per-thread zstd contexts): each
+ * thread reads every block of every level many times and finds what one thread read first. */
+typedef struct reader_job {
+    const tp_imagery* im;
+    const uint8_t* expect; /* every block of every level, in table order */
+    int failures;
+} reader_job;
+
+static void* reader(void* arg)
+{
+    reader_job* j = arg;
+    tp_imagery_info info;
+    tp_imagery_get_info(j->im, &info);
+    uint8_t* blk = malloc((size_t)B * B * 4);
+    for (int round = 0; round < 8 && blk; round++) {
+        size_t k = 0;
+        for (int l = 0; l < info.levels; l++) {
+            int cols, rows;
+            tp_imagery_level_size(j->im, l, NULL, NULL, &cols, &rows);
+            for (int by = 0; by < rows; by++)
+                for (int bx = 0; bx < cols; bx++, k++) {
+                    tp_error err = {0};
+                    if (tp_imagery_read_block(j->im, l, bx, by, blk, &err) != TP_OK ||
+                        memcmp(blk, j->expect + k * B * B * 4, (size_t)B * B * 4) != 0)
+                        j->failures++;
+                }
+        }
+    }
+    free(blk);
+    return NULL;
+}
+
+TEST(threads_read_one_pyramid_at_once)
+{
+    const char* dir = make_tmp_dir();
+    char path[600];
+    small_pyramid(dir, path, sizeof path);
+    tp_imagery* im = NULL;
+    tp_error err = {0};
+    ASSERT_OK(tp_imagery_open(path, &im, &err));
+    tp_imagery_info info;
+    tp_imagery_get_info(im, &info);
+    size_t blocks = 0;
+    for (int l = 0; l < info.levels; l++) {
+        int cols, rows;
+        tp_imagery_level_size(im, l, NULL, NULL, &cols, &rows);
+        blocks += (size_t)cols * rows;
+    }
+    uint8_t* expect = malloc(blocks * B * B * 4);
+    ASSERT_TRUE(expect != NULL);
+    size_t k = 0;
+    for (int l = 0; l < info.levels; l++) {
+        int cols, rows;
+        tp_imagery_level_size(im, l, NULL, NULL, &cols, &rows);
+        for (int by = 0; by < rows; by++)
+            for (int bx = 0; bx < cols; bx++, k++)
+                ASSERT_OK(tp_imagery_read_block(im, l, bx, by, expect + k * B * B * 4, &err));
+    }
+    pthread_t t[4];
+    reader_job jobs[4];
+    for (int i = 0; i < 4; i++) {
+        jobs[i] = (reader_job){im, expect, 0};
+        ASSERT_TRUE(pthread_create(&t[i], NULL, reader, &jobs[i]) == 0);
+    }
+    for (int i = 0; i < 4; i++) {
+        pthread_join(t[i], NULL);
+        EXPECT_EQ_INT(0, jobs[i].failures);
+    }
+    free(expect);
+    tp_imagery_close(im);
+}
+
 #define TESTS(X)                                                                                   \
     X(marker_lands_on_its_texel_shift_0)                                                           \
     X(marker_lands_on_its_texel_shift_2)                                                           \
@@ -874,5 +948,6 @@ TEST(bad_sources_and_outputs_leave_no_file)
     X(flipped_block_byte_fails_that_block_only)                                                    \
     X(damaged_header_table_or_footer_refused)                                                      \
     X(truncated_files_and_other_files_refused)                                                     \
+    X(threads_read_one_pyramid_at_once)                                                            \
     X(bad_sources_and_outputs_leave_no_file)
 TP_TEST_MAIN(TESTS)
