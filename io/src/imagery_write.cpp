@@ -203,7 +203,8 @@ tp_status write_row(Build& b, int l, int row, tp_error* err)
     for (int c0 = 0; c0 < cols; c0 += chunk) {
         const int n = std::min(chunk, cols - c0);
         std::atomic<int> next{0};
-        auto work = [&](int t) {
+        std::atomic<bool> failed{false}; /* out of memory in a thread */
+        auto encode_some = [&](int t) {
             for (int k; (k = next.fetch_add(1)) < n;) {
                 const int bx = c0 + k;
                 uint8_t* g = b.gather[t].data();
@@ -215,13 +216,25 @@ tp_status write_row(Build& b, int l, int row, tp_error* err)
                 b.chunk_out[k].assign(b.packed[t].begin(), b.packed[t].end());
             }
         };
+        auto work = [&](int t) {
+            try {
+                encode_some(t);
+            } catch (...) {
+                failed = true;
+            }
+        };
         const int extra = std::min(b.threads, n) - 1;
         std::vector<std::thread> pool;
-        for (int t = 1; t <= extra; ++t)
-            pool.emplace_back(work, t);
+        try {
+            for (int t = 1; t <= extra; ++t)
+                pool.emplace_back(work, t);
+        } catch (...) { /* fewer threads: this one does the rest */
+        }
         work(0);
         for (std::thread& th : pool)
             th.join();
+        if (failed)
+            throw std::bad_alloc();
         for (int k = 0; k < n; ++k) {
             uint8_t* e = b.entries.data() + (size_t)(c0 + k) * ENTRY_BYTES;
             const std::vector<uint8_t>& out = b.chunk_out[k];
