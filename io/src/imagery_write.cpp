@@ -514,20 +514,24 @@ tp_status build(const char* const* paths, int count, const tp_imagery_target* t,
         (double)threads *
             (2.0 * BLOCK_BYTES + ZSTD_compressBound(BLOCK_BYTES) + 4 * max_block_bytes()) +
         threads * 1.5e6 /* zstd contexts */;
-    /* level-0 warps in parallel, each into its own block row (and one more waiting) */
-    const int workers = std::max(1, std::min(threads, b.g.rows[0]));
+    /* Level-0 warps in parallel, each into its own block row (and one more waiting), each with
+     * GDAL's working memory (-wm): a twentieth of the budget whatever the threads, so that the
+     * warps' chunks, and so the bytes, do not depend on them; as many warps as fit. */
+    const double warp_mb = std::max(16.0, std::min(128.0, budget * 0.05 / 1048576.0));
     const double slot_bytes = (double)b.g.cols[0] * BLOCK * BLOCK * 4;
-    const double need = rows_bytes + thread_bytes + (workers + 1) * slot_bytes;
+    const double per_warp = slot_bytes + warp_mb * 1048576.0;
+    const double need = rows_bytes + thread_bytes + slot_bytes + per_warp;
     if (need > 0.6 * budget)
         return fail(err, TP_ERR_OUT_OF_MEMORY,
                     "%s: a %" PRId64 "x%" PRId64
-                    " level 0 needs %.0f MB for one block row of every "
-                    "level and %d threads' buffers, over 60%% of the memory budget (%.0f MB): give "
-                    "%.0f MB or more",
+                    " level 0 needs %.0f MB for one block row of every level, a warp and %d "
+                    "threads' buffers, over 60%% of the memory budget (%.0f MB): give %.0f MB or "
+                    "more",
                     out_path, b.g.width[0], b.g.height[0], need / 1048576.0, threads,
                     budget / 1048576.0, std::ceil(need / 0.6 / 1048576.0));
+    const int fit = 1 + (int)((0.6 * budget - need) / per_warp);
+    const int workers = std::max(1, std::min(std::min(threads, fit), b.g.rows[0]));
     GDALSetCacheMax64((GIntBig)(budget * 0.2));
-    const double warp_mb = std::min(512.0, budget * 0.15 / 1048576.0) / workers;
 
     /* Notes: the sources and the decisions */
     char line[512];
