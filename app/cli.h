@@ -20,6 +20,12 @@ int tp_cli_info(int argc, char** argv);
 /* `terrapatch info [--json] STORE.tpt` (cmd_info_store.c): called by tp_cli_info for a store. */
 int tp_info_store(const char* path, int json);
 
+/* `terrapatch info [--json] PYRAMID.tpi` (cmd_info_imagery.c): called by tp_cli_info for an
+ * imagery pyramid; every block read and checked (exit 1 naming the first damaged one). */
+int tp_info_imagery(const char* path, int json);
+/* One line about the imagery pyramid beside a store (its path with .tpi), if there is one. */
+void tp_info_imagery_beside(const char* store_path);
+
 /* `terrapatch coord [options] [INPUT ...]`. argv[0] is "coord"; returns an exit code. */
 int tp_cli_coord(int argc, char** argv);
 

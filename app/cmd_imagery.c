@@ -285,7 +285,8 @@ int tp_cli_imagery(int argc, char** argv)
         case 'o': c.out = optarg; break;
         case OPT_SHIFT:
             if (!parse_int(optarg, TP_IMAGERY_SHIFT_MIN, TP_IMAGERY_SHIFT_MAX, &c.texel_shift))
-                return tp_option_error("imagery", "--texel-shift", "-8 .. 8", optarg), TP_EXIT_USAGE;
+                return tp_option_error("imagery", "--texel-shift", "-8 .. 8", optarg),
+                       TP_EXIT_USAGE;
             have_shift = 1;
             break;
         case OPT_RESOLUTION: {

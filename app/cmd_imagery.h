@@ -8,14 +8,14 @@
 typedef struct tp_imagery_cli {
     const char* const* images; /* count source rasters, later ones drawn over earlier ones */
     int count;
-    const char* out;           /* NULL: the store's path with .tpi for .tpt */
-    int texel_shift;           /* TP_IMAGERY_SHIFT_AUTO unless given */
-    double resolution_m;       /* > 0: the texel size wanted (the nearest power of two of the grid's) */
+    const char* out;     /* NULL: the store's path with .tpi for .tpt */
+    int texel_shift;     /* TP_IMAGERY_SHIFT_AUTO unless given */
+    double resolution_m; /* > 0: the texel size wanted (the nearest power of two of the grid's) */
     int memory_mb;
-    int threads;               /* 0: every core */
-    const char* json;          /* NULL, "-" or a path */
+    int threads;      /* 0: every core */
+    const char* json; /* NULL, "-" or a path */
     int quiet;
-    const char* who;           /* "imagery" or "build": the prefix of progress lines */
+    const char* who; /* "imagery" or "build": the prefix of progress lines */
 } tp_imagery_cli;
 
 /* The pyramid of store_path's grid (its CRS, geotransform and source width x height) from

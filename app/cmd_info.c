@@ -30,13 +30,15 @@ enum { OPT_JSON = 256 };
 
 static void print_help(void)
 {
-    fputs("usage: terrapatch info [options] DEM|STORE.tpt\n"
+    fputs("usage: terrapatch info [options] DEM|STORE.tpt|IMAGERY.tpi\n"
           "\n"
           "Reads band 1 of DEM (any raster GDAL opens), puts it on the metric grid the viewer\n"
           "draws (geographic DEMs are warped to the UTM/UPS zone of their centre), tiles it\n"
           "into patches, and describes each stage. Given a store (.tpt, made by 'terrapatch\n"
           "build'), reads and checks every node and describes the store (the DEM options do\n"
-          "not apply to it).\n"
+          "not apply to it), and the imagery pyramid beside it (.tpi) if there is one.\n"
+          "Given an imagery pyramid (.tpi, made by 'terrapatch imagery'), reads and checks\n"
+          "every block and describes its levels.\n"
           "\n"
           "options:\n",
           stdout);
@@ -386,6 +388,9 @@ int tp_cli_info(int argc, char** argv)
         return code;
     if (tp_is_store_path(o.path))
         return tp_info_store(o.path, o.json);
+    const size_t len = strlen(o.path);
+    if (len > 4 && !strcmp(o.path + len - 4, ".tpi"))
+        return tp_info_imagery(o.path, o.json);
     tp_scene sc;
     if ((code = tp_scene_load(o.path, &o.scene, &sc)) != TP_EXIT_OK)
         return code;

@@ -212,7 +212,7 @@ int tp_info_store(const char* path, int json)
     if (json)
         print_json(&sc, &cr);
     else
-        print_text(&sc, &cr);
+        print_text(&sc, &cr), tp_info_imagery_beside(path);
     if (cr.damaged)
         fprintf(stderr, "terrapatch: %s (%lld damaged node%s in all)\n", cr.first,
                 (long long)cr.damaged, cr.damaged == 1 ? "" : "s");

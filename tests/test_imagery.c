@@ -7,7 +7,9 @@
  * craterlake imagery over its DEM's render grid matches the source pixel found the same way.
  * Pyramid: every level is the alpha-weighted 2x2 mean of the one below (recomputed here from
  * the documented rule), sizes that are not multiples of the block, shifts from -3 to 3, empty
- * blocks, a mosaic of two sources (the later one on top where it has alpha). Damage: a flipped
+ * blocks, a mosaic of two sources (the later one on top where it has alpha), the same bytes
+ * from one thread or three, a memory budget too small refused up front, four threads reading
+ * one open pyramid at once. Damage: a flipped
  * byte in a block (that block only, named), in the header or the table, files cut short, a
  * newer version, another file type; bad sources and outputs leave no file. The damage tests
  * read the file with their own parser of docs/imagery.md's layout and their own CRC32.
@@ -24,6 +26,7 @@
 #include <ogr_srs_api.h>
 
 #include <math.h>
+#include <pthread.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -36,6 +39,7 @@
 /* ---------------------------------------------------------------------------------------------
  * Helpers
  */
+static uint8_t* slurp(const char* path, size_t* size);
 
 /* A UTM zone 10N grid near Crater Lake: w x h pixels of px metres from (e0, n0), north up. */
 static tp_imagery_target utm_target(int w, int h, double px, double e0, double n0, char* wkt_buf,
@@ -111,17 +115,16 @@ static uint8_t* read_level(const tp_imagery* im, int l, int64_t* w, int64_t* h)
                     if (u < *w && v < *h)
                         memcpy(img + ((size_t)v * *w + u) * 4, s, 4);
                     else if (s[3] != 0) /* beyond the level: transparent */
-                        ADD_FAILURE("level %d texel (%lld, %lld) beyond %lldx%lld has alpha %d",
-                                    l, (long long)u, (long long)v, (long long)*w, (long long)*h,
-                                    s[3]);
+                        ADD_FAILURE("level %d texel (%lld, %lld) beyond %lldx%lld has alpha %d", l,
+                                    (long long)u, (long long)v, (long long)*w, (long long)*h, s[3]);
                 }
         }
     free(blk);
     return img;
 }
 
-static tp_imagery* build_open(const char* const* src, int n, const tp_imagery_target* t,
-                              int shift, const char* out)
+static tp_imagery* build_open(const char* const* src, int n, const tp_imagery_target* t, int shift,
+                              const char* out)
 {
     tp_error err = {0};
     tp_imagery_build_options o = {0};
@@ -193,7 +196,7 @@ static void marker_case(int shift)
     EXPECT_EQ_INT(shift, info.texel_shift);
     /* level 0's geotransform: the grid's with pixels 2^shift times smaller */
     const double f = ldexp(1.0, -shift);
-    double g0[6] = {t.geotransform[0], t.geotransform[1] * f, 0, t.geotransform[3], 0,
+    double g0[6] = {t.geotransform[0],    t.geotransform[1] * f, 0, t.geotransform[3], 0,
                     t.geotransform[5] * f};
     for (int i = 0; i < 6; i++)
         EXPECT_EQ_DBL(g0[i], info.geotransform[i]);
@@ -202,7 +205,8 @@ static void marker_case(int shift)
     for (int k = 0; k < 2; k++) {
         /* the marker pixel's centre in degrees, then in UTM by PROJ, then in texels */
         const double lon = gt[0] + (m.mx[k] + 0.5) * d, lat = gt[3] - (m.my[k] + 0.5) * d;
-        OGRSpatialReferenceH s4326 = OSRNewSpatialReference(NULL), sutm = OSRNewSpatialReference(wkt);
+        OGRSpatialReferenceH s4326 = OSRNewSpatialReference(NULL),
+                             sutm = OSRNewSpatialReference(wkt);
         OSRImportFromEPSG(s4326, 4326);
         OSRSetAxisMappingStrategy(s4326, OAMS_TRADITIONAL_GIS_ORDER);
         OSRSetAxisMappingStrategy(sutm, OAMS_TRADITIONAL_GIS_ORDER);
@@ -224,9 +228,18 @@ static void marker_case(int shift)
     tp_imagery_close(im);
 }
 
-TEST(marker_lands_on_its_texel_shift_0) { marker_case(0); }
-TEST(marker_lands_on_its_texel_shift_2) { marker_case(2); }
-TEST(marker_lands_on_its_texel_shift_minus_1) { marker_case(-1); }
+TEST(marker_lands_on_its_texel_shift_0)
+{
+    marker_case(0);
+}
+TEST(marker_lands_on_its_texel_shift_2)
+{
+    marker_case(2);
+}
+TEST(marker_lands_on_its_texel_shift_minus_1)
+{
+    marker_case(-1);
+}
 
 /* ---------------------------------------------------------------------------------------------
  * Real imagery over its DEM's render grid
@@ -289,7 +302,8 @@ TEST(real_imagery_matches_its_source_pixels)
         ASSERT_TRUE(GDALRasterIO(GDALGetRasterBand(ds, c + 1), GF_Read, 0, 0, sw, sh, px + c, sw,
                                  sh, GDT_Byte, 4, sw * 4) == CE_None);
     GDALClose(ds);
-    OGRSpatialReferenceH sutm = OSRNewSpatialReference(s.t.crs_wkt), s4326 = OSRNewSpatialReference(NULL);
+    OGRSpatialReferenceH sutm = OSRNewSpatialReference(s.t.crs_wkt),
+                         s4326 = OSRNewSpatialReference(NULL);
     OSRImportFromEPSG(s4326, 4326);
     OSRSetAxisMappingStrategy(s4326, OAMS_TRADITIONAL_GIS_ORDER);
     OSRSetAxisMappingStrategy(sutm, OAMS_TRADITIONAL_GIS_ORDER);
@@ -326,8 +340,8 @@ TEST(real_imagery_matches_its_source_pixels)
                 EXPECT_EQ_INT(0, t[3]);
             }
         }
-    tp_test_note("%zu texels checked: %zu under opaque source pixels, %zu under transparent", checked,
-                 opaque, clear);
+    tp_test_note("%zu texels checked: %zu under opaque source pixels, %zu under transparent",
+                 checked, opaque, clear);
     EXPECT_GT(opaque, 10000);
     EXPECT_GT(clear, 1000);
     OCTDestroyCoordinateTransformation(ct);
@@ -409,16 +423,16 @@ static void solid_pixel(int x, int y, uint8_t* p, void* user)
 
 /* An opaque image of colour rgba over UTM box (e0, n0)..(e1, n1) (approximately: its
  * geographic bounding box). */
-static void write_box(const char* path, const char* wkt, double e0, double n0, double e1,
-                      double n1, const uint8_t rgba[4])
+static void write_box(const char* path, const char* wkt, double e0, double n0, double e1, double n1,
+                      const uint8_t rgba[4])
 {
     double lon0, lat0, lon1, lat1;
     utm_to_lonlat(wkt, e0, n0, &lon0, &lat0);
     utm_to_lonlat(wkt, e1, n1, &lon1, &lat1);
     const double d = 0.001;
     const double gt[6] = {lon0, d, 0, lat0, 0, -d};
-    write_tif(path, (int)ceil((lon1 - lon0) / d), (int)ceil((lat0 - lat1) / d), gt, 4,
-              solid_pixel, (void*)rgba);
+    write_tif(path, (int)ceil((lon1 - lon0) / d), (int)ceil((lat0 - lat1) / d), gt, 4, solid_pixel,
+              (void*)rgba);
 }
 
 TEST(sizes_shifts_and_empty_blocks)
@@ -522,6 +536,44 @@ TEST(shift_or_size_out_of_range_refused)
     EXPECT_STATUS(TP_ERR_INVALID_ARG, tp_imagery_build(src, 1, &t, &o, out, &err));
     EXPECT_CONTAINS(err.message, "2^31");
     EXPECT_TRUE(access(out, F_OK) != 0);
+    /* 4000 posts at 2^6 texels each: a block row of level 0 alone is 1000 blocks, 256 MB */
+    t.width = 4000;
+    t.geotransform[1] = 2.5, t.geotransform[5] = -2.5;
+    o.texel_shift = 6;
+    o.memory_bytes = 64.0 * 1024 * 1024;
+    EXPECT_STATUS(TP_ERR_OUT_OF_MEMORY, tp_imagery_build(src, 1, &t, &o, out, &err));
+    EXPECT_CONTAINS(err.message, "give");
+    EXPECT_TRUE(access(out, F_OK) != 0);
+}
+
+/* The warps of level 0's block rows run on several threads: the file is the same. */
+TEST(same_bytes_whatever_the_threads)
+{
+    const char* dir = make_tmp_dir();
+    char wkt[4096], tif[600], out[2][600];
+    const tp_imagery_target t = utm_target(300, 200, 200.0, 540000.0, 4780000.0, wkt, sizeof wkt);
+    double lon0, lat0;
+    utm_to_lonlat(wkt, 535000.0, 4785000.0, &lon0, &lat0);
+    const double gt[6] = {lon0, 0.002, 0, lat0, 0, -0.002};
+    const markers m = {{100, 300}, {50, 150}};
+    snprintf(tif, sizeof tif, "%s/m.tif", dir);
+    write_tif(tif, 400, 300, gt, 3, marker_pixel, (void*)&m);
+    const char* src[1] = {tif};
+    for (int k = 0; k < 2; k++) {
+        tp_error err = {0};
+        tp_imagery_build_options o = {0};
+        o.texel_shift = 2; /* 1200 x 800 texels: 4 block rows */
+        o.threads = k == 0 ? 1 : 3;
+        snprintf(out[k], sizeof out[k], "%s/t%d.tpi", dir, k);
+        ASSERT_OK(tp_imagery_build(src, 1, &t, &o, out[k], &err));
+    }
+    size_t n0, n1;
+    uint8_t* a = slurp(out[0], &n0);
+    uint8_t* b = slurp(out[1], &n1);
+    EXPECT_EQ_INT(n0, n1);
+    EXPECT_TRUE(n0 == n1 && memcmp(a, b, n0) == 0);
+    free(a);
+    free(b);
 }
 
 /* ---------------------------------------------------------------------------------------------
@@ -546,8 +598,8 @@ TEST(later_source_drawn_over_earlier)
     snprintf(a, sizeof a, "%s/red.tif", dir);
     snprintf(b, sizeof b, "%s/blue.tif", dir);
     snprintf(c, sizeof c, "%s/striped.tif", dir);
-    write_box(a, wkt, 538000.0, 4782000.0, 552000.0, 4768000.0, red);   /* west */
-    write_box(b, wkt, 546000.0, 4782000.0, 562000.0, 4768000.0, blue);  /* overlaps 546..552 */
+    write_box(a, wkt, 538000.0, 4782000.0, 552000.0, 4768000.0, red);  /* west */
+    write_box(b, wkt, 546000.0, 4782000.0, 562000.0, 4768000.0, blue); /* overlaps 546..552 */
     const uint8_t green[4] = {0, 250, 0, 255};
     double lon0, lat0;
     utm_to_lonlat(wkt, 538000.0, 4782000.0, &lon0, &lat0);
@@ -606,7 +658,10 @@ static uint32_t le32(const uint8_t* p)
 {
     return (uint32_t)p[0] | (uint32_t)p[1] << 8 | (uint32_t)p[2] << 16 | (uint32_t)p[3] << 24;
 }
-static uint64_t le64(const uint8_t* p) { return le32(p) | (uint64_t)le32(p + 4) << 32; }
+static uint64_t le64(const uint8_t* p)
+{
+    return le32(p) | (uint64_t)le32(p + 4) << 32;
+}
 static void put32(uint8_t* p, uint32_t v)
 {
     for (int i = 0; i < 4; i++)
@@ -700,8 +755,10 @@ TEST(damaged_header_table_or_footer_refused)
     const struct {
         size_t at;
         const char* says;
-    } cases[] = {{40, "damaged header"}, {(size_t)table + 5, "damaged block table"},
-                 {size - 40 + 3, "damaged footer"}, {size - 3, "truncated or damaged"}};
+    } cases[] = {{40, "damaged header"},
+                 {(size_t)table + 5, "damaged block table"},
+                 {size - 40 + 3, "damaged footer"},
+                 {size - 3, "truncated or damaged"}};
     for (size_t k = 0; k < sizeof cases / sizeof cases[0]; k++) {
         d[cases[k].at] ^= 0x10;
         spill(bad, d, size);
@@ -806,6 +863,78 @@ TEST(bad_sources_and_outputs_leave_no_file)
     closedir(dd);
 }
 
+/* Any number of threads read one open pyramid at once (pread, per-thread zstd contexts): each
+ * thread reads every block of every level many times and finds what one thread read first. */
+typedef struct reader_job {
+    const tp_imagery* im;
+    const uint8_t* expect; /* every block of every level, in table order */
+    int failures;
+} reader_job;
+
+static void* reader(void* arg)
+{
+    reader_job* j = arg;
+    tp_imagery_info info;
+    tp_imagery_get_info(j->im, &info);
+    uint8_t* blk = malloc((size_t)B * B * 4);
+    for (int round = 0; round < 8 && blk; round++) {
+        size_t k = 0;
+        for (int l = 0; l < info.levels; l++) {
+            int cols, rows;
+            tp_imagery_level_size(j->im, l, NULL, NULL, &cols, &rows);
+            for (int by = 0; by < rows; by++)
+                for (int bx = 0; bx < cols; bx++, k++) {
+                    tp_error err = {0};
+                    if (tp_imagery_read_block(j->im, l, bx, by, blk, &err) != TP_OK ||
+                        memcmp(blk, j->expect + k * B * B * 4, (size_t)B * B * 4) != 0)
+                        j->failures++;
+                }
+        }
+    }
+    free(blk);
+    return NULL;
+}
+
+TEST(threads_read_one_pyramid_at_once)
+{
+    const char* dir = make_tmp_dir();
+    char path[600];
+    small_pyramid(dir, path, sizeof path);
+    tp_imagery* im = NULL;
+    tp_error err = {0};
+    ASSERT_OK(tp_imagery_open(path, &im, &err));
+    tp_imagery_info info;
+    tp_imagery_get_info(im, &info);
+    size_t blocks = 0;
+    for (int l = 0; l < info.levels; l++) {
+        int cols, rows;
+        tp_imagery_level_size(im, l, NULL, NULL, &cols, &rows);
+        blocks += (size_t)cols * rows;
+    }
+    uint8_t* expect = malloc(blocks * B * B * 4);
+    ASSERT_TRUE(expect != NULL);
+    size_t k = 0;
+    for (int l = 0; l < info.levels; l++) {
+        int cols, rows;
+        tp_imagery_level_size(im, l, NULL, NULL, &cols, &rows);
+        for (int by = 0; by < rows; by++)
+            for (int bx = 0; bx < cols; bx++, k++)
+                ASSERT_OK(tp_imagery_read_block(im, l, bx, by, expect + k * B * B * 4, &err));
+    }
+    pthread_t t[4];
+    reader_job jobs[4];
+    for (int i = 0; i < 4; i++) {
+        jobs[i] = (reader_job){im, expect, 0};
+        ASSERT_TRUE(pthread_create(&t[i], NULL, reader, &jobs[i]) == 0);
+    }
+    for (int i = 0; i < 4; i++) {
+        pthread_join(t[i], NULL);
+        EXPECT_EQ_INT(0, jobs[i].failures);
+    }
+    free(expect);
+    tp_imagery_close(im);
+}
+
 #define TESTS(X)                                                                                   \
     X(marker_lands_on_its_texel_shift_0)                                                           \
     X(marker_lands_on_its_texel_shift_2)                                                           \
@@ -814,9 +943,11 @@ TEST(bad_sources_and_outputs_leave_no_file)
     X(levels_are_alpha_weighted_2x2_means)                                                         \
     X(sizes_shifts_and_empty_blocks)                                                               \
     X(shift_or_size_out_of_range_refused)                                                          \
+    X(same_bytes_whatever_the_threads)                                                             \
     X(later_source_drawn_over_earlier)                                                             \
     X(flipped_block_byte_fails_that_block_only)                                                    \
     X(damaged_header_table_or_footer_refused)                                                      \
     X(truncated_files_and_other_files_refused)                                                     \
+    X(threads_read_one_pyramid_at_once)                                                            \
     X(bad_sources_and_outputs_leave_no_file)
 TP_TEST_MAIN(TESTS)

@@ -82,7 +82,8 @@ def like_grid(dem):
     if gt[2] != 0 or gt[4] != 0:
         die("%s is rotated (geotransform %s): not supported" % (dem, gt))
     w, h = info["size"]
-    return w, h, gt, wkt
+    mapping = info.get("coordinateSystem", {}).get("dataAxisToSRSAxisMapping", [1, 2])
+    return w, h, gt, wkt, ",".join(str(m) for m in mapping)
 
 
 def image_bands(image):
@@ -145,16 +146,16 @@ def placements(size, n):
     return out
 
 
-def write_vrt(path, sx, sy, stem, w, h, nb, gt, wkt):
+def write_vrt(path, sx, sy, stem, w, h, nb, gt, wkt, mapping):
     cols, rows = placements(sx, w), placements(sy, h)
     names = {(False, False): "0", (True, False): "x", (False, True): "y", (True, True): "xy"}
     interp = ["Red", "Green", "Blue", "Alpha"]
     tmp = path + ".tmp"
     with open(tmp, "w") as f:
         f.write('<VRTDataset rasterXSize="%d" rasterYSize="%d">\n' % (sx, sy))
-        f.write('  <SRS dataAxisToSRSAxisMapping="1,2">%s</SRS>\n'
-                % wkt.replace("&", "&amp;").replace("<", "&lt;").replace(">", "&gt;")
-                .replace('"', "&quot;"))
+        f.write('  <SRS dataAxisToSRSAxisMapping="%s">%s</SRS>\n'
+                % (mapping, wkt.replace("&", "&amp;").replace("<", "&lt;").replace(">", "&gt;")
+                .replace('"', "&quot;")))
         f.write('  <GeoTransform>%.17g, %.17g, 0, %.17g, 0, %.17g</GeoTransform>\n' % gt)
         for b in range(1, nb + 1):
             f.write('  <VRTRasterBand dataType="Byte" band="%d">\n' % b)
@@ -219,7 +220,7 @@ def main(argv):
     os.makedirs(out_dir, exist_ok=True)
 
     t0 = time.time()
-    dw, dh, dgt, wkt = like_grid(like)
+    dw, dh, dgt, wkt, mapping = like_grid(like)
     ext_x, ext_y = dw * abs(dgt[1]), dh * abs(dgt[5])
     px = ext_x / size
     sx, sy = size, max(1, int(round(ext_y / px)))
@@ -233,7 +234,7 @@ def main(argv):
         die("%s: %d bytes of pixels, expected %dx%dx%d" % (image, len(data), w, h, nb))
     flip_copies(data, hdr, out_dir, stem, w, h, nb)
     vrt = os.path.join(out_dir, "imagery_%d.vrt" % size)
-    copies = write_vrt(vrt, sx, sy, stem, w, h, nb, gt, wkt)
+    copies = write_vrt(vrt, sx, sy, stem, w, h, nb, gt, wkt, mapping)
     print("image:   %s (%dx%d, %d bands used)" % (image, w, h, nb))
     print("like:    %s (%dx%d, %.2f x %.2f km)" % (like, dw, dh, ext_x / 1e3, ext_y / 1e3))
     print("mosaic:  %s: %dx%d pixels of %.4f x %.4f m, %d copies, %s"

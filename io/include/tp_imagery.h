@@ -99,7 +99,8 @@ typedef struct tp_imagery_build_options {
  * tp_texture_build chooses bands; several are mosaicked, a later one winning where both have
  * alpha), warped by GDAL onto target. TP_ERR_IO for a source that cannot be opened, TP_ERR_BAD_DATA
  * for one without georeference or not overlapping the grid, TP_ERR_INVALID_ARG for a texel
- * shift out of range or a level-0 image over 2^31 texels a side. */
+ * shift out of range or a level-0 image over 2^31 texels a side, TP_ERR_OUT_OF_MEMORY when one
+ * block row of every level (what the build holds) does not fit in options->memory_bytes. */
 tp_status tp_imagery_build(const char* const* sources, int count, const tp_imagery_target* target,
                            const tp_imagery_build_options* options, const char* out_path,
                            tp_error* err);

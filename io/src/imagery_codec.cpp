@@ -17,7 +17,10 @@
 namespace tpio {
 namespace imagery {
 
-size_t max_block_bytes() { return std::max(BLOCK_BYTES, ZSTD_compressBound(BLOCK_BYTES)); }
+size_t max_block_bytes()
+{
+    return std::max(BLOCK_BYTES, ZSTD_compressBound(BLOCK_BYTES));
+}
 
 Codec encode_block(const uint8_t* rgba, int level, void* cctx, std::vector<uint8_t>* scratch,
                    std::vector<uint8_t>* out)
@@ -82,11 +85,11 @@ bool decode_block(Codec codec, const uint8_t* data, size_t size, void* dctx,
     /* The frame must say its size, and the right one, before anything is decompressed. */
     const unsigned long long frame = ZSTD_getFrameContentSize(data, size);
     if (frame != BLOCK_BYTES) {
-        *why = frame == ZSTD_CONTENTSIZE_ERROR     ? std::string("not a zstd frame")
-               : frame == ZSTD_CONTENTSIZE_UNKNOWN ? std::string("zstd frame without a size")
-                                                   : "zstd frame of " + std::to_string(frame) +
-                                                       " bytes, expected " +
-                                                       std::to_string(BLOCK_BYTES);
+        *why = frame == ZSTD_CONTENTSIZE_ERROR ? std::string("not a zstd frame")
+               : frame == ZSTD_CONTENTSIZE_UNKNOWN
+                   ? std::string("zstd frame without a size")
+                   : "zstd frame of " + std::to_string(frame) + " bytes, expected " +
+                         std::to_string(BLOCK_BYTES);
         return false;
     }
     scratch->resize(BLOCK_BYTES);

@@ -21,8 +21,8 @@
 namespace tpio {
 namespace imagery {
 
-using store::crc32_of;
 using store::crc32_continue;
+using store::crc32_of;
 using store::get_f64;
 using store::get_u32;
 using store::get_u64;
@@ -44,9 +44,9 @@ enum : size_t {
     H_GRID_WIDTH = 28,
     H_GRID_HEIGHT = 32,
     H_RESERVED = 36,
-    H_WIDTH = 40,       /* u64 */
+    H_WIDTH = 40, /* u64 */
     H_HEIGHT = 48,
-    H_GEOTRANSFORM = 56,      /* 6 doubles: level 0 */
+    H_GEOTRANSFORM = 56,       /* 6 doubles: level 0 */
     H_GRID_GEOTRANSFORM = 104, /* 6 doubles */
     H_BLOCK_COUNT = 152,
     H_NONEMPTY = 160,

@@ -62,7 +62,10 @@ int read_at(int fd, void* buf, size_t size, uint64_t offset)
 struct ThreadScratch {
     ZSTD_DCtx* dctx = nullptr;
     std::vector<uint8_t> stored, planes, rgba;
-    ~ThreadScratch() { ZSTD_freeDCtx(dctx); }
+    ~ThreadScratch()
+    {
+        ZSTD_freeDCtx(dctx);
+    }
 };
 thread_local ThreadScratch t_scratch;
 
@@ -88,7 +91,10 @@ std::string block_name(const Geometry& g, uint64_t i)
            ", " + std::to_string(k / (uint64_t)g.cols[l]) + ")";
 }
 
-bool same_bits(double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; }
+bool same_bits(double a, double b)
+{
+    return std::memcmp(&a, &b, sizeof a) == 0;
+}
 
 tp_status load(tp_imagery* im, tp_error* err)
 {
@@ -126,9 +132,10 @@ tp_status load(tp_imagery* im, tp_error* err)
                     path, header_bytes - 1, get_u32(h + header_bytes - 4), head_crc);
     const uint32_t version = get_u32(h + H_VERSION);
     if (version > VERSION)
-        return fail(err, TP_ERR_BAD_DATA,
-                    "%s: written by a newer terrapatch (imagery format %u; this one reads up to %u)",
-                    path, version, VERSION);
+        return fail(
+            err, TP_ERR_BAD_DATA,
+            "%s: written by a newer terrapatch (imagery format %u; this one reads up to %u)", path,
+            version, VERSION);
     if (version == 0)
         return fail(err, TP_ERR_BAD_DATA, "%s: damaged header: format version 0", path);
 
@@ -139,8 +146,7 @@ tp_status load(tp_imagery* im, tp_error* err)
     for (int i = 0; i < 6; ++i)
         im->grid_gt[i] = get_f64(h + H_GRID_GEOTRANSFORM + 8 * i);
     if (block != (uint32_t)BLOCK || gw < 1 || gw > INT32_MAX || gh < 1 || gh > INT32_MAX ||
-        get_u32(h + H_RESERVED) != 0 ||
-        !geometry_for((int)gw, (int)gh, im->grid_gt, shift, &im->g))
+        get_u32(h + H_RESERVED) != 0 || !geometry_for((int)gw, (int)gh, im->grid_gt, shift, &im->g))
         return fail(err, TP_ERR_BAD_DATA,
                     "%s: bad geometry: blocks of %u, grid %ux%u, texel shift %d", path, block, gw,
                     gh, shift);
@@ -152,7 +158,8 @@ tp_status load(tp_imagery* im, tp_error* err)
             why = buf;
     else if (get_u64(h + H_WIDTH) != (uint64_t)g.width[0] ||
              get_u64(h + H_HEIGHT) != (uint64_t)g.height[0])
-        std::snprintf(buf, sizeof buf, "level 0 %" PRIu64 "x%" PRIu64 ", expected %" PRId64 "x%" PRId64,
+        std::snprintf(buf, sizeof buf,
+                      "level 0 %" PRIu64 "x%" PRIu64 ", expected %" PRId64 "x%" PRId64,
                       get_u64(h + H_WIDTH), get_u64(h + H_HEIGHT), g.width[0], g.height[0]),
             why = buf;
     else if (get_u64(h + H_BLOCK_COUNT) != g.block_count)
@@ -227,7 +234,8 @@ tp_status load(tp_imagery* im, tp_error* err)
         return fail(err, TP_ERR_BAD_DATA,
                     "%s: damaged block table (bytes %" PRIu64 "..%" PRIu64
                     "): checksum mismatch (stored 0x%08x, computed 0x%08x)",
-                    path, table_offset, im->data_offset - 1, get_u32(foot + F_TABLE_CRC), table_crc);
+                    path, table_offset, im->data_offset - 1, get_u32(foot + F_TABLE_CRC),
+                    table_crc);
     uint64_t nonempty = 0;
     const size_t max_bytes = max_block_bytes();
     for (uint64_t i = 0; i < g.block_count; ++i) {
@@ -244,7 +252,8 @@ tp_status load(tp_imagery* im, tp_error* err)
                 problem = "an empty block with an offset, size or checksum";
         } else if (e.codec != CODEC_ZSTD && e.codec != CODEC_RAW)
             problem = "unknown codec";
-        else if (e.bytes == 0 || e.bytes > max_bytes || (e.codec == CODEC_RAW && e.bytes != BLOCK_BYTES))
+        else if (e.bytes == 0 || e.bytes > max_bytes ||
+                 (e.codec == CODEC_RAW && e.bytes != BLOCK_BYTES))
             problem = "impossible data size";
         else if (e.offset < im->data_offset || e.offset > im->data_end ||
                  e.bytes > im->data_end - e.offset)
@@ -270,7 +279,8 @@ extern "C" tp_status tp_imagery_open(const char* path, tp_imagery** out, tp_erro
 {
     if (!path || !out)
         return fail(err, TP_ERR_INVALID_ARG, "imagery: bad arguments (path or out is NULL)");
-    if (tp_status st = tpio::check_input_file(path, "a terrapatch imagery pyramid (.tpi)", false, err))
+    if (tp_status st =
+            tpio::check_input_file(path, "a terrapatch imagery pyramid (.tpi)", false, err))
         return st;
     try {
         std::unique_ptr<tp_imagery> im(new tp_imagery);
@@ -293,7 +303,10 @@ extern "C" tp_status tp_imagery_open(const char* path, tp_imagery** out, tp_erro
     }
 }
 
-extern "C" void tp_imagery_close(tp_imagery* im) { delete im; }
+extern "C" void tp_imagery_close(tp_imagery* im)
+{
+    delete im;
+}
 
 extern "C" void tp_imagery_get_info(const tp_imagery* im, tp_imagery_info* out)
 {
@@ -362,10 +375,11 @@ extern "C" tp_status tp_imagery_read_block(const tp_imagery* im, int level, int 
         ThreadScratch& t = t_scratch;
         t.stored.resize(e.bytes);
         if (int code = read_at(im->fd, t.stored.data(), e.bytes, e.offset))
-            return fail(err, TP_ERR_IO,
-                        "%s: level %d, block (%d, %d), %u bytes at byte %" PRIu64 ": cannot read: %s",
-                        path, level, bx, by, e.bytes, e.offset,
-                        code == EIO ? "the file ended early (was it changed?)" : std::strerror(code));
+            return fail(
+                err, TP_ERR_IO,
+                "%s: level %d, block (%d, %d), %u bytes at byte %" PRIu64 ": cannot read: %s", path,
+                level, bx, by, e.bytes, e.offset,
+                code == EIO ? "the file ended early (was it changed?)" : std::strerror(code));
         const uint32_t crc = crc32_of(t.stored.data(), e.bytes);
         if (crc != e.crc)
             return fail(err, TP_ERR_BAD_DATA,
@@ -376,7 +390,8 @@ extern "C" tp_status tp_imagery_read_block(const tp_imagery* im, int level, int 
             throw std::bad_alloc();
         t.rgba.resize(BLOCK_BYTES);
         std::string why;
-        if (!decode_block(e.codec, t.stored.data(), e.bytes, t.dctx, &t.planes, t.rgba.data(), &why))
+        if (!decode_block(e.codec, t.stored.data(), e.bytes, t.dctx, &t.planes, t.rgba.data(),
+                          &why))
             return fail(err, TP_ERR_BAD_DATA,
                         "%s: level %d, block (%d, %d), %u bytes at byte %" PRIu64 ": %s", path,
                         level, bx, by, e.bytes, e.offset, why.c_str());

@@ -28,7 +28,9 @@
 #include <atomic>
 #include <cinttypes>
 #include <cmath>
+#include <condition_variable>
 #include <memory>
+#include <mutex>
 #include <string>
 #include <thread>
 #include <vector>
@@ -43,10 +45,10 @@ constexpr int ZSTD_LEVEL = 1; /* docs/imagery.md: measured */
 struct Source {
     std::string path;
     tpio::Dataset ds, expanded, rgba;
-    double res = 0;            /* its pixel size on the render grid (render CRS units) */
-    double extent[4] = {0};    /* its bounds in the render CRS: xmin, ymin, xmax, ymax */
+    double res = 0;         /* its pixel size on the render grid (render CRS units) */
+    double extent[4] = {0}; /* its bounds in the render CRS: xmin, ymin, xmax, ymax */
     std::string resampling;
-    bool alpha = true;       /* its RGBA view has an alpha band (else it is opaque: RGB) */
+    bool alpha = true; /* its RGBA view has an alpha band (else it is opaque: RGB) */
     std::string error; /* GDAL's -et: its approximate transformer's error, in source pixels */
 };
 
@@ -73,8 +75,8 @@ tp_status open_source(const char* path, const tp_imagery_target* t, Source* s, t
     s->path = path;
     if (tp_status st = tpio::check_input_file(path, "a raster", true, err))
         return st;
-    s->ds.reset(GDALDataset::FromHandle(
-        GDALOpenEx(path, GDAL_OF_RASTER, nullptr, nullptr, nullptr)));
+    s->ds.reset(
+        GDALDataset::FromHandle(GDALOpenEx(path, GDAL_OF_RASTER, nullptr, nullptr, nullptr)));
     if (!s->ds)
         return fail(err, TP_ERR_IO, "%s: cannot open: %s", path, tpio::gdal_message().c_str());
     GDALDataset* src = s->ds.get();
@@ -118,9 +120,9 @@ tp_status open_source(const char* path, const tp_imagery_target* t, Source* s, t
                     tpio::gdal_message().c_str());
     double ogt[6];
     int px = 0, py = 0;
-    const CPLErr e = GDALSuggestedWarpOutput2(GDALDataset::ToHandle(s->rgba.get()),
-                                              GDALGenImgProjTransform, tr, ogt, &px, &py,
-                                              s->extent, 0);
+    const CPLErr e =
+        GDALSuggestedWarpOutput2(GDALDataset::ToHandle(s->rgba.get()), GDALGenImgProjTransform, tr,
+                                 ogt, &px, &py, s->extent, 0);
     GDALDestroyGenImgProjTransformer(tr);
     if (e != CE_None || px < 1 || py < 1)
         return fail(err, TP_ERR_BAD_DATA, "%s: cannot be transformed to the grid's CRS: %s", path,
@@ -201,25 +203,38 @@ tp_status write_row(Build& b, int l, int row, tp_error* err)
     for (int c0 = 0; c0 < cols; c0 += chunk) {
         const int n = std::min(chunk, cols - c0);
         std::atomic<int> next{0};
-        auto work = [&](int t) {
+        std::atomic<bool> failed{false}; /* out of memory in a thread */
+        auto encode_some = [&](int t) {
             for (int k; (k = next.fetch_add(1)) < n;) {
                 const int bx = c0 + k;
                 uint8_t* g = b.gather[t].data();
                 for (int y = 0; y < BLOCK; ++y)
-                    std::memcpy(g + (size_t)y * BLOCK * 4, buf + y * stride + (size_t)bx * BLOCK * 4,
-                                (size_t)BLOCK * 4);
-                b.chunk_codec[k] = encode_block(g, ZSTD_LEVEL, b.cctx[t], &b.scratch[t],
-                                                &b.packed[t]);
+                    std::memcpy(g + (size_t)y * BLOCK * 4,
+                                buf + y * stride + (size_t)bx * BLOCK * 4, (size_t)BLOCK * 4);
+                b.chunk_codec[k] =
+                    encode_block(g, ZSTD_LEVEL, b.cctx[t], &b.scratch[t], &b.packed[t]);
                 b.chunk_out[k].assign(b.packed[t].begin(), b.packed[t].end());
+            }
+        };
+        auto work = [&](int t) {
+            try {
+                encode_some(t);
+            } catch (...) {
+                failed = true;
             }
         };
         const int extra = std::min(b.threads, n) - 1;
         std::vector<std::thread> pool;
-        for (int t = 1; t <= extra; ++t)
-            pool.emplace_back(work, t);
+        try {
+            for (int t = 1; t <= extra; ++t)
+                pool.emplace_back(work, t);
+        } catch (...) { /* fewer threads: this one does the rest */
+        }
         work(0);
         for (std::thread& th : pool)
             th.join();
+        if (failed)
+            throw std::bad_alloc();
         for (int k = 0; k < n; ++k) {
             uint8_t* e = b.entries.data() + (size_t)(c0 + k) * ENTRY_BYTES;
             const std::vector<uint8_t>& out = b.chunk_out[k];
@@ -291,11 +306,12 @@ tp_status finish_row(Build& b, int l, int row, tp_error* err)
     return TP_OK;
 }
 
-/* Warps every source overlapping it onto level 0's block row `row` (b.level[0]). */
-tp_status warp_row(Build& b, std::vector<Source>& sources, const OGRSpatialReference* srs,
-                   int row, double warp_mb, tp_error* err)
+/* Warps every source overlapping it onto level 0's block row `row`, into buf (a block row of
+ * level 0); warp_threads for GDAL's kernel. */
+tp_status warp_row(const Build& b, std::vector<Source>& sources, const OGRSpatialReference* srs,
+                   int row, double warp_mb, int warp_threads, std::vector<uint8_t>& buf,
+                   tp_error* err)
 {
-    std::vector<uint8_t>& buf = b.level[0];
     std::fill(buf.begin(), buf.end(), 0);
     const int w = (int)b.g.width[0];
     const int rows = (int)std::min<int64_t>(BLOCK, b.g.height[0] - (int64_t)row * BLOCK);
@@ -329,14 +345,22 @@ tp_status warp_row(Build& b, std::vector<Source>& sources, const OGRSpatialRefer
     dst->SetGeoTransform(gt);
     if (srs)
         dst->SetSpatialRef(srs);
-    const std::string threads = "NUM_THREADS=" + std::to_string(b.threads);
+    const std::string threads = "NUM_THREADS=" + std::to_string(warp_threads);
     const std::string wm = std::to_string(std::max(16.0, warp_mb));
     for (Source& s : sources) {
         if (!overlaps(s.extent, strip))
             continue;
-        const char* args[] = {"-dstalpha", "-r", s.resampling.c_str(), "-wo", threads.c_str(),
-                              "-wm", wm.c_str(), "-et", s.error.c_str(),
-                              s.alpha ? "-srcalpha" : "-nosrcalpha", nullptr};
+        const char* args[] = {"-dstalpha",
+                              "-r",
+                              s.resampling.c_str(),
+                              "-wo",
+                              threads.c_str(),
+                              "-wm",
+                              wm.c_str(),
+                              "-et",
+                              s.error.c_str(),
+                              s.alpha ? "-srcalpha" : "-nosrcalpha",
+                              nullptr};
         GDALWarpAppOptions* wo = GDALWarpAppOptionsNew(const_cast<char**>(args), nullptr);
         GDALDatasetH in = GDALDataset::ToHandle(s.rgba.get());
         int usage = 0;
@@ -353,6 +377,87 @@ tp_status warp_row(Build& b, std::vector<Source>& sources, const OGRSpatialRefer
             buf[k - 3] = buf[k - 2] = buf[k - 1] = 0;
     return TP_OK;
 }
+
+/* Level 0's block rows warped by `workers` threads, each with its own view of the sources (a
+ * GDAL dataset is used by one thread at a time), into `slots` buffers: at most that many rows
+ * ahead of the building thread, which takes them in order (take). */
+struct Warps {
+    const Build* b = nullptr;
+    const OGRSpatialReference* srs = nullptr;
+    double warp_mb = 0;
+    int warp_threads = 1;
+    std::vector<std::vector<Source>>* views = nullptr;
+    std::vector<std::vector<uint8_t>> slot;
+    std::vector<char> ready;
+    int next = 0, consumed = 0;
+    bool stop = false;
+    tp_status status = TP_OK;
+    tp_error err{};
+    std::mutex m;
+    std::condition_variable cv;
+    std::vector<std::thread> pool;
+
+    void work(int k)
+    {
+        const int slots = (int)slot.size();
+        for (;;) {
+            std::unique_lock<std::mutex> lock(m);
+            const int row = next++;
+            if (row >= b->g.rows[0])
+                return;
+            cv.wait(lock, [&] { return stop || row < consumed + slots; });
+            if (stop)
+                return;
+            lock.unlock();
+            tp_error e{};
+            tp_status st = TP_OK;
+            try {
+                st = warp_row(*b, (*views)[(size_t)k], srs, row, warp_mb, warp_threads,
+                              slot[(size_t)(row % slots)], &e);
+            } catch (...) {
+                st = tpio::caught(&e, b->path);
+            }
+            lock.lock();
+            if (st != TP_OK && status == TP_OK)
+                status = st, err = e, stop = true;
+            ready[(size_t)(row % slots)] = 1;
+            cv.notify_all();
+        }
+    }
+    void start(int workers, size_t slot_bytes)
+    {
+        slot.assign((size_t)workers + 1, std::vector<uint8_t>(slot_bytes));
+        ready.assign(slot.size(), 0);
+        for (int k = 0; k < workers; ++k)
+            pool.emplace_back(&Warps::work, this, k);
+    }
+    /* Swaps row's texels into buf (a level-0 block row); a warp's failure otherwise. */
+    tp_status take(int row, std::vector<uint8_t>& buf, tp_error* out)
+    {
+        std::unique_lock<std::mutex> lock(m);
+        const size_t k = (size_t)(row % (int)slot.size());
+        cv.wait(lock, [&] { return stop || ready[k]; });
+        if (status != TP_OK) {
+            *out = err;
+            return status;
+        }
+        buf.swap(slot[k]);
+        ready[k] = 0;
+        consumed = row + 1;
+        cv.notify_all();
+        return TP_OK;
+    }
+    ~Warps()
+    {
+        {
+            std::lock_guard<std::mutex> lock(m);
+            stop = true;
+        }
+        cv.notify_all();
+        for (std::thread& t : pool)
+            t.join();
+    }
+};
 
 tp_status build(const char* const* paths, int count, const tp_imagery_target* t,
                 const tp_imagery_build_options* o, const char* out_path, tp_error* err)
@@ -406,18 +511,27 @@ tp_status build(const char* const* paths, int count, const tp_imagery_target* t,
     for (int l = 0; l < b.g.levels; ++l)
         rows_bytes += (double)b.g.cols[l] * BLOCK * BLOCK * 4;
     const double thread_bytes =
-        (double)threads * (2.0 * BLOCK_BYTES + ZSTD_compressBound(BLOCK_BYTES) + 4 * max_block_bytes()) +
+        (double)threads *
+            (2.0 * BLOCK_BYTES + ZSTD_compressBound(BLOCK_BYTES) + 4 * max_block_bytes()) +
         threads * 1.5e6 /* zstd contexts */;
-    const double need = rows_bytes + thread_bytes;
+    /* Level-0 warps in parallel, each into its own block row (and one more waiting), each with
+     * GDAL's working memory (-wm): a twentieth of the budget whatever the threads, so that the
+     * warps' chunks, and so the bytes, do not depend on them; as many warps as fit. */
+    const double warp_mb = std::max(16.0, std::min(128.0, budget * 0.05 / 1048576.0));
+    const double slot_bytes = (double)b.g.cols[0] * BLOCK * BLOCK * 4;
+    const double per_warp = slot_bytes + warp_mb * 1048576.0;
+    const double need = rows_bytes + thread_bytes + slot_bytes + per_warp;
     if (need > 0.6 * budget)
         return fail(err, TP_ERR_OUT_OF_MEMORY,
-                    "%s: a %" PRId64 "x%" PRId64 " level 0 needs %.0f MB for one block row of every "
-                    "level and %d threads' buffers, over 60%% of the memory budget (%.0f MB): give "
-                    "%.0f MB or more",
+                    "%s: a %" PRId64 "x%" PRId64
+                    " level 0 needs %.0f MB for one block row of every level, a warp and %d "
+                    "threads' buffers, over 60%% of the memory budget (%.0f MB): give %.0f MB or "
+                    "more",
                     out_path, b.g.width[0], b.g.height[0], need / 1048576.0, threads,
                     budget / 1048576.0, std::ceil(need / 0.6 / 1048576.0));
+    const int fit = 1 + (int)((0.6 * budget - need) / per_warp);
+    const int workers = std::max(1, std::min(std::min(threads, fit), b.g.rows[0]));
     GDALSetCacheMax64((GIntBig)(budget * 0.2));
-    const double warp_mb = std::min(512.0, budget * 0.15 / 1048576.0);
 
     /* Notes: the sources and the decisions */
     char line[512];
@@ -467,8 +581,28 @@ tp_status build(const char* const* paths, int count, const tp_imagery_target* t,
     if (st == TP_OK)
         st = tpio::file_reserve(b.file, b.data_offset - head.size(), err);
     b.offset = b.data_offset;
+    /* each warping thread's own view of the sources: the first the ones opened above */
+    std::vector<std::vector<Source>> views((size_t)workers);
+    views[0] = std::move(sources);
+    for (int k = 1; k < workers && st == TP_OK; ++k) {
+        views[(size_t)k].resize((size_t)count);
+        for (int i = 0; i < count && st == TP_OK; ++i) {
+            Source& v = views[(size_t)k][(size_t)i];
+            st = open_source(paths[i], t, &v, err);
+            v.resampling = views[0][(size_t)i].resampling;
+            v.error = views[0][(size_t)i].error;
+        }
+    }
+    Warps warps;
+    warps.b = &b;
+    warps.srs = has_srs ? &srs : nullptr;
+    warps.warp_mb = warp_mb;
+    warps.warp_threads = std::max(1, threads / workers);
+    warps.views = &views;
+    if (st == TP_OK)
+        warps.start(workers, (size_t)slot_bytes);
     for (int row = 0; row < b.g.rows[0] && st == TP_OK; ++row) {
-        st = warp_row(b, sources, has_srs ? &srs : nullptr, row, warp_mb, err);
+        st = warps.take(row, b.level[0], err);
         if (st == TP_OK)
             st = finish_row(b, 0, row, err);
         if (st == TP_OK && tp_interrupted())
@@ -512,20 +646,22 @@ tp_status build(const char* const* paths, int count, const tp_imagery_target* t,
 
 extern "C" tp_status tp_imagery_build(const char* const* sources, int count,
                                       const tp_imagery_target* target,
-                                      const tp_imagery_build_options* options,
-                                      const char* out_path, tp_error* err)
+                                      const tp_imagery_build_options* options, const char* out_path,
+                                      tp_error* err)
 {
     if (!sources || count < 1 || !target || !out_path)
-        return fail(err, TP_ERR_INVALID_ARG, "imagery: bad arguments (no sources, target or output)");
+        return fail(err, TP_ERR_INVALID_ARG,
+                    "imagery: bad arguments (no sources, target or output)");
     for (int i = 0; i < count; ++i)
         if (!sources[i])
             return fail(err, TP_ERR_INVALID_ARG, "imagery: bad arguments (source %d is NULL)", i);
     if (target->width < 1 || target->height < 1 || !target->crs_wkt ||
         !std::isfinite(target->geotransform[1]) || !std::isfinite(target->geotransform[5]) ||
         target->geotransform[1] * target->geotransform[5] -
-                target->geotransform[2] * target->geotransform[4] == 0)
-        return fail(err, TP_ERR_INVALID_ARG, "%s: bad render grid (%dx%d)", out_path,
-                    target->width, target->height);
+                target->geotransform[2] * target->geotransform[4] ==
+            0)
+        return fail(err, TP_ERR_INVALID_ARG, "%s: bad render grid (%dx%d)", out_path, target->width,
+                    target->height);
     tp_imagery_build_options o{};
     o.texel_shift = TP_IMAGERY_SHIFT_AUTO;
     if (options)

@@ -34,7 +34,10 @@ uint32_t le32(const uint8_t* p)
 {
     return (uint32_t)p[0] | (uint32_t)p[1] << 8 | (uint32_t)p[2] << 16 | (uint32_t)p[3] << 24;
 }
-uint64_t le64(const uint8_t* p) { return le32(p) | (uint64_t)le32(p + 4) << 32; }
+uint64_t le64(const uint8_t* p)
+{
+    return le32(p) | (uint64_t)le32(p + 4) << 32;
+}
 void put32(uint8_t* p, uint32_t v)
 {
     for (int i = 0; i < 4; i++)
