@@ -27,6 +27,7 @@ typedef struct view_options {
     const char* imagery;             /* --imagery FILE.tpi (stores) */
     int no_imagery;                  /* --no-imagery */
     int clip_blocks;                 /* --clip-blocks N (0: the clipmap's default) */
+    int imagery_mode;                /* --imagery-mode: a tp_imagery_mode (imagery_view.h) */
     int has_measure;
     double measure[4]; /* E1, N1, E2, N2 */
     double pick[16][2]; /* --pick X,Y pixels */
