@@ -365,8 +365,10 @@ static int assign(tp_imagery_blocks* b, const tp_cut_node* nodes, size_t count, 
         a->own = 1;
         a->layer = -1;
         if (nk == 0) { /* wholly transparent: nothing to sample */
-            a->level = 0;
-            a->origin[0] = a->origin[1] = 0;
+            tp_block_key k = w == EMPTY ? (tp_block_key){0, 0, 0} : unpack(w);
+            a->level = k.level;
+            a->origin[0] = k.bx * L + window_shift(b, k.level);
+            a->origin[1] = k.by * L + window_shift(b, k.level);
             continue;
         }
         int layer = find(b, w);
@@ -432,7 +434,8 @@ void tp_imagery_blocks_frame(tp_imagery_blocks* b, const tp_cut* cut, tp_rendere
             b->it = it;
         if (!as || !it) {
             b->count = 0;
-            tp_renderer_set_item_textures(r, 0, NULL, 0);
+            if (r)
+                tp_renderer_set_item_textures(r, 0, NULL, 0);
             return;
         }
         b->as_cap = count;
@@ -450,6 +453,10 @@ void tp_imagery_blocks_frame(tp_imagery_blocks* b, const tp_cut* cut, tp_rendere
         tp_clipmap_stats more = {0};
         st->missing = assign(b, nodes, count, 0, &more);
         want_and_collect(b);
+        tp_imagery_cache_stats cs;
+        tp_imagery_cache_get_stats(b->cache, &cs);
+        if (more.uploads == 0 && cs.pending == 0)
+            break; /* more nodes than layers: the rest stay with their ancestors' */
         st->uploads += more.uploads;
         st->upload_bytes += more.upload_bytes;
         st->upload_ms += more.upload_ms;
@@ -471,8 +478,10 @@ void tp_imagery_blocks_frame(tp_imagery_blocks* b, const tp_cut* cut, tp_rendere
             t->offset[d] = (float)(((cell[d] + 0.5) * k - (double)a->origin[d]) / L);
         }
     }
-    tp_renderer_set_clip(r, NULL);
-    tp_renderer_set_item_textures(r, b->tex, b->it, count);
+    if (r) {
+        tp_renderer_set_clip(r, NULL);
+        tp_renderer_set_item_textures(r, b->tex, b->it, count);
+    }
 
     tp_imagery_cache_stats cs;
     tp_imagery_cache_get_stats(b->cache, &cs);
@@ -488,6 +497,13 @@ const tp_blocks_assignment* tp_imagery_blocks_assignment(const tp_imagery_blocks
 {
     *count = b->count;
     return b->as;
+}
+
+const tp_render_item_texture* tp_imagery_blocks_item_textures(const tp_imagery_blocks* b,
+                                                              size_t* count)
+{
+    *count = b->count;
+    return b->it;
 }
 
 unsigned tp_imagery_blocks_texture(const tp_imagery_blocks* b)

@@ -6,11 +6,12 @@
  * Which texture. A node (s, c, r) of a tree with nodes of 2^n + 1 posts spans 2^(n+s) grid
  * posts a side; at pyramid level l = n + s + texel_shift - 8 that is exactly 256 texels (one
  * block's width). Its texture is the 256 x 256 texel window of level l that starts at texel
- * (c * 256 + f, r * 256 + f), f = floor(half a post in level-l texels): the node's posts lie
- * in texels [c * 256 + h, (c + 1) * 256 + h] (pixel-is-area: post x is at level-0 texel
- * (x + 0.5) * 2^texel_shift), so the window holds the node whole, every texel at its own
- * place; only the outermost half texel at a node's edge is clamped (CLAMP_TO_EDGE), as with
- * any per-tile texture. The window is assembled from the (at most 2 x 2) pyramid blocks it
+ * (c * 256 + f, r * 256 + f), f = floor(h), h = half a post in level-l texels: the node's
+ * posts lie in texels [c * 256 + h, (c + 1) * 256 + h] (pixel-is-area: post x is at level-0
+ * texel (x + 0.5) * 2^texel_shift), so the window holds the node, every texel at its own
+ * place; only the outermost half texel along a node's edge is clamped (CLAMP_TO_EDGE), as with
+ * any per-tile texture (where h < 1, f = 0: the last h texels of the node, under half a
+ * texel, lie past the window's east and south edges and repeat its last texel). The window is assembled from the (at most 2 x 2) pyramid blocks it
  * overlaps. A node finer than level 0 (l < 0) uses the window of its ancestor at level 0 (a
  * sub-rectangle of it); a node coarser than the coarsest level, the coarsest level's single
  * window at (0, 0) (the whole image), which is read at creation and never evicted, so every
@@ -48,8 +49,8 @@ typedef struct tp_imagery_blocks_options {
 
 /* The layer and mapping of one drawn node (what tp_renderer_set_item_textures takes). */
 typedef struct tp_blocks_assignment {
-    int layer;
-    int level;               /* pyramid level of the layer's window */
+    int layer;               /* -1: the node's window is wholly transparent (no layer) */
+    int level;               /* pyramid level of the layer's window (or of the empty one) */
     int64_t origin[2];       /* the window's first texel of that level */
     int own;                 /* 1: the node's own window; 0: an ancestor's */
 } tp_blocks_assignment;
@@ -67,14 +68,18 @@ void tp_imagery_blocks_destroy(tp_imagery_blocks* b); /* accepts NULL */
 
 /* Once per frame before drawing the cut: assigns each drawn node (tp_cut_nodes order) its
  * layer (uploading ready windows, at most the cap unless settle), queues the blocks of the
- * windows missing, collects the RAM pool, and hands the per-node textures to r. settle: wait
- * (up to timeout_s) until every node has its own window (headless frames, tests). */
+ * windows missing, collects the RAM pool, and hands the per-node textures to r (NULL: none,
+ * tests). settle: wait (up to timeout_s) until every node has its own window, or no layer is
+ * left for one (more nodes drawn than layers), without the cap (headless frames, tests). */
 void tp_imagery_blocks_frame(tp_imagery_blocks* b, const tp_cut* cut, tp_renderer* r,
                              const tp_camera* cam, int settle, double timeout_s,
                              tp_clipmap_stats* st);
 
-/* The last frame's assignment of drawn node i (tests), and the texture array's name. */
+/* The last frame's assignment of each drawn node and what it handed the renderer (tests), the
+ * texture array's name and its layers. */
 const tp_blocks_assignment* tp_imagery_blocks_assignment(const tp_imagery_blocks* b, size_t* count);
+const tp_render_item_texture* tp_imagery_blocks_item_textures(const tp_imagery_blocks* b,
+                                                              size_t* count);
 unsigned tp_imagery_blocks_texture(const tp_imagery_blocks* b);
 int tp_imagery_blocks_layers(const tp_imagery_blocks* b);
 
