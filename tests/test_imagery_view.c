@@ -92,12 +92,16 @@ static void imagery(const char* image, const char* tpi, const char* shift)
         FAIL("imagery: %s", err);
 }
 
-TEST(marker_shows_on_its_ground_point_within_half_a_texel)
+/* mode: --imagery-mode (clipmap or blocks) */
+static void marker_shows(const char* mode)
 {
-    char tif[512], tpi[512], png[512], err[4096], out[4096];
-    path_in(tif, sizeof tif, "marker.tif");
-    path_in(tpi, sizeof tpi, "marker.tpi");
-    path_in(png, sizeof png, "marker.png");
+    char tif[512], tpi[512], png[512], err[4096], out[4096], name[64];
+    snprintf(name, sizeof name, "marker-%s.tif", mode);
+    path_in(tif, sizeof tif, name);
+    snprintf(name, sizeof name, "marker-%s.tpi", mode);
+    path_in(tpi, sizeof tpi, name);
+    snprintf(name, sizeof name, "marker-%s.png", mode);
+    path_in(png, sizeof png, name);
     write_marker_image(tif);
     imagery(tif, tpi, "3"); /* 22.0 m posts: 2.75 m texels */
     double lat = LAT0 - (MY + 0.5) * DLAT, lon = LON0 + (MX + 0.5) * DLON;
@@ -109,7 +113,8 @@ TEST(marker_shows_on_its_ground_point_within_half_a_texel)
     char cam[128];
     snprintf(cam, sizeof cam, "%.3f,%.3f,2580,0,-90", e, n);
     const char* args[] = {"--headless", "--size", "400x400", "--no-hud", "--camera", cam,
-                          "--imagery", tpi, "--screenshot", png, store(), NULL};
+                          "--imagery", tpi, "--imagery-mode", mode, "--screenshot", png,
+                          store(), NULL};
     ASSERT_EQ_INT(tp_test_run_terrapatch("view", args, err, sizeof err), 0);
     int w, h;
     uint8_t* rgba;
@@ -137,6 +142,51 @@ TEST(marker_shows_on_its_ground_point_within_half_a_texel)
     double texel = 22.0131 / 8;
     EXPECT_NEAR(pe, e, texel / 2);
     EXPECT_NEAR(pn, n, texel / 2);
+}
+
+TEST(marker_shows_on_its_ground_point_within_half_a_texel)
+{
+    marker_shows("clipmap");
+}
+
+/* The same through Brodersen's texture per node (imagery_blocks.c): the node under the camera
+ * samples its own window of the pyramid. */
+TEST(blocks_mode_marker_shows_on_its_ground_point_within_half_a_texel)
+{
+    marker_shows("blocks");
+}
+
+/* A flight in blocks mode: the texture array stays within its budget (96 MiB: 384 layers of
+ * 256 x 256 RGBA), layers are uploaded as nodes come into view, one draw call per node, and the
+ * last frame equals the one a fresh pool draws at the same place. */
+TEST(blocks_mode_flight_stays_within_the_gpu_budget)
+{
+    char img[1024], tpi[512], json[512], err[4096], text[16384];
+    REQUIRE_DATA_FILE(img, "TP_SHARED_DATA_DIR", "craterlake-imagery-30m.tif");
+    path_in(tpi, sizeof tpi, "blocks.tpi");
+    path_in(json, sizeof json, "blocks.json");
+    imagery(img, tpi, "3");
+    const char* args[] = {"--frames", "60", "--segments", "1", "--speed", "3000", "--no-error",
+                          "--size", "320x180", "--imagery", tpi, "--imagery-mode", "blocks",
+                          "--json", json, store(), NULL};
+    ASSERT_EQ_INT(tp_test_run_terrapatch("bench", args, err, sizeof err), 0);
+    tp_test_read_text(json, text, sizeof text);
+    const char* with = strstr(text, "\"imagery_mode\": \"blocks\"");
+    ASSERT_TRUE(with != NULL);
+    double gpu_mb = tp_test_json_number_after(text, with, "imagery_gpu_mb");
+    EXPECT_GT(gpu_mb, 0);
+    EXPECT_LE(gpu_mb, 96 * 1048576 / 1e6);
+    /* nodes came into view: layers were uploaded during the timed frames (9 on this flight) */
+    EXPECT_GT(tp_test_json_number_after(text, with, "imagery_uploads_total"), 0);
+    EXPECT_EQ_DBL(tp_test_json_number_after(text, with, "imagery_final_diff_pixels"), 0);
+    /* one draw per node: as many calls as nodes (these come before "imagery_mode" in its
+     * configuration, which begins with "lod_mode") */
+    const char* cfg = with;
+    while (cfg > text && strncmp(cfg, "\"lod_mode\"", 10) != 0)
+        cfg--;
+    EXPECT_GE(tp_test_json_number_after(text, cfg, "draw_calls_median"),
+              tp_test_json_number_after(text, cfg, "nodes_drawn_median"));
+    EXPECT_GT(tp_test_json_number_after(text, cfg, "nodes_drawn_median"), 2);
 }
 
 /* A fast flight (3 km/s) with 2 x 2-block windows (512 texels) at 2.75 m texels: the windows are
@@ -286,6 +336,8 @@ TEST(sun_date_errors_are_usage_errors)
 
 #define TESTS(X)                                                                                   \
     X(marker_shows_on_its_ground_point_within_half_a_texel)                                        \
+    X(blocks_mode_marker_shows_on_its_ground_point_within_half_a_texel)                            \
+    X(blocks_mode_flight_stays_within_the_gpu_budget)                                              \
     X(fast_flight_leaves_nothing_stale)                                                            \
     X(pyramid_of_another_store_is_refused)                                                         \
     X(damaged_block_is_reported_and_drawn_without)                                                 \

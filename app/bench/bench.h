@@ -39,6 +39,7 @@ typedef struct bench_options {
     int no_prefetch;   /* --no-prefetch: the stream gets no prefetch cut (what it costs) */
     const char* imagery; /* --imagery FILE.tpi: a configuration with imagery (bench_store.c) */
     int clip_blocks;   /* --clip-blocks */
+    int imagery_mode;  /* --imagery-mode: 0 clipmap, 1 blocks (tp_imagery_mode), 2 both */
     /* --static */
     int compare;       /* --compare: delatin and martini from npm beside the TIN */
     int runs;          /* --runs: timed runs per TIN (median); default 3 */
@@ -81,14 +82,14 @@ struct tp_view_imagery;
 struct tp_store_scene;
 struct tp_cut;
 struct tp_renderer;
-/* The last frame of a flight with imagery (bench_store.c), drawn with the flown clipmap settled
- * at cam and again with a fresh one opened from path and settled there: the pixels that differ
- * (0 when the toroidal updates left nothing stale), or -1 when the fresh one cannot be made
- * (bench_imagery.c). */
+/* The last frame of a flight with imagery (bench_store.c), drawn with the flown clipmap (or
+ * blocks, mode: a tp_imagery_mode) settled at cam and again with a fresh one opened from path
+ * and settled there: the pixels that differ (0 when the updates left nothing stale), or -1
+ * when the fresh one cannot be made (bench_imagery.c). */
 long tp_bench_imagery_diff(struct tp_view_imagery* flown, const char* path,
                            const struct tp_store_scene* sc, const struct tp_cut* cut,
                            struct tp_renderer* r, tp_gl_context* ctx, const tp_camera* cam,
-                           int clip_blocks);
+                           int mode, int clip_blocks);
 
 /* Length (metres) of the named path (low, high, orbit). */
 double tp_bench_path_length(const tp_scene* sc, const bench_options* o);

@@ -25,7 +25,7 @@ static void draw_settled(tp_view_imagery* vi, const tp_store_scene* sc, const tp
 
 long tp_bench_imagery_diff(tp_view_imagery* flown, const char* path, const tp_store_scene* sc,
                            const tp_cut* cut, tp_renderer* r, tp_gl_context* ctx,
-                           const tp_camera* cam, int clip_blocks)
+                           const tp_camera* cam, int mode, int clip_blocks)
 {
     int w, h;
     tp_gl_context_size(ctx, &w, &h);
@@ -35,7 +35,7 @@ long tp_bench_imagery_diff(tp_view_imagery* flown, const char* path, const tp_st
     tp_view_imagery* fresh = NULL;
     tp_clipmap_options co = {.clip_blocks = clip_blocks};
     long diff = -1;
-    if (a && b && tp_view_imagery_open(path, sc, &co, &fresh)) {
+    if (a && b && tp_view_imagery_open(path, sc, (tp_imagery_mode)mode, &co, &fresh)) {
         draw_settled(flown, sc, cut, r, ctx, cam, a);
         draw_settled(fresh, sc, cut, r, ctx, cam, b); /* twice: the same frame coherence */
         draw_settled(fresh, sc, cut, r, ctx, cam, b);

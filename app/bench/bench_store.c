@@ -44,7 +44,7 @@ typedef struct store_row {
     double cut_ms, stream_ms, upload_ms, draw_ms, frame_ms, cpu_ms;
     long page_faults;           /* minor page faults during the draw */
     size_t triangles, gpu_bytes, resident_bytes;
-    int dropped;
+    int dropped, draw_calls;
     int nodes, visited, substituted, requests, uploads, pending;
     double substitution_px;
     double rss_mb, rss_anon_mb;
@@ -71,7 +71,9 @@ typedef struct store_result {
     double samples, skipped;    /* totals over measured frames */
     double settle_ms;           /* first stretch: open... until nothing is missing */
     int settle_timeouts;
-    int imagery;                /* drapes o->imagery through the clipmap */
+    int imagery;                /* drapes o->imagery through the clipmap or blocks: */
+    int imagery_mode;           /* a tp_imagery_mode */
+    double draw_calls;          /* median */
     double img_ms, img_upload_ms, img_upload_ms_p99, img_uploads, img_gpu_mb, img_cache_mb;
     double img_uploads_total;   /* blocks uploaded over the timed frames */
     int img_missing_max, img_frames_missing;
@@ -250,6 +252,8 @@ static void summarize(store_result* c, int n)
     c->visited = tp_bench_median(v, n);
     ROWS_OF(r->uploads);
     c->uploads = tp_bench_median(v, n);
+    ROWS_OF(r->draw_calls);
+    c->draw_calls = tp_bench_median(v, n);
     ROWS_OF(r->img_ms);
     c->img_ms = tp_bench_median(v, n);
     ROWS_OF(r->img_upload_ms);
@@ -355,7 +359,8 @@ static int run_store_config(store_bench* b, store_result* c, int first, const ch
     tp_view_imagery* im = NULL;
     tp_clipmap_options co = {.clip_blocks = o->clip_blocks,
                              .frame_s = o->realtime ? 0 : 1.0 / FRAME_HZ};
-    if (c->imagery && !tp_view_imagery_open(o->imagery, &b->sc, &co, &im))
+    if (c->imagery &&
+        !tp_view_imagery_open(o->imagery, &b->sc, (tp_imagery_mode)c->imagery_mode, &co, &im))
         goto done;
     tp_camera cam;
     for (int seg = 0; seg < b->segments; seg++) {
@@ -415,6 +420,7 @@ static int run_store_config(store_bench* b, store_result* c, int first, const ch
             row->stream_ms = t2 - t1;
             row->upload_ms = st.upload_ms;
             row->draw_ms = st.draw_ms;
+            row->draw_calls = st.draw_calls;
             row->page_faults = st.page_faults;
             row->frame_ms = t3 - t0;
             row->cpu_ms = row->cut_ms + row->stream_ms + row->upload_ms;
@@ -457,7 +463,7 @@ static int run_store_config(store_bench* b, store_result* c, int first, const ch
     summarize(c, frames);
     if (im) /* the last frame against a fresh clipmap's: nothing stale after the flight */
         c->img_final_diff = tp_bench_imagery_diff(im, o->imagery, &b->sc, cut, r, b->ctx, &cam,
-                                                  o->clip_blocks);
+                                                  c->imagery_mode, o->clip_blocks);
     code = TP_EXIT_OK;
     goto done;
 cut_failed:
@@ -489,6 +495,7 @@ static void json_result(tp_json* j, const store_result* c)
     KN("stream_ms_median", c->stream_ms);
     KN("upload_ms_median", c->upload_ms);
     KN("draw_ms_median", c->draw_ms);
+    KN("draw_calls_median", c->draw_calls);
     KN("draw_page_faults_median", c->page_faults);
     KN("triangles_median", c->triangles);
     KN("nodes_drawn_median", c->nodes);
@@ -507,6 +514,8 @@ static void json_result(tp_json* j, const store_result* c)
     tp_json_key(j, "imagery");
     tp_json_bool(j, c->imagery);
     if (c->imagery) {
+        tp_json_key(j, "imagery_mode");
+        tp_json_string(j, c->imagery_mode == TP_IMAGERY_BLOCKS ? "blocks" : "clipmap");
         KN("imagery_ms_median", c->img_ms);
         KN("imagery_upload_ms_median", c->img_upload_ms);
         KN("imagery_upload_ms_p99", c->img_upload_ms_p99);
@@ -606,7 +615,9 @@ static int write_csv(const store_bench* b, const store_result* c, int nc)
             const store_row* r = &c[k].rows[i];
             fprintf(f, "%s,%d,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%zu,%d,%d,%d,%d,%d,%d,%zu,%zu,%.1f,"
                        "%.1f,%d,%.4f,%.4f,%zu,%zu,%.4f,%.4f,%d,%d\n",
-                    c[k].imagery ? "error+imagery" : c[k].lod.mode == TP_LOD_ERROR ? "error" : "distance", i, r->frame_ms,
+                    c[k].imagery ? (c[k].imagery_mode == TP_IMAGERY_BLOCKS ? "error+blocks"
+                                                                           : "error+imagery")
+                                 : c[k].lod.mode == TP_LOD_ERROR ? "error" : "distance", i, r->frame_ms,
                     r->cut_ms, r->stream_ms, r->upload_ms, r->draw_ms, r->cpu_ms, r->triangles,
                     r->nodes, r->visited, r->substituted, r->requests, r->uploads, r->pending,
                     r->gpu_bytes, r->resident_bytes, r->rss_mb, r->rss_anon_mb, r->measured,
@@ -648,12 +659,16 @@ static void print_table(const store_bench* b, const char* renderer_name, const s
                c[k].samples > 0 ? c[k].max_px : NAN);
     for (int k = 0; k < nc; k++)
         if (c[k].imagery)
-            printf("%s: imagery %.3f ms a frame (upload %.3f ms median, %.3f p99; %.0f blocks), "
-                   "GPU %.1f MB, RAM %.1f MB, %d frames lacking blocks (at most %d), last frame "
-                   "vs a fresh clipmap: %ld pixels differ\n",
+            printf("%s: imagery %.3f ms a frame (upload %.3f ms median, %.3f p99; %.0f %s), "
+                   "GPU %.1f MB, RAM %.1f MB, %d frames lacking %s (at most %d), %.0f draw calls, "
+                   "last frame vs a fresh %s: %ld pixels differ\n",
                    c[k].label, c[k].img_ms, c[k].img_upload_ms, c[k].img_upload_ms_p99,
-                   c[k].img_uploads, c[k].img_gpu_mb, c[k].img_cache_mb, c[k].img_frames_missing,
-                   c[k].img_missing_max, c[k].img_final_diff);
+                   c[k].img_uploads, c[k].imagery_mode == TP_IMAGERY_BLOCKS ? "layers" : "blocks",
+                   c[k].img_gpu_mb, c[k].img_cache_mb, c[k].img_frames_missing,
+                   c[k].imagery_mode == TP_IMAGERY_BLOCKS ? "node textures" : "blocks",
+                   c[k].img_missing_max, c[k].draw_calls,
+                   c[k].imagery_mode == TP_IMAGERY_BLOCKS ? "blocks pool" : "clipmap",
+                   c[k].img_final_diff);
     for (int k = 0; k < nc; k++)
         if (!o->no_error)
             printf("%s: screen error measured on %d frames without substitution (%.0f samples, "
@@ -696,7 +711,7 @@ int tp_bench_store(const bench_options* o)
     read_rss(&b.base_rss_mb, &b.base_anon_mb);
     const char* renderer_name = (const char*)glGetString(GL_RENDERER);
     renderer_name = renderer_name ? renderer_name : "?";
-    store_result c[3];
+    store_result c[4];
     memset(c, 0, sizeof c);
     c[0].lod = o->vs.lod;
     c[0].lod.mode = TP_LOD_ERROR;
@@ -706,10 +721,16 @@ int tp_bench_store(const bench_options* o)
     snprintf(c[1].label, sizeof c[1].label, "distance");
     int nc = 2, code = TP_EXIT_OK;
     if (o->imagery) { /* the error mode again, with imagery: fps with / fps without */
-        c[2] = c[0];
-        c[2].imagery = 1;
-        snprintf(c[2].label, sizeof c[2].label, "%.48s+imagery", c[0].label);
-        nc = 3;
+        for (int m = 0; m < 2; m++) {
+            if (o->imagery_mode != 2 && o->imagery_mode != m)
+                continue;
+            c[nc] = c[0];
+            c[nc].imagery = 1;
+            c[nc].imagery_mode = m;
+            snprintf(c[nc].label, sizeof c[nc].label, "%.40s+%s", c[0].label,
+                     m == TP_IMAGERY_BLOCKS ? "blocks" : "imagery");
+            nc++;
+        }
     }
     for (int k = 0; k < nc && code == TP_EXIT_OK; k++) {
         char progress[96];

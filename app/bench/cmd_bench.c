@@ -44,6 +44,7 @@ enum {
     OPT_NO_PREFETCH,
     OPT_IMAGERY,
     OPT_CLIP_BLOCKS,
+    OPT_IMAGERY_MODE,
     OPT_COMPARE,
     OPT_RUNS,
 };
@@ -129,10 +130,14 @@ static void print_help(void)
           "                         per frame\n"
           "  --no-prefetch          no prefetch cut (to measure what the prefetch costs)\n"
           "  --imagery FILE.tpi     a third configuration: the error mode with this imagery\n"
-          "                         pyramid draped through the clipmap (upload ms, GPU and RAM\n"
-          "                         of the imagery per frame; the last frame compared with a\n"
-          "                         fresh clipmap's: imagery_final_diff_pixels)\n"
+          "                         pyramid draped through the clipmap or blocks (upload ms,\n"
+          "                         GPU and RAM of the imagery per frame, draw calls; the last\n"
+          "                         frame compared with a fresh clipmap's or pool's:\n"
+          "                         imagery_final_diff_pixels)\n"
           "  --clip-blocks N        the clipmap's window in blocks a side (even, 2..32; default 4)\n"
+          "  --imagery-mode M       clipmap (default); blocks: Brodersen's texture per drawn node\n"
+          "                         (a pool of 384 layers of 256x256, 96 MiB; one draw call per\n"
+          "                         node); both: one configuration each, to compare them\n"
           "  --error-every N        measure the screen error on every N-th frame (default 1),\n"
           "                         only frames drawn without substitution, only samples whose\n"
           "                         leaf is resident (the JSON says how many were skipped)\n"
@@ -178,6 +183,7 @@ static int parse_options(int argc, char** argv, bench_options* o)
         {"no-prefetch", no_argument, NULL, OPT_NO_PREFETCH},
         {"imagery", required_argument, NULL, OPT_IMAGERY},
         {"clip-blocks", required_argument, NULL, OPT_CLIP_BLOCKS},
+        {"imagery-mode", required_argument, NULL, OPT_IMAGERY_MODE},
         {"compare", no_argument, NULL, OPT_COMPARE},
         {"runs", required_argument, NULL, OPT_RUNS},
         {"help", no_argument, NULL, 'h'},
@@ -284,6 +290,18 @@ static int parse_options(int argc, char** argv, bench_options* o)
             o->clip_blocks = (int)n;
             break;
         }
+        case OPT_IMAGERY_MODE:
+            if (!strcmp(optarg, "clipmap"))
+                o->imagery_mode = 0;
+            else if (!strcmp(optarg, "blocks"))
+                o->imagery_mode = 1;
+            else if (!strcmp(optarg, "both"))
+                o->imagery_mode = 2;
+            else {
+                tp_option_error("bench", "--imagery-mode", "clipmap, blocks or both", optarg);
+                return TP_EXIT_USAGE;
+            }
+            break;
         case 'h': print_help(); return tp_cli_finish(TP_EXIT_OK);
         case ':':
             fprintf(stderr, "terrapatch bench: missing value for %s\n", argv[optind - 1]);

@@ -66,6 +66,7 @@ enum {
     OPT_SUN_DATE,
     OPT_SUN_TIME,
     OPT_NO_CAST_SHADOWS,
+    OPT_IMAGERY_MODE,
 };
 
 static void print_help(void)
@@ -119,6 +120,8 @@ static void print_help(void)
           "  --no-imagery          do not drape STORE.tpi\n"
           "  --clip-blocks N       the clipmap's window: N x N blocks of 256 texels a level (even,\n"
           "                        2..32; default 4: 1024 texels, 4 MiB of GPU memory a level)\n"
+          "  --imagery-mode M      clipmap (default), or blocks: Brodersen's texture per drawn\n"
+          "                        node, for comparison (384 layers of 256x256 texels, 96 MiB)\n"
           "planning layers (docs/field.md):\n"
           "  --overlay FILE        drape a vector file on the terrain: GPX, KML, GeoJSON,\n"
           "                        Shapefile, GeoPackage or anything OGR reads, reprojected to\n"
@@ -236,6 +239,7 @@ static int parse_options(int argc, char** argv, view_options* o)
         {"sun-date", required_argument, NULL, OPT_SUN_DATE},
         {"sun-time", required_argument, NULL, OPT_SUN_TIME},
         {"no-cast-shadows", no_argument, NULL, OPT_NO_CAST_SHADOWS},
+        {"imagery-mode", required_argument, NULL, OPT_IMAGERY_MODE},
         {"help", no_argument, NULL, 'h'},
         {NULL, 0, NULL, 0},
     };
@@ -316,6 +320,13 @@ static int parse_options(int argc, char** argv, view_options* o)
             if (*end || n < 2 || n > 32 || n % 2)
                 return bad("--clip-blocks", "an even number from 2 to 32", optarg);
             o->clip_blocks = (int)n;
+            break;
+        }
+        case OPT_IMAGERY_MODE: {
+            tp_imagery_mode m;
+            if (!tp_imagery_mode_parse(optarg, &m))
+                return bad("--imagery-mode", "clipmap or blocks", optarg);
+            o->imagery_mode = (int)m;
             break;
         }
         case OPT_SUN:
@@ -555,7 +566,7 @@ static int open_imagery(tp_view_scene* v, const view_options* o, const tp_store_
         return 1;
     tp_clipmap_options co = {.clip_blocks = o->clip_blocks};
     v->imagery_settle = o->headless;
-    return tp_view_imagery_open(path, st, &co, &v->imagery);
+    return tp_view_imagery_open(path, st, (tp_imagery_mode)o->imagery_mode, &co, &v->imagery);
 }
 
 /* Runs the view on an open scene (either path; st: the store, whose georeference may still be

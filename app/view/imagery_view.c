@@ -13,6 +13,7 @@
 struct tp_view_imagery {
     tp_imagery* im;
     tp_clipmap* clip;
+    tp_imagery_blocks* blocks; /* instead of clip in blocks mode */
     char path[4096];
     int finest;        /* last frame's finest level (frame coherence) */
     double* dist;      /* per cut node */
@@ -59,8 +60,19 @@ static int same_grid(const tp_imagery_info* in, const tp_store_scene* st)
     return 1;
 }
 
-int tp_view_imagery_open(const char* path, const tp_store_scene* st, const tp_clipmap_options* o,
-                         tp_view_imagery** out)
+int tp_imagery_mode_parse(const char* name, tp_imagery_mode* mode)
+{
+    if (strcmp(name, "clipmap") == 0)
+        *mode = TP_IMAGERY_CLIPMAP;
+    else if (strcmp(name, "blocks") == 0)
+        *mode = TP_IMAGERY_BLOCKS;
+    else
+        return 0;
+    return 1;
+}
+
+int tp_view_imagery_open(const char* path, const tp_store_scene* st, tp_imagery_mode mode,
+                         const tp_clipmap_options* o, tp_view_imagery** out)
 {
     tp_view_imagery* vi = calloc(1, sizeof *vi);
     if (!vi) {
@@ -95,8 +107,15 @@ int tp_view_imagery_open(const char* path, const tp_store_scene* st, const tp_cl
     for (int l = 0; l < src.levels; l++)
         tp_imagery_level_size(vi->im, l, &src.width[l], &src.height[l], NULL, NULL);
     char msg[512];
-    vi->clip = tp_clipmap_create(&src, in.geotransform, o, msg, sizeof msg);
-    if (!vi->clip) {
+    if (mode == TP_IMAGERY_BLOCKS) {
+        tp_imagery_blocks_options bo = {.cache_bytes = o ? o->cache_bytes : 0,
+                                        .no_loader = o ? o->no_loader : 0};
+        vi->blocks = tp_imagery_blocks_create(&src, in.texel_shift, in.geotransform, g, &bo, msg,
+                                              sizeof msg);
+    } else {
+        vi->clip = tp_clipmap_create(&src, in.geotransform, o, msg, sizeof msg);
+    }
+    if (!vi->clip && !vi->blocks) {
         fprintf(stderr, "terrapatch: %s: %s\n", path, msg);
         tp_view_imagery_close(vi);
         return 0;
@@ -110,6 +129,7 @@ void tp_view_imagery_close(tp_view_imagery* vi)
     if (!vi)
         return;
     tp_clipmap_destroy(vi->clip);
+    tp_imagery_blocks_destroy(vi->blocks);
     tp_imagery_close(vi->im);
     free(vi->dist);
     free(vi);
@@ -150,6 +170,10 @@ void tp_view_imagery_frame(tp_view_imagery* vi, const tp_store_scene* st, const 
                            double zscale, tp_renderer* r, const tp_camera* cam, int settle,
                            tp_clipmap_stats* stats)
 {
+    if (vi->blocks) {
+        tp_imagery_blocks_frame(vi->blocks, cut, r, cam, settle, 60, stats);
+        return;
+    }
     size_t count = node_distances(vi, st, cut, zscale, cam);
     vi->finest = count ? tp_clipmap_finest_level(vi->clip, cam, vi->dist, count, vi->finest) : 0;
     if (settle)
@@ -164,6 +188,7 @@ void tp_view_imagery_frame(tp_view_imagery* vi, const tp_store_scene* st, const 
 void tp_view_imagery_report_failures(tp_view_imagery* vi)
 {
     const char* f;
-    while (vi && (f = tp_clipmap_take_failure(vi->clip)))
+    while (vi && (f = vi->blocks ? tp_imagery_blocks_take_failure(vi->blocks)
+                                 : tp_clipmap_take_failure(vi->clip)))
         fprintf(stderr, "terrapatch: %s (drawn without imagery there)\n", f);
 }

@@ -46,10 +46,17 @@ struct tp_renderer {
     GLint u_cell, u_frac, u_spacing, u_cam_z, u_exag, u_viewproj, u_sun, u_color_lod,
         u_hide_filled, u_hrange, u_textured, u_tex, u_tex_scale, u_tex_offset, u_grid,
         u_grid_origin, u_clip, u_clip_levels, u_clip_first, u_clip_size, u_clip_per_m,
-        u_clip_rect, u_clip_cam, u_clip_lod_k, u_shadow, u_shadow_on, u_shadow_win;
+        u_clip_rect, u_clip_cam, u_clip_lod_k, u_shadow, u_shadow_on, u_shadow_win, u_blk,
+        u_blk_layer, u_blk_cell, u_blk_scale, u_blk_offset;
     GLuint shadow_tex;
     int shadow_win[4];
     GLuint tex;
+    /* tp_renderer_set_item_textures: a texture per item (imagery_blocks.h) */
+    GLuint blk_tex;
+    tp_render_item_texture* blk;
+    size_t blk_count, blk_cap;
+    size_t* ditem;     /* per drawn item: its index in items; then grouped as the draws */
+    size_t* gitem;
     tp_render_clip clip;
     float tex_scale[2], tex_offset[2];
     /* tp_renderer_create / tp_renderer_draw: the terrain whose patches it draws */
@@ -97,6 +104,9 @@ static const char* vs_src =
     "uniform int u_hide_filled;\n"
     "uniform vec2 u_hrange;\n"
     "uniform float u_clip_lod_k; // level-0 texels per pixel per metre of distance (0: none)\n"
+    "uniform ivec2 u_blk_cell;   // the item's texture (imagery_blocks.h): layer coordinates\n"
+    "uniform vec2 u_blk_scale, u_blk_offset; // are (a_grid - cell) * scale + offset\n"
+    "out vec2 v_blk;\n"
     "out vec2 v_uv;\n"
     "out vec2 v_rel;\n"
     "out float v_lod;    // log2 of level-0 texels per pixel here (Blow: per vertex, not per pixel)\n"
@@ -132,6 +142,7 @@ static const char* vs_src =
     "                              : hypsometric((a_z - u_hrange.x) / max(u_hrange.y - u_hrange.x, 1.0));\n"
     "    v_tint = u_hide_filled == 0 ? 0.65 * float((a_flags >> 4u) & 1u) : 0.0;\n"
     "    v_uv = vec2(a_grid) * u_tex_scale + u_tex_offset;\n"
+    "    v_blk = vec2(a_grid - u_blk_cell) * u_blk_scale + u_blk_offset;\n"
     "    v_rel = d;\n"
     "    // the texel footprint grows as 1 / cos of the angle between the ray and the normal:\n"
     "    // at grazing angles the coarser level (as GL's mipmapping takes the larger axis)\n"
@@ -143,6 +154,7 @@ static const char* vs_src =
 static const char* fs_src =
     "#version 330 core\n"
     "in vec2 v_uv;\n"
+    "in vec2 v_blk;\n"
     "in vec2 v_rel;\n"
     "in float v_lod;\n"
     "in vec2 v_shadow_uv;\n"
@@ -165,6 +177,8 @@ static const char* fs_src =
     "uniform vec4 u_clip_rect[16];// per level: where its bilinear footprint is valid, level\n"
     "                             // texels from the camera\n"
     "uniform vec2 u_clip_cam[16]; // per level: the camera's texel position modulo the size\n"
+    "uniform sampler2DArray u_blk; // a texture per item (imagery_blocks.h)\n"
+    "uniform int u_blk_layer;      // the item's layer; -1: none\n"
     "out vec4 o_color;\n"
     "bool clip_at(int l, vec2 d0, out vec4 c) {\n"
     "    vec2 d = d0 * exp2(-float(l));\n"
@@ -190,6 +204,10 @@ static const char* fs_src =
     "    }\n"
     "    if (u_clip_levels > 0) {\n"
     "        vec4 t = clip_sample(v_rel);\n"
+    "        base = mix(base, t.rgb, t.a);\n"
+    "    }\n"
+    "    if (u_blk_layer >= 0) {\n"
+    "        vec4 t = texture(u_blk, vec3(v_blk, float(u_blk_layer)));\n"
     "        base = mix(base, t.rgb, t.a);\n"
     "    }\n"
     "    float light = v_light;\n"
@@ -273,6 +291,11 @@ tp_renderer* tp_renderer_create_desc(const tp_render_grid_desc* d, char* msg, si
     TP_UNIFORM(u_shadow);
     TP_UNIFORM(u_shadow_on);
     TP_UNIFORM(u_shadow_win);
+    TP_UNIFORM(u_blk);
+    TP_UNIFORM(u_blk_layer);
+    TP_UNIFORM(u_blk_cell);
+    TP_UNIFORM(u_blk_scale);
+    TP_UNIFORM(u_blk_offset);
 #undef TP_UNIFORM
 
     /* The strips of every level, one after the other, in one index buffer. */
@@ -345,6 +368,9 @@ void tp_renderer_destroy(tp_renderer* r)
     free(r->bases);
     free(r->items);
     free(r->complete);
+    free(r->blk);
+    free(r->ditem);
+    free(r->gitem);
     free(r);
 }
 
@@ -360,6 +386,27 @@ void tp_renderer_set_clip(tp_renderer* r, const tp_render_clip* clip)
         r->clip = *clip;
     else
         memset(&r->clip, 0, sizeof r->clip);
+    if (!clip)
+        tp_renderer_set_item_textures(r, 0, NULL, 0);
+}
+
+void tp_renderer_set_item_textures(tp_renderer* r, unsigned texture,
+                                   const tp_render_item_texture* items, size_t count)
+{
+    r->blk_tex = 0;
+    r->blk_count = 0;
+    if (!texture || !items || count == 0)
+        return;
+    if (count > r->blk_cap) {
+        tp_render_item_texture* b = realloc(r->blk, count * sizeof *b);
+        if (!b)
+            return;
+        r->blk = b;
+        r->blk_cap = count;
+    }
+    memcpy(r->blk, items, count * sizeof *items);
+    r->blk_tex = texture;
+    r->blk_count = count;
 }
 
 /* The clipmap's uniforms for cam: everything relative to the camera's texel position (doubles
@@ -498,7 +545,13 @@ static int grow_draws(tp_renderer* r, size_t count)
     int* dl = realloc(r->draw_level, cap * sizeof *dl);
     if (dl)
         r->draw_level = dl;
-    if (!c || !o || !b || !gc || !go || !gb || !dl)
+    size_t* di = realloc(r->ditem, cap * sizeof *di);
+    if (di)
+        r->ditem = di;
+    size_t* gi = realloc(r->gitem, cap * sizeof *gi);
+    if (gi)
+        r->gitem = gi;
+    if (!c || !o || !b || !gc || !go || !gb || !dl || !di || !gi)
         return 0;
     r->draw_cap = cap;
     return 1;
@@ -546,6 +599,7 @@ void tp_renderer_draw_items(tp_renderer* r, const tp_render_item* items, size_t 
         r->counts[drawn] = (GLsizei)(c < 0 ? r->level_count[k] : list_count);
         r->offsets[drawn] = (void*)(c < 0 ? r->level_offset[k] : list_offset);
         r->bases[drawn] = tp_vertex_pool_base_vertex(r->pool, h);
+        r->ditem[drawn] = i;
         drawn++;
     }
     /* One multi-draw per group (each level's pool is its own buffer): group the draws. */
@@ -561,6 +615,7 @@ void tp_renderer_draw_items(tp_renderer* r, const tp_render_item* items, size_t 
         r->gcounts[at] = r->counts[j];
         r->goffsets[at] = r->offsets[j];
         r->gbases[at] = r->bases[j];
+        r->gitem[at] = r->ditem[j];
     }
     double t1 = now_ms();
     stats->upload_ms = t1 - t0;
@@ -629,14 +684,23 @@ void tp_renderer_draw_items(tp_renderer* r, const tp_render_item* items, size_t 
         glActiveTexture(GL_TEXTURE0);
         glBindTexture(GL_TEXTURE_2D, r->tex);
     }
-    set_clip_uniforms(r, cam, !st->color_lod);
-    glUniform1i(r->u_shadow, 2);
+    /* a texture per item: one draw each, its layer and mapping as uniforms */
+    int blocks = r->blk_tex && r->blk_count == count && !st->color_lod;
+    set_clip_uniforms(r, cam, !st->color_lod && !blocks);
+    glUniform1i(r->u_shadow, 3);
     glUniform1i(r->u_shadow_on, r->shadow_tex != 0);
     glUniform4f(r->u_shadow_win, (float)r->shadow_win[0], (float)r->shadow_win[1],
                 (float)r->shadow_win[2], (float)r->shadow_win[3]);
     if (r->shadow_tex) {
-        glActiveTexture(GL_TEXTURE2);
+        glActiveTexture(GL_TEXTURE3);
         glBindTexture(GL_TEXTURE_2D, r->shadow_tex);
+        glActiveTexture(GL_TEXTURE0);
+    }
+    glUniform1i(r->u_blk, 2);
+    glUniform1i(r->u_blk_layer, -1);
+    if (blocks) {
+        glActiveTexture(GL_TEXTURE2);
+        glBindTexture(GL_TEXTURE_2D_ARRAY, r->blk_tex);
         glActiveTexture(GL_TEXTURE0);
     }
     for (int k = 0; k <= r->grid.n; k++) {
@@ -652,7 +716,18 @@ void tp_renderer_draw_items(tp_renderer* r, const tp_render_item* items, size_t 
             GLenum type = list ? GL_UNSIGNED_INT : r->index_type;
             glBindBuffer(GL_ELEMENT_ARRAY_BUFFER,
                          list ? tp_vertex_pool_index_buffer(r->pool, k) : r->ibo);
-            if (st->one_draw_per_patch) {
+            if (blocks) {
+                for (size_t j = a; j < b; j++) {
+                    const tp_render_item_texture* t = &r->blk[r->gitem[j]];
+                    glUniform1i(r->u_blk_layer, t->layer);
+                    glUniform2i(r->u_blk_cell, t->cell[0], t->cell[1]);
+                    glUniform2f(r->u_blk_scale, t->scale[0], t->scale[1]);
+                    glUniform2f(r->u_blk_offset, t->offset[0], t->offset[1]);
+                    glDrawElementsBaseVertex(mode, r->gcounts[j], type, r->goffsets[j],
+                                             r->gbases[j]);
+                }
+                stats->draw_calls += (int)(b - a);
+            } else if (st->one_draw_per_patch) {
                 for (size_t j = a; j < b; j++)
                     glDrawElementsBaseVertex(mode, r->gcounts[j], type, r->goffsets[j],
                                              r->gbases[j]);

@@ -110,8 +110,27 @@ typedef struct tp_render_clip {
  * changes. texture 0: none (shadow_view.h). */
 void tp_renderer_set_shadow(tp_renderer* r, unsigned texture, int x0, int y0, int w, int h);
 
-/* The clipmap to sample from the next draw on (copied); NULL or texture 0: none. */
+/* The clipmap to sample from the next draw on (copied); NULL or texture 0: none (NULL also
+ * clears the item textures below: no imagery at all). */
 void tp_renderer_set_clip(tp_renderer* r, const tp_render_clip* clip);
+
+/* Imagery with a texture per drawn item (imagery_blocks.h, Brodersen's blocks): layer `layer`
+ * of the GL_TEXTURE_2D_ARRAY texture, sampled (bilinear, clamped to the layer's edge) at
+ * normalised layer coordinates (a_grid - cell) * scale + offset for the vertex at global grid
+ * post a_grid (cell: a post near the item, so the floats stay small). Layer -1: no imagery on
+ * that item. */
+typedef struct tp_render_item_texture {
+    int layer;
+    int32_t cell[2];
+    float scale[2], offset[2];
+} tp_render_item_texture;
+
+/* The next tp_renderer_draw_cut's per-item textures, in tp_cut_nodes order (copied); drawn one
+ * draw call per item (as one_draw_per_patch). Ignored by a draw whose item count differs from
+ * count; NULL, 0 or texture 0: none. The clipmap (tp_renderer_set_clip) is not sampled while
+ * they are set. */
+void tp_renderer_set_item_textures(tp_renderer* r, unsigned texture,
+                                   const tp_render_item_texture* items, size_t count);
 
 /* One thing to draw: a patch of a terrain or a node of a tree, at one level, with the
  * neighbour levels its crack removal used. The vertex data held for a key is rebuilt only when

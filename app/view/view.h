@@ -33,6 +33,7 @@ typedef struct view_options {
     tp_sun_time sun_when;            /* both parsed */
     tp_view_sun sun;                 /* the sun once the georeference is there */
     int no_cast_shadows;             /* --no-cast-shadows */
+    int imagery_mode;                /* --imagery-mode: a tp_imagery_mode (imagery_view.h) */
     int has_measure;
     double measure[4]; /* E1, N1, E2, N2 */
     double pick[16][2]; /* --pick X,Y pixels */
