@@ -179,13 +179,16 @@ TEST(blocks_mode_flight_stays_within_the_gpu_budget)
     /* nodes came into view: layers were uploaded during the timed frames (9 on this flight) */
     EXPECT_GT(tp_test_json_number_after(text, with, "imagery_uploads_total"), 0);
     EXPECT_EQ_DBL(tp_test_json_number_after(text, with, "imagery_final_diff_pixels"), 0);
-    /* one draw per node: as many calls as nodes (these come before "imagery_mode" in its
-     * configuration, which begins with "lod_mode") */
+    /* one draw per node (these come before "imagery_mode" in its configuration, which begins
+     * with "lod_mode"): nodes wholly in voids (this DEM's corners) draw nothing, so about as
+     * many calls as nodes, against the few multi-draws of the configuration without imagery
+     * (the headline, first in the file) */
     const char* cfg = with;
     while (cfg > text && strncmp(cfg, "\"lod_mode\"", 10) != 0)
         cfg--;
-    EXPECT_GE(tp_test_json_number_after(text, cfg, "draw_calls_median"),
-              tp_test_json_number_after(text, cfg, "nodes_drawn_median"));
+    double calls = tp_test_json_number_after(text, cfg, "draw_calls_median");
+    EXPECT_GE(calls, 0.8 * tp_test_json_number_after(text, cfg, "nodes_drawn_median"));
+    EXPECT_GT(calls, 10 * tp_test_json_number_after(text, NULL, "draw_calls_median"));
     EXPECT_GT(tp_test_json_number_after(text, cfg, "nodes_drawn_median"), 2);
 }
 
