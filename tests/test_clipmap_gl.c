@@ -10,6 +10,7 @@
 #include "clipmap.h"
 #include "gl_context.h"
 #include "tp_test.h"
+#include "tp_test_pattern.h"
 
 #include <epoxy/gl.h>
 
@@ -17,63 +18,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define BLOCK 256
+#define BLOCK TP_PATTERN_BLOCK
 #define PI 3.14159265358979323846
-
-static uint32_t texel_hash(int l, int64_t u, int64_t v)
-{
-    uint64_t x = (uint64_t)l * 0x9E3779B97F4A7C15ull ^ (uint64_t)u * 0xC2B2AE3D27D4EB4Full ^
-                 (uint64_t)v * 0x165667B19E3779F9ull;
-    x ^= x >> 29;
-    x *= 0xBF58476D1CE4E5B9ull;
-    x ^= x >> 32;
-    return (uint32_t)x | 0xFF000000u; /* opaque */
-}
-
-typedef struct pattern {
-    int64_t w0, h0;
-} pattern;
-
-/* Every 7th block of each level is empty (transparent, never read). */
-static int pattern_empty(void* user, tp_block_key k)
-{
-    (void)user;
-    return (k.bx * 3 + k.by * 5 + k.level) % 7 == 3;
-}
-
-static int pattern_read(void* user, tp_block_key k, uint8_t* rgba, char* msg, size_t cap)
-{
-    (void)user, (void)msg, (void)cap;
-    for (int y = 0; y < BLOCK; y++)
-        for (int x = 0; x < BLOCK; x++) {
-            uint32_t c = texel_hash(k.level, k.bx * BLOCK + x, k.by * BLOCK + y);
-            memcpy(rgba + ((size_t)y * BLOCK + x) * 4, &c, 4);
-        }
-    return 1;
-}
-
-static tp_block_source make_source(pattern* p)
-{
-    tp_block_source s = {.block = BLOCK, .read = pattern_read, .is_empty = pattern_empty, .user = p};
-    int64_t w = p->w0, h = p->h0;
-    for (s.levels = 0;; s.levels++) {
-        s.width[s.levels] = w, s.height[s.levels] = h;
-        if (w <= BLOCK && h <= BLOCK)
-            break;
-        w = (w + 1) / 2, h = (h + 1) / 2;
-    }
-    s.levels++;
-    return s;
-}
-
-static tp_gl_context* context_or_skip(void)
-{
-    tp_gl_context* ctx = NULL;
-    char msg[512];
-    if (!tp_gl_context_create_headless(64, 64, &ctx, msg, sizeof msg))
-        SKIP("no headless OpenGL here: %s", msg);
-    return ctx;
-}
 
 /* Reads the array back and checks every texel of every valid region; returns the texels
  * checked. */
@@ -103,7 +49,7 @@ static size_t check_valid_regions(tp_clipmap* m, const tp_block_source* src)
         for (int64_t v = (int64_t)r[1]; v < (int64_t)r[3] && !bad; v++)
             for (int64_t u = (int64_t)r[0]; u < (int64_t)r[2]; u++) {
                 tp_block_key k = {l, u / BLOCK, v / BLOCK};
-                uint32_t want = pattern_empty(NULL, k) ? 0 : texel_hash(l, u, v);
+                uint32_t want = tp_test_pattern_empty(NULL, k) ? 0 : tp_test_texel_hash(l, u, v);
                 uint32_t got = px[(size_t)l * layer + (size_t)(v % rc.size) * rc.size + (u % rc.size)];
                 checked++;
                 if (got != want) {
@@ -135,9 +81,9 @@ typedef struct flight_leg {
 static void fly(const tp_clipmap_options* o, const flight_leg* legs, int leg_count,
                 int check_every, int expect_evictions)
 {
-    tp_gl_context* ctx = context_or_skip();
-    pattern p = {40000, 30011}; /* 9 levels; not a multiple of the block */
-    tp_block_source src = make_source(&p);
+    tp_gl_context* ctx = tp_test_gl_context_or_skip();
+    tp_test_pattern p; /* 9 levels; not a multiple of the block */
+    tp_block_source src = tp_test_pattern_source(&p, 40000, 30011);
     double gt[6] = {500000, 1, 0, 5030011, 0, -1}; /* 1 m texels */
     char msg[512];
     tp_clipmap* m = tp_clipmap_create(&src, gt, o, msg, sizeof msg);

@@ -12,6 +12,7 @@
 #include "gl_context.h"
 #include "imagery_blocks.h"
 #include "tp_test.h"
+#include "tp_test_pattern.h"
 
 #include <epoxy/gl.h>
 
@@ -19,68 +20,11 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define BLOCK 256
+#define BLOCK TP_PATTERN_BLOCK
 #define PI 3.14159265358979323846
 #define GRID 1025 /* posts a side; nodes of 17 posts: 64 x 64 leaves, 7 scales */
 
 static const double GRID_GT[6] = {500000, 10, 0, 5010250, 0, -10};
-
-static uint32_t texel_hash(int l, int64_t u, int64_t v)
-{
-    uint64_t x = (uint64_t)l * 0x9E3779B97F4A7C15ull ^ (uint64_t)u * 0xC2B2AE3D27D4EB4Full ^
-                 (uint64_t)v * 0x165667B19E3779F9ull;
-    x ^= x >> 29;
-    x *= 0xBF58476D1CE4E5B9ull;
-    x ^= x >> 32;
-    return (uint32_t)x | 0xFF000000u; /* opaque */
-}
-
-typedef struct pattern {
-    int64_t w[TP_CLIP_MAX_LEVELS], h[TP_CLIP_MAX_LEVELS];
-} pattern;
-
-/* Every 7th block of each level is empty (transparent, never read). */
-static int pattern_empty(void* user, tp_block_key k)
-{
-    (void)user;
-    return (k.bx * 3 + k.by * 5 + k.level) % 7 == 3;
-}
-
-/* The pyramid's texel (level, u, v): 0 outside the level or in an empty block. */
-static uint32_t expected(const pattern* p, int l, int64_t u, int64_t v)
-{
-    if (u < 0 || v < 0 || u >= p->w[l] || v >= p->h[l])
-        return 0;
-    tp_block_key k = {l, u / BLOCK, v / BLOCK};
-    return pattern_empty(NULL, k) ? 0 : texel_hash(l, u, v);
-}
-
-static int pattern_read(void* user, tp_block_key k, uint8_t* rgba, char* msg, size_t cap)
-{
-    (void)msg, (void)cap;
-    const pattern* p = user;
-    for (int y = 0; y < BLOCK; y++)
-        for (int x = 0; x < BLOCK; x++) {
-            uint32_t c = expected(p, k.level, k.bx * BLOCK + x, k.by * BLOCK + y);
-            memcpy(rgba + ((size_t)y * BLOCK + x) * 4, &c, 4);
-        }
-    return 1;
-}
-
-static tp_block_source make_source(pattern* p, int texel_shift)
-{
-    tp_block_source s = {.block = BLOCK, .read = pattern_read, .is_empty = pattern_empty, .user = p};
-    int64_t w = (int64_t)GRID << texel_shift, h = w;
-    for (s.levels = 0;; s.levels++) {
-        s.width[s.levels] = p->w[s.levels] = w;
-        s.height[s.levels] = p->h[s.levels] = h;
-        if (w <= BLOCK && h <= BLOCK)
-            break;
-        w = (w + 1) / 2, h = (h + 1) / 2;
-    }
-    s.levels++;
-    return s;
-}
 
 static tp_tree* make_tree(void)
 {
@@ -103,7 +47,7 @@ static tp_tree* make_tree(void)
  * against the pyramid, and where the mapping sends points just inside its corners. Returns
  * the nodes drawn with their own window. */
 static int check_nodes(const tp_imagery_blocks* b, const tp_cut* cut, const tp_tree_geometry* g,
-                       const pattern* p, const tp_block_source* src, int ts)
+                       const tp_test_pattern* p, const tp_block_source* src, int ts)
 {
     int layers = tp_imagery_blocks_layers(b);
     size_t layer_px = (size_t)BLOCK * BLOCK;
@@ -139,7 +83,7 @@ static int check_nodes(const tp_imagery_blocks* b, const tp_cut* cut, const tp_t
             const uint32_t* lp = px + (size_t)a->layer * layer_px;
             for (int y = 0; y < BLOCK; y++)
                 for (int x = 0; x < BLOCK; x++) {
-                    uint32_t want = expected(p, a->level, a->origin[0] + x, a->origin[1] + y);
+                    uint32_t want = tp_test_pattern_texel(p, a->level, a->origin[0] + x, a->origin[1] + y);
                     if (lp[y * BLOCK + x] != want) {
                         ADD_FAILURE("node (%d, %d, %d), layer %d (level %d from %lld, %lld): texel "
                                     "(%d, %d) 0x%08x, the pyramid 0x%08x", s, c, r, a->layer,
@@ -167,7 +111,7 @@ static int check_nodes(const tp_imagery_blocks* b, const tp_cut* cut, const tp_t
                 EXPECT_EQ_INT(a->level, want_level);
                 int64_t cu = (int64_t)floor(fmin(fmax(wu, 0), BLOCK - 1));
                 int64_t cv = (int64_t)floor(fmin(fmax(wv, 0), BLOCK - 1));
-                EXPECT_EQ_INT((int)expected(p, a->level, a->origin[0] + cu, a->origin[1] + cv), 0);
+                EXPECT_EQ_INT((int)tp_test_pattern_texel(p, a->level, a->origin[0] + cu, a->origin[1] + cv), 0);
                 continue;
             }
             const tp_render_item_texture* t = &it[i];
@@ -180,22 +124,13 @@ static int check_nodes(const tp_imagery_blocks* b, const tp_cut* cut, const tp_t
             int xu = (int)floor(tu), yv = (int)floor(tv);
             if (xu >= 0 && xu < BLOCK && yv >= 0 && yv < BLOCK) {
                 uint32_t got = px[(size_t)a->layer * layer_px + (size_t)yv * BLOCK + xu];
-                EXPECT_EQ_INT((int)got, (int)expected(p, a->level, (int64_t)floor(lu), (int64_t)floor(lv)));
+                EXPECT_EQ_INT((int)got, (int)tp_test_pattern_texel(p, a->level, (int64_t)floor(lu), (int64_t)floor(lv)));
             }
         }
         ASSERT_NO_FAILURE();
     }
     free(px);
     return own;
-}
-
-static tp_gl_context* context_or_skip(void)
-{
-    tp_gl_context* ctx = NULL;
-    char msg[512];
-    if (!tp_gl_context_create_headless(64, 64, &ctx, msg, sizeof msg))
-        SKIP("no headless OpenGL here: %s", msg);
-    return ctx;
 }
 
 typedef struct flight_leg {
@@ -205,11 +140,11 @@ typedef struct flight_leg {
 static void fly(int ts, const tp_imagery_blocks_options* o, const flight_leg* legs, int leg_count,
                 int check_every, int expect_evictions)
 {
-    tp_gl_context* ctx = context_or_skip();
+    tp_gl_context* ctx = tp_test_gl_context_or_skip();
     tp_tree* tree = make_tree();
     const tp_tree_geometry* g = tp_tree_get_geometry(tree);
-    pattern p;
-    tp_block_source src = make_source(&p, ts);
+    tp_test_pattern p;
+    tp_block_source src = tp_test_pattern_source(&p, (int64_t)GRID << ts, (int64_t)GRID << ts);
     double img_gt[6] = {GRID_GT[0], ldexp(GRID_GT[1], -ts), 0, GRID_GT[3], 0, ldexp(GRID_GT[5], -ts)};
     char msg[512];
     tp_imagery_blocks* b = tp_imagery_blocks_create(&src, ts, img_gt, g, o, msg, sizeof msg);
