@@ -1495,6 +1495,52 @@ void tp_light_day_destroy(tp_light_day* day); /* accepts NULL */
 tp_status tp_light_day_at(const tp_light_day* day, double time_s, uint8_t* lit,
                           size_t out_count, tp_error* err);
 
+/* The sun over a day as each sample's lit intervals ("light times"; issue 15): Blow's maps
+ * (tp_light_day) compressed to four bytes a sample that a GPU samples and filters like
+ * imagery, so that a light map of any size streams through the viewer's clipmap and the time
+ * moves with one uniform. Each sample's day, times_s[0] .. times_s[count - 1], holds at most two
+ * intervals in which it is lit; each end is where tp_light_day_at's interpolation between two
+ * maps changes the sample (where the sun's elevation passes its horizon), quantised to
+ *     tau = TP_LIGHT_TIMES_STEPS * (t - times_s[0]) / (times_s[count - 1] - times_s[0])
+ * rounded to the nearest step. A texel is (r1, s1, r2, s2) with r1 <= s1 <= r2 <= s2: lit at
+ * tau when r1 <= tau < s1 or r2 <= tau < s2 (tp_light_times_lit); only one interval: r2 = s2 =
+ * s1; never lit (voids too): all 0. Bilinear filtering of the four bytes between samples moves
+ * a shadow's edge continuously in time. A sample lit over more than two intervals keeps the
+ * two that lose least: the shorter of its shortest shadow gap (bridged) and its shortest lit
+ * interval (dropped) is given up, repeatedly; stats count those samples and the longest time
+ * given up. */
+#define TP_LIGHT_TIMES_STEPS 255
+
+typedef struct tp_light_times_stats {
+    size_t samples;          /* width * height */
+    size_t simplified;       /* samples with more than two lit intervals */
+    double given_up_max_s;   /* the longest time a simplification changed, seconds */
+    size_t lit_any;          /* samples lit at some time of the day */
+} tp_light_times_stats;
+
+/* Writes 4 * width * height bytes into out (out_count >= that), row-major, a texel per
+ * sample as above; stats may be NULL. Computes the maps one after another (memory: the
+ * heights, out, and about 26 bytes a sample; not tp_light_day's 2 * count). progress may be
+ * NULL: called after each map with (k + 1) / count. Same grid and sun conventions and failures
+ * as tp_light_day_build (out untouched on failure). Reentrant. */
+tp_status tp_light_times_build(const float* heights, size_t height_count, int width, int height,
+                               double dx_m, double dy_m, const double* times_s,
+                               const double* azimuth_deg, const double* elevation_deg,
+                               int count, uint8_t* out, size_t out_count,
+                               tp_light_times_stats* stats,
+                               void (*progress)(void* user, double fraction), void* user,
+                               tp_error* err);
+
+/* tau in steps for time_s in the day t_first .. t_last (may be < 0 or > 255: outside it). */
+double tp_light_times_tau(double t_first_s, double t_last_s, double time_s);
+
+/* 1 when the texel is lit at tau (steps), else 0: as the viewer's shader decides at a post. */
+int tp_light_times_lit(const uint8_t texel[4], double tau);
+
+/* The texel of a coarser level: the rounded mean of each byte of the (up to) four texels of
+ * the finer one (n = 1..4 of them; the order r1 <= s1 <= r2 <= s2 is kept). */
+void tp_light_times_mean(const uint8_t* const* texels, int n, uint8_t out[4]);
+
 #ifdef __cplusplus
 }
 #endif

@@ -50,7 +50,20 @@ typedef struct tp_imagery_info {
     const char* notes;           /* sources and decisions, '\n'-separated; owned */
     uint64_t file_bytes;
     uint64_t nonempty_blocks;    /* blocks stored with data (the rest are wholly transparent) */
+    int kind;                    /* TP_IMAGERY_KIND_* */
+    /* TP_IMAGERY_KIND_LIGHT_TIMES: the day its texels' times span (Unix seconds) and the
+       number of sun positions (maps) they were found from; 0 for imagery */
+    double time_first_s, time_last_s;
+    int maps;
 } tp_imagery_info;
+
+/* What a pyramid's texels are. */
+#define TP_IMAGERY_KIND_IMAGE 0       /* RGBA colour, alpha coverage (all of the above) */
+#define TP_IMAGERY_KIND_LIGHT_TIMES 1 /* a light map over a day (a .tpl): each texel the
+                                         (r1, s1, r2, s2) lit intervals of tp_core.h's
+                                         tp_light_times_build; a coarser level's texel the
+                                         tp_light_times_mean of four (not alpha-weighted);
+                                         texel_shift 0 (a texel per post) */
 
 /* Opens a pyramid: checks the magic, the header's and the block table's checksums, the
  * geometry against the one the header's sizes define, and that every block lies inside the
@@ -104,6 +117,27 @@ typedef struct tp_imagery_build_options {
 tp_status tp_imagery_build(const char* const* sources, int count, const tp_imagery_target* target,
                            const tp_imagery_build_options* options, const char* out_path,
                            tp_error* err);
+
+/* A pyramid whose level 0 the caller makes (a light map: TP_IMAGERY_KIND_LIGHT_TIMES). */
+typedef struct tp_imagery_rows {
+    int kind;                       /* TP_IMAGERY_KIND_* */
+    int texel_shift;                /* as tp_imagery_build_options (no AUTO) */
+    double time_first_s, time_last_s; /* LIGHT_TIMES: the day (first < last) */
+    int maps;                       /* LIGHT_TIMES: sun positions, >= 2 */
+    const char* notes;              /* stored as the pyramid's notes; may be NULL */
+    /* Fills level-0 texel rows row0 .. row0 + count - 1 (each width texels * 4 bytes, RGBA,
+       rows one after another) in increasing row0 order, count <= block; TP_OK or a status with
+       err set (the build then fails with it). Called from the building thread. */
+    tp_status (*rows)(void* user, int64_t row0, int count, uint8_t* rgba, tp_error* err);
+    void* user;
+} tp_imagery_rows;
+
+/* Builds a pyramid at out_path (whole or not at all) from rows on target's grid; the coarser
+ * levels halve level 0 as kind says. Fails as tp_imagery_build (no sources), TP_ERR_INVALID_ARG
+ * for a bad kind, shift or day, or with what rows returned. options: memory_bytes, progress. */
+tp_status tp_imagery_build_rows(const tp_imagery_target* target, const tp_imagery_rows* rows,
+                                const tp_imagery_build_options* options, const char* out_path,
+                                tp_error* err);
 
 #ifdef __cplusplus
 }
