@@ -10,6 +10,7 @@
  */
 #define _POSIX_C_SOURCE 200809L
 #include "cli.h"
+#include "cmd_light.h"
 #include "ground_locate.h"
 #include "planner_cli.h"
 #include "sun_time.h"
@@ -23,23 +24,13 @@
 #include <stdlib.h>
 #include <string.h>
 
-typedef struct light_cli {
-    const char* path;
-    const char* date;
-    const char* time;
-    const char* out;
-    const char* at;
-    const char* values;
-    const char* cache_dir;
-    double radius_m;
-    int illumination; /* --values illumination */
-} light_cli;
-
 static void print_help(void)
 {
     fputs("usage: terrapatch light DEM|STORE --date YYYY-MM-DD --time HH:MM[:SS][ZONE]\n"
           "                        -o OUT.tif [--values lit|illumination] [--radius M --at POS]\n"
           "                        [--cache-dir DIR]\n"
+          "       terrapatch light DEM|STORE --day --date YYYY-MM-DD [--maps N] [--margin M]\n"
+          "                        [-o OUT.tpl] [--json FILE|-] [--quiet] [--cache-dir DIR]\n"
           "\n"
           "Where the sun shines on the ground of DEM (any raster GDAL reads, built into the\n"
           "store cache first as 'terrapatch view' does) or of a store (.tpt) at one moment, with\n"
@@ -70,21 +61,41 @@ static void print_help(void)
           "  --cache-dir DIR        the store cache for a DEM (as 'terrapatch view')\n"
           "  -h, --help             show this help\n"
           "\n"
-          "example:\n"
+          "The day (--day): the light map of the whole grid from sunrise to sunset of --date\n"
+          "(at the grid's centre; a polar day or night: its 24 hours from local mean midnight)\n"
+          "as an imagery pyramid (.tpl, docs/light.md) the viewer streams: each post's lit\n"
+          "intervals in 255 steps of the day, found from N sun positions (more where the sun is\n"
+          "low and shadows move fast), the grid cut into tiles of 1024x1024 posts, each computed\n"
+          "with the ground within --margin around it (which may cast shadows into it).\n"
+          "  --day                  the day's light map instead of one moment (no --time)\n"
+          "  --maps N               sun positions, 2 .. 1024 (default 64)\n"
+          "  --margin M             metres of ground beyond each tile that may shadow it\n"
+          "                         (default 10000: shadows up to 10 km long; at most 1024\n"
+          "                         posts)\n"
+          "  -o, --output OUT.tpl   the light map (default: the store's path with .tpl for .tpt;\n"
+          "                         for a DEM, its store's in the store cache)\n"
+          "  --json FILE|-          the summary as JSON (\"-\": on stdout instead of the text)\n"
+          "  --quiet                no progress on stderr\n"
+          "\n"
+          "examples:\n"
           "  $ terrapatch light mt_hood.tif --date 2026-06-21 --time '18:30 -07:00' -o sun.tif\n"
+          "  $ terrapatch light mt_hood.tpt --day --date 2026-06-21     # writes mt_hood.tpl\n"
           "\n"
           "Exit status: 0 written (also with the sun below the horizon: all 0); 1 the DEM cannot\n"
-          "be read, has no CRS, --at is outside it or in a void, OUT.tif cannot be written\n"
+          "be read, has no CRS, --at is outside it or in a void, the output cannot be written\n"
           "(nothing is left behind); 2 usage error.\n",
           stdout);
 }
 
-static int parse_options(int argc, char** argv, light_cli* o)
+static int parse_options(int argc, char** argv, tp_light_cli* o)
 {
     memset(o, 0, sizeof *o);
-    static const char* const num_opts[] = {"--radius"};
-    static const char* const text_opts[] = {"--date", "--time", "-o",      "--output",
-                                            "--at",   "--values", "--cache-dir"};
+    o->maps = TP_LIGHT_DAY_MAPS;
+    o->margin_m = TP_LIGHT_DAY_MARGIN_M;
+    const char* maps = NULL;
+    static const char* const num_opts[] = {"--radius", "--margin"};
+    static const char* const text_opts[] = {"--date",   "--time",      "-o",     "--output", "--at",
+                                            "--values", "--cache-dir", "--maps", "--json"};
     for (int i = 1; i < argc; ++i) {
         const char* a = argv[i];
         const int arg = tp_planner_argument("light", a, print_help, &o->path,
@@ -94,9 +105,13 @@ static int parse_options(int argc, char** argv, light_cli* o)
             continue;
         if (arg != TP_PLANNER_OPTION)
             return arg;
-        double* const num_slots[] = {&o->radius_m};
-        const char** const text_slots[] = {&o->date, &o->time,   &o->out,      &o->out,
-                                           &o->at,   &o->values, &o->cache_dir};
+        if (!strcmp(a, "--day") || !strcmp(a, "--quiet")) {
+            *(a[2] == 'd' ? &o->day : &o->quiet) = 1;
+            continue;
+        }
+        double* const num_slots[] = {&o->radius_m, &o->margin_m};
+        const char** const text_slots[] = {&o->date,   &o->time,      &o->out, &o->out, &o->at,
+                                           &o->values, &o->cache_dir, &maps,   &o->json};
         int done = tp_planner_number_options("light", argc, argv, &i, num_opts, num_slots,
                                              TP_PLANNER_COUNT(num_opts));
         if (!done)
@@ -116,6 +131,21 @@ static int parse_options(int argc, char** argv, light_cli* o)
         return tp_planner_usage("light", "missing DEM");
     if (!o->date)
         return tp_planner_usage("light", "missing --date YYYY-MM-DD");
+    if (o->day) {
+        long n = o->maps;
+        if (maps && !tp_planner_integer("light", "--maps", maps, 2, TP_LIGHT_DAY_MAPS_MAX,
+                                        "an integer 2 .. 1024", &n))
+            return TP_EXIT_USAGE;
+        o->maps = (int)n;
+        if (o->time)
+            return tp_planner_usage("light", "--day makes the whole day's map: no --time");
+        if (o->at || o->radius_m > 0.0 || o->values)
+            return tp_planner_usage("light", "--day makes the lit map of the whole grid: no "
+                                             "--at, --radius or --values");
+        return -1;
+    }
+    if (maps || o->json || o->quiet || o->margin_m != TP_LIGHT_DAY_MARGIN_M)
+        return tp_planner_usage("light", "--maps, --margin, --json and --quiet go with --day");
     if (!o->time)
         return tp_planner_usage("light", "missing --time HH:MM");
     if (!o->out)
@@ -130,8 +160,7 @@ static int parse_options(int argc, char** argv, light_cli* o)
     return -1;
 }
 
-/* The sunrise, transit and sunset lines. */
-static void print_day(const tp_sun_day* d, int zone_s)
+void tp_light_print_day(const tp_sun_day* d, int zone_s)
 {
     char a[48], b[48], c[48];
     if (d->kind == TP_SUN_UP_ALL_DAY) {
@@ -141,18 +170,48 @@ static void print_day(const tp_sun_day* d, int zone_s)
         printf("day        polar night: the sun does not rise\n");
     } else {
         tp_sun_time_format(d->rise_unix_s, zone_s, a, sizeof a);
-        tp_sun_time_format(d->transit_unix_s, zone_s, b, sizeof b);
         tp_sun_time_format(d->set_unix_s, zone_s, c, sizeof c);
+        tp_sun_time_format(d->transit_unix_s, zone_s, b, sizeof b);
         printf("sunrise    %s\nnoon       %s (the sun highest)\nsunset     %s\n", a, b, c);
     }
 }
 
+int tp_light_place_at(const char* path, tp_ground* g, double x, double y, tp_light_place* out)
+{
+    tp_error err = {{0}};
+    tp_ground_sample here;
+    out->x = x, out->y = y;
+    if (!tp_ground_grid_latlon(g, x, y, &out->lat_deg, &out->lon_deg) ||
+        tp_ground_query_grid(g, x, y, &here, &err) != TP_OK || isnan(here.convergence_deg)) {
+        fprintf(stderr, "terrapatch light: %s: %s\n", path,
+                err.message[0] ? err.message
+                               : "no CRS: the sun needs the ground's latitude and longitude "
+                                 "(give the DEM a CRS, e.g. with --crs)");
+        return 0;
+    }
+    out->convergence_deg = here.convergence_deg;
+    return 1;
+}
+
+tp_status tp_light_sun(const tp_light_place* p, double unix_s, tp_sun_pos* sun,
+                       double* grid_azimuth_deg, tp_error* err)
+{
+    tp_status s = tp_sun_position(p->lat_deg, p->lon_deg, unix_s, sun, err);
+    if (s != TP_OK)
+        return s;
+    double az = fmod(sun->azimuth_deg - p->convergence_deg, 360.0);
+    *grid_azimuth_deg = az < 0.0 ? az + 360.0 : az;
+    return TP_OK;
+}
+
 int tp_cli_light(int argc, char** argv)
 {
-    light_cli o;
+    tp_light_cli o;
     int code = parse_options(argc, argv, &o);
     if (code >= 0)
         return code;
+    if (o.day)
+        return tp_light_day_run(&o);
     tp_sun_time when;
     char why[160];
     if (!tp_sun_time_parse(o.date, o.time, &when, why, sizeof why)) {
@@ -191,20 +250,16 @@ int tp_cli_light(int argc, char** argv)
             y1 = (int)fmin(y1, cy + ry);
         }
     }
-    double lat, lon;
-    tp_ground_sample here;
-    if (!tp_ground_grid_latlon(g, cx, cy, &lat, &lon) ||
-        tp_ground_query_grid(g, cx, cy, &here, &err) != TP_OK || isnan(here.convergence_deg)) {
-        fprintf(stderr, "terrapatch light: %s: %s\n", o.path,
-                err.message[0] ? err.message
-                               : "no CRS: the sun needs the ground's latitude and longitude "
-                                 "(give the DEM a CRS, e.g. with --crs)");
+    tp_light_place here;
+    if (!tp_light_place_at(o.path, g, cx, cy, &here)) {
         tp_ground_destroy(g);
         return TP_EXIT_FAILURE;
     }
+    const double lat = here.lat_deg, lon = here.lon_deg;
     tp_sun_pos sun;
     tp_sun_day day;
-    tp_status s = tp_sun_position(lat, lon, when.unix_s, &sun, &err);
+    double grid_az = 0.0;
+    tp_status s = tp_light_sun(&here, when.unix_s, &sun, &grid_az, &err);
     if (s == TP_OK)
         s = tp_sun_rise_set(lat, lon, tp_sun_local_day_start(when.year, when.month, when.day, lon),
                             &day, &err);
@@ -213,9 +268,6 @@ int tp_cli_light(int argc, char** argv)
         tp_ground_destroy(g);
         return TP_EXIT_FAILURE;
     }
-    double grid_az = fmod(sun.azimuth_deg - here.convergence_deg, 360.0);
-    if (grid_az < 0.0)
-        grid_az += 360.0;
 
     const int w = x1 - x0 + 1, h = y1 - y0 + 1;
     const size_t n = (size_t)w * h;
@@ -273,7 +325,7 @@ int tp_cli_light(int argc, char** argv)
     printf("sun        azimuth %.3f deg true, %.3f deg grid; elevation %.3f deg (%.3f deg "
            "without refraction)\n",
            sun.azimuth_deg, grid_az, sun.apparent_elevation_deg, sun.elevation_deg);
-    print_day(&day, when.zone_offset_s);
+    tp_light_print_day(&day, when.zone_offset_s);
     if (sun.apparent_elevation_deg <= 0.0)
         printf("note       the sun is below the horizon: everything is in shadow\n");
     printf("window     %dx%d posts from (%d, %d)%s\n", w, h, x0, y0,

@@ -1,5 +1,6 @@
-/* imagery_format.hpp - the byte layout of an imagery pyramid (.tpi), shared by imagery_write.cpp
- * and imagery_read.cpp; docs/imagery.md describes it byte by byte. Private to io/.
+/* imagery_format.hpp - the byte layout of an imagery pyramid (.tpi, and a light map's .tpl),
+ * shared by imagery_pyramid.cpp (the writer) and imagery_read.cpp; docs/imagery.md describes it
+ * byte by byte. Private to io/.
  *
  *   [header: magic, version, header_bytes, fields, CRS, notes, CRC32] [0..7 zero bytes]
  *   [block table: block_count entries (offset, size, CRC32, codec), level by level, row-major]
@@ -30,7 +31,10 @@ using store::put_f64;
 using store::put_u32;
 using store::put_u64;
 
-constexpr uint32_t VERSION = 1;
+/* Version 1: imagery only, a fixed header of 176 bytes (H_KIND reserved, 0). Version 2 (what
+ * is written): the kind at H_KIND and the day (H_TIME_FIRST .. H_RESERVED2) after the fields
+ * of version 1, a fixed header of 200 bytes. */
+constexpr uint32_t VERSION = 2;
 constexpr uint8_t MAGIC[8] = {0x89, 'T', 'P', 'I', '\r', '\n', 0x1a, '\n'};
 constexpr uint8_t END_MAGIC[8] = {'T', 'P', 'I', 'E', 'N', 'D', '\r', '\n'};
 
@@ -43,7 +47,7 @@ enum : size_t {
     H_TEXEL_SHIFT = 24, /* i32 */
     H_GRID_WIDTH = 28,
     H_GRID_HEIGHT = 32,
-    H_RESERVED = 36,
+    H_KIND = 36, /* TP_IMAGERY_KIND_* (version 1: 0) */
     H_WIDTH = 40, /* u64 */
     H_HEIGHT = 48,
     H_GEOTRANSFORM = 56,       /* 6 doubles: level 0 */
@@ -52,9 +56,40 @@ enum : size_t {
     H_NONEMPTY = 160,
     H_CRS_BYTES = 168,
     H_NOTES_BYTES = 172,
-    H_FIXED_BYTES = 176, /* then crs_wkt, notes, CRC32 */
+    H_FIXED_BYTES_V1 = 176, /* version 1: then crs_wkt, notes, CRC32 */
+    H_TIME_FIRST = 176,     /* version 2: double, Unix seconds (0 for imagery) */
+    H_TIME_LAST = 184,      /* double */
+    H_MAPS = 192,           /* u32 (0 for imagery) */
+    H_RESERVED2 = 196,      /* u32 0 */
+    H_FIXED_BYTES = 200,    /* version 2: then crs_wkt, notes, CRC32 */
 };
+
+/* The fixed part of a header of a version (0 for an unknown one). */
+inline size_t fixed_bytes(uint32_t version)
+{
+    return version == 1 ? (size_t)H_FIXED_BYTES_V1 : version == 2 ? (size_t)H_FIXED_BYTES : 0;
+}
 constexpr uint32_t MAX_STRING_BYTES = 16u << 20;
+
+/* What is wrong with a pyramid's kind and day (the header's H_KIND .. H_MAPS and its texel
+ * shift), or nullptr: imagery has no day (times and maps 0); a light map a day of finite times,
+ * first < last, from two or more maps, a texel a post (shift 0). */
+inline const char* kind_problem(uint32_t kind, double first_s, double last_s, uint32_t maps,
+                                int shift)
+{
+    if (kind == TP_IMAGERY_KIND_IMAGE)
+        return first_s == 0 && last_s == 0 && maps == 0 ? nullptr
+                                                        : "imagery with a day (times or maps)";
+    if (kind != TP_IMAGERY_KIND_LIGHT_TIMES)
+        return "unknown kind";
+    if (!std::isfinite(first_s) || !std::isfinite(last_s) || !(first_s < last_s))
+        return "a light map whose day does not run forward (first time >= last)";
+    if (maps < 2 || maps > INT32_MAX)
+        return "a light map from fewer than 2 maps";
+    if (shift != 0)
+        return "a light map with a texel shift other than 0";
+    return nullptr;
+}
 
 /* Block table entry */
 enum : size_t {

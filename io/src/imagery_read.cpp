@@ -29,6 +29,9 @@ struct tp_imagery {
     double grid_gt[6] = {0};
     std::string crs, notes;
     uint64_t file_bytes = 0, nonempty = 0, data_offset = 0, data_end = 0;
+    int kind = TP_IMAGERY_KIND_IMAGE;
+    double time_first_s = 0, time_last_s = 0;
+    int maps = 0;
     std::vector<uint8_t> table; /* block_count entries */
     ~tp_imagery()
     {
@@ -99,7 +102,7 @@ bool same_bits(double a, double b)
 tp_status load(tp_imagery* im, tp_error* err)
 {
     const char* path = im->path.c_str();
-    uint8_t fixed[H_FIXED_BYTES];
+    uint8_t fixed[H_FIXED_BYTES_V1];
     const size_t first = (size_t)std::min<uint64_t>(im->file_bytes, sizeof fixed);
     if (int e = read_at(im->fd, fixed, first, 0))
         return fail(err, TP_ERR_IO, "%s: cannot read: %s", path, std::strerror(e));
@@ -108,12 +111,16 @@ tp_status load(tp_imagery* im, tp_error* err)
                     "%s: not a terrapatch imagery pyramid (.tpi): its first bytes are not the "
                     "pyramid's signature",
                     path);
-    if (first < H_FIXED_BYTES)
+    if (first < H_FIXED_BYTES_V1)
         return fail(err, TP_ERR_BAD_DATA,
                     "%s: truncated: %" PRIu64 " bytes, a pyramid's header alone takes %zu", path,
-                    im->file_bytes, (size_t)H_FIXED_BYTES + 4);
+                    im->file_bytes, (size_t)H_FIXED_BYTES_V1 + 4);
     const uint32_t header_bytes = get_u32(fixed + H_HEADER_BYTES);
-    if (header_bytes < H_FIXED_BYTES + 4 || header_bytes > H_FIXED_BYTES + 4 + 2 * MAX_STRING_BYTES)
+    /* the fixed part of the version it claims (checked after the checksum) */
+    size_t fixed_size = fixed_bytes(get_u32(fixed + H_VERSION));
+    if (fixed_size == 0)
+        fixed_size = H_FIXED_BYTES_V1;
+    if (header_bytes < fixed_size + 4 || header_bytes > fixed_size + 4 + 2 * MAX_STRING_BYTES)
         return fail(err, TP_ERR_BAD_DATA, "%s: damaged header: it claims %u bytes", path,
                     header_bytes);
     if (header_bytes > im->file_bytes)
@@ -146,7 +153,7 @@ tp_status load(tp_imagery* im, tp_error* err)
     for (int i = 0; i < 6; ++i)
         im->grid_gt[i] = get_f64(h + H_GRID_GEOTRANSFORM + 8 * i);
     if (block != (uint32_t)BLOCK || gw < 1 || gw > INT32_MAX || gh < 1 || gh > INT32_MAX ||
-        get_u32(h + H_RESERVED) != 0 || !geometry_for((int)gw, (int)gh, im->grid_gt, shift, &im->g))
+        !geometry_for((int)gw, (int)gh, im->grid_gt, shift, &im->g))
         return fail(err, TP_ERR_BAD_DATA,
                     "%s: bad geometry: blocks of %u, grid %ux%u, texel shift %d", path, block, gw,
                     gh, shift);
@@ -175,16 +182,31 @@ tp_status load(tp_imagery* im, tp_error* err)
             why = "the grid's geotransform is not finite";
     if (!why.empty())
         return fail(err, TP_ERR_BAD_DATA, "%s: inconsistent geometry: %s", path, why.c_str());
+    /* The kind and its day: version 1 is imagery (the field was reserved, 0) */
+    const uint32_t kind = get_u32(h + H_KIND);
+    const bool v2 = version >= 2;
+    const double t0 = v2 ? get_f64(h + H_TIME_FIRST) : 0, t1 = v2 ? get_f64(h + H_TIME_LAST) : 0;
+    const uint32_t maps = v2 ? get_u32(h + H_MAPS) : 0;
+    const char* bad_kind = kind_problem(kind, t0, t1, maps, shift);
+    if (!bad_kind && v2 && get_u32(h + H_RESERVED2) != 0)
+        bad_kind = "reserved bytes not 0";
+    if (bad_kind)
+        return fail(err, TP_ERR_BAD_DATA,
+                    "%s: bad header: %s (kind %u, day %.17g .. %.17g, %u maps, texel shift %d)",
+                    path, bad_kind, kind, t0, t1, maps, shift);
+    im->kind = (int)kind;
+    im->time_first_s = t0, im->time_last_s = t1;
+    im->maps = (int)maps;
     im->shift = shift;
     im->grid_width = (int)gw, im->grid_height = (int)gh;
     im->nonempty = get_u64(h + H_NONEMPTY);
     const uint32_t crs_bytes = get_u32(h + H_CRS_BYTES), notes_bytes = get_u32(h + H_NOTES_BYTES);
-    if ((uint64_t)H_FIXED_BYTES + crs_bytes + notes_bytes + 4 != header_bytes)
+    if ((uint64_t)fixed_size + crs_bytes + notes_bytes + 4 != header_bytes)
         return fail(err, TP_ERR_BAD_DATA,
                     "%s: bad header: CRS (%u bytes) and notes (%u bytes) do not fill its %u bytes",
                     path, crs_bytes, notes_bytes, header_bytes);
-    im->crs.assign(reinterpret_cast<const char*>(h + H_FIXED_BYTES), crs_bytes);
-    im->notes.assign(reinterpret_cast<const char*>(h + H_FIXED_BYTES + crs_bytes), notes_bytes);
+    im->crs.assign(reinterpret_cast<const char*>(h + fixed_size), crs_bytes);
+    im->notes.assign(reinterpret_cast<const char*>(h + fixed_size + crs_bytes), notes_bytes);
     if (im->crs.find('\0') != std::string::npos || im->notes.find('\0') != std::string::npos)
         return fail(err, TP_ERR_BAD_DATA, "%s: bad header: a NUL byte inside the CRS or notes",
                     path);
@@ -325,6 +347,10 @@ extern "C" void tp_imagery_get_info(const tp_imagery* im, tp_imagery_info* out)
     out->notes = im->notes.c_str();
     out->file_bytes = im->file_bytes;
     out->nonempty_blocks = im->nonempty;
+    out->kind = im->kind;
+    out->time_first_s = im->time_first_s;
+    out->time_last_s = im->time_last_s;
+    out->maps = im->maps;
 }
 
 extern "C" void tp_imagery_level_size(const tp_imagery* im, int level, int64_t* width,

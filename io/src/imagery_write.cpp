@@ -8,21 +8,16 @@
  * geotransform, into which GDALWarp draws every source overlapping it in turn (a later one
  * over an earlier one, blended by its alpha). Level l + 1 is made from level l as its block
  * rows come (the alpha-weighted 2x2 mean, written here: GDAL's average ignores alpha as a
- * weight), so each level keeps one block row in memory and the level-0 image is never whole.
- * Blocks are compressed by threads (imagery_codec.cpp) and appended in order; the block table
- * (its place follows from the geometry, reserved as a hole) is written a block row at a time,
- * checksummed at commit by reading it back, then the footer, then the header again with the
- * count of non-empty blocks; tp_file_commit makes the file. */
-#include "atomic_write.hpp"
+ * weight), so each level keeps one block row in memory and the level-0 image is never whole;
+ * imagery_pyramid.cpp makes the coarser levels and writes the file. */
 #include "crs.hpp"
 #include "gdal_util.hpp"
 #include "image_bands.hpp"
-#include "imagery_format.hpp"
+#include "imagery_pyramid.hpp"
 #include "tp_io.h"
 
 #include <gdal_alg.h>
 #include <gdal_utils.h>
-#include <zstd.h>
 
 #include <algorithm>
 #include <atomic>
@@ -39,8 +34,6 @@ using namespace tpio::imagery;
 using tpio::fail;
 
 namespace {
-
-constexpr int ZSTD_LEVEL = 1; /* docs/imagery.md: measured */
 
 struct Source {
     std::string path;
@@ -139,176 +132,9 @@ tp_status open_source(const char* path, const tp_imagery_target* t, Source* s, t
     return TP_OK;
 }
 
-/* The writer: one output file, the geometry, the level buffers. */
-struct Build {
-    const char* path = nullptr;
-    Geometry g;
-    int shift = 0;
-    std::string crs, notes;
-    const tp_imagery_target* target = nullptr;
-    int threads = 1;
-    tp_file_writer* file = nullptr;
-    uint64_t table_offset = 0, data_offset = 0, offset = 0, nonempty = 0;
-    std::vector<std::vector<uint8_t>> level; /* one block row per level, cols * 256 wide */
-    std::vector<ZSTD_CCtx*> cctx;
-    std::vector<std::vector<uint8_t>> gather, scratch, packed; /* per thread */
-    std::vector<std::vector<uint8_t>> chunk_out;
-    std::vector<Codec> chunk_codec;
-    std::vector<uint8_t> entries;
-    ~Build()
-    {
-        tp_file_abort(file);
-        for (ZSTD_CCtx* c : cctx)
-            ZSTD_freeCCtx(c);
-    }
-};
-
-std::vector<uint8_t> encode_header(const Build& b)
-{
-    const size_t size = H_FIXED_BYTES + b.crs.size() + b.notes.size() + 4;
-    std::vector<uint8_t> h(size, 0);
-    uint8_t* p = h.data();
-    std::memcpy(p + H_MAGIC, MAGIC, 8);
-    put_u32(p + H_VERSION, VERSION);
-    put_u32(p + H_HEADER_BYTES, (uint32_t)size);
-    put_u32(p + H_BLOCK, BLOCK);
-    put_u32(p + H_LEVELS, (uint32_t)b.g.levels);
-    put_u32(p + H_TEXEL_SHIFT, (uint32_t)(int32_t)b.shift);
-    put_u32(p + H_GRID_WIDTH, (uint32_t)b.target->width);
-    put_u32(p + H_GRID_HEIGHT, (uint32_t)b.target->height);
-    put_u64(p + H_WIDTH, (uint64_t)b.g.width[0]);
-    put_u64(p + H_HEIGHT, (uint64_t)b.g.height[0]);
-    for (int i = 0; i < 6; ++i) {
-        put_f64(p + H_GEOTRANSFORM + 8 * i, b.g.gt[i]);
-        put_f64(p + H_GRID_GEOTRANSFORM + 8 * i, b.target->geotransform[i]);
-    }
-    put_u64(p + H_BLOCK_COUNT, b.g.block_count);
-    put_u64(p + H_NONEMPTY, b.nonempty);
-    put_u32(p + H_CRS_BYTES, (uint32_t)b.crs.size());
-    put_u32(p + H_NOTES_BYTES, (uint32_t)b.notes.size());
-    std::memcpy(p + H_FIXED_BYTES, b.crs.data(), b.crs.size());
-    std::memcpy(p + H_FIXED_BYTES + b.crs.size(), b.notes.data(), b.notes.size());
-    put_u32(p + size - 4, crc32_of(p, size - 4));
-    return h;
-}
-
-/* Encodes and appends block row `row` of level l (b.level[l]); writes its table entries. */
-tp_status write_row(Build& b, int l, int row, tp_error* err)
-{
-    const int cols = b.g.cols[l];
-    const size_t stride = (size_t)cols * BLOCK * 4;
-    const uint8_t* buf = b.level[l].data();
-    b.entries.assign((size_t)cols * ENTRY_BYTES, 0);
-    const int chunk = std::max(1, b.threads * 4);
-    for (int c0 = 0; c0 < cols; c0 += chunk) {
-        const int n = std::min(chunk, cols - c0);
-        std::atomic<int> next{0};
-        std::atomic<bool> failed{false}; /* out of memory in a thread */
-        auto encode_some = [&](int t) {
-            for (int k; (k = next.fetch_add(1)) < n;) {
-                const int bx = c0 + k;
-                uint8_t* g = b.gather[t].data();
-                for (int y = 0; y < BLOCK; ++y)
-                    std::memcpy(g + (size_t)y * BLOCK * 4,
-                                buf + y * stride + (size_t)bx * BLOCK * 4, (size_t)BLOCK * 4);
-                b.chunk_codec[k] =
-                    encode_block(g, ZSTD_LEVEL, b.cctx[t], &b.scratch[t], &b.packed[t]);
-                b.chunk_out[k].assign(b.packed[t].begin(), b.packed[t].end());
-            }
-        };
-        auto work = [&](int t) {
-            try {
-                encode_some(t);
-            } catch (...) {
-                failed = true;
-            }
-        };
-        const int extra = std::min(b.threads, n) - 1;
-        std::vector<std::thread> pool;
-        try {
-            for (int t = 1; t <= extra; ++t)
-                pool.emplace_back(work, t);
-        } catch (...) { /* fewer threads: this one does the rest */
-        }
-        work(0);
-        for (std::thread& th : pool)
-            th.join();
-        if (failed)
-            throw std::bad_alloc();
-        for (int k = 0; k < n; ++k) {
-            uint8_t* e = b.entries.data() + (size_t)(c0 + k) * ENTRY_BYTES;
-            const std::vector<uint8_t>& out = b.chunk_out[k];
-            if (b.chunk_codec[k] == CODEC_EMPTY)
-                continue; /* all 0 */
-            if (tp_status s = tp_file_append(b.file, out.data(), out.size(), err))
-                return s;
-            put_u64(e + E_OFFSET, b.offset);
-            put_u32(e + E_BYTES, (uint32_t)out.size());
-            put_u32(e + E_CRC, crc32_of(out.data(), out.size()));
-            e[E_CODEC] = b.chunk_codec[k];
-            b.offset += out.size();
-            ++b.nonempty;
-        }
-    }
-    const uint64_t first = b.g.first[l] + (uint64_t)row * cols;
-    return tp_file_rewrite(b.file, b.table_offset + first * ENTRY_BYTES, b.entries.data(),
-                           b.entries.size(), err);
-}
-
-/* Texel (u, v) of dst = the alpha-weighted mean of texels 2u..2u+1, 2v..2v+1 of src (alpha 0
- * beyond src's columns or rows); alpha the plain mean. Both rounded half up. */
-void halve(const uint8_t* src, int src_cols, int src_rows, uint8_t* dst, int dst_cols, int dst_rows)
-{
-    for (int v = 0; v < dst_rows; ++v) {
-        uint8_t* d = dst + (size_t)v * dst_cols * 4;
-        for (int u = 0; u < dst_cols; ++u, d += 4) {
-            uint32_t sa = 0, sc[3] = {0, 0, 0};
-            for (int j = 0; j < 2; ++j) {
-                const int y = 2 * v + j;
-                if (y >= src_rows)
-                    continue;
-                for (int i = 0; i < 2; ++i) {
-                    const int x = 2 * u + i;
-                    if (x >= src_cols)
-                        continue;
-                    const uint8_t* s = src + ((size_t)y * src_cols + x) * 4;
-                    sa += s[3];
-                    for (int c = 0; c < 3; ++c)
-                        sc[c] += (uint32_t)s[c] * s[3];
-                }
-            }
-            if (sa == 0) {
-                d[0] = d[1] = d[2] = d[3] = 0;
-                continue;
-            }
-            for (int c = 0; c < 3; ++c)
-                d[c] = (uint8_t)((2 * sc[c] + sa) / (2 * sa));
-            d[3] = (uint8_t)((sa + 2) / 4);
-        }
-    }
-}
-
-/* Level l's block row `row` is complete in b.level[l]: writes it and feeds level l + 1. */
-tp_status finish_row(Build& b, int l, int row, tp_error* err)
-{
-    if (tp_status s = write_row(b, l, row, err))
-        return s;
-    if (l + 1 >= b.g.levels)
-        return TP_OK;
-    std::vector<uint8_t>& up = b.level[l + 1];
-    const int up_cols = b.g.cols[l + 1] * BLOCK;
-    if (row % 2 == 0)
-        std::fill(up.begin(), up.end(), 0);
-    halve(b.level[l].data(), b.g.cols[l] * BLOCK, BLOCK,
-          up.data() + (size_t)(row % 2) * (BLOCK / 2) * up_cols * 4, up_cols, BLOCK / 2);
-    if (row % 2 == 1 || row == b.g.rows[l] - 1)
-        return finish_row(b, l + 1, row / 2, err);
-    return TP_OK;
-}
-
 /* Warps every source overlapping it onto level 0's block row `row`, into buf (a block row of
  * level 0); warp_threads for GDAL's kernel. */
-tp_status warp_row(const Build& b, std::vector<Source>& sources, const OGRSpatialReference* srs,
+tp_status warp_row(const Pyramid& b, std::vector<Source>& sources, const OGRSpatialReference* srs,
                    int row, double warp_mb, int warp_threads, std::vector<uint8_t>& buf,
                    tp_error* err)
 {
@@ -382,7 +208,7 @@ tp_status warp_row(const Build& b, std::vector<Source>& sources, const OGRSpatia
  * GDAL dataset is used by one thread at a time), into `slots` buffers: at most that many rows
  * ahead of the building thread, which takes them in order (take). */
 struct Warps {
-    const Build* b = nullptr;
+    const Pyramid* b = nullptr;
     const OGRSpatialReference* srs = nullptr;
     double warp_mb = 0;
     int warp_threads = 1;
@@ -485,7 +311,7 @@ tp_status build(const char* const* paths, int count, const tp_imagery_target* t,
         shift = (int)std::lround(std::log2(grid_px / finest));
         shift = std::max(TP_IMAGERY_SHIFT_MIN, std::min(TP_IMAGERY_SHIFT_MAX, shift));
     }
-    Build b;
+    Pyramid b;
     b.path = out_path;
     b.target = t;
     b.shift = shift;
@@ -507,20 +333,14 @@ tp_status build(const char* const* paths, int count, const tp_imagery_target* t,
     }
 
     /* Memory: a block row of every level, the threads' scratch, GDAL's cache and warp memory */
-    double rows_bytes = 0;
-    for (int l = 0; l < b.g.levels; ++l)
-        rows_bytes += (double)b.g.cols[l] * BLOCK * BLOCK * 4;
-    const double thread_bytes =
-        (double)threads *
-            (2.0 * BLOCK_BYTES + ZSTD_compressBound(BLOCK_BYTES) + 4 * max_block_bytes()) +
-        threads * 1.5e6 /* zstd contexts */;
+    const double pyramid = pyramid_bytes(b.g, threads);
     /* Level-0 warps in parallel, each into its own block row (and one more waiting), each with
      * GDAL's working memory (-wm): a twentieth of the budget whatever the threads, so that the
      * warps' chunks, and so the bytes, do not depend on them; as many warps as fit. */
     const double warp_mb = std::max(16.0, std::min(128.0, budget * 0.05 / 1048576.0));
     const double slot_bytes = (double)b.g.cols[0] * BLOCK * BLOCK * 4;
     const double per_warp = slot_bytes + warp_mb * 1048576.0;
-    const double need = rows_bytes + thread_bytes + slot_bytes + per_warp;
+    const double need = pyramid + slot_bytes + per_warp;
     if (need > 0.6 * budget)
         return fail(err, TP_ERR_OUT_OF_MEMORY,
                     "%s: a %" PRId64 "x%" PRId64
@@ -558,29 +378,7 @@ tp_status build(const char* const* paths, int count, const tp_imagery_target* t,
     if (has_srs && srs.SetFromUserInput(t->crs_wkt) != OGRERR_NONE)
         return fail(err, TP_ERR_INVALID_ARG, "%s: the grid's CRS cannot be read", out_path);
 
-    b.level.resize((size_t)b.g.levels);
-    for (int l = 0; l < b.g.levels; ++l)
-        b.level[(size_t)l].assign((size_t)b.g.cols[l] * BLOCK * BLOCK * 4, 0);
-    b.gather.resize((size_t)threads, std::vector<uint8_t>(BLOCK_BYTES));
-    b.scratch.resize((size_t)threads);
-    b.packed.resize((size_t)threads);
-    b.chunk_out.resize((size_t)threads * 4);
-    b.chunk_codec.resize((size_t)threads * 4);
-    for (int i = 0; i < threads; ++i) {
-        b.cctx.push_back(ZSTD_createCCtx());
-        if (!b.cctx.back())
-            throw std::bad_alloc();
-    }
-
-    const std::vector<uint8_t> head = encode_header(b);
-    b.table_offset = (head.size() + 7) & ~(uint64_t)7;
-    b.data_offset = b.table_offset + b.g.block_count * ENTRY_BYTES;
-    tp_status st = tp_file_begin(out_path, &b.file, err);
-    if (st == TP_OK)
-        st = tp_file_append(b.file, head.data(), head.size(), err);
-    if (st == TP_OK)
-        st = tpio::file_reserve(b.file, b.data_offset - head.size(), err);
-    b.offset = b.data_offset;
+    tp_status st = pyramid_begin(b, err);
     /* each warping thread's own view of the sources: the first the ones opened above */
     std::vector<std::vector<Source>> views((size_t)workers);
     views[0] = std::move(sources);
@@ -604,41 +402,15 @@ tp_status build(const char* const* paths, int count, const tp_imagery_target* t,
     for (int row = 0; row < b.g.rows[0] && st == TP_OK; ++row) {
         st = warps.take(row, b.level[0], err);
         if (st == TP_OK)
-            st = finish_row(b, 0, row, err);
+            st = pyramid_finish_row(b, row, err);
         if (st == TP_OK && tp_interrupted())
             st = fail(err, TP_ERR_IO, "%s: interrupted (%s): not written", out_path,
                       tpio::interrupt_name());
         if (st == TP_OK && o->progress)
             o->progress(o->progress_user, (row + 1.0) / b.g.rows[0]);
     }
-    /* The table's CRC32, read back in pieces; the footer; the header with the count */
-    uint32_t crc = 0;
-    const uint64_t table_bytes = b.g.block_count * ENTRY_BYTES;
-    std::vector<uint8_t> piece((size_t)std::min<uint64_t>(table_bytes, 1 << 16) + 1);
-    for (uint64_t done = 0; st == TP_OK && done < table_bytes;) {
-        const size_t n = (size_t)std::min<uint64_t>(table_bytes - done, piece.size());
-        st = tpio::file_read_back(b.file, b.table_offset + done, piece.data(), n, err);
-        crc = tpio::store::crc32_continue(crc, piece.data(), n);
-        done += n;
-    }
-    if (st == TP_OK) {
-        uint8_t foot[FOOTER_BYTES] = {0};
-        put_u64(foot + F_TABLE_OFFSET, b.table_offset);
-        put_u64(foot + F_TABLE_BYTES, table_bytes);
-        put_u32(foot + F_TABLE_CRC, crc);
-        put_u32(foot + F_FOOTER_CRC, crc32_of(foot, F_FOOTER_CRC));
-        std::memcpy(foot + F_END_MAGIC, END_MAGIC, 8);
-        st = tp_file_append(b.file, foot, sizeof foot, err);
-    }
-    if (st == TP_OK) {
-        const std::vector<uint8_t> final_head = encode_header(b); /* with the count */
-        st = tp_file_rewrite(b.file, 0, final_head.data(), final_head.size(), err);
-    }
-    if (st == TP_OK) {
-        tp_file_writer* f = b.file;
-        b.file = nullptr; /* commit frees it, whatever happens */
-        st = tp_file_commit(f, err);
-    }
+    if (st == TP_OK)
+        st = pyramid_commit(b, err);
     return st;
 }
 
@@ -655,11 +427,7 @@ extern "C" tp_status tp_imagery_build(const char* const* sources, int count,
     for (int i = 0; i < count; ++i)
         if (!sources[i])
             return fail(err, TP_ERR_INVALID_ARG, "imagery: bad arguments (source %d is NULL)", i);
-    if (target->width < 1 || target->height < 1 || !target->crs_wkt ||
-        !std::isfinite(target->geotransform[1]) || !std::isfinite(target->geotransform[5]) ||
-        target->geotransform[1] * target->geotransform[5] -
-                target->geotransform[2] * target->geotransform[4] ==
-            0)
+    if (!target_ok(target))
         return fail(err, TP_ERR_INVALID_ARG, "%s: bad render grid (%dx%d)", out_path, target->width,
                     target->height);
     tp_imagery_build_options o{};
