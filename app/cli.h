@@ -23,7 +23,8 @@ int tp_info_store(const char* path, int json);
 /* `terrapatch info [--json] PYRAMID.tpi` (cmd_info_imagery.c): called by tp_cli_info for an
  * imagery pyramid; every block read and checked (exit 1 naming the first damaged one). */
 int tp_info_imagery(const char* path, int json);
-/* One line about the imagery pyramid beside a store (its path with .tpi), if there is one. */
+/* One line about the imagery pyramid (its path with .tpi) and one about the light map (.tpl)
+ * beside a store, for each there is. */
 void tp_info_imagery_beside(const char* store_path);
 
 /* `terrapatch coord [options] [INPUT ...]`. argv[0] is "coord"; returns an exit code. */

@@ -30,15 +30,16 @@ enum { OPT_JSON = 256 };
 
 static void print_help(void)
 {
-    fputs("usage: terrapatch info [options] DEM|STORE.tpt|IMAGERY.tpi\n"
+    fputs("usage: terrapatch info [options] DEM|STORE.tpt|IMAGERY.tpi|LIGHT.tpl\n"
           "\n"
           "Reads band 1 of DEM (any raster GDAL opens), puts it on the metric grid the viewer\n"
           "draws (geographic DEMs are warped to the UTM/UPS zone of their centre), tiles it\n"
           "into patches, and describes each stage. Given a store (.tpt, made by 'terrapatch\n"
           "build'), reads and checks every node and describes the store (the DEM options do\n"
-          "not apply to it), and the imagery pyramid beside it (.tpi) if there is one.\n"
-          "Given an imagery pyramid (.tpi, made by 'terrapatch imagery'), reads and checks\n"
-          "every block and describes its levels.\n"
+          "not apply to it), and the imagery pyramid (.tpi) and light map (.tpl) beside it if\n"
+          "there are. Given an imagery pyramid (.tpi, made by 'terrapatch imagery') or a day's\n"
+          "light map (.tpl, made by 'terrapatch light --day'), reads and checks every block\n"
+          "and describes its levels (and a light map's day).\n"
           "\n"
           "options:\n",
           stdout);
@@ -389,7 +390,7 @@ int tp_cli_info(int argc, char** argv)
     if (tp_is_store_path(o.path))
         return tp_info_store(o.path, o.json);
     const size_t len = strlen(o.path);
-    if (len > 4 && !strcmp(o.path + len - 4, ".tpi"))
+    if (len > 4 && (!strcmp(o.path + len - 4, ".tpi") || !strcmp(o.path + len - 4, ".tpl")))
         return tp_info_imagery(o.path, o.json);
     tp_scene sc;
     if ((code = tp_scene_load(o.path, &o.scene, &sc)) != TP_EXIT_OK)

@@ -1,10 +1,12 @@
 /*
- * cmd_info_imagery.c - `terrapatch info [--json] PYRAMID.tpi`: an imagery pyramid (tp_imagery.h,
- * docs/imagery.md) described level by level, every block read and checked; and the one line
- * `info STORE.tpt` prints about the pyramid beside a store.
+ * cmd_info_imagery.c - `terrapatch info [--json] PYRAMID.tpi|LIGHT.tpl`: an imagery pyramid
+ * (tp_imagery.h, docs/imagery.md) or a day's light map (the same file, kind light times)
+ * described level by level, every block read and checked; and the lines `info STORE.tpt`
+ * prints about the pyramid and the light map beside a store.
  */
 #include "cli.h"
 #include "json.h"
+#include "sun_time.h"
 
 #include "tp_imagery.h"
 
@@ -68,12 +70,25 @@ int tp_info_imagery(const char* path, int json)
     }
     free(blk);
     const double texel = hypot(info.geotransform[1], info.geotransform[4]);
+    const int light = info.kind == TP_IMAGERY_KIND_LIGHT_TIMES;
+    const char* with = light ? "lit at some time" : "with imagery";
+    char t0[48], t1[48];
+    tp_sun_time_format(info.time_first_s, 0, t0, sizeof t0);
+    tp_sun_time_format(info.time_last_s, 0, t1, sizeof t1);
     if (json) {
         tp_json j;
         tp_json_init(&j, stdout);
         tp_json_object_begin(&j);
         tp_json_key(&j, "path"), tp_json_string(&j, path);
         tp_json_key(&j, "format"), tp_json_string(&j, "terrapatch imagery pyramid");
+        tp_json_key(&j, "kind"), tp_json_string(&j, light ? "light times" : "image");
+        if (light) {
+            tp_json_key(&j, "time_first"), tp_json_string(&j, t0);
+            tp_json_key(&j, "time_last"), tp_json_string(&j, t1);
+            tp_json_key(&j, "time_first_s"), tp_json_number(&j, info.time_first_s);
+            tp_json_key(&j, "time_last_s"), tp_json_number(&j, info.time_last_s);
+            tp_json_key(&j, "maps"), tp_json_int(&j, info.maps);
+        }
         tp_json_key(&j, "width"), tp_json_number(&j, (double)info.width);
         tp_json_key(&j, "height"), tp_json_number(&j, (double)info.height);
         tp_json_key(&j, "texel_shift"), tp_json_int(&j, info.texel_shift);
@@ -101,21 +116,30 @@ int tp_info_imagery(const char* path, int json)
         tp_json_object_end(&j);
         putchar('\n');
     } else {
-        printf("imagery:        %s\n", path);
-        printf("format:         terrapatch imagery pyramid, version 1\n");
+        printf("%s        %s\n", light ? "light map:" : "imagery:  ", path);
+        printf("format:         terrapatch imagery pyramid\n");
+        if (light) {
+            printf("kind:           light times: each post's lit intervals over a day, in %d "
+                   "steps\n",
+                   TP_LIGHT_TIMES_STEPS);
+            printf("day:            %s .. %s (%.2f h)\n", t0, t1,
+                   (info.time_last_s - info.time_first_s) / 3600.0);
+            printf("maps:           %d sun positions\n", info.maps);
+        } else {
+            printf("kind:           image (RGBA)\n");
+        }
         printf("size:           %.1f MB (%llu bytes)\n", info.file_bytes / 1e6,
                (unsigned long long)info.file_bytes);
         printf("level 0:        %lld x %lld texels of %.4g m (texel shift %d: 2^%d texels per "
                "post of the %d x %d grid)\n",
                (long long)info.width, (long long)info.height, texel, info.texel_shift,
                info.texel_shift, info.grid_width, info.grid_height);
-        printf("blocks:         %d x %d texels, %lld in %d levels, %llu with imagery\n", info.block,
-               info.block, blocks, info.levels, (unsigned long long)info.nonempty_blocks);
+        printf("blocks:         %d x %d texels, %lld in %d levels, %llu %s\n", info.block,
+               info.block, blocks, info.levels, (unsigned long long)info.nonempty_blocks, with);
         for (int l = 0; l < info.levels; l++)
-            printf("level %-2d        %lld x %lld texels of %.4g m, %d x %d blocks, %lld with "
-                   "imagery\n",
-                   l, (long long)lv[l].width, (long long)lv[l].height, ldexp(texel, l), lv[l].cols,
-                   lv[l].rows, lv[l].nonempty);
+            printf("level %-2d        %lld x %lld texels of %.4g m, %d x %d blocks, %lld %s\n", l,
+                   (long long)lv[l].width, (long long)lv[l].height, ldexp(texel, l), lv[l].cols,
+                   lv[l].rows, lv[l].nonempty, with);
         printf("checked:        %llu blocks read, %lld damaged\n",
                (unsigned long long)info.nonempty_blocks, damaged);
         print_notes(info.notes);
@@ -127,7 +151,8 @@ int tp_info_imagery(const char* path, int json)
     return tp_cli_finish(damaged ? TP_EXIT_FAILURE : TP_EXIT_OK);
 }
 
-void tp_info_imagery_beside(const char* store_path)
+/* The line about the pyramid with suffix (".tpi", ".tpl") beside a store, if there is one. */
+static void beside(const char* store_path, const char* suffix)
 {
     size_t n = strlen(store_path);
     char* p = malloc(n + 5);
@@ -136,22 +161,29 @@ void tp_info_imagery_beside(const char* store_path)
     memcpy(p, store_path, n + 1);
     if (n >= 4 && !strcmp(p + n - 4, ".tpt"))
         n -= 4;
-    memcpy(p + n, ".tpi", 5);
+    memcpy(p + n, suffix, 5);
+    const char* what = suffix[3] == 'l' ? "light map:    " : "imagery:      ";
     tp_imagery* im = NULL;
     tp_error err = {0};
     if (access(p, F_OK) == 0) {
         if (tp_imagery_open(p, &im, &err) == TP_OK) {
             tp_imagery_info info;
             tp_imagery_get_info(im, &info);
-            printf("imagery:        %s: %lld x %lld texels of %.4g m, %d levels, %.1f MB "
+            printf("%s  %s: %lld x %lld texels of %.4g m, %d levels, %.1f MB "
                    "('terrapatch info %s')\n",
-                   p, (long long)info.width, (long long)info.height,
+                   what, p, (long long)info.width, (long long)info.height,
                    hypot(info.geotransform[1], info.geotransform[4]), info.levels,
                    info.file_bytes / 1e6, p);
             tp_imagery_close(im);
         } else {
-            printf("imagery:        %s\n", err.message);
+            printf("%s  %s\n", what, err.message);
         }
     }
     free(p);
+}
+
+void tp_info_imagery_beside(const char* store_path)
+{
+    beside(store_path, ".tpi");
+    beside(store_path, ".tpl");
 }

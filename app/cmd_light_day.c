@@ -361,7 +361,7 @@ int tp_light_day_run(const tp_light_cli* o)
     tp_sun_time_format(sun[o->maps - 1], 0, t1, sizeof t1);
     snprintf(notes, sizeof notes,
              "light map of %s on %s: lit intervals of each post from %s to %s (%s), %d maps "
-             "(tp_sun_day_times), the sun at %.6f %.6f (grid north %.3f deg from true)\n"
+             "(tp_sun_day_times), the sun at %.6f %.6f (meridian convergence %.3f deg)\n"
              "tiles of %d posts with a margin of %d x %d posts (%.0f m asked)",
              o->path, o->date, t0, t1,
              day.kind == TP_SUN_RISES_AND_SETS ? "sunrise to sunset" : "24 hours: polar",

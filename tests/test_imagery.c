@@ -771,7 +771,7 @@ TEST(damaged_header_table_or_footer_refused)
         EXPECT_CONTAINS(err.message, cases[k].says);
     }
     /* a newer version, with its CRC32 right */
-    put32(d + 8, 2);
+    put32(d + 8, 3);
     put32(d + hb - 4, crc32_ref(d, hb - 4));
     spill(bad, d, size);
     tp_imagery* im = NULL;
