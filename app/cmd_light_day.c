@@ -17,10 +17,10 @@
  * their margins (about 34 bytes a post), whatever the grid's height.
  */
 #define _POSIX_C_SOURCE 200809L
+#include "atomic_file.h"
 #include "cli.h"
 #include "cmd_light.h"
 #include "json.h"
-#include "atomic_file.h"
 #include "memory.h"
 #include "planner_cli.h"
 #include "sun_time.h"
@@ -37,8 +37,8 @@
 #include <string.h>
 #include <unistd.h>
 
-#define TILE 1024              /* posts a tile side */
-#define MARGIN_POSTS_MAX 1024  /* the margin's cap in posts (memory: 3072^2 posts a tile) */
+#define TILE 1024             /* posts a tile side */
+#define MARGIN_POSTS_MAX 1024 /* the margin's cap in posts (memory: 3072^2 posts a tile) */
 #define BAND_BYTES_MAX ((size_t)256 << 20) /* a band's texels: its rows cut below TILE beyond */
 
 /* The day's sun and the grid's spacing, shared read-only by the tiles' threads. */
@@ -54,7 +54,7 @@ typedef struct tile_job {
     int x0, y0, w, h;   /* the window read */
     int tx, ty, tw, th; /* the tile (grid posts) */
     float* z;
-    uint8_t* texels;    /* 4 * w * h */
+    uint8_t* texels; /* 4 * w * h */
     tp_light_times_stats stats;
     tp_status status;
     tp_error err;
@@ -67,8 +67,8 @@ typedef struct day_run {
     int mx, my;        /* the margin in posts */
     int band_rows;
     day_sun sun;
-    uint8_t* band;          /* width * band_rows * 4 */
-    int band_y0, band_h;    /* the band held (band_h 0: none yet) */
+    uint8_t* band;       /* width * band_rows * 4 */
+    int band_y0, band_h; /* the band held (band_h 0: none yet) */
     tile_job job[2];
     size_t simplified, lit_any, valid; /* totals (simplified: over the windows) */
     double given_up_max_s;
@@ -129,8 +129,8 @@ static void show_progress(day_run* r)
     if (!r->tty && decile <= r->last_decile && f < 1)
         return;
     r->last_decile = decile;
-    fprintf(stderr, "terrapatch light: %3.0f%% (%d of %d tiles, %.1f s, ETA %.0f s)%s",
-            100 * f, r->tiles_done, r->tiles_total, el, f > 0 ? el * (1 - f) / f : 0.0,
+    fprintf(stderr, "terrapatch light: %3.0f%% (%d of %d tiles, %.1f s, ETA %.0f s)%s", 100 * f,
+            r->tiles_done, r->tiles_total, el, f > 0 ? el * (1 - f) / f : 0.0,
             r->tty && f < 1 ? "   \r" : "\n");
 }
 
@@ -307,8 +307,7 @@ int tp_light_day_run(const tp_light_cli* o)
     r.mx = mx < MARGIN_POSTS_MAX ? (int)mx : MARGIN_POSTS_MAX;
     r.my = my < MARGIN_POSTS_MAX ? (int)my : MARGIN_POSTS_MAX;
     r.band_rows = TILE;
-    while (r.band_rows > TP_IMAGERY_BLOCK &&
-           (size_t)r.width * r.band_rows * 4 > BAND_BYTES_MAX)
+    while (r.band_rows > TP_IMAGERY_BLOCK && (size_t)r.width * r.band_rows * 4 > BAND_BYTES_MAX)
         r.band_rows -= TP_IMAGERY_BLOCK;
     r.tiles_total = ((r.width + TILE - 1) / TILE) * ((r.height + r.band_rows - 1) / r.band_rows);
     r.tty = isatty(2);
@@ -336,8 +335,8 @@ int tp_light_day_run(const tp_light_cli* o)
     if (!tp_light_place_at(o->path, g, 0.5 * (r.width - 1), 0.5 * (r.height - 1), &at))
         goto done;
     r.sun.times_s = sun, r.sun.azimuth_deg = sun + o->maps, r.sun.elevation_deg = sun + 2 * o->maps;
-    s = day_sun_make(&at, year, month, mday, o->maps, &day, sun, sun + o->maps,
-                     sun + 2 * o->maps, &err);
+    s = day_sun_make(&at, year, month, mday, o->maps, &day, sun, sun + o->maps, sun + 2 * o->maps,
+                     &err);
     if (s != TP_OK) {
         fprintf(stderr, "terrapatch light: %s\n", err.message);
         goto done;
@@ -364,10 +363,10 @@ int tp_light_day_run(const tp_light_cli* o)
              "(tp_sun_day_times), the sun at %.6f %.6f (meridian convergence %.3f deg)\n"
              "tiles of %d posts with a margin of %d x %d posts (%.0f m asked)",
              o->path, o->date, t0, t1,
-             day.kind == TP_SUN_RISES_AND_SETS ? "sunrise to sunset" : "24 hours: polar",
-             o->maps, at.lat_deg, at.lon_deg, at.convergence_deg, TILE, r.mx, r.my, o->margin_m);
-    tp_imagery_target target = {.crs_wkt = sc->info.header.crs_wkt,
-                                .width = r.width, .height = r.height};
+             day.kind == TP_SUN_RISES_AND_SETS ? "sunrise to sunset" : "24 hours: polar", o->maps,
+             at.lat_deg, at.lon_deg, at.convergence_deg, TILE, r.mx, r.my, o->margin_m);
+    tp_imagery_target target = {
+        .crs_wkt = sc->info.header.crs_wkt, .width = r.width, .height = r.height};
     memcpy(target.geotransform, gt, sizeof target.geotransform);
     tp_imagery_rows rows = {.kind = TP_IMAGERY_KIND_LIGHT_TIMES,
                             .texel_shift = 0,
@@ -380,9 +379,9 @@ int tp_light_day_run(const tp_light_cli* o)
     r.t0 = tp_planner_now_s();
     s = tp_imagery_build_rows(&target, &rows, NULL, out, &err);
     if (s != TP_OK) {
-        code = tp_interrupted() ? tp_cli_interrupted()
-                                : (fprintf(stderr, "terrapatch light: %s\n", err.message),
-                                   TP_EXIT_FAILURE);
+        code = tp_interrupted()
+                   ? tp_cli_interrupted()
+                   : (fprintf(stderr, "terrapatch light: %s\n", err.message), TP_EXIT_FAILURE);
         goto done;
     }
     tp_imagery* im = NULL;
@@ -406,8 +405,8 @@ int tp_light_day_run(const tp_light_cli* o)
         printf("day        %s .. %s, %d maps\n", t0, t1, o->maps);
         printf("grid       %dx%d posts, %d tiles of %d posts, margin %d x %d posts (%.0f m)\n",
                r.width, r.height, r.tiles_total, TILE, r.mx, r.my, o->margin_m);
-        printf("lit        %zu of %zu posts with a height lit at some time (%.1f%%)\n",
-               r.lit_any, r.valid, r.valid ? 100.0 * r.lit_any / r.valid : 0.0);
+        printf("lit        %zu of %zu posts with a height lit at some time (%.1f%%)\n", r.lit_any,
+               r.valid, r.valid ? 100.0 * r.lit_any / r.valid : 0.0);
         printf("simplified %zu samples lit over more than two intervals (tiles with margins), "
                "at most %.0f s given up\n",
                r.simplified, r.given_up_max_s);

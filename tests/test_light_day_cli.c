@@ -4,8 +4,9 @@
  *   - N42E001 (1239 x 1657 posts on its UTM grid: 2 x 2 tiles of 1024 with their margins): the
  *     map's level-0 texels, evaluated with tp_light_times_lit at three times of the day, agree
  *     with `terrapatch light --time T` (the one-moment GeoTIFF over the whole grid, read with
- *     GDAL) on >= 99% of the posts with a height (the shadows' share printed); the file has the kind, the day (sunrise to
- *     sunset as the one-moment run prints them) and the maps asked;
+ *     GDAL) on >= 99% of the posts with a height (the shadows' share printed); the file has
+ *     the kind, the day (sunrise to sunset as the one-moment run prints them) and the maps
+ *     asked;
  *   - a store (Mt Hood): the default output beside it (.tpl for .tpt), `info` on the map and
  *     on the store, the JSON summary;
  *   - bad input: exit 1, nothing written.
@@ -29,14 +30,16 @@
 #include <unistd.h>
 
 #define TESTS(X)                                                                                   \
-    X(day_map_agrees_with_the_moments_on_n42e001)                                                 \
-    X(store_gets_its_map_beside_it_and_info_describes_it)                                         \
+    X(day_map_agrees_with_the_moments_on_n42e001)                                                  \
+    X(store_gets_its_map_beside_it_and_info_describes_it)                                          \
     X(bad_input_exits_1_and_writes_nothing)
 
-static const char* tmp_dir(void) { return tp_test_child_dir("light_day"); }
+static const char* tmp_dir(void)
+{
+    return tp_test_child_dir("light_day");
+}
 
-static int run_light(const char* const* args, char* out, size_t out_cap, char* err,
-                     size_t err_cap)
+static int run_light(const char* const* args, char* out, size_t out_cap, char* err, size_t err_cap)
 {
     return tp_test_run_terrapatch_out("light", args, out, out_cap, err, err_cap);
 }
@@ -134,8 +137,8 @@ TEST(day_map_agrees_with_the_moments_on_n42e001)
     const double fractions[] = {0.06, 0.3, 0.94};
     for (int k = 0; k < 3; ++k) {
         /* a whole second of the day, as --time reads it */
-        const time_t t = (time_t)floor(in.time_first_s +
-                                       fractions[k] * (in.time_last_s - in.time_first_s));
+        const time_t t =
+            (time_t)floor(in.time_first_s + fractions[k] * (in.time_last_s - in.time_first_s));
         struct tm u;
         gmtime_r(&t, &u);
         char date[16], clock[16], tif[256];
@@ -157,8 +160,7 @@ TEST(day_map_agrees_with_the_moments_on_n42e001)
         }
         const double f = valid ? (double)agree / valid : 0.0;
         tp_test_note("%s %s UTC (tau %.1f): %zu of %zu posts agree (%.3f%%), %.1f%% in shadow",
-                     date, clock, tau, agree, valid, 100.0 * f,
-                     100.0 - 100.0 * lit_moment / valid);
+                     date, clock, tau, agree, valid, 100.0 * f, 100.0 - 100.0 * lit_moment / valid);
         if (f < 0.99)
             FAIL("%s %s UTC: the day's map agrees with the moment on %.3f%% of %zu posts "
                  "(< 99%%)",
@@ -181,8 +183,8 @@ TEST(store_gets_its_map_beside_it_and_info_describes_it)
     snprintf(json, sizeof json, "%s/hood.json", tmp_dir());
     const char* build[] = {dem, "-o", store, "--quiet", NULL};
     ASSERT_EQ_INT(0, tp_test_run_terrapatch("build", build, se, sizeof se));
-    const char* args[] = {store, "--day", "--date", "2026-12-21", "--maps", "8", "--margin",
-                          "3000", "--json", json, NULL};
+    const char* args[] = {store,      "--day", "--date", "2026-12-21", "--maps", "8",
+                          "--margin", "3000",  "--json", json,         NULL};
     ASSERT_EQ_INT(0, run_light(args, so, sizeof so, se, sizeof se));
     EXPECT_CONTAINS(se, "terrapatch: wrote ");
     EXPECT_CONTAINS(se, tpl);
@@ -215,8 +217,7 @@ TEST(store_gets_its_map_beside_it_and_info_describes_it)
     EXPECT_CONTAINS(so, "\"kind\": \"light times\"");
     EXPECT_EQ_DBL(8.0, tp_test_json_number_after(so, NULL, "maps"));
     const char* info_store[] = {store, NULL};
-    ASSERT_EQ_INT(0,
-                  tp_test_run_terrapatch_out("info", info_store, so, sizeof so, se, sizeof se));
+    ASSERT_EQ_INT(0, tp_test_run_terrapatch_out("info", info_store, so, sizeof so, se, sizeof se));
     EXPECT_CONTAINS(so, "light map:      ");
     EXPECT_CONTAINS(so, tpl);
 }
@@ -225,7 +226,7 @@ TEST(bad_input_exits_1_and_writes_nothing)
 {
     char so[8192], se[8192];
     const char* missing[] = {"/nonexistent/dem.tif", "--day", "--date", "2026-06-21", "-o",
-                             "/tmp/never.tpl", NULL};
+                             "/tmp/never.tpl",       NULL};
     EXPECT_EQ_INT(1, run_light(missing, so, sizeof so, se, sizeof se));
     EXPECT_CONTAINS(se, "/nonexistent/dem.tif");
     char dem[1024];

@@ -21,7 +21,7 @@ struct Pyramid {
     /* in */
     const char* path = nullptr;
     const tp_imagery_target* target = nullptr;
-    Geometry g;      /* geometry_for(target, shift) */
+    Geometry g; /* geometry_for(target, shift) */
     int shift = 0;
     int kind = TP_IMAGERY_KIND_IMAGE;
     double time_first_s = 0, time_last_s = 0;
@@ -32,7 +32,7 @@ struct Pyramid {
     std::vector<std::vector<uint8_t>> level; /* one block row per level, cols * 256 wide */
     tp_file_writer* file = nullptr;
     uint64_t table_offset = 0, data_offset = 0, offset = 0, nonempty = 0;
-    std::vector<void*> cctx; /* ZSTD_CCtx, per thread */
+    std::vector<void*> cctx;                                   /* ZSTD_CCtx, per thread */
     std::vector<std::vector<uint8_t>> gather, scratch, packed; /* per thread */
     std::vector<std::vector<uint8_t>> chunk_out;
     std::vector<Codec> chunk_codec;

@@ -99,10 +99,9 @@ extern "C" tp_status tp_imagery_build_rows(const tp_imagery_target* target,
         return fail(err, TP_ERR_INVALID_ARG, "%s: texel shift %d outside %d..%d", out_path,
                     rows->texel_shift, TP_IMAGERY_SHIFT_MIN, TP_IMAGERY_SHIFT_MAX);
     const bool light = rows->kind == TP_IMAGERY_KIND_LIGHT_TIMES;
-    if (const char* why = kind_problem((uint32_t)rows->kind, light ? rows->time_first_s : 0,
-                                       light ? rows->time_last_s : 0,
-                                       light ? (uint32_t)std::max(0, rows->maps) : 0,
-                                       rows->texel_shift))
+    if (const char* why = kind_problem(
+            (uint32_t)rows->kind, light ? rows->time_first_s : 0, light ? rows->time_last_s : 0,
+            light ? (uint32_t)std::max(0, rows->maps) : 0, rows->texel_shift))
         return fail(err, TP_ERR_INVALID_ARG, "%s: %s (kind %d, times %.17g .. %.17g, %d maps)",
                     out_path, why, rows->kind, rows->time_first_s, rows->time_last_s, rows->maps);
     tp_imagery_build_options o{};
