@@ -65,10 +65,12 @@ typedef struct tp_imagery_info {
                                          tp_light_times_mean of four (not alpha-weighted);
                                          texel_shift 0 (a texel per post) */
 
-/* Opens a pyramid: checks the magic, the header's and the block table's checksums, the
- * geometry against the one the header's sizes define, and that every block lies inside the
- * file. TP_ERR_BAD_DATA (damaged, truncated, not a pyramid, a newer format) / TP_ERR_IO with a
- * message naming path; *out written only on success. */
+/* Opens a pyramid (.tpi or .tpl; format 2, and format 1, which is imagery without a day):
+ * checks the magic, the header's and the block table's checksums, the geometry against the one
+ * the header's sizes define, the kind and its day, and that every block lies inside the file.
+ * TP_ERR_BAD_DATA (damaged, truncated, not a pyramid, a newer format, an unknown kind, imagery
+ * with a day, a light map whose day does not run forward, of fewer than 2 maps or at a texel
+ * shift other than 0) / TP_ERR_IO with a message naming path; *out written only on success. */
 tp_status tp_imagery_open(const char* path, tp_imagery** out, tp_error* err);
 void tp_imagery_close(tp_imagery* im); /* accepts NULL */
 void tp_imagery_get_info(const tp_imagery* im, tp_imagery_info* out);
@@ -134,7 +136,10 @@ typedef struct tp_imagery_rows {
 
 /* Builds a pyramid at out_path (whole or not at all) from rows on target's grid; the coarser
  * levels halve level 0 as kind says. Fails as tp_imagery_build (no sources), TP_ERR_INVALID_ARG
- * for a bad kind, shift or day, or with what rows returned. options: memory_bytes, progress. */
+ * for a bad kind, shift or day (as tp_imagery_open would refuse them), or with what rows
+ * returned (its message; nothing written). options (may be NULL): memory_bytes (what the build
+ * holds: one block row of every level and one of level 0 for rows), threads (compressing),
+ * progress (after each level-0 block row). */
 tp_status tp_imagery_build_rows(const tp_imagery_target* target, const tp_imagery_rows* rows,
                                 const tp_imagery_build_options* options, const char* out_path,
                                 tp_error* err);
