@@ -1,7 +1,9 @@
 /*
  * tp_imagery.h - imagery pyramids (.tpi): orthophotos and scanned maps of any size, warped onto
  * a store's render grid and cut into a mip pyramid of fixed-size blocks, for the viewer to
- * stream (issue 15; docs/imagery.md). C interface; io/src/imagery_*.cpp.
+ * stream (issue 15; docs/imagery.md). C interface; io/src/imagery_*.cpp. A day's light map
+ * (.tpl, `terrapatch light --day`) is the same file of another kind (TP_IMAGERY_KIND_LIGHT_TIMES
+ * below), its level 0 made by the caller (tp_imagery_build_rows).
  *
  * Geometry. A pyramid belongs to one render grid (a store's fitted grid: its CRS, geotransform,
  * width and height; pixel-is-area: post (x, y) lies at the centre of grid pixel (x, y)). Level 0
