@@ -1514,13 +1514,13 @@ tp_status tp_light_day_at(const tp_light_day* day, double time_s, uint8_t* lit,
 typedef struct tp_light_times_stats {
     size_t samples;          /* width * height */
     size_t simplified;       /* samples with more than two lit intervals */
-    double given_up_max_s;   /* the longest time a simplification changed, seconds */
+    double given_up_max_s;   /* the longest time one simplification changed, seconds */
     size_t lit_any;          /* samples lit at some time of the day */
 } tp_light_times_stats;
 
 /* Writes 4 * width * height bytes into out (out_count >= that), row-major, a texel per
  * sample as above; stats may be NULL. Computes the maps one after another (memory: the
- * heights, out, and about 26 bytes a sample; not tp_light_day's 2 * count). progress may be
+ * heights, out, and about 40 bytes a sample; not tp_light_day's 2 * count). progress may be
  * NULL: called after each map with (k + 1) / count. Same grid and sun conventions and failures
  * as tp_light_day_build (out untouched on failure). Reentrant. */
 tp_status tp_light_times_build(const float* heights, size_t height_count, int width, int height,

@@ -27,12 +27,9 @@ void tp_light_day_destroy(tp_light_day* day)
     free(day);
 }
 
-tp_status tp_light_day_build(const float* heights, size_t height_count, int width, int height,
-                             double dx_m, double dy_m, const double* times_s,
-                             const double* azimuth_deg, const double* elevation_deg, int count,
-                             tp_light_day** out, tp_error* err)
+tp_status tp__light_day_check(size_t height_count, int width, int height,
+                              const double* times_s, int count, tp_error* err)
 {
-    assert(heights && times_s && azimuth_deg && elevation_deg && out);
     if (count < 2)
         return tp_error_set(err, TP_ERR_INVALID_ARG, "light day: %d maps, at least 2 needed",
                             count);
@@ -46,6 +43,41 @@ tp_status tp_light_day_build(const float* heights, size_t height_count, int widt
         return tp_error_set(err, TP_ERR_INVALID_ARG,
                             "light day: a %dx%d grid needs width * height heights, got %zu",
                             width, height, height_count);
+    return TP_OK;
+}
+
+tp_status tp__light_day_codes(const float* heights, int width, int height, double dx_m,
+                              double dy_m, double azimuth_deg, double elevation_deg,
+                              uint8_t* lit, float* horizon, int16_t* codes, tp_error* err)
+{
+    const size_t n = (size_t)width * height;
+    tp_status s = tp__shadow_sweep(heights, n, width, height, dx_m, dy_m, azimuth_deg,
+                                   elevation_deg, lit, NULL, horizon, n, err);
+    if (s != TP_OK)
+        return s;
+    const double te = elevation_deg >= 90.0 ? INFINITY : tan_deg(elevation_deg);
+    for (size_t i = 0; i < n; ++i) {
+        if (heights[i] != heights[i]) {
+            codes[i] = TP_LIGHT_DAY_VOID;
+        } else if (lit[i]) {
+            codes[i] = 0;
+        } else {
+            const double units = ceil((horizon[i] - te) / TP_LIGHT_DAY_TAN_STEP);
+            codes[i] = (int16_t)-(units < 1.0 ? 1 : units > CODE_MAX ? CODE_MAX : (int)units);
+        }
+    }
+    return TP_OK;
+}
+
+tp_status tp_light_day_build(const float* heights, size_t height_count, int width, int height,
+                             double dx_m, double dy_m, const double* times_s,
+                             const double* azimuth_deg, const double* elevation_deg, int count,
+                             tp_light_day** out, tp_error* err)
+{
+    assert(heights && times_s && azimuth_deg && elevation_deg && out);
+    tp_status checked = tp__light_day_check(height_count, width, height, times_s, count, err);
+    if (checked != TP_OK)
+        return checked;
     const size_t n = height_count;
     tp_light_day* d = calloc(1, sizeof *d);
     float* horizon = malloc(n * sizeof *horizon);
@@ -69,25 +101,14 @@ tp_status tp_light_day_build(const float* heights, size_t height_count, int widt
     d->height = height;
     d->count = count;
     for (int k = 0; k < count; ++k) {
-        tp_status s = tp__shadow_sweep(heights, n, width, height, dx_m, dy_m, azimuth_deg[k],
-                                       elevation_deg[k], lit, NULL, horizon, n, err);
+        tp_status s = tp__light_day_codes(heights, width, height, dx_m, dy_m, azimuth_deg[k],
+                                          elevation_deg[k], lit, horizon,
+                                          d->codes + (size_t)k * n, err);
         if (s != TP_OK) {
             tp_light_day_destroy(d);
             free(horizon);
             free(lit);
             return s;
-        }
-        const double te = elevation_deg[k] >= 90.0 ? INFINITY : tan_deg(elevation_deg[k]);
-        int16_t* q = d->codes + (size_t)k * n;
-        for (size_t i = 0; i < n; ++i) {
-            if (heights[i] != heights[i]) {
-                q[i] = TP_LIGHT_DAY_VOID;
-            } else if (lit[i]) {
-                q[i] = 0;
-            } else {
-                const double units = ceil((horizon[i] - te) / TP_LIGHT_DAY_TAN_STEP);
-                q[i] = (int16_t)-(units < 1.0 ? 1 : units > CODE_MAX ? CODE_MAX : (int)units);
-            }
         }
         d->times_s[k] = times_s[k];
         d->azimuth_deg[k] = azimuth_deg[k];
@@ -102,7 +123,7 @@ tp_status tp_light_day_build(const float* heights, size_t height_count, int widt
 /* The weight (0 .. 1 from map a to map b) at which a sample shadowed in one map, with horizon
  * tangent th, and lit in the other changes: where the interpolated tan(e) passes th. 0.5 when
  * the elevation does not explain the change. */
-static double crossing(double ta, double tb, double th, int rising_needed)
+double tp__light_day_crossing(double ta, double tb, double th, int rising_needed)
 {
     if (rising_needed ? !(tb > ta) : !(ta > tb))
         return 0.5;
@@ -140,11 +161,11 @@ tp_status tp_light_day_at(const tp_light_day* day, double time_s, uint8_t* lit,
         } else if (a[i] == 0) {
             /* lit, then shadowed under a horizon tan(h) = tb + excess: the sun sinks past it */
             const double th = tb - b[i] * TP_LIGHT_DAY_TAN_STEP;
-            lit[i] = w < crossing(ta, tb, th, 0) ? TP_SHADOW_LIT : TP_SHADOW_SHADOWED;
+            lit[i] = w < tp__light_day_crossing(ta, tb, th, 0) ? TP_SHADOW_LIT : TP_SHADOW_SHADOWED;
         } else {
             /* shadowed under tan(h) = ta + excess, then lit: the sun rises past it */
             const double th = ta - a[i] * TP_LIGHT_DAY_TAN_STEP;
-            lit[i] = w >= crossing(ta, tb, th, 1) ? TP_SHADOW_LIT : TP_SHADOW_SHADOWED;
+            lit[i] = w >= tp__light_day_crossing(ta, tb, th, 1) ? TP_SHADOW_LIT : TP_SHADOW_SHADOWED;
         }
     }
     return TP_OK;
