@@ -117,7 +117,8 @@ tp_renderer* tp_renderer_create_desc(const tp_render_grid_desc* d, char* msg, si
     size_t v = ((size_t)1 << n) + 1;
     r->slot_verts = v * v;
 
-    r->prog = tp_gl_program(tp_terrain_vertex_shader, tp_terrain_fragment_shader, msg, msg_size);
+    r->prog = tp_gl_program(tp_terrain_vertex_shader, tp_terrain_fragment_shader(), msg,
+                           msg_size);
     if (!r->prog) {
         free(r);
         return NULL;

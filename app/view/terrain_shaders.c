@@ -1,6 +1,8 @@
 /* terrain_shaders.c - the terrain renderer's GLSL (see terrain_shaders.h). */
 #include "terrain_shaders.h"
 
+#include <string.h>
+
 /* Shading is per vertex (hillshade, hypsometric or LoD colour, the filled-void tint): the
  * normals come from the full-resolution grid, so a coarse triangle is shaded from the terrain
  * it stands for; per-pixel work is left to what needs it (texture, grid lines). On llvmpipe
@@ -70,7 +72,8 @@ const char* const tp_terrain_vertex_shader =
     "    v_lod = log2(max(length(ray) / slant, 1e-6));\n"
     "}\n";
 
-const char* const tp_terrain_fragment_shader =
+/* the fragment shader in two literals (C99 promises 4095 characters a literal) */
+static const char fragment_head[] =
     "#version 330 core\n"
     "in vec2 v_uv;\n"
     "in vec2 v_blk;\n"
@@ -131,7 +134,9 @@ const char* const tp_terrain_fragment_shader =
     "    if (!clip_sample(u_light, 1, rel, t)) return 1.0;\n"
     "    t *= 255.0;\n"
     "    return clamp(lit_in(t.x, t.y) + lit_in(t.z, t.w), 0.0, 1.0);\n"
-    "}\n"
+    "}\n";
+
+static const char fragment_main[] =
     "void main() {\n"
     "    vec3 base = v_base;\n"
     "    if (u_textured != 0) {\n"
@@ -164,3 +169,13 @@ const char* const tp_terrain_fragment_shader =
     "    }\n"
     "    o_color = vec4(c, 1.0);\n"
     "}\n";
+
+const char* tp_terrain_fragment_shader(void)
+{
+    static char src[sizeof fragment_head + sizeof fragment_main];
+    if (!src[0]) {
+        memcpy(src, fragment_head, sizeof fragment_head - 1);
+        memcpy(src + sizeof fragment_head - 1, fragment_main, sizeof fragment_main);
+    }
+    return src;
+}

@@ -9,6 +9,6 @@
 #define TP_APP_VIEW_TERRAIN_SHADERS_H
 
 extern const char* const tp_terrain_vertex_shader;
-extern const char* const tp_terrain_fragment_shader;
+const char* tp_terrain_fragment_shader(void); /* built once (render thread) */
 
 #endif /* TP_APP_VIEW_TERRAIN_SHADERS_H */
