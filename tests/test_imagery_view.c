@@ -13,7 +13,8 @@
  *   - bad pyramids: one made for another store is refused; a damaged block is reported and the
  *     frame drawn without it;
  *   - the sun of --sun-date/--sun-time: cast shadows only darken (the same frame without them
- *     is nowhere darker) and darken more with a low sun; bad dates are usage errors.
+ *     is nowhere darker) and darken more with a low sun; bad dates are usage errors; --light
+ *     refuses an imagery pyramid; without a light map the shadows are the computed window's.
  */
 #define _POSIX_C_SOURCE 200809L
 #include "tp_test.h"
@@ -337,6 +338,30 @@ TEST(sun_date_errors_are_usage_errors)
     EXPECT_EQ_INT(tp_test_run_terrapatch("view", bad_zone, err, sizeof err), 2);
 }
 
+/* --light takes a light map (.tpl) only: an imagery pyramid is refused, naming the file; with
+ * --sun-date and no light map beside the store the shadows are the computed window's, as the
+ * statistics say. */
+TEST(light_option_refuses_an_imagery_pyramid)
+{
+    char img[1024], tpi[512], json[512], err[4096], text[4096];
+    REQUIRE_DATA_FILE(img, "TP_SHARED_DATA_DIR", "craterlake-imagery-30m.tif");
+    path_in(tpi, sizeof tpi, "not_light.tpi");
+    path_in(json, sizeof json, "window.json");
+    imagery(img, tpi, "0");
+    const char* args[] = {"--headless", "--size", "160x90", "--light", tpi, "--sun-date",
+                          "2026-06-21", "--sun-time", "12:00", store(), NULL};
+    EXPECT_EQ_INT(tp_test_run_terrapatch("view", args, err, sizeof err), 1);
+    EXPECT_CONTAINS(err, "not_light.tpi");
+    EXPECT_CONTAINS(err, "not a light map");
+    const char* window[] = {"--headless", "--size", "160x90", "--no-imagery", "--sun-date",
+                            "2026-06-21", "--sun-time", "12:00", "--stats-json", json, store(),
+                            NULL};
+    ASSERT_EQ_INT(tp_test_run_terrapatch("view", window, err, sizeof err), 0);
+    tp_test_read_text(json, text, sizeof text);
+    EXPECT_CONTAINS(text, "\"light_source\": \"window\"");
+    EXPECT_GT(tp_test_json_number_after(text, NULL, "light_window_posts"), 100);
+}
+
 #define TESTS(X)                                                                                   \
     X(marker_shows_on_its_ground_point_within_half_a_texel)                                        \
     X(blocks_mode_marker_shows_on_its_ground_point_within_half_a_texel)                            \
@@ -345,6 +370,7 @@ TEST(sun_date_errors_are_usage_errors)
     X(pyramid_of_another_store_is_refused)                                                         \
     X(damaged_block_is_reported_and_drawn_without)                                                 \
     X(cast_shadows_only_darken_and_grow_with_a_low_sun)                                            \
-    X(sun_date_errors_are_usage_errors)
+    X(sun_date_errors_are_usage_errors)                                                            \
+    X(light_option_refuses_an_imagery_pyramid)
 
 TP_TEST_MAIN(TESTS)
