@@ -23,6 +23,7 @@
 #include "cli.h"
 #include "gl_context.h"
 #include "imagery_view.h"
+#include "light_view.h"
 #include "json.h"
 #include "memory.h"
 #include "renderer.h"
@@ -78,6 +79,8 @@ typedef struct store_result {
     double img_uploads_total;   /* blocks uploaded over the timed frames */
     int img_missing_max, img_frames_missing;
     long img_final_diff;        /* tp_bench_imagery_diff */
+    int light;                  /* instead of imagery: o->light, the day's streamed light (its
+                                   clipmap's figures in the img_ fields) */
 } store_result;
 
 typedef struct store_bench {
@@ -340,6 +343,8 @@ static int run_store_config(store_bench* b, store_result* c, int first, const ch
     if (first)
         b->renderer_ms = now_ms() - t_setup;
     tp_cut *cut = NULL, *pre = NULL;
+    tp_view_imagery* im = NULL; /* before the first goto done: closed there */
+    tp_view_light* lt = NULL;
     tp_error err;
     int code = TP_EXIT_FAILURE;
     if (!r) {
@@ -356,12 +361,16 @@ static int run_store_config(store_bench* b, store_result* c, int first, const ch
     tp_render_stats st;
     tp_stream_stats ss;
     tp_clipmap_stats is = {0};
-    tp_view_imagery* im = NULL;
     tp_clipmap_options co = {.clip_blocks = o->clip_blocks,
                              .frame_s = o->realtime ? 0 : 1.0 / FRAME_HZ};
     if (c->imagery &&
         !tp_view_imagery_open(o->imagery, &b->sc, (tp_imagery_mode)c->imagery_mode, &co, &im))
         goto done;
+    double day[2] = {0, 1}; /* the light map's: the sun's time sweeps it over the flight */
+    if (c->light && !tp_view_light_open(o->light, &b->sc, &co, &lt))
+        goto done;
+    if (lt)
+        tp_view_light_day(lt, &day[0], &day[1], NULL);
     tp_camera cam;
     for (int seg = 0; seg < b->segments; seg++) {
         flight_camera(b, seg, -WARMUP_FRAMES * b->step_m, &cam);
@@ -388,6 +397,8 @@ static int run_store_config(store_bench* b, store_result* c, int first, const ch
             c->settle_timeouts++;
         if (im) /* the imagery the jump's view needs, as the terrain's */
             tp_view_imagery_frame(im, &b->sc, cut, 1, r, &cam, 1, &is);
+        if (lt)
+            tp_view_light_frame(lt, &b->sc, cut, 1, r, &cam, day[0], 1, &is);
         if (seg == 0)
             c->settle_ms = now_ms() - t_settle;
         double t_fly = now_ms();
@@ -407,6 +418,10 @@ static int run_store_config(store_bench* b, store_result* c, int first, const ch
             double t2 = now_ms();
             if (im)
                 tp_view_imagery_frame(im, &b->sc, cut, 1, r, &cam, 0, &is);
+            int k = seg * b->per_segment + (i > 0 ? i : 0);
+            if (lt)
+                tp_view_light_frame(lt, &b->sc, cut, 1, r, &cam,
+                                    day[0] + (day[1] - day[0]) * (k + 0.5) / frames, 0, &is);
             double t2i = now_ms();
             tp_renderer_draw_cut(r, b->sc.tree, cut, &cam, &rs, 1, 1, &st);
             tp_gl_context_end_frame(b->ctx);
@@ -424,7 +439,7 @@ static int run_store_config(store_bench* b, store_result* c, int first, const ch
             row->page_faults = st.page_faults;
             row->frame_ms = t3 - t0;
             row->cpu_ms = row->cut_ms + row->stream_ms + row->upload_ms;
-            if (im) {
+            if (im || lt) {
                 row->img_ms = t2i - t2;
                 row->img_upload_ms = is.upload_ms;
                 row->img_uploads = is.uploads;
@@ -446,7 +461,6 @@ static int run_store_config(store_bench* b, store_result* c, int first, const ch
             row->resident_bytes = ss.resident_bytes;
             row->pending = ss.pending;
             read_rss(&row->rss_mb, &row->rss_anon_mb);
-            int k = seg * b->per_segment + i;
             if (!o->no_error && cs.substituted == 0 && k % o->error_every == 0) {
                 row->measured = 1;
                 tp_cut_measure_screen_error(cut, &cam, &row->max_px, &row->rms_px, &row->samples,
@@ -471,6 +485,7 @@ cut_failed:
             err.message[0] ? err.message : "failed");
 done:
     tp_view_imagery_close(im);
+    tp_view_light_close(lt);
     tp_cut_destroy(pre);
     tp_cut_destroy(cut);
     tp_renderer_destroy(r);
@@ -526,6 +541,19 @@ static void json_result(tp_json* j, const store_result* c)
         KN("imagery_missing_blocks_max", c->img_missing_max);
         KN("imagery_frames_missing_blocks", c->img_frames_missing);
         KN("imagery_final_diff_pixels", (double)c->img_final_diff);
+    }
+    tp_json_key(j, "light");
+    tp_json_bool(j, c->light);
+    if (c->light) {
+        KN("light_ms_median", c->img_ms);
+        KN("light_upload_ms_median", c->img_upload_ms);
+        KN("light_upload_ms_p99", c->img_upload_ms_p99);
+        KN("light_uploads_median", c->img_uploads);
+        KN("light_uploads_total", c->img_uploads_total);
+        KN("light_gpu_mb", c->img_gpu_mb);
+        KN("light_cache_mb", c->img_cache_mb);
+        KN("light_missing_blocks_max", c->img_missing_max);
+        KN("light_frames_missing_blocks", c->img_frames_missing);
     }
     KN("error_frames_measured", c->error_frames);
     /* null when no sample was measured (every leaf in view not resident) */
@@ -615,9 +643,10 @@ static int write_csv(const store_bench* b, const store_result* c, int nc)
             const store_row* r = &c[k].rows[i];
             fprintf(f, "%s,%d,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%zu,%d,%d,%d,%d,%d,%d,%zu,%zu,%.1f,"
                        "%.1f,%d,%.4f,%.4f,%zu,%zu,%.4f,%.4f,%d,%d\n",
-                    c[k].imagery ? (c[k].imagery_mode == TP_IMAGERY_BLOCKS ? "error+blocks"
-                                                                           : "error+imagery")
-                                 : c[k].lod.mode == TP_LOD_ERROR ? "error" : "distance", i, r->frame_ms,
+                    c[k].light ? "error+light"
+                    : c[k].imagery ? (c[k].imagery_mode == TP_IMAGERY_BLOCKS ? "error+blocks"
+                                                                             : "error+imagery")
+                                   : c[k].lod.mode == TP_LOD_ERROR ? "error" : "distance", i, r->frame_ms,
                     r->cut_ms, r->stream_ms, r->upload_ms, r->draw_ms, r->cpu_ms, r->triangles,
                     r->nodes, r->visited, r->substituted, r->requests, r->uploads, r->pending,
                     r->gpu_bytes, r->resident_bytes, r->rss_mb, r->rss_anon_mb, r->measured,
@@ -670,6 +699,13 @@ static void print_table(const store_bench* b, const char* renderer_name, const s
                    c[k].imagery_mode == TP_IMAGERY_BLOCKS ? "blocks pool" : "clipmap",
                    c[k].img_final_diff);
     for (int k = 0; k < nc; k++)
+        if (c[k].light)
+            printf("%s: streamed light %.3f ms a frame (upload %.3f ms median, %.3f p99; %.0f "
+                   "blocks), GPU %.1f MB, RAM %.1f MB, %d frames lacking blocks (at most %d)\n",
+                   c[k].label, c[k].img_ms, c[k].img_upload_ms, c[k].img_upload_ms_p99,
+                   c[k].img_uploads, c[k].img_gpu_mb, c[k].img_cache_mb, c[k].img_frames_missing,
+                   c[k].img_missing_max);
+    for (int k = 0; k < nc; k++)
         if (!o->no_error)
             printf("%s: screen error measured on %d frames without substitution (%.0f samples, "
                    "%.0f skipped: leaves not resident)\n",
@@ -711,7 +747,7 @@ int tp_bench_store(const bench_options* o)
     read_rss(&b.base_rss_mb, &b.base_anon_mb);
     const char* renderer_name = (const char*)glGetString(GL_RENDERER);
     renderer_name = renderer_name ? renderer_name : "?";
-    store_result c[4];
+    store_result c[5];
     memset(c, 0, sizeof c);
     c[0].lod = o->vs.lod;
     c[0].lod.mode = TP_LOD_ERROR;
@@ -731,6 +767,12 @@ int tp_bench_store(const bench_options* o)
                      m == TP_IMAGERY_BLOCKS ? "blocks" : "imagery");
             nc++;
         }
+    }
+    if (o->light) { /* the error mode again, with the day's light: fps with / without */
+        c[nc] = c[0];
+        c[nc].light = 1;
+        snprintf(c[nc].label, sizeof c[nc].label, "%.40s+light", c[0].label);
+        nc++;
     }
     for (int k = 0; k < nc && code == TP_EXIT_OK; k++) {
         char progress[96];
