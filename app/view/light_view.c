@@ -56,11 +56,13 @@ int tp_view_light_open(const char* path, const tp_store_scene* st, const tp_clip
     tp_block_source src;
     tp_view_pyramid_source(im, &src);
     char msg[512];
-    tp_view_light* l = in.texel_shift != 0
-                           ? (snprintf(msg, sizeof msg, "a light map must have a texel per post "
-                                       "(this one has 2^%d)", in.texel_shift), NULL)
-                           : tp_view_light_create(&src, in.geotransform, in.time_first_s,
-                                                  in.time_last_s, o, msg, sizeof msg);
+    tp_view_light* l = NULL;
+    if (in.texel_shift != 0) /* the renderer samples a texel per post */
+        snprintf(msg, sizeof msg, "a light map has a texel per post (this one 2^%d)",
+                 in.texel_shift);
+    else
+        l = tp_view_light_create(&src, in.geotransform, in.time_first_s, in.time_last_s, o, msg,
+                                 sizeof msg);
     if (!l) {
         fprintf(stderr, "terrapatch: %s: %s\n", path, msg);
         tp_imagery_close(im);
