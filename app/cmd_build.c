@@ -49,13 +49,15 @@ typedef struct build_options {
     const char* fill_from; /* --fill-from: fill voids from this raster */
     const char* imagery[256]; /* --imagery: a pyramid NAME.tpi of these, after the store */
     int imagery_count;
+    tp_imagery_cli imagery_cli; /* --imagery-texel-shift, --imagery-resolution */
+    int imagery_shift_given;
     int threads;
     const char* json; /* NULL, "-" or a path */
     int quiet;
 } build_options;
 
 enum { OPT_CRS = 256, OPT_RESAMPLING, OPT_MEMORY, OPT_THREADS, OPT_JSON, OPT_QUIET, OPT_PATCH, OPT_FILL_MAX,
-       OPT_FILL_FROM, OPT_IMAGERY };
+       OPT_FILL_FROM, OPT_IMAGERY, OPT_IMAGERY_SHIFT, OPT_IMAGERY_RESOLUTION };
 
 static void print_help(void)
 {
@@ -85,6 +87,9 @@ static void print_help(void)
           "                      shifted onto the ground around each void\n"
           "  --imagery IMAGE     then an imagery pyramid NAME.tpi of IMAGE (repeat for a\n"
           "                      mosaic, later ones on top), as 'terrapatch imagery' makes\n"
+          "  --imagery-texel-shift K, --imagery-resolution M\n"
+          "                      its level-0 texels: 'terrapatch imagery's --texel-shift and\n"
+          "                      --resolution (default: from the finest image)\n"
           "  --memory MB         memory budget (default 1024); GDAL's cache gets a quarter;\n"
           "                      refused at once when one band of rows does not fit\n"
           "  --threads N         threads (default: every core)\n"
@@ -129,6 +134,8 @@ static int parse_options(int argc, char** argv, build_options* o)
         {"fill-max", required_argument, NULL, OPT_FILL_MAX},
         {"fill-from", required_argument, NULL, OPT_FILL_FROM},
         {"imagery", required_argument, NULL, OPT_IMAGERY},
+        {"imagery-texel-shift", required_argument, NULL, OPT_IMAGERY_SHIFT},
+        {"imagery-resolution", required_argument, NULL, OPT_IMAGERY_RESOLUTION},
         {"threads", required_argument, NULL, OPT_THREADS},
         {"json", required_argument, NULL, OPT_JSON},
         {"quiet", no_argument, NULL, OPT_QUIET},
@@ -136,6 +143,7 @@ static int parse_options(int argc, char** argv, build_options* o)
         {NULL, 0, NULL, 0},
     };
     *o = (build_options){0};
+    o->imagery_cli.texel_shift = TP_IMAGERY_SHIFT_AUTO;
     o->patch_size = 65;
     o->memory_mb = 1024;
     o->fill_max = TP_FILL_MAX_ANY;
@@ -183,6 +191,17 @@ static int parse_options(int argc, char** argv, build_options* o)
                 return usage_error("more than 256 --imagery files", "");
             o->imagery[o->imagery_count++] = optarg;
             break;
+        case OPT_IMAGERY_SHIFT:
+            if (!tp_imagery_cli_parse_shift("build", "--imagery-texel-shift", optarg,
+                                            &o->imagery_cli))
+                return TP_EXIT_USAGE;
+            o->imagery_shift_given = 1;
+            break;
+        case OPT_IMAGERY_RESOLUTION:
+            if (!tp_imagery_cli_parse_resolution("build", "--imagery-resolution", optarg,
+                                                 &o->imagery_cli))
+                return TP_EXIT_USAGE;
+            break;
         case OPT_THREADS:
             if (!parse_int(optarg, 1, 1024, &o->threads))
                 return tp_option_error("build", "--threads", "1 .. 1024", optarg), TP_EXIT_USAGE;
@@ -205,6 +224,10 @@ static int parse_options(int argc, char** argv, build_options* o)
         return usage_error("missing SOURCE", "");
     if (!o->out)
         return usage_error("missing -o NAME.tpt", "");
+    if (o->imagery_shift_given && o->imagery_cli.resolution_m > 0)
+        return usage_error("give --imagery-texel-shift or --imagery-resolution, not both", "");
+    if ((o->imagery_shift_given || o->imagery_cli.resolution_m > 0) && !o->imagery_count)
+        return usage_error("--imagery-texel-shift and --imagery-resolution need --imagery", "");
     o->sources = (const char**)(argv + optind);
     o->source_count = argc - optind;
     if (o->threads == 0) {
@@ -793,8 +816,10 @@ int tp_cli_build(int argc, char** argv)
                 rss_mb);
     if (o.imagery_count > 0) { /* NAME.tpi beside the store, as `terrapatch imagery` makes it */
         tp_imagery_cli ic = {.images = o.imagery, .count = o.imagery_count,
-                             .texel_shift = TP_IMAGERY_SHIFT_AUTO, .memory_mb = o.memory_mb,
-                             .threads = o.threads, .quiet = o.quiet, .who = "build"};
+                             .texel_shift = o.imagery_cli.texel_shift,
+                             .resolution_m = o.imagery_cli.resolution_m,
+                             .memory_mb = o.memory_mb, .threads = o.threads, .quiet = o.quiet,
+                             .who = "build"};
         int irc = tp_imagery_cli_run(o.out, &ic);
         if (irc != TP_EXIT_OK)
             return irc;

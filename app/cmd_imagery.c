@@ -257,6 +257,26 @@ static int parse_int(const char* s, int lo, int hi, int* v)
     return 1;
 }
 
+int tp_imagery_cli_parse_shift(const char* cmd, const char* opt, const char* arg,
+                               tp_imagery_cli* c)
+{
+    if (parse_int(arg, TP_IMAGERY_SHIFT_MIN, TP_IMAGERY_SHIFT_MAX, &c->texel_shift))
+        return 1;
+    tp_option_error(cmd, opt, "-8 .. 8", arg);
+    return 0;
+}
+
+int tp_imagery_cli_parse_resolution(const char* cmd, const char* opt, const char* arg,
+                                    tp_imagery_cli* c)
+{
+    char* end;
+    c->resolution_m = strtod(arg, &end);
+    if (end != arg && !*end && c->resolution_m > 0 && isfinite(c->resolution_m))
+        return 1;
+    tp_option_error(cmd, opt, "metres > 0", arg);
+    return 0;
+}
+
 enum { OPT_SHIFT = 256, OPT_RESOLUTION, OPT_MEMORY, OPT_THREADS, OPT_JSON, OPT_QUIET };
 
 int tp_cli_imagery(int argc, char** argv)
@@ -284,19 +304,14 @@ int tp_cli_imagery(int argc, char** argv)
         switch (ch) {
         case 'o': c.out = optarg; break;
         case OPT_SHIFT:
-            if (!parse_int(optarg, TP_IMAGERY_SHIFT_MIN, TP_IMAGERY_SHIFT_MAX, &c.texel_shift))
-                return tp_option_error("imagery", "--texel-shift", "-8 .. 8", optarg),
-                       TP_EXIT_USAGE;
+            if (!tp_imagery_cli_parse_shift("imagery", "--texel-shift", optarg, &c))
+                return TP_EXIT_USAGE;
             have_shift = 1;
             break;
-        case OPT_RESOLUTION: {
-            char* end;
-            c.resolution_m = strtod(optarg, &end);
-            if (end == optarg || *end || !(c.resolution_m > 0) || !isfinite(c.resolution_m))
-                return tp_option_error("imagery", "--resolution", "metres > 0", optarg),
-                       TP_EXIT_USAGE;
+        case OPT_RESOLUTION:
+            if (!tp_imagery_cli_parse_resolution("imagery", "--resolution", optarg, &c))
+                return TP_EXIT_USAGE;
             break;
-        }
         case OPT_MEMORY:
             if (!parse_int(optarg, IMAGERY_MIN_MEMORY_MB, 1 << 24, &c.memory_mb))
                 return tp_option_error("imagery", "--memory", "megabytes, 64 or more", optarg),

@@ -9,7 +9,7 @@
 #   build    `build --imagery` writes NAME.tpt and NAME.tpi, which `info` describes (and
 #            names beside the store);
 #            `imagery` of the store and the mirror at --texel-shift -1 agrees with the sizes
-#            the grid gives; a missing image fails before the store is built, leaving nothing
+#            the grid gives, as does `build --imagery-texel-shift -1`; a missing image fails before the store is built, leaving nothing
 set -u
 TOOL=$1 TP=$2 DATA=$3 WORK=$4 CASE=$5
 rm -rf "$WORK" && mkdir -p "$WORK" && cd "$WORK" || exit 1
@@ -65,6 +65,11 @@ build)
     # the store's grid: 434 x 384 posts (terrapatch info), so level 0 is 217 x 192, one level
     grep -q '"width": 217' i.json && grep -q '"height": 192' i.json && grep -q '"levels": 1' i.json ||
         fail "sizes in $(cat i.json)"
+    # build's own --imagery-texel-shift: the same half-resolution level 0
+    "$TP" build --quiet "$DEM" -o e.tpt --imagery "$IMG" --imagery-texel-shift -1 > out 2> err ||
+        fail "build --imagery-texel-shift -1"
+    "$TP" info e.tpi > out 2> err || fail "info e.tpi"
+    grep -q '^level 0 *217 *x *192 ' out || fail "build --imagery-texel-shift -1: $(grep '^level 0' out)"
     "$TP" build --quiet "$DEM" -o d.tpt --imagery /nonexistent.tif > out 2> err
     [ $? = 1 ] && grep -q '/nonexistent.tif' err || fail "a missing image: $(cat err)"
     [ -e d.tpt ] || [ -e d.tpi ] && fail "a missing image left a file"

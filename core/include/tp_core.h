@@ -304,6 +304,24 @@ void tp_patch_vertices(const tp_terrain* t, int patch, int k, const int neighbor
 size_t tp_patch_triangles(const tp_vertex* vertices, int k, uint32_t* triangles,
                           size_t triangle_capacity);
 
+/* Crack removal by adding vertices (Brodersen, section 4; `--stitch add`), the alternative to
+ * moving them (tp_patch_vertices): the coarser patch's border takes its finer neighbour's
+ * vertices, the finer patch moves nothing. The triangles of a level-k patch of a (2^n+1)^2
+ * sample patch (n in 0..TP_MAX_N, k in 0..n) whose side s takes the vertices of a neighbour at
+ * level neighbor_levels[s] in this patch's sample units (> k: every 2^(n - level)-th sample of
+ * that side, levels above n taken as n; <= k or TP_NO_NEIGHBOR: the side's own level-k
+ * vertices; the array may be NULL), as index triples of samples (row * (2^n + 1) + column),
+ * wound as the strips' triangles (tp_strip_build_u32). With nothing added: the level-k grid,
+ * every cell split from (c + 1, r) to (c, r + 1) as the strip splits it. Else five regions: the
+ * interior cells as that grid, and each border row of cells re-triangulated between the side
+ * (with what it takes) and the first inner row; a level-0 patch takes its centre sample and
+ * fans from it. Every side then has exactly the vertices its finer neighbour draws there, so
+ * shared edges match: watertight (tests/test_stitch_add.c checks every configuration up to
+ * n = 5). Returns the number of triangles and writes the first min(that, triangle_capacity)
+ * (triangles may be NULL for 0). Cannot fail. */
+size_t tp_patch_triangles_add(int n, int k, const int neighbor_levels[4], uint32_t* triangles,
+                              size_t triangle_capacity);
+
 /* Rasterises a triangle onto the sample lattice: calls visit(x, y, z, user) for every grid
  * sample inside or on the triangle (a, b, c) (grid coordinates), with the height z linearly
  * interpolated there from za, zb, zc (any unit). Exact integer inside test; zero-area triangles

@@ -1,0 +1,236 @@
+/* test_stitch_add.c - crack removal by adding vertices (core/src/stitch_add.c,
+ * tp_patch_triangles_add): for every patch size up to n = 5, every level and every neighbour
+ * configuration, the triangles tile the patch's square exactly (no zero-area or flipped
+ * triangle, areas summing to the square, every inner edge shared by two triangles in opposite
+ * directions) and each side's border edges are exactly the neighbour's own (so two patches
+ * side by side share their edge whatever their levels: watertight); with nothing added, the
+ * same triangles as the level's strip. */
+#include "tp_test.h"
+
+#define TESTS(X)                                                                                   \
+    X(every_configuration_tiles_the_square_and_matches_its_neighbours)                             \
+    X(nothing_added_is_the_strip)                                                                  \
+    X(two_patches_side_by_side_share_their_edge)                                                   \
+    X(levels_above_n_are_taken_as_n)
+
+enum { MAXN = 5, SIDE = (1 << MAXN) + 1, MAX_TRI = 2 * (1 << MAXN) * (1 << MAXN) + 4 * SIDE };
+
+static uint32_t tri_[3 * MAX_TRI];
+
+static long cross(int n, uint32_t a, uint32_t b, uint32_t c)
+{
+    const long s = (1L << n) + 1;
+    const long ax = (long)a % s, ay = (long)a / s, bx = (long)b % s, by = (long)b / s,
+               cx = (long)c % s, cy = (long)c / s;
+    return (bx - ax) * (cy - ay) - (by - ay) * (cx - ax);
+}
+
+/* The strips' sign of cross products in (column, row) (every real triangle has it). */
+static long strip_sign(void)
+{
+    uint32_t idx[64];
+    tp_strip_build_u32(1, idx, 64);
+    return cross(1, idx[0], idx[1], idx[2]) > 0 ? 1 : -1;
+}
+
+/* Checks one configuration; returns 1 when every property holds (reports the first failure). */
+static int check(int n, int k, const int nb[4], char* why, size_t cap)
+{
+    const size_t count = tp_patch_triangles_add(n, k, nb, tri_, MAX_TRI);
+    if (count > MAX_TRI) {
+        snprintf(why, cap, "%zu triangles", count);
+        return 0;
+    }
+    if (tp_patch_triangles_add(n, k, nb, NULL, 0) != count) {
+        snprintf(why, cap, "counting alone gives another count");
+        return 0;
+    }
+    const long sign = strip_sign(), full = 1L << n, S = full + 1;
+    long area2 = 0;
+    /* every undirected edge: +1 for a -> b with a < b, -1 for b -> a (an inner edge sums to
+       0, a border edge to +-1); kept in a sorted list */
+    static uint64_t list[6 * MAX_TRI];
+    size_t m = 0;
+    for (size_t t = 0; t < count; ++t) {
+        const uint32_t* p = tri_ + 3 * t;
+        const long c = cross(n, p[0], p[1], p[2]);
+        if (c == 0 || (c > 0) != (sign > 0)) {
+            snprintf(why, cap, "triangle %zu (%u %u %u) has cross %ld", t, p[0], p[1], p[2], c);
+            return 0;
+        }
+        area2 += c > 0 ? c : -c;
+        for (int e = 0; e < 3; ++e) {
+            const uint32_t a = p[e], b = p[(e + 1) % 3];
+            list[m++] = a < b ? ((uint64_t)a << 33) | ((uint64_t)b << 1) | 1
+                              : ((uint64_t)b << 33) | ((uint64_t)a << 1);
+        }
+    }
+    if (area2 != 2 * full * full) {
+        snprintf(why, cap, "twice the area %ld, the square's %ld", area2, 2 * full * full);
+        return 0;
+    }
+    /* sort (insertion is too slow at n = 5: a small radix-free qsort) */
+    for (size_t gap = m / 2; gap > 0; gap /= 2) /* shell sort */
+        for (size_t i = gap; i < m; ++i)
+            for (size_t j = i; j >= gap && list[j - gap] > list[j]; j -= gap) {
+                const uint64_t x = list[j];
+                list[j] = list[j - gap], list[j - gap] = x;
+            }
+    /* border edges expected: per side, the neighbour's stride (or the level's) */
+    long stride[4];
+    for (int s = 0; s < 4; ++s) {
+        const int kn = nb && nb[s] != TP_NO_NEIGHBOR ? (nb[s] > n ? n : nb[s]) : -1;
+        stride[s] = kn > k ? 1L << (n - kn) : 1L << (n - k);
+    }
+    size_t border = 0, expected_border = 0;
+    for (int s = 0; s < 4; ++s)
+        expected_border += (size_t)(full / stride[s]);
+    for (size_t i = 0; i < m;) {
+        size_t j = i;
+        int fwd = 0, back = 0;
+        while (j < m && (list[j] >> 1) == (list[i] >> 1)) {
+            fwd += (int)(list[j] & 1), back += !(list[j] & 1);
+            ++j;
+        }
+        const uint32_t a = (uint32_t)(list[i] >> 33), b = (uint32_t)((list[i] >> 1) & 0xffffffffu);
+        const long ax = a % S, ay = a / S, bx = b % S, by = b / S;
+        const int on_border = (ax == bx && (ax == 0 || ax == full)) ||
+                              (ay == by && (ay == 0 || ay == full));
+        if (on_border) {
+            const int s = ay == by ? (ay == 0 ? TP_SIDE_TOP : TP_SIDE_BOTTOM)
+                                   : (ax == full ? TP_SIDE_RIGHT : TP_SIDE_LEFT);
+            const long len = ax == bx ? labs(by - ay) : labs(bx - ax);
+            const long along = ax == bx ? (ay < by ? ay : by) : (ax < bx ? ax : bx);
+            if (fwd + back != 1 || len != stride[s] || along % stride[s]) {
+                snprintf(why, cap, "border edge %u-%u (side %d): used %d times, length %ld, "
+                                   "the neighbour's stride %ld", a, b, s, fwd + back, len,
+                         stride[s]);
+                return 0;
+            }
+            border++;
+        } else if (fwd != 1 || back != 1) {
+            snprintf(why, cap, "inner edge %u-%u used %d + %d times", a, b, fwd, back);
+            return 0;
+        }
+        i = j;
+    }
+    if (border != expected_border) {
+        snprintf(why, cap, "%zu border edges, %zu expected", border, expected_border);
+        return 0;
+    }
+    return 1;
+}
+
+TEST(every_configuration_tiles_the_square_and_matches_its_neighbours)
+{
+    int configs = 0, failed = 0;
+    char why[256];
+    for (int n = 0; n <= MAXN; ++n)
+        for (int k = 0; k <= n; ++k) {
+            /* each side: no neighbour, or one at k + 1 .. n (coarser or equal ones add nothing
+               and are covered by "none") */
+            const int options = n - k + 1;
+            int total = 1;
+            for (int s = 0; s < 4; ++s)
+                total *= options;
+            for (int c = 0; c < total; ++c) {
+                int nb[4], x = c;
+                for (int s = 0; s < 4; ++s) {
+                    const int o = x % options;
+                    x /= options;
+                    nb[s] = o == 0 ? TP_NO_NEIGHBOR : k + o;
+                }
+                configs++;
+                if (!check(n, k, nb, why, sizeof why)) {
+                    if (failed++ < 5)
+                        ADD_FAILURE("n %d, level %d, neighbours %d %d %d %d: %s", n, k, nb[0],
+                                      nb[1], nb[2], nb[3], why);
+                }
+            }
+        }
+    tp_test_note("%d configurations (n <= %d), %d failed", configs, MAXN, failed);
+    EXPECT_EQ_INT(0, failed);
+    EXPECT_EQ_INT(3724, configs); /* sum over n of 1^4 + 2^4 + ... + (n + 1)^4 */
+}
+
+/* With nothing added the triangles are the strip's real ones, in the same order per cell. */
+TEST(nothing_added_is_the_strip)
+{
+    for (int n = 0; n <= MAXN; ++n)
+        for (int k = 0; k <= n; ++k) {
+            const int same[4] = {k, k - 1, TP_NO_NEIGHBOR, 0};
+            const size_t count = tp_patch_triangles_add(n, k, same, tri_, MAX_TRI);
+            ASSERT_EQ_INT(2 << (2 * k), (int)count);
+            /* the strip of level k, decoded, mapped to this patch's samples */
+            static uint32_t idx[20000];
+            const size_t ni = tp_strip_index_count(k);
+            tp_strip_build_u32(k, idx, ni);
+            const uint32_t v = (1u << k) + 1, step = 1u << (n - k), S = (1u << n) + 1;
+            size_t found = 0;
+            for (size_t i = 2; i < ni; ++i) {
+                uint32_t a = idx[i - 2], b = idx[i - 1], c = idx[i];
+                if (a == b || b == c || a == c)
+                    continue;
+                if (i % 2) { /* odd triangles swap their first two */
+                    const uint32_t t = a;
+                    a = b, b = t;
+                }
+                const uint32_t m[3] = {(a / v) * step * S + (a % v) * step,
+                                       (b / v) * step * S + (b % v) * step,
+                                       (c / v) * step * S + (c % v) * step};
+                for (size_t t = 0; t < count; ++t) {
+                    const uint32_t* p = tri_ + 3 * t;
+                    for (int r = 0; r < 3; ++r) /* the same triangle, any rotation */
+                        if (p[r] == m[0] && p[(r + 1) % 3] == m[1] && p[(r + 2) % 3] == m[2]) {
+                            found++;
+                            r = 3, t = count;
+                        }
+                }
+            }
+            EXPECT_EQ_INT((int)count, (int)found);
+        }
+}
+
+/* A level-1 patch beside a level-4 one (n = 5): the coarse patch's right side and the fine
+ * patch's left side have the same vertices (every 2nd sample) and the same edges. */
+TEST(two_patches_side_by_side_share_their_edge)
+{
+    enum { N = 5, F = 1 << N };
+    const int coarse_nb[4] = {TP_NO_NEIGHBOR, 4, TP_NO_NEIGHBOR, TP_NO_NEIGHBOR};
+    const int fine_nb[4] = {TP_NO_NEIGHBOR, TP_NO_NEIGHBOR, TP_NO_NEIGHBOR, 1};
+    int coarse[F + 1] = {0}, fine[F + 1] = {0};
+    size_t nc = tp_patch_triangles_add(N, 1, coarse_nb, tri_, MAX_TRI);
+    for (size_t t = 0; t < nc; ++t)
+        for (int e = 0; e < 3; ++e) {
+            const uint32_t v = tri_[3 * t + e];
+            if ((int)(v % (F + 1)) == F)
+                coarse[v / (F + 1)] = 1;
+        }
+    size_t nf = tp_patch_triangles_add(N, 4, fine_nb, tri_, MAX_TRI);
+    for (size_t t = 0; t < nf; ++t)
+        for (int e = 0; e < 3; ++e) {
+            const uint32_t v = tri_[3 * t + e];
+            if (v % (F + 1) == 0)
+                fine[v / (F + 1)] = 1;
+        }
+    int shared = 0;
+    for (int y = 0; y <= F; ++y) {
+        EXPECT_EQ_INT(fine[y], coarse[y]);
+        shared += fine[y];
+        EXPECT_EQ_INT(y % 2 == 0, fine[y]);
+    }
+    EXPECT_EQ_INT(F / 2 + 1, shared);
+}
+
+TEST(levels_above_n_are_taken_as_n)
+{
+    char why[256];
+    const int nb[4] = {9, 3, TP_NO_NEIGHBOR, 7};
+    const size_t a = tp_patch_triangles_add(3, 0, nb, NULL, 0);
+    const int capped[4] = {3, 3, TP_NO_NEIGHBOR, 3};
+    EXPECT_EQ_INT((int)tp_patch_triangles_add(3, 0, capped, NULL, 0), (int)a);
+    EXPECT_TRUE(check(3, 0, nb, why, sizeof why));
+    EXPECT_EQ_INT(8 + 8 + 1 + 8, (int)a); /* a fan over the border's 25 edges */
+}
+
+TP_TEST_MAIN(TESTS)
