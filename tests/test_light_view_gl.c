@@ -2,9 +2,10 @@
  * test_light_view_gl.c - the viewer's streamed light over a day on a GPU (app/view/
  * light_view.c, the renderer's light clipmap and its shader, through Mesa llvmpipe, EGL
  * without a display), on real ground: a 1025 x 1025-post crop of N42E001 (the Pyrenees around
- * its highest post; its voids are never lit and not drawn), its day's light times made by tp_light_times_build (25 sun positions, a
- * synthetic day from 06:00 to 18:00) and served from memory as the pyramid a .tpl holds
- * (level l + 1 the tp_light_times_mean of level l), drawn as a tree's cut.
+ * its highest post; its voids are never lit and not drawn), its day's light times made by
+ * tp_light_times_build (25 sun positions, a synthetic day from 06:00 to 18:00) and served from
+ * memory as the pyramid a .tpl holds (level l + 1 the tp_light_times_mean of level l), drawn as a
+ * tree's cut.
  *
  *   - a post deep inside a cast shadow (tp_shadow_compute says so for that sun, and every light
  *     times texel around it is shadowed at that time, with three steps to spare) on a slope
@@ -31,12 +32,12 @@
 #include <string.h>
 
 #define PI 3.14159265358979323846
-#define N 1025          /* posts a side of the crop */
-#define MAPS 25         /* sun positions over the day */
-#define DX 68.3         /* metres a post east and north (3 arc seconds at 42.5 N) */
+#define N 1025  /* posts a side of the crop */
+#define MAPS 25 /* sun positions over the day */
+#define DX 68.3 /* metres a post east and north (3 arc seconds at 42.5 N) */
 #define DY 92.6
 #define BLOCK 256
-#define W 400           /* frames */
+#define W 400 /* frames */
 #define H 300
 #define T0 1782021600.0 /* 2026-06-21 06:00 UTC */
 #define R 4             /* the neighbourhood that must agree: (2R + 1)^2 posts */
@@ -93,8 +94,10 @@ static void make_day(day* d)
     ASSERT_OK(tp_light_times_build(d->z, (size_t)N * N, N, N, DX, DY, d->t, d->az, d->el, MAPS,
                                    d->texels[0], (size_t)N * N * 4, &st, NULL, NULL, &err));
     ASSERT_GT((double)st.lit_any, 0.5 * N * N);
-    fprintf(stderr, "crop from post (%d, %d) of N42E001: %zu posts lit at some time, %zu "
-                    "simplified to two intervals\n", x0, y0, st.lit_any, st.simplified);
+    fprintf(stderr,
+            "crop from post (%d, %d) of N42E001: %zu posts lit at some time, %zu "
+            "simplified to two intervals\n",
+            x0, y0, st.lit_any, st.simplified);
     /* the pyramid's levels, as a .tpl's: until one fits in a block */
     int l = 0;
     while (d->w[l] > BLOCK || d->h[l] > BLOCK) {
@@ -137,7 +140,8 @@ static int read_block(void* user, tp_block_key k, uint8_t* rgba, char* msg, size
         int64_t u0 = k.bx * BLOCK, n = d->w[k.level] - u0;
         if (v >= d->h[k.level] || n <= 0)
             continue;
-        memcpy(rgba + (size_t)y * BLOCK * 4, d->texels[k.level] + (size_t)(v * d->w[k.level] + u0) * 4,
+        memcpy(rgba + (size_t)y * BLOCK * 4,
+               d->texels[k.level] + (size_t)(v * d->w[k.level] + u0) * 4,
                (size_t)(n < BLOCK ? n : BLOCK) * 4);
     }
     return 1;
@@ -241,7 +245,9 @@ static void open_scene(scene* s, const day* d)
     ASSERT_OK(tp_cut_create(s->tree, &s->cut, &err));
     s->st.tree = s->tree;
     tp_tree_get_info(s->tree, &s->st.tree_info);
-    tp_render_grid_desc gd = {.n = tp_tree_get_geometry(s->tree)->n, .width = N, .height = N,
+    tp_render_grid_desc gd = {.n = tp_tree_get_geometry(s->tree)->n,
+                              .width = N,
+                              .height = N,
                               .min_height_m = s->st.tree_info.min_height_m,
                               .max_height_m = s->st.tree_info.max_height_m};
     memcpy(gd.geotransform, GT, sizeof GT);
@@ -260,8 +266,8 @@ static void close_scene(scene* s)
 
 /* Draws the frame for cam at map k's sun, with the light map l at that time (NULL: without),
  * into rgba (W * H * 4, top row first). settle: the light's windows whole first. */
-static void draw(scene* s, const day* d, tp_view_light* l, const tp_camera* cam, double t_s,
-                 int k, int settle, uint8_t* rgba)
+static void draw(scene* s, const day* d, tp_view_light* l, const tp_camera* cam, double t_s, int k,
+                 int settle, uint8_t* rgba)
 {
     tp_lod_params lod = {.mode = TP_LOD_ERROR, .tau_px = 1};
     tp_error err;
@@ -344,8 +350,8 @@ TEST(shadowed_post_darker_lit_post_unchanged)
     int px, py, lx, ly;
     ASSERT_TRUE(find_post(&d, sh, MORNING, 0, -1, 0, MORNING, &px, &py));
     ASSERT_TRUE(find_post(&d, sh, MORNING, 1, -1, 0, MORNING, &lx, &ly));
-    fprintf(stderr, "shadowed post (%d, %d) faces the sun at %.2f; lit post (%d, %d) at %.2f\n",
-            px, py, facing(&d, px, py, MORNING), lx, ly, facing(&d, lx, ly, MORNING));
+    fprintf(stderr, "shadowed post (%d, %d) faces the sun at %.2f; lit post (%d, %d) at %.2f\n", px,
+            py, facing(&d, px, py, MORNING), lx, ly, facing(&d, lx, ly, MORNING));
     scene s;
     open_scene(&s, &d);
     tp_view_light* l = light(&d, 0);
@@ -413,7 +419,9 @@ TEST(fast_flight_leaves_no_stale_light)
     tp_camera cam;
     int frames = 0;
     /* legs: east, then north-west, then south (grid metres a second, seconds) */
-    struct { double yaw, speed, seconds; } legs[] = {{90, 1500, 5}, {315, 1500, 4}, {180, 2000, 4}};
+    struct {
+        double yaw, speed, seconds;
+    } legs[] = {{90, 1500, 5}, {315, 1500, 4}, {180, 2000, 4}};
     double e = GT[0] + 100 * DX, n = GT[3] - 200 * DY;
     for (int i = 0; i < 3; i++)
         for (int f = 0; f < (int)(legs[i].seconds * 30); f++, frames++) {
@@ -436,10 +444,13 @@ TEST(fast_flight_leaves_no_stale_light)
     size_t diff = 0, shadowed = 0;
     for (size_t i = 0; i < (size_t)W * H; i++) {
         diff += memcmp(a + i * 4, b + i * 4, 3) != 0;
-        shadowed += a[i * 4] + a[i * 4 + 1] + a[i * 4 + 2] + 6 < c[i * 4] + c[i * 4 + 1] + c[i * 4 + 2];
+        shadowed +=
+            a[i * 4] + a[i * 4 + 1] + a[i * 4 + 2] + 6 < c[i * 4] + c[i * 4 + 1] + c[i * 4 + 2];
     }
-    fprintf(stderr, "%d frames; %zu pixels differ from a fresh light clipmap's, %zu darker than "
-                    "without it\n", frames, diff, shadowed);
+    fprintf(stderr,
+            "%d frames; %zu pixels differ from a fresh light clipmap's, %zu darker than "
+            "without it\n",
+            frames, diff, shadowed);
     EXPECT_EQ_INT((int)diff, 0);
     EXPECT_GT((double)shadowed, 0.01 * W * H);
     tp_view_light_close(l);

@@ -9,7 +9,7 @@
 #include <stdlib.h>
 
 struct tp_view_light {
-    tp_imagery* im;    /* NULL for tp_view_light_create */
+    tp_imagery* im; /* NULL for tp_view_light_create */
     tp_clipmap* clip;
     double first_s, last_s;
     int maps;
@@ -21,9 +21,9 @@ int tp_view_light_beside(const char* store_path, char* out, size_t cap)
     return tp_view_pyramid_beside(store_path, ".tpl", out, cap);
 }
 
-tp_view_light* tp_view_light_create(const tp_block_source* src, const double gt[6],
-                                    double first_s, double last_s, const tp_clipmap_options* o,
-                                    char* msg, size_t cap)
+tp_view_light* tp_view_light_create(const tp_block_source* src, const double gt[6], double first_s,
+                                    double last_s, const tp_clipmap_options* o, char* msg,
+                                    size_t cap)
 {
     if (!(first_s < last_s)) {
         snprintf(msg, cap, "the light map's day is empty (%.0f .. %.0f s)", first_s, last_s);
@@ -49,8 +49,8 @@ int tp_view_light_open(const char* path, const tp_store_scene* st, const tp_clip
                        tp_view_light** out)
 {
     tp_imagery_info in;
-    tp_imagery* im = tp_view_pyramid_open(path, st, TP_IMAGERY_KIND_LIGHT_TIMES,
-                                          "terrapatch light", &in);
+    tp_imagery* im =
+        tp_view_pyramid_open(path, st, TP_IMAGERY_KIND_LIGHT_TIMES, "terrapatch light", &in);
     if (!im)
         return 0;
     tp_block_source src;
@@ -105,8 +105,7 @@ void tp_view_light_frame(tp_view_light* l, const tp_store_scene* st, const tp_cu
 {
     tp_clipmap_stats local;
     tp_render_clip rc;
-    tp_view_clip_frame(&l->cs, l->clip, st, cut, zscale, cam, settle, stats ? stats : &local,
-                       &rc);
+    tp_view_clip_frame(&l->cs, l->clip, st, cut, zscale, cam, settle, stats ? stats : &local, &rc);
     tp_renderer_set_light(r, &rc, tp_light_times_tau(l->first_s, l->last_s, unix_s));
 }
 

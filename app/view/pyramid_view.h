@@ -34,8 +34,8 @@ void tp_view_pyramid_source(tp_imagery* im, tp_block_source* out);
 
 /* A clipmap drawn over a store's cut: the state kept from frame to frame. */
 typedef struct tp_view_clip_state {
-    int finest;          /* last frame's finest level (frame coherence); -1 at first */
-    double* dist;        /* per cut node (owned) */
+    int finest;   /* last frame's finest level (frame coherence); -1 at first */
+    double* dist; /* per cut node (owned) */
     size_t dist_cap;
 } tp_view_clip_state;
 

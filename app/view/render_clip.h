@@ -15,7 +15,7 @@
 #define TP__CLIP_SET_LIGHT 1
 
 typedef struct tp__clip_uniforms {
-    int set, unit;     /* the shader's set; the texture unit its sampler reads */
+    int set, unit; /* the shader's set; the texture unit its sampler reads */
     GLint sampler, levels, first, size, per_m, lod_k, rect, cam;
 } tp__clip_uniforms;
 

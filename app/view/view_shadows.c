@@ -66,8 +66,10 @@ int tp_view_shadows_open(tp_view_scene* v, view_options* o, const tp_store_scene
         tp_view_light_day(v->light, &t0, &t1, &maps);
         tp_sun_time_format(t0, o->sun.zone_offset_s, a, sizeof a);
         tp_sun_time_format(t1, o->sun.zone_offset_s, b, sizeof b);
-        fprintf(stderr, "terrapatch view: cast shadows from the day's light map %s (%s .. %s, "
-                        "%d sun positions)\n", path, a, b, maps);
+        fprintf(stderr,
+                "terrapatch view: cast shadows from the day's light map %s (%s .. %s, "
+                "%d sun positions)\n",
+                path, a, b, maps);
     }
     return TP_EXIT_OK;
 }
@@ -85,12 +87,15 @@ static void say_outside(tp_view_scene* v, int outside)
     tp_sun_time_format(t0, v->sun->zone_offset_s, a, sizeof a);
     tp_sun_time_format(t1, v->sun->zone_offset_s, b, sizeof b);
     if (outside)
-        fprintf(stderr, "terrapatch view: %s lies outside the light map's day (%s .. %s): cast "
-                        "shadows computed over the %d x %d posts around the view instead\n",
+        fprintf(stderr,
+                "terrapatch view: %s lies outside the light map's day (%s .. %s): cast "
+                "shadows computed over the %d x %d posts around the view instead\n",
                 now, a, b, TP_VIEW_SHADOW_POSTS, TP_VIEW_SHADOW_POSTS);
     else
-        fprintf(stderr, "terrapatch view: %s lies in the light map's day: cast shadows "
-                        "streamed again\n", now);
+        fprintf(stderr,
+                "terrapatch view: %s lies in the light map's day: cast shadows "
+                "streamed again\n",
+                now);
 }
 
 void tp_view_shadows_frame(tp_view_scene* v, tp_renderer* r, const tp_camera* cam,
