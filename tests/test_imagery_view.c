@@ -340,7 +340,8 @@ TEST(sun_date_errors_are_usage_errors)
     EXPECT_EQ_INT(tp_test_run_terrapatch("view", bad_zone, err, sizeof err), 2);
 }
 
-/* --light takes a light map (.tpl) only: an imagery pyramid is refused, naming the file; with
+/* --light takes a light map (.tpl) only: an imagery pyramid is refused, naming the file, and
+ * a DEM drawn whole is a usage error; with
  * --sun-date and no light map beside the store the shadows are the computed window's, as the
  * statistics say. */
 TEST(light_option_refuses_an_imagery_pyramid)
@@ -355,6 +356,11 @@ TEST(light_option_refuses_an_imagery_pyramid)
     EXPECT_EQ_INT(tp_test_run_terrapatch("view", args, err, sizeof err), 1);
     EXPECT_CONTAINS(err, "not_light.tpi");
     EXPECT_CONTAINS(err, "not a light map");
+    char dem[1024];
+    REQUIRE_DATA_FILE(dem, "TP_SHARED_DATA_DIR", "craterlake-elev-16bit-30m.tif");
+    const char* whole[] = {"--headless", "--size", "160x90", "--whole", "--light", tpi, dem, NULL};
+    EXPECT_EQ_INT(tp_test_run_terrapatch("view", whole, err, sizeof err), 2);
+    EXPECT_CONTAINS(err, "--light shadows stores");
     const char* window[] = {"--headless", "--size", "160x90", "--no-imagery", "--sun-date",
                             "2026-06-21", "--sun-time", "12:00", "--stats-json", json, store(),
                             NULL};
