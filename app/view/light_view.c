@@ -50,7 +50,7 @@ int tp_view_light_open(const char* path, const tp_store_scene* st, const tp_clip
 {
     tp_imagery_info in;
     tp_imagery* im =
-        tp_view_pyramid_open(path, st, TP_IMAGERY_KIND_LIGHT_TIMES, "terrapatch light", &in);
+        tp_view_pyramid_open(path, st, TP_IMAGERY_KIND_LIGHT_TIMES, "terrapatch light --day", &in);
     if (!im)
         return 0;
     tp_block_source src;
