@@ -13,7 +13,10 @@
  *   - bad pyramids: one made for another store is refused; a damaged block is reported and the
  *     frame drawn without it;
  *   - the sun of --sun-date/--sun-time: cast shadows only darken (the same frame without them
- *     is nowhere darker) and darken more with a low sun; bad dates are usage errors.
+ *     is nowhere darker) and darken more with a low sun; bad dates are usage errors; --light
+ *     refuses an imagery pyramid; without a light map the shadows are the computed window's;
+ *     with the day's light map beside the store they are streamed within its day (only
+ *     darkening), computed outside it.
  */
 #define _POSIX_C_SOURCE 200809L
 #include "tp_test.h"
@@ -337,6 +340,113 @@ TEST(sun_date_errors_are_usage_errors)
     EXPECT_EQ_INT(tp_test_run_terrapatch("view", bad_zone, err, sizeof err), 2);
 }
 
+/* --light takes a light map (.tpl) only: an imagery pyramid is refused, naming the file, and
+ * a DEM drawn whole is a usage error; with
+ * --sun-date and no light map beside the store the shadows are the computed window's, as the
+ * statistics say. */
+TEST(light_option_refuses_an_imagery_pyramid)
+{
+    char img[1024], tpi[512], json[512], err[4096], text[4096];
+    REQUIRE_DATA_FILE(img, "TP_SHARED_DATA_DIR", "craterlake-imagery-30m.tif");
+    path_in(tpi, sizeof tpi, "not_light.tpi");
+    path_in(json, sizeof json, "window.json");
+    imagery(img, tpi, "0");
+    const char* args[] = {"--headless", "--size", "160x90", "--light", tpi, "--sun-date",
+                          "2026-06-21", "--sun-time", "12:00", store(), NULL};
+    EXPECT_EQ_INT(tp_test_run_terrapatch("view", args, err, sizeof err), 1);
+    EXPECT_CONTAINS(err, "not_light.tpi");
+    EXPECT_CONTAINS(err, "not a light map");
+    char dem[1024];
+    REQUIRE_DATA_FILE(dem, "TP_SHARED_DATA_DIR", "craterlake-elev-16bit-30m.tif");
+    const char* whole[] = {"--headless", "--size", "160x90", "--whole", "--light", tpi, dem, NULL};
+    EXPECT_EQ_INT(tp_test_run_terrapatch("view", whole, err, sizeof err), 2);
+    EXPECT_CONTAINS(err, "--light shadows stores");
+    const char* window[] = {"--headless", "--size", "160x90", "--no-imagery", "--sun-date",
+                            "2026-06-21", "--sun-time", "12:00", "--stats-json", json, store(),
+                            NULL};
+    ASSERT_EQ_INT(tp_test_run_terrapatch("view", window, err, sizeof err), 0);
+    tp_test_read_text(json, text, sizeof text);
+    EXPECT_CONTAINS(text, "\"light_source\": \"window\"");
+    EXPECT_GT(tp_test_json_number_after(text, NULL, "light_window_posts"), 100);
+}
+
+static void copy_file(const char* from, const char* to)
+{
+    FILE* in = fopen(from, "rb");
+    FILE* out = fopen(to, "wb");
+    ASSERT_TRUE(in != NULL && out != NULL);
+    char buf[65536];
+    size_t n;
+    while ((n = fread(buf, 1, sizeof buf, in)) > 0)
+        ASSERT_EQ_INT((int)fwrite(buf, 1, n, out), (int)n);
+    fclose(in);
+    ASSERT_EQ_INT(fclose(out), 0);
+}
+
+/* The day's light map (`terrapatch light STORE --day`, beside the store as STORE.tpl) is used
+ * when the sun's time lies in its day: shadows streamed (the statistics say so, at tau in the
+ * day), and they only darken (the frame with --no-cast-shadows is nowhere darker) and darken a
+ * real share of the frame at 06:00 PDT; another date falls back to the window with one line
+ * saying why; --light without --sun-date starts at the middle of the day (tau 127.5). */
+TEST(light_map_beside_the_store_is_streamed_within_its_day)
+{
+    char tpt[512], tpl[512], a[512], b[512], json[512], err[4096], text[8192];
+    path_in(tpt, sizeof tpt, "lit.tpt");
+    path_in(tpl, sizeof tpl, "lit.tpl");
+    copy_file(store(), tpt); /* a store of its own: STORE.tpl beside it */
+    const char* light[] = {"--day", "--quiet", "--date", "2026-06-21", tpt, NULL};
+    if (tp_test_run_terrapatch("light", light, err, sizeof err) != 0)
+        FAIL("light --day (the day's light map, issue 15): %s", err);
+    path_in(a, sizeof a, "lit_streamed.png");
+    path_in(b, sizeof b, "lit_plain.png");
+    path_in(json, sizeof json, "lit.json");
+    const char* with[] = {"--headless", "--size", "480x270", "--no-hud", "--no-imagery",
+                          "--camera-geo", "42.93,-122.13,2500,60,-25", "--sun-date", "2026-06-21",
+                          "--sun-time", "06:00-07:00", "--screenshot", a, "--stats-json", json,
+                          tpt, NULL};
+    ASSERT_EQ_INT(tp_test_run_terrapatch("view", with, err, sizeof err), 0);
+    EXPECT_CONTAINS(err, "lit.tpl");
+    tp_test_read_text(json, text, sizeof text);
+    EXPECT_CONTAINS(text, "\"light_source\": \"streamed\"");
+    double tau = tp_test_json_number_after(text, NULL, "light_tau");
+    EXPECT_GT(tau, 0);
+    EXPECT_LT(tau, 255);
+    EXPECT_GT(tp_test_json_number_after(text, NULL, "light_gpu_mb"), 0);
+    const char* without[] = {"--headless", "--size", "480x270", "--no-hud", "--no-imagery",
+                             "--camera-geo", "42.93,-122.13,2500,60,-25", "--sun-date",
+                             "2026-06-21", "--sun-time", "06:00-07:00", "--no-cast-shadows",
+                             "--screenshot", b, tpt, NULL};
+    ASSERT_EQ_INT(tp_test_run_terrapatch("view", without, err, sizeof err), 0);
+    int w, h, w2, h2;
+    uint8_t *pa, *pb;
+    ASSERT_OK(tp_image_read_rgba(a, &w, &h, &pa, NULL));
+    ASSERT_OK(tp_image_read_rgba(b, &w2, &h2, &pb, NULL));
+    ASSERT_TRUE(w == w2 && h == h2);
+    size_t darker = 0, brighter = 0;
+    for (size_t i = 0; i < (size_t)w * h; i++) {
+        int sa = pa[4 * i] + pa[4 * i + 1] + pa[4 * i + 2];
+        int sb = pb[4 * i] + pb[4 * i + 1] + pb[4 * i + 2];
+        darker += sa < sb - 2;
+        brighter += sa > sb + 2;
+    }
+    free(pa);
+    free(pb);
+    EXPECT_EQ_INT((int)brighter, 0);
+    EXPECT_GT((double)darker, 0.05 * 480 * 270);
+    const char* other_day[] = {"--headless", "--size", "160x90", "--sun-date", "2026-06-22",
+                               "--sun-time", "06:00-07:00", "--stats-json", json, tpt, NULL};
+    ASSERT_EQ_INT(tp_test_run_terrapatch("view", other_day, err, sizeof err), 0);
+    EXPECT_CONTAINS(err, "outside the light map's day");
+    tp_test_read_text(json, text, sizeof text);
+    EXPECT_CONTAINS(text, "\"light_source\": \"window\"");
+    const char* mid[] = {"--headless", "--size", "160x90", "--light", tpl, "--stats-json", json,
+                         tpt, NULL};
+    ASSERT_EQ_INT(tp_test_run_terrapatch("view", mid, err, sizeof err), 0);
+    tp_test_read_text(json, text, sizeof text);
+    EXPECT_CONTAINS(text, "\"light_source\": \"streamed\"");
+    EXPECT_NEAR(tp_test_json_number_after(text, NULL, "light_tau"), 127.5, 0.01);
+}
+
 #define TESTS(X)                                                                                   \
     X(marker_shows_on_its_ground_point_within_half_a_texel)                                        \
     X(blocks_mode_marker_shows_on_its_ground_point_within_half_a_texel)                            \
@@ -345,6 +455,8 @@ TEST(sun_date_errors_are_usage_errors)
     X(pyramid_of_another_store_is_refused)                                                         \
     X(damaged_block_is_reported_and_drawn_without)                                                 \
     X(cast_shadows_only_darken_and_grow_with_a_low_sun)                                            \
-    X(sun_date_errors_are_usage_errors)
+    X(sun_date_errors_are_usage_errors)                                                            \
+    X(light_option_refuses_an_imagery_pyramid)                                                     \
+    X(light_map_beside_the_store_is_streamed_within_its_day)
 
 TP_TEST_MAIN(TESTS)

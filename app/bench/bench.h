@@ -40,6 +40,7 @@ typedef struct bench_options {
     const char* imagery; /* --imagery FILE.tpi: a configuration with imagery (bench_store.c) */
     int clip_blocks;   /* --clip-blocks */
     int imagery_mode;  /* --imagery-mode: 0 clipmap, 1 blocks (tp_imagery_mode), 2 both */
+    const char* light; /* --light FILE.tpl: a configuration with the day's streamed light */
     /* --static */
     int compare;       /* --compare: delatin and martini from npm beside the TIN */
     int runs;          /* --runs: timed runs per TIN (median); default 3 */

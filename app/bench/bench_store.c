@@ -17,16 +17,16 @@
  * and the loader gets only real time.
  */
 #define _POSIX_C_SOURCE 200809L
-#include "atomic_file.h"
 #include "bench.h"
 #include "camera_pose.h"
 #include "cli.h"
 #include "gl_context.h"
 #include "imagery_view.h"
-#include "json.h"
+#include "light_view.h"
 #include "memory.h"
 #include "renderer.h"
 #include "store_scene.h"
+#include "bench_store.h"
 
 #include <epoxy/gl.h>
 #include <math.h>
@@ -39,67 +39,6 @@
 #define FRAME_HZ 30.0
 #define WARMUP_FRAMES 5
 #define SETTLE_MAX_MS 20000.0
-
-typedef struct store_row {
-    double cut_ms, stream_ms, upload_ms, draw_ms, frame_ms, cpu_ms;
-    long page_faults;           /* minor page faults during the draw */
-    size_t triangles, gpu_bytes, resident_bytes;
-    int dropped, draw_calls;
-    int nodes, visited, substituted, requests, uploads, pending;
-    double substitution_px;
-    double rss_mb, rss_anon_mb;
-    int measured;               /* error measured (frame without substitution) */
-    double max_px, rms_px;
-    size_t samples, skipped;
-    /* --imagery: the clipmap's part of the frame (in frame_ms) */
-    double img_ms, img_upload_ms;
-    int img_uploads, img_missing, img_pending;
-    size_t img_gpu_bytes, img_cache_bytes;
-} store_row;
-
-typedef struct store_result {
-    tp_lod_params lod;
-    char label[64];
-    store_row* rows;
-    double fps_median, frame_ms, frame_ms_p99, cpu_ms, cut_ms, stream_ms, upload_ms, draw_ms;
-    double triangles, nodes, visited, uploads, page_faults;
-    int substituted_max, frames_with_substitution, pending_max;
-    int dropped_max; /* items the renderer could not hold (TP_RENDER_POOL_MAX_BYTES) */
-    double rss_mb, rss_anon_mb, resident_mb, gpu_mb; /* max over timed frames */
-    int error_frames;           /* frames measured */
-    double max_px, rms_px;      /* over measured frames */
-    double samples, skipped;    /* totals over measured frames */
-    double settle_ms;           /* first stretch: open... until nothing is missing */
-    int settle_timeouts;
-    int imagery;                /* drapes o->imagery through the clipmap or blocks: */
-    int imagery_mode;           /* a tp_imagery_mode */
-    double draw_calls;          /* median */
-    double img_ms, img_upload_ms, img_upload_ms_p99, img_uploads, img_gpu_mb, img_cache_mb;
-    double img_uploads_total;   /* blocks uploaded over the timed frames */
-    int img_missing_max, img_frames_missing;
-    long img_final_diff;        /* tp_bench_imagery_diff */
-} store_result;
-
-typedef struct store_bench {
-    const bench_options* o;
-    tp_store_scene sc;
-    const tp_tree_geometry* g;
-    double spacing_m;
-    tp_gl_context* ctx;
-    int segments, per_segment;
-    double step_m; /* per frame */
-    double t_open_ms;
-    double first_frame_ms, first_frame_open_ms; /* from process start / from opening */
-    double open_ms, context_ms; /* opening the store (metas, tree); the GL context */
-    /* the first frame's parts (ms): process start to this command (the dynamic loader, the
-     * libraries' initialisers, main); the renderer (shaders) and the stream (loader thread);
-     * the first cut and stream frame; the first draw until glFinish */
-    double entered_ms, renderer_ms, stream_create_ms, first_cut_ms, first_draw_ms;
-    double georef_wait_ms; /* waiting for the georeference made on a thread since the open */
-    double base_rss_mb, base_anon_mb; /* after opening the store and the GL context */
-    uint16_t* leaf;             /* the leaf ground_m read last */
-    int64_t leaf_id;
-} store_bench;
 
 static double now_ms(void)
 {
@@ -340,6 +279,8 @@ static int run_store_config(store_bench* b, store_result* c, int first, const ch
     if (first)
         b->renderer_ms = now_ms() - t_setup;
     tp_cut *cut = NULL, *pre = NULL;
+    tp_view_imagery* im = NULL; /* before the first goto done: closed there */
+    tp_view_light* lt = NULL;
     tp_error err;
     int code = TP_EXIT_FAILURE;
     if (!r) {
@@ -356,12 +297,16 @@ static int run_store_config(store_bench* b, store_result* c, int first, const ch
     tp_render_stats st;
     tp_stream_stats ss;
     tp_clipmap_stats is = {0};
-    tp_view_imagery* im = NULL;
     tp_clipmap_options co = {.clip_blocks = o->clip_blocks,
                              .frame_s = o->realtime ? 0 : 1.0 / FRAME_HZ};
     if (c->imagery &&
         !tp_view_imagery_open(o->imagery, &b->sc, (tp_imagery_mode)c->imagery_mode, &co, &im))
         goto done;
+    double day[2] = {0, 1}; /* the light map's: the sun's time sweeps it over the flight */
+    if (c->light && !tp_view_light_open(o->light, &b->sc, &co, &lt))
+        goto done;
+    if (lt)
+        tp_view_light_day(lt, &day[0], &day[1], NULL);
     tp_camera cam;
     for (int seg = 0; seg < b->segments; seg++) {
         flight_camera(b, seg, -WARMUP_FRAMES * b->step_m, &cam);
@@ -388,6 +333,8 @@ static int run_store_config(store_bench* b, store_result* c, int first, const ch
             c->settle_timeouts++;
         if (im) /* the imagery the jump's view needs, as the terrain's */
             tp_view_imagery_frame(im, &b->sc, cut, 1, r, &cam, 1, &is);
+        if (lt)
+            tp_view_light_frame(lt, &b->sc, cut, 1, r, &cam, day[0], 1, &is);
         if (seg == 0)
             c->settle_ms = now_ms() - t_settle;
         double t_fly = now_ms();
@@ -407,6 +354,10 @@ static int run_store_config(store_bench* b, store_result* c, int first, const ch
             double t2 = now_ms();
             if (im)
                 tp_view_imagery_frame(im, &b->sc, cut, 1, r, &cam, 0, &is);
+            int k = seg * b->per_segment + (i > 0 ? i : 0);
+            if (lt)
+                tp_view_light_frame(lt, &b->sc, cut, 1, r, &cam,
+                                    day[0] + (day[1] - day[0]) * (k + 0.5) / frames, 0, &is);
             double t2i = now_ms();
             tp_renderer_draw_cut(r, b->sc.tree, cut, &cam, &rs, 1, 1, &st);
             tp_gl_context_end_frame(b->ctx);
@@ -424,7 +375,7 @@ static int run_store_config(store_bench* b, store_result* c, int first, const ch
             row->page_faults = st.page_faults;
             row->frame_ms = t3 - t0;
             row->cpu_ms = row->cut_ms + row->stream_ms + row->upload_ms;
-            if (im) {
+            if (im || lt) {
                 row->img_ms = t2i - t2;
                 row->img_upload_ms = is.upload_ms;
                 row->img_uploads = is.uploads;
@@ -446,7 +397,6 @@ static int run_store_config(store_bench* b, store_result* c, int first, const ch
             row->resident_bytes = ss.resident_bytes;
             row->pending = ss.pending;
             read_rss(&row->rss_mb, &row->rss_anon_mb);
-            int k = seg * b->per_segment + i;
             if (!o->no_error && cs.substituted == 0 && k % o->error_every == 0) {
                 row->measured = 1;
                 tp_cut_measure_screen_error(cut, &cam, &row->max_px, &row->rms_px, &row->samples,
@@ -471,209 +421,13 @@ cut_failed:
             err.message[0] ? err.message : "failed");
 done:
     tp_view_imagery_close(im);
+    tp_view_light_close(lt);
     tp_cut_destroy(pre);
     tp_cut_destroy(cut);
     tp_renderer_destroy(r);
     tp_stream_destroy(b->sc.stream);
     b->sc.stream = NULL;
     return code;
-}
-
-static void json_result(tp_json* j, const store_result* c)
-{
-#define KN(k, v) (tp_json_key(j, k), tp_json_number(j, v))
-    tp_json_key(j, "lod_mode");
-    tp_json_string(j, c->lod.mode == TP_LOD_ERROR ? "error" : "distance");
-    if (c->lod.mode == TP_LOD_ERROR)
-        KN("tau_px", c->lod.tau_px > 0 ? c->lod.tau_px : 1);
-    KN("fps_median", c->fps_median);
-    KN("frame_ms_median", c->frame_ms);
-    KN("frame_ms_p99", c->frame_ms_p99);
-    KN("p99_over_median", c->frame_ms_p99 / c->frame_ms);
-    KN("cpu_ms", c->cpu_ms);
-    KN("cut_ms_median", c->cut_ms);
-    KN("stream_ms_median", c->stream_ms);
-    KN("upload_ms_median", c->upload_ms);
-    KN("draw_ms_median", c->draw_ms);
-    KN("draw_calls_median", c->draw_calls);
-    KN("draw_page_faults_median", c->page_faults);
-    KN("triangles_median", c->triangles);
-    KN("nodes_drawn_median", c->nodes);
-    KN("nodes_visited_median", c->visited);
-    KN("uploads_median", c->uploads);
-    KN("substituted_nodes_max", c->substituted_max);
-    KN("frames_with_substitution", c->frames_with_substitution);
-    KN("dropped_nodes_max", c->dropped_max);
-    KN("pending_max", c->pending_max);
-    KN("rss_mb", c->rss_mb);
-    KN("rss_anon_mb", c->rss_anon_mb);
-    KN("resident_mb", c->resident_mb);
-    KN("gpu_mb", c->gpu_mb);
-    KN("settle_ms", c->settle_ms);
-    KN("settle_timeouts", c->settle_timeouts);
-    tp_json_key(j, "imagery");
-    tp_json_bool(j, c->imagery);
-    if (c->imagery) {
-        tp_json_key(j, "imagery_mode");
-        tp_json_string(j, c->imagery_mode == TP_IMAGERY_BLOCKS ? "blocks" : "clipmap");
-        KN("imagery_ms_median", c->img_ms);
-        KN("imagery_upload_ms_median", c->img_upload_ms);
-        KN("imagery_upload_ms_p99", c->img_upload_ms_p99);
-        KN("imagery_uploads_median", c->img_uploads);
-        KN("imagery_uploads_total", c->img_uploads_total);
-        KN("imagery_gpu_mb", c->img_gpu_mb);
-        KN("imagery_cache_mb", c->img_cache_mb);
-        KN("imagery_missing_blocks_max", c->img_missing_max);
-        KN("imagery_frames_missing_blocks", c->img_frames_missing);
-        KN("imagery_final_diff_pixels", (double)c->img_final_diff);
-    }
-    KN("error_frames_measured", c->error_frames);
-    /* null when no sample was measured (every leaf in view not resident) */
-    KN("max_screen_error_px", c->error_frames && c->samples > 0 ? c->max_px : NAN);
-    KN("rms_screen_error_px", c->error_frames && c->samples > 0 ? c->rms_px : NAN);
-    KN("error_samples", c->samples);
-    KN("error_samples_skipped", c->skipped);
-#undef KN
-}
-
-static int write_json(const store_bench* b, const char* renderer_name, const store_result* c,
-                      int nc)
-{
-    const bench_options* o = b->o;
-    tp_atomic_file file;
-    if (!tp_atomic_open(&file, o->json))
-        return 0;
-    tp_json j;
-    tp_json_init(&j, file.f);
-    tp_json_object_begin(&j);
-#define KS(k, v) (tp_json_key(&j, k), tp_json_string(&j, v))
-#define KN(k, v) (tp_json_key(&j, k), tp_json_number(&j, v))
-    KS("store", o->dem);
-    char size[32];
-    snprintf(size, sizeof size, "%dx%d", o->vs.w, o->vs.h);
-    KS("size", size);
-    KS("path", o->path_name);
-    KN("speed_mps", o->speed_mps);
-    tp_json_key(&j, "realtime");
-    tp_json_bool(&j, o->realtime);
-    tp_json_key(&j, "prefetch");
-    tp_json_bool(&j, !o->no_prefetch);
-    KN("frames", b->segments * b->per_segment);
-    KN("segments", b->segments);
-    KN("samples", (double)b->g->src_width * b->g->src_height);
-    KN("src_width", b->g->src_width);
-    KN("src_height", b->g->src_height);
-    KN("nodes", (double)b->g->node_count);
-    KN("patch_size", (1 << b->g->n) + 1);
-    KN("memory_budget_mb", (double)((size_t)o->memory_mb << 20) / 1e6);
-    KS("renderer", renderer_name);
-    /* first_frame_ms: from the process's start (/proc/self/stat, 10 ms ticks) to the end of
-     * the first drawn frame (glFinish); first_frame_from_open_ms: from opening the store */
-    KN("first_frame_ms", b->first_frame_ms);
-    KN("first_frame_from_open_ms", b->first_frame_open_ms);
-    KN("store_open_ms", b->open_ms);
-    KN("gl_context_ms", b->context_ms);
-    KN("startup_to_bench_ms", b->entered_ms);
-    KN("renderer_create_ms", b->renderer_ms);
-    KN("stream_create_ms", b->stream_create_ms);
-    KN("first_cut_stream_ms", b->first_cut_ms);
-    KN("first_draw_ms", b->first_draw_ms);
-    KN("georef_wait_ms", b->georef_wait_ms);
-    KN("peak_rss_mb", tp_memory_peak_rss() / 1e6);
-    /* before any node, cut or renderer: libraries, the GL driver, the store's node table */
-    KN("base_rss_mb", b->base_rss_mb);
-    KN("base_rss_anon_mb", b->base_anon_mb);
-    json_result(&j, &c[0]); /* the headline: the first configuration (error mode) */
-    tp_json_key(&j, "configurations");
-    tp_json_array_begin(&j);
-    for (int i = 0; i < nc; i++) {
-        tp_json_object_begin(&j);
-        json_result(&j, &c[i]);
-        tp_json_object_end(&j);
-    }
-    tp_json_array_end(&j);
-#undef KS
-#undef KN
-    tp_json_object_end(&j);
-    fputc('\n', file.f);
-    return tp_atomic_commit(&file);
-}
-
-static int write_csv(const store_bench* b, const store_result* c, int nc)
-{
-    tp_atomic_file file;
-    if (!tp_atomic_open(&file, b->o->csv))
-        return 0;
-    FILE* f = file.f;
-    fprintf(f, "lod_mode,frame,frame_ms,cut_ms,stream_ms,upload_ms,draw_ms,cpu_ms,triangles,nodes,"
-               "visited,substituted,requests,uploads,pending,gpu_bytes,resident_bytes,rss_mb,"
-               "rss_anon_mb,measured,max_screen_error_px,rms_screen_error_px,samples,skipped,"
-               "imagery_ms,imagery_upload_ms,imagery_uploads,imagery_missing_blocks\n");
-    int frames = b->segments * b->per_segment;
-    for (int k = 0; k < nc; k++)
-        for (int i = 0; i < frames; i++) {
-            const store_row* r = &c[k].rows[i];
-            fprintf(f, "%s,%d,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%zu,%d,%d,%d,%d,%d,%d,%zu,%zu,%.1f,"
-                       "%.1f,%d,%.4f,%.4f,%zu,%zu,%.4f,%.4f,%d,%d\n",
-                    c[k].imagery ? (c[k].imagery_mode == TP_IMAGERY_BLOCKS ? "error+blocks"
-                                                                           : "error+imagery")
-                                 : c[k].lod.mode == TP_LOD_ERROR ? "error" : "distance", i, r->frame_ms,
-                    r->cut_ms, r->stream_ms, r->upload_ms, r->draw_ms, r->cpu_ms, r->triangles,
-                    r->nodes, r->visited, r->substituted, r->requests, r->uploads, r->pending,
-                    r->gpu_bytes, r->resident_bytes, r->rss_mb, r->rss_anon_mb, r->measured,
-                    r->max_px, r->rms_px, r->samples, r->skipped, r->img_ms, r->img_upload_ms,
-                    r->img_uploads, r->img_missing);
-        }
-    return tp_atomic_commit(&file);
-}
-
-static void print_table(const store_bench* b, const char* renderer_name, const store_result* c,
-                        int nc)
-{
-    const bench_options* o = b->o;
-    int frames = b->segments * b->per_segment;
-    printf("%s, %dx%d samples, %dx%d, %s path at %g m/s%s, %d frames in %d stretches, memory "
-           "budget %d MB, renderer %s\n",
-           o->dem, b->g->src_width, b->g->src_height, o->vs.w, o->vs.h, o->path_name,
-           o->speed_mps, o->realtime ? " (real time)" : " (30 Hz steps)", frames, b->segments, o->memory_mb, renderer_name);
-    printf("first frame %.0f ms after the process started, %.0f ms after opening the store "
-           "(open %.0f ms, GL context %.0f ms)\n",
-           b->first_frame_ms, b->first_frame_open_ms, b->open_ms, b->context_ms);
-    printf("first frame's parts: start to bench %.0f, open %.0f, GL context %.0f, renderer %.0f, "
-           "stream %.0f, georef wait %.0f, cut %.0f, draw %.0f ms\n",
-           b->entered_ms, b->open_ms, b->context_ms, b->renderer_ms, b->stream_create_ms,
-           b->georef_wait_ms, b->first_cut_ms, b->first_draw_ms);
-    printf("memory before the first node: %.0f MB resident, %.0f MB anonymous (libraries, GL "
-           "driver, node table)\n",
-           b->base_rss_mb, b->base_anon_mb);
-    printf("%-16s %7s %8s %7s %7s %7s %7s %7s %9s %6s %6s %8s %7s %7s %7s %7s %7s\n", "lod", "fps",
-           "frame ms", "p99 ms", "cpu ms", "cut ms", "strm ms", "draw ms", "triangles", "nodes",
-           "subst", "subst fr", "rss MB", "anon MB", "res MB", "gpu MB", "max px");
-    for (int k = 0; k < nc; k++)
-        printf("%-16s %7.2f %8.2f %7.2f %7.3f %7.3f %7.3f %7.2f %9.0f %6.0f %6d %7.1f%% %7.0f "
-               "%7.0f %7.0f %7.0f %7.3f\n",
-               c[k].label, c[k].fps_median, c[k].frame_ms, c[k].frame_ms_p99, c[k].cpu_ms,
-               c[k].cut_ms, c[k].stream_ms, c[k].draw_ms, c[k].triangles, c[k].nodes,
-               c[k].substituted_max, 100.0 * c[k].frames_with_substitution / frames, c[k].rss_mb,
-               c[k].rss_anon_mb, c[k].resident_mb, c[k].gpu_mb,
-               c[k].samples > 0 ? c[k].max_px : NAN);
-    for (int k = 0; k < nc; k++)
-        if (c[k].imagery)
-            printf("%s: imagery %.3f ms a frame (upload %.3f ms median, %.3f p99; %.0f %s), "
-                   "GPU %.1f MB, RAM %.1f MB, %d frames lacking %s (at most %d), %.0f draw calls, "
-                   "last frame vs a fresh %s: %ld pixels differ\n",
-                   c[k].label, c[k].img_ms, c[k].img_upload_ms, c[k].img_upload_ms_p99,
-                   c[k].img_uploads, c[k].imagery_mode == TP_IMAGERY_BLOCKS ? "layers" : "blocks",
-                   c[k].img_gpu_mb, c[k].img_cache_mb, c[k].img_frames_missing,
-                   c[k].imagery_mode == TP_IMAGERY_BLOCKS ? "node textures" : "blocks",
-                   c[k].img_missing_max, c[k].draw_calls,
-                   c[k].imagery_mode == TP_IMAGERY_BLOCKS ? "blocks pool" : "clipmap",
-                   c[k].img_final_diff);
-    for (int k = 0; k < nc; k++)
-        if (!o->no_error)
-            printf("%s: screen error measured on %d frames without substitution (%.0f samples, "
-                   "%.0f skipped: leaves not resident)\n",
-                   c[k].label, c[k].error_frames, c[k].samples, c[k].skipped);
 }
 
 int tp_bench_store(const bench_options* o)
@@ -711,7 +465,7 @@ int tp_bench_store(const bench_options* o)
     read_rss(&b.base_rss_mb, &b.base_anon_mb);
     const char* renderer_name = (const char*)glGetString(GL_RENDERER);
     renderer_name = renderer_name ? renderer_name : "?";
-    store_result c[4];
+    store_result c[5];
     memset(c, 0, sizeof c);
     c[0].lod = o->vs.lod;
     c[0].lod.mode = TP_LOD_ERROR;
@@ -732,16 +486,22 @@ int tp_bench_store(const bench_options* o)
             nc++;
         }
     }
+    if (o->light) { /* the error mode again, with the day's light: fps with / without */
+        c[nc] = c[0];
+        c[nc].light = 1;
+        snprintf(c[nc].label, sizeof c[nc].label, "%.40s+light", c[0].label);
+        nc++;
+    }
     for (int k = 0; k < nc && code == TP_EXIT_OK; k++) {
         char progress[96];
         snprintf(progress, sizeof progress, "%s (%d/%d)", c[k].label, k + 1, nc);
         code = run_store_config(&b, &c[k], k == 0, progress);
     }
     if (code == TP_EXIT_OK) {
-        print_table(&b, renderer_name, c, nc);
-        if (o->json && !write_json(&b, renderer_name, c, nc))
+        tp_bench_store_print(&b, renderer_name, c, nc);
+        if (o->json && !tp_bench_store_write_json(&b, renderer_name, c, nc))
             code = TP_EXIT_FAILURE;
-        if (o->csv && !write_csv(&b, c, nc))
+        if (o->csv && !tp_bench_store_write_csv(&b, c, nc))
             code = TP_EXIT_FAILURE;
     }
     for (int k = 0; k < nc; k++)

@@ -45,6 +45,7 @@ enum {
     OPT_IMAGERY,
     OPT_CLIP_BLOCKS,
     OPT_IMAGERY_MODE,
+    OPT_LIGHT,
     OPT_COMPARE,
     OPT_RUNS,
 };
@@ -138,6 +139,10 @@ static void print_help(void)
           "  --imagery-mode M       clipmap (default); blocks: Brodersen's texture per drawn node\n"
           "                         (a pool of 384 layers of 256x256, 96 MiB; one draw call per\n"
           "                         node); both: one configuration each, to compare them\n"
+          "  --light FILE.tpl       one more configuration: the error mode with the day's light\n"
+          "                         map made for the store streamed through its clipmap, the\n"
+          "                         sun's time sweeping the day over the flight (light ms, GPU\n"
+          "                         and RAM, uploads per frame: light_* in the JSON)\n"
           "  --error-every N        measure the screen error on every N-th frame (default 1),\n"
           "                         only frames drawn without substitution, only samples whose\n"
           "                         leaf is resident (the JSON says how many were skipped)\n"
@@ -184,6 +189,7 @@ static int parse_options(int argc, char** argv, bench_options* o)
         {"imagery", required_argument, NULL, OPT_IMAGERY},
         {"clip-blocks", required_argument, NULL, OPT_CLIP_BLOCKS},
         {"imagery-mode", required_argument, NULL, OPT_IMAGERY_MODE},
+        {"light", required_argument, NULL, OPT_LIGHT},
         {"compare", no_argument, NULL, OPT_COMPARE},
         {"runs", required_argument, NULL, OPT_RUNS},
         {"help", no_argument, NULL, 'h'},
@@ -280,6 +286,7 @@ static int parse_options(int argc, char** argv, bench_options* o)
         case OPT_REALTIME: o->realtime = 1; break;
         case OPT_NO_PREFETCH: o->no_prefetch = 1; break;
         case OPT_IMAGERY: o->imagery = optarg; break;
+        case OPT_LIGHT: o->light = optarg; break;
         case OPT_CLIP_BLOCKS: {
             char* end;
             long n = strtol(optarg, &end, 10);
@@ -324,8 +331,9 @@ static int parse_options(int argc, char** argv, bench_options* o)
     }
     if (tp_view_setup_check(&o->vs, "bench") < 0)
         return TP_EXIT_USAGE;
-    if (o->imagery && !tp_is_store_path(o->dem)) {
-        fprintf(stderr, "terrapatch bench: --imagery needs a store (%s is not one)\n", o->dem);
+    if ((o->imagery || o->light) && !tp_is_store_path(o->dem)) {
+        fprintf(stderr, "terrapatch bench: %s needs a store (%s is not one)\n",
+                o->imagery ? "--imagery" : "--light", o->dem);
         return TP_EXIT_USAGE;
     }
     if (tp_is_store_path(o->dem)) {

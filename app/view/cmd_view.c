@@ -9,7 +9,7 @@
 #define _POSIX_C_SOURCE 200809L
 #include "view.h"
 #include "imagery_view.h"
-#include "shadow_view.h"
+#include "view_shadows.h"
 
 #include "atomic_file.h"
 #include "camera_pose.h"
@@ -66,6 +66,7 @@ enum {
     OPT_SUN_DATE,
     OPT_SUN_TIME,
     OPT_NO_CAST_SHADOWS,
+    OPT_LIGHT,
     OPT_IMAGERY_MODE,
 };
 
@@ -97,10 +98,16 @@ static void print_help(void)
           "                        light from where the sun is then over the map's centre\n"
           "                        (libnova; ZONE: Z, UTC, +02:00, -0500; default UTC), both\n"
           "                        given; in the window PgUp and PgDn move the time by 15\n"
-          "                        minutes (Shift: an hour); the ground casts shadows over\n"
-          "                        the 1025 x 1025 posts around the point looked at (stores);\n"
-          "                        instead of --sun\n"
-          "  --no-cast-shadows     with --sun-date: the sun's light without cast shadows\n"
+          "                        minutes (Shift: an hour); the ground casts shadows (stores):\n"
+          "                        from STORE.tpl beside the store (--light) when the time lies\n"
+          "                        in its day, else computed over the 1025 x 1025 posts around\n"
+          "                        the point looked at; instead of --sun\n"
+          "  --light FILE.tpl      the day's cast shadows from a light map made for the store by\n"
+          "                        'terrapatch light STORE --day' (docs/light.md), streamed\n"
+          "                        through a clipmap: the whole map's shadows, PgUp/PgDn\n"
+          "                        instant; without --sun-date the sun starts at the middle\n"
+          "                        of the file's day\n"
+          "  --no-cast-shadows     the sun's light without cast shadows (neither of the above)\n"
           "  --hide-filled         draw filled voids like measured ground (default: tinted)\n"
           "  --pick X,Y            headless: print the ground point under pixel X,Y (from the\n"
           "                        top-left corner): E, N and the drawn surface's height;\n"
@@ -239,6 +246,7 @@ static int parse_options(int argc, char** argv, view_options* o)
         {"sun-date", required_argument, NULL, OPT_SUN_DATE},
         {"sun-time", required_argument, NULL, OPT_SUN_TIME},
         {"no-cast-shadows", no_argument, NULL, OPT_NO_CAST_SHADOWS},
+        {"light", required_argument, NULL, OPT_LIGHT},
         {"imagery-mode", required_argument, NULL, OPT_IMAGERY_MODE},
         {"help", no_argument, NULL, 'h'},
         {NULL, 0, NULL, 0},
@@ -314,6 +322,7 @@ static int parse_options(int argc, char** argv, view_options* o)
         case OPT_SUN_DATE: o->sun_date = optarg; break;
         case OPT_SUN_TIME: o->sun_time = optarg; break;
         case OPT_NO_CAST_SHADOWS: o->no_cast_shadows = 1; break;
+        case OPT_LIGHT: o->light = optarg; break;
         case OPT_CLIP_BLOCKS: {
             char* end;
             long n = strtol(optarg, &end, 10);
@@ -627,25 +636,8 @@ static int run_view(tp_view_scene* v, view_options* o, tp_render_grid_desc* gd,
     }
     if (code == TP_EXIT_OK && st && !open_imagery(v, o, st))
         code = TP_EXIT_FAILURE;
-    if (code == TP_EXIT_OK && o->sun_date) { /* the sun over the map's centre */
-        double e = v->gt[0] + 0.5 * v->src_width * v->gt[1];
-        double n = v->gt[3] + 0.5 * v->src_height * v->gt[5];
-        if (tp_view_sun_init(&o->sun, &o->sun_when, v->georef, e, n, msg, sizeof msg)) {
-            tp_view_sun_apply(&o->sun, &o->render);
-            tp_error gerr;
-            if (st && !o->no_cast_shadows && !o->ground &&
-                tp_ground_create(st, NULL, &o->ground, &gerr) != TP_OK)
-                fprintf(stderr, "terrapatch view: no cast shadows: %s\n", gerr.message);
-            v->shadow_ground = o->no_cast_shadows ? NULL : o->ground;
-            v->shadow = &shadow;
-            char line[256];
-            tp_view_sun_text(&o->sun, line, sizeof line);
-            fprintf(stderr, "terrapatch view: %s\n", line);
-        } else {
-            fprintf(stderr, "terrapatch view: --sun-date: %s\n", msg);
-            code = TP_EXIT_FAILURE;
-        }
-    }
+    if (code == TP_EXIT_OK) /* the sun over the map's centre, its cast shadows */
+        code = tp_view_shadows_open(v, o, st, &shadow);
     tp_view_layers layers;
     memset(&layers, 0, sizeof layers);
     /* a window always has them (F2); headless frames when asked */
@@ -660,9 +652,7 @@ static int run_view(tp_view_scene* v, view_options* o, tp_render_grid_desc* gd,
     o->layers = NULL;
     tp_view_imagery_close(v->imagery);
     v->imagery = NULL;
-    tp_view_shadow_free(&shadow);
-    v->shadow = NULL;
-    v->shadow_ground = NULL;
+    tp_view_shadows_close(v, &shadow);
     tp_renderer_destroy(r);
     tp_gl_context_destroy(ctx);
     return code;

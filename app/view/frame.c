@@ -5,7 +5,7 @@
 #include "atomic_file.h"
 #include "imagery_view.h"
 #include "pick.h"
-#include "shadow_view.h"
+#include "view_shadows.h"
 #include "json.h"
 
 #include <epoxy/gl.h>
@@ -46,15 +46,7 @@ void tp_view_frame(tp_view_scene* v, tp_renderer* r, const tp_camera* cam,
     tp_stream_frame(v->store->stream, v->cut, frozen ? NULL : v->prefetch, cam, lod, &out->stream);
     tp_view_scene_report_failures(v);
     out->select_ms = tp_view_now_ms() - t0;
-    if (v->shadow_ground) { /* cast shadows around the point looked at */
-        double p[3], x, y;
-        if (!tp_view_pick_centre(v, cam, p))
-            p[0] = cam->position[0], p[1] = cam->position[1];
-        tp_view_scene_world_to_grid(v, p[0], p[1], &x, &y);
-        char msg[600];
-        if (!tp_view_shadow_update(v->shadow, v->shadow_ground, render, x, y, r, msg, sizeof msg))
-            fprintf(stderr, "terrapatch view: %s\n", msg);
-    }
+    tp_view_shadows_frame(v, r, cam, render, out);
     out->imagery = v->imagery && !v->imagery_hidden;
     if (out->imagery) {
         tp_view_imagery_frame(v->imagery, v->store, v->cut, render->exaggeration, r, cam,
@@ -132,6 +124,21 @@ int tp_view_write_stats(const char* path, const frame_result* f, const tp_error_
             KEY_SIZE("imagery_uploads", (size_t)f->clip.uploads);
             KEY_SIZE("imagery_first_level", (size_t)f->clip.first_level);
             KEY_SIZE("imagery_missing_blocks", (size_t)f->clip.missing);
+        }
+        tp_json_key(&j, "light_source");
+        tp_json_string(&j, f->light_source == TP_VIEW_LIGHT_STREAMED ? "streamed"
+                           : f->light_source == TP_VIEW_LIGHT_WINDOW ? "window" : "none");
+        if (f->light_source == TP_VIEW_LIGHT_STREAMED) {
+            KEY_NUM("light_tau", f->light_tau);
+            KEY_NUM("light_gpu_mb", f->light_clip.gpu_bytes / 1e6);
+            KEY_NUM("light_cache_mb", f->light_clip.cache_bytes / 1e6);
+            KEY_NUM("light_upload_ms", f->light_clip.upload_ms);
+            KEY_SIZE("light_uploads", (size_t)f->light_clip.uploads);
+            KEY_SIZE("light_first_level", (size_t)f->light_clip.first_level);
+            KEY_SIZE("light_missing_blocks", (size_t)f->light_clip.missing);
+        } else if (f->light_source == TP_VIEW_LIGHT_WINDOW) {
+            KEY_NUM("light_window_ms", f->shadow_ms);
+            KEY_SIZE("light_window_posts", (size_t)f->shadow_posts);
         }
     }
 #undef KEY_NUM

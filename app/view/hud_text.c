@@ -4,6 +4,7 @@
 #include "hud.h"
 #include "pick.h"
 #include "position.h"
+#include "view_shadows.h"
 #include "tp_geo.h"
 
 #include <math.h>
@@ -162,6 +163,12 @@ void tp_view_hud_text(tp_view_scene* v, const tp_camera* cam,
     if (st->sun && st->sun[0]) {
         size_t at = strlen(out);
         snprintf(out + at, cap - at, "\n%s (PgUp/PgDn: +/-15 min)", st->sun);
+    }
+    char shadows[160];
+    tp_view_shadows_text(fr, shadows, sizeof shadows);
+    if (shadows[0]) {
+        size_t at = strlen(out);
+        snprintf(out + at, cap - at, "\n%s", shadows);
     }
 }
 

@@ -3,6 +3,7 @@
 #include "renderer.h"
 
 #include "gl_context.h"
+#include "render_clip.h"
 #include "terrain_shaders.h"
 #include "vertex_pool.h"
 
@@ -46,9 +47,9 @@ struct tp_renderer {
     size_t draw_cap;
     GLint u_cell, u_frac, u_spacing, u_cam_z, u_exag, u_viewproj, u_sun, u_color_lod,
         u_hide_filled, u_hrange, u_textured, u_tex, u_tex_scale, u_tex_offset, u_grid,
-        u_grid_origin, u_clip, u_clip_levels, u_clip_first, u_clip_size, u_clip_per_m,
-        u_clip_rect, u_clip_cam, u_clip_lod_k, u_shadow, u_shadow_on, u_shadow_win, u_blk,
-        u_blk_layer, u_blk_cell, u_blk_scale, u_blk_offset;
+        u_grid_origin, u_shadow, u_shadow_on, u_shadow_win, u_blk, u_blk_layer, u_blk_cell,
+        u_blk_scale, u_blk_offset, u_light_tau;
+    tp__clip_uniforms clip_u, light_u; /* the imagery's clipmap (unit 1), the light's (4) */
     GLuint shadow_tex;
     int shadow_win[4];
     GLuint tex;
@@ -59,6 +60,8 @@ struct tp_renderer {
     size_t* ditem;     /* per drawn item: its index in items; then grouped as the draws */
     size_t* gitem;
     tp_render_clip clip;
+    tp_render_clip light;  /* tp_renderer_set_light */
+    double light_tau;
     float tex_scale[2], tex_offset[2];
     /* tp_renderer_create / tp_renderer_draw: the terrain whose patches it draws */
     const tp_terrain* terrain;
@@ -114,7 +117,8 @@ tp_renderer* tp_renderer_create_desc(const tp_render_grid_desc* d, char* msg, si
     size_t v = ((size_t)1 << n) + 1;
     r->slot_verts = v * v;
 
-    r->prog = tp_gl_program(tp_terrain_vertex_shader, tp_terrain_fragment_shader, msg, msg_size);
+    r->prog = tp_gl_program(tp_terrain_vertex_shader, tp_terrain_fragment_shader(), msg,
+                           msg_size);
     if (!r->prog) {
         free(r);
         return NULL;
@@ -136,14 +140,6 @@ tp_renderer* tp_renderer_create_desc(const tp_render_grid_desc* d, char* msg, si
     TP_UNIFORM(u_tex_offset);
     TP_UNIFORM(u_grid);
     TP_UNIFORM(u_grid_origin);
-    TP_UNIFORM(u_clip);
-    TP_UNIFORM(u_clip_levels);
-    TP_UNIFORM(u_clip_first);
-    TP_UNIFORM(u_clip_size);
-    TP_UNIFORM(u_clip_per_m);
-    TP_UNIFORM(u_clip_rect);
-    TP_UNIFORM(u_clip_cam);
-    TP_UNIFORM(u_clip_lod_k);
     TP_UNIFORM(u_shadow);
     TP_UNIFORM(u_shadow_on);
     TP_UNIFORM(u_shadow_win);
@@ -152,7 +148,10 @@ tp_renderer* tp_renderer_create_desc(const tp_render_grid_desc* d, char* msg, si
     TP_UNIFORM(u_blk_cell);
     TP_UNIFORM(u_blk_scale);
     TP_UNIFORM(u_blk_offset);
+    TP_UNIFORM(u_light_tau);
 #undef TP_UNIFORM
+    tp__clip_uniforms_find(r->prog, TP__CLIP_SET_IMAGERY, "u_clip", 1, &r->clip_u);
+    tp__clip_uniforms_find(r->prog, TP__CLIP_SET_LIGHT, "u_light", 4, &r->light_u);
 
     /* The strips of every level, one after the other, in one index buffer. */
     r->index_type = n <= 7 ? GL_UNSIGNED_SHORT : GL_UNSIGNED_INT;
@@ -246,6 +245,15 @@ void tp_renderer_set_clip(tp_renderer* r, const tp_render_clip* clip)
         tp_renderer_set_item_textures(r, 0, NULL, 0);
 }
 
+void tp_renderer_set_light(tp_renderer* r, const tp_render_clip* clip, double tau)
+{
+    if (clip && clip->texture)
+        r->light = *clip;
+    else
+        memset(&r->light, 0, sizeof r->light);
+    r->light_tau = tau;
+}
+
 void tp_renderer_set_item_textures(tp_renderer* r, unsigned texture,
                                    const tp_render_item_texture* items, size_t count)
 {
@@ -263,47 +271,6 @@ void tp_renderer_set_item_textures(tp_renderer* r, unsigned texture,
     memcpy(r->blk, items, count * sizeof *items);
     r->blk_tex = texture;
     r->blk_count = count;
-}
-
-/* The clipmap's uniforms for cam: everything relative to the camera's texel position (doubles
- * here), so that floats in the shader stay small; the level per vertex from its distance
- * (Blow's per-polygon texture level: texels per pixel = distance / (focal * texel)). */
-static void set_clip_uniforms(const tp_renderer* r, const tp_camera* cam, int on)
-{
-    const tp_render_clip* c = &r->clip;
-    glUniform1i(r->u_clip, 1);
-    glUniform1i(r->u_clip_levels, c->texture && on ? c->levels : 0);
-    glUniform1f(r->u_clip_lod_k, 0);
-    if (!c->texture || !on)
-        return;
-    double e = cam->position[0], n = cam->position[1];
-    tp_camera_frame f;
-    tp_camera_get_frame(cam, &f);
-    double texel_m = fmin(fabs(c->geotransform[1]), fabs(c->geotransform[5]));
-    glUniform1f(r->u_clip_lod_k, (float)(1 / (f.focal_px * texel_m)));
-    glUniform1i(r->u_clip_first, c->first);
-    glUniform1f(r->u_clip_size, (float)c->size);
-    glUniform2f(r->u_clip_per_m, (float)(1 / c->geotransform[1]), (float)(1 / c->geotransform[5]));
-    float rect[TP_RENDER_CLIP_LEVELS][4], at[TP_RENDER_CLIP_LEVELS][2];
-    double u0 = (e - c->geotransform[0]) / c->geotransform[1];
-    double v0 = (n - c->geotransform[3]) / c->geotransform[5];
-    for (int l = 0; l < TP_RENDER_CLIP_LEVELS; l++) {
-        double u = ldexp(u0, -l), v = ldexp(v0, -l);
-        const double* q = c->rect[l];
-        int valid = l < c->levels && q[2] - q[0] >= 1 && q[3] - q[1] >= 1;
-        /* half a texel in from each edge: the bilinear footprint stays inside */
-        rect[l][0] = valid ? (float)(q[0] + 0.5 - u) : 1;
-        rect[l][1] = valid ? (float)(q[1] + 0.5 - v) : 1;
-        rect[l][2] = valid ? (float)(q[2] - 0.5 - u) : 0;
-        rect[l][3] = valid ? (float)(q[3] - 0.5 - v) : 0;
-        at[l][0] = (float)(u - floor(u / c->size) * c->size);
-        at[l][1] = (float)(v - floor(v / c->size) * c->size);
-    }
-    glUniform4fv(r->u_clip_rect, TP_RENDER_CLIP_LEVELS, &rect[0][0]);
-    glUniform2fv(r->u_clip_cam, TP_RENDER_CLIP_LEVELS, &at[0][0]);
-    glActiveTexture(GL_TEXTURE1);
-    glBindTexture(GL_TEXTURE_2D_ARRAY, c->texture);
-    glActiveTexture(GL_TEXTURE0);
 }
 
 int tp_renderer_set_texture(tp_renderer* r, const uint8_t* rgba, int w, int h,
@@ -542,9 +509,11 @@ void tp_renderer_draw_items(tp_renderer* r, const tp_render_item* items, size_t 
     }
     /* a texture per item: one draw each, its layer and mapping as uniforms */
     int blocks = r->blk_tex && r->blk_count == count && !st->color_lod;
-    set_clip_uniforms(r, cam, !st->color_lod && !blocks);
+    tp__clip_uniforms_set(&r->clip_u, &r->clip, cam, !st->color_lod && !blocks);
+    tp__clip_uniforms_set(&r->light_u, &r->light, cam, 1);
+    glUniform1f(r->u_light_tau, (float)r->light_tau);
     glUniform1i(r->u_shadow, 3);
-    glUniform1i(r->u_shadow_on, r->shadow_tex != 0);
+    glUniform1i(r->u_shadow_on, r->shadow_tex != 0 && !r->light.texture);
     glUniform4f(r->u_shadow_win, (float)r->shadow_win[0], (float)r->shadow_win[1],
                 (float)r->shadow_win[2], (float)r->shadow_win[3]);
     if (r->shadow_tex) {

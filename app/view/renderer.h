@@ -110,6 +110,16 @@ typedef struct tp_render_clip {
  * changes. texture 0: none (shadow_view.h). */
 void tp_renderer_set_shadow(tp_renderer* r, unsigned texture, int x0, int y0, int w, int h);
 
+/* Cast shadows over a day from the next draw on (light_view.h): a clipmap as above of the
+ * light times of the render grid's posts (texels (r1, s1, r2, s2), tp_core.h's
+ * tp_light_times_build; level 0 a texel per post), sampled bilinearly at the finest valid level
+ * the distance allows; the lit fraction of a fragment at tau (steps of the file's day, 0 ..
+ * TP_LIGHT_TIMES_STEPS) is how much of [tau, tau + 1] lies in its lit intervals (the rule of
+ * tp_light_times_lit at whole steps, a one-step ramp between them), and the direct sunlight
+ * of the unlit fraction is taken away; where no level is valid nothing changes. While set it
+ * replaces the shadow window (tp_renderer_set_shadow). NULL or texture 0: none. */
+void tp_renderer_set_light(tp_renderer* r, const tp_render_clip* clip, double tau);
+
 /* The clipmap to sample from the next draw on (copied); NULL or texture 0: none (NULL also
  * clears the item textures below: no imagery at all). */
 void tp_renderer_set_clip(tp_renderer* r, const tp_render_clip* clip);

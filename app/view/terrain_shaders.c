@@ -1,6 +1,8 @@
 /* terrain_shaders.c - the terrain renderer's GLSL (see terrain_shaders.h). */
 #include "terrain_shaders.h"
 
+#include <string.h>
+
 /* Shading is per vertex (hillshade, hypsometric or LoD colour, the filled-void tint): the
  * normals come from the full-resolution grid, so a coarse triangle is shaded from the terrain
  * it stands for; per-pixel work is left to what needs it (texture, grid lines). On llvmpipe
@@ -22,13 +24,13 @@ const char* const tp_terrain_vertex_shader =
     "uniform int u_color_lod;\n"
     "uniform int u_hide_filled;\n"
     "uniform vec2 u_hrange;\n"
-    "uniform float u_clip_lod_k; // level-0 texels per pixel per metre of distance (0: none)\n"
     "uniform ivec2 u_blk_cell;   // the item's texture (imagery_blocks.h): layer coordinates\n"
     "uniform vec2 u_blk_scale, u_blk_offset; // are (a_grid - cell) * scale + offset\n"
     "out vec2 v_blk;\n"
     "out vec2 v_uv;\n"
     "out vec2 v_rel;\n"
-    "out float v_lod;    // log2 of level-0 texels per pixel here (Blow: per vertex, not per pixel)\n"
+    "out float v_lod;    // log2 of the distance over the slant here: a clip set's level is this\n"
+    "                    // plus its u_clip_lod_k (Blow: per vertex, not per pixel)\n"
     "uniform vec4 u_shadow_win; // cast shadows: the window's first post and its size (posts)\n"
     "out vec2 v_shadow_uv;\n"
     "out float v_direct; // the sun's share of v_light\n"
@@ -67,10 +69,11 @@ const char* const tp_terrain_vertex_shader =
     "    // at grazing angles the coarser level (as GL's mipmapping takes the larger axis)\n"
     "    vec3 ray = vec3(d, a_z * u_exag - u_cam_z);\n"
     "    float slant = max(abs(dot(ray, n)) / max(length(ray), 1e-6), 0.125);\n"
-    "    v_lod = log2(max(length(ray) * u_clip_lod_k / slant, 1.0));\n"
+    "    v_lod = log2(max(length(ray) / slant, 1e-6));\n"
     "}\n";
 
-const char* const tp_terrain_fragment_shader =
+/* the fragment shader in two literals (C99 promises 4095 characters a literal) */
+static const char fragment_head[] =
     "#version 330 core\n"
     "in vec2 v_uv;\n"
     "in vec2 v_blk;\n"
@@ -87,50 +90,70 @@ const char* const tp_terrain_fragment_shader =
     "uniform int u_textured;      // 0 also when LoD colours are on\n"
     "uniform sampler2D u_shadow;  // cast shadows over a window (1 lit, 0 shadowed)\n"
     "uniform int u_shadow_on;\n"
-    "// imagery through a clipmap (clipmap.h): one layer per level, toroidal\n"
-    "uniform sampler2DArray u_clip;\n"
-    "uniform int u_clip_levels;   // 0: none\n"
-    "uniform int u_clip_first;    // finest level kept\n"
-    "uniform float u_clip_size;   // texels a side of a layer\n"
-    "uniform vec2 u_clip_per_m;   // level-0 texels per metre east and north (signed)\n"
-    "uniform vec4 u_clip_rect[16];// per level: where its bilinear footprint is valid, level\n"
-    "                             // texels from the camera\n"
-    "uniform vec2 u_clip_cam[16]; // per level: the camera's texel position modulo the size\n"
+    "// clipmaps (clipmap.h): one layer per level, toroidal; set 0 the imagery, set 1 the light\n"
+    "// over a day (light_view.h); a set's per-level uniforms at [set * 16 + level]\n"
+    "uniform sampler2DArray u_clip;  // set 0\n"
+    "uniform sampler2DArray u_light; // set 1: texels (r1, s1, r2, s2) / 255, tp_core.h\n"
+    "uniform int u_clip_levels[2];   // 0: none\n"
+    "uniform int u_clip_first[2];    // finest level kept\n"
+    "uniform float u_clip_size[2];   // texels a side of a layer\n"
+    "uniform vec2 u_clip_per_m[2];   // level-0 texels per metre east and north (signed)\n"
+    "uniform float u_clip_lod_k[2];  // log2 of level-0 texels per pixel per metre of distance\n"
+    "uniform vec4 u_clip_rect[32];   // per level: where its bilinear footprint is valid, level\n"
+    "                                // texels from the camera\n"
+    "uniform vec2 u_clip_cam[32];    // per level: the camera's texel position modulo the size\n"
+    "uniform float u_light_tau;      // the time in the light's day, steps (0 .. 255)\n"
     "uniform sampler2DArray u_blk; // a texture per item (imagery_blocks.h)\n"
     "uniform int u_blk_layer;      // the item's layer; -1: none\n"
     "out vec4 o_color;\n"
-    "bool clip_at(int l, vec2 d0, out vec4 c) {\n"
+    "bool clip_at(sampler2DArray tex, int set, int l, vec2 d0, out vec4 c) {\n"
     "    vec2 d = d0 * exp2(-float(l));\n"
-    "    vec4 r = u_clip_rect[l];\n"
+    "    vec4 r = u_clip_rect[set * 16 + l];\n"
     "    if (any(lessThan(d, r.xy)) || any(greaterThan(d, r.zw))) return false;\n"
-    "    c = textureLod(u_clip, vec3((u_clip_cam[l] + d) / u_clip_size, float(l)), 0.0);\n"
+    "    c = textureLod(tex, vec3((u_clip_cam[set * 16 + l] + d) / u_clip_size[set], float(l)), 0.0);\n"
     "    return true;\n"
     "}\n"
     "// the level the distance asks for (v_lod), else the first coarser level whose valid\n"
-    "// region holds the texel's bilinear footprint (Luo & Duan 3.5)\n"
-    "vec4 clip_sample(vec2 rel) {\n"
-    "    vec2 d0 = rel * u_clip_per_m;\n"
-    "    vec4 a = vec4(0.0);\n"
-    "    for (int l = max(int(v_lod), u_clip_first); l < u_clip_levels; l++)\n"
-    "        if (clip_at(l, d0, a)) break;\n"
-    "    return a;\n"
+    "// region holds the texel's bilinear footprint (Luo & Duan 3.5); false: none does\n"
+    "bool clip_sample(sampler2DArray tex, int set, vec2 rel, out vec4 c) {\n"
+    "    vec2 d0 = rel * u_clip_per_m[set];\n"
+    "    c = vec4(0.0);\n"
+    "    int l0 = max(int(max(v_lod + u_clip_lod_k[set], 0.0)), u_clip_first[set]);\n"
+    "    for (int l = l0; l < u_clip_levels[set]; l++)\n"
+    "        if (clip_at(tex, set, l, d0, c)) return true;\n"
+    "    return false;\n"
     "}\n"
+    "// how much of the step [tau, tau + 1] lies in the lit interval [r, s] (steps): the lit rule\n"
+    "// of tp_light_times_lit at whole steps, a one-step ramp in between\n"
+    "float lit_in(float r, float s) {\n"
+    "    return max(min(u_light_tau + 1.0, s) - max(u_light_tau, r), 0.0);\n"
+    "}\n"
+    "// the lit fraction here at u_light_tau; 1 where the light's clipmap has nothing\n"
+    "float light_lit(vec2 rel) {\n"
+    "    vec4 t;\n"
+    "    if (!clip_sample(u_light, 1, rel, t)) return 1.0;\n"
+    "    t *= 255.0;\n"
+    "    return clamp(lit_in(t.x, t.y) + lit_in(t.z, t.w), 0.0, 1.0);\n"
+    "}\n";
+
+static const char fragment_main[] =
     "void main() {\n"
     "    vec3 base = v_base;\n"
     "    if (u_textured != 0) {\n"
     "        vec4 t = texture(u_tex, v_uv);\n"
     "        base = mix(base, t.rgb, t.a);\n"
     "    }\n"
-    "    if (u_clip_levels > 0) {\n"
-    "        vec4 t = clip_sample(v_rel);\n"
+    "    vec4 t;\n"
+    "    if (u_clip_levels[0] > 0 && clip_sample(u_clip, 0, v_rel, t))\n"
     "        base = mix(base, t.rgb, t.a);\n"
-    "    }\n"
     "    if (u_blk_layer >= 0) {\n"
-    "        vec4 t = texture(u_blk, vec3(v_blk, float(u_blk_layer)));\n"
+    "        t = texture(u_blk, vec3(v_blk, float(u_blk_layer)));\n"
     "        base = mix(base, t.rgb, t.a);\n"
     "    }\n"
     "    float light = v_light;\n"
-    "    if (u_shadow_on != 0 && all(greaterThanEqual(v_shadow_uv, vec2(0.0))) &&\n"
+    "    if (u_clip_levels[1] > 0) // the day's light replaces the shadow window\n"
+    "        light -= v_direct * (1.0 - light_lit(v_rel));\n"
+    "    else if (u_shadow_on != 0 && all(greaterThanEqual(v_shadow_uv, vec2(0.0))) &&\n"
     "        all(lessThanEqual(v_shadow_uv, vec2(1.0))))\n"
     "        light -= v_direct * (1.0 - texture(u_shadow, v_shadow_uv).r);\n"
     "    vec3 c = mix(base, vec3(0.85, 0.25, 0.75), v_tint) * light;\n"
@@ -146,3 +169,13 @@ const char* const tp_terrain_fragment_shader =
     "    }\n"
     "    o_color = vec4(c, 1.0);\n"
     "}\n";
+
+const char* tp_terrain_fragment_shader(void)
+{
+    static char src[sizeof fragment_head + sizeof fragment_main];
+    if (!src[0]) {
+        memcpy(src, fragment_head, sizeof fragment_head - 1);
+        memcpy(src + sizeof fragment_head - 1, fragment_main, sizeof fragment_main);
+    }
+    return src;
+}

@@ -33,6 +33,7 @@ typedef struct view_options {
     tp_sun_time sun_when;            /* both parsed */
     tp_view_sun sun;                 /* the sun once the georeference is there */
     int no_cast_shadows;             /* --no-cast-shadows */
+    const char* light;               /* --light FILE.tpl (stores; view_shadows.h) */
     int imagery_mode;                /* --imagery-mode: a tp_imagery_mode (imagery_view.h) */
     int has_measure;
     double measure[4]; /* E1, N1, E2, N2 */
@@ -66,7 +67,16 @@ typedef struct frame_result {
     tp_stream_stats stream;   /* resident MB, pending loads */
     int imagery;              /* imagery drawn: clip is set */
     tp_clipmap_stats clip;
+    int light_source;         /* cast shadows drawn: TP_VIEW_LIGHT_* */
+    double light_tau;         /* streamed: the time in the file's day, steps (0 .. 255) */
+    tp_clipmap_stats light_clip; /* streamed: the light's clipmap */
+    double shadow_ms;         /* window: its last computation */
+    int shadow_posts;         /* window: posts a side */
 } frame_result;
+
+#define TP_VIEW_LIGHT_NONE 0
+#define TP_VIEW_LIGHT_STREAMED 1 /* the day's light map (light_view.h) */
+#define TP_VIEW_LIGHT_WINDOW 2   /* computed over a window (shadow_view.h) */
 
 /* Contours (layers.h) around the point cam looks at (else the DEM's centre) into o->layers:
  * --contours at the first frame, F2 in the window. line gets what happened. */

@@ -31,6 +31,10 @@ typedef struct tp_view_scene {
     struct tp_ground* shadow_ground; /* cast shadows (--sun-date): the ground they are read
                                         from (owned by the caller), or NULL for none */
     struct tp_view_shadow* shadow;   /* their state (shadow_view.h) */
+    struct tp_view_light* light;     /* the day's light map (light_view.h), or NULL */
+    const struct tp_view_sun* sun;   /* the sun whose time it is drawn at (sun_view.h) */
+    int light_settle;                /* headless: every clip window whole before the frame */
+    int light_outside;               /* the sun's time left the light map's day (said once) */
 } tp_view_scene;
 
 void tp_view_scene_from_dem(tp_view_scene* v, tp_scene* sc, tp_selection* sel);

@@ -1,0 +1,86 @@
+/*
+ * bench_store.h - what bench_store.c (the flights over a store) and bench_store_report.c (their
+ * table, JSON and CSV) share: a frame's row, a configuration's result, the bench's state.
+ */
+#ifndef TP_APP_BENCH_STORE_H
+#define TP_APP_BENCH_STORE_H
+
+#include "bench.h"
+#include "gl_context.h"
+#include "store_scene.h"
+
+#include <stddef.h>
+#include <stdint.h>
+
+typedef struct store_row {
+    double cut_ms, stream_ms, upload_ms, draw_ms, frame_ms, cpu_ms;
+    long page_faults;           /* minor page faults during the draw */
+    size_t triangles, gpu_bytes, resident_bytes;
+    int dropped, draw_calls;
+    int nodes, visited, substituted, requests, uploads, pending;
+    double substitution_px;
+    double rss_mb, rss_anon_mb;
+    int measured;               /* error measured (frame without substitution) */
+    double max_px, rms_px;
+    size_t samples, skipped;
+    /* --imagery: the clipmap's part of the frame (in frame_ms) */
+    double img_ms, img_upload_ms;
+    int img_uploads, img_missing, img_pending;
+    size_t img_gpu_bytes, img_cache_bytes;
+} store_row;
+
+typedef struct store_result {
+    tp_lod_params lod;
+    char label[64];
+    store_row* rows;
+    double fps_median, frame_ms, frame_ms_p99, cpu_ms, cut_ms, stream_ms, upload_ms, draw_ms;
+    double triangles, nodes, visited, uploads, page_faults;
+    int substituted_max, frames_with_substitution, pending_max;
+    int dropped_max; /* items the renderer could not hold (TP_RENDER_POOL_MAX_BYTES) */
+    double rss_mb, rss_anon_mb, resident_mb, gpu_mb; /* max over timed frames */
+    int error_frames;           /* frames measured */
+    double max_px, rms_px;      /* over measured frames */
+    double samples, skipped;    /* totals over measured frames */
+    double settle_ms;           /* first stretch: open... until nothing is missing */
+    int settle_timeouts;
+    int imagery;                /* drapes o->imagery through the clipmap or blocks: */
+    int imagery_mode;           /* a tp_imagery_mode */
+    double draw_calls;          /* median */
+    double img_ms, img_upload_ms, img_upload_ms_p99, img_uploads, img_gpu_mb, img_cache_mb;
+    double img_uploads_total;   /* blocks uploaded over the timed frames */
+    int img_missing_max, img_frames_missing;
+    long img_final_diff;        /* tp_bench_imagery_diff */
+    int light;                  /* instead of imagery: o->light, the day's streamed light (its
+                                   clipmap's figures in the img_ fields) */
+} store_result;
+
+typedef struct store_bench {
+    const bench_options* o;
+    tp_store_scene sc;
+    const tp_tree_geometry* g;
+    double spacing_m;
+    tp_gl_context* ctx;
+    int segments, per_segment;
+    double step_m; /* per frame */
+    double t_open_ms;
+    double first_frame_ms, first_frame_open_ms; /* from process start / from opening */
+    double open_ms, context_ms; /* opening the store (metas, tree); the GL context */
+    /* the first frame's parts (ms): process start to this command (the dynamic loader, the
+     * libraries' initialisers, main); the renderer (shaders) and the stream (loader thread);
+     * the first cut and stream frame; the first draw until glFinish */
+    double entered_ms, renderer_ms, stream_create_ms, first_cut_ms, first_draw_ms;
+    double georef_wait_ms; /* waiting for the georeference made on a thread since the open */
+    double base_rss_mb, base_anon_mb; /* after opening the store and the GL context */
+    uint16_t* leaf;             /* the leaf ground_m read last */
+    int64_t leaf_id;
+} store_bench;
+
+/* The summary table on stdout. */
+void tp_bench_store_print(const store_bench* b, const char* renderer_name, const store_result* c,
+                          int nc);
+/* --json, --csv (written whole or not at all); 0 after a message naming the file. */
+int tp_bench_store_write_json(const store_bench* b, const char* renderer_name,
+                              const store_result* c, int nc);
+int tp_bench_store_write_csv(const store_bench* b, const store_result* c, int nc);
+
+#endif /* TP_APP_BENCH_STORE_H */

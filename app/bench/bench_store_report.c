@@ -1,0 +1,230 @@
+/* bench_store_report.c - the store bench's table, JSON and CSV (see bench_store.h). */
+#define _POSIX_C_SOURCE 200809L
+#include "bench_store.h"
+
+#include "atomic_file.h"
+#include "imagery_view.h"
+#include "json.h"
+#include "memory.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+static void json_result(tp_json* j, const store_result* c)
+{
+#define KN(k, v) (tp_json_key(j, k), tp_json_number(j, v))
+    tp_json_key(j, "lod_mode");
+    tp_json_string(j, c->lod.mode == TP_LOD_ERROR ? "error" : "distance");
+    if (c->lod.mode == TP_LOD_ERROR)
+        KN("tau_px", c->lod.tau_px > 0 ? c->lod.tau_px : 1);
+    KN("fps_median", c->fps_median);
+    KN("frame_ms_median", c->frame_ms);
+    KN("frame_ms_p99", c->frame_ms_p99);
+    KN("p99_over_median", c->frame_ms_p99 / c->frame_ms);
+    KN("cpu_ms", c->cpu_ms);
+    KN("cut_ms_median", c->cut_ms);
+    KN("stream_ms_median", c->stream_ms);
+    KN("upload_ms_median", c->upload_ms);
+    KN("draw_ms_median", c->draw_ms);
+    KN("draw_calls_median", c->draw_calls);
+    KN("draw_page_faults_median", c->page_faults);
+    KN("triangles_median", c->triangles);
+    KN("nodes_drawn_median", c->nodes);
+    KN("nodes_visited_median", c->visited);
+    KN("uploads_median", c->uploads);
+    KN("substituted_nodes_max", c->substituted_max);
+    KN("frames_with_substitution", c->frames_with_substitution);
+    KN("dropped_nodes_max", c->dropped_max);
+    KN("pending_max", c->pending_max);
+    KN("rss_mb", c->rss_mb);
+    KN("rss_anon_mb", c->rss_anon_mb);
+    KN("resident_mb", c->resident_mb);
+    KN("gpu_mb", c->gpu_mb);
+    KN("settle_ms", c->settle_ms);
+    KN("settle_timeouts", c->settle_timeouts);
+    tp_json_key(j, "imagery");
+    tp_json_bool(j, c->imagery);
+    if (c->imagery) {
+        tp_json_key(j, "imagery_mode");
+        tp_json_string(j, c->imagery_mode == TP_IMAGERY_BLOCKS ? "blocks" : "clipmap");
+        KN("imagery_ms_median", c->img_ms);
+        KN("imagery_upload_ms_median", c->img_upload_ms);
+        KN("imagery_upload_ms_p99", c->img_upload_ms_p99);
+        KN("imagery_uploads_median", c->img_uploads);
+        KN("imagery_uploads_total", c->img_uploads_total);
+        KN("imagery_gpu_mb", c->img_gpu_mb);
+        KN("imagery_cache_mb", c->img_cache_mb);
+        KN("imagery_missing_blocks_max", c->img_missing_max);
+        KN("imagery_frames_missing_blocks", c->img_frames_missing);
+        KN("imagery_final_diff_pixels", (double)c->img_final_diff);
+    }
+    tp_json_key(j, "light");
+    tp_json_bool(j, c->light);
+    if (c->light) {
+        KN("light_ms_median", c->img_ms);
+        KN("light_upload_ms_median", c->img_upload_ms);
+        KN("light_upload_ms_p99", c->img_upload_ms_p99);
+        KN("light_uploads_median", c->img_uploads);
+        KN("light_uploads_total", c->img_uploads_total);
+        KN("light_gpu_mb", c->img_gpu_mb);
+        KN("light_cache_mb", c->img_cache_mb);
+        KN("light_missing_blocks_max", c->img_missing_max);
+        KN("light_frames_missing_blocks", c->img_frames_missing);
+    }
+    KN("error_frames_measured", c->error_frames);
+    /* null when no sample was measured (every leaf in view not resident) */
+    KN("max_screen_error_px", c->error_frames && c->samples > 0 ? c->max_px : NAN);
+    KN("rms_screen_error_px", c->error_frames && c->samples > 0 ? c->rms_px : NAN);
+    KN("error_samples", c->samples);
+    KN("error_samples_skipped", c->skipped);
+#undef KN
+}
+
+int tp_bench_store_write_json(const store_bench* b, const char* renderer_name, const store_result* c,
+                      int nc)
+{
+    const bench_options* o = b->o;
+    tp_atomic_file file;
+    if (!tp_atomic_open(&file, o->json))
+        return 0;
+    tp_json j;
+    tp_json_init(&j, file.f);
+    tp_json_object_begin(&j);
+#define KS(k, v) (tp_json_key(&j, k), tp_json_string(&j, v))
+#define KN(k, v) (tp_json_key(&j, k), tp_json_number(&j, v))
+    KS("store", o->dem);
+    char size[32];
+    snprintf(size, sizeof size, "%dx%d", o->vs.w, o->vs.h);
+    KS("size", size);
+    KS("path", o->path_name);
+    KN("speed_mps", o->speed_mps);
+    tp_json_key(&j, "realtime");
+    tp_json_bool(&j, o->realtime);
+    tp_json_key(&j, "prefetch");
+    tp_json_bool(&j, !o->no_prefetch);
+    KN("frames", b->segments * b->per_segment);
+    KN("segments", b->segments);
+    KN("samples", (double)b->g->src_width * b->g->src_height);
+    KN("src_width", b->g->src_width);
+    KN("src_height", b->g->src_height);
+    KN("nodes", (double)b->g->node_count);
+    KN("patch_size", (1 << b->g->n) + 1);
+    KN("memory_budget_mb", (double)((size_t)o->memory_mb << 20) / 1e6);
+    KS("renderer", renderer_name);
+    /* first_frame_ms: from the process's start (/proc/self/stat, 10 ms ticks) to the end of
+     * the first drawn frame (glFinish); first_frame_from_open_ms: from opening the store */
+    KN("first_frame_ms", b->first_frame_ms);
+    KN("first_frame_from_open_ms", b->first_frame_open_ms);
+    KN("store_open_ms", b->open_ms);
+    KN("gl_context_ms", b->context_ms);
+    KN("startup_to_bench_ms", b->entered_ms);
+    KN("renderer_create_ms", b->renderer_ms);
+    KN("stream_create_ms", b->stream_create_ms);
+    KN("first_cut_stream_ms", b->first_cut_ms);
+    KN("first_draw_ms", b->first_draw_ms);
+    KN("georef_wait_ms", b->georef_wait_ms);
+    KN("peak_rss_mb", tp_memory_peak_rss() / 1e6);
+    /* before any node, cut or renderer: libraries, the GL driver, the store's node table */
+    KN("base_rss_mb", b->base_rss_mb);
+    KN("base_rss_anon_mb", b->base_anon_mb);
+    json_result(&j, &c[0]); /* the headline: the first configuration (error mode) */
+    tp_json_key(&j, "configurations");
+    tp_json_array_begin(&j);
+    for (int i = 0; i < nc; i++) {
+        tp_json_object_begin(&j);
+        json_result(&j, &c[i]);
+        tp_json_object_end(&j);
+    }
+    tp_json_array_end(&j);
+#undef KS
+#undef KN
+    tp_json_object_end(&j);
+    fputc('\n', file.f);
+    return tp_atomic_commit(&file);
+}
+
+int tp_bench_store_write_csv(const store_bench* b, const store_result* c, int nc)
+{
+    tp_atomic_file file;
+    if (!tp_atomic_open(&file, b->o->csv))
+        return 0;
+    FILE* f = file.f;
+    fprintf(f, "lod_mode,frame,frame_ms,cut_ms,stream_ms,upload_ms,draw_ms,cpu_ms,triangles,nodes,"
+               "visited,substituted,requests,uploads,pending,gpu_bytes,resident_bytes,rss_mb,"
+               "rss_anon_mb,measured,max_screen_error_px,rms_screen_error_px,samples,skipped,"
+               "imagery_ms,imagery_upload_ms,imagery_uploads,imagery_missing_blocks\n");
+    int frames = b->segments * b->per_segment;
+    for (int k = 0; k < nc; k++)
+        for (int i = 0; i < frames; i++) {
+            const store_row* r = &c[k].rows[i];
+            fprintf(f, "%s,%d,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%zu,%d,%d,%d,%d,%d,%d,%zu,%zu,%.1f,"
+                       "%.1f,%d,%.4f,%.4f,%zu,%zu,%.4f,%.4f,%d,%d\n",
+                    c[k].light ? "error+light"
+                    : c[k].imagery ? (c[k].imagery_mode == TP_IMAGERY_BLOCKS ? "error+blocks"
+                                                                             : "error+imagery")
+                                   : c[k].lod.mode == TP_LOD_ERROR ? "error" : "distance", i, r->frame_ms,
+                    r->cut_ms, r->stream_ms, r->upload_ms, r->draw_ms, r->cpu_ms, r->triangles,
+                    r->nodes, r->visited, r->substituted, r->requests, r->uploads, r->pending,
+                    r->gpu_bytes, r->resident_bytes, r->rss_mb, r->rss_anon_mb, r->measured,
+                    r->max_px, r->rms_px, r->samples, r->skipped, r->img_ms, r->img_upload_ms,
+                    r->img_uploads, r->img_missing);
+        }
+    return tp_atomic_commit(&file);
+}
+
+void tp_bench_store_print(const store_bench* b, const char* renderer_name, const store_result* c,
+                        int nc)
+{
+    const bench_options* o = b->o;
+    int frames = b->segments * b->per_segment;
+    printf("%s, %dx%d samples, %dx%d, %s path at %g m/s%s, %d frames in %d stretches, memory "
+           "budget %d MB, renderer %s\n",
+           o->dem, b->g->src_width, b->g->src_height, o->vs.w, o->vs.h, o->path_name,
+           o->speed_mps, o->realtime ? " (real time)" : " (30 Hz steps)", frames, b->segments, o->memory_mb, renderer_name);
+    printf("first frame %.0f ms after the process started, %.0f ms after opening the store "
+           "(open %.0f ms, GL context %.0f ms)\n",
+           b->first_frame_ms, b->first_frame_open_ms, b->open_ms, b->context_ms);
+    printf("first frame's parts: start to bench %.0f, open %.0f, GL context %.0f, renderer %.0f, "
+           "stream %.0f, georef wait %.0f, cut %.0f, draw %.0f ms\n",
+           b->entered_ms, b->open_ms, b->context_ms, b->renderer_ms, b->stream_create_ms,
+           b->georef_wait_ms, b->first_cut_ms, b->first_draw_ms);
+    printf("memory before the first node: %.0f MB resident, %.0f MB anonymous (libraries, GL "
+           "driver, node table)\n",
+           b->base_rss_mb, b->base_anon_mb);
+    printf("%-16s %7s %8s %7s %7s %7s %7s %7s %9s %6s %6s %8s %7s %7s %7s %7s %7s\n", "lod", "fps",
+           "frame ms", "p99 ms", "cpu ms", "cut ms", "strm ms", "draw ms", "triangles", "nodes",
+           "subst", "subst fr", "rss MB", "anon MB", "res MB", "gpu MB", "max px");
+    for (int k = 0; k < nc; k++)
+        printf("%-16s %7.2f %8.2f %7.2f %7.3f %7.3f %7.3f %7.2f %9.0f %6.0f %6d %7.1f%% %7.0f "
+               "%7.0f %7.0f %7.0f %7.3f\n",
+               c[k].label, c[k].fps_median, c[k].frame_ms, c[k].frame_ms_p99, c[k].cpu_ms,
+               c[k].cut_ms, c[k].stream_ms, c[k].draw_ms, c[k].triangles, c[k].nodes,
+               c[k].substituted_max, 100.0 * c[k].frames_with_substitution / frames, c[k].rss_mb,
+               c[k].rss_anon_mb, c[k].resident_mb, c[k].gpu_mb,
+               c[k].samples > 0 ? c[k].max_px : NAN);
+    for (int k = 0; k < nc; k++)
+        if (c[k].imagery)
+            printf("%s: imagery %.3f ms a frame (upload %.3f ms median, %.3f p99; %.0f %s), "
+                   "GPU %.1f MB, RAM %.1f MB, %d frames lacking %s (at most %d), %.0f draw calls, "
+                   "last frame vs a fresh %s: %ld pixels differ\n",
+                   c[k].label, c[k].img_ms, c[k].img_upload_ms, c[k].img_upload_ms_p99,
+                   c[k].img_uploads, c[k].imagery_mode == TP_IMAGERY_BLOCKS ? "layers" : "blocks",
+                   c[k].img_gpu_mb, c[k].img_cache_mb, c[k].img_frames_missing,
+                   c[k].imagery_mode == TP_IMAGERY_BLOCKS ? "node textures" : "blocks",
+                   c[k].img_missing_max, c[k].draw_calls,
+                   c[k].imagery_mode == TP_IMAGERY_BLOCKS ? "blocks pool" : "clipmap",
+                   c[k].img_final_diff);
+    for (int k = 0; k < nc; k++)
+        if (c[k].light)
+            printf("%s: streamed light %.3f ms a frame (upload %.3f ms median, %.3f p99; %.0f "
+                   "blocks), GPU %.1f MB, RAM %.1f MB, %d frames lacking blocks (at most %d)\n",
+                   c[k].label, c[k].img_ms, c[k].img_upload_ms, c[k].img_upload_ms_p99,
+                   c[k].img_uploads, c[k].img_gpu_mb, c[k].img_cache_mb, c[k].img_frames_missing,
+                   c[k].img_missing_max);
+    for (int k = 0; k < nc; k++)
+        if (!o->no_error)
+            printf("%s: screen error measured on %d frames without substitution (%.0f samples, "
+                   "%.0f skipped: leaves not resident)\n",
+                   c[k].label, c[k].error_frames, c[k].samples, c[k].skipped);
+}
