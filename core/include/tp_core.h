@@ -348,6 +348,14 @@ typedef struct tp_lod_params {
     double max_error_m;
     const float* reference_heights;
     size_t reference_height_count;
+    /* distance mode over a tree (tp_cut_update; `--lod spheres`): nonzero selects through a
+     * sphere tree (Blow, "Terrain rendering at high levels of detail", Part II; tree_spheres.c):
+     * each node's refine and merge distances are surfaces around its area box, and a frame
+     * re-decides only the nodes whose surfaces the eye crossed since the last update of the
+     * same cut. The cut is exactly the plain traversal's (same nodes, levels, neighbours,
+     * requests): frustum culling, residency and stitching run every frame as before. Ignored
+     * by the other modes and by tp_selection_update. */
+    int sphere_tree;
 } tp_lod_params;
 
 /* The distance formula (Vanek & Jezek section 3) for a patch with finest level n (0..TP_MAX_N):
@@ -884,6 +892,12 @@ typedef struct tp_cut_stats {
     size_t triangles;          /* non-degenerate triangles of the drawn nodes */
     double max_bound_px;       /* largest projected bound among drawn nodes (error mode) */
     double substitution_bound_px; /* largest projected bound among substituted nodes */
+    /* distance mode: distance decisions the update computed (eye to a node's area box, then
+     * the formula): one per node in view for the plain traversal; with sphere_tree only those
+     * of nodes whose refine or merge surface the eye crossed. */
+    int decisions;
+    int sphere_visited; /* sphere_tree: sphere-tree entries (and root clusters) visited */
+    int sphere_nodes;   /* sphere_tree: entries held (the distance cut over the whole map) */
 } tp_cut_stats;
 
 typedef struct tp_cut tp_cut;
