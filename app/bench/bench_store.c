@@ -483,7 +483,7 @@ static void json_result(tp_json* j, const store_result* c)
 {
 #define KN(k, v) (tp_json_key(j, k), tp_json_number(j, v))
     tp_json_key(j, "lod_mode");
-    tp_json_string(j, c->lod.mode == TP_LOD_ERROR ? "error" : "distance");
+    tp_json_string(j, c->lod.mode == TP_LOD_ERROR ? "error" : c->lod.sphere_tree ? "spheres" : "distance");
     if (c->lod.mode == TP_LOD_ERROR)
         KN("tau_px", c->lod.tau_px > 0 ? c->lod.tau_px : 1);
     KN("fps_median", c->fps_median);
@@ -617,7 +617,10 @@ static int write_csv(const store_bench* b, const store_result* c, int nc)
                        "%.1f,%d,%.4f,%.4f,%zu,%zu,%.4f,%.4f,%d,%d\n",
                     c[k].imagery ? (c[k].imagery_mode == TP_IMAGERY_BLOCKS ? "error+blocks"
                                                                            : "error+imagery")
-                                 : c[k].lod.mode == TP_LOD_ERROR ? "error" : "distance", i, r->frame_ms,
+                                 : c[k].lod.mode == TP_LOD_ERROR ? "error"
+                                 : c[k].lod.sphere_tree         ? "spheres"
+                                                                : "distance",
+                    i, r->frame_ms,
                     r->cut_ms, r->stream_ms, r->upload_ms, r->draw_ms, r->cpu_ms, r->triangles,
                     r->nodes, r->visited, r->substituted, r->requests, r->uploads, r->pending,
                     r->gpu_bytes, r->resident_bytes, r->rss_mb, r->rss_anon_mb, r->measured,
@@ -711,15 +714,22 @@ int tp_bench_store(const bench_options* o)
     read_rss(&b.base_rss_mb, &b.base_anon_mb);
     const char* renderer_name = (const char*)glGetString(GL_RENDERER);
     renderer_name = renderer_name ? renderer_name : "?";
-    store_result c[4];
+    store_result c[5];
     memset(c, 0, sizeof c);
     c[0].lod = o->vs.lod;
     c[0].lod.mode = TP_LOD_ERROR;
     c[1].lod = o->vs.lod;
     c[1].lod.mode = TP_LOD_DISTANCE;
+    c[0].lod.sphere_tree = c[1].lod.sphere_tree = 0;
     snprintf(c[0].label, sizeof c[0].label, "error tau=%g", o->vs.lod.tau_px > 0 ? o->vs.lod.tau_px : 1);
     snprintf(c[1].label, sizeof c[1].label, "distance");
     int nc = 2, code = TP_EXIT_OK;
+    if (o->vs.lod.sphere_tree) { /* --lod spheres: the distance mode again, through the spheres */
+        c[nc] = c[1];
+        c[nc].lod.sphere_tree = 1;
+        snprintf(c[nc].label, sizeof c[nc].label, "spheres");
+        nc++;
+    }
     if (o->imagery) { /* the error mode again, with imagery: fps with / fps without */
         for (int m = 0; m < 2; m++) {
             if (o->imagery_mode != 2 && o->imagery_mode != m)
