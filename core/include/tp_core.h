@@ -920,6 +920,13 @@ void tp_cut_destroy(tp_cut* c); /* accepts NULL */
  *     terrain collapses into large nodes. A node of scale s (strides 2^s .. 2^(s+n)) is
  *     refined when that stride is below 2^s, else drawn at the level giving that stride
  *     (level 0 when the stride is coarser still). mindist = maxdist = 0: 1 and 24 LEAF widths.
+ *   - Sphere tree (distance mode with params->sphere_tree; tree_spheres.c): the same
+ *     decisions, kept from one update to the next with the distance interval over which each
+ *     holds, over the whole map's distance cut; an update re-decides only the nodes whose
+ *     interval the eye's distance left, skipping every subtree whose nearest threshold is
+ *     farther than the eye moved. The cut is the same; the first update, and any update after
+ *     a change of mindist, maxdist, exponent, hole_px, focal length or vertical scale, builds
+ *     the distance cut of the whole map (tp_cut_stats.sphere_nodes entries).
  *   - Full mode: every visible leaf at level n.
  *   - Stitching (tree_stitch.c): levels only go up; where two drawn neighbours differ by more
  *     than n scales the larger one is split if its children are resident, else the smaller
