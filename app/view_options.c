@@ -98,7 +98,7 @@ int tp_view_setup_check(const tp_view_setup* v, const char* cmd)
 void tp_view_options_help(FILE* out)
 {
     fputs("level of detail:\n"
-          "  --lod error|distance|spheres|full   error (default): each patch at the coarsest level whose\n"
+          "  --lod error|distance|full|spheres   error (default): each patch at the coarsest level whose\n"
           "                        error projects to <= --tau px on screen; distance: Vanek &\n"
           "                        Jezek's rule on the distance from the eye to the patch;\n"
           "                        spheres: the distance rule selected through Blow's sphere\n"
