@@ -28,8 +28,8 @@ static double rnd(void)
 }
 
 /* Eye at grid (x, y), `above` m over the surface there (or over 0 in a void). */
-static void camera_at(const tp_tree* t, double x, double y, double above, double yaw,
-                      double pitch, tp_camera* cam)
+static void camera_at(const tp_tree* t, double x, double y, double above, double yaw, double pitch,
+                      tp_camera* cam)
 {
     double z = tp_tree_sample(t, (int)x, (int)y);
     double pos[3] = {GT[0] + (x + 0.5) * GT[1], GT[3] + (y + 0.5) * GT[5],
@@ -49,8 +49,7 @@ static int same_cut(const tp_cut* a, const tp_cut* b)
         return 0;
     for (size_t i = 0; i < na; i++)
         if (oa[i].node != ob[i].node || oa[i].level != ob[i].level ||
-            memcmp(oa[i].nb, ob[i].nb, sizeof oa[i].nb) ||
-            oa[i].substituted != ob[i].substituted)
+            memcmp(oa[i].nb, ob[i].nb, sizeof oa[i].nb) || oa[i].substituted != ob[i].substituted)
             return 0;
     for (size_t i = 0; i < ra; i++)
         if (qa[i] != qb[i])
@@ -101,7 +100,7 @@ TEST(flights_select_as_the_plain_traversal)
             lp.mindist_m = 0, lp.maxdist_m = 9000, lp.exponent = 2.5;
         if (run == 3)
             lp.hole_px = 40; /* incomplete nodes coarser */
-        if (run >= 4) { /* exaggerated, then back: the spheres are rebuilt */
+        if (run >= 4) {      /* exaggerated, then back: the spheres are rebuilt */
             ASSERT_OK(tp_cut_set_vertical_scale(plain, run == 4 ? 3 : 1));
             ASSERT_OK(tp_cut_set_vertical_scale(sph, run == 4 ? 3 : 1));
         }
@@ -114,8 +113,8 @@ TEST(flights_select_as_the_plain_traversal)
             int phase = step / 50;
             if (run == 5 && step == 100)
                 for (; ngone < 64; ngone++) {
-                    int64_t id = g->first_node[0] + (int64_t)(rnd() * (double)(g->node_count -
-                                                                                 g->first_node[0]));
+                    int64_t id = g->first_node[0] +
+                                 (int64_t)(rnd() * (double)(g->node_count - g->first_node[0]));
                     gone[ngone] = id;
                     saved[ngone] = tp_tree_samples(t, id);
                     tp_tree_detach(t, id);
@@ -125,16 +124,16 @@ TEST(flights_select_as_the_plain_traversal)
                     if (!tp_tree_samples(t, gone[k]))
                         tp_tree_attach(t, gone[k], saved[k]);
             switch (phase) {
-            case 0: break;                            /* standing still */
-            case 1: f.x += 0.02, f.y += 0.01; break;  /* slow: 2 m a frame */
-            case 2: f.x += 3, f.above += 2; break;    /* fast: 270 m a frame, climbing */
-            case 3: f.yaw += 7; break;                /* turning on the spot */
-            case 4:                                   /* jumps */
+            case 0: break;                           /* standing still */
+            case 1: f.x += 0.02, f.y += 0.01; break; /* slow: 2 m a frame */
+            case 2: f.x += 3, f.above += 2; break;   /* fast: 270 m a frame, climbing */
+            case 3: f.yaw += 7; break;               /* turning on the spot */
+            case 4:                                  /* jumps */
                 if (step % 5 == 0)
                     f.x = rnd() * 1200, f.y = rnd() * 1200, f.above = 20 + rnd() * 3000;
                 break;
             case 5: f.y -= 1, f.pitch = -5 - (step % 60); break; /* nodding */
-            case 6: f.above *= 0.97; break;           /* diving */
+            case 6: f.above *= 0.97; break;                      /* diving */
             default: f.x += (rnd() - 0.5) * 4, f.y += (rnd() - 0.5) * 4; break;
             }
             f.x = f.x < 0 ? 0 : f.x > 1200 ? 1200 : f.x;

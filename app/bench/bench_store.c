@@ -483,7 +483,9 @@ static void json_result(tp_json* j, const store_result* c)
 {
 #define KN(k, v) (tp_json_key(j, k), tp_json_number(j, v))
     tp_json_key(j, "lod_mode");
-    tp_json_string(j, c->lod.mode == TP_LOD_ERROR ? "error" : c->lod.sphere_tree ? "spheres" : "distance");
+    tp_json_string(j, c->lod.mode == TP_LOD_ERROR ? "error"
+                      : c->lod.sphere_tree        ? "spheres"
+                                                  : "distance");
     if (c->lod.mode == TP_LOD_ERROR)
         KN("tau_px", c->lod.tau_px > 0 ? c->lod.tau_px : 1);
     KN("fps_median", c->fps_median);

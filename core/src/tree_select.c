@@ -332,8 +332,7 @@ static int mode_wants(tp_cut* c, int i, int* level)
         else {
             double bmin[3], bmax[3];
             tp__cut_box(c, i, 1, bmin, bmax);
-            k = tp__cut_distance_decision(c, r->s, whole(m),
-                                          box_distance(c->v.pos, bmin, bmax));
+            k = tp__cut_distance_decision(c, r->s, whole(m), box_distance(c->v.pos, bmin, bmax));
             c->decisions++;
         }
         if (k < 0)

@@ -54,7 +54,7 @@ struct tp__spheres {
     sph_entry* e;
     size_t count, cap;
     int32_t free_head;
-    int64_t roots; /* entries 0 .. roots-1 are the roots, in c->roots order */
+    int64_t roots;   /* entries 0 .. roots-1 are the roots, in c->roots order */
     double (*cl)[4]; /* per cluster of CLUSTER roots: ball centre and radius */
     size_t clusters;
     sph_range range[TP_TREE_MAX_SCALES][2][VALS];
@@ -144,7 +144,7 @@ static int32_t entry_new(tp_cut* c, int64_t node, int s, int cc, int rr)
     e->whole = (m->flags & TP_NODE_COMPLETE) || !(m->flags & TP_NODE_HAS_DRAWN);
     if (!e->empty)
         tp__cut_node_box(c, s, cc, rr, m->area_qmin, m->area_qmax, e->bmin, e->bmax);
-    e->dec = (int8_t)c->n; /* an empty node is never asked */
+    e->dec = (int8_t)c->n;               /* an empty node is never asked */
     e->lo = INFINITY, e->hi = -INFINITY; /* decide at the first visit */
     e->p[0] = e->p[1] = e->p[2] = NAN;
     S->live++;

@@ -23,9 +23,9 @@
  * Prints per scenario the median and mean CPU ms of each way, and the mean distance decisions,
  * sphere-tree entries visited, cut records visited and nodes drawn per frame. */
 #define _POSIX_C_SOURCE 200809L
+#include "bench_util.h"
 #include "tp_core.h"
 #include "tp_io.h"
-#include "bench_util.h"
 
 #include <math.h>
 #include <stdint.h>
@@ -71,14 +71,14 @@ static int make_resident(bench* b, int64_t id)
 static volatile int last_way; /* keeps the two functions apart (no identical code folding) */
 
 __attribute__((noinline)) static tp_status update_plain(tp_cut* c, const tp_camera* cam,
-                                                         const tp_lod_params* lp, tp_error* err)
+                                                        const tp_lod_params* lp, tp_error* err)
 {
     last_way = 1;
     return tp_cut_update(c, cam, lp, err);
 }
 
 __attribute__((noinline)) static tp_status update_spheres(tp_cut* c, const tp_camera* cam,
-                                                           const tp_lod_params* lp, tp_error* err)
+                                                          const tp_lod_params* lp, tp_error* err)
 {
     last_way = 2;
     return tp_cut_update(c, cam, lp, err);
@@ -136,9 +136,9 @@ int main(int argc, char** argv)
            "maxdist %g m (0 0: 1 and 24 leaf widths)\n",
            argv[1], g->src_width, g->src_height, (long long)g->node_count, (1 << g->n) + 1,
            (long long)g->root_count, lod.mindist_m, lod.maxdist_m);
-    printf("%-6s %7s | %9s %9s | %9s %9s | %10s %10s %10s | %8s %7s\n", "", "frames",
-           "plain med", "sph med", "plain avg", "sph avg", "dec plain", "dec sph", "sph visit",
-           "records", "drawn");
+    printf("%-6s %7s | %9s %9s | %9s %9s | %10s %10s %10s | %8s %7s\n", "", "frames", "plain med",
+           "sph med", "plain avg", "sph avg", "dec plain", "dec sph", "sph visit", "records",
+           "drawn");
     static const char* names[] = {"still", "walk", "fly", "fast", "turn"};
     double* tp = malloc((size_t)frames * sizeof *tp);
     double* ts = malloc((size_t)frames * sizeof *ts);
@@ -199,8 +199,8 @@ int main(int argc, char** argv)
         }
         printf("%-6s %7d | %9.4f %9.4f | %9.4f %9.4f | %10.0f %10.1f %10.1f | %8.0f %7.0f\n",
                names[sc], frames, bench_median(tp, (size_t)frames),
-               bench_median(ts, (size_t)frames), sum_p / frames, sum_s / frames,
-               dec_p / frames, dec_s / frames, visit / frames, records / frames, drawn / frames);
+               bench_median(ts, (size_t)frames), sum_p / frames, sum_s / frames, dec_p / frames,
+               dec_s / frames, visit / frames, records / frames, drawn / frames);
     }
     tp_cut_stats ss;
     tp_cut_get_stats(sph, &ss);
