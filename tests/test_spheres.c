@@ -199,5 +199,60 @@ TEST(standing_still_decides_nothing_again)
     free(h);
 }
 
-#define TESTS(X) X(flights_select_as_the_plain_traversal) X(standing_still_decides_nothing_again)
+/* The prefetch's selection (tp_cut_update_requests) through the spheres asks for the same nodes
+ * in the same order, with a quarter of the leaves and of their parents not resident. */
+TEST(requests_only_updates_ask_as_the_plain_traversal)
+{
+    LOAD_OR_SKIP(h, 0, 0, 1201, 1201);
+    tp_tree* t = NULL;
+    ASSERT_OK(tp_tree_create_from_grid(h, (size_t)1201 * 1201, 1201, 1201, GT, 17, 0, &t, NULL));
+    const tp_tree_geometry* g = tp_tree_get_geometry(t);
+    /* leaves and scale-1 nodes whose id is 1 mod 4 leave */
+    ASSERT_GE_INT(g->scales, 3);
+    int64_t count = g->node_count - g->first_node[1];
+    const uint16_t** saved = calloc((size_t)count, sizeof *saved);
+    ASSERT_TRUE(saved != NULL);
+    for (int64_t id = g->first_node[1]; id < g->node_count; id++)
+        if (id % 4 == 1) {
+            saved[id - g->first_node[1]] = tp_tree_samples(t, id);
+            tp_tree_detach(t, id);
+        }
+    tp_cut *plain, *sph;
+    ASSERT_OK(tp_cut_create(t, &plain, NULL));
+    ASSERT_OK(tp_cut_create(t, &sph, NULL));
+    int differ = 0, with_requests = 0;
+    flight f = {300.3, 700.6, 80, 60, -12};
+    for (int step = 0; step < 200; step++) {
+        f.x += step < 100 ? 0.4 : 0, f.yaw += step >= 100 ? 4 : 0;
+        tp_camera cam;
+        camera_at(t, f.x, f.y, f.above, f.yaw, f.pitch, &cam);
+        tp_lod_params lp = {.mode = TP_LOD_DISTANCE};
+        ASSERT_OK(tp_cut_update_requests(plain, &cam, &lp, NULL));
+        lp.sphere_tree = 1;
+        ASSERT_OK(tp_cut_update_requests(sph, &cam, &lp, NULL));
+        size_t na, nb, da, db;
+        const int64_t* ra = tp_cut_requests(plain, &na);
+        const int64_t* rb = tp_cut_requests(sph, &nb);
+        tp_cut_nodes(plain, &da);
+        tp_cut_nodes(sph, &db);
+        differ += na != nb || (na && memcmp(ra, rb, na * sizeof *ra)) || da || db;
+        with_requests += na > 0;
+    }
+    printf("200 frames, %d with requests, %d differ\n", with_requests, differ);
+    EXPECT_EQ_INT(0, differ);
+    EXPECT_GE_INT(with_requests, 150);
+    tp_cut_destroy(plain);
+    tp_cut_destroy(sph);
+    for (int64_t id = g->first_node[1]; id < g->node_count; id++)
+        if (saved[id - g->first_node[1]])
+            tp_tree_attach(t, id, saved[id - g->first_node[1]]);
+    free(saved);
+    tp_tree_destroy(t);
+    free(h);
+}
+
+#define TESTS(X)                                                                                   \
+    X(flights_select_as_the_plain_traversal)                                                       \
+    X(standing_still_decides_nothing_again)                                                        \
+    X(requests_only_updates_ask_as_the_plain_traversal)
 TP_TEST_MAIN(TESTS)
