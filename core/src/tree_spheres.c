@@ -14,9 +14,10 @@
  * refined. Each subtree also keeps a ball around the eye position where it was last checked,
  * of radius the distance to the nearest threshold surface in the subtree (d is 1-Lipschitz in
  * the eye position): while the eye stays inside that ball, nothing in the subtree can change
- * and the subtree is not visited. The one crowded level, the roots (a 65537² store in 65-sample
- * nodes has 16 x 16 = 256 of them... and any number in general), is clustered: groups of
- * CLUSTER roots share one more ball ("fake" spheres that stand for no node).
+ * and the subtree is not visited. Every node has 4 children, so the one level that can get
+ * crowded is the roots' (a forest along the far edges: 1 root for 65537² in 65-sample nodes,
+ * 10 for 20481², more for other sizes): it is clustered, CLUSTER consecutive roots sharing one
+ * more ball (Blow's "fake" spheres, standing for no node).
  *
  * The cut's frame (tree_select.c) still traverses from the roots with frustum culling and
  * residency, and runs the stitching pass, but reads each node's distance decision from here
