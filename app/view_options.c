@@ -24,14 +24,16 @@ int tp_view_option(int opt, const char* arg, tp_view_setup* v, const char* cmd)
     double x;
     switch (opt) {
     case TP_OPT_LOD:
-        if (!strcmp(arg, "distance"))
+        v->lod.sphere_tree = !strcmp(arg, "spheres"); /* the distance mode, Blow's sphere tree */
+        if (!strcmp(arg, "distance") || v->lod.sphere_tree)
             v->lod.mode = TP_LOD_DISTANCE;
         else if (!strcmp(arg, "error"))
             v->lod.mode = TP_LOD_ERROR;
         else if (!strcmp(arg, "full"))
             v->lod.mode = TP_LOD_FULL;
         else
-            return tp_option_error(cmd, "--lod", "distance, error or full", arg);
+            return tp_option_error(cmd, "--lod", "distance, spheres, error or full",
+                                   arg);
         return 1;
     case TP_OPT_TAU:
     case TP_OPT_MINDIST:
@@ -96,9 +98,12 @@ int tp_view_setup_check(const tp_view_setup* v, const char* cmd)
 void tp_view_options_help(FILE* out)
 {
     fputs("level of detail:\n"
-          "  --lod error|distance|full   error (default): each patch at the coarsest level whose\n"
+          "  --lod error|distance|full|spheres   error (default): each patch at the coarsest level whose\n"
           "                        error projects to <= --tau px on screen; distance: Vanek &\n"
           "                        Jezek's rule on the distance from the eye to the patch;\n"
+          "                        spheres: the distance rule selected through Blow's sphere\n"
+          "                        tree (a store: the same cut, a frame re-deciding only the\n"
+          "                        nodes whose distances the eye crossed; a DEM: as distance);\n"
           "                        full: every patch at full resolution\n"
           "  --tau PX              error mode: screen-space error threshold (default 1)\n"
           "  --mindist METRES, --maxdist METRES   distance mode, both in metres of the render\n"

@@ -465,15 +465,22 @@ int tp_bench_store(const bench_options* o)
     read_rss(&b.base_rss_mb, &b.base_anon_mb);
     const char* renderer_name = (const char*)glGetString(GL_RENDERER);
     renderer_name = renderer_name ? renderer_name : "?";
-    store_result c[5];
+    store_result c[6]; /* error, distance, spheres, two imagery modes, light */
     memset(c, 0, sizeof c);
     c[0].lod = o->vs.lod;
     c[0].lod.mode = TP_LOD_ERROR;
     c[1].lod = o->vs.lod;
     c[1].lod.mode = TP_LOD_DISTANCE;
+    c[0].lod.sphere_tree = c[1].lod.sphere_tree = 0;
     snprintf(c[0].label, sizeof c[0].label, "error tau=%g", o->vs.lod.tau_px > 0 ? o->vs.lod.tau_px : 1);
     snprintf(c[1].label, sizeof c[1].label, "distance");
     int nc = 2, code = TP_EXIT_OK;
+    if (o->vs.lod.sphere_tree) { /* --lod spheres: the distance mode again, through the spheres */
+        c[nc] = c[1];
+        c[nc].lod.sphere_tree = 1;
+        snprintf(c[nc].label, sizeof c[nc].label, "spheres");
+        nc++;
+    }
     if (o->imagery) { /* the error mode again, with imagery: fps with / fps without */
         for (int m = 0; m < 2; m++) {
             if (o->imagery_mode != 2 && o->imagery_mode != m)

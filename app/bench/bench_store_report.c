@@ -15,7 +15,9 @@ static void json_result(tp_json* j, const store_result* c)
 {
 #define KN(k, v) (tp_json_key(j, k), tp_json_number(j, v))
     tp_json_key(j, "lod_mode");
-    tp_json_string(j, c->lod.mode == TP_LOD_ERROR ? "error" : "distance");
+    tp_json_string(j, c->lod.mode == TP_LOD_ERROR ? "error"
+                      : c->lod.sphere_tree        ? "spheres"
+                                                  : "distance");
     if (c->lod.mode == TP_LOD_ERROR)
         KN("tau_px", c->lod.tau_px > 0 ? c->lod.tau_px : 1);
     KN("fps_median", c->fps_median);
@@ -163,7 +165,10 @@ int tp_bench_store_write_csv(const store_bench* b, const store_result* c, int nc
                     c[k].light ? "error+light"
                     : c[k].imagery ? (c[k].imagery_mode == TP_IMAGERY_BLOCKS ? "error+blocks"
                                                                              : "error+imagery")
-                                   : c[k].lod.mode == TP_LOD_ERROR ? "error" : "distance", i, r->frame_ms,
+                    : c[k].lod.mode == TP_LOD_ERROR ? "error"
+                    : c[k].lod.sphere_tree          ? "spheres"
+                                                    : "distance",
+                    i, r->frame_ms,
                     r->cut_ms, r->stream_ms, r->upload_ms, r->draw_ms, r->cpu_ms, r->triangles,
                     r->nodes, r->visited, r->substituted, r->requests, r->uploads, r->pending,
                     r->gpu_bytes, r->resident_bytes, r->rss_mb, r->rss_anon_mb, r->measured,

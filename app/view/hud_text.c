@@ -103,8 +103,8 @@ void tp_view_hud_text(tp_view_scene* v, const tp_camera* cam,
     if (lod->mode == TP_LOD_ERROR)
         snprintf(lod_text, sizeof lod_text, "error, tau %.3g px", lod->tau_px > 0 ? lod->tau_px : 1);
     else if (lod->mode == TP_LOD_DISTANCE)
-        snprintf(lod_text, sizeof lod_text, "distance, mindist %.0f m, maxdist %.0f m, exp %.3g",
-                 lod->mindist_m, lod->maxdist_m, lod->exponent > 0 ? lod->exponent : 1);
+        snprintf(lod_text, sizeof lod_text, "%s, mindist %.0f m, maxdist %.0f m, exp %.3g",
+                 lod->sphere_tree ? "distance (sphere tree)" : "distance", lod->mindist_m, lod->maxdist_m, lod->exponent > 0 ? lod->exponent : 1);
     else
         snprintf(lod_text, sizeof lod_text, "full resolution");
     double ex = st->exaggeration > 0 ? st->exaggeration : 1;

@@ -366,6 +366,14 @@ typedef struct tp_lod_params {
     double max_error_m;
     const float* reference_heights;
     size_t reference_height_count;
+    /* distance mode over a tree (tp_cut_update; `--lod spheres`): nonzero selects through a
+     * sphere tree (Blow, "Terrain rendering at high levels of detail", Part II; tree_spheres.c):
+     * each node's refine and merge distances are surfaces around its area box, and a frame
+     * re-decides only the nodes whose surfaces the eye crossed since the last update of the
+     * same cut. The cut is exactly the plain traversal's (same nodes, levels, neighbours,
+     * requests): frustum culling, residency and stitching run every frame as before. Ignored
+     * by the other modes and by tp_selection_update. */
+    int sphere_tree;
 } tp_lod_params;
 
 /* The distance formula (Vanek & Jezek section 3) for a patch with finest level n (0..TP_MAX_N):
@@ -902,6 +910,12 @@ typedef struct tp_cut_stats {
     size_t triangles;          /* non-degenerate triangles of the drawn nodes */
     double max_bound_px;       /* largest projected bound among drawn nodes (error mode) */
     double substitution_bound_px; /* largest projected bound among substituted nodes */
+    /* distance mode: distance decisions the update computed (eye to a node's area box, then
+     * the formula): one per node in view for the plain traversal; with sphere_tree only those
+     * of nodes whose refine or merge surface the eye crossed. */
+    int decisions;
+    int sphere_visited; /* sphere_tree: sphere-tree entries (and root clusters) visited */
+    int sphere_nodes;   /* sphere_tree: entries held (the distance cut over the whole map) */
 } tp_cut_stats;
 
 typedef struct tp_cut tp_cut;
@@ -924,6 +938,13 @@ void tp_cut_destroy(tp_cut* c); /* accepts NULL */
  *     terrain collapses into large nodes. A node of scale s (strides 2^s .. 2^(s+n)) is
  *     refined when that stride is below 2^s, else drawn at the level giving that stride
  *     (level 0 when the stride is coarser still). mindist = maxdist = 0: 1 and 24 LEAF widths.
+ *   - Sphere tree (distance mode with params->sphere_tree; tree_spheres.c): the same
+ *     decisions, kept from one update to the next with the distance interval over which each
+ *     holds, over the whole map's distance cut; an update re-decides only the nodes whose
+ *     interval the eye's distance left, skipping every subtree whose nearest threshold is
+ *     farther than the eye moved. The cut is the same; the first update, and any update after
+ *     a change of mindist, maxdist, exponent, hole_px, focal length or vertical scale, builds
+ *     the distance cut of the whole map (tp_cut_stats.sphere_nodes entries).
  *   - Full mode: every visible leaf at level n.
  *   - Stitching (tree_stitch.c): levels only go up; where two drawn neighbours differ by more
  *     than n scales the larger one is split if its children are resident, else the smaller

@@ -317,6 +317,7 @@ typedef struct tp__cut_rec {
     uint8_t view;        /* 0: not tested yet; else 1 + whether its area box is in view */
     uint8_t pb_known;    /* pb is computed (error mode) */
     tp__proj_bound pb;   /* error mode, visible nodes: of the node's area box */
+    int32_t sph;         /* sphere tree: the node's entry (tree_spheres.c), or -1 */
 } tp__cut_rec;
 
 typedef struct tp__cut_slot {
@@ -378,7 +379,30 @@ struct tp_cut {
     int visited, unresolved;
     int oom;
     int requests_only; /* tp_cut_update_requests: no stitching, no output */
+    int decisions;     /* distance decisions computed by the update (tp_cut_stats) */
+    int sph_on;        /* this update reads distance decisions from the sphere tree */
+    struct tp__spheres* sph; /* tree_spheres.c; NULL until the first sphere-tree update */
 };
+
+/* ---- the sphere tree (tree_spheres.c; tree_select.c's distance mode with sphere_tree) ---- */
+/* The distance mode's decision for a node of scale s (whole: complete or nothing drawn) at
+ * distance d (m) from the eye to its area box: -1 refine, else the level it is drawn at
+ * (tree_select.c; every distance-mode decision of the cut is this function). */
+int tp__cut_distance_decision(const tp_cut* c, int s, int whole, double d);
+/* A node's box in drawn space (tree_select.c's node_box). */
+void tp__cut_node_box(const tp_cut* c, int s, int cc, int rr, int32_t qlo, int32_t qhi,
+                      double bmin[3], double bmax[3]);
+/* Brings the sphere tree up to date for the view c->v and parameters c->lp (rebuilt when the
+ * parameters, the focal length or the vertical scale changed). Entry ri is root c->roots[ri].
+ * 0 without memory (c->oom may be set; the tree is rebuilt at the next call). */
+int tp__spheres_update(tp_cut* c);
+/* Entry i's child q when i is refined, else -1 (also for i = -1). */
+int32_t tp__spheres_kid(const tp_cut* c, int32_t i, int q);
+/* Entry i's decision (tp__cut_distance_decision at the current eye). */
+int tp__spheres_decision(const tp_cut* c, int32_t i);
+/* The last update's entries visited and decisions recomputed, and the entries held. */
+void tp__spheres_stats(const tp_cut* c, int* visited, int* decided, int* live);
+void tp__spheres_destroy(tp_cut* c);
 
 /* Index in the drawn output of the node covering leaf (lc, lr), or -1 (tree_stitch.c). */
 int tp__cut_drawn_at_leaf(const tp_cut* c, int lc, int lr);

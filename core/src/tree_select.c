@@ -119,6 +119,7 @@ static int add_at(tp_cut* c, int64_t node, int s, int cc, int rr)
     memset(r, 0, sizeof *r);
     r->node = node;
     r->s = (int8_t)s, r->c = cc, r->r = rr;
+    r->sph = -1;
     c->visited++;
     return i;
 }
@@ -164,6 +165,12 @@ static void node_box(const tp_cut* c, int s, int cc, int rr, int32_t qlo, int32_
     bmin[0] = e0 < e1 ? e0 : e1, bmax[0] = e0 < e1 ? e1 : e0;
     bmin[1] = n0 < n1 ? n0 : n1, bmax[1] = n0 < n1 ? n1 : n0;
     bmin[2] = qlo * c->step * c->zscale, bmax[2] = qhi * c->step * c->zscale;
+}
+
+void tp__cut_node_box(const tp_cut* c, int s, int cc, int rr, int32_t qlo, int32_t qhi,
+                      double bmin[3], double bmax[3])
+{
+    node_box(c, s, cc, rr, qlo, qhi, bmin, bmax);
 }
 
 int tp__cut_box(const tp_cut* c, int i, int area, double bmin[3], double bmax[3])
@@ -294,6 +301,19 @@ static int children_cheaper(tp_cut* c, int i, int k)
     return kids < parent;
 }
 
+int tp__cut_distance_decision(const tp_cut* c, int s, int whole, double d)
+{
+    int n = c->n, want = wanted_stride_log(c, d);
+    if (want < s)
+        return s > 0 ? -1 : n;
+    int k = n + s - want;
+    k = k < 0 ? 0 : k;
+    double R = whole ? 0 : d;
+    while (k < n && !hole_ok(c, s, whole, R, k))
+        k++;
+    return s > 0 && !hole_ok(c, s, whole, R, k) ? -1 : k;
+}
+
 /* What the mode asks of record i (visible, complete or not): 1 to refine; else *level. */
 static int mode_wants(tp_cut* c, int i, int* level)
 {
@@ -306,18 +326,19 @@ static int mode_wants(tp_cut* c, int i, int* level)
     switch (c->lp.mode) {
     case TP_LOD_FULL: return r->s > 0;
     case TP_LOD_DISTANCE: {
-        double bmin[3], bmax[3];
-        tp__cut_box(c, i, 1, bmin, bmax);
-        int want = wanted_stride_log(c, box_distance(c->v.pos, bmin, bmax));
-        if (want < r->s)
-            return r->s > 0;
-        int k = n + r->s - want, w = whole(m);
-        k = k < 0 ? 0 : k;
-        double R = w ? 0 : box_distance(c->v.pos, bmin, bmax);
-        while (k < n && !hole_ok(c, r->s, w, R, k))
-            k++;
+        int k;
+        if (c->sph_on && r->sph >= 0)
+            k = tp__spheres_decision(c, r->sph);
+        else {
+            double bmin[3], bmax[3];
+            tp__cut_box(c, i, 1, bmin, bmax);
+            k = tp__cut_distance_decision(c, r->s, whole(m), box_distance(c->v.pos, bmin, bmax));
+            c->decisions++;
+        }
+        if (k < 0)
+            return 1; /* *level = n */
         *level = k;
-        return r->s > 0 && !hole_ok(c, r->s, w, R, k);
+        return 0;
     }
     default: {
         int w = whole(m);
@@ -510,6 +531,7 @@ void tp_cut_destroy(tp_cut* c)
     tp__free(a, c->work);
     tp__free(a, c->tri_memo);
     tp__free(a, c->tri_cache);
+    tp__spheres_destroy(c);
     tp__free(a, c);
 }
 
@@ -526,6 +548,8 @@ static void begin(tp_cut* c)
     c->req_count = 0;
     c->out_count = 0;
     c->visited = 0;
+    c->decisions = 0;
+    c->sph_on = 0;
     c->kid_rec = -1;
     c->unresolved = 0;
     c->oom = 0;
@@ -627,6 +651,11 @@ tp_status tp_cut_update(tp_cut* c, const tp_camera* cam, const tp_lod_params* pa
     c->have_view = 1;
     tp__view_from_camera(cam, &c->v);
     tp_frustum_from_camera(cam, &c->f);
+    if (lp.mode == TP_LOD_DISTANCE && lp.sphere_tree) {
+        if (!tp__spheres_update(c))
+            c->oom = 1;
+        c->sph_on = 1;
+    }
     /* Breadth first from each root: the children of a refined node are appended to the
      * records, so the queue is the records not yet classified. */
     for (int64_t ri = 0; ri < c->g.root_count && !c->oom; ri++) {
@@ -639,8 +668,11 @@ tp_status tp_cut_update(tp_cut* c, const tp_camera* cam, const tp_lod_params* pa
             continue; /* a hole: roots are to stay resident */
         }
         size_t first = c->rec_count;
-        if (tp__cut_add(c, root) < 0)
+        int rootrec = tp__cut_add(c, root);
+        if (rootrec < 0)
             break;
+        if (c->sph_on)
+            c->rec[rootrec].sph = (int32_t)ri;
         for (size_t i = first; i < c->rec_count && !c->oom; i++) {
             if (!classify(c, (int)i, 1))
                 continue;
@@ -652,6 +684,8 @@ tp_status tp_cut_update(tp_cut* c, const tp_camera* cam, const tp_lod_params* pa
                 int j = add_at(c, ch, c->rec[i].s - 1, cc, rr);
                 if (j < 0)
                     break;
+                if (c->sph_on)
+                    c->rec[j].sph = tp__spheres_kid(c, c->rec[i].sph, q);
                 if (known && c->kid_in[q] >= 0)
                     c->rec[j].view = (uint8_t)(1 + c->kid_in[q]);
                 if (known && c->kid_pb_known[q]) {

@@ -498,6 +498,10 @@ void tp_cut_get_stats(const tp_cut* c, tp_cut_stats* out)
     memset(out, 0, sizeof *out);
     out->visited = c->visited;
     out->requests = (int)c->req_count;
+    int sph_decided = 0;
+    if (c->sph_on)
+        tp__spheres_stats(c, &out->sphere_visited, &sph_decided, &out->sphere_nodes);
+    out->decisions = c->decisions + sph_decided;
     for (size_t i = 0; i < c->rec_count; i++) {
         const tp__cut_rec* r = &c->rec[i];
         out->culled += r->state == TP__CUT_CULLED;
