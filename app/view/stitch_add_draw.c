@@ -7,9 +7,9 @@
 
 struct tp__stitch_add {
     int n;
-    size_t key_count;           /* (n+1)^5 */
-    tp__stitch_add_set** sets;  /* by key, made on first use */
-    uint32_t* remap;            /* (2^n+1)^2, UINT32_MAX between uses */
+    size_t key_count;          /* (n+1)^5 */
+    tp__stitch_add_set** sets; /* by key, made on first use */
+    uint32_t* remap;           /* (2^n+1)^2, UINT32_MAX between uses */
 };
 
 tp__stitch_add* tp__stitch_add_create(int n)

@@ -18,12 +18,12 @@
 
 /* One neighbour configuration. */
 typedef struct tp__stitch_add_set {
-    int level;          /* the vertex-pool level whose slots and regions hold it */
-    int finest;         /* the finest level among the patch's and its neighbours' */
+    int level;  /* the vertex-pool level whose slots and regions hold it */
+    int finest; /* the finest level among the patch's and its neighbours' */
     size_t vertex_count;
-    uint32_t* samples;  /* vertex_count sample indices (row * (2^n+1) + column), ascending */
+    uint32_t* samples; /* vertex_count sample indices (row * (2^n+1) + column), ascending */
     size_t triangle_count;
-    uint32_t* triangles;/* 3 * triangle_count indices into samples, wound as the strips */
+    uint32_t* triangles; /* 3 * triangle_count indices into samples, wound as the strips */
 } tp__stitch_add_set;
 
 typedef struct tp__stitch_add tp__stitch_add;
@@ -45,7 +45,7 @@ const tp__stitch_add_set* tp__stitch_add_get(tp__stitch_add* s, int k, const int
  * vertices, normals and filled hold (2^finest+1)^2 entries (the level-finest lattice is read
  * into them, then compacted in place). */
 void tp__stitch_add_fill(const tp__stitch_add* s, const tp__stitch_add_set* set,
-                         const tp_terrain* t, int patch, tp_vertex* vertices,
-                         float (*normals)[3], uint8_t* filled);
+                         const tp_terrain* t, int patch, tp_vertex* vertices, float (*normals)[3],
+                         uint8_t* filled);
 
 #endif
