@@ -1480,6 +1480,80 @@ TEST(sweep_without_csv_exits_2)
     expect_usage_error(&a, "--csv", dir);
 }
 
+/* --stitch add (Brodersen's vertex-adding crack fix) against the default vertex moving, frame by
+ * frame over the same path on Mt Hood: the same selection, so full resolution draws the same
+ * triangles exactly (nothing to add or move) with no error in either; the LoD modes draw at
+ * least as many (the coarser patches keep their own vertices and take the finer ones'), more
+ * on some frame (a view where nothing is added would prove nothing); the vertical error is
+ * measured for add (its own geometry), the screen error is not (nan). */
+TEST(stitch_add_against_move_frame_by_frame)
+{
+    const char* dem = sample_path(MT_HOOD);
+    const char* dir = make_tmp_dir();
+    const char* mode[2] = {"move", "add"};
+    csv c[2];
+    run_result r;
+    args a;
+    for (int m = 0; m < 2; m++) {
+        args_bench_small(&a, 4);
+        args_add(&a, "--stitch");
+        args_add(&a, "%s", mode[m]);
+        args_add(&a, "--csv");
+        args_add(&a, "%s/%s.csv", dir, mode[m]);
+        args_add(&a, "%s", dem);
+        run_ok(&a, &r);
+        char path[1024];
+        snprintf(path, sizeof path, "%s/%s.csv", dir, mode[m]);
+        csv_read(path, &c[m]);
+    }
+    ASSERT_EQ_INT(c[0].rows, c[1].rows);
+    ASSERT_EQ_INT(12, c[1].rows); /* 3 configurations x 4 frames */
+    int more = 0;
+    for (int i = 0; i < c[1].rows; i++) {
+        const char* lod = csv_str(&c[0], i, "lod_mode");
+        double tm = csv_num(&c[0], i, "triangles"), ta = csv_num(&c[1], i, "triangles");
+        double em = csv_num(&c[0], i, "max_vertical_error_m");
+        double ea = csv_num(&c[1], i, "max_vertical_error_m");
+        tp_test_note("%s frame %g: %g triangles moving, %g adding; max error %g m, %g m", lod,
+                     csv_num(&c[0], i, "frame"), tm, ta, em, ea);
+        EXPECT_EQ_STR(lod, csv_str(&c[1], i, "lod_mode"));
+        EXPECT_EQ_DBL(csv_num(&c[0], i, "patches"), csv_num(&c[1], i, "patches"));
+        EXPECT_TRUE(isnan(csv_num(&c[1], i, "max_screen_error_px")));
+        EXPECT_TRUE(ea >= 0);
+        if (!strcmp(lod, "full")) {
+            EXPECT_EQ_DBL(tm, ta);
+            EXPECT_EQ_DBL(0, em);
+            EXPECT_EQ_DBL(0, ea);
+        } else {
+            EXPECT_GE(ta, tm);
+            more += ta > tm;
+        }
+    }
+    EXPECT_GT(more, 0);
+    csv_free(&c[0]);
+    csv_free(&c[1]);
+}
+
+TEST(stitch_add_static_or_bad_mode_exits_2)
+{
+    args a;
+    const char* dem = sample_path(MT_HOOD);
+    const char* dir = make_tmp_dir();
+    args_bench_small(&a, 1);
+    args_add(&a, "--stitch");
+    args_add(&a, "add");
+    args_add(&a, "--static");
+    args_add(&a, "--max-error");
+    args_add(&a, "5");
+    args_add(&a, "%s", dem);
+    expect_usage_error(&a, "--stitch add: only for a DEM drawn whole", dir);
+    args_bench_small(&a, 1);
+    args_add(&a, "--stitch");
+    args_add(&a, "sideways");
+    args_add(&a, "%s", dem);
+    expect_usage_error(&a, "--stitch: expected move or add", dir);
+}
+
 TEST(static_and_max_error_go_together_exits_2)
 {
     args a;
@@ -1869,6 +1943,8 @@ TEST(store_refuses_what_needs_a_terrain_exits_2)
 
 #define TESTS(X)                                                                                   \
     X(sweep_writes_one_row_per_configuration_and_a_plot)                                           \
+    X(stitch_add_against_move_frame_by_frame)                                                      \
+    X(stitch_add_static_or_bad_mode_exits_2)                                                       \
     X(sweep_plot_option_puts_the_plot_there)                                                       \
     X(sweep_tau_off_the_grid_adds_an_error_row)                                                    \
     X(sweep_tau_on_the_grid_adds_no_row)                                                           \

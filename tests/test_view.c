@@ -217,12 +217,17 @@ static void args_add_view(args* a, const char* dem, const view_spec* v)
     args_add(a, "%s", dem);
 }
 
-/* Renders v into dir/<name>.png and dir/<name>.json (either may be skipped with NULL). */
-static void render(const char* dem, const view_spec* v, const char* dir, const char* png,
-                   const char* json)
+/* Renders v into dir/<name>.png and dir/<name>.json (either may be skipped with NULL), with
+ * --stitch stitch unless NULL. */
+static void render_stitch(const char* dem, const view_spec* v, const char* dir, const char* png,
+                          const char* json, const char* stitch)
 {
     args a;
     args_view(&a);
+    if (stitch) {
+        args_add(&a, "--stitch");
+        args_add(&a, "%s", stitch);
+    }
     if (png) {
         args_add(&a, "--screenshot");
         args_add(&a, "%s/%s", dir, png);
@@ -233,6 +238,12 @@ static void render(const char* dem, const view_spec* v, const char* dir, const c
     }
     args_add_view(&a, dem, v);
     run_ok(&a, dir);
+}
+
+static void render(const char* dem, const view_spec* v, const char* dir, const char* png,
+                   const char* json)
+{
+    render_stitch(dem, v, dir, png, json, NULL);
 }
 
 /* The sample DEM's path (skips when it is missing). */
@@ -624,6 +635,68 @@ static int dir_entries(const char* dir)
     return n;
 }
 
+/* --stitch add (Brodersen's crack fix by adding vertices): the same view drawn with the
+ * coarser patch's border taking its finer neighbour's vertices shows no magenta either, and
+ * draws exactly the triangles tp_patch_triangles_add gives each visible complete patch with
+ * the selection's neighbour levels (an incomplete one, at level n, its unmoved level-n
+ * triangles): more than vertex moving draws, since every patch keeps its own. */
+static void expect_add_watertight(const char* dem, const view_spec* v_move, const char* what)
+{
+    const char* dir = make_tmp_dir();
+    const view_spec* v = v_move;
+    image im;
+    view_stats st;
+    core_scene cs;
+    tp_selection* sel;
+    tp_frame_stats fs;
+    tp_vertex* verts;
+    size_t expected = 0, c;
+    long n;
+    int fx, fy, p, finer = 0;
+    render_stitch(dem, v, dir, "add.png", "add.json", "add");
+    image_read(dir, "add.png", &im);
+    stats_read(dir, "add.json", &st);
+    n = count_magenta_rows(&im, 0, im.h, &fx, &fy);
+    core_load(dem, &cs);
+    sel = core_select(&cs, v);
+    tp_selection_stats(sel, &fs);
+    c = ((size_t)1 << cs.info.n) + 1;
+    verts = malloc(c * c * sizeof *verts);
+    ASSERT_TRUE(verts != NULL);
+    for (p = 0; p < cs.info.patch_count; ++p) {
+        int nb[4], k, side;
+        tp_patch_info pi;
+        if (!tp_selection_visible(sel, p))
+            continue;
+        k = tp_selection_level(sel, p);
+        tp_selection_neighbor_levels(sel, p, nb);
+        tp_patch_get_info(cs.t, p, &pi);
+        for (side = 0; side < 4; ++side)
+            finer += nb[side] > k;
+        if (pi.complete) {
+            expected += tp_patch_triangles_add(cs.info.n, k, nb, NULL, 0);
+        } else {
+            c = ((size_t)1 << k) + 1;
+            tp_patch_vertices(cs.t, p, k, NULL, verts, c * c);
+            expected += tp_patch_triangles(verts, k, NULL, 0);
+        }
+    }
+    free(verts);
+    tp_test_note("%s, --stitch add: %ld magenta pixels; %ld triangles drawn, %zu expected "
+                 "(vertex moving: %zu); %d sides take a finer neighbour's vertices",
+                 what, n, st.triangles, expected, fs.triangles, finer);
+    EXPECT_EQ_INT(0, n);
+    if (n)
+        ADD_FAILURE("%s: first magenta pixel at (%d, %d)", what, fx, fy);
+    EXPECT_EQ_INT((long)expected, st.triangles);
+    EXPECT_EQ_INT(fs.visible_patches, st.patches_drawn);
+    EXPECT_GT(finer, 0); /* something was added, or it proves nothing */
+    EXPECT_GT(st.triangles, (long)fs.triangles);
+    tp_selection_destroy(sel);
+    core_free(&cs);
+    free(im.px);
+}
+
 #endif /* TP_TEST_NO_IO */
 
 /* Straight down from just above the summit (3421 m at E 602125, N 5025267) and from 580 m above
@@ -685,6 +758,56 @@ TEST(no_cracks_oblique_error_lod)
         expect_no_magenta(dem, &v, "south flank, 1500 m above", 4, 2);
         v.cam[0] = 595000, v.cam[1] = 5022000, v.cam[2] = 1816;
         expect_no_magenta(dem, &v, "ridge, 400 m above", 2, 1);
+    }
+#endif
+}
+
+/* --stitch add under the adversarial views above (top down, oblique, distance and error LoD:
+ * neighbours up to 3 levels apart), a DEM drawn whole; a store is a usage error. */
+TEST(no_cracks_stitch_add)
+{
+    REQUIRE_IO();
+#ifndef TP_TEST_NO_IO
+    {
+        const char* dem;
+        view_spec v = distance_lod_view;
+        dem = sample_dem();
+        v.cam[0] = 602125, v.cam[1] = 5025267, v.cam[2] = 3700, v.cam[3] = 0, v.cam[4] = -90;
+        expect_add_watertight(dem, &v, "summit, 280 m above");
+        v.cam[0] = 602000, v.cam[1] = 5026000, v.cam[2] = 3612, v.cam[3] = 180, v.cam[4] = -55;
+        expect_add_watertight(dem, &v, "over the summit");
+        v.lod.mode = TP_LOD_ERROR;
+        v.lod.tau_px = 6;
+        v.cam[0] = 614000, v.cam[1] = 5030000, v.cam[2] = 2811, v.cam[3] = 270, v.cam[4] = -55;
+        expect_add_watertight(dem, &v, "east side, 1500 m above");
+        v.lod.tau_px = 8;
+        v.cam[0] = 595000, v.cam[1] = 5022000, v.cam[2] = 1816, v.cam[3] = 0;
+        expect_add_watertight(dem, &v, "ridge, 400 m above");
+    }
+#endif
+}
+
+TEST(stitch_add_through_a_store_is_a_usage_error)
+{
+    REQUIRE_IO();
+#ifndef TP_TEST_NO_IO
+    {
+        const char* dir = make_tmp_dir();
+        view_spec v = distance_lod_view;
+        args a;
+        v.store = 1;
+        v.cam[0] = 602125, v.cam[1] = 5025267, v.cam[2] = 3700, v.cam[3] = 0, v.cam[4] = -90;
+        args_view(&a);
+        args_add(&a, "--stitch");
+        args_add(&a, "add");
+        args_add_view(&a, sample_dem(), &v);
+        expect_failure(&a, dir, 2, "--stitch add: only for a DEM drawn whole");
+        args_view(&a);
+        args_add(&a, "--stitch");
+        args_add(&a, "sideways");
+        args_add(&a, "--whole");
+        args_add(&a, "%s", sample_dem());
+        expect_failure(&a, dir, 2, "--stitch");
     }
 #endif
 }
@@ -1928,6 +2051,8 @@ TEST(older_format_store_in_the_cache_is_rebuilt)
     X(no_cracks_top_down_distance_lod)                                                             \
     X(no_cracks_oblique_distance_lod)                                                              \
     X(no_cracks_oblique_error_lod)                                                                 \
+    X(no_cracks_stitch_add)                                                                        \
+    X(stitch_add_through_a_store_is_a_usage_error)                                                 \
     X(utm_and_local_origin_render_alike)                                                           \
     X(stats_json_equals_core_selection_error_lod)                                                  \
     X(stats_json_equals_core_selection_distance_lod)                                               \

@@ -23,6 +23,7 @@ typedef struct bench_options {
     const char* json;
     const char* csv;
     int no_error;      /* skip the (slow) error measurement */
+    int stitch_add;    /* --stitch add: Brodersen's vertex-adding crack fix (a DEM only) */
     double speed_mps;  /* path flights: a lead-in frame 1/30 s earlier at this speed; 0: none */
     int sweep;         /* a grid of LoD parameters instead of the three default configurations */
     const char* plot;  /* --sweep: the plot (PNG); default: the CSV's name with .png */
@@ -126,6 +127,14 @@ int tp_bench_write_sweep_csv(const bench_options* o, const config_result* c, int
  * every TIN measured by tp_tin_measure. Prints a table; o->json / o->csv outputs when non-NULL.
  * Returns TP_EXIT_*. */
 int tp_bench_static(const tp_scene* sc, const bench_options* o);
+
+/* bench_stitch_add.c: the exact vertical error (metres) of the `--stitch add` geometry of the
+ * visible patches of sel (tp_patch_triangles_add with the selection's neighbour levels; an
+ * incomplete patch's unmoved level-n triangles) against every drawn sample under it, each
+ * counted once, as tp_selection_measure_error measures the vertex-moving geometry.
+ * TP_ERR_OUT_OF_MEMORY (*out untouched) or TP_OK. */
+tp_status tp_bench_stitch_add_error(const tp_terrain* t, const tp_selection* sel,
+                                    tp_error_measure* out);
 
 /* The npm meshers of `bench --static --compare` (bench_npm.c), through tools/tin_compare.sh
  * ($TP_TIN_COMPARE, else the source tree's tools/, compiled in as TP_TOOLS_DIR). */

@@ -32,6 +32,7 @@ enum {
     OPT_JSON,
     OPT_CSV,
     OPT_NO_ERROR,
+    OPT_STITCH,
     OPT_SPEED,
     OPT_SWEEP,
     OPT_PLOT,
@@ -89,6 +90,9 @@ static void print_help(void)
           "                         0: no lead-in (every frame a jump, uploads from cold)\n"
           "  --json FILE            summary; --csv FILE: one row per frame and configuration\n"
           "  --no-error             skip the error measurement (faster)\n"
+          "  --stitch move|add      crack removal (a DEM): move the finer patch's border vertices\n"
+          "                         (default) or add them to the coarser patch's (Brodersen\n"
+          "                         section 4); add measures its error in metres only\n"
           "  --sweep                a grid of LoD parameters: full resolution, distance mode with\n"
           "                         mindist {1,4} x maxdist {12,24,48,96} patch widths x exp\n"
           "                         {0.5,1,2}, error mode with tau {0.5,1,2,4,8,16} (and --tau);\n"
@@ -178,6 +182,7 @@ static int parse_options(int argc, char** argv, bench_options* o)
         {"json", required_argument, NULL, OPT_JSON},
         {"csv", required_argument, NULL, OPT_CSV},
         {"no-error", no_argument, NULL, OPT_NO_ERROR},
+        {"stitch", required_argument, NULL, OPT_STITCH},
         {"speed", required_argument, NULL, OPT_SPEED},
         {"sweep", no_argument, NULL, OPT_SWEEP},
         {"plot", required_argument, NULL, OPT_PLOT},
@@ -236,6 +241,14 @@ static int parse_options(int argc, char** argv, bench_options* o)
         case OPT_JSON: o->json = optarg; break;
         case OPT_CSV: o->csv = optarg; break;
         case OPT_NO_ERROR: o->no_error = 1; break;
+        case OPT_STITCH:
+            if (strcmp(optarg, "move") && strcmp(optarg, "add")) {
+                fprintf(stderr, "terrapatch bench: --stitch: expected move or add, got '%s'\n",
+                        optarg);
+                return TP_EXIT_USAGE;
+            }
+            o->stitch_add = strcmp(optarg, "add") == 0;
+            break;
         case OPT_SPEED: {
             double v = strtod(optarg, &end);
             if (*end || end == optarg || !(v >= 0) || !isfinite(v))
@@ -336,6 +349,11 @@ static int parse_options(int argc, char** argv, bench_options* o)
     if ((o->imagery || o->light) && !tp_is_store_path(o->dem)) {
         fprintf(stderr, "terrapatch bench: %s needs a store (%s is not one)\n",
                 o->imagery ? "--imagery" : "--light", o->dem);
+        return TP_EXIT_USAGE;
+    }
+    if (o->stitch_add && (tp_is_store_path(o->dem) || o->is_static)) {
+        fprintf(stderr, "terrapatch bench: --stitch add: only for a DEM drawn whole (not yet for "
+                        "stores, nor --static)\n");
         return TP_EXIT_USAGE;
     }
     if (tp_is_store_path(o->dem)) {
@@ -493,6 +511,7 @@ static int run_config(const bench_run* b, config_result* c, const char* progress
     }
     tp_render_settings rs;
     tp_render_settings_default(&rs);
+    rs.stitch_add = b->o->stitch_add;
     tp_render_stats st;
     for (int i = 0; i < frames; i++) {
         tp_camera cam, lead;
@@ -516,18 +535,24 @@ static int run_config(const bench_run* b, config_result* c, const char* progress
         row->upload_ms = st.upload_ms;
         row->draw_ms = st.draw_ms;
         row->frame_ms = t2 - t0;
-        row->triangles = fs.triangles;
+        row->triangles = rs.stitch_add ? st.triangles : fs.triangles;
         row->draw_calls = st.draw_calls;
         row->patches = st.patches_drawn;
         row->uploads = st.uploads;
         row->gpu_bytes = st.gpu_bytes;
         if (!b->o->no_error) { /* outside the timed part of the frame */
             tp_error_measure em;
-            tp_status ms = tp_selection_measure_error(sel, &em);
-            if (ms == TP_OK)
+            tp_status ms;
+            if (rs.stitch_add) { /* in metres only: the screen measure is vertex moving's */
+                ms = tp_bench_stitch_add_error(b->sc->terrain, sel, &em);
+                row->max_px = row->rms_px = NAN;
+            } else {
+                ms = tp_selection_measure_error(sel, &em);
+            }
+            if (ms == TP_OK && !rs.stitch_add)
                 ms = tp_selection_measure_screen_error(sel, &cam, &row->max_px, &row->rms_px,
                                                        NULL);
-            if (ms == TP_OK && c->lod.mode == TP_LOD_ERROR)
+            if (ms == TP_OK && c->lod.mode == TP_LOD_ERROR && !rs.stitch_add)
                 ms = oracle_triangles(b->sc, sel, &cam, c->lod.tau_px, fs.triangles,
                                       &row->oracle_triangles, &row->oracle_patches);
             if (ms != TP_OK) {
@@ -545,6 +570,8 @@ static int run_config(const bench_run* b, config_result* c, const char* progress
     }
     fprintf(stderr, "\n");
     summarize(c, frames);
+    if (rs.stitch_add && !b->o->no_error)
+        c->max_px = c->rms_px = NAN;
     tp_selection_destroy(sel);
     tp_renderer_destroy(r);
     return TP_EXIT_OK;

@@ -42,6 +42,7 @@ enum {
     OPT_NO_HUD,
     OPT_EXAG,
     OPT_ONE_DRAW,
+    OPT_STITCH,
     OPT_HUD,
     OPT_HIDE_FILLED,
     OPT_TEXTURE,
@@ -154,6 +155,9 @@ static void print_help(void)
           "                        $XDG_CACHE_HOME/terrapatch, else ~/.cache/terrapatch)\n"
           "  --whole               draw the DEM whole, without a store (the old path: the DEM\n"
           "                        and its render grid in memory, patches selected every frame)\n"
+          "  --stitch move|add     crack removal, a DEM drawn whole only: move the finer patch's\n"
+          "                        border vertices (move, the default) or add them to the\n"
+          "                        coarser patch's border (add, Brodersen section 4)\n"
           "  A DEM is drawn whole, without a store (the old path), when it is a heightmap image\n"
           "  (--spacing, --zscale, --origin or a PNG/JPEG/...), or --fit or --texture is given:\n"
           "  stores always pad and carry no texture. A store fills voids as --fill-max says\n"
@@ -235,6 +239,7 @@ static int parse_options(int argc, char** argv, view_options* o)
         {"whole", no_argument, NULL, OPT_WHOLE},
         {"exaggeration", required_argument, NULL, OPT_EXAG},
         {"one-draw-per-patch", no_argument, NULL, OPT_ONE_DRAW},
+        {"stitch", required_argument, NULL, OPT_STITCH},
         {"overlay", required_argument, NULL, OPT_OVERLAY},
         {"contours", required_argument, NULL, OPT_CONTOURS},
         {"bookmark", required_argument, NULL, OPT_BOOKMARK},
@@ -361,6 +366,11 @@ static int parse_options(int argc, char** argv, view_options* o)
             o->render.grid_m = v[0];
             break;
         case OPT_ONE_DRAW: o->render.one_draw_per_patch = 1; break;
+        case OPT_STITCH:
+            if (strcmp(optarg, "move") && strcmp(optarg, "add"))
+                return bad("--stitch", "move or add", optarg);
+            o->render.stitch_add = strcmp(optarg, "add") == 0;
+            break;
         case OPT_OVERLAY:
             if (o->overlay_count == (int)(sizeof o->overlays / sizeof o->overlays[0]))
                 return bad("--overlay", "at most 8 --overlay files", optarg);
@@ -740,6 +750,14 @@ int tp_cli_view(int argc, char** argv)
     }
     if (o.stats_json && !tp_atomic_check_dir(o.stats_json))
         return TP_EXIT_FAILURE;
+    int whole = !tp_is_store_path(o.path) &&
+                (o.old_path || o.texture || o.scene.image_given || !is_regular_file(o.path) ||
+                 tp_is_heightmap_image(o.path));
+    if (o.render.stitch_add && !whole) {
+        fprintf(stderr, "terrapatch view: --stitch add: only for a DEM drawn whole (not yet for "
+                        "stores; --whole draws %s whole)\n", o.path);
+        return TP_EXIT_USAGE;
+    }
     if (tp_is_store_path(o.path)) {
         if (o.texture || o.old_path || o.scene.image_given) {
             fprintf(stderr, "terrapatch view: %s is a store: --texture, --fill-max, --fit, --whole "

@@ -38,6 +38,8 @@ void tp_view_frame(tp_view_scene* v, tp_renderer* r, const tp_camera* cam,
         out->select_ms = tp_view_now_ms() - t0;
         tp_renderer_draw(r, v->sel, cam, render, 1, &out->render);
         tp_selection_stats(v->sel, &out->core);
+        if (render->stitch_add) /* the core counts the vertex-moving triangulation's */
+            out->core.triangles = out->render.triangles;
         out->store = 0;
         return;
     }

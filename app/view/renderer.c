@@ -4,6 +4,7 @@
 
 #include "gl_context.h"
 #include "render_clip.h"
+#include "stitch_add_draw.h"
 #include "terrain_shaders.h"
 #include "vertex_pool.h"
 
@@ -71,6 +72,9 @@ struct tp_renderer {
     /* tp_renderer_draw_cut: what fill_node reads */
     const tp_tree* tree;
     const tp_cut* cut;
+    /* tp_renderer_draw in --stitch add mode: its neighbour sets (made on first use) */
+    int stitch_add;
+    tp__stitch_add* add;
 };
 
 static double now_ms(void)
@@ -207,6 +211,7 @@ void tp_renderer_destroy(tp_renderer* r)
     if (r->tex)
         glDeleteTextures(1, &r->tex);
     tp_vertex_pool_destroy(r->pool);
+    tp__stitch_add_destroy(r->add);
     glDeleteBuffers(1, &r->ibo);
     glDeleteVertexArrays(1, &r->vao);
     free(r->draw_level);
@@ -309,14 +314,9 @@ void tp_render_settings_default(tp_render_settings* s)
     s->clear_rgb[2] = 0.90f;
 }
 
-/* Builds item i's vertex data (and its triangle list if it is incomplete) into slot h. */
-static void upload(tp_renderer* r, const tp_render_item* it, size_t i, tp_render_fill_fn fill,
-                   void* user, int h)
+/* Writes count vertices of vtmp, ntmp, ftmp (a level-k item's) into slot h. */
+static void write_vertices(tp_renderer* r, int h, int k, int count)
 {
-    tp_pool_slot* sl = tp_vertex_pool_slot(r->pool, h);
-    int k = it->level, v = (1 << k) + 1, count = v * v;
-    assert(k == tp_vertex_pool_level(h));
-    fill(user, i, r->vtmp, r->ntmp, r->ftmp);
     for (int j = 0; j < count; j++) {
         const tp_vertex* src = &r->vtmp[j];
         gpu_vertex* g = &r->gtmp[j];
@@ -328,6 +328,26 @@ static void upload(tp_renderer* r, const tp_render_item* it, size_t i, tp_render
         g->flags = (uint8_t)(k | ((r->ftmp[j] ? 1 : 0) << 4));
     }
     tp_vertex_pool_write(r->pool, h, r->gtmp, (size_t)count);
+}
+
+/* Builds item i's vertex data (and its triangle list if it is incomplete) into slot h; in
+ * --stitch add mode with set, the set's samples and triangles (stitch_add_draw.h). */
+static void upload(tp_renderer* r, const tp_render_item* it, size_t i, tp_render_fill_fn fill,
+                   void* user, int h, const tp__stitch_add_set* set)
+{
+    tp_pool_slot* sl = tp_vertex_pool_slot(r->pool, h);
+    int k = it->level, v = (1 << k) + 1, count = v * v;
+    if (set) {
+        tp__stitch_add_fill(r->add, set, r->terrain, (int)it->key, r->vtmp, r->ntmp, r->ftmp);
+        write_vertices(r, h, k, (int)set->vertex_count);
+        tp_vertex_pool_write_triangles(r->pool, h, set->triangles, 3 * set->triangle_count);
+        sl->level = it->level;
+        memcpy(sl->nb, it->nb, sizeof sl->nb);
+        return;
+    }
+    assert(k == tp_vertex_pool_level(h));
+    fill(user, i, r->vtmp, r->ntmp, r->ftmp);
+    write_vertices(r, h, k, count);
     if (it->incomplete) {
         size_t cap = tp_vertex_pool_region_indices(r->pool, k) / 3;
         size_t nt = r->cut ? tp_cut_triangles(r->cut, i, r->vtmp, r->ttmp, cap)
@@ -396,15 +416,21 @@ void tp_renderer_draw_items(tp_renderer* r, const tp_render_item* items, size_t 
     for (size_t i = 0; i < count; i++) {
         const tp_render_item* it = &items[i];
         int fresh;
-        int h = tp_vertex_pool_take(r->pool, it->key, it->level, &fresh);
+        const tp__stitch_add_set* set = NULL;
+        if (r->stitch_add && !it->incomplete && tp__stitch_add_needed(it->level, it->nb) &&
+            !(set = tp__stitch_add_get(r->add, it->level, it->nb))) {
+            stats->dropped++; /* out of memory */
+            continue;
+        }
+        int h = tp_vertex_pool_take(r->pool, it->key, set ? set->level : it->level, &fresh);
         if (h < 0) {
             stats->dropped++;
             continue;
         }
         const tp_pool_slot* sl = tp_vertex_pool_slot(r->pool, h);
         if (fresh || sl->level != it->level || memcmp(sl->nb, it->nb, sizeof sl->nb) ||
-            (it->incomplete != 0) != (sl->region >= 0)) {
-            upload(r, it, i, fill, user, h);
+            (it->incomplete || set) != (sl->region >= 0)) {
+            upload(r, it, i, fill, user, h, set);
             stats->uploads++;
         }
         stats->patches_drawn++;
@@ -417,7 +443,9 @@ void tp_renderer_draw_items(tp_renderer* r, const tp_render_item* items, size_t 
          * glMultiDrawElementsBaseVertex, which dropped border patches. */
         if (c >= 0 && list_count == 0)
             continue;
-        int k = it->level;
+        int k = tp_vertex_pool_level(h); /* its pool's level (an added-vertex set's) */
+        if (r->stitch_add) /* strips: the level-k grid, nothing moved */
+            stats->triangles += c >= 0 ? list_count / 3 : (size_t)2 << (2 * it->level);
         r->draw_level[drawn] = 2 * k + (c >= 0); /* the group: level, strip or triangle list */
         r->counts[drawn] = (GLsizei)(c < 0 ? r->level_count[k] : list_count);
         r->offsets[drawn] = (void*)(c < 0 ? r->level_offset[k] : list_offset);
@@ -647,14 +675,21 @@ void tp_renderer_draw(tp_renderer* r, tp_selection* sel, const tp_camera* cam,
         tp_selection_neighbor_levels(sel, p, nb);
         it->key = p;
         it->level = (int8_t)k;
-        /* only a coarser neighbour moves vertices: others need no new upload when they change */
+        /* only a coarser neighbour moves vertices (a finer one adds them, --stitch add): others
+         * need no new upload when they change */
         for (int side = 0; side < 4; side++)
-            it->nb[side] = (int8_t)(nb[side] >= 0 && nb[side] < k ? nb[side] : TP_NO_NEIGHBOR);
+            it->nb[side] = (int8_t)(nb[side] >= 0 && (s->stitch_add ? nb[side] > k : nb[side] < k)
+                                        ? nb[side]
+                                        : TP_NO_NEIGHBOR);
         it->incomplete = !r->complete[p];
     }
     tp_selection_clear_dirty(sel);
+    if (s->stitch_add && !r->add && !(r->add = tp__stitch_add_create(r->grid.n)))
+        count = 0; /* out of memory: nothing to draw */
+    r->stitch_add = s->stitch_add;
     tp_renderer_draw_items(r, r->items, count, fill_patch, r, cam, s,
                            tp_selection_vertical_scale(sel), finish, stats);
+    r->stitch_add = 0;
 }
 
 /* ---- the nodes of a cut over a tree ---- */

@@ -32,6 +32,10 @@ typedef struct tp_render_settings {
     int hide_filled;          /* draw filled voids untinted */
     float clear_rgb[3];
     int one_draw_per_patch;   /* instead of multi-draw (for measuring the difference) */
+    int stitch_add;           /* tp_renderer_draw only (a DEM drawn whole): remove cracks by
+                                 adding the finer neighbour's vertices to the coarser patch's
+                                 border (tp_patch_triangles_add, `--stitch add`) instead of
+                                 moving the finer patch's (the default) */
     double grid_m;            /* grid lines every grid_m metres of the render CRS (UTM: the
                                  UTM/MGRS grid); 0 for none */
 } tp_render_settings;
@@ -52,6 +56,8 @@ typedef struct tp_render_stats {
     int dropped;              /* items not drawn: their level's vertex pool is at
                                  TP_RENDER_POOL_MAX_BYTES and every slot is drawn this frame (or
                                  memory ran out) */
+    size_t triangles;         /* --stitch add only (else 0: the core counts them): the
+                                 triangles drawn, 2 * 4^k for a level-k strip (nothing moves) */
 } tp_render_stats;
 
 /* No level's vertex pool grows past this, whatever a frame asks for: llvmpipe (Mesa 22.3) crashes
