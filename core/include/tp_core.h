@@ -1580,6 +1580,94 @@ int tp_light_times_lit(const uint8_t texel[4], double tau);
  * the finer one (n = 1..4 of them; the order r1 <= s1 <= r2 <= s2 is kept). */
 void tp_light_times_mean(const uint8_t* const* texels, int n, uint8_t out[4]);
 
+
+/* ---------------------------------------------------------------------------------------------
+ * Persistent Grid Mapping (pgm.c, pgm_error.c; Livny, Kogan & El-Sana, seeds/001; issue 16)
+ *
+ * A grid of cols x rows vertices fixed in screen space, cached on the GPU once. Each frame,
+ * vertex (i, j) (i = 0..cols-1 left to right, j = 0..rows-1 top to bottom) is the pixel
+ * (i * w / (cols - 1), j * h / (rows - 1)) of the auxiliary camera (Eq. 2); the ray from the eye
+ * through it meets the base plane h = base_m at P (Eq. 1); the vertex is drawn at P's E and N
+ * and the height read from the elevation pyramid at P, at the level the distance r to its
+ * farthest neighbour asks for (Eq. 3), blended with the parent level (Eq. 4). Cell (i, j) is the
+ * two triangles (i,j) (i+1,j) (i,j+1) and (i+1,j) (i+1,j+1) (i,j+1) (split along (i+1,j)-(i,j+1));
+ * a triangle with a vertex off the terrain is not drawn. The viewer's vertex shader and
+ * tp_pgm_map_vertex compute the same numbers (the shader in floats, eye-relative).
+ */
+#define TP_PGM_MAX_LEVELS 24
+#define TP_PGM_DEFAULT_COLS 300
+#define TP_PGM_DEFAULT_ROWS 300
+
+/* The elevation pyramid: level 0 is the given grid; level l has posts i = 0..width[l]-1 at
+ * level-0 post min(i * 2^l, width[0] - 1) (the same in y), width[l] = (width[l-1] + 1) / 2,
+ * height likewise, each the level-0 height there (point sampling: every level's posts are
+ * source posts). Levels stop when both sides are <= 2 posts or at TP_PGM_MAX_LEVELS. */
+typedef struct tp_pgm_pyramid {
+    int levels;
+    int width[TP_PGM_MAX_LEVELS], height[TP_PGM_MAX_LEVELS];
+    float* z[TP_PGM_MAX_LEVELS]; /* row-major, top row first; owned (tp_pgm_pyramid_free) */
+    double geotransform[6];      /* of level 0: post (x, y) at E = gt[0] + (x + 0.5) * gt[1],
+                                    N = gt[3] + (y + 0.5) * gt[5] (north-up: gt[2] = gt[4] = 0) */
+    double min_m, max_m;         /* of level 0 */
+} tp_pgm_pyramid;
+
+/* Builds the pyramid of a width x height grid (no NaN: fill voids first; width, height >= 1).
+ * Returns TP_OK and fills *out (free with tp_pgm_pyramid_free); TP_ERR_INVALID_ARG (a NaN
+ * height, a size < 1 or a rotated or zero geotransform), TP_ERR_OUT_OF_MEMORY; *out is then
+ * zeroed. */
+tp_status tp_pgm_pyramid_build(const float* heights, int width, int height, const double gt[6],
+                               tp_pgm_pyramid* out, tp_error* err);
+void tp_pgm_pyramid_free(tp_pgm_pyramid* p); /* accepts NULL and a zeroed pyramid */
+
+/* The bilinear height of level `level` at level-0 grid coordinates (x, y) (post units, post
+ * (0, 0) at (0, 0)); positions outside the grid are clamped to its edge. Cannot fail. */
+double tp_pgm_pyramid_sample(const tp_pgm_pyramid* p, int level, double x, double y);
+
+/* Eq. 2: the auxiliary camera. Same eye, yaw, field of view and viewport as main; its pitch
+ * is min(main's pitch, -(fov_y / 2 + epsilon_rad)) (pitch < 0 looks down), so that every ray of
+ * its image goes down and meets the base plane. Cannot fail. */
+void tp_pgm_aux_camera(const tp_camera* main, double epsilon_rad, tp_camera* aux);
+
+/* Everything one frame's mapping needs, set up once per frame (the shader's uniforms). */
+typedef struct tp_pgm_frame {
+    int cols, rows;
+    tp_camera aux;          /* tp_pgm_aux_camera(main, 1e-3 rad) */
+    tp_camera_frame aux_frame;
+    double base_m;          /* the base plane's height: the pyramid's min_m */
+    double eye_above_base_m; /* h in Eq. 3: eye height - base_m, at least 1 m */
+    double sin_alpha, cos_alpha; /* alpha: the larger angle between adjacent rays, rows or cols */
+    double post_m;          /* level-0 post spacing: min(|gt[1]|, |gt[5]|) */
+} tp_pgm_frame;
+
+/* Sets up *out for main (fov, viewport and pose), the grid size (cols, rows >= 2; asserted) and
+ * the pyramid. Cannot fail. */
+void tp_pgm_frame_setup(const tp_camera* main, int cols, int rows, const tp_pgm_pyramid* p,
+                        tp_pgm_frame* out);
+
+/* Maps grid vertex (i, j): writes world[3] (E, N, height) and *lod, the continuous level
+ * l + W_p (l = floor(log2(r / post_m)) clamped to [0, levels - 1], W_p = r / (post_m * 2^l) - 1
+ * clamped to [0, 1], 0 at the last level; r from Eq. 3), the height being
+ * (1 - W_p) * sample(l) + W_p * sample(l + 1). Returns 1 when P lies on the terrain (inside the
+ * level-0 extent), else 0 (world and lod are written anyway, the height clamped to the edge). */
+int tp_pgm_map_vertex(const tp_pgm_frame* f, const tp_pgm_pyramid* p, int i, int j,
+                      double world[3], double* lod);
+
+/* The error of one frame's PGM surface by the bench's definition: every level-0 post that the
+ * main camera sees inside its viewport (projected inside, in front of the near plane; occlusion
+ * ignored) is compared with the drawn surface vertically above or below it (the triangle of
+ * the mapped grid that covers its E, N; linear interpolation): vertical error |drawn - post|
+ * in metres and screen error, the on-screen distance between the projections of the two
+ * points, in pixels. Posts no drawn triangle covers are counted in `uncovered`, not in the
+ * error. Returns TP_OK and writes *out; TP_ERR_OUT_OF_MEMORY. */
+typedef struct tp_pgm_error {
+    double max_m, rms_m;   /* vertical */
+    double max_px, rms_px; /* screen */
+    size_t samples;        /* posts in view that a triangle covers */
+    size_t uncovered;      /* posts in view that none covers */
+} tp_pgm_error;
+tp_status tp_pgm_measure_error(const tp_pgm_frame* f, const tp_pgm_pyramid* p,
+                               const tp_camera* main, tp_pgm_error* out);
+
 #ifdef __cplusplus
 }
 #endif
