@@ -272,6 +272,29 @@ tp_status read_dem(const char* path, tp_dem** out, tp_error* err)
     const size_t count = static_cast<size_t>(w) * static_cast<size_t>(h);
     const double need = static_cast<double>(w) * static_cast<double>(h) * sizeof(float);
 
+    /* GDAL decodes whole blocks, and a pixel-interleaved block holds every band: a damaged
+     * header (a strip far taller than the image, thousands of bands) can ask for gigabytes to
+     * read a few samples. Refuse a block larger than four times the heights (at least 256 MiB). */
+    {
+        int bx = 0, by = 0;
+        band->GetBlockSize(&bx, &by);
+        const char* il = ds->GetMetadataItem("INTERLEAVE", "IMAGE_STRUCTURE");
+        const int bands = il && EQUAL(il, "PIXEL") ? ds->GetRasterCount() : 1;
+        const double block = static_cast<double>(bx) * by * bands *
+                             GDALGetDataTypeSizeBytes(band->GetRasterDataType());
+        if (block > std::max(4.0 * need, 256.0 * 1024 * 1024)) {
+            set_error(err,
+                      "%s: one block of this %dx%d raster is %dx%d samples%s and needs %.1f GiB to "
+                      "decode: a damaged or unusual file (gdal_translate -co TILED=YES makes a "
+                      "readable copy)",
+                      path, w, h, bx, by,
+                      bands > 1 ? (" of " + std::to_string(bands) + " interleaved bands").c_str()
+                                : "",
+                      gib(block));
+            return TP_ERR_BAD_DATA;
+        }
+    }
+
     const char* driver = ds->GetDriver() ? ds->GetDriver()->GetDescription() : "";
     if (EQUAL(driver, "AAIGrid")) {
         const tp_status s = check_ascii_grid(path, w, h, err);
