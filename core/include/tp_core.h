@@ -1598,10 +1598,15 @@ void tp_light_times_mean(const uint8_t* const* texels, int n, uint8_t out[4]);
 #define TP_PGM_DEFAULT_COLS 300
 #define TP_PGM_DEFAULT_ROWS 300
 
-/* The elevation pyramid: level 0 is the given grid; level l has posts i = 0..width[l]-1 at
- * level-0 post min(i * 2^l, width[0] - 1) (the same in y), width[l] = (width[l-1] + 1) / 2,
- * height likewise, each the level-0 height there (point sampling: every level's posts are
- * source posts). Levels stop when both sides are <= 2 posts or at TP_PGM_MAX_LEVELS. */
+/* The elevation pyramid: level 0 is the given grid; level l has posts i = 0..width[l]-1 evenly
+ * spaced at level-0 grid x = i * 2^l (the same in y), each holding the level-0 height of post
+ * min(i * 2^l, width[0] - 1) (point sampling: every level's posts are source posts; the last
+ * post may lie past the edge and then repeats the edge's height, so that every level reaches
+ * the whole extent). width[l] = width[l-1] / 2 + 1 (integer division; = ceil((width[0] - 1) /
+ * 2^l) + 1), height likewise: 1201 -> 601 -> 301 -> 151 -> 76 -> 39 ..., 1000 -> 501 -> 251.
+ * Levels stop when both sides are <= 2 posts or at TP_PGM_MAX_LEVELS (a 1 x 1 or 2 x 2 grid
+ * has 1 level). A shader samples level l at texel (x / 2^l, y / 2^l) (+ 0.5 for texel
+ * centres) with clamp-to-edge, after clamping x, y to the level-0 extent as below. */
 typedef struct tp_pgm_pyramid {
     int levels;
     int width[TP_PGM_MAX_LEVELS], height[TP_PGM_MAX_LEVELS];
@@ -1619,8 +1624,10 @@ tp_status tp_pgm_pyramid_build(const float* heights, int width, int height, cons
                                tp_pgm_pyramid* out, tp_error* err);
 void tp_pgm_pyramid_free(tp_pgm_pyramid* p); /* accepts NULL and a zeroed pyramid */
 
-/* The bilinear height of level `level` at level-0 grid coordinates (x, y) (post units, post
- * (0, 0) at (0, 0)); positions outside the grid are clamped to its edge. Cannot fail. */
+/* The bilinear height of level `level` (0..levels-1) at level-0 grid coordinates (x, y) (post
+ * units, post (0, 0) at (0, 0)): x, y are first clamped to [0, width[0] - 1] x
+ * [0, height[0] - 1], then level l is interpolated at (x / 2^l, y / 2^l) between its posts.
+ * Cannot fail. */
 double tp_pgm_pyramid_sample(const tp_pgm_pyramid* p, int level, double x, double y);
 
 /* Eq. 2: the auxiliary camera. Same eye, yaw, field of view and viewport as main; its pitch
@@ -1634,8 +1641,12 @@ typedef struct tp_pgm_frame {
     tp_camera aux;          /* tp_pgm_aux_camera(main, 1e-3 rad) */
     tp_camera_frame aux_frame;
     double base_m;          /* the base plane's height: the pyramid's min_m */
-    double eye_above_base_m; /* h in Eq. 3: eye height - base_m, at least 1 m */
-    double sin_alpha, cos_alpha; /* alpha: the larger angle between adjacent rays, rows or cols */
+    double eye_above_base_m; /* h in Eq. 3: eye height - base_m, at least 1 m. The rays meet
+                                the plane at height eye - eye_above_base_m (base_m unless the
+                                eye is less than 1 m above it) */
+    double sin_alpha, cos_alpha; /* alpha: the larger angle between adjacent rays at the
+                                    image centre, rows or cols: atan(max(w / (cols - 1),
+                                    h / (rows - 1)) / focal_px) */
     double post_m;          /* level-0 post spacing: min(|gt[1]|, |gt[5]|) */
 } tp_pgm_frame;
 
@@ -1646,9 +1657,12 @@ void tp_pgm_frame_setup(const tp_camera* main, int cols, int rows, const tp_pgm_
 
 /* Maps grid vertex (i, j): writes world[3] (E, N, height) and *lod, the continuous level
  * l + W_p (l = floor(log2(r / post_m)) clamped to [0, levels - 1], W_p = r / (post_m * 2^l) - 1
- * clamped to [0, 1], 0 at the last level; r from Eq. 3), the height being
- * (1 - W_p) * sample(l) + W_p * sample(l + 1). Returns 1 when P lies on the terrain (inside the
- * level-0 extent), else 0 (world and lod are written anyway, the height clamped to the edge). */
+ * clamped to [0, 1], 0 at the last level; r from Eq. 3 with d = |P - eye|, q its horizontal
+ * part, h = eye_above_base_m; r is infinite (last level) where h cos(alpha) <= q sin(alpha)),
+ * the height being (1 - W_p) * sample(l) + W_p * sample(l + 1). W_p reaches 1 where l steps
+ * up, so heights and lod are continuous in r. Returns 1 when P lies on the terrain (inside
+ * the level-0 extent: 0 <= x <= width - 1, 0 <= y <= height - 1 in grid coordinates), else 0
+ * (world and lod are written anyway, the height clamped to the edge). */
 int tp_pgm_map_vertex(const tp_pgm_frame* f, const tp_pgm_pyramid* p, int i, int j,
                       double world[3], double* lod);
 
