@@ -15,7 +15,7 @@
 /* The vertex shader computes what tp_pgm_map_vertex computes (tp_core.h), in floats, relative
  * to the eye; it shades per vertex as the patch renderer does (terrain_shaders.c: hillshade
  * over hypsometric colours), the normal from the height differences of the vertex's level. */
-static const char vertex_src[] =
+static const char vertex_head[] =
     "#version 330 core\n"
     "uniform int u_cols;\n"
     "uniform vec2 u_px_step;   // auxiliary-camera pixels per grid step: w / (cols-1), h / (rows-1)\n"
@@ -66,7 +66,10 @@ static const char vertex_src[] =
     "                        vec3(0.45, 0.80, 0.20), vec3(0.90, 0.85, 0.15), vec3(0.95, 0.55, 0.10),\n"
     "                        vec3(0.90, 0.20, 0.15), vec3(0.70, 0.10, 0.50), vec3(0.95, 0.95, 0.95));\n"
     "    return c[min(k, 8)];\n"
-    "}\n"
+    "}\n";
+
+/* (two literals: C99 promises 4095 characters a literal) */
+static const char vertex_main[] =
     "void main() {\n"
     "    int i = gl_VertexID % u_cols, j = gl_VertexID / u_cols;\n"
     "    // Eq. 2's camera: the ray through its pixel (i * w / (cols-1), j * h / (rows-1))\n"
@@ -205,7 +208,15 @@ tp_pgm_renderer* tp_pgm_renderer_create(const tp_pgm_pyramid* p, int cols, int r
         free(r);
         return NULL;
     }
-    r->prog = tp_gl_program(vertex_src, fragment_src, msg, msg_size);
+    char* vs = malloc(sizeof vertex_head + sizeof vertex_main);
+    if (vs) {
+        memcpy(vs, vertex_head, sizeof vertex_head - 1);
+        memcpy(vs + sizeof vertex_head - 1, vertex_main, sizeof vertex_main);
+        r->prog = tp_gl_program(vs, fragment_src, msg, msg_size);
+        free(vs);
+    } else {
+        snprintf(msg, msg_size, "out of memory");
+    }
     if (!r->prog) {
         free(r);
         return NULL;
