@@ -38,7 +38,7 @@ static void json_config(tp_json* j, const config_result* c)
 static void json_lod(tp_json* j, const config_result* c)
 {
     const tp_lod_params* lp = &c->lod;
-    tp_json_key(j, "renderer");
+    tp_json_key(j, "terrain_renderer"); /* "renderer" is the GL renderer's name */
     tp_json_string(j, c->pgm_cols ? "pgm" : "patches");
     if (c->pgm_cols) {
         char grid[32];
