@@ -171,7 +171,7 @@ int tp_pgm_map_vertex(const tp_pgm_frame* f, const tp_pgm_pyramid* p, int i, int
     const double* eye = a->position;
     double e = eye[0] + t * dir[0], n = eye[1] + t * dir[1];
     /* Eq. 3 with d = t (dir is unit) and q its horizontal part. */
-    double q = t * hypot(dir[0], dir[1]);
+    double q = t * sqrt(dir[0] * dir[0] + dir[1] * dir[1]);
     double den = h * f->cos_alpha - q * f->sin_alpha;
     double r = den > 0 ? t * t * f->sin_alpha / den : INFINITY;
     double ratio = r / f->post_m;
