@@ -1667,12 +1667,17 @@ int tp_pgm_map_vertex(const tp_pgm_frame* f, const tp_pgm_pyramid* p, int i, int
                       double world[3], double* lod);
 
 /* The error of one frame's PGM surface by the bench's definition: every level-0 post that the
- * main camera sees inside its viewport (projected inside, in front of the near plane; occlusion
- * ignored) is compared with the drawn surface vertically above or below it (the triangle of
- * the mapped grid that covers its E, N; linear interpolation): vertical error |drawn - post|
- * in metres and screen error, the on-screen distance between the projections of the two
- * points, in pixels. Posts no drawn triangle covers are counted in `uncovered`, not in the
- * error. Returns TP_OK and writes *out; TP_ERR_OUT_OF_MEMORY. */
+ * main camera sees inside its viewport (projected inside, edges included, in front of the near
+ * plane and not past a far plane; occlusion ignored) is compared with the drawn surface
+ * vertically above or below it (the drawn triangle of the mapped grid, frame f, that covers
+ * its E, N; linear interpolation): vertical error |drawn - post| in metres and screen error,
+ * the on-screen distance between the projections of the two points, in pixels (infinite when
+ * only the drawn point is behind the eye), as tp_selection_measure_screen_error. A post on an
+ * edge two triangles share is counted once. Posts no drawn triangle covers (beyond the
+ * terrain's edge triangles, which are not drawn, or outside the aux camera's footprint) are
+ * counted in `uncovered`, not in the error; rms are 0 without samples. Scratch memory: about
+ * 25 bytes per grid vertex and 1 per post. Returns TP_OK and writes *out;
+ * TP_ERR_OUT_OF_MEMORY (*out zeroed). */
 typedef struct tp_pgm_error {
     double max_m, rms_m;   /* vertical */
     double max_px, rms_px; /* screen */
