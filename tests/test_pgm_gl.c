@@ -8,6 +8,9 @@
  *     buffer read back at pixels whose rays meet the plane well inside the terrain must give the
  *     plane's analytic distance along the view axis, and pixels whose rays miss the terrain (off
  *     its edge, above the horizon) must stay at the far clear value;
+ *   - the GPU's vertices are tp_pgm_map_vertex's: on Mt Hood from above, each CPU-mapped vertex
+ *     projected by the main camera lands where the depth buffer's 3 x 3 pixels around it hold
+ *     its depth (to 0.1%), save the few a nearer slope hides;
  *   - Mt Hood (data/lf_elev_220_mt_hood_utm.tif) drawn by PGM with a grid of about a vertex per
  *     pixel and by the patch renderer at full resolution from the same camera: the fraction of
  *     terrain pixels and the skyline (the topmost terrain pixel of each column) mostly agree.
@@ -134,6 +137,76 @@ TEST(tilted_plane_depth_is_the_planes)
     tp_gl_context_destroy(ctx);
 }
 
+/* Mt Hood's sample DEM as a PGM pyramid; skips without the file. */
+static tp_dem* hood_dem(tp_pgm_pyramid* p)
+{
+    char path[1024];
+    REQUIRE_DATA_FILE(path, "TP_SAMPLE_DATA_DIR", "lf_elev_220_mt_hood_utm.tif");
+    tp_dem* dem = NULL;
+    tp_error err;
+    ASSERT_OK(tp_dem_read(path, &dem, &err));
+    ASSERT_OK(tp_pgm_pyramid_from_grid(dem->heights, dem->width, dem->height, dem->geotransform,
+                                       p, &err));
+    return dem;
+}
+
+TEST(gpu_vertices_are_the_cpu_replicas)
+{
+    tp_gl_context* ctx = context_or_skip();
+    tp_pgm_pyramid p;
+    tp_dem* dem = hood_dem(&p);
+    char msg[512];
+    enum { COLS = 97, ROWS = 61 };
+    tp_pgm_renderer* r = tp_pgm_renderer_create(&p, COLS, ROWS, msg, sizeof msg);
+    ASSERT_TRUE(r != NULL);
+    const double* gt = dem->geotransform;
+    double eye[3] = {gt[0] + 0.5 * dem->width * gt[1], gt[3] + 1.05 * dem->height * gt[5],
+                     dem->max_m + 9000};
+    tp_camera cam;
+    tp_camera_from_pose(eye, 0, -50, 60, W, H, &cam);
+    tp_render_settings s;
+    tp_render_settings_default(&s);
+    tp_pgm_render_stats st;
+    tp_pgm_frame f;
+    tp_gl_context_begin_frame(ctx);
+    tp_pgm_renderer_draw(r, &cam, &s, 1, &f, &st);
+    static float depth[W * H];
+    glReadPixels(0, 0, W, H, GL_DEPTH_COMPONENT, GL_FLOAT, depth);
+    tp_gl_context_end_frame(ctx);
+    double n = st.near_m, fa = st.far_m, A = (fa + n) / (n - fa), B = 2 * fa * n / (n - fa);
+    int tried = 0, found = 0, bad_shown = 0;
+    for (int j = 0; j < ROWS; j++)
+        for (int i = 0; i < COLS; i++) {
+            double w[3], lod, px[2], ze;
+            if (!tp_pgm_map_vertex(&f, &p, i, j, w, &lod) || !tp_camera_project(&cam, w, px, &ze))
+                continue;
+            int x = (int)floor(px[0]), y = (int)floor(px[1]);
+            if (x < 1 || y < 1 || x > W - 2 || y > H - 2)
+                continue;
+            double lo = INFINITY, hi = 0;
+            for (int dy = -1; dy <= 1; dy++)
+                for (int dx = -1; dx <= 1; dx++) {
+                    float d = depth[(H - 1 - (y + dy)) * W + (x + dx)];
+                    double z = d < 1.0f ? B / ((2.0 * d - 1.0) + A) : INFINITY;
+                    lo = fmin(lo, z), hi = fmax(hi, z);
+                }
+            tried++;
+            if (ze >= lo * 0.999 && ze <= hi * 1.001)
+                found++;
+            else if (bad_shown++ < 5)
+                fprintf(stderr, "vertex %d,%d (level %.2f) at pixel %.1f,%.1f, %.1f m: the "
+                                "depth buffer holds %.1f .. %.1f m there\n",
+                        i, j, lod, px[0], px[1], ze, lo, hi);
+        }
+    fprintf(stderr, "%d of %d vertices in the image found in the depth buffer\n", found, tried);
+    EXPECT_GT((double)tried, 0.5 * COLS * ROWS);
+    EXPECT_GT((double)found, 0.9 * tried);
+    tp_pgm_renderer_destroy(r);
+    tp_pgm_pyramid_free(&p);
+    tp_dem_destroy(dem);
+    tp_gl_context_destroy(ctx);
+}
+
 /* The topmost terrain row of each column (H: none) and the terrain pixel count. */
 static size_t terrain_pixels(const uint8_t* rgba, const float clear[3], int* top)
 {
@@ -236,6 +309,9 @@ TEST(mt_hood_pgm_agrees_with_full_resolution_patches)
     tp_gl_context_destroy(ctx);
 }
 
-#define TESTS(X) X(tilted_plane_depth_is_the_planes) X(mt_hood_pgm_agrees_with_full_resolution_patches)
+#define TESTS(X)                                                                                   \
+    X(tilted_plane_depth_is_the_planes)                                                            \
+    X(gpu_vertices_are_the_cpu_replicas)                                                           \
+    X(mt_hood_pgm_agrees_with_full_resolution_patches)
 
 TP_TEST_MAIN(TESTS)
