@@ -10,7 +10,7 @@
  *     its edge, above the horizon) must stay at the far clear value;
  *   - the GPU's vertices are tp_pgm_map_vertex's: on Mt Hood from above, each CPU-mapped vertex
  *     projected by the main camera lands where the depth buffer's 3 x 3 pixels around it hold
- *     its depth (to 0.1%), save the few a nearer slope hides;
+ *     its depth (to 0.02%, ~3 m), save the few a nearer slope hides;
  *   - Mt Hood (data/lf_elev_220_mt_hood_utm.tif) drawn by PGM with a grid of about a vertex per
  *     pixel and by the patch renderer at full resolution from the same camera: the fraction of
  *     terrain pixels and the skyline (the topmost terrain pixel of each column) mostly agree.
@@ -164,6 +164,7 @@ TEST(gpu_vertices_are_the_cpu_replicas)
                      dem->max_m + 9000};
     tp_camera cam;
     tp_camera_from_pose(eye, 0, -50, 60, W, H, &cam);
+    cam.near_m = 2000; /* the terrain is 9 km or more away: depth precision to centimetres */
     tp_render_settings s;
     tp_render_settings_default(&s);
     tp_pgm_render_stats st;
@@ -191,7 +192,7 @@ TEST(gpu_vertices_are_the_cpu_replicas)
                     lo = fmin(lo, z), hi = fmax(hi, z);
                 }
             tried++;
-            if (ze >= lo * 0.999 && ze <= hi * 1.001)
+            if (ze >= lo * 0.9998 && ze <= hi * 1.0002)
                 found++;
             else if (bad_shown++ < 5)
                 fprintf(stderr, "vertex %d,%d (level %.2f) at pixel %.1f,%.1f, %.1f m: the "
@@ -200,7 +201,8 @@ TEST(gpu_vertices_are_the_cpu_replicas)
         }
     fprintf(stderr, "%d of %d vertices in the image found in the depth buffer\n", found, tried);
     EXPECT_GT((double)tried, 0.5 * COLS * ROWS);
-    EXPECT_GT((double)found, 0.9 * tried);
+    /* from 9 km above, 50 degrees down, few vertices hide behind a nearer slope */
+    EXPECT_GT((double)found, 0.95 * tried);
     tp_pgm_renderer_destroy(r);
     tp_pgm_pyramid_free(&p);
     tp_dem_destroy(dem);
