@@ -159,7 +159,8 @@ void tp_view_options_help(FILE* out)
 void tp_view_renderer_help(FILE* out, int bench)
 {
     fputs("renderer:\n"
-          "  --renderer patches|pgm   patches (default): the LoD options above; pgm: Persistent\n"
+          "  --renderer patches|pgm\n"
+          "                        patches (default): the LoD options above; pgm: Persistent\n"
           "                        Grid Mapping (Livny, Kogan & El-Sana): a grid fixed in screen\n"
           "                        space mapped onto the terrain by the vertex shader every\n"
           "                        frame (rays from the eye to the base plane, heights from a\n"

@@ -105,29 +105,29 @@ TEST(tilted_plane_depth_is_the_planes)
                 hit_x = (eye[0] + t * d[0] - GT[0]) / GT[1] - 0.5;
                 hit_y = (eye[1] + t * d[1] - GT[3]) / GT[5] - 0.5;
             }
-            int well_in = t > 0 && hit_x > 0.1 * N && hit_x < 0.9 * N && hit_y > 0.1 * N &&
-                          hit_y < 0.9 * N;
+            int well_in =
+                t > 0 && hit_x > 0.1 * N && hit_x < 0.9 * N && hit_y > 0.1 * N && hit_y < 0.9 * N;
             int well_out = t <= 0 || hit_x < -0.1 * N || hit_x > 1.1 * N || hit_y < -0.1 * N ||
                            hit_y > 1.1 * N;
             if (well_in) {
-                double ze = t * (d[0] * cf.forward[0] + d[1] * cf.forward[1] +
-                                 d[2] * cf.forward[2]);
+                double ze =
+                    t * (d[0] * cf.forward[0] + d[1] * cf.forward[1] + d[2] * cf.forward[2]);
                 double ze_got = B / ((2.0 * got - 1.0) + A);
                 double rel = fabs(ze_got - ze) / ze;
                 worst = fmax(worst, rel);
                 if (rel > 0.002 && bad++ < 5)
-                    fprintf(stderr, "pixel %d,%d: depth %.2f m drawn, the plane is at %.2f m\n",
-                            px, py, ze_got, ze);
+                    fprintf(stderr, "pixel %d,%d: depth %.2f m drawn, the plane is at %.2f m\n", px,
+                            py, ze_got, ze);
                 inside++;
             } else if (well_out) {
                 if (got != 1.0f && bad++ < 5)
-                    fprintf(stderr, "pixel %d,%d: the ray misses the terrain, depth %g drawn\n",
-                            px, py, got);
+                    fprintf(stderr, "pixel %d,%d: the ray misses the terrain, depth %g drawn\n", px,
+                            py, got);
                 outside++;
             }
         }
-    fprintf(stderr, "%d pixels on the plane (worst relative depth error %.2g), %d off it\n",
-            inside, worst, outside);
+    fprintf(stderr, "%d pixels on the plane (worst relative depth error %.2g), %d off it\n", inside,
+            worst, outside);
     EXPECT_GT((double)inside, 200);
     EXPECT_GT((double)outside, 100);
     EXPECT_EQ_INT(bad, 0);
@@ -145,8 +145,8 @@ static tp_dem* hood_dem(tp_pgm_pyramid* p)
     tp_dem* dem = NULL;
     tp_error err;
     ASSERT_OK(tp_dem_read(path, &dem, &err));
-    ASSERT_OK(tp_pgm_pyramid_from_grid(dem->heights, dem->width, dem->height, dem->geotransform,
-                                       p, &err));
+    ASSERT_OK(tp_pgm_pyramid_from_grid(dem->heights, dem->width, dem->height, dem->geotransform, p,
+                                       &err));
     return dem;
 }
 
@@ -195,8 +195,9 @@ TEST(gpu_vertices_are_the_cpu_replicas)
             if (ze >= lo * 0.9998 && ze <= hi * 1.0002)
                 found++;
             else if (bad_shown++ < 5)
-                fprintf(stderr, "vertex %d,%d (level %.2f) at pixel %.1f,%.1f, %.1f m: the "
-                                "depth buffer holds %.1f .. %.1f m there\n",
+                fprintf(stderr,
+                        "vertex %d,%d (level %.2f) at pixel %.1f,%.1f, %.1f m: the "
+                        "depth buffer holds %.1f .. %.1f m there\n",
                         i, j, lod, px[0], px[1], ze, lo, hi);
         }
     fprintf(stderr, "%d of %d vertices in the image found in the depth buffer\n", found, tried);
@@ -244,11 +245,13 @@ TEST(mt_hood_pgm_agrees_with_full_resolution_patches)
     tp_error err;
     ASSERT_OK(tp_dem_read(path, &dem, &err));
     tp_pgm_pyramid p;
-    ASSERT_OK(tp_pgm_pyramid_from_grid(dem->heights, dem->width, dem->height, dem->geotransform,
-                                       &p, &err));
+    ASSERT_OK(tp_pgm_pyramid_from_grid(dem->heights, dem->width, dem->height, dem->geotransform, &p,
+                                       &err));
     tp_terrain_desc desc = {.heights = dem->heights,
                             .height_count = (size_t)dem->width * dem->height,
-                            .width = dem->width, .height = dem->height, .patch_size = 17};
+                            .width = dem->width,
+                            .height = dem->height,
+                            .patch_size = 17};
     memcpy(desc.geotransform, dem->geotransform, sizeof desc.geotransform);
     tp_terrain* t = NULL;
     ASSERT_OK(tp_terrain_create(&desc, &t, &err));

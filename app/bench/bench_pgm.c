@@ -71,8 +71,10 @@ int tp_bench_pgm_frames(const bench_run* b, config_result* c, const char* progre
             mc.viewport_w_px = b->o->vs.w;
             mc.viewport_h_px = b->o->vs.h;
             if (tp_pgm_measure_error(&f, &p, &mc, &e) != TP_OK) {
-                fprintf(stderr, "\nterrapatch bench: %s: measuring the error of frame %d: out of "
-                                "memory\n", progress, i + 1);
+                fprintf(stderr,
+                        "\nterrapatch bench: %s: measuring the error of frame %d: out of "
+                        "memory\n",
+                        progress, i + 1);
                 tp_pgm_renderer_destroy(r);
                 tp_pgm_pyramid_free(&p);
                 return TP_EXIT_FAILURE;

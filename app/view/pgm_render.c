@@ -18,7 +18,8 @@
 static const char vertex_head[] =
     "#version 330 core\n"
     "uniform int u_cols;\n"
-    "uniform vec2 u_px_step;   // auxiliary-camera pixels per grid step: w / (cols-1), h / (rows-1)\n"
+    "uniform vec2 u_px_step;   // auxiliary-camera pixels per grid step: w / (cols-1), h / "
+    "(rows-1)\n"
     "uniform vec2 u_half;      // w / 2, h / 2\n"
     "uniform float u_focal;    // the auxiliary camera's focal length, pixels\n"
     "uniform vec3 u_fwd, u_right, u_up; // its frame (world: E, N, up)\n"
@@ -62,9 +63,12 @@ static const char vertex_head[] =
     "    return mix(c2, c3, (t - 0.8) / 0.2);\n"
     "}\n"
     "vec3 level_color(int k) {\n"
-    "    vec3 c[9] = vec3[9](vec3(0.20, 0.20, 0.80), vec3(0.10, 0.60, 0.90), vec3(0.10, 0.75, 0.55),\n"
-    "                        vec3(0.45, 0.80, 0.20), vec3(0.90, 0.85, 0.15), vec3(0.95, 0.55, 0.10),\n"
-    "                        vec3(0.90, 0.20, 0.15), vec3(0.70, 0.10, 0.50), vec3(0.95, 0.95, 0.95));\n"
+    "    vec3 c[9] = vec3[9](vec3(0.20, 0.20, 0.80), vec3(0.10, 0.60, 0.90), vec3(0.10, 0.75, "
+    "0.55),\n"
+    "                        vec3(0.45, 0.80, 0.20), vec3(0.90, 0.85, 0.15), vec3(0.95, 0.55, "
+    "0.10),\n"
+    "                        vec3(0.90, 0.20, 0.15), vec3(0.70, 0.10, 0.50), vec3(0.95, 0.95, "
+    "0.95));\n"
     "    return c[min(k, 8)];\n"
     "}\n";
 
@@ -99,7 +103,8 @@ static const char vertex_main[] =
     "    vec3 n = normalize(vec3(-dx / (2.0 * s * u_step.x), -dy / (2.0 * s * u_step.y), 1.0));\n"
     "    float light = 0.3 + 0.7 * max(dot(n, u_sun), 0.0);\n"
     "    vec3 base = u_color_lod != 0 ? level_color(l)\n"
-    "                                 : hypsometric((z - u_hrange.x) / max(u_hrange.y - u_hrange.x, 1.0));\n"
+    "                                 : hypsometric((z - u_hrange.x) / max(u_hrange.y - "
+    "u_hrange.x, 1.0));\n"
     "    v_color = base * light;\n"
     "}\n";
 
@@ -130,8 +135,8 @@ static double now_ms(void)
     return ts.tv_sec * 1e3 + ts.tv_nsec / 1e6;
 }
 
-tp_status tp_pgm_pyramid_from_grid(const float* heights, int width, int height,
-                                   const double gt[6], tp_pgm_pyramid* out, tp_error* err)
+tp_status tp_pgm_pyramid_from_grid(const float* heights, int width, int height, const double gt[6],
+                                   tp_pgm_pyramid* out, tp_error* err)
 {
     size_t n = (size_t)width * (size_t)height;
     float lo = INFINITY;
@@ -264,8 +269,10 @@ tp_pgm_renderer* tp_pgm_renderer_create(const tp_pgm_pyramid* p, int cols, int r
     r->gpu_bytes = r->index_count * sizeof(uint32_t) + (size_t)aw * (size_t)ah * 4;
     GLenum e = glGetError();
     if (e != GL_NO_ERROR) {
-        snprintf(msg, msg_size, "PGM: uploading the %dx%d atlas and %zu indices failed (GL error "
-                                "0x%x)", aw, ah, r->index_count, (unsigned)e);
+        snprintf(msg, msg_size,
+                 "PGM: uploading the %dx%d atlas and %zu indices failed (GL error "
+                 "0x%x)",
+                 aw, ah, r->index_count, (unsigned)e);
         tp_pgm_renderer_destroy(r);
         return NULL;
     }

@@ -22,11 +22,11 @@ typedef struct tp_pgm_renderer tp_pgm_renderer;
 
 typedef struct tp_pgm_render_stats {
     int cols, rows;
-    size_t triangles;       /* 2 * (cols - 1) * (rows - 1): every frame the same */
-    size_t gpu_bytes;       /* the index buffer and the atlas */
-    double setup_ms;        /* tp_pgm_frame_setup and the uniforms */
-    double draw_ms;         /* submitting and finishing the draw (glFinish when asked) */
-    double near_m, far_m;   /* the depth range drawn with */
+    size_t triangles;     /* 2 * (cols - 1) * (rows - 1): every frame the same */
+    size_t gpu_bytes;     /* the index buffer and the atlas */
+    double setup_ms;      /* tp_pgm_frame_setup and the uniforms */
+    double draw_ms;       /* submitting and finishing the draw (glFinish when asked) */
+    double near_m, far_m; /* the depth range drawn with */
 } tp_pgm_render_stats;
 
 /* Creates the grid and uploads the pyramid (borrowed: it must outlive the renderer) for a
@@ -53,7 +53,7 @@ void tp_pgm_renderer_grid(const tp_pgm_renderer* r, int* cols, int* rows);
 
 /* The pyramid of a render grid's heights for PGM: NaN heights (not drawn) become the lowest
  * drawn height (PGM has no holes). Returns TP_OK or the tp_pgm_pyramid_build status with err. */
-tp_status tp_pgm_pyramid_from_grid(const float* heights, int width, int height,
-                                   const double gt[6], tp_pgm_pyramid* out, tp_error* err);
+tp_status tp_pgm_pyramid_from_grid(const float* heights, int width, int height, const double gt[6],
+                                   tp_pgm_pyramid* out, tp_error* err);
 
 #endif
