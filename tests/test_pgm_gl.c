@@ -8,6 +8,8 @@
  *     buffer read back at pixels whose rays meet the plane well inside the terrain must give the
  *     plane's analytic distance along the view axis, and pixels whose rays miss the terrain (off
  *     its edge, above the horizon) must stay at the far clear value;
+ *   - a flat DEM whose southern rows have no height draws nothing over them (no curtain down
+ *     to the base plane) and the plane's depth elsewhere;
  *   - the GPU's vertices are tp_pgm_map_vertex's: on Mt Hood from above, each CPU-mapped vertex
  *     projected by the main camera lands where the depth buffer's 3 x 3 pixels around it hold
  *     its depth (to 0.02%, ~3 m), save the few a nearer slope hides;
@@ -69,7 +71,7 @@ TEST(tilted_plane_depth_is_the_planes)
     ASSERT_OK(tp_pgm_pyramid_build(z, N, N, GT, &p, &err));
     ASSERT_TRUE(p.levels > 4);
     char msg[512];
-    tp_pgm_renderer* r = tp_pgm_renderer_create(&p, 240, 200, msg, sizeof msg);
+    tp_pgm_renderer* r = tp_pgm_renderer_create(&p, NULL, 240, 200, msg, sizeof msg);
     ASSERT_TRUE(r != NULL);
     /* from the south-west corner's outside, looking north-east and down: the horizon, the
      * terrain's far edges and its near edge are all in the image */
@@ -137,8 +139,83 @@ TEST(tilted_plane_depth_is_the_planes)
     tp_gl_context_destroy(ctx);
 }
 
-/* Mt Hood's sample DEM as a PGM pyramid; skips without the file. */
-static tp_dem* hood_dem(tp_pgm_pyramid* p)
+/* A flat DEM whose southern rows have no height (NaN, as a DEM's ragged edge): PGM fills them for
+ * its pyramid but draws nothing there, as the patch renderer draws nothing there: rays that
+ * meet the plane in the void stay clear (no curtain down to the base plane), rays that meet it
+ * on the ground show the plane's depth. */
+TEST(void_rows_are_not_drawn)
+{
+    tp_gl_context* ctx = context_or_skip();
+    enum { VOID_FROM = 180 }; /* rows VOID_FROM.. (the south) have no height */
+    float* z = malloc(sizeof *z * N * N);
+    ASSERT_TRUE(z != NULL);
+    for (int k = 0; k < N * N; k++)
+        z[k] = k / N >= VOID_FROM ? NAN : (float)Z0;
+    tp_pgm_pyramid p;
+    uint8_t* valid = NULL;
+    tp_error err;
+    ASSERT_OK(tp_pgm_pyramid_from_grid(z, N, N, GT, &p, &valid, &err));
+    ASSERT_TRUE(valid != NULL);
+    EXPECT_EQ_DBL(Z0, p.min_m); /* the fill is the edge's height: nothing lower */
+    char msg[512];
+    tp_pgm_renderer* r = tp_pgm_renderer_create(&p, valid, 240, 200, msg, sizeof msg);
+    ASSERT_TRUE(r != NULL);
+    double eye[3] = {GT[0] + 0.5 * N * SP, GT[3] - 1.1 * N * SP, Z0 + 900};
+    tp_camera cam;
+    tp_camera_from_pose(eye, 0, -25, 60, W, H, &cam);
+    tp_render_settings s;
+    tp_render_settings_default(&s);
+    tp_pgm_render_stats st;
+    tp_gl_context_begin_frame(ctx);
+    tp_pgm_renderer_draw(r, &cam, &s, 1, NULL, &st);
+    static float depth[W * H];
+    glReadPixels(0, 0, W, H, GL_DEPTH_COMPONENT, GL_FLOAT, depth);
+    tp_gl_context_end_frame(ctx);
+    double n = st.near_m, f = st.far_m, A = (f + n) / (n - f), B = 2 * f * n / (n - f);
+    tp_camera_frame cf;
+    tp_camera_get_frame(&cam, &cf);
+    int ground = 0, in_void = 0, bad = 0;
+    for (int py = 1; py < H; py += 5)
+        for (int px = 2; px < W; px += 7) {
+            double d[3];
+            tp_camera_pixel_ray(&cam, px + 0.5, py + 0.5, d);
+            if (d[2] >= 0)
+                continue;
+            double t = (Z0 - eye[2]) / d[2];
+            double hx = (eye[0] + t * d[0] - GT[0]) / GT[1] - 0.5;
+            double hy = (eye[1] + t * d[1] - GT[3]) / GT[5] - 0.5;
+            float got = depth[(H - 1 - py) * W + px];
+            if (hx < 0.1 * N || hx > 0.9 * N)
+                continue;
+            if (hy > 0.1 * N && hy < VOID_FROM - 0.05 * N) {
+                double ze =
+                    t * (d[0] * cf.forward[0] + d[1] * cf.forward[1] + d[2] * cf.forward[2]);
+                double ze_got = B / ((2.0 * got - 1.0) + A);
+                if (fabs(ze_got - ze) > 0.002 * ze && bad++ < 5)
+                    fprintf(stderr, "pixel %d,%d: %.1f m drawn, the ground is at %.1f m\n", px, py,
+                            ze_got, ze);
+                ground++;
+            } else if (hy > VOID_FROM + 0.05 * N && hy < 0.95 * N) {
+                if (got != 1.0f && bad++ < 5)
+                    fprintf(stderr, "pixel %d,%d: the ray meets the void, depth %g drawn\n", px, py,
+                            got);
+                in_void++;
+            }
+        }
+    fprintf(stderr, "%d pixels on the ground, %d over the void\n", ground, in_void);
+    EXPECT_GT((double)ground, 100);
+    EXPECT_GT((double)in_void, 100);
+    EXPECT_EQ_INT(0, bad);
+    tp_pgm_renderer_destroy(r);
+    tp_pgm_pyramid_free(&p);
+    free(valid);
+    free(z);
+    tp_gl_context_destroy(ctx);
+}
+
+/* Mt Hood's sample DEM as a PGM pyramid and its mask of drawn posts (*valid, malloc'ed, NULL
+ * when every post has a height); skips without the file. */
+static tp_dem* hood_dem(tp_pgm_pyramid* p, uint8_t** valid)
 {
     char path[1024];
     REQUIRE_DATA_FILE(path, "TP_SAMPLE_DATA_DIR", "lf_elev_220_mt_hood_utm.tif");
@@ -146,7 +223,7 @@ static tp_dem* hood_dem(tp_pgm_pyramid* p)
     tp_error err;
     ASSERT_OK(tp_dem_read(path, &dem, &err));
     ASSERT_OK(tp_pgm_pyramid_from_grid(dem->heights, dem->width, dem->height, dem->geotransform, p,
-                                       &err));
+                                       valid, &err));
     return dem;
 }
 
@@ -154,10 +231,11 @@ TEST(gpu_vertices_are_the_cpu_replicas)
 {
     tp_gl_context* ctx = context_or_skip();
     tp_pgm_pyramid p;
-    tp_dem* dem = hood_dem(&p);
+    uint8_t* valid = NULL;
+    tp_dem* dem = hood_dem(&p, &valid);
     char msg[512];
     enum { COLS = 97, ROWS = 61 };
-    tp_pgm_renderer* r = tp_pgm_renderer_create(&p, COLS, ROWS, msg, sizeof msg);
+    tp_pgm_renderer* r = tp_pgm_renderer_create(&p, valid, COLS, ROWS, msg, sizeof msg);
     ASSERT_TRUE(r != NULL);
     const double* gt = dem->geotransform;
     double eye[3] = {gt[0] + 0.5 * dem->width * gt[1], gt[3] + 1.05 * dem->height * gt[5],
@@ -180,6 +258,16 @@ TEST(gpu_vertices_are_the_cpu_replicas)
         for (int i = 0; i < COLS; i++) {
             double w[3], lod, px[2], ze;
             if (!tp_pgm_map_vertex(&f, &p, i, j, w, &lod) || !tp_camera_project(&cam, w, px, &ze))
+                continue;
+            /* next to nodata (the DEM's ragged edge): drawn nowhere */
+            int gx = (int)((w[0] - gt[0]) / gt[1] - 0.5), gy = (int)((w[1] - gt[3]) / gt[5] - 0.5);
+            int nodata = 0;
+            for (int k = 0; valid && k < 4; k++) {
+                int qx = gx + k % 2 < dem->width ? gx + k % 2 : dem->width - 1;
+                int qy = gy + k / 2 < dem->height ? gy + k / 2 : dem->height - 1;
+                nodata |= !valid[(size_t)qy * dem->width + qx];
+            }
+            if (nodata)
                 continue;
             int x = (int)floor(px[0]), y = (int)floor(px[1]);
             if (x < 1 || y < 1 || x > W - 2 || y > H - 2)
@@ -206,6 +294,7 @@ TEST(gpu_vertices_are_the_cpu_replicas)
     EXPECT_GT((double)found, 0.95 * tried);
     tp_pgm_renderer_destroy(r);
     tp_pgm_pyramid_free(&p);
+    free(valid);
     tp_dem_destroy(dem);
     tp_gl_context_destroy(ctx);
 }
@@ -238,15 +327,11 @@ static int cmp_int(const void* a, const void* b)
 
 TEST(mt_hood_pgm_agrees_with_full_resolution_patches)
 {
-    char path[1024];
-    REQUIRE_DATA_FILE(path, "TP_SAMPLE_DATA_DIR", "lf_elev_220_mt_hood_utm.tif");
     tp_gl_context* ctx = context_or_skip();
-    tp_dem* dem = NULL;
-    tp_error err;
-    ASSERT_OK(tp_dem_read(path, &dem, &err));
     tp_pgm_pyramid p;
-    ASSERT_OK(tp_pgm_pyramid_from_grid(dem->heights, dem->width, dem->height, dem->geotransform, &p,
-                                       &err));
+    uint8_t* valid = NULL;
+    tp_dem* dem = hood_dem(&p, &valid);
+    tp_error err;
     tp_terrain_desc desc = {.heights = dem->heights,
                             .height_count = (size_t)dem->width * dem->height,
                             .width = dem->width,
@@ -260,7 +345,8 @@ TEST(mt_hood_pgm_agrees_with_full_resolution_patches)
     char msg[512];
     tp_renderer* patches = tp_renderer_create(t, msg, sizeof msg);
     ASSERT_TRUE(patches != NULL);
-    tp_pgm_renderer* pgm = tp_pgm_renderer_create(&p, W, H, msg, sizeof msg); /* ~1 vertex/px */
+    tp_pgm_renderer* pgm =
+        tp_pgm_renderer_create(&p, valid, W, H, msg, sizeof msg); /* ~1 vertex/px */
     ASSERT_TRUE(pgm != NULL);
     /* south of the summit, low, looking north and slightly down: the mountain makes the skyline */
     const double* gt = dem->geotransform;
@@ -310,12 +396,14 @@ TEST(mt_hood_pgm_agrees_with_full_resolution_patches)
     tp_selection_destroy(sel);
     tp_terrain_destroy(t);
     tp_pgm_pyramid_free(&p);
+    free(valid);
     tp_dem_destroy(dem);
     tp_gl_context_destroy(ctx);
 }
 
 #define TESTS(X)                                                                                   \
     X(tilted_plane_depth_is_the_planes)                                                            \
+    X(void_rows_are_not_drawn)                                                                     \
     X(gpu_vertices_are_the_cpu_replicas)                                                           \
     X(mt_hood_pgm_agrees_with_full_resolution_patches)
 

@@ -30,12 +30,15 @@ int tp_bench_pgm_frames(const bench_run* b, config_result* c, const char* progre
         fprintf(stderr, "terrapatch bench: out of memory\n");
         return TP_EXIT_FAILURE;
     }
-    if (tp_pgm_pyramid_from_grid(g->heights, g->width, g->height, g->geotransform, &p, &err) !=
-        TP_OK) {
+    uint8_t* valid = NULL;
+    if (tp_pgm_pyramid_from_grid(g->heights, g->width, g->height, g->geotransform, &p, &valid,
+                                 &err) != TP_OK) {
         fprintf(stderr, "terrapatch bench: %s: the PGM pyramid: %s\n", b->sc->path, err.message);
         return TP_EXIT_FAILURE;
     }
-    tp_pgm_renderer* r = tp_pgm_renderer_create(&p, c->pgm_cols, c->pgm_rows, msg, sizeof msg);
+    tp_pgm_renderer* r =
+        tp_pgm_renderer_create(&p, valid, c->pgm_cols, c->pgm_rows, msg, sizeof msg);
+    free(valid); /* uploaded */
     if (!r) {
         fprintf(stderr, "terrapatch bench: %s: %s\n", b->sc->path, msg);
         tp_pgm_pyramid_free(&p);

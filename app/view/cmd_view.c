@@ -652,16 +652,18 @@ static int run_view(tp_view_scene* v, view_options* o, tp_render_grid_desc* gd,
     /* --renderer pgm: the pyramid and the persistent grid draw instead of r */
     tp_pgm_pyramid pyr;
     memset(&pyr, 0, sizeof pyr);
+    uint8_t* valid = NULL;
     if (o->vs.pgm) {
         tp_error err = {{0}};
         const tp_render_grid* g = v->dem->grid;
         int cols = o->vs.pgm_grid_count ? o->vs.pgm_grid[0][0] : TP_PGM_DEFAULT_COLS;
         int rows = o->vs.pgm_grid_count ? o->vs.pgm_grid[0][1] : TP_PGM_DEFAULT_ROWS;
         if (tp_pgm_pyramid_from_grid(g->heights, g->width, g->height, g->geotransform, &pyr,
-                                     &err) != TP_OK)
+                                     &valid, &err) != TP_OK)
             snprintf(msg, sizeof msg, "the PGM pyramid: %.400s", err.message);
         else
-            v->pgm = tp_pgm_renderer_create(&pyr, cols, rows, msg, sizeof msg);
+            v->pgm = tp_pgm_renderer_create(&pyr, valid, cols, rows, msg, sizeof msg);
+        free(valid); /* uploaded */
         if (!v->pgm) {
             fprintf(stderr, "terrapatch view: %s\n", msg);
             tp_pgm_pyramid_free(&pyr);

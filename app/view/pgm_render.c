@@ -33,6 +33,7 @@ static const char vertex_head[] =
     "uniform ivec2 u_off[24];  // each level's texel offset in the atlas\n"
     "uniform ivec2 u_size[24]; // and its posts\n"
     "uniform sampler2D u_atlas;\n"
+    "uniform sampler2D u_valid; // level 0: 1 where a post has a height (R8)\n"
     "uniform float u_eye_z;\n"
     "uniform mat4 u_viewproj;  // the main camera's, eye at the origin\n"
     "uniform vec3 u_sun;\n"
@@ -53,6 +54,16 @@ static const char vertex_head[] =
     "    float a = fetch(l, i), b = fetch(l, ivec2(i1.x, i.y));\n"
     "    float c = fetch(l, ivec2(i.x, i1.y)), d = fetch(l, i1);\n"
     "    return mix(mix(a, b, f.x), mix(c, d, f.x), f.y);\n"
+    "}\n"
+    "// every post of level 0's cell around g has a height\n"
+    "uniform int u_has_valid;\n"
+    "bool valid_at(vec2 g) {\n"
+    "    if (u_has_valid == 0) return true;\n"
+    "    ivec2 n = u_size[0], i = min(ivec2(floor(clamp(g, vec2(0.0), vec2(n - 1)))), n - 1);\n"
+    "    ivec2 i1 = min(i + 1, n - 1);\n"
+    "    return min(min(texelFetch(u_valid, i, 0).r, texelFetch(u_valid, ivec2(i1.x, i.y), 0).r),\n"
+    "               min(texelFetch(u_valid, ivec2(i.x, i1.y), 0).r, texelFetch(u_valid, i1, 0).r)) "
+    "> 0.5;\n"
     "}\n"
     "vec3 hypsometric(float t) {\n"
     "    vec3 c0 = vec3(0.33, 0.52, 0.30), c1 = vec3(0.62, 0.66, 0.40);\n"
@@ -94,7 +105,8 @@ static const char vertex_main[] =
     "    float z = sample_level(l, g);\n"
     "    if (w > 0.0) z = mix(z, sample_level(l + 1, g), w);\n"
     "    vec2 lim = vec2(u_size[0] - 1);\n"
-    "    v_off = all(greaterThanEqual(g, vec2(0.0))) && all(lessThanEqual(g, lim)) ? 0.0 : 1.0;\n"
+    "    v_off = all(greaterThanEqual(g, vec2(0.0))) && all(lessThanEqual(g, lim)) && valid_at(g) "
+    "? 0.0 : 1.0;\n"
     "    gl_Position = u_viewproj * vec4(p.xy, z - u_eye_z, 1.0);\n"
     "    // shading: the slope of level l over one of its posts\n"
     "    float s = exp2(float(l));\n"
@@ -120,12 +132,12 @@ static const char fragment_src[] = "#version 330 core\n"
 struct tp_pgm_renderer {
     const tp_pgm_pyramid* p;
     int cols, rows;
-    GLuint prog, vao, ibo, atlas;
+    GLuint prog, vao, ibo, atlas, valid;
     size_t index_count, gpu_bytes;
     int off[TP_PGM_MAX_LEVELS][2];
     GLint u_cols, u_px_step, u_half, u_focal, u_fwd, u_right, u_up, u_base_rel, u_h, u_sin_a,
         u_cos_a, u_post_m, u_levels, u_eye_grid, u_inv_step, u_step, u_off, u_size, u_atlas,
-        u_eye_z, u_viewproj, u_sun, u_hrange, u_color_lod;
+        u_valid, u_has_valid, u_eye_z, u_viewproj, u_sun, u_hrange, u_color_lod;
 };
 
 static double now_ms(void)
@@ -135,27 +147,66 @@ static double now_ms(void)
     return ts.tv_sec * 1e3 + ts.tv_nsec / 1e6;
 }
 
-tp_status tp_pgm_pyramid_from_grid(const float* heights, int width, int height, const double gt[6],
-                                   tp_pgm_pyramid* out, tp_error* err)
+/* Fills the NaN of n values v[0], v[step], ... from the nearest non-NaN one (ties: the lower
+ * index); leaves them when there is none. */
+static void fill_line(float* v, int n, size_t step)
 {
-    size_t n = (size_t)width * (size_t)height;
+    int last = -1;
+    for (int i = 0; i < n; i++) {
+        if (isnan(v[i * step]))
+            continue;
+        int from = last < 0 ? 0 : (last + i) / 2 + 1;
+        for (int k = from; k < i; k++)
+            v[k * step] = v[i * step];
+        for (int k = last + 1; last >= 0 && k < from; k++)
+            v[k * step] = v[last * step];
+        last = i;
+    }
+    for (int k = last + 1; last >= 0 && k < n; k++)
+        v[k * step] = v[last * step];
+}
+
+tp_status tp_pgm_pyramid_from_grid(const float* heights, int width, int height, const double gt[6],
+                                   tp_pgm_pyramid* out, uint8_t** valid, tp_error* err)
+{
+    size_t n = (size_t)width * (size_t)height, voids = 0;
     float lo = INFINITY;
-    for (size_t k = 0; k < n; k++)
+    for (size_t k = 0; k < n; k++) {
         if (heights[k] < lo)
             lo = heights[k];
+        voids += isnan(heights[k]) != 0;
+    }
     if (!isfinite(lo))
         lo = 0; /* nothing drawn at all */
+    *valid = NULL;
     float* z = malloc(n * sizeof *z);
-    if (!z) {
+    uint8_t* mask = voids ? malloc(n) : NULL;
+    if (!z || (voids && !mask)) {
+        free(z);
+        free(mask);
         memset(out, 0, sizeof *out);
         if (err)
             snprintf(err->message, sizeof err->message, "out of memory");
         return TP_ERR_OUT_OF_MEMORY;
     }
-    for (size_t k = 0; k < n; k++)
-        z[k] = isnan(heights[k]) ? lo : heights[k];
+    memcpy(z, heights, n * sizeof *z);
+    if (voids) {
+        for (size_t k = 0; k < n; k++)
+            mask[k] = !isnan(heights[k]);
+        for (int y = 0; y < height; y++)
+            fill_line(z + (size_t)y * width, width, 1);
+        for (int x = 0; x < width; x++)
+            fill_line(z + x, height, (size_t)width);
+        for (size_t k = 0; k < n; k++)
+            if (isnan(z[k]))
+                z[k] = lo;
+    }
     tp_status s = tp_pgm_pyramid_build(z, width, height, gt, out, err);
     free(z);
+    if (s != TP_OK)
+        free(mask);
+    else
+        *valid = mask;
     return s;
 }
 
@@ -184,8 +235,8 @@ static void pack_atlas(tp_pgm_renderer* r, int* aw, int* ah)
     *ah = (int)(column ? colh : rowh);
 }
 
-tp_pgm_renderer* tp_pgm_renderer_create(const tp_pgm_pyramid* p, int cols, int rows, char* msg,
-                                        size_t msg_size)
+tp_pgm_renderer* tp_pgm_renderer_create(const tp_pgm_pyramid* p, const uint8_t* valid, int cols,
+                                        int rows, char* msg, size_t msg_size)
 {
     if (cols < 2 || rows < 2 || p->levels < 1) {
         snprintf(msg, msg_size, "persistent grid %dx%d: need at least 2x2 vertices and a pyramid",
@@ -229,7 +280,8 @@ tp_pgm_renderer* tp_pgm_renderer_create(const tp_pgm_pyramid* p, int cols, int r
 #define U(name) r->name = glGetUniformLocation(r->prog, #name)
     U(u_cols), U(u_px_step), U(u_half), U(u_focal), U(u_fwd), U(u_right), U(u_up), U(u_base_rel);
     U(u_h), U(u_sin_a), U(u_cos_a), U(u_post_m), U(u_levels), U(u_eye_grid), U(u_inv_step);
-    U(u_step), U(u_off), U(u_size), U(u_atlas), U(u_eye_z), U(u_viewproj), U(u_sun);
+    U(u_step), U(u_off), U(u_size), U(u_atlas), U(u_valid), U(u_has_valid), U(u_eye_z),
+        U(u_viewproj), U(u_sun);
     U(u_hrange), U(u_color_lod);
 #undef U
     /* cell (i, j): (i,j) (i+1,j) (i,j+1) and (i+1,j) (i+1,j+1) (i,j+1), as tp_core.h splits */
@@ -267,6 +319,28 @@ tp_pgm_renderer* tp_pgm_renderer_create(const tp_pgm_pyramid* p, int cols, int r
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAX_LEVEL, 0);
     r->gpu_bytes = r->index_count * sizeof(uint32_t) + (size_t)aw * (size_t)ah * 4;
+    if (valid) { /* 0 or 1 per level-0 post, read as 0 or 1/255 by texelFetch: > 0.5 needs 255 */
+        size_t n = (size_t)p->width[0] * (size_t)p->height[0];
+        uint8_t* v255 = malloc(n);
+        if (!v255) {
+            snprintf(msg, msg_size, "out of memory");
+            tp_pgm_renderer_destroy(r);
+            return NULL;
+        }
+        for (size_t k = 0; k < n; k++)
+            v255[k] = valid[k] ? 255 : 0;
+        glGenTextures(1, &r->valid);
+        glBindTexture(GL_TEXTURE_2D, r->valid);
+        glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+        glTexImage2D(GL_TEXTURE_2D, 0, GL_R8, p->width[0], p->height[0], 0, GL_RED,
+                     GL_UNSIGNED_BYTE, v255);
+        glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+        free(v255);
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAX_LEVEL, 0);
+        r->gpu_bytes += n;
+    }
     GLenum e = glGetError();
     if (e != GL_NO_ERROR) {
         snprintf(msg, msg_size,
@@ -287,6 +361,8 @@ void tp_pgm_renderer_destroy(tp_pgm_renderer* r)
         glDeleteProgram(r->prog);
     if (r->atlas)
         glDeleteTextures(1, &r->atlas);
+    if (r->valid)
+        glDeleteTextures(1, &r->valid);
     if (r->ibo)
         glDeleteBuffers(1, &r->ibo);
     if (r->vao)
@@ -391,6 +467,12 @@ void tp_pgm_renderer_draw(tp_pgm_renderer* r, const tp_camera* cam, const tp_ren
     glUniform3f(r->u_sun, (float)(sin(az) * cos(el)), (float)(cos(az) * cos(el)), (float)sin(el));
     glUniform2f(r->u_hrange, (float)p->min_m, (float)p->max_m);
     glUniform1i(r->u_color_lod, s->color_lod);
+    glUniform1i(r->u_valid, 1);
+    glUniform1i(r->u_has_valid, r->valid != 0);
+    if (r->valid) {
+        glActiveTexture(GL_TEXTURE1);
+        glBindTexture(GL_TEXTURE_2D, r->valid);
+    }
     glActiveTexture(GL_TEXTURE0);
     glBindTexture(GL_TEXTURE_2D, r->atlas);
     double t1 = now_ms();

@@ -30,10 +30,13 @@ typedef struct tp_pgm_render_stats {
 } tp_pgm_render_stats;
 
 /* Creates the grid and uploads the pyramid (borrowed: it must outlive the renderer) for a
- * current GL context; cols, rows >= 2. NULL with a message in msg when the atlas exceeds
+ * current GL context; cols, rows >= 2. valid (NULL: every post) is width[0] x height[0] bytes,
+ * non-zero where level 0 has a height: a vertex whose level-0 cell touches a post without one
+ * counts as off the terrain (its triangles are not drawn), as the patch renderer draws no
+ * triangle with a nodata corner. NULL with a message in msg when the atlas exceeds
  * GL_MAX_TEXTURE_SIZE (naming both sizes), a shader fails or memory runs out. */
-tp_pgm_renderer* tp_pgm_renderer_create(const tp_pgm_pyramid* p, int cols, int rows, char* msg,
-                                        size_t msg_size);
+tp_pgm_renderer* tp_pgm_renderer_create(const tp_pgm_pyramid* p, const uint8_t* valid, int cols,
+                                        int rows, char* msg, size_t msg_size);
 void tp_pgm_renderer_destroy(tp_pgm_renderer* r); /* accepts NULL */
 
 /* Clears and draws one frame for cam (its viewport replaced by the current GL viewport's
@@ -51,9 +54,13 @@ void tp_pgm_renderer_measure(const tp_pgm_renderer* r, const tp_camera* cam, dou
 /* The grid size. */
 void tp_pgm_renderer_grid(const tp_pgm_renderer* r, int* cols, int* rows);
 
-/* The pyramid of a render grid's heights for PGM: NaN heights (not drawn) become the lowest
- * drawn height (PGM has no holes). Returns TP_OK or the tp_pgm_pyramid_build status with err. */
+/* The pyramid of a render grid's heights for PGM, which has no holes: a NaN height (not drawn)
+ * takes the nearest height of its row, else of its column, else the lowest drawn height, so
+ * that coarse levels near a void's edge read heights like the edge's. *valid gets a malloc'ed
+ * width x height mask (1 where the height was drawn) for tp_pgm_renderer_create, or NULL when
+ * every height is. Returns TP_OK or the tp_pgm_pyramid_build status with err (nothing to
+ * free then). */
 tp_status tp_pgm_pyramid_from_grid(const float* heights, int width, int height, const double gt[6],
-                                   tp_pgm_pyramid* out, tp_error* err);
+                                   tp_pgm_pyramid* out, uint8_t** valid, tp_error* err);
 
 #endif
