@@ -421,6 +421,11 @@ static int parse_options(int argc, char** argv, view_options* o)
                         "bench)\n");
         return TP_EXIT_USAGE;
     }
+    if (o->vs.pgm && o->texture) {
+        fprintf(stderr, "terrapatch view: --renderer pgm drapes no --texture yet (hillshade "
+                        "only)\n");
+        return TP_EXIT_USAGE;
+    }
     if (o->vs.pgm && o->render.exaggeration != 1) {
         fprintf(stderr, "terrapatch view: --renderer pgm draws the heights as they are: no "
                         "--exaggeration\n");
