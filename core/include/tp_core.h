@@ -1635,8 +1635,8 @@ double tp_pgm_pyramid_sample(const tp_pgm_pyramid* p, int level, double x, doubl
  * that every ray of its image goes down and meets the base plane. It is main itself when main
  * already looks down that far (for a camera rolled about its axis, as tp_camera_from_pose never
  * makes, only when its four corner rays go down too; else it is levelled: no roll, the same
- * pitch). Yaw is the heading of main's right vector, defined straight up and down as well.
- * Cannot fail. */
+ * pitch). Its yaw is the heading 90 degrees left of main's right vector (main's yaw, and
+ * defined looking straight up or down as well). Cannot fail. */
 void tp_pgm_aux_camera(const tp_camera* main, double epsilon_rad, tp_camera* aux);
 
 /* Everything one frame's mapping needs, set up once per frame (the shader's uniforms). */
