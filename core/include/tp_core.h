@@ -1630,9 +1630,13 @@ void tp_pgm_pyramid_free(tp_pgm_pyramid* p); /* accepts NULL and a zeroed pyrami
  * Cannot fail. */
 double tp_pgm_pyramid_sample(const tp_pgm_pyramid* p, int level, double x, double y);
 
-/* Eq. 2: the auxiliary camera. Same eye, yaw, field of view and viewport as main; its pitch
- * is min(main's pitch, -(fov_y / 2 + epsilon_rad)) (pitch < 0 looks down), so that every ray of
- * its image goes down and meets the base plane. Cannot fail. */
+/* Eq. 2: the auxiliary camera. Same eye, yaw, field of view, viewport and near/far planes as
+ * main; its pitch is min(main's pitch, -(fov_y / 2 + epsilon_rad)) (pitch < 0 looks down), so
+ * that every ray of its image goes down and meets the base plane. It is main itself when main
+ * already looks down that far (for a camera rolled about its axis, as tp_camera_from_pose never
+ * makes, only when its four corner rays go down too; else it is levelled: no roll, the same
+ * pitch). Its yaw is the heading 90 degrees left of main's right vector (main's yaw, and
+ * defined looking straight up or down as well). Cannot fail. */
 void tp_pgm_aux_camera(const tp_camera* main, double epsilon_rad, tp_camera* aux);
 
 /* Everything one frame's mapping needs, set up once per frame (the shader's uniforms). */

@@ -119,8 +119,22 @@ void tp_pgm_aux_camera(const tp_camera* main, double epsilon_rad, tp_camera* aux
     double limit = -(fov / 2 + epsilon_rad);
     double pitch = asin(fmax(-1, fmin(1, fr.forward[2])));
     *aux = *main;
-    if (pitch <= limit)
-        return;
+    if (pitch <= limit) {
+        /* Without roll every corner ray then goes down; a rolled camera's may not. */
+        double tx = fr.focal_px > 0 ? 0.5 * fr.width_px / fr.focal_px : 0;
+        double ty = fr.focal_px > 0 ? 0.5 * fr.height_px / fr.focal_px : 0;
+        double highest = -INFINITY;
+        for (int c = 0; c < 4; c++) {
+            double a = (c & 1) ? tx : -tx, b = (c & 2) ? ty : -ty;
+            double d[3];
+            for (int k = 0; k < 3; k++)
+                d[k] = fr.forward[k] + a * fr.right[k] + b * fr.up[k];
+            highest = fmax(highest, d[2] / sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]));
+        }
+        if (highest < 0)
+            return;
+        limit = pitch; /* level the rolled camera at its own pitch */
+    }
     /* The heading: up x right is horizontal for a camera without roll, and defined for
      * every pitch (forward alone has none straight up or down). */
     double hx = -fr.right[1], hy = fr.right[0];
