@@ -80,6 +80,35 @@ int tp_view_option(int opt, const char* arg, tp_view_setup* v, const char* cmd)
         v->h = (int)h;
         return 1;
     }
+    case TP_OPT_RENDERER:
+        if (strcmp(arg, "pgm") && strcmp(arg, "patches"))
+            return tp_option_error(cmd, "--renderer", "patches or pgm", arg);
+        v->pgm = !strcmp(arg, "pgm");
+        return 1;
+    case TP_OPT_PGM_GRID: {
+        /* COLSxROWS[,COLSxROWS...] */
+        int count = 0;
+        const char* s = arg;
+        while (*s) {
+            char* end;
+            long c = strtol(s, &end, 10), r = 0;
+            if (end != s && *end == 'x')
+                r = strtol(end + 1, &end, 10);
+            if (c < 2 || r < 2 || c > 8192 || r > 8192 || (*end && *end != ',') ||
+                count == (int)(sizeof v->pgm_grid / sizeof v->pgm_grid[0]))
+                return tp_option_error(cmd, "--pgm-grid",
+                                       "COLSxROWS (2 to 8192 each), at most 8 separated by commas",
+                                       arg);
+            v->pgm_grid[count][0] = (int)c;
+            v->pgm_grid[count][1] = (int)r;
+            count++;
+            s = *end ? end + 1 : end;
+        }
+        if (count == 0)
+            return tp_option_error(cmd, "--pgm-grid", "COLSxROWS", arg);
+        v->pgm_grid_count = count;
+        return 1;
+    }
     }
     return 0;
 }
@@ -124,6 +153,26 @@ void tp_view_options_help(FILE* out)
           "  --fov DEG             vertical field of view (default 60)\n"
           "  --size WxH            window or image size (default 1280x720)\n"
           "  (default camera: the whole DEM in view, from the south)\n",
+          out);
+}
+
+void tp_view_renderer_help(FILE* out, int bench)
+{
+    fputs("renderer:\n"
+          "  --renderer patches|pgm\n"
+          "                        patches (default): the LoD options above; pgm: Persistent\n"
+          "                        Grid Mapping (Livny, Kogan & El-Sana): a grid fixed in screen\n"
+          "                        space mapped onto the terrain by the vertex shader every\n"
+          "                        frame (rays from the eye to the base plane, heights from a\n"
+          "                        pyramid at the level the ray spacing asks for); a DEM drawn\n"
+          "                        whole only (not yet a store: the paper's clipmaps are not\n"
+          "                        built); the LoD options do not apply\n",
+          out);
+    fputs(bench ? "  --pgm-grid COLSxROWS[,COLSxROWS...]   with --renderer pgm: the grids to\n"
+                  "                        measure, each a configuration beside the patch ones\n"
+                  "                        (default 150x600,300x300,600x600: the paper's Table 1)\n"
+                : "  --pgm-grid COLSxROWS  the persistent grid's vertices (default 300x300;\n"
+                  "                        the paper's Table 1 has 150x600 to 400x1600)\n",
           out);
 }
 

@@ -17,6 +17,10 @@ typedef struct tp_view_setup {
     double vertical_scale;  /* view --exaggeration: the default camera looks at the drawn
                                (exaggerated) terrain; default 1 */
     int w, h;               /* default 1280 x 720 */
+    /* --renderer pgm and --pgm-grid (view and bench only: TP_VIEW_PGM_LONG_OPTIONS) */
+    int pgm;                /* Persistent Grid Mapping instead of the patches */
+    int pgm_grid[8][2];     /* cols, rows; default one TP_PGM_DEFAULT_COLS x _ROWS */
+    int pgm_grid_count;     /* grids given (0: the default) */
 } tp_view_setup;
 
 enum {
@@ -30,6 +34,8 @@ enum {
     TP_OPT_CAMERA_GEO,
     TP_OPT_FOV,
     TP_OPT_SIZE,
+    TP_OPT_RENDERER,
+    TP_OPT_PGM_GRID,
 };
 
 #define TP_VIEW_LONG_OPTIONS                                                                       \
@@ -41,6 +47,11 @@ enum {
         {"camera", required_argument, NULL, TP_OPT_CAMERA},                                        \
         {"camera-geo", required_argument, NULL, TP_OPT_CAMERA_GEO},                                \
         {"fov", required_argument, NULL, TP_OPT_FOV}, {"size", required_argument, NULL, TP_OPT_SIZE}
+
+/* The renderer options, taken by view and bench (not export: it draws nothing). */
+#define TP_VIEW_PGM_LONG_OPTIONS                                                                   \
+    {"renderer", required_argument, NULL, TP_OPT_RENDERER},                                        \
+        {"pgm-grid", required_argument, NULL, TP_OPT_PGM_GRID}
 
 void tp_view_setup_default(tp_view_setup* v);
 
@@ -58,6 +69,9 @@ int tp_view_setup_camera(const tp_scene* sc, const tp_view_setup* v, tp_camera* 
 
 /* Prints the LoD and camera options' help (one text for view, export and bench). */
 void tp_view_options_help(FILE* out);
+
+/* Prints the help of --renderer and --pgm-grid (view; bench: several grids). */
+void tp_view_renderer_help(FILE* out, int bench);
 
 /* Once the scene is loaded: warns on stderr (naming cmd) about LoD parameters that are valid
  * but almost surely not meant, such as a --maxdist shorter than one patch width. */

@@ -1941,7 +1941,175 @@ TEST(store_refuses_what_needs_a_terrain_exits_2)
     expect_usage_error(&a, "--segments", NULL);
 }
 
+/* ---------------------------------------------------------------------------------------------
+ * Persistent Grid Mapping (--renderer pgm; app/bench/bench_pgm.c, app/view/pgm_render.c)
+ */
+
+/* bench --renderer pgm: one configuration per grid after the three patch ones, every frame of
+ * the same path; a grid's triangles are 2 (cols - 1)(rows - 1) every frame, drawn in one call;
+ * the error is measured on every --error-every-th frame only. */
+TEST(pgm_bench_adds_a_configuration_per_grid)
+{
+    static run_result r;
+    static csv c;
+    const char* dir = make_tmp_dir();
+    char csv_path[1024], json_path[1024];
+    snprintf(csv_path, sizeof csv_path, "%s/pgm.csv", dir);
+    snprintf(json_path, sizeof json_path, "%s/pgm.json", dir);
+    args a;
+    args_bench_small(&a, 4);
+    args_add(&a, "--renderer");
+    args_add(&a, "pgm");
+    args_add(&a, "--pgm-grid");
+    args_add(&a, "40x30,64x64");
+    args_add(&a, "--error-every");
+    args_add(&a, "2");
+    args_add(&a, "--csv");
+    args_add(&a, "%s", csv_path);
+    args_add(&a, "--json");
+    args_add(&a, "%s", json_path);
+    args_add(&a, "%s", sample_path(MT_HOOD));
+    run_ok(&a, &r);
+    EXPECT_CONTAINS(r.out, "pgm 40x30");
+    EXPECT_CONTAINS(r.out, "pgm 64x64");
+    csv_read(csv_path, &c);
+    ASSERT_EQ_INT(5 * 4, c.rows); /* full, distance, error, two grids; 4 frames each */
+    const int grid[2][2] = {{40, 30}, {64, 64}};
+    int pgm_rows = 0;
+    for (int i = 0; i < c.rows; i++) {
+        if (strcmp(csv_str(&c, i, "lod_mode"), "pgm") != 0) {
+            EXPECT_EQ_STR("", csv_str(&c, i, "pgm_grid"));
+            continue;
+        }
+        int g = pgm_rows++ / 4, frame = (int)csv_num(&c, i, "frame");
+        char want[32];
+        snprintf(want, sizeof want, "%dx%d", grid[g][0], grid[g][1]);
+        EXPECT_EQ_STR(want, csv_str(&c, i, "pgm_grid"));
+        EXPECT_EQ_DBL(2.0 * (grid[g][0] - 1) * (grid[g][1] - 1), csv_num(&c, i, "triangles"));
+        EXPECT_EQ_DBL(1, csv_num(&c, i, "draw_calls"));
+        EXPECT_GT(csv_num(&c, i, "gpu_bytes"), 0);
+        EXPECT_GT(csv_num(&c, i, "frame_ms"), 0);
+        double max_m = csv_num(&c, i, "max_vertical_error_m");
+        double rms_px = csv_num(&c, i, "rms_screen_error_px");
+        if (frame % 2 == 0) { /* measured: a low flight over Mt Hood is never exact */
+            EXPECT_GT(max_m, 0);
+            EXPECT_GE(max_m, csv_num(&c, i, "rms_vertical_error_m"));
+            EXPECT_GE(csv_num(&c, i, "max_screen_error_px"), rms_px);
+            EXPECT_GT(rms_px, 0);
+        } else {
+            EXPECT_TRUE(isnan(max_m) && isnan(rms_px));
+        }
+    }
+    EXPECT_EQ_INT(8, pgm_rows);
+    csv_free(&c);
+    size_t size = 0;
+    char* json = read_file(json_path, &size);
+    ASSERT_TRUE(json != NULL);
+    const char *os[8], *oe[8];
+    int n = json_objects(json, "configurations", os, oe, 8);
+    ASSERT_EQ_INT(5, n);
+    char buf[64];
+    for (int i = 0; i < 3; i++)
+        EXPECT_EQ_STR("patches", json_str(os[i], oe[i], "terrain_renderer", buf, sizeof buf));
+    for (int g = 0; g < 2; g++) {
+        char want[32];
+        snprintf(want, sizeof want, "%dx%d", grid[g][0], grid[g][1]);
+        EXPECT_EQ_STR("pgm", json_str(os[3 + g], oe[3 + g], "terrain_renderer", buf, sizeof buf));
+        EXPECT_EQ_STR(want, json_str(os[3 + g], oe[3 + g], "pgm_grid", buf, sizeof buf));
+        EXPECT_EQ_DBL(2.0 * (grid[g][0] - 1) * (grid[g][1] - 1),
+                      json_num(os[3 + g], oe[3 + g], "triangles_median"));
+        EXPECT_GT(json_num(os[3 + g], oe[3 + g], "max_screen_error_px"), 0);
+    }
+    free(json);
+}
+
+/* PGM over a store is not built (the paper's clipmaps): a usage error for view and bench; so
+ * are a bad grid and a grid without --renderer pgm. */
+TEST(pgm_store_and_bad_grids_exit_2)
+{
+    const char* store = build_small_store();
+    const char* dem = sample_path(MT_HOOD);
+    const char* dir = make_tmp_dir();
+    args a;
+    args_bench_small(&a, 1);
+    args_add(&a, "--renderer");
+    args_add(&a, "pgm");
+    args_add(&a, "%s", store);
+    expect_usage_error(&a, "PGM over stores is not built yet", dir);
+    args_cmd(&a, "view");
+    args_add(&a, "--renderer");
+    args_add(&a, "pgm");
+    args_add(&a, "--headless");
+    args_add(&a, "--screenshot");
+    args_add(&a, "%s/x.png", dir);
+    args_add(&a, "%s", store);
+    expect_usage_error(&a, "PGM over stores is not built yet", dir);
+    args_bench_small(&a, 1);
+    args_add(&a, "--renderer");
+    args_add(&a, "pgm");
+    args_add(&a, "--pgm-grid");
+    args_add(&a, "1x600");
+    args_add(&a, "%s", dem);
+    expect_usage_error(&a, "--pgm-grid", dir);
+    args_bench_small(&a, 1);
+    args_add(&a, "--pgm-grid");
+    args_add(&a, "300x300");
+    args_add(&a, "%s", dem);
+    expect_usage_error(&a, "--pgm-grid needs --renderer pgm", dir);
+    args_cmd(&a, "view");
+    args_add(&a, "--renderer");
+    args_add(&a, "quads");
+    args_add(&a, "%s", dem);
+    expect_usage_error(&a, "--renderer", dir);
+}
+
+/* view --renderer pgm --headless on the sample DEM (drawn whole, no store built): the
+ * screenshot at the asked size, the statistics JSON naming the renderer and the grid, whose
+ * triangles are the grid's. */
+TEST(pgm_view_headless_writes_screenshot_and_stats)
+{
+    static run_result r;
+    const char* dir = make_tmp_dir();
+    char png[1024], json_path[1024];
+    snprintf(png, sizeof png, "%s/pgm.png", dir);
+    snprintf(json_path, sizeof json_path, "%s/pgm.json", dir);
+    args a;
+    args_cmd(&a, "view");
+    args_add(&a, "--renderer");
+    args_add(&a, "pgm");
+    args_add(&a, "--pgm-grid");
+    args_add(&a, "200x100");
+    args_add(&a, "--headless");
+    args_add(&a, "--size");
+    args_add(&a, "320x180");
+    args_add(&a, "--screenshot");
+    args_add(&a, "%s", png);
+    args_add(&a, "--stats-json");
+    args_add(&a, "%s", json_path);
+    args_add(&a, "%s", sample_path(MT_HOOD));
+    run_ok(&a, &r);
+    unsigned w = 0, h = 0;
+    size_t size = 0;
+    EXPECT_TRUE(png_header(png, &w, &h, &size));
+    EXPECT_EQ_INT(320, (int)w);
+    EXPECT_EQ_INT(180, (int)h);
+    char* json = read_file(json_path, &size);
+    ASSERT_TRUE(json != NULL);
+    char buf[64];
+    EXPECT_EQ_STR("pgm", json_str(json, NULL, "renderer", buf, sizeof buf));
+    EXPECT_EQ_STR("200x100", json_str(json, NULL, "pgm_grid", buf, sizeof buf));
+    EXPECT_EQ_DBL(2.0 * 199 * 99, json_num(json, NULL, "triangles"));
+    EXPECT_EQ_DBL(1, json_num(json, NULL, "draw_calls"));
+    /* the default view looks at the whole DEM: posts are in view and the surface is measured */
+    EXPECT_GT(json_num(json, NULL, "max_error_px"), 0);
+    EXPECT_GE(json_num(json, NULL, "max_error_m"), json_num(json, NULL, "rms_error_m"));
+    free(json);
+}
+
 #define TESTS(X)                                                                                   \
+    X(pgm_bench_adds_a_configuration_per_grid)                                                     \
+    X(pgm_store_and_bad_grids_exit_2)                                                              \
+    X(pgm_view_headless_writes_screenshot_and_stats)                                               \
     X(sweep_writes_one_row_per_configuration_and_a_plot)                                           \
     X(stitch_add_against_move_frame_by_frame)                                                      \
     X(stitch_add_static_or_bad_mode_exits_2)                                                       \

@@ -67,6 +67,8 @@ typedef struct config_result {
     size_t gpu_bytes;
     double max_px, rms_px, max_m, rms_m; /* over all frames: max of maxima, RMS of RMS */
     int pareto;                          /* --sweep: on its mode's fps/max-error Pareto front */
+    int pgm_cols, pgm_rows;              /* --renderer pgm: a persistent grid (bench_pgm.c); 0:
+                                            the patch renderer at lod */
 } config_result;
 
 /* What every configuration of a run shares. */
@@ -182,6 +184,15 @@ typedef struct tp_bench_point {
  * or 0 after a one-line message. */
 int tp_bench_plot(const tp_bench_point* pts, int count, const char* png, const char* title,
                   double full_fps);
+
+/* bench_pgm.c: the run's frames drawn by Persistent Grid Mapping with c's grid (pgm_render.h,
+ * a pyramid of the render grid made for it), the same cameras and lead-in frames as the patch
+ * configurations; each row: frame time (setup + draw + glFinish), CPU ms (the frame's setup),
+ * triangles, GPU bytes, and on every --error-every-th frame tp_pgm_measure_error's error (NaN
+ * on the others). Returns TP_EXIT_*. */
+int tp_bench_pgm_frames(const bench_run* b, config_result* c, const char* progress);
+/* The errors of c's summary over its measured frames only (max of maxima, RMS of RMS). */
+void tp_bench_pgm_errors(config_result* c, int frames);
 
 /* The median of v[0..n-1] (n >= 1); sorts v. */
 double tp_bench_median(double* v, int n);

@@ -34,8 +34,25 @@ static void json_config(tp_json* j, const config_result* c)
 #undef KN
 }
 
-static void json_lod(tp_json* j, const tp_lod_params* lp)
+/* The renderer of a configuration, then its LoD parameters (a persistent grid has none). */
+static void json_lod(tp_json* j, const config_result* c)
 {
+    const tp_lod_params* lp = &c->lod;
+    tp_json_key(j, "terrain_renderer"); /* "renderer" is the GL renderer's name */
+    tp_json_string(j, c->pgm_cols ? "pgm" : "patches");
+    if (c->pgm_cols) {
+        char grid[32];
+        snprintf(grid, sizeof grid, "%dx%d", c->pgm_cols, c->pgm_rows);
+        tp_json_key(j, "pgm_grid");
+        tp_json_string(j, grid);
+        tp_json_key(j, "pgm_cols");
+        tp_json_int(j, c->pgm_cols);
+        tp_json_key(j, "pgm_rows");
+        tp_json_int(j, c->pgm_rows);
+        tp_json_key(j, "lod_mode");
+        tp_json_string(j, "pgm");
+        return;
+    }
     tp_json_key(j, "lod_mode");
     tp_json_string(j, mode_name(lp->mode));
     if (lp->mode == TP_LOD_ERROR) {
@@ -80,7 +97,7 @@ int tp_bench_write_json(const bench_run* b, const char* renderer_name, const con
     KN("memory_estimate_bytes",
        (double)tp_memory_estimate(TP_MEMORY_USE_BENCH,
                                   (uint64_t)b->sc->info.width * (uint64_t)b->sc->info.height));
-    json_lod(&j, &best->lod);
+    json_lod(&j, best);
     json_config(&j, best);
     tp_json_key(&j, "full_res");
     tp_json_object_begin(&j);
@@ -91,7 +108,7 @@ int tp_bench_write_json(const bench_run* b, const char* renderer_name, const con
     tp_json_array_begin(&j);
     for (int i = 0; i < nc; i++) {
         tp_json_object_begin(&j);
-        json_lod(&j, &c[i].lod);
+        json_lod(&j, &c[i]);
         json_config(&j, &c[i]);
         if (o->sweep) {
             tp_json_key(&j, "pareto");
@@ -115,14 +132,18 @@ int tp_bench_write_frames_csv(const bench_options* o, const config_result* c, in
     FILE* f = file.f;
     fprintf(f, "lod_mode,frame,frame_ms,select_ms,upload_ms,draw_ms,triangles,draw_calls,patches,"
                "uploads,gpu_bytes,max_vertical_error_m,rms_vertical_error_m,max_screen_error_px,"
-               "rms_screen_error_px\n");
+               "rms_screen_error_px,pgm_grid\n");
     for (int k = 0; k < nc; k++)
         for (int i = 0; i < frames; i++) {
             const frame_row* r = &c[k].rows[i];
-            fprintf(f, "%s,%d,%.4f,%.4f,%.4f,%.4f,%zu,%d,%d,%d,%zu,%.4f,%.4f,%.4f,%.4f\n",
-                    mode_name(c[k].lod.mode), i, r->frame_ms, r->select_ms, r->upload_ms,
-                    r->draw_ms, r->triangles, r->draw_calls, r->patches, r->uploads, r->gpu_bytes,
-                    r->max_m, r->rms_m, r->max_px, r->rms_px);
+            char grid[32] = "";
+            if (c[k].pgm_cols)
+                snprintf(grid, sizeof grid, "%dx%d", c[k].pgm_cols, c[k].pgm_rows);
+            fprintf(f, "%s,%d,%.4f,%.4f,%.4f,%.4f,%zu,%d,%d,%d,%zu,%.4f,%.4f,%.4f,%.4f,%s\n",
+                    c[k].pgm_cols ? "pgm" : mode_name(c[k].lod.mode), i, r->frame_ms,
+                    r->select_ms, r->upload_ms, r->draw_ms, r->triangles, r->draw_calls,
+                    r->patches, r->uploads, r->gpu_bytes, r->max_m, r->rms_m, r->max_px,
+                    r->rms_px, grid);
         }
     return tp_atomic_commit(&file);
 }

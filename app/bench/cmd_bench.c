@@ -93,6 +93,13 @@ static void print_help(void)
           "  --stitch move|add      crack removal (a DEM): move the finer patch's border vertices\n"
           "                         (default) or add them to the coarser patch's (Brodersen\n"
           "                         section 4); add measures its error in metres only\n"
+          "  --renderer pgm         also Persistent Grid Mapping (Livny, Kogan & El-Sana; a DEM\n"
+          "                         drawn whole, not a store): one configuration per grid after\n"
+          "                         the patch ones, the same path; error by tp_pgm_measure_error\n"
+          "                         (every post in view against the mapped grid's surface) on\n"
+          "                         every --error-every-th frame\n"
+          "  --pgm-grid COLSxROWS[,COLSxROWS...]   the grids (default 150x600,300x300,600x600:\n"
+          "                         the paper's Table 1; at most 8)\n"
           "  --sweep                a grid of LoD parameters: full resolution, distance mode with\n"
           "                         mindist {1,4} x maxdist {12,24,48,96} patch widths x exp\n"
           "                         {0.5,1,2}, error mode with tau {0.5,1,2,4,8,16} (and --tau);\n"
@@ -179,6 +186,7 @@ static int parse_options(int argc, char** argv, bench_options* o)
         {"path-file", required_argument, NULL, OPT_PATH_FILE},
         {"frames", required_argument, NULL, OPT_FRAMES},
         TP_VIEW_LONG_OPTIONS,
+        TP_VIEW_PGM_LONG_OPTIONS,
         {"json", required_argument, NULL, OPT_JSON},
         {"csv", required_argument, NULL, OPT_CSV},
         {"no-error", no_argument, NULL, OPT_NO_ERROR},
@@ -351,6 +359,21 @@ static int parse_options(int argc, char** argv, bench_options* o)
                 o->imagery ? "--imagery" : "--light", o->dem);
         return TP_EXIT_USAGE;
     }
+    if (o->vs.pgm_grid_count && !o->vs.pgm) {
+        fprintf(stderr, "terrapatch bench: --pgm-grid needs --renderer pgm\n");
+        return TP_EXIT_USAGE;
+    }
+    if (o->vs.pgm && tp_is_store_path(o->dem)) {
+        fprintf(stderr, "terrapatch bench: --renderer pgm: %s is a store; PGM over stores is not "
+                        "built yet (the paper's clipmaps with F-shape updates): give the DEM\n",
+                o->dem);
+        return TP_EXIT_USAGE;
+    }
+    if (o->vs.pgm && (o->sweep || o->is_static)) {
+        fprintf(stderr, "terrapatch bench: --renderer pgm: not with %s\n",
+                o->sweep ? "--sweep" : "--static");
+        return TP_EXIT_USAGE;
+    }
     if (o->stitch_add && (tp_is_store_path(o->dem) || o->is_static)) {
         fprintf(stderr, "terrapatch bench: --stitch add: only for a DEM drawn whole (not yet for "
                         "stores, nor --static)\n");
@@ -498,6 +521,14 @@ static tp_status oracle_triangles(const tp_scene* sc, const tp_selection* sel,
  * cold, as a viewer would) and fills c->rows and the summary. Returns TP_EXIT_*. */
 static int run_config(const bench_run* b, config_result* c, const char* progress)
 {
+    if (c->pgm_cols) {
+        int code = tp_bench_pgm_frames(b, c, progress);
+        if (code == TP_EXIT_OK) {
+            summarize(c, b->frames);
+            tp_bench_pgm_errors(c, b->frames);
+        }
+        return code;
+    }
     char msg[512];
     int frames = b->frames;
     c->rows = calloc((size_t)frames, sizeof *c->rows);
@@ -600,11 +631,11 @@ static config_result* make_configs(const bench_run* b, int* count, int* best)
     tp_lod_params def = {.mode = TP_LOD_DISTANCE};
     tp_lod_params_resolve(b->sc->terrain, &def, &def, NULL);
     double patch_w = def.maxdist_m / 24; /* the core's default maxdist is 24 patch widths */
-    int n = 3;
+    int n = 3, pgm = o->vs.pgm ? (o->vs.pgm_grid_count ? o->vs.pgm_grid_count : 3) : 0;
     if (o->sweep)
         n = 1 + COUNT(sweep_mindist_w) * COUNT(sweep_maxdist_w) * COUNT(sweep_exp) +
             COUNT(sweep_tau) + 1;
-    config_result* c = calloc((size_t)n, sizeof *c);
+    config_result* c = calloc((size_t)(n + pgm), sizeof *c);
     if (!c)
         return NULL;
     int k = 0;
@@ -650,6 +681,14 @@ static config_result* make_configs(const bench_run* b, int* count, int* best)
         else
             snprintf(c[i].label, sizeof c[i].label, "distance %.0f/%.0f/%g", lp->mindist_m,
                      lp->maxdist_m, lp->exponent);
+    }
+    /* --renderer pgm: the grids after the patch configurations (default: the paper's Table 1) */
+    static const int table1[3][2] = {{150, 600}, {300, 300}, {600, 600}};
+    for (int g = 0; g < pgm; g++, k++) {
+        c[k].lod = base;
+        c[k].pgm_cols = o->vs.pgm_grid_count ? o->vs.pgm_grid[g][0] : table1[g][0];
+        c[k].pgm_rows = o->vs.pgm_grid_count ? o->vs.pgm_grid[g][1] : table1[g][1];
+        snprintf(c[k].label, sizeof c[k].label, "pgm %dx%d", c[k].pgm_cols, c[k].pgm_rows);
     }
     *count = k;
     return c;

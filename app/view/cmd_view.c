@@ -17,6 +17,7 @@
 #include "hud.h"
 #include "hud_text.h"
 #include "overlay.h"
+#include "pgm_render.h"
 #include "pick.h"
 #include "layers.h"
 #include "store_cache.h"
@@ -83,6 +84,7 @@ static void print_help(void)
           "\n",
           stdout);
     tp_view_options_help(stdout);
+    tp_view_renderer_help(stdout, 0);
     fputs("output:\n"
           "  --headless            render offscreen through EGL\n"
           "  --frames N            headless: frames to render (default 1); the last is kept\n"
@@ -218,6 +220,7 @@ static int parse_options(int argc, char** argv, view_options* o)
     static const struct option longs[] = {
         TP_SCENE_LONG_OPTIONS,
         TP_VIEW_LONG_OPTIONS,
+        TP_VIEW_PGM_LONG_OPTIONS,
         {"headless", no_argument, NULL, OPT_HEADLESS},
         {"frames", required_argument, NULL, OPT_FRAMES},
         {"screenshot", required_argument, NULL, OPT_SCREENSHOT},
@@ -409,6 +412,25 @@ static int parse_options(int argc, char** argv, view_options* o)
     }
     if (tp_view_setup_check(&o->vs, "view") < 0)
         return TP_EXIT_USAGE;
+    if (o->vs.pgm_grid_count && !o->vs.pgm) {
+        fprintf(stderr, "terrapatch view: --pgm-grid needs --renderer pgm\n");
+        return TP_EXIT_USAGE;
+    }
+    if (o->vs.pgm_grid_count > 1) {
+        fprintf(stderr, "terrapatch view: --pgm-grid: one grid for view (several are for "
+                        "bench)\n");
+        return TP_EXIT_USAGE;
+    }
+    if (o->vs.pgm && o->texture) {
+        fprintf(stderr, "terrapatch view: --renderer pgm drapes no --texture yet (hillshade "
+                        "only)\n");
+        return TP_EXIT_USAGE;
+    }
+    if (o->vs.pgm && o->render.exaggeration != 1) {
+        fprintf(stderr, "terrapatch view: --renderer pgm draws the heights as they are: no "
+                        "--exaggeration\n");
+        return TP_EXIT_USAGE;
+    }
     if (!o->sun_date != !o->sun_time) {
         fprintf(stderr, "terrapatch view: --sun-date and --sun-time go together: give both\n");
         return TP_EXIT_USAGE;
@@ -632,6 +654,29 @@ static int run_view(tp_view_scene* v, view_options* o, tp_render_grid_desc* gd,
         tp_gl_context_destroy(ctx);
         return TP_EXIT_FAILURE;
     }
+    /* --renderer pgm: the pyramid and the persistent grid draw instead of r */
+    tp_pgm_pyramid pyr;
+    memset(&pyr, 0, sizeof pyr);
+    uint8_t* valid = NULL;
+    if (o->vs.pgm) {
+        tp_error err = {{0}};
+        const tp_render_grid* g = v->dem->grid;
+        int cols = o->vs.pgm_grid_count ? o->vs.pgm_grid[0][0] : TP_PGM_DEFAULT_COLS;
+        int rows = o->vs.pgm_grid_count ? o->vs.pgm_grid[0][1] : TP_PGM_DEFAULT_ROWS;
+        if (tp_pgm_pyramid_from_grid(g->heights, g->width, g->height, g->geotransform, &pyr,
+                                     &valid, &err) != TP_OK)
+            snprintf(msg, sizeof msg, "the PGM pyramid: %.400s", err.message);
+        else
+            v->pgm = tp_pgm_renderer_create(&pyr, valid, cols, rows, msg, sizeof msg);
+        free(valid); /* uploaded */
+        if (!v->pgm) {
+            fprintf(stderr, "terrapatch view: %s\n", msg);
+            tp_pgm_pyramid_free(&pyr);
+            tp_renderer_destroy(r);
+            tp_gl_context_destroy(ctx);
+            return TP_EXIT_FAILURE;
+        }
+    }
     int code = TP_EXIT_OK;
     tp_view_shadow shadow = {0};
     /* the frames need the georeference (the HUD, picking, measuring): made meanwhile */
@@ -663,6 +708,9 @@ static int run_view(tp_view_scene* v, view_options* o, tp_render_grid_desc* gd,
     tp_view_imagery_close(v->imagery);
     v->imagery = NULL;
     tp_view_shadows_close(v, &shadow);
+    tp_pgm_renderer_destroy(v->pgm);
+    v->pgm = NULL;
+    tp_pgm_pyramid_free(&pyr);
     tp_renderer_destroy(r);
     tp_gl_context_destroy(ctx);
     return code;
@@ -753,6 +801,14 @@ int tp_cli_view(int argc, char** argv)
     int whole = !tp_is_store_path(o.path) &&
                 (o.old_path || o.texture || o.scene.image_given || !is_regular_file(o.path) ||
                  tp_is_heightmap_image(o.path));
+    if (o.vs.pgm && tp_is_store_path(o.path)) {
+        fprintf(stderr, "terrapatch view: --renderer pgm: %s is a store; PGM over stores is not "
+                        "built yet (the paper's clipmaps with F-shape updates): give the DEM, "
+                        "which PGM draws whole\n", o.path);
+        return TP_EXIT_USAGE;
+    }
+    if (o.vs.pgm) /* a DEM drawn whole: its render grid is the pyramid's level 0 */
+        whole = o.old_path = 1;
     if (o.render.stitch_add && !whole) {
         fprintf(stderr, "terrapatch view: --stitch add: only for a DEM drawn whole (not yet for "
                         "stores; --whole draws %s whole)\n", o.path);

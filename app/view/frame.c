@@ -4,6 +4,7 @@
 
 #include "atomic_file.h"
 #include "imagery_view.h"
+#include "pgm_render.h"
 #include "pick.h"
 #include "view_shadows.h"
 #include "json.h"
@@ -32,6 +33,24 @@ void tp_view_frame(tp_view_scene* v, tp_renderer* r, const tp_camera* cam,
     tp_error err;
     /* the core selects, culls and measures the surface as drawn: exaggerated */
     tp_view_scene_set_vertical_scale(v, render->exaggeration);
+    if (v->pgm) { /* Persistent Grid Mapping: no selection, the same grid every frame */
+        tp_pgm_render_stats ps;
+        tp_pgm_renderer_draw(v->pgm, cam, render, 1, NULL, &ps);
+        memset(&out->core, 0, sizeof out->core);
+        memset(&out->render, 0, sizeof out->render);
+        out->core.triangles = ps.triangles;
+        out->core.bound_max_error_m = out->core.bound_rms_error_m = NAN;
+        out->render.draw_calls = 1;
+        out->render.draw_ms = ps.draw_ms;
+        out->render.gpu_bytes = ps.gpu_bytes;
+        out->render.near_m = ps.near_m;
+        out->render.far_m = ps.far_m;
+        out->select_ms = ps.setup_ms;
+        out->pgm_cols = ps.cols;
+        out->pgm_rows = ps.rows;
+        out->store = 0;
+        return;
+    }
     if (!v->store) {
         if (!frozen)
             tp_selection_update(v->sel, cam, lod, &err);
@@ -86,6 +105,18 @@ int tp_view_write_stats(const char* path, const frame_result* f, const tp_error_
     tp_json j;
     tp_json_init(&j, out);
     tp_json_object_begin(&j);
+    tp_json_key(&j, "renderer");
+    tp_json_string(&j, f->pgm_cols ? "pgm" : "patches");
+    if (f->pgm_cols) {
+        char grid[32];
+        snprintf(grid, sizeof grid, "%dx%d", f->pgm_cols, f->pgm_rows);
+        tp_json_key(&j, "pgm_grid");
+        tp_json_string(&j, grid);
+        tp_json_key(&j, "pgm_cols");
+        tp_json_int(&j, f->pgm_cols);
+        tp_json_key(&j, "pgm_rows");
+        tp_json_int(&j, f->pgm_rows);
+    }
 #define KEY_NUM(k, v) (tp_json_key(&j, k), tp_json_number(&j, v))
 #define KEY_SIZE(k, v) (tp_json_key(&j, k), tp_json_size(&j, v))
     KEY_SIZE("triangles", f->core.triangles);

@@ -137,6 +137,11 @@ void tp_view_hud_text(tp_view_scene* v, const tp_camera* cam,
                      fr->clip.pending, fr->clip.upload_ms);
         }
         snprintf(bound, sizeof bound, "error bound max %.2f px", fr->bound_max_px);
+    } else if (fr->pgm_cols) {
+        snprintf(store_line, sizeof store_line,
+                 "\nrenderer: pgm %dx%d   (Persistent Grid Mapping: the LoD options do not apply)",
+                 fr->pgm_cols, fr->pgm_rows);
+        snprintf(bound, sizeof bound, "no error bound (PGM)");
     } else {
         snprintf(bound, sizeof bound, "error bound max %.2f m, RMS %.2f m",
                  fr->core.bound_max_error_m, fr->core.bound_rms_error_m);

@@ -72,6 +72,7 @@ typedef struct frame_result {
     tp_clipmap_stats light_clip; /* streamed: the light's clipmap */
     double shadow_ms;         /* window: its last computation */
     int shadow_posts;         /* window: posts a side */
+    int pgm_cols, pgm_rows;   /* --renderer pgm: the persistent grid (0: the patch renderer) */
 } frame_result;
 
 #define TP_VIEW_LIGHT_NONE 0

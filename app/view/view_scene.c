@@ -2,6 +2,8 @@
 #define _POSIX_C_SOURCE 200809L
 #include "view_scene.h"
 
+#include "pgm_render.h"
+
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -126,6 +128,10 @@ void tp_view_scene_measure(const tp_view_scene* v, const tp_camera* cam, double*
 {
     *max_m = *rms_m = NAN;
     *max_px = *rms_px = 0;
+    if (v->pgm) {
+        tp_pgm_renderer_measure(v->pgm, cam, max_m, rms_m, max_px, rms_px);
+        return;
+    }
     if (v->store) {
         tp_cut_measure_screen_error(v->cut, cam, max_px, rms_px, NULL, NULL);
         return;

@@ -35,6 +35,8 @@ typedef struct tp_view_scene {
     const struct tp_view_sun* sun;   /* the sun whose time it is drawn at (sun_view.h) */
     int light_settle;                /* headless: every clip window whole before the frame */
     int light_outside;               /* the sun's time left the light map's day (said once) */
+    struct tp_pgm_renderer* pgm;     /* --renderer pgm (a DEM drawn whole): draws instead of the
+                                        patches (pgm_render.h; owned by the caller), or NULL */
 } tp_view_scene;
 
 void tp_view_scene_from_dem(tp_view_scene* v, tp_scene* sc, tp_selection* sel);
@@ -55,7 +57,7 @@ void tp_view_scene_keep_above(tp_view_scene* v, double position[3], double clear
 void tp_view_scene_set_vertical_scale(tp_view_scene* v, double scale);
 double tp_view_scene_vertical_scale(const tp_view_scene* v);
 /* The drawn surface's screen error for cam (px); metres where the path measures them (NaN
- * else). */
+ * else); PGM's by tp_pgm_measure_error. */
 void tp_view_scene_measure(const tp_view_scene* v, const tp_camera* cam, double* max_m,
                            double* rms_m, double* max_px, double* rms_px);
 

@@ -1598,10 +1598,15 @@ void tp_light_times_mean(const uint8_t* const* texels, int n, uint8_t out[4]);
 #define TP_PGM_DEFAULT_COLS 300
 #define TP_PGM_DEFAULT_ROWS 300
 
-/* The elevation pyramid: level 0 is the given grid; level l has posts i = 0..width[l]-1 at
- * level-0 post min(i * 2^l, width[0] - 1) (the same in y), width[l] = (width[l-1] + 1) / 2,
- * height likewise, each the level-0 height there (point sampling: every level's posts are
- * source posts). Levels stop when both sides are <= 2 posts or at TP_PGM_MAX_LEVELS. */
+/* The elevation pyramid: level 0 is the given grid; level l has posts i = 0..width[l]-1 evenly
+ * spaced at level-0 grid x = i * 2^l (the same in y), each holding the level-0 height of post
+ * min(i * 2^l, width[0] - 1) (point sampling: every level's posts are source posts; the last
+ * post may lie past the edge and then repeats the edge's height, so that every level reaches
+ * the whole extent). width[l] = width[l-1] / 2 + 1 (integer division; = ceil((width[0] - 1) /
+ * 2^l) + 1), height likewise: 1201 -> 601 -> 301 -> 151 -> 76 -> 39 ..., 1000 -> 501 -> 251.
+ * Levels stop when both sides are <= 2 posts or at TP_PGM_MAX_LEVELS (a 1 x 1 or 2 x 2 grid
+ * has 1 level). A shader samples level l at texel (x / 2^l, y / 2^l) (+ 0.5 for texel
+ * centres) with clamp-to-edge, after clamping x, y to the level-0 extent as below. */
 typedef struct tp_pgm_pyramid {
     int levels;
     int width[TP_PGM_MAX_LEVELS], height[TP_PGM_MAX_LEVELS];
@@ -1619,13 +1624,19 @@ tp_status tp_pgm_pyramid_build(const float* heights, int width, int height, cons
                                tp_pgm_pyramid* out, tp_error* err);
 void tp_pgm_pyramid_free(tp_pgm_pyramid* p); /* accepts NULL and a zeroed pyramid */
 
-/* The bilinear height of level `level` at level-0 grid coordinates (x, y) (post units, post
- * (0, 0) at (0, 0)); positions outside the grid are clamped to its edge. Cannot fail. */
+/* The bilinear height of level `level` (0..levels-1) at level-0 grid coordinates (x, y) (post
+ * units, post (0, 0) at (0, 0)): x, y are first clamped to [0, width[0] - 1] x
+ * [0, height[0] - 1], then level l is interpolated at (x / 2^l, y / 2^l) between its posts.
+ * Cannot fail. */
 double tp_pgm_pyramid_sample(const tp_pgm_pyramid* p, int level, double x, double y);
 
-/* Eq. 2: the auxiliary camera. Same eye, yaw, field of view and viewport as main; its pitch
- * is min(main's pitch, -(fov_y / 2 + epsilon_rad)) (pitch < 0 looks down), so that every ray of
- * its image goes down and meets the base plane. Cannot fail. */
+/* Eq. 2: the auxiliary camera. Same eye, yaw, field of view, viewport and near/far planes as
+ * main; its pitch is min(main's pitch, -(fov_y / 2 + epsilon_rad)) (pitch < 0 looks down), so
+ * that every ray of its image goes down and meets the base plane. It is main itself when main
+ * already looks down that far (for a camera rolled about its axis, as tp_camera_from_pose never
+ * makes, only when its four corner rays go down too; else it is levelled: no roll, the same
+ * pitch). Its yaw is the heading 90 degrees left of main's right vector (main's yaw, and
+ * defined looking straight up or down as well). Cannot fail. */
 void tp_pgm_aux_camera(const tp_camera* main, double epsilon_rad, tp_camera* aux);
 
 /* Everything one frame's mapping needs, set up once per frame (the shader's uniforms). */
@@ -1634,8 +1645,12 @@ typedef struct tp_pgm_frame {
     tp_camera aux;          /* tp_pgm_aux_camera(main, 1e-3 rad) */
     tp_camera_frame aux_frame;
     double base_m;          /* the base plane's height: the pyramid's min_m */
-    double eye_above_base_m; /* h in Eq. 3: eye height - base_m, at least 1 m */
-    double sin_alpha, cos_alpha; /* alpha: the larger angle between adjacent rays, rows or cols */
+    double eye_above_base_m; /* h in Eq. 3: eye height - base_m, at least 1 m. The rays meet
+                                the plane at height eye - eye_above_base_m (base_m unless the
+                                eye is less than 1 m above it) */
+    double sin_alpha, cos_alpha; /* alpha: the larger angle between adjacent rays at the
+                                    image centre, rows or cols: atan(max(w / (cols - 1),
+                                    h / (rows - 1)) / focal_px) */
     double post_m;          /* level-0 post spacing: min(|gt[1]|, |gt[5]|) */
 } tp_pgm_frame;
 
@@ -1646,19 +1661,27 @@ void tp_pgm_frame_setup(const tp_camera* main, int cols, int rows, const tp_pgm_
 
 /* Maps grid vertex (i, j): writes world[3] (E, N, height) and *lod, the continuous level
  * l + W_p (l = floor(log2(r / post_m)) clamped to [0, levels - 1], W_p = r / (post_m * 2^l) - 1
- * clamped to [0, 1], 0 at the last level; r from Eq. 3), the height being
- * (1 - W_p) * sample(l) + W_p * sample(l + 1). Returns 1 when P lies on the terrain (inside the
- * level-0 extent), else 0 (world and lod are written anyway, the height clamped to the edge). */
+ * clamped to [0, 1], 0 at the last level; r from Eq. 3 with d = |P - eye|, q its horizontal
+ * part, h = eye_above_base_m; r is infinite (last level) where h cos(alpha) <= q sin(alpha)),
+ * the height being (1 - W_p) * sample(l) + W_p * sample(l + 1). W_p reaches 1 where l steps
+ * up, so heights and lod are continuous in r. Returns 1 when P lies on the terrain (inside
+ * the level-0 extent: 0 <= x <= width - 1, 0 <= y <= height - 1 in grid coordinates), else 0
+ * (world and lod are written anyway, the height clamped to the edge). */
 int tp_pgm_map_vertex(const tp_pgm_frame* f, const tp_pgm_pyramid* p, int i, int j,
                       double world[3], double* lod);
 
 /* The error of one frame's PGM surface by the bench's definition: every level-0 post that the
- * main camera sees inside its viewport (projected inside, in front of the near plane; occlusion
- * ignored) is compared with the drawn surface vertically above or below it (the triangle of
- * the mapped grid that covers its E, N; linear interpolation): vertical error |drawn - post|
- * in metres and screen error, the on-screen distance between the projections of the two
- * points, in pixels. Posts no drawn triangle covers are counted in `uncovered`, not in the
- * error. Returns TP_OK and writes *out; TP_ERR_OUT_OF_MEMORY. */
+ * main camera sees inside its viewport (projected inside, edges included, in front of the near
+ * plane and not past a far plane; occlusion ignored) is compared with the drawn surface
+ * vertically above or below it (the drawn triangle of the mapped grid, frame f, that covers
+ * its E, N; linear interpolation): vertical error |drawn - post| in metres and screen error,
+ * the on-screen distance between the projections of the two points, in pixels (infinite when
+ * only the drawn point is behind the eye), as tp_selection_measure_screen_error. A post on an
+ * edge two triangles share is counted once. Posts no drawn triangle covers (beyond the
+ * terrain's edge triangles, which are not drawn, or outside the aux camera's footprint) are
+ * counted in `uncovered`, not in the error; rms are 0 without samples. Scratch memory: about
+ * 25 bytes per grid vertex and 1 per post. Returns TP_OK and writes *out;
+ * TP_ERR_OUT_OF_MEMORY (*out zeroed). */
 typedef struct tp_pgm_error {
     double max_m, rms_m;   /* vertical */
     double max_px, rms_px; /* screen */
