@@ -107,6 +107,8 @@ void tp_view_hud_text(tp_view_scene* v, const tp_camera* cam,
                  lod->sphere_tree ? "distance (sphere tree)" : "distance", lod->mindist_m, lod->maxdist_m, lod->exponent > 0 ? lod->exponent : 1);
     else
         snprintf(lod_text, sizeof lod_text, "full resolution");
+    if (fr->pgm_cols) /* the patch LoD does not draw: the pyramid level is per vertex */
+        snprintf(lod_text, sizeof lod_text, "per vertex (pyramid level from Eq. 3)");
     double ex = st->exaggeration > 0 ? st->exaggeration : 1;
     if (isnan(below))
         snprintf(agl, sizeof agl, "outside the DEM");
@@ -141,14 +143,22 @@ void tp_view_hud_text(tp_view_scene* v, const tp_camera* cam,
         snprintf(store_line, sizeof store_line,
                  "\nrenderer: pgm %dx%d   (Persistent Grid Mapping: the LoD options do not apply)",
                  fr->pgm_cols, fr->pgm_rows);
-        snprintf(bound, sizeof bound, "no error bound (PGM)");
+        snprintf(bound, sizeof bound, "no error bound");
     } else {
         snprintf(bound, sizeof bound, "error bound max %.2f m, RMS %.2f m",
                  fr->core.bound_max_error_m, fr->core.bound_rms_error_m);
     }
+    char counts[160];
+    if (fr->pgm_cols)
+        snprintf(counts, sizeof counts, "grid of %d x %d vertices in screen space", fr->pgm_cols,
+                 fr->pgm_rows);
+    else
+        snprintf(counts, sizeof counts, "%d %s drawn, %d culled   per level k=0..%d:%s",
+                 fr->render.patches_drawn, fr->store ? "nodes" : "patches",
+                 fr->core.culled_patches, v->n, levels);
     snprintf(out, cap,
              "%.1f fps   CPU %.2f ms (select %.2f, upload %.2f)   draw %.2f ms   GPU %.1f MB\n"
-             "%zu triangles   %d draw calls   %d %s drawn, %d culled   per level k=0..%d:%s%s\n"
+             "%zu triangles   %d draw calls   %s%s\n"
              "LoD %s%s   %s%s\n"
              "camera  %s   height %.1f m, %s   heading %.0f deg, pitch %.0f deg\n"
              "%s\n"
@@ -156,8 +166,7 @@ void tp_view_hud_text(tp_view_scene* v, const tp_camera* cam,
              "heights as in the DEM (SRTM/DTED: EGM96 geoid)   ? help%s",
              st->fps, fr->select_ms + fr->render.upload_ms, fr->select_ms, fr->render.upload_ms,
              fr->render.draw_ms, fr->render.gpu_bytes / 1e6, fr->core.triangles,
-             fr->render.draw_calls, fr->render.patches_drawn, fr->store ? "nodes" : "patches",
-             fr->core.culled_patches, v->n, levels, store_line, lod_text,
+             fr->render.draw_calls, counts, store_line, lod_text,
              st->frozen ? " (frozen)" : "", bound, measured,
              pos[0] ? pos : "(no CRS: local metres)", cam->position[2], agl, yaw, pitch, ground,
              mode, exag, voids);
