@@ -51,7 +51,7 @@ typedef struct plot_data {
 } plot_data;
 
 /* How each family is drawn: point type and size, colour, legend; labelled: its points carry
- * their tau or grid. */
+ * their tau or grid (1: above right, 2: below right, away from the error family's). */
 static const struct {
     tp_bench_family family;
     const char *block, *style, *colour, *legend;
@@ -62,7 +62,7 @@ static const struct {
     {TP_FAMILY_ERROR, "err", "pt 5 ps 1.1", "#d04020", "error, vertex moving (tau, px)", 1},
     {TP_FAMILY_DISTANCE_ADD, "dadd", "pt 9 ps 1.6", "#8040b0",
      "distance, vertex adding (--mindist, --maxdist, --exp as run)", 0},
-    {TP_FAMILY_ERROR_ADD, "eadd", "pt 13 ps 1.3", "#e09000", "error, vertex adding", 0},
+    {TP_FAMILY_ERROR_ADD, "eadd", "pt 13 ps 1.3", "#e09000", "error, vertex adding (tau, px)", 2},
     {TP_FAMILY_PGM, "pgm", "pt 11 ps 1.4", "#208040", "PGM (grid cols x rows)", 1},
 };
 #define FAMILIES ((int)(sizeof families / sizeof *families))
@@ -99,9 +99,10 @@ static void write_script(FILE* f, void* user)
                     families[k].legend);
             if (families[k].labelled)
                 fprintf(f,
-                        "$%s using %d:3:4 with labels offset 1.4,0.6 font ',7' tc rgb '%s' "
+                        "$%s using %d:3:4 with labels offset 1.4,%s font ',7' tc rgb '%s' "
                         "notitle, \\\n  ",
-                        families[k].block, c, families[k].colour);
+                        families[k].block, c, families[k].labelled == 1 ? "0.6" : "-0.7",
+                        families[k].colour);
             if (i == 0) /* the fronts are of fps against the maximum */
                 fprintf(f, "$%s_front using 1:3 with lines lw 1.5 lc rgb '%s' notitle, \\\n  ",
                         families[k].block, families[k].colour);
