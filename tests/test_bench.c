@@ -574,7 +574,8 @@ static void check_sweep(const char* dem, const char* csv_path, const char* json_
         EXPECT_GT(csv_num(&c, i, "fps_median"), 0.0);
         EXPECT_GT(csv_num(&c, i, "triangles_median"), 0.0);
         EXPECT_GT(csv_num(&c, i, "gpu_mib"), 0.0);
-        double mpx = csv_num(&c, i, "max_screen_error_px"), rpx = csv_num(&c, i, "rms_screen_error_px");
+        double mpx = csv_num(&c, i, "max_screen_error_px");
+        double rpx = csv_num(&c, i, "rms_screen_error_px");
         if (!isfinite(mpx) || !isfinite(rpx) || !isfinite(csv_num(&c, i, "max_vertical_error_m")))
             ADD_FAILURE("row %d (%s): error not measured: max %s px, rms %s px, max %s m", i,
                         csv_str(&c, i, "family"), csv_str(&c, i, "max_screen_error_px"),
@@ -695,7 +696,8 @@ static void check_sweep(const char* dem, const char* csv_path, const char* json_
                 csv_num(&c, k, "exp") == csv_num(&c, i, "exp"))
                 twin = k;
         if (twin < 0) {
-            ADD_FAILURE("%s row %d: no vertex-moving row with its parameters", csv_str(&c, i, "family"), i);
+            ADD_FAILURE("%s row %d: no vertex-moving row with its parameters",
+                        csv_str(&c, i, "family"), i);
             continue;
         }
         EXPECT_GE(csv_num(&c, i, "triangles_median"), csv_num(&c, twin, "triangles_median"));
@@ -722,11 +724,15 @@ static void check_sweep(const char* dem, const char* csv_path, const char* json_
         px[i] = json_num(os[i], oe[i], "max_screen_error_px");
         pareto[i] = json_bool(os[i], oe[i], "pareto");
         mode_err[i] = !strcmp(fam, "error");
-        family[i] = !strcmp(fam, "distance") ? 1 : mode_err[i] ? 2 : !strcmp(fam, "distance+add") ? 3
-                  : !strcmp(fam, "error+add") ? 4 : !strcmp(fam, "pgm") ? 5 : 0;
+        family[i] = !strcmp(fam, "distance")       ? 1
+                    : mode_err[i]                    ? 2
+                    : !strcmp(fam, "distance+add") ? 3
+                    : !strcmp(fam, "error+add")    ? 4
+                    : !strcmp(fam, "pgm")          ? 5
+                                                   : 0;
         if (!strcmp(fam, "pgm"))
-            EXPECT_NEAR(csv_num(&c, i, "uncovered_share"), json_num(os[i], oe[i], "uncovered_share"),
-                        0.0000051);
+            EXPECT_NEAR(csv_num(&c, i, "uncovered_share"),
+                        json_num(os[i], oe[i], "uncovered_share"), 0.0000051);
         EXPECT_NEAR(fps[i], csv_num(&c, i, "fps_median"), 0.00051);
         EXPECT_NEAR(px[i], csv_num(&c, i, "max_screen_error_px"), 0.000051);
         EXPECT_EQ_INT(pareto[i], (int)csv_num(&c, i, "pareto"));

@@ -182,12 +182,12 @@ int tp_bench_store(const bench_options* o);
 /* bench_sweep.c: the families a --sweep compares, each with its own Pareto front: the patch
  * renderer's distance and error modes with vertex moving, both with --stitch add, and PGM. */
 typedef enum tp_bench_family {
-    TP_FAMILY_FULL,          /* full resolution (the baseline; no front) */
-    TP_FAMILY_DISTANCE,      /* distance mode, vertex moving */
-    TP_FAMILY_ERROR,         /* error mode, vertex moving */
-    TP_FAMILY_DISTANCE_ADD,  /* distance mode, --stitch add */
-    TP_FAMILY_ERROR_ADD,     /* error mode, --stitch add */
-    TP_FAMILY_PGM,           /* Persistent Grid Mapping, one configuration per grid */
+    TP_FAMILY_FULL,         /* full resolution (the baseline; no front) */
+    TP_FAMILY_DISTANCE,     /* distance mode, vertex moving */
+    TP_FAMILY_ERROR,        /* error mode, vertex moving */
+    TP_FAMILY_DISTANCE_ADD, /* distance mode, --stitch add */
+    TP_FAMILY_ERROR_ADD,    /* error mode, --stitch add */
+    TP_FAMILY_PGM,          /* Persistent Grid Mapping, one configuration per grid */
     TP_FAMILY_COUNT
 } tp_bench_family;
 
@@ -204,7 +204,8 @@ const char* tp_bench_family_name(tp_bench_family f);
 config_result* tp_bench_sweep_configs(const bench_run* b, const tp_lod_params* base, int* count,
                                       int* best);
 
-/* A configuration's label for the table ("error tau=1", "distance+add 50/1200/1", "pgm 150x600"). */
+/* A configuration's label for the table ("error tau=1", "distance+add 480/11520/1",
+ * "pgm 150x600"). */
 void tp_bench_label(config_result* c);
 
 /* Marks the configurations no other configuration of the same family beats in both fps and
@@ -218,17 +219,17 @@ int tp_bench_sweep_plot(const config_result* c, int nc, const char* png, const c
 /* One configuration of a --sweep, as plotted. */
 typedef struct tp_bench_point {
     tp_bench_family family;
-    double tau_px;  /* the error families' label */
+    double tau_px;          /* the error families' label */
     int pgm_cols, pgm_rows; /* PGM's label */
     double fps, max_px, rms_px;
-    int pareto;     /* on its family's front of fps against measured maximum screen error */
+    int pareto; /* on its family's front of fps against measured maximum screen error */
 } tp_bench_point;
 
 /* Plots a --sweep with gnuplot into png: fps against measured maximum and RMS screen error
  * (log scales; an error of 0 px is drawn at 0.01 px; a point with a non-finite error is left
- * out), each family's configurations and Pareto front, full resolution as a line at full_fps. gnuplot draws into a private temporary folder
- * (mkdtemp) beside png, removed afterwards; the PNG then goes through tp_file_write. Returns 1,
- * or 0 after a one-line message. */
+ * out), each family's configurations and Pareto front, full resolution as a line at full_fps.
+ * gnuplot draws into a private temporary folder (mkdtemp) beside png, removed afterwards; the PNG
+ * then goes through tp_file_write. Returns 1, or 0 after a one-line message. */
 int tp_bench_plot(const tp_bench_point* pts, int count, const char* png, const char* title,
                   double full_fps);
 

@@ -146,10 +146,10 @@ int tp_bench_write_frames_csv(const bench_options* o, const config_result* c, in
             if (c[k].pgm_cols)
                 snprintf(grid, sizeof grid, "%dx%d", c[k].pgm_cols, c[k].pgm_rows);
             fprintf(f, "%s,%d,%.4f,%.4f,%.4f,%.4f,%zu,%d,%d,%d,%zu,%.4f,%.4f,%.4f,%.4f,%s,%.6f\n",
-                    c[k].pgm_cols ? "pgm" : mode_name(c[k].lod.mode), i, r->frame_ms,
-                    r->select_ms, r->upload_ms, r->draw_ms, r->triangles, r->draw_calls,
-                    r->patches, r->uploads, r->gpu_bytes, r->max_m, r->rms_m, r->max_px,
-                    r->rms_px, grid, c[k].pgm_cols ? r->uncovered_share : 0.0);
+                    c[k].pgm_cols ? "pgm" : mode_name(c[k].lod.mode), i, r->frame_ms, r->select_ms,
+                    r->upload_ms, r->draw_ms, r->triangles, r->draw_calls, r->patches, r->uploads,
+                    r->gpu_bytes, r->max_m, r->rms_m, r->max_px, r->rms_px, grid,
+                    c[k].pgm_cols ? r->uncovered_share : 0.0);
         }
     return tp_atomic_commit(&file);
 }
@@ -167,7 +167,8 @@ int tp_bench_write_sweep_csv(const bench_options* o, const config_result* c, int
     for (int k = 0; k < nc; k++) {
         const config_result* r = &c[k];
         int pgm = r->pgm_cols > 0;
-        int dist = !pgm && r->lod.mode == TP_LOD_DISTANCE, err = !pgm && r->lod.mode == TP_LOD_ERROR;
+        int dist = !pgm && r->lod.mode == TP_LOD_DISTANCE,
+            err = !pgm && r->lod.mode == TP_LOD_ERROR;
         char grid[32] = "";
         if (pgm)
             snprintf(grid, sizeof grid, "%dx%d", r->pgm_cols, r->pgm_rows);
@@ -175,11 +176,13 @@ int tp_bench_write_sweep_csv(const bench_options* o, const config_result* c, int
                 "%s,%s,%s,%s,%g,%g,%g,%g,%.3f,%.3f,%.4f,%.3f,%.0f,%.0f,%.3f,%.4f,%.4f,%.4f,%.4f,"
                 "%.6f,%d\n",
                 tp_bench_family_name(tp_bench_family_of(r)), pgm ? "pgm" : mode_name(r->lod.mode),
-                pgm ? "" : r->stitch_add ? "add" : "move", grid, err ? r->lod.tau_px : 0,
-                dist ? r->lod.mindist_m : 0, dist ? r->lod.maxdist_m : 0,
-                dist ? r->lod.exponent : 0, r->fps_median, r->frame_ms, r->cpu_ms, r->draw_ms,
-                r->triangles, r->uploads, r->gpu_bytes / 1048576.0, r->max_px, r->rms_px,
-                r->max_m, r->rms_m, r->uncovered_share, r->pareto);
+                pgm             ? ""
+                : r->stitch_add ? "add"
+                                : "move",
+                grid, err ? r->lod.tau_px : 0, dist ? r->lod.mindist_m : 0,
+                dist ? r->lod.maxdist_m : 0, dist ? r->lod.exponent : 0, r->fps_median, r->frame_ms,
+                r->cpu_ms, r->draw_ms, r->triangles, r->uploads, r->gpu_bytes / 1048576.0,
+                r->max_px, r->rms_px, r->max_m, r->rms_m, r->uncovered_share, r->pareto);
     }
     return tp_atomic_commit(&file);
 }
@@ -195,8 +198,8 @@ void tp_bench_print_table(const bench_run* b, const char* renderer_name, const c
     int any_pgm = 0; /* PGM's error leaves out the posts no triangle covers: their share */
     for (int k = 0; k < nc; k++)
         any_pgm |= c[k].pgm_cols > 0;
-    printf("%-28s %8s %9s %8s %8s %10s %6s %9s %9s %9s %9s%s\n", "lod", "fps", "frame ms",
-           "cpu ms", "draw ms", "triangles", "calls", "max px", "rms px", "max m", "rms m",
+    printf("%-28s %8s %9s %8s %8s %10s %6s %9s %9s %9s %9s%s\n", "lod", "fps", "frame ms", "cpu ms",
+           "draw ms", "triangles", "calls", "max px", "rms px", "max m", "rms m",
            any_pgm ? "  uncov %" : "");
     for (int k = 0; k < nc; k++) {
         printf("%-28s %8.2f %9.2f %8.3f %8.2f %10.0f %6.0f %9.3f %9.3f %9.3f %9.3f", c[k].label,

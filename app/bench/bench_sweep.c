@@ -14,7 +14,7 @@ static const double sweep_maxdist_w[] = {12, 24, 48, 96};
 static const double sweep_exp[] = {0.5, 1, 2};
 static const double sweep_tau[] = {0.5, 1, 2, 4, 8, 16};
 /* PGM: the grids of Livny, Kogan & El-Sana's Table 1 (cols x rows), then two square ones. */
-static const int sweep_pgm[][2] = {{150, 600}, {200, 800}, {300, 900}, {600, 600},
+static const int sweep_pgm[][2] = {{150, 600},  {200, 800}, {300, 900}, {600, 600},
                                    {400, 1600}, {300, 300}, {430, 430}};
 #define COUNT(a) ((int)(sizeof(a) / sizeof *(a)))
 
@@ -31,7 +31,7 @@ tp_bench_family tp_bench_family_of(const config_result* c)
 
 const char* tp_bench_family_name(tp_bench_family f)
 {
-    static const char* const names[TP_FAMILY_COUNT] = {"full",        "distance",  "error",
+    static const char* const names[TP_FAMILY_COUNT] = {"full",         "distance",  "error",
                                                        "distance+add", "error+add", "pgm"};
     return f >= 0 && f < TP_FAMILY_COUNT ? names[f] : "?";
 }
@@ -117,8 +117,8 @@ void tp_bench_mark_pareto(config_result* c, int nc)
         tp_bench_family f = tp_bench_family_of(&c[i]);
         c[i].pareto = f != TP_FAMILY_FULL;
         for (int k = 0; k < nc && c[i].pareto; k++)
-            if (k != i && tp_bench_family_of(&c[k]) == f &&
-                c[k].fps_median >= c[i].fps_median && c[k].max_px <= c[i].max_px &&
+            if (k != i && tp_bench_family_of(&c[k]) == f && c[k].fps_median >= c[i].fps_median &&
+                c[k].max_px <= c[i].max_px &&
                 (c[k].fps_median > c[i].fps_median || c[k].max_px < c[i].max_px))
                 c[i].pareto = 0;
     }
@@ -132,9 +132,9 @@ int tp_bench_sweep_plot(const config_result* c, int nc, const char* png, const c
         return 0;
     }
     for (int k = 1; k < nc; k++)
-        pts[k - 1] = (tp_bench_point){tp_bench_family_of(&c[k]), c[k].lod.tau_px, c[k].pgm_cols,
-                                      c[k].pgm_rows, c[k].fps_median, c[k].max_px, c[k].rms_px,
-                                      c[k].pareto};
+        pts[k - 1] = (tp_bench_point){
+            tp_bench_family_of(&c[k]), c[k].lod.tau_px, c[k].pgm_cols, c[k].pgm_rows,
+            c[k].fps_median,           c[k].max_px,     c[k].rms_px,   c[k].pareto};
     int ok = tp_bench_plot(pts, nc - 1, png, title, c[0].fps_median);
     free(pts);
     return ok;
