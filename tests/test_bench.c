@@ -838,6 +838,41 @@ TEST(sweep_writes_one_row_per_configuration_and_a_plot)
     check_sweep(dem, csv_path, json_path, &r, 0);
 }
 
+/* --pgm-grid replaces the sweep's PGM grids (no --renderer pgm needed: the sweep runs PGM);
+ * the other families stay as they are. */
+TEST(sweep_pgm_grid_replaces_the_grids)
+{
+    static run_result r;
+    args a;
+    const char* dem = sample_path(STORML);
+    const char* dir = make_tmp_dir();
+    char csv_path[1024];
+    args_sweep(&a, dir);
+    args_add(&a, "--pgm-grid");
+    args_add(&a, "40x30,64x64");
+    args_add(&a, "%s", dem);
+    run_ok(&a, &r);
+    snprintf(csv_path, sizeof csv_path, "%s/sweep.csv", dir);
+    csv c;
+    csv_read(csv_path, &c);
+    ASSERT_EQ_INT(SWEEP_ROWS - COUNT(grid_pgm) + 2, c.rows);
+    const char* want[2] = {"40x30", "64x64"};
+    int g = 0;
+    for (int i = 0; i < c.rows; i++) {
+        if (!is_mode(&c, i, "pgm"))
+            continue;
+        if (g < 2)
+            EXPECT_EQ_STR(want[g], csv_str(&c, i, "pgm_grid"));
+        g++;
+        EXPECT_TRUE(isfinite(csv_num(&c, i, "max_screen_error_px")));
+        EXPECT_GT(csv_num(&c, i, "triangles_median"), 0.0);
+    }
+    EXPECT_EQ_INT(2, g);
+    EXPECT_CONTAINS(r.out, "pgm 40x30");
+    EXPECT_CONTAINS(r.out, "uncov %");
+    csv_free(&c);
+}
+
 TEST(sweep_plot_option_puts_the_plot_there)
 {
     static run_result r;
@@ -2212,6 +2247,7 @@ TEST(pgm_view_headless_writes_screenshot_and_stats)
     X(sweep_writes_one_row_per_configuration_and_a_plot)                                           \
     X(stitch_add_against_move_frame_by_frame)                                                      \
     X(stitch_add_static_or_bad_mode_exits_2)                                                       \
+    X(sweep_pgm_grid_replaces_the_grids)                                                           \
     X(sweep_plot_option_puts_the_plot_there)                                                       \
     X(sweep_tau_off_the_grid_adds_an_error_row)                                                    \
     X(sweep_tau_on_the_grid_adds_no_row)                                                           \

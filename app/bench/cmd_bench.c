@@ -361,8 +361,8 @@ static int parse_options(int argc, char** argv, bench_options* o)
                 o->imagery ? "--imagery" : "--light", o->dem);
         return TP_EXIT_USAGE;
     }
-    if (o->vs.pgm_grid_count && !o->vs.pgm) {
-        fprintf(stderr, "terrapatch bench: --pgm-grid needs --renderer pgm\n");
+    if (o->vs.pgm_grid_count && !o->vs.pgm && !o->sweep) {
+        fprintf(stderr, "terrapatch bench: --pgm-grid needs --renderer pgm (or --sweep)\n");
         return TP_EXIT_USAGE;
     }
     if (o->vs.pgm && tp_is_store_path(o->dem)) {
