@@ -1,8 +1,9 @@
 /*
  * bench.h - the parts of `terrapatch bench`: options and the frame loop (cmd_bench.c), camera
  * paths (bench_path.c), the table, JSON and CSV it writes (bench_report.c), the static meshes of
- * `export --max-error` (bench_static.c), the sweep's plot (bench_plot.c) and the medians of
- * both benches' frames (bench_stats.c).
+ * `export --max-error` (bench_static.c), the sweep's configurations and families
+ * (bench_sweep.c) and plot (bench_plot.c), PGM's frames (bench_pgm.c), vertex adding's error
+ * (bench_stitch_add.c) and the medians of both benches' frames (bench_stats.c).
  */
 #ifndef TP_APP_BENCH_H
 #define TP_APP_BENCH_H
