@@ -2110,9 +2110,11 @@ TEST(pgm_bench_adds_a_configuration_per_grid)
     ASSERT_EQ_INT(5 * 4, c.rows); /* full, distance, error, two grids; 4 frames each */
     const int grid[2][2] = {{40, 30}, {64, 64}};
     int pgm_rows = 0;
+    double share_sum[2] = {0, 0}; /* the measured frames' uncovered shares, per grid */
     for (int i = 0; i < c.rows; i++) {
         if (strcmp(csv_str(&c, i, "lod_mode"), "pgm") != 0) {
             EXPECT_EQ_STR("", csv_str(&c, i, "pgm_grid"));
+            EXPECT_EQ_DBL(0, csv_num(&c, i, "uncovered_share")); /* patches cover every post */
             continue;
         }
         int g = pgm_rows++ / 4, frame = (int)csv_num(&c, i, "frame");
@@ -2130,8 +2132,12 @@ TEST(pgm_bench_adds_a_configuration_per_grid)
             EXPECT_GE(max_m, csv_num(&c, i, "rms_vertical_error_m"));
             EXPECT_GE(csv_num(&c, i, "max_screen_error_px"), rms_px);
             EXPECT_GT(rms_px, 0);
+            double u = csv_num(&c, i, "uncovered_share");
+            EXPECT_TRUE(u >= 0 && u < 1);
+            share_sum[g] += u;
         } else {
             EXPECT_TRUE(isnan(max_m) && isnan(rms_px));
+            EXPECT_TRUE(isnan(csv_num(&c, i, "uncovered_share")));
         }
     }
     EXPECT_EQ_INT(8, pgm_rows);
@@ -2153,6 +2159,8 @@ TEST(pgm_bench_adds_a_configuration_per_grid)
         EXPECT_EQ_DBL(2.0 * (grid[g][0] - 1) * (grid[g][1] - 1),
                       json_num(os[3 + g], oe[3 + g], "triangles_median"));
         EXPECT_GT(json_num(os[3 + g], oe[3 + g], "max_screen_error_px"), 0);
+        /* the summary's share: the mean over the measured frames (0 and 2; CSV at 1e-6) */
+        EXPECT_NEAR(share_sum[g] / 2, json_num(os[3 + g], oe[3 + g], "uncovered_share"), 1e-6);
     }
     free(json);
 }
