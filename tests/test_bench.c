@@ -3,8 +3,9 @@
  * (posix_spawn, an argument vector, no shell) and the test reads back what it wrote:
  *
  *   - --sweep: one CSV row per configuration (full, the 24 distance configurations, the error
- *     configurations), the Pareto column recomputed here from the CSV and the JSON, the plot
- *     (a PNG beside the CSV or at --plot), no temporary files left;
+ *     configurations, --stitch add at the run's distance and at every tau, PGM per grid), each
+ *     family's Pareto column recomputed here from the CSV and the JSON, the plot (a PNG beside
+ *     the CSV or at --plot), no temporary files left;
  *   - --static --max-error: the bounds hold, the meshes shrink as the bound grows, the mesh is
  *     the one `export --max-error` writes (read back with VTK), bounds below the quantisation
  *     error are reported, not measured;
@@ -45,14 +46,17 @@
 #define MT_HOOD "lf_elev_220_mt_hood_utm.tif" /* data/, 1013 x 799, integer heights */
 #define CRATER "craterlake-elev-16bit-30m.tif" /* ../shared/data: height step 1/128 m */
 
-/* The sweep's grid (app/cmd_bench.c, documented in `bench --help`): distance mode in patch
- * widths W = (patch - 1) sample spacings, error mode in pixels. */
+/* The sweep's grid (app/bench/bench_sweep.c, documented in `bench --help`): distance mode in
+ * patch widths W = (patch - 1) sample spacings, error mode in pixels; the same taus with
+ * --stitch add, and one distance configuration with it (the run's); PGM's grids. */
 static const double grid_mindist_w[] = {1, 4};
 static const double grid_maxdist_w[] = {12, 24, 48, 96};
 static const double grid_exp[] = {0.5, 1, 2};
 static const double grid_tau[] = {0.5, 1, 2, 4, 8, 16};
+static const char* const grid_pgm[] = {"150x600", "200x800", "300x900", "600x600",
+                                       "400x1600", "300x300", "430x430"};
 #define COUNT(a) ((int)(sizeof(a) / sizeof *(a)))
-#define SWEEP_ROWS (1 + 2 * 4 * 3 + 6)
+#define SWEEP_ROWS (1 + 2 * 4 * 3 + 6 + 1 + 6 + 7)
 
 #define TP_TMP_PREFIX "tp_bench_"
 #include "tp_test_tmp.h"
@@ -522,13 +526,14 @@ static void dem_patch_width(const char* dem, double* patch_width_m)
 /* ---------------------------------------------------------------------------------------------
  * --sweep
  */
-static int is_mode(const csv* c, int i, const char* mode)
+/* The row's family: full, distance, error (vertex moving), distance+add, error+add, pgm. */
+static int is_mode(const csv* c, int i, const char* family)
 {
-    return !strcmp(csv_str(c, i, "lod_mode"), mode);
+    return !strcmp(csv_str(c, i, "family"), family);
 }
 
-/* Pareto flags recomputed for rows of one mode: no other row of the mode has fps >= and max px
- * <= with one of them strict. */
+/* Pareto flags recomputed for rows of one family: no other row of the family has fps >= and
+ * max px <= with one of them strict. */
 static int dominated(const double* fps, const double* px, const int* same_mode, int n, int i)
 {
     for (int k = 0; k < n; k++)
@@ -547,28 +552,57 @@ static void check_sweep(const char* dem, const char* csv_path, const char* json_
     csv c;
     csv_read(csv_path, &c);
     static const char* const header[] = {
-        "lod_mode", "tau_px", "mindist_m", "maxdist_m", "exp", "fps_median",
-        "triangles_median", "max_screen_error_px", "rms_screen_error_px", "pareto"};
+        "family", "lod_mode", "stitch", "pgm_grid", "tau_px", "mindist_m", "maxdist_m", "exp",
+        "fps_median", "cpu_ms_median", "triangles_median", "gpu_mib", "max_screen_error_px",
+        "rms_screen_error_px", "uncovered_share", "pareto"};
     for (int k = 0; k < COUNT(header); k++)
         (void)csv_col(&c, header[k]);
     EXPECT_FALSE(c.ragged);
     int expected_rows = SWEEP_ROWS + (extra_tau > 0);
     ASSERT_EQ_INT(expected_rows, c.rows);
 
-    /* modes: full first, then 24 distance, then the error configurations */
-    int n_full = 0, n_dist = 0, n_err = 0;
+    /* families: full first, then 24 distance, then the error configurations, then the ones
+     * with --stitch add and PGM's; every one measured (finite errors) and drawing triangles */
+    int n_full = 0, n_dist = 0, n_err = 0, n_dadd = 0, n_eadd = 0, n_pgm = 0;
     for (int i = 0; i < c.rows; i++) {
         n_full += is_mode(&c, i, "full");
         n_dist += is_mode(&c, i, "distance");
         n_err += is_mode(&c, i, "error");
+        n_dadd += is_mode(&c, i, "distance+add");
+        n_eadd += is_mode(&c, i, "error+add");
+        n_pgm += is_mode(&c, i, "pgm");
         EXPECT_GT(csv_num(&c, i, "fps_median"), 0.0);
         EXPECT_GT(csv_num(&c, i, "triangles_median"), 0.0);
-        EXPECT_GE(csv_num(&c, i, "max_screen_error_px"), csv_num(&c, i, "rms_screen_error_px"));
+        EXPECT_GT(csv_num(&c, i, "gpu_mib"), 0.0);
+        double mpx = csv_num(&c, i, "max_screen_error_px");
+        double rpx = csv_num(&c, i, "rms_screen_error_px");
+        if (!isfinite(mpx) || !isfinite(rpx) || !isfinite(csv_num(&c, i, "max_vertical_error_m")))
+            ADD_FAILURE("row %d (%s): error not measured: max %s px, rms %s px, max %s m", i,
+                        csv_str(&c, i, "family"), csv_str(&c, i, "max_screen_error_px"),
+                        csv_str(&c, i, "rms_screen_error_px"),
+                        csv_str(&c, i, "max_vertical_error_m"));
+        EXPECT_GE(mpx, rpx);
+        EXPECT_GE(rpx, 0.0);
+        int pgm = is_mode(&c, i, "pgm");
+        EXPECT_EQ_STR(pgm ? "pgm" : strchr(csv_str(&c, i, "family"), '+') ? "add" : "move",
+                      pgm ? csv_str(&c, i, "lod_mode") : csv_str(&c, i, "stitch"));
+        /* the patch renderer covers every post in view; PGM leaves some out, never all */
+        double u = csv_num(&c, i, "uncovered_share");
+        if (pgm) {
+            EXPECT_GE(u, 0.0);
+            EXPECT_LT(u, 1.0);
+        } else {
+            EXPECT_EQ_DBL(0.0, u);
+            EXPECT_EQ_STR("", csv_str(&c, i, "pgm_grid"));
+        }
     }
     EXPECT_TRUE(is_mode(&c, 0, "full"));
     EXPECT_EQ_INT(1, n_full);
     EXPECT_EQ_INT(COUNT(grid_mindist_w) * COUNT(grid_maxdist_w) * COUNT(grid_exp), n_dist);
     EXPECT_EQ_INT(COUNT(grid_tau) + (extra_tau > 0), n_err);
+    EXPECT_EQ_INT(1, n_dadd);
+    EXPECT_EQ_INT(COUNT(grid_tau), n_eadd);
+    EXPECT_EQ_INT(COUNT(grid_pgm), n_pgm);
     /* full resolution: no LoD parameters, no error */
     EXPECT_EQ_DBL(0.0, csv_num(&c, 0, "tau_px"));
     EXPECT_EQ_DBL(0.0, csv_num(&c, 0, "maxdist_m"));
@@ -624,6 +658,50 @@ static void check_sweep(const char* dem, const char* csv_path, const char* json_
             ADD_FAILURE("error row %d: tau %s appears twice", i, csv_str(&c, i, "tau_px"));
         EXPECT_EQ_DBL(0.0, csv_num(&c, i, "maxdist_m"));
     }
+    /* PGM rows: each grid of the list once */
+    int pgm_seen[COUNT(grid_pgm)] = {0};
+    for (int i = 0; i < c.rows; i++) {
+        if (!is_mode(&c, i, "pgm"))
+            continue;
+        int k = 0;
+        while (k < COUNT(grid_pgm) && strcmp(grid_pgm[k], csv_str(&c, i, "pgm_grid")))
+            k++;
+        if (k == COUNT(grid_pgm))
+            ADD_FAILURE("pgm row %d: grid '%s' is not in the list", i, csv_str(&c, i, "pgm_grid"));
+        else if (pgm_seen[k]++)
+            ADD_FAILURE("pgm row %d: grid %s appears twice", i, grid_pgm[k]);
+    }
+    /* --stitch add: each tau of the grid once, and the distance row at the run's (default)
+     * parameters; on the same selection as vertex moving's row of the same parameters, it
+     * keeps the coarser patches' vertices and adds the finer ones': never fewer triangles */
+    int add_seen[COUNT(grid_tau)] = {0};
+    for (int i = 0; i < c.rows; i++) {
+        int dadd = is_mode(&c, i, "distance+add");
+        if (!dadd && !is_mode(&c, i, "error+add"))
+            continue;
+        if (!dadd) {
+            int k = 0;
+            while (k < COUNT(grid_tau) && grid_tau[k] != csv_num(&c, i, "tau_px"))
+                k++;
+            if (k == COUNT(grid_tau) || add_seen[k]++)
+                ADD_FAILURE("error+add row %d: tau %s off the grid or twice", i,
+                            csv_str(&c, i, "tau_px"));
+        }
+        int twin = -1;
+        for (int k = 0; k < c.rows; k++)
+            if (is_mode(&c, k, dadd ? "distance" : "error") &&
+                csv_num(&c, k, "tau_px") == csv_num(&c, i, "tau_px") &&
+                csv_num(&c, k, "mindist_m") == csv_num(&c, i, "mindist_m") &&
+                csv_num(&c, k, "maxdist_m") == csv_num(&c, i, "maxdist_m") &&
+                csv_num(&c, k, "exp") == csv_num(&c, i, "exp"))
+                twin = k;
+        if (twin < 0) {
+            ADD_FAILURE("%s row %d: no vertex-moving row with its parameters",
+                        csv_str(&c, i, "family"), i);
+            continue;
+        }
+        EXPECT_GE(csv_num(&c, i, "triangles_median"), csv_num(&c, twin, "triangles_median"));
+    }
     ASSERT_NO_FAILURE();
 
     /* the JSON: the same configurations in the same order, at full precision */
@@ -633,18 +711,28 @@ static void check_sweep(const char* dem, const char* csv_path, const char* json_
     int no = json_objects(json, "configurations", os, oe, 64);
     ASSERT_EQ_INT(c.rows, no);
     double fps[64], px[64];
-    int pareto[64], mode_err[64], mode_dist[64];
+    int pareto[64], mode_err[64], family[64];
     for (int i = 0; i < no; i++) {
-        char mode[32];
+        char mode[32], fam[32];
         json_str(os[i], oe[i], "lod_mode", mode, sizeof mode);
+        json_str(os[i], oe[i], "family", fam, sizeof fam);
         if (strcmp(csv_str(&c, i, "lod_mode"), mode) != 0)
             ADD_FAILURE("configuration %d: %s in the JSON, %s in the CSV", i, mode,
                         csv_str(&c, i, "lod_mode"));
+        EXPECT_EQ_STR(csv_str(&c, i, "family"), fam);
         fps[i] = json_num(os[i], oe[i], "fps_median");
         px[i] = json_num(os[i], oe[i], "max_screen_error_px");
         pareto[i] = json_bool(os[i], oe[i], "pareto");
-        mode_err[i] = !strcmp(mode, "error");
-        mode_dist[i] = !strcmp(mode, "distance");
+        mode_err[i] = !strcmp(fam, "error");
+        family[i] = !strcmp(fam, "distance")       ? 1
+                    : mode_err[i]                    ? 2
+                    : !strcmp(fam, "distance+add") ? 3
+                    : !strcmp(fam, "error+add")    ? 4
+                    : !strcmp(fam, "pgm")          ? 5
+                                                   : 0;
+        if (!strcmp(fam, "pgm"))
+            EXPECT_NEAR(csv_num(&c, i, "uncovered_share"),
+                        json_num(os[i], oe[i], "uncovered_share"), 0.0000051);
         EXPECT_NEAR(fps[i], csv_num(&c, i, "fps_median"), 0.00051);
         EXPECT_NEAR(px[i], csv_num(&c, i, "max_screen_error_px"), 0.000051);
         EXPECT_EQ_INT(pareto[i], (int)csv_num(&c, i, "pareto"));
@@ -652,18 +740,20 @@ static void check_sweep(const char* dem, const char* csv_path, const char* json_
         if (mode_err[i])
             EXPECT_LE(px[i], json_num(os[i], oe[i], "tau_px") * (1 + 1e-9));
     }
-    /* Pareto flags, recomputed from the JSON's exact values */
-    int fronts[2] = {0, 0};
+    /* Pareto flags, recomputed from the JSON's exact values, per family */
+    int fronts[6] = {0}, same[6][64] = {{0}};
+    for (int i = 0; i < no; i++)
+        same[family[i]][i] = 1;
+    EXPECT_EQ_INT(0, pareto[0]); /* full resolution: the baseline, on no front */
     for (int i = 1; i < no; i++) {
-        const int* same = mode_err[i] ? mode_err : mode_dist;
-        int expect = !dominated(fps, px, same, no, i);
+        int expect = !dominated(fps, px, same[family[i]], no, i);
         if (expect != pareto[i])
             ADD_FAILURE("configuration %d (%s, fps %.6g, max px %.6g): pareto %d, expected %d", i,
-                        mode_err[i] ? "error" : "distance", fps[i], px[i], pareto[i], expect);
-        fronts[mode_err[i]] += expect;
+                        csv_str(&c, i, "family"), fps[i], px[i], pareto[i], expect);
+        fronts[family[i]] += expect;
     }
-    EXPECT_GE(fronts[0], 1.0);
-    EXPECT_GE(fronts[1], 1.0);
+    for (int f = 1; f < 6; f++) /* every family has a front */
+        EXPECT_GE(fronts[f], 1.0);
     /* ... and from the CSV's rounded values: a disagreement only where rounding hides a tie */
     double cfps[64], cpx[64];
     for (int i = 0; i < c.rows; i++) {
@@ -672,13 +762,13 @@ static void check_sweep(const char* dem, const char* csv_path, const char* json_
     }
     int ambiguous = 0;
     for (int i = 1; i < c.rows; i++) {
-        const int* same = mode_err[i] ? mode_err : mode_dist;
-        int expect = !dominated(cfps, cpx, same, c.rows, i);
+        const int* fam = same[family[i]];
+        int expect = !dominated(cfps, cpx, fam, c.rows, i);
         if (expect == (int)csv_num(&c, i, "pareto"))
             continue;
         int tie = 0;
         for (int k = 1; k < c.rows; k++)
-            tie |= k != i && same[k] &&
+            tie |= k != i && fam[k] &&
                    (fabs(cfps[k] - cfps[i]) <= 0.001 || fabs(cpx[k] - cpx[i]) <= 0.0001);
         if (!tie)
             ADD_FAILURE("CSV row %d: pareto %s, but its fps %s and max px %s say %d", i,
@@ -746,6 +836,41 @@ TEST(sweep_writes_one_row_per_configuration_and_a_plot)
     expect_plot(png);
     EXPECT_CONTAINS(r.err, png);
     check_sweep(dem, csv_path, json_path, &r, 0);
+}
+
+/* --pgm-grid replaces the sweep's PGM grids (no --renderer pgm needed: the sweep runs PGM);
+ * the other families stay as they are. */
+TEST(sweep_pgm_grid_replaces_the_grids)
+{
+    static run_result r;
+    args a;
+    const char* dem = sample_path(STORML);
+    const char* dir = make_tmp_dir();
+    char csv_path[1024];
+    args_sweep(&a, dir);
+    args_add(&a, "--pgm-grid");
+    args_add(&a, "40x30,64x64");
+    args_add(&a, "%s", dem);
+    run_ok(&a, &r);
+    snprintf(csv_path, sizeof csv_path, "%s/sweep.csv", dir);
+    csv c;
+    csv_read(csv_path, &c);
+    ASSERT_EQ_INT(SWEEP_ROWS - COUNT(grid_pgm) + 2, c.rows);
+    const char* want[2] = {"40x30", "64x64"};
+    int g = 0;
+    for (int i = 0; i < c.rows; i++) {
+        if (!is_mode(&c, i, "pgm"))
+            continue;
+        if (g < 2)
+            EXPECT_EQ_STR(want[g], csv_str(&c, i, "pgm_grid"));
+        g++;
+        EXPECT_TRUE(isfinite(csv_num(&c, i, "max_screen_error_px")));
+        EXPECT_GT(csv_num(&c, i, "triangles_median"), 0.0);
+    }
+    EXPECT_EQ_INT(2, g);
+    EXPECT_CONTAINS(r.out, "pgm 40x30");
+    EXPECT_CONTAINS(r.out, "uncov %");
+    csv_free(&c);
 }
 
 TEST(sweep_plot_option_puts_the_plot_there)
@@ -1484,8 +1609,8 @@ TEST(sweep_without_csv_exits_2)
  * frame over the same path on Mt Hood: the same selection, so full resolution draws the same
  * triangles exactly (nothing to add or move) with no error in either; the LoD modes draw at
  * least as many (the coarser patches keep their own vertices and take the finer ones'), more
- * on some frame (a view where nothing is added would prove nothing); the vertical error is
- * measured for add (its own geometry), the screen error is not (nan). */
+ * on some frame (a view where nothing is added would prove nothing); the vertical and screen
+ * errors are measured for add on its own geometry (0 at full resolution, as moving's). */
 TEST(stitch_add_against_move_frame_by_frame)
 {
     const char* dem = sample_path(MT_HOOD);
@@ -1518,12 +1643,16 @@ TEST(stitch_add_against_move_frame_by_frame)
                      csv_num(&c[0], i, "frame"), tm, ta, em, ea);
         EXPECT_EQ_STR(lod, csv_str(&c[1], i, "lod_mode"));
         EXPECT_EQ_DBL(csv_num(&c[0], i, "patches"), csv_num(&c[1], i, "patches"));
-        EXPECT_TRUE(isnan(csv_num(&c[1], i, "max_screen_error_px")));
+        double pa = csv_num(&c[1], i, "max_screen_error_px");
+        EXPECT_TRUE(isfinite(pa) && pa >= csv_num(&c[1], i, "rms_screen_error_px"));
         EXPECT_TRUE(ea >= 0);
+        if (ea == 0) /* the drawn surface on every sample: nothing to see on screen */
+            EXPECT_EQ_DBL(0, pa);
         if (!strcmp(lod, "full")) {
             EXPECT_EQ_DBL(tm, ta);
             EXPECT_EQ_DBL(0, em);
             EXPECT_EQ_DBL(0, ea);
+            EXPECT_EQ_DBL(0, pa);
         } else {
             EXPECT_GE(ta, tm);
             more += ta > tm;
@@ -1552,6 +1681,11 @@ TEST(stitch_add_static_or_bad_mode_exits_2)
     args_add(&a, "sideways");
     args_add(&a, "%s", dem);
     expect_usage_error(&a, "--stitch: expected move or add", dir);
+    args_sweep(&a, dir); /* the sweep runs both crack fixes already */
+    args_add(&a, "--stitch");
+    args_add(&a, "add");
+    args_add(&a, "%s", dem);
+    expect_usage_error(&a, "takes no --stitch", dir);
 }
 
 TEST(static_and_max_error_go_together_exits_2)
@@ -1976,9 +2110,11 @@ TEST(pgm_bench_adds_a_configuration_per_grid)
     ASSERT_EQ_INT(5 * 4, c.rows); /* full, distance, error, two grids; 4 frames each */
     const int grid[2][2] = {{40, 30}, {64, 64}};
     int pgm_rows = 0;
+    double share_sum[2] = {0, 0}; /* the measured frames' uncovered shares, per grid */
     for (int i = 0; i < c.rows; i++) {
         if (strcmp(csv_str(&c, i, "lod_mode"), "pgm") != 0) {
             EXPECT_EQ_STR("", csv_str(&c, i, "pgm_grid"));
+            EXPECT_EQ_DBL(0, csv_num(&c, i, "uncovered_share")); /* patches cover every post */
             continue;
         }
         int g = pgm_rows++ / 4, frame = (int)csv_num(&c, i, "frame");
@@ -1996,8 +2132,12 @@ TEST(pgm_bench_adds_a_configuration_per_grid)
             EXPECT_GE(max_m, csv_num(&c, i, "rms_vertical_error_m"));
             EXPECT_GE(csv_num(&c, i, "max_screen_error_px"), rms_px);
             EXPECT_GT(rms_px, 0);
+            double u = csv_num(&c, i, "uncovered_share");
+            EXPECT_TRUE(u >= 0 && u < 1);
+            share_sum[g] += u;
         } else {
             EXPECT_TRUE(isnan(max_m) && isnan(rms_px));
+            EXPECT_TRUE(isnan(csv_num(&c, i, "uncovered_share")));
         }
     }
     EXPECT_EQ_INT(8, pgm_rows);
@@ -2019,6 +2159,8 @@ TEST(pgm_bench_adds_a_configuration_per_grid)
         EXPECT_EQ_DBL(2.0 * (grid[g][0] - 1) * (grid[g][1] - 1),
                       json_num(os[3 + g], oe[3 + g], "triangles_median"));
         EXPECT_GT(json_num(os[3 + g], oe[3 + g], "max_screen_error_px"), 0);
+        /* the summary's share: the mean over the measured frames (0 and 2; CSV at 1e-6) */
+        EXPECT_NEAR(share_sum[g] / 2, json_num(os[3 + g], oe[3 + g], "uncovered_share"), 1e-6);
     }
     free(json);
 }
@@ -2113,6 +2255,7 @@ TEST(pgm_view_headless_writes_screenshot_and_stats)
     X(sweep_writes_one_row_per_configuration_and_a_plot)                                           \
     X(stitch_add_against_move_frame_by_frame)                                                      \
     X(stitch_add_static_or_bad_mode_exits_2)                                                       \
+    X(sweep_pgm_grid_replaces_the_grids)                                                           \
     X(sweep_plot_option_puts_the_plot_there)                                                       \
     X(sweep_tau_off_the_grid_adds_an_error_row)                                                    \
     X(sweep_tau_on_the_grid_adds_no_row)                                                           \

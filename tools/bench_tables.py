@@ -99,10 +99,12 @@ for f in dems:
         continue
     full = d["full_res"]["fps_median"]
     best = {}
-    for c in d["configurations"]:
-        if c["lod_mode"] == "error":
-            best[c["tau_px"]] = c
-    four = [c for c in d["configurations"] if c["lod_mode"] == "error" and c["fps_median"] >= 4 * full]
+    # the error mode with vertex moving (the sweep also has "error+add" rows of lod_mode error)
+    moving = [c for c in d["configurations"]
+              if c["lod_mode"] == "error" and c.get("family", "error") == "error"]
+    for c in moving:
+        best[c["tau_px"]] = c
+    four = [c for c in moving if c["fps_median"] >= 4 * full]
     tau4 = min((c["tau_px"] for c in four), default=None)
     print("#### %s\n" % f)
     print("![fps against measured error, %s](img/bench/%s_sweep.png)\n" % (f, name))

@@ -1,8 +1,9 @@
 /*
  * bench.h - the parts of `terrapatch bench`: options and the frame loop (cmd_bench.c), camera
  * paths (bench_path.c), the table, JSON and CSV it writes (bench_report.c), the static meshes of
- * `export --max-error` (bench_static.c), the sweep's plot (bench_plot.c) and the medians of
- * both benches' frames (bench_stats.c).
+ * `export --max-error` (bench_static.c), the sweep's configurations and families
+ * (bench_sweep.c) and plot (bench_plot.c), PGM's frames (bench_pgm.c), vertex adding's error
+ * (bench_stitch_add.c) and the medians of both benches' frames (bench_stats.c).
  */
 #ifndef TP_APP_BENCH_H
 #define TP_APP_BENCH_H
@@ -53,6 +54,9 @@ typedef struct frame_row {
     size_t triangles, gpu_bytes;
     int draw_calls, patches, uploads;
     double max_m, rms_m, max_px, rms_px;
+    double uncovered_share;  /* PGM, measured frames: posts in view no drawn triangle covers, as
+                                a share of the posts in view (tp_pgm_error); NaN on PGM's
+                                unmeasured frames; 0 for the patch renderer (it covers them) */
     size_t oracle_triangles; /* error mode: triangles if every patch were at its coarsest level
                                 that measures <= tau (see oracle_triangles()) */
     int oracle_patches;      /* patches that could be coarser */
@@ -66,9 +70,12 @@ typedef struct config_result {
     double oracle_triangles, oracle_patches; /* medians; error mode with the error measured */
     size_t gpu_bytes;
     double max_px, rms_px, max_m, rms_m; /* over all frames: max of maxima, RMS of RMS */
-    int pareto;                          /* --sweep: on its mode's fps/max-error Pareto front */
+    int pareto;                          /* --sweep: on its family's fps/max-error Pareto front */
     int pgm_cols, pgm_rows;              /* --renderer pgm: a persistent grid (bench_pgm.c); 0:
                                             the patch renderer at lod */
+    int stitch_add;                      /* the patch renderer with --stitch add */
+    double uncovered_share;              /* PGM: mean of the measured frames' shares; 0 for
+                                            the patch renderer (it covers every post) */
 } config_result;
 
 /* What every configuration of a run shares. */
@@ -133,10 +140,13 @@ int tp_bench_static(const tp_scene* sc, const bench_options* o);
 /* bench_stitch_add.c: the exact vertical error (metres) of the `--stitch add` geometry of the
  * visible patches of sel (tp_patch_triangles_add with the selection's neighbour levels; an
  * incomplete patch's unmoved level-n triangles) against every drawn sample under it, each
- * counted once, as tp_selection_measure_error measures the vertex-moving geometry.
+ * counted once, as tp_selection_measure_error measures the vertex-moving geometry; with cam
+ * (else NULL) also the screen error (px) of the same samples by tp_selection_measure_screen_error's
+ * definition (in view, in front of the near plane; occlusion ignored): *max_px and *rms_px.
  * TP_ERR_OUT_OF_MEMORY (*out untouched) or TP_OK. */
 tp_status tp_bench_stitch_add_error(const tp_terrain* t, const tp_selection* sel,
-                                    tp_error_measure* out);
+                                    const tp_camera* cam, tp_error_measure* out, double* max_px,
+                                    double* rms_px);
 
 /* The npm meshers of `bench --static --compare` (bench_npm.c), through tools/tin_compare.sh
  * ($TP_TIN_COMPARE, else the source tree's tools/, compiled in as TP_TOOLS_DIR). */
@@ -170,18 +180,57 @@ void tp_npm_close(tp_npm* n);
  * mode at --tau, then the distance mode), a table, --json and --csv. Returns TP_EXIT_*. */
 int tp_bench_store(const bench_options* o);
 
+/* bench_sweep.c: the families a --sweep compares, each with its own Pareto front: the patch
+ * renderer's distance and error modes with vertex moving, both with --stitch add, and PGM. */
+typedef enum tp_bench_family {
+    TP_FAMILY_FULL,         /* full resolution (the baseline; no front) */
+    TP_FAMILY_DISTANCE,     /* distance mode, vertex moving */
+    TP_FAMILY_ERROR,        /* error mode, vertex moving */
+    TP_FAMILY_DISTANCE_ADD, /* distance mode, --stitch add */
+    TP_FAMILY_ERROR_ADD,    /* error mode, --stitch add */
+    TP_FAMILY_PGM,          /* Persistent Grid Mapping, one configuration per grid */
+    TP_FAMILY_COUNT
+} tp_bench_family;
+
+/* The family of a configuration, and its name in the CSV, JSON and plot ("full", "distance",
+ * "error", "distance+add", "error+add", "pgm"). */
+tp_bench_family tp_bench_family_of(const config_result* c);
+const char* tp_bench_family_name(tp_bench_family f);
+
+/* The configurations of a --sweep (calloc'ed; NULL when out of memory): full resolution; the
+ * distance grid (mindist x maxdist in patch widths x exp) and the error mode's taus (with
+ * base's tau added when off the grid: *best, the headline) with vertex moving; the same taus
+ * and the default distance configuration with --stitch add; PGM with --pgm-grid's grids, else
+ * the sweep's list. Labels filled. */
+config_result* tp_bench_sweep_configs(const bench_run* b, const tp_lod_params* base, int* count,
+                                      int* best);
+
+/* A configuration's label for the table ("error tau=1", "distance+add 480/11520/1",
+ * "pgm 150x600"). */
+void tp_bench_label(config_result* c);
+
+/* Marks the configurations no other configuration of the same family beats in both fps and
+ * measured maximum screen error (c[0], full resolution, is never on a front). */
+void tp_bench_mark_pareto(config_result* c, int nc);
+
+/* Plots the sweep's configurations c[1..nc-1] (c[0]: full resolution, a line) into png (see
+ * tp_bench_plot). Returns 1, or 0 after a message. */
+int tp_bench_sweep_plot(const config_result* c, int nc, const char* png, const char* title);
+
 /* One configuration of a --sweep, as plotted. */
 typedef struct tp_bench_point {
-    int error_mode; /* 1: error mode (labelled with tau), 0: distance mode */
-    double tau_px, fps, max_px, rms_px;
-    int pareto;     /* on its mode's front of fps against measured maximum screen error */
+    tp_bench_family family;
+    double tau_px;          /* the error families' label */
+    int pgm_cols, pgm_rows; /* PGM's label */
+    double fps, max_px, rms_px;
+    int pareto; /* on its family's front of fps against measured maximum screen error */
 } tp_bench_point;
 
 /* Plots a --sweep with gnuplot into png: fps against measured maximum and RMS screen error
- * (log scales; an error of 0 px is drawn at 0.01 px), each mode's configurations and Pareto
- * front, full resolution as a line at full_fps. gnuplot draws into a private temporary folder
- * (mkdtemp) beside png, removed afterwards; the PNG then goes through tp_file_write. Returns 1,
- * or 0 after a one-line message. */
+ * (log scales; an error of 0 px is drawn at 0.01 px; a point with a non-finite error is left
+ * out), each family's configurations and Pareto front, full resolution as a line at full_fps.
+ * gnuplot draws into a private temporary folder (mkdtemp) beside png, removed afterwards; the PNG
+ * then goes through tp_file_write. Returns 1, or 0 after a one-line message. */
 int tp_bench_plot(const tp_bench_point* pts, int count, const char* png, const char* title,
                   double full_fps);
 
@@ -191,7 +240,8 @@ int tp_bench_plot(const tp_bench_point* pts, int count, const char* png, const c
  * triangles, GPU bytes, and on every --error-every-th frame tp_pgm_measure_error's error (NaN
  * on the others). Returns TP_EXIT_*. */
 int tp_bench_pgm_frames(const bench_run* b, config_result* c, const char* progress);
-/* The errors of c's summary over its measured frames only (max of maxima, RMS of RMS). */
+/* The errors of c's summary over its measured frames only (max of maxima, RMS of RMS, mean
+ * uncovered share). */
 void tp_bench_pgm_errors(config_result* c, int frames);
 
 /* The median of v[0..n-1] (n >= 1); sorts v. */

@@ -67,7 +67,7 @@ int tp_bench_pgm_frames(const bench_run* b, config_result* c, const char* progre
         row->triangles = st.triangles;
         row->draw_calls = 1;
         row->gpu_bytes = st.gpu_bytes;
-        row->max_m = row->rms_m = row->max_px = row->rms_px = NAN;
+        row->max_m = row->rms_m = row->max_px = row->rms_px = row->uncovered_share = NAN;
         if (!b->o->no_error && i % every == 0) { /* outside the timed part */
             tp_pgm_error e;
             tp_camera mc = cam; /* the viewport the frame was drawn at */
@@ -84,6 +84,8 @@ int tp_bench_pgm_frames(const bench_run* b, config_result* c, const char* progre
             }
             row->max_m = e.max_m, row->rms_m = e.rms_m;
             row->max_px = e.max_px, row->rms_px = e.rms_px;
+            size_t in_view = e.samples + e.uncovered;
+            row->uncovered_share = in_view ? (double)e.uncovered / (double)in_view : 0;
         }
         fprintf(stderr, "\rterrapatch: bench %s: frame %d/%d, %.1f ms, %zu triangles   ", progress,
                 i + 1, frames, row->frame_ms, row->triangles);
@@ -96,7 +98,7 @@ int tp_bench_pgm_frames(const bench_run* b, config_result* c, const char* progre
 
 void tp_bench_pgm_errors(config_result* c, int frames)
 {
-    double max_m = 0, max_px = 0, sum_m = 0, sum_px = 0;
+    double max_m = 0, max_px = 0, sum_m = 0, sum_px = 0, sum_uncovered = 0;
     int n = 0;
     for (int i = 0; i < frames; i++) {
         const frame_row* r = &c->rows[i];
@@ -106,10 +108,12 @@ void tp_bench_pgm_errors(config_result* c, int frames)
         max_px = fmax(max_px, r->max_px);
         sum_m += r->rms_m * r->rms_m;
         sum_px += r->rms_px * r->rms_px;
+        sum_uncovered += r->uncovered_share;
         n++;
     }
     c->max_m = n ? max_m : NAN;
     c->max_px = n ? max_px : NAN;
     c->rms_m = n ? sqrt(sum_m / n) : NAN;
     c->rms_px = n ? sqrt(sum_px / n) : NAN;
+    c->uncovered_share = n ? sum_uncovered / n : NAN;
 }

@@ -27,6 +27,8 @@ static void json_config(tp_json* j, const config_result* c)
     KN("rms_screen_error_px", c->rms_px);
     KN("max_vertical_error_m", c->max_m);
     KN("rms_vertical_error_m", c->rms_m);
+    if (c->pgm_cols)
+        KN("uncovered_share", c->uncovered_share); /* left out of PGM's error */
     if (c->lod.mode == TP_LOD_ERROR && c->oracle_triangles > 0) {
         KN("oracle_triangles_median", c->oracle_triangles);
         KN("oracle_coarser_patches_median", c->oracle_patches);
@@ -40,6 +42,8 @@ static void json_lod(tp_json* j, const config_result* c)
     const tp_lod_params* lp = &c->lod;
     tp_json_key(j, "terrain_renderer"); /* "renderer" is the GL renderer's name */
     tp_json_string(j, c->pgm_cols ? "pgm" : "patches");
+    tp_json_key(j, "family");
+    tp_json_string(j, tp_bench_family_name(tp_bench_family_of(c)));
     if (c->pgm_cols) {
         char grid[32];
         snprintf(grid, sizeof grid, "%dx%d", c->pgm_cols, c->pgm_rows);
@@ -53,6 +57,8 @@ static void json_lod(tp_json* j, const config_result* c)
         tp_json_string(j, "pgm");
         return;
     }
+    tp_json_key(j, "stitch");
+    tp_json_string(j, c->stitch_add ? "add" : "move");
     tp_json_key(j, "lod_mode");
     tp_json_string(j, mode_name(lp->mode));
     if (lp->mode == TP_LOD_ERROR) {
@@ -132,18 +138,18 @@ int tp_bench_write_frames_csv(const bench_options* o, const config_result* c, in
     FILE* f = file.f;
     fprintf(f, "lod_mode,frame,frame_ms,select_ms,upload_ms,draw_ms,triangles,draw_calls,patches,"
                "uploads,gpu_bytes,max_vertical_error_m,rms_vertical_error_m,max_screen_error_px,"
-               "rms_screen_error_px,pgm_grid\n");
+               "rms_screen_error_px,pgm_grid,uncovered_share\n");
     for (int k = 0; k < nc; k++)
         for (int i = 0; i < frames; i++) {
             const frame_row* r = &c[k].rows[i];
             char grid[32] = "";
             if (c[k].pgm_cols)
                 snprintf(grid, sizeof grid, "%dx%d", c[k].pgm_cols, c[k].pgm_rows);
-            fprintf(f, "%s,%d,%.4f,%.4f,%.4f,%.4f,%zu,%d,%d,%d,%zu,%.4f,%.4f,%.4f,%.4f,%s\n",
-                    c[k].pgm_cols ? "pgm" : mode_name(c[k].lod.mode), i, r->frame_ms,
-                    r->select_ms, r->upload_ms, r->draw_ms, r->triangles, r->draw_calls,
-                    r->patches, r->uploads, r->gpu_bytes, r->max_m, r->rms_m, r->max_px,
-                    r->rms_px, grid);
+            fprintf(f, "%s,%d,%.4f,%.4f,%.4f,%.4f,%zu,%d,%d,%d,%zu,%.4f,%.4f,%.4f,%.4f,%s,%.6f\n",
+                    c[k].pgm_cols ? "pgm" : mode_name(c[k].lod.mode), i, r->frame_ms, r->select_ms,
+                    r->upload_ms, r->draw_ms, r->triangles, r->draw_calls, r->patches, r->uploads,
+                    r->gpu_bytes, r->max_m, r->rms_m, r->max_px, r->rms_px, grid,
+                    c[k].pgm_cols ? r->uncovered_share : 0.0);
         }
     return tp_atomic_commit(&file);
 }
@@ -154,17 +160,29 @@ int tp_bench_write_sweep_csv(const bench_options* o, const config_result* c, int
     if (!tp_atomic_open(&file, o->csv))
         return 0;
     FILE* f = file.f;
-    fprintf(f, "lod_mode,tau_px,mindist_m,maxdist_m,exp,fps_median,frame_ms_median,cpu_ms_median,"
-               "draw_ms_median,triangles_median,uploads_median,max_screen_error_px,"
-               "rms_screen_error_px,max_vertical_error_m,rms_vertical_error_m,pareto\n");
+    fprintf(f, "family,lod_mode,stitch,pgm_grid,tau_px,mindist_m,maxdist_m,exp,fps_median,"
+               "frame_ms_median,cpu_ms_median,draw_ms_median,triangles_median,uploads_median,"
+               "gpu_mib,max_screen_error_px,rms_screen_error_px,max_vertical_error_m,"
+               "rms_vertical_error_m,uncovered_share,pareto\n");
     for (int k = 0; k < nc; k++) {
         const config_result* r = &c[k];
-        int dist = r->lod.mode == TP_LOD_DISTANCE, err = r->lod.mode == TP_LOD_ERROR;
-        fprintf(f, "%s,%g,%g,%g,%g,%.3f,%.3f,%.4f,%.3f,%.0f,%.0f,%.4f,%.4f,%.4f,%.4f,%d\n",
-                mode_name(r->lod.mode), err ? r->lod.tau_px : 0, dist ? r->lod.mindist_m : 0,
-                dist ? r->lod.maxdist_m : 0, dist ? r->lod.exponent : 0, r->fps_median,
-                r->frame_ms, r->cpu_ms, r->draw_ms, r->triangles, r->uploads, r->max_px,
-                r->rms_px, r->max_m, r->rms_m, r->pareto);
+        int pgm = r->pgm_cols > 0;
+        int dist = !pgm && r->lod.mode == TP_LOD_DISTANCE,
+            err = !pgm && r->lod.mode == TP_LOD_ERROR;
+        char grid[32] = "";
+        if (pgm)
+            snprintf(grid, sizeof grid, "%dx%d", r->pgm_cols, r->pgm_rows);
+        fprintf(f,
+                "%s,%s,%s,%s,%g,%g,%g,%g,%.3f,%.3f,%.4f,%.3f,%.0f,%.0f,%.3f,%.4f,%.4f,%.4f,%.4f,"
+                "%.6f,%d\n",
+                tp_bench_family_name(tp_bench_family_of(r)), pgm ? "pgm" : mode_name(r->lod.mode),
+                pgm             ? ""
+                : r->stitch_add ? "add"
+                                : "move",
+                grid, err ? r->lod.tau_px : 0, dist ? r->lod.mindist_m : 0,
+                dist ? r->lod.maxdist_m : 0, dist ? r->lod.exponent : 0, r->fps_median, r->frame_ms,
+                r->cpu_ms, r->draw_ms, r->triangles, r->uploads, r->gpu_bytes / 1048576.0,
+                r->max_px, r->rms_px, r->max_m, r->rms_m, r->uncovered_share, r->pareto);
     }
     return tp_atomic_commit(&file);
 }
@@ -177,13 +195,22 @@ void tp_bench_print_table(const bench_run* b, const char* renderer_name, const c
            o->vs.h, o->path_file ? o->path_file : o->vs.has_camera ? "fixed" : o->path_name,
            b->lead_da > 0 ? " (lead-in frames)" : "", b->frames, b->sc->info.patch_count,
            b->sc->info.patch_size, renderer_name);
-    printf("%-24s %8s %9s %8s %8s %10s %6s %9s %9s %9s %9s\n", "lod", "fps", "frame ms", "cpu ms",
-           "draw ms", "triangles", "calls", "max px", "rms px", "max m", "rms m");
+    int any_pgm = 0; /* PGM's error leaves out the posts no triangle covers: their share */
     for (int k = 0; k < nc; k++)
-        printf("%-24s %8.2f %9.2f %8.3f %8.2f %10.0f %6.0f %9.3f %9.3f %9.3f %9.3f%s\n", c[k].label,
+        any_pgm |= c[k].pgm_cols > 0;
+    printf("%-28s %8s %9s %8s %8s %10s %6s %9s %9s %9s %9s%s\n", "lod", "fps", "frame ms", "cpu ms",
+           "draw ms", "triangles", "calls", "max px", "rms px", "max m", "rms m",
+           any_pgm ? "  uncov %" : "");
+    for (int k = 0; k < nc; k++) {
+        printf("%-28s %8.2f %9.2f %8.3f %8.2f %10.0f %6.0f %9.3f %9.3f %9.3f %9.3f", c[k].label,
                c[k].fps_median, c[k].frame_ms, c[k].cpu_ms, c[k].draw_ms, c[k].triangles,
-               c[k].draw_calls, c[k].max_px, c[k].rms_px, c[k].max_m, c[k].rms_m,
-               o->sweep && c[k].pareto && k > 0 ? "  pareto" : "");
+               c[k].draw_calls, c[k].max_px, c[k].rms_px, c[k].max_m, c[k].rms_m);
+        if (any_pgm && c[k].pgm_cols)
+            printf(" %9.2f", 100 * c[k].uncovered_share);
+        else if (any_pgm)
+            printf(" %9s", "-");
+        printf("%s\n", o->sweep && c[k].pareto && k > 0 ? "  pareto" : "");
+    }
     printf("error mode (tau = %g px) vs full resolution: %.2fx the frame rate\n", c[best].lod.tau_px,
            c[best].fps_median / c[0].fps_median);
     uint64_t samples = (uint64_t)b->sc->info.width * (uint64_t)b->sc->info.height;

@@ -10,7 +10,45 @@ typedef struct add_error {
     uint8_t* seen; /* per sample: counted already (shared edges are rasterised twice) */
     double max_m, sum_sq;
     size_t samples;
+    /* the screen measure (cam given): the camera's frame, tangents of the half angles */
+    int screen;
+    tp_camera_frame f;
+    double tan_x, tan_y, zscale;
+    double max_px, sum_px;
+    size_t samples_px;
 } add_error;
+
+static void to_camera(const tp_camera_frame* f, const double w[3], double c[3])
+{
+    double d[3] = {w[0] - f->position[0], w[1] - f->position[1], w[2] - f->position[2]};
+    c[0] = d[0] * f->right[0] + d[1] * f->right[1] + d[2] * f->right[2];
+    c[1] = d[0] * f->up[0] + d[1] * f->up[1] + d[2] * f->up[2];
+    c[2] = d[0] * f->forward[0] + d[1] * f->forward[1] + d[2] * f->forward[2];
+}
+
+/* The screen error of one sample as tp_selection_measure_screen_error counts it: NaN when the
+ * sample (truth) is outside the view or before the near plane (past a far plane), infinite when
+ * only the drawn point is behind the eye, else the distance between the two projections (px). */
+static double screen_px(const add_error* e, int x, int y, double truth_m, double drawn_m)
+{
+    double ws[3], wd[3], cs[3], cd[3];
+    tp_terrain_grid_to_world(e->t, x, y, &ws[0], &ws[1]);
+    wd[0] = ws[0], wd[1] = ws[1];
+    ws[2] = truth_m * e->zscale;
+    wd[2] = drawn_m * e->zscale;
+    to_camera(&e->f, ws, cs);
+    if (cs[2] < e->f.near_m || (e->f.far_m > 0 && cs[2] > e->f.far_m) ||
+        fabs(cs[0]) > e->tan_x * cs[2] || fabs(cs[1]) > e->tan_y * cs[2])
+        return NAN;
+    if (wd[2] == ws[2])
+        return 0;
+    to_camera(&e->f, wd, cd);
+    if (cd[2] <= 0)
+        return INFINITY;
+    double du = e->f.focal_px * (cd[0] / cd[2] - cs[0] / cs[2]);
+    double dv = e->f.focal_px * (cd[1] / cd[2] - cs[1] / cs[2]);
+    return sqrt(du * du + dv * dv);
+}
 
 static void visit(int x, int y, double z, void* user)
 {
@@ -25,16 +63,31 @@ static void visit(int x, int y, double z, void* user)
     e->max_m = fmax(e->max_m, d);
     e->sum_sq += d * d;
     e->samples++;
+    if (e->screen) {
+        double px = screen_px(e, x, y, s, z);
+        if (!isnan(px)) {
+            e->max_px = fmax(e->max_px, px);
+            e->sum_px += px * px;
+            e->samples_px++;
+        }
+    }
 }
 
 tp_status tp_bench_stitch_add_error(const tp_terrain* t, const tp_selection* sel,
-                                    tp_error_measure* out)
+                                    const tp_camera* cam, tp_error_measure* out, double* max_px,
+                                    double* rms_px)
 {
     tp_terrain_info in;
     tp_terrain_get_info(t, &in);
     int n = in.n;
     size_t side = ((size_t)1 << n) + 1, cap = 0;
-    add_error e = {.t = t, .w = in.width, .h = in.height};
+    add_error e = {.t = t, .w = in.width, .h = in.height, .screen = cam != NULL};
+    if (cam) {
+        tp_camera_get_frame(cam, &e.f);
+        e.tan_x = 0.5 * e.f.width_px / e.f.focal_px;
+        e.tan_y = 0.5 * e.f.height_px / e.f.focal_px;
+        e.zscale = tp_selection_vertical_scale(sel);
+    }
     e.seen = calloc((size_t)in.width * in.height, 1);
     tp_vertex* v = malloc(side * side * sizeof *v);
     uint32_t* tri = NULL;
@@ -76,6 +129,10 @@ tp_status tp_bench_stitch_add_error(const tp_terrain* t, const tp_selection* sel
     out->max_error_m = e.max_m;
     out->rms_error_m = e.samples ? sqrt(e.sum_sq / (double)e.samples) : 0;
     out->samples = e.samples;
+    if (cam) {
+        *max_px = e.max_px;
+        *rms_px = e.samples_px ? sqrt(e.sum_px / (double)e.samples_px) : 0;
+    }
 done:
     free(e.seen);
     free(v);

@@ -51,11 +51,6 @@ enum {
     OPT_RUNS,
 };
 
-/* The sweep's grid: distance mode in patch widths (W = 2^n sample spacings), error mode in px. */
-static const double sweep_mindist_w[] = {1, 4};
-static const double sweep_maxdist_w[] = {12, 24, 48, 96};
-static const double sweep_exp[] = {0.5, 1, 2};
-static const double sweep_tau[] = {0.5, 1, 2, 4, 8, 16};
 #define COUNT(a) ((int)(sizeof(a) / sizeof *(a)))
 #define FRAME_HZ 30.0 /* the lead-in frame is 1 / FRAME_HZ s earlier along the path */
 
@@ -92,21 +87,28 @@ static void print_help(void)
           "  --no-error             skip the error measurement (faster)\n"
           "  --stitch move|add      crack removal (a DEM): move the finer patch's border vertices\n"
           "                         (default) or add them to the coarser patch's (Brodersen\n"
-          "                         section 4); add measures its error in metres only\n"
+          "                         section 4); its error measured on its own geometry\n"
           "  --renderer pgm         also Persistent Grid Mapping (Livny, Kogan & El-Sana; a DEM\n"
           "                         drawn whole, not a store): one configuration per grid after\n"
           "                         the patch ones, the same path; error by tp_pgm_measure_error\n"
           "                         (every post in view against the mapped grid's surface) on\n"
           "                         every --error-every-th frame\n"
-          "  --pgm-grid COLSxROWS[,COLSxROWS...]   the grids (default 150x600,300x300,600x600:\n"
-          "                         the paper's Table 1; at most 8)\n"
-          "  --sweep                a grid of LoD parameters: full resolution, distance mode with\n"
-          "                         mindist {1,4} x maxdist {12,24,48,96} patch widths x exp\n"
-          "                         {0.5,1,2}, error mode with tau {0.5,1,2,4,8,16} (and --tau);\n"
-          "                         --csv FILE (required) gets one row per configuration, and a\n"
-          "                         plot of fps against measured error with each mode's Pareto\n"
-          "                         front goes to --plot FILE.png (default: FILE with .png;\n"
-          "                         needs gnuplot)\n"
+          "  --pgm-grid COLSxROWS[,COLSxROWS...]   the grids (default 150x600,300x300,600x600,\n"
+          "                         from the paper's Table 1; --sweep: 150x600,200x800,300x900,\n"
+          "                         600x600,400x1600 (Table 1), 300x300,430x430; at most 8)\n"
+          "  --sweep                every renderer and crack fix on the same path and frames,\n"
+          "                         each family with its own Pareto front: full resolution;\n"
+          "                         distance mode with mindist {1,4} x maxdist {12,24,48,96}\n"
+          "                         patch widths x exp {0.5,1,2} and error mode with tau\n"
+          "                         {0.5,1,2,4,8,16} (and --tau), vertex moving; --stitch add\n"
+          "                         at the run's distance parameters and at each tau; PGM per\n"
+          "                         grid (--renderer pgm is implied). --csv FILE (required) gets\n"
+          "                         one row per configuration (family, fps, CPU ms, triangles,\n"
+          "                         GPU MiB, max and RMS px and m, PGM's uncovered share), and\n"
+          "                         a plot of fps against measured max and RMS screen error goes\n"
+          "                         to --plot FILE.png (default: FILE with .png; needs\n"
+          "                         gnuplot). No --stitch, --no-error; the sphere tree (--lod\n"
+          "                         spheres) is a store's cut: see the store bench\n"
           "  --static --max-error M1,M2,...\n"
           "                         no frames: builds the static mesh of 'export --max-error M'\n"
           "                         for each bound and reports triangles, points, build time and\n"
@@ -359,8 +361,8 @@ static int parse_options(int argc, char** argv, bench_options* o)
                 o->imagery ? "--imagery" : "--light", o->dem);
         return TP_EXIT_USAGE;
     }
-    if (o->vs.pgm_grid_count && !o->vs.pgm) {
-        fprintf(stderr, "terrapatch bench: --pgm-grid needs --renderer pgm\n");
+    if (o->vs.pgm_grid_count && !o->vs.pgm && !o->sweep) {
+        fprintf(stderr, "terrapatch bench: --pgm-grid needs --renderer pgm (or --sweep)\n");
         return TP_EXIT_USAGE;
     }
     if (o->vs.pgm && tp_is_store_path(o->dem)) {
@@ -369,9 +371,13 @@ static int parse_options(int argc, char** argv, bench_options* o)
                 o->dem);
         return TP_EXIT_USAGE;
     }
-    if (o->vs.pgm && (o->sweep || o->is_static)) {
-        fprintf(stderr, "terrapatch bench: --renderer pgm: not with %s\n",
-                o->sweep ? "--sweep" : "--static");
+    if (o->vs.pgm && o->is_static) {
+        fprintf(stderr, "terrapatch bench: --renderer pgm: not with --static\n");
+        return TP_EXIT_USAGE;
+    }
+    if (o->stitch_add && o->sweep) {
+        fprintf(stderr, "terrapatch bench: --sweep runs both crack fixes (move and add): it "
+                        "takes no --stitch\n");
         return TP_EXIT_USAGE;
     }
     if (o->stitch_add && (tp_is_store_path(o->dem) || o->is_static)) {
@@ -542,7 +548,7 @@ static int run_config(const bench_run* b, config_result* c, const char* progress
     }
     tp_render_settings rs;
     tp_render_settings_default(&rs);
-    rs.stitch_add = b->o->stitch_add;
+    rs.stitch_add = c->stitch_add;
     tp_render_stats st;
     for (int i = 0; i < frames; i++) {
         tp_camera cam, lead;
@@ -574,9 +580,9 @@ static int run_config(const bench_run* b, config_result* c, const char* progress
         if (!b->o->no_error) { /* outside the timed part of the frame */
             tp_error_measure em;
             tp_status ms;
-            if (rs.stitch_add) { /* in metres only: the screen measure is vertex moving's */
-                ms = tp_bench_stitch_add_error(b->sc->terrain, sel, &em);
-                row->max_px = row->rms_px = NAN;
+            if (rs.stitch_add) { /* its own geometry: the core measures vertex moving's */
+                ms = tp_bench_stitch_add_error(b->sc->terrain, sel, &cam, &em, &row->max_px,
+                                               &row->rms_px);
             } else {
                 ms = tp_selection_measure_error(sel, &em);
             }
@@ -601,95 +607,41 @@ static int run_config(const bench_run* b, config_result* c, const char* progress
     }
     fprintf(stderr, "\n");
     summarize(c, frames);
-    if (rs.stitch_add && !b->o->no_error)
-        c->max_px = c->rms_px = NAN;
     tp_selection_destroy(sel);
     tp_renderer_destroy(r);
     return TP_EXIT_OK;
 }
 
-/* Marks the configurations no other configuration of the same mode beats in both fps and
- * measured maximum screen error. */
-static void mark_pareto(config_result* c, int nc)
-{
-    for (int i = 0; i < nc; i++) {
-        c[i].pareto = 1;
-        for (int k = 0; k < nc && c[i].pareto; k++)
-            if (k != i && c[k].lod.mode == c[i].lod.mode && c[k].fps_median >= c[i].fps_median &&
-                c[k].max_px <= c[i].max_px &&
-                (c[k].fps_median > c[i].fps_median || c[k].max_px < c[i].max_px))
-                c[i].pareto = 0;
-    }
-}
-
-/* The configurations of the run: full, distance, error; or the sweep's grid. */
+/* The configurations of the run: full, distance, error (with --stitch's crack fix), then
+ * --renderer pgm's grids; or the sweep's (bench_sweep.c). */
 static config_result* make_configs(const bench_run* b, int* count, int* best)
 {
     const bench_options* o = b->o;
     tp_lod_params base;
     tp_lod_params_resolve(b->sc->terrain, &o->vs.lod, &base, NULL);
-    tp_lod_params def = {.mode = TP_LOD_DISTANCE};
-    tp_lod_params_resolve(b->sc->terrain, &def, &def, NULL);
-    double patch_w = def.maxdist_m / 24; /* the core's default maxdist is 24 patch widths */
-    int n = 3, pgm = o->vs.pgm ? (o->vs.pgm_grid_count ? o->vs.pgm_grid_count : 3) : 0;
     if (o->sweep)
-        n = 1 + COUNT(sweep_mindist_w) * COUNT(sweep_maxdist_w) * COUNT(sweep_exp) +
-            COUNT(sweep_tau) + 1;
-    config_result* c = calloc((size_t)(n + pgm), sizeof *c);
+        return tp_bench_sweep_configs(b, &base, count, best);
+    int pgm = o->vs.pgm ? (o->vs.pgm_grid_count ? o->vs.pgm_grid_count : 3) : 0;
+    config_result* c = calloc((size_t)(3 + pgm), sizeof *c);
     if (!c)
         return NULL;
+    static const tp_lod_mode modes[3] = {TP_LOD_FULL, TP_LOD_DISTANCE, TP_LOD_ERROR};
     int k = 0;
-    c[k].lod = base;
-    c[k++].lod.mode = TP_LOD_FULL;
-    if (!o->sweep) {
+    for (; k < 3; k++) {
         c[k].lod = base;
-        c[k++].lod.mode = TP_LOD_DISTANCE;
-        c[k].lod = base;
-        c[k].lod.mode = TP_LOD_ERROR;
-        *best = k++;
-    } else {
-        for (int a = 0; a < COUNT(sweep_mindist_w); a++)
-            for (int d = 0; d < COUNT(sweep_maxdist_w); d++)
-                for (int e = 0; e < COUNT(sweep_exp); e++) {
-                    c[k].lod = base;
-                    c[k].lod.mode = TP_LOD_DISTANCE;
-                    c[k].lod.mindist_m = sweep_mindist_w[a] * patch_w;
-                    c[k].lod.maxdist_m = sweep_maxdist_w[d] * patch_w;
-                    c[k++].lod.exponent = sweep_exp[e];
-                }
-        *best = -1;
-        for (int t = 0; t < COUNT(sweep_tau); t++) {
-            c[k].lod = base;
-            c[k].lod.mode = TP_LOD_ERROR;
-            c[k].lod.tau_px = sweep_tau[t];
-            if (sweep_tau[t] == base.tau_px)
-                *best = k;
-            k++;
-        }
-        if (*best < 0) { /* --tau not in the grid: one more */
-            c[k].lod = base;
-            c[k].lod.mode = TP_LOD_ERROR;
-            *best = k++;
-        }
+        c[k].lod.mode = modes[k];
+        c[k].stitch_add = o->stitch_add;
     }
-    for (int i = 0; i < k; i++) {
-        tp_lod_params* lp = &c[i].lod;
-        if (lp->mode == TP_LOD_FULL)
-            snprintf(c[i].label, sizeof c[i].label, "full");
-        else if (lp->mode == TP_LOD_ERROR)
-            snprintf(c[i].label, sizeof c[i].label, "error tau=%g", lp->tau_px);
-        else
-            snprintf(c[i].label, sizeof c[i].label, "distance %.0f/%.0f/%g", lp->mindist_m,
-                     lp->maxdist_m, lp->exponent);
-    }
+    *best = 2;
     /* --renderer pgm: the grids after the patch configurations (default: the paper's Table 1) */
     static const int table1[3][2] = {{150, 600}, {300, 300}, {600, 600}};
     for (int g = 0; g < pgm; g++, k++) {
         c[k].lod = base;
         c[k].pgm_cols = o->vs.pgm_grid_count ? o->vs.pgm_grid[g][0] : table1[g][0];
         c[k].pgm_rows = o->vs.pgm_grid_count ? o->vs.pgm_grid[g][1] : table1[g][1];
-        snprintf(c[k].label, sizeof c[k].label, "pgm %dx%d", c[k].pgm_cols, c[k].pgm_rows);
     }
+    for (int i = 0; i < k; i++)
+        tp_bench_label(&c[i]);
     *count = k;
     return c;
 }
@@ -755,7 +707,7 @@ int tp_cli_bench(int argc, char** argv)
     }
     if (code == TP_EXIT_OK) {
         if (o.sweep)
-            mark_pareto(c + 1, nc - 1);
+            tp_bench_mark_pareto(c, nc);
         tp_bench_print_table(&b, renderer_name, c, nc, best);
         if (o.json && !tp_bench_write_json(&b, renderer_name, c, nc, &c[best]))
             code = TP_EXIT_FAILURE;
@@ -767,14 +719,8 @@ int tp_cli_bench(int argc, char** argv)
             snprintf(title, sizeof title, "%s, %s path, %dx%d, %d frames per point, %s",
                      sc.path, o.path_file ? o.path_file : o.vs.has_camera ? "fixed" : o.path_name,
                      o.vs.w, o.vs.h, b.frames, renderer_name);
-            tp_bench_point* pts = calloc((size_t)nc, sizeof *pts);
-            for (int k = 1; pts && k < nc; k++)
-                pts[k - 1] = (tp_bench_point){c[k].lod.mode == TP_LOD_ERROR, c[k].lod.tau_px,
-                                              c[k].fps_median, c[k].max_px, c[k].rms_px,
-                                              c[k].pareto};
-            if (!pts || !tp_bench_plot(pts, nc - 1, o.plot, title, c[0].fps_median))
+            if (!tp_bench_sweep_plot(c, nc, o.plot, title))
                 code = TP_EXIT_FAILURE;
-            free(pts);
         }
     }
     for (int k = 0; k < nc; k++)
