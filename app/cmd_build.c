@@ -12,17 +12,18 @@
  * range pass reads the grid first. docs/PERFORMANCE.md "Building stores" has the profile.
  */
 #include "atomic_file.h"
+#include "build_options.h"
 #include "cli.h"
 #include "cmd_imagery.h"
 #include "json.h"
 #include "memory.h"
+#include "progress.h"
 
 #include "tp_core.h"
 #include "tp_imagery.h"
 #include "tp_io.h"
 
 #include <errno.h>
-#include <getopt.h>
 #include <math.h>
 #include <pthread.h>
 #include <stdatomic.h>
@@ -31,211 +32,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
-#include <time.h>
 #include <unistd.h>
-
-/* The smallest --memory accepted (MB): the program's fixed part alone is more than that. */
-#define BUILD_MIN_MEMORY_MB 64
-
-typedef struct build_options {
-    const char** sources;
-    int source_count;
-    const char* out;
-    int patch_size;
-    const char* crs;
-    tp_resampling resampling;
-    int memory_mb;
-    int fill_max; /* samples; 0 fills nothing; TP_FILL_MAX_ANY (the default) any size */
-    const char* fill_from; /* --fill-from: fill voids from this raster */
-    const char* imagery[256]; /* --imagery: a pyramid NAME.tpi of these, after the store */
-    int imagery_count;
-    tp_imagery_cli imagery_cli; /* --imagery-texel-shift, --imagery-resolution */
-    int imagery_shift_given;
-    int threads;
-    const char* json; /* NULL, "-" or a path */
-    int quiet;
-} build_options;
-
-enum { OPT_CRS = 256, OPT_RESAMPLING, OPT_MEMORY, OPT_THREADS, OPT_JSON, OPT_QUIET, OPT_PATCH, OPT_FILL_MAX,
-       OPT_FILL_FROM, OPT_IMAGERY, OPT_IMAGERY_SHIFT, OPT_IMAGERY_RESOLUTION };
-
-static void print_help(void)
-{
-    fputs("usage: terrapatch build [options] SOURCE... -o NAME.tpt\n"
-          "\n"
-          "Builds a terrain store from any number of rasters GDAL opens (adjacent tiles of any\n"
-          "format mix, a .vrt): they are mosaicked with GDAL's VRT (a later source wins where\n"
-          "they overlap, gaps are nodata), or each warped onto one grid when their CRSs or post\n"
-          "spacings differ; geographic sources are warped to the UTM/UPS zone of the centre.\n"
-          "The grid is read in bands of rows, quantised with one global height step and built\n"
-          "into a hierarchy of (2^n+1)^2 nodes; memory stays within --memory whatever the size.\n"
-          "Interior voids of any size (up to --fill-max samples when given) are filled as the\n"
-          "viewer fills a DEM's: interpolated (GDALFillNodata) or, with --fill-from, from a\n"
-          "second raster shifted to meet the ground around each void; voids on the border\n"
-          "stay nodata (never drawn), and so does a void too tall for the memory given to\n"
-          "the window it is filled in (a warning says so); stores keep no per-sample\n"
-          "\"filled\" mark (the viewer cannot tint filled voids).\n"
-          "\n"
-          "options:\n"
-          "  -o, --output FILE   the store to write (written whole or not at all)\n"
-          "  --patch N           node size: 17, 33, 65, 129 or 257 (default 65)\n"
-          "  --crs CRS           the sources' CRS (EPSG:N, WKT, PROJ), overriding theirs\n"
-          "  --resampling R      bilinear (default) or cubic, for warps\n"
-          "  --fill-max N        fill interior voids up to N x N samples only (default: any\n"
-          "                      size; 0 fills nothing); not marked in the store\n"
-          "  --fill-from FILE    fill voids from this raster (any CRS and resolution),\n"
-          "                      shifted onto the ground around each void\n"
-          "  --imagery IMAGE     then an imagery pyramid NAME.tpi of IMAGE (repeat for a\n"
-          "                      mosaic, later ones on top), as 'terrapatch imagery' makes\n"
-          "  --imagery-texel-shift K, --imagery-resolution M\n"
-          "                      its level-0 texels: 'terrapatch imagery's --texel-shift and\n"
-          "                      --resolution (default: from the finest image)\n"
-          "  --memory MB         memory budget (default 1024); GDAL's cache gets a quarter;\n"
-          "                      refused at once when one band of rows does not fit\n"
-          "  --threads N         threads (default: every core)\n"
-          "  --json FILE|-       statistics as JSON (samples, nodes, bytes, seconds, ...)\n"
-          "  --quiet             no progress, no notes\n"
-          "  -h, --help          show this help\n"
-          "\n"
-          "Exit status: 0 success, 1 a source could not be read or the store not written,\n"
-          "2 usage error, 130/143 after SIGINT/SIGTERM (no store and no temporary file left).\n",
-          stdout);
-}
-
-static int usage_error(const char* what, const char* detail)
-{
-    if (detail[0])
-        fprintf(stderr, "terrapatch build: %s '%s' (see 'terrapatch build --help')\n", what,
-                detail);
-    else
-        fprintf(stderr, "terrapatch build: %s (see 'terrapatch build --help')\n", what);
-    return TP_EXIT_USAGE;
-}
-
-static int parse_int(const char* s, int lo, int hi, int* v)
-{
-    char* end;
-    long x = strtol(s, &end, 10);
-    if (end == s || *end || x < lo || x > hi)
-        return 0;
-    *v = (int)x;
-    return 1;
-}
-
-/* Returns -1 when the options are fine, else the exit code to return. */
-static int parse_options(int argc, char** argv, build_options* o)
-{
-    static const struct option longs[] = {
-        {"output", required_argument, NULL, 'o'},
-        {"patch", required_argument, NULL, OPT_PATCH},
-        {"crs", required_argument, NULL, OPT_CRS},
-        {"resampling", required_argument, NULL, OPT_RESAMPLING},
-        {"memory", required_argument, NULL, OPT_MEMORY},
-        {"fill-max", required_argument, NULL, OPT_FILL_MAX},
-        {"fill-from", required_argument, NULL, OPT_FILL_FROM},
-        {"imagery", required_argument, NULL, OPT_IMAGERY},
-        {"imagery-texel-shift", required_argument, NULL, OPT_IMAGERY_SHIFT},
-        {"imagery-resolution", required_argument, NULL, OPT_IMAGERY_RESOLUTION},
-        {"threads", required_argument, NULL, OPT_THREADS},
-        {"json", required_argument, NULL, OPT_JSON},
-        {"quiet", no_argument, NULL, OPT_QUIET},
-        {"help", no_argument, NULL, 'h'},
-        {NULL, 0, NULL, 0},
-    };
-    *o = (build_options){0};
-    o->imagery_cli.texel_shift = TP_IMAGERY_SHIFT_AUTO;
-    o->patch_size = 65;
-    o->memory_mb = 1024;
-    o->fill_max = TP_FILL_MAX_ANY;
-    opterr = 0;
-    optind = 1;
-    int c;
-    while ((c = getopt_long(argc, argv, ":ho:", longs, NULL)) != -1) {
-        switch (c) {
-        case 'o': o->out = optarg; break;
-        case OPT_PATCH:
-            if (!parse_int(optarg, 17, 257, &o->patch_size) ||
-                (o->patch_size != 17 && o->patch_size != 33 && o->patch_size != 65 &&
-                 o->patch_size != 129 && o->patch_size != 257))
-                return tp_option_error("build", "--patch", "17, 33, 65, 129 or 257", optarg),
-                       TP_EXIT_USAGE;
-            break;
-        case OPT_CRS: o->crs = optarg; break;
-        case OPT_RESAMPLING:
-            if (!strcmp(optarg, "bilinear"))
-                o->resampling = TP_RESAMPLING_BILINEAR;
-            else if (!strcmp(optarg, "cubic"))
-                o->resampling = TP_RESAMPLING_CUBIC;
-            else
-                return tp_option_error("build", "--resampling", "bilinear or cubic", optarg),
-                       TP_EXIT_USAGE;
-            break;
-        case OPT_MEMORY:
-            if (!parse_int(optarg, BUILD_MIN_MEMORY_MB, 1 << 24, &o->memory_mb))
-                return tp_option_error("build", "--memory", "megabytes, 64 or more", optarg),
-                       TP_EXIT_USAGE;
-            break;
-        case OPT_FILL_MAX:
-            if (!parse_int(optarg, 0, 100000, &o->fill_max))
-                return tp_option_error("build", "--fill-max", "0 .. 100000 samples", optarg),
-                       TP_EXIT_USAGE;
-            break;
-        case OPT_FILL_FROM:
-            if (!*optarg)
-                return tp_option_error("build", "--fill-from", "a raster file", optarg),
-                       TP_EXIT_USAGE;
-            o->fill_from = optarg;
-            break;
-        case OPT_IMAGERY:
-            if (o->imagery_count == 256)
-                return usage_error("more than 256 --imagery files", "");
-            o->imagery[o->imagery_count++] = optarg;
-            break;
-        case OPT_IMAGERY_SHIFT:
-            if (!tp_imagery_cli_parse_shift("build", "--imagery-texel-shift", optarg,
-                                            &o->imagery_cli))
-                return TP_EXIT_USAGE;
-            o->imagery_shift_given = 1;
-            break;
-        case OPT_IMAGERY_RESOLUTION:
-            if (!tp_imagery_cli_parse_resolution("build", "--imagery-resolution", optarg,
-                                                 &o->imagery_cli))
-                return TP_EXIT_USAGE;
-            break;
-        case OPT_THREADS:
-            if (!parse_int(optarg, 1, 1024, &o->threads))
-                return tp_option_error("build", "--threads", "1 .. 1024", optarg), TP_EXIT_USAGE;
-            break;
-        case OPT_JSON: o->json = optarg; break;
-        case OPT_QUIET: o->quiet = 1; break;
-        case 'h': print_help(); return tp_cli_finish(TP_EXIT_OK);
-        case ':': return usage_error("missing value for option", argv[optind - 1]);
-        default:
-            if (optopt > 0 && optopt < 256) {
-                char name[3] = {'-', (char)optopt, '\0'};
-                return usage_error("unknown option", name);
-            }
-            if (optopt >= 256)
-                return usage_error("option takes no value:", argv[optind - 1]);
-            return usage_error("unknown option", argv[optind - 1]);
-        }
-    }
-    if (optind >= argc)
-        return usage_error("missing SOURCE", "");
-    if (!o->out)
-        return usage_error("missing -o NAME.tpt", "");
-    if (o->imagery_shift_given && o->imagery_cli.resolution_m > 0)
-        return usage_error("give --imagery-texel-shift or --imagery-resolution, not both", "");
-    if ((o->imagery_shift_given || o->imagery_cli.resolution_m > 0) && !o->imagery_count)
-        return usage_error("--imagery-texel-shift and --imagery-resolution need --imagery", "");
-    o->sources = (const char**)(argv + optind);
-    o->source_count = argc - optind;
-    if (o->threads == 0) {
-        long n = sysconf(_SC_NPROCESSORS_ONLN);
-        o->threads = n > 0 ? (int)(n > 1024 ? 1024 : n) : 1;
-    }
-    return -1;
-}
 
 /* The builder's user: its emit and parallel_for callbacks both get it. */
 typedef struct emit_ctx {
@@ -277,65 +74,11 @@ static void parallel_for(int count, void (*fn)(int i, void* ctx), void* ctx, voi
         pthread_join(t[k], NULL);
 }
 
-/* ---- progress on stderr: a bar on a terminal, else a line every 10% ---- */
-typedef struct progress {
-    int on, tty, last_decile;
-    double t0, last_draw;
-    const char* what;
-} progress;
-
-static double now_s(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return ts.tv_sec + ts.tv_nsec * 1e-9;
-}
-
-static void progress_start(progress* p, int on, const char* what)
-{
-    p->on = on;
-    p->tty = isatty(2);
-    p->last_decile = 0;
-    p->t0 = now_s();
-    p->last_draw = 0;
-    p->what = what;
-}
-
-static void progress_update(progress* p, double done, double total, double samples)
-{
-    if (!p->on || total <= 0)
-        return;
-    const double t = now_s(), el = t - p->t0, f = done / total;
-    const double rate = el > 0 ? samples / el : 0, eta = f > 0 ? el * (1 - f) / f : 0;
-    if (p->tty) {
-        if (t - p->last_draw < 0.2 && done < total)
-            return;
-        p->last_draw = t;
-        char bar[31];
-        int fill = (int)(f * 30);
-        for (int i = 0; i < 30; i++)
-            bar[i] = i < fill ? '#' : '.';
-        bar[30] = 0;
-        fprintf(stderr, "\r%s [%s] %3.0f%%  %.1f Msamples/s  ETA %.0f s   ", p->what, bar,
-                100 * f, rate / 1e6, eta);
-        if (done >= total)
-            fputc('\n', stderr);
-    } else {
-        int decile = (int)(f * 10);
-        if (decile <= p->last_decile && done < total)
-            return;
-        p->last_decile = decile;
-        fprintf(stderr, "terrapatch build: %s %3.0f%% (%.1f Msamples/s, ETA %.0f s)\n", p->what,
-                100 * f, rate / 1e6, eta);
-    }
-}
-
 /* ---- the build ---- */
 
-
 /* Each node with its filled bits (TP_NODE_HAS_FILLED): the store marks filled void samples. */
-static int emit_node(int64_t node, const tp_node_meta* meta, const int32_t* q,
-                     const uint16_t* mask, const uint16_t* filled, void* user, tp_error* err)
+static int emit_node(int64_t node, const tp_node_meta* meta, const int32_t* q, const uint16_t* mask,
+                     const uint16_t* filled, void* user, tp_error* err)
 {
     emit_ctx* e = user;
     if (tp_interrupted()) {
@@ -350,9 +93,10 @@ static int emit_node(int64_t node, const tp_node_meta* meta, const int32_t* q,
 
 /* What the build allocates that grows with the grid (bytes): the band read (floats) and
  * quantised (int32), the tree builder (tp_core.h: its decimated rows, a block of samples per
- * node of a row, two rows of metas and masks per scale) and the store writer's bit per node (it writes
- * the node and location tables into the file as nodes come: docs/store.md). GDAL's block cache comes on top (a quarter of --memory);
- * the program's fixed part (libraries, about 156 MB resident: docs/PERFORMANCE.md) is not counted. */
+ * node of a row, two rows of metas and masks per scale) and the store writer's bit per node (it
+ * writes the node and location tables into the file as nodes come: docs/store.md). GDAL's block
+ * cache comes on top (a quarter of --memory); the program's fixed part (libraries, about 156 MB
+ * resident: docs/PERFORMANCE.md) is not counted. */
 /* The --memory (MB) to suggest for need_mb of what grows with the grid: that in three quarters
  * of the budget, never below what --memory accepts. */
 static double memory_to_suggest(double need_mb)
@@ -423,8 +167,8 @@ static tp_status range_pass(tp_mosaic* m, const tp_mosaic_info* mi, float* rows,
 {
     float lo = INFINITY, hi = -INFINITY;
     size_t valid = 0;
-    progress pr;
-    progress_start(&pr, !quiet, "range");
+    tp_progress pr;
+    tp_progress_start(&pr, !quiet, "build", "range");
     for (int y = 0; y < mi->height; y += band_rows) {
         int n = mi->height - y < band_rows ? mi->height - y : band_rows;
         tp_status st = tp_mosaic_read_rows(m, y, n, rows, (size_t)n * mi->width, err);
@@ -437,7 +181,7 @@ static tp_status range_pass(tp_mosaic* m, const tp_mosaic_info* mi, float* rows,
             lo = v < lo ? v : lo; /* NaN compares false: skipped */
             hi = v > hi ? v : hi;
         }
-        progress_update(&pr, y + n, mi->height, (double)(y + n) * mi->width);
+        tp_progress_update(&pr, y + n, mi->height, (double)(y + n) * mi->width);
         if (tp_interrupted())
             return tp_error_set(err, TP_ERR_IO, "interrupted");
     }
@@ -469,8 +213,8 @@ typedef struct build_pass {
     tp_mosaic* m;
     const tp_mosaic_info* mi;
     const tp_tree_geometry* g;
-    float* rows; /* band_rows * width */
-    int32_t* q;  /* band_rows * g->width */
+    float* rows;    /* band_rows * width */
+    int32_t* q;     /* band_rows * g->width */
     uint8_t* frows; /* band_rows * width: filled flags as read; NULL when voids are not filled */
     uint8_t* fq;    /* band_rows * g->width: the band's filled flags */
     double step;
@@ -540,8 +284,8 @@ static tp_status run_build_pass(build_pass* p, const tp_store_header* h, tp_erro
     double qerr = 0;
     size_t valid = 0;
     int32_t* q = p->q;
-    progress pr;
-    progress_start(&pr, !p->quiet, "build");
+    tp_progress pr;
+    tp_progress_start(&pr, !p->quiet, "build", "build");
     /* Band r = fitted rows r*ps .. (r+1)*ps; the first row is the last one of the band before
      * (kept in q), so each source row is read once. */
     for (int r = 0; r < g->rows && st == TP_OK; r++) {
@@ -588,12 +332,12 @@ static tp_status run_build_pass(build_pass* p, const tp_store_header* h, tp_erro
             break;
         }
         st = tp_tree_builder_add_band_filled(b, r, q, p->fq, (size_t)band_rows * g->width, err);
-        progress_update(&pr, r + 1, g->rows, (double)(read_to + 1) * mi->width);
+        tp_progress_update(&pr, r + 1, g->rows, (double)(read_to + 1) * mi->width);
     }
     tp_tree_builder_destroy(b);
     if (st == TP_OK && !p->outside && valid == 0) /* a bound from the files, none in the grid */
-        st = tp_error_set(err, TP_ERR_BAD_DATA, "%s: no valid height in the %dx%d grid",
-                          p->source, mi->width, mi->height);
+        st = tp_error_set(err, TP_ERR_BAD_DATA, "%s: no valid height in the %dx%d grid", p->source,
+                          mi->width, mi->height);
     if (st == TP_OK && !p->outside) {
         tp_store_writer_set_totals(w, qerr, valid, (size_t)mi->width * mi->height - valid);
         char* notes = build_notes(p->o, mi, tp_mosaic_filled_samples(p->m));
@@ -629,10 +373,10 @@ static int fail_line(const char* msg)
 int tp_cli_build(int argc, char** argv)
 {
     build_options o;
-    int rc = parse_options(argc, argv, &o);
+    int rc = tp_build_parse_options(argc, argv, &o);
     if (rc >= 0)
         return rc;
-    const double t0 = now_s();
+    const double t0 = tp_progress_now_s();
     tp_error err = {0};
     if (tp_output_check(o.out, &err) != TP_OK)
         return fail_line(err.message);
@@ -658,8 +402,11 @@ int tp_cli_build(int argc, char** argv)
     }
 
     tp_mosaic* m = NULL;
-    tp_mosaic_options mo = {.crs = o.crs, .resampling = o.resampling, .memory_mb = o.memory_mb,
-                            .fill_max = o.fill_max, .fill_from = o.fill_from};
+    tp_mosaic_options mo = {.crs = o.crs,
+                            .resampling = o.resampling,
+                            .memory_mb = o.memory_mb,
+                            .fill_max = o.fill_max,
+                            .fill_from = o.fill_from};
     if (tp_mosaic_open(o.sources, (size_t)o.source_count, &mo, &m, &err) != TP_OK)
         return fail_line(err.message);
     tp_mosaic_info mi;
@@ -761,14 +508,28 @@ int tp_cli_build(int argc, char** argv)
         h.nodata_samples = (size_t)mi.width * mi.height;
         h.crs_wkt = mi.crs_wkt;
         h.notes = notes;
-        build_pass bp = {.o = &o, .m = m, .mi = &mi, .g = &g, .rows = rows, .q = q, .frows = frows, .fq = fq, .step = step,
-                         .bounded = bounded, .lo = lo, .hi = hi, .quiet = o.quiet,
-                         .threads = o.threads, .out = o.out, .source = o.sources[0]};
+        build_pass bp = {.o = &o,
+                         .m = m,
+                         .mi = &mi,
+                         .g = &g,
+                         .rows = rows,
+                         .q = q,
+                         .frows = frows,
+                         .fq = fq,
+                         .step = step,
+                         .bounded = bounded,
+                         .lo = lo,
+                         .hi = hi,
+                         .quiet = o.quiet,
+                         .threads = o.threads,
+                         .out = o.out,
+                         .source = o.sources[0]};
         st = run_build_pass(&bp, &h, &err);
         if (st == TP_OK && bp.outside) {
             /* a VRT that scales its sources: the bound did not hold; measure the range */
             if (!o.quiet)
-                fprintf(stderr, "terrapatch build: heights %g .. %g m outside the bound %g .. %g "
+                fprintf(stderr,
+                        "terrapatch build: heights %g .. %g m outside the bound %g .. %g "
                         "m the sources gave: building again after a range pass\n",
                         bp.seen_lo, bp.seen_hi, lo, hi);
             bounded = 0;
@@ -805,7 +566,7 @@ int tp_cli_build(int argc, char** argv)
     }
     lo = seen_lo, hi = seen_hi;
 
-    const double seconds = now_s() - t0;
+    const double seconds = tp_progress_now_s() - t0;
     const uint64_t bytes = file_size(o.out);
     const double rss_mb = tp_memory_peak_rss() / (1024.0 * 1024.0);
     if (!o.quiet)
@@ -815,10 +576,13 @@ int tp_cli_build(int argc, char** argv)
                 o.out, mi.width, mi.height, (long long)nodes, bytes / samples, step, seconds,
                 rss_mb);
     if (o.imagery_count > 0) { /* NAME.tpi beside the store, as `terrapatch imagery` makes it */
-        tp_imagery_cli ic = {.images = o.imagery, .count = o.imagery_count,
+        tp_imagery_cli ic = {.images = o.imagery,
+                             .count = o.imagery_count,
                              .texel_shift = o.imagery_cli.texel_shift,
                              .resolution_m = o.imagery_cli.resolution_m,
-                             .memory_mb = o.memory_mb, .threads = o.threads, .quiet = o.quiet,
+                             .memory_mb = o.memory_mb,
+                             .threads = o.threads,
+                             .quiet = o.quiet,
                              .who = "build"};
         int irc = tp_imagery_cli_run(o.out, &ic);
         if (irc != TP_EXIT_OK)

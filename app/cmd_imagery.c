@@ -10,6 +10,7 @@
 #include "cli.h"
 #include "json.h"
 #include "memory.h"
+#include "progress.h"
 
 #include "tp_core.h"
 #include "tp_imagery.h"
@@ -20,18 +21,9 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
-#include <unistd.h>
 
 /* The smallest --memory accepted (MB), as build's */
 #define IMAGERY_MIN_MEMORY_MB 64
-
-static double now_s(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return ts.tv_sec + ts.tv_nsec * 1e-9;
-}
 
 char* tp_imagery_default_path(const char* store_path)
 {
@@ -46,36 +38,10 @@ char* tp_imagery_default_path(const char* store_path)
     return p;
 }
 
-/* ---- progress on stderr: a bar on a terminal, else a line every 10% ---- */
-typedef struct progress {
-    const char* who;
-    int tty, last_decile;
-    double t0, last_draw;
-} progress;
-
+/* tp_imagery_build_options.progress: the share done */
 static void on_progress(void* user, double f)
 {
-    progress* p = user;
-    const double t = now_s(), el = t - p->t0, eta = f > 0 ? el * (1 - f) / f : 0;
-    if (p->tty) {
-        if (t - p->last_draw < 0.2 && f < 1)
-            return;
-        p->last_draw = t;
-        char bar[31];
-        int fill = (int)(f * 30);
-        for (int i = 0; i < 30; i++)
-            bar[i] = i < fill ? '#' : '.';
-        bar[30] = 0;
-        fprintf(stderr, "\rimagery [%s] %3.0f%%  ETA %.0f s   ", bar, 100 * f, eta);
-        if (f >= 1)
-            fputc('\n', stderr);
-    } else {
-        int decile = (int)(f * 10);
-        if (decile <= p->last_decile && f < 1)
-            return;
-        p->last_decile = decile;
-        fprintf(stderr, "terrapatch %s: imagery %3.0f%% (ETA %.0f s)\n", p->who, 100 * f, eta);
-    }
+    tp_progress_update(user, f, 1.0, -1.0);
 }
 
 static int fail_line(const char* msg)
@@ -126,7 +92,7 @@ static int write_json(const char* json, const char* out, const tp_imagery* im, i
 
 int tp_imagery_cli_run(const char* store_path, const tp_imagery_cli* c)
 {
-    const double t0 = now_s();
+    const double t0 = tp_progress_now_s();
     tp_error err = {0};
     char* def = c->out ? NULL : tp_imagery_default_path(store_path);
     const char* out = c->out ? c->out : def;
@@ -172,7 +138,8 @@ int tp_imagery_cli_run(const char* store_path, const tp_imagery_cli* c)
     }
     o.memory_bytes = (double)c->memory_mb * 1024 * 1024;
     o.threads = c->threads;
-    progress p = {c->who, isatty(2), 0, now_s(), 0};
+    tp_progress p;
+    tp_progress_start(&p, !c->quiet, c->who, "imagery");
     if (!c->quiet) {
         o.progress = on_progress;
         o.progress_user = &p;
@@ -188,7 +155,7 @@ int tp_imagery_cli_run(const char* store_path, const tp_imagery_cli* c)
     }
     tp_imagery_info info;
     tp_imagery_get_info(im, &info);
-    const double seconds = now_s() - t0;
+    const double seconds = tp_progress_now_s() - t0;
     const double rss_mb = tp_memory_peak_rss() / (1024.0 * 1024.0);
     if (!c->quiet)
         fprintf(stderr,
@@ -257,8 +224,7 @@ static int parse_int(const char* s, int lo, int hi, int* v)
     return 1;
 }
 
-int tp_imagery_cli_parse_shift(const char* cmd, const char* opt, const char* arg,
-                               tp_imagery_cli* c)
+int tp_imagery_cli_parse_shift(const char* cmd, const char* opt, const char* arg, tp_imagery_cli* c)
 {
     if (parse_int(arg, TP_IMAGERY_SHIFT_MIN, TP_IMAGERY_SHIFT_MAX, &c->texel_shift))
         return 1;
