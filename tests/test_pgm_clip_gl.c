@@ -33,7 +33,8 @@
     X(store_frame_is_the_dem_frame_when_the_windows_hold_everything)                               \
     X(long_flight_leaves_no_stale_strip)                                                           \
     X(small_windows_fall_back_to_coarser_levels)                                                   \
-    X(gpu_bytes_do_not_grow_with_the_store)
+    X(gpu_bytes_do_not_grow_with_the_store)                                                        \
+    X(void_posts_draw_nothing_and_no_curtain)
 
 #ifndef M_PI
 #define M_PI 3.14159265358979323846
@@ -61,7 +62,14 @@ typedef struct fixture {
     double gt[6];
 } fixture;
 
+static void open_fixture_voids(fixture* fx, int cw, int ch, const char* name, int fill);
 static void open_fixture(fixture* fx, int cw, int ch, const char* name)
+{
+    open_fixture_voids(fx, cw, ch, name, 1);
+}
+
+/* fill = 0: Mt Hood's voids kept (NaN: no height in the store) */
+static void open_fixture_voids(fixture* fx, int cw, int ch, const char* name, int fill)
 {
     memset(fx, 0, sizeof *fx);
     char dem_path[1024];
@@ -79,7 +87,8 @@ static void open_fixture(fixture* fx, int cw, int ch, const char* name)
     float* z = malloc((size_t)fx->w * fx->h * sizeof *z);
     ASSERT_TRUE(z != NULL);
     for (int y = 0; y < fx->h; y++)
-        memcpy(z + (size_t)y * fx->w, filled.z[0] + (size_t)y * dem->width, fx->w * sizeof *z);
+        memcpy(z + (size_t)y * fx->w, (fill ? filled.z[0] : dem->heights) + (size_t)y * dem->width,
+               fx->w * sizeof *z);
     tp_pgm_pyramid_free(&filled);
     tp_dem_destroy(dem);
     ASSERT_OK(tp_tree_create_from_grid(z, (size_t)fx->w * fx->h, fx->w, fx->h, fx->gt, 33, 0,
@@ -435,6 +444,79 @@ TEST(gpu_bytes_do_not_grow_with_the_store)
     EXPECT_EQ_INT((long long)bytes[0], (long long)bytes[1]);
     close_fixture(&small);
     close_fixture(&big);
+    tp_gl_context_destroy(ctx);
+}
+
+/* Mt Hood with its voids (3.3 % of the posts, along its edges): from high above, every drawn
+ * pixel, put back into the world from its depth, lies between the lowest and the highest
+ * height (to the depth buffer's precision) (no curtain down to the base plane, no spike from
+ * arithmetic on a void texel), and none lies over a post whose 9 x 9 neighbourhood has no height
+ * (inside a void, more than a coarse cell from its edge). */
+TEST(void_posts_draw_nothing_and_no_curtain)
+{
+    tp_gl_context* ctx = context_or_skip();
+    fixture fx;
+    open_fixture_voids(&fx, 0, 0, "hood_voids", 0);
+    char msg[600];
+    tp_pgm_clipmap* clip = tp_pgm_clipmap_create(fx.store, 256, msg, sizeof msg);
+    ASSERT_TRUE(clip != NULL);
+    tp_pgm_renderer* r = tp_pgm_renderer_create_clipmap(clip, 300, 300, msg, sizeof msg);
+    ASSERT_TRUE(r != NULL);
+    const tp_pgm_pyramid* shape = tp_pgm_clipmap_shape(clip);
+    static uint8_t rgba[W * H * 4];
+    static float depth[W * H];
+    size_t drawn = 0, outside = 0, in_void = 0, void_posts = 0;
+    for (int y = 0; y < fx.h; y++)
+        for (int x = 0; x < fx.w; x++)
+            void_posts += isnan(tp_tree_sample(fx.full, x, y));
+    /* two views: most of the map from 12 km up, and low over its south-west corner */
+    const double pose[2][5] = {{0.5, 0.5, 12000, 0, -75}, {0.1, 0.9, 600, 30, -25}};
+    for (int k = 0; k < 2; k++) {
+        tp_camera cam = camera_at(&fx, pose[k][0] * fx.w, pose[k][1] * fx.h, pose[k][2], pose[k][3],
+                                  pose[k][4]);
+        tp_pgm_render_stats st;
+        draw(ctx, r, &cam, rgba, depth, &st);
+        tp_camera_frame cf;
+        tp_camera_get_frame(&cam, &cf);
+        for (int py = 0; py < H; py++)
+            for (int px = 0; px < W; px++) {
+                float d = depth[(size_t)(H - 1 - py) * W + px];
+                if (d >= 1)
+                    continue;
+                drawn++;
+                double dir[3];
+                tp_camera_pixel_ray(&cam, px + 0.5, py + 0.5, dir);
+                double along =
+                    dir[0] * cf.forward[0] + dir[1] * cf.forward[1] + dir[2] * cf.forward[2];
+                double t = eye_depth(d, &st) / along, p[3];
+                for (int a = 0; a < 3; a++)
+                    p[a] = cam.position[a] + t * dir[a];
+                /* 8 steps of the 24-bit depth buffer there (32 m a step at 33 km) */
+                double slack = 5 + 8 * t * t / (2 * st.near_m) * 0x1p-24;
+                if (p[2] < shape->min_m - slack || p[2] > shape->max_m + slack) {
+                    if (outside++ < 5)
+                        tp_test_note("view %d pixel (%d, %d) at height %.1f m, %.0f m away", k, px,
+                                     py, p[2], t);
+                }
+                int gx = (int)lround((p[0] - fx.gt[0]) / fx.gt[1] - 0.5);
+                int gy = (int)lround((p[1] - fx.gt[3]) / fx.gt[5] - 0.5);
+                int any = 0;
+                for (int j = -4; j <= 4 && !any; j++)
+                    for (int i = -4; i <= 4 && !any; i++)
+                        any = !isnan(height_at(&fx, gx + i, gy + j));
+                in_void += !any;
+            }
+    }
+    tp_test_note("%zu void posts of %d; %zu pixels drawn: %zu off the height range, %zu deep in "
+                 "a void",
+                 void_posts, fx.w * fx.h, drawn, outside, in_void);
+    EXPECT_GT(void_posts, (size_t)10000);
+    EXPECT_GT(drawn, (size_t)W * H / 4);
+    EXPECT_EQ_INT(0, (long long)outside);
+    EXPECT_EQ_INT(0, (long long)in_void);
+    tp_pgm_renderer_destroy(r);
+    tp_pgm_clipmap_destroy(clip);
+    close_fixture(&fx);
     tp_gl_context_destroy(ctx);
 }
 
