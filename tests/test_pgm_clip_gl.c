@@ -32,6 +32,7 @@
 #define TESTS(X)                                                                                   \
     X(store_frame_is_the_dem_frame_when_the_windows_hold_everything)                               \
     X(long_flight_leaves_no_stale_strip)                                                           \
+    X(async_flight_settles_to_the_fresh_clipmap)                                                   \
     X(small_windows_fall_back_to_coarser_levels)                                                   \
     X(gpu_bytes_do_not_grow_with_the_store)                                                        \
     X(void_posts_draw_nothing_and_no_curtain)
@@ -275,7 +276,24 @@ static size_t stale_texels(const tp_pgm_clipmap* a, const tp_pgm_clipmap* b, siz
     return bad;
 }
 
+/* The flight of long_flight_leaves_no_stale_strip; async: through the loader thread, settled
+ * at the final camera (updates until nothing is pending) before the comparison. */
+static void fly(int async);
+
 TEST(long_flight_leaves_no_stale_strip)
+{
+    fly(0);
+}
+
+/* The same flight with the loader thread: the windows move only when their posts are uploaded
+ * (a frame or more late); settled at the final camera, frame and texels are a fresh
+ * (synchronous) clipmap's. */
+TEST(async_flight_settles_to_the_fresh_clipmap)
+{
+    fly(1);
+}
+
+static void fly(int async)
 {
     tp_gl_context* ctx = context_or_skip();
     fixture fx;
@@ -287,6 +305,8 @@ TEST(long_flight_leaves_no_stale_strip)
         FAIL("%s", msg);
     tp_pgm_renderer* r = tp_pgm_renderer_create_clipmap(clip, 240, 135, msg, sizeof msg);
     ASSERT_TRUE(r != NULL);
+    if (async)
+        ASSERT_TRUE(tp_pgm_clipmap_set_async(clip, msg, sizeof msg));
     /* a loop at 250 m over the ground: 1.3 posts a frame, turning, with three jumps of more
      * than a window at level 0 and one off the terrain */
     double x = 0.2 * fx.w, y = 0.8 * fx.h, yaw = 30;
@@ -316,6 +336,12 @@ TEST(long_flight_leaves_no_stale_strip)
     static uint8_t ca[W * H * 4], cb[W * H * 4];
     static float da[W * H], db[W * H];
     tp_pgm_render_stats st;
+    for (int k = 0; async && k < 10000 && tp_pgm_clipmap_pending(clip); k++) {
+        struct timespec ts = {0, 1000000};
+        nanosleep(&ts, NULL);
+        draw(ctx, r, &last, NULL, NULL, &st);
+    }
+    ASSERT_TRUE(!tp_pgm_clipmap_pending(clip));
     draw(ctx, r, &last, ca, da, &st);
     EXPECT_EQ_INT(0, (long long)st.posts_updated); /* the same camera: nothing moves */
     tp_pgm_clipmap* fresh = tp_pgm_clipmap_create(fx.store, win, msg, sizeof msg);

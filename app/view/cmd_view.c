@@ -670,6 +670,10 @@ static int run_view(tp_view_scene* v, view_options* o, tp_render_grid_desc* gd,
         int cols = o->vs.pgm_grid_count ? o->vs.pgm_grid[0][0] : TP_PGM_DEFAULT_COLS;
         int rows = o->vs.pgm_grid_count ? o->vs.pgm_grid[0][1] : TP_PGM_DEFAULT_ROWS;
         pgm_clip = tp_pgm_clipmap_create(st->store, o->vs.pgm_window, msg, sizeof msg);
+        /* a window reads on a loader thread (no frame waits for a jump's refill); headless
+         * frames read at once, so that each frame is the camera's own */
+        if (pgm_clip && !o->headless && !tp_pgm_clipmap_set_async(pgm_clip, msg, sizeof msg))
+            fprintf(stderr, "terrapatch view: %s (reading on the render thread)\n", msg);
         if (pgm_clip)
             v->pgm = tp_pgm_renderer_create_clipmap(pgm_clip, cols, rows, msg, sizeof msg);
         if (!v->pgm) {

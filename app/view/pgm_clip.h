@@ -10,8 +10,11 @@
  * holding each post, tp_pgm_store_post; decoded nodes kept in a small cache) and uploaded with
  * glTexSubImage3D; nothing else is. GPU memory: levels x w x w x 4 bytes whatever the store's
  * size (levels grows by one per doubling of its side). Posts without a height (nodata) are
- * TP_PGM_CLIP_VOID, which the shader treats as off the terrain. Synchronous: the reads happen in
- * tp_pgm_clipmap_update, on the render thread.
+ * TP_PGM_CLIP_VOID, which the shader treats as off the terrain. Synchronous by default (the
+ * reads happen in tp_pgm_clipmap_update, on the render thread); with tp_pgm_clipmap_set_async a
+ * loader thread reads them and a later update uploads them together with the windows' new
+ * origins, so the windows the shader reads always hold their own posts (meanwhile it reads
+ * coarser levels where the eye has left a window).
  */
 #ifndef TP_APP_PGM_CLIP_H
 #define TP_APP_PGM_CLIP_H
@@ -47,11 +50,19 @@ const tp_pgm_pyramid* tp_pgm_clipmap_shape(const tp_pgm_clipmap* c);
 
 /* Moves every level's window to centre on level-0 grid coordinates (x, y) (the eye's ground
  * position; any value: the windows stay on the terrain, tp_pgm_clip_origin) and reads and
- * uploads the posts they gain. Returns 1, or 0 with a message naming the store and the node
- * when a node cannot be read (its posts are then TP_PGM_CLIP_VOID: not drawn, and the window
- * counts as filled). stats may be NULL. */
+ * uploads the posts they gain (async: uploads the last move read, starts the next). Returns 1, or 0
+ * with a message naming the store and the node when a node cannot be read (its posts are then
+ * TP_PGM_CLIP_VOID: not drawn, and the window counts as filled). stats may be NULL. */
 int tp_pgm_clipmap_update(tp_pgm_clipmap* c, double x, double y, tp_pgm_clip_stats* stats,
                           char* msg, size_t msg_size);
+
+/* Starts the loader thread: from now on an update uploads what the loader has read since the
+ * last one and hands it the next move (the first fill is still done at once: there is nothing
+ * to draw before it). 1, or 0 with a message when no thread can be made (the clipmap stays
+ * synchronous). */
+int tp_pgm_clipmap_set_async(tp_pgm_clipmap* c, char* msg, size_t msg_size);
+/* 1 while the loader has a move to read or to hand back (async only; else 0). */
+int tp_pgm_clipmap_pending(const tp_pgm_clipmap* c);
 
 /* The window size, each level's origin (origin[2 l], origin[2 l + 1]: level-l posts), the
  * texture array (layer l = level l) and its bytes. */
