@@ -1711,7 +1711,7 @@ typedef struct tp_pgm_rect {
 int tp_pgm_clip_origin(double centre, int posts, int w);
 
 /* The posts a w x w window gains when its origin moves from (old_x, old_y) to (new_x, new_y)
- * (any integers, negative ones included): written to out as at most 2 disjoint, non-empty
+ * (any integers, negative ones included, with |origin| + w < 2^31): written to out as at most 2 disjoint, non-empty
  * rectangles; returns how many (0 when it did not move). has_old = 0 (the window held nothing
  * yet) or a move of w or more posts along either axis: one rectangle, the whole new window.
  * Else the strip of columns the window gains (its whole height) and the strip of rows it gains
