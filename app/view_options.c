@@ -109,6 +109,14 @@ int tp_view_option(int opt, const char* arg, tp_view_setup* v, const char* cmd)
         v->pgm_grid_count = count;
         return 1;
     }
+    case TP_OPT_PGM_WINDOW: {
+        char* end;
+        long n = strtol(arg, &end, 10);
+        if (end == arg || *end || n < 16 || n > 8192 || (n & (n - 1)))
+            return tp_option_error(cmd, "--pgm-window", "a power of two from 16 to 8192", arg);
+        v->pgm_window = (int)n;
+        return 1;
+    }
     }
     return 0;
 }
@@ -164,9 +172,11 @@ void tp_view_renderer_help(FILE* out, int bench)
           "                        Grid Mapping (Livny, Kogan & El-Sana): a grid fixed in screen\n"
           "                        space mapped onto the terrain by the vertex shader every\n"
           "                        frame (rays from the eye to the base plane, heights from a\n"
-          "                        pyramid at the level the ray spacing asks for); a DEM drawn\n"
-          "                        whole only (not yet a store: the paper's clipmaps are not\n"
-          "                        built); the LoD options do not apply\n",
+          "                        pyramid at the level the ray spacing asks for: a DEM's whole,\n"
+          "                        or a store's clipmap of windows around the eye, GPU memory\n"
+          "                        bounded whatever its size); the LoD options do not apply\n"
+          "  --pgm-window N        over a store: each pyramid level's window, N x N posts (a\n"
+          "                        power of two, 16 to 8192; default 512)\n",
           out);
     fputs(bench ? "  --pgm-grid COLSxROWS[,COLSxROWS...]   with --renderer pgm: the grids to\n"
                   "                        measure, each a configuration beside the patch ones\n"

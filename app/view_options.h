@@ -21,6 +21,8 @@ typedef struct tp_view_setup {
     int pgm;                /* Persistent Grid Mapping instead of the patches */
     int pgm_grid[8][2];     /* cols, rows; default one TP_PGM_DEFAULT_COLS x _ROWS */
     int pgm_grid_count;     /* grids given (0: the default) */
+    int pgm_window;         /* --pgm-window: a store's clipmap window, posts a side (0: the
+                               default, TP_PGM_CLIP_DEFAULT_WINDOW in app/view/pgm_clip.h) */
 } tp_view_setup;
 
 enum {
@@ -36,6 +38,7 @@ enum {
     TP_OPT_SIZE,
     TP_OPT_RENDERER,
     TP_OPT_PGM_GRID,
+    TP_OPT_PGM_WINDOW,
 };
 
 #define TP_VIEW_LONG_OPTIONS                                                                       \
@@ -51,7 +54,8 @@ enum {
 /* The renderer options, taken by view and bench (not export: it draws nothing). */
 #define TP_VIEW_PGM_LONG_OPTIONS                                                                   \
     {"renderer", required_argument, NULL, TP_OPT_RENDERER},                                        \
-        {"pgm-grid", required_argument, NULL, TP_OPT_PGM_GRID}
+        {"pgm-grid", required_argument, NULL, TP_OPT_PGM_GRID},                                    \
+        {"pgm-window", required_argument, NULL, TP_OPT_PGM_WINDOW}
 
 void tp_view_setup_default(tp_view_setup* v);
 

@@ -2165,9 +2165,9 @@ TEST(pgm_bench_adds_a_configuration_per_grid)
     free(json);
 }
 
-/* PGM over a store is not built (the paper's clipmaps): a usage error for view and bench; so
- * are a bad grid and a grid without --renderer pgm. */
-TEST(pgm_store_and_bad_grids_exit_2)
+/* Usage errors: a bad grid, a grid without --renderer pgm, a window that is not a power of two
+ * (view and bench), a window for a DEM drawn whole or without --renderer pgm. */
+TEST(pgm_bad_grids_and_windows_exit_2)
 {
     const char* store = build_small_store();
     const char* dem = sample_path(MT_HOOD);
@@ -2176,16 +2176,35 @@ TEST(pgm_store_and_bad_grids_exit_2)
     args_bench_small(&a, 1);
     args_add(&a, "--renderer");
     args_add(&a, "pgm");
+    args_add(&a, "--pgm-window");
+    args_add(&a, "100");
     args_add(&a, "%s", store);
-    expect_usage_error(&a, "PGM over stores is not built yet", dir);
+    expect_usage_error(&a, "--pgm-window", dir);
     args_cmd(&a, "view");
     args_add(&a, "--renderer");
     args_add(&a, "pgm");
+    args_add(&a, "--pgm-window");
+    args_add(&a, "8");
     args_add(&a, "--headless");
     args_add(&a, "--screenshot");
     args_add(&a, "%s/x.png", dir);
     args_add(&a, "%s", store);
-    expect_usage_error(&a, "PGM over stores is not built yet", dir);
+    expect_usage_error(&a, "--pgm-window", dir);
+    args_cmd(&a, "view");
+    args_add(&a, "--renderer");
+    args_add(&a, "pgm");
+    args_add(&a, "--pgm-window");
+    args_add(&a, "64");
+    args_add(&a, "--headless");
+    args_add(&a, "--screenshot");
+    args_add(&a, "%s/x.png", dir);
+    args_add(&a, "%s", dem);
+    expect_usage_error(&a, "--pgm-window is for --renderer pgm over a store", dir);
+    args_bench_small(&a, 1);
+    args_add(&a, "--pgm-window");
+    args_add(&a, "64");
+    args_add(&a, "%s", store);
+    expect_usage_error(&a, "--pgm-window is for --renderer pgm over a store", dir);
     args_bench_small(&a, 1);
     args_add(&a, "--renderer");
     args_add(&a, "pgm");
@@ -2248,9 +2267,125 @@ TEST(pgm_view_headless_writes_screenshot_and_stats)
     free(json);
 }
 
+/* The PGM clipmap's GPU bytes for a store of src_width x src_height posts: the grid's indices
+ * and one window x window R32F layer per pyramid level (pgm_clip.h). */
+static double pgm_clip_bytes(int cols, int rows, int window, int src_width, int src_height)
+{
+    int w = src_width, h = src_height, levels = 1;
+    while (!(w <= 2 && h <= 2)) {
+        w = w / 2 + 1, h = h / 2 + 1;
+        levels++;
+    }
+    return 6.0 * (cols - 1) * (rows - 1) * 4 + (double)levels * window * window * 4;
+}
+
+/* view STORE --renderer pgm --headless (issue 16): drawn through the store's clipmap; the
+ * screenshot at its size, the statistics naming the renderer, the grid's triangles, the GPU
+ * bytes of the clipmap (bounded: the window, not the store), the error not measured (null). */
+TEST(pgm_view_store_headless_draws_through_its_clipmap)
+{
+    static run_result r;
+    const char* store = build_small_store();
+    const char* dir = make_tmp_dir();
+    char png[1024], json_path[1024];
+    snprintf(png, sizeof png, "%s/pgm.png", dir);
+    snprintf(json_path, sizeof json_path, "%s/pgm.json", dir);
+    args a;
+    args_cmd(&a, "view");
+    args_add(&a, "--renderer");
+    args_add(&a, "pgm");
+    args_add(&a, "--pgm-grid");
+    args_add(&a, "200x100");
+    args_add(&a, "--pgm-window");
+    args_add(&a, "32");
+    args_add(&a, "--headless");
+    args_add(&a, "--frames");
+    args_add(&a, "3");
+    args_add(&a, "--size");
+    args_add(&a, "320x180");
+    args_add(&a, "--screenshot");
+    args_add(&a, "%s", png);
+    args_add(&a, "--stats-json");
+    args_add(&a, "%s", json_path);
+    args_add(&a, "%s", store);
+    run_ok(&a, &r);
+    unsigned w = 0, h = 0;
+    size_t size = 0;
+    EXPECT_TRUE(png_header(png, &w, &h, &size));
+    EXPECT_EQ_INT(320, (int)w);
+    EXPECT_EQ_INT(180, (int)h);
+    char* json = read_file(json_path, &size);
+    ASSERT_TRUE(json != NULL);
+    char buf[64];
+    EXPECT_EQ_STR("pgm", json_str(json, NULL, "renderer", buf, sizeof buf));
+    EXPECT_EQ_STR("200x100", json_str(json, NULL, "pgm_grid", buf, sizeof buf));
+    EXPECT_EQ_DBL(2.0 * 199 * 99, json_num(json, NULL, "triangles"));
+    EXPECT_EQ_DBL(pgm_clip_bytes(200, 100, 32, 143, 107), json_num(json, NULL, "gpu_bytes"));
+    EXPECT_CONTAINS(json, "\"max_error_px\": null");
+    free(json);
+}
+
+/* bench STORE --renderer pgm: a configuration per grid after the patch ones, flown on the same
+ * path, with the clipmap's figures (fill and upload ms, posts updated), its GPU bytes and no
+ * error (null); the table says the error is not measured. */
+TEST(pgm_store_bench_reports_the_clipmap)
+{
+    static run_result r;
+    const char* store = build_small_store();
+    const char* dir = make_tmp_dir();
+    char path[1024];
+    args a;
+    args_bench_small(&a, 6);
+    args_add(&a, "--segments");
+    args_add(&a, "2");
+    args_add(&a, "--renderer");
+    args_add(&a, "pgm");
+    args_add(&a, "--pgm-grid");
+    args_add(&a, "64x48,40x40");
+    args_add(&a, "--pgm-window");
+    args_add(&a, "32");
+    args_add(&a, "--json");
+    args_add(&a, "%s/s.json", dir);
+    args_add(&a, "%s", store);
+    run_ok(&a, &r);
+    EXPECT_CONTAINS(r.out, "pgm 64x48: clipmap of 32 x 32 posts a level");
+    EXPECT_CONTAINS(r.out, "error not measured");
+    snprintf(path, sizeof path, "%s/s.json", dir);
+    char* json = read_file(path, NULL);
+    ASSERT_TRUE(json != NULL);
+    const char *os[8], *oe[8];
+    int n = json_objects(json, "configurations", os, oe, 8);
+    ASSERT_EQ_INT(4, n); /* error, distance, two grids */
+    char buf[64];
+    const int grid[2][2] = {{64, 48}, {40, 40}};
+    for (int k = 0; k < 2; k++) {
+        const char *o0 = os[2 + k], *o1 = oe[2 + k];
+        char want[32];
+        snprintf(want, sizeof want, "%dx%d", grid[k][0], grid[k][1]);
+        EXPECT_EQ_STR("pgm", json_str(o0, o1, "terrain_renderer", buf, sizeof buf));
+        EXPECT_EQ_STR(want, json_str(o0, o1, "pgm_grid", buf, sizeof buf));
+        EXPECT_EQ_DBL(32, json_num(o0, o1, "pgm_window"));
+        EXPECT_EQ_DBL(2.0 * (grid[k][0] - 1) * (grid[k][1] - 1),
+                      json_num(o0, o1, "triangles_median"));
+        EXPECT_NEAR(pgm_clip_bytes(grid[k][0], grid[k][1], 32, 143, 107) / 1e6,
+                    json_num(o0, o1, "gpu_mb"), 1e-9);
+        EXPECT_GE(json_num(o0, o1, "pgm_fill_ms_median"), 0.0);
+        EXPECT_GE(json_num(o0, o1, "pgm_upload_ms_p99"), json_num(o0, o1, "pgm_upload_ms_median"));
+        EXPECT_GE(json_num(o0, o1, "pgm_posts_updated_median"), 0.0);
+        EXPECT_GT(json_num(o0, o1, "fps_median"), 0.0);
+        const char* err = strstr(o0, "\"max_screen_error_px\": null");
+        EXPECT_TRUE(err != NULL && err < o1);
+    }
+    for (int k = 0; k < 2; k++)
+        EXPECT_EQ_STR("patches", json_str(os[k], oe[k], "terrain_renderer", buf, sizeof buf));
+    free(json);
+}
+
 #define TESTS(X)                                                                                   \
     X(pgm_bench_adds_a_configuration_per_grid)                                                     \
-    X(pgm_store_and_bad_grids_exit_2)                                                              \
+    X(pgm_bad_grids_and_windows_exit_2)                                                            \
+    X(pgm_view_store_headless_draws_through_its_clipmap)                                           \
+    X(pgm_store_bench_reports_the_clipmap)                                                         \
     X(pgm_view_headless_writes_screenshot_and_stats)                                               \
     X(sweep_writes_one_row_per_configuration_and_a_plot)                                           \
     X(stitch_add_against_move_frame_by_frame)                                                      \

@@ -24,6 +24,8 @@
 #include "imagery_view.h"
 #include "light_view.h"
 #include "memory.h"
+#include "pgm_clip.h"
+#include "pgm_render.h"
 #include "renderer.h"
 #include "store_scene.h"
 #include "bench_store.h"
@@ -200,6 +202,16 @@ static void summarize(store_result* c, int n)
     c->img_upload_ms_p99 = tp_bench_p99(v, n);
     ROWS_OF(r->img_uploads);
     c->img_uploads = tp_bench_median(v, n);
+    ROWS_OF(r->pgm_fill_ms);
+    c->pgm_fill_ms = tp_bench_median(v, n);
+    c->pgm_fill_ms_p99 = tp_bench_p99(v, n);
+    ROWS_OF(r->pgm_upload_ms);
+    c->pgm_upload_ms = tp_bench_median(v, n);
+    c->pgm_upload_ms_p99 = tp_bench_p99(v, n);
+    ROWS_OF(r->pgm_posts);
+    c->pgm_posts = tp_bench_median(v, n);
+    ROWS_OF(r->pgm_node_reads);
+    c->pgm_node_reads = tp_bench_median(v, n);
     double sum_px = 0;
     for (int i = 0; i < n; i++) {
         const store_row* r = &c->rows[i];
@@ -250,12 +262,72 @@ static int settle(store_bench* b, tp_cut* cut, tp_cut* pre, const tp_camera* cam
     }
 }
 
+/* A PGM configuration: a fresh clipmap and grid (cold), the same flight; each frame's time
+ * includes the clipmap's update (reading and uploading the strips its windows gain: synchronous,
+ * so a jump's whole refill is in the stretch's first warm-up frame, untimed). The error is not
+ * measured (NaN): the heights to compare with are only in the windows. Returns TP_EXIT_*. */
+static int run_store_pgm(store_bench* b, store_result* c, const char* progress)
+{
+    int frames = b->segments * b->per_segment;
+    char msg[600];
+    tp_pgm_clipmap* clip = tp_pgm_clipmap_create(b->sc.store, c->pgm_window, msg, sizeof msg);
+    tp_pgm_renderer* r =
+        clip ? tp_pgm_renderer_create_clipmap(clip, c->pgm_cols, c->pgm_rows, msg, sizeof msg)
+             : NULL;
+    if (!r) {
+        fprintf(stderr, "terrapatch bench: %s: %s\n", b->o->dem, msg);
+        tp_pgm_clipmap_destroy(clip);
+        return TP_EXIT_FAILURE;
+    }
+    c->pgm_window = tp_pgm_clipmap_window(clip);
+    tp_render_settings rs;
+    tp_render_settings_default(&rs);
+    tp_pgm_render_stats ps;
+    tp_camera cam;
+    for (int seg = 0; seg < b->segments; seg++)
+        for (int i = -WARMUP_FRAMES; i < b->per_segment; i++) {
+            flight_camera(b, seg, i * b->step_m, &cam);
+            tp_gl_context_begin_frame(b->ctx);
+            double t0 = now_ms();
+            tp_pgm_renderer_draw(r, &cam, &rs, 1, NULL, &ps);
+            tp_gl_context_end_frame(b->ctx);
+            double t1 = now_ms();
+            if (i < 0)
+                continue;
+            int k = seg * b->per_segment + i;
+            store_row* row = &c->rows[k];
+            row->frame_ms = t1 - t0;
+            row->cpu_ms = ps.setup_ms;
+            row->stream_ms = row->pgm_fill_ms = ps.fill_ms;
+            row->upload_ms = row->pgm_upload_ms = ps.upload_ms;
+            row->pgm_posts = ps.posts_updated;
+            row->pgm_node_reads = ps.node_reads;
+            row->draw_ms = ps.draw_ms;
+            row->draw_calls = 1;
+            row->triangles = ps.triangles;
+            row->gpu_bytes = ps.gpu_bytes;
+            row->max_px = row->rms_px = NAN;
+            read_rss(&row->rss_mb, &row->rss_anon_mb);
+            fprintf(stderr, "\rterrapatch: bench %s: frame %d/%d, %.1f ms, %zu posts updated   ",
+                    progress, k + 1, frames, row->frame_ms, row->pgm_posts);
+        }
+    fprintf(stderr, "\n");
+    summarize(c, frames);
+    tp_pgm_renderer_destroy(r);
+    tp_pgm_clipmap_destroy(clip);
+    return TP_EXIT_OK;
+}
+
 /* One configuration: a fresh stream, renderer and cuts (cold, as a viewer starts), the flight's
  * frames. Returns TP_EXIT_*. */
 static int run_store_config(store_bench* b, store_result* c, int first, const char* progress)
 {
     const bench_options* o = b->o;
     int frames = b->segments * b->per_segment;
+    if (c->pgm_cols) {
+        c->rows = calloc((size_t)frames, sizeof *c->rows);
+        return c->rows ? run_store_pgm(b, c, progress) : TP_EXIT_FAILURE;
+    }
     c->rows = calloc((size_t)frames, sizeof *c->rows);
     /* The stream's motion estimate follows the flight's own clock (FRAME_HZ), not the draw's:
      * frames that take 0.1-3 s here would otherwise make a 300 m/s flight look like 3-30 m/s. */
@@ -465,7 +537,7 @@ int tp_bench_store(const bench_options* o)
     read_rss(&b.base_rss_mb, &b.base_anon_mb);
     const char* renderer_name = (const char*)glGetString(GL_RENDERER);
     renderer_name = renderer_name ? renderer_name : "?";
-    store_result c[6]; /* error, distance, spheres, two imagery modes, light */
+    store_result c[6 + 8]; /* error, distance, spheres, two imagery modes, light; PGM grids */
     memset(c, 0, sizeof c);
     c[0].lod = o->vs.lod;
     c[0].lod.mode = TP_LOD_ERROR;
@@ -497,6 +569,15 @@ int tp_bench_store(const bench_options* o)
         c[nc] = c[0];
         c[nc].light = 1;
         snprintf(c[nc].label, sizeof c[nc].label, "%.40s+light", c[0].label);
+        nc++;
+    }
+    /* --renderer pgm: a configuration per grid (default TP_PGM_DEFAULT_COLS x _ROWS) */
+    for (int k = 0; o->vs.pgm && k < (o->vs.pgm_grid_count ? o->vs.pgm_grid_count : 1); k++) {
+        c[nc].lod = c[0].lod;
+        c[nc].pgm_cols = o->vs.pgm_grid_count ? o->vs.pgm_grid[k][0] : TP_PGM_DEFAULT_COLS;
+        c[nc].pgm_rows = o->vs.pgm_grid_count ? o->vs.pgm_grid[k][1] : TP_PGM_DEFAULT_ROWS;
+        c[nc].pgm_window = o->vs.pgm_window;
+        snprintf(c[nc].label, sizeof c[nc].label, "pgm %dx%d", c[nc].pgm_cols, c[nc].pgm_rows);
         nc++;
     }
     for (int k = 0; k < nc && code == TP_EXIT_OK; k++) {

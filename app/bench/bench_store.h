@@ -27,6 +27,10 @@ typedef struct store_row {
     double img_ms, img_upload_ms;
     int img_uploads, img_missing, img_pending;
     size_t img_gpu_bytes, img_cache_bytes;
+    /* --renderer pgm: the clipmap's update (in frame_ms and cpu_ms; stream_ms and upload_ms
+     * hold the same two figures) */
+    double pgm_fill_ms, pgm_upload_ms;
+    size_t pgm_posts, pgm_node_reads;
 } store_row;
 
 typedef struct store_result {
@@ -52,6 +56,12 @@ typedef struct store_result {
     long img_final_diff;        /* tp_bench_imagery_diff */
     int light;                  /* instead of imagery: o->light, the day's streamed light (its
                                    clipmap's figures in the img_ fields) */
+    int pgm_cols, pgm_rows;     /* > 0: Persistent Grid Mapping over the store's clipmap
+                                   (app/view/pgm_clip.h), no cut, no stream; error not
+                                   measured */
+    int pgm_window;
+    double pgm_fill_ms, pgm_fill_ms_p99, pgm_upload_ms, pgm_upload_ms_p99, pgm_posts,
+        pgm_node_reads; /* medians (and p99) over the timed frames */
 } store_result;
 
 typedef struct store_bench {

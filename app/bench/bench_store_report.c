@@ -14,8 +14,24 @@
 static void json_result(tp_json* j, const store_result* c)
 {
 #define KN(k, v) (tp_json_key(j, k), tp_json_number(j, v))
+    tp_json_key(j, "terrain_renderer");
+    tp_json_string(j, c->pgm_cols ? "pgm" : "patches");
+    if (c->pgm_cols) {
+        char grid[32];
+        snprintf(grid, sizeof grid, "%dx%d", c->pgm_cols, c->pgm_rows);
+        tp_json_key(j, "pgm_grid");
+        tp_json_string(j, grid);
+        KN("pgm_window", c->pgm_window);
+        KN("pgm_fill_ms_median", c->pgm_fill_ms);
+        KN("pgm_fill_ms_p99", c->pgm_fill_ms_p99);
+        KN("pgm_upload_ms_median", c->pgm_upload_ms);
+        KN("pgm_upload_ms_p99", c->pgm_upload_ms_p99);
+        KN("pgm_posts_updated_median", c->pgm_posts);
+        KN("pgm_node_reads_median", c->pgm_node_reads);
+    }
     tp_json_key(j, "lod_mode");
-    tp_json_string(j, c->lod.mode == TP_LOD_ERROR ? "error"
+    tp_json_string(j, c->pgm_cols                 ? "pgm"
+                      : c->lod.mode == TP_LOD_ERROR ? "error"
                       : c->lod.sphere_tree        ? "spheres"
                                                   : "distance");
     if (c->lod.mode == TP_LOD_ERROR)
@@ -162,7 +178,8 @@ int tp_bench_store_write_csv(const store_bench* b, const store_result* c, int nc
             const store_row* r = &c[k].rows[i];
             fprintf(f, "%s,%d,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%zu,%d,%d,%d,%d,%d,%d,%zu,%zu,%.1f,"
                        "%.1f,%d,%.4f,%.4f,%zu,%zu,%.4f,%.4f,%d,%d\n",
-                    c[k].light ? "error+light"
+                    c[k].pgm_cols ? "pgm"
+                    : c[k].light ? "error+light"
                     : c[k].imagery ? (c[k].imagery_mode == TP_IMAGERY_BLOCKS ? "error+blocks"
                                                                              : "error+imagery")
                     : c[k].lod.mode == TP_LOD_ERROR ? "error"
@@ -228,7 +245,16 @@ void tp_bench_store_print(const store_bench* b, const char* renderer_name, const
                    c[k].img_uploads, c[k].img_gpu_mb, c[k].img_cache_mb, c[k].img_frames_missing,
                    c[k].img_missing_max);
     for (int k = 0; k < nc; k++)
-        if (!o->no_error)
+        if (c[k].pgm_cols)
+            printf("%s: clipmap of %d x %d posts a level: fill %.3f ms a frame median (%.3f p99), "
+                   "upload %.3f ms median (%.3f p99), %.0f posts and %.0f node reads median; "
+                   "GPU %.1f MB; error not measured (NaN: over a store the heights are only in "
+                   "the clipmap's windows)\n",
+                   c[k].label, c[k].pgm_window, c[k].pgm_window, c[k].pgm_fill_ms,
+                   c[k].pgm_fill_ms_p99, c[k].pgm_upload_ms, c[k].pgm_upload_ms_p99, c[k].pgm_posts,
+                   c[k].pgm_node_reads, c[k].gpu_mb);
+    for (int k = 0; k < nc; k++)
+        if (!o->no_error && !c[k].pgm_cols)
             printf("%s: screen error measured on %d frames without substitution (%.0f samples, "
                    "%.0f skipped: leaves not resident)\n",
                    c[k].label, c[k].error_frames, c[k].samples, c[k].skipped);

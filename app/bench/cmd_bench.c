@@ -88,11 +88,13 @@ static void print_help(void)
           "  --stitch move|add      crack removal (a DEM): move the finer patch's border vertices\n"
           "                         (default) or add them to the coarser patch's (Brodersen\n"
           "                         section 4); its error measured on its own geometry\n"
-          "  --renderer pgm         also Persistent Grid Mapping (Livny, Kogan & El-Sana; a DEM\n"
-          "                         drawn whole, not a store): one configuration per grid after\n"
-          "                         the patch ones, the same path; error by tp_pgm_measure_error\n"
-          "                         (every post in view against the mapped grid's surface) on\n"
-          "                         every --error-every-th frame\n"
+          "  --renderer pgm         also Persistent Grid Mapping (Livny, Kogan & El-Sana): one\n"
+          "                         configuration per grid after the patch ones, the same path;\n"
+          "                         a DEM: drawn whole, error by tp_pgm_measure_error (every post\n"
+          "                         in view against the mapped grid's surface) on every\n"
+          "                         --error-every-th frame; a store: through its clipmap\n"
+          "                         (--pgm-window N posts a level, default 512; default grid\n"
+          "                         300x300), fill/upload ms per frame, error not measured\n"
           "  --pgm-grid COLSxROWS[,COLSxROWS...]   the grids (default 150x600,300x300,600x600,\n"
           "                         from the paper's Table 1; --sweep: 150x600,200x800,300x900,\n"
           "                         600x600,400x1600 (Table 1), 300x300,430x430; at most 8)\n"
@@ -365,10 +367,9 @@ static int parse_options(int argc, char** argv, bench_options* o)
         fprintf(stderr, "terrapatch bench: --pgm-grid needs --renderer pgm (or --sweep)\n");
         return TP_EXIT_USAGE;
     }
-    if (o->vs.pgm && tp_is_store_path(o->dem)) {
-        fprintf(stderr, "terrapatch bench: --renderer pgm: %s is a store; PGM over stores is not "
-                        "built yet (the paper's clipmaps with F-shape updates): give the DEM\n",
-                o->dem);
+    if (o->vs.pgm_window && (!o->vs.pgm || !tp_is_store_path(o->dem))) {
+        fprintf(stderr, "terrapatch bench: --pgm-window is for --renderer pgm over a store (%s "
+                        "is %s)\n", o->dem, o->vs.pgm ? "a DEM, drawn whole" : "drawn by patches");
         return TP_EXIT_USAGE;
     }
     if (o->vs.pgm && o->is_static) {

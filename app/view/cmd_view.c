@@ -17,6 +17,7 @@
 #include "hud.h"
 #include "hud_text.h"
 #include "overlay.h"
+#include "pgm_clip.h"
 #include "pgm_render.h"
 #include "pick.h"
 #include "layers.h"
@@ -421,6 +422,11 @@ static int parse_options(int argc, char** argv, view_options* o)
                         "bench)\n");
         return TP_EXIT_USAGE;
     }
+    if (o->vs.pgm && o->imagery) {
+        fprintf(stderr, "terrapatch view: --renderer pgm drapes no --imagery yet (hillshade "
+                        "only)\n");
+        return TP_EXIT_USAGE;
+    }
     if (o->vs.pgm && o->texture) {
         fprintf(stderr, "terrapatch view: --renderer pgm drapes no --texture yet (hillshade "
                         "only)\n");
@@ -603,7 +609,7 @@ static int open_imagery(tp_view_scene* v, const view_options* o, const tp_store_
     const char* path = o->imagery;
     if (!path && !o->no_imagery && tp_view_imagery_beside(st->path, beside, sizeof beside))
         path = beside;
-    if (!path || o->no_imagery)
+    if (!path || o->no_imagery || o->vs.pgm) /* PGM drapes nothing yet (checked: no --imagery) */
         return 1;
     tp_clipmap_options co = {.clip_blocks = o->clip_blocks};
     v->imagery_settle = o->headless;
@@ -654,11 +660,30 @@ static int run_view(tp_view_scene* v, view_options* o, tp_render_grid_desc* gd,
         tp_gl_context_destroy(ctx);
         return TP_EXIT_FAILURE;
     }
-    /* --renderer pgm: the pyramid and the persistent grid draw instead of r */
+    /* --renderer pgm: the pyramid (a DEM drawn whole) or the clipmap (a store) and the
+     * persistent grid draw instead of r */
     tp_pgm_pyramid pyr;
     memset(&pyr, 0, sizeof pyr);
     uint8_t* valid = NULL;
-    if (o->vs.pgm) {
+    tp_pgm_clipmap* pgm_clip = NULL;
+    if (o->vs.pgm && st) {
+        int cols = o->vs.pgm_grid_count ? o->vs.pgm_grid[0][0] : TP_PGM_DEFAULT_COLS;
+        int rows = o->vs.pgm_grid_count ? o->vs.pgm_grid[0][1] : TP_PGM_DEFAULT_ROWS;
+        pgm_clip = tp_pgm_clipmap_create(st->store, o->vs.pgm_window, msg, sizeof msg);
+        /* a window reads on a loader thread (no frame waits for a jump's refill); headless
+         * frames read at once, so that each frame is the camera's own */
+        if (pgm_clip && !o->headless && !tp_pgm_clipmap_set_async(pgm_clip, msg, sizeof msg))
+            fprintf(stderr, "terrapatch view: %s (reading on the render thread)\n", msg);
+        if (pgm_clip)
+            v->pgm = tp_pgm_renderer_create_clipmap(pgm_clip, cols, rows, msg, sizeof msg);
+        if (!v->pgm) {
+            fprintf(stderr, "terrapatch view: %s: %s\n", st->path, msg);
+            tp_pgm_clipmap_destroy(pgm_clip);
+            tp_renderer_destroy(r);
+            tp_gl_context_destroy(ctx);
+            return TP_EXIT_FAILURE;
+        }
+    } else if (o->vs.pgm) {
         tp_error err = {{0}};
         const tp_render_grid* g = v->dem->grid;
         int cols = o->vs.pgm_grid_count ? o->vs.pgm_grid[0][0] : TP_PGM_DEFAULT_COLS;
@@ -710,6 +735,7 @@ static int run_view(tp_view_scene* v, view_options* o, tp_render_grid_desc* gd,
     tp_view_shadows_close(v, &shadow);
     tp_pgm_renderer_destroy(v->pgm);
     v->pgm = NULL;
+    tp_pgm_clipmap_destroy(pgm_clip);
     tp_pgm_pyramid_free(&pyr);
     tp_renderer_destroy(r);
     tp_gl_context_destroy(ctx);
@@ -801,13 +827,14 @@ int tp_cli_view(int argc, char** argv)
     int whole = !tp_is_store_path(o.path) &&
                 (o.old_path || o.texture || o.scene.image_given || !is_regular_file(o.path) ||
                  tp_is_heightmap_image(o.path));
-    if (o.vs.pgm && tp_is_store_path(o.path)) {
-        fprintf(stderr, "terrapatch view: --renderer pgm: %s is a store; PGM over stores is not "
-                        "built yet (the paper's clipmaps with F-shape updates): give the DEM, "
-                        "which PGM draws whole\n", o.path);
+    if (o.vs.pgm_window && (!o.vs.pgm || !tp_is_store_path(o.path))) {
+        fprintf(stderr, "terrapatch view: --pgm-window is for --renderer pgm over a store (%s is "
+                        "%s)\n", o.path, o.vs.pgm ? "a DEM, drawn whole" : "drawn by patches");
         return TP_EXIT_USAGE;
     }
-    if (o.vs.pgm) /* a DEM drawn whole: its render grid is the pyramid's level 0 */
+    /* a store: its clipmap (pgm_clip.h); a DEM drawn whole: its render grid is the pyramid's
+     * level 0 */
+    if (o.vs.pgm && !tp_is_store_path(o.path))
         whole = o.old_path = 1;
     if (o.render.stitch_add && !whole) {
         fprintf(stderr, "terrapatch view: --stitch add: only for a DEM drawn whole (not yet for "

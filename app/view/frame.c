@@ -45,7 +45,11 @@ void tp_view_frame(tp_view_scene* v, tp_renderer* r, const tp_camera* cam,
         out->render.gpu_bytes = ps.gpu_bytes;
         out->render.near_m = ps.near_m;
         out->render.far_m = ps.far_m;
-        out->select_ms = ps.setup_ms;
+        /* over a store's clipmap: reading the strips its windows gained is CPU work, their
+         * glTexSubImage3D the upload (cpu_ms = select_ms + upload_ms) */
+        out->render.upload_ms = ps.upload_ms;
+        out->render.uploads = ps.posts_updated > 0;
+        out->select_ms = ps.setup_ms - ps.upload_ms;
         out->pgm_cols = ps.cols;
         out->pgm_rows = ps.rows;
         out->store = 0;

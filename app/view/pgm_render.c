@@ -3,6 +3,7 @@
 #include "pgm_render.h"
 
 #include "gl_context.h"
+#include "pgm_clip.h"
 
 #include <epoxy/gl.h>
 
@@ -30,9 +31,23 @@ static const char vertex_head[] =
     "uniform vec2 u_eye_grid;  // the eye in level-0 grid coordinates (post (0,0) at (0,0))\n"
     "uniform vec2 u_inv_step;  // grid steps per metre east and north: 1 / gt[1], 1 / gt[5]\n"
     "uniform vec2 u_step;      // gt[1], gt[5]\n"
+    "uniform ivec2 u_size[24]; // each level's posts\n"
+    "#ifdef TP_CLIP\n"
+    "// a store's clipmap (pgm_clip.h): level l in layer l, post p at texel p mod w, held\n"
+    "// only inside its window: posts u_org[l] .. u_org[l] + w - 1\n"
+    "uniform sampler2DArray u_clip;\n"
+    "uniform ivec2 u_org[24];\n"
+    "uniform int u_win;\n"
+    "float fetch(int l, ivec2 p) { return texelFetch(u_clip, ivec3(p & (u_win - 1), l), 0).r; }\n"
+    "bool held(int l, ivec2 i, ivec2 i1) {\n"
+    "    return all(greaterThanEqual(i, u_org[l])) && all(lessThan(i1, u_org[l] + u_win));\n"
+    "}\n"
+    "#else\n"
     "uniform ivec2 u_off[24];  // each level's texel offset in the atlas\n"
-    "uniform ivec2 u_size[24]; // and its posts\n"
     "uniform sampler2D u_atlas;\n"
+    "float fetch(int l, ivec2 p) { return texelFetch(u_atlas, u_off[l] + p, 0).r; }\n"
+    "bool held(int l, ivec2 i, ivec2 i1) { return true; }\n"
+    "#endif\n"
     "uniform sampler2D u_valid; // level 0: 1 where a post has a height (R8)\n"
     "uniform float u_eye_z;\n"
     "uniform mat4 u_viewproj;  // the main camera's, eye at the origin\n"
@@ -41,19 +56,25 @@ static const char vertex_head[] =
     "uniform int u_color_lod;\n"
     "out float v_off;          // > 0 where a vertex of the triangle is off the terrain\n"
     "out vec3 v_color;\n"
-    "float fetch(int l, ivec2 p) { return texelFetch(u_atlas, u_off[l] + p, 0).r; }\n"
     "// tp_pgm_pyramid_sample: x0 clamped to the level-0 extent, then level l bilinear at\n"
-    "// x0 / 2^l between its posts\n"
-    "float sample_level(int l, vec2 x0) {\n"
-    "    ivec2 n = u_size[l];\n"
-    "    vec2 u = clamp(x0, vec2(0.0), vec2(u_size[0] - 1)) * exp2(-float(l));\n"
-    "    u = min(u, vec2(n - 1));\n"
-    "    ivec2 i = min(ivec2(floor(u)), max(n - 2, ivec2(0)));\n"
-    "    vec2 f = u - vec2(i);\n"
-    "    ivec2 i1 = min(i + 1, n - 1);\n"
-    "    float a = fetch(l, i), b = fetch(l, ivec2(i1.x, i.y));\n"
-    "    float c = fetch(l, ivec2(i.x, i1.y)), d = fetch(l, i1);\n"
-    "    return mix(mix(a, b, f.x), mix(c, d, f.x), f.y);\n"
+    "// x0 / 2^l between its posts; over a clipmap, the first level from l up whose window\n"
+    "// holds the four posts (the last level always does)\n"
+    "float sample_level(int l0, vec2 x0) {\n"
+    "    for (int l = l0; l < u_levels; l++) {\n"
+    "        ivec2 n = u_size[l];\n"
+    "        vec2 u = clamp(x0, vec2(0.0), vec2(u_size[0] - 1)) * exp2(-float(l));\n"
+    "        u = min(u, vec2(n - 1));\n"
+    "        ivec2 i = min(ivec2(floor(u)), max(n - 2, ivec2(0)));\n"
+    "        vec2 f = u - vec2(i);\n"
+    "        ivec2 i1 = min(i + 1, n - 1);\n"
+    "        if (l + 1 < u_levels && !held(l, i, i1)) continue;\n"
+    "        float a = fetch(l, i), b = fetch(l, ivec2(i1.x, i.y));\n"
+    "        float c = fetch(l, ivec2(i.x, i1.y)), d = fetch(l, i1);\n"
+    "        // a clipmap's void texel (-3e38) voids the sample: no arithmetic on it\n"
+    "        if (min(min(a, b), min(c, d)) < -1e30) return -3e38;\n"
+    "        return mix(mix(a, b, f.x), mix(c, d, f.x), f.y);\n"
+    "    }\n"
+    "    return 0.0;\n"
     "}\n"
     "// every post of level 0's cell around g has a height\n"
     "uniform int u_has_valid;\n"
@@ -103,15 +124,25 @@ static const char vertex_main[] =
     "    float w = l == last ? 0.0 : clamp(r / (u_post_m * exp2(float(l))) - 1.0, 0.0, 1.0);\n"
     "    vec2 g = u_eye_grid + p.xy * u_inv_step;\n"
     "    float z = sample_level(l, g);\n"
-    "    if (w > 0.0) z = mix(z, sample_level(l + 1, g), w);\n"
+    "    if (w > 0.0) {\n"
+    "        float zp = sample_level(l + 1, g);\n"
+    "        z = min(z, zp) < -1e30 ? -3e38 : mix(z, zp, w);\n"
+    "    }\n"
     "    vec2 lim = vec2(u_size[0] - 1);\n"
     "    v_off = all(greaterThanEqual(g, vec2(0.0))) && all(lessThanEqual(g, lim)) && valid_at(g) "
-    "? 0.0 : 1.0;\n"
+    "&& z > -1e30 ? 0.0 : 1.0; // (a clipmap's void texels: -3e38)\n"
     "    gl_Position = u_viewproj * vec4(p.xy, z - u_eye_z, 1.0);\n"
     "    // shading: the slope of level l over one of its posts\n"
     "    float s = exp2(float(l));\n"
-    "    float dx = sample_level(l, g + vec2(s, 0.0)) - sample_level(l, g - vec2(s, 0.0));\n"
-    "    float dy = sample_level(l, g + vec2(0.0, s)) - sample_level(l, g - vec2(0.0, s));\n"
+    "    float e1 = sample_level(l, g + vec2(s, 0.0)), e0 = sample_level(l, g - vec2(s, 0.0));\n"
+    "    float n1 = sample_level(l, g + vec2(0.0, s)), n0 = sample_level(l, g - vec2(0.0, s));\n"
+    "#ifdef TP_CLIP\n"
+    "    // next to a clipmap's void: the vertex's own height (flat that side)\n"
+    "    float zc = z > -1e30 ? z : 0.0;\n"
+    "    e1 = e1 > -1e30 ? e1 : zc, e0 = e0 > -1e30 ? e0 : zc;\n"
+    "    n1 = n1 > -1e30 ? n1 : zc, n0 = n0 > -1e30 ? n0 : zc;\n"
+    "#endif\n"
+    "    float dx = e1 - e0, dy = n1 - n0;\n"
     "    vec3 n = normalize(vec3(-dx / (2.0 * s * u_step.x), -dy / (2.0 * s * u_step.y), 1.0));\n"
     "    float light = 0.3 + 0.7 * max(dot(n, u_sun), 0.0);\n"
     "    vec3 base = u_color_lod != 0 ? level_color(l)\n"
@@ -130,14 +161,17 @@ static const char fragment_src[] = "#version 330 core\n"
                                    "}\n";
 
 struct tp_pgm_renderer {
-    const tp_pgm_pyramid* p;
+    const tp_pgm_pyramid* p; /* over a clipmap its shape: no heights */
+    tp_pgm_clipmap* clip;    /* NULL: the whole pyramid in the atlas */
+    int clip_error_told;
     int cols, rows;
     GLuint prog, vao, ibo, atlas, valid;
     size_t index_count, gpu_bytes;
     int off[TP_PGM_MAX_LEVELS][2];
     GLint u_cols, u_px_step, u_half, u_focal, u_fwd, u_right, u_up, u_base_rel, u_h, u_sin_a,
         u_cos_a, u_post_m, u_levels, u_eye_grid, u_inv_step, u_step, u_off, u_size, u_atlas,
-        u_valid, u_has_valid, u_eye_z, u_viewproj, u_sun, u_hrange, u_color_lod;
+        u_valid, u_has_valid, u_eye_z, u_viewproj, u_sun, u_hrange, u_color_lod, u_clip, u_org,
+        u_win;
 };
 
 static double now_ms(void)
@@ -235,8 +269,10 @@ static void pack_atlas(tp_pgm_renderer* r, int* aw, int* ah)
     *ah = (int)(column ? colh : rowh);
 }
 
-tp_pgm_renderer* tp_pgm_renderer_create(const tp_pgm_pyramid* p, const uint8_t* valid, int cols,
-                                        int rows, char* msg, size_t msg_size)
+/* The program (TP_CLIP defined over a clipmap), its uniforms and the grid's index buffer; NULL
+ * with msg on failure. */
+static tp_pgm_renderer* make_grid(const tp_pgm_pyramid* p, tp_pgm_clipmap* clip, int cols, int rows,
+                                  char* msg, size_t msg_size)
 {
     if (cols < 2 || rows < 2 || p->levels < 1) {
         snprintf(msg, msg_size, "persistent grid %dx%d: need at least 2x2 vertices and a pyramid",
@@ -249,25 +285,22 @@ tp_pgm_renderer* tp_pgm_renderer_create(const tp_pgm_pyramid* p, const uint8_t* 
         return NULL;
     }
     r->p = p;
+    r->clip = clip;
     r->cols = cols;
     r->rows = rows;
-    int aw, ah;
-    pack_atlas(r, &aw, &ah);
-    GLint max = 0;
-    glGetIntegerv(GL_MAX_TEXTURE_SIZE, &max);
-    if (aw > max || ah > max) {
-        snprintf(msg, msg_size,
-                 "PGM: the elevation pyramid of a %dx%d grid needs a %dx%d texture atlas; this "
-                 "GPU's GL_MAX_TEXTURE_SIZE is %d (PGM over a larger DEM needs the clipmaps of "
-                 "the paper's section 4, not built yet)",
-                 p->width[0], p->height[0], aw, ah, (int)max);
-        free(r);
-        return NULL;
-    }
-    char* vs = malloc(sizeof vertex_head + sizeof vertex_main);
-    if (vs) {
-        memcpy(vs, vertex_head, sizeof vertex_head - 1);
-        memcpy(vs + sizeof vertex_head - 1, vertex_main, sizeof vertex_main);
+    static const char version[] = "#version 330 core\n", define[] = "#define TP_CLIP 1\n";
+    size_t head = sizeof vertex_head - 1, vlen = sizeof version - 1;
+    char* vs = malloc(sizeof define + head + sizeof vertex_main);
+    if (vs) { /* the #define goes after #version */
+        size_t at = 0;
+        memcpy(vs, vertex_head, vlen);
+        at = vlen;
+        if (clip) {
+            memcpy(vs + at, define, sizeof define - 1);
+            at += sizeof define - 1;
+        }
+        memcpy(vs + at, vertex_head + vlen, head - vlen);
+        memcpy(vs + at + head - vlen, vertex_main, sizeof vertex_main);
         r->prog = tp_gl_program(vs, fragment_src, msg, msg_size);
         free(vs);
     } else {
@@ -282,7 +315,7 @@ tp_pgm_renderer* tp_pgm_renderer_create(const tp_pgm_pyramid* p, const uint8_t* 
     U(u_h), U(u_sin_a), U(u_cos_a), U(u_post_m), U(u_levels), U(u_eye_grid), U(u_inv_step);
     U(u_step), U(u_off), U(u_size), U(u_atlas), U(u_valid), U(u_has_valid), U(u_eye_z),
         U(u_viewproj), U(u_sun);
-    U(u_hrange), U(u_color_lod);
+    U(u_hrange), U(u_color_lod), U(u_clip), U(u_org), U(u_win);
 #undef U
     /* cell (i, j): (i,j) (i+1,j) (i,j+1) and (i+1,j) (i+1,j+1) (i,j+1), as tp_core.h splits */
     size_t cells = (size_t)(cols - 1) * (size_t)(rows - 1);
@@ -308,6 +341,40 @@ tp_pgm_renderer* tp_pgm_renderer_create(const tp_pgm_pyramid* p, const uint8_t* 
                  GL_STATIC_DRAW);
     free(idx);
     glBindVertexArray(0);
+    r->gpu_bytes = r->index_count * sizeof(uint32_t);
+    return r;
+}
+
+tp_pgm_renderer* tp_pgm_renderer_create_clipmap(tp_pgm_clipmap* clip, int cols, int rows, char* msg,
+                                                size_t msg_size)
+{
+    tp_pgm_renderer* r = make_grid(tp_pgm_clipmap_shape(clip), clip, cols, rows, msg, msg_size);
+    if (r)
+        r->gpu_bytes += tp_pgm_clipmap_gpu_bytes(clip);
+    return r;
+}
+
+tp_pgm_renderer* tp_pgm_renderer_create(const tp_pgm_pyramid* p, const uint8_t* valid, int cols,
+                                        int rows, char* msg, size_t msg_size)
+{
+    int aw = 0, ah = 0;
+    GLint max = 0;
+    glGetIntegerv(GL_MAX_TEXTURE_SIZE, &max);
+    tp_pgm_renderer probe = {.p = p};
+    if (p->levels >= 1)
+        pack_atlas(&probe, &aw, &ah);
+    if (aw > max || ah > max) {
+        snprintf(msg, msg_size,
+                 "PGM: the elevation pyramid of a %dx%d grid needs a %dx%d texture atlas; this "
+                 "GPU's GL_MAX_TEXTURE_SIZE is %d (build a store of the DEM and view the store "
+                 "with --renderer pgm: its clipmaps fit any size)",
+                 p->width[0], p->height[0], aw, ah, (int)max);
+        return NULL;
+    }
+    tp_pgm_renderer* r = make_grid(p, NULL, cols, rows, msg, msg_size);
+    if (!r)
+        return NULL;
+    memcpy(r->off, probe.off, sizeof r->off);
     glGenTextures(1, &r->atlas);
     glBindTexture(GL_TEXTURE_2D, r->atlas);
     glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
@@ -318,7 +385,7 @@ tp_pgm_renderer* tp_pgm_renderer_create(const tp_pgm_pyramid* p, const uint8_t* 
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAX_LEVEL, 0);
-    r->gpu_bytes = r->index_count * sizeof(uint32_t) + (size_t)aw * (size_t)ah * 4;
+    r->gpu_bytes += (size_t)aw * (size_t)ah * 4;
     if (valid) { /* 0 or 1 per level-0 post, read as 0 or 1/255 by texelFetch: > 0.5 needs 255 */
         size_t n = (size_t)p->width[0] * (size_t)p->height[0];
         uint8_t* v255 = malloc(n);
@@ -379,6 +446,10 @@ void tp_pgm_renderer_grid(const tp_pgm_renderer* r, int* cols, int* rows)
 void tp_pgm_renderer_measure(const tp_pgm_renderer* r, const tp_camera* cam, double* max_m,
                              double* rms_m, double* max_px, double* rms_px)
 {
+    if (r->clip) { /* the heights are only in the windows on the GPU (pgm_render.h) */
+        *max_m = *rms_m = *max_px = *rms_px = NAN;
+        return;
+    }
     tp_pgm_frame f;
     tp_pgm_frame_setup(cam, r->cols, r->rows, r->p, &f);
     tp_pgm_error e;
@@ -426,6 +497,21 @@ void tp_pgm_renderer_draw(tp_pgm_renderer* r, const tp_camera* cam, const tp_ren
     const tp_camera_frame* a = &f.aux_frame;
     const double* gt = p->geotransform;
     const double* eye = cam->position;
+    /* the eye in level-0 grid coordinates: post (x, y) at E = gt0 + (x + 0.5) * gt1 */
+    double eye_x = (eye[0] - gt[0]) / gt[1] - 0.5, eye_y = (eye[1] - gt[3]) / gt[5] - 0.5;
+    if (r->clip) { /* the windows follow the eye before the shader reads them */
+        tp_pgm_clip_stats cs;
+        char msg[600];
+        if (!tp_pgm_clipmap_update(r->clip, eye_x, eye_y, &cs, msg, sizeof msg) &&
+            !r->clip_error_told) {
+            fprintf(stderr, "terrapatch: %s (those posts are not drawn)\n", msg);
+            r->clip_error_told = 1;
+        }
+        stats->fill_ms = cs.fill_ms;
+        stats->upload_ms = cs.upload_ms;
+        stats->posts_updated = cs.posts;
+        stats->node_reads = cs.node_reads;
+    }
 
     glClearColor(s->clear_rgb[0], s->clear_rgb[1], s->clear_rgb[2], 1);
     glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
@@ -447,9 +533,7 @@ void tp_pgm_renderer_draw(tp_pgm_renderer* r, const tp_camera* cam, const tp_ren
     glUniform1f(r->u_cos_a, (float)f.cos_alpha);
     glUniform1f(r->u_post_m, (float)f.post_m);
     glUniform1i(r->u_levels, p->levels);
-    /* the eye in level-0 grid coordinates: post (x, y) at E = gt0 + (x + 0.5) * gt1 */
-    glUniform2f(r->u_eye_grid, (float)((eye[0] - gt[0]) / gt[1] - 0.5),
-                (float)((eye[1] - gt[3]) / gt[5] - 0.5));
+    glUniform2f(r->u_eye_grid, (float)eye_x, (float)eye_y);
     glUniform2f(r->u_inv_step, (float)(1 / gt[1]), (float)(1 / gt[5]));
     glUniform2f(r->u_step, (float)gt[1], (float)gt[5]);
     GLint off[2 * TP_PGM_MAX_LEVELS], size[2 * TP_PGM_MAX_LEVELS];
@@ -474,7 +558,16 @@ void tp_pgm_renderer_draw(tp_pgm_renderer* r, const tp_camera* cam, const tp_ren
         glBindTexture(GL_TEXTURE_2D, r->valid);
     }
     glActiveTexture(GL_TEXTURE0);
-    glBindTexture(GL_TEXTURE_2D, r->atlas);
+    if (r->clip) {
+        GLint org[2 * TP_PGM_MAX_LEVELS];
+        tp_pgm_clipmap_origins(r->clip, org);
+        glUniform2iv(r->u_org, p->levels, org);
+        glUniform1i(r->u_win, tp_pgm_clipmap_window(r->clip));
+        glUniform1i(r->u_clip, 0);
+        glBindTexture(GL_TEXTURE_2D_ARRAY, tp_pgm_clipmap_texture(r->clip));
+    } else {
+        glBindTexture(GL_TEXTURE_2D, r->atlas);
+    }
     double t1 = now_ms();
     glBindVertexArray(r->vao);
     glDrawElements(GL_TRIANGLES, (GLsizei)r->index_count, GL_UNSIGNED_INT, NULL);

@@ -23,8 +23,12 @@ typedef struct tp_pgm_renderer tp_pgm_renderer;
 typedef struct tp_pgm_render_stats {
     int cols, rows;
     size_t triangles;     /* 2 * (cols - 1) * (rows - 1): every frame the same */
-    size_t gpu_bytes;     /* the index buffer and the atlas */
-    double setup_ms;      /* tp_pgm_frame_setup and the uniforms */
+    size_t gpu_bytes;     /* the index buffer and the atlas (or the clipmap's texture array) */
+    double setup_ms;      /* tp_pgm_frame_setup and the uniforms (a clipmap's update included) */
+    double fill_ms;       /* over a clipmap: reading the posts its windows gained (0 else) */
+    double upload_ms;     /* and uploading them */
+    size_t posts_updated; /* those posts */
+    size_t node_reads;    /* store nodes read for them (the clipmap's cache missed) */
     double draw_ms;       /* submitting and finishing the draw (glFinish when asked) */
     double near_m, far_m; /* the depth range drawn with */
 } tp_pgm_render_stats;
@@ -46,8 +50,19 @@ void tp_pgm_renderer_destroy(tp_pgm_renderer* r); /* accepts NULL */
 void tp_pgm_renderer_draw(tp_pgm_renderer* r, const tp_camera* cam, const tp_render_settings* s,
                           int finish, tp_pgm_frame* frame_out, tp_pgm_render_stats* stats);
 
+/* Creates the grid over a store's clipmap (pgm_clip.h; borrowed: it must outlive the
+ * renderer), for stores of any size: each draw first moves the clipmap's windows to the eye
+ * (tp_pgm_clipmap_update; a read failure is printed once and its posts are not drawn), and the
+ * shader reads each level from its window, or where the bilinear footprint lies outside it,
+ * from the first coarser level whose window holds it (so no vertex reads a stale texel). A
+ * texel without a height (nodata) counts as off the terrain. Fails as tp_pgm_renderer_create. */
+typedef struct tp_pgm_clipmap tp_pgm_clipmap;
+tp_pgm_renderer* tp_pgm_renderer_create_clipmap(tp_pgm_clipmap* clip, int cols, int rows, char* msg,
+                                                size_t msg_size);
+
 /* The error of the surface drawn for cam (its own viewport) by tp_pgm_measure_error: vertical
- * (m) and screen (px); NaN when memory runs out. */
+ * (m) and screen (px); NaN when memory runs out, and always over a clipmap (the heights it would
+ * compare with are only in the windows on the GPU: not measured). */
 void tp_pgm_renderer_measure(const tp_pgm_renderer* r, const tp_camera* cam, double* max_m,
                              double* rms_m, double* max_px, double* rms_px);
 

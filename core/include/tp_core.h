@@ -1691,6 +1691,46 @@ typedef struct tp_pgm_error {
 tp_status tp_pgm_measure_error(const tp_pgm_frame* f, const tp_pgm_pyramid* p,
                                const tp_camera* main, tp_pgm_error* out);
 
+/* ---- PGM over a store: the elevation clipmap's bookkeeping (pgm_clip.c; seeds/001 section 4)
+ *
+ * For a terrain larger than texture memory, level l of the elevation pyramid (the posts
+ * tp_pgm_pyramid would hold for the store's source grid: post (i, j) of level l is level-0 post
+ * (min(i 2^l, width[0] - 1), min(j 2^l, height[0] - 1))) is kept as a window of w x w posts
+ * (w a power of two) around the eye: posts origin_x <= i < origin_x + w, likewise in y, each at
+ * texel (i mod w, j mod w) of its level's w x w texture (toroidal addressing). When the eye
+ * moves, only the posts the window gains are written: at most two rectangles (the paper's L- or
+ * F-shaped strips), the whole window after a jump of w posts or more. */
+typedef struct tp_pgm_rect {
+    int x0, y0, x1, y1; /* posts x0 <= x < x1, y0 <= y < y1 (empty when x1 <= x0 or y1 <= y0) */
+} tp_pgm_rect;
+
+/* The window's origin along one axis of a level with `posts` posts there, for a centre at
+ * level-post coordinate `centre` (any value; NaN counts as 0): floor(centre) - w / 2, clamped to
+ * [0, posts - w] so that the window stays on the terrain (0 when posts <= w: the whole axis
+ * fits, the window never moves). w >= 1. Cannot fail. */
+int tp_pgm_clip_origin(double centre, int posts, int w);
+
+/* The posts a w x w window gains when its origin moves from (old_x, old_y) to (new_x, new_y)
+ * (any integers, negative ones included, with |origin| + w < 2^31): written to out as at most 2 disjoint, non-empty
+ * rectangles; returns how many (0 when it did not move). has_old = 0 (the window held nothing
+ * yet) or a move of w or more posts along either axis: one rectangle, the whole new window.
+ * Else the strip of columns the window gains (its whole height) and the strip of rows it gains
+ * over the columns it kept. Every post of the new window that the old one did not hold is in
+ * exactly one rectangle; no other post is. w >= 1 (asserted). */
+int tp_pgm_clip_update(int w, int has_old, int old_x, int old_y, int new_x, int new_y,
+                       tp_pgm_rect out[2]);
+
+/* Where a store holds level-0 post (x, y) (0 <= x < src_width, 0 <= y < src_height; asserted)
+ * for level `level` of the pyramid: the node of the coarsest scale s <= level (and < g->scales)
+ * whose lattice holds it (x and y multiples of 2^s, inside the nodes of that scale, which
+ * exist only as whole quadtree nodes; the node's column min(x >> (n + s), node_cols[s] - 1),
+ * row likewise, so that posts on the far edge of the last node column are found too), and the
+ * sample's index in that node's (2^n + 1)^2 samples. Reading coarse levels
+ * from coarse nodes keeps the nodes a window touches about w^2 / 4^n whatever the level. Every
+ * node holding a sample holds the same height (tp_tree_samples), so the choice only matters for
+ * speed. Returns the node id and writes *sample. Cannot fail. */
+int64_t tp_pgm_store_post(const tp_tree_geometry* g, int level, int x, int y, size_t* sample);
+
 #ifdef __cplusplus
 }
 #endif

@@ -1,0 +1,74 @@
+/*
+ * pgm_clip.h - Persistent Grid Mapping over a store: the elevation clipmap on the GPU
+ * (Livny, Kogan & El-Sana, seeds/001, section 4; the bookkeeping is the core's tp_pgm_clip_*).
+ *
+ * Level l of the store's elevation pyramid (the posts tp_pgm_pyramid_build would make of the
+ * store's source grid, tp_core.h) is kept as a window of w x w posts centred on the eye, in
+ * layer l of one R32F GL_TEXTURE_2D_ARRAY of w x w texels (post (i, j) at texel (i mod w,
+ * j mod w)). Each frame the windows follow the eye: the posts a window gains (the L- or
+ * F-shaped strips of tp_pgm_clip_update) are read from the store's nodes (the coarsest node
+ * holding each post, tp_pgm_store_post; decoded nodes kept in a small cache) and uploaded with
+ * glTexSubImage3D; nothing else is. GPU memory: levels x w x w x 4 bytes whatever the store's
+ * size (levels grows by one per doubling of its side). Posts without a height (nodata) are
+ * TP_PGM_CLIP_VOID, which the shader treats as off the terrain. Synchronous by default (the
+ * reads happen in tp_pgm_clipmap_update, on the render thread); with tp_pgm_clipmap_set_async a
+ * loader thread reads them and a later update uploads them together with the windows' new
+ * origins, so the windows the shader reads always hold their own posts (meanwhile it reads
+ * coarser levels where the eye has left a window).
+ */
+#ifndef TP_APP_PGM_CLIP_H
+#define TP_APP_PGM_CLIP_H
+
+#include "tp_io.h"
+
+#include <stddef.h>
+
+#define TP_PGM_CLIP_DEFAULT_WINDOW 512
+#define TP_PGM_CLIP_VOID (-3.0e38f) /* a texel without a height; the shader tests z < -1e30 */
+
+typedef struct tp_pgm_clipmap tp_pgm_clipmap;
+
+typedef struct tp_pgm_clip_stats {
+    double fill_ms;    /* reading and decoding the gained posts (node reads included) */
+    double upload_ms;  /* glTexSubImage3D of them */
+    size_t posts;      /* posts written this update */
+    size_t node_reads; /* nodes read from the store (cache misses) */
+} tp_pgm_clip_stats;
+
+/* Creates the clipmap of an open store (borrowed: it must outlive the clipmap) for the current
+ * GL context: window w (a power of two, 16 .. 8192; 0: TP_PGM_CLIP_DEFAULT_WINDOW), the texture
+ * array allocated, nothing filled yet (the first tp_pgm_clipmap_update fills every window).
+ * NULL with a message in msg for a bad w, a window larger than GL_MAX_TEXTURE_SIZE, too many
+ * levels for GL_MAX_ARRAY_TEXTURE_LAYERS, a store without a drawn height, out of memory. */
+tp_pgm_clipmap* tp_pgm_clipmap_create(const tp_store* store, int w, char* msg, size_t msg_size);
+void tp_pgm_clipmap_destroy(tp_pgm_clipmap* c); /* accepts NULL */
+
+/* The pyramid's shape for tp_pgm_frame_setup and the shader: levels, width, height,
+ * geotransform, min_m and max_m (from the roots' area ranges) as tp_pgm_pyramid_build would give
+ * them for the store's grid; z[] are NULL (the heights are only in the windows). */
+const tp_pgm_pyramid* tp_pgm_clipmap_shape(const tp_pgm_clipmap* c);
+
+/* Moves every level's window to centre on level-0 grid coordinates (x, y) (the eye's ground
+ * position; any value: the windows stay on the terrain, tp_pgm_clip_origin) and reads and
+ * uploads the posts they gain (async: uploads the last move read, starts the next). Returns 1, or 0
+ * with a message naming the store and the node when a node cannot be read (its posts are then
+ * TP_PGM_CLIP_VOID: not drawn, and the window counts as filled). stats may be NULL. */
+int tp_pgm_clipmap_update(tp_pgm_clipmap* c, double x, double y, tp_pgm_clip_stats* stats,
+                          char* msg, size_t msg_size);
+
+/* Starts the loader thread: from now on an update uploads what the loader has read since the
+ * last one and hands it the next move (the first fill is still done at once: there is nothing
+ * to draw before it). 1, or 0 with a message when no thread can be made (the clipmap stays
+ * synchronous). */
+int tp_pgm_clipmap_set_async(tp_pgm_clipmap* c, char* msg, size_t msg_size);
+/* 1 while the loader has a move to read or to hand back (async only; else 0). */
+int tp_pgm_clipmap_pending(const tp_pgm_clipmap* c);
+
+/* The window size, each level's origin (origin[2 l], origin[2 l + 1]: level-l posts), the
+ * texture array (layer l = level l) and its bytes. */
+int tp_pgm_clipmap_window(const tp_pgm_clipmap* c);
+void tp_pgm_clipmap_origins(const tp_pgm_clipmap* c, int* origin);
+unsigned tp_pgm_clipmap_texture(const tp_pgm_clipmap* c);
+size_t tp_pgm_clipmap_gpu_bytes(const tp_pgm_clipmap* c);
+
+#endif
