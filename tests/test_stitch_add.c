@@ -4,12 +4,15 @@
  * triangle, areas summing to the square, every inner edge shared by two triangles in opposite
  * directions) and each side's border edges are exactly the neighbour's own (so two patches
  * side by side share their edge whatever their levels: watertight); with nothing added, the
- * same triangles as the level's strip. */
+ * same triangles as the level's strip; with vertices added on some sides, every triangle of the
+ * level's grid without an edge on those sides is drawn unchanged, and every drawn triangle lies
+ * inside one of the grid's triangles (the vertex adding only refines the grid). */
 #include "tp_test.h"
 
 #define TESTS(X)                                                                                   \
     X(every_configuration_tiles_the_square_and_matches_its_neighbours)                             \
     X(nothing_added_is_the_strip)                                                                  \
+    X(only_the_triangles_on_sides_that_take_vertices_change)                                       \
     X(two_patches_side_by_side_share_their_edge)                                                   \
     X(levels_above_n_are_taken_as_n)
 
@@ -94,17 +97,18 @@ static int check(int n, int k, const int nb[4], char* why, size_t cap)
         }
         const uint32_t a = (uint32_t)(list[i] >> 33), b = (uint32_t)((list[i] >> 1) & 0xffffffffu);
         const long ax = a % S, ay = a / S, bx = b % S, by = b / S;
-        const int on_border = (ax == bx && (ax == 0 || ax == full)) ||
-                              (ay == by && (ay == 0 || ay == full));
+        const int on_border =
+            (ax == bx && (ax == 0 || ax == full)) || (ay == by && (ay == 0 || ay == full));
         if (on_border) {
             const int s = ay == by ? (ay == 0 ? TP_SIDE_TOP : TP_SIDE_BOTTOM)
                                    : (ax == full ? TP_SIDE_RIGHT : TP_SIDE_LEFT);
             const long len = ax == bx ? labs(by - ay) : labs(bx - ax);
             const long along = ax == bx ? (ay < by ? ay : by) : (ax < bx ? ax : bx);
             if (fwd + back != 1 || len != stride[s] || along % stride[s]) {
-                snprintf(why, cap, "border edge %u-%u (side %d): used %d times, length %ld, "
-                                   "the neighbour's stride %ld", a, b, s, fwd + back, len,
-                         stride[s]);
+                snprintf(why, cap,
+                         "border edge %u-%u (side %d): used %d times, length %ld, "
+                         "the neighbour's stride %ld",
+                         a, b, s, fwd + back, len, stride[s]);
                 return 0;
             }
             border++;
@@ -144,7 +148,7 @@ TEST(every_configuration_tiles_the_square_and_matches_its_neighbours)
                 if (!check(n, k, nb, why, sizeof why)) {
                     if (failed++ < 5)
                         ADD_FAILURE("n %d, level %d, neighbours %d %d %d %d: %s", n, k, nb[0],
-                                      nb[1], nb[2], nb[3], why);
+                                    nb[1], nb[2], nb[3], why);
                 }
             }
         }
@@ -191,6 +195,135 @@ TEST(nothing_added_is_the_strip)
         }
 }
 
+/* A triangle as a key that ignores its rotation (the smallest index first, order kept). */
+static uint64_t tri_key(const uint32_t* p)
+{
+    const int r = p[0] < p[1] ? (p[0] < p[2] ? 0 : 2) : (p[1] < p[2] ? 1 : 2);
+    return ((uint64_t)p[r] << 42) | ((uint64_t)p[(r + 1) % 3] << 21) | p[(r + 2) % 3];
+}
+
+static int cmp_u64(const void* a, const void* b)
+{
+    const uint64_t x = *(const uint64_t*)a, y = *(const uint64_t*)b;
+    return x < y ? -1 : x > y;
+}
+
+/* One configuration with vertices added on some sides against the plain level-k grid (the
+ * triangles with no neighbour): 1 when every grid triangle with no edge on a side that takes
+ * vertices (and so every one outside those sides' border cells) is drawn as it is, and every
+ * drawn triangle lies inside one grid triangle. */
+static int check_refines_the_grid(int n, int k, const int nb[4], char* why, size_t cap)
+{
+    static uint32_t plain[3 * MAX_TRI];
+    static uint64_t keys[MAX_TRI];
+    const size_t count = tp_patch_triangles_add(n, k, nb, tri_, MAX_TRI);
+    const size_t np = tp_patch_triangles_add(n, k, NULL, plain, MAX_TRI);
+    const long full = 1L << n, S = full + 1, step = 1L << (n - k);
+    int adds[4];
+    for (int s = 0; s < 4; ++s)
+        adds[s] = nb[s] != TP_NO_NEIGHBOR && (nb[s] > n ? n : nb[s]) > k;
+    for (size_t t = 0; t < count; ++t)
+        keys[t] = tri_key(tri_ + 3 * t);
+    qsort(keys, count, sizeof *keys, cmp_u64);
+    for (size_t t = 0; t < np; ++t) {
+        const uint32_t* p = plain + 3 * t;
+        int on_adding_side = 0, in_adding_border_cell = 0;
+        long minx = full, miny = full;
+        for (int e = 0; e < 3; ++e) {
+            const long ax = p[e] % S, ay = p[e] / S, bx = p[(e + 1) % 3] % S,
+                       by = p[(e + 1) % 3] / S;
+            minx = ax < minx ? ax : minx, miny = ay < miny ? ay : miny;
+            on_adding_side |= (ay == 0 && by == 0 && adds[TP_SIDE_TOP]) ||
+                              (ax == full && bx == full && adds[TP_SIDE_RIGHT]) ||
+                              (ay == full && by == full && adds[TP_SIDE_BOTTOM]) ||
+                              (ax == 0 && bx == 0 && adds[TP_SIDE_LEFT]);
+        }
+        /* the cell (minx, miny) .. + step holds the grid triangle */
+        in_adding_border_cell =
+            (miny == 0 && adds[TP_SIDE_TOP]) || (minx + step == full && adds[TP_SIDE_RIGHT]) ||
+            (miny + step == full && adds[TP_SIDE_BOTTOM]) || (minx == 0 && adds[TP_SIDE_LEFT]);
+        const uint64_t key = tri_key(p);
+        const int found = bsearch(&key, keys, count, sizeof *keys, cmp_u64) != NULL;
+        if (!on_adding_side && !found) {
+            snprintf(why, cap,
+                     "grid triangle %u %u %u (%s a border cell that takes vertices) "
+                     "not drawn",
+                     p[0], p[1], p[2], in_adding_border_cell ? "in" : "outside");
+            return 0;
+        }
+        if (on_adding_side && found) {
+            snprintf(why, cap, "grid triangle %u %u %u drawn whole across added vertices", p[0],
+                     p[1], p[2]);
+            return 0;
+        }
+    }
+    /* every drawn triangle inside the grid triangle holding its centroid (strictly inside it:
+       a non-degenerate triangle inside a grid triangle) */
+    for (size_t t = 0; t < count; ++t) {
+        const uint32_t* p = tri_ + 3 * t;
+        long sx = 0, sy = 0;
+        for (int e = 0; e < 3; ++e)
+            sx += p[e] % S, sy += p[e] / S;
+        const long x0 = sx / (3 * step) * step, y0 = sy / (3 * step) * step;
+        const int upper_left = (sx - 3 * x0) + (sy - 3 * y0) < 3 * step;
+        for (int e = 0; e < 3; ++e) {
+            const long x = p[e] % S, y = p[e] / S, d = (x - x0) + (y - y0);
+            const int inside = upper_left ? x >= x0 && y >= y0 && d <= step
+                                          : x <= x0 + step && y <= y0 + step && d >= step;
+            if (!inside) {
+                snprintf(why, cap,
+                         "triangle %u %u %u crosses the grid triangle %s of cell "
+                         "(%ld, %ld)",
+                         p[0], p[1], p[2], upper_left ? "upper left" : "lower right", x0 / step,
+                         y0 / step);
+                return 0;
+            }
+        }
+    }
+    /* Euler: every vertex added on an edge splits one more triangle off */
+    size_t added = 0;
+    for (int s = 0; s < 4; ++s)
+        if (adds[s])
+            added += (size_t)(full / (1L << (n - (nb[s] > n ? n : nb[s])))) - ((size_t)1 << k);
+    if (count != np + added) {
+        snprintf(why, cap, "%zu triangles: the grid's %zu and %zu added vertices", count, np,
+                 added);
+        return 0;
+    }
+    return 1;
+}
+
+TEST(only_the_triangles_on_sides_that_take_vertices_change)
+{
+    int configs = 0, failed = 0, partial = 0;
+    char why[256];
+    for (int n = 0; n <= MAXN; ++n)
+        for (int k = 0; k <= n; ++k) {
+            const int options = n - k + 1;
+            int total = 1;
+            for (int s = 0; s < 4; ++s)
+                total *= options;
+            for (int c = 0; c < total; ++c) {
+                int nb[4], x = c, adding = 0;
+                for (int s = 0; s < 4; ++s) {
+                    const int o = x % options;
+                    x /= options;
+                    nb[s] = o == 0 ? TP_NO_NEIGHBOR : k + o;
+                    adding += o != 0;
+                }
+                configs++;
+                partial += adding > 0 && adding < 4;
+                if (!check_refines_the_grid(n, k, nb, why, sizeof why) && failed++ < 5)
+                    ADD_FAILURE("n %d, level %d, neighbours %d %d %d %d: %s", n, k, nb[0], nb[1],
+                                nb[2], nb[3], why);
+            }
+        }
+    tp_test_note("%d configurations (n <= %d), %d with vertices added on 1 to 3 sides, %d failed",
+                 configs, MAXN, partial, failed);
+    EXPECT_EQ_INT(0, failed);
+    EXPECT_EQ_INT(3724, configs);
+}
+
 /* A level-1 patch beside a level-4 one (n = 5): the coarse patch's right side and the fine
  * patch's left side have the same vertices (every 2nd sample) and the same edges. */
 TEST(two_patches_side_by_side_share_their_edge)
@@ -230,7 +363,8 @@ TEST(levels_above_n_are_taken_as_n)
     const int capped[4] = {3, 3, TP_NO_NEIGHBOR, 3};
     EXPECT_EQ_INT((int)tp_patch_triangles_add(3, 0, capped, NULL, 0), (int)a);
     EXPECT_TRUE(check(3, 0, nb, why, sizeof why));
-    EXPECT_EQ_INT(8 + 8 + 1 + 8, (int)a); /* a fan over the border's 25 edges */
+    /* the level-0 grid's 2 triangles, one more per vertex added: 7 on top, right and left */
+    EXPECT_EQ_INT(2 + 7 + 7 + 7, (int)a);
 }
 
 TP_TEST_MAIN(TESTS)

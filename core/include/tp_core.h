@@ -311,14 +311,15 @@ size_t tp_patch_triangles(const tp_vertex* vertices, int k, uint32_t* triangles,
  * level neighbor_levels[s] in this patch's sample units (> k: every 2^(n - level)-th sample of
  * that side, levels above n taken as n; <= k or TP_NO_NEIGHBOR: the side's own level-k
  * vertices; the array may be NULL), as index triples of samples (row * (2^n + 1) + column),
- * wound as the strips' triangles (tp_strip_build_u32). With nothing added: the level-k grid,
- * every cell split from (c + 1, r) to (c, r + 1) as the strip splits it. Else five regions: the
- * interior cells as that grid, and each border row of cells re-triangulated between the side
- * (with what it takes) and the first inner row; a level-0 patch takes its centre sample and
- * fans from it. Every side then has exactly the vertices its finer neighbour draws there, so
- * shared edges match: watertight (tests/test_stitch_add.c checks every configuration up to
- * n = 5). Returns the number of triangles and writes the first min(that, triangle_capacity)
- * (triangles may be NULL for 0). Cannot fail. */
+ * wound as the strips' triangles (tp_strip_build_u32). The level-k grid, every cell split from
+ * (c + 1, r) to (c, r + 1) as the strip splits it, in which only the grid triangles with an edge
+ * on a side that takes vertices are re-triangulated, inside themselves: each is zipped between
+ * its two short edges (a fan from its opposite vertex when only one takes vertices), so every
+ * other triangle is the grid's own and every drawn triangle lies inside one grid triangle;
+ * 2 * 4^k triangles plus one per added vertex. Every side then has exactly the vertices its
+ * finer neighbour draws there, so shared edges match: watertight (tests/test_stitch_add.c
+ * checks every configuration up to n = 5). Returns the number of triangles and writes the
+ * first min(that, triangle_capacity) (triangles may be NULL for 0). Cannot fail. */
 size_t tp_patch_triangles_add(int n, int k, const int neighbor_levels[4], uint32_t* triangles,
                               size_t triangle_capacity);
 
