@@ -1657,6 +1657,12 @@ TEST(stitch_add_against_move_frame_by_frame)
             EXPECT_GE(ta, tm);
             more += ta > tm;
         }
+        /* the error mode bounds the added vertices' triangles too (tp_patch_error_bound_add):
+           tau (1 px by default) holds on screen, as it does for vertex moving */
+        if (!strcmp(lod, "error")) {
+            EXPECT_LE(pa, 1.0);
+            EXPECT_LE(csv_num(&c[0], i, "max_screen_error_px"), 1.0);
+        }
     }
     EXPECT_GT(more, 0);
     csv_free(&c[0]);

@@ -6,15 +6,21 @@
  * side by side share their edge whatever their levels: watertight); with nothing added, the
  * same triangles as the level's strip; with vertices added on some sides, every triangle of the
  * level's grid without an edge on those sides is drawn unchanged, and every drawn triangle lies
- * inside one of the grid's triangles (the vertex adding only refines the grid). */
+ * inside one of the grid's triangles (the vertex adding only refines the grid); on real DEMs
+ * the measured error of those triangles never exceeds tp_patch_error_bound_add, while it does
+ * exceed the grid's own bound. */
 #include "tp_test.h"
+#ifndef TP_TEST_NO_IO
+#include "tp_io.h"
+#endif
 
 #define TESTS(X)                                                                                   \
     X(every_configuration_tiles_the_square_and_matches_its_neighbours)                             \
     X(nothing_added_is_the_strip)                                                                  \
     X(only_the_triangles_on_sides_that_take_vertices_change)                                       \
     X(two_patches_side_by_side_share_their_edge)                                                   \
-    X(levels_above_n_are_taken_as_n)
+    X(levels_above_n_are_taken_as_n)                                                               \
+    X(add_bound_holds_on_real_dems)
 
 enum { MAXN = 5, SIDE = (1 << MAXN) + 1, MAX_TRI = 2 * (1 << MAXN) * (1 << MAXN) + 4 * SIDE };
 
@@ -365,6 +371,119 @@ TEST(levels_above_n_are_taken_as_n)
     EXPECT_TRUE(check(3, 0, nb, why, sizeof why));
     /* the level-0 grid's 2 triangles, one more per vertex added: 7 on top, right and left */
     EXPECT_EQ_INT(2 + 7 + 7 + 7, (int)a);
+}
+
+#ifndef TP_TEST_NO_IO
+typedef struct measured {
+    const tp_terrain* t;
+    double max_m;
+} measured;
+
+static void measure_visit(int x, int y, double z, void* user)
+{
+    measured* m = user;
+    const double s = tp_terrain_sample(m->t, x, y);
+    if (!isnan(s) && fabs(z - s) > m->max_m)
+        m->max_m = fabs(z - s);
+}
+
+/* The exact error (m, against the decoded samples) of patch p drawn by tp_patch_triangles_add
+ * at level k with neighbours nb; v holds its level-n vertices. */
+static double add_error(const tp_terrain* t, int n, int k, const int nb[4], const tp_vertex* v)
+{
+    measured m = {t, 0};
+    const size_t count = tp_patch_triangles_add(n, k, nb, tri_, MAX_TRI);
+    for (size_t i = 0; i < count; ++i) {
+        const tp_vertex *a = &v[tri_[3 * i]], *b = &v[tri_[3 * i + 1]], *c = &v[tri_[3 * i + 2]];
+        const int32_t pa[2] = {a->x, a->y}, pb[2] = {b->x, b->y}, pc[2] = {c->x, c->y};
+        tp_triangle_rasterize(pa, pb, pc, a->z_m, b->z_m, c->z_m, measure_visit, &m);
+    }
+    return m.max_m;
+}
+#endif
+
+/* Every complete patch of two real DEMs (every 2nd of Mt Hood's), every level below n, with
+ * vertices added on one side (each finer level), on two sides meeting at a corner (both
+ * corners that share a grid triangle, levels k + 1 and n either way) and on all four (k + 1,
+ * n): the error measured against the samples is within tp_patch_error_bound_add less the
+ * quantisation error; with nothing added the bound is tp_patch_error_bound's. */
+TEST(add_bound_holds_on_real_dems)
+{
+#ifdef TP_TEST_NO_IO
+    SKIP("built without tp_io");
+#else
+    const char* files[2] = {"storml_elev_orig.tif", "lf_elev_220_mt_hood_utm.tif"};
+    for (int f = 0; f < 2; ++f) {
+        char path[1024];
+        tp_dem* dem = NULL;
+        tp_terrain* t = NULL;
+        tp_error err;
+        REQUIRE_DATA_FILE(path, "TP_SAMPLE_DATA_DIR", files[f]);
+        ASSERT_OK(tp_dem_read(path, &dem, &err));
+        tp_terrain_desc d = tp_dem_terrain_desc(dem, 17, TP_FIT_PAD);
+        ASSERT_OK(tp_terrain_create(&d, &t, &err));
+        tp_terrain_info ti;
+        tp_terrain_get_info(t, &ti);
+        const int n = ti.n, side = (1 << n) + 1;
+        ASSERT_TRUE(n <= MAXN);
+        static tp_vertex v[SIDE * SIDE];
+        long checked = 0, over_delta = 0, failed = 0;
+        double worst_ratio = 0; /* measured / the grid's bound, where vertices are added */
+        for (int p = 0; p < ti.patch_count; p += f + 1) {
+            tp_patch_info pi;
+            tp_patch_get_info(t, p, &pi);
+            if (!pi.complete)
+                continue;
+            tp_patch_vertices(t, p, n, NULL, v, (size_t)side * side);
+            for (int k = 0; k < n; ++k) {
+                const double grid = tp_patch_error_bound(t, p, k, NULL);
+                EXPECT_EQ_DBL(grid, tp_patch_error_bound_add(t, p, k, NULL));
+                int configs[4 * MAXN + 8][4], nc = 0;
+                for (int s = 0; s < 4; ++s)
+                    for (int kn = k + 1; kn <= n; ++kn) {
+                        int* c = configs[nc++];
+                        c[0] = c[1] = c[2] = c[3] = TP_NO_NEIGHBOR;
+                        c[s] = kn;
+                    }
+                const int pairs[2][2] = {{TP_SIDE_TOP, TP_SIDE_LEFT},
+                                         {TP_SIDE_RIGHT, TP_SIDE_BOTTOM}};
+                for (int pr = 0; pr < 2; ++pr)
+                    for (int o = 0; o < 3; ++o) {
+                        int* c = configs[nc++];
+                        c[0] = c[1] = c[2] = c[3] = TP_NO_NEIGHBOR;
+                        c[pairs[pr][0]] = o == 1 ? k + 1 : n;
+                        c[pairs[pr][1]] = o == 2 ? k + 1 : n;
+                    }
+                for (int o = 0; o < 2; ++o) {
+                    int* c = configs[nc++];
+                    c[0] = c[1] = c[2] = c[3] = o ? n : k + 1;
+                }
+                for (int i = 0; i < nc; ++i) {
+                    const double e = add_error(t, n, k, configs[i], v);
+                    const double b = tp_patch_error_bound_add(t, p, k, configs[i]);
+                    checked++;
+                    if (e > b - ti.quant_max_error_m + 1e-6 && failed++ < 5)
+                        ADD_FAILURE("%s patch %d level %d neighbours %d %d %d %d: measured %.4f m "
+                                    "> bound %.4f m",
+                                    files[f], p, k, configs[i][0], configs[i][1], configs[i][2],
+                                    configs[i][3], e, b);
+                    if (e > grid - ti.quant_max_error_m + 1e-6)
+                        over_delta++;
+                    if (grid - ti.quant_max_error_m > 0 &&
+                        e / (grid - ti.quant_max_error_m) > worst_ratio)
+                        worst_ratio = e / (grid - ti.quant_max_error_m);
+                }
+            }
+        }
+        tp_test_note("%s: %ld patch configurations, %ld above the grid's bound (up to %.2fx), "
+                     "%ld above tp_patch_error_bound_add",
+                     files[f], checked, over_delta, worst_ratio, failed);
+        EXPECT_EQ_INT(0, failed);
+        EXPECT_GT(over_delta, 0); /* the grid's bound alone does not hold: this proves something */
+        tp_terrain_destroy(t);
+        tp_dem_destroy(dem);
+    }
+#endif
 }
 
 TP_TEST_MAIN(TESTS)

@@ -273,6 +273,18 @@ void tp_patch_get_info(const tp_terrain* t, int patch, tp_patch_info* out);
  * fail. (It used to return INFINITY for a bad patch or k; those are now asserted.) */
 double tp_patch_error_bound(const tp_terrain* t, int patch, int k, const int neighbor_levels[4]);
 
+/* The same bound when cracks are removed by adding vertices (tp_patch_triangles_add, `--stitch
+ * add`): a neighbour at a level above k (levels above n taken as n) adds its border vertices to
+ * this patch's side, re-triangulating the grid triangles on that side inside themselves; others
+ * change nothing. Such a triangle's surface is the grid triangle's plane plus the interpolated
+ * offsets of the added vertices from it, so its error is at most the grid triangle's own plus
+ * the largest offset on its edges: the bound is the max of delta_k and, for each side that
+ * takes vertices, the max of that over its grid triangles (a per-side table per k and
+ * neighbour level), plus quant_max_error_m. With nothing added it is
+ * tp_patch_error_bound(t, patch, k, NULL). Cannot fail. */
+double tp_patch_error_bound_add(const tp_terrain* t, int patch, int k,
+                                const int neighbor_levels[4]);
+
 /* One vertex of a patch's vertex data, after crack removal: the global grid coordinates of the
  * sample it was moved to (or its own), and that sample's decoded height. */
 typedef struct tp_vertex {
@@ -563,6 +575,16 @@ tp_status tp_selection_measure_screen_error(const tp_selection* s, const tp_came
  * cam or out_px or a bad patch or k; those are now asserted.) */
 tp_status tp_selection_patch_screen_error(const tp_selection* s, const tp_camera* cam, int patch,
                                           int k, double* out_px);
+
+/* How the drawn geometry removes cracks: 0 (the default) by moving vertices (tp_patch_vertices:
+ * the error mode raises the coarser neighbour of a stitched side, as tp_selection_update says),
+ * nonzero by adding them (tp_patch_triangles_add, `--stitch add`): the error mode then raises,
+ * instead, each visible patch that takes a finer neighbour's vertices until its
+ * tp_patch_error_bound_add projects <= tau (levels only go up, so it ends), and
+ * tp_frame_stats' bound is tp_patch_error_bound_add. The measures and queries below still
+ * describe vertex moving's geometry. Takes effect at the next update. Cannot fail. */
+void tp_selection_set_stitch_add(tp_selection* s, int add);
+int tp_selection_stitch_add(const tp_selection* s); /* 1 when adding */
 
 /* The vertical scales a selection accepts: below 1/1000 a drawn height loses its metres to
  * rounding (the ray cast divides by the scale), above 1000 nothing is terrain any more. */
