@@ -493,7 +493,8 @@ void tp_selection_destroy(tp_selection* s); /* accepts NULL */
 /* Selects a level for every patch (visible or not: culled patches still stitch their visible
  * neighbours) with params (NULL: the defaults; resolved by tp_lod_params_resolve), then, in
  * error mode, raises the coarser neighbour of any stitched side whose
- * bound projects above tau until none does (levels only go up, so it ends), and culls.
+ * bound projects above tau until none does (levels only go up, so it ends; with
+ * tp_selection_set_stitch_add, the patches that take vertices instead), and culls.
  * Incomplete patches are always at level n.
  * TP_LOD_MAX_ERROR ignores cam (it may be NULL) and marks every patch visible: each patch
  * starts at the coarsest level whose delta_m is <= max_error_m; then, in rounds, each patch
