@@ -672,8 +672,9 @@ static void check_sweep(const char* dem, const char* csv_path, const char* json_
             ADD_FAILURE("pgm row %d: grid %s appears twice", i, grid_pgm[k]);
     }
     /* --stitch add: each tau of the grid once, and the distance row at the run's (default)
-     * parameters; on the same selection as vertex moving's row of the same parameters, it
-     * keeps the coarser patches' vertices and adds the finer ones': never fewer triangles */
+     * parameters; on the same selection as vertex moving's row of the same parameters (the
+     * distance mode) it keeps the coarser patches' vertices and adds the finer ones': never
+     * fewer triangles; the error mode selects its own levels, so that tau holds on screen */
     int add_seen[COUNT(grid_tau)] = {0};
     for (int i = 0; i < c.rows; i++) {
         int dadd = is_mode(&c, i, "distance+add");
@@ -700,7 +701,10 @@ static void check_sweep(const char* dem, const char* csv_path, const char* json_
                         csv_str(&c, i, "family"), i);
             continue;
         }
-        EXPECT_GE(csv_num(&c, i, "triangles_median"), csv_num(&c, twin, "triangles_median"));
+        if (dadd) /* the same levels: adding only adds */
+            EXPECT_GE(csv_num(&c, i, "triangles_median"), csv_num(&c, twin, "triangles_median"));
+        else /* its own levels (tp_selection_set_stitch_add), bounded on its own geometry */
+            EXPECT_LE(csv_num(&c, i, "max_screen_error_px"), csv_num(&c, i, "tau_px"));
     }
     ASSERT_NO_FAILURE();
 
@@ -1656,6 +1660,12 @@ TEST(stitch_add_against_move_frame_by_frame)
         } else {
             EXPECT_GE(ta, tm);
             more += ta > tm;
+        }
+        /* the error mode bounds the added vertices' triangles too (tp_patch_error_bound_add):
+           tau (1 px by default) holds on screen, as it does for vertex moving */
+        if (!strcmp(lod, "error")) {
+            EXPECT_LE(pa, 1.0);
+            EXPECT_LE(csv_num(&c[0], i, "max_screen_error_px"), 1.0);
         }
     }
     EXPECT_GT(more, 0);

@@ -408,7 +408,9 @@ static void camera_from(const view_spec* v, tp_camera* cam)
     tp_camera_from_pose(v->cam, v->cam[3], v->cam[4], 60, v->w, v->h, cam);
 }
 
-static tp_selection* core_select(const core_scene* cs, const view_spec* v)
+/* The view's selection as the viewer makes it, with cracks removed by adding vertices when
+ * add (--stitch add: the error mode bounds that geometry instead, tp_selection_set_stitch_add). */
+static tp_selection* core_select_stitch(const core_scene* cs, const view_spec* v, int add)
 {
     tp_selection* sel = NULL;
     tp_camera cam;
@@ -418,10 +420,16 @@ static tp_selection* core_select(const core_scene* cs, const view_spec* v)
     if (lod.mode == TP_LOD_DEFAULT)
         lod.mode = TP_LOD_ERROR; /* cmd_view.c's default */
     ASSERT_OK(tp_selection_create(cs->t, &sel, &err));
+    tp_selection_set_stitch_add(sel, add);
     camera_from(v, &cam);
     if (tp_selection_update(sel, &cam, &lod, &err) != TP_OK)
         FAIL("tp_selection_update: %s", err.message);
     return sel;
+}
+
+static tp_selection* core_select(const core_scene* cs, const view_spec* v)
+{
+    return core_select_stitch(cs, v, 0);
 }
 
 /* Largest level difference between two visible patches sharing an edge. */
@@ -638,8 +646,10 @@ static int dir_entries(const char* dir)
 /* --stitch add (Brodersen's crack fix by adding vertices): the same view drawn with the
  * coarser patch's border taking its finer neighbour's vertices shows no magenta either, and
  * draws exactly the triangles tp_patch_triangles_add gives each visible complete patch with
- * the selection's neighbour levels (an incomplete one, at level n, its unmoved level-n
- * triangles): more than vertex moving draws, since every patch keeps its own. */
+ * the neighbour levels of the viewer's selection (tp_selection_set_stitch_add: in error mode
+ * it raises patches whose added vertices' bound exceeds tau; an incomplete one, at level n,
+ * its unmoved level-n triangles): more than vertex moving draws, since every patch keeps its
+ * own. */
 static void expect_add_watertight(const char* dem, const view_spec* v_move, const char* what)
 {
     const char* dir = make_tmp_dir();
@@ -647,7 +657,7 @@ static void expect_add_watertight(const char* dem, const view_spec* v_move, cons
     image im;
     view_stats st;
     core_scene cs;
-    tp_selection* sel;
+    tp_selection *sel, *move;
     tp_frame_stats fs;
     tp_vertex* verts;
     size_t expected = 0, c;
@@ -658,8 +668,10 @@ static void expect_add_watertight(const char* dem, const view_spec* v_move, cons
     stats_read(dir, "add.json", &st);
     n = count_magenta_rows(&im, 0, im.h, &fx, &fy);
     core_load(dem, &cs);
-    sel = core_select(&cs, v);
-    tp_selection_stats(sel, &fs);
+    sel = core_select_stitch(&cs, v, 1);
+    move = core_select(&cs, v);
+    tp_selection_stats(move, &fs);
+    tp_selection_destroy(move);
     c = ((size_t)1 << cs.info.n) + 1;
     verts = malloc(c * c * sizeof *verts);
     ASSERT_TRUE(verts != NULL);

@@ -550,6 +550,7 @@ static int run_config(const bench_run* b, config_result* c, const char* progress
     tp_render_settings rs;
     tp_render_settings_default(&rs);
     rs.stitch_add = c->stitch_add;
+    tp_selection_set_stitch_add(sel, c->stitch_add); /* the error mode bounds its geometry */
     tp_render_stats st;
     for (int i = 0; i < frames; i++) {
         tp_camera cam, lead;

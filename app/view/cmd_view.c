@@ -759,6 +759,7 @@ static int view_dem(view_options* o)
         tp_scene_free(&sc);
         return TP_EXIT_FAILURE;
     }
+    tp_selection_set_stitch_add(sel, o->render.stitch_add); /* the error mode bounds it */
     tp_view_scene v;
     tp_view_scene_from_dem(&v, &sc, sel);
     code = run_view(&v, o, NULL, NULL);

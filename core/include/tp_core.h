@@ -273,6 +273,18 @@ void tp_patch_get_info(const tp_terrain* t, int patch, tp_patch_info* out);
  * fail. (It used to return INFINITY for a bad patch or k; those are now asserted.) */
 double tp_patch_error_bound(const tp_terrain* t, int patch, int k, const int neighbor_levels[4]);
 
+/* The same bound when cracks are removed by adding vertices (tp_patch_triangles_add, `--stitch
+ * add`): a neighbour at a level above k (levels above n taken as n) adds its border vertices to
+ * this patch's side, re-triangulating the grid triangles on that side inside themselves; others
+ * change nothing. Such a triangle's surface is the grid triangle's plane plus the interpolated
+ * offsets of the added vertices from it, so its error is at most the grid triangle's own plus
+ * the largest offset on its edges: the bound is the max of delta_k and, for each side that
+ * takes vertices, the max of that over its grid triangles (a per-side table per k and
+ * neighbour level), plus quant_max_error_m. With nothing added it is
+ * tp_patch_error_bound(t, patch, k, NULL). Cannot fail. */
+double tp_patch_error_bound_add(const tp_terrain* t, int patch, int k,
+                                const int neighbor_levels[4]);
+
 /* One vertex of a patch's vertex data, after crack removal: the global grid coordinates of the
  * sample it was moved to (or its own), and that sample's decoded height. */
 typedef struct tp_vertex {
@@ -311,14 +323,15 @@ size_t tp_patch_triangles(const tp_vertex* vertices, int k, uint32_t* triangles,
  * level neighbor_levels[s] in this patch's sample units (> k: every 2^(n - level)-th sample of
  * that side, levels above n taken as n; <= k or TP_NO_NEIGHBOR: the side's own level-k
  * vertices; the array may be NULL), as index triples of samples (row * (2^n + 1) + column),
- * wound as the strips' triangles (tp_strip_build_u32). With nothing added: the level-k grid,
- * every cell split from (c + 1, r) to (c, r + 1) as the strip splits it. Else five regions: the
- * interior cells as that grid, and each border row of cells re-triangulated between the side
- * (with what it takes) and the first inner row; a level-0 patch takes its centre sample and
- * fans from it. Every side then has exactly the vertices its finer neighbour draws there, so
- * shared edges match: watertight (tests/test_stitch_add.c checks every configuration up to
- * n = 5). Returns the number of triangles and writes the first min(that, triangle_capacity)
- * (triangles may be NULL for 0). Cannot fail. */
+ * wound as the strips' triangles (tp_strip_build_u32). The level-k grid, every cell split from
+ * (c + 1, r) to (c, r + 1) as the strip splits it, in which only the grid triangles with an edge
+ * on a side that takes vertices are re-triangulated, inside themselves: each is zipped between
+ * its two short edges (a fan from its opposite vertex when only one takes vertices), so every
+ * other triangle is the grid's own and every drawn triangle lies inside one grid triangle;
+ * 2 * 4^k triangles plus one per added vertex. Every side then has exactly the vertices its
+ * finer neighbour draws there, so shared edges match: watertight (tests/test_stitch_add.c
+ * checks every configuration up to n = 5). Returns the number of triangles and writes the
+ * first min(that, triangle_capacity) (triangles may be NULL for 0). Cannot fail. */
 size_t tp_patch_triangles_add(int n, int k, const int neighbor_levels[4], uint32_t* triangles,
                               size_t triangle_capacity);
 
@@ -480,7 +493,8 @@ void tp_selection_destroy(tp_selection* s); /* accepts NULL */
 /* Selects a level for every patch (visible or not: culled patches still stitch their visible
  * neighbours) with params (NULL: the defaults; resolved by tp_lod_params_resolve), then, in
  * error mode, raises the coarser neighbour of any stitched side whose
- * bound projects above tau until none does (levels only go up, so it ends), and culls.
+ * bound projects above tau until none does (levels only go up, so it ends; with
+ * tp_selection_set_stitch_add, the patches that take vertices instead), and culls.
  * Incomplete patches are always at level n.
  * TP_LOD_MAX_ERROR ignores cam (it may be NULL) and marks every patch visible: each patch
  * starts at the coarsest level whose delta_m is <= max_error_m; then, in rounds, each patch
@@ -562,6 +576,16 @@ tp_status tp_selection_measure_screen_error(const tp_selection* s, const tp_came
  * cam or out_px or a bad patch or k; those are now asserted.) */
 tp_status tp_selection_patch_screen_error(const tp_selection* s, const tp_camera* cam, int patch,
                                           int k, double* out_px);
+
+/* How the drawn geometry removes cracks: 0 (the default) by moving vertices (tp_patch_vertices:
+ * the error mode raises the coarser neighbour of a stitched side, as tp_selection_update says),
+ * nonzero by adding them (tp_patch_triangles_add, `--stitch add`): the error mode then raises,
+ * instead, each visible patch that takes a finer neighbour's vertices until its
+ * tp_patch_error_bound_add projects <= tau (levels only go up, so it ends), and
+ * tp_frame_stats' bound is tp_patch_error_bound_add. The measures and queries below still
+ * describe vertex moving's geometry. Takes effect at the next update. Cannot fail. */
+void tp_selection_set_stitch_add(tp_selection* s, int add);
+int tp_selection_stitch_add(const tp_selection* s); /* 1 when adding */
 
 /* The vertical scales a selection accepts: below 1/1000 a drawn height loses its metres to
  * rounding (the ray cast divides by the scale), above 1000 nothing is terrain any more. */

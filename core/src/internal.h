@@ -35,7 +35,8 @@ struct tp_terrain {
     uint8_t* filled;    /* NULL, or one bit per stored sample: filled void */
     tp__patch* patches;
     /* Error tables, per patch: delta[k] for k = 0..n, then eps[side][kn] for side 0..3 and
-     * neighbour level kn = 0..n-1. See patch_error.c. */
+     * neighbour level kn = 0..n-1, then eta[side][k][kn - 1] for side 0..3, k = 0..n-1 and
+     * kn = 1..n (only k < kn used; vertex adding). See patch_error.c. */
     uint16_t* err_tab;
     int err_stride;
     double err_unit; /* table unit, in steps: 1/16 .. 1 */
@@ -136,7 +137,17 @@ static inline const uint16_t* tp__eps_tab(const tp_terrain* t, int patch, int si
            (size_t)side * (size_t)t->n;
 }
 
-/* Computes the delta and eps tables of every patch (patch_error.c). */
+/* eta[side][k][kn - 1] (k < kn): see patch_error.c. */
+static inline const uint16_t* tp__eta_tab(const tp_terrain* t, int patch, int side, int k)
+{
+    return t->err_tab + (size_t)patch * (size_t)t->err_stride + (size_t)(t->n + 1) +
+           (size_t)4 * (size_t)t->n + ((size_t)side * (size_t)t->n + (size_t)k) * (size_t)t->n;
+}
+
+/* tp_patch_error_bound_add less the quantisation error (metres; patch_error.c). */
+double tp__patch_add_bound_m(const tp_terrain* t, int patch, int k, const int neighbor_levels[4]);
+
+/* Computes the delta, eps and eta tables of every patch (patch_error.c). */
 tp_status tp__patch_errors_compute(tp_terrain* t, tp_error* err);
 
 /* Crack removal on the level-k vertex lattice (0..2^k per side) of a patch or tree node:
@@ -279,6 +290,7 @@ struct tp_selection {
     uint32_t* tris;    /* cached drawn-triangle count per patch, TP__STALE_TRIS when unknown */
     tp_vertex* vbuf;   /* scratch of tp_selection_stats: one patch at level n */
     double zscale;     /* vertical exaggeration of the drawn surface (1: none) */
+    int stitch_add;    /* cracks removed by adding vertices (tp_selection_set_stitch_add) */
 };
 
 /* Patch p's AABB as drawn: heights times the selection's vertical scale (selection.c). */

@@ -7,11 +7,113 @@
  * Errors are measured against the decoded grid, in units of err_unit steps, rounded up.
  * err_unit is step/16 unless some patch spans so many steps that its largest possible error
  * (its height range) would not fit 16 bits; then the finest power of two that fits.
+ *
+ * Vertex adding (stitch_add.c) re-triangulates a grid triangle T with an edge on a side that
+ * takes a finer neighbour's vertices into triangles inside T whose vertices are T's own and
+ * the added ones. There the drawn surface is T's plane plus the linear interpolation of d,
+ * d = height - plane at each added vertex (0 at T's corners), so its error is at most T's own
+ * plus the largest |d| on T's edges. eta[side][k][kn] is the max of that over the side's grid
+ * triangles with level-kn vertices added (the plane along an edge is the edge's
+ * interpolation); tp_patch_error_bound_add takes the max of delta_k and the adding sides' eta.
  */
 #include "internal.h"
 
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
+
+/* Sample u (0 .. 2^n) along side `side` of a patch's samples q ((2^n+1)^2, row-major), u
+ * growing with x (TOP, BOTTOM) or y (LEFT, RIGHT). */
+static int32_t side_q(const int32_t* q, int n, int side, int u)
+{
+    const int full = 1 << n, v = full + 1;
+    switch (side) {
+    case TP_SIDE_TOP: return q[u];
+    case TP_SIDE_RIGHT: return q[u * v + full];
+    case TP_SIDE_BOTTOM: return q[full * v + u];
+    default: return q[u * v];
+    }
+}
+
+/* Largest |height - the edge's interpolation| (steps) at the samples a < u < b of side `side`
+ * that are multiples of stride: the offsets of the vertices added there. */
+static double edge_offset(const int32_t* q, int n, int side, int a, int b, int stride)
+{
+    const double za = side_q(q, n, side, a), zb = side_q(q, n, side, b);
+    double worst = 0;
+    for (int u = a + stride; u < b; u += stride) {
+        const double d = fabs(side_q(q, n, side, u) - (za + (zb - za) * (u - a) / (b - a)));
+        worst = d > worst ? d : worst;
+    }
+    return worst;
+}
+
+/* Largest |height - plane| (steps) over the samples of the level-k grid triangle of cell
+ * (x0, y0) .. + step: its upper-left half (upper) or lower-right one, both closed. */
+static double grid_triangle_error(const int32_t* q, int n, int x0, int y0, int step, int upper)
+{
+    const int v = (1 << n) + 1, x1 = x0 + step, y1 = y0 + step;
+    const double z00 = q[y0 * v + x0], z10 = q[y0 * v + x1], z01 = q[y1 * v + x0],
+                 z11 = q[y1 * v + x1];
+    double worst = 0;
+    for (int y = y0; y <= y1; y++)
+        for (int x = x0; x <= x1; x++) {
+            const int d = (x - x0) + (y - y0);
+            if (upper ? d > step : d < step)
+                continue;
+            const double plane =
+                upper ? z00 + (z10 - z00) * (x - x0) / step + (z01 - z00) * (y - y0) / step
+                      : z11 + (z01 - z11) * (x1 - x) / step + (z10 - z11) * (y1 - y) / step;
+            const double e = fabs(q[y * v + x] - plane);
+            worst = e > worst ? e : worst;
+        }
+    return worst;
+}
+
+/* The eta table (this file's header): eta[side][k][kn - 1], k < kn, in table units. For each
+ * grid triangle T with an edge on the side: T's own error plus the largest offset of the level-kn
+ * vertices on that edge, and on T's other patch-side edge (a corner triangle) the largest of
+ * the level-n ones (whatever that side takes: the lattices nest); the max over T. */
+static void side_eta(const tp_terrain* t, int n, const int32_t* q, uint16_t* eta)
+{
+    const int full = 1 << n;
+    for (int k = 0; k < n; k++) {
+        const int step = 1 << (n - k), cells = 1 << k;
+        for (int side = 0; side < 4; side++) {
+            double worst[TP_MAX_N + 1] = {0}; /* by kn, steps */
+            for (int i = 0; i < cells; i++) {
+                /* T: the side's triangle in its i-th border cell; the other side at a corner */
+                int x0, y0, upper, other = -1;
+                switch (side) {
+                case TP_SIDE_TOP:
+                    x0 = i * step, y0 = 0, upper = 1, other = i == 0 ? TP_SIDE_LEFT : -1;
+                    break;
+                case TP_SIDE_LEFT:
+                    x0 = 0, y0 = i * step, upper = 1, other = i == 0 ? TP_SIDE_TOP : -1;
+                    break;
+                case TP_SIDE_RIGHT:
+                    x0 = full - step, y0 = i * step, upper = 0;
+                    other = i == cells - 1 ? TP_SIDE_BOTTOM : -1;
+                    break;
+                default:
+                    x0 = i * step, y0 = full - step, upper = 0;
+                    other = i == cells - 1 ? TP_SIDE_RIGHT : -1;
+                    break;
+                }
+                const int a = i * step, oa = upper ? 0 : full - step;
+                const double own = grid_triangle_error(q, n, x0, y0, step, upper);
+                const double corner = other >= 0 ? edge_offset(q, n, other, oa, oa + step, 1) : 0;
+                for (int kn = k + 1; kn <= n; kn++) {
+                    const double off = edge_offset(q, n, side, a, a + step, 1 << (n - kn));
+                    const double e = own + (off > corner ? off : corner);
+                    worst[kn] = e > worst[kn] ? e : worst[kn];
+                }
+            }
+            for (int kn = k + 1; kn <= n; kn++) /* not exact: round up generously, as eps */
+                eta[(side * n + k) * n + (kn - 1)] = tp__err_units(worst[kn] + 1e-6, t->err_unit);
+        }
+    }
+}
 
 tp_status tp__patch_errors_compute(tp_terrain* t, tp_error* err)
 {
@@ -42,6 +144,8 @@ tp_status tp__patch_errors_compute(tp_terrain* t, tp_error* err)
             for (int kn = 0; kn < n; kn++)
                 /* Interpolation at moved vertices is not exact: round up generously. */
                 tab[n + 1 + s * n + kn] = tp__err_units(eps[s][kn] + 1e-6, t->err_unit);
+        if (t->patches[p].complete) /* an incomplete patch is drawn at level n: adds nothing */
+            side_eta(t, n, q, tab + (n + 1) + 4 * n);
     }
     tp__free(&t->alloc, q);
     return TP_OK;
@@ -63,4 +167,27 @@ double tp_patch_error_bound(const tp_terrain* t, int patch, int k, const int nei
     double steps = units >= TP__ERR_SAT ? (double)(P->qmax - P->qmin) : units * t->err_unit;
     double range = (double)(P->qmax - P->qmin);
     return (steps < range ? steps : range) * t->step + t->quant_err;
+}
+
+double tp__patch_add_bound_m(const tp_terrain* t, int patch, int k, const int neighbor_levels[4])
+{
+    const tp__patch* P = &t->patches[patch];
+    const int n = t->n;
+    unsigned units = tp__delta_tab(t, patch)[k];
+    for (int s = 0; neighbor_levels && s < 4 && k < n; s++) {
+        const int kn = neighbor_levels[s] > n ? n : neighbor_levels[s];
+        if (neighbor_levels[s] != TP_NO_NEIGHBOR && kn > k) {
+            const unsigned e = tp__eta_tab(t, patch, s, k)[kn - 1];
+            units = e > units ? e : units;
+        }
+    }
+    const double range = (double)(P->qmax - P->qmin);
+    const double steps = units >= TP__ERR_SAT ? range : units * t->err_unit;
+    return (steps < range ? steps : range) * t->step;
+}
+
+double tp_patch_error_bound_add(const tp_terrain* t, int patch, int k, const int neighbor_levels[4])
+{
+    assert(t && patch >= 0 && patch < t->info.patch_count && k >= 0 && k <= t->n);
+    return tp__patch_add_bound_m(t, patch, k, neighbor_levels) + t->quant_err;
 }

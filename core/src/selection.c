@@ -129,6 +129,18 @@ void tp_selection_set_level(tp_selection* s, int patch, int k)
     memset(s->visible, 1, (size_t)s->count);
 }
 
+void tp_selection_set_stitch_add(tp_selection* s, int add)
+{
+    assert(s);
+    s->stitch_add = add != 0;
+}
+
+int tp_selection_stitch_add(const tp_selection* s)
+{
+    assert(s);
+    return s->stitch_add;
+}
+
 tp_status tp_selection_set_vertical_scale(tp_selection* s, double scale)
 {
     assert(s);
@@ -338,7 +350,33 @@ tp_status tp_selection_update(tp_selection* s, const tp_camera* cam, const tp_lo
         s->next[p] = (uint8_t)k;
     }
 
-    if (lp.mode == TP_LOD_ERROR) {
+    if (lp.mode == TP_LOD_ERROR && s->stitch_add) {
+        /* Vertex adding: a finer neighbour re-triangulates this patch's border triangles on
+         * that side, whose bound (tp_patch_error_bound_add) can exceed delta: raise the patch
+         * itself until it projects <= tau (at its neighbours' levels nothing is added). Raising
+         * it can make it finer than a neighbour, which is checked in the next round; levels
+         * only go up, so this ends. */
+        for (int changed = 1; changed;) {
+            changed = 0;
+            for (int p = 0; p < s->count; p++) {
+                if (s->proj[p].num == 0 || s->next[p] >= n)
+                    continue;
+                int nb[4], adds = 0;
+                for (int side = 0; side < 4; side++) {
+                    int q = tp__neighbor(t, p, side);
+                    nb[side] = q >= 0 && s->next[q] > s->next[p] ? s->next[q] : TP_NO_NEIGHBOR;
+                    adds |= nb[side] != TP_NO_NEIGHBOR;
+                }
+                if (!adds)
+                    continue;
+                double geo = tp__patch_add_bound_m(t, p, s->next[p], nb);
+                if (projected_px(&s->proj[p], v.fwd[2], zs * (geo + t->quant_err)) > lp.tau_px) {
+                    s->next[p]++;
+                    changed = 1;
+                }
+            }
+        }
+    } else if (lp.mode == TP_LOD_ERROR) {
         /* Stitched border triangles of a patch next to a coarser neighbour can exceed both
          * patches' delta: raise that neighbour until every stitched side projects <= tau.
          * Levels only go up, so this ends. */
@@ -404,7 +442,9 @@ void tp_selection_stats(tp_selection* s, tp_frame_stats* out)
         out->triangles += patch_triangle_count(s, p);
         int nb[4];
         tp_selection_neighbor_levels(s, p, nb);
-        double b = tp_patch_error_bound(s->t, p, s->level[p], nb), w = owned_samples(s->t, p);
+        double b = s->stitch_add ? tp_patch_error_bound_add(s->t, p, s->level[p], nb)
+                                 : tp_patch_error_bound(s->t, p, s->level[p], nb);
+        double w = owned_samples(s->t, p);
         out->bound_max_error_m = b > out->bound_max_error_m ? b : out->bound_max_error_m;
         sum += w * b * b;
         weight += w;

@@ -3,10 +3,14 @@
  * Based on: Brodersen, "Real-time visualization of large textured terrains" (GRAPHITE 2005),
  * section 4: instead of moving the finer patch's border vertices onto the coarser lattice
  * (stitch.c, Vanek & Jezek), the coarser patch takes the finer neighbour's extra border
- * vertices. A patch is five regions: its interior, drawn as the regular grid of its level, and
- * four border strips, each re-triangulated between the patch's side (with the added vertices)
- * and the first inner row by a zipper that advances along whichever chain is behind. A level-0
- * patch has no inner row: it takes its centre sample and fans from it.
+ * vertices. The paper's five regions (the interior and four border strips) are kept as small
+ * as they can be: the patch is the level's grid, every cell split from (c + 1, r) to (c, r + 1)
+ * as the strip splits it, and only a grid triangle with an edge on a side that takes vertices
+ * is re-triangulated, inside itself. Each cell's upper-left triangle holds its top and left
+ * edges, its lower-right one its right and bottom edges, so a triangle takes the vertices of at
+ * most two sides, both meeting at its right-angle corner: it is zipped between those two
+ * chains (a fan from the opposite vertex when one side takes nothing). The result refines the
+ * grid triangulation: every drawn triangle lies inside one of the level's grid triangles.
  */
 #include "internal.h"
 
@@ -31,17 +35,27 @@ static void emit(emit_ctx* e, int ax, int ay, int bx, int by, int cx, int cy)
     e->count++;
 }
 
-/* Side s's point at u along it (0 .. full, clockwise around the patch from its first corner),
- * d in from the border: TOP left to right, RIGHT top to bottom, BOTTOM
- * right to left, LEFT bottom to top. */
-static void side_point(int s, int full, int d, int u, int* x, int* y)
+/* One grid triangle (O, O + len * q, O + len * p), positive in (column, row), q and p unit
+ * axis vectors: its edge along q holds a vertex every sq samples, its edge along p one every
+ * sp (len when nothing is added there). Zipped from the far edge (the cell's diagonal) toward
+ * the corner O, advancing the chain whose current vertex is farther from O (q on a tie), and
+ * closed by the triangle at O; with nothing added, the triangle itself. */
+static void corner_triangle(emit_ctx* e, int ox, int oy, int qx, int qy, int px, int py, int len,
+                            int sq, int sp)
 {
-    switch (s) {
-    case TP_SIDE_TOP: *x = u, *y = d; break;
-    case TP_SIDE_RIGHT: *x = full - d, *y = u; break;
-    case TP_SIDE_BOTTOM: *x = full - u, *y = full - d; break;
-    default: *x = d, *y = full - u; break;
+    int i = len, j = len; /* current vertices: O + i * q and O + j * p (sample units) */
+    while (i > sq || j > sp) {
+        if (i > sq && (j <= sp || i >= j)) {
+            emit(e, ox + (i - sq) * qx, oy + (i - sq) * qy, ox + i * qx, oy + i * qy, ox + j * px,
+                 oy + j * py);
+            i -= sq;
+        } else {
+            emit(e, ox + i * qx, oy + i * qy, ox + j * px, oy + j * py, ox + (j - sp) * px,
+                 oy + (j - sp) * py);
+            j -= sp;
+        }
     }
+    emit(e, ox, oy, ox + i * qx, oy + i * qy, ox + j * px, oy + j * py);
 }
 
 size_t tp_patch_triangles_add(int n, int k, const int neighbor_levels[4], uint32_t* triangles,
@@ -51,54 +65,23 @@ size_t tp_patch_triangles_add(int n, int k, const int neighbor_levels[4], uint32
     assert(triangles || triangle_capacity == 0);
     const int full = 1 << n, step = 1 << (n - k), cells = 1 << k;
     emit_ctx e = {triangles, triangle_capacity, 0, full + 1};
-    int stride[4], adds = 0;
+    int stride[4]; /* per side: the distance between its vertices (step: nothing added) */
     for (int s = 0; s < 4; ++s) {
         const int nb = neighbor_levels ? neighbor_levels[s] : TP_NO_NEIGHBOR;
         const int kn = nb > n ? n : nb;
         stride[s] = nb != TP_NO_NEIGHBOR && kn > k ? 1 << (n - kn) : step;
-        adds |= stride[s] != step;
     }
-    if (k == 0 && adds) { /* no inner row: a fan from the centre sample */
-        const int c = full / 2;
-        for (int s = 0; s < 4; ++s)
-            for (int u = 0; u < full; u += stride[s]) {
-                int ax, ay, bx, by;
-                side_point(s, full, 0, u, &ax, &ay);
-                side_point(s, full, 0, u + stride[s], &bx, &by);
-                emit(&e, ax, ay, bx, by, c, c);
-            }
-        return e.count;
-    }
-    /* the regular grid: every cell when nothing is added, else the interior only */
-    const int first = adds ? 1 : 0, last = adds ? cells - 1 : cells;
-    for (int r = first; r < last; ++r)
-        for (int c = first; c < last; ++c) {
+    for (int r = 0; r < cells; ++r)
+        for (int c = 0; c < cells; ++c) {
             const int x0 = c * step, y0 = r * step, x1 = x0 + step, y1 = y0 + step;
-            emit(&e, x0, y0, x1, y0, x0, y1); /* split from (c+1, r) to (c, r+1) */
-            emit(&e, x1, y0, x1, y1, x0, y1);
+            /* upper left: corner (x0, y0), the top edge toward +x, the left edge toward +y */
+            corner_triangle(&e, x0, y0, 1, 0, 0, 1, step, r == 0 ? stride[TP_SIDE_TOP] : step,
+                            c == 0 ? stride[TP_SIDE_LEFT] : step);
+            /* lower right: corner (x1, y1), the bottom edge toward -x, the right edge toward
+               -y */
+            corner_triangle(&e, x1, y1, -1, 0, 0, -1, step,
+                            r == cells - 1 ? stride[TP_SIDE_BOTTOM] : step,
+                            c == cells - 1 ? stride[TP_SIDE_RIGHT] : step);
         }
-    if (!adds)
-        return e.count;
-    /* the border strips: outer chain 0 .. full by stride[s], inner chain step .. full - step
-       (one vertex, the centre, for k = 1) */
-    for (int s = 0; s < 4; ++s) {
-        int uo = 0, ui = step;
-        while (uo < full || ui < full - step) {
-            int ox, oy, ix, iy, nx, ny;
-            side_point(s, full, 0, uo, &ox, &oy);
-            side_point(s, full, step, ui, &ix, &iy);
-            const int advance_outer =
-                ui >= full - step || (uo < full && uo + stride[s] <= ui + step);
-            if (advance_outer) {
-                side_point(s, full, 0, uo + stride[s], &nx, &ny);
-                emit(&e, ox, oy, nx, ny, ix, iy);
-                uo += stride[s];
-            } else {
-                side_point(s, full, step, ui + step, &nx, &ny);
-                emit(&e, ox, oy, nx, ny, ix, iy);
-                ui += step;
-            }
-        }
-    }
     return e.count;
 }
