@@ -838,8 +838,12 @@ int tp_cli_view(int argc, char** argv)
     if (o.vs.pgm && !tp_is_store_path(o.path))
         whole = o.old_path = 1;
     if (o.render.stitch_add && !whole) {
-        fprintf(stderr, "terrapatch view: --stitch add: only for a DEM drawn whole (not yet for "
-                        "stores; --whole draws %s whole)\n", o.path);
+        if (tp_is_store_path(o.path))
+            fprintf(stderr, "terrapatch view: --stitch add: only for a DEM drawn whole (not yet "
+                            "for stores: %s is one; view its DEM with --whole)\n", o.path);
+        else
+            fprintf(stderr, "terrapatch view: --stitch add: only for a DEM drawn whole (not yet "
+                            "for stores; --whole draws %s whole)\n", o.path);
         return TP_EXIT_USAGE;
     }
     if (tp_is_store_path(o.path)) {
