@@ -799,7 +799,9 @@ TEST(no_cracks_stitch_add)
 #endif
 }
 
-TEST(stitch_add_through_a_store_is_a_usage_error)
+/* --stitch add has no store path: a DEM given without --whole is drawn whole for it (one line
+ * says so, exit 0); a store is a usage error naming the option; a bad mode is one too. */
+TEST(stitch_add_draws_a_dem_whole_and_refuses_a_store)
 {
     REQUIRE_IO();
 #ifndef TP_TEST_NO_IO
@@ -807,13 +809,40 @@ TEST(stitch_add_through_a_store_is_a_usage_error)
         const char* dir = make_tmp_dir();
         view_spec v = distance_lod_view;
         args a;
-        v.store = 1;
+        run_result r;
+        v.store = 1; /* no --whole */
         v.cam[0] = 602125, v.cam[1] = 5025267, v.cam[2] = 3700, v.cam[3] = 0, v.cam[4] = -90;
         args_view(&a);
         args_add(&a, "--stitch");
         args_add(&a, "add");
         args_add_view(&a, sample_dem(), &v);
+        run(&a, dir, &r);
+        if (r.exit_code == 1 && (strstr(r.err, "no EGL surfaceless display") ||
+                                 strstr(r.err, "no OpenGL 3.3 core context through EGL")))
+            SKIP("no headless OpenGL here: %s", r.err);
+        tp_test_note("exit %d, stderr: %s", r.exit_code, r.err);
+        EXPECT_EQ_INT(0, r.exit_code);
+        EXPECT_CONTAINS(r.err, "--stitch add: drawing");
+        EXPECT_TRUE(strstr(r.err, "building a store") == NULL);
+
+        char store_path[1200];
+        snprintf(store_path, sizeof store_path, "%s/hood.tpt", dir);
+        args_view(&a);
+        a.n = 1;
+        args_add(&a, "build");
+        args_add(&a, "--quiet");
+        args_add(&a, "--patch");
+        args_add(&a, "17");
+        args_add(&a, "%s", sample_dem());
+        args_add(&a, "-o");
+        args_add(&a, "%s", store_path);
+        run_ok(&a, dir);
+        args_view(&a);
+        args_add(&a, "--stitch");
+        args_add(&a, "add");
+        args_add_view(&a, store_path, &v);
         expect_failure(&a, dir, 2, "--stitch add: only for a DEM drawn whole");
+
         args_view(&a);
         args_add(&a, "--stitch");
         args_add(&a, "sideways");
@@ -2064,7 +2093,7 @@ TEST(older_format_store_in_the_cache_is_rebuilt)
     X(no_cracks_oblique_distance_lod)                                                              \
     X(no_cracks_oblique_error_lod)                                                                 \
     X(no_cracks_stitch_add)                                                                        \
-    X(stitch_add_through_a_store_is_a_usage_error)                                                 \
+    X(stitch_add_draws_a_dem_whole_and_refuses_a_store)                                            \
     X(utm_and_local_origin_render_alike)                                                           \
     X(stats_json_equals_core_selection_error_lod)                                                  \
     X(stats_json_equals_core_selection_distance_lod)                                               \

@@ -158,12 +158,14 @@ static void print_help(void)
           "                        $XDG_CACHE_HOME/terrapatch, else ~/.cache/terrapatch)\n"
           "  --whole               draw the DEM whole, without a store (the old path: the DEM\n"
           "                        and its render grid in memory, patches selected every frame)\n"
-          "  --stitch move|add     crack removal, a DEM drawn whole only: move the finer patch's\n"
-          "                        border vertices (move, the default) or add them to the\n"
-          "                        coarser patch's border (add, Brodersen section 4)\n"
+          "  --stitch move|add     crack removal: move the finer patch's border vertices (move,\n"
+          "                        the default) or add them to the coarser patch's border (add,\n"
+          "                        Brodersen section 4; a DEM is then drawn whole, stores refuse\n"
+          "                        it: no store path yet)\n"
           "  A DEM is drawn whole, without a store (the old path), when it is a heightmap image\n"
-          "  (--spacing, --zscale, --origin or a PNG/JPEG/...), or --fit or --texture is given:\n"
-          "  stores always pad and carry no texture. A store fills voids as --fill-max says\n"
+          "  (--spacing, --zscale, --origin or a PNG/JPEG/...), or --fit, --texture, --renderer\n"
+          "  pgm or --stitch add is given: stores always pad and carry no texture (and PGM over a\n"
+          "  DEM reads its whole pyramid). A store fills voids as --fill-max says\n"
           "  (passed to the build) and marks each filled sample: tinted (V) as a DEM drawn whole.\n"
           "  A DEM's store is built with the view's --patch (default 17, as a DEM drawn whole);\n"
           "  'terrapatch build' defaults to 65, for large maps.\n"
@@ -834,16 +836,17 @@ int tp_cli_view(int argc, char** argv)
         return TP_EXIT_USAGE;
     }
     /* a store: its clipmap (pgm_clip.h); a DEM drawn whole: its render grid is the pyramid's
-     * level 0 */
+     * level 0. --stitch add has no store path yet: a DEM is drawn whole for it. */
     if (o.vs.pgm && !tp_is_store_path(o.path))
         whole = o.old_path = 1;
-    if (o.render.stitch_add && !whole) {
-        if (tp_is_store_path(o.path))
-            fprintf(stderr, "terrapatch view: --stitch add: only for a DEM drawn whole (not yet "
-                            "for stores: %s is one; view its DEM with --whole)\n", o.path);
-        else
-            fprintf(stderr, "terrapatch view: --stitch add: only for a DEM drawn whole (not yet "
-                            "for stores; --whole draws %s whole)\n", o.path);
+    if (o.render.stitch_add && !tp_is_store_path(o.path) && !whole) {
+        fprintf(stderr, "terrapatch view: --stitch add: drawing %s whole (vertex adding has no "
+                        "store path yet)\n", o.path);
+        o.old_path = 1;
+    }
+    if (o.render.stitch_add && tp_is_store_path(o.path)) {
+        fprintf(stderr, "terrapatch view: --stitch add: only for a DEM drawn whole (not yet for "
+                        "stores: view %s's DEM instead)\n", o.path);
         return TP_EXIT_USAGE;
     }
     if (tp_is_store_path(o.path)) {
