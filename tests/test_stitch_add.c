@@ -424,6 +424,14 @@ TEST(add_bound_holds_on_real_dems)
         ASSERT_OK(tp_terrain_create(&d, &t, &err));
         tp_terrain_info ti;
         tp_terrain_get_info(t, &ti);
+        /* before its table is made, a side that takes vertices is bounded by the height range:
+         * looser than (or as) the table's, never tighter */
+        const int all_n[4] = {ti.n, ti.n, ti.n, ti.n};
+        const double loose = tp_patch_error_bound_add(t, 0, 0, all_n);
+        ASSERT_OK(tp_terrain_prepare_stitch_add(t, &err));
+        ASSERT_OK(tp_terrain_prepare_stitch_add(t, &err)); /* again: a no-op */
+        EXPECT_GE(loose, tp_patch_error_bound_add(t, 0, 0, all_n));
+        EXPECT_GE(loose, tp_patch_error_bound(t, 0, 0, NULL));
         const int n = ti.n, side = (1 << n) + 1;
         ASSERT_TRUE(n <= MAXN);
         static tp_vertex v[SIDE * SIDE];

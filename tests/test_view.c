@@ -420,6 +420,8 @@ static tp_selection* core_select_stitch(const core_scene* cs, const view_spec* v
     if (lod.mode == TP_LOD_DEFAULT)
         lod.mode = TP_LOD_ERROR; /* cmd_view.c's default */
     ASSERT_OK(tp_selection_create(cs->t, &sel, &err));
+    if (add)
+        ASSERT_OK(tp_terrain_prepare_stitch_add(cs->t, &err));
     tp_selection_set_stitch_add(sel, add);
     camera_from(v, &cam);
     if (tp_selection_update(sel, &cam, &lod, &err) != TP_OK)

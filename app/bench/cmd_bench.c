@@ -550,6 +550,12 @@ static int run_config(const bench_run* b, config_result* c, const char* progress
     tp_render_settings rs;
     tp_render_settings_default(&rs);
     rs.stitch_add = c->stitch_add;
+    if (c->stitch_add && tp_terrain_prepare_stitch_add(b->sc->terrain, &err) != TP_OK) {
+        fprintf(stderr, "terrapatch bench: %s\n", err.message);
+        tp_selection_destroy(sel);
+        tp_renderer_destroy(r);
+        return TP_EXIT_FAILURE;
+    }
     tp_selection_set_stitch_add(sel, c->stitch_add); /* the error mode bounds its geometry */
     tp_render_stats st;
     for (int i = 0; i < frames; i++) {

@@ -761,6 +761,12 @@ static int view_dem(view_options* o)
         tp_scene_free(&sc);
         return TP_EXIT_FAILURE;
     }
+    if (o->render.stitch_add && tp_terrain_prepare_stitch_add(sc.terrain, &err) != TP_OK) {
+        fprintf(stderr, "terrapatch view: %s\n", err.message);
+        tp_selection_destroy(sel);
+        tp_scene_free(&sc);
+        return TP_EXIT_FAILURE;
+    }
     tp_selection_set_stitch_add(sel, o->render.stitch_add); /* the error mode bounds it */
     tp_view_scene v;
     tp_view_scene_from_dem(&v, &sc, sel);

@@ -280,10 +280,18 @@ double tp_patch_error_bound(const tp_terrain* t, int patch, int k, const int nei
  * offsets of the added vertices from it, so its error is at most the grid triangle's own plus
  * the largest offset on its edges: the bound is the max of delta_k and, for each side that
  * takes vertices, the max of that over its grid triangles (a per-side table per k and
- * neighbour level), plus quant_max_error_m. With nothing added it is
- * tp_patch_error_bound(t, patch, k, NULL). Cannot fail. */
+ * neighbour level, made by tp_terrain_prepare_stitch_add; before that a side that takes
+ * vertices is bounded by the patch's height range), plus quant_max_error_m. With nothing added
+ * it is tp_patch_error_bound(t, patch, k, NULL). Cannot fail. */
 double tp_patch_error_bound_add(const tp_terrain* t, int patch, int k,
                                 const int neighbor_levels[4]);
+
+/* Computes vertex adding's per-side table (above) for every patch: 8 n^2 bytes a patch (128
+ * for patches of 17: half a byte per sample), so it is made only for a terrain drawn with
+ * `--stitch add`, not with the other tables. Call it once before
+ * tp_patch_error_bound_add or a selection with tp_selection_set_stitch_add is used (again: a
+ * no-op). Not thread-safe against those readers. TP_ERR_OUT_OF_MEMORY (nothing changed). */
+tp_status tp_terrain_prepare_stitch_add(tp_terrain* t, tp_error* err);
 
 /* One vertex of a patch's vertex data, after crack removal: the global grid coordinates of the
  * sample it was moved to (or its own), and that sample's decoded height. */

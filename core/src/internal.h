@@ -35,10 +35,13 @@ struct tp_terrain {
     uint8_t* filled;    /* NULL, or one bit per stored sample: filled void */
     tp__patch* patches;
     /* Error tables, per patch: delta[k] for k = 0..n, then eps[side][kn] for side 0..3 and
-     * neighbour level kn = 0..n-1, then eta[side][k][kn - 1] for side 0..3, k = 0..n-1 and
-     * kn = 1..n (only k < kn used; vertex adding). See patch_error.c. */
+     * neighbour level kn = 0..n-1. See patch_error.c. */
     uint16_t* err_tab;
     int err_stride;
+    /* Vertex adding's table, NULL until tp_terrain_prepare_stitch_add (a terrain drawn by
+     * vertex moving does not hold it): per patch 4 n^2 entries eta[side][k][kn - 1] for side
+     * 0..3, k = 0..n-1 and kn = 1..n (only k < kn used). See patch_error.c. */
+    uint16_t* add_tab;
     double err_unit; /* table unit, in steps: 1/16 .. 1 */
 };
 
@@ -137,17 +140,17 @@ static inline const uint16_t* tp__eps_tab(const tp_terrain* t, int patch, int si
            (size_t)side * (size_t)t->n;
 }
 
-/* eta[side][k][kn - 1] (k < kn): see patch_error.c. */
+/* eta[side][k][kn - 1] (k < kn; t->add_tab must be there): see patch_error.c. */
 static inline const uint16_t* tp__eta_tab(const tp_terrain* t, int patch, int side, int k)
 {
-    return t->err_tab + (size_t)patch * (size_t)t->err_stride + (size_t)(t->n + 1) +
-           (size_t)4 * (size_t)t->n + ((size_t)side * (size_t)t->n + (size_t)k) * (size_t)t->n;
+    const size_t n = (size_t)t->n;
+    return t->add_tab + (size_t)patch * 4 * n * n + ((size_t)side * n + (size_t)k) * n;
 }
 
 /* tp_patch_error_bound_add less the quantisation error (metres; patch_error.c). */
 double tp__patch_add_bound_m(const tp_terrain* t, int patch, int k, const int neighbor_levels[4]);
 
-/* Computes the delta, eps and eta tables of every patch (patch_error.c). */
+/* Computes the delta and eps tables of every patch (patch_error.c). */
 tp_status tp__patch_errors_compute(tp_terrain* t, tp_error* err);
 
 /* Crack removal on the level-k vertex lattice (0..2^k per side) of a patch or tree node:

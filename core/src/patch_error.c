@@ -144,10 +144,39 @@ tp_status tp__patch_errors_compute(tp_terrain* t, tp_error* err)
             for (int kn = 0; kn < n; kn++)
                 /* Interpolation at moved vertices is not exact: round up generously. */
                 tab[n + 1 + s * n + kn] = tp__err_units(eps[s][kn] + 1e-6, t->err_unit);
-        if (t->patches[p].complete) /* an incomplete patch is drawn at level n: adds nothing */
-            side_eta(t, n, q, tab + (n + 1) + 4 * n);
     }
     tp__free(&t->alloc, q);
+    return TP_OK;
+}
+
+tp_status tp_terrain_prepare_stitch_add(tp_terrain* t, tp_error* err)
+{
+    assert(t);
+    if (t->add_tab)
+        return TP_OK;
+    const int n = t->n, pc = t->info.patch_cols, count = pc * t->info.patch_rows;
+    const int side = t->ps + 1;
+    const size_t stride = (size_t)4 * (size_t)n * (size_t)n;
+    uint16_t* tab = tp__calloc(&t->alloc, (size_t)count * stride, sizeof *tab);
+    int32_t* q = tp__alloc(&t->alloc, (size_t)side * side, sizeof(int32_t));
+    if (!tab || !q) {
+        tp__free(&t->alloc, tab);
+        tp__free(&t->alloc, q);
+        return tp__fail(err, TP_ERR_OUT_OF_MEMORY,
+                        "terrain: out of memory for vertex adding's error table");
+    }
+    for (int p = 0; p < count; p++) {
+        /* an incomplete patch is drawn at level n: adds nothing */
+        if (!t->patches[p].has_drawn || !t->patches[p].complete)
+            continue;
+        const int x0 = (p % pc) * t->ps, y0 = (p / pc) * t->ps;
+        for (int y = 0; y < side; y++)
+            for (int x = 0; x < side; x++)
+                q[y * side + x] = tp__q(t, x0 + x, y0 + y);
+        side_eta(t, n, q, tab + (size_t)p * stride);
+    }
+    tp__free(&t->alloc, q);
+    t->add_tab = tab;
     return TP_OK;
 }
 
@@ -177,7 +206,8 @@ double tp__patch_add_bound_m(const tp_terrain* t, int patch, int k, const int ne
     for (int s = 0; neighbor_levels && s < 4 && k < n; s++) {
         const int kn = neighbor_levels[s] > n ? n : neighbor_levels[s];
         if (neighbor_levels[s] != TP_NO_NEIGHBOR && kn > k) {
-            const unsigned e = tp__eta_tab(t, patch, s, k)[kn - 1];
+            /* without the table (tp_terrain_prepare_stitch_add), the height range */
+            const unsigned e = t->add_tab ? tp__eta_tab(t, patch, s, k)[kn - 1] : TP__ERR_SAT;
             units = e > units ? e : units;
         }
     }

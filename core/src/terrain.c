@@ -209,7 +209,7 @@ tp_status tp_terrain_create(const tp_terrain_desc* desc, tp_terrain** out, tp_er
     size_t stored = (size_t)t->sw * (size_t)t->sh;
     t->q = tp__alloc(a, stored, sizeof *t->q);
     t->patches = tp__calloc(a, (size_t)count, sizeof *t->patches);
-    t->err_stride = (n + 1) + 4 * n + 4 * n * n;
+    t->err_stride = (n + 1) + 4 * n;
     t->err_tab = tp__calloc(a, (size_t)count * t->err_stride, sizeof *t->err_tab);
     ranges = tp__alloc(a, (size_t)count, sizeof *ranges);
     if (!t->q || !t->patches || !t->err_tab || !ranges)
@@ -335,6 +335,7 @@ void tp_terrain_destroy(tp_terrain* t)
     tp__free(&a, t->filled);
     tp__free(&a, t->patches);
     tp__free(&a, t->err_tab);
+    tp__free(&a, t->add_tab);
     tp__free(&a, t);
 }
 
