@@ -703,6 +703,9 @@ static void expect_add_watertight(const char* dem, const view_spec* v_move, cons
     if (n)
         ADD_FAILURE("%s: first magenta pixel at (%d, %d)", what, fx, fy);
     EXPECT_EQ_INT((long)expected, st.triangles);
+    /* the view measures the geometry it drew (not vertex moving's), which τ bounds */
+    if (v->lod.mode == TP_LOD_ERROR)
+        EXPECT_LE(st.max_error_px, v->lod.tau_px + 1e-6);
     EXPECT_EQ_INT(fs.visible_patches, st.patches_drawn);
     EXPECT_GT(finer, 0); /* something was added, or it proves nothing */
     EXPECT_GT(st.triangles, (long)fs.triangles);

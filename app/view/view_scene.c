@@ -2,6 +2,7 @@
 #define _POSIX_C_SOURCE 200809L
 #include "view_scene.h"
 
+#include "bench.h" /* tp_bench_stitch_add_error: the geometry --stitch add draws */
 #include "pgm_render.h"
 
 #include <math.h>
@@ -137,6 +138,16 @@ void tp_view_scene_measure(const tp_view_scene* v, const tp_camera* cam, double*
         return;
     }
     tp_error_measure em = {0};
+    if (v->dem && tp_selection_stitch_add(v->sel)) { /* the selection measures vertex moving */
+        if (tp_bench_stitch_add_error(v->dem->terrain, v->sel, cam, &em, max_px, rms_px) ==
+            TP_OK) {
+            *max_m = em.max_error_m;
+            *rms_m = em.rms_error_m;
+        } else {
+            *max_px = *rms_px = NAN;
+        }
+        return;
+    }
     if (tp_selection_measure_error(v->sel, &em) == TP_OK) {
         *max_m = em.max_error_m;
         *rms_m = em.rms_error_m;
