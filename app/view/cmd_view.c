@@ -794,6 +794,7 @@ static int view_store(const char* path, view_options* o)
         return TP_EXIT_FAILURE;
     }
     v.path = o->path;
+    tp_cut_set_stitch_add(v.cut, o->render.stitch_add);
     const tp_tree_geometry* g = tp_tree_get_geometry(st.tree);
     /* as tp_view_setup_warn says for a DEM drawn whole: one leaf is 2^n grid steps */
     double leaf_m = (double)(1 << g->n) * fmin(fabs(v.gt[1]), fabs(v.gt[5]));
@@ -833,28 +834,15 @@ int tp_cli_view(int argc, char** argv)
     }
     if (o.stats_json && !tp_atomic_check_dir(o.stats_json))
         return TP_EXIT_FAILURE;
-    int whole = !tp_is_store_path(o.path) &&
-                (o.old_path || o.texture || o.scene.image_given || !is_regular_file(o.path) ||
-                 tp_is_heightmap_image(o.path));
     if (o.vs.pgm_window && (!o.vs.pgm || !tp_is_store_path(o.path))) {
         fprintf(stderr, "terrapatch view: --pgm-window is for --renderer pgm over a store (%s is "
                         "%s)\n", o.path, o.vs.pgm ? "a DEM, drawn whole" : "drawn by patches");
         return TP_EXIT_USAGE;
     }
     /* a store: its clipmap (pgm_clip.h); a DEM drawn whole: its render grid is the pyramid's
-     * level 0. --stitch add has no store path yet: a DEM is drawn whole for it. */
+     * level 0 */
     if (o.vs.pgm && !tp_is_store_path(o.path))
-        whole = o.old_path = 1;
-    if (o.render.stitch_add && !tp_is_store_path(o.path) && !whole) {
-        fprintf(stderr, "terrapatch view: --stitch add: drawing %s whole (vertex adding has no "
-                        "store path yet)\n", o.path);
         o.old_path = 1;
-    }
-    if (o.render.stitch_add && tp_is_store_path(o.path)) {
-        fprintf(stderr, "terrapatch view: --stitch add: only for a DEM drawn whole (not yet for "
-                        "stores: view %s's DEM instead)\n", o.path);
-        return TP_EXIT_USAGE;
-    }
     if (tp_is_store_path(o.path)) {
         if (o.texture || o.old_path || o.scene.image_given) {
             fprintf(stderr, "terrapatch view: %s is a store: --texture, --fill-max, --fit, --whole "

@@ -338,7 +338,11 @@ static void upload(tp_renderer* r, const tp_render_item* it, size_t i, tp_render
     tp_pool_slot* sl = tp_vertex_pool_slot(r->pool, h);
     int k = it->level, v = (1 << k) + 1, count = v * v;
     if (set) {
-        tp__stitch_add_fill(r->add, set, r->terrain, (int)it->key, r->vtmp, r->ntmp, r->ftmp);
+        if (r->cut)
+            tp__stitch_add_fill_node(r->add, set, r->tree, r->cut, i, r->vtmp, r->ntmp, r->ftmp);
+        else
+            tp__stitch_add_fill(r->add, set, r->terrain, (int)it->key, r->vtmp, r->ntmp,
+                                r->ftmp);
         write_vertices(r, h, k, (int)set->vertex_count);
         tp_vertex_pool_write_triangles(r->pool, h, set->triangles, 3 * set->triangle_count);
         sl->level = it->level;
@@ -726,15 +730,22 @@ void tp_renderer_draw_cut(tp_renderer* r, const tp_tree* tree, const tp_cut* cut
         tp_render_item* it = &r->items[i];
         it->key = nodes[i].node;
         it->level = nodes[i].level;
+        /* a side moves (below the level) or, --stitch add, takes vertices (above it) */
         for (int side = 0; side < 4; side++)
-            it->nb[side] = (int8_t)(nodes[i].nb[side] >= 0 && nodes[i].nb[side] < nodes[i].level
+            it->nb[side] = (int8_t)(s->stitch_add && nodes[i].add[side] > nodes[i].level
+                                        ? nodes[i].add[side]
+                                    : nodes[i].nb[side] >= 0 && nodes[i].nb[side] < nodes[i].level
                                         ? nodes[i].nb[side]
                                         : TP_NO_NEIGHBOR);
         it->incomplete = !(tp_tree_meta(tree, nodes[i].node)->flags & TP_NODE_COMPLETE);
     }
+    if (s->stitch_add && !r->add && !(r->add = tp__stitch_add_create(r->grid.n)))
+        count = 0; /* out of memory: nothing to draw */
     r->tree = tree;
     r->cut = cut;
+    r->stitch_add = s->stitch_add;
     tp_renderer_draw_items(r, r->items, count, fill_node, r, cam, s, zscale, finish, stats);
+    r->stitch_add = 0;
     r->tree = NULL;
     r->cut = NULL;
 }
