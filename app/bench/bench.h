@@ -24,7 +24,7 @@ typedef struct bench_options {
     const char* json;
     const char* csv;
     int no_error;      /* skip the (slow) error measurement */
-    int stitch_add;    /* --stitch add: Brodersen's vertex-adding crack fix (a DEM only) */
+    int stitch_add;    /* --stitch add: Brodersen's vertex-adding crack fix */
     double speed_mps;  /* path flights: a lead-in frame 1/30 s earlier at this speed; 0: none */
     int sweep;         /* a grid of LoD parameters instead of the three default configurations */
     const char* plot;  /* --sweep: the plot (PNG); default: the CSV's name with .png */

@@ -85,9 +85,10 @@ static void print_help(void)
           "                         0: no lead-in (every frame a jump, uploads from cold)\n"
           "  --json FILE            summary; --csv FILE: one row per frame and configuration\n"
           "  --no-error             skip the error measurement (faster)\n"
-          "  --stitch move|add      crack removal (a DEM): move the finer patch's border vertices\n"
+          "  --stitch move|add      crack removal: move the finer patch's border vertices\n"
           "                         (default) or add them to the coarser patch's (Brodersen\n"
-          "                         section 4); its error measured on its own geometry\n"
+          "                         section 4); its error measured on its own geometry. A\n"
+          "                         store runs error and distance both ways (+add rows)\n"
           "  --renderer pgm         also Persistent Grid Mapping (Livny, Kogan & El-Sana): one\n"
           "                         configuration per grid after the patch ones, the same path;\n"
           "                         a DEM: drawn whole, error by tp_pgm_measure_error (every post\n"
@@ -381,9 +382,8 @@ static int parse_options(int argc, char** argv, bench_options* o)
                         "takes no --stitch\n");
         return TP_EXIT_USAGE;
     }
-    if (o->stitch_add && (tp_is_store_path(o->dem) || o->is_static)) {
-        fprintf(stderr, "terrapatch bench: --stitch add: only for a DEM drawn whole (not yet for "
-                        "stores, nor --static)\n");
+    if (o->stitch_add && o->is_static) {
+        fprintf(stderr, "terrapatch bench: --stitch add: not with --static\n");
         return TP_EXIT_USAGE;
     }
     if (tp_is_store_path(o->dem)) {
