@@ -464,14 +464,13 @@ int32_t tp__cut_triangles(tp_cut* c, int i, const int nb[4]);
  * nb (every vertex drawn: only stitching removes triangles), from c->tri_memo (filled on first
  * use) (tree_stitch.c). */
 int32_t tp__cut_complete_triangles(tp_cut* c, int k, const int nb[4]);
-/* Relative neighbour levels of drawn record i; returns the number of its sides left with a
- * crack (a neighbour more than n scales larger that could be neither split nor collapsed
- * against) (tree_stitch.c). */
-int tp__cut_nb(const tp_cut* c, int i, int nb[4]);
-/* --stitch add (tree_stitch_add.c): the finer same-size neighbours' levels whose vertices drawn
- * record i takes (TP_NO_NEIGHBOR elsewhere); and the level record i must be raised to so that
- * no corner triangle both takes and moves vertices (its level when none). nb: tp__cut_nb's. */
-void tp__cut_add_levels(const tp_cut* c, int i, int add[4]);
+/* Relative neighbour levels of drawn record i (nb: where its sides move to) and, --stitch add,
+ * the finer same-size neighbours' levels whose vertices it takes (add; TP_NO_NEIGHBOR where
+ * none); returns the number of its sides left with a crack (a neighbour more than n scales
+ * larger that could be neither split nor collapsed against) (tree_stitch.c). */
+int tp__cut_seams(const tp_cut* c, int i, int nb[4], int add[4]);
+/* --stitch add (tree_stitch_add.c): the level record i must be raised to so that no corner
+ * triangle both takes and moves vertices (its level when none); nb, add: tp__cut_seams'. */
 int tp__cut_add_corner_level(const tp_cut* c, int i, const int nb[4], const int add[4]);
 /* Rasterises drawn node i's --stitch add triangles (its add[] sides) as tp__raster_triangle,
  * z in height steps; 0 when out of memory (tree_stitch_add.c). */

@@ -610,12 +610,10 @@ static tp_status finish(tp_cut* c, tp_error* err)
             continue;
         r->out = (int32_t)c->out_count;
         tp_cut_node* o = &c->out[c->out_count++];
-        int nb[4];
-        c->unresolved += tp__cut_nb(c, (int)i, nb);
+        int nb[4], add[4];
+        c->unresolved += tp__cut_seams(c, (int)i, nb, add);
         o->node = r->node;
         o->level = r->level;
-        int add[4];
-        tp__cut_add_levels(c, (int)i, add);
         for (int s = 0; s < 4; s++) {
             o->nb[s] = (int8_t)nb[s];
             o->add[s] = (int8_t)add[s];

@@ -56,22 +56,40 @@ static int stride_log(const tp__cut_rec* r, int n)
     return r->s + n - r->level;
 }
 
-int tp__cut_nb(const tp_cut* c, int i, int nb[4])
+/* Drawn record i's seam with its drawn neighbour j (of its scale or larger) on one side: the
+ * relative level i's side moves to (*nb) and, --stitch add, the level whose vertices it takes
+ * (*add); TP_NO_NEIGHBOR each when none. */
+static void seam(const tp_cut* c, int i, int j, int* nb, int* add)
+{
+    const tp__cut_rec *a = &c->rec[i], *b = &c->rec[j];
+    *nb = *add = TP_NO_NEIGHBOR;
+    if (c->stitch_add && b->s == a->s) {
+        /* the coarser of two same-size nodes takes the finer one's vertices when it is complete
+           (every sample of the shared side is then drawn); else the finer one moves */
+        if (b->level > a->level) {
+            if (node_complete(c, i))
+                *add = b->level;
+            return;
+        }
+        if (b->level < a->level && node_complete(c, j))
+            return;
+    }
+    int kn = b->level - (b->s - a->s);
+    if (stride_log(b, c->n) > stride_log(a, c->n) && kn >= 0)
+        *nb = kn;
+}
+
+int tp__cut_seams(const tp_cut* c, int i, int nb[4], int add[4])
 {
     const tp__cut_rec* a = &c->rec[i];
     int cracks = 0;
     for (int side = 0; side < 4; side++) {
-        nb[side] = TP_NO_NEIGHBOR;
+        nb[side] = add[side] = TP_NO_NEIGHBOR;
         int j = tp__cut_neighbor(c, i, side);
         if (j < 0)
             continue;
-        const tp__cut_rec* b = &c->rec[j];
-        cracks += b->s - a->s > c->n;
-        int kn = b->level - (b->s - a->s);
-        if (c->stitch_add && b->s == a->s && node_complete(c, j))
-            continue; /* --stitch add: the coarser of two same-size nodes takes vertices */
-        if (stride_log(b, c->n) > stride_log(a, c->n) && kn >= 0)
-            nb[side] = kn;
+        cracks += c->rec[j].s - a->s > c->n;
+        seam(c, i, j, &nb[side], &add[side]);
     }
     return cracks;
 }
@@ -212,13 +230,16 @@ static void check(tp_cut* c, int i)
 {
     int n = c->n;
     int error = c->have_view && c->lp.mode == TP_LOD_ERROR;
+    int nbj[4] = {-1, -1, -1, -1}, reshaped = 0; /* the neighbours; a split or collapse */
     for (int side = 0; side < 4 && c->rec[i].state == TP__CUT_DRAWN && !c->oom; side++) {
         int j = tp__cut_neighbor(c, i, side);
+        nbj[side] = j;
         if (j < 0)
             continue;
         tp__cut_rec *a = &c->rec[i], *b = &c->rec[j];
         int ds = b->s - a->s;
         if (ds > n) {
+            reshaped = 1;
             int bs = b->s;
             if (split(c, j))
                 push(c, i);
@@ -262,6 +283,7 @@ static void check(tp_cut* c, int i)
                         changed(c, j);
                         side--; /* check this side again */
                     } else if (split(c, j)) {
+                        reshaped = 1;
                         push(c, i);
                     }
                 }
@@ -271,10 +293,14 @@ static void check(tp_cut* c, int i)
             changed(c, i);
         }
     }
-    if (c->stitch_add && c->rec[i].state == TP__CUT_DRAWN && !c->oom) {
+    if (c->stitch_add && c->rec[i].state == TP__CUT_DRAWN && !c->oom && !reshaped) {
+        /* (after a split or collapse i is queued again: checked then) */
         int nb[4], add[4];
-        tp__cut_nb(c, i, nb);
-        tp__cut_add_levels(c, i, add);
+        for (int side = 0; side < 4; side++) {
+            nb[side] = add[side] = TP_NO_NEIGHBOR;
+            if (nbj[side] >= 0)
+                seam(c, i, nbj[side], &nb[side], &add[side]);
+        }
         int k = tp__cut_add_corner_level(c, i, nb, add);
         if (k > c->rec[i].level) {
             c->rec[i].level = (int8_t)k;

@@ -29,20 +29,6 @@ int tp_cut_stitch_add(const tp_cut* c)
     return c->stitch_add;
 }
 
-void tp__cut_add_levels(const tp_cut* c, int i, int add[4])
-{
-    const tp__cut_rec* a = &c->rec[i];
-    const int complete = (tp_tree_meta(c->t, a->node)->flags & TP_NODE_COMPLETE) != 0;
-    for (int side = 0; side < 4; side++) {
-        add[side] = TP_NO_NEIGHBOR;
-        if (!c->stitch_add || !complete)
-            continue;
-        int j = tp__cut_neighbor(c, i, side);
-        if (j >= 0 && c->rec[j].s == a->s && c->rec[j].level > a->level)
-            add[side] = c->rec[j].level;
-    }
-}
-
 int tp__cut_add_corner_level(const tp_cut* c, int i, const int nb[4], const int add[4])
 {
     static const int pair[4][2] = {{TP_SIDE_TOP, TP_SIDE_LEFT},
