@@ -31,6 +31,8 @@ void tp_view_frame(tp_view_scene* v, tp_renderer* r, const tp_camera* cam,
 {
     double t0 = tp_view_now_ms();
     tp_error err;
+    out->pgm_cols = out->pgm_rows = 0; /* set by the PGM path only (the HUD tests them) */
+    out->add_sides = out->moved_sides = 0;
     /* the core selects, culls and measures the surface as drawn: exaggerated */
     tp_view_scene_set_vertical_scale(v, render->exaggeration);
     if (v->pgm) { /* Persistent Grid Mapping: no selection, the same grid every frame */
