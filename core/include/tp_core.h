@@ -591,7 +591,8 @@ tp_status tp_selection_patch_screen_error(const tp_selection* s, const tp_camera
  * instead, each visible patch that takes a finer neighbour's vertices until its
  * tp_patch_error_bound_add projects <= tau (levels only go up, so it ends), and
  * tp_frame_stats' bound is tp_patch_error_bound_add. The measures and queries below still
- * describe vertex moving's geometry. Takes effect at the next update. Cannot fail. */
+ * describe vertex moving's geometry. Takes effect at the next update. Cannot fail; the max-error
+ * mode, which measures vertex moving's geometry, then refuses to update (TP_ERR_INVALID_ARG). */
 void tp_selection_set_stitch_add(tp_selection* s, int add);
 int tp_selection_stitch_add(const tp_selection* s); /* 1 when adding */
 
