@@ -216,6 +216,11 @@ size_t tp_pgm_clipmap_gpu_bytes(const tp_pgm_clipmap* c)
     return c->gpu_bytes;
 }
 
+const tp_store* tp_pgm_clipmap_store(const tp_pgm_clipmap* c)
+{
+    return c->store;
+}
+
 /* The decoded heights of node, read on a miss; NULL when the read fails (c->failed says why,
  * the first time). */
 static const float* node_heights(tp_pgm_clipmap* c, int64_t node, tp_pgm_clip_stats* st)

@@ -70,5 +70,23 @@ int tp_pgm_clipmap_window(const tp_pgm_clipmap* c);
 void tp_pgm_clipmap_origins(const tp_pgm_clipmap* c, int* origin);
 unsigned tp_pgm_clipmap_texture(const tp_pgm_clipmap* c);
 size_t tp_pgm_clipmap_gpu_bytes(const tp_pgm_clipmap* c);
+const tp_store* tp_pgm_clipmap_store(const tp_pgm_clipmap* c); /* the store it was made for */
+
+/* The error of the surface drawn over the clipmap for frame f (tp_pgm_frame_setup on its shape)
+ * seen by main, by the bench's definition (tp_pgm_measure_error_source; pgm_clip_error.c): the
+ * drawn heights those the shader reads from the windows as they stand now (each level's posts
+ * read from the store as the filler writes them, the level falling back to the first coarser
+ * window holding the bilinear footprint, void posts voiding the vertex), compared with the
+ * level-0 posts of tp_pgm_view_region(shape, main) read from the store's scale-0 nodes (posts
+ * without a height are not compared). Call it after the draw it measures, before the next
+ * update (the windows' origins are read now). No GL; reads the store on the calling thread
+ * with its own cache of about 16 MiB of decoded nodes; memory besides: one band of the region
+ * (its width x 2^n posts, 5 bytes each) and 25 bytes a grid vertex; time: every post of the
+ * region (the whole store for a view reaching the horizon). TP_OK and *out; else *out zeroed
+ * and a message in msg: TP_ERR_IO (a node cannot be read; the store and node named),
+ * TP_ERR_OUT_OF_MEMORY. */
+tp_status tp_pgm_clipmap_measure(const tp_pgm_clipmap* c, const tp_pgm_frame* f,
+                                 const tp_camera* main, tp_pgm_error* out, char* msg,
+                                 size_t msg_size);
 
 #endif

@@ -443,21 +443,17 @@ void tp_pgm_renderer_grid(const tp_pgm_renderer* r, int* cols, int* rows)
     *rows = r->rows;
 }
 
-void tp_pgm_renderer_measure(const tp_pgm_renderer* r, const tp_camera* cam, double* max_m,
-                             double* rms_m, double* max_px, double* rms_px)
+tp_status tp_pgm_renderer_measure(const tp_pgm_renderer* r, const tp_camera* cam,
+                                  tp_pgm_error* out, char* msg, size_t msg_size)
 {
-    if (r->clip) { /* the heights are only in the windows on the GPU (pgm_render.h) */
-        *max_m = *rms_m = *max_px = *rms_px = NAN;
-        return;
-    }
     tp_pgm_frame f;
     tp_pgm_frame_setup(cam, r->cols, r->rows, r->p, &f);
-    tp_pgm_error e;
-    if (tp_pgm_measure_error(&f, r->p, cam, &e) != TP_OK) {
-        *max_m = *rms_m = *max_px = *rms_px = NAN;
-        return;
-    }
-    *max_m = e.max_m, *rms_m = e.rms_m, *max_px = e.max_px, *rms_px = e.rms_px;
+    if (r->clip)
+        return tp_pgm_clipmap_measure(r->clip, &f, cam, out, msg, msg_size);
+    tp_status st = tp_pgm_measure_error(&f, r->p, cam, out);
+    if (st != TP_OK)
+        snprintf(msg, msg_size, "PGM error: out of memory");
+    return st;
 }
 
 /* The far plane: the farthest corner of the terrain's box, with room (as renderer.c). */

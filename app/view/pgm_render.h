@@ -60,11 +60,13 @@ typedef struct tp_pgm_clipmap tp_pgm_clipmap;
 tp_pgm_renderer* tp_pgm_renderer_create_clipmap(tp_pgm_clipmap* clip, int cols, int rows, char* msg,
                                                 size_t msg_size);
 
-/* The error of the surface drawn for cam (its own viewport) by tp_pgm_measure_error: vertical
- * (m) and screen (px); NaN when memory runs out, and always over a clipmap (the heights it would
- * compare with are only in the windows on the GPU: not measured). */
-void tp_pgm_renderer_measure(const tp_pgm_renderer* r, const tp_camera* cam, double* max_m,
-                             double* rms_m, double* max_px, double* rms_px);
+/* The error of the surface drawn for cam (its own viewport) by the bench's definition:
+ * tp_pgm_measure_error over the whole pyramid, or over a clipmap tp_pgm_clipmap_measure (the
+ * windows as they stand: call it after the draw it measures, before the next). TP_OK and *out;
+ * else *out zeroed and a message in msg (out of memory; over a store, a node that cannot be
+ * read). */
+tp_status tp_pgm_renderer_measure(const tp_pgm_renderer* r, const tp_camera* cam,
+                                  tp_pgm_error* out, char* msg, size_t msg_size);
 
 /* The grid size. */
 void tp_pgm_renderer_grid(const tp_pgm_renderer* r, int* cols, int* rows);

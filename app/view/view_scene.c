@@ -130,7 +130,14 @@ void tp_view_scene_measure(const tp_view_scene* v, const tp_camera* cam, double*
     *max_m = *rms_m = NAN;
     *max_px = *rms_px = 0;
     if (v->pgm) {
-        tp_pgm_renderer_measure(v->pgm, cam, max_m, rms_m, max_px, rms_px);
+        tp_pgm_error e;
+        char msg[600];
+        if (tp_pgm_renderer_measure(v->pgm, cam, &e, msg, sizeof msg) != TP_OK) {
+            fprintf(stderr, "terrapatch: %s\n", msg);
+            *max_px = *rms_px = NAN;
+            return;
+        }
+        *max_m = e.max_m, *rms_m = e.rms_m, *max_px = e.max_px, *rms_px = e.rms_px;
         return;
     }
     if (v->store) {
