@@ -13,6 +13,7 @@
  *     the store's level-0 posts of the view's region) is the DEM path's (tp_pgm_measure_error
  *     over every post) when the windows hold everything, and grows, over the same posts in view,
  *     when small windows draw coarser levels;
+ *   - a GL error left pending by other code fails neither the clipmap's nor the atlas's creation;
  *   - GPU bytes: the index buffer and levels x w x w x 4, the same for a store of a third of
  *     the posts with as many levels, and the windows' posts updated per frame are strips, not
  *     windows.
@@ -41,7 +42,8 @@
     X(gpu_bytes_do_not_grow_with_the_store)                                                        \
     X(void_posts_draw_nothing_and_no_curtain)                                                     \
     X(store_error_is_the_dem_error_when_the_windows_hold_everything)                               \
-    X(small_windows_measure_the_coarser_levels_they_draw)
+    X(small_windows_measure_the_coarser_levels_they_draw)                                          \
+    X(an_error_another_module_left_fails_no_creation)
 
 #ifndef M_PI
 #define M_PI 3.14159265358979323846
@@ -654,6 +656,33 @@ TEST(small_windows_measure_the_coarser_levels_they_draw)
     tp_pgm_renderer_destroy(rb);
     tp_pgm_clipmap_destroy(small);
     tp_pgm_clipmap_destroy(big);
+    close_fixture(&fx);
+    tp_gl_context_destroy(ctx);
+}
+
+/* A GL error flag another module left set (here an invalid glEnable) is not the texture
+ * allocation's: both creations clear it before the calls they check. */
+TEST(an_error_another_module_left_fails_no_creation)
+{
+    tp_gl_context* ctx = context_or_skip();
+    fixture fx;
+    open_fixture(&fx, 200, 150, "crop");
+    tp_pgm_pyramid p;
+    store_pyramid(&fx, &p);
+    glEnable(0xBEEF);
+    ASSERT_EQ_INT(GL_INVALID_ENUM, (int)glGetError()); /* the flag is set... */
+    glEnable(0xBEEF);                                  /* ...and set again for the creation */
+    char msg[600] = "";
+    tp_pgm_clipmap* clip = tp_pgm_clipmap_create(fx.store, 64, msg, sizeof msg);
+    if (!clip)
+        FAIL("the clipmap: %s", msg);
+    glEnable(0xBEEF);
+    tp_pgm_renderer* whole = tp_pgm_renderer_create(&p, NULL, 40, 30, msg, sizeof msg);
+    if (!whole)
+        FAIL("the atlas: %s", msg);
+    tp_pgm_renderer_destroy(whole);
+    tp_pgm_clipmap_destroy(clip);
+    tp_pgm_pyramid_free(&p);
     close_fixture(&fx);
     tp_gl_context_destroy(ctx);
 }

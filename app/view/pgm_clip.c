@@ -53,6 +53,14 @@ static double now_ms(void)
     return ts.tv_sec * 1e3 + ts.tv_nsec / 1e6;
 }
 
+/* Clears the GL errors earlier calls left (bounded: a lost context may report one forever), so
+ * that glGetError after the calls it checks reports theirs. */
+static void drain_gl_errors(void)
+{
+    for (int k = 0; k < 64 && glGetError() != GL_NO_ERROR; k++)
+        ;
+}
+
 /* The shape tp_pgm_pyramid_build gives a width x height grid, without heights. */
 static void make_shape(tp_pgm_clipmap* c)
 {
@@ -116,6 +124,16 @@ tp_pgm_clipmap* tp_pgm_clipmap_create(const tp_store* store, int w, char* msg, s
     size_t count = 0;
     c->metas = tp_store_metas(store, &count);
     make_shape(c);
+    int need = tp_pgm_clip_min_window(c->g->src_width, c->g->src_height);
+    if (w < need) { /* the coarsest window must hold its level whole (pgm_clip.h) */
+        snprintf(msg, msg_size,
+                 "PGM clipmap: the store's %d x %d posts keep %d x %d at the coarsest of its %d "
+                 "levels, more than a window of %d posts holds: --pgm-window %d or more",
+                 c->g->src_width, c->g->src_height, c->shape.width[c->shape.levels - 1],
+                 c->shape.height[c->shape.levels - 1], c->shape.levels, w, need);
+        free(c);
+        return NULL;
+    }
     if (!height_range(c)) {
         snprintf(msg, msg_size, "PGM: the store has no drawn height (or memory ran out)");
         free(c);
@@ -146,6 +164,7 @@ tp_pgm_clipmap* tp_pgm_clipmap_create(const tp_store* store, int w, char* msg, s
         tp_pgm_clipmap_destroy(c);
         return NULL;
     }
+    drain_gl_errors(); /* what another module left would read as this allocation's */
     glGenTextures(1, &c->tex);
     glBindTexture(GL_TEXTURE_2D_ARRAY, c->tex);
     glTexImage3D(GL_TEXTURE_2D_ARRAY, 0, GL_R32F, w, w, c->shape.levels, 0, GL_RED, GL_FLOAT, NULL);

@@ -38,8 +38,11 @@ typedef struct tp_pgm_clip_stats {
 /* Creates the clipmap of an open store (borrowed: it must outlive the clipmap) for the current
  * GL context: window w (a power of two, 16 .. 8192; 0: TP_PGM_CLIP_DEFAULT_WINDOW), the texture
  * array allocated, nothing filled yet (the first tp_pgm_clipmap_update fills every window).
- * NULL with a message in msg for a bad w, a window larger than GL_MAX_TEXTURE_SIZE, too many
- * levels for GL_MAX_ARRAY_TEXTURE_LAYERS, a store without a drawn height, out of memory. */
+ * NULL with a message in msg for a bad w, a window smaller than the coarsest level
+ * (tp_pgm_clip_min_window: a side of more than (w - 1) 2^23 + 1 posts), a window larger
+ * than GL_MAX_TEXTURE_SIZE, too many levels for GL_MAX_ARRAY_TEXTURE_LAYERS, a store without a
+ * drawn height, out of memory, or a GL error allocating the texture array (errors left by
+ * earlier calls are cleared first). */
 tp_pgm_clipmap* tp_pgm_clipmap_create(const tp_store* store, int w, char* msg, size_t msg_size);
 void tp_pgm_clipmap_destroy(tp_pgm_clipmap* c); /* accepts NULL */
 

@@ -375,6 +375,9 @@ tp_pgm_renderer* tp_pgm_renderer_create(const tp_pgm_pyramid* p, const uint8_t* 
     if (!r)
         return NULL;
     memcpy(r->off, probe.off, sizeof r->off);
+    /* errors earlier calls left would read as the upload's below (bounded: a lost context) */
+    for (int k = 0; k < 64 && glGetError() != GL_NO_ERROR; k++)
+        ;
     glGenTextures(1, &r->atlas);
     glBindTexture(GL_TEXTURE_2D, r->atlas);
     glPixelStorei(GL_UNPACK_ALIGNMENT, 4);

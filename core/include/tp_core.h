@@ -1753,6 +1753,14 @@ int tp_pgm_clip_origin(double centre, int posts, int w);
 int tp_pgm_clip_update(int w, int has_old, int old_x, int old_y, int new_x, int new_y,
                        tp_pgm_rect out[2]);
 
+/* The smallest window (a power of two, at least 16) that holds the coarsest level of the
+ * pyramid of a width x height grid whole (width, height >= 1; asserted), as a clipmap's
+ * coarsest window must (the shader falls back to it everywhere). Levels stop at
+ * TP_PGM_MAX_LEVELS, so a side of more than 2^24 + 1 posts keeps ceil((side - 1) / 2^23) + 1 > 2
+ * at level 23: a window w holds it while side <= (w - 1) 2^23 + 1 (16: up to 125,829,121 posts);
+ * else the coarsest level has at most 2 posts and this is 16. Cannot fail. */
+int tp_pgm_clip_min_window(int width, int height);
+
 /* Where a store holds level-0 post (x, y) (0 <= x < src_width, 0 <= y < src_height; asserted)
  * for level `level` of the pyramid: the node of the coarsest scale s <= level (and < g->scales)
  * whose lattice holds it (x and y multiples of 2^s, inside the nodes of that scale, which
