@@ -33,11 +33,15 @@ typedef struct tp_pgm_clip_stats {
     double upload_ms;  /* glTexSubImage3D of them */
     size_t posts;      /* posts written this update */
     size_t node_reads; /* nodes read from the store (cache misses) */
+    size_t buffer_posts; /* the most posts held in CPU memory at once: on the render thread a
+                            band of rows at a time, at most 2^18 (1 MiB) whatever the window;
+                            through the loader thread a whole move's */
 } tp_pgm_clip_stats;
 
 /* Creates the clipmap of an open store (borrowed: it must outlive the clipmap) for the current
  * GL context: window w (a power of two, 16 .. 8192; 0: TP_PGM_CLIP_DEFAULT_WINDOW), the texture
- * array allocated, nothing filled yet (the first tp_pgm_clipmap_update fills every window).
+ * array allocated, nothing filled yet (the first tp_pgm_clipmap_update fills every window, on
+ * the render thread, through a buffer of 1 MiB: tp_pgm_clip_stats.buffer_posts).
  * NULL with a message in msg for a bad w, a window smaller than the coarsest level
  * (tp_pgm_clip_min_window: a side of more than (w - 1) 2^23 + 1 posts), a window larger
  * than GL_MAX_TEXTURE_SIZE, too many levels for GL_MAX_ARRAY_TEXTURE_LAYERS, a store without a
@@ -58,6 +62,10 @@ const tp_pgm_pyramid* tp_pgm_clipmap_shape(const tp_pgm_clipmap* c);
  * TP_PGM_CLIP_VOID: not drawn, and the window counts as filled). stats may be NULL. */
 int tp_pgm_clipmap_update(tp_pgm_clipmap* c, double x, double y, tp_pgm_clip_stats* stats,
                           char* msg, size_t msg_size);
+
+/* 1 once the windows hold their posts (a first fill done); 0 before, and after a first fill
+ * that ran out of memory (draw nothing then: the texels are uninitialised). */
+int tp_pgm_clipmap_filled(const tp_pgm_clipmap* c);
 
 /* Starts the loader thread: from now on an update uploads what the loader has read since the
  * last one and hands it the next move (the first fill is still done at once: there is nothing

@@ -510,6 +510,15 @@ void tp_pgm_renderer_draw(tp_pgm_renderer* r, const tp_camera* cam, const tp_ren
         stats->upload_ms = cs.upload_ms;
         stats->posts_updated = cs.posts;
         stats->node_reads = cs.node_reads;
+        if (!tp_pgm_clipmap_filled(r->clip)) { /* its texels are uninitialised: clear only */
+            glClearColor(s->clear_rgb[0], s->clear_rgb[1], s->clear_rgb[2], 1);
+            glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+            stats->cols = r->cols;
+            stats->rows = r->rows;
+            stats->gpu_bytes = r->gpu_bytes;
+            stats->setup_ms = now_ms() - t0;
+            return;
+        }
     }
 
     glClearColor(s->clear_rgb[0], s->clear_rgb[1], s->clear_rgb[2], 1);

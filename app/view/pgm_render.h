@@ -52,7 +52,8 @@ void tp_pgm_renderer_draw(tp_pgm_renderer* r, const tp_camera* cam, const tp_ren
 
 /* Creates the grid over a store's clipmap (pgm_clip.h; borrowed: it must outlive the
  * renderer), for stores of any size: each draw first moves the clipmap's windows to the eye
- * (tp_pgm_clipmap_update; a read failure is printed once and its posts are not drawn), and the
+ * (tp_pgm_clipmap_update; a read failure is printed once and its posts are not drawn; until a
+ * first fill succeeds, out of memory, the frame is only cleared), and the
  * shader reads each level from its window, or where the bilinear footprint lies outside it,
  * from the first coarser level whose window holds it (so no vertex reads a stale texel). A
  * texel without a height (nodata) counts as off the terrain. Fails as tp_pgm_renderer_create. */
