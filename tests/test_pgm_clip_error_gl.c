@@ -22,6 +22,7 @@
 #include "tp_test_pgm_store.h"
 
 #include <math.h>
+#include <string.h>
 
 #define TESTS(X)                                                                                   \
     X(store_error_is_the_dem_error_when_the_windows_hold_everything)                               \
@@ -51,8 +52,8 @@ TEST(store_error_is_the_dem_error_when_the_windows_hold_everything)
         tp_pgm_render_stats st;
         draw(ctx, r, &cam, NULL, NULL, &st);
         tp_pgm_error a, b;
-        ASSERT_OK(tp_pgm_renderer_measure(whole, &cam, &a, msg, sizeof msg));
-        if (tp_pgm_renderer_measure(r, &cam, &b, msg, sizeof msg) != TP_OK)
+        ASSERT_OK(tp_pgm_renderer_measure(whole, &cam, 0, &a, msg, sizeof msg));
+        if (tp_pgm_renderer_measure(r, &cam, 0, &b, msg, sizeof msg) != TP_OK)
             FAIL("%s", msg);
         tp_pgm_rect reg;
         tp_pgm_view_region(tp_pgm_clipmap_shape(clip), &cam, &reg);
@@ -71,6 +72,13 @@ TEST(store_error_is_the_dem_error_when_the_windows_hold_everything)
         EXPECT_NEAR(a.rms_m, b.rms_m, 1e-9 * a.rms_m);
         if (k == 1) /* looking down from 4 km: the region is a part of the terrain */
             EXPECT_LT(share, 0.8);
+        if (k == 0) { /* a bound on the posts visited (the viewer's): refused, saying so */
+            tp_pgm_error c;
+            EXPECT_EQ_INT(TP_ERR_INVALID_ARG,
+                          tp_pgm_renderer_measure(r, &cam, 1000, &c, msg, sizeof msg));
+            EXPECT_TRUE(strstr(msg, "more than 1000)") != NULL);
+            EXPECT_EQ_INT(0, (long long)c.samples);
+        }
     }
     tp_pgm_renderer_destroy(r);
     tp_pgm_clipmap_destroy(clip);
@@ -101,8 +109,8 @@ TEST(small_windows_measure_the_coarser_levels_they_draw)
     draw(ctx, rb, &cam, NULL, NULL, &st);
     draw(ctx, rs, &cam, NULL, NULL, &st);
     tp_pgm_error a, b;
-    ASSERT_OK(tp_pgm_renderer_measure(rb, &cam, &a, msg, sizeof msg));
-    ASSERT_OK(tp_pgm_renderer_measure(rs, &cam, &b, msg, sizeof msg));
+    ASSERT_OK(tp_pgm_renderer_measure(rb, &cam, 0, &a, msg, sizeof msg));
+    ASSERT_OK(tp_pgm_renderer_measure(rs, &cam, 0, &b, msg, sizeof msg));
     tp_test_note("windows of 1024: max %.3f px RMS %.3f px, %.2f m RMS; of 16: max %.3f px RMS "
                  "%.3f px, %.2f m RMS (%zu + %zu and %zu + %zu posts in view)",
                  a.max_px, a.rms_px, a.rms_m, b.max_px, b.rms_px, b.rms_m, a.samples, a.uncovered,

@@ -317,7 +317,7 @@ static int run_store_pgm(store_bench* b, store_result* c, const char* progress)
                 tp_camera mc = cam; /* the viewport the frame was drawn at */
                 mc.viewport_w_px = b->o->vs.w;
                 mc.viewport_h_px = b->o->vs.h;
-                if (tp_pgm_clipmap_measure(clip, &f, &mc, &e, msg, sizeof msg) != TP_OK) {
+                if (tp_pgm_clipmap_measure(clip, &f, &mc, 0, &e, msg, sizeof msg) != TP_OK) {
                     fprintf(stderr, "\nterrapatch bench: %s: frame %d: %s\n", progress, k + 1,
                             msg);
                     tp_pgm_renderer_destroy(r);

@@ -135,10 +135,22 @@ static int clip_posts(void* ctx, int x0, int y0, int x1, int y1, float* out)
 }
 
 tp_status tp_pgm_clipmap_measure(const tp_pgm_clipmap* c, const tp_pgm_frame* f,
-                                 const tp_camera* main, tp_pgm_error* out, char* msg,
-                                 size_t msg_size)
+                                 const tp_camera* main, size_t max_posts, tp_pgm_error* out,
+                                 char* msg, size_t msg_size)
 {
     memset(out, 0, sizeof *out);
+    tp_pgm_rect region;
+    tp_pgm_view_region(tp_pgm_clipmap_shape(c), main, &region);
+    size_t posts = region.x1 > region.x0 && region.y1 > region.y0
+                       ? (size_t)(region.x1 - region.x0) * (size_t)(region.y1 - region.y0)
+                       : 0;
+    if (max_posts && posts > max_posts) {
+        snprintf(msg, msg_size,
+                 "PGM error over a store: not measured, the view's region holds %zu posts (more "
+                 "than %zu)",
+                 posts, max_posts);
+        return TP_ERR_INVALID_ARG;
+    }
     clip_source s;
     memset(&s, 0, sizeof s);
     s.store = tp_pgm_clipmap_store(c);
@@ -160,8 +172,6 @@ tp_status tp_pgm_clipmap_measure(const tp_pgm_clipmap* c, const tp_pgm_frame* f,
     if (s.raw && s.cache) {
         for (size_t k = 0; k < s.cache_count; k++)
             s.cache[k].node = -1;
-        tp_pgm_rect region;
-        tp_pgm_view_region(s.shape, main, &region);
         tp_pgm_source src = {&s, clip_sample, clip_posts, 1 << s.g->n};
         st = tp_pgm_measure_error_source(f, s.shape, &src, &region, main, out);
     }

@@ -447,12 +447,13 @@ void tp_pgm_renderer_grid(const tp_pgm_renderer* r, int* cols, int* rows)
 }
 
 tp_status tp_pgm_renderer_measure(const tp_pgm_renderer* r, const tp_camera* cam,
-                                  tp_pgm_error* out, char* msg, size_t msg_size)
+                                  size_t max_posts, tp_pgm_error* out, char* msg,
+                                  size_t msg_size)
 {
     tp_pgm_frame f;
     tp_pgm_frame_setup(cam, r->cols, r->rows, r->p, &f);
     if (r->clip)
-        return tp_pgm_clipmap_measure(r->clip, &f, cam, out, msg, msg_size);
+        return tp_pgm_clipmap_measure(r->clip, &f, cam, max_posts, out, msg, msg_size);
     tp_status st = tp_pgm_measure_error(&f, r->p, cam, out);
     if (st != TP_OK)
         snprintf(msg, msg_size, "PGM error: out of memory");

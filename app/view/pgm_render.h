@@ -63,11 +63,12 @@ tp_pgm_renderer* tp_pgm_renderer_create_clipmap(tp_pgm_clipmap* clip, int cols, 
 
 /* The error of the surface drawn for cam (its own viewport) by the bench's definition:
  * tp_pgm_measure_error over the whole pyramid, or over a clipmap tp_pgm_clipmap_measure (the
- * windows as they stand: call it after the draw it measures, before the next). TP_OK and *out;
- * else *out zeroed and a message in msg (out of memory; over a store, a node that cannot be
- * read). */
+ * windows as they stand: call it after the draw it measures, before the next; max_posts, 0 for
+ * none, bounds the posts it may visit). TP_OK and *out; else *out zeroed and a message in msg
+ * (out of memory; over a store, a node that cannot be read or a region over max_posts). */
 tp_status tp_pgm_renderer_measure(const tp_pgm_renderer* r, const tp_camera* cam,
-                                  tp_pgm_error* out, char* msg, size_t msg_size);
+                                  size_t max_posts, tp_pgm_error* out, char* msg,
+                                  size_t msg_size);
 
 /* The grid size. */
 void tp_pgm_renderer_grid(const tp_pgm_renderer* r, int* cols, int* rows);
