@@ -174,7 +174,7 @@ tp_status tp_pgm_measure_error_source(const tp_pgm_frame* f, const tp_pgm_pyrami
     }
     const int band = src->band_rows > 0 ? src->band_rows : DEFAULT_BAND_ROWS;
     const size_t nv = (size_t)cols * (size_t)rows;
-    const size_t bw = r.x1 > r.x0 ? (size_t)(r.x1 - r.x0) : 0;
+    const size_t bw = r.x1 > r.x0 && r.y1 > r.y0 ? (size_t)(r.x1 - r.x0) : 0; /* 0: empty */
     const size_t bp = bw * (size_t)band;
     double* g = malloc(3 * nv * sizeof *g);
     uint8_t* on = malloc(nv);
