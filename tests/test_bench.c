@@ -2391,6 +2391,7 @@ TEST(pgm_store_bench_reports_the_clipmap)
         EXPECT_GE(json_num(o0, o1, "pgm_posts_updated_median"), 0.0);
         EXPECT_GT(json_num(o0, o1, "fps_median"), 0.0);
         EXPECT_EQ_DBL(6, json_num(o0, o1, "error_frames_measured"));
+        EXPECT_EQ_DBL(0, json_num(o0, o1, "error_frames_over_region_limit"));
         double max_px = json_num(o0, o1, "max_screen_error_px");
         EXPECT_TRUE(isfinite(max_px));
         EXPECT_GE(max_px, json_num(o0, o1, "rms_screen_error_px"));

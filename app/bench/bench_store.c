@@ -265,11 +265,16 @@ static int settle(store_bench* b, tp_cut* cut, tp_cut* pre, const tp_camera* cam
     }
 }
 
+/* The most level-0 posts one PGM frame's error visits over a store (a view towards the horizon
+ * over a 65537^2 store would visit all 4.3e9, minutes a frame): 2^28, a few seconds. */
+#define PGM_MEASURE_MAX_POSTS ((size_t)1 << 28)
+
 /* A PGM configuration: a fresh clipmap and grid (cold), the same flight; each frame's time
  * includes the clipmap's update (reading and uploading the strips its windows gain: synchronous,
  * so a jump's whole refill is in the stretch's first warm-up frame, untimed). The error, every
  * --error-every frames outside the timed part, is tp_pgm_clipmap_measure's: the surface the
- * windows drew against the store's level-0 posts in view. Returns TP_EXIT_*. */
+ * windows drew against the store's level-0 posts in view (frames whose view's region holds more
+ * than PGM_MEASURE_MAX_POSTS are counted in pgm_unmeasured instead). Returns TP_EXIT_*. */
 static int run_store_pgm(store_bench* b, store_result* c, const char* progress)
 {
     int frames = b->segments * b->per_segment;
@@ -317,16 +322,21 @@ static int run_store_pgm(store_bench* b, store_result* c, const char* progress)
                 tp_camera mc = cam; /* the viewport the frame was drawn at */
                 mc.viewport_w_px = b->o->vs.w;
                 mc.viewport_h_px = b->o->vs.h;
-                if (tp_pgm_clipmap_measure(clip, &f, &mc, 0, &e, msg, sizeof msg) != TP_OK) {
+                tp_status ms = tp_pgm_clipmap_measure(clip, &f, &mc, PGM_MEASURE_MAX_POSTS, &e,
+                                                      msg, sizeof msg);
+                if (ms == TP_ERR_INVALID_ARG) { /* a region too large to visit: not measured */
+                    c->pgm_unmeasured++;
+                } else if (ms != TP_OK) {
                     fprintf(stderr, "\nterrapatch bench: %s: frame %d: %s\n", progress, k + 1,
                             msg);
                     tp_pgm_renderer_destroy(r);
                     tp_pgm_clipmap_destroy(clip);
                     return TP_EXIT_FAILURE;
+                } else {
+                    row->measured = 1;
+                    row->max_px = e.max_px, row->rms_px = e.rms_px;
+                    row->samples = e.samples, row->uncovered = e.uncovered;
                 }
-                row->measured = 1;
-                row->max_px = e.max_px, row->rms_px = e.rms_px;
-                row->samples = e.samples, row->uncovered = e.uncovered;
             }
             read_rss(&row->rss_mb, &row->rss_anon_mb);
             fprintf(stderr, "\rterrapatch: bench %s: frame %d/%d, %.1f ms, %zu posts updated   ",

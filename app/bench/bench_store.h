@@ -63,6 +63,8 @@ typedef struct store_result {
                                    (app/view/pgm_clip.h), no cut, no stream; error by
                                    tp_pgm_clipmap_measure */
     int pgm_window;
+    int pgm_unmeasured;         /* frames whose view's region held more than 2^28 posts (minutes
+                                   a frame on a huge store): not measured */
     double pgm_fill_ms, pgm_fill_ms_p99, pgm_upload_ms, pgm_upload_ms_p99, pgm_posts,
         pgm_node_reads; /* medians (and p99) over the timed frames */
 } store_result;

@@ -98,6 +98,8 @@ static void json_result(tp_json* j, const store_result* c)
     KN("error_samples_skipped", c->skipped);
     if (c->pgm_cols) /* posts in view no drawn triangle covers (not in the error) */
         KN("uncovered_share", c->error_frames ? c->uncovered_share : NAN);
+    if (c->pgm_cols) /* frames whose view's region was too large to visit (2^28 posts) */
+        KN("error_frames_over_region_limit", c->pgm_unmeasured);
 #undef KN
 }
 
@@ -258,6 +260,11 @@ void tp_bench_store_print(const store_bench* b, const char* renderer_name, const
                    c[k].pgm_node_reads, c[k].gpu_mb, c[k].error_frames,
                    c[k].samples > 0 ? c[k].max_px : NAN, c[k].samples > 0 ? c[k].rms_px : NAN,
                    c[k].samples, 100 * c[k].uncovered_share);
+    for (int k = 0; k < nc; k++)
+        if (c[k].pgm_cols && c[k].pgm_unmeasured)
+            printf("%s: %d frames not measured: their view's region held more than 2^28 level-0 "
+                   "posts\n",
+                   c[k].label, c[k].pgm_unmeasured);
     for (int k = 0; k < nc; k++)
         if (!o->no_error && !c[k].pgm_cols)
             printf("%s: screen error measured on %d frames without substitution (%.0f samples, "
