@@ -1052,7 +1052,10 @@ tp_status tp_cut_set_vertical_scale(tp_cut* c, double scale);
  * the same corner triangle (TOP and LEFT, BOTTOM and RIGHT: tp_patch_triangles_add's two
  * triangles holding two sides): it is raised to the finer neighbour's level instead. In error
  * mode a node that takes vertices is raised until its bound with the added vertices
- * (tp_cut_add_bound_m) projects to tau or less. */
+ * (tp_cut_add_bound_m) projects to tau or less. tp_cut_measure_screen_error measures the
+ * triangles drawn; tp_cut_vertices, tp_cut_triangles and the queries (tp_cut_drawn_height_at,
+ * ray casts) still describe vertex moving's surface, which differs from the drawn one only
+ * inside the grid triangles that take vertices, by at most the added offsets. */
 void tp_cut_set_stitch_add(tp_cut* c, int add);
 int tp_cut_stitch_add(const tp_cut* c);
 /* Bound (m, true heights, quantisation not included) on the error against full resolution of

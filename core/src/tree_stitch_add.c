@@ -65,7 +65,7 @@ static double add_bound_m(const tp_cut* c, int64_t node, int k, const int add[4]
     const int n = c->n;
     const tp_node_meta* m = tp_tree_meta(c->t, node);
     const uint16_t* q = tp_tree_samples(c->t, node);
-    assert(q); /* drawn nodes are resident */
+    assert(q);        /* drawn nodes are resident */
     double worst = 0; /* steps */
     const int seg = 1 << (n - k);
     for (int side = 0; side < 4; side++) {
