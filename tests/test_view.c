@@ -219,6 +219,9 @@ static void args_add_view(args* a, const char* dem, const view_spec* v)
 
 /* Renders v into dir/<name>.png and dir/<name>.json (either may be skipped with NULL), with
  * --stitch stitch unless NULL. */
+/* --stitch-add-draw for render_stitch's --stitch add (NULL: the default) */
+static const char* add_draw_;
+
 static void render_stitch(const char* dem, const view_spec* v, const char* dir, const char* png,
                           const char* json, const char* stitch)
 {
@@ -227,6 +230,10 @@ static void render_stitch(const char* dem, const view_spec* v, const char* dir, 
     if (stitch) {
         args_add(&a, "--stitch");
         args_add(&a, "%s", stitch);
+    }
+    if (stitch && add_draw_) {
+        args_add(&a, "--stitch-add-draw");
+        args_add(&a, "%s", add_draw_);
     }
     if (png) {
         args_add(&a, "--screenshot");
@@ -303,7 +310,7 @@ static long count_magenta_rows(const image* im, int y0, int y1, int* fx, int* fy
 }
 
 typedef struct view_stats {
-    long triangles, patches_drawn, patches_culled, draw_calls;
+    long triangles, patches_drawn, patches_culled, draw_calls, draws;
     double max_error_px;
     int levels[TP_MAX_LEVELS + 1];
     int level_count;
@@ -332,6 +339,7 @@ static void stats_read(const char* dir, const char* name, view_stats* s)
     s->patches_drawn = (long)json_number(text, "patches_drawn");
     s->patches_culled = (long)json_number(text, "patches_culled");
     s->draw_calls = (long)json_number(text, "draw_calls");
+    s->draws = (long)json_number(text, "draws");
     s->max_error_px = json_number(text, "max_error_px");
     p = strstr(text, "\"levels\":");
     ASSERT_TRUE(p != NULL);
@@ -800,6 +808,68 @@ TEST(no_cracks_stitch_add)
         v.lod.tau_px = 8;
         v.cam[0] = 595000, v.cam[1] = 5022000, v.cam[2] = 1816, v.cam[3] = 0;
         expect_add_watertight(dem, &v, "ridge, 400 m above");
+    }
+#endif
+}
+
+/* --stitch add drawn both ways (--stitch-add-draw sets and five) from the same view: the same
+ * triangles drawn from the same vertices, so the same pixels; five takes more draws (each patch
+ * that takes vertices up to five), which shows it was drawn as five regions. */
+static void expect_five_as_sets(const char* dem, const view_spec* v, const char* what)
+{
+    const char* dir = make_tmp_dir();
+    image sets, five;
+    view_stats ss, sf;
+    long differ = 0;
+    int i, first = -1;
+    add_draw_ = "sets";
+    render_stitch(dem, v, dir, "sets.png", "sets.json", "add");
+    add_draw_ = "five";
+    render_stitch(dem, v, dir, "five.png", "five.json", "add");
+    add_draw_ = NULL;
+    image_read(dir, "sets.png", &sets);
+    image_read(dir, "five.png", &five);
+    stats_read(dir, "sets.json", &ss);
+    stats_read(dir, "five.json", &sf);
+    ASSERT_EQ_INT(sets.w, five.w);
+    ASSERT_EQ_INT(sets.h, five.h);
+    for (i = 0; i < sets.w * sets.h; ++i)
+        if (memcmp(sets.px + 4 * i, five.px + 4 * i, 4) && differ++ == 0)
+            first = i;
+    tp_test_note("%s: %ld of %d pixels differ; triangles %ld and %ld; draws %ld (sets) and %ld "
+                 "(five), %ld and %ld draw calls",
+                 what, differ, sets.w * sets.h, ss.triangles, sf.triangles, ss.draws, sf.draws,
+                 ss.draw_calls, sf.draw_calls);
+    EXPECT_EQ_INT(0, differ);
+    if (differ)
+        ADD_FAILURE("%s: first differing pixel at (%d, %d)", what, first % sets.w, first / sets.w);
+    EXPECT_EQ_INT(ss.triangles, sf.triangles);
+    EXPECT_EQ_INT(ss.patches_drawn, sf.patches_drawn);
+    EXPECT_GT(sf.draws, ss.draws);
+    free(sets.px);
+    free(five.px);
+}
+
+/* --stitch-add-draw five under no_cracks_stitch_add's adversarial views: watertight (no magenta,
+ * the triangles tp_patch_triangles_add counts, error within tau) and pixel-identical to sets. */
+TEST(no_cracks_stitch_add_five)
+{
+    REQUIRE_IO();
+#ifndef TP_TEST_NO_IO
+    {
+        const char* dem;
+        view_spec v = distance_lod_view;
+        dem = sample_dem();
+        v.cam[0] = 602000, v.cam[1] = 5026000, v.cam[2] = 3612, v.cam[3] = 180, v.cam[4] = -55;
+        add_draw_ = "five";
+        expect_add_watertight(dem, &v, "over the summit");
+        expect_five_as_sets(dem, &v, "over the summit");
+        v.lod.mode = TP_LOD_ERROR;
+        v.lod.tau_px = 6;
+        v.cam[0] = 614000, v.cam[1] = 5030000, v.cam[2] = 2811, v.cam[3] = 270, v.cam[4] = -55;
+        add_draw_ = "five";
+        expect_add_watertight(dem, &v, "east side, 1500 m above");
+        expect_five_as_sets(dem, &v, "east side, 1500 m above");
     }
 #endif
 }
@@ -2098,6 +2168,7 @@ TEST(older_format_store_in_the_cache_is_rebuilt)
     X(no_cracks_oblique_distance_lod)                                                              \
     X(no_cracks_oblique_error_lod)                                                                 \
     X(no_cracks_stitch_add)                                                                        \
+    X(no_cracks_stitch_add_five)                                                                   \
     X(stitch_add_draws_a_dem_whole_and_refuses_a_store)                                            \
     X(utm_and_local_origin_render_alike)                                                           \
     X(stats_json_equals_core_selection_error_lod)                                                  \
