@@ -664,22 +664,22 @@ static config_result* make_configs(const bench_run* b, int* count, int* best)
     if (o->sweep)
         return tp_bench_sweep_configs(b, &base, count, best);
     int pgm = o->vs.pgm ? (o->vs.pgm_grid_count ? o->vs.pgm_grid_count : 3) : 0;
-    config_result* c = calloc((size_t)(6 + pgm), sizeof *c);
+    config_result* c = calloc((size_t)(5 + pgm), sizeof *c);
     if (!c)
         return NULL;
     static const tp_lod_mode modes[3] = {TP_LOD_FULL, TP_LOD_DISTANCE, TP_LOD_ERROR};
     tp_render_settings rs;
     tp_render_settings_default(&rs);
     int both = o->stitch_add && o->stitch_add_draw == 3, k = 0;
-    for (int m = 0; m < 3; m++)
-        for (int v = 0; v <= both; v++, k++) {
+    for (int m = 0; m < 3; m++) /* full resolution has no finer neighbour: once */
+        for (int v = 0; v <= (both && modes[m] != TP_LOD_FULL); v++, k++) {
             c[k].lod = base;
             c[k].lod.mode = modes[m];
             c[k].stitch_add = o->stitch_add;
             c[k].stitch_add_five = both ? v : o->stitch_add_draw ? o->stitch_add_draw == 2
                                                                  : rs.stitch_add_five;
         }
-    *best = both ? 4 : 2;
+    *best = both ? 3 : 2; /* the error mode (with both: sets) */
     /* --renderer pgm: the grids after the patch configurations (default: the paper's Table 1) */
     static const int table1[3][2] = {{150, 600}, {300, 300}, {600, 600}};
     for (int g = 0; g < pgm; g++, k++) {
@@ -689,7 +689,7 @@ static config_result* make_configs(const bench_run* b, int* count, int* best)
     }
     for (int i = 0; i < k; i++) {
         tp_bench_label(&c[i]);
-        if (both && c[i].stitch_add) /* --stitch-add-draw both: which drawing */
+        if (both && c[i].stitch_add && c[i].lod.mode != TP_LOD_FULL) /* which drawing */
             strncat(c[i].label, c[i].stitch_add_five ? " five" : " sets",
                     sizeof c[i].label - strlen(c[i].label) - 1);
     }

@@ -18,7 +18,7 @@ typedef struct layout_entry {
 struct tp__stitch_five {
     int n;
     layout_entry** layouts;  /* (n+1)^2, by k * (n+1) + D, made on first use */
-    uint32_t interior[TP_MAX_N + 1][2]; /* per level: {first, count} */
+    uint32_t interior[TP_MAX_N + 1][16][2]; /* per level and adding sides: {first, count} */
     uint32_t* list;          /* every set made, one after the other */
     size_t list_count, list_cap;
     uint32_t* tri;           /* scratch: a configuration's tp_patch_triangles_add */
@@ -43,7 +43,8 @@ tp__stitch_five* tp__stitch_five_create(int n)
         return NULL;
     }
     for (int k = 0; k <= n; k++)
-        f->interior[k][1] = NOT_MADE;
+        for (int m = 0; m < 16; m++)
+            f->interior[k][m][1] = NOT_MADE;
     return f;
 }
 
@@ -157,9 +158,12 @@ const tp__five_layout* tp__stitch_five_layout(tp__stitch_five* f, int k, const i
     return *e ? &(*e)->pub : NULL;
 }
 
-/* The region of triangle t (sample indices of the 2^n lattice) of a level-k patch: the tp_side
- * whose region holds its grid triangle, or INTERIOR. */
-static int region(int n, int k, const uint32_t* t)
+/* The region of triangle t (sample indices of the 2^n lattice) of a level-k patch whose sides
+ * in mask (bit s: side s) take vertices: the tp_side whose region holds its grid triangle, or
+ * INTERIOR. A side that takes nothing has no region (its triangles are the interior's); the
+ * corner triangle of cell (0, 0) (TOP and LEFT edges) is TOP's if TOP takes vertices, else
+ * LEFT's if it does; the last cell's (BOTTOM and RIGHT) BOTTOM's, else RIGHT's. */
+static int region(int n, int k, unsigned mask, const uint32_t* t)
 {
     const int side = (1 << n) + 1, step = 1 << (n - k), cells = 1 << k;
     int sx = 0, sy = 0; /* 3 * the centroid, strictly inside one grid triangle */
@@ -167,9 +171,14 @@ static int region(int n, int k, const uint32_t* t)
         sx += (int)(t[i] % (uint32_t)side), sy += (int)(t[i] / (uint32_t)side);
     int c = sx / (3 * step), r = sy / (3 * step);
     int upper_left = (sx - 3 * step * c) + (sy - 3 * step * r) < 3 * step;
-    if (upper_left)
-        return r == 0 ? TP_SIDE_TOP : c == 0 ? TP_SIDE_LEFT : INTERIOR;
-    return r == cells - 1 ? TP_SIDE_BOTTOM : c == cells - 1 ? TP_SIDE_RIGHT : INTERIOR;
+    int s = upper_left ? (r == 0 ? TP_SIDE_TOP : c == 0 ? TP_SIDE_LEFT : INTERIOR)
+                       : (r == cells - 1 ? TP_SIDE_BOTTOM : c == cells - 1 ? TP_SIDE_RIGHT
+                                                                           : INTERIOR);
+    if (s == TP_SIDE_TOP && c == 0 && !(mask >> TP_SIDE_TOP & 1))
+        s = TP_SIDE_LEFT; /* the corner, TOP taking nothing */
+    if (s == TP_SIDE_BOTTOM && c == cells - 1 && !(mask >> TP_SIDE_BOTTOM & 1))
+        s = TP_SIDE_RIGHT;
+    return s != INTERIOR && (mask >> s & 1) ? s : INTERIOR;
 }
 
 /* Appends the triangles of region `want` of tp_patch_triangles_add(n, k, levels), as indices
@@ -178,6 +187,9 @@ static int make_set(tp__stitch_five* f, int k, int D, const int levels[4], int w
                     uint32_t* at, uint32_t* count)
 {
     int n = f->n;
+    unsigned mask = 0;
+    for (int s = 0; s < 4; s++)
+        mask |= (unsigned)(levels[s] > k) << s;
     size_t nt = tp_patch_triangles_add(n, k, levels, NULL, 0);
     if (nt > f->tri_cap) {
         uint32_t* t = realloc(f->tri, 3 * nt * sizeof *t);
@@ -201,7 +213,7 @@ static int make_set(tp__stitch_five* f, int k, int D, const int levels[4], int w
     *at = (uint32_t)f->list_count;
     for (size_t i = 0; i < nt; i++) {
         const uint32_t* t = f->tri + 3 * i;
-        if (region(n, k, t) != want)
+        if (region(n, k, mask, t) != want)
             continue;
         for (int j = 0; j < 3; j++) /* the same vertices in the same order: same winding */
             f->list[f->list_count++] =
@@ -220,32 +232,44 @@ int tp__stitch_five_draws(tp__stitch_five* f, int k, const int8_t nb[4], tp__fiv
     if (!*le && !(*le = make_layout(n, k, D)))
         return 0;
     layout_entry* e = *le;
+    unsigned mask = 0;
+    for (int s = 0; s < 4; s++)
+        mask |= (unsigned)(d[s] > 0) << s;
     uint32_t* sets[5];
-    sets[0] = f->interior[k];
-    if (sets[0][1] == NOT_MADE) { /* the grid triangles touching no side: only grid samples */
-        const int none[4] = {TP_NO_NEIGHBOR, TP_NO_NEIGHBOR, TP_NO_NEIGHBOR, TP_NO_NEIGHBOR};
-        if (!make_set(f, k, 1, none, INTERIOR, &sets[0][0], &sets[0][1]))
+    int count = 0;
+    sets[count++] = f->interior[k][mask];
+    if (sets[0][1] == NOT_MADE) { /* the grid triangles in no side's region: grid samples only;
+                                     any finer level stands for a side's */
+        int levels[4];
+        for (int s = 0; s < 4; s++)
+            levels[s] = mask >> s & 1 ? k + 1 : TP_NO_NEIGHBOR;
+        if (!make_set(f, k, 1, levels, INTERIOR, &sets[0][0], &sets[0][1]))
             return 0;
     }
     for (int s = 0; s < 4; s++) {
-        /* the corner's other side: TOP holds cell (0, 0)'s corner with LEFT, BOTTOM the last
-         * cell's with RIGHT */
-        int other = s == TP_SIDE_TOP ? TP_SIDE_LEFT : s == TP_SIDE_BOTTOM ? TP_SIDE_RIGHT : -1;
-        int dother = other >= 0 ? d[other] : 0;
-        uint32_t* set = e->sets[(s * (D + 1) + d[s]) * (D + 1) + dother];
+        if (!d[s])
+            continue;
+        /* TOP holds cell (0, 0)'s corner and its set depends on LEFT's delta there, BOTTOM the
+         * last cell's with RIGHT's; LEFT (RIGHT) holds that corner only when TOP (BOTTOM) takes
+         * nothing: its set depends on whether it does (1 or 0) */
+        int other = s == TP_SIDE_TOP      ? TP_SIDE_LEFT
+                    : s == TP_SIDE_BOTTOM ? TP_SIDE_RIGHT
+                    : s == TP_SIDE_LEFT   ? TP_SIDE_TOP
+                                          : TP_SIDE_BOTTOM;
+        int key = s == TP_SIDE_TOP || s == TP_SIDE_BOTTOM ? d[other] : d[other] == 0;
+        uint32_t* set = e->sets[(s * (D + 1) + d[s]) * (D + 1) + key];
         if (set[1] == NOT_MADE) {
             int levels[4] = {TP_NO_NEIGHBOR, TP_NO_NEIGHBOR, TP_NO_NEIGHBOR, TP_NO_NEIGHBOR};
-            if (d[s])
-                levels[s] = k + d[s];
-            if (dother)
-                levels[other] = k + dother;
+            levels[s] = k + d[s];
+            if (s == TP_SIDE_TOP || s == TP_SIDE_BOTTOM ? key > 0 : !key)
+                levels[other] = k + (s == TP_SIDE_TOP || s == TP_SIDE_BOTTOM ? key : 1);
             if (!make_set(f, k, D, levels, s, &set[0], &set[1]))
                 return 0;
         }
-        sets[1 + s] = set;
+        sets[count++] = set;
     }
     memset(out, 0, sizeof *out);
-    for (int i = 0; i < 5; i++)
+    for (int i = 0; i < count; i++)
         if (sets[i][1] > 0) {
             out->first[out->count] = sets[i][0];
             out->index_count[out->count++] = sets[i][1];

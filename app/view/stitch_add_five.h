@@ -1,13 +1,15 @@
 /*
  * stitch_add_five.h - `--stitch add` drawn as five regions a patch (`--stitch-add-draw five`),
  * the other way Brodersen (section 4) names besides an index set per neighbour configuration
- * (stitch_add_draw.h): the triangles of tp_patch_triangles_add split into the interior (the
- * level-k grid triangles touching no side: one index set per level) and four side regions,
- * each an index set that depends on its own side's finer neighbour only (and, for TOP and
- * BOTTOM, on LEFT's and RIGHT's, for the two grid triangles with edges on two sides: cell
- * (0, 0)'s upper-left one goes to TOP, the last cell's lower-right one to BOTTOM). A patch is
- * drawn as up to five draws of these shared sets, so nothing is written per patch but its
- * vertices.
+ * (stitch_add_draw.h): the triangles of tp_patch_triangles_add split into one region per side
+ * that takes vertices (the level-k grid triangles with an edge on that side) and the interior
+ * (every other grid triangle: the same for every configuration with the same sides taking
+ * vertices, so 16 index sets a level). A side's set depends on its own finer neighbour only,
+ * but for the two grid triangles with edges on two sides: cell (0, 0)'s upper-left one (TOP and
+ * LEFT edges) is TOP's when TOP takes vertices (its set then depends on LEFT's level too), else
+ * LEFT's; the last cell's lower-right one (BOTTOM and RIGHT) is BOTTOM's, else RIGHT's. A patch
+ * is drawn as 1 + (its sides that take vertices) draws of these shared sets, at most five, so
+ * nothing is written per patch but its vertices.
  *
  * For that a patch's vertex layout is fixed by (k, D), D the most levels any neighbour is finer
  * (1..n-k), not by the configuration: the level-k grid in lattice order ((2^k+1)^2, so the
@@ -36,8 +38,9 @@ typedef struct tp__five_layout {
     uint32_t* samples;   /* per vertex its sample index (row * (2^n+1) + column) */
 } tp__five_layout;
 
-/* A patch's draws: regions in the order interior, TOP, RIGHT, BOTTOM, LEFT, empty ones left
- * out (an interior of level 0 is empty); indices into the list, relative to the layout. */
+/* A patch's draws: the interior, then the regions of the sides that take vertices in tp_side
+ * order, empty ones left out (a level-0 interior can be); indices into the list, relative to
+ * the layout. */
 typedef struct tp__five_draws {
     int count;
     size_t first[5];       /* first index of each draw in the list */
