@@ -788,7 +788,8 @@ TEST(no_cracks_oblique_error_lod)
 }
 
 /* --stitch add under the adversarial views above (top down, oblique, distance and error LoD:
- * neighbours up to 3 levels apart), a DEM drawn whole; a store is a usage error. */
+ * neighbours up to 3 levels apart), a DEM drawn whole, each patch that takes vertices drawn
+ * from its configuration's index set (--stitch-add-draw sets; five: the next test). */
 TEST(no_cracks_stitch_add)
 {
     REQUIRE_IO();
@@ -797,6 +798,7 @@ TEST(no_cracks_stitch_add)
         const char* dem;
         view_spec v = distance_lod_view;
         dem = sample_dem();
+        add_draw_ = "sets";
         v.cam[0] = 602125, v.cam[1] = 5025267, v.cam[2] = 3700, v.cam[3] = 0, v.cam[4] = -90;
         expect_add_watertight(dem, &v, "summit, 280 m above");
         v.cam[0] = 602000, v.cam[1] = 5026000, v.cam[2] = 3612, v.cam[3] = 180, v.cam[4] = -55;
@@ -808,6 +810,7 @@ TEST(no_cracks_stitch_add)
         v.lod.tau_px = 8;
         v.cam[0] = 595000, v.cam[1] = 5022000, v.cam[2] = 1816, v.cam[3] = 0;
         expect_add_watertight(dem, &v, "ridge, 400 m above");
+        add_draw_ = NULL;
     }
 #endif
 }

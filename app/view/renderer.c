@@ -312,6 +312,7 @@ void tp_render_settings_default(tp_render_settings* s)
     s->sun_azimuth_deg = 315;
     s->sun_elevation_deg = 45;
     s->exaggeration = 1;
+    s->stitch_add_five = 1; /* as fast, less memory (docs/PERFORMANCE.md, "Five regions") */
     s->clear_rgb[0] = 0.55f;
     s->clear_rgb[1] = 0.70f;
     s->clear_rgb[2] = 0.90f;

@@ -38,8 +38,9 @@ typedef struct tp_render_settings {
                                  moving the finer patch's (the default) */
     int stitch_add_five;      /* with stitch_add: draw a patch that takes vertices as up to
                                  five draws of per-level index sets (stitch_add_five.h,
-                                 `--stitch-add-draw five`) instead of its own triangle list
-                                 from an index set per neighbour configuration ("sets") */
+                                 `--stitch-add-draw five`; 1 by default) instead of its own
+                                 triangle list from an index set per neighbour configuration
+                                 (0, "sets") */
     double grid_m;            /* grid lines every grid_m metres of the render CRS (UTM: the
                                  UTM/MGRS grid); 0 for none */
 } tp_render_settings;
