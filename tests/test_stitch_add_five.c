@@ -130,7 +130,7 @@ TEST(five_regions_are_the_added_triangulation)
                             for (int s = 0; s < 4; s++) {
                                 nb[s] = (int8_t)(c[s] == 0 ? (s & 1 ? TP_NO_NEIGHBOR : k)
                                                  : c[s] == choices - 1 ? n + 1
-                                                                      : k + c[s]);
+                                                                       : k + c[s]);
                                 any |= c[s] > 0;
                             }
                             if (!any)
@@ -139,11 +139,11 @@ TEST(five_regions_are_the_added_triangulation)
                             size_t indices = 0;
                             configs++;
                             if (!check(f, n, k, nb, &indices, why, sizeof why) && failed++ < 5)
-                                ADD_FAILURE("n %d level %d neighbours %d %d %d %d: %s", n, k,
-                                            nb[0], nb[1], nb[2], nb[3], why);
+                                ADD_FAILURE("n %d level %d neighbours %d %d %d %d: %s", n, k, nb[0],
+                                            nb[1], nb[2], nb[3], why);
                             /* levels above n repeat level n's configuration */
-                            if (c[0] < choices - 1 && c[1] < choices - 1 &&
-                                c[2] < choices - 1 && c[3] < choices - 1)
+                            if (c[0] < choices - 1 && c[1] < choices - 1 && c[2] < choices - 1 &&
+                                c[3] < choices - 1)
                                 drawn += indices;
                         }
         }

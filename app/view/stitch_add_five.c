@@ -17,15 +17,15 @@ typedef struct layout_entry {
 
 struct tp__stitch_five {
     int n;
-    layout_entry** layouts;  /* (n+1)^2, by k * (n+1) + D, made on first use */
+    layout_entry** layouts;                 /* (n+1)^2, by k * (n+1) + D, made on first use */
     uint32_t interior[TP_MAX_N + 1][16][2]; /* per level and adding sides: {first, count} */
-    uint32_t* list;          /* every set made, one after the other */
+    uint32_t* list;                         /* every set made, one after the other */
     size_t list_count, list_cap;
-    uint32_t* tri;           /* scratch: a configuration's tp_patch_triangles_add */
+    uint32_t* tri; /* scratch: a configuration's tp_patch_triangles_add */
     size_t tri_cap;
-    tp_vertex* lattice;      /* scratch: (2^n+1)^2, for tp__stitch_five_fill */
+    tp_vertex* lattice; /* scratch: (2^n+1)^2, for tp__stitch_five_fill */
     GLuint ibo;
-    size_t ibo_count;        /* indices in ibo */
+    size_t ibo_count; /* indices in ibo */
 };
 
 tp__stitch_five* tp__stitch_five_create(int n)
@@ -171,9 +171,12 @@ static int region(int n, int k, unsigned mask, const uint32_t* t)
         sx += (int)(t[i] % (uint32_t)side), sy += (int)(t[i] / (uint32_t)side);
     int c = sx / (3 * step), r = sy / (3 * step);
     int upper_left = (sx - 3 * step * c) + (sy - 3 * step * r) < 3 * step;
-    int s = upper_left ? (r == 0 ? TP_SIDE_TOP : c == 0 ? TP_SIDE_LEFT : INTERIOR)
-                       : (r == cells - 1 ? TP_SIDE_BOTTOM : c == cells - 1 ? TP_SIDE_RIGHT
-                                                                           : INTERIOR);
+    int s = upper_left ? (r == 0   ? TP_SIDE_TOP
+                          : c == 0 ? TP_SIDE_LEFT
+                                   : INTERIOR)
+                       : (r == cells - 1   ? TP_SIDE_BOTTOM
+                          : c == cells - 1 ? TP_SIDE_RIGHT
+                                           : INTERIOR);
     if (s == TP_SIDE_TOP && c == 0 && !(mask >> TP_SIDE_TOP & 1))
         s = TP_SIDE_LEFT; /* the corner, TOP taking nothing */
     if (s == TP_SIDE_BOTTOM && c == cells - 1 && !(mask >> TP_SIDE_BOTTOM & 1))
@@ -183,8 +186,8 @@ static int region(int n, int k, unsigned mask, const uint32_t* t)
 
 /* Appends the triangles of region `want` of tp_patch_triangles_add(n, k, levels), as indices
  * of layout (k, D), to the list; *at, *count: where. Returns 0 when out of memory. */
-static int make_set(tp__stitch_five* f, int k, int D, const int levels[4], int want,
-                    uint32_t* at, uint32_t* count)
+static int make_set(tp__stitch_five* f, int k, int D, const int levels[4], int want, uint32_t* at,
+                    uint32_t* count)
 {
     int n = f->n;
     unsigned mask = 0;
