@@ -1760,7 +1760,7 @@ TEST(stitch_add_static_or_bad_mode_exits_2)
     args_add(&a, "--max-error");
     args_add(&a, "5");
     args_add(&a, "%s", dem);
-    expect_usage_error(&a, "--stitch add: only for a DEM drawn whole", dir);
+    expect_usage_error(&a, "--stitch add: not with --static", dir);
     args_bench_small(&a, 1);
     args_add(&a, "--stitch");
     args_add(&a, "sideways");
@@ -2141,6 +2141,51 @@ TEST(store_flight_reports_memory_streaming_and_error)
     csv_free(&frames);
 }
 
+/* bench STORE --stitch add: the error and distance modes again with vertex adding, on the same
+ * frames; the error mode's measured error (the triangles drawn, added vertices included) stays
+ * within tau, and the store's nodes did take vertices (more triangles than vertex moving's). */
+TEST(store_stitch_add_runs_both_modes_again)
+{
+    static run_result r;
+    static csv frames;
+    args a;
+    const char* store = build_small_store();
+    const char* dir = make_tmp_dir();
+    char path[1024];
+    args_bench_small(&a, 6);
+    args_add(&a, "--stitch");
+    args_add(&a, "add");
+    args_add(&a, "--csv");
+    args_add(&a, "%s/s.csv", dir);
+    args_add(&a, "%s", store);
+    run_ok(&a, &r);
+    snprintf(path, sizeof path, "%s/s.csv", dir);
+    csv_read(path, &frames);
+    /* four configurations of the same frames (the flight's whole segments of the 6 asked) */
+    ASSERT_TRUE(frames.rows > 0 && frames.rows % 4 == 0);
+    const int per = frames.rows / 4;
+    static const char* modes[4] = {"error", "distance", "error+add", "distance+add"};
+    double tris[4] = {0}, max_px[4] = {0};
+    int measured[4] = {0};
+    for (int i = 0; i < frames.rows; i++) {
+        int m = i / per;
+        EXPECT_TRUE(strcmp(csv_str(&frames, i, "lod_mode"), modes[m]) == 0);
+        tris[m] += csv_num(&frames, i, "triangles");
+        if (csv_num(&frames, i, "measured") != 0) {
+            measured[m]++;
+            max_px[m] = fmax(max_px[m], csv_num(&frames, i, "max_screen_error_px"));
+        }
+    }
+    tp_test_note("triangles over the frames: error %.0f, +add %.0f; distance %.0f, +add %.0f; "
+                 "max px error %.3f, +add %.3f", tris[0], tris[2], tris[1], tris[3], max_px[0],
+                 max_px[2]);
+    EXPECT_GT(measured[2], 0);
+    EXPECT_LE(max_px[2], 1.0 + 1e-3); /* tau = 1 px, the default */
+    EXPECT_GT(tris[2], tris[0]);
+    EXPECT_GT(tris[3], tris[1]);
+    csv_free(&frames);
+}
+
 TEST(store_refuses_what_needs_a_terrain_exits_2)
 {
     args a;
@@ -2476,6 +2521,7 @@ TEST(pgm_store_bench_reports_the_clipmap)
     X(stitch_add_against_move_frame_by_frame)                                                      \
     X(stitch_add_draw_sets_and_five_measure_alike)                                                 \
     X(stitch_add_static_or_bad_mode_exits_2)                                                       \
+    X(store_stitch_add_runs_both_modes_again)                                                      \
     X(sweep_pgm_grid_replaces_the_grids)                                                           \
     X(sweep_plot_option_puts_the_plot_there)                                                       \
     X(sweep_tau_off_the_grid_adds_an_error_row)                                                    \

@@ -147,6 +147,44 @@ static void mark(int x, int y, double z, void* user)
     c->bits[(size_t)y * c->w + x] = 1;
 }
 
+/* --stitch add: drawn node i's triangles when a side takes vertices (tp_cut_node.add), as
+ * tp_cut_triangles gives them (index triples into v, degenerate ones left out), with v its
+ * level-m lattice (tp_cut_vertices_at_level, m the finest of its and the add levels); SIZE_MAX
+ * when no side takes vertices. */
+static size_t add_triangles(const tp_cut* cut, int n, size_t i, tp_vertex* v, uint32_t* tri,
+                            size_t cap)
+{
+    size_t count;
+    const tp_cut_node* o = &tp_cut_nodes(cut, &count)[i];
+    int add[4], m = o->level, any = 0;
+    for (int s = 0; s < 4; s++) {
+        add[s] = o->add[s];
+        any |= add[s] != TP_NO_NEIGHBOR;
+        if (add[s] != TP_NO_NEIGHBOR && add[s] > m)
+            m = add[s];
+    }
+    if (!any)
+        return SIZE_MAX;
+    size_t side = ((size_t)1 << n) + 1, ms = ((size_t)1 << m) + 1;
+    tp_cut_vertices_at_level(cut, i, m, v, ms * ms);
+    size_t nt = tp_patch_triangles_add(n, o->level, add, tri, cap / 3);
+    ASSERT_TRUE(3 * nt <= cap);
+    size_t kept = 0;
+    for (size_t t = 0; t < nt; t++) {
+        uint32_t at[3];
+        for (int a = 0; a < 3; a++) {
+            size_t row = tri[3 * t + a] / side, col = tri[3 * t + a] % side;
+            at[a] = (uint32_t)((row >> (n - m)) * ms + (col >> (n - m)));
+        }
+        const tp_vertex *a = &v[at[0]], *b = &v[at[1]], *c = &v[at[2]];
+        int64_t area = ((int64_t)b->x - a->x) * ((int64_t)c->y - a->y) -
+                       ((int64_t)b->y - a->y) * ((int64_t)c->x - a->x);
+        if (area != 0)
+            memcpy(&tri[3 * kept++], at, sizeof at);
+    }
+    return kept;
+}
+
 /* Checks the drawn cut: shared edges identical from both sides, no fold-over, and every
  * sample of every drawn complete node's area covered. Fills *covered (grid-sized, 0/1) when
  * not NULL. Returns the number of failures (also reported). */
@@ -172,8 +210,11 @@ static int check_watertight(const tp_tree* t, const tp_cut* cut, uint8_t* covere
         ng[i].y0 = r * span, ng[i].y1 = (r + 1) * span;
         ng[i].complete = tp_tree_meta(t, nodes[i].node)->flags & TP_NODE_COMPLETE;
         int k = nodes[i].level, vs = (1 << k) + 1;
-        tp_cut_vertices(cut, i, v, (size_t)vs * vs);
-        size_t nt = tp_cut_triangles(cut, i, v, tri, 2 * (size_t)(vs - 1) * (vs - 1));
+        size_t nt = add_triangles(cut, g->n, i, v, tri, 6 * (vmax - 1) * (vmax - 1));
+        if (nt == SIZE_MAX) { /* no side takes vertices */
+            tp_cut_vertices(cut, i, v, (size_t)vs * vs);
+            nt = tp_cut_triangles(cut, i, v, tri, 2 * (size_t)(vs - 1) * (vs - 1));
+        }
         last_triangles += nt;
         /* An incomplete node below a leaf's level n: no triangle covers an undrawn sample. */
         ng[i].mask_rule = !ng[i].complete && !(s == 0 && k == g->n);
@@ -341,14 +382,17 @@ static int check_watertight(const tp_tree* t, const tp_cut* cut, uint8_t* covere
 
 /* ---- tests ---- */
 
-TEST(watertight_for_random_views)
+/* Random views with vertex moving, or with --stitch add (add: tp_cut_set_stitch_add). */
+static void random_views(int add)
 {
     /* 700 x 420: not 2^n k + 1, so padded, and a forest of roots of different scales. */
     LOAD_OR_SKIP(h, 250, 300, 700, 420);
+    long add_sides = 0, moved_sides = 0;
     for (int ps = 17; ps <= 33; ps += 16) { /* n = 4 and 5 */
         tp_tree* t = make_tree(h, 700, 420, ps);
         tp_cut* cut;
         ASSERT_OK(tp_cut_create(t, &cut, NULL));
+        tp_cut_set_stitch_add(cut, add);
         const double taus[] = {0.5, 1, 4, 16};
         size_t total = 0;
         for (int it = 0; it < 40; it++) {
@@ -366,6 +410,8 @@ TEST(watertight_for_random_views)
             tp_cut_get_stats(cut, &st);
             EXPECT_EQ_INT((int)last_triangles, (int)st.triangles);
             EXPECT_EQ_INT((int)count, st.drawn);
+            add_sides += st.add_sides;
+            moved_sides += st.moved_sides;
             if (f)
                 fprintf(stderr, "view %d (mode %d, tau %g): %d failures\n", it, (int)lp.mode,
                         lp.tau_px, f);
@@ -375,7 +421,25 @@ TEST(watertight_for_random_views)
         tp_cut_destroy(cut);
         tp_tree_destroy(t);
     }
+    printf("%s: %ld sides take vertices, %ld move\n", add ? "--stitch add" : "vertex moving",
+           add_sides, moved_sides);
+    if (add) /* both kinds of seam are there, or the views prove little */
+        EXPECT_GT((double)add_sides, 100);
+    else
+        EXPECT_EQ_INT(0, (int)add_sides);
+    EXPECT_GT((double)moved_sides, 100);
     free(h);
+}
+
+TEST(watertight_for_random_views)
+{
+    random_views(0);
+}
+
+/* --stitch add: same-size neighbours add vertices, different sizes still move them. */
+TEST(watertight_for_random_views_stitch_add)
+{
+    random_views(1);
 }
 
 /* Random hand-made cuts: from the roots, split at random (deep on one side, shallow on the
@@ -396,7 +460,7 @@ static void random_cut(const tp_tree_geometry* g, int64_t node, double p_split, 
     (*count)++;
 }
 
-TEST(watertight_for_adversarial_cuts)
+static void adversarial_cuts(int add)
 {
     /* 1025 x 1025 with n = 4: 64 x 64 leaves under one root of scale 6, so neighbours can
      * differ by more than n scales (split or collapse). */
@@ -406,6 +470,8 @@ TEST(watertight_for_adversarial_cuts)
     const tp_tree_geometry* g = tp_tree_get_geometry(t);
     tp_cut* cut;
     ASSERT_OK(tp_cut_create(t, &cut, NULL));
+    tp_cut_set_stitch_add(cut, add);
+    long add_sides = 0;
     int64_t* nodes = malloc((size_t)g->node_count * sizeof *nodes);
     int* levels = malloc((size_t)g->node_count * sizeof *levels);
     int64_t roots[64];
@@ -453,6 +519,7 @@ TEST(watertight_for_adversarial_cuts)
         tp_cut_stats st;
         tp_cut_get_stats(cut, &st);
         EXPECT_EQ_INT((int)last_triangles, (int)st.triangles);
+        add_sides += st.add_sides;
         /* The whole map stays covered (the crop has no voids). */
         size_t gaps = 0;
         for (int y = 0; y < 1025; y++)
@@ -500,6 +567,7 @@ TEST(watertight_for_adversarial_cuts)
             tp_cut_stats st;
             tp_cut_get_stats(cut, &st);
             EXPECT_EQ_INT((int)last_triangles, (int)st.triangles);
+            add_sides += st.add_sides;
         }
     }
     {
@@ -553,17 +621,36 @@ TEST(watertight_for_adversarial_cuts)
     tp_cut_destroy(cut);
     tp_tree_destroy(t);
     free(h);
+    printf("%s: %ld sides took vertices\n", add ? "--stitch add" : "vertex moving", add_sides);
+    if (add)
+        EXPECT_GT((double)add_sides, 1000);
 }
 
-TEST(screen_error_within_tau)
+TEST(watertight_for_adversarial_cuts)
+{
+    adversarial_cuts(0);
+}
+
+/* The same cuts and configurations with --stitch add: same-size neighbours, several levels
+ * apart, next to larger nodes that still move the smaller ones' vertices. */
+TEST(watertight_for_adversarial_cuts_stitch_add)
+{
+    adversarial_cuts(1);
+}
+
+/* Error mode holds tau on the measured screen error (tp_cut_measure_screen_error: the
+ * triangles drawn, added vertices included with --stitch add). */
+static void screen_error(int add)
 {
     LOAD_OR_SKIP(h, 300, 200, 800, 700);
     tp_tree* t = make_tree(h, 800, 700, 17);
     tp_cut* cut;
     ASSERT_OK(tp_cut_create(t, &cut, NULL));
+    tp_cut_set_stitch_add(cut, add);
     const double taus[] = {0.5, 1, 4};
     double worst_ratio = 0;
     size_t total = 0;
+    long adds = 0;
     for (int it = 0; it < 30; it++) {
         tp_camera cam;
         random_camera(t, &cam);
@@ -578,6 +665,7 @@ TEST(screen_error_within_tau)
         tp_cut_get_stats(cut, &st);
         EXPECT_EQ_INT(0, st.substituted);
         EXPECT_LE(st.max_bound_px, lp.tau_px + 1e-6);
+        adds += st.add_sides;
         worst_ratio = fmax(worst_ratio, max_px / lp.tau_px);
         total += samples;
     }
@@ -619,9 +707,22 @@ TEST(screen_error_within_tau)
         }
     }
     EXPECT_GT(too_coarse, 0); /* some plain cuts are too coarse for 3x the relief */
+    printf("%s: %ld sides took vertices\n", add ? "--stitch add" : "vertex moving", adds);
+    if (add)
+        EXPECT_GT((double)adds, 30);
     tp_cut_destroy(cut);
     tp_tree_destroy(t);
     free(h);
+}
+
+TEST(screen_error_within_tau)
+{
+    screen_error(0);
+}
+
+TEST(screen_error_within_tau_stitch_add)
+{
+    screen_error(1);
 }
 
 /* Drawn nodes of the last update that are incomplete, and of those, how many lie above the
@@ -1177,8 +1278,11 @@ TEST(requests_only_update_asks_as_the_full_update)
 
 #define TESTS(X)                                                                                   \
     X(watertight_for_random_views)                                                                 \
+    X(watertight_for_random_views_stitch_add)                                                      \
     X(watertight_for_adversarial_cuts)                                                             \
+    X(watertight_for_adversarial_cuts_stitch_add)                                                  \
     X(screen_error_within_tau)                                                                     \
+    X(screen_error_within_tau_stitch_add)                                                          \
     X(incomplete_nodes_collapse_far_away)                                                          \
     X(substitution_keeps_the_surface_whole)                                                        \
     X(cost_does_not_grow_with_the_map)                                                             \

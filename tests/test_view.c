@@ -179,12 +179,24 @@ typedef struct view_spec {
     int magenta;       /* --clear-color 1,0,1 */
     int store;         /* through a store (the default path); 0: --whole, the old path, whose
                           tp_selection these tests compute in-process to compare with */
+    int stitch_add;    /* --stitch add */
 } view_spec;
+
+/* --stitch-add-draw for a view's --stitch add (NULL: the default) */
+static const char* add_draw_;
 
 static void args_add_view(args* a, const char* dem, const view_spec* v)
 {
     if (!v->store)
         args_add(a, "--whole");
+    if (v->stitch_add) {
+        args_add(a, "--stitch");
+        args_add(a, "add");
+    }
+    if (v->stitch_add && add_draw_) {
+        args_add(a, "--stitch-add-draw");
+        args_add(a, "%s", add_draw_);
+    }
     args_add(a, "--headless");
     args_add(a, "--no-hud"); /* the terrain only: the HUD has timings and the camera's position */
     args_add(a, "--size");
@@ -219,9 +231,6 @@ static void args_add_view(args* a, const char* dem, const view_spec* v)
 
 /* Renders v into dir/<name>.png and dir/<name>.json (either may be skipped with NULL), with
  * --stitch stitch unless NULL. */
-/* --stitch-add-draw for render_stitch's --stitch add (NULL: the default) */
-static const char* add_draw_;
-
 static void render_stitch(const char* dem, const view_spec* v, const char* dir, const char* png,
                           const char* json, const char* stitch)
 {
@@ -266,7 +275,7 @@ static const view_spec distance_lod_view = {
     640,
     360,
     {.mode = TP_LOD_DISTANCE, .mindist_m = 300, .maxdist_m = 4000, .exponent = 0.3},
-    1, 0};
+    1, 0, 0};
 
 /* ---------------------------------------------------------------------------------------------
  * Images and statistics read back
@@ -825,10 +834,11 @@ static void expect_five_as_sets(const char* dem, const view_spec* v, const char*
     view_stats ss, sf;
     long differ = 0;
     int i, first = -1;
+    const char* stitch = v->stitch_add ? NULL : "add"; /* a store view says it itself */
     add_draw_ = "sets";
-    render_stitch(dem, v, dir, "sets.png", "sets.json", "add");
+    render_stitch(dem, v, dir, "sets.png", "sets.json", stitch);
     add_draw_ = "five";
-    render_stitch(dem, v, dir, "five.png", "five.json", "add");
+    render_stitch(dem, v, dir, "five.png", "five.json", stitch);
     add_draw_ = NULL;
     image_read(dir, "sets.png", &sets);
     image_read(dir, "five.png", &five);
@@ -854,7 +864,9 @@ static void expect_five_as_sets(const char* dem, const view_spec* v, const char*
 }
 
 /* --stitch-add-draw five under no_cracks_stitch_add's adversarial views: watertight (no magenta,
- * the triangles tp_patch_triangles_add counts, error within tau) and pixel-identical to sets. */
+ * the triangles tp_patch_triangles_add counts, error within tau) and pixel-identical to sets,
+ * also through a store (store_no_cracks_stitch_add finds no magenta there with the default,
+ * five). */
 TEST(no_cracks_stitch_add_five)
 {
     REQUIRE_IO();
@@ -873,63 +885,13 @@ TEST(no_cracks_stitch_add_five)
         add_draw_ = "five";
         expect_add_watertight(dem, &v, "east side, 1500 m above");
         expect_five_as_sets(dem, &v, "east side, 1500 m above");
+        v.store = 1; /* through a store: same-size nodes add, smaller ones move theirs */
+        v.stitch_add = 1;
+        expect_five_as_sets(dem, &v, "east side, 1500 m above, a store");
     }
 #endif
 }
 
-/* --stitch add has no store path: a DEM given without --whole is drawn whole for it (one line
- * says so, exit 0); a store is a usage error naming the option; a bad mode is one too. */
-TEST(stitch_add_draws_a_dem_whole_and_refuses_a_store)
-{
-    REQUIRE_IO();
-#ifndef TP_TEST_NO_IO
-    {
-        const char* dir = make_tmp_dir();
-        view_spec v = distance_lod_view;
-        args a;
-        run_result r;
-        v.store = 1; /* no --whole */
-        v.cam[0] = 602125, v.cam[1] = 5025267, v.cam[2] = 3700, v.cam[3] = 0, v.cam[4] = -90;
-        args_view(&a);
-        args_add(&a, "--stitch");
-        args_add(&a, "add");
-        args_add_view(&a, sample_dem(), &v);
-        run(&a, dir, &r);
-        if (r.exit_code == 1 && (strstr(r.err, "no EGL surfaceless display") ||
-                                 strstr(r.err, "no OpenGL 3.3 core context through EGL")))
-            SKIP("no headless OpenGL here: %s", r.err);
-        tp_test_note("exit %d, stderr: %s", r.exit_code, r.err);
-        EXPECT_EQ_INT(0, r.exit_code);
-        EXPECT_CONTAINS(r.err, "--stitch add: drawing");
-        EXPECT_TRUE(strstr(r.err, "building a store") == NULL);
-
-        char store_path[1200];
-        snprintf(store_path, sizeof store_path, "%s/hood.tpt", dir);
-        args_view(&a);
-        a.n = 1;
-        args_add(&a, "build");
-        args_add(&a, "--quiet");
-        args_add(&a, "--patch");
-        args_add(&a, "17");
-        args_add(&a, "%s", sample_dem());
-        args_add(&a, "-o");
-        args_add(&a, "%s", store_path);
-        run_ok(&a, dir);
-        args_view(&a);
-        args_add(&a, "--stitch");
-        args_add(&a, "add");
-        args_add_view(&a, store_path, &v);
-        expect_failure(&a, dir, 2, "--stitch add: only for a DEM drawn whole");
-
-        args_view(&a);
-        args_add(&a, "--stitch");
-        args_add(&a, "sideways");
-        args_add(&a, "--whole");
-        args_add(&a, "%s", sample_dem());
-        expect_failure(&a, dir, 2, "--stitch");
-    }
-#endif
-}
 
 TEST(utm_and_local_origin_render_alike)
 {
@@ -955,7 +917,7 @@ TEST(utm_and_local_origin_render_alike)
         write_local_vrt(dir, dem_path, dem);
         snprintf(vrt, sizeof vrt, "%s/local.vrt", dir);
         for (i = 0; i < (int)(sizeof cams / sizeof cams[0]); ++i) {
-            view_spec utm = {{0, 0, 0, 0, 0}, 1280, 720, {.mode = TP_LOD_DEFAULT}, 1, 0};
+            view_spec utm = {{0, 0, 0, 0, 0}, 1280, 720, {.mode = TP_LOD_DEFAULT}, 1, 0, 0};
             view_spec local;
             image a, b;
             view_stats sa, sb;
@@ -1005,7 +967,7 @@ TEST(stats_json_equals_core_selection_error_lod)
 #ifndef TP_TEST_NO_IO
     {
         const char* dem;
-        view_spec v = {{598000, 5012000, 4500, 15, -35}, 640, 360, {.mode = TP_LOD_ERROR, .tau_px = 2.5}, 0, 0};
+        view_spec v = {{598000, 5012000, 4500, 15, -35}, 640, 360, {.mode = TP_LOD_ERROR, .tau_px = 2.5}, 0, 0, 0};
         dem = sample_dem();
         expect_stats_match_core(dem, &v);
     }
@@ -1019,7 +981,7 @@ TEST(stats_json_equals_core_selection_distance_lod)
     {
         const char* dem;
         view_spec v = {
-            {609000, 5033000, 2600, 225, -25}, 512, 384, {.mode = TP_LOD_DISTANCE, .mindist_m = 500, .maxdist_m = 9000, .exponent = 1.7}, 0, 0};
+            {609000, 5033000, 2600, 225, -25}, 512, 384, {.mode = TP_LOD_DISTANCE, .mindist_m = 500, .maxdist_m = 9000, .exponent = 1.7}, 0, 0, 0};
         dem = sample_dem();
         expect_stats_match_core(dem, &v);
     }
@@ -1036,7 +998,7 @@ TEST(looking_at_the_sky_culls_every_patch)
     {
         const char *dem, *dir;
         /* 1079 m above the summit, 60 degrees up: the lowest ray of the view climbs 30 degrees */
-        view_spec v = {{602125, 5025267, 4500, 0, 60}, 320, 180, {.mode = TP_LOD_DEFAULT}, 1, 0};
+        view_spec v = {{602125, 5025267, 4500, 0, 60}, 320, 180, {.mode = TP_LOD_DEFAULT}, 1, 0, 0};
         core_scene cs;
         view_stats st;
         image im;
@@ -1067,7 +1029,7 @@ TEST(looking_north_culls_the_patches_behind)
     {
         const char *dem, *dir;
         /* 300 m above the ground 1.6 km from the south edge, 10 degrees down, looking north */
-        view_spec v = {{602125, 5015000, 1500, 0, -10}, 320, 180, {.mode = TP_LOD_DEFAULT}, 1, 0};
+        view_spec v = {{602125, 5015000, 1500, 0, -10}, 320, 180, {.mode = TP_LOD_DEFAULT}, 1, 0, 0};
         core_scene cs;
         view_stats st;
         image im;
@@ -1116,7 +1078,7 @@ TEST(reference_view_matches_committed_image)
     {
         const char *dem, *dir;
         char ref_path[1024], got_path[1024];
-        view_spec v = {{598000, 5012000, 4500, 15, -35}, 480, 270, {.mode = TP_LOD_DEFAULT}, 0, 0};
+        view_spec v = {{598000, 5012000, 4500, 15, -35}, 480, 270, {.mode = TP_LOD_DEFAULT}, 0, 0, 0};
         image got, ref;
         tp_error err;
         double sum[3] = {0, 0, 0}, mad[3];
@@ -1183,7 +1145,7 @@ TEST(texture_drapes_the_imagery)
     {
         char dem[1024], ortho[1024];
         const char* dir;
-        view_spec v = {{0, 0, 0, 0, 0}, 320, 240, {.mode = TP_LOD_DEFAULT}, 1, 0};
+        view_spec v = {{0, 0, 0, 0, 0}, 320, 240, {.mode = TP_LOD_DEFAULT}, 1, 0, 0};
         image plain, tex, img;
         tp_error err;
         long terrain = 0, differ = 0, blue_tex = 0, blue_plain = 0, valid = 0, blue_img = 0;
@@ -1462,7 +1424,7 @@ TEST(exaggeration_keeps_patches_that_rise_into_view)
     {
         /* 3600 m over the south of Mt Hood (summit 3426 m) looking 32 degrees up: the true
          * terrain is below the view, drawn three times as high it rises into it */
-        view_spec v = {{602000, 5008000, 3600, 0, 32}, 320, 180, {.mode = TP_LOD_DEFAULT}, 0, 0};
+        view_spec v = {{602000, 5008000, 3600, 0, 32}, 320, 180, {.mode = TP_LOD_DEFAULT}, 0, 0, 0};
         view_stats flat, tall;
         stats_for(sample_dem(), &v, NULL, &flat);
         stats_for(sample_dem(), &v, "3", &tall);
@@ -1477,7 +1439,7 @@ TEST(exaggeration_error_lod_keeps_tau_on_screen)
     REQUIRE_IO();
 #ifndef TP_TEST_NO_IO
     {
-        view_spec v = {{598000, 5012000, 4500, 15, -35}, 640, 360, {.mode = TP_LOD_ERROR, .tau_px = 1}, 0, 0};
+        view_spec v = {{598000, 5012000, 4500, 15, -35}, 640, 360, {.mode = TP_LOD_ERROR, .tau_px = 1}, 0, 0, 0};
         view_stats flat, tall;
         stats_for(sample_dem(), &v, NULL, &flat);
         stats_for(sample_dem(), &v, "3", &tall);
@@ -1493,7 +1455,7 @@ TEST(exaggeration_error_lod_keeps_tau_on_screen)
  * 1 cm) and project back onto the pixel, also with exaggeration. */
 static void expect_picks_on_surface(const char* exag, double zs)
 {
-    view_spec v = {{598000, 5012000, 4500, 15, -35}, 640, 360, {.mode = TP_LOD_ERROR, .tau_px = 1}, 0, 0};
+    view_spec v = {{598000, 5012000, 4500, 15, -35}, 640, 360, {.mode = TP_LOD_ERROR, .tau_px = 1}, 0, 0, 0};
     v.cam[2] *= zs; /* above the exaggerated mountains too */
     const char* dir = make_tmp_dir();
     core_scene cs;
@@ -1692,6 +1654,17 @@ static void expect_store_no_magenta(const char* path, const view_spec* v, int pa
     EXPECT_EQ_DBL(0, json_number(text, "pending"));
     EXPECT_EQ_DBL(0, json_number(text, "substituted_nodes"));
     EXPECT_GT(json_number(text, "nodes_drawn"), 0);
+    if (sv.stitch_add) {
+        /* vertices were added (else it proves nothing); the error is the drawn triangles' */
+        tp_test_note("%s, --stitch add: %.0f sides take vertices, %.0f move; max error %.3f px",
+                     what, json_number(text, "add_sides"), json_number(text, "moved_sides"),
+                     json_number(text, "max_error_px"));
+        EXPECT_GT(json_number(text, "add_sides"), 0);
+        if (sv.lod.mode == TP_LOD_ERROR)
+            EXPECT_LE(json_number(text, "max_error_px"), sv.lod.tau_px + 1e-6);
+    } else {
+        EXPECT_EQ_DBL(0, json_number(text, "add_sides"));
+    }
     EXPECT_GE_INT(distinct_levels(&st), min_levels);
     free(im.px);
 }
@@ -1713,6 +1686,40 @@ TEST(store_no_cracks_oblique_error_lod)
         v.lod.tau_px = 1;
         v.cam[0] = 602125, v.cam[1] = 5018000, v.cam[2] = 2950, v.cam[3] = 0;
         expect_store_no_magenta(dem, &v, 17, 0, "south flank, 1500 m above, tau 1", 1);
+    }
+#endif
+}
+
+/* --stitch add through a store (a DEM without --whole is built into one): the error-LoD crack
+ * views of no_cracks_oblique_error_lod and a top-down distance view. Same-size nodes add
+ * vertices, smaller ones next to larger ones move theirs; both must happen. The view measures
+ * the triangles drawn, which tau bounds. A bad mode is a usage error. */
+TEST(store_no_cracks_stitch_add)
+{
+    REQUIRE_IO();
+#ifndef TP_TEST_NO_IO
+    {
+        const char* dem = sample_dem();
+        view_spec v = distance_lod_view;
+        v.stitch_add = 1;
+        v.cam[0] = 602125, v.cam[1] = 5025267, v.cam[2] = 3700, v.cam[3] = 0, v.cam[4] = -90;
+        expect_store_no_magenta(dem, &v, 17, 0, "summit, 280 m above, distance", 2);
+        v.lod.mode = TP_LOD_ERROR;
+        v.lod.tau_px = 6;
+        v.cam[0] = 614000, v.cam[1] = 5030000, v.cam[2] = 2811, v.cam[3] = 270, v.cam[4] = -55;
+        expect_store_no_magenta(dem, &v, 17, 0, "east side, 1500 m above", 2);
+        v.lod.tau_px = 8;
+        v.cam[0] = 602125, v.cam[1] = 5018000, v.cam[2] = 2950, v.cam[3] = 0;
+        expect_store_no_magenta(dem, &v, 17, 0, "south flank, 1500 m above", 2);
+
+        const char* dir = make_tmp_dir();
+        args a;
+        args_view(&a);
+        args_add(&a, "--stitch");
+        args_add(&a, "sideways");
+        args_add(&a, "--whole");
+        args_add(&a, "%s", sample_dem());
+        expect_failure(&a, dir, 2, "--stitch");
     }
 #endif
 }
@@ -1830,7 +1837,7 @@ TEST(two_tile_seam_shows_no_crack_and_no_step)
         tp_tree_get_info(t, &ti);
         double ce, cn;
         ASSERT_OK(tp_georef_geo_to_proj(geo, 41.89, 1.5, &ce, &cn, &err));
-        view_spec v = {{ce, cn, 0, 0, -6}, 640, 360, {.mode = TP_LOD_ERROR, .tau_px = 1}, 1, 1};
+        view_spec v = {{ce, cn, 0, 0, -6}, 640, 360, {.mode = TP_LOD_ERROR, .tau_px = 1}, 1, 1, 0};
         double cx, cy;
         tp_tree_world_to_grid(t, ce, cn, &cx, &cy);
         v.cam[2] = 350 + fmax(tp_tree_height_at(t, cx, cy), 600);
@@ -2172,7 +2179,7 @@ TEST(older_format_store_in_the_cache_is_rebuilt)
     X(no_cracks_oblique_error_lod)                                                                 \
     X(no_cracks_stitch_add)                                                                        \
     X(no_cracks_stitch_add_five)                                                                   \
-    X(stitch_add_draws_a_dem_whole_and_refuses_a_store)                                            \
+    X(store_no_cracks_stitch_add)                                            \
     X(utm_and_local_origin_render_alike)                                                           \
     X(stats_json_equals_core_selection_error_lod)                                                  \
     X(stats_json_equals_core_selection_distance_lod)                                               \

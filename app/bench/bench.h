@@ -24,7 +24,7 @@ typedef struct bench_options {
     const char* json;
     const char* csv;
     int no_error;      /* skip the (slow) error measurement */
-    int stitch_add;    /* --stitch add: Brodersen's vertex-adding crack fix (a DEM only) */
+    int stitch_add;    /* --stitch add: Brodersen's vertex-adding crack fix */
     int stitch_add_draw; /* --stitch-add-draw: 0 the renderer's default, 1 sets, 2 five, 3 both
                             (each --stitch add configuration twice: sets, then five) */
     double speed_mps;  /* path flights: a lead-in frame 1/30 s earlier at this speed; 0: none */

@@ -364,8 +364,12 @@ static int run_store_config(store_bench* b, store_result* c, int first, const ch
         fprintf(stderr, "terrapatch bench: %s\n", err.message);
         goto done;
     }
+    tp_cut_set_stitch_add(cut, c->stitch_add);
     tp_render_settings rs;
     tp_render_settings_default(&rs);
+    rs.stitch_add = c->stitch_add;
+    if (o->stitch_add_draw) /* --stitch-add-draw sets|five (both: a DEM only) */
+        rs.stitch_add_five = o->stitch_add_draw == 2;
     tp_render_stats st;
     tp_stream_stats ss;
     tp_clipmap_stats is = {0};
@@ -537,7 +541,8 @@ int tp_bench_store(const bench_options* o)
     read_rss(&b.base_rss_mb, &b.base_anon_mb);
     const char* renderer_name = (const char*)glGetString(GL_RENDERER);
     renderer_name = renderer_name ? renderer_name : "?";
-    store_result c[6 + 8]; /* error, distance, spheres, two imagery modes, light; PGM grids */
+    store_result c[8 + 8]; /* error, distance, spheres, two imagery modes, light, error+add,
+                              distance+add; PGM grids */
     memset(c, 0, sizeof c);
     c[0].lod = o->vs.lod;
     c[0].lod.mode = TP_LOD_ERROR;
@@ -570,6 +575,16 @@ int tp_bench_store(const bench_options* o)
         c[nc].light = 1;
         snprintf(c[nc].label, sizeof c[nc].label, "%.40s+light", c[0].label);
         nc++;
+    }
+    if (o->stitch_add) { /* --stitch add: both modes again, adding vertices */
+        for (int m = 0; m < 2; m++) {
+            char base[sizeof c[m].label];
+            memcpy(base, c[m].label, sizeof base);
+            c[nc] = c[m];
+            c[nc].stitch_add = 1;
+            snprintf(c[nc].label, sizeof c[nc].label, "%.40s+add", base);
+            nc++;
+        }
     }
     /* --renderer pgm: a configuration per grid (default TP_PGM_DEFAULT_COLS x _ROWS) */
     for (int k = 0; o->vs.pgm && k < (o->vs.pgm_grid_count ? o->vs.pgm_grid_count : 1); k++) {

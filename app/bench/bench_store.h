@@ -54,6 +54,7 @@ typedef struct store_result {
     double img_uploads_total;   /* blocks uploaded over the timed frames */
     int img_missing_max, img_frames_missing;
     long img_final_diff;        /* tp_bench_imagery_diff */
+    int stitch_add;             /* --stitch add: the cut adds vertices (tp_cut_set_stitch_add) */
     int light;                  /* instead of imagery: o->light, the day's streamed light (its
                                    clipmap's figures in the img_ fields) */
     int pgm_cols, pgm_rows;     /* > 0: Persistent Grid Mapping over the store's clipmap

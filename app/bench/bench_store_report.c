@@ -29,6 +29,8 @@ static void json_result(tp_json* j, const store_result* c)
         KN("pgm_posts_updated_median", c->pgm_posts);
         KN("pgm_node_reads_median", c->pgm_node_reads);
     }
+    tp_json_key(j, "stitch");
+    tp_json_string(j, c->stitch_add ? "add" : "move");
     tp_json_key(j, "lod_mode");
     tp_json_string(j, c->pgm_cols                 ? "pgm"
                       : c->lod.mode == TP_LOD_ERROR ? "error"
@@ -182,6 +184,8 @@ int tp_bench_store_write_csv(const store_bench* b, const store_result* c, int nc
                     : c[k].light ? "error+light"
                     : c[k].imagery ? (c[k].imagery_mode == TP_IMAGERY_BLOCKS ? "error+blocks"
                                                                              : "error+imagery")
+                    : c[k].stitch_add ? (c[k].lod.mode == TP_LOD_ERROR ? "error+add"
+                                                                       : "distance+add")
                     : c[k].lod.mode == TP_LOD_ERROR ? "error"
                     : c[k].lod.sphere_tree          ? "spheres"
                                                     : "distance",

@@ -86,16 +86,18 @@ static void print_help(void)
           "                         0: no lead-in (every frame a jump, uploads from cold)\n"
           "  --json FILE            summary; --csv FILE: one row per frame and configuration\n"
           "  --no-error             skip the error measurement (faster)\n"
-          "  --stitch move|add      crack removal (a DEM): move the finer patch's border vertices\n"
+          "  --stitch move|add      crack removal: move the finer patch's border vertices\n"
           "                         (default) or add them to the coarser patch's (Brodersen\n"
-          "                         section 4); its error measured on its own geometry\n"
+          "                         section 4); its error measured on its own geometry. A\n"
+          "                         store runs error and distance both ways (+add rows)\n"
           "  --stitch-add-draw sets|five|both\n"
           "                         how --stitch add draws a patch that takes vertices: its\n"
           "                         own triangle list from an index set per neighbour\n"
           "                         configuration (sets), or up to five draws of per-level\n"
-          "                         region sets (five; the default); both: every --stitch add\n"
-          "                         configuration twice, sets then five (same path and frames;\n"
-          "                         a second table gives draws, index bytes on GPU and CPU)\n"
+          "                         region sets (five; the default); both (a DEM): every\n"
+          "                         --stitch add configuration twice, sets then five (same\n"
+          "                         path and frames; a second table gives draws, index bytes\n"
+          "                         on GPU and CPU)\n"
           "  --renderer pgm         also Persistent Grid Mapping (Livny, Kogan & El-Sana): one\n"
           "                         configuration per grid after the patch ones, the same path;\n"
           "                         a DEM: drawn whole, error by tp_pgm_measure_error (every post\n"
@@ -395,6 +397,11 @@ static int parse_options(int argc, char** argv, bench_options* o)
         fprintf(stderr, "terrapatch bench: --renderer pgm: not with --static\n");
         return TP_EXIT_USAGE;
     }
+    if (o->stitch_add_draw == 3 && tp_is_store_path(o->dem)) {
+        fprintf(stderr, "terrapatch bench: --stitch-add-draw both: a DEM only (a store: give "
+                        "sets or five)\n");
+        return TP_EXIT_USAGE;
+    }
     if (o->stitch_add_draw == 3 && o->sweep) {
         fprintf(stderr, "terrapatch bench: --stitch-add-draw both: not with --sweep (give sets "
                         "or five)\n");
@@ -405,9 +412,8 @@ static int parse_options(int argc, char** argv, bench_options* o)
                         "takes no --stitch\n");
         return TP_EXIT_USAGE;
     }
-    if (o->stitch_add && (tp_is_store_path(o->dem) || o->is_static)) {
-        fprintf(stderr, "terrapatch bench: --stitch add: only for a DEM drawn whole (not yet for "
-                        "stores, nor --static)\n");
+    if (o->stitch_add && o->is_static) {
+        fprintf(stderr, "terrapatch bench: --stitch add: not with --static\n");
         return TP_EXIT_USAGE;
     }
     if (tp_is_store_path(o->dem)) {

@@ -161,15 +161,15 @@ static void print_help(void)
           "                        and its render grid in memory, patches selected every frame)\n"
           "  --stitch move|add     crack removal: move the finer patch's border vertices (move,\n"
           "                        the default) or add them to the coarser patch's border (add,\n"
-          "                        Brodersen section 4; a DEM is then drawn whole, stores refuse\n"
-          "                        it: no store path yet)\n"
+          "                        Brodersen section 4; over a store between nodes of one size,\n"
+          "                        a smaller node next to a larger one still moves its own)\n"
           "  --stitch-add-draw sets|five  how --stitch add draws a patch that takes vertices:\n"
           "                        its own triangle list from an index set per neighbour\n"
           "                        configuration (sets), or up to five draws of per-level\n"
           "                        region sets (five, the default: see docs/PERFORMANCE.md)\n"
           "  A DEM is drawn whole, without a store (the old path), when it is a heightmap image\n"
-          "  (--spacing, --zscale, --origin or a PNG/JPEG/...), or --fit, --texture, --renderer\n"
-          "  pgm or --stitch add is given: stores always pad and carry no texture (and PGM over a\n"
+          "  (--spacing, --zscale, --origin or a PNG/JPEG/...), or --fit, --texture or --renderer\n"
+          "  pgm is given: stores always pad and carry no texture (and PGM over a\n"
           "  DEM reads its whole pyramid). A store fills voids as --fill-max says\n"
           "  (passed to the build) and marks each filled sample: tinted (V) as a DEM drawn whole.\n"
           "  A DEM's store is built with the view's --patch (default 17, as a DEM drawn whole);\n"
@@ -805,6 +805,7 @@ static int view_store(const char* path, view_options* o)
         return TP_EXIT_FAILURE;
     }
     v.path = o->path;
+    tp_cut_set_stitch_add(v.cut, o->render.stitch_add);
     const tp_tree_geometry* g = tp_tree_get_geometry(st.tree);
     /* as tp_view_setup_warn says for a DEM drawn whole: one leaf is 2^n grid steps */
     double leaf_m = (double)(1 << g->n) * fmin(fabs(v.gt[1]), fabs(v.gt[5]));
@@ -844,28 +845,15 @@ int tp_cli_view(int argc, char** argv)
     }
     if (o.stats_json && !tp_atomic_check_dir(o.stats_json))
         return TP_EXIT_FAILURE;
-    int whole = !tp_is_store_path(o.path) &&
-                (o.old_path || o.texture || o.scene.image_given || !is_regular_file(o.path) ||
-                 tp_is_heightmap_image(o.path));
     if (o.vs.pgm_window && (!o.vs.pgm || !tp_is_store_path(o.path))) {
         fprintf(stderr, "terrapatch view: --pgm-window is for --renderer pgm over a store (%s is "
                         "%s)\n", o.path, o.vs.pgm ? "a DEM, drawn whole" : "drawn by patches");
         return TP_EXIT_USAGE;
     }
     /* a store: its clipmap (pgm_clip.h); a DEM drawn whole: its render grid is the pyramid's
-     * level 0. --stitch add has no store path yet: a DEM is drawn whole for it. */
+     * level 0 */
     if (o.vs.pgm && !tp_is_store_path(o.path))
-        whole = o.old_path = 1;
-    if (o.render.stitch_add && !tp_is_store_path(o.path) && !whole) {
-        fprintf(stderr, "terrapatch view: --stitch add: drawing %s whole (vertex adding has no "
-                        "store path yet)\n", o.path);
         o.old_path = 1;
-    }
-    if (o.render.stitch_add && tp_is_store_path(o.path)) {
-        fprintf(stderr, "terrapatch view: --stitch add: only for a DEM drawn whole (not yet for "
-                        "stores: view %s's DEM instead)\n", o.path);
-        return TP_EXIT_USAGE;
-    }
     if (tp_is_store_path(o.path)) {
         if (o.texture || o.old_path || o.scene.image_given) {
             fprintf(stderr, "terrapatch view: %s is a store: --texture, --fill-max, --fit, --whole "

@@ -31,6 +31,8 @@ void tp_view_frame(tp_view_scene* v, tp_renderer* r, const tp_camera* cam,
 {
     double t0 = tp_view_now_ms();
     tp_error err;
+    out->pgm_cols = out->pgm_rows = 0; /* set by the PGM path only (the HUD tests them) */
+    out->add_sides = out->moved_sides = 0;
     /* the core selects, culls and measures the surface as drawn: exaggerated */
     tp_view_scene_set_vertical_scale(v, render->exaggeration);
     if (v->pgm) { /* Persistent Grid Mapping: no selection, the same grid every frame */
@@ -96,6 +98,8 @@ void tp_view_frame(tp_view_scene* v, tp_renderer* r, const tp_camera* cam,
     out->store = 1;
     out->nodes_drawn = cs.drawn;
     out->substituted = cs.substituted;
+    out->add_sides = cs.add_sides;
+    out->moved_sides = cs.moved_sides;
     out->bound_max_px = cs.max_bound_px;
 }
 
@@ -154,6 +158,8 @@ int tp_view_write_stats(const char* path, const frame_result* f, const tp_error_
         KEY_NUM("gpu_mb", f->render.gpu_bytes / 1e6);
         KEY_SIZE("nodes_drawn", (size_t)f->nodes_drawn);
         KEY_SIZE("substituted_nodes", (size_t)f->substituted);
+        KEY_SIZE("add_sides", (size_t)f->add_sides);
+        KEY_SIZE("moved_sides", (size_t)f->moved_sides);
         KEY_SIZE("pending", (size_t)f->stream.pending);
         if (f->imagery) {
             KEY_NUM("imagery_gpu_mb", f->clip.gpu_bytes / 1e6);

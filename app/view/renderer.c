@@ -344,7 +344,11 @@ static void upload(tp_renderer* r, const tp_render_item* it, size_t i, tp_render
     tp_pool_slot* sl = tp_vertex_pool_slot(r->pool, h);
     int k = it->level, v = (1 << k) + 1, count = v * v;
     if (lay) {
-        tp__stitch_five_fill(r->five, lay, r->terrain, (int)it->key, r->vtmp, r->ntmp, r->ftmp);
+        if (r->cut)
+            tp__stitch_five_fill_node(r->five, lay, r->tree, r->cut, i, r->vtmp, r->ntmp, r->ftmp);
+        else
+            tp__stitch_five_fill(r->five, lay, r->terrain, (int)it->key, r->vtmp, r->ntmp,
+                                 r->ftmp);
         write_vertices(r, h, k, (int)lay->vertex_count);
         tp_vertex_pool_drop_triangles(r->pool, h);
         sl->level = it->level;
@@ -352,7 +356,11 @@ static void upload(tp_renderer* r, const tp_render_item* it, size_t i, tp_render
         return;
     }
     if (set) {
-        tp__stitch_add_fill(r->add, set, r->terrain, (int)it->key, r->vtmp, r->ntmp, r->ftmp);
+        if (r->cut)
+            tp__stitch_add_fill_node(r->add, set, r->tree, r->cut, i, r->vtmp, r->ntmp, r->ftmp);
+        else
+            tp__stitch_add_fill(r->add, set, r->terrain, (int)it->key, r->vtmp, r->ntmp,
+                                r->ftmp);
         write_vertices(r, h, k, (int)set->vertex_count);
         tp_vertex_pool_write_triangles(r->pool, h, set->triangles, 3 * set->triangle_count);
         sl->level = it->level;
@@ -447,10 +455,12 @@ void tp_renderer_draw_items(tp_renderer* r, const tp_render_item* items, size_t 
             stats->dropped++;
             continue;
         }
-        /* a five-region layout's vertices depend on (level, D) only: its tag says so */
+        /* a five-region layout's vertices depend on (level, D) and the sides that move (a
+         * store's) only: its tag says so */
         int8_t tag[4] = {it->nb[0], it->nb[1], it->nb[2], it->nb[3]};
-        if (lay)
-            tag[0] = (int8_t)(-2 - lay->D), tag[1] = tag[2] = tag[3] = -2;
+        for (int s = 0; lay && s < 4; s++)
+            if (tag[s] > it->level)
+                tag[s] = (int8_t)(-2 - lay->D);
         const tp_pool_slot* sl = tp_vertex_pool_slot(r->pool, h);
         if (fresh || sl->level != it->level || memcmp(sl->nb, tag, sizeof sl->nb) ||
             (it->incomplete || set) != (sl->region >= 0)) {
@@ -677,6 +687,16 @@ tp_renderer* tp_renderer_create(const tp_terrain* t, char* msg, size_t msg_size)
     return r;
 }
 
+/* The next draw's --stitch add mode (s) and what it needs; 0 when out of memory. */
+static int set_stitch_add(tp_renderer* r, const tp_render_settings* s)
+{
+    r->stitch_add = s->stitch_add;
+    r->stitch_add_five = s->stitch_add_five;
+    if (s->stitch_add && s->stitch_add_five)
+        return r->five || (r->five = tp__stitch_five_create(r->grid.n));
+    return !s->stitch_add || r->add || (r->add = tp__stitch_add_create(r->grid.n));
+}
+
 static int grow_items(tp_renderer* r, size_t count)
 {
     if (count <= r->item_cap)
@@ -731,14 +751,8 @@ void tp_renderer_draw(tp_renderer* r, tp_selection* sel, const tp_camera* cam,
         it->incomplete = !r->complete[p];
     }
     tp_selection_clear_dirty(sel);
-    if (s->stitch_add && !s->stitch_add_five && !r->add &&
-        !(r->add = tp__stitch_add_create(r->grid.n)))
+    if (!set_stitch_add(r, s))
         count = 0; /* out of memory: nothing to draw */
-    if (s->stitch_add && s->stitch_add_five && !r->five &&
-        !(r->five = tp__stitch_five_create(r->grid.n)))
-        count = 0;
-    r->stitch_add = s->stitch_add;
-    r->stitch_add_five = s->stitch_add_five;
     tp_renderer_draw_items(r, r->items, count, fill_patch, r, cam, s,
                            tp_selection_vertical_scale(sel), finish, stats);
     r->stitch_add = 0;
@@ -778,15 +792,21 @@ void tp_renderer_draw_cut(tp_renderer* r, const tp_tree* tree, const tp_cut* cut
         tp_render_item* it = &r->items[i];
         it->key = nodes[i].node;
         it->level = nodes[i].level;
+        /* a side moves (below the level) or, --stitch add, takes vertices (above it) */
         for (int side = 0; side < 4; side++)
-            it->nb[side] = (int8_t)(nodes[i].nb[side] >= 0 && nodes[i].nb[side] < nodes[i].level
+            it->nb[side] = (int8_t)(s->stitch_add && nodes[i].add[side] > nodes[i].level
+                                        ? nodes[i].add[side]
+                                    : nodes[i].nb[side] >= 0 && nodes[i].nb[side] < nodes[i].level
                                         ? nodes[i].nb[side]
                                         : TP_NO_NEIGHBOR);
         it->incomplete = !(tp_tree_meta(tree, nodes[i].node)->flags & TP_NODE_COMPLETE);
     }
+    if (!set_stitch_add(r, s))
+        count = 0; /* out of memory: nothing to draw */
     r->tree = tree;
     r->cut = cut;
     tp_renderer_draw_items(r, r->items, count, fill_node, r, cam, s, zscale, finish, stats);
+    r->stitch_add = 0;
     r->tree = NULL;
     r->cut = NULL;
 }

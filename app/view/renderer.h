@@ -32,10 +32,10 @@ typedef struct tp_render_settings {
     int hide_filled;          /* draw filled voids untinted */
     float clear_rgb[3];
     int one_draw_per_patch;   /* instead of multi-draw (for measuring the difference) */
-    int stitch_add;           /* tp_renderer_draw only (a DEM drawn whole): remove cracks by
-                                 adding the finer neighbour's vertices to the coarser patch's
-                                 border (tp_patch_triangles_add, `--stitch add`) instead of
-                                 moving the finer patch's (the default) */
+    int stitch_add;           /* remove cracks by adding the finer neighbour's vertices to the
+                                 coarser patch's border (tp_patch_triangles_add, `--stitch
+                                 add`) instead of moving the finer patch's (the default); a
+                                 store's cut must have been updated with tp_cut_set_stitch_add */
     int stitch_add_five;      /* with stitch_add: draw a patch that takes vertices as up to
                                  five draws of per-level index sets (stitch_add_five.h,
                                  `--stitch-add-draw five`; 1 by default) instead of its own

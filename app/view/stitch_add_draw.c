@@ -136,13 +136,11 @@ size_t tp__stitch_add_cpu_bytes(const tp__stitch_add* s)
     return b;
 }
 
-void tp__stitch_add_fill(const tp__stitch_add* s, const tp__stitch_add_set* set,
-                         const tp_terrain* t, int patch, tp_vertex* v, float (*normals)[3],
-                         uint8_t* filled)
+/* Compacts the level-finest lattice v (set->finest) to the set's samples, in place. */
+static void compact(const tp__stitch_add* s, const tp__stitch_add_set* set, tp_vertex* v)
 {
     int n = s->n, m = set->finest, shift = n - m;
     size_t side = ((size_t)1 << n) + 1, mside = ((size_t)1 << m) + 1;
-    tp_patch_vertices(t, patch, m, NULL, v, mside * mside);
     /* samples ascend in lattice order, so each one's level-m index is >= its compact index:
      * compacting forward in place never overwrites a vertex still to be read */
     for (size_t j = 0; j < set->vertex_count; j++) {
@@ -150,7 +148,33 @@ void tp__stitch_add_fill(const tp__stitch_add* s, const tp__stitch_add_set* set,
         size_t at = (row >> shift) * mside + (col >> shift);
         assert(at >= j);
         v[j] = v[at];
+    }
+}
+
+void tp__stitch_add_fill(const tp__stitch_add* s, const tp__stitch_add_set* set,
+                         const tp_terrain* t, int patch, tp_vertex* v, float (*normals)[3],
+                         uint8_t* filled)
+{
+    size_t mside = ((size_t)1 << set->finest) + 1;
+    tp_patch_vertices(t, patch, set->finest, NULL, v, mside * mside);
+    compact(s, set, v);
+    for (size_t j = 0; j < set->vertex_count; j++) {
         tp_terrain_normal(t, v[j].x, v[j].y, normals[j]);
         filled[j] = tp_terrain_sample_class(t, v[j].x, v[j].y) == TP_SAMPLE_FILLED;
+    }
+}
+
+void tp__stitch_add_fill_node(const tp__stitch_add* s, const tp__stitch_add_set* set,
+                              const tp_tree* tree, const tp_cut* cut, size_t i, tp_vertex* v,
+                              float (*normals)[3], uint8_t* filled)
+{
+    size_t mside = ((size_t)1 << set->finest) + 1;
+    size_t count = 0;
+    const tp_cut_node* node = &tp_cut_nodes(cut, &count)[i];
+    tp_cut_vertices_at_level(cut, i, set->finest, v, mside * mside);
+    compact(s, set, v);
+    for (size_t j = 0; j < set->vertex_count; j++) {
+        filled[j] = v[j].cls == TP_SAMPLE_FILLED;
+        tp_tree_node_normal(tree, node->node, v[j].x, v[j].y, normals[j]);
     }
 }

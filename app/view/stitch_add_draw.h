@@ -51,4 +51,10 @@ void tp__stitch_add_fill(const tp__stitch_add* s, const tp__stitch_add_set* set,
                          const tp_terrain* t, int patch, tp_vertex* vertices, float (*normals)[3],
                          uint8_t* filled);
 
+/* tp__stitch_add_fill for drawn node i of cut over tree (tp_cut_vertices_at_level: a side
+ * that moves onto a larger neighbour's vertices is moved; --stitch add over a store). */
+void tp__stitch_add_fill_node(const tp__stitch_add* s, const tp__stitch_add_set* set,
+                              const tp_tree* tree, const tp_cut* cut, size_t i, tp_vertex* v,
+                              float (*normals)[3], uint8_t* filled);
+
 #endif

@@ -316,6 +316,22 @@ void tp__stitch_five_fill(tp__stitch_five* f, const tp__five_layout* lay, const 
     }
 }
 
+void tp__stitch_five_fill_node(tp__stitch_five* f, const tp__five_layout* lay,
+                               const tp_tree* tree, const tp_cut* cut, size_t i, tp_vertex* v,
+                               float (*normals)[3], uint8_t* filled)
+{
+    int n = f->n, m = lay->k + lay->D, shift = n - m;
+    size_t side = ((size_t)1 << n) + 1, mside = ((size_t)1 << m) + 1, count = 0;
+    const tp_cut_node* node = &tp_cut_nodes(cut, &count)[i];
+    tp_cut_vertices_at_level(cut, i, m, f->lattice, mside * mside);
+    for (size_t j = 0; j < lay->vertex_count; j++) {
+        size_t row = lay->samples[j] / side, col = lay->samples[j] % side;
+        v[j] = f->lattice[(row >> shift) * mside + (col >> shift)];
+        filled[j] = v[j].cls == TP_SAMPLE_FILLED;
+        tp_tree_node_normal(tree, node->node, v[j].x, v[j].y, normals[j]);
+    }
+}
+
 unsigned int tp__stitch_five_gl_buffer(tp__stitch_five* f, size_t* bytes)
 {
     if (!f->ibo)

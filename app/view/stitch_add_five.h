@@ -76,6 +76,12 @@ size_t tp__stitch_five_cpu_bytes(const tp__stitch_five* f);
 void tp__stitch_five_fill(tp__stitch_five* f, const tp__five_layout* lay, const tp_terrain* t,
                           int patch, tp_vertex* vertices, float (*normals)[3], uint8_t* filled);
 
+/* tp__stitch_five_fill for drawn node i of cut over tree (tp_cut_vertices_at_level: a side
+ * that moves onto a larger neighbour's vertices is moved; --stitch add over a store). */
+void tp__stitch_five_fill_node(tp__stitch_five* f, const tp__five_layout* lay,
+                               const tp_tree* tree, const tp_cut* cut, size_t i, tp_vertex* v,
+                               float (*normals)[3], uint8_t* filled);
+
 /* GL: the element buffer holding the list (uploaded again when sets were made since the last
  * call; needs the GL context current, and binds GL_ELEMENT_ARRAY_BUFFER in the bound vertex
  * array); 0 when out of memory. *bytes: its size. */

@@ -63,6 +63,7 @@ typedef struct frame_result {
     double select_ms;
     int store;                /* the frame of a store: the fields below are set */
     int nodes_drawn, substituted;
+    int add_sides, moved_sides; /* tp_cut_stats: sides taking / moving vertices */
     double bound_max_px;      /* largest projected bound of a drawn node */
     tp_stream_stats stream;   /* resident MB, pending loads */
     int imagery;              /* imagery drawn: clip is set */

@@ -455,7 +455,7 @@ int tp_view_window_run(tp_view_scene* v, tp_gl_context* ctx, tp_renderer* r, tp_
         cam->viewport_h_px = h > 0 ? h : 1;
 
         tp_gl_context_begin_frame(ctx);
-        frame_result fr;
+        frame_result fr = {0}; /* the paths set only what they draw */
         tp_view_frame(v, r, cam, &o->render, &s.lod, s.frozen, &fr);
         /* the first dt only spans the set-up before the first poll */
         if (frames++ > 0)

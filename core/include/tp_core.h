@@ -930,6 +930,10 @@ typedef struct tp_cut_node {
     int8_t nb[4];       /* neighbour level per side, relative to this node's own samples, as
                            tp_patch_vertices takes it: kn < level moves this side's vertices
                            onto every 2^(level-kn)-th; TP_NO_NEIGHBOR: nothing moves */
+    int8_t add[4];      /* --stitch add (tp_cut_set_stitch_add): per side, the level of the
+                           finer neighbour of this node's size whose vertices this side takes
+                           (> level; tp_patch_triangles_add's neighbor_levels); TP_NO_NEIGHBOR:
+                           none. Always TP_NO_NEIGHBOR with vertex moving. */
     uint8_t substituted;/* drawn in place of finer nodes that are not resident */
     float bound_px;     /* the projected error bound of this node as drawn (error mode) */
 } tp_cut_node;
@@ -948,6 +952,8 @@ typedef struct tp_cut_stats {
     int decisions;
     int sphere_visited; /* sphere_tree: sphere-tree entries (and root clusters) visited */
     int sphere_nodes;   /* sphere_tree: entries held (the distance cut over the whole map) */
+    int add_sides;      /* --stitch add: drawn nodes' sides that take a neighbour's vertices */
+    int moved_sides;    /* drawn nodes' sides whose vertices move (tp_cut_node.nb) */
 } tp_cut_stats;
 
 typedef struct tp_cut tp_cut;
@@ -1022,8 +1028,9 @@ double tp_cut_drawn_height_at(const tp_cut* c, double x, double y);
 /* Screen error (px) of the drawn cut against every full-resolution sample of the drawn nodes'
  * areas that is in view, as tp_selection_measure_screen_error; needs the full-resolution
  * samples: it reads the resident leaves, and skips (counting them in *skipped) samples whose
- * leaf is not resident. Any of the outputs may be NULL. Allocates nothing: cannot fail (it
- * returns TP_OK). */
+ * leaf is not resident. Any of the outputs may be NULL. With --stitch add
+ * (tp_cut_set_stitch_add) it measures the triangles drawn, added vertices included; only then
+ * does it allocate, and can fail: TP_ERR_OUT_OF_MEMORY. Else it returns TP_OK. */
 tp_status tp_cut_measure_screen_error(const tp_cut* c, const tp_camera* cam, double* max_px,
                                       double* rms_px, size_t* samples, size_t* skipped);
 
@@ -1033,6 +1040,32 @@ tp_status tp_cut_measure_screen_error(const tp_cut* c, const tp_camera* cam, dou
  * TP_OK; TP_ERR_INVALID_ARG, scale unchanged, outside [TP_VERTICAL_SCALE_MIN,
  * TP_VERTICAL_SCALE_MAX] or NaN. */
 tp_status tp_cut_set_vertical_scale(tp_cut* c, double scale);
+
+/* Crack removal by adding vertices over a tree (`--stitch add`; Brodersen, section 4), from the
+ * next update on (add = 0: vertex moving, the default). Brodersen's patches are all one size:
+ * between two drawn nodes of the same size the coarser one's side takes the finer one's
+ * vertices (tp_cut_node.add) and nothing moves; between nodes of different sizes the smaller
+ * one's side still moves onto the larger one's vertices (tp_cut_node.nb), as with vertex moving,
+ * and so does a side next to an incomplete node of its size (only complete nodes take
+ * vertices). A node never both takes vertices on one side and moves them on the other side of
+ * the same corner triangle (TOP and LEFT, BOTTOM and RIGHT: tp_patch_triangles_add's two
+ * triangles holding two sides): it is raised to the finer neighbour's level instead. In error
+ * mode a node that takes vertices is raised until its bound with the added vertices
+ * (tp_cut_add_bound_m) projects to tau or less. */
+void tp_cut_set_stitch_add(tp_cut* c, int add);
+int tp_cut_stitch_add(const tp_cut* c);
+/* Bound (m, true heights, quantisation not included) on the error against full resolution of
+ * drawn node i at its level with the finer neighbours' vertices added on the sides add[] names
+ * (as tp_cut_node.add): the node's level error delta_k plus the largest offset of an added
+ * sample from its side's level-k edge (nested decimation keeps every sample's true height, and
+ * the added vertices' offsets are interpolated linearly inside the grid triangle). */
+double tp_cut_add_bound_m(const tp_cut* c, size_t i, const int add[4]);
+/* tp_cut_vertices on the node's level-m lattice (level <= m <= n; (2^m+1)^2 vertices): the
+ * vertices of node i's own level moved as tp_cut_vertices moves them, every other one where
+ * its sample is. What --stitch add's triangles index (tp_patch_triangles_add's samples, at
+ * m = the finest of the node's and its add[] levels). */
+void tp_cut_vertices_at_level(const tp_cut* c, size_t i, int m, tp_vertex* vertices,
+                              size_t vertex_capacity);
 
 /* Test hook: installs a hand-made cut, nodes[i] drawn at levels[i] (resident, distinct, not
  * overlapping), every node visible, no camera, and runs the stitching

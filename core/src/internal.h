@@ -394,6 +394,7 @@ struct tp_cut {
     int visited, unresolved;
     int oom;
     int requests_only; /* tp_cut_update_requests: no stitching, no output */
+    int stitch_add;    /* tp_cut_set_stitch_add */
     int decisions;     /* distance decisions computed by the update (tp_cut_stats) */
     int sph_on;        /* this update reads distance decisions from the sphere tree */
     struct tp__spheres* sph; /* tree_spheres.c; NULL until the first sphere-tree update */
@@ -463,10 +464,19 @@ int32_t tp__cut_triangles(tp_cut* c, int i, const int nb[4]);
  * nb (every vertex drawn: only stitching removes triangles), from c->tri_memo (filled on first
  * use) (tree_stitch.c). */
 int32_t tp__cut_complete_triangles(tp_cut* c, int k, const int nb[4]);
-/* Relative neighbour levels of drawn record i; returns the number of its sides left with a
- * crack (a neighbour more than n scales larger that could be neither split nor collapsed
- * against) (tree_stitch.c). */
-int tp__cut_nb(const tp_cut* c, int i, int nb[4]);
+/* Relative neighbour levels of drawn record i (nb: where its sides move to) and, --stitch add,
+ * the finer same-size neighbours' levels whose vertices it takes (add; TP_NO_NEIGHBOR where
+ * none); returns the number of its sides left with a crack (a neighbour more than n scales
+ * larger that could be neither split nor collapsed against) (tree_stitch.c). */
+int tp__cut_seams(const tp_cut* c, int i, int nb[4], int add[4]);
+/* --stitch add (tree_stitch_add.c): the level record i must be raised to so that no corner
+ * triangle both takes and moves vertices (its level when none); nb, add: tp__cut_seams'. */
+int tp__cut_add_corner_level(const tp_cut* c, int i, const int nb[4], const int add[4]);
+/* Rasterises drawn node i's --stitch add triangles (its add[] sides) as tp__raster_triangle,
+ * z in height steps; 0 when out of memory (tree_stitch_add.c). */
+int tp__cut_raster_add(const tp_cut* c, size_t i, tp__sample_fn fn, void* user);
+/* tp_cut_add_bound_m for record i at level k (m, quantisation not included). */
+double tp__cut_add_bound_m(const tp_cut* c, int i, int k, const int add[4]);
 
 /* ---- error-bounded TIN (tin.c) ---- */
 

@@ -610,18 +610,31 @@ static tp_status finish(tp_cut* c, tp_error* err)
             continue;
         r->out = (int32_t)c->out_count;
         tp_cut_node* o = &c->out[c->out_count++];
-        int nb[4];
-        c->unresolved += tp__cut_nb(c, (int)i, nb);
+        int nb[4], add[4];
+        c->unresolved += tp__cut_seams(c, (int)i, nb, add);
         o->node = r->node;
         o->level = r->level;
-        for (int s = 0; s < 4; s++)
+        for (int s = 0; s < 4; s++) {
             o->nb[s] = (int8_t)nb[s];
+            o->add[s] = (int8_t)add[s];
+        }
         o->substituted = r->substituted;
         r->bound_px = 0;
-        if (c->have_view && c->lp.mode == TP_LOD_ERROR)
-            r->bound_px = (float)bound_px(c, (int)i, r->level, nb);
+        if (c->have_view && c->lp.mode == TP_LOD_ERROR) {
+            double b = bound_px(c, (int)i, r->level, nb);
+            if (add[0] != TP_NO_NEIGHBOR || add[1] != TP_NO_NEIGHBOR ||
+                add[2] != TP_NO_NEIGHBOR || add[3] != TP_NO_NEIGHBOR) {
+                double d = (tp__cut_add_bound_m(c, (int)i, r->level, add) + c->quant) * c->zscale;
+                double ba = tp__projected_px(&r->pb, c->v.fwd[2], d);
+                b = ba > b ? ba : b;
+            }
+            r->bound_px = (float)b;
+        }
         o->bound_px = r->bound_px;
         r->tris = tp__cut_triangles(c, (int)i, nb);
+        for (int s = 0; s < 4; s++) /* --stitch add: one more triangle per added vertex */
+            if (add[s] != TP_NO_NEIGHBOR)
+                r->tris += (1 << (add[s] > c->n ? c->n : add[s])) - (1 << r->level);
     }
     sort_requests(c->req, c->req_count);
     for (size_t i = 0; i < c->req_count; i++)

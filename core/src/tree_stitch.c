@@ -46,25 +46,50 @@ int tp__cut_neighbor(const tp_cut* c, int i, int side)
     return -1;
 }
 
+static int node_complete(const tp_cut* c, int i)
+{
+    return (tp_tree_meta(c->t, c->rec[i].node)->flags & TP_NODE_COMPLETE) != 0;
+}
+
 static int stride_log(const tp__cut_rec* r, int n)
 {
     return r->s + n - r->level;
 }
 
-int tp__cut_nb(const tp_cut* c, int i, int nb[4])
+/* Drawn record i's seam with its drawn neighbour j (of its scale or larger) on one side: the
+ * relative level i's side moves to (*nb) and, --stitch add, the level whose vertices it takes
+ * (*add); TP_NO_NEIGHBOR each when none. */
+static void seam(const tp_cut* c, int i, int j, int* nb, int* add)
+{
+    const tp__cut_rec *a = &c->rec[i], *b = &c->rec[j];
+    *nb = *add = TP_NO_NEIGHBOR;
+    if (c->stitch_add && b->s == a->s) {
+        /* the coarser of two same-size nodes takes the finer one's vertices when it is complete
+           (every sample of the shared side is then drawn); else the finer one moves */
+        if (b->level > a->level) {
+            if (node_complete(c, i))
+                *add = b->level;
+            return;
+        }
+        if (b->level < a->level && node_complete(c, j))
+            return;
+    }
+    int kn = b->level - (b->s - a->s);
+    if (stride_log(b, c->n) > stride_log(a, c->n) && kn >= 0)
+        *nb = kn;
+}
+
+int tp__cut_seams(const tp_cut* c, int i, int nb[4], int add[4])
 {
     const tp__cut_rec* a = &c->rec[i];
     int cracks = 0;
     for (int side = 0; side < 4; side++) {
-        nb[side] = TP_NO_NEIGHBOR;
+        nb[side] = add[side] = TP_NO_NEIGHBOR;
         int j = tp__cut_neighbor(c, i, side);
         if (j < 0)
             continue;
-        const tp__cut_rec* b = &c->rec[j];
-        cracks += b->s - a->s > c->n;
-        int kn = b->level - (b->s - a->s);
-        if (stride_log(b, c->n) > stride_log(a, c->n) && kn >= 0)
-            nb[side] = kn;
+        cracks += c->rec[j].s - a->s > c->n;
+        seam(c, i, j, &nb[side], &add[side]);
     }
     return cracks;
 }
@@ -205,13 +230,16 @@ static void check(tp_cut* c, int i)
 {
     int n = c->n;
     int error = c->have_view && c->lp.mode == TP_LOD_ERROR;
+    int nbj[4] = {-1, -1, -1, -1}, reshaped = 0; /* the neighbours; a split or collapse */
     for (int side = 0; side < 4 && c->rec[i].state == TP__CUT_DRAWN && !c->oom; side++) {
         int j = tp__cut_neighbor(c, i, side);
+        nbj[side] = j;
         if (j < 0)
             continue;
         tp__cut_rec *a = &c->rec[i], *b = &c->rec[j];
         int ds = b->s - a->s;
         if (ds > n) {
+            reshaped = 1;
             int bs = b->s;
             if (split(c, j))
                 push(c, i);
@@ -220,6 +248,22 @@ static void check(tp_cut* c, int i)
             continue;                   /* records may have moved; the state check ends the loop */
         }
         int la = a->s + n - a->level, lb = b->s + n - b->level;
+        if (c->stitch_add && ds == 0 && lb != la && node_complete(c, lb > la ? j : i)) {
+            /* --stitch add: the coarser one (i here, else j's own check) takes the vertices;
+               in error mode it is raised while its bound with them projects above tau */
+            if (lb > la || !error)
+                continue;
+            int add[4] = {TP_NO_NEIGHBOR, TP_NO_NEIGHBOR, TP_NO_NEIGHBOR, TP_NO_NEIGHBOR};
+            add[side] = b->level;
+            double geo = tp__cut_add_bound_m(c, i, a->level, add);
+            double d = (geo + c->quant) * c->zscale;
+            if (geo > 0 && tp__projected_px(&a->pb, c->v.fwd[2], d) > c->lp.tau_px) {
+                a->level++;
+                changed(c, i);
+                side--; /* check this side again */
+            }
+            continue;
+        }
         if (lb > la) {
             if (b->level < ds) {
                 b->level = (int8_t)ds;
@@ -239,12 +283,27 @@ static void check(tp_cut* c, int i)
                         changed(c, j);
                         side--; /* check this side again */
                     } else if (split(c, j)) {
+                        reshaped = 1;
                         push(c, i);
                     }
                 }
             }
         } else if (la > lb && ds > 0) {
             a->level = (int8_t)(a->level + (la - lb));
+            changed(c, i);
+        }
+    }
+    if (c->stitch_add && c->rec[i].state == TP__CUT_DRAWN && !c->oom && !reshaped) {
+        /* (after a split or collapse i is queued again: checked then) */
+        int nb[4], add[4];
+        for (int side = 0; side < 4; side++) {
+            nb[side] = add[side] = TP_NO_NEIGHBOR;
+            if (nbj[side] >= 0)
+                seam(c, i, nbj[side], &nb[side], &add[side]);
+        }
+        int k = tp__cut_add_corner_level(c, i, nb, add);
+        if (k > c->rec[i].level) {
+            c->rec[i].level = (int8_t)k;
             changed(c, i);
         }
     }
@@ -354,9 +413,20 @@ static int node_vertex(const node_view* nv, int i, int j, int32_t* gx, int32_t* 
 
 void tp_cut_vertices(const tp_cut* c, size_t i, tp_vertex* vertices, size_t vertex_capacity)
 {
-    assert(c && i < c->out_count && vertices);
+    assert(c && i < c->out_count);
+    tp_cut_vertices_at_level(c, i, c->out[i].level, vertices, vertex_capacity);
+}
+
+void tp_cut_vertices_at_level(const tp_cut* c, size_t i, int m, tp_vertex* vertices,
+                              size_t vertex_capacity)
+{
+    assert(c && i < c->out_count && vertices && m >= c->out[i].level && m <= c->n);
     node_view nv;
     node_view_init(c, i, &nv);
+    /* the moved sides' kn are absolute levels: on the level-m lattice they snap the node's own
+       level-k vertices exactly where tp__lattice_vertex snaps them at level k */
+    nv.k = m;
+    nv.shift = c->n - m;
     int v = (1 << nv.k) + 1;
     assert(vertex_capacity >= (size_t)v * v);
     (void)vertex_capacity;
@@ -516,6 +586,10 @@ void tp_cut_get_stats(const tp_cut* c, tp_cut_stats* out)
         if (o->substituted && o->bound_px > out->substitution_bound_px)
             out->substitution_bound_px = o->bound_px;
         out->triangles += (size_t)r->tris;
+        for (int side = 0; side < 4; side++) {
+            out->add_sides += o->add[side] != TP_NO_NEIGHBOR;
+            out->moved_sides += o->nb[side] != TP_NO_NEIGHBOR && o->nb[side] < o->level;
+        }
     }
 }
 
@@ -665,6 +739,13 @@ tp_status tp_cut_measure_screen_error(const tp_cut* c, const tp_camera* cam, dou
         node_view_init(c, i, &nv);
         m.x1 = nv.x0 + ((int64_t)1 << (c->n + nv.s));
         m.y1 = nv.y0 + ((int64_t)1 << (c->n + nv.s));
+        const int8_t* add = c->out[i].add;
+        if (add[0] != TP_NO_NEIGHBOR || add[1] != TP_NO_NEIGHBOR || add[2] != TP_NO_NEIGHBOR ||
+            add[3] != TP_NO_NEIGHBOR) {
+            if (!tp__cut_raster_add(c, i, screen_sample, &m))
+                return TP_ERR_OUT_OF_MEMORY;
+            continue;
+        }
         int last = 1 << nv.k;
         for (int cy = 0; cy < last; cy++)
             for (int cx = 0; cx < last; cx++)
