@@ -2411,7 +2411,8 @@ static double pgm_clip_bytes(int cols, int rows, int window, int src_width, int 
 
 /* view STORE --renderer pgm --headless (issue 16): drawn through the store's clipmap; the
  * screenshot at its size, the statistics naming the renderer, the grid's triangles, the GPU
- * bytes of the clipmap (bounded: the window, not the store), the error not measured (null). */
+ * bytes of the clipmap (bounded: the window, not the store), the error measured against the
+ * store's level-0 posts (tp_pgm_clipmap_measure: numbers, max >= RMS >= 0). */
 TEST(pgm_view_store_headless_draws_through_its_clipmap)
 {
     static run_result r;
@@ -2451,13 +2452,18 @@ TEST(pgm_view_store_headless_draws_through_its_clipmap)
     EXPECT_EQ_STR("200x100", json_str(json, NULL, "pgm_grid", buf, sizeof buf));
     EXPECT_EQ_DBL(2.0 * 199 * 99, json_num(json, NULL, "triangles"));
     EXPECT_EQ_DBL(pgm_clip_bytes(200, 100, 32, 143, 107), json_num(json, NULL, "gpu_bytes"));
-    EXPECT_CONTAINS(json, "\"max_error_px\": null");
+    double max_px = json_num(json, NULL, "max_error_px");
+    double rms_px = json_num(json, NULL, "rms_error_px");
+    EXPECT_TRUE(isfinite(max_px));
+    EXPECT_GE(max_px, rms_px);
+    EXPECT_GE(rms_px, 0.0);
+    EXPECT_GE(json_num(json, NULL, "max_error_m"), json_num(json, NULL, "rms_error_m"));
     free(json);
 }
 
 /* bench STORE --renderer pgm: a configuration per grid after the patch ones, flown on the same
- * path, with the clipmap's figures (fill and upload ms, posts updated), its GPU bytes and no
- * error (null); the table says the error is not measured. */
+ * path, with the clipmap's figures (fill and upload ms, posts updated), its GPU bytes and the
+ * error measured on every frame (numbers, and the share of the posts in view left uncovered). */
 TEST(pgm_store_bench_reports_the_clipmap)
 {
     static run_result r;
@@ -2479,7 +2485,8 @@ TEST(pgm_store_bench_reports_the_clipmap)
     args_add(&a, "%s", store);
     run_ok(&a, &r);
     EXPECT_CONTAINS(r.out, "pgm 64x48: clipmap of 32 x 32 posts a level");
-    EXPECT_CONTAINS(r.out, "error not measured");
+    EXPECT_CONTAINS(r.out, "screen error (the windows' surface against the level-0 posts in "
+                           "view) measured on 6 frames");
     snprintf(path, sizeof path, "%s/s.json", dir);
     char* json = read_file(path, NULL);
     ASSERT_TRUE(json != NULL);
@@ -2503,8 +2510,14 @@ TEST(pgm_store_bench_reports_the_clipmap)
         EXPECT_GE(json_num(o0, o1, "pgm_upload_ms_p99"), json_num(o0, o1, "pgm_upload_ms_median"));
         EXPECT_GE(json_num(o0, o1, "pgm_posts_updated_median"), 0.0);
         EXPECT_GT(json_num(o0, o1, "fps_median"), 0.0);
-        const char* err = strstr(o0, "\"max_screen_error_px\": null");
-        EXPECT_TRUE(err != NULL && err < o1);
+        EXPECT_EQ_DBL(6, json_num(o0, o1, "error_frames_measured"));
+        EXPECT_EQ_DBL(0, json_num(o0, o1, "error_frames_over_region_limit"));
+        double max_px = json_num(o0, o1, "max_screen_error_px");
+        EXPECT_TRUE(isfinite(max_px));
+        EXPECT_GE(max_px, json_num(o0, o1, "rms_screen_error_px"));
+        EXPECT_GT(json_num(o0, o1, "error_samples"), 0.0);
+        double share = json_num(o0, o1, "uncovered_share");
+        EXPECT_TRUE(share >= 0 && share < 1);
     }
     for (int k = 0; k < 2; k++)
         EXPECT_EQ_STR("patches", json_str(os[k], oe[k], "terrain_renderer", buf, sizeof buf));

@@ -2,7 +2,8 @@
  * Flights of a window (steps of 0, +-1, +-(w-1), +-w, huge jumps, negative origins) checked by
  * brute force: after every step each texel holds the post of the window that maps to it, each
  * gained post written exactly once and no kept one rewritten; origins stay on the terrain;
- * every pyramid post of a store's tree is found in a node holding its height. */
+ * every pyramid post of a store's tree is found in a node holding its height; the smallest
+ * window holding the coarsest level (24 levels at most) is 16 up to 15 x 2^23 + 1 posts. */
 #define _POSIX_C_SOURCE 200809L
 #include "tp_io.h"
 #include "tp_test.h"
@@ -14,7 +15,8 @@
     X(update_cases_by_hand)                                                                        \
     X(origin_centres_and_clamps_to_the_terrain)                                                    \
     X(clamped_flight_over_small_and_large_levels)                                                  \
-    X(store_post_finds_every_pyramid_post_of_mt_hood)
+    X(store_post_finds_every_pyramid_post_of_mt_hood)                                              \
+    X(min_window_holds_the_coarsest_level)
 
 /* The brute force: a w x w "texture" whose texel (x mod w, y mod w) remembers the post last
  * written there; a step applies the rectangles, counting writes per post of the new window. */
@@ -274,6 +276,47 @@ TEST(store_post_finds_every_pyramid_post_of_mt_hood)
         tp_tree_destroy(t);
     }
     tp_dem_destroy(dem);
+}
+
+/* The closed form of the coarsest level's posts along a side (tp_core.h: width[l] =
+ * ceil((width[0] - 1) / 2^l) + 1, levels stop at <= 2 posts or 24 levels). */
+static long long coarsest_posts(long long side)
+{
+    for (int l = 0;; l++) {
+        long long step = 1LL << l, n = (side - 1 + step - 1) / step + 1;
+        if (side == 1)
+            n = 1;
+        if (n <= 2 || l == TP_PGM_MAX_LEVELS - 1)
+            return n;
+    }
+}
+
+TEST(min_window_holds_the_coarsest_level)
+{
+    const long long t = 1LL << 23;
+    const long long sides[] = {1,          2,          3,          1201,       65537,
+                               1LL << 24,  (1LL << 24) + 1, (1LL << 24) + 2, 1LL << 30,
+                               15 * t + 1, 15 * t + 2, 16 * t + 1, 31 * t + 2, INT_MAX};
+    const int n = (int)(sizeof sides / sizeof sides[0]);
+    for (int a = 0; a < n; a++)
+        for (int b = 0; b < n; b += 3) {
+            long long ca = coarsest_posts(sides[a]), cb = coarsest_posts(sides[b]);
+            long long c = ca > cb ? ca : cb, want = 16;
+            while (want < c)
+                want *= 2;
+            int got = tp_pgm_clip_min_window((int)sides[a], (int)sides[b]);
+            if (got != want)
+                ADD_FAILURE("%lld x %lld: %d, expected %lld (the coarsest level: %lld posts)",
+                            sides[a], sides[b], got, want, c);
+        }
+    /* the boundaries by hand: 16 posts at level 23 fit 16, 17 need 32, 33 need 64 */
+    EXPECT_EQ_INT(16, tp_pgm_clip_min_window(65537, 65537));
+    EXPECT_EQ_INT(16, tp_pgm_clip_min_window((int)(15 * t + 1), 3));
+    EXPECT_EQ_INT(32, tp_pgm_clip_min_window((int)(15 * t + 2), 3));
+    EXPECT_EQ_INT(32, tp_pgm_clip_min_window(3, (int)(16 * t + 1)));
+    EXPECT_EQ_INT(32, tp_pgm_clip_min_window(3, (int)(31 * t + 1)));
+    EXPECT_EQ_INT(64, tp_pgm_clip_min_window(3, (int)(31 * t + 2)));
+    EXPECT_EQ_INT(512, tp_pgm_clip_min_window(INT_MAX, INT_MAX)); /* 257 posts */
 }
 
 TP_TEST_MAIN(TESTS)

@@ -9,6 +9,8 @@
  *   - after a flight of 300 frames with small windows (64 posts: every level but the coarsest
  *     moves, with steps, turns and jumps), the frame is the one a clipmap created at the final
  *     camera draws and its windows' texels are the fresh clipmap's: no stale strip;
+ *   - a GL error left pending by other code fails neither the clipmap's nor the atlas's creation;
+ *   - the first fill (every window) goes through a buffer of 2^18 posts, not levels x w^2;
  *   - GPU bytes: the index buffer and levels x w x w x 4, the same for a store of a third of
  *     the posts with as many levels, and the windows' posts updated per frame are strips, not
  *     windows.
@@ -35,138 +37,15 @@
     X(async_flight_settles_to_the_fresh_clipmap)                                                   \
     X(small_windows_fall_back_to_coarser_levels)                                                   \
     X(gpu_bytes_do_not_grow_with_the_store)                                                        \
-    X(void_posts_draw_nothing_and_no_curtain)
+    X(void_posts_draw_nothing_and_no_curtain)                                                      \
+    X(an_error_another_module_left_fails_no_creation)                                              \
+    X(first_fill_reads_through_a_bounded_buffer)
 
 #ifndef M_PI
 #define M_PI 3.14159265358979323846
 #endif
 
-#define W 480
-#define H 270
-
-static tp_gl_context* context_or_skip(void)
-{
-    tp_gl_context* ctx = NULL;
-    char msg[512];
-    if (!tp_gl_context_create_headless(W, H, &ctx, msg, sizeof msg))
-        SKIP("no headless OpenGL here: %s", msg);
-    return ctx;
-}
-
-/* A store of Mt Hood's filled grid, cropped to its first cw x ch posts (0: whole); the tree
- * (every node resident) for the reference heights. */
-typedef struct fixture {
-    char path[600];
-    tp_tree* full;
-    tp_store* store;
-    int w, h;
-    double gt[6];
-} fixture;
-
-static void open_fixture_voids(fixture* fx, int cw, int ch, const char* name, int fill);
-static void open_fixture(fixture* fx, int cw, int ch, const char* name)
-{
-    open_fixture_voids(fx, cw, ch, name, 1);
-}
-
-/* fill = 0: Mt Hood's voids kept (NaN: no height in the store) */
-static void open_fixture_voids(fixture* fx, int cw, int ch, const char* name, int fill)
-{
-    memset(fx, 0, sizeof *fx);
-    char dem_path[1024];
-    REQUIRE_DATA_FILE(dem_path, "TP_SAMPLE_DATA_DIR", "lf_elev_220_mt_hood_utm.tif");
-    tp_dem* dem = NULL;
-    tp_error err = {{0}};
-    ASSERT_OK(tp_dem_read(dem_path, &dem, &err));
-    tp_pgm_pyramid filled;
-    uint8_t* valid = NULL;
-    ASSERT_OK(tp_pgm_pyramid_from_grid(dem->heights, dem->width, dem->height, dem->geotransform,
-                                       &filled, &valid, &err));
-    free(valid);
-    fx->w = cw ? cw : dem->width, fx->h = ch ? ch : dem->height;
-    memcpy(fx->gt, dem->geotransform, sizeof fx->gt);
-    float* z = malloc((size_t)fx->w * fx->h * sizeof *z);
-    ASSERT_TRUE(z != NULL);
-    for (int y = 0; y < fx->h; y++)
-        memcpy(z + (size_t)y * fx->w, (fill ? filled.z[0] : dem->heights) + (size_t)y * dem->width,
-               fx->w * sizeof *z);
-    tp_pgm_pyramid_free(&filled);
-    tp_dem_destroy(dem);
-    ASSERT_OK(tp_tree_create_from_grid(z, (size_t)fx->w * fx->h, fx->w, fx->h, fx->gt, 33, 0,
-                                       &fx->full, &err));
-    free(z);
-    const tp_tree_geometry* g = tp_tree_get_geometry(fx->full);
-    tp_tree_info ti;
-    tp_tree_get_info(fx->full, &ti);
-    tp_store_header hd;
-    memset(&hd, 0, sizeof hd);
-    hd.geometry = *g;
-    memcpy(hd.geotransform, ti.geotransform, sizeof hd.geotransform);
-    hd.height_step_m = ti.height_step_m;
-    hd.quant_max_error_m = ti.quant_max_error_m;
-    hd.err_unit_steps = ti.err_unit_steps;
-    hd.crs_wkt = "";
-    hd.notes = "test_pgm_clip_gl";
-    snprintf(fx->path, sizeof fx->path, "%s/%s.tpt", make_tmp_dir(), name);
-    tp_store_writer* wr;
-    ASSERT_OK(tp_store_writer_begin(fx->path, &hd, &wr, &err));
-    size_t v = ((size_t)1 << g->n) + 1;
-    int32_t* q = malloc(v * v * sizeof *q);
-    ASSERT_TRUE(q != NULL);
-    for (int64_t id = g->node_count - 1; id >= 0; id--) {
-        const uint16_t* s = tp_tree_samples(fx->full, id);
-        const tp_node_meta* m = tp_tree_meta(fx->full, id);
-        for (size_t i = 0; i < v * v; i++)
-            q[i] = s[i] == TP_TREE_NO_HEIGHT ? INT32_MIN : (int32_t)s[i] + m->qmin;
-        ASSERT_OK(tp_store_writer_add_node(wr, id, m, q, s + v * v, &err));
-    }
-    free(q);
-    ASSERT_OK(tp_store_writer_commit(wr, &err));
-    ASSERT_OK(tp_store_open(fx->path, &fx->store, &err));
-}
-
-static void close_fixture(fixture* fx)
-{
-    tp_store_close(fx->store);
-    tp_tree_destroy(fx->full);
-}
-
-/* The decoded height of level-0 post (x, y), clamped to the grid. */
-static double height_at(const fixture* fx, int x, int y)
-{
-    x = x < 0 ? 0 : (x >= fx->w ? fx->w - 1 : x);
-    y = y < 0 ? 0 : (y >= fx->h ? fx->h - 1 : y);
-    return tp_tree_sample(fx->full, x, y);
-}
-
-/* A camera h_m above the ground at post (x, y), heading yaw_deg, pitched pitch_deg. */
-static tp_camera camera_at(const fixture* fx, double x, double y, double h_m, double yaw_deg,
-                           double pitch_deg)
-{
-    double eye[3] = {fx->gt[0] + (x + 0.5) * fx->gt[1], fx->gt[3] + (y + 0.5) * fx->gt[5], 0};
-    eye[2] = height_at(fx, (int)x, (int)y) + h_m;
-    tp_camera cam;
-    tp_camera_from_pose(eye, yaw_deg, pitch_deg, 60, W, H, &cam);
-    return cam;
-}
-
-/* Draws one frame; reads colour and depth back. */
-static void draw(tp_gl_context* ctx, tp_pgm_renderer* r, const tp_camera* cam, uint8_t* rgba,
-                 float* depth, tp_pgm_render_stats* st)
-{
-    /* tp_render_settings_default's (renderer.c is not linked here) */
-    tp_render_settings s;
-    memset(&s, 0, sizeof s);
-    s.sun_azimuth_deg = 315, s.sun_elevation_deg = 45, s.exaggeration = 1;
-    s.clear_rgb[0] = 0.55f, s.clear_rgb[1] = 0.70f, s.clear_rgb[2] = 0.90f;
-    tp_gl_context_begin_frame(ctx);
-    tp_pgm_renderer_draw(r, cam, &s, 1, NULL, st);
-    if (depth)
-        glReadPixels(0, 0, W, H, GL_DEPTH_COMPONENT, GL_FLOAT, depth);
-    tp_gl_context_end_frame(ctx);
-    if (rgba)
-        tp_gl_context_read_rgba(ctx, rgba);
-}
+#include "tp_test_pgm_store.h"
 
 /* Pixels whose colour differs by more than 1 in a channel or whose depth differs; terrain
  * pixels of a (depth < 1). */
@@ -541,6 +420,60 @@ TEST(void_posts_draw_nothing_and_no_curtain)
     EXPECT_EQ_INT(0, (long long)outside);
     EXPECT_EQ_INT(0, (long long)in_void);
     tp_pgm_renderer_destroy(r);
+    tp_pgm_clipmap_destroy(clip);
+    close_fixture(&fx);
+    tp_gl_context_destroy(ctx);
+}
+
+/* A GL error flag another module left set (here an invalid glEnable) is not the texture
+ * allocation's: both creations clear it before the calls they check. */
+TEST(an_error_another_module_left_fails_no_creation)
+{
+    tp_gl_context* ctx = context_or_skip();
+    fixture fx;
+    open_fixture(&fx, 200, 150, "crop");
+    tp_pgm_pyramid p;
+    store_pyramid(&fx, &p);
+    glEnable(0xBEEF);
+    ASSERT_EQ_INT(GL_INVALID_ENUM, (int)glGetError()); /* the flag is set... */
+    glEnable(0xBEEF);                                  /* ...and set again for the creation */
+    char msg[600] = "";
+    tp_pgm_clipmap* clip = tp_pgm_clipmap_create(fx.store, 64, msg, sizeof msg);
+    if (!clip)
+        FAIL("the clipmap: %s", msg);
+    glEnable(0xBEEF);
+    tp_pgm_renderer* whole = tp_pgm_renderer_create(&p, NULL, 40, 30, msg, sizeof msg);
+    if (!whole)
+        FAIL("the atlas: %s", msg);
+    tp_pgm_renderer_destroy(whole);
+    tp_pgm_clipmap_destroy(clip);
+    tp_pgm_pyramid_free(&p);
+    close_fixture(&fx);
+    tp_gl_context_destroy(ctx);
+}
+
+/* Windows of 1024 over Mt Hood: the first fill writes about a million posts (every level whole)
+ * a band at a time through 2^18 posts of CPU memory; nothing counts as filled before it (the
+ * renderer draws nothing then); the frame it fills is checked against the DEM's above. */
+TEST(first_fill_reads_through_a_bounded_buffer)
+{
+    tp_gl_context* ctx = context_or_skip();
+    fixture fx;
+    open_fixture(&fx, 0, 0, "hood");
+    char msg[600] = "";
+    tp_pgm_clipmap* clip = tp_pgm_clipmap_create(fx.store, 1024, msg, sizeof msg);
+    ASSERT_TRUE(clip != NULL);
+    EXPECT_EQ_INT(0, tp_pgm_clipmap_filled(clip));
+    tp_pgm_clip_stats st;
+    if (!tp_pgm_clipmap_update(clip, fx.w / 2.0, fx.h / 2.0, &st, msg, sizeof msg))
+        FAIL("%s", msg);
+    tp_test_note("first fill: %zu posts from %zu nodes through %zu posts of buffer, %.1f ms fill, "
+                 "%.1f ms upload",
+                 st.posts, st.node_reads, st.buffer_posts, st.fill_ms, st.upload_ms);
+    EXPECT_EQ_INT(1, tp_pgm_clipmap_filled(clip));
+    EXPECT_GT(st.posts, (size_t)1000000);
+    EXPECT_LE(st.buffer_posts, (size_t)1 << 18);
+    EXPECT_GT(st.buffer_posts, (size_t)0);
     tp_pgm_clipmap_destroy(clip);
     close_fixture(&fx);
     tp_gl_context_destroy(ctx);

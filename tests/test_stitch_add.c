@@ -20,7 +20,8 @@
     X(only_the_triangles_on_sides_that_take_vertices_change)                                       \
     X(two_patches_side_by_side_share_their_edge)                                                   \
     X(levels_above_n_are_taken_as_n)                                                               \
-    X(add_bound_holds_on_real_dems)
+    X(add_bound_holds_on_real_dems)                                                                \
+    X(max_error_mode_refuses_vertex_adding)
 
 enum { MAXN = 5, SIDE = (1 << MAXN) + 1, MAX_TRI = 2 * (1 << MAXN) * (1 << MAXN) + 4 * SIDE };
 
@@ -491,6 +492,37 @@ TEST(add_bound_holds_on_real_dems)
         tp_terrain_destroy(t);
         tp_dem_destroy(dem);
     }
+#endif
+}
+
+
+/* The max-error mode measures vertex moving's geometry: with vertex adding it refuses to
+ * update (it used to ignore the setting and select for the other geometry). */
+TEST(max_error_mode_refuses_vertex_adding)
+{
+#ifdef TP_TEST_NO_IO
+    SKIP("built without tp_io");
+#else
+    char path[1024];
+    tp_dem* dem = NULL;
+    tp_terrain* t = NULL;
+    tp_selection* sel = NULL;
+    tp_error err;
+    REQUIRE_DATA_FILE(path, "TP_SAMPLE_DATA_DIR", "storml_elev_orig.tif");
+    ASSERT_OK(tp_dem_read(path, &dem, &err));
+    tp_terrain_desc d = tp_dem_terrain_desc(dem, 17, TP_FIT_PAD);
+    ASSERT_OK(tp_terrain_create(&d, &t, &err));
+    ASSERT_OK(tp_selection_create(t, &sel, &err));
+    tp_lod_params lp = {.mode = TP_LOD_MAX_ERROR, .max_error_m = 5};
+    ASSERT_OK(tp_selection_update(sel, NULL, &lp, &err));
+    tp_selection_set_stitch_add(sel, 1);
+    EXPECT_STATUS(TP_ERR_INVALID_ARG, tp_selection_update(sel, NULL, &lp, &err));
+    EXPECT_CONTAINS(err.message, "max-error mode");
+    tp_selection_set_stitch_add(sel, 0);
+    EXPECT_OK(tp_selection_update(sel, NULL, &lp, &err));
+    tp_selection_destroy(sel);
+    tp_terrain_destroy(t);
+    tp_dem_destroy(dem);
 #endif
 }
 

@@ -212,7 +212,7 @@ static void summarize(store_result* c, int n)
     c->pgm_posts = tp_bench_median(v, n);
     ROWS_OF(r->pgm_node_reads);
     c->pgm_node_reads = tp_bench_median(v, n);
-    double sum_px = 0;
+    double sum_px = 0, share = 0;
     for (int i = 0; i < n; i++) {
         const store_row* r = &c->rows[i];
         c->substituted_max = r->substituted > c->substituted_max ? r->substituted : c->substituted_max;
@@ -234,9 +234,12 @@ static void summarize(store_result* c, int n)
             sum_px += r->rms_px * r->rms_px;
             c->samples += (double)r->samples;
             c->skipped += (double)r->skipped;
+            size_t in_view = r->samples + r->uncovered;
+            share += in_view ? (double)r->uncovered / (double)in_view : 0;
         }
     }
     c->rms_px = c->error_frames ? sqrt(sum_px / c->error_frames) : 0;
+    c->uncovered_share = c->error_frames ? share / c->error_frames : NAN;
     free(v);
 }
 
@@ -262,10 +265,16 @@ static int settle(store_bench* b, tp_cut* cut, tp_cut* pre, const tp_camera* cam
     }
 }
 
+/* The most level-0 posts one PGM frame's error visits over a store (a view towards the horizon
+ * over a 65537^2 store would visit all 4.3e9, minutes a frame): 2^28, a few seconds. */
+#define PGM_MEASURE_MAX_POSTS ((size_t)1 << 28)
+
 /* A PGM configuration: a fresh clipmap and grid (cold), the same flight; each frame's time
  * includes the clipmap's update (reading and uploading the strips its windows gain: synchronous,
- * so a jump's whole refill is in the stretch's first warm-up frame, untimed). The error is not
- * measured (NaN): the heights to compare with are only in the windows. Returns TP_EXIT_*. */
+ * so a jump's whole refill is in the stretch's first warm-up frame, untimed). The error, every
+ * --error-every frames outside the timed part, is tp_pgm_clipmap_measure's: the surface the
+ * windows drew against the store's level-0 posts in view (frames whose view's region holds more
+ * than PGM_MEASURE_MAX_POSTS are counted in pgm_unmeasured instead). Returns TP_EXIT_*. */
 static int run_store_pgm(store_bench* b, store_result* c, const char* progress)
 {
     int frames = b->segments * b->per_segment;
@@ -287,9 +296,10 @@ static int run_store_pgm(store_bench* b, store_result* c, const char* progress)
     for (int seg = 0; seg < b->segments; seg++)
         for (int i = -WARMUP_FRAMES; i < b->per_segment; i++) {
             flight_camera(b, seg, i * b->step_m, &cam);
+            tp_pgm_frame f;
             tp_gl_context_begin_frame(b->ctx);
             double t0 = now_ms();
-            tp_pgm_renderer_draw(r, &cam, &rs, 1, NULL, &ps);
+            tp_pgm_renderer_draw(r, &cam, &rs, 1, &f, &ps);
             tp_gl_context_end_frame(b->ctx);
             double t1 = now_ms();
             if (i < 0)
@@ -307,6 +317,27 @@ static int run_store_pgm(store_bench* b, store_result* c, const char* progress)
             row->triangles = ps.triangles;
             row->gpu_bytes = ps.gpu_bytes;
             row->max_px = row->rms_px = NAN;
+            if (!b->o->no_error && k % b->o->error_every == 0) { /* untimed */
+                tp_pgm_error e;
+                tp_camera mc = cam; /* the viewport the frame was drawn at */
+                mc.viewport_w_px = b->o->vs.w;
+                mc.viewport_h_px = b->o->vs.h;
+                tp_status ms = tp_pgm_clipmap_measure(clip, &f, &mc, PGM_MEASURE_MAX_POSTS, &e,
+                                                      msg, sizeof msg);
+                if (ms == TP_ERR_INVALID_ARG) { /* a region too large to visit: not measured */
+                    c->pgm_unmeasured++;
+                } else if (ms != TP_OK) {
+                    fprintf(stderr, "\nterrapatch bench: %s: frame %d: %s\n", progress, k + 1,
+                            msg);
+                    tp_pgm_renderer_destroy(r);
+                    tp_pgm_clipmap_destroy(clip);
+                    return TP_EXIT_FAILURE;
+                } else {
+                    row->measured = 1;
+                    row->max_px = e.max_px, row->rms_px = e.rms_px;
+                    row->samples = e.samples, row->uncovered = e.uncovered;
+                }
+            }
             read_rss(&row->rss_mb, &row->rss_anon_mb);
             fprintf(stderr, "\rterrapatch: bench %s: frame %d/%d, %.1f ms, %zu posts updated   ",
                     progress, k + 1, frames, row->frame_ms, row->pgm_posts);

@@ -23,6 +23,7 @@ typedef struct store_row {
     int measured;               /* error measured (frame without substitution) */
     double max_px, rms_px;
     size_t samples, skipped;
+    size_t uncovered;           /* --renderer pgm: posts in view no drawn triangle covers */
     /* --imagery: the clipmap's part of the frame (in frame_ms) */
     double img_ms, img_upload_ms;
     int img_uploads, img_missing, img_pending;
@@ -45,6 +46,8 @@ typedef struct store_result {
     int error_frames;           /* frames measured */
     double max_px, rms_px;      /* over measured frames */
     double samples, skipped;    /* totals over measured frames */
+    double uncovered_share;     /* --renderer pgm: the mean over measured frames of the share of
+                                   the posts in view no drawn triangle covers */
     double settle_ms;           /* first stretch: open... until nothing is missing */
     int settle_timeouts;
     int imagery;                /* drapes o->imagery through the clipmap or blocks: */
@@ -58,9 +61,11 @@ typedef struct store_result {
     int light;                  /* instead of imagery: o->light, the day's streamed light (its
                                    clipmap's figures in the img_ fields) */
     int pgm_cols, pgm_rows;     /* > 0: Persistent Grid Mapping over the store's clipmap
-                                   (app/view/pgm_clip.h), no cut, no stream; error not
-                                   measured */
+                                   (app/view/pgm_clip.h), no cut, no stream; error by
+                                   tp_pgm_clipmap_measure */
     int pgm_window;
+    int pgm_unmeasured;         /* frames whose view's region held more than 2^28 posts (minutes
+                                   a frame on a huge store): not measured */
     double pgm_fill_ms, pgm_fill_ms_p99, pgm_upload_ms, pgm_upload_ms_p99, pgm_posts,
         pgm_node_reads; /* medians (and p99) over the timed frames */
 } store_result;

@@ -98,6 +98,10 @@ static void json_result(tp_json* j, const store_result* c)
     KN("rms_screen_error_px", c->error_frames && c->samples > 0 ? c->rms_px : NAN);
     KN("error_samples", c->samples);
     KN("error_samples_skipped", c->skipped);
+    if (c->pgm_cols) /* posts in view no drawn triangle covers (not in the error) */
+        KN("uncovered_share", c->error_frames ? c->uncovered_share : NAN);
+    if (c->pgm_cols) /* frames whose view's region was too large to visit (2^28 posts) */
+        KN("error_frames_over_region_limit", c->pgm_unmeasured);
 #undef KN
 }
 
@@ -252,11 +256,19 @@ void tp_bench_store_print(const store_bench* b, const char* renderer_name, const
         if (c[k].pgm_cols)
             printf("%s: clipmap of %d x %d posts a level: fill %.3f ms a frame median (%.3f p99), "
                    "upload %.3f ms median (%.3f p99), %.0f posts and %.0f node reads median; "
-                   "GPU %.1f MB; error not measured (NaN: over a store the heights are only in "
-                   "the clipmap's windows)\n",
+                   "GPU %.1f MB; screen error (the windows' surface against the level-0 posts in "
+                   "view) measured on %d frames: max %.3f px, RMS %.3f px, %.0f samples, %.2f %% "
+                   "of the posts in view uncovered\n",
                    c[k].label, c[k].pgm_window, c[k].pgm_window, c[k].pgm_fill_ms,
                    c[k].pgm_fill_ms_p99, c[k].pgm_upload_ms, c[k].pgm_upload_ms_p99, c[k].pgm_posts,
-                   c[k].pgm_node_reads, c[k].gpu_mb);
+                   c[k].pgm_node_reads, c[k].gpu_mb, c[k].error_frames,
+                   c[k].samples > 0 ? c[k].max_px : NAN, c[k].samples > 0 ? c[k].rms_px : NAN,
+                   c[k].samples, 100 * c[k].uncovered_share);
+    for (int k = 0; k < nc; k++)
+        if (c[k].pgm_cols && c[k].pgm_unmeasured)
+            printf("%s: %d frames not measured: their view's region held more than 2^28 level-0 "
+                   "posts\n",
+                   c[k].label, c[k].pgm_unmeasured);
     for (int k = 0; k < nc; k++)
         if (!o->no_error && !c[k].pgm_cols)
             printf("%s: screen error measured on %d frames without substitution (%.0f samples, "

@@ -77,8 +77,8 @@ void tp_view_hud_text(tp_view_scene* v, const tp_camera* cam,
     if (me && me->valid && !isnan(me->max_m))
         snprintf(measured, sizeof measured, "   measured max %.2f m / %.2f px, RMS %.2f m / %.2f px",
                  me->max_m, me->max_px, me->rms_m, me->rms_px);
-    else if (me && me->valid && isnan(me->max_px)) /* PGM over a store (pgm_render.h) */
-        snprintf(measured, sizeof measured, "   error not measured (PGM over a store)");
+    else if (me && me->valid && isnan(me->max_px)) /* the measure failed (said on stderr) */
+        snprintf(measured, sizeof measured, "   error not measured (see the terminal)");
     else if (me && me->valid)
         snprintf(measured, sizeof measured, "   measured max %.2f px, RMS %.2f px", me->max_px,
                  me->rms_px);

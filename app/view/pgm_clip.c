@@ -12,6 +12,9 @@
 #include <string.h>
 #include <time.h>
 
+/* The synchronous path's buffer: 1 MiB of posts, read and uploaded a band of rows at a time. */
+#define FILL_BUFFER_POSTS ((size_t)1 << 18)
+
 typedef struct pgm_job pgm_job;
 static void job_free(pgm_job* j);
 
@@ -51,6 +54,14 @@ static double now_ms(void)
     struct timespec ts;
     clock_gettime(CLOCK_MONOTONIC, &ts);
     return ts.tv_sec * 1e3 + ts.tv_nsec / 1e6;
+}
+
+/* Clears the GL errors earlier calls left (bounded: a lost context may report one forever), so
+ * that glGetError after the calls it checks reports theirs. */
+static void drain_gl_errors(void)
+{
+    for (int k = 0; k < 64 && glGetError() != GL_NO_ERROR; k++)
+        ;
 }
 
 /* The shape tp_pgm_pyramid_build gives a width x height grid, without heights. */
@@ -116,6 +127,16 @@ tp_pgm_clipmap* tp_pgm_clipmap_create(const tp_store* store, int w, char* msg, s
     size_t count = 0;
     c->metas = tp_store_metas(store, &count);
     make_shape(c);
+    int need = tp_pgm_clip_min_window(c->g->src_width, c->g->src_height);
+    if (w < need) { /* the coarsest window must hold its level whole (pgm_clip.h) */
+        snprintf(msg, msg_size,
+                 "PGM clipmap: the store's %d x %d posts keep %d x %d at the coarsest of its %d "
+                 "levels, more than a window of %d posts holds: --pgm-window %d or more",
+                 c->g->src_width, c->g->src_height, c->shape.width[c->shape.levels - 1],
+                 c->shape.height[c->shape.levels - 1], c->shape.levels, w, need);
+        free(c);
+        return NULL;
+    }
     if (!height_range(c)) {
         snprintf(msg, msg_size, "PGM: the store has no drawn height (or memory ran out)");
         free(c);
@@ -146,6 +167,7 @@ tp_pgm_clipmap* tp_pgm_clipmap_create(const tp_store* store, int w, char* msg, s
         tp_pgm_clipmap_destroy(c);
         return NULL;
     }
+    drain_gl_errors(); /* what another module left would read as this allocation's */
     glGenTextures(1, &c->tex);
     glBindTexture(GL_TEXTURE_2D_ARRAY, c->tex);
     glTexImage3D(GL_TEXTURE_2D_ARRAY, 0, GL_R32F, w, w, c->shape.levels, 0, GL_RED, GL_FLOAT, NULL);
@@ -214,6 +236,16 @@ unsigned tp_pgm_clipmap_texture(const tp_pgm_clipmap* c)
 size_t tp_pgm_clipmap_gpu_bytes(const tp_pgm_clipmap* c)
 {
     return c->gpu_bytes;
+}
+
+const tp_store* tp_pgm_clipmap_store(const tp_pgm_clipmap* c)
+{
+    return c->store;
+}
+
+int tp_pgm_clipmap_filled(const tp_pgm_clipmap* c)
+{
+    return c->filled;
 }
 
 /* The decoded heights of node, read on a miss; NULL when the read fails (c->failed says why,
@@ -285,8 +317,8 @@ static int job_add(pgm_job* j, int l, int x0, int y0, int x1, int y1)
     return 1;
 }
 
-/* The job that moves every window to centre on (x, y); NULL when nothing moves (*oom set when
- * memory ran out). */
+/* The job that moves every window to centre on (x, y), without its buffer; NULL when nothing
+ * moves (*oom set when memory ran out). */
 static pgm_job* make_job(const tp_pgm_clipmap* c, double x, double y, int* oom)
 {
     const int w = c->w;
@@ -331,49 +363,60 @@ static pgm_job* make_job(const tp_pgm_clipmap* c, double x, double y, int* oom)
         job_free(j);
         return NULL;
     }
-    if (j->posts && !(j->z = malloc(j->posts * sizeof *j->z))) {
-        *oom = 1;
-        job_free(j);
-        return NULL;
-    }
-    return j;
+    return j; /* its buffer, z, is the caller's to make (job_buffer) or not */
 }
 
-/* Reads the job's posts from the store (the node cache is the filler's: the loader thread's
- * when there is one, else the render thread's). */
+/* The job's whole buffer (the loader fills it at once); 0 when memory runs out. */
+static int job_buffer(pgm_job* j)
+{
+    return !j->posts || (j->z = malloc(j->posts * sizeof *j->z)) != NULL;
+}
+
+/* Reads piece p's posts from the store into out (row-major; the node cache is the filler's:
+ * the loader thread's when there is one, else the render thread's). */
+static void fill_piece(tp_pgm_clipmap* c, const piece* p, float* out, tp_pgm_clip_stats* st)
+{
+    const tp_tree_geometry* g = c->g;
+    int l = p->l, nx = p->x1 - p->x0;
+    int64_t last = -1;
+    const float* z = NULL;
+    for (int jy = p->y0; jy < p->y1; jy++) {
+        long long yl = (long long)jy << l;
+        int y = (int)(yl < g->src_height - 1 ? yl : g->src_height - 1);
+        float* row = out + (size_t)(jy - p->y0) * nx;
+        for (int i = p->x0; i < p->x1; i++) {
+            long long xl = (long long)i << l;
+            int x = (int)(xl < g->src_width - 1 ? xl : g->src_width - 1);
+            size_t sample;
+            int64_t node = tp_pgm_store_post(g, l, x, y, &sample);
+            if (node != last) {
+                z = node_heights(c, node, st);
+                last = node;
+            }
+            float h = z ? z[sample] : NAN;
+            row[i - p->x0] = isnan(h) ? TP_PGM_CLIP_VOID : h;
+        }
+    }
+}
+
+/* Reads the job's posts into its buffer (the loader thread). */
 static void fill_job(tp_pgm_clipmap* c, pgm_job* j)
 {
     double t0 = now_ms();
-    const tp_tree_geometry* g = c->g;
     tp_pgm_clip_stats st;
     memset(&st, 0, sizeof st);
     c->failed[0] = 0;
-    for (int k = 0; k < j->count; k++) {
-        const piece* p = &j->pieces[k];
-        int l = p->l, nx = p->x1 - p->x0;
-        int64_t last = -1;
-        const float* z = NULL;
-        for (int jy = p->y0; jy < p->y1; jy++) {
-            long long yl = (long long)jy << l;
-            int y = (int)(yl < g->src_height - 1 ? yl : g->src_height - 1);
-            float* row = j->z + p->at + (size_t)(jy - p->y0) * nx;
-            for (int i = p->x0; i < p->x1; i++) {
-                long long xl = (long long)i << l;
-                int x = (int)(xl < g->src_width - 1 ? xl : g->src_width - 1);
-                size_t sample;
-                int64_t node = tp_pgm_store_post(g, l, x, y, &sample);
-                if (node != last) {
-                    z = node_heights(c, node, &st);
-                    last = node;
-                }
-                float h = z ? z[sample] : NAN;
-                row[i - p->x0] = isnan(h) ? TP_PGM_CLIP_VOID : h;
-            }
-        }
-    }
+    for (int k = 0; k < j->count; k++)
+        fill_piece(c, &j->pieces[k], j->z + j->pieces[k].at, &st);
     memcpy(j->failed, c->failed, sizeof j->failed);
     j->node_reads = st.node_reads;
     j->fill_ms = now_ms() - t0;
+}
+
+static void upload_piece(const tp_pgm_clipmap* c, const piece* p, const float* z)
+{
+    glTexSubImage3D(GL_TEXTURE_2D_ARRAY, 0, p->x0 & (c->w - 1), p->y0 & (c->w - 1), p->l,
+                    p->x1 - p->x0, p->y1 - p->y0, 1, GL_RED, GL_FLOAT, z);
 }
 
 /* Uploads a filled job and moves the windows to its targets (render thread). */
@@ -382,11 +425,8 @@ static void upload_job(tp_pgm_clipmap* c, const pgm_job* j, tp_pgm_clip_stats* s
     double t0 = now_ms();
     glBindTexture(GL_TEXTURE_2D_ARRAY, c->tex);
     glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
-    for (int k = 0; k < j->count; k++) {
-        const piece* p = &j->pieces[k];
-        glTexSubImage3D(GL_TEXTURE_2D_ARRAY, 0, p->x0 & (c->w - 1), p->y0 & (c->w - 1), p->l,
-                        p->x1 - p->x0, p->y1 - p->y0, 1, GL_RED, GL_FLOAT, j->z + p->at);
-    }
+    for (int k = 0; k < j->count; k++)
+        upload_piece(c, &j->pieces[k], j->z + j->pieces[k].at);
     glBindTexture(GL_TEXTURE_2D_ARRAY, 0);
     memcpy(c->origin, j->target, sizeof c->origin);
     c->filled = 1;
@@ -394,6 +434,45 @@ static void upload_job(tp_pgm_clipmap* c, const pgm_job* j, tp_pgm_clip_stats* s
     st->fill_ms += j->fill_ms;
     st->posts += j->posts;
     st->node_reads += j->node_reads;
+    st->buffer_posts = j->posts > st->buffer_posts ? j->posts : st->buffer_posts;
+}
+
+/* The job at once on the render thread, a band of rows of a piece at a time through one buffer
+ * of at most FILL_BUFFER_POSTS (a first fill or a jump refills every window: levels x w^2
+ * posts), then the windows move. 0 when the buffer cannot be had: nothing is written, the
+ * windows stay as they were (unfilled before the first fill: nothing is drawn then). */
+static int fill_upload_job(tp_pgm_clipmap* c, const pgm_job* j, tp_pgm_clip_stats* st)
+{
+    size_t cap = j->posts < FILL_BUFFER_POSTS ? j->posts : FILL_BUFFER_POSTS;
+    float* z = cap ? malloc(cap * sizeof *z) : NULL;
+    if (cap && !z)
+        return 0;
+    c->failed[0] = 0;
+    glBindTexture(GL_TEXTURE_2D_ARRAY, c->tex);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+    for (int k = 0; k < j->count; k++) {
+        const piece* p = &j->pieces[k];
+        size_t nx = (size_t)(p->x1 - p->x0);
+        int rows = (int)(cap / nx); /* >= 1: a piece is at most w <= 8192 posts wide */
+        for (int y = p->y0; y < p->y1; y += rows) {
+            piece band = *p;
+            band.y0 = y;
+            band.y1 = y + rows < p->y1 ? y + rows : p->y1;
+            double t0 = now_ms();
+            fill_piece(c, &band, z, st);
+            double t1 = now_ms();
+            upload_piece(c, &band, z);
+            st->fill_ms += t1 - t0;
+            st->upload_ms += now_ms() - t1;
+        }
+    }
+    glBindTexture(GL_TEXTURE_2D_ARRAY, 0);
+    free(z);
+    memcpy(c->origin, j->target, sizeof c->origin);
+    c->filled = 1;
+    st->posts += j->posts;
+    st->buffer_posts = cap > st->buffer_posts ? cap : st->buffer_posts;
+    return 1;
 }
 
 static void* loader_main(void* arg)
@@ -460,9 +539,8 @@ int tp_pgm_clipmap_update(tp_pgm_clipmap* c, double x, double y, tp_pgm_clip_sta
     if (!c->async || !c->filled) { /* at once (the first fill always: nothing to draw before) */
         pgm_job* j = make_job(c, x, y, &oom);
         if (j) {
-            fill_job(c, j);
-            upload_job(c, j, &st);
-            memcpy(failed, j->failed, sizeof failed);
+            oom = !fill_upload_job(c, j, &st);
+            memcpy(failed, c->failed, sizeof failed);
             job_free(j);
         }
     } else {
@@ -478,6 +556,11 @@ int tp_pgm_clipmap_update(tp_pgm_clipmap* c, double x, double y, tp_pgm_clip_sta
         }
         if (!busy) { /* the next move, from the windows as they now are */
             pgm_job* j = make_job(c, x, y, &oom);
+            if (j && !job_buffer(j)) {
+                job_free(j);
+                j = NULL;
+                oom = 1;
+            }
             if (j) {
                 pthread_mutex_lock(&c->mu);
                 c->pending = j;

@@ -33,13 +33,20 @@ typedef struct tp_pgm_clip_stats {
     double upload_ms;  /* glTexSubImage3D of them */
     size_t posts;      /* posts written this update */
     size_t node_reads; /* nodes read from the store (cache misses) */
+    size_t buffer_posts; /* the most posts held in CPU memory at once: on the render thread a
+                            band of rows at a time, at most 2^18 (1 MiB) whatever the window;
+                            through the loader thread a whole move's */
 } tp_pgm_clip_stats;
 
 /* Creates the clipmap of an open store (borrowed: it must outlive the clipmap) for the current
  * GL context: window w (a power of two, 16 .. 8192; 0: TP_PGM_CLIP_DEFAULT_WINDOW), the texture
- * array allocated, nothing filled yet (the first tp_pgm_clipmap_update fills every window).
- * NULL with a message in msg for a bad w, a window larger than GL_MAX_TEXTURE_SIZE, too many
- * levels for GL_MAX_ARRAY_TEXTURE_LAYERS, a store without a drawn height, out of memory. */
+ * array allocated, nothing filled yet (the first tp_pgm_clipmap_update fills every window, on
+ * the render thread, through a buffer of 1 MiB: tp_pgm_clip_stats.buffer_posts).
+ * NULL with a message in msg for a bad w, a window smaller than the coarsest level
+ * (tp_pgm_clip_min_window: a side of more than (w - 1) 2^23 + 1 posts), a window larger
+ * than GL_MAX_TEXTURE_SIZE, too many levels for GL_MAX_ARRAY_TEXTURE_LAYERS, a store without a
+ * drawn height, out of memory, or a GL error allocating the texture array (errors left by
+ * earlier calls are cleared first). */
 tp_pgm_clipmap* tp_pgm_clipmap_create(const tp_store* store, int w, char* msg, size_t msg_size);
 void tp_pgm_clipmap_destroy(tp_pgm_clipmap* c); /* accepts NULL */
 
@@ -56,6 +63,10 @@ const tp_pgm_pyramid* tp_pgm_clipmap_shape(const tp_pgm_clipmap* c);
 int tp_pgm_clipmap_update(tp_pgm_clipmap* c, double x, double y, tp_pgm_clip_stats* stats,
                           char* msg, size_t msg_size);
 
+/* 1 once the windows hold their posts (a first fill done); 0 before, and after a first fill
+ * that ran out of memory (draw nothing then: the texels are uninitialised). */
+int tp_pgm_clipmap_filled(const tp_pgm_clipmap* c);
+
 /* Starts the loader thread: from now on an update uploads what the loader has read since the
  * last one and hands it the next move (the first fill is still done at once: there is nothing
  * to draw before it). 1, or 0 with a message when no thread can be made (the clipmap stays
@@ -70,5 +81,24 @@ int tp_pgm_clipmap_window(const tp_pgm_clipmap* c);
 void tp_pgm_clipmap_origins(const tp_pgm_clipmap* c, int* origin);
 unsigned tp_pgm_clipmap_texture(const tp_pgm_clipmap* c);
 size_t tp_pgm_clipmap_gpu_bytes(const tp_pgm_clipmap* c);
+const tp_store* tp_pgm_clipmap_store(const tp_pgm_clipmap* c); /* the store it was made for */
+
+/* The error of the surface drawn over the clipmap for frame f (tp_pgm_frame_setup on its shape)
+ * seen by main, by the bench's definition (tp_pgm_measure_error_source; pgm_clip_error.c): the
+ * drawn heights those the shader reads from the windows as they stand now (each level's posts
+ * read from the store as the filler writes them, the level falling back to the first coarser
+ * window holding the bilinear footprint, void posts voiding the vertex), compared with the
+ * level-0 posts of tp_pgm_view_region(shape, main) read from the store's scale-0 nodes (posts
+ * without a height are not compared). Call it after the draw it measures, before the next
+ * update (the windows' origins are read now). No GL; reads the store on the calling thread
+ * with its own cache of about 16 MiB of decoded nodes; memory besides: one band of the region
+ * (its width x 2^n posts, 5 bytes each) and 25 bytes a grid vertex; time: every post of the
+ * region (the whole store for a view reaching the horizon), so max_posts (0: no limit) bounds
+ * it: a larger region is not measured. TP_OK and *out; else *out zeroed and a message in msg:
+ * TP_ERR_INVALID_ARG (the region holds more than max_posts posts; both counts said),
+ * TP_ERR_IO (a node cannot be read; the store and node named), TP_ERR_OUT_OF_MEMORY. */
+tp_status tp_pgm_clipmap_measure(const tp_pgm_clipmap* c, const tp_pgm_frame* f,
+                                 const tp_camera* main, size_t max_posts, tp_pgm_error* out,
+                                 char* msg, size_t msg_size);
 
 #endif

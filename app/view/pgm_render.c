@@ -375,6 +375,9 @@ tp_pgm_renderer* tp_pgm_renderer_create(const tp_pgm_pyramid* p, const uint8_t* 
     if (!r)
         return NULL;
     memcpy(r->off, probe.off, sizeof r->off);
+    /* errors earlier calls left would read as the upload's below (bounded: a lost context) */
+    for (int k = 0; k < 64 && glGetError() != GL_NO_ERROR; k++)
+        ;
     glGenTextures(1, &r->atlas);
     glBindTexture(GL_TEXTURE_2D, r->atlas);
     glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
@@ -443,21 +446,18 @@ void tp_pgm_renderer_grid(const tp_pgm_renderer* r, int* cols, int* rows)
     *rows = r->rows;
 }
 
-void tp_pgm_renderer_measure(const tp_pgm_renderer* r, const tp_camera* cam, double* max_m,
-                             double* rms_m, double* max_px, double* rms_px)
+tp_status tp_pgm_renderer_measure(const tp_pgm_renderer* r, const tp_camera* cam,
+                                  size_t max_posts, tp_pgm_error* out, char* msg,
+                                  size_t msg_size)
 {
-    if (r->clip) { /* the heights are only in the windows on the GPU (pgm_render.h) */
-        *max_m = *rms_m = *max_px = *rms_px = NAN;
-        return;
-    }
     tp_pgm_frame f;
     tp_pgm_frame_setup(cam, r->cols, r->rows, r->p, &f);
-    tp_pgm_error e;
-    if (tp_pgm_measure_error(&f, r->p, cam, &e) != TP_OK) {
-        *max_m = *rms_m = *max_px = *rms_px = NAN;
-        return;
-    }
-    *max_m = e.max_m, *rms_m = e.rms_m, *max_px = e.max_px, *rms_px = e.rms_px;
+    if (r->clip)
+        return tp_pgm_clipmap_measure(r->clip, &f, cam, max_posts, out, msg, msg_size);
+    tp_status st = tp_pgm_measure_error(&f, r->p, cam, out);
+    if (st != TP_OK)
+        snprintf(msg, msg_size, "PGM error: out of memory");
+    return st;
 }
 
 /* The far plane: the farthest corner of the terrain's box, with room (as renderer.c). */
@@ -511,6 +511,15 @@ void tp_pgm_renderer_draw(tp_pgm_renderer* r, const tp_camera* cam, const tp_ren
         stats->upload_ms = cs.upload_ms;
         stats->posts_updated = cs.posts;
         stats->node_reads = cs.node_reads;
+        if (!tp_pgm_clipmap_filled(r->clip)) { /* its texels are uninitialised: clear only */
+            glClearColor(s->clear_rgb[0], s->clear_rgb[1], s->clear_rgb[2], 1);
+            glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+            stats->cols = r->cols;
+            stats->rows = r->rows;
+            stats->gpu_bytes = r->gpu_bytes;
+            stats->setup_ms = now_ms() - t0;
+            return;
+        }
     }
 
     glClearColor(s->clear_rgb[0], s->clear_rgb[1], s->clear_rgb[2], 1);

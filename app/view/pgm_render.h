@@ -52,7 +52,8 @@ void tp_pgm_renderer_draw(tp_pgm_renderer* r, const tp_camera* cam, const tp_ren
 
 /* Creates the grid over a store's clipmap (pgm_clip.h; borrowed: it must outlive the
  * renderer), for stores of any size: each draw first moves the clipmap's windows to the eye
- * (tp_pgm_clipmap_update; a read failure is printed once and its posts are not drawn), and the
+ * (tp_pgm_clipmap_update; a read failure is printed once and its posts are not drawn; until a
+ * first fill succeeds, out of memory, the frame is only cleared), and the
  * shader reads each level from its window, or where the bilinear footprint lies outside it,
  * from the first coarser level whose window holds it (so no vertex reads a stale texel). A
  * texel without a height (nodata) counts as off the terrain. Fails as tp_pgm_renderer_create. */
@@ -60,11 +61,14 @@ typedef struct tp_pgm_clipmap tp_pgm_clipmap;
 tp_pgm_renderer* tp_pgm_renderer_create_clipmap(tp_pgm_clipmap* clip, int cols, int rows, char* msg,
                                                 size_t msg_size);
 
-/* The error of the surface drawn for cam (its own viewport) by tp_pgm_measure_error: vertical
- * (m) and screen (px); NaN when memory runs out, and always over a clipmap (the heights it would
- * compare with are only in the windows on the GPU: not measured). */
-void tp_pgm_renderer_measure(const tp_pgm_renderer* r, const tp_camera* cam, double* max_m,
-                             double* rms_m, double* max_px, double* rms_px);
+/* The error of the surface drawn for cam (its own viewport) by the bench's definition:
+ * tp_pgm_measure_error over the whole pyramid, or over a clipmap tp_pgm_clipmap_measure (the
+ * windows as they stand: call it after the draw it measures, before the next; max_posts, 0 for
+ * none, bounds the posts it may visit). TP_OK and *out; else *out zeroed and a message in msg
+ * (out of memory; over a store, a node that cannot be read or a region over max_posts). */
+tp_status tp_pgm_renderer_measure(const tp_pgm_renderer* r, const tp_camera* cam,
+                                  size_t max_posts, tp_pgm_error* out, char* msg,
+                                  size_t msg_size);
 
 /* The grid size. */
 void tp_pgm_renderer_grid(const tp_pgm_renderer* r, int* cols, int* rows);

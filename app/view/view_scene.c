@@ -124,13 +124,30 @@ double tp_view_scene_vertical_scale(const tp_view_scene* v)
     return v->store ? tp_cut_vertical_scale(v->cut) : tp_selection_vertical_scale(v->sel);
 }
 
+/* PGM over a store: the most level-0 posts a measure visits (a view towards the horizon over a
+ * huge store would visit them all, seconds each time; 2^26 is about a DEM the whole-pyramid path
+ * can hold, 8192 x 8192). */
+#define PGM_MEASURE_MAX_POSTS ((size_t)1 << 26)
+
 void tp_view_scene_measure(const tp_view_scene* v, const tp_camera* cam, double* max_m,
                            double* rms_m, double* max_px, double* rms_px)
 {
     *max_m = *rms_m = NAN;
     *max_px = *rms_px = 0;
     if (v->pgm) {
-        tp_pgm_renderer_measure(v->pgm, cam, max_m, rms_m, max_px, rms_px);
+        tp_pgm_error e;
+        char msg[600];
+        static char told[600]; /* the HUD measures once a second: each message once in a row */
+        if (tp_pgm_renderer_measure(v->pgm, cam, PGM_MEASURE_MAX_POSTS, &e, msg, sizeof msg) !=
+            TP_OK) {
+            if (strcmp(msg, told))
+                fprintf(stderr, "terrapatch: %s\n", msg);
+            snprintf(told, sizeof told, "%s", msg);
+            *max_px = *rms_px = NAN;
+            return;
+        }
+        told[0] = '\0';
+        *max_m = e.max_m, *rms_m = e.rms_m, *max_px = e.max_px, *rms_px = e.rms_px;
         return;
     }
     if (v->store) {

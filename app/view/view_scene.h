@@ -57,7 +57,8 @@ void tp_view_scene_keep_above(tp_view_scene* v, double position[3], double clear
 void tp_view_scene_set_vertical_scale(tp_view_scene* v, double scale);
 double tp_view_scene_vertical_scale(const tp_view_scene* v);
 /* The drawn surface's screen error for cam (px); metres where the path measures them (NaN
- * else); PGM's by tp_pgm_measure_error. */
+ * else); PGM's by tp_pgm_renderer_measure (over a store too, over at most 2^26 posts; NaN px
+ * when not measured, the reason printed once). */
 void tp_view_scene_measure(const tp_view_scene* v, const tp_camera* cam, double* max_m,
                            double* rms_m, double* max_px, double* rms_px);
 

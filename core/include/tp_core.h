@@ -591,7 +591,8 @@ tp_status tp_selection_patch_screen_error(const tp_selection* s, const tp_camera
  * instead, each visible patch that takes a finer neighbour's vertices until its
  * tp_patch_error_bound_add projects <= tau (levels only go up, so it ends), and
  * tp_frame_stats' bound is tp_patch_error_bound_add. The measures and queries below still
- * describe vertex moving's geometry. Takes effect at the next update. Cannot fail. */
+ * describe vertex moving's geometry. Takes effect at the next update. Cannot fail; the max-error
+ * mode, which measures vertex moving's geometry, then refuses to update (TP_ERR_INVALID_ARG). */
 void tp_selection_set_stitch_add(tp_selection* s, int add);
 int tp_selection_stitch_add(const tp_selection* s); /* 1 when adding */
 
@@ -1745,7 +1746,8 @@ int tp_pgm_map_vertex(const tp_pgm_frame* f, const tp_pgm_pyramid* p, int i, int
  * edge two triangles share is counted once. Posts no drawn triangle covers (beyond the
  * terrain's edge triangles, which are not drawn, or outside the aux camera's footprint) are
  * counted in `uncovered`, not in the error; rms are 0 without samples. Scratch memory: about
- * 25 bytes per grid vertex and 1 per post. Returns TP_OK and writes *out;
+ * 25 bytes per grid vertex and 5 per post of a band of 64 rows (tp_pgm_measure_error_source
+ * over the pyramid). Returns TP_OK and writes *out;
  * TP_ERR_OUT_OF_MEMORY (*out zeroed). */
 typedef struct tp_pgm_error {
     double max_m, rms_m;   /* vertical */
@@ -1785,6 +1787,14 @@ int tp_pgm_clip_origin(double centre, int posts, int w);
 int tp_pgm_clip_update(int w, int has_old, int old_x, int old_y, int new_x, int new_y,
                        tp_pgm_rect out[2]);
 
+/* The smallest window (a power of two, at least 16) that holds the coarsest level of the
+ * pyramid of a width x height grid whole (width, height >= 1; asserted), as a clipmap's
+ * coarsest window must (the shader falls back to it everywhere). Levels stop at
+ * TP_PGM_MAX_LEVELS, so a side of more than 2^24 + 1 posts keeps ceil((side - 1) / 2^23) + 1 > 2
+ * at level 23: a window w holds it while side <= (w - 1) 2^23 + 1 (16: up to 125,829,121 posts);
+ * else the coarsest level has at most 2 posts and this is 16. Cannot fail. */
+int tp_pgm_clip_min_window(int width, int height);
+
 /* Where a store holds level-0 post (x, y) (0 <= x < src_width, 0 <= y < src_height; asserted)
  * for level `level` of the pyramid: the node of the coarsest scale s <= level (and < g->scales)
  * whose lattice holds it (x and y multiples of 2^s, inside the nodes of that scale, which
@@ -1795,6 +1805,43 @@ int tp_pgm_clip_update(int w, int has_old, int old_x, int old_y, int new_x, int 
  * node holding a sample holds the same height (tp_tree_samples), so the choice only matters for
  * speed. Returns the node id and writes *sample. Cannot fail. */
 int64_t tp_pgm_store_post(const tp_tree_geometry* g, int level, int x, int y, size_t* sample);
+
+/* ---- the error of a PGM surface whose heights are not one tp_pgm_pyramid's (pgm_error.c)
+ *
+ * What a renderer draws and the level-0 posts it is compared with, for
+ * tp_pgm_measure_error_source: a whole pyramid (tp_pgm_measure_error), or a store's clipmap
+ * (the viewer's app/view/pgm_clip_error.c: its windows' posts, level-0 posts read from nodes). */
+typedef struct tp_pgm_source {
+    void* ctx;
+    /* The height drawn at level-0 grid coordinates (x, y) when level `level` (0 .. levels - 1)
+     * is read there, as tp_pgm_pyramid_sample reads a whole pyramid; NaN where nothing is drawn
+     * (the vertex then counts as off the terrain). */
+    double (*sample)(void* ctx, int level, double x, double y);
+    /* The level-0 posts x0 <= x < x1 of rows y0 <= y < y1 into out (row-major, x1 - x0 a row),
+     * NaN where a post has no height (then neither compared nor counted). 1, or 0 when they
+     * cannot be read (the measure fails with TP_ERR_IO; the source keeps its own message). */
+    int (*posts)(void* ctx, int x0, int y0, int x1, int y1, float* out);
+    int band_rows; /* rows asked for at once, in bands aligned to its multiples; 0: 64 */
+} tp_pgm_source;
+
+/* A rectangle of level-0 posts (inside shape's level-0 extent) that holds every post main can
+ * see at a height between shape->min_m and max_m (a superset: the bounding box of the view's
+ * part of that slab, two posts of room); empty (x1 <= x0 or y1 <= y0) when there is none. The
+ * whole extent along an axis when a corner ray of the view does not go down (the view reaches
+ * the horizon) and no far plane bounds it. Cannot fail. */
+void tp_pgm_view_region(const tp_pgm_pyramid* shape, const tp_camera* main, tp_pgm_rect* out);
+
+/* tp_pgm_measure_error over a source: the same definition and results, the drawn heights
+ * src->sample's (Eq. 4's blend of a level and its parent as tp_pgm_map_vertex blends them; a
+ * NaN in either voids the vertex), the posts compared those of region (NULL: the whole level-0
+ * extent; tp_pgm_view_region bounds them) read with src->posts band by band. shape gives the
+ * levels, sizes, geotransform and min_m (the base plane, as for tp_pgm_frame_setup); its z are
+ * not read. Memory: about 25 bytes a grid vertex and 5 bytes a post of one band (region's width
+ * x band_rows). Time: every triangle per band, and every post of the region. TP_OK and *out;
+ * TP_ERR_IO (src->posts failed) or TP_ERR_OUT_OF_MEMORY with *out zeroed. */
+tp_status tp_pgm_measure_error_source(const tp_pgm_frame* f, const tp_pgm_pyramid* shape,
+                                      const tp_pgm_source* src, const tp_pgm_rect* region,
+                                      const tp_camera* main, tp_pgm_error* out);
 
 #ifdef __cplusplus
 }

@@ -265,6 +265,12 @@ void tp__view_from_camera(const tp_camera* cam, tp__view* v);
  * frustum's sides), INFINITY when only the drawn point is behind the eye (camera.c). */
 double tp__screen_error_px(const tp__view* v, const double truth[3], const double drawn[3]);
 
+/* Persistent Grid Mapping (pgm.c): where grid vertex (i, j) of frame f meets the base plane,
+ * ground[0..1] (E, N) and ground[2..3] (level-0 grid x, y), the level l and parent weight W_p
+ * tp_pgm_map_vertex reads its height with (the height itself is left to the caller). */
+void tp__pgm_map_ground(const tp_pgm_frame* f, const tp_pgm_pyramid* p, int i, int j,
+                        double ground[4], int* level, double* wp);
+
 /* ---- selections (selection.c, measure.c, query.c) ---- */
 
 /* The error-mode bound of one patch for the current view (see lod.c): a vertical error of d

@@ -170,10 +170,9 @@ void tp_pgm_frame_setup(const tp_camera* main, int cols, int rows, const tp_pgm_
 
 /* ---- one vertex ---- */
 
-int tp_pgm_map_vertex(const tp_pgm_frame* f, const tp_pgm_pyramid* p, int i, int j, double world[3],
-                      double* lod)
+void tp__pgm_map_ground(const tp_pgm_frame* f, const tp_pgm_pyramid* p, int i, int j,
+                        double ground[4], int* level, double* wp_out)
 {
-    assert(f && p && world && lod && p->levels > 0);
     const tp_camera_frame* a = &f->aux_frame;
     double x_px = (double)i * a->width_px / (f->cols - 1);
     double y_px = (double)j * a->height_px / (f->rows - 1);
@@ -206,12 +205,27 @@ int tp_pgm_map_vertex(const tp_pgm_frame* f, const tp_pgm_pyramid* p, int i, int
         wp = wp < 0 ? 0 : (wp > 1 ? 1 : wp);
     }
     const double* gt = p->geotransform;
-    double x = (e - gt[0]) / gt[1] - 0.5, y = (n - gt[3]) / gt[5] - 0.5;
+    ground[0] = e;
+    ground[1] = n;
+    ground[2] = (e - gt[0]) / gt[1] - 0.5;
+    ground[3] = (n - gt[3]) / gt[5] - 0.5;
+    *level = l;
+    *wp_out = wp;
+}
+
+int tp_pgm_map_vertex(const tp_pgm_frame* f, const tp_pgm_pyramid* p, int i, int j, double world[3],
+                      double* lod)
+{
+    assert(f && p && world && lod && p->levels > 0);
+    double ground[4], wp;
+    int l;
+    tp__pgm_map_ground(f, p, i, j, ground, &l, &wp);
+    double x = ground[2], y = ground[3];
     double z = tp_pgm_pyramid_sample(p, l, x, y);
     if (wp > 0)
         z = (1 - wp) * z + wp * tp_pgm_pyramid_sample(p, l + 1, x, y);
-    world[0] = e;
-    world[1] = n;
+    world[0] = ground[0];
+    world[1] = ground[1];
     world[2] = z;
     *lod = l + wp;
     return x >= 0 && x <= p->width[0] - 1 && y >= 0 && y <= p->height[0] - 1;

@@ -50,6 +50,21 @@ int tp_pgm_clip_update(int w, int has_old, int old_x, int old_y, int new_x, int 
     return n;
 }
 
+int tp_pgm_clip_min_window(int width, int height)
+{
+    assert(width >= 1 && height >= 1);
+    int w = width, h = height, levels = 1; /* tp_pgm_pyramid_build's levels */
+    while (!(w <= 2 && h <= 2) && levels < TP_PGM_MAX_LEVELS) {
+        w = w / 2 + 1;
+        h = h / 2 + 1;
+        levels++;
+    }
+    int side = w > h ? w : h, win = 16;
+    while (win < side)
+        win *= 2;
+    return win;
+}
+
 int64_t tp_pgm_store_post(const tp_tree_geometry* g, int level, int x, int y, size_t* sample)
 {
     assert(g && sample && x >= 0 && y >= 0 && x < g->src_width && y < g->src_height);

@@ -306,6 +306,10 @@ tp_status tp_selection_update(tp_selection* s, const tp_camera* cam, const tp_lo
     tp_status st = tp_lod_params_resolve(t, params, &lp, err);
     if (st != TP_OK)
         return st;
+    if (lp.mode == TP_LOD_MAX_ERROR && s->stitch_add)
+        return tp__fail(err, TP_ERR_INVALID_ARG,
+                        "selection: the max-error mode measures vertex moving's geometry: not "
+                        "with vertex adding (tp_selection_set_stitch_add)");
     if (lp.mode == TP_LOD_MAX_ERROR)
         return select_max_error(s, &lp, err);
     assert(cam); /* only the max-error mode works without a camera */
