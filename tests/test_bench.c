@@ -1673,6 +1673,81 @@ TEST(stitch_add_against_move_frame_by_frame)
     csv_free(&c[1]);
 }
 
+/* --stitch-add-draw both: every LoD configuration with --stitch add drawn as sets, then as five
+ * regions, on the same frames (full resolution once: nothing is added there); frame by frame
+ * the two draw the same triangles of the same patches with the same measured errors (the same
+ * geometry), five in at least as many draws; bad values and both with --sweep exit 2. */
+TEST(stitch_add_draw_sets_and_five_measure_alike)
+{
+    const char* dem = sample_path(MT_HOOD);
+    const char* dir = make_tmp_dir();
+    static const char* const cols[] = {"triangles", "patches", "max_vertical_error_m",
+                                       "rms_vertical_error_m", "max_screen_error_px",
+                                       "rms_screen_error_px"};
+    csv c;
+    run_result r;
+    args a;
+    char path[1024];
+    args_bench_small(&a, 3);
+    args_add(&a, "--stitch");
+    args_add(&a, "add");
+    args_add(&a, "--stitch-add-draw");
+    args_add(&a, "both");
+    args_add(&a, "--csv");
+    args_add(&a, "%s/both.csv", dir);
+    args_add(&a, "--json");
+    args_add(&a, "%s/both.json", dir);
+    args_add(&a, "%s", dem);
+    run_ok(&a, &r);
+    EXPECT_CONTAINS(r.out, "error+add tau=1 sets");
+    EXPECT_CONTAINS(r.out, "error+add tau=1 five");
+    EXPECT_CONTAINS(r.out, "--stitch add drawing");
+    snprintf(path, sizeof path, "%s/both.csv", dir);
+    csv_read(path, &c);
+    ASSERT_EQ_INT(15, c.rows); /* full, distance sets, five, error sets, five: 3 frames each */
+    for (int cfg = 1; cfg < 5; cfg += 2)
+        for (int f = 0; f < 3; f++) {
+            int s = 3 * cfg + f, v = s + 3; /* sets' row, five's */
+            EXPECT_EQ_STR(csv_str(&c, s, "lod_mode"), csv_str(&c, v, "lod_mode"));
+            for (size_t k = 0; k < sizeof cols / sizeof *cols; k++)
+                EXPECT_EQ_DBL(csv_num(&c, s, cols[k]), csv_num(&c, v, cols[k]));
+            EXPECT_GE(csv_num(&c, v, "draw_calls"), csv_num(&c, s, "draw_calls"));
+            tp_test_note("%s frame %d: %g triangles, max %g px; draw calls %g (sets) %g (five)",
+                         csv_str(&c, s, "lod_mode"), f + 1, csv_num(&c, s, "triangles"),
+                         csv_num(&c, s, "max_screen_error_px"), csv_num(&c, s, "draw_calls"),
+                         csv_num(&c, v, "draw_calls"));
+        }
+    csv_free(&c);
+    /* the JSON: five is drawn as more draws (1 + the sides that take vertices, per such patch):
+       it was drawn as five regions, and something was added */
+    snprintf(path, sizeof path, "%s/both.json", dir);
+    char* json = read_file(path, NULL);
+    ASSERT_TRUE(json != NULL);
+    const char *os[8], *oe[8];
+    ASSERT_EQ_INT(5, json_objects(json, "configurations", os, oe, 8));
+    for (int cfg = 1; cfg < 5; cfg += 2) {
+        char sets[16], five[16];
+        json_str(os[cfg], oe[cfg], "stitch_add_draw", sets, sizeof sets);
+        json_str(os[cfg + 1], oe[cfg + 1], "stitch_add_draw", five, sizeof five);
+        EXPECT_EQ_STR("sets", sets);
+        EXPECT_EQ_STR("five", five);
+        EXPECT_GT(json_num(os[cfg + 1], oe[cfg + 1], "draws_median"),
+                  json_num(os[cfg], oe[cfg], "draws_median"));
+    }
+    free(json);
+    dir = make_tmp_dir(); /* empty: a usage error writes nothing */
+    args_bench_small(&a, 1);
+    args_add(&a, "--stitch-add-draw");
+    args_add(&a, "sideways");
+    args_add(&a, "%s", dem);
+    expect_usage_error(&a, "--stitch-add-draw: expected sets, five or both", dir);
+    args_sweep(&a, dir);
+    args_add(&a, "--stitch-add-draw");
+    args_add(&a, "both");
+    args_add(&a, "%s", dem);
+    expect_usage_error(&a, "--stitch-add-draw both: not with --sweep", dir);
+}
+
 TEST(stitch_add_static_or_bad_mode_exits_2)
 {
     args a;
@@ -2457,6 +2532,7 @@ TEST(pgm_store_bench_reports_the_clipmap)
     X(pgm_view_headless_writes_screenshot_and_stats)                                               \
     X(sweep_writes_one_row_per_configuration_and_a_plot)                                           \
     X(stitch_add_against_move_frame_by_frame)                                                      \
+    X(stitch_add_draw_sets_and_five_measure_alike)                                                 \
     X(stitch_add_static_or_bad_mode_exits_2)                                                       \
     X(store_stitch_add_runs_both_modes_again)                                                      \
     X(sweep_pgm_grid_replaces_the_grids)                                                           \

@@ -182,6 +182,9 @@ typedef struct view_spec {
     int stitch_add;    /* --stitch add */
 } view_spec;
 
+/* --stitch-add-draw for a view's --stitch add (NULL: the default) */
+static const char* add_draw_;
+
 static void args_add_view(args* a, const char* dem, const view_spec* v)
 {
     if (!v->store)
@@ -189,6 +192,10 @@ static void args_add_view(args* a, const char* dem, const view_spec* v)
     if (v->stitch_add) {
         args_add(a, "--stitch");
         args_add(a, "add");
+    }
+    if (v->stitch_add && add_draw_) {
+        args_add(a, "--stitch-add-draw");
+        args_add(a, "%s", add_draw_);
     }
     args_add(a, "--headless");
     args_add(a, "--no-hud"); /* the terrain only: the HUD has timings and the camera's position */
@@ -232,6 +239,10 @@ static void render_stitch(const char* dem, const view_spec* v, const char* dir, 
     if (stitch) {
         args_add(&a, "--stitch");
         args_add(&a, "%s", stitch);
+    }
+    if (stitch && add_draw_) {
+        args_add(&a, "--stitch-add-draw");
+        args_add(&a, "%s", add_draw_);
     }
     if (png) {
         args_add(&a, "--screenshot");
@@ -308,7 +319,7 @@ static long count_magenta_rows(const image* im, int y0, int y1, int* fx, int* fy
 }
 
 typedef struct view_stats {
-    long triangles, patches_drawn, patches_culled, draw_calls;
+    long triangles, patches_drawn, patches_culled, draw_calls, draws;
     double max_error_px;
     int levels[TP_MAX_LEVELS + 1];
     int level_count;
@@ -337,6 +348,7 @@ static void stats_read(const char* dir, const char* name, view_stats* s)
     s->patches_drawn = (long)json_number(text, "patches_drawn");
     s->patches_culled = (long)json_number(text, "patches_culled");
     s->draw_calls = (long)json_number(text, "draw_calls");
+    s->draws = (long)json_number(text, "draws");
     s->max_error_px = json_number(text, "max_error_px");
     p = strstr(text, "\"levels\":");
     ASSERT_TRUE(p != NULL);
@@ -785,7 +797,8 @@ TEST(no_cracks_oblique_error_lod)
 }
 
 /* --stitch add under the adversarial views above (top down, oblique, distance and error LoD:
- * neighbours up to 3 levels apart), a DEM drawn whole; a store is a usage error. */
+ * neighbours up to 3 levels apart), a DEM drawn whole, each patch that takes vertices drawn
+ * from its configuration's index set (--stitch-add-draw sets; five: the next test). */
 TEST(no_cracks_stitch_add)
 {
     REQUIRE_IO();
@@ -794,6 +807,7 @@ TEST(no_cracks_stitch_add)
         const char* dem;
         view_spec v = distance_lod_view;
         dem = sample_dem();
+        add_draw_ = "sets";
         v.cam[0] = 602125, v.cam[1] = 5025267, v.cam[2] = 3700, v.cam[3] = 0, v.cam[4] = -90;
         expect_add_watertight(dem, &v, "summit, 280 m above");
         v.cam[0] = 602000, v.cam[1] = 5026000, v.cam[2] = 3612, v.cam[3] = 180, v.cam[4] = -55;
@@ -805,6 +819,75 @@ TEST(no_cracks_stitch_add)
         v.lod.tau_px = 8;
         v.cam[0] = 595000, v.cam[1] = 5022000, v.cam[2] = 1816, v.cam[3] = 0;
         expect_add_watertight(dem, &v, "ridge, 400 m above");
+        add_draw_ = NULL;
+    }
+#endif
+}
+
+/* --stitch add drawn both ways (--stitch-add-draw sets and five) from the same view: the same
+ * triangles drawn from the same vertices, so the same pixels; five takes more draws (each patch
+ * that takes vertices up to five), which shows it was drawn as five regions. */
+static void expect_five_as_sets(const char* dem, const view_spec* v, const char* what)
+{
+    const char* dir = make_tmp_dir();
+    image sets, five;
+    view_stats ss, sf;
+    long differ = 0;
+    int i, first = -1;
+    const char* stitch = v->stitch_add ? NULL : "add"; /* a store view says it itself */
+    add_draw_ = "sets";
+    render_stitch(dem, v, dir, "sets.png", "sets.json", stitch);
+    add_draw_ = "five";
+    render_stitch(dem, v, dir, "five.png", "five.json", stitch);
+    add_draw_ = NULL;
+    image_read(dir, "sets.png", &sets);
+    image_read(dir, "five.png", &five);
+    stats_read(dir, "sets.json", &ss);
+    stats_read(dir, "five.json", &sf);
+    ASSERT_EQ_INT(sets.w, five.w);
+    ASSERT_EQ_INT(sets.h, five.h);
+    for (i = 0; i < sets.w * sets.h; ++i)
+        if (memcmp(sets.px + 4 * i, five.px + 4 * i, 4) && differ++ == 0)
+            first = i;
+    tp_test_note("%s: %ld of %d pixels differ; triangles %ld and %ld; draws %ld (sets) and %ld "
+                 "(five), %ld and %ld draw calls",
+                 what, differ, sets.w * sets.h, ss.triangles, sf.triangles, ss.draws, sf.draws,
+                 ss.draw_calls, sf.draw_calls);
+    EXPECT_EQ_INT(0, differ);
+    if (differ)
+        ADD_FAILURE("%s: first differing pixel at (%d, %d)", what, first % sets.w, first / sets.w);
+    EXPECT_EQ_INT(ss.triangles, sf.triangles);
+    EXPECT_EQ_INT(ss.patches_drawn, sf.patches_drawn);
+    EXPECT_GT(sf.draws, ss.draws);
+    free(sets.px);
+    free(five.px);
+}
+
+/* --stitch-add-draw five under no_cracks_stitch_add's adversarial views: watertight (no magenta,
+ * the triangles tp_patch_triangles_add counts, error within tau) and pixel-identical to sets,
+ * also through a store (store_no_cracks_stitch_add finds no magenta there with the default,
+ * five). */
+TEST(no_cracks_stitch_add_five)
+{
+    REQUIRE_IO();
+#ifndef TP_TEST_NO_IO
+    {
+        const char* dem;
+        view_spec v = distance_lod_view;
+        dem = sample_dem();
+        v.cam[0] = 602000, v.cam[1] = 5026000, v.cam[2] = 3612, v.cam[3] = 180, v.cam[4] = -55;
+        add_draw_ = "five";
+        expect_add_watertight(dem, &v, "over the summit");
+        expect_five_as_sets(dem, &v, "over the summit");
+        v.lod.mode = TP_LOD_ERROR;
+        v.lod.tau_px = 6;
+        v.cam[0] = 614000, v.cam[1] = 5030000, v.cam[2] = 2811, v.cam[3] = 270, v.cam[4] = -55;
+        add_draw_ = "five";
+        expect_add_watertight(dem, &v, "east side, 1500 m above");
+        expect_five_as_sets(dem, &v, "east side, 1500 m above");
+        v.store = 1; /* through a store: same-size nodes add, smaller ones move theirs */
+        v.stitch_add = 1;
+        expect_five_as_sets(dem, &v, "east side, 1500 m above, a store");
     }
 #endif
 }
@@ -2095,6 +2178,7 @@ TEST(older_format_store_in_the_cache_is_rebuilt)
     X(no_cracks_oblique_distance_lod)                                                              \
     X(no_cracks_oblique_error_lod)                                                                 \
     X(no_cracks_stitch_add)                                                                        \
+    X(no_cracks_stitch_add_five)                                                                   \
     X(store_no_cracks_stitch_add)                                            \
     X(utm_and_local_origin_render_alike)                                                           \
     X(stats_json_equals_core_selection_error_lod)                                                  \

@@ -25,6 +25,8 @@ typedef struct bench_options {
     const char* csv;
     int no_error;      /* skip the (slow) error measurement */
     int stitch_add;    /* --stitch add: Brodersen's vertex-adding crack fix */
+    int stitch_add_draw; /* --stitch-add-draw: 0 the renderer's default, 1 sets, 2 five, 3 both
+                            (each --stitch add configuration twice: sets, then five) */
     double speed_mps;  /* path flights: a lead-in frame 1/30 s earlier at this speed; 0: none */
     int sweep;         /* a grid of LoD parameters instead of the three default configurations */
     const char* plot;  /* --sweep: the plot (PNG); default: the CSV's name with .png */
@@ -53,6 +55,8 @@ typedef struct frame_row {
     double select_ms, upload_ms, draw_ms, frame_ms;
     size_t triangles, gpu_bytes;
     int draw_calls, patches, uploads;
+    int draws;               /* the draws submitted, each of a multi-draw's counted */
+    size_t index_gpu_bytes, index_cpu_bytes; /* tp_render_stats' */
     double max_m, rms_m, max_px, rms_px;
     double uncovered_share;  /* PGM, measured frames: posts in view no drawn triangle covers, as
                                 a share of the posts in view (tp_pgm_error); NaN on PGM's
@@ -74,6 +78,9 @@ typedef struct config_result {
     int pgm_cols, pgm_rows;              /* --renderer pgm: a persistent grid (bench_pgm.c); 0:
                                             the patch renderer at lod */
     int stitch_add;                      /* the patch renderer with --stitch add */
+    int stitch_add_five;                 /* drawn as five regions (--stitch-add-draw five) */
+    double draws;                        /* median of frame_row's */
+    size_t index_gpu_bytes, index_cpu_bytes; /* maxima over the frames */
     double uncovered_share;              /* PGM: mean of the measured frames' shares; 0 for
                                             the patch renderer (it covers every post) */
 } config_result;

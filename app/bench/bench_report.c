@@ -23,6 +23,11 @@ static void json_config(tp_json* j, const config_result* c)
     KN("draw_calls_median", c->draw_calls);
     KN("uploads_median", c->uploads);
     KN("gpu_bytes", (double)c->gpu_bytes);
+    if (c->stitch_add) {
+        KN("draws_median", c->draws);
+        KN("index_gpu_bytes", (double)c->index_gpu_bytes);
+        KN("index_cpu_bytes", (double)c->index_cpu_bytes);
+    }
     KN("max_screen_error_px", c->max_px);
     KN("rms_screen_error_px", c->rms_px);
     KN("max_vertical_error_m", c->max_m);
@@ -59,6 +64,10 @@ static void json_lod(tp_json* j, const config_result* c)
     }
     tp_json_key(j, "stitch");
     tp_json_string(j, c->stitch_add ? "add" : "move");
+    if (c->stitch_add) {
+        tp_json_key(j, "stitch_add_draw");
+        tp_json_string(j, c->stitch_add_five ? "five" : "sets");
+    }
     tp_json_key(j, "lod_mode");
     tp_json_string(j, mode_name(lp->mode));
     if (lp->mode == TP_LOD_ERROR) {
@@ -213,6 +222,15 @@ void tp_bench_print_table(const bench_run* b, const char* renderer_name, const c
     }
     printf("error mode (tau = %g px) vs full resolution: %.2fx the frame rate\n", c[best].lod.tau_px,
            c[best].fps_median / c[0].fps_median);
+    for (int k = 0, head = 0; k < nc; k++) /* --stitch add: what its drawing costs */
+        if (c[k].stitch_add && !c[k].pgm_cols) {
+            if (!head++)
+                printf("%-28s %8s %10s %10s %12s %12s\n", "--stitch add drawing", "calls",
+                       "draws", "GPU MiB", "index GPU B", "index CPU B");
+            printf("%-28s %8.0f %10.0f %10.2f %12zu %12zu\n", c[k].label, c[k].draw_calls,
+                   c[k].draws, c[k].gpu_bytes / 1048576.0, c[k].index_gpu_bytes,
+                   c[k].index_cpu_bytes);
+        }
     uint64_t samples = (uint64_t)b->sc->info.width * (uint64_t)b->sc->info.height;
     printf("memory: peak resident %.0f MiB, estimated %.0f MiB for the %dx%d fitted grid\n",
            tp_memory_peak_rss() / 1048576.0,

@@ -399,6 +399,8 @@ static int run_store_config(store_bench* b, store_result* c, int first, const ch
     tp_render_settings rs;
     tp_render_settings_default(&rs);
     rs.stitch_add = c->stitch_add;
+    if (o->stitch_add_draw) /* --stitch-add-draw sets|five (both: a DEM only) */
+        rs.stitch_add_five = o->stitch_add_draw == 2;
     tp_render_stats st;
     tp_stream_stats ss;
     tp_clipmap_stats is = {0};

@@ -3,6 +3,7 @@
  * its error is measured on the drawn geometry: the patch renderer's by tp_selection_measure_*
  * (vertex moving) or tp_bench_stitch_add_error (vertex adding), PGM's by tp_pgm_measure_error. */
 #include "bench.h"
+#include "renderer.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -100,6 +101,10 @@ config_result* tp_bench_sweep_configs(const bench_run* b, const tp_lod_params* b
         c[k].lod.tau_px = sweep_tau[t];
         c[k++].stitch_add = 1;
     }
+    tp_render_settings rs; /* --stitch-add-draw (else the renderer's default) */
+    tp_render_settings_default(&rs);
+    for (int i = 0; i < k; i++)
+        c[i].stitch_add_five = o->stitch_add_draw ? o->stitch_add_draw == 2 : rs.stitch_add_five;
     for (int g = 0; g < pgm; g++, k++) {
         c[k].lod = *base;
         c[k].pgm_cols = o->vs.pgm_grid_count ? o->vs.pgm_grid[g][0] : sweep_pgm[g][0];

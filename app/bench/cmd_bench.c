@@ -33,6 +33,7 @@ enum {
     OPT_CSV,
     OPT_NO_ERROR,
     OPT_STITCH,
+    OPT_STITCH_ADD_DRAW,
     OPT_SPEED,
     OPT_SWEEP,
     OPT_PLOT,
@@ -89,6 +90,14 @@ static void print_help(void)
           "                         (default) or add them to the coarser patch's (Brodersen\n"
           "                         section 4); its error measured on its own geometry. A\n"
           "                         store runs error and distance both ways (+add rows)\n"
+          "  --stitch-add-draw sets|five|both\n"
+          "                         how --stitch add draws a patch that takes vertices: its\n"
+          "                         own triangle list from an index set per neighbour\n"
+          "                         configuration (sets), or up to five draws of per-level\n"
+          "                         region sets (five; the default); both (a DEM): every\n"
+          "                         --stitch add configuration twice, sets then five (same\n"
+          "                         path and frames; a second table gives draws, index bytes\n"
+          "                         on GPU and CPU)\n"
           "  --renderer pgm         also Persistent Grid Mapping (Livny, Kogan & El-Sana): one\n"
           "                         configuration per grid after the patch ones, the same path;\n"
           "                         a DEM: drawn whole, error by tp_pgm_measure_error (every post\n"
@@ -196,6 +205,7 @@ static int parse_options(int argc, char** argv, bench_options* o)
         {"csv", required_argument, NULL, OPT_CSV},
         {"no-error", no_argument, NULL, OPT_NO_ERROR},
         {"stitch", required_argument, NULL, OPT_STITCH},
+        {"stitch-add-draw", required_argument, NULL, OPT_STITCH_ADD_DRAW},
         {"speed", required_argument, NULL, OPT_SPEED},
         {"sweep", no_argument, NULL, OPT_SWEEP},
         {"plot", required_argument, NULL, OPT_PLOT},
@@ -261,6 +271,16 @@ static int parse_options(int argc, char** argv, bench_options* o)
                 return TP_EXIT_USAGE;
             }
             o->stitch_add = strcmp(optarg, "add") == 0;
+            break;
+        case OPT_STITCH_ADD_DRAW:
+            if (strcmp(optarg, "sets") && strcmp(optarg, "five") && strcmp(optarg, "both")) {
+                fprintf(stderr,
+                        "terrapatch bench: --stitch-add-draw: expected sets, five or both, got "
+                        "'%s'\n",
+                        optarg);
+                return TP_EXIT_USAGE;
+            }
+            o->stitch_add_draw = !strcmp(optarg, "sets") ? 1 : !strcmp(optarg, "five") ? 2 : 3;
             break;
         case OPT_SPEED: {
             double v = strtod(optarg, &end);
@@ -377,6 +397,16 @@ static int parse_options(int argc, char** argv, bench_options* o)
         fprintf(stderr, "terrapatch bench: --renderer pgm: not with --static\n");
         return TP_EXIT_USAGE;
     }
+    if (o->stitch_add_draw == 3 && tp_is_store_path(o->dem)) {
+        fprintf(stderr, "terrapatch bench: --stitch-add-draw both: a DEM only (a store: give "
+                        "sets or five)\n");
+        return TP_EXIT_USAGE;
+    }
+    if (o->stitch_add_draw == 3 && o->sweep) {
+        fprintf(stderr, "terrapatch bench: --stitch-add-draw both: not with --sweep (give sets "
+                        "or five)\n");
+        return TP_EXIT_USAGE;
+    }
     if (o->stitch_add && o->sweep) {
         fprintf(stderr, "terrapatch bench: --sweep runs both crack fixes (move and add): it "
                         "takes no --stitch\n");
@@ -471,6 +501,8 @@ static void summarize(config_result* c, int n)
     c->draw_calls = tp_bench_median(v, n);
     MEDIAN_OF(r->uploads);
     c->uploads = tp_bench_median(v, n);
+    MEDIAN_OF(r->draws);
+    c->draws = tp_bench_median(v, n);
     MEDIAN_OF(r->oracle_triangles);
     c->oracle_triangles = tp_bench_median(v, n);
     MEDIAN_OF(r->oracle_patches);
@@ -484,6 +516,10 @@ static void summarize(config_result* c, int n)
         sum_m += r->rms_m * r->rms_m;
         sum_px += r->rms_px * r->rms_px;
         c->gpu_bytes = r->gpu_bytes > c->gpu_bytes ? r->gpu_bytes : c->gpu_bytes;
+        if (r->index_gpu_bytes > c->index_gpu_bytes)
+            c->index_gpu_bytes = r->index_gpu_bytes;
+        if (r->index_cpu_bytes > c->index_cpu_bytes)
+            c->index_cpu_bytes = r->index_cpu_bytes;
     }
     c->rms_m = sqrt(sum_m / n);
     c->rms_px = sqrt(sum_px / n);
@@ -550,6 +586,7 @@ static int run_config(const bench_run* b, config_result* c, const char* progress
     tp_render_settings rs;
     tp_render_settings_default(&rs);
     rs.stitch_add = c->stitch_add;
+    rs.stitch_add_five = c->stitch_add && c->stitch_add_five;
     if (c->stitch_add && tp_terrain_prepare_stitch_add(b->sc->terrain, &err) != TP_OK) {
         fprintf(stderr, "terrapatch bench: %s\n", err.message);
         tp_selection_destroy(sel);
@@ -585,6 +622,9 @@ static int run_config(const bench_run* b, config_result* c, const char* progress
         row->patches = st.patches_drawn;
         row->uploads = st.uploads;
         row->gpu_bytes = st.gpu_bytes;
+        row->draws = st.draws;
+        row->index_gpu_bytes = st.index_gpu_bytes;
+        row->index_cpu_bytes = st.index_cpu_bytes;
         if (!b->o->no_error) { /* outside the timed part of the frame */
             tp_error_measure em;
             tp_status ms;
@@ -630,17 +670,22 @@ static config_result* make_configs(const bench_run* b, int* count, int* best)
     if (o->sweep)
         return tp_bench_sweep_configs(b, &base, count, best);
     int pgm = o->vs.pgm ? (o->vs.pgm_grid_count ? o->vs.pgm_grid_count : 3) : 0;
-    config_result* c = calloc((size_t)(3 + pgm), sizeof *c);
+    config_result* c = calloc((size_t)(5 + pgm), sizeof *c);
     if (!c)
         return NULL;
     static const tp_lod_mode modes[3] = {TP_LOD_FULL, TP_LOD_DISTANCE, TP_LOD_ERROR};
-    int k = 0;
-    for (; k < 3; k++) {
-        c[k].lod = base;
-        c[k].lod.mode = modes[k];
-        c[k].stitch_add = o->stitch_add;
-    }
-    *best = 2;
+    tp_render_settings rs;
+    tp_render_settings_default(&rs);
+    int both = o->stitch_add && o->stitch_add_draw == 3, k = 0;
+    for (int m = 0; m < 3; m++) /* full resolution has no finer neighbour: once */
+        for (int v = 0; v <= (both && modes[m] != TP_LOD_FULL); v++, k++) {
+            c[k].lod = base;
+            c[k].lod.mode = modes[m];
+            c[k].stitch_add = o->stitch_add;
+            c[k].stitch_add_five = both ? v : o->stitch_add_draw ? o->stitch_add_draw == 2
+                                                                 : rs.stitch_add_five;
+        }
+    *best = both ? 3 : 2; /* the error mode (with both: sets) */
     /* --renderer pgm: the grids after the patch configurations (default: the paper's Table 1) */
     static const int table1[3][2] = {{150, 600}, {300, 300}, {600, 600}};
     for (int g = 0; g < pgm; g++, k++) {
@@ -648,8 +693,12 @@ static config_result* make_configs(const bench_run* b, int* count, int* best)
         c[k].pgm_cols = o->vs.pgm_grid_count ? o->vs.pgm_grid[g][0] : table1[g][0];
         c[k].pgm_rows = o->vs.pgm_grid_count ? o->vs.pgm_grid[g][1] : table1[g][1];
     }
-    for (int i = 0; i < k; i++)
+    for (int i = 0; i < k; i++) {
         tp_bench_label(&c[i]);
+        if (both && c[i].stitch_add && c[i].lod.mode != TP_LOD_FULL) /* which drawing */
+            strncat(c[i].label, c[i].stitch_add_five ? " five" : " sets",
+                    sizeof c[i].label - strlen(c[i].label) - 1);
+    }
     *count = k;
     return c;
 }

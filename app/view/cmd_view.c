@@ -45,6 +45,7 @@ enum {
     OPT_EXAG,
     OPT_ONE_DRAW,
     OPT_STITCH,
+    OPT_STITCH_ADD_DRAW,
     OPT_HUD,
     OPT_HIDE_FILLED,
     OPT_TEXTURE,
@@ -162,6 +163,10 @@ static void print_help(void)
           "                        the default) or add them to the coarser patch's border (add,\n"
           "                        Brodersen section 4; over a store between nodes of one size,\n"
           "                        a smaller node next to a larger one still moves its own)\n"
+          "  --stitch-add-draw sets|five  how --stitch add draws a patch that takes vertices:\n"
+          "                        its own triangle list from an index set per neighbour\n"
+          "                        configuration (sets), or up to five draws of per-level\n"
+          "                        region sets (five, the default: see docs/PERFORMANCE.md)\n"
           "  A DEM is drawn whole, without a store (the old path), when it is a heightmap image\n"
           "  (--spacing, --zscale, --origin or a PNG/JPEG/...), or --fit, --texture or --renderer\n"
           "  pgm is given: stores always pad and carry no texture (and PGM over a\n"
@@ -246,6 +251,7 @@ static int parse_options(int argc, char** argv, view_options* o)
         {"exaggeration", required_argument, NULL, OPT_EXAG},
         {"one-draw-per-patch", no_argument, NULL, OPT_ONE_DRAW},
         {"stitch", required_argument, NULL, OPT_STITCH},
+        {"stitch-add-draw", required_argument, NULL, OPT_STITCH_ADD_DRAW},
         {"overlay", required_argument, NULL, OPT_OVERLAY},
         {"contours", required_argument, NULL, OPT_CONTOURS},
         {"bookmark", required_argument, NULL, OPT_BOOKMARK},
@@ -376,6 +382,11 @@ static int parse_options(int argc, char** argv, view_options* o)
             if (strcmp(optarg, "move") && strcmp(optarg, "add"))
                 return bad("--stitch", "move or add", optarg);
             o->render.stitch_add = strcmp(optarg, "add") == 0;
+            break;
+        case OPT_STITCH_ADD_DRAW:
+            if (strcmp(optarg, "sets") && strcmp(optarg, "five"))
+                return bad("--stitch-add-draw", "sets or five", optarg);
+            o->render.stitch_add_five = strcmp(optarg, "five") == 0;
             break;
         case OPT_OVERLAY:
             if (o->overlay_count == (int)(sizeof o->overlays / sizeof o->overlays[0]))

@@ -42,7 +42,7 @@ void tp_view_frame(tp_view_scene* v, tp_renderer* r, const tp_camera* cam,
         memset(&out->render, 0, sizeof out->render);
         out->core.triangles = ps.triangles;
         out->core.bound_max_error_m = out->core.bound_rms_error_m = NAN;
-        out->render.draw_calls = 1;
+        out->render.draw_calls = out->render.draws = 1;
         out->render.draw_ms = ps.draw_ms;
         out->render.gpu_bytes = ps.gpu_bytes;
         out->render.near_m = ps.near_m;
@@ -129,6 +129,7 @@ int tp_view_write_stats(const char* path, const frame_result* f, const tp_error_
 #define KEY_SIZE(k, v) (tp_json_key(&j, k), tp_json_size(&j, v))
     KEY_SIZE("triangles", f->core.triangles);
     KEY_SIZE("draw_calls", (size_t)f->render.draw_calls);
+    KEY_SIZE("draws", (size_t)f->render.draws); /* each of a multi-draw's counted */
     KEY_SIZE("patches_drawn", (size_t)f->render.patches_drawn);
     KEY_SIZE("patches_culled", (size_t)f->core.culled_patches);
     tp_json_key(&j, "levels");

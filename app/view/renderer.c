@@ -5,6 +5,7 @@
 #include "gl_context.h"
 #include "render_clip.h"
 #include "stitch_add_draw.h"
+#include "stitch_add_five.h"
 #include "terrain_shaders.h"
 #include "vertex_pool.h"
 
@@ -73,8 +74,9 @@ struct tp_renderer {
     const tp_tree* tree;
     const tp_cut* cut;
     /* tp_renderer_draw in --stitch add mode: its neighbour sets (made on first use) */
-    int stitch_add;
+    int stitch_add, stitch_add_five;
     tp__stitch_add* add;
+    tp__stitch_five* five; /* --stitch-add-draw five: the per-level region sets */
 };
 
 static double now_ms(void)
@@ -212,6 +214,7 @@ void tp_renderer_destroy(tp_renderer* r)
         glDeleteTextures(1, &r->tex);
     tp_vertex_pool_destroy(r->pool);
     tp__stitch_add_destroy(r->add);
+    tp__stitch_five_destroy(r->five);
     glDeleteBuffers(1, &r->ibo);
     glDeleteVertexArrays(1, &r->vao);
     free(r->draw_level);
@@ -309,6 +312,7 @@ void tp_render_settings_default(tp_render_settings* s)
     s->sun_azimuth_deg = 315;
     s->sun_elevation_deg = 45;
     s->exaggeration = 1;
+    s->stitch_add_five = 1; /* as fast, less memory (docs/PERFORMANCE.md, "Five regions") */
     s->clear_rgb[0] = 0.55f;
     s->clear_rgb[1] = 0.70f;
     s->clear_rgb[2] = 0.90f;
@@ -331,12 +335,26 @@ static void write_vertices(tp_renderer* r, int h, int k, int count)
 }
 
 /* Builds item i's vertex data (and its triangle list if it is incomplete) into slot h; in
- * --stitch add mode with set, the set's samples and triangles (stitch_add_draw.h). */
+ * --stitch add mode with set, the set's samples and triangles (stitch_add_draw.h), with lay,
+ * the five-region layout's samples (stitch_add_five.h). tag: what the slot then holds. */
 static void upload(tp_renderer* r, const tp_render_item* it, size_t i, tp_render_fill_fn fill,
-                   void* user, int h, const tp__stitch_add_set* set)
+                   void* user, int h, const tp__stitch_add_set* set,
+                   const tp__five_layout* lay, const int8_t tag[4])
 {
     tp_pool_slot* sl = tp_vertex_pool_slot(r->pool, h);
     int k = it->level, v = (1 << k) + 1, count = v * v;
+    if (lay) {
+        if (r->cut)
+            tp__stitch_five_fill_node(r->five, lay, r->tree, r->cut, i, r->vtmp, r->ntmp, r->ftmp);
+        else
+            tp__stitch_five_fill(r->five, lay, r->terrain, (int)it->key, r->vtmp, r->ntmp,
+                                 r->ftmp);
+        write_vertices(r, h, k, (int)lay->vertex_count);
+        tp_vertex_pool_drop_triangles(r->pool, h);
+        sl->level = it->level;
+        memcpy(sl->nb, tag, sizeof sl->nb);
+        return;
+    }
     if (set) {
         if (r->cut)
             tp__stitch_add_fill_node(r->add, set, r->tree, r->cut, i, r->vtmp, r->ntmp, r->ftmp);
@@ -414,30 +432,53 @@ void tp_renderer_draw_items(tp_renderer* r, const tp_render_item* items, size_t 
     /* Element-buffer bindings belong to the bound vertex array: bind ours before any upload. */
     glBindVertexArray(r->vao);
     double t0 = now_ms();
-    if (!grow_draws(r, count))
-        count = r->draw_cap; /* draw what fits; the next frame tries again */
+    int five = r->stitch_add && r->stitch_add_five, per = five ? 5 : 1; /* draws an item takes */
+    if (!grow_draws(r, per * count))
+        count = r->draw_cap / per; /* draw what fits; the next frame tries again */
     size_t drawn = 0;
     for (size_t i = 0; i < count; i++) {
         const tp_render_item* it = &items[i];
         int fresh;
         const tp__stitch_add_set* set = NULL;
+        const tp__five_layout* lay = NULL;
+        tp__five_draws fd;
         if (r->stitch_add && !it->incomplete && tp__stitch_add_needed(it->level, it->nb) &&
-            !(set = tp__stitch_add_get(r->add, it->level, it->nb))) {
+            (five ? !(lay = tp__stitch_five_layout(r->five, it->level, it->nb)) ||
+                        !tp__stitch_five_draws(r->five, it->level, it->nb, &fd)
+                  : !(set = tp__stitch_add_get(r->add, it->level, it->nb)))) {
             stats->dropped++; /* out of memory */
             continue;
         }
-        int h = tp_vertex_pool_take(r->pool, it->key, set ? set->level : it->level, &fresh);
+        int h = tp_vertex_pool_take(r->pool, it->key,
+                                    set ? set->level : lay ? lay->level : it->level, &fresh);
         if (h < 0) {
             stats->dropped++;
             continue;
         }
+        /* a five-region layout's vertices depend on (level, D) and the sides that move (a
+         * store's) only: its tag says so */
+        int8_t tag[4] = {it->nb[0], it->nb[1], it->nb[2], it->nb[3]};
+        for (int s = 0; lay && s < 4; s++)
+            if (tag[s] > it->level)
+                tag[s] = (int8_t)(-2 - lay->D);
         const tp_pool_slot* sl = tp_vertex_pool_slot(r->pool, h);
-        if (fresh || sl->level != it->level || memcmp(sl->nb, it->nb, sizeof sl->nb) ||
+        if (fresh || sl->level != it->level || memcmp(sl->nb, tag, sizeof sl->nb) ||
             (it->incomplete || set) != (sl->region >= 0)) {
-            upload(r, it, i, fill, user, h, set);
+            upload(r, it, i, fill, user, h, set, lay, tag);
             stats->uploads++;
         }
         stats->patches_drawn++;
+        if (lay) { /* its regions, each a draw of the shared sets (none empty) */
+            for (int d = 0; d < fd.count; d++, drawn++) {
+                r->draw_level[drawn] = 3 * tp_vertex_pool_level(h) + 2;
+                r->counts[drawn] = (GLsizei)fd.index_count[d];
+                r->offsets[drawn] = (void*)(fd.first[d] * sizeof(uint32_t));
+                r->bases[drawn] = tp_vertex_pool_base_vertex(r->pool, h);
+                r->ditem[drawn] = i;
+            }
+            stats->triangles += fd.triangles;
+            continue;
+        }
         int c = sl->region;
         if (it->incomplete && c < 0)
             continue; /* no region could be made */
@@ -450,20 +491,21 @@ void tp_renderer_draw_items(tp_renderer* r, const tp_render_item* items, size_t 
         int k = tp_vertex_pool_level(h); /* its pool's level (an added-vertex set's) */
         if (r->stitch_add) /* strips: the level-k grid, nothing moved */
             stats->triangles += c >= 0 ? list_count / 3 : (size_t)2 << (2 * it->level);
-        r->draw_level[drawn] = 2 * k + (c >= 0); /* the group: level, strip or triangle list */
+        r->draw_level[drawn] = 3 * k + (c >= 0); /* the group: level, strip or triangle list */
         r->counts[drawn] = (GLsizei)(c < 0 ? r->level_count[k] : list_count);
         r->offsets[drawn] = (void*)(c < 0 ? r->level_offset[k] : list_offset);
         r->bases[drawn] = tp_vertex_pool_base_vertex(r->pool, h);
         r->ditem[drawn] = i;
         drawn++;
     }
-    /* One multi-draw per group (each level's pool is its own buffer): group the draws. */
-    size_t group_at[2 * TP_MAX_LEVELS + 1] = {0};
+    /* One multi-draw per group (each level's pool is its own buffer; strips, triangle lists,
+     * five-region sets): group the draws. */
+    size_t group_at[3 * TP_MAX_LEVELS + 1] = {0};
     for (size_t j = 0; j < drawn; j++)
         group_at[r->draw_level[j] + 1]++;
-    for (int g = 0; g < 2 * TP_MAX_LEVELS; g++)
+    for (int g = 0; g < 3 * TP_MAX_LEVELS; g++)
         group_at[g + 1] += group_at[g];
-    size_t group_end[2 * TP_MAX_LEVELS];
+    size_t group_end[3 * TP_MAX_LEVELS];
     memcpy(group_end, group_at, sizeof group_end);
     for (size_t j = 0; j < drawn; j++) {
         size_t at = group_end[r->draw_level[j]]++;
@@ -472,6 +514,8 @@ void tp_renderer_draw_items(tp_renderer* r, const tp_render_item* items, size_t 
         r->gbases[at] = r->bases[j];
         r->gitem[at] = r->ditem[j];
     }
+    size_t five_bytes = 0; /* the sets made this frame go to the GPU with the upload */
+    GLuint five_ibo = five ? tp__stitch_five_gl_buffer(r->five, &five_bytes) : 0;
     double t1 = now_ms();
     stats->upload_ms = t1 - t0;
     long faults0 = minor_faults();
@@ -561,18 +605,20 @@ void tp_renderer_draw_items(tp_renderer* r, const tp_render_item* items, size_t 
         glActiveTexture(GL_TEXTURE0);
     }
     for (int k = 0; k <= r->grid.n; k++) {
-        size_t s0 = group_at[2 * k], s1 = group_at[2 * k + 1], l1 = group_at[2 * k + 2];
-        if (s0 == l1)
+        if (group_at[3 * k] == group_at[3 * k + 3])
             continue;
         setup_vertex_format(r, tp_vertex_pool_vertex_buffer(r->pool, k));
-        for (int list = 0; list < 2; list++) {
-            size_t a = list ? s1 : s0, b = list ? l1 : s1;
-            if (a == b)
+        for (int list = 0; list < 3; list++) { /* strips, triangle lists, five-region sets */
+            size_t a = group_at[3 * k + list], b = group_at[3 * k + list + 1];
+            GLuint ebo = list == 0 ? r->ibo
+                         : list == 1 ? tp_vertex_pool_index_buffer(r->pool, k)
+                                     : five_ibo;
+            if (a == b || !ebo)
                 continue;
+            stats->draws += (int)(b - a);
             GLenum mode = list ? GL_TRIANGLES : GL_TRIANGLE_STRIP;
             GLenum type = list ? GL_UNSIGNED_INT : r->index_type;
-            glBindBuffer(GL_ELEMENT_ARRAY_BUFFER,
-                         list ? tp_vertex_pool_index_buffer(r->pool, k) : r->ibo);
+            glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, ebo);
             if (blocks) {
                 for (size_t j = a; j < b; j++) {
                     const tp_render_item_texture* t = &r->blk[r->gitem[j]];
@@ -602,9 +648,16 @@ void tp_renderer_draw_items(tp_renderer* r, const tp_render_item* items, size_t 
         glFinish();
     stats->draw_ms = now_ms() - t1;
     stats->page_faults = minor_faults() - faults0;
-    stats->gpu_bytes = tp_vertex_pool_gpu_bytes(r->pool);
-    for (int k = 0; k <= r->grid.n; k++)
-        stats->gpu_bytes += r->level_count[k] * (r->index_type == GL_UNSIGNED_SHORT ? 2 : 4);
+    stats->gpu_bytes = tp_vertex_pool_gpu_bytes(r->pool) + five_bytes;
+    stats->index_gpu_bytes = tp_vertex_pool_index_bytes(r->pool) + five_bytes;
+    for (int k = 0; k <= r->grid.n; k++) {
+        size_t b = r->level_count[k] * (r->index_type == GL_UNSIGNED_SHORT ? 2 : 4);
+        stats->gpu_bytes += b;
+        stats->index_gpu_bytes += b;
+    }
+    if (r->stitch_add)
+        stats->index_cpu_bytes = five ? tp__stitch_five_cpu_bytes(r->five)
+                                      : tp__stitch_add_cpu_bytes(r->add);
 }
 
 /* ---- the patches of a resident terrain ---- */
@@ -632,6 +685,16 @@ tp_renderer* tp_renderer_create(const tp_terrain* t, char* msg, size_t msg_size)
         r->complete[p] = (uint8_t)pi.complete;
     }
     return r;
+}
+
+/* The next draw's --stitch add mode (s) and what it needs; 0 when out of memory. */
+static int set_stitch_add(tp_renderer* r, const tp_render_settings* s)
+{
+    r->stitch_add = s->stitch_add;
+    r->stitch_add_five = s->stitch_add_five;
+    if (s->stitch_add && s->stitch_add_five)
+        return r->five || (r->five = tp__stitch_five_create(r->grid.n));
+    return !s->stitch_add || r->add || (r->add = tp__stitch_add_create(r->grid.n));
 }
 
 static int grow_items(tp_renderer* r, size_t count)
@@ -688,9 +751,8 @@ void tp_renderer_draw(tp_renderer* r, tp_selection* sel, const tp_camera* cam,
         it->incomplete = !r->complete[p];
     }
     tp_selection_clear_dirty(sel);
-    if (s->stitch_add && !r->add && !(r->add = tp__stitch_add_create(r->grid.n)))
+    if (!set_stitch_add(r, s))
         count = 0; /* out of memory: nothing to draw */
-    r->stitch_add = s->stitch_add;
     tp_renderer_draw_items(r, r->items, count, fill_patch, r, cam, s,
                            tp_selection_vertical_scale(sel), finish, stats);
     r->stitch_add = 0;
@@ -739,11 +801,10 @@ void tp_renderer_draw_cut(tp_renderer* r, const tp_tree* tree, const tp_cut* cut
                                         : TP_NO_NEIGHBOR);
         it->incomplete = !(tp_tree_meta(tree, nodes[i].node)->flags & TP_NODE_COMPLETE);
     }
-    if (s->stitch_add && !r->add && !(r->add = tp__stitch_add_create(r->grid.n)))
+    if (!set_stitch_add(r, s))
         count = 0; /* out of memory: nothing to draw */
     r->tree = tree;
     r->cut = cut;
-    r->stitch_add = s->stitch_add;
     tp_renderer_draw_items(r, r->items, count, fill_node, r, cam, s, zscale, finish, stats);
     r->stitch_add = 0;
     r->tree = NULL;

@@ -36,6 +36,11 @@ typedef struct tp_render_settings {
                                  coarser patch's border (tp_patch_triangles_add, `--stitch
                                  add`) instead of moving the finer patch's (the default); a
                                  store's cut must have been updated with tp_cut_set_stitch_add */
+    int stitch_add_five;      /* with stitch_add: draw a patch that takes vertices as up to
+                                 five draws of per-level index sets (stitch_add_five.h,
+                                 `--stitch-add-draw five`; 1 by default) instead of its own
+                                 triangle list from an index set per neighbour configuration
+                                 (0, "sets") */
     double grid_m;            /* grid lines every grid_m metres of the render CRS (UTM: the
                                  UTM/MGRS grid); 0 for none */
 } tp_render_settings;
@@ -58,6 +63,10 @@ typedef struct tp_render_stats {
                                  memory ran out) */
     size_t triangles;         /* --stitch add only (else 0: the core counts them): the
                                  triangles drawn, 2 * 4^k for a level-k strip (nothing moves) */
+    int draws;                /* draws submitted, each of a multi-draw's counted */
+    size_t index_gpu_bytes;   /* of gpu_bytes, the index buffers (strips, triangle-list
+                                 regions, --stitch-add-draw five's sets) */
+    size_t index_cpu_bytes;   /* --stitch add: the CPU memory its index sets' cache holds */
 } tp_render_stats;
 
 /* No level's vertex pool grows past this, whatever a frame asks for: llvmpipe (Mesa 22.3) crashes

@@ -125,6 +125,17 @@ const tp__stitch_add_set* tp__stitch_add_get(tp__stitch_add* s, int k, const int
     return s->sets[key];
 }
 
+size_t tp__stitch_add_cpu_bytes(const tp__stitch_add* s)
+{
+    size_t side = ((size_t)1 << s->n) + 1;
+    size_t b = sizeof *s + s->key_count * sizeof *s->sets + side * side * sizeof *s->remap;
+    for (size_t i = 0; i < s->key_count; i++)
+        if (s->sets[i])
+            b += sizeof *s->sets[i] + s->sets[i]->vertex_count * sizeof(uint32_t) +
+                 3 * s->sets[i]->triangle_count * sizeof(uint32_t);
+    return b;
+}
+
 /* Compacts the level-finest lattice v (set->finest) to the set's samples, in place. */
 static void compact(const tp__stitch_add* s, const tp__stitch_add_set* set, tp_vertex* v)
 {

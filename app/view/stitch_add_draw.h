@@ -40,6 +40,9 @@ int tp__stitch_add_needed(int k, const int8_t nb[4]);
  * memory. */
 const tp__stitch_add_set* tp__stitch_add_get(tp__stitch_add* s, int k, const int8_t nb[4]);
 
+/* Bytes of CPU memory it holds (its table, the sets made and their scratch). */
+size_t tp__stitch_add_cpu_bytes(const tp__stitch_add* s);
+
 /* Patch `patch` of t drawn with set: writes set->vertex_count unmoved vertices (as
  * tp_patch_vertices writes them), their unit normals and whether each is a filled void.
  * vertices, normals and filled hold (2^finest+1)^2 entries (the level-finest lattice is read

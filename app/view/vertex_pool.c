@@ -418,3 +418,11 @@ size_t tp_vertex_pool_gpu_bytes(const tp_vertex_pool* p)
     }
     return bytes;
 }
+
+size_t tp_vertex_pool_index_bytes(const tp_vertex_pool* p)
+{
+    size_t bytes = 0;
+    for (int k = 0; k <= p->n; k++)
+        bytes += (size_t)p->pool[k].regions * p->pool[k].stride * 4;
+    return bytes;
+}

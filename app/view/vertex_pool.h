@@ -79,5 +79,7 @@ size_t tp_vertex_pool_triangles(const tp_vertex_pool* p, int handle, size_t* off
 
 /* Bytes of the GPU buffers it holds (vertex pools and regions). */
 size_t tp_vertex_pool_gpu_bytes(const tp_vertex_pool* p);
+/* Of those, the bytes of the triangle-list regions' index buffers. */
+size_t tp_vertex_pool_index_bytes(const tp_vertex_pool* p);
 
 #endif
