@@ -31,6 +31,7 @@ typedef struct contours_cli {
     const char* out;
     const char* around;
     const char* cache_dir;
+    tp_scene_options dem; /* the DEM options (terrain_open.h) */
     double interval_m, base_m, radius_m;
     double area[4]; /* E0, N0, E1, N1 */
     int has_area, has_radius, index_every;
@@ -70,8 +71,10 @@ static void print_help(void)
           "\n"
           "By default the whole DEM; a window of more than 67108864 posts (8192 x 8192) is\n"
           "refused (use --area or --around), as is one that does not fit the memory left\n"
-          "(12 bytes a post).\n"
-          "\n"
+          "(12 bytes a post).\n",
+          stdout);
+    tp_planner_dem_options_help();
+    fputs("\n"
           "example:\n"
           "  $ terrapatch contours N42E001.hgt --interval 20 -o contours.gpkg\n"
           "\n"
@@ -84,6 +87,7 @@ static void print_help(void)
 static int parse_options(int argc, char** argv, contours_cli* o)
 {
     memset(o, 0, sizeof *o);
+    tp_scene_options_default(&o->dem);
     o->index_every = 5;
     int has_interval = 0;
     for (int i = 1; i < argc; ++i) {
@@ -102,8 +106,14 @@ static int parse_options(int argc, char** argv, contours_cli* o)
         for (int j = 0; j < (int)(sizeof names / sizeof names[0]); ++j)
             if (tp_planner_is_option(a, names[j]))
                 k = j;
-        if (k < 0)
+        if (k < 0) {
+            const int taken = tp_scene_option_arg("contours", argc, argv, &i, &o->dem);
+            if (taken < 0)
+                return TP_EXIT_USAGE;
+            if (taken)
+                continue;
             return tp_planner_usage("contours", "unknown option '%s'", a);
+        }
         const char* v = tp_planner_option_value(argc, argv, &i, names[k]);
         if (!v)
             return tp_planner_usage("contours", "missing value for %s", names[k]);
@@ -191,7 +201,7 @@ int tp_cli_contours(int argc, char** argv)
         return TP_EXIT_FAILURE;
     }
     tp_ground* g = NULL;
-    if ((code = tp_planner_ground_open("contours", o.path, o.cache_dir, &g)) != TP_EXIT_OK)
+    if ((code = tp_planner_ground_open("contours", o.path, o.cache_dir, &o.dem, &g)) != TP_EXIT_OK)
         return code;
     const tp_store_scene* sc = tp_ground_scene(g);
     const tp_tree_geometry* geom = &sc->info.header.geometry;

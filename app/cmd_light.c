@@ -75,8 +75,10 @@ static void print_help(void)
           "  -o, --output OUT.tpl   the light map (default: the store's path with .tpl for .tpt;\n"
           "                         for a DEM, its store's in the store cache)\n"
           "  --json FILE|-          the summary as JSON (\"-\": on stdout instead of the text)\n"
-          "  --quiet                no progress on stderr\n"
-          "\n"
+          "  --quiet                no progress on stderr\n",
+          stdout);
+    tp_planner_dem_options_help();
+    fputs("\n"
           "examples:\n"
           "  $ terrapatch light mt_hood.tif --date 2026-06-21 --time '18:30 -07:00' -o sun.tif\n"
           "  $ terrapatch light mt_hood.tpt --day --date 2026-06-21     # writes mt_hood.tpl\n"
@@ -90,6 +92,7 @@ static void print_help(void)
 static int parse_options(int argc, char** argv, tp_light_cli* o)
 {
     memset(o, 0, sizeof *o);
+    tp_scene_options_default(&o->dem);
     o->maps = TP_LIGHT_DAY_MAPS;
     o->margin_m = TP_LIGHT_DAY_MARGIN_M;
     const char* maps = NULL;
@@ -117,6 +120,8 @@ static int parse_options(int argc, char** argv, tp_light_cli* o)
         if (!done)
             done = tp_planner_text_options("light", argc, argv, &i, text_opts, text_slots,
                                            TP_PLANNER_COUNT(text_opts));
+        if (!done)
+            done = tp_scene_option_arg("light", argc, argv, &i, &o->dem);
         if (done < 0)
             return TP_EXIT_USAGE;
         if (!done && a[1] >= '0' && a[1] <= '9')
@@ -227,7 +232,7 @@ int tp_cli_light(int argc, char** argv)
         return TP_EXIT_FAILURE;
     }
     tp_ground* g = NULL;
-    if ((code = tp_planner_ground_open("light", o.path, o.cache_dir, &g)) != TP_EXIT_OK)
+    if ((code = tp_planner_ground_open("light", o.path, o.cache_dir, &o.dem, &g)) != TP_EXIT_OK)
         return code;
     const tp_store_scene* sc = tp_ground_scene(g);
     const tp_tree_geometry* geom = &sc->info.header.geometry;

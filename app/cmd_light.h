@@ -7,6 +7,7 @@
 #define TP_APP_CMD_LIGHT_H
 
 #include "ground.h"
+#include "scene.h"
 
 #include "tp_sun.h"
 
@@ -18,6 +19,7 @@ typedef struct tp_light_cli {
     const char* at;
     const char* values;
     const char* cache_dir;
+    tp_scene_options dem; /* the DEM options (terrain_open.h) */
     const char* json; /* --day: a JSON file or "-" */
     double radius_m;
     int illumination; /* --values illumination */

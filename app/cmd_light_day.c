@@ -290,7 +290,7 @@ int tp_light_day_run(const tp_light_cli* o)
         return TP_EXIT_FAILURE;
     }
     tp_ground* g = NULL;
-    int code = tp_planner_ground_open("light", o->path, o->cache_dir, &g);
+    int code = tp_planner_ground_open("light", o->path, o->cache_dir, &o->dem, &g);
     if (code != TP_EXIT_OK)
         return code;
     const tp_store_scene* sc = tp_ground_scene(g);

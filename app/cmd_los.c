@@ -26,6 +26,7 @@ typedef struct los_options {
     const char* profile;
     const char* csv;
     const char* cache_dir;
+    tp_scene_options dem; /* the DEM options (terrain_open.h) */
 } los_options;
 
 static void print_help(void)
@@ -62,8 +63,10 @@ static void print_help(void)
           "  --profile F.png        draw the ground profile with the sight line (gnuplot)\n"
           "  --csv F                write the profile samples as CSV\n"
           "  --cache-dir DIR        the store cache for a DEM (as 'terrapatch view')\n"
-          "  -h, --help             show this help\n"
-          "\n"
+          "  -h, --help             show this help\n",
+          stdout);
+    tp_planner_dem_options_help();
+    fputs("\n"
           "example:\n"
           "  $ terrapatch los N42E001.hgt --from 42.5,1.5 --to 42.6,1.6 --profile los.png\n"
           "\n"
@@ -77,6 +80,7 @@ static void print_help(void)
 static int parse_options(int argc, char** argv, los_options* o)
 {
     memset(o, 0, sizeof *o);
+    tp_scene_options_default(&o->dem);
     o->from_height_m = TP_VIEWSHED_OBSERVER_HEIGHT_M;
     o->to_height_m = TP_VIEWSHED_TARGET_HEIGHT_M;
     o->curvature_coeff = TP_VIEWSHED_CURVATURE_COEFF;
@@ -100,6 +104,8 @@ static int parse_options(int argc, char** argv, los_options* o)
         if (!done)
             done = tp_planner_text_options("los", argc, argv, &i, text_opts, text_slots,
                                            TP_PLANNER_COUNT(text_opts));
+        if (!done)
+            done = tp_scene_option_arg("los", argc, argv, &i, &o->dem);
         if (done < 0)
             return TP_EXIT_USAGE;
         if (!done)
@@ -327,7 +333,7 @@ int tp_cli_los(int argc, char** argv)
         return TP_EXIT_FAILURE;
 
     tp_ground* g = NULL;
-    if ((code = tp_planner_ground_open("los", o.path, o.cache_dir, &g)) != TP_EXIT_OK)
+    if ((code = tp_planner_ground_open("los", o.path, o.cache_dir, &o.dem, &g)) != TP_EXIT_OK)
         return code;
     los_report p;
     memset(&p, 0, sizeof p);

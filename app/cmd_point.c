@@ -25,6 +25,7 @@ typedef struct point_options {
     int precision;
     const char* json;
     const char* cache_dir;
+    tp_scene_options dem;
 } point_options;
 
 static void print_help(void)
@@ -57,8 +58,10 @@ static void print_help(void)
           "  --json F         also write the readout as JSON to F ('-' for stdout, instead of\n"
           "                   the text)\n"
           "  --cache-dir DIR  the store cache for a DEM (as 'terrapatch view')\n"
-          "  -h, --help       show this help\n"
-          "\n"
+          "  -h, --help       show this help\n",
+          stdout);
+    tp_planner_dem_options_help();
+    fputs("\n"
           "example:\n"
           "  $ terrapatch point lf_elev_220_mt_hood_utm.tif 45.3736 -121.6959\n"
           "\n"
@@ -73,6 +76,7 @@ static int parse_options(int argc, char** argv, point_options* o)
 {
     memset(o, 0, sizeof *o);
     o->precision = DEFAULT_PRECISION;
+    tp_scene_options_default(&o->dem);
     int dashdash = 0;
     for (int i = 1; i < argc; ++i) {
         const char* a = argv[i];
@@ -98,7 +102,11 @@ static int parse_options(int argc, char** argv, point_options* o)
                 if (!(o->cache_dir = tp_planner_option_value(argc, argv, &i, "--cache-dir")))
                     return tp_planner_usage("point", "missing value for --cache-dir");
             } else {
-                return tp_planner_usage("point", "unknown option '%s'", a);
+                const int taken = tp_scene_option_arg("point", argc, argv, &i, &o->dem);
+                if (taken < 0)
+                    return TP_EXIT_USAGE;
+                if (!taken)
+                    return tp_planner_usage("point", "unknown option '%s'", a);
             }
             continue;
         }
@@ -147,7 +155,7 @@ int tp_cli_point(int argc, char** argv)
         return TP_EXIT_FAILURE;
 
     tp_ground* g = NULL;
-    if ((code = tp_planner_ground_open("point", o.path, o.cache_dir, &g)) != TP_EXIT_OK)
+    if ((code = tp_planner_ground_open("point", o.path, o.cache_dir, &o.dem, &g)) != TP_EXIT_OK)
         return code;
     tp_point_readout r;
     if (!tp_point_readout_at_position(g, o.path, &pos, text, o.precision, &r, msg, sizeof msg)) {

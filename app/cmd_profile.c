@@ -31,6 +31,7 @@ typedef struct profile_options {
     const char* csv;
     const char* json;
     const char* cache_dir;
+    tp_scene_options dem; /* the DEM options (terrain_open.h) */
     double step_m;   /* 0: the grid spacing */
     long feature;    /* 1-based among the lines; 0: the first */
 } profile_options;
@@ -69,8 +70,10 @@ static void print_help(void)
           "                   elevation_m, grade_pct (of the piece ending there)\n"
           "  --png F          draw the profile (gnuplot), the steepest piece marked\n"
           "  --cache-dir DIR  the store cache for a DEM (as 'terrapatch view')\n"
-          "  -h, --help       show this help\n"
-          "\n"
+          "  -h, --help       show this help\n",
+          stdout);
+    tp_planner_dem_options_help();
+    fputs("\n"
           "example:\n"
           "  $ terrapatch profile N42E001.hgt --route coma_pedrosa.gpx --png profile.png\n"
           "\n"
@@ -84,6 +87,7 @@ static void print_help(void)
 static int parse_options(int argc, char** argv, profile_options* o)
 {
     memset(o, 0, sizeof *o);
+    tp_scene_options_default(&o->dem);
     static const char* const text_opts[] = {"--route", "--png", "--csv", "--json", "--cache-dir"};
     for (int i = 1; i < argc; ++i) {
         const char* a = argv[i];
@@ -107,8 +111,10 @@ static int parse_options(int argc, char** argv, profile_options* o)
             continue;
         }
         const char** const slots[] = {&o->route, &o->png, &o->csv, &o->json, &o->cache_dir};
-        const int done = tp_planner_text_options("profile", argc, argv, &i, text_opts, slots,
-                                                 TP_PLANNER_COUNT(text_opts));
+        int done = tp_planner_text_options("profile", argc, argv, &i, text_opts, slots,
+                                           TP_PLANNER_COUNT(text_opts));
+        if (!done)
+            done = tp_scene_option_arg("profile", argc, argv, &i, &o->dem);
         if (done < 0)
             return TP_EXIT_USAGE;
         if (!done)
@@ -474,7 +480,7 @@ int tp_cli_profile(int argc, char** argv)
         return TP_EXIT_FAILURE;
 
     tp_ground* g = NULL;
-    if ((code = tp_planner_ground_open("profile", o.path, o.cache_dir, &g)) != TP_EXIT_OK)
+    if ((code = tp_planner_ground_open("profile", o.path, o.cache_dir, &o.dem, &g)) != TP_EXIT_OK)
         return code;
     const tp_store_scene* sc = tp_ground_scene(g);
     if (!sc->georef || !tp_georef_has_geo(sc->georef)) {

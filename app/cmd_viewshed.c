@@ -24,6 +24,7 @@ typedef struct viewshed_cli {
     const char* observer;
     const char* out;
     const char* cache_dir;
+    tp_scene_options dem; /* the DEM options (terrain_open.h) */
     double observer_height_m, target_height_m, radius_m, curvature_coeff;
 } viewshed_cli;
 
@@ -55,8 +56,10 @@ static void print_help(void)
           "  --radius M             how far to look, metres (default 0: the whole grid)\n"
           "  --curvature-coeff C    curvature and refraction coefficient (default 0.85714)\n"
           "  --cache-dir DIR        the store cache for a DEM (as 'terrapatch view')\n"
-          "  -h, --help             show this help\n"
-          "\n"
+          "  -h, --help             show this help\n",
+          stdout);
+    tp_planner_dem_options_help();
+    fputs("\n"
           "example:\n"
           "  $ terrapatch viewshed N42E001.hgt --observer 42.5,1.5 --radius 20000 -o seen.tif\n"
           "\n"
@@ -68,6 +71,7 @@ static void print_help(void)
 static int parse_options(int argc, char** argv, viewshed_cli* o)
 {
     memset(o, 0, sizeof *o);
+    tp_scene_options_default(&o->dem);
     o->observer_height_m = TP_VIEWSHED_OBSERVER_HEIGHT_M;
     o->target_height_m = TP_VIEWSHED_TARGET_HEIGHT_M;
     o->curvature_coeff = TP_VIEWSHED_CURVATURE_COEFF;
@@ -91,6 +95,8 @@ static int parse_options(int argc, char** argv, viewshed_cli* o)
         if (!done)
             done = tp_planner_text_options("viewshed", argc, argv, &i, text_opts, text_slots,
                                            TP_PLANNER_COUNT(text_opts));
+        if (!done)
+            done = tp_scene_option_arg("viewshed", argc, argv, &i, &o->dem);
         if (done < 0)
             return TP_EXIT_USAGE;
         if (!done)
@@ -120,7 +126,7 @@ int tp_cli_viewshed(int argc, char** argv)
         return TP_EXIT_FAILURE;
     }
     tp_ground* g = NULL;
-    if ((code = tp_planner_ground_open("viewshed", o.path, o.cache_dir, &g)) != TP_EXIT_OK)
+    if ((code = tp_planner_ground_open("viewshed", o.path, o.cache_dir, &o.dem, &g)) != TP_EXIT_OK)
         return code;
     const tp_store_scene* sc = tp_ground_scene(g);
     const tp_tree_geometry* geom = &sc->info.header.geometry;

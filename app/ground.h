@@ -27,6 +27,7 @@
 #ifndef TP_APP_GROUND_H
 #define TP_APP_GROUND_H
 
+#include "scene.h"
 #include "store_scene.h"
 
 #include "tp_io.h"
@@ -39,6 +40,8 @@ typedef struct tp_ground_options {
     size_t cache_bytes;    /* leaves kept decoded; 0 means 16 MiB (at least 4 leaves) */
     const char* cache_dir; /* the store cache (a DEM): NULL for the environment's, as view */
     const char* cmd;       /* for messages: "point" */
+    const tp_scene_options* dem; /* the DEM options (terrain_open.h): a DEM's store is built
+                                    with them, a store refuses them; NULL: the defaults */
 } tp_ground_options;
 
 /* What the ground is at one position. */
@@ -58,8 +61,8 @@ typedef struct tp_ground_sample {
                                    N axis); NaN without a CRS */
 } tp_ground_sample;
 
-/* Opens path, a .tpt or a DEM (built into the cache first, progress on stderr as view),
- * for queries. Prints one line naming the file and returns TP_EXIT_FAILURE (or the build's
+/* Opens path, a .tpt or a DEM (built into the cache first, progress on stderr as view), for
+ * queries, through tp_terrain_store (terrain_open.h): o->dem's options, refused for a store. Prints one line naming the file and returns TP_EXIT_FAILURE (or the build's
  * code) on failure, *out untouched; TP_EXIT_OK with *out on success. */
 int tp_ground_open(const char* path, const tp_ground_options* o, tp_ground** out);
 

@@ -7,6 +7,7 @@
 
 #include "cli.h"
 #include "store_cache.h"
+#include "terrain_open.h"
 
 #include <stdio.h>
 #include <stdlib.h>
@@ -35,21 +36,17 @@ int tp_ground_open(const char* path, const tp_ground_options* o, tp_ground** out
         fprintf(stderr, "terrapatch: %s: out of memory\n", path);
         return TP_EXIT_FAILURE;
     }
-    if (tp_is_store_path(path)) {
-        snprintf(op->store_path, sizeof op->store_path, "%s", path);
-    } else {
-        /* the options view uses by default, so that both share one cached store */
-        tp_store_cache_options co = {.cache_dir = opts.cache_dir,
-                                     .patch_size = TP_DEFAULT_PATCH_SIZE,
-                                     .cmd = opts.cmd ? opts.cmd : "point"};
-        int code = tp_store_cache_get(path, &co, op->store_path, sizeof op->store_path,
-                                      &op->temporary);
-        if (code != TP_EXIT_OK) {
-            free(op);
-            return code;
-        }
+    /* a DEM's store: the options view uses by default, so that both share one cached store */
+    tp_scene_options dem;
+    tp_scene_options_default(&dem);
+    int code = tp_terrain_store(opts.cmd ? opts.cmd : "point", path, opts.dem ? opts.dem : &dem,
+                                opts.cache_dir, op->store_path, sizeof op->store_path,
+                                &op->temporary);
+    if (code != TP_EXIT_OK) {
+        free(op);
+        return code;
     }
-    int code = tp_store_scene_open(op->store_path, &op->sc);
+    code = tp_store_scene_open(op->store_path, &op->sc);
     if (code != TP_EXIT_OK) {
         op->sc = (tp_store_scene){0};
         release(op);

@@ -130,10 +130,19 @@ int tp_planner_check_outputs(const char* const* paths, int count)
 }
 
 int tp_planner_ground_open(const char* cmd, const char* path, const char* cache_dir,
-                           tp_ground** g)
+                           const tp_scene_options* dem, tp_ground** g)
 {
-    tp_ground_options go = {.cache_dir = cache_dir, .cmd = cmd};
+    tp_ground_options go = {.cache_dir = cache_dir, .cmd = cmd, .dem = dem};
     return tp_ground_open(path, &go, g);
+}
+
+void tp_planner_dem_options_help(void)
+{
+    fputs("\nDEM options (as every command that opens a DEM takes them; a DEM is read through\n"
+          "its store in the cache, built with --patch, --crs, --resampling, --fill-max and\n"
+          "--fill-from; a store keeps those it was built with and refuses them):\n",
+          stdout);
+    tp_scene_options_help(stdout);
 }
 
 int tp_planner_locate(const char* cmd, const char* path, tp_ground* g, const tp_position* pos,

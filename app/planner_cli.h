@@ -86,9 +86,14 @@ int tp_planner_position(const char* cmd, const char* what, const char* text, tp_
  * (stdout) passed over; 0 after the first one's message. */
 int tp_planner_check_outputs(const char* const* paths, int count);
 
-/* tp_ground_open with the command's options: the exit code, *g on TP_EXIT_OK. */
+/* tp_ground_open with the command's options (dem: the DEM options it parsed with
+ * tp_scene_option_arg, NULL for the defaults): the exit code, *g on TP_EXIT_OK. */
 int tp_planner_ground_open(const char* cmd, const char* path, const char* cache_dir,
-                           tp_ground** g);
+                           const tp_scene_options* dem, tp_ground** g);
+
+/* The help of the DEM options every planner command takes (scene.h's, with the store's
+ * rule): printed by each command's --help. */
+void tp_planner_dem_options_help(void);
 
 /* tp_ground_locate: 1 with grid (x, y) and the ground's height; else 0 after
  * "terrapatch CMD: PATH: why" (input is the position as typed). */

@@ -16,7 +16,51 @@ void tp_scene_options_default(tp_scene_options* o)
     o->fit = TP_FIT_PAD;
 }
 
+static const struct option dem_options[] = {TP_SCENE_LONG_OPTIONS};
+#define DEM_OPTION_COUNT (sizeof dem_options / sizeof dem_options[0])
+
+static int scene_option(int opt, const char* arg, tp_scene_options* o, const char* cmd);
+
 int tp_scene_option(int opt, const char* arg, tp_scene_options* o, const char* cmd)
+{
+    int r = scene_option(opt, arg, o, cmd);
+    if (r == 1)
+        o->given |= TP_SCENE_GIVEN(opt);
+    return r;
+}
+
+int tp_scene_option_arg(const char* cmd, int argc, char** argv, int* i, tp_scene_options* o)
+{
+    const char* a = argv[*i];
+    if (a[0] != '-' || a[1] != '-')
+        return 0;
+    for (size_t k = 0; k < DEM_OPTION_COUNT; ++k) {
+        const size_t len = strlen(dem_options[k].name);
+        if (strncmp(a + 2, dem_options[k].name, len) || (a[2 + len] && a[2 + len] != '='))
+            continue;
+        const char* v = a[2 + len] == '=' ? a + 3 + len : *i + 1 < argc ? argv[++*i] : NULL;
+        if (!v) {
+            fprintf(stderr, "terrapatch %s: missing value for %s (see 'terrapatch %s --help')\n",
+                    cmd, a, cmd);
+            return -1;
+        }
+        return tp_scene_option(dem_options[k].val, v, o, cmd) == 1 ? 1 : -1;
+    }
+    return 0;
+}
+
+void tp_scene_options_names(unsigned mask, char* out, size_t cap)
+{
+    size_t at = 0;
+    out[0] = '\0';
+    for (size_t k = 0; k < DEM_OPTION_COUNT && at < cap; ++k)
+        if (mask & TP_SCENE_GIVEN(dem_options[k].val)) {
+            int n = snprintf(out + at, cap - at, "%s--%s", at ? ", " : "", dem_options[k].name);
+            at += n > 0 ? (size_t)n : 0;
+        }
+}
+
+static int scene_option(int opt, const char* arg, tp_scene_options* o, const char* cmd)
 {
     char* end;
     switch (opt) {

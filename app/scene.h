@@ -21,6 +21,7 @@ typedef struct tp_scene_options {
     tp_image_options image;  /* --spacing, --zscale, --origin (heightmap images) */
     int image_given;         /* one of those was given: read through OpenImageIO */
     tp_memory_use use;       /* the command, for the up-front memory check (memory.h) */
+    unsigned given;          /* the DEM options given: bit (TP_OPT_x - TP_OPT_PATCH) of each */
 } tp_scene_options;
 
 /* getopt_long codes of the DEM options (each command adds its own beside them). */
@@ -51,6 +52,25 @@ void tp_scene_options_default(tp_scene_options* o);
 /* Handles one getopt_long result if it is a DEM option: returns 1 (taken), 0 (not a DEM
  * option) or -1 (bad value; a one-line message naming cmd was printed). */
 int tp_scene_option(int opt, const char* arg, tp_scene_options* o, const char* cmd);
+
+/* The same for the parsers that walk argv themselves (the planner commands: point, los,
+ * viewshed, light, profile, contours): when argv[*i] is a DEM option ("--crs X" or
+ * "--crs=X"), reads its value (*i moves on past it) through tp_scene_option. 1 taken, 0 not a
+ * DEM option, -1 after one line (a missing or bad value; the command exits with 2). */
+int tp_scene_option_arg(const char* cmd, int argc, char** argv, int* i, tp_scene_options* o);
+
+/* Writes into out (cap bytes) the names of the DEM options in mask (a tp_scene_options.given),
+ * as "--crs, --fill-max"; "" for none. */
+void tp_scene_options_names(unsigned mask, char* out, size_t cap);
+
+/* The bit of TP_OPT_x in tp_scene_options.given. */
+#define TP_SCENE_GIVEN(opt) (1u << ((opt) - TP_OPT_PATCH))
+/* The DEM options that shape a DEM's store (passed to its build); the others (--fit and the
+ * heightmap options) shape a DEM drawn whole. */
+#define TP_SCENE_STORE_OPTIONS                                                                     \
+    (TP_SCENE_GIVEN(TP_OPT_PATCH) | TP_SCENE_GIVEN(TP_OPT_CRS) |                                   \
+     TP_SCENE_GIVEN(TP_OPT_RESAMPLING) | TP_SCENE_GIVEN(TP_OPT_FILL_MAX) |                         \
+     TP_SCENE_GIVEN(TP_OPT_FILL_FROM))
 
 /* The help lines of the DEM options. */
 void tp_scene_options_help(FILE* f);

@@ -93,17 +93,20 @@ int tp_store_cache_get(const char* dem, const tp_store_cache_options* o, char* o
                        int* temporary_out)
 {
     *temporary_out = 0;
+    /* the DEM's identity: its absolute path (a virtual path's archive made absolute), size
+     * and time */
     char abs_path[PATH_MAX];
-    struct stat sb;
-    if (!realpath(dem, abs_path) || stat(abs_path, &sb) != 0) {
-        fprintf(stderr, "terrapatch: %s: %s\n", dem, strerror(errno));
+    tp_input_identity id;
+    tp_error err;
+    if (tp_input_check(dem, "a raster", 1, &err) != TP_OK ||
+        tp_input_identify(dem, abs_path, sizeof abs_path, &id, &err) != TP_OK) {
+        fprintf(stderr, "terrapatch: %s\n", err.message);
         return TP_EXIT_FAILURE;
     }
     uint64_t h = 0xcbf29ce484222325ull;
     h = fnv_str(h, "terrapatch store cache 1");
     h = fnv_str(h, abs_path);
-    int64_t meta[4] = {(int64_t)sb.st_size, (int64_t)sb.st_mtim.tv_sec,
-                       (int64_t)sb.st_mtim.tv_nsec, o->patch_size};
+    int64_t meta[3] = {id.size_bytes, id.mtime_ns, o->patch_size};
     h = fnv(h, meta, sizeof meta);
     h = fnv_str(h, o->crs);
     h = fnv(h, &o->resampling, sizeof o->resampling);
@@ -112,13 +115,13 @@ int tp_store_cache_get(const char* dem, const tp_store_cache_options* o, char* o
     char from_path[PATH_MAX] = "";
     if (o->fill_from && *o->fill_from) {
         /* the second source's identity: a changed file makes a new store */
-        struct stat fb;
-        if (!realpath(o->fill_from, from_path) || stat(from_path, &fb) != 0) {
-            fprintf(stderr, "terrapatch: --fill-from %s: %s\n", o->fill_from, strerror(errno));
+        tp_input_identity fid;
+        if (tp_input_check(o->fill_from, "a raster", 1, &err) != TP_OK ||
+            tp_input_identify(o->fill_from, from_path, sizeof from_path, &fid, &err) != TP_OK) {
+            fprintf(stderr, "terrapatch: --fill-from %s\n", err.message);
             return TP_EXIT_FAILURE;
         }
-        int64_t fmeta[3] = {(int64_t)fb.st_size, (int64_t)fb.st_mtim.tv_sec,
-                            (int64_t)fb.st_mtim.tv_nsec};
+        int64_t fmeta[2] = {fid.size_bytes, fid.mtime_ns};
         h = fnv_str(h, "fill-from");
         h = fnv_str(h, from_path);
         h = fnv(h, fmeta, sizeof fmeta);

@@ -9,6 +9,7 @@
 #include "bench.h"
 #include "camera_pose.h"
 #include "cli.h"
+#include "terrain_open.h"
 #include "gl_context.h"
 #include "json.h"
 #include "renderer.h"
@@ -714,8 +715,14 @@ int tp_cli_bench(int argc, char** argv)
     for (int i = 0; i < 3; i++)
         if (outputs[i] && !tp_atomic_check_dir(outputs[i]))
             return TP_EXIT_FAILURE;
-    if (tp_is_store_path(o.dem))
+    const int kind = tp_terrain_kind_of(o.dem);
+    if (kind < 0)
+        return TP_EXIT_FAILURE;
+    if (kind == TP_TERRAIN_STORE) {
+        if ((code = tp_terrain_refuse_store_options("bench", o.dem, &o.scene)) >= 0)
+            return code;
         return tp_bench_store(&o);
+    }
     tp_scene sc;
     o.scene.use = TP_MEMORY_USE_BENCH;
     if ((code = tp_scene_load(o.dem, &o.scene, &sc)) != TP_EXIT_OK)

@@ -6,6 +6,7 @@
 #include "atomic_file.h"
 #include "camera_pose.h"
 #include "cli.h"
+#include "terrain_open.h"
 #include "mesh_export.h"
 #include "scene.h"
 #include "store_export.h"
@@ -260,10 +261,15 @@ int tp_cli_export(int argc, char** argv)
     /* An unwritable output is found before the DEM is read, not after the mesh is built. */
     if (!tp_atomic_check_dir(o.out))
         return TP_EXIT_FAILURE;
-    if (tp_is_store_path(o.path)) {
-        if (o.no_cull || o.per_patch || o.scene.image_given) {
-            fprintf(stderr, "terrapatch export: %s is a store: --no-cull, --per-patch and the "
-                            "heightmap options apply to a DEM only\n", o.path);
+    const int kind = tp_terrain_kind_of(o.path);
+    if (kind < 0)
+        return TP_EXIT_FAILURE;
+    if (kind == TP_TERRAIN_STORE) {
+        if ((code = tp_terrain_refuse_store_options("export", o.path, &o.scene)) >= 0)
+            return code;
+        if (o.no_cull || o.per_patch) {
+            fprintf(stderr, "terrapatch export: %s is a store: --no-cull and --per-patch apply "
+                            "to a DEM only\n", o.path);
             return TP_EXIT_USAGE;
         }
         tp_store_export_request r = {

@@ -22,6 +22,7 @@
 #include "pick.h"
 #include "layers.h"
 #include "store_cache.h"
+#include "terrain_open.h"
 #include "view_bookmarks.h"
 
 #include <math.h>
@@ -825,12 +826,6 @@ static int view_store(const char* path, view_options* o)
     return code;
 }
 
-static int is_regular_file(const char* path)
-{
-    struct stat sb;
-    return stat(path, &sb) == 0 && S_ISREG(sb.st_mode);
-}
-
 int tp_cli_view(int argc, char** argv)
 {
     view_options o;
@@ -854,29 +849,27 @@ int tp_cli_view(int argc, char** argv)
      * level 0 */
     if (o.vs.pgm && !tp_is_store_path(o.path))
         o.old_path = 1;
-    if (tp_is_store_path(o.path)) {
-        if (o.texture || o.old_path || o.scene.image_given) {
-            fprintf(stderr, "terrapatch view: %s is a store: --texture, --fill-max, --fit, --whole "
-                            "and the heightmap options apply to a DEM only\n", o.path);
+    const int kind = tp_terrain_kind_of(o.path);
+    if (kind < 0)
+        return TP_EXIT_FAILURE;
+    if (kind == TP_TERRAIN_STORE) {
+        if ((code = tp_terrain_refuse_store_options("view", o.path, &o.scene)) >= 0)
+            return code;
+        if (o.texture || o.old_path) {
+            fprintf(stderr, "terrapatch view: %s is a store: --texture and --whole apply to a "
+                            "DEM only\n", o.path);
             return TP_EXIT_USAGE;
         }
         code = view_store(o.path, &o);
-    } else if (o.old_path || o.texture || o.scene.image_given || !is_regular_file(o.path) ||
-               tp_is_heightmap_image(o.path)) {
-        /* (not a plain file: a FIFO, a GDAL /vsi path or a missing one: the DEM reader says
-         * what it is, as before) */
+    } else if (o.old_path || o.texture || o.scene.image_given || tp_is_heightmap_image(o.path)) {
         code = view_dem(&o);
     } else {
+        /* every other DEM (GDAL's virtual paths too) through its store in the cache, built
+         * with the view's --patch (17 unless given) */
         char store[4096];
-        tp_store_cache_options co = {.cache_dir = o.cache_dir,
-                                     .patch_size = o.scene.patch_size, /* 17 unless --patch */
-                                     .crs = o.scene.grid.crs,
-                                     .resampling = o.scene.grid.resampling,
-                                     .fill_max_px = o.scene.grid.fill_max_px,
-                                     .fill_from = o.scene.grid.fill_from,
-                                     .cmd = "view"};
         int temporary = 0;
-        code = tp_store_cache_get(o.path, &co, store, sizeof store, &temporary);
+        code = tp_terrain_store("view", o.path, &o.scene, o.cache_dir, store, sizeof store,
+                                &temporary);
         if (code == TP_EXIT_OK)
             code = view_store(store, &o);
         if (temporary)

@@ -102,6 +102,37 @@ tp_status tp_dem_vertical_info(const char* path, tp_vertical_info* out, tp_error
 tp_terrain_desc tp_dem_terrain_desc(const tp_dem* dem, int patch_size, tp_fit fit);
 
 /* ---------------------------------------------------------------------------------------------
+ * Inputs (io/src/input_file.cpp): how every command checks a path it is about to read, and
+ * names it for the store cache.
+ */
+
+/* Refuses, in one line naming path, an input that is not a regular file before anything opens
+ * it: a FIFO (opening it waits for a writer, forever if none comes), a character or block
+ * device (/dev/zero never ends), a socket, a missing path, and a directory unless
+ * allow_directory (a raster can be one: an ArcInfo binary grid). `what` is what the file
+ * should have been ("a route file (GPX, GeoJSON, KML, CSV)"). A GDAL virtual path (/vsizip/,
+ * /vsigzip/, /vsitar/, /vsicurl/, ...) is asked of GDAL's virtual file system (VSIStatL): one
+ * it cannot find is "PATH: cannot open: no such file (GDAL virtual path)". TP_ERR_IO with a
+ * message starting with path; TP_OK otherwise. */
+tp_status tp_input_check(const char* path, const char* what, int allow_directory, tp_error* err);
+
+/* 1 when path is a GDAL virtual path ("/vsi" followed by a handler name and '/'). */
+int tp_input_is_virtual(const char* path);
+
+/* What names an input file for a cache: its absolute path (a relative path made absolute, as
+ * realpath does; in a virtual path, the archive's path after /vsizip/, /vsigzip/, /vsitar/,
+ * /vsi7z/ or /vsirar/ made absolute, so that the name reads the same file from any folder),
+ * its size and its modification time (ns since the epoch; whole seconds for virtual paths).
+ * Call tp_input_check first: this only names. TP_ERR_IO naming path when it cannot be found;
+ * TP_ERR_INVALID_ARG when the absolute path does not fit cap bytes. */
+typedef struct tp_input_identity {
+    int64_t size_bytes;
+    int64_t mtime_ns;
+} tp_input_identity;
+tp_status tp_input_identify(const char* path, char* abs_path, size_t cap, tp_input_identity* out,
+                            tp_error* err);
+
+/* ---------------------------------------------------------------------------------------------
  * Coordinate reference systems (io/src/crs.cpp, through GDAL's OGR)
  */
 typedef struct tp_crs_info {

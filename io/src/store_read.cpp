@@ -214,7 +214,7 @@ tp_status load(tp_store* s, tp_error* err)
     if (std::memcmp(foot + F_END_MAGIC, END_MAGIC, 8) != 0)
         return fail(err, TP_ERR_BAD_DATA,
                     "%s: truncated or damaged: no footer at the end of its %" PRIu64
-                    " bytes (a copy cut short?)",
+                    " bytes (a copy cut short, or bytes appended after the footer?)",
                     path, s->file_bytes);
     const uint32_t foot_crc = crc32_of(foot, F_FOOTER_CRC);
     if (foot_crc != get_u32(foot + F_FOOTER_CRC))
@@ -263,6 +263,7 @@ tp_status load(tp_store* s, tp_error* err)
         std::memcpy(zero_mask, mask, sizeof mask);
     }
     uint32_t meta_crc = 0, loc_crc = 0;
+    uint64_t data_sum = 0; /* the nodes' data bytes: they fill the data area, end to end */
     tp_error bad_entry;
     bad_entry.message[0] = '\0';
     for (uint64_t at = t.meta_offset; at < t.data_offset;) {
@@ -313,6 +314,8 @@ tp_status load(tp_store* s, tp_error* err)
                 else if (en.offset < t.data_offset || en.offset > s->data_end ||
                          en.bytes > s->data_end - en.offset)
                     problem = "data outside the data area";
+                else
+                    data_sum += en.bytes;
             }
             if (!problem || bad_entry.message[0])
                 continue;
@@ -340,6 +343,15 @@ tp_status load(tp_store* s, tp_error* err)
                     path, t.loc_offset, t.data_offset - 1, get_u32(foot + F_LOC_CRC), loc_crc);
     if (bad_entry.message[0])
         return fail(err, TP_ERR_BAD_DATA, "%s", bad_entry.message);
+    /* A writer leaves no byte between the nodes' data and the footer: more is a file that grew
+     * after it was written (a valid footer copied after the first, a copy appended twice). */
+    if (data_sum != s->data_end - t.data_offset)
+        return fail(err, TP_ERR_BAD_DATA,
+                    "%s: %" PRId64 " bytes between the last node's data and the footer (its "
+                    "nodes hold %" PRIu64 " bytes of the %" PRIu64 "-byte data area): bytes "
+                    "appended after the footer?",
+                    path, (int64_t)(s->data_end - t.data_offset) - (int64_t)data_sum, data_sum,
+                    s->data_end - t.data_offset);
 
     /* Map both tables (page-aligned start). */
     const long page = sysconf(_SC_PAGESIZE);

@@ -6,8 +6,6 @@
 #include "gdal_util.hpp"
 #include "tp_io.h"
 
-#include <sys/stat.h>
-
 #include <exception>
 #include <new>
 
@@ -17,11 +15,8 @@ extern "C" tp_status tp_dem_vertical_info(const char* path, tp_vertical_info* ou
         tpio::set_error(err, "tp_dem_vertical_info: expected a path and an output, got NULL");
         return TP_ERR_INVALID_ARG;
     }
-    struct stat st;
-    if (stat(path, &st) != 0 || !S_ISREG(st.st_mode)) {
-        tpio::set_error(err, "%s: cannot open: not a regular file", path);
-        return TP_ERR_IO;
-    }
+    if (tp_status s = tp_input_check(path, "a raster", 1, err))
+        return s;
     try {
         tpio::register_drivers();
         tpio::QuietGdal quiet;

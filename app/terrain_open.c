@@ -1,0 +1,119 @@
+/* terrain_open.c - what a path names, and the store a command reads for it (terrain_open.h). */
+#define _POSIX_C_SOURCE 200809L
+#include "terrain_open.h"
+
+#include "cli.h"
+#include "store_cache.h"
+#include "store_scene.h"
+
+#include "tp_io.h"
+
+#include <stdio.h>
+#include <string.h>
+#include <strings.h>
+#include <sys/stat.h>
+
+static int named_tpt(const char* path)
+{
+    const size_t len = strlen(path);
+    return len > 4 && !strcasecmp(path + len - 4, ".tpt");
+}
+
+/* 1 when a regular file's first bytes look like a store's magic (0x89 "TPT"), whole or not. */
+static int starts_like_store(const char* path)
+{
+    struct stat st;
+    if (stat(path, &st) != 0 || !S_ISREG(st.st_mode))
+        return 0;
+    FILE* f = fopen(path, "rb");
+    if (!f)
+        return 0;
+    unsigned char head[4] = {0};
+    size_t got = fread(head, 1, sizeof head, f);
+    fclose(f);
+    return got == sizeof head && !memcmp(head + 1, "TPT", 3);
+}
+
+int tp_terrain_kind_of(const char* path)
+{
+    if (tp_is_store_path(path))
+        return TP_TERRAIN_STORE;
+    if (tp_input_is_virtual(path)) {
+        if (named_tpt(path)) {
+            fprintf(stderr,
+                    "terrapatch: %s: a store inside a GDAL virtual path cannot be read "
+                    "(stores are read from local files): extract it first\n",
+                    path);
+            return -1;
+        }
+        return TP_TERRAIN_DEM;
+    }
+    struct stat st;
+    if (stat(path, &st) == 0 && S_ISREG(st.st_mode) &&
+        (named_tpt(path) || starts_like_store(path))) {
+        fprintf(stderr,
+                "terrapatch: %s: not a terrapatch store, or its header is damaged (its "
+                "first 8 bytes are not a store's magic; %lld bytes): rebuild it with "
+                "terrapatch build\n",
+                path, (long long)st.st_size);
+        return -1;
+    }
+    return TP_TERRAIN_DEM;
+}
+
+int tp_terrain_refuse_store_options(const char* cmd, const char* path, const tp_scene_options* o)
+{
+    if (!o || !o->given)
+        return -1;
+    char names[160];
+    tp_scene_options_names(o->given, names, sizeof names);
+    fprintf(stderr,
+            "terrapatch %s: %s is a store: %s shape%s a DEM when it is read or built; a "
+            "store keeps those it was built with (build it again from the DEM with "
+            "terrapatch build)\n",
+            cmd, path, names, strchr(names, ',') ? "" : "s");
+    return TP_EXIT_USAGE;
+}
+
+int tp_terrain_store(const char* cmd, const char* path, const tp_scene_options* o,
+                     const char* cache_dir, char* out, size_t cap, int* temporary)
+{
+    *temporary = 0;
+    const int kind = tp_terrain_kind_of(path);
+    if (kind < 0)
+        return TP_EXIT_FAILURE;
+    if (kind == TP_TERRAIN_STORE) {
+        int code = tp_terrain_refuse_store_options(cmd, path, o);
+        if (code >= 0)
+            return code;
+        if (snprintf(out, cap, "%s", path) >= (int)cap) {
+            fprintf(stderr, "terrapatch: %s: the path is too long\n", path);
+            return TP_EXIT_FAILURE;
+        }
+        return TP_EXIT_OK;
+    }
+    tp_scene_options dflt;
+    if (!o) {
+        tp_scene_options_default(&dflt);
+        o = &dflt;
+    }
+    const unsigned whole_only = o->given & ~(unsigned)TP_SCENE_STORE_OPTIONS;
+    if (whole_only) {
+        char names[160];
+        tp_scene_options_names(whole_only, names, sizeof names);
+        fprintf(stderr,
+                "terrapatch %s: %s shape%s a DEM drawn whole (view --whole, export, "
+                "bench, info); %s reads %s through its store, which takes any size and "
+                "is built from what GDAL reads\n",
+                cmd, names, strchr(names, ',') ? "" : "s", cmd, path);
+        return TP_EXIT_USAGE;
+    }
+    tp_store_cache_options co = {.cache_dir = cache_dir,
+                                 .patch_size = o->patch_size,
+                                 .crs = o->grid.crs,
+                                 .resampling = o->grid.resampling,
+                                 .fill_max_px = o->grid.fill_max_px,
+                                 .fill_from = o->grid.fill_from,
+                                 .cmd = cmd};
+    return tp_store_cache_get(path, &co, out, cap, temporary);
+}

@@ -1,0 +1,309 @@
+/*
+ * test_terrain_open.c - one way to open the ground (app/terrain_open.c, issue 29 part 1): every
+ * command reads GDAL's virtual paths, takes the DEM options, refuses them the same way for a
+ * store, and says a damaged store is one. `terrapatch` is run as a child on the real tile
+ * N42E001 (SRTM, Andorra) and the Mt Hood sample; the oracle for heights is the same command on
+ * the plain file, and for the files GDAL's own virtual file system.
+ */
+#define _POSIX_C_SOURCE 200809L
+#include "tp_test.h"
+#include "tp_test_child.h"
+
+#include "tp_io.h"
+
+#include <cpl_vsi.h>
+
+#include <sys/stat.h>
+#include <unistd.h>
+
+#define TILE "N42E001.hgt"
+#define HOOD "lf_elev_220_mt_hood_utm.tif"
+
+static const char* tmp_dir(void)
+{
+    return tp_test_child_dir("terrain_open");
+}
+
+/* Copies the file at from into GDAL's virtual path to (e.g. "/vsizip/DIR/x.zip/N42E001.hgt"),
+ * written through GDAL's own zip/gzip writers: the archive is GDAL's, not ours. */
+static void vsi_copy(const char* from, const char* to)
+{
+    FILE* f = fopen(from, "rb");
+    ASSERT_TRUE(f != NULL);
+    VSILFILE* v = VSIFOpenL(to, "wb");
+    ASSERT_TRUE(v != NULL);
+    char buf[1 << 16];
+    size_t n;
+    while ((n = fread(buf, 1, sizeof buf, f)) > 0)
+        ASSERT_TRUE(VSIFWriteL(buf, 1, n, v) == n);
+    fclose(f);
+    ASSERT_EQ_INT(0, VSIFCloseL(v));
+}
+
+/* `terrapatch point DEM 42.5 1.5 --json F` (extra DEM options before the DEM): the elevation,
+ * or NaN after failing the test when rc differs from want_rc. */
+static double point_height(const char* dem, const char* opt, const char* val, char* err,
+                           size_t err_cap)
+{
+    char out[256], json[8192];
+    snprintf(out, sizeof out, "%s/point.json", tmp_dir());
+    remove(out);
+    const char* with[] = {opt, val, dem, "42.5", "1.5", "--json", out, NULL};
+    const char* without[] = {dem, "42.5", "1.5", "--json", out, NULL};
+    int rc = tp_test_run_terrapatch("point", opt ? with : without, err, err_cap);
+    if (rc != 0)
+        FAIL("point %s: exit %d: %s", dem, rc, err);
+    tp_test_read_text(out, json, sizeof json);
+    return tp_test_json_number_after(json, NULL, "elevation_m");
+}
+
+/* A place on a DEM: its centre (latitude, longitude). */
+typedef struct place {
+    double lat, lon;
+} place;
+
+static const place ANDORRA = {42.5, 1.5};         /* N42E001 */
+static const place FRONT_RANGE = {40.15, -105.5}; /* front_range_srtmgl3_144.asc */
+
+/* A GeoJSON route from p to 0.005 degrees north-east of it. */
+static void write_route(place p, char* path, size_t cap)
+{
+    snprintf(path, cap, "%s/route.geojson", tmp_dir());
+    FILE* f = fopen(path, "w");
+    ASSERT_TRUE(f != NULL);
+    fprintf(
+        f,
+        "{\"type\":\"FeatureCollection\",\"features\":[{\"type\":\"Feature\",\"properties\":"
+        "{},\"geometry\":{\"type\":\"LineString\",\"coordinates\":[[%.4f,%.4f],[%.4f,%.4f]]}}]}\n",
+        p.lon, p.lat, p.lon + 0.005, p.lat + 0.005);
+    fclose(f);
+}
+
+/* Runs every command that reads the ground on dem around p (with two extra arguments before
+ * the DEM when opt is set); asserts each exit status is want and its stderr holds expect (NULL:
+ * anything). */
+static void every_command(const char* dem, place p, const char* opt, const char* val, int want,
+                          const char* expect)
+{
+    char route[256], vs[256], li[256], co[256], js[256], at[64], to[64], lat[32], lon[32];
+    write_route(p, route, sizeof route);
+    snprintf(vs, sizeof vs, "%s/vs.tif", tmp_dir());
+    snprintf(li, sizeof li, "%s/light.tif", tmp_dir());
+    snprintf(co, sizeof co, "%s/contours.gpkg", tmp_dir());
+    snprintf(js, sizeof js, "%s/los.json", tmp_dir());
+    snprintf(at, sizeof at, "%.4f,%.4f", p.lat, p.lon);
+    snprintf(to, sizeof to, "%.4f,%.4f", p.lat + 0.005, p.lon + 0.005);
+    snprintf(lat, sizeof lat, "%.4f", p.lat);
+    snprintf(lon, sizeof lon, "%.4f", p.lon);
+    const char* cmds[] = {"point", "los", "viewshed", "light", "profile", "contours"};
+    const char* const argv[][16] = {
+        {dem, lat, lon, NULL},
+        {dem, "--from", at, "--to", to, "--json", js, NULL},
+        {dem, "--observer", at, "--radius", "1000", "-o", vs, NULL},
+        {dem, "--date", "2026-06-21", "--time", "12:00Z", "--at", at, "--radius", "1000", "-o", li,
+         NULL},
+        {dem, "--route", route, NULL},
+        {dem, "--interval", "100", "--around", at, "--radius", "1000", "-o", co, NULL},
+    };
+    for (size_t c = 0; c < sizeof cmds / sizeof cmds[0]; ++c) {
+        const char* args[20];
+        int n = 0;
+        if (opt) {
+            args[n++] = opt;
+            args[n++] = val;
+        }
+        for (int k = 0; argv[c][k]; ++k)
+            args[n++] = argv[c][k];
+        args[n] = NULL;
+        char err[8192];
+        int rc = tp_test_run_terrapatch(cmds[c], args, err, sizeof err);
+        if (rc != want)
+            FAIL("%s %s %s %s: exit %d, expected %d: %s", cmds[c], opt ? opt : "", opt ? val : "",
+                 dem, rc, want, err);
+        if (expect && !strstr(err, expect))
+            FAIL("%s: stderr lacks '%s': %s", cmds[c], expect, err);
+    }
+}
+
+/* 1.1: a tile inside a zip (GDAL's /vsizip/), a gzip (/vsigzip/) and a tar (/vsitar/) is read
+ * by every command that reads the ground, with the same heights as the plain file. */
+TEST(virtual_paths_work_in_every_command)
+{
+    char tile[1024], zip[1024], gz[1024], tar[1024], err[8192];
+    REQUIRE_DATA_FILE(tile, "TP_SHARED_DATA_DIR", TILE);
+    snprintf(zip, sizeof zip, "/vsizip/%s/n42.zip/" TILE, tmp_dir());
+    snprintf(gz, sizeof gz, "/vsigzip/%s/" TILE ".gz", tmp_dir());
+    vsi_copy(tile, zip);
+    vsi_copy(tile, gz);
+    /* a tar written by tar(1), from the tile's folder so that the member is the bare name */
+    char cmd[3072], dir[1024];
+    snprintf(dir, sizeof dir, "%s", tile);
+    *strrchr(dir, '/') = '\0';
+    snprintf(cmd, sizeof cmd, "tar -cf '%s/n42.tar' -C '%s' " TILE, tmp_dir(), dir);
+    ASSERT_EQ_INT(0, system(cmd));
+    snprintf(tar, sizeof tar, "/vsitar/%s/n42.tar/" TILE, tmp_dir());
+
+    const double plain = point_height(tile, NULL, NULL, err, sizeof err);
+    ASSERT_TRUE(plain > 500 && plain < 3000);
+    EXPECT_NEAR(plain, point_height(zip, NULL, NULL, err, sizeof err), 0.0);
+    EXPECT_NEAR(plain, point_height(gz, NULL, NULL, err, sizeof err), 0.0);
+    EXPECT_NEAR(plain, point_height(tar, NULL, NULL, err, sizeof err), 0.0);
+    every_command(zip, ANDORRA, NULL, NULL, 0, NULL);
+
+    /* a relative path inside the archive's prefix names the same cached store from elsewhere */
+    char here[1024];
+    ASSERT_TRUE(getcwd(here, sizeof here) != NULL);
+    ASSERT_EQ_INT(0, chdir(tmp_dir()));
+    EXPECT_NEAR(plain, point_height("/vsizip/n42.zip/" TILE, NULL, NULL, err, sizeof err), 0.0);
+    EXPECT_TRUE(strstr(err, "building a store") == NULL); /* the absolute one's, reused */
+    ASSERT_EQ_INT(0, chdir(here));
+
+    /* a missing member is one clear line, exit 1 */
+    char missing[1024];
+    snprintf(missing, sizeof missing, "/vsizip/%s/n42.zip/nothing.hgt", tmp_dir());
+    const char* args[] = {missing, "42.5", "1.5", NULL};
+    EXPECT_EQ_INT(1, tp_test_run_terrapatch("point", args, err, sizeof err));
+    EXPECT_CONTAINS(err, "nothing.hgt: cannot open: no such file");
+}
+
+/* 1.2: the DEM options are taken by every command that reads the ground (they were unknown
+ * options, exit 2, in point, los, viewshed, light, profile and contours). */
+TEST(dem_options_are_accepted_by_every_command)
+{
+    char tile[1024], err[8192];
+    REQUIRE_DATA_FILE(tile, "TP_SHARED_DATA_DIR", "front_range_srtmgl3_144.asc");
+    every_command(tile, FRONT_RANGE, "--crs", "EPSG:4326", 0, NULL);
+    every_command(tile, FRONT_RANGE, "--fill-max", "0", 0, NULL);
+    every_command(tile, FRONT_RANGE, "--resampling=cubic", "--patch=33", 0, NULL);
+    /* a value is checked by the one parser, with the same words in every command */
+    every_command(tile, FRONT_RANGE, "--patch", "20", 2,
+                  "--patch: expected 17, 33, 65, 129 or 257, got 20");
+    /* --fit shapes a DEM drawn whole; these commands read a store */
+    every_command(tile, FRONT_RANGE, "--fit", "resample", 2, "--fit shapes a DEM drawn whole");
+    /* cubic resampling is another surface: the same position, another store, another height */
+    char tile42[1024];
+    REQUIRE_DATA_FILE(tile42, "TP_SHARED_DATA_DIR", TILE);
+    const double bilinear = point_height(tile42, NULL, NULL, err, sizeof err);
+    const double cubic = point_height(tile42, "--resampling", "cubic", err, sizeof err);
+    EXPECT_TRUE(fabs(cubic - bilinear) > 1e-6 && fabs(cubic - bilinear) < 20);
+}
+
+/* 1.2: an ASCII grid in degrees without a .prj is read with --crs by the planner commands. */
+TEST(ascii_grid_without_prj_takes_crs)
+{
+    char grid[1024], err[8192];
+    REQUIRE_DATA_FILE(grid, "TP_SHARED_DATA_DIR", "front_range_srtmgl3_144.asc");
+    char out[256], json[8192];
+    snprintf(out, sizeof out, "%s/front.json", tmp_dir());
+    const char* args[] = {"--crs", "EPSG:4326", grid, "40.15", "-105.5", "--json", out, NULL};
+    ASSERT_EQ_INT(0, tp_test_run_terrapatch("point", args, err, sizeof err));
+    EXPECT_TRUE(strstr(err, "taken as EPSG:4326") == NULL); /* no guess: the CRS was given */
+    tp_test_read_text(out, json, sizeof json);
+    const double h = tp_test_json_number_after(json, NULL, "elevation_m");
+    EXPECT_TRUE(h > 1500 && h < 4500); /* the Front Range foothills */
+}
+
+/* Builds a small store of the Mt Hood sample once; its path into path. */
+static void hood_store(char* path, size_t cap)
+{
+    char hood[1024], err[8192];
+    REQUIRE_DATA_FILE(hood, "TP_SAMPLE_DATA_DIR", HOOD);
+    snprintf(path, cap, "%s/hood.tpt", tmp_dir());
+    if (access(path, F_OK) == 0)
+        return;
+    const char* args[] = {hood, "-o", path, "--quiet", NULL};
+    ASSERT_EQ_INT(0, tp_test_run_terrapatch("build", args, err, sizeof err));
+}
+
+/* 1.2: a DEM option with a store is refused by every command with the same words (info
+ * --patch 33 X.tpt was silently ignored). */
+TEST(store_refuses_dem_options_the_same_way_everywhere)
+{
+    char store[256], err[8192], out[256], png[256];
+    hood_store(store, sizeof store);
+    snprintf(out, sizeof out, "%s/x.vtp", tmp_dir());
+    snprintf(png, sizeof png, "%s/x.png", tmp_dir());
+    const char* want = "is a store: --patch shapes a DEM when it is read or built";
+    const char* cmds[] = {"info", "view", "bench", "export", "point"};
+    const char* const argv[][8] = {
+        {"--patch", "33", store, NULL},
+        {"--patch", "33", "--headless", "--screenshot", png, store, NULL},
+        {"--patch", "33", "--frames", "2", store, NULL},
+        {"--patch", "33", store, "-o", out, NULL},
+        {"--patch", "33", store, "45.37", "-121.69", NULL},
+    };
+    for (size_t c = 0; c < sizeof cmds / sizeof cmds[0]; ++c) {
+        int rc = tp_test_run_terrapatch(cmds[c], argv[c], err, sizeof err);
+        if (rc != 2 || !strstr(err, want))
+            FAIL("%s --patch 33 STORE: exit %d: %s", cmds[c], rc, err);
+    }
+    const char* crs[] = {"--crs", "EPSG:4326", store, "45.37", "-121.69", NULL};
+    EXPECT_EQ_INT(2, tp_test_run_terrapatch("point", crs, err, sizeof err));
+    EXPECT_CONTAINS(err, "is a store: --crs shapes a DEM");
+}
+
+/* 1.6: a store whose header is damaged is said to be one, in one line, by every command; not
+ * handed to GDAL as a raster. */
+TEST(damaged_store_header_is_said_to_be_one)
+{
+    char store[256], bad[256], err[8192];
+    hood_store(store, sizeof store);
+    snprintf(bad, sizeof bad, "%s/bad.tpt", tmp_dir());
+    char cmd[1200];
+    snprintf(cmd, sizeof cmd, "cp '%s' '%s'", store, bad);
+    ASSERT_EQ_INT(0, system(cmd));
+    FILE* f = fopen(bad, "r+b");
+    ASSERT_TRUE(f != NULL);
+    fseek(f, 5, SEEK_SET); /* the magic's "\r\n\x1a\n" */
+    fputs("XX", f);
+    fclose(f);
+    const char* cmds[] = {"info", "point", "view", "export"};
+    char out[256], png[256];
+    snprintf(out, sizeof out, "%s/bad.vtp", tmp_dir());
+    snprintf(png, sizeof png, "%s/bad.png", tmp_dir());
+    const char* const argv[][8] = {{bad, NULL},
+                                   {bad, "45.37", "-121.69", NULL},
+                                   {"--headless", "--screenshot", png, bad, NULL},
+                                   {bad, "-o", out, NULL}};
+    for (size_t c = 0; c < sizeof cmds / sizeof cmds[0]; ++c) {
+        int rc = tp_test_run_terrapatch(cmds[c], argv[c], err, sizeof err);
+        if (rc != 1 || !strstr(err, "not a terrapatch store, or its header is damaged"))
+            FAIL("%s on a damaged store: exit %d: %s", cmds[c], rc, err);
+        EXPECT_TRUE(strchr(err, '\n') == err + strlen(err) - 1); /* one line */
+        EXPECT_TRUE(strstr(err, "GDAL") == NULL && strstr(err, "not recognized") == NULL);
+    }
+    EXPECT_TRUE(access(out, F_OK) != 0 && access(png, F_OK) != 0);
+}
+
+/* 1.6: bytes appended after a valid footer (here: a second copy of the footer, which leaves a
+ * valid footer at the end) are refused, as is garbage after it. */
+TEST(bytes_after_the_footer_are_refused)
+{
+    char store[256], grown[256], err[8192];
+    hood_store(store, sizeof store);
+    snprintf(grown, sizeof grown, "%s/grown.tpt", tmp_dir());
+    char cmd[1200];
+    snprintf(cmd, sizeof cmd, "cp '%s' '%s' && tail -c 56 '%s' >> '%s'", store, grown, store,
+             grown);
+    ASSERT_EQ_INT(0, system(cmd));
+    const char* args[] = {grown, NULL};
+    EXPECT_EQ_INT(1, tp_test_run_terrapatch("info", args, err, sizeof err));
+    EXPECT_CONTAINS(err, "56 bytes between the last node's data and the footer");
+
+    snprintf(cmd, sizeof cmd, "cp '%s' '%s' && printf 'appended' >> '%s'", store, grown, grown);
+    ASSERT_EQ_INT(0, system(cmd));
+    EXPECT_EQ_INT(1, tp_test_run_terrapatch("info", args, err, sizeof err));
+    EXPECT_CONTAINS(err, "bytes appended after the footer?");
+    /* the store itself still opens */
+    const char* ok[] = {store, NULL};
+    EXPECT_EQ_INT(0, tp_test_run_terrapatch("info", ok, err, sizeof err));
+}
+
+#define TESTS(X)                                                                                   \
+    X(virtual_paths_work_in_every_command)                                                         \
+    X(dem_options_are_accepted_by_every_command)                                                   \
+    X(ascii_grid_without_prj_takes_crs)                                                            \
+    X(store_refuses_dem_options_the_same_way_everywhere)                                           \
+    X(damaged_store_header_is_said_to_be_one)                                                      \
+    X(bytes_after_the_footer_are_refused)
+TP_TEST_MAIN(TESTS)
