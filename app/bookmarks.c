@@ -4,6 +4,8 @@
 
 #include "atomic_file.h"
 
+#include "tp_io.h"
+
 #include <ctype.h>
 #include <errno.h>
 #include <math.h>
@@ -122,13 +124,29 @@ static int append(tp_bookmarks* b, const tp_bookmark* bm)
     return 1;
 }
 
+int tp_bookmarks_check(const char* path, char* msg, size_t msg_cap)
+{
+    struct stat st;
+    if (stat(path, &st) != 0 && errno == ENOENT)
+        return 1;
+    tp_error err;
+    if (tp_input_check(path, "a bookmarks (text)", 0, &err) != TP_OK) {
+        snprintf(msg, msg_cap, "%s", err.message);
+        return 0;
+    }
+    return 1;
+}
+
 int tp_bookmarks_load(const char* path, tp_bookmarks* out, char* msg, size_t msg_cap)
 {
     memset(out, 0, sizeof *out);
+    struct stat st;
+    if (stat(path, &st) != 0 && errno == ENOENT)
+        return 1; /* no file yet: no bookmarks */
+    if (!tp_bookmarks_check(path, msg, msg_cap))
+        return 0;
     FILE* f = fopen(path, "r");
     if (!f) {
-        if (errno == ENOENT)
-            return 1; /* no file yet: no bookmarks */
         snprintf(msg, msg_cap, "%s: cannot read: %s", path, strerror(errno));
         return 0;
     }

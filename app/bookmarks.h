@@ -46,6 +46,11 @@ void tp_bookmark_format(const tp_bookmark* b, char* out, size_t cap);
  * be read; *out then holds nothing to free. */
 int tp_bookmarks_load(const char* path, tp_bookmarks* out, char* msg, size_t msg_cap);
 
+/* 1 when path can be loaded: missing (no bookmarks yet) or a regular file; else 0 with the
+ * reason in msg ("PATH: cannot open: it is a FIFO ..."): a FIFO would block, /dev/zero never
+ * end. */
+int tp_bookmarks_check(const char* path, char* msg, size_t msg_cap);
+
 /* Writes every bookmark to path, atomically, creating path's folder (one level: the default
  * location's "bookmarks" folder, and its parents) when missing. Returns 0 with msg. */
 int tp_bookmarks_save(const char* path, const tp_bookmarks* b, char* msg, size_t msg_cap);

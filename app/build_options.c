@@ -24,7 +24,9 @@ enum {
     OPT_FILL_FROM,
     OPT_IMAGERY,
     OPT_IMAGERY_SHIFT,
-    OPT_IMAGERY_RESOLUTION
+    OPT_IMAGERY_RESOLUTION,
+    OPT_ALLOW_GAPS,
+    OPT_Z_UNIT
 };
 
 static void print_help(void)
@@ -41,8 +43,8 @@ static void print_help(void)
           "viewer fills a DEM's: interpolated (GDALFillNodata) or, with --fill-from, from a\n"
           "second raster shifted to meet the ground around each void; voids on the border\n"
           "stay nodata (never drawn), and so does a void too tall for the memory given to\n"
-          "the window it is filled in (a warning says so); stores keep no per-sample\n"
-          "\"filled\" mark (the viewer cannot tint filled voids).\n"
+          "the window it is filled in (a warning says so). The store marks every filled\n"
+          "sample: 'terrapatch info STORE' counts them, the viewer tints them (V).\n"
           "\n"
           "options:\n"
           "  -o, --output FILE   the store to write (written whole or not at all)\n"
@@ -50,7 +52,7 @@ static void print_help(void)
           "  --crs CRS           the sources' CRS (EPSG:N, WKT, PROJ), overriding theirs\n"
           "  --resampling R      bilinear (default) or cubic, for warps\n"
           "  --fill-max N        fill interior voids up to N x N samples only (default: any\n"
-          "                      size; 0 fills nothing); not marked in the store\n"
+          "                      size; 0 fills nothing); filled samples are marked\n"
           "  --fill-from FILE    fill voids from this raster (any CRS and resolution),\n"
           "                      shifted onto the ground around each void\n"
           "  --imagery IMAGE     then an imagery pyramid NAME.tpi of IMAGE (repeat for a\n"
@@ -58,6 +60,11 @@ static void print_help(void)
           "  --imagery-texel-shift K, --imagery-resolution M\n"
           "                      its level-0 texels: 'terrapatch imagery's --texel-shift and\n"
           "                      --resolution (default: from the finest image)\n"
+          "  --z-unit m|ft|us-ft the unit of the sources' heights, overriding theirs (band\n"
+          "                      unit, else vertical CRS); feet are converted to metres\n"
+          "  --allow-gaps        build even when the sources cover under half of their\n"
+          "                      mosaic (refused otherwise: sources far apart are almost\n"
+          "                      always a mistake, and the gaps cost time and space)\n"
           "  --memory MB         memory budget (default 1024); GDAL's cache gets a quarter;\n"
           "                      refused at once when one band of rows does not fit\n"
           "  --threads N         threads (default: every core)\n"
@@ -106,6 +113,8 @@ int tp_build_parse_options(int argc, char** argv, build_options* o)
         {"threads", required_argument, NULL, OPT_THREADS},
         {"json", required_argument, NULL, OPT_JSON},
         {"quiet", no_argument, NULL, OPT_QUIET},
+        {"allow-gaps", no_argument, NULL, OPT_ALLOW_GAPS},
+        {"z-unit", required_argument, NULL, OPT_Z_UNIT},
         {"help", no_argument, NULL, 'h'},
         {NULL, 0, NULL, 0},
     };
@@ -175,6 +184,13 @@ int tp_build_parse_options(int argc, char** argv, build_options* o)
             break;
         case OPT_JSON: o->json = optarg; break;
         case OPT_QUIET: o->quiet = 1; break;
+        case OPT_ALLOW_GAPS: o->allow_gaps = 1; break;
+        case OPT_Z_UNIT:
+            if (strcmp(optarg, "m") && strcmp(optarg, "ft") && strcmp(optarg, "us-ft"))
+                return tp_option_error("build", "--z-unit", "m, ft or us-ft", optarg),
+                       TP_EXIT_USAGE;
+            o->z_unit = optarg;
+            break;
         case 'h': print_help(); return tp_cli_finish(TP_EXIT_OK);
         case ':': return usage_error("missing value for option", argv[optind - 1]);
         default:

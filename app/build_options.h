@@ -12,6 +12,9 @@
 /* The smallest --memory accepted (MB): the program's fixed part alone is more than that. */
 #define BUILD_MIN_MEMORY_MB 64
 
+/* The least share of the mosaic the sources must cover without --allow-gaps. */
+#define TP_BUILD_MIN_COVERED 0.5
+
 typedef struct build_options {
     const char** sources;
     int source_count;
@@ -22,10 +25,13 @@ typedef struct build_options {
     int memory_mb;
     int fill_max;             /* samples; 0 fills nothing; TP_FILL_MAX_ANY (the default) any size */
     const char* fill_from;    /* --fill-from: fill voids from this raster */
+    const char* z_unit;       /* --z-unit m|ft|us-ft; NULL: the sources' */
     const char* imagery[256]; /* --imagery: a pyramid NAME.tpi of these, after the store */
     int imagery_count;
     tp_imagery_cli imagery_cli; /* --imagery-texel-shift, --imagery-resolution */
     int imagery_shift_given;
+    int allow_gaps;           /* --allow-gaps: build even when the sources cover under
+                                 TP_BUILD_MIN_COVERED of their mosaic */
     int threads;
     const char* json; /* NULL, "-" or a path */
     int quiet;

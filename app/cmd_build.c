@@ -406,7 +406,8 @@ int tp_cli_build(int argc, char** argv)
                             .resampling = o.resampling,
                             .memory_mb = o.memory_mb,
                             .fill_max = o.fill_max,
-                            .fill_from = o.fill_from};
+                            .fill_from = o.fill_from,
+                            .z_unit = o.z_unit};
     if (tp_mosaic_open(o.sources, (size_t)o.source_count, &mo, &m, &err) != TP_OK)
         return fail_line(err.message);
     tp_mosaic_info mi;
@@ -419,6 +420,16 @@ int tp_cli_build(int argc, char** argv)
             fprintf(stderr, "terrapatch build: %.*s\n", len, s);
             s += len + (e ? 1 : 0);
         }
+    }
+    /* Sources far apart leave most of their mosaic empty: minutes of work on nodata, and a
+     * store mostly of gaps. Almost always a wrong source; --allow-gaps when it is meant. */
+    if (mi.covered_share < TP_BUILD_MIN_COVERED && !o.allow_gaps) {
+        fprintf(stderr, "terrapatch build: the %d sources cover about %.1f%% of their mosaic's "
+                        "%dx%d samples (%.1f%% would be gaps, nodata): check that they belong "
+                        "together, or add --allow-gaps\n", mi.source_count,
+                100.0 * mi.covered_share, mi.width, mi.height, 100.0 * (1.0 - mi.covered_share));
+        tp_mosaic_close(m);
+        return TP_EXIT_FAILURE;
     }
 
     tp_tree_geometry g;

@@ -7,6 +7,7 @@
 #include "cli.h"
 #include "terrain_open.h"
 #include "json.h"
+#include "point_readout.h"
 #include "extent.h"
 #include "scene.h"
 #include "store_scene.h"
@@ -48,7 +49,10 @@ static void print_help(void)
     fputs("  --json              print one JSON object instead of text\n"
           "  -h, --help          show this help\n"
           "\n"
-          "Heights are shown as stored in the DEM (SRTM: metres above the EGM96 geoid).\n"
+          "Heights are in metres: a DEM in feet or US survey feet (its band unit, else its\n"
+          "vertical CRS; --z-unit overrides) is converted, and info says so. The vertical\n"
+          "datum is the one the file states (SRTM and DTED: assumed EGM96, their\n"
+          "specification), else unknown; heights are never made ellipsoidal.\n"
           "Exit status: 0 success, 1 the DEM could not be read or tiled or the store has a\n"
           "damaged node, 2 usage error.\n",
           stdout);
@@ -132,6 +136,13 @@ static void print_text(const tp_scene* sc, const char* path)
     printf("file           %s\n", path);
     printf("driver         %s\n", dem->driver);
     printf("data type      %s%s%s\n", dem->data_type, dem->units[0] ? ", units " : "", dem->units);
+    if (dem->z_to_m != 1.0)
+        printf("heights unit   %s (%s): converted to metres (x %.10g)\n", dem->z_unit,
+               dem->z_unit_from, dem->z_to_m);
+    else if (dem->z_unit_from[0])
+        printf("heights unit   metres (%s)\n", dem->z_unit_from);
+    else
+        printf("heights unit   not stated by the file: taken as metres (--z-unit says otherwise)\n");
     printf("size           %d x %d samples\n", dem->width, dem->height);
     if (dem->epsg)
         printf("CRS            EPSG:%d (%s)\n", dem->epsg, crs.name);
@@ -148,14 +159,16 @@ static void print_text(const tp_scene* sc, const char* path)
         printf("geotransform   none in the file: %.10g m posts, north-west corner at (0, 0)\n",
                fabs(gt[1]));
     }
-    printf("band 1         min %.10g, max %.10g, %zu voids", dem->min_m, dem->max_m,
+    printf("band 1         min %.10g, max %.10g m, %zu voids", dem->min_m, dem->max_m,
            dem->void_count);
     if (dem->has_nodata)
         printf(" (nodata tag %.10g)\n", dem->nodata_value);
     else
         printf(" (no nodata tag)\n");
-    printf("heights        as stored in the DEM (SRTM/DTED: metres above the EGM96 geoid);\n"
-           "               never converted to ellipsoidal heights\n");
+    char datum[256];
+    tp_heights_datum(dem->driver, dem->vertical_datum, datum, sizeof datum);
+    printf("heights        vertical datum: %s;\n"
+           "               never converted to ellipsoidal heights\n", datum);
 
     printf("\nrender grid\n");
     printf("  CRS          %s%s\n", g->crs_name, g->epsg ? "" : "");
@@ -278,6 +291,8 @@ static void print_json(const tp_scene* sc, const char* path)
     key_string(&j, "driver", dem->driver);
     key_string(&j, "data_type", dem->data_type);
     key_string(&j, "units", dem->units);
+    key_string(&j, "z_unit", dem->z_unit);
+    key_number(&j, "z_to_m", dem->z_to_m);
     key_int(&j, "width", dem->width);
     key_int(&j, "height", dem->height);
     key_number(&j, "min", dem->min_m);
@@ -296,7 +311,9 @@ static void print_json(const tp_scene* sc, const char* path)
     key_string(&j, "crs_wkt", dem->crs_wkt);
     key_bool(&j, "has_geotransform", dem->has_geotransform);
     key_numbers(&j, "geotransform", dem->geotransform, 6);
-    key_string(&j, "heights", "as stored in the DEM (SRTM/DTED: orthometric, EGM96)");
+    char datum[256];
+    tp_heights_datum(dem->driver, dem->vertical_datum, datum, sizeof datum);
+    key_string(&j, "vertical_datum", datum);
     tp_json_key(&j, "warnings");
     json_lines(&j, dem->warnings);
 

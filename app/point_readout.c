@@ -35,10 +35,16 @@ static void vertical_datum(const tp_ground* g, const char* source, char* out, si
         snprintf(out, cap, "unknown (the source is not at hand to say)");
         return;
     }
-    if (v.datum[0])
-        snprintf(out, cap, "%s (as the file states)", v.datum);
-    else if (!strcmp(v.driver, "SRTMHGT"))
-        snprintf(out, cap, "not stated by the file; assumed EGM96 geoid (SRTM's specification)");
+    tp_heights_datum(v.driver, v.datum, out, cap);
+}
+
+void tp_heights_datum(const char* driver, const char* vertical_datum, char* out, size_t cap)
+{
+    if (vertical_datum && vertical_datum[0])
+        snprintf(out, cap, "%s (as the file states)", vertical_datum);
+    else if (!strcmp(driver, "SRTMHGT") || !strcmp(driver, "DTED"))
+        snprintf(out, cap, "not stated by the file; assumed EGM96 geoid (%s's specification)",
+                 strcmp(driver, "DTED") ? "SRTM" : "DTED");
     else
         snprintf(out, cap, "unknown (the file states none)");
 }

@@ -46,4 +46,11 @@ void tp_point_readout_hud(const tp_point_readout* r, char* out, size_t cap);
  * (true north), aspect_grid_deg, convergence_deg, grid {x, y}, render {e_m, n_m}). */
 void tp_point_readout_json(const tp_point_readout* r, FILE* f);
 
+/* What is known of the datum of a DEM's heights, from its GDAL driver ("SRTMHGT", "DTED", ...)
+ * and the vertical CRS the file states ("" for none), into out (cap bytes): "NAME (as the file
+ * states)"; for SRTM and DTED, which state none, "not stated by the file; assumed EGM96 geoid
+ * (SRTM's and DTED's specification)"; else "unknown (the file states none)". Said only where
+ * it is known: never the EGM96 geoid for a lidar GeoTIFF. */
+void tp_heights_datum(const char* driver, const char* vertical_datum, char* out, size_t cap);
+
 #endif /* TP_APP_POINT_READOUT_H */

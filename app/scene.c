@@ -120,6 +120,14 @@ static int scene_option(int opt, const char* arg, tp_scene_options* o, const cha
         }
         o->grid.fill_from = arg;
         return 1;
+    case TP_OPT_Z_UNIT:
+        if (strcmp(arg, "m") && strcmp(arg, "ft") && strcmp(arg, "us-ft")) {
+            fprintf(stderr, "terrapatch %s: --z-unit: expected m, ft or us-ft, got %s\n", cmd,
+                    arg);
+            return -1;
+        }
+        o->z_unit = arg;
+        return 1;
     case TP_OPT_SPACING:
     case TP_OPT_ZSCALE: {
         double v = strtod(arg, &end);
@@ -170,6 +178,8 @@ void tp_scene_options_help(FILE* f)
           "                      size; 0 fills nothing); filled samples are tinted\n"
           "  --fill-from FILE    fill voids from this raster (any CRS and resolution), shifted\n"
           "                      to meet the ground around each void; else interpolated\n"
+          "  --z-unit m|ft|us-ft the unit of the DEM's heights, overriding the file's (band\n"
+          "                      unit, else its vertical CRS); feet are converted to metres\n"
           "  --spacing METRES    heightmap images (PNG, ...; read with OpenImageIO): post\n"
           "                      spacing, 0.001 to 1e6 (default 1)\n"
           "  --zscale S          heightmap images: metres per count, 1e-6 to 1e5 (default 1);\n"
@@ -197,7 +207,7 @@ int tp_scene_load(const char* path, const tp_scene_options* o, tp_scene* scene)
     tp_error err = {{0}};
     tp_status s = o->image_given || tp_is_heightmap_image(path)
                       ? tp_dem_read_image(path, &o->image, &scene->dem, &err)
-                      : tp_dem_read(path, &scene->dem, &err);
+                      : tp_dem_read_z(path, o->z_unit, &scene->dem, &err);
     if (s != TP_OK) {
         fprintf(stderr, "terrapatch: %s\n", err.message); /* io messages name the file */
         /* heightmap options that do not fit the file (e.g. --spacing on a GeoTIFF) */

@@ -20,6 +20,8 @@ typedef struct tp_scene_options {
     tp_grid_options grid;    /* --crs, --resampling, --fill-max, --fill-from */
     tp_image_options image;  /* --spacing, --zscale, --origin (heightmap images) */
     int image_given;         /* one of those was given: read through OpenImageIO */
+    const char* z_unit;      /* --z-unit m|ft|us-ft: the heights' unit, overriding the file's;
+                                NULL: the file's (tp_dem_read_z) */
     tp_memory_use use;       /* the command, for the up-front memory check (memory.h) */
     unsigned given;          /* the DEM options given: bit (TP_OPT_x - TP_OPT_PATCH) of each */
 } tp_scene_options;
@@ -35,6 +37,7 @@ enum {
     TP_OPT_ZSCALE,
     TP_OPT_ORIGIN,
     TP_OPT_FILL_FROM,
+    TP_OPT_Z_UNIT,
 };
 
 #define TP_SCENE_LONG_OPTIONS                                                                      \
@@ -45,7 +48,8 @@ enum {
         {"fill-from", required_argument, NULL, TP_OPT_FILL_FROM},                                  \
         {"spacing", required_argument, NULL, TP_OPT_SPACING},                                      \
         {"zscale", required_argument, NULL, TP_OPT_ZSCALE},                                        \
-        {"origin", required_argument, NULL, TP_OPT_ORIGIN}
+        {"origin", required_argument, NULL, TP_OPT_ORIGIN},                                        \
+        {"z-unit", required_argument, NULL, TP_OPT_Z_UNIT}
 
 void tp_scene_options_default(tp_scene_options* o);
 
@@ -70,7 +74,7 @@ void tp_scene_options_names(unsigned mask, char* out, size_t cap);
 #define TP_SCENE_STORE_OPTIONS                                                                     \
     (TP_SCENE_GIVEN(TP_OPT_PATCH) | TP_SCENE_GIVEN(TP_OPT_CRS) |                                   \
      TP_SCENE_GIVEN(TP_OPT_RESAMPLING) | TP_SCENE_GIVEN(TP_OPT_FILL_MAX) |                         \
-     TP_SCENE_GIVEN(TP_OPT_FILL_FROM))
+     TP_SCENE_GIVEN(TP_OPT_FILL_FROM) | TP_SCENE_GIVEN(TP_OPT_Z_UNIT))
 
 /* The help lines of the DEM options. */
 void tp_scene_options_help(FILE* f);

@@ -110,6 +110,7 @@ int tp_store_cache_get(const char* dem, const tp_store_cache_options* o, char* o
     h = fnv(h, meta, sizeof meta);
     h = fnv_str(h, o->crs);
     h = fnv(h, &o->resampling, sizeof o->resampling);
+    h = fnv_str(h, o->z_unit);
     const int fill_max = o->fill_max_px == 0 ? TP_FILL_MAX_ANY : o->fill_max_px < 0 ? 0 : o->fill_max_px;
     h = fnv(h, &fill_max, sizeof fill_max);
     char from_path[PATH_MAX] = "";
@@ -165,7 +166,7 @@ int tp_store_cache_get(const char* dem, const tp_store_cache_options* o, char* o
     snprintf(patch, sizeof patch, "%d", o->patch_size);
     char fill[16];
     snprintf(fill, sizeof fill, "%d", fill_max);
-    char* argv[16];
+    char* argv[24];
     int argc = 0;
     argv[argc++] = "build";
     argv[argc++] = abs_path;
@@ -184,6 +185,10 @@ int tp_store_cache_get(const char* dem, const tp_store_cache_options* o, char* o
     if (o->crs) {
         argv[argc++] = "--crs";
         argv[argc++] = (char*)o->crs;
+    }
+    if (o->z_unit) {
+        argv[argc++] = "--z-unit";
+        argv[argc++] = (char*)o->z_unit;
     }
     if (o->resampling == TP_RESAMPLING_CUBIC) {
         argv[argc++] = "--resampling";

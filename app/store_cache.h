@@ -28,6 +28,7 @@ typedef struct tp_store_cache_options {
     int fill_max_px;          /* as tp_grid_options.fill_max_px: 0 any size, < 0 fills nothing */
     const char* fill_from;    /* --fill-from; NULL: interpolate. Its absolute path, size and
                                  modification time are part of the key */
+    const char* z_unit;       /* --z-unit; NULL: the DEM's */
     const char* cmd;          /* for messages: "view" */
 } tp_store_cache_options;
 

@@ -114,6 +114,7 @@ int tp_terrain_store(const char* cmd, const char* path, const tp_scene_options* 
                                  .resampling = o->grid.resampling,
                                  .fill_max_px = o->grid.fill_max_px,
                                  .fill_from = o->grid.fill_from,
+                                 .z_unit = o->z_unit,
                                  .cmd = cmd};
     return tp_store_cache_get(path, &co, out, cap, temporary);
 }

@@ -138,7 +138,7 @@ TEST(missing_file_is_no_bookmarks_and_unreadable_is_an_error)
     /* a folder where the file should be */
     EXPECT_FALSE(tp_bookmarks_load(dir, &r, msg, sizeof msg));
     EXPECT_CONTAINS(msg, dir);
-    EXPECT_CONTAINS(msg, "cannot read");
+    EXPECT_CONTAINS(msg, "cannot open: Is a directory");
 }
 
 TEST(names_that_would_not_read_back_are_refused)

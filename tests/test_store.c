@@ -711,7 +711,12 @@ TEST(node_with_matching_checksum_but_wrong_content_fails)
     }
     ASSERT_TRUE(victim > 0);
     uint8_t* ev = loc_entry(&b, &l, victim);
-    memcpy(ev, e0, LOC_ENTRY); /* offset, bytes, CRC, codec: node 0's data */
+    /* offset, bytes, CRC, codec: node 0's data, and node 0 the victim's (swapped, so that the
+     * nodes still fill the data area end to end, as opening checks) */
+    uint8_t tmp[LOC_ENTRY];
+    memcpy(tmp, ev, LOC_ENTRY);
+    memcpy(ev, e0, LOC_ENTRY);
+    memcpy(e0, tmp, LOC_ENTRY);
     fix_table_crcs(&b, &l);
     spill(path, b.data, b.size);
     tp_store* st;

@@ -12,6 +12,8 @@
 #include "tp_io.h"
 
 #include <cpl_vsi.h>
+#include <gdal.h>
+#include <ogr_srs_api.h>
 
 #include <sys/stat.h>
 #include <unistd.h>
@@ -299,11 +301,191 @@ TEST(bytes_after_the_footer_are_refused)
     EXPECT_EQ_INT(0, tp_test_run_terrapatch("info", ok, err, sizeof err));
 }
 
+/* 1.4: an input that is not a regular file is refused in one line on every input path (a FIFO
+ * hung --route, --overlay, --bookmarks and bench --path-file; /dev/zero as --bookmarks spun at
+ * 100% CPU). */
+TEST(non_regular_inputs_are_refused_on_every_path)
+{
+    char store[256], fifo[256], png[256], err[8192], hood[1024];
+    hood_store(store, sizeof store);
+    REQUIRE_DATA_FILE(hood, "TP_SAMPLE_DATA_DIR", HOOD);
+    snprintf(fifo, sizeof fifo, "%s/fifo", tmp_dir());
+    remove(fifo);
+    ASSERT_EQ_INT(0, mkfifo(fifo, 0600));
+    snprintf(png, sizeof png, "%s/never.png", tmp_dir());
+    const char* cmds[] = {"profile", "view", "view", "view", "bench"};
+    const char* const argv[][10] = {
+        {store, "--route", fifo, NULL},
+        {"--headless", "--screenshot", png, "--overlay", fifo, store, NULL},
+        {"--headless", "--screenshot", png, "--bookmarks", fifo, store, NULL},
+        {"--headless", "--screenshot", png, "--bookmarks", "/dev/zero", store, NULL},
+        {"--frames", "2", "--path-file", fifo, hood, NULL},
+    };
+    const char* what[] = {fifo, fifo, fifo, "/dev/zero", fifo};
+    for (size_t c = 0; c < sizeof cmds / sizeof cmds[0]; ++c) {
+        int rc = tp_test_run_terrapatch(cmds[c], argv[c], err, sizeof err);
+        if (rc != 1 || !strstr(err, what[c]) || !strstr(err, "not a regular file"))
+            FAIL("%s with %s: exit %d: %s", cmds[c], what[c], rc, err);
+    }
+    EXPECT_TRUE(access(png, F_OK) != 0);
+    remove(fifo);
+}
+
+/* 1.7: sources that leave most of their mosaic empty (Crater Lake and Mt Rainier, 450 km
+ * apart: about four fifths of the box around them is no source's) are refused, naming the share,
+ * unless --allow-gaps; nothing is written. */
+TEST(build_refuses_sources_far_apart)
+{
+    char crater[1024], rainier[1024], out[256], err[8192];
+    REQUIRE_DATA_FILE(crater, "TP_SHARED_DATA_DIR", "craterlake-elev-16bit-30m.tif");
+    REQUIRE_DATA_FILE(rainier, "TP_SHARED_DATA_DIR", "mt_rainier_90m.tif");
+    snprintf(out, sizeof out, "%s/apart.tpt", tmp_dir());
+    const char* args[] = {crater, rainier, "-o", out, NULL};
+    EXPECT_EQ_INT(1, tp_test_run_terrapatch("build", args, err, sizeof err));
+    EXPECT_CONTAINS(err, "add --allow-gaps");
+    /* the share: Rainier's 1 x 1 degree and Crater Lake's 0.12 x 0.08 in a box of about
+     * 1.17 x 4.1 degrees, about 21% (in UTM metres the box is a little wider at the south) */
+    const char* p = strstr(err, "cover about ");
+    ASSERT_TRUE(p != NULL);
+    const double share = strtod(p + strlen("cover about "), NULL);
+    EXPECT_TRUE(share > 15 && share < 27);
+    EXPECT_TRUE(access(out, F_OK) != 0);
+    EXPECT_TRUE(tp_test_nothing_named(tmp_dir(), "apart.tpt"));
+}
+
+/* A copy of the Mt Hood sample (UTM 10N, metres, Int16) with its heights divided by to_m
+ * (Float32, voids NaN), band unit unit ("" for none) and CRS crs (NULL: the sample's). */
+static void write_scaled_hood(const char* dst, double to_m, const char* unit, const char* crs)
+{
+    char hood[1024];
+    REQUIRE_DATA_FILE(hood, "TP_SAMPLE_DATA_DIR", HOOD);
+    GDALAllRegister();
+    GDALDatasetH in = GDALOpen(hood, GA_ReadOnly);
+    ASSERT_TRUE(in != NULL);
+    const int w = GDALGetRasterXSize(in), h = GDALGetRasterYSize(in);
+    float* z = malloc((size_t)w * h * sizeof *z);
+    ASSERT_TRUE(z != NULL);
+    GDALRasterBandH b = GDALGetRasterBand(in, 1);
+    ASSERT_TRUE(GDALRasterIO(b, GF_Read, 0, 0, w, h, z, w, h, GDT_Float32, 0, 0) == CE_None);
+    int has_nd = 0;
+    const double nd = GDALGetRasterNoDataValue(b, &has_nd);
+    for (size_t i = 0; i < (size_t)w * h; ++i)
+        z[i] = has_nd && z[i] == (float)nd ? NAN : (float)(z[i] / to_m);
+    GDALDatasetH out = GDALCreate(GDALGetDriverByName("GTiff"), dst, w, h, 1, GDT_Float32, NULL);
+    ASSERT_TRUE(out != NULL);
+    double gt[6];
+    GDALGetGeoTransform(in, gt);
+    GDALSetGeoTransform(out, gt);
+    if (crs) {
+        OGRSpatialReferenceH srs = OSRNewSpatialReference(NULL);
+        ASSERT_TRUE(OSRSetFromUserInput(srs, crs) == OGRERR_NONE);
+        GDALSetSpatialRef(out, srs);
+        OSRDestroySpatialReference(srs);
+    } else {
+        GDALSetProjection(out, GDALGetProjectionRef(in));
+    }
+    GDALRasterBandH ob = GDALGetRasterBand(out, 1);
+    GDALSetRasterNoDataValue(ob, NAN);
+    if (unit[0])
+        GDALSetRasterUnitType(ob, unit);
+    ASSERT_TRUE(GDALRasterIO(ob, GF_Write, 0, 0, w, h, z, w, h, GDT_Float32, 0, 0) == CE_None);
+    GDALClose(out);
+    GDALClose(in);
+    free(z);
+}
+
+/* point's elevation and slope at POS ("10n E N") on dem, with one DEM option (opt NULL: none). */
+static void point_at(const char* dem, const char* pos, const char* opt, const char* val,
+                     double* elevation, double* slope)
+{
+    char out[256], json[8192], err[8192];
+    snprintf(out, sizeof out, "%s/at.json", tmp_dir());
+    remove(out);
+    const char* with[] = {opt, val, dem, pos, "--json", out, NULL};
+    const char* without[] = {dem, pos, "--json", out, NULL};
+    int rc = tp_test_run_terrapatch("point", opt ? with : without, err, sizeof err);
+    if (rc != 0)
+        FAIL("point %s %s: exit %d: %s", dem, pos, rc, err);
+    tp_test_read_text(out, json, sizeof json);
+    *elevation = tp_test_json_number_after(json, NULL, "elevation_m");
+    *slope = tp_test_json_number_after(json, NULL, "slope_deg");
+}
+
+/* 1.3: a DEM in feet (band unit "ft") or US survey feet (a vertical CRS in ftUS, no band unit)
+ * is converted to metres: the same heights and slopes as the sample in metres it was made from
+ * (today: heights x3.28, slopes steeper); info says so; --z-unit overrides; an unknown unit is
+ * a warning naming it. */
+TEST(heights_in_feet_are_converted_to_metres)
+{
+    char hood[1024], ft[256], usft[256], odd[256], err[8192], text[16384];
+    REQUIRE_DATA_FILE(hood, "TP_SAMPLE_DATA_DIR", HOOD);
+    snprintf(ft, sizeof ft, "%s/hood_ft.tif", tmp_dir());
+    snprintf(usft, sizeof usft, "%s/hood_usft.tif", tmp_dir());
+    snprintf(odd, sizeof odd, "%s/hood_odd.tif", tmp_dir());
+    write_scaled_hood(ft, 0.3048, "ft", NULL);
+    /* WGS 84 / UTM 10N + NAVD88 height (ftUS) */
+    write_scaled_hood(usft, 1200.0 / 3937.0, "", "EPSG:32610+6360");
+    write_scaled_hood(odd, 1.0, "furlong", NULL);
+    /* three posts on the mountain's flank (UTM 10N, metres) */
+    const char* pos[] = {"10n 601000 5026000", "10n 598500 5023500", "10n 603900 5029100"};
+    for (int k = 0; k < 3; ++k) {
+        double h_m, s_m, h, s;
+        point_at(hood, pos[k], NULL, NULL, &h_m, &s_m);
+        ASSERT_TRUE(h_m > 1000 && h_m < 3500);
+        point_at(ft, pos[k], NULL, NULL, &h, &s);
+        EXPECT_NEAR(h, h_m, 0.06); /* the stores' height steps: 1 m source, fine float one */
+        EXPECT_NEAR(s, s_m, 0.1);
+        point_at(usft, pos[k], NULL, NULL, &h, &s);
+        EXPECT_NEAR(h, h_m * (1.0 - 2e-6), 0.06); /* a US survey foot is 2 ppm longer */
+        EXPECT_NEAR(s, s_m, 0.1);
+        /* --z-unit m: the file's feet read as metres, on purpose */
+        point_at(ft, pos[k], "--z-unit", "m", &h, &s);
+        EXPECT_NEAR(h, h_m / 0.3048, 0.1);
+    }
+    const char* info[] = {ft, NULL};
+    ASSERT_EQ_INT(0, tp_test_run_terrapatch_out("info", info, text, sizeof text, err, sizeof err));
+    EXPECT_CONTAINS(text, "international foot (band unit 'ft'): converted to metres (x 0.3048)");
+    const char* info_us[] = {"--json", usft, NULL};
+    ASSERT_EQ_INT(0,
+                  tp_test_run_terrapatch_out("info", info_us, text, sizeof text, err, sizeof err));
+    EXPECT_NEAR(tp_test_json_number_after(text, NULL, "z_to_m"), 1200.0 / 3937.0, 1e-12);
+    EXPECT_CONTAINS(text, "NAVD88 height (ftUS) (as the file states)");
+    const char* info_odd[] = {odd, NULL};
+    ASSERT_EQ_INT(0,
+                  tp_test_run_terrapatch_out("info", info_odd, text, sizeof text, err, sizeof err));
+    EXPECT_CONTAINS(err, "warning: ");
+    EXPECT_CONTAINS(err, "unit 'furlong' is not one terrapatch knows");
+    const char* bad[] = {"--z-unit", "yards", ft, NULL};
+    EXPECT_EQ_INT(2, tp_test_run_terrapatch("info", bad, err, sizeof err));
+    EXPECT_CONTAINS(err, "--z-unit: expected m, ft or us-ft, got yards");
+}
+
+/* 1.3: the vertical datum is said only where it is known: the Mt Hood sample (a lidar-derived
+ * GeoTIFF that states none) is not "metres above the EGM96 geoid"; SRTM's is assumed, and said
+ * to be. */
+TEST(vertical_datum_said_only_where_known)
+{
+    char hood[1024], tile[1024], text[16384], err[8192];
+    REQUIRE_DATA_FILE(hood, "TP_SAMPLE_DATA_DIR", HOOD);
+    REQUIRE_DATA_FILE(tile, "TP_SHARED_DATA_DIR", TILE);
+    const char* a[] = {hood, NULL};
+    ASSERT_EQ_INT(0, tp_test_run_terrapatch_out("info", a, text, sizeof text, err, sizeof err));
+    EXPECT_TRUE(strstr(text, "EGM96") == NULL);
+    EXPECT_CONTAINS(text, "vertical datum: unknown (the file states none)");
+    const char* b[] = {tile, NULL};
+    ASSERT_EQ_INT(0, tp_test_run_terrapatch_out("info", b, text, sizeof text, err, sizeof err));
+    EXPECT_CONTAINS(text, "assumed EGM96 geoid (SRTM's specification)");
+}
+
 #define TESTS(X)                                                                                   \
     X(virtual_paths_work_in_every_command)                                                         \
     X(dem_options_are_accepted_by_every_command)                                                   \
     X(ascii_grid_without_prj_takes_crs)                                                            \
     X(store_refuses_dem_options_the_same_way_everywhere)                                           \
     X(damaged_store_header_is_said_to_be_one)                                                      \
-    X(bytes_after_the_footer_are_refused)
+    X(bytes_after_the_footer_are_refused)                                                          \
+    X(non_regular_inputs_are_refused_on_every_path)                                                \
+    X(build_refuses_sources_far_apart)                                                             \
+    X(heights_in_feet_are_converted_to_metres)                                                     \
+    X(vertical_datum_said_only_where_known)
 TP_TEST_MAIN(TESTS)

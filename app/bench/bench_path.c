@@ -4,6 +4,8 @@
 
 #include "camera_pose.h"
 
+#include "tp_io.h"
+
 #include <errno.h>
 #include <math.h>
 #include <stdio.h>
@@ -59,6 +61,11 @@ static void path_camera(const tp_scene* sc, const bench_options* o, double a, tp
 
 int tp_bench_read_path_file(const tp_scene* sc, const bench_options* o, tp_camera** out, int* count)
 {
+    tp_error err;
+    if (tp_input_check(o->path_file, "a camera path (text)", 0, &err) != TP_OK) {
+        fprintf(stderr, "terrapatch: %s\n", err.message);
+        return 0;
+    }
     FILE* f = fopen(o->path_file, "r");
     if (!f) {
         fprintf(stderr, "terrapatch: %s: cannot open: %s\n", o->path_file, strerror(errno));

@@ -840,6 +840,8 @@ int tp_cli_view(int argc, char** argv)
     }
     if (o.stats_json && !tp_atomic_check_dir(o.stats_json))
         return TP_EXIT_FAILURE;
+    if (!tp_view_bookmarks_check(&o))
+        return TP_EXIT_FAILURE;
     if (o.vs.pgm_window && (!o.vs.pgm || !tp_is_store_path(o.path))) {
         fprintf(stderr, "terrapatch view: --pgm-window is for --renderer pgm over a store (%s is "
                         "%s)\n", o.path, o.vs.pgm ? "a DEM, drawn whole" : "drawn by patches");

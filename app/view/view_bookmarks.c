@@ -17,6 +17,17 @@ int tp_view_bookmarks_path(const view_options* o, char* out, size_t cap)
     return tp_bookmarks_default_path(o->path, out, cap);
 }
 
+int tp_view_bookmarks_check(const view_options* o)
+{
+    char path[4096], msg[1024];
+    if (!tp_view_bookmarks_path(o, path, sizeof path))
+        return 1; /* no file at all: said when one is asked for */
+    if (tp_bookmarks_check(path, msg, sizeof msg))
+        return 1;
+    fprintf(stderr, "terrapatch view: bookmarks: %s\n", msg);
+    return 0;
+}
+
 static int load(const view_options* o, char* path, size_t path_cap, tp_bookmarks* b, char* msg,
                 size_t cap)
 {

@@ -12,6 +12,11 @@
  * (tp_bookmarks_default_path). 0 after a message when there is none. */
 int tp_view_bookmarks_path(const view_options* o, char* out, size_t cap);
 
+/* Checks, before anything is drawn, that the bookmarks file of this view can be read when it is
+ * asked for: missing is fine (no bookmarks yet), but not a FIFO or a device (tp_bookmarks_check).
+ * 0 after one line on stderr naming it. */
+int tp_view_bookmarks_check(const view_options* o);
+
 /* The camera of bookmark name (viewport and field of view from o). 0 after a one-line message
  * on stderr: an unknown name lists the known ones, a bad file names its line. */
 int tp_view_bookmark_camera(const tp_view_scene* v, const view_options* o, const char* name,

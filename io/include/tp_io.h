@@ -41,7 +41,15 @@ typedef struct tp_dem {
     double nodata_value;     /* the tag's value when has_nodata */
     size_t void_count;       /* samples that are nodata (tag, NaN, or untagged -32768/-32767) */
     double min_m, max_m;     /* over valid samples; NaN if none */
-    char units[32];          /* band unit type ("metre", "m", "" when unknown) */
+    char units[32];          /* band unit type as the file states it ("metre", "ft", "") */
+    /* Heights are in metres: read in z_unit and multiplied by z_to_m (1 for metres and for an
+     * unknown unit, which is taken as metres with a warning). z_unit: "metre", "international
+     * foot", "US survey foot", "" when the file states none; z_unit_from: how it is known
+     * ("band unit 'ft'", "vertical CRS 'NAVD88 height (ftUS)'", "--z-unit ft"), "" when not. */
+    double z_to_m;
+    char z_unit[48];
+    char z_unit_from[200];
+    char vertical_datum[160]; /* the vertical CRS's name, as the file states it; "" when none */
     /* Warnings worth showing the user (one per line, '\n'-separated), e.g. untagged Int16
      * -32768/-32767 taken as nodata. "" when none. Owned. */
     char* warnings;
@@ -81,6 +89,10 @@ typedef struct tp_dem {
  *                         allocating; the message says how much they would need);
  *   TP_ERR_INVALID_ARG    a NULL or empty path, a NULL out. */
 tp_status tp_dem_read(const char* path, tp_dem** out, tp_error* err);
+/* tp_dem_read with the unit of the heights given (--z-unit: "m", "ft" or "us-ft"), overriding
+ * what the file says; NULL: the file's (band 1's unit type, else its vertical CRS's unit).
+ * TP_ERR_INVALID_ARG for another z_unit. */
+tp_status tp_dem_read_z(const char* path, const char* z_unit, tp_dem** out, tp_error* err);
 void tp_dem_destroy(tp_dem* dem); /* accepts NULL */
 
 /* What a DEM file states about its heights' datum (io/src/vertical_datum.cpp). Heights are
@@ -377,6 +389,9 @@ typedef struct tp_mosaic_options {
      * "filled" marks come with tp_mosaic_read_rows_filled. */
     int fill_max;
     const char* fill_from;    /* as tp_grid_options.fill_from (warped VRT, read in bands) */
+    const char* z_unit;       /* the sources' height unit ("m", "ft", "us-ft"), overriding
+                                 theirs; NULL: each source's (as tp_dem_read_z), which must
+                                 agree. Heights are read in metres */
     int fill_window_mb;       /* memory for the void window; 0: memory_mb / 8, taken from GDAL's
                                  block cache (which then gets an eighth, not a quarter) */
 } tp_mosaic_options;
@@ -393,6 +408,11 @@ typedef struct tp_mosaic_info {
     int source_count;
     int warped;                 /* 1 if any source is resampled onto the grid */
     int integer_sources;        /* 1 if every source's band 1 has an integer type */
+    /* The share of the grid's extent that some source covers, from the sources' footprints
+     * (their areas less pairwise overlaps: an estimate when three overlap at once), 0 .. 1; 1
+     * for one source. The rest is gaps, nodata (terrapatch build refuses under a half without
+     * --allow-gaps). */
+    double covered_share;
     /* A bound of the grid's heights known without reading the grid: statistics every source
      * carries (exact ones, as GDAL writes them; resampling bilinear only, cubic overshoots), or,
      * for a grid read without resampling from files holding at most half its samples (a VRT

@@ -179,7 +179,7 @@ std::string prj_of(GDALDataset& ds)
     return prj;
 }
 
-tp_status read_dem(const char* path, tp_dem** out, tp_error* err)
+tp_status read_dem(const char* path, const char* z_unit, tp_dem** out, tp_error* err)
 {
     register_drivers();
     QuietGdal quiet;
@@ -353,6 +353,14 @@ tp_status read_dem(const char* path, tp_dem** out, tp_error* err)
     copy_name(dem->data_type, sizeof dem->data_type, GDALGetDataTypeName(type));
     dem->is_integer_type = GDALDataTypeIsInteger(type) ? 1 : 0;
     copy_name(dem->units, sizeof dem->units, band->GetUnitType());
+    copy_name(dem->vertical_datum, sizeof dem->vertical_datum,
+              tpio::vertical_datum_of(ds.get()).c_str());
+    tpio::ZUnit zu;
+    if (const tp_status s = tpio::z_unit_of(ds.get(), z_unit, &zu, err))
+        return s;
+    dem->z_to_m = zu.to_m;
+    copy_name(dem->z_unit, sizeof dem->z_unit, zu.name.c_str());
+    copy_name(dem->z_unit_from, sizeof dem->z_unit_from, zu.from.c_str());
 
     int has_nodata = 0;
     const double nodata = band->GetNoDataValue(&has_nodata);
@@ -386,6 +394,8 @@ tp_status read_dem(const char* path, tp_dem** out, tp_error* err)
             ++infinite;
             v = nan;
         }
+        if (zu.to_m != 1.0)
+            v = (float)(v * zu.to_m); /* NaN stays NaN */
         dem->heights[i] = v;
         if (std::isnan(v)) {
             ++voids;
@@ -440,6 +450,11 @@ tp_status read_dem(const char* path, tp_dem** out, tp_error* err)
             warnings += '\n';
         warnings += line;
     }
+    if (!zu.warning.empty()) {
+        if (!warnings.empty())
+            warnings += '\n';
+        warnings += std::string(path) + ": " + zu.warning;
+    }
     const bool has_crs = tpio::crs_present(srs);
     if (!has_crs) {
         const std::string prj = prj_of(*ds);
@@ -480,6 +495,12 @@ tp_status read_dem(const char* path, tp_dem** out, tp_error* err)
 
 extern "C" tp_status tp_dem_read(const char* path, tp_dem** out, tp_error* err)
 {
+    return tp_dem_read_z(path, nullptr, out, err);
+}
+
+extern "C" tp_status tp_dem_read_z(const char* path, const char* z_unit, tp_dem** out,
+                                   tp_error* err)
+{
     if (!path || !*path || !out) {
         set_error(err, "tp_dem_read: expected a file name and an output pointer, got %s",
                   !path    ? "a NULL path"
@@ -488,7 +509,7 @@ extern "C" tp_status tp_dem_read(const char* path, tp_dem** out, tp_error* err)
         return TP_ERR_INVALID_ARG;
     }
     try {
-        return read_dem(path, out, err);
+        return read_dem(path, z_unit, out, err);
     } catch (...) {
         return tpio::caught(err, path);
     }

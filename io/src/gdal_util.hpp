@@ -68,4 +68,25 @@ inline Dataset mem_dataset(const float* heights, int w, int h, const double gt[6
     return ds;
 }
 
+/* The unit of a DEM's heights (io/src/vertical_datum.cpp), converted to metres by the readers
+ * (tp_dem_read, tp_mosaic). */
+struct ZUnit {
+    double to_m = 1.0; /* metres per unit of the heights as stored */
+    std::string name;  /* "metre", "international foot", "US survey foot"; "" when unknown
+                          (taken as metres) */
+    std::string from;  /* how it is known: "band unit 'ft'", "vertical CRS 'NAVD88 height
+                          (ftUS)'", "--z-unit us-ft"; "" when unknown */
+    std::string warning; /* a unit named but not known, taken as metres; "" otherwise */
+};
+
+/* The unit of band 1 of ds: z_unit ("m", "ft", "us-ft": --z-unit) when given, else band 1's
+ * unit type (GDALRasterBand::GetUnitType), else the unit of the vertical part of its CRS. An
+ * unknown name is a warning naming it (heights taken as metres). TP_ERR_INVALID_ARG for an
+ * unknown z_unit. */
+tp_status z_unit_of(GDALDataset* ds, const char* z_unit, ZUnit* out, tp_error* err);
+
+/* The datum of a DEM's heights as its CRS states it (the vertical CRS's name), "" when it
+ * states none. */
+std::string vertical_datum_of(GDALDataset* ds);
+
 } // namespace tpio

@@ -45,6 +45,7 @@ struct Source {
     std::string driver;
     bool has_stats = false;
     double stat_min = 0, stat_max = 0;
+    tpio::ZUnit z; /* its heights' unit */
     /* Int16 without a nodata tag: -32768 (SRTM) and -32767 (DTED) are voids, as tp_dem_read
      * takes them */
     bool int16_voids() const { return type == GDT_Int16 && !has_nodata; }
@@ -103,7 +104,7 @@ std::atomic<unsigned> mosaic_serial{0};
 
 namespace {
 
-tp_status open_source(const char* path, Source* s, tp_error* err)
+tp_status open_source(const char* path, const char* z_unit, Source* s, tp_error* err)
 {
     if (const tp_status st = tpio::check_input_file(path, "a raster", true, err))
         return st;
@@ -121,6 +122,8 @@ tp_status open_source(const char* path, Source* s, tp_error* err)
     if (s->w < 1 || s->h < 1)
         return fail(err, TP_ERR_BAD_DATA, "%s: expected a raster of at least 1x1, got %dx%d", path,
                     s->w, s->h);
+    if (const tp_status st = tpio::z_unit_of(ds.get(), z_unit, &s->z, err))
+        return st;
     s->has_gt = ds->GetGeoTransform(s->gt) == CE_None;
     const OGRSpatialReference* srs = ds->GetSpatialRef();
     s->has_crs = tpio::crs_present(srs);
@@ -239,26 +242,44 @@ tpio::Dataset warp_vrt(tp_mosaic* m, GDALDataset* src, const std::vector<std::st
     return tpio::Dataset(GDALDataset::Open(dst.c_str(), GDAL_OF_RASTER | GDAL_OF_READONLY));
 }
 
-/* Overlaps and gaps of sources sharing one grid (same CRS and spacing): notes. */
-void note_overlaps(const std::vector<Source>& src, const double mgt[6], int mw, int mh,
-                   std::string& notes)
+struct Rect { double x0, y0, x1, y1; }; /* [x0, x1) x [y0, y1) */
+
+/* The share of the whole rectangle that the rectangles r cover: their areas less their pairwise
+ * overlaps (an estimate where three overlap at once), in [0, 1]. */
+double covered_share(const std::vector<Rect>& r, const Rect& whole)
 {
-    struct Rect { long long x0, y0, x1, y1; }; /* [x0, x1) x [y0, y1) in mosaic samples */
-    std::vector<Rect> r;
+    double covered = 0;
+    for (size_t i = 0; i < r.size(); i++) {
+        covered += (r[i].x1 - r[i].x0) * (r[i].y1 - r[i].y0);
+        for (size_t j = i + 1; j < r.size(); j++) {
+            const double ox = std::min(r[i].x1, r[j].x1) - std::max(r[i].x0, r[j].x0);
+            const double oy = std::min(r[i].y1, r[j].y1) - std::max(r[i].y0, r[j].y0);
+            if (ox > 0 && oy > 0)
+                covered -= ox * oy;
+        }
+    }
+    const double all = (whole.x1 - whole.x0) * (whole.y1 - whole.y0);
+    return all > 0 ? std::clamp(covered / all, 0.0, 1.0) : 1.0;
+}
+
+/* Overlaps and gaps of sources sharing one grid (same CRS and spacing): notes, and the share
+ * of the mosaic they cover. */
+double note_overlaps(const std::vector<Source>& src, const double mgt[6], int mw, int mh,
+                     std::string& notes)
+{
+    std::vector<Rect> r; /* in mosaic samples */
     for (const Source& s : src) {
-        long long x0 = std::llround((s.gt[0] - mgt[0]) / mgt[1]);
-        long long y0 = std::llround((s.gt[3] - mgt[3]) / mgt[5]);
+        const double x0 = (double)std::llround((s.gt[0] - mgt[0]) / mgt[1]);
+        const double y0 = (double)std::llround((s.gt[3] - mgt[3]) / mgt[5]);
         r.push_back({x0, y0, x0 + s.w, y0 + s.h});
     }
-    long long overlap_total = 0;
     int said = 0;
     for (size_t i = 0; i < r.size(); i++)
         for (size_t j = i + 1; j < r.size(); j++) {
-            long long ox = std::min(r[i].x1, r[j].x1) - std::max(r[i].x0, r[j].x0);
-            long long oy = std::min(r[i].y1, r[j].y1) - std::max(r[i].y0, r[j].y0);
+            const long long ox = std::llround(std::min(r[i].x1, r[j].x1) - std::max(r[i].x0, r[j].x0));
+            const long long oy = std::llround(std::min(r[i].y1, r[j].y1) - std::max(r[i].y0, r[j].y0));
             if (ox <= 0 || oy <= 0)
                 continue;
-            overlap_total += ox * oy;
             if (said++ >= 20)
                 continue;
             const bool srtm = src[i].driver == "SRTMHGT" && src[j].driver == "SRTMHGT";
@@ -279,14 +300,14 @@ void note_overlaps(const std::vector<Source>& src, const double mgt[6], int mw, 
         }
     if (said > 20)
         add_note(notes, CPLSPrintf("... and %d more overlaps", said - 20));
-    long long covered = -overlap_total;
-    for (const Rect& q : r)
-        covered += (q.x1 - q.x0) * (q.y1 - q.y0);
+    const double share = covered_share(r, Rect{0, 0, (double)mw, (double)mh});
     const long long all = (long long)mw * mh;
-    if (src.size() > 1 && covered < all) /* an estimate when three sources overlap at once */
+    const long long gaps = all - std::llround(share * (double)all);
+    if (src.size() > 1 && gaps > 0)
         add_note(notes, CPLSPrintf("gaps between the sources: about %lld of the mosaic's %dx%d "
                                    "samples are covered by none and are nodata",
-                                   all - covered, mw, mh));
+                                   gaps, mw, mh));
+    return share;
 }
 
 /* A grid read without resampling from raster files that hold at most half its samples (a VRT
@@ -363,8 +384,18 @@ tp_status open_mosaic(const char* const* paths, size_t count, const tp_mosaic_op
 
     std::vector<Source> src(count);
     for (size_t i = 0; i < count; i++) {
-        if (const tp_status st = open_source(paths[i], &src[i], err))
+        if (const tp_status st = open_source(paths[i], o.z_unit, &src[i], err))
             return st;
+        if (src[i].z.to_m != src[0].z.to_m)
+            return fail(err, TP_ERR_BAD_DATA,
+                        "%s: heights in %s (%s), but %s's are in %s (%s): give --z-unit, or "
+                        "convert one first",
+                        paths[i], src[i].z.name.empty() ? "metres (no unit stated)" : src[i].z.name.c_str(),
+                        src[i].z.from.c_str(), src[0].name.c_str(),
+                        src[0].z.name.empty() ? "metres (no unit stated)" : src[0].z.name.c_str(),
+                        src[0].z.from.c_str());
+        if (!src[i].z.warning.empty())
+            add_note(m->notes, "warning: " + src[i].name + ": " + src[i].z.warning);
         if (count > 1 && !src[i].has_gt)
             return fail(err, TP_ERR_BAD_DATA,
                         "%s: no geotransform: a mosaic of several sources needs to know where "
@@ -377,6 +408,12 @@ tp_status open_mosaic(const char* const* paths, size_t count, const tp_mosaic_op
         m->integer = m->integer && GDALDataTypeIsInteger(src[i].type);
     }
     m->source_count = (int)count;
+    m->z_to_m = src[0].z.to_m;
+    m->integer = m->integer && m->z_to_m == 1.0; /* whole feet are not whole metres */
+    if (src[0].z.to_m != 1.0)
+        add_note(m->notes, CPLSPrintf("heights in %s (%s): converted to metres (x %.10g)",
+                                      src[0].z.name.c_str(), src[0].z.from.c_str(),
+                                      src[0].z.to_m));
     if (count > 1)
         add_note(m->notes, CPLSPrintf("%zu sources", count));
 
@@ -424,7 +461,8 @@ tp_status open_mosaic(const char* const* paths, size_t count, const tp_mosaic_op
         double bgt[6];
         base->GetGeoTransform(bgt);
         if (count > 1)
-            note_overlaps(src, bgt, base->GetRasterXSize(), base->GetRasterYSize(), m->notes);
+            m->covered_share =
+                note_overlaps(src, bgt, base->GetRasterXSize(), base->GetRasterYSize(), m->notes);
 
         PlanDem pd(base->GetRasterXSize(), base->GetRasterYSize(), src[0].gt, src[0].has_gt,
                    src[0].has_crs ? &src[0].srs : nullptr);
@@ -530,6 +568,7 @@ tp_status open_mosaic(const char* const* paths, size_t count, const tp_mosaic_op
         }
         const std::string t_srs = tpio::crs_wkt2(dst);
         double res = INFINITY, ext[4] = {INFINITY, INFINITY, -INFINITY, -INFINITY};
+        std::vector<Rect> footprints; /* each source's extent in the render CRS */
         for (Source& s : src) {
             std::unique_ptr<OGRCoordinateTransformation> ct(
                 OGRCreateCoordinateTransformation(&s.srs, &dst));
@@ -544,7 +583,13 @@ tp_status open_mosaic(const char* const* paths, size_t count, const tp_mosaic_op
                             s.path.c_str(), tpio::gdal_message().c_str());
             ext[0] = std::min(ext[0], e[0]), ext[1] = std::min(ext[1], e[1]);
             ext[2] = std::max(ext[2], e[2]), ext[3] = std::max(ext[3], e[3]);
+            footprints.push_back({e[0], e[1], e[2], e[3]});
         }
+        m->covered_share = covered_share(footprints, Rect{ext[0], ext[1], ext[2], ext[3]});
+        if (m->covered_share < 1.0 - 1e-6)
+            add_note(m->notes, CPLSPrintf("gaps between the sources: about %.1f%% of the "
+                                          "mosaic's extent is covered by none and is nodata",
+                                          100.0 * (1.0 - m->covered_share)));
         if (!std::isfinite(res) || res <= 0)
             return fail(err, TP_ERR_BACKEND, "%s: could not measure the post spacing", paths[0]);
         /* a grid aligned on the spacing, holding every source */
@@ -641,6 +686,10 @@ tp_status open_mosaic(const char* const* paths, size_t count, const tp_mosaic_op
     } else if (!m->warped) {
         range_of_files(m);
     }
+    if (m->has_range) { /* in the sources' unit: the heights read are in metres */
+        m->min_m *= m->z_to_m;
+        m->max_m *= m->z_to_m;
+    }
     return TP_OK;
 }
 
@@ -690,6 +739,7 @@ extern "C" void tp_mosaic_get_info(const tp_mosaic* m, tp_mosaic_info* out)
     out->spacing_m = m->spacing_m;
     out->source_count = m->source_count;
     out->warped = m->warped;
+    out->covered_share = m->covered_share;
     out->integer_sources = m->integer;
     out->has_range = m->has_range;
     out->min_m = m->min_m;

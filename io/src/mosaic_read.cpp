@@ -32,12 +32,15 @@ tp_status read_raw(tp_mosaic* m, int y0, int rows, float* heights, tp_error* err
     const size_t n = (size_t)rows * m->w;
     const float nd = m->nodata;
     const bool tag = m->has_nodata, nd_nan = std::isnan(nd), guess = m->int16_guess;
+    const double z = m->z_to_m;
     for (size_t i = 0; i < n; i++) {
         float v = heights[i];
         if ((tag && (v == nd || (nd_nan && std::isnan(v)))) ||
             (guess && (v == -32768.0f || v == -32767.0f)) || std::isinf(v) || v == FLT_MAX ||
             v == -FLT_MAX)
             heights[i] = NAN;
+        else if (z != 1.0)
+            heights[i] = (float)(v * z); /* metres */
     }
     if (m->back)
         tpio::mask_outside_hull(*m->back, m->back_geographic, m->sgt, m->sw, m->sh, m->gt, m->w,

@@ -3,6 +3,7 @@
  * reprojected into the render CRS and flattened into points, lines and rings.
  */
 #include "gdal_util.hpp"
+#include "tp_io.h"
 #include "tp_vector.h"
 
 #include <ogr_geometry.h>
@@ -274,6 +275,10 @@ extern "C" tp_status tp_vector_read(const char* path, const char* target_crs_wkt
                                     tp_features** out, tp_error* err)
 {
     assert(path && out);
+    /* a FIFO or a device would block OGR's open, or never end */
+    if (tp_status s = tp_input_check(path, "a vector (GeoJSON, GPX, KML, GeoPackage, ...)",
+                                     1, err))
+        return s;
     try {
         return read(path, target_crs_wkt, out, err);
     } catch (...) {
