@@ -60,7 +60,7 @@ static int describe(tp_ground* g, const char* source, double lat, double lon,
         tp_dms_encode(lon, TP_DMS_LONGITUDE, 2, r.lon_dms, sizeof r.lon_dms, &err) != TP_OK ||
         tp_geo_to_utmups(lat, lon, &r.zone, &r.northp, &r.easting_m, &r.northing_m, &err) !=
             TP_OK ||
-        tp_zone_format(r.zone, r.northp, TP_ZONE_STYLE_UPPER, r.zone_text, sizeof r.zone_text,
+        tp_zone_format(r.zone, r.northp, TP_ZONE_STYLE_SHORT, r.zone_text, sizeof r.zone_text,
                        &err) != TP_OK ||
         tp_mgrs_forward(r.zone, r.northp, r.easting_m, r.northing_m, lat, precision, mgrs,
                         sizeof mgrs, &err) != TP_OK) {
