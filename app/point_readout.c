@@ -1,6 +1,7 @@
 /* point_readout.c - one position on the ground, described (point_readout.h). */
 #include "point_readout.h"
 
+#include "ground_locate.h"
 #include "json.h"
 #include "store_scene.h"
 
@@ -93,9 +94,11 @@ static int query(tp_ground* g, double e, double n, const char* where, tp_ground_
         return 0;
     }
     if (isnan(gs->height_m)) {
+        char hint[256];
+        tp_ground_void_hint(g, gs->x, gs->y, hint, sizeof hint);
         snprintf(msg, cap,
-                 "position %s is in a void: the DEM has no height there (grid x %.2f, y %.2f)",
-                 where, gs->x, gs->y);
+                 "position %s is in a void: the DEM has no height there (grid x %.2f, y %.2f)%s",
+                 where, gs->x, gs->y, hint);
         return 0;
     }
     return 1;
