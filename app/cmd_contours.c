@@ -92,7 +92,7 @@ static int parse_options(int argc, char** argv, contours_cli* o)
     int has_interval = 0;
     for (int i = 1; i < argc; ++i) {
         const char* a = argv[i];
-        const int arg = tp_planner_argument("contours", a, print_help, &o->path,
+        const int arg = tp_planner_argument("contours", argc, argv, i, print_help, &o->path,
                                             " (quote a position with spaces: --around "
                                             "\"45.37 -121.69\")");
         if (arg == TP_PLANNER_NEXT)
@@ -112,7 +112,7 @@ static int parse_options(int argc, char** argv, contours_cli* o)
                 return TP_EXIT_USAGE;
             if (taken)
                 continue;
-            return tp_planner_usage("contours", "unknown option '%s'", a);
+            return tp_planner_stray("contours", argc, argv, i, "");
         }
         const char* v = tp_planner_option_value(argc, argv, &i, names[k]);
         if (!v)
@@ -192,8 +192,8 @@ int tp_cli_contours(int argc, char** argv)
     int code = parse_options(argc, argv, &o);
     if (code >= 0)
         return code;
-    tp_position pos;
-    if (o.around && !tp_planner_position("contours", "--around", o.around, &pos))
+    tp_position_readings around;
+    if (o.around && !tp_planner_position("contours", "--around", o.around, &around))
         return TP_EXIT_USAGE;
     tp_error err = {{0}};
     if (tp_contours_check_output(o.out, &err) != TP_OK) {
@@ -214,14 +214,20 @@ int tp_cli_contours(int argc, char** argv)
         double e0, n0, e1, n1;
         if (o.around) {
             double fx, fy, fh, e, n;
-            char lmsg[1024];
+            char lmsg[1024], hint[256] = "";
+            tp_position pos;
+            if (!tp_planner_choose("contours", o.path, g, &around, o.around, &pos)) {
+                tp_ground_destroy(g);
+                return TP_EXIT_FAILURE;
+            }
             if (tp_ground_locate(g, &pos, o.around, &fx, &fy, &fh, lmsg, sizeof lmsg)) {
                 e = gt[0] + (fx + 0.5) * gt[1], n = gt[3] + (fy + 0.5) * gt[5];
             } else if (!strstr(lmsg, "is in a void") ||
                        tp_georef_geo_to_proj(sc->georef, pos.lat_deg, pos.lon_deg, &e, &n,
                                              &err) != TP_OK) {
                 /* a centre in a void is fine: the lines around it are still wanted */
-                fprintf(stderr, "terrapatch contours: %s: %s\n", o.path, lmsg);
+                tp_planner_swap_hint(g, &pos, hint, sizeof hint);
+                fprintf(stderr, "terrapatch contours: %s: %s%s\n", o.path, lmsg, hint);
                 tp_ground_destroy(g);
                 return TP_EXIT_FAILURE;
             }

@@ -101,7 +101,7 @@ static int parse_options(int argc, char** argv, tp_light_cli* o)
                                             "--values", "--cache-dir", "--maps", "--json"};
     for (int i = 1; i < argc; ++i) {
         const char* a = argv[i];
-        const int arg = tp_planner_argument("light", a, print_help, &o->path,
+        const int arg = tp_planner_argument("light", argc, argv, i, print_help, &o->path,
                                             " (quote a time with a zone after a space: --time "
                                             "\"18:30 -07:00\")");
         if (arg == TP_PLANNER_NEXT)
@@ -124,13 +124,15 @@ static int parse_options(int argc, char** argv, tp_light_cli* o)
             done = tp_scene_option_arg("light", argc, argv, &i, &o->dem);
         if (done < 0)
             return TP_EXIT_USAGE;
-        if (!done && a[1] >= '0' && a[1] <= '9')
-            return tp_planner_usage("light",
-                                    "unknown option '%s' (a zone after a space must be quoted "
-                                    "with the time: --time \"18:30 %s\")",
-                                    a, a);
-        if (!done)
-            return tp_planner_usage("light", "unknown option '%s'", a);
+        if (!done) {
+            char zone[160] = "";
+            if (a[1] >= '0' && a[1] <= '9')
+                snprintf(zone, sizeof zone,
+                         " (a zone after a space must be quoted with the time: --time "
+                         "\"18:30 %s\")",
+                         a);
+            return tp_planner_stray("light", argc, argv, i, zone);
+        }
     }
     if (!o->path)
         return tp_planner_usage("light", "missing DEM");
@@ -223,7 +225,7 @@ int tp_cli_light(int argc, char** argv)
         fprintf(stderr, "terrapatch light: --date %s --time %s: %s\n", o.date, o.time, why);
         return TP_EXIT_USAGE;
     }
-    tp_position at_pos;
+    tp_position_readings at_pos;
     if (o.at && !tp_planner_position("light", "--at", o.at, &at_pos))
         return TP_EXIT_USAGE;
     tp_error err = {{0}};

@@ -88,8 +88,7 @@ static int parse_options(int argc, char** argv, los_options* o)
                                             "--cache-dir"};
     static const char* const num_opts[] = {"--from-height", "--to-height", "--curvature-coeff"};
     for (int i = 1; i < argc; ++i) {
-        const char* a = argv[i];
-        const int arg = tp_planner_argument("los", a, print_help, &o->path,
+        const int arg = tp_planner_argument("los", argc, argv, i, print_help, &o->path,
                                             " (quote a position with spaces: --from "
                                             "\"45.37 -121.69\")");
         if (arg == TP_PLANNER_NEXT)
@@ -109,7 +108,7 @@ static int parse_options(int argc, char** argv, los_options* o)
         if (done < 0)
             return TP_EXIT_USAGE;
         if (!done)
-            return tp_planner_usage("los", "unknown option '%s'", a);
+            return tp_planner_stray("los", argc, argv, i, "");
     }
     if (!o->path)
         return tp_planner_usage("los", "missing DEM");
@@ -324,7 +323,7 @@ int tp_cli_los(int argc, char** argv)
     int code = parse_options(argc, argv, &o);
     if (code >= 0)
         return code;
-    tp_position from, to;
+    tp_position_readings from, to;
     if (!tp_planner_position("los", "--from", o.from, &from) ||
         !tp_planner_position("los", "--to", o.to, &to))
         return TP_EXIT_USAGE;

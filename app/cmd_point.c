@@ -44,8 +44,14 @@ static void print_help(void)
           "  45d22'23\"N 121d41'45\"W     degrees-minutes-seconds (GeographicLib's DMS rules:\n"
           "  45:22:23N 121:41:45W       d ' \" or : separators, N S E W before or after;\n"
           "                             with hemisphere letters either order works)\n"
-          "  10n 601000 5026000         UTM zone and hemisphere, easting, northing (metres)\n"
-          "  10TER0100026000            MGRS, any precision (the centre of its square)\n"
+          "  55 28 41.88 N 2 08 44.16 W the same with spaces (letters end each coordinate)\n"
+          "  10n 601000 5026000         UTM zone and hemisphere, easting, northing (metres);\n"
+          "                             also as printed here (10n 601000.0 E 5026000.0 N)\n"
+          "  10T 601000 5026000         UTM zone and latitude band, as maps and GPS units\n"
+          "                             write it (a band S that may be the southern\n"
+          "                             hemisphere: the reading on the DEM, with a note)\n"
+          "  10TER0100026000            MGRS, any precision (the centre of its square),\n"
+          "                             also with spaces (10T ER 01000 26000)\n"
           "\n"
           "The height is that of the full-resolution surface at POS (the store's triangulated\n"
           "posts: exact at a post, as stored). Slope (degrees from horizontal) and aspect (the\n"
@@ -148,8 +154,8 @@ int tp_cli_point(int argc, char** argv)
     char text[1024], msg[TP_POSITION_MSG_SIZE];
     if (!tp_position_join(o.pos_args, o.pos_count, text, sizeof text))
         return tp_planner_usage("point", "the position is too long");
-    tp_position pos;
-    if (!tp_planner_position("point", "position", text, &pos))
+    tp_position_readings readings;
+    if (!tp_planner_position("point", "position", text, &readings))
         return TP_EXIT_USAGE;
     if (!tp_planner_check_outputs(&o.json, 1))
         return TP_EXIT_FAILURE;
@@ -158,8 +164,14 @@ int tp_cli_point(int argc, char** argv)
     if ((code = tp_planner_ground_open("point", o.path, o.cache_dir, &o.dem, &g)) != TP_EXIT_OK)
         return code;
     tp_point_readout r;
-    if (!tp_point_readout_at_position(g, o.path, &pos, text, o.precision, &r, msg, sizeof msg)) {
-        fprintf(stderr, "terrapatch: %s: %s\n", o.path, msg);
+    tp_position pos;
+    char hint[256];
+    if (!tp_planner_choose("point", o.path, g, &readings, text, &pos)) {
+        code = TP_EXIT_FAILURE;
+    } else if (!tp_point_readout_at_position(g, o.path, &pos, text, o.precision, &r, msg,
+                                             sizeof msg)) {
+        tp_planner_swap_hint(g, &pos, hint, sizeof hint);
+        fprintf(stderr, "terrapatch: %s: %s%s\n", o.path, msg, hint);
         code = TP_EXIT_FAILURE;
     } else {
         const tp_planner_outputs out = {.json = o.json, .write_text = write_text,

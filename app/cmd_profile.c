@@ -91,7 +91,7 @@ static int parse_options(int argc, char** argv, profile_options* o)
     static const char* const text_opts[] = {"--route", "--png", "--csv", "--json", "--cache-dir"};
     for (int i = 1; i < argc; ++i) {
         const char* a = argv[i];
-        const int arg = tp_planner_argument("profile", a, print_help, &o->path, "");
+        const int arg = tp_planner_argument("profile", argc, argv, i, print_help, &o->path, "");
         if (arg == TP_PLANNER_NEXT)
             continue;
         if (arg != TP_PLANNER_OPTION)
@@ -118,7 +118,7 @@ static int parse_options(int argc, char** argv, profile_options* o)
         if (done < 0)
             return TP_EXIT_USAGE;
         if (!done)
-            return tp_planner_usage("profile", "unknown option '%s'", a);
+            return tp_planner_stray("profile", argc, argv, i, "");
     }
     if (!o->path)
         return tp_planner_usage("profile", "missing DEM");

@@ -79,8 +79,7 @@ static int parse_options(int argc, char** argv, viewshed_cli* o)
                                            "--curvature-coeff"};
     static const char* const text_opts[] = {"--observer", "-o", "--output", "--cache-dir"};
     for (int i = 1; i < argc; ++i) {
-        const char* a = argv[i];
-        const int arg = tp_planner_argument("viewshed", a, print_help, &o->path,
+        const int arg = tp_planner_argument("viewshed", argc, argv, i, print_help, &o->path,
                                             " (quote a position with spaces: --observer "
                                             "\"45.37 -121.69\")");
         if (arg == TP_PLANNER_NEXT)
@@ -100,7 +99,7 @@ static int parse_options(int argc, char** argv, viewshed_cli* o)
         if (done < 0)
             return TP_EXIT_USAGE;
         if (!done)
-            return tp_planner_usage("viewshed", "unknown option '%s'", a);
+            return tp_planner_stray("viewshed", argc, argv, i, "");
     }
     if (!o->path)
         return tp_planner_usage("viewshed", "missing DEM");
@@ -117,7 +116,7 @@ int tp_cli_viewshed(int argc, char** argv)
     int code = parse_options(argc, argv, &o);
     if (code >= 0)
         return code;
-    tp_position pos;
+    tp_position_readings pos;
     if (!tp_planner_position("viewshed", "--observer", o.observer, &pos))
         return TP_EXIT_USAGE;
     tp_error err = {{0}};

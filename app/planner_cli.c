@@ -8,6 +8,8 @@
 
 #include "tp_io.h"
 
+#include <ctype.h>
+#include <math.h>
 #include <stdarg.h>
 #include <stdlib.h>
 #include <string.h>
@@ -25,9 +27,10 @@ int tp_planner_usage(const char* cmd, const char* what, ...)
     return TP_EXIT_USAGE;
 }
 
-int tp_planner_argument(const char* cmd, const char* a, void (*print_help)(void),
+int tp_planner_argument(const char* cmd, int argc, char** argv, int i, void (*print_help)(void),
                         const char** path, const char* hint)
 {
+    const char* a = argv[i];
     if (!strcmp(a, "-h") || !strcmp(a, "--help")) {
         print_help();
         return tp_cli_finish(TP_EXIT_OK);
@@ -35,9 +38,80 @@ int tp_planner_argument(const char* cmd, const char* a, void (*print_help)(void)
     if (a[0] == '-' && a[1])
         return TP_PLANNER_OPTION;
     if (*path)
-        return tp_planner_usage(cmd, "more than one DEM given%s", hint);
+        return tp_planner_stray(cmd, argc, argv, i, hint);
     *path = a;
     return TP_PLANNER_NEXT;
+}
+
+/* The planner commands' options that take a position. */
+static const char* const position_options[] = {"--from", "--to", "--observer", "--at", "--around"};
+
+/* 1 when a may be a piece of a position typed without quotes: a number, or a short token of
+ * digits, DMS marks and letters ("41.88", "28'", "N", "33n", "W002", "10TFR"), not a file. */
+static int position_piece(const char* a)
+{
+    double v;
+    if (tp_position_decimal(a, &v) == 1)
+        return 1;
+    size_t len = strlen(a), digits = 0;
+    if (!len || len > 24)
+        return 0;
+    for (const char* c = a; *c; ++c) {
+        const unsigned char u = (unsigned char)*c;
+        if (isdigit(u))
+            ++digits;
+        else if (u == '.' && isalpha((unsigned char)c[1]))
+            return 0; /* a file name's extension */
+        else if (!isalpha(u) && !strchr(".:'\"+-", u) && u < 0x80)
+            return 0;
+    }
+    return digits || len == 1;
+}
+
+/* The value of position option argv[j] ("--from" then its value, or "--from=VALUE"), or NULL
+ * when argv[j] is no position option. */
+static const char* position_option_value(int argc, char** argv, int j)
+{
+    for (size_t k = 0; k < TP_PLANNER_COUNT(position_options); ++k) {
+        const size_t len = strlen(position_options[k]);
+        if (strncmp(argv[j], position_options[k], len))
+            continue;
+        if (argv[j][len] == '=')
+            return argv[j] + len + 1;
+        if (!argv[j][len] && j + 1 < argc)
+            return argv[j + 1];
+    }
+    return NULL;
+}
+
+int tp_planner_stray(const char* cmd, int argc, char** argv, int i, const char* hint)
+{
+    const char* a = argv[i];
+    char own[512] = "";
+    /* back from argv[i] over pieces of a position to the option that took the first one */
+    for (int j = i - 1; j >= 1; --j) {
+        const char* v = position_option_value(argc, argv, j);
+        const int first = v == argv[j + 1] ? j + 2 : j + 1; /* the pieces after v */
+        int end = position_piece(a) ? i : i - 1;            /* and on after argv[i] */
+        if (v && end >= first && position_piece(v)) {
+            for (const int on = end == i; on && end + 1 < argc && position_piece(argv[end + 1]);)
+                ++end;
+            size_t at =
+                (size_t)snprintf(own, sizeof own, " (quote a position with spaces: %.*s \"%s",
+                                 (int)strcspn(argv[j], "="), argv[j], v);
+            for (int k = first; k <= end && at < sizeof own; ++k)
+                at += (size_t)snprintf(own + at, sizeof own - at, " %s", argv[k]);
+            if (at < sizeof own)
+                snprintf(own + at, sizeof own - at, "\")");
+            hint = own;
+            break;
+        }
+        if (!position_piece(argv[j]))
+            break;
+    }
+    if (a[0] == '-' && a[1])
+        return tp_planner_usage(cmd, "unknown option '%s'%s", a, hint);
+    return tp_planner_usage(cmd, "more than one DEM given%s", hint);
 }
 
 int tp_planner_is_option(const char* arg, const char* name)
@@ -112,13 +186,70 @@ int tp_planner_integer(const char* cmd, const char* opt, const char* v, long lo,
     return 1;
 }
 
-int tp_planner_position(const char* cmd, const char* what, const char* text, tp_position* pos)
+/* The hint that a position is latitude first, after the text of a message. */
+#define LATITUDE_FIRST "a position is LAT LON, latitude first"
+
+int tp_planner_position(const char* cmd, const char* what, const char* text,
+                        tp_position_readings* pos)
 {
-    char msg[TP_POSITION_MSG_SIZE];
-    if (tp_position_parse(text, strlen(text), 0, pos, msg, sizeof msg))
+    char msg[TP_POSITION_MSG_SIZE], hint[160] = "";
+    if (tp_position_parse_readings(text, strlen(text), 0, pos, msg, sizeof msg))
         return 1;
-    fprintf(stderr, "terrapatch %s: %s '%s': %s\n", cmd, what, text, msg);
+    /* two numbers that read the other way round: "139.7 35.6" */
+    char copy[128], swapped[128], spare[TP_POSITION_MSG_SIZE];
+    tp_position p;
+    double a, b;
+    tp__fields f = {0};
+    if (strlen(text) < sizeof copy)
+        f = tp__position_split(strcpy(copy, text), 1);
+    if (f.count == 2 && tp_position_decimal(f.field[0], &a) == 1 &&
+        tp_position_decimal(f.field[1], &b) == 1 &&
+        snprintf(swapped, sizeof swapped, "%s %s", f.field[1], f.field[0]) > 0 &&
+        tp_position_parse(swapped, strlen(swapped), 0, &p, spare, sizeof spare))
+        snprintf(hint, sizeof hint, "; " LATITUDE_FIRST ": '%s'?", swapped);
+    fprintf(stderr, "terrapatch %s: %s '%s': %s%s\n", cmd, what, text, msg, hint);
     return 0;
+}
+
+int tp_planner_choose(const char* cmd, const char* path, tp_ground* g,
+                      const tp_position_readings* pos, const char* input, tp_position* out)
+{
+    if (pos->count < 2) {
+        *out = pos->reading[0];
+        return 1;
+    }
+    char r0[128], r1[128];
+    double x, y;
+    int on0 = tp_ground_on_dem(g, &pos->reading[0], &x, &y);
+    int on1 = tp_ground_on_dem(g, &pos->reading[1], &x, &y);
+    tp_position_reading_text(pos, 0, r0, sizeof r0);
+    tp_position_reading_text(pos, 1, r1, sizeof r1);
+    if (on0 != on1) {
+        fprintf(stderr, "terrapatch %s: note: read '%s' as %s; the other reading, %s, is off %s\n",
+                cmd, input, on0 ? r0 : r1, on0 ? r1 : r0, path);
+        *out = pos->reading[on0 ? 0 : 1];
+        return 1;
+    }
+    fprintf(stderr,
+            "terrapatch %s: %s: '%s' is ambiguous: %s or %s, and %s on the DEM; write the "
+            "zone's hemisphere as %dnorth or %dsouth, or give the position in MGRS\n",
+            cmd, path, input, r0, r1, on0 ? "both are" : "neither is", pos->reading[0].zone,
+            pos->reading[0].zone);
+    return 0;
+}
+
+void tp_planner_swap_hint(tp_ground* g, const tp_position* pos, char* out, size_t cap)
+{
+    tp_position swapped = {.lat_deg = pos->lon_deg, .lon_deg = pos->lat_deg};
+    double x, y;
+    if (cap)
+        out[0] = '\0';
+    if (!pos->has_grid && fabs(pos->lon_deg) <= 90.0 && !tp_ground_on_dem(g, pos, &x, &y) &&
+        tp_ground_on_dem(g, &swapped, &x, &y))
+        snprintf(
+            out, cap,
+            "; with latitude and longitude swapped (%.6f %.6f) it is on the DEM: " LATITUDE_FIRST,
+            swapped.lat_deg, swapped.lon_deg);
 }
 
 int tp_planner_check_outputs(const char* const* paths, int count)
@@ -145,13 +276,18 @@ void tp_planner_dem_options_help(void)
     tp_scene_options_help(stdout);
 }
 
-int tp_planner_locate(const char* cmd, const char* path, tp_ground* g, const tp_position* pos,
-                      const char* input, double* x, double* y, double* height_m)
+int tp_planner_locate(const char* cmd, const char* path, tp_ground* g,
+                      const tp_position_readings* pos, const char* input, double* x, double* y,
+                      double* height_m)
 {
-    char msg[1024];
-    if (tp_ground_locate(g, pos, input, x, y, height_m, msg, sizeof msg))
+    char msg[1024], hint[256];
+    tp_position p;
+    if (!tp_planner_choose(cmd, path, g, pos, input, &p))
+        return 0;
+    if (tp_ground_locate(g, &p, input, x, y, height_m, msg, sizeof msg))
         return 1;
-    fprintf(stderr, "terrapatch %s: %s: %s\n", cmd, path, msg);
+    tp_planner_swap_hint(g, &p, hint, sizeof hint);
+    fprintf(stderr, "terrapatch %s: %s: %s%s\n", cmd, path, msg, hint);
     return 0;
 }
 

@@ -29,16 +29,23 @@ __attribute__((format(printf, 2, 3)))
 #endif
 int tp_planner_usage(const char* cmd, const char* what, ...);
 
-/* What a planner command's parser does first with each argument a: -h or --help prints the
- * help (print_help) and ends the parse with tp_cli_finish(TP_EXIT_OK); an argument that is no
- * option (not starting with '-', or "-" alone) is the DEM, into *path, and a second one is the
- * usage error "more than one DEM given" followed by hint (e.g. " (quote a position with
- * spaces: ...)", or ""). Returns the exit code that ends the parse, TP_PLANNER_NEXT when a was
- * the DEM, or TP_PLANNER_OPTION when a is an option for the command to read. */
+/* What a planner command's parser does first with each argument a = argv[i]: -h or --help
+ * prints the help (print_help) and ends the parse with tp_cli_finish(TP_EXIT_OK); an argument
+ * that is no option (not starting with '-', or "-" alone) is the DEM, into *path, and a second
+ * one is the usage error "more than one DEM given" (tp_planner_stray). Returns the exit code
+ * that ends the parse, TP_PLANNER_NEXT when a was the DEM, or TP_PLANNER_OPTION when a is an
+ * option for the command to read. */
 #define TP_PLANNER_NEXT (-1)
 #define TP_PLANNER_OPTION (-2)
-int tp_planner_argument(const char* cmd, const char* a, void (*print_help)(void),
+int tp_planner_argument(const char* cmd, int argc, char** argv, int i, void (*print_help)(void),
                         const char** path, const char* hint);
+
+/* The usage error for argv[i], an argument the parser cannot place: "unknown option 'A'" (A
+ * starting with '-') or "more than one DEM given", then, when A is part of a position left
+ * unquoted after a position option (--from, --to, --observer, --at, --around: "--from 42.5
+ * -2.1"), " (quote a position with spaces: --from \"42.5 -2.1\")", else hint (e.g. light's
+ * about a time zone, or ""). Returns TP_EXIT_USAGE. */
+int tp_planner_stray(const char* cmd, int argc, char** argv, int i, const char* hint);
 
 /* 1 when arg is the option name, alone or as "NAME=VALUE". */
 int tp_planner_is_option(const char* arg, const char* name);
@@ -77,10 +84,25 @@ int tp_planner_integer(const char* cmd, const char* opt, const char* v, long lo,
 
 /* ---- positions and the ground ---- */
 
-/* Reads text (NUL-terminated) as one position, without a height. 1 with *pos; else 0 after
- * "terrapatch CMD: WHAT 'TEXT': why" (what names it: "--from", "position"); the caller exits
- * with TP_EXIT_USAGE. */
-int tp_planner_position(const char* cmd, const char* what, const char* text, tp_position* pos);
+/* Reads text (NUL-terminated) as one position, without a height: both readings of an ambiguous
+ * band letter S (position.h) are kept for tp_planner_choose to take the one on the DEM. 1 with
+ * *pos; else 0 after "terrapatch CMD: WHAT 'TEXT': why" (what names it: "--from", "position"),
+ * with "; a position is LAT LON, latitude first: 'B A'?" when the two numbers swapped would
+ * read; the caller exits with TP_EXIT_USAGE. */
+int tp_planner_position(const char* cmd, const char* what, const char* text,
+                        tp_position_readings* pos);
+
+/* The reading of pos to put on g: the only one; of two, the one on the DEM, after "terrapatch
+ * CMD: note: read 'INPUT' as band S (...); the other reading, zone Z south (...), is off PATH"
+ * on stderr. 1 with *out; 0 after "terrapatch CMD: PATH: 'INPUT' is ambiguous ..." when both
+ * readings or neither are on the DEM (the caller exits with TP_EXIT_FAILURE). */
+int tp_planner_choose(const char* cmd, const char* path, tp_ground* g,
+                      const tp_position_readings* pos, const char* input, tp_position* out);
+
+/* What a message about pos off the DEM ends with: "; with latitude and longitude swapped (LON
+ * LAT) it is on the DEM: a position is LAT LON, latitude first" when that is so (pos typed as
+ * latitude/longitude), else "". */
+void tp_planner_swap_hint(tp_ground* g, const tp_position* pos, char* out, size_t cap);
 
 /* Checks that each of the count paths can be written (tp_atomic_check_dir), NULL and "-"
  * (stdout) passed over; 0 after the first one's message. */
@@ -95,10 +117,12 @@ int tp_planner_ground_open(const char* cmd, const char* path, const char* cache_
  * rule): printed by each command's --help. */
 void tp_planner_dem_options_help(void);
 
-/* tp_ground_locate: 1 with grid (x, y) and the ground's height; else 0 after
- * "terrapatch CMD: PATH: why" (input is the position as typed). */
-int tp_planner_locate(const char* cmd, const char* path, tp_ground* g, const tp_position* pos,
-                      const char* input, double* x, double* y, double* height_m);
+/* tp_planner_choose, then tp_ground_locate: 1 with grid (x, y) and the ground's height; else
+ * 0 after "terrapatch CMD: PATH: why" (input is the position as typed; off the DEM with
+ * tp_planner_swap_hint, in a void with tp_ground_void_hint). */
+int tp_planner_locate(const char* cmd, const char* path, tp_ground* g,
+                      const tp_position_readings* pos, const char* input, double* x, double* y,
+                      double* height_m);
 
 /* Windows of at least this many posts show their reading's progress. */
 #define TP_PLANNER_PROGRESS_POSTS ((size_t)4 << 20)

@@ -1,6 +1,7 @@
 /* point_readout.c - one position on the ground, described (point_readout.h). */
 #include "point_readout.h"
 
+#include "ground_locate.h"
 #include "json.h"
 #include "store_scene.h"
 
@@ -66,7 +67,7 @@ static int describe(tp_ground* g, const char* source, double lat, double lon,
         tp_dms_encode(lon, TP_DMS_LONGITUDE, 2, r.lon_dms, sizeof r.lon_dms, &err) != TP_OK ||
         tp_geo_to_utmups(lat, lon, &r.zone, &r.northp, &r.easting_m, &r.northing_m, &err) !=
             TP_OK ||
-        tp_zone_format(r.zone, r.northp, TP_ZONE_STYLE_UPPER, r.zone_text, sizeof r.zone_text,
+        tp_zone_format(r.zone, r.northp, TP_ZONE_STYLE_SHORT, r.zone_text, sizeof r.zone_text,
                        &err) != TP_OK ||
         tp_mgrs_forward(r.zone, r.northp, r.easting_m, r.northing_m, lat, precision, mgrs,
                         sizeof mgrs, &err) != TP_OK) {
@@ -99,9 +100,11 @@ static int query(tp_ground* g, double e, double n, const char* where, tp_ground_
         return 0;
     }
     if (isnan(gs->height_m)) {
+        char hint[256];
+        tp_ground_void_hint(g, gs->x, gs->y, hint, sizeof hint);
         snprintf(msg, cap,
-                 "position %s is in a void: the DEM has no height there (grid x %.2f, y %.2f)",
-                 where, gs->x, gs->y);
+                 "position %s is in a void: the DEM has no height there (grid x %.2f, y %.2f)%s",
+                 where, gs->x, gs->y, hint);
         return 0;
     }
     return 1;

@@ -19,7 +19,8 @@ typedef struct tp_point_readout {
     int mgrs_precision;
     char mgrs[TP_POSITION_MGRS_SPACED_SIZE]; /* "31T CH 76651 00831" */
     int zone, northp;          /* standard UTM zone (0 = UPS) */
-    char zone_text[TP_ZONE_TEXT_SIZE]; /* "31N", "UPS N" */
+    char zone_text[TP_ZONE_TEXT_SIZE]; /* "31n", "UPS s": the hemisphere in lower case, as
+                                        * GeographicLib writes it ("33S" is band S) */
     double easting_m, northing_m;
     tp_ground_sample ground;   /* height, slope, aspect, grid and render position */
     char vertical_datum[256];  /* what the source says, or that it says nothing */

@@ -10,8 +10,11 @@
 #include "tp_test.h"
 #include "tp_geo.h"
 
+#include "coord_line.h"
 #include "position.h"
 
+#include <math.h>
+#include <stdio.h>
 #include <string.h>
 
 #define LAT_PITTSBURGH (40.0 + 26.0 / 60.0 + 46.0 / 3600.0)   /* 40d26'46"N */
@@ -171,7 +174,8 @@ TEST(bad_positions_say_why)
     tp_position ok = parse_ok("40:26:46N 79:58:56W");
     EXPECT_NEAR(ok.lat_deg, LAT_PITTSBURGH, TOL_DEG);
     parse_fails("1''2:3 5", 0, "more than 3 components");
-    parse_fails("", 0, "got an empty line");
+    parse_fails("", 0, "the position is empty");
+    parse_fails(" ,  ", 0, "the position is empty");
     parse_fails("1 2 3 4", 0, "got 4 fields");
     parse_fails("45 7 100", 0, "are not a position here");
     parse_fails("33T", 0, "grid zone designator");
@@ -233,6 +237,228 @@ TEST(mgrs_with_spaces)
     parse_fails("31T CH 7665 00831", 0, "MGRS"); /* easting and northing of different lengths */
 }
 
+/* ---- every form a command prints reads back (issue 29, section 2) ---- */
+
+/* Reads text (one reading) and checks it is (lat, lon) within tol_m metres on the ground
+ * (a degree of latitude is 111 km or more; longitude 180 is -180). */
+static void reads_as(const char* text, double lat, double lon, double tol_m)
+{
+    tp_position p = parse_ok(text);
+    const double dn = (p.lat_deg - lat) * 111000.0;
+    const double de =
+        remainder(p.lon_deg - lon, 360.0) * 111000.0 * cos(lat * 3.14159265358979323846 / 180.0);
+    if (sqrt(dn * dn + de * de) > tol_m)
+        FAIL("'%s' read as %.9f %.9f, expected %.9f %.9f (+- %g m)", text, p.lat_deg, p.lon_deg,
+             lat, lon, tol_m);
+}
+
+/* `coord`'s output lines (tp_coord_line_convert, every --to but ecef) and `point`'s text
+ * forms (built by the calls point_readout.c's describe() makes and printed with
+ * tp_point_readout_text's formats: DMS to 0.01", "ZONE E.E E N.N N" with the zone as
+ * TP_ZONE_STYLE_SHORT, MGRS spaced and not), for positions near a zone edge, in the southern
+ * hemisphere (band S's rows: the ambiguous letter), at Norway's and Svalbard's exceptions and
+ * in both UPS regions, each read back within the printed precision. */
+TEST(every_printed_form_reads_back)
+{
+    static const double where[][2] = {
+        {42.5, 1.5},   {45.0, 5.9999999},   {45.0, 6.0000001}, {-54.148, 15.0},
+        {-33.9, 18.4}, {-0.0000001, -70.0}, {60.0, 3.5},       {78.0, 9.1},
+        {85.0, 30.0},  {-85.0, -30.0},      {83.99, -179.5},   {-36.1447, 15.0},
+    };
+    for (size_t i = 0; i < sizeof where / sizeof where[0]; ++i) {
+        const double lat = where[i][0], lon = where[i][1];
+        char line[64], out[TP_COORD_TEXT_SIZE], text[256];
+        /* coord --to geo, utm, mgrs (precision 5, and 11: micrometres) */
+        static const tp_coord_request reqs[] = {{.to = TP_COORD_TO_GEO},
+                                                {.to = TP_COORD_TO_UTM},
+                                                {.to = TP_COORD_TO_MGRS, .precision = 5},
+                                                {.to = TP_COORD_TO_MGRS, .precision = 11}};
+        static const double tol[] = {1e-3, 2e-3, 1.0, 1e-5}; /* metres: 9 decimals of a degree,
+                                                                 3 of a metre, MGRS's square */
+        for (size_t k = 0; k < sizeof reqs / sizeof reqs[0]; ++k) {
+            snprintf(line, sizeof line, "%.10f %.10f", lat, lon);
+            ASSERT_TRUE(tp_coord_line_convert(&reqs[k], line, strlen(line), out, sizeof out));
+            reads_as(out, lat, lon, tol[k]);
+        }
+        /* point: latitude/longitude in DMS, UTM with its labels, MGRS with spaces */
+        char a[TP_DMS_TEXT_SIZE], b[TP_DMS_TEXT_SIZE], zone[TP_ZONE_TEXT_SIZE];
+        char mgrs[TP_MGRS_SIZE], spaced[TP_POSITION_MGRS_SPACED_SIZE];
+        int z, northp;
+        double e, n;
+        ASSERT_OK(tp_dms_encode(lat, TP_DMS_LATITUDE, 2, a, sizeof a, NULL));
+        ASSERT_OK(tp_dms_encode(lon, TP_DMS_LONGITUDE, 2, b, sizeof b, NULL));
+        snprintf(text, sizeof text, "%s  %s", a, b);
+        reads_as(text, lat, lon, 0.32); /* 0.01" */
+        ASSERT_OK(tp_geo_to_utmups(lat, lon, &z, &northp, &e, &n, NULL));
+        ASSERT_OK(tp_zone_format(z, northp, TP_ZONE_STYLE_SHORT, zone, sizeof zone, NULL));
+        snprintf(text, sizeof text, "%s %.1f E %.1f N", zone, e, n);
+        reads_as(text, lat, lon, 0.11);
+        snprintf(text, sizeof text, "UTM        %s %.1f E %.1f N", zone, e, n);
+        reads_as(text, lat, lon, 0.11);
+        snprintf(text, sizeof text, "UTM %s %.0f %.0f", zone, e, n); /* the viewer's HUD */
+        reads_as(text, lat, lon, 1.0);
+        ASSERT_OK(tp_mgrs_forward(z, northp, e, n, lat, 5, mgrs, sizeof mgrs, NULL));
+        ASSERT_TRUE(tp_position_mgrs_spaced(mgrs, spaced, sizeof spaced));
+        reads_as(spaced, lat, lon, 1.0);
+        reads_as(mgrs, lat, lon, 1.0);
+        snprintf(text, sizeof text, "MGRS       %s", spaced);
+        reads_as(text, lat, lon, 1.0);
+    }
+}
+
+/* `point`'s UTM line as it was printed before (upper-case hemisphere) and as GPS units and maps
+ * label their numbers: the same grid position as "ZONE E N". */
+TEST(utm_with_labels)
+{
+    tp_position plain = parse_ok("30n 554001.9 6148350.0");
+    const char* forms[] = {"30N 554001.9 E 6148350.0 N", "30n 554001.9E 6148350.0N",
+                           "30U 554001.9mE 6148350.0mN", "UTM 30n 554001.9 e 6148350.0 n",
+                           "30north 554001.9 6148350.0", "554001.9 6148350.0 30U"};
+    for (size_t i = 0; i < sizeof forms / sizeof forms[0]; ++i) {
+        tp_position p = parse_ok(forms[i]);
+        EXPECT_TRUE(p.has_grid);
+        EXPECT_EQ_INT(30, p.zone);
+        EXPECT_EQ_INT(1, p.northp);
+        EXPECT_EQ_DBL(554001.9, p.easting_m);
+        EXPECT_EQ_DBL(6148350.0, p.northing_m);
+        EXPECT_EQ_DBL(plain.lat_deg, p.lat_deg);
+    }
+    /* the issue's example: 55 28 41.88 N 2 08 44.16 W is that position (to 0.1 m) */
+    EXPECT_NEAR(plain.lat_deg, 55.0 + 28.0 / 60.0 + 41.88 / 3600.0, 0.005 / 3600.0);
+    EXPECT_NEAR(plain.lon_deg, -(2.0 + 8.0 / 60.0 + 44.16 / 3600.0), 0.01 / 3600.0);
+    /* UPS as point prints it */
+    tp_position u = parse_ok("UPS n 2000000.0 E 1333272.3 N");
+    EXPECT_EQ_INT(TP_ZONE_UPS, u.zone);
+    EXPECT_NEAR(u.lat_deg, 84.0, 1e-6); /* GeoConvert: 84 0 is n 2000000 1333272.296 */
+    u = parse_ok("UPS S 2000000.0 E 3112951.0 N");
+    EXPECT_NEAR(u.lat_deg, -80.0, 1e-5); /* -80.000001 0 is s 2000000 3112951.025 */
+    parse_fails("33n 500000 E", 0, "northing is missing");
+    parse_fails("33n 500000 E 4000000 N 7", 0, "unexpected '7' after the northing");
+    parse_fails("33n 5000x0 4649776", 0, "easting: expected a decimal number, got '5000x0'");
+}
+
+/* The latitude band of a grid position, as maps and GPS units write it: each band C..X is in
+ * its own hemisphere (C..M south, N..X north), the position must lie in the band, and S alone
+ * (band S or GeographicLib's south) is refused where both readings are positions. */
+TEST(every_band_letter)
+{
+    static const char bands[] = "CDEFGHJKLMNPQRSTUVWX";
+    for (int k = 0; bands[k]; ++k) {
+        const char band = bands[k];
+        const double lat = band == 'X' ? 78.0 : -76.0 + 8.0 * k; /* the band's middle */
+        int z, northp;
+        double e, n;
+        ASSERT_OK(tp_geo_to_utmups(lat, 15.0, &z, &northp, &e, &n, NULL));
+        ASSERT_EQ_INT(33, z);
+        EXPECT_EQ_INT(band >= 'N', northp);
+        char text[96], msg[TP_POSITION_MSG_SIZE];
+        snprintf(text, sizeof text, "33%c %.3f %.3f", band, e, n);
+        tp_position_readings r;
+        ASSERT_TRUE(tp_position_parse_readings(text, strlen(text), 0, &r, msg, sizeof msg));
+        EXPECT_NEAR(r.reading[0].lat_deg, lat, 1e-7);
+        EXPECT_NEAR(r.reading[0].lon_deg, 15.0, 1e-7);
+        EXPECT_EQ_INT(band >= 'N', r.reading[0].northp);
+        if (band == 'S') {
+            /* and the southern hemisphere's reading: the northing 10000 km further south */
+            ASSERT_EQ_INT(2, r.count);
+            EXPECT_EQ_INT(0, r.reading[1].northp);
+            double lat_s, lon_s;
+            ASSERT_OK(tp_geo_from_utmups(33, 0, e, n, &lat_s, &lon_s, NULL));
+            EXPECT_NEAR(r.reading[1].lat_deg, lat_s, 1e-7); /* E, N printed to 1 mm */
+            EXPECT_TRUE(lat_s < -50.0);
+            parse_fails(text, 0, "is ambiguous: band S (36.0");
+        } else {
+            EXPECT_EQ_INT(1, r.count);
+            tp_position p = parse_ok(text);
+            EXPECT_NEAR(p.lat_deg, lat, 1e-7);
+            /* lower case reads as the band too, but n and s: GeographicLib's hemisphere */
+            text[2] = (char)(band + ('a' - 'A'));
+            p = parse_ok(text);
+            EXPECT_NEAR(p.lat_deg, lat, 1e-7);
+        }
+        /* the next band's letter: not where the position lies */
+        if (bands[k + 1] && band != 'M' && band != 'R') {
+            snprintf(text, sizeof text, "33%c %.3f %.3f", bands[k + 1], e, n);
+            parse_fails(text, 0, "not in band");
+        }
+    }
+    /* the issue's examples; a southern band reads south (19J: 32S..24S) */
+    reads_as("30U 554001.9 6148350.0", 55.0 + 28.0 / 60.0 + 41.88 / 3600.0,
+             -(2.0 + 8.0 / 60.0 + 44.16 / 3600.0), 0.32); /* the issue's 55 28 41.88 N ... */
+    tp_position j = parse_ok("19J 300000 6900000");
+    EXPECT_EQ_INT(0, j.northp);
+    EXPECT_TRUE(j.lat_deg >= -32.0 && j.lat_deg < -24.0);
+    tp_position js = parse_ok("19s 300000 6900000");
+    EXPECT_EQ_DBL(js.lat_deg, j.lat_deg);
+    /* GeoConvert 2.1.2 (utm_mgrs_edgecases_geoconvert212.txt): the MGRS band with UTM E N */
+    reads_as("32V 193458.670 6664167.679", 60.0, 3.5, 1e-3);
+    reads_as("31X 636716.846 8665261.550", 78.0, 8.9, 1e-3);
+    reads_as("31C 441867.779 1116915.156", -79.999999, 0.0, 1e-3);
+    reads_as("01N 166021.443 0.000", 0.0, -180.0, 1e-3);
+    reads_as("Z 2000000.000 1333272.296", 84.0, 0.0, 1e-3);       /* UPS bands: ZAA0000033272 */
+    reads_as("B 2000000.000 3112951.025", -80.000001, 0.0, 1e-3); /* BAZ0000012951 */
+    parse_fails("Y 2000000.000 1333272.296", 0, "not in band Y"); /* Y is west of 0 */
+    /* S where only one reading is a position: 54N is no band S, so the south */
+    tp_position s = parse_ok("33S 500000 6000000");
+    EXPECT_EQ_INT(0, s.northp);
+    EXPECT_TRUE(s.lat_deg < -36.0 && s.lat_deg > -37.0);
+}
+
+/* The issue's example: 33S 500000 4000000 is 36.1N on a map, 54.1S in GeographicLib's notation;
+ * refused naming both, and each written unambiguously reads. */
+TEST(ambiguous_band_s_names_both)
+{
+    parse_fails("33S 500000 4000000", 0, "'33S' is ambiguous: band S (36.14");
+    parse_fails("33S 500000 4000000", 0, "zone 33 south (-54.14");
+    parse_fails("33S 500000 4000000", 0, "write 33north or 33south");
+    reads_as("33north 500000 4000000", 36.144718, 15.0, 0.2);
+    reads_as("33n 500000 4000000", 36.144718, 15.0, 0.2);
+    reads_as("33south 500000 4000000", -54.148104, 15.0, 0.2);
+    reads_as("33s 500000 4000000", -54.148104, 15.0, 0.2);
+    /* MGRS names its band: no doubt (33S WA and 33F WA are those two squares) */
+    reads_as("33SWA0000000000", 36.144718, 15.0, 1.0);
+    reads_as("33FWA0000000000", -54.148104, 15.0, 1.0);
+    /* both readings, for a command with a DEM to choose */
+    tp_position_readings r;
+    char msg[TP_POSITION_MSG_SIZE], name[128];
+    ASSERT_TRUE(tp_position_parse_readings("33S 500000 4000000", 18, 0, &r, msg, sizeof msg));
+    ASSERT_EQ_INT(2, r.count);
+    EXPECT_CONTAINS(msg, "ambiguous");
+    tp_position_reading_text(&r, 0, name, sizeof name);
+    EXPECT_EQ_STR("band S (36.144718 15.000000)", name);
+    tp_position_reading_text(&r, 1, name, sizeof name);
+    EXPECT_EQ_STR("zone 33 south (-54.148104 15.000000)", name);
+}
+
+/* Degrees, minutes and seconds with spaces between them; 55 28 41.88 N is
+ * 55 + 28/60 + 41.88/3600 by hand. */
+TEST(dms_with_spaces)
+{
+    const double lat = 55.0 + 28.0 / 60.0 + 41.88 / 3600.0;
+    const double lon = -(2.0 + 8.0 / 60.0 + 44.16 / 3600.0);
+    const char* forms[] = {"55 28 41.88 N 2 08 44.16 W",
+                           "55 28 41.88N 2 08 44.16W",
+                           "N 55 28 41.88 W 2 08 44.16",
+                           "N55 28 41.88 W002 08 44.16",
+                           "2 08 44.16 W 55 28 41.88 N",
+                           "55\xC2\xB0 28\xE2\x80\xB2 41.88\xE2\x80\xB3 N 2\xC2\xB0 08\xE2\x80\xB2 "
+                           "44.16\xE2\x80\xB3 W",
+                           "55d 28' 41.88\" N, 2d 08' 44.16\" W"};
+    for (size_t i = 0; i < sizeof forms / sizeof forms[0]; ++i)
+        reads_as(forms[i], lat, lon, 1e-6);
+    reads_as("N 55 28.698 W 2 08.736", 55.0 + 28.698 / 60.0, -(2.0 + 8.736 / 60.0), 1e-6);
+    reads_as("N 55 E 2", 55.0, 2.0, 1e-6); /* no UPS position: degrees */
+    reads_as("45N 7 30E", 45.0, 7.5, 1e-6);
+    parse_fails("55 61 N 2 W", 0, "61"); /* GeographicLib's reason: minutes >= 60 */
+}
+
+TEST(garbled_mgrs_says_which_forms_are_read)
+{
+    parse_fails("31TCb", 0, "Block Cb not in zone/band 31T");
+    parse_fails("31TCb", 0, "positions are LAT LON, ZONE E N or MGRS");
+    parse_fails("ab", 0, "33T WN 00000 49776");
+}
+
 #define TESTS(X)                                                                                   \
     X(dms_with_symbols_and_hemispheres)                                                            \
     X(dms_with_colons_and_signs)                                                                   \
@@ -244,5 +470,11 @@ TEST(mgrs_with_spaces)
     X(decimal_forms_kept)                                                                          \
     X(bad_positions_say_why)                                                                       \
     X(dms_decode_rejects_nan_and_long_text)                                                        \
-    X(mgrs_with_spaces)
+    X(mgrs_with_spaces)                                                                            \
+    X(every_printed_form_reads_back)                                                               \
+    X(utm_with_labels)                                                                             \
+    X(every_band_letter)                                                                           \
+    X(ambiguous_band_s_names_both)                                                                 \
+    X(dms_with_spaces)                                                                             \
+    X(garbled_mgrs_says_which_forms_are_read)
 TP_TEST_MAIN(TESTS)

@@ -30,7 +30,7 @@ void tp_view_position_text(const tp_georef* g, double e, double n, char* out, si
     char zname[TP_ZONE_TEXT_SIZE] = "";
     if (at < 0 || (size_t)at >= cap ||
         tp_geo_to_utmups(lat, lon, &zone, &northp, &ue, &un, NULL) != TP_OK ||
-        tp_zone_format(zone, northp, TP_ZONE_STYLE_UPPER, zname, sizeof zname, NULL) != TP_OK)
+        tp_zone_format(zone, northp, TP_ZONE_STYLE_SHORT, zname, sizeof zname, NULL) != TP_OK)
         return; /* lat/lon only */
     char spaced[TP_POSITION_MGRS_SPACED_SIZE] = "";
     if (tp_mgrs_forward(zone, northp, ue, un, lat, 5, mgrs, sizeof mgrs, NULL) == TP_OK)

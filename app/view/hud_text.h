@@ -27,7 +27,8 @@ typedef struct tp_hud_state {
     const char* sun;     /* the sun's time and place in the sky (tp_view_sun_text), or NULL */
 } tp_hud_state;
 
-/* A position as "45.37312N 121.69512W  UTM 10N 600000 5012000  MGRS 10T FR 00000 12000", or
+/* A position as "45.37312N 121.69512W  UTM 10n 600000 5012000  MGRS 10T FR 00000 12000" (each
+ * part reads back as a position: position.h), or
  * "" without a CRS. */
 void tp_view_position_text(const tp_georef* g, double e, double n, char* out, size_t cap);
 

@@ -4,7 +4,8 @@
  * ZONE E N, MGRS) and for MGRS written with spaces.
  *
  * The first byte picks: bit 0 allow LAT LON H; bit 1 also feed the text to
- * tp_position_mgrs_spaced. The rest is the position text (any bytes, NULs included).
+ * tp_position_mgrs_spaced; bit 2 also read it with tp_position_parse_readings (both readings
+ * of a band letter S). The rest is the position text (any bytes, NULs included).
  * Checks: a result is a real position (latitude in [-90, 90], longitude in [-180, 180],
  * finite); a failure leaves the output alone and says why; DMS written back reads back.
  */
@@ -44,6 +45,19 @@ int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size)
     } else {
         TP_FUZZ_CHECK(memcmp(&p, &before, sizeof p) == 0, "a failure wrote the output");
         TP_FUZZ_CHECK(memchr(msg, '\0', sizeof msg) && msg[0], "no message");
+    }
+    if (data[0] & 4) {
+        tp_position_readings r;
+        if (tp_position_parse_readings(text, len, allow_height, &r, msg, sizeof msg)) {
+            TP_FUZZ_CHECK(r.count == 1 || r.count == 2, "%d readings", r.count);
+            for (int k = 0; k < r.count; ++k)
+                TP_FUZZ_CHECK(isfinite(r.reading[k].lat_deg) &&
+                                  fabs(r.reading[k].lat_deg) <= 90.0 &&
+                                  fabs(r.reading[k].lon_deg) <= 180.0,
+                              "reading %d: %g %g", k, r.reading[k].lat_deg, r.reading[k].lon_deg);
+            TP_FUZZ_CHECK(r.count == 1 || (r.reading[0].northp && !r.reading[1].northp),
+                          "two readings of one hemisphere");
+        }
     }
     if (spaced && len < 64 && !memchr(text, '\0', len)) {
         char in[64], out[TP_POSITION_MGRS_SPACED_SIZE];
