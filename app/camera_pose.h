@@ -25,7 +25,8 @@ void tp_camera_default_extent(const double gt[6], int src_width, int src_height,
 
 /* --camera E,N,H,YAW,PITCH (geo = 0) or --camera-geo LAT,LON,H,YAW,PITCH (geo = 1) to a camera;
  * prints a one-line message naming cmd and returns 0 when the position has no render-grid
- * coordinates. */
+ * coordinates, or when --camera on a georeferenced grid got what looks like latitude and
+ * longitude (both within +-180: the message gives the --camera-geo to use). */
 int tp_camera_from_option(const tp_scene* sc, int geo, const double v[5], double fov_deg,
                           int width_px, int height_px, tp_camera* cam, const char* cmd);
 

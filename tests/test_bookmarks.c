@@ -249,13 +249,15 @@ TEST(view_unknown_bookmark_exits_1_listing_the_known)
     char file[1024], out[1024], err[4096];
     snprintf(file, sizeof file, "%s/hood.bookmarks", dir);
     write_text(file, "ridge --camera-geo 45.3,-121.7,4000,0,-30\nview 2 --camera-geo 45.4,-121.7,4000,180,-30\n");
-    const char* args[] = {"--bookmarks", file, "--bookmark", "summit", NULL};
+    char stats[1024];
+    snprintf(stats, sizeof stats, "%s/stats.json", dir);
+    const char* args[] = {"--bookmarks", file, "--bookmark", "summit", "--stats-json", stats, NULL};
     EXPECT_EQ_INT(1, view(args, out, sizeof out, err, sizeof err));
     EXPECT_CONTAINS(err, "no bookmark 'summit' in");
     EXPECT_CONTAINS(err, "(known: 'ridge', 'view 2')");
     /* a corrupted file: named with its line */
     write_text(file, "ridge --camera-geo 45.3,-121.7,4000,0,-30\nsummit --camera-geo 45.3,-121.7\n");
-    const char* args2[] = {"--bookmarks", file, "--bookmark", "ridge", NULL};
+    const char* args2[] = {"--bookmarks", file, "--bookmark", "ridge", "--stats-json", stats, NULL};
     EXPECT_EQ_INT(1, view(args2, out, sizeof out, err, sizeof err));
     char want[1100];
     snprintf(want, sizeof want, "%s:2: --camera-geo: expected five numbers", file);

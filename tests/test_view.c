@@ -1320,11 +1320,14 @@ TEST(missing_dem_exits_1)
     {
         args a;
         args_view(&a);
+        const char* dir = make_tmp_dir();
         args_add(&a, "--headless");
+        args_add(&a, "--stats-json");
+        args_add(&a, "%s/stats.json", dir);
         args_add(&a, "--size");
         args_add(&a, "64x36");
         args_add(&a, "/nonexistent-dir/no_such_dem.tif");
-        expect_failure(&a, make_tmp_dir(), 1, "no_such_dem.tif");
+        expect_failure(&a, dir, 1, "no_such_dem.tif");
     }
 #endif
 }
@@ -1584,6 +1587,8 @@ TEST(frame_without_terrain_says_so)
         args a;
         args_view(&a);
         args_add(&a, "--headless");
+        args_add(&a, "--stats-json");
+        args_add(&a, "%s/stats.json", dir);
         args_add(&a, "--size");
         args_add(&a, "64x36");
         args_add(&a, "--camera");
@@ -1600,6 +1605,8 @@ TEST(frame_without_terrain_says_so)
         fclose(f);
         args_view(&a);
         args_add(&a, "--headless");
+        args_add(&a, "--stats-json");
+        args_add(&a, "%s/stats.json", dir);
         args_add(&a, "--size");
         args_add(&a, "64x36");
         args_add(&a, "%s", asc);
@@ -2074,6 +2081,8 @@ TEST(dem_is_built_into_the_cache_once)
             run_result rr;
             args_view(&a);
             args_add(&a, "--headless");
+            args_add(&a, "--stats-json");
+            args_add(&a, "%s/stats.json", dir);
             args_add(&a, "--size");
             args_add(&a, "64x36");
             args_add(&a, "--cache-dir");
@@ -2113,6 +2122,8 @@ TEST(older_format_store_in_the_cache_is_rebuilt)
             run_result rr;
             args_view(&a);
             args_add(&a, "--headless");
+            args_add(&a, "--stats-json");
+            args_add(&a, "%s/stats.json", dir);
             args_add(&a, "--size");
             args_add(&a, "64x36");
             args_add(&a, "--cache-dir");

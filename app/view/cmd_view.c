@@ -451,6 +451,13 @@ static int parse_options(int argc, char** argv, view_options* o)
                         "--exaggeration\n");
         return TP_EXIT_USAGE;
     }
+    if (o->headless && !o->screenshot && !o->stats_json && !o->pick_count && !o->has_measure &&
+        !o->save_bookmark) {
+        fprintf(stderr, "terrapatch view: --headless draws offscreen and shows nothing: give "
+                        "--screenshot FILE.png (or --stats-json FILE, --pick X,Y) for what to "
+                        "keep (see 'terrapatch view --help')\n");
+        return TP_EXIT_USAGE;
+    }
     if (!o->sun_date != !o->sun_time) {
         fprintf(stderr, "terrapatch view: --sun-date and --sun-time go together: give both\n");
         return TP_EXIT_USAGE;
@@ -483,6 +490,25 @@ static void warn_if_empty(const tp_view_scene* v, const frame_result* fr)
         fprintf(stderr, "terrapatch view: warning: %s: the frame shows no terrain: the camera "
                         "looks away from the DEM (all %d %s culled; try without --camera)\n",
                 v->path, fr->core.culled_patches, fr->store ? "nodes" : "patches");
+}
+
+/* Says on stderr when a camera given on the command line (--camera, --camera-geo, --bookmark)
+ * is under the ground at its own position (its frame shows the terrain from below, or
+ * nothing); 1 when it did. */
+static int warn_if_below_ground(tp_view_scene* v, const tp_camera* cam, const view_options* o)
+{
+    if (!o->vs.has_camera && !o->bookmark)
+        return 0;
+    double x, y;
+    tp_view_scene_world_to_grid(v, cam->position[0], cam->position[1], &x, &y);
+    const double ground = tp_view_scene_ground_height(v, x, y) * o->render.exaggeration;
+    if (!(cam->position[2] < ground))
+        return 0; /* above it, or off the DEM or over a void (NaN) */
+    fprintf(stderr, "terrapatch view: warning: %s: the camera is below the ground: at %.1f m "
+                    "(E %.1f N %.1f), where the ground is %.1f m%s; raise its height\n",
+            v->path, cam->position[2], cam->position[0], cam->position[1], ground,
+            o->render.exaggeration != 1 ? " as drawn" : "");
+    return 1;
 }
 
 static int run_headless(tp_view_scene* v, tp_gl_context* ctx, tp_renderer* r,
@@ -533,7 +559,8 @@ static int run_headless(tp_view_scene* v, tp_gl_context* ctx, tp_renderer* r,
         tp_gl_context_end_frame(ctx);
     }
     tp_hud_destroy(hud);
-    warn_if_empty(v, &fr);
+    if (!warn_if_below_ground(v, cam, o))
+        warn_if_empty(v, &fr);
     if (o->screenshot && !tp_view_screenshot(ctx, o->screenshot))
         code = TP_EXIT_FAILURE;
     if (o->has_measure) {
