@@ -8,6 +8,7 @@
  */
 #include "cli.h"
 #include "json.h"
+#include "output_check.h"
 #include "planner_cli.h"
 
 #include "tp_core.h"
@@ -74,9 +75,12 @@ static void print_help(void)
           "example:\n"
           "  $ terrapatch profile N42E001.hgt --route coma_pedrosa.gpx --png profile.png\n"
           "\n"
+          "The files given (--json, --csv, --png) are written all or none: when one cannot be\n"
+          "(a full disk, gnuplot missing), none is, and older files stay as they were.\n"
+          "\n"
           "Exit status: 0 done; 1 the DEM or FILE cannot be read, FILE has no line (or no Nth),\n"
           "the route leaves the DEM or crosses a void (nothing is written then), an output\n"
-          "cannot be written; 2 usage error.\n",
+          "cannot be written (then none is); 2 usage error (a --png not .png included).\n",
           stdout);
 }
 
@@ -468,6 +472,9 @@ int tp_cli_profile(int argc, char** argv)
     profile_options o;
     int code = parse_options(argc, argv, &o);
     if (code >= 0)
+        return code;
+    if (o.png &&
+        (code = tp_cli_output_check("profile", "--png", o.png, TP_OUTPUT_PLOT)) != TP_EXIT_OK)
         return code;
     const char* outs[3] = {o.json, o.png, o.csv};
     if (!tp_planner_check_outputs(outs, 3))
