@@ -181,11 +181,19 @@ int tp_cli_viewshed(int argc, char** argv)
         tp_ground_destroy(g);
         return tp_planner_finish(TP_EXIT_FAILURE);
     }
+    /* the posts the sweep looked at: the disc of the radius (as tp_viewshed_compute), not the
+     * window's square */
+    const double r2 = o.radius_m > 0.0 ? o.radius_m * o.radius_m : INFINITY;
     size_t visible = 0, valid = 0;
-    for (size_t i = 0; i < n; ++i) {
-        visible += seen[i] == TP_VIEWSHED_VISIBLE;
-        valid += z[i] == z[i];
-    }
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            const double dx = (double)(x + x0 - ox) * gt[1], dy = (double)(y + y0 - oy) * gt[5];
+            const size_t i = (size_t)y * w + x;
+            if (dx * dx + dy * dy > r2)
+                continue;
+            visible += seen[i] == TP_VIEWSHED_VISIBLE;
+            valid += z[i] == z[i];
+        }
     double lat, lon;
     tp_ground_grid_latlon(g, ox, oy, &lat, &lon);
     printf("observer   %.6f %.6f on post (%d, %d), ground %.1f m, eye %.1f m\n", lat, lon, ox,
@@ -196,8 +204,8 @@ int tp_cli_viewshed(int argc, char** argv)
                o.radius_m);
     else
         printf("window     %dx%d posts: the whole grid (no radius)\n", w, h);
-    printf("seen       %zu of %zu posts with a height (%.1f%%)\n", visible, valid,
-           valid ? 100.0 * visible / valid : 0.0);
+    printf("seen       %zu of %zu posts with a height%s (%.1f%%)\n", visible, valid,
+           o.radius_m > 0.0 ? " within the radius" : "", valid ? 100.0 * visible / valid : 0.0);
     printf("time       %.1f ms reading the ground, %.1f ms for the viewshed\n",
            1e3 * (t1 - t0), 1e3 * (t2 - t1));
     fprintf(stderr, "terrapatch: wrote %s\n", o.out);

@@ -11,7 +11,7 @@
  *   - bad input: outside the DEM, in a void, an unwritable output: exit 1, nothing written;
  *     no gnuplot: a clear message, and none of the outputs written (all or none);
  *   - los says every file it wrote; viewshed writes the format its -o names (GDAL reads each
- *     back: driver, georeference, values).
+ *     back: driver, georeference, values), and counts the disc of its radius.
  */
 #define _POSIX_C_SOURCE 200809L
 
@@ -408,6 +408,38 @@ TEST(viewshed_geotiff_has_the_grid_georeference_and_the_core_values)
     tp_render_grid_destroy(g);
 }
 
+/* An observer who sees everything (an eye 20 km up) is told so: the disc of the radius is what
+ * is counted, every post of the window within the radius with a height, worked out here on the
+ * render grid, not the window's square (pi / 4 of which is the disc). */
+TEST(viewshed_counts_the_disc_of_its_radius)
+{
+    char path[1024], obs[64], out[256], err[4096], text[4096];
+    tp_render_grid* g = n42_grid(path, sizeof path);
+    const int ox = g->width / 2, oy = g->height / 2;
+    post_lat_lon(g, ox, oy, obs, sizeof obs);
+    snprintf(out, sizeof out, "%s/all.tif", tmp_dir());
+    const char* args[] = {path,   "--observer",        obs,     "-o", out, "--radius",
+                          "3000", "--observer-height", "20000", NULL};
+    ASSERT_EQ_INT(0,
+                  tp_test_run_terrapatch_out("viewshed", args, text, sizeof text, err, sizeof err));
+    const double* gt = g->geotransform;
+    size_t disc = 0;
+    for (int y = 0; y < g->height; ++y)
+        for (int x = 0; x < g->width; ++x) {
+            const double dx = (x - ox) * gt[1], dy = (y - oy) * gt[5];
+            const float z = g->heights[(size_t)y * g->width + x];
+            disc += dx * dx + dy * dy <= 3000.0 * 3000.0 && z == z;
+        }
+    tp_test_note("%zu posts with a height within 3 km: %s", disc, strstr(text, "seen"));
+    char want[160];
+    snprintf(want, sizeof want,
+             "seen       %zu of %zu posts with a height within the radius "
+             "(100.0%%)\n",
+             disc, disc);
+    EXPECT_CONTAINS(text, want);
+    tp_render_grid_destroy(g);
+}
+
 /* -o names the format: each raster format viewshed writes, read back by GDAL (its driver, the
  * render grid's georeference and CRS, the values of the GeoTIFF the same run writes); a JPEG is
  * refused (lossy) before any work, with the list of formats, and nothing is written. */
@@ -546,5 +578,6 @@ TEST(viewshed_bad_input_exits_1_and_writes_nothing)
     X(viewshed_geotiff_has_the_grid_georeference_and_the_core_values)                              \
     X(viewshed_bad_input_exits_1_and_writes_nothing)                                               \
     X(los_says_every_file_it_wrote)                                                                \
+    X(viewshed_counts_the_disc_of_its_radius)                                                      \
     X(viewshed_writes_the_format_its_extension_names)
 TP_TEST_MAIN(TESTS)
