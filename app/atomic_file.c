@@ -19,14 +19,17 @@ int tp_atomic_open(tp_atomic_file* a, const char* path)
     return a->f != NULL;
 }
 
-int tp_atomic_commit(tp_atomic_file* a)
+/* Closes the stream and hands what was printed to write (set NULL: tp_file_write, else
+ * tp_file_set_add to set); frees it. 1, or 0 after a line. */
+static int hand_over(tp_atomic_file* a, tp_file_set* set)
 {
     int ok = !ferror(a->f);
     ok &= fclose(a->f) == 0; /* sets buf and size */
     tp_error err;
     if (!ok) {
         fprintf(stderr, "terrapatch: %s: cannot write: out of memory\n", a->path);
-    } else if (tp_file_write(a->path, a->buf, a->size, &err) != TP_OK) {
+    } else if ((set ? tp_file_set_add(set, a->path, a->buf, a->size, &err)
+                    : tp_file_write(a->path, a->buf, a->size, &err)) != TP_OK) {
         if (!tp_interrupted()) /* else main says "interrupted" */
             fprintf(stderr, "terrapatch: %s\n", err.message);
         ok = 0;
@@ -34,6 +37,16 @@ int tp_atomic_commit(tp_atomic_file* a)
     free(a->buf);
     a->buf = NULL;
     return ok;
+}
+
+int tp_atomic_commit(tp_atomic_file* a)
+{
+    return hand_over(a, NULL);
+}
+
+int tp_atomic_add_to_set(tp_atomic_file* a, tp_file_set* set)
+{
+    return hand_over(a, set);
 }
 
 int tp_atomic_check_dir(const char* path)

@@ -6,6 +6,8 @@
 #ifndef TP_APP_ATOMIC_FILE_H
 #define TP_APP_ATOMIC_FILE_H
 
+#include "tp_io.h"
+
 #include <stddef.h>
 #include <stdio.h>
 
@@ -21,6 +23,11 @@ int tp_atomic_open(tp_atomic_file* a, const char* path);
 /* Writes what was printed as the file path (tp_file_write) and frees the stream; 0 after a
  * one-line message, with nothing left behind and an older file untouched. */
 int tp_atomic_commit(tp_atomic_file* a);
+
+/* Hands what was printed to set as the file path (tp_file_set_add: written to its temporary
+ * file, renamed with the rest of the set at its commit) and frees the stream; 0 after a
+ * one-line message (the set then fails: abort it). */
+int tp_atomic_add_to_set(tp_atomic_file* a, tp_file_set* set);
 
 /* Checks that path can be written (tp_output_check: its folder exists and is writable), before
  * a long run that ends by writing path; 0 after a one-line message naming path. */

@@ -47,7 +47,7 @@ static void print_help(void)
           "sample: 'terrapatch info STORE' counts them, the viewer tints them (V).\n"
           "\n"
           "options:\n"
-          "  -o, --output FILE   the store to write (written whole or not at all)\n"
+          "  -o, --output FILE   the store to write, NAME.tpt (written whole or not at all)\n"
           "  --patch N           node size: 17, 33, 65, 129 or 257 (default 65)\n"
           "  --crs CRS           the sources' CRS (EPSG:N, WKT, PROJ), overriding theirs\n"
           "  --resampling R      bilinear (default) or cubic, for warps\n"

@@ -17,6 +17,7 @@
 #include "cmd_imagery.h"
 #include "json.h"
 #include "memory.h"
+#include "output_check.h"
 #include "progress.h"
 
 #include "tp_core.h"
@@ -378,8 +379,8 @@ int tp_cli_build(int argc, char** argv)
         return rc;
     const double t0 = tp_progress_now_s();
     tp_error err = {0};
-    if (tp_output_check(o.out, &err) != TP_OK)
-        return fail_line(err.message);
+    if ((rc = tp_cli_output_check("build", "-o", o.out, TP_OUTPUT_STORE)) != TP_EXIT_OK)
+        return rc;
     for (int i = 0; i < o.source_count; i++)
         if (!strcmp(o.sources[i], o.out))
             return fprintf(stderr, "terrapatch: %s: the output would replace a source\n", o.out),

@@ -4,12 +4,13 @@
  * an --area in render-CRS metres, or a square --around a position) is read at its posts through
  * the ground module (the stored samples, as `point` and `viewshed` read them), GDAL's contour
  * generator draws the lines (tp_contours_generate) and tp_contours_write writes them in the
- * OGR format the output's extension names, in the render CRS, atomically.
+ * OGR format the output's extension names (output_check.h), in the render CRS, atomically.
  */
 #define _POSIX_C_SOURCE 200809L
 #include "cli.h"
 #include "ground_locate.h"
 #include "memory.h"
+#include "output_check.h"
 #include "planner_cli.h"
 
 #include "tp_core.h"
@@ -79,8 +80,8 @@ static void print_help(void)
           "  $ terrapatch contours N42E001.hgt --interval 20 -o contours.gpkg\n"
           "\n"
           "Exit status: 0 written; 1 the DEM cannot be read, the area or position is outside\n"
-          "it, the window is too big, OUT cannot be written or its extension names no OGR\n"
-          "format (nothing is left behind, an older OUT stays); 2 usage error.\n",
+          "it, the window is too big, OUT cannot be written (nothing is left behind, an older\n"
+          "OUT stays); 2 usage error (OUT's extension naming no OGR format included).\n",
           stdout);
 }
 
@@ -195,11 +196,9 @@ int tp_cli_contours(int argc, char** argv)
     tp_position_readings around;
     if (o.around && !tp_planner_position("contours", "--around", o.around, &around))
         return TP_EXIT_USAGE;
+    if ((code = tp_cli_output_check("contours", "-o", o.out, TP_OUTPUT_VECTOR)) != TP_EXIT_OK)
+        return code;
     tp_error err = {{0}};
-    if (tp_contours_check_output(o.out, &err) != TP_OK) {
-        fprintf(stderr, "terrapatch contours: %s\n", err.message);
-        return TP_EXIT_FAILURE;
-    }
     tp_ground* g = NULL;
     if ((code = tp_planner_ground_open("contours", o.path, o.cache_dir, &o.dem, &g)) != TP_EXIT_OK)
         return code;
@@ -287,8 +286,12 @@ int tp_cli_contours(int argc, char** argv)
         s = tp_contours_generate(z, n, w, h, wgt, o.interval_m, o.base_m, o.index_every, &f,
                                  &err);
     const double t2 = tp_planner_now_s();
+    tp_interrupt_hold(); /* a signal during the write is only recorded (tp_interrupt_finished) */
     if (s == TP_OK)
         s = tp_contours_write(o.out, f, sc->info.header.crs_wkt, &err);
+    if (s == TP_OK)
+        tp_interrupt_finished();
+    tp_interrupt_release();
     const double t3 = tp_planner_now_s();
     if (s != TP_OK) {
         if (!tp_interrupted())

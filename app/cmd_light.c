@@ -6,12 +6,14 @@
  * position at the window's centre comes from tp_sun.h (libnova), its azimuth turned from true
  * to grid north by the meridian convergence there; the core's tp_shadow_compute sweeps the
  * shadows (tp_shadow_illumination adds the slope's cosine for --values illumination); and
- * tp_byte_geotiff_write writes the result on the render grid's georeference, atomically.
+ * tp_byte_raster_write writes the result on the render grid's georeference in the format OUT's
+ * extension names (output_check.h), atomically.
  */
 #define _POSIX_C_SOURCE 200809L
 #include "cli.h"
 #include "cmd_light.h"
 #include "ground_locate.h"
+#include "output_check.h"
 #include "planner_cli.h"
 #include "sun_time.h"
 
@@ -34,7 +36,7 @@ static void print_help(void)
           "\n"
           "Where the sun shines on the ground of DEM (any raster GDAL reads, built into the\n"
           "store cache first as 'terrapatch view' does) or of a store (.tpt) at one moment, with\n"
-          "the shadows the terrain casts on itself: a one-band Byte GeoTIFF on the render grid\n"
+          "the shadows the terrain casts on itself: a one-band Byte raster on the render grid\n"
           "(the DEM's own grid, or a geographic DEM warped to the UTM/UPS zone of its centre),\n"
           "covering the whole grid or the window --radius reaches around --at.\n"
           "\n"
@@ -49,7 +51,10 @@ static void print_help(void)
           "                         the day of local mean solar time at the centre)\n"
           "  --time HH:MM[:SS][ZONE] the time (required); ZONE: Z, UTC, +HH:MM, -HHMM, +HH,\n"
           "                         after the time or one space; no zone: UTC\n"
-          "  -o, --output OUT.tif   the GeoTIFF to write (required)\n"
+          "  -o, --output OUT.tif   the raster to write (required), in the format its extension\n"
+          "                         names: .tif GeoTIFF, .png PNG (with a .wld world file and\n"
+          "                         the CRS in .png.aux.xml), .gpkg, .jp2 (lossless), .img,\n"
+          "                         .asc, .bmp\n"
           "  --values lit           255 in sunlight, 0 in shadow (default)\n"
           "  --values illumination  the direct sunlight, 255 * cos(incidence): 0 in shadow and on\n"
           "                         slopes facing away from the sun\n"
@@ -85,7 +90,8 @@ static void print_help(void)
           "\n"
           "Exit status: 0 written (also with the sun below the horizon: all 0); 1 the DEM cannot\n"
           "be read, has no CRS, --at is outside it or in a void, the output cannot be written\n"
-          "(nothing is left behind); 2 usage error.\n",
+          "(nothing is left behind); 2 usage error (OUT's extension naming no format written\n"
+          "included).\n",
           stdout);
 }
 
@@ -228,11 +234,9 @@ int tp_cli_light(int argc, char** argv)
     tp_position_readings at_pos;
     if (o.at && !tp_planner_position("light", "--at", o.at, &at_pos))
         return TP_EXIT_USAGE;
+    if ((code = tp_cli_output_check("light", "-o", o.out, TP_OUTPUT_BYTE_RASTER)) != TP_EXIT_OK)
+        return code;
     tp_error err = {{0}};
-    if (tp_output_check(o.out, &err) != TP_OK) {
-        fprintf(stderr, "terrapatch light: %s\n", err.message);
-        return TP_EXIT_FAILURE;
-    }
     tp_ground* g = NULL;
     if ((code = tp_planner_ground_open("light", o.path, o.cache_dir, &o.dem, &g)) != TP_EXIT_OK)
         return code;
@@ -300,12 +304,16 @@ int tp_cli_light(int argc, char** argv)
             out[i] = lit[i] ? 255 : 0;
     const double t2 = tp_planner_now_s();
     const double wgt[6] = {gt[0] + x0 * gt[1], gt[1], 0.0, gt[3] + y0 * gt[5], 0.0, gt[5]};
+    tp_interrupt_hold(); /* a signal during the write is only recorded (tp_interrupt_finished) */
     if (s == TP_OK)
-        s = tp_byte_geotiff_write(o.out, out, n, w, h, wgt, sc->info.header.crs_wkt,
-                                  o.illumination
-                                      ? "direct sunlight: 255 * cos(incidence), 0 in shadow"
-                                      : "sunlight: 255 lit, 0 in shadow or a void",
-                                  &err);
+        s = tp_byte_raster_write(o.out, out, n, w, h, wgt, sc->info.header.crs_wkt,
+                                 o.illumination
+                                     ? "direct sunlight: 255 * cos(incidence), 0 in shadow"
+                                     : "sunlight: 255 lit, 0 in shadow or a void",
+                                 &err);
+    if (s == TP_OK)
+        tp_interrupt_finished();
+    tp_interrupt_release();
     if (s != TP_OK) {
         if (!tp_interrupted())
             fprintf(stderr, "terrapatch light: %s: %s\n", o.path, err.message);

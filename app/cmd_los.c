@@ -7,6 +7,7 @@
 #include "cli.h"
 #include "ground_locate.h"
 #include "json.h"
+#include "output_check.h"
 #include "planner_cli.h"
 
 #include "tp_core.h"
@@ -70,9 +71,12 @@ static void print_help(void)
           "example:\n"
           "  $ terrapatch los N42E001.hgt --from 42.5,1.5 --to 42.6,1.6 --profile los.png\n"
           "\n"
+          "The files given (--json, --csv, --profile) are written all or none: when one cannot\n"
+          "be (a full disk, gnuplot missing), none is, and older files stay as they were.\n"
+          "\n"
           "Exit status: 0 done (seen or not); 1 the DEM cannot be read, a position is outside it\n"
-          "or in a void, an output cannot be written (the profile too: the rest is still\n"
-          "written); 2 usage error (a position that cannot be read included).\n",
+          "or in a void, an output cannot be written (then none is); 2 usage error (a position\n"
+          "that cannot be read, a --profile not .png included).\n",
           stdout);
 }
 
@@ -327,6 +331,9 @@ int tp_cli_los(int argc, char** argv)
     if (!tp_planner_position("los", "--from", o.from, &from) ||
         !tp_planner_position("los", "--to", o.to, &to))
         return TP_EXIT_USAGE;
+    if (o.profile &&
+        (code = tp_cli_output_check("los", "--profile", o.profile, TP_OUTPUT_PLOT)) != TP_EXIT_OK)
+        return code;
     const char* outs[3] = {o.json, o.profile, o.csv};
     if (!tp_planner_check_outputs(outs, 3))
         return TP_EXIT_FAILURE;

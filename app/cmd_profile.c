@@ -8,6 +8,7 @@
  */
 #include "cli.h"
 #include "json.h"
+#include "output_check.h"
 #include "planner_cli.h"
 
 #include "tp_core.h"
@@ -77,9 +78,12 @@ static void print_help(void)
           "example:\n"
           "  $ terrapatch profile N42E001.hgt --route coma_pedrosa.gpx --png profile.png\n"
           "\n"
+          "The files given (--json, --csv, --png) are written all or none: when one cannot be\n"
+          "(a full disk, gnuplot missing), none is, and older files stay as they were.\n"
+          "\n"
           "Exit status: 0 done; 1 the DEM or FILE cannot be read, FILE has no line (or no Nth),\n"
           "the route leaves the DEM or crosses a void (nothing is written then), an output\n"
-          "cannot be written; 2 usage error.\n",
+          "cannot be written (then none is); 2 usage error (a --png not .png included).\n",
           stdout);
 }
 
@@ -151,6 +155,63 @@ typedef struct profile_report {
     double steep_grade_pct;  /* signed: + uphill in the direction of travel */
 } profile_report;
 
+/* WGS 84 as tp_vector_read takes a CRS (WKT; longitude first, as it reads every CRS). */
+#define WGS84_WKT                                                                                  \
+    "GEOGCS[\"WGS 84\",DATUM[\"WGS_1984\",SPHEROID[\"WGS 84\",6378137,298.257223563]],"            \
+    "PRIMEM[\"Greenwich\",0],UNIT[\"degree\",0.0174532925199433]]"
+
+/* Where sample q is, for messages: "LAT LON; render CRS E .. N .." (without the latitude and
+ * longitude where they cannot be had: far outside the render CRS's zone). */
+static void describe_place(const profile_sample* q, char* out, size_t cap)
+{
+    if (isfinite(q->lat) && isfinite(q->lon))
+        snprintf(out, cap, "%.6f %.6f; render CRS E %.1f N %.1f", q->lat, q->lon, q->e_m, q->n_m);
+    else
+        snprintf(out, cap, "render CRS E %.1f N %.1f", q->e_m, q->n_m);
+}
+
+/* The message for a route whose sample q is off the DEM (the first one when first). */
+static void report_outside(tp_ground* g, const profile_report* p, const profile_sample* q,
+                           int first)
+{
+    const tp_store_scene* sc = tp_ground_scene(g);
+    const double* gt = sc->info.header.geotransform;
+    const int w = sc->info.header.geometry.src_width, h = sc->info.header.geometry.src_height;
+    char where[200];
+    describe_place(q, where, sizeof where);
+    tp_features* wgs84 = NULL;
+    if (first && !(isfinite(q->lat) && isfinite(q->lon)) &&
+        tp_vector_read(p->o->route, WGS84_WKT, &wgs84, NULL) == TP_OK &&
+        wgs84->count == p->f->count) {
+        /* too far from the render CRS's zone to go back: the route's own latitude/longitude */
+        const double* ll = wgs84->xy + 2 * wgs84->items[p->line - p->f->items].first;
+        snprintf(where, sizeof where, "%.6f %.6f; render CRS E %.1f N %.1f", ll[1], ll[0], q->e_m,
+                 q->n_m);
+    }
+    tp_features_destroy(wgs84);
+    if (!first) {
+        fprintf(stderr,
+                "terrapatch profile: %s: the route (%s) leaves the DEM at %.1f m along it "
+                "(%s): nothing written\n",
+                p->o->path, p->o->route, q->d_m, where);
+        return;
+    }
+    /* does any vertex lie on the DEM? */
+    const double* v = p->f->xy + 2 * p->line->first;
+    int inside = 0;
+    for (size_t i = 0; i < p->line->count && !inside; ++i) {
+        double x, y;
+        tp_tree_world_to_grid(sc->tree, v[2 * i], v[2 * i + 1], &x, &y);
+        inside = x >= 0.0 && y >= 0.0 && x <= w - 1.0 && y <= h - 1.0;
+    }
+    fprintf(stderr,
+            "terrapatch profile: %s: the route (%s) %s the DEM: its start is at %s, and the "
+            "DEM covers E %.1f .. %.1f, N %.1f .. %.1f (render CRS): nothing written\n",
+            p->o->path, p->o->route, inside ? "starts outside" : "lies outside", where,
+            gt[0] + 0.5 * gt[1], gt[0] + (w - 0.5) * gt[1], gt[3] + (h - 0.5) * gt[5],
+            gt[3] + 0.5 * gt[5]);
+}
+
 /* Samples the line on the ground. 1, or 0 after one line naming the file and where. */
 static int sample_route(tp_ground* g, profile_report* p)
 {
@@ -198,10 +259,7 @@ static int sample_route(tp_ground* g, profile_report* p)
             tp_error err = {{0}};
             tp_status st = tp_ground_height(g, x, y, &q->h_m, &err);
             if (st == TP_ERR_INVALID_ARG) {
-                fprintf(stderr,
-                        "terrapatch profile: %s: the route (%s) leaves the DEM at %.1f m along "
-                        "it (%.6f %.6f; render CRS E %.1f N %.1f): nothing written\n",
-                        p->o->path, p->o->route, q->d_m, q->lat, q->lon, q->e_m, q->n_m);
+                report_outside(g, p, q, k == 1);
                 return 0;
             }
             if (st != TP_OK) {
@@ -369,10 +427,11 @@ static void write_text(FILE* f, void* report)
     if (p->steep) {
         const profile_sample* a = &s[p->steep - 1];
         const profile_sample* b = &s[p->steep];
-        fprintf(f, "steepest    %+.1f %% (%s) from %.1f m to %.1f m (%.1f m to %.1f m; %.6f "
-                   "%.6f)\n",
-                p->steep_grade_pct, p->steep_grade_pct >= 0 ? "up" : "down", a->d_m, b->d_m,
-                a->h_m, b->h_m, a->lat, a->lon);
+        fprintf(f,
+                "steepest    %+.1f %% (%s) between %.1f m and %.1f m along the route, "
+                "elevation %.1f m to %.1f m, from %.6f %.6f\n",
+                p->steep_grade_pct, p->steep_grade_pct >= 0 ? "up" : "down", a->d_m, b->d_m, a->h_m,
+                b->h_m, a->lat, a->lon);
     }
 }
 
@@ -474,6 +533,9 @@ int tp_cli_profile(int argc, char** argv)
     profile_options o;
     int code = parse_options(argc, argv, &o);
     if (code >= 0)
+        return code;
+    if (o.png &&
+        (code = tp_cli_output_check("profile", "--png", o.png, TP_OUTPUT_PLOT)) != TP_EXIT_OK)
         return code;
     const char* outs[3] = {o.json, o.png, o.csv};
     if (!tp_planner_check_outputs(outs, 3))

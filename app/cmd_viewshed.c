@@ -3,12 +3,13 @@
  * the render grid an observer sees (issue 13, section 3). The window of the render grid the
  * radius reaches (the whole grid without a radius, as gdal_viewshed's default -md 0) is read
  * at its posts through the ground module (the stored samples, as `point` reads them), the core's
- * tp_viewshed_compute sweeps it, and tp_viewshed_write_geotiff writes it on the render grid's
- * georeference, atomically.
+ * tp_viewshed_compute sweeps it, and tp_viewshed_write writes it on the render grid's
+ * georeference in the format OUT's extension names (output_check.h), atomically.
  */
 #define _POSIX_C_SOURCE 200809L
 #include "cli.h"
 #include "ground_locate.h"
+#include "output_check.h"
 #include "planner_cli.h"
 
 #include "tp_core.h"
@@ -36,7 +37,7 @@ static void print_help(void)
           "\n"
           "What an observer at POS sees of the ground of DEM (any raster GDAL reads, built into\n"
           "the store cache first as 'terrapatch view' does) or of a store (.tpt): a one-band Byte\n"
-          "GeoTIFF on the render grid (the DEM's own grid, or a geographic DEM warped to the\n"
+          "raster on the render grid (the DEM's own grid, or a geographic DEM warped to the\n"
           "UTM/UPS zone of its centre), 255 where a target on the ground is seen, 0 where it is\n"
           "not, 0 beyond the radius (gdal_viewshed's values). It covers the window of the grid\n"
           "the radius reaches around the observer (the whole grid without --radius, as\n"
@@ -50,7 +51,10 @@ static void print_help(void)
           "options:\n"
           "  --observer POS         where the observer stands (required; any form 'terrapatch\n"
           "                         coord' reads, one argument: quote it when it has spaces)\n"
-          "  -o, --output OUT.tif   the GeoTIFF to write (required)\n"
+          "  -o, --output OUT.tif   the raster to write (required), in the format its extension\n"
+          "                         names: .tif GeoTIFF, .png PNG (with a .wld world file and\n"
+          "                         the CRS in .png.aux.xml), .gpkg, .jp2 (lossless), .img,\n"
+          "                         .asc, .bmp\n"
           "  --observer-height M    eye above the ground (default 2)\n"
           "  --target-height M      target above the ground (default 0)\n"
           "  --radius M             how far to look, metres (default 0: the whole grid)\n"
@@ -64,7 +68,8 @@ static void print_help(void)
           "  $ terrapatch viewshed N42E001.hgt --observer 42.5,1.5 --radius 20000 -o seen.tif\n"
           "\n"
           "Exit status: 0 written; 1 the DEM cannot be read, the observer is outside it or in a\n"
-          "void, OUT.tif cannot be written (nothing is left behind); 2 usage error.\n",
+          "void, OUT.tif cannot be written (nothing is left behind); 2 usage error (OUT's\n"
+          "extension naming no format written included).\n",
           stdout);
 }
 
@@ -119,11 +124,9 @@ int tp_cli_viewshed(int argc, char** argv)
     tp_position_readings pos;
     if (!tp_planner_position("viewshed", "--observer", o.observer, &pos))
         return TP_EXIT_USAGE;
+    if ((code = tp_cli_output_check("viewshed", "-o", o.out, TP_OUTPUT_BYTE_RASTER)) != TP_EXIT_OK)
+        return code;
     tp_error err = {{0}};
-    if (tp_output_check(o.out, &err) != TP_OK) {
-        fprintf(stderr, "terrapatch viewshed: %s\n", err.message);
-        return TP_EXIT_FAILURE;
-    }
     tp_ground* g = NULL;
     if ((code = tp_planner_ground_open("viewshed", o.path, o.cache_dir, &o.dem, &g)) != TP_EXIT_OK)
         return code;
@@ -169,8 +172,12 @@ int tp_cli_viewshed(int argc, char** argv)
     if (s == TP_OK)
         s = tp_viewshed_compute(z, n, w, h, wgt, ox - x0, oy - y0, &vo, seen, n, &err);
     const double t2 = tp_planner_now_s();
+    tp_interrupt_hold(); /* a signal during the write is only recorded (tp_interrupt_finished) */
     if (s == TP_OK)
-        s = tp_viewshed_write_geotiff(o.out, seen, n, w, h, wgt, sc->info.header.crs_wkt, &err);
+        s = tp_viewshed_write(o.out, seen, n, w, h, wgt, sc->info.header.crs_wkt, &err);
+    if (s == TP_OK)
+        tp_interrupt_finished();
+    tp_interrupt_release();
     if (s != TP_OK) {
         if (!tp_interrupted())
             fprintf(stderr, "terrapatch viewshed: %s: %s\n", o.path, err.message);
@@ -179,11 +186,19 @@ int tp_cli_viewshed(int argc, char** argv)
         tp_ground_destroy(g);
         return tp_planner_finish(TP_EXIT_FAILURE);
     }
+    /* the posts the sweep looked at: the disc of the radius (as tp_viewshed_compute), not the
+     * window's square */
+    const double r2 = o.radius_m > 0.0 ? o.radius_m * o.radius_m : INFINITY;
     size_t visible = 0, valid = 0;
-    for (size_t i = 0; i < n; ++i) {
-        visible += seen[i] == TP_VIEWSHED_VISIBLE;
-        valid += z[i] == z[i];
-    }
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            const double dx = (double)(x + x0 - ox) * gt[1], dy = (double)(y + y0 - oy) * gt[5];
+            const size_t i = (size_t)y * w + x;
+            if (dx * dx + dy * dy > r2)
+                continue;
+            visible += seen[i] == TP_VIEWSHED_VISIBLE;
+            valid += z[i] == z[i];
+        }
     double lat, lon;
     tp_ground_grid_latlon(g, ox, oy, &lat, &lon);
     printf("observer   %.6f %.6f on post (%d, %d), ground %.1f m, eye %.1f m\n", lat, lon, ox,
@@ -194,8 +209,8 @@ int tp_cli_viewshed(int argc, char** argv)
                o.radius_m);
     else
         printf("window     %dx%d posts: the whole grid (no radius)\n", w, h);
-    printf("seen       %zu of %zu posts with a height (%.1f%%)\n", visible, valid,
-           valid ? 100.0 * visible / valid : 0.0);
+    printf("seen       %zu of %zu posts with a height%s (%.1f%%)\n", visible, valid,
+           o.radius_m > 0.0 ? " within the radius" : "", valid ? 100.0 * visible / valid : 0.0);
     printf("time       %.1f ms reading the ground, %.1f ms for the viewshed\n",
            1e3 * (t1 - t0), 1e3 * (t2 - t1));
     fprintf(stderr, "terrapatch: wrote %s\n", o.out);

@@ -92,8 +92,9 @@ static unsigned char* read_all(const char* path, size_t* size)
     return buf;
 }
 
-int tp_gnuplot_png(const char* png, int width_px, int height_px, tp_gnuplot_script_fn write,
-                   void* user, const char* cmd)
+unsigned char* tp_gnuplot_draw(const char* png, int width_px, int height_px,
+                               tp_gnuplot_script_fn write, void* user, const char* cmd,
+                               size_t* size)
 {
     char dir[4200], tmp_png[4300], script[4300];
     snprintf(dir, sizeof dir, "%s.tmpXXXXXX", png);
@@ -102,7 +103,7 @@ int tp_gnuplot_png(const char* png, int width_px, int height_px, tp_gnuplot_scri
         fprintf(stderr, "terrapatch %s: %s: cannot write the plot: %s\n", cmd, png,
                 strerror(errno));
         tp_interrupt_release();
-        return 0;
+        return NULL;
     }
     snprintf(tmp_png, sizeof tmp_png, "%s/plot.png", dir);
     snprintf(script, sizeof script, "%s/plot.gp", dir);
@@ -126,17 +127,23 @@ int tp_gnuplot_png(const char* png, int width_px, int height_px, tp_gnuplot_scri
             ok = !tp_interrupted() && run_gnuplot(script, png, cmd);
         }
     }
-    size_t size = 0;
-    unsigned char* bytes = ok && !tp_interrupted() ? read_all(tmp_png, &size) : NULL;
-    if (ok && !bytes && !tp_interrupted()) {
+    unsigned char* bytes = ok && !tp_interrupted() ? read_all(tmp_png, size) : NULL;
+    if (ok && !bytes && !tp_interrupted())
         fprintf(stderr, "terrapatch %s: %s: gnuplot wrote no plot\n", cmd, png);
-        ok = 0;
-    }
     remove(script);
     remove(tmp_png);
     rmdir(dir);
     tp_interrupt_release();
-    if (ok && bytes) {
+    return bytes;
+}
+
+int tp_gnuplot_png(const char* png, int width_px, int height_px, tp_gnuplot_script_fn write,
+                   void* user, const char* cmd)
+{
+    size_t size = 0;
+    unsigned char* bytes = tp_gnuplot_draw(png, width_px, height_px, write, user, cmd, &size);
+    int ok = bytes != NULL;
+    if (ok) {
         tp_error err;
         if (tp_file_write(png, bytes, size, &err) != TP_OK) {
             if (!tp_interrupted())
@@ -144,7 +151,6 @@ int tp_gnuplot_png(const char* png, int width_px, int height_px, tp_gnuplot_scri
             ok = 0;
         }
     }
-    ok = ok && bytes;
     free(bytes);
     if (ok)
         fprintf(stderr, "terrapatch: wrote %s\n", png);

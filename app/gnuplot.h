@@ -7,6 +7,7 @@
 #ifndef TP_APP_GNUPLOT_H
 #define TP_APP_GNUPLOT_H
 
+#include <stddef.h>
 #include <stdio.h>
 
 /* Writes the script's body (after the terminal and output lines, which we write) to f. */
@@ -18,6 +19,13 @@ typedef void (*tp_gnuplot_script_fn)(FILE* f, void* user);
  * it was. cmd names the command in messages. */
 int tp_gnuplot_png(const char* png, int width_px, int height_px, tp_gnuplot_script_fn write,
                    void* user, const char* cmd);
+
+/* What tp_gnuplot_png draws, in memory: the PNG's bytes (malloc'd, *size of them; free them),
+ * nothing written at png (named in messages only). NULL after tp_gnuplot_png's line, or after
+ * SIGINT/SIGTERM (no line: the caller says "interrupted"). */
+unsigned char* tp_gnuplot_draw(const char* png, int width_px, int height_px,
+                               tp_gnuplot_script_fn write, void* user, const char* cmd,
+                               size_t* size);
 
 /* s as a gnuplot single-quoted string (quotes doubled, newlines dropped). */
 void tp_gnuplot_quoted(FILE* f, const char* s);

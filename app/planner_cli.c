@@ -323,31 +323,79 @@ double tp_planner_now_s(void)
     return ts.tv_sec + 1e-9 * ts.tv_nsec;
 }
 
-/* One file written atomically by write; 1, or 0 after the writer's message. */
-static int write_file(const char* path, tp_planner_write_fn write, void* report)
+/* What write prints, added to set as path; 1, or 0 after the writer's message. */
+static int add_printed(tp_file_set* set, const char* path, tp_planner_write_fn write, void* report)
 {
     tp_atomic_file af;
     if (!tp_atomic_open(&af, path))
         return 0;
     write(af.f, report);
-    return tp_atomic_commit(&af);
+    return tp_atomic_add_to_set(&af, set);
+}
+
+/* The gnuplot PNG added to set as png; 1, or 0 after a line. */
+static int add_plot(tp_file_set* set, const char* cmd, const tp_planner_outputs* o, void* report)
+{
+    size_t size = 0;
+    unsigned char* bytes = tp_gnuplot_draw(o->png, o->png_width_px, o->png_height_px, o->write_plot,
+                                           report, cmd, &size);
+    tp_error err;
+    int ok = bytes && tp_file_set_add(set, o->png, bytes, size, &err) == TP_OK;
+    if (bytes && !ok && !tp_interrupted())
+        fprintf(stderr, "terrapatch %s: %s\n", cmd, err.message);
+    free(bytes);
+    return ok;
 }
 
 int tp_planner_write_outputs(const char* cmd, const tp_planner_outputs* o, void* report)
 {
     const int json_stdout = o->json && !strcmp(o->json, "-");
-    int ok = 1;
     if (json_stdout)
         o->write_json(stdout, report);
     else
         o->write_text(stdout, report);
+    const char* files[3];
+    int count = 0;
     if (o->json && !json_stdout)
-        ok &= write_file(o->json, o->write_json, report);
+        files[count++] = o->json;
     if (o->csv)
-        ok &= write_file(o->csv, o->write_csv, report);
+        files[count++] = o->csv;
     if (o->png)
-        ok &= tp_gnuplot_png(o->png, o->png_width_px, o->png_height_px, o->write_plot, report,
-                             cmd);
+        files[count++] = o->png;
+    if (!count)
+        return 1;
+    /* every file to its temporary first, then all renamed or none (tp_file_set_*); held until
+     * tp_interrupt_finished, so a signal after the renames cannot undo the "wrote" lines */
+    tp_interrupt_hold();
+    tp_file_set* set = NULL;
+    tp_error err;
+    int ok = tp_file_set_begin(&set, &err) == TP_OK;
+    if (!ok)
+        fprintf(stderr, "terrapatch %s: %s\n", cmd, err.message);
+    if (ok && o->json && !json_stdout)
+        ok = add_printed(set, o->json, o->write_json, report);
+    if (ok && o->csv)
+        ok = add_printed(set, o->csv, o->write_csv, report);
+    if (ok && o->png)
+        ok = add_plot(set, cmd, o, report);
+    if (ok) {
+        ok = tp_file_set_commit(set, &err) == TP_OK;
+        if (!ok && !tp_interrupted())
+            fprintf(stderr, "terrapatch %s: %s\n", cmd, err.message);
+    } else {
+        tp_file_set_abort(set);
+    }
+    if (ok) {
+        tp_interrupt_finished();
+        for (int i = 0; i < count; ++i)
+            fprintf(stderr, "terrapatch: wrote %s\n", files[i]);
+    } else if (count > 1 && !tp_interrupted()) {
+        fprintf(stderr, "terrapatch %s: none of ", cmd);
+        for (int i = 0; i < count; ++i)
+            fprintf(stderr, "%s%s", i ? ", " : "", files[i]);
+        fputs(" written (all or none: older files as they were)\n", stderr);
+    }
+    tp_interrupt_release();
     return ok;
 }
 

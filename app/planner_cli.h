@@ -152,8 +152,11 @@ typedef struct tp_planner_outputs {
 } tp_planner_outputs;
 
 /* Prints the text (the JSON for json "-") on stdout, then writes the JSON file, the CSV file
- * (each through atomic_file.h) and the PNG (tp_gnuplot_png) that o names. 1 when all were
- * written; 0 after a line for each that was not (the others are still written). */
+ * (each printed through atomic_file.h) and the PNG (tp_gnuplot_draw) that o names, all or
+ * none (tp_file_set_* in tp_io.h): 1 when all were written, after "terrapatch: wrote PATH" on
+ * stderr for each, with SIGINT/SIGTERM ignored from then on (tp_interrupt_finished: the command
+ * ends with its outputs written); 0 after a line saying what failed and that nothing was
+ * written (every older file as it was). */
 int tp_planner_write_outputs(const char* cmd, const tp_planner_outputs* o, void* report);
 
 /* The exit after the work: after SIGINT/SIGTERM tp_cli_interrupted(); else code, stdout

@@ -718,14 +718,16 @@ TEST(cli_bad_input)
     const char* neg[] = {dem_path, "--interval", "-10", "-o", path, NULL};
     EXPECT_EQ_INT(2, run_contours(neg, out, sizeof out, errs, sizeof errs));
     EXPECT_TRUE(access(path, F_OK) != 0);
-    /* an unknown extension: exit 1, the older file of that name intact */
+    /* an unknown extension: a usage error listing what is written, the older file of that
+     * name intact */
     snprintf(path, sizeof path, "%s/old.xyz", tmp_dir());
     FILE* o = fopen(path, "w");
     fputs("older", o);
     fclose(o);
     const char* ext[] = {dem_path, "--interval", "20", "-o", path, NULL};
-    EXPECT_EQ_INT(1, run_contours(ext, out, sizeof out, errs, sizeof errs));
+    EXPECT_EQ_INT(2, run_contours(ext, out, sizeof out, errs, sizeof errs));
     EXPECT_CONTAINS(errs, "old.xyz: unknown extension '.xyz'");
+    EXPECT_CONTAINS(errs, "contours writes GeoPackage (.gpkg), Shapefile (.shp)");
     EXPECT_EQ_INT(5, (long long)file_size(path));
     /* an unwritable place */
     const char* dir[] = {dem_path, "--interval", "20", "-o", "/nonexistent/dir/c.gpkg", NULL};

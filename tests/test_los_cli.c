@@ -9,7 +9,9 @@
  *   - viewshed: the GeoTIFF opened with GDAL has the render grid's georeference and agrees with
  *     tp_viewshed_compute run here on the same window;
  *   - bad input: outside the DEM, in a void, an unwritable output: exit 1, nothing written;
- *     no gnuplot: a clear message, the JSON still written.
+ *     no gnuplot: a clear message, and none of the outputs written (all or none);
+ *   - los says every file it wrote; viewshed writes the format its -o names (GDAL reads each
+ *     back: driver, georeference, values), and counts the disc of its radius.
  */
 #define _POSIX_C_SOURCE 200809L
 
@@ -145,8 +147,8 @@ TEST(ridge_pairs_worked_out_by_hand)
     EXPECT_NEAR(tp_test_json_number_after(json, "\"obstruction\"", "blocking_m"), 1010.0 - line, 1e-3);
 }
 
-/* The profile: CSV rows and a PNG from gnuplot; without gnuplot a clear message, exit 1, the
- * JSON and CSV still written. */
+/* The profile: CSV rows and a PNG from gnuplot; without gnuplot a clear message, exit 1, and
+ * neither the JSON nor the CSV written (all or none: an older CSV as it was). */
 TEST(profile_csv_and_png)
 {
     char dem[256], from[64], to[64], json[8192], err[4096], csv[256], png[256];
@@ -175,6 +177,10 @@ TEST(profile_csv_and_png)
     EXPECT_TRUE(!memcmp(sig, "\x89PNG\r\n\x1a\n", 8));
 
     remove(png);
+    FILE* old = fopen(csv, "w");
+    ASSERT_TRUE(old != NULL);
+    fputs("older\n", old);
+    fclose(old);
     const char* path = getenv("PATH");
     char saved[4096];
     snprintf(saved, sizeof saved, "%s", path ? path : "/usr/bin:/bin");
@@ -184,8 +190,34 @@ TEST(profile_csv_and_png)
     EXPECT_EQ_INT(1, rc);
     EXPECT_CONTAINS(err, "cannot run gnuplot");
     EXPECT_CONTAINS(err, "p.png");
-    EXPECT_CONTAINS(json, "\"visible\": false");
+    /* all or none: neither the JSON nor the CSV without the plot, the older CSV as it was */
+    EXPECT_CONTAINS(err, "written (all or none");
+    EXPECT_EQ_INT(0, (int)strlen(json));
     EXPECT_TRUE(access(png, F_OK) != 0);
+    tp_test_read_text(csv, text, sizeof text);
+    EXPECT_EQ_STR("older\n", text);
+}
+
+/* Every file los writes is named on stderr, once: the JSON and CSV as well as the plot. */
+TEST(los_says_every_file_it_wrote)
+{
+    char dem[256], from[64], to[64], json[8192], err[4096], csv[256], png[256], line[400];
+    snprintf(dem, sizeof dem, "%s/ridge.tif", tmp_dir());
+    write_ridge(dem);
+    ridge_post(10, 10, from, sizeof from);
+    ridge_post(90, 10, to, sizeof to);
+    snprintf(csv, sizeof csv, "%s/w.csv", tmp_dir());
+    snprintf(png, sizeof png, "%s/w.png", tmp_dir());
+    const char* extra[] = {"--csv", csv, "--profile", png, NULL};
+    ASSERT_EQ_INT(0, run_los(dem, from, to, extra, json, sizeof json, err, sizeof err));
+    const char* files[] = {"los.json", "w.csv", "w.png"};
+    for (int i = 0; i < 3; ++i) {
+        snprintf(line, sizeof line, "terrapatch: wrote %s/%s\n", tmp_dir(), files[i]);
+        EXPECT_CONTAINS(err, line);
+        EXPECT_TRUE(!strstr(err, line) || !strstr(strstr(err, line) + strlen(line), line));
+        snprintf(line, sizeof line, "%s/%s", tmp_dir(), files[i]);
+        EXPECT_EQ_INT(0, access(line, F_OK));
+    }
 }
 
 /* ---- real ground ---- */
@@ -376,6 +408,117 @@ TEST(viewshed_geotiff_has_the_grid_georeference_and_the_core_values)
     tp_render_grid_destroy(g);
 }
 
+/* An observer who sees everything (an eye 20 km up) is told so: the disc of the radius is what
+ * is counted, every post of the window within the radius with a height, worked out here on the
+ * render grid, not the window's square (pi / 4 of which is the disc). */
+TEST(viewshed_counts_the_disc_of_its_radius)
+{
+    char path[1024], obs[64], out[256], err[4096], text[4096];
+    tp_render_grid* g = n42_grid(path, sizeof path);
+    const int ox = g->width / 2, oy = g->height / 2;
+    post_lat_lon(g, ox, oy, obs, sizeof obs);
+    snprintf(out, sizeof out, "%s/all.tif", tmp_dir());
+    const char* args[] = {path,   "--observer",        obs,     "-o", out, "--radius",
+                          "3000", "--observer-height", "20000", NULL};
+    ASSERT_EQ_INT(0,
+                  tp_test_run_terrapatch_out("viewshed", args, text, sizeof text, err, sizeof err));
+    const double* gt = g->geotransform;
+    size_t disc = 0;
+    for (int y = 0; y < g->height; ++y)
+        for (int x = 0; x < g->width; ++x) {
+            const double dx = (x - ox) * gt[1], dy = (y - oy) * gt[5];
+            const float z = g->heights[(size_t)y * g->width + x];
+            disc += dx * dx + dy * dy <= 3000.0 * 3000.0 && z == z;
+        }
+    tp_test_note("%zu posts with a height within 3 km: %s", disc, strstr(text, "seen"));
+    char want[160];
+    snprintf(want, sizeof want,
+             "seen       %zu of %zu posts with a height within the radius "
+             "(100.0%%)\n",
+             disc, disc);
+    EXPECT_CONTAINS(text, want);
+    tp_render_grid_destroy(g);
+}
+
+/* -o names the format: each raster format viewshed writes, read back by GDAL (its driver, the
+ * render grid's georeference and CRS, the values of the GeoTIFF the same run writes); a JPEG is
+ * refused (lossy) before any work, with the list of formats, and nothing is written. */
+TEST(viewshed_writes_the_format_its_extension_names)
+{
+    char path[1024], obs[64], out[256], err[4096];
+    tp_render_grid* g = n42_grid(path, sizeof path);
+    const int ox = g->width / 3, oy = g->height / 2;
+    post_lat_lon(g, ox, oy, obs, sizeof obs);
+    const char* extra[] = {"--radius", "4000", NULL};
+    snprintf(out, sizeof out, "%s/fmt.tif", tmp_dir());
+    ASSERT_EQ_INT(0, run_viewshed(path, obs, out, extra, err, sizeof err));
+    GDALAllRegister();
+    GDALDatasetH ref = GDALOpen(out, GA_ReadOnly);
+    ASSERT_TRUE(ref != NULL);
+    const int w = GDALGetRasterXSize(ref), h = GDALGetRasterYSize(ref);
+    double ref_gt[6];
+    ASSERT_TRUE(GDALGetGeoTransform(ref, ref_gt) == CE_None);
+    EXPECT_NEAR(g->geotransform[1], ref_gt[1], 1e-9);
+    uint8_t* want = malloc((size_t)w * h);
+    uint8_t* got = malloc((size_t)w * h);
+    ASSERT_TRUE(GDALRasterIO(GDALGetRasterBand(ref, 1), GF_Read, 0, 0, w, h, want, w, h, GDT_Byte,
+                             0, 0) == CE_None);
+    GDALClose(ref);
+    size_t seen = 0;
+    for (size_t i = 0; i < (size_t)w * h; ++i)
+        seen += want[i] == 255;
+    EXPECT_GT(seen, 100);
+
+    static const struct {
+        const char* name;
+        const char* driver;
+    } formats[] = {{"fmt.png", "PNG"},         {"FMT.PNG", "PNG"},   {"fmt.gpkg", "GPKG"},
+                   {"fmt.jp2", "JP2OpenJPEG"}, {"fmt.img", "HFA"},   {"fmt.asc", "AAIGrid"},
+                   {"fmt.bmp", "BMP"},         {"fmt.tiff", "GTiff"}};
+    OGRSpatialReferenceH grid_srs = OSRNewSpatialReference(g->crs_wkt);
+    for (size_t k = 0; k < sizeof formats / sizeof formats[0]; ++k) {
+        snprintf(out, sizeof out, "%s/%s", tmp_dir(), formats[k].name);
+        if (!GDALGetDriverByName(formats[k].driver)) {
+            tp_test_note("GDAL has no %s driver here: %s not tried", formats[k].driver,
+                         formats[k].name);
+            continue;
+        }
+        EXPECT_EQ_INT(0, run_viewshed(path, obs, out, extra, err, sizeof err));
+        GDALDatasetH ds = GDALOpen(out, GA_ReadOnly);
+        ASSERT_TRUE(ds != NULL);
+        EXPECT_EQ_STR(formats[k].driver, GDALGetDriverShortName(GDALGetDatasetDriver(ds)));
+        EXPECT_EQ_INT(w, GDALGetRasterXSize(ds));
+        EXPECT_EQ_INT(h, GDALGetRasterYSize(ds));
+        double gt[6];
+        EXPECT_TRUE(GDALGetGeoTransform(ds, gt) == CE_None);
+        for (int i = 0; i < 6; ++i)
+            EXPECT_NEAR(ref_gt[i], gt[i], 1e-6);
+        OGRSpatialReferenceH srs = OSRNewSpatialReference(GDALGetProjectionRef(ds));
+        EXPECT_TRUE(OSRIsSame(srs, grid_srs));
+        OSRDestroySpatialReference(srs);
+        memset(got, 1, (size_t)w * h);
+        EXPECT_TRUE(GDALRasterIO(GDALGetRasterBand(ds, 1), GF_Read, 0, 0, w, h, got, w, h, GDT_Byte,
+                                 0, 0) == CE_None);
+        size_t differ = 0;
+        for (size_t i = 0; i < (size_t)w * h; ++i)
+            differ += got[i] != want[i];
+        tp_test_note("%s: %s, %zu of %d values differ", formats[k].name, formats[k].driver, differ,
+                     w * h);
+        EXPECT_EQ_INT(0, (int)differ);
+        GDALClose(ds);
+    }
+    OSRDestroySpatialReference(grid_srs);
+
+    snprintf(out, sizeof out, "%s/lossy.jpg", tmp_dir());
+    EXPECT_EQ_INT(2, run_viewshed(path, obs, out, extra, err, sizeof err));
+    EXPECT_CONTAINS(err, "lossy.jpg: JPEG is lossy");
+    EXPECT_CONTAINS(err, "viewshed writes GeoTIFF (.tif, .tiff), PNG (.png)");
+    EXPECT_TRUE(tp_test_nothing_named(tmp_dir(), "lossy"));
+    free(want);
+    free(got);
+    tp_render_grid_destroy(g);
+}
+
 /* A nodata post of the render grid whose 5x5 neighbourhood is nodata too (the collar the warp
  * leaves around the tile), as "LAT,LON". */
 static void void_post(const tp_render_grid* g, char* out, size_t cap)
@@ -429,9 +572,12 @@ TEST(viewshed_bad_input_exits_1_and_writes_nothing)
 }
 
 #define TESTS(X)                                                                                   \
-    X(ridge_pairs_worked_out_by_hand)                                                             \
-    X(profile_csv_and_png)                                                                        \
-    X(real_pairs_agree_with_the_viewshed_core)                                                    \
-    X(viewshed_geotiff_has_the_grid_georeference_and_the_core_values)                             \
-    X(viewshed_bad_input_exits_1_and_writes_nothing)
+    X(ridge_pairs_worked_out_by_hand)                                                              \
+    X(profile_csv_and_png)                                                                         \
+    X(real_pairs_agree_with_the_viewshed_core)                                                     \
+    X(viewshed_geotiff_has_the_grid_georeference_and_the_core_values)                              \
+    X(viewshed_bad_input_exits_1_and_writes_nothing)                                               \
+    X(los_says_every_file_it_wrote)                                                                \
+    X(viewshed_counts_the_disc_of_its_radius)                                                      \
+    X(viewshed_writes_the_format_its_extension_names)
 TP_TEST_MAIN(TESTS)

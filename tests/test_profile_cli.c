@@ -154,6 +154,19 @@ static measured measure_here(tp_ground* g, const double* lat, const double* lon,
     return m;
 }
 
+/* measure_here on the ground of store. */
+static measured measure_store(const char* store, const double* lat, const double* lon, size_t nv)
+{
+    tp_store_scene sc;
+    ASSERT_EQ_INT(0, tp_store_scene_open(store, &sc));
+    tp_ground* g = NULL;
+    ASSERT_OK(tp_ground_create(&sc, NULL, &g, NULL));
+    measured m = measure_here(g, lat, lon, nv);
+    tp_ground_destroy(g);
+    tp_store_scene_close(&sc);
+    return m;
+}
+
 /* GDAL's own nearest sample of the .hgt at (lat, lon). */
 static double hgt_sample(const char* hgt, double lat, double lon)
 {
@@ -186,13 +199,7 @@ TEST(gpx_track_figures_match_an_independent_measure)
     double lat[64], lon[64];
     size_t nv = gpx_track(gpx, lat, lon, 64);
     ASSERT_EQ_INT(7, (int)nv);
-    tp_store_scene sc;
-    ASSERT_EQ_INT(0, tp_store_scene_open(store, &sc));
-    tp_ground* g = NULL;
-    ASSERT_OK(tp_ground_create(&sc, NULL, &g, NULL));
-    measured m = measure_here(g, lat, lon, nv);
-    tp_ground_destroy(g);
-    tp_store_scene_close(&sc);
+    measured m = measure_store(store, lat, lon, nv);
 
     EXPECT_EQ_INT((int)m.samples, (int)tp_test_json_number_after(json, NULL, "samples"));
     EXPECT_EQ_INT(7, (int)tp_test_json_number_after(json, NULL, "vertices"));
@@ -337,12 +344,43 @@ TEST(route_leaving_the_dem_exits_1)
     double rlat[2] = {lat[1], lat[0]}, rlon[2] = {lon[1], lon[0]};
     write_line("west.geojson", rlat, rlon, 2, route, sizeof route);
     EXPECT_EQ_INT(1, run_profile(store, route, NULL, err, sizeof err));
-    EXPECT_CONTAINS(err, "leaves the DEM at 0.0 m");
+    EXPECT_CONTAINS(err, "west.geojson) starts outside the DEM: its start is at ");
+    EXPECT_CONTAINS(err, "and the DEM covers E ");
+    EXPECT_TRUE(strstr(err, "nan") == NULL);
+    EXPECT_TRUE(tp_test_nothing_named(tmp_dir(), "out."));
+    /* a route 20 degrees east of the store's UTM zone (13N): no latitude or longitude back from
+     * the render CRS there, so those of the route itself */
+    double flat[2] = {40.0, 40.1}, flon[2] = {-85.0, -85.1};
+    write_line("far.geojson", flat, flon, 2, route, sizeof route);
+    EXPECT_EQ_INT(1, run_profile(store, route, NULL, err, sizeof err));
+    EXPECT_CONTAINS(err, "far.geojson) lies outside the DEM: its start is at 40.000000 -85.000000");
+    EXPECT_TRUE(strstr(err, "nan") == NULL);
     EXPECT_TRUE(tp_test_nothing_named(tmp_dir(), "out."));
 }
 
+/* The text's steepest piece says what its figures are: the distances along the route between
+ * which it runs (the independent measure's start), then the elevations. */
+TEST(steepest_piece_is_labelled)
+{
+    char dem[1024], store[256], gpx[1024], err[4096], text[8192];
+    build_store("N42E001.hgt", dem, sizeof dem, store, sizeof store);
+    REQUIRE_DATA_FILE(gpx, "TP_SAMPLE_DATA_DIR", "vectors/coma_pedrosa.gpx");
+    const char* args[] = {store, "--route", gpx, NULL};
+    ASSERT_EQ_INT(0,
+                  tp_test_run_terrapatch_out("profile", args, text, sizeof text, err, sizeof err));
+    double lat[64], lon[64];
+    size_t nv = gpx_track(gpx, lat, lon, 64);
+    measured m = measure_store(store, lat, lon, nv);
+    char want[200];
+    snprintf(want, sizeof want, "steepest    %+.1f %% (%s) between %.1f m and ", m.steep_pct,
+             m.steep_pct >= 0 ? "up" : "down", m.steep_from_m);
+    EXPECT_CONTAINS(text, want);
+    EXPECT_CONTAINS(text, " m along the route, elevation ");
+}
+
 #define TESTS(X)                                                                                   \
-    X(gpx_track_figures_match_an_independent_measure)                                             \
-    X(bad_routes_exit_1_and_write_nothing)                                                        \
-    X(route_leaving_the_dem_exits_1)
+    X(gpx_track_figures_match_an_independent_measure)                                              \
+    X(bad_routes_exit_1_and_write_nothing)                                                         \
+    X(route_leaving_the_dem_exits_1)                                                               \
+    X(steepest_piece_is_labelled)
 TP_TEST_MAIN(TESTS)

@@ -674,8 +674,8 @@ TEST(geotiff_round_trip)
     tp_error err;
     memset(&err, 0, sizeof err);
     const size_t n = (size_t)g->width * g->height;
-    ASSERT_OK(tp_viewshed_write_geotiff(path, v, n, g->width, g->height, g->geotransform,
-                                        g->crs_wkt, &err));
+    ASSERT_OK(
+        tp_viewshed_write(path, v, n, g->width, g->height, g->geotransform, g->crs_wkt, &err));
     tp_dem* back = NULL;
     ASSERT_OK(tp_dem_read(path, &back, &err));
     ASSERT_EQ_INT(g->width, back->width);
@@ -700,12 +700,11 @@ TEST(geotiff_in_a_missing_folder_writes_nothing)
     tp_error err;
     memset(&err, 0, sizeof err);
     const char* path = "no_such_folder_viewshed/out.tif";
-    EXPECT_STATUS(TP_ERR_IO, tp_viewshed_write_geotiff(path, v, 6, 3, 2, GT30, "", &err));
+    EXPECT_STATUS(TP_ERR_IO, tp_viewshed_write(path, v, 6, 3, 2, GT30, "", &err));
     EXPECT_CONTAINS(err.message, "no_such_folder_viewshed/out.tif");
     struct stat st;
     EXPECT_TRUE(stat("no_such_folder_viewshed", &st) != 0);
-    EXPECT_STATUS(TP_ERR_INVALID_ARG, tp_viewshed_write_geotiff("x.tif", v, 5, 3, 2, GT30, "",
-                                                                &err));
+    EXPECT_STATUS(TP_ERR_INVALID_ARG, tp_viewshed_write("x.tif", v, 5, 3, 2, GT30, "", &err));
 }
 
 #endif /* TP_TEST_NO_IO */

@@ -4,7 +4,9 @@
  * ignored, so write() fails with EFBIG, as on ENOSPC, without root), with symlinks planted at
  * the temporary names older versions used, and killed with SIGTERM/SIGINT while they write
  * (inotify says when the temporary file or folder appears). Each time: the exit status, an
- * older output byte for byte as it was, and no temporary file left in the folder.
+ * older output byte for byte as it was, and no temporary file left in the folder. `los` with
+ * several outputs on a full disk replaces none of them; `contours` and `los` sent a signal just
+ * after their last rename end as having written (exit 0).
  */
 #define _GNU_SOURCE
 #include "tp_io.h"
@@ -327,19 +329,22 @@ TEST(symlinks_at_old_temporary_names_are_not_followed)
  * Signals while writing
  */
 
-/* Waits (up to 60 s) until a name holding ".tmp" is created in the folder watched by fd (a
- * folder if want_dir); then returns 1. 0 if the child exited first or time ran out. */
-static int wait_for_temp(int fd, int want_dir, pid_t child)
+/* Waits (up to 60 s) for an event of mask in the folder watched by fd on a name holding part
+ * (exactly part when exact; a folder if want_dir); then returns 1. 0 if the child exited first
+ * or time ran out. */
+static int wait_for_name(int fd, uint32_t mask, const char* part, int exact, int want_dir,
+                         pid_t child)
 {
     char buf[4096] __attribute__((aligned(__alignof__(struct inotify_event))));
-    for (int waited_ms = 0; waited_ms < 60000; waited_ms += 50) {
+    for (int waited_ms = 0; waited_ms < 60000; waited_ms += 20) {
         struct pollfd p = {.fd = fd, .events = POLLIN};
-        int r = poll(&p, 1, 50);
+        int r = poll(&p, 1, 20);
         if (r > 0) {
             ssize_t n = read(fd, buf, sizeof buf);
             for (char* q = buf; n > 0 && q < buf + n;) {
                 struct inotify_event* ev = (struct inotify_event*)q;
-                if ((ev->mask & IN_CREATE) && ev->len && strstr(ev->name, ".tmp") &&
+                if ((ev->mask & mask) && ev->len &&
+                    (exact ? !strcmp(ev->name, part) : strstr(ev->name, part) != NULL) &&
                     (!want_dir || (ev->mask & IN_ISDIR)))
                     return 1;
                 q += sizeof *ev + ev->len;
@@ -350,6 +355,12 @@ static int wait_for_temp(int fd, int want_dir, pid_t child)
             return 0; /* exited (still to be reaped by finish) */
     }
     return 0;
+}
+
+/* Until a name holding ".tmp" is created (a folder if want_dir). */
+static int wait_for_temp(int fd, int want_dir, pid_t child)
+{
+    return wait_for_name(fd, IN_CREATE, ".tmp", 0, want_dir, child);
 }
 
 /* Exports dem (craterlake, full resolution) to dir/name over an older file (and, for a .vtm, an
@@ -445,6 +456,100 @@ TEST(sigterm_during_vtm_export_leaves_no_temporary_folder)
 }
 
 /* ---------------------------------------------------------------------------------------------
+ * Several outputs: all or none, and done once renamed
+ */
+/* los --json --csv on a disk with room for the JSON but not the CSV: neither is replaced (all
+ * or none), nothing temporary is left, and the message says so. */
+TEST(los_outputs_on_full_disk_keep_every_old_file)
+{
+    char dem[1024], json[600], csv[600], errf[600], err[4096], list[2048];
+    data_path(dem, sizeof dem, "N42E001.hgt");
+    const char* dir = make_tmp_dir();
+    snprintf(json, sizeof json, "%s/a.json", dir);
+    snprintf(csv, sizeof csv, "%s/a.csv", dir);
+    snprintf(errf, sizeof errf, "%s.err", dir);
+    const char* args[] = {"los",    dem,  "--from", "42.5,1.5", "--to", "42.52,1.53",
+                          "--json", json, "--csv",  csv,        NULL};
+    /* once with room (the store cache built, the sizes known: the JSON about 1 KB, the CSV
+     * about 14 KB) */
+    child_opts o = {.err_path = errf};
+    ASSERT_EQ_INT(0, run(args, &o, err, sizeof err));
+    size_t json_size = 0, csv_size = 0;
+    free(get_file(json, &json_size));
+    free(get_file(csv, &csv_size));
+    ASSERT_TRUE(json_size < 4096 && csv_size > 8192);
+    const char old_json[] = "{\"old\": true}\n", old_csv[] = "old,csv\n";
+    put_file(json, old_json, sizeof old_json - 1);
+    put_file(csv, old_csv, sizeof old_csv - 1);
+    o.fsize_limit = 8192;
+    EXPECT_EQ_INT(1, run(args, &o, err, sizeof err));
+    EXPECT_CONTAINS(err, "a.csv: cannot write: File too large");
+    EXPECT_CONTAINS(err, "a.json, ");
+    EXPECT_CONTAINS(err, "written (all or none");
+    expect_same(json, old_json, sizeof old_json - 1);
+    expect_same(csv, old_csv, sizeof old_csv - 1);
+    entries(dir, list, sizeof list);
+    EXPECT_EQ_STR("a.csv a.json ", list);
+    remove(errf);
+}
+
+/* args (a command writing dir/name, NULL-terminated) run over a cached store and sent sig the
+ * moment name is renamed into place (inotify): the output is complete, so the command ends as
+ * having written it (exit 0, its "wrote" line), not 128 + sig with the new file in place. */
+static void killed_after_rename(const char* const* args, const char* dir, const char* name, int sig)
+{
+    char errf[600], err[4096], path[700], wrote[800];
+    snprintf(errf, sizeof errf, "%s.err", dir);
+    snprintf(path, sizeof path, "%s/%s", dir, name);
+    child_opts o = {.err_path = errf};
+    ASSERT_EQ_INT(0, run(args, &o, err, sizeof err)); /* the store cache built */
+    remove(path);
+    int fd = inotify_init1(IN_CLOEXEC);
+    ASSERT_TRUE(fd >= 0);
+    ASSERT_TRUE(inotify_add_watch(fd, dir, IN_MOVED_TO) >= 0);
+    pid_t pid = start(args, &o);
+    const int seen = wait_for_name(fd, IN_MOVED_TO, name, 1, 0, pid);
+    if (seen)
+        kill(pid, sig);
+    close(fd);
+    const int rc = finish(pid);
+    ASSERT_TRUE(seen);
+    FILE* f = fopen(errf, "r");
+    size_t got = f ? fread(err, 1, sizeof err - 1, f) : 0;
+    err[got] = '\0';
+    if (f)
+        fclose(f);
+    EXPECT_EQ_INT(0, rc);
+    snprintf(wrote, sizeof wrote, "terrapatch: wrote %s\n", path);
+    EXPECT_CONTAINS(err, wrote);
+    EXPECT_TRUE(strstr(err, "interrupted") == NULL);
+    EXPECT_EQ_INT(0, access(path, F_OK));
+    remove(errf);
+}
+
+TEST(sigterm_after_the_contours_rename_exits_0)
+{
+    char dem[1024], out[600];
+    data_path(dem, sizeof dem, "N42E001.hgt");
+    const char* dir = make_tmp_dir();
+    snprintf(out, sizeof out, "%s/c.gpkg", dir);
+    const char* args[] = {"contours", dem, "--interval", "100", "-o", out, NULL};
+    killed_after_rename(args, dir, "c.gpkg", SIGTERM);
+}
+
+TEST(sigint_after_the_los_renames_exits_0)
+{
+    char dem[1024], json[600], csv[600];
+    data_path(dem, sizeof dem, "N42E001.hgt");
+    const char* dir = make_tmp_dir();
+    snprintf(json, sizeof json, "%s/l.json", dir);
+    snprintf(csv, sizeof csv, "%s/l.csv", dir);
+    const char* args[] = {"los",    dem,  "--from", "42.5,1.5", "--to", "42.52,1.53",
+                          "--json", json, "--csv",  csv,        NULL};
+    killed_after_rename(args, dir, "l.csv", SIGINT); /* the CSV: the last renamed */
+}
+
+/* ---------------------------------------------------------------------------------------------
  * The writer itself (tp_file_*)
  */
 TEST(file_writer_abort_and_failures_leave_the_old_file)
@@ -490,5 +595,8 @@ TEST(file_writer_abort_and_failures_leave_the_old_file)
     X(sigterm_during_vtk_export_leaves_no_temporary_file)                                          \
     X(sigint_during_vtk_export_leaves_no_temporary_file)                                           \
     X(sigterm_during_vtm_export_leaves_no_temporary_folder)                                        \
-    X(file_writer_abort_and_failures_leave_the_old_file)
+    X(file_writer_abort_and_failures_leave_the_old_file)                                           \
+    X(los_outputs_on_full_disk_keep_every_old_file)                                                \
+    X(sigterm_after_the_contours_rename_exits_0)                                                   \
+    X(sigint_after_the_los_renames_exits_0)
 TP_TEST_MAIN(TESTS)

@@ -192,6 +192,33 @@ void tp_file_abort(tp_file_writer* w);
 /* begin, append, commit: the whole of data as the file path. */
 tp_status tp_file_write(const char* path, const void* data, size_t size, tp_error* err);
 
+/* Several files written all or none (io/src/file_set.cpp): a command's outputs (a JSON, a
+ * CSV and a plot; a raster and its sidecars). Each file added is written whole to its own
+ * temporary file beside its path at once (as tp_file_write: every write checked, size checked,
+ * fsync, close); nothing is renamed until the commit. The commit looks at the signal flag a
+ * last time, then with SIGINT/SIGTERM blocked moves every older file aside (a hard link, so
+ * the path never goes missing) and renames every temporary file over its path; if a rename
+ * fails, the ones done are undone (the older files put back, new names removed). Any failure
+ * before or during the commit leaves every path as it was: the older files, or none. The set
+ * holds interruption (tp_interrupt_hold) from begin to commit or abort. */
+typedef struct tp_file_set tp_file_set;
+
+/* An empty set. TP_ERR_OUT_OF_MEMORY; *out written only on success. */
+tp_status tp_file_set_begin(tp_file_set** out, tp_error* err);
+/* Writes data (size bytes) to a new temporary file for path. TP_ERR_INVALID_ARG for a path
+ * already in the set or ending in '/'; TP_ERR_IO as tp_file_write (full disk, missing folder,
+ * signal), after which every later call and the commit fail the same way (abort s). */
+tp_status tp_file_set_add(tp_file_set* s, const char* path, const void* data, size_t size,
+                          tp_error* err);
+/* Removes path, if it exists, with the commit (and puts it back if the commit fails): a stale
+ * sidecar of an older output that the new one does not have. */
+tp_status tp_file_set_remove(tp_file_set* s, const char* path, tp_error* err);
+/* Puts every file of the set in place, all or none. Frees s, whatever happens. The message
+ * names the path that failed. */
+tp_status tp_file_set_commit(tp_file_set* s, tp_error* err);
+/* Removes the temporary files and frees s; every path is untouched. Accepts NULL. */
+void tp_file_set_abort(tp_file_set* s);
+
 /* Checks, before long work that ends by writing path, that it can be written: its folder
  * exists and is writable and path is not a folder. Writes nothing. TP_ERR_IO (or
  * TP_ERR_INVALID_ARG for "" or a name ending in '/') with a message naming path. */
@@ -211,6 +238,12 @@ void tp_interrupt_install(void);
 int tp_interrupted(void);
 void tp_interrupt_hold(void);
 void tp_interrupt_release(void);
+/* After the program's last output is in place: SIGINT and SIGTERM are ignored from now on and a
+ * signal recorded since the writers' last look is forgotten (tp_interrupted() returns 0), so the
+ * program ends as having written its outputs (its "wrote" lines, status 0), never 130/143 with
+ * them in place. Call it while holding (tp_interrupt_hold) across the last commit, so that no
+ * signal kills the program between the rename and this call. */
+void tp_interrupt_finished(void);
 
 /* ---------------------------------------------------------------------------------------------
  * Heightmap images without georeference (io/src/image_read.cpp, through OpenImageIO)
@@ -749,26 +782,68 @@ tp_status tp_gdal_viewshed(const float* heights, size_t height_count, int width,
                            const tp_viewshed_options* options, uint8_t* out, size_t out_count,
                            tp_error* err);
 
-/* Writes a viewshed as tp_byte_geotiff_write does (below), band description "visibility: 255
- * seen, 0 not seen or beyond the radius". No nodata tag: 0 is "not seen". */
-tp_status tp_viewshed_write_geotiff(const char* path, const uint8_t* values, size_t value_count,
-                                    int width, int height, const double geotransform[6],
-                                    const char* crs_wkt, tp_error* err);
+/* Writes a viewshed as tp_byte_raster_write does (below), in the format path's extension names,
+ * band description "visibility: 255 seen, 0 not seen or beyond the radius". No nodata tag: 0 is
+ * "not seen". */
+tp_status tp_viewshed_write(const char* path, const uint8_t* values, size_t value_count, int width,
+                            int height, const double geotransform[6], const char* crs_wkt,
+                            tp_error* err);
 
 /* ---------------------------------------------------------------------------------------------
- * Byte GeoTIFFs (io/src/byte_geotiff.cpp): the viewshed's and the light map's outputs
+ * Output formats (io/src/output_format.cpp): the one place that decides, from an output path's
+ * extension (case ignored), the format it is written in, for every writer below that follows
+ * the extension (tp_byte_raster_write, tp_contours_write in tp_vector.h) and for the commands,
+ * which check their outputs with it before any work.
+ */
+typedef enum tp_output_kind {
+    TP_OUTPUT_NONE = 0,
+    TP_OUTPUT_BYTE_RASTER, /* one band of bytes on a georeference (viewshed, light): GeoTIFF
+                              (.tif, .tiff), PNG (.png; a .wld world file and an .aux.xml with
+                              the CRS beside), GeoPackage (.gpkg), lossless JPEG 2000 (.jp2,
+                              .j2k), Erdas Imagine (.img), Arc/Info ASCII Grid (.asc; a .prj
+                              beside), BMP (.bmp; .wld, .aux.xml): those this GDAL has */
+    TP_OUTPUT_VECTOR,      /* lines with fields (contours): any OGR format that creates vector
+                              files, by its extension (.gpkg, .shp, .geojson, .kml, ...) */
+    TP_OUTPUT_STORE,       /* a terrain store (build): .tpt */
+    TP_OUTPUT_PLOT,        /* a plot gnuplot draws (los --profile, profile --png): .png */
+} tp_output_kind;
+
+typedef struct tp_output_format {
+    char driver[32]; /* the GDAL driver's short name ("GTiff", "PNG", "GPKG"); "" for a store or
+                        a plot */
+    char name[64];   /* the format as the lists name it ("GeoTIFF", "PNG", "terrapatch store") */
+} tp_output_format;
+
+/* The format path is written in as an output of kind. TP_ERR_INVALID_ARG with a message
+ * "PATH: why" when there is none: no extension, an unknown one, a raster format that is lossy
+ * ("JPEG is lossy: ...") or that is not among those above; *out written only on success. */
+tp_status tp_output_format_for(const char* path, tp_output_kind kind, tp_output_format* out,
+                               tp_error* err);
+
+/* What kind is written in, for messages: "GeoTIFF (.tif, .tiff), PNG (.png), ..." into buf (at
+ * most cap bytes with the NUL; cut short when cap is too small; buf may be NULL with cap 0).
+ * Returns the length of the whole list, as snprintf. */
+size_t tp_output_formats(tp_output_kind kind, char* buf, size_t cap);
+
+/* ---------------------------------------------------------------------------------------------
+ * Byte rasters (io/src/byte_raster.cpp): the viewshed's and the light map's outputs
  */
 
-/* Writes values (width * height bytes = value_count, row 0 first) as a one-band Byte GeoTIFF
- * (DEFLATE, tiled) with geotransform and crs_wkt ("" or NULL: none), e.g. a render grid's, and
- * the band description description (NULL or "": none): encoded in memory by GDAL, then written
- * with tp_file_write (whole or not at all; an older file stays as it was on failure). No nodata
- * tag. TP_ERR_INVALID_ARG for NULL values or path, a size mismatch, a bad path (as
- * tp_file_begin); TP_ERR_BAD_DATA for a crs_wkt GDAL cannot read; TP_ERR_IO when writing fails;
- * TP_ERR_BACKEND when GDAL does. */
-tp_status tp_byte_geotiff_write(const char* path, const uint8_t* values, size_t value_count,
-                                int width, int height, const double geotransform[6],
-                                const char* crs_wkt, const char* description, tp_error* err);
+/* Writes values (width * height bytes = value_count, row 0 first) as a one-band Byte raster in
+ * the format path's extension names (tp_output_format_for, TP_OUTPUT_BYTE_RASTER) with
+ * geotransform and crs_wkt ("" or NULL: none), e.g. a render grid's, and the band description
+ * description (NULL or "": none). GDAL's driver encodes it in memory (CreateCopy from a MEM
+ * dataset; a GeoTIFF DEFLATE-compressed and tiled), with the sidecars the driver writes (a PNG's
+ * .wld world file, GDAL's .aux.xml holding the CRS and description where the format cannot),
+ * and the files are written all or none (tp_file_set_*): an older file and its sidecars stay as
+ * they were on failure; older sidecars GDAL would read with the new file (PATH.aux.xml, world
+ * files PATH's stem .wld, .XXw for .XYZ) that the new one lacks are removed with it. No nodata
+ * tag. TP_ERR_INVALID_ARG for NULL values or path, a size mismatch, a path whose format is not
+ * written (tp_output_format_for's message), a bad path (as tp_file_begin); TP_ERR_BAD_DATA for a
+ * crs_wkt GDAL cannot read; TP_ERR_IO when writing fails; TP_ERR_BACKEND when GDAL does. */
+tp_status tp_byte_raster_write(const char* path, const uint8_t* values, size_t value_count,
+                               int width, int height, const double geotransform[6],
+                               const char* crs_wkt, const char* description, tp_error* err);
 
 #ifdef __cplusplus
 }

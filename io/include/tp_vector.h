@@ -122,11 +122,14 @@ tp_status tp_contours_generate(const float* heights, size_t height_count, int wi
  * GPX) reproject to it as their OGR driver does (GDAL's KML driver also makes the two fields
  * each placemark's name and description). An empty set gives a valid file with an empty layer.
  *
+ * The format is the one tp_output_format_for (tp_io.h, TP_OUTPUT_VECTOR) decides.
+ *
  * Atomic: the file (and every sidecar of it a driver writes: a Shapefile's .shx, .dbf, .prj,
- * .cpg) is made in a new temporary folder beside path, then renamed into place file by file
- * when complete; sidecars of an older Shapefile of the same name that the new one lacks (.prj,
- * .cpg, .qix, .sbn, .sbx) are removed with it. On any failure nothing is left behind and older
- * files stay as they were (SIGINT/SIGTERM after tp_interrupt_install as tp_file_write).
+ * .cpg) is made in a new temporary folder beside path, then put in place all or none when
+ * complete (tp_file_set_* in tp_io.h); sidecars of an older Shapefile of the same name that the
+ * new one lacks (.prj, .cpg, .qix, .sbn, .sbx) are removed with it. On any failure nothing is
+ * left behind and older files stay as they were (SIGINT/SIGTERM after tp_interrupt_install as
+ * tp_file_write).
  *
  * TP_ERR_INVALID_ARG for NULL f or path, "" or an extension no OGR driver writes (the message
  * names the file and the extensions above); TP_ERR_BAD_DATA for a crs_wkt GDAL cannot read;

@@ -73,6 +73,20 @@ extern "C" void tp_interrupt_release(void)
         g_holds = g_holds - 1;
 }
 
+extern "C" void tp_interrupt_finished(void)
+{
+    /* ignored first: from here no handler runs, so the flag stays cleared */
+    const int sigs[] = {SIGINT, SIGTERM};
+    for (int sig : sigs) {
+        struct sigaction sa;
+        std::memset(&sa, 0, sizeof sa);
+        sa.sa_handler = SIG_IGN;
+        sigemptyset(&sa.sa_mask);
+        sigaction(sig, &sa, nullptr);
+    }
+    g_signal = 0;
+}
+
 /* ---------------------------------------------------------------------------------------------
  * Shared with the other writers (atomic_write.hpp)
  */

@@ -43,4 +43,10 @@ tp_status file_reserve(tp_file_writer* w, uint64_t size, tp_error* err);
 tp_status file_read_back(tp_file_writer* w, uint64_t offset, void* data, size_t size,
                          tp_error* err);
 
+/* For a writer whose files a library makes on disk itself (an OGR driver's sidecars): the
+ * complete file tmp (any name on path's filesystem; fsynced here) becomes path when set s is
+ * committed, all or none with the rest (file_set.cpp). Fails as tp_file_set_add. */
+tp_status file_set_adopt(tp_file_set* s, const std::string& tmp, const std::string& path,
+                         tp_error* err);
+
 } // namespace tpio

@@ -8,12 +8,14 @@
  * equality tests can match).
  *
  * The writer makes the file in a new temporary folder beside its target, with the driver the
- * extension names, and renames what the driver made into place only when it is complete: a
- * driver may write several files (a Shapefile's .shp, .shx, .dbf, .prj, .cpg) and may leave
- * a half-written file behind when it fails, so it never writes beside the target itself.
+ * extension names (output_format.cpp), and puts what the driver made into place only when it
+ * is complete, all or none (a file set, file_set.cpp): a driver may write several files (a
+ * Shapefile's .shp, .shx, .dbf, .prj, .cpg) and may leave a half-written file behind when it
+ * fails, so it never writes beside the target itself.
  */
 #include "atomic_write.hpp"
 #include "gdal_util.hpp"
+#include "output_format.hpp"
 #include "tp_io.h"
 #include "tp_vector.h"
 
@@ -214,47 +216,8 @@ extern "C" tp_status tp_contours_generate(const float* heights, size_t height_co
  */
 namespace {
 
-std::string lower(std::string s)
-{
-    for (char& c : s)
-        c = (char)std::tolower((unsigned char)c);
-    return s;
-}
-
-/* The driver that writes vector files with extension ext (lower case, no dot), or nullptr. */
-GDALDriver* driver_for(const std::string& ext)
-{
-    static const char* const known[][2] = {
-        {"gpkg", "GPKG"},       {"shp", "ESRI Shapefile"}, {"geojson", "GeoJSON"},
-        {"json", "GeoJSON"},    {"kml", "KML"},            {"gml", "GML"},
-        {"csv", "CSV"},         {"fgb", "FlatGeobuf"},     {"sqlite", "SQLite"},
-        {"gpx", "GPX"},         {"dxf", "DXF"},            {"geojsonl", "GeoJSONSeq"},
-        {"geojsons", "GeoJSONSeq"}, {"tab", "MapInfo File"}, {"mif", "MapInfo File"}};
-    GDALDriverManager* dm = GetGDALDriverManager();
-    auto writes_vectors = [](GDALDriver* d) {
-        return d && d->GetMetadataItem(GDAL_DCAP_VECTOR) && d->GetMetadataItem(GDAL_DCAP_CREATE);
-    };
-    for (const auto& k : known)
-        if (ext == k[0]) {
-            GDALDriver* d = dm->GetDriverByName(k[1]);
-            if (writes_vectors(d))
-                return d;
-        }
-    for (int i = 0; i < dm->GetDriverCount(); ++i) {
-        GDALDriver* d = dm->GetDriver(i);
-        const char* exts = d ? d->GetMetadataItem(GDAL_DMD_EXTENSIONS) : nullptr;
-        if (!writes_vectors(d) || !exts || d->GetMetadataItem(GDAL_DCAP_RASTER))
-            continue;
-        CPLStringList list(CSLTokenizeString(exts));
-        for (int j = 0; j < list.size(); ++j)
-            if (lower(list[j]) == ext)
-                return d;
-    }
-    return nullptr;
-}
-
-/* Holds interruption while the temporary folder lives and removes it (with whatever older
- * files were moved aside into it) whatever happens. */
+/* Holds interruption while the temporary folder lives and removes it (with whatever the driver
+ * left in it) whatever happens. */
 struct TempDir {
     std::string name;
     TempDir() { tp_interrupt_hold(); }
@@ -269,12 +232,6 @@ struct TempDir {
     TempDir(const TempDir&) = delete;
     TempDir& operator=(const TempDir&) = delete;
 };
-
-bool exists(const std::string& p)
-{
-    struct stat st;
-    return lstat(p.c_str(), &st) == 0;
-}
 
 /* The vector file in memory order: build it with the driver at file (in the temporary folder). */
 tp_status build_file(GDALDriver* drv, const std::string& file, const std::string& path,
@@ -331,12 +288,8 @@ tp_status build_file(GDALDriver* drv, const std::string& file, const std::string
     return TP_OK;
 }
 
-/* Moves the files of folder tmp (plain files only) into dir, each older one of the same name,
- * and stale (older sidecars the new set lacks), into tmp/old first; undoes every move on
- * failure. */
-tp_status move_into_place(const std::string& tmp, const std::string& dir,
-                          const std::vector<std::string>& stale, const std::string& path,
-                          tp_error* err)
+/* The file names the driver made in folder tmp (plain files only), sorted. */
+std::vector<std::string> files_in(const std::string& tmp)
 {
     std::vector<std::string> names;
     if (DIR* d = opendir(tmp.c_str())) {
@@ -346,69 +299,20 @@ tp_status move_into_place(const std::string& tmp, const std::string& dir,
         closedir(d);
     }
     std::sort(names.begin(), names.end());
-    if (names.empty())
-        return fail(err, TP_ERR_BACKEND, "%s: the OGR driver wrote no file", path.c_str());
-    const std::string old = tmp + "/old";
-    if (mkdir(old.c_str(), 0700) != 0)
-        return tpio::write_failed(err, path, errno);
-    std::vector<std::string> aside, placed; /* names moved to old/, and into dir */
-    auto undo = [&]() {
-        for (const std::string& n : placed)
-            (void)std::rename((dir + "/" + n).c_str(), (tmp + "/" + n).c_str());
-        for (const std::string& n : aside)
-            (void)std::rename((old + "/" + n).c_str(), (dir + "/" + n).c_str());
-    };
-    std::vector<std::string> to_aside = names;
-    to_aside.insert(to_aside.end(), stale.begin(), stale.end());
-    for (const std::string& n : to_aside) {
-        if (!exists(dir + "/" + n) || std::find(aside.begin(), aside.end(), n) != aside.end())
-            continue;
-        if (std::rename((dir + "/" + n).c_str(), (old + "/" + n).c_str()) != 0) {
-            const int e = errno;
-            undo();
-            return fail(err, TP_ERR_IO, "%s: cannot write: moving the older %s aside: %s",
-                        path.c_str(), n.c_str(), std::strerror(e));
-        }
-        aside.push_back(n);
-    }
-    if (tp_interrupted()) { /* the last moment to stop with nothing changed */
-        undo();
-        return tpio::write_failed(err, path, EINTR);
-    }
-    for (const std::string& n : names) {
-        if (std::rename((tmp + "/" + n).c_str(), (dir + "/" + n).c_str()) != 0) {
-            const int e = errno;
-            undo();
-            return fail(err, TP_ERR_IO, "%s: cannot write %s: %s", path.c_str(), n.c_str(),
-                        std::strerror(e));
-        }
-        placed.push_back(n);
-    }
-    tpio::sync_dir(dir);
-    return TP_OK;
+    return names;
 }
 
-/* The driver for path's extension and the output check; name and dot of the file name. */
+/* The driver for path's extension (output_format.cpp) and the output check; name and dot of
+ * the file name. */
 tp_status output_driver(const std::string& path, GDALDriver** drv, std::string* name,
                         size_t* dot, tp_error* err)
 {
     const size_t slash = path.rfind('/');
     *name = slash == std::string::npos ? path : path.substr(slash + 1);
     *dot = name->rfind('.');
-    const std::string ext = *dot == std::string::npos || *dot == 0
-                                ? std::string()
-                                : lower(name->substr(*dot + 1));
-    tpio::register_drivers();
-    *drv = ext.empty() ? nullptr : driver_for(ext);
-    if (!*drv) {
-        const std::string what =
-            ext.empty() ? std::string("no extension") : "unknown extension '." + ext + "'";
-        return fail(err, TP_ERR_INVALID_ARG,
-                    "%s: %s: no OGR driver writes vector files so named (use .gpkg, .shp, "
-                    ".geojson, .kml, .gml, .csv, .fgb, ...)",
-                    path.c_str(), what.c_str());
-    }
-    return tp_output_check(path.c_str(), err);
+    const char* const* options;
+    tp_status s = tpio::output_driver(path.c_str(), TP_OUTPUT_VECTOR, drv, &options, err);
+    return s != TP_OK ? s : tp_output_check(path.c_str(), err);
 }
 
 } // namespace
@@ -456,15 +360,28 @@ extern "C" tp_status tp_contours_write(const char* path_c, const tp_features* f,
         s = build_file(drv, tmp.name + "/" + name, path, f, has_crs ? &srs : nullptr, err);
         if (s != TP_OK)
             return s;
-        /* an older Shapefile's sidecars the new one may lack */
-        std::vector<std::string> stale;
-        if (!std::strcmp(drv->GetDescription(), "ESRI Shapefile")) {
+        /* every file the driver made, all or none, with an older Shapefile's sidecars the new
+         * one may lack */
+        const std::vector<std::string> names = files_in(tmp.name);
+        if (names.empty())
+            return fail(err, TP_ERR_BACKEND, "%s: the OGR driver wrote no file", path_c);
+        const std::string dir = path.substr(0, path.size() - name.size());
+        tp_file_set* set = nullptr;
+        s = tp_file_set_begin(&set, err);
+        for (size_t i = 0; s == TP_OK && i < names.size(); ++i)
+            s = tpio::file_set_adopt(set, tmp.name + "/" + names[i], dir + names[i], err);
+        if (s == TP_OK && !std::strcmp(drv->GetDescription(), "ESRI Shapefile")) {
             const std::string stem = name.substr(0, dot);
             for (const char* x : {".shp", ".shx", ".dbf", ".prj", ".cpg", ".qix", ".sbn", ".sbx",
                                   ".SHP", ".SHX", ".DBF", ".PRJ", ".CPG", ".QIX", ".SBN", ".SBX"})
-                stale.push_back(stem + x);
+                if (s == TP_OK && std::find(names.begin(), names.end(), stem + x) == names.end())
+                    s = tp_file_set_remove(set, (dir + stem + x).c_str(), err);
         }
-        return move_into_place(tmp.name, tpio::dir_of(path), stale, path, err);
+        if (s != TP_OK) {
+            tp_file_set_abort(set);
+            return s;
+        }
+        return tp_file_set_commit(set, err);
     } catch (...) {
         return tpio::caught(err, path_c);
     }

@@ -1,5 +1,5 @@
 /* viewshed_gdal.cpp - GDAL's viewshed of an in-memory grid (for comparing with the core's
- * tp_viewshed_compute) and a viewshed written as a GeoTIFF (see tp_io.h, "Viewsheds through
+ * tp_viewshed_compute) and a viewshed written as a raster (see tp_io.h, "Viewsheds through
  * GDAL"). */
 #include "gdal_util.hpp"
 #include "tp_io.h"
@@ -87,11 +87,10 @@ extern "C" tp_status tp_gdal_viewshed(const float* heights, size_t height_count,
     }
 }
 
-extern "C" tp_status tp_viewshed_write_geotiff(const char* path, const uint8_t* values,
-                                               size_t value_count, int width, int height,
-                                               const double geotransform[6], const char* crs_wkt,
-                                               tp_error* err)
+extern "C" tp_status tp_viewshed_write(const char* path, const uint8_t* values, size_t value_count,
+                                       int width, int height, const double geotransform[6],
+                                       const char* crs_wkt, tp_error* err)
 {
-    return tp_byte_geotiff_write(path, values, value_count, width, height, geotransform, crs_wkt,
-                                 "visibility: 255 seen, 0 not seen or beyond the radius", err);
+    return tp_byte_raster_write(path, values, value_count, width, height, geotransform, crs_wkt,
+                                "visibility: 255 seen, 0 not seen or beyond the radius", err);
 }

@@ -1,0 +1,24 @@
+/* output_check.c - see output_check.h. */
+#include "output_check.h"
+
+#include "cli.h"
+
+#include <stdio.h>
+
+int tp_cli_output_check(const char* cmd, const char* option, const char* path, tp_output_kind kind)
+{
+    tp_error err = {{0}};
+    tp_output_format fmt;
+    if (tp_output_format_for(path, kind, &fmt, &err) != TP_OK) {
+        char list[1024];
+        tp_output_formats(kind, list, sizeof list);
+        fprintf(stderr, "terrapatch %s: %s %s; %s writes %s\n", cmd, option, err.message, cmd,
+                list);
+        return TP_EXIT_USAGE;
+    }
+    if (tp_output_check(path, &err) != TP_OK) {
+        fprintf(stderr, "terrapatch %s: %s\n", cmd, err.message);
+        return TP_EXIT_FAILURE;
+    }
+    return TP_EXIT_OK;
+}
