@@ -1,13 +1,13 @@
 # Checks the test suite itself: a skipped test must not look like a pass.
 #   cmake -DCTEST=<ctest> -DBUILD_DIR=<dir> -DSHARED_DATA=<dir> -DSAMPLE_DATA=<dir>
 #         -DALLOW_SKIP=<ON|OFF> -P check_suite.cmake
-# Fails when the real data the tests read is not there (../shared/data beside the clone, the
-# repository's data/), or when any registered test would count exit 77 as a skip although
+# Fails when the real data the tests read is not there (the repository's data/, or wherever
+# TP_DATA_DIR points), or when any registered test would count exit 77 as a skip although
 # skips are not allowed (TP_TESTS_ALLOW_SKIP is OFF, as in `make test` and CI).
 foreach(dir IN ITEMS "${SHARED_DATA}" "${SAMPLE_DATA}")
-  if(NOT EXISTS "${dir}/PROVENANCE.md" AND NOT EXISTS "${dir}/README.md")
+  if(NOT EXISTS "${dir}/PROVENANCE.md")
     message(FATAL_ERROR "${dir}: the test data is not there (the tests that read it fail); "
-            "put ../shared beside the clone or set TP_SHARED_DATA_DIR / TP_SAMPLE_DATA_DIR")
+            "it is the repository's data/ unless -DTP_DATA_DIR says otherwise")
   endif()
 endforeach()
 if(NOT EXISTS "${SHARED_DATA}/coord/geoconvert_ctest_cases.tsv")

@@ -11,7 +11,7 @@
  * chunk by chunk (stored deflate blocks, CRCs computed here), FIFOs with mkfifo. Heightmap
  * images (by extension, as `terrapatch` chooses) go through tp_dem_read_image, the rest through
  * tp_dem_read. Damaged copies of real files (a DTED tile, an ESRI ASCII grid) are made from
- * shared/data at test time.
+ * data/ at test time.
  *
  * `test_bad_input --write-files DIR` writes the file of each case into DIR instead of running
  * tests: tests/CMakeLists.txt runs it as a ctest fixture, then `terrapatch info` on each file
@@ -584,8 +584,8 @@ static int make_far_origin(const char* path)
 {
     return write_vrt(path, 8, 8, "EPSG:32631", "1e12, 30, 0, 4600000, 0, -30");
 }
-/* shared/data/N42E001.dt1 with one bit of column 100 flipped (see the DTED test); writes
- * nothing when the shared data is missing (the CLI test is registered only when it is there). */
+/* data/N42E001.dt1 with one bit of column 100 flipped (see the DTED test); writes
+ * nothing when the data is missing (the CLI test is registered only when it is there). */
 static char* read_whole(const char* path, size_t* size);
 static int make_dted_bad_checksum(const char* path)
 {
@@ -1318,7 +1318,7 @@ static size_t line_start(const char* text, int line)
     return at;
 }
 
-/* DTED Level 1 (shared/data/N42E001.dt1, 1201 x 1201): header 3428 bytes, then one 2414-byte
+/* DTED Level 1 (data/N42E001.dt1, 1201 x 1201): header 3428 bytes, then one 2414-byte
  * record per column (8 bytes, 1201 big-endian samples, a 4-byte checksum). One bit of column
  * 100 flipped: refused, naming the column; DTED_VERIFY_CHECKSUM=NO reads it anyway; the
  * undamaged copy reads. */
@@ -1355,7 +1355,7 @@ TEST(dted_with_bad_checksum_is_refused)
 }
 
 /* ESRI ASCII grids: GDAL reads "307x" as 307 and ignores rows past nrows. Hand-made grids, then
- * copies of shared/data/front_range_srtmgl3_144.asc (6 header lines, then one line per row). */
+ * copies of data/front_range_srtmgl3_144.asc (6 header lines, then one line per row). */
 TEST(ascii_grid_token_that_is_not_a_number_is_refused)
 {
     REQUIRE_IO();

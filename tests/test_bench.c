@@ -44,7 +44,7 @@
 
 #define STORML "storml_elev_orig.tif"        /* data/ (TP_SAMPLE_DATA_DIR), Int16 */
 #define MT_HOOD "lf_elev_220_mt_hood_utm.tif" /* data/, 1013 x 799, integer heights */
-#define CRATER "craterlake-elev-16bit-30m.tif" /* ../shared/data: height step 1/128 m */
+#define CRATER "craterlake-elev-16bit-30m.tif" /* data/: height step 1/128 m */
 
 /* The sweep's grid (app/bench/bench_sweep.c, documented in `bench --help`): distance mode in
  * patch widths W = (patch - 1) sample spacings, error mode in pixels; the same taus with

@@ -1,6 +1,6 @@
 /*
  * test_coord.c - coordinate conversions of io/include/tp_geo.h (GeographicLib behind C)
- * against the reference data in shared/data/coord (see its README.md):
+ * against the reference data in data/coord (see its README.md):
  *
  *   GeodTest-short.first2000.dat          Karney's geodesic test set, first 2000 rows
  *   TMcoords_lite.first2000.txt           Karney's exact transverse Mercator test set
@@ -32,7 +32,7 @@
 #define UTM_K0 0.9996
 #define SENTINEL -12345.0 /* an output that must stay untouched */
 
-/* Opens shared/data/coord/<file>, or skips the test when it is missing. */
+/* Opens data/coord/<file>, or skips the test when it is missing. */
 static FILE* open_coord_data(const char* file, char* path, size_t cap)
 {
     char rel[256];

@@ -1,7 +1,7 @@
 /*
  * test_image.c - heightmap images through OpenImageIO (tp_dem_read_image): raw counts, not
  * normalised; --spacing, --zscale, --origin; checked on the Puget Sound heightmap of
- * shared/data (1025x1025 16-bit PNG, 160 m posts, 0.1 m per count: PROVENANCE.md) against the
+ * data/ (1025x1025 16-bit PNG, 160 m posts, 0.1 m per count: PROVENANCE.md) against the
  * same file read through GDAL.
  */
 #define _GNU_SOURCE /* mkdtemp, lstat (tp_test_tmp.h) */

@@ -1,6 +1,6 @@
 /*
  * test_info.c - reading DEMs through tp_io (tp_dem_read) and checking them against the
- * numbers recorded in shared/data/PROVENANCE.md (dimensions, elevation range, void counts,
+ * numbers recorded in data/PROVENANCE.md (dimensions, elevation range, void counts,
  * georeferencing), plus bad input: missing, non-raster, truncated and all-nodata files.
  */
 #include "tp_test.h"

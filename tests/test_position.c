@@ -4,7 +4,7 @@
  * DMS class).
  *
  * Expected values are worked out by hand (40d26'46" = 40 + 26/60 + 46/3600 degrees) or taken
- * from GeographicLib's own GeoConvert tests (shared/data/coord/geoconvert_ctest_cases.tsv:
+ * from GeographicLib's own GeoConvert tests (data/coord/geoconvert_ctest_cases.tsv:
  * GeoConvert1, GeoConvert2), never from this code.
  */
 #include "tp_test.h"

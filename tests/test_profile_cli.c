@@ -34,7 +34,7 @@
 /* The test folder (tp_test_child.h). */
 static const char* tmp_dir(void) { return tp_test_child_dir("profile"); }
 
-/* Builds dem (shared data) into a store in the temporary folder; its path in store. */
+/* Builds dem (from data/) into a store in the temporary folder; its path in store. */
 static void build_store(const char* dem_file, char* dem, size_t dem_cap, char* store,
                         size_t store_cap)
 {

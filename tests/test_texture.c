@@ -1,7 +1,7 @@
 /*
  * test_texture.c - tp_texture_build: which bands of an orthophoto become colour and alpha.
  *
- * The render grid is a real DEM's (shared/data/storml_elev_orig.tif, NAD83 / UTM 12N, 143 x 107,
+ * The render grid is a real DEM's (data/storml_elev_orig.tif, NAD83 / UTM 12N, 143 x 107,
  * 30 m posts, not warped). Each image is written at test time into a temporary directory: raw
  * bytes (band-sequential) plus a GDAL VRT (the raw file by absolute path: GDAL resolves a
  * relative one against the working directory when it copies the band into another VRT) that gives them the grid's CRS and extent and a colour

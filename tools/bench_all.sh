@@ -1,5 +1,5 @@
 #!/bin/bash
-# Runs every benchmark of docs/PERFORMANCE.md on every DEM in ../shared/data and writes the
+# Runs every benchmark of docs/PERFORMANCE.md on every DEM in data/ and writes the
 # markdown tables to build/bench/tables.md and the sweep plots to docs/img/bench/.
 #   tools/bench_all.sh [FRAMES] [SWEEP_FRAMES] [DEM...]    (defaults: 60 20, every DEM)
 # Per DEM: bench --path low|high|orbit (FRAMES frames each), bench --sweep (low path,
@@ -26,7 +26,7 @@ extra_for() {
 for f in "${dems[@]}"; do
     name=${f%.*}_${f##*.}
     extra=$(extra_for "$f")
-    src=../shared/data/$f
+    src=data/$f
     $tp info --json $extra "$src" > $out/${name}_info.json 2>/dev/null || { echo "$f: info failed" >&2; continue; }
     for path in low high orbit; do
         echo "$f: $path path" >&2

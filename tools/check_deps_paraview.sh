@@ -15,8 +15,8 @@
 #      analyst does (with its Recommends, so python3-paraview too).
 #   2. apt-get -s (simulation): the old package list (libvtk9-dev) cannot be installed next to
 #      ParaView (python3-vtk9 vs python3-paraview), the list tools/deps.sh chooses can.
-#   3. Copy the working tree (tracked and untracked, not ignored) to CHROOT/src/terrapatch and
-#      ../shared/data (the test DEMs) to CHROOT/src/shared/data; there run
+#   3. Copy the working tree (tracked and untracked, not ignored; the test data is in data/) to
+#      CHROOT/src/terrapatch; there run
 #      `make deps build` and `ctest -R '^(export|deps)\.'`.
 # Exit 0 when every step succeeds. /proc, /dev and /dev/pts are bind-mounted into CHROOT
 # while it runs and unmounted on exit; remove CHROOT by hand when done (rm -rf, not mounted).
@@ -72,14 +72,10 @@ fi
 
 # 2. Simulations.
 rm -rf "$root/src/terrapatch"
-mkdir -p "$root/src/terrapatch" "$root/src/shared"
+mkdir -p "$root/src/terrapatch"
 (cd "$repo" && git -c safe.directory="$repo" ls-files -z --cached --others --exclude-standard |
     xargs -0 sh -c 'for f; do [ -e "$f" ] && printf "%s\0" "$f"; done' sh |
     tar --null -T - -cf -) | tar -xf - -C "$root/src/terrapatch"
-if [ -d "$repo/../shared/data" ]; then
-    rm -rf "$root/src/shared/data"
-    cp -r "$repo/../shared/data" "$root/src/shared/data"
-fi
 new=$(in_root 'sh /src/terrapatch/tools/deps.sh --dry-run' | sed -n 's/^packages: //p')
 say "tools/deps.sh chooses: $(in_root 'sh /src/terrapatch/tools/deps.sh --dry-run' | sed -n 's/^vtk: //p') VTK"
 if [ "$with_paraview" = 1 ]; then

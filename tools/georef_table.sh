@@ -1,12 +1,12 @@
 #!/bin/bash
-# prints the markdown table of render grids for every DEM in ../shared/data
+# prints the markdown table of render grids for every DEM in data/
 cd "$(dirname "$0")/.."
 echo "| DEM | CRS as read | render CRS | zone | render grid | spacing (m) | warp error max / RMS (m) | voids filled | large voids | outside | to WGS84 |"
 echo "|---|---|---|---|---|---|---|---|---|---|---|"
 for f in N41E001.hgt N42E001.hgt N42E001.dt1 mt_rainier_90m.tif lf_elev_220_mt_hood_utm.tif storml_elev_orig.tif storml_elev.tif craterlake-elev-16bit-30m.tif front_range_srtmgl3_758.asc front_range_srtmgl3_144.asc ps_height_1k.png; do
   extra=""
   case $f in front_range*) extra="--crs EPSG:4326";; ps_height*) extra="--spacing 160 --zscale 0.1";; esac
-  ./build/terrapatch info --json $extra ../shared/data/$f 2>/dev/null | python3 -c '
+  ./build/terrapatch info --json $extra data/$f 2>/dev/null | python3 -c '
 import json,sys
 d=json.load(sys.stdin); f=sys.argv[1]; extra=sys.argv[2]
 src = ("EPSG:%d"%d["epsg"]) if d["epsg"] else "none"

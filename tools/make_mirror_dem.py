@@ -6,7 +6,7 @@ real tile's metric grid (issue 12: terrains like Vanek & Jezek's, up to 20481^2 
 
 SIZE      the output is SIZE x SIZE samples (any N >= 2; e.g. 8193, 20481, 65537)
 OUT_DIR   created if missing; gets OUT_DIR/mirror_<SIZE>.vrt and the four small copies
-TILE      default ../shared/data/N42E001.hgt (beside the repository): any DEM GDAL reads
+TILE      default data/N42E001.hgt (in the repository): any DEM GDAL reads
           that has a CRS
 
 Options:
@@ -349,7 +349,7 @@ def main(argv):
     out_dir = pos[1]
     here = os.path.dirname(os.path.abspath(__file__))
     tile = pos[2] if len(pos) == 3 else os.path.normpath(
-        os.path.join(here, "..", "..", "shared", "data", "N42E001.hgt"))
+        os.path.join(here, "..", "data", "N42E001.hgt"))
     if not os.path.isfile(tile):
         die("tile %s not found (give TILE, a DEM GDAL reads)" % tile)
     for t in ("gdalinfo", "gdalwarp", "gdal_translate", "gdaltransform"):

@@ -12,7 +12,7 @@ OUT_DIR   created if missing; gets OUT_DIR/imagery_<SIZE>.vrt and the four small
           `tools/make_mirror_dem.py 8193 DIR`) whose extent and CRS the image takes. For a
           store, give the DEM or VRT it was built from (a store of a projected DEM keeps its
           grid)
-IMAGE     default ../shared/data/craterlake-imagery-30m.tif (beside the repository): any
+IMAGE     default data/craterlake-imagery-30m.tif (in the repository): any
           image GDAL reads, RGB or RGBA bytes
 
 Options:
@@ -211,7 +211,7 @@ def main(argv):
     out_dir = pos[1]
     here = os.path.dirname(os.path.abspath(__file__))
     image = pos[2] if len(pos) == 3 else os.path.normpath(
-        os.path.join(here, "..", "..", "shared", "data", "craterlake-imagery-30m.tif"))
+        os.path.join(here, "..", "data", "craterlake-imagery-30m.tif"))
     for f, what in ((image, "image"), (like, "--like DEM")):
         if not os.path.isfile(f):
             die("%s %s not found" % (what, f))

@@ -7,6 +7,7 @@
  * first frame and there is no multisampling.
  */
 #define _POSIX_C_SOURCE 200809L
+#define _XOPEN_SOURCE 700 /* realpath */
 #include "view.h"
 #include "imagery_view.h"
 #include "view_shadows.h"
@@ -25,6 +26,7 @@
 #include "terrain_open.h"
 #include "view_bookmarks.h"
 
+#include <limits.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -200,21 +202,41 @@ static void print_help(void)
           stdout);
 }
 
-/* The bundled sample: data/ of the source tree the binary was built in (build/terrapatch ->
- * ../data), else data/ of the working directory. */
+/* The bundled sample, found from the binary's own location (/proc/self/exe), so that it does not
+ * matter where `view` is run from: installed, <bindir>/TP_INSTALL_DATA_REL (CMakeLists.txt:
+ * ../share/terrapatch/data); in the build tree, the source tree's data/ (TP_SOURCE_DATA_DIR, or
+ * ../data beside build/); else data/ of the working directory. */
+#ifndef TP_INSTALL_DATA_REL
+#define TP_INSTALL_DATA_REL "../share/terrapatch/data"
+#endif
+#define TP_SAMPLE_FILE "lf_elev_220_mt_hood_utm.tif"
 static const char* sample_scene(void)
 {
-    static char path[4096];
-    ssize_t n = readlink("/proc/self/exe", path, sizeof path - 64);
+    char exe_dir[PATH_MAX];
+    char installed[sizeof exe_dir + sizeof TP_INSTALL_DATA_REL + 1], beside[sizeof exe_dir + 16];
+    static char path[sizeof installed + sizeof TP_SAMPLE_FILE + 1], canonical[PATH_MAX];
+    const char* dirs[3] = {NULL, NULL, NULL};
+    ssize_t n = readlink("/proc/self/exe", exe_dir, sizeof exe_dir - 1);
+    char* slash = NULL;
     if (n > 0) {
-        path[n] = '\0';
-        char* slash = strrchr(path, '/');
-        if (slash) {
-            strcpy(slash, "/../" TP_SAMPLE_SCENE);
-            if (access(path, R_OK) == 0)
-                return path;
-        }
+        exe_dir[n] = '\0';
+        slash = strrchr(exe_dir, '/');
     }
+    if (slash) {
+        *slash = '\0';
+        snprintf(installed, sizeof installed, "%s/%s", exe_dir, TP_INSTALL_DATA_REL);
+        snprintf(beside, sizeof beside, "%s/../data", exe_dir);
+        dirs[0] = installed;
+        dirs[1] = beside;
+    }
+#ifdef TP_SOURCE_DATA_DIR
+    dirs[2] = TP_SOURCE_DATA_DIR;
+#endif
+    for (int i = 0; i < 3; i++)
+        if (dirs[i] &&
+            (size_t)snprintf(path, sizeof path, "%s/%s", dirs[i], TP_SAMPLE_FILE) < sizeof path &&
+            access(path, R_OK) == 0)
+            return realpath(path, canonical) ? canonical : path;
     return TP_SAMPLE_SCENE;
 }
 

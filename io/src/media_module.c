@@ -5,7 +5,8 @@
  * ~170 shared libraries with them: linked into the terrapatch binary, the dynamic loader
  * spent ~0.45 s of every start on them (relocations and the libraries' initialisers), before
  * main(), whatever the command (docs/PERFORMANCE.md, "First frame"). In the binary those
- * sources are instead a module, libtp_io_media.so next to it (CMakeLists.txt), and these
+ * sources are instead a module, libtp_io_media.so next to it (installed: in
+ * <libdir>/terrapatch; CMakeLists.txt), and these
  * functions, with the signatures of tp_io.h, load it with dlopen on the first call and
  * forward to it. The module calls back into the binary (tp_core, the rest of tp_io), which
  * exports those symbols for it. The tests and tools link the whole of tp_io statically and
@@ -32,22 +33,42 @@ static pthread_once_t module_once = PTHREAD_ONCE_INIT;
 static void* module_handle;
 static char module_error[400];
 
-/* The module beside the executable (/proc/self/exe), else wherever dlopen finds the name. */
+/* Where an installed binary finds the module, relative to its own folder (CMakeLists.txt sets it
+ * from the install layout: <bindir>/../lib/terrapatch). */
+#ifndef TP_INSTALL_MODULE_REL
+#define TP_INSTALL_MODULE_REL "../lib/terrapatch"
+#endif
+
+/* The module beside the executable (/proc/self/exe: the build tree), else in the installed
+ * layout relative to it, else wherever dlopen finds the name. */
 static void module_load(void)
 {
-    char path[PATH_MAX];
-    ssize_t n = readlink("/proc/self/exe", path, sizeof path - sizeof MODULE_NAME - 1);
+    char exe[PATH_MAX], path[PATH_MAX + sizeof TP_INSTALL_MODULE_REL + sizeof MODULE_NAME + 2];
+    ssize_t n = readlink("/proc/self/exe", exe, sizeof exe - 1);
+    char* slash = NULL;
     if (n > 0) {
-        path[n] = '\0';
-        char* slash = strrchr(path, '/');
-        if (slash) {
-            strcpy(slash + 1, MODULE_NAME);
+        exe[n] = '\0';
+        slash = strrchr(exe, '/');
+    }
+    if (slash) {
+        *slash = '\0';
+        const char* rel[] = {".", TP_INSTALL_MODULE_REL};
+        for (size_t i = 0; i < sizeof rel / sizeof rel[0] && !module_handle; i++) {
+            snprintf(path, sizeof path, "%s/%s/%s", exe, rel[i], MODULE_NAME);
+            if (access(path, F_OK) != 0)
+                continue;
             module_handle = dlopen(path, RTLD_NOW | RTLD_LOCAL);
+            const char* e = module_handle ? NULL : dlerror();
+            if (e && !module_error[0]) /* a module that is there but fails to load says why */
+                snprintf(module_error, sizeof module_error,
+                         "cannot load the image and mesh module: %s", e);
         }
     }
     if (!module_handle)
         module_handle = dlopen(MODULE_NAME, RTLD_NOW | RTLD_LOCAL);
-    if (!module_handle) {
+    if (module_handle) {
+        module_error[0] = '\0';
+    } else if (!module_error[0]) {
         const char* e = dlerror();
         snprintf(module_error, sizeof module_error, "cannot load the image and mesh module: %s",
                  e ? e : MODULE_NAME);

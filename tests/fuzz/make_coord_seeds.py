@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """Writes the seed corpus of fuzz_coord_line (corpus/fuzz_coord_line/) from the coordinate test
-sets in ../shared/data/coord (see its README.md): each seed is one byte choosing the mode
+sets in data/coord (see its README.md): each seed is one byte choosing the mode
 (byte % 6: 0..3 --to geo/utm/mgrs/ecef, 4 --geodesic, 5 tp_mgrs_reverse; byte / 6 % 12 the MGRS
 precision) and one input line. Usage: make_coord_seeds.py SHARED_COORD_DIR OUT_DIR"""
 import hashlib

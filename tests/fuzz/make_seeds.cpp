@@ -1,13 +1,13 @@
 /*
  * make_seeds.cpp - writes the seed corpora of fuzz_dem_read, fuzz_image_read,
  * fuzz_mesh_inspect, fuzz_store_read and fuzz_imagery_read (corpus/<fuzzer>/) from the real files: 16x16 crops of
- * the shared DEMs (../shared/data, PROVENANCE.md) through GDAL in each DEM format the reader
+ * the DEMs of data/ (data/PROVENANCE.md) through GDAL in each DEM format the reader
  * documents, crops of the Puget Sound heightmap through OpenImageIO in each heightmap format, a
  * 3x3-post mesh written by tp_mesh_write in each VTK format, and a 49x33 crop of Storm Lake
  * (with its nodata edge) as a terrain store of 17x17 nodes, and a 40x30 crop of the Crater Lake
  * imagery as an imagery pyramid (fuzz_imagery_read). Each seed is the byte that picks the file
  * name in the fuzzer (its kNames) and the file. Built in build-fuzz/ (not a test):
- *   build-fuzz/fuzz/tp_fuzz_make_seeds ../shared/data tests/fuzz/corpus
+ *   build-fuzz/fuzz/tp_fuzz_make_seeds data tests/fuzz/corpus
  */
 #include "tp_imagery.h"
 #include "tp_io.h"
@@ -237,7 +237,7 @@ void imagery(const std::string& data, const std::string& name)
 int main(int argc, char** argv)
 {
     if (argc != 3) {
-        std::fprintf(stderr, "usage: %s SHARED_DATA_DIR OUT_CORPUS_DIR\n", argv[0]);
+        std::fprintf(stderr, "usage: %s DATA_DIR OUT_CORPUS_DIR\n", argv[0]);
         return 2;
     }
     const std::string data = argv[1];
