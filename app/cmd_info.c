@@ -405,14 +405,11 @@ int tp_cli_info(int argc, char** argv)
     int code = parse_options(argc, argv, &o);
     if (code >= 0)
         return code;
-    const int kind = tp_terrain_kind_of(o.path);
-    if (kind < 0)
-        return TP_EXIT_FAILURE;
-    if (kind == TP_TERRAIN_STORE) {
-        if ((code = tp_terrain_refuse_store_options("info", o.path, &o.scene)) >= 0)
-            return code;
+    int is_store;
+    if ((code = tp_terrain_classify("info", o.path, &o.scene, &is_store)) >= 0)
+        return code;
+    if (is_store)
         return tp_info_store(o.path, o.json);
-    }
     const size_t len = strlen(o.path);
     if (len > 4 && (!strcmp(o.path + len - 4, ".tpi") || !strcmp(o.path + len - 4, ".tpl")))
         return tp_info_imagery(o.path, o.json);

@@ -3,6 +3,7 @@
  * view/, export/, bench/ for the big ones).
  */
 #include "cli.h"
+#include "memory.h"
 
 #include "tp_core.h"
 #include "tp_io.h"
@@ -93,6 +94,8 @@ int main(int argc, char** argv)
     /* SIGINT/SIGTERM kill at once, except while a file is being written: then the writer
      * removes its temporary file first and we exit with 128 + the signal. */
     tp_interrupt_install();
+    if (!tp_memory_limit_check())
+        return TP_EXIT_USAGE;
     int code = run_command(argc, argv);
     return tp_interrupted() ? tp_cli_interrupted() : code;
 }

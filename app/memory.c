@@ -65,13 +65,16 @@ static uint64_t file_number(const char* path)
     return v;
 }
 
-/* TP_MEMORY_LIMIT: bytes, with an optional K, M or G (binary) suffix; 0 if unset or bad. */
+/* TP_MEMORY_LIMIT: bytes, with an optional K, M or G (binary) suffix; 0 if unset or bad
+ * (tp_memory_limit_check refuses a bad one before any command runs). */
 static uint64_t env_limit(void)
 {
     const char* s = getenv("TP_MEMORY_LIMIT");
     if (!s || !*s)
         return 0;
     char* end;
+    if (!((*s >= '0' && *s <= '9') || *s == '.'))
+        return 0; /* strtod would take "inf", "nan", hex and blanks */
     double v = strtod(s, &end);
     switch (*end) {
     case 'k': case 'K': v *= 1024.0, end++; break;
@@ -79,6 +82,16 @@ static uint64_t env_limit(void)
     case 'g': case 'G': v *= 1073741824.0, end++; break;
     }
     return *end == '\0' && v > 0 && v < 1.8e19 ? (uint64_t)v : 0;
+}
+
+int tp_memory_limit_check(void)
+{
+    const char* s = getenv("TP_MEMORY_LIMIT");
+    if (!s || !*s || env_limit() > 0)
+        return 1;
+    fprintf(stderr, "terrapatch: TP_MEMORY_LIMIT=%s: expected a number of bytes > 0 with an "
+                    "optional K, M or G suffix (e.g. 512M, 2G)\n", s);
+    return 0;
 }
 
 static void consider(tp_memory_room* r, uint64_t limit, uint64_t used, const char* bound)

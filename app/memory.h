@@ -38,6 +38,11 @@ typedef struct tp_memory_room {
 
 void tp_memory_room_now(tp_memory_room* out);
 
+/* 1 when TP_MEMORY_LIMIT is unset or a number of bytes > 0 (K/M/G suffix allowed); else 0 after
+ * one line naming it ("abc", "-5", "0", "1X": a bound the user meant and we could not read is
+ * not silently no bound). main() checks it before any command. */
+int tp_memory_limit_check(void);
+
 /* Peak resident bytes of this process so far (getrusage ru_maxrss); 0 if unknown. */
 uint64_t tp_memory_peak_rss(void);
 

@@ -4,12 +4,15 @@
 
 #include "cli.h"
 
+#include <dirent.h>
 #include <errno.h>
+#include <fcntl.h>
 #include <limits.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/file.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -58,6 +61,80 @@ static uint64_t fnv(uint64_t h, const void* data, size_t n)
 static uint64_t fnv_str(uint64_t h, const char* s)
 {
     return fnv(h, s ? s : "", (s ? strlen(s) : 0) + 1);
+}
+
+/* The lock of one cached store's build: an flock on STORE.lock (beside it, empty, removed when
+ * the build ends), held until the descriptor is closed or the process ends, however it ends. Waits, saying so once,
+ * while another process holds it. -1 when no lock can be had (a build without one). */
+static int lock_build(const char* store)
+{
+    char lock[PATH_MAX];
+    if (snprintf(lock, sizeof lock, "%s.lock", store) >= (int)sizeof lock)
+        return -1;
+    int fd = open(lock, O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+    if (fd < 0)
+        return -1;
+    if (flock(fd, LOCK_EX | LOCK_NB) == 0)
+        return fd;
+    if (errno == EWOULDBLOCK) {
+        fprintf(stderr, "terrapatch: another terrapatch is building %s: waiting for it\n", store);
+        while (flock(fd, LOCK_EX) != 0)
+            if (errno != EINTR) {
+                close(fd);
+                return -1;
+            }
+        return fd;
+    }
+    close(fd);
+    return -1;
+}
+
+/* Ends a build: its lock file goes (a process still waiting on it holds it open, takes the lock
+ * and finds the store built), then the lock. */
+static void unlock_build(const char* store, int fd)
+{
+    char lock[PATH_MAX];
+    if (snprintf(lock, sizeof lock, "%s.lock", store) < (int)sizeof lock)
+        unlink(lock);
+    close(fd);
+}
+
+/* Removes the temporary files of builds that died in dir (kill -9, a power cut: no handler ran):
+ * NAME.tpt.tmpXXXXXXXX (atomic_write's names) whose NAME.tpt.lock no live build holds. One
+ * line says how many and how many bytes. */
+static void sweep(const char* dir)
+{
+    DIR* d = opendir(dir);
+    if (!d)
+        return;
+    int swept = 0;
+    long long bytes = 0;
+    for (struct dirent* e; (e = readdir(d));) {
+        const char* tmp = strstr(e->d_name, ".tpt.tmp");
+        if (!tmp || strlen(tmp + 8) != 8)
+            continue;
+        char path[PATH_MAX], lock[PATH_MAX];
+        if (snprintf(path, sizeof path, "%s/%s", dir, e->d_name) >= (int)sizeof path ||
+            snprintf(lock, sizeof lock, "%s/%.*s.lock", dir, (int)(tmp + 4 - e->d_name),
+                     e->d_name) >= (int)sizeof lock)
+            continue;
+        /* no lock file: its build ended (a live one keeps it); else its lock must be free */
+        int fd = open(lock, O_RDWR | O_CLOEXEC);
+        if (fd < 0 && errno != ENOENT)
+            continue;
+        struct stat sb;
+        if ((fd < 0 || flock(fd, LOCK_EX | LOCK_NB) == 0) && lstat(path, &sb) == 0 &&
+            S_ISREG(sb.st_mode) && unlink(path) == 0) {
+            swept++;
+            bytes += sb.st_size;
+        }
+        if (fd >= 0)
+            close(fd);
+    }
+    closedir(d);
+    if (swept)
+        fprintf(stderr, "terrapatch: removed %d temporary file%s (%.1f MB) that a killed build "
+                        "left in %s\n", swept, swept == 1 ? "" : "s", bytes / 1e6, dir);
 }
 
 /* 1 when path opens as a store built from abs_path with the given patch size. */
@@ -157,8 +234,18 @@ int tp_store_cache_get(const char* dem, const tp_store_cache_options* o, char* o
         fprintf(stderr, "terrapatch: %s: the cache path is too long\n", dir);
         return TP_EXIT_FAILURE;
     }
-    if (!temporary && store_matches(out, abs_path, o->patch_size))
+    if (!temporary && store_matches(out, abs_path, o->patch_size)) {
+        sweep(dir);
         return TP_EXIT_OK;
+    }
+    /* one build of this store at a time: a second process waits, then finds it built */
+    if (!temporary)
+        sweep(dir);
+    int lock_fd = temporary ? -1 : lock_build(out);
+    if (lock_fd >= 0 && store_matches(out, abs_path, o->patch_size)) {
+        close(lock_fd); /* releases the lock */
+        return TP_EXIT_OK;
+    }
 
     fprintf(stderr, "terrapatch: building a store of %s in %s (once; reused next time)\n", dem,
             dir);
@@ -197,6 +284,8 @@ int tp_store_cache_get(const char* dem, const tp_store_cache_options* o, char* o
     argv[argc] = NULL;
     int code = tp_cli_build(argc, argv);
     optind = 1;
+    if (lock_fd >= 0)
+        unlock_build(out, lock_fd);
     if (temporary && code != TP_EXIT_OK)
         rmdir(dir);
     *temporary_out = temporary && code == TP_EXIT_OK;

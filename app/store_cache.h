@@ -12,6 +12,12 @@
  * store format's version; a cached file is used only if it opens
  * as a store and its header and notes match (the source path, the patch size), else it is
  * rebuilt.
+ *
+ * One build of a cached store at a time: the builder holds an flock on NAME-KEY.tpt.lock (an
+ * empty file beside the store while it is built); a second process asking for the same store waits ("another
+ * terrapatch is building ...: waiting for it") and then finds it built. The temporary files of
+ * builds that were killed (kill -9: no handler ran) are removed by the next process that uses
+ * the cache, when no live build holds their lock.
  */
 #ifndef TP_APP_STORE_CACHE_H
 #define TP_APP_STORE_CACHE_H

@@ -10,10 +10,8 @@
 #include <string.h>
 #include <sys/stat.h>
 
-int tp_is_store_path(const char* path)
+int tp_file_head(const char* path, unsigned char* head, size_t n)
 {
-    static const unsigned char magic[8] = {0x89, 'T', 'P', 'T', '\r', '\n', 0x1A, '\n'};
-    unsigned char head[8];
     struct stat st;
     /* never open a FIFO or a device to look: it could block; the readers refuse those */
     if (stat(path, &st) != 0 || !S_ISREG(st.st_mode))
@@ -21,9 +19,16 @@ int tp_is_store_path(const char* path)
     FILE* f = fopen(path, "rb");
     if (!f)
         return 0;
-    size_t got = fread(head, 1, sizeof head, f);
+    size_t got = fread(head, 1, n, f);
     fclose(f);
-    return got == sizeof head && memcmp(head, magic, sizeof magic) == 0;
+    return got == n;
+}
+
+int tp_is_store_path(const char* path)
+{
+    static const unsigned char magic[8] = {0x89, 'T', 'P', 'T', '\r', '\n', 0x1A, '\n'};
+    unsigned char head[8];
+    return tp_file_head(path, head, sizeof head) && memcmp(head, magic, sizeof magic) == 0;
 }
 
 /* One error line naming the file; the store's messages name it, the others do not. */

@@ -26,6 +26,10 @@ typedef struct tp_store_scene {
 /* 1 if path names a terrapatch store (its first bytes are the store's magic). */
 int tp_is_store_path(const char* path);
 
+/* Reads the first n bytes of path into head when it is a regular file of at least n bytes
+ * (a FIFO or a device is never opened: it could block): 1, else 0. */
+int tp_file_head(const char* path, unsigned char* head, size_t n);
+
 /* Opens the store, its tree and georeference. Prints one error line naming the file and returns
  * TP_EXIT_FAILURE on failure (the scene then holds nothing), TP_EXIT_OK on success. */
 int tp_store_scene_open(const char* path, tp_store_scene* sc);

@@ -22,16 +22,8 @@ static int named_tpt(const char* path)
 /* 1 when a regular file's first bytes look like a store's magic (0x89 "TPT"), whole or not. */
 static int starts_like_store(const char* path)
 {
-    struct stat st;
-    if (stat(path, &st) != 0 || !S_ISREG(st.st_mode))
-        return 0;
-    FILE* f = fopen(path, "rb");
-    if (!f)
-        return 0;
-    unsigned char head[4] = {0};
-    size_t got = fread(head, 1, sizeof head, f);
-    fclose(f);
-    return got == sizeof head && !memcmp(head + 1, "TPT", 3);
+    unsigned char head[4];
+    return tp_file_head(path, head, sizeof head) && !memcmp(head + 1, "TPT", 3);
 }
 
 int tp_terrain_kind_of(const char* path)
@@ -75,17 +67,24 @@ int tp_terrain_refuse_store_options(const char* cmd, const char* path, const tp_
     return TP_EXIT_USAGE;
 }
 
+int tp_terrain_classify(const char* cmd, const char* path, const tp_scene_options* o,
+                        int* is_store)
+{
+    const int kind = tp_terrain_kind_of(path);
+    if (kind < 0)
+        return TP_EXIT_FAILURE;
+    *is_store = kind == TP_TERRAIN_STORE;
+    return *is_store ? tp_terrain_refuse_store_options(cmd, path, o) : -1;
+}
+
 int tp_terrain_store(const char* cmd, const char* path, const tp_scene_options* o,
                      const char* cache_dir, char* out, size_t cap, int* temporary)
 {
     *temporary = 0;
-    const int kind = tp_terrain_kind_of(path);
-    if (kind < 0)
-        return TP_EXIT_FAILURE;
-    if (kind == TP_TERRAIN_STORE) {
-        int code = tp_terrain_refuse_store_options(cmd, path, o);
-        if (code >= 0)
-            return code;
+    int is_store, code = tp_terrain_classify(cmd, path, o, &is_store);
+    if (code >= 0)
+        return code;
+    if (is_store) {
         if (snprintf(out, cap, "%s", path) >= (int)cap) {
             fprintf(stderr, "terrapatch: %s: the path is too long\n", path);
             return TP_EXIT_FAILURE;

@@ -39,6 +39,12 @@ int tp_terrain_kind_of(const char* path);
  * the DEM with terrapatch build)" and TP_EXIT_USAGE. Returns -1 (go on) otherwise. */
 int tp_terrain_refuse_store_options(const char* cmd, const char* path, const tp_scene_options* o);
 
+/* The two above in one call, as every command begins: -1 to go on, with *is_store (1 for a
+ * store, whose DEM options were refused, 0 for a DEM); else the exit code after one line (a
+ * damaged store: 1; DEM options given with a store: 2). */
+int tp_terrain_classify(const char* cmd, const char* path, const tp_scene_options* o,
+                        int* is_store);
+
 /* The store that a command reading the ground through a store (point, los, viewshed, light,
  * profile, contours, view, bench) reads for path: path itself when it is a store (with the DEM
  * options refused as above), or a DEM's store from the cache, built with o's --patch (the

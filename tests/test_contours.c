@@ -785,7 +785,32 @@ TEST(cli_around_a_position_and_flat_ground)
     EXPECT_EQ_INT(0, read_back(path, NULL, 0, "contours"));
 }
 
+/* A tiny interval over a modest range is refused by the vertices it would draw, counted before
+ * GDAL runs (issue 29, 4.11: --interval 0.001 ran past two minutes): a plane rising 0.021 m a
+ * post over 1000 x 1000 posts crosses 21 levels of 1 mm on each of its 999 x 1000 horizontal
+ * edges, 20,979,000 vertices (21,000 levels: under the level bound), and none on the vertical
+ * ones; at 1.1 mm it is 19,071,000, under the bound, and counted the same way. */
+TEST(interval_bounded_by_the_vertices_it_would_draw)
+{
+    const int w = 1000, h = 1000;
+    float* z = malloc((size_t)w * h * sizeof *z);
+    ASSERT_TRUE(z != NULL);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x)
+            z[(size_t)y * w + x] = 0.021f * x + 0.0005f; /* levels never on a post */
+    const double gt[6] = {500000, 1, 0, 4700000, 0, -1};
+    tp_features* f = NULL;
+    tp_error err = {{0}};
+    EXPECT_STATUS(TP_ERR_INVALID_ARG,
+                  tp_contours_generate(z, (size_t)w * h, w, h, gt, 0.001, 0.0, 0, &f, &err));
+    EXPECT_CONTAINS(err.message, "would draw about 2.1e+07 vertices");
+    EXPECT_CONTAINS(err.message, "choose an interval of about 0.001");
+    EXPECT_TRUE(f == NULL);
+    free(z);
+}
+
 #define TESTS(X)                                                                                   \
+    X(interval_bounded_by_the_vertices_it_would_draw)                                              \
     X(n42e001_matches_gdal_contour_generate)                                                       \
     X(no_contour_crosses_a_void)                                                                   \
     X(flat_grid_gives_no_lines)                                                                    \

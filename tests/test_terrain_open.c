@@ -16,6 +16,7 @@
 #include <ogr_srs_api.h>
 
 #include <sys/stat.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #define TILE "N42E001.hgt"
@@ -477,6 +478,63 @@ TEST(vertical_datum_said_only_where_known)
     EXPECT_CONTAINS(text, "assumed EGM96 geoid (SRTM's specification)");
 }
 
+/* Runs sh -c script with $T the terrapatch binary; its exit status. */
+static int sh(const char* script)
+{
+    const char* exe = getenv("TP_TERRAPATCH");
+    if (!exe)
+        SKIP("TP_TERRAPATCH not set");
+    char cmd[10240];
+    snprintf(cmd, sizeof cmd, "T='%s'; %s", exe, script);
+    int rc = system(cmd);
+    return WIFEXITED(rc) ? WEXITSTATUS(rc) : 128 + WTERMSIG(rc);
+}
+
+/* 3.3: the temporary file of a cached store's build killed with -9 (no handler runs) is removed
+ * by the next run that uses the cache, which then builds the store. */
+TEST(temporary_files_of_a_killed_cache_build_are_swept)
+{
+    char tile[1024], cache[256], script[8192], err[8192];
+    REQUIRE_DATA_FILE(tile, "TP_SHARED_DATA_DIR", TILE);
+    snprintf(cache, sizeof cache, "%s/killed-cache", tmp_dir());
+    /* start a build, wait for its temporary file, kill -9 it */
+    snprintf(script, sizeof script,
+             "mkdir -p '%s' && { \"$T\" point --cache-dir '%s' '%s' 42.5 1.5 >/dev/null 2>&1 & "
+             "pid=$!; i=0; while [ $i -lt 600 ] && ! ls '%s'/*.tpt.tmp* >/dev/null 2>&1; do "
+             "sleep 0.05; i=$((i+1)); done; kill -9 $pid; wait $pid; "
+             "ls '%s'/*.tpt.tmp* >/dev/null 2>&1; }",
+             cache, cache, tile, cache, cache);
+    ASSERT_EQ_INT(0, sh(script)); /* the killed build left its temporary file */
+    const char* args[] = {"--cache-dir", cache, tile, "42.5", "1.5", NULL};
+    ASSERT_EQ_INT(0, tp_test_run_terrapatch("point", args, err, sizeof err));
+    EXPECT_CONTAINS(err, "that a killed build left in");
+    EXPECT_TRUE(tp_test_nothing_named(cache, "N42E001") == 0); /* the store is there */
+    snprintf(script, sizeof script, "! ls '%s'/*.tmp* >/dev/null 2>&1", cache);
+    EXPECT_EQ_INT(0, sh(script));
+}
+
+/* 3.3: two processes asking for the same cached store share one build: one builds, the other
+ * waits for it and reads the same store. */
+TEST(two_processes_share_one_cache_build)
+{
+    char tile[1024], cache[256], script[8192], e1[256], e2[256], t1[8192], t2[8192];
+    REQUIRE_DATA_FILE(tile, "TP_SHARED_DATA_DIR", TILE);
+    snprintf(cache, sizeof cache, "%s/shared-cache", tmp_dir());
+    snprintf(e1, sizeof e1, "%s/one.err", tmp_dir());
+    snprintf(e2, sizeof e2, "%s/two.err", tmp_dir());
+    snprintf(script, sizeof script,
+             "mkdir -p '%s' && { \"$T\" point --cache-dir '%s' '%s' 42.5 1.5 >/dev/null 2>'%s' & "
+             "a=$!; \"$T\" point --cache-dir '%s' '%s' 42.5 1.5 >/dev/null 2>'%s' & b=$!; "
+             "wait $a && wait $b; }",
+             cache, cache, tile, e1, cache, tile, e2);
+    ASSERT_EQ_INT(0, sh(script));
+    tp_test_read_text(e1, t1, sizeof t1);
+    tp_test_read_text(e2, t2, sizeof t2);
+    const int built = (strstr(t1, "building a store") != NULL) + (strstr(t2, "building a store") != NULL);
+    EXPECT_EQ_INT(1, built);
+    EXPECT_TRUE(strstr(t1, "waiting for it") || strstr(t2, "waiting for it"));
+}
+
 #define TESTS(X)                                                                                   \
     X(virtual_paths_work_in_every_command)                                                         \
     X(dem_options_are_accepted_by_every_command)                                                   \
@@ -487,5 +545,7 @@ TEST(vertical_datum_said_only_where_known)
     X(non_regular_inputs_are_refused_on_every_path)                                                \
     X(build_refuses_sources_far_apart)                                                             \
     X(heights_in_feet_are_converted_to_metres)                                                     \
-    X(vertical_datum_said_only_where_known)
+    X(vertical_datum_said_only_where_known)                                                        \
+    X(temporary_files_of_a_killed_cache_build_are_swept)                                           \
+    X(two_processes_share_one_cache_build)
 TP_TEST_MAIN(TESTS)

@@ -248,7 +248,7 @@ TEST(bad_files_are_clear_errors)
     /* missing */
     snprintf(path, sizeof path, "%s/missing.kml", tmp_dir());
     EXPECT_STATUS(TP_ERR_IO, tp_vector_read(path, wkt, &f, &err));
-    EXPECT_CONTAINS(err.message, "missing.kml: no such file");
+    EXPECT_CONTAINS(err.message, "missing.kml: cannot open: No such file or directory");
     /* a raster is not a vector file */
     char dem[1024];
     if (tp_test_data_path(dem, sizeof dem, "TP_SAMPLE_DATA_DIR", "storml_elev_orig.tif")) {

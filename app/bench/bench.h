@@ -253,6 +253,13 @@ void tp_bench_pgm_errors(config_result* c, int frames);
 
 /* The median of v[0..n-1] (n >= 1); sorts v. */
 double tp_bench_median(double* v, int n);
+
+/* A run's progress on stderr (bench_stats.c), for both benches: frame (1-based) of frames and
+ * what it measured ("12.3 ms, 4567 triangles"). On a terminal one line redrawn ('\r'); else
+ * (a log, a pipe) one line at each tenth of the frames and at the last, never thousands of
+ * '\r'-joined updates on one line. tp_bench_progress_end ends a terminal's line. */
+void tp_bench_progress(const char* progress, int frame, int frames, const char* what);
+void tp_bench_progress_end(void);
 /* The 99th percentile (nearest rank) of v[0..n-1], sorted (n >= 1). */
 double tp_bench_p99(const double* v, int n);
 /* One column of a run's frames: v[i] = expr for i < n, with r = &rows[i] (of type row_type). */

@@ -87,10 +87,11 @@ int tp_bench_pgm_frames(const bench_run* b, config_result* c, const char* progre
             size_t in_view = e.samples + e.uncovered;
             row->uncovered_share = in_view ? (double)e.uncovered / (double)in_view : 0;
         }
-        fprintf(stderr, "\rterrapatch: bench %s: frame %d/%d, %.1f ms, %zu triangles   ", progress,
-                i + 1, frames, row->frame_ms, row->triangles);
+        char what[96];
+        snprintf(what, sizeof what, "%.1f ms, %zu triangles", row->frame_ms, row->triangles);
+        tp_bench_progress(progress, i + 1, frames, what);
     }
-    fprintf(stderr, "\n");
+    tp_bench_progress_end();
     tp_pgm_renderer_destroy(r);
     tp_pgm_pyramid_free(&p);
     return TP_EXIT_OK;

@@ -3,7 +3,9 @@
 #include "bench.h"
 
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
+#include <unistd.h>
 
 static int cmp_double(const void* a, const void* b)
 {
@@ -21,4 +23,22 @@ double tp_bench_p99(const double* v, int n)
 {
     int k = (int)ceil(0.99 * n) - 1;
     return v[k < 0 ? 0 : k];
+}
+
+void tp_bench_progress(const char* progress, int frame, int frames, const char* what)
+{
+    if (isatty(STDERR_FILENO)) {
+        fprintf(stderr, "\rterrapatch: bench %s: frame %d/%d, %s   ", progress, frame, frames,
+                what);
+        return;
+    }
+    /* a line when the run passes another tenth, and at its end */
+    if (frame == frames || (long)frame * 10 / frames != (long)(frame - 1) * 10 / frames)
+        fprintf(stderr, "terrapatch: bench %s: frame %d/%d, %s\n", progress, frame, frames, what);
+}
+
+void tp_bench_progress_end(void)
+{
+    if (isatty(STDERR_FILENO))
+        fputc('\n', stderr);
 }

@@ -339,10 +339,12 @@ static int run_store_pgm(store_bench* b, store_result* c, const char* progress)
                 }
             }
             read_rss(&row->rss_mb, &row->rss_anon_mb);
-            fprintf(stderr, "\rterrapatch: bench %s: frame %d/%d, %.1f ms, %zu posts updated   ",
-                    progress, k + 1, frames, row->frame_ms, row->pgm_posts);
+            char what[96];
+            snprintf(what, sizeof what, "%.1f ms, %zu posts updated", row->frame_ms,
+                     row->pgm_posts);
+            tp_bench_progress(progress, k + 1, frames, what);
         }
-    fprintf(stderr, "\n");
+    tp_bench_progress_end();
     summarize(c, frames);
     tp_pgm_renderer_destroy(r);
     tp_pgm_clipmap_destroy(clip);
@@ -512,11 +514,12 @@ static int run_store_config(store_bench* b, store_result* c, int first, const ch
             const char* failure = tp_stream_take_failure(b->sc.stream);
             if (failure)
                 fprintf(stderr, "\nterrapatch bench: %s\n", failure);
-            fprintf(stderr, "\rterrapatch: bench %s: frame %d/%d, %.1f ms, %d nodes   ", progress,
-                    k + 1, frames, row->frame_ms, row->nodes);
+            char what[96];
+            snprintf(what, sizeof what, "%.1f ms, %d nodes", row->frame_ms, row->nodes);
+            tp_bench_progress(progress, k + 1, frames, what);
         }
     }
-    fprintf(stderr, "\n");
+    tp_bench_progress_end();
     summarize(c, frames);
     if (im) /* the last frame against a fresh clipmap's: nothing stale after the flight */
         c->img_final_diff = tp_bench_imagery_diff(im, o->imagery, &b->sc, cut, r, b->ctx, &cam,

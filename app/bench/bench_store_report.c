@@ -42,7 +42,7 @@ static void json_result(tp_json* j, const store_result* c)
     KN("frame_ms_median", c->frame_ms);
     KN("frame_ms_p99", c->frame_ms_p99);
     KN("p99_over_median", c->frame_ms_p99 / c->frame_ms);
-    KN("cpu_ms", c->cpu_ms);
+    KN("cpu_ms_median", c->cpu_ms); /* the DEM bench's name: one schema */
     KN("cut_ms_median", c->cut_ms);
     KN("stream_ms_median", c->stream_ms);
     KN("upload_ms_median", c->upload_ms);

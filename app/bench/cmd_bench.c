@@ -651,10 +651,11 @@ static int run_config(const bench_run* b, config_result* c, const char* progress
             row->max_m = em.max_error_m;
             row->rms_m = em.rms_error_m;
         }
-        fprintf(stderr, "\rterrapatch: bench %s: frame %d/%d, %.1f ms, %zu triangles   ", progress,
-                i + 1, frames, row->frame_ms, row->triangles);
+        char what[96];
+        snprintf(what, sizeof what, "%.1f ms, %zu triangles", row->frame_ms, row->triangles);
+        tp_bench_progress(progress, i + 1, frames, what);
     }
-    fprintf(stderr, "\n");
+    tp_bench_progress_end();
     summarize(c, frames);
     tp_selection_destroy(sel);
     tp_renderer_destroy(r);
@@ -715,14 +716,11 @@ int tp_cli_bench(int argc, char** argv)
     for (int i = 0; i < 3; i++)
         if (outputs[i] && !tp_atomic_check_dir(outputs[i]))
             return TP_EXIT_FAILURE;
-    const int kind = tp_terrain_kind_of(o.dem);
-    if (kind < 0)
-        return TP_EXIT_FAILURE;
-    if (kind == TP_TERRAIN_STORE) {
-        if ((code = tp_terrain_refuse_store_options("bench", o.dem, &o.scene)) >= 0)
-            return code;
+    int is_store;
+    if ((code = tp_terrain_classify("bench", o.dem, &o.scene, &is_store)) >= 0)
+        return code;
+    if (is_store)
         return tp_bench_store(&o);
-    }
     tp_scene sc;
     o.scene.use = TP_MEMORY_USE_BENCH;
     if ((code = tp_scene_load(o.dem, &o.scene, &sc)) != TP_EXIT_OK)

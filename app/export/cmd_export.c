@@ -261,12 +261,10 @@ int tp_cli_export(int argc, char** argv)
     /* An unwritable output is found before the DEM is read, not after the mesh is built. */
     if (!tp_atomic_check_dir(o.out))
         return TP_EXIT_FAILURE;
-    const int kind = tp_terrain_kind_of(o.path);
-    if (kind < 0)
-        return TP_EXIT_FAILURE;
-    if (kind == TP_TERRAIN_STORE) {
-        if ((code = tp_terrain_refuse_store_options("export", o.path, &o.scene)) >= 0)
-            return code;
+    int is_store;
+    if ((code = tp_terrain_classify("export", o.path, &o.scene, &is_store)) >= 0)
+        return code;
+    if (is_store) {
         if (o.no_cull || o.per_patch) {
             fprintf(stderr, "terrapatch export: %s is a store: --no-cull and --per-patch apply "
                             "to a DEM only\n", o.path);

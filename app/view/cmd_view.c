@@ -900,12 +900,10 @@ int tp_cli_view(int argc, char** argv)
      * level 0 */
     if (o.vs.pgm && !tp_is_store_path(o.path))
         o.old_path = 1;
-    const int kind = tp_terrain_kind_of(o.path);
-    if (kind < 0)
-        return TP_EXIT_FAILURE;
-    if (kind == TP_TERRAIN_STORE) {
-        if ((code = tp_terrain_refuse_store_options("view", o.path, &o.scene)) >= 0)
-            return code;
+    int is_store;
+    if ((code = tp_terrain_classify("view", o.path, &o.scene, &is_store)) >= 0)
+        return code;
+    if (is_store) {
         if (o.texture || o.old_path) {
             fprintf(stderr, "terrapatch view: %s is a store: --texture and --whole apply to a "
                             "DEM only\n", o.path);

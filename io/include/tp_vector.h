@@ -101,11 +101,15 @@ tp_status tp_vector_read(const char* path, const char* target_crs_wkt, tp_featur
  *
  * TP_ERR_INVALID_ARG for NULL pointers, width or height < 1, height_count != width * height, a
  * geotransform that is not finite or has gt[1] or gt[5] == 0, interval_m not finite or <= 0,
- * base_m not finite, index_every < 0, or an interval that would give more than
- * TP_CONTOURS_MAX_LEVELS levels over the heights' range; TP_ERR_BAD_DATA for an infinite height;
+ * base_m not finite, index_every < 0, an interval that would give more than
+ * TP_CONTOURS_MAX_LEVELS levels over the heights' range, or more than TP_CONTOURS_MAX_VERTICES
+ * vertices (counted before any line is made: one per level crossing each grid edge between two
+ * valid samples; the message suggests an interval that fits); TP_ERR_BAD_DATA for an infinite
+ * height;
  * TP_ERR_OUT_OF_MEMORY; TP_ERR_BACKEND when GDAL fails (its message). *out is written only on
  * TP_OK; free it with tp_features_destroy. */
 #define TP_CONTOURS_MAX_LEVELS 100000
+#define TP_CONTOURS_MAX_VERTICES 20000000 /* about 0.5 GB of lines, a minute of GDAL's work */
 tp_status tp_contours_generate(const float* heights, size_t height_count, int width, int height,
                                const double geotransform[6], double interval_m, double base_m,
                                int index_every, tp_features** out, tp_error* err);

@@ -132,6 +132,32 @@ extern "C" tp_status tp_contours_generate(const float* heights, size_t height_co
                     "%.1f m (at most %d)",
                     interval_m, ((double)hi - lo) / interval_m, (double)lo, (double)hi,
                     TP_CONTOURS_MAX_LEVELS);
+    /* The vertices the lines will have, before any is made: a level crosses a grid edge
+     * between two valid samples once for each level between their heights, and GDAL's lines
+     * put one vertex on each crossing. A tiny interval over rough ground is billions of them
+     * (minutes, gigabytes), however few levels it has. */
+    if (lo <= hi) {
+        double vertices = 0;
+        const auto level = [&](float z) { return std::floor(((double)z - base_m) / interval_m); };
+        for (int y = 0; y < height; ++y)
+            for (int x = 0; x < width; ++x) {
+                const float z = heights[(size_t)y * width + x];
+                if (std::isnan(z))
+                    continue;
+                const double k = level(z);
+                if (x + 1 < width && !std::isnan(heights[(size_t)y * width + x + 1]))
+                    vertices += std::fabs(level(heights[(size_t)y * width + x + 1]) - k);
+                if (y + 1 < height && !std::isnan(heights[(size_t)(y + 1) * width + x]))
+                    vertices += std::fabs(level(heights[(size_t)(y + 1) * width + x]) - k);
+            }
+        if (vertices > TP_CONTOURS_MAX_VERTICES)
+            return fail(err, TP_ERR_INVALID_ARG,
+                        "contours: an interval of %g m would draw about %.3g vertices over these "
+                        "%dx%d posts (at most %.0f): choose an interval of about %.2g m or more, "
+                        "or a smaller area",
+                        interval_m, vertices, width, height, (double)TP_CONTOURS_MAX_VERTICES,
+                        interval_m * vertices / TP_CONTOURS_MAX_VERTICES);
+    }
     std::vector<double> xy;
     std::vector<Line> lines;
     try {

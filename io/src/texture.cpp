@@ -108,6 +108,18 @@ tp_status warp_georeferenced(const char* path, GDALDataset* src, const tp_render
             return fail(err, TP_ERR_BACKEND, "%s: %s", path, tpio::gdal_message().c_str());
         }
     }
+    /* an image that covers none of the DEM (another place, a wrong CRS): refused as
+     * `terrapatch imagery` refuses it, not drawn as a bare grey DEM */
+    bool any = false;
+    for (size_t i = 3; i < (size_t)w * h * 4 && !any; i += 4)
+        any = t->rgba[i] != 0;
+    if (!any) {
+        tp_texture_destroy(t);
+        return fail(err, TP_ERR_BAD_DATA,
+                    "%s: does not overlap the DEM: none of it falls on the render grid (check "
+                    "that both are of the same place, and the image's CRS)",
+                    path);
+    }
     t->georeferenced = 1;
     *out = t;
     return TP_OK;
