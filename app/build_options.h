@@ -30,8 +30,8 @@ typedef struct build_options {
     int imagery_count;
     tp_imagery_cli imagery_cli; /* --imagery-texel-shift, --imagery-resolution */
     int imagery_shift_given;
-    int allow_gaps;           /* --allow-gaps: build even when the sources cover under
-                                 TP_BUILD_MIN_COVERED of their mosaic */
+    int allow_gaps; /* --allow-gaps: build even when the sources cover under
+                       TP_BUILD_MIN_COVERED of their mosaic */
     int threads;
     const char* json; /* NULL, "-" or a path */
     int quiet;

@@ -52,10 +52,11 @@ int tp_camera_from_option_georef(const tp_georef* g, int geo, const double v[5],
      * grid in metres never lies within 180 m of its CRS's origin (UTM's eastings start at
      * 166 km), so such a camera is a mix-up, not a place. */
     if (!geo && tp_georef_has_geo(g) && fabs(e) <= 180 && fabs(n) <= 180) {
-        fprintf(stderr, "terrapatch %s: --camera %g,%g,...: those look like latitude and "
-                        "longitude, but --camera takes metres of the render CRS (E,N,H,YAW,PITCH); "
-                        "use --camera-geo %g,%g,%g,%g,%g\n", cmd, v[0], v[1], v[0], v[1], v[2], v[3],
-                v[4]);
+        fprintf(stderr,
+                "terrapatch %s: --camera %g,%g,...: those look like latitude and "
+                "longitude, but --camera takes metres of the render CRS (E,N,H,YAW,PITCH); "
+                "use --camera-geo %g,%g,%g,%g,%g\n",
+                cmd, v[0], v[1], v[0], v[1], v[2], v[3], v[4]);
         return 0;
     }
     if (geo) {

@@ -425,10 +425,12 @@ int tp_cli_build(int argc, char** argv)
     /* Sources far apart leave most of their mosaic empty: minutes of work on nodata, and a
      * store mostly of gaps. Almost always a wrong source; --allow-gaps when it is meant. */
     if (mi.covered_share < TP_BUILD_MIN_COVERED && !o.allow_gaps) {
-        fprintf(stderr, "terrapatch build: the %d sources cover about %.1f%% of their mosaic's "
-                        "%dx%d samples (%.1f%% would be gaps, nodata): check that they belong "
-                        "together, or add --allow-gaps\n", mi.source_count,
-                100.0 * mi.covered_share, mi.width, mi.height, 100.0 * (1.0 - mi.covered_share));
+        fprintf(stderr,
+                "terrapatch build: the %d sources cover about %.1f%% of their mosaic's "
+                "%dx%d samples (%.1f%% would be gaps, nodata): check that they belong "
+                "together, or add --allow-gaps\n",
+                mi.source_count, 100.0 * mi.covered_share, mi.width, mi.height,
+                100.0 * (1.0 - mi.covered_share));
         tp_mosaic_close(m);
         return TP_EXIT_FAILURE;
     }

@@ -5,12 +5,12 @@
  * quantisation, memory).
  */
 #include "cli.h"
-#include "terrain_open.h"
+#include "extent.h"
 #include "json.h"
 #include "point_readout.h"
-#include "extent.h"
 #include "scene.h"
 #include "store_scene.h"
+#include "terrain_open.h"
 
 #include "tp_core.h"
 #include "tp_geo.h"
@@ -142,7 +142,8 @@ static void print_text(const tp_scene* sc, const char* path)
     else if (dem->z_unit_from[0])
         printf("heights unit   metres (%s)\n", dem->z_unit_from);
     else
-        printf("heights unit   not stated by the file: taken as metres (--z-unit says otherwise)\n");
+        printf(
+            "heights unit   not stated by the file: taken as metres (--z-unit says otherwise)\n");
     printf("size           %d x %d samples\n", dem->width, dem->height);
     if (dem->epsg)
         printf("CRS            EPSG:%d (%s)\n", dem->epsg, crs.name);
@@ -168,7 +169,8 @@ static void print_text(const tp_scene* sc, const char* path)
     char datum[256];
     tp_heights_datum(dem->driver, dem->vertical_datum, datum, sizeof datum);
     printf("heights        vertical datum: %s;\n"
-           "               never converted to ellipsoidal heights\n", datum);
+           "               never converted to ellipsoidal heights\n",
+           datum);
 
     printf("\nrender grid\n");
     printf("  CRS          %s%s\n", g->crs_name, g->epsg ? "" : "");

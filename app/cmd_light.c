@@ -10,8 +10,8 @@
  * extension names (output_check.h), atomically.
  */
 #define _POSIX_C_SOURCE 200809L
-#include "cli.h"
 #include "cmd_light.h"
+#include "cli.h"
 #include "ground_locate.h"
 #include "output_check.h"
 #include "planner_cli.h"

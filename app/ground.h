@@ -62,8 +62,9 @@ typedef struct tp_ground_sample {
 } tp_ground_sample;
 
 /* Opens path, a .tpt or a DEM (built into the cache first, progress on stderr as view), for
- * queries, through tp_terrain_store (terrain_open.h): o->dem's options, refused for a store. Prints one line naming the file and returns TP_EXIT_FAILURE (or the build's
- * code) on failure, *out untouched; TP_EXIT_OK with *out on success. */
+ * queries, through tp_terrain_store (terrain_open.h): o->dem's options, refused for a store. Prints
+ * one line naming the file and returns TP_EXIT_FAILURE (or the build's code) on failure, *out
+ * untouched; TP_EXIT_OK with *out on success. */
 int tp_ground_open(const char* path, const tp_ground_options* o, tp_ground** out);
 
 /* Queries over an open store scene (borrowed: it must outlive the ground): the viewer's. The

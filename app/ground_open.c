@@ -39,9 +39,9 @@ int tp_ground_open(const char* path, const tp_ground_options* o, tp_ground** out
     /* a DEM's store: the options view uses by default, so that both share one cached store */
     tp_scene_options dem;
     tp_scene_options_default(&dem);
-    int code = tp_terrain_store(opts.cmd ? opts.cmd : "point", path, opts.dem ? opts.dem : &dem,
-                                opts.cache_dir, op->store_path, sizeof op->store_path,
-                                &op->temporary);
+    int code =
+        tp_terrain_store(opts.cmd ? opts.cmd : "point", path, opts.dem ? opts.dem : &dem,
+                         opts.cache_dir, op->store_path, sizeof op->store_path, &op->temporary);
     if (code != TP_EXIT_OK) {
         free(op);
         return code;

@@ -89,8 +89,10 @@ int tp_memory_limit_check(void)
     const char* s = getenv("TP_MEMORY_LIMIT");
     if (!s || !*s || env_limit() > 0)
         return 1;
-    fprintf(stderr, "terrapatch: TP_MEMORY_LIMIT=%s: expected a number of bytes > 0 with an "
-                    "optional K, M or G suffix (e.g. 512M, 2G)\n", s);
+    fprintf(stderr,
+            "terrapatch: TP_MEMORY_LIMIT=%s: expected a number of bytes > 0 with an "
+            "optional K, M or G suffix (e.g. 512M, 2G)\n",
+            s);
     return 0;
 }
 

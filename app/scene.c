@@ -122,8 +122,7 @@ static int scene_option(int opt, const char* arg, tp_scene_options* o, const cha
         return 1;
     case TP_OPT_Z_UNIT:
         if (strcmp(arg, "m") && strcmp(arg, "ft") && strcmp(arg, "us-ft")) {
-            fprintf(stderr, "terrapatch %s: --z-unit: expected m, ft or us-ft, got %s\n", cmd,
-                    arg);
+            fprintf(stderr, "terrapatch %s: --z-unit: expected m, ft or us-ft, got %s\n", cmd, arg);
             return -1;
         }
         o->z_unit = arg;
@@ -165,29 +164,30 @@ static int scene_option(int opt, const char* arg, tp_scene_options* o, const cha
 
 void tp_scene_options_help(FILE* f)
 {
-    fputs("  --patch N           patch size in samples: 17, 33, 65, 129 or 257 (default 17)\n"
-          "  --fit pad|resample  fit the grid to whole patches by padding the right and bottom\n"
-          "                      edges (exact, the default) or by bilinear resampling\n"
-          "  --crs CRS           the DEM's CRS, overriding the file's (e.g. EPSG:4326 for an\n"
-          "                      ASCII grid in degrees without a .prj); DEMs without any CRS\n"
-          "                      are taken as EPSG:4326 when plainly in degrees (cells under\n"
-          "                      0.1, extent within +-180/+-90), else as metres\n"
-          "  --resampling bilinear|cubic\n"
-          "                      how geographic DEMs are warped to UTM/UPS (default bilinear)\n"
-          "  --fill-max N        fill interior voids up to N x N samples only (default: any\n"
-          "                      size; 0 fills nothing); filled samples are tinted\n"
-          "  --fill-from FILE    fill voids from this raster (any CRS and resolution), shifted\n"
-          "                      to meet the ground around each void; else interpolated\n"
-          "  --z-unit m|ft|us-ft the unit of the DEM's heights, overriding the file's (band\n"
-          "                      unit, else its vertical CRS); feet are converted to metres\n"
-          "  --spacing METRES    heightmap images (PNG, ...; read with OpenImageIO): post\n"
-          "                      spacing, 0.001 to 1e6 (default 1)\n"
-          "  --zscale S          heightmap images: metres per count, 1e-6 to 1e5 (default 1);\n"
-          "                      heights beyond +-1e5 m after scaling are refused\n"
-          "  --origin LAT,LON    heightmap images: put the image's centre there (WGS84), in the\n"
-          "                      UTM/UPS zone of that point; default: local metres\n"
-          "                      (these three are refused for rasters with a CRS or geotransform)\n",
-          f);
+    fputs(
+        "  --patch N           patch size in samples: 17, 33, 65, 129 or 257 (default 17)\n"
+        "  --fit pad|resample  fit the grid to whole patches by padding the right and bottom\n"
+        "                      edges (exact, the default) or by bilinear resampling\n"
+        "  --crs CRS           the DEM's CRS, overriding the file's (e.g. EPSG:4326 for an\n"
+        "                      ASCII grid in degrees without a .prj); DEMs without any CRS\n"
+        "                      are taken as EPSG:4326 when plainly in degrees (cells under\n"
+        "                      0.1, extent within +-180/+-90), else as metres\n"
+        "  --resampling bilinear|cubic\n"
+        "                      how geographic DEMs are warped to UTM/UPS (default bilinear)\n"
+        "  --fill-max N        fill interior voids up to N x N samples only (default: any\n"
+        "                      size; 0 fills nothing); filled samples are tinted\n"
+        "  --fill-from FILE    fill voids from this raster (any CRS and resolution), shifted\n"
+        "                      to meet the ground around each void; else interpolated\n"
+        "  --z-unit m|ft|us-ft the unit of the DEM's heights, overriding the file's (band\n"
+        "                      unit, else its vertical CRS); feet are converted to metres\n"
+        "  --spacing METRES    heightmap images (PNG, ...; read with OpenImageIO): post\n"
+        "                      spacing, 0.001 to 1e6 (default 1)\n"
+        "  --zscale S          heightmap images: metres per count, 1e-6 to 1e5 (default 1);\n"
+        "                      heights beyond +-1e5 m after scaling are refused\n"
+        "  --origin LAT,LON    heightmap images: put the image's centre there (WGS84), in the\n"
+        "                      UTM/UPS zone of that point; default: local metres\n"
+        "                      (these three are refused for rasters with a CRS or geotransform)\n",
+        f);
 }
 
 void tp_print_warnings(const char* path, const char* text)

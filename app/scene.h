@@ -42,14 +42,17 @@ enum {
 
 #define TP_SCENE_LONG_OPTIONS                                                                      \
     {"patch", required_argument, NULL, TP_OPT_PATCH},                                              \
-        {"fit", required_argument, NULL, TP_OPT_FIT}, {"crs", required_argument, NULL, TP_OPT_CRS}, \
+        {"fit", required_argument, NULL, TP_OPT_FIT},                                              \
+        {"crs", required_argument, NULL, TP_OPT_CRS},                                              \
         {"resampling", required_argument, NULL, TP_OPT_RESAMPLING},                                \
         {"fill-max", required_argument, NULL, TP_OPT_FILL_MAX},                                    \
         {"fill-from", required_argument, NULL, TP_OPT_FILL_FROM},                                  \
         {"spacing", required_argument, NULL, TP_OPT_SPACING},                                      \
         {"zscale", required_argument, NULL, TP_OPT_ZSCALE},                                        \
         {"origin", required_argument, NULL, TP_OPT_ORIGIN},                                        \
-        {"z-unit", required_argument, NULL, TP_OPT_Z_UNIT}
+    {                                                                                              \
+        "z-unit", required_argument, NULL, TP_OPT_Z_UNIT                                           \
+    }
 
 void tp_scene_options_default(tp_scene_options* o);
 
@@ -68,7 +71,7 @@ int tp_scene_option_arg(const char* cmd, int argc, char** argv, int* i, tp_scene
 void tp_scene_options_names(unsigned mask, char* out, size_t cap);
 
 /* The bit of TP_OPT_x in tp_scene_options.given. */
-#define TP_SCENE_GIVEN(opt) (1u << ((opt) - TP_OPT_PATCH))
+#define TP_SCENE_GIVEN(opt) (1u << ((opt)-TP_OPT_PATCH))
 /* The DEM options that shape a DEM's store (passed to its build); the others (--fit and the
  * heightmap options) shape a DEM drawn whole. */
 #define TP_SCENE_STORE_OPTIONS                                                                     \

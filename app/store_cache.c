@@ -64,8 +64,9 @@ static uint64_t fnv_str(uint64_t h, const char* s)
 }
 
 /* The lock of one cached store's build: an flock on STORE.lock (beside it, empty, removed when
- * the build ends), held until the descriptor is closed or the process ends, however it ends. Waits, saying so once,
- * while another process holds it. -1 when no lock can be had (a build without one). */
+ * the build ends), held until the descriptor is closed or the process ends, however it ends. Waits,
+ * saying so once, while another process holds it. -1 when no lock can be had (a build without one).
+ */
 static int lock_build(const char* store)
 {
     char lock[PATH_MAX];
@@ -133,8 +134,10 @@ static void sweep(const char* dir)
     }
     closedir(d);
     if (swept)
-        fprintf(stderr, "terrapatch: removed %d temporary file%s (%.1f MB) that a killed build "
-                        "left in %s\n", swept, swept == 1 ? "" : "s", bytes / 1e6, dir);
+        fprintf(stderr,
+                "terrapatch: removed %d temporary file%s (%.1f MB) that a killed build "
+                "left in %s\n",
+                swept, swept == 1 ? "" : "s", bytes / 1e6, dir);
 }
 
 /* 1 when path opens as a store built from abs_path with the given patch size. */

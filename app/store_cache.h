@@ -6,18 +6,18 @@
  * The directory: --cache-dir DIR, else $TP_CACHE_DIR, else $XDG_CACHE_HOME/terrapatch, else
  * ~/.cache/terrapatch. When it cannot be created or written, the store is built in a fresh
  * temporary directory (mkdtemp under $TMPDIR, else /tmp) and one line says so; that store is
- * removed after the view. The file is NAME-KEY.tpt, KEY a 64-bit FNV-1a hash of the DEM's absolute path,
- * size and modification time and of every build option that changes the store (patch size,
+ * removed after the view. The file is NAME-KEY.tpt, KEY a 64-bit FNV-1a hash of the DEM's absolute
+ * path, size and modification time and of every build option that changes the store (patch size,
  * --crs, --resampling, --fill-max, --fill-from and that file's path, size and time) and the
  * store format's version; a cached file is used only if it opens
  * as a store and its header and notes match (the source path, the patch size), else it is
  * rebuilt.
  *
  * One build of a cached store at a time: the builder holds an flock on NAME-KEY.tpt.lock (an
- * empty file beside the store while it is built); a second process asking for the same store waits ("another
- * terrapatch is building ...: waiting for it") and then finds it built. The temporary files of
- * builds that were killed (kill -9: no handler ran) are removed by the next process that uses
- * the cache, when no live build holds their lock.
+ * empty file beside the store while it is built); a second process asking for the same store waits
+ * ("another terrapatch is building ...: waiting for it") and then finds it built. The temporary
+ * files of builds that were killed (kill -9: no handler ran) are removed by the next process that
+ * uses the cache, when no live build holds their lock.
  */
 #ifndef TP_APP_STORE_CACHE_H
 #define TP_APP_STORE_CACHE_H

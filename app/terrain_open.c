@@ -67,8 +67,7 @@ int tp_terrain_refuse_store_options(const char* cmd, const char* path, const tp_
     return TP_EXIT_USAGE;
 }
 
-int tp_terrain_classify(const char* cmd, const char* path, const tp_scene_options* o,
-                        int* is_store)
+int tp_terrain_classify(const char* cmd, const char* path, const tp_scene_options* o, int* is_store)
 {
     const int kind = tp_terrain_kind_of(path);
     if (kind < 0)

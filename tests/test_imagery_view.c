@@ -328,15 +328,19 @@ TEST(cast_shadows_only_darken_and_grow_with_a_low_sun)
 TEST(sun_date_errors_are_usage_errors)
 {
     char err[4096];
-    const char* only_date[] = {"--headless", "--stats-json", "/tmp/tp-never.json", "--sun-date", "2026-06-21", store(), NULL};
+    const char* only_date[] = {"--headless", "--stats-json", "/tmp/tp-never.json",
+                               "--sun-date", "2026-06-21",   store(),
+                               NULL};
     EXPECT_EQ_INT(tp_test_run_terrapatch("view", only_date, err, sizeof err), 2);
     EXPECT_CONTAINS(err, "--sun-date and --sun-time go together");
-    const char* bad_day[] = {"--headless", "--stats-json", "/tmp/tp-never.json", "--sun-date", "2026-02-29", "--sun-time", "12:00",
-                             store(), NULL};
+    const char* bad_day[] = {"--headless", "--stats-json", "/tmp/tp-never.json",
+                             "--sun-date", "2026-02-29",   "--sun-time",
+                             "12:00",      store(),        NULL};
     EXPECT_EQ_INT(tp_test_run_terrapatch("view", bad_day, err, sizeof err), 2);
     EXPECT_CONTAINS(err, "2026-02-29");
-    const char* bad_zone[] = {"--headless", "--stats-json", "/tmp/tp-never.json", "--sun-date", "2026-06-21", "--sun-time",
-                              "12:00+15:00", store(), NULL};
+    const char* bad_zone[] = {"--headless",  "--stats-json", "/tmp/tp-never.json",
+                              "--sun-date",  "2026-06-21",   "--sun-time",
+                              "12:00+15:00", store(),        NULL};
     EXPECT_EQ_INT(tp_test_run_terrapatch("view", bad_zone, err, sizeof err), 2);
 }
 
@@ -351,15 +355,16 @@ TEST(light_option_refuses_an_imagery_pyramid)
     path_in(tpi, sizeof tpi, "not_light.tpi");
     path_in(json, sizeof json, "window.json");
     imagery(img, tpi, "0");
-    const char* args[] = {"--headless", "--stats-json", json, "--size", "160x90", "--light", tpi,
-                          "--sun-date", "2026-06-21", "--sun-time", "12:00", store(), NULL};
+    const char* args[] = {
+        "--headless", "--stats-json", json,         "--size", "160x90", "--light", tpi,
+        "--sun-date", "2026-06-21",   "--sun-time", "12:00",  store(),  NULL};
     EXPECT_EQ_INT(tp_test_run_terrapatch("view", args, err, sizeof err), 1);
     EXPECT_CONTAINS(err, "not_light.tpi");
     EXPECT_CONTAINS(err, "not a light map");
     char dem[1024];
     REQUIRE_DATA_FILE(dem, "TP_SHARED_DATA_DIR", "craterlake-elev-16bit-30m.tif");
-    const char* whole[] = {"--headless", "--stats-json", json, "--size", "160x90", "--whole",
-                           "--light", tpi, dem, NULL};
+    const char* whole[] = {"--headless", "--stats-json", json, "--size", "160x90",
+                           "--whole",    "--light",      tpi,  dem,      NULL};
     EXPECT_EQ_INT(tp_test_run_terrapatch("view", whole, err, sizeof err), 2);
     EXPECT_CONTAINS(err, "--light shadows stores");
     const char* window[] = {"--headless", "--size", "160x90", "--no-imagery", "--sun-date",

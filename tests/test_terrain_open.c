@@ -530,7 +530,8 @@ TEST(two_processes_share_one_cache_build)
     ASSERT_EQ_INT(0, sh(script));
     tp_test_read_text(e1, t1, sizeof t1);
     tp_test_read_text(e2, t2, sizeof t2);
-    const int built = (strstr(t1, "building a store") != NULL) + (strstr(t2, "building a store") != NULL);
+    const int built =
+        (strstr(t1, "building a store") != NULL) + (strstr(t2, "building a store") != NULL);
     EXPECT_EQ_INT(1, built);
     EXPECT_TRUE(strstr(t1, "waiting for it") || strstr(t2, "waiting for it"));
 }

@@ -4,11 +4,11 @@
  * The render grid is a real DEM's (data/storml_elev_orig.tif, NAD83 / UTM 12N, 143 x 107,
  * 30 m posts, not warped). Each image is written at test time into a temporary directory: raw
  * bytes (band-sequential) plus a GDAL VRT (the raw file by absolute path: GDAL resolves a
- * relative one against the working directory when it copies the band into another VRT) that gives them the grid's CRS and extent and a colour
- * interpretation per band (<ColorInterp>, as GDAL reports it for a GeoTIFF: a NAIP RGB+NIR
- * orthophoto has Red, Green, Blue, Undefined; an RGBA one Red, Green, Blue, Alpha). Every band
- * holds one value in the image's left half and one in its right half, so the texels far from
- * the middle have exact colours.
+ * relative one against the working directory when it copies the band into another VRT) that gives
+ * them the grid's CRS and extent and a colour interpretation per band (<ColorInterp>, as GDAL
+ * reports it for a GeoTIFF: a NAIP RGB+NIR orthophoto has Red, Green, Blue, Undefined; an RGBA one
+ * Red, Green, Blue, Alpha). Every band holds one value in the image's left half and one in its
+ * right half, so the texels far from the middle have exact colours.
  */
 #define _POSIX_C_SOURCE 200809L /* mkdtemp */
 

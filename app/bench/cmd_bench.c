@@ -9,12 +9,12 @@
 #include "bench.h"
 #include "camera_pose.h"
 #include "cli.h"
-#include "terrain_open.h"
 #include "gl_context.h"
 #include "json.h"
 #include "renderer.h"
 #include "scene.h"
 #include "store_scene.h"
+#include "terrain_open.h"
 #include "view_options.h"
 
 #include <epoxy/gl.h>

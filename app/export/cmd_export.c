@@ -6,11 +6,11 @@
 #include "atomic_file.h"
 #include "camera_pose.h"
 #include "cli.h"
-#include "terrain_open.h"
 #include "mesh_export.h"
 #include "scene.h"
 #include "store_export.h"
 #include "store_scene.h"
+#include "terrain_open.h"
 #include "tin_export.h"
 #include "view_options.h"
 
@@ -266,8 +266,10 @@ int tp_cli_export(int argc, char** argv)
         return code;
     if (is_store) {
         if (o.no_cull || o.per_patch) {
-            fprintf(stderr, "terrapatch export: %s is a store: --no-cull and --per-patch apply "
-                            "to a DEM only\n", o.path);
+            fprintf(stderr,
+                    "terrapatch export: %s is a store: --no-cull and --per-patch apply "
+                    "to a DEM only\n",
+                    o.path);
             return TP_EXIT_USAGE;
         }
         tp_store_export_request r = {

@@ -17,11 +17,11 @@
 #include "cli.h"
 #include "hud.h"
 #include "hud_text.h"
+#include "layers.h"
 #include "overlay.h"
 #include "pgm_clip.h"
 #include "pgm_render.h"
 #include "pick.h"
-#include "layers.h"
 #include "store_cache.h"
 #include "terrain_open.h"
 #include "view_bookmarks.h"
@@ -526,8 +526,9 @@ static int warn_if_below_ground(tp_view_scene* v, const tp_camera* cam, const vi
     const double ground = tp_view_scene_ground_height(v, x, y) * o->render.exaggeration;
     if (!(cam->position[2] < ground))
         return 0; /* above it, or off the DEM or over a void (NaN) */
-    fprintf(stderr, "terrapatch view: warning: %s: the camera is below the ground: at %.1f m "
-                    "(E %.1f N %.1f), where the ground is %.1f m%s; raise its height\n",
+    fprintf(stderr,
+            "terrapatch view: warning: %s: the camera is below the ground: at %.1f m "
+            "(E %.1f N %.1f), where the ground is %.1f m%s; raise its height\n",
             v->path, cam->position[2], cam->position[0], cam->position[1], ground,
             o->render.exaggeration != 1 ? " as drawn" : "");
     return 1;
@@ -905,8 +906,10 @@ int tp_cli_view(int argc, char** argv)
         return code;
     if (is_store) {
         if (o.texture || o.old_path) {
-            fprintf(stderr, "terrapatch view: %s is a store: --texture and --whole apply to a "
-                            "DEM only\n", o.path);
+            fprintf(stderr,
+                    "terrapatch view: %s is a store: --texture and --whole apply to a "
+                    "DEM only\n",
+                    o.path);
             return TP_EXIT_USAGE;
         }
         code = view_store(o.path, &o);

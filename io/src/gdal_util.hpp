@@ -71,11 +71,11 @@ inline Dataset mem_dataset(const float* heights, int w, int h, const double gt[6
 /* The unit of a DEM's heights (io/src/vertical_datum.cpp), converted to metres by the readers
  * (tp_dem_read, tp_mosaic). */
 struct ZUnit {
-    double to_m = 1.0; /* metres per unit of the heights as stored */
-    std::string name;  /* "metre", "international foot", "US survey foot"; "" when unknown
-                          (taken as metres) */
-    std::string from;  /* how it is known: "band unit 'ft'", "vertical CRS 'NAVD88 height
-                          (ftUS)'", "--z-unit us-ft"; "" when unknown */
+    double to_m = 1.0;   /* metres per unit of the heights as stored */
+    std::string name;    /* "metre", "international foot", "US survey foot"; "" when unknown
+                            (taken as metres) */
+    std::string from;    /* how it is known: "band unit 'ft'", "vertical CRS 'NAVD88 height
+                            (ftUS)'", "--z-unit us-ft"; "" when unknown */
     std::string warning; /* a unit named but not known, taken as metres; "" otherwise */
 };
 

@@ -242,7 +242,9 @@ tpio::Dataset warp_vrt(tp_mosaic* m, GDALDataset* src, const std::vector<std::st
     return tpio::Dataset(GDALDataset::Open(dst.c_str(), GDAL_OF_RASTER | GDAL_OF_READONLY));
 }
 
-struct Rect { double x0, y0, x1, y1; }; /* [x0, x1) x [y0, y1) */
+struct Rect {
+    double x0, y0, x1, y1;
+}; /* [x0, x1) x [y0, y1) */
 
 /* The share of the whole rectangle that the rectangles r cover: their areas less their pairwise
  * overlaps (an estimate where three overlap at once), in [0, 1]. */
@@ -276,8 +278,10 @@ double note_overlaps(const std::vector<Source>& src, const double mgt[6], int mw
     int said = 0;
     for (size_t i = 0; i < r.size(); i++)
         for (size_t j = i + 1; j < r.size(); j++) {
-            const long long ox = std::llround(std::min(r[i].x1, r[j].x1) - std::max(r[i].x0, r[j].x0));
-            const long long oy = std::llround(std::min(r[i].y1, r[j].y1) - std::max(r[i].y0, r[j].y0));
+            const long long ox =
+                std::llround(std::min(r[i].x1, r[j].x1) - std::max(r[i].x0, r[j].x0));
+            const long long oy =
+                std::llround(std::min(r[i].y1, r[j].y1) - std::max(r[i].y0, r[j].y0));
             if (ox <= 0 || oy <= 0)
                 continue;
             if (said++ >= 20)
@@ -390,7 +394,8 @@ tp_status open_mosaic(const char* const* paths, size_t count, const tp_mosaic_op
             return fail(err, TP_ERR_BAD_DATA,
                         "%s: heights in %s (%s), but %s's are in %s (%s): give --z-unit, or "
                         "convert one first",
-                        paths[i], src[i].z.name.empty() ? "metres (no unit stated)" : src[i].z.name.c_str(),
+                        paths[i],
+                        src[i].z.name.empty() ? "metres (no unit stated)" : src[i].z.name.c_str(),
                         src[i].z.from.c_str(), src[0].name.c_str(),
                         src[0].z.name.empty() ? "metres (no unit stated)" : src[0].z.name.c_str(),
                         src[0].z.from.c_str());
@@ -412,8 +417,7 @@ tp_status open_mosaic(const char* const* paths, size_t count, const tp_mosaic_op
     m->integer = m->integer && m->z_to_m == 1.0; /* whole feet are not whole metres */
     if (src[0].z.to_m != 1.0)
         add_note(m->notes, CPLSPrintf("heights in %s (%s): converted to metres (x %.10g)",
-                                      src[0].z.name.c_str(), src[0].z.from.c_str(),
-                                      src[0].z.to_m));
+                                      src[0].z.name.c_str(), src[0].z.from.c_str(), src[0].z.to_m));
     if (count > 1)
         add_note(m->notes, CPLSPrintf("%zu sources", count));
 

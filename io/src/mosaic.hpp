@@ -27,8 +27,8 @@ struct tp_mosaic {
     double spacing_m = 0;
     int source_count = 0;
     bool warped = false, integer = true;
-    double covered_share = 1.0;     /* tp_mosaic_info.covered_share */
-    double z_to_m = 1.0;            /* metres per unit of the sources' heights */
+    double covered_share = 1.0; /* tp_mosaic_info.covered_share */
+    double z_to_m = 1.0;        /* metres per unit of the sources' heights */
     bool has_range = false;
     double min_m = 0, max_m = 0;
     /* nodata of what is read */

@@ -276,8 +276,7 @@ extern "C" tp_status tp_vector_read(const char* path, const char* target_crs_wkt
 {
     assert(path && out);
     /* a FIFO or a device would block OGR's open, or never end */
-    if (tp_status s = tp_input_check(path, "a vector (GeoJSON, GPX, KML, GeoPackage, ...)",
-                                     1, err))
+    if (tp_status s = tp_input_check(path, "a vector (GeoJSON, GPX, KML, GeoPackage, ...)", 1, err))
         return s;
     try {
         return read(path, target_crs_wkt, out, err);

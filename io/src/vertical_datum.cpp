@@ -84,8 +84,8 @@ tp_status tpio::z_unit_of(GDALDataset* ds, const char* z_unit, ZUnit* out, tp_er
     const char* name;
     if (z_unit && *z_unit) {
         if (!known_unit(folded(z_unit), &to_m, &name))
-            return fail(err, TP_ERR_INVALID_ARG,
-                        "--z-unit: expected m, ft or us-ft, got '%s'", z_unit);
+            return fail(err, TP_ERR_INVALID_ARG, "--z-unit: expected m, ft or us-ft, got '%s'",
+                        z_unit);
         z.to_m = to_m, z.name = name, z.from = std::string("--z-unit ") + z_unit;
         *out = z;
         return TP_OK;

@@ -1,7 +1,7 @@
 /*
  * make_seeds.cpp - writes the seed corpora of fuzz_dem_read, fuzz_image_read,
- * fuzz_mesh_inspect, fuzz_store_read and fuzz_imagery_read (corpus/<fuzzer>/) from the real files: 16x16 crops of
- * the DEMs of data/ (data/PROVENANCE.md) through GDAL in each DEM format the reader
+ * fuzz_mesh_inspect, fuzz_store_read and fuzz_imagery_read (corpus/<fuzzer>/) from the real files:
+ * 16x16 crops of the DEMs of data/ (data/PROVENANCE.md) through GDAL in each DEM format the reader
  * documents, crops of the Puget Sound heightmap through OpenImageIO in each heightmap format, a
  * 3x3-post mesh written by tp_mesh_write in each VTK format, and a 49x33 crop of Storm Lake
  * (with its nodata edge) as a terrain store of 17x17 nodes, and a 40x30 crop of the Crater Lake
