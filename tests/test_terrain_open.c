@@ -43,21 +43,28 @@ static void vsi_copy(const char* from, const char* to)
     ASSERT_EQ_INT(0, VSIFCloseL(v));
 }
 
-/* `terrapatch point DEM 42.5 1.5 --json F` (extra DEM options before the DEM): the elevation,
- * or NaN after failing the test when rc differs from want_rc. */
-static double point_height(const char* dem, const char* opt, const char* val, char* err,
-                           size_t err_cap)
+/* `terrapatch point [OPT VAL] DEM LAT LON --json F`: the elevation; fails the test on another
+ * exit status than 0. */
+static double point_height_at(const char* dem, const char* lat, const char* lon, const char* opt,
+                              const char* val, char* err, size_t err_cap)
 {
     char out[256], json[8192];
     snprintf(out, sizeof out, "%s/point.json", tmp_dir());
     remove(out);
-    const char* with[] = {opt, val, dem, "42.5", "1.5", "--json", out, NULL};
-    const char* without[] = {dem, "42.5", "1.5", "--json", out, NULL};
+    const char* with[] = {opt, val, dem, lat, lon, "--json", out, NULL};
+    const char* without[] = {dem, lat, lon, "--json", out, NULL};
     int rc = tp_test_run_terrapatch("point", opt ? with : without, err, err_cap);
     if (rc != 0)
         FAIL("point %s: exit %d: %s", dem, rc, err);
     tp_test_read_text(out, json, sizeof json);
     return tp_test_json_number_after(json, NULL, "elevation_m");
+}
+
+/* The same at (42.5, 1.5), on N42E001. */
+static double point_height(const char* dem, const char* opt, const char* val, char* err,
+                           size_t err_cap)
+{
+    return point_height_at(dem, "42.5", "1.5", opt, val, err, err_cap);
 }
 
 /* A place on a DEM: its centre (latitude, longitude). */
@@ -132,25 +139,30 @@ static void every_command(const char* dem, place p, const char* opt, const char*
  * by every command that reads the ground, with the same heights as the plain file. */
 TEST(virtual_paths_work_in_every_command)
 {
-    char tile[1024], zip[1024], gz[1024], tar[1024], err[8192];
+    char tile[1024], grid[1024], zip[1024], gz[1024], tar[1024], err[8192];
     REQUIRE_DATA_FILE(tile, "TP_SHARED_DATA_DIR", TILE);
+    /* gzip and tar hold the small ASCII grid (two builds of the tile fewer) */
+    REQUIRE_DATA_FILE(grid, "TP_SHARED_DATA_DIR", "front_range_srtmgl3_144.asc");
     snprintf(zip, sizeof zip, "/vsizip/%s/n42.zip/" TILE, tmp_dir());
-    snprintf(gz, sizeof gz, "/vsigzip/%s/" TILE ".gz", tmp_dir());
+    snprintf(gz, sizeof gz, "/vsigzip/%s/front.asc.gz", tmp_dir());
     vsi_copy(tile, zip);
-    vsi_copy(tile, gz);
-    /* a tar written by tar(1), from the tile's folder so that the member is the bare name */
+    vsi_copy(grid, gz);
+    /* a tar written by tar(1), from the grid's folder so that the member is the bare name */
     char cmd[3072], dir[1024];
-    snprintf(dir, sizeof dir, "%s", tile);
+    snprintf(dir, sizeof dir, "%s", grid);
     *strrchr(dir, '/') = '\0';
-    snprintf(cmd, sizeof cmd, "tar -cf '%s/n42.tar' -C '%s' " TILE, tmp_dir(), dir);
+    snprintf(cmd, sizeof cmd, "tar -cf '%s/front.tar' -C '%s' front_range_srtmgl3_144.asc",
+             tmp_dir(), dir);
     ASSERT_EQ_INT(0, system(cmd));
-    snprintf(tar, sizeof tar, "/vsitar/%s/n42.tar/" TILE, tmp_dir());
+    snprintf(tar, sizeof tar, "/vsitar/%s/front.tar/front_range_srtmgl3_144.asc", tmp_dir());
 
     const double plain = point_height(tile, NULL, NULL, err, sizeof err);
     ASSERT_TRUE(plain > 500 && plain < 3000);
     EXPECT_NEAR(plain, point_height(zip, NULL, NULL, err, sizeof err), 0.0);
-    EXPECT_NEAR(plain, point_height(gz, NULL, NULL, err, sizeof err), 0.0);
-    EXPECT_NEAR(plain, point_height(tar, NULL, NULL, err, sizeof err), 0.0);
+    const double front = point_height_at(grid, "40.15", "-105.5", NULL, NULL, err, sizeof err);
+    ASSERT_TRUE(front > 1500 && front < 4500);
+    EXPECT_NEAR(front, point_height_at(gz, "40.15", "-105.5", NULL, NULL, err, sizeof err), 0.0);
+    EXPECT_NEAR(front, point_height_at(tar, "40.15", "-105.5", NULL, NULL, err, sizeof err), 0.0);
     every_command(zip, ANDORRA, NULL, NULL, 0, NULL);
 
     /* a relative path inside the archive's prefix names the same cached store from elsewhere */
