@@ -34,8 +34,29 @@ void tp_camera_default_extent(const double gt[6], int src_width, int src_height,
     double extra = fmax(zs - 1, 0) * (max_height_m - min_height_m);
     double pitch = -50, d = (0.45 * size + extra) / tan(fov_deg * DEG / 2);
     double target[3] = {(e0 + e1) / 2, (n0 + n1) / 2, zs * (min_height_m + max_height_m) / 2};
-    tp_camera_pose(target[0], target[1] - d * cos(pitch * DEG), target[2] - d * sin(pitch * DEG), 0,
-                   pitch, fov_deg, width_px, height_px, cam);
+    /* back off until the DEM's eight corners (its extent at its lowest and highest drawn
+     * heights) are on screen with a margin: a long DEM, a wide one or a tall viewport would
+     * otherwise lose its near or side corners */
+    const double lo = isfinite(min_height_m) ? zs * min_height_m : 0;
+    const double hi = isfinite(max_height_m) ? zs * max_height_m : 0;
+    for (int tries = 0; tries < 60; tries++) {
+        tp_camera_pose(target[0], target[1] - d * cos(pitch * DEG),
+                       target[2] - d * sin(pitch * DEG), 0, pitch, fov_deg, width_px, height_px,
+                       cam);
+        const double w = cam->viewport_w_px > 0 ? cam->viewport_w_px : 1280;
+        const double h = cam->viewport_h_px > 0 ? cam->viewport_h_px : 720;
+        const double m = 0.02 * fmin(w, h);
+        int inside = 1;
+        for (int c = 0; c < 8 && inside; c++) {
+            const double p[3] = {c & 1 ? e1 : e0, c & 2 ? n1 : n0, c & 4 ? hi : lo};
+            double px[2];
+            inside = tp_camera_project(cam, p, px, NULL) && px[0] >= m && px[0] <= w - m &&
+                     px[1] >= m && px[1] <= h - m;
+        }
+        if (inside)
+            return;
+        d *= 1.1;
+    }
 }
 
 int tp_camera_from_option(const tp_scene* sc, int geo, const double v[5], double fov_deg,

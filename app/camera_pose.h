@@ -18,7 +18,9 @@ void tp_camera_default(const tp_scene* sc, double fov_deg, int width_px, int hei
                        tp_camera* cam);
 
 /* The same from a grid's extent (the fitted grid's geotransform, its unpadded size, its
- * heights): a store has no tp_scene. */
+ * heights): a store has no tp_scene. The camera looks north, 50 degrees down, at the middle of
+ * the extent, from far enough that its eight corners (at the lowest and highest heights, times
+ * vertical_scale) are on screen with a margin of 2% of the viewport's smaller side. */
 void tp_camera_default_extent(const double gt[6], int src_width, int src_height,
                               double min_height_m, double max_height_m, double fov_deg,
                               int width_px, int height_px, double vertical_scale, tp_camera* cam);

@@ -608,7 +608,7 @@ static int run_headless(tp_view_scene* v, tp_gl_context* ctx, tp_renderer* r,
         tp_view_scene_measure(v, cam, &max_m, &rms_m, &max_px, &rms_px);
         tp_error_measure em = {.max_error_m = max_m, .rms_error_m = rms_m};
         if (!tp_view_write_stats(o->stats_json, &fr, v->store && !v->pgm ? NULL : &em, max_px,
-                                 rms_px, v->n + 1))
+                                 rms_px, v->n + 1, cam))
             code = TP_EXIT_FAILURE;
     }
     return code;

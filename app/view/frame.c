@@ -104,7 +104,7 @@ void tp_view_frame(tp_view_scene* v, tp_renderer* r, const tp_camera* cam,
 }
 
 int tp_view_write_stats(const char* path, const frame_result* f, const tp_error_measure* em,
-                        double max_px, double rms_px, int levels)
+                        double max_px, double rms_px, int levels, const tp_camera* cam)
 {
     tp_atomic_file file;
     if (!tp_atomic_open(&file, path))
@@ -115,6 +115,18 @@ int tp_view_write_stats(const char* path, const frame_result* f, const tp_error_
     tp_json_object_begin(&j);
     tp_json_key(&j, "renderer");
     tp_json_string(&j, f->pgm_cols ? "pgm" : "patches");
+    /* the camera of the frame, as --camera takes it (render CRS) */
+    double yaw, pitch;
+    tp_camera_get_pose(cam, &yaw, &pitch);
+    const double cam_v[5] = {cam->position[0], cam->position[1], cam->position[2], yaw, pitch};
+    tp_json_key(&j, "camera");
+    tp_json_array_begin(&j);
+    for (int i = 0; i < 5; i++)
+        tp_json_number(&j, cam_v[i]);
+    tp_json_array_end(&j);
+    tp_json_key(&j, "fov_y_deg");
+    tp_json_number(&j, (cam->fov_y_rad > 0 ? cam->fov_y_rad : 60 * 3.14159265358979323846 / 180) *
+                           180 / 3.14159265358979323846);
     if (f->pgm_cols) {
         char grid[32];
         snprintf(grid, sizeof grid, "%dx%d", f->pgm_cols, f->pgm_rows);
