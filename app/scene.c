@@ -2,6 +2,7 @@
 #include "scene.h"
 
 #include "cli.h"
+#include "progress.h"
 
 #include <limits.h>
 #include <math.h>
@@ -234,12 +235,28 @@ int tp_scene_load(const char* path, const tp_scene_options* o, tp_scene* scene)
             tp_scene_free(scene);
             return TP_EXIT_FAILURE;
         }
+        /* a grid that takes seconds says what it is doing, a line a step (issue 29, 4.8) */
+        const int steps = (double)plan_w * plan_h >= TP_SCENE_PROGRESS_SAMPLES;
+        double t0 = tp_progress_now_s();
+        if (steps)
+            fprintf(stderr, "terrapatch: %s: putting %dx%d samples on the %dx%d render grid ...\n",
+                    path, scene->dem->width, scene->dem->height, plan_w, plan_h);
         s = tp_render_grid_build(scene->dem, &o->grid, &scene->grid, &err);
-    }
-    if (s == TP_OK) {
-        tp_print_warnings(path, scene->grid->warnings);
-        tp_terrain_desc desc = tp_render_grid_terrain_desc(scene->grid, o->patch_size, o->fit);
-        s = tp_terrain_create(&desc, &scene->terrain, &err);
+        if (s == TP_OK && steps) {
+            fprintf(stderr, "terrapatch: %s: render grid done (%.1f s); tiling it into patches "
+                            "of %d and their error bounds ...\n",
+                    path, tp_progress_now_s() - t0, o->patch_size);
+            t0 = tp_progress_now_s();
+        }
+        if (s == TP_OK) {
+            tp_print_warnings(path, scene->grid->warnings);
+            tp_terrain_desc desc =
+                tp_render_grid_terrain_desc(scene->grid, o->patch_size, o->fit);
+            s = tp_terrain_create(&desc, &scene->terrain, &err);
+        }
+        if (s == TP_OK && steps)
+            fprintf(stderr, "terrapatch: %s: patches done (%.1f s)\n", path,
+                    tp_progress_now_s() - t0);
     }
     if (s == TP_OK) {
         /* the fitted grid's geotransform: resampling changes the spacing */

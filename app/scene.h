@@ -91,6 +91,10 @@ typedef struct tp_scene {
     tp_terrain_info info;
 } tp_scene;
 
+/* Render grids of at least this many samples take seconds to warp and tile: tp_scene_load
+ * says each step on stderr as it starts and ends. */
+#define TP_SCENE_PROGRESS_SAMPLES ((double)(2048 * 2048))
+
 /* Loads path through the whole pipeline. Once the DEM is read, the render grid is planned and
  * o->use of it checked against the memory left (memory.h): one line and TP_EXIT_FAILURE when it
  * would not fit, before the warp, the terrain or the command's own buffers are allocated. Prints warnings ("terrapatch: warning: ...") and, on

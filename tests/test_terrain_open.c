@@ -548,6 +548,46 @@ TEST(two_processes_share_one_cache_build)
     EXPECT_TRUE(strstr(t1, "waiting for it") || strstr(t2, "waiting for it"));
 }
 
+/* 4.8: info of a grid that takes seconds (here 2100 x 2100 posts, over the 2048^2 at which
+ * the steps are said) says each step on stderr, a line each (it was silent for 20 s on a 3601^2
+ * tile); a small one says nothing. */
+TEST(info_of_a_large_grid_says_its_steps)
+{
+    char path[256], out[65536], err[8192];
+    snprintf(path, sizeof path, "%s/large.tif", tmp_dir());
+    const int n = 2100;
+    GDALAllRegister();
+    GDALDatasetH ds = GDALCreate(GDALGetDriverByName("GTiff"), path, n, n, 1, GDT_Float32, NULL);
+    ASSERT_TRUE(ds != NULL);
+    const double gt[6] = {500000, 10, 0, 4500000, 0, -10};
+    GDALSetGeoTransform(ds, (double*)gt);
+    OGRSpatialReferenceH srs = OSRNewSpatialReference(NULL);
+    ASSERT_TRUE(OSRImportFromEPSG(srs, 32633) == OGRERR_NONE);
+    GDALSetSpatialRef(ds, srs);
+    OSRDestroySpatialReference(srs);
+    float* row = malloc((size_t)n * sizeof *row);
+    ASSERT_TRUE(row != NULL);
+    for (int y = 0; y < n; ++y) {
+        for (int x = 0; x < n; ++x)
+            row[x] = (float)(100.0 + 0.5 * x + 0.25 * y);
+        ASSERT_TRUE(GDALRasterIO(GDALGetRasterBand(ds, 1), GF_Write, 0, y, n, 1, row, n, 1,
+                                 GDT_Float32, 0, 0) == CE_None);
+    }
+    free(row);
+    GDALClose(ds);
+    const char* args[] = {path, NULL};
+    ASSERT_EQ_INT(0, tp_test_run_terrapatch_out("info", args, out, sizeof out, err, sizeof err));
+    EXPECT_CONTAINS(err, "putting 2100x2100 samples on the 2100x2100 render grid ...\n");
+    EXPECT_CONTAINS(err, "render grid done (");
+    EXPECT_CONTAINS(err, "patches done (");
+    EXPECT_TRUE(strchr(err, '\r') == NULL);
+    char hood[1024];
+    REQUIRE_DATA_FILE(hood, "TP_SAMPLE_DATA_DIR", HOOD);
+    const char* small[] = {hood, NULL};
+    ASSERT_EQ_INT(0, tp_test_run_terrapatch_out("info", small, out, sizeof out, err, sizeof err));
+    EXPECT_TRUE(strstr(err, "render grid done") == NULL);
+}
+
 #define TESTS(X)                                                                                   \
     X(virtual_paths_work_in_every_command)                                                         \
     X(dem_options_are_accepted_by_every_command)                                                   \
@@ -560,5 +600,6 @@ TEST(two_processes_share_one_cache_build)
     X(heights_in_feet_are_converted_to_metres)                                                     \
     X(vertical_datum_said_only_where_known)                                                        \
     X(temporary_files_of_a_killed_cache_build_are_swept)                                           \
-    X(two_processes_share_one_cache_build)
+    X(two_processes_share_one_cache_build)                                                         \
+    X(info_of_a_large_grid_says_its_steps)
 TP_TEST_MAIN(TESTS)
