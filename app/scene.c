@@ -243,15 +243,15 @@ int tp_scene_load(const char* path, const tp_scene_options* o, tp_scene* scene)
                     path, scene->dem->width, scene->dem->height, plan_w, plan_h);
         s = tp_render_grid_build(scene->dem, &o->grid, &scene->grid, &err);
         if (s == TP_OK && steps) {
-            fprintf(stderr, "terrapatch: %s: render grid done (%.1f s); tiling it into patches "
-                            "of %d and their error bounds ...\n",
+            fprintf(stderr,
+                    "terrapatch: %s: render grid done (%.1f s); tiling it into patches "
+                    "of %d and their error bounds ...\n",
                     path, tp_progress_now_s() - t0, o->patch_size);
             t0 = tp_progress_now_s();
         }
         if (s == TP_OK) {
             tp_print_warnings(path, scene->grid->warnings);
-            tp_terrain_desc desc =
-                tp_render_grid_terrain_desc(scene->grid, o->patch_size, o->fit);
+            tp_terrain_desc desc = tp_render_grid_terrain_desc(scene->grid, o->patch_size, o->fit);
             s = tp_terrain_create(&desc, &scene->terrain, &err);
         }
         if (s == TP_OK && steps)
