@@ -8,6 +8,7 @@
 
 #include "atomic_file.h"
 #include "cli.h"
+#include "output_check.h"
 #include "json.h"
 #include "memory.h"
 #include "progress.h"
@@ -101,7 +102,11 @@ int tp_imagery_cli_run(const char* store_path, const tp_imagery_cli* c)
     int rc = TP_EXIT_FAILURE;
     tp_store* s = NULL;
     tp_imagery* im = NULL;
-    if (tp_output_check(out, &err) != TP_OK) {
+    if (c->out) { /* the one the user named: its extension says its format */
+        if ((rc = tp_cli_output_check("imagery", "-o", c->out, TP_OUTPUT_IMAGERY)) != TP_EXIT_OK)
+            goto done;
+        rc = TP_EXIT_FAILURE;
+    } else if (tp_output_check(out, &err) != TP_OK) {
         rc = fail_line(err.message);
         goto done;
     }

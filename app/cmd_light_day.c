@@ -19,6 +19,7 @@
 #define _POSIX_C_SOURCE 200809L
 #include "atomic_file.h"
 #include "cli.h"
+#include "output_check.h"
 #include "cmd_light.h"
 #include "json.h"
 #include "memory.h"
@@ -285,10 +286,9 @@ int tp_light_day_run(const tp_light_cli* o)
         return TP_EXIT_USAGE;
     }
     tp_error err = {{0}};
-    if (o->out && tp_output_check(o->out, &err) != TP_OK) {
-        fprintf(stderr, "terrapatch light: %s\n", err.message);
-        return TP_EXIT_FAILURE;
-    }
+    int rc;
+    if (o->out && (rc = tp_cli_output_check("light", "-o", o->out, TP_OUTPUT_LIGHT_MAP)) != TP_EXIT_OK)
+        return rc;
     tp_ground* g = NULL;
     int code = tp_planner_ground_open("light", o->path, o->cache_dir, &o->dem, &g);
     if (code != TP_EXIT_OK)

@@ -806,6 +806,8 @@ typedef enum tp_output_kind {
                               files, by its extension (.gpkg, .shp, .geojson, .kml, ...) */
     TP_OUTPUT_STORE,       /* a terrain store (build): .tpt */
     TP_OUTPUT_PLOT,        /* a plot gnuplot draws (los --profile, profile --png): .png */
+    TP_OUTPUT_IMAGERY,     /* an imagery pyramid (imagery -o): .tpi */
+    TP_OUTPUT_LIGHT_MAP,   /* a day's light map (light --day -o): .tpl */
 } tp_output_kind;
 
 typedef struct tp_output_format {

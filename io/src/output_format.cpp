@@ -154,6 +154,15 @@ GDALDriver* vector_driver(const std::string& ext, std::string* name)
 }
 
 /* Why no format of kind is written as ext: the message after "PATH: ". */
+/* The name of a kind written in one format of our own (or gnuplot's). */
+const char* single_name(tp_output_kind kind)
+{
+    return kind == TP_OUTPUT_STORE     ? "terrapatch store"
+           : kind == TP_OUTPUT_PLOT    ? "PNG"
+           : kind == TP_OUTPUT_IMAGERY ? "terrapatch imagery pyramid"
+                                       : "terrapatch light map";
+}
+
 std::string refusal(tp_output_kind kind, const std::string& ext)
 {
     if (ext.empty())
@@ -213,13 +222,19 @@ tp_status decide(const std::string& path, tp_output_kind kind, tp_output_format*
     }
     case TP_OUTPUT_STORE:
     case TP_OUTPUT_PLOT:
-        if (ext == (kind == TP_OUTPUT_STORE ? "tpt" : "png")) {
+    case TP_OUTPUT_IMAGERY:
+    case TP_OUTPUT_LIGHT_MAP: {
+        const char* want = kind == TP_OUTPUT_STORE     ? "tpt"
+                           : kind == TP_OUTPUT_PLOT    ? "png"
+                           : kind == TP_OUTPUT_IMAGERY ? "tpi"
+                                                       : "tpl";
+        if (ext == want) {
             copy_field(fmt->driver, sizeof fmt->driver, "");
-            copy_field(fmt->name, sizeof fmt->name,
-                       kind == TP_OUTPUT_STORE ? "terrapatch store" : "PNG");
+            copy_field(fmt->name, sizeof fmt->name, single_name(kind));
             return TP_OK;
         }
         break;
+    }
     default:
         return fail(err, TP_ERR_INVALID_ARG, "%s: output format: unknown kind %d", path.c_str(),
                     (int)kind);
@@ -301,8 +316,10 @@ extern "C" size_t tp_output_formats(tp_output_kind kind, char* buf, size_t cap)
             list += ", or another OGR vector format by the extension its driver declares";
             break;
         }
-        case TP_OUTPUT_STORE: item("terrapatch store", {"tpt"}); break;
-        case TP_OUTPUT_PLOT: item("PNG", {"png"}); break;
+        case TP_OUTPUT_STORE: item(single_name(kind), {"tpt"}); break;
+        case TP_OUTPUT_PLOT: item(single_name(kind), {"png"}); break;
+        case TP_OUTPUT_IMAGERY: item(single_name(kind), {"tpi"}); break;
+        case TP_OUTPUT_LIGHT_MAP: item(single_name(kind), {"tpl"}); break;
         default: break;
         }
     } catch (...) {
