@@ -8,9 +8,9 @@
 
 #include "atomic_file.h"
 #include "cli.h"
-#include "output_check.h"
 #include "json.h"
 #include "memory.h"
+#include "output_check.h"
 #include "progress.h"
 
 #include "tp_core.h"

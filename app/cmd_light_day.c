@@ -19,10 +19,10 @@
 #define _POSIX_C_SOURCE 200809L
 #include "atomic_file.h"
 #include "cli.h"
-#include "output_check.h"
 #include "cmd_light.h"
 #include "json.h"
 #include "memory.h"
+#include "output_check.h"
 #include "planner_cli.h"
 #include "sun_time.h"
 
@@ -287,7 +287,8 @@ int tp_light_day_run(const tp_light_cli* o)
     }
     tp_error err = {{0}};
     int rc;
-    if (o->out && (rc = tp_cli_output_check("light", "-o", o->out, TP_OUTPUT_LIGHT_MAP)) != TP_EXIT_OK)
+    if (o->out &&
+        (rc = tp_cli_output_check("light", "-o", o->out, TP_OUTPUT_LIGHT_MAP)) != TP_EXIT_OK)
         return rc;
     tp_ground* g = NULL;
     int code = tp_planner_ground_open("light", o->path, o->cache_dir, &o->dem, &g);
