@@ -59,9 +59,35 @@ void tp_camera_default_extent(const double gt[6], int src_width, int src_height,
     }
 }
 
+int tp_camera_refuse_degrees(const char* cmd, const tp_georef* g, int geo, const double v[5],
+                             const double gt[6], int width, int height)
+{
+    if (geo || !tp_georef_has_geo(g) || !(fabs(v[0]) <= 180 && fabs(v[1]) <= 180))
+        return 0;
+    /* the DEM's extent, grown by its own size each way: a camera there is a place (a polar
+     * stereographic grid holds the pole at 0, 0) */
+    const double e0 = gt[0], e1 = gt[0] + width * gt[1];
+    const double n0 = gt[3] + height * gt[5], n1 = gt[3];
+    const double de = fabs(e1 - e0), dn = fabs(n1 - n0);
+    if (v[0] >= fmin(e0, e1) - de && v[0] <= fmax(e0, e1) + de && v[1] >= fmin(n0, n1) - dn &&
+        v[1] <= fmax(n0, n1) + dn)
+        return 0;
+    /* latitude first in the suggestion, whichever order was typed */
+    const int swap = fabs(v[0]) > 90 && fabs(v[1]) <= 90;
+    fprintf(stderr,
+            "terrapatch %s: --camera %g,%g,...: those look like latitude and longitude, but "
+            "--camera takes metres of the render CRS (E,N,H,YAW,PITCH); use --camera-geo "
+            "%g,%g,%g,%g,%g\n",
+            cmd, v[0], v[1], swap ? v[1] : v[0], swap ? v[0] : v[1], v[2], v[3], v[4]);
+    return 1;
+}
+
 int tp_camera_from_option(const tp_scene* sc, int geo, const double v[5], double fov_deg,
                           int width_px, int height_px, tp_camera* cam, const char* cmd)
 {
+    if (tp_camera_refuse_degrees(cmd, sc->georef, geo, v, sc->info.geotransform,
+                                 sc->info.src_width, sc->info.src_height))
+        return 0;
     return tp_camera_from_option_georef(sc->georef, geo, v, fov_deg, width_px, height_px, cam, cmd);
 }
 
@@ -69,17 +95,6 @@ int tp_camera_from_option_georef(const tp_georef* g, int geo, const double v[5],
                                  int width_px, int height_px, tp_camera* cam, const char* cmd)
 {
     double e = v[0], n = v[1];
-    /* Latitude and longitude given to --camera (metres of the render CRS): a georeferenced
-     * grid in metres never lies within 180 m of its CRS's origin (UTM's eastings start at
-     * 166 km), so such a camera is a mix-up, not a place. */
-    if (!geo && tp_georef_has_geo(g) && fabs(e) <= 180 && fabs(n) <= 180) {
-        fprintf(stderr,
-                "terrapatch %s: --camera %g,%g,...: those look like latitude and "
-                "longitude, but --camera takes metres of the render CRS (E,N,H,YAW,PITCH); "
-                "use --camera-geo %g,%g,%g,%g,%g\n",
-                cmd, v[0], v[1], v[0], v[1], v[2], v[3], v[4]);
-        return 0;
-    }
     if (geo) {
         tp_error err;
         if (tp_georef_geo_to_proj(g, v[0], v[1], &e, &n, &err) != TP_OK) {

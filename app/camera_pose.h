@@ -27,10 +27,17 @@ void tp_camera_default_extent(const double gt[6], int src_width, int src_height,
 
 /* --camera E,N,H,YAW,PITCH (geo = 0) or --camera-geo LAT,LON,H,YAW,PITCH (geo = 1) to a camera;
  * prints a one-line message naming cmd and returns 0 when the position has no render-grid
- * coordinates, or when --camera on a georeferenced grid got what looks like latitude and
- * longitude (both within +-180: the message gives the --camera-geo to use). */
+ * coordinates, or when tp_camera_refuse_degrees refuses it (tp_camera_from_option only: the
+ * georef alone does not know the DEM's extent). */
 int tp_camera_from_option(const tp_scene* sc, int geo, const double v[5], double fov_deg,
                           int width_px, int height_px, tp_camera* cam, const char* cmd);
+
+/* 1 after one line when --camera (geo = 0) on a georeferenced grid got what looks like latitude
+ * and longitude: both values within +-180, and the point as metres far off the DEM (outside its
+ * extent, from gt and width x height posts, grown by its own size each way). The message gives
+ * the --camera-geo to use, latitude first. 0 otherwise (also for --camera-geo). */
+int tp_camera_refuse_degrees(const char* cmd, const tp_georef* g, int geo, const double v[5],
+                             const double gt[6], int width, int height);
 
 int tp_camera_from_option_georef(const tp_georef* g, int geo, const double v[5], double fov_deg,
                                  int width_px, int height_px, tp_camera* cam, const char* cmd);

@@ -73,9 +73,13 @@ static uint64_t env_limit(void)
     if (!s || !*s)
         return 0;
     char* end;
-    if (!((*s >= '0' && *s <= '9') || *s == '.'))
-        return 0; /* strtod would take "inf", "nan", hex and blanks */
+    /* digits and one point, then a suffix: strtod alone would take "inf", "nan", hex, blanks */
+    size_t digits = strspn(s, "0123456789.");
+    if (!digits || strchr(s + digits, '.') || (s[digits] && strchr("xX", s[digits])))
+        return 0;
     double v = strtod(s, &end);
+    if (end != s + digits)
+        return 0;
     switch (*end) {
     case 'k': case 'K': v *= 1024.0, end++; break;
     case 'm': case 'M': v *= 1048576.0, end++; break;

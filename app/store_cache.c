@@ -72,26 +72,40 @@ static int lock_build(const char* store)
     char lock[PATH_MAX];
     if (snprintf(lock, sizeof lock, "%s.lock", store) >= (int)sizeof lock)
         return -1;
-    int fd = open(lock, O_RDWR | O_CREAT | O_CLOEXEC, 0644);
-    if (fd < 0)
-        return -1;
-    if (flock(fd, LOCK_EX | LOCK_NB) == 0)
-        return fd;
-    if (errno == EWOULDBLOCK) {
-        fprintf(stderr, "terrapatch: another terrapatch is building %s: waiting for it\n", store);
-        while (flock(fd, LOCK_EX) != 0)
-            if (errno != EINTR) {
+    int said = 0;
+    /* the file locked must still be the one at the path: a build that ended removed it, and the
+     * next builder locks the file that is there now (so two never build at once) */
+    for (int tries = 0; tries < 1000; tries++) {
+        int fd = open(lock, O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+        if (fd < 0)
+            return -1;
+        if (flock(fd, LOCK_EX | LOCK_NB) != 0) {
+            if (errno != EWOULDBLOCK) {
                 close(fd);
                 return -1;
             }
-        return fd;
+            if (!said++)
+                fprintf(stderr, "terrapatch: another terrapatch is building %s: waiting for it\n",
+                        store);
+            int r;
+            while ((r = flock(fd, LOCK_EX)) != 0 && errno == EINTR)
+                ;
+            if (r != 0) {
+                close(fd);
+                return -1;
+            }
+        }
+        struct stat held, now;
+        if (fstat(fd, &held) == 0 && stat(lock, &now) == 0 && held.st_ino == now.st_ino &&
+            held.st_dev == now.st_dev)
+            return fd;
+        close(fd);
     }
-    close(fd);
     return -1;
 }
 
-/* Ends a build: its lock file goes (a process still waiting on it holds it open, takes the lock
- * and finds the store built), then the lock. */
+/* Ends a build: its lock file goes while it is held (a process still waiting on it takes the
+ * lock, sees the file gone and locks the one at the path, if any), then the lock. */
 static void unlock_build(const char* store, int fd)
 {
     char lock[PATH_MAX];

@@ -12,6 +12,7 @@
 #include <string.h>
 #include <strings.h>
 #include <sys/stat.h>
+#include <unistd.h>
 
 static int named_tpt(const char* path)
 {
@@ -41,6 +42,8 @@ int tp_terrain_kind_of(const char* path)
         return TP_TERRAIN_DEM;
     }
     struct stat st;
+    if (stat(path, &st) == 0 && S_ISREG(st.st_mode) && access(path, R_OK) != 0)
+        return named_tpt(path) ? TP_TERRAIN_STORE : TP_TERRAIN_DEM; /* its reader says why */
     if (stat(path, &st) == 0 && S_ISREG(st.st_mode) &&
         (named_tpt(path) || starts_like_store(path))) {
         fprintf(stderr,

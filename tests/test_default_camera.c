@@ -62,15 +62,20 @@ static void check_dem(const char* file, int w, int h)
     tp_camera cam;
     tp_camera_from_pose(c, c[3], c[4], tp_test_json_number_after(text, NULL, "fov_y_deg"), w, h,
                         &cam);
+    double x0 = INFINITY, x1 = -INFINITY, y0 = INFINITY, y1 = -INFINITY;
     for (int k = 0; k < 8; ++k) {
         const double p[3] = {k & 1 ? ext[2] : ext[0], k & 2 ? ext[3] : ext[1], k & 4 ? hi : lo};
-        double px[2];
-        if (!tp_camera_project(&cam, p, px, NULL) || px[0] < 0 || px[0] > w || px[1] < 0 ||
-            px[1] > h)
+        double px[2] = {NAN, NAN};
+        const int front = tp_camera_project(&cam, p, px, NULL);
+        x0 = fmin(x0, px[0]), x1 = fmax(x1, px[0]), y0 = fmin(y0, px[1]), y1 = fmax(y1, px[1]);
+        if (!front || !(px[0] >= 0 && px[0] <= w && px[1] >= 0 && px[1] <= h))
             FAIL("%s in %dx%d: corner (E %.0f, N %.0f, %.0f m) is off the picture (pixel %.0f, "
                  "%.0f) of the default camera %.0f,%.0f,%.0f,%.0f,%.0f",
                  file, w, h, p[0], p[1], p[2], px[0], px[1], c[0], c[1], c[2], c[3], c[4]);
     }
+    /* and not lost in the distance: the corners span half the picture's width or height */
+    if (!(x1 - x0 >= 0.5 * w || y1 - y0 >= 0.5 * h))
+        FAIL("%s in %dx%d: the DEM spans only %.0f x %.0f pixels", file, w, h, x1 - x0, y1 - y0);
 }
 
 static const char* const DEMS[] = {

@@ -689,6 +689,9 @@ static int run_view(tp_view_scene* v, view_options* o, tp_render_grid_desc* gd,
     if (o->vs.has_camera && !take_georef(v, st)) /* --camera-geo */
         return TP_EXIT_FAILURE;
     if (o->vs.has_camera) {
+        if (tp_camera_refuse_degrees("view", v->georef, o->vs.camera_geo, o->vs.camera, v->gt,
+                                     v->src_width, v->src_height))
+            return TP_EXIT_FAILURE;
         if (!tp_camera_from_option_georef(v->georef, o->vs.camera_geo, o->vs.camera, o->vs.fov_deg,
                                           o->vs.w, o->vs.h, &cam, "view"))
             return TP_EXIT_FAILURE;
@@ -890,7 +893,9 @@ int tp_cli_view(int argc, char** argv)
     }
     if (o.stats_json && !tp_atomic_check_dir(o.stats_json))
         return TP_EXIT_FAILURE;
-    if (!tp_view_bookmarks_check(&o))
+    /* the bookmarks file, where it will be read: named, asked for, or a window (keys 1..9) */
+    if ((o.bookmarks_path || o.bookmark || o.save_bookmark || !o.headless) &&
+        !tp_view_bookmarks_check(&o))
         return TP_EXIT_FAILURE;
     if (o.vs.pgm_window && (!o.vs.pgm || !tp_is_store_path(o.path))) {
         fprintf(stderr, "terrapatch view: --pgm-window is for --renderer pgm over a store (%s is "

@@ -124,8 +124,9 @@ tp_terrain_desc tp_dem_terrain_desc(const tp_dem* dem, int patch_size, tp_fit fi
  * allow_directory (a raster can be one: an ArcInfo binary grid). `what` is what the file
  * should have been ("a route file (GPX, GeoJSON, KML, CSV)"). A GDAL virtual path (/vsizip/,
  * /vsigzip/, /vsitar/, /vsicurl/, ...) is asked of GDAL's virtual file system (VSIStatL): one
- * it cannot find is "PATH: cannot open: no such file (GDAL virtual path)". TP_ERR_IO with a
- * message starting with path; TP_OK otherwise. */
+ * it cannot find is "PATH: cannot open: no such file (GDAL virtual path)"; the local archive
+ * such a path reads (/vsizip/DIR/a.zip/...) must be a regular file. TP_ERR_IO with a message
+ * starting with the path; TP_OK otherwise. */
 tp_status tp_input_check(const char* path, const char* what, int allow_directory, tp_error* err);
 
 /* 1 when path is a GDAL virtual path ("/vsi" followed by a handler name and '/'). */
@@ -134,7 +135,8 @@ int tp_input_is_virtual(const char* path);
 /* What names an input file for a cache: its absolute path (a relative path made absolute, as
  * realpath does; in a virtual path, the archive's path after /vsizip/, /vsigzip/, /vsitar/,
  * /vsi7z/ or /vsirar/ made absolute, so that the name reads the same file from any folder),
- * its size and its modification time (ns since the epoch; whole seconds for virtual paths).
+ * its size and its modification time (ns since the epoch; for a member of a local archive, the
+ * archive's time, and its size mixed into the member's).
  * Call tp_input_check first: this only names. TP_ERR_IO naming path when it cannot be found;
  * TP_ERR_INVALID_ARG when the absolute path does not fit cap bytes. */
 typedef struct tp_input_identity {

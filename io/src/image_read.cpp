@@ -313,6 +313,11 @@ tp_status read(const char* path, const tp_image_options* opt, tp_dem** out, tp_e
     std::snprintf(dem->data_type, sizeof dem->data_type, "%s", type.c_str());
     dem->is_integer_type = !type.is_floating_point();
     std::snprintf(dem->units, sizeof dem->units, "%s", "m");
+    /* counts times --zscale are metres already */
+    dem->z_to_m = 1.0;
+    std::snprintf(dem->z_unit, sizeof dem->z_unit, "%s", "metre");
+    std::snprintf(dem->z_unit_from, sizeof dem->z_unit_from, "%s",
+                  "counts times --zscale (a heightmap image)");
 
     std::string warnings, wkt;
     if (o.spacing_m <= 0)

@@ -38,6 +38,31 @@ std::string current_dir()
     return getcwd(buf, sizeof buf) ? std::string(buf) : std::string(".");
 }
 
+/* The archive on the local disk that an archive handler's path reads (/vsizip/DIR/a.zip/x.tif:
+ * DIR/a.zip, made absolute), with its stat; "" when there is none to find (a chained handler,
+ * GDAL's {...} form, a missing file). */
+std::string archive_of(const char* path, struct stat* st)
+{
+    const char* prefix = archive_prefix(path);
+    if (!prefix)
+        return "";
+    std::string rest = path + std::strlen(prefix);
+    if (rest.empty() || rest[0] == '{' || rest.compare(0, 4, "/vsi") == 0)
+        return "";
+    if (rest[0] != '/')
+        rest = current_dir() + "/" + rest;
+    /* the first component that is not a folder is the archive */
+    for (size_t at = rest.find('/', 1);; at = rest.find('/', at + 1)) {
+        const std::string part = rest.substr(0, at);
+        if (stat(part.c_str(), st) != 0)
+            return "";
+        if (!S_ISDIR(st->st_mode))
+            return part;
+        if (at == std::string::npos)
+            return "";
+    }
+}
+
 } // namespace
 
 extern "C" int tp_input_is_virtual(const char* path)
@@ -56,6 +81,12 @@ extern "C" tp_status tp_input_check(const char* path, const char* what, int allo
                     what ? what : "a");
     if (!tp_input_is_virtual(path))
         return tpio::check_input_file(path, what, allow_directory != 0, err);
+    /* the archive itself is a local file: a FIFO there would block GDAL as one here would */
+    struct stat ast;
+    const std::string archive = archive_of(path, &ast);
+    if (!archive.empty())
+        if (tp_status s = tpio::check_input_file(archive.c_str(), "an archive", false, err))
+            return s;
     VSIStatBufL sb;
     tpio::QuietGdal quiet;
     if (VSIStatExL(path, &sb, VSI_STAT_EXISTS_FLAG | VSI_STAT_NATURE_FLAG) != 0)
@@ -98,6 +129,13 @@ extern "C" tp_status tp_input_identify(const char* path, char* abs_path, size_t 
                         path);
         out->size_bytes = (int64_t)sb.st_size;
         out->mtime_ns = (int64_t)sb.st_mtime * 1000000000;
+        /* a member's time has 2 s steps (zip) and may be set back: the archive's own size and
+         * time say when it changed */
+        struct stat ast;
+        if (!archive_of(path, &ast).empty()) {
+            out->size_bytes ^= (int64_t)ast.st_size << 20;
+            out->mtime_ns = (int64_t)ast.st_mtim.tv_sec * 1000000000 + ast.st_mtim.tv_nsec;
+        }
     }
     if (abs.size() + 1 > cap)
         return fail(err, TP_ERR_INVALID_ARG, "%s: the absolute path is too long (%zu bytes)", path,

@@ -26,6 +26,7 @@
 #include <cstring>
 #include <memory>
 #include <string>
+#include <cstdint>
 #include <vector>
 
 using tpio::fail;
@@ -246,22 +247,31 @@ struct Rect {
     double x0, y0, x1, y1;
 }; /* [x0, x1) x [y0, y1) */
 
-/* The share of the whole rectangle that the rectangles r cover: their areas less their pairwise
- * overlaps (an estimate where three overlap at once), in [0, 1]. */
+/* The share of the whole rectangle that the union of the rectangles r covers, in [0, 1]: cells
+ * of a 1024 x 1024 raster over whole, each counted once when its centre lies in some rectangle
+ * (so three footprints over one place count it once; good to about a cell along each edge). */
 double covered_share(const std::vector<Rect>& r, const Rect& whole)
 {
-    double covered = 0;
-    for (size_t i = 0; i < r.size(); i++) {
-        covered += (r[i].x1 - r[i].x0) * (r[i].y1 - r[i].y0);
-        for (size_t j = i + 1; j < r.size(); j++) {
-            const double ox = std::min(r[i].x1, r[j].x1) - std::max(r[i].x0, r[j].x0);
-            const double oy = std::min(r[i].y1, r[j].y1) - std::max(r[i].y0, r[j].y0);
-            if (ox > 0 && oy > 0)
-                covered -= ox * oy;
-        }
+    const int n = 1024;
+    const double cw = (whole.x1 - whole.x0) / n, ch = (whole.y1 - whole.y0) / n;
+    if (!(cw > 0 && ch > 0))
+        return 1.0;
+    std::vector<uint8_t> hit((size_t)n * n, 0);
+    size_t covered = 0;
+    for (const Rect& q : r) {
+        /* the cells whose centre x0 + (i + 0.5) cw lies in [q.x0, q.x1) */
+        const int i0 = std::max(0, (int)std::ceil((q.x0 - whole.x0) / cw - 0.5));
+        const int i1 = std::min(n, (int)std::ceil((q.x1 - whole.x0) / cw - 0.5));
+        const int j0 = std::max(0, (int)std::ceil((q.y0 - whole.y0) / ch - 0.5));
+        const int j1 = std::min(n, (int)std::ceil((q.y1 - whole.y0) / ch - 0.5));
+        for (int j = j0; j < j1; j++)
+            for (int i = i0; i < i1; i++) {
+                uint8_t& c = hit[(size_t)j * n + i];
+                covered += !c;
+                c = 1;
+            }
     }
-    const double all = (whole.x1 - whole.x0) * (whole.y1 - whole.y0);
-    return all > 0 ? std::clamp(covered / all, 0.0, 1.0) : 1.0;
+    return (double)covered / ((double)n * n);
 }
 
 /* Overlaps and gaps of sources sharing one grid (same CRS and spacing): notes, and the share
