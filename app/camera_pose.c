@@ -85,8 +85,8 @@ int tp_camera_refuse_degrees(const char* cmd, const tp_georef* g, int geo, const
 int tp_camera_from_option(const tp_scene* sc, int geo, const double v[5], double fov_deg,
                           int width_px, int height_px, tp_camera* cam, const char* cmd)
 {
-    if (tp_camera_refuse_degrees(cmd, sc->georef, geo, v, sc->info.geotransform,
-                                 sc->info.src_width, sc->info.src_height))
+    if (tp_camera_refuse_degrees(cmd, sc->georef, geo, v, sc->info.geotransform, sc->info.src_width,
+                                 sc->info.src_height))
         return 0;
     return tp_camera_from_option_georef(sc->georef, geo, v, fov_deg, width_px, height_px, cam, cmd);
 }

@@ -23,10 +23,10 @@
 #include <cfloat>
 #include <climits>
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 #include <memory>
 #include <string>
-#include <cstdint>
 #include <vector>
 
 using tpio::fail;
