@@ -443,9 +443,9 @@ typedef struct tp_mosaic_info {
     int source_count;
     int warped;                 /* 1 if any source is resampled onto the grid */
     int integer_sources;        /* 1 if every source's band 1 has an integer type */
-    /* The share of the grid's extent that some source covers, from the sources' footprints
-     * (their areas less pairwise overlaps: an estimate when three overlap at once), 0 .. 1; 1
-     * for one source. The rest is gaps, nodata (terrapatch build refuses under a half without
+    /* The share of the grid's extent that some source covers: the union of the sources'
+     * footprints on a 1024 x 1024 raster over the extent (overlaps count once), 0 .. 1; 1 for
+     * one source. The rest is gaps, nodata (terrapatch build refuses under a half without
      * --allow-gaps). */
     double covered_share;
     /* A bound of the grid's heights known without reading the grid: statistics every source
