@@ -588,7 +588,10 @@ static int join_spaced_mgrs(const fields* f, char* out, size_t cap)
 static fields without_label(const fields* f)
 {
     fields g = *f;
-    if (f->count < 2 || !(same_word(f->field[0], "UTM") || same_word(f->field[0], "MGRS")))
+    /* more fields than are kept: the one after the last kept is not there to shift in (and
+     * the text is refused for its length anyway) */
+    if (f->count < 2 || f->count > MAX_FIELDS ||
+        !(same_word(f->field[0], "UTM") || same_word(f->field[0], "MGRS")))
         return g;
     --g.count;
     for (int i = 0; i + 1 < MAX_FIELDS; ++i)

@@ -7,8 +7,8 @@
  * from GeographicLib's own GeoConvert tests (data/coord/geoconvert_ctest_cases.tsv:
  * GeoConvert1, GeoConvert2), never from this code.
  */
-#include "tp_test.h"
 #include "tp_geo.h"
+#include "tp_test.h"
 
 #include "coord_line.h"
 #include "position.h"
@@ -17,7 +17,7 @@
 #include <stdio.h>
 #include <string.h>
 
-#define LAT_PITTSBURGH (40.0 + 26.0 / 60.0 + 46.0 / 3600.0)   /* 40d26'46"N */
+#define LAT_PITTSBURGH (40.0 + 26.0 / 60.0 + 46.0 / 3600.0)    /* 40d26'46"N */
 #define LON_PITTSBURGH (-(79.0 + 58.0 / 60.0 + 56.0 / 3600.0)) /* 79d58'56"W */
 #define TOL_DEG 1e-12
 
@@ -53,7 +53,10 @@ TEST(dms_with_symbols_and_hemispheres)
     p = parse_ok("N40d26'46\" W79d58'56\"");
     EXPECT_NEAR(p.lat_deg, LAT_PITTSBURGH, TOL_DEG);
     EXPECT_NEAR(p.lon_deg, LON_PITTSBURGH, TOL_DEG);
-    p = parse_ok("40\xC2\xB0" "26\xE2\x80\xB2" "46\xE2\x80\xB3N 79\xC2\xB0" "58\xE2\x80\xB2"
+    p = parse_ok("40\xC2\xB0"
+                 "26\xE2\x80\xB2"
+                 "46\xE2\x80\xB3N 79\xC2\xB0"
+                 "58\xE2\x80\xB2"
                  "56\xE2\x80\xB3W");
     EXPECT_NEAR(p.lat_deg, LAT_PITTSBURGH, TOL_DEG);
     EXPECT_NEAR(p.lon_deg, LON_PITTSBURGH, TOL_DEG);
@@ -125,7 +128,8 @@ TEST(dms_encode_rounds_and_signs)
     /* bad input leaves out alone */
     strcpy(out, "keep");
     tp_error err = {{0}};
-    EXPECT_STATUS(TP_ERR_INVALID_ARG, tp_dms_encode(91.0, TP_DMS_LATITUDE, 0, out, sizeof out, &err));
+    EXPECT_STATUS(TP_ERR_INVALID_ARG,
+                  tp_dms_encode(91.0, TP_DMS_LATITUDE, 0, out, sizeof out, &err));
     EXPECT_STATUS(TP_ERR_INVALID_ARG, tp_dms_encode(NAN, TP_DMS_PLAIN, 0, out, sizeof out, &err));
     EXPECT_STATUS(TP_ERR_INVALID_ARG, tp_dms_encode(10.0, TP_DMS_PLAIN, 0, out, 4, &err));
     EXPECT_EQ_STR("keep", out);
@@ -170,7 +174,7 @@ TEST(bad_positions_say_why)
     parse_fails("7\"9:58:56W 40:26:46N", 0, "more than 3 components");
     parse_fails("1:2:3:4 5", 0, "more than 3 components");
     parse_fails("1`41:2:3:4.3424%5 52n", 0, "more than 3 components"); /* fuzz_position */
-    parse_fails("40d26:46 79:58:56W", 0, "more than 3 components"); /* marks and colons */
+    parse_fails("40d26:46 79:58:56W", 0, "more than 3 components");    /* marks and colons */
     tp_position ok = parse_ok("40:26:46N 79:58:56W");
     EXPECT_NEAR(ok.lat_deg, LAT_PITTSBURGH, TOL_DEG);
     parse_fails("1''2:3 5", 0, "more than 3 components");
@@ -459,7 +463,21 @@ TEST(garbled_mgrs_says_which_forms_are_read)
     parse_fails("ab", 0, "33T WN 00000 49776");
 }
 
+/* A leading "UTM" label before more fields than are kept (nine and more) is refused, not read
+ * past the kept fields (the fuzzer's find: a NULL field reached strlen). */
+TEST(label_before_too_many_fields_is_refused)
+{
+    const char* text = "UTM UPS34RRRRR280 28  41.:8 N 2 08A1,4. 272NW.N";
+    tp_position p;
+    char msg[TP_POSITION_MSG_SIZE];
+    EXPECT_EQ_INT(0, tp_position_parse(text, strlen(text), 0, &p, msg, sizeof msg));
+    EXPECT_TRUE(msg[0] != '\0');
+    const char* nine = "MGRS 55 28 41.88 N 2 08 44.16 W";
+    EXPECT_EQ_INT(0, tp_position_parse(nine, strlen(nine), 0, &p, msg, sizeof msg));
+}
+
 #define TESTS(X)                                                                                   \
+    X(label_before_too_many_fields_is_refused)                                                     \
     X(dms_with_symbols_and_hemispheres)                                                            \
     X(dms_with_colons_and_signs)                                                                   \
     X(hemisphere_letters_allow_longitude_first)                                                    \
