@@ -2,6 +2,7 @@
 #define _POSIX_C_SOURCE 200809L
 #include "atomic_file.h"
 
+#include "cli.h"
 #include "tp_io.h"
 
 #include <errno.h>
@@ -15,7 +16,7 @@ int tp_atomic_open(tp_atomic_file* a, const char* path)
     a->size = 0;
     a->f = open_memstream(&a->buf, &a->size);
     if (!a->f)
-        fprintf(stderr, "terrapatch: %s: cannot write: %s\n", path, strerror(errno));
+        tp_cli_error("%s: cannot write: %s", path, strerror(errno));
     return a->f != NULL;
 }
 
@@ -27,11 +28,11 @@ static int hand_over(tp_atomic_file* a, tp_file_set* set)
     ok &= fclose(a->f) == 0; /* sets buf and size */
     tp_error err;
     if (!ok) {
-        fprintf(stderr, "terrapatch: %s: cannot write: out of memory\n", a->path);
+        tp_cli_error("%s: cannot write: out of memory", a->path);
     } else if ((set ? tp_file_set_add(set, a->path, a->buf, a->size, &err)
                     : tp_file_write(a->path, a->buf, a->size, &err)) != TP_OK) {
         if (!tp_interrupted()) /* else main says "interrupted" */
-            fprintf(stderr, "terrapatch: %s\n", err.message);
+            tp_cli_error("%s", err.message);
         ok = 0;
     }
     free(a->buf);
@@ -53,7 +54,7 @@ int tp_atomic_check_dir(const char* path)
 {
     tp_error err;
     if (tp_output_check(path, &err) != TP_OK) {
-        fprintf(stderr, "terrapatch: %s\n", err.message);
+        tp_cli_error("%s", err.message);
         return 0;
     }
     return 1;

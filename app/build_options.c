@@ -80,10 +80,9 @@ static void print_help(void)
 static int usage_error(const char* what, const char* detail)
 {
     if (detail[0])
-        fprintf(stderr, "terrapatch build: %s '%s' (see 'terrapatch build --help')\n", what,
-                detail);
+        tp_cli_error("%s '%s' (see 'terrapatch build --help')", what, detail);
     else
-        fprintf(stderr, "terrapatch build: %s (see 'terrapatch build --help')\n", what);
+        tp_cli_error("%s (see 'terrapatch build --help')", what);
     return TP_EXIT_USAGE;
 }
 

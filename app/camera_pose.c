@@ -1,6 +1,8 @@
 /* camera_pose.c - cameras from the command line (see camera_pose.h). */
 #include "camera_pose.h"
 
+#include "cli.h"
+
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
@@ -62,6 +64,7 @@ void tp_camera_default_extent(const double gt[6], int src_width, int src_height,
 int tp_camera_refuse_degrees(const char* cmd, const tp_georef* g, int geo, const double v[5],
                              const double gt[6], int width, int height)
 {
+    (void)cmd; /* messages name the command main() dispatched to (tp_cli_error) */
     if (geo || !tp_georef_has_geo(g) || !(fabs(v[0]) <= 180 && fabs(v[1]) <= 180))
         return 0;
     /* the DEM's extent, grown by its own size each way: a camera there is a place (a polar
@@ -74,11 +77,10 @@ int tp_camera_refuse_degrees(const char* cmd, const tp_georef* g, int geo, const
         return 0;
     /* latitude first in the suggestion, whichever order was typed */
     const int swap = fabs(v[0]) > 90 && fabs(v[1]) <= 90;
-    fprintf(stderr,
-            "terrapatch %s: --camera %g,%g,...: those look like latitude and longitude, but "
-            "--camera takes metres of the render CRS (E,N,H,YAW,PITCH); use --camera-geo "
-            "%g,%g,%g,%g,%g\n",
-            cmd, v[0], v[1], swap ? v[1] : v[0], swap ? v[0] : v[1], v[2], v[3], v[4]);
+    tp_cli_error("--camera %g,%g,...: those look like latitude and longitude, but "
+                 "--camera takes metres of the render CRS (E,N,H,YAW,PITCH); use --camera-geo "
+                 "%g,%g,%g,%g,%g",
+                 v[0], v[1], swap ? v[1] : v[0], swap ? v[0] : v[1], v[2], v[3], v[4]);
     return 1;
 }
 
@@ -94,11 +96,12 @@ int tp_camera_from_option(const tp_scene* sc, int geo, const double v[5], double
 int tp_camera_from_option_georef(const tp_georef* g, int geo, const double v[5], double fov_deg,
                                  int width_px, int height_px, tp_camera* cam, const char* cmd)
 {
+    (void)cmd; /* messages name the command main() dispatched to (tp_cli_error) */
     double e = v[0], n = v[1];
     if (geo) {
         tp_error err;
         if (tp_georef_geo_to_proj(g, v[0], v[1], &e, &n, &err) != TP_OK) {
-            fprintf(stderr, "terrapatch %s: --camera-geo: %s\n", cmd, err.message);
+            tp_cli_error("--camera-geo: %s", err.message);
             return 0;
         }
     }

@@ -5,14 +5,91 @@
 
 #include <errno.h>
 #include <math.h>
+#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
+static const char* command;
+static char prefix[64] = "terrapatch: ";
+
+void tp_cli_set_command(const char* name)
+{
+    command = name;
+    if (name && *name)
+        snprintf(prefix, sizeof prefix, "terrapatch %.40s: ", name);
+    else
+        snprintf(prefix, sizeof prefix, "terrapatch: ");
+}
+
+const char* tp_cli_command(void)
+{
+    return command;
+}
+
+const char* tp_cli_prefix(void)
+{
+    return prefix;
+}
+
+void tp_cli_vline(const char* what, const char* fmt, va_list ap)
+{
+    /* formatted whole and written with one call, so that lines of threads and children do not
+     * mix */
+    char local[2048];
+    const size_t head = strlen(prefix) + strlen(what);
+    char* line = local;
+    va_list aq;
+    va_copy(aq, ap);
+    int n = vsnprintf(local + head, sizeof local - head - 1, fmt, aq);
+    va_end(aq);
+    if (n < 0)
+        n = 0;
+    if ((size_t)n >= sizeof local - head - 1) {
+        char* big = malloc(head + (size_t)n + 2);
+        if (big) {
+            line = big;
+            vsnprintf(line + head, (size_t)n + 1, fmt, ap);
+        } else {
+            n = (int)(sizeof local - head - 2); /* cut short rather than lost */
+        }
+    }
+    memcpy(line, prefix, strlen(prefix));
+    memcpy(line + strlen(prefix), what, strlen(what));
+    line[head + (size_t)n] = '\n';
+    fwrite(line, 1, head + (size_t)n + 1, stderr);
+    if (line != local)
+        free(line);
+}
+
+void tp_cli_error(const char* fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    tp_cli_vline("", fmt, ap);
+    va_end(ap);
+}
+
+void tp_cli_warning(const char* fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    tp_cli_vline("warning: ", fmt, ap);
+    va_end(ap);
+}
+
+void tp_cli_note(const char* fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    tp_cli_vline("", fmt, ap);
+    va_end(ap);
+}
+
 int tp_cli_finish(int code)
 {
     if (fflush(stdout) != 0 || ferror(stdout)) {
-        fprintf(stderr, "terrapatch: cannot write to standard output: %s\n", strerror(errno));
+        tp_cli_error("cannot write to standard output: %s", strerror(errno));
         return TP_EXIT_FAILURE;
     }
     return code;
@@ -22,7 +99,7 @@ int tp_cli_interrupted(void)
 {
     static int said;
     if (!said++)
-        fputs("terrapatch: interrupted\n", stderr);
+        tp_cli_error("interrupted");
     return 128 + tp_interrupted();
 }
 
@@ -45,6 +122,7 @@ int tp_parse_numbers(const char* s, double* v, int n)
 
 int tp_option_error(const char* cmd, const char* opt, const char* expected, const char* got)
 {
-    fprintf(stderr, "terrapatch %s: %s: expected %s, got '%s'\n", cmd, opt, expected, got);
+    (void)cmd; /* the prefix names the command main() dispatched to */
+    tp_cli_error("%s: expected %s, got '%s'", opt, expected, got);
     return -1;
 }

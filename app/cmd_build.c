@@ -367,7 +367,7 @@ static uint64_t file_size(const char* path)
 
 static int fail_line(const char* msg)
 {
-    fprintf(stderr, "terrapatch: %s\n", msg);
+    tp_cli_error("%s", msg);
     return TP_EXIT_FAILURE;
 }
 
@@ -383,8 +383,7 @@ int tp_cli_build(int argc, char** argv)
         return rc;
     for (int i = 0; i < o.source_count; i++)
         if (!strcmp(o.sources[i], o.out))
-            return fprintf(stderr, "terrapatch: %s: the output would replace a source\n", o.out),
-                   TP_EXIT_FAILURE;
+            return tp_cli_error("%s: the output would replace a source", o.out), TP_EXIT_FAILURE;
     if (o.json && strcmp(o.json, "-") && !tp_atomic_check_dir(o.json))
         return TP_EXIT_FAILURE;
     if (o.imagery_count > 0) { /* the pyramid's path too, before the long work */
@@ -397,8 +396,7 @@ int tp_cli_build(int argc, char** argv)
             return fail_line(err.message);
         for (int i = 0; i < o.imagery_count; i++) /* a missing image, before the store */
             if (strncmp(o.imagery[i], "/vsi", 4) && access(o.imagery[i], R_OK) != 0)
-                return fprintf(stderr, "terrapatch: %s: cannot open: %s\n", o.imagery[i],
-                               strerror(errno)),
+                return tp_cli_error("%s: cannot open: %s", o.imagery[i], strerror(errno)),
                        TP_EXIT_FAILURE;
     }
 
@@ -418,19 +416,18 @@ int tp_cli_build(int argc, char** argv)
         while (*s) {
             const char* e = strchr(s, '\n');
             int len = e ? (int)(e - s) : (int)strlen(s);
-            fprintf(stderr, "terrapatch build: %.*s\n", len, s);
+            tp_cli_note("%.*s", len, s);
             s += len + (e ? 1 : 0);
         }
     }
     /* Sources far apart leave most of their mosaic empty: minutes of work on nodata, and a
      * store mostly of gaps. Almost always a wrong source; --allow-gaps when it is meant. */
     if (mi.covered_share < TP_BUILD_MIN_COVERED && !o.allow_gaps) {
-        fprintf(stderr,
-                "terrapatch build: the %d sources cover about %.1f%% of their mosaic's "
-                "%dx%d samples (%.1f%% would be gaps, nodata): check that they belong "
-                "together, or add --allow-gaps\n",
-                mi.source_count, 100.0 * mi.covered_share, mi.width, mi.height,
-                100.0 * (1.0 - mi.covered_share));
+        tp_cli_error("the %d sources cover about %.1f%% of their mosaic's "
+                     "%dx%d samples (%.1f%% would be gaps, nodata): check that they belong "
+                     "together, or add --allow-gaps",
+                     mi.source_count, 100.0 * mi.covered_share, mi.width, mi.height,
+                     100.0 * (1.0 - mi.covered_share));
         tp_mosaic_close(m);
         return TP_EXIT_FAILURE;
     }
@@ -462,13 +459,12 @@ int tp_cli_build(int argc, char** argv)
         if (best != o.patch_size)
             snprintf(alt, sizeof alt, " (or --memory %.0f with --patch %d)",
                      memory_to_suggest(best_mb), best);
-        fprintf(stderr,
-                "terrapatch: build: --memory %d MB is too small for a %dx%d grid in %dx%d "
-                "nodes: one band of %d rows, the tree builder and the store writer need "
-                "%.0f MB, besides GDAL's block cache (a quarter of the budget); give --memory "
-                "%.0f or more%s\n",
-                o.memory_mb, mi.width, mi.height, ps + 1, ps + 1, band_rows, need_mb,
-                memory_to_suggest(need_mb), alt);
+        tp_cli_error("--memory %d MB is too small for a %dx%d grid in %dx%d "
+                     "nodes: one band of %d rows, the tree builder and the store writer need "
+                     "%.0f MB, besides GDAL's block cache (a quarter of the budget); give --memory "
+                     "%.0f or more%s",
+                     o.memory_mb, mi.width, mi.height, ps + 1, ps + 1, band_rows, need_mb,
+                     memory_to_suggest(need_mb), alt);
         tp_mosaic_close(m);
         return TP_EXIT_FAILURE;
     }
@@ -542,10 +538,9 @@ int tp_cli_build(int argc, char** argv)
         if (st == TP_OK && bp.outside) {
             /* a VRT that scales its sources: the bound did not hold; measure the range */
             if (!o.quiet)
-                fprintf(stderr,
-                        "terrapatch build: heights %g .. %g m outside the bound %g .. %g "
-                        "m the sources gave: building again after a range pass\n",
-                        bp.seen_lo, bp.seen_hi, lo, hi);
+                tp_cli_note("heights %g .. %g m outside the bound %g .. %g "
+                            "m the sources gave: building again after a range pass",
+                            bp.seen_lo, bp.seen_hi, lo, hi);
             bounded = 0;
             if (attempt == 0)
                 continue;
@@ -567,11 +562,10 @@ int tp_cli_build(int argc, char** argv)
     tp_mosaic_get_voids(m, &mv);
     tp_mosaic_close(m);
     if (st == TP_OK && mv.too_large_samples > 0)
-        fprintf(stderr,
-                "terrapatch build: warning: %zu void samples left unfilled: their voids need a "
-                "window of more than %d rows to be filled whole (an eighth of --memory %d); "
-                "give more --memory to fill them\n",
-                mv.too_large_samples, mv.max_void_rows, o.memory_mb);
+        tp_cli_warning("%zu void samples left unfilled: their voids need a "
+                       "window of more than %d rows to be filled whole (an eighth of --memory %d); "
+                       "give more --memory to fill them",
+                       mv.too_large_samples, mv.max_void_rows, o.memory_mb);
     free(notes);
     if (st != TP_OK) {
         if (tp_interrupted())
@@ -584,11 +578,10 @@ int tp_cli_build(int argc, char** argv)
     const uint64_t bytes = file_size(o.out);
     const double rss_mb = tp_memory_peak_rss() / (1024.0 * 1024.0);
     if (!o.quiet)
-        fprintf(stderr,
-                "terrapatch build: %s: %dx%d samples, %lld nodes, %.3f bytes/sample, step %g m, "
-                "%.1f s, peak RSS %.0f MB\n",
-                o.out, mi.width, mi.height, (long long)nodes, bytes / samples, step, seconds,
-                rss_mb);
+        tp_cli_note("%s: %dx%d samples, %lld nodes, %.3f bytes/sample, step %g m, "
+                    "%.1f s, peak RSS %.0f MB",
+                    o.out, mi.width, mi.height, (long long)nodes, bytes / samples, step, seconds,
+                    rss_mb);
     if (o.imagery_count > 0) { /* NAME.tpi beside the store, as `terrapatch imagery` makes it */
         tp_imagery_cli ic = {.images = o.imagery,
                              .count = o.imagery_count,

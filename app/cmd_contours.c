@@ -226,7 +226,7 @@ int tp_cli_contours(int argc, char** argv)
                                              &err) != TP_OK) {
                 /* a centre in a void is fine: the lines around it are still wanted */
                 tp_planner_swap_hint(g, &pos, hint, sizeof hint);
-                fprintf(stderr, "terrapatch contours: %s: %s%s\n", o.path, lmsg, hint);
+                tp_cli_error("%s: %s%s", o.path, lmsg, hint);
                 tp_ground_destroy(g);
                 return TP_EXIT_FAILURE;
             }
@@ -241,11 +241,10 @@ int tp_cli_contours(int argc, char** argv)
         lx = fmax(ceil(lx - 1e-9), 0.0), ly = fmax(ceil(ly - 1e-9), 0.0);
         hx = fmin(floor(hx + 1e-9), W - 1.0), hy = fmin(floor(hy + 1e-9), H - 1.0);
         if (lx > hx || ly > hy) {
-            fprintf(stderr,
-                    "terrapatch contours: %s: the area E %.1f .. %.1f, N %.1f .. %.1f is "
-                    "outside the DEM (E %.1f .. %.1f, N %.1f .. %.1f, render CRS)\n",
-                    o.path, e0, e1, n0, n1, gt[0] + 0.5 * gt[1], gt[0] + (W - 0.5) * gt[1],
-                    gt[3] + (H - 0.5) * gt[5], gt[3] + 0.5 * gt[5]);
+            tp_cli_error("%s: the area E %.1f .. %.1f, N %.1f .. %.1f is "
+                         "outside the DEM (E %.1f .. %.1f, N %.1f .. %.1f, render CRS)",
+                         o.path, e0, e1, n0, n1, gt[0] + 0.5 * gt[1], gt[0] + (W - 0.5) * gt[1],
+                         gt[3] + (H - 0.5) * gt[5], gt[3] + 0.5 * gt[5]);
             tp_ground_destroy(g);
             return TP_EXIT_FAILURE;
         }
@@ -257,16 +256,14 @@ int tp_cli_contours(int argc, char** argv)
     tp_memory_room_now(&room);
     if (n > CONTOURS_MAX_POSTS || (uint64_t)n * CONTOURS_BYTES_PER_POST > room.bytes) {
         if (n > CONTOURS_MAX_POSTS)
-            fprintf(stderr,
-                    "terrapatch contours: %s: a %dx%d window is %zu posts, more than one run "
-                    "takes (%zu, 8192 x 8192); choose a part with --area or --around\n",
-                    o.path, w, h, n, CONTOURS_MAX_POSTS);
+            tp_cli_error("%s: a %dx%d window is %zu posts, more than one run "
+                         "takes (%zu, 8192 x 8192); choose a part with --area or --around",
+                         o.path, w, h, n, CONTOURS_MAX_POSTS);
         else
-            fprintf(stderr,
-                    "terrapatch contours: %s: a %dx%d window needs about %.0f MiB, %.0f MiB "
-                    "left (%s); choose a part with --area or --around\n",
-                    o.path, w, h, n * (double)CONTOURS_BYTES_PER_POST / 1048576.0,
-                    room.bytes / 1048576.0, room.bound);
+            tp_cli_error("%s: a %dx%d window needs about %.0f MiB, %.0f MiB "
+                         "left (%s); choose a part with --area or --around",
+                         o.path, w, h, n * (double)CONTOURS_BYTES_PER_POST / 1048576.0,
+                         room.bytes / 1048576.0, room.bound);
         tp_ground_destroy(g);
         return TP_EXIT_FAILURE;
     }
@@ -279,7 +276,7 @@ int tp_cli_contours(int argc, char** argv)
         s = tp_planner_read_posts(g, x0, y0, w, h, z, "contours", &err);
     const double t1 = tp_planner_now_s();
     if (n >= TP_PLANNER_PROGRESS_POSTS && s == TP_OK)
-        fputs("terrapatch: contours: reading the ground 100%, drawing the lines\n", stderr);
+        tp_cli_note("reading the ground 100%%, drawing the lines");
     const double wgt[6] = {gt[0] + x0 * gt[1], gt[1], 0.0, gt[3] + y0 * gt[5], 0.0, gt[5]};
     tp_features* f = NULL;
     if (s == TP_OK)
@@ -295,7 +292,7 @@ int tp_cli_contours(int argc, char** argv)
     const double t3 = tp_planner_now_s();
     if (s != TP_OK) {
         if (!tp_interrupted())
-            fprintf(stderr, "terrapatch contours: %s: %s\n", o.path, err.message);
+            tp_cli_error("%s: %s", o.path, err.message);
         free(z);
         tp_features_destroy(f);
         tp_ground_destroy(g);
@@ -338,7 +335,7 @@ int tp_cli_contours(int argc, char** argv)
                o.base_m, o.interval_m);
     printf("time       %.1f ms reading the ground, %.1f ms for the contours, %.1f ms writing\n",
            1e3 * (t1 - t0), 1e3 * (t2 - t1), 1e3 * (t3 - t2));
-    fprintf(stderr, "terrapatch: wrote %s\n", o.out);
+    tp_cli_note("wrote %s", o.out);
     free(z);
     tp_features_destroy(f);
     tp_ground_destroy(g);

@@ -112,10 +112,9 @@ static void print_help(void)
 static int usage_error(const char* what, const char* detail)
 {
     if (detail[0])
-        fprintf(stderr, "terrapatch coord: %s '%s' (see 'terrapatch coord --help')\n", what,
-                detail);
+        tp_cli_error("%s '%s' (see 'terrapatch coord --help')", what, detail);
     else
-        fprintf(stderr, "terrapatch coord: %s (see 'terrapatch coord --help')\n", what);
+        tp_cli_error("%s (see 'terrapatch coord --help')", what);
     return TP_EXIT_USAGE;
 }
 
@@ -145,9 +144,7 @@ static int parse_options(int argc, char** argv, coord_options* o)
             } else if (!strcmp(optarg, "ecef")) {
                 o->req.to = TP_COORD_TO_ECEF;
             } else {
-                fprintf(stderr,
-                        "terrapatch coord: --to: expected geo, utm, mgrs or ecef, got '%s'\n",
-                        optarg);
+                tp_cli_error("--to: expected geo, utm, mgrs or ecef, got '%s'", optarg);
                 return TP_EXIT_USAGE;
             }
             o->to_given = 1;
@@ -157,10 +154,9 @@ static int parse_options(int argc, char** argv, coord_options* o)
             errno = 0;
             long v = strtol(optarg, &end, 10);
             if (*optarg == '\0' || *end != '\0' || errno || v < 0 || v > 11) {
-                fprintf(stderr,
-                        "terrapatch coord: --precision: expected an integer from 0 to 11, "
-                        "got '%s'\n",
-                        optarg);
+                tp_cli_error("--precision: expected an integer from 0 to 11, "
+                             "got '%s'",
+                             optarg);
                 return TP_EXIT_USAGE;
             }
             o->req.precision = (int)v;
@@ -173,10 +169,9 @@ static int parse_options(int argc, char** argv, coord_options* o)
         default: /* '?' */
             if (isdigit(optopt) || optopt == '.') {
                 /* an input such as "-33.9 18.4" read as options */
-                fprintf(stderr,
-                        "terrapatch coord: unknown option '-%c' (put '--' before inputs that "
-                        "start with '-': terrapatch coord -- '-33.9 18.4')\n",
-                        (char)optopt);
+                tp_cli_error("unknown option '-%c' (put '--' before inputs that "
+                             "start with '-': terrapatch coord -- '-33.9 18.4')",
+                             (char)optopt);
                 return TP_EXIT_USAGE;
             }
             if (optopt > 0 && optopt < 256) {
@@ -206,7 +201,7 @@ static int convert_line(const coord_options* o, char* line, size_t len, long lin
         printf("%s\n", text);
     } else {
         printf("ERROR: %s\n", text);
-        fprintf(stderr, "terrapatch coord: line %ld: %s\n", line_no, text);
+        tp_cli_error("line %ld: %s", line_no, text);
     }
     return ok;
 }
@@ -241,8 +236,8 @@ int tp_cli_coord(int argc, char** argv)
     int saved_errno = errno;
     free(line);
     if (read_error) {
-        fprintf(stderr, "terrapatch coord: cannot read standard input after line %ld: %s\n",
-                line_no, strerror(saved_errno ? saved_errno : EIO));
+        tp_cli_error("cannot read standard input after line %ld: %s", line_no,
+                     strerror(saved_errno ? saved_errno : EIO));
         tp_cli_finish(TP_EXIT_FAILURE);
         return TP_EXIT_FAILURE;
     }

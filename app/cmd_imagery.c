@@ -47,7 +47,7 @@ static void on_progress(void* user, double f)
 
 static int fail_line(const char* msg)
 {
-    fprintf(stderr, "terrapatch: %s\n", msg);
+    tp_cli_error("%s", msg);
     return TP_EXIT_FAILURE;
 }
 
@@ -112,7 +112,7 @@ int tp_imagery_cli_run(const char* store_path, const tp_imagery_cli* c)
     }
     for (int i = 0; i < c->count; i++)
         if (!strcmp(c->images[i], out) || !strcmp(store_path, out)) {
-            fprintf(stderr, "terrapatch: %s: the output would replace an input\n", out);
+            tp_cli_error("%s: the output would replace an input", out);
             goto done;
         }
     if (tp_store_open(store_path, &s, &err) != TP_OK) {
@@ -132,11 +132,10 @@ int tp_imagery_cli_run(const char* store_path, const tp_imagery_cli* c)
         const double px = sqrt(fabs(t.geotransform[1] * t.geotransform[5]));
         const double k = round(log2(px / c->resolution_m));
         if (k < TP_IMAGERY_SHIFT_MIN || k > TP_IMAGERY_SHIFT_MAX) {
-            fprintf(stderr,
-                    "terrapatch: %s: --resolution %g m is %g times the grid's %g m posts: outside "
-                    "2^%d .. 2^%d\n",
-                    out, c->resolution_m, c->resolution_m / px, px, -TP_IMAGERY_SHIFT_MAX,
-                    -TP_IMAGERY_SHIFT_MIN);
+            tp_cli_error("%s: --resolution %g m is %g times the grid's %g m posts: outside "
+                         "2^%d .. 2^%d",
+                         out, c->resolution_m, c->resolution_m / px, px, -TP_IMAGERY_SHIFT_MAX,
+                         -TP_IMAGERY_SHIFT_MIN);
             goto done;
         }
         o.texel_shift = (int)k;
@@ -163,12 +162,11 @@ int tp_imagery_cli_run(const char* store_path, const tp_imagery_cli* c)
     const double seconds = tp_progress_now_s() - t0;
     const double rss_mb = tp_memory_peak_rss() / (1024.0 * 1024.0);
     if (!c->quiet)
-        fprintf(stderr,
-                "terrapatch %s: %s: %lldx%lld texels of %.3g m, %d levels, %llu non-empty blocks, "
-                "%.1f MB, %.1f s, peak RSS %.0f MB\n",
-                c->who, out, (long long)info.width, (long long)info.height,
-                fabs(info.geotransform[1]), info.levels, (unsigned long long)info.nonempty_blocks,
-                info.file_bytes / 1e6, seconds, rss_mb);
+        tp_cli_note("%s: %lldx%lld texels of %.3g m, %d levels, %llu non-empty blocks, "
+                    "%.1f MB, %.1f s, peak RSS %.0f MB",
+                    out, (long long)info.width, (long long)info.height, fabs(info.geotransform[1]),
+                    info.levels, (unsigned long long)info.nonempty_blocks, info.file_bytes / 1e6,
+                    seconds, rss_mb);
     rc = c->json ? write_json(c->json, out, im, c->count, seconds, rss_mb) : TP_EXIT_OK;
 done:
     tp_imagery_close(im);
@@ -212,10 +210,9 @@ static void print_help(void)
 static int usage_error(const char* what, const char* detail)
 {
     if (detail[0])
-        fprintf(stderr, "terrapatch imagery: %s '%s' (see 'terrapatch imagery --help')\n", what,
-                detail);
+        tp_cli_error("%s '%s' (see 'terrapatch imagery --help')", what, detail);
     else
-        fprintf(stderr, "terrapatch imagery: %s (see 'terrapatch imagery --help')\n", what);
+        tp_cli_error("%s (see 'terrapatch imagery --help')", what);
     return TP_EXIT_USAGE;
 }
 

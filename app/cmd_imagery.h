@@ -15,7 +15,7 @@ typedef struct tp_imagery_cli {
     int threads;      /* 0: every core */
     const char* json; /* NULL, "-" or a path */
     int quiet;
-    const char* who; /* "imagery" or "build": the prefix of progress lines */
+    const char* who; /* "imagery" or "build" (the lines' prefix is tp_cli_prefix's) */
 } tp_imagery_cli;
 
 /* The pyramid of store_path's grid (its CRS, geotransform and source width x height) from

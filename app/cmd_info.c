@@ -62,9 +62,9 @@ static void print_help(void)
 static int usage_error(const char* what, const char* detail)
 {
     if (detail[0])
-        fprintf(stderr, "terrapatch info: %s '%s' (see 'terrapatch info --help')\n", what, detail);
+        tp_cli_error("%s '%s' (see 'terrapatch info --help')", what, detail);
     else
-        fprintf(stderr, "terrapatch info: %s (see 'terrapatch info --help')\n", what);
+        tp_cli_error("%s (see 'terrapatch info --help')", what);
     return TP_EXIT_USAGE;
 }
 

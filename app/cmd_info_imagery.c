@@ -37,7 +37,7 @@ int tp_info_imagery(const char* path, int json)
     tp_imagery* im = NULL;
     tp_error err = {0};
     if (tp_imagery_open(path, &im, &err) != TP_OK) {
-        fprintf(stderr, "terrapatch: %s\n", err.message);
+        tp_cli_error("%s", err.message);
         return TP_EXIT_FAILURE;
     }
     tp_imagery_info info;
@@ -46,7 +46,7 @@ int tp_info_imagery(const char* path, int json)
     uint8_t* blk = malloc((size_t)info.block * info.block * 4);
     if (!blk) {
         tp_imagery_close(im);
-        fprintf(stderr, "terrapatch: %s: out of memory\n", path);
+        tp_cli_error("%s: out of memory", path);
         return TP_EXIT_FAILURE;
     }
     long long blocks = 0, damaged = 0;
@@ -146,8 +146,7 @@ int tp_info_imagery(const char* path, int json)
     }
     tp_imagery_close(im);
     if (damaged)
-        fprintf(stderr, "terrapatch: %s (%lld damaged block%s in all)\n", first, damaged,
-                damaged == 1 ? "" : "s");
+        tp_cli_error("%s (%lld damaged block%s in all)", first, damaged, damaged == 1 ? "" : "s");
     return tp_cli_finish(damaged ? TP_EXIT_FAILURE : TP_EXIT_OK);
 }
 

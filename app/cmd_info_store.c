@@ -43,7 +43,7 @@ static int check_nodes(const tp_store_scene* sc, check_result* out)
         int t = (int)(10 * (id + 1) / g->node_count);
         if (g->node_count > 100000 && t != tenth) {
             tenth = t;
-            fprintf(stderr, "\rterrapatch info: checking %s: %d %%", sc->path, 10 * t);
+            fprintf(stderr, "\r%schecking %s: %d %%", tp_cli_prefix(), sc->path, 10 * t);
             if (t == 10)
                 fputc('\n', stderr);
         }
@@ -205,7 +205,7 @@ int tp_info_store(const char* path, int json)
         return code;
     check_result cr;
     if (!check_nodes(&sc, &cr)) {
-        fprintf(stderr, "terrapatch: %s: out of memory\n", path);
+        tp_cli_error("%s: out of memory", path);
         tp_store_scene_close(&sc);
         return TP_EXIT_FAILURE;
     }
@@ -214,8 +214,8 @@ int tp_info_store(const char* path, int json)
     else
         print_text(&sc, &cr), tp_info_imagery_beside(path);
     if (cr.damaged)
-        fprintf(stderr, "terrapatch: %s (%lld damaged node%s in all)\n", cr.first,
-                (long long)cr.damaged, cr.damaged == 1 ? "" : "s");
+        tp_cli_error("%s (%lld damaged node%s in all)", cr.first, (long long)cr.damaged,
+                     cr.damaged == 1 ? "" : "s");
     tp_store_scene_close(&sc);
     return tp_cli_finish(cr.damaged ? TP_EXIT_FAILURE : TP_EXIT_OK);
 }

@@ -196,10 +196,10 @@ int tp_light_place_at(const char* path, tp_ground* g, double x, double y, tp_lig
     out->x = x, out->y = y;
     if (!tp_ground_grid_latlon(g, x, y, &out->lat_deg, &out->lon_deg) ||
         tp_ground_query_grid(g, x, y, &here, &err) != TP_OK || isnan(here.convergence_deg)) {
-        fprintf(stderr, "terrapatch light: %s: %s\n", path,
-                err.message[0] ? err.message
-                               : "no CRS: the sun needs the ground's latitude and longitude "
-                                 "(give the DEM a CRS, e.g. with --crs)");
+        tp_cli_error("%s: %s", path,
+                     err.message[0] ? err.message
+                                    : "no CRS: the sun needs the ground's latitude and longitude "
+                                      "(give the DEM a CRS, e.g. with --crs)");
         return 0;
     }
     out->convergence_deg = here.convergence_deg;
@@ -228,7 +228,7 @@ int tp_cli_light(int argc, char** argv)
     tp_sun_time when;
     char why[160];
     if (!tp_sun_time_parse(o.date, o.time, &when, why, sizeof why)) {
-        fprintf(stderr, "terrapatch light: --date %s --time %s: %s\n", o.date, o.time, why);
+        tp_cli_error("--date %s --time %s: %s", o.date, o.time, why);
         return TP_EXIT_USAGE;
     }
     tp_position_readings at_pos;
@@ -275,7 +275,7 @@ int tp_cli_light(int argc, char** argv)
         s = tp_sun_rise_set(lat, lon, tp_sun_local_day_start(when.year, when.month, when.day, lon),
                             &day, &err);
     if (s != TP_OK) {
-        fprintf(stderr, "terrapatch light: %s\n", err.message);
+        tp_cli_error("%s", err.message);
         tp_ground_destroy(g);
         return TP_EXIT_FAILURE;
     }
@@ -316,7 +316,7 @@ int tp_cli_light(int argc, char** argv)
     tp_interrupt_release();
     if (s != TP_OK) {
         if (!tp_interrupted())
-            fprintf(stderr, "terrapatch light: %s: %s\n", o.path, err.message);
+            tp_cli_error("%s: %s", o.path, err.message);
         free(z);
         free(lit);
         free(out);
@@ -349,7 +349,7 @@ int tp_cli_light(int argc, char** argv)
            valid ? 100.0 * sunlit / valid : 0.0);
     printf("time       %.1f ms reading the ground, %.1f ms for the shadows\n", 1e3 * (t1 - t0),
            1e3 * (t2 - t1));
-    fprintf(stderr, "terrapatch: wrote %s\n", o.out);
+    tp_cli_note("wrote %s", o.out);
     free(z);
     free(lit);
     free(out);

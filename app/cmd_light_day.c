@@ -130,9 +130,12 @@ static void show_progress(day_run* r)
     if (!r->tty && decile <= r->last_decile && f < 1)
         return;
     r->last_decile = decile;
-    fprintf(stderr, "terrapatch light: %3.0f%% (%d of %d tiles, %.1f s, ETA %.0f s)%s", 100 * f,
-            r->tiles_done, r->tiles_total, el, f > 0 ? el * (1 - f) / f : 0.0,
-            r->tty && f < 1 ? "   \r" : "\n");
+    if (r->tty && f < 1)
+        fprintf(stderr, "%s%3.0f%% (%d of %d tiles, %.1f s, ETA %.0f s)   \r", tp_cli_prefix(),
+                100 * f, r->tiles_done, r->tiles_total, el, f > 0 ? el * (1 - f) / f : 0.0);
+    else
+        tp_cli_note("%3.0f%% (%d of %d tiles, %.1f s, ETA %.0f s)", 100 * f, r->tiles_done,
+                    r->tiles_total, el, f > 0 ? el * (1 - f) / f : 0.0);
 }
 
 /* Reads the window's posts (this thread: the ground is not shared). */
@@ -282,7 +285,7 @@ int tp_light_day_run(const tp_light_cli* o)
     int year, month, mday;
     char why[160];
     if (!tp_sun_date_parse(o->date, &year, &month, &mday, why, sizeof why)) {
-        fprintf(stderr, "terrapatch light: --date %s: %s\n", o->date, why);
+        tp_cli_error("--date %s: %s", o->date, why);
         return TP_EXIT_USAGE;
     }
     tp_error err = {{0}};
@@ -322,15 +325,15 @@ int tp_light_day_run(const tp_light_cli* o)
     tp_status s = TP_OK;
     code = TP_EXIT_FAILURE;
     if (!out || !sun) {
-        fprintf(stderr, "terrapatch light: out of memory\n");
+        tp_cli_error("out of memory");
         goto done;
     }
     if (!o->out && tp_output_check(out, &err) != TP_OK) {
-        fprintf(stderr, "terrapatch light: %s\n", err.message);
+        tp_cli_error("%s", err.message);
         goto done;
     }
     if (!strcmp(out, sc->path) || !strcmp(out, o->path)) {
-        fprintf(stderr, "terrapatch light: %s: the output would replace the input\n", out);
+        tp_cli_error("%s: the output would replace the input", out);
         goto done;
     }
     if (!tp_light_place_at(o->path, g, 0.5 * (r.width - 1), 0.5 * (r.height - 1), &at))
@@ -339,7 +342,7 @@ int tp_light_day_run(const tp_light_cli* o)
     s = day_sun_make(&at, year, month, mday, o->maps, &day, sun, sun + o->maps, sun + 2 * o->maps,
                      &err);
     if (s != TP_OK) {
-        fprintf(stderr, "terrapatch light: %s\n", err.message);
+        tp_cli_error("%s", err.message);
         goto done;
     }
     const size_t win = (size_t)(TILE + 2 * r.mx) * (TILE + 2 * r.my);
@@ -352,7 +355,7 @@ int tp_light_day_run(const tp_light_cli* o)
             r.band = (free(r.band), NULL);
     }
     if (!r.band) {
-        fprintf(stderr, "terrapatch light: out of memory for tiles of %zu posts\n", win);
+        tp_cli_error("out of memory for tiles of %zu posts", win);
         goto done;
     }
 
@@ -380,14 +383,13 @@ int tp_light_day_run(const tp_light_cli* o)
     r.t0 = tp_planner_now_s();
     s = tp_imagery_build_rows(&target, &rows, NULL, out, &err);
     if (s != TP_OK) {
-        code = tp_interrupted()
-                   ? tp_cli_interrupted()
-                   : (fprintf(stderr, "terrapatch light: %s\n", err.message), TP_EXIT_FAILURE);
+        code = tp_interrupted() ? tp_cli_interrupted()
+                                : (tp_cli_error("%s", err.message), TP_EXIT_FAILURE);
         goto done;
     }
     tp_imagery* im = NULL;
     if (tp_imagery_open(out, &im, &err) != TP_OK) {
-        fprintf(stderr, "terrapatch light: %s\n", err.message);
+        tp_cli_error("%s", err.message);
         goto done;
     }
     tp_imagery_info info;
@@ -418,7 +420,7 @@ int tp_light_day_run(const tp_light_cli* o)
     }
     tp_imagery_close(im);
     if (!o->quiet)
-        fprintf(stderr, "terrapatch: wrote %s\n", out);
+        tp_cli_note("wrote %s", out);
 done:
     for (int k = 0; k < 2; ++k) {
         free(r.job[k].z);

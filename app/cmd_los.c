@@ -365,7 +365,7 @@ int tp_cli_los(int argc, char** argv)
                             : tp_error_set(&err, TP_ERR_OUT_OF_MEMORY,
                                            "out of memory for %zu profile samples", n);
     if (s != TP_OK) {
-        fprintf(stderr, "terrapatch los: %s: %s\n", o.path, err.message);
+        tp_cli_error("%s: %s", o.path, err.message);
         free(p.samples);
         tp_ground_destroy(g);
         return TP_EXIT_FAILURE;

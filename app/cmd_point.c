@@ -171,7 +171,7 @@ int tp_cli_point(int argc, char** argv)
     } else if (!tp_point_readout_at_position(g, o.path, &pos, text, o.precision, &r, msg,
                                              sizeof msg)) {
         tp_planner_swap_hint(g, &pos, hint, sizeof hint);
-        fprintf(stderr, "terrapatch: %s: %s%s\n", o.path, msg, hint);
+        tp_cli_error("%s: %s%s", o.path, msg, hint);
         code = TP_EXIT_FAILURE;
     } else {
         const tp_planner_outputs out = {.json = o.json, .write_text = write_text,

@@ -190,10 +190,9 @@ static void report_outside(tp_ground* g, const profile_report* p, const profile_
     }
     tp_features_destroy(wgs84);
     if (!first) {
-        fprintf(stderr,
-                "terrapatch profile: %s: the route (%s) leaves the DEM at %.1f m along it "
-                "(%s): nothing written\n",
-                p->o->path, p->o->route, q->d_m, where);
+        tp_cli_error("%s: the route (%s) leaves the DEM at %.1f m along it "
+                     "(%s): nothing written",
+                     p->o->path, p->o->route, q->d_m, where);
         return;
     }
     /* does any vertex lie on the DEM? */
@@ -204,12 +203,11 @@ static void report_outside(tp_ground* g, const profile_report* p, const profile_
         tp_tree_world_to_grid(sc->tree, v[2 * i], v[2 * i + 1], &x, &y);
         inside = x >= 0.0 && y >= 0.0 && x <= w - 1.0 && y <= h - 1.0;
     }
-    fprintf(stderr,
-            "terrapatch profile: %s: the route (%s) %s the DEM: its start is at %s, and the "
-            "DEM covers E %.1f .. %.1f, N %.1f .. %.1f (render CRS): nothing written\n",
-            p->o->path, p->o->route, inside ? "starts outside" : "lies outside", where,
-            gt[0] + 0.5 * gt[1], gt[0] + (w - 0.5) * gt[1], gt[3] + (h - 0.5) * gt[5],
-            gt[3] + 0.5 * gt[5]);
+    tp_cli_error("%s: the route (%s) %s the DEM: its start is at %s, and the "
+                 "DEM covers E %.1f .. %.1f, N %.1f .. %.1f (render CRS): nothing written",
+                 p->o->path, p->o->route, inside ? "starts outside" : "lies outside", where,
+                 gt[0] + 0.5 * gt[1], gt[0] + (w - 0.5) * gt[1], gt[3] + (h - 0.5) * gt[5],
+                 gt[3] + 0.5 * gt[5]);
 }
 
 /* Samples the line on the ground. 1, or 0 after one line naming the file and where. */
@@ -223,17 +221,16 @@ static int sample_route(tp_ground* g, profile_report* p)
         double len = hypot(v[2 * i] - v[2 * i - 2], v[2 * i + 1] - v[2 * i - 1]);
         double pieces = fmax(1.0, ceil(len / p->step_m));
         if (pieces > PROFILE_MAX_SAMPLES || n + (size_t)pieces > PROFILE_MAX_SAMPLES) {
-            fprintf(stderr,
-                    "terrapatch profile: %s: the route needs more than %u samples at --step "
-                    "%g m: give a larger --step\n",
-                    p->o->route, PROFILE_MAX_SAMPLES, p->step_m);
+            tp_cli_error("%s: the route needs more than %u samples at --step "
+                         "%g m: give a larger --step",
+                         p->o->route, PROFILE_MAX_SAMPLES, p->step_m);
             return 0;
         }
         n += (size_t)pieces;
     }
     p->s = malloc(n * sizeof *p->s);
     if (!p->s) {
-        fprintf(stderr, "terrapatch profile: out of memory for %zu samples\n", n);
+        tp_cli_error("out of memory for %zu samples", n);
         return 0;
     }
     size_t k = 0;
@@ -263,15 +260,15 @@ static int sample_route(tp_ground* g, profile_report* p)
                 return 0;
             }
             if (st != TP_OK) {
-                fprintf(stderr, "terrapatch profile: %s: %s\n", p->o->path, err.message);
+                tp_cli_error("%s: %s", p->o->path, err.message);
                 return 0;
             }
             if (isnan(q->h_m)) {
-                fprintf(stderr,
-                        "terrapatch profile: %s: the route (%s) crosses a void at %.1f m along "
-                        "it (%.6f %.6f): the DEM has no height there, so its profile cannot be "
-                        "measured: nothing written\n",
-                        p->o->path, p->o->route, q->d_m, q->lat, q->lon);
+                tp_cli_error(
+                    "%s: the route (%s) crosses a void at %.1f m along "
+                    "it (%.6f %.6f): the DEM has no height there, so its profile cannot be "
+                    "measured: nothing written",
+                    p->o->path, p->o->route, q->d_m, q->lat, q->lon);
                 return 0;
             }
         }
@@ -512,15 +509,14 @@ static const tp_feature* pick_line(const profile_options* o, const tp_features* 
         rings += it->kind == TP_FEATURE_RING;
     }
     if (!lines) {
-        fprintf(stderr,
-                "terrapatch profile: %s has no line to follow (%zu points, %zu polygon rings): "
-                "a route is a track, a route or a line string\n",
-                o->route, points, rings);
+        tp_cli_error("%s has no line to follow (%zu points, %zu polygon rings): "
+                     "a route is a track, a route or a line string",
+                     o->route, points, rings);
         return NULL;
     }
     if (!pick) {
-        fprintf(stderr, "terrapatch profile: --feature %ld: %s has %zu line%s\n", o->feature,
-                o->route, lines, lines == 1 ? "" : "s");
+        tp_cli_error("--feature %ld: %s has %zu line%s", o->feature, o->route, lines,
+                     lines == 1 ? "" : "s");
         return NULL;
     }
     *number = want;
@@ -546,15 +542,14 @@ int tp_cli_profile(int argc, char** argv)
         return code;
     const tp_store_scene* sc = tp_ground_scene(g);
     if (!sc->georef || !tp_georef_has_geo(sc->georef)) {
-        fprintf(stderr, "terrapatch profile: %s has no CRS: a route needs a georeferenced DEM\n",
-                o.path);
+        tp_cli_error("%s has no CRS: a route needs a georeferenced DEM", o.path);
         tp_ground_destroy(g);
         return TP_EXIT_FAILURE;
     }
     tp_features* f = NULL;
     tp_error err = {{0}};
     if (tp_vector_read(o.route, sc->info.header.crs_wkt, &f, &err) != TP_OK) {
-        fprintf(stderr, "terrapatch profile: %s\n", err.message);
+        tp_cli_error("%s", err.message);
         tp_ground_destroy(g);
         return TP_EXIT_FAILURE;
     }

@@ -180,7 +180,7 @@ int tp_cli_viewshed(int argc, char** argv)
     tp_interrupt_release();
     if (s != TP_OK) {
         if (!tp_interrupted())
-            fprintf(stderr, "terrapatch viewshed: %s: %s\n", o.path, err.message);
+            tp_cli_error("%s: %s", o.path, err.message);
         free(z);
         free(seen);
         tp_ground_destroy(g);
@@ -213,7 +213,7 @@ int tp_cli_viewshed(int argc, char** argv)
            o.radius_m > 0.0 ? " within the radius" : "", valid ? 100.0 * visible / valid : 0.0);
     printf("time       %.1f ms reading the ground, %.1f ms for the viewshed\n",
            1e3 * (t1 - t0), 1e3 * (t2 - t1));
-    fprintf(stderr, "terrapatch: wrote %s\n", o.out);
+    tp_cli_note("wrote %s", o.out);
     free(z);
     free(seen);
     tp_ground_destroy(g);

@@ -2,6 +2,7 @@
 #define _POSIX_C_SOURCE 200809L
 #include "gnuplot.h"
 
+#include "cli.h"
 #include "tp_io.h"
 
 #include <errno.h>
@@ -27,7 +28,7 @@ void tp_gnuplot_quoted(FILE* f, const char* s)
 }
 
 /* Runs gnuplot on script; 1 on success, else 0 after a message. */
-static int run_gnuplot(const char* script, const char* png, const char* cmd)
+static int run_gnuplot(const char* script, const char* png)
 {
     posix_spawn_file_actions_t fa;
     posix_spawn_file_actions_init(&fa);
@@ -37,10 +38,9 @@ static int run_gnuplot(const char* script, const char* png, const char* cmd)
     int rc = posix_spawnp(&pid, "gnuplot", &fa, NULL, argv, environ);
     posix_spawn_file_actions_destroy(&fa);
     if (rc != 0) {
-        fprintf(stderr,
-                "terrapatch %s: %s: cannot run gnuplot (%s; apt-get install gnuplot-nox); "
-                "the plot is not drawn\n",
-                cmd, png, strerror(rc));
+        tp_cli_error("%s: cannot run gnuplot (%s; apt-get install gnuplot-nox); "
+                     "the plot is not drawn",
+                     png, strerror(rc));
         return 0;
     }
     int status = 0;
@@ -49,11 +49,11 @@ static int run_gnuplot(const char* script, const char* png, const char* cmd)
     if (tp_interrupted())
         return 0;
     if (!WIFEXITED(status) || WEXITSTATUS(status) != 0) {
-        fprintf(stderr, "terrapatch %s: %s: gnuplot failed (exit %d)%s\n", cmd, png,
-                WIFEXITED(status) ? WEXITSTATUS(status) : -1,
-                WIFEXITED(status) && WEXITSTATUS(status) == 127
-                    ? "; is it installed? apt-get install gnuplot-nox"
-                    : "");
+        tp_cli_error("%s: gnuplot failed (exit %d)%s", png,
+                     WIFEXITED(status) ? WEXITSTATUS(status) : -1,
+                     WIFEXITED(status) && WEXITSTATUS(status) == 127
+                         ? "; is it installed? apt-get install gnuplot-nox"
+                         : "");
         return 0;
     }
     return 1;
@@ -96,12 +96,12 @@ unsigned char* tp_gnuplot_draw(const char* png, int width_px, int height_px,
                                tp_gnuplot_script_fn write, void* user, const char* cmd,
                                size_t* size)
 {
+    (void)cmd; /* messages name the command main() dispatched to (tp_cli_error) */
     char dir[4200], tmp_png[4300], script[4300];
     snprintf(dir, sizeof dir, "%s.tmpXXXXXX", png);
     tp_interrupt_hold(); /* a signal now only sets the flag: the folder is removed below */
     if (!mkdtemp(dir)) {
-        fprintf(stderr, "terrapatch %s: %s: cannot write the plot: %s\n", cmd, png,
-                strerror(errno));
+        tp_cli_error("%s: cannot write the plot: %s", png, strerror(errno));
         tp_interrupt_release();
         return NULL;
     }
@@ -110,8 +110,7 @@ unsigned char* tp_gnuplot_draw(const char* png, int width_px, int height_px,
     FILE* f = fopen(script, "w");
     int ok = f != NULL;
     if (!f)
-        fprintf(stderr, "terrapatch %s: %s: cannot write the plot: %s\n", cmd, png,
-                strerror(errno));
+        tp_cli_error("%s: cannot write the plot: %s", png, strerror(errno));
     if (ok) {
         fprintf(f, "set terminal pngcairo size %d,%d font 'sans,10'\nset output ", width_px,
                 height_px);
@@ -120,16 +119,16 @@ unsigned char* tp_gnuplot_draw(const char* png, int width_px, int height_px,
         write(f, user);
         int bad = ferror(f);
         if (fclose(f) != 0 || bad) {
-            fprintf(stderr, "terrapatch %s: %s: cannot write the plot's script: %s\n", cmd, png,
-                    bad ? "write error" : strerror(errno));
+            tp_cli_error("%s: cannot write the plot's script: %s", png,
+                         bad ? "write error" : strerror(errno));
             ok = 0;
         } else {
-            ok = !tp_interrupted() && run_gnuplot(script, png, cmd);
+            ok = !tp_interrupted() && run_gnuplot(script, png);
         }
     }
     unsigned char* bytes = ok && !tp_interrupted() ? read_all(tmp_png, size) : NULL;
     if (ok && !bytes && !tp_interrupted())
-        fprintf(stderr, "terrapatch %s: %s: gnuplot wrote no plot\n", cmd, png);
+        tp_cli_error("%s: gnuplot wrote no plot", png);
     remove(script);
     remove(tmp_png);
     rmdir(dir);
@@ -147,12 +146,12 @@ int tp_gnuplot_png(const char* png, int width_px, int height_px, tp_gnuplot_scri
         tp_error err;
         if (tp_file_write(png, bytes, size, &err) != TP_OK) {
             if (!tp_interrupted())
-                fprintf(stderr, "terrapatch %s: %s\n", cmd, err.message);
+                tp_cli_error("%s", err.message);
             ok = 0;
         }
     }
     free(bytes);
     if (ok)
-        fprintf(stderr, "terrapatch: wrote %s\n", png);
+        tp_cli_note("wrote %s", png);
     return ok;
 }

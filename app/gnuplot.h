@@ -14,7 +14,7 @@
 typedef void (*tp_gnuplot_script_fn)(FILE* f, void* user);
 
 /* Draws png (width_px x height_px, pngcairo) with the script write() writes. Returns 1 after
- * "terrapatch: wrote PNG" on stderr; 0 after one line naming png (gnuplot missing: "cannot run
+ * "terrapatch CMD: wrote PNG" on stderr; 0 after one line naming png (gnuplot missing: "cannot run
  * gnuplot (...; apt-get install gnuplot-nox)"; gnuplot failed; a write error), with png left as
  * it was. cmd names the command in messages. */
 int tp_gnuplot_png(const char* png, int width_px, int height_px, tp_gnuplot_script_fn write,

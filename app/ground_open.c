@@ -33,7 +33,7 @@ int tp_ground_open(const char* path, const tp_ground_options* o, tp_ground** out
     tp_ground_options opts = o ? *o : (tp_ground_options){0};
     opened* op = calloc(1, sizeof *op);
     if (!op) {
-        fprintf(stderr, "terrapatch: %s: out of memory\n", path);
+        tp_cli_error("%s: out of memory", path);
         return TP_EXIT_FAILURE;
     }
     /* a DEM's store: the options view uses by default, so that both share one cached store */
@@ -55,7 +55,7 @@ int tp_ground_open(const char* path, const tp_ground_options* o, tp_ground** out
     tp_ground* g = NULL;
     tp_error err = {{0}};
     if (tp_ground_create(&op->sc, &opts, &g, &err) != TP_OK) {
-        fprintf(stderr, "terrapatch: %s: %s\n", path, err.message);
+        tp_cli_error("%s: %s", path, err.message);
         release(op);
         return TP_EXIT_FAILURE;
     }

@@ -41,10 +41,32 @@ static void print_help(FILE* f)
           f);
 }
 
+typedef int (*command_fn)(int argc, char** argv);
+
+static const struct {
+    const char* name;
+    command_fn run;
+} commands[] = {
+    {"info", tp_cli_info},       {"coord", tp_cli_coord},       {"point", tp_cli_point},
+    {"los", tp_cli_los},         {"viewshed", tp_cli_viewshed}, {"light", tp_cli_light},
+    {"profile", tp_cli_profile}, {"contours", tp_cli_contours}, {"view", tp_cli_view},
+    {"export", tp_cli_export},   {"bench", tp_cli_bench},       {"build", tp_cli_build},
+    {"imagery", tp_cli_imagery},
+};
+
+/* The command named name, NULL for none. */
+static command_fn command_named(const char* name)
+{
+    for (size_t i = 0; i < sizeof commands / sizeof commands[0]; i++)
+        if (!strcmp(name, commands[i].name))
+            return commands[i].run;
+    return NULL;
+}
+
 static int run_command(int argc, char** argv)
 {
     if (argc < 2) {
-        fputs("terrapatch: missing command (try 'terrapatch --help')\n", stderr);
+        tp_cli_error("missing command (try 'terrapatch --help')");
         return TP_EXIT_USAGE;
     }
     const char* cmd = argv[1];
@@ -56,41 +78,22 @@ static int run_command(int argc, char** argv)
         printf("terrapatch %s\n", TP_VERSION);
         return tp_cli_finish(TP_EXIT_OK);
     }
-    if (!strcmp(cmd, "info"))
-        return tp_cli_info(argc - 1, argv + 1);
-    if (!strcmp(cmd, "coord"))
-        return tp_cli_coord(argc - 1, argv + 1);
-    if (!strcmp(cmd, "point"))
-        return tp_cli_point(argc - 1, argv + 1);
-    if (!strcmp(cmd, "los"))
-        return tp_cli_los(argc - 1, argv + 1);
-    if (!strcmp(cmd, "viewshed"))
-        return tp_cli_viewshed(argc - 1, argv + 1);
-    if (!strcmp(cmd, "light"))
-        return tp_cli_light(argc - 1, argv + 1);
-    if (!strcmp(cmd, "profile"))
-        return tp_cli_profile(argc - 1, argv + 1);
-    if (!strcmp(cmd, "contours"))
-        return tp_cli_contours(argc - 1, argv + 1);
-    if (!strcmp(cmd, "view"))
-        return tp_cli_view(argc - 1, argv + 1);
-    if (!strcmp(cmd, "export"))
-        return tp_cli_export(argc - 1, argv + 1);
-    if (!strcmp(cmd, "bench"))
-        return tp_cli_bench(argc - 1, argv + 1);
-    if (!strcmp(cmd, "build"))
-        return tp_cli_build(argc - 1, argv + 1);
-    if (!strcmp(cmd, "imagery"))
-        return tp_cli_imagery(argc - 1, argv + 1);
+    const command_fn run = command_named(cmd);
+    if (run)
+        return run(argc - 1, argv + 1);
     if (cmd[0] == '-')
-        fprintf(stderr, "terrapatch: unknown option '%s' (try 'terrapatch --help')\n", cmd);
+        tp_cli_error("unknown option '%s' (try 'terrapatch --help')", cmd);
     else
-        fprintf(stderr, "terrapatch: unknown command '%s' (try 'terrapatch --help')\n", cmd);
+        tp_cli_error("unknown command '%s' (try 'terrapatch --help')", cmd);
     return TP_EXIT_USAGE;
 }
 
 int main(int argc, char** argv)
 {
+    /* every line on stderr starts "terrapatch CMD: " from here on, once argv names a command
+     * (the memory limit's message too) */
+    if (argc >= 2 && command_named(argv[1]))
+        tp_cli_set_command(argv[1]);
     /* SIGINT/SIGTERM kill at once, except while a file is being written: then the writer
      * removes its temporary file first and we exit with 128 + the signal. */
     tp_interrupt_install();

@@ -2,6 +2,8 @@
 #define _GNU_SOURCE
 #include "memory.h"
 
+#include "cli.h"
+
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -93,10 +95,9 @@ int tp_memory_limit_check(void)
     const char* s = getenv("TP_MEMORY_LIMIT");
     if (!s || !*s || env_limit() > 0)
         return 1;
-    fprintf(stderr,
-            "terrapatch: TP_MEMORY_LIMIT=%s: expected a number of bytes > 0 with an "
-            "optional K, M or G suffix (e.g. 512M, 2G)\n",
-            s);
+    tp_cli_error("TP_MEMORY_LIMIT=%s: expected a number of bytes > 0 with an "
+                 "optional K, M or G suffix (e.g. 512M, 2G)",
+                 s);
     return 0;
 }
 
@@ -177,10 +178,9 @@ int tp_memory_check(const char* path, tp_memory_use use, int width, int height)
                            ? "export without --full (a --max-error or view-dependent mesh), or cut "
                              "the DEM (gdal_translate -srcwin) or coarsen it (gdalwarp -tr)"
                            : "cut the DEM (gdal_translate -srcwin) or coarsen it (gdalwarp -tr)";
-    fprintf(stderr,
-            "terrapatch: %s: %s of its %dx%d grid needs about %.0f MiB (%.0f MiB more than the "
-            "%.0f MiB in use), but only %.0f MiB is available (%s); %s\n",
-            path, tp_memory_use_name(use), width, height, mib(need), mib(more),
-            mib(room.rss_bytes), mib(room.bytes), room.bound, hint);
+    tp_cli_error("%s: %s of its %dx%d grid needs about %.0f MiB (%.0f MiB more than the "
+                 "%.0f MiB in use), but only %.0f MiB is available (%s); %s",
+                 path, tp_memory_use_name(use), width, height, mib(need), mib(more),
+                 mib(room.rss_bytes), mib(room.bytes), room.bound, hint);
     return -1;
 }

@@ -47,7 +47,7 @@ int tp_memory_limit_check(void);
 uint64_t tp_memory_peak_rss(void);
 
 /* Checks that `use` of a fitted grid of width x height samples fits the room left. Returns 0 if
- * it does, else prints one line ("terrapatch: PATH: ... needs about X GiB ..., Y GiB available
+ * it does, else prints one line ("terrapatch CMD: PATH: ... needs about X GiB ..., Y GiB available
  * (BOUND); ...") and returns -1. */
 int tp_memory_check(const char* path, tp_memory_use use, int width, int height);
 

@@ -12,12 +12,11 @@ int tp_cli_output_check(const char* cmd, const char* option, const char* path, t
     if (tp_output_format_for(path, kind, &fmt, &err) != TP_OK) {
         char list[1024];
         tp_output_formats(kind, list, sizeof list);
-        fprintf(stderr, "terrapatch %s: %s %s; %s writes %s\n", cmd, option, err.message, cmd,
-                list);
+        tp_cli_error("%s %s; %s writes %s", option, err.message, cmd, list);
         return TP_EXIT_USAGE;
     }
     if (tp_output_check(path, &err) != TP_OK) {
-        fprintf(stderr, "terrapatch %s: %s\n", cmd, err.message);
+        tp_cli_error("%s", err.message);
         return TP_EXIT_FAILURE;
     }
     return TP_EXIT_OK;

@@ -18,12 +18,12 @@
 
 int tp_planner_usage(const char* cmd, const char* what, ...)
 {
+    char text[1024];
     va_list ap;
     va_start(ap, what);
-    fprintf(stderr, "terrapatch %s: ", cmd);
-    vfprintf(stderr, what, ap);
-    fprintf(stderr, " (see 'terrapatch %s --help')\n", cmd);
+    vsnprintf(text, sizeof text, what, ap);
     va_end(ap);
+    tp_cli_error("%s (see 'terrapatch %s --help')", text, cmd);
     return TP_EXIT_USAGE;
 }
 
@@ -192,6 +192,7 @@ int tp_planner_integer(const char* cmd, const char* opt, const char* v, long lo,
 int tp_planner_position(const char* cmd, const char* what, const char* text,
                         tp_position_readings* pos)
 {
+    (void)cmd; /* messages name the command main() dispatched to (tp_cli_error) */
     char msg[TP_POSITION_MSG_SIZE], hint[160] = "";
     if (tp_position_parse_readings(text, strlen(text), 0, pos, msg, sizeof msg))
         return 1;
@@ -207,13 +208,14 @@ int tp_planner_position(const char* cmd, const char* what, const char* text,
         snprintf(swapped, sizeof swapped, "%s %s", f.field[1], f.field[0]) > 0 &&
         tp_position_parse(swapped, strlen(swapped), 0, &p, spare, sizeof spare))
         snprintf(hint, sizeof hint, "; " LATITUDE_FIRST ": '%s'?", swapped);
-    fprintf(stderr, "terrapatch %s: %s '%s': %s%s\n", cmd, what, text, msg, hint);
+    tp_cli_error("%s '%s': %s%s", what, text, msg, hint);
     return 0;
 }
 
 int tp_planner_choose(const char* cmd, const char* path, tp_ground* g,
                       const tp_position_readings* pos, const char* input, tp_position* out)
 {
+    (void)cmd; /* messages name the command main() dispatched to (tp_cli_error) */
     if (pos->count < 2) {
         *out = pos->reading[0];
         return 1;
@@ -225,16 +227,15 @@ int tp_planner_choose(const char* cmd, const char* path, tp_ground* g,
     tp_position_reading_text(pos, 0, r0, sizeof r0);
     tp_position_reading_text(pos, 1, r1, sizeof r1);
     if (on0 != on1) {
-        fprintf(stderr, "terrapatch %s: note: read '%s' as %s; the other reading, %s, is off %s\n",
-                cmd, input, on0 ? r0 : r1, on0 ? r1 : r0, path);
+        tp_cli_note("note: read '%s' as %s; the other reading, %s, is off %s", input, on0 ? r0 : r1,
+                    on0 ? r1 : r0, path);
         *out = pos->reading[on0 ? 0 : 1];
         return 1;
     }
-    fprintf(stderr,
-            "terrapatch %s: %s: '%s' is ambiguous: %s or %s, and %s on the DEM; write the "
-            "zone's hemisphere as %dnorth or %dsouth, or give the position in MGRS\n",
-            cmd, path, input, r0, r1, on0 ? "both are" : "neither is", pos->reading[0].zone,
-            pos->reading[0].zone);
+    tp_cli_error("%s: '%s' is ambiguous: %s or %s, and %s on the DEM; write the "
+                 "zone's hemisphere as %dnorth or %dsouth, or give the position in MGRS",
+                 path, input, r0, r1, on0 ? "both are" : "neither is", pos->reading[0].zone,
+                 pos->reading[0].zone);
     return 0;
 }
 
@@ -287,7 +288,7 @@ int tp_planner_locate(const char* cmd, const char* path, tp_ground* g,
     if (tp_ground_locate(g, &p, input, x, y, height_m, msg, sizeof msg))
         return 1;
     tp_planner_swap_hint(g, &p, hint, sizeof hint);
-    fprintf(stderr, "terrapatch %s: %s: %s%s\n", cmd, path, msg, hint);
+    tp_cli_error("%s: %s%s", path, msg, hint);
     return 0;
 }
 
@@ -302,8 +303,10 @@ tp_status tp_planner_read_posts(tp_ground* g, int x0, int y0, int w, int h, floa
         if (show) {
             const int pct = (int)(100.0 * y / h) / 10 * 10;
             if (pct != shown) {
-                fprintf(stderr, "terrapatch: %s: reading the ground %3d%%%s", progress, pct,
-                        tty ? "\r" : "\n");
+                if (tty)
+                    fprintf(stderr, "%sreading the ground %3d%%\r", tp_cli_prefix(), pct);
+                else
+                    tp_cli_note("reading the ground %3d%%", pct);
                 shown = pct;
             }
         }
@@ -342,7 +345,7 @@ static int add_plot(tp_file_set* set, const char* cmd, const tp_planner_outputs*
     tp_error err;
     int ok = bytes && tp_file_set_add(set, o->png, bytes, size, &err) == TP_OK;
     if (bytes && !ok && !tp_interrupted())
-        fprintf(stderr, "terrapatch %s: %s\n", cmd, err.message);
+        tp_cli_error("%s", err.message);
     free(bytes);
     return ok;
 }
@@ -371,7 +374,7 @@ int tp_planner_write_outputs(const char* cmd, const tp_planner_outputs* o, void*
     tp_error err;
     int ok = tp_file_set_begin(&set, &err) == TP_OK;
     if (!ok)
-        fprintf(stderr, "terrapatch %s: %s\n", cmd, err.message);
+        tp_cli_error("%s", err.message);
     if (ok && o->json && !json_stdout)
         ok = add_printed(set, o->json, o->write_json, report);
     if (ok && o->csv)
@@ -381,19 +384,20 @@ int tp_planner_write_outputs(const char* cmd, const tp_planner_outputs* o, void*
     if (ok) {
         ok = tp_file_set_commit(set, &err) == TP_OK;
         if (!ok && !tp_interrupted())
-            fprintf(stderr, "terrapatch %s: %s\n", cmd, err.message);
+            tp_cli_error("%s", err.message);
     } else {
         tp_file_set_abort(set);
     }
     if (ok) {
         tp_interrupt_finished();
         for (int i = 0; i < count; ++i)
-            fprintf(stderr, "terrapatch: wrote %s\n", files[i]);
+            tp_cli_note("wrote %s", files[i]);
     } else if (count > 1 && !tp_interrupted()) {
-        fprintf(stderr, "terrapatch %s: none of ", cmd);
+        char names[2048] = "";
         for (int i = 0; i < count; ++i)
-            fprintf(stderr, "%s%s", i ? ", " : "", files[i]);
-        fputs(" written (all or none: older files as they were)\n", stderr);
+            snprintf(names + strlen(names), sizeof names - strlen(names), "%s%s", i ? ", " : "",
+                     files[i]);
+        tp_cli_error("none of %s written (all or none: older files as they were)", names);
     }
     tp_interrupt_release();
     return ok;

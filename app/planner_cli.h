@@ -128,9 +128,9 @@ int tp_planner_locate(const char* cmd, const char* path, tp_ground* g,
 #define TP_PLANNER_PROGRESS_POSTS ((size_t)4 << 20)
 
 /* Reads the ground's heights (tp_ground_height: NaN in a void) at the w x h posts from grid
- * (x0, y0) into z (w * h floats, row by row). With progress (a command's name) and a window of
- * TP_PLANNER_PROGRESS_POSTS or more, "terrapatch: PROGRESS: reading the ground NN%" every 10%
- * on stderr (one line rewritten on a terminal). tp_ground_height's errors. */
+ * (x0, y0) into z (w * h floats, row by row). With progress (not NULL: the command's name) and
+ * a window of TP_PLANNER_PROGRESS_POSTS or more, "terrapatch CMD: reading the ground NN%" every
+ * 10% on stderr (one line rewritten on a terminal). tp_ground_height's errors. */
 tp_status tp_planner_read_posts(tp_ground* g, int x0, int y0, int w, int h, float* z,
                                 const char* progress, tp_error* err);
 
@@ -153,7 +153,7 @@ typedef struct tp_planner_outputs {
 
 /* Prints the text (the JSON for json "-") on stdout, then writes the JSON file, the CSV file
  * (each printed through atomic_file.h) and the PNG (tp_gnuplot_draw) that o names, all or
- * none (tp_file_set_* in tp_io.h): 1 when all were written, after "terrapatch: wrote PATH" on
+ * none (tp_file_set_* in tp_io.h): 1 when all were written, after "terrapatch CMD: wrote PATH" on
  * stderr for each, with SIGINT/SIGTERM ignored from then on (tp_interrupt_finished: the command
  * ends with its outputs written); 0 after a line saying what failed and that nothing was
  * written (every older file as it was). */

@@ -2,6 +2,8 @@
 #define _POSIX_C_SOURCE 200112L
 #include "progress.h"
 
+#include "cli.h"
+
 #include <stdio.h>
 #include <time.h>
 #include <unistd.h>
@@ -42,7 +44,8 @@ void tp_progress_update(tp_progress* p, double done, double total, double sample
         bar[30] = 0;
         if (samples >= 0)
             snprintf(rate, sizeof rate, "%.1f Msamples/s  ", el > 0 ? samples / el / 1e6 : 0.0);
-        fprintf(stderr, "\r%s [%s] %3.0f%%  %sETA %.0f s   ", p->what, bar, 100 * f, rate, eta);
+        fprintf(stderr, "\r%s%s [%s] %3.0f%%  %sETA %.0f s   ", tp_cli_prefix(), p->what, bar,
+                100 * f, rate, eta);
         if (done >= total)
             fputc('\n', stderr);
     } else {
@@ -52,7 +55,6 @@ void tp_progress_update(tp_progress* p, double done, double total, double sample
         p->last_decile = decile;
         if (samples >= 0)
             snprintf(rate, sizeof rate, "%.1f Msamples/s, ", el > 0 ? samples / el / 1e6 : 0.0);
-        fprintf(stderr, "terrapatch %s: %s %3.0f%% (%sETA %.0f s)\n", p->who, p->what, 100 * f,
-                rate, eta);
+        tp_cli_note("%s %3.0f%% (%sETA %.0f s)", p->what, 100 * f, rate, eta);
     }
 }

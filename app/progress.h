@@ -1,7 +1,7 @@
 /*
  * progress.h - progress of a long command on stderr (build, imagery): on a terminal one bar
- * redrawn at most every 0.2 s,
- *     "\rbuild [#########.....................]  30%  12.4 Msamples/s  ETA 41 s   "
+ * redrawn at most every 0.2 s, after the prefix of every line (tp_cli_prefix),
+ *     "\rterrapatch build: build [#########.....................]  30%  12.4 Msamples/s  ETA 41 s"
  * else (a log, a pipe) one line each time another tenth is done,
  *     "terrapatch build: build  30% (12.4 Msamples/s, ETA 41 s)".
  * The rate is shown only when the caller counts samples.
@@ -12,7 +12,7 @@
 typedef struct tp_progress {
     int on, tty, last_decile;
     double t0, last_draw;
-    const char* who;  /* the command: "build" */
+    const char* who;  /* the command: "build" (the lines' prefix is tp_cli_prefix's) */
     const char* what; /* the stage: "range", "build", "imagery" */
 } tp_progress;
 

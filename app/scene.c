@@ -20,11 +20,12 @@ void tp_scene_options_default(tp_scene_options* o)
 static const struct option dem_options[] = {TP_SCENE_LONG_OPTIONS};
 #define DEM_OPTION_COUNT (sizeof dem_options / sizeof dem_options[0])
 
-static int scene_option(int opt, const char* arg, tp_scene_options* o, const char* cmd);
+static int scene_option(int opt, const char* arg, tp_scene_options* o);
 
 int tp_scene_option(int opt, const char* arg, tp_scene_options* o, const char* cmd)
 {
-    int r = scene_option(opt, arg, o, cmd);
+    (void)cmd; /* messages name the command main() dispatched to (tp_cli_error) */
+    int r = scene_option(opt, arg, o);
     if (r == 1)
         o->given |= TP_SCENE_GIVEN(opt);
     return r;
@@ -41,8 +42,7 @@ int tp_scene_option_arg(const char* cmd, int argc, char** argv, int* i, tp_scene
             continue;
         const char* v = a[2 + len] == '=' ? a + 3 + len : *i + 1 < argc ? argv[++*i] : NULL;
         if (!v) {
-            fprintf(stderr, "terrapatch %s: missing value for %s (see 'terrapatch %s --help')\n",
-                    cmd, a, cmd);
+            tp_cli_error("missing value for %s (see 'terrapatch %s --help')", a, cmd);
             return -1;
         }
         return tp_scene_option(dem_options[k].val, v, o, cmd) == 1 ? 1 : -1;
@@ -61,7 +61,7 @@ void tp_scene_options_names(unsigned mask, char* out, size_t cap)
         }
 }
 
-static int scene_option(int opt, const char* arg, tp_scene_options* o, const char* cmd)
+static int scene_option(int opt, const char* arg, tp_scene_options* o)
 {
     char* end;
     switch (opt) {
@@ -69,8 +69,7 @@ static int scene_option(int opt, const char* arg, tp_scene_options* o, const cha
         long v = strtol(arg, &end, 10);
         if (*arg == '\0' || *end != '\0' ||
             (v != 17 && v != 33 && v != 65 && v != 129 && v != 257)) {
-            fprintf(stderr, "terrapatch %s: --patch: expected 17, 33, 65, 129 or 257, got %s\n",
-                    cmd, arg);
+            tp_cli_error("--patch: expected 17, 33, 65, 129 or 257, got %s", arg);
             return -1;
         }
         o->patch_size = (int)v;
@@ -82,13 +81,13 @@ static int scene_option(int opt, const char* arg, tp_scene_options* o, const cha
         else if (!strcmp(arg, "resample"))
             o->fit = TP_FIT_RESAMPLE;
         else {
-            fprintf(stderr, "terrapatch %s: --fit: expected pad or resample, got %s\n", cmd, arg);
+            tp_cli_error("--fit: expected pad or resample, got %s", arg);
             return -1;
         }
         return 1;
     case TP_OPT_CRS:
         if (!*arg) {
-            fprintf(stderr, "terrapatch %s: --crs: expected a CRS such as EPSG:4326\n", cmd);
+            tp_cli_error("--crs: expected a CRS such as EPSG:4326");
             return -1;
         }
         o->grid.crs = arg;
@@ -99,16 +98,14 @@ static int scene_option(int opt, const char* arg, tp_scene_options* o, const cha
         else if (!strcmp(arg, "cubic"))
             o->grid.resampling = TP_RESAMPLING_CUBIC;
         else {
-            fprintf(stderr, "terrapatch %s: --resampling: expected bilinear or cubic, got %s\n",
-                    cmd, arg);
+            tp_cli_error("--resampling: expected bilinear or cubic, got %s", arg);
             return -1;
         }
         return 1;
     case TP_OPT_FILL_MAX: {
         long v = strtol(arg, &end, 10);
         if (*arg == '\0' || *end != '\0' || v < 0 || v > 100000) {
-            fprintf(stderr, "terrapatch %s: --fill-max: expected 0 .. 100000 samples, got %s\n",
-                    cmd, arg);
+            tp_cli_error("--fill-max: expected 0 .. 100000 samples, got %s", arg);
             return -1;
         }
         o->grid.fill_max_px = v == 0 ? -1 : (int)v; /* 0 on the command line: fill nothing */
@@ -116,14 +113,14 @@ static int scene_option(int opt, const char* arg, tp_scene_options* o, const cha
     }
     case TP_OPT_FILL_FROM:
         if (!*arg) {
-            fprintf(stderr, "terrapatch %s: --fill-from: expected a raster file\n", cmd);
+            tp_cli_error("--fill-from: expected a raster file");
             return -1;
         }
         o->grid.fill_from = arg;
         return 1;
     case TP_OPT_Z_UNIT:
         if (strcmp(arg, "m") && strcmp(arg, "ft") && strcmp(arg, "us-ft")) {
-            fprintf(stderr, "terrapatch %s: --z-unit: expected m, ft or us-ft, got %s\n", cmd, arg);
+            tp_cli_error("--z-unit: expected m, ft or us-ft, got %s", arg);
             return -1;
         }
         o->z_unit = arg;
@@ -135,9 +132,9 @@ static int scene_option(int opt, const char* arg, tp_scene_options* o, const cha
         double lo = spacing ? TP_IMAGE_SPACING_MIN_M : TP_IMAGE_ZSCALE_MIN;
         double hi = spacing ? TP_IMAGE_SPACING_MAX_M : TP_IMAGE_ZSCALE_MAX;
         if (*arg == '\0' || *end != '\0' || !(v >= lo && v <= hi)) {
-            fprintf(stderr, "terrapatch %s: --%s: expected a number from %g to %g%s, got %s\n",
-                    cmd, spacing ? "spacing" : "zscale", lo, hi,
-                    spacing ? " (metres)" : " (metres per count)", arg);
+            tp_cli_error("--%s: expected a number from %g to %g%s, got %s",
+                         spacing ? "spacing" : "zscale", lo, hi,
+                         spacing ? " (metres)" : " (metres per count)", arg);
             return -1;
         }
         *(opt == TP_OPT_SPACING ? &o->image.spacing_m : &o->image.zscale) = v;
@@ -149,8 +146,7 @@ static int scene_option(int opt, const char* arg, tp_scene_options* o, const cha
         if (end != arg && *end == ',')
             lon = strtod(end + 1, &end);
         if (*end != '\0' || !(fabs(lat) <= 90) || !(fabs(lon) <= 180)) {
-            fprintf(stderr, "terrapatch %s: --origin: expected LAT,LON in degrees, got %s\n", cmd,
-                    arg);
+            tp_cli_error("--origin: expected LAT,LON in degrees, got %s", arg);
             return -1;
         }
         o->image.has_origin = 1;
@@ -196,7 +192,7 @@ void tp_print_warnings(const char* path, const char* text)
     while (text && *text) {
         const char* nl = strchr(text, '\n');
         int len = nl ? (int)(nl - text) : (int)strlen(text);
-        fprintf(stderr, "terrapatch: warning: %s: %.*s\n", path, len, text);
+        tp_cli_warning("%s: %.*s", path, len, text);
         text += len + (nl ? 1 : 0);
     }
 }
@@ -210,7 +206,7 @@ int tp_scene_load(const char* path, const tp_scene_options* o, tp_scene* scene)
                       ? tp_dem_read_image(path, &o->image, &scene->dem, &err)
                       : tp_dem_read_z(path, o->z_unit, &scene->dem, &err);
     if (s != TP_OK) {
-        fprintf(stderr, "terrapatch: %s\n", err.message); /* io messages name the file */
+        tp_cli_error("%s", err.message); /* io messages name the file */
         /* heightmap options that do not fit the file (e.g. --spacing on a GeoTIFF) */
         return s == TP_ERR_INVALID_ARG ? TP_EXIT_USAGE : TP_EXIT_FAILURE;
     }
@@ -218,7 +214,7 @@ int tp_scene_load(const char* path, const tp_scene_options* o, tp_scene* scene)
     for (const char* w = scene->dem->warnings; w && *w;) {
         const char* nl = strchr(w, '\n');
         int len = nl ? (int)(nl - w) : (int)strlen(w);
-        fprintf(stderr, "terrapatch: warning: %.*s\n", len, w);
+        tp_cli_warning("%.*s", len, w);
         w += len + (nl ? 1 : 0);
     }
     /* The memory the command will need, from the planned render grid fitted to whole patches
@@ -239,14 +235,13 @@ int tp_scene_load(const char* path, const tp_scene_options* o, tp_scene* scene)
         const int steps = (double)plan_w * plan_h >= TP_SCENE_PROGRESS_SAMPLES;
         double t0 = tp_progress_now_s();
         if (steps)
-            fprintf(stderr, "terrapatch: %s: putting %dx%d samples on the %dx%d render grid ...\n",
-                    path, scene->dem->width, scene->dem->height, plan_w, plan_h);
+            tp_cli_note("%s: putting %dx%d samples on the %dx%d render grid ...", path,
+                        scene->dem->width, scene->dem->height, plan_w, plan_h);
         s = tp_render_grid_build(scene->dem, &o->grid, &scene->grid, &err);
         if (s == TP_OK && steps) {
-            fprintf(stderr,
-                    "terrapatch: %s: render grid done (%.1f s); tiling it into patches "
-                    "of %d and their error bounds ...\n",
-                    path, tp_progress_now_s() - t0, o->patch_size);
+            tp_cli_note("%s: render grid done (%.1f s); tiling it into patches "
+                        "of %d and their error bounds ...",
+                        path, tp_progress_now_s() - t0, o->patch_size);
             t0 = tp_progress_now_s();
         }
         if (s == TP_OK) {
@@ -255,8 +250,7 @@ int tp_scene_load(const char* path, const tp_scene_options* o, tp_scene* scene)
             s = tp_terrain_create(&desc, &scene->terrain, &err);
         }
         if (s == TP_OK && steps)
-            fprintf(stderr, "terrapatch: %s: patches done (%.1f s)\n", path,
-                    tp_progress_now_s() - t0);
+            tp_cli_note("%s: patches done (%.1f s)", path, tp_progress_now_s() - t0);
     }
     if (s == TP_OK) {
         /* the fitted grid's geotransform: resampling changes the spacing */
@@ -265,8 +259,7 @@ int tp_scene_load(const char* path, const tp_scene_options* o, tp_scene* scene)
                              &err);
     }
     if (s != TP_OK) {
-        fprintf(stderr, "terrapatch: %s: %s\n", path,
-                err.message[0] ? err.message : tp_status_str(s));
+        tp_cli_error("%s: %s", path, err.message[0] ? err.message : tp_status_str(s));
         tp_scene_free(scene);
         return TP_EXIT_FAILURE;
     }

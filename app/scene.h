@@ -97,14 +97,14 @@ typedef struct tp_scene {
 
 /* Loads path through the whole pipeline. Once the DEM is read, the render grid is planned and
  * o->use of it checked against the memory left (memory.h): one line and TP_EXIT_FAILURE when it
- * would not fit, before the warp, the terrain or the command's own buffers are allocated. Prints warnings ("terrapatch: warning: ...") and, on
- * failure, one error line naming the file; returns TP_EXIT_OK, TP_EXIT_FAILURE, or TP_EXIT_USAGE
- * when the heightmap options do not fit the file (--spacing on a georeferenced raster). On failure
- * the scene holds nothing. */
+ * would not fit, before the warp, the terrain or the command's own buffers are allocated. Prints
+ * warnings ("terrapatch CMD: warning: ...") and, on failure, one error line naming the file;
+ * returns TP_EXIT_OK, TP_EXIT_FAILURE, or TP_EXIT_USAGE when the heightmap options do not fit the
+ * file (--spacing on a georeferenced raster). On failure the scene holds nothing. */
 int tp_scene_load(const char* path, const tp_scene_options* o, tp_scene* scene);
 void tp_scene_free(tp_scene* scene);
 
-/* Prints each '\n'-separated line of text as its own "terrapatch: warning: " line. */
+/* Prints each '\n'-separated line of text as its own "terrapatch CMD: warning: " line. */
 void tp_print_warnings(const char* path, const char* text);
 
 #endif /* TP_APP_SCENE_H */

@@ -85,8 +85,7 @@ static int lock_build(const char* store)
                 return -1;
             }
             if (!said++)
-                fprintf(stderr, "terrapatch: another terrapatch is building %s: waiting for it\n",
-                        store);
+                tp_cli_note("another terrapatch is building %s: waiting for it", store);
             int r;
             while ((r = flock(fd, LOCK_EX)) != 0 && errno == EINTR)
                 ;
@@ -148,10 +147,9 @@ static void sweep(const char* dir)
     }
     closedir(d);
     if (swept)
-        fprintf(stderr,
-                "terrapatch: removed %d temporary file%s (%.1f MB) that a killed build "
-                "left in %s\n",
-                swept, swept == 1 ? "" : "s", bytes / 1e6, dir);
+        tp_cli_note("removed %d temporary file%s (%.1f MB) that a killed build "
+                    "left in %s",
+                    swept, swept == 1 ? "" : "s", bytes / 1e6, dir);
 }
 
 /* 1 when path opens as a store built from abs_path with the given patch size. */
@@ -194,7 +192,7 @@ int tp_store_cache_get(const char* dem, const tp_store_cache_options* o, char* o
     tp_error err;
     if (tp_input_check(dem, "a raster", 1, &err) != TP_OK ||
         tp_input_identify(dem, abs_path, sizeof abs_path, &id, &err) != TP_OK) {
-        fprintf(stderr, "terrapatch: %s\n", err.message);
+        tp_cli_error("%s", err.message);
         return TP_EXIT_FAILURE;
     }
     uint64_t h = 0xcbf29ce484222325ull;
@@ -213,7 +211,7 @@ int tp_store_cache_get(const char* dem, const tp_store_cache_options* o, char* o
         tp_input_identity fid;
         if (tp_input_check(o->fill_from, "a raster", 1, &err) != TP_OK ||
             tp_input_identify(o->fill_from, from_path, sizeof from_path, &fid, &err) != TP_OK) {
-            fprintf(stderr, "terrapatch: --fill-from %s\n", err.message);
+            tp_cli_error("--fill-from %s", err.message);
             return TP_EXIT_FAILURE;
         }
         int64_t fmeta[2] = {fid.size_bytes, fid.mtime_ns};
@@ -230,13 +228,14 @@ int tp_store_cache_get(const char* dem, const tp_store_cache_options* o, char* o
         char tdir[PATH_MAX];
         snprintf(tdir, sizeof tdir, "%s/terrapatch-XXXXXX", tmp && tmp[0] ? tmp : "/tmp");
         if (!mkdtemp(tdir)) {
-            fprintf(stderr, "terrapatch: cannot write the store cache %s nor a temporary "
-                            "directory %s: %s\n", dir, tdir, strerror(errno));
+            tp_cli_error("cannot write the store cache %s nor a temporary "
+                         "directory %s: %s",
+                         dir, tdir, strerror(errno));
             return TP_EXIT_FAILURE;
         }
-        fprintf(stderr, "terrapatch: the cache directory %s is not writable: building in %s "
-                        "instead (removed after the view; choose one with --cache-dir)\n", dir,
-                tdir);
+        tp_cli_note("the cache directory %s is not writable: building in %s "
+                    "instead (removed after the view; choose one with --cache-dir)",
+                    dir, tdir);
         snprintf(dir, sizeof dir, "%s", tdir);
         temporary = 1;
     }
@@ -248,7 +247,7 @@ int tp_store_cache_get(const char* dem, const tp_store_cache_options* o, char* o
     if (dot && dot != name)
         *dot = '\0';
     if (snprintf(out, cap, "%s/%s-%016llx.tpt", dir, name, (unsigned long long)h) >= (int)cap) {
-        fprintf(stderr, "terrapatch: %s: the cache path is too long\n", dir);
+        tp_cli_error("%s: the cache path is too long", dir);
         return TP_EXIT_FAILURE;
     }
     if (!temporary && store_matches(out, abs_path, o->patch_size)) {
@@ -264,8 +263,7 @@ int tp_store_cache_get(const char* dem, const tp_store_cache_options* o, char* o
         return TP_EXIT_OK;
     }
 
-    fprintf(stderr, "terrapatch: building a store of %s in %s (once; reused next time)\n", dem,
-            dir);
+    tp_cli_note("building a store of %s in %s (once; reused next time)", dem, dir);
     char patch[16];
     snprintf(patch, sizeof patch, "%d", o->patch_size);
     char fill[16];

@@ -39,7 +39,7 @@ typedef struct tp_store_cache_options {
 } tp_store_cache_options;
 
 /* Writes into out (cap bytes) the path of a store of dem, building it first if the cache has
- * none that matches (one line "terrapatch: building a store of DEM in DIR (once; reused next
+ * none that matches (one line "terrapatch CMD: building a store of DEM in DIR (once; reused next
  * time)" and the build's progress on stderr). Returns TP_EXIT_OK, or the build's exit code
  * after its message. */
 int tp_store_cache_get(const char* dem, const tp_store_cache_options* o, char* out, size_t cap,

@@ -35,10 +35,9 @@ int tp_is_store_path(const char* path)
 static void report(const char* path, tp_status s, const tp_error* err)
 {
     if (strstr(err->message, path))
-        fprintf(stderr, "terrapatch: %s\n", err->message);
+        tp_cli_error("%s", err->message);
     else
-        fprintf(stderr, "terrapatch: %s: %s\n", path,
-                err->message[0] ? err->message : tp_status_str(s));
+        tp_cli_error("%s: %s", path, err->message[0] ? err->message : tp_status_str(s));
 }
 
 /* The store and the tree over its node table. */
@@ -153,9 +152,9 @@ int tp_store_scene_stream(tp_store_scene* sc, const tp_stream_options* o)
     sc->stream = tp_stream_create(sc->store, sc->tree, o, msg, sizeof msg);
     if (!sc->stream) {
         if (strstr(msg, sc->path))
-            fprintf(stderr, "terrapatch: %s\n", msg);
+            tp_cli_error("%s", msg);
         else
-            fprintf(stderr, "terrapatch: %s: %s\n", sc->path, msg);
+            tp_cli_error("%s: %s", sc->path, msg);
         return TP_EXIT_FAILURE;
     }
     return TP_EXIT_OK;

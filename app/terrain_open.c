@@ -33,10 +33,9 @@ int tp_terrain_kind_of(const char* path)
         return TP_TERRAIN_STORE;
     if (tp_input_is_virtual(path)) {
         if (named_tpt(path)) {
-            fprintf(stderr,
-                    "terrapatch: %s: a store inside a GDAL virtual path cannot be read "
-                    "(stores are read from local files): extract it first\n",
-                    path);
+            tp_cli_error("%s: a store inside a GDAL virtual path cannot be read "
+                         "(stores are read from local files): extract it first",
+                         path);
             return -1;
         }
         return TP_TERRAIN_DEM;
@@ -46,11 +45,10 @@ int tp_terrain_kind_of(const char* path)
         return named_tpt(path) ? TP_TERRAIN_STORE : TP_TERRAIN_DEM; /* its reader says why */
     if (stat(path, &st) == 0 && S_ISREG(st.st_mode) &&
         (named_tpt(path) || starts_like_store(path))) {
-        fprintf(stderr,
-                "terrapatch: %s: not a terrapatch store, or its header is damaged (its "
-                "first 8 bytes are not a store's magic; %lld bytes): rebuild it with "
-                "terrapatch build\n",
-                path, (long long)st.st_size);
+        tp_cli_error("%s: not a terrapatch store, or its header is damaged (its "
+                     "first 8 bytes are not a store's magic; %lld bytes): rebuild it with "
+                     "terrapatch build",
+                     path, (long long)st.st_size);
         return -1;
     }
     return TP_TERRAIN_DEM;
@@ -58,15 +56,15 @@ int tp_terrain_kind_of(const char* path)
 
 int tp_terrain_refuse_store_options(const char* cmd, const char* path, const tp_scene_options* o)
 {
+    (void)cmd; /* messages name the command main() dispatched to (tp_cli_error) */
     if (!o || !o->given)
         return -1;
     char names[160];
     tp_scene_options_names(o->given, names, sizeof names);
-    fprintf(stderr,
-            "terrapatch %s: %s is a store: %s shape%s a DEM when it is read or built; a "
-            "store keeps those it was built with (build it again from the DEM with "
-            "terrapatch build)\n",
-            cmd, path, names, strchr(names, ',') ? "" : "s");
+    tp_cli_error("%s is a store: %s shape%s a DEM when it is read or built; a "
+                 "store keeps those it was built with (build it again from the DEM with "
+                 "terrapatch build)",
+                 path, names, strchr(names, ',') ? "" : "s");
     return TP_EXIT_USAGE;
 }
 
@@ -88,7 +86,7 @@ int tp_terrain_store(const char* cmd, const char* path, const tp_scene_options* 
         return code;
     if (is_store) {
         if (snprintf(out, cap, "%s", path) >= (int)cap) {
-            fprintf(stderr, "terrapatch: %s: the path is too long\n", path);
+            tp_cli_error("%s: the path is too long", path);
             return TP_EXIT_FAILURE;
         }
         return TP_EXIT_OK;
@@ -102,11 +100,10 @@ int tp_terrain_store(const char* cmd, const char* path, const tp_scene_options* 
     if (whole_only) {
         char names[160];
         tp_scene_options_names(whole_only, names, sizeof names);
-        fprintf(stderr,
-                "terrapatch %s: %s shape%s a DEM drawn whole (view --whole, export, "
-                "bench, info); %s reads %s through its store, which takes any size and "
-                "is built from what GDAL reads\n",
-                cmd, names, strchr(names, ',') ? "" : "s", cmd, path);
+        tp_cli_error("%s shape%s a DEM drawn whole (view --whole, export, "
+                     "bench, info); %s reads %s through its store, which takes any size and "
+                     "is built from what GDAL reads",
+                     names, strchr(names, ',') ? "" : "s", cmd, path);
         return TP_EXIT_USAGE;
     }
     tp_store_cache_options co = {.cache_dir = cache_dir,

@@ -29,8 +29,8 @@ typedef enum tp_terrain_kind {
 } tp_terrain_kind;
 
 /* What path names. TP_TERRAIN_STORE or TP_TERRAIN_DEM; -1 after one line for a damaged store
- * ("terrapatch: PATH: not a terrapatch store, or its header is damaged (...)") or a store inside
- * a GDAL virtual path (stores are read from local files): the command exits with 1. A path
+ * ("terrapatch CMD: PATH: not a terrapatch store, or its header is damaged (...)") or a store
+ * inside a GDAL virtual path (stores are read from local files): the command exits with 1. A path
  * that cannot be read is a DEM here: its reader says why. */
 int tp_terrain_kind_of(const char* path);
 

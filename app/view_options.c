@@ -123,10 +123,11 @@ int tp_view_option(int opt, const char* arg, tp_view_setup* v, const char* cmd)
 
 int tp_view_setup_check(const tp_view_setup* v, const char* cmd)
 {
+    (void)cmd; /* messages name the command main() dispatched to (tp_cli_error) */
     tp_lod_params resolved;
     tp_error err;
     if (tp_lod_params_resolve(NULL, &v->lod, &resolved, &err) != TP_OK) {
-        fprintf(stderr, "terrapatch %s: %s\n", cmd, err.message);
+        tp_cli_error("%s", err.message);
         return -1;
     }
     return 0;
@@ -188,6 +189,7 @@ void tp_view_renderer_help(FILE* out, int bench)
 
 void tp_view_setup_warn(const tp_scene* sc, const tp_view_setup* v, const char* cmd)
 {
+    (void)cmd; /* messages name the command main() dispatched to (tp_cli_error) */
     tp_lod_params lp;
     if (v->lod.mode != TP_LOD_DISTANCE ||
         tp_lod_params_resolve(sc->terrain, &v->lod, &lp, NULL) != TP_OK)
@@ -197,11 +199,11 @@ void tp_view_setup_warn(const tp_scene* sc, const tp_view_setup* v, const char* 
     /* one patch width in metres: 2^n grid steps */
     double patch_m = (double)(ti.patch_size - 1) * fmin(fabs(ti.geotransform[1]), fabs(ti.geotransform[5]));
     if (lp.maxdist_m < patch_m)
-        fprintf(stderr,
-                "terrapatch %s: warning: --maxdist %g m is less than one patch width (%.0f m): "
-                "every patch farther than %g m is drawn at level 0 (distances are in metres; the "
-                "defaults are %.0f and %.0f m)\n",
-                cmd, lp.maxdist_m, patch_m, lp.maxdist_m, patch_m, 24 * patch_m);
+        tp_cli_warning(
+            "--maxdist %g m is less than one patch width (%.0f m): "
+            "every patch farther than %g m is drawn at level 0 (distances are in metres; the "
+            "defaults are %.0f and %.0f m)",
+            lp.maxdist_m, patch_m, lp.maxdist_m, patch_m, 24 * patch_m);
 }
 
 int tp_view_setup_camera(const tp_scene* sc, const tp_view_setup* v, tp_camera* cam,

@@ -186,7 +186,7 @@ TEST(store_gets_its_map_beside_it_and_info_describes_it)
     const char* args[] = {store,      "--day", "--date", "2026-12-21", "--maps", "8",
                           "--margin", "3000",  "--json", json,         NULL};
     ASSERT_EQ_INT(0, run_light(args, so, sizeof so, se, sizeof se));
-    EXPECT_CONTAINS(se, "terrapatch: wrote ");
+    EXPECT_CONTAINS(se, "terrapatch light: wrote ");
     EXPECT_CONTAINS(se, tpl);
     EXPECT_CONTAINS(so, "margin 100 x 100 posts (3000 m)");
     EXPECT_TRUE(access(tpl, R_OK) == 0);

@@ -101,7 +101,7 @@ long_path)
     run 30 info "$path"
     [ $rc -eq 1 ] || fail "exit $rc, expected 1"; one_line
     grep -qi "no such file" err || fail "the reason was cut off"
-    grep -q "^terrapatch: $WORK/long/a_folder" err || fail "the start of the path was lost" ;;
+    grep -q "^terrapatch info: $WORK/long/a_folder" err || fail "the start of the path was lost" ;;
 extent_antimeridian)
     asc anti 179 40 0.01 0.01 143 107
     run 30 info --crs EPSG:4326 anti.asc

@@ -212,7 +212,7 @@ TEST(los_says_every_file_it_wrote)
     ASSERT_EQ_INT(0, run_los(dem, from, to, extra, json, sizeof json, err, sizeof err));
     const char* files[] = {"los.json", "w.csv", "w.png"};
     for (int i = 0; i < 3; ++i) {
-        snprintf(line, sizeof line, "terrapatch: wrote %s/%s\n", tmp_dir(), files[i]);
+        snprintf(line, sizeof line, "terrapatch los: wrote %s/%s\n", tmp_dir(), files[i]);
         EXPECT_CONTAINS(err, line);
         EXPECT_TRUE(!strstr(err, line) || !strstr(strstr(err, line) + strlen(line), line));
         snprintf(line, sizeof line, "%s/%s", tmp_dir(), files[i]);

@@ -419,7 +419,7 @@ static int export_killed_once(const char* name, const char* extra, int sig, int 
         return 0;
     }
     EXPECT_EQ_INT(128 + sig, rc);
-    EXPECT_CONTAINS(err, "terrapatch: interrupted\n");
+    EXPECT_CONTAINS(err, "terrapatch export: interrupted\n");
     expect_same(out, old, sizeof old - 1);
     EXPECT_EQ_STR(vtm ? "mesh mesh.vtm " : "mesh.vtk ", list);
     if (vtm) {
@@ -520,7 +520,7 @@ static void killed_after_rename(const char* const* args, const char* dir, const 
     if (f)
         fclose(f);
     EXPECT_EQ_INT(0, rc);
-    snprintf(wrote, sizeof wrote, "terrapatch: wrote %s\n", path);
+    snprintf(wrote, sizeof wrote, "terrapatch %s: wrote %s\n", args[0], path);
     EXPECT_CONTAINS(err, wrote);
     EXPECT_TRUE(strstr(err, "interrupted") == NULL);
     EXPECT_EQ_INT(0, access(path, F_OK));

@@ -4,6 +4,8 @@
 #define _POSIX_C_SOURCE 200809L
 #include "bench.h"
 
+#include "cli.h"
+
 #include <errno.h>
 #include <stdint.h>
 #include <stdio.h>
@@ -53,27 +55,24 @@ int tp_npm_open(tp_npm* n, const float* z, int w, int h)
     const char* env = getenv("TP_TIN_COMPARE");
     snprintf(n->script, sizeof n->script, "%s", env && *env ? env : TP_TOOLS_DIR "/tin_compare.sh");
     if (access(n->script, R_OK) != 0) {
-        fprintf(stderr,
-                "terrapatch bench: --compare: cannot read %s (%s): set TP_TIN_COMPARE to "
-                "terrapatch's tools/tin_compare.sh\n",
-                n->script, strerror(errno));
+        tp_cli_error("--compare: cannot read %s (%s): set TP_TIN_COMPARE to "
+                     "terrapatch's tools/tin_compare.sh",
+                     n->script, strerror(errno));
         return 0;
     }
-    fprintf(stderr, "terrapatch: bench --compare: %s install\n", n->script);
+    tp_cli_note("--compare: %s install", n->script);
     char* install[] = {"install", NULL};
     int rc = run_script(n->script, install);
     if (rc != 0) {
-        fprintf(stderr,
-                "terrapatch bench: --compare: %s install failed (exit %d; the reason is above): "
-                "no comparison without delatin and martini\n",
-                n->script, rc);
+        tp_cli_error("--compare: %s install failed (exit %d; the reason is above): "
+                     "no comparison without delatin and martini",
+                     n->script, rc);
         return 0;
     }
     const char* tmp = getenv("TMPDIR");
     snprintf(n->dir, sizeof n->dir, "%s/terrapatch-compare-XXXXXX", tmp && *tmp ? tmp : "/tmp");
     if (!mkdtemp(n->dir)) {
-        fprintf(stderr, "terrapatch bench: --compare: cannot create %s: %s\n", n->dir,
-                strerror(errno));
+        tp_cli_error("--compare: cannot create %s: %s", n->dir, strerror(errno));
         n->dir[0] = 0;
         return 0;
     }
@@ -81,8 +80,7 @@ int tp_npm_open(tp_npm* n, const float* z, int w, int h)
     FILE* f = fopen(n->grid, "wb");
     size_t count = (size_t)w * h;
     if (!f || fwrite(z, sizeof *z, count, f) != count || fclose(f) != 0) {
-        fprintf(stderr, "terrapatch bench: --compare: cannot write %s: %s\n", n->grid,
-                strerror(errno));
+        tp_cli_error("--compare: cannot write %s: %s", n->grid, strerror(errno));
         tp_npm_close(n);
         return 0;
     }
@@ -101,13 +99,12 @@ int tp_npm_run(tp_npm* n, const char* mesher, double threshold_m, int runs, tp_n
     char* args[] = {"run", (char*)mesher, n->grid, ws, hs, rs, mesh, es, NULL};
     int rc = run_script(n->script, args);
     if (rc != 0) {
-        fprintf(stderr,
-                "terrapatch bench: --compare: %s at %g m failed (exit %d%s; see above): no "
-                "rows\n",
-                mesher, threshold_m, rc,
-                rc > 128 ? ", killed by a signal: out of memory? (TP_NODE_HEAP_MB sets node's "
-                           "heap limit)"
-                         : "");
+        tp_cli_error("--compare: %s at %g m failed (exit %d%s; see above): no "
+                     "rows",
+                     mesher, threshold_m, rc,
+                     rc > 128 ? ", killed by a signal: out of memory? (TP_NODE_HEAP_MB sets node's "
+                                "heap limit)"
+                              : "");
         return 0;
     }
     FILE* f = fopen(mesh, "rb");
@@ -141,8 +138,7 @@ int tp_npm_run(tp_npm* n, const char* mesher, double threshold_m, int runs, tp_n
     }
     free(xy);
     if (!ok) {
-        fprintf(stderr, "terrapatch bench: --compare: %s: a short or malformed mesh from %s\n",
-                mesh, mesher);
+        tp_cli_error("--compare: %s: a short or malformed mesh from %s", mesh, mesher);
         tp_npm_mesh_free(out);
         return 0;
     }

@@ -3,6 +3,7 @@
 #include "bench.h"
 
 #include "camera_pose.h"
+#include "cli.h"
 
 #include "tp_io.h"
 
@@ -63,12 +64,12 @@ int tp_bench_read_path_file(const tp_scene* sc, const bench_options* o, tp_camer
 {
     tp_error err;
     if (tp_input_check(o->path_file, "a camera path (text)", 0, &err) != TP_OK) {
-        fprintf(stderr, "terrapatch: %s\n", err.message);
+        tp_cli_error("%s", err.message);
         return 0;
     }
     FILE* f = fopen(o->path_file, "r");
     if (!f) {
-        fprintf(stderr, "terrapatch: %s: cannot open: %s\n", o->path_file, strerror(errno));
+        tp_cli_error("%s: cannot open: %s", o->path_file, strerror(errno));
         return 0;
     }
     int cap = 64, n = 0, line_no = 0;
@@ -88,8 +89,7 @@ int tp_bench_read_path_file(const tp_scene* sc, const bench_options* o, tp_camer
             s += 13;
         double v[5];
         if (sscanf(s, "%lf,%lf,%lf,%lf,%lf", &v[0], &v[1], &v[2], &v[3], &v[4]) != 5) {
-            fprintf(stderr, "terrapatch: %s: line %d: expected LAT,LON,H,YAW,PITCH\n", o->path_file,
-                    line_no);
+            tp_cli_error("%s: line %d: expected LAT,LON,H,YAW,PITCH", o->path_file, line_no);
             free(cams);
             fclose(f);
             return 0;
@@ -109,7 +109,7 @@ int tp_bench_read_path_file(const tp_scene* sc, const bench_options* o, tp_camer
     }
     fclose(f);
     if (!cams || n == 0) {
-        fprintf(stderr, "terrapatch: %s: no camera in the file\n", o->path_file);
+        tp_cli_error("%s: no camera in the file", o->path_file);
         free(cams);
         return 0;
     }

@@ -27,20 +27,20 @@ int tp_bench_pgm_frames(const bench_run* b, config_result* c, const char* progre
     char msg[512];
     c->rows = calloc((size_t)frames, sizeof *c->rows);
     if (!c->rows) {
-        fprintf(stderr, "terrapatch bench: out of memory\n");
+        tp_cli_error("out of memory");
         return TP_EXIT_FAILURE;
     }
     uint8_t* valid = NULL;
     if (tp_pgm_pyramid_from_grid(g->heights, g->width, g->height, g->geotransform, &p, &valid,
                                  &err) != TP_OK) {
-        fprintf(stderr, "terrapatch bench: %s: the PGM pyramid: %s\n", b->sc->path, err.message);
+        tp_cli_error("%s: the PGM pyramid: %s", b->sc->path, err.message);
         return TP_EXIT_FAILURE;
     }
     tp_pgm_renderer* r =
         tp_pgm_renderer_create(&p, valid, c->pgm_cols, c->pgm_rows, msg, sizeof msg);
     free(valid); /* uploaded */
     if (!r) {
-        fprintf(stderr, "terrapatch bench: %s: %s\n", b->sc->path, msg);
+        tp_cli_error("%s: %s", b->sc->path, msg);
         tp_pgm_pyramid_free(&p);
         return TP_EXIT_FAILURE;
     }
@@ -74,10 +74,8 @@ int tp_bench_pgm_frames(const bench_run* b, config_result* c, const char* progre
             mc.viewport_w_px = b->o->vs.w;
             mc.viewport_h_px = b->o->vs.h;
             if (tp_pgm_measure_error(&f, &p, &mc, &e) != TP_OK) {
-                fprintf(stderr,
-                        "\nterrapatch bench: %s: measuring the error of frame %d: out of "
-                        "memory\n",
-                        progress, i + 1);
+                tp_bench_progress_end();
+                tp_cli_error("%s: measuring the error of frame %d: out of memory", progress, i + 1);
                 tp_pgm_renderer_destroy(r);
                 tp_pgm_pyramid_free(&p);
                 return TP_EXIT_FAILURE;

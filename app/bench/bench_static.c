@@ -90,7 +90,7 @@ static int find_window(const tp_render_grid* g, const char* dem, tin_grid* tg)
             continue;
         tg->owned = malloc((size_t)s * s * sizeof *tg->owned);
         if (!tg->owned) {
-            fprintf(stderr, "terrapatch bench: out of memory (a %dx%d window)\n", s, s);
+            tp_cli_error("out of memory (a %dx%d window)", s, s);
             return 0;
         }
         for (int y = 0; y < s; y++)
@@ -100,11 +100,10 @@ static int find_window(const tp_render_grid* g, const char* dem, tin_grid* tg)
                          .window = 1};
         return 1;
     }
-    fprintf(stderr,
-            "terrapatch bench: --compare: %s: no (2^k+1)^2 square of 3x3 or more centred in the "
-            "%dx%d render grid is free of voids (martini needs one, and every mesher runs on "
-            "it)\n",
-            dem, g->width, g->height);
+    tp_cli_error("--compare: %s: no (2^k+1)^2 square of 3x3 or more centred in the "
+                 "%dx%d render grid is free of voids (martini needs one, and every mesher runs on "
+                 "it)",
+                 dem, g->width, g->height);
     return 0;
 }
 
@@ -136,14 +135,14 @@ static int tin_child(const tin_grid* tg, double e, int measure, child_report* ou
 {
     int fd[2];
     if (pipe(fd) != 0) {
-        fprintf(stderr, "terrapatch bench: pipe: %s\n", strerror(errno));
+        tp_cli_error("pipe: %s", strerror(errno));
         return 0;
     }
     fflush(stdout);
     fflush(stderr);
     pid_t pid = fork();
     if (pid < 0) {
-        fprintf(stderr, "terrapatch bench: fork: %s\n", strerror(errno));
+        tp_cli_error("fork: %s", strerror(errno));
         close(fd[0]);
         close(fd[1]);
         return 0;
@@ -195,13 +194,13 @@ static int tin_child(const tin_grid* tg, double e, int measure, child_report* ou
     while (waitpid(pid, &status, 0) < 0 && errno == EINTR)
         ;
     if (got != (ssize_t)sizeof *out) {
-        fprintf(stderr, "terrapatch bench: the TIN build at %g m died (%s %d)\n", e,
-                WIFSIGNALED(status) ? "signal" : "exit",
-                WIFSIGNALED(status) ? WTERMSIG(status) : WEXITSTATUS(status));
+        tp_cli_error("the TIN build at %g m died (%s %d)", e,
+                     WIFSIGNALED(status) ? "signal" : "exit",
+                     WIFSIGNALED(status) ? WTERMSIG(status) : WEXITSTATUS(status));
         return 0;
     }
     if (out->st != TP_OK) {
-        fprintf(stderr, "terrapatch bench: TIN at %g m: %s\n", e, out->message);
+        tp_cli_error("TIN at %g m: %s", e, out->message);
         return 0;
     }
     return 1;
@@ -212,7 +211,7 @@ static int tin_ours(const tin_grid* tg, double e, int runs, tin_row* row)
 {
     double* times = malloc((size_t)runs * sizeof *times);
     if (!times) {
-        fprintf(stderr, "terrapatch bench: out of memory\n");
+        tp_cli_error("out of memory");
         return 0;
     }
     row->mesher = "terrapatch tin";
@@ -245,7 +244,7 @@ static int tin_npm(tp_npm* n, const char* mesher, const char* label, double e, d
                    tin_row* row)
 {
     tp_npm_mesh m;
-    fprintf(stderr, "terrapatch: bench --compare: %s, threshold %g m\n", mesher, t);
+    tp_cli_note("--compare: %s, threshold %g m", mesher, t);
     if (!tp_npm_run(n, mesher, t, runs, &m))
         return 0;
     tp_error err;
@@ -254,8 +253,7 @@ static int tin_npm(tp_npm* n, const char* mesher, const char* label, double e, d
     tp_status st = tp_tin_measure(n->z, (size_t)n->w * n->h, n->w, n->h, m.vertices,
                                   m.vertex_count, m.triangles, m.triangle_count, &row->m, &err);
     if (st != TP_OK) {
-        fprintf(stderr, "terrapatch bench: --compare: the mesh of %s at %g m: %s\n", mesher, t,
-                err.message);
+        tp_cli_error("--compare: the mesh of %s at %g m: %s", mesher, t, err.message);
         tp_npm_mesh_free(&m);
         return 0;
     }
@@ -495,10 +493,9 @@ int tp_bench_static(const tp_scene* sc, const bench_options* o)
     for (int i = 0; i < count; i++)
         usable += max_errors[i] >= sc->info.quant_max_error_m;
     if (!usable) { /* as export --max-error refuses it */
-        fprintf(stderr,
-                "terrapatch bench: every --max-error bound is below the quantisation error of "
-                "this DEM (%g m, half of its %g m height step at most)\n",
-                sc->info.quant_max_error_m, sc->info.height_step_m);
+        tp_cli_error("every --max-error bound is below the quantisation error of "
+                     "this DEM (%g m, half of its %g m height step at most)",
+                     sc->info.quant_max_error_m, sc->info.height_step_m);
         return TP_EXIT_USAGE;
     }
     /* the TINs' grid, and the npm meshers first: a missing node fails before anything runs */
@@ -508,8 +505,7 @@ int tp_bench_static(const tp_scene* sc, const bench_options* o)
     if (o->compare) {
         if (!find_window(sc->grid, dem, &tg))
             return TP_EXIT_FAILURE;
-        fprintf(stderr, "terrapatch: bench --compare: the %dx%d window at (%d, %d)\n", tg.w, tg.h,
-                tg.x0, tg.y0);
+        tp_cli_note("--compare: the %dx%d window at (%d, %d)", tg.w, tg.h, tg.x0, tg.y0);
         if (!tp_npm_open(&npm, tg.z, tg.w, tg.h)) {
             free(tg.owned);
             return TP_EXIT_FAILURE;
@@ -529,12 +525,11 @@ int tp_bench_static(const tp_scene* sc, const bench_options* o)
             r->refused = 1;
             continue;
         }
-        fprintf(stderr, "terrapatch: bench --static: max error %g m (%d/%d)\n", r->bound_m, i + 1,
-                count);
+        tp_cli_note("--static: max error %g m (%d/%d)", r->bound_m, i + 1, count);
         tp_selection* sel = NULL;
         tp_error err;
         if (tp_selection_create(sc->terrain, &sel, &err) != TP_OK) {
-            fprintf(stderr, "terrapatch: %s: %s\n", dem, err.message);
+            tp_cli_error("%s: %s", dem, err.message);
             code = TP_EXIT_FAILURE;
             break;
         }
@@ -544,7 +539,7 @@ int tp_bench_static(const tp_scene* sc, const bench_options* o)
         if (st == TP_OK)
             st = tp_export_selection(sc, sel, &eo, NULL, &r->res, &err);
         if (st != TP_OK) {
-            fprintf(stderr, "terrapatch: %s\n", err.message);
+            tp_cli_error("%s", err.message);
             code = TP_EXIT_FAILURE;
         }
         double t2 = now_s();
@@ -559,7 +554,7 @@ int tp_bench_static(const tp_scene* sc, const bench_options* o)
         if (rows[i].refused)
             continue;
         double e = max_errors[i];
-        fprintf(stderr, "terrapatch: bench --static: TIN at %g m (%d/%d)\n", e, i + 1, count);
+        tp_cli_note("--static: TIN at %g m (%d/%d)", e, i + 1, count);
         if (!tin_ours(&tg, e, o->runs, &tins[nt++])) {
             code = TP_EXIT_FAILURE;
             break;

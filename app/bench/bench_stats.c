@@ -2,6 +2,8 @@
  * cmd_bench.c, the store's in bench_store.c). */
 #include "bench.h"
 
+#include "cli.h"
+
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -28,13 +30,13 @@ double tp_bench_p99(const double* v, int n)
 void tp_bench_progress(const char* progress, int frame, int frames, const char* what)
 {
     if (isatty(STDERR_FILENO)) {
-        fprintf(stderr, "\rterrapatch: bench %s: frame %d/%d, %s   ", progress, frame, frames,
+        fprintf(stderr, "\r%s%s: frame %d/%d, %s   ", tp_cli_prefix(), progress, frame, frames,
                 what);
         return;
     }
     /* a line when the run passes another tenth, and at its end */
     if (frame == frames || (long)frame * 10 / frames != (long)(frame - 1) * 10 / frames)
-        fprintf(stderr, "terrapatch: bench %s: frame %d/%d, %s\n", progress, frame, frames, what);
+        tp_cli_note("%s: frame %d/%d, %s", progress, frame, frames, what);
 }
 
 void tp_bench_progress_end(void)

@@ -284,7 +284,7 @@ static int run_store_pgm(store_bench* b, store_result* c, const char* progress)
         clip ? tp_pgm_renderer_create_clipmap(clip, c->pgm_cols, c->pgm_rows, msg, sizeof msg)
              : NULL;
     if (!r) {
-        fprintf(stderr, "terrapatch bench: %s: %s\n", b->o->dem, msg);
+        tp_cli_error("%s: %s", b->o->dem, msg);
         tp_pgm_clipmap_destroy(clip);
         return TP_EXIT_FAILURE;
     }
@@ -327,8 +327,8 @@ static int run_store_pgm(store_bench* b, store_result* c, const char* progress)
                 if (ms == TP_ERR_INVALID_ARG) { /* a region too large to visit: not measured */
                     c->pgm_unmeasured++;
                 } else if (ms != TP_OK) {
-                    fprintf(stderr, "\nterrapatch bench: %s: frame %d: %s\n", progress, k + 1,
-                            msg);
+                    tp_bench_progress_end();
+                    tp_cli_error("%s: frame %d: %s", progress, k + 1, msg);
                     tp_pgm_renderer_destroy(r);
                     tp_pgm_clipmap_destroy(clip);
                     return TP_EXIT_FAILURE;
@@ -389,12 +389,12 @@ static int run_store_config(store_bench* b, store_result* c, int first, const ch
     tp_error err;
     int code = TP_EXIT_FAILURE;
     if (!r) {
-        fprintf(stderr, "terrapatch bench: %s\n", msg);
+        tp_cli_error("%s", msg);
         goto done;
     }
     if (tp_cut_create(b->sc.tree, &cut, &err) != TP_OK ||
         tp_cut_create(b->sc.tree, &pre, &err) != TP_OK) {
-        fprintf(stderr, "terrapatch bench: %s\n", err.message);
+        tp_cli_error("%s", err.message);
         goto done;
     }
     tp_cut_set_stitch_add(cut, c->stitch_add);
@@ -512,8 +512,10 @@ static int run_store_config(store_bench* b, store_result* c, int first, const ch
                                             &row->skipped);
             }
             const char* failure = tp_stream_take_failure(b->sc.stream);
-            if (failure)
-                fprintf(stderr, "\nterrapatch bench: %s\n", failure);
+            if (failure) {
+                tp_bench_progress_end();
+                tp_cli_error("%s", failure);
+            }
             char what[96];
             snprintf(what, sizeof what, "%.1f ms, %d nodes", row->frame_ms, row->nodes);
             tp_bench_progress(progress, k + 1, frames, what);
@@ -527,8 +529,8 @@ static int run_store_config(store_bench* b, store_result* c, int first, const ch
     code = TP_EXIT_OK;
     goto done;
 cut_failed:
-    fprintf(stderr, "\nterrapatch bench: selecting the cut: %s\n",
-            err.message[0] ? err.message : "failed");
+    tp_bench_progress_end();
+    tp_cli_error("selecting the cut: %s", err.message[0] ? err.message : "failed");
 done:
     tp_view_imagery_close(im);
     tp_view_light_close(lt);
@@ -556,7 +558,7 @@ int tp_bench_store(const bench_options* o)
     b.leaf_id = -1;
     b.leaf = malloc(((size_t)1 << b.g->n | 1) * (((size_t)1 << b.g->n) + 1) * sizeof *b.leaf);
     if (!b.leaf) {
-        fprintf(stderr, "terrapatch bench: out of memory\n");
+        tp_cli_error("out of memory");
         tp_store_scene_close(&b.sc);
         return TP_EXIT_FAILURE;
     }
@@ -566,7 +568,7 @@ int tp_bench_store(const bench_options* o)
     b.step_m = o->speed_mps / FRAME_HZ;
     char msg[512];
     if (!tp_gl_context_create_headless(o->vs.w, o->vs.h, &b.ctx, msg, sizeof msg)) {
-        fprintf(stderr, "terrapatch bench: %s\n", msg);
+        tp_cli_error("%s", msg);
         free(b.leaf);
         tp_store_scene_close(&b.sc);
         return TP_EXIT_FAILURE;

@@ -3,6 +3,8 @@
  * its error is measured on the drawn geometry: the patch renderer's by tp_selection_measure_*
  * (vertex moving) or tp_bench_stitch_add_error (vertex adding), PGM's by tp_pgm_measure_error. */
 #include "bench.h"
+
+#include "cli.h"
 #include "renderer.h"
 
 #include <math.h>
@@ -133,7 +135,7 @@ int tp_bench_sweep_plot(const config_result* c, int nc, const char* png, const c
 {
     tp_bench_point* pts = calloc((size_t)(nc > 1 ? nc : 1), sizeof *pts);
     if (!pts) {
-        fprintf(stderr, "terrapatch bench: out of memory\n");
+        tp_cli_error("out of memory");
         return 0;
     }
     for (int k = 1; k < nc; k++)

@@ -267,18 +267,16 @@ static int parse_options(int argc, char** argv, bench_options* o)
         case OPT_NO_ERROR: o->no_error = 1; break;
         case OPT_STITCH:
             if (strcmp(optarg, "move") && strcmp(optarg, "add")) {
-                fprintf(stderr, "terrapatch bench: --stitch: expected move or add, got '%s'\n",
-                        optarg);
+                tp_cli_error("--stitch: expected move or add, got '%s'", optarg);
                 return TP_EXIT_USAGE;
             }
             o->stitch_add = strcmp(optarg, "add") == 0;
             break;
         case OPT_STITCH_ADD_DRAW:
             if (strcmp(optarg, "sets") && strcmp(optarg, "five") && strcmp(optarg, "both")) {
-                fprintf(stderr,
-                        "terrapatch bench: --stitch-add-draw: expected sets, five or both, got "
-                        "'%s'\n",
-                        optarg);
+                tp_cli_error("--stitch-add-draw: expected sets, five or both, got "
+                             "'%s'",
+                             optarg);
                 return TP_EXIT_USAGE;
             }
             o->stitch_add_draw = !strcmp(optarg, "sets") ? 1 : !strcmp(optarg, "five") ? 2 : 3;
@@ -359,62 +357,59 @@ static int parse_options(int argc, char** argv, bench_options* o)
             }
             break;
         case 'h': print_help(); return tp_cli_finish(TP_EXIT_OK);
-        case ':':
-            fprintf(stderr, "terrapatch bench: missing value for %s\n", argv[optind - 1]);
-            return TP_EXIT_USAGE;
+        case ':': tp_cli_error("missing value for %s", argv[optind - 1]); return TP_EXIT_USAGE;
         default:
-            fprintf(stderr, "terrapatch bench: unknown option '%s' (see 'terrapatch bench --help')\n",
-                    argv[optind - 1]);
+            tp_cli_error("unknown option '%s' (see 'terrapatch bench --help')", argv[optind - 1]);
             return TP_EXIT_USAGE;
         }
     }
     if (optind >= argc) {
-        fprintf(stderr, "terrapatch bench: missing DEM file\n");
+        tp_cli_error("missing DEM file");
         return TP_EXIT_USAGE;
     }
     o->dem = argv[optind];
     if (optind + 1 < argc) {
-        fprintf(stderr, "terrapatch bench: expected one DEM, got extra argument '%s'\n",
-                argv[optind + 1]);
+        tp_cli_error("expected one DEM, got extra argument '%s'", argv[optind + 1]);
         return TP_EXIT_USAGE;
     }
     if (tp_view_setup_check(&o->vs, "bench") < 0)
         return TP_EXIT_USAGE;
     if ((o->imagery || o->light) && !tp_is_store_path(o->dem)) {
-        fprintf(stderr, "terrapatch bench: %s needs a store (%s is not one)\n",
-                o->imagery ? "--imagery" : "--light", o->dem);
+        tp_cli_error("%s needs a store (%s is not one)", o->imagery ? "--imagery" : "--light",
+                     o->dem);
         return TP_EXIT_USAGE;
     }
     if (o->vs.pgm_grid_count && !o->vs.pgm && !o->sweep) {
-        fprintf(stderr, "terrapatch bench: --pgm-grid needs --renderer pgm (or --sweep)\n");
+        tp_cli_error("--pgm-grid needs --renderer pgm (or --sweep)");
         return TP_EXIT_USAGE;
     }
     if (o->vs.pgm_window && (!o->vs.pgm || !tp_is_store_path(o->dem))) {
-        fprintf(stderr, "terrapatch bench: --pgm-window is for --renderer pgm over a store (%s "
-                        "is %s)\n", o->dem, o->vs.pgm ? "a DEM, drawn whole" : "drawn by patches");
+        tp_cli_error("--pgm-window is for --renderer pgm over a store (%s "
+                     "is %s)",
+                     o->dem, o->vs.pgm ? "a DEM, drawn whole" : "drawn by patches");
         return TP_EXIT_USAGE;
     }
     if (o->vs.pgm && o->is_static) {
-        fprintf(stderr, "terrapatch bench: --renderer pgm: not with --static\n");
+        tp_cli_error("--renderer pgm: not with --static");
         return TP_EXIT_USAGE;
     }
     if (o->stitch_add_draw == 3 && tp_is_store_path(o->dem)) {
-        fprintf(stderr, "terrapatch bench: --stitch-add-draw both: a DEM only (a store: give "
-                        "sets or five)\n");
+        tp_cli_error("--stitch-add-draw both: a DEM only (a store: give "
+                     "sets or five)");
         return TP_EXIT_USAGE;
     }
     if (o->stitch_add_draw == 3 && o->sweep) {
-        fprintf(stderr, "terrapatch bench: --stitch-add-draw both: not with --sweep (give sets "
-                        "or five)\n");
+        tp_cli_error("--stitch-add-draw both: not with --sweep (give sets "
+                     "or five)");
         return TP_EXIT_USAGE;
     }
     if (o->stitch_add && o->sweep) {
-        fprintf(stderr, "terrapatch bench: --sweep runs both crack fixes (move and add): it "
-                        "takes no --stitch\n");
+        tp_cli_error("--sweep runs both crack fixes (move and add): it "
+                     "takes no --stitch");
         return TP_EXIT_USAGE;
     }
     if (o->stitch_add && o->is_static) {
-        fprintf(stderr, "terrapatch bench: --stitch add: not with --static\n");
+        tp_cli_error("--stitch add: not with --static");
         return TP_EXIT_USAGE;
     }
     if (tp_is_store_path(o->dem)) {
@@ -424,35 +419,34 @@ static int parse_options(int argc, char** argv, bench_options* o)
         if (!no && o->realtime && o->speed_mps <= 0)
             no = "--realtime with --speed 0";
         if (no) {
-            fprintf(stderr, "terrapatch bench: %s is not available for a store (%s)\n", no, o->dem);
+            tp_cli_error("%s is not available for a store (%s)", no, o->dem);
             return TP_EXIT_USAGE;
         }
     }
     if (o->is_static != (o->max_error_count > 0)) {
-        fprintf(stderr, "terrapatch bench: --static and --max-error go together "
-                        "(e.g. --static --max-error 1,5,20)\n");
+        tp_cli_error("--static and --max-error go together "
+                     "(e.g. --static --max-error 1,5,20)");
         return TP_EXIT_USAGE;
     }
     if ((o->compare || o->runs_given) && !o->is_static) {
-        fprintf(stderr, "terrapatch bench: %s needs --static --max-error\n",
-                o->compare ? "--compare" : "--runs");
+        tp_cli_error("%s needs --static --max-error", o->compare ? "--compare" : "--runs");
         return TP_EXIT_USAGE;
     }
     if (o->is_static && o->sweep) {
-        fprintf(stderr, "terrapatch bench: --static and --sweep exclude each other\n");
+        tp_cli_error("--static and --sweep exclude each other");
         return TP_EXIT_USAGE;
     }
     if (o->sweep && !o->csv) {
-        fprintf(stderr, "terrapatch bench: --sweep needs --csv FILE (the plot goes beside it)\n");
+        tp_cli_error("--sweep needs --csv FILE (the plot goes beside it)");
         return TP_EXIT_USAGE;
     }
     if (o->plot && !o->sweep) {
-        fprintf(stderr, "terrapatch bench: --plot needs --sweep\n");
+        tp_cli_error("--plot needs --sweep");
         return TP_EXIT_USAGE;
     }
     if (o->sweep && o->no_error) {
-        fprintf(stderr, "terrapatch bench: --sweep plots fps against the measured error: it "
-                        "cannot take --no-error\n");
+        tp_cli_error("--sweep plots fps against the measured error: it "
+                     "cannot take --no-error");
         return TP_EXIT_USAGE;
     }
     if (o->sweep) {
@@ -463,13 +457,12 @@ static int parse_options(int argc, char** argv, bench_options* o)
             o->plot = o->plot_buf;
         }
         if (!strcmp(o->plot, o->csv) || (o->json && !strcmp(o->plot, o->json))) {
-            fprintf(stderr, "terrapatch bench: the plot would overwrite %s: give --plot FILE\n",
-                    o->plot);
+            tp_cli_error("the plot would overwrite %s: give --plot FILE", o->plot);
             return TP_EXIT_USAGE;
         }
     }
     if (o->csv && o->json && !strcmp(o->csv, o->json)) {
-        fprintf(stderr, "terrapatch bench: --csv and --json name the same file\n");
+        tp_cli_error("--csv and --json name the same file");
         return TP_EXIT_USAGE;
     }
     return -1;
@@ -580,7 +573,7 @@ static int run_config(const bench_run* b, config_result* c, const char* progress
     tp_selection* sel = NULL;
     tp_error err;
     if (!c->rows || !r || tp_selection_create(b->sc->terrain, &sel, &err) != TP_OK) {
-        fprintf(stderr, "terrapatch bench: %s\n", r ? "out of memory" : msg);
+        tp_cli_error("%s", r ? "out of memory" : msg);
         tp_renderer_destroy(r);
         return TP_EXIT_FAILURE;
     }
@@ -589,7 +582,7 @@ static int run_config(const bench_run* b, config_result* c, const char* progress
     rs.stitch_add = c->stitch_add;
     rs.stitch_add_five = c->stitch_add && c->stitch_add_five;
     if (c->stitch_add && tp_terrain_prepare_stitch_add(b->sc->terrain, &err) != TP_OK) {
-        fprintf(stderr, "terrapatch bench: %s\n", err.message);
+        tp_cli_error("%s", err.message);
         tp_selection_destroy(sel);
         tp_renderer_destroy(r);
         return TP_EXIT_FAILURE;
@@ -642,8 +635,9 @@ static int run_config(const bench_run* b, config_result* c, const char* progress
                 ms = oracle_triangles(b->sc, sel, &cam, c->lod.tau_px, fs.triangles,
                                       &row->oracle_triangles, &row->oracle_patches);
             if (ms != TP_OK) {
-                fprintf(stderr, "\nterrapatch bench: %s: measuring the error of frame %d: %s\n",
-                        progress, i + 1, tp_status_str(ms));
+                tp_bench_progress_end();
+                tp_cli_error("%s: measuring the error of frame %d: %s", progress, i + 1,
+                             tp_status_str(ms));
                 tp_selection_destroy(sel);
                 tp_renderer_destroy(r);
                 return TP_EXIT_FAILURE;
@@ -750,7 +744,7 @@ int tp_cli_bench(int argc, char** argv)
         b.lead_da = o.speed_mps / FRAME_HZ / tp_bench_path_length(&sc, &o);
     char msg[512];
     if (!tp_gl_context_create_headless(o.vs.w, o.vs.h, &b.ctx, msg, sizeof msg)) {
-        fprintf(stderr, "terrapatch bench: %s\n", msg);
+        tp_cli_error("%s", msg);
         free(cams);
         tp_scene_free(&sc);
         return TP_EXIT_FAILURE;
@@ -761,7 +755,7 @@ int tp_cli_bench(int argc, char** argv)
     config_result* c = make_configs(&b, &nc, &best);
     code = c ? TP_EXIT_OK : TP_EXIT_FAILURE;
     if (!c)
-        fprintf(stderr, "terrapatch bench: out of memory\n");
+        tp_cli_error("out of memory");
     for (int k = 0; k < nc && code == TP_EXIT_OK; k++) {
         char progress[96];
         snprintf(progress, sizeof progress, "%s (%d/%d)", c[k].label, k + 1, nc);

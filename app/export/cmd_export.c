@@ -172,27 +172,23 @@ static int parse_options(int argc, char** argv, export_options* o)
         case OPT_ORIGIN_LOCAL: return bad("--origin", "local (or LAT,LON for an image)", optarg);
         case OPT_PER_PATCH: o->per_patch = 1; break;
         case 'h': print_help(); return tp_cli_finish(TP_EXIT_OK);
-        case ':':
-            fprintf(stderr, "terrapatch export: missing value for %s\n", argv[optind - 1]);
-            return TP_EXIT_USAGE;
+        case ':': tp_cli_error("missing value for %s", argv[optind - 1]); return TP_EXIT_USAGE;
         default:
-            fprintf(stderr,
-                    "terrapatch export: unknown option '%s' (see 'terrapatch export --help')\n",
-                    argv[optind - 1]);
+            tp_cli_error("unknown option '%s' (see 'terrapatch export --help')", argv[optind - 1]);
             return TP_EXIT_USAGE;
         }
     }
     if (modes > 1) {
-        fprintf(stderr, "terrapatch export: --full and --max-error exclude each other\n");
+        tp_cli_error("--full and --max-error exclude each other");
         return TP_EXIT_USAGE;
     }
     if (o->mesh != MESH_DEFAULT && o->mode != MODE_MAX_ERROR) {
-        fprintf(stderr, "terrapatch export: --mesh goes with --max-error M (the other modes "
-                        "write the patches drawn)\n");
+        tp_cli_error("--mesh goes with --max-error M (the other modes "
+                     "write the patches drawn)");
         return TP_EXIT_USAGE;
     }
     if (!o->out) {
-        fprintf(stderr, "terrapatch export: missing -o OUT (a .vtp, .vtk or .vtm file)\n");
+        tp_cli_error("missing -o OUT (a .vtp, .vtk or .vtm file)");
         return TP_EXIT_USAGE;
     }
     if (ends_with(o->out, ".vtp"))
@@ -206,12 +202,11 @@ static int parse_options(int argc, char** argv, export_options* o)
     if (o->per_patch && o->format != TP_MESH_VTM)
         return bad("--per-patch", "an output ending in .vtm", o->out);
     if (optind >= argc) {
-        fprintf(stderr, "terrapatch export: missing DEM file\n");
+        tp_cli_error("missing DEM file");
         return TP_EXIT_USAGE;
     }
     if (argc - optind > 1) {
-        fprintf(stderr, "terrapatch export: expected one DEM, got extra argument '%s'\n",
-                argv[optind + 1]);
+        tp_cli_error("expected one DEM, got extra argument '%s'", argv[optind + 1]);
         return TP_EXIT_USAGE;
     }
     o->path = argv[optind];
@@ -242,7 +237,7 @@ static int export_tin(const export_options* o, tp_scene* sc)
         if (tp_interrupted()) {
             code = tp_cli_interrupted();
         } else {
-            fprintf(stderr, "terrapatch: %s\n", err.message);
+            tp_cli_error("%s", err.message);
             code = TP_EXIT_FAILURE;
         }
     } else {
@@ -266,10 +261,9 @@ int tp_cli_export(int argc, char** argv)
         return code;
     if (is_store) {
         if (o.no_cull || o.per_patch) {
-            fprintf(stderr,
-                    "terrapatch export: %s is a store: --no-cull and --per-patch apply "
-                    "to a DEM only\n",
-                    o.path);
+            tp_cli_error("%s is a store: --no-cull and --per-patch apply "
+                         "to a DEM only",
+                         o.path);
             return TP_EXIT_USAGE;
         }
         tp_store_export_request r = {
@@ -285,8 +279,8 @@ int tp_cli_export(int argc, char** argv)
     }
     int tin = o.mode == MODE_MAX_ERROR && o.mesh != MESH_PATCHES;
     if (tin && o.per_patch) {
-        fprintf(stderr, "terrapatch export: --per-patch needs patches: add --mesh patches (a "
-                        "TIN has none)\n");
+        tp_cli_error("--per-patch needs patches: add --mesh patches (a "
+                     "TIN has none)");
         return TP_EXIT_USAGE;
     }
     tp_scene sc;
@@ -299,7 +293,7 @@ int tp_cli_export(int argc, char** argv)
     tp_selection* sel = NULL;
     tp_error err;
     if (tp_selection_create(sc.terrain, &sel, &err) != TP_OK) {
-        fprintf(stderr, "terrapatch: %s: %s\n", o.path, err.message);
+        tp_cli_error("%s: %s", o.path, err.message);
         tp_scene_free(&sc);
         return TP_EXIT_FAILURE;
     }
@@ -315,14 +309,13 @@ int tp_cli_export(int argc, char** argv)
     } else if (o.mode == MODE_MAX_ERROR) {
         double floor_m = sc.info.quant_max_error_m;
         if (o.max_error_m < floor_m) {
-            fprintf(stderr,
-                    "terrapatch export: --max-error %g m is below the quantisation error of this "
-                    "DEM (%g m, half of its %g m height step at most)\n",
-                    o.max_error_m, floor_m, sc.info.height_step_m);
+            tp_cli_error("--max-error %g m is below the quantisation error of this "
+                         "DEM (%g m, half of its %g m height step at most)",
+                         o.max_error_m, floor_m, sc.info.height_step_m);
             code = TP_EXIT_USAGE;
         } else {
             if (tp_select_max_error(&sc, sel, o.max_error_m, &err) != TP_OK) {
-                fprintf(stderr, "terrapatch export: %s\n", err.message);
+                tp_cli_error("%s", err.message);
                 code = TP_EXIT_FAILURE;
             }
             eo.include_culled = 1;
@@ -333,7 +326,7 @@ int tp_cli_export(int argc, char** argv)
         if (!tp_view_setup_camera(&sc, &o.vs, &cam, "export"))
             code = TP_EXIT_FAILURE;
         if (code == TP_EXIT_OK && tp_selection_update(sel, &cam, &o.vs.lod, &err) != TP_OK) {
-            fprintf(stderr, "terrapatch export: %s\n", err.message);
+            tp_cli_error("%s", err.message);
             code = TP_EXIT_USAGE;
         }
         eo.include_culled = o.no_cull;
@@ -354,7 +347,7 @@ int tp_cli_export(int argc, char** argv)
             if (tp_interrupted()) { /* nothing written, the temporary file removed */
                 code = tp_cli_interrupted();
             } else {
-                fprintf(stderr, "terrapatch: %s\n", err.message);
+                tp_cli_error("%s", err.message);
                 code = TP_EXIT_FAILURE;
             }
         } else {

@@ -53,20 +53,20 @@ typedef struct store_export {
 static int fail(store_export* x, const char* what)
 {
     if (strstr(what, x->r->store_path)) /* the store's messages name the file */
-        fprintf(stderr, "terrapatch: %s\n", what);
+        tp_cli_error("%s", what);
     else
-        fprintf(stderr, "terrapatch: %s: %s\n", x->r->store_path, what);
+        tp_cli_error("%s: %s", x->r->store_path, what);
     return TP_EXIT_FAILURE;
 }
 
 static int too_many(store_export* x, size_t tris, const char* how)
 {
-    fprintf(stderr,
-            "terrapatch export: %s: %s %zu triangles, over the export limit of %zu (%s); "
-            "export a coarser mesh: --max-error M, or a camera (--camera/--camera-geo) in error "
-            "or distance mode\n",
-            x->r->store_path, how, tris, TP_STORE_EXPORT_MAX_TRIANGLES,
-            "TP_STORE_EXPORT_MAX_TRIANGLES, app/export/store_export.h");
+    tp_cli_error(
+        "%s: %s %zu triangles, over the export limit of %zu (%s); "
+        "export a coarser mesh: --max-error M, or a camera (--camera/--camera-geo) in error "
+        "or distance mode",
+        x->r->store_path, how, tris, TP_STORE_EXPORT_MAX_TRIANGLES,
+        "TP_STORE_EXPORT_MAX_TRIANGLES, app/export/store_export.h");
     return TP_EXIT_FAILURE; /* as the DEM path's --full over the memory available */
 }
 
@@ -494,13 +494,12 @@ static int write_mesh(store_export* x, mesh_build* m, const char* camera_text,
 {
     const tp_store_header* h = &x->sc.info.header;
     if (m->tris == 0) {
-        fprintf(stderr, "terrapatch: %s: nothing to export (no drawn triangle in the cut)\n",
-                x->r->store_path);
+        tp_cli_error("%s: nothing to export (no drawn triangle in the cut)", x->r->store_path);
         return TP_EXIT_FAILURE;
     }
     tp_error err;
     if (tp_mesh_check_size(x->r->format, m->points, m->tris, &err) != TP_OK) {
-        fprintf(stderr, "terrapatch: %s: %s\n", x->r->out, err.message);
+        tp_cli_error("%s: %s", x->r->out, err.message);
         return TP_EXIT_FAILURE;
     }
     double* xyz = malloc(3 * m->points * sizeof *xyz);
@@ -548,7 +547,7 @@ static int write_mesh(store_export* x, mesh_build* m, const char* camera_text,
     if (st != TP_OK) {
         if (tp_interrupted())
             return tp_cli_interrupted();
-        fprintf(stderr, "terrapatch: %s\n", err.message);
+        tp_cli_error("%s", err.message);
         return TP_EXIT_FAILURE;
     }
     double mx = 0;
@@ -642,10 +641,9 @@ int tp_export_store(const tp_store_export_request* r)
         samples = x.tin.samples;
     } else if (r->mode == TP_STORE_EXPORT_MAX_ERROR) {
         if (r->max_error_m < x.quant_m) {
-            fprintf(stderr,
-                    "terrapatch export: --max-error %g m is below the quantisation error of this "
-                    "store (%g m, half of its %g m height step at most)\n",
-                    r->max_error_m, x.quant_m, x.step_m);
+            tp_cli_error("--max-error %g m is below the quantisation error of this "
+                         "store (%g m, half of its %g m height step at most)",
+                         r->max_error_m, x.quant_m, x.step_m);
             code = TP_EXIT_USAGE;
             goto done;
         }

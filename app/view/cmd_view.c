@@ -427,67 +427,62 @@ static int parse_options(int argc, char** argv, view_options* o)
         case OPT_SAVE_BOOKMARK: o->save_bookmark = optarg; break;
         case OPT_BOOKMARKS: o->bookmarks_path = optarg; break;
         case 'h': print_help(); return tp_cli_finish(TP_EXIT_OK);
-        case ':':
-            fprintf(stderr, "terrapatch view: missing value for %s\n", argv[optind - 1]);
-            return TP_EXIT_USAGE;
+        case ':': tp_cli_error("missing value for %s", argv[optind - 1]); return TP_EXIT_USAGE;
         default:
-            fprintf(stderr, "terrapatch view: unknown option '%s' (see 'terrapatch view --help')\n",
-                    argv[optind - 1]);
+            tp_cli_error("unknown option '%s' (see 'terrapatch view --help')", argv[optind - 1]);
             return TP_EXIT_USAGE;
         }
     }
     if (argc - optind > 1) {
-        fprintf(stderr, "terrapatch view: expected one DEM, got extra argument '%s'\n",
-                argv[optind + 1]);
+        tp_cli_error("expected one DEM, got extra argument '%s'", argv[optind + 1]);
         return TP_EXIT_USAGE;
     }
     o->path = optind < argc ? argv[optind] : sample_scene();
     if (o->bookmark && o->vs.has_camera) {
-        fprintf(stderr, "terrapatch view: --bookmark and --camera/--camera-geo both give the "
-                        "start view: give one\n");
+        tp_cli_error("--bookmark and --camera/--camera-geo both give the "
+                     "start view: give one");
         return TP_EXIT_USAGE;
     }
     if (tp_view_setup_check(&o->vs, "view") < 0)
         return TP_EXIT_USAGE;
     if (o->vs.pgm_grid_count && !o->vs.pgm) {
-        fprintf(stderr, "terrapatch view: --pgm-grid needs --renderer pgm\n");
+        tp_cli_error("--pgm-grid needs --renderer pgm");
         return TP_EXIT_USAGE;
     }
     if (o->vs.pgm_grid_count > 1) {
-        fprintf(stderr, "terrapatch view: --pgm-grid: one grid for view (several are for "
-                        "bench)\n");
+        tp_cli_error("--pgm-grid: one grid for view (several are for "
+                     "bench)");
         return TP_EXIT_USAGE;
     }
     if (o->vs.pgm && o->imagery) {
-        fprintf(stderr, "terrapatch view: --renderer pgm drapes no --imagery yet (hillshade "
-                        "only)\n");
+        tp_cli_error("--renderer pgm drapes no --imagery yet (hillshade "
+                     "only)");
         return TP_EXIT_USAGE;
     }
     if (o->vs.pgm && o->texture) {
-        fprintf(stderr, "terrapatch view: --renderer pgm drapes no --texture yet (hillshade "
-                        "only)\n");
+        tp_cli_error("--renderer pgm drapes no --texture yet (hillshade "
+                     "only)");
         return TP_EXIT_USAGE;
     }
     if (o->vs.pgm && o->render.exaggeration != 1) {
-        fprintf(stderr, "terrapatch view: --renderer pgm draws the heights as they are: no "
-                        "--exaggeration\n");
+        tp_cli_error("--renderer pgm draws the heights as they are: no "
+                     "--exaggeration");
         return TP_EXIT_USAGE;
     }
     if (o->headless && !o->screenshot && !o->stats_json && !o->pick_count && !o->has_measure &&
         !o->save_bookmark) {
-        fprintf(stderr, "terrapatch view: --headless draws offscreen and shows nothing: give "
-                        "--screenshot FILE.png (or --stats-json FILE, --pick X,Y) for what to "
-                        "keep (see 'terrapatch view --help')\n");
+        tp_cli_error("--headless draws offscreen and shows nothing: give "
+                     "--screenshot FILE.png (or --stats-json FILE, --pick X,Y) for what to "
+                     "keep (see 'terrapatch view --help')");
         return TP_EXIT_USAGE;
     }
     if (!o->sun_date != !o->sun_time) {
-        fprintf(stderr, "terrapatch view: --sun-date and --sun-time go together: give both\n");
+        tp_cli_error("--sun-date and --sun-time go together: give both");
         return TP_EXIT_USAGE;
     }
     char why[160];
     if (o->sun_date && !tp_sun_time_parse(o->sun_date, o->sun_time, &o->sun_when, why, sizeof why)) {
-        fprintf(stderr, "terrapatch view: --sun-date %s --sun-time %s: %s\n", o->sun_date,
-                o->sun_time, why);
+        tp_cli_error("--sun-date %s --sun-time %s: %s", o->sun_date, o->sun_time, why);
         return TP_EXIT_USAGE;
     }
     return -1;
@@ -501,17 +496,18 @@ static void warn_if_empty(const tp_view_scene* v, const frame_result* fr)
     const tp_scene* sc = v->dem;
     if (sc ? sc->info.valid_samples + sc->info.filled_samples < 4
            : v->store->info.header.valid_samples < 4)
-        fprintf(stderr, "terrapatch view: warning: %s: the frame shows no terrain: the DEM has no "
-                        "2x2 block of valid samples to draw a triangle from\n", v->path);
+        tp_cli_warning("%s: the frame shows no terrain: the DEM has no "
+                       "2x2 block of valid samples to draw a triangle from",
+                       v->path);
     else if (fr->core.visible_patches > 0)
-        fprintf(stderr, "terrapatch view: warning: %s: the frame shows no terrain: the %d %s "
-                        "in view hold only nodata or padding (the camera may be inside or under "
-                        "the surface)\n", v->path, fr->core.visible_patches,
-                fr->store ? "nodes" : "patches");
+        tp_cli_warning("%s: the frame shows no terrain: the %d %s "
+                       "in view hold only nodata or padding (the camera may be inside or under "
+                       "the surface)",
+                       v->path, fr->core.visible_patches, fr->store ? "nodes" : "patches");
     else
-        fprintf(stderr, "terrapatch view: warning: %s: the frame shows no terrain: the camera "
-                        "looks away from the DEM (all %d %s culled; try without --camera)\n",
-                v->path, fr->core.culled_patches, fr->store ? "nodes" : "patches");
+        tp_cli_warning("%s: the frame shows no terrain: the camera "
+                       "looks away from the DEM (all %d %s culled; try without --camera)",
+                       v->path, fr->core.culled_patches, fr->store ? "nodes" : "patches");
 }
 
 /* Says on stderr when a camera given on the command line (--camera, --camera-geo, --bookmark)
@@ -526,11 +522,10 @@ static int warn_if_below_ground(tp_view_scene* v, const tp_camera* cam, const vi
     const double ground = tp_view_scene_ground_height(v, x, y) * o->render.exaggeration;
     if (!(cam->position[2] < ground))
         return 0; /* above it, or off the DEM or over a void (NaN) */
-    fprintf(stderr,
-            "terrapatch view: warning: %s: the camera is below the ground: at %.1f m "
-            "(E %.1f N %.1f), where the ground is %.1f m%s; raise its height\n",
-            v->path, cam->position[2], cam->position[0], cam->position[1], ground,
-            o->render.exaggeration != 1 ? " as drawn" : "");
+    tp_cli_warning("%s: the camera is below the ground: at %.1f m "
+                   "(E %.1f N %.1f), where the ground is %.1f m%s; raise its height",
+                   v->path, cam->position[2], cam->position[0], cam->position[1], ground,
+                   o->render.exaggeration != 1 ? " as drawn" : "");
     return 1;
 }
 
@@ -590,7 +585,7 @@ static int run_headless(tp_view_scene* v, tp_gl_context* ctx, tp_renderer* r,
         if (measured > 0) {
             printf("%s\n", measure_line);
         } else {
-            fprintf(stderr, "terrapatch view: --measure: %s\n", measure_line);
+            tp_cli_error("--measure: %s", measure_line);
             code = TP_EXIT_FAILURE;
         }
     }
@@ -631,21 +626,22 @@ static int take_georef(tp_view_scene* v, tp_store_scene* st)
 static int load_layers(tp_view_scene* v, view_options* o, tp_view_layers* layers)
 {
     if (!v->store) {
-        fprintf(stderr, "terrapatch view: --overlay and --contours need a georeferenced DEM or a "
-                        "store (%s is drawn whole: a heightmap image, --fit, --texture or "
-                        "--whole)\n", o->path);
+        tp_cli_error("--overlay and --contours need a georeferenced DEM or a "
+                     "store (%s is drawn whole: a heightmap image, --fit, --texture or "
+                     "--whole)",
+                     o->path);
         return TP_EXIT_FAILURE;
     }
     tp_error err = {{0}};
     if (!o->ground && tp_ground_create(v->store, NULL, &o->ground, &err) != TP_OK) {
-        fprintf(stderr, "terrapatch view: %s: %s\n", o->path, err.message);
+        tp_cli_error("%s: %s", o->path, err.message);
         return TP_EXIT_FAILURE;
     }
     o->layers = layers;
     for (int i = 0; i < o->overlay_count; i++) {
         char msg[1200];
         if (!tp_view_layers_add_overlay(layers, o->ground, o->overlays[i], msg, sizeof msg)) {
-            fprintf(stderr, "terrapatch view: --overlay %s\n", msg);
+            tp_cli_error("--overlay %s", msg);
             return TP_EXIT_FAILURE;
         }
     }
@@ -706,7 +702,7 @@ static int run_view(tp_view_scene* v, view_options* o, tp_render_grid_desc* gd,
         char line[1024];
         if (!take_georef(v, st) ||
             !tp_view_bookmark_save(v, o, &cam, o->save_bookmark, line, sizeof line)) {
-            fprintf(stderr, "terrapatch view: --save-bookmark: %s\n", line);
+            tp_cli_error("--save-bookmark: %s", line);
             return TP_EXIT_FAILURE;
         }
         printf("%s\n", line);
@@ -717,13 +713,13 @@ static int run_view(tp_view_scene* v, view_options* o, tp_render_grid_desc* gd,
                          : tp_gl_context_create_window(o->vs.w, o->vs.h, "terrapatch", &ctx, msg,
                                                        sizeof msg);
     if (!ok) {
-        fprintf(stderr, "terrapatch view: %s\n", msg);
+        tp_cli_error("%s", msg);
         return TP_EXIT_FAILURE;
     }
     tp_renderer* r = v->dem ? tp_renderer_create(v->dem->terrain, msg, sizeof msg)
                             : tp_renderer_create_desc(gd, msg, sizeof msg);
     if (!r) {
-        fprintf(stderr, "terrapatch view: %s\n", msg);
+        tp_cli_error("%s", msg);
         tp_gl_context_destroy(ctx);
         return TP_EXIT_FAILURE;
     }
@@ -740,11 +736,11 @@ static int run_view(tp_view_scene* v, view_options* o, tp_render_grid_desc* gd,
         /* a window reads on a loader thread (no frame waits for a jump's refill); headless
          * frames read at once, so that each frame is the camera's own */
         if (pgm_clip && !o->headless && !tp_pgm_clipmap_set_async(pgm_clip, msg, sizeof msg))
-            fprintf(stderr, "terrapatch view: %s (reading on the render thread)\n", msg);
+            tp_cli_error("%s (reading on the render thread)", msg);
         if (pgm_clip)
             v->pgm = tp_pgm_renderer_create_clipmap(pgm_clip, cols, rows, msg, sizeof msg);
         if (!v->pgm) {
-            fprintf(stderr, "terrapatch view: %s: %s\n", st->path, msg);
+            tp_cli_error("%s: %s", st->path, msg);
             tp_pgm_clipmap_destroy(pgm_clip);
             tp_renderer_destroy(r);
             tp_gl_context_destroy(ctx);
@@ -762,7 +758,7 @@ static int run_view(tp_view_scene* v, view_options* o, tp_render_grid_desc* gd,
             v->pgm = tp_pgm_renderer_create(&pyr, valid, cols, rows, msg, sizeof msg);
         free(valid); /* uploaded */
         if (!v->pgm) {
-            fprintf(stderr, "terrapatch view: %s\n", msg);
+            tp_cli_error("%s", msg);
             tp_pgm_pyramid_free(&pyr);
             tp_renderer_destroy(r);
             tp_gl_context_destroy(ctx);
@@ -777,8 +773,9 @@ static int run_view(tp_view_scene* v, view_options* o, tp_render_grid_desc* gd,
     if (code == TP_EXIT_OK && o->texture && !tp_view_load_texture(v->dem, r, o->texture))
         code = TP_EXIT_FAILURE;
     if (code == TP_EXIT_OK && o->imagery && !st) {
-        fprintf(stderr, "terrapatch view: --imagery drapes stores; %s is drawn whole (use "
-                        "--texture for an image over a DEM drawn whole)\n", v->path);
+        tp_cli_error("--imagery drapes stores; %s is drawn whole (use "
+                     "--texture for an image over a DEM drawn whole)",
+                     v->path);
         code = TP_EXIT_USAGE;
     }
     if (code == TP_EXIT_OK && st && !open_imagery(v, o, st))
@@ -822,12 +819,12 @@ static int view_dem(view_options* o)
     tp_selection* sel = NULL;
     tp_error err;
     if (tp_selection_create(sc.terrain, &sel, &err) != TP_OK) {
-        fprintf(stderr, "terrapatch view: %s\n", err.message);
+        tp_cli_error("%s", err.message);
         tp_scene_free(&sc);
         return TP_EXIT_FAILURE;
     }
     if (o->render.stitch_add && tp_terrain_prepare_stitch_add(sc.terrain, &err) != TP_OK) {
-        fprintf(stderr, "terrapatch view: %s\n", err.message);
+        tp_cli_error("%s", err.message);
         tp_selection_destroy(sel);
         tp_scene_free(&sc);
         return TP_EXIT_FAILURE;
@@ -865,10 +862,10 @@ static int view_store(const char* path, view_options* o)
     double leaf_m = (double)(1 << g->n) * fmin(fabs(v.gt[1]), fabs(v.gt[5]));
     if (o->vs.lod.mode == TP_LOD_DISTANCE && o->vs.lod.maxdist_m > 0 &&
         o->vs.lod.maxdist_m < leaf_m)
-        fprintf(stderr,
-                "terrapatch view: warning: --maxdist %g m is less than one patch width (%.0f m): "
-                "every node farther than %g m is drawn at its coarsest (distances are in "
-                "metres)\n", o->vs.lod.maxdist_m, leaf_m, o->vs.lod.maxdist_m);
+        tp_cli_warning("--maxdist %g m is less than one patch width (%.0f m): "
+                       "every node farther than %g m is drawn at its coarsest (distances are in "
+                       "metres)",
+                       o->vs.lod.maxdist_m, leaf_m, o->vs.lod.maxdist_m);
     tp_render_grid_desc gd = {.n = g->n, .width = g->width, .height = g->height,
                               .min_height_m = v.min_height_m, .max_height_m = v.max_height_m,
                               .pool_budget_bytes = o->gpu_memory_mb << 20};
@@ -888,7 +885,7 @@ int tp_cli_view(int argc, char** argv)
     /* Every output can be written, or nothing is rendered and nothing written. */
     tp_error err;
     if (o.screenshot && tp_image_output_check(o.screenshot, &err) != TP_OK) {
-        fprintf(stderr, "terrapatch: %s\n", err.message);
+        tp_cli_error("%s", err.message);
         return TP_EXIT_FAILURE;
     }
     if (o.stats_json && !tp_atomic_check_dir(o.stats_json))
@@ -898,8 +895,9 @@ int tp_cli_view(int argc, char** argv)
         !tp_view_bookmarks_check(&o))
         return TP_EXIT_FAILURE;
     if (o.vs.pgm_window && (!o.vs.pgm || !tp_is_store_path(o.path))) {
-        fprintf(stderr, "terrapatch view: --pgm-window is for --renderer pgm over a store (%s is "
-                        "%s)\n", o.path, o.vs.pgm ? "a DEM, drawn whole" : "drawn by patches");
+        tp_cli_error("--pgm-window is for --renderer pgm over a store (%s is "
+                     "%s)",
+                     o.path, o.vs.pgm ? "a DEM, drawn whole" : "drawn by patches");
         return TP_EXIT_USAGE;
     }
     /* a store: its clipmap (pgm_clip.h); a DEM drawn whole: its render grid is the pyramid's
@@ -911,10 +909,9 @@ int tp_cli_view(int argc, char** argv)
         return code;
     if (is_store) {
         if (o.texture || o.old_path) {
-            fprintf(stderr,
-                    "terrapatch view: %s is a store: --texture and --whole apply to a "
-                    "DEM only\n",
-                    o.path);
+            tp_cli_error("%s is a store: --texture and --whole apply to a "
+                         "DEM only",
+                         o.path);
             return TP_EXIT_USAGE;
         }
         code = view_store(o.path, &o);

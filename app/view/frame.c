@@ -3,11 +3,12 @@
 #include "view.h"
 
 #include "atomic_file.h"
+#include "cli.h"
 #include "imagery_view.h"
+#include "json.h"
 #include "pgm_render.h"
 #include "pick.h"
 #include "view_shadows.h"
-#include "json.h"
 
 #include <epoxy/gl.h>
 
@@ -210,7 +211,7 @@ int tp_view_screenshot(tp_gl_context* ctx, const char* path)
     tp_gl_context_size(ctx, &w, &h);
     uint8_t* px = malloc((size_t)w * h * 4);
     if (!px) {
-        fprintf(stderr, "terrapatch: %s: out of memory\n", path);
+        tp_cli_error("%s: out of memory", path);
         return 0;
     }
     tp_gl_context_read_rgba(ctx, px);
@@ -219,7 +220,7 @@ int tp_view_screenshot(tp_gl_context* ctx, const char* path)
     free(px);
     if (s != TP_OK) {
         if (!tp_interrupted()) /* else main says "interrupted" */
-            fprintf(stderr, "terrapatch: %s\n", err.message);
+            tp_cli_error("%s", err.message);
         return 0;
     }
     return 1;
@@ -232,7 +233,7 @@ int tp_view_load_texture(const tp_scene* sc, tp_renderer* r, const char* path)
     tp_texture* tex = NULL;
     tp_error err;
     if (tp_texture_build(path, sc->grid, max < 8192 ? max : 8192, &tex, &err) != TP_OK) {
-        fprintf(stderr, "terrapatch: %s\n", err.message);
+        tp_cli_error("%s", err.message);
         return 0;
     }
     /* Tiled-grid sample x sits at render-grid x * ratio (1 unless the fit resampled), whose
@@ -244,8 +245,7 @@ int tp_view_load_texture(const tp_scene* sc, tp_renderer* r, const char* path)
     float offset[2] = {(float)(0.5 / sc->grid->width), (float)(0.5 / sc->grid->height)};
     int ok = tp_renderer_set_texture(r, tex->rgba, tex->width, tex->height, scale, offset);
     if (!ok)
-        fprintf(stderr, "terrapatch: %s: the GPU cannot hold a %dx%d texture\n", path, tex->width,
-                tex->height);
+        tp_cli_error("%s: the GPU cannot hold a %dx%d texture", path, tex->width, tex->height);
     tp_texture_destroy(tex);
     return ok;
 }

@@ -2,6 +2,7 @@
 #define _POSIX_C_SOURCE 200809L
 #include "imagery_view.h"
 
+#include "cli.h"
 #include "pyramid_view.h"
 #include "tp_imagery.h"
 
@@ -38,7 +39,7 @@ int tp_view_imagery_open(const char* path, const tp_store_scene* st, tp_imagery_
 {
     tp_view_imagery* vi = calloc(1, sizeof *vi);
     if (!vi) {
-        fprintf(stderr, "terrapatch: %s: out of memory\n", path);
+        tp_cli_error("%s: out of memory", path);
         return 0;
     }
     snprintf(vi->path, sizeof vi->path, "%s", path);
@@ -62,7 +63,7 @@ int tp_view_imagery_open(const char* path, const tp_store_scene* st, tp_imagery_
         vi->clip = tp_clipmap_create(&src, in.geotransform, o, msg, sizeof msg);
     }
     if (!vi->clip && !vi->blocks) {
-        fprintf(stderr, "terrapatch: %s: %s\n", path, msg);
+        tp_cli_error("%s: %s", path, msg);
         tp_view_imagery_close(vi);
         return 0;
     }
@@ -99,5 +100,5 @@ void tp_view_imagery_report_failures(tp_view_imagery* vi)
     const char* f;
     while (vi && (f = vi->blocks ? tp_imagery_blocks_take_failure(vi->blocks)
                                  : tp_clipmap_take_failure(vi->clip)))
-        fprintf(stderr, "terrapatch: %s (drawn without imagery there)\n", f);
+        tp_cli_error("%s (drawn without imagery there)", f);
 }

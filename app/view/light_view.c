@@ -2,6 +2,7 @@
 #define _POSIX_C_SOURCE 200809L
 #include "light_view.h"
 
+#include "cli.h"
 #include "pyramid_view.h"
 #include "tp_imagery.h"
 
@@ -64,7 +65,7 @@ int tp_view_light_open(const char* path, const tp_store_scene* st, const tp_clip
         l = tp_view_light_create(&src, in.geotransform, in.time_first_s, in.time_last_s, o, msg,
                                  sizeof msg);
     if (!l) {
-        fprintf(stderr, "terrapatch: %s: %s\n", path, msg);
+        tp_cli_error("%s: %s", path, msg);
         tp_imagery_close(im);
         return 0;
     }
@@ -113,5 +114,5 @@ void tp_view_light_report_failures(tp_view_light* l)
 {
     const char* f;
     while (l && (f = tp_clipmap_take_failure(l->clip)))
-        fprintf(stderr, "terrapatch: %s (its posts drawn in shadow there)\n", f);
+        tp_cli_error("%s (its posts drawn in shadow there)", f);
 }

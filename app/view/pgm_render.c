@@ -2,6 +2,7 @@
 #define _POSIX_C_SOURCE 200112L
 #include "pgm_render.h"
 
+#include "cli.h"
 #include "gl_context.h"
 #include "pgm_clip.h"
 
@@ -504,7 +505,7 @@ void tp_pgm_renderer_draw(tp_pgm_renderer* r, const tp_camera* cam, const tp_ren
         char msg[600];
         if (!tp_pgm_clipmap_update(r->clip, eye_x, eye_y, &cs, msg, sizeof msg) &&
             !r->clip_error_told) {
-            fprintf(stderr, "terrapatch: %s (those posts are not drawn)\n", msg);
+            tp_cli_error("%s (those posts are not drawn)", msg);
             r->clip_error_told = 1;
         }
         stats->fill_ms = cs.fill_ms;

@@ -2,6 +2,8 @@
 #define _POSIX_C_SOURCE 200809L
 #include "pyramid_view.h"
 
+#include "cli.h"
+
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -74,21 +76,19 @@ tp_imagery* tp_view_pyramid_open(const char* path, const tp_store_scene* st, int
     tp_imagery* im = NULL;
     tp_error err;
     if (tp_imagery_open(path, &im, &err) != TP_OK) {
-        fprintf(stderr, "terrapatch: %s\n", err.message);
+        tp_cli_error("%s", err.message);
         return NULL;
     }
     tp_imagery_get_info(im, info);
     const tp_tree_geometry* g = tp_tree_get_geometry(st->tree);
     if (info->kind != kind) {
-        fprintf(stderr, "terrapatch: %s: is %s, not %s\n", path, kind_name(info->kind),
-                kind_name(kind));
+        tp_cli_error("%s: is %s, not %s", path, kind_name(info->kind), kind_name(kind));
     } else if (!same_grid(info, st)) {
-        fprintf(stderr,
-                "terrapatch: %s: made for another grid (%dx%d posts from %.3f, %.3f; the store's "
-                "is %dx%d from %.3f, %.3f): build it again with %s\n",
-                path, info->grid_width, info->grid_height, info->grid_geotransform[0],
-                info->grid_geotransform[3], g->width, g->height, st->tree_info.geotransform[0],
-                st->tree_info.geotransform[3], remake);
+        tp_cli_error("%s: made for another grid (%dx%d posts from %.3f, %.3f; the store's "
+                     "is %dx%d from %.3f, %.3f): build it again with %s",
+                     path, info->grid_width, info->grid_height, info->grid_geotransform[0],
+                     info->grid_geotransform[3], g->width, g->height, st->tree_info.geotransform[0],
+                     st->tree_info.geotransform[3], remake);
     } else {
         return im;
     }

@@ -3,6 +3,7 @@
 
 #include "bookmarks.h"
 #include "camera_pose.h"
+#include "cli.h"
 
 #include <stdio.h>
 #include <stdlib.h>
@@ -24,7 +25,7 @@ int tp_view_bookmarks_check(const view_options* o)
         return 1; /* no file at all: said when one is asked for */
     if (tp_bookmarks_check(path, msg, sizeof msg))
         return 1;
-    fprintf(stderr, "terrapatch view: bookmarks: %s\n", msg);
+    tp_cli_error("bookmarks: %s", msg);
     return 0;
 }
 
@@ -42,8 +43,9 @@ static int to_camera(const tp_view_scene* v, const view_options* o, const tp_boo
                      int w, int h, tp_camera* cam)
 {
     if (bm->geo && !tp_georef_has_geo(v->georef)) {
-        fprintf(stderr, "terrapatch view: bookmark '%s' is --camera-geo, but %s has no geographic "
-                        "position\n", bm->name, v->path);
+        tp_cli_error("bookmark '%s' is --camera-geo, but %s has no geographic "
+                     "position",
+                     bm->name, v->path);
         return 0;
     }
     return tp_camera_from_option_georef(v->georef, bm->geo, bm->v, o->vs.fov_deg, w, h, cam,
@@ -56,7 +58,7 @@ int tp_view_bookmark_camera(const tp_view_scene* v, const view_options* o, const
     char path[4096], msg[1024];
     tp_bookmarks b;
     if (!load(o, path, sizeof path, &b, msg, sizeof msg)) {
-        fprintf(stderr, "terrapatch view: --bookmark: %s\n", msg);
+        tp_cli_error("--bookmark: %s", msg);
         return 0;
     }
     const tp_bookmark* bm = tp_bookmarks_find(&b, name);
@@ -64,8 +66,7 @@ int tp_view_bookmark_camera(const tp_view_scene* v, const view_options* o, const
     if (!bm) {
         char names[2048];
         tp_bookmarks_names(&b, names, sizeof names);
-        fprintf(stderr, "terrapatch view: --bookmark: no bookmark '%s' in %s (known: %s)\n", name,
-                path, names);
+        tp_cli_error("--bookmark: no bookmark '%s' in %s (known: %s)", name, path, names);
     } else {
         ok = to_camera(v, o, bm, o->vs.w, o->vs.h, cam);
     }

@@ -3,6 +3,7 @@
 #include "view_scene.h"
 
 #include "bench.h" /* tp_bench_stitch_add_error: the geometry --stitch add draws */
+#include "cli.h"
 #include "pgm_render.h"
 
 #include <math.h>
@@ -42,7 +43,7 @@ int tp_view_scene_from_store(tp_view_scene* v, tp_store_scene* st)
     tp_error err = {{0}};
     if (tp_cut_create(st->tree, &v->cut, &err) != TP_OK ||
         tp_cut_create(st->tree, &v->prefetch, &err) != TP_OK) {
-        fprintf(stderr, "terrapatch: %s: %s\n", st->path, err.message);
+        tp_cli_error("%s: %s", st->path, err.message);
         tp_view_scene_release(v);
         return 0;
     }
@@ -141,7 +142,7 @@ void tp_view_scene_measure(const tp_view_scene* v, const tp_camera* cam, double*
         if (tp_pgm_renderer_measure(v->pgm, cam, PGM_MEASURE_MAX_POSTS, &e, msg, sizeof msg) !=
             TP_OK) {
             if (strcmp(msg, told))
-                fprintf(stderr, "terrapatch: %s\n", msg);
+                tp_cli_error("%s", msg);
             snprintf(told, sizeof told, "%s", msg);
             *max_px = *rms_px = NAN;
             return;
@@ -214,7 +215,7 @@ void tp_view_scene_report_failures(tp_view_scene* v)
         return;
     const char* m;
     while ((m = tp_stream_take_failure(v->store->stream)) != NULL) {
-        fprintf(stderr, "terrapatch: %s (drawing its ancestor instead)\n", m);
+        tp_cli_error("%s (drawing its ancestor instead)", m);
         v->failures++;
     }
 }

@@ -17,7 +17,7 @@ int tp_view_shadows_open(tp_view_scene* v, view_options* o, const tp_store_scene
     v->sun = &o->sun;
     v->shadow = shadow;
     if (o->light && !st) {
-        fprintf(stderr, "terrapatch view: --light shadows stores; %s is drawn whole\n", v->path);
+        tp_cli_error("--light shadows stores; %s is drawn whole", v->path);
         return TP_EXIT_USAGE;
     }
     if (!o->sun_date && !o->light)
@@ -47,18 +47,18 @@ int tp_view_shadows_open(tp_view_scene* v, view_options* o, const tp_store_scene
     double n = v->gt[3] + 0.5 * v->src_height * v->gt[5];
     char msg[512];
     if (!tp_view_sun_init(&o->sun, &when, v->georef, e, n, msg, sizeof msg)) {
-        fprintf(stderr, "terrapatch view: %s: %s\n", o->sun_date ? "--sun-date" : "--light", msg);
+        tp_cli_error("%s: %s", o->sun_date ? "--sun-date" : "--light", msg);
         return TP_EXIT_FAILURE;
     }
     tp_view_sun_apply(&o->sun, &o->render);
     tp_error gerr;
     if (st && !o->no_cast_shadows && !o->ground &&
         tp_ground_create(st, NULL, &o->ground, &gerr) != TP_OK)
-        fprintf(stderr, "terrapatch view: no cast shadows: %s\n", gerr.message);
+        tp_cli_error("no cast shadows: %s", gerr.message);
     v->shadow_ground = o->no_cast_shadows ? NULL : o->ground;
     char line[256];
     tp_view_sun_text(&o->sun, line, sizeof line);
-    fprintf(stderr, "terrapatch view: %s\n", line);
+    tp_cli_note("%s", line);
     if (v->light) {
         double t0, t1;
         int maps;
@@ -66,10 +66,9 @@ int tp_view_shadows_open(tp_view_scene* v, view_options* o, const tp_store_scene
         tp_view_light_day(v->light, &t0, &t1, &maps);
         tp_sun_time_format(t0, o->sun.zone_offset_s, a, sizeof a);
         tp_sun_time_format(t1, o->sun.zone_offset_s, b, sizeof b);
-        fprintf(stderr,
-                "terrapatch view: cast shadows from the day's light map %s (%s .. %s, "
-                "%d sun positions)\n",
-                path, a, b, maps);
+        tp_cli_note("cast shadows from the day's light map %s (%s .. %s, "
+                    "%d sun positions)",
+                    path, a, b, maps);
     }
     return TP_EXIT_OK;
 }
@@ -87,15 +86,13 @@ static void say_outside(tp_view_scene* v, int outside)
     tp_sun_time_format(t0, v->sun->zone_offset_s, a, sizeof a);
     tp_sun_time_format(t1, v->sun->zone_offset_s, b, sizeof b);
     if (outside)
-        fprintf(stderr,
-                "terrapatch view: %s lies outside the light map's day (%s .. %s): cast "
-                "shadows computed over the %d x %d posts around the view instead\n",
-                now, a, b, TP_VIEW_SHADOW_POSTS, TP_VIEW_SHADOW_POSTS);
+        tp_cli_note("%s lies outside the light map's day (%s .. %s): cast "
+                    "shadows computed over the %d x %d posts around the view instead",
+                    now, a, b, TP_VIEW_SHADOW_POSTS, TP_VIEW_SHADOW_POSTS);
     else
-        fprintf(stderr,
-                "terrapatch view: %s lies in the light map's day: cast shadows "
-                "streamed again\n",
-                now);
+        tp_cli_note("%s lies in the light map's day: cast shadows "
+                    "streamed again",
+                    now);
 }
 
 void tp_view_shadows_frame(tp_view_scene* v, tp_renderer* r, const tp_camera* cam,
@@ -127,7 +124,7 @@ void tp_view_shadows_frame(tp_view_scene* v, tp_renderer* r, const tp_camera* ca
     tp_view_scene_world_to_grid(v, p[0], p[1], &x, &y);
     char msg[600];
     if (!tp_view_shadow_update(v->shadow, v->shadow_ground, render, x, y, r, msg, sizeof msg)) {
-        fprintf(stderr, "terrapatch view: %s\n", msg);
+        tp_cli_error("%s", msg);
         return;
     }
     out->light_source = TP_VIEW_LIGHT_WINDOW;

@@ -104,7 +104,7 @@ static void export_view(window_state* s)
 {
     char name[64], cam_text[256], lod_text[96];
     if (!s->v->dem) {
-        fprintf(stderr, "terrapatch: Y: exporting the view's mesh is not available on a store yet\n");
+        tp_cli_error("Y: exporting the view's mesh is not available on a store yet");
         return;
     }
     snprintf(name, sizeof name, "terrapatch-view-%03d.vtp", s->exports++);
@@ -119,7 +119,7 @@ static void export_view(window_state* s)
                er.max_error_m);
         fflush(stdout);
     } else if (!tp_interrupted()) { /* else main says "interrupted" */
-        fprintf(stderr, "terrapatch: %s\n", err.message);
+        tp_cli_error("%s", err.message);
     }
 }
 
