@@ -15,4 +15,10 @@
  * option is the option as the command line names it ("-o", "--profile"). */
 int tp_cli_output_check(const char* cmd, const char* option, const char* path, tp_output_kind kind);
 
+/* The first half of tp_cli_output_check, for a parser: TP_EXIT_OK with *out (when not NULL) the
+ * format path is written in, else TP_EXIT_USAGE after the same line listing what cmd writes.
+ * The folder is not looked at. */
+int tp_cli_output_format(const char* cmd, const char* option, const char* path, tp_output_kind kind,
+                         tp_output_format* out);
+
 #endif /* TP_APP_OUTPUT_CHECK_H */

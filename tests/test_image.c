@@ -213,6 +213,96 @@ TEST(image_extensions_are_recognised)
     EXPECT_EQ_INT(0, tp_is_heightmap_image(NULL));
 }
 
+/* Screenshots (issue 29, 3.1): the format follows the extension through tp_output_format_for
+ * (TP_OUTPUT_SCREENSHOT), and every format it lists is written by tp_image_write_rgba and read
+ * back (the lossless ones pixel for pixel); an extension it does not list is refused before
+ * anything is encoded, whether OpenImageIO has a writer for it (.hdr, .ppm: three channels, so
+ * they failed only after the frame was drawn) or not (.xyz). */
+TEST(screenshot_formats_follow_the_extension)
+{
+    static const struct {
+        const char* ext;
+        const char* name;
+        int lossless;
+    } ok[] = {{"png", "PNG", 1},   {"PNG", "PNG", 1},    {"tif", "TIFF", 1}, {"tiff", "TIFF", 1},
+              {"jpg", "JPEG", 0},  {"jpeg", "JPEG", 0},  {"bmp", "BMP", 1},  {"tga", "Targa", 1},
+              {"webp", "WebP", 0}, {"exr", "OpenEXR", 1}};
+    enum { W = 37, H = 21 };
+    uint8_t px[W * H * 4];
+    for (int i = 0; i < W * H; i++) {
+        px[4 * i + 0] = (uint8_t)(i * 7), px[4 * i + 1] = (uint8_t)(i / W * 11);
+        px[4 * i + 2] = (uint8_t)(200 - i % W), px[4 * i + 3] = 255;
+    }
+    const char* dir = make_tmp_dir();
+    char path[600], list[512];
+    tp_output_formats(TP_OUTPUT_SCREENSHOT, list, sizeof list);
+    EXPECT_EQ_STR("PNG (.png), TIFF (.tif, .tiff), JPEG (.jpg, .jpeg), BMP (.bmp), Targa (.tga), "
+                  "WebP (.webp), OpenEXR (.exr)",
+                  list);
+    for (size_t k = 0; k < sizeof ok / sizeof ok[0]; k++) {
+        snprintf(path, sizeof path, "%s/shot.%s", dir, ok[k].ext);
+        tp_output_format f;
+        tp_error err = {0};
+        ASSERT_EQ_INT(TP_OK, tp_output_format_for(path, TP_OUTPUT_SCREENSHOT, &f, &err));
+        EXPECT_EQ_STR(ok[k].name, f.name);
+        EXPECT_EQ_INT(TP_OK, tp_image_output_check(path, &err));
+        if (tp_image_write_rgba(path, W, H, px, &err) != TP_OK)
+            FAIL("%s: %s", path, err.message);
+        int w = 0, h = 0;
+        uint8_t* back = NULL;
+        if (tp_image_read_rgba(path, &w, &h, &back, &err) != TP_OK)
+            FAIL("%s read back: %s", path, err.message);
+        EXPECT_EQ_INT(W, w);
+        EXPECT_EQ_INT(H, h);
+        if (ok[k].lossless) {
+            int differ = 0;
+            for (int i = 0; i < W * H * 4; i++)
+                differ += back[i] != px[i];
+            if (differ)
+                FAIL("%s: %d bytes differ from those written", path, differ);
+        }
+        free(back);
+    }
+    static const char* const refused[] = {"hdr", "ppm", "xyz", "jpe", "sgi"};
+    for (size_t k = 0; k < sizeof refused / sizeof refused[0]; k++) {
+        snprintf(path, sizeof path, "%s/refused.%s", dir, refused[k]);
+        tp_output_format f;
+        tp_error err = {0};
+        EXPECT_EQ_INT(TP_ERR_INVALID_ARG,
+                      tp_output_format_for(path, TP_OUTPUT_SCREENSHOT, &f, &err));
+        EXPECT_CONTAINS(err.message, "unknown extension");
+        EXPECT_EQ_INT(TP_ERR_INVALID_ARG, tp_image_output_check(path, &err));
+        EXPECT_EQ_INT(TP_ERR_INVALID_ARG, tp_image_write_rgba(path, W, H, px, &err));
+        EXPECT_CONTAINS(err.message, "pictures are written as PNG (.png), TIFF");
+        EXPECT_EQ_INT(-1, access(path, F_OK));
+    }
+}
+
+/* Meshes: export -o and the VTK writer take their format from the same decision. */
+TEST(mesh_formats_follow_the_extension)
+{
+    static const struct {
+        const char* path;
+        tp_mesh_format format;
+    } ok[] = {{"a.vtp", TP_MESH_VTP}, {"b.VTK", TP_MESH_VTK}, {"dir.x/c.vtm", TP_MESH_VTM}};
+    for (size_t k = 0; k < sizeof ok / sizeof ok[0]; k++) {
+        tp_output_format f;
+        tp_error err = {0};
+        ASSERT_EQ_INT(TP_OK, tp_output_format_for(ok[k].path, TP_OUTPUT_MESH, &f, &err));
+        EXPECT_EQ_INT(ok[k].format, f.mesh);
+    }
+    static const char* const refused[] = {"a.obj", "a.ply", "a.stl", "vtp", "a.vtu"};
+    for (size_t k = 0; k < sizeof refused / sizeof refused[0]; k++) {
+        tp_output_format f;
+        tp_error err = {0};
+        EXPECT_EQ_INT(TP_ERR_INVALID_ARG,
+                      tp_output_format_for(refused[k], TP_OUTPUT_MESH, &f, &err));
+    }
+    char list[256];
+    tp_output_formats(TP_OUTPUT_MESH, list, sizeof list);
+    EXPECT_EQ_STR("VTK XML PolyData (.vtp), legacy VTK (.vtk), VTK XML multiblock (.vtm)", list);
+}
+
 #define TESTS(X)                                                                                   \
     X(png_counts_are_raw_and_scaled)                                                               \
     X(png_matches_gdal_sample_for_sample)                                                          \
@@ -223,5 +313,7 @@ TEST(image_extensions_are_recognised)
     X(float_heightmap_nodata_is_not_a_height)                                                      \
     X(georeferenced_geotiff_is_refused_with_its_crs)                                               \
     X(georeferenced_hgt_is_refused_with_its_crs)                                                   \
-    X(image_extensions_are_recognised)
+    X(image_extensions_are_recognised)                                                             \
+    X(screenshot_formats_follow_the_extension)                                                     \
+    X(mesh_formats_follow_the_extension)
 TP_TEST_MAIN(TESTS)

@@ -7,6 +7,7 @@
 #include "camera_pose.h"
 #include "cli.h"
 #include "mesh_export.h"
+#include "output_check.h"
 #include "scene.h"
 #include "store_export.h"
 #include "store_scene.h"
@@ -106,12 +107,6 @@ static int bad(const char* opt, const char* expected, const char* got)
     return TP_EXIT_USAGE;
 }
 
-static int ends_with(const char* s, const char* ext)
-{
-    size_t a = strlen(s), b = strlen(ext);
-    return a > b && strcmp(s + a - b, ext) == 0;
-}
-
 static int parse_options(int argc, char** argv, export_options* o)
 {
     static const struct option longs[] = {
@@ -191,14 +186,10 @@ static int parse_options(int argc, char** argv, export_options* o)
         tp_cli_error("missing -o OUT (a .vtp, .vtk or .vtm file)");
         return TP_EXIT_USAGE;
     }
-    if (ends_with(o->out, ".vtp"))
-        o->format = TP_MESH_VTP;
-    else if (ends_with(o->out, ".vtk"))
-        o->format = TP_MESH_VTK;
-    else if (ends_with(o->out, ".vtm"))
-        o->format = TP_MESH_VTM;
-    else
-        return bad("-o", "a file name ending in .vtp, .vtk or .vtm", o->out);
+    tp_output_format of;
+    if (tp_cli_output_format("export", "-o", o->out, TP_OUTPUT_MESH, &of) != TP_EXIT_OK)
+        return TP_EXIT_USAGE;
+    o->format = of.mesh;
     if (o->per_patch && o->format != TP_MESH_VTM)
         return bad("--per-patch", "an output ending in .vtm", o->out);
     if (optind >= argc) {

@@ -18,6 +18,7 @@
 #include "hud.h"
 #include "hud_text.h"
 #include "layers.h"
+#include "output_check.h"
 #include "overlay.h"
 #include "pgm_clip.h"
 #include "pgm_render.h"
@@ -93,7 +94,8 @@ static void print_help(void)
     fputs("output:\n"
           "  --headless            render offscreen through EGL\n"
           "  --frames N            headless: frames to render (default 1); the last is kept\n"
-          "  --screenshot FILE     write the last frame (PNG, through OpenImageIO)\n"
+          "  --screenshot FILE     write the last frame, in the format its extension names\n"
+          "                        (.png, .tif, .jpg, .bmp, .tga, .webp, .exr; OpenImageIO)\n"
           "  --stats-json FILE     write the last frame's statistics\n"
           "  --clear-color R,G,B   background, 0..1 each\n"
           "  --wireframe, --color-lod   draw edges only / colour patches by level\n"
@@ -884,6 +886,9 @@ int tp_cli_view(int argc, char** argv)
         return code;
     /* Every output can be written, or nothing is rendered and nothing written. */
     tp_error err;
+    if (o.screenshot &&
+        (code = tp_cli_output_check("view", "--screenshot", o.screenshot, TP_OUTPUT_SCREENSHOT)))
+        return code;
     if (o.screenshot && tp_image_output_check(o.screenshot, &err) != TP_OK) {
         tp_cli_error("%s", err.message);
         return TP_EXIT_FAILURE;

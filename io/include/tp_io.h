@@ -794,8 +794,8 @@ tp_status tp_viewshed_write(const char* path, const uint8_t* values, size_t valu
 /* ---------------------------------------------------------------------------------------------
  * Output formats (io/src/output_format.cpp): the one place that decides, from an output path's
  * extension (case ignored), the format it is written in, for every writer below that follows
- * the extension (tp_byte_raster_write, tp_contours_write in tp_vector.h) and for the commands,
- * which check their outputs with it before any work.
+ * the extension (tp_byte_raster_write, tp_contours_write in tp_vector.h, tp_image_write_rgba)
+ * and for the commands, which check their outputs with it before any work.
  */
 typedef enum tp_output_kind {
     TP_OUTPUT_NONE = 0,
@@ -810,12 +810,20 @@ typedef enum tp_output_kind {
     TP_OUTPUT_PLOT,        /* a plot gnuplot draws (los --profile, profile --png): .png */
     TP_OUTPUT_IMAGERY,     /* an imagery pyramid (imagery -o): .tpi */
     TP_OUTPUT_LIGHT_MAP,   /* a day's light map (light --day -o): .tpl */
+    TP_OUTPUT_MESH,        /* a triangle mesh (export -o), through VTK's writers: VTK XML
+                              PolyData (.vtp), legacy VTK (.vtk), VTK XML multiblock (.vtm) */
+    TP_OUTPUT_SCREENSHOT,  /* an RGBA picture (view --screenshot), through OpenImageIO's writer
+                              for the extension, encoded in memory (tp_image_write_rgba): PNG
+                              (.png), TIFF (.tif, .tiff), JPEG (.jpg, .jpeg), BMP (.bmp), Targa
+                              (.tga), WebP (.webp), OpenEXR (.exr) */
 } tp_output_kind;
 
 typedef struct tp_output_format {
-    char driver[32]; /* the GDAL driver's short name ("GTiff", "PNG", "GPKG"); "" for a store or
-                        a plot */
+    char driver[32]; /* the writer: the GDAL driver's short name ("GTiff", "PNG", "GPKG"),
+                        OpenImageIO's format name for a screenshot ("png", "tiff"); "" for a
+                        store, a plot or a mesh */
     char name[64];   /* the format as the lists name it ("GeoTIFF", "PNG", "terrapatch store") */
+    tp_mesh_format mesh; /* TP_OUTPUT_MESH: the VTK file written; TP_MESH_VTP otherwise */
 } tp_output_format;
 
 /* The format path is written in as an output of kind. TP_ERR_INVALID_ARG with a message

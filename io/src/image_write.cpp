@@ -15,10 +15,19 @@ namespace OIIO = OIIO_NAMESPACE;
 using tpio::fail;
 
 namespace {
-/* OpenImageIO's writer for path's extension, able to encode in memory; NULL after a message. */
+/* OpenImageIO's writer for the format path's extension names (tp_output_format_for, a
+ * screenshot), able to encode in memory; NULL after a message. */
 std::unique_ptr<OIIO::ImageOutput> memory_encoder(const char* path, tp_error* err)
 {
-    auto out = OIIO::ImageOutput::create(path);
+    tp_output_format fmt;
+    if (tp_output_format_for(path, TP_OUTPUT_SCREENSHOT, &fmt, err) != TP_OK) {
+        char list[512];
+        tp_output_formats(TP_OUTPUT_SCREENSHOT, list, sizeof list);
+        const std::string why = err ? err->message : path;
+        fail(err, TP_ERR_INVALID_ARG, "%s; pictures are written as %s", why.c_str(), list);
+        return nullptr;
+    }
+    auto out = OIIO::ImageOutput::create(fmt.driver);
     if (!out) {
         fail(err, TP_ERR_INVALID_ARG, "%s: no image format for this name: %s", path,
              OIIO::geterror().c_str());

@@ -14,7 +14,12 @@
  *
  * Vectors: the extensions contours have always taken (.gpkg GeoPackage, .shp Shapefile, ...),
  * then any other extension an OGR driver that creates vector files declares. Stores and plots
- * are terrapatch's own (.tpt) and gnuplot's PNG.
+ * are terrapatch's own (.tpt) and gnuplot's PNG. Meshes are VTK's three files (vtk_mesh_write.cpp
+ * and the mesh reader take the format from here too). Screenshots go through OpenImageIO's
+ * writer for the extension, encoded in memory (image_write.cpp): the list below is the formats
+ * whose writer encodes an RGBA picture that way (tests/test_image.c writes each); others that
+ * OpenImageIO has either cannot encode in memory (SGI, ICO, RLA, FITS, HEIF) or not four
+ * channels (HDR, PNM), and failed only after the frame was drawn.
  */
 #include "output_format.hpp"
 #include "gdal_util.hpp"
@@ -71,6 +76,31 @@ const VectorFormat k_vectors[] = {
     {"geojsons", "GeoJSONSeq", "GeoJSON Sequence"},
     {"tab", "MapInfo File", "MapInfo"},
     {"mif", "MapInfo File", "MapInfo"},
+};
+
+struct MeshFormat {
+    const char* ext;
+    const char* name;
+    tp_mesh_format format;
+};
+
+const MeshFormat k_meshes[] = {
+    {"vtp", "VTK XML PolyData", TP_MESH_VTP},
+    {"vtk", "legacy VTK", TP_MESH_VTK},
+    {"vtm", "VTK XML multiblock", TP_MESH_VTM},
+};
+
+struct PictureFormat {
+    const char* oiio; /* OpenImageIO's format name */
+    const char* name;
+    const char* exts[3]; /* NULL-ended */
+};
+
+const PictureFormat k_pictures[] = {
+    {"png", "PNG", {"png", nullptr, nullptr}},         {"tiff", "TIFF", {"tif", "tiff", nullptr}},
+    {"jpeg", "JPEG", {"jpg", "jpeg", nullptr}},        {"bmp", "BMP", {"bmp", nullptr, nullptr}},
+    {"targa", "Targa", {"tga", nullptr, nullptr}},     {"webp", "WebP", {"webp", nullptr, nullptr}},
+    {"openexr", "OpenEXR", {"exr", nullptr, nullptr}},
 };
 
 std::string lower(std::string s)
@@ -195,6 +225,7 @@ tp_status decide(const std::string& path, tp_output_kind kind, tp_output_format*
     const std::string ext = extension_of(path);
     *drv = nullptr;
     *options = nullptr;
+    fmt->mesh = TP_MESH_VTP;
     switch (kind) {
     case TP_OUTPUT_BYTE_RASTER:
         tpio::register_drivers();
@@ -220,6 +251,24 @@ tp_status decide(const std::string& path, tp_output_kind kind, tp_output_format*
         }
         break;
     }
+    case TP_OUTPUT_MESH:
+        for (const MeshFormat& f : k_meshes)
+            if (ext == f.ext) {
+                copy_field(fmt->driver, sizeof fmt->driver, "");
+                copy_field(fmt->name, sizeof fmt->name, f.name);
+                fmt->mesh = f.format;
+                return TP_OK;
+            }
+        break;
+    case TP_OUTPUT_SCREENSHOT:
+        for (const PictureFormat& f : k_pictures)
+            for (const char* e : f.exts)
+                if (e && ext == e) {
+                    copy_field(fmt->driver, sizeof fmt->driver, f.oiio);
+                    copy_field(fmt->name, sizeof fmt->name, f.name);
+                    return TP_OK;
+                }
+        break;
     case TP_OUTPUT_STORE:
     case TP_OUTPUT_PLOT:
     case TP_OUTPUT_IMAGERY:
@@ -320,6 +369,19 @@ extern "C" size_t tp_output_formats(tp_output_kind kind, char* buf, size_t cap)
         case TP_OUTPUT_PLOT: item(single_name(kind), {"png"}); break;
         case TP_OUTPUT_IMAGERY: item(single_name(kind), {"tpi"}); break;
         case TP_OUTPUT_LIGHT_MAP: item(single_name(kind), {"tpl"}); break;
+        case TP_OUTPUT_MESH:
+            for (const MeshFormat& f : k_meshes)
+                item(f.name, {f.ext});
+            break;
+        case TP_OUTPUT_SCREENSHOT:
+            for (const PictureFormat& f : k_pictures) {
+                std::vector<std::string> exts;
+                for (const char* e : f.exts)
+                    if (e)
+                        exts.push_back(e);
+                item(f.name, exts);
+            }
+            break;
         default: break;
         }
     } catch (...) {

@@ -92,11 +92,11 @@ std::string lower_ext(const std::string& path)
 
 tp_mesh_format format_of(const std::string& path)
 {
-    std::string e = lower_ext(path);
-    return e == ".vtp"   ? TP_MESH_VTP
-           : e == ".vtk" ? TP_MESH_VTK
-           : e == ".vtm" ? TP_MESH_VTM
-                         : TP_MESH_DEFAULT;
+    /* the one decision (output_format.cpp), for the files written and read back alike */
+    tp_output_format f;
+    return tp_output_format_for(path.c_str(), TP_OUTPUT_MESH, &f, nullptr) == TP_OK
+               ? f.mesh
+               : TP_MESH_DEFAULT;
 }
 
 } // namespace tpvtk

@@ -35,7 +35,8 @@ struct VtkErrors {
 /* The lower-case extension of path (".vtp"), or "" without one. */
 std::string lower_ext(const std::string& path);
 
-/* The mesh format of a file name's extension; TP_MESH_DEFAULT for none of ours. */
+/* The mesh format of a file name's extension (tp_output_format_for, TP_OUTPUT_MESH);
+ * TP_MESH_DEFAULT for none of ours. */
 tp_mesh_format format_of(const std::string& path);
 
 } // namespace tpvtk
