@@ -431,6 +431,109 @@ TEST(streamed_window_cap_leaves_tall_void)
     tp_mosaic_close(m);
 }
 
+/* A copy of the coarse source with its heights in another unit: each valid height times
+ * per_m (units per metre), band 1's unit type set to unit. */
+static void write_coarse_in(const char* path, double per_m, const char* unit)
+{
+    GDALDatasetH src = GDALOpen(F.coarse, GA_ReadOnly);
+    ASSERT_TRUE(src != NULL);
+    GDALDatasetH dst =
+        GDALCreateCopy(GDALGetDriverByName("GTiff"), path, src, FALSE, NULL, NULL, NULL);
+    GDALClose(src);
+    ASSERT_TRUE(dst != NULL);
+    const int cw = GDALGetRasterXSize(dst), ch = GDALGetRasterYSize(dst);
+    float* cz = malloc((size_t)cw * ch * sizeof *cz);
+    ASSERT_TRUE(cz != NULL);
+    GDALRasterBandH b = GDALGetRasterBand(dst, 1);
+    ASSERT_EQ_INT(CE_None, GDALRasterIO(b, GF_Read, 0, 0, cw, ch, cz, cw, ch, GDT_Float32, 0, 0));
+    for (size_t i = 0; i < (size_t)cw * ch; i++)
+        if (cz[i] != -9999.0f)
+            cz[i] = (float)(cz[i] * per_m);
+    ASSERT_EQ_INT(CE_None, GDALRasterIO(b, GF_Write, 0, 0, cw, ch, cz, cw, ch, GDT_Float32, 0, 0));
+    ASSERT_EQ_INT(CE_None, GDALSetRasterUnitType(b, unit));
+    GDALClose(dst);
+    free(cz);
+}
+
+/* The largest difference between a and b over the holes' samples. */
+static double hole_diff_max(const float* a, const float* b)
+{
+    double d = 0;
+    for (int k = 0; k < HOLE_COUNT; k++)
+        for (int y = HOLES[k].y; y < HOLES[k].y + HOLES[k].h; y++)
+            for (int x = HOLES[k].x; x < HOLES[k].x + HOLES[k].w; x++) {
+                const size_t i = (size_t)y * F.w + x;
+                d = fmax(d, isnan(a[i]) || isnan(b[i]) ? INFINITY : fabs(a[i] - b[i]));
+            }
+    return d;
+}
+
+/* --fill-from a raster in feet (band unit "ft") or US survey feet ("ftUS") is converted to
+ * metres as a DEM in those units is (z_unit_of): the voids are filled with the heights the
+ * metre source gives, in memory and in the band reader (build); a unit terrapatch does not know
+ * is a warning naming the file and the unit, its heights taken as metres. (The fill used to
+ * take the feet as metres: 3.28 times the relief inside each hole.) */
+TEST(fill_from_in_feet_is_converted_to_metres)
+{
+    setup();
+    char ft[600], usft[600], odd[600];
+    snprintf(ft, sizeof ft, "%s.ft.tif", F.coarse);
+    snprintf(usft, sizeof usft, "%s.usft.tif", F.coarse);
+    snprintf(odd, sizeof odd, "%s.furlong.tif", F.coarse);
+    write_coarse_in(ft, 1 / 0.3048, "ft");
+    write_coarse_in(usft, 3937.0 / 1200.0, "ftUS");
+    write_coarse_in(odd, 1.0, "furlong");
+    tp_render_grid* gm = grid_of(F.holes, 0, F.coarse);
+    const char* sources[] = {ft, usft};
+    for (int s = 0; s < 2; s++) {
+        tp_render_grid* g = grid_of(F.holes, 0, sources[s]);
+        const double d = hole_diff_max(g->heights, gm->heights);
+        fprintf(stderr, "%s: largest difference from the metre source's fill %.4f m\n", sources[s],
+                d);
+        EXPECT_TRUE(d < 0.01);
+        EXPECT_EQ_INT((long long)gm->filled_from_samples, (long long)g->filled_from_samples);
+        EXPECT_TRUE(strstr(g->warnings, "unit") == NULL);
+        tp_render_grid_destroy(g);
+
+        /* the band reader, as terrapatch build reads */
+        const char* paths[] = {F.holes};
+        tp_mosaic_options mo = {.fill_max = TP_FILL_MAX_ANY, .fill_from = sources[s]};
+        tp_mosaic* m = NULL;
+        tp_error err = {0};
+        ASSERT_EQ_INT(TP_OK, tp_mosaic_open(paths, 1, &mo, &m, &err));
+        float* z = malloc((size_t)F.w * F.h * sizeof *z);
+        ASSERT_TRUE(z != NULL);
+        for (int y = 0; y < F.h; y += 65) {
+            const int n = F.h - y < 65 ? F.h - y : 65;
+            ASSERT_EQ_INT(TP_OK,
+                          tp_mosaic_read_rows(m, y, n, z + (size_t)y * F.w, (size_t)n * F.w, &err));
+        }
+        EXPECT_TRUE(hole_diff_max(z, gm->heights) < 0.01);
+        tp_mosaic_info mi;
+        tp_mosaic_get_info(m, &mi);
+        EXPECT_CONTAINS(mi.notes, s == 0 ? "international foot" : "US survey foot");
+        free(z);
+        tp_mosaic_close(m);
+    }
+    /* an unknown unit: warned, named, taken as metres (the metre source's fill) */
+    tp_render_grid* g = grid_of(F.holes, 0, odd);
+    EXPECT_CONTAINS(g->warnings, odd);
+    EXPECT_CONTAINS(g->warnings, "band 1's unit 'furlong' is not one terrapatch knows");
+    EXPECT_TRUE(hole_diff_max(g->heights, gm->heights) < 0.01);
+    tp_render_grid_destroy(g);
+    const char* paths[] = {F.holes};
+    tp_mosaic_options mo = {.fill_max = TP_FILL_MAX_ANY, .fill_from = odd};
+    tp_mosaic* m = NULL;
+    tp_error err = {0};
+    ASSERT_EQ_INT(TP_OK, tp_mosaic_open(paths, 1, &mo, &m, &err));
+    tp_mosaic_info mi;
+    tp_mosaic_get_info(m, &mi);
+    EXPECT_CONTAINS(mi.notes, "warning: ");
+    EXPECT_CONTAINS(mi.notes, "band 1's unit 'furlong' is not one terrapatch knows");
+    tp_mosaic_close(m);
+    tp_render_grid_destroy(gm);
+}
+
 /* terrapatch build --fill-from: the store says what filled its voids; a bad second source is
  * one line naming it, exit 1 and no store. */
 static int run_build(const char* from, const char* out, char* err, size_t cap)
@@ -741,5 +844,6 @@ TEST(view_of_store_tints_filled_voids)
     X(streamed_equals_in_memory_interpolated)                                                      \
     X(streamed_equals_in_memory_fill_from)                                                         \
     X(streamed_window_cap_leaves_tall_void)                                                        \
-    X(build_fill_from_notes_and_bad_sources)
+    X(build_fill_from_notes_and_bad_sources)                                                       \
+    X(fill_from_in_feet_is_converted_to_metres)
 TP_TEST_MAIN(TESTS)

@@ -678,12 +678,17 @@ tp_status open_mosaic(const char* const* paths, size_t count, const tp_mosaic_op
     if (o.fill_from && *o.fill_from) {
         const std::string name = vsimem_name(m, "fill_from");
         m->vsimem.push_back(tpio::fill_source_int16_name(name)); /* if made, unlinked too */
-        if (const tp_status st = tpio::fill_source_open(o.fill_from, m->gt, m->w, m->h,
-                                                        m->crs_wkt, "VRT", name, &m->other, err))
+        if (const tp_status st =
+                tpio::fill_source_open(o.fill_from, m->gt, m->w, m->h, m->crs_wkt, "VRT", name,
+                                       &m->other, &m->other_unit, err))
             return st;
-        add_note(m->notes, CPLSPrintf("voids filled from %s (warped onto the grid, shifted to "
-                                      "meet the ground around each void)",
-                                      base_name(o.fill_from).c_str()));
+        const std::string unit = tpio::fill_source_unit_note(m->other_unit);
+        add_note(m->notes, CPLSPrintf("voids filled from %s (%s%swarped onto the grid, shifted "
+                                      "to meet the ground around each void)",
+                                      base_name(o.fill_from).c_str(), unit.c_str(),
+                                      unit.empty() ? "" : "; "));
+        if (!m->other_unit.warning.empty())
+            add_note(m->notes, "warning: " + m->other_unit.warning);
     }
     if (untagged_int16)
         add_note(m->notes, "Int16 sources without a nodata tag: -32768 and -32767 taken as nodata");

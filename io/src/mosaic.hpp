@@ -49,6 +49,7 @@ struct tp_mosaic {
     int fill_max = 0;
     int fill_max_rows = INT_MAX;
     tpio::Dataset other;
+    tpio::ZUnit other_unit; /* of other's heights: what is read is multiplied by its to_m */
     std::vector<float> win, win_other;
     int win_y0 = 0, win_rows = 0;
     int counted_to = 0;

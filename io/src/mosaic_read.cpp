@@ -56,6 +56,7 @@ tp_status read_other(tp_mosaic* m, int y0, int rows, float* out, tp_error* err)
                                              GDT_Float32, 0, 0, nullptr) != CE_None)
         return fail(err, TP_ERR_BAD_DATA, "--fill-from: reading rows %d .. %d failed (%s)", y0,
                     y0 + rows - 1, tpio::gdal_message().c_str());
+    tpio::fill_source_to_metres(out, (size_t)m->w * rows, m->other_unit);
     return TP_OK;
 }
 

@@ -480,16 +480,19 @@ tp_status build(const tp_dem* dem, const tp_grid_options* opt, tp_render_grid** 
     if (o.fill_from && *o.fill_from) {
         /* the second source on the render grid, checked even when nothing is to be filled */
         tpio::Dataset ods;
-        if (const tp_status st =
-                tpio::fill_source_open(o.fill_from, gt, grid.w, grid.h,
-                                       has_crs ? tpio::crs_wkt2(dst) : std::string(), "MEM", "",
-                                       &ods, err))
+        tpio::ZUnit unit;
+        if (const tp_status st = tpio::fill_source_open(
+                o.fill_from, gt, grid.w, grid.h, has_crs ? tpio::crs_wkt2(dst) : std::string(),
+                "MEM", "", &ods, &unit, err))
             return st;
         other.resize(grid.z.size());
         if (ods->GetRasterBand(1)->RasterIO(GF_Read, 0, 0, grid.w, grid.h, other.data(), grid.w,
                                             grid.h, GDT_Float32, 0, 0, nullptr) != CE_None)
             return fail(err, TP_ERR_BACKEND, "--fill-from %s: %s", o.fill_from,
                         tpio::gdal_message().c_str());
+        tpio::fill_source_to_metres(other.data(), other.size(), unit);
+        if (!unit.warning.empty())
+            add_warning(warnings, unit.warning);
         if (std::none_of(other.begin(), other.end(), [](float v) { return !std::isnan(v); }))
             return fail(err, TP_ERR_BAD_DATA,
                         "--fill-from %s: no data where the DEM lies (every sample warped onto "

@@ -164,7 +164,8 @@ tp_status tpio::fill_voids(float* z, int w, int h, const double gt[6], const Fil
 
 tp_status tpio::fill_source_open(const char* path, const double gt[6], int w, int h,
                                  const std::string& crs_wkt, const char* format,
-                                 const std::string& vrt_name, Dataset* out, tp_error* err)
+                                 const std::string& vrt_name, Dataset* out, ZUnit* unit,
+                                 tp_error* err)
 {
     if (const tp_status st = tpio::check_input_file(path, "a raster", true, err)) {
         const std::string why = err ? err->message : path;
@@ -175,6 +176,14 @@ tp_status tpio::fill_source_open(const char* path, const double gt[6], int w, in
     if (!in || in->GetRasterCount() < 1)
         return fail(err, TP_ERR_BAD_DATA, "--fill-from %s: not a raster GDAL can open (%s)", path,
                     tpio::gdal_message().c_str());
+    /* the unit of its heights, found as a DEM's is (--z-unit is the DEM's, not this file's) */
+    ZUnit zu;
+    if (const tp_status st = tpio::z_unit_of(in.get(), nullptr, &zu, err))
+        return st;
+    if (!zu.warning.empty()) {
+        const size_t hint = zu.warning.find("; --z-unit");
+        zu.warning = std::string("--fill-from ") + path + ": " + zu.warning.substr(0, hint);
+    }
     double sgt[6];
     if (in->GetGeoTransform(sgt) != CE_None)
         return fail(err, TP_ERR_BAD_DATA,
@@ -269,7 +278,23 @@ tp_status tpio::fill_source_open(const char* path, const double gt[6], int w, in
     } else {
         out->reset(GDALDataset::FromHandle(hd));
     }
+    if (unit)
+        *unit = zu;
     return TP_OK;
+}
+
+void tpio::fill_source_to_metres(float* z, size_t n, const ZUnit& unit)
+{
+    if (unit.to_m != 1.0)
+        for (size_t i = 0; i < n; i++)
+            z[i] = (float)(z[i] * unit.to_m); /* NaN stays NaN */
+}
+
+std::string tpio::fill_source_unit_note(const ZUnit& unit)
+{
+    if (unit.to_m == 1.0 || unit.name.empty())
+        return "";
+    return "heights in " + unit.name + " (" + unit.from + "), converted to metres";
 }
 
 std::string tpio::fill_source_int16_name(const std::string& vrt_name)

@@ -67,12 +67,23 @@ tp_status fill_voids(float* z, int w, int h, const double gt[6], const FillSpec&
  * bilinear, nodata NaN, Float32, as a dataset of format "MEM" or "VRT" (vrt_name: the /vsimem/
  * name for a VRT). An Int16 source without a nodata tag has -32768 and -32767 taken as nodata
  * (int16_voids.hpp): for a VRT through a second one, named fill_source_int16_name(vrt_name), that
- * the caller unlinks with vrt_name. Errors name the file: TP_ERR_IO (missing, not a regular
- * file), TP_ERR_BAD_DATA (not a raster GDAL opens, no georeference, no overlap with the grid),
- * TP_ERR_BACKEND. */
+ * the caller unlinks with vrt_name. Its heights are as stored: *unit is their unit as a DEM's is
+ * found (z_unit_of: band 1's unit type, else its vertical CRS's; --z-unit is the DEM's, not
+ * this file's), the caller multiplies what it reads by unit->to_m; unit->warning, when not
+ * empty, is the line to say for a unit terrapatch does not know ("--fill-from PATH: band 1's
+ * unit 'X' is not one terrapatch knows ...: heights taken as metres"). Errors name the file:
+ * TP_ERR_IO (missing, not a regular file), TP_ERR_BAD_DATA (not a raster GDAL opens, no
+ * georeference, no overlap with the grid), TP_ERR_BACKEND. */
 tp_status fill_source_open(const char* path, const double gt[6], int w, int h,
                            const std::string& crs_wkt, const char* format,
-                           const std::string& vrt_name, Dataset* out, tp_error* err);
+                           const std::string& vrt_name, Dataset* out, ZUnit* unit, tp_error* err);
+
+/* Heights read from a fill source (n of them, NaN: none) in metres: times unit.to_m. */
+void fill_source_to_metres(float* z, size_t n, const ZUnit& unit);
+
+/* What the notes and info say of a fill source's unit: "" for metres or an unknown unit, else
+ * "heights in international foot (band unit 'ft'), converted to metres". */
+std::string fill_source_unit_note(const ZUnit& unit);
 
 /* The name of fill_source_open's second VRT for vrt_name. */
 std::string fill_source_int16_name(const std::string& vrt_name);
