@@ -174,8 +174,8 @@ int tp_memory_check(const char* path, tp_memory_use use, int width, int height)
     if (more <= room.bytes)
         return 0;
     const char* hint = use == TP_MEMORY_USE_EXPORT_FULL
-                           ? "export without --full (a --max-error or view-dependent mesh), or cut "
-                             "the DEM (gdal_translate -srcwin) or coarsen it (gdalwarp -tr)"
+                           ? "export to a .vtp, which is written a piece at a time, or without "
+                             "--full (a --max-error or view-dependent mesh)"
                            : "cut the DEM (gdal_translate -srcwin) or coarsen it (gdalwarp -tr)";
     fprintf(stderr,
             "terrapatch: %s: %s of its %dx%d grid needs about %.0f MiB (%.0f MiB more than the "
@@ -183,4 +183,27 @@ int tp_memory_check(const char* path, tp_memory_use use, int width, int height)
             path, tp_memory_use_name(use), width, height, mib(need), mib(more),
             mib(room.rss_bytes), mib(room.bytes), room.bound, hint);
     return -1;
+}
+
+uint64_t tp_memory_fit_budget(const char* cmd, const char* path, const char* what,
+                              uint64_t base_bytes, uint64_t want_bytes, uint64_t min_bytes)
+{
+    tp_memory_room room;
+    tp_memory_room_now(&room);
+    if (room.bytes == UINT64_MAX || room.bytes >= base_bytes + want_bytes)
+        return want_bytes;
+    uint64_t fit = room.bytes > base_bytes ? room.bytes - base_bytes : 0;
+    if (fit < min_bytes) {
+        fprintf(stderr,
+                "terrapatch %s: %s: needs about %.0f MiB (%.0f MiB for %s at least), but only "
+                "%.0f MiB is available (%s)\n",
+                cmd, path, mib(base_bytes + min_bytes), mib(min_bytes), what, mib(room.bytes),
+                room.bound);
+        return 0;
+    }
+    fprintf(stderr,
+            "terrapatch %s: warning: %s: %.0f MiB is available (%s): %s %.0f MiB instead of "
+            "%.0f MiB\n",
+            cmd, path, mib(room.bytes), room.bound, what, mib(fit), mib(want_bytes));
+    return fit;
 }

@@ -51,4 +51,12 @@ uint64_t tp_memory_peak_rss(void);
  * (BOUND); ...") and returns -1. */
 int tp_memory_check(const char* path, tp_memory_use use, int width, int height);
 
+/* A budget a command can shrink (a store's decoded nodes in view and bench, build's --memory)
+ * fitted to the room left: want_bytes when base_bytes more (what the command needs besides the
+ * budget: libraries, a GL context) and want_bytes fit, else what fits, after one warning line
+ * naming the bound ("terrapatch CMD: warning: PATH: TP_MEMORY_LIMIT leaves ... : WHAT ... MiB
+ * instead of ..."); 0 after one error line when not even min_bytes fits. */
+uint64_t tp_memory_fit_budget(const char* cmd, const char* path, const char* what,
+                              uint64_t base_bytes, uint64_t want_bytes, uint64_t min_bytes);
+
 #endif /* TP_APP_MEMORY_H */

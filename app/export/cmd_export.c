@@ -4,6 +4,7 @@
  * error-bounded mesh.
  */
 #include "atomic_file.h"
+#include "full_export.h"
 #include "camera_pose.h"
 #include "cli.h"
 #include "mesh_export.h"
@@ -252,6 +253,25 @@ static int export_tin(const export_options* o, tp_scene* sc)
     return code == TP_EXIT_OK ? tp_cli_finish(code) : code;
 }
 
+/* --full to a .vtp: streamed a piece at a time (full_export.h). TP_EXPORT_PIECE_SAMPLES (a
+ * number of samples) makes the pieces smaller: tests cut a small DEM into many. */
+static int export_full_streamed(const export_options* o, int is_store)
+{
+    const char* env = getenv("TP_EXPORT_PIECE_SAMPLES");
+    char* end = NULL;
+    long long samples = env && *env ? strtoll(env, &end, 10) : 0;
+    if (env && *env && (*end != '\0' || samples < 4)) {
+        fprintf(stderr, "terrapatch export: TP_EXPORT_PIECE_SAMPLES=%s: expected a number of "
+                        "samples >= 4\n", env);
+        return TP_EXIT_USAGE;
+    }
+    tp_full_export_request r = {.path = o->path, .is_store = is_store, .scene = &o->scene,
+                                .out = o->out, .origin_local = o->origin_local,
+                                .piece_samples = (size_t)samples};
+    int code = tp_export_full_streamed(&r);
+    return code == TP_EXIT_OK ? tp_cli_finish(code) : code;
+}
+
 int tp_cli_export(int argc, char** argv)
 {
     export_options o;
@@ -272,6 +292,8 @@ int tp_cli_export(int argc, char** argv)
                     o.path);
             return TP_EXIT_USAGE;
         }
+        if (o.mode == MODE_FULL && tp_full_export_streams(o.path, 1, &o.scene, o.format))
+            return export_full_streamed(&o, 1);
         tp_store_export_request r = {
             .store_path = o.path, .out = o.out, .max_error_m = o.max_error_m, .vs = &o.vs,
             .format = o.format, .origin_local = o.origin_local,
@@ -289,6 +311,8 @@ int tp_cli_export(int argc, char** argv)
                         "TIN has none)\n");
         return TP_EXIT_USAGE;
     }
+    if (o.mode == MODE_FULL && tp_full_export_streams(o.path, 0, &o.scene, o.format))
+        return export_full_streamed(&o, 0);
     tp_scene sc;
     o.scene.use = o.mode == MODE_FULL ? TP_MEMORY_USE_EXPORT_FULL : TP_MEMORY_USE_EXPORT;
     if ((code = tp_scene_load(o.path, &o.scene, &sc)) != TP_EXIT_OK)

@@ -1,11 +1,13 @@
 /* store_export.c - `terrapatch export` on a store (see store_export.h). */
 #include "store_export.h"
+#include "full_export.h"
 #include "store_mesh.h"
 #include "store_tin.h"
 #include "tin_export.h"
 
 #include "camera_pose.h"
 #include "cli.h"
+#include "memory.h"
 #include "store_scene.h"
 #include "tp_geo.h"
 
@@ -70,6 +72,29 @@ static int too_many(store_export* x, size_t tris, const char* how)
     return TP_EXIT_FAILURE; /* as the DEM path's --full over the memory available */
 }
 
+/* Bytes of memory a mesh takes per triangle while it is built, copied into VTK and written
+ * (about 60 in the mesh, 80 in VTK's copy, the compressed file in memory; .vtk/.vtm and the
+ * camera and --max-error modes, which build it whole). */
+#define MESH_BYTES_PER_TRIANGLE 200
+/* Memory that must stay free while the cut's nodes are read. */
+#define NODE_READ_MARGIN_BYTES ((uint64_t)64 << 20)
+
+/* 1 if `more` bytes fit in what the process may still use (TP_MEMORY_LIMIT, ulimit -v, the
+ * cgroup, MemAvailable), else 0 after one line saying what needs them. */
+static int room_for(store_export* x, uint64_t more, const char* what)
+{
+    tp_memory_room room;
+    tp_memory_room_now(&room);
+    if (more <= room.bytes)
+        return 1;
+    fprintf(stderr,
+            "terrapatch export: %s: %s needs about %.0f MiB more, but only %.0f MiB is available "
+            "(%s); export a coarser mesh (--max-error M, a camera farther off), or --full to a "
+            ".vtp (written a piece at a time)\n",
+            x->r->store_path, what, more / 1048576.0, room.bytes / 1048576.0, room.bound);
+    return 0;
+}
+
 /* The camera's cut with every node it draws resident: update, read what it requests, again,
  * until it requests nothing (then nothing is substituted). */
 static int cut_for_camera(store_export* x, const tp_camera* cam, const tp_lod_params* lod)
@@ -113,6 +138,8 @@ static int cut_for_camera(store_export* x, const tp_camera* cam, const tp_lod_pa
         free(ids);
         if (tp_interrupted())
             return tp_cli_interrupted();
+        if (!room_for(x, NODE_READ_MARGIN_BYTES, "reading the camera's cut at full detail"))
+            return TP_EXIT_FAILURE;
     }
     return TP_EXIT_OK;
 }
@@ -477,18 +504,6 @@ static size_t full_mesh_bound(const store_export* x)
     return drawn < cells ? drawn : cells;
 }
 
-/* "31n" etc. from the store's EPSG code (WGS 84 UTM and UPS); "" otherwise. */
-static void zone_text(int epsg, char* out, size_t cap)
-{
-    out[0] = '\0';
-    if (epsg > 32600 && epsg <= 32660)
-        tp_zone_format(epsg - 32600, 1, TP_ZONE_STYLE_SHORT, out, cap, NULL);
-    else if (epsg > 32700 && epsg <= 32760)
-        tp_zone_format(epsg - 32700, 0, TP_ZONE_STYLE_SHORT, out, cap, NULL);
-    else if (epsg == 32661 || epsg == 32761)
-        tp_zone_format(TP_ZONE_UPS, epsg == 32661, TP_ZONE_STYLE_SHORT, out, cap, NULL);
-}
-
 static int write_mesh(store_export* x, mesh_build* m, const char* camera_text,
                       const char* lod_text, double sum, size_t count)
 {
@@ -527,18 +542,16 @@ static int write_mesh(store_export* x, mesh_build* m, const char* camera_text,
             m->tri[3 * t + 1] = m->tri[3 * t + 2];
             m->tri[3 * t + 2] = s;
         }
-    tp_crs_info ci;
-    memset(&ci, 0, sizeof ci);
-    tp_crs_describe(h->crs_wkt, &ci, NULL);
+    int epsg;
     char zone[TP_ZONE_TEXT_SIZE];
-    zone_text(ci.epsg, zone, sizeof zone);
+    tp_export_zone_of_crs(h->crs_wkt, &epsg, zone);
     /* format 4 keeps which samples the build filled (tp_cut_vertices' TP_SAMPLE_FILLED) */
     const char* note = "from the store's filled bits: 1 where the build filled an interior void";
     tp_mesh mesh = {
         .point_count = m->points, .xyz = xyz, .elevation_m = m->pz, .void_filled = m->pf,
         .triangle_count = m->tris, .triangles = m->tri,
         .patch_id = x->r->tin ? NULL : m->patch, .lod = x->r->tin ? NULL : m->lod,
-        .max_error_m = m->err, .crs_wkt = h->crs_wkt, .epsg = ci.epsg, .utm_zone = zone,
+        .max_error_m = m->err, .crs_wkt = h->crs_wkt, .epsg = epsg, .utm_zone = zone,
         .source_file = x->r->store_path, .camera = camera_text, .lod_params = lod_text,
         .program_version = "terrapatch " TP_VERSION,
         .origin = {origin[0], origin[1], origin[2]}, .void_filled_note = note,
@@ -682,6 +695,9 @@ int tp_export_store(const tp_store_export_request* r)
         exact.hole_px = 1e-300;
         code = cut_for_camera(&x, &cam, &exact);
     }
+    if (code == TP_EXIT_OK && !r->tin &&
+        !room_for(&x, (uint64_t)x.tris_cut * MESH_BYTES_PER_TRIANGLE, "the mesh of the cut"))
+        code = TP_EXIT_FAILURE;
     if (code == TP_EXIT_OK && !r->tin)
         code = build_mesh(&x, &m, &sum, &samples);
     if (code == TP_EXIT_OK) {

@@ -87,14 +87,24 @@ double tp_leaf_sample_filled(leaf_cache* lc, int x, int y, int* filled)
         }
         q = lc->slot[s];
     }
+    return tp_leaf_block_sample(q, &lc->metas[leaf], n, lc->step_m, x - (c << n), y - (r << n),
+                                filled);
+}
+
+double tp_leaf_block_sample(const uint16_t* q, const tp_node_meta* meta, int n, double step_m,
+                            int i, int j, int* filled)
+{
     int v = (1 << n) + 1;
-    size_t k = (size_t)(y - (r << n)) * v + (size_t)(x - (c << n));
+    size_t k = (size_t)j * v + (size_t)i;
     uint16_t st = q[k];
-    if (filled && (lc->metas[leaf].flags & TP_NODE_HAS_FILLED)) {
-        const uint16_t* bits = q + (size_t)v * v + tp_node_mask_words(n);
-        *filled = bits[k / 16] >> (k % 16) & 1;
+    if (filled) {
+        *filled = 0;
+        if (meta->flags & TP_NODE_HAS_FILLED) {
+            const uint16_t* bits = q + (size_t)v * v + tp_node_mask_words(n);
+            *filled = bits[k / 16] >> (k % 16) & 1;
+        }
     }
-    return st == TP_TREE_NO_HEIGHT ? NAN : ((double)st + lc->metas[leaf].qmin) * lc->step_m;
+    return st == TP_TREE_NO_HEIGHT ? NAN : ((double)st + meta->qmin) * step_m;
 }
 
 /* ---- the mesh ---- */

@@ -15,6 +15,7 @@
 #include "atomic_file.h"
 #include "camera_pose.h"
 #include "cli.h"
+#include "memory.h"
 #include "hud.h"
 #include "hud_text.h"
 #include "layers.h"
@@ -848,7 +849,15 @@ static int view_store(const char* path, view_options* o)
     int code = tp_store_scene_open_deferred(path, &st);
     if (code != TP_EXIT_OK)
         return code;
-    tp_stream_options so = {.memory_bytes = o->memory_mb << 20};
+    /* the stream's budget within what the process may still use (TP_MEMORY_LIMIT, ulimit) */
+    uint64_t budget = tp_memory_fit_budget("view", path, "the decoded terrain (--memory)",
+                                           tp_memory_estimate(TP_MEMORY_USE_VIEW, 0),
+                                           (uint64_t)o->memory_mb << 20, (uint64_t)16 << 20);
+    if (!budget) {
+        tp_store_scene_close(&st);
+        return TP_EXIT_FAILURE;
+    }
+    tp_stream_options so = {.memory_bytes = (size_t)budget};
     if ((code = tp_store_scene_stream(&st, &so)) != TP_EXIT_OK) {
         tp_store_scene_close(&st);
         return code;

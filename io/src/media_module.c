@@ -128,6 +128,10 @@ FORWARD(tp_mesh_check_size,
 FORWARD(tp_mesh_write,
         (const char* path, tp_mesh_format format, const tp_mesh* mesh, tp_error* err),
         (path, format, mesh, err), err)
+FORWARD(tp_mesh_write_pieces,
+        (const char* path, const tp_mesh* fields, size_t triangle_total, size_t piece_count,
+         tp_mesh_piece_fn piece_fn, void* user, tp_error* err),
+        (path, fields, triangle_total, piece_count, piece_fn, user, err), err)
 
 void tp_texture_destroy(tp_texture* tex)
 {

@@ -64,35 +64,10 @@ using namespace tpvtk;
 using tpio::fail;
 namespace fs = std::filesystem;
 
-namespace {
-
-std::string base_of(const std::string& path)
-{
-    size_t slash = path.find_last_of('/');
-    return slash == std::string::npos ? path : path.substr(slash + 1);
-}
-
-/* Holds interruption (a signal only sets the flag) while the temporary folder lives, and
- * removes it whatever happens to our caller. */
-struct TempGuard {
-    std::string name;
-    TempGuard() { tp_interrupt_hold(); }
-    ~TempGuard()
-    {
-        if (!name.empty()) {
-            std::error_code ec;
-            fs::remove_all(name, ec);
-        }
-        tp_interrupt_release();
-    }
-    TempGuard(const TempGuard&) = delete;
-    TempGuard& operator=(const TempGuard&) = delete;
-};
-
 /* ---------------------------------------------------------------------------------------------
  * tp_mesh -> vtkPolyData
  */
-void add_string(vtkFieldData* fd, const char* name, const char* value)
+static void add_string(vtkFieldData* fd, const char* name, const char* value)
 {
     if (!value || !*value) /* NULL or "": not known, no array */
         return;
@@ -103,7 +78,7 @@ void add_string(vtkFieldData* fd, const char* name, const char* value)
 }
 
 /* Field data shared by the whole file (each .vtm block gets its own triangle_count). */
-void add_field_data(vtkFieldData* fd, const tp_mesh* m, size_t triangle_count)
+static void add_field_data(vtkFieldData* fd, const tp_mesh* m, size_t triangle_count)
 {
     add_string(fd, "crs_wkt", m->crs_wkt);
     vtkNew<vtkIntArray> epsg;
@@ -127,12 +102,11 @@ void add_field_data(vtkFieldData* fd, const tp_mesh* m, size_t triangle_count)
     fd->AddArray(count);
 }
 
-/* The triangles tris (all when NULL) and the points they use (all points when NULL: then
- * points is ignored, else points lists the mesh points in their new order and local holds the
- * triangles' corners as indices into it). */
-vtkSmartPointer<vtkPolyData> build_polydata(const tp_mesh* m, const std::vector<size_t>* tris,
+/* See vtk_util.hpp. */
+vtkSmartPointer<vtkPolyData> tpvtk::build_polydata(const tp_mesh* m, const std::vector<size_t>* tris,
                                             const std::vector<size_t>* points,
-                                            const std::vector<size_t>* local)
+                                            const std::vector<size_t>* local,
+                                                   size_t field_triangle_count)
 {
     const vtkIdType np = points ? (vtkIdType)points->size() : (vtkIdType)m->point_count;
     const vtkIdType nt = tris ? (vtkIdType)tris->size() : (vtkIdType)m->triangle_count;
@@ -207,9 +181,34 @@ vtkSmartPointer<vtkPolyData> build_polydata(const tp_mesh* m, const std::vector<
             a->SetValue(i, m->max_error_m[tri(i)]);
         pd->GetCellData()->AddArray(a);
     }
-    add_field_data(pd->GetFieldData(), m, (size_t)nt);
+    add_field_data(pd->GetFieldData(), m, field_triangle_count ? field_triangle_count : (size_t)nt);
     return pd;
 }
+
+namespace {
+
+std::string base_of(const std::string& path)
+{
+    size_t slash = path.find_last_of('/');
+    return slash == std::string::npos ? path : path.substr(slash + 1);
+}
+
+/* Holds interruption (a signal only sets the flag) while the temporary folder lives, and
+ * removes it whatever happens to our caller. */
+struct TempGuard {
+    std::string name;
+    TempGuard() { tp_interrupt_hold(); }
+    ~TempGuard()
+    {
+        if (!name.empty()) {
+            std::error_code ec;
+            fs::remove_all(name, ec);
+        }
+        tp_interrupt_release();
+    }
+    TempGuard(const TempGuard&) = delete;
+    TempGuard& operator=(const TempGuard&) = delete;
+};
 
 /* The bytes of a .vtp; false with VTK's reason in *why. */
 bool vtp_bytes(vtkPolyData* pd, std::string* out, std::string* why)
@@ -262,7 +261,7 @@ bool vtk_bytes(vtkPolyData* pd, std::unique_ptr<char[]>* out, size_t* size, std:
 tp_status write_single(const std::string& path, tp_mesh_format format, const tp_mesh* m,
                        tp_error* err)
 {
-    vtkSmartPointer<vtkPolyData> pd = build_polydata(m, nullptr, nullptr, nullptr);
+    vtkSmartPointer<vtkPolyData> pd = build_polydata(m, nullptr, nullptr, nullptr, 0);
     std::string why, xml;
     std::unique_ptr<char[]> legacy;
     const char* data;
@@ -390,7 +389,7 @@ tp_status write_vtm(const std::string& path, const tp_mesh* m, tp_error* err)
 
         if (tp_interrupted())
             return tpio::write_failed(err, path, EINTR);
-        vtkSmartPointer<vtkPolyData> pd = build_polydata(m, &tris, &points, &local);
+        vtkSmartPointer<vtkPolyData> pd = build_polydata(m, &tris, &points, &local, 0);
         std::string bytes, why;
         if (!vtp_bytes(pd, &bytes, &why))
             return fail(err, TP_ERR_BACKEND, "%s: VTK could not write the mesh: %s", path.c_str(),
