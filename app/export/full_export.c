@@ -461,11 +461,14 @@ int tp_export_full_streamed(const tp_full_export_request* r)
         goto done;
     }
     size_t pieces = (size_t)x.pieces_x * x.pieces_y;
-    x.steps = 2 * pieces;
-    /* one line a tenth, or a bar on a terminal: only when there is more than one piece */
-    tp_progress_start(&x.progress, pieces > 1, "export", "full mesh");
+    x.steps = pieces;
+    /* one line a tenth, or a bar on a terminal, a stage a pass: only when there is more than
+     * one piece */
+    tp_progress_start(&x.progress, pieces > 1, "export", "counting");
     if ((code = count_all(&x)) != TP_EXIT_OK)
         goto done;
+    x.steps_done = 0;
+    tp_progress_start(&x.progress, pieces > 1, "export", "writing");
     if (x.triangles == 0) {
         code = fail(&x, "nothing to export (no cell has four drawn samples)");
         goto done;

@@ -42,6 +42,8 @@
 #include <vtkSmartPointer.h>
 #include <vtkStringArray.h>
 #include <vtkUnsignedCharArray.h>
+#include <vtkTypeInt32Array.h>
+#include <vtkTypeInt64Array.h>
 #include <vtkXMLPolyDataWriter.h>
 
 #include <algorithm>
@@ -126,19 +128,38 @@ vtkSmartPointer<vtkPolyData> tpvtk::build_polydata(const tp_mesh* m, const std::
     pts->SetData(xyz);
     pd->SetPoints(pts);
 
-    vtkNew<vtkIdTypeArray> offsets, conn;
-    offsets->SetNumberOfValues(nt + 1);
-    conn->SetNumberOfValues(3 * nt);
-    vtkIdType* o = offsets->GetPointer(0);
-    vtkIdType* c = conn->GetPointer(0);
-    for (vtkIdType i = 0; i <= nt; ++i)
-        o[i] = 3 * i;
-    for (vtkIdType i = 0; i < nt; ++i)
-        for (int k = 0; k < 3; ++k)
-            c[3 * i + k] = local ? (vtkIdType)(*local)[(size_t)(3 * i + k)]
-                                 : (vtkIdType)m->triangles[3 * tri(i) + k];
+    /* 32-bit offsets and connectivity when they fit (half the memory, and the XML writer writes
+     * them as Int32: smaller files), else 64-bit */
+    auto corner = [&](vtkIdType i, int k) -> vtkIdType {
+        return local ? (vtkIdType)(*local)[(size_t)(3 * i + k)]
+                     : (vtkIdType)m->triangles[3 * tri(i) + k];
+    };
     vtkNew<vtkCellArray> cells;
-    cells->SetData(offsets, conn);
+    if (np < INT32_MAX && 3 * nt < INT32_MAX) {
+        vtkNew<vtkTypeInt32Array> offsets, conn;
+        offsets->SetNumberOfValues(nt + 1);
+        conn->SetNumberOfValues(3 * nt);
+        int32_t* o = offsets->GetPointer(0);
+        int32_t* c = conn->GetPointer(0);
+        for (vtkIdType i = 0; i <= nt; ++i)
+            o[i] = (int32_t)(3 * i);
+        for (vtkIdType i = 0; i < nt; ++i)
+            for (int k = 0; k < 3; ++k)
+                c[3 * i + k] = (int32_t)corner(i, k);
+        cells->SetData(offsets, conn);
+    } else {
+        vtkNew<vtkTypeInt64Array> offsets, conn;
+        offsets->SetNumberOfValues(nt + 1);
+        conn->SetNumberOfValues(3 * nt);
+        vtkTypeInt64* o = offsets->GetPointer(0);
+        vtkTypeInt64* c = conn->GetPointer(0);
+        for (vtkIdType i = 0; i <= nt; ++i)
+            o[i] = 3 * (vtkTypeInt64)i;
+        for (vtkIdType i = 0; i < nt; ++i)
+            for (int k = 0; k < 3; ++k)
+                c[3 * i + k] = (vtkTypeInt64)corner(i, k);
+        cells->SetData(offsets, conn);
+    }
     pd->SetPolys(cells);
 
     if (m->elevation_m) {
