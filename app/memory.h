@@ -20,7 +20,8 @@ typedef enum tp_memory_use {
     TP_MEMORY_USE_INFO = 0,     /* terrapatch info (the default) */
     TP_MEMORY_USE_VIEW,         /* view: the terrain and its GL buffers, a GL context */
     TP_MEMORY_USE_EXPORT,       /* export of a view-dependent or --max-error mesh */
-    TP_MEMORY_USE_EXPORT_FULL,  /* export --full: every sample as a VTK point */
+    TP_MEMORY_USE_EXPORT_FULL,  /* export --full to a .vtk/.vtm, built whole (a .vtp streams:
+                                   full_export.h) */
     TP_MEMORY_USE_BENCH,        /* bench: view, plus the error measurement */
 } tp_memory_use;
 
