@@ -29,7 +29,8 @@ const char* tp_memory_use_name(tp_memory_use use)
 
 uint64_t tp_memory_estimate(tp_memory_use use, uint64_t samples)
 {
-    return (uint64_t)(costs[use].base_mib * 1048576.0 + costs[use].bytes_per_sample * (double)samples);
+    return (uint64_t)(costs[use].base_mib * 1048576.0 +
+                      costs[use].bytes_per_sample * (double)samples);
 }
 
 /* A "Key:   N kB" line of a /proc file, in bytes; 0 if missing. */
@@ -81,9 +82,12 @@ static uint64_t env_limit(void)
     if (end != s + digits)
         return 0;
     switch (*end) {
-    case 'k': case 'K': v *= 1024.0, end++; break;
-    case 'm': case 'M': v *= 1048576.0, end++; break;
-    case 'g': case 'G': v *= 1073741824.0, end++; break;
+    case 'k':
+    case 'K': v *= 1024.0, end++; break;
+    case 'm':
+    case 'M': v *= 1048576.0, end++; break;
+    case 'g':
+    case 'G': v *= 1073741824.0, end++; break;
     }
     return *end == '\0' && v > 0 && v < 1.8e19 ? (uint64_t)v : 0;
 }
@@ -180,8 +184,8 @@ int tp_memory_check(const char* path, tp_memory_use use, int width, int height)
     fprintf(stderr,
             "terrapatch: %s: %s of its %dx%d grid needs about %.0f MiB (%.0f MiB more than the "
             "%.0f MiB in use), but only %.0f MiB is available (%s); %s\n",
-            path, tp_memory_use_name(use), width, height, mib(need), mib(more),
-            mib(room.rss_bytes), mib(room.bytes), room.bound, hint);
+            path, tp_memory_use_name(use), width, height, mib(need), mib(more), mib(room.rss_bytes),
+            mib(room.bytes), room.bound, hint);
     return -1;
 }
 

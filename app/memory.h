@@ -17,12 +17,12 @@
 #include <stdint.h>
 
 typedef enum tp_memory_use {
-    TP_MEMORY_USE_INFO = 0,     /* terrapatch info (the default) */
-    TP_MEMORY_USE_VIEW,         /* view: the terrain and its GL buffers, a GL context */
-    TP_MEMORY_USE_EXPORT,       /* export of a view-dependent or --max-error mesh */
-    TP_MEMORY_USE_EXPORT_FULL,  /* export --full to a .vtk/.vtm, built whole (a .vtp streams:
-                                   full_export.h) */
-    TP_MEMORY_USE_BENCH,        /* bench: view, plus the error measurement */
+    TP_MEMORY_USE_INFO = 0,    /* terrapatch info (the default) */
+    TP_MEMORY_USE_VIEW,        /* view: the terrain and its GL buffers, a GL context */
+    TP_MEMORY_USE_EXPORT,      /* export of a view-dependent or --max-error mesh */
+    TP_MEMORY_USE_EXPORT_FULL, /* export --full to a .vtk/.vtm, built whole (a .vtp streams:
+                                  full_export.h) */
+    TP_MEMORY_USE_BENCH,       /* bench: view, plus the error measurement */
 } tp_memory_use;
 
 /* The command's name as the user types it ("export --full"). */
@@ -32,8 +32,8 @@ const char* tp_memory_use_name(tp_memory_use use);
 uint64_t tp_memory_estimate(tp_memory_use use, uint64_t samples);
 
 typedef struct tp_memory_room {
-    uint64_t bytes;    /* what the process may still add; UINT64_MAX when nothing bounds it */
-    const char* bound; /* what bounds it ("TP_MEMORY_LIMIT", "ulimit -v", "MemAvailable", ...) */
+    uint64_t bytes;     /* what the process may still add; UINT64_MAX when nothing bounds it */
+    const char* bound;  /* what bounds it ("TP_MEMORY_LIMIT", "ulimit -v", "MemAvailable", ...) */
     uint64_t rss_bytes; /* resident now (0 if unknown) */
 } tp_memory_room;
 

@@ -19,7 +19,6 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
-
 static int run_export(const char* const* args, char* err, size_t err_cap)
 {
     return tp_test_run_terrapatch("export", args, err, err_cap);
@@ -58,7 +57,8 @@ static void full_counts(const tp_dem* d, size_t* cells, size_t* points)
             if (x + 1 < d->width && y + 1 < d->height) {
                 const float* h = d->heights;
                 *cells += !isnan(h[y * d->width + x]) && !isnan(h[y * d->width + x + 1]) &&
-                          !isnan(h[(y + 1) * d->width + x]) && !isnan(h[(y + 1) * d->width + x + 1]);
+                          !isnan(h[(y + 1) * d->width + x]) &&
+                          !isnan(h[(y + 1) * d->width + x + 1]);
             }
         }
 }
@@ -109,9 +109,14 @@ TEST(view_dependent_mesh_is_watertight_with_distant_levels)
     char dem[1024], out[1024], err[4096];
     data_path(dem, sizeof dem, "storml_elev.tif");
     out_path(out, sizeof out, "view.vtp");
-    const char* args[] = {"--camera", "324000,5102000,2700,45,-20", "--lod", "distance",
-                          "--mindist", "100", "--maxdist", "1500", "--exp", "0.3", "--no-cull",
-                          dem, "-o", out, NULL};
+    const char* args[] = {"--camera",  "324000,5102000,2700,45,-20",
+                          "--lod",     "distance",
+                          "--mindist", "100",
+                          "--maxdist", "1500",
+                          "--exp",     "0.3",
+                          "--no-cull", dem,
+                          "-o",        out,
+                          NULL};
     ASSERT_EQ_INT(0, run_export(args, err, sizeof err));
     tp_mesh_summary s;
     tp_error e;
@@ -122,9 +127,14 @@ TEST(view_dependent_mesh_is_watertight_with_distant_levels)
     remove(out);
     /* the same as blocks per patch: still one surface after merging */
     out_path(out, sizeof out, "view.vtm");
-    const char* args2[] = {"--camera", "324000,5102000,2700,45,-20", "--lod", "distance",
-                           "--mindist", "100", "--maxdist", "1500", "--exp", "0.3", "--no-cull",
-                           "--per-patch", dem, "-o", out, NULL};
+    const char* args2[] = {"--camera",  "324000,5102000,2700,45,-20",
+                           "--lod",     "distance",
+                           "--mindist", "100",
+                           "--maxdist", "1500",
+                           "--exp",     "0.3",
+                           "--no-cull", "--per-patch",
+                           dem,         "-o",
+                           out,         NULL};
     ASSERT_EQ_INT(0, run_export(args2, err, sizeof err));
     tp_mesh_summary m;
     ASSERT_OK(tp_mesh_inspect(out, &m, &e));
@@ -157,8 +167,9 @@ TEST(view_dependent_mesh_has_the_viewers_triangles)
     const char* eargs[] = {"--camera", cam, "--tau", "2", dem, "-o", out, NULL};
     ASSERT_EQ_INT(0, run_export(eargs, err, sizeof err));
     /* --whole: export draws a DEM whole, so the viewer's old path is the one to compare */
-    const char* vargs[] = {"--whole", "--headless", "--no-hud", "--size", "1280x720", "--camera", cam,
-                           "--tau", "2", "--stats-json", json, dem, NULL};
+    const char* vargs[] = {"--whole",  "--headless", "--no-hud", "--size", "1280x720",
+                           "--camera", cam,          "--tau",    "2",      "--stats-json",
+                           json,       dem,          NULL};
     int rc = tp_test_run_terrapatch("view", vargs, err, sizeof err);
     if (rc == 1 && strstr(err, "EGL"))
         SKIP("no headless OpenGL here: %s", err);
@@ -287,8 +298,8 @@ TEST(tin_is_bounded_watertight_and_on_the_full_meshs_points)
     EXPECT_GT(points_subset(out, full, 1.0 / 64), 1000);
     /* far fewer triangles than the patches at the same bound */
     EXPECT_LT((double)s.triangles, 0.5 * (double)p.triangles);
-    printf("N42E001 at 20 m: TIN %zu triangles, patches %zu, full %zu\n", s.triangles,
-           p.triangles, f.triangles);
+    printf("N42E001 at 20 m: TIN %zu triangles, patches %zu, full %zu\n", s.triangles, p.triangles,
+           f.triangles);
     remove(out);
     remove(full);
     remove(pat);
@@ -408,7 +419,6 @@ TEST(origin_local_shifts_points_and_records_it)
     remove(a);
     remove(b);
 }
-
 
 /* export --full to a .vtp is written a piece at a time (issue 29, 1.5): cut into many pieces
  * (TP_EXPORT_PIECE_SAMPLES), it is the whole mesh the in-memory writer makes (the .vtk): the same

@@ -15,8 +15,8 @@
 #define TIN_ROUNDING_M 1e-9
 
 #include <errno.h>
-#include <math.h>
 #include <fcntl.h>
+#include <math.h>
 #include <spawn.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -100,8 +100,8 @@ TEST(seam_store_cuts_are_watertight)
      * the outline is 6 loops, and a crack anywhere would add one */
     EXPECT_EQ_INT(6, f.boundary_loops);
     /* distance mode, the whole map in view: leaves near the south edge, large nodes far */
-    const char* dist[] = {"--lod", "distance", "--mindist", "2000", "--maxdist", "15000",
-                          store, "-o", out, NULL};
+    const char* dist[] = {"--lod", "distance", "--mindist", "2000", "--maxdist",
+                          "15000", store,      "-o",        out,    NULL};
     tp_mesh_summary d = export_and_inspect(dist);
     EXPECT_GT((double)d.triangles, 0.0);
     EXPECT_LT((double)d.triangles, 0.5 * (double)f.triangles);
@@ -309,7 +309,6 @@ TEST(damaged_node_fails_and_writes_nothing)
     EXPECT_TRUE(access(out, F_OK) != 0);
     remove(store);
 }
-
 
 /* A store's export --full to a .vtp, written in blocks of leaves (issue 29, 1.5), is the mesh of
  * the in-memory writer (.vtk): the same triangles and merged points, the same outline, and the

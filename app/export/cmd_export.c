@@ -4,9 +4,9 @@
  * error-bounded mesh.
  */
 #include "atomic_file.h"
-#include "full_export.h"
 #include "camera_pose.h"
 #include "cli.h"
+#include "full_export.h"
 #include "mesh_export.h"
 #include "scene.h"
 #include "store_export.h"
@@ -28,7 +28,7 @@ typedef struct export_options {
     tp_scene_options scene;
     export_mode mode;
     double max_error_m;
-    mesh_kind mesh; /* --max-error: a TIN (default on a DEM) or whole patches */
+    mesh_kind mesh;   /* --max-error: a TIN (default on a DEM) or whole patches */
     tp_view_setup vs; /* level of detail, camera, field of view, size: as for view */
     int no_cull, origin_local, per_patch;
     tp_mesh_format format;
@@ -91,8 +91,7 @@ static void print_help(void)
           "view-dependent options (as for view):\n",
           stdout);
     tp_view_options_help(stdout);
-    fputs(
-          "output:\n"
+    fputs("output:\n"
           "  -o, --output OUT      .vtp (VTK XML, binary, compressed), .vtk (legacy) or .vtm\n"
           "  --per-patch           one block per patch (.vtm; DEMs only)\n"
           "  --origin local        subtract a scene origin (written to the field data)\n"
@@ -239,8 +238,10 @@ static int export_tin(const export_options* o, tp_scene* sc)
 {
     char lod_text[160];
     snprintf(lod_text, sizeof lod_text, "mode=max-error mesh=tin max_error_m=%g", o->max_error_m);
-    tp_export_options eo = {.format = o->format, .origin_local = o->origin_local,
-                            .camera_text = "", .lod_text = lod_text};
+    tp_export_options eo = {.format = o->format,
+                            .origin_local = o->origin_local,
+                            .camera_text = "",
+                            .lod_text = lod_text};
     tp_export_result res;
     tp_error err;
     int code = TP_EXIT_OK;
@@ -266,12 +267,17 @@ static int export_full_streamed(const export_options* o, int is_store)
     char* end = NULL;
     long long samples = env && *env ? strtoll(env, &end, 10) : 0;
     if (env && *env && (*end != '\0' || samples < 4)) {
-        fprintf(stderr, "terrapatch export: TP_EXPORT_PIECE_SAMPLES=%s: expected a number of "
-                        "samples >= 4\n", env);
+        fprintf(stderr,
+                "terrapatch export: TP_EXPORT_PIECE_SAMPLES=%s: expected a number of "
+                "samples >= 4\n",
+                env);
         return TP_EXIT_USAGE;
     }
-    tp_full_export_request r = {.path = o->path, .is_store = is_store, .scene = &o->scene,
-                                .out = o->out, .origin_local = o->origin_local,
+    tp_full_export_request r = {.path = o->path,
+                                .is_store = is_store,
+                                .scene = &o->scene,
+                                .out = o->out,
+                                .origin_local = o->origin_local,
                                 .piece_samples = (size_t)samples};
     int code = tp_export_full_streamed(&r);
     return code == TP_EXIT_OK ? tp_cli_finish(code) : code;
@@ -300,8 +306,12 @@ int tp_cli_export(int argc, char** argv)
         if (o.mode == MODE_FULL && tp_full_export_streams(o.path, 1, &o.scene, o.format))
             return export_full_streamed(&o, 1);
         tp_store_export_request r = {
-            .store_path = o.path, .out = o.out, .max_error_m = o.max_error_m, .vs = &o.vs,
-            .format = o.format, .origin_local = o.origin_local,
+            .store_path = o.path,
+            .out = o.out,
+            .max_error_m = o.max_error_m,
+            .vs = &o.vs,
+            .format = o.format,
+            .origin_local = o.origin_local,
             .tin = o.mode == MODE_MAX_ERROR && o.mesh != MESH_PATCHES,
             .mode = o.mode == MODE_FULL        ? TP_STORE_EXPORT_FULL
                     : o.mode == MODE_MAX_ERROR ? TP_STORE_EXPORT_MAX_ERROR
@@ -371,7 +381,9 @@ int tp_cli_export(int argc, char** argv)
         tp_lod_params_resolve(sc.terrain, &o.vs.lod, &lp, NULL);
         snprintf(lod_text, sizeof lod_text,
                  "mode=%s tau_px=%g mindist_m=%g maxdist_m=%g exp=%g fov_deg=%g size=%dx%d%s",
-                 lp.mode == TP_LOD_DISTANCE ? "distance" : lp.mode == TP_LOD_FULL ? "full" : "error",
+                 lp.mode == TP_LOD_DISTANCE ? "distance"
+                 : lp.mode == TP_LOD_FULL   ? "full"
+                                            : "error",
                  lp.tau_px, lp.mindist_m, lp.maxdist_m, lp.exponent, o.vs.fov_deg, o.vs.w, o.vs.h,
                  o.no_cull ? " no_cull" : "");
     }

@@ -25,16 +25,16 @@
 typedef struct full_export {
     const tp_full_export_request* r;
     /* the grid */
-    int width, height;       /* samples */
+    int width, height; /* samples */
     double gt[6];
     int north_up;
     const char* crs_wkt;
     int epsg;
     tp_georef* georef;
     double origin[3];
-    int lod;                 /* the level the mesh's triangles are: n */
-    int patch_shift;         /* cell (x, y) is in patch (x >> shift, y >> shift) */
-    int patch_cols;          /* patch id = row * patch_cols + col (a DEM); a store: leaf id */
+    int lod;         /* the level the mesh's triangles are: n */
+    int patch_shift; /* cell (x, y) is in patch (x >> shift, y >> shift) */
+    int patch_cols;  /* patch id = row * patch_cols + col (a DEM); a store: leaf id */
     /* the pieces: blocks of piece_cw x piece_ch cells */
     int piece_cw, piece_ch, pieces_x, pieces_y;
     /* a DEM */
@@ -44,7 +44,7 @@ typedef struct full_export {
     int have_store;
     const tp_tree_geometry* g;
     const tp_node_meta* metas;
-    uint16_t* block;         /* one leaf */
+    uint16_t* block; /* one leaf */
     size_t block_words;
     /* one piece's samples and mesh */
     float* z;
@@ -103,7 +103,9 @@ static int open_dem(full_export* x)
         .crs = o->grid.crs,
         .resampling = o->grid.resampling,
         .memory_mb = 256,
-        .fill_max = fmax == 0 ? TP_FILL_MAX_ANY : fmax < 0 ? 0 : fmax,
+        .fill_max = fmax == 0  ? TP_FILL_MAX_ANY
+                    : fmax < 0 ? 0
+                               : fmax,
         .fill_from = o->grid.fill_from,
         .z_unit = o->z_unit,
     };
@@ -195,8 +197,8 @@ static int read_block(full_export* x, int x0, int y0, int w, int h)
             for (int yy = jy0; yy <= jy1; yy++)
                 for (int xx = ix0; xx <= ix1; xx++) {
                     int f;
-                    double v = tp_leaf_block_sample(x->block, meta, n, x->sc.info.header.height_step_m,
-                                                    xx - xa, yy - ya, &f);
+                    double v = tp_leaf_block_sample(
+                        x->block, meta, n, x->sc.info.header.height_step_m, xx - xa, yy - ya, &f);
                     size_t k = (size_t)(yy - y0) * w + (xx - x0);
                     x->z[k] = (float)v;
                     x->filled[k] = (uint8_t)f;
@@ -286,8 +288,8 @@ static tp_status make_piece(void* user, size_t p, tp_mesh* m, tp_error* err)
         return tp_error_set(err, TP_ERR_IO, "%s: interrupted", x->r->out);
     piece_rect r = rect_of(x, p);
     if (read_block(x, r.x0, r.y0, r.w, r.h) != TP_EXIT_OK)
-        return tp_error_set(err, TP_ERR_IO, "%s: reading piece %zu failed (said above)",
-                            x->r->path, p);
+        return tp_error_set(err, TP_ERR_IO, "%s: reading piece %zu failed (said above)", x->r->path,
+                            p);
     size_t cells;
     size_t points = number_points(x, &r, &cells);
     const tp_georef* gr = georef_of(x);
@@ -324,11 +326,10 @@ static tp_status make_piece(void* user, size_t p, tp_mesh* m, tp_error* err)
             }
             memcpy(x->tri + 3 * t, tri, sizeof tri);
             int cx = r.x0 + i, cy = r.y0 + j;
-            int32_t id = x->have_store
-                             ? (int32_t)tp_tree_node_id(x->g, 0, cx >> x->patch_shift,
-                                                        cy >> x->patch_shift)
-                             : (int32_t)((int64_t)(cy >> x->patch_shift) * x->patch_cols +
-                                         (cx >> x->patch_shift));
+            int32_t id = x->have_store ? (int32_t)tp_tree_node_id(x->g, 0, cx >> x->patch_shift,
+                                                                  cy >> x->patch_shift)
+                                       : (int32_t)((int64_t)(cy >> x->patch_shift) * x->patch_cols +
+                                                   (cx >> x->patch_shift));
             for (int q = 0; q < 2; q++, t++) {
                 x->patch[t] = id;
                 x->lodv[t] = (uint8_t)x->lod;
@@ -476,8 +477,12 @@ int tp_export_full_streamed(const tp_full_export_request* r)
     char zone[TP_ZONE_TEXT_SIZE];
     tp_export_zone_of_crs(x.crs_wkt, &x.epsg, zone);
     tp_mesh fields = {
-        .crs_wkt = x.crs_wkt, .epsg = x.epsg, .utm_zone = zone, .source_file = r->path,
-        .camera = "", .lod_params = "mode=full",
+        .crs_wkt = x.crs_wkt,
+        .epsg = x.epsg,
+        .utm_zone = zone,
+        .source_file = r->path,
+        .camera = "",
+        .lod_params = "mode=full",
         .program_version = "terrapatch " TP_VERSION,
         .origin = {x.origin[0], x.origin[1], x.origin[2]},
         .void_filled_note = x.have_store ? "from the store's filled bits: 1 where the build "

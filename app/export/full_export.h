@@ -24,12 +24,12 @@
 #define TP_FULL_EXPORT_PIECE_SAMPLES ((size_t)1 << 19)
 
 typedef struct tp_full_export_request {
-    const char* path;                /* the DEM or store (.tpt) */
+    const char* path; /* the DEM or store (.tpt) */
     int is_store;
-    const tp_scene_options* scene;   /* a DEM's options (--crs, --fill-max, --patch, ...) */
-    const char* out;                 /* a .vtp */
-    int origin_local;                /* subtract a scene origin (whole km of the grid origin) */
-    size_t piece_samples;            /* 0: TP_FULL_EXPORT_PIECE_SAMPLES (tests make it small) */
+    const tp_scene_options* scene; /* a DEM's options (--crs, --fill-max, --patch, ...) */
+    const char* out;               /* a .vtp */
+    int origin_local;              /* subtract a scene origin (whole km of the grid origin) */
+    size_t piece_samples;          /* 0: TP_FULL_EXPORT_PIECE_SAMPLES (tests make it small) */
 } tp_full_export_request;
 
 /* Whether export --full of this request streams: a .vtp of a georeferenced DEM (not a

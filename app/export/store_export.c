@@ -47,8 +47,8 @@ typedef struct store_export {
     tp_cut* cut;
     double step_m, unit, quant_m;
     int n;
-    size_t tris_cut; /* triangles of the final cut (for the size check) */
-    size_t drawn;    /* nodes of the final cut */
+    size_t tris_cut;        /* triangles of the final cut (for the size check) */
+    size_t drawn;           /* nodes of the final cut */
     tp_store_tin_stats tin; /* r->tin: the tiles built */
 } store_export;
 
@@ -168,8 +168,8 @@ static int static_level(const store_export* x, int64_t node, int scale)
 }
 
 typedef struct choice {
-    int8_t* level;           /* per node: drawn level, -1 when not chosen */
-    int64_t* ids;            /* chosen ids (may hold stale ones: level -1) */
+    int8_t* level; /* per node: drawn level, -1 when not chosen */
+    int64_t* ids;  /* chosen ids (may hold stale ones: level -1) */
     size_t count, cap;
 } choice;
 
@@ -331,8 +331,7 @@ static int cut_max_error(store_export* x)
         int raised = 0;
         for (size_t i = 0; i < count; i++) {
             int nb[4];
-            memcpy(nb, (int[4]){out[i].nb[0], out[i].nb[1], out[i].nb[2], out[i].nb[3]},
-                   sizeof nb);
+            memcpy(nb, (int[4]){out[i].nb[0], out[i].nb[1], out[i].nb[2], out[i].nb[3]}, sizeof nb);
             if (bound_m(x, out[i].node, out[i].level, nb) <= M)
                 continue;
             for (int side = 0; side < 4; side++) {
@@ -462,11 +461,12 @@ static int build_mesh(store_export* x, mesh_build* m, double* sum, size_t* count
             uint64_t p[3];
             for (int c = 0; c < 3; c++)
                 if ((p[c] = tp_mesh_point(m, v[c]->x, v[c]->y, (double)v[c]->z_m,
-                                     v[c]->cls == TP_SAMPLE_FILLED)) == UINT64_MAX) {
+                                          v[c]->cls == TP_SAMPLE_FILLED)) == UINT64_MAX) {
                     code = fail(x, "out of memory building the mesh");
                     goto done;
                 }
-            int32_t a[2] = {v[0]->x, v[0]->y}, b[2] = {v[1]->x, v[1]->y}, cc[2] = {v[2]->x, v[2]->y};
+            int32_t a[2] = {v[0]->x, v[0]->y}, b[2] = {v[1]->x, v[1]->y},
+                    cc[2] = {v[2]->x, v[2]->y};
             tri_error e = {x->cache, 0, 0, 0};
             tp_triangle_rasterize(a, b, cc, v[0]->z_m, v[1]->z_m, v[2]->z_m, error_at, &e);
             if (x->cache->failed) {
@@ -504,8 +504,8 @@ static size_t full_mesh_bound(const store_export* x)
     return drawn < cells ? drawn : cells;
 }
 
-static int write_mesh(store_export* x, mesh_build* m, const char* camera_text,
-                      const char* lod_text, double sum, size_t count)
+static int write_mesh(store_export* x, mesh_build* m, const char* camera_text, const char* lod_text,
+                      double sum, size_t count)
 {
     const tp_store_header* h = &x->sc.info.header;
     if (m->tris == 0) {
@@ -548,13 +548,24 @@ static int write_mesh(store_export* x, mesh_build* m, const char* camera_text,
     /* format 4 keeps which samples the build filled (tp_cut_vertices' TP_SAMPLE_FILLED) */
     const char* note = "from the store's filled bits: 1 where the build filled an interior void";
     tp_mesh mesh = {
-        .point_count = m->points, .xyz = xyz, .elevation_m = m->pz, .void_filled = m->pf,
-        .triangle_count = m->tris, .triangles = m->tri,
-        .patch_id = x->r->tin ? NULL : m->patch, .lod = x->r->tin ? NULL : m->lod,
-        .max_error_m = m->err, .crs_wkt = h->crs_wkt, .epsg = epsg, .utm_zone = zone,
-        .source_file = x->r->store_path, .camera = camera_text, .lod_params = lod_text,
+        .point_count = m->points,
+        .xyz = xyz,
+        .elevation_m = m->pz,
+        .void_filled = m->pf,
+        .triangle_count = m->tris,
+        .triangles = m->tri,
+        .patch_id = x->r->tin ? NULL : m->patch,
+        .lod = x->r->tin ? NULL : m->lod,
+        .max_error_m = m->err,
+        .crs_wkt = h->crs_wkt,
+        .epsg = epsg,
+        .utm_zone = zone,
+        .source_file = x->r->store_path,
+        .camera = camera_text,
+        .lod_params = lod_text,
         .program_version = "terrapatch " TP_VERSION,
-        .origin = {origin[0], origin[1], origin[2]}, .void_filled_note = note,
+        .origin = {origin[0], origin[1], origin[2]},
+        .void_filled_note = note,
     };
     tp_status st = tp_mesh_write(x->r->out, x->r->format, &mesh, &err);
     free(xyz);
@@ -585,10 +596,9 @@ static int write_mesh(store_export* x, mesh_build* m, const char* camera_text,
            "%zu nodes drawn, %zu resident at most (%.1f MiB), %zu more leaves read for the "
            "error\n",
            x->r->out, m->points, m->tris, 100.0 * m->tris / (full ? full : 1),
-           exact ? "" : "at most ", full, mx,
-           count ? sqrt(sum / count) : 0.0, x->drawn,
-           x->res.peak_bytes / (x->res.block_samples * 2),
-           x->res.peak_bytes / 1048576.0, x->cache->reads);
+           exact ? "" : "at most ", full, mx, count ? sqrt(sum / count) : 0.0, x->drawn,
+           x->res.peak_bytes / (x->res.block_samples * 2), x->res.peak_bytes / 1048576.0,
+           x->cache->reads);
     return TP_EXIT_OK;
 }
 
@@ -685,10 +695,10 @@ int tp_export_store(const tp_store_export_request* r)
         snprintf(lod_text, sizeof lod_text,
                  "mode=%s tau_px=%g mindist_m=%g maxdist_m=%g exp=%g fov_deg=%g size=%dx%d "
                  "(store cut; 0 = default)",
-                 lp->mode == TP_LOD_DISTANCE ? "distance" : lp->mode == TP_LOD_FULL ? "full"
-                                                                                   : "error",
-                 lp->tau_px, lp->mindist_m, lp->maxdist_m, lp->exponent, vs->fov_deg, vs->w,
-                 vs->h);
+                 lp->mode == TP_LOD_DISTANCE ? "distance"
+                 : lp->mode == TP_LOD_FULL   ? "full"
+                                             : "error",
+                 lp->tau_px, lp->mindist_m, lp->maxdist_m, lp->exponent, vs->fov_deg, vs->w, vs->h);
         /* An export keeps every drawn sample: no holes along voids (incomplete nodes at full
          * resolution), so its outline is the data's, at any camera. */
         tp_lod_params exact = *lp;

@@ -71,7 +71,8 @@ double tp_leaf_sample_filled(leaf_cache* lc, int x, int y, int* filled)
     if (!q) {
         size_t s = (size_t)leaf % LEAF_CACHE_SLOTS;
         if (lc->key[s] != leaf) {
-            if (!lc->slot[s] && !(lc->slot[s] = malloc(lc->res->block_samples * sizeof(uint16_t)))) {
+            if (!lc->slot[s] &&
+                !(lc->slot[s] = malloc(lc->res->block_samples * sizeof(uint16_t)))) {
                 lc->failed = 1;
                 tp_error_set(&lc->res->err, TP_ERR_OUT_OF_MEMORY, "out of memory");
                 return NAN;
@@ -212,4 +213,3 @@ void tp_mesh_build_free(mesh_build* m)
     free(m->err);
     memset(m, 0, sizeof *m);
 }
-

@@ -109,8 +109,7 @@ FORWARD(tp_dem_read_image,
         (const char* path, const tp_image_options* options, tp_dem** out, tp_error* err),
         (path, options, out, err), err)
 FORWARD(tp_image_output_check, (const char* path, tp_error* err), (path, err), err)
-FORWARD(tp_image_write_rgba,
-        (const char* path, int w, int h, const uint8_t* rgba, tp_error* err),
+FORWARD(tp_image_write_rgba, (const char* path, int w, int h, const uint8_t* rgba, tp_error* err),
         (path, w, h, rgba, err), err)
 FORWARD(tp_image_read_rgba, (const char* path, int* w, int* h, uint8_t** rgba, tp_error* err),
         (path, w, h, rgba, err), err)
@@ -118,8 +117,8 @@ FORWARD(tp_texture_build,
         (const char* path, const tp_render_grid* grid, int max_size, tp_texture** out,
          tp_error* err),
         (path, grid, max_size, out, err), err)
-FORWARD(tp_mesh_inspect, (const char* path, tp_mesh_summary* out, tp_error* err),
-        (path, out, err), err)
+FORWARD(tp_mesh_inspect, (const char* path, tp_mesh_summary* out, tp_error* err), (path, out, err),
+        err)
 FORWARD(tp_mesh_read_points, (const char* path, double** xyz, size_t* count, tp_error* err),
         (path, xyz, count, err), err)
 FORWARD(tp_mesh_check_size,

@@ -9,8 +9,8 @@
  * (tp_mesh_write_pieces), which repeat the points where they meet.
  */
 #include "io_util.hpp"
-#include "vtk_util.hpp"
 #include "tp_io.h"
+#include "vtk_util.hpp"
 
 #include <vtkAppendPolyData.h>
 #include <vtkCellArray.h>

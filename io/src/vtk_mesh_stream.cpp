@@ -14,8 +14,8 @@
  * survives a failing stream (vtk_mesh_write.cpp says why inline binary does not).
  */
 #include "io_util.hpp"
-#include "vtk_util.hpp"
 #include "tp_io.h"
+#include "vtk_util.hpp"
 
 #include <vtkErrorCode.h>
 #include <vtkInformation.h>
@@ -43,15 +43,21 @@ namespace {
  * written over what is there after a seek back (tp_file_rewrite). The first failure sticks:
  * every later write fails and err keeps the message (the file is gone already). */
 class FileBuf : public std::streambuf {
-public:
+  public:
     explicit FileBuf(tp_file_writer* w) : w_(w), buf_((size_t)1 << 20)
     {
         setp(buf_.data(), buf_.data() + buf_.size());
     }
-    bool failed() const { return failed_; }
-    const tp_error& error() const { return err_; }
+    bool failed() const
+    {
+        return failed_;
+    }
+    const tp_error& error() const
+    {
+        return err_;
+    }
 
-protected:
+  protected:
     int_type overflow(int_type c) override
     {
         if (!flush())
@@ -62,7 +68,10 @@ protected:
         }
         return traits_type::not_eof(c);
     }
-    int sync() override { return flush() ? 0 : -1; }
+    int sync() override
+    {
+        return flush() ? 0 : -1;
+    }
     pos_type seekoff(off_type off, std::ios_base::seekdir dir,
                      std::ios_base::openmode which) override
     {
@@ -82,7 +91,7 @@ protected:
         return seekoff(off_type(p), std::ios_base::beg, which);
     }
 
-private:
+  private:
     /* The buffer to the file at pos_: over what is there, then appended. */
     bool flush()
     {
@@ -120,7 +129,7 @@ private:
  * failure every piece is an empty one with the same arrays (the writer then runs to its end
  * quickly, and the file is thrown away). */
 class PieceSource : public vtkPolyDataAlgorithm {
-public:
+  public:
     static PieceSource* New();
     vtkTypeMacro(PieceSource, vtkPolyDataAlgorithm);
 
@@ -132,8 +141,11 @@ public:
     tp_error err{};
     std::string path;
 
-protected:
-    PieceSource() { SetNumberOfInputPorts(0); }
+  protected:
+    PieceSource()
+    {
+        SetNumberOfInputPorts(0);
+    }
 
     int RequestInformation(vtkInformation*, vtkInformationVector**,
                            vtkInformationVector* out) override
@@ -165,7 +177,7 @@ protected:
         return 1;
     }
 
-private:
+  private:
     void make(int piece, tp_mesh* m)
     {
         if (piece < 0 || (size_t)piece != pieces_made || (size_t)piece >= piece_count) {
@@ -201,10 +213,13 @@ vtkStandardNewMacro(PieceSource);
 /* vtkXMLPolyDataWriter that writes to our stream (VTK 9.1 keeps the stream member protected:
  * set before Write, it is used instead of a file and left open). */
 class StreamWriter : public vtkXMLPolyDataWriter {
-public:
+  public:
     static StreamWriter* New();
     vtkTypeMacro(StreamWriter, vtkXMLPolyDataWriter);
-    void UseStream(std::ostream* os) { this->Stream = os; }
+    void UseStream(std::ostream* os)
+    {
+        this->Stream = os;
+    }
 };
 vtkStandardNewMacro(StreamWriter);
 
@@ -223,8 +238,8 @@ extern "C" tp_status tp_mesh_write_pieces(const char* path, const tp_mesh* field
             return fail(err, TP_ERR_INVALID_ARG,
                         "%s: a mesh written in pieces is a .vtp (VTK XML PolyData)", path);
         if (piece_count > (size_t)INT_MAX)
-            return fail(err, TP_ERR_INVALID_ARG, "%s: %zu pieces: VTK numbers them in an int",
-                        path, piece_count);
+            return fail(err, TP_ERR_INVALID_ARG, "%s: %zu pieces: VTK numbers them in an int", path,
+                        piece_count);
         tp_file_writer* fw = nullptr;
         tp_status s = tp_file_begin(path, &fw, err);
         if (s != TP_OK)
@@ -232,7 +247,10 @@ extern "C" tp_status tp_mesh_write_pieces(const char* path, const tp_mesh* field
         /* whatever happens before the commit (an exception too), the temporary file goes */
         struct Abort {
             tp_file_writer*& w;
-            ~Abort() { tp_file_abort(w); }
+            ~Abort()
+            {
+                tp_file_abort(w);
+            }
         } abort_guard{fw};
         tpvtk::VtkErrors errors;
         vtkNew<PieceSource> src;

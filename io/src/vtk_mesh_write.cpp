@@ -24,8 +24,8 @@
  */
 #include "atomic_write.hpp"
 #include "io_util.hpp"
-#include "vtk_util.hpp"
 #include "tp_io.h"
+#include "vtk_util.hpp"
 
 #include <vtkCellArray.h>
 #include <vtkCellData.h>
@@ -41,9 +41,9 @@
 #include <vtkPolyDataWriter.h>
 #include <vtkSmartPointer.h>
 #include <vtkStringArray.h>
-#include <vtkUnsignedCharArray.h>
 #include <vtkTypeInt32Array.h>
 #include <vtkTypeInt64Array.h>
+#include <vtkUnsignedCharArray.h>
 #include <vtkXMLPolyDataWriter.h>
 
 #include <algorithm>
@@ -59,6 +59,7 @@
 #include <new>
 #include <string>
 #include <sys/stat.h>
+#include <type_traits>
 #include <unistd.h>
 #include <vector>
 
@@ -105,9 +106,10 @@ static void add_field_data(vtkFieldData* fd, const tp_mesh* m, size_t triangle_c
 }
 
 /* See vtk_util.hpp. */
-vtkSmartPointer<vtkPolyData> tpvtk::build_polydata(const tp_mesh* m, const std::vector<size_t>* tris,
-                                            const std::vector<size_t>* points,
-                                            const std::vector<size_t>* local,
+vtkSmartPointer<vtkPolyData> tpvtk::build_polydata(const tp_mesh* m,
+                                                   const std::vector<size_t>* tris,
+                                                   const std::vector<size_t>* points,
+                                                   const std::vector<size_t>* local,
                                                    size_t field_triangle_count)
 {
     const vtkIdType np = points ? (vtkIdType)points->size() : (vtkIdType)m->point_count;
@@ -135,30 +137,25 @@ vtkSmartPointer<vtkPolyData> tpvtk::build_polydata(const tp_mesh* m, const std::
                      : (vtkIdType)m->triangles[3 * tri(i) + k];
     };
     vtkNew<vtkCellArray> cells;
+    auto fill = [&](auto* offsets, auto* conn) {
+        offsets->SetNumberOfValues(nt + 1);
+        conn->SetNumberOfValues(3 * nt);
+        auto* o = offsets->GetPointer(0);
+        auto* c = conn->GetPointer(0);
+        using T = std::remove_pointer_t<decltype(o)>;
+        for (vtkIdType i = 0; i <= nt; ++i)
+            o[i] = (T)(3 * i);
+        for (vtkIdType i = 0; i < nt; ++i)
+            for (int k = 0; k < 3; ++k)
+                c[3 * i + k] = (T)corner(i, k);
+        cells->SetData(offsets, conn);
+    };
     if (np < INT32_MAX && 3 * nt < INT32_MAX) {
         vtkNew<vtkTypeInt32Array> offsets, conn;
-        offsets->SetNumberOfValues(nt + 1);
-        conn->SetNumberOfValues(3 * nt);
-        int32_t* o = offsets->GetPointer(0);
-        int32_t* c = conn->GetPointer(0);
-        for (vtkIdType i = 0; i <= nt; ++i)
-            o[i] = (int32_t)(3 * i);
-        for (vtkIdType i = 0; i < nt; ++i)
-            for (int k = 0; k < 3; ++k)
-                c[3 * i + k] = (int32_t)corner(i, k);
-        cells->SetData(offsets, conn);
+        fill(offsets.Get(), conn.Get());
     } else {
         vtkNew<vtkTypeInt64Array> offsets, conn;
-        offsets->SetNumberOfValues(nt + 1);
-        conn->SetNumberOfValues(3 * nt);
-        vtkTypeInt64* o = offsets->GetPointer(0);
-        vtkTypeInt64* c = conn->GetPointer(0);
-        for (vtkIdType i = 0; i <= nt; ++i)
-            o[i] = 3 * (vtkTypeInt64)i;
-        for (vtkIdType i = 0; i < nt; ++i)
-            for (int k = 0; k < 3; ++k)
-                c[3 * i + k] = (vtkTypeInt64)corner(i, k);
-        cells->SetData(offsets, conn);
+        fill(offsets.Get(), conn.Get());
     }
     pd->SetPolys(cells);
 
@@ -218,7 +215,10 @@ std::string base_of(const std::string& path)
  * removes it whatever happens to our caller. */
 struct TempGuard {
     std::string name;
-    TempGuard() { tp_interrupt_hold(); }
+    TempGuard()
+    {
+        tp_interrupt_hold();
+    }
     ~TempGuard()
     {
         if (!name.empty()) {
@@ -515,8 +515,7 @@ extern "C" tp_status tp_mesh_write(const char* path, tp_mesh_format format, cons
             return fail(err, TP_ERR_INVALID_ARG, "%s: unknown mesh format %d", path, (int)format);
         }
         tp_error size_err;
-        if (tp_mesh_check_size(format, mesh->point_count, mesh->triangle_count, &size_err) !=
-            TP_OK)
+        if (tp_mesh_check_size(format, mesh->point_count, mesh->triangle_count, &size_err) != TP_OK)
             return fail(err, TP_ERR_INVALID_ARG, "%s: %s", path, size_err.message);
         for (size_t i = 0; i < 3 * mesh->triangle_count; ++i)
             if (mesh->triangles[i] >= mesh->point_count)
