@@ -9,9 +9,9 @@
 #include "bench.h"
 #include "camera_pose.h"
 #include "cli.h"
+#include "memory.h"
 #include "gl_context.h"
 #include "json.h"
-#include "memory.h"
 #include "renderer.h"
 #include "scene.h"
 #include "store_scene.h"
@@ -59,133 +59,131 @@ enum {
 
 static void print_help(void)
 {
-    fputs(
-        "usage: terrapatch bench [options] DEM|X.tpt\n"
-        "\n"
-        "Renders headless frames (EGL) along a deterministic camera path for full resolution\n"
-        "(frustum-culled), the distance LoD and the error LoD, in one run, and reports per\n"
-        "configuration the median frame rate, CPU time (select + stitch + cull + upload), draw\n"
-        "time (glFinish), triangles, draw calls, GPU bytes, and the measured error of the\n"
-        "drawn geometry: vertical (m) and screen-space (px; for every full-resolution sample in\n"
-        "view, the on-screen length between it and the drawn surface above or below it).\n"
-        "\n"
-        "options:\n"
-        "  --path low|high|orbit  low: 60 m above the ground across the DEM's middle, looking\n"
-        "                         ahead 10 deg down (default); high: a high oblique pass;\n"
-        "                         orbit: around the centre\n"
-        "  --path-file F          one --camera-geo LAT,LON,H,YAW,PITCH (or E,N,H,YAW,PITCH\n"
-        "                         with a leading 'proj ') per line\n"
-        "  --camera E,N,H,YAW,PITCH, --camera-geo LAT,LON,H,YAW,PITCH\n"
-        "                         every frame from this one camera instead of a path\n"
-        "  --frames N             frames per configuration (default 60)\n"
-        "  --size WxH             default 1280x720; --fov DEG default 60\n"
-        "  --tau PX, --mindist METRES, --maxdist METRES, --exp E   the LoD parameters (as\n"
-        "                         for view; --lod is ignored: every mode is measured; a\n"
-        "                         store: --lod spheres adds the distance mode through the\n"
-        "                         sphere tree, same cut, its own cut ms)\n"
-        "  --speed M/S            path flights move at this speed (default 100): before each\n"
-        "                         timed frame, an untimed frame 1/30 s earlier along the path,\n"
-        "                         so the timed one costs what a frame of a real flight costs;\n"
-        "                         0: no lead-in (every frame a jump, uploads from cold)\n"
-        "  --json FILE            summary; --csv FILE: one row per frame and configuration\n"
-        "  --no-error             skip the error measurement (faster)\n"
-        "  --stitch move|add      crack removal: move the finer patch's border vertices\n"
-        "                         (default) or add them to the coarser patch's (Brodersen\n"
-        "                         section 4); its error measured on its own geometry. A\n"
-        "                         store runs error and distance both ways (+add rows)\n"
-        "  --stitch-add-draw sets|five|both\n"
-        "                         how --stitch add draws a patch that takes vertices: its\n"
-        "                         own triangle list from an index set per neighbour\n"
-        "                         configuration (sets), or up to five draws of per-level\n"
-        "                         region sets (five; the default); both (a DEM): every\n"
-        "                         --stitch add configuration twice, sets then five (same\n"
-        "                         path and frames; a second table gives draws, index bytes\n"
-        "                         on GPU and CPU)\n"
-        "  --renderer pgm         also Persistent Grid Mapping (Livny, Kogan & El-Sana): one\n"
-        "                         configuration per grid after the patch ones, the same path;\n"
-        "                         a DEM: drawn whole, error by tp_pgm_measure_error (every post\n"
-        "                         in view against the mapped grid's surface) on every\n"
-        "                         --error-every-th frame; a store: through its clipmap\n"
-        "                         (--pgm-window N posts a level, default 512; default grid\n"
-        "                         300x300), fill/upload ms per frame, error not measured\n"
-        "  --pgm-grid COLSxROWS[,COLSxROWS...]   the grids (default 150x600,300x300,600x600,\n"
-        "                         from the paper's Table 1; --sweep: 150x600,200x800,300x900,\n"
-        "                         600x600,400x1600 (Table 1), 300x300,430x430; at most 8)\n"
-        "  --sweep                every renderer and crack fix on the same path and frames,\n"
-        "                         each family with its own Pareto front: full resolution;\n"
-        "                         distance mode with mindist {1,4} x maxdist {12,24,48,96}\n"
-        "                         patch widths x exp {0.5,1,2} and error mode with tau\n"
-        "                         {0.5,1,2,4,8,16} (and --tau), vertex moving; --stitch add\n"
-        "                         at the run's distance parameters and at each tau; PGM per\n"
-        "                         grid (--renderer pgm is implied). --csv FILE (required) gets\n"
-        "                         one row per configuration (family, fps, CPU ms, triangles,\n"
-        "                         GPU MiB, max and RMS px and m, PGM's uncovered share), and\n"
-        "                         a plot of fps against measured max and RMS screen error goes\n"
-        "                         to --plot FILE.png (default: FILE with .png; needs\n"
-        "                         gnuplot). No --stitch, --no-error; the sphere tree (--lod\n"
-        "                         spheres) is a store's cut: see the store bench\n"
-        "  --static --max-error M1,M2,...\n"
-        "                         no frames: builds the static mesh of 'export --max-error M'\n"
-        "                         for each bound and reports triangles, points, build time and\n"
-        "                         the measured maximum and RMS error against the source\n"
-        "                         (\"patches\": the whole render grid), and terrapatch's\n"
-        "                         error-bounded TIN (\"terrapatch tin\", as export builds it:\n"
-        "                         tiles of 256 cells on every CPU, void outlines cut) on the\n"
-        "                         same grid: triangles, points, median wall\n"
-        "                         build time, true max and RMS error (tp_tin_measure, every\n"
-        "                         valid sample), and the peak memory the build adds (each run\n"
-        "                         in a forked child, its peak RSS reset via "
-        "/proc/self/clear_refs)\n"
-        "  --runs N               --static: timed runs per TIN, the median reported (default 3)\n"
-        "  --compare              --static: also delatin 0.2.0 and martini 0.2.0 (npm; RTIN),\n"
-        "                         and martini with its threshold lowered (e x 1, 0.9, .., 0.1,\n"
-        "                         0.05, 0.02) to the largest one whose true error is <= e, each\n"
-        "                         run in its own node process (peak memory: that process's peak\n"
-        "                         RSS less its RSS before meshing); every TIN then runs on one\n"
-        "                         window: the largest (2^k+1)^2 square centred in the render\n"
-        "                         grid that holds no void (martini's grid shape).\n"
-        "                         tools/tin_compare.sh installs the npm packages into\n"
-        "                         ${XDG_CACHE_HOME:-~/.cache}/terrapatch/npm (needs node, npm\n"
-        "                         and, once, the network; TP_TIN_COMPARE=PATH runs another copy\n"
-        "                         of the script); every mesh is checked by tp_tin_measure.\n"
-        "                         Missing node, npm or network: exit 1, no rows\n"
-        "\n"
-        "A built store (X.tpt, see 'terrapatch build') is flown through its hierarchy with\n"
-        "streaming instead: the error mode at --tau, then the distance mode, each from a cold\n"
-        "start; --path low|high; the flight is --segments stretches of continuous flight at\n"
-        "--speed (30 frames a second) spread across the map, each reached by a jump, the\n"
-        "stream then left to load what the view asks for, and 5 untimed frames of flight.\n"
-        "  --memory MB            the stream's budget of decoded nodes (default 1024)\n"
-        "  --segments N           stretches of flight (default 4); --frames are split among them\n"
-        "  --realtime             the camera moves by speed x the time that really passed\n"
-        "                         (a slow frame is a jump, as in the viewer), not speed / 30\n"
-        "                         per frame\n"
-        "  --no-prefetch          no prefetch cut (to measure what the prefetch costs)\n"
-        "  --imagery FILE.tpi     a third configuration: the error mode with this imagery\n"
-        "                         pyramid draped through the clipmap or blocks (upload ms,\n"
-        "                         GPU and RAM of the imagery per frame, draw calls; the last\n"
-        "                         frame compared with a fresh clipmap's or pool's:\n"
-        "                         imagery_final_diff_pixels)\n"
-        "  --clip-blocks N        the clipmap's window in blocks a side (even, 2..32; default 4)\n"
-        "  --imagery-mode M       clipmap (default); blocks: Brodersen's texture per drawn node\n"
-        "                         (a pool of 384 layers of 256x256, 96 MiB; one draw call per\n"
-        "                         node); both: one configuration each, to compare them\n"
-        "  --light FILE.tpl       one more configuration: the error mode with the day's light\n"
-        "                         map made for the store streamed through its clipmap, the\n"
-        "                         sun's time sweeping the day over the flight (light ms, GPU\n"
-        "                         and RAM, uploads per frame: light_* in the JSON)\n"
-        "  --error-every N        measure the screen error on every N-th frame (default 1),\n"
-        "                         only frames drawn without substitution, only samples whose\n"
-        "                         leaf is resident (the JSON says how many were skipped)\n"
-        "--json adds rss_mb, rss_anon_mb (/proc/self/status VmRSS, RssAnon; max over the\n"
-        "timed frames), resident_mb (the stream's accounting), gpu_mb, first_frame_ms (from\n"
-        "the process's start to the end of the first drawn frame) and its parts\n"
-        "(startup_to_bench_ms, store_open_ms, gl_context_ms, renderer_create_ms,\n"
-        "stream_create_ms, georef_wait_ms, first_cut_stream_ms, first_draw_ms),\n"
-        "frame_ms_p99, nodes_drawn_median, substituted_nodes_max, frames_with_substitution.\n"
-        "\n"
-        "DEM:\n",
-        stdout);
+    fputs("usage: terrapatch bench [options] DEM|X.tpt\n"
+          "\n"
+          "Renders headless frames (EGL) along a deterministic camera path for full resolution\n"
+          "(frustum-culled), the distance LoD and the error LoD, in one run, and reports per\n"
+          "configuration the median frame rate, CPU time (select + stitch + cull + upload), draw\n"
+          "time (glFinish), triangles, draw calls, GPU bytes, and the measured error of the\n"
+          "drawn geometry: vertical (m) and screen-space (px; for every full-resolution sample in\n"
+          "view, the on-screen length between it and the drawn surface above or below it).\n"
+          "\n"
+          "options:\n"
+          "  --path low|high|orbit  low: 60 m above the ground across the DEM's middle, looking\n"
+          "                         ahead 10 deg down (default); high: a high oblique pass;\n"
+          "                         orbit: around the centre\n"
+          "  --path-file F          one --camera-geo LAT,LON,H,YAW,PITCH (or E,N,H,YAW,PITCH\n"
+          "                         with a leading 'proj ') per line\n"
+          "  --camera E,N,H,YAW,PITCH, --camera-geo LAT,LON,H,YAW,PITCH\n"
+          "                         every frame from this one camera instead of a path\n"
+          "  --frames N             frames per configuration (default 60)\n"
+          "  --size WxH             default 1280x720; --fov DEG default 60\n"
+          "  --tau PX, --mindist METRES, --maxdist METRES, --exp E   the LoD parameters (as\n"
+          "                         for view; --lod is ignored: every mode is measured; a\n"
+          "                         store: --lod spheres adds the distance mode through the\n"
+          "                         sphere tree, same cut, its own cut ms)\n"
+          "  --speed M/S            path flights move at this speed (default 100): before each\n"
+          "                         timed frame, an untimed frame 1/30 s earlier along the path,\n"
+          "                         so the timed one costs what a frame of a real flight costs;\n"
+          "                         0: no lead-in (every frame a jump, uploads from cold)\n"
+          "  --json FILE            summary; --csv FILE: one row per frame and configuration\n"
+          "  --no-error             skip the error measurement (faster)\n"
+          "  --stitch move|add      crack removal: move the finer patch's border vertices\n"
+          "                         (default) or add them to the coarser patch's (Brodersen\n"
+          "                         section 4); its error measured on its own geometry. A\n"
+          "                         store runs error and distance both ways (+add rows)\n"
+          "  --stitch-add-draw sets|five|both\n"
+          "                         how --stitch add draws a patch that takes vertices: its\n"
+          "                         own triangle list from an index set per neighbour\n"
+          "                         configuration (sets), or up to five draws of per-level\n"
+          "                         region sets (five; the default); both (a DEM): every\n"
+          "                         --stitch add configuration twice, sets then five (same\n"
+          "                         path and frames; a second table gives draws, index bytes\n"
+          "                         on GPU and CPU)\n"
+          "  --renderer pgm         also Persistent Grid Mapping (Livny, Kogan & El-Sana): one\n"
+          "                         configuration per grid after the patch ones, the same path;\n"
+          "                         a DEM: drawn whole, error by tp_pgm_measure_error (every post\n"
+          "                         in view against the mapped grid's surface) on every\n"
+          "                         --error-every-th frame; a store: through its clipmap\n"
+          "                         (--pgm-window N posts a level, default 512; default grid\n"
+          "                         300x300), fill/upload ms per frame, error not measured\n"
+          "  --pgm-grid COLSxROWS[,COLSxROWS...]   the grids (default 150x600,300x300,600x600,\n"
+          "                         from the paper's Table 1; --sweep: 150x600,200x800,300x900,\n"
+          "                         600x600,400x1600 (Table 1), 300x300,430x430; at most 8)\n"
+          "  --sweep                every renderer and crack fix on the same path and frames,\n"
+          "                         each family with its own Pareto front: full resolution;\n"
+          "                         distance mode with mindist {1,4} x maxdist {12,24,48,96}\n"
+          "                         patch widths x exp {0.5,1,2} and error mode with tau\n"
+          "                         {0.5,1,2,4,8,16} (and --tau), vertex moving; --stitch add\n"
+          "                         at the run's distance parameters and at each tau; PGM per\n"
+          "                         grid (--renderer pgm is implied). --csv FILE (required) gets\n"
+          "                         one row per configuration (family, fps, CPU ms, triangles,\n"
+          "                         GPU MiB, max and RMS px and m, PGM's uncovered share), and\n"
+          "                         a plot of fps against measured max and RMS screen error goes\n"
+          "                         to --plot FILE.png (default: FILE with .png; needs\n"
+          "                         gnuplot). No --stitch, --no-error; the sphere tree (--lod\n"
+          "                         spheres) is a store's cut: see the store bench\n"
+          "  --static --max-error M1,M2,...\n"
+          "                         no frames: builds the static mesh of 'export --max-error M'\n"
+          "                         for each bound and reports triangles, points, build time and\n"
+          "                         the measured maximum and RMS error against the source\n"
+          "                         (\"patches\": the whole render grid), and terrapatch's\n"
+          "                         error-bounded TIN (\"terrapatch tin\", as export builds it:\n"
+          "                         tiles of 256 cells on every CPU, void outlines cut) on the\n"
+          "                         same grid: triangles, points, median wall\n"
+          "                         build time, true max and RMS error (tp_tin_measure, every\n"
+          "                         valid sample), and the peak memory the build adds (each run\n"
+          "                         in a forked child, its peak RSS reset via /proc/self/clear_refs)\n"
+          "  --runs N               --static: timed runs per TIN, the median reported (default 3)\n"
+          "  --compare              --static: also delatin 0.2.0 and martini 0.2.0 (npm; RTIN),\n"
+          "                         and martini with its threshold lowered (e x 1, 0.9, .., 0.1,\n"
+          "                         0.05, 0.02) to the largest one whose true error is <= e, each\n"
+          "                         run in its own node process (peak memory: that process's peak\n"
+          "                         RSS less its RSS before meshing); every TIN then runs on one\n"
+          "                         window: the largest (2^k+1)^2 square centred in the render\n"
+          "                         grid that holds no void (martini's grid shape).\n"
+          "                         tools/tin_compare.sh installs the npm packages into\n"
+          "                         ${XDG_CACHE_HOME:-~/.cache}/terrapatch/npm (needs node, npm\n"
+          "                         and, once, the network; TP_TIN_COMPARE=PATH runs another copy\n"
+          "                         of the script); every mesh is checked by tp_tin_measure.\n"
+          "                         Missing node, npm or network: exit 1, no rows\n"
+          "\n"
+          "A built store (X.tpt, see 'terrapatch build') is flown through its hierarchy with\n"
+          "streaming instead: the error mode at --tau, then the distance mode, each from a cold\n"
+          "start; --path low|high; the flight is --segments stretches of continuous flight at\n"
+          "--speed (30 frames a second) spread across the map, each reached by a jump, the\n"
+          "stream then left to load what the view asks for, and 5 untimed frames of flight.\n"
+          "  --memory MB            the stream's budget of decoded nodes (default 1024)\n"
+          "  --segments N           stretches of flight (default 4); --frames are split among them\n"
+          "  --realtime             the camera moves by speed x the time that really passed\n"
+          "                         (a slow frame is a jump, as in the viewer), not speed / 30\n"
+          "                         per frame\n"
+          "  --no-prefetch          no prefetch cut (to measure what the prefetch costs)\n"
+          "  --imagery FILE.tpi     a third configuration: the error mode with this imagery\n"
+          "                         pyramid draped through the clipmap or blocks (upload ms,\n"
+          "                         GPU and RAM of the imagery per frame, draw calls; the last\n"
+          "                         frame compared with a fresh clipmap's or pool's:\n"
+          "                         imagery_final_diff_pixels)\n"
+          "  --clip-blocks N        the clipmap's window in blocks a side (even, 2..32; default 4)\n"
+          "  --imagery-mode M       clipmap (default); blocks: Brodersen's texture per drawn node\n"
+          "                         (a pool of 384 layers of 256x256, 96 MiB; one draw call per\n"
+          "                         node); both: one configuration each, to compare them\n"
+          "  --light FILE.tpl       one more configuration: the error mode with the day's light\n"
+          "                         map made for the store streamed through its clipmap, the\n"
+          "                         sun's time sweeping the day over the flight (light ms, GPU\n"
+          "                         and RAM, uploads per frame: light_* in the JSON)\n"
+          "  --error-every N        measure the screen error on every N-th frame (default 1),\n"
+          "                         only frames drawn without substitution, only samples whose\n"
+          "                         leaf is resident (the JSON says how many were skipped)\n"
+          "--json adds rss_mb, rss_anon_mb (/proc/self/status VmRSS, RssAnon; max over the\n"
+          "timed frames), resident_mb (the stream's accounting), gpu_mb, first_frame_ms (from\n"
+          "the process's start to the end of the first drawn frame) and its parts\n"
+          "(startup_to_bench_ms, store_open_ms, gl_context_ms, renderer_create_ms,\n"
+          "stream_create_ms, georef_wait_ms, first_cut_stream_ms, first_draw_ms),\n"
+          "frame_ms_p99, nodes_drawn_median, substituted_nodes_max, frames_with_substitution.\n"
+          "\n"
+          "DEM:\n",
+          stdout);
     tp_scene_options_help(stdout);
     fputs("\nExit status: 0 success, 1 failure, 2 usage error.\n", stdout);
 }
@@ -366,8 +364,7 @@ static int parse_options(int argc, char** argv, bench_options* o)
             fprintf(stderr, "terrapatch bench: missing value for %s\n", argv[optind - 1]);
             return TP_EXIT_USAGE;
         default:
-            fprintf(stderr,
-                    "terrapatch bench: unknown option '%s' (see 'terrapatch bench --help')\n",
+            fprintf(stderr, "terrapatch bench: unknown option '%s' (see 'terrapatch bench --help')\n",
                     argv[optind - 1]);
             return TP_EXIT_USAGE;
         }
@@ -394,10 +391,8 @@ static int parse_options(int argc, char** argv, bench_options* o)
         return TP_EXIT_USAGE;
     }
     if (o->vs.pgm_window && (!o->vs.pgm || !tp_is_store_path(o->dem))) {
-        fprintf(stderr,
-                "terrapatch bench: --pgm-window is for --renderer pgm over a store (%s "
-                "is %s)\n",
-                o->dem, o->vs.pgm ? "a DEM, drawn whole" : "drawn by patches");
+        fprintf(stderr, "terrapatch bench: --pgm-window is for --renderer pgm over a store (%s "
+                        "is %s)\n", o->dem, o->vs.pgm ? "a DEM, drawn whole" : "drawn by patches");
         return TP_EXIT_USAGE;
     }
     if (o->vs.pgm && o->is_static) {
@@ -424,12 +419,9 @@ static int parse_options(int argc, char** argv, bench_options* o)
         return TP_EXIT_USAGE;
     }
     if (tp_is_store_path(o->dem)) {
-        const char* no = o->sweep                         ? "--sweep"
-                         : o->is_static                   ? "--static"
-                         : o->path_file                   ? "--path-file"
-                         : o->vs.has_camera               ? "--camera"
-                         : !strcmp(o->path_name, "orbit") ? "--path orbit"
-                                                          : NULL;
+        const char* no = o->sweep ? "--sweep" : o->is_static ? "--static" : o->path_file ? "--path-file"
+                         : o->vs.has_camera ? "--camera" : !strcmp(o->path_name, "orbit") ? "--path orbit"
+                         : NULL;
         if (!no && o->realtime && o->speed_mps <= 0)
             no = "--realtime with --speed 0";
         if (no) {
@@ -540,8 +532,9 @@ static void summarize(config_result* c, int n)
  * patch is taken down one level at a time, alone (neighbours as they are), while its measured
  * screen error stays <= tau; *out is the frame's triangle count with every patch at that level
  * (2 * 4^k per complete patch), *coarser the number of patches that could go down. */
-static tp_status oracle_triangles(const tp_scene* sc, const tp_selection* sel, const tp_camera* cam,
-                                  double tau, size_t triangles, size_t* out, int* coarser)
+static tp_status oracle_triangles(const tp_scene* sc, const tp_selection* sel,
+                                  const tp_camera* cam, double tau, size_t triangles, size_t* out,
+                                  int* coarser)
 {
     int down = 0;
     for (int p = 0; p < sc->info.patch_count; p++) {
@@ -644,7 +637,8 @@ static int run_config(const bench_run* b, config_result* c, const char* progress
                 ms = tp_selection_measure_error(sel, &em);
             }
             if (ms == TP_OK && !rs.stitch_add)
-                ms = tp_selection_measure_screen_error(sel, &cam, &row->max_px, &row->rms_px, NULL);
+                ms = tp_selection_measure_screen_error(sel, &cam, &row->max_px, &row->rms_px,
+                                                       NULL);
             if (ms == TP_OK && c->lod.mode == TP_LOD_ERROR && !rs.stitch_add)
                 ms = oracle_triangles(b->sc, sel, &cam, c->lod.tau_px, fs.triangles,
                                       &row->oracle_triangles, &row->oracle_patches);
@@ -691,9 +685,8 @@ static config_result* make_configs(const bench_run* b, int* count, int* best)
             c[k].lod = base;
             c[k].lod.mode = modes[m];
             c[k].stitch_add = o->stitch_add;
-            c[k].stitch_add_five = both                 ? v
-                                   : o->stitch_add_draw ? o->stitch_add_draw == 2
-                                                        : rs.stitch_add_five;
+            c[k].stitch_add_five = both ? v : o->stitch_add_draw ? o->stitch_add_draw == 2
+                                                                 : rs.stitch_add_five;
         }
     *best = both ? 3 : 2; /* the error mode (with both: sets) */
     /* --renderer pgm: the grids after the patch configurations (default: the paper's Table 1) */
@@ -793,10 +786,8 @@ int tp_cli_bench(int argc, char** argv)
             code = TP_EXIT_FAILURE;
         if (code == TP_EXIT_OK && o.sweep) {
             char title[512];
-            snprintf(title, sizeof title, "%s, %s path, %dx%d, %d frames per point, %s", sc.path,
-                     o.path_file       ? o.path_file
-                     : o.vs.has_camera ? "fixed"
-                                       : o.path_name,
+            snprintf(title, sizeof title, "%s, %s path, %dx%d, %d frames per point, %s",
+                     sc.path, o.path_file ? o.path_file : o.vs.has_camera ? "fixed" : o.path_name,
                      o.vs.w, o.vs.h, b.frames, renderer_name);
             if (!tp_bench_sweep_plot(c, nc, o.plot, title))
                 code = TP_EXIT_FAILURE;

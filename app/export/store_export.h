@@ -23,18 +23,18 @@
 #define TP_STORE_EXPORT_MAX_TRIANGLES ((size_t)50 * 1000 * 1000)
 
 typedef enum tp_store_export_mode {
-    TP_STORE_EXPORT_VIEW = 0, /* the cut of a camera (error, distance or full mode) */
-    TP_STORE_EXPORT_FULL,     /* every full-resolution cell of four drawn samples */
-    TP_STORE_EXPORT_MAX_ERROR /* static crack-free cut, bound <= max_error_m everywhere */
+    TP_STORE_EXPORT_VIEW = 0,  /* the cut of a camera (error, distance or full mode) */
+    TP_STORE_EXPORT_FULL,      /* every full-resolution cell of four drawn samples */
+    TP_STORE_EXPORT_MAX_ERROR  /* static crack-free cut, bound <= max_error_m everywhere */
 } tp_store_export_mode;
 
 typedef struct tp_store_export_request {
-    const char* store_path; /* the .tpt */
-    const char* out;        /* the mesh file */
+    const char* store_path;    /* the .tpt */
+    const char* out;           /* the mesh file */
     tp_store_export_mode mode;
-    double max_error_m;      /* TP_STORE_EXPORT_MAX_ERROR */
-    int tin;                 /* with it: an error-bounded TIN (store_tin.h), not patches */
-    const tp_view_setup* vs; /* TP_STORE_EXPORT_VIEW: camera, LoD, field of view, size */
+    double max_error_m;        /* TP_STORE_EXPORT_MAX_ERROR */
+    int tin;                   /* with it: an error-bounded TIN (store_tin.h), not patches */
+    const tp_view_setup* vs;   /* TP_STORE_EXPORT_VIEW: camera, LoD, field of view, size */
     tp_mesh_format format;
     int origin_local;
 } tp_store_export_request;

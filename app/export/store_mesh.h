@@ -15,11 +15,11 @@
 typedef struct residency {
     tp_store_scene* sc;
     size_t block_samples;
-    uint16_t** block; /* per node id; NULL when not resident */
-    int64_t* ids;     /* resident node ids (order of loading) */
+    uint16_t** block;        /* per node id; NULL when not resident */
+    int64_t* ids;            /* resident node ids (order of loading) */
     size_t count, cap;
     size_t bytes, peak_bytes;
-    tp_error err; /* the first read failure */
+    tp_error err;            /* the first read failure */
 } residency;
 
 /* Reads node (if not resident) and attaches it to the tree; 0 on failure (r->err says why). */
@@ -60,12 +60,12 @@ double tp_leaf_block_sample(const uint16_t* q, const tp_node_meta* meta, int n, 
 /* ---- the mesh: points merged by grid position (open addressing), triangles ---- */
 
 typedef struct mesh_build {
-    uint64_t* key; /* (x << 32 | y) + 1; 0 = empty */
+    uint64_t* key;           /* (x << 32 | y) + 1; 0 = empty */
     uint64_t* val;
     size_t hcap;
     int32_t *px, *py;
     double* pz;
-    uint8_t* pf; /* 1: a filled void sample (the store's filled bits) */
+    uint8_t* pf;             /* 1: a filled void sample (the store's filled bits) */
     size_t points, cap_x, cap_y, cap_z, cap_f;
     uint64_t* tri;
     int32_t* patch;

@@ -8,17 +8,17 @@
  */
 #define _POSIX_C_SOURCE 200809L
 #define _XOPEN_SOURCE 700 /* realpath */
-#include "imagery_view.h"
 #include "view.h"
+#include "imagery_view.h"
 #include "view_shadows.h"
 
 #include "atomic_file.h"
 #include "camera_pose.h"
 #include "cli.h"
+#include "memory.h"
 #include "hud.h"
 #include "hud_text.h"
 #include "layers.h"
-#include "memory.h"
 #include "overlay.h"
 #include "pgm_clip.h"
 #include "pgm_render.h"
@@ -91,100 +91,99 @@ static void print_help(void)
           stdout);
     tp_view_options_help(stdout);
     tp_view_renderer_help(stdout, 0);
-    fputs(
-        "output:\n"
-        "  --headless            render offscreen through EGL\n"
-        "  --frames N            headless: frames to render (default 1); the last is kept\n"
-        "  --screenshot FILE     write the last frame (PNG, through OpenImageIO)\n"
-        "  --stats-json FILE     write the last frame's statistics\n"
-        "  --clear-color R,G,B   background, 0..1 each\n"
-        "  --wireframe, --color-lod   draw edges only / colour patches by level\n"
-        "  --exaggeration X      vertical exaggeration, 0.001 to 1000 (default 1): the drawn\n"
-        "                        surface everywhere (culling, LoD, picking); camera heights\n"
-        "                        (--camera H, the default view, C) are in the drawn space\n"
-        "  --sun AZ,EL           hillshade light: azimuth clockwise from grid north and\n"
-        "                        elevation, degrees (default 315,45)\n"
-        "  --sun-date YYYY-MM-DD, --sun-time HH:MM[:SS][ZONE]\n"
-        "                        light from where the sun is then over the map's centre\n"
-        "                        (libnova; ZONE: Z, UTC, +02:00, -0500; default UTC), both\n"
-        "                        given; in the window PgUp and PgDn move the time by 15\n"
-        "                        minutes (Shift: an hour); the ground casts shadows (stores):\n"
-        "                        from STORE.tpl beside the store (--light) when the time lies\n"
-        "                        in its day, else computed over the 1025 x 1025 posts around\n"
-        "                        the point looked at; instead of --sun\n"
-        "  --light FILE.tpl      the day's cast shadows from a light map made for the store by\n"
-        "                        'terrapatch light STORE --day' (docs/light.md), streamed\n"
-        "                        through a clipmap: the whole map's shadows, PgUp/PgDn\n"
-        "                        instant; without --sun-date the sun starts at the middle\n"
-        "                        of the file's day\n"
-        "  --no-cast-shadows     the sun's light without cast shadows (neither of the above)\n"
-        "  --hide-filled         draw filled voids like measured ground (default: tinted)\n"
-        "  --pick X,Y            headless: print the ground point under pixel X,Y (from the\n"
-        "                        top-left corner): E, N and the drawn surface's height;\n"
-        "                        repeatable\n"
-        "  --measure E1,N1,E2,N2 print the geodesic distance, true and grid bearing and height\n"
-        "                        difference between two ground points (render CRS)\n"
-        "  --grid M              grid lines every M metres of the render CRS, labelled (for a\n"
-        "                        UTM render grid: the UTM/MGRS grid; 1000 = the 1 km grid)\n"
-        "  --texture FILE        drape an image: an orthophoto georeferenced through GDAL (warped\n"
-        "                        onto the render grid), or any image covering the DEM's extent\n"
-        "  --one-draw-per-patch  one draw call per patch instead of multi-draw\n"
-        "imagery (stores; docs/imagery.md):\n"
-        "  --imagery FILE.tpi    drape an imagery pyramid made for the store by\n"
-        "                        'terrapatch imagery' (default: STORE.tpi beside the store,\n"
-        "                        when there is one), streamed through a clipmap: any size, a\n"
-        "                        fixed GPU memory (F3 in the window: on or off)\n"
-        "  --no-imagery          do not drape STORE.tpi\n"
-        "  --clip-blocks N       the clipmap's window: N x N blocks of 256 texels a level (even,\n"
-        "                        2..32; default 4: 1024 texels, 4 MiB of GPU memory a level)\n"
-        "  --imagery-mode M      clipmap (default), or blocks: Brodersen's texture per drawn\n"
-        "                        node, for comparison (384 layers of 256x256 texels, 96 MiB)\n"
-        "planning layers (docs/field.md):\n"
-        "  --overlay FILE        drape a vector file on the terrain: GPX, KML, GeoJSON,\n"
-        "                        Shapefile, GeoPackage or anything OGR reads, reprojected to\n"
-        "                        the render CRS; lines, polygon outlines, points with their\n"
-        "                        names; one colour per file; repeatable (8 at most)\n"
-        "  --contours M          contour lines every M metres (0: a round interval for the\n"
-        "                        relief) within 10 km of the point looked at, by GDAL's\n"
-        "                        contour generator; every fifth thicker and labelled (F2 in\n"
-        "                        the window: contours around the point looked at, or off)\n"
-        "bookmarks (named views; docs/field.md, \"Map reading\"):\n"
-        "  --bookmark NAME       start from bookmark NAME (instead of --camera)\n"
-        "  --save-bookmark NAME  save the start view (--camera, --camera-geo or the default) as\n"
-        "                        NAME, replacing one of that name\n"
-        "  --bookmarks FILE      the bookmarks file (default: $XDG_CONFIG_HOME/terrapatch/\n"
-        "                        bookmarks/DEMFILE.bookmarks, else ~/.config/...), one line a\n"
-        "                        view: NAME --camera-geo LAT,LON,H,YAW,PITCH\n"
-        "stores:\n"
-        "  --memory MB           budget of decoded terrain in RAM (default 1024)\n"
-        "  --gpu-memory MB       budget of the GPU vertex pool (default 256); a frame that\n"
-        "                        needs more grows the pool past it (never a hole) and the\n"
-        "                        HUD's GPU MB shows by how much\n"
-        "  --cache-dir DIR       where DEMs are built into stores (default $TP_CACHE_DIR, else\n"
-        "                        $XDG_CACHE_HOME/terrapatch, else ~/.cache/terrapatch)\n"
-        "  --whole               draw the DEM whole, without a store (the old path: the DEM\n"
-        "                        and its render grid in memory, patches selected every frame)\n"
-        "  --stitch move|add     crack removal: move the finer patch's border vertices (move,\n"
-        "                        the default) or add them to the coarser patch's border (add,\n"
-        "                        Brodersen section 4; over a store between nodes of one size,\n"
-        "                        a smaller node next to a larger one still moves its own)\n"
-        "  --stitch-add-draw sets|five  how --stitch add draws a patch that takes vertices:\n"
-        "                        its own triangle list from an index set per neighbour\n"
-        "                        configuration (sets), or up to five draws of per-level\n"
-        "                        region sets (five, the default: see docs/PERFORMANCE.md)\n"
-        "  A DEM is drawn whole, without a store (the old path), when it is a heightmap image\n"
-        "  (--spacing, --zscale, --origin or a PNG/JPEG/...), or --fit, --texture or --renderer\n"
-        "  pgm is given: stores always pad and carry no texture (and PGM over a\n"
-        "  DEM reads its whole pyramid). A store fills voids as --fill-max says\n"
-        "  (passed to the build) and marks each filled sample: tinted (V) as a DEM drawn whole.\n"
-        "  A DEM's store is built with the view's --patch (default 17, as a DEM drawn whole);\n"
-        "  'terrapatch build' defaults to 65, for large maps.\n"
-        "  --no-hud              no text overlay (frame times, triangles, levels, error,\n"
-        "                        camera and centre position as lat/lon, UTM and MGRS)\n"
-        "  --hud                 headless frames too get the overlay (off by default there,\n"
-        "                        so that a headless image depends on the view alone)\n"
-        "DEM:\n",
-        stdout);
+    fputs("output:\n"
+          "  --headless            render offscreen through EGL\n"
+          "  --frames N            headless: frames to render (default 1); the last is kept\n"
+          "  --screenshot FILE     write the last frame (PNG, through OpenImageIO)\n"
+          "  --stats-json FILE     write the last frame's statistics\n"
+          "  --clear-color R,G,B   background, 0..1 each\n"
+          "  --wireframe, --color-lod   draw edges only / colour patches by level\n"
+          "  --exaggeration X      vertical exaggeration, 0.001 to 1000 (default 1): the drawn\n"
+          "                        surface everywhere (culling, LoD, picking); camera heights\n"
+          "                        (--camera H, the default view, C) are in the drawn space\n"
+          "  --sun AZ,EL           hillshade light: azimuth clockwise from grid north and\n"
+          "                        elevation, degrees (default 315,45)\n"
+          "  --sun-date YYYY-MM-DD, --sun-time HH:MM[:SS][ZONE]\n"
+          "                        light from where the sun is then over the map's centre\n"
+          "                        (libnova; ZONE: Z, UTC, +02:00, -0500; default UTC), both\n"
+          "                        given; in the window PgUp and PgDn move the time by 15\n"
+          "                        minutes (Shift: an hour); the ground casts shadows (stores):\n"
+          "                        from STORE.tpl beside the store (--light) when the time lies\n"
+          "                        in its day, else computed over the 1025 x 1025 posts around\n"
+          "                        the point looked at; instead of --sun\n"
+          "  --light FILE.tpl      the day's cast shadows from a light map made for the store by\n"
+          "                        'terrapatch light STORE --day' (docs/light.md), streamed\n"
+          "                        through a clipmap: the whole map's shadows, PgUp/PgDn\n"
+          "                        instant; without --sun-date the sun starts at the middle\n"
+          "                        of the file's day\n"
+          "  --no-cast-shadows     the sun's light without cast shadows (neither of the above)\n"
+          "  --hide-filled         draw filled voids like measured ground (default: tinted)\n"
+          "  --pick X,Y            headless: print the ground point under pixel X,Y (from the\n"
+          "                        top-left corner): E, N and the drawn surface's height;\n"
+          "                        repeatable\n"
+          "  --measure E1,N1,E2,N2 print the geodesic distance, true and grid bearing and height\n"
+          "                        difference between two ground points (render CRS)\n"
+          "  --grid M              grid lines every M metres of the render CRS, labelled (for a\n"
+          "                        UTM render grid: the UTM/MGRS grid; 1000 = the 1 km grid)\n"
+          "  --texture FILE        drape an image: an orthophoto georeferenced through GDAL (warped\n"
+          "                        onto the render grid), or any image covering the DEM's extent\n"
+          "  --one-draw-per-patch  one draw call per patch instead of multi-draw\n"
+          "imagery (stores; docs/imagery.md):\n"
+          "  --imagery FILE.tpi    drape an imagery pyramid made for the store by\n"
+          "                        'terrapatch imagery' (default: STORE.tpi beside the store,\n"
+          "                        when there is one), streamed through a clipmap: any size, a\n"
+          "                        fixed GPU memory (F3 in the window: on or off)\n"
+          "  --no-imagery          do not drape STORE.tpi\n"
+          "  --clip-blocks N       the clipmap's window: N x N blocks of 256 texels a level (even,\n"
+          "                        2..32; default 4: 1024 texels, 4 MiB of GPU memory a level)\n"
+          "  --imagery-mode M      clipmap (default), or blocks: Brodersen's texture per drawn\n"
+          "                        node, for comparison (384 layers of 256x256 texels, 96 MiB)\n"
+          "planning layers (docs/field.md):\n"
+          "  --overlay FILE        drape a vector file on the terrain: GPX, KML, GeoJSON,\n"
+          "                        Shapefile, GeoPackage or anything OGR reads, reprojected to\n"
+          "                        the render CRS; lines, polygon outlines, points with their\n"
+          "                        names; one colour per file; repeatable (8 at most)\n"
+          "  --contours M          contour lines every M metres (0: a round interval for the\n"
+          "                        relief) within 10 km of the point looked at, by GDAL's\n"
+          "                        contour generator; every fifth thicker and labelled (F2 in\n"
+          "                        the window: contours around the point looked at, or off)\n"
+          "bookmarks (named views; docs/field.md, \"Map reading\"):\n"
+          "  --bookmark NAME       start from bookmark NAME (instead of --camera)\n"
+          "  --save-bookmark NAME  save the start view (--camera, --camera-geo or the default) as\n"
+          "                        NAME, replacing one of that name\n"
+          "  --bookmarks FILE      the bookmarks file (default: $XDG_CONFIG_HOME/terrapatch/\n"
+          "                        bookmarks/DEMFILE.bookmarks, else ~/.config/...), one line a\n"
+          "                        view: NAME --camera-geo LAT,LON,H,YAW,PITCH\n"
+          "stores:\n"
+          "  --memory MB           budget of decoded terrain in RAM (default 1024)\n"
+          "  --gpu-memory MB       budget of the GPU vertex pool (default 256); a frame that\n"
+          "                        needs more grows the pool past it (never a hole) and the\n"
+          "                        HUD's GPU MB shows by how much\n"
+          "  --cache-dir DIR       where DEMs are built into stores (default $TP_CACHE_DIR, else\n"
+          "                        $XDG_CACHE_HOME/terrapatch, else ~/.cache/terrapatch)\n"
+          "  --whole               draw the DEM whole, without a store (the old path: the DEM\n"
+          "                        and its render grid in memory, patches selected every frame)\n"
+          "  --stitch move|add     crack removal: move the finer patch's border vertices (move,\n"
+          "                        the default) or add them to the coarser patch's border (add,\n"
+          "                        Brodersen section 4; over a store between nodes of one size,\n"
+          "                        a smaller node next to a larger one still moves its own)\n"
+          "  --stitch-add-draw sets|five  how --stitch add draws a patch that takes vertices:\n"
+          "                        its own triangle list from an index set per neighbour\n"
+          "                        configuration (sets), or up to five draws of per-level\n"
+          "                        region sets (five, the default: see docs/PERFORMANCE.md)\n"
+          "  A DEM is drawn whole, without a store (the old path), when it is a heightmap image\n"
+          "  (--spacing, --zscale, --origin or a PNG/JPEG/...), or --fit, --texture or --renderer\n"
+          "  pgm is given: stores always pad and carry no texture (and PGM over a\n"
+          "  DEM reads its whole pyramid). A store fills voids as --fill-max says\n"
+          "  (passed to the build) and marks each filled sample: tinted (V) as a DEM drawn whole.\n"
+          "  A DEM's store is built with the view's --patch (default 17, as a DEM drawn whole);\n"
+          "  'terrapatch build' defaults to 65, for large maps.\n"
+          "  --no-hud              no text overlay (frame times, triangles, levels, error,\n"
+          "                        camera and centre position as lat/lon, UTM and MGRS)\n"
+          "  --hud                 headless frames too get the overlay (off by default there,\n"
+          "                        so that a headless image depends on the view alone)\n"
+          "DEM:\n",
+          stdout);
     tp_scene_options_help(stdout);
     fputs("\nWindow keys: W/S forward/back, A/D left/right, Q/E down/up (speed follows the height\n"
           "above ground; Shift x5, Ctrl x0.2), drag with the left mouse button to look around,\n"
@@ -420,10 +419,8 @@ static int parse_options(int argc, char** argv, view_options* o)
             break;
         case OPT_CONTOURS:
             if (!tp_parse_numbers(optarg, v, 1) || !(v[0] >= 0 && v[0] <= 100000))
-                return bad("--contours",
-                           "an interval in metres, 0 to 100000 (0: chosen from the "
-                           "relief)",
-                           optarg);
+                return bad("--contours", "an interval in metres, 0 to 100000 (0: chosen from the "
+                                         "relief)", optarg);
             o->contours = 1;
             o->contours_m = v[0];
             break;
@@ -489,8 +486,7 @@ static int parse_options(int argc, char** argv, view_options* o)
         return TP_EXIT_USAGE;
     }
     char why[160];
-    if (o->sun_date &&
-        !tp_sun_time_parse(o->sun_date, o->sun_time, &o->sun_when, why, sizeof why)) {
+    if (o->sun_date && !tp_sun_time_parse(o->sun_date, o->sun_time, &o->sun_when, why, sizeof why)) {
         fprintf(stderr, "terrapatch view: --sun-date %s --sun-time %s: %s\n", o->sun_date,
                 o->sun_time, why);
         return TP_EXIT_USAGE;
@@ -506,20 +502,16 @@ static void warn_if_empty(const tp_view_scene* v, const frame_result* fr)
     const tp_scene* sc = v->dem;
     if (sc ? sc->info.valid_samples + sc->info.filled_samples < 4
            : v->store->info.header.valid_samples < 4)
-        fprintf(stderr,
-                "terrapatch view: warning: %s: the frame shows no terrain: the DEM has no "
-                "2x2 block of valid samples to draw a triangle from\n",
-                v->path);
+        fprintf(stderr, "terrapatch view: warning: %s: the frame shows no terrain: the DEM has no "
+                        "2x2 block of valid samples to draw a triangle from\n", v->path);
     else if (fr->core.visible_patches > 0)
-        fprintf(stderr,
-                "terrapatch view: warning: %s: the frame shows no terrain: the %d %s "
-                "in view hold only nodata or padding (the camera may be inside or under "
-                "the surface)\n",
-                v->path, fr->core.visible_patches, fr->store ? "nodes" : "patches");
+        fprintf(stderr, "terrapatch view: warning: %s: the frame shows no terrain: the %d %s "
+                        "in view hold only nodata or padding (the camera may be inside or under "
+                        "the surface)\n", v->path, fr->core.visible_patches,
+                fr->store ? "nodes" : "patches");
     else
-        fprintf(stderr,
-                "terrapatch view: warning: %s: the frame shows no terrain: the camera "
-                "looks away from the DEM (all %d %s culled; try without --camera)\n",
+        fprintf(stderr, "terrapatch view: warning: %s: the frame shows no terrain: the camera "
+                        "looks away from the DEM (all %d %s culled; try without --camera)\n",
                 v->path, fr->core.culled_patches, fr->store ? "nodes" : "patches");
 }
 
@@ -543,8 +535,8 @@ static int warn_if_below_ground(tp_view_scene* v, const tp_camera* cam, const vi
     return 1;
 }
 
-static int run_headless(tp_view_scene* v, tp_gl_context* ctx, tp_renderer* r, const tp_camera* cam,
-                        view_options* o)
+static int run_headless(tp_view_scene* v, tp_gl_context* ctx, tp_renderer* r,
+                        const tp_camera* cam, view_options* o)
 {
     int code = TP_EXIT_OK;
     frame_result fr = {0};
@@ -569,10 +561,8 @@ static int run_headless(tp_view_scene* v, tp_gl_context* ctx, tp_renderer* r, co
             char line[600];
             tp_view_contours_at_centre(v, cam, o, o->contours_m, line, sizeof line);
         }
-        tp_overlay ov = {.grid_m = o->render.grid_m,
-                         .measure_line = measure_line,
-                         .near_m = fr.render.near_m,
-                         .far_m = fr.render.far_m};
+        tp_overlay ov = {.grid_m = o->render.grid_m, .measure_line = measure_line,
+                         .near_m = fr.render.near_m, .far_m = fr.render.far_m};
         if (o->layers)
             ov.drape_count = tp_view_layers_drawn(o->layers, &ov.drapes);
         if (with_hud) {
@@ -584,8 +574,7 @@ static int run_headless(tp_view_scene* v, tp_gl_context* ctx, tp_renderer* r, co
             char sun[160];
             tp_view_sun_text(&o->sun, sun, sizeof sun);
             tp_hud_state hs = {.fps = 1000 / fmax(tp_view_now_ms() - t0, 1e-6),
-                               .exaggeration = o->render.exaggeration,
-                               .layers = legend,
+                               .exaggeration = o->render.exaggeration, .layers = legend,
                                .sun = sun};
             tp_view_hud_text(v, cam, &o->vs.lod, &fr, &me, &hs, text, sizeof text);
             ov.hud_text = text;
@@ -609,8 +598,8 @@ static int run_headless(tp_view_scene* v, tp_gl_context* ctx, tp_renderer* r, co
     for (int i = 0; i < o->pick_count; i++) {
         double g[3];
         if (tp_view_pick(v, cam, o->pick[i][0], o->pick[i][1], g)) {
-            printf("pick %.1f,%.1f: E %.3f N %.3f height %.3f m\n", o->pick[i][0], o->pick[i][1],
-                   g[0], g[1], g[2]);
+            printf("pick %.1f,%.1f: E %.3f N %.3f height %.3f m\n", o->pick[i][0],
+                   o->pick[i][1], g[0], g[1], g[2]);
         } else {
             printf("pick %.1f,%.1f: no ground\n", o->pick[i][0], o->pick[i][1]);
         }
@@ -643,11 +632,9 @@ static int take_georef(tp_view_scene* v, tp_store_scene* st)
 static int load_layers(tp_view_scene* v, view_options* o, tp_view_layers* layers)
 {
     if (!v->store) {
-        fprintf(stderr,
-                "terrapatch view: --overlay and --contours need a georeferenced DEM or a "
-                "store (%s is drawn whole: a heightmap image, --fit, --texture or "
-                "--whole)\n",
-                o->path);
+        fprintf(stderr, "terrapatch view: --overlay and --contours need a georeferenced DEM or a "
+                        "store (%s is drawn whole: a heightmap image, --fit, --texture or "
+                        "--whole)\n", o->path);
         return TP_EXIT_FAILURE;
     }
     tp_error err = {{0}};
@@ -696,7 +683,8 @@ static int open_imagery(tp_view_scene* v, const view_options* o, const tp_store_
 
 /* Runs the view on an open scene (either path; st: the store, whose georeference may still be
  * in the making): camera, context, renderer, the frames. */
-static int run_view(tp_view_scene* v, view_options* o, tp_render_grid_desc* gd, tp_store_scene* st)
+static int run_view(tp_view_scene* v, view_options* o, tp_render_grid_desc* gd,
+                    tp_store_scene* st)
 {
     tp_camera cam;
     if (o->vs.has_camera && !take_georef(v, st)) /* --camera-geo */
@@ -768,8 +756,8 @@ static int run_view(tp_view_scene* v, view_options* o, tp_render_grid_desc* gd, 
         const tp_render_grid* g = v->dem->grid;
         int cols = o->vs.pgm_grid_count ? o->vs.pgm_grid[0][0] : TP_PGM_DEFAULT_COLS;
         int rows = o->vs.pgm_grid_count ? o->vs.pgm_grid[0][1] : TP_PGM_DEFAULT_ROWS;
-        if (tp_pgm_pyramid_from_grid(g->heights, g->width, g->height, g->geotransform, &pyr, &valid,
-                                     &err) != TP_OK)
+        if (tp_pgm_pyramid_from_grid(g->heights, g->width, g->height, g->geotransform, &pyr,
+                                     &valid, &err) != TP_OK)
             snprintf(msg, sizeof msg, "the PGM pyramid: %.400s", err.message);
         else
             v->pgm = tp_pgm_renderer_create(&pyr, valid, cols, rows, msg, sizeof msg);
@@ -790,10 +778,8 @@ static int run_view(tp_view_scene* v, view_options* o, tp_render_grid_desc* gd, 
     if (code == TP_EXIT_OK && o->texture && !tp_view_load_texture(v->dem, r, o->texture))
         code = TP_EXIT_FAILURE;
     if (code == TP_EXIT_OK && o->imagery && !st) {
-        fprintf(stderr,
-                "terrapatch view: --imagery drapes stores; %s is drawn whole (use "
-                "--texture for an image over a DEM drawn whole)\n",
-                v->path);
+        fprintf(stderr, "terrapatch view: --imagery drapes stores; %s is drawn whole (use "
+                        "--texture for an image over a DEM drawn whole)\n", v->path);
         code = TP_EXIT_USAGE;
     }
     if (code == TP_EXIT_OK && st && !open_imagery(v, o, st))
@@ -806,8 +792,8 @@ static int run_view(tp_view_scene* v, view_options* o, tp_render_grid_desc* gd, 
     if (code == TP_EXIT_OK && (o->overlay_count || o->contours || (!o->headless && v->store)))
         code = load_layers(v, o, &layers);
     if (code == TP_EXIT_OK)
-        code =
-            o->headless ? run_headless(v, ctx, r, &cam, o) : tp_view_window_run(v, ctx, r, &cam, o);
+        code = o->headless ? run_headless(v, ctx, r, &cam, o)
+                           : tp_view_window_run(v, ctx, r, &cam, o);
     tp_view_layers_free(&layers);
     tp_ground_destroy(o->ground);
     o->ground = NULL;
@@ -891,13 +877,9 @@ static int view_store(const char* path, view_options* o)
         fprintf(stderr,
                 "terrapatch view: warning: --maxdist %g m is less than one patch width (%.0f m): "
                 "every node farther than %g m is drawn at its coarsest (distances are in "
-                "metres)\n",
-                o->vs.lod.maxdist_m, leaf_m, o->vs.lod.maxdist_m);
-    tp_render_grid_desc gd = {.n = g->n,
-                              .width = g->width,
-                              .height = g->height,
-                              .min_height_m = v.min_height_m,
-                              .max_height_m = v.max_height_m,
+                "metres)\n", o->vs.lod.maxdist_m, leaf_m, o->vs.lod.maxdist_m);
+    tp_render_grid_desc gd = {.n = g->n, .width = g->width, .height = g->height,
+                              .min_height_m = v.min_height_m, .max_height_m = v.max_height_m,
                               .pool_budget_bytes = o->gpu_memory_mb << 20};
     memcpy(gd.geotransform, v.gt, sizeof gd.geotransform);
     code = run_view(&v, o, &gd, &st);
@@ -925,10 +907,8 @@ int tp_cli_view(int argc, char** argv)
         !tp_view_bookmarks_check(&o))
         return TP_EXIT_FAILURE;
     if (o.vs.pgm_window && (!o.vs.pgm || !tp_is_store_path(o.path))) {
-        fprintf(stderr,
-                "terrapatch view: --pgm-window is for --renderer pgm over a store (%s is "
-                "%s)\n",
-                o.path, o.vs.pgm ? "a DEM, drawn whole" : "drawn by patches");
+        fprintf(stderr, "terrapatch view: --pgm-window is for --renderer pgm over a store (%s is "
+                        "%s)\n", o.path, o.vs.pgm ? "a DEM, drawn whole" : "drawn by patches");
         return TP_EXIT_USAGE;
     }
     /* a store: its clipmap (pgm_clip.h); a DEM drawn whole: its render grid is the pyramid's

@@ -29,19 +29,19 @@ extern "C" {
 /* Band 1 of a raster, as read: the transient input to tp_terrain_create. */
 typedef struct tp_dem {
     int width, height;
-    float* heights;         /* width * height, row-major, row 0 first; NaN = nodata */
-    double geotransform[6]; /* GDAL geotransform (pixel-is-point already turned into corners) */
-    int has_geotransform;   /* 0 if the file had none (then (0,1,0,0,0,-1) is filled in) */
-    char* crs_wkt;          /* WKT2 of the CRS, or "" if the file has none; owned */
-    int epsg;               /* EPSG code of the CRS when known, else 0 */
-    char driver[32];        /* GDAL driver short name: "GTiff", "SRTMHGT", "AAIGrid", ... */
-    char data_type[16];     /* GDAL data type of band 1: "Int16", "Float32", ... */
-    int is_integer_type;    /* 1 for integer band types */
-    int has_nodata;         /* 1 if the band has a nodata tag */
-    double nodata_value;    /* the tag's value when has_nodata */
-    size_t void_count;      /* samples that are nodata (tag, NaN, or untagged -32768/-32767) */
-    double min_m, max_m;    /* over valid samples; NaN if none */
-    char units[32];         /* band unit type as the file states it ("metre", "ft", "") */
+    float* heights;          /* width * height, row-major, row 0 first; NaN = nodata */
+    double geotransform[6];  /* GDAL geotransform (pixel-is-point already turned into corners) */
+    int has_geotransform;    /* 0 if the file had none (then (0,1,0,0,0,-1) is filled in) */
+    char* crs_wkt;           /* WKT2 of the CRS, or "" if the file has none; owned */
+    int epsg;                /* EPSG code of the CRS when known, else 0 */
+    char driver[32];         /* GDAL driver short name: "GTiff", "SRTMHGT", "AAIGrid", ... */
+    char data_type[16];      /* GDAL data type of band 1: "Int16", "Float32", ... */
+    int is_integer_type;     /* 1 for integer band types */
+    int has_nodata;          /* 1 if the band has a nodata tag */
+    double nodata_value;     /* the tag's value when has_nodata */
+    size_t void_count;       /* samples that are nodata (tag, NaN, or untagged -32768/-32767) */
+    double min_m, max_m;     /* over valid samples; NaN if none */
+    char units[32];          /* band unit type as the file states it ("metre", "ft", "") */
     /* Heights are in metres: read in z_unit and multiplied by z_to_m (1 for metres and for an
      * unknown unit, which is taken as metres with a warning). z_unit: "metre", "international
      * foot", "US survey foot", "" when the file states none; z_unit_from: how it is known
@@ -159,8 +159,8 @@ typedef struct tp_crs_info {
 } tp_crs_info;
 
 /* Describes a CRS given as GDAL/PROJ read it: WKT (a tp_dem's crs_wkt), "EPSG:N", a PROJ
- * string. "" means no CRS: TP_OK with every field zero but utm_zone (-1). TP_ERR_BAD_DATA for text
- * GDAL cannot read as a CRS; *out is untouched on failure. */
+ * string. "" means no CRS: TP_OK with every field zero but utm_zone (-1). TP_ERR_BAD_DATA for text GDAL cannot
+ * read as a CRS; *out is untouched on failure. */
 tp_status tp_crs_describe(const char* crs, tp_crs_info* out, tp_error* err);
 
 /* ---------------------------------------------------------------------------------------------
@@ -263,13 +263,13 @@ void tp_interrupt_finished(void);
 #define TP_IMAGE_HEIGHT_MAX_M 1e5
 
 typedef struct tp_image_options {
-    double spacing_m;      /* post spacing, TP_IMAGE_SPACING_MIN_M .. _MAX_M; 0 means 1 m
-                              (with a warning) */
-    double zscale;         /* metres per count of channel 0, TP_IMAGE_ZSCALE_MIN .. _MAX; 0
-                              means 1 */
-    int has_origin;        /* place the image's centre at (origin_lat, origin_lon) in the */
-    double origin_lat_deg; /* WGS84 UTM/UPS zone of that point; otherwise the grid is in */
-    double origin_lon_deg; /* local metres with its north-west corner at (0, 0) */
+    double spacing_m;        /* post spacing, TP_IMAGE_SPACING_MIN_M .. _MAX_M; 0 means 1 m
+                                (with a warning) */
+    double zscale;           /* metres per count of channel 0, TP_IMAGE_ZSCALE_MIN .. _MAX; 0
+                                means 1 */
+    int has_origin;          /* place the image's centre at (origin_lat, origin_lon) in the */
+    double origin_lat_deg;   /* WGS84 UTM/UPS zone of that point; otherwise the grid is in */
+    double origin_lon_deg;   /* local metres with its north-west corner at (0, 0) */
 } tp_image_options;
 
 /* 1 when path names an image format read through OpenImageIO rather than GDAL (by extension:
@@ -335,9 +335,9 @@ typedef enum tp_resampling {
 } tp_resampling;
 
 typedef struct tp_grid_options {
-    const char* crs; /* overrides the DEM's CRS ("EPSG:4326", WKT, ...); NULL: the file's */
+    const char* crs;        /* overrides the DEM's CRS ("EPSG:4326", WKT, ...); NULL: the file's */
     tp_resampling resampling;
-    int fill_max_px; /* 0: any size; > 0: voids up to N x N samples; negative: none */
+    int fill_max_px;        /* 0: any size; > 0: voids up to N x N samples; negative: none */
     /* Fill voids from this raster (--fill-from), shifted onto the DEM (above); NULL or "":
      * interpolate. Errors name the file: TP_ERR_IO (missing), TP_ERR_BAD_DATA (not a raster,
      * no georeference or CRS, no overlap with the DEM or no data over it). */
@@ -346,22 +346,22 @@ typedef struct tp_grid_options {
 
 typedef struct tp_render_grid {
     int width, height;
-    float* heights;         /* width * height; NaN = not drawn */
-    uint8_t* filled;        /* width * height; 1 = interior void filled (see "Voids") */
-    double geotransform[6]; /* render CRS */
-    char* crs_wkt;          /* render CRS as WKT2; "" for local metres (no CRS). Owned */
-    int epsg;               /* of the render CRS when known, else 0 */
-    char crs_name[160];     /* "WGS 84 / UTM zone 31N", or "local metres (no CRS)" */
-    int utm_zone;           /* 1..60 when the render CRS is a UTM zone, 0 for UPS, -1 otherwise */
-    int northp;             /* hemisphere of utm_zone */
-    int wgs84;  /* 1 if the render CRS's datum is WGS84 (GeographicLib applies exactly) */
-    int warped; /* 1 if resampled from the DEM's own CRS */
+    float* heights;          /* width * height; NaN = not drawn */
+    uint8_t* filled;         /* width * height; 1 = interior void filled (see "Voids") */
+    double geotransform[6];  /* render CRS */
+    char* crs_wkt;           /* render CRS as WKT2; "" for local metres (no CRS). Owned */
+    int epsg;                /* of the render CRS when known, else 0 */
+    char crs_name[160];      /* "WGS 84 / UTM zone 31N", or "local metres (no CRS)" */
+    int utm_zone;            /* 1..60 when the render CRS is a UTM zone, 0 for UPS, -1 otherwise */
+    int northp;              /* hemisphere of utm_zone */
+    int wgs84;               /* 1 if the render CRS's datum is WGS84 (GeographicLib applies exactly) */
+    int warped;              /* 1 if resampled from the DEM's own CRS */
     double warp_max_error_m, warp_rms_error_m; /* warp: rendered surface vs the source posts */
-    size_t warp_posts;                         /* source posts the warp error was measured at */
-    double spacing_m;      /* |geotransform[1]| when square, else the smaller spacing */
-    size_t filled_samples; /* interior voids filled */
+    size_t warp_posts;       /* source posts the warp error was measured at */
+    double spacing_m;        /* |geotransform[1]| when square, else the smaller spacing */
+    size_t filled_samples;   /* interior voids filled */
     size_t large_void_samples, outside_samples; /* not drawn */
-    char* warnings;             /* '\n'-separated lines for the user, "" when none. Owned */
+    char* warnings;          /* '\n'-separated lines for the user, "" when none. Owned */
     size_t filled_from_samples; /* of filled_samples, those from options->fill_from */
 } tp_render_grid;
 
@@ -390,7 +390,8 @@ tp_status tp_render_grid_plan(const tp_dem* dem, const tp_grid_options* options,
 
 /* A tp_terrain_desc pointing into grid (valid while grid lives); grid NULL as for
  * tp_dem_terrain_desc. */
-tp_terrain_desc tp_render_grid_terrain_desc(const tp_render_grid* grid, int patch_size, tp_fit fit);
+tp_terrain_desc tp_render_grid_terrain_desc(const tp_render_grid* grid, int patch_size,
+                                            tp_fit fit);
 
 /* ---------------------------------------------------------------------------------------------
  * Mosaics read in bands (io/src/mosaic.cpp): any number of sources as one render grid, for
@@ -425,26 +426,26 @@ typedef struct tp_mosaic_options {
      * bytes a sample of a row stays a void (tp_mosaic_get_voids counts it). The per-sample
      * "filled" marks come with tp_mosaic_read_rows_filled. */
     int fill_max;
-    const char* fill_from; /* as tp_grid_options.fill_from (warped VRT, read in bands) */
-    const char* z_unit;    /* the sources' height unit ("m", "ft", "us-ft"), overriding
-                              theirs; NULL: each source's (as tp_dem_read_z), which must
-                              agree. Heights are read in metres */
-    int fill_window_mb;    /* memory for the void window; 0: memory_mb / 8, taken from GDAL's
-                              block cache (which then gets an eighth, not a quarter) */
+    const char* fill_from;    /* as tp_grid_options.fill_from (warped VRT, read in bands) */
+    const char* z_unit;       /* the sources' height unit ("m", "ft", "us-ft"), overriding
+                                 theirs; NULL: each source's (as tp_dem_read_z), which must
+                                 agree. Heights are read in metres */
+    int fill_window_mb;       /* memory for the void window; 0: memory_mb / 8, taken from GDAL's
+                                 block cache (which then gets an eighth, not a quarter) */
 } tp_mosaic_options;
 
 #define TP_FILL_MAX_ANY 0x7fffffff /* tp_mosaic_options.fill_max: voids of any size */
 
 typedef struct tp_mosaic_info {
-    int width, height;      /* the render grid */
-    double geotransform[6]; /* render CRS */
-    const char* crs_wkt;    /* render CRS as WKT2; "" for local metres. Owned by the mosaic */
+    int width, height;          /* the render grid */
+    double geotransform[6];     /* render CRS */
+    const char* crs_wkt;        /* render CRS as WKT2; "" for local metres. Owned by the mosaic */
     char crs_name[160];
-    int epsg;         /* of the render CRS when known, else 0 */
-    double spacing_m; /* post spacing of the render grid */
+    int epsg;                   /* of the render CRS when known, else 0 */
+    double spacing_m;           /* post spacing of the render grid */
     int source_count;
-    int warped;          /* 1 if any source is resampled onto the grid */
-    int integer_sources; /* 1 if every source's band 1 has an integer type */
+    int warped;                 /* 1 if any source is resampled onto the grid */
+    int integer_sources;        /* 1 if every source's band 1 has an integer type */
     /* The share of the grid's extent that some source covers: the union of the sources'
      * footprints on a 1024 x 1024 raster over the extent (overlaps count once), 0 .. 1; 1 for
      * one source. The rest is gaps, nodata (terrapatch build refuses under a half without
@@ -533,8 +534,7 @@ tp_status tp_texture_build(const char* path, const tp_render_grid* grid, int max
 void tp_texture_destroy(tp_texture* tex); /* accepts NULL */
 
 /* ---------------------------------------------------------------------------------------------
- * Triangle meshes for ParaView (io/src/vtk_mesh_write.cpp and vtk_mesh_inspect.cpp, VTK's own
- * writers and readers)
+ * Triangle meshes for ParaView (io/src/vtk_mesh_write.cpp and vtk_mesh_inspect.cpp, VTK's own writers and readers)
  */
 typedef struct tp_mesh {
     size_t point_count;
@@ -542,19 +542,19 @@ typedef struct tp_mesh {
     const double* elevation_m;  /* per point: point data "elevation_m" */
     const uint8_t* void_filled; /* per point: point data "void_filled" (0/1) */
     size_t triangle_count;
-    const uint64_t* triangles; /* 3 point indices per triangle, counter-clockwise from above */
-    const int32_t* patch_id;   /* per triangle: cell data "patch_id" */
-    const uint8_t* lod;        /* per triangle: cell data "lod" (k = n is full resolution) */
-    const double* max_error_m; /* per triangle: cell data "max_error_m" */
+    const uint64_t* triangles;  /* 3 point indices per triangle, counter-clockwise from above */
+    const int32_t* patch_id;    /* per triangle: cell data "patch_id" */
+    const uint8_t* lod;         /* per triangle: cell data "lod" (k = n is full resolution) */
+    const double* max_error_m;  /* per triangle: cell data "max_error_m" */
     /* Field data (strings may be NULL or ""): */
     const char* crs_wkt;
     int epsg;
     const char* utm_zone; /* e.g. "31n", "UPS n" (tp_zone_format, TP_ZONE_STYLE_SHORT) */
     const char* source_file;
-    const char* camera;     /* the camera as a --camera-geo / --camera string */
-    const char* lod_params; /* e.g. "mode=error tau_px=1" */
+    const char* camera;         /* the camera as a --camera-geo / --camera string */
+    const char* lod_params;     /* e.g. "mode=error tau_px=1" */
     const char* program_version;
-    double origin[3];             /* subtracted from every point (0 unless --origin local) */
+    double origin[3];           /* subtracted from every point (0 unless --origin local) */
     const char* void_filled_note; /* field data "void_filled_note" (NULL or "": none), e.g.
                                      why void_filled is not known (a store's export) */
 } tp_mesh;
@@ -613,15 +613,15 @@ typedef struct tp_mesh_summary {
     int points_are_double;
     int has_elevation, has_void_filled, has_patch_id, has_lod, has_max_error;
     int has_crs, has_source, has_version; /* field data present */
-    size_t boundary_loops;                /* connected loops of boundary edges (vtkFeatureEdges) */
+    size_t boundary_loops;   /* connected loops of boundary edges (vtkFeatureEdges) */
     size_t boundary_edges, non_manifold_edges;
-    double max_error_m;        /* largest cell max_error_m */
-    double bounds[6];          /* xmin, xmax, ymin, ymax, zmin, zmax */
-    size_t blocks;             /* .vtm: number of blocks; else 1 */
-    size_t pieces;             /* .vtp: its pieces (tp_mesh_write_pieces; 1 for tp_mesh_write).
-                                  With several, the points where they meet are merged (as a .vtm's
-                                  blocks are) before the edges are counted, and points and
-                                  void_filled_points count the merged surface's points */
+    double max_error_m;      /* largest cell max_error_m */
+    double bounds[6];        /* xmin, xmax, ymin, ymax, zmin, zmax */
+    size_t blocks;           /* .vtm: number of blocks; else 1 */
+    size_t pieces;           /* .vtp: its pieces (tp_mesh_write_pieces; 1 for tp_mesh_write).
+                                With several, the points where they meet are merged (as a .vtm's
+                                blocks are) before the edges are counted, and points and
+                                void_filled_points count the merged surface's points */
     size_t void_filled_points; /* points whose void_filled is not 0 */
     size_t downward_triangles; /* triangles not counter-clockwise seen from above (E, N) */
 } tp_mesh_summary;
@@ -694,13 +694,13 @@ const char* tp_georef_datum_note(const tp_georef* g);
 
 typedef struct tp_store_header {
     tp_tree_geometry geometry;
-    double geotransform[6]; /* of the fitted grid, render CRS */
+    double geotransform[6];    /* of the fitted grid, render CRS */
     double height_step_m;
     double quant_max_error_m;
     double err_unit_steps;
     size_t valid_samples, nodata_samples; /* of the source grid (padding not counted) */
-    const char* crs_wkt;                  /* render CRS as WKT; "" for none */
-    const char* notes; /* free text: sources, mosaic and warp decisions ('\n'-separated) */
+    const char* crs_wkt;       /* render CRS as WKT; "" for none */
+    const char* notes;         /* free text: sources, mosaic and warp decisions ('\n'-separated) */
 } tp_store_header;
 
 typedef struct tp_store_writer tp_store_writer;
@@ -735,24 +735,24 @@ tp_status tp_store_writer_add_node_filled(tp_store_writer* w, int64_t node,
  * given to tp_store_writer_begin; commit writes the header again with them (tp_file_rewrite of
  * the same bytes with those three fields and its CRC32 changed; the format is unchanged). Any
  * time before commit; the last call wins. */
-void tp_store_writer_set_totals(tp_store_writer* w, double quant_max_error_m, size_t valid_samples,
-                                size_t nodata_samples);
+void tp_store_writer_set_totals(tp_store_writer* w, double quant_max_error_m,
+                                size_t valid_samples, size_t nodata_samples);
 /* Replaces the header's notes by notes of the same length in bytes (for counts known only at
  * the end: the begin's notes reserve room, e.g. with trailing spaces); commit writes them.
  * TP_ERR_INVALID_ARG when the length differs (w is unchanged). */
 tp_status tp_store_writer_set_notes(tp_store_writer* w, const char* notes, tp_error* err);
-/* Checksums the tables (read back), writes the footer and makes the file (tp_file_commit). Frees w,
- * whatever happens. TP_ERR_INVALID_ARG when a node is missing (the message says how many and the
- * first), TP_ERR_IO; on failure no file is left and an older path is as it was. */
+/* Checksums the tables (read back), writes the footer and makes the file (tp_file_commit). Frees w, whatever
+ * happens. TP_ERR_INVALID_ARG when a node is missing (the message says how many and the first),
+ * TP_ERR_IO; on failure no file is left and an older path is as it was. */
 tp_status tp_store_writer_commit(tp_store_writer* w, tp_error* err);
 void tp_store_writer_abort(tp_store_writer* w); /* accepts NULL; leaves no file */
 
 typedef struct tp_store tp_store;
 typedef struct tp_store_info {
-    tp_store_header header; /* strings owned by the store */
+    tp_store_header header;    /* strings owned by the store */
     uint32_t version;
     uint64_t file_bytes, data_bytes, table_bytes;
-    double bytes_per_sample; /* file_bytes / (src_width * src_height) */
+    double bytes_per_sample;   /* file_bytes / (src_width * src_height) */
 } tp_store_info;
 
 /* Opens a store: checks magic ("not a terrapatch store"), the header's checksum, the version (a
@@ -777,13 +777,12 @@ const tp_node_meta* tp_store_metas(const tp_store* s, size_t* count);
 /* Reads, checks (CRC32) and decodes node's samples into samples ((2^n+1)^2 uint16 relative to
  * its qmin, TP_TREE_NO_HEIGHT where not drawn; sample_capacity at least that; node in
  * 0..node_count-1). With sample_capacity >= tp_tree_block_words(n), the node's cell mask
- * follows the samples (stored, or made from its samples or flags): a block for tp_tree_attach.
- * Thread-safe: any number of threads may read one open store at once (pread; each thread keeps its
- * own zstd context and buffers for its lifetime). About 15 us for a 65x65 node (docs/store.md).
- * TP_ERR_BAD_DATA for a checksum or decoding failure, a sample outside the node's range or a cell
- * mask that marks a cell with an undrawn corner whole, TP_ERR_IO for a read failure, each with a
- * message naming the file, the node ("node 38 (scale 0, column 3, row 4)") and its byte offset;
- * samples are written only on success. */
+ * follows the samples (stored, or made from its samples or flags): a block for tp_tree_attach. Thread-safe: any number of threads may read one open store at once (pread;
+ * each thread keeps its own zstd context and buffers for its lifetime). About 15 us for a
+ * 65x65 node (docs/store.md). TP_ERR_BAD_DATA for a checksum or decoding failure, a sample
+ * outside the node's range or a cell mask that marks a cell with an undrawn corner whole, TP_ERR_IO for a read failure, each with a message naming the file,
+ * the node ("node 38 (scale 0, column 3, row 4)") and its byte offset; samples are written
+ * only on success. */
 tp_status tp_store_read_node(const tp_store* s, int64_t node, uint16_t* samples,
                              size_t sample_capacity, tp_error* err);
 /* The tree of an open store (tp_tree_create with the header's geometry, geotransform, height
