@@ -164,16 +164,11 @@ static const tp_georef* georef_of(const full_export* x)
 }
 
 /* Heights (NaN: none) and filled marks of samples [x0, x0 + w) x [y0, y0 + h) into x->z and
- * x->filled (w * h each, row-major). */
-static int read_block(full_export* x, int x0, int y0, int w, int h)
+ * x->filled (w * h each, row-major). A failure's message (naming the file) is in *err. */
+static tp_status read_block(full_export* x, int x0, int y0, int w, int h, tp_error* err)
 {
-    tp_error err;
-    if (x->mosaic) { /* whole rows: the pieces are bands */
-        if (tp_mosaic_read_rows_filled(x->mosaic, y0, h, x->z, (size_t)w * h, x->filled, &err) !=
-            TP_OK)
-            return fail(x, err.message);
-        return TP_EXIT_OK;
-    }
+    if (x->mosaic) /* whole rows: the pieces are bands */
+        return tp_mosaic_read_rows_filled(x->mosaic, y0, h, x->z, (size_t)w * h, x->filled, err);
     for (size_t i = 0; i < (size_t)w * h; i++) {
         x->z[i] = NAN;
         x->filled[i] = 0;
@@ -188,8 +183,9 @@ static int read_block(full_export* x, int x0, int y0, int w, int h)
             const tp_node_meta* meta = &x->metas[leaf];
             if (!(meta->flags & TP_NODE_HAS_DRAWN))
                 continue;
-            if (tp_store_read_node(x->sc.store, leaf, x->block, x->block_words, &err) != TP_OK)
-                return fail(x, err.message);
+            tp_status st = tp_store_read_node(x->sc.store, leaf, x->block, x->block_words, err);
+            if (st != TP_OK)
+                return st;
             /* the leaf holds samples (c << n) .. (c << n) + side, edges shared with the next */
             int ya = r << n, xa = c << n;
             int jy0 = ya > y0 ? ya : y0, jy1 = ya + side < y0 + h - 1 ? ya + side : y0 + h - 1;
@@ -204,7 +200,7 @@ static int read_block(full_export* x, int x0, int y0, int w, int h)
                     x->filled[k] = (uint8_t)f;
                 }
         }
-    return TP_EXIT_OK;
+    return TP_OK;
 }
 
 /* ---- pieces ---- */
@@ -267,9 +263,9 @@ static int count_all(full_export* x)
     size_t pieces = (size_t)x->pieces_x * x->pieces_y;
     for (size_t p = 0; p < pieces; p++) {
         piece_rect r = rect_of(x, p);
-        int code = read_block(x, r.x0, r.y0, r.w, r.h);
-        if (code != TP_EXIT_OK)
-            return code;
+        tp_error err;
+        if (read_block(x, r.x0, r.y0, r.w, r.h, &err) != TP_OK)
+            return fail(x, err.message);
         size_t cells;
         x->points += number_points(x, &r, &cells);
         x->triangles += 2 * cells;
@@ -287,9 +283,9 @@ static tp_status make_piece(void* user, size_t p, tp_mesh* m, tp_error* err)
     if (tp_interrupted())
         return tp_error_set(err, TP_ERR_IO, "%s: interrupted", x->r->out);
     piece_rect r = rect_of(x, p);
-    if (read_block(x, r.x0, r.y0, r.w, r.h) != TP_EXIT_OK)
-        return tp_error_set(err, TP_ERR_IO, "%s: reading piece %zu failed (said above)", x->r->path,
-                            p);
+    tp_status st = read_block(x, r.x0, r.y0, r.w, r.h, err);
+    if (st != TP_OK)
+        return st;
     size_t cells;
     size_t points = number_points(x, &r, &cells);
     const tp_georef* gr = georef_of(x);
