@@ -80,8 +80,8 @@ static void voids_text(const tp_view_scene* v, char* out, size_t cap)
 }
 
 /* The default lines: what a user on the ground needs (hud_lines.h). */
-static void ground_lines(tp_view_scene* v, const tp_camera* cam, const frame_result* fr,
-                         const tp_hud_state* st, char* out, size_t cap)
+static void ground_lines(tp_view_scene* v, const tp_camera* cam, const tp_hud_state* st, char* out,
+                         size_t cap)
 {
     char latlon[48], utm[48], mgrs[TP_POSITION_MGRS_SPACED_SIZE] = "";
     double g[3], x, y, yaw, pitch, ex = st->exaggeration > 0 ? st->exaggeration : 1;
@@ -106,7 +106,6 @@ static void ground_lines(tp_view_scene* v, const tp_camera* cam, const frame_res
         hg.centre_latlon = latlon;
         hg.centre_e = g[0], hg.centre_n = g[1], hg.centre_elev_m = g[2];
     }
-    (void)fr;
     tp_hud_ground_text(&hg, out, cap);
 }
 
@@ -212,7 +211,7 @@ void tp_view_hud_text(tp_view_scene* v, const tp_camera* cam, const tp_lod_param
                       const frame_result* fr, const tp_measured_error* me, const tp_hud_state* st,
                       char* out, size_t cap)
 {
-    ground_lines(v, cam, fr, st, out, cap);
+    ground_lines(v, cam, st, out, cap);
     /* what the user turned on or must know to read the picture: one line each */
     char voids[192];
     voids_text(v, voids, sizeof voids);
