@@ -76,6 +76,7 @@ enum {
     OPT_NO_CAST_SHADOWS,
     OPT_LIGHT,
     OPT_IMAGERY_MODE,
+    OPT_HUD_DETAILS,
 };
 
 static void print_help(void)
@@ -123,8 +124,10 @@ static void print_help(void)
           "                        repeatable\n"
           "  --measure E1,N1,E2,N2 print the geodesic distance, true and grid bearing and height\n"
           "                        difference between two ground points (render CRS)\n"
-          "  --grid M              grid lines every M metres of the render CRS, labelled (for a\n"
-          "                        UTM render grid: the UTM/MGRS grid; 1000 = the 1 km grid)\n"
+          "  --grid M|auto         grid lines of the render CRS, labelled (for a UTM render\n"
+          "                        grid: the UTM/MGRS grid), every M metres or 10 M or 100 M,\n"
+          "                        the finest whose lines are 40 px apart or more at the view's\n"
+          "                        centre (the HUD says which); auto: M = 1000 (1, 10, 100 km)\n"
           "  --texture FILE        drape an image: an orthophoto georeferenced through GDAL (warped\n"
           "                        onto the render grid), or any image covering the DEM's extent\n"
           "  --one-draw-per-patch  one draw call per patch instead of multi-draw\n"
@@ -178,10 +181,15 @@ static void print_help(void)
           "  (passed to the build) and marks each filled sample: tinted (V) as a DEM drawn whole.\n"
           "  A DEM's store is built with the view's --patch (default 17, as a DEM drawn whole);\n"
           "  'terrapatch build' defaults to 65, for large maps.\n"
-          "  --no-hud              no text overlay (frame times, triangles, levels, error,\n"
-          "                        camera and centre position as lat/lon, UTM and MGRS)\n"
+          "  --no-hud              no text overlay (by default three lines: the centre's MGRS,\n"
+          "                        latitude/longitude and elevation; the eye's height,\n"
+          "                        heading and pitch; scale, grid and mode)\n"
           "  --hud                 headless frames too get the overlay (off by default there,\n"
           "                        so that a headless image depends on the view alone)\n"
+          "  --hud-details         the overlay with its engineering lines too (frame rate, CPU\n"
+          "                        split, triangles, levels, error bound and measured error,\n"
+          "                        full positions; F4 in the window): all of them are\n"
+          "                        in --stats-json in any case\n"
           "DEM:\n",
           stdout);
     tp_scene_options_help(stdout);
@@ -191,10 +199,11 @@ static void print_help(void)
           "at, wheel or W/S zoom, A/D/Q/E pan; the HUD says which mode), L colour by level,\n"
           "T wireframe, F freeze LoD and culling, M switch LoD mode, +/- tau (or maxdist), [ ]\n"
           "mindist, , . exp, X/Z vertical exaggeration, J/K sun azimuth, U/N sun elevation,\n"
-          "V tint of filled voids, G 1 km grid, P screenshot, Y export the view's mesh (.vtp),\n"
-          "C print the camera as --camera-geo and --camera options, H hide the HUD, right-click\n"
-          "twice to measure, ? key help, Esc quit. Keys are queued: a tap shorter than a frame\n"
-          "still counts.\n"
+          "V tint of filled voids, G grid (1, 10 or 100 km by the scale), P screenshot, Y export\n"
+          "the view's mesh (.vtp), C print the camera as --camera-geo and --camera options,\n"
+          "H hide the HUD, F4 the HUD's details (fps, CPU, triangles, levels, error bound),\n"
+          "right-click twice to measure, ? key help, Esc quit. Keys are queued: a tap shorter than\n"
+          "a frame still counts.\n"
           "Bookmarks: Ctrl+1..9 saves the view as \"view N\", 1..9 goes back to it, Tab and\n"
           "Shift+Tab step through every bookmark of the file.\n"
           "\nOutputs are checked before rendering and written whole or not at all (a full disk or\n"
@@ -262,6 +271,7 @@ static int parse_options(int argc, char** argv, view_options* o)
         {"stats-json", required_argument, NULL, OPT_STATS},
         {"no-hud", no_argument, NULL, OPT_NO_HUD},
         {"hud", no_argument, NULL, OPT_HUD},
+        {"hud-details", no_argument, NULL, OPT_HUD_DETAILS},
         {"hide-filled", no_argument, NULL, OPT_HIDE_FILLED},
         {"texture", required_argument, NULL, OPT_TEXTURE},
         {"grid", required_argument, NULL, OPT_GRID},
@@ -356,6 +366,7 @@ static int parse_options(int argc, char** argv, view_options* o)
         case OPT_COLOR_LOD: o->render.color_lod = 1; break;
         case OPT_NO_HUD: o->no_hud = 1; break;
         case OPT_HUD: o->hud = 1; break;
+        case OPT_HUD_DETAILS: o->hud = o->hud_details = 1; break;
         case OPT_HIDE_FILLED: o->render.hide_filled = 1; break;
         case OPT_TEXTURE: o->texture = optarg; break;
         case OPT_IMAGERY: o->imagery = optarg; break;
@@ -396,9 +407,11 @@ static int parse_options(int argc, char** argv, view_options* o)
                 return bad("--pick", "X,Y pixel coordinates (at most 16 --pick)", optarg);
             o->pick_count++;
             break;
-        case OPT_GRID:
-            if (!tp_parse_numbers(optarg, v, 1) || v[0] < 0 || (v[0] > 0 && v[0] < 1))
-                return bad("--grid", "a line spacing in metres >= 1 (0: none)", optarg);
+        case OPT_GRID: /* the finest spacing: drawn 1, 10 or 100 times it by the scale */
+            if (strcmp(optarg, "auto") == 0)
+                v[0] = 1000;
+            else if (!tp_parse_numbers(optarg, v, 1) || v[0] < 0 || (v[0] > 0 && v[0] < 1))
+                return bad("--grid", "a line spacing in metres >= 1 (0: none), or auto", optarg);
             o->render.grid_m = v[0];
             break;
         case OPT_ONE_DRAW: o->render.one_draw_per_patch = 1; break;
@@ -551,7 +564,9 @@ static int run_headless(tp_view_scene* v, tp_gl_context* ctx, tp_renderer* r,
         tp_view_scene_settle(v, cam, &o->vs.lod, 120);
         tp_gl_context_begin_frame(ctx);
         double t0 = tp_view_now_ms();
-        tp_view_frame(v, r, cam, &o->render, &o->vs.lod, 0, &fr);
+        tp_render_settings rs = o->render; /* the grid's spacing follows the scale */
+        rs.grid_m = tp_view_grid_spacing(v, cam, o->render.grid_m);
+        tp_view_frame(v, r, cam, &rs, &o->vs.lod, 0, &fr);
         if (o->has_measure && !measured) {
             double e[2] = {o->measure[0], o->measure[2]}, n[2] = {o->measure[1], o->measure[3]};
             measured = tp_view_measure_points(v, e, n, measure_line, sizeof measure_line) ? 1 : -1;
@@ -561,21 +576,27 @@ static int run_headless(tp_view_scene* v, tp_gl_context* ctx, tp_renderer* r,
             char line[600];
             tp_view_contours_at_centre(v, cam, o, o->contours_m, line, sizeof line);
         }
-        tp_overlay ov = {.grid_m = o->render.grid_m, .measure_line = measure_line,
-                         .near_m = fr.render.near_m, .far_m = fr.render.far_m};
+        tp_overlay ov = {.grid_m = rs.grid_m,
+                         .measure_line = measure_line,
+                         .near_m = fr.render.near_m,
+                         .far_m = fr.render.far_m};
         if (o->layers)
             ov.drape_count = tp_view_layers_drawn(o->layers, &ov.drapes);
         if (with_hud) {
-            tp_measured_error me;
-            tp_view_measure_now(v, cam, &me);
+            tp_measured_error me = {0};
+            if (o->hud_details) /* shown only there: it costs tens of ms */
+                tp_view_measure_now(v, cam, &me);
             char legend[512] = "";
             if (o->layers)
                 tp_view_layers_legend(o->layers, legend, sizeof legend);
             char sun[160];
             tp_view_sun_text(&o->sun, sun, sizeof sun);
             tp_hud_state hs = {.fps = 1000 / fmax(tp_view_now_ms() - t0, 1e-6),
-                               .exaggeration = o->render.exaggeration, .layers = legend,
-                               .sun = sun};
+                               .exaggeration = o->render.exaggeration,
+                               .layers = legend,
+                               .sun = sun,
+                               .grid_m = rs.grid_m,
+                               .details = o->hud_details};
             tp_view_hud_text(v, cam, &o->vs.lod, &fr, &me, &hs, text, sizeof text);
             ov.hud_text = text;
         }
