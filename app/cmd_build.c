@@ -381,6 +381,14 @@ int tp_cli_build(int argc, char** argv)
     tp_error err = {0};
     if ((rc = tp_cli_output_check("build", "-o", o.out, TP_OUTPUT_STORE)) != TP_EXIT_OK)
         return rc;
+    { /* --memory (the whole process's budget) within what it may still use */
+        uint64_t b =
+            tp_memory_fit_budget("build", o.sources[0], "--memory", 0, (uint64_t)o.memory_mb << 20,
+                                 (uint64_t)BUILD_MIN_MEMORY_MB << 20);
+        if (!b)
+            return TP_EXIT_FAILURE;
+        o.memory_mb = (int)(b >> 20);
+    }
     for (int i = 0; i < o.source_count; i++)
         if (!strcmp(o.sources[i], o.out))
             return tp_cli_error("%s: the output would replace a source", o.out), TP_EXIT_FAILURE;

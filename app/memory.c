@@ -31,7 +31,8 @@ const char* tp_memory_use_name(tp_memory_use use)
 
 uint64_t tp_memory_estimate(tp_memory_use use, uint64_t samples)
 {
-    return (uint64_t)(costs[use].base_mib * 1048576.0 + costs[use].bytes_per_sample * (double)samples);
+    return (uint64_t)(costs[use].base_mib * 1048576.0 +
+                      costs[use].bytes_per_sample * (double)samples);
 }
 
 /* A "Key:   N kB" line of a /proc file, in bytes; 0 if missing. */
@@ -83,9 +84,12 @@ static uint64_t env_limit(void)
     if (end != s + digits)
         return 0;
     switch (*end) {
-    case 'k': case 'K': v *= 1024.0, end++; break;
-    case 'm': case 'M': v *= 1048576.0, end++; break;
-    case 'g': case 'G': v *= 1073741824.0, end++; break;
+    case 'k':
+    case 'K': v *= 1024.0, end++; break;
+    case 'm':
+    case 'M': v *= 1048576.0, end++; break;
+    case 'g':
+    case 'G': v *= 1073741824.0, end++; break;
     }
     return *end == '\0' && v > 0 && v < 1.8e19 ? (uint64_t)v : 0;
 }
@@ -175,12 +179,34 @@ int tp_memory_check(const char* path, tp_memory_use use, int width, int height)
     if (more <= room.bytes)
         return 0;
     const char* hint = use == TP_MEMORY_USE_EXPORT_FULL
-                           ? "export without --full (a --max-error or view-dependent mesh), or cut "
-                             "the DEM (gdal_translate -srcwin) or coarsen it (gdalwarp -tr)"
+                           ? "export to a .vtp, which is written a piece at a time, or without "
+                             "--full (a --max-error or view-dependent mesh)"
                            : "cut the DEM (gdal_translate -srcwin) or coarsen it (gdalwarp -tr)";
     tp_cli_error("%s: %s of its %dx%d grid needs about %.0f MiB (%.0f MiB more than the "
                  "%.0f MiB in use), but only %.0f MiB is available (%s); %s",
                  path, tp_memory_use_name(use), width, height, mib(need), mib(more),
                  mib(room.rss_bytes), mib(room.bytes), room.bound, hint);
     return -1;
+}
+
+uint64_t tp_memory_fit_budget(const char* cmd, const char* path, const char* what,
+                              uint64_t base_bytes, uint64_t want_bytes, uint64_t min_bytes)
+{
+    (void)cmd; /* messages name the command main() dispatched to (tp_cli_error) */
+    tp_memory_room room;
+    tp_memory_room_now(&room);
+    if (room.bytes == UINT64_MAX || room.bytes >= base_bytes + want_bytes)
+        return want_bytes;
+    uint64_t fit = room.bytes > base_bytes ? room.bytes - base_bytes : 0;
+    if (fit < min_bytes) {
+        tp_cli_error("%s: needs about %.0f MiB (%.0f MiB for %s at least), but only "
+                     "%.0f MiB is available (%s)",
+                     path, mib(base_bytes + min_bytes), mib(min_bytes), what, mib(room.bytes),
+                     room.bound);
+        return 0;
+    }
+    tp_cli_warning("%s: %.0f MiB is available (%s): %s %.0f MiB instead of "
+                   "%.0f MiB",
+                   path, mib(room.bytes), room.bound, what, mib(fit), mib(want_bytes));
+    return fit;
 }

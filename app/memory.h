@@ -17,11 +17,12 @@
 #include <stdint.h>
 
 typedef enum tp_memory_use {
-    TP_MEMORY_USE_INFO = 0,     /* terrapatch info (the default) */
-    TP_MEMORY_USE_VIEW,         /* view: the terrain and its GL buffers, a GL context */
-    TP_MEMORY_USE_EXPORT,       /* export of a view-dependent or --max-error mesh */
-    TP_MEMORY_USE_EXPORT_FULL,  /* export --full: every sample as a VTK point */
-    TP_MEMORY_USE_BENCH,        /* bench: view, plus the error measurement */
+    TP_MEMORY_USE_INFO = 0,    /* terrapatch info (the default) */
+    TP_MEMORY_USE_VIEW,        /* view: the terrain and its GL buffers, a GL context */
+    TP_MEMORY_USE_EXPORT,      /* export of a view-dependent or --max-error mesh */
+    TP_MEMORY_USE_EXPORT_FULL, /* export --full to a .vtk/.vtm, built whole (a .vtp streams:
+                                  full_export.h) */
+    TP_MEMORY_USE_BENCH,       /* bench: view, plus the error measurement */
 } tp_memory_use;
 
 /* The command's name as the user types it ("export --full"). */
@@ -31,8 +32,8 @@ const char* tp_memory_use_name(tp_memory_use use);
 uint64_t tp_memory_estimate(tp_memory_use use, uint64_t samples);
 
 typedef struct tp_memory_room {
-    uint64_t bytes;    /* what the process may still add; UINT64_MAX when nothing bounds it */
-    const char* bound; /* what bounds it ("TP_MEMORY_LIMIT", "ulimit -v", "MemAvailable", ...) */
+    uint64_t bytes;     /* what the process may still add; UINT64_MAX when nothing bounds it */
+    const char* bound;  /* what bounds it ("TP_MEMORY_LIMIT", "ulimit -v", "MemAvailable", ...) */
     uint64_t rss_bytes; /* resident now (0 if unknown) */
 } tp_memory_room;
 
@@ -50,5 +51,13 @@ uint64_t tp_memory_peak_rss(void);
  * it does, else prints one line ("terrapatch CMD: PATH: ... needs about X GiB ..., Y GiB available
  * (BOUND); ...") and returns -1. */
 int tp_memory_check(const char* path, tp_memory_use use, int width, int height);
+
+/* A budget a command can shrink (a store's decoded nodes in view and bench, build's --memory)
+ * fitted to the room left: want_bytes when base_bytes more (what the command needs besides the
+ * budget: libraries, a GL context) and want_bytes fit, else what fits, after one warning line
+ * naming the bound ("terrapatch CMD: warning: PATH: TP_MEMORY_LIMIT leaves ... : WHAT ... MiB
+ * instead of ..."); 0 after one error line when not even min_bytes fits. */
+uint64_t tp_memory_fit_budget(const char* cmd, const char* path, const char* what,
+                              uint64_t base_bytes, uint64_t want_bytes, uint64_t min_bytes);
 
 #endif /* TP_APP_MEMORY_H */

@@ -19,7 +19,6 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
-
 static int run_export(const char* const* args, char* err, size_t err_cap)
 {
     return tp_test_run_terrapatch("export", args, err, err_cap);
@@ -58,7 +57,8 @@ static void full_counts(const tp_dem* d, size_t* cells, size_t* points)
             if (x + 1 < d->width && y + 1 < d->height) {
                 const float* h = d->heights;
                 *cells += !isnan(h[y * d->width + x]) && !isnan(h[y * d->width + x + 1]) &&
-                          !isnan(h[(y + 1) * d->width + x]) && !isnan(h[(y + 1) * d->width + x + 1]);
+                          !isnan(h[(y + 1) * d->width + x]) &&
+                          !isnan(h[(y + 1) * d->width + x + 1]);
             }
         }
 }
@@ -109,9 +109,14 @@ TEST(view_dependent_mesh_is_watertight_with_distant_levels)
     char dem[1024], out[1024], err[4096];
     data_path(dem, sizeof dem, "storml_elev.tif");
     out_path(out, sizeof out, "view.vtp");
-    const char* args[] = {"--camera", "324000,5102000,2700,45,-20", "--lod", "distance",
-                          "--mindist", "100", "--maxdist", "1500", "--exp", "0.3", "--no-cull",
-                          dem, "-o", out, NULL};
+    const char* args[] = {"--camera",  "324000,5102000,2700,45,-20",
+                          "--lod",     "distance",
+                          "--mindist", "100",
+                          "--maxdist", "1500",
+                          "--exp",     "0.3",
+                          "--no-cull", dem,
+                          "-o",        out,
+                          NULL};
     ASSERT_EQ_INT(0, run_export(args, err, sizeof err));
     tp_mesh_summary s;
     tp_error e;
@@ -122,9 +127,14 @@ TEST(view_dependent_mesh_is_watertight_with_distant_levels)
     remove(out);
     /* the same as blocks per patch: still one surface after merging */
     out_path(out, sizeof out, "view.vtm");
-    const char* args2[] = {"--camera", "324000,5102000,2700,45,-20", "--lod", "distance",
-                           "--mindist", "100", "--maxdist", "1500", "--exp", "0.3", "--no-cull",
-                           "--per-patch", dem, "-o", out, NULL};
+    const char* args2[] = {"--camera",  "324000,5102000,2700,45,-20",
+                           "--lod",     "distance",
+                           "--mindist", "100",
+                           "--maxdist", "1500",
+                           "--exp",     "0.3",
+                           "--no-cull", "--per-patch",
+                           dem,         "-o",
+                           out,         NULL};
     ASSERT_EQ_INT(0, run_export(args2, err, sizeof err));
     tp_mesh_summary m;
     ASSERT_OK(tp_mesh_inspect(out, &m, &e));
@@ -157,8 +167,9 @@ TEST(view_dependent_mesh_has_the_viewers_triangles)
     const char* eargs[] = {"--camera", cam, "--tau", "2", dem, "-o", out, NULL};
     ASSERT_EQ_INT(0, run_export(eargs, err, sizeof err));
     /* --whole: export draws a DEM whole, so the viewer's old path is the one to compare */
-    const char* vargs[] = {"--whole", "--headless", "--no-hud", "--size", "1280x720", "--camera", cam,
-                           "--tau", "2", "--stats-json", json, dem, NULL};
+    const char* vargs[] = {"--whole",  "--headless", "--no-hud", "--size", "1280x720",
+                           "--camera", cam,          "--tau",    "2",      "--stats-json",
+                           json,       dem,          NULL};
     int rc = tp_test_run_terrapatch("view", vargs, err, sizeof err);
     if (rc == 1 && strstr(err, "EGL"))
         SKIP("no headless OpenGL here: %s", err);
@@ -287,8 +298,8 @@ TEST(tin_is_bounded_watertight_and_on_the_full_meshs_points)
     EXPECT_GT(points_subset(out, full, 1.0 / 64), 1000);
     /* far fewer triangles than the patches at the same bound */
     EXPECT_LT((double)s.triangles, 0.5 * (double)p.triangles);
-    printf("N42E001 at 20 m: TIN %zu triangles, patches %zu, full %zu\n", s.triangles,
-           p.triangles, f.triangles);
+    printf("N42E001 at 20 m: TIN %zu triangles, patches %zu, full %zu\n", s.triangles, p.triangles,
+           f.triangles);
     remove(out);
     remove(full);
     remove(pat);
@@ -409,6 +420,49 @@ TEST(origin_local_shifts_points_and_records_it)
     remove(b);
 }
 
+/* export --full to a .vtp is written a piece at a time (issue 29, 1.5): cut into many pieces
+ * (TP_EXPORT_PIECE_SAMPLES), it is the whole mesh the in-memory writer makes (the .vtk): the same
+ * triangles, the same points once the pieces' shared points are merged, the same outline, every
+ * triangle counter-clockwise from above, no error. */
+TEST(full_export_in_pieces_is_the_whole_mesh)
+{
+    char dem[1024], whole[1024], pieces[1024], text[4096], err[4096];
+    data_path(dem, sizeof dem, "storml_elev_orig.tif"); /* NAD83 UTM 12N, 876 nodata at edges */
+    out_path(whole, sizeof whole, "whole.vtk");
+    out_path(pieces, sizeof pieces, "pieces.vtp");
+    const char* wargs[] = {"--full", dem, "-o", whole, NULL};
+    ASSERT_EQ_INT(0, run_export(wargs, err, sizeof err));
+    setenv("TP_EXPORT_PIECE_SAMPLES", "1000", 1);
+    const char* pargs[] = {"--full", dem, "-o", pieces, NULL};
+    int rc = tp_test_run_terrapatch_out("export", pargs, text, sizeof text, err, sizeof err);
+    unsetenv("TP_EXPORT_PIECE_SAMPLES");
+    ASSERT_EQ_INT(0, rc);
+    EXPECT_CONTAINS(text, "pieces of at most");
+    tp_mesh_summary w, p;
+    tp_error e;
+    ASSERT_OK(tp_mesh_inspect(whole, &w, &e));
+    ASSERT_OK(tp_mesh_inspect(pieces, &p, &e));
+    EXPECT_EQ_INT(1, w.pieces);
+    EXPECT_GT((double)p.pieces, 10.0);
+    EXPECT_EQ_INT(w.triangles, p.triangles);
+    EXPECT_EQ_INT(w.points, p.points); /* merged */
+    EXPECT_EQ_INT(w.boundary_loops, p.boundary_loops);
+    EXPECT_EQ_INT(w.boundary_edges, p.boundary_edges);
+    EXPECT_EQ_INT(0, p.non_manifold_edges);
+    EXPECT_EQ_INT(0, p.downward_triangles);
+    EXPECT_EQ_INT(0, p.other_cells);
+    EXPECT_EQ_DBL(0.0, p.max_error_m);
+    EXPECT_TRUE(p.points_are_double && p.has_elevation && p.has_void_filled && p.has_patch_id &&
+                p.has_lod && p.has_max_error && p.has_crs && p.has_source && p.has_version);
+    for (int i = 0; i < 6; i++)
+        EXPECT_EQ_DBL(w.bounds[i], p.bounds[i]);
+    /* every point of each is a point of the other (this Int16 DEM quantises exactly) */
+    points_subset(whole, pieces, 0.0);
+    points_subset(pieces, whole, 0.0);
+    remove(whole);
+    remove(pieces);
+}
+
 #define TESTS(X)                                                                                   \
     X(full_mesh_is_every_valid_cell_in_double_precision)                                           \
     X(view_dependent_mesh_is_watertight_with_distant_levels)                                       \
@@ -420,5 +474,6 @@ TEST(origin_local_shifts_points_and_records_it)
     X(mesh_patches_is_the_max_error_mesh_of_before)                                                \
     X(unwritable_output_fails_and_leaves_nothing)                                                  \
     X(invalid_options_are_usage_errors)                                                            \
-    X(origin_local_shifts_points_and_records_it)
+    X(origin_local_shifts_points_and_records_it)                                                   \
+    X(full_export_in_pieces_is_the_whole_mesh)
 TP_TEST_MAIN(TESTS)

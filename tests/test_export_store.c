@@ -15,8 +15,8 @@
 #define TIN_ROUNDING_M 1e-9
 
 #include <errno.h>
-#include <math.h>
 #include <fcntl.h>
+#include <math.h>
 #include <spawn.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -100,8 +100,8 @@ TEST(seam_store_cuts_are_watertight)
      * the outline is 6 loops, and a crack anywhere would add one */
     EXPECT_EQ_INT(6, f.boundary_loops);
     /* distance mode, the whole map in view: leaves near the south edge, large nodes far */
-    const char* dist[] = {"--lod", "distance", "--mindist", "2000", "--maxdist", "15000",
-                          store, "-o", out, NULL};
+    const char* dist[] = {"--lod", "distance", "--mindist", "2000", "--maxdist",
+                          "15000", store,      "-o",        out,    NULL};
     tp_mesh_summary d = export_and_inspect(dist);
     EXPECT_GT((double)d.triangles, 0.0);
     EXPECT_LT((double)d.triangles, 0.5 * (double)f.triangles);
@@ -310,11 +310,49 @@ TEST(damaged_node_fails_and_writes_nothing)
     remove(store);
 }
 
+/* A store's export --full to a .vtp, written in blocks of leaves (issue 29, 1.5), is the mesh of
+ * the in-memory writer (.vtk): the same triangles and merged points, the same outline, and the
+ * same filled samples (the store's filled bits; N42E001 has voids, filled by the build). */
+TEST(full_export_of_a_store_in_pieces_is_the_whole_mesh)
+{
+    char store[1024], whole[1024], pieces[1024], text[4096], err[4096];
+    out_path(store, sizeof store, "n42_pieces.tpt");
+    const char* files[] = {"N42E001.hgt", NULL};
+    build_store(store, NULL, files);
+    out_path(whole, sizeof whole, "n42_whole.vtk");
+    out_path(pieces, sizeof pieces, "n42_pieces.vtp");
+    const char* wargs[] = {"--full", store, "-o", whole, NULL};
+    tp_mesh_summary w = export_and_inspect(wargs);
+    setenv("TP_EXPORT_PIECE_SAMPLES", "100000", 1);
+    const char* pargs[] = {"--full", store, "-o", pieces, NULL};
+    int rc = tp_test_run_terrapatch_out("export", pargs, text, sizeof text, err, sizeof err);
+    unsetenv("TP_EXPORT_PIECE_SAMPLES");
+    ASSERT_EQ_INT(0, rc);
+    tp_mesh_summary p;
+    tp_error e;
+    ASSERT_OK(tp_mesh_inspect(pieces, &p, &e));
+    tp_test_note("%s", text);
+    EXPECT_GT((double)p.pieces, 10.0);
+    EXPECT_EQ_INT(w.triangles, p.triangles);
+    EXPECT_EQ_INT(w.points, p.points);
+    EXPECT_GT((double)w.void_filled_points, 1000.0);
+    EXPECT_EQ_INT(w.void_filled_points, p.void_filled_points);
+    EXPECT_EQ_INT(w.boundary_loops, p.boundary_loops);
+    EXPECT_EQ_INT(0, p.non_manifold_edges);
+    EXPECT_EQ_INT(0, p.downward_triangles);
+    for (int i = 0; i < 6; i++)
+        EXPECT_EQ_DBL(w.bounds[i], p.bounds[i]);
+    remove(whole);
+    remove(pieces);
+    remove(store);
+}
+
 #define TESTS(X)                                                                                   \
     X(seam_store_cuts_are_watertight)                                                              \
     X(void_store_cuts_are_watertight_and_keep_max_error)                                           \
     X(full_export_reports_the_drawn_cells_of_the_full_mesh)                                        \
     X(store_and_dem_exports_have_the_same_points)                                                  \
     X(store_options_for_a_dem_only_are_refused)                                                    \
-    X(damaged_node_fails_and_writes_nothing)
+    X(damaged_node_fails_and_writes_nothing)                                                       \
+    X(full_export_of_a_store_in_pieces_is_the_whole_mesh)
 TP_TEST_MAIN(TESTS)

@@ -4,7 +4,13 @@
 # grids written here (tiny, EPSG:4326 given with --crs), so every case runs in seconds.
 #   memory_env_refused    TP_MEMORY_LIMIT below the estimate: exit 1, one line, no work done
 #   memory_env_passes     TP_MEMORY_LIMIT above it: the command runs
-#   memory_ulimit_refused ulimit -v below the export --full estimate: exit 1, one line naming it
+#   memory_env_streams    export --full to a .vtp streams within TP_MEMORY_LIMIT (its pieces
+#                         sized to fit); below one piece's need: refused, one line, no file
+#   memory_store_bounded  a store's view, build and camera export keep TP_MEMORY_LIMIT: the
+#                         budgets shrink with a warning, or one line refuses
+#   memory_ulimit_refused ulimit -v below the export --full estimate (a .vtk, built whole): exit
+#                         1, one line naming it
+#   memory_ulimit_streams the same ulimit -v: export --full to a .vtp streams within it
 #   memory_ulimit_passes  ulimit -v generous: info runs
 #   warp_pole             143x107 0.01-degree cells at the north pole: a grid near the DEM's size, fast
 #   warp_world            143x107 cells over most of the world: refused, the extent named
@@ -40,10 +46,56 @@ memory_env_refused)
     TP_MEMORY_LIMIT=190M run 60 info "$HGT"
     [ $rc -eq 1 ] || fail "exit $rc, expected 1"; one_line
     grep -q "info of its 1249x1665 grid needs about [0-9]* MiB.*available (TP_MEMORY_LIMIT)" err || fail "no need/available line"
-    TP_MEMORY_LIMIT=400M run 60 export --full "$HGT" -o full.vtp
+    # a legacy .vtk is built whole in memory: refused, with the way out
+    TP_MEMORY_LIMIT=400M run 60 export --full "$HGT" -o full.vtk
     [ $rc -eq 1 ] || fail "export --full: exit $rc, expected 1"; one_line
-    grep -q "export --full of its .*(TP_MEMORY_LIMIT); export without --full" err || fail "export --full: no hint"
-    [ ! -e full.vtp ] || fail "export --full wrote a file" ;;
+    grep -q "export --full of its .*(TP_MEMORY_LIMIT); export to a .vtp, which is written a piece at a time" err || fail "export --full: no hint"
+    [ ! -e full.vtk ] || fail "export --full wrote a file" ;;
+memory_env_streams)
+    # the .vtp streams: pieces sized to what TP_MEMORY_LIMIT leaves, the peak (the program's own
+    # getrusage) under it, the whole mesh written (two triangles per cell of four drawn samples)
+    TP_MEMORY_LIMIT=400M run 120 export --full "$HGT" -o full.vtp
+    [ $rc -eq 0 ] || fail "exit $rc, expected 0"
+    grep -q "^wrote full.vtp: [0-9]* points, 3949910 triangles (100.00% of the 3949910 of the full mesh).* [0-9]* pieces of at most" out || fail "no wrote line with the full mesh's triangles"
+    peak=$(sed -n 's/.*peak \([0-9]*\) MiB$/\1/p' out)
+    [ -n "$peak" ] && [ "$peak" -le 400 ] || fail "peak ${peak:-?} MiB over the 400 MiB limit"
+    grep -q "^terrapatch export: writing 100%" err || fail "no progress on stderr"
+    # less than one piece needs: one line, nothing written
+    rm -f full.vtp
+    TP_MEMORY_LIMIT=120M run 60 export --full "$HGT" -o full.vtp
+    [ $rc -eq 1 ] || fail "120M: exit $rc, expected 1"; one_line
+    grep -q "export --full needs about [0-9]* MiB, [0-9]* MiB available (TP_MEMORY_LIMIT)" err || fail "120M: no need/available line"
+    [ ! -e full.vtp ] || fail "120M: wrote a file"
+    ls full.vtp.tmp* 2>/dev/null && fail "120M: left a temporary file"
+    true ;;
+memory_store_bounded)
+    run 120 build --quiet "$DATA/lf_elev_220_mt_hood_utm.tif" -o hood.tpt
+    [ $rc -eq 0 ] || fail "build: exit $rc"
+    # build's --memory (the whole process's budget) shrinks to what the limit leaves, or refuses
+    TP_MEMORY_LIMIT=300M run 120 build --quiet "$DATA/lf_elev_220_mt_hood_utm.tif" -o small.tpt
+    [ $rc -eq 0 ] || fail "build at 300M: exit $rc"
+    grep -q "terrapatch build: warning: .*MiB is available (TP_MEMORY_LIMIT): --memory [0-9]* MiB instead of 1024 MiB" err || fail "build at 300M: no warning"
+    TP_MEMORY_LIMIT=60M run 60 build --quiet "$DATA/lf_elev_220_mt_hood_utm.tif" -o tiny.tpt
+    [ $rc -eq 1 ] || fail "build at 60M: exit $rc, expected 1"; one_line
+    grep -q "needs about [0-9]* MiB.*(TP_MEMORY_LIMIT)" err || fail "build at 60M: no need/available line"
+    [ ! -e tiny.tpt ] || fail "build at 60M wrote a store"
+    # a store's view: the decoded terrain's budget within the limit, or refused
+    TP_MEMORY_LIMIT=200M run 60 view --headless --screenshot v.png hood.tpt
+    [ $rc -eq 1 ] || fail "view at 200M: exit $rc, expected 1"; one_line
+    grep -q "terrapatch view: hood.tpt: needs about [0-9]* MiB .*(TP_MEMORY_LIMIT)" err || fail "view at 200M: no need/available line"
+    [ ! -e v.png ] || fail "view at 200M wrote a picture"
+    # a bench flies with the decoded terrain's budget shrunk to what the limit leaves
+    TP_MEMORY_LIMIT=300M run 60 bench --frames 2 hood.tpt
+    [ $rc -eq 0 ] || fail "bench at 300M: exit $rc"
+    grep -q "terrapatch bench: warning: hood.tpt: [0-9]* MiB is available (TP_MEMORY_LIMIT): the decoded terrain (--memory) [0-9]* MiB instead of 1024 MiB" err || fail "bench at 300M: no warning"
+    # a camera's cut at full detail, built whole in memory: refused before it is built
+    TP_MEMORY_LIMIT=200M run 60 export --lod full hood.tpt -o cut.vtp
+    [ $rc -eq 1 ] || fail "export --lod full at 200M: exit $rc, expected 1"; one_line
+    grep -q "the mesh of the cut needs about [0-9]* MiB more.*(TP_MEMORY_LIMIT)" err || fail "export at 200M: no need/available line"
+    [ ! -e cut.vtp ] || fail "export at 200M wrote a mesh"
+    # with room, the store's --full .vtp streams
+    TP_MEMORY_LIMIT=400M run 60 export --full hood.tpt -o full.vtp
+    [ $rc -eq 0 ] || fail "export --full of the store at 400M: exit $rc" ;;
 memory_env_passes)
     TP_MEMORY_LIMIT=3G run 60 info "$HGT"
     [ $rc -eq 0 ] || fail "exit $rc, expected 0" ;;
@@ -51,9 +103,14 @@ memory_ulimit_refused)
     # 700 MiB of address space: the libraries load (~480 MiB mapped), the export --full estimate
     # (~0.9 GiB) does not fit
     ulimit -v 716800
-    run 60 export --full "$HGT" -o full.vtp
+    run 60 export --full "$HGT" -o full.vtk
     [ $rc -eq 1 ] || fail "exit $rc, expected 1"; one_line
     grep -q "needs about [0-9]* MiB.*available (ulimit -v)" err || fail "no need/available line naming ulimit -v" ;;
+memory_ulimit_streams)
+    ulimit -v 716800
+    run 120 export --full "$HGT" -o full.vtp
+    [ $rc -eq 0 ] || fail "exit $rc, expected 0"
+    grep -q "^wrote full.vtp: .* 3949910 triangles" out || fail "no wrote line" ;;
 memory_ulimit_passes)
     ulimit -v 4194304
     run 60 info "$HGT"

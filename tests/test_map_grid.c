@@ -120,7 +120,50 @@ TEST(ups_north_is_labelled_with_its_band_letter)
     tp_georef_destroy(g);
 }
 
+/* The spacing drawn follows the scale at the view's centre (issue 29, 4.5): 1, 10 or 100 km for
+ * the 1 km grid, the finest whose lines are at least TP_MAP_GRID_MIN_PX (40) pixels apart, so
+ * that the grid never turns into a dark mesh (the whole N42E001 tile at its default view is about
+ * 188 m a pixel: 1 km lines were 5 px apart). */
+TEST(spacing_follows_the_scale)
+{
+    struct {
+        double base, m_per_px, want;
+    } cases[] = {
+        {1000, 0.01, 1000},       /* on the ground */
+        {1000, 5.8, 1000},        /* a low oblique view of Mt Hood: 172 px apart */
+        {1000, 25, 1000},         /* exactly 40 px */
+        {1000, 25.01, 10000},     /* just under 40 px: 10 km (400 px) */
+        {1000, 39.6, 10000},      /* Mt Hood's default view: 25 px -> 253 px */
+        {1000, 188, 10000},       /* N42E001's default view: 5.3 px -> 53 px */
+        {1000, 250, 10000},       /* 40 px */
+        {1000, 300, 100000},      /* 33 px -> 333 px */
+        {1000, 1e4, 100000},      /* the coarsest: 100 km, however far */
+        {1000, NAN, 100000},      /* no ground at the centre: the coarsest */
+        {1000, 0, 100000},        /* ... nor a scale */
+        {1000, INFINITY, 100000}, /* ... */
+        {100, 3, 1000},           /* --grid 100: 100 m, 1 km, 10 km */
+        {100, 2.5, 100},          /* 40 px */
+        {250, 7, 2500},           /* any finest spacing, times ten */
+    };
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+        double got = tp_map_grid_spacing(cases[i].base, cases[i].m_per_px);
+        if (got != cases[i].want)
+            FAIL("--grid %g at %g m/px: spacing %g, expected %g", cases[i].base, cases[i].m_per_px,
+                 got, cases[i].want);
+        /* lines at least 40 px apart whenever the coarsest allows it */
+        if (cases[i].m_per_px > 0 && got < cases[i].base * 100)
+            EXPECT_GE(got / cases[i].m_per_px, TP_MAP_GRID_MIN_PX);
+    }
+    /* never coarser than needed: a tenth of the spacing would be too close */
+    for (double m = 0.5; m < 400; m *= 1.37) {
+        double got = tp_map_grid_spacing(1000, m);
+        if (got > 1000)
+            EXPECT_LT(got / 10 / m, TP_MAP_GRID_MIN_PX);
+    }
+}
+
 #define TESTS(X)                                                                                   \
+    X(spacing_follows_the_scale)                                                                   \
     X(wgs84_utm_labels_carry_square_letters_and_principal_digits)                                  \
     X(nad83_utm_is_labelled_as_mgrs)                                                               \
     X(local_and_non_utm_crs_keep_plain_kilometres)                                                 \

@@ -11,6 +11,7 @@
 #include "cli.h"
 #include "gl_context.h"
 #include "json.h"
+#include "memory.h"
 #include "renderer.h"
 #include "scene.h"
 #include "store_scene.h"
@@ -713,8 +714,15 @@ int tp_cli_bench(int argc, char** argv)
     int is_store;
     if ((code = tp_terrain_classify("bench", o.dem, &o.scene, &is_store)) >= 0)
         return code;
-    if (is_store)
+    if (is_store) { /* the stream's budget within what the process may still use */
+        uint64_t b = tp_memory_fit_budget("bench", o.dem, "the decoded terrain (--memory)",
+                                          tp_memory_estimate(TP_MEMORY_USE_BENCH, 0),
+                                          (uint64_t)o.memory_mb << 20, (uint64_t)16 << 20);
+        if (!b)
+            return TP_EXIT_FAILURE;
+        o.memory_mb = (int)(b >> 20);
         return tp_bench_store(&o);
+    }
     tp_scene sc;
     o.scene.use = TP_MEMORY_USE_BENCH;
     if ((code = tp_scene_load(o.dem, &o.scene, &sc)) != TP_EXIT_OK)

@@ -6,6 +6,7 @@
 #include "atomic_file.h"
 #include "camera_pose.h"
 #include "cli.h"
+#include "full_export.h"
 #include "mesh_export.h"
 #include "output_check.h"
 #include "scene.h"
@@ -28,7 +29,7 @@ typedef struct export_options {
     tp_scene_options scene;
     export_mode mode;
     double max_error_m;
-    mesh_kind mesh; /* --max-error: a TIN (default on a DEM) or whole patches */
+    mesh_kind mesh;   /* --max-error: a TIN (default on a DEM) or whole patches */
     tp_view_setup vs; /* level of detail, camera, field of view, size: as for view */
     int no_cull, origin_local, per_patch;
     tp_mesh_format format;
@@ -62,7 +63,11 @@ static void print_help(void)
           "  (default)             the mesh the viewer draws for --camera/--camera-geo (or the\n"
           "                        viewer's default camera), after crack removal, culled\n"
           "                        patches left out\n"
-          "  --full                full resolution: every drawn sample, two triangles per cell\n"
+          "  --full                full resolution: every drawn sample, two triangles per cell;\n"
+          "                        to a .vtp it is written a piece at a time (bands of rows;\n"
+          "                        on a store, blocks of leaves) in bounded memory whatever\n"
+          "                        the map's size, the points where pieces meet repeated\n"
+          "                        (ParaView's Clean merges them); heights are the grid's own\n"
           "  --max-error M         static error-bounded mesh: vertical error <= M metres at every\n"
           "                        valid source sample (measured, per triangle in max_error_m)\n"
           "  --mesh tin|patches    with --max-error: tin (the default) is a triangulated\n"
@@ -80,14 +85,14 @@ static void print_help(void)
           "tiles of 256 cells, one window of full-resolution samples at a time (the map is never\n"
           "in memory whole), error <= M against the store's samples; with --mesh patches each\n"
           "node at the coarsest level whose stored bound (stitching and quantisation included)\n"
-          "is <= M; --full is refused above 50 M triangles (the other modes when they pass it).\n"
+          "is <= M; --full to a .vtk or .vtm is refused above 50 M triangles (the other modes\n"
+          "when they pass it); to a .vtp it streams.\n"
           "patch_id is the node id; max_error_m is measured against the store's full-resolution\n"
           "samples; void_filled comes from the store's filled bits.\n"
           "view-dependent options (as for view):\n",
           stdout);
     tp_view_options_help(stdout);
-    fputs(
-          "output:\n"
+    fputs("output:\n"
           "  -o, --output OUT      .vtp (VTK XML, binary, compressed), .vtk (legacy) or .vtm\n"
           "  --per-patch           one block per patch (.vtm; DEMs only)\n"
           "  --origin local        subtract a scene origin (written to the field data)\n"
@@ -219,8 +224,10 @@ static int export_tin(const export_options* o, tp_scene* sc)
 {
     char lod_text[160];
     snprintf(lod_text, sizeof lod_text, "mode=max-error mesh=tin max_error_m=%g", o->max_error_m);
-    tp_export_options eo = {.format = o->format, .origin_local = o->origin_local,
-                            .camera_text = "", .lod_text = lod_text};
+    tp_export_options eo = {.format = o->format,
+                            .origin_local = o->origin_local,
+                            .camera_text = "",
+                            .lod_text = lod_text};
     tp_export_result res;
     tp_error err;
     int code = TP_EXIT_OK;
@@ -235,6 +242,29 @@ static int export_tin(const export_options* o, tp_scene* sc)
         print_written(o->out, &res, tp_full_mesh_triangles(sc));
     }
     tp_scene_free(sc);
+    return code == TP_EXIT_OK ? tp_cli_finish(code) : code;
+}
+
+/* --full to a .vtp: streamed a piece at a time (full_export.h). TP_EXPORT_PIECE_SAMPLES (a
+ * number of samples) makes the pieces smaller: tests cut a small DEM into many. */
+static int export_full_streamed(const export_options* o, int is_store)
+{
+    const char* env = getenv("TP_EXPORT_PIECE_SAMPLES");
+    char* end = NULL;
+    long long samples = env && *env ? strtoll(env, &end, 10) : 0;
+    if (env && *env && (*end != '\0' || samples < 4)) {
+        tp_cli_error("TP_EXPORT_PIECE_SAMPLES=%s: expected a number of "
+                     "samples >= 4",
+                     env);
+        return TP_EXIT_USAGE;
+    }
+    tp_full_export_request r = {.path = o->path,
+                                .is_store = is_store,
+                                .scene = &o->scene,
+                                .out = o->out,
+                                .origin_local = o->origin_local,
+                                .piece_samples = (size_t)samples};
+    int code = tp_export_full_streamed(&r);
     return code == TP_EXIT_OK ? tp_cli_finish(code) : code;
 }
 
@@ -257,9 +287,15 @@ int tp_cli_export(int argc, char** argv)
                          o.path);
             return TP_EXIT_USAGE;
         }
+        if (o.mode == MODE_FULL && tp_full_export_streams(o.path, 1, &o.scene, o.format))
+            return export_full_streamed(&o, 1);
         tp_store_export_request r = {
-            .store_path = o.path, .out = o.out, .max_error_m = o.max_error_m, .vs = &o.vs,
-            .format = o.format, .origin_local = o.origin_local,
+            .store_path = o.path,
+            .out = o.out,
+            .max_error_m = o.max_error_m,
+            .vs = &o.vs,
+            .format = o.format,
+            .origin_local = o.origin_local,
             .tin = o.mode == MODE_MAX_ERROR && o.mesh != MESH_PATCHES,
             .mode = o.mode == MODE_FULL        ? TP_STORE_EXPORT_FULL
                     : o.mode == MODE_MAX_ERROR ? TP_STORE_EXPORT_MAX_ERROR
@@ -274,6 +310,8 @@ int tp_cli_export(int argc, char** argv)
                      "TIN has none)");
         return TP_EXIT_USAGE;
     }
+    if (o.mode == MODE_FULL && tp_full_export_streams(o.path, 0, &o.scene, o.format))
+        return export_full_streamed(&o, 0);
     tp_scene sc;
     o.scene.use = o.mode == MODE_FULL ? TP_MEMORY_USE_EXPORT_FULL : TP_MEMORY_USE_EXPORT;
     if ((code = tp_scene_load(o.path, &o.scene, &sc)) != TP_EXIT_OK)
@@ -326,7 +364,9 @@ int tp_cli_export(int argc, char** argv)
         tp_lod_params_resolve(sc.terrain, &o.vs.lod, &lp, NULL);
         snprintf(lod_text, sizeof lod_text,
                  "mode=%s tau_px=%g mindist_m=%g maxdist_m=%g exp=%g fov_deg=%g size=%dx%d%s",
-                 lp.mode == TP_LOD_DISTANCE ? "distance" : lp.mode == TP_LOD_FULL ? "full" : "error",
+                 lp.mode == TP_LOD_DISTANCE ? "distance"
+                 : lp.mode == TP_LOD_FULL   ? "full"
+                                            : "error",
                  lp.tau_px, lp.mindist_m, lp.maxdist_m, lp.exponent, o.vs.fov_deg, o.vs.w, o.vs.h,
                  o.no_cull ? " no_cull" : "");
     }

@@ -1,11 +1,13 @@
 /* store_export.c - `terrapatch export` on a store (see store_export.h). */
 #include "store_export.h"
+#include "full_export.h"
 #include "store_mesh.h"
 #include "store_tin.h"
 #include "tin_export.h"
 
 #include "camera_pose.h"
 #include "cli.h"
+#include "memory.h"
 #include "store_scene.h"
 #include "tp_geo.h"
 
@@ -45,8 +47,8 @@ typedef struct store_export {
     tp_cut* cut;
     double step_m, unit, quant_m;
     int n;
-    size_t tris_cut; /* triangles of the final cut (for the size check) */
-    size_t drawn;    /* nodes of the final cut */
+    size_t tris_cut;        /* triangles of the final cut (for the size check) */
+    size_t drawn;           /* nodes of the final cut */
     tp_store_tin_stats tin; /* r->tin: the tiles built */
 } store_export;
 
@@ -68,6 +70,29 @@ static int too_many(store_export* x, size_t tris, const char* how)
         x->r->store_path, how, tris, TP_STORE_EXPORT_MAX_TRIANGLES,
         "TP_STORE_EXPORT_MAX_TRIANGLES, app/export/store_export.h");
     return TP_EXIT_FAILURE; /* as the DEM path's --full over the memory available */
+}
+
+/* Bytes of memory a mesh takes per triangle while it is built, copied into VTK and written
+ * (about 60 in the mesh, 80 in VTK's copy, the compressed file in memory; .vtk/.vtm and the
+ * camera and --max-error modes, which build it whole). */
+#define MESH_BYTES_PER_TRIANGLE 200
+/* Memory that must stay free while the cut's nodes are read. */
+#define NODE_READ_MARGIN_BYTES ((uint64_t)64 << 20)
+
+/* 1 if `more` bytes fit in what the process may still use (TP_MEMORY_LIMIT, ulimit -v, the
+ * cgroup, MemAvailable), else 0 after one line saying what needs them. */
+static int room_for(store_export* x, uint64_t more, const char* what)
+{
+    tp_memory_room room;
+    tp_memory_room_now(&room);
+    if (more <= room.bytes)
+        return 1;
+    tp_cli_error(
+        "%s: %s needs about %.0f MiB more, but only %.0f MiB is available "
+        "(%s); export a coarser mesh (--max-error M, a camera farther off), or --full to a "
+        ".vtp (written a piece at a time)",
+        x->r->store_path, what, more / 1048576.0, room.bytes / 1048576.0, room.bound);
+    return 0;
 }
 
 /* The camera's cut with every node it draws resident: update, read what it requests, again,
@@ -113,6 +138,8 @@ static int cut_for_camera(store_export* x, const tp_camera* cam, const tp_lod_pa
         free(ids);
         if (tp_interrupted())
             return tp_cli_interrupted();
+        if (!room_for(x, NODE_READ_MARGIN_BYTES, "reading the camera's cut at full detail"))
+            return TP_EXIT_FAILURE;
     }
     return TP_EXIT_OK;
 }
@@ -141,8 +168,8 @@ static int static_level(const store_export* x, int64_t node, int scale)
 }
 
 typedef struct choice {
-    int8_t* level;           /* per node: drawn level, -1 when not chosen */
-    int64_t* ids;            /* chosen ids (may hold stale ones: level -1) */
+    int8_t* level; /* per node: drawn level, -1 when not chosen */
+    int64_t* ids;  /* chosen ids (may hold stale ones: level -1) */
     size_t count, cap;
 } choice;
 
@@ -304,8 +331,7 @@ static int cut_max_error(store_export* x)
         int raised = 0;
         for (size_t i = 0; i < count; i++) {
             int nb[4];
-            memcpy(nb, (int[4]){out[i].nb[0], out[i].nb[1], out[i].nb[2], out[i].nb[3]},
-                   sizeof nb);
+            memcpy(nb, (int[4]){out[i].nb[0], out[i].nb[1], out[i].nb[2], out[i].nb[3]}, sizeof nb);
             if (bound_m(x, out[i].node, out[i].level, nb) <= M)
                 continue;
             for (int side = 0; side < 4; side++) {
@@ -435,11 +461,12 @@ static int build_mesh(store_export* x, mesh_build* m, double* sum, size_t* count
             uint64_t p[3];
             for (int c = 0; c < 3; c++)
                 if ((p[c] = tp_mesh_point(m, v[c]->x, v[c]->y, (double)v[c]->z_m,
-                                     v[c]->cls == TP_SAMPLE_FILLED)) == UINT64_MAX) {
+                                          v[c]->cls == TP_SAMPLE_FILLED)) == UINT64_MAX) {
                     code = fail(x, "out of memory building the mesh");
                     goto done;
                 }
-            int32_t a[2] = {v[0]->x, v[0]->y}, b[2] = {v[1]->x, v[1]->y}, cc[2] = {v[2]->x, v[2]->y};
+            int32_t a[2] = {v[0]->x, v[0]->y}, b[2] = {v[1]->x, v[1]->y},
+                    cc[2] = {v[2]->x, v[2]->y};
             tri_error e = {x->cache, 0, 0, 0};
             tp_triangle_rasterize(a, b, cc, v[0]->z_m, v[1]->z_m, v[2]->z_m, error_at, &e);
             if (x->cache->failed) {
@@ -477,20 +504,8 @@ static size_t full_mesh_bound(const store_export* x)
     return drawn < cells ? drawn : cells;
 }
 
-/* "31n" etc. from the store's EPSG code (WGS 84 UTM and UPS); "" otherwise. */
-static void zone_text(int epsg, char* out, size_t cap)
-{
-    out[0] = '\0';
-    if (epsg > 32600 && epsg <= 32660)
-        tp_zone_format(epsg - 32600, 1, TP_ZONE_STYLE_SHORT, out, cap, NULL);
-    else if (epsg > 32700 && epsg <= 32760)
-        tp_zone_format(epsg - 32700, 0, TP_ZONE_STYLE_SHORT, out, cap, NULL);
-    else if (epsg == 32661 || epsg == 32761)
-        tp_zone_format(TP_ZONE_UPS, epsg == 32661, TP_ZONE_STYLE_SHORT, out, cap, NULL);
-}
-
-static int write_mesh(store_export* x, mesh_build* m, const char* camera_text,
-                      const char* lod_text, double sum, size_t count)
+static int write_mesh(store_export* x, mesh_build* m, const char* camera_text, const char* lod_text,
+                      double sum, size_t count)
 {
     const tp_store_header* h = &x->sc.info.header;
     if (m->tris == 0) {
@@ -526,21 +541,30 @@ static int write_mesh(store_export* x, mesh_build* m, const char* camera_text,
             m->tri[3 * t + 1] = m->tri[3 * t + 2];
             m->tri[3 * t + 2] = s;
         }
-    tp_crs_info ci;
-    memset(&ci, 0, sizeof ci);
-    tp_crs_describe(h->crs_wkt, &ci, NULL);
+    int epsg;
     char zone[TP_ZONE_TEXT_SIZE];
-    zone_text(ci.epsg, zone, sizeof zone);
+    tp_export_zone_of_crs(h->crs_wkt, &epsg, zone);
     /* format 4 keeps which samples the build filled (tp_cut_vertices' TP_SAMPLE_FILLED) */
     const char* note = "from the store's filled bits: 1 where the build filled an interior void";
     tp_mesh mesh = {
-        .point_count = m->points, .xyz = xyz, .elevation_m = m->pz, .void_filled = m->pf,
-        .triangle_count = m->tris, .triangles = m->tri,
-        .patch_id = x->r->tin ? NULL : m->patch, .lod = x->r->tin ? NULL : m->lod,
-        .max_error_m = m->err, .crs_wkt = h->crs_wkt, .epsg = ci.epsg, .utm_zone = zone,
-        .source_file = x->r->store_path, .camera = camera_text, .lod_params = lod_text,
+        .point_count = m->points,
+        .xyz = xyz,
+        .elevation_m = m->pz,
+        .void_filled = m->pf,
+        .triangle_count = m->tris,
+        .triangles = m->tri,
+        .patch_id = x->r->tin ? NULL : m->patch,
+        .lod = x->r->tin ? NULL : m->lod,
+        .max_error_m = m->err,
+        .crs_wkt = h->crs_wkt,
+        .epsg = epsg,
+        .utm_zone = zone,
+        .source_file = x->r->store_path,
+        .camera = camera_text,
+        .lod_params = lod_text,
         .program_version = "terrapatch " TP_VERSION,
-        .origin = {origin[0], origin[1], origin[2]}, .void_filled_note = note,
+        .origin = {origin[0], origin[1], origin[2]},
+        .void_filled_note = note,
     };
     tp_status st = tp_mesh_write(x->r->out, x->r->format, &mesh, &err);
     free(xyz);
@@ -571,10 +595,9 @@ static int write_mesh(store_export* x, mesh_build* m, const char* camera_text,
            "%zu nodes drawn, %zu resident at most (%.1f MiB), %zu more leaves read for the "
            "error\n",
            x->r->out, m->points, m->tris, 100.0 * m->tris / (full ? full : 1),
-           exact ? "" : "at most ", full, mx,
-           count ? sqrt(sum / count) : 0.0, x->drawn,
-           x->res.peak_bytes / (x->res.block_samples * 2),
-           x->res.peak_bytes / 1048576.0, x->cache->reads);
+           exact ? "" : "at most ", full, mx, count ? sqrt(sum / count) : 0.0, x->drawn,
+           x->res.peak_bytes / (x->res.block_samples * 2), x->res.peak_bytes / 1048576.0,
+           x->cache->reads);
     return TP_EXIT_OK;
 }
 
@@ -670,16 +693,19 @@ int tp_export_store(const tp_store_export_request* r)
         snprintf(lod_text, sizeof lod_text,
                  "mode=%s tau_px=%g mindist_m=%g maxdist_m=%g exp=%g fov_deg=%g size=%dx%d "
                  "(store cut; 0 = default)",
-                 lp->mode == TP_LOD_DISTANCE ? "distance" : lp->mode == TP_LOD_FULL ? "full"
-                                                                                   : "error",
-                 lp->tau_px, lp->mindist_m, lp->maxdist_m, lp->exponent, vs->fov_deg, vs->w,
-                 vs->h);
+                 lp->mode == TP_LOD_DISTANCE ? "distance"
+                 : lp->mode == TP_LOD_FULL   ? "full"
+                                             : "error",
+                 lp->tau_px, lp->mindist_m, lp->maxdist_m, lp->exponent, vs->fov_deg, vs->w, vs->h);
         /* An export keeps every drawn sample: no holes along voids (incomplete nodes at full
          * resolution), so its outline is the data's, at any camera. */
         tp_lod_params exact = *lp;
         exact.hole_px = 1e-300;
         code = cut_for_camera(&x, &cam, &exact);
     }
+    if (code == TP_EXIT_OK && !r->tin &&
+        !room_for(&x, (uint64_t)x.tris_cut * MESH_BYTES_PER_TRIANGLE, "the mesh of the cut"))
+        code = TP_EXIT_FAILURE;
     if (code == TP_EXIT_OK && !r->tin)
         code = build_mesh(&x, &m, &sum, &samples);
     if (code == TP_EXIT_OK) {

@@ -15,7 +15,8 @@
 #include "mesh_export.h"
 #include "view_options.h"
 
-/* The most triangles a store export writes (--full, --lod full, a tiny --max-error): above it
+/* The most triangles a store export builds in memory (--full to a .vtk or .vtm, --lod full, a
+ * tiny --max-error; --full to a .vtp streams, full_export.h): above it
  * the export is refused before the nodes are read (--full, from the grid's size) or as soon as
  * the cut counts more (the other modes). 50 M triangles make a .vtp of about 1.5 GB and need
  * about 5 GB of memory while it is written. */

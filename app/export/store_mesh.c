@@ -71,7 +71,8 @@ double tp_leaf_sample_filled(leaf_cache* lc, int x, int y, int* filled)
     if (!q) {
         size_t s = (size_t)leaf % LEAF_CACHE_SLOTS;
         if (lc->key[s] != leaf) {
-            if (!lc->slot[s] && !(lc->slot[s] = malloc(lc->res->block_samples * sizeof(uint16_t)))) {
+            if (!lc->slot[s] &&
+                !(lc->slot[s] = malloc(lc->res->block_samples * sizeof(uint16_t)))) {
                 lc->failed = 1;
                 tp_error_set(&lc->res->err, TP_ERR_OUT_OF_MEMORY, "out of memory");
                 return NAN;
@@ -87,14 +88,24 @@ double tp_leaf_sample_filled(leaf_cache* lc, int x, int y, int* filled)
         }
         q = lc->slot[s];
     }
+    return tp_leaf_block_sample(q, &lc->metas[leaf], n, lc->step_m, x - (c << n), y - (r << n),
+                                filled);
+}
+
+double tp_leaf_block_sample(const uint16_t* q, const tp_node_meta* meta, int n, double step_m,
+                            int i, int j, int* filled)
+{
     int v = (1 << n) + 1;
-    size_t k = (size_t)(y - (r << n)) * v + (size_t)(x - (c << n));
+    size_t k = (size_t)j * v + (size_t)i;
     uint16_t st = q[k];
-    if (filled && (lc->metas[leaf].flags & TP_NODE_HAS_FILLED)) {
-        const uint16_t* bits = q + (size_t)v * v + tp_node_mask_words(n);
-        *filled = bits[k / 16] >> (k % 16) & 1;
+    if (filled) {
+        *filled = 0;
+        if (meta->flags & TP_NODE_HAS_FILLED) {
+            const uint16_t* bits = q + (size_t)v * v + tp_node_mask_words(n);
+            *filled = bits[k / 16] >> (k % 16) & 1;
+        }
     }
-    return st == TP_TREE_NO_HEIGHT ? NAN : ((double)st + lc->metas[leaf].qmin) * lc->step_m;
+    return st == TP_TREE_NO_HEIGHT ? NAN : ((double)st + meta->qmin) * step_m;
 }
 
 /* ---- the mesh ---- */
@@ -202,4 +213,3 @@ void tp_mesh_build_free(mesh_build* m)
     free(m->err);
     memset(m, 0, sizeof *m);
 }
-

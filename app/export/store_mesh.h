@@ -51,6 +51,12 @@ double tp_leaf_sample(leaf_cache* lc, int x, int y);
  * filled by interpolation or from a second source: the store's filled bits), else 0. */
 double tp_leaf_sample_filled(leaf_cache* lc, int x, int y, int* filled);
 
+/* Decoded height of sample (i, j) (column, row within the leaf, 0 .. 2^n) of a leaf's block q
+ * as tp_store_read_node returns it, NaN where none is drawn; *filled (when not NULL) as
+ * tp_leaf_sample_filled. */
+double tp_leaf_block_sample(const uint16_t* q, const tp_node_meta* meta, int n, double step_m,
+                            int i, int j, int* filled);
+
 /* ---- the mesh: points merged by grid position (open addressing), triangles ---- */
 
 typedef struct mesh_build {

@@ -18,6 +18,7 @@
 #include "hud.h"
 #include "hud_text.h"
 #include "layers.h"
+#include "memory.h"
 #include "output_check.h"
 #include "overlay.h"
 #include "pgm_clip.h"
@@ -76,6 +77,7 @@ enum {
     OPT_NO_CAST_SHADOWS,
     OPT_LIGHT,
     OPT_IMAGERY_MODE,
+    OPT_HUD_DETAILS,
 };
 
 static void print_help(void)
@@ -91,117 +93,127 @@ static void print_help(void)
           stdout);
     tp_view_options_help(stdout);
     tp_view_renderer_help(stdout, 0);
-    fputs("output:\n"
-          "  --headless            render offscreen through EGL\n"
-          "  --frames N            headless: frames to render (default 1); the last is kept\n"
-          "  --screenshot FILE     write the last frame, in the format its extension names\n"
-          "                        (.png, .tif, .jpg, .bmp, .tga, .webp, .exr; OpenImageIO)\n"
-          "  --stats-json FILE     write the last frame's statistics\n"
-          "  --clear-color R,G,B   background, 0..1 each\n"
-          "  --wireframe, --color-lod   draw edges only / colour patches by level\n"
-          "  --exaggeration X      vertical exaggeration, 0.001 to 1000 (default 1): the drawn\n"
-          "                        surface everywhere (culling, LoD, picking); camera heights\n"
-          "                        (--camera H, the default view, C) are in the drawn space\n"
-          "  --sun AZ,EL           hillshade light: azimuth clockwise from grid north and\n"
-          "                        elevation, degrees (default 315,45)\n"
-          "  --sun-date YYYY-MM-DD, --sun-time HH:MM[:SS][ZONE]\n"
-          "                        light from where the sun is then over the map's centre\n"
-          "                        (libnova; ZONE: Z, UTC, +02:00, -0500; default UTC), both\n"
-          "                        given; in the window PgUp and PgDn move the time by 15\n"
-          "                        minutes (Shift: an hour); the ground casts shadows (stores):\n"
-          "                        from STORE.tpl beside the store (--light) when the time lies\n"
-          "                        in its day, else computed over the 1025 x 1025 posts around\n"
-          "                        the point looked at; instead of --sun\n"
-          "  --light FILE.tpl      the day's cast shadows from a light map made for the store by\n"
-          "                        'terrapatch light STORE --day' (docs/light.md), streamed\n"
-          "                        through a clipmap: the whole map's shadows, PgUp/PgDn\n"
-          "                        instant; without --sun-date the sun starts at the middle\n"
-          "                        of the file's day\n"
-          "  --no-cast-shadows     the sun's light without cast shadows (neither of the above)\n"
-          "  --hide-filled         draw filled voids like measured ground (default: tinted)\n"
-          "  --pick X,Y            headless: print the ground point under pixel X,Y (from the\n"
-          "                        top-left corner): E, N and the drawn surface's height;\n"
-          "                        repeatable\n"
-          "  --measure E1,N1,E2,N2 print the geodesic distance, true and grid bearing and height\n"
-          "                        difference between two ground points (render CRS)\n"
-          "  --grid M              grid lines every M metres of the render CRS, labelled (for a\n"
-          "                        UTM render grid: the UTM/MGRS grid; 1000 = the 1 km grid)\n"
-          "  --texture FILE        drape an image: an orthophoto georeferenced through GDAL (warped\n"
-          "                        onto the render grid), or any image covering the DEM's extent\n"
-          "  --one-draw-per-patch  one draw call per patch instead of multi-draw\n"
-          "imagery (stores; docs/imagery.md):\n"
-          "  --imagery FILE.tpi    drape an imagery pyramid made for the store by\n"
-          "                        'terrapatch imagery' (default: STORE.tpi beside the store,\n"
-          "                        when there is one), streamed through a clipmap: any size, a\n"
-          "                        fixed GPU memory (F3 in the window: on or off)\n"
-          "  --no-imagery          do not drape STORE.tpi\n"
-          "  --clip-blocks N       the clipmap's window: N x N blocks of 256 texels a level (even,\n"
-          "                        2..32; default 4: 1024 texels, 4 MiB of GPU memory a level)\n"
-          "  --imagery-mode M      clipmap (default), or blocks: Brodersen's texture per drawn\n"
-          "                        node, for comparison (384 layers of 256x256 texels, 96 MiB)\n"
-          "planning layers (docs/field.md):\n"
-          "  --overlay FILE        drape a vector file on the terrain: GPX, KML, GeoJSON,\n"
-          "                        Shapefile, GeoPackage or anything OGR reads, reprojected to\n"
-          "                        the render CRS; lines, polygon outlines, points with their\n"
-          "                        names; one colour per file; repeatable (8 at most)\n"
-          "  --contours M          contour lines every M metres (0: a round interval for the\n"
-          "                        relief) within 10 km of the point looked at, by GDAL's\n"
-          "                        contour generator; every fifth thicker and labelled (F2 in\n"
-          "                        the window: contours around the point looked at, or off)\n"
-          "bookmarks (named views; docs/field.md, \"Map reading\"):\n"
-          "  --bookmark NAME       start from bookmark NAME (instead of --camera)\n"
-          "  --save-bookmark NAME  save the start view (--camera, --camera-geo or the default) as\n"
-          "                        NAME, replacing one of that name\n"
-          "  --bookmarks FILE      the bookmarks file (default: $XDG_CONFIG_HOME/terrapatch/\n"
-          "                        bookmarks/DEMFILE.bookmarks, else ~/.config/...), one line a\n"
-          "                        view: NAME --camera-geo LAT,LON,H,YAW,PITCH\n"
-          "stores:\n"
-          "  --memory MB           budget of decoded terrain in RAM (default 1024)\n"
-          "  --gpu-memory MB       budget of the GPU vertex pool (default 256); a frame that\n"
-          "                        needs more grows the pool past it (never a hole) and the\n"
-          "                        HUD's GPU MB shows by how much\n"
-          "  --cache-dir DIR       where DEMs are built into stores (default $TP_CACHE_DIR, else\n"
-          "                        $XDG_CACHE_HOME/terrapatch, else ~/.cache/terrapatch)\n"
-          "  --whole               draw the DEM whole, without a store (the old path: the DEM\n"
-          "                        and its render grid in memory, patches selected every frame)\n"
-          "  --stitch move|add     crack removal: move the finer patch's border vertices (move,\n"
-          "                        the default) or add them to the coarser patch's border (add,\n"
-          "                        Brodersen section 4; over a store between nodes of one size,\n"
-          "                        a smaller node next to a larger one still moves its own)\n"
-          "  --stitch-add-draw sets|five  how --stitch add draws a patch that takes vertices:\n"
-          "                        its own triangle list from an index set per neighbour\n"
-          "                        configuration (sets), or up to five draws of per-level\n"
-          "                        region sets (five, the default: see docs/PERFORMANCE.md)\n"
-          "  A DEM is drawn whole, without a store (the old path), when it is a heightmap image\n"
-          "  (--spacing, --zscale, --origin or a PNG/JPEG/...), or --fit, --texture or --renderer\n"
-          "  pgm is given: stores always pad and carry no texture (and PGM over a\n"
-          "  DEM reads its whole pyramid). A store fills voids as --fill-max says\n"
-          "  (passed to the build) and marks each filled sample: tinted (V) as a DEM drawn whole.\n"
-          "  A DEM's store is built with the view's --patch (default 17, as a DEM drawn whole);\n"
-          "  'terrapatch build' defaults to 65, for large maps.\n"
-          "  --no-hud              no text overlay (frame times, triangles, levels, error,\n"
-          "                        camera and centre position as lat/lon, UTM and MGRS)\n"
-          "  --hud                 headless frames too get the overlay (off by default there,\n"
-          "                        so that a headless image depends on the view alone)\n"
-          "DEM:\n",
-          stdout);
+    fputs(
+        "output:\n"
+        "  --headless            render offscreen through EGL\n"
+        "  --frames N            headless: frames to render (default 1); the last is kept\n"
+        "  --screenshot FILE     write the last frame, in the format its extension names\n"
+        "                        (.png, .tif, .jpg, .bmp, .tga, .webp, .exr; OpenImageIO)\n"
+        "  --stats-json FILE     write the last frame's statistics\n"
+        "  --clear-color R,G,B   background, 0..1 each\n"
+        "  --wireframe, --color-lod   draw edges only / colour patches by level\n"
+        "  --exaggeration X      vertical exaggeration, 0.001 to 1000 (default 1): the drawn\n"
+        "                        surface everywhere (culling, LoD, picking); camera heights\n"
+        "                        (--camera H, the default view, C) are in the drawn space\n"
+        "  --sun AZ,EL           hillshade light: azimuth clockwise from grid north and\n"
+        "                        elevation, degrees (default 315,45)\n"
+        "  --sun-date YYYY-MM-DD, --sun-time HH:MM[:SS][ZONE]\n"
+        "                        light from where the sun is then over the map's centre\n"
+        "                        (libnova; ZONE: Z, UTC, +02:00, -0500; default UTC), both\n"
+        "                        given; in the window PgUp and PgDn move the time by 15\n"
+        "                        minutes (Shift: an hour); the ground casts shadows (stores):\n"
+        "                        from STORE.tpl beside the store (--light) when the time lies\n"
+        "                        in its day, else computed over the 1025 x 1025 posts around\n"
+        "                        the point looked at; instead of --sun\n"
+        "  --light FILE.tpl      the day's cast shadows from a light map made for the store by\n"
+        "                        'terrapatch light STORE --day' (docs/light.md), streamed\n"
+        "                        through a clipmap: the whole map's shadows, PgUp/PgDn\n"
+        "                        instant; without --sun-date the sun starts at the middle\n"
+        "                        of the file's day\n"
+        "  --no-cast-shadows     the sun's light without cast shadows (neither of the above)\n"
+        "  --hide-filled         draw filled voids like measured ground (default: tinted)\n"
+        "  --pick X,Y            headless: print the ground point under pixel X,Y (from the\n"
+        "                        top-left corner): E, N and the drawn surface's height;\n"
+        "                        repeatable\n"
+        "  --measure E1,N1,E2,N2 print the geodesic distance, true and grid bearing and height\n"
+        "                        difference between two ground points (render CRS)\n"
+        "  --grid M|auto         grid lines of the render CRS, labelled (for a UTM render\n"
+        "                        grid: the UTM/MGRS grid), every M metres or 10 M or 100 M,\n"
+        "                        the finest whose lines are 40 px apart or more at the view's\n"
+        "                        centre (the HUD says which); auto: M = 1000 (1, 10, 100 km)\n"
+        "  --texture FILE        drape an image: an orthophoto georeferenced through GDAL (warped\n"
+        "                        onto the render grid), or any image covering the DEM's extent\n"
+        "  --one-draw-per-patch  one draw call per patch instead of multi-draw\n"
+        "imagery (stores; docs/imagery.md):\n"
+        "  --imagery FILE.tpi    drape an imagery pyramid made for the store by\n"
+        "                        'terrapatch imagery' (default: STORE.tpi beside the store,\n"
+        "                        when there is one), streamed through a clipmap: any size, a\n"
+        "                        fixed GPU memory (F3 in the window: on or off)\n"
+        "  --no-imagery          do not drape STORE.tpi\n"
+        "  --clip-blocks N       the clipmap's window: N x N blocks of 256 texels a level (even,\n"
+        "                        2..32; default 4: 1024 texels, 4 MiB of GPU memory a level)\n"
+        "  --imagery-mode M      clipmap (default), or blocks: Brodersen's texture per drawn\n"
+        "                        node, for comparison (384 layers of 256x256 texels, 96 MiB)\n"
+        "planning layers (docs/field.md):\n"
+        "  --overlay FILE        drape a vector file on the terrain: GPX, KML, GeoJSON,\n"
+        "                        Shapefile, GeoPackage or anything OGR reads, reprojected to\n"
+        "                        the render CRS; lines, polygon outlines, points with their\n"
+        "                        names; one colour per file; repeatable (8 at most)\n"
+        "  --contours M          contour lines every M metres (0: a round interval for the\n"
+        "                        relief) within 10 km of the point looked at, by GDAL's\n"
+        "                        contour generator; every fifth thicker and labelled (F2 in\n"
+        "                        the window: contours around the point looked at, or off)\n"
+        "bookmarks (named views; docs/field.md, \"Map reading\"):\n"
+        "  --bookmark NAME       start from bookmark NAME (instead of --camera)\n"
+        "  --save-bookmark NAME  save the start view (--camera, --camera-geo or the default) as\n"
+        "                        NAME, replacing one of that name\n"
+        "  --bookmarks FILE      the bookmarks file (default: $XDG_CONFIG_HOME/terrapatch/\n"
+        "                        bookmarks/DEMFILE.bookmarks, else ~/.config/...), one line a\n"
+        "                        view: NAME --camera-geo LAT,LON,H,YAW,PITCH\n"
+        "stores:\n"
+        "  --memory MB           budget of decoded terrain in RAM (default 1024)\n"
+        "  --gpu-memory MB       budget of the GPU vertex pool (default 256); a frame that\n"
+        "                        needs more grows the pool past it (never a hole) and the\n"
+        "                        HUD's GPU MB shows by how much\n"
+        "  --cache-dir DIR       where DEMs are built into stores (default $TP_CACHE_DIR, else\n"
+        "                        $XDG_CACHE_HOME/terrapatch, else ~/.cache/terrapatch)\n"
+        "  --whole               draw the DEM whole, without a store (the old path: the DEM\n"
+        "                        and its render grid in memory, patches selected every frame)\n"
+        "  --stitch move|add     crack removal: move the finer patch's border vertices (move,\n"
+        "                        the default) or add them to the coarser patch's border (add,\n"
+        "                        Brodersen section 4; over a store between nodes of one size,\n"
+        "                        a smaller node next to a larger one still moves its own)\n"
+        "  --stitch-add-draw sets|five  how --stitch add draws a patch that takes vertices:\n"
+        "                        its own triangle list from an index set per neighbour\n"
+        "                        configuration (sets), or up to five draws of per-level\n"
+        "                        region sets (five, the default: see docs/PERFORMANCE.md)\n"
+        "  A DEM is drawn whole, without a store (the old path), when it is a heightmap image\n"
+        "  (--spacing, --zscale, --origin or a PNG/JPEG/...), or --fit, --texture or --renderer\n"
+        "  pgm is given: stores always pad and carry no texture (and PGM over a\n"
+        "  DEM reads its whole pyramid). A store fills voids as --fill-max says\n"
+        "  (passed to the build) and marks each filled sample: tinted (V) as a DEM drawn whole.\n"
+        "  A DEM's store is built with the view's --patch (default 17, as a DEM drawn whole);\n"
+        "  'terrapatch build' defaults to 65, for large maps.\n"
+        "  --no-hud              no text overlay (by default three lines: the centre's MGRS,\n"
+        "                        latitude/longitude and elevation; the eye's height,\n"
+        "                        heading and pitch; scale, grid and mode)\n"
+        "  --hud                 headless frames too get the overlay (off by default there,\n"
+        "                        so that a headless image depends on the view alone)\n"
+        "  --hud-details         the overlay with its engineering lines too (frame rate, CPU\n"
+        "                        split, triangles, levels, error bound and measured error,\n"
+        "                        full positions; F4 in the window): all of them are\n"
+        "                        in --stats-json in any case\n"
+        "DEM:\n",
+        stdout);
     tp_scene_options_help(stdout);
-    fputs("\nWindow keys: W/S forward/back, A/D left/right, Q/E down/up (speed follows the height\n"
-          "above ground; Shift x5, Ctrl x0.2), drag with the left mouse button to look around,\n"
-          "Home (or 0) back to the start view, O orbit mode (drag rotates around the point looked\n"
-          "at, wheel or W/S zoom, A/D/Q/E pan; the HUD says which mode), L colour by level,\n"
-          "T wireframe, F freeze LoD and culling, M switch LoD mode, +/- tau (or maxdist), [ ]\n"
-          "mindist, , . exp, X/Z vertical exaggeration, J/K sun azimuth, U/N sun elevation,\n"
-          "V tint of filled voids, G 1 km grid, P screenshot, Y export the view's mesh (.vtp),\n"
-          "C print the camera as --camera-geo and --camera options, H hide the HUD, right-click\n"
-          "twice to measure, ? key help, Esc quit. Keys are queued: a tap shorter than a frame\n"
-          "still counts.\n"
-          "Bookmarks: Ctrl+1..9 saves the view as \"view N\", 1..9 goes back to it, Tab and\n"
-          "Shift+Tab step through every bookmark of the file.\n"
-          "\nOutputs are checked before rendering and written whole or not at all (a full disk or\n"
-          "SIGINT/SIGTERM leaves an older file as it was).\n"
-          "Exit status: 0 success, 1 failure, 2 usage error, 130/143 after SIGINT/SIGTERM.\n",
-          stdout);
+    fputs(
+        "\nWindow keys: W/S forward/back, A/D left/right, Q/E down/up (speed follows the height\n"
+        "above ground; Shift x5, Ctrl x0.2), drag with the left mouse button to look around,\n"
+        "Home (or 0) back to the start view, O orbit mode (drag rotates around the point looked\n"
+        "at, wheel or W/S zoom, A/D/Q/E pan; the HUD says which mode), L colour by level,\n"
+        "T wireframe, F freeze LoD and culling, M switch LoD mode, +/- tau (or maxdist), [ ]\n"
+        "mindist, , . exp, X/Z vertical exaggeration, J/K sun azimuth, U/N sun elevation,\n"
+        "V tint of filled voids, G grid (1, 10 or 100 km by the scale), P screenshot, Y export\n"
+        "the view's mesh (.vtp), C print the camera as --camera-geo and --camera options,\n"
+        "H hide the HUD, F4 the HUD's details (fps, CPU, triangles, levels, error bound),\n"
+        "right-click twice to measure, ? key help, Esc quit. Keys are queued: a tap shorter than\n"
+        "a frame still counts.\n"
+        "Bookmarks: Ctrl+1..9 saves the view as \"view N\", 1..9 goes back to it, Tab and\n"
+        "Shift+Tab step through every bookmark of the file.\n"
+        "\nOutputs are checked before rendering and written whole or not at all (a full disk or\n"
+        "SIGINT/SIGTERM leaves an older file as it was).\n"
+        "Exit status: 0 success, 1 failure, 2 usage error, 130/143 after SIGINT/SIGTERM.\n",
+        stdout);
 }
 
 /* The bundled sample, found from the binary's own location (/proc/self/exe), so that it does not
@@ -263,6 +275,7 @@ static int parse_options(int argc, char** argv, view_options* o)
         {"stats-json", required_argument, NULL, OPT_STATS},
         {"no-hud", no_argument, NULL, OPT_NO_HUD},
         {"hud", no_argument, NULL, OPT_HUD},
+        {"hud-details", no_argument, NULL, OPT_HUD_DETAILS},
         {"hide-filled", no_argument, NULL, OPT_HIDE_FILLED},
         {"texture", required_argument, NULL, OPT_TEXTURE},
         {"grid", required_argument, NULL, OPT_GRID},
@@ -357,6 +370,7 @@ static int parse_options(int argc, char** argv, view_options* o)
         case OPT_COLOR_LOD: o->render.color_lod = 1; break;
         case OPT_NO_HUD: o->no_hud = 1; break;
         case OPT_HUD: o->hud = 1; break;
+        case OPT_HUD_DETAILS: o->hud = o->hud_details = 1; break;
         case OPT_HIDE_FILLED: o->render.hide_filled = 1; break;
         case OPT_TEXTURE: o->texture = optarg; break;
         case OPT_IMAGERY: o->imagery = optarg; break;
@@ -397,9 +411,11 @@ static int parse_options(int argc, char** argv, view_options* o)
                 return bad("--pick", "X,Y pixel coordinates (at most 16 --pick)", optarg);
             o->pick_count++;
             break;
-        case OPT_GRID:
-            if (!tp_parse_numbers(optarg, v, 1) || v[0] < 0 || (v[0] > 0 && v[0] < 1))
-                return bad("--grid", "a line spacing in metres >= 1 (0: none)", optarg);
+        case OPT_GRID: /* the finest spacing: drawn 1, 10 or 100 times it by the scale */
+            if (strcmp(optarg, "auto") == 0)
+                v[0] = 1000;
+            else if (!tp_parse_numbers(optarg, v, 1) || v[0] < 0 || (v[0] > 0 && v[0] < 1))
+                return bad("--grid", "a line spacing in metres >= 1 (0: none), or auto", optarg);
             o->render.grid_m = v[0];
             break;
         case OPT_ONE_DRAW: o->render.one_draw_per_patch = 1; break;
@@ -547,7 +563,9 @@ static int run_headless(tp_view_scene* v, tp_gl_context* ctx, tp_renderer* r,
         tp_view_scene_settle(v, cam, &o->vs.lod, 120);
         tp_gl_context_begin_frame(ctx);
         double t0 = tp_view_now_ms();
-        tp_view_frame(v, r, cam, &o->render, &o->vs.lod, 0, &fr);
+        tp_render_settings rs = o->render; /* the grid's spacing follows the scale */
+        rs.grid_m = tp_view_grid_spacing(v, cam, o->render.grid_m);
+        tp_view_frame(v, r, cam, &rs, &o->vs.lod, 0, &fr);
         if (o->has_measure && !measured) {
             double e[2] = {o->measure[0], o->measure[2]}, n[2] = {o->measure[1], o->measure[3]};
             measured = tp_view_measure_points(v, e, n, measure_line, sizeof measure_line) ? 1 : -1;
@@ -557,21 +575,27 @@ static int run_headless(tp_view_scene* v, tp_gl_context* ctx, tp_renderer* r,
             char line[600];
             tp_view_contours_at_centre(v, cam, o, o->contours_m, line, sizeof line);
         }
-        tp_overlay ov = {.grid_m = o->render.grid_m, .measure_line = measure_line,
-                         .near_m = fr.render.near_m, .far_m = fr.render.far_m};
+        tp_overlay ov = {.grid_m = rs.grid_m,
+                         .measure_line = measure_line,
+                         .near_m = fr.render.near_m,
+                         .far_m = fr.render.far_m};
         if (o->layers)
             ov.drape_count = tp_view_layers_drawn(o->layers, &ov.drapes);
         if (with_hud) {
-            tp_measured_error me;
-            tp_view_measure_now(v, cam, &me);
+            tp_measured_error me = {0};
+            if (o->hud_details) /* shown only there: it costs tens of ms */
+                tp_view_measure_now(v, cam, &me);
             char legend[512] = "";
             if (o->layers)
                 tp_view_layers_legend(o->layers, legend, sizeof legend);
             char sun[160];
             tp_view_sun_text(&o->sun, sun, sizeof sun);
             tp_hud_state hs = {.fps = 1000 / fmax(tp_view_now_ms() - t0, 1e-6),
-                               .exaggeration = o->render.exaggeration, .layers = legend,
-                               .sun = sun};
+                               .exaggeration = o->render.exaggeration,
+                               .layers = legend,
+                               .sun = sun,
+                               .grid_m = rs.grid_m,
+                               .details = o->hud_details};
             tp_view_hud_text(v, cam, &o->vs.lod, &fr, &me, &hs, text, sizeof text);
             ov.hud_text = text;
         }
@@ -847,7 +871,15 @@ static int view_store(const char* path, view_options* o)
     int code = tp_store_scene_open_deferred(path, &st);
     if (code != TP_EXIT_OK)
         return code;
-    tp_stream_options so = {.memory_bytes = o->memory_mb << 20};
+    /* the stream's budget within what the process may still use (TP_MEMORY_LIMIT, ulimit) */
+    uint64_t budget = tp_memory_fit_budget("view", path, "the decoded terrain (--memory)",
+                                           tp_memory_estimate(TP_MEMORY_USE_VIEW, 0),
+                                           (uint64_t)o->memory_mb << 20, (uint64_t)16 << 20);
+    if (!budget) {
+        tp_store_scene_close(&st);
+        return TP_EXIT_FAILURE;
+    }
+    tp_stream_options so = {.memory_bytes = (size_t)budget};
     if ((code = tp_store_scene_stream(&st, &so)) != TP_EXIT_OK) {
         tp_store_scene_close(&st);
         return code;

@@ -34,6 +34,7 @@ void tp_view_frame(tp_view_scene* v, tp_renderer* r, const tp_camera* cam,
     tp_error err;
     out->pgm_cols = out->pgm_rows = 0; /* set by the PGM path only (the HUD tests them) */
     out->add_sides = out->moved_sides = 0;
+    out->grid_m = render->grid_m;
     /* the core selects, culls and measures the surface as drawn: exaggerated */
     tp_view_scene_set_vertical_scale(v, render->exaggeration);
     if (v->pgm) { /* Persistent Grid Mapping: no selection, the same grid every frame */
@@ -102,6 +103,7 @@ void tp_view_frame(tp_view_scene* v, tp_renderer* r, const tp_camera* cam,
     out->add_sides = cs.add_sides;
     out->moved_sides = cs.moved_sides;
     out->bound_max_px = cs.max_bound_px;
+    out->bound_near_nodes = cs.near_plane_nodes;
 }
 
 int tp_view_write_stats(const char* path, const frame_result* f, const tp_error_measure* em,
@@ -150,6 +152,8 @@ int tp_view_write_stats(const char* path, const frame_result* f, const tp_error_
     for (int k = 0; k < levels; k++)
         tp_json_int(&j, f->core.patches_per_level[k]);
     tp_json_array_end(&j);
+    /* the frame rate these times allow (the HUD's fps is the window's, between frames) */
+    KEY_NUM("fps", 1000 / fmax(f->select_ms + f->render.upload_ms + f->render.draw_ms, 1e-6));
     KEY_NUM("cpu_ms", f->select_ms + f->render.upload_ms);
     KEY_NUM("select_ms", f->select_ms);
     KEY_NUM("upload_ms", f->render.upload_ms);
@@ -157,6 +161,7 @@ int tp_view_write_stats(const char* path, const frame_result* f, const tp_error_
     KEY_SIZE("draw_page_faults", (size_t)(f->render.page_faults > 0 ? f->render.page_faults : 0));
     KEY_SIZE("uploads", (size_t)f->render.uploads);
     KEY_SIZE("gpu_bytes", f->render.gpu_bytes);
+    KEY_NUM("grid_m", f->grid_m); /* the spacing drawn (--grid's, times 10^k by the scale) */
     if (em) {
         KEY_NUM("max_error_m", em->max_error_m);
         KEY_NUM("rms_error_m", em->rms_error_m);
@@ -165,8 +170,11 @@ int tp_view_write_stats(const char* path, const frame_result* f, const tp_error_
     KEY_NUM("rms_error_px", rms_px);
     if (!f->store) {
         KEY_NUM("bound_max_error_m", f->core.bound_max_error_m);
+        KEY_NUM("bound_rms_error_m", f->core.bound_rms_error_m);
     } else {
         KEY_NUM("bound_max_px", f->bound_max_px);
+        /* nodes whose box reaches the near plane: bounded over what is drawn of them */
+        KEY_SIZE("bound_near_plane_nodes", (size_t)f->bound_near_nodes);
         KEY_NUM("resident_mb", f->stream.resident_bytes / 1e6);
         KEY_NUM("gpu_mb", f->render.gpu_bytes / 1e6);
         KEY_SIZE("nodes_drawn", (size_t)f->nodes_drawn);

@@ -2,10 +2,11 @@
 #include "hud_text.h"
 
 #include "hud.h"
+#include "hud_lines.h"
 #include "pick.h"
 #include "position.h"
-#include "view_shadows.h"
 #include "tp_geo.h"
+#include "view_shadows.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -17,25 +18,34 @@ void tp_view_measure_now(const tp_view_scene* v, const tp_camera* cam, tp_measur
     m->valid = 1;
 }
 
-void tp_view_position_text(const tp_georef* g, double e, double n, char* out, size_t cap)
+void tp_view_position_parts(const tp_georef* g, double e, double n, char latlon[48], char utm[48],
+                            char mgrs[TP_POSITION_MGRS_SPACED_SIZE])
 {
     double lat, lon, ue, un;
     int zone, northp;
-    char mgrs[TP_MGRS_SIZE];
-    out[0] = '\0';
+    char m[TP_MGRS_SIZE];
+    latlon[0] = utm[0] = mgrs[0] = '\0';
     if (tp_georef_proj_to_geo(g, e, n, &lat, &lon, NULL) != TP_OK)
         return;
-    int at = snprintf(out, cap, "%.5f%c %.5f%c", fabs(lat), lat >= 0 ? 'N' : 'S', fabs(lon),
-                      lon >= 0 ? 'E' : 'W');
+    snprintf(latlon, 48, "%.5f%c %.5f%c", fabs(lat), lat >= 0 ? 'N' : 'S', fabs(lon),
+             lon >= 0 ? 'E' : 'W');
     char zname[TP_ZONE_TEXT_SIZE] = "";
-    if (at < 0 || (size_t)at >= cap ||
-        tp_geo_to_utmups(lat, lon, &zone, &northp, &ue, &un, NULL) != TP_OK ||
+    if (tp_geo_to_utmups(lat, lon, &zone, &northp, &ue, &un, NULL) != TP_OK ||
         tp_zone_format(zone, northp, TP_ZONE_STYLE_SHORT, zname, sizeof zname, NULL) != TP_OK)
         return; /* lat/lon only */
-    char spaced[TP_POSITION_MGRS_SPACED_SIZE] = "";
-    if (tp_mgrs_forward(zone, northp, ue, un, lat, 5, mgrs, sizeof mgrs, NULL) == TP_OK)
-        tp_position_mgrs_spaced(mgrs, spaced, sizeof spaced); /* as on maps: "31T CH 76651 00831" */
-    snprintf(out + at, cap - (size_t)at, "  UTM %s %.0f %.0f  MGRS %s", zname, ue, un, spaced);
+    snprintf(utm, 48, "%s %.0f %.0f", zname, ue, un);
+    if (tp_mgrs_forward(zone, northp, ue, un, lat, 5, m, sizeof m, NULL) == TP_OK)
+        tp_position_mgrs_spaced(m, mgrs, TP_POSITION_MGRS_SPACED_SIZE); /* "31T CH 76651 00831" */
+}
+
+void tp_view_position_text(const tp_georef* g, double e, double n, char* out, size_t cap)
+{
+    char latlon[48], utm[48], mgrs[TP_POSITION_MGRS_SPACED_SIZE];
+    tp_view_position_parts(g, e, n, latlon, utm, mgrs);
+    if (!utm[0])
+        snprintf(out, cap, "%s", latlon);
+    else
+        snprintf(out, cap, "%s  UTM %s  MGRS %s", latlon, utm, mgrs);
 }
 
 /* The legend of the filled-void tint: what filled the voids and how many samples. A DEM read
@@ -69,9 +79,41 @@ static void voids_text(const tp_view_scene* v, char* out, size_t cap)
                                                     : "by interpolation");
 }
 
-void tp_view_hud_text(tp_view_scene* v, const tp_camera* cam,
-                      const tp_lod_params* lod, const frame_result* fr,
-                      const tp_measured_error* me, const tp_hud_state* st, char* out, size_t cap)
+/* The default lines: what a user on the ground needs (hud_lines.h). */
+static void ground_lines(tp_view_scene* v, const tp_camera* cam, const tp_hud_state* st, char* out,
+                         size_t cap)
+{
+    char latlon[48], utm[48], mgrs[TP_POSITION_MGRS_SPACED_SIZE] = "";
+    double g[3], x, y, yaw, pitch, ex = st->exaggeration > 0 ? st->exaggeration : 1;
+    tp_camera_get_pose(cam, &yaw, &pitch);
+    tp_view_scene_world_to_grid(v, cam->position[0], cam->position[1], &x, &y);
+    tp_hud_ground hg = {.eye_m = cam->position[2],
+                        .heading_deg = yaw,
+                        .pitch_deg = pitch,
+                        .grid_m = st->grid_m,
+                        .orbit = st->orbit,
+                        .speed_mps = st->speed_mps,
+                        .frozen = st->frozen,
+                        .exaggeration = ex,
+                        .details = st->details};
+    hg.above_m = cam->position[2] - tp_view_scene_ground_height(v, x, y) * ex;
+    hg.m_per_px =
+        tp_view_metres_per_pixel(v, cam, cam->viewport_w_px / 2.0, cam->viewport_h_px / 2.0, g);
+    hg.centre = !isnan(hg.m_per_px) || tp_view_pick_centre(v, cam, g);
+    if (hg.centre) {
+        tp_view_position_parts(v->georef, g[0], g[1], latlon, utm, mgrs);
+        hg.centre_mgrs = mgrs;
+        hg.centre_latlon = latlon;
+        hg.centre_e = g[0], hg.centre_n = g[1], hg.centre_elev_m = g[2];
+    }
+    tp_hud_ground_text(&hg, out, cap);
+}
+
+/* The engineering lines (TP_HUD_DETAILS_KEY; all of it is in --stats-json too): frame times,
+ * counts, levels, the store's streaming, the LoD and its error, the full positions. */
+static void detail_lines(tp_view_scene* v, const tp_camera* cam, const tp_lod_params* lod,
+                         const frame_result* fr, const tp_measured_error* me,
+                         const tp_hud_state* st, char* out, size_t cap)
 {
     char measured[160] = "";
     if (me && me->valid && !isnan(me->max_m))
@@ -82,7 +124,7 @@ void tp_view_hud_text(tp_view_scene* v, const tp_camera* cam,
     else if (me && me->valid)
         snprintf(measured, sizeof measured, "   measured max %.2f px, RMS %.2f px", me->max_px,
                  me->rms_px);
-    char pos[256], ground[640] = "";
+    char pos[256], ground[320] = "";
     double g[3];
     tp_view_position_text(v->georef, cam->position[0], cam->position[1], pos, sizeof pos);
     if (tp_view_pick_centre(v, cam, g)) {
@@ -91,42 +133,27 @@ void tp_view_hud_text(tp_view_scene* v, const tp_camera* cam,
         snprintf(ground, sizeof ground, "centre  %s   elevation %.1f m", gp[0] ? gp : "(no CRS)",
                  g[2]);
     } else {
-        snprintf(ground, sizeof ground, "centre  (sky: no ground in the middle of the view)");
+        snprintf(ground, sizeof ground, "centre  (sky)");
     }
     char levels[128] = "";
     size_t at = 0;
     for (int k = 0; k <= v->n && at < sizeof levels; k++)
         at += (size_t)snprintf(levels + at, sizeof levels - at, " %d", fr->core.patches_per_level[k]);
-    double x, y, yaw, pitch;
-    tp_view_scene_world_to_grid(v, cam->position[0], cam->position[1], &x, &y);
-    double below = tp_view_scene_ground_height(v, x, y);
-    tp_camera_get_pose(cam, &yaw, &pitch);
-    char agl[96], lod_text[128], mode[160];
+    char lod_text[128];
     if (lod->mode == TP_LOD_ERROR)
         snprintf(lod_text, sizeof lod_text, "error, tau %.3g px", lod->tau_px > 0 ? lod->tau_px : 1);
     else if (lod->mode == TP_LOD_DISTANCE)
         snprintf(lod_text, sizeof lod_text, "%s, mindist %.0f m, maxdist %.0f m, exp %.3g",
-                 lod->sphere_tree ? "distance (sphere tree)" : "distance", lod->mindist_m, lod->maxdist_m, lod->exponent > 0 ? lod->exponent : 1);
+                 lod->sphere_tree ? "distance (sphere tree)" : "distance", lod->mindist_m,
+                 lod->maxdist_m, lod->exponent > 0 ? lod->exponent : 1);
     else
         snprintf(lod_text, sizeof lod_text, "full resolution");
     if (fr->pgm_cols) /* the patch LoD does not draw: the pyramid level is per vertex */
         snprintf(lod_text, sizeof lod_text, "per vertex (pyramid level from Eq. 3)");
-    double ex = st->exaggeration > 0 ? st->exaggeration : 1;
-    if (isnan(below))
-        snprintf(agl, sizeof agl, "outside the DEM");
-    else
-        snprintf(agl, sizeof agl, "%.1f m above the %sground", cam->position[2] - below * ex,
-                 ex != 1 ? "exaggerated " : "");
-    if (st->orbit)
-        snprintf(mode, sizeof mode, "ORBIT mode (O: fly)   drag rotates   wheel or W/S zoom   A/D/Q/E pan");
-    else
-        snprintf(mode, sizeof mode, "FLY mode (O: orbit)   %.0f m/s (Shift x5, Ctrl x0.2)   Home: home view",
-                 st->speed_mps);
-    char exag[64] = "";
-    if (ex != 1)
-        snprintf(exag, sizeof exag, "   vertical exaggeration x%.3g", ex);
-    char store_line[400] = "", bound[96], voids[192];
-    voids_text(v, voids, sizeof voids);
+    char store_line[400] = "", bound[160];
+    tp_hud_bound hb = {.kind = TP_HUD_BOUND_M,
+                       .max = fr->core.bound_max_error_m,
+                       .rms_m = fr->core.bound_rms_error_m};
     if (fr->store) {
         snprintf(store_line, sizeof store_line,
                  "\nstore: %d nodes drawn (%d substituted)   resident %.1f MB   %d loads pending",
@@ -140,16 +167,16 @@ void tp_view_hud_text(tp_view_scene* v, const tp_camera* cam,
                      fr->clip.first_level, fr->clip.gpu_bytes / 1e6, fr->clip.cache_bytes / 1e6,
                      fr->clip.pending, fr->clip.upload_ms);
         }
-        snprintf(bound, sizeof bound, "error bound max %.2f px", fr->bound_max_px);
+        hb = (tp_hud_bound){.kind = lod->mode == TP_LOD_ERROR ? TP_HUD_BOUND_PX : TP_HUD_BOUND_NONE,
+                            .max = fr->bound_max_px,
+                            .near_nodes = fr->bound_near_nodes};
     } else if (fr->pgm_cols) {
         snprintf(store_line, sizeof store_line,
                  "\nrenderer: pgm %dx%d   (Persistent Grid Mapping: the LoD options do not apply)",
                  fr->pgm_cols, fr->pgm_rows);
-        snprintf(bound, sizeof bound, "no error bound");
-    } else {
-        snprintf(bound, sizeof bound, "error bound max %.2f m, RMS %.2f m",
-                 fr->core.bound_max_error_m, fr->core.bound_rms_error_m);
+        hb.kind = TP_HUD_BOUND_NONE;
     }
+    tp_hud_bound_text(&hb, bound, sizeof bound);
     char counts[160];
     if (fr->pgm_cols)
         snprintf(counts, sizeof counts, "grid of %d x %d vertices in screen space", fr->pgm_cols,
@@ -162,29 +189,42 @@ void tp_view_hud_text(tp_view_scene* v, const tp_camera* cam,
              "%.1f fps   CPU %.2f ms (select %.2f, upload %.2f)   draw %.2f ms   GPU %.1f MB\n"
              "%zu triangles   %d draw calls   %s%s\n"
              "LoD %s%s   %s%s\n"
-             "camera  %s   height %.1f m, %s   heading %.0f deg, pitch %.0f deg\n"
+             "camera  %s   height %.1f m\n"
              "%s\n"
-             "%s%s\n"
-             "heights as in the DEM (SRTM/DTED: EGM96 geoid)   ? help%s",
+             "heights as in the DEM (SRTM/DTED: EGM96 geoid)",
              st->fps, fr->select_ms + fr->render.upload_ms, fr->select_ms, fr->render.upload_ms,
              fr->render.draw_ms, fr->render.gpu_bytes / 1e6, fr->core.triangles,
-             fr->render.draw_calls, counts, store_line, lod_text,
-             st->frozen ? " (frozen)" : "", bound, measured,
-             pos[0] ? pos : "(no CRS: local metres)", cam->position[2], agl, yaw, pitch, ground,
-             mode, exag, voids);
-    if (st->layers && st->layers[0]) {
-        size_t at = strlen(out);
-        snprintf(out + at, cap - at, "\n%s", st->layers);
-    }
-    if (st->sun && st->sun[0]) {
-        size_t at = strlen(out);
-        snprintf(out + at, cap - at, "\n%s (PgUp/PgDn: +/-15 min)", st->sun);
-    }
+             fr->render.draw_calls, counts, store_line, lod_text, st->frozen ? " (frozen)" : "",
+             bound, measured, pos[0] ? pos : "(no CRS: local metres)", cam->position[2], ground);
+}
+
+/* Appends "\n" and line to out (when line is not empty). */
+static void add_line(char* out, size_t cap, const char* line, const char* suffix)
+{
+    if (!line || !line[0])
+        return;
+    size_t at = strlen(out);
+    snprintf(out + at, cap - at, "\n%s%s", line, suffix);
+}
+
+void tp_view_hud_text(tp_view_scene* v, const tp_camera* cam, const tp_lod_params* lod,
+                      const frame_result* fr, const tp_measured_error* me, const tp_hud_state* st,
+                      char* out, size_t cap)
+{
+    ground_lines(v, cam, st, out, cap);
+    /* what the user turned on or must know to read the picture: one line each */
+    char voids[192];
+    voids_text(v, voids, sizeof voids);
+    add_line(out, cap, voids[0] == '\n' ? voids + 1 : voids, "");
+    add_line(out, cap, st->layers, "");
+    add_line(out, cap, st->sun, " (PgUp/PgDn: +/-15 min)");
     char shadows[160];
     tp_view_shadows_text(fr, shadows, sizeof shadows);
-    if (shadows[0]) {
-        size_t at = strlen(out);
-        snprintf(out + at, cap - at, "\n%s", shadows);
+    add_line(out, cap, shadows, "");
+    if (st->details) {
+        char details[2048];
+        detail_lines(v, cam, lod, fr, me, st, details, sizeof details);
+        add_line(out, cap, details, "");
     }
 }
 

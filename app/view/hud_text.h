@@ -6,6 +6,7 @@
 #ifndef TP_APP_HUD_TEXT_H
 #define TP_APP_HUD_TEXT_H
 
+#include "position.h"
 #include "view.h"
 
 /* The exact error of the drawn geometry, measured now and then (it costs tens of ms). */
@@ -25,6 +26,8 @@ typedef struct tp_hud_state {
     double exaggeration; /* vertical; 1 none */
     const char* layers;  /* the planning layers' legend (tp_view_layers_legend), or NULL */
     const char* sun;     /* the sun's time and place in the sky (tp_view_sun_text), or NULL */
+    double grid_m;       /* the grid spacing drawn (tp_view_grid_spacing; 0: no grid) */
+    int details;         /* the engineering lines too (TP_HUD_DETAILS_KEY, --hud-details) */
 } tp_hud_state;
 
 /* A position as "45.37312N 121.69512W  UTM 10n 600000 5012000  MGRS 10T FR 00000 12000" (each
@@ -32,7 +35,14 @@ typedef struct tp_hud_state {
  * "" without a CRS. */
 void tp_view_position_text(const tp_georef* g, double e, double n, char* out, size_t cap);
 
-/* The overlay's text, '\n'-separated lines (unwrapped). me may be NULL. */
+/* Its parts: "45.37312N 121.69512W", "10n 600000 5012000", "10T FR 00000 12000" (each "" where
+ * the position has no such form). */
+void tp_view_position_parts(const tp_georef* g, double e, double n, char latlon[48], char utm[48],
+                            char mgrs[TP_POSITION_MGRS_SPACED_SIZE]);
+
+/* The overlay's text, '\n'-separated lines (unwrapped): the ground lines (hud_lines.h), the
+ * legends of what is turned on (filled voids, layers, the sun, shadows), and with st->details
+ * the engineering lines. me may be NULL. */
 void tp_view_hud_text(tp_view_scene* v, const tp_camera* cam,
                       const tp_lod_params* lod, const frame_result* fr,
                       const tp_measured_error* me, const tp_hud_state* st, char* out,

@@ -21,6 +21,17 @@ static int is_zone(const tp_georef* georef, double e, double n, int zone, int no
     return hypot(de, dn) < TP_MAP_GRID_MATCH_M;
 }
 
+double tp_map_grid_spacing(double base_m, double m_per_px)
+{
+    double s = base_m;
+    for (int k = 0; k < TP_MAP_GRID_MAX_STEPS; k++) {
+        if (m_per_px > 0 && s >= TP_MAP_GRID_MIN_PX * m_per_px) /* false for NaN */
+            break;
+        s *= 10;
+    }
+    return s;
+}
+
 void tp_map_grid_init(tp_map_grid* g, const tp_georef* georef, const double gt[6], int width,
                       int height, double spacing_m)
 {

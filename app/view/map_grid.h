@@ -18,6 +18,16 @@
 
 #define TP_MAP_GRID_MATCH_M 50.0
 
+/* Grid lines at the view's centre stay at least this many pixels apart (tp_map_grid_spacing):
+ * the 1 km grid of the whole Pyrenees tile at the default view (180 m a pixel) was a line every
+ * 5.5 pixels, a dark mesh over the terrain; 40 px leave the ground readable between lines and
+ * room for a label ("31T CH 76 07" is about 50 px wide at scale 1, the labels skip where they
+ * would cover each other). */
+#define TP_MAP_GRID_MIN_PX 40.0
+/* The coarsest spacing, in steps of ten over the finest: 1, 10, 100 km for the 1 km grid (the
+ * MGRS grid's: 100 km is a square). */
+#define TP_MAP_GRID_MAX_STEPS 2
+
 typedef enum tp_map_grid_kind {
     TP_MAP_GRID_PLAIN = 0, /* render CRS kilometres */
     TP_MAP_GRID_MGRS,      /* UTM zone or UPS: MGRS */
@@ -29,6 +39,12 @@ typedef struct tp_map_grid {
     int digits;       /* MGRS: digits per coordinate the spacing needs (1000 m: 2) */
     int decimals;     /* plain: decimals of the kilometres */
 } tp_map_grid;
+
+/* The spacing drawn for a grid whose finest spacing is base_m (> 0, --grid M; 1000 for G) when
+ * the ground at the view's centre is m_per_px metres a pixel: base_m x 10^k, the smallest that
+ * puts lines TP_MAP_GRID_MIN_PX pixels apart there, k at most TP_MAP_GRID_MAX_STEPS (1, 10,
+ * 100 km). m_per_px not finite or not > 0 (no ground at the centre): the coarsest. */
+double tp_map_grid_spacing(double base_m, double m_per_px);
 
 /* Decides the labels of a grid of spacing_m (> 0) on a render grid (georef, its geotransform gt
  * and its size in samples). Cannot fail: without a geographic position it is PLAIN. */

@@ -59,9 +59,25 @@ float tp_overlay_scale(int w, int h)
     return w >= 1000 && h >= 500 ? 2.0f : 1.0f;
 }
 
+/* The on-screen size of the grid cell at intersection p (E, N, true height): the shorter of its
+ * two sides from p, in pixels (0 when a corner is behind the eye). Far cells are small: their
+ * labels would cover the lines and each other. */
+static double cell_px(const tp_view_scene* v, const tp_camera* cam, const double p[3],
+                      double spacing)
+{
+    double zs = tp_view_scene_vertical_scale(v), a[2], b[2], c[2];
+    double q0[3] = {p[0], p[1], p[2] * zs}, q1[3] = {p[0] + spacing, p[1], p[2] * zs},
+           q2[3] = {p[0], p[1] + spacing, p[2] * zs};
+    if (!tp_camera_project(cam, q0, a, NULL) || !tp_camera_project(cam, q1, b, NULL) ||
+        !tp_camera_project(cam, q2, c, NULL))
+        return 0;
+    return fmin(hypot(b[0] - a[0], b[1] - a[1]), hypot(c[0] - a[0], c[1] - a[1]));
+}
+
 /* Labels the grid intersections around the point the camera looks at, nearest the centre of
  * the view first, where they cover nothing else and where the intersection itself is seen (a
- * ridge between the eye and the line hides its label): on a UTM/UPS render grid as a military
+ * ridge between the eye and the line hides its label; a cell smaller on screen than two
+ * lines of text is left unlabelled): on a UTM/UPS render grid as a military
  * map does, the principal digits of easting and northing ("76 00", MGRS truncation) with the
  * grid zone and 100 km square ("31T CH 76 00") on the first label of each square; on any other
  * CRS its kilometres (map_grid.h). */
@@ -119,6 +135,7 @@ static void grid_labels(tp_hud* hud, layout* l, const tp_view_scene* v, const tp
         tp_hud_measure(text, &tw, &th);
         float x1 = x0 + tw * scale, y1 = y0 + th * scale;
         if (x1 > w || y1 > h || !is_free(l, x0 - 4, y0 - 2, x1 + 4, y1 + 2) ||
+            cell_px(v, cam, c[i].p, spacing) < 2 * th * scale ||
             !tp_view_ground_visible(v, cam, c[i].p))
             continue;
         tp_hud_text(hud, w, h, x0, y0, scale, text);
@@ -221,16 +238,9 @@ static void compass_and_scale(tp_hud* hud, layout* l, const tp_view_scene* v,
         tp_hud_text(hud, w, h, x0 + 6 * s, by - 10 * s, s, "no ground at the\ncentre: no scale");
         return;
     }
-    tp_camera_frame f;
-    tp_camera_get_frame(cam, &f);
-    double rx = f.right[0], ry = f.right[1], rl = hypot(rx, ry);
-    if (!(rl > 1e-9)) {
-        rx = 1, ry = 0, rl = 1;
-    }
-    double q[3] = {g[0] + 100 * rx / rl, g[1] + 100 * ry / rl, g[2]}, pq[2];
-    if (!tp_camera_project(cam, q, pq, NULL))
+    double m_per_px = tp_view_metres_per_pixel(v, cam, w / 2.0, h / 2.0, NULL);
+    if (isnan(m_per_px))
         return;
-    double m_per_px = 100 / fmax(hypot(pq[0] - c[0], pq[1] - c[1]), 1e-6);
     /* a round length at most 130 px long: 1, 2 or 5 times a power of ten */
     double want = 130 * s * m_per_px, p10 = pow(10, floor(log10(want))), len = p10;
     if (5 * p10 <= want)

@@ -1,10 +1,12 @@
 /* pick.c - ground picking and the measuring tool's points (see pick.h). */
 #include "pick.h"
 
+#include "map_grid.h"
 #include "measure.h"
 
 #include <math.h>
 #include <stdio.h>
+#include <string.h>
 
 int tp_view_pick(const tp_view_scene* v, const tp_camera* cam, double x_px, double y_px,
                  double out[3])
@@ -24,6 +26,39 @@ int tp_view_pick_centre(const tp_view_scene* v, const tp_camera* cam, double out
     tp_camera_frame f;
     tp_camera_get_frame(cam, &f);
     return tp_view_pick(v, cam, f.width_px / 2.0, f.height_px / 2.0, out);
+}
+
+double tp_view_metres_per_pixel(const tp_view_scene* v, const tp_camera* cam, double x_px,
+                                double y_px, double ground[3])
+{
+    double g[3], c[2], q[3], pq[2];
+    if (!tp_view_pick(v, cam, x_px, y_px, g))
+        return NAN;
+    if (ground)
+        memcpy(ground, g, sizeof g);
+    g[2] *= tp_view_scene_vertical_scale(v); /* drawn space */
+    tp_camera_frame f;
+    tp_camera_get_frame(cam, &f);
+    double rx = f.right[0], ry = f.right[1], rl = hypot(rx, ry);
+    if (!(rl > 1e-9)) {
+        rx = 1, ry = 0, rl = 1;
+    }
+    q[0] = g[0] + 100 * rx / rl, q[1] = g[1] + 100 * ry / rl, q[2] = g[2];
+    if (!tp_camera_project(cam, g, c, NULL) || !tp_camera_project(cam, q, pq, NULL))
+        return NAN;
+    return 100 / fmax(hypot(pq[0] - c[0], pq[1] - c[1]), 1e-6);
+}
+
+double tp_view_grid_spacing(const tp_view_scene* v, const tp_camera* cam, double base_m)
+{
+    if (!(base_m > 0))
+        return base_m;
+    tp_camera_frame f;
+    tp_camera_get_frame(cam, &f);
+    double m = tp_view_metres_per_pixel(v, cam, f.width_px / 2.0, f.height_px / 2.0, NULL);
+    if (isnan(m)) /* sky at the centre: the ground at the bottom (nearest the eye) */
+        m = tp_view_metres_per_pixel(v, cam, f.width_px / 2.0, f.height_px * 0.9, NULL);
+    return tp_map_grid_spacing(base_m, m);
 }
 
 int tp_view_measure_points(tp_view_scene* v, const double e[2], const double n[2], char* text,

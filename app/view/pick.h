@@ -16,6 +16,18 @@ int tp_view_pick(const tp_view_scene* v, const tp_camera* cam, double x_px, doub
 /* The ground point at the centre of the view. */
 int tp_view_pick_centre(const tp_view_scene* v, const tp_camera* cam, double out[3]);
 
+/* Ground metres a pixel at pixel (x, y): the ground point under it and one 100 m beside it
+ * along the screen's horizontal (the camera's right vector on the map), projected; ground
+ * writes the point (E, N, true height; may be NULL). NaN where no ground is under the pixel or
+ * the second point is behind the eye. What the scale bar shows at the centre. */
+double tp_view_metres_per_pixel(const tp_view_scene* v, const tp_camera* cam, double x_px,
+                                double y_px, double ground[3]);
+
+/* The grid spacing to draw for a grid of finest spacing base_m (> 0; 0: none, returned as is)
+ * in this view: tp_map_grid_spacing at the scale of the ground at the centre, or where the
+ * centre is sky, of the ground near the bottom of the picture. */
+double tp_view_grid_spacing(const tp_view_scene* v, const tp_camera* cam, double base_m);
+
 /* Share of the eye's distance to a point by which the surface may come before it and the point
  * still count as seen (the drawn surface near a grazing ray, rounding). */
 #define TP_VIEW_VISIBLE_TOLERANCE 0.01

@@ -23,6 +23,7 @@ typedef struct view_options {
     tp_view_setup vs; /* level of detail, camera, field of view, size */
     tp_render_settings render;
     int headless, frames, no_hud, hud;
+    int hud_details; /* --hud-details: the HUD's engineering lines (F4) */
     const char* screenshot;
     const char* texture;
     const char* imagery;             /* --imagery FILE.tpi (stores) */
@@ -61,10 +62,13 @@ typedef struct frame_result {
     tp_frame_stats core;      /* a cut: drawn nodes per level, triangles, culled nodes */
     tp_render_stats render;
     double select_ms;
+    double grid_m;            /* the map grid's spacing drawn (tp_view_grid_spacing; 0: none) */
     int store;                /* the frame of a store: the fields below are set */
     int nodes_drawn, substituted;
     int add_sides, moved_sides; /* tp_cut_stats: sides taking / moving vertices */
-    double bound_max_px;      /* largest projected bound of a drawn node */
+    double bound_max_px;        /* largest projected bound of a drawn node (error mode) */
+    int bound_near_nodes;       /* drawn nodes at the eye: their bound covers what is drawn of
+                                   them, in front of the near plane (tp_cut_node.near_plane) */
     tp_stream_stats stream;   /* resident MB, pending loads */
     int imagery;              /* imagery drawn: clip is set */
     tp_clipmap_stats clip;

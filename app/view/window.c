@@ -27,17 +27,20 @@
 #include <string.h>
 
 static const char* help_text =
-    "W/S forward/back   A/D left/right   Q/E down/up   left drag: look   Shift faster   Ctrl slower\n"
+    "W/S forward/back   A/D left/right   Q/E down/up   left drag: look   Shift faster   Ctrl "
+    "slower\n"
     "Home (or 0) home view   O orbit mode (drag rotates, wheel or W/S zoom, A/D/Q/E pan)\n"
     "L colour by level   T wireframe   F freeze LoD and culling   M LoD mode\n"
     "+/- tau (or maxdist)   [ ] mindist   , . exp   X/Z exaggeration   V filled-void tint\n"
     "J/K sun azimuth   U/N sun elevation   PgUp/PgDn the sun's time +/-15 min (Shift: 1 h)\n"
-    "G 1 km grid   P screenshot   Y export mesh   F3 imagery on/off\n"
-    "C print camera   H hide HUD   right-click twice: measure   I or middle-click: what is here\n"
+    "G grid (1, 10 or 100 km by the scale)   P screenshot   Y export mesh   F3 imagery on/off\n"
+    "C print camera   H hide HUD   F4 details (fps, CPU, triangles, levels, error bound)\n"
+    "right-click twice: measure   I or middle-click: what is here\n"
     "R line-of-sight mode (right-click observer, then target: green seen, red hidden)\n"
     "B viewshed from the ground under the cursor, 10 km (red: not seen; B again: off)\n"
     "F2 contours within 10 km of the point looked at (F2 again: off)\n"
-    "Ctrl+1..9 save the view as bookmark \"view N\"   1..9 back to it   Tab/Shift+Tab every bookmark\n"
+    "Ctrl+1..9 save the view as bookmark \"view N\"   1..9 back to it   Tab/Shift+Tab every "
+    "bookmark\n"
     "? this help   Esc quit";
 
 typedef struct window_state {
@@ -46,7 +49,7 @@ typedef struct window_state {
     view_options* o;
     tp_nav nav;
     tp_lod_params lod;
-    int frozen, shots, exports, show_help, show_hud, quit, want_shot;
+    int frozen, shots, exports, show_help, show_hud, show_details, quit, want_shot;
     double picks[2][3];
     int picked;
     char measure_line[512];
@@ -296,6 +299,10 @@ static void on_key(window_state* s, int key, int mods)
     case GLFW_KEY_T: rs->wireframe = !rs->wireframe; break;
     case GLFW_KEY_F: s->frozen = !s->frozen; break;
     case GLFW_KEY_H: s->show_hud = !s->show_hud; break;
+    case GLFW_KEY_F4: /* the engineering lines (hud_lines.h) */
+        s->show_details = !s->show_details;
+        s->show_hud = 1;
+        break;
     case GLFW_KEY_V: rs->hide_filled = !rs->hide_filled; break;
     case GLFW_KEY_G: rs->grid_m = rs->grid_m > 0 ? 0 : 1000; break;
     case GLFW_KEY_PAGE_UP:
@@ -397,8 +404,14 @@ int tp_view_window_run(tp_view_scene* v, tp_gl_context* ctx, tp_renderer* r, tp_
     GLFWwindow* win = tp_gl_context_window(ctx);
     static tp_input in; /* the callbacks' user pointer: must outlive event processing */
     tp_input_attach(&in, win);
-    window_state s = {.v = v, .cam = cam, .o = o, .lod = o->vs.lod,
-                      .show_hud = !o->no_hud, .bookmark = -1, .ground = o->ground};
+    window_state s = {.v = v,
+                      .cam = cam,
+                      .o = o,
+                      .lod = o->vs.lod,
+                      .show_hud = !o->no_hud,
+                      .show_details = o->hud_details,
+                      .bookmark = -1,
+                      .ground = o->ground};
     const double* gt = v->gt;
     tp_nav_init(&s.nav, cam, fmax(v->src_width * fabs(gt[1]), v->src_height * fabs(gt[5])));
     tp_hud* hud = tp_hud_create();
@@ -456,13 +469,17 @@ int tp_view_window_run(tp_view_scene* v, tp_gl_context* ctx, tp_renderer* r, tp_
 
         tp_gl_context_begin_frame(ctx);
         frame_result fr = {0}; /* the paths set only what they draw */
-        tp_view_frame(v, r, cam, &o->render, &s.lod, s.frozen, &fr);
+        tp_render_settings rs = o->render; /* the grid's spacing follows the scale */
+        rs.grid_m = tp_view_grid_spacing(v, cam, o->render.grid_m);
+        tp_view_frame(v, r, cam, &rs, &s.lod, s.frozen, &fr);
         /* the first dt only spans the set-up before the first poll */
         if (frames++ > 0)
             fps = fps > 0 ? 0.9 * fps + 0.1 / fmax(dt, 1e-6) : 1 / fmax(dt, 1e-6);
         char text[4096];
-        tp_overlay ov = {.grid_m = o->render.grid_m, .measure_line = s.measure_line,
-                         .has_mark = s.has_mark, .near_m = fr.render.near_m,
+        tp_overlay ov = {.grid_m = rs.grid_m,
+                         .measure_line = s.measure_line,
+                         .has_mark = s.has_mark,
+                         .near_m = fr.render.near_m,
                          .far_m = fr.render.far_m};
         memcpy(ov.mark_enh, s.mark, sizeof ov.mark_enh);
         if (s.los.count > 1)
@@ -472,7 +489,7 @@ int tp_view_window_run(tp_view_scene* v, tp_gl_context* ctx, tp_renderer* r, tp_
         if (o->layers)
             ov.drape_count = tp_view_layers_drawn(o->layers, &ov.drapes);
         if (s.show_hud) {
-            if (now - measured_at > 1.0) { /* once a second */
+            if (s.show_details && now - measured_at > 1.0) { /* once a second */
                 tp_view_measure_now(v, cam, &me);
                 measured_at = now;
             }
@@ -481,9 +498,15 @@ int tp_view_window_run(tp_view_scene* v, tp_gl_context* ctx, tp_renderer* r, tp_
                 tp_view_layers_legend(o->layers, legend, sizeof legend);
             char sun[160];
             tp_view_sun_text(&o->sun, sun, sizeof sun);
-            tp_hud_state hs = {.fps = fps, .frozen = s.frozen, .orbit = s.nav.orbit,
-                               .speed_mps = s.nav.speed_mps, .exaggeration = zs,
-                               .layers = legend, .sun = sun};
+            tp_hud_state hs = {.fps = fps,
+                               .frozen = s.frozen,
+                               .orbit = s.nav.orbit,
+                               .speed_mps = s.nav.speed_mps,
+                               .exaggeration = zs,
+                               .layers = legend,
+                               .sun = sun,
+                               .grid_m = rs.grid_m,
+                               .details = s.show_details};
             tp_view_hud_text(v, cam, &s.lod, &fr, &me, &hs, text, sizeof text);
             ov.hud_text = text;
             ov.help_text = s.show_help ? help_text : NULL;

@@ -936,7 +936,11 @@ typedef struct tp_cut_node {
                            (> level; tp_patch_triangles_add's neighbor_levels); TP_NO_NEIGHBOR:
                            none. Always TP_NO_NEIGHBOR with vertex moving. */
     uint8_t substituted;/* drawn in place of finer nodes that are not resident */
-    float bound_px;     /* the projected error bound of this node as drawn (error mode) */
+    uint8_t near_plane; /* its box reaches the near plane, or its error could carry a point
+                           of the box there (a low eye; an ancestor drawn in place of nodes not
+                           resident): bound_px bounds what is drawn of it, in front of the near
+                           plane and inside the view (the whole box's bound is infinite) */
+    float bound_px;     /* the projected error bound of this node as drawn (error mode): finite */
 } tp_cut_node;
 
 typedef struct tp_cut_stats {
@@ -947,6 +951,8 @@ typedef struct tp_cut_stats {
     size_t triangles;          /* non-degenerate triangles of the drawn nodes */
     double max_bound_px;       /* largest projected bound among drawn nodes (error mode) */
     double substitution_bound_px; /* largest projected bound among substituted nodes */
+    int near_plane_nodes;         /* drawn nodes whose bound covers only what is drawn of them
+                                     (tp_cut_node.near_plane) */
     /* distance mode: distance decisions the update computed (eye to a node's area box, then
      * the formula): one per node in view for the plain traversal; with sphere_tree only those
      * of nodes whose refine or merge surface the eye crossed. */

@@ -285,6 +285,14 @@ typedef struct tp__proj_bound {
  * the box reaches the near plane (lod.c). */
 tp__proj_bound tp__proj_bound_box(const tp__view* v, const double bmin[3], const double bmax[3]);
 double tp__projected_px(const tp__proj_bound* pb, double vz, double d);
+/* The bound over what is drawn of a box: points in front of the near plane and inside the view's
+ * sides whose counterpart (moved by d) is in front of the near plane too (what is clipped is
+ * not on screen). Never above tp__projected_px, and finite for every finite d where that is
+ * INFINITY: at most f d sqrt((1 + tan_x)^2 + (1 + tan_y)^2) / near. *near says whether the near
+ * plane bounds it: d > 0 and zmin - d |vz| < near (the box reaches the near plane, or d could
+ * carry a point of it there). For reports: the selection keeps tp__projected_px and refines such
+ * a box as far as it can. */
+double tp__projected_px_drawn(const tp__view* v, const tp__proj_bound* pb, double d, int* near);
 
 /* Written only by the functions that take a non-const tp_selection*; the const ones (measure.c,
  * query.c) only read it, so that several threads may measure one selection at once. */

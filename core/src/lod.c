@@ -155,3 +155,24 @@ double tp__projected_px(const tp__proj_bound* pb, double vz, double d)
     double den = pb->zmin - d * fabs(vz);
     return den > 0 ? d * pb->num / den : INFINITY;
 }
+
+/* A vertical error d moves a point (x, z) of camera space to depth z' = z + d vz, and its
+ * projection by f d (vx z - x vz) / (z z') across and f d (vy z - y vz) / (z z') up (the
+ * numerators are A and B of tp__proj_bound_box). What is drawn of a box lies in front of the near
+ * plane and inside the view's sides: there |x| <= tan_x z, so |A| / z <= |vx| + tan_x |vz| (and B
+ * likewise), and z' >= near for a counterpart that is drawn too. Where the box starts in front
+ * of the near plane num / f = sqrt(Amax^2 + Bmax^2) / zmin bounds the same ratio, and always
+ * z' >= zmin - d |vz|: the smaller ratio over the larger depth holds. */
+double tp__projected_px_drawn(const tp__view* v, const tp__proj_bound* pb, double d, int* near)
+{
+    double vx = fabs(v->right[2]), vy = fabs(v->up[2]), vz = fabs(v->fwd[2]);
+    double z2 = pb->zmin - d * vz;
+    *near = d > 0 && !(z2 >= v->near_m);
+    if (d == 0)
+        return 0;
+    double a = vx + v->tan_x * vz, b = vy + v->tan_y * vz;
+    double ratio = v->f_px * sqrt(a * a + b * b);
+    if (pb->num < ratio)
+        ratio = pb->num;
+    return d * ratio / (z2 > v->near_m ? z2 : v->near_m);
+}

@@ -620,15 +620,20 @@ static tp_status finish(tp_cut* c, tp_error* err)
         }
         o->substituted = r->substituted;
         r->bound_px = 0;
+        o->near_plane = 0;
         if (c->have_view && c->lp.mode == TP_LOD_ERROR) {
-            double b = bound_px(c, (int)i, r->level, nb);
+            /* over what is drawn of its box: at the near plane the box's bound is INFINITY
+             * (the selection refines such a box as far as it can; a leaf with quantisation
+             * error stays, and an ancestor drawn in place of nodes not resident) */
+            double d = bound_m(c, (int)i, r->level, nb);
             if (add[0] != TP_NO_NEIGHBOR || add[1] != TP_NO_NEIGHBOR ||
                 add[2] != TP_NO_NEIGHBOR || add[3] != TP_NO_NEIGHBOR) {
-                double d = (tp__cut_add_bound_m(c, (int)i, r->level, add) + c->quant) * c->zscale;
-                double ba = tp__projected_px(&r->pb, c->v.fwd[2], d);
-                b = ba > b ? ba : b;
+                double da = (tp__cut_add_bound_m(c, (int)i, r->level, add) + c->quant) * c->zscale;
+                d = da > d ? da : d;
             }
-            r->bound_px = (float)b;
+            int near;
+            r->bound_px = (float)tp__projected_px_drawn(&c->v, &r->pb, d, &near);
+            o->near_plane = (uint8_t)near;
         }
         o->bound_px = r->bound_px;
         r->tris = tp__cut_triangles(c, (int)i, nb);

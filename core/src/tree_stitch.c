@@ -581,6 +581,7 @@ void tp_cut_get_stats(const tp_cut* c, tp_cut_stats* out)
         out->drawn++;
         out->nodes_per_scale[r->s]++;
         out->substituted += o->substituted;
+        out->near_plane_nodes += o->near_plane;
         if (o->bound_px > out->max_bound_px)
             out->max_bound_px = o->bound_px;
         if (o->substituted && o->bound_px > out->substitution_bound_px)

@@ -153,11 +153,14 @@ typedef struct tp_crs_info {
     char name[160]; /* the CRS's own name, e.g. "NAD83 / UTM zone 10N"; "" when it has none */
     int epsg;       /* its EPSG code, or the one GDAL recognises (AutoIdentifyEPSG); else 0 */
     int geographic; /* 1 for a geographic CRS (latitude and longitude), 0 otherwise */
+    int utm_zone;   /* 1..60 for a UTM zone (any datum: "NAD83 / UTM zone 10N" too), 0
+                       (TP_ZONE_UPS) for UPS, -1 otherwise (and for no CRS) */
+    int northp;     /* the hemisphere of utm_zone */
 } tp_crs_info;
 
 /* Describes a CRS given as GDAL/PROJ read it: WKT (a tp_dem's crs_wkt), "EPSG:N", a PROJ
- * string. "" means no CRS: TP_OK with every field zero. TP_ERR_BAD_DATA for text GDAL cannot
- * read as a CRS; *out is untouched on failure. */
+ * string. "" means no CRS: TP_OK with every field zero but utm_zone (-1). TP_ERR_BAD_DATA for text
+ * GDAL cannot read as a CRS; *out is untouched on failure. */
 tp_status tp_crs_describe(const char* crs, tp_crs_info* out, tp_error* err);
 
 /* ---------------------------------------------------------------------------------------------
@@ -582,6 +585,28 @@ tp_status tp_mesh_check_size(tp_mesh_format format, size_t point_count, size_t t
 tp_status tp_mesh_write(const char* path, tp_mesh_format format, const tp_mesh* mesh,
                         tp_error* err);
 
+/* Fills mesh (already holding the field data given to tp_mesh_write_pieces) with piece number
+ * piece (0 .. piece_count - 1, asked for in order): its points and triangles, indices local to
+ * the piece, and the same point and cell data arrays in every piece (non-NULL pointers, also
+ * when a piece is empty). The arrays stay the caller's and must live until the next call or
+ * the end of tp_mesh_write_pieces. Returns TP_OK, or a failure with err set: the write stops
+ * and nothing is left behind. */
+typedef tp_status (*tp_mesh_piece_fn)(void* user, size_t piece, tp_mesh* mesh, tp_error* err);
+
+/* Writes a .vtp of piece_count pieces (VTK's XML PolyData pieces, appended raw data,
+ * compressed), asking piece_fn for each in turn and writing it before asking for the next:
+ * memory follows the largest piece, not the mesh, so a mesh of any size streams to disk. The
+ * pieces are independent PolyData in one file, read by VTK and ParaView as one dataset; points
+ * where pieces meet are repeated (ParaView's Clean filter merges them). fields gives the field
+ * data (its arrays are ignored); "triangle_count" is triangle_total. Each piece holds fewer
+ * than 2^31 points and triangles. Atomic as tp_mesh_write (a temporary file beside path,
+ * renamed when complete; on a failure, a full disk or a signal nothing is left and an older
+ * file stays). TP_ERR_INVALID_ARG for a path not ending in .vtp, a piece's index out of range
+ * or a piece too large. */
+tp_status tp_mesh_write_pieces(const char* path, const tp_mesh* fields, size_t triangle_total,
+                               size_t piece_count, tp_mesh_piece_fn piece_fn, void* user,
+                               tp_error* err);
+
 /* What a mesh file holds, read back with VTK's readers (tests, --check). */
 typedef struct tp_mesh_summary {
     size_t points, triangles, other_cells;
@@ -593,6 +618,10 @@ typedef struct tp_mesh_summary {
     double max_error_m;      /* largest cell max_error_m */
     double bounds[6];        /* xmin, xmax, ymin, ymax, zmin, zmax */
     size_t blocks;           /* .vtm: number of blocks; else 1 */
+    size_t pieces;           /* .vtp: its pieces (tp_mesh_write_pieces; 1 for tp_mesh_write).
+                                With several, the points where they meet are merged (as a .vtm's
+                                blocks are) before the edges are counted, and points and
+                                void_filled_points count the merged surface's points */
     size_t void_filled_points; /* points whose void_filled is not 0 */
     size_t downward_triangles; /* triangles not counter-clockwise seen from above (E, N) */
 } tp_mesh_summary;

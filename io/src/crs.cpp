@@ -95,6 +95,7 @@ extern "C" tp_status tp_crs_describe(const char* crs, tp_crs_info* out, tp_error
         return tpio::fail(err, TP_ERR_INVALID_ARG, "tp_crs_describe: crs and out must not be NULL");
     try {
         tp_crs_info info{};
+        info.utm_zone = -1;
         if (*crs) {
             OGRSpatialReference srs;
             if (srs.SetFromUserInput(crs) != OGRERR_NONE)
@@ -104,6 +105,7 @@ extern "C" tp_status tp_crs_describe(const char* crs, tp_crs_info* out, tp_error
             std::snprintf(info.name, sizeof info.name, "%s", name ? name : "");
             info.epsg = tpio::crs_epsg(srs, true);
             info.geographic = srs.IsGeographic() ? 1 : 0;
+            info.utm_zone = tpio::crs_utmups_zone(srs, &info.northp);
         }
         *out = info;
         return TP_OK;

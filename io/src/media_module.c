@@ -109,8 +109,7 @@ FORWARD(tp_dem_read_image,
         (const char* path, const tp_image_options* options, tp_dem** out, tp_error* err),
         (path, options, out, err), err)
 FORWARD(tp_image_output_check, (const char* path, tp_error* err), (path, err), err)
-FORWARD(tp_image_write_rgba,
-        (const char* path, int w, int h, const uint8_t* rgba, tp_error* err),
+FORWARD(tp_image_write_rgba, (const char* path, int w, int h, const uint8_t* rgba, tp_error* err),
         (path, w, h, rgba, err), err)
 FORWARD(tp_image_read_rgba, (const char* path, int* w, int* h, uint8_t** rgba, tp_error* err),
         (path, w, h, rgba, err), err)
@@ -118,8 +117,8 @@ FORWARD(tp_texture_build,
         (const char* path, const tp_render_grid* grid, int max_size, tp_texture** out,
          tp_error* err),
         (path, grid, max_size, out, err), err)
-FORWARD(tp_mesh_inspect, (const char* path, tp_mesh_summary* out, tp_error* err),
-        (path, out, err), err)
+FORWARD(tp_mesh_inspect, (const char* path, tp_mesh_summary* out, tp_error* err), (path, out, err),
+        err)
 FORWARD(tp_mesh_read_points, (const char* path, double** xyz, size_t* count, tp_error* err),
         (path, xyz, count, err), err)
 FORWARD(tp_mesh_check_size,
@@ -128,6 +127,10 @@ FORWARD(tp_mesh_check_size,
 FORWARD(tp_mesh_write,
         (const char* path, tp_mesh_format format, const tp_mesh* mesh, tp_error* err),
         (path, format, mesh, err), err)
+FORWARD(tp_mesh_write_pieces,
+        (const char* path, const tp_mesh* fields, size_t triangle_total, size_t piece_count,
+         tp_mesh_piece_fn piece_fn, void* user, tp_error* err),
+        (path, fields, triangle_total, piece_count, piece_fn, user, err), err)
 
 void tp_texture_destroy(tp_texture* tex)
 {

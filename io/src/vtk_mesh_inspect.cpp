@@ -5,11 +5,12 @@
  * vtkFeatureEdges defines them; it is not used, see edge_counts); loops are the connected
  * components of the boundary edges. The blocks of a .vtm share the points on patch seams, so
  * they are appended and their coincident points merged (vtkCleanPolyData, tolerance 0: exact
- * positions) before the edges are counted.
+ * positions) before the edges are counted; so are the pieces of a .vtp written in pieces
+ * (tp_mesh_write_pieces), which repeat the points where they meet.
  */
 #include "io_util.hpp"
-#include "vtk_util.hpp"
 #include "tp_io.h"
+#include "vtk_util.hpp"
 
 #include <vtkAppendPolyData.h>
 #include <vtkCellArray.h>
@@ -60,6 +61,7 @@ namespace {
 struct Loaded {
     std::vector<vtkSmartPointer<vtkPolyData>> blocks;
     vtkSmartPointer<vtkFieldData> composite_fields; /* .vtm only; may be empty */
+    int pieces = 1; /* a .vtp's pieces (tp_mesh_write_pieces), read as one PolyData */
 };
 
 tp_status load(const char* path, tp_mesh_format format, Loaded* out, tp_error* err)
@@ -96,6 +98,7 @@ tp_status load(const char* path, tp_mesh_format format, Loaded* out, tp_error* e
         r->SetFileName(path);
         r->Update();
         pd = r->GetOutput();
+        out->pieces = r->GetNumberOfPieces();
         if (errors.any() || r->GetErrorCode() != vtkErrorCode::NoError || !pd)
             return fail(err, TP_ERR_BAD_DATA, "%s: not a readable VTK XML PolyData file: %s", path,
                         errors.any() ? errors.text()
@@ -188,6 +191,7 @@ tp_status summarise(const char* path, const Loaded& in, tp_mesh_format format, t
     VtkErrors errors;
     *s = tp_mesh_summary{};
     s->blocks = in.blocks.size();
+    s->pieces = (size_t)in.pieces;
     s->max_error_m = NAN;
     for (double& b : s->bounds)
         b = NAN;
@@ -265,9 +269,9 @@ tp_status summarise(const char* path, const Loaded& in, tp_mesh_format format, t
     s->has_version = has_string(fd, "program_version");
 
     tp_status st = TP_OK;
-    if (format != TP_MESH_VTM) {
+    if (format != TP_MESH_VTM && in.pieces <= 1) {
         st = edge_counts(path, in.blocks.empty() ? nullptr : in.blocks[0].Get(), s, err);
-    } else if (!in.blocks.empty()) {
+    } else if (!in.blocks.empty()) { /* a .vtm's blocks, a .vtp's pieces */
         vtkNew<vtkAppendPolyData> append;
         for (vtkPolyData* pd : in.blocks)
             append->AddInputData(pd);
@@ -276,7 +280,15 @@ tp_status summarise(const char* path, const Loaded& in, tp_mesh_format format, t
         clean->PointMergingOn();
         clean->SetTolerance(0.0); /* exact: vtkMergePoints */
         clean->Update();
-        st = edge_counts(path, clean->GetOutput(), s, err);
+        vtkPolyData* merged = clean->GetOutput();
+        if (format != TP_MESH_VTM) { /* a .vtp's pieces: the points of the one surface */
+            s->points = (size_t)merged->GetNumberOfPoints();
+            s->void_filled_points = 0;
+            if (vtkDataArray* vf = merged->GetPointData()->GetArray("void_filled"))
+                for (vtkIdType i = 0; i < vf->GetNumberOfTuples(); ++i)
+                    s->void_filled_points += vf->GetComponent(i, 0) != 0;
+        }
+        st = edge_counts(path, merged, s, err);
     }
     if (st != TP_OK)
         return st;

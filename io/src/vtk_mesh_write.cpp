@@ -24,8 +24,8 @@
  */
 #include "atomic_write.hpp"
 #include "io_util.hpp"
-#include "vtk_util.hpp"
 #include "tp_io.h"
+#include "vtk_util.hpp"
 
 #include <vtkCellArray.h>
 #include <vtkCellData.h>
@@ -41,6 +41,8 @@
 #include <vtkPolyDataWriter.h>
 #include <vtkSmartPointer.h>
 #include <vtkStringArray.h>
+#include <vtkTypeInt32Array.h>
+#include <vtkTypeInt64Array.h>
 #include <vtkUnsignedCharArray.h>
 #include <vtkXMLPolyDataWriter.h>
 
@@ -57,6 +59,7 @@
 #include <new>
 #include <string>
 #include <sys/stat.h>
+#include <type_traits>
 #include <unistd.h>
 #include <vector>
 
@@ -64,35 +67,10 @@ using namespace tpvtk;
 using tpio::fail;
 namespace fs = std::filesystem;
 
-namespace {
-
-std::string base_of(const std::string& path)
-{
-    size_t slash = path.find_last_of('/');
-    return slash == std::string::npos ? path : path.substr(slash + 1);
-}
-
-/* Holds interruption (a signal only sets the flag) while the temporary folder lives, and
- * removes it whatever happens to our caller. */
-struct TempGuard {
-    std::string name;
-    TempGuard() { tp_interrupt_hold(); }
-    ~TempGuard()
-    {
-        if (!name.empty()) {
-            std::error_code ec;
-            fs::remove_all(name, ec);
-        }
-        tp_interrupt_release();
-    }
-    TempGuard(const TempGuard&) = delete;
-    TempGuard& operator=(const TempGuard&) = delete;
-};
-
 /* ---------------------------------------------------------------------------------------------
  * tp_mesh -> vtkPolyData
  */
-void add_string(vtkFieldData* fd, const char* name, const char* value)
+static void add_string(vtkFieldData* fd, const char* name, const char* value)
 {
     if (!value || !*value) /* NULL or "": not known, no array */
         return;
@@ -103,7 +81,7 @@ void add_string(vtkFieldData* fd, const char* name, const char* value)
 }
 
 /* Field data shared by the whole file (each .vtm block gets its own triangle_count). */
-void add_field_data(vtkFieldData* fd, const tp_mesh* m, size_t triangle_count)
+static void add_field_data(vtkFieldData* fd, const tp_mesh* m, size_t triangle_count)
 {
     add_string(fd, "crs_wkt", m->crs_wkt);
     vtkNew<vtkIntArray> epsg;
@@ -127,12 +105,12 @@ void add_field_data(vtkFieldData* fd, const tp_mesh* m, size_t triangle_count)
     fd->AddArray(count);
 }
 
-/* The triangles tris (all when NULL) and the points they use (all points when NULL: then
- * points is ignored, else points lists the mesh points in their new order and local holds the
- * triangles' corners as indices into it). */
-vtkSmartPointer<vtkPolyData> build_polydata(const tp_mesh* m, const std::vector<size_t>* tris,
-                                            const std::vector<size_t>* points,
-                                            const std::vector<size_t>* local)
+/* See vtk_util.hpp. */
+vtkSmartPointer<vtkPolyData> tpvtk::build_polydata(const tp_mesh* m,
+                                                   const std::vector<size_t>* tris,
+                                                   const std::vector<size_t>* points,
+                                                   const std::vector<size_t>* local,
+                                                   size_t field_triangle_count)
 {
     const vtkIdType np = points ? (vtkIdType)points->size() : (vtkIdType)m->point_count;
     const vtkIdType nt = tris ? (vtkIdType)tris->size() : (vtkIdType)m->triangle_count;
@@ -152,19 +130,33 @@ vtkSmartPointer<vtkPolyData> build_polydata(const tp_mesh* m, const std::vector<
     pts->SetData(xyz);
     pd->SetPoints(pts);
 
-    vtkNew<vtkIdTypeArray> offsets, conn;
-    offsets->SetNumberOfValues(nt + 1);
-    conn->SetNumberOfValues(3 * nt);
-    vtkIdType* o = offsets->GetPointer(0);
-    vtkIdType* c = conn->GetPointer(0);
-    for (vtkIdType i = 0; i <= nt; ++i)
-        o[i] = 3 * i;
-    for (vtkIdType i = 0; i < nt; ++i)
-        for (int k = 0; k < 3; ++k)
-            c[3 * i + k] = local ? (vtkIdType)(*local)[(size_t)(3 * i + k)]
-                                 : (vtkIdType)m->triangles[3 * tri(i) + k];
+    /* 32-bit offsets and connectivity when they fit (half the memory, and the XML writer writes
+     * them as Int32: smaller files), else 64-bit */
+    auto corner = [&](vtkIdType i, int k) -> vtkIdType {
+        return local ? (vtkIdType)(*local)[(size_t)(3 * i + k)]
+                     : (vtkIdType)m->triangles[3 * tri(i) + k];
+    };
     vtkNew<vtkCellArray> cells;
-    cells->SetData(offsets, conn);
+    auto fill = [&](auto* offsets, auto* conn) {
+        offsets->SetNumberOfValues(nt + 1);
+        conn->SetNumberOfValues(3 * nt);
+        auto* o = offsets->GetPointer(0);
+        auto* c = conn->GetPointer(0);
+        using T = std::remove_pointer_t<decltype(o)>;
+        for (vtkIdType i = 0; i <= nt; ++i)
+            o[i] = (T)(3 * i);
+        for (vtkIdType i = 0; i < nt; ++i)
+            for (int k = 0; k < 3; ++k)
+                c[3 * i + k] = (T)corner(i, k);
+        cells->SetData(offsets, conn);
+    };
+    if (np < INT32_MAX && 3 * nt < INT32_MAX) {
+        vtkNew<vtkTypeInt32Array> offsets, conn;
+        fill(offsets.Get(), conn.Get());
+    } else {
+        vtkNew<vtkTypeInt64Array> offsets, conn;
+        fill(offsets.Get(), conn.Get());
+    }
     pd->SetPolys(cells);
 
     if (m->elevation_m) {
@@ -207,9 +199,37 @@ vtkSmartPointer<vtkPolyData> build_polydata(const tp_mesh* m, const std::vector<
             a->SetValue(i, m->max_error_m[tri(i)]);
         pd->GetCellData()->AddArray(a);
     }
-    add_field_data(pd->GetFieldData(), m, (size_t)nt);
+    add_field_data(pd->GetFieldData(), m, field_triangle_count ? field_triangle_count : (size_t)nt);
     return pd;
 }
+
+namespace {
+
+std::string base_of(const std::string& path)
+{
+    size_t slash = path.find_last_of('/');
+    return slash == std::string::npos ? path : path.substr(slash + 1);
+}
+
+/* Holds interruption (a signal only sets the flag) while the temporary folder lives, and
+ * removes it whatever happens to our caller. */
+struct TempGuard {
+    std::string name;
+    TempGuard()
+    {
+        tp_interrupt_hold();
+    }
+    ~TempGuard()
+    {
+        if (!name.empty()) {
+            std::error_code ec;
+            fs::remove_all(name, ec);
+        }
+        tp_interrupt_release();
+    }
+    TempGuard(const TempGuard&) = delete;
+    TempGuard& operator=(const TempGuard&) = delete;
+};
 
 /* The bytes of a .vtp; false with VTK's reason in *why. */
 bool vtp_bytes(vtkPolyData* pd, std::string* out, std::string* why)
@@ -262,7 +282,7 @@ bool vtk_bytes(vtkPolyData* pd, std::unique_ptr<char[]>* out, size_t* size, std:
 tp_status write_single(const std::string& path, tp_mesh_format format, const tp_mesh* m,
                        tp_error* err)
 {
-    vtkSmartPointer<vtkPolyData> pd = build_polydata(m, nullptr, nullptr, nullptr);
+    vtkSmartPointer<vtkPolyData> pd = build_polydata(m, nullptr, nullptr, nullptr, 0);
     std::string why, xml;
     std::unique_ptr<char[]> legacy;
     const char* data;
@@ -390,7 +410,7 @@ tp_status write_vtm(const std::string& path, const tp_mesh* m, tp_error* err)
 
         if (tp_interrupted())
             return tpio::write_failed(err, path, EINTR);
-        vtkSmartPointer<vtkPolyData> pd = build_polydata(m, &tris, &points, &local);
+        vtkSmartPointer<vtkPolyData> pd = build_polydata(m, &tris, &points, &local, 0);
         std::string bytes, why;
         if (!vtp_bytes(pd, &bytes, &why))
             return fail(err, TP_ERR_BACKEND, "%s: VTK could not write the mesh: %s", path.c_str(),
@@ -495,8 +515,7 @@ extern "C" tp_status tp_mesh_write(const char* path, tp_mesh_format format, cons
             return fail(err, TP_ERR_INVALID_ARG, "%s: unknown mesh format %d", path, (int)format);
         }
         tp_error size_err;
-        if (tp_mesh_check_size(format, mesh->point_count, mesh->triangle_count, &size_err) !=
-            TP_OK)
+        if (tp_mesh_check_size(format, mesh->point_count, mesh->triangle_count, &size_err) != TP_OK)
             return fail(err, TP_ERR_INVALID_ARG, "%s: %s", path, size_err.message);
         for (size_t i = 0; i < 3 * mesh->triangle_count; ++i)
             if (mesh->triangles[i] >= mesh->point_count)

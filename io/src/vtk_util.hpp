@@ -5,6 +5,10 @@
 #include "tp_io.h"
 
 #include <string>
+#include <vector>
+
+#include <vtkPolyData.h>
+#include <vtkSmartPointer.h>
 
 namespace tpvtk {
 
@@ -38,5 +42,15 @@ std::string lower_ext(const std::string& path);
 /* The mesh format of a file name's extension (tp_output_format_for, TP_OUTPUT_MESH);
  * TP_MESH_DEFAULT for none of ours. */
 tp_mesh_format format_of(const std::string& path);
+
+/* The triangles tris (all when NULL) and the points they use (all points when NULL: then
+ * points is ignored, else points lists the mesh points in their new order and local holds the
+ * triangles' corners as indices into it), with m's point, cell and field data; the field data's
+ * triangle_count is field_triangle_count, or the triangles' own count when 0
+ * (vtk_mesh_write.cpp). */
+vtkSmartPointer<vtkPolyData> build_polydata(const tp_mesh* m, const std::vector<size_t>* tris,
+                                            const std::vector<size_t>* points,
+                                            const std::vector<size_t>* local,
+                                            size_t field_triangle_count);
 
 } // namespace tpvtk
