@@ -8,6 +8,7 @@
 #include <errno.h>
 #include <fcntl.h>
 #include <limits.h>
+#include <math.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -305,4 +306,60 @@ int tp_store_cache_get(const char* dem, const tp_store_cache_options* o, char* o
         rmdir(dir);
     *temporary_out = temporary && code == TP_EXIT_OK;
     return code;
+}
+
+int tp_store_cache_heightmap(const char* image, const tp_image_options* io, const char* cache_dir,
+                             char* out, size_t cap)
+{
+    char abs_path[PATH_MAX];
+    tp_input_identity id;
+    tp_error err;
+    if (tp_input_check(image, "an image", 0, &err) != TP_OK ||
+        tp_input_identify(image, abs_path, sizeof abs_path, &id, &err) != TP_OK) {
+        tp_cli_error("%s", err.message);
+        return TP_EXIT_FAILURE;
+    }
+    /* the image's identity and what places it: another spacing or origin is another DEM */
+    uint64_t h = 0xcbf29ce484222325ull;
+    h = fnv_str(h, "terrapatch placed heightmap 1");
+    h = fnv_str(h, abs_path);
+    int64_t meta[2] = {id.size_bytes, id.mtime_ns};
+    h = fnv(h, meta, sizeof meta);
+    double place[5] = {io->spacing_m, io->zscale, (double)io->has_origin,
+                       io->has_origin ? io->origin_lat_deg : 0, io->has_origin ? io->origin_lon_deg : 0};
+    h = fnv(h, place, sizeof place);
+    char dir[PATH_MAX];
+    tp_store_cache_dir(cache_dir, dir, sizeof dir);
+    if (!make_dirs(dir)) {
+        tp_cli_error("%s: cannot write the store cache %s: %s (choose one with --cache-dir)", image,
+                     dir, strerror(errno));
+        return TP_EXIT_FAILURE;
+    }
+    const char* base = strrchr(abs_path, '/');
+    base = base ? base + 1 : abs_path;
+    int n = snprintf(out, cap, "%s/%.*s-%016llx.placed.tif", dir,
+                     (int)(strrchr(base, '.') ? strrchr(base, '.') - base : (long)strlen(base)),
+                     base, (unsigned long long)h);
+    if (n < 0 || (size_t)n >= cap) {
+        tp_cli_error("%s: the cache path is too long", image);
+        return TP_EXIT_FAILURE;
+    }
+    if (access(out, F_OK) == 0)
+        return TP_EXIT_OK; /* placed before with the same options */
+    tp_dem* d = NULL;
+    tp_status rs = tp_dem_read_image(image, io, &d, &err);
+    if (rs != TP_OK) {
+        tp_cli_error("%s", err.message);
+        return rs == TP_ERR_INVALID_ARG ? TP_EXIT_USAGE : TP_EXIT_FAILURE;
+    }
+    tp_cli_note("placing %s (%dx%d samples at %g m posts) in %s as a GeoTIFF (once; reused next "
+                "time)",
+                image, d->width, d->height, fabs(d->geotransform[1]), out);
+    tp_status s = tp_dem_write_geotiff(d, out, &err);
+    tp_dem_destroy(d);
+    if (s != TP_OK) {
+        tp_cli_error("%s", err.message);
+        return TP_EXIT_FAILURE;
+    }
+    return TP_EXIT_OK;
 }

@@ -47,6 +47,14 @@ int tp_store_cache_get(const char* dem, const tp_store_cache_options* o, char* o
 /* Removes a temporary store (*temporary was set) and its directory. */
 void tp_store_cache_remove_temporary(const char* path);
 
+/* A heightmap image placed by io (--spacing, --zscale, --origin) as a georeferenced GeoTIFF in
+ * the cache, named by the image's absolute path, size, time and the options, and made once
+ * (one note line) from tp_dem_read_image: the DEM from which the commands that read the ground
+ * through a store build it. Its path in out (cap bytes). TP_EXIT_OK, else the exit status
+ * after one error line (TP_EXIT_USAGE for options the image refuses). */
+int tp_store_cache_heightmap(const char* image, const tp_image_options* io, const char* cache_dir,
+                             char* out, size_t cap);
+
 /* The cache directory the options and environment name (not created). */
 void tp_store_cache_dir(const char* cache_dir, char* out, size_t cap);
 

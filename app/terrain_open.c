@@ -96,6 +96,21 @@ int tp_terrain_store(const char* cmd, const char* path, const tp_scene_options* 
         tp_scene_options_default(&dflt);
         o = &dflt;
     }
+    /* a heightmap image placed with --spacing/--zscale/--origin: made a georeferenced GeoTIFF
+     * in the cache first (once), whose store is then built as any DEM's */
+    char placed[4096];
+    tp_scene_options eff;
+    if (o->image_given) {
+        code = tp_store_cache_heightmap(path, &o->image, cache_dir, placed, sizeof placed);
+        if (code != TP_EXIT_OK)
+            return code;
+        eff = *o;
+        eff.image_given = 0;
+        eff.given &= ~(unsigned)(TP_SCENE_GIVEN(TP_OPT_SPACING) | TP_SCENE_GIVEN(TP_OPT_ZSCALE) |
+                                 TP_SCENE_GIVEN(TP_OPT_ORIGIN));
+        o = &eff;
+        path = placed;
+    }
     const unsigned whole_only = o->given & ~(unsigned)TP_SCENE_STORE_OPTIONS;
     if (whole_only) {
         char names[160];

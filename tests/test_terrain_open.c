@@ -92,8 +92,18 @@ static void write_route(place p, char* path, size_t cap)
 /* Runs every command that reads the ground on dem around p (with two extra arguments before
  * the DEM when opt is set); asserts each exit status is want and its stderr holds expect (NULL:
  * anything). */
+static void every_command_with(const char* dem, place p, const char* opt, const char* val,
+                               const char* opt2, const char* val2, int want, const char* expect);
+
 static void every_command(const char* dem, place p, const char* opt, const char* val, int want,
                           const char* expect)
+{
+    every_command_with(dem, p, opt, val, NULL, NULL, want, expect);
+}
+
+/* every_command with a second option and value (opt2 NULL: none). */
+static void every_command_with(const char* dem, place p, const char* opt, const char* val,
+                               const char* opt2, const char* val2, int want, const char* expect)
 {
     char route[256], vs[256], li[256], co[256], js[256], at[64], to[64], lat[32], lon[32];
     write_route(p, route, sizeof route);
@@ -121,6 +131,10 @@ static void every_command(const char* dem, place p, const char* opt, const char*
         if (opt) {
             args[n++] = opt;
             args[n++] = val;
+        }
+        if (opt2) {
+            args[n++] = opt2;
+            args[n++] = val2;
         }
         for (int k = 0; argv[c][k]; ++k)
             args[n++] = argv[c][k];
@@ -201,6 +215,38 @@ TEST(dem_options_are_accepted_by_every_command)
     const double bilinear = point_height(tile42, NULL, NULL, err, sizeof err);
     const double cubic = point_height(tile42, "--resampling", "cubic", err, sizeof err);
     EXPECT_TRUE(fabs(cubic - bilinear) > 1e-6 && fabs(cubic - bilinear) < 20);
+}
+
+/* 1.2: a heightmap image placed with --origin and --spacing (--zscale alike) is read by every
+ * command that reads the ground, through a georeferenced GeoTIFF made once in the cache (they
+ * refused those options, exit 2); the height at a place is the image read on its own, count x
+ * zscale, interpolated there. */
+TEST(heightmap_options_are_accepted_by_every_command)
+{
+    char png[1024], err[8192];
+    REQUIRE_DATA_FILE(png, "TP_SHARED_DATA_DIR", "ps_height_1k.png");
+    const place centre = {47.5, -122.5};
+    every_command_with(png, centre, "--origin", "47.5,-122.5", "--spacing", "4", 0, NULL);
+    const double got =
+        point_height_at(png, "47.5003", "-122.5004", "--origin", "47.5,-122.5", err, sizeof err);
+    tp_image_options io = {.spacing_m = 1, .zscale = 1, .has_origin = 1, .origin_lat_deg = 47.5,
+                           .origin_lon_deg = -122.5};
+    tp_dem* d = NULL;
+    tp_georef* g = NULL;
+    tp_error e;
+    ASSERT_OK(tp_dem_read_image(png, &io, &d, &e));
+    ASSERT_OK(tp_georef_create(d->crs_wkt, d->geotransform, &g, &e));
+    double east, north, x, y;
+    ASSERT_OK(tp_georef_geo_to_proj(g, 47.5003, -122.5004, &east, &north, &e));
+    tp_georef_proj_to_grid(g, east, north, &x, &y);
+    const double want = tp_grid_height_at(d->heights, (size_t)d->width * d->height, d->width,
+                                          d->height, x, y);
+    tp_test_note("ps_height_1k.png at 47.5003, -122.5004: point %.3f m, the image %.3f m", got,
+                 want);
+    EXPECT_TRUE(!isnan(want) && want > 10);
+    EXPECT_NEAR(want, got, 0.5); /* the store's quantisation */
+    tp_georef_destroy(g);
+    tp_dem_destroy(d);
 }
 
 /* 1.2: an ASCII grid in degrees without a .prj is read with --crs by the planner commands. */
@@ -601,6 +647,7 @@ TEST(info_of_a_large_grid_says_its_steps)
 #define TESTS(X)                                                                                   \
     X(virtual_paths_work_in_every_command)                                                         \
     X(dem_options_are_accepted_by_every_command)                                                   \
+    X(heightmap_options_are_accepted_by_every_command)                                             \
     X(ascii_grid_without_prj_takes_crs)                                                            \
     X(store_refuses_dem_options_the_same_way_everywhere)                                           \
     X(damaged_store_header_is_said_to_be_one)                                                      \
