@@ -24,8 +24,8 @@ extern "C" tp_status tp_dem_write_geotiff(const tp_dem* d, const char* path, tp_
         if (has_crs && srs.importFromWkt(d->crs_wkt) != OGRERR_NONE)
             return fail(err, TP_ERR_BAD_DATA, "%s: the DEM's CRS cannot be read back", path);
         srs.SetAxisMappingStrategy(OAMS_TRADITIONAL_GIS_ORDER);
-        tpio::Dataset mem =
-            tpio::mem_dataset(d->heights, d->width, d->height, d->geotransform, has_crs ? &srs : nullptr);
+        tpio::Dataset mem = tpio::mem_dataset(d->heights, d->width, d->height, d->geotransform,
+                                              has_crs ? &srs : nullptr);
         GDALDriver* gtiff = GetGDALDriverManager()->GetDriverByName("GTiff");
         if (!mem || !gtiff)
             return fail(err, TP_ERR_BACKEND, "%s: %s", path, tpio::gdal_message().c_str());
