@@ -17,7 +17,6 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
-
 void tp_store_cache_dir(const char* cache_dir, char* out, size_t cap)
 {
     const char* env;
@@ -204,7 +203,9 @@ int tp_store_cache_get(const char* dem, const tp_store_cache_options* o, char* o
     h = fnv_str(h, o->crs);
     h = fnv(h, &o->resampling, sizeof o->resampling);
     h = fnv_str(h, o->z_unit);
-    const int fill_max = o->fill_max_px == 0 ? TP_FILL_MAX_ANY : o->fill_max_px < 0 ? 0 : o->fill_max_px;
+    const int fill_max = o->fill_max_px == 0  ? TP_FILL_MAX_ANY
+                         : o->fill_max_px < 0 ? 0
+                                              : o->fill_max_px;
     h = fnv(h, &fill_max, sizeof fill_max);
     char from_path[PATH_MAX] = "";
     if (o->fill_from && *o->fill_from) {
@@ -326,7 +327,8 @@ int tp_store_cache_heightmap(const char* image, const tp_image_options* io, cons
     int64_t meta[2] = {id.size_bytes, id.mtime_ns};
     h = fnv(h, meta, sizeof meta);
     double place[5] = {io->spacing_m, io->zscale, (double)io->has_origin,
-                       io->has_origin ? io->origin_lat_deg : 0, io->has_origin ? io->origin_lon_deg : 0};
+                       io->has_origin ? io->origin_lat_deg : 0,
+                       io->has_origin ? io->origin_lon_deg : 0};
     h = fnv(h, place, sizeof place);
     char dir[PATH_MAX];
     tp_store_cache_dir(cache_dir, dir, sizeof dir);

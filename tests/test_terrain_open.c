@@ -229,7 +229,10 @@ TEST(heightmap_options_are_accepted_by_every_command)
     every_command_with(png, centre, "--origin", "47.5,-122.5", "--spacing", "4", 0, NULL);
     const double got =
         point_height_at(png, "47.5003", "-122.5004", "--origin", "47.5,-122.5", err, sizeof err);
-    tp_image_options io = {.spacing_m = 1, .zscale = 1, .has_origin = 1, .origin_lat_deg = 47.5,
+    tp_image_options io = {.spacing_m = 1,
+                           .zscale = 1,
+                           .has_origin = 1,
+                           .origin_lat_deg = 47.5,
                            .origin_lon_deg = -122.5};
     tp_dem* d = NULL;
     tp_georef* g = NULL;
@@ -239,8 +242,8 @@ TEST(heightmap_options_are_accepted_by_every_command)
     double east, north, x, y;
     ASSERT_OK(tp_georef_geo_to_proj(g, 47.5003, -122.5004, &east, &north, &e));
     tp_georef_proj_to_grid(g, east, north, &x, &y);
-    const double want = tp_grid_height_at(d->heights, (size_t)d->width * d->height, d->width,
-                                          d->height, x, y);
+    const double want =
+        tp_grid_height_at(d->heights, (size_t)d->width * d->height, d->width, d->height, x, y);
     tp_test_note("ps_height_1k.png at 47.5003, -122.5004: point %.3f m, the image %.3f m", got,
                  want);
     EXPECT_TRUE(!isnan(want) && want > 10);
