@@ -1,7 +1,9 @@
 /*
- * main.c - `terrapatch`: dispatches to the subcommands (cmd_info.c, cmd_coord.c beside it;
- * view/, export/, bench/ for the big ones).
+ * main.c - `terrapatch`: one table of the subcommands (terrapatch.h; commands/ for the small
+ * ones, view/, export/, bench/ for the big ones) drives both the dispatch and the help.
  */
+#include "terrapatch.h"
+
 #include "cli.h"
 #include "memory.h"
 
@@ -11,6 +13,35 @@
 #include <stdio.h>
 #include <string.h>
 
+typedef int (*command_fn)(int argc, char** argv);
+
+/* The commands: what dispatches and what `terrapatch --help` lists, in its order. */
+static const struct {
+    const char* name;
+    command_fn run;
+    const char* args;    /* after the name in the list */
+    const char* summary; /* one line */
+} commands[] = {
+    {"info", tp_cli_info, "DEM", "describe a DEM and the patch grid terrapatch builds from it"},
+    {"view", tp_cli_view, "[DEM]", "show the terrain in a window, or headless to a PNG (--headless)"},
+    {"export", tp_cli_export, "DEM -o OUT", "write the mesh terrapatch draws (VTK .vtp/.vtk/.vtm)"},
+    {"bench", tp_cli_bench, "DEM", "frame rate against measured error, headless, for every LoD mode"},
+    {"build", tp_cli_build, "SOURCE... -o NAME.tpt",
+     "build a terrain store from DEM tiles (any size)"},
+    {"imagery", tp_cli_imagery, "STORE.tpt IMAGE...",
+     "orthophotos or maps as a pyramid for the viewer"},
+    {"coord", tp_cli_coord, "", "convert coordinates: lat/lon, UTM/UPS, MGRS, ECEF; geodesics"},
+    {"point", tp_cli_point, "DEM POS", "what is here: position in every form, elevation, slope, aspect"},
+    {"los", tp_cli_los, "DEM --from POS --to POS", "line of sight: seen or not, what is in the way"},
+    {"viewshed", tp_cli_viewshed, "DEM --observer POS -o OUT.tif",
+     "what an observer sees (GeoTIFF)"},
+    {"light", tp_cli_light, "DEM --date D --time T -o OUT.tif",
+     "sunlight and shadows at a moment"},
+    {"profile", tp_cli_profile, "DEM --route FILE", "a route's elevation profile: length, climb, steepest"},
+    {"contours", tp_cli_contours, "DEM --interval M -o OUT", "contour lines (GDAL) as a vector file"},
+};
+#define COMMAND_COUNT (sizeof commands / sizeof commands[0])
+
 static void print_help(FILE* f)
 {
     fputs("usage: terrapatch COMMAND [options] ...\n"
@@ -19,21 +50,12 @@ static void print_help(FILE* f)
           "A terrain viewer for GIS elevation rasters (any DEM GDAL reads): the heights are\n"
           "tiled into (2^n+1)^2 patches, each drawn at its own level of detail.\n"
           "\n"
-          "commands:\n"
-          "  info DEM    describe a DEM and the patch grid terrapatch builds from it\n"
-          "  view [DEM]  show the terrain in a window, or headless to a PNG (--headless)\n"
-          "  export DEM -o OUT   write the mesh terrapatch draws (VTK .vtp/.vtk/.vtm)\n"
-          "  bench DEM   frame rate against measured error, headless, for every LoD mode\n"
-          "  build SOURCE... -o NAME.tpt   build a terrain store from DEM tiles (any size)\n"
-          "  imagery STORE.tpt IMAGE...   orthophotos or maps as a pyramid for the viewer\n"
-          "  coord       convert coordinates: lat/lon, UTM/UPS, MGRS, ECEF; geodesics\n"
-          "  point DEM POS   what is here: position in every form, elevation, slope, aspect\n"
-          "  los DEM --from POS --to POS   line of sight: seen or not, what is in the way\n"
-          "  viewshed DEM --observer POS -o OUT.tif   what an observer sees (GeoTIFF)\n"
-          "  light DEM --date D --time T -o OUT.tif   sunlight and shadows at a moment\n"
-          "  profile DEM --route FILE   a route's elevation profile: length, climb, steepest\n"
-          "  contours DEM --interval M -o OUT   contour lines (GDAL) as a vector file\n"
-          "\n"
+          "commands:\n",
+          f);
+    for (size_t i = 0; i < COMMAND_COUNT; i++)
+        fprintf(f, "  %s%s%s   %s\n", commands[i].name, commands[i].args[0] ? " " : "",
+                commands[i].args, commands[i].summary);
+    fputs("\n"
           "Run 'terrapatch COMMAND --help' for the options of a command.\n"
           "Exit status: 0 success, 1 failure, 2 usage error, 130/143 after SIGINT/SIGTERM\n"
           "(files are written whole or not at all: a temporary file beside each output,\n"
@@ -41,23 +63,10 @@ static void print_help(FILE* f)
           f);
 }
 
-typedef int (*command_fn)(int argc, char** argv);
-
-static const struct {
-    const char* name;
-    command_fn run;
-} commands[] = {
-    {"info", tp_cli_info},       {"coord", tp_cli_coord},       {"point", tp_cli_point},
-    {"los", tp_cli_los},         {"viewshed", tp_cli_viewshed}, {"light", tp_cli_light},
-    {"profile", tp_cli_profile}, {"contours", tp_cli_contours}, {"view", tp_cli_view},
-    {"export", tp_cli_export},   {"bench", tp_cli_bench},       {"build", tp_cli_build},
-    {"imagery", tp_cli_imagery},
-};
-
 /* The command named name, NULL for none. */
 static command_fn command_named(const char* name)
 {
-    for (size_t i = 0; i < sizeof commands / sizeof commands[0]; i++)
+    for (size_t i = 0; i < COMMAND_COUNT; i++)
         if (!strcmp(name, commands[i].name))
             return commands[i].run;
     return NULL;

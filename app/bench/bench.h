@@ -3,7 +3,7 @@
  * paths (bench_path.c), the table, JSON and CSV it writes (bench_report.c), the static meshes of
  * `export --max-error` (bench_static.c), the sweep's configurations and families
  * (bench_sweep.c) and plot (bench_plot.c), PGM's frames (bench_pgm.c), vertex adding's error
- * (bench_stitch_add.c) and the medians of both benches' frames (bench_stats.c).
+ * (render/stitch_add_error.c) and the medians of both benches' frames (bench_stats.c).
  */
 #ifndef TP_APP_BENCH_H
 #define TP_APP_BENCH_H
@@ -143,17 +143,6 @@ int tp_bench_write_sweep_csv(const bench_options* o, const config_result* c, int
  * every TIN measured by tp_tin_measure. Prints a table; o->json / o->csv outputs when non-NULL.
  * Returns TP_EXIT_*. */
 int tp_bench_static(const tp_scene* sc, const bench_options* o);
-
-/* bench_stitch_add.c: the exact vertical error (metres) of the `--stitch add` geometry of the
- * visible patches of sel (tp_patch_triangles_add with the selection's neighbour levels; an
- * incomplete patch's unmoved level-n triangles) against every drawn sample under it, each
- * counted once, as tp_selection_measure_error measures the vertex-moving geometry; with cam
- * (else NULL) also the screen error (px) of the same samples by tp_selection_measure_screen_error's
- * definition (in view, in front of the near plane; occlusion ignored): *max_px and *rms_px.
- * TP_ERR_OUT_OF_MEMORY (*out untouched) or TP_OK. */
-tp_status tp_bench_stitch_add_error(const tp_terrain* t, const tp_selection* sel,
-                                    const tp_camera* cam, tp_error_measure* out, double* max_px,
-                                    double* rms_px);
 
 /* The npm meshers of `bench --static --compare` (bench_npm.c), through tools/tin_compare.sh
  * ($TP_TIN_COMPARE, else the source tree's tools/, compiled in as TP_TOOLS_DIR). */

@@ -1,6 +1,7 @@
 /* bench_pgm.c - the frames of a Persistent Grid Mapping configuration (see bench.h). */
 #define _POSIX_C_SOURCE 200809L
 #include "bench.h"
+#include "clock.h"
 
 #include "cli.h"
 #include "pgm_render.h"
@@ -10,13 +11,6 @@
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
-
-static double now_ms(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return ts.tv_sec * 1e3 + ts.tv_nsec / 1e6;
-}
 
 int tp_bench_pgm_frames(const bench_run* b, config_result* c, const char* progress)
 {
@@ -58,10 +52,10 @@ int tp_bench_pgm_frames(const bench_run* b, config_result* c, const char* progre
         frame_row* row = &c->rows[i];
         tp_pgm_frame f;
         tp_gl_context_begin_frame(b->ctx);
-        double t0 = now_ms();
+        double t0 = tp_clock_ms();
         tp_pgm_renderer_draw(r, &cam, &rs, 1, &f, &st);
         tp_gl_context_end_frame(b->ctx);
-        row->frame_ms = now_ms() - t0;
+        row->frame_ms = tp_clock_ms() - t0;
         row->select_ms = st.setup_ms; /* the frame's CPU work: its uniforms */
         row->draw_ms = st.draw_ms;
         row->triangles = st.triangles;

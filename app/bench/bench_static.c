@@ -5,6 +5,7 @@
  * tp_tin_measure. */
 #define _POSIX_C_SOURCE 200809L
 #include "atomic_file.h"
+#include "clock.h"
 #include "bench.h"
 #include "cli.h"
 #include "json.h"
@@ -62,13 +63,6 @@ typedef struct tin_grid {
     size_t voids;     /* NaN samples in it */
     unsigned flags;   /* TP_TIN_CUT_VOIDS where it has voids */
 } tin_grid;
-
-static double now_s(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return ts.tv_sec + ts.tv_nsec / 1e9;
-}
 
 /* The largest (2^k+1)^2 square centred in the render grid with no void (martini's grid shape),
  * copied out; 0 after a message when there is none of 3x3 or more. */
@@ -164,11 +158,11 @@ static int tin_child(const tin_grid* tg, double e, int measure, child_report* ou
         tp_tin* t = NULL;
         tp_error err;
         memset(&err, 0, sizeof err);
-        double t0 = now_s();
+        double t0 = tp_clock_s();
         /* as export builds it: tiles on every CPU */
         r.st = tp_tin_build_tiled(tg->z, (size_t)tg->w * tg->h, tg->w, tg->h, e, tg->flags,
                                   TP_TIN_EXPORT_TILE_CELLS, 0, &t, &err);
-        r.time_s = now_s() - t0;
+        r.time_s = tp_clock_s() - t0;
         double after = vm_hwm_mib();
         r.peak_mib = before >= 0 && after >= 0 ? after - before : -1;
         if (r.st == TP_OK) {
@@ -533,16 +527,16 @@ int tp_bench_static(const tp_scene* sc, const bench_options* o)
             code = TP_EXIT_FAILURE;
             break;
         }
-        double t0 = now_s();
+        double t0 = tp_clock_s();
         tp_status st = tp_select_max_error(sc, sel, r->bound_m, &err);
-        double t1 = now_s();
+        double t1 = tp_clock_s();
         if (st == TP_OK)
             st = tp_export_selection(sc, sel, &eo, NULL, &r->res, &err);
         if (st != TP_OK) {
             tp_cli_error("%s", err.message);
             code = TP_EXIT_FAILURE;
         }
-        double t2 = now_s();
+        double t2 = tp_clock_s();
         r->select_s = t1 - t0;
         r->mesh_s = t2 - t1;
         tp_selection_destroy(sel);

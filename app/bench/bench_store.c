@@ -18,6 +18,7 @@
  */
 #define _POSIX_C_SOURCE 200809L
 #include "bench.h"
+#include "clock.h"
 #include "camera_pose.h"
 #include "cli.h"
 #include "gl_context.h"
@@ -41,13 +42,6 @@
 #define FRAME_HZ 30.0
 #define WARMUP_FRAMES 5
 #define SETTLE_MAX_MS 20000.0
-
-static double now_ms(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return ts.tv_sec * 1e3 + ts.tv_nsec / 1e6;
-}
 
 /* Milliseconds since the process started (its start time in /proc/self/stat, in clock ticks
  * since boot, against CLOCK_BOOTTIME); NaN when unknown. Resolution: one tick (10 ms). */
@@ -248,7 +242,7 @@ static void summarize(store_result* c, int n)
 static int settle(store_bench* b, tp_cut* cut, tp_cut* pre, const tp_camera* cam,
                   const tp_lod_params* lod)
 {
-    double t0 = now_ms();
+    double t0 = tp_clock_ms();
     tp_error err;
     for (;;) {
         if (tp_cut_update(cut, cam, lod, &err) != TP_OK)
@@ -259,7 +253,7 @@ static int settle(store_bench* b, tp_cut* cut, tp_cut* pre, const tp_camera* cam
         tp_cut_requests(cut, &nreq);
         if (nreq == 0 && ss.pending == 0)
             return 1;
-        if (now_ms() - t0 > SETTLE_MAX_MS)
+        if (tp_clock_ms() - t0 > SETTLE_MAX_MS)
             return 0;
         nanosleep(&(struct timespec){0, 1000000}, NULL);
     }
@@ -298,10 +292,10 @@ static int run_store_pgm(store_bench* b, store_result* c, const char* progress)
             flight_camera(b, seg, i * b->step_m, &cam);
             tp_pgm_frame f;
             tp_gl_context_begin_frame(b->ctx);
-            double t0 = now_ms();
+            double t0 = tp_clock_ms();
             tp_pgm_renderer_draw(r, &cam, &rs, 1, &f, &ps);
             tp_gl_context_end_frame(b->ctx);
-            double t1 = now_ms();
+            double t1 = tp_clock_ms();
             if (i < 0)
                 continue;
             int k = seg * b->per_segment + i;
@@ -368,21 +362,21 @@ static int run_store_config(store_bench* b, store_result* c, int first, const ch
                             .frame_s = o->realtime ? 0 : 1.0 / FRAME_HZ};
     if (!c->rows)
         return TP_EXIT_FAILURE;
-    double t_setup = now_ms();
+    double t_setup = tp_clock_ms();
     if (tp_store_scene_stream(&b->sc, &so) != TP_EXIT_OK)
         return TP_EXIT_FAILURE;
     if (first)
-        b->stream_create_ms = now_ms() - t_setup;
+        b->stream_create_ms = tp_clock_ms() - t_setup;
     const tp_tree_geometry* g = b->g;
     tp_render_grid_desc rd = {.n = g->n, .width = g->width, .height = g->height,
                               .min_height_m = b->sc.tree_info.min_height_m,
                               .max_height_m = b->sc.tree_info.max_height_m};
     memcpy(rd.geotransform, b->sc.tree_info.geotransform, sizeof rd.geotransform);
     char msg[512];
-    t_setup = now_ms();
+    t_setup = tp_clock_ms();
     tp_renderer* r = tp_renderer_create_desc(&rd, msg, sizeof msg);
     if (first)
-        b->renderer_ms = now_ms() - t_setup;
+        b->renderer_ms = tp_clock_ms() - t_setup;
     tp_cut *cut = NULL, *pre = NULL;
     tp_view_imagery* im = NULL; /* before the first goto done: closed there */
     tp_view_light* lt = NULL;
@@ -420,24 +414,24 @@ static int run_store_config(store_bench* b, store_result* c, int first, const ch
     for (int seg = 0; seg < b->segments; seg++) {
         flight_camera(b, seg, -WARMUP_FRAMES * b->step_m, &cam);
         if (first && seg == 0) { /* the first frame: what a viewer shows right after start */
-            double t0 = now_ms();
+            double t0 = tp_clock_ms();
             if (tp_store_scene_georef_wait(&b->sc) != TP_EXIT_OK)
                 goto done;
-            b->georef_wait_ms = now_ms() - t0;
-            t0 = now_ms();
+            b->georef_wait_ms = tp_clock_ms() - t0;
+            t0 = tp_clock_ms();
             tp_gl_context_begin_frame(b->ctx);
             if (tp_cut_update(cut, &cam, &c->lod, &err) != TP_OK)
                 goto cut_failed;
             tp_stream_frame(b->sc.stream, cut, o->no_prefetch ? NULL : pre, &cam, &c->lod, &ss);
-            double t1 = now_ms();
+            double t1 = tp_clock_ms();
             tp_renderer_draw_cut(r, b->sc.tree, cut, &cam, &rs, 1, 1, &st);
             tp_gl_context_end_frame(b->ctx);
             b->first_cut_ms = t1 - t0;
-            b->first_draw_ms = now_ms() - t1;
+            b->first_draw_ms = tp_clock_ms() - t1;
             b->first_frame_ms = ms_since_process_start();
-            b->first_frame_open_ms = now_ms() - b->t_open_ms;
+            b->first_frame_open_ms = tp_clock_ms() - b->t_open_ms;
         }
-        double t_settle = now_ms();
+        double t_settle = tp_clock_ms();
         if (!settle(b, cut, pre, &cam, &c->lod))
             c->settle_timeouts++;
         if (im) /* the imagery the jump's view needs, as the terrain's */
@@ -445,32 +439,32 @@ static int run_store_config(store_bench* b, store_result* c, int first, const ch
         if (lt)
             tp_view_light_frame(lt, &b->sc, cut, 1, r, &cam, day[0], 1, &is);
         if (seg == 0)
-            c->settle_ms = now_ms() - t_settle;
-        double t_fly = now_ms();
+            c->settle_ms = tp_clock_ms() - t_settle;
+        double t_fly = tp_clock_ms();
         for (int i = -WARMUP_FRAMES; i < b->per_segment; i++) {
             /* --realtime: where the camera is after the time that really passed */
             double d = o->realtime ? (-WARMUP_FRAMES * b->step_m +
-                                      o->speed_mps * (now_ms() - t_fly) / 1e3)
+                                      o->speed_mps * (tp_clock_ms() - t_fly) / 1e3)
                                    : i * b->step_m;
             flight_camera(b, seg, d, &cam);
             store_row* row = i >= 0 ? &c->rows[seg * b->per_segment + i] : NULL;
             tp_gl_context_begin_frame(b->ctx);
-            double t0 = now_ms();
+            double t0 = tp_clock_ms();
             if (tp_cut_update(cut, &cam, &c->lod, &err) != TP_OK)
                 goto cut_failed;
-            double t1 = now_ms();
+            double t1 = tp_clock_ms();
             tp_stream_frame(b->sc.stream, cut, o->no_prefetch ? NULL : pre, &cam, &c->lod, &ss);
-            double t2 = now_ms();
+            double t2 = tp_clock_ms();
             if (im)
                 tp_view_imagery_frame(im, &b->sc, cut, 1, r, &cam, 0, &is);
             int k = seg * b->per_segment + (i > 0 ? i : 0);
             if (lt)
                 tp_view_light_frame(lt, &b->sc, cut, 1, r, &cam,
                                     day[0] + (day[1] - day[0]) * (k + 0.5) / frames, 0, &is);
-            double t2i = now_ms();
+            double t2i = tp_clock_ms();
             tp_renderer_draw_cut(r, b->sc.tree, cut, &cam, &rs, 1, 1, &st);
             tp_gl_context_end_frame(b->ctx);
-            double t3 = now_ms();
+            double t3 = tp_clock_ms();
             if (!row)
                 continue;
             /* outside the timed part */
@@ -548,12 +542,12 @@ int tp_bench_store(const bench_options* o)
     memset(&b, 0, sizeof b);
     b.o = o;
     b.entered_ms = ms_since_process_start();
-    b.t_open_ms = now_ms();
+    b.t_open_ms = tp_clock_ms();
     /* as the viewer opens a store: the georeference is made on a thread meanwhile, and waited
      * for before the first frame (the bench itself does not use it) */
     if (tp_store_scene_open_deferred(o->dem, &b.sc) != TP_EXIT_OK)
         return TP_EXIT_FAILURE;
-    b.open_ms = now_ms() - b.t_open_ms;
+    b.open_ms = tp_clock_ms() - b.t_open_ms;
     b.g = tp_tree_get_geometry(b.sc.tree);
     b.leaf_id = -1;
     b.leaf = malloc(((size_t)1 << b.g->n | 1) * (((size_t)1 << b.g->n) + 1) * sizeof *b.leaf);
@@ -573,7 +567,7 @@ int tp_bench_store(const bench_options* o)
         tp_store_scene_close(&b.sc);
         return TP_EXIT_FAILURE;
     }
-    b.context_ms = now_ms() - b.t_open_ms - b.open_ms;
+    b.context_ms = tp_clock_ms() - b.t_open_ms - b.open_ms;
     read_rss(&b.base_rss_mb, &b.base_anon_mb);
     const char* renderer_name = (const char*)glGetString(GL_RENDERER);
     renderer_name = renderer_name ? renderer_name : "?";

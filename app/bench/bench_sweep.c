@@ -1,7 +1,7 @@
 /* bench_sweep.c - the configurations of `bench --sweep`, their families and Pareto fronts, and
  * the plot's points (see bench.h). Every family runs on the same path, frames and cameras, and
  * its error is measured on the drawn geometry: the patch renderer's by tp_selection_measure_*
- * (vertex moving) or tp_bench_stitch_add_error (vertex adding), PGM's by tp_pgm_measure_error. */
+ * (vertex moving) or tp_stitch_add_error (vertex adding), PGM's by tp_pgm_measure_error. */
 #include "bench.h"
 
 #include "cli.h"

@@ -5,8 +5,11 @@
  * triangles, draw calls, GPU bytes and the measured error of the frame's geometry.
  */
 #define _POSIX_C_SOURCE 200809L
+#include "terrapatch.h"
 #include "atomic_file.h"
+#include "clock.h"
 #include "bench.h"
+#include "stitch_add_error.h"
 #include "camera_pose.h"
 #include "cli.h"
 #include "gl_context.h"
@@ -469,13 +472,6 @@ static int parse_options(int argc, char** argv, bench_options* o)
     return -1;
 }
 
-static double now_ms(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return ts.tv_sec * 1e3 + ts.tv_nsec / 1e6;
-}
-
 #define MEDIAN_OF(expr) TP_BENCH_COLUMN(v, frame_row, c->rows, n, expr)
 
 static void summarize(config_result* c, int n)
@@ -600,12 +596,12 @@ static int run_config(const bench_run* b, config_result* c, const char* progress
         }
         frame_row* row = &c->rows[i];
         tp_gl_context_begin_frame(b->ctx);
-        double t0 = now_ms();
+        double t0 = tp_clock_ms();
         tp_selection_update(sel, &cam, &c->lod, &err);
-        double t1 = now_ms();
+        double t1 = tp_clock_ms();
         tp_renderer_draw(r, sel, &cam, &rs, 1, &st);
         tp_gl_context_end_frame(b->ctx);
-        double t2 = now_ms();
+        double t2 = tp_clock_ms();
         tp_frame_stats fs;
         tp_selection_stats(sel, &fs);
         row->select_ms = t1 - t0;
@@ -624,7 +620,7 @@ static int run_config(const bench_run* b, config_result* c, const char* progress
             tp_error_measure em;
             tp_status ms;
             if (rs.stitch_add) { /* its own geometry: the core measures vertex moving's */
-                ms = tp_bench_stitch_add_error(b->sc->terrain, sel, &cam, &em, &row->max_px,
+                ms = tp_stitch_add_error(b->sc->terrain, sel, &cam, &em, &row->max_px,
                                                &row->rms_px);
             } else {
                 ms = tp_selection_measure_error(sel, &em);

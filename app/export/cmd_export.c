@@ -3,6 +3,7 @@
  * with VTK for ParaView: full resolution, the view-dependent mesh of a camera, or a static
  * error-bounded mesh.
  */
+#include "terrapatch.h"
 #include "atomic_file.h"
 #include "camera_pose.h"
 #include "cli.h"

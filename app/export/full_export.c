@@ -1,5 +1,6 @@
 /* full_export.c - export --full streamed, a piece at a time (see full_export.h). */
 #include "full_export.h"
+#include "clock.h"
 
 #include "cli.h"
 #include "memory.h"
@@ -430,7 +431,7 @@ int tp_export_full_streamed(const tp_full_export_request* r)
     full_export x;
     memset(&x, 0, sizeof x);
     x.r = r;
-    double t0 = tp_progress_now_s();
+    double t0 = tp_clock_s();
     int code = r->is_store ? open_store(&x) : open_dem(&x);
     if (code != TP_EXIT_OK)
         goto done;
@@ -496,7 +497,7 @@ int tp_export_full_streamed(const tp_full_export_request* r)
            "piece%s of at most %dx%d cells (points where pieces meet repeated), %.1f s, peak "
            "%.0f MiB\n",
            r->out, x.points, x.triangles, x.triangles, pieces, pieces == 1 ? "" : "s", x.piece_cw,
-           x.piece_ch, tp_progress_now_s() - t0, tp_memory_peak_rss() / 1048576.0);
+           x.piece_ch, tp_clock_s() - t0, tp_memory_peak_rss() / 1048576.0);
 done:
     release(&x);
     return code;

@@ -8,7 +8,9 @@
  */
 #define _POSIX_C_SOURCE 200809L
 #define _XOPEN_SOURCE 700 /* realpath */
+#include "terrapatch.h"
 #include "view.h"
+#include "clock.h"
 #include "imagery_view.h"
 #include "view_shadows.h"
 
@@ -562,7 +564,7 @@ static int run_headless(tp_view_scene* v, tp_gl_context* ctx, tp_renderer* r,
         tp_view_scene_set_vertical_scale(v, o->render.exaggeration);
         tp_view_scene_settle(v, cam, &o->vs.lod, 120);
         tp_gl_context_begin_frame(ctx);
-        double t0 = tp_view_now_ms();
+        double t0 = tp_clock_ms();
         tp_render_settings rs = o->render; /* the grid's spacing follows the scale */
         rs.grid_m = tp_view_grid_spacing(v, cam, o->render.grid_m);
         tp_view_frame(v, r, cam, &rs, &o->vs.lod, 0, &fr);
@@ -590,7 +592,7 @@ static int run_headless(tp_view_scene* v, tp_gl_context* ctx, tp_renderer* r,
                 tp_view_layers_legend(o->layers, legend, sizeof legend);
             char sun[160];
             tp_view_sun_text(&o->sun, sun, sizeof sun);
-            tp_hud_state hs = {.fps = 1000 / fmax(tp_view_now_ms() - t0, 1e-6),
+            tp_hud_state hs = {.fps = 1000 / fmax(tp_clock_ms() - t0, 1e-6),
                                .exaggeration = o->render.exaggeration,
                                .layers = legend,
                                .sun = sun,
@@ -645,46 +647,6 @@ static int take_georef(tp_view_scene* v, tp_store_scene* st)
         return 0;
     v->georef = st->georef;
     return 1;
-}
-
-/* --overlay files read and draped, on the full-resolution ground of the store (o->ground,
- * o->layers set). TP_EXIT_OK, or one line naming the file and TP_EXIT_FAILURE. */
-static int load_layers(tp_view_scene* v, view_options* o, tp_view_layers* layers)
-{
-    if (!v->store) {
-        tp_cli_error("--overlay and --contours need a georeferenced DEM or a "
-                     "store (%s is drawn whole: a heightmap image, --fit, --texture or "
-                     "--whole)",
-                     o->path);
-        return TP_EXIT_FAILURE;
-    }
-    tp_error err = {{0}};
-    if (!o->ground && tp_ground_create(v->store, NULL, &o->ground, &err) != TP_OK) {
-        tp_cli_error("%s: %s", o->path, err.message);
-        return TP_EXIT_FAILURE;
-    }
-    o->layers = layers;
-    for (int i = 0; i < o->overlay_count; i++) {
-        char msg[1200];
-        if (!tp_view_layers_add_overlay(layers, o->ground, o->overlays[i], msg, sizeof msg)) {
-            tp_cli_error("--overlay %s", msg);
-            return TP_EXIT_FAILURE;
-        }
-    }
-    return TP_EXIT_OK;
-}
-
-/* Contours around the point the camera looks at (else the DEM's centre), for --contours at the
- * first frame. */
-void tp_view_contours_at_centre(tp_view_scene* v, const tp_camera* cam, view_options* o,
-                                double interval_m, char* line, size_t cap)
-{
-    double p[3];
-    if (!tp_view_pick_centre(v, cam, p)) {
-        p[0] = v->gt[0] + 0.5 * v->src_width * v->gt[1];
-        p[1] = v->gt[3] + 0.5 * v->src_height * v->gt[5];
-    }
-    tp_view_layers_contours_at(o->layers, o->ground, p[0], p[1], interval_m, line, cap);
 }
 
 /* The store's imagery: --imagery, else STORE.tpi beside it (unless --no-imagery). 0 after a
@@ -812,7 +774,7 @@ static int run_view(tp_view_scene* v, view_options* o, tp_render_grid_desc* gd,
     memset(&layers, 0, sizeof layers);
     /* a window always has them (F2); headless frames when asked */
     if (code == TP_EXIT_OK && (o->overlay_count || o->contours || (!o->headless && v->store)))
-        code = load_layers(v, o, &layers);
+        code = tp_view_load_layers(v, o, &layers);
     if (code == TP_EXIT_OK)
         code = o->headless ? run_headless(v, ctx, r, &cam, o)
                            : tp_view_window_run(v, ctx, r, &cam, o);

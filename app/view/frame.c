@@ -1,6 +1,7 @@
 /* frame.c - one frame of the viewer and what is written from it (see view.h). */
 #define _POSIX_C_SOURCE 200809L
 #include "view.h"
+#include "clock.h"
 
 #include "atomic_file.h"
 #include "cli.h"
@@ -19,18 +20,11 @@
 #include <string.h>
 #include <time.h>
 
-double tp_view_now_ms(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return ts.tv_sec * 1e3 + ts.tv_nsec / 1e6;
-}
-
 void tp_view_frame(tp_view_scene* v, tp_renderer* r, const tp_camera* cam,
                    const tp_render_settings* render, const tp_lod_params* lod, int frozen,
                    frame_result* out)
 {
-    double t0 = tp_view_now_ms();
+    double t0 = tp_clock_ms();
     tp_error err;
     out->pgm_cols = out->pgm_rows = 0; /* set by the PGM path only (the HUD tests them) */
     out->add_sides = out->moved_sides = 0;
@@ -62,7 +56,7 @@ void tp_view_frame(tp_view_scene* v, tp_renderer* r, const tp_camera* cam,
     if (!v->store) {
         if (!frozen)
             tp_selection_update(v->sel, cam, lod, &err);
-        out->select_ms = tp_view_now_ms() - t0;
+        out->select_ms = tp_clock_ms() - t0;
         tp_renderer_draw(r, v->sel, cam, render, 1, &out->render);
         tp_selection_stats(v->sel, &out->core);
         if (render->stitch_add) /* the core counts the vertex-moving triangulation's */
@@ -74,7 +68,7 @@ void tp_view_frame(tp_view_scene* v, tp_renderer* r, const tp_camera* cam,
         tp_cut_update(v->cut, cam, lod, &err);
     tp_stream_frame(v->store->stream, v->cut, frozen ? NULL : v->prefetch, cam, lod, &out->stream);
     tp_view_scene_report_failures(v);
-    out->select_ms = tp_view_now_ms() - t0;
+    out->select_ms = tp_clock_ms() - t0;
     tp_view_shadows_frame(v, r, cam, render, out);
     out->imagery = v->imagery && !v->imagery_hidden;
     if (out->imagery) {

@@ -1,6 +1,7 @@
 /* layers.c - the viewer's vector overlays and contours (layers.h). */
 #define _POSIX_C_SOURCE 200809L
 #include "layers.h"
+#include "clock.h"
 
 #include "tp_vector.h"
 
@@ -17,13 +18,6 @@ static const unsigned char overlay_rgba[TP_VIEW_MAX_OVERLAYS][4] = {
     {255, 140, 0, 255},  {255, 255, 255, 255}, {120, 255, 60, 255}, {255, 30, 30, 255}};
 static const char* overlay_colour_name[TP_VIEW_MAX_OVERLAYS] = {
     "magenta", "cyan", "yellow", "blue", "orange", "white", "lime", "red"};
-
-static double now_s(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return ts.tv_sec + 1e-9 * ts.tv_nsec;
-}
 
 int tp_view_layers_add_overlay(tp_view_layers* l, tp_ground* g, const char* path, char* msg,
                                size_t cap)
@@ -97,7 +91,7 @@ int tp_view_layers_contours_at(tp_view_layers* l, tp_ground* g, double e_m, doub
     float* z = malloc(n * sizeof *z);
     tp_error err = {{0}};
     tp_status st = z ? TP_OK : tp_error_set(&err, TP_ERR_OUT_OF_MEMORY, "out of memory");
-    const double t0 = now_s();
+    const double t0 = tp_clock_s();
     float lo = INFINITY, hi = -INFINITY;
     for (int y = 0; y < h && st == TP_OK; ++y)
         for (int x = 0; x < w && st == TP_OK; ++x) {
@@ -115,14 +109,14 @@ int tp_view_layers_contours_at(tp_view_layers* l, tp_ground* g, double e_m, doub
     const double interval = interval_m > 0 ? interval_m : round_interval((hi - lo) / 25.0);
     const double wgt[6] = {gt[0] + x0 * gt[1], gt[1], 0.0, gt[3] + y0 * gt[5], 0.0, gt[5]};
     tp_features* f = NULL;
-    const double t1 = now_s();
+    const double t1 = tp_clock_s();
     if (st == TP_OK)
         st = tp_contours_generate(z, n, w, h, wgt, interval, 0.0, 5, &f, &err);
     free(z);
     tp_drape d;
     char why[512] = "";
     int ok = st == TP_OK && tp_drape_build(&d, f, g, 1, why, sizeof why);
-    const double t2 = now_s();
+    const double t2 = tp_clock_s();
     if (!ok) {
         snprintf(line, cap, "contours: %.400s", st != TP_OK ? err.message : why);
         tp_features_destroy(f);

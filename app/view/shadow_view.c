@@ -1,8 +1,9 @@
 /* shadow_view.c - cast shadows in the viewer (see shadow_view.h). */
 #define _POSIX_C_SOURCE 200809L
 #include "shadow_view.h"
+#include "clock.h"
 
-#include "planner_cli.h"
+#include "ground.h"
 #include "store_scene.h"
 
 #include <epoxy/gl.h>
@@ -30,7 +31,7 @@ int tp_view_shadow_update(tp_view_shadow* s, tp_ground* g, const tp_render_setti
         tp_renderer_set_shadow(r, s->texture, s->x0, s->y0, s->w, s->h);
         return 1;
     }
-    double t0 = tp_planner_now_s();
+    double t0 = tp_clock_s();
     int w = geo->src_width < TP_VIEW_SHADOW_POSTS ? geo->src_width : TP_VIEW_SHADOW_POSTS;
     int h = geo->src_height < TP_VIEW_SHADOW_POSTS ? geo->src_height : TP_VIEW_SHADOW_POSTS;
     int x0 = clampi((int)lround(cx) - w / 2, 0, geo->src_width - w);
@@ -45,7 +46,7 @@ int tp_view_shadow_update(tp_view_shadow* s, tp_ground* g, const tp_render_setti
                                    : tp_error_set(&err, TP_ERR_OUT_OF_MEMORY,
                                                   "out of memory for the shadow window");
     if (st == TP_OK && (!inside || !s->w || s->x0 != x0 || s->y0 != y0))
-        st = tp_planner_read_posts(g, x0, y0, w, h, s->z, NULL, &err);
+        st = tp_ground_read_posts(g, x0, y0, w, h, s->z, NULL, &err);
     if (st == TP_OK)
         st = tp_shadow_compute(s->z, n, w, h, fabs(gt[1]), fabs(gt[5]), rs->sun_azimuth_deg,
                                rs->sun_elevation_deg, s->lit, NULL, n, &err);
@@ -73,7 +74,7 @@ int tp_view_shadow_update(tp_view_shadow* s, tp_ground* g, const tp_render_setti
     s->x0 = x0, s->y0 = y0, s->w = w, s->h = h;
     s->az_deg = rs->sun_azimuth_deg;
     s->el_deg = rs->sun_elevation_deg;
-    s->compute_ms = (tp_planner_now_s() - t0) * 1e3;
+    s->compute_ms = (tp_clock_s() - t0) * 1e3;
     tp_renderer_set_shadow(r, s->texture, x0, y0, w, h);
     return 1;
 }

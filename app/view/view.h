@@ -84,13 +84,16 @@ typedef struct frame_result {
 #define TP_VIEW_LIGHT_STREAMED 1 /* the day's light map (light_view.h) */
 #define TP_VIEW_LIGHT_WINDOW 2   /* computed over a window (shadow_view.h) */
 
+/* view_layers.c: the --overlay files read and draped on the full-resolution ground of the
+ * store (o->ground, o->layers set to layers). TP_EXIT_OK, or one line naming the file and
+ * TP_EXIT_FAILURE. */
+struct tp_view_layers;
+int tp_view_load_layers(tp_view_scene* v, view_options* o, struct tp_view_layers* layers);
+
 /* Contours (layers.h) around the point cam looks at (else the DEM's centre) into o->layers:
  * --contours at the first frame, F2 in the window. line gets what happened. */
 void tp_view_contours_at_centre(tp_view_scene* v, const tp_camera* cam, view_options* o,
                                 double interval_m, char* line, size_t cap);
-
-/* Monotonic clock in milliseconds. */
-double tp_view_now_ms(void);
 
 /* One frame: select levels and cull (unless frozen), upload, draw, statistics. */
 void tp_view_frame(tp_view_scene* v, tp_renderer* r, const tp_camera* cam,

@@ -1,8 +1,9 @@
 /* view_scene.c - the viewer's questions to a store or a DEM (see view_scene.h). */
 #define _POSIX_C_SOURCE 200809L
 #include "view_scene.h"
+#include "clock.h"
 
-#include "bench.h" /* tp_bench_stitch_add_error: the geometry --stitch add draws */
+#include "stitch_add_error.h"
 #include "cli.h"
 #include "pgm_render.h"
 
@@ -157,7 +158,7 @@ void tp_view_scene_measure(const tp_view_scene* v, const tp_camera* cam, double*
     }
     tp_error_measure em = {0};
     if (v->dem && tp_selection_stitch_add(v->sel)) { /* the selection measures vertex moving */
-        if (tp_bench_stitch_add_error(v->dem->terrain, v->sel, cam, &em, max_px, rms_px) ==
+        if (tp_stitch_add_error(v->dem->terrain, v->sel, cam, &em, max_px, rms_px) ==
             TP_OK) {
             *max_m = em.max_error_m;
             *rms_m = em.rms_error_m;
@@ -173,19 +174,12 @@ void tp_view_scene_measure(const tp_view_scene* v, const tp_camera* cam, double*
     tp_selection_measure_screen_error(v->sel, cam, max_px, rms_px, NULL);
 }
 
-static double now_s(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return ts.tv_sec + ts.tv_nsec / 1e9;
-}
-
 int tp_view_scene_settle(tp_view_scene* v, const tp_camera* cam, const tp_lod_params* lod,
                          double timeout_s)
 {
     if (!v->store)
         return 0;
-    double t0 = now_s();
+    double t0 = tp_clock_s();
     int it = 0, idle_before = 0;
     for (;;) {
         tp_error err;
@@ -198,7 +192,7 @@ int tp_view_scene_settle(tp_view_scene* v, const tp_camera* cam, const tp_lod_pa
          * node there was) and left nothing loading: what the cut still requests then is a node
          * that failed (its ancestor is drawn) or one the budget cannot hold. A load that
          * finishes before the stats are taken is attached by the next frame. */
-        if ((st.attached == 0 && idle_before) || now_s() - t0 > timeout_s)
+        if ((st.attached == 0 && idle_before) || tp_clock_s() - t0 > timeout_s)
             break;
         idle_before = st.pending == 0 && st.attached == 0;
         if (st.attached == 0) {

@@ -1,6 +1,7 @@
 /* viewshed_pick.c - the viewer's viewshed overlay (viewshed_pick.h). */
 #define _POSIX_C_SOURCE 200809L
 #include "viewshed_pick.h"
+#include "clock.h"
 
 #include "tp_core.h"
 
@@ -14,13 +15,6 @@ void tp_view_viewshed_free(tp_view_viewshed* vs)
 {
     free(vs->enh);
     memset(vs, 0, sizeof *vs);
-}
-
-static double now_s(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return ts.tv_sec + 1e-9 * ts.tv_nsec;
 }
 
 int tp_view_viewshed_at(tp_view_viewshed* vs, tp_ground* g, double e_m, double n_m,
@@ -46,7 +40,7 @@ int tp_view_viewshed_at(tp_view_viewshed* vs, tp_ground* g, double e_m, double n
     uint8_t* seen = malloc(n);
     tp_error err = {{0}};
     tp_status st = z && seen ? TP_OK : tp_error_set(&err, TP_ERR_OUT_OF_MEMORY, "out of memory");
-    const double t0 = now_s();
+    const double t0 = tp_clock_s();
     for (int y = 0; y < h && st == TP_OK; ++y)
         for (int x = 0; x < w && st == TP_OK; ++x) {
             double v;
@@ -58,7 +52,7 @@ int tp_view_viewshed_at(tp_view_viewshed* vs, tp_ground* g, double e_m, double n
     o.radius_m = radius_m;
     if (st == TP_OK)
         st = tp_viewshed_compute(z, n, w, h, wgt, ox - x0, oy - y0, &o, seen, n, &err);
-    const double t1 = now_s();
+    const double t1 = tp_clock_s();
     if (st != TP_OK) {
         snprintf(line, cap, "viewshed: %.400s", err.message);
         free(z);

@@ -1,0 +1,223 @@
+/*
+ * cmd_viewshed.c - `terrapatch viewshed DEM|STORE --observer POS -o OUT.tif`: which samples of
+ * the render grid an observer sees (issue 13, section 3). The window of the render grid the
+ * radius reaches (the whole grid without a radius, as gdal_viewshed's default -md 0) is read
+ * at its posts through the ground module (the stored samples, as `point` reads them), the core's
+ * tp_viewshed_compute sweeps it, and tp_viewshed_write writes it on the render grid's
+ * georeference in the format OUT's extension names (output_check.h), atomically.
+ */
+#define _POSIX_C_SOURCE 200809L
+#include "terrapatch.h"
+#include "cli.h"
+#include "clock.h"
+#include "ground_locate.h"
+#include "output_check.h"
+#include "planner_cli.h"
+
+#include "tp_core.h"
+#include "tp_io.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+typedef struct viewshed_cli {
+    const char* path;
+    const char* observer;
+    const char* out;
+    const char* cache_dir;
+    tp_scene_options dem; /* the DEM options (terrain_open.h) */
+    double observer_height_m, target_height_m, radius_m, curvature_coeff;
+} viewshed_cli;
+
+static void print_help(void)
+{
+    fputs("usage: terrapatch viewshed DEM|STORE --observer POS -o OUT.tif [--observer-height M]\n"
+          "                           [--target-height M] [--radius M] [--curvature-coeff C]\n"
+          "                           [--cache-dir DIR]\n"
+          "\n"
+          "What an observer at POS sees of the ground of DEM (any raster GDAL reads, built into\n"
+          "the store cache first as 'terrapatch view' does) or of a store (.tpt): a one-band Byte\n"
+          "raster on the render grid (the DEM's own grid, or a geographic DEM warped to the\n"
+          "UTM/UPS zone of its centre), 255 where a target on the ground is seen, 0 where it is\n"
+          "not, 0 beyond the radius (gdal_viewshed's values). It covers the window of the grid\n"
+          "the radius reaches around the observer (the whole grid without --radius, as\n"
+          "gdal_viewshed's default) with the grid's georeference. The observer stands on the\n"
+          "nearest post. The algorithm and its agreement with GDAL's are in docs/field.md.\n"
+          "\n"
+          "Conventions are gdal_viewshed's: heights above the ground, every height lowered by\n"
+          "C * d^2 / (2 * 6378137 m) at distance d from the observer (0.85714: curvature with\n"
+          "standard refraction; 1: curvature without refraction; 0: a flat earth).\n"
+          "\n"
+          "options:\n"
+          "  --observer POS         where the observer stands (required; any form 'terrapatch\n"
+          "                         coord' reads, one argument: quote it when it has spaces)\n"
+          "  -o, --output OUT.tif   the raster to write (required), in the format its extension\n"
+          "                         names: .tif GeoTIFF, .png PNG (with a .wld world file and\n"
+          "                         the CRS in .png.aux.xml), .gpkg, .jp2 (lossless), .img,\n"
+          "                         .asc, .bmp\n"
+          "  --observer-height M    eye above the ground (default 2)\n"
+          "  --target-height M      target above the ground (default 0)\n"
+          "  --radius M             how far to look, metres (default 0: the whole grid)\n"
+          "  --curvature-coeff C    curvature and refraction coefficient (default 0.85714)\n"
+          "  --cache-dir DIR        the store cache for a DEM (as 'terrapatch view')\n"
+          "  -h, --help             show this help\n",
+          stdout);
+    tp_planner_dem_options_help();
+    fputs("\n"
+          "example:\n"
+          "  $ terrapatch viewshed N42E001.hgt --observer 42.5,1.5 --radius 20000 -o seen.tif\n"
+          "\n"
+          "Exit status: 0 written; 1 the DEM cannot be read, the observer is outside it or in a\n"
+          "void, OUT.tif cannot be written (nothing is left behind); 2 usage error (OUT's\n"
+          "extension naming no format written included).\n",
+          stdout);
+}
+
+static int parse_options(int argc, char** argv, viewshed_cli* o)
+{
+    memset(o, 0, sizeof *o);
+    tp_scene_options_default(&o->dem);
+    o->observer_height_m = TP_VIEWSHED_OBSERVER_HEIGHT_M;
+    o->target_height_m = TP_VIEWSHED_TARGET_HEIGHT_M;
+    o->curvature_coeff = TP_VIEWSHED_CURVATURE_COEFF;
+    static const char* const num_opts[] = {"--observer-height", "--target-height", "--radius",
+                                           "--curvature-coeff"};
+    static const char* const text_opts[] = {"--observer", "-o", "--output", "--cache-dir"};
+    for (int i = 1; i < argc; ++i) {
+        const int arg = tp_planner_argument("viewshed", argc, argv, i, print_help, &o->path,
+                                            " (quote a position with spaces: --observer "
+                                            "\"45.37 -121.69\")");
+        if (arg == TP_PLANNER_NEXT)
+            continue;
+        if (arg != TP_PLANNER_OPTION)
+            return arg;
+        double* const num_slots[] = {&o->observer_height_m, &o->target_height_m, &o->radius_m,
+                                     &o->curvature_coeff};
+        const char** const text_slots[] = {&o->observer, &o->out, &o->out, &o->cache_dir};
+        int done = tp_planner_number_options("viewshed", argc, argv, &i, num_opts, num_slots,
+                                             TP_PLANNER_COUNT(num_opts));
+        if (!done)
+            done = tp_planner_text_options("viewshed", argc, argv, &i, text_opts, text_slots,
+                                           TP_PLANNER_COUNT(text_opts));
+        if (!done)
+            done = tp_scene_option_arg("viewshed", argc, argv, &i, &o->dem);
+        if (done < 0)
+            return TP_EXIT_USAGE;
+        if (!done)
+            return tp_planner_stray("viewshed", argc, argv, i, "");
+    }
+    if (!o->path)
+        return tp_planner_usage("viewshed", "missing DEM");
+    if (!o->observer)
+        return tp_planner_usage("viewshed", "missing --observer POS");
+    if (!o->out)
+        return tp_planner_usage("viewshed", "missing -o OUT.tif");
+    return -1;
+}
+
+int tp_cli_viewshed(int argc, char** argv)
+{
+    viewshed_cli o;
+    int code = parse_options(argc, argv, &o);
+    if (code >= 0)
+        return code;
+    tp_position_readings pos;
+    if (!tp_planner_position("viewshed", "--observer", o.observer, &pos))
+        return TP_EXIT_USAGE;
+    if ((code = tp_cli_output_check("viewshed", "-o", o.out, TP_OUTPUT_BYTE_RASTER)) != TP_EXIT_OK)
+        return code;
+    tp_error err = {{0}};
+    tp_ground* g = NULL;
+    if ((code = tp_planner_ground_open("viewshed", o.path, o.cache_dir, &o.dem, &g)) != TP_EXIT_OK)
+        return code;
+    const tp_store_scene* sc = tp_ground_scene(g);
+    const tp_tree_geometry* geom = &sc->info.header.geometry;
+    const double* gt = sc->info.header.geotransform;
+    double fx, fy, fh;
+    if (!tp_planner_locate("viewshed", o.path, g, &pos, o.observer, &fx, &fy, &fh)) {
+        tp_ground_destroy(g);
+        return TP_EXIT_FAILURE;
+    }
+    /* the window the radius reaches, as tp_viewshed_compute clips it, on the DEM's posts */
+    const int ox = (int)lround(fx), oy = (int)lround(fy);
+    int x0 = 0, y0 = 0, x1 = geom->src_width - 1, y1 = geom->src_height - 1;
+    if (o.radius_m > 0.0) {
+        const double rx = floor(o.radius_m / fabs(gt[1])), ry = floor(o.radius_m / fabs(gt[5]));
+        if (rx < ox - x0)
+            x0 = ox - (int)rx;
+        if (rx < x1 - ox)
+            x1 = ox + (int)rx;
+        if (ry < oy - y0)
+            y0 = oy - (int)ry;
+        if (ry < y1 - oy)
+            y1 = oy + (int)ry;
+    }
+    const int w = x1 - x0 + 1, h = y1 - y0 + 1;
+    const size_t n = (size_t)w * h;
+    float* z = malloc(n * sizeof *z);
+    uint8_t* seen = malloc(n);
+    tp_status s = z && seen ? TP_OK
+                            : tp_error_set(&err, TP_ERR_OUT_OF_MEMORY,
+                                           "out of memory for a %dx%d window", w, h);
+    const double t0 = tp_clock_s();
+    if (s == TP_OK)
+        s = tp_ground_read_posts(g, x0, y0, w, h, z, NULL, &err);
+    const double t1 = tp_clock_s();
+    const double wgt[6] = {gt[0] + x0 * gt[1], gt[1], 0.0, gt[3] + y0 * gt[5], 0.0, gt[5]};
+    tp_viewshed_options vo = tp_viewshed_options_default();
+    vo.observer_height_m = o.observer_height_m;
+    vo.target_height_m = o.target_height_m;
+    vo.curvature_coeff = o.curvature_coeff;
+    vo.radius_m = o.radius_m;
+    if (s == TP_OK)
+        s = tp_viewshed_compute(z, n, w, h, wgt, ox - x0, oy - y0, &vo, seen, n, &err);
+    const double t2 = tp_clock_s();
+    tp_interrupt_hold(); /* a signal during the write is only recorded (tp_interrupt_finished) */
+    if (s == TP_OK)
+        s = tp_viewshed_write(o.out, seen, n, w, h, wgt, sc->info.header.crs_wkt, &err);
+    if (s == TP_OK)
+        tp_interrupt_finished();
+    tp_interrupt_release();
+    if (s != TP_OK) {
+        if (!tp_interrupted())
+            tp_cli_error("%s: %s", o.path, err.message);
+        free(z);
+        free(seen);
+        tp_ground_destroy(g);
+        return tp_planner_finish(TP_EXIT_FAILURE);
+    }
+    /* the posts the sweep looked at: the disc of the radius (as tp_viewshed_compute), not the
+     * window's square */
+    const double r2 = o.radius_m > 0.0 ? o.radius_m * o.radius_m : INFINITY;
+    size_t visible = 0, valid = 0;
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            const double dx = (double)(x + x0 - ox) * gt[1], dy = (double)(y + y0 - oy) * gt[5];
+            const size_t i = (size_t)y * w + x;
+            if (dx * dx + dy * dy > r2)
+                continue;
+            visible += seen[i] == TP_VIEWSHED_VISIBLE;
+            valid += z[i] == z[i];
+        }
+    double lat, lon;
+    tp_ground_grid_latlon(g, ox, oy, &lat, &lon);
+    printf("observer   %.6f %.6f on post (%d, %d), ground %.1f m, eye %.1f m\n", lat, lon, ox,
+           oy, (double)z[(size_t)(oy - y0) * w + (ox - x0)],
+           z[(size_t)(oy - y0) * w + (ox - x0)] + o.observer_height_m);
+    if (o.radius_m > 0.0)
+        printf("window     %dx%d posts from (%d, %d) (radius %.0f m)\n", w, h, x0, y0,
+               o.radius_m);
+    else
+        printf("window     %dx%d posts: the whole grid (no radius)\n", w, h);
+    printf("seen       %zu of %zu posts with a height%s (%.1f%%)\n", visible, valid,
+           o.radius_m > 0.0 ? " within the radius" : "", valid ? 100.0 * visible / valid : 0.0);
+    printf("time       %.1f ms reading the ground, %.1f ms for the viewshed\n",
+           1e3 * (t1 - t0), 1e3 * (t2 - t1));
+    tp_cli_note("wrote %s", o.out);
+    free(z);
+    free(seen);
+    tp_ground_destroy(g);
+    return tp_cli_finish(TP_EXIT_OK);
+}

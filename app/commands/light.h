@@ -1,0 +1,58 @@
+/*
+ * light.h - what `terrapatch light` at one moment (cmd_light.c) and over a day
+ * (light_day.c, --day) share: the command line, the place the sun is computed for, the sun
+ * turned to grid north, the day's sunrise and sunset printed.
+ */
+#ifndef TP_APP_CMD_LIGHT_H
+#define TP_APP_CMD_LIGHT_H
+
+#include "ground.h"
+#include "scene.h"
+
+#include "tp_sun.h"
+
+typedef struct tp_light_cli {
+    const char* path;
+    const char* date;
+    const char* time;
+    const char* out;
+    const char* at;
+    const char* values;
+    const char* cache_dir;
+    tp_scene_options dem; /* the DEM options (terrain_open.h) */
+    const char* json; /* --day: a JSON file or "-" */
+    double radius_m;
+    int illumination; /* --values illumination */
+    int day;          /* --day: the light map of the day (.tpl) */
+    int maps;         /* --day: sun positions (2 ..) */
+    double margin_m;  /* --day: ground beyond a tile that may shadow it */
+    int quiet;        /* --day: no progress */
+} tp_light_cli;
+
+/* --day's defaults */
+#define TP_LIGHT_DAY_MAPS 64
+#define TP_LIGHT_DAY_MAPS_MAX 1024
+#define TP_LIGHT_DAY_MARGIN_M 10000.0
+
+/* Where the sun is computed: grid post (x, y), its latitude and longitude, the meridian
+ * convergence there (grid north's bearing from true north, degrees). */
+typedef struct tp_light_place {
+    double x, y, lat_deg, lon_deg, convergence_deg;
+} tp_light_place;
+
+/* The place at grid (x, y) of g (opened from path): 1, or 0 after one line naming path (no
+ * CRS, a read error). */
+int tp_light_place_at(const char* path, tp_ground* g, double x, double y, tp_light_place* out);
+
+/* The sun at unix_s over the place: *sun (true azimuth) and the azimuth from grid north in
+ * [0, 360) (the true one less the convergence). tp_sun_position's errors. */
+tp_status tp_light_sun(const tp_light_place* p, double unix_s, tp_sun_pos* sun,
+                       double* grid_azimuth_deg, tp_error* err);
+
+/* The sunrise, transit and sunset lines (or the polar day's or night's) on stdout. */
+void tp_light_print_day(const tp_sun_day* d, int zone_s);
+
+/* `terrapatch light ... --day` once the command line is read (light_day.c): the exit code. */
+int tp_light_day_run(const tp_light_cli* o);
+
+#endif /* TP_APP_CMD_LIGHT_H */

@@ -1,0 +1,611 @@
+/*
+ * store_build.c - a terrain store from DEM sources (store_build.h), for `terrapatch build`
+ * (commands/cmd_build.c) and the store cache (store_cache.c) alike: sources mosaicked and put on the
+ * render grid (tp_mosaic, read in bands of rows), quantised with one global step, built into
+ * the node hierarchy band by band (tp_tree_builder) and written as a terrain store
+ * (tp_store_writer), atomically. Memory follows the band, not the map.
+ *
+ * The grid is read once when its height range is bounded beforehand (sources' statistics, or
+ * the few files a VRT repeats: tp_mosaic_info.has_range): the range gives the step, which the
+ * store's header (written first) holds; the quantisation error and the valid samples are
+ * counted while building and given to the store at commit (tp_store_writer_set_totals). A bound
+ * that does not hold (a VRT that scales its sources) costs one more build. Without a bound, a
+ * range pass reads the grid first. docs/PERFORMANCE.md "Building stores" has the profile.
+ */
+#include "store_build.h"
+
+#include "cli.h"
+#include "clock.h"
+#include "memory.h"
+#include "output_check.h"
+#include "progress.h"
+
+#include "tp_core.h"
+#include "tp_io.h"
+
+#include <errno.h>
+#include <math.h>
+#include <pthread.h>
+#include <stdatomic.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+/* The builder's user: its emit and parallel_for callbacks both get it. */
+typedef struct emit_ctx {
+    tp_store_writer* writer;
+    int64_t nodes;
+    int threads;
+} emit_ctx;
+
+/* ---- parallel_for over pthreads: the caller's thread and threads - 1 more ---- */
+typedef struct pool_job {
+    void (*fn)(int i, void* ctx);
+    void* ctx;
+    int count;
+    atomic_int next;
+} pool_job;
+
+static void* pool_worker(void* arg)
+{
+    pool_job* j = arg;
+    for (int i; (i = atomic_fetch_add(&j->next, 1)) < j->count;)
+        j->fn(i, j->ctx);
+    return NULL;
+}
+
+static void parallel_for(int count, void (*fn)(int i, void* ctx), void* ctx, void* user)
+{
+    const int threads = ((const emit_ctx*)user)->threads;
+    pool_job j = {fn, ctx, count, 0};
+    int extra = threads - 1 < count - 1 ? threads - 1 : count - 1;
+    pthread_t t[64];
+    if (extra > 64)
+        extra = 64;
+    int started = 0;
+    for (; started < extra; started++)
+        if (pthread_create(&t[started], NULL, pool_worker, &j) != 0)
+            break;
+    pool_worker(&j);
+    for (int k = 0; k < started; k++)
+        pthread_join(t[k], NULL);
+}
+
+void tp_build_options_init(tp_build_options* o)
+{
+    *o = (tp_build_options){0};
+    o->patch_size = 65;
+    o->memory_mb = 1024;
+    o->fill_max = TP_FILL_MAX_ANY;
+}
+
+/* ---- the build ---- */
+
+/* Each node with its filled bits (TP_NODE_HAS_FILLED): the store marks filled void samples. */
+static int emit_node(int64_t node, const tp_node_meta* meta, const int32_t* q, const uint16_t* mask,
+                     const uint16_t* filled, void* user, tp_error* err)
+{
+    emit_ctx* e = user;
+    if (tp_interrupted()) {
+        snprintf(err->message, sizeof err->message, "interrupted");
+        return 1;
+    }
+    if (tp_store_writer_add_node_filled(e->writer, node, meta, q, mask, filled, err) != TP_OK)
+        return 1;
+    e->nodes++;
+    return 0;
+}
+
+/* What the build allocates that grows with the grid (bytes): the band read (floats) and
+ * quantised (int32), the tree builder (tp_core.h: its decimated rows, a block of samples per
+ * node of a row, two rows of metas and masks per scale) and the store writer's bit per node (it
+ * writes the node and location tables into the file as nodes come: docs/store.md). GDAL's block
+ * cache comes on top (a quarter of --memory); the program's fixed part (libraries, about 156 MB
+ * resident: docs/PERFORMANCE.md) is not counted. */
+/* The --memory (MB) to suggest for need_mb of what grows with the grid: that in three quarters
+ * of the budget, never below what --memory accepts. */
+static double memory_to_suggest(double need_mb)
+{
+    double mb = ceil(need_mb / 0.75);
+    return mb < BUILD_MIN_MEMORY_MB ? BUILD_MIN_MEMORY_MB : mb;
+}
+
+static double build_memory_bytes(const tp_tree_geometry* g, int src_width, int fill_max)
+{
+    const double side = (1 << g->n) + 1;
+    /* void filling: the mosaic's window (2 rows each side at least) as read and filled, its
+     * regions (int) and marks (byte) while it holds a void; a window grown for a void takes
+     * what is left of the budget (tp_mosaic_options.fill_window_mb, set once the need is known) */
+    const double fill = fill_max > 0 ? (side + 4.0) * src_width * 13.0 +
+                                           side * (src_width + (double)g->width) /* flags */
+                                     : 0;
+    const double band = side * src_width * sizeof(float) + side * g->width * sizeof(int32_t);
+    const double builder = 4 * side * ((2 + 1.0 / (1 << g->n)) * g->width + g->scales) +
+                           4.0 * g->cols * (sizeof(tp_node_meta) + (1u << (2 * g->n - 3))) +
+                           (double)g->cols * ((1u << (2 * g->n - 3)) + (1u << (g->n - 2)) + 2) +
+                           (fill_max > 0 ? side * (g->width + g->scales) : 0) + 2048;
+    const double added = (double)g->node_count / 8;
+    /* zstd's context, one node's scratch, the writer's run of table entries and read-back buffer */
+    return band + fill + builder + added + (1 << 20);
+}
+
+/* The store's notes: the sources, then the mosaic's own, then the void filling with `filled`
+ * samples, padded with spaces to the length of a 20-digit count (the header written first gets
+ * 0; the count replaces it at commit: tp_store_writer_set_notes keeps the length). NULL when out
+ * of memory. */
+static char* build_notes(const tp_build_options* o, const tp_mosaic_info* mi, size_t filled)
+{
+    size_t cap = strlen(mi->notes) + 256;
+    for (int i = 0; i < o->source_count; i++)
+        cap += strlen(o->sources[i]) + 16;
+    cap += 320;
+    char* notes = malloc(cap);
+    if (!notes)
+        return NULL;
+    size_t at = 0;
+    for (int i = 0; i < o->source_count; i++)
+        at += (size_t)snprintf(notes + at, cap - at, "source: %s\n", o->sources[i]);
+    at += (size_t)snprintf(notes + at, cap - at, "%s%s", mi->notes, mi->notes[0] ? "\n" : "");
+    if (o->fill_max <= 0) {
+        snprintf(notes + at, cap - at, "voids are not filled (--fill-max 0)");
+        return notes;
+    }
+    char size[64] = "voids of any size";
+    if (o->fill_max != TP_FILL_MAX_ANY)
+        snprintf(size, sizeof size, "voids up to %d x %d samples", o->fill_max, o->fill_max);
+    char how[320] = "by interpolation (GDALFillNodata)";
+    if (o->fill_from)
+        snprintf(how, sizeof how, "from %.250s (shifted onto the ground around each void)",
+                 o->fill_from);
+    int digits = snprintf(notes + at, cap - at, "%s filled %s: %zu samples (marked per sample)",
+                          size, how, filled);
+    int count_digits = snprintf(NULL, 0, "%zu", filled);
+    at += (size_t)digits;
+    snprintf(notes + at, cap - at, "%*s", 20 - count_digits, "");
+    return notes;
+}
+
+/* The range pass: the grid's height range and valid samples, read in bands. */
+static tp_status range_pass(tp_mosaic* m, const tp_mosaic_info* mi, float* rows, int band_rows,
+                            int quiet, double* lo_out, double* hi_out, size_t* valid_out,
+                            tp_error* err)
+{
+    float lo = INFINITY, hi = -INFINITY;
+    size_t valid = 0;
+    tp_progress pr;
+    tp_progress_start(&pr, !quiet, "build", "range");
+    for (int y = 0; y < mi->height; y += band_rows) {
+        int n = mi->height - y < band_rows ? mi->height - y : band_rows;
+        tp_status st = tp_mosaic_read_rows(m, y, n, rows, (size_t)n * mi->width, err);
+        if (st != TP_OK)
+            return st;
+        const size_t count = (size_t)n * mi->width;
+        for (size_t i = 0; i < count; i++) {
+            float v = rows[i];
+            valid += v == v;
+            lo = v < lo ? v : lo; /* NaN compares false: skipped */
+            hi = v > hi ? v : hi;
+        }
+        tp_progress_update(&pr, y + n, mi->height, (double)(y + n) * mi->width);
+        if (tp_interrupted())
+            return tp_error_set(err, TP_ERR_IO, "interrupted");
+    }
+    *lo_out = lo, *hi_out = hi, *valid_out = valid;
+    return TP_OK;
+}
+
+/* One global step: 1 m for integer sources, else the finest 2^-p m (p <= 10) whose quantised
+ * range fits 65534 steps (coarser powers of two beyond 65534 m). */
+static double choose_step(double lo, double hi, int integer)
+{
+    double step = 1;
+    if (!integer)
+        for (int p = 10; p >= 0; p--) {
+            double s = ldexp(1.0, -p);
+            if (floor(hi / s + 0.5) - floor(lo / s + 0.5) <= 65534) {
+                step = s;
+                break;
+            }
+        }
+    while (floor(hi / step + 0.5) - floor(lo / step + 0.5) > 65534)
+        step *= 2;
+    return step;
+}
+
+/* The build pass: in, what it reads and how; out, what it saw. */
+typedef struct build_pass {
+    const tp_build_options* o;
+    tp_mosaic* m;
+    const tp_mosaic_info* mi;
+    const tp_tree_geometry* g;
+    float* rows;    /* band_rows * width */
+    int32_t* q;     /* band_rows * g->width */
+    uint8_t* frows; /* band_rows * width: filled flags as read; NULL when voids are not filled */
+    uint8_t* fq;    /* band_rows * g->width: the band's filled flags */
+    double step;
+    int bounded; /* lo .. hi is a bound given before reading: check it */
+    double lo, hi;
+    int quiet, threads;
+    const char* out;
+    const char* source; /* the first, for messages */
+    /* out */
+    int outside; /* a height outside the bound: nothing written, build again */
+    size_t valid;
+    double quant_err, seen_lo, seen_hi;
+    int64_t nodes;
+} build_pass;
+
+/* floor(x + 0.5) for |x| < 2^31 without a libm call (the loop then vectorises) */
+static inline int32_t round_half_up(double x)
+{
+    double y = x + 0.5;
+    int32_t t = (int32_t)y;
+    return t - (y < (double)t);
+}
+
+/* Quantises one row of the band (NaN: not drawn) and accumulates what the pass sees. */
+static void quantise_row(const float* src, int width, double step, int32_t* dst, size_t* valid,
+                         double* qerr, float* lo, float* hi)
+{
+    const double inv = 1.0 / step; /* a power of two: exact */
+    size_t n = 0;
+    double e_max = *qerr;
+    float l = *lo, h = *hi;
+    for (int x = 0; x < width; x++) {
+        float v = src[x];
+        int drawn = v == v;
+        double t = drawn ? v * inv : 0;
+        int32_t qv = round_half_up(t);
+        double e = fabs(qv * step - (drawn ? v : 0));
+        e_max = e > e_max ? e : e_max;
+        dst[x] = drawn ? qv : INT32_MIN;
+        n += drawn;
+        l = v < l ? v : l;
+        h = v > h ? v : h;
+    }
+    *valid += n, *qerr = e_max, *lo = l, *hi = h;
+}
+
+static tp_status run_build_pass(build_pass* p, const tp_store_header* h, tp_error* err)
+{
+    const tp_tree_geometry* g = p->g;
+    const tp_mosaic_info* mi = p->mi;
+    const int ps = 1 << g->n, band_rows = ps + 1;
+    tp_store_writer* w = NULL;
+    emit_ctx ec = {.threads = p->threads};
+    tp_tree_builder* b = NULL;
+    tp_status st = tp_store_writer_begin(p->out, h, &w, err);
+    if (st == TP_OK) {
+        ec.writer = w;
+        tp_tree_builder_desc bd = {0};
+        bd.geometry = *g;
+        bd.err_unit_steps = h->err_unit_steps;
+        bd.emit_filled = emit_node;
+        bd.parallel_for = parallel_for;
+        bd.user = &ec;
+        st = tp_tree_builder_create(&bd, &b, err);
+    }
+    float lo = INFINITY, hi = -INFINITY;
+    double qerr = 0;
+    size_t valid = 0;
+    int32_t* q = p->q;
+    tp_progress pr;
+    tp_progress_start(&pr, !p->quiet, "build", "build");
+    /* Band r = fitted rows r*ps .. (r+1)*ps; the first row is the last one of the band before
+     * (kept in q), so each source row is read once. */
+    for (int r = 0; r < g->rows && st == TP_OK; r++) {
+        const int y_first = r * ps;
+        const int skip = r > 0 ? 1 : 0;
+        if (skip)
+            memcpy(q, q + (size_t)ps * g->width, (size_t)g->width * sizeof *q);
+        if (skip && p->fq)
+            memcpy(p->fq, p->fq + (size_t)ps * g->width, (size_t)g->width);
+        const int y0 = y_first + skip, y1 = y_first + ps; /* rows to fill, inclusive */
+        int read_to = y1 < mi->height - 1 ? y1 : mi->height - 1;
+        int nread = read_to >= y0 ? read_to - y0 + 1 : 0;
+        if (nread > 0)
+            st = tp_mosaic_read_rows_filled(p->m, y0, nread, p->rows, (size_t)nread * mi->width,
+                                            p->frows, err);
+        if (st != TP_OK)
+            break;
+        for (int y = y0; y <= y1; y++) {
+            int32_t* dst = q + (size_t)(y - y_first) * g->width;
+            int x = 0;
+            if (y < mi->height) {
+                quantise_row(p->rows + (size_t)(y - y0) * mi->width, mi->width, p->step, dst,
+                             &valid, &qerr, &lo, &hi);
+                x = mi->width;
+            }
+            for (; x < g->width; x++)
+                dst[x] = INT32_MIN;
+            if (p->fq) {
+                uint8_t* fd = p->fq + (size_t)(y - y_first) * g->width;
+                memset(fd, 0, (size_t)g->width);
+                if (y < mi->height)
+                    memcpy(fd, p->frows + (size_t)(y - y0) * mi->width, (size_t)mi->width);
+            }
+        }
+        /* the bound may come from rounded statistics: a step of slack, if the range still fits */
+        if (p->bounded && (lo < p->lo - p->step || hi > p->hi + p->step ||
+                           floor(hi / p->step + 0.5) - floor(lo / p->step + 0.5) > 65534)) {
+            p->outside = 1;
+            break;
+        }
+        if (tp_interrupted()) {
+            st = TP_ERR_IO;
+            snprintf(err->message, sizeof err->message, "%s: interrupted: not written", p->out);
+            break;
+        }
+        st = tp_tree_builder_add_band_filled(b, r, q, p->fq, (size_t)band_rows * g->width, err);
+        tp_progress_update(&pr, r + 1, g->rows, (double)(read_to + 1) * mi->width);
+    }
+    tp_tree_builder_destroy(b);
+    if (st == TP_OK && !p->outside && valid == 0) /* a bound from the files, none in the grid */
+        st = tp_error_set(err, TP_ERR_BAD_DATA, "%s: no valid height in the %dx%d grid", p->source,
+                          mi->width, mi->height);
+    if (st == TP_OK && !p->outside) {
+        tp_store_writer_set_totals(w, qerr, valid, (size_t)mi->width * mi->height - valid);
+        char* notes = build_notes(p->o, mi, tp_mosaic_filled_samples(p->m));
+        st = notes ? tp_store_writer_set_notes(w, notes, err)
+                   : tp_error_set(err, TP_ERR_OUT_OF_MEMORY, "build: out of memory");
+        free(notes);
+        if (st == TP_OK)
+            st = tp_store_writer_commit(w, err);
+        else
+            tp_store_writer_abort(w);
+    } else {
+        tp_store_writer_abort(w);
+    }
+    p->valid = valid;
+    p->quant_err = qerr;
+    p->seen_lo = lo, p->seen_hi = hi;
+    p->nodes = ec.nodes;
+    return st;
+}
+
+static uint64_t file_size(const char* path)
+{
+    struct stat st;
+    return stat(path, &st) == 0 ? (uint64_t)st.st_size : 0;
+}
+
+static int fail_line(const char* msg)
+{
+    tp_cli_error("%s", msg);
+    return TP_EXIT_FAILURE;
+}
+
+int tp_store_build(const tp_build_options* options, tp_build_result* result)
+{
+    const double t0 = tp_clock_s();
+    tp_error err = {0};
+    tp_build_options oc = *options;
+    tp_build_options* o = &oc;
+    if (o->threads <= 0) {
+        long n = sysconf(_SC_NPROCESSORS_ONLN);
+        o->threads = n > 0 ? (int)(n > 1024 ? 1024 : n) : 1;
+    }
+    int rc;
+    if ((rc = tp_cli_output_check("build", "-o", o->out, TP_OUTPUT_STORE)) != TP_EXIT_OK)
+        return rc;
+    { /* --memory (the whole process's budget) within what it may still use */
+        uint64_t b =
+            tp_memory_fit_budget("build", o->sources[0], "--memory", 0, (uint64_t)o->memory_mb << 20,
+                                 (uint64_t)BUILD_MIN_MEMORY_MB << 20);
+        if (!b)
+            return TP_EXIT_FAILURE;
+        o->memory_mb = (int)(b >> 20);
+    }
+    for (int i = 0; i < o->source_count; i++)
+        if (!strcmp(o->sources[i], o->out))
+            return tp_cli_error("%s: the output would replace a source", o->out), TP_EXIT_FAILURE;
+    tp_mosaic* m = NULL;
+    tp_mosaic_options mo = {.crs = o->crs,
+                            .resampling = o->resampling,
+                            .memory_mb = o->memory_mb,
+                            .fill_max = o->fill_max,
+                            .fill_from = o->fill_from,
+                            .z_unit = o->z_unit};
+    if (tp_mosaic_open(o->sources, (size_t)o->source_count, &mo, &m, &err) != TP_OK)
+        return fail_line(err.message);
+    tp_mosaic_info mi;
+    tp_mosaic_get_info(m, &mi);
+    if (!o->quiet && mi.notes[0]) {
+        const char* s = mi.notes;
+        while (*s) {
+            const char* e = strchr(s, '\n');
+            int len = e ? (int)(e - s) : (int)strlen(s);
+            tp_cli_note("%.*s", len, s);
+            s += len + (e ? 1 : 0);
+        }
+    }
+    /* Sources far apart leave most of their mosaic empty: minutes of work on nodata, and a
+     * store mostly of gaps. Almost always a wrong source; --allow-gaps when it is meant. */
+    if (mi.covered_share < TP_BUILD_MIN_COVERED && !o->allow_gaps) {
+        tp_cli_error("the %d sources cover about %.1f%% of their mosaic's "
+                     "%dx%d samples (%.1f%% would be gaps, nodata): check that they belong "
+                     "together, or add --allow-gaps",
+                     mi.source_count, 100.0 * mi.covered_share, mi.width, mi.height,
+                     100.0 * (1.0 - mi.covered_share));
+        tp_mosaic_close(m);
+        return TP_EXIT_FAILURE;
+    }
+
+    tp_tree_geometry g;
+    if (tp_tree_geometry_init(mi.width, mi.height, o->patch_size, &g, &err) != TP_OK) {
+        tp_mosaic_close(m);
+        return fail_line(err.message);
+    }
+    const int ps = 1 << g.n, band_rows = ps + 1;
+    const double samples = (double)mi.width * mi.height;
+    /* The budget, checked before any reading: GDAL's block cache has a quarter of it
+     * (tp_mosaic_open); what grows with the grid must fit the other three quarters. */
+    const double need_mb = build_memory_bytes(&g, mi.width, o->fill_max) / (1024.0 * 1024.0);
+    if (need_mb > o->memory_mb * 0.75) {
+        /* the node size that needs least: small nodes make a large table, large ones wide bands */
+        int best = o->patch_size;
+        double best_mb = need_mb;
+        for (int p = 17; p <= 257; p = 2 * p - 1) {
+            tp_tree_geometry gp;
+            tp_error e2;
+            if (tp_tree_geometry_init(mi.width, mi.height, p, &gp, &e2) != TP_OK)
+                continue;
+            double mb = build_memory_bytes(&gp, mi.width, o->fill_max) / (1024.0 * 1024.0);
+            if (mb < best_mb)
+                best = p, best_mb = mb;
+        }
+        char alt[96] = "";
+        if (best != o->patch_size)
+            snprintf(alt, sizeof alt, " (or --memory %.0f with --patch %d)",
+                     memory_to_suggest(best_mb), best);
+        tp_cli_error("--memory %d MB is too small for a %dx%d grid in %dx%d "
+                     "nodes: one band of %d rows, the tree builder and the store writer need "
+                     "%.0f MB, besides GDAL's block cache (a quarter of the budget); give --memory "
+                     "%.0f or more%s",
+                     o->memory_mb, mi.width, mi.height, ps + 1, ps + 1, band_rows, need_mb,
+                     memory_to_suggest(need_mb), alt);
+        tp_mosaic_close(m);
+        return TP_EXIT_FAILURE;
+    }
+    float* rows = malloc((size_t)band_rows * mi.width * sizeof *rows);
+    int32_t* q = malloc((size_t)band_rows * g.width * sizeof *q);
+    uint8_t* frows = o->fill_max > 0 ? malloc((size_t)band_rows * mi.width) : NULL;
+    uint8_t* fq = o->fill_max > 0 ? malloc((size_t)band_rows * g.width) : NULL;
+    if (!rows || !q || (o->fill_max > 0 && (!frows || !fq))) {
+        free(rows), free(q), free(frows), free(fq), tp_mosaic_close(m);
+        return fail_line("build: out of memory for one band of rows");
+    }
+
+    /* The height range decides the step (written first, in the header): a bound the mosaic
+     * knows without reading the grid (sources' statistics, or the few files a VRT repeats), or
+     * else a first pass over the grid. The quantisation error and the valid samples are counted
+     * while building and given to the store at commit. */
+    double lo = mi.min_m, hi = mi.max_m;
+    int bounded = mi.has_range;
+    size_t valid = 0;
+    double quant_err = 0, seen_lo = INFINITY, seen_hi = -INFINITY;
+    double step = 1, err_unit = 1;
+    tp_status st = TP_OK;
+    int64_t nodes = 0;
+    char* notes = build_notes(o, &mi, 0);
+    if (!notes) {
+        free(rows), free(q), free(frows), free(fq), tp_mosaic_close(m);
+        return fail_line("build: out of memory");
+    }
+    for (int attempt = 0;; attempt++) {
+        if (!bounded) {
+            st = range_pass(m, &mi, rows, band_rows, o->quiet, &lo, &hi, &valid, &err);
+            if (st == TP_OK && valid == 0) {
+                snprintf(err.message, sizeof err.message, "%s: no valid height in the %dx%d grid",
+                         o->sources[0], mi.width, mi.height);
+                st = TP_ERR_BAD_DATA;
+            }
+            if (st != TP_OK)
+                break;
+        }
+        step = choose_step(lo, hi, mi.integer_sources);
+        const double range_steps = floor(hi / step + 0.5) - floor(lo / step + 0.5);
+        err_unit = tp_tree_err_unit_steps(range_steps);
+
+        tp_store_header h = {0};
+        h.geometry = g;
+        memcpy(h.geotransform, mi.geotransform, sizeof h.geotransform);
+        h.height_step_m = step;
+        h.quant_max_error_m = step / 2; /* the totals replace these at commit */
+        h.err_unit_steps = err_unit;
+        h.valid_samples = 0;
+        h.nodata_samples = (size_t)mi.width * mi.height;
+        h.crs_wkt = mi.crs_wkt;
+        h.notes = notes;
+        build_pass bp = {.o = o,
+                         .m = m,
+                         .mi = &mi,
+                         .g = &g,
+                         .rows = rows,
+                         .q = q,
+                         .frows = frows,
+                         .fq = fq,
+                         .step = step,
+                         .bounded = bounded,
+                         .lo = lo,
+                         .hi = hi,
+                         .quiet = o->quiet,
+                         .threads = o->threads,
+                         .out = o->out,
+                         .source = o->sources[0]};
+        st = run_build_pass(&bp, &h, &err);
+        if (st == TP_OK && bp.outside) {
+            /* a VRT that scales its sources: the bound did not hold; measure the range */
+            if (!o->quiet)
+                tp_cli_note("heights %g .. %g m outside the bound %g .. %g "
+                            "m the sources gave: building again after a range pass",
+                            bp.seen_lo, bp.seen_hi, lo, hi);
+            bounded = 0;
+            if (attempt == 0)
+                continue;
+            snprintf(err.message, sizeof err.message, "build: the heights changed between reads");
+            st = TP_ERR_BAD_DATA;
+        }
+        valid = bp.valid;
+        quant_err = bp.quant_err;
+        seen_lo = bp.seen_lo, seen_hi = bp.seen_hi;
+        nodes = bp.nodes;
+        break;
+    }
+    free(rows);
+    free(q);
+    free(frows);
+    free(fq);
+    const size_t filled = tp_mosaic_filled_samples(m);
+    tp_mosaic_voids mv;
+    tp_mosaic_get_voids(m, &mv);
+    tp_mosaic_close(m);
+    if (st == TP_OK && mv.too_large_samples > 0)
+        tp_cli_warning("%zu void samples left unfilled: their voids need a "
+                       "window of more than %d rows to be filled whole (an eighth of --memory %d); "
+                       "give more --memory to fill them",
+                       mv.too_large_samples, mv.max_void_rows, o->memory_mb);
+    free(notes);
+    if (st != TP_OK) {
+        if (tp_interrupted())
+            return tp_cli_interrupted();
+        return fail_line(err.message);
+    }
+    lo = seen_lo, hi = seen_hi;
+
+    const double seconds = tp_clock_s() - t0;
+    const uint64_t bytes = file_size(o->out);
+    const double rss_mb = tp_memory_peak_rss() / (1024.0 * 1024.0);
+    if (!o->quiet)
+        tp_cli_note("%s: %dx%d samples, %lld nodes, %.3f bytes/sample, step %g m, "
+                    "%.1f s, peak RSS %.0f MB",
+                    o->out, mi.width, mi.height, (long long)nodes, bytes / samples, step, seconds,
+                    rss_mb);
+
+    if (result) {
+        *result = (tp_build_result){.width = mi.width,
+                                    .height = mi.height,
+                                    .samples = samples,
+                                    .valid_samples = valid,
+                                    .patch_size = ps + 1,
+                                    .nodes = nodes,
+                                    .bytes = bytes,
+                                    .step_m = step,
+                                    .quant_max_error_m = quant_err,
+                                    .min_m = lo,
+                                    .max_m = hi,
+                                    .warped = mi.warped,
+                                    .threads = o->threads,
+                                    .memory_mb = o->memory_mb,
+                                    .filled_samples = filled,
+                                    .filled_from_samples = mv.filled_from_samples,
+                                    .void_samples_too_large = mv.too_large_samples,
+                                    .seconds = seconds,
+                                    .rss_peak_mb = rss_mb};
+        snprintf(result->crs_name, sizeof result->crs_name, "%s", mi.crs_name);
+    }
+    return TP_EXIT_OK;
+}

@@ -1,0 +1,67 @@
+/*
+ * store_build.h - a terrain store (.tpt, docs/store.md) built from DEM sources (store_build.c):
+ * what `terrapatch build` runs once its options are read (commands/cmd_build.c), and what the
+ * store cache runs for a DEM opened by another command (store_cache.c). One call, an options
+ * struct in, a result struct out, as GDAL's utilities call GDALContourGenerateEx.
+ *
+ * Memory follows a band of rows, not the map; the store is written atomically (a temporary
+ * file renamed into place, removed on failure or SIGINT/SIGTERM).
+ */
+#ifndef TP_APP_STORE_BUILD_H
+#define TP_APP_STORE_BUILD_H
+
+#include "tp_io.h"
+
+#include <stddef.h>
+#include <stdint.h>
+
+/* The smallest --memory accepted (MB): the program's fixed part alone is more than that. */
+#define BUILD_MIN_MEMORY_MB 64
+
+/* The least share of the mosaic the sources must cover without allow_gaps. */
+#define TP_BUILD_MIN_COVERED 0.5
+
+typedef struct tp_build_options {
+    const char** sources; /* source_count DEMs (paths GDAL opens), later ones over earlier */
+    int source_count;
+    const char* out;        /* NAME.tpt */
+    int patch_size;         /* node size: 17, 33, 65 (default), 129 or 257 */
+    const char* crs;        /* the render grid's CRS (NULL: the sources' own or a UTM/UPS zone) */
+    tp_resampling resampling;
+    int memory_mb;          /* the whole process's budget (default 1024), fitted to what it may
+                               use (tp_memory_fit_budget); at least BUILD_MIN_MEMORY_MB */
+    int fill_max;           /* samples; 0 fills nothing; TP_FILL_MAX_ANY (the default) any size */
+    const char* fill_from;  /* fill voids from this raster, or NULL */
+    const char* z_unit;     /* m, ft or us-ft; NULL: the sources' */
+    int allow_gaps;         /* build even when the sources cover under TP_BUILD_MIN_COVERED */
+    int threads;            /* 0: every core */
+    int quiet;              /* no notes or progress on stderr */
+} tp_build_options;
+
+/* The defaults above (patch 65, memory 1024 MB, voids of any size filled); no sources. */
+void tp_build_options_init(tp_build_options* o);
+
+/* What a build made. */
+typedef struct tp_build_result {
+    int width, height; /* the render grid, samples */
+    double samples;    /* width x height */
+    size_t valid_samples;
+    int patch_size;
+    int64_t nodes;
+    uint64_t bytes; /* the store's size */
+    double step_m, quant_max_error_m;
+    double min_m, max_m;
+    char crs_name[160];
+    int warped;
+    int threads, memory_mb; /* as used */
+    size_t filled_samples, filled_from_samples, void_samples_too_large;
+    double seconds, rss_peak_mb;
+} tp_build_result;
+
+/* Builds o->out from o->sources; notes and progress on stderr unless o->quiet, then a line of
+ * figures. Returns an exit code (base/cli.h) after one line on stderr naming the file and what
+ * was wrong (TP_EXIT_FAILURE), 128 + the signal after SIGINT/SIGTERM; *result (may be NULL) is
+ * set on TP_EXIT_OK. */
+int tp_store_build(const tp_build_options* o, tp_build_result* result);
+
+#endif /* TP_APP_STORE_BUILD_H */
