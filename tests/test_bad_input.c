@@ -774,7 +774,7 @@ static void tmp_path(char* buf, size_t cap, const char* file)
  */
 #define REQUIRE_IO() ((void)0)
 
-/* As `terrapatch` reads a DEM (app/scene.c): heightmap images through OpenImageIO. */
+/* As `terrapatch` reads a DEM (app/scene/scene.c): heightmap images through OpenImageIO. */
 static tp_status read_any(const char* path, tp_dem** out, tp_error* err)
 {
     return tp_is_heightmap_image(path) ? tp_dem_read_image(path, NULL, out, err)

@@ -2232,7 +2232,7 @@ TEST(store_refuses_what_needs_a_terrain_exits_2)
 }
 
 /* ---------------------------------------------------------------------------------------------
- * Persistent Grid Mapping (--renderer pgm; app/bench/bench_pgm.c, app/view/pgm_render.c)
+ * Persistent Grid Mapping (--renderer pgm; app/bench/bench_pgm.c, app/render/pgm_render.c)
  */
 
 /* bench --renderer pgm: one configuration per grid after the three patch ones, every frame of

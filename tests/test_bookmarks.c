@@ -1,5 +1,5 @@
 /*
- * test_bookmarks.c - the viewer's named camera views in their text file (app/bookmarks.c):
+ * test_bookmarks.c - the viewer's named camera views in their text file (app/scene/bookmarks.c):
  * round trip through the file, names with spaces, a corrupted line named by file and line, a
  * missing file as no bookmarks, an atomic save that leaves the older file on failure.
  */

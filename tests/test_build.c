@@ -1,6 +1,6 @@
 /*
  * test_build.c - the mosaic read in bands (tp_mosaic, io/src/mosaic.cpp) and `terrapatch build`
- * (app/cmd_build.c) on the real DEMs: one DEM gives the single-DEM pipeline's grid and heights;
+ * (app/scene/store_build.c) on the real DEMs: one DEM gives the single-DEM pipeline's grid and heights;
  * two adjacent SRTM tiles give one seamless grid, the same store as their .vrt; bad sources and
  * signals, a full disk and a memory budget too small leave nothing behind.
  */

@@ -1,6 +1,6 @@
 /*
  * test_clipmap.c - clip windows and texture levels (core/src/clipmap.c) and the imagery block
- * cache (app/view/imagery_cache.c) without a GPU. The GPU side (toroidal uploads, the valid
+ * cache (app/render/imagery_cache.c) without a GPU. The GPU side (toroidal uploads, the valid
  * regions after long flights) is test_clipmap_gl.c.
  */
 #define _POSIX_C_SOURCE 200809L

@@ -1,5 +1,5 @@
 /*
- * test_clipmap_gl.c - the clipmap on a GPU (app/view/clipmap.c through Mesa llvmpipe, EGL
+ * test_clipmap_gl.c - the clipmap on a GPU (app/render/clipmap.c through Mesa llvmpipe, EGL
  * without a display): after long flights (fast, turning, reversing, jumping, with the upload cap
  * and a real loader thread) every texel the shader may sample (each level's valid region) holds
  * exactly its own texel of the pyramid: no stale strips, no block in the wrong slot, no seam at

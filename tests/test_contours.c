@@ -1,5 +1,5 @@
 /*
- * test_contours.c - contour lines (io/src/contours.cpp, app/cmd_contours.c):
+ * test_contours.c - contour lines (io/src/contours.cpp, app/commands/cmd_contours.c):
  *   - tp_contours_generate on real ground (N42E001) against GDALContourGenerate run here
  *     directly on the file's own band (its Int16 samples, its own nodata), line by line, and
  *     every vertex checked independently: it lies on a grid edge where the linear interpolation

@@ -1,5 +1,5 @@
 /*
- * test_ground.c - full-resolution ground queries (app/ground.c) on a store built from a real DEM
+ * test_ground.c - full-resolution ground queries (app/scene/ground.c) on a store built from a real DEM
  * (Mt Hood, NAD83 / UTM 10N: the store keeps the DEM's grid and its Int16 heights exactly):
  * heights at posts (corners included) against GDAL's own reading of the DEM; a cache of 4 leaves
  * answers exactly as a large one while reading more; positions off the DEM are refused with the

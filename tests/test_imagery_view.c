@@ -1,5 +1,5 @@
 /*
- * test_imagery_view.c - imagery in the viewer (app/view/imagery_view.c, clipmap.c, the
+ * test_imagery_view.c - imagery in the viewer (app/render/imagery_view.c, clipmap.c, the
  * renderer's sampling), end to end: `terrapatch build` a store from the Crater Lake DEM,
  * `terrapatch imagery` a pyramid for it, `terrapatch view --headless` and `terrapatch bench`
  * as children, their screenshots and JSON read back.

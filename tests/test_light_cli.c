@@ -1,5 +1,5 @@
 /*
- * test_light_cli.c - `terrapatch light` (app/cmd_light.c) run as a child, its GeoTIFF opened
+ * test_light_cli.c - `terrapatch light` (app/commands/cmd_light.c) run as a child, its GeoTIFF opened
  * with GDAL's C API:
  *   - Mt Hood (UTM 10N): the file has the DEM's grid and CRS; the sun it prints is tp_sun.h's
  *     at the printed place and time, its grid azimuth the true one less the convergence worked

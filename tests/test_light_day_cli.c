@@ -1,5 +1,5 @@
 /*
- * test_light_day_cli.c - `terrapatch light ... --day` (app/light_day.c) run as a child, its
+ * test_light_day_cli.c - `terrapatch light ... --day` (app/commands/light_day.c) run as a child, its
  * light map (.tpl) read back with tp_imagery.h:
  *   - N42E001 (1239 x 1657 posts on its UTM grid: 2 x 2 tiles of 1024 with their margins): the
  *     map's level-0 texels, evaluated with tp_light_times_lit at three times of the day, agree

@@ -1,5 +1,5 @@
 /*
- * test_los_cli.c - `terrapatch los` and `terrapatch viewshed` (app/cmd_los.c, cmd_viewshed.c)
+ * test_los_cli.c - `terrapatch los` and `terrapatch viewshed` (app/commands/cmd_los.c, cmd_viewshed.c)
  * run as children, their outputs read back independently:
  *   - los over a ridge written here with GDAL (UTM 33N, integer heights: the store keeps them
  *     exactly): visible or not and by how much, worked out from the geometry; the obstruction's

@@ -1,6 +1,6 @@
 /*
  * test_pgm_clip_error_gl.c - the error of Persistent Grid Mapping over a store
- * (tp_pgm_clipmap_measure, app/view/pgm_clip_error.c, over the core's
+ * (tp_pgm_clipmap_measure, app/render/pgm_clip_error.c, over the core's
  * tp_pgm_measure_error_source), through Mesa llvmpipe, on stores written from Mt Hood
  * (tp_test_pgm_store.h):
  *

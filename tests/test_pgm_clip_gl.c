@@ -1,5 +1,5 @@
 /*
- * test_pgm_clip_gl.c - Persistent Grid Mapping over a store (app/view/pgm_clip.c and
+ * test_pgm_clip_gl.c - Persistent Grid Mapping over a store (app/render/pgm_clip.c and
  * pgm_render.c's clipmap shader, through Mesa llvmpipe, EGL without a display), on stores
  * written in a temporary folder from Mt Hood (data/lf_elev_220_mt_hood_utm.tif, its voids
  * filled as tp_pgm_pyramid_from_grid fills them, so that both renderers draw every post):

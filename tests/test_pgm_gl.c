@@ -1,5 +1,5 @@
 /*
- * test_pgm_gl.c - Persistent Grid Mapping on a GPU (app/view/pgm_render.c through Mesa llvmpipe,
+ * test_pgm_gl.c - Persistent Grid Mapping on a GPU (app/render/pgm_render.c through Mesa llvmpipe,
  * EGL without a display):
  *
  *   - a tilted plane at UTM-sized coordinates (~500 km): every level of a point-sampled pyramid

@@ -1,5 +1,5 @@
 /*
- * test_point.c - `terrapatch point` (app/cmd_point.c over app/ground.c) run as a child, its
+ * test_point.c - `terrapatch point` (app/commands/cmd_point.c over app/scene/ground.c) run as a child, its
  * JSON read back, against values computed here independently:
  *   - heights at grid posts of a real DEM read with GDAL's C API (Mt Hood, NAD83 / UTM 10N:
  *     the store keeps the DEM's own grid, Int16 heights in 1 m steps, so exactly the sample);

@@ -1,5 +1,5 @@
 /*
- * test_position.c - positions as the command line reads them (app/position.c: every command
+ * test_position.c - positions as the command line reads them (app/base/position.c: every command
  * that takes a position) and the DMS reader and writer behind them (tp_geo.h, GeographicLib's
  * DMS class).
  *

@@ -1,6 +1,6 @@
 /*
- * test_position_cli.c - positions as the planner commands read them (app/position.c through
- * app/planner_cli.c), run as children (issue 29, section 2):
+ * test_position_cli.c - positions as the planner commands read them (app/base/position.c through
+ * app/commands/planner_cli.c), run as children (issue 29, section 2):
  *   - every form `point` prints (DMS, UTM with its labels, MGRS with and without spaces) and
  *     `coord` prints (--to utm, --to mgrs) reads back in `point` and `coord`, at the printed
  *     precision;

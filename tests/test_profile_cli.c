@@ -1,10 +1,10 @@
 /*
- * test_profile_cli.c - `terrapatch profile` (app/cmd_profile.c) run as a child on stores it
+ * test_profile_cli.c - `terrapatch profile` (app/commands/cmd_profile.c) run as a child on stores it
  * builds, its figures measured again here:
  *   - the GPX track of data/vectors over N42E001: the track's latitude/longitude read here
  *     with OGR's C API, put into UTM 31N with GeographicLib (tp_geo_to_utmups, not OGR/PROJ),
  *     every leg split into equal pieces no longer than the grid spacing, the heights asked of
- *     the ground (app/ground.c on the same store); lengths 2D and 3D, climb, descent, lowest,
+ *     the ground (app/scene/ground.c on the same store); lengths 2D and 3D, climb, descent, lowest,
  *     highest, steepest from those; the ellipsoidal length from GeographicLib's geodesics; the
  *     start against GDAL's own reading of the .hgt;
  *   - bad input: an unreadable file, an empty GPX, a file without a line, a --feature beyond

@@ -1,4 +1,4 @@
-/* test_stream.c - app/stream.c: the loader thread, the memory budget, substitution instead of
+/* test_stream.c - app/scene/stream.c: the loader thread, the memory budget, substitution instead of
  * holes, and read failures, over a store written from a real DEM. */
 #define _POSIX_C_SOURCE 200809L
 #include "tp_core.h"

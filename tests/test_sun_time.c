@@ -1,4 +1,4 @@
-/* test_sun_time.c - the dates and times of `terrapatch light` (app/sun_time.c): every zone
+/* test_sun_time.c - the dates and times of `terrapatch light` (app/base/sun_time.c): every zone
  * form, the calendar's edges and the errors. Expected Unix seconds from Python's datetime
  * (e.g. (datetime(2026,6,21,12,30) - datetime(1970,1,1)).total_seconds() = 1782045000). */
 #include "sun_time.h"

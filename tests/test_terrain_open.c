@@ -1,5 +1,5 @@
 /*
- * test_terrain_open.c - one way to open the ground (app/terrain_open.c, issue 29 part 1): every
+ * test_terrain_open.c - one way to open the ground (app/scene/terrain_open.c, issue 29 part 1): every
  * command reads GDAL's virtual paths, takes the DEM options, refuses them the same way for a
  * store, and says a damaged store is one. `terrapatch` is run as a child on the real tile
  * N42E001 (SRTM, Andorra) and the Mt Hood sample; the oracle for heights is the same command on

@@ -379,7 +379,7 @@ static int distinct_levels(const view_stats* s)
 }
 
 /* ---------------------------------------------------------------------------------------------
- * The core in this process, built as app/scene.c builds it (default grid options, patch 17,
+ * The core in this process, built as app/scene/scene.c builds it (default grid options, patch 17,
  * pad), and the camera as app/cmd_view.c's camera_from makes it.
  */
 typedef struct core_scene {
@@ -1993,7 +1993,7 @@ TEST(store_damaged_node_is_reported_once_and_drawn_as_its_ancestor)
 #endif
 }
 
-/* The renderer's vertex pools (app/view/vertex_pool.c) hold what the frame draws at the levels
+/* The renderer's vertex pools (app/render/vertex_pool.c) hold what the frame draws at the levels
  * it draws: N42E001 through a 65-sample store, seen whole from above, draws its nodes at levels
  * 0..6, most of them at 2..4. GPU memory (gpu_bytes) is bounded here from the frame's level mix
  * alone, as the renderer documents its pools: a pool per level k of (2^k+1)^2-vertex slots, 16

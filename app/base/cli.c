@@ -103,6 +103,34 @@ int tp_cli_interrupted(void)
     return 128 + tp_interrupted();
 }
 
+int tp_cli_usage(const char* cmd, const char* what, ...)
+{
+    char text[1024];
+    va_list ap;
+    va_start(ap, what);
+    vsnprintf(text, sizeof text, what, ap);
+    va_end(ap);
+    tp_cli_error("%s (see 'terrapatch %s --help')", text, cmd);
+    return TP_EXIT_USAGE;
+}
+
+int tp_cli_usage_at(const char* cmd, const char* what, const char* detail)
+{
+    if (detail[0])
+        return tp_cli_usage(cmd, "%s '%s'", what, detail);
+    return tp_cli_usage(cmd, "%s", what);
+}
+
+int tp_parse_int(const char* s, int lo, int hi, int* v)
+{
+    char* end;
+    long x = strtol(s, &end, 10);
+    if (end == s || *end || x < lo || x > hi)
+        return 0;
+    *v = (int)x;
+    return 1;
+}
+
 int tp_parse_numbers(const char* s, double* v, int n)
 {
     char* end;

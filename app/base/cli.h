@@ -50,6 +50,17 @@ int tp_cli_finish(int code);
  * "terrapatch CMD: interrupted" (once per process) and returns 128 + the signal. */
 int tp_cli_interrupted(void);
 
+/* Prints "terrapatch CMD: WHAT (see 'terrapatch CMD --help')" (what as printf's format; CMD
+ * is cmd, the command whose help to read) and returns TP_EXIT_USAGE. */
+int tp_cli_usage(const char* cmd, const char* what, ...) TP_CLI_PRINTF(2, 3);
+
+/* The same for "WHAT 'DETAIL'", an argument quoted after the problem ("unknown option '-x'");
+ * just WHAT when detail is "". */
+int tp_cli_usage_at(const char* cmd, const char* what, const char* detail);
+
+/* s (base 10, nothing after it) as an integer in lo .. hi: 1 with *v, else 0 (*v untouched). */
+int tp_parse_int(const char* s, int lo, int hi, int* v);
+
 /* Parses "a,b,c" into n finite numbers; 1 on success. */
 int tp_parse_numbers(const char* s, double* v, int n);
 

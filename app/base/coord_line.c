@@ -7,7 +7,7 @@
  * through io/include/tp_geo.h.
  */
 #include "coord_line.h"
-#include "position.h"
+#include "position_int.h"
 
 #include "tp_core.h"
 #include "tp_geo.h"
@@ -24,7 +24,6 @@
  * Parsing one line
  */
 
-typedef tp__fields fields;
 
 /* tp__position_read_number and tp__position_failed write msg at position.c's size */
 _Static_assert(MSG_SIZE == TP_POSITION_MSG_SIZE, "coord's messages are position.c's size");

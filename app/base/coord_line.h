@@ -1,6 +1,6 @@
 /*
  * coord_line.h - one input line of `terrapatch coord` converted to its output line
- * (app/coord_line.c). Split from cmd_coord.c, which reads the lines and prints the results, so
+ * (app/base/coord_line.c). Split from cmd_coord.c, which reads the lines and prints the results, so
  * that the parser can be called without a process around it (tests/fuzz/fuzz_coord_line.c).
  */
 #ifndef TP_APP_COORD_LINE_H

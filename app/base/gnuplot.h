@@ -2,7 +2,7 @@
  * gnuplot.h - a PNG drawn by gnuplot (Debian's gnuplot-nox) from a script we write, written
  * atomically: gnuplot draws into a private folder (mkdtemp, 0700) and the PNG then goes through
  * io's atomic writer like every other output. The pattern of app/bench/bench_plot.c, for the
- * field tools' plots (`terrapatch los --profile`). app/gnuplot.c.
+ * field tools' plots (`terrapatch los --profile`). app/base/gnuplot.c.
  */
 #ifndef TP_APP_GNUPLOT_H
 #define TP_APP_GNUPLOT_H

@@ -1,7 +1,7 @@
 /*
  * output_check.h - an output path checked before a command does any work: its extension names a
  * format the output is written in (tp_output_format_for in tp_io.h, the one module deciding
- * it) and its folder can be written (tp_output_check). app/output_check.c.
+ * it) and its folder can be written (tp_output_check). app/base/output_check.c.
  */
 #ifndef TP_APP_OUTPUT_CHECK_H
 #define TP_APP_OUTPUT_CHECK_H

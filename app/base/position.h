@@ -1,7 +1,7 @@
 /*
  * position.h - a position as people type it on the command line, read in one place for every
  * command that takes one (`coord`, `point`, `los`, `viewshed`, `light`, `contours`), and
- * written back as people read it (MGRS with spaces). app/position.c; its fuzz entry point is
+ * written back as people read it (MGRS with spaces). app/base/position.c; its fuzz entry point is
  * tests/fuzz/fuzz_position.c. Every form a command prints reads back here.
  *
  * The text is split into fields at white space and commas (a comma is a space, as in
@@ -101,25 +101,9 @@ int tp_position_join(char* const* argv, int count, char* buf, size_t cap);
  * out (cap bytes) is too small. */
 int tp_position_mgrs_spaced(const char* mgrs, char* out, size_t cap);
 
-/* ---- shared with coord_line.c (tp__: between our own .c files, not for commands) ---- */
-
-#define TP__POSITION_MAX_FIELDS 8 /* fields kept (spaced DMS: N 55 28 41.88 W 2 08 44.16) */
-
-typedef struct tp__fields {
-    int count; /* all fields of the text; only the first TP__POSITION_MAX_FIELDS are kept */
-    char* field[TP__POSITION_MAX_FIELDS];
-} tp__fields;
-
-/* Splits line in place at white space, and at commas too where commas. */
-tp__fields tp__position_split(char* line, int commas);
-
-/* Reads token as the number called name (tp_position_decimal). 1 with *v; else 0 with msg
- * (TP_POSITION_MSG_SIZE bytes): "NAME: expected a decimal number, got 'TOKEN'" or
- * "NAME 'TOKEN' is too large" (the token cut to 40 characters, unprintable bytes as '?'). */
-int tp__position_read_number(const char* token, const char* name, double* v, char* msg);
-
-/* Writes err's message (tp_status_str(s) when it is empty) into msg (TP_POSITION_MSG_SIZE
- * bytes); returns 0. */
-int tp__position_failed(tp_status s, const tp_error* err, char* msg);
+/* When text is two decimal numbers that do not read as a position but do the other way round
+ * ("139.7 35.6": longitude first), writes them swapped ("35.6 139.7") into out (cap bytes) and
+ * returns 1; else 0. */
+int tp_position_swapped(const char* text, char* out, size_t cap);
 
 #endif /* TP_APP_POSITION_H */

@@ -1,7 +1,7 @@
 /*
  * sun_time.h - the date and time of `terrapatch light` (and of the viewer's sun, later): a
  * calendar date "YYYY-MM-DD" and a clock time "HH:MM[:SS]" with an optional zone, read into
- * Unix seconds, and written back in a zone. app/sun_time.c, pure C.
+ * Unix seconds, and written back in a zone. app/base/sun_time.c, pure C.
  *
  * Zones: "Z", "UTC" or "GMT" (case-insensitive), or an offset from UTC "+HH", "+HH:MM",
  * "+HHMM" (or '-'), up to 14 hours; after the time directly or after one space ("14:30Z",

@@ -77,25 +77,6 @@ static void print_help(void)
           stdout);
 }
 
-static int usage_error(const char* what, const char* detail)
-{
-    if (detail[0])
-        tp_cli_error("%s '%s' (see 'terrapatch build --help')", what, detail);
-    else
-        tp_cli_error("%s (see 'terrapatch build --help')", what);
-    return TP_EXIT_USAGE;
-}
-
-static int parse_int(const char* s, int lo, int hi, int* v)
-{
-    char* end;
-    long x = strtol(s, &end, 10);
-    if (end == s || *end || x < lo || x > hi)
-        return 0;
-    *v = (int)x;
-    return 1;
-}
-
 int tp_build_parse_options(int argc, char** argv, build_options* o)
 {
     static const struct option longs[] = {
@@ -127,7 +108,7 @@ int tp_build_parse_options(int argc, char** argv, build_options* o)
         switch (c) {
         case 'o': o->build.out = optarg; break;
         case OPT_PATCH:
-            if (!parse_int(optarg, 17, 257, &o->build.patch_size) ||
+            if (!tp_parse_int(optarg, 17, 257, &o->build.patch_size) ||
                 (o->build.patch_size != 17 && o->build.patch_size != 33 && o->build.patch_size != 65 &&
                  o->build.patch_size != 129 && o->build.patch_size != 257))
                 return tp_option_error("build", "--patch", "17, 33, 65, 129 or 257", optarg),
@@ -144,12 +125,12 @@ int tp_build_parse_options(int argc, char** argv, build_options* o)
                        TP_EXIT_USAGE;
             break;
         case OPT_MEMORY:
-            if (!parse_int(optarg, BUILD_MIN_MEMORY_MB, 1 << 24, &o->build.memory_mb))
+            if (!tp_parse_int(optarg, BUILD_MIN_MEMORY_MB, 1 << 24, &o->build.memory_mb))
                 return tp_option_error("build", "--memory", "megabytes, 64 or more", optarg),
                        TP_EXIT_USAGE;
             break;
         case OPT_FILL_MAX:
-            if (!parse_int(optarg, 0, 100000, &o->build.fill_max))
+            if (!tp_parse_int(optarg, 0, 100000, &o->build.fill_max))
                 return tp_option_error("build", "--fill-max", "0 .. 100000 samples", optarg),
                        TP_EXIT_USAGE;
             break;
@@ -161,7 +142,7 @@ int tp_build_parse_options(int argc, char** argv, build_options* o)
             break;
         case OPT_IMAGERY:
             if (o->imagery_count == 256)
-                return usage_error("more than 256 --imagery files", "");
+                return tp_cli_usage_at("build", "more than 256 --imagery files", "");
             o->imagery[o->imagery_count++] = optarg;
             break;
         case OPT_IMAGERY_SHIFT:
@@ -176,7 +157,7 @@ int tp_build_parse_options(int argc, char** argv, build_options* o)
                 return TP_EXIT_USAGE;
             break;
         case OPT_THREADS:
-            if (!parse_int(optarg, 1, 1024, &o->build.threads))
+            if (!tp_parse_int(optarg, 1, 1024, &o->build.threads))
                 return tp_option_error("build", "--threads", "1 .. 1024", optarg), TP_EXIT_USAGE;
             break;
         case OPT_JSON: o->json = optarg; break;
@@ -189,25 +170,25 @@ int tp_build_parse_options(int argc, char** argv, build_options* o)
             o->build.z_unit = optarg;
             break;
         case 'h': print_help(); return tp_cli_finish(TP_EXIT_OK);
-        case ':': return usage_error("missing value for option", argv[optind - 1]);
+        case ':': return tp_cli_usage_at("build", "missing value for option", argv[optind - 1]);
         default:
             if (optopt > 0 && optopt < 256) {
                 char name[3] = {'-', (char)optopt, '\0'};
-                return usage_error("unknown option", name);
+                return tp_cli_usage_at("build", "unknown option", name);
             }
             if (optopt >= 256)
-                return usage_error("option takes no value:", argv[optind - 1]);
-            return usage_error("unknown option", argv[optind - 1]);
+                return tp_cli_usage_at("build", "option takes no value:", argv[optind - 1]);
+            return tp_cli_usage_at("build", "unknown option", argv[optind - 1]);
         }
     }
     if (optind >= argc)
-        return usage_error("missing SOURCE", "");
+        return tp_cli_usage_at("build", "missing SOURCE", "");
     if (!o->build.out)
-        return usage_error("missing -o NAME.tpt", "");
+        return tp_cli_usage_at("build", "missing -o NAME.tpt", "");
     if (o->imagery_shift_given && o->imagery_cli.resolution_m > 0)
-        return usage_error("give --imagery-texel-shift or --imagery-resolution, not both", "");
+        return tp_cli_usage_at("build", "give --imagery-texel-shift or --imagery-resolution, not both", "");
     if ((o->imagery_shift_given || o->imagery_cli.resolution_m > 0) && !o->imagery_count)
-        return usage_error("--imagery-texel-shift and --imagery-resolution need --imagery", "");
+        return tp_cli_usage_at("build", "--imagery-texel-shift and --imagery-resolution need --imagery", "");
     o->build.sources = (const char**)(argv + optind);
     o->build.source_count = argc - optind;
     if (o->build.threads == 0) {

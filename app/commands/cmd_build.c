@@ -3,7 +3,6 @@
  * the store built (tp_store_build, scene/store_build.c), then the imagery pyramid of --imagery
  * beside it (cmd_imagery.h) and the summary as JSON (--json).
  */
-#include "terrapatch.h"
 #include "atomic_file.h"
 #include "build_options.h"
 #include "cli.h"
@@ -11,6 +10,7 @@
 #include "json.h"
 #include "output_check.h"
 #include "store_build.h"
+#include "terrapatch.h"
 
 #include "tp_core.h"
 #include "tp_io.h"
@@ -98,7 +98,8 @@ int tp_cli_build(int argc, char** argv)
         tp_json_key(&j, "fill_max"), tp_json_int(&j, o.build.fill_max);
         tp_json_key(&j, "filled_samples"), tp_json_number(&j, (double)r.filled_samples);
         tp_json_key(&j, "filled_from_samples"), tp_json_number(&j, (double)r.filled_from_samples);
-        tp_json_key(&j, "void_samples_too_large"), tp_json_number(&j, (double)r.void_samples_too_large);
+        tp_json_key(&j, "void_samples_too_large"),
+            tp_json_number(&j, (double)r.void_samples_too_large);
         tp_json_key(&j, "seconds"), tp_json_number(&j, r.seconds);
         tp_json_key(&j, "rss_peak_mb"), tp_json_number(&j, r.rss_peak_mb);
         tp_json_object_end(&j);

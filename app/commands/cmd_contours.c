@@ -119,7 +119,7 @@ static int parse_options(int argc, char** argv, contours_cli* o)
         }
         const char* v = tp_planner_option_value(argc, argv, &i, names[k]);
         if (!v)
-            return tp_planner_usage("contours", "missing value for %s", names[k]);
+            return tp_cli_usage("contours", "missing value for %s", names[k]);
         long n;
         switch (k) {
         case 0: /* --interval */
@@ -160,15 +160,15 @@ static int parse_options(int argc, char** argv, contours_cli* o)
         }
     }
     if (!o->path)
-        return tp_planner_usage("contours", "missing DEM");
+        return tp_cli_usage("contours", "missing DEM");
     if (!has_interval)
-        return tp_planner_usage("contours", "missing --interval M");
+        return tp_cli_usage("contours", "missing --interval M");
     if (!o->out)
-        return tp_planner_usage("contours", "missing -o OUT");
+        return tp_cli_usage("contours", "missing -o OUT");
     if (o->has_area && o->around)
-        return tp_planner_usage("contours", "--area and --around exclude each other");
+        return tp_cli_usage("contours", "--area and --around exclude each other");
     if (!!o->around != o->has_radius)
-        return tp_planner_usage("contours", "%s",
+        return tp_cli_usage("contours", "%s",
                                 o->around ? "--around needs --radius M"
                                           : "--radius needs --around POS");
     return -1;
@@ -187,6 +187,60 @@ static double total_length_m(const tp_features* f)
             sum += hypot(p[0] - p[2 * it->count - 2], p[1] - p[2 * it->count - 1]);
     }
     return sum;
+}
+
+/* The window of posts (x0..x1, y0..y1) of the DEM the lines are drawn in: the whole DEM, or
+ * --area, or --radius around --around. 1, or 0 after one line naming the DEM (off the DEM, or
+ * outside it). */
+static int choose_window(const contours_cli* o, tp_ground* g, const tp_position_readings* around,
+                         int win[4])
+{
+    const tp_store_scene* sc = tp_ground_scene(g);
+    const tp_tree_geometry* geom = &sc->info.header.geometry;
+    const double* gt = sc->info.header.geotransform;
+    const int W = geom->src_width, H = geom->src_height;
+    tp_error err = {{0}};
+    int x0 = 0, y0 = 0, x1 = W - 1, y1 = H - 1;
+    if (o->has_area || o->around) {
+        double e0, n0, e1, n1;
+        if (o->around) {
+            double fx, fy, fh, e, n;
+            char lmsg[1024], hint[256] = "";
+            tp_position pos;
+            if (!tp_planner_choose("contours", o->path, g, around, o->around, &pos)) {
+                return 0;
+            }
+            if (tp_ground_locate(g, &pos, o->around, &fx, &fy, &fh, lmsg, sizeof lmsg)) {
+                e = gt[0] + (fx + 0.5) * gt[1], n = gt[3] + (fy + 0.5) * gt[5];
+            } else if (!strstr(lmsg, "is in a void") ||
+                       tp_georef_geo_to_proj(sc->georef, pos.lat_deg, pos.lon_deg, &e, &n,
+                                             &err) != TP_OK) {
+                /* a centre in a void is fine: the lines around it are still wanted */
+                tp_planner_swap_hint(g, &pos, hint, sizeof hint);
+                tp_cli_error("%s: %s%s", o->path, lmsg, hint);
+                return 0;
+            }
+            e0 = e - o->radius_m, e1 = e + o->radius_m, n0 = n - o->radius_m, n1 = n + o->radius_m;
+        } else {
+            e0 = o->area[0], n0 = o->area[1], e1 = o->area[2], n1 = o->area[3];
+        }
+        /* grid x of E: (E - gt0) / gt1 - 0.5; posts inside [e0, e1] x [n0, n1] */
+        double ax = (e0 - gt[0]) / gt[1] - 0.5, bx = (e1 - gt[0]) / gt[1] - 0.5;
+        double ay = (n0 - gt[3]) / gt[5] - 0.5, by = (n1 - gt[3]) / gt[5] - 0.5;
+        double lx = fmin(ax, bx), hx = fmax(ax, bx), ly = fmin(ay, by), hy = fmax(ay, by);
+        lx = fmax(ceil(lx - 1e-9), 0.0), ly = fmax(ceil(ly - 1e-9), 0.0);
+        hx = fmin(floor(hx + 1e-9), W - 1.0), hy = fmin(floor(hy + 1e-9), H - 1.0);
+        if (lx > hx || ly > hy) {
+            tp_cli_error("%s: the area E %.1f .. %.1f, N %.1f .. %.1f is "
+                         "outside the DEM (E %.1f .. %.1f, N %.1f .. %.1f, render CRS)",
+                         o->path, e0, e1, n0, n1, gt[0] + 0.5 * gt[1], gt[0] + (W - 0.5) * gt[1],
+                         gt[3] + (H - 0.5) * gt[5], gt[3] + 0.5 * gt[5]);
+            return 0;
+        }
+        x0 = (int)lx, x1 = (int)hx, y0 = (int)ly, y1 = (int)hy;
+    }
+    win[0] = x0, win[1] = y0, win[2] = x1, win[3] = y1;
+    return 1;
 }
 
 int tp_cli_contours(int argc, char** argv)
@@ -210,48 +264,12 @@ int tp_cli_contours(int argc, char** argv)
     const int W = geom->src_width, H = geom->src_height;
 
     /* the window: posts (x0..x1, y0..y1) of the DEM */
-    int x0 = 0, y0 = 0, x1 = W - 1, y1 = H - 1;
-    if (o.has_area || o.around) {
-        double e0, n0, e1, n1;
-        if (o.around) {
-            double fx, fy, fh, e, n;
-            char lmsg[1024], hint[256] = "";
-            tp_position pos;
-            if (!tp_planner_choose("contours", o.path, g, &around, o.around, &pos)) {
-                tp_ground_destroy(g);
-                return TP_EXIT_FAILURE;
-            }
-            if (tp_ground_locate(g, &pos, o.around, &fx, &fy, &fh, lmsg, sizeof lmsg)) {
-                e = gt[0] + (fx + 0.5) * gt[1], n = gt[3] + (fy + 0.5) * gt[5];
-            } else if (!strstr(lmsg, "is in a void") ||
-                       tp_georef_geo_to_proj(sc->georef, pos.lat_deg, pos.lon_deg, &e, &n,
-                                             &err) != TP_OK) {
-                /* a centre in a void is fine: the lines around it are still wanted */
-                tp_planner_swap_hint(g, &pos, hint, sizeof hint);
-                tp_cli_error("%s: %s%s", o.path, lmsg, hint);
-                tp_ground_destroy(g);
-                return TP_EXIT_FAILURE;
-            }
-            e0 = e - o.radius_m, e1 = e + o.radius_m, n0 = n - o.radius_m, n1 = n + o.radius_m;
-        } else {
-            e0 = o.area[0], n0 = o.area[1], e1 = o.area[2], n1 = o.area[3];
-        }
-        /* grid x of E: (E - gt0) / gt1 - 0.5; posts inside [e0, e1] x [n0, n1] */
-        double ax = (e0 - gt[0]) / gt[1] - 0.5, bx = (e1 - gt[0]) / gt[1] - 0.5;
-        double ay = (n0 - gt[3]) / gt[5] - 0.5, by = (n1 - gt[3]) / gt[5] - 0.5;
-        double lx = fmin(ax, bx), hx = fmax(ax, bx), ly = fmin(ay, by), hy = fmax(ay, by);
-        lx = fmax(ceil(lx - 1e-9), 0.0), ly = fmax(ceil(ly - 1e-9), 0.0);
-        hx = fmin(floor(hx + 1e-9), W - 1.0), hy = fmin(floor(hy + 1e-9), H - 1.0);
-        if (lx > hx || ly > hy) {
-            tp_cli_error("%s: the area E %.1f .. %.1f, N %.1f .. %.1f is "
-                         "outside the DEM (E %.1f .. %.1f, N %.1f .. %.1f, render CRS)",
-                         o.path, e0, e1, n0, n1, gt[0] + 0.5 * gt[1], gt[0] + (W - 0.5) * gt[1],
-                         gt[3] + (H - 0.5) * gt[5], gt[3] + 0.5 * gt[5]);
-            tp_ground_destroy(g);
-            return TP_EXIT_FAILURE;
-        }
-        x0 = (int)lx, x1 = (int)hx, y0 = (int)ly, y1 = (int)hy;
+    int win[4];
+    if (!choose_window(&o, g, &around, win)) {
+        tp_ground_destroy(g);
+        return TP_EXIT_FAILURE;
     }
+    const int x0 = win[0], y0 = win[1], x1 = win[2], y1 = win[3];
     const int w = x1 - x0 + 1, h = y1 - y0 + 1;
     const size_t n = (size_t)w * h;
     tp_memory_room room;

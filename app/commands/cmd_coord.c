@@ -109,16 +109,6 @@ static void print_help(void)
           stdout);
 }
 
-/* One stderr line naming the problem; `detail` (an argument) is quoted when not empty. */
-static int usage_error(const char* what, const char* detail)
-{
-    if (detail[0])
-        tp_cli_error("%s '%s' (see 'terrapatch coord --help')", what, detail);
-    else
-        tp_cli_error("%s (see 'terrapatch coord --help')", what);
-    return TP_EXIT_USAGE;
-}
-
 /* Returns -1 when the options are fine, else the exit code to return (help, usage error). */
 static int parse_options(int argc, char** argv, coord_options* o)
 {
@@ -166,7 +156,7 @@ static int parse_options(int argc, char** argv, coord_options* o)
         }
         case OPT_GEODESIC: o->req.geodesic = 1; break;
         case 'h': print_help(); return tp_cli_finish(TP_EXIT_OK);
-        case ':': return usage_error("missing value for option", argv[optind - 1]);
+        case ':': return tp_cli_usage_at("coord", "missing value for option", argv[optind - 1]);
         default: /* '?' */
             if (isdigit(optopt) || optopt == '.') {
                 /* an input such as "-33.9 18.4" read as options */
@@ -177,17 +167,17 @@ static int parse_options(int argc, char** argv, coord_options* o)
             }
             if (optopt > 0 && optopt < 256) {
                 char name[3] = {'-', (char)optopt, '\0'};
-                return usage_error("unknown option", name);
+                return tp_cli_usage_at("coord", "unknown option", name);
             }
             if (optopt >= 256) /* a long option given a value it does not take */
-                return usage_error("option takes no value:", argv[optind - 1]);
-            return usage_error("unknown option", argv[optind - 1]);
+                return tp_cli_usage_at("coord", "option takes no value:", argv[optind - 1]);
+            return tp_cli_usage_at("coord", "unknown option", argv[optind - 1]);
         }
     }
     if (o->req.geodesic && o->to_given)
-        return usage_error("--geodesic cannot be combined with --to", "");
+        return tp_cli_usage_at("coord", "--geodesic cannot be combined with --to", "");
     if (o->precision_given && (o->req.geodesic || o->req.to != TP_COORD_TO_MGRS))
-        return usage_error("--precision applies only to --to mgrs", "");
+        return tp_cli_usage_at("coord", "--precision applies only to --to mgrs", "");
     o->first_input = optind;
     return -1;
 }

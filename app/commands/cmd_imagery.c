@@ -209,28 +209,9 @@ static void print_help(void)
           stdout);
 }
 
-static int usage_error(const char* what, const char* detail)
-{
-    if (detail[0])
-        tp_cli_error("%s '%s' (see 'terrapatch imagery --help')", what, detail);
-    else
-        tp_cli_error("%s (see 'terrapatch imagery --help')", what);
-    return TP_EXIT_USAGE;
-}
-
-static int parse_int(const char* s, int lo, int hi, int* v)
-{
-    char* end;
-    long x = strtol(s, &end, 10);
-    if (end == s || *end || x < lo || x > hi)
-        return 0;
-    *v = (int)x;
-    return 1;
-}
-
 int tp_imagery_cli_parse_shift(const char* cmd, const char* opt, const char* arg, tp_imagery_cli* c)
 {
-    if (parse_int(arg, TP_IMAGERY_SHIFT_MIN, TP_IMAGERY_SHIFT_MAX, &c->texel_shift))
+    if (tp_parse_int(arg, TP_IMAGERY_SHIFT_MIN, TP_IMAGERY_SHIFT_MAX, &c->texel_shift))
         return 1;
     tp_option_error(cmd, opt, "-8 .. 8", arg);
     return 0;
@@ -283,34 +264,34 @@ int tp_cli_imagery(int argc, char** argv)
                 return TP_EXIT_USAGE;
             break;
         case OPT_MEMORY:
-            if (!parse_int(optarg, IMAGERY_MIN_MEMORY_MB, 1 << 24, &c.memory_mb))
+            if (!tp_parse_int(optarg, IMAGERY_MIN_MEMORY_MB, 1 << 24, &c.memory_mb))
                 return tp_option_error("imagery", "--memory", "megabytes, 64 or more", optarg),
                        TP_EXIT_USAGE;
             break;
         case OPT_THREADS:
-            if (!parse_int(optarg, 1, 1024, &c.threads))
+            if (!tp_parse_int(optarg, 1, 1024, &c.threads))
                 return tp_option_error("imagery", "--threads", "1 .. 1024", optarg), TP_EXIT_USAGE;
             break;
         case OPT_JSON: c.json = optarg; break;
         case OPT_QUIET: c.quiet = 1; break;
         case 'h': print_help(); return tp_cli_finish(TP_EXIT_OK);
-        case ':': return usage_error("missing value for option", argv[optind - 1]);
+        case ':': return tp_cli_usage_at("imagery", "missing value for option", argv[optind - 1]);
         default:
             if (optopt > 0 && optopt < 256) {
                 char name[3] = {'-', (char)optopt, '\0'};
-                return usage_error("unknown option", name);
+                return tp_cli_usage_at("imagery", "unknown option", name);
             }
             if (optopt >= 256)
-                return usage_error("option takes no value:", argv[optind - 1]);
-            return usage_error("unknown option", argv[optind - 1]);
+                return tp_cli_usage_at("imagery", "option takes no value:", argv[optind - 1]);
+            return tp_cli_usage_at("imagery", "unknown option", argv[optind - 1]);
         }
     }
     if (have_shift && c.resolution_m > 0)
-        return usage_error("give --texel-shift or --resolution, not both", "");
+        return tp_cli_usage_at("imagery", "give --texel-shift or --resolution, not both", "");
     if (optind >= argc)
-        return usage_error("missing STORE.tpt", "");
+        return tp_cli_usage_at("imagery", "missing STORE.tpt", "");
     if (optind + 1 >= argc)
-        return usage_error("missing IMAGE", "");
+        return tp_cli_usage_at("imagery", "missing IMAGE", "");
     const char* store = argv[optind];
     c.images = (const char* const*)(argv + optind + 1);
     c.count = argc - optind - 1;

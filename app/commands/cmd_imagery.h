@@ -20,7 +20,7 @@ typedef struct tp_imagery_cli {
 
 /* The pyramid of store_path's grid (its CRS, geotransform and source width x height) from
  * c->images, written atomically; progress and a summary on stderr unless quiet. Returns an exit
- * code (app/cli.h), having printed one line for a failure. */
+ * code (app/base/cli.h), having printed one line for a failure. */
 int tp_imagery_cli_run(const char* store_path, const tp_imagery_cli* c);
 
 /* --texel-shift K / --resolution M of command cmd (option named opt) into c: 1, or 0 after

@@ -60,16 +60,6 @@ static void print_help(void)
           stdout);
 }
 
-/* One stderr line naming the problem; `detail` (an argument) is quoted when not empty. */
-static int usage_error(const char* what, const char* detail)
-{
-    if (detail[0])
-        tp_cli_error("%s '%s' (see 'terrapatch info --help')", what, detail);
-    else
-        tp_cli_error("%s (see 'terrapatch info --help')", what);
-    return TP_EXIT_USAGE;
-}
-
 /* Returns -1 when the options are fine, else the exit code to return (help, usage error). */
 static int parse_options(int argc, char** argv, info_options* o)
 {
@@ -93,21 +83,21 @@ static int parse_options(int argc, char** argv, info_options* o)
         switch (c) {
         case OPT_JSON: o->json = 1; break;
         case 'h': print_help(); return tp_cli_finish(TP_EXIT_OK);
-        case ':': return usage_error("missing value for option", argv[optind - 1]);
+        case ':': return tp_cli_usage_at("info", "missing value for option", argv[optind - 1]);
         default: /* '?' */
             if (optopt > 0 && optopt < 256) {
                 char name[3] = {'-', (char)optopt, '\0'};
-                return usage_error("unknown option", name);
+                return tp_cli_usage_at("info", "unknown option", name);
             }
             if (optopt >= 256) /* a long option given a value it does not take: --json=1 */
-                return usage_error("option takes no value:", argv[optind - 1]);
-            return usage_error("unknown option", argv[optind - 1]);
+                return tp_cli_usage_at("info", "option takes no value:", argv[optind - 1]);
+            return tp_cli_usage_at("info", "unknown option", argv[optind - 1]);
         }
     }
     if (optind >= argc)
-        return usage_error("missing DEM file", "");
+        return tp_cli_usage_at("info", "missing DEM file", "");
     if (argc - optind > 1)
-        return usage_error("expected one DEM file, got extra argument", argv[optind + 1]);
+        return tp_cli_usage_at("info", "expected one DEM file, got extra argument", argv[optind + 1]);
     o->path = argv[optind];
     return -1;
 }

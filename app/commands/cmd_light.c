@@ -143,9 +143,9 @@ static int parse_options(int argc, char** argv, tp_light_cli* o)
         }
     }
     if (!o->path)
-        return tp_planner_usage("light", "missing DEM");
+        return tp_cli_usage("light", "missing DEM");
     if (!o->date)
-        return tp_planner_usage("light", "missing --date YYYY-MM-DD");
+        return tp_cli_usage("light", "missing --date YYYY-MM-DD");
     if (o->day) {
         long n = o->maps;
         if (maps && !tp_planner_integer("light", "--maps", maps, 2, TP_LIGHT_DAY_MAPS_MAX,
@@ -153,25 +153,25 @@ static int parse_options(int argc, char** argv, tp_light_cli* o)
             return TP_EXIT_USAGE;
         o->maps = (int)n;
         if (o->time)
-            return tp_planner_usage("light", "--day makes the whole day's map: no --time");
+            return tp_cli_usage("light", "--day makes the whole day's map: no --time");
         if (o->at || o->radius_m > 0.0 || o->values)
-            return tp_planner_usage("light", "--day makes the lit map of the whole grid: no "
+            return tp_cli_usage("light", "--day makes the lit map of the whole grid: no "
                                              "--at, --radius or --values");
         return -1;
     }
     if (maps || o->json || o->quiet || o->margin_m != TP_LIGHT_DAY_MARGIN_M)
-        return tp_planner_usage("light", "--maps, --margin, --json and --quiet go with --day");
+        return tp_cli_usage("light", "--maps, --margin, --json and --quiet go with --day");
     if (!o->time)
-        return tp_planner_usage("light", "missing --time HH:MM");
+        return tp_cli_usage("light", "missing --time HH:MM");
     if (!o->out)
-        return tp_planner_usage("light", "missing -o OUT.tif");
+        return tp_cli_usage("light", "missing -o OUT.tif");
     if (o->values && strcmp(o->values, "lit") && strcmp(o->values, "illumination")) {
         tp_option_error("light", "--values", "lit or illumination", o->values);
         return TP_EXIT_USAGE;
     }
     o->illumination = o->values && !strcmp(o->values, "illumination");
     if (o->radius_m > 0.0 && !o->at)
-        return tp_planner_usage("light", "--radius needs --at POS");
+        return tp_cli_usage("light", "--radius needs --at POS");
     return -1;
 }
 

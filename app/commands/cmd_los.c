@@ -117,11 +117,11 @@ static int parse_options(int argc, char** argv, los_options* o)
             return tp_planner_stray("los", argc, argv, i, "");
     }
     if (!o->path)
-        return tp_planner_usage("los", "missing DEM");
+        return tp_cli_usage("los", "missing DEM");
     if (!o->from)
-        return tp_planner_usage("los", "missing --from POS (the observer)");
+        return tp_cli_usage("los", "missing --from POS (the observer)");
     if (!o->to)
-        return tp_planner_usage("los", "missing --to POS (the target)");
+        return tp_cli_usage("los", "missing --to POS (the target)");
     return -1;
 }
 

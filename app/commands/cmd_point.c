@@ -104,16 +104,16 @@ static int parse_options(int argc, char** argv, point_options* o)
                 o->precision = (int)p;
             } else if (tp_planner_is_option(a, "--json")) {
                 if (!(o->json = tp_planner_option_value(argc, argv, &i, "--json")))
-                    return tp_planner_usage("point", "missing value for --json");
+                    return tp_cli_usage("point", "missing value for --json");
             } else if (tp_planner_is_option(a, "--cache-dir")) {
                 if (!(o->cache_dir = tp_planner_option_value(argc, argv, &i, "--cache-dir")))
-                    return tp_planner_usage("point", "missing value for --cache-dir");
+                    return tp_cli_usage("point", "missing value for --cache-dir");
             } else {
                 const int taken = tp_scene_option_arg("point", argc, argv, &i, &o->dem);
                 if (taken < 0)
                     return TP_EXIT_USAGE;
                 if (!taken)
-                    return tp_planner_usage("point", "unknown option '%s'", a);
+                    return tp_cli_usage("point", "unknown option '%s'", a);
             }
             continue;
         }
@@ -121,14 +121,14 @@ static int parse_options(int argc, char** argv, point_options* o)
             o->path = a;
         } else {
             if (o->pos_count == (int)(sizeof o->pos_args / sizeof o->pos_args[0]))
-                return tp_planner_usage("point", "too many arguments for a position");
+                return tp_cli_usage("point", "too many arguments for a position");
             o->pos_args[o->pos_count++] = argv[i];
         }
     }
     if (!o->path)
-        return tp_planner_usage("point", "missing DEM and position");
+        return tp_cli_usage("point", "missing DEM and position");
     if (!o->pos_count)
-        return tp_planner_usage("point",
+        return tp_cli_usage("point",
                                 "missing position (e.g. 45.37 -121.69, or 10n 601000 5026000)");
     return -1;
 }
@@ -154,7 +154,7 @@ int tp_cli_point(int argc, char** argv)
         return code;
     char text[1024], msg[TP_POSITION_MSG_SIZE];
     if (!tp_position_join(o.pos_args, o.pos_count, text, sizeof text))
-        return tp_planner_usage("point", "the position is too long");
+        return tp_cli_usage("point", "the position is too long");
     tp_position_readings readings;
     if (!tp_planner_position("point", "position", text, &readings))
         return TP_EXIT_USAGE;

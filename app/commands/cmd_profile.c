@@ -126,9 +126,9 @@ static int parse_options(int argc, char** argv, profile_options* o)
             return tp_planner_stray("profile", argc, argv, i, "");
     }
     if (!o->path)
-        return tp_planner_usage("profile", "missing DEM");
+        return tp_cli_usage("profile", "missing DEM");
     if (!o->route)
-        return tp_planner_usage("profile", "missing --route FILE");
+        return tp_cli_usage("profile", "missing --route FILE");
     return -1;
 }
 

@@ -109,11 +109,11 @@ static int parse_options(int argc, char** argv, viewshed_cli* o)
             return tp_planner_stray("viewshed", argc, argv, i, "");
     }
     if (!o->path)
-        return tp_planner_usage("viewshed", "missing DEM");
+        return tp_cli_usage("viewshed", "missing DEM");
     if (!o->observer)
-        return tp_planner_usage("viewshed", "missing --observer POS");
+        return tp_cli_usage("viewshed", "missing --observer POS");
     if (!o->out)
-        return tp_planner_usage("viewshed", "missing -o OUT.tif");
+        return tp_cli_usage("viewshed", "missing -o OUT.tif");
     return -1;
 }
 

@@ -280,6 +280,31 @@ static tp_status day_sun_make(const tp_light_place* at, int year, int month, int
     return s;
 }
 
+/* The day's summary on stdout: the place, the sun's day, the grid, the lit posts, the file. */
+static void print_report(const day_run* r, const tp_light_place* at, const tp_sun_day* day,
+                         const char* t0, const char* t1, const tp_imagery_info* info,
+                         const char* out, double seconds, double rss_mb)
+{
+    const tp_light_cli* o = r->o;
+    printf("place      %.6f %.6f (post %.0f, %.0f: where the sun is computed); grid north "
+           "is %.3f deg %s of true north\n",
+           at->lat_deg, at->lon_deg, at->x, at->y, fabs(at->convergence_deg),
+           at->convergence_deg >= 0.0 ? "east" : "west");
+    tp_light_print_day(day, 0);
+    printf("day        %s .. %s, %d maps\n", t0, t1, o->maps);
+    printf("grid       %dx%d posts, %d tiles of %d posts, margin %d x %d posts (%.0f m)\n",
+           r->width, r->height, r->tiles_total, TILE, r->mx, r->my, o->margin_m);
+    printf("lit        %zu of %zu posts with a height lit at some time (%.1f%%)\n", r->lit_any,
+           r->valid, r->valid ? 100.0 * r->lit_any / r->valid : 0.0);
+    printf("simplified %zu samples lit over more than two intervals (tiles with margins), "
+           "at most %.0f s given up\n",
+           r->simplified, r->given_up_max_s);
+    printf("file       %s: %d levels, %llu non-empty blocks, %llu bytes\n", out, info->levels,
+           (unsigned long long)info->nonempty_blocks, (unsigned long long)info->file_bytes);
+    printf("time       %.1f s (%.1f s reading the ground), peak RSS %.0f MB\n", seconds,
+           r->read_s, rss_mb);
+}
+
 int tp_light_day_run(const tp_light_cli* o)
 {
     const double t_start = tp_clock_s();
@@ -400,25 +425,8 @@ int tp_light_day_run(const tp_light_cli* o)
     code = TP_EXIT_OK;
     if (o->json)
         code = write_json(o->json, &r, &info, out, seconds, rss_mb);
-    if (!o->json || strcmp(o->json, "-")) {
-        printf("place      %.6f %.6f (post %.0f, %.0f: where the sun is computed); grid north "
-               "is %.3f deg %s of true north\n",
-               at.lat_deg, at.lon_deg, at.x, at.y, fabs(at.convergence_deg),
-               at.convergence_deg >= 0.0 ? "east" : "west");
-        tp_light_print_day(&day, 0);
-        printf("day        %s .. %s, %d maps\n", t0, t1, o->maps);
-        printf("grid       %dx%d posts, %d tiles of %d posts, margin %d x %d posts (%.0f m)\n",
-               r.width, r.height, r.tiles_total, TILE, r.mx, r.my, o->margin_m);
-        printf("lit        %zu of %zu posts with a height lit at some time (%.1f%%)\n", r.lit_any,
-               r.valid, r.valid ? 100.0 * r.lit_any / r.valid : 0.0);
-        printf("simplified %zu samples lit over more than two intervals (tiles with margins), "
-               "at most %.0f s given up\n",
-               r.simplified, r.given_up_max_s);
-        printf("file       %s: %d levels, %llu non-empty blocks, %llu bytes\n", out, info.levels,
-               (unsigned long long)info.nonempty_blocks, (unsigned long long)info.file_bytes);
-        printf("time       %.1f s (%.1f s reading the ground), peak RSS %.0f MB\n", seconds,
-               r.read_s, rss_mb);
-    }
+    if (!o->json || strcmp(o->json, "-"))
+        print_report(&r, &at, &day, t0, t1, &info, out, seconds, rss_mb);
     tp_imagery_close(im);
     if (!o->quiet)
         tp_cli_note("wrote %s", out);

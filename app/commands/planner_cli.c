@@ -17,17 +17,6 @@
 #include <time.h>
 #include <unistd.h>
 
-int tp_planner_usage(const char* cmd, const char* what, ...)
-{
-    char text[1024];
-    va_list ap;
-    va_start(ap, what);
-    vsnprintf(text, sizeof text, what, ap);
-    va_end(ap);
-    tp_cli_error("%s (see 'terrapatch %s --help')", text, cmd);
-    return TP_EXIT_USAGE;
-}
-
 int tp_planner_argument(const char* cmd, int argc, char** argv, int i, void (*print_help)(void),
                         const char** path, const char* hint)
 {
@@ -111,8 +100,8 @@ int tp_planner_stray(const char* cmd, int argc, char** argv, int i, const char* 
             break;
     }
     if (a[0] == '-' && a[1])
-        return tp_planner_usage(cmd, "unknown option '%s'%s", a, hint);
-    return tp_planner_usage(cmd, "more than one DEM given%s", hint);
+        return tp_cli_usage(cmd, "unknown option '%s'%s", a, hint);
+    return tp_cli_usage(cmd, "more than one DEM given%s", hint);
 }
 
 int tp_planner_is_option(const char* arg, const char* name)
@@ -138,7 +127,7 @@ int tp_planner_text_options(const char* cmd, int argc, char** argv, int* i,
         if (!tp_planner_is_option(argv[*i], names[k]))
             continue;
         if (!(*slots[k] = tp_planner_option_value(argc, argv, i, names[k])))
-            return tp_planner_usage(cmd, "missing value for %s", names[k]), -1;
+            return tp_cli_usage(cmd, "missing value for %s", names[k]), -1;
         return 1;
     }
     return 0;
@@ -194,20 +183,11 @@ int tp_planner_position(const char* cmd, const char* what, const char* text,
                         tp_position_readings* pos)
 {
     (void)cmd; /* messages name the command main() dispatched to (tp_cli_error) */
-    char msg[TP_POSITION_MSG_SIZE], hint[160] = "";
+    char msg[TP_POSITION_MSG_SIZE], hint[200] = "";
     if (tp_position_parse_readings(text, strlen(text), 0, pos, msg, sizeof msg))
         return 1;
-    /* two numbers that read the other way round: "139.7 35.6" */
-    char copy[128], swapped[128], spare[TP_POSITION_MSG_SIZE];
-    tp_position p;
-    double a, b;
-    tp__fields f = {0};
-    if (strlen(text) < sizeof copy)
-        f = tp__position_split(strcpy(copy, text), 1);
-    if (f.count == 2 && tp_position_decimal(f.field[0], &a) == 1 &&
-        tp_position_decimal(f.field[1], &b) == 1 &&
-        snprintf(swapped, sizeof swapped, "%s %s", f.field[1], f.field[0]) > 0 &&
-        tp_position_parse(swapped, strlen(swapped), 0, &p, spare, sizeof spare))
+    char swapped[128];
+    if (tp_position_swapped(text, swapped, sizeof swapped)) /* "139.7 35.6" */
         snprintf(hint, sizeof hint, "; " LATITUDE_FIRST ": '%s'?", swapped);
     tp_cli_error("%s '%s': %s%s", what, text, msg, hint);
     return 0;

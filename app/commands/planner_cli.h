@@ -4,7 +4,7 @@
  * read from the command line and placed on the ground (with the messages), the ground opened,
  * the posts of a window read, and the outputs written (the text or JSON on stdout, JSON and CSV
  * files atomically, a gnuplot PNG). Each command keeps its own options, computation and report
- * in its cmd_*.c. app/planner_cli.c.
+ * in its cmd_*.c. app/commands/planner_cli.c.
  *
  * Messages are those of cli.h: "terrapatch CMD: ..." on stderr, cmd naming the command ("los").
  */
@@ -21,13 +21,6 @@
 #include <stdio.h>
 
 /* ---- the command line ---- */
-
-/* Prints "terrapatch CMD: WHAT (see 'terrapatch CMD --help')" (what as printf's format) and
- * returns TP_EXIT_USAGE. */
-#if defined(__GNUC__)
-__attribute__((format(printf, 2, 3)))
-#endif
-int tp_planner_usage(const char* cmd, const char* what, ...);
 
 /* What a planner command's parser does first with each argument a = argv[i]: -h or --help
  * prints the help (print_help) and ends the parse with tp_cli_finish(TP_EXIT_OK); an argument
@@ -57,7 +50,7 @@ const char* tp_planner_option_value(int argc, char** argv, int* i, const char* n
 /* Tables of options: names[k] (count of them) puts its value into *slots[k]. When argv[*i] is
  * one of them (tp_planner_is_option), reads its value (tp_planner_option_value) and returns 1;
  * 0 when it is none of them; -1 after one line (a usage error): a text option without a value
- * ("missing value for NAME", as tp_planner_usage), a number that is missing or not >= 0
+ * ("missing value for NAME", as tp_cli_usage), a number that is missing or not >= 0
  * (tp_planner_number's "expected a number >= 0"). TP_PLANNER_COUNT(names) gives count. */
 #define TP_PLANNER_COUNT(a) (sizeof(a) / sizeof((a)[0]))
 int tp_planner_text_options(const char* cmd, int argc, char** argv, int* i,

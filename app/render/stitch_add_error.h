@@ -14,8 +14,7 @@
  * (else NULL) also the screen error (px) of the same samples by tp_selection_measure_screen_error's
  * definition (in view, in front of the near plane; occlusion ignored): *max_px and *rms_px.
  * TP_ERR_OUT_OF_MEMORY (*out untouched) or TP_OK. */
-tp_status tp_stitch_add_error(const tp_terrain* t, const tp_selection* sel,
-                              const tp_camera* cam, tp_error_measure* out, double* max_px,
-                              double* rms_px);
+tp_status tp_stitch_add_error(const tp_terrain* t, const tp_selection* sel, const tp_camera* cam,
+                              tp_error_measure* out, double* max_px, double* rms_px);
 
 #endif /* TP_APP_STITCH_ADD_ERROR_H */

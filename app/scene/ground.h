@@ -1,7 +1,7 @@
 /*
  * ground.h - the full-resolution ground under a position, for every command and tool that
  * asks "what is the ground here?" (`terrapatch point`, the viewer's point readout; line of
- * sight, viewsheds and profiles next). app/ground.c; tp_ground_open in app/ground_open.c.
+ * sight, viewsheds and profiles next). app/scene/ground.c; tp_ground_open in app/scene/ground_open.c.
  *
  * A tp_ground answers on a built store (.tpt): a DEM is first built into the store cache as
  * `terrapatch view` builds it (store_cache.c, the same cached file), so that every command

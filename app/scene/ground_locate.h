@@ -2,7 +2,7 @@
  * ground_locate.h - a typed position (position.h) placed on the ground (ground.h) for the
  * field commands that take positions (`los`, `viewshed`), with the messages `point` gives:
  * no CRS, outside the DEM, in a void. And back: a grid position as latitude/longitude.
- * app/ground_locate.c.
+ * app/scene/ground_locate.c.
  */
 #ifndef TP_APP_GROUND_LOCATE_H
 #define TP_APP_GROUND_LOCATE_H

@@ -97,6 +97,23 @@ static int full_cell(const tp_scene* sc, const tp_vertex* a, const tp_vertex* b,
     return 1;
 }
 
+/* The points at grid posts (pt_x, pt_y) in the render CRS less origin (xyz), their heights
+ * (elev) and whether each is a filled void sample. */
+static void place_points(const tp_scene* sc, size_t points, const int32_t* pt_x,
+                         const int32_t* pt_y, const double origin[3], double* xyz, double* elev,
+                         uint8_t* filled)
+{
+    for (size_t i = 0; i < points; i++) {
+        double e, n;
+        tp_georef_grid_to_proj(sc->georef, pt_x[i], pt_y[i], &e, &n);
+        elev[i] = tp_terrain_sample(sc->terrain, pt_x[i], pt_y[i]);
+        xyz[3 * i + 0] = e - origin[0];
+        xyz[3 * i + 1] = n - origin[1];
+        xyz[3 * i + 2] = elev[i] - origin[2];
+        filled[i] = tp_terrain_sample_class(sc->terrain, pt_x[i], pt_y[i]) == TP_SAMPLE_FILLED;
+    }
+}
+
 tp_status tp_export_selection(const tp_scene* sc, const tp_selection* sel,
                               const tp_export_options* o, const char* path,
                               tp_export_result* result, tp_error* err)
@@ -189,15 +206,7 @@ tp_status tp_export_selection(const tp_scene* sc, const tp_selection* sel,
     double origin[3];
     char zone[TP_ZONE_TEXT_SIZE];
     tp_export_frame(sc, o->origin_local, origin, zone);
-    for (size_t i = 0; i < points; i++) {
-        double e, n;
-        tp_georef_grid_to_proj(sc->georef, pt_x[i], pt_y[i], &e, &n);
-        elev[i] = tp_terrain_sample(sc->terrain, pt_x[i], pt_y[i]);
-        xyz[3 * i + 0] = e - origin[0];
-        xyz[3 * i + 1] = n - origin[1];
-        xyz[3 * i + 2] = elev[i] - origin[2];
-        filled[i] = tp_terrain_sample_class(sc->terrain, pt_x[i], pt_y[i]) == TP_SAMPLE_FILLED;
-    }
+    place_points(sc, points, pt_x, pt_y, origin, xyz, elev, filled);
     /* The strips are clockwise in (column, row); ParaView expects counter-clockwise from
      * above in (east, north): that is the same order for a north-up grid, reversed otherwise. */
     if (!(in->geotransform[1] * in->geotransform[5] < 0))

@@ -1,6 +1,6 @@
 /*
  * point_readout.h - "what is here?": one position on the ground described as `terrapatch point`
- * prints it and the viewer's pick shows it (app/point_readout.c, over ground.h).
+ * prints it and the viewer's pick shows it (app/scene/point_readout.c, over ground.h).
  */
 #ifndef TP_APP_POINT_READOUT_H
 #define TP_APP_POINT_READOUT_H

@@ -1,7 +1,7 @@
 /*
  * store_build.c - a terrain store from DEM sources (store_build.h), for `terrapatch build`
- * (commands/cmd_build.c) and the store cache (store_cache.c) alike: sources mosaicked and put on the
- * render grid (tp_mosaic, read in bands of rows), quantised with one global step, built into
+ * (commands/cmd_build.c) and the store cache (store_cache.c) alike: sources mosaicked and put on
+ * the render grid (tp_mosaic, read in bands of rows), quantised with one global step, built into
  * the node hierarchy band by band (tp_tree_builder) and written as a terrain store
  * (tp_store_writer), atomically. Memory follows the band, not the map.
  *
@@ -378,12 +378,10 @@ static int fail_line(const char* msg)
     return TP_EXIT_FAILURE;
 }
 
-int tp_store_build(const tp_build_options* options, tp_build_result* result)
+/* o's defaults filled in (threads), the output checked, --memory fitted to what the process
+ * may use, no source overwritten: TP_EXIT_OK, else the exit code after one line. */
+static int prepare(tp_build_options* o)
 {
-    const double t0 = tp_clock_s();
-    tp_error err = {0};
-    tp_build_options oc = *options;
-    tp_build_options* o = &oc;
     if (o->threads <= 0) {
         long n = sysconf(_SC_NPROCESSORS_ONLN);
         o->threads = n > 0 ? (int)(n > 1024 ? 1024 : n) : 1;
@@ -393,8 +391,8 @@ int tp_store_build(const tp_build_options* options, tp_build_result* result)
         return rc;
     { /* --memory (the whole process's budget) within what it may still use */
         uint64_t b =
-            tp_memory_fit_budget("build", o->sources[0], "--memory", 0, (uint64_t)o->memory_mb << 20,
-                                 (uint64_t)BUILD_MIN_MEMORY_MB << 20);
+            tp_memory_fit_budget("build", o->sources[0], "--memory", 0,
+                                 (uint64_t)o->memory_mb << 20, (uint64_t)BUILD_MIN_MEMORY_MB << 20);
         if (!b)
             return TP_EXIT_FAILURE;
         o->memory_mb = (int)(b >> 20);
@@ -402,6 +400,14 @@ int tp_store_build(const tp_build_options* options, tp_build_result* result)
     for (int i = 0; i < o->source_count; i++)
         if (!strcmp(o->sources[i], o->out))
             return tp_cli_error("%s: the output would replace a source", o->out), TP_EXIT_FAILURE;
+    return TP_EXIT_OK;
+}
+
+/* The sources opened as one mosaic on the render grid (*m, *mi), its notes printed unless
+ * quiet; NULL after one line when they cannot be read or cover too little of their mosaic. */
+static tp_mosaic* open_sources(const tp_build_options* o, tp_mosaic_info* out)
+{
+    tp_error err = {0};
     tp_mosaic* m = NULL;
     tp_mosaic_options mo = {.crs = o->crs,
                             .resampling = o->resampling,
@@ -410,9 +416,9 @@ int tp_store_build(const tp_build_options* options, tp_build_result* result)
                             .fill_from = o->fill_from,
                             .z_unit = o->z_unit};
     if (tp_mosaic_open(o->sources, (size_t)o->source_count, &mo, &m, &err) != TP_OK)
-        return fail_line(err.message);
-    tp_mosaic_info mi;
-    tp_mosaic_get_info(m, &mi);
+        return fail_line(err.message), NULL;
+    tp_mosaic_get_info(m, out);
+    const tp_mosaic_info mi = *out;
     if (!o->quiet && mi.notes[0]) {
         const char* s = mi.notes;
         while (*s) {
@@ -431,58 +437,80 @@ int tp_store_build(const tp_build_options* options, tp_build_result* result)
                      mi.source_count, 100.0 * mi.covered_share, mi.width, mi.height,
                      100.0 * (1.0 - mi.covered_share));
         tp_mosaic_close(m);
-        return TP_EXIT_FAILURE;
+        return NULL;
     }
+    return m;
+}
 
-    tp_tree_geometry g;
-    if (tp_tree_geometry_init(mi.width, mi.height, o->patch_size, &g, &err) != TP_OK) {
-        tp_mosaic_close(m);
-        return fail_line(err.message);
+/* The node hierarchy's geometry for the mosaic (*g), checked against the budget before any
+ * reading: GDAL's block cache has a quarter of it (tp_mosaic_open); what grows with the grid
+ * must fit the other three quarters. 1, or 0 after one line (with the --memory or --patch that
+ * would do). */
+static int plan_geometry(const tp_build_options* o, const tp_mosaic_info* mi, tp_tree_geometry* g)
+{
+    tp_error err = {0};
+    if (tp_tree_geometry_init(mi->width, mi->height, o->patch_size, g, &err) != TP_OK)
+        return fail_line(err.message), 0;
+    const int ps = 1 << g->n, band_rows = ps + 1;
+    const double need_mb = build_memory_bytes(g, mi->width, o->fill_max) / (1024.0 * 1024.0);
+    if (need_mb <= o->memory_mb * 0.75)
+        return 1;
+    /* the node size that needs least: small nodes make a large table, large ones wide bands */
+    int best = o->patch_size;
+    double best_mb = need_mb;
+    for (int p = 17; p <= 257; p = 2 * p - 1) {
+        tp_tree_geometry gp;
+        tp_error e2;
+        if (tp_tree_geometry_init(mi->width, mi->height, p, &gp, &e2) != TP_OK)
+            continue;
+        double mb = build_memory_bytes(&gp, mi->width, o->fill_max) / (1024.0 * 1024.0);
+        if (mb < best_mb)
+            best = p, best_mb = mb;
     }
-    const int ps = 1 << g.n, band_rows = ps + 1;
-    const double samples = (double)mi.width * mi.height;
-    /* The budget, checked before any reading: GDAL's block cache has a quarter of it
-     * (tp_mosaic_open); what grows with the grid must fit the other three quarters. */
-    const double need_mb = build_memory_bytes(&g, mi.width, o->fill_max) / (1024.0 * 1024.0);
-    if (need_mb > o->memory_mb * 0.75) {
-        /* the node size that needs least: small nodes make a large table, large ones wide bands */
-        int best = o->patch_size;
-        double best_mb = need_mb;
-        for (int p = 17; p <= 257; p = 2 * p - 1) {
-            tp_tree_geometry gp;
-            tp_error e2;
-            if (tp_tree_geometry_init(mi.width, mi.height, p, &gp, &e2) != TP_OK)
-                continue;
-            double mb = build_memory_bytes(&gp, mi.width, o->fill_max) / (1024.0 * 1024.0);
-            if (mb < best_mb)
-                best = p, best_mb = mb;
-        }
-        char alt[96] = "";
-        if (best != o->patch_size)
-            snprintf(alt, sizeof alt, " (or --memory %.0f with --patch %d)",
-                     memory_to_suggest(best_mb), best);
-        tp_cli_error("--memory %d MB is too small for a %dx%d grid in %dx%d "
-                     "nodes: one band of %d rows, the tree builder and the store writer need "
-                     "%.0f MB, besides GDAL's block cache (a quarter of the budget); give --memory "
-                     "%.0f or more%s",
-                     o->memory_mb, mi.width, mi.height, ps + 1, ps + 1, band_rows, need_mb,
-                     memory_to_suggest(need_mb), alt);
-        tp_mosaic_close(m);
-        return TP_EXIT_FAILURE;
-    }
+    char alt[96] = "";
+    if (best != o->patch_size)
+        snprintf(alt, sizeof alt, " (or --memory %.0f with --patch %d)", memory_to_suggest(best_mb),
+                 best);
+    tp_cli_error("--memory %d MB is too small for a %dx%d grid in %dx%d "
+                 "nodes: one band of %d rows, the tree builder and the store writer need "
+                 "%.0f MB, besides GDAL's block cache (a quarter of the budget); give --memory "
+                 "%.0f or more%s",
+                 o->memory_mb, mi->width, mi->height, ps + 1, ps + 1, band_rows, need_mb,
+                 memory_to_suggest(need_mb), alt);
+    return 0;
+}
+
+/* What the passes of a build saw. */
+typedef struct build_totals {
+    double step;
+    size_t valid;
+    double quant_err, seen_lo, seen_hi;
+    int64_t nodes;
+} build_totals;
+
+/* The store written from m in bands of rows: the height range decides the step (written first,
+ * in the header): a bound the mosaic knows without reading the grid (sources' statistics, or
+ * the few files a VRT repeats), or else a first pass over the grid. The quantisation error and
+ * the valid samples are counted while building and given to the store at commit. A bound that
+ * does not hold (a VRT that scales its sources) costs one more build. err's message on failure
+ * (not printed). */
+static tp_status build_passes(const tp_build_options* o, tp_mosaic* m, const tp_mosaic_info* mip,
+                              const tp_tree_geometry* gp, build_totals* t, tp_error* errp)
+{
+    const tp_mosaic_info mi = *mip;
+    const tp_tree_geometry g = *gp;
+    tp_error err = {0};
+    const int band_rows = (1 << g.n) + 1;
     float* rows = malloc((size_t)band_rows * mi.width * sizeof *rows);
     int32_t* q = malloc((size_t)band_rows * g.width * sizeof *q);
     uint8_t* frows = o->fill_max > 0 ? malloc((size_t)band_rows * mi.width) : NULL;
     uint8_t* fq = o->fill_max > 0 ? malloc((size_t)band_rows * g.width) : NULL;
     if (!rows || !q || (o->fill_max > 0 && (!frows || !fq))) {
-        free(rows), free(q), free(frows), free(fq), tp_mosaic_close(m);
-        return fail_line("build: out of memory for one band of rows");
+        free(rows), free(q), free(frows), free(fq);
+        snprintf(errp->message, sizeof errp->message, "build: out of memory for one band of rows");
+        return TP_ERR_OUT_OF_MEMORY;
     }
 
-    /* The height range decides the step (written first, in the header): a bound the mosaic
-     * knows without reading the grid (sources' statistics, or the few files a VRT repeats), or
-     * else a first pass over the grid. The quantisation error and the valid samples are counted
-     * while building and given to the store at commit. */
     double lo = mi.min_m, hi = mi.max_m;
     int bounded = mi.has_range;
     size_t valid = 0;
@@ -492,8 +520,9 @@ int tp_store_build(const tp_build_options* options, tp_build_result* result)
     int64_t nodes = 0;
     char* notes = build_notes(o, &mi, 0);
     if (!notes) {
-        free(rows), free(q), free(frows), free(fq), tp_mosaic_close(m);
-        return fail_line("build: out of memory");
+        free(rows), free(q), free(frows), free(fq);
+        snprintf(errp->message, sizeof errp->message, "build: out of memory");
+        return TP_ERR_OUT_OF_MEMORY;
     }
     for (int attempt = 0;; attempt++) {
         if (!bounded) {
@@ -559,6 +588,39 @@ int tp_store_build(const tp_build_options* options, tp_build_result* result)
     free(q);
     free(frows);
     free(fq);
+    free(notes);
+    *t = (build_totals){.step = step,
+                        .valid = valid,
+                        .quant_err = quant_err,
+                        .seen_lo = seen_lo,
+                        .seen_hi = seen_hi,
+                        .nodes = nodes};
+    *errp = err;
+    return st;
+}
+
+int tp_store_build(const tp_build_options* options, tp_build_result* result)
+{
+    const double t0 = tp_clock_s();
+    tp_error err = {0};
+    tp_build_options oc = *options;
+    tp_build_options* o = &oc;
+    int rc = prepare(o);
+    if (rc != TP_EXIT_OK)
+        return rc;
+    tp_mosaic_info mi;
+    tp_mosaic* m = open_sources(o, &mi);
+    if (!m)
+        return TP_EXIT_FAILURE;
+    tp_tree_geometry g;
+    if (!plan_geometry(o, &mi, &g)) {
+        tp_mosaic_close(m);
+        return TP_EXIT_FAILURE;
+    }
+    const int ps = 1 << g.n;
+    const double samples = (double)mi.width * mi.height;
+    build_totals t;
+    const tp_status st = build_passes(o, m, &mi, &g, &t, &err);
     const size_t filled = tp_mosaic_filled_samples(m);
     tp_mosaic_voids mv;
     tp_mosaic_get_voids(m, &mv);
@@ -568,13 +630,11 @@ int tp_store_build(const tp_build_options* options, tp_build_result* result)
                        "window of more than %d rows to be filled whole (an eighth of --memory %d); "
                        "give more --memory to fill them",
                        mv.too_large_samples, mv.max_void_rows, o->memory_mb);
-    free(notes);
     if (st != TP_OK) {
         if (tp_interrupted())
             return tp_cli_interrupted();
         return fail_line(err.message);
     }
-    lo = seen_lo, hi = seen_hi;
 
     const double seconds = tp_clock_s() - t0;
     const uint64_t bytes = file_size(o->out);
@@ -582,21 +642,21 @@ int tp_store_build(const tp_build_options* options, tp_build_result* result)
     if (!o->quiet)
         tp_cli_note("%s: %dx%d samples, %lld nodes, %.3f bytes/sample, step %g m, "
                     "%.1f s, peak RSS %.0f MB",
-                    o->out, mi.width, mi.height, (long long)nodes, bytes / samples, step, seconds,
-                    rss_mb);
+                    o->out, mi.width, mi.height, (long long)t.nodes, bytes / samples, t.step,
+                    seconds, rss_mb);
 
     if (result) {
         *result = (tp_build_result){.width = mi.width,
                                     .height = mi.height,
                                     .samples = samples,
-                                    .valid_samples = valid,
+                                    .valid_samples = t.valid,
                                     .patch_size = ps + 1,
-                                    .nodes = nodes,
+                                    .nodes = t.nodes,
                                     .bytes = bytes,
-                                    .step_m = step,
-                                    .quant_max_error_m = quant_err,
-                                    .min_m = lo,
-                                    .max_m = hi,
+                                    .step_m = t.step,
+                                    .quant_max_error_m = t.quant_err,
+                                    .min_m = t.seen_lo,
+                                    .max_m = t.seen_hi,
                                     .warped = mi.warped,
                                     .threads = o->threads,
                                     .memory_mb = o->memory_mb,

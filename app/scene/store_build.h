@@ -24,18 +24,18 @@
 typedef struct tp_build_options {
     const char** sources; /* source_count DEMs (paths GDAL opens), later ones over earlier */
     int source_count;
-    const char* out;        /* NAME.tpt */
-    int patch_size;         /* node size: 17, 33, 65 (default), 129 or 257 */
-    const char* crs;        /* the render grid's CRS (NULL: the sources' own or a UTM/UPS zone) */
+    const char* out; /* NAME.tpt */
+    int patch_size;  /* node size: 17, 33, 65 (default), 129 or 257 */
+    const char* crs; /* the render grid's CRS (NULL: the sources' own or a UTM/UPS zone) */
     tp_resampling resampling;
-    int memory_mb;          /* the whole process's budget (default 1024), fitted to what it may
-                               use (tp_memory_fit_budget); at least BUILD_MIN_MEMORY_MB */
-    int fill_max;           /* samples; 0 fills nothing; TP_FILL_MAX_ANY (the default) any size */
-    const char* fill_from;  /* fill voids from this raster, or NULL */
-    const char* z_unit;     /* m, ft or us-ft; NULL: the sources' */
-    int allow_gaps;         /* build even when the sources cover under TP_BUILD_MIN_COVERED */
-    int threads;            /* 0: every core */
-    int quiet;              /* no notes or progress on stderr */
+    int memory_mb;         /* the whole process's budget (default 1024), fitted to what it may
+                              use (tp_memory_fit_budget); at least BUILD_MIN_MEMORY_MB */
+    int fill_max;          /* samples; 0 fills nothing; TP_FILL_MAX_ANY (the default) any size */
+    const char* fill_from; /* fill voids from this raster, or NULL */
+    const char* z_unit;    /* m, ft or us-ft; NULL: the sources' */
+    int allow_gaps;        /* build even when the sources cover under TP_BUILD_MIN_COVERED */
+    int threads;           /* 0: every core */
+    int quiet;             /* no notes or progress on stderr */
 } tp_build_options;
 
 /* The defaults above (patch 65, memory 1024 MB, voids of any size filled); no sources. */

@@ -1,6 +1,6 @@
 /*
  * terrain_open.h - the one way every command opens the ground it works on (issue 29, part 1).
- * app/terrain_open.c.
+ * app/scene/terrain_open.c.
  *
  * A path given to any command (info, build, view, bench, export, point, los, viewshed, light,
  * profile, contours, imagery) is one of:

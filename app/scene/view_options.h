@@ -22,7 +22,7 @@ typedef struct tp_view_setup {
     int pgm_grid[8][2];     /* cols, rows; default one TP_PGM_DEFAULT_COLS x _ROWS */
     int pgm_grid_count;     /* grids given (0: the default) */
     int pgm_window;         /* --pgm-window: a store's clipmap window, posts a side (0: the
-                               default, TP_PGM_CLIP_DEFAULT_WINDOW in app/view/pgm_clip.h) */
+                               default, TP_PGM_CLIP_DEFAULT_WINDOW in app/render/pgm_clip.h) */
 } tp_view_setup;
 
 enum {

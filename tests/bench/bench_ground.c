@@ -1,4 +1,4 @@
-/* bench_ground.c - the cost of a full-resolution ground query (app/ground.c), the building
+/* bench_ground.c - the cost of a full-resolution ground query (app/scene/ground.c), the building
  * block of `terrapatch point` now and of line of sight, viewsheds and profiles next (not a
  * test; not run by ctest).
  *
