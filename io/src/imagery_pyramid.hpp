@@ -1,5 +1,5 @@
 /* imagery_pyramid.hpp - writing a pyramid file (.tpi, .tpl) whose level-0 block rows come in
- * order from a caller (imagery_write.cpp warps them from rasters, imagery_rows.cpp asks a
+ * order from a caller (imagery_build.cpp warps them from rasters, imagery_rows.cpp asks a
  * callback): the coarser levels made as the rows come (one block row a level in memory), the
  * blocks compressed by threads and appended, the table, footer and header, the file committed
  * whole (imagery_pyramid.cpp; the layout in imagery_format.hpp). Private to io/. */

@@ -1,4 +1,4 @@
-/* imagery_write.cpp - tp_imagery_build: georeferenced rasters warped by GDAL onto a render grid
+/* imagery_build.cpp - tp_imagery_build: georeferenced rasters warped by GDAL onto a render grid
  * and written as a mip pyramid of 256x256 RGBA blocks (.tpi; tp_imagery.h, docs/imagery.md).
  *
  * Each source becomes an RGBA view of itself (a VRT: its palette expanded, the colour bands
