@@ -152,17 +152,17 @@ struct Opening {
     bool has_over = false;
     std::vector<Source> src;
     bool untagged_int16 = false; /* some source is an Int16 one without a nodata tag */
+
+    tp_status open_sources(tp_mosaic* m, tp_error* err);
+    tp_status open_shared(tp_mosaic* m, tp_error* err);
+    tp_status render_crs(OGRSpatialReference& dst, tp_error* err) const;
+    tp_status open_warped(tp_mosaic* m, tp_error* err);
+    tp_status finish_open(tp_mosaic* m, tp_error* err) const;
 };
 
 /* Opens and checks every source (one height unit for all), with their notes. */
-tp_status open_sources(Opening& op, tp_mosaic* m, tp_error* err)
+tp_status Opening::open_sources(tp_mosaic* m, tp_error* err)
 {
-    const char* const* paths = op.paths;
-    const size_t count = op.count;
-    const tp_mosaic_options& o = op.o;
-    const OGRSpatialReference& over = op.over;
-    const bool has_over = op.has_over;
-    std::vector<Source>& src = op.src;
     src.resize(count);
     for (size_t i = 0; i < count; i++) {
         if (const tp_status st = open_source(paths[i], o.z_unit, &src[i], err))
@@ -198,11 +198,9 @@ tp_status open_sources(Opening& op, tp_mosaic* m, tp_error* err)
     if (count > 1)
         add_note(m->notes, CPLSPrintf("%zu sources", count));
 
-    bool untagged_int16 = false;
     for (const Source& s : src)
         untagged_int16 |= s.int16_voids();
     m->int16_voids = untagged_int16;
-    op.untagged_int16 = untagged_int16;
     return TP_OK;
 }
 
@@ -221,15 +219,8 @@ bool share_one_grid(const std::vector<Source>& src)
 
 /* Sources of one CRS and spacing: one source, or their GDALBuildVRT mosaic, warped onto the
  * render grid when the plan says so (as tp_render_grid_build would warp one DEM). */
-tp_status open_shared(Opening& op, tp_mosaic* m, tp_error* err)
+tp_status Opening::open_shared(tp_mosaic* m, tp_error* err)
 {
-    const char* const* paths = op.paths;
-    const size_t count = op.count;
-    const tp_mosaic_options& o = op.o;
-    const OGRSpatialReference& over = op.over;
-    const bool has_over = op.has_over;
-    std::vector<Source>& src = op.src;
-    const bool untagged_int16 = op.untagged_int16;
     tpio::Dataset base; /* the grid before any warp: one source, or the mosaic VRT */
     if (count == 1) {
         base.reset(GDALDataset::Open(paths[0], GDAL_OF_RASTER | GDAL_OF_READONLY));
@@ -320,10 +311,8 @@ tp_status open_shared(Opening& op, tp_mosaic* m, tp_error* err)
 }
 
 /* The render CRS of sources that differ in CRS or spacing (dst). */
-tp_status render_crs(const Opening& op, OGRSpatialReference& dst, tp_error* err)
+tp_status Opening::render_crs(OGRSpatialReference& dst, tp_error* err) const
 {
-    const char* const* paths = op.paths;
-    const std::vector<Source>& src = op.src;
     /* The render CRS: the sources' own when all of them are in one projected CRS in metres;
      * else the UTM/UPS zone of the centre of their geographic extent. */
     bool one_projected = true;
@@ -368,14 +357,8 @@ tp_status render_crs(const Opening& op, OGRSpatialReference& dst, tp_error* err)
 }
 
 /* Sources that differ in CRS or spacing: each warped onto one grid, then mosaicked. */
-tp_status open_warped(Opening& op, tp_mosaic* m, tp_error* err)
+tp_status Opening::open_warped(tp_mosaic* m, tp_error* err)
 {
-    const char* const* paths = op.paths;
-    const size_t count = op.count;
-    const tp_mosaic_options& o = op.o;
-    const OGRSpatialReference& over = op.over;
-    const bool has_over = op.has_over;
-    std::vector<Source>& src = op.src;
     for (const Source& s : src)
         if (!s.has_crs)
             return fail(err, TP_ERR_BAD_DATA,
@@ -384,7 +367,7 @@ tp_status open_warped(Opening& op, tp_mosaic* m, tp_error* err)
                         s.path.c_str());
     OGRSpatialReference dst;
     dst.SetAxisMappingStrategy(OAMS_TRADITIONAL_GIS_ORDER);
-    if (const tp_status st = render_crs(op, dst, err))
+    if (const tp_status st = render_crs(dst, err))
         return st;
     const std::string t_srs = tpio::crs_wkt2(dst);
     double res = INFINITY, ext[4] = {INFINITY, INFINITY, -INFINITY, -INFINITY};
@@ -467,12 +450,8 @@ tp_status open_warped(Opening& op, tp_mosaic* m, tp_error* err)
 
 /* What is read once the grid is planned: its size and nodata, the void window and the
  * --fill-from source, and a bound of its heights. */
-tp_status finish_open(const Opening& op, tp_mosaic* m, tp_error* err)
+tp_status Opening::finish_open(tp_mosaic* m, tp_error* err) const
 {
-    const tp_mosaic_options& o = op.o;
-    const int memory_mb = op.memory_mb;
-    const std::vector<Source>& src = op.src;
-    const bool untagged_int16 = op.untagged_int16;
     m->w = m->ds->GetRasterXSize();
     m->h = m->ds->GetRasterYSize();
     m->ds->GetGeoTransform(m->gt);
@@ -549,12 +528,12 @@ tp_status open_mosaic(const char* const* paths, size_t count, const tp_mosaic_op
     if (op.has_over && op.over.SetFromUserInput(o.crs) != OGRERR_NONE)
         return fail(err, TP_ERR_INVALID_ARG, "CRS '%s' is not one GDAL/PROJ knows", o.crs);
 
-    if (const tp_status st = open_sources(op, m, err))
+    if (const tp_status st = op.open_sources(m, err))
         return st;
-    if (const tp_status st = share_one_grid(op.src) ? open_shared(op, m, err)
-                                                    : open_warped(op, m, err))
+    if (const tp_status st = share_one_grid(op.src) ? op.open_shared(m, err)
+                                                    : op.open_warped(m, err))
         return st;
-    return finish_open(op, m, err);
+    return op.finish_open(m, err);
 }
 
 } // namespace
