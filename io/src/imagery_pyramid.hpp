@@ -62,6 +62,11 @@ tp_status pyramid_begin(Pyramid& p, tp_error* err);
  * afterwards. Write errors. */
 tp_status pyramid_finish_row(Pyramid& p, int row, tp_error* err);
 
+/* pyramid_finish_row, then what every builder does after a row: fails, naming out_path, after
+ * SIGINT/SIGTERM (tp_interrupted), and reports progress through o (of p's level-0 rows). */
+tp_status pyramid_row_done(Pyramid& p, int row, const char* out_path,
+                           const tp_imagery_build_options* o, tp_error* err);
+
 /* After the last row: the table's CRC32, the footer, the header with the count of non-empty
  * blocks; commits the file. Write errors (the file then abandoned). */
 tp_status pyramid_commit(Pyramid& p, tp_error* err);
