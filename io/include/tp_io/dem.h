@@ -1,7 +1,7 @@
 /*
- * tp_io/dem.h - DEM rasters read through GDAL (io/src/dem_read.cpp, dem_check.cpp, int16_voids.cpp,
- * vertical_datum.cpp): band 1 in metres, the georeference ranges a DEM may have, the vertical
- * datum a file states.
+ * tp_io/dem.h - DEM rasters read through GDAL (io/src/dem_read.cpp, dem_check.cpp,
+ * int16_voids.cpp, vertical_datum.cpp): band 1 in metres, the georeference ranges a DEM may
+ * have, the vertical datum a file states.
  * Part of tp_io.h, which includes it (as every caller does); the error conventions stated
  * there hold here. C11.
  */
