@@ -179,11 +179,25 @@ std::string prj_of(GDALDataset& ds)
     return prj;
 }
 
-tp_status read_dem(const char* path, const char* z_unit, tp_dem** out, tp_error* err)
-{
-    register_drivers();
-    QuietGdal quiet;
+/* What read_dem has found so far, shared by its steps. */
+struct DemRead {
+    const char* path = nullptr;
+    std::unique_ptr<GDALDataset, DatasetCloser> ds;
+    GDALRasterBand* band = nullptr;           /* band 1 */
+    int w = 0, h = 0;
+    double gt[6] = {0, 1, 0, 0, 0, -1};
+    bool has_gt = false;
+    const OGRSpatialReference* srs = nullptr; /* owned by ds */
+    const char* driver = "";
+    tpio::ZUnit zu;
+    /* samples taken as nodata with a warning */
+    size_t guessed_32768 = 0, guessed_32767 = 0, infinite = 0;
+};
 
+/* Checks path before anything opens it, then opens it with GDAL: r.st, r.ds, r.band, r.w, r.h. */
+tp_status open_raster(DemRead& r, tp_error* err)
+{
+    const char* path = r.path;
     /* A FIFO or a device would block GDAL's open (or never end): refuse what is not a regular
      * file or a directory before anything opens it. */
     if (const tp_status s = tpio::check_input_file(path, "a raster", true, err))
@@ -215,11 +229,10 @@ tp_status read_dem(const char* path, const char* z_unit, tp_dem** out, tp_error*
 
     /* A directory can still be a raster (an ArcInfo binary grid is one), so GDAL has the first
      * word; if it cannot open it, the answer is that it is a directory. */
-    VerifyDtedChecksums verify;
-    std::unique_ptr<GDALDataset, DatasetCloser> ds(
+    r.ds.reset(
         GDALDataset::Open(path, GDAL_OF_RASTER | GDAL_OF_READONLY | GDAL_OF_VERBOSE_ERROR, nullptr,
                           nullptr, nullptr));
-    if (!ds) {
+    if (!r.ds) {
         if (is_dir) {
             set_error(err, "%s: cannot open: %s, expected a raster file", path,
                       std::strerror(EISDIR));
@@ -229,30 +242,37 @@ tp_status read_dem(const char* path, const char* z_unit, tp_dem** out, tp_error*
                   open_hint(path, st).c_str());
         return TP_ERR_BAD_DATA;
     }
-    if (ds->GetRasterCount() < 1) {
+    if (r.ds->GetRasterCount() < 1) {
         set_error(err, "%s: expected at least 1 raster band, got 0", path);
         return TP_ERR_BAD_DATA;
     }
-    GDALRasterBand* band = ds->GetRasterBand(1);
-    const int w = ds->GetRasterXSize(), h = ds->GetRasterYSize();
+    r.band = r.ds->GetRasterBand(1);
+    const int w = r.w = r.ds->GetRasterXSize(), h = r.h = r.ds->GetRasterYSize();
     if (w < 1 || h < 1) {
         set_error(err, "%s: expected a raster of at least 1x1, got %dx%d", path, w, h);
         return TP_ERR_BAD_DATA;
     }
+    return TP_OK;
+}
 
+/* The georeference, checked before the heights are read (r.gt, r.has_gt, r.srs). */
+tp_status check_georeference(DemRead& r, tp_error* err)
+{
+    const char* path = r.path;
+    const int w = r.w, h = r.h;
+    double* gt = r.gt;
     /* Georeferencing first: it is cheap, and a bad one is refused before the heights are read.
      * GDAL has already moved pixel-is-point origins to the corner of the first pixel. */
-    double gt[6];
-    const bool has_gt = ds->GetGeoTransform(gt) == CE_None;
+    const bool has_gt = r.has_gt = r.ds->GetGeoTransform(gt) == CE_None;
     if (has_gt) {
         const tp_status s = check_geotransform(path, gt, err);
         if (s != TP_OK)
             return s;
     } else {
         const double unit[6] = {0.0, 1.0, 0.0, 0.0, 0.0, -1.0};
-        std::memcpy(gt, unit, sizeof gt);
+        std::memcpy(gt, unit, sizeof unit);
     }
-    const OGRSpatialReference* srs = ds->GetSpatialRef();
+    const OGRSpatialReference* srs = r.srs = r.ds->GetSpatialRef();
     if (has_gt) {
         const tp_status s = check_ranges(path, srs, gt, w, h, err);
         if (s != TP_OK)
@@ -263,59 +283,45 @@ tp_status read_dem(const char* path, const char* z_unit, tp_dem** out, tp_error*
         if (s != TP_OK)
             return s;
     }
+    return TP_OK;
+}
 
-    /* The heights are read whole as 32-bit floats: refuse a size this machine cannot hold
-     * before asking for it. */
-    if (const tp_status s =
-            tpio::check_fits_in_memory(path, w, h, sizeof(float), "for the heights", err))
-        return s;
-    const size_t count = static_cast<size_t>(w) * static_cast<size_t>(h);
-    const double need = static_cast<double>(w) * static_cast<double>(h) * sizeof(float);
-
-    /* GDAL decodes whole blocks, and a pixel-interleaved block holds every band: a damaged
-     * header (a strip far taller than the image, thousands of bands) can ask for gigabytes to
-     * read a few samples. Refuse a block larger than four times the heights (at least 256 MiB). */
-    {
-        int bx = 0, by = 0;
-        band->GetBlockSize(&bx, &by);
-        const char* il = ds->GetMetadataItem("INTERLEAVE", "IMAGE_STRUCTURE");
-        const int bands = il && EQUAL(il, "PIXEL") ? ds->GetRasterCount() : 1;
-        const double block = static_cast<double>(bx) * by * bands *
-                             GDALGetDataTypeSizeBytes(band->GetRasterDataType());
-        if (block > std::max(4.0 * need, 256.0 * 1024 * 1024)) {
-            set_error(err,
-                      "%s: one block of this %dx%d raster is %dx%d samples%s and needs %.1f GiB to "
-                      "decode: a damaged or unusual file (gdal_translate -co TILED=YES makes a "
-                      "readable copy)",
-                      path, w, h, bx, by,
-                      bands > 1 ? (" of " + std::to_string(bands) + " interleaved bands").c_str()
-                                : "",
-                      gib(block));
-            return TP_ERR_BAD_DATA;
-        }
+/* GDAL decodes whole blocks, and a pixel-interleaved block holds every band: a damaged header
+ * (a strip far taller than the image, thousands of bands) can ask for gigabytes to read a few
+ * samples. Refuses a block larger than four times the heights (need bytes; at least 256 MiB). */
+tp_status check_block_size(const DemRead& r, double need, tp_error* err)
+{
+    const char* path = r.path;
+    const int w = r.w, h = r.h;
+    GDALDataset* ds = r.ds.get();
+    GDALRasterBand* band = r.band;
+    int bx = 0, by = 0;
+    band->GetBlockSize(&bx, &by);
+    const char* il = ds->GetMetadataItem("INTERLEAVE", "IMAGE_STRUCTURE");
+    const int bands = il && EQUAL(il, "PIXEL") ? ds->GetRasterCount() : 1;
+    const double block = static_cast<double>(bx) * by * bands *
+                         GDALGetDataTypeSizeBytes(band->GetRasterDataType());
+    if (block > std::max(4.0 * need, 256.0 * 1024 * 1024)) {
+        set_error(err,
+                  "%s: one block of this %dx%d raster is %dx%d samples%s and needs %.1f GiB to "
+                  "decode: a damaged or unusual file (gdal_translate -co TILED=YES makes a "
+                  "readable copy)",
+                  path, w, h, bx, by,
+                  bands > 1 ? (" of " + std::to_string(bands) + " interleaved bands").c_str()
+                            : "",
+                  gib(block));
+        return TP_ERR_BAD_DATA;
     }
+    return TP_OK;
+}
 
-    const char* driver = ds->GetDriver() ? ds->GetDriver()->GetDescription() : "";
-    if (EQUAL(driver, "AAIGrid")) {
-        const tp_status s = check_ascii_grid(path, w, h, err);
-        if (s != TP_OK)
-            return s;
-    }
-
-    std::unique_ptr<tp_dem, DemDeleter> dem(static_cast<tp_dem*>(std::calloc(1, sizeof(tp_dem))));
-    if (!dem) {
-        set_error(err, "%s: out of memory", path);
-        return TP_ERR_OUT_OF_MEMORY;
-    }
-    dem->width = w;
-    dem->height = h;
-    dem->heights = static_cast<float*>(std::malloc(count * sizeof(float)));
-    if (!dem->heights) {
-        set_error(err, "%s: out of memory: %dx%d samples need %.1f GiB for the heights", path, w, h,
-                  gib(need));
-        return TP_ERR_OUT_OF_MEMORY;
-    }
-
+/* Band 1 into dem->heights (w * h floats), as stored; a read that fails part way is refused. */
+tp_status read_heights(const DemRead& r, tp_dem* dem, tp_error* err)
+{
+    const char* path = r.path;
+    const int w = r.w, h = r.h;
+    GDALRasterBand* band = r.band;
+    const char* driver = r.driver;
     /* A read can fail part way (a strip cut off by a truncated copy). Some drivers report a
      * failure through CPLError but still return CE_None for the request, so both count; no
      * partial result is kept. */
@@ -346,22 +352,19 @@ tp_status read_dem(const char* path, const char* z_unit, tp_dem** out, tp_error*
                   path, gdal_message(path).c_str());
         return TP_ERR_BAD_DATA;
     }
+    return TP_OK;
+}
 
+/* Everything that is not a height made NaN, heights made metres (r.zu), the nodata tag, void
+ * count and range into dem; the samples taken as nodata counted in r. */
+tp_status mask_voids(DemRead& r, tp_dem* dem, tp_error* err)
+{
+    const char* path = r.path;
+    const size_t count = (size_t)r.w * (size_t)r.h;
+    GDALRasterBand* band = r.band;
     const GDALDataType type = band->GetRasterDataType();
-    copy_name(dem->driver, sizeof dem->driver,
-              ds->GetDriver() ? ds->GetDriver()->GetDescription() : "");
-    copy_name(dem->data_type, sizeof dem->data_type, GDALGetDataTypeName(type));
-    dem->is_integer_type = GDALDataTypeIsInteger(type) ? 1 : 0;
-    copy_name(dem->units, sizeof dem->units, band->GetUnitType());
-    copy_name(dem->vertical_datum, sizeof dem->vertical_datum,
-              tpio::vertical_datum_of(ds.get()).c_str());
-    tpio::ZUnit zu;
-    if (const tp_status s = tpio::z_unit_of(ds.get(), z_unit, &zu, err))
-        return s;
-    dem->z_to_m = zu.to_m;
-    copy_name(dem->z_unit, sizeof dem->z_unit, zu.name.c_str());
-    copy_name(dem->z_unit_from, sizeof dem->z_unit_from, zu.from.c_str());
-
+    const tpio::ZUnit& zu = r.zu;
+    DemRead& c = r;
     int has_nodata = 0;
     const double nodata = band->GetNoDataValue(&has_nodata);
     dem->has_nodata = has_nodata ? 1 : 0;
@@ -375,7 +378,10 @@ tp_status read_dem(const char* path, const char* z_unit, tp_dem** out, tp_error*
     const bool nd_is_nan = has_nodata && std::isnan(nodata);
     const bool int16_guess = !has_nodata && type == GDT_Int16;
     const float nan = std::nanf("");
-    size_t guessed_32768 = 0, guessed_32767 = 0, tagged = 0, nans = 0, infinite = 0, voids = 0;
+    size_t& guessed_32768 = c.guessed_32768;
+    size_t& guessed_32767 = c.guessed_32767;
+    size_t& infinite = c.infinite;
+    size_t tagged = 0, nans = 0, voids = 0;
     float lo = 0.0f, hi = 0.0f;
     for (size_t i = 0; i < count; ++i) {
         float v = dem->heights[i];
@@ -426,7 +432,20 @@ tp_status read_dem(const char* path, const char* z_unit, tp_dem** out, tp_error*
     dem->void_count = voids;
     dem->min_m = lo;
     dem->max_m = hi;
+    return TP_OK;
+}
 
+/* The warnings for the user ('\n'-separated): nodata guessed, infinite samples, the height
+ * unit, a .prj GDAL cannot read, no georeference at all. */
+std::string dem_warnings(const DemRead& r)
+{
+    const char* path = r.path;
+    const size_t guessed_32768 = r.guessed_32768, guessed_32767 = r.guessed_32767;
+    const size_t infinite = r.infinite;
+    const tpio::ZUnit& zu = r.zu;
+    const OGRSpatialReference* srs = r.srs;
+    const bool has_gt = r.has_gt;
+    GDALDataset* ds = r.ds.get();
     std::string warnings;
     char line[1024];
     if (guessed_32768 || guessed_32767) {
@@ -477,10 +496,82 @@ tp_status read_dem(const char* path, const char* z_unit, tp_dem** out, tp_error*
             warnings += '\n';
         warnings += line;
     }
-    dem->warnings = dup_c(warnings);
+    return warnings;
+}
+
+tp_status read_dem(const char* path, const char* z_unit, tp_dem** out, tp_error* err)
+{
+    register_drivers();
+    QuietGdal quiet;
+    DemRead r;
+    r.path = path;
+    VerifyDtedChecksums verify; /* from the open to the end of the read */
+    if (const tp_status s = open_raster(r, err))
+        return s;
+    const int w = r.w, h = r.h;
+    GDALDataset* ds = r.ds.get();
+    GDALRasterBand* band = r.band;
+    if (const tp_status s = check_georeference(r, err))
+        return s;
+    const double* gt = r.gt;
+    const bool has_gt = r.has_gt;
+
+    /* The heights are read whole as 32-bit floats: refuse a size this machine cannot hold
+     * before asking for it. */
+    if (const tp_status s =
+            tpio::check_fits_in_memory(path, w, h, sizeof(float), "for the heights", err))
+        return s;
+    const size_t count = static_cast<size_t>(w) * static_cast<size_t>(h);
+    const double need = static_cast<double>(w) * static_cast<double>(h) * sizeof(float);
+
+    if (const tp_status s = check_block_size(r, need, err))
+        return s;
+
+    const char* driver = r.driver = ds->GetDriver() ? ds->GetDriver()->GetDescription() : "";
+    if (EQUAL(driver, "AAIGrid")) {
+        const tp_status s = check_ascii_grid(path, w, h, err);
+        if (s != TP_OK)
+            return s;
+    }
+
+    std::unique_ptr<tp_dem, DemDeleter> dem(static_cast<tp_dem*>(std::calloc(1, sizeof(tp_dem))));
+    if (!dem) {
+        set_error(err, "%s: out of memory", path);
+        return TP_ERR_OUT_OF_MEMORY;
+    }
+    dem->width = w;
+    dem->height = h;
+    dem->heights = static_cast<float*>(std::malloc(count * sizeof(float)));
+    if (!dem->heights) {
+        set_error(err, "%s: out of memory: %dx%d samples need %.1f GiB for the heights", path, w, h,
+                  gib(need));
+        return TP_ERR_OUT_OF_MEMORY;
+    }
+
+    if (const tp_status s = read_heights(r, dem.get(), err))
+        return s;
+
+    const GDALDataType type = band->GetRasterDataType();
+    copy_name(dem->driver, sizeof dem->driver,
+              ds->GetDriver() ? ds->GetDriver()->GetDescription() : "");
+    copy_name(dem->data_type, sizeof dem->data_type, GDALGetDataTypeName(type));
+    dem->is_integer_type = GDALDataTypeIsInteger(type) ? 1 : 0;
+    copy_name(dem->units, sizeof dem->units, band->GetUnitType());
+    copy_name(dem->vertical_datum, sizeof dem->vertical_datum,
+              tpio::vertical_datum_of(ds).c_str());
+    tpio::ZUnit& zu = r.zu;
+    if (const tp_status s = tpio::z_unit_of(ds, z_unit, &zu, err))
+        return s;
+    dem->z_to_m = zu.to_m;
+    copy_name(dem->z_unit, sizeof dem->z_unit, zu.name.c_str());
+    copy_name(dem->z_unit_from, sizeof dem->z_unit_from, zu.from.c_str());
+
+    if (const tp_status s = mask_voids(r, dem.get(), err))
+        return s;
+    dem->warnings = dup_c(dem_warnings(r));
 
     dem->has_geotransform = has_gt ? 1 : 0;
-    std::memcpy(dem->geotransform, gt, sizeof gt);
+    std::memcpy(dem->geotransform, gt, sizeof dem->geotransform);
 
     if (!read_crs(*ds, dem.get()) || !dem->warnings) {
         set_error(err, "%s: out of memory", path);

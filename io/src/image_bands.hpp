@@ -1,5 +1,5 @@
 /* image_bands.hpp - which bands of a GDAL raster make an image's colour and alpha, shared by
- * the draped texture (texture.cpp) and the imagery pyramids (imagery_write.cpp). Private to io/. */
+ * the draped texture (texture.cpp) and the imagery pyramids (imagery_build.cpp). Private to io/. */
 #pragma once
 
 #include "gdal_util.hpp"

@@ -9,6 +9,7 @@
  * footer, then the header again with the count of non-empty blocks; tp_file_commit makes the
  * file. */
 #include "imagery_pyramid.hpp"
+#include "io_util.hpp"
 
 #include <zstd.h>
 
@@ -239,6 +240,18 @@ tp_status pyramid_begin(Pyramid& b, tp_error* err)
 tp_status pyramid_finish_row(Pyramid& b, int row, tp_error* err)
 {
     return finish_level_row(b, 0, row, err);
+}
+
+tp_status pyramid_row_done(Pyramid& b, int row, const char* out_path,
+                           const tp_imagery_build_options* o, tp_error* err)
+{
+    tp_status st = pyramid_finish_row(b, row, err);
+    if (st == TP_OK && tp_interrupted())
+        st = fail(err, TP_ERR_IO, "%s: interrupted (%s): not written", out_path,
+                  tpio::interrupt_name());
+    if (st == TP_OK && o->progress)
+        o->progress(o->progress_user, (row + 1.0) / b.g.rows[0]);
+    return st;
 }
 
 tp_status pyramid_commit(Pyramid& b, tp_error* err)

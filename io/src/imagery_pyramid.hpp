@@ -1,5 +1,5 @@
 /* imagery_pyramid.hpp - writing a pyramid file (.tpi, .tpl) whose level-0 block rows come in
- * order from a caller (imagery_write.cpp warps them from rasters, imagery_rows.cpp asks a
+ * order from a caller (imagery_build.cpp warps them from rasters, imagery_rows.cpp asks a
  * callback): the coarser levels made as the rows come (one block row a level in memory), the
  * blocks compressed by threads and appended, the table, footer and header, the file committed
  * whole (imagery_pyramid.cpp; the layout in imagery_format.hpp). Private to io/. */
@@ -61,6 +61,11 @@ tp_status pyramid_begin(Pyramid& p, tp_error* err);
  * height): writes it and every coarser block row it completes. p.level[0] may be overwritten
  * afterwards. Write errors. */
 tp_status pyramid_finish_row(Pyramid& p, int row, tp_error* err);
+
+/* pyramid_finish_row, then what every builder does after a row: fails, naming out_path, after
+ * SIGINT/SIGTERM (tp_interrupted), and reports progress through o (of p's level-0 rows). */
+tp_status pyramid_row_done(Pyramid& p, int row, const char* out_path,
+                           const tp_imagery_build_options* o, tp_error* err);
 
 /* After the last row: the table's CRC32, the footer, the header with the count of non-empty
  * blocks; commits the file. Write errors (the file then abandoned). */

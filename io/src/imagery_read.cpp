@@ -5,6 +5,7 @@
  * memory (24 bytes a block: 0.01% of the blocks' raw texels). tp_imagery_read_block reads one
  * block with pread, so any number of threads may read at once: the pyramid is not changed
  * after open, and each thread keeps its own zstd context and buffers (thread_local). */
+#include "format_read.hpp"
 #include "imagery_format.hpp"
 #include "io_util.hpp"
 
@@ -19,6 +20,7 @@
 
 using namespace tpio::imagery;
 using tpio::fail;
+using tpio::read_at;
 
 struct tp_imagery {
     std::string path;
@@ -41,26 +43,6 @@ struct tp_imagery {
 };
 
 namespace {
-
-/* All of size bytes at offset, or an errno (EIO for a file that ended early). */
-int read_at(int fd, void* buf, size_t size, uint64_t offset)
-{
-    uint8_t* p = static_cast<uint8_t*>(buf);
-    while (size > 0) {
-        const ssize_t got = pread(fd, p, size, (off_t)offset);
-        if (got < 0) {
-            if (errno == EINTR)
-                continue;
-            return errno;
-        }
-        if (got == 0)
-            return EIO;
-        p += got;
-        size -= (size_t)got;
-        offset += (uint64_t)got;
-    }
-    return 0;
-}
 
 struct ThreadScratch {
     ZSTD_DCtx* dctx = nullptr;
@@ -99,7 +81,10 @@ bool same_bits(double a, double b)
     return std::memcmp(&a, &b, sizeof a) == 0;
 }
 
-tp_status load(tp_imagery* im, tp_error* err)
+/* The header's fixed part, its size, checksum and version: the whole header into head,
+ * its version, and the size of that version's fixed part. */
+tp_status read_header(tp_imagery* im, std::vector<uint8_t>& head, uint32_t* version_out,
+                      size_t* fixed_out, tp_error* err)
 {
     const char* path = im->path.c_str();
     uint8_t fixed[H_FIXED_BYTES_V1];
@@ -123,21 +108,10 @@ tp_status load(tp_imagery* im, tp_error* err)
     if (header_bytes < fixed_size + 4 || header_bytes > fixed_size + 4 + 2 * MAX_STRING_BYTES)
         return fail(err, TP_ERR_BAD_DATA, "%s: damaged header: it claims %u bytes", path,
                     header_bytes);
-    if (header_bytes > im->file_bytes)
-        return fail(err, TP_ERR_BAD_DATA,
-                    "%s: truncated: %" PRIu64 " bytes, but the header alone takes %u", path,
-                    im->file_bytes, header_bytes);
-    std::vector<uint8_t> head(header_bytes);
-    if (int e = read_at(im->fd, head.data(), head.size(), 0))
-        return fail(err, TP_ERR_IO, "%s: cannot read the header: %s", path, std::strerror(e));
-    const uint8_t* h = head.data();
-    const uint32_t head_crc = crc32_of(h, header_bytes - 4);
-    if (head_crc != get_u32(h + header_bytes - 4))
-        return fail(err, TP_ERR_BAD_DATA,
-                    "%s: damaged header: checksum mismatch in bytes 0..%u (stored 0x%08x, "
-                    "computed 0x%08x)",
-                    path, header_bytes - 1, get_u32(h + header_bytes - 4), head_crc);
-    const uint32_t version = get_u32(h + H_VERSION);
+    if (const tp_status st =
+            tpio::read_header_bytes(im->fd, path, im->file_bytes, header_bytes, head, err))
+        return st;
+    const uint32_t version = get_u32(head.data() + H_VERSION);
     if (version > VERSION)
         return fail(
             err, TP_ERR_BAD_DATA,
@@ -145,7 +119,16 @@ tp_status load(tp_imagery* im, tp_error* err)
             version, VERSION);
     if (version == 0)
         return fail(err, TP_ERR_BAD_DATA, "%s: damaged header: format version 0", path);
+    *version_out = version;
+    *fixed_out = fixed_size;
+    return TP_OK;
+}
 
+/* The geometry, recomputed from the grid and the shift (into im: g, the grid's size,
+ * geotransform and the texel shift), against the header h's stored values. */
+tp_status decode_geometry(tp_imagery* im, const uint8_t* h, tp_error* err)
+{
+    const char* path = im->path.c_str();
     /* Geometry: recomputed from the grid and the shift; every stored value must agree. */
     const uint32_t block = get_u32(h + H_BLOCK), gw = get_u32(h + H_GRID_WIDTH),
                    gh = get_u32(h + H_GRID_HEIGHT);
@@ -182,11 +165,23 @@ tp_status load(tp_imagery* im, tp_error* err)
             why = "the grid's geotransform is not finite";
     if (!why.empty())
         return fail(err, TP_ERR_BAD_DATA, "%s: inconsistent geometry: %s", path, why.c_str());
+    im->shift = shift;
+    im->grid_width = (int)gw, im->grid_height = (int)gh;
+    return TP_OK;
+}
+
+/* The kind, its day, the non-empty block count, the CRS and notes of header h (of version,
+ * its fixed part fixed_size bytes, header_bytes in all) into im. */
+tp_status decode_kind(tp_imagery* im, const uint8_t* h, uint32_t version, size_t fixed_size,
+                      uint32_t header_bytes, tp_error* err)
+{
+    const char* path = im->path.c_str();
     /* The kind and its day: version 1 is imagery (the field was reserved, 0) */
     const uint32_t kind = get_u32(h + H_KIND);
     const bool v2 = version >= 2;
     const double t0 = v2 ? get_f64(h + H_TIME_FIRST) : 0, t1 = v2 ? get_f64(h + H_TIME_LAST) : 0;
     const uint32_t maps = v2 ? get_u32(h + H_MAPS) : 0;
+    const int shift = im->shift;
     const char* bad_kind = kind_problem(kind, t0, t1, maps, shift);
     if (!bad_kind && v2 && get_u32(h + H_RESERVED2) != 0)
         bad_kind = "reserved bytes not 0";
@@ -197,20 +192,19 @@ tp_status load(tp_imagery* im, tp_error* err)
     im->kind = (int)kind;
     im->time_first_s = t0, im->time_last_s = t1;
     im->maps = (int)maps;
-    im->shift = shift;
-    im->grid_width = (int)gw, im->grid_height = (int)gh;
     im->nonempty = get_u64(h + H_NONEMPTY);
     const uint32_t crs_bytes = get_u32(h + H_CRS_BYTES), notes_bytes = get_u32(h + H_NOTES_BYTES);
-    if ((uint64_t)fixed_size + crs_bytes + notes_bytes + 4 != header_bytes)
-        return fail(err, TP_ERR_BAD_DATA,
-                    "%s: bad header: CRS (%u bytes) and notes (%u bytes) do not fill its %u bytes",
-                    path, crs_bytes, notes_bytes, header_bytes);
-    im->crs.assign(reinterpret_cast<const char*>(h + fixed_size), crs_bytes);
-    im->notes.assign(reinterpret_cast<const char*>(h + fixed_size + crs_bytes), notes_bytes);
-    if (im->crs.find('\0') != std::string::npos || im->notes.find('\0') != std::string::npos)
-        return fail(err, TP_ERR_BAD_DATA, "%s: bad header: a NUL byte inside the CRS or notes",
-                    path);
+    return tpio::read_header_strings(path, h, fixed_size, header_bytes, crs_bytes, notes_bytes,
+                                     im->crs, im->notes, err);
+}
 
+/* The footer into foot (FOOTER_BYTES), checked against where the block table must be
+ * (*table_offset, after a header of header_bytes); im->data_offset and data_end. */
+tp_status read_footer(tp_imagery* im, uint32_t header_bytes, uint8_t* foot,
+                      uint64_t* table_offset_out, tp_error* err)
+{
+    const char* path = im->path.c_str();
+    const Geometry& g = im->g;
     /* Footer */
     const uint64_t table_offset = ((uint64_t)header_bytes + 7) & ~(uint64_t)7;
     const uint64_t table_bytes = g.block_count * ENTRY_BYTES;
@@ -219,8 +213,7 @@ tp_status load(tp_imagery* im, tp_error* err)
         return fail(err, TP_ERR_BAD_DATA,
                     "%s: truncated: %" PRIu64 " bytes, no room for the footer after the header",
                     path, im->file_bytes);
-    uint8_t foot[FOOTER_BYTES];
-    if (int e = read_at(im->fd, foot, sizeof foot, im->file_bytes - FOOTER_BYTES))
+    if (int e = read_at(im->fd, foot, FOOTER_BYTES, im->file_bytes - FOOTER_BYTES))
         return fail(err, TP_ERR_IO, "%s: cannot read the footer: %s", path, std::strerror(e));
     if (std::memcmp(foot + F_END_MAGIC, END_MAGIC, 8) != 0)
         return fail(err, TP_ERR_BAD_DATA,
@@ -246,7 +239,41 @@ tp_status load(tp_imagery* im, tp_error* err)
         return fail(err, TP_ERR_BAD_DATA,
                     "%s: truncated: %" PRIu64 " bytes, but its block table ends at byte %" PRIu64,
                     path, im->file_bytes, im->data_offset);
+    *table_offset_out = table_offset;
+    return TP_OK;
+}
 
+/* What is wrong with block table entry p (e, decoded), or nullptr: reserved bytes, codec, size
+ * (at most max_bytes) and place (inside im's data area). */
+const char* entry_problem(const tp_imagery* im, const Entry& e, const uint8_t* p, size_t max_bytes)
+{
+    bool zero = true;
+    for (size_t j = E_CODEC + 1; j < ENTRY_BYTES; ++j)
+        zero = zero && p[j] == 0;
+    if (!zero)
+        return "reserved bytes not 0";
+    if (e.codec == CODEC_EMPTY) {
+        if (e.offset != 0 || e.bytes != 0 || e.crc != 0)
+            return "an empty block with an offset, size or checksum";
+        return nullptr;
+    }
+    if (e.codec != CODEC_ZSTD && e.codec != CODEC_RAW)
+        return "unknown codec";
+    if (e.bytes == 0 || e.bytes > max_bytes || (e.codec == CODEC_RAW && e.bytes != BLOCK_BYTES))
+        return "impossible data size";
+    if (e.offset < im->data_offset || e.offset > im->data_end ||
+        e.bytes > im->data_end - e.offset)
+        return "data outside the data area";
+    return nullptr;
+}
+
+/* The block table at table_offset, read into im->table: its CRC32 against the footer's (foot),
+ * then every entry. */
+tp_status check_table(tp_imagery* im, uint64_t table_offset, const uint8_t* foot, tp_error* err)
+{
+    const char* path = im->path.c_str();
+    const Geometry& g = im->g;
+    const uint64_t table_bytes = g.block_count * ENTRY_BYTES;
     /* The table: CRC32, then every entry */
     im->table.resize((size_t)table_bytes);
     if (int e = read_at(im->fd, im->table.data(), im->table.size(), table_offset))
@@ -263,23 +290,7 @@ tp_status load(tp_imagery* im, tp_error* err)
     for (uint64_t i = 0; i < g.block_count; ++i) {
         const uint8_t* p = im->table.data() + i * ENTRY_BYTES;
         const Entry e = decode_entry(p);
-        bool zero = true;
-        for (size_t j = E_CODEC + 1; j < ENTRY_BYTES; ++j)
-            zero = zero && p[j] == 0;
-        const char* problem = nullptr;
-        if (!zero)
-            problem = "reserved bytes not 0";
-        else if (e.codec == CODEC_EMPTY) {
-            if (e.offset != 0 || e.bytes != 0 || e.crc != 0)
-                problem = "an empty block with an offset, size or checksum";
-        } else if (e.codec != CODEC_ZSTD && e.codec != CODEC_RAW)
-            problem = "unknown codec";
-        else if (e.bytes == 0 || e.bytes > max_bytes ||
-                 (e.codec == CODEC_RAW && e.bytes != BLOCK_BYTES))
-            problem = "impossible data size";
-        else if (e.offset < im->data_offset || e.offset > im->data_end ||
-                 e.bytes > im->data_end - e.offset)
-            problem = "data outside the data area";
+        const char* problem = entry_problem(im, e, p, max_bytes);
         if (problem)
             return fail(err, TP_ERR_BAD_DATA,
                         "%s: block table, %s: %s (codec %d, %u bytes at byte %" PRIu64
@@ -293,6 +304,26 @@ tp_status load(tp_imagery* im, tp_error* err)
                     "%s: inconsistent header: %" PRIu64 " non-empty blocks, the table has %" PRIu64,
                     path, im->nonempty, nonempty);
     return TP_OK;
+}
+
+tp_status load(tp_imagery* im, tp_error* err)
+{
+    std::vector<uint8_t> head;
+    uint32_t version = 0;
+    size_t fixed_size = 0;
+    if (const tp_status st = read_header(im, head, &version, &fixed_size, err))
+        return st;
+    const uint32_t header_bytes = (uint32_t)head.size();
+    if (const tp_status st = decode_geometry(im, head.data(), err))
+        return st;
+    if (const tp_status st =
+            decode_kind(im, head.data(), version, fixed_size, header_bytes, err))
+        return st;
+    uint8_t foot[FOOTER_BYTES];
+    uint64_t table_offset = 0;
+    if (const tp_status st = read_footer(im, header_bytes, foot, &table_offset, err))
+        return st;
+    return check_table(im, table_offset, foot, err);
 }
 
 } // namespace

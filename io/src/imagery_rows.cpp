@@ -70,12 +70,7 @@ tp_status build(const tp_imagery_target* t, const tp_imagery_rows* r,
         std::fill(l0.begin(), l0.end(), 0);
         for (int y = 0; y < count; ++y)
             std::memcpy(l0.data() + (size_t)y * stride, rows.data() + (size_t)y * line, line);
-        st = pyramid_finish_row(b, row, err);
-        if (st == TP_OK && tp_interrupted())
-            st = fail(err, TP_ERR_IO, "%s: interrupted (%s): not written", out_path,
-                      tpio::interrupt_name());
-        if (st == TP_OK && o->progress)
-            o->progress(o->progress_user, (row + 1.0) / b.g.rows[0]);
+        st = pyramid_row_done(b, row, out_path, o, err);
     }
     if (st == TP_OK)
         st = pyramid_commit(b, err);

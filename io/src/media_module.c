@@ -1,7 +1,7 @@
 /*
  * media_module.c - the image and mesh functions of tp_io.h, loaded when first called.
  *
- * OpenImageIO and VTK (io/src/image_read.cpp, image_write.cpp, texture.cpp, vtk_*.cpp) bring
+ * OpenImageIO and VTK (io/src/image_read.cpp, image_rgba.cpp, texture.cpp, vtk_*.cpp) bring
  * ~170 shared libraries with them: linked into the terrapatch binary, the dynamic loader
  * spent ~0.45 s of every start on them (relocations and the libraries' initialisers), before
  * main(), whatever the command (docs/PERFORMANCE.md, "First frame"). In the binary those

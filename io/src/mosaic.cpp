@@ -1,6 +1,6 @@
 /*
- * mosaic.cpp - tp_mosaic: many sources as one render grid, opened and planned (the rows are
- * read in mosaic_read.cpp).
+ * mosaic.cpp - tp_mosaic: many sources as one render grid, opened and planned (the sources
+ * are opened in mosaic_source.cpp, the rows read in mosaic_read.cpp).
  *
  * GDAL does the mosaicking (GDALBuildVRT) and the warping (GDALWarp to a VRT, read block by
  * block on demand); the grid is planned by render_grid.hpp's functions, the same as for one
@@ -8,9 +8,9 @@
  * live in /vsimem/ under names private to the mosaic, removed on close.
  */
 #include "crs.hpp"
-#include "dem_check.hpp"
 #include "gdal_util.hpp"
 #include "int16_voids.hpp"
+#include "mosaic.hpp"
 #include "render_grid.hpp"
 #include "void_fill.hpp"
 #include "tp_io.h"
@@ -29,28 +29,10 @@
 #include <string>
 #include <vector>
 
+using namespace tpio::mosaic;
 using tpio::fail;
 
 namespace {
-
-struct Source {
-    std::string path, name; /* name: the file name without folders, for notes */
-    int w = 0, h = 0;
-    double gt[6] = {0, 1, 0, 0, 0, -1};
-    bool has_gt = false;
-    OGRSpatialReference srs;
-    bool has_crs = false;
-    GDALDataType type = GDT_Unknown;
-    bool has_nodata = false;
-    double nodata = 0;
-    std::string driver;
-    bool has_stats = false;
-    double stat_min = 0, stat_max = 0;
-    tpio::ZUnit z; /* its heights' unit */
-    /* Int16 without a nodata tag: -32768 (SRTM) and -32767 (DTED) are voids, as tp_dem_read
-     * takes them */
-    bool int16_voids() const { return type == GDT_Int16 && !has_nodata; }
-};
 
 /* GDAL's argument vectors from strings. */
 struct Args {
@@ -65,19 +47,6 @@ struct Args {
         return v.data();
     }
 };
-
-void add_note(std::string& notes, const std::string& line)
-{
-    if (!notes.empty())
-        notes += '\n';
-    notes += line;
-}
-
-std::string base_name(const std::string& p)
-{
-    size_t at = p.find_last_of('/');
-    return at == std::string::npos ? p : p.substr(at + 1);
-}
 
 bool same_spacing(double a, double b)
 {
@@ -97,76 +66,6 @@ float as_float(double v)
 }
 
 std::atomic<unsigned> mosaic_serial{0};
-
-} // namespace
-
-#include "mosaic.hpp"
-
-
-namespace {
-
-tp_status open_source(const char* path, const char* z_unit, Source* s, tp_error* err)
-{
-    if (const tp_status st = tpio::check_input_file(path, "a raster", true, err))
-        return st;
-    tpio::Dataset ds(GDALDataset::Open(path, GDAL_OF_RASTER | GDAL_OF_READONLY, nullptr, nullptr,
-                                       nullptr));
-    if (!ds)
-        return fail(err, TP_ERR_BAD_DATA, "%s: not a raster GDAL can open (%s)", path,
-                    tpio::gdal_message().c_str());
-    if (ds->GetRasterCount() < 1)
-        return fail(err, TP_ERR_BAD_DATA, "%s: expected at least 1 raster band, got 0", path);
-    s->path = path;
-    s->name = base_name(path);
-    s->w = ds->GetRasterXSize();
-    s->h = ds->GetRasterYSize();
-    if (s->w < 1 || s->h < 1)
-        return fail(err, TP_ERR_BAD_DATA, "%s: expected a raster of at least 1x1, got %dx%d", path,
-                    s->w, s->h);
-    if (const tp_status st = tpio::z_unit_of(ds.get(), z_unit, &s->z, err))
-        return st;
-    s->has_gt = ds->GetGeoTransform(s->gt) == CE_None;
-    const OGRSpatialReference* srs = ds->GetSpatialRef();
-    s->has_crs = tpio::crs_present(srs);
-    if (s->has_crs) {
-        s->srs = *srs;
-        s->srs.SetAxisMappingStrategy(OAMS_TRADITIONAL_GIS_ORDER);
-    }
-    if (s->has_gt) {
-        if (const tp_status st = tpio::check_geotransform(path, s->gt, err))
-            return st;
-        if (const tp_status st = tpio::check_ranges(path, s->has_crs ? &s->srs : nullptr, s->gt,
-                                                    s->w, s->h, err))
-            return st;
-        if (s->has_crs)
-            if (const tp_status st = tpio::check_latitude(path, s->srs, s->gt, s->h, err))
-                return st;
-    } else {
-        const double unit[6] = {0.0, 1.0, 0.0, 0.0, 0.0, -1.0};
-        std::memcpy(s->gt, unit, sizeof unit);
-    }
-    s->driver = ds->GetDriver() ? ds->GetDriver()->GetDescription() : "";
-    if (EQUAL(s->driver.c_str(), "AAIGrid"))
-        if (const tp_status st = tpio::check_ascii_grid(path, s->w, s->h, err))
-            return st;
-    GDALRasterBand* b = ds->GetRasterBand(1);
-    s->type = b->GetRasterDataType();
-    int has = 0;
-    s->nodata = b->GetNoDataValue(&has);
-    s->has_nodata = has != 0;
-    const char* mn = b->GetMetadataItem("STATISTICS_MINIMUM");
-    const char* mx = b->GetMetadataItem("STATISTICS_MAXIMUM");
-    const char* approx = b->GetMetadataItem("STATISTICS_APPROXIMATE");
-    if (mn && mx && !(approx && EQUAL(approx, "YES"))) {
-        s->has_stats = true;
-        s->stat_min = CPLAtof(mn);
-        s->stat_max = CPLAtof(mx);
-        /* statistics of an untagged Int16 band that count its voids bound nothing */
-        if (s->int16_voids() && s->stat_min <= -32767.0)
-            s->has_stats = false;
-    }
-    return TP_OK;
-}
 
 /* The plan's input: a tp_dem with the dataset's size, georeference and CRS, no heights. */
 struct PlanDem {
@@ -243,160 +142,28 @@ tpio::Dataset warp_vrt(tp_mosaic* m, GDALDataset* src, const std::vector<std::st
     return tpio::Dataset(GDALDataset::Open(dst.c_str(), GDAL_OF_RASTER | GDAL_OF_READONLY));
 }
 
-struct Rect {
-    double x0, y0, x1, y1;
-}; /* [x0, x1) x [y0, y1) */
+/* What open_mosaic works from: its arguments, and the sources once opened. */
+struct Opening {
+    const char* const* paths = nullptr;
+    size_t count = 0;
+    tp_mosaic_options o{};
+    int memory_mb = 0;
+    OGRSpatialReference over; /* --crs (has_over) */
+    bool has_over = false;
+    std::vector<Source> src;
+    bool untagged_int16 = false; /* some source is an Int16 one without a nodata tag */
 
-/* The share of the whole rectangle that the union of the rectangles r covers, in [0, 1]: cells
- * of a 1024 x 1024 raster over whole, each counted once when its centre lies in some rectangle
- * (so three footprints over one place count it once; good to about a cell along each edge). */
-double covered_share(const std::vector<Rect>& r, const Rect& whole)
+    tp_status open_sources(tp_mosaic* m, tp_error* err);
+    tp_status open_shared(tp_mosaic* m, tp_error* err);
+    tp_status render_crs(OGRSpatialReference& dst, tp_error* err) const;
+    tp_status open_warped(tp_mosaic* m, tp_error* err);
+    tp_status finish_open(tp_mosaic* m, tp_error* err) const;
+};
+
+/* Opens and checks every source (one height unit for all), with their notes. */
+tp_status Opening::open_sources(tp_mosaic* m, tp_error* err)
 {
-    const int n = 1024;
-    const double cw = (whole.x1 - whole.x0) / n, ch = (whole.y1 - whole.y0) / n;
-    if (!(cw > 0 && ch > 0))
-        return 1.0;
-    std::vector<uint8_t> hit((size_t)n * n, 0);
-    size_t covered = 0;
-    for (const Rect& q : r) {
-        /* the cells whose centre x0 + (i + 0.5) cw lies in [q.x0, q.x1) */
-        const int i0 = std::max(0, (int)std::ceil((q.x0 - whole.x0) / cw - 0.5));
-        const int i1 = std::min(n, (int)std::ceil((q.x1 - whole.x0) / cw - 0.5));
-        const int j0 = std::max(0, (int)std::ceil((q.y0 - whole.y0) / ch - 0.5));
-        const int j1 = std::min(n, (int)std::ceil((q.y1 - whole.y0) / ch - 0.5));
-        for (int j = j0; j < j1; j++)
-            for (int i = i0; i < i1; i++) {
-                uint8_t& c = hit[(size_t)j * n + i];
-                covered += !c;
-                c = 1;
-            }
-    }
-    return (double)covered / ((double)n * n);
-}
-
-/* Overlaps and gaps of sources sharing one grid (same CRS and spacing): notes, and the share
- * of the mosaic they cover. */
-double note_overlaps(const std::vector<Source>& src, const double mgt[6], int mw, int mh,
-                     std::string& notes)
-{
-    std::vector<Rect> r; /* in mosaic samples */
-    for (const Source& s : src) {
-        const double x0 = (double)std::llround((s.gt[0] - mgt[0]) / mgt[1]);
-        const double y0 = (double)std::llround((s.gt[3] - mgt[3]) / mgt[5]);
-        r.push_back({x0, y0, x0 + s.w, y0 + s.h});
-    }
-    int said = 0;
-    for (size_t i = 0; i < r.size(); i++)
-        for (size_t j = i + 1; j < r.size(); j++) {
-            const long long ox =
-                std::llround(std::min(r[i].x1, r[j].x1) - std::max(r[i].x0, r[j].x0));
-            const long long oy =
-                std::llround(std::min(r[i].y1, r[j].y1) - std::max(r[i].y0, r[j].y0));
-            if (ox <= 0 || oy <= 0)
-                continue;
-            if (said++ >= 20)
-                continue;
-            const bool srtm = src[i].driver == "SRTMHGT" && src[j].driver == "SRTMHGT";
-            std::string by;
-            if (oy == 1 && ox > 1)
-                by = "one row";
-            else if (ox == 1 && oy > 1)
-                by = "one column";
-            else
-                by = CPLSPrintf("%lld x %lld samples", ox, oy);
-            add_note(notes, CPLSPrintf("%s and %s overlap by %s%s; GDAL's VRT takes the later one "
-                                       "(%s)",
-                                       src[i].name.c_str(), src[j].name.c_str(), by.c_str(),
-                                       srtm && (oy == 1 || ox == 1)
-                                           ? " (SRTM tiles share their edge)"
-                                           : "",
-                                       src[j].name.c_str()));
-        }
-    if (said > 20)
-        add_note(notes, CPLSPrintf("... and %d more overlaps", said - 20));
-    const double share = covered_share(r, Rect{0, 0, (double)mw, (double)mh});
-    const long long all = (long long)mw * mh;
-    const long long gaps = all - std::llround(share * (double)all);
-    if (src.size() > 1 && gaps > 0)
-        add_note(notes, CPLSPrintf("gaps between the sources: about %lld of the mosaic's %dx%d "
-                                   "samples are covered by none and are nodata",
-                                   gaps, mw, mh));
-    return share;
-}
-
-/* A grid read without resampling from raster files that hold at most half its samples (a VRT
- * that repeats a few small files, as tools/make_mirror_dem.py's): the exact minimum and maximum
- * of every band of those files (GDAL skips each file's nodata) bound its heights, for a fraction
- * of a read of the grid. Not when a bound touches the grid's nodata value (a file without the
- * tag whose voids the VRT masks) or GDAL cannot say. A VRT that scales its sources breaks the
- * bound: the caller checks it against what it reads (terrapatch build does). */
-void range_of_files(tp_mosaic* m)
-{
-    char** list = m->ds->GetFileList();
-    const std::string self = m->ds->GetDescription();
-    const double grid = (double)m->w * m->h;
-    double total = 0, lo = INFINITY, hi = -INFINITY;
-    bool ok = list != nullptr;
-    std::vector<tpio::Dataset> files;
-    for (char** f = list; ok && f && *f; ++f) {
-        if (self == *f || !GDALIdentifyDriver(*f, nullptr))
-            continue; /* the VRT itself, sidecars (.hdr, .prj, .aux.xml) */
-        tpio::Dataset d(GDALDataset::Open(*f, GDAL_OF_RASTER | GDAL_OF_READONLY));
-        if (!d || d->GetRasterCount() < 1) {
-            ok = false;
-            break;
-        }
-        total += (double)d->GetRasterXSize() * d->GetRasterYSize() * d->GetRasterCount();
-        ok = total <= grid / 2;
-        files.push_back(std::move(d));
-    }
-    CSLDestroy(list);
-    ok = ok && !files.empty();
-    for (auto& d : files) {
-        for (int b = 1; ok && b <= d->GetRasterCount(); b++) {
-            double mm[2];
-            CPLErrorReset();
-            if (GDALComputeRasterMinMax(GDALRasterBand::ToHandle(d->GetRasterBand(b)), FALSE,
-                                        mm) != CE_None ||
-                CPLGetLastErrorType() == CE_Failure || !std::isfinite(mm[0]) ||
-                !std::isfinite(mm[1]))
-                ok = false;
-            lo = std::min(lo, mm[0]), hi = std::max(hi, mm[1]);
-        }
-        if (!ok)
-            break;
-    }
-    if (!ok)
-        return;
-    for (double v : {lo, hi})
-        if ((m->has_nodata && (float)v == m->nodata) ||
-            (m->int16_voids && (v == -32768.0 || v == -32767.0)) || std::fabs(v) >= FLT_MAX)
-            return;
-    m->has_range = true;
-    m->min_m = lo;
-    m->max_m = hi;
-}
-
-tp_status open_mosaic(const char* const* paths, size_t count, const tp_mosaic_options* opt,
-                      tp_mosaic* m, tp_error* err)
-{
-    tpio::register_drivers();
-    tpio::QuietGdal quiet;
-    tp_mosaic_options o = opt ? *opt : tp_mosaic_options{};
-    const int memory_mb = o.memory_mb > 0 ? o.memory_mb : 1024;
-    m->fill_max = o.fill_max > 0 ? o.fill_max : 0;
-    /* a quarter of the budget: GDAL's block cache, or, when filling voids without a
-     * fill_window_mb, half of it the cache and half the void window */
-    const bool split = m->fill_max > 0 && o.fill_window_mb <= 0;
-    GDALSetCacheMax64((GIntBig)memory_mb * 1024 * 1024 / (split ? 8 : 4));
-
-    OGRSpatialReference over;
-    over.SetAxisMappingStrategy(OAMS_TRADITIONAL_GIS_ORDER);
-    const bool has_over = o.crs && *o.crs;
-    if (has_over && over.SetFromUserInput(o.crs) != OGRERR_NONE)
-        return fail(err, TP_ERR_INVALID_ARG, "CRS '%s' is not one GDAL/PROJ knows", o.crs);
-
-    std::vector<Source> src(count);
+    src.resize(count);
     for (size_t i = 0; i < count; i++) {
         if (const tp_status st = open_source(paths[i], o.z_unit, &src[i], err))
             return st;
@@ -431,233 +198,260 @@ tp_status open_mosaic(const char* const* paths, size_t count, const tp_mosaic_op
     if (count > 1)
         add_note(m->notes, CPLSPrintf("%zu sources", count));
 
-    /* One shared CRS and spacing: one GDALBuildVRT. */
+    for (const Source& s : src)
+        untagged_int16 |= s.int16_voids();
+    m->int16_voids = untagged_int16;
+    return TP_OK;
+}
+
+/* 1 when every source shares the first one's CRS and post spacing: one GDALBuildVRT. */
+bool share_one_grid(const std::vector<Source>& src)
+{
+    const size_t count = src.size();
     bool shared = true;
     for (size_t i = 1; i < count && shared; i++) {
         shared = src[i].has_crs == src[0].has_crs &&
                  (!src[0].has_crs || src[i].srs.IsSame(&src[0].srs)) &&
                  same_spacing(src[i].gt[1], src[0].gt[1]) && same_spacing(src[i].gt[5], src[0].gt[5]);
     }
-    bool untagged_int16 = false;
-    for (const Source& s : src)
-        untagged_int16 |= s.int16_voids();
-    m->int16_voids = untagged_int16;
+    return shared;
+}
 
+/* Sources of one CRS and spacing: one source, or their GDALBuildVRT mosaic, warped onto the
+ * render grid when the plan says so (as tp_render_grid_build would warp one DEM). */
+tp_status Opening::open_shared(tp_mosaic* m, tp_error* err)
+{
     tpio::Dataset base; /* the grid before any warp: one source, or the mosaic VRT */
-    if (shared) {
-        if (count == 1) {
-            base.reset(GDALDataset::Open(paths[0], GDAL_OF_RASTER | GDAL_OF_READONLY));
-        } else {
-            /* each source's own nodata, and -32768 for the untagged Int16 ones (-32767 read
-             * as -32768 first): a source's voids leave an earlier source's heights */
-            std::vector<std::string> files, extra;
-            for (const Source& s : src) {
-                if (!s.int16_voids()) {
-                    files.push_back(s.path);
-                    continue;
-                }
-                if (!int16_voids_as_one(m, s))
-                    return fail(err, TP_ERR_BACKEND, "%s: mosaic: %s", s.path.c_str(),
-                                tpio::gdal_message().c_str());
-                files.push_back(m->vsimem.back());
-            }
-            if (untagged_int16)
-                extra = {"-vrtnodata", "-32768"};
-            extra.insert(extra.end(), {"-b", "1"});
-            base = build_vrt(m, files, extra, "mosaic");
-        }
-        if (!base)
-            return fail(err, TP_ERR_BACKEND, "%s: mosaic: %s", paths[0], tpio::gdal_message().c_str());
-        /* --crs: on the mosaic VRT, never on a source's own file (GDAL would write it into a
-         * .aux.xml beside the file on close); the plan and the warp take src[0].srs */
-        if (has_over && count > 1)
-            base->SetSpatialRef(&over);
-        double bgt[6];
-        base->GetGeoTransform(bgt);
-        if (count > 1)
-            m->covered_share =
-                note_overlaps(src, bgt, base->GetRasterXSize(), base->GetRasterYSize(), m->notes);
-
-        PlanDem pd(base->GetRasterXSize(), base->GetRasterYSize(), src[0].gt, src[0].has_gt,
-                   src[0].has_crs ? &src[0].srs : nullptr);
-        std::memcpy(pd.dem.geotransform, bgt, sizeof bgt);
-        tpio::GridPlan plan;
-        tp_grid_options go{};
-        go.resampling = o.resampling;
-        if (const tp_status st = tpio::render_grid_plan(&pd.dem, &go, &plan, err)) {
-            std::string msg = err ? err->message : "";
-            return fail(err, st, "%s: %s", paths[0], msg.c_str());
-        }
-        if (!plan.warnings.empty())
-            add_note(m->notes, plan.warnings);
-        if (plan.warp) {
-            std::vector<std::string> args = tpio::render_grid_warp_args(plan, "VRT");
-            if (untagged_int16 && count == 1) { /* -32767 read as -32768 first */
-                base = int16_voids_as_one(m, src[0]);
-                if (!base)
-                    return fail(err, TP_ERR_BACKEND, "%s: %s", paths[0],
-                                tpio::gdal_message().c_str());
-                args.insert(args.end(), {"-srcnodata", "-32768"});
-            }
-            /* the plan's source CRS: --crs, or EPSG:4326 for a grid plainly in degrees */
-            args.insert(args.end(), {"-s_srs", tpio::crs_wkt2(plan.src)});
-            tpio::Dataset w = warp_vrt(m, base.get(), args, "warp");
-            if (!w)
-                return fail(err, TP_ERR_BACKEND, "%s: warp to %s failed: %s", paths[0],
-                            plan.t_srs.c_str(), tpio::gdal_message().c_str());
-            add_note(m->notes, CPLSPrintf("warped from %s to %s (%s), posts %.6g m apart",
-                                          plan.src.GetName() ? plan.src.GetName() : "its CRS",
-                                          plan.dst.GetName() ? plan.dst.GetName() : "",
-                                          plan.t_srs.c_str(), plan.res));
-            m->back.reset(OGRCreateCoordinateTransformation(&plan.dst, &plan.src));
-            if (!m->back)
-                return fail(err, TP_ERR_BACKEND, "no transformation back from %s: %s",
-                            plan.t_srs.c_str(), tpio::gdal_message().c_str());
-            m->back_geographic = plan.src.IsGeographic();
-            std::memcpy(m->sgt, bgt, sizeof bgt);
-            m->sw = base->GetRasterXSize();
-            m->sh = base->GetRasterYSize();
-            m->warped = true;
-            m->ds = std::move(w); /* it opens the mosaic itself, by name */
-        } else {
-            m->ds = std::move(base);
-        }
-        if (plan.has_crs) {
-            m->crs_wkt = tpio::crs_wkt2(plan.dst);
-            const char* name = plan.dst.GetName();
-            std::snprintf(m->crs_name, sizeof m->crs_name, "%s", name ? name : "unnamed CRS");
-            m->epsg = tpio::crs_epsg(plan.dst);
-        } else {
-            std::snprintf(m->crs_name, sizeof m->crs_name, "local metres (no CRS)");
-        }
+    if (count == 1) {
+        base.reset(GDALDataset::Open(paths[0], GDAL_OF_RASTER | GDAL_OF_READONLY));
     } else {
-        /* Different CRSs or spacings: each source warped onto one grid, then mosaicked. */
-        for (const Source& s : src)
-            if (!s.has_crs)
-                return fail(err, TP_ERR_BAD_DATA,
-                            "%s: no CRS, and the other sources differ in CRS or spacing: give "
-                            "--crs, or sources that share one",
-                            s.path.c_str());
-        /* The render CRS: the sources' own when all of them are in one projected CRS in metres;
-         * else the UTM/UPS zone of the centre of their geographic extent. */
-        OGRSpatialReference dst;
-        dst.SetAxisMappingStrategy(OAMS_TRADITIONAL_GIS_ORDER);
-        bool one_projected = true;
-        for (const Source& s : src)
-            one_projected = one_projected && s.srs.IsProjected() &&
-                            std::fabs(s.srs.GetLinearUnits() - 1.0) < 1e-12 && s.srs.IsSame(&src[0].srs);
-        if (one_projected) {
-            dst = src[0].srs;
-        } else {
-            OGRSpatialReference wgs84 = tpio::crs_wgs84();
-            double lon0 = INFINITY, lon1 = -INFINITY, lat0 = INFINITY, lat1 = -INFINITY;
-            for (const Source& s : src) {
-                std::unique_ptr<OGRCoordinateTransformation> ct(
-                    OGRCreateCoordinateTransformation(&s.srs, &wgs84));
-                if (!ct)
-                    return fail(err, TP_ERR_BACKEND, "%s: no transformation to WGS84: %s",
-                                s.path.c_str(), tpio::gdal_message().c_str());
-                for (int k = 0; k < 4; k++) {
-                    double x = s.gt[0] + (k & 1 ? s.w - 0.5 : 0.5) * s.gt[1];
-                    double y = s.gt[3] + (k & 2 ? s.h - 0.5 : 0.5) * s.gt[5];
-                    if (!ct->Transform(1, &x, &y))
-                        continue;
-                    lon0 = std::min(lon0, x), lon1 = std::max(lon1, x);
-                    lat0 = std::min(lat0, y), lat1 = std::max(lat1, y);
-                }
+        /* each source's own nodata, and -32768 for the untagged Int16 ones (-32767 read
+         * as -32768 first): a source's voids leave an earlier source's heights */
+        std::vector<std::string> files, extra;
+        for (const Source& s : src) {
+            if (!s.int16_voids()) {
+                files.push_back(s.path);
+                continue;
             }
-            if (!(lon1 >= lon0 && lat1 >= lat0))
-                return fail(err, TP_ERR_BACKEND, "%s: the sources have no WGS84 extent", paths[0]);
-            /* The zone as one geographic DEM over that extent would get it. */
-            const double egt[6] = {lon0, (lon1 - lon0) / 2, 0, lat1, 0, -(lat1 - lat0) / 2};
-            PlanDem pd(2, 2, egt, true, &wgs84);
-            if (egt[1] <= 0 || egt[5] >= 0) { /* a point: widen it a little */
-                pd.dem.geotransform[1] = 1e-4;
-                pd.dem.geotransform[5] = -1e-4;
-            }
-            tpio::GridPlan zplan;
-            if (const tp_status st = tpio::render_grid_plan(&pd.dem, nullptr, &zplan, err))
-                return st;
-            dst = zplan.dst;
-        }
-        const std::string t_srs = tpio::crs_wkt2(dst);
-        double res = INFINITY, ext[4] = {INFINITY, INFINITY, -INFINITY, -INFINITY};
-        std::vector<Rect> footprints; /* each source's extent in the render CRS */
-        for (Source& s : src) {
-            std::unique_ptr<OGRCoordinateTransformation> ct(
-                OGRCreateCoordinateTransformation(&s.srs, &dst));
-            if (!ct)
-                return fail(err, TP_ERR_BACKEND, "%s: no transformation to the render CRS: %s",
-                            s.path.c_str(), tpio::gdal_message().c_str());
-            res = std::min(res, tpio::grid_finest_spacing(ct.get(), s.gt, s.w, s.h));
-            PlanDem pd(s.w, s.h, s.gt, true, &s.srs);
-            double e[4];
-            if (!tpio::grid_warp_extent(&pd.dem, s.srs, t_srs, e))
-                return fail(err, TP_ERR_BACKEND, "%s: no extent in the render CRS: %s",
-                            s.path.c_str(), tpio::gdal_message().c_str());
-            ext[0] = std::min(ext[0], e[0]), ext[1] = std::min(ext[1], e[1]);
-            ext[2] = std::max(ext[2], e[2]), ext[3] = std::max(ext[3], e[3]);
-            footprints.push_back({e[0], e[1], e[2], e[3]});
-        }
-        m->covered_share = covered_share(footprints, Rect{ext[0], ext[1], ext[2], ext[3]});
-        if (m->covered_share < 1.0 - 1e-6)
-            add_note(m->notes, CPLSPrintf("gaps between the sources: about %.1f%% of the "
-                                          "mosaic's extent is covered by none and is nodata",
-                                          100.0 * (1.0 - m->covered_share)));
-        if (!std::isfinite(res) || res <= 0)
-            return fail(err, TP_ERR_BACKEND, "%s: could not measure the post spacing", paths[0]);
-        /* a grid aligned on the spacing, holding every source */
-        const double x0 = std::floor(ext[0] / res) * res, y1 = std::ceil(ext[3] / res) * res;
-        const double x1 = x0 + std::ceil((ext[2] - x0) / res) * res;
-        const double y0 = y1 - std::ceil((y1 - ext[1]) / res) * res;
-        const char* dst_name = dst.GetName() ? dst.GetName() : "the render CRS";
-        std::vector<std::string> files;
-        for (size_t i = 0; i < count; i++) {
-            const Source& s = src[i];
-            tpio::Dataset in; /* an untagged Int16 source: -32767 read as -32768 */
-            if (s.int16_voids())
-                in = int16_voids_as_one(m, s); /* in s.srs: --crs included */
-            else
-                in.reset(GDALDataset::Open(s.path.c_str(), GDAL_OF_RASTER | GDAL_OF_READONLY));
-            if (!in)
-                return fail(err, TP_ERR_BAD_DATA, "%s: cannot reopen: %s", s.path.c_str(),
+            if (!int16_voids_as_one(m, s))
+                return fail(err, TP_ERR_BACKEND, "%s: mosaic: %s", s.path.c_str(),
                             tpio::gdal_message().c_str());
-            const std::string tr = CPLSPrintf("%.17g", res);
-            std::vector<std::string> args = {
-                "-t_srs", t_srs, "-tr", tr, tr, "-te", CPLSPrintf("%.17g", x0),
-                CPLSPrintf("%.17g", y0), CPLSPrintf("%.17g", x1), CPLSPrintf("%.17g", y1), "-r",
-                o.resampling == TP_RESAMPLING_CUBIC ? "cubic" : "bilinear", "-et", "0",
-                "-dstnodata", "nan", "-ot", "Float32", "-of", "VRT"};
-            if (s.int16_voids())
-                args.insert(args.end(), {"-srcnodata", "-32768"});
-            if (has_over) /* as the warp's, not the file's: see the shared grid's --crs */
-                args.insert(args.end(), {"-s_srs", tpio::crs_wkt2(over)});
-            tpio::Dataset w = warp_vrt(m, in.get(), args, CPLSPrintf("warp%zu", i));
-            if (!w)
-                return fail(err, TP_ERR_BACKEND, "%s: warp to %s failed: %s", s.path.c_str(),
-                            dst_name, tpio::gdal_message().c_str());
             files.push_back(m->vsimem.back());
-            const bool same_crs = s.srs.IsSame(&dst);
-            add_note(m->notes,
-                     CPLSPrintf("%s: %s, posts %.6g x %.6g%s: %s onto %s, posts %.6g m apart",
-                                s.name.c_str(), s.srs.GetName() ? s.srs.GetName() : "its CRS",
-                                std::fabs(s.gt[1]), std::fabs(s.gt[5]),
-                                s.srs.IsGeographic() ? " degrees" : "",
-                                same_crs ? "resampled" : "warped", dst_name, res));
-            m->warped = true;
         }
-        add_note(m->notes, "the sources differ in CRS or post spacing: each is warped onto one "
-                           "grid and GDAL's VRT mosaics them (a later source wins where they "
-                           "overlap)");
-        tpio::Dataset v = build_vrt(m, files, {"-b", "1"}, "mosaic");
-        if (!v)
-            return fail(err, TP_ERR_BACKEND, "%s: mosaic: %s", paths[0], tpio::gdal_message().c_str());
-        m->ds = std::move(v);
-        m->crs_wkt = t_srs;
-        std::snprintf(m->crs_name, sizeof m->crs_name, "%s", dst_name);
-        m->epsg = tpio::crs_epsg(dst);
+        if (untagged_int16)
+            extra = {"-vrtnodata", "-32768"};
+        extra.insert(extra.end(), {"-b", "1"});
+        base = build_vrt(m, files, extra, "mosaic");
     }
+    if (!base)
+        return fail(err, TP_ERR_BACKEND, "%s: mosaic: %s", paths[0], tpio::gdal_message().c_str());
+    /* --crs: on the mosaic VRT, never on a source's own file (GDAL would write it into a
+     * .aux.xml beside the file on close); the plan and the warp take src[0].srs */
+    if (has_over && count > 1)
+        base->SetSpatialRef(&over);
+    double bgt[6];
+    base->GetGeoTransform(bgt);
+    if (count > 1)
+        m->covered_share =
+            note_overlaps(src, bgt, base->GetRasterXSize(), base->GetRasterYSize(), m->notes);
 
+    PlanDem pd(base->GetRasterXSize(), base->GetRasterYSize(), src[0].gt, src[0].has_gt,
+               src[0].has_crs ? &src[0].srs : nullptr);
+    std::memcpy(pd.dem.geotransform, bgt, sizeof bgt);
+    tpio::GridPlan plan;
+    tp_grid_options go{};
+    go.resampling = o.resampling;
+    if (const tp_status st = tpio::render_grid_plan(&pd.dem, &go, &plan, err)) {
+        std::string msg = err ? err->message : "";
+        return fail(err, st, "%s: %s", paths[0], msg.c_str());
+    }
+    if (!plan.warnings.empty())
+        add_note(m->notes, plan.warnings);
+    if (plan.warp) {
+        std::vector<std::string> args = tpio::render_grid_warp_args(plan, "VRT");
+        if (untagged_int16 && count == 1) { /* -32767 read as -32768 first */
+            base = int16_voids_as_one(m, src[0]);
+            if (!base)
+                return fail(err, TP_ERR_BACKEND, "%s: %s", paths[0],
+                            tpio::gdal_message().c_str());
+            args.insert(args.end(), {"-srcnodata", "-32768"});
+        }
+        /* the plan's source CRS: --crs, or EPSG:4326 for a grid plainly in degrees */
+        args.insert(args.end(), {"-s_srs", tpio::crs_wkt2(plan.src)});
+        tpio::Dataset w = warp_vrt(m, base.get(), args, "warp");
+        if (!w)
+            return fail(err, TP_ERR_BACKEND, "%s: warp to %s failed: %s", paths[0],
+                        plan.t_srs.c_str(), tpio::gdal_message().c_str());
+        add_note(m->notes, CPLSPrintf("warped from %s to %s (%s), posts %.6g m apart",
+                                      plan.src.GetName() ? plan.src.GetName() : "its CRS",
+                                      plan.dst.GetName() ? plan.dst.GetName() : "",
+                                      plan.t_srs.c_str(), plan.res));
+        m->back.reset(OGRCreateCoordinateTransformation(&plan.dst, &plan.src));
+        if (!m->back)
+            return fail(err, TP_ERR_BACKEND, "no transformation back from %s: %s",
+                        plan.t_srs.c_str(), tpio::gdal_message().c_str());
+        m->back_geographic = plan.src.IsGeographic();
+        std::memcpy(m->sgt, bgt, sizeof bgt);
+        m->sw = base->GetRasterXSize();
+        m->sh = base->GetRasterYSize();
+        m->warped = true;
+        m->ds = std::move(w); /* it opens the mosaic itself, by name */
+    } else {
+        m->ds = std::move(base);
+    }
+    if (plan.has_crs) {
+        m->crs_wkt = tpio::crs_wkt2(plan.dst);
+        const char* name = plan.dst.GetName();
+        std::snprintf(m->crs_name, sizeof m->crs_name, "%s", name ? name : "unnamed CRS");
+        m->epsg = tpio::crs_epsg(plan.dst);
+    } else {
+        std::snprintf(m->crs_name, sizeof m->crs_name, "local metres (no CRS)");
+    }
+    return TP_OK;
+}
+
+/* The render CRS of sources that differ in CRS or spacing (dst). */
+tp_status Opening::render_crs(OGRSpatialReference& dst, tp_error* err) const
+{
+    /* The render CRS: the sources' own when all of them are in one projected CRS in metres;
+     * else the UTM/UPS zone of the centre of their geographic extent. */
+    bool one_projected = true;
+    for (const Source& s : src)
+        one_projected = one_projected && s.srs.IsProjected() &&
+                        std::fabs(s.srs.GetLinearUnits() - 1.0) < 1e-12 && s.srs.IsSame(&src[0].srs);
+    if (one_projected) {
+        dst = src[0].srs;
+    } else {
+        OGRSpatialReference wgs84 = tpio::crs_wgs84();
+        double lon0 = INFINITY, lon1 = -INFINITY, lat0 = INFINITY, lat1 = -INFINITY;
+        for (const Source& s : src) {
+            std::unique_ptr<OGRCoordinateTransformation> ct(
+                OGRCreateCoordinateTransformation(&s.srs, &wgs84));
+            if (!ct)
+                return fail(err, TP_ERR_BACKEND, "%s: no transformation to WGS84: %s",
+                            s.path.c_str(), tpio::gdal_message().c_str());
+            for (int k = 0; k < 4; k++) {
+                double x = s.gt[0] + (k & 1 ? s.w - 0.5 : 0.5) * s.gt[1];
+                double y = s.gt[3] + (k & 2 ? s.h - 0.5 : 0.5) * s.gt[5];
+                if (!ct->Transform(1, &x, &y))
+                    continue;
+                lon0 = std::min(lon0, x), lon1 = std::max(lon1, x);
+                lat0 = std::min(lat0, y), lat1 = std::max(lat1, y);
+            }
+        }
+        if (!(lon1 >= lon0 && lat1 >= lat0))
+            return fail(err, TP_ERR_BACKEND, "%s: the sources have no WGS84 extent", paths[0]);
+        /* The zone as one geographic DEM over that extent would get it. */
+        const double egt[6] = {lon0, (lon1 - lon0) / 2, 0, lat1, 0, -(lat1 - lat0) / 2};
+        PlanDem pd(2, 2, egt, true, &wgs84);
+        if (egt[1] <= 0 || egt[5] >= 0) { /* a point: widen it a little */
+            pd.dem.geotransform[1] = 1e-4;
+            pd.dem.geotransform[5] = -1e-4;
+        }
+        tpio::GridPlan zplan;
+        if (const tp_status st = tpio::render_grid_plan(&pd.dem, nullptr, &zplan, err))
+            return st;
+        dst = zplan.dst;
+    }
+    return TP_OK;
+}
+
+/* Sources that differ in CRS or spacing: each warped onto one grid, then mosaicked. */
+tp_status Opening::open_warped(tp_mosaic* m, tp_error* err)
+{
+    for (const Source& s : src)
+        if (!s.has_crs)
+            return fail(err, TP_ERR_BAD_DATA,
+                        "%s: no CRS, and the other sources differ in CRS or spacing: give "
+                        "--crs, or sources that share one",
+                        s.path.c_str());
+    OGRSpatialReference dst;
+    dst.SetAxisMappingStrategy(OAMS_TRADITIONAL_GIS_ORDER);
+    if (const tp_status st = render_crs(dst, err))
+        return st;
+    const std::string t_srs = tpio::crs_wkt2(dst);
+    double res = INFINITY, ext[4] = {INFINITY, INFINITY, -INFINITY, -INFINITY};
+    std::vector<Rect> footprints; /* each source's extent in the render CRS */
+    for (Source& s : src) {
+        std::unique_ptr<OGRCoordinateTransformation> ct(
+            OGRCreateCoordinateTransformation(&s.srs, &dst));
+        if (!ct)
+            return fail(err, TP_ERR_BACKEND, "%s: no transformation to the render CRS: %s",
+                        s.path.c_str(), tpio::gdal_message().c_str());
+        res = std::min(res, tpio::grid_finest_spacing(ct.get(), s.gt, s.w, s.h));
+        PlanDem pd(s.w, s.h, s.gt, true, &s.srs);
+        double e[4];
+        if (!tpio::grid_warp_extent(&pd.dem, s.srs, t_srs, e))
+            return fail(err, TP_ERR_BACKEND, "%s: no extent in the render CRS: %s",
+                        s.path.c_str(), tpio::gdal_message().c_str());
+        ext[0] = std::min(ext[0], e[0]), ext[1] = std::min(ext[1], e[1]);
+        ext[2] = std::max(ext[2], e[2]), ext[3] = std::max(ext[3], e[3]);
+        footprints.push_back({e[0], e[1], e[2], e[3]});
+    }
+    m->covered_share = covered_share(footprints, Rect{ext[0], ext[1], ext[2], ext[3]});
+    if (m->covered_share < 1.0 - 1e-6)
+        add_note(m->notes, CPLSPrintf("gaps between the sources: about %.1f%% of the "
+                                      "mosaic's extent is covered by none and is nodata",
+                                      100.0 * (1.0 - m->covered_share)));
+    if (!std::isfinite(res) || res <= 0)
+        return fail(err, TP_ERR_BACKEND, "%s: could not measure the post spacing", paths[0]);
+    /* a grid aligned on the spacing, holding every source */
+    const double x0 = std::floor(ext[0] / res) * res, y1 = std::ceil(ext[3] / res) * res;
+    const double x1 = x0 + std::ceil((ext[2] - x0) / res) * res;
+    const double y0 = y1 - std::ceil((y1 - ext[1]) / res) * res;
+    const char* dst_name = dst.GetName() ? dst.GetName() : "the render CRS";
+    std::vector<std::string> files;
+    for (size_t i = 0; i < count; i++) {
+        const Source& s = src[i];
+        tpio::Dataset in; /* an untagged Int16 source: -32767 read as -32768 */
+        if (s.int16_voids())
+            in = int16_voids_as_one(m, s); /* in s.srs: --crs included */
+        else
+            in.reset(GDALDataset::Open(s.path.c_str(), GDAL_OF_RASTER | GDAL_OF_READONLY));
+        if (!in)
+            return fail(err, TP_ERR_BAD_DATA, "%s: cannot reopen: %s", s.path.c_str(),
+                        tpio::gdal_message().c_str());
+        const std::string tr = CPLSPrintf("%.17g", res);
+        std::vector<std::string> args = {
+            "-t_srs", t_srs, "-tr", tr, tr, "-te", CPLSPrintf("%.17g", x0),
+            CPLSPrintf("%.17g", y0), CPLSPrintf("%.17g", x1), CPLSPrintf("%.17g", y1), "-r",
+            o.resampling == TP_RESAMPLING_CUBIC ? "cubic" : "bilinear", "-et", "0",
+            "-dstnodata", "nan", "-ot", "Float32", "-of", "VRT"};
+        if (s.int16_voids())
+            args.insert(args.end(), {"-srcnodata", "-32768"});
+        if (has_over) /* as the warp's, not the file's: see the shared grid's --crs */
+            args.insert(args.end(), {"-s_srs", tpio::crs_wkt2(over)});
+        tpio::Dataset w = warp_vrt(m, in.get(), args, CPLSPrintf("warp%zu", i));
+        if (!w)
+            return fail(err, TP_ERR_BACKEND, "%s: warp to %s failed: %s", s.path.c_str(),
+                        dst_name, tpio::gdal_message().c_str());
+        files.push_back(m->vsimem.back());
+        const bool same_crs = s.srs.IsSame(&dst);
+        add_note(m->notes,
+                 CPLSPrintf("%s: %s, posts %.6g x %.6g%s: %s onto %s, posts %.6g m apart",
+                            s.name.c_str(), s.srs.GetName() ? s.srs.GetName() : "its CRS",
+                            std::fabs(s.gt[1]), std::fabs(s.gt[5]),
+                            s.srs.IsGeographic() ? " degrees" : "",
+                            same_crs ? "resampled" : "warped", dst_name, res));
+        m->warped = true;
+    }
+    add_note(m->notes, "the sources differ in CRS or post spacing: each is warped onto one "
+                       "grid and GDAL's VRT mosaics them (a later source wins where they "
+                       "overlap)");
+    tpio::Dataset v = build_vrt(m, files, {"-b", "1"}, "mosaic");
+    if (!v)
+        return fail(err, TP_ERR_BACKEND, "%s: mosaic: %s", paths[0], tpio::gdal_message().c_str());
+    m->ds = std::move(v);
+    m->crs_wkt = t_srs;
+    std::snprintf(m->crs_name, sizeof m->crs_name, "%s", dst_name);
+    m->epsg = tpio::crs_epsg(dst);
+    return TP_OK;
+}
+
+/* What is read once the grid is planned: its size and nodata, the void window and the
+ * --fill-from source, and a bound of its heights. */
+tp_status Opening::finish_open(tp_mosaic* m, tp_error* err) const
+{
     m->w = m->ds->GetRasterXSize();
     m->h = m->ds->GetRasterYSize();
     m->ds->GetGeoTransform(m->gt);
@@ -710,6 +504,36 @@ tp_status open_mosaic(const char* const* paths, size_t count, const tp_mosaic_op
         m->max_m *= m->z_to_m;
     }
     return TP_OK;
+}
+
+tp_status open_mosaic(const char* const* paths, size_t count, const tp_mosaic_options* opt,
+                      tp_mosaic* m, tp_error* err)
+{
+    tpio::register_drivers();
+    tpio::QuietGdal quiet;
+    Opening op;
+    op.paths = paths;
+    op.count = count;
+    op.o = opt ? *opt : tp_mosaic_options{};
+    const tp_mosaic_options& o = op.o;
+    const int memory_mb = op.memory_mb = o.memory_mb > 0 ? o.memory_mb : 1024;
+    m->fill_max = o.fill_max > 0 ? o.fill_max : 0;
+    /* a quarter of the budget: GDAL's block cache, or, when filling voids without a
+     * fill_window_mb, half of it the cache and half the void window */
+    const bool split = m->fill_max > 0 && o.fill_window_mb <= 0;
+    GDALSetCacheMax64((GIntBig)memory_mb * 1024 * 1024 / (split ? 8 : 4));
+
+    op.over.SetAxisMappingStrategy(OAMS_TRADITIONAL_GIS_ORDER);
+    op.has_over = o.crs && *o.crs;
+    if (op.has_over && op.over.SetFromUserInput(o.crs) != OGRERR_NONE)
+        return fail(err, TP_ERR_INVALID_ARG, "CRS '%s' is not one GDAL/PROJ knows", o.crs);
+
+    if (const tp_status st = op.open_sources(m, err))
+        return st;
+    if (const tp_status st = share_one_grid(op.src) ? op.open_shared(m, err)
+                                                    : op.open_warped(m, err))
+        return st;
+    return op.finish_open(m, err);
 }
 
 } // namespace

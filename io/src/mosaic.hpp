@@ -1,7 +1,7 @@
 /*
- * mosaic.hpp - the state of a tp_mosaic (tp_io.h), shared by its opening (mosaic.cpp: the
- * sources, the VRT or warp, the grid) and its reading (mosaic_read.cpp: windows of rows, voids
- * filled).
+ * mosaic.hpp - the state of a tp_mosaic (tp_io/mosaic.h), shared by its opening (mosaic.cpp: the
+ * VRT or warp, the grid; mosaic_source.cpp: the sources) and its reading (mosaic_read.cpp:
+ * windows of rows, voids filled).
  */
 #ifndef TP_IO_MOSAIC_HPP
 #define TP_IO_MOSAIC_HPP
@@ -65,5 +65,72 @@ struct tp_mosaic {
             VSIUnlink(it->c_str());
     }
 };
+
+namespace tpio {
+namespace mosaic {
+
+/* One source of a mosaic, opened and checked (mosaic_source.cpp). */
+struct Source {
+    std::string path, name; /* name: the file name without folders, for notes */
+    int w = 0, h = 0;
+    double gt[6] = {0, 1, 0, 0, 0, -1};
+    bool has_gt = false;
+    OGRSpatialReference srs;
+    bool has_crs = false;
+    GDALDataType type = GDT_Unknown;
+    bool has_nodata = false;
+    double nodata = 0;
+    std::string driver;
+    bool has_stats = false;
+    double stat_min = 0, stat_max = 0;
+    tpio::ZUnit z; /* its heights' unit */
+    /* Int16 without a nodata tag: -32768 (SRTM) and -32767 (DTED) are voids, as tp_dem_read
+     * takes them */
+    bool int16_voids() const { return type == GDT_Int16 && !has_nodata; }
+};
+
+struct Rect {
+    double x0, y0, x1, y1;
+}; /* [x0, x1) x [y0, y1) */
+
+inline void add_note(std::string& notes, const std::string& line)
+{
+    if (!notes.empty())
+        notes += '\n';
+    notes += line;
+}
+
+inline std::string base_name(const std::string& p)
+{
+    size_t at = p.find_last_of('/');
+    return at == std::string::npos ? p : p.substr(at + 1);
+}
+
+/* Opens path and checks it as tp_dem_read checks a DEM before reading it (a FIFO or device
+ * refused before opening, its georeference within its ranges, an ASCII grid's text), into s:
+ * its size, georeference, CRS, band type, nodata, statistics and height unit (z_unit
+ * overriding the file's). Errors name the file. */
+tp_status open_source(const char* path, const char* z_unit, Source* s, tp_error* err);
+
+/* The share of the whole rectangle that the union of the rectangles r covers, in [0, 1]: cells
+ * of a 1024 x 1024 raster over whole, each counted once when its centre lies in some rectangle
+ * (so three footprints over one place count it once; good to about a cell along each edge). */
+double covered_share(const std::vector<Rect>& r, const Rect& whole);
+
+/* Overlaps and gaps of sources sharing one grid (same CRS and spacing): notes, and the share
+ * of the mosaic they cover. */
+double note_overlaps(const std::vector<Source>& src, const double mgt[6], int mw, int mh,
+                     std::string& notes);
+
+/* A grid read without resampling from raster files that hold at most half its samples (a VRT
+ * that repeats a few small files, as tools/make_mirror_dem.py's): the exact minimum and maximum
+ * of every band of those files (GDAL skips each file's nodata) bound its heights, for a fraction
+ * of a read of the grid. Not when a bound touches the grid's nodata value (a file without the
+ * tag whose voids the VRT masks) or GDAL cannot say. A VRT that scales its sources breaks the
+ * bound: the caller checks it against what it reads (terrapatch build does). */
+void range_of_files(tp_mosaic* m);
+
+} // namespace mosaic
+} // namespace tpio
 
 #endif /* TP_IO_MOSAIC_HPP */

@@ -16,7 +16,7 @@
  * then any other extension an OGR driver that creates vector files declares. Stores and plots
  * are terrapatch's own (.tpt) and gnuplot's PNG. Meshes are VTK's three files (vtk_mesh_write.cpp
  * and the mesh reader take the format from here too). Screenshots go through OpenImageIO's
- * writer for the extension, encoded in memory (image_write.cpp): the list below is the formats
+ * writer for the extension, encoded in memory (image_rgba.cpp): the list below is the formats
  * whose writer encodes an RGBA picture that way (tests/test_image.c writes each); others that
  * OpenImageIO has either cannot encode in memory (SGI, ICO, RLA, FITS, HEIF) or not four
  * channels (HDR, PNM), and failed only after the frame was drawn.

@@ -359,6 +359,121 @@ void tpio::mask_outside_hull(OGRCoordinateTransformation& back, bool geographic,
 
 namespace {
 
+/* The rendered surface against every valid source post of dem (ct: the DEM's CRS to the
+ * render CRS; grid on geotransform gt): g's warp errors. */
+void measure_warp(const tp_dem* dem, OGRCoordinateTransformation* ct, const Grid& grid,
+                  const double gt[6], tp_render_grid* g)
+{
+    double mx = 0, sum = 0;
+    size_t count = 0;
+    std::vector<double> xs(dem->width), ys(dem->width);
+    std::vector<int> ok(dem->width);
+    for (int r = 0; r < dem->height; r++) {
+        for (int c = 0; c < dem->width; c++) {
+            xs[c] = dem->geotransform[0] + (c + 0.5) * dem->geotransform[1];
+            ys[c] = dem->geotransform[3] + (r + 0.5) * dem->geotransform[5];
+        }
+        ct->Transform(dem->width, xs.data(), ys.data(), nullptr, ok.data());
+        for (int c = 0; c < dem->width; c++) {
+            float s = dem->heights[(size_t)r * dem->width + c];
+            if (!ok[c] || std::isnan(s))
+                continue;
+            /* the rendered surface: the core's triangle split */
+            double z = tp_grid_height_at(grid.z.data(), grid.z.size(), grid.w, grid.h,
+                                         (xs[c] - gt[0]) / gt[1] - 0.5,
+                                         (ys[c] - gt[3]) / gt[5] - 0.5);
+            if (std::isnan(z))
+                continue;
+            double e = std::fabs(z - s);
+            mx = std::max(mx, e);
+            sum += e * e;
+            count++;
+        }
+    }
+    g->warp_max_error_m = mx;
+    g->warp_rms_error_m = count ? std::sqrt(sum / count) : 0;
+    g->warp_posts = count;
+}
+
+/* dem warped by GDAL onto the planned grid (grid, its geotransform into gt), the rim outside
+ * the source posts' hull not drawn, and the warp's errors into g. */
+tp_status warp_dem(const tp_dem* dem, const tpio::GridPlan& plan, double gt[6], Grid& grid,
+                   tp_render_grid* g, tp_error* err)
+{
+    const OGRSpatialReference& src = plan.src;
+    const OGRSpatialReference& dst = plan.dst;
+    const int epsg = plan.epsg;
+    std::unique_ptr<OGRCoordinateTransformation> ct(OGRCreateCoordinateTransformation(&src, &dst));
+    if (!ct)
+        return fail(err, TP_ERR_BACKEND, "no transformation to EPSG:%d: %s", epsg,
+                    tpio::gdal_message().c_str());
+    tpio::Dataset src_ds = tpio::mem_dataset(dem->heights, dem->width, dem->height, gt, &src);
+    if (!src_ds)
+        return fail(err, TP_ERR_BACKEND, "warp: %s", tpio::gdal_message().c_str());
+    std::vector<std::string> argv = tpio::render_grid_warp_args(plan, "MEM");
+    argv.insert(argv.end(), {"-srcnodata", "nan"});
+    std::vector<char*> args;
+    for (auto& a : argv)
+        args.push_back(const_cast<char*>(a.c_str()));
+    args.push_back(nullptr);
+    GDALWarpAppOptions* wo = GDALWarpAppOptionsNew(args.data(), nullptr);
+    GDALDatasetH in = GDALDataset::ToHandle(src_ds.get());
+    int usage = 0;
+    tpio::Dataset warped(GDALDataset::FromHandle(GDALWarp("", nullptr, 1, &in, wo, &usage)));
+    GDALWarpAppOptionsFree(wo);
+    if (!warped)
+        return fail(err, TP_ERR_BACKEND, "warp to EPSG:%d failed: %s", epsg,
+                    tpio::gdal_message().c_str());
+    grid.w = warped->GetRasterXSize();
+    grid.h = warped->GetRasterYSize();
+    grid.z.resize((size_t)grid.w * grid.h);
+    warped->GetGeoTransform(gt);
+    if (warped->GetRasterBand(1)->RasterIO(GF_Read, 0, 0, grid.w, grid.h, grid.z.data(), grid.w,
+                                           grid.h, GDT_Float32, 0, 0, nullptr) != CE_None)
+        return fail(err, TP_ERR_BACKEND, "warp: %s", tpio::gdal_message().c_str());
+    g->warped = 1;
+
+    /* GDAL's output covers the source pixels' corners, half a post beyond the outermost
+     * posts, where bilinear resampling only repeats the edge: that rim is outside the data
+     * (posts are points: the data spans their hull), so it is not drawn. */
+    std::unique_ptr<OGRCoordinateTransformation> back(OGRCreateCoordinateTransformation(&dst, &src));
+    if (!back)
+        return fail(err, TP_ERR_BACKEND, "no transformation back from EPSG:%d: %s", epsg,
+                    tpio::gdal_message().c_str());
+    tpio::mask_outside_hull(*back, src.IsGeographic(), dem->geotransform, dem->width,
+                            dem->height, gt, grid.w, 0, grid.h, grid.z.data());
+    measure_warp(dem, ct.get(), grid, gt, g);
+    return TP_OK;
+}
+
+/* The --fill-from source (fill_from) warped onto the render grid (grid's size on gt, in the
+ * render CRS crs_wkt) into other, in metres; its unit's warning added to warnings. */
+tp_status read_fill_source(const char* fill_from, const double gt[6], const Grid& grid,
+                           const std::string& crs_wkt, std::vector<float>& other,
+                           std::string& warnings, tp_error* err)
+{
+    /* the second source on the render grid, checked even when nothing is to be filled */
+    tpio::Dataset ods;
+    tpio::ZUnit unit;
+    if (const tp_status st = tpio::fill_source_open(fill_from, gt, grid.w, grid.h, crs_wkt, "MEM",
+                                                    "", &ods, &unit, err))
+        return st;
+    other.resize(grid.z.size());
+    if (ods->GetRasterBand(1)->RasterIO(GF_Read, 0, 0, grid.w, grid.h, other.data(), grid.w,
+                                        grid.h, GDT_Float32, 0, 0, nullptr) != CE_None)
+        return fail(err, TP_ERR_BACKEND, "--fill-from %s: %s", fill_from,
+                    tpio::gdal_message().c_str());
+    tpio::fill_source_to_metres(other.data(), other.size(), unit);
+    if (!unit.warning.empty())
+        add_warning(warnings, unit.warning);
+    if (std::none_of(other.begin(), other.end(), [](float v) { return !std::isnan(v); }))
+        return fail(err, TP_ERR_BAD_DATA,
+                    "--fill-from %s: no data where the DEM lies (every sample warped onto "
+                    "the DEM's grid is nodata)",
+                    fill_from);
+    return TP_OK;
+}
+
 /* plan_w/plan_h not NULL: only plan, returning the render grid's size without warping. */
 tp_status build(const tp_dem* dem, const tp_grid_options* opt, tp_render_grid** out, tp_error* err,
                 int* plan_w = nullptr, int* plan_h = nullptr)
@@ -375,7 +490,6 @@ tp_status build(const tp_dem* dem, const tp_grid_options* opt, tp_render_grid** 
         return TP_OK;
     }
     std::string warnings = plan.warnings;
-    const OGRSpatialReference& src = plan.src;
     const OGRSpatialReference& dst = plan.dst;
     const bool has_crs = plan.has_crs;
     std::unique_ptr<tp_render_grid, GridDeleter> g(
@@ -391,77 +505,8 @@ tp_status build(const tp_dem* dem, const tp_grid_options* opt, tp_render_grid** 
         grid.h = dem->height;
         grid.z.assign(dem->heights, dem->heights + (size_t)dem->width * dem->height);
     } else {
-        const int epsg = plan.epsg;
-        std::unique_ptr<OGRCoordinateTransformation> ct(OGRCreateCoordinateTransformation(&src, &dst));
-        if (!ct)
-            return fail(err, TP_ERR_BACKEND, "no transformation to EPSG:%d: %s", epsg,
-                        tpio::gdal_message().c_str());
-        tpio::Dataset src_ds = tpio::mem_dataset(dem->heights, dem->width, dem->height, gt, &src);
-        if (!src_ds)
-            return fail(err, TP_ERR_BACKEND, "warp: %s", tpio::gdal_message().c_str());
-        std::vector<std::string> argv = tpio::render_grid_warp_args(plan, "MEM");
-        argv.insert(argv.end(), {"-srcnodata", "nan"});
-        std::vector<char*> args;
-        for (auto& a : argv)
-            args.push_back(const_cast<char*>(a.c_str()));
-        args.push_back(nullptr);
-        GDALWarpAppOptions* wo = GDALWarpAppOptionsNew(args.data(), nullptr);
-        GDALDatasetH in = GDALDataset::ToHandle(src_ds.get());
-        int usage = 0;
-        tpio::Dataset warped(GDALDataset::FromHandle(GDALWarp("", nullptr, 1, &in, wo, &usage)));
-        GDALWarpAppOptionsFree(wo);
-        if (!warped)
-            return fail(err, TP_ERR_BACKEND, "warp to EPSG:%d failed: %s", epsg,
-                        tpio::gdal_message().c_str());
-        grid.w = warped->GetRasterXSize();
-        grid.h = warped->GetRasterYSize();
-        grid.z.resize((size_t)grid.w * grid.h);
-        warped->GetGeoTransform(gt);
-        if (warped->GetRasterBand(1)->RasterIO(GF_Read, 0, 0, grid.w, grid.h, grid.z.data(), grid.w,
-                                               grid.h, GDT_Float32, 0, 0, nullptr) != CE_None)
-            return fail(err, TP_ERR_BACKEND, "warp: %s", tpio::gdal_message().c_str());
-        g->warped = 1;
-
-        /* GDAL's output covers the source pixels' corners, half a post beyond the outermost
-         * posts, where bilinear resampling only repeats the edge: that rim is outside the data
-         * (posts are points: the data spans their hull), so it is not drawn. */
-        std::unique_ptr<OGRCoordinateTransformation> back(OGRCreateCoordinateTransformation(&dst, &src));
-        if (!back)
-            return fail(err, TP_ERR_BACKEND, "no transformation back from EPSG:%d: %s", epsg,
-                        tpio::gdal_message().c_str());
-        tpio::mask_outside_hull(*back, src.IsGeographic(), dem->geotransform, dem->width,
-                                dem->height, gt, grid.w, 0, grid.h, grid.z.data());
-
-        /* The rendered surface against every valid source post. */
-        double mx = 0, sum = 0;
-        size_t count = 0;
-        std::vector<double> xs(dem->width), ys(dem->width);
-        std::vector<int> ok(dem->width);
-        for (int r = 0; r < dem->height; r++) {
-            for (int c = 0; c < dem->width; c++) {
-                xs[c] = dem->geotransform[0] + (c + 0.5) * dem->geotransform[1];
-                ys[c] = dem->geotransform[3] + (r + 0.5) * dem->geotransform[5];
-            }
-            ct->Transform(dem->width, xs.data(), ys.data(), nullptr, ok.data());
-            for (int c = 0; c < dem->width; c++) {
-                float s = dem->heights[(size_t)r * dem->width + c];
-                if (!ok[c] || std::isnan(s))
-                    continue;
-                /* the rendered surface: the core's triangle split */
-                double z = tp_grid_height_at(grid.z.data(), grid.z.size(), grid.w, grid.h,
-                                             (xs[c] - gt[0]) / gt[1] - 0.5,
-                                             (ys[c] - gt[3]) / gt[5] - 0.5);
-                if (std::isnan(z))
-                    continue;
-                double e = std::fabs(z - s);
-                mx = std::max(mx, e);
-                sum += e * e;
-                count++;
-            }
-        }
-        g->warp_max_error_m = mx;
-        g->warp_rms_error_m = count ? std::sqrt(sum / count) : 0;
-        g->warp_posts = count;
+        if (const tp_status st = warp_dem(dem, plan, gt, grid, g.get(), err))
+            return st;
     }
 
     if (has_crs) {
@@ -478,26 +523,11 @@ tp_status build(const tp_dem* dem, const tp_grid_options* opt, tp_render_grid** 
     spec.fill_max = fill_max;
     std::vector<float> other;
     if (o.fill_from && *o.fill_from) {
-        /* the second source on the render grid, checked even when nothing is to be filled */
-        tpio::Dataset ods;
-        tpio::ZUnit unit;
-        if (const tp_status st = tpio::fill_source_open(
-                o.fill_from, gt, grid.w, grid.h, has_crs ? tpio::crs_wkt2(dst) : std::string(),
-                "MEM", "", &ods, &unit, err))
+        if (const tp_status st =
+                read_fill_source(o.fill_from, gt, grid,
+                                 has_crs ? tpio::crs_wkt2(dst) : std::string(), other, warnings,
+                                 err))
             return st;
-        other.resize(grid.z.size());
-        if (ods->GetRasterBand(1)->RasterIO(GF_Read, 0, 0, grid.w, grid.h, other.data(), grid.w,
-                                            grid.h, GDT_Float32, 0, 0, nullptr) != CE_None)
-            return fail(err, TP_ERR_BACKEND, "--fill-from %s: %s", o.fill_from,
-                        tpio::gdal_message().c_str());
-        tpio::fill_source_to_metres(other.data(), other.size(), unit);
-        if (!unit.warning.empty())
-            add_warning(warnings, unit.warning);
-        if (std::none_of(other.begin(), other.end(), [](float v) { return !std::isnan(v); }))
-            return fail(err, TP_ERR_BAD_DATA,
-                        "--fill-from %s: no data where the DEM lies (every sample warped onto "
-                        "the DEM's grid is nodata)",
-                        o.fill_from);
         spec.other = other.data();
     }
     std::vector<uint8_t> filled;

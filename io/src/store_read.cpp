@@ -6,6 +6,7 @@
  * tp_store_read_node reads one node with pread, so any number of threads can read at once:
  * the store is not changed after open, and each thread keeps its own zstd context and buffers
  * (thread_local), reused from one node to the next. */
+#include "format_read.hpp"
 #include "io_util.hpp"
 #include "store_format.hpp"
 #include "tp_io.h"
@@ -25,6 +26,7 @@
 
 using namespace tpio::store;
 using tpio::fail;
+using tpio::read_at;
 
 namespace {
 /* Bytes of the tables read at a time by the checking pass (a multiple of both entry sizes). */
@@ -67,26 +69,6 @@ struct tp_store {
 
 namespace {
 
-/* All of size bytes at offset, or an errno (EIO for a file that ended early: it shrank). */
-int read_at(int fd, void* buf, size_t size, uint64_t offset)
-{
-    uint8_t* p = static_cast<uint8_t*>(buf);
-    while (size > 0) {
-        const ssize_t got = pread(fd, p, size, (off_t)offset);
-        if (got < 0) {
-            if (errno == EINTR)
-                continue;
-            return errno;
-        }
-        if (got == 0)
-            return EIO;
-        p += got;
-        size -= (size_t)got;
-        offset += (uint64_t)got;
-    }
-    return 0;
-}
-
 /* One reading thread's zstd context and buffers. */
 struct ThreadScratch {
     ZSTD_DCtx* dctx = nullptr;
@@ -104,8 +86,9 @@ std::string node_name(const tp_store* s, int64_t node)
            std::to_string(c) + ", row " + std::to_string(r) + ")";
 }
 
-/* The checks of tp_store_open after the file is open; fills s. */
-tp_status load(tp_store* s, tp_error* err)
+/* The header's fixed part, its size, checksum and version: the whole header into head (its
+ * size then in s->header_bytes) once it can be believed. */
+tp_status read_header(tp_store* s, std::vector<uint8_t>& head, tp_error* err)
 {
     const char* path = s->path.c_str();
     uint8_t fixed[H_FIXED_BYTES];
@@ -127,20 +110,10 @@ tp_status load(tp_store* s, tp_error* err)
     if (header_bytes < H_FIXED_BYTES + 4 || header_bytes > H_FIXED_BYTES + 4 + 2 * MAX_STRING_BYTES)
         return fail(err, TP_ERR_BAD_DATA, "%s: damaged header: it claims %u bytes", path,
                     header_bytes);
-    if (header_bytes > s->file_bytes)
-        return fail(err, TP_ERR_BAD_DATA,
-                    "%s: truncated: %" PRIu64 " bytes, but the header alone takes %u", path,
-                    s->file_bytes, header_bytes);
-    std::vector<uint8_t> head(header_bytes);
-    if (int e = read_at(s->fd, head.data(), head.size(), 0))
-        return fail(err, TP_ERR_IO, "%s: cannot read the header: %s", path, std::strerror(e));
+    if (const tp_status st =
+            tpio::read_header_bytes(s->fd, path, s->file_bytes, header_bytes, head, err))
+        return st;
     const uint8_t* h = head.data();
-    const uint32_t head_crc = crc32_of(h, header_bytes - 4);
-    if (head_crc != get_u32(h + header_bytes - 4))
-        return fail(err, TP_ERR_BAD_DATA,
-                    "%s: damaged header: checksum mismatch in bytes 0..%u (stored 0x%08x, "
-                    "computed 0x%08x)",
-                    path, header_bytes - 1, get_u32(h + header_bytes - 4), head_crc);
     s->version = get_u32(h + H_VERSION);
     if (s->version > TP_STORE_VERSION)
         return fail(err, TP_ERR_BAD_DATA,
@@ -159,7 +132,14 @@ tp_status load(tp_store* s, tp_error* err)
                     "table is mapped as it is); this host is big-endian",
                     path, TP_STORE_VERSION);
     s->header_bytes = header_bytes;
+    return TP_OK;
+}
 
+/* The header's fields into s: the geometry, georeference, quantisation, CRS and notes. */
+tp_status decode_header(tp_store* s, const uint8_t* h, tp_error* err)
+{
+    const char* path = s->path.c_str();
+    const uint32_t header_bytes = (uint32_t)s->header_bytes;
     /* Geometry: recomputed from n and the source size; every stored count must agree. */
     tp_tree_geometry& g = s->header.geometry;
     const uint32_t n = get_u32(h + H_N), sw = get_u32(h + H_SRC_WIDTH),
@@ -190,26 +170,25 @@ tp_status load(tp_store* s, tp_error* err)
         return fail(err, TP_ERR_BAD_DATA, "%s: bad header: height step %g m, error unit %g steps",
                     path, s->header.height_step_m, s->header.err_unit_steps);
     const uint32_t crs_bytes = get_u32(h + H_CRS_BYTES), notes_bytes = get_u32(h + H_NOTES_BYTES);
-    if ((uint64_t)H_FIXED_BYTES + crs_bytes + notes_bytes + 4 != header_bytes)
-        return fail(err, TP_ERR_BAD_DATA,
-                    "%s: bad header: CRS (%u bytes) and notes (%u bytes) do not fill its %u bytes",
-                    path, crs_bytes, notes_bytes, header_bytes);
-    s->crs.assign(reinterpret_cast<const char*>(h + H_FIXED_BYTES), crs_bytes);
-    s->notes.assign(reinterpret_cast<const char*>(h + H_FIXED_BYTES + crs_bytes), notes_bytes);
-    if (s->crs.find('\0') != std::string::npos || s->notes.find('\0') != std::string::npos)
-        return fail(err, TP_ERR_BAD_DATA, "%s: bad header: a NUL byte inside the CRS or notes",
-                    path);
+    return tpio::read_header_strings(path, h, H_FIXED_BYTES, header_bytes, crs_bytes,
+                                     notes_bytes, s->crs, s->notes, err);
+}
 
+/* The footer into foot (FOOTER_BYTES): where the tables are; s->tables and s->data_end. */
+tp_status read_footer(tp_store* s, uint8_t* foot, tp_error* err)
+{
+    const char* path = s->path.c_str();
+    const uint32_t header_bytes = (uint32_t)s->header_bytes;
+    const tp_tree_geometry& g = s->header.geometry;
     /* Footer: where the tables are (they follow from the header's size and node_count). */
     const uint64_t count = (uint64_t)g.node_count;
     const Tables t = tables_at(header_bytes, count);
     s->tables = t;
-    uint8_t foot[FOOTER_BYTES];
     if (s->file_bytes < header_bytes + (uint64_t)FOOTER_BYTES)
         return fail(err, TP_ERR_BAD_DATA,
                     "%s: truncated: %" PRIu64 " bytes, no room for the footer after the header",
                     path, s->file_bytes);
-    if (int e = read_at(s->fd, foot, sizeof foot, s->file_bytes - FOOTER_BYTES))
+    if (int e = read_at(s->fd, foot, FOOTER_BYTES, s->file_bytes - FOOTER_BYTES))
         return fail(err, TP_ERR_IO, "%s: cannot read the footer: %s", path, std::strerror(e));
     if (std::memcmp(foot + F_END_MAGIC, END_MAGIC, 8) != 0)
         return fail(err, TP_ERR_BAD_DATA,
@@ -241,27 +220,81 @@ tp_status load(tp_store* s, tp_error* err)
                     "byte %" PRIu64 " (before the footer's %zu)",
                     path, s->file_bytes, t.data_offset, (size_t)FOOTER_BYTES);
     s->data_end = s->file_bytes - FOOTER_BYTES;
+    return TP_OK;
+}
 
+/* The bytes of a node table entry that must be 0 for nodes of 2^n+1 samples a side: pad_,
+ * delta[k > n], eps[][kn >= n] and the trailing padding (all ones there, as 13 words in the
+ * host's order: it is little-endian). */
+void meta_zero_mask(int n, uint64_t zero_mask[META_BYTES / 8])
+{
+    uint8_t mask[META_BYTES];
+    std::memset(mask, 0, sizeof mask);
+    std::memset(mask + offsetof(tp_node_meta, pad_), 0xFF, sizeof(tp_node_meta::pad_));
+    for (int j = n + 1; j < TP_MAX_LEVELS; ++j)
+        std::memset(mask + offsetof(tp_node_meta, delta) + 2 * j, 0xFF, 2);
+    for (int side = 0; side < 4; ++side)
+        for (int j = n; j < TP_MAX_N; ++j)
+            std::memset(mask + offsetof(tp_node_meta, eps) + 2 * (TP_MAX_N * side + j), 0xFF, 2);
+    std::memset(mask + META_USED_BYTES, 0xFF, META_BYTES - META_USED_BYTES);
+    std::memcpy(zero_mask, mask, sizeof mask);
+}
+
+/* What is wrong with node table entry e, or nullptr: flags, range, and the bytes the format
+ * leaves 0 (zero_mask, 8 bytes at a time). */
+const char* meta_problem(const uint8_t* e, const uint64_t* zero_mask)
+{
+    uint64_t nonzero = 0;
+    for (size_t j = 0; j < META_BYTES / 8; ++j) {
+        uint64_t word;
+        std::memcpy(&word, e + 8 * j, 8);
+        nonzero |= word & zero_mask[j];
+    }
+    const int32_t qmin = (int32_t)get_u32(e), qmax = (int32_t)get_u32(e + 4);
+    if (e[16] & ~KNOWN_FLAGS)
+        return "unknown flags";
+    if ((e[16] & TP_NODE_HAS_FILLED) && !(e[16] & TP_NODE_HAS_DRAWN))
+        return "filled samples but nothing drawn";
+    if (qmin <= qmax && (int64_t)qmax - qmin >= (int64_t)TP_TREE_NO_HEIGHT)
+        return "height range too wide";
+    if (nonzero)
+        return "unused bytes not 0";
+    return nullptr;
+}
+
+/* What is wrong with location table entry e (en, decoded), or nullptr: codec, reserved bytes,
+ * size (at most max_bytes) and place (inside s's data area). */
+const char* loc_problem(const tp_store* s, const Entry& en, const uint8_t* e, uint64_t max_bytes)
+{
+    bool zero = true;
+    for (size_t j = L_CODEC + 1; j < LOC_BYTES; ++j)
+        zero = zero && e[j] == 0;
+    if (en.codec != CODEC_RAW && en.codec != CODEC_PLANAR_ZSTD)
+        return "unknown codec";
+    if (!zero)
+        return "reserved bytes not 0";
+    if (en.bytes == 0 || en.bytes > max_bytes)
+        return "impossible data size";
+    if (en.offset < s->tables.data_offset || en.offset > s->data_end ||
+        en.bytes > s->data_end - en.offset)
+        return "data outside the data area";
+    return nullptr;
+}
+
+/* Both tables against the footer's checksums (foot), every entry checked, in one streaming
+ * pass. */
+tp_status check_tables(tp_store* s, const uint8_t* foot, tp_error* err)
+{
+    const char* path = s->path.c_str();
+    const tp_tree_geometry& g = s->header.geometry;
+    const Tables& t = s->tables;
     /* Both tables, checked in one streaming pass (pread, not the mapping: the checks leave
      * nothing in the process's memory). The first bad entry is reported only once the tables'
      * CRC32s match: a damaged table is reported as damage, not as one odd entry. */
     const uint64_t max_bytes = max_stored_bytes(g.n);
     std::vector<uint8_t> piece(CHECK_PIECE_BYTES);
-    /* The bytes of a node table entry that must be 0: pad_, delta[k > n], eps[][kn >= n] and the
-     * trailing padding (all ones there, as 13 words in the host's order: it is little-endian). */
     uint64_t zero_mask[META_BYTES / 8];
-    {
-        uint8_t mask[META_BYTES];
-        std::memset(mask, 0, sizeof mask);
-        std::memset(mask + offsetof(tp_node_meta, pad_), 0xFF, sizeof(tp_node_meta::pad_));
-        for (int j = g.n + 1; j < TP_MAX_LEVELS; ++j)
-            std::memset(mask + offsetof(tp_node_meta, delta) + 2 * j, 0xFF, 2);
-        for (int side = 0; side < 4; ++side)
-            for (int j = g.n; j < TP_MAX_N; ++j)
-                std::memset(mask + offsetof(tp_node_meta, eps) + 2 * (TP_MAX_N * side + j), 0xFF, 2);
-        std::memset(mask + META_USED_BYTES, 0xFF, META_BYTES - META_USED_BYTES);
-        std::memcpy(zero_mask, mask, sizeof mask);
-    }
+    meta_zero_mask(g.n, zero_mask);
     uint32_t meta_crc = 0, loc_crc = 0;
     uint64_t data_sum = 0; /* the nodes' data bytes: they fill the data area, end to end */
     tp_error bad_entry;
@@ -284,37 +317,11 @@ tp_status load(tp_store* s, tp_error* err)
             const char* problem = nullptr;
             Entry en{};
             if (metas) {
-                /* flags, range, and the bytes the format leaves 0 (the mask, 8 bytes at a time) */
-                uint64_t nonzero = 0;
-                for (size_t j = 0; j < META_BYTES / 8; ++j) {
-                    uint64_t word;
-                    std::memcpy(&word, e + 8 * j, 8);
-                    nonzero |= word & zero_mask[j];
-                }
-                const int32_t qmin = (int32_t)get_u32(e), qmax = (int32_t)get_u32(e + 4);
-                if (e[16] & ~KNOWN_FLAGS)
-                    problem = "unknown flags";
-                else if ((e[16] & TP_NODE_HAS_FILLED) && !(e[16] & TP_NODE_HAS_DRAWN))
-                    problem = "filled samples but nothing drawn";
-                else if (qmin <= qmax && (int64_t)qmax - qmin >= (int64_t)TP_TREE_NO_HEIGHT)
-                    problem = "height range too wide";
-                else if (nonzero)
-                    problem = "unused bytes not 0";
+                problem = meta_problem(e, zero_mask);
             } else {
                 en = decode_loc(e);
-                bool zero = true;
-                for (size_t j = L_CODEC + 1; j < LOC_BYTES; ++j)
-                    zero = zero && e[j] == 0;
-                if (en.codec != CODEC_RAW && en.codec != CODEC_PLANAR_ZSTD)
-                    problem = "unknown codec";
-                else if (!zero)
-                    problem = "reserved bytes not 0";
-                else if (en.bytes == 0 || en.bytes > max_bytes)
-                    problem = "impossible data size";
-                else if (en.offset < t.data_offset || en.offset > s->data_end ||
-                         en.bytes > s->data_end - en.offset)
-                    problem = "data outside the data area";
-                else
+                problem = loc_problem(s, en, e, max_bytes);
+                if (!problem)
                     data_sum += en.bytes;
             }
             if (!problem || bad_entry.message[0])
@@ -352,7 +359,14 @@ tp_status load(tp_store* s, tp_error* err)
                     "appended after the footer?",
                     path, (int64_t)(s->data_end - t.data_offset) - (int64_t)data_sum, data_sum,
                     s->data_end - t.data_offset);
+    return TP_OK;
+}
 
+/* Maps both tables read-only: s->metas and s->locs point into the mapping. */
+tp_status map_tables(tp_store* s, tp_error* err)
+{
+    const char* path = s->path.c_str();
+    const Tables& t = s->tables;
     /* Map both tables (page-aligned start). */
     const long page = sysconf(_SC_PAGESIZE);
     const uint64_t map_from = t.meta_offset - t.meta_offset % (uint64_t)(page > 0 ? page : 4096);
@@ -365,6 +379,24 @@ tp_status load(tp_store* s, tp_error* err)
     const uint8_t* base = static_cast<const uint8_t*>(map) - map_from;
     s->metas = reinterpret_cast<const tp_node_meta*>(base + t.meta_offset);
     s->locs = base + t.loc_offset;
+    return TP_OK;
+}
+
+/* The checks of tp_store_open after the file is open; fills s. */
+tp_status load(tp_store* s, tp_error* err)
+{
+    std::vector<uint8_t> head;
+    if (const tp_status st = read_header(s, head, err))
+        return st;
+    if (const tp_status st = decode_header(s, head.data(), err))
+        return st;
+    uint8_t foot[FOOTER_BYTES];
+    if (const tp_status st = read_footer(s, foot, err))
+        return st;
+    if (const tp_status st = check_tables(s, foot, err))
+        return st;
+    if (const tp_status st = map_tables(s, err))
+        return st;
     s->header.crs_wkt = s->crs.c_str();
     s->header.notes = s->notes.c_str();
     return TP_OK;

@@ -1,4 +1,4 @@
-/* imagery_write.cpp - tp_imagery_build: georeferenced rasters warped by GDAL onto a render grid
+/* imagery_build.cpp - tp_imagery_build: georeferenced rasters warped by GDAL onto a render grid
  * and written as a mip pyramid of 256x256 RGBA blocks (.tpi; tp_imagery.h, docs/imagery.md).
  *
  * Each source becomes an RGBA view of itself (a VRT: its palette expanded, the colour bands
@@ -402,12 +402,7 @@ tp_status build(const char* const* paths, int count, const tp_imagery_target* t,
     for (int row = 0; row < b.g.rows[0] && st == TP_OK; ++row) {
         st = warps.take(row, b.level[0], err);
         if (st == TP_OK)
-            st = pyramid_finish_row(b, row, err);
-        if (st == TP_OK && tp_interrupted())
-            st = fail(err, TP_ERR_IO, "%s: interrupted (%s): not written", out_path,
-                      tpio::interrupt_name());
-        if (st == TP_OK && o->progress)
-            o->progress(o->progress_user, (row + 1.0) / b.g.rows[0]);
+            st = pyramid_row_done(b, row, out_path, o, err);
     }
     if (st == TP_OK)
         st = pyramid_commit(b, err);

@@ -1,4 +1,4 @@
-/* image_write.cpp - RGBA8 images in and out through OpenImageIO (screenshots, references). */
+/* image_rgba.cpp - RGBA8 images in and out through OpenImageIO (screenshots, references). */
 #include "io_util.hpp"
 #include "tp_io.h"
 
