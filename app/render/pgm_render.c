@@ -455,18 +455,12 @@ tp_status tp_pgm_renderer_measure(const tp_pgm_renderer* r, const tp_camera* cam
     return st;
 }
 
-/* The far plane: the farthest corner of the terrain's box, with room (as renderer.c). */
+/* The far plane: the farthest corner of the terrain's box, with room (as the patch renderer's). */
 static double far_plane(const tp_pgm_pyramid* p, const tp_camera* cam)
 {
     if (cam->far_m > 0)
         return cam->far_m;
-    const double* gt = p->geotransform;
-    double e0 = gt[0] + 0.5 * gt[1], n0 = gt[3] + 0.5 * gt[5];
-    double e1 = gt[0] + (p->width[0] - 0.5) * gt[1], n1 = gt[3] + (p->height[0] - 0.5) * gt[5];
-    double dx = fmax(fabs(e0 - cam->position[0]), fabs(e1 - cam->position[0]));
-    double dy = fmax(fabs(n0 - cam->position[1]), fabs(n1 - cam->position[1]));
-    double dz = fmax(fabs(p->max_m - cam->position[2]), fabs(p->min_m - cam->position[2]));
-    return 1.1 * sqrt(dx * dx + dy * dy + dz * dz) + 10;
+    return tp_render_far_box(cam, p->geotransform, p->width[0], p->height[0], p->min_m, p->max_m);
 }
 
 void tp_pgm_renderer_draw(tp_pgm_renderer* r, const tp_camera* cam, const tp_render_settings* s,
