@@ -6,6 +6,7 @@
 #include "cli.h"
 #include "gl_context.h"
 #include "pgm_clip.h"
+#include "terrain_shaders.h"
 
 #include <epoxy/gl.h>
 
@@ -88,21 +89,9 @@ static const char vertex_head[] =
     "               min(texelFetch(u_valid, ivec2(i.x, i1.y), 0).r, texelFetch(u_valid, i1, 0).r)) "
     "> 0.5;\n"
     "}\n"
-    "vec3 hypsometric(float t) {\n"
-    "    vec3 c0 = vec3(0.33, 0.52, 0.30), c1 = vec3(0.62, 0.66, 0.40);\n"
-    "    vec3 c2 = vec3(0.58, 0.47, 0.35), c3 = vec3(0.93, 0.93, 0.93);\n"
-    "    t = clamp(t, 0.0, 1.0);\n"
-    "    if (t < 0.4) return mix(c0, c1, t / 0.4);\n"
-    "    if (t < 0.8) return mix(c1, c2, (t - 0.4) / 0.4);\n"
-    "    return mix(c2, c3, (t - 0.8) / 0.2);\n"
-    "}\n"
+    TP_GLSL_HYPSOMETRIC
     "vec3 level_color(int k) {\n"
-    "    vec3 c[9] = vec3[9](vec3(0.20, 0.20, 0.80), vec3(0.10, 0.60, 0.90), vec3(0.10, 0.75, "
-    "0.55),\n"
-    "                        vec3(0.45, 0.80, 0.20), vec3(0.90, 0.85, 0.15), vec3(0.95, 0.55, "
-    "0.10),\n"
-    "                        vec3(0.90, 0.20, 0.15), vec3(0.70, 0.10, 0.50), vec3(0.95, 0.95, "
-    "0.95));\n"
+    TP_GLSL_LEVEL_COLORS
     "    return c[min(k, 8)];\n"
     "}\n";
 

@@ -12,4 +12,25 @@
 extern const char* const tp_terrain_vertex_shader;
 const char* tp_terrain_fragment_shader(void); /* built once (render thread) */
 
+/* GLSL that PGM's programs (pgm_render.c) share with these, so that both renderers colour alike:
+ * hypsometric(t), the colour ramp of a height fraction t of the height range (0 lowest, 1
+ * highest; clamped), and the declaration of c[9], the colours of levels 0 .. 8 (--color-lod;
+ * level_color returns c[min(k, 8)]). */
+#define TP_GLSL_HYPSOMETRIC                                                                        \
+    "vec3 hypsometric(float t) {\n"                                                                \
+    "    vec3 c0 = vec3(0.33, 0.52, 0.30), c1 = vec3(0.62, 0.66, 0.40);\n"                         \
+    "    vec3 c2 = vec3(0.58, 0.47, 0.35), c3 = vec3(0.93, 0.93, 0.93);\n"                         \
+    "    t = clamp(t, 0.0, 1.0);\n"                                                                \
+    "    if (t < 0.4) return mix(c0, c1, t / 0.4);\n"                                              \
+    "    if (t < 0.8) return mix(c1, c2, (t - 0.4) / 0.4);\n"                                      \
+    "    return mix(c2, c3, (t - 0.8) / 0.2);\n"                                                   \
+    "}\n"
+#define TP_GLSL_LEVEL_COLORS                                                                       \
+    "    vec3 c[9] = vec3[9](vec3(0.20, 0.20, 0.80), vec3(0.10, 0.60, 0.90), vec3(0.10, 0.75, "    \
+    "0.55),\n"                                                                                     \
+    "                        vec3(0.45, 0.80, 0.20), vec3(0.90, 0.85, 0.15), vec3(0.95, 0.55, "    \
+    "0.10),\n"                                                                                     \
+    "                        vec3(0.90, 0.20, 0.15), vec3(0.70, 0.10, 0.50), vec3(0.95, 0.95, "    \
+    "0.95));\n"
+
 #endif /* TP_APP_VIEW_TERRAIN_SHADERS_H */
