@@ -7,7 +7,7 @@
  *   headless.c   the headless run: the frames offscreen, then what they leave
  *   window.c     the interactive frame loop (input.c, navigate.c, pick.c, overlay.c)
  *   frame.c      one frame, screenshots, the statistics JSON, the texture
- *   renderer.c   patches to the GPU (hud.c draws text, gl_context.c owns the context)
+ *   render/      patches to the GPU (renderer.h; hud.c draws text, gl_context.h owns the context)
  */
 #ifndef TP_APP_VIEW_H
 #define TP_APP_VIEW_H
