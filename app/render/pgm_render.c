@@ -6,6 +6,7 @@
 #include "cli.h"
 #include "gl_context.h"
 #include "pgm_clip.h"
+#include "terrain_shaders.h"
 
 #include <epoxy/gl.h>
 
@@ -88,21 +89,9 @@ static const char vertex_head[] =
     "               min(texelFetch(u_valid, ivec2(i.x, i1.y), 0).r, texelFetch(u_valid, i1, 0).r)) "
     "> 0.5;\n"
     "}\n"
-    "vec3 hypsometric(float t) {\n"
-    "    vec3 c0 = vec3(0.33, 0.52, 0.30), c1 = vec3(0.62, 0.66, 0.40);\n"
-    "    vec3 c2 = vec3(0.58, 0.47, 0.35), c3 = vec3(0.93, 0.93, 0.93);\n"
-    "    t = clamp(t, 0.0, 1.0);\n"
-    "    if (t < 0.4) return mix(c0, c1, t / 0.4);\n"
-    "    if (t < 0.8) return mix(c1, c2, (t - 0.4) / 0.4);\n"
-    "    return mix(c2, c3, (t - 0.8) / 0.2);\n"
-    "}\n"
+    TP_GLSL_HYPSOMETRIC
     "vec3 level_color(int k) {\n"
-    "    vec3 c[9] = vec3[9](vec3(0.20, 0.20, 0.80), vec3(0.10, 0.60, 0.90), vec3(0.10, 0.75, "
-    "0.55),\n"
-    "                        vec3(0.45, 0.80, 0.20), vec3(0.90, 0.85, 0.15), vec3(0.95, 0.55, "
-    "0.10),\n"
-    "                        vec3(0.90, 0.20, 0.15), vec3(0.70, 0.10, 0.50), vec3(0.95, 0.95, "
-    "0.95));\n"
+    TP_GLSL_LEVEL_COLORS
     "    return c[min(k, 8)];\n"
     "}\n";
 
@@ -455,18 +444,12 @@ tp_status tp_pgm_renderer_measure(const tp_pgm_renderer* r, const tp_camera* cam
     return st;
 }
 
-/* The far plane: the farthest corner of the terrain's box, with room (as renderer.c). */
+/* The far plane: the farthest corner of the terrain's box, with room (as the patch renderer's). */
 static double far_plane(const tp_pgm_pyramid* p, const tp_camera* cam)
 {
     if (cam->far_m > 0)
         return cam->far_m;
-    const double* gt = p->geotransform;
-    double e0 = gt[0] + 0.5 * gt[1], n0 = gt[3] + 0.5 * gt[5];
-    double e1 = gt[0] + (p->width[0] - 0.5) * gt[1], n1 = gt[3] + (p->height[0] - 0.5) * gt[5];
-    double dx = fmax(fabs(e0 - cam->position[0]), fabs(e1 - cam->position[0]));
-    double dy = fmax(fabs(n0 - cam->position[1]), fabs(n1 - cam->position[1]));
-    double dz = fmax(fabs(p->max_m - cam->position[2]), fabs(p->min_m - cam->position[2]));
-    return 1.1 * sqrt(dx * dx + dy * dy + dz * dz) + 10;
+    return tp_render_far_box(cam, p->geotransform, p->width[0], p->height[0], p->min_m, p->max_m);
 }
 
 void tp_pgm_renderer_draw(tp_pgm_renderer* r, const tp_camera* cam, const tp_render_settings* s,

@@ -2,7 +2,8 @@
  * render_clip.h - the uniforms of a clipmap the terrain shader samples (renderer.c's imagery,
  * set 0, and its streamed light, set 1; terrain_shaders.c's clip_sample): each set has its
  * own sampler and texture unit and its entries in the shader's per-set uniform arrays. Shared
- * by renderer.c only (tp__ names). app/view/render_clip.c.
+ * by the patch renderer only (renderer.c finds them, renderer_draw.c sets them; tp__ names).
+ * app/render/render_clip.c.
  */
 #ifndef TP_APP_VIEW_RENDER_CLIP_H
 #define TP_APP_VIEW_RENDER_CLIP_H

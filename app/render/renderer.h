@@ -172,6 +172,13 @@ typedef struct tp_render_item {
 typedef void (*tp_render_fill_fn)(void* user, size_t i, tp_vertex* vertices, float (*normals)[3],
                                   uint8_t* filled);
 
+/* The far plane for cam over a grid's box when cam sets none: the distance from the camera to
+ * the farthest corner of the box of the posts of a width x height grid (geotransform gt; post
+ * (x, y) at gt[0] + (x + 0.5) * gt[1], gt[3] + (y + 0.5) * gt[5]) between heights min_m and
+ * max_m (as drawn), times 1.1, plus 10 m; metres (renderer_draw.c; PGM's too). */
+double tp_render_far_box(const tp_camera* cam, const double gt[6], int width, int height,
+                         double min_m, double max_m);
+
 /* Uploads what changed, then draws the items for cam with heights times zscale. finish: wait
  * for the GPU (glFinish) so that draw_ms is the real draw time. */
 void tp_renderer_draw_items(tp_renderer* r, const tp_render_item* items, size_t count,

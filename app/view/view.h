@@ -2,10 +2,12 @@
  * view.h - the parts of `terrapatch view` that its files share: the parsed options, one frame
  * (select, upload, draw) and its statistics, and the two ways to run it.
  *
- *   cmd_view.c   options, help, the headless run
+ *   cmd_view.c   the entry point: which DEM, store or drawn whole, the run on the open scene
+ *   view_args.c  the options read and checked (view_args.h); view_help.c its --help
+ *   headless.c   the headless run: the frames offscreen, then what they leave
  *   window.c     the interactive frame loop (input.c, navigate.c, pick.c, overlay.c)
  *   frame.c      one frame, screenshots, the statistics JSON, the texture
- *   renderer.c   patches to the GPU (hud.c draws text, gl_context.c owns the context)
+ *   render/      patches to the GPU (renderer.h; hud.c draws text, gl_context.h owns the context)
  */
 #ifndef TP_APP_VIEW_H
 #define TP_APP_VIEW_H
@@ -111,6 +113,12 @@ int tp_view_write_stats(const char* path, const frame_result* f, const tp_error_
 /* Builds the texture of --texture for the render grid and hands it to the renderer; 0 after a
  * message. */
 int tp_view_load_texture(const tp_scene* sc, tp_renderer* r, const char* path);
+
+/* headless.c: o->frames frames drawn offscreen for cam (each store node the view wants loaded
+ * first), then what the last one leaves: --screenshot, --measure, --pick, --stats-json, and a
+ * warning when it shows no terrain. Returns an exit code. */
+int tp_view_headless_run(tp_view_scene* v, tp_gl_context* ctx, tp_renderer* r,
+                         const tp_camera* cam, view_options* o);
 
 /* The interactive viewer: the frame loop of a window until Esc or close. Returns an exit code. */
 int tp_view_window_run(tp_view_scene* v, tp_gl_context* ctx, tp_renderer* r, tp_camera* cam,
