@@ -196,15 +196,10 @@ static int keyword(const char* arg, const char* const* words, int n)
     return -1;
 }
 
-/* optarg as a whole number lo..hi into *out; else bad(opt, expected). */
-static int count_option(const char* opt, long lo, long hi, const char* expected, int* out)
+/* optarg as a whole number lo..hi into *out (tp_parse_int); else bad(opt, expected). */
+static int count_option(const char* opt, int lo, int hi, const char* expected, int* out)
 {
-    char* end;
-    long n = strtol(optarg, &end, 10);
-    if (*end || end == optarg || n < lo || n > hi)
-        return bad(opt, expected, optarg);
-    *out = (int)n;
-    return GO_ON;
+    return tp_parse_int(optarg, lo, hi, out) ? GO_ON : bad(opt, expected, optarg);
 }
 
 /* The flight and what it draws: --path, --path-file, --frames, --speed, --no-error, --stitch,
@@ -311,11 +306,10 @@ static int store_option(int c, bench_options* o)
     case OPT_IMAGERY: o->imagery = optarg; return GO_ON;
     case OPT_LIGHT: o->light = optarg; return GO_ON;
     case OPT_CLIP_BLOCKS: {
-        char* end;
-        long n = strtol(optarg, &end, 10);
-        if (*end || n < 2 || n > 32 || n % 2)
+        int n;
+        if (!tp_parse_int(optarg, 2, 32, &n) || n % 2)
             return bad("--clip-blocks", "an even number from 2 to 32", optarg);
-        o->clip_blocks = (int)n;
+        o->clip_blocks = n;
         return GO_ON;
     }
     case OPT_IMAGERY_MODE: {
