@@ -92,6 +92,11 @@ typedef struct config_result {
                                             the patch renderer (it covers every post) */
 } config_result;
 
+/* Both benches' flight clock (frames a second): a path flight's lead-in frame is
+ * 1 / TP_BENCH_FRAME_HZ s before its timed one; a store's flight advances speed /
+ * TP_BENCH_FRAME_HZ metres a frame, and its stream and clipmaps estimate motion on that clock. */
+#define TP_BENCH_FRAME_HZ 30.0
+
 /* What every configuration of a run shares. */
 typedef struct bench_run {
     const bench_options* o;

@@ -38,7 +38,6 @@
 #include <time.h>
 #include <unistd.h>
 
-#define FRAME_HZ 30.0
 #define WARMUP_FRAMES 5
 #define SETTLE_MAX_MS 20000.0
 
@@ -293,10 +292,11 @@ typedef struct store_draw {
 static int open_stream(store_bench* b, int first)
 {
     const bench_options* o = b->o;
-    /* The stream's motion estimate follows the flight's own clock (FRAME_HZ), not the draw's:
-     * frames that take 0.1-3 s here would otherwise make a 300 m/s flight look like 3-30 m/s. */
+    /* The stream's motion estimate follows the flight's own clock (TP_BENCH_FRAME_HZ), not the
+     * draw's: frames that take 0.1-3 s here would otherwise make a 300 m/s flight look like
+     * 3-30 m/s. */
     tp_stream_options so = {.memory_bytes = (size_t)o->memory_mb << 20,
-                            .frame_s = o->realtime ? 0 : 1.0 / FRAME_HZ};
+                            .frame_s = o->realtime ? 0 : 1.0 / TP_BENCH_FRAME_HZ};
     double t_setup = tp_clock_ms();
     if (tp_store_scene_stream(&b->sc, &so) != TP_EXIT_OK)
         return 0;
@@ -338,7 +338,7 @@ static int open_draw(store_bench* b, const store_result* c, int first, store_dra
     if (o->stitch_add_draw) /* --stitch-add-draw sets|five (both: a DEM only) */
         d->rs.stitch_add_five = o->stitch_add_draw == 2;
     tp_clipmap_options co = {.clip_blocks = o->clip_blocks,
-                             .frame_s = o->realtime ? 0 : 1.0 / FRAME_HZ};
+                             .frame_s = o->realtime ? 0 : 1.0 / TP_BENCH_FRAME_HZ};
     if (c->imagery &&
         !tp_view_imagery_open(o->imagery, &b->sc, (tp_imagery_mode)c->imagery_mode, &co, &d->im))
         return TP_EXIT_FAILURE;
@@ -564,7 +564,7 @@ int tp_bench_store(const bench_options* o)
     b.spacing_m = fabs(b.sc.tree_info.geotransform[1]);
     b.segments = o->segments < o->frames ? o->segments : o->frames;
     b.per_segment = o->frames / b.segments;
-    b.step_m = o->speed_mps / FRAME_HZ;
+    b.step_m = o->speed_mps / TP_BENCH_FRAME_HZ;
     char msg[512];
     if (!tp_gl_context_create_headless(o->vs.w, o->vs.h, &b.ctx, msg, sizeof msg)) {
         tp_cli_error("%s", msg);

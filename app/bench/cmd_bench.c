@@ -31,8 +31,6 @@
 #include <time.h>
 #include <unistd.h>
 
-#define FRAME_HZ 30.0 /* the lead-in frame is 1 / FRAME_HZ s earlier along the path */
-
 #define MEDIAN_OF(expr) TP_BENCH_COLUMN(v, frame_row, c->rows, n, expr)
 
 static void summarize(config_result* c, int n)
@@ -306,7 +304,7 @@ int tp_cli_bench(int argc, char** argv)
         b.fixed = &fixed;
     }
     if (!cams && !b.fixed && o.speed_mps > 0)
-        b.lead_da = o.speed_mps / FRAME_HZ / tp_bench_path_length(&sc, &o);
+        b.lead_da = o.speed_mps / TP_BENCH_FRAME_HZ / tp_bench_path_length(&sc, &o);
     char msg[512];
     if (!tp_gl_context_create_headless(o.vs.w, o.vs.h, &b.ctx, msg, sizeof msg)) {
         tp_cli_error("%s", msg);

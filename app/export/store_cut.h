@@ -29,10 +29,10 @@ typedef struct store_export {
     tp_store_tin_stats tin; /* r->tin: the tiles built */
 } store_export;
 
-/* The export's failures, one line on stderr naming the store (store_export.c); each returns
- * TP_EXIT_FAILURE. tp_store_export_fail: what (a message that names the store is printed as
- * it is). tp_store_export_too_many: a mesh of tris triangles, over
- * TP_STORE_EXPORT_MAX_TRIANGLES ("STORE: HOW TRIS triangles, over the export limit ..."). */
+/* The export's failures (store_export.c): one line on stderr naming the store, and
+ * TP_EXIT_FAILURE. tp_store_export_fail prints "STORE: WHAT" (just WHAT when it names the store
+ * already); tp_store_export_too_many, "STORE: HOW TRIS triangles, over the export limit of
+ * TP_STORE_EXPORT_MAX_TRIANGLES; export a coarser mesh ..." for a mesh over that limit. */
 int tp_store_export_fail(store_export* x, const char* what);
 int tp_store_export_too_many(store_export* x, size_t tris, const char* how);
 
