@@ -1,9 +1,10 @@
 /*
- * bench.h - the parts of `terrapatch bench`: options and the frame loop (cmd_bench.c), camera
- * paths (bench_path.c), the table, JSON and CSV it writes (bench_report.c), the static meshes of
- * `export --max-error` (bench_static.c), the sweep's configurations and families
- * (bench_sweep.c) and plot (bench_plot.c), PGM's frames (bench_pgm.c), vertex adding's error
- * (render/stitch_add_error.c) and the medians of both benches' frames (bench_stats.c).
+ * bench.h - the parts of `terrapatch bench`: its command line (bench_options.c), the frame loop
+ * (cmd_bench.c), camera paths (bench_path.c), the table, JSON and CSV it writes
+ * (bench_report.c), the static meshes of `export --max-error` (bench_static.c), the sweep's
+ * configurations and families (bench_sweep.c) and plot (bench_plot.c), PGM's frames
+ * (bench_pgm.c), vertex adding's error (render/stitch_add_error.c) and the medians of both
+ * benches' frames (bench_stats.c).
  */
 #ifndef TP_APP_BENCH_H
 #define TP_APP_BENCH_H
@@ -51,6 +52,12 @@ typedef struct bench_options {
     int runs_given;
 } bench_options;
 
+/* `terrapatch bench`'s command line into *o (defaults first; o->dem borrows argv): -1 to run,
+ * else the exit status to return at once, after the help (--help: TP_EXIT_OK) or one message
+ * (TP_EXIT_USAGE for a bad option, a missing or extra operand, or options that do not go
+ * together). */
+int tp_bench_parse_options(int argc, char** argv, bench_options* o);
+
 typedef struct frame_row {
     double select_ms, upload_ms, draw_ms, frame_ms;
     size_t triangles, gpu_bytes;
@@ -84,6 +91,11 @@ typedef struct config_result {
     double uncovered_share;              /* PGM: mean of the measured frames' shares; 0 for
                                             the patch renderer (it covers every post) */
 } config_result;
+
+/* Both benches' flight clock (frames a second): a path flight's lead-in frame is
+ * 1 / TP_BENCH_FRAME_HZ s before its timed one; a store's flight advances speed /
+ * TP_BENCH_FRAME_HZ metres a frame, and its stream and clipmaps estimate motion on that clock. */
+#define TP_BENCH_FRAME_HZ 30.0
 
 /* What every configuration of a run shares. */
 typedef struct bench_run {

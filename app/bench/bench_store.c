@@ -19,7 +19,6 @@
 #define _POSIX_C_SOURCE 200809L
 #include "bench.h"
 #include "clock.h"
-#include "camera_pose.h"
 #include "cli.h"
 #include "gl_context.h"
 #include "imagery_view.h"
@@ -39,7 +38,6 @@
 #include <time.h>
 #include <unistd.h>
 
-#define FRAME_HZ 30.0
 #define WARMUP_FRAMES 5
 #define SETTLE_MAX_MS 20000.0
 
@@ -86,74 +84,6 @@ static void read_rss(double* rss_mb, double* anon_mb)
             *anon_mb = kb * 1024 / 1e6;
     }
     fclose(f);
-}
-
-/* The highest sample of leaf (c, r)'s area (m), or the map's lowest where it draws nothing. */
-static double leaf_top_m(const store_bench* b, int c, int r)
-{
-    const tp_node_meta* m = tp_tree_meta(b->sc.tree, tp_tree_node_id(b->g, 0, c, r));
-    return m->flags & TP_NODE_HAS_DRAWN ? m->area_qmax * b->sc.tree_info.height_step_m
-                                        : b->sc.tree_info.min_height_m;
-}
-
-/* Ground height (m) at grid (x, y): bilinear between the full-resolution samples of the leaf
- * under it, read from the store into the bench's own buffer (outside the stream and the
- * timed part of a frame: a height query); where the leaf has undrawn samples there, or cannot
- * be read, the highest sample of its area. */
-static double ground_m(store_bench* b, double x, double y)
-{
-    const tp_tree_geometry* g = b->g;
-    int w = 1 << g->n, v = w + 1;
-    int c = (int)fmin(fmax(floor(x / w), 0), g->cols - 1);
-    int r = (int)fmin(fmax(floor(y / w), 0), g->rows - 1);
-    int64_t id = tp_tree_node_id(g, 0, c, r);
-    if (id != b->leaf_id) {
-        tp_error err;
-        b->leaf_id = tp_store_read_node(b->sc.store, id, b->leaf, (size_t)v * v, &err) == TP_OK
-                         ? id
-                         : -1;
-        if (b->leaf_id < 0)
-            return leaf_top_m(b, c, r);
-    }
-    double lx = fmin(fmax(x - (double)c * w, 0), w), ly = fmin(fmax(y - (double)r * w, 0), w);
-    int i = (int)fmin(floor(lx), w - 1), j = (int)fmin(floor(ly), w - 1);
-    double tx = lx - i, ty = ly - j, q[4];
-    for (int k = 0; k < 4; k++) {
-        uint16_t s = b->leaf[(size_t)(j + k / 2) * v + (size_t)(i + k % 2)];
-        if (s == TP_TREE_NO_HEIGHT)
-            return leaf_top_m(b, c, r);
-        q[k] = s;
-    }
-    double qmin = tp_tree_meta(b->sc.tree, id)->qmin;
-    double s = (1 - ty) * ((1 - tx) * q[0] + tx * q[1]) + ty * ((1 - tx) * q[2] + tx * q[3]);
-    return (s + qmin) * b->sc.tree_info.height_step_m;
-}
-
-/* The camera d metres along stretch seg (negative: before its start). */
-static void flight_camera(store_bench* b, int seg, double d, tp_camera* cam)
-{
-    const bench_options* o = b->o;
-    const tp_tree_geometry* g = b->g;
-    const double* gt = b->sc.tree_info.geotransform;
-    double w = g->src_width - 1, hgt = g->src_height - 1;
-    double size_m = fmax(w, hgt) * b->spacing_m;
-    int high = !strcmp(o->path_name, "high");
-    double a0 = high ? 0.1 : 0.05, a1 = high ? 0.9 : 0.95; /* fractions of the width */
-    double len_px = b->per_segment * b->step_m / b->spacing_m;
-    if (o->realtime) /* a stretch lasts as long as its frames take: leave room for 10 s */
-        len_px = fmax(len_px, 10 * o->speed_mps / b->spacing_m);
-    double room = fmax((a1 - a0) * w - len_px, 0);
-    double x = a0 * w + (b->segments > 1 ? room * seg / (b->segments - 1) : 0) + d / b->spacing_m;
-    double e = gt[0] + x * gt[1];
-    if (high) {
-        double n = fmin(gt[3], gt[3] + hgt * gt[5]) - 0.15 * size_m;
-        tp_camera_pose(e, n, b->sc.tree_info.max_height_m + 0.35 * size_m, 0, -35, o->vs.fov_deg,
-                       o->vs.w, o->vs.h, cam);
-    } else {
-        double y = hgt / 2, n = gt[3] + y * gt[5];
-        tp_camera_pose(e, n, ground_m(b, x, y) + 60, 90, -10, o->vs.fov_deg, o->vs.w, o->vs.h,
-                       cam);
-    }
 }
 
 #define ROWS_OF(expr) TP_BENCH_COLUMN(v, store_row, c->rows, n, expr)
@@ -289,7 +219,7 @@ static int run_store_pgm(store_bench* b, store_result* c, const char* progress)
     tp_camera cam;
     for (int seg = 0; seg < b->segments; seg++)
         for (int i = -WARMUP_FRAMES; i < b->per_segment; i++) {
-            flight_camera(b, seg, i * b->step_m, &cam);
+            tp_bench_store_camera(b, seg, i * b->step_m, &cam);
             tp_pgm_frame f;
             tp_gl_context_begin_frame(b->ctx);
             double t0 = tp_clock_ms();
@@ -345,164 +275,234 @@ static int run_store_pgm(store_bench* b, store_result* c, const char* progress)
     return TP_EXIT_OK;
 }
 
-/* One configuration: a fresh stream, renderer and cuts (cold, as a viewer starts), the flight's
- * frames. Returns TP_EXIT_*. */
-static int run_store_config(store_bench* b, store_result* c, int first, const char* progress)
+/* What one configuration's flight draws with, made fresh for it (cold, as a viewer starts) and
+ * released after it (close_draw): the renderer, the cut and the prefetch cut, and --imagery's
+ * or --light's clipmap. */
+typedef struct store_draw {
+    tp_renderer* r;
+    tp_cut *cut, *pre;
+    tp_view_imagery* im;
+    tp_view_light* lt;
+    tp_render_settings rs;
+    double day[2]; /* the light map's: the sun's time sweeps it over the flight */
+} store_draw;
+
+/* The store's stream, with the --memory budget (first: its creation timed in b); 0 when it
+ * cannot be made. */
+static int open_stream(store_bench* b, int first)
 {
     const bench_options* o = b->o;
-    int frames = b->segments * b->per_segment;
-    if (c->pgm_cols) {
-        c->rows = calloc((size_t)frames, sizeof *c->rows);
-        return c->rows ? run_store_pgm(b, c, progress) : TP_EXIT_FAILURE;
-    }
-    c->rows = calloc((size_t)frames, sizeof *c->rows);
-    /* The stream's motion estimate follows the flight's own clock (FRAME_HZ), not the draw's:
-     * frames that take 0.1-3 s here would otherwise make a 300 m/s flight look like 3-30 m/s. */
+    /* The stream's motion estimate follows the flight's own clock (TP_BENCH_FRAME_HZ), not the
+     * draw's: frames that take 0.1-3 s here would otherwise make a 300 m/s flight look like
+     * 3-30 m/s. */
     tp_stream_options so = {.memory_bytes = (size_t)o->memory_mb << 20,
-                            .frame_s = o->realtime ? 0 : 1.0 / FRAME_HZ};
-    if (!c->rows)
-        return TP_EXIT_FAILURE;
+                            .frame_s = o->realtime ? 0 : 1.0 / TP_BENCH_FRAME_HZ};
     double t_setup = tp_clock_ms();
     if (tp_store_scene_stream(&b->sc, &so) != TP_EXIT_OK)
-        return TP_EXIT_FAILURE;
+        return 0;
     if (first)
         b->stream_create_ms = tp_clock_ms() - t_setup;
+    return 1;
+}
+
+/* The renderer (first: its creation timed in b), the cuts and c's imagery or light into *d.
+ * TP_EXIT_FAILURE after a message; what was made stays in *d for close_draw either way. */
+static int open_draw(store_bench* b, const store_result* c, int first, store_draw* d)
+{
+    const bench_options* o = b->o;
     const tp_tree_geometry* g = b->g;
-    tp_render_grid_desc rd = {.n = g->n, .width = g->width, .height = g->height,
+    tp_render_grid_desc rd = {.n = g->n,
+                              .width = g->width,
+                              .height = g->height,
                               .min_height_m = b->sc.tree_info.min_height_m,
                               .max_height_m = b->sc.tree_info.max_height_m};
     memcpy(rd.geotransform, b->sc.tree_info.geotransform, sizeof rd.geotransform);
     char msg[512];
-    t_setup = tp_clock_ms();
-    tp_renderer* r = tp_renderer_create_desc(&rd, msg, sizeof msg);
+    double t_setup = tp_clock_ms();
+    d->r = tp_renderer_create_desc(&rd, msg, sizeof msg);
     if (first)
         b->renderer_ms = tp_clock_ms() - t_setup;
-    tp_cut *cut = NULL, *pre = NULL;
-    tp_view_imagery* im = NULL; /* before the first goto done: closed there */
-    tp_view_light* lt = NULL;
-    tp_error err;
-    int code = TP_EXIT_FAILURE;
-    if (!r) {
+    if (!d->r) {
         tp_cli_error("%s", msg);
-        goto done;
+        return TP_EXIT_FAILURE;
     }
-    if (tp_cut_create(b->sc.tree, &cut, &err) != TP_OK ||
-        tp_cut_create(b->sc.tree, &pre, &err) != TP_OK) {
+    tp_error err;
+    if (tp_cut_create(b->sc.tree, &d->cut, &err) != TP_OK ||
+        tp_cut_create(b->sc.tree, &d->pre, &err) != TP_OK) {
         tp_cli_error("%s", err.message);
-        goto done;
+        return TP_EXIT_FAILURE;
     }
-    tp_cut_set_stitch_add(cut, c->stitch_add);
-    tp_render_settings rs;
-    tp_render_settings_default(&rs);
-    rs.stitch_add = c->stitch_add;
+    tp_cut_set_stitch_add(d->cut, c->stitch_add);
+    tp_render_settings_default(&d->rs);
+    d->rs.stitch_add = c->stitch_add;
     if (o->stitch_add_draw) /* --stitch-add-draw sets|five (both: a DEM only) */
-        rs.stitch_add_five = o->stitch_add_draw == 2;
+        d->rs.stitch_add_five = o->stitch_add_draw == 2;
+    tp_clipmap_options co = {.clip_blocks = o->clip_blocks,
+                             .frame_s = o->realtime ? 0 : 1.0 / TP_BENCH_FRAME_HZ};
+    if (c->imagery &&
+        !tp_view_imagery_open(o->imagery, &b->sc, (tp_imagery_mode)c->imagery_mode, &co, &d->im))
+        return TP_EXIT_FAILURE;
+    d->day[0] = 0;
+    d->day[1] = 1;
+    if (c->light && !tp_view_light_open(o->light, &b->sc, &co, &d->lt))
+        return TP_EXIT_FAILURE;
+    if (d->lt)
+        tp_view_light_day(d->lt, &d->day[0], &d->day[1], NULL);
+    return TP_EXIT_OK;
+}
+
+/* Releases what open_draw made, and the stream. */
+static void close_draw(store_bench* b, store_draw* d)
+{
+    tp_view_imagery_close(d->im);
+    tp_view_light_close(d->lt);
+    tp_cut_destroy(d->pre);
+    tp_cut_destroy(d->cut);
+    tp_renderer_destroy(d->r);
+    tp_stream_destroy(b->sc.stream);
+    b->sc.stream = NULL;
+}
+
+/* Ends the progress line and says the cut could not be selected; TP_EXIT_FAILURE. */
+static int cut_failed(const tp_error* err)
+{
+    tp_bench_progress_end();
+    tp_cli_error("selecting the cut: %s", err->message[0] ? err->message : "failed");
+    return TP_EXIT_FAILURE;
+}
+
+/* The first frame of the first configuration, at cam: what a viewer shows right after start.
+ * Its parts go to b (waiting for the georeference, the cut and stream, the draw), with its time
+ * since the process started and since the store was opened. Returns TP_EXIT_*. */
+static int first_frame(store_bench* b, const store_result* c, store_draw* d, const tp_camera* cam,
+                       tp_render_stats* st, tp_stream_stats* ss)
+{
+    const bench_options* o = b->o;
+    tp_error err;
+    double t0 = tp_clock_ms();
+    if (tp_store_scene_georef_wait(&b->sc) != TP_EXIT_OK)
+        return TP_EXIT_FAILURE;
+    b->georef_wait_ms = tp_clock_ms() - t0;
+    t0 = tp_clock_ms();
+    tp_gl_context_begin_frame(b->ctx);
+    if (tp_cut_update(d->cut, cam, &c->lod, &err) != TP_OK)
+        return cut_failed(&err);
+    tp_stream_frame(b->sc.stream, d->cut, o->no_prefetch ? NULL : d->pre, cam, &c->lod, ss);
+    double t1 = tp_clock_ms();
+    tp_renderer_draw_cut(d->r, b->sc.tree, d->cut, cam, &d->rs, 1, 1, st);
+    tp_gl_context_end_frame(b->ctx);
+    b->first_cut_ms = t1 - t0;
+    b->first_draw_ms = tp_clock_ms() - t1;
+    b->first_frame_ms = ms_since_process_start();
+    b->first_frame_open_ms = tp_clock_ms() - b->t_open_ms;
+    return TP_EXIT_OK;
+}
+
+/* A timed frame's row from its figures, outside the timed part: t, the clock (ms) at the frame's
+ * start, after the cut, after the stream, after the imagery or light (draped: the frame has
+ * one; its clipmap's figures in is) and after the draw. */
+static void fill_row(store_row* row, const double t[5], const tp_cut_stats* cs,
+                     const tp_render_stats* st, const tp_stream_stats* ss,
+                     const tp_clipmap_stats* is, int draped)
+{
+    row->cut_ms = t[1] - t[0];
+    row->stream_ms = t[2] - t[1];
+    row->upload_ms = st->upload_ms;
+    row->draw_ms = st->draw_ms;
+    row->draw_calls = st->draw_calls;
+    row->page_faults = st->page_faults;
+    row->frame_ms = t[4] - t[0];
+    row->cpu_ms = row->cut_ms + row->stream_ms + row->upload_ms;
+    if (draped) {
+        row->img_ms = t[3] - t[2];
+        row->img_upload_ms = is->upload_ms;
+        row->img_uploads = is->uploads;
+        row->img_missing = is->missing;
+        row->img_pending = is->pending;
+        row->img_gpu_bytes = is->gpu_bytes;
+        row->img_cache_bytes = is->cache_bytes;
+        row->cpu_ms += row->img_ms;
+    }
+    row->triangles = cs->triangles;
+    row->nodes = cs->drawn;
+    row->visited = cs->visited;
+    row->substituted = cs->substituted;
+    row->substitution_px = cs->substitution_bound_px;
+    row->requests = cs->requests;
+    row->uploads = st->uploads;
+    row->gpu_bytes = st->gpu_bytes;
+    row->dropped = st->dropped;
+    row->resident_bytes = ss->resident_bytes;
+    row->pending = ss->pending;
+}
+
+/* The flight with d: each stretch reached by a jump (the first configuration's first frame
+ * there timed by first_frame) and settled, then WARMUP_FRAMES untimed frames and per_segment
+ * timed ones into c->rows, each with the process's memory and, outside the timed part, the
+ * measured screen error of every --error-every-th frame drawn without substitution; then the
+ * summary and --imagery's last frame against a fresh clipmap's. Returns TP_EXIT_*. */
+static int fly(store_bench* b, store_result* c, int first, store_draw* d, const char* progress)
+{
+    const bench_options* o = b->o;
+    int frames = b->segments * b->per_segment;
     tp_render_stats st;
     tp_stream_stats ss;
     tp_clipmap_stats is = {0};
-    tp_clipmap_options co = {.clip_blocks = o->clip_blocks,
-                             .frame_s = o->realtime ? 0 : 1.0 / FRAME_HZ};
-    if (c->imagery &&
-        !tp_view_imagery_open(o->imagery, &b->sc, (tp_imagery_mode)c->imagery_mode, &co, &im))
-        goto done;
-    double day[2] = {0, 1}; /* the light map's: the sun's time sweeps it over the flight */
-    if (c->light && !tp_view_light_open(o->light, &b->sc, &co, &lt))
-        goto done;
-    if (lt)
-        tp_view_light_day(lt, &day[0], &day[1], NULL);
+    tp_error err;
     tp_camera cam;
     for (int seg = 0; seg < b->segments; seg++) {
-        flight_camera(b, seg, -WARMUP_FRAMES * b->step_m, &cam);
-        if (first && seg == 0) { /* the first frame: what a viewer shows right after start */
-            double t0 = tp_clock_ms();
-            if (tp_store_scene_georef_wait(&b->sc) != TP_EXIT_OK)
-                goto done;
-            b->georef_wait_ms = tp_clock_ms() - t0;
-            t0 = tp_clock_ms();
-            tp_gl_context_begin_frame(b->ctx);
-            if (tp_cut_update(cut, &cam, &c->lod, &err) != TP_OK)
-                goto cut_failed;
-            tp_stream_frame(b->sc.stream, cut, o->no_prefetch ? NULL : pre, &cam, &c->lod, &ss);
-            double t1 = tp_clock_ms();
-            tp_renderer_draw_cut(r, b->sc.tree, cut, &cam, &rs, 1, 1, &st);
-            tp_gl_context_end_frame(b->ctx);
-            b->first_cut_ms = t1 - t0;
-            b->first_draw_ms = tp_clock_ms() - t1;
-            b->first_frame_ms = ms_since_process_start();
-            b->first_frame_open_ms = tp_clock_ms() - b->t_open_ms;
-        }
+        tp_bench_store_camera(b, seg, -WARMUP_FRAMES * b->step_m, &cam);
+        int code = first && seg == 0 ? first_frame(b, c, d, &cam, &st, &ss) : TP_EXIT_OK;
+        if (code != TP_EXIT_OK)
+            return code;
         double t_settle = tp_clock_ms();
-        if (!settle(b, cut, pre, &cam, &c->lod))
+        if (!settle(b, d->cut, d->pre, &cam, &c->lod))
             c->settle_timeouts++;
-        if (im) /* the imagery the jump's view needs, as the terrain's */
-            tp_view_imagery_frame(im, &b->sc, cut, 1, r, &cam, 1, &is);
-        if (lt)
-            tp_view_light_frame(lt, &b->sc, cut, 1, r, &cam, day[0], 1, &is);
+        if (d->im) /* the imagery the jump's view needs, as the terrain's */
+            tp_view_imagery_frame(d->im, &b->sc, d->cut, 1, d->r, &cam, 1, &is);
+        if (d->lt)
+            tp_view_light_frame(d->lt, &b->sc, d->cut, 1, d->r, &cam, d->day[0], 1, &is);
         if (seg == 0)
             c->settle_ms = tp_clock_ms() - t_settle;
         double t_fly = tp_clock_ms();
         for (int i = -WARMUP_FRAMES; i < b->per_segment; i++) {
             /* --realtime: where the camera is after the time that really passed */
-            double d = o->realtime ? (-WARMUP_FRAMES * b->step_m +
-                                      o->speed_mps * (tp_clock_ms() - t_fly) / 1e3)
-                                   : i * b->step_m;
-            flight_camera(b, seg, d, &cam);
+            double at =
+                o->realtime
+                    ? (-WARMUP_FRAMES * b->step_m + o->speed_mps * (tp_clock_ms() - t_fly) / 1e3)
+                    : i * b->step_m;
+            tp_bench_store_camera(b, seg, at, &cam);
             store_row* row = i >= 0 ? &c->rows[seg * b->per_segment + i] : NULL;
+            double t[5];
             tp_gl_context_begin_frame(b->ctx);
-            double t0 = tp_clock_ms();
-            if (tp_cut_update(cut, &cam, &c->lod, &err) != TP_OK)
-                goto cut_failed;
-            double t1 = tp_clock_ms();
-            tp_stream_frame(b->sc.stream, cut, o->no_prefetch ? NULL : pre, &cam, &c->lod, &ss);
-            double t2 = tp_clock_ms();
-            if (im)
-                tp_view_imagery_frame(im, &b->sc, cut, 1, r, &cam, 0, &is);
+            t[0] = tp_clock_ms();
+            if (tp_cut_update(d->cut, &cam, &c->lod, &err) != TP_OK)
+                return cut_failed(&err);
+            t[1] = tp_clock_ms();
+            tp_stream_frame(b->sc.stream, d->cut, o->no_prefetch ? NULL : d->pre, &cam, &c->lod,
+                            &ss);
+            t[2] = tp_clock_ms();
+            if (d->im)
+                tp_view_imagery_frame(d->im, &b->sc, d->cut, 1, d->r, &cam, 0, &is);
             int k = seg * b->per_segment + (i > 0 ? i : 0);
-            if (lt)
-                tp_view_light_frame(lt, &b->sc, cut, 1, r, &cam,
-                                    day[0] + (day[1] - day[0]) * (k + 0.5) / frames, 0, &is);
-            double t2i = tp_clock_ms();
-            tp_renderer_draw_cut(r, b->sc.tree, cut, &cam, &rs, 1, 1, &st);
+            if (d->lt)
+                tp_view_light_frame(d->lt, &b->sc, d->cut, 1, d->r, &cam,
+                                    d->day[0] + (d->day[1] - d->day[0]) * (k + 0.5) / frames, 0,
+                                    &is);
+            t[3] = tp_clock_ms();
+            tp_renderer_draw_cut(d->r, b->sc.tree, d->cut, &cam, &d->rs, 1, 1, &st);
             tp_gl_context_end_frame(b->ctx);
-            double t3 = tp_clock_ms();
+            t[4] = tp_clock_ms();
             if (!row)
                 continue;
             /* outside the timed part */
             tp_cut_stats cs;
-            tp_cut_get_stats(cut, &cs);
-            row->cut_ms = t1 - t0;
-            row->stream_ms = t2 - t1;
-            row->upload_ms = st.upload_ms;
-            row->draw_ms = st.draw_ms;
-            row->draw_calls = st.draw_calls;
-            row->page_faults = st.page_faults;
-            row->frame_ms = t3 - t0;
-            row->cpu_ms = row->cut_ms + row->stream_ms + row->upload_ms;
-            if (im || lt) {
-                row->img_ms = t2i - t2;
-                row->img_upload_ms = is.upload_ms;
-                row->img_uploads = is.uploads;
-                row->img_missing = is.missing;
-                row->img_pending = is.pending;
-                row->img_gpu_bytes = is.gpu_bytes;
-                row->img_cache_bytes = is.cache_bytes;
-                row->cpu_ms += row->img_ms;
-            }
-            row->triangles = cs.triangles;
-            row->nodes = cs.drawn;
-            row->visited = cs.visited;
-            row->substituted = cs.substituted;
-            row->substitution_px = cs.substitution_bound_px;
-            row->requests = cs.requests;
-            row->uploads = st.uploads;
-            row->gpu_bytes = st.gpu_bytes;
-            row->dropped = st.dropped;
-            row->resident_bytes = ss.resident_bytes;
-            row->pending = ss.pending;
+            tp_cut_get_stats(d->cut, &cs);
+            fill_row(row, t, &cs, &st, &ss, &is, d->im || d->lt);
             read_rss(&row->rss_mb, &row->rss_anon_mb);
             if (!o->no_error && cs.substituted == 0 && k % o->error_every == 0) {
                 row->measured = 1;
-                tp_cut_measure_screen_error(cut, &cam, &row->max_px, &row->rms_px, &row->samples,
+                tp_cut_measure_screen_error(d->cut, &cam, &row->max_px, &row->rms_px, &row->samples,
                                             &row->skipped);
             }
             const char* failure = tp_stream_take_failure(b->sc.stream);
@@ -517,22 +517,27 @@ static int run_store_config(store_bench* b, store_result* c, int first, const ch
     }
     tp_bench_progress_end();
     summarize(c, frames);
-    if (im) /* the last frame against a fresh clipmap's: nothing stale after the flight */
-        c->img_final_diff = tp_bench_imagery_diff(im, o->imagery, &b->sc, cut, r, b->ctx, &cam,
-                                                  c->imagery_mode, o->clip_blocks);
-    code = TP_EXIT_OK;
-    goto done;
-cut_failed:
-    tp_bench_progress_end();
-    tp_cli_error("selecting the cut: %s", err.message[0] ? err.message : "failed");
-done:
-    tp_view_imagery_close(im);
-    tp_view_light_close(lt);
-    tp_cut_destroy(pre);
-    tp_cut_destroy(cut);
-    tp_renderer_destroy(r);
-    tp_stream_destroy(b->sc.stream);
-    b->sc.stream = NULL;
+    if (d->im) /* the last frame against a fresh clipmap's: nothing stale after the flight */
+        c->img_final_diff = tp_bench_imagery_diff(d->im, o->imagery, &b->sc, d->cut, d->r, b->ctx,
+                                                  &cam, c->imagery_mode, o->clip_blocks);
+    return TP_EXIT_OK;
+}
+
+/* One configuration: a fresh stream, renderer and cuts (cold, as a viewer starts), the flight's
+ * frames. Returns TP_EXIT_*. */
+static int run_store_config(store_bench* b, store_result* c, int first, const char* progress)
+{
+    c->rows = calloc((size_t)(b->segments * b->per_segment), sizeof *c->rows);
+    if (c->pgm_cols)
+        return c->rows ? run_store_pgm(b, c, progress) : TP_EXIT_FAILURE;
+    if (!c->rows || !open_stream(b, first))
+        return TP_EXIT_FAILURE;
+    store_draw d;
+    memset(&d, 0, sizeof d);
+    int code = open_draw(b, c, first, &d);
+    if (code == TP_EXIT_OK)
+        code = fly(b, c, first, &d, progress);
+    close_draw(b, &d);
     return code;
 }
 
@@ -559,7 +564,7 @@ int tp_bench_store(const bench_options* o)
     b.spacing_m = fabs(b.sc.tree_info.geotransform[1]);
     b.segments = o->segments < o->frames ? o->segments : o->frames;
     b.per_segment = o->frames / b.segments;
-    b.step_m = o->speed_mps / FRAME_HZ;
+    b.step_m = o->speed_mps / TP_BENCH_FRAME_HZ;
     char msg[512];
     if (!tp_gl_context_create_headless(o->vs.w, o->vs.h, &b.ctx, msg, sizeof msg)) {
         tp_cli_error("%s", msg);

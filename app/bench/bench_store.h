@@ -1,6 +1,7 @@
 /*
- * bench_store.h - what bench_store.c (the flights over a store) and bench_store_report.c (their
- * table, JSON and CSV) share: a frame's row, a configuration's result, the bench's state.
+ * bench_store.h - what bench_store.c (the flights over a store), bench_store_path.c (their
+ * camera) and bench_store_report.c (their table, JSON and CSV) share: a frame's row, a
+ * configuration's result, the bench's state.
  */
 #ifndef TP_APP_BENCH_STORE_H
 #define TP_APP_BENCH_STORE_H
@@ -90,6 +91,10 @@ typedef struct store_bench {
     uint16_t* leaf;             /* the leaf ground_m read last */
     int64_t leaf_id;
 } store_bench;
+
+/* The camera d metres along stretch seg of the flight (negative: before its start;
+ * bench_store_path.c). The low path reads the ground under it into b->leaf. */
+void tp_bench_store_camera(store_bench* b, int seg, double d, tp_camera* cam);
 
 /* The summary table on stdout. */
 void tp_bench_store_print(const store_bench* b, const char* renderer_name, const store_result* c,
