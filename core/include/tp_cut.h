@@ -16,7 +16,7 @@
 extern "C" {
 #endif
 
-/* ---- selection over the tree: the drawn cut (tree_select.c, tree_stitch.c) ----
+/* ---- selection over the tree: the drawn cut (cut_select.c, cut_stitch.c) ----
  *
  * From the roots down: a node outside the frustum (its area's AABB, which holds every
  * descendant; see tp_cut_update) is culled and not visited further; a node whose level-n
@@ -79,7 +79,7 @@ void tp_cut_destroy(tp_cut* c); /* accepts NULL */
  *     its own drawn box (qmin..qmax) is. A node with nothing drawn in its area is skipped.
  *   - Error mode: a node is refined while its level-n bound plus quant_max_error_m projects
  *     above tau (lod.c's bound over its area box) or, incomplete, the holes it may leave at
- *     level n exceed hole_px (see hole_ok in tree_select.c); else it is drawn at the coarsest
+ *     level n exceed hole_px (see hole_ok in cut_select.c); else it is drawn at the coarsest
  *     level k such that k and every finer level meet both.
  *   - Distance mode (Vanek & Jezek over strides): at distance d (eye to the area box) the leaf
  *     formula's level kl asks for vertex stride 2^(n-kl) grid samples; beyond maxdist the
@@ -87,7 +87,7 @@ void tp_cut_destroy(tp_cut* c); /* accepts NULL */
  *     terrain collapses into large nodes. A node of scale s (strides 2^s .. 2^(s+n)) is
  *     refined when that stride is below 2^s, else drawn at the level giving that stride
  *     (level 0 when the stride is coarser still). mindist = maxdist = 0: 1 and 24 LEAF widths.
- *   - Sphere tree (distance mode with params->sphere_tree; tree_spheres.c): the same
+ *   - Sphere tree (distance mode with params->sphere_tree; cut_spheres.c): the same
  *     decisions, kept from one update to the next with the distance interval over which each
  *     holds, over the whole map's distance cut; an update re-decides only the nodes whose
  *     interval the eye's distance left, skipping every subtree whose nearest threshold is
@@ -95,7 +95,7 @@ void tp_cut_destroy(tp_cut* c); /* accepts NULL */
  *     a change of mindist, maxdist, exponent, hole_px, focal length or vertical scale, builds
  *     the distance cut of the whole map (tp_cut_stats.sphere_nodes entries).
  *   - Full mode: every visible leaf at level n.
- *   - Stitching (tree_stitch.c): levels only go up; where two drawn neighbours differ by more
+ *   - Stitching (cut_stitch.c): levels only go up; where two drawn neighbours differ by more
  *     than n scales the larger one is split if its children are resident, else the smaller
  *     one's ancestor n scales below the larger is drawn at level n instead (not marked
  *     substituted: its own children may well be resident).

@@ -49,7 +49,7 @@ typedef struct tp_lod_params {
     const float* reference_heights;
     size_t reference_height_count;
     /* distance mode over a tree (tp_cut_update; `--lod spheres`): nonzero selects through a
-     * sphere tree (Blow, "Terrain rendering at high levels of detail", Part II; tree_spheres.c):
+     * sphere tree (Blow, "Terrain rendering at high levels of detail", Part II; cut_spheres.c):
      * each node's refine and merge distances are surfaces around its area box, and a frame
      * re-decides only the nodes whose surfaces the eye crossed since the last update of the
      * same cut. The cut is exactly the plain traversal's (same nodes, levels, neighbours,

@@ -1,7 +1,7 @@
 /*
  * cut_query.c - what the viewer asks of the terrain while nodes stream in: grid <-> world, the
  * full-resolution surface from resident leaves, the cut's vertical scale (its setter is
- * tree_select.c's), ray casts
+ * cut_select.c's), ray casts
  * against the drawn cut and camera collision (see tp_core.h, "queries on the tree and the cut").
  *
  * The ray cast is tp_selection_ray_cast's walk one level down: a 2D DDA (Amanatides & Woo)
@@ -133,7 +133,7 @@ typedef struct ray_ctx {
 
 /* Nearest hit with the two triangles of cell (cx, cy) of a node whose vertices are in r->v
  * (side vs), or best. The cell's diagonal runs from (1, 0) to (0, 1), as the strip draws it
- * (tree_stitch.c's cell_triangle). */
+ * (cut_stitch.c's cell_triangle). */
 static double cell_hit(const ray_ctx* r, int vs, int cx, int cy, double best)
 {
     static const int tri[2][3][2] = {{{0, 0}, {0, 1}, {1, 0}}, {{1, 0}, {0, 1}, {1, 1}}};

@@ -155,16 +155,16 @@ tp_status tp__patch_errors_compute(tp_terrain* t, tp_error* err);
 
 /* Crack removal on the level-k vertex lattice (0..2^k per side) of a patch or tree node:
  * writes where vertex (i, j) goes against the given neighbour levels (NULL: nowhere), in
- * level-k vertex units. Returns 1 if it was moved (stitch.c). */
+ * level-k vertex units. Returns 1 if it was moved (patch_stitch.c). */
 int tp__lattice_vertex(int k, const int nb[4], int i, int j, int* mi, int* mj);
 
 /* Position (global grid coordinates) of vertex (i, j) of patch p at level k after crack
- * removal against the given neighbour levels (stitch.c). Returns 1 if it was moved. */
+ * removal against the given neighbour levels (patch_stitch.c). Returns 1 if it was moved. */
 int tp__vertex_position(const tp_terrain* t, int patch, int k, const int nb[4], int i, int j,
                         int32_t* gx, int32_t* gy);
 
 /* The same for node `node` of a tree geometry (vertex stride 2^(n-k+s) grid samples), for the
- * tree's selection and its tests (stitch.c). */
+ * tree's selection and its tests (patch_stitch.c). */
 int tp__node_vertex_position(const tp_tree_geometry* g, int64_t node, int k, const int nb[4],
                              int i, int j, int32_t* gx, int32_t* gy);
 
@@ -188,7 +188,7 @@ static inline void tp__tri_box(const int32_t pos[3][2], int32_t b[4])
 
 /* tp_patch_triangles with another rule: keep(a, b, c, user) says whether the strip's
  * triangle (a, b, c) is drawn (NULL: when its three vertices are). Zero-area triangles are
- * skipped either way (stitch.c). */
+ * skipped either way (patch_stitch.c). */
 typedef int (*tp__tri_keep)(const tp_vertex* a, const tp_vertex* b, const tp_vertex* c,
                             void* user);
 size_t tp__strip_triangles(const tp_vertex* vertices, int k, tp__tri_keep keep, void* user,
@@ -271,7 +271,7 @@ double tp__screen_error_px(const tp__view* v, const double truth[3], const doubl
 void tp__pgm_map_ground(const tp_pgm_frame* f, const tp_pgm_pyramid* p, int i, int j,
                         double ground[4], int* level, double* wp);
 
-/* ---- selections (selection.c, measure.c, query.c) ---- */
+/* ---- selections (selection.c, selection_measure.c, selection_query.c) ---- */
 
 /* The error-mode bound of one patch for the current view (see lod.c): a vertical error of d
  * metres anywhere in the patch's AABB projects to at most d * num / (zmin - d * |vz|) pixels. */
@@ -294,8 +294,8 @@ double tp__projected_px(const tp__proj_bound* pb, double vz, double d);
  * a box as far as it can. */
 double tp__projected_px_drawn(const tp__view* v, const tp__proj_bound* pb, double d, int* near);
 
-/* Written only by the functions that take a non-const tp_selection*; the const ones (measure.c,
- * query.c) only read it, so that several threads may measure one selection at once. */
+/* Written only by the functions that take a non-const tp_selection*; the const ones (selection_measure.c,
+ * selection_query.c) only read it, so that several threads may measure one selection at once. */
 struct tp_selection {
     const tp_terrain* t;
     int count;
@@ -320,11 +320,11 @@ int tp__neighbor(const tp_terrain* t, int p, int side);
 /* Largest vertical distance (m) between patch p's drawn triangles at level k with neighbour
  * levels nb, interpolated from their vertices' z_m, and the heights of the samples they cover:
  * ref (src_width x src_height, NaN = none; padded fits only) or, when ref is NULL, the decoded
- * grid. vbuf and tbuf hold a patch at level n and its triangles (measure.c). */
+ * grid. vbuf and tbuf hold a patch at level n and its triangles (selection_measure.c). */
 double tp__patch_vertical_error(const tp_terrain* t, int p, int k, const int nb[4],
                                 const float* ref, tp_vertex* vbuf, uint32_t* tbuf);
 
-/* ---- the cut: selection over a tree (tree_select.c, tree_stitch.c) ----
+/* ---- the cut: selection over a tree (cut_select.c, cut_stitch.c) ----
  *
  * Every node the update visits gets a record, found again through a hash of node ids (open
  * addressing; a slot counts only in the generation of the current update, so nothing is
@@ -346,7 +346,7 @@ typedef struct tp__cut_rec {
     uint8_t view;        /* 0: not tested yet; else 1 + whether its area box is in view */
     uint8_t pb_known;    /* pb is computed (error mode) */
     tp__proj_bound pb;   /* error mode, visible nodes: of the node's area box */
-    int32_t sph;         /* sphere tree: the node's entry (tree_spheres.c), or -1 */
+    int32_t sph;         /* sphere tree: the node's entry (cut_spheres.c), or -1 */
 } tp__cut_rec;
 
 typedef struct tp__cut_slot {
@@ -399,7 +399,7 @@ struct tp_cut {
     double kid_dist[4];  /* eye to each child's area box (incomplete children only) */
     double cell_m;       /* the larger grid spacing (m): hole widths */
     int32_t* tri_memo;   /* triangles of a complete node by level and neighbour levels (-1:
-                            not counted yet; tree_stitch.c), tri_memo_count entries */
+                            not counted yet; cut_stitch.c), tri_memo_count entries */
     size_t tri_memo_count;
     tp__cut_tris* tri_cache; /* triangles of incomplete drawn nodes, direct-mapped by node,
                                 kept across updates (a node's samples never change) */
@@ -411,15 +411,15 @@ struct tp_cut {
     int stitch_add;    /* tp_cut_set_stitch_add */
     int decisions;     /* distance decisions computed by the update (tp_cut_stats) */
     int sph_on;        /* this update reads distance decisions from the sphere tree */
-    struct tp__spheres* sph; /* tree_spheres.c; NULL until the first sphere-tree update */
+    struct tp__spheres* sph; /* cut_spheres.c; NULL until the first sphere-tree update */
 };
 
-/* ---- the sphere tree (tree_spheres.c; tree_select.c's distance mode with sphere_tree) ---- */
+/* ---- the sphere tree (cut_spheres.c; cut_select.c's distance mode with sphere_tree) ---- */
 /* The distance mode's decision for a node of scale s (whole: complete or nothing drawn) at
  * distance d (m) from the eye to its area box: -1 refine, else the level it is drawn at
- * (tree_select.c; every distance-mode decision of the cut is this function). */
+ * (cut_select.c; every distance-mode decision of the cut is this function). */
 int tp__cut_distance_decision(const tp_cut* c, int s, int whole, double d);
-/* A node's box in drawn space (tree_select.c's node_box). */
+/* A node's box in drawn space (cut_select.c's node_box). */
 void tp__cut_node_box(const tp_cut* c, int s, int cc, int rr, int32_t qlo, int32_t qhi,
                       double bmin[3], double bmax[3]);
 /* Brings the sphere tree up to date for the view c->v and parameters c->lp (rebuilt when the
@@ -434,7 +434,7 @@ int tp__spheres_decision(const tp_cut* c, int32_t i);
 void tp__spheres_stats(const tp_cut* c, int* visited, int* decided, int* live);
 void tp__spheres_destroy(tp_cut* c);
 
-/* Index in the drawn output of the node covering leaf (lc, lr), or -1 (tree_stitch.c). */
+/* Index in the drawn output of the node covering leaf (lc, lr), or -1 (cut_stitch.c). */
 int tp__cut_drawn_at_leaf(const tp_cut* c, int lc, int lr);
 
 /* Which triangles drawn node i (output index) draws (tp_node_mask_from_q's rule). */
@@ -451,7 +451,7 @@ int tp__tri_drawn(const tp__node_draw* d, const int32_t pos[3][2], int vertices_
 /* Grows the array *p of *cap elements of size bytes to at least need (doubling); 0, c->oom
  * set, without memory. */
 int tp__cut_grow(tp_cut* c, void** p, size_t* cap, size_t need, size_t size);
-/* Record of node, or -1 when it was not visited this update (tree_select.c). */
+/* Record of node, or -1 when it was not visited this update (cut_select.c). */
 int tp__cut_find(const tp_cut* c, int64_t node);
 /* Adds a record for node (state 0) and returns its index, or -1 (c->oom set) without memory. */
 int tp__cut_add(tp_cut* c, int64_t node);
@@ -466,28 +466,28 @@ void tp__cut_request(tp_cut* c, int64_t node, double prio);
  * those that are not). */
 int tp__cut_children_ready(tp_cut* c, int i);
 /* The stitching pass: splits, collapses and raised levels until every pair of drawn
- * neighbours can be stitched (tree_stitch.c). */
+ * neighbours can be stitched (cut_stitch.c). */
 void tp__cut_constrain(tp_cut* c);
 /* The drawn neighbour on a side of drawn record i, of equal or larger scale; -1 if none
- * (border, culled, or smaller nodes there) (tree_stitch.c). */
+ * (border, culled, or smaller nodes there) (cut_stitch.c). */
 int tp__cut_neighbor(const tp_cut* c, int i, int side);
 /* Non-degenerate triangles of drawn record i with neighbour levels nb: complete nodes from
  * tp__cut_complete_triangles, incomplete ones counted on their samples once and cached. */
 int32_t tp__cut_triangles(tp_cut* c, int i, const int nb[4]);
 /* Non-degenerate triangles of a complete node drawn at level k with relative neighbour levels
  * nb (every vertex drawn: only stitching removes triangles), from c->tri_memo (filled on first
- * use) (tree_stitch.c). */
+ * use) (cut_stitch.c). */
 int32_t tp__cut_complete_triangles(tp_cut* c, int k, const int nb[4]);
 /* Relative neighbour levels of drawn record i (nb: where its sides move to) and, --stitch add,
  * the finer same-size neighbours' levels whose vertices it takes (add; TP_NO_NEIGHBOR where
  * none); returns the number of its sides left with a crack (a neighbour more than n scales
- * larger that could be neither split nor collapsed against) (tree_stitch.c). */
+ * larger that could be neither split nor collapsed against) (cut_stitch.c). */
 int tp__cut_seams(const tp_cut* c, int i, int nb[4], int add[4]);
-/* --stitch add (tree_stitch_add.c): the level record i must be raised to so that no corner
+/* --stitch add (cut_stitch_add.c): the level record i must be raised to so that no corner
  * triangle both takes and moves vertices (its level when none); nb, add: tp__cut_seams'. */
 int tp__cut_add_corner_level(const tp_cut* c, int i, const int nb[4], const int add[4]);
 /* Rasterises drawn node i's --stitch add triangles (its add[] sides) as tp__raster_triangle,
- * z in height steps; 0 when out of memory (tree_stitch_add.c). */
+ * z in height steps; 0 when out of memory (cut_stitch_add.c). */
 int tp__cut_raster_add(const tp_cut* c, size_t i, tp__sample_fn fn, void* user);
 /* tp_cut_add_bound_m for record i at level k (m, quantisation not included). */
 double tp__cut_add_bound_m(const tp_cut* c, int i, int k, const int add[4]);
@@ -510,7 +510,7 @@ float tp__tin_bound(double e);
 tp_status tp__tin_build(const float* heights, int width, int height, double max_error_m,
                         const uint8_t* cls, int cut, tp_tin** out, tp_error* err);
 
-/* ---- ray casting (query.c for selections, cut_query.c for cuts) ---- */
+/* ---- ray casting (selection_query.c for selections, cut_query.c for cuts) ---- */
 
 /* Clips [*t0, *t1] to the t where o + t d lies in [lo, hi]; 0 if empty. */
 static inline int tp__slab(double o, double d, double lo, double hi, double* t0, double* t1)

@@ -3,7 +3,7 @@
  *
  * delta_k (Brodersen section 3): the largest vertical distance between a sample and the level-k
  * triangulation (same split as the strips). Stitching: crack removal moves border vertices
- * (stitch.c), so the border triangles belong to neither level's triangulation; for every side
+ * (patch_stitch.c), so the border triangles belong to neither level's triangulation; for every side
  * and every neighbour level kn < n, eps[side][kn] is the largest error of any triangle with a
  * vertex moved by that side, over every level k > kn. With nearest-vertex snapping toward the
  * corners, a triangle with vertices moved by two sides collapses for k >= 2 (the vertices next

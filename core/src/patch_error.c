@@ -8,7 +8,7 @@
  * err_unit is step/16 unless some patch spans so many steps that its largest possible error
  * (its height range) would not fit 16 bits; then the finest power of two that fits.
  *
- * Vertex adding (stitch_add.c) re-triangulates a grid triangle T with an edge on a side that
+ * Vertex adding (patch_stitch_add.c) re-triangulates a grid triangle T with an edge on a side that
  * takes a finer neighbour's vertices into triangles inside T whose vertices are T's own and
  * the added ones. There the drawn surface is T's plane plus the linear interpolation of d,
  * d = height - plane at each added vertex (0 at T's corners), so its error is at most T's own

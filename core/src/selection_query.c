@@ -1,5 +1,5 @@
-/* query.c - heights of the surface a selection actually draws (stitching included), and the
- * camera collision built on them. Read-only: safe to call from several threads at once.
+/* selection_query.c - heights of the surface a selection actually draws (stitching included),
+ * and the camera collision built on them. Read-only: safe to call from several threads at once.
  */
 #include "internal.h"
 

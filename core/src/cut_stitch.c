@@ -1,10 +1,10 @@
-/* tree_stitch.c - crack removal between drawn tree nodes of any size and level, and what the
+/* cut_stitch.c - crack removal between drawn tree nodes of any size and level, and what the
  * stitched cut draws (vertex data, heights, screen error, statistics).
  *
  * Vertex strides are powers of two of grid samples: 2^(s+n-k) for a node of scale s at level
  * k, and every node's vertices lie on multiples of its stride. Two drawn nodes A and B share
  * part of an edge; say stride(B) > stride(A). A's side vertices can move onto B's vertices
- * (stitch.c's snapping on A's lattice, relative level kn = level(B) - (scale(B) - scale(A)))
+ * (patch_stitch.c's snapping on A's lattice, relative level kn = level(B) - (scale(B) - scale(A)))
  * when
  *   1. stride(B) <= side(A) = 2^(n+scale(A)): A's corners are vertices of B, so A's moved side
  *      is exactly B's vertex-to-vertex segments (kn >= 0);

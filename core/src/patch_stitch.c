@@ -1,4 +1,4 @@
-/* stitch.c - crack removal by moving vertices, and the triangles a patch really draws.
+/* patch_stitch.c - crack removal by moving vertices, and the triangles a patch really draws.
  *
  * Based on: Vanek & Jezek, "Real-Time Terrain Visualization on PC" (WSCG 2004), section 3 and
  * Fig. 4: the strips stay fixed per level, so cracks are removed in the vertex data. A border

@@ -1,11 +1,11 @@
-/* tree_select.c - the cut: which tree nodes are drawn, at which level, for one view.
+/* cut_select.c - the cut: which tree nodes are drawn, at which level, for one view.
  *
  * From the roots down, each node visited is culled (area box outside the frustum), refined
  * (the mode asks for more detail than its level n gives, or its holes would be too wide, and
  * its children are resident) or drawn at the coarsest level the mode allows. The error mode
  * uses lod.c's projection bound on the node's area box, so tau holds anywhere on screen; the distance mode
  * generalises Vanek & Jezek's formula to vertex strides (see tp_cut in tp_core.h). Then
- * tree_stitch.c makes neighbours stitchable. Cost: O(1) per visited node (a hash of node ids
+ * cut_stitch.c makes neighbours stitchable. Cost: O(1) per visited node (a hash of node ids
  * instead of per-node arrays), and no allocation once the arrays have grown to the view.
  */
 #include "internal.h"
