@@ -11,7 +11,9 @@
  * vertices slide triangles along the side. A node's triangles stay inside its square, so the
  * first node with a hit holds the nearest one.
  */
-#include "internal.h"
+#include "cut_int.h"
+#include "ray.h"
+#include "surface.h"
 
 #include <assert.h>
 #include <math.h>

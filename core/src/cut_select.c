@@ -8,7 +8,7 @@
  * cut_stitch.c makes neighbours stitchable. Cost: O(1) per visited node (a hash of node ids
  * instead of per-node arrays), and no allocation once the arrays have grown to the view.
  */
-#include "internal.h"
+#include "cut_int.h"
 
 #include <stdlib.h>
 #include <string.h>

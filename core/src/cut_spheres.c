@@ -26,7 +26,7 @@
  * whether it is whole, and the parameters), found once per parameters by bisection on F itself
  * and kept as the closed intervals KNOWN to give the value (conservative by a few ulps).
  */
-#include "internal.h"
+#include "cut_int.h"
 
 #include <string.h>
 

@@ -4,7 +4,7 @@
  * Vertex strides are powers of two of grid samples: 2^(s+n-k) for a node of scale s at level
  * k, and every node's vertices lie on multiples of its stride. Two drawn nodes A and B share
  * part of an edge; say stride(B) > stride(A). A's side vertices can move onto B's vertices
- * (patch_stitch.c's snapping on A's lattice, relative level kn = level(B) - (scale(B) - scale(A)))
+ * (lattice.c's snapping on A's lattice, relative level kn = level(B) - (scale(B) - scale(A)))
  * when
  *   1. stride(B) <= side(A) = 2^(n+scale(A)): A's corners are vertices of B, so A's moved side
  *      is exactly B's vertex-to-vertex segments (kn >= 0);
@@ -23,7 +23,7 @@
  * eps table) projects above tau, as tp_selection_update does; one already at level n (so
  * larger than the finer node) is split when its children are resident.
  */
-#include "internal.h"
+#include "cut_int.h"
 
 #include <string.h>
 

@@ -8,11 +8,11 @@
  * the smaller or finer node's side moves). tp_patch_triangles_add re-triangulates a grid
  * triangle inside itself; the upper-left triangle of the first cell holds the TOP and LEFT
  * edges, the lower-right one of the last cell BOTTOM and RIGHT. A moved vertex next to a corner
- * collapses onto it (patch_stitch.c), which would fold such a triangle's added vertices away while
+ * collapses onto it (lattice.c), which would fold such a triangle's added vertices away while
  * the neighbour draws them: a node never takes vertices on one and moves them on the other of
  * those two sides. It is raised to the finer neighbour's level instead (cut_stitch.c's check).
  */
-#include "internal.h"
+#include "cut_int.h"
 
 #include <math.h>
 #include <stdlib.h>

@@ -4,7 +4,7 @@
  * placed where tp_light_day_at's interpolation puts them, and the intervals in which it is lit
  * kept (at most two) and quantised to a byte each end.
  */
-#include "internal.h"
+#include "light_int.h"
 
 #include <assert.h>
 #include <math.h>

@@ -3,6 +3,8 @@
  * target's top fix the sight line), then every sample against it. The first run of blocking
  * samples is the first obstruction; its highest point above the line is the one reported. */
 #include "internal.h"
+#include "tp_los.h"
+#include "tp_viewshed.h"
 
 #include <string.h>
 

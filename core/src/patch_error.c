@@ -1,7 +1,7 @@
 /* patch_error.c - per-patch error tables: delta_k and the stitching bounds.
  *
  * The lattice computations themselves (delta_k, the stitched triangles' eps) live in
- * node_meta.c, shared with the tree's nodes: a patch is one lattice of (2^n+1)^2 samples, and
+ * lattice_error.c, shared with the tree's nodes: a patch is one lattice of (2^n+1)^2 samples, and
  * measuring at its own samples is exact since it holds every sample of its area.
  *
  * Errors are measured against the decoded grid, in units of err_unit steps, rounded up.
@@ -16,7 +16,7 @@
  * triangles with level-kn vertices added (the plane along an edge is the edge's
  * interpolation); tp_patch_error_bound_add takes the max of delta_k and the adding sides' eta.
  */
-#include "internal.h"
+#include "terrain_int.h"
 
 #include <math.h>
 #include <stdlib.h>

@@ -13,6 +13,7 @@
  * grid triangulation: every drawn triangle lies inside one of the level's grid triangles.
  */
 #include "internal.h"
+#include "tp_terrain.h"
 
 #include <assert.h>
 

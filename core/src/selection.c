@@ -5,7 +5,7 @@
  * Based on: Vanek & Jezek (WSCG 2004) section 3 for distance LoD and AABB culling; Brodersen
  * (2005) section 3 for the error-driven selection. Formulas are in lod.c.
  */
-#include "internal.h"
+#include "selection_int.h"
 
 #include <assert.h>
 

@@ -6,7 +6,7 @@
  * triangle buffers, the visited-sample bitmap) belongs to each call, so that several threads
  * may measure one selection at once.
  */
-#include "internal.h"
+#include "selection_int.h"
 
 #include <string.h>
 

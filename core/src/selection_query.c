@@ -1,7 +1,8 @@
 /* selection_query.c - heights of the surface a selection actually draws (stitching included),
  * and the camera collision built on them. Read-only: safe to call from several threads at once.
  */
-#include "internal.h"
+#include "ray.h"
+#include "selection_int.h"
 
 #include <assert.h>
 #include <string.h>

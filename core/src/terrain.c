@@ -7,7 +7,9 @@
  * are the region x >= sw or y >= sh. Filled-void flags cost one bit per sample and only exist
  * when the source has filled samples.
  */
-#include "internal.h"
+#include "step.h"
+#include "surface.h"
+#include "terrain_int.h"
 
 #include <float.h>
 #include <stdlib.h>
@@ -19,30 +21,6 @@ static int patch_n(int patch_size)
         if (patch_size == (1 << n) + 1)
             return n;
     return -1;
-}
-
-/* Does every range (owned by a patch) fit 16 bits (with 0xFFFF reserved) at this step? */
-int tp__step_fits(const tp__range* r, int count, double step)
-{
-    for (int p = 0; p < count; p++) {
-        if (r[p].lo > r[p].hi)
-            continue;
-        double a = floor(r[p].lo / step + 0.5), b = floor(r[p].hi / step + 0.5);
-        if (fabs(a) > 2147483000.0 || fabs(b) > 2147483000.0 || b - a > 65534.0)
-            return 0;
-    }
-    return 1;
-}
-
-double tp__choose_step(const tp__range* r, int count, int integral)
-{
-    /* Integer data: 1 m is exact. Otherwise the finest power of two down to 2^-10 m. */
-    for (int e = integral ? 0 : -10; e <= 60; e++) {
-        double step = ldexp(1.0, e);
-        if (tp__step_fits(r, count, step))
-            return step;
-    }
-    return 0;
 }
 
 static void fill_info(tp_terrain* t, int src_w, int src_h, tp_fit fit)

@@ -14,7 +14,7 @@
  * first forced sample in scan order is found through per-row lists of them, and while some are
  * left, a triangle without one is deferred rather than scanned (it would mostly be split again
  * before its error counts; a tiled build forces whole tile borders). */
-#include "internal.h"
+#include "tin_int.h"
 
 #include <stdlib.h>
 #include <string.h>
