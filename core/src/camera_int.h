@@ -9,8 +9,8 @@
 /* Camera frame: orthonormal basis and the pixel focal length (camera.c). */
 typedef struct tp__view {
     double pos[3], fwd[3], right[3], up[3];
-    double f_px;          /* pixels per unit of tan(angle) */
-    double tan_x, tan_y;  /* half-extents of the view at depth 1 */
+    double f_px;         /* pixels per unit of tan(angle) */
+    double tan_x, tan_y; /* half-extents of the view at depth 1 */
     double w_px, h_px, near_m, far_m;
 } tp__view;
 void tp__view_from_camera(const tp_camera* cam, tp__view* v);

@@ -4,10 +4,10 @@
 
 #include "lattice.h"
 #include "lod_int.h"
-#include "tree_int.h"
 #include "tp_cut.h"
+#include "tree_int.h"
 
-/* ---- the cut: selection over a tree (cut_select.c, cut_stitch.c) ----
+/* ---- the cut: selection over a tree (cut.c, cut_select.c, cut_stitch.c, cut_draw.c) ----
  *
  * Every node the update visits gets a record, found again through a hash of node ids (open
  * addressing; a slot counts only in the generation of the current update, so nothing is
@@ -24,12 +24,12 @@ typedef struct tp__cut_rec {
     uint8_t frozen;      /* collapsed onto by the stitching pass: never split again */
     uint8_t queued;      /* in the stitching pass's work list */
     float bound_px;
-    int32_t out;         /* index in the output (tp_cut_nodes) when drawn */
-    int32_t tris;        /* drawn: its triangles (finish); else -1 */
-    uint8_t view;        /* 0: not tested yet; else 1 + whether its area box is in view */
-    uint8_t pb_known;    /* pb is computed (error mode) */
-    tp__proj_bound pb;   /* error mode, visible nodes: of the node's area box */
-    int32_t sph;         /* sphere tree: the node's entry (cut_spheres.c), or -1 */
+    int32_t out;       /* index in the output (tp_cut_nodes) when drawn */
+    int32_t tris;      /* drawn: its triangles (finish); else -1 */
+    uint8_t view;      /* 0: not tested yet; else 1 + whether its area box is in view */
+    uint8_t pb_known;  /* pb is computed (error mode) */
+    tp__proj_bound pb; /* error mode, visible nodes: of the node's area box */
+    int32_t sph;       /* sphere tree: the node's entry (cut_spheres.c), or -1 */
 } tp__cut_rec;
 
 typedef struct tp__cut_slot {
@@ -39,8 +39,8 @@ typedef struct tp__cut_slot {
 } tp__cut_slot;
 
 typedef struct tp__cut_tris {
-    int64_t node;  /* -1: empty */
-    int32_t nb;    /* the neighbour levels it was counted with, packed */
+    int64_t node; /* -1: empty */
+    int32_t nb;   /* the neighbour levels it was counted with, packed */
     int32_t tris;
 } tp__cut_tris;
 enum { TP__CUT_TRIS_CACHE = 4096 };
@@ -79,21 +79,21 @@ struct tp_cut {
     int8_t kid_in[4];
     uint8_t kid_pb_known[4];
     tp__proj_bound kid_pb[4];
-    double kid_dist[4];  /* eye to each child's area box (incomplete children only) */
-    double cell_m;       /* the larger grid spacing (m): hole widths */
-    int32_t* tri_memo;   /* triangles of a complete node by level and neighbour levels (-1:
-                            not counted yet; cut_stitch.c), tri_memo_count entries */
+    double kid_dist[4]; /* eye to each child's area box (incomplete children only) */
+    double cell_m;      /* the larger grid spacing (m): hole widths */
+    int32_t* tri_memo;  /* triangles of a complete node by level and neighbour levels (-1:
+                           not counted yet; cut_draw.c), tri_memo_count entries */
     size_t tri_memo_count;
     tp__cut_tris* tri_cache; /* triangles of incomplete drawn nodes, direct-mapped by node,
                                 kept across updates (a node's samples never change) */
-    int32_t* work;       /* the stitching pass's work list */
+    int32_t* work;           /* the stitching pass's work list */
     size_t work_count, work_cap;
     int visited, unresolved;
     int oom;
-    int requests_only; /* tp_cut_update_requests: no stitching, no output */
-    int stitch_add;    /* tp_cut_set_stitch_add */
-    int decisions;     /* distance decisions computed by the update (tp_cut_stats) */
-    int sph_on;        /* this update reads distance decisions from the sphere tree */
+    int requests_only;       /* tp_cut_update_requests: no stitching, no output */
+    int stitch_add;          /* tp_cut_set_stitch_add */
+    int decisions;           /* distance decisions computed by the update (tp_cut_stats) */
+    int sph_on;              /* this update reads distance decisions from the sphere tree */
     struct tp__spheres* sph; /* cut_spheres.c; NULL until the first sphere-tree update */
 };
 
@@ -117,7 +117,7 @@ int tp__spheres_decision(const tp_cut* c, int32_t i);
 void tp__spheres_stats(const tp_cut* c, int* visited, int* decided, int* live);
 void tp__spheres_destroy(tp_cut* c);
 
-/* Index in the drawn output of the node covering leaf (lc, lr), or -1 (cut_stitch.c). */
+/* Index in the drawn output of the node covering leaf (lc, lr), or -1 (cut_draw.c). */
 int tp__cut_drawn_at_leaf(const tp_cut* c, int lc, int lr);
 
 /* Which triangles drawn node i (output index) draws (tp_node_mask_from_q's rule). */
@@ -125,19 +125,21 @@ typedef struct tp__node_draw {
     const uint16_t* mask; /* NULL: a triangle is drawn when its vertices are (a complete node,
                              a leaf at level n) */
     int n, s;
-    int64_t x0, y0;       /* grid position of the node's sample (0, 0) */
+    int64_t x0, y0; /* grid position of the node's sample (0, 0) */
 } tp__node_draw;
 void tp__cut_node_draw(const tp_cut* c, size_t i, tp__node_draw* d);
 /* Whether the triangle with (stitched) grid positions pos is drawn; vertices_drawn: whether
  * its vertices, original and moved, are. */
 int tp__tri_drawn(const tp__node_draw* d, const int32_t pos[3][2], int vertices_drawn);
 /* Grows the array *p of *cap elements of size bytes to at least need (doubling); 0, c->oom
- * set, without memory. */
+ * set, without memory (cut.c, as the records, the requests and the update's start and end). */
 int tp__cut_grow(tp_cut* c, void** p, size_t* cap, size_t need, size_t size);
-/* Record of node, or -1 when it was not visited this update (cut_select.c). */
+/* Record of node, or -1 when it was not visited this update. */
 int tp__cut_find(const tp_cut* c, int64_t node);
 /* Adds a record for node (state 0) and returns its index, or -1 (c->oom set) without memory. */
 int tp__cut_add(tp_cut* c, int64_t node);
+/* tp__cut_add for node at scale s, column cc, row rr. */
+int tp__cut_add_at(tp_cut* c, int64_t node, int s, int cc, int rr);
 /* Decides record i as a terminal without refining it: EMPTY, CULLED, or DRAWN at the level the
  * mode asks (n if it is incomplete or wants refining). */
 void tp__cut_settle(tp_cut* c, int i);
@@ -145,6 +147,16 @@ void tp__cut_settle(tp_cut* c, int i);
 int tp__cut_box(const tp_cut* c, int i, int area, double bmin[3], double bmax[3]);
 /* Lists node as a request (once per update) with priority prio. */
 void tp__cut_request(tp_cut* c, int64_t node, double prio);
+/* The start of an update: a new generation of the hash (every slot empty), no records, requests
+ * or output, the counters at 0. */
+void tp__cut_begin(tp_cut* c);
+/* The end of an update (tp_cut_update, tp_cut_set_nodes): the stitching pass, then the output
+ * arrays (the drawn nodes with their seams, bounds and triangles; the requests, most urgent
+ * first). TP_ERR_OUT_OF_MEMORY leaves the cut empty. */
+tp_status tp__cut_finish(tp_cut* c, tp_error* err);
+/* Bound (m, drawn space, quantisation included) of record i at level k with neighbours nb
+ * (cut_select.c). */
+double tp__cut_bound_m(const tp_cut* c, int i, int k, const int nb[4]);
 /* Whether every child of record i that has something to draw in view is resident (requesting
  * those that are not). */
 int tp__cut_children_ready(tp_cut* c, int i);
@@ -159,7 +171,7 @@ int tp__cut_neighbor(const tp_cut* c, int i, int side);
 int32_t tp__cut_triangles(tp_cut* c, int i, const int nb[4]);
 /* Non-degenerate triangles of a complete node drawn at level k with relative neighbour levels
  * nb (every vertex drawn: only stitching removes triangles), from c->tri_memo (filled on first
- * use) (cut_stitch.c). */
+ * use) (cut_draw.c). */
 int32_t tp__cut_complete_triangles(tp_cut* c, int k, const int nb[4]);
 /* Relative neighbour levels of drawn record i (nb: where its sides move to) and, --stitch add,
  * the finer same-size neighbours' levels whose vertices it takes (add; TP_NO_NEIGHBOR where

@@ -73,11 +73,7 @@ int tp_cut_keep_above(const tp_cut* c, double position[3], double clearance_m)
     double x, y;
     tp_tree_world_to_grid(c->t, position[0], position[1], &x, &y);
     double a = tp_tree_height_at(c->t, x, y), b = tp_cut_drawn_height_at(c, x, y);
-    double ground = (isnan(a) ? b : isnan(b) ? a : (a > b ? a : b)) * c->zscale;
-    if (isnan(ground) || position[2] >= ground + clearance_m)
-        return 0;
-    position[2] = ground + clearance_m;
-    return 1;
+    return tp__keep_above(position, a, b, c->zscale, clearance_m);
 }
 
 /* ---- ray casting ---- */
@@ -135,7 +131,7 @@ typedef struct ray_ctx {
 
 /* Nearest hit with the two triangles of cell (cx, cy) of a node whose vertices are in r->v
  * (side vs), or best. The cell's diagonal runs from (1, 0) to (0, 1), as the strip draws it
- * (cut_stitch.c's cell_triangle). */
+ * (cut_draw.c's cell_triangle). */
 static double cell_hit(const ray_ctx* r, int vs, int cx, int cy, double best)
 {
     static const int tri[2][3][2] = {{{0, 0}, {0, 1}, {1, 0}}, {{1, 0}, {0, 1}, {1, 1}}};

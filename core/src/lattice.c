@@ -40,11 +40,11 @@ int tp__lattice_vertex(int k, const int nb[4], int i, int j, int* mi_out, int* m
     if (nb) {
         int on_x_edge = (i == 0 || i == last), on_y_edge = (j == 0 || j == last);
         if (!(on_x_edge && on_y_edge)) { /* corners never move */
-            int side = j == 0 ? TP_SIDE_TOP
-                     : i == last ? TP_SIDE_RIGHT
-                     : j == last ? TP_SIDE_BOTTOM
-                     : i == 0 ? TP_SIDE_LEFT
-                     : -1;
+            int side = j == 0      ? TP_SIDE_TOP
+                       : i == last ? TP_SIDE_RIGHT
+                       : j == last ? TP_SIDE_BOTTOM
+                       : i == 0    ? TP_SIDE_LEFT
+                                   : -1;
             if (side >= 0 && nb[side] >= 0 && nb[side] < k) {
                 int m = 1 << (k - nb[side]);
                 switch (side) {
@@ -61,8 +61,8 @@ int tp__lattice_vertex(int k, const int nb[4], int i, int j, int* mi_out, int* m
     return mi != i || mj != j;
 }
 
-int tp__node_vertex_position(const tp_tree_geometry* g, int64_t node, int k, const int nb[4],
-                             int i, int j, int32_t* gx, int32_t* gy)
+int tp__node_vertex_position(const tp_tree_geometry* g, int64_t node, int k, const int nb[4], int i,
+                             int j, int32_t* gx, int32_t* gy)
 {
     assert(g && k >= 0 && k <= g->n);
     int s, c, r, mi, mj;

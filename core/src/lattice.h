@@ -22,14 +22,13 @@ int tp__lattice_vertex(int k, const int nb[4], int i, int j, int* mi, int* mj);
 /* Position (global grid coordinates) of vertex (i, j) of node `node` of a tree geometry at level
  * k after crack removal against the given neighbour levels (vertex stride 2^(n-k+s) grid
  * samples), for the tree's selection and its tests (lattice.c). Returns 1 if it was moved. */
-int tp__node_vertex_position(const tp_tree_geometry* g, int64_t node, int k, const int nb[4],
-                             int i, int j, int32_t* gx, int32_t* gy);
+int tp__node_vertex_position(const tp_tree_geometry* g, int64_t node, int k, const int nb[4], int i,
+                             int j, int32_t* gx, int32_t* gy);
 
 /* tp_patch_triangles with another rule: keep(a, b, c, user) says whether the strip's
  * triangle (a, b, c) is drawn (NULL: when its three vertices are). Zero-area triangles are
  * skipped either way (lattice.c). */
-typedef int (*tp__tri_keep)(const tp_vertex* a, const tp_vertex* b, const tp_vertex* c,
-                            void* user);
+typedef int (*tp__tri_keep)(const tp_vertex* a, const tp_vertex* b, const tp_vertex* c, void* user);
 size_t tp__strip_triangles(const tp_vertex* vertices, int k, tp__tri_keep keep, void* user,
                            uint32_t* triangles, size_t triangle_capacity);
 
@@ -43,6 +42,26 @@ static inline void tp__tri_box(const int32_t pos[3][2], int32_t b[4])
         b[1] = pos[v][1] < b[1] ? pos[v][1] : b[1];
         b[3] = pos[v][1] > b[3] ? pos[v][1] : b[3];
     }
+}
+
+/* The height at (x, y) of the triangle of grid positions pos with heights q, area its doubled
+ * signed area (not 0): 1, writing *z, when the point is inside or on it (every barycentric
+ * weight >= -1e-9), else 0. The drawn surface's queries (selection_query.c, cut_draw.c). */
+static inline int tp__tri_height(const int32_t pos[3][2], const double q[3], double area, double x,
+                                 double y, double* z)
+{
+    double w[3];
+    for (int v = 0; v < 3; v++) {
+        const int32_t* a = pos[(v + 1) % 3];
+        const int32_t* b = pos[(v + 2) % 3];
+        w[v] = ((b[0] - a[0]) * (y - a[1]) - (b[1] - a[1]) * (x - a[0])) / area;
+    }
+    const double eps = 1e-9;
+    if (w[0] >= -eps && w[1] >= -eps && w[2] >= -eps) {
+        *z = w[0] * q[0] + w[1] * q[1] + w[2] * q[2];
+        return 1;
+    }
+    return 0;
 }
 
 /* ---- error tables over one lattice of (2^n+1)^2 samples (lattice_error.c) ----

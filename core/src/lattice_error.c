@@ -185,6 +185,49 @@ static double raster_error(const int32_t* q, int side, const int32_t pos[3][2], 
     return (double)mx / (double)abs_area;
 }
 
+/* The lattice cells of a triangle's bounding box that no edge of it separates from it (the
+ * cells its cell bound measures): an edge separates a cell when all 4 corners are strictly
+ * outside it, i.e. when its function (linear) is negative at the corner where it is largest: one
+ * corner per edge. */
+typedef struct kept_cells {
+    const int32_t (*pos)[2];
+    int64_t sign;     /* of the triangle's area */
+    int dx[3], dy[3]; /* each edge's corner */
+} kept_cells;
+
+static void kept_init(kept_cells* k, const int32_t pos[3][2], int64_t sign)
+{
+    k->pos = pos;
+    k->sign = sign;
+    for (int e = 0; e < 3; e++) {
+        const int32_t* a = pos[(e + 1) % 3];
+        const int32_t* b = pos[(e + 2) % 3];
+        k->dx[e] = -((int64_t)b[1] - a[1]) * sign > 0;
+        k->dy[e] = ((int64_t)b[0] - a[0]) * sign > 0;
+    }
+}
+
+/* The kept cells *lo .. *hi of cell row py among columns x0 .. x1 - 1 (*lo > *hi: none; none
+ * for py == y1, the box's last row of points). */
+static void kept_row(const kept_cells* k, int32_t x0, int32_t x1, int32_t py, int32_t y1,
+                     int32_t* lo_out, int32_t* hi_out)
+{
+    int32_t lo = 1, hi = 0;
+    for (int32_t cx = x0; py < y1 && cx < x1; cx++) {
+        int separated = 0;
+        for (int e = 0; e < 3 && !separated; e++)
+            separated = edge(k->pos[(e + 1) % 3], k->pos[(e + 2) % 3], cx + k->dx[e],
+                             py + k->dy[e]) * k->sign < 0;
+        if (separated)
+            continue;
+        if (lo > hi)
+            lo = cx;
+        hi = cx;
+    }
+    *lo_out = lo;
+    *hi_out = hi;
+}
+
 /* The cell bound of a node of scale >= 1 (cells = 1 in tp__lattice_eps).
  *
  * A stitched triangle T is not a union of the fine triangles of the lattice surface S_n (its
@@ -205,33 +248,16 @@ static double cell_bound(const int32_t* q, int side, const int32_t pos[3][2], co
     int32_t bx[4];
     tp__tri_box(pos, bx);
     int32_t x0 = bx[0], y0 = bx[1], x1 = bx[2], y1 = bx[3];
-    /* An edge separates a cell when all 4 corners are strictly outside it, i.e. when its
-     * function (linear) is negative at the corner where it is largest: one corner per edge. */
-    int dx[3], dy[3];
-    for (int e = 0; e < 3; e++) {
-        const int32_t* a = pos[(e + 1) % 3];
-        const int32_t* b = pos[(e + 2) % 3];
-        dx[e] = -((int64_t)b[1] - a[1]) * sign > 0;
-        dy[e] = ((int64_t)b[0] - a[0]) * sign > 0;
-    }
+    kept_cells kc;
+    kept_init(&kc, pos, sign);
     /* Kept cells of each cell row: one interval (T and the row's strip are convex); the
      * corners of kept cells of point row py are those of cell rows py - 1 and py. Each corner
      * is measured once (the same value as once per cell it belongs to). */
     int64_t abs_area = area * sign, mx = 0; /* in integers as raster_error */
     int32_t prev_lo = 1, prev_hi = 0; /* kept cells of the cell row above, empty */
     for (int32_t py = y0; py <= y1; py++) {
-        int32_t lo = 1, hi = 0; /* kept cells of cell row py (none for py == y1) */
-        for (int32_t cx = x0; py < y1 && cx < x1; cx++) {
-            int separated = 0;
-            for (int e = 0; e < 3 && !separated; e++)
-                separated = edge(pos[(e + 1) % 3], pos[(e + 2) % 3], cx + dx[e], py + dy[e]) *
-                                sign < 0;
-            if (separated)
-                continue;
-            if (lo > hi)
-                lo = cx;
-            hi = cx;
-        }
+        int32_t lo, hi; /* kept cells of cell row py (none for py == y1) */
+        kept_row(&kc, x0, x1, py, y1, &lo, &hi);
         /* points: corners of cells prev_lo..prev_hi and lo..hi, i.e. x in [l, h + 1] */
         for (int pass = 0; pass < 2; pass++) {
             int32_t l = pass ? lo : prev_lo, h = pass ? hi : prev_hi;
@@ -283,27 +309,36 @@ static int tri_drawn(int n, const int32_t* q, const uint16_t* mask, int vertex_r
     return tp_node_mask_all(mask, n, x0, y0, x1, y1);
 }
 
+/* Triangle h of level-k cell (cx, cy) (the cell's two triangles in strip winding) with
+ * neighbour levels nb: its lattice positions unmoved (orig) and moved (pos), stride lattice
+ * samples per level-k vertex; returns the sides that moved one of its vertices (bit side). */
+static int stitched_triangle(int k, const int nb[4], int stride, int cx, int cy, int h,
+                             int32_t orig[3][2], int32_t pos[3][2])
+{
+    static const int tri[2][3][2] = {{{0, 0}, {0, 1}, {1, 0}}, {{1, 0}, {0, 1}, {1, 1}}};
+    int last = 1 << k, sides = 0;
+    for (int v = 0; v < 3; v++) {
+        int i = cx + tri[h][v][0], j = cy + tri[h][v][1], mi, mj;
+        if (tp__lattice_vertex(k, nb, i, j, &mi, &mj))
+            sides |= 1 << side_of(i, j, last);
+        orig[v][0] = i * stride, orig[v][1] = j * stride;
+        pos[v][0] = mi * stride, pos[v][1] = mj * stride;
+    }
+    return sides;
+}
+
 static void stitched_error(int n, const int32_t* q, const uint16_t* mask, int cells_mode, int k,
                            const int nb[4], int cx0, int cx1, int cy0, int cy1, double out[4])
 {
-    int last = 1 << k, stride = 1 << (n - k), side = (1 << n) + 1;
+    int stride = 1 << (n - k), side = (1 << n) + 1;
     for (int cy = cy0; cy < cy1; cy++)
         for (int cx = cx0; cx < cx1; cx++) {
-            /* The two triangles of the cell, in strip winding. */
-            static const int tri[2][3][2] = {{{0, 0}, {0, 1}, {1, 0}}, {{1, 0}, {0, 1}, {1, 1}}};
             for (int h = 0; h < 2; h++) {
                 int32_t orig[3][2], pos[3][2];
                 int64_t z[3];
-                int sides = 0;
-                for (int v = 0; v < 3; v++) {
-                    int i = cx + tri[h][v][0], j = cy + tri[h][v][1], mi, mj;
-                    if (tp__lattice_vertex(k, nb, i, j, &mi, &mj))
-                        sides |= 1 << side_of(i, j, last);
-                    orig[v][0] = i * stride, orig[v][1] = j * stride;
-                    pos[v][0] = mi * stride;
-                    pos[v][1] = mj * stride;
+                int sides = stitched_triangle(k, nb, stride, cx, cy, h, orig, pos);
+                for (int v = 0; v < 3; v++)
                     z[v] = lq(q, side, pos[v][0], pos[v][1]);
-                }
                 if (!sides || !tri_drawn(n, q, mask, !cells_mode && k == n, orig, pos))
                     continue;
                 double e = cells_mode ? cell_bound(q, side, pos, z) : raster_error(q, side, pos, z);
@@ -314,37 +349,59 @@ static void stitched_error(int n, const int32_t* q, const uint16_t* mask, int ce
         }
 }
 
-static void lattice_eps_direct(int n, const int32_t* q, const uint16_t* mask, int cells,
-                               double eps[4][TP_MAX_N])
+/* The measures of the eps tables, in order: for k = 1..n, kn < k and each side s, the strip of
+ * cells along s (only there are vertices moved) with s's neighbour at kn; at k = 1 also each
+ * corner cell with both of its sides' neighbours at 0 (s = -1; see the top of this file). */
+typedef void (*measure_fn)(void* ctx, int k, int kn, int s, const int nb[4], int cx0, int cx1,
+                           int cy0, int cy1);
+
+static void each_measure(int n, measure_fn fn, void* ctx)
 {
-    memset(eps, 0, sizeof(double) * 4 * TP_MAX_N);
     for (int k = 1; k <= n; k++) {
         int cn = 1 << k;
         for (int kn = 0; kn < k; kn++)
             for (int s = 0; s < 4; s++) {
                 int nb[4] = {TP_NO_NEIGHBOR, TP_NO_NEIGHBOR, TP_NO_NEIGHBOR, TP_NO_NEIGHBOR};
                 nb[s] = kn;
-                double e[4] = {0, 0, 0, 0};
-                /* Only the strip of cells along side s has moved vertices. */
-                int cx0 = s == TP_SIDE_RIGHT ? cn - 1 : 0;
-                int cx1 = s == TP_SIDE_LEFT ? 1 : cn;
-                int cy0 = s == TP_SIDE_BOTTOM ? cn - 1 : 0;
-                int cy1 = s == TP_SIDE_TOP ? 1 : cn;
-                stitched_error(n, q, mask, cells, k, nb, cx0, cx1, cy0, cy1, e);
-                eps[s][kn] = e[s] > eps[s][kn] ? e[s] : eps[s][kn];
+                fn(ctx, k, kn, s, nb, s == TP_SIDE_RIGHT ? cn - 1 : 0, s == TP_SIDE_LEFT ? 1 : cn,
+                   s == TP_SIDE_BOTTOM ? cn - 1 : 0, s == TP_SIDE_TOP ? 1 : cn);
             }
-        if (k == 1) /* both sides of each cell's corner moved (see the top of this file) */
+        if (k == 1) /* both sides of each cell's corner moved */
             for (int c = 0; c < 4; c++) {
                 int cx = c & 1, cy = c >> 1;
                 int nb[4] = {TP_NO_NEIGHBOR, TP_NO_NEIGHBOR, TP_NO_NEIGHBOR, TP_NO_NEIGHBOR};
                 nb[cy ? TP_SIDE_BOTTOM : TP_SIDE_TOP] = 0;
                 nb[cx ? TP_SIDE_RIGHT : TP_SIDE_LEFT] = 0;
-                double e[4] = {0, 0, 0, 0};
-                stitched_error(n, q, mask, cells, 1, nb, cx, cx + 1, cy, cy + 1, e);
-                for (int s = 0; s < 4; s++)
-                    eps[s][0] = e[s] > eps[s][0] ? e[s] : eps[s][0];
+                fn(ctx, 1, 0, -1, nb, cx, cx + 1, cy, cy + 1);
             }
     }
+}
+
+typedef struct direct_ctx {
+    int n, cells;
+    const int32_t* q;
+    const uint16_t* mask;
+    double (*eps)[TP_MAX_N];
+} direct_ctx;
+
+/* One measure, folded into eps[s][kn] (a corner's, s = -1: into eps[side][0] of every side). */
+static void direct_measure(void* ctx, int k, int kn, int s, const int nb[4], int cx0, int cx1,
+                           int cy0, int cy1)
+{
+    direct_ctx* d = ctx;
+    double e[4] = {0, 0, 0, 0};
+    stitched_error(d->n, d->q, d->mask, d->cells, k, nb, cx0, cx1, cy0, cy1, e);
+    for (int side = 0; side < 4; side++)
+        if (s < 0 || side == s)
+            d->eps[side][kn] = e[side] > d->eps[side][kn] ? e[side] : d->eps[side][kn];
+}
+
+static void lattice_eps_direct(int n, const int32_t* q, const uint16_t* mask, int cells,
+                               double eps[4][TP_MAX_N])
+{
+    memset(eps, 0, sizeof(double) * 4 * TP_MAX_N);
+    direct_ctx d = {n, cells, q, mask, eps};
+    each_measure(n, direct_measure, &d);
 }
 
 /* ---------------------------------------------------------------------------------------------
@@ -377,19 +434,29 @@ typedef struct {
     int failed;
 } eps_plan;
 
+/* Room for one more of the count elements of elem bytes in *arr (*cap of them, doubling from
+ * first); 0, p->failed set, without memory. */
+static int plan_grow(eps_plan* p, void** arr, size_t* cap, size_t count, size_t first, size_t elem)
+{
+    if (count != *cap)
+        return 1;
+    size_t ncap = *cap ? 2 * *cap : first;
+    void* grown = realloc(*arr, ncap * elem);
+    if (!grown) {
+        p->failed = 1;
+        return 0;
+    }
+    *arr = grown;
+    *cap = ncap;
+    return 1;
+}
+
 static void plan_add_span(eps_plan* p, int y, int64_t xa, int64_t xb, const int32_t pos[3][2])
 {
     if (xa > xb || p->failed)
         return;
-    if (p->span_count == p->span_cap) {
-        size_t cap = p->span_cap ? 2 * p->span_cap : 4096;
-        plan_span* sp = realloc(p->spans, cap * sizeof *sp);
-        if (!sp) {
-            p->failed = 1;
-            return;
-        }
-        p->spans = sp, p->span_cap = cap;
-    }
+    if (!plan_grow(p, (void**)&p->spans, &p->span_cap, p->span_count, 4096, sizeof *p->spans))
+        return;
     plan_span* sp = &p->spans[p->span_count++];
     sp->y = (int16_t)y, sp->xa = (int16_t)xa, sp->xb = (int16_t)xb;
     sp->wa = (int32_t)edge(pos[1], pos[2], xa, y);
@@ -405,15 +472,8 @@ static void plan_add_tri(eps_plan* p, int n, int k, int cells, const int32_t ori
     int64_t area = edge(pos[0], pos[1], pos[2][0], pos[2][1]);
     if (area == 0 || p->failed)
         return; /* collapsed: measured as 0 */
-    if (p->tri_count == p->tri_cap) {
-        size_t cap = p->tri_cap ? 2 * p->tri_cap : 1024;
-        plan_tri* t = realloc(p->tris, cap * sizeof *t);
-        if (!t) {
-            p->failed = 1;
-            return;
-        }
-        p->tris = t, p->tri_cap = cap;
-    }
+    if (!plan_grow(p, (void**)&p->tris, &p->tri_cap, p->tri_count, 1024, sizeof *p->tris))
+        return;
     plan_tri* t = &p->tris[p->tri_count];
     int64_t sign = area > 0 ? 1 : -1;
     for (int v = 0; v < 3; v++) {
@@ -441,27 +501,12 @@ static void plan_add_tri(eps_plan* p, int n, int k, int cells, const int32_t ori
             plan_add_span(p, y, xa, xb, pos);
         }
     } else { /* the corners of the kept cells, each once, as cell_bound */
-        int dx[3], dy[3];
-        for (int e = 0; e < 3; e++) {
-            const int32_t* ea = pos[(e + 1) % 3];
-            const int32_t* eb = pos[(e + 2) % 3];
-            dx[e] = -((int64_t)eb[1] - ea[1]) * sign > 0;
-            dy[e] = ((int64_t)eb[0] - ea[0]) * sign > 0;
-        }
+        kept_cells kc;
+        kept_init(&kc, pos, sign);
         int32_t prev_lo = 1, prev_hi = 0;
         for (int32_t py = y0; py <= y1; py++) {
-            int32_t lo = 1, hi = 0;
-            for (int32_t cx = x0; py < y1 && cx < x1; cx++) {
-                int separated = 0;
-                for (int e = 0; e < 3 && !separated; e++)
-                    separated = edge(pos[(e + 1) % 3], pos[(e + 2) % 3], cx + dx[e],
-                                     py + dy[e]) * sign < 0;
-                if (separated)
-                    continue;
-                if (lo > hi)
-                    lo = cx;
-                hi = cx;
-            }
+            int32_t lo, hi;
+            kept_row(&kc, x0, x1, py, y1, &lo, &hi);
             int have_prev = prev_lo <= prev_hi;
             if (have_prev)
                 plan_add_span(p, py, prev_lo, prev_hi + 1, pos);
@@ -487,23 +532,28 @@ static void plan_add_tri(eps_plan* p, int n, int k, int cells, const int32_t ori
 static void plan_cells(eps_plan* p, int n, int cells, int k, int kn, const int nb[4], int cx0,
                        int cx1, int cy0, int cy1)
 {
-    int last = 1 << k, stride = 1 << (n - k);
-    static const int tri[2][3][2] = {{{0, 0}, {0, 1}, {1, 0}}, {{1, 0}, {0, 1}, {1, 1}}};
+    int stride = 1 << (n - k);
     for (int cy = cy0; cy < cy1; cy++)
         for (int cx = cx0; cx < cx1; cx++)
             for (int h = 0; h < 2; h++) {
                 int32_t orig[3][2], pos[3][2];
-                int sides = 0;
-                for (int v = 0; v < 3; v++) {
-                    int i = cx + tri[h][v][0], j = cy + tri[h][v][1], mi, mj;
-                    if (tp__lattice_vertex(k, nb, i, j, &mi, &mj))
-                        sides |= 1 << side_of(i, j, last);
-                    orig[v][0] = i * stride, orig[v][1] = j * stride;
-                    pos[v][0] = mi * stride, pos[v][1] = mj * stride;
-                }
+                int sides = stitched_triangle(k, nb, stride, cx, cy, h, orig, pos);
                 if (sides)
                     plan_add_tri(p, n, k, cells, orig, pos, kn, sides);
             }
+}
+
+typedef struct plan_ctx {
+    eps_plan* p;
+    int n, cells;
+} plan_ctx;
+
+static void plan_measure(void* ctx, int k, int kn, int s, const int nb[4], int cx0, int cx1,
+                         int cy0, int cy1)
+{
+    plan_ctx* c = ctx;
+    (void)s; /* each triangle carries the sides that moved it */
+    plan_cells(c->p, c->n, c->cells, k, kn, nb, cx0, cx1, cy0, cy1);
 }
 
 static eps_plan* plan_build(int n, int cells)
@@ -511,25 +561,8 @@ static eps_plan* plan_build(int n, int cells)
     eps_plan* p = calloc(1, sizeof *p);
     if (!p)
         return NULL;
-    for (int k = 1; k <= n; k++) {
-        int cn = 1 << k;
-        for (int kn = 0; kn < k; kn++)
-            for (int s = 0; s < 4; s++) {
-                int nb[4] = {TP_NO_NEIGHBOR, TP_NO_NEIGHBOR, TP_NO_NEIGHBOR, TP_NO_NEIGHBOR};
-                nb[s] = kn;
-                plan_cells(p, n, cells, k, kn, nb, s == TP_SIDE_RIGHT ? cn - 1 : 0,
-                           s == TP_SIDE_LEFT ? 1 : cn, s == TP_SIDE_BOTTOM ? cn - 1 : 0,
-                           s == TP_SIDE_TOP ? 1 : cn);
-            }
-        if (k == 1)
-            for (int c = 0; c < 4; c++) {
-                int cx = c & 1, cy = c >> 1;
-                int nb[4] = {TP_NO_NEIGHBOR, TP_NO_NEIGHBOR, TP_NO_NEIGHBOR, TP_NO_NEIGHBOR};
-                nb[cy ? TP_SIDE_BOTTOM : TP_SIDE_TOP] = 0;
-                nb[cx ? TP_SIDE_RIGHT : TP_SIDE_LEFT] = 0;
-                plan_cells(p, n, cells, 1, 0, nb, cx, cx + 1, cy, cy + 1);
-            }
-    }
+    plan_ctx c = {p, n, cells};
+    each_measure(n, plan_measure, &c);
     if (p->failed) {
         free(p->tris), free(p->spans), free(p);
         return NULL;

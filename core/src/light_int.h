@@ -21,11 +21,11 @@ tp_status tp__shadow_sweep(const float* heights, size_t height_count, int width,
  * horizon (n floats); the weight between two maps (tan(e) ta, tb) at which a sample whose
  * horizon tangent is th changes (rising_needed: it turns lit, so the sun must rise; 0.5 when
  * the elevation does not explain the change). */
-tp_status tp__light_day_check(size_t height_count, int width, int height,
-                              const double* times_s, int count, tp_error* err);
-tp_status tp__light_day_codes(const float* heights, int width, int height, double dx_m,
-                              double dy_m, double azimuth_deg, double elevation_deg,
-                              uint8_t* lit, float* horizon, int16_t* codes, tp_error* err);
+tp_status tp__light_day_check(size_t height_count, int width, int height, const double* times_s,
+                              int count, tp_error* err);
+tp_status tp__light_day_codes(const float* heights, int width, int height, double dx_m, double dy_m,
+                              double azimuth_deg, double elevation_deg, uint8_t* lit,
+                              float* horizon, int16_t* codes, tp_error* err);
 double tp__light_day_crossing(double ta, double tb, double th, int rising_needed);
 
 #endif

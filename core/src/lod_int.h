@@ -8,7 +8,7 @@
 /* The error-mode bound of one patch for the current view (see lod.c): a vertical error of d
  * metres anywhere in the patch's AABB projects to at most d * num / (zmin - d * |vz|) pixels. */
 typedef struct tp__proj_bound {
-    double num;  /* f * sqrt(Amax^2 + Bmax^2) / zmin; INFINITY when the box reaches the near plane */
+    double num; /* f * sqrt(Amax^2 + Bmax^2) / zmin; INFINITY when the box reaches the near plane */
     double zmin; /* smallest depth of the box's corners */
 } tp__proj_bound;
 

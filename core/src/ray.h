@@ -1,4 +1,5 @@
-/* ray.h - ray casting's exact tests, inline (selection_query.c, cut_query.c). */
+/* ray.h - ray casting's exact tests and the camera collision, inline (selection_query.c,
+ * cut_query.c). */
 #ifndef TP_CORE_RAY_H
 #define TP_CORE_RAY_H
 
@@ -45,6 +46,20 @@ static inline double tp__ray_triangle(const double d[3], const double a[3], cons
         return -1;
     double t = (e2[0] * q[0] + e2[1] * q[1] + e2[2] * q[2]) / det;
     return t >= 0 ? t : -1;
+}
+
+/* Camera collision (tp_selection_keep_above, tp_cut_keep_above): raises position[2] (drawn
+ * space) to clearance_m above the higher of the full-resolution height full_m and the drawn
+ * height drawn_m (true metres, NaN: none) times zscale; 1 if it moved the eye. */
+static inline int tp__keep_above(double position[3], double full_m, double drawn_m, double zscale,
+                                 double clearance_m)
+{
+    double a = full_m, b = drawn_m;
+    double ground = (isnan(a) ? b : isnan(b) ? a : (a > b ? a : b)) * zscale;
+    if (isnan(ground) || position[2] >= ground + clearance_m)
+        return 0;
+    position[2] = ground + clearance_m;
+    return 1;
 }
 
 #endif

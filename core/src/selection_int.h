@@ -14,14 +14,14 @@ struct tp_selection {
     const tp_terrain* t;
     int count;
     uint8_t* level;
-    uint8_t* next;     /* scratch of tp_selection_update: levels being selected */
+    uint8_t* next; /* scratch of tp_selection_update: levels being selected */
     uint8_t* visible;
     uint8_t* dirty;
     tp__proj_bound* proj; /* error mode: each visible patch's projection bound */
-    uint32_t* tris;    /* cached drawn-triangle count per patch, TP__STALE_TRIS when unknown */
-    tp_vertex* vbuf;   /* scratch of tp_selection_stats: one patch at level n */
-    double zscale;     /* vertical exaggeration of the drawn surface (1: none) */
-    int stitch_add;    /* cracks removed by adding vertices (tp_selection_set_stitch_add) */
+    uint32_t* tris;       /* cached drawn-triangle count per patch, TP__STALE_TRIS when unknown */
+    tp_vertex* vbuf;      /* scratch of tp_selection_stats: one patch at level n */
+    double zscale;        /* vertical exaggeration of the drawn surface (1: none) */
+    int stitch_add;       /* cracks removed by adding vertices (tp_selection_set_stitch_add) */
 };
 
 /* Patch p's AABB as drawn: heights times the selection's vertical scale (selection.c). */

@@ -5,7 +5,8 @@
 
 #include "internal.h"
 
-/* ---- the split-cell surface (terrain.c's tp_terrain_height_at, surface.c's tp_grid_height_at) ----
+/* ---- the split-cell surface (terrain.c's tp_terrain_height_at, surface.c's tp_grid_height_at)
+ * ----
  *
  * Every cell (c, r)-(c+1, r+1) is split along the diagonal from (c+1, r) to (c, r+1), as the
  * strips draw it. height(grid, x, y) gives a sample's height, NaN where none (outside, nodata).

@@ -8,10 +8,10 @@
 /* The tree at run time (tree.c). Core code (the cut) reads desc for the step, quantisation
  * error, err_unit and metas. */
 struct tp_tree {
-    tp_tree_desc desc;          /* metas borrowed (or owned, below) */
-    tp_allocator alloc;         /* always set */
-    const uint16_t** samples;   /* node_count pointers, NULL when not resident */
-    tp_node_meta* owned_metas;  /* tp_tree_create_from_grid: metas and samples owned */
+    tp_tree_desc desc;         /* metas borrowed (or owned, below) */
+    tp_allocator alloc;        /* always set */
+    const uint16_t** samples;  /* node_count pointers, NULL when not resident */
+    tp_node_meta* owned_metas; /* tp_tree_create_from_grid: metas and samples owned */
     uint16_t* owned_samples;
 };
 
