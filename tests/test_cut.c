@@ -1,4 +1,4 @@
-/* test_cut.c - the cut over a tree (tree_select.c, tree_stitch.c) on real relief: watertight
+/* test_cut.c - the cut over a tree (cut_select.c, cut_stitch.c) on real relief: watertight
  * for random views and for adversarial hand-made cuts, the error bound on screen, substitution
  * of nodes that are not resident, and a cost that does not grow with the map.
  */

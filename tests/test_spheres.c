@@ -1,4 +1,4 @@
-/* test_spheres.c - the sphere tree (tree_spheres.c, tp_lod_params.sphere_tree): on real relief
+/* test_spheres.c - the sphere tree (cut_spheres.c, tp_lod_params.sphere_tree): on real relief
  * (N42E001, voids kept: incomplete nodes too) and along flights (standing still, slow and fast,
  * jumps, turning, climbing, parameters changed on the way, nodes streamed out and in), the cut
  * selected through the sphere tree is the plain distance-mode traversal's at every frame:

@@ -1,4 +1,4 @@
-/* test_stitch_add.c - crack removal by adding vertices (core/src/stitch_add.c,
+/* test_stitch_add.c - crack removal by adding vertices (core/src/patch_stitch_add.c,
  * tp_patch_triangles_add): for every patch size up to n = 5, every level and every neighbour
  * configuration, the triangles tile the patch's square exactly (no zero-area or flipped
  * triangle, areas summing to the square, every inner edge shared by two triangles in opposite

@@ -2,7 +2,7 @@
  * the view-projection matrix the renderer uploads, and view-frustum culling of patch AABBs
  * (Vanek & Jezek section 3; plane tests with the n- and p-vertex of the box). All in doubles,
  * in world coordinates. */
-#include "internal.h"
+#include "camera_int.h"
 
 #include <assert.h>
 #include <string.h>

@@ -1,6 +1,6 @@
 /* clipmap.c - clip windows over an image pyramid and per-polygon texture levels (tp_core.h,
  * "Clip windows"). */
-#include "tp_core.h"
+#include "tp_clipmap.h"
 
 #include <math.h>
 #include <string.h>

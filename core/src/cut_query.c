@@ -1,7 +1,7 @@
 /*
  * cut_query.c - what the viewer asks of the terrain while nodes stream in: grid <-> world, the
  * full-resolution surface from resident leaves, the cut's vertical scale (its setter is
- * tree_select.c's), ray casts
+ * cut_select.c's), ray casts
  * against the drawn cut and camera collision (see tp_core.h, "queries on the tree and the cut").
  *
  * The ray cast is tp_selection_ray_cast's walk one level down: a 2D DDA (Amanatides & Woo)
@@ -11,7 +11,9 @@
  * vertices slide triangles along the side. A node's triangles stay inside its square, so the
  * first node with a hit holds the nearest one.
  */
-#include "internal.h"
+#include "cut_int.h"
+#include "ray.h"
+#include "surface.h"
 
 #include <assert.h>
 #include <math.h>
@@ -71,11 +73,7 @@ int tp_cut_keep_above(const tp_cut* c, double position[3], double clearance_m)
     double x, y;
     tp_tree_world_to_grid(c->t, position[0], position[1], &x, &y);
     double a = tp_tree_height_at(c->t, x, y), b = tp_cut_drawn_height_at(c, x, y);
-    double ground = (isnan(a) ? b : isnan(b) ? a : (a > b ? a : b)) * c->zscale;
-    if (isnan(ground) || position[2] >= ground + clearance_m)
-        return 0;
-    position[2] = ground + clearance_m;
-    return 1;
+    return tp__keep_above(position, a, b, c->zscale, clearance_m);
 }
 
 /* ---- ray casting ---- */
@@ -133,7 +131,7 @@ typedef struct ray_ctx {
 
 /* Nearest hit with the two triangles of cell (cx, cy) of a node whose vertices are in r->v
  * (side vs), or best. The cell's diagonal runs from (1, 0) to (0, 1), as the strip draws it
- * (tree_stitch.c's cell_triangle). */
+ * (cut_draw.c's cell_triangle). */
 static double cell_hit(const ray_ctx* r, int vs, int cx, int cy, double best)
 {
     static const int tri[2][3][2] = {{{0, 0}, {0, 1}, {1, 0}}, {{1, 0}, {0, 1}, {1, 1}}};

@@ -3,7 +3,7 @@
  * The first and last posts keep their positions, so the georeference changes only by the
  * spacing (see terrain.c). Bilinear interpolation; a new post is nodata if any source post with
  * a non-zero weight is nodata, and filled if any such post is filled. */
-#include "internal.h"
+#include "terrain_int.h"
 
 #include <stdlib.h>
 

@@ -4,7 +4,7 @@
  * shadows at any time between two maps, where a sample that changes changes when the sun's
  * elevation passes its horizon (Blow's 64 illumination maps, interpolated in time).
  */
-#include "internal.h"
+#include "light_int.h"
 
 #include <assert.h>
 #include <math.h>

@@ -4,7 +4,7 @@
  * placed where tp_light_day_at's interpolation puts them, and the intervals in which it is lit
  * kept (at most two) and quantised to a byte each end.
  */
-#include "internal.h"
+#include "light_int.h"
 
 #include <assert.h>
 #include <math.h>
@@ -104,9 +104,8 @@ static void encode(const day_state* d, int kept, double span, uint8_t out[4])
 
 tp_status tp_light_times_build(const float* heights, size_t height_count, int width, int height,
                                double dx_m, double dy_m, const double* times_s,
-                               const double* azimuth_deg, const double* elevation_deg,
-                               int count, uint8_t* out, size_t out_count,
-                               tp_light_times_stats* stats,
+                               const double* azimuth_deg, const double* elevation_deg, int count,
+                               uint8_t* out, size_t out_count, tp_light_times_stats* stats,
                                void (*progress)(void* user, double fraction), void* user,
                                tp_error* err)
 {

@@ -17,7 +17,8 @@
  *     f * d * sqrt(Amax^2 + Bmax^2) / (Zmin * (Zmin - d * |vz|))
  * (infinite when Zmin - d * |vz| <= 0 or the box reaches the near plane: level n).
  */
-#include "internal.h"
+#include "lod_int.h"
+#include "terrain_int.h"
 
 #include <assert.h>
 #include <string.h>

@@ -3,6 +3,8 @@
  * target's top fix the sight line), then every sample against it. The first run of blocking
  * samples is the first obstruction; its highest point above the line is the one reported. */
 #include "internal.h"
+#include "tp_los.h"
+#include "tp_viewshed.h"
 
 #include <string.h>
 
@@ -51,13 +53,10 @@ static tp_status endpoint(tp_los_height_fn height, void* user, double x, double 
     return TP_OK;
 }
 
-tp_status tp_los_compute(const double geotransform[6], double from_x, double from_y, double to_x,
-                         double to_y, const tp_los_options* options, tp_los_height_fn height,
-                         void* user, tp_los_sample* samples, size_t sample_capacity,
-                         tp_los_result* out, tp_error* err)
+/* tp_los_compute's argument checks, in its order: TP_OK, or TP_ERR_INVALID_ARG with a message. */
+static tp_status check_args(const double gt[6], double from_x, double from_y, double to_x,
+                            double to_y, const tp_los_options* o, tp_error* err)
 {
-    assert(geotransform && options && height && out);
-    const double* gt = geotransform;
     for (int i = 0; i < 6; ++i)
         if (!finite_d(gt[i]))
             return tp_error_set(err, TP_ERR_INVALID_ARG,
@@ -72,7 +71,6 @@ tp_status tp_los_compute(const double geotransform[6], double from_x, double fro
         return tp_error_set(err, TP_ERR_INVALID_ARG,
                             "line of sight: grid positions (%g, %g) -> (%g, %g), expected finite",
                             from_x, from_y, to_x, to_y);
-    const tp_los_options* o = options;
     if (!finite_d(o->observer_height_m) || o->observer_height_m < 0.0)
         return tp_error_set(err, TP_ERR_INVALID_ARG,
                             "line of sight: observer height %g m, expected a finite height >= 0",
@@ -95,12 +93,26 @@ tp_status tp_los_compute(const double geotransform[6], double from_x, double fro
         return tp_error_set(err, TP_ERR_INVALID_ARG,
                             "line of sight: step %g posts, expected (0, 1] (0: %g)", o->step_px,
                             TP_LOS_STEP_PX);
+    return TP_OK;
+}
+
+tp_status tp_los_compute(const double geotransform[6], double from_x, double from_y, double to_x,
+                         double to_y, const tp_los_options* options, tp_los_height_fn height,
+                         void* user, tp_los_sample* samples, size_t sample_capacity,
+                         tp_los_result* out, tp_error* err)
+{
+    assert(geotransform && options && height && out);
+    const double* gt = geotransform;
+    const tp_los_options* o = options;
+    tp_status s = check_args(gt, from_x, from_y, to_x, to_y, o, err);
+    if (s != TP_OK)
+        return s;
     const size_t count = tp_los_sample_count(from_x, from_y, to_x, to_y, o);
     assert(!samples || sample_capacity >= count);
     (void)sample_capacity;
 
     double g0, g1;
-    tp_status s = endpoint(height, user, from_x, from_y, "observer", &g0, err);
+    s = endpoint(height, user, from_x, from_y, "observer", &g0, err);
     if (s == TP_OK)
         s = endpoint(height, user, to_x, to_y, "target", &g1, err);
     if (s != TP_OK)

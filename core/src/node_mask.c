@@ -7,6 +7,7 @@
  * of the nodes of scale >= 1 that are incomplete (a leaf's is recomputed from its samples).
  */
 #include "internal.h"
+#include "tp_tree.h"
 
 #include <string.h>
 

@@ -1,14 +1,14 @@
 /* patch_error.c - per-patch error tables: delta_k and the stitching bounds.
  *
  * The lattice computations themselves (delta_k, the stitched triangles' eps) live in
- * node_meta.c, shared with the tree's nodes: a patch is one lattice of (2^n+1)^2 samples, and
+ * lattice_error.c, shared with the tree's nodes: a patch is one lattice of (2^n+1)^2 samples, and
  * measuring at its own samples is exact since it holds every sample of its area.
  *
  * Errors are measured against the decoded grid, in units of err_unit steps, rounded up.
  * err_unit is step/16 unless some patch spans so many steps that its largest possible error
  * (its height range) would not fit 16 bits; then the finest power of two that fits.
  *
- * Vertex adding (stitch_add.c) re-triangulates a grid triangle T with an edge on a side that
+ * Vertex adding (patch_stitch_add.c) re-triangulates a grid triangle T with an edge on a side that
  * takes a finer neighbour's vertices into triangles inside T whose vertices are T's own and
  * the added ones. There the drawn surface is T's plane plus the linear interpolation of d,
  * d = height - plane at each added vertex (0 at T's corners), so its error is at most T's own
@@ -16,7 +16,7 @@
  * triangles with level-kn vertices added (the plane along an edge is the edge's
  * interpolation); tp_patch_error_bound_add takes the max of delta_k and the adding sides' eta.
  */
-#include "internal.h"
+#include "terrain_int.h"
 
 #include <math.h>
 #include <stdlib.h>

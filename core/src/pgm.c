@@ -4,7 +4,7 @@
  * distance r to its farthest neighbour (Eq. 3) picks the level, blended with the parent
  * (Eq. 4 as W_p). The viewer's vertex shader computes the same numbers; the error measure is
  * pgm_error.c. */
-#include "internal.h"
+#include "pgm_int.h"
 
 #include <float.h>
 #include <stdlib.h>

@@ -3,6 +3,7 @@
  * (tp_core.h; Livny, Kogan & El-Sana, seeds/001, section 4). The GPU side is the viewer's
  * app/view/pgm_clip.c. */
 #include "internal.h"
+#include "tp_pgm.h"
 
 int tp_pgm_clip_origin(double centre, int posts, int w)
 {

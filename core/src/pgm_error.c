@@ -7,7 +7,8 @@
  * screen-error measure). Posts in view that no drawn triangle covers are counted apart. The
  * heights come from a source (a whole pyramid, or a store's clipmap in the viewer); the posts
  * are visited band by band of rows, so that memory stays one band of the region measured. */
-#include "internal.h"
+#include "camera_int.h"
+#include "pgm_int.h"
 
 #include <stdlib.h>
 #include <string.h>

@@ -1,10 +1,11 @@
 /* selection.c - one frame: a level per patch, culling and statistics. The exact error of what
- * a selection draws is measured in measure.c, heights of the drawn surface queried in query.c.
+ * a selection draws is measured in selection_measure.c, heights of the drawn surface queried in
+ * selection_query.c.
  *
  * Based on: Vanek & Jezek (WSCG 2004) section 3 for distance LoD and AABB culling; Brodersen
  * (2005) section 3 for the error-driven selection. Formulas are in lod.c.
  */
-#include "internal.h"
+#include "selection_int.h"
 
 #include <assert.h>
 

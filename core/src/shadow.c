@@ -18,7 +18,7 @@
  * the shadow height the sweep carries the distance to the ground that makes it, which gives a
  * shadowed sample's horizon: the tangent of the angle up to that ground (light_day.c).
  */
-#include "internal.h"
+#include "light_int.h"
 
 #include <assert.h>
 #include <math.h>

@@ -6,6 +6,7 @@
  * "one index appended in order to maintain a correct vertex orientation").
  */
 #include "internal.h"
+#include "tp_terrain.h"
 
 #include <assert.h>
 

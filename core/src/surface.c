@@ -1,9 +1,10 @@
 /*
  * surface.c - tp_grid_height_at: the split-cell surface of a plain float grid, the same
- * triangles tp_terrain_height_at uses on a terrain (internal.h's tp__split_height), for code
+ * triangles tp_terrain_height_at uses on a terrain (surface.h's tp__split_height), for code
  * that has heights before a terrain exists (io's render grid measures its warp error with it).
  */
-#include "internal.h"
+#include "surface.h"
+#include "tp_terrain.h"
 
 #include <assert.h>
 

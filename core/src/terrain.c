@@ -7,7 +7,9 @@
  * are the region x >= sw or y >= sh. Filled-void flags cost one bit per sample and only exist
  * when the source has filled samples.
  */
-#include "internal.h"
+#include "step.h"
+#include "surface.h"
+#include "terrain_int.h"
 
 #include <float.h>
 #include <stdlib.h>
@@ -19,30 +21,6 @@ static int patch_n(int patch_size)
         if (patch_size == (1 << n) + 1)
             return n;
     return -1;
-}
-
-/* Does every range (owned by a patch) fit 16 bits (with 0xFFFF reserved) at this step? */
-int tp__step_fits(const tp__range* r, int count, double step)
-{
-    for (int p = 0; p < count; p++) {
-        if (r[p].lo > r[p].hi)
-            continue;
-        double a = floor(r[p].lo / step + 0.5), b = floor(r[p].hi / step + 0.5);
-        if (fabs(a) > 2147483000.0 || fabs(b) > 2147483000.0 || b - a > 65534.0)
-            return 0;
-    }
-    return 1;
-}
-
-double tp__choose_step(const tp__range* r, int count, int integral)
-{
-    /* Integer data: 1 m is exact. Otherwise the finest power of two down to 2^-10 m. */
-    for (int e = integral ? 0 : -10; e <= 60; e++) {
-        double step = ldexp(1.0, e);
-        if (tp__step_fits(r, count, step))
-            return step;
-    }
-    return 0;
 }
 
 static void fill_info(tp_terrain* t, int src_w, int src_h, tp_fit fit)
@@ -117,9 +95,11 @@ static void fit_error(tp_terrain* t, const float* src, int w, int h)
     t->info.fit_rms_error_m = count ? sqrt(sum / count) : 0;
 }
 
-tp_status tp_terrain_create(const tp_terrain_desc* desc, tp_terrain** out, tp_error* err)
+/* The checks of tp_terrain_create, in its order: TP_OK with the finest level, the fit and the
+ * geotransform (all zeros: 1 m north-up); else the failure, nothing allocated. */
+static tp_status check_desc(const tp_terrain_desc* desc, int* n_out, tp_fit* fit_out, double gt[6],
+                            tp_error* err)
 {
-    assert(desc && out);
     int w = desc->width, h = desc->height;
     if (w < 1 || h < 1 || w > (1 << 24) || h > (1 << 24) || (double)w * h > 4e9)
         return tp__fail(err, TP_ERR_INVALID_ARG, "terrain: expected a grid of 1x1 to 2^24 per "
@@ -127,7 +107,6 @@ tp_status tp_terrain_create(const tp_terrain_desc* desc, tp_terrain** out, tp_er
     if (!desc->allocator.alloc != !desc->allocator.free)
         return tp__fail(err, TP_ERR_INVALID_ARG,
                         "terrain: allocator: expected both alloc and free, or neither");
-    const tp_allocator* a = &desc->allocator;
     if (!desc->heights || desc->height_count != (size_t)w * (size_t)h)
         return tp__fail(err, TP_ERR_INVALID_ARG, "terrain: expected %zu heights for %dx%d, got %zu",
                         (size_t)w * h, w, h, desc->heights ? desc->height_count : 0);
@@ -143,8 +122,7 @@ tp_status tp_terrain_create(const tp_terrain_desc* desc, tp_terrain** out, tp_er
     tp_fit fit = desc->fit ? desc->fit : TP_FIT_PAD;
     if (fit != TP_FIT_PAD && fit != TP_FIT_RESAMPLE)
         return tp__fail(err, TP_ERR_INVALID_ARG, "terrain: unknown fit mode %d", (int)fit);
-    double gt[6];
-    memcpy(gt, desc->geotransform, sizeof gt);
+    memcpy(gt, desc->geotransform, 6 * sizeof *gt);
     if (gt[1] == 0 && gt[5] == 0 && gt[2] == 0 && gt[4] == 0) {
         gt[1] = 1;
         gt[5] = -1;
@@ -163,6 +141,146 @@ tp_status tp_terrain_create(const tp_terrain_desc* desc, tp_terrain** out, tp_er
         return tp__fail(err, TP_ERR_INVALID_ARG,
                         "terrain: expected a height step > 0 (or 0 for automatic), got %g",
                         step_req);
+    *n_out = n;
+    *fit_out = fit;
+    return TP_OK;
+}
+
+/* TP_FIT_RESAMPLE: the grid resampled to the nearest multiple of patches (*pc, *pr, patch span
+ * ps) into *out and *out_filled (the caller frees them), and gt rescaled so that the first and
+ * last post centres stay put. */
+static tp_status fit_resample(const tp_terrain_desc* desc, int ps, int* pc, int* pr, double gt[6],
+                              float** out, uint8_t** out_filled, tp_error* err)
+{
+    int w = desc->width, h = desc->height;
+    *pc = (int)floor((double)(w - 1) / ps + 0.5);
+    *pr = (int)floor((double)(h - 1) / ps + 0.5);
+    *pc = *pc < 1 ? 1 : *pc;
+    *pr = *pr < 1 ? 1 : *pr;
+    tp_status s = tp__fit_resample(&desc->allocator, desc->heights, desc->filled, w, h,
+                                   *pc * ps + 1, *pr * ps + 1, out, out_filled, err);
+    if (s != TP_OK)
+        return s;
+    /* Same first and last post centres, new spacing. */
+    double nsx = gt[1] * (w - 1) / (*pc * ps), nsy = gt[5] * (h - 1) / (*pr * ps);
+    double cx = gt[0] + 0.5 * gt[1], cy = gt[3] + 0.5 * gt[5];
+    gt[1] = nsx;
+    gt[5] = nsy;
+    gt[0] = cx - 0.5 * nsx;
+    gt[3] = cy - 0.5 * nsy;
+    return TP_OK;
+}
+
+/* Quantises the stored region of src into t: the ranges each patch owns (ranges: scratch of
+ * patch_count), the step (step_req, or automatic), the patches' offsets, the stored heights
+ * and filled flags, the quantisation error. w, h: the source's size, for the messages. */
+static tp_status quantise(tp_terrain* t, const float* src, const uint8_t* src_filled,
+                          double step_req, tp__range* ranges, int w, int h, tp_error* err)
+{
+    const tp_allocator* a = &t->alloc;
+    int n = t->n, pc = t->info.patch_cols, pr = t->info.patch_rows, count = pc * pr;
+    size_t stored = (size_t)t->sw * (size_t)t->sh;
+    /* Owned ranges per patch, and whether every valid height is an integer. */
+    int integral = 1, any_filled = 0;
+    size_t valid = 0;
+    for (int p = 0; p < count; p++)
+        ranges[p] = (tp__range){INFINITY, -INFINITY};
+    for (int y = 0; y < t->sh; y++)
+        for (int x = 0; x < t->sw; x++) {
+            float s = src[(size_t)y * t->sw + x];
+            if (!isfinite(s))
+                continue;
+            valid++;
+            tp__range* r = &ranges[tp__owner(y, n, pr) * pc + tp__owner(x, n, pc)];
+            r->lo = s < r->lo ? s : r->lo;
+            r->hi = s > r->hi ? s : r->hi;
+            if (s != floorf(s))
+                integral = 0;
+            if (src_filled && src_filled[(size_t)y * t->sw + x])
+                any_filled = 1;
+        }
+    if (valid == 0)
+        return tp__fail(err, TP_ERR_BAD_DATA, "terrain: no valid height among %dx%d samples", w, h);
+    if (step_req > 0) {
+        if (!tp__step_fits(ranges, count, step_req))
+            return tp__fail(err, TP_ERR_INVALID_ARG,
+                            "terrain: height step %g m is too fine: a patch spans more than "
+                            "65534 steps",
+                            step_req);
+        t->step = step_req;
+    } else {
+        t->step = tp__choose_step(ranges, count, integral);
+        if (t->step == 0)
+            return tp__fail(err, TP_ERR_BAD_DATA, "terrain: heights out of range (%g .. %g)",
+                            ranges[0].lo, ranges[0].hi);
+    }
+    for (int p = 0; p < count; p++)
+        t->patches[p].offset =
+            ranges[p].lo <= ranges[p].hi ? (int32_t)floor(ranges[p].lo / t->step + 0.5) : 0;
+
+    if (any_filled) {
+        t->filled = tp__calloc(a, (stored + 7) / 8, 1);
+        if (!t->filled)
+            return tp__fail(err, TP_ERR_OUT_OF_MEMORY, "terrain: out of memory for %dx%d samples",
+                            w, h);
+    }
+    double qerr = 0;
+    for (int y = 0; y < t->sh; y++)
+        for (int x = 0; x < t->sw; x++) {
+            size_t i = (size_t)y * t->sw + x;
+            float s = src[i];
+            if (!isfinite(s)) {
+                t->q[i] = TP__NO_HEIGHT;
+                continue;
+            }
+            int p = tp__owner(y, n, pr) * pc + tp__owner(x, n, pc);
+            double qd = floor(s / t->step + 0.5);
+            t->q[i] = (uint16_t)((int64_t)qd - t->patches[p].offset);
+            double e = fabs(qd * t->step - s);
+            qerr = e > qerr ? e : qerr;
+            if (t->filled && src_filled[i])
+                t->filled[i >> 3] |= (uint8_t)(1u << (i & 7));
+        }
+    t->quant_err = qerr;
+    return TP_OK;
+}
+
+/* Per patch: range over all its drawn samples (shared borders included), completeness. */
+static void patch_ranges(tp_terrain* t)
+{
+    int pc = t->info.patch_cols, ps = t->ps, count = pc * t->info.patch_rows;
+    for (int p = 0; p < count; p++) {
+        tp__patch* P = &t->patches[p];
+        int x0 = (p % pc) * ps, y0 = (p / pc) * ps;
+        int32_t lo = INT32_MAX, hi = INT32_MIN;
+        P->complete = 1;
+        for (int y = y0; y <= y0 + ps; y++)
+            for (int x = x0; x <= x0 + ps; x++) {
+                int32_t q = tp__q(t, x, y);
+                if (q == INT32_MIN) {
+                    P->complete = 0;
+                    continue;
+                }
+                lo = q < lo ? q : lo;
+                hi = q > hi ? q : hi;
+            }
+        P->has_drawn = lo <= hi;
+        P->qmin = P->has_drawn ? lo : 0;
+        P->qmax = P->has_drawn ? hi : 0;
+    }
+}
+
+tp_status tp_terrain_create(const tp_terrain_desc* desc, tp_terrain** out, tp_error* err)
+{
+    assert(desc && out);
+    int n = 0;
+    tp_fit fit = TP_FIT_PAD;
+    double gt[6];
+    tp_status status = check_desc(desc, &n, &fit, gt, err);
+    if (status != TP_OK)
+        return status;
+    int w = desc->width, h = desc->height;
+    const tp_allocator* a = &desc->allocator;
 
     int ps = 1 << n;
     int pc = w > 1 ? (w - 2) / ps + 1 : 1, pr = h > 1 ? (h - 2) / ps + 1 : 1; /* ceil((w-1)/ps) */
@@ -171,26 +289,13 @@ tp_status tp_terrain_create(const tp_terrain_desc* desc, tp_terrain** out, tp_er
     float* resampled = NULL;
     uint8_t* resampled_filled = NULL;
     if (fit == TP_FIT_RESAMPLE) {
-        pc = (int)floor((double)(w - 1) / ps + 0.5);
-        pr = (int)floor((double)(h - 1) / ps + 0.5);
-        pc = pc < 1 ? 1 : pc;
-        pr = pr < 1 ? 1 : pr;
-        tp_status s = tp__fit_resample(a, desc->heights, desc->filled, w, h, pc * ps + 1,
-                                       pr * ps + 1, &resampled, &resampled_filled, err);
-        if (s != TP_OK)
-            return s;
+        status = fit_resample(desc, ps, &pc, &pr, gt, &resampled, &resampled_filled, err);
+        if (status != TP_OK)
+            return status;
         src = resampled;
         src_filled = resampled_filled;
-        /* Same first and last post centres, new spacing. */
-        double nsx = gt[1] * (w - 1) / (pc * ps), nsy = gt[5] * (h - 1) / (pr * ps);
-        double cx = gt[0] + 0.5 * gt[1], cy = gt[3] + 0.5 * gt[5];
-        gt[1] = nsx;
-        gt[5] = nsy;
-        gt[0] = cx - 0.5 * nsx;
-        gt[3] = cy - 0.5 * nsy;
     }
 
-    tp_status status = TP_OK;
     tp_terrain* t = tp__calloc(a, 1, sizeof *t);
     tp__range* ranges = NULL;
     if (!t)
@@ -215,95 +320,10 @@ tp_status tp_terrain_create(const tp_terrain_desc* desc, tp_terrain** out, tp_er
     if (!t->q || !t->patches || !t->err_tab || !ranges)
         goto oom;
 
-    /* Owned ranges per patch, and whether every valid height is an integer. */
-    int integral = 1, any_filled = 0;
-    size_t valid = 0;
-    for (int p = 0; p < count; p++)
-        ranges[p] = (tp__range){INFINITY, -INFINITY};
-    for (int y = 0; y < t->sh; y++)
-        for (int x = 0; x < t->sw; x++) {
-            float s = src[(size_t)y * t->sw + x];
-            if (!isfinite(s))
-                continue;
-            valid++;
-            tp__range* r = &ranges[tp__owner(y, n, pr) * pc + tp__owner(x, n, pc)];
-            r->lo = s < r->lo ? s : r->lo;
-            r->hi = s > r->hi ? s : r->hi;
-            if (s != floorf(s))
-                integral = 0;
-            if (src_filled && src_filled[(size_t)y * t->sw + x])
-                any_filled = 1;
-        }
-    if (valid == 0) {
-        status = tp__fail(err, TP_ERR_BAD_DATA, "terrain: no valid height among %dx%d samples",
-                          w, h);
+    status = quantise(t, src, src_filled, desc->height_step_m, ranges, w, h, err);
+    if (status != TP_OK)
         goto fail;
-    }
-    if (step_req > 0) {
-        if (!tp__step_fits(ranges, count, step_req)) {
-            status = tp__fail(err, TP_ERR_INVALID_ARG,
-                              "terrain: height step %g m is too fine: a patch spans more than "
-                              "65534 steps",
-                              step_req);
-            goto fail;
-        }
-        t->step = step_req;
-    } else {
-        t->step = tp__choose_step(ranges, count, integral);
-        if (t->step == 0) {
-            status = tp__fail(err, TP_ERR_BAD_DATA, "terrain: heights out of range (%g .. %g)",
-                              ranges[0].lo, ranges[0].hi);
-            goto fail;
-        }
-    }
-    for (int p = 0; p < count; p++)
-        t->patches[p].offset =
-            ranges[p].lo <= ranges[p].hi ? (int32_t)floor(ranges[p].lo / t->step + 0.5) : 0;
-
-    if (any_filled) {
-        t->filled = tp__calloc(a, (stored + 7) / 8, 1);
-        if (!t->filled)
-            goto oom;
-    }
-    double qerr = 0;
-    for (int y = 0; y < t->sh; y++)
-        for (int x = 0; x < t->sw; x++) {
-            size_t i = (size_t)y * t->sw + x;
-            float s = src[i];
-            if (!isfinite(s)) {
-                t->q[i] = TP__NO_HEIGHT;
-                continue;
-            }
-            int p = tp__owner(y, n, pr) * pc + tp__owner(x, n, pc);
-            double qd = floor(s / t->step + 0.5);
-            t->q[i] = (uint16_t)((int64_t)qd - t->patches[p].offset);
-            double e = fabs(qd * t->step - s);
-            qerr = e > qerr ? e : qerr;
-            if (t->filled && src_filled[i])
-                t->filled[i >> 3] |= (uint8_t)(1u << (i & 7));
-        }
-    t->quant_err = qerr;
-
-    /* Per patch: range over all its drawn samples (shared borders included), completeness. */
-    for (int p = 0; p < count; p++) {
-        tp__patch* P = &t->patches[p];
-        int x0 = (p % pc) * ps, y0 = (p / pc) * ps;
-        int32_t lo = INT32_MAX, hi = INT32_MIN;
-        P->complete = 1;
-        for (int y = y0; y <= y0 + ps; y++)
-            for (int x = x0; x <= x0 + ps; x++) {
-                int32_t q = tp__q(t, x, y);
-                if (q == INT32_MIN) {
-                    P->complete = 0;
-                    continue;
-                }
-                lo = q < lo ? q : lo;
-                hi = q > hi ? q : hi;
-            }
-        P->has_drawn = lo <= hi;
-        P->qmin = P->has_drawn ? lo : 0;
-        P->qmax = P->has_drawn ? hi : 0;
-    }
+    patch_ranges(t);
     status = tp__patch_errors_compute(t, err);
     if (status != TP_OK)
         goto fail;

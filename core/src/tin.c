@@ -6,77 +6,22 @@
  * split triangle's slot, a flip the two slots it replaces, so every slot is live at the end.
  * Internally triangles have orient(a, b, c) < 0 in (column, row), as delatin's.
  *
- * After each insertion the triangles it created (pending) are rasterised once the flips have
- * settled: each gets its worst valid sample (the candidate) and its error; those above the bound
- * go into a max-heap by error. The build ends when the heap is empty.
+ * After each insertion the triangles it created (pending) are rasterised (tin_raster.c) once the
+ * flips have settled: each gets its worst valid sample (the candidate) and its error; those
+ * above the bound go into a max-heap by error. The build ends when the heap is empty.
  *
  * Forced samples (classes, tp__tin_build) are inserted before any error counts: a triangle's
  * first forced sample in scan order is found through per-row lists of them, and while some are
  * left, a triangle without one is deferred rather than scanned (it would mostly be split again
- * before its error counts; a tiled build forces whole tile borders). */
-#include "internal.h"
+ * before its error counts; a tiled build forces whole tile borders). TP_TIN_CUT_VOIDS' classes and
+ * cut are tin_voids.c's. */
+#include "tin_int.h"
 
 #include <stdlib.h>
 #include <string.h>
 
-typedef struct tin_tri {
-    uint32_t v[3];  /* vertices; half-edge 3t+i runs from v[i] to v[(i+1)%3] */
-    int32_t he[3];  /* twin of half-edge 3t+i, -1 on the outline */
-    uint32_t cand;  /* worst valid sample's index */
-    float err;      /* its error (rounded up) */
-    uint32_t ver;   /* bumped on every rewrite: heap entries of older versions are stale */
-    uint32_t pend;  /* 1 while in the pending list */
-} tin_tri;
-
-typedef struct heap_ent {
-    float err;
-    uint32_t t, ver;
-} heap_ent;
-
-/* Sample classes (tin_build.cls): a forced sample is inserted before any error counts (its
- * error is FORCED_ERR while it is not a vertex); a skipped one is never measured nor inserted
- * (voids are skipped without a class). */
-enum { TIN_FREE = 0, TIN_FORCE = 1, TIN_SKIP = 2 };
-#define FORCED_ERR 1e30
-
 #define TV(b, e) ((b)->T[(e) / 3].v[(e) % 3])
 #define HE(b, e) ((b)->T[(e) / 3].he[(e) % 3])
-
-typedef struct tin_build {
-    const float* h;
-    const uint8_t* cls; /* per sample TIN_FREE / TIN_FORCE / TIN_SKIP; NULL: all free */
-    uint32_t* frow;     /* NULL, or hgt + 1 offsets into fx: the forced samples of each row */
-    int32_t* fx;        /* their columns, increasing */
-    size_t forced_left; /* forced samples not yet vertices: while any, a triangle without one is
-                           deferred (deferred, nd) instead of scanned, as it will likely be
-                           split again before its error counts */
-    heap_ent* deferred;
-    size_t nd, cap_d;
-    int w, hgt;
-    float bound;      /* max_error_m as float: errors are compared as floats */
-    double bound_d;
-    /* vertices */
-    int32_t* vx;      /* 2 per vertex */
-    float* vz;
-    size_t nv, cap_v;
-    /* triangles, one cache-friendly record each */
-    tin_tri* T;
-    size_t nt, cap_t;
-    /* heap of triangles above the bound, max error first, keys kept in the entries; a rewritten
-     * triangle's entry is left in place and skipped when it surfaces (lazy deletion: no sift for
-     * the 4 to 8 triangles each insertion rewrites) */
-    heap_ent* heap;
-    size_t nh, cap_h;
-    /* triangles to rasterise */
-    uint32_t* pending;
-    size_t np;
-    /* half-edges to legalise (explicit stack: the recursion of delatin's _legalize) */
-    int32_t* stack;
-    size_t ns, cap_s;
-    int exact64; /* coordinates small enough for the incircle test in int64 */
-    int oom;
-    size_t visited;
-} tin_build;
 
 /* ---- growth ---- */
 
@@ -115,12 +60,6 @@ static int reserve_triangles(tin_build* b, size_t need)
 }
 
 /* ---- exact predicates on integer coordinates ---- */
-
-static inline int64_t orient(const int32_t* a, const int32_t* b, const int32_t* c)
-{
-    return ((int64_t)b[0] - a[0]) * ((int64_t)c[1] - a[1]) -
-           ((int64_t)b[1] - a[1]) * ((int64_t)c[0] - a[0]);
-}
 
 /* > 0 when d lies strictly inside the circumcircle of (a, b, c) taken with orient > 0; the
  * sign flips for orient < 0. Exact in int64 for coordinates below 2^14 (each term is below
@@ -208,145 +147,6 @@ static int heap_live_top(tin_build* b)
     return b->nh > 0;
 }
 
-/* ---- rasterising one triangle: its worst valid sample ---- */
-
-static inline int64_t floor_div(int64_t a, int64_t b) /* b > 0 */
-{
-    int64_t q = a / b;
-    return (a % b != 0 && a < 0) ? q - 1 : q;
-}
-
-/* The interpolation at a triangle's own corner may round away from the corner's height: the
- * corners are never candidates (their error is 0 by construction). */
-static inline int is_corner(const int32_t* const p[3], int32_t x, int32_t y)
-{
-    return (p[0][0] == x && p[0][1] == y) || (p[1][0] == x && p[1][1] == y) ||
-           (p[2][0] == x && p[2][1] == y);
-}
-
-/* The columns xl..xr of row y inside triangle p (orient < 0), clipped to the grid's w columns;
- * 0 when none. Inside: every edge function (b - a) x (s - a) <= 0; each is A x + B, solved for
- * the row's span exactly. */
-static inline int row_span(const int32_t* const p[3], int32_t y, int w, int64_t* xl_out,
-                           int64_t* xr_out)
-{
-    int64_t xl = INT64_MIN, xr = INT64_MAX;
-    for (int i = 0; i < 3; ++i) {
-        const int32_t* a = p[i];
-        const int32_t* c = p[(i + 1) % 3];
-        /* E(x) = (cx-ax)(y-ay) - (cy-ay)(x-ax) <= 0
-         *   <=>  (cy-ay) x >= (cx-ax)(y-ay) + (cy-ay) ax */
-        int64_t A = (int64_t)c[1] - a[1];
-        int64_t B = ((int64_t)c[0] - a[0]) * ((int64_t)y - a[1]) + A * a[0];
-        if (A > 0) {
-            int64_t lo = -floor_div(-B, A); /* ceil(B / A) */
-            xl = lo > xl ? lo : xl;
-        } else if (A < 0) {
-            int64_t hi = floor_div(-B, -A); /* x <= B / A, A < 0: floor(-B / -A) */
-            xr = hi < xr ? hi : xr;
-        } else if (B > 0) {
-            xl = 1, xr = 0; /* 0 >= B fails: empty row */
-        }
-    }
-    *xl_out = xl < 0 ? 0 : xl;
-    *xr_out = xr > w - 1 ? w - 1 : xr;
-    return *xl_out <= *xr_out;
-}
-
-/* The triangle's candidate and error. While forced samples are left (b->forced_left), only its
- * forced samples are looked at: returns 0, writing nothing, when it has none. */
-static int rasterise(tin_build* b, uint32_t t)
-{
-    const uint32_t* v = b->T[t].v;
-    const int32_t* p[3] = {b->vx + 2 * v[0], b->vx + 2 * v[1], b->vx + 2 * v[2]};
-    const double za = b->vz[v[0]], zb = b->vz[v[1]], zc = b->vz[v[2]];
-    const int64_t det = orient(p[0], p[1], p[2]); /* < 0 */
-    assert(det < 0);
-    const double bx = p[1][0] - p[0][0], by = p[1][1] - p[0][1];
-    const double cx = p[2][0] - p[0][0], cy = p[2][1] - p[0][1];
-    const double inv = 1.0 / (double)det;
-    const double dzdx = ((zb - za) * cy - (zc - za) * by) * inv;
-    const double dzdy = ((zc - za) * bx - (zb - za) * cx) * inv;
-    int32_t y0 = p[0][1], y1 = p[0][1];
-    for (int i = 1; i < 3; ++i) {
-        y0 = p[i][1] < y0 ? p[i][1] : y0;
-        y1 = p[i][1] > y1 ? p[i][1] : y1;
-    }
-    double best = -1.0;
-    uint32_t best_i = 0;
-    size_t visited = 0;
-    /* forced samples (rows of b->fx): the first in scan order is the candidate (nothing beats
-     * FORCED_ERR and a full scan keeps the first), found without scanning the free ones */
-    for (int32_t y = y0; b->forced_left > 0 && y <= y1; ++y) {
-        int64_t xl, xr;
-        if (!row_span(p, y, b->w, &xl, &xr))
-            continue;
-        uint32_t lo = b->frow[y], hi = b->frow[y + 1];
-        while (lo < hi) { /* first forced column >= xl */
-            uint32_t mid = lo + (hi - lo) / 2;
-            if (b->fx[mid] < xl)
-                lo = mid + 1;
-            else
-                hi = mid;
-        }
-        for (; lo < b->frow[y + 1] && b->fx[lo] <= xr; ++lo) {
-            int32_t x = b->fx[lo];
-            size_t i = (size_t)y * b->w + (size_t)x;
-            if (b->h[i] == b->h[i] && !is_corner(p, x, y)) {
-                best = FORCED_ERR;
-                best_i = (uint32_t)i;
-                goto scanned;
-            }
-        }
-    }
-    if (b->forced_left > 0)
-        return 0;
-    for (int32_t y = y0; y <= y1; ++y) {
-        int64_t xl, xr;
-        if (!row_span(p, y, b->w, &xl, &xr))
-            continue;
-        const float* row = b->h + (size_t)y * b->w;
-        const double zrow = za + dzdy * (y - p[0][1]);
-        visited += (size_t)(xr - xl + 1);
-        if (b->cls) { /* forced and skipped samples */
-            const uint8_t* crow = b->cls + (size_t)y * b->w;
-            for (int64_t x = xl; x <= xr; ++x) {
-                float s = row[x];
-                if (s != s || crow[x] == TIN_SKIP)
-                    continue;
-                double d = crow[x] == TIN_FORCE
-                               ? FORCED_ERR
-                               : fabs((double)s - (zrow + dzdx * (double)(x - p[0][0])));
-                if (d > best && !is_corner(p, (int32_t)x, y)) {
-                    best = d;
-                    best_i = (uint32_t)((size_t)y * b->w + (size_t)x);
-                }
-            }
-            continue;
-        }
-        for (int64_t x = xl; x <= xr; ++x) {
-            float s = row[x];
-            if (s != s)
-                continue;
-            double d = fabs((double)s - (zrow + dzdx * (double)(x - p[0][0])));
-            if (d > best && !is_corner(p, (int32_t)x, y)) {
-                best = d;
-                best_i = (uint32_t)((size_t)y * b->w + (size_t)x);
-            }
-        }
-    }
-scanned:
-    b->visited += visited;
-    /* stored as a float rounded up, so a float comparison with the bound (rounded down) never
-     * lets a double error above it through */
-    float f = best < 0 ? 0.0f : (float)best;
-    if ((double)f < best)
-        f = nextafterf(f, INFINITY);
-    b->T[t].err = f;
-    b->T[t].cand = best_i;
-    return 1;
-}
-
 /* ---- triangulation ---- */
 
 static uint32_t add_vertex(tin_build* b, int32_t x, int32_t y, float z)
@@ -424,7 +224,7 @@ static void legalise(tin_build* b)
         if (!(incircle(b, c0, cr, cl, c1) < 0))
             continue;
         /* the new pair must keep orient < 0 (always, when the test above is exact) */
-        if (!(orient(c0, c1, cl) < 0 && orient(c1, c0, cr) < 0))
+        if (!(tp__tin_orient(c0, c1, cl) < 0 && tp__tin_orient(c1, c0, cr) < 0))
             continue;
         int32_t hal = HE(b, al), har = HE(b, ar), hbl = HE(b, bl), hbr = HE(b, br);
         int32_t t0 = add_triangle(b, p0, p1, pl, -1, hbl, hal, a0);
@@ -481,7 +281,7 @@ static void flush(tin_build* b)
     for (size_t i = 0; i < b->np; ++i) {
         uint32_t t = b->pending[i];
         b->T[t].pend = 0;
-        if (!rasterise(b, t)) { /* no forced sample, some left elsewhere: later */
+        if (!tp__tin_rasterise(b, t)) { /* no forced sample, some left elsewhere: later */
             if (!grow((void**)&b->deferred, &b->cap_d, b->nd + 1, sizeof *b->deferred)) {
                 b->oom = 1;
                 continue;
@@ -503,7 +303,7 @@ static void flush_deferred(tin_build* b)
         uint32_t t = b->deferred[i].t;
         if (b->deferred[i].ver != b->T[t].ver)
             continue; /* rewritten: scanned then, or deferred again */
-        rasterise(b, t);
+        tp__tin_rasterise(b, t);
         if (b->T[t].err > b->bound && !heap_push(b, t))
             b->oom = 1;
     }
@@ -531,11 +331,11 @@ static void step(tin_build* b)
     uint32_t v0 = TV(b, e0), v1 = TV(b, e1), v2 = TV(b, e2);
     const int32_t *a = b->vx + 2 * v0, *bb = b->vx + 2 * v1, *c = b->vx + 2 * v2,
                   *p = b->vx + 2 * pn;
-    if (orient(a, bb, p) == 0)
+    if (tp__tin_orient(a, bb, p) == 0)
         split_edge(b, pn, e0);
-    else if (orient(bb, c, p) == 0)
+    else if (tp__tin_orient(bb, c, p) == 0)
         split_edge(b, pn, e1);
-    else if (orient(c, a, p) == 0)
+    else if (tp__tin_orient(c, a, p) == 0)
         split_edge(b, pn, e2);
     else {
         int32_t h0 = HE(b, e0), h1 = HE(b, e1), h2 = HE(b, e2);
@@ -622,78 +422,6 @@ float tp__tin_bound(double e)
     return (double)b > e ? nextafterf(b, 0.0f) : b;
 }
 
-/* Whether cell (cx, cy) (corners (cx, cy) .. (cx + 1, cy + 1)) has four valid corners; cells
- * outside the grid count as valid (the outline is no void's edge). */
-static int cell_valid(const float* h, int w, int hg, int cx, int cy)
-{
-    if (cx < 0 || cy < 0 || cx >= w - 1 || cy >= hg - 1)
-        return 1;
-    const float* r0 = h + (size_t)cy * w + cx;
-    const float* r1 = r0 + w;
-    return r0[0] == r0[0] && r0[1] == r0[1] && r1[0] == r1[0] && r1[1] == r1[1];
-}
-
-int tp__tin_void_classes(const float* h, int w, int hg, uint8_t* cls)
-{
-    int any = 0;
-    for (int cy = 0; cy < hg - 1; ++cy)
-        for (int cx = 0; cx < w - 1; ++cx) {
-            if (!cell_valid(h, w, hg, cx, cy))
-                continue;
-            int boundary = 0;
-            for (int dy = -1; dy <= 1 && !boundary; ++dy)
-                for (int dx = -1; dx <= 1 && !boundary; ++dx)
-                    boundary = !cell_valid(h, w, hg, cx + dx, cy + dy);
-            if (!boundary)
-                continue;
-            any = 1;
-            uint8_t* c0 = cls + (size_t)cy * w + cx;
-            c0[0] = c0[1] = c0[w] = c0[w + 1] = TIN_FORCE;
-        }
-    return any;
-}
-
-/* Drops the triangles over invalid cells (cut_voids) and the vertices no triangle uses. With
- * every corner of a valid cell next to an invalid one a vertex, those cells are triangulated on
- * their own (a unit square's circumcircle holds no other sample), so no triangle crosses from
- * invalid cells to valid ones: its centroid's cell says which side it is on. */
-static void cut_voids(tin_build* b, uint32_t* remap)
-{
-    size_t kept = 0;
-    for (size_t t = 0; t < b->nt; ++t) {
-        const uint32_t* v = b->T[t].v;
-        int64_t sx = (int64_t)b->vx[2 * v[0]] + b->vx[2 * v[1]] + b->vx[2 * v[2]];
-        int64_t sy = (int64_t)b->vx[2 * v[0] + 1] + b->vx[2 * v[1] + 1] + b->vx[2 * v[2] + 1];
-        int cx = (int)floor_div(sx, 3), cy = (int)floor_div(sy, 3);
-        cx = cx > b->w - 2 ? b->w - 2 : cx;
-        cy = cy > b->hgt - 2 ? b->hgt - 2 : cy;
-        if (!cell_valid(b->h, b->w, b->hgt, cx, cy))
-            continue;
-        b->T[kept++] = b->T[t];
-    }
-    b->nt = kept;
-    /* vertices kept in their order: new index <= old, so the forward copy is safe */
-    for (size_t i = 0; i < b->nv; ++i)
-        remap[i] = UINT32_MAX;
-    for (size_t t = 0; t < b->nt; ++t)
-        for (int k = 0; k < 3; ++k)
-            remap[b->T[t].v[k]] = 0;
-    size_t nv = 0;
-    for (size_t i = 0; i < b->nv; ++i) {
-        if (remap[i] == UINT32_MAX)
-            continue;
-        remap[i] = (uint32_t)nv;
-        b->vx[2 * nv] = b->vx[2 * i];
-        b->vx[2 * nv + 1] = b->vx[2 * i + 1];
-        b->vz[nv] = b->vz[i];
-        ++nv;
-    }
-    for (size_t t = 0; t < b->nt; ++t)
-        for (int k = 0; k < 3; ++k)
-            b->T[t].v[k] = remap[b->T[t].v[k]];
-    b->nv = nv;
-}
-
 tp_status tp__tin_build(const float* heights, int width, int height, double max_error_m,
                         const uint8_t* cls, int cut, tp_tin** out, tp_error* err)
 {
@@ -757,7 +485,7 @@ tp_status tp__tin_build(const float* heights, int width, int height, double max_
         uint32_t* remap = malloc(b.nv * sizeof *remap);
         if (!remap)
             goto oom;
-        cut_voids(&b, remap);
+        tp__tin_cut_voids(&b, remap);
         free(remap);
     }
 

@@ -4,6 +4,7 @@
  * compared with the barycentric interpolation of the vertex heights, weights from exact int64
  * orientations. Shares nothing with tin.c, whose output it checks. */
 #include "internal.h"
+#include "tp_tin.h"
 
 #include <math.h>
 #include <stdlib.h>

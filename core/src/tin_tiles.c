@@ -27,7 +27,7 @@
  *    are keyed by their global sample (one array per border line), the others are the tile's own.
  *
  * Threads take tile indices from an atomic counter; each writes only its tile's result. */
-#include "internal.h"
+#include "tin_int.h"
 
 #include <limits.h>
 #include <stdatomic.h>
@@ -38,7 +38,7 @@
 #include <unistd.h>
 #endif
 
-/* The classes of tp__tin_build (internal.h): 0 free, 1 forced, 2 skipped. */
+/* The classes of tp__tin_build (tin_int.h): 0 free, 1 forced, 2 skipped. */
 enum { CLS_FREE = 0, CLS_FORCE = 1, CLS_SKIP = 2 };
 
 /* 0 threads: the online CPUs, at most this many */

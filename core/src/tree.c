@@ -4,7 +4,7 @@
  * Ids run from the top scale down, row-major within a scale, so the coarsest nodes come first
  * and a scale's nodes are one contiguous range.
  */
-#include "internal.h"
+#include "tree_int.h"
 
 #include <string.h>
 

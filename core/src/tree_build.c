@@ -8,7 +8,8 @@
  * are complete: so within one band, leaves are computed first, then each coarser scale, and
  * every node comes after its 4 children. Nothing depends on the number of rows.
  */
-#include "internal.h"
+#include "step.h"
+#include "tree_int.h"
 
 #include <stdio.h>
 #include <string.h>

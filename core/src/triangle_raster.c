@@ -2,7 +2,7 @@
  * covered by a triangle (closed), with the linearly interpolated height there. Used to measure
  * errors exactly: grid positions are integers, so the inside test uses exact integer edge
  * functions and only the interpolation is floating. */
-#include "internal.h"
+#include "lattice.h"
 
 static int64_t edge(const int32_t a[2], const int32_t b[2], int64_t x, int64_t y)
 {

@@ -20,6 +20,7 @@
  * behaviour and where this differs from GDAL (nodata, the eight neighbours).
  */
 #include "internal.h"
+#include "tp_viewshed.h"
 
 #include <float.h>
 #include <stdlib.h>

@@ -1,12 +1,12 @@
-/* measure.c - the exact error of what a selection draws: its stitched triangles rasterised over
- * the sample lattice and compared, sample by sample, with the decoded grid (vertically, or as
- * projected on screen).
+/* selection_measure.c - the exact error of what a selection draws: its stitched triangles
+ * rasterised over the sample lattice and compared, sample by sample, with the decoded grid
+ * (vertically, or as projected on screen).
  *
  * These functions take a const selection and write nothing in it: their scratch (vertex and
  * triangle buffers, the visited-sample bitmap) belongs to each call, so that several threads
  * may measure one selection at once.
  */
-#include "internal.h"
+#include "selection_int.h"
 
 #include <string.h>
 

@@ -1,7 +1,8 @@
-/* query.c - heights of the surface a selection actually draws (stitching included), and the
- * camera collision built on them. Read-only: safe to call from several threads at once.
+/* selection_query.c - heights of the surface a selection actually draws (stitching included),
+ * and the camera collision built on them. Read-only: safe to call from several threads at once.
  */
-#include "internal.h"
+#include "ray.h"
+#include "selection_int.h"
 
 #include <assert.h>
 #include <string.h>
@@ -27,17 +28,8 @@ static int cell_height(const tp_terrain* t, int p, int k, const int nb[4], int c
                       (double)(pos[1][1] - pos[0][1]) * (pos[2][0] - pos[0][0]);
         if (!ok || area == 0)
             continue;
-        double w[3];
-        for (int v = 0; v < 3; v++) {
-            const int32_t* a = pos[(v + 1) % 3];
-            const int32_t* b = pos[(v + 2) % 3];
-            w[v] = ((b[0] - a[0]) * (y - a[1]) - (b[1] - a[1]) * (x - a[0])) / area;
-        }
-        const double eps = 1e-9;
-        if (w[0] >= -eps && w[1] >= -eps && w[2] >= -eps) {
-            *z = w[0] * q[0] + w[1] * q[1] + w[2] * q[2];
+        if (tp__tri_height(pos, q, area, x, y, z))
             return 1;
-        }
     }
     return 0;
 }
@@ -99,11 +91,7 @@ int tp_selection_keep_above(const tp_selection* s, double position[3], double cl
     double x, y;
     tp_terrain_world_to_grid(s->t, position[0], position[1], &x, &y);
     double a = tp_terrain_height_at(s->t, x, y), b = tp_selection_drawn_height_at(s, x, y);
-    double ground = (isnan(a) ? b : isnan(b) ? a : (a > b ? a : b)) * s->zscale;
-    if (isnan(ground) || position[2] >= ground + clearance_m)
-        return 0;
-    position[2] = ground + clearance_m;
-    return 1;
+    return tp__keep_above(position, a, b, s->zscale, clearance_m);
 }
 
 /* ---------------------------------------------------------------------------------------------

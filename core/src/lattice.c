@@ -1,4 +1,7 @@
-/* stitch.c - crack removal by moving vertices, and the triangles a patch really draws.
+/* lattice.c - the level-k vertex lattice of (2^n+1)^2 samples, a patch's or a tree node's:
+ * where crack removal by moving vertices puts each vertex, and which triangles the level's strip
+ * draws over it. Shared by tp_terrain's patches (patch_stitch.c), the error tables
+ * (lattice_error.c) and the cut over a tree (cut_stitch.c, cut_draw.c).
  *
  * Based on: Vanek & Jezek, "Real-Time Terrain Visualization on PC" (WSCG 2004), section 3 and
  * Fig. 4: the strips stay fixed per level, so cracks are removed in the vertex data. A border
@@ -11,7 +14,7 @@
  * the last column, LEFT toward the last row - which, with the strips' diagonal, keeps the level-1
  * patch against four level-0 neighbours a clean fan of four triangles.
  */
-#include "internal.h"
+#include "lattice.h"
 
 /* Snap position a (0..last, in level-k vertex units) to a multiple of m. */
 static int snap(int a, int m, int last, int toward_low_at_middle)
@@ -37,11 +40,11 @@ int tp__lattice_vertex(int k, const int nb[4], int i, int j, int* mi_out, int* m
     if (nb) {
         int on_x_edge = (i == 0 || i == last), on_y_edge = (j == 0 || j == last);
         if (!(on_x_edge && on_y_edge)) { /* corners never move */
-            int side = j == 0 ? TP_SIDE_TOP
-                     : i == last ? TP_SIDE_RIGHT
-                     : j == last ? TP_SIDE_BOTTOM
-                     : i == 0 ? TP_SIDE_LEFT
-                     : -1;
+            int side = j == 0      ? TP_SIDE_TOP
+                       : i == last ? TP_SIDE_RIGHT
+                       : j == last ? TP_SIDE_BOTTOM
+                       : i == 0    ? TP_SIDE_LEFT
+                                   : -1;
             if (side >= 0 && nb[side] >= 0 && nb[side] < k) {
                 int m = 1 << (k - nb[side]);
                 switch (side) {
@@ -58,20 +61,8 @@ int tp__lattice_vertex(int k, const int nb[4], int i, int j, int* mi_out, int* m
     return mi != i || mj != j;
 }
 
-int tp__vertex_position(const tp_terrain* t, int patch, int k, const int nb[4], int i, int j,
-                        int32_t* gx, int32_t* gy)
-{
-    int pc = t->info.patch_cols, s = 1 << (t->n - k);
-    int x0 = (patch % pc) * t->ps, y0 = (patch / pc) * t->ps;
-    int mi, mj;
-    int moved = tp__lattice_vertex(k, nb, i, j, &mi, &mj);
-    *gx = x0 + mi * s;
-    *gy = y0 + mj * s;
-    return moved;
-}
-
-int tp__node_vertex_position(const tp_tree_geometry* g, int64_t node, int k, const int nb[4],
-                             int i, int j, int32_t* gx, int32_t* gy)
+int tp__node_vertex_position(const tp_tree_geometry* g, int64_t node, int k, const int nb[4], int i,
+                             int j, int32_t* gx, int32_t* gy)
 {
     assert(g && k >= 0 && k <= g->n);
     int s, c, r, mi, mj;
@@ -83,34 +74,9 @@ int tp__node_vertex_position(const tp_tree_geometry* g, int64_t node, int k, con
     return moved;
 }
 
-void tp_patch_vertices(const tp_terrain* t, int patch, int k, const int neighbor_levels[4],
-                       tp_vertex* vertices, size_t vertex_capacity)
-{
-    assert(t && patch >= 0 && patch < t->info.patch_count && k >= 0 && k <= t->n && vertices);
-    int v = (1 << k) + 1;
-    assert(vertex_capacity >= (size_t)v * v);
-    (void)vertex_capacity; /* only asserted */
-    for (int j = 0; j < v; j++)
-        for (int i = 0; i < v; i++) {
-            tp_vertex* out = &vertices[j * v + i];
-            int32_t ox, oy;
-            tp__vertex_position(t, patch, k, NULL, i, j, &ox, &oy);
-            tp__vertex_position(t, patch, k, neighbor_levels, i, j, &out->x, &out->y);
-            /* A moved vertex takes its target's height (and so its normal). */
-            out->z_m = (float)tp_terrain_sample(t, out->x, out->y);
-            out->cls = (uint8_t)tp_terrain_sample_class(t, ox, oy);
-        }
-}
-
 static int drawn(const tp_vertex* v)
 {
     return v->cls == TP_SAMPLE_VALID || v->cls == TP_SAMPLE_FILLED;
-}
-
-size_t tp_patch_triangles(const tp_vertex* vertices, int k, uint32_t* triangles,
-                          size_t triangle_capacity)
-{
-    return tp__strip_triangles(vertices, k, NULL, NULL, triangles, triangle_capacity);
 }
 
 size_t tp__strip_triangles(const tp_vertex* vertices, int k, tp__tri_keep keep, void* user,

@@ -1,8 +1,8 @@
-/* stitch_add.c - crack removal by adding vertices (tp_core.h, tp_patch_triangles_add).
+/* patch_stitch_add.c - crack removal by adding vertices (tp_core.h, tp_patch_triangles_add).
  *
  * Based on: Brodersen, "Real-time visualization of large textured terrains" (GRAPHITE 2005),
  * section 4: instead of moving the finer patch's border vertices onto the coarser lattice
- * (stitch.c, Vanek & Jezek), the coarser patch takes the finer neighbour's extra border
+ * (patch_stitch.c, Vanek & Jezek), the coarser patch takes the finer neighbour's extra border
  * vertices. The paper's five regions (the interior and four border strips) are kept as small
  * as they can be: the patch is the level's grid, every cell split from (c + 1, r) to (c, r + 1)
  * as the strip splits it, and only a grid triangle with an edge on a side that takes vertices
@@ -13,6 +13,7 @@
  * grid triangulation: every drawn triangle lies inside one of the level's grid triangles.
  */
 #include "internal.h"
+#include "tp_terrain.h"
 
 #include <assert.h>
 

@@ -1,18 +1,18 @@
-/* tree_stitch_add.c - crack removal by adding vertices over a tree (tp_core.h,
+/* cut_stitch_add.c - crack removal by adding vertices over a tree (tp_core.h,
  * tp_cut_set_stitch_add; Brodersen, section 4, on patches of one size).
  *
  * Between two drawn nodes of the same size the coarser one's side takes the finer one's
  * vertices (tp_cut_node.add; triangulated by tp_patch_triangles_add); both hold every sample
  * of the shared side at their scale, so the vertices added are the node's own samples. Between
- * nodes of different sizes, and next to an incomplete node, vertex moving stays (tree_stitch.c:
+ * nodes of different sizes, and next to an incomplete node, vertex moving stays (cut_stitch.c:
  * the smaller or finer node's side moves). tp_patch_triangles_add re-triangulates a grid
  * triangle inside itself; the upper-left triangle of the first cell holds the TOP and LEFT
  * edges, the lower-right one of the last cell BOTTOM and RIGHT. A moved vertex next to a corner
- * collapses onto it (stitch.c), which would fold such a triangle's added vertices away while
+ * collapses onto it (lattice.c), which would fold such a triangle's added vertices away while
  * the neighbour draws them: a node never takes vertices on one and moves them on the other of
- * those two sides. It is raised to the finer neighbour's level instead (tree_stitch.c's check).
+ * those two sides. It is raised to the finer neighbour's level instead (cut_stitch.c's check).
  */
-#include "internal.h"
+#include "cut_int.h"
 
 #include <math.h>
 #include <stdlib.h>

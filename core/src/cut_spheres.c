@@ -1,4 +1,4 @@
-/* tree_spheres.c - Blow's isosurface LoD for the cut's distance mode (tp_lod_params.sphere_tree).
+/* cut_spheres.c - Blow's isosurface LoD for the cut's distance mode (tp_lod_params.sphere_tree).
  *
  * In distance mode a node's fate depends only on d, the eye's distance to its area box: the
  * decision F(d) (refine, or the level it is drawn at; tp__cut_distance_decision) is a step
@@ -19,14 +19,14 @@
  * 10 for 20481², more for other sizes): it is clustered, CLUSTER consecutive roots sharing one
  * more ball (Blow's "fake" spheres, standing for no node).
  *
- * The cut's frame (tree_select.c) still traverses from the roots with frustum culling and
+ * The cut's frame (cut_select.c) still traverses from the roots with frustum culling and
  * residency, and runs the stitching pass, but reads each node's distance decision from here
  * instead of computing it: the same cut as the plain traversal (tests/test_spheres.c).
  * The intervals: F's level sets are intervals independent of the node (they depend on its scale,
  * whether it is whole, and the parameters), found once per parameters by bisection on F itself
  * and kept as the closed intervals KNOWN to give the value (conservative by a few ulps).
  */
-#include "internal.h"
+#include "cut_int.h"
 
 #include <string.h>
 
@@ -70,7 +70,7 @@ static double dist3(const double a[3], const double b[3])
 
 static double box_dist(const double pos[3], const double bmin[3], const double bmax[3])
 {
-    double d2 = 0; /* as tree_select.c's box_distance, to the bit */
+    double d2 = 0; /* as cut_select.c's box_distance, to the bit */
     for (int a = 0; a < 3; a++) {
         double d = pos[a] < bmin[a] ? bmin[a] - pos[a] : pos[a] > bmax[a] ? pos[a] - bmax[a] : 0;
         d2 += d * d;

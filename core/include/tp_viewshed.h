@@ -1,0 +1,84 @@
+/* tp_viewshed.h - which samples an observer sees (viewshed.c).
+ *
+ * One concept of the core's API, included by tp_core.h with the others; it compiles on its
+ * own. The conventions at the top of tp_core.h (coordinates, levels, failure) hold here.
+ */
+#ifndef TP_VIEWSHED_H
+#define TP_VIEWSHED_H
+
+#include "tp_base.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* ---------------------------------------------------------------------------------------------
+ * Viewshed (viewshed.c): which samples an observer sees
+ *
+ * One pass over the grid outwards from the observer carrying a horizon height per sample
+ * (Wang, Robinson & White 2000; GDAL's GVM_Edge mode of GDALViewshedGenerate), O(samples) in
+ * the radius' window: about 10 ms for a 20 km radius on 30 m posts (docs/PERFORMANCE.md).
+ * docs/field.md states its error behaviour and where it differs from gdal_viewshed.
+ *
+ * Conventions are gdal_viewshed's: heights above the ground (observer 2 m, target 0 m); a
+ * sample's height is lowered by curvature_coeff * d^2 / (2 * earth_radius_m) at horizontal
+ * distance d from the observer (0.85714 = curvature with standard refraction, 1 = curvature
+ * without refraction, 0 = a flat earth: as GDAL's -cc, which "1" does NOT turn off); distances
+ * are between sample centres, in the units of the geotransform (metres on a render grid), and
+ * use |gt[1]| and |gt[5]| (rotated grids are refused). A target at a sample is seen when its
+ * corrected height plus target_height_m reaches the horizon there (equal counts as seen).
+ * Values: TP_VIEWSHED_VISIBLE (255), TP_VIEWSHED_HIDDEN (0), TP_VIEWSHED_OUTSIDE (0: beyond
+ * the radius), as GDALViewshedGenerate's defaults; a nodata sample (NaN) is never seen (0) and
+ * does not block the view (a sight line passes over it at the horizon it inherits). The
+ * observer's sample and its eight neighbours are always seen (no sample lies between).
+ */
+#define TP_VIEWSHED_VISIBLE 255
+#define TP_VIEWSHED_HIDDEN 0
+#define TP_VIEWSHED_OUTSIDE 0
+#define TP_VIEWSHED_OBSERVER_HEIGHT_M 2.0
+#define TP_VIEWSHED_TARGET_HEIGHT_M 0.0
+#define TP_VIEWSHED_CURVATURE_COEFF 0.85714
+/* Within this many posts of the observer (Chebyshev) a sample gets the exact horizon of its
+ * sight line instead of the interpolated one, and the sweep carries on from those: XDraw's
+ * interpolation errs most where the rings are short (a ridge a few posts away smeared across a
+ * whole sector behind it), and the exact test there costs about (2K+1)^2 * K steps (1.4 M for
+ * 64: 5-16 ms more than interpolating, measured under load). docs/field.md "Exact near the
+ * observer" gives the measured effect. */
+#define TP_VIEWSHED_EXACT_RADIUS_PX 64
+
+typedef struct tp_viewshed_options {
+    double observer_height_m; /* eye above the ground at the observer's sample, >= 0 */
+    double target_height_m;   /* target above the ground at each sample, >= 0 */
+    double curvature_coeff;   /* >= 0; see above */
+    double radius_m;          /* samples further than this are TP_VIEWSHED_OUTSIDE; 0: no limit */
+    double earth_radius_m;    /* the sphere of the curvature term (GDAL: the CRS's semi-major
+                                 axis); 0 means WGS84's 6378137 m */
+    int exact_radius_px;      /* >= 0: samples within this many posts (Chebyshev) get the exact
+                                 horizon (R3: the ground linear between the posts where the
+                                 sight line crosses each grid line); 0: interpolated everywhere,
+                                 exactly GDAL's GVM_Edge */
+} tp_viewshed_options;
+
+/* gdal_viewshed's defaults: 2 m, 0 m, 0.85714, no radius limit, WGS84's semi-major axis; exact
+ * within TP_VIEWSHED_EXACT_RADIUS_PX. (A zeroed struct is valid too: an eye on the ground, a
+ * flat earth, GDAL's interpolation everywhere.) */
+tp_viewshed_options tp_viewshed_options_default(void);
+
+/* Computes the viewshed of an observer standing on sample (observer_x, observer_y) (column,
+ * row) of heights (width * height floats, row 0 first, NaN = nodata; height_count = width *
+ * height) into out (out_count >= width * height bytes, one per sample, the values above). Every
+ * byte of out is written, those outside the radius' window too (0). The georeference is the
+ * GDAL geotransform of the grid (only its post spacings matter).
+ * Fails (out untouched) with TP_ERR_INVALID_ARG for an observer outside the grid, a non-finite
+ * or rotated geotransform, a zero post spacing, options outside their ranges (negative or NaN
+ * heights, radius or coefficient); TP_ERR_BAD_DATA for an observer on a nodata sample;
+ * TP_ERR_OUT_OF_MEMORY (three rows of doubles of scratch). Reentrant: no state between calls. */
+tp_status tp_viewshed_compute(const float* heights, size_t height_count, int width, int height,
+                              const double geotransform[6], int observer_x, int observer_y,
+                              const tp_viewshed_options* options, uint8_t* out,
+                              size_t out_count, tp_error* err);
+
+#ifdef __cplusplus
+}
+#endif
+#endif /* TP_VIEWSHED_H */

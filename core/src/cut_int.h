@@ -1,0 +1,190 @@
+/* cut_int.h - the cut's private state and the functions its files share (cut_*.c). */
+#ifndef TP_CORE_CUT_INT_H
+#define TP_CORE_CUT_INT_H
+
+#include "lattice.h"
+#include "lod_int.h"
+#include "tp_cut.h"
+#include "tree_int.h"
+
+/* ---- the cut: selection over a tree (cut.c, cut_select.c, cut_stitch.c, cut_draw.c) ----
+ *
+ * Every node the update visits gets a record, found again through a hash of node ids (open
+ * addressing; a slot counts only in the generation of the current update, so nothing is
+ * cleared per frame). A visited node is INTERIOR (refined: its 4 children have records too) or
+ * a terminal: DRAWN (visible), CULLED (its box is outside the frustum) or EMPTY (nothing drawn
+ * in its area). Every point of the map lies in exactly one terminal of a visited root. */
+enum { TP__CUT_INTERIOR = 1, TP__CUT_DRAWN, TP__CUT_CULLED, TP__CUT_EMPTY, TP__CUT_REMOVED };
+
+typedef struct tp__cut_rec {
+    int64_t node;
+    int32_t c, r;
+    int8_t s, level, state;
+    uint8_t substituted; /* drawn in place of children that are not resident */
+    uint8_t frozen;      /* collapsed onto by the stitching pass: never split again */
+    uint8_t queued;      /* in the stitching pass's work list */
+    float bound_px;
+    int32_t out;       /* index in the output (tp_cut_nodes) when drawn */
+    int32_t tris;      /* drawn: its triangles (finish); else -1 */
+    uint8_t view;      /* 0: not tested yet; else 1 + whether its area box is in view */
+    uint8_t pb_known;  /* pb is computed (error mode) */
+    tp__proj_bound pb; /* error mode, visible nodes: of the node's area box */
+    int32_t sph;       /* sphere tree: the node's entry (cut_spheres.c), or -1 */
+} tp__cut_rec;
+
+typedef struct tp__cut_slot {
+    int64_t key;  /* node id */
+    int32_t val;  /* record index; -2: requested, not visited */
+    uint32_t gen; /* the update that wrote it; other generations are empty slots */
+} tp__cut_slot;
+
+typedef struct tp__cut_tris {
+    int64_t node; /* -1: empty */
+    int32_t nb;   /* the neighbour levels it was counted with, packed */
+    int32_t tris;
+} tp__cut_tris;
+enum { TP__CUT_TRIS_CACHE = 4096 };
+
+typedef struct tp__cut_req {
+    int64_t node;
+    double prio;
+} tp__cut_req;
+
+struct tp_cut {
+    const tp_tree* t;
+    tp_allocator alloc;
+    tp_tree_geometry g;
+    int n;
+    double gt[6], step, quant, err_unit, zscale;
+    int64_t* roots;
+    tp__cut_rec* rec;
+    size_t rec_count, rec_cap;
+    tp__cut_slot* hash;
+    size_t hcap, hused;
+    uint32_t gen;
+    tp_cut_node* out;
+    size_t out_count, out_cap;
+    tp__cut_req* req;
+    int64_t* req_ids;
+    size_t req_count, req_cap, req_ids_cap;
+    /* the last update */
+    tp_lod_params lp;
+    int have_view; /* 0 for a cut installed by tp_cut_set_nodes */
+    tp__view v;
+    tp_frustum f;
+    /* What was learnt about the children of record kid_rec while classifying it (in view:
+     * -1 unknown, 0, 1; error mode: their area boxes' projection bounds), handed to their
+     * records when it is refined: each is computed once per update. */
+    int kid_rec;
+    int8_t kid_in[4];
+    uint8_t kid_pb_known[4];
+    tp__proj_bound kid_pb[4];
+    double kid_dist[4]; /* eye to each child's area box (incomplete children only) */
+    double cell_m;      /* the larger grid spacing (m): hole widths */
+    int32_t* tri_memo;  /* triangles of a complete node by level and neighbour levels (-1:
+                           not counted yet; cut_draw.c), tri_memo_count entries */
+    size_t tri_memo_count;
+    tp__cut_tris* tri_cache; /* triangles of incomplete drawn nodes, direct-mapped by node,
+                                kept across updates (a node's samples never change) */
+    int32_t* work;           /* the stitching pass's work list */
+    size_t work_count, work_cap;
+    int visited, unresolved;
+    int oom;
+    int requests_only;       /* tp_cut_update_requests: no stitching, no output */
+    int stitch_add;          /* tp_cut_set_stitch_add */
+    int decisions;           /* distance decisions computed by the update (tp_cut_stats) */
+    int sph_on;              /* this update reads distance decisions from the sphere tree */
+    struct tp__spheres* sph; /* cut_spheres.c; NULL until the first sphere-tree update */
+};
+
+/* ---- the sphere tree (cut_spheres.c; cut_select.c's distance mode with sphere_tree) ---- */
+/* The distance mode's decision for a node of scale s (whole: complete or nothing drawn) at
+ * distance d (m) from the eye to its area box: -1 refine, else the level it is drawn at
+ * (cut_select.c; every distance-mode decision of the cut is this function). */
+int tp__cut_distance_decision(const tp_cut* c, int s, int whole, double d);
+/* A node's box in drawn space (cut_select.c's node_box). */
+void tp__cut_node_box(const tp_cut* c, int s, int cc, int rr, int32_t qlo, int32_t qhi,
+                      double bmin[3], double bmax[3]);
+/* Brings the sphere tree up to date for the view c->v and parameters c->lp (rebuilt when the
+ * parameters, the focal length or the vertical scale changed). Entry ri is root c->roots[ri].
+ * 0 without memory (c->oom may be set; the tree is rebuilt at the next call). */
+int tp__spheres_update(tp_cut* c);
+/* Entry i's child q when i is refined, else -1 (also for i = -1). */
+int32_t tp__spheres_kid(const tp_cut* c, int32_t i, int q);
+/* Entry i's decision (tp__cut_distance_decision at the current eye). */
+int tp__spheres_decision(const tp_cut* c, int32_t i);
+/* The last update's entries visited and decisions recomputed, and the entries held. */
+void tp__spheres_stats(const tp_cut* c, int* visited, int* decided, int* live);
+void tp__spheres_destroy(tp_cut* c);
+
+/* Index in the drawn output of the node covering leaf (lc, lr), or -1 (cut_draw.c). */
+int tp__cut_drawn_at_leaf(const tp_cut* c, int lc, int lr);
+
+/* Which triangles drawn node i (output index) draws (tp_node_mask_from_q's rule). */
+typedef struct tp__node_draw {
+    const uint16_t* mask; /* NULL: a triangle is drawn when its vertices are (a complete node,
+                             a leaf at level n) */
+    int n, s;
+    int64_t x0, y0; /* grid position of the node's sample (0, 0) */
+} tp__node_draw;
+void tp__cut_node_draw(const tp_cut* c, size_t i, tp__node_draw* d);
+/* Whether the triangle with (stitched) grid positions pos is drawn; vertices_drawn: whether
+ * its vertices, original and moved, are. */
+int tp__tri_drawn(const tp__node_draw* d, const int32_t pos[3][2], int vertices_drawn);
+/* Grows the array *p of *cap elements of size bytes to at least need (doubling); 0, c->oom
+ * set, without memory (cut.c, as the records, the requests and the update's start and end). */
+int tp__cut_grow(tp_cut* c, void** p, size_t* cap, size_t need, size_t size);
+/* Record of node, or -1 when it was not visited this update. */
+int tp__cut_find(const tp_cut* c, int64_t node);
+/* Adds a record for node (state 0) and returns its index, or -1 (c->oom set) without memory. */
+int tp__cut_add(tp_cut* c, int64_t node);
+/* tp__cut_add for node at scale s, column cc, row rr. */
+int tp__cut_add_at(tp_cut* c, int64_t node, int s, int cc, int rr);
+/* Decides record i as a terminal without refining it: EMPTY, CULLED, or DRAWN at the level the
+ * mode asks (n if it is incomplete or wants refining). */
+void tp__cut_settle(tp_cut* c, int i);
+/* Box of record i's area (area = 1) or own samples, drawn space; 0 if it has none. */
+int tp__cut_box(const tp_cut* c, int i, int area, double bmin[3], double bmax[3]);
+/* Lists node as a request (once per update) with priority prio. */
+void tp__cut_request(tp_cut* c, int64_t node, double prio);
+/* The start of an update: a new generation of the hash (every slot empty), no records, requests
+ * or output, the counters at 0. */
+void tp__cut_begin(tp_cut* c);
+/* The end of an update (tp_cut_update, tp_cut_set_nodes): the stitching pass, then the output
+ * arrays (the drawn nodes with their seams, bounds and triangles; the requests, most urgent
+ * first). TP_ERR_OUT_OF_MEMORY leaves the cut empty. */
+tp_status tp__cut_finish(tp_cut* c, tp_error* err);
+/* Bound (m, drawn space, quantisation included) of record i at level k with neighbours nb
+ * (cut_select.c). */
+double tp__cut_bound_m(const tp_cut* c, int i, int k, const int nb[4]);
+/* Whether every child of record i that has something to draw in view is resident (requesting
+ * those that are not). */
+int tp__cut_children_ready(tp_cut* c, int i);
+/* The stitching pass: splits, collapses and raised levels until every pair of drawn
+ * neighbours can be stitched (cut_stitch.c). */
+void tp__cut_constrain(tp_cut* c);
+/* The drawn neighbour on a side of drawn record i, of equal or larger scale; -1 if none
+ * (border, culled, or smaller nodes there) (cut_stitch.c). */
+int tp__cut_neighbor(const tp_cut* c, int i, int side);
+/* Non-degenerate triangles of drawn record i with neighbour levels nb: complete nodes from
+ * tp__cut_complete_triangles, incomplete ones counted on their samples once and cached. */
+int32_t tp__cut_triangles(tp_cut* c, int i, const int nb[4]);
+/* Non-degenerate triangles of a complete node drawn at level k with relative neighbour levels
+ * nb (every vertex drawn: only stitching removes triangles), from c->tri_memo (filled on first
+ * use) (cut_draw.c). */
+int32_t tp__cut_complete_triangles(tp_cut* c, int k, const int nb[4]);
+/* Relative neighbour levels of drawn record i (nb: where its sides move to) and, --stitch add,
+ * the finer same-size neighbours' levels whose vertices it takes (add; TP_NO_NEIGHBOR where
+ * none); returns the number of its sides left with a crack (a neighbour more than n scales
+ * larger that could be neither split nor collapsed against) (cut_stitch.c). */
+int tp__cut_seams(const tp_cut* c, int i, int nb[4], int add[4]);
+/* --stitch add (cut_stitch_add.c): the level record i must be raised to so that no corner
+ * triangle both takes and moves vertices (its level when none); nb, add: tp__cut_seams'. */
+int tp__cut_add_corner_level(const tp_cut* c, int i, const int nb[4], const int add[4]);
+/* Rasterises drawn node i's --stitch add triangles (its add[] sides) as tp__raster_triangle,
+ * z in height steps; 0 when out of memory (cut_stitch_add.c). */
+int tp__cut_raster_add(const tp_cut* c, size_t i, tp__sample_fn fn, void* user);
+/* tp_cut_add_bound_m for record i at level k (m, quantisation not included). */
+double tp__cut_add_bound_m(const tp_cut* c, int i, int k, const int add[4]);
+
+#endif
