@@ -1,5 +1,5 @@
 /* bench_plot.c - the --sweep plot: gnuplot from Debian draws the sweep's CSV (see bench.h),
- * through app/gnuplot.h (a private folder, then the atomic writer). */
+ * through app/base/gnuplot.h (a private folder, then the atomic writer). */
 #define _POSIX_C_SOURCE 200809L
 #include "bench.h"
 

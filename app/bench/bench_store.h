@@ -62,7 +62,7 @@ typedef struct store_result {
     int light;                  /* instead of imagery: o->light, the day's streamed light (its
                                    clipmap's figures in the img_ fields) */
     int pgm_cols, pgm_rows;     /* > 0: Persistent Grid Mapping over the store's clipmap
-                                   (app/view/pgm_clip.h), no cut, no stream; error by
+                                   (app/render/pgm_clip.h), no cut, no stream; error by
                                    tp_pgm_clipmap_measure */
     int pgm_window;
     int pgm_unmeasured;         /* frames whose view's region held more than 2^28 posts (minutes

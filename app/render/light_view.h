@@ -5,7 +5,7 @@
  * GPU through a clipmap (clipmap.h, the imagery's) and handed to the renderer each frame with
  * the sun's time as tau (tp_renderer_set_light): moving the time is one uniform, and the
  * shadows are those of the whole map, not of a window around the view (shadow_view.h, the
- * fallback for a time outside the file's day). app/view/light_view.c.
+ * fallback for a time outside the file's day). app/render/light_view.c.
  */
 #ifndef TP_APP_VIEW_LIGHT_VIEW_H
 #define TP_APP_VIEW_LIGHT_VIEW_H

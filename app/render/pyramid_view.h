@@ -3,7 +3,7 @@
  * (light_view.h) share: a pyramid (.tpi or .tpl, tp_imagery.h) opened for the store being
  * drawn, its kind and grid checked, as a clipmap's block source (imagery_cache.h), and each
  * frame's clipmap work (Blow's finest level from the cut's nodes, the update, what the
- * renderer samples). app/view/pyramid_view.c.
+ * renderer samples). app/render/pyramid_view.c.
  */
 #ifndef TP_APP_VIEW_PYRAMID_VIEW_H
 #define TP_APP_VIEW_PYRAMID_VIEW_H

@@ -177,7 +177,7 @@ int64_t tp_pgm_store_post(const tp_tree_geometry* g, int level, int x, int y, si
  *
  * What a renderer draws and the level-0 posts it is compared with, for
  * tp_pgm_measure_error_source: a whole pyramid (tp_pgm_measure_error), or a store's clipmap
- * (the viewer's app/view/pgm_clip_error.c: its windows' posts, level-0 posts read from nodes). */
+ * (the viewer's app/render/pgm_clip_error.c: its windows' posts, level-0 posts read from nodes). */
 typedef struct tp_pgm_source {
     void* ctx;
     /* The height drawn at level-0 grid coordinates (x, y) when level `level` (0 .. levels - 1)

@@ -1,7 +1,7 @@
 /* pgm_clip.c - Persistent Grid Mapping over a store: the elevation clipmap's bookkeeping (the
  * windows' origins, the strips a move uncovers) and where a store holds a pyramid post
  * (tp_core.h; Livny, Kogan & El-Sana, seeds/001, section 4). The GPU side is the viewer's
- * app/view/pgm_clip.c. */
+ * app/render/pgm_clip.c. */
 #include "internal.h"
 #include "tp_pgm.h"
 

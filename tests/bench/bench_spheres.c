@@ -1,5 +1,5 @@
 /* bench_spheres.c - the selection's CPU time per frame, distance mode, plain traversal against
- * the sphere tree (tp_lod_params.sphere_tree, tree_spheres.c), on a store, without GL (not a
+ * the sphere tree (tp_lod_params.sphere_tree, cut_spheres.c), on a store, without GL (not a
  * test; not run by ctest). Two cuts over one tree, one per way, see the same cameras; before
  * each timed frame the nodes the cut asks for are read and attached (untimed, until it asks
  * for nothing), so both select over the same resident nodes. Each frame is timed as the

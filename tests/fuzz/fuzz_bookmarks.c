@@ -1,5 +1,5 @@
 /*
- * fuzz_bookmarks.c - libFuzzer entry point for the viewer's bookmarks file (app/bookmarks.c):
+ * fuzz_bookmarks.c - libFuzzer entry point for the viewer's bookmarks file (app/scene/bookmarks.c):
  * one line read by tp_bookmark_parse_line, as tp_bookmarks_load reads each line of the file.
  *
  * Input: the line (any bytes; cut at the first NUL or line break, as the file reader does).

@@ -1,6 +1,6 @@
 /*
  * fuzz_coord_line.c - libFuzzer entry point for the `terrapatch coord` line parser
- * (app/coord_line.c: numbers, zones, MGRS, through GeographicLib) and for tp_mgrs_reverse,
+ * (app/base/coord_line.c: numbers, zones, MGRS, through GeographicLib) and for tp_mgrs_reverse,
  * the MGRS reader, which takes any string (io/src/geo.cpp).
  *
  * The first byte picks what is done with the rest, one line of text:

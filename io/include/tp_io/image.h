@@ -56,7 +56,7 @@ tp_status tp_dem_read_image(const char* path, const tp_image_options* options, t
 /* Writes d as a Float32 GeoTIFF (DEFLATE, tiled; NaN nodata; band unit "metre"; its
  * geotransform and CRS) at path, through a temporary file beside it renamed when complete:
  * a heightmap image placed with tp_image_options, made a DEM GDAL reads, so that a store can
- * be built from it (the store cache, app/store_cache.c). TP_ERR_IO naming path on failure. */
+ * be built from it (the store cache, app/scene/store_cache.c). TP_ERR_IO naming path on failure. */
 tp_status tp_dem_write_geotiff(const tp_dem* d, const char* path, tp_error* err);
 
 /* Writes an RGBA8 image (w x h, top row first) to path through OpenImageIO, the format from the
