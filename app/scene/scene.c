@@ -18,7 +18,18 @@ void tp_scene_options_default(tp_scene_options* o)
     o->fit = TP_FIT_PAD;
 }
 
-static const struct option dem_options[] = {TP_SCENE_LONG_OPTIONS};
+static const tp_option dem_options[] = {
+    TP_OPT_CODE("--patch", NULL, TP_OPT_PATCH, 1),
+    TP_OPT_CODE("--fit", NULL, TP_OPT_FIT, 1),
+    TP_OPT_CODE("--crs", NULL, TP_OPT_CRS, 1),
+    TP_OPT_CODE("--resampling", NULL, TP_OPT_RESAMPLING, 1),
+    TP_OPT_CODE("--fill-max", NULL, TP_OPT_FILL_MAX, 1),
+    TP_OPT_CODE("--fill-from", NULL, TP_OPT_FILL_FROM, 1),
+    TP_OPT_CODE("--spacing", NULL, TP_OPT_SPACING, 1),
+    TP_OPT_CODE("--zscale", NULL, TP_OPT_ZSCALE, 1),
+    TP_OPT_CODE("--origin", NULL, TP_OPT_ORIGIN, 1),
+    TP_OPT_CODE("--z-unit", NULL, TP_OPT_Z_UNIT, 1),
+};
 #define DEM_OPTION_COUNT (sizeof dem_options / sizeof dem_options[0])
 
 static int scene_option(int opt, const char* arg, tp_scene_options* o);
@@ -32,21 +43,32 @@ int tp_scene_option(int opt, const char* arg, tp_scene_options* o, const char* c
     return r;
 }
 
+/* tp_option_handler of the DEM options. */
+static int dem_option_handler(void* ctx, int code, const char* value, const char* cmd)
+{
+    return tp_scene_option(code, value, ctx, cmd) == 1 ? 1 : -1;
+}
+
+void tp_scene_options_add(tp_options* p, tp_scene_options* o)
+{
+    tp_options_add(p, dem_options, DEM_OPTION_COUNT, dem_option_handler, o);
+}
+
+/* TEMPORARY (issue 30, step 2): until every planner command reads its options through
+ * tp_options_next. */
 int tp_scene_option_arg(const char* cmd, int argc, char** argv, int* i, tp_scene_options* o)
 {
     const char* a = argv[*i];
-    if (a[0] != '-' || a[1] != '-')
-        return 0;
     for (size_t k = 0; k < DEM_OPTION_COUNT; ++k) {
         const size_t len = strlen(dem_options[k].name);
-        if (strncmp(a + 2, dem_options[k].name, len) || (a[2 + len] && a[2 + len] != '='))
+        if (strncmp(a, dem_options[k].name, len) || (a[len] && a[len] != '='))
             continue;
-        const char* v = a[2 + len] == '=' ? a + 3 + len : *i + 1 < argc ? argv[++*i] : NULL;
+        const char* v = a[len] == '=' ? a + 1 + len : *i + 1 < argc ? argv[++*i] : NULL;
         if (!v) {
             tp_cli_error("missing value for %s (see 'terrapatch %s --help')", a, cmd);
             return -1;
         }
-        return tp_scene_option(dem_options[k].val, v, o, cmd) == 1 ? 1 : -1;
+        return tp_scene_option(dem_options[k].code, v, o, cmd) == 1 ? 1 : -1;
     }
     return 0;
 }
@@ -56,8 +78,8 @@ void tp_scene_options_names(unsigned mask, char* out, size_t cap)
     size_t at = 0;
     out[0] = '\0';
     for (size_t k = 0; k < DEM_OPTION_COUNT && at < cap; ++k)
-        if (mask & TP_SCENE_GIVEN(dem_options[k].val)) {
-            int n = snprintf(out + at, cap - at, "%s--%s", at ? ", " : "", dem_options[k].name);
+        if (mask & TP_SCENE_GIVEN(dem_options[k].code)) {
+            int n = snprintf(out + at, cap - at, "%s%s", at ? ", " : "", dem_options[k].name);
             at += n > 0 ? (size_t)n : 0;
         }
 }

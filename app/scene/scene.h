@@ -10,6 +10,7 @@
 #include "tp_io.h"
 
 #include "memory.h"
+#include "options.h"
 
 #include <getopt.h>
 #include <stdio.h>
@@ -60,10 +61,10 @@ void tp_scene_options_default(tp_scene_options* o);
  * option) or -1 (bad value; a one-line message naming cmd was printed). */
 int tp_scene_option(int opt, const char* arg, tp_scene_options* o, const char* cmd);
 
-/* The same for the parsers that walk argv themselves (the planner commands: point, los,
- * viewshed, light, profile, contours): when argv[*i] is a DEM option ("--crs X" or
- * "--crs=X"), reads its value (*i moves on past it) through tp_scene_option. 1 taken, 0 not a
- * DEM option, -1 after one line (a missing or bad value; the command exits with 2). */
+/* Adds the DEM options to a command's parse (options.h): each read into o through
+ * tp_scene_option. */
+void tp_scene_options_add(tp_options* p, tp_scene_options* o);
+/* TEMPORARY: the planner commands' old walk (removed once they use tp_options_next). */
 int tp_scene_option_arg(const char* cmd, int argc, char** argv, int* i, tp_scene_options* o);
 
 /* Writes into out (cap bytes) the names of the DEM options in mask (a tp_scene_options.given),

@@ -121,6 +121,39 @@ int tp_view_option(int opt, const char* arg, tp_view_setup* v, const char* cmd)
     return 0;
 }
 
+static const tp_option view_options[] = {
+    TP_OPT_CODE("--lod", NULL, TP_OPT_LOD, 1),
+    TP_OPT_CODE("--tau", NULL, TP_OPT_TAU, 1),
+    TP_OPT_CODE("--mindist", NULL, TP_OPT_MINDIST, 1),
+    TP_OPT_CODE("--maxdist", NULL, TP_OPT_MAXDIST, 1),
+    TP_OPT_CODE("--exp", NULL, TP_OPT_EXP, 1),
+    TP_OPT_CODE("--hole", NULL, TP_OPT_HOLE, 1),
+    TP_OPT_CODE("--camera", NULL, TP_OPT_CAMERA, 1),
+    TP_OPT_CODE("--camera-geo", NULL, TP_OPT_CAMERA_GEO, 1),
+    TP_OPT_CODE("--fov", NULL, TP_OPT_FOV, 1),
+    TP_OPT_CODE("--size", NULL, TP_OPT_SIZE, 1),
+};
+
+static const tp_option renderer_options[] = {
+    TP_OPT_CODE("--renderer", NULL, TP_OPT_RENDERER, 1),
+    TP_OPT_CODE("--pgm-grid", NULL, TP_OPT_PGM_GRID, 1),
+    TP_OPT_CODE("--pgm-window", NULL, TP_OPT_PGM_WINDOW, 1),
+};
+
+/* tp_option_handler of the view options. */
+static int view_option_handler(void* ctx, int code, const char* value, const char* cmd)
+{
+    return tp_view_option(code, value, ctx, cmd) == 1 ? 1 : -1;
+}
+
+void tp_view_options_add(tp_options* p, tp_view_setup* v, int renderer)
+{
+    tp_options_add(p, view_options, TP_OPTIONS_COUNT(view_options), view_option_handler, v);
+    if (renderer)
+        tp_options_add(p, renderer_options, TP_OPTIONS_COUNT(renderer_options),
+                       view_option_handler, v);
+}
+
 int tp_view_setup_check(const tp_view_setup* v, const char* cmd)
 {
     (void)cmd; /* messages name the command main() dispatched to (tp_cli_error) */

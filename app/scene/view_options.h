@@ -63,6 +63,11 @@ void tp_view_setup_default(tp_view_setup* v);
  * value; a one-line message naming cmd was printed). */
 int tp_view_option(int opt, const char* arg, tp_view_setup* v, const char* cmd);
 
+/* Adds the LoD and camera options to a command's parse (options.h), read into v through
+ * tp_view_option; with renderer, also --renderer, --pgm-grid and --pgm-window (view and bench:
+ * export draws nothing). */
+void tp_view_options_add(tp_options* p, tp_view_setup* v, int renderer);
+
 /* Checks the LoD parameters once all options are read; -1 after a message, else 0. */
 int tp_view_setup_check(const tp_view_setup* v, const char* cmd);
 
