@@ -87,81 +87,43 @@ static void print_help(void)
           stdout);
 }
 
+/* --area E0,N0,E1,N1 (tp_option_handler): the only option of contours that is no plain slot. */
+static int area_option(void* ctx, int code, const char* value, const char* cmd)
+{
+    (void)code;
+    contours_cli* o = ctx;
+    if (!tp_parse_numbers(value, o->area, 4) || !(o->area[0] < o->area[2]) ||
+        !(o->area[1] < o->area[3]))
+        return tp_option_error(cmd, "--area", "E0,N0,E1,N1 with E0 < E1, N0 < N1", value);
+    o->has_area = 1;
+    return 1;
+}
+
 static int parse_options(int argc, char** argv, contours_cli* o)
 {
     memset(o, 0, sizeof *o);
     tp_scene_options_default(&o->dem);
     o->index_every = 5;
-    int has_interval = 0;
-    for (int i = 1; i < argc; ++i) {
-        const char* a = argv[i];
-        const int arg = tp_planner_argument("contours", argc, argv, i, print_help, &o->path,
-                                            " (quote a position with spaces: --around "
-                                            "\"45.37 -121.69\")");
-        if (arg == TP_PLANNER_NEXT)
-            continue;
-        if (arg != TP_PLANNER_OPTION)
-            return arg;
-        static const char* const names[] = {"--interval", "--base",      "--radius",
-                                            "--index-every", "--area",   "--around",
-                                            "-o",          "--output",   "--cache-dir"};
-        int k = -1;
-        for (int j = 0; j < (int)(sizeof names / sizeof names[0]); ++j)
-            if (tp_planner_is_option(a, names[j]))
-                k = j;
-        if (k < 0) {
-            const int taken = tp_scene_option_arg("contours", argc, argv, &i, &o->dem);
-            if (taken < 0)
-                return TP_EXIT_USAGE;
-            if (taken)
-                continue;
-            return tp_planner_stray("contours", argc, argv, i, "");
-        }
-        const char* v = tp_planner_option_value(argc, argv, &i, names[k]);
-        if (!v)
-            return tp_cli_usage("contours", "missing value for %s", names[k]);
-        long n;
-        switch (k) {
-        case 0: /* --interval */
-        case 2: /* --radius */
-            if (!tp_planner_number("contours", names[k], v, TP_PLANNER_ABOVE_0, "a number > 0",
-                                   k == 0 ? &o->interval_m : &o->radius_m))
-                return TP_EXIT_USAGE;
-            *(k == 0 ? &has_interval : &o->has_radius) = 1;
-            break;
-        case 1: /* --base */
-            if (!tp_planner_number("contours", names[k], v, TP_PLANNER_ANY, "a number",
-                                   &o->base_m))
-                return TP_EXIT_USAGE;
-            break;
-        case 3: /* --index-every */
-            if (!tp_planner_integer("contours", names[k], v, 0, 1000000, "an integer >= 0", &n))
-                return TP_EXIT_USAGE;
-            o->index_every = (int)n;
-            break;
-        case 4: /* --area */
-            if (!tp_parse_numbers(v, o->area, 4) || !(o->area[0] < o->area[2]) ||
-                !(o->area[1] < o->area[3]))
-                return tp_option_error("contours", names[k], "E0,N0,E1,N1 with E0 < E1, N0 < N1",
-                                       v),
-                       TP_EXIT_USAGE;
-            o->has_area = 1;
-            break;
-        case 5:
-            o->around = v;
-            break;
-        case 6:
-        case 7:
-            o->out = v;
-            break;
-        default:
-            o->cache_dir = v;
-            break;
-        }
-    }
+    const tp_option options[] = {
+        TP_OPT_NUMBER_ABOVE("--interval", &o->interval_m, 0.0, HUGE_VAL, "a number > 0"),
+        TP_OPT_NUMBER("--base", &o->base_m, -HUGE_VAL, HUGE_VAL, "a number"),
+        TP_OPT_NUMBER_ABOVE("--radius", &o->radius_m, 0.0, HUGE_VAL, "a number > 0"),
+        TP_OPT_INTEGER("--index-every", &o->index_every, 0, 1000000, "an integer >= 0"),
+        TP_OPT_CODE("--area", NULL, 1, 1),
+        TP_OPT_TEXT("--around", NULL, &o->around),
+        TP_OPT_TEXT("--output", "-o", &o->out),
+        TP_OPT_TEXT("--cache-dir", NULL, &o->cache_dir),
+    };
+    const tp_option_table own = {options, TP_OPTIONS_COUNT(options), area_option, o};
+    const int code = tp_planner_parse("contours", argc, argv, print_help, own, &o->dem, &o->path,
+                                      " (quote a position with spaces: --around "
+                                      "\"45.37 -121.69\")");
+    if (code >= 0)
+        return code;
+    o->has_radius = o->radius_m > 0.0;
     if (!o->path)
         return tp_cli_usage("contours", "missing DEM");
-    if (!has_interval)
+    if (!(o->interval_m > 0.0))
         return tp_cli_usage("contours", "missing --interval M");
     if (!o->out)
         return tp_cli_usage("contours", "missing -o OUT");

@@ -97,6 +97,17 @@ static void print_help(void)
           stdout);
 }
 
+/* A second operand, or a piece of --time left unquoted ("--time 18:30 -07:00"): exit 2. */
+static int light_stray(tp_options* p)
+{
+    const char* a = p->value;
+    char hint[160] = " (quote a time with a zone after a space: --time \"18:30 -07:00\")";
+    if (a[0] == '-' && a[1])
+        snprintf(hint, sizeof hint,
+                 " (a zone after a space must be quoted with the time: --time \"18:30 %s\")", a);
+    return tp_options_stray(p, NULL, hint), p->exit;
+}
+
 static int parse_options(int argc, char** argv, tp_light_cli* o)
 {
     memset(o, 0, sizeof *o);
@@ -104,43 +115,31 @@ static int parse_options(int argc, char** argv, tp_light_cli* o)
     o->maps = TP_LIGHT_DAY_MAPS;
     o->margin_m = TP_LIGHT_DAY_MARGIN_M;
     const char* maps = NULL;
-    static const char* const num_opts[] = {"--radius", "--margin"};
-    static const char* const text_opts[] = {"--date",   "--time",      "-o",     "--output", "--at",
-                                            "--values", "--cache-dir", "--maps", "--json"};
-    for (int i = 1; i < argc; ++i) {
-        const char* a = argv[i];
-        const int arg = tp_planner_argument("light", argc, argv, i, print_help, &o->path,
-                                            " (quote a time with a zone after a space: --time "
-                                            "\"18:30 -07:00\")");
-        if (arg == TP_PLANNER_NEXT)
-            continue;
-        if (arg != TP_PLANNER_OPTION)
-            return arg;
-        if (!strcmp(a, "--day") || !strcmp(a, "--quiet")) {
-            *(a[2] == 'd' ? &o->day : &o->quiet) = 1;
-            continue;
-        }
-        double* const num_slots[] = {&o->radius_m, &o->margin_m};
-        const char** const text_slots[] = {&o->date,   &o->time,      &o->out, &o->out, &o->at,
-                                           &o->values, &o->cache_dir, &maps,   &o->json};
-        int done = tp_planner_number_options("light", argc, argv, &i, num_opts, num_slots,
-                                             TP_PLANNER_COUNT(num_opts));
-        if (!done)
-            done = tp_planner_text_options("light", argc, argv, &i, text_opts, text_slots,
-                                           TP_PLANNER_COUNT(text_opts));
-        if (!done)
-            done = tp_scene_option_arg("light", argc, argv, &i, &o->dem);
-        if (done < 0)
-            return TP_EXIT_USAGE;
-        if (!done) {
-            char zone[160] = "";
-            if (a[1] >= '0' && a[1] <= '9')
-                snprintf(zone, sizeof zone,
-                         " (a zone after a space must be quoted with the time: --time "
-                         "\"18:30 %s\")",
-                         a);
-            return tp_planner_stray("light", argc, argv, i, zone);
-        }
+    const tp_option options[] = {
+        TP_OPT_NUMBER("--radius", &o->radius_m, 0.0, HUGE_VAL, "a number >= 0"),
+        TP_OPT_NUMBER("--margin", &o->margin_m, 0.0, HUGE_VAL, "a number >= 0"),
+        TP_OPT_TEXT("--date", NULL, &o->date),
+        TP_OPT_TEXT("--time", NULL, &o->time),
+        TP_OPT_TEXT("--output", "-o", &o->out),
+        TP_OPT_TEXT("--at", NULL, &o->at),
+        TP_OPT_TEXT("--values", NULL, &o->values),
+        TP_OPT_TEXT("--cache-dir", NULL, &o->cache_dir),
+        TP_OPT_TEXT("--maps", NULL, &maps),
+        TP_OPT_TEXT("--json", NULL, &o->json),
+        TP_OPT_FLAG("--day", &o->day),
+        TP_OPT_FLAG("--quiet", &o->quiet),
+    };
+    tp_options p;
+    tp_options_init(&p, "light", argc, argv, print_help);
+    p.negative_operands = 1; /* "-07:00" comes back as an operand: light_stray's hint */
+    tp_options_add(&p, options, TP_OPTIONS_COUNT(options), NULL, NULL);
+    tp_scene_options_add(&p, &o->dem);
+    for (int c; (c = tp_options_next(&p)) != TP_OPTIONS_END;) {
+        if (c == TP_OPTIONS_EXIT)
+            return p.exit;
+        if (o->path || (p.value[0] == '-' && p.value[1]))
+            return light_stray(&p);
+        o->path = p.value;
     }
     if (!o->path)
         return tp_cli_usage("light", "missing DEM");
@@ -148,8 +147,8 @@ static int parse_options(int argc, char** argv, tp_light_cli* o)
         return tp_cli_usage("light", "missing --date YYYY-MM-DD");
     if (o->day) {
         long n = o->maps;
-        if (maps && !tp_planner_integer("light", "--maps", maps, 2, TP_LIGHT_DAY_MAPS_MAX,
-                                        "an integer 2 .. 1024", &n))
+        if (maps && !tp_option_integer("light", "--maps", maps, 2, TP_LIGHT_DAY_MAPS_MAX,
+                                       "an integer 2 .. 1024", &n))
             return TP_EXIT_USAGE;
         o->maps = (int)n;
         if (o->time)

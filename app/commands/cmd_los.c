@@ -90,32 +90,23 @@ static int parse_options(int argc, char** argv, los_options* o)
     o->from_height_m = TP_VIEWSHED_OBSERVER_HEIGHT_M;
     o->to_height_m = TP_VIEWSHED_TARGET_HEIGHT_M;
     o->curvature_coeff = TP_VIEWSHED_CURVATURE_COEFF;
-    static const char* const text_opts[] = {"--from", "--to", "--json", "--profile", "--csv",
-                                            "--cache-dir"};
-    static const char* const num_opts[] = {"--from-height", "--to-height", "--curvature-coeff"};
-    for (int i = 1; i < argc; ++i) {
-        const int arg = tp_planner_argument("los", argc, argv, i, print_help, &o->path,
-                                            " (quote a position with spaces: --from "
-                                            "\"45.37 -121.69\")");
-        if (arg == TP_PLANNER_NEXT)
-            continue;
-        if (arg != TP_PLANNER_OPTION)
-            return arg;
-        double* const num_slots[] = {&o->from_height_m, &o->to_height_m, &o->curvature_coeff};
-        const char** const text_slots[] = {&o->from,    &o->to,  &o->json,
-                                           &o->profile, &o->csv, &o->cache_dir};
-        int done = tp_planner_number_options("los", argc, argv, &i, num_opts, num_slots,
-                                             TP_PLANNER_COUNT(num_opts));
-        if (!done)
-            done = tp_planner_text_options("los", argc, argv, &i, text_opts, text_slots,
-                                           TP_PLANNER_COUNT(text_opts));
-        if (!done)
-            done = tp_scene_option_arg("los", argc, argv, &i, &o->dem);
-        if (done < 0)
-            return TP_EXIT_USAGE;
-        if (!done)
-            return tp_planner_stray("los", argc, argv, i, "");
-    }
+    const tp_option options[] = {
+        TP_OPT_TEXT("--from", NULL, &o->from),
+        TP_OPT_TEXT("--to", NULL, &o->to),
+        TP_OPT_TEXT("--json", NULL, &o->json),
+        TP_OPT_TEXT("--profile", NULL, &o->profile),
+        TP_OPT_TEXT("--csv", NULL, &o->csv),
+        TP_OPT_TEXT("--cache-dir", NULL, &o->cache_dir),
+        TP_OPT_NUMBER("--from-height", &o->from_height_m, 0.0, HUGE_VAL, "a number >= 0"),
+        TP_OPT_NUMBER("--to-height", &o->to_height_m, 0.0, HUGE_VAL, "a number >= 0"),
+        TP_OPT_NUMBER("--curvature-coeff", &o->curvature_coeff, 0.0, HUGE_VAL, "a number >= 0"),
+    };
+    const tp_option_table own = {options, TP_OPTIONS_COUNT(options), NULL, NULL};
+    const int code = tp_planner_parse("los", argc, argv, print_help, own, &o->dem, &o->path,
+                                      " (quote a position with spaces: --from "
+                                      "\"45.37 -121.69\")");
+    if (code >= 0)
+        return code;
     if (!o->path)
         return tp_cli_usage("los", "missing DEM");
     if (!o->from)

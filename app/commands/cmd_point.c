@@ -84,46 +84,25 @@ static int parse_options(int argc, char** argv, point_options* o)
     memset(o, 0, sizeof *o);
     o->precision = DEFAULT_PRECISION;
     tp_scene_options_default(&o->dem);
-    int dashdash = 0;
-    for (int i = 1; i < argc; ++i) {
-        const char* a = argv[i];
-        int is_option = !dashdash && a[0] == '-' && a[1] && a[1] != '.' &&
-                        !(a[1] >= '0' && a[1] <= '9');
-        if (is_option) {
-            if (!strcmp(a, "--")) {
-                dashdash = 1;
-            } else if (!strcmp(a, "-h") || !strcmp(a, "--help")) {
-                print_help();
-                return tp_cli_finish(TP_EXIT_OK);
-            } else if (tp_planner_is_option(a, "--precision")) {
-                const char* v = tp_planner_option_value(argc, argv, &i, "--precision");
-                long p;
-                if (!tp_planner_integer("point", "--precision", v, 0, 11,
-                                        "an integer from 0 to 11", &p))
-                    return TP_EXIT_USAGE;
-                o->precision = (int)p;
-            } else if (tp_planner_is_option(a, "--json")) {
-                if (!(o->json = tp_planner_option_value(argc, argv, &i, "--json")))
-                    return tp_cli_usage("point", "missing value for --json");
-            } else if (tp_planner_is_option(a, "--cache-dir")) {
-                if (!(o->cache_dir = tp_planner_option_value(argc, argv, &i, "--cache-dir")))
-                    return tp_cli_usage("point", "missing value for --cache-dir");
-            } else {
-                const int taken = tp_scene_option_arg("point", argc, argv, &i, &o->dem);
-                if (taken < 0)
-                    return TP_EXIT_USAGE;
-                if (!taken)
-                    return tp_cli_usage("point", "unknown option '%s'", a);
-            }
-            continue;
-        }
-        if (!o->path) {
-            o->path = a;
-        } else {
-            if (o->pos_count == (int)(sizeof o->pos_args / sizeof o->pos_args[0]))
-                return tp_cli_usage("point", "too many arguments for a position");
-            o->pos_args[o->pos_count++] = argv[i];
-        }
+    const tp_option options[] = {
+        TP_OPT_INTEGER("--precision", &o->precision, 0, 11, "an integer from 0 to 11"),
+        TP_OPT_TEXT("--json", NULL, &o->json),
+        TP_OPT_TEXT("--cache-dir", NULL, &o->cache_dir),
+    };
+    tp_options p;
+    tp_options_init(&p, "point", argc, argv, print_help);
+    p.negative_operands = 1;
+    tp_options_add(&p, options, TP_OPTIONS_COUNT(options), NULL, NULL);
+    tp_scene_options_add(&p, &o->dem);
+    for (int c; (c = tp_options_next(&p)) != TP_OPTIONS_END;) {
+        if (c == TP_OPTIONS_EXIT)
+            return p.exit;
+        if (!o->path)
+            o->path = p.value;
+        else if (o->pos_count == (int)(sizeof o->pos_args / sizeof o->pos_args[0]))
+            return tp_cli_usage("point", "too many arguments for a position");
+        else
+            o->pos_args[o->pos_count++] = (char*)p.value;
     }
     if (!o->path)
         return tp_cli_usage("point", "missing DEM and position");

@@ -35,7 +35,7 @@ typedef struct profile_options {
     const char* cache_dir;
     tp_scene_options dem; /* the DEM options (terrain_open.h) */
     double step_m;   /* 0: the grid spacing */
-    long feature;    /* 1-based among the lines; 0: the first */
+    int feature;     /* 1-based among the lines; 0: the first */
 } profile_options;
 
 static void print_help(void)
@@ -93,38 +93,20 @@ static int parse_options(int argc, char** argv, profile_options* o)
 {
     memset(o, 0, sizeof *o);
     tp_scene_options_default(&o->dem);
-    static const char* const text_opts[] = {"--route", "--png", "--csv", "--json", "--cache-dir"};
-    for (int i = 1; i < argc; ++i) {
-        const char* a = argv[i];
-        const int arg = tp_planner_argument("profile", argc, argv, i, print_help, &o->path, "");
-        if (arg == TP_PLANNER_NEXT)
-            continue;
-        if (arg != TP_PLANNER_OPTION)
-            return arg;
-        if (tp_planner_is_option(a, "--step")) {
-            const char* v = tp_planner_option_value(argc, argv, &i, "--step");
-            if (!tp_planner_number("profile", "--step", v, TP_PLANNER_ABOVE_0,
-                                   "a number of metres > 0", &o->step_m))
-                return TP_EXIT_USAGE;
-            continue;
-        }
-        if (tp_planner_is_option(a, "--feature")) {
-            const char* v = tp_planner_option_value(argc, argv, &i, "--feature");
-            if (!tp_planner_integer("profile", "--feature", v, 1, LONG_MAX, "an integer >= 1",
-                                    &o->feature))
-                return TP_EXIT_USAGE;
-            continue;
-        }
-        const char** const slots[] = {&o->route, &o->png, &o->csv, &o->json, &o->cache_dir};
-        int done = tp_planner_text_options("profile", argc, argv, &i, text_opts, slots,
-                                           TP_PLANNER_COUNT(text_opts));
-        if (!done)
-            done = tp_scene_option_arg("profile", argc, argv, &i, &o->dem);
-        if (done < 0)
-            return TP_EXIT_USAGE;
-        if (!done)
-            return tp_planner_stray("profile", argc, argv, i, "");
-    }
+    const tp_option options[] = {
+        TP_OPT_TEXT("--route", NULL, &o->route),
+        TP_OPT_TEXT("--png", NULL, &o->png),
+        TP_OPT_TEXT("--csv", NULL, &o->csv),
+        TP_OPT_TEXT("--json", NULL, &o->json),
+        TP_OPT_TEXT("--cache-dir", NULL, &o->cache_dir),
+        TP_OPT_NUMBER_ABOVE("--step", &o->step_m, 0.0, HUGE_VAL, "a number of metres > 0"),
+        TP_OPT_INTEGER("--feature", &o->feature, 1, INT_MAX, "an integer >= 1"),
+    };
+    const tp_option_table own = {options, TP_OPTIONS_COUNT(options), NULL, NULL};
+    const int code =
+        tp_planner_parse("profile", argc, argv, print_help, own, &o->dem, &o->path, "");
+    if (code >= 0)
+        return code;
     if (!o->path)
         return tp_cli_usage("profile", "missing DEM");
     if (!o->route)
@@ -516,7 +498,7 @@ static const tp_feature* pick_line(const profile_options* o, const tp_features* 
         return NULL;
     }
     if (!pick) {
-        tp_cli_error("--feature %ld: %s has %zu line%s", o->feature, o->route, lines,
+        tp_cli_error("--feature %d: %s has %zu line%s", o->feature, o->route, lines,
                      lines == 1 ? "" : "s");
         return NULL;
     }

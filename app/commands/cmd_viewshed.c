@@ -82,32 +82,21 @@ static int parse_options(int argc, char** argv, viewshed_cli* o)
     o->observer_height_m = TP_VIEWSHED_OBSERVER_HEIGHT_M;
     o->target_height_m = TP_VIEWSHED_TARGET_HEIGHT_M;
     o->curvature_coeff = TP_VIEWSHED_CURVATURE_COEFF;
-    static const char* const num_opts[] = {"--observer-height", "--target-height", "--radius",
-                                           "--curvature-coeff"};
-    static const char* const text_opts[] = {"--observer", "-o", "--output", "--cache-dir"};
-    for (int i = 1; i < argc; ++i) {
-        const int arg = tp_planner_argument("viewshed", argc, argv, i, print_help, &o->path,
-                                            " (quote a position with spaces: --observer "
-                                            "\"45.37 -121.69\")");
-        if (arg == TP_PLANNER_NEXT)
-            continue;
-        if (arg != TP_PLANNER_OPTION)
-            return arg;
-        double* const num_slots[] = {&o->observer_height_m, &o->target_height_m, &o->radius_m,
-                                     &o->curvature_coeff};
-        const char** const text_slots[] = {&o->observer, &o->out, &o->out, &o->cache_dir};
-        int done = tp_planner_number_options("viewshed", argc, argv, &i, num_opts, num_slots,
-                                             TP_PLANNER_COUNT(num_opts));
-        if (!done)
-            done = tp_planner_text_options("viewshed", argc, argv, &i, text_opts, text_slots,
-                                           TP_PLANNER_COUNT(text_opts));
-        if (!done)
-            done = tp_scene_option_arg("viewshed", argc, argv, &i, &o->dem);
-        if (done < 0)
-            return TP_EXIT_USAGE;
-        if (!done)
-            return tp_planner_stray("viewshed", argc, argv, i, "");
-    }
+    const tp_option options[] = {
+        TP_OPT_TEXT("--observer", NULL, &o->observer),
+        TP_OPT_TEXT("--output", "-o", &o->out),
+        TP_OPT_TEXT("--cache-dir", NULL, &o->cache_dir),
+        TP_OPT_NUMBER("--observer-height", &o->observer_height_m, 0.0, HUGE_VAL, "a number >= 0"),
+        TP_OPT_NUMBER("--target-height", &o->target_height_m, 0.0, HUGE_VAL, "a number >= 0"),
+        TP_OPT_NUMBER("--radius", &o->radius_m, 0.0, HUGE_VAL, "a number >= 0"),
+        TP_OPT_NUMBER("--curvature-coeff", &o->curvature_coeff, 0.0, HUGE_VAL, "a number >= 0"),
+    };
+    const tp_option_table own = {options, TP_OPTIONS_COUNT(options), NULL, NULL};
+    const int code = tp_planner_parse("viewshed", argc, argv, print_help, own, &o->dem, &o->path,
+                                      " (quote a position with spaces: --observer "
+                                      "\"45.37 -121.69\")");
+    if (code >= 0)
+        return code;
     if (!o->path)
         return tp_cli_usage("viewshed", "missing DEM");
     if (!o->observer)

@@ -9,171 +9,31 @@
 
 #include "tp_io.h"
 
-#include <ctype.h>
 #include <math.h>
-#include <stdarg.h>
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
 #include <unistd.h>
 
-int tp_planner_argument(const char* cmd, int argc, char** argv, int i, void (*print_help)(void),
-                        const char** path, const char* hint)
+int tp_planner_parse(const char* cmd, int argc, char** argv, void (*help)(void),
+                     tp_option_table own, tp_scene_options* dem, const char** path,
+                     const char* hint)
 {
-    const char* a = argv[i];
-    if (!strcmp(a, "-h") || !strcmp(a, "--help")) {
-        print_help();
-        return tp_cli_finish(TP_EXIT_OK);
+    tp_options p;
+    tp_options_init(&p, cmd, argc, argv, help);
+    tp_options_add(&p, own.options, own.count, own.handler, own.ctx);
+    tp_scene_options_add(&p, dem);
+    for (int c; (c = tp_options_next(&p)) != TP_OPTIONS_END;) {
+        if (c == TP_OPTIONS_OPERAND && !*path)
+            *path = p.value;
+        else if (c == TP_OPTIONS_OPERAND)
+            return tp_options_stray(&p, NULL, hint), p.exit;
+        else if (c == TP_OPTIONS_EXIT)
+            return p.exit;
+        else /* a CODE option without a handler: none in the planners' tables */
+            return tp_options_stray(&p, NULL, ""), p.exit;
     }
-    if (a[0] == '-' && a[1])
-        return TP_PLANNER_OPTION;
-    if (*path)
-        return tp_planner_stray(cmd, argc, argv, i, hint);
-    *path = a;
-    return TP_PLANNER_NEXT;
-}
-
-/* The planner commands' options that take a position. */
-static const char* const position_options[] = {"--from", "--to", "--observer", "--at", "--around"};
-
-/* 1 when a may be a piece of a position typed without quotes: a number, or a short token of
- * digits, DMS marks and letters ("41.88", "28'", "N", "33n", "W002", "10TFR"), not a file. */
-static int position_piece(const char* a)
-{
-    double v;
-    if (tp_position_decimal(a, &v) == 1)
-        return 1;
-    size_t len = strlen(a), digits = 0;
-    if (!len || len > 24)
-        return 0;
-    for (const char* c = a; *c; ++c) {
-        const unsigned char u = (unsigned char)*c;
-        if (isdigit(u))
-            ++digits;
-        else if (u == '.' && isalpha((unsigned char)c[1]))
-            return 0; /* a file name's extension */
-        else if (!isalpha(u) && !strchr(".:'\"+-", u) && u < 0x80)
-            return 0;
-    }
-    return digits || len == 1;
-}
-
-/* The value of position option argv[j] ("--from" then its value, or "--from=VALUE"), or NULL
- * when argv[j] is no position option. */
-static const char* position_option_value(int argc, char** argv, int j)
-{
-    for (size_t k = 0; k < TP_PLANNER_COUNT(position_options); ++k) {
-        const size_t len = strlen(position_options[k]);
-        if (strncmp(argv[j], position_options[k], len))
-            continue;
-        if (argv[j][len] == '=')
-            return argv[j] + len + 1;
-        if (!argv[j][len] && j + 1 < argc)
-            return argv[j + 1];
-    }
-    return NULL;
-}
-
-int tp_planner_stray(const char* cmd, int argc, char** argv, int i, const char* hint)
-{
-    const char* a = argv[i];
-    char own[512] = "";
-    /* back from argv[i] over pieces of a position to the option that took the first one */
-    for (int j = i - 1; j >= 1; --j) {
-        const char* v = position_option_value(argc, argv, j);
-        const int first = v == argv[j + 1] ? j + 2 : j + 1; /* the pieces after v */
-        int end = position_piece(a) ? i : i - 1;            /* and on after argv[i] */
-        if (v && end >= first && position_piece(v)) {
-            for (const int on = end == i; on && end + 1 < argc && position_piece(argv[end + 1]);)
-                ++end;
-            size_t at =
-                (size_t)snprintf(own, sizeof own, " (quote a position with spaces: %.*s \"%s",
-                                 (int)strcspn(argv[j], "="), argv[j], v);
-            for (int k = first; k <= end && at < sizeof own; ++k)
-                at += (size_t)snprintf(own + at, sizeof own - at, " %s", argv[k]);
-            if (at < sizeof own)
-                snprintf(own + at, sizeof own - at, "\")");
-            hint = own;
-            break;
-        }
-        if (!position_piece(argv[j]))
-            break;
-    }
-    if (a[0] == '-' && a[1])
-        return tp_cli_usage(cmd, "unknown option '%s'%s", a, hint);
-    return tp_cli_usage(cmd, "more than one DEM given%s", hint);
-}
-
-int tp_planner_is_option(const char* arg, const char* name)
-{
-    size_t len = strlen(name);
-    return !strncmp(arg, name, len) && (arg[len] == '\0' || arg[len] == '=');
-}
-
-const char* tp_planner_option_value(int argc, char** argv, int* i, const char* name)
-{
-    size_t len = strlen(name);
-    if (strncmp(argv[*i], name, len) == 0 && argv[*i][len] == '=')
-        return argv[*i] + len + 1;
-    if (*i + 1 >= argc)
-        return NULL;
-    return argv[++*i];
-}
-
-int tp_planner_text_options(const char* cmd, int argc, char** argv, int* i,
-                            const char* const* names, const char** const* slots, size_t count)
-{
-    for (size_t k = 0; k < count; ++k) {
-        if (!tp_planner_is_option(argv[*i], names[k]))
-            continue;
-        if (!(*slots[k] = tp_planner_option_value(argc, argv, i, names[k])))
-            return tp_cli_usage(cmd, "missing value for %s", names[k]), -1;
-        return 1;
-    }
-    return 0;
-}
-
-int tp_planner_number_options(const char* cmd, int argc, char** argv, int* i,
-                              const char* const* names, double* const* slots, size_t count)
-{
-    for (size_t k = 0; k < count; ++k) {
-        if (!tp_planner_is_option(argv[*i], names[k]))
-            continue;
-        const char* v = tp_planner_option_value(argc, argv, i, names[k]);
-        return tp_planner_number(cmd, names[k], v, TP_PLANNER_AT_LEAST_0, "a number >= 0",
-                                 slots[k])
-                   ? 1
-                   : -1;
-    }
-    return 0;
-}
-
-int tp_planner_number(const char* cmd, const char* opt, const char* v, tp_planner_range range,
-                      const char* expected, double* out)
-{
-    double d;
-    int ok = v && tp_position_decimal(v, &d) == 1;
-    if (ok && range == TP_PLANNER_AT_LEAST_0)
-        ok = d >= 0.0;
-    if (ok && range == TP_PLANNER_ABOVE_0)
-        ok = d > 0.0;
-    if (!ok)
-        return tp_option_error(cmd, opt, expected, v ? v : ""), 0;
-    *out = d;
-    return 1;
-}
-
-int tp_planner_integer(const char* cmd, const char* opt, const char* v, long lo, long hi,
-                       const char* expected, long* out)
-{
-    char* end = NULL;
-    long n = v ? strtol(v, &end, 10) : 0;
-    /* out of long's range, strtol gives LONG_MIN or LONG_MAX: outside lo .. hi unless hi is
-     * LONG_MAX ("an integer >= 1" takes any large number) */
-    if (!v || !*v || *end || n < lo || n > hi)
-        return tp_option_error(cmd, opt, expected, v ? v : ""), 0;
-    *out = n;
-    return 1;
+    return -1;
 }
 
 /* The hint that a position is latitude first, after the text of a message. */

@@ -13,7 +13,9 @@
 
 #include "gnuplot.h"
 #include "ground.h"
+#include "options.h"
 #include "position.h"
+#include "scene.h"
 
 #include "tp_core.h"
 
@@ -22,58 +24,15 @@
 
 /* ---- the command line ---- */
 
-/* What a planner command's parser does first with each argument a = argv[i]: -h or --help
- * prints the help (print_help) and ends the parse with tp_cli_finish(TP_EXIT_OK); an argument
- * that is no option (not starting with '-', or "-" alone) is the DEM, into *path, and a second
- * one is the usage error "more than one DEM given" (tp_planner_stray). Returns the exit code
- * that ends the parse, TP_PLANNER_NEXT when a was the DEM, or TP_PLANNER_OPTION when a is an
- * option for the command to read. */
-#define TP_PLANNER_NEXT (-1)
-#define TP_PLANNER_OPTION (-2)
-int tp_planner_argument(const char* cmd, int argc, char** argv, int i, void (*print_help)(void),
-                        const char** path, const char* hint);
-
-/* The usage error for argv[i], an argument the parser cannot place: "unknown option 'A'" (A
- * starting with '-') or "more than one DEM given", then, when A is part of a position left
- * unquoted after a position option (--from, --to, --observer, --at, --around: "--from 42.5
- * -2.1"), " (quote a position with spaces: --from \"42.5 -2.1\")", else hint (e.g. light's
- * about a time zone, or ""). Returns TP_EXIT_USAGE. */
-int tp_planner_stray(const char* cmd, int argc, char** argv, int i, const char* hint);
-
-/* 1 when arg is the option name, alone or as "NAME=VALUE". */
-int tp_planner_is_option(const char* arg, const char* name);
-
-/* The value of the option name at argv[*i]: after '=', else the next argument (*i moves on to
- * it); NULL when there is none. */
-const char* tp_planner_option_value(int argc, char** argv, int* i, const char* name);
-
-/* Tables of options: names[k] (count of them) puts its value into *slots[k]. When argv[*i] is
- * one of them (tp_planner_is_option), reads its value (tp_planner_option_value) and returns 1;
- * 0 when it is none of them; -1 after one line (a usage error): a text option without a value
- * ("missing value for NAME", as tp_cli_usage), a number that is missing or not >= 0
- * (tp_planner_number's "expected a number >= 0"). TP_PLANNER_COUNT(names) gives count. */
-#define TP_PLANNER_COUNT(a) (sizeof(a) / sizeof((a)[0]))
-int tp_planner_text_options(const char* cmd, int argc, char** argv, int* i,
-                            const char* const* names, const char** const* slots, size_t count);
-int tp_planner_number_options(const char* cmd, int argc, char** argv, int* i,
-                              const char* const* names, double* const* slots, size_t count);
-
-/* Which numbers an option takes. */
-typedef enum tp_planner_range {
-    TP_PLANNER_ANY = 0,   /* any finite number */
-    TP_PLANNER_AT_LEAST_0, /* >= 0 */
-    TP_PLANNER_ABOVE_0,    /* > 0 */
-} tp_planner_range;
-
-/* The value v of option opt (NULL: it was missing) as a decimal number (tp_position_decimal)
- * in range. 1 with *out; else 0 after tp_option_error's line ("expected EXPECTED, got 'V'"),
- * *out untouched. */
-int tp_planner_number(const char* cmd, const char* opt, const char* v, tp_planner_range range,
-                      const char* expected, double* out);
-
-/* The same for an integer (strtol, base 10, nothing after it) in lo .. hi. */
-int tp_planner_integer(const char* cmd, const char* opt, const char* v, long lo, long hi,
-                       const char* expected, long* out);
+/* Parses a planner command's arguments (options.h): its own options (own: a table, with its
+ * handler for CODE options, or NULL), the DEM options into dem (tp_scene_options_add, dem
+ * first set to the defaults by the caller) and one operand, the DEM or store, into *path; a
+ * second operand is "more than one DEM given" followed by hint (e.g. " (quote a position with
+ * spaces: --observer \"45.37 -121.69\")", or ""). Returns -1 when every argument was read,
+ * else the exit code that ends the command: 0 after the help (help), 2 after a usage error. */
+int tp_planner_parse(const char* cmd, int argc, char** argv, void (*help)(void),
+                     tp_option_table own, tp_scene_options* dem, const char** path,
+                     const char* hint);
 
 /* ---- positions and the ground ---- */
 
@@ -102,7 +61,7 @@ void tp_planner_swap_hint(tp_ground* g, const tp_position* pos, char* out, size_
 int tp_planner_check_outputs(const char* const* paths, int count);
 
 /* tp_ground_open with the command's options (dem: the DEM options it parsed with
- * tp_scene_option_arg, NULL for the defaults): the exit code, *g on TP_EXIT_OK. */
+ * tp_scene_options_add, NULL for the defaults): the exit code, *g on TP_EXIT_OK. */
 int tp_planner_ground_open(const char* cmd, const char* path, const char* cache_dir,
                            const tp_scene_options* dem, tp_ground** g);
 

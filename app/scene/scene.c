@@ -54,25 +54,6 @@ void tp_scene_options_add(tp_options* p, tp_scene_options* o)
     tp_options_add(p, dem_options, DEM_OPTION_COUNT, dem_option_handler, o);
 }
 
-/* TEMPORARY (issue 30, step 2): until every planner command reads its options through
- * tp_options_next. */
-int tp_scene_option_arg(const char* cmd, int argc, char** argv, int* i, tp_scene_options* o)
-{
-    const char* a = argv[*i];
-    for (size_t k = 0; k < DEM_OPTION_COUNT; ++k) {
-        const size_t len = strlen(dem_options[k].name);
-        if (strncmp(a, dem_options[k].name, len) || (a[len] && a[len] != '='))
-            continue;
-        const char* v = a[len] == '=' ? a + 1 + len : *i + 1 < argc ? argv[++*i] : NULL;
-        if (!v) {
-            tp_cli_error("missing value for %s (see 'terrapatch %s --help')", a, cmd);
-            return -1;
-        }
-        return tp_scene_option(dem_options[k].code, v, o, cmd) == 1 ? 1 : -1;
-    }
-    return 0;
-}
-
 void tp_scene_options_names(unsigned mask, char* out, size_t cap)
 {
     size_t at = 0;

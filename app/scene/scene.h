@@ -64,8 +64,7 @@ int tp_scene_option(int opt, const char* arg, tp_scene_options* o, const char* c
 /* Adds the DEM options to a command's parse (options.h): each read into o through
  * tp_scene_option. */
 void tp_scene_options_add(tp_options* p, tp_scene_options* o);
-/* TEMPORARY: the planner commands' old walk (removed once they use tp_options_next). */
-int tp_scene_option_arg(const char* cmd, int argc, char** argv, int* i, tp_scene_options* o);
+
 
 /* Writes into out (cap bytes) the names of the DEM options in mask (a tp_scene_options.given),
  * as "--crs, --fill-max"; "" for none. */
