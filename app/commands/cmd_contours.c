@@ -30,11 +30,9 @@
 #define CONTOURS_BYTES_PER_POST 12
 
 typedef struct contours_cli {
-    const char* path;
+    tp_planner_source src; /* the DEM or store, --cache-dir and the DEM options */
     const char* out;
     const char* around;
-    const char* cache_dir;
-    tp_scene_options dem; /* the DEM options (terrain_open.h) */
     double interval_m, base_m, radius_m;
     double area[4]; /* E0, N0, E1, N1 */
     int has_area, has_radius, index_every;
@@ -42,49 +40,45 @@ typedef struct contours_cli {
 
 static void print_help(void)
 {
-    fputs("usage: terrapatch contours DEM|STORE --interval M -o OUT [--base M] [--index-every K]\n"
-          "                           [--area E0,N0,E1,N1 | --around POS --radius M]\n"
-          "                           [--cache-dir DIR]\n"
-          "\n"
-          "Contour lines of the ground of DEM (any raster GDAL reads, built into the store cache\n"
-          "first as 'terrapatch view' does) or of a store (.tpt), drawn by GDAL's contour\n"
-          "generator (GDALContourGenerate, as gdal_contour) over the stored samples of the\n"
-          "render grid (the DEM's own grid, or a geographic DEM warped to the UTM/UPS zone of\n"
-          "its centre). Levels are BASE + k * INTERVAL; no line crosses a void.\n"
-          "\n"
-          "OUT is any OGR vector format, chosen by its extension: .gpkg, .shp, .geojson, .kml,\n"
-          ".gml, .csv (WKT geometry), .fgb, .sqlite, ... One LINESTRING layer 'contours' in the\n"
-          "render CRS with the fields elevation_m (Real; 'elevation_' in a Shapefile) and index\n"
-          "(Integer: 1 on every K-th level, the index contours). Closed contours are closed\n"
-          "lines. Flat ground (no level inside the heights' range) gives a valid file with an\n"
-          "empty layer, and says so.\n"
-          "\n"
-          "options:\n"
-          "  --interval M           metres between levels (required, > 0)\n"
-          "  -o, --output OUT       the vector file to write (required)\n"
-          "  --base M               a level every INTERVAL from this one (default 0)\n"
-          "  --index-every K        every K-th level is an index contour (default 5; 0: none)\n"
-          "  --area E0,N0,E1,N1     only the posts inside this rectangle of the render CRS\n"
-          "                         (metres; 'terrapatch info' gives the render CRS)\n"
-          "  --around POS           only the posts within --radius M (a square) of POS (any\n"
-          "                         form 'terrapatch coord' reads; quote it when it has spaces)\n"
-          "  --radius M             half the side of that square, metres (> 0)\n"
-          "  --cache-dir DIR        the store cache for a DEM (as 'terrapatch view')\n"
-          "  -h, --help             show this help\n"
-          "\n"
-          "By default the whole DEM; a window of more than 67108864 posts (8192 x 8192) is\n"
-          "refused (use --area or --around), as is one that does not fit the memory left\n"
-          "(12 bytes a post).\n",
-          stdout);
-    tp_planner_dem_options_help();
-    fputs("\n"
-          "example:\n"
-          "  $ terrapatch contours N42E001.hgt --interval 20 -o contours.gpkg\n"
-          "\n"
-          "Exit status: 0 written; 1 the DEM cannot be read, the area or position is outside\n"
-          "it, the window is too big, OUT cannot be written (nothing is left behind, an older\n"
-          "OUT stays); 2 usage error (OUT's extension naming no OGR format included).\n",
-          stdout);
+    tp_planner_help(
+        "usage: terrapatch contours DEM|STORE --interval M -o OUT [--base M] [--index-every K]\n"
+        "                           [--area E0,N0,E1,N1 | --around POS --radius M]\n"
+        "                           [--cache-dir DIR]\n"
+        "\n"
+        "Contour lines of the ground of DEM (any raster GDAL reads, built into the store cache\n"
+        "first as 'terrapatch view' does) or of a store (.tpt), drawn by GDAL's contour\n"
+        "generator (GDALContourGenerate, as gdal_contour) over the stored samples of the\n"
+        "render grid (the DEM's own grid, or a geographic DEM warped to the UTM/UPS zone of\n"
+        "its centre). Levels are BASE + k * INTERVAL; no line crosses a void.\n"
+        "\n"
+        "OUT is any OGR vector format, chosen by its extension: .gpkg, .shp, .geojson, .kml,\n"
+        ".gml, .csv (WKT geometry), .fgb, .sqlite, ... One LINESTRING layer 'contours' in the\n"
+        "render CRS with the fields elevation_m (Real; 'elevation_' in a Shapefile) and index\n"
+        "(Integer: 1 on every K-th level, the index contours). Closed contours are closed\n"
+        "lines. Flat ground (no level inside the heights' range) gives a valid file with an\n"
+        "empty layer, and says so.\n"
+        "\n"
+        "options:\n"
+        "  --interval M           metres between levels (required, > 0)\n"
+        "  -o, --output OUT       the vector file to write (required)\n"
+        "  --base M               a level every INTERVAL from this one (default 0)\n"
+        "  --index-every K        every K-th level is an index contour (default 5; 0: none)\n"
+        "  --area E0,N0,E1,N1     only the posts inside this rectangle of the render CRS\n"
+        "                         (metres; 'terrapatch info' gives the render CRS)\n"
+        "  --around POS           only the posts within --radius M (a square) of POS (any\n"
+        "                         form 'terrapatch coord' reads; quote it when it has spaces)\n"
+        "  --radius M             half the side of that square, metres (> 0)\n"
+        "  -h, --help             show this help\n"
+        "\n"
+        "By default the whole DEM; a window of more than 67108864 posts (8192 x 8192) is\n"
+        "refused (use --area or --around), as is one that does not fit the memory left\n"
+        "(12 bytes a post).\n",
+        "example:\n"
+        "  $ terrapatch contours N42E001.hgt --interval 20 -o contours.gpkg\n"
+        "\n"
+        "Exit status: 0 written; 1 the DEM cannot be read, the area or position is outside\n"
+        "it, the window is too big, OUT cannot be written (nothing is left behind, an older\n"
+        "OUT stays); 2 usage error (OUT's extension naming no OGR format included).\n");
 }
 
 /* --area E0,N0,E1,N1 (tp_option_handler): the only option of contours that is no plain slot. */
@@ -102,7 +96,7 @@ static int area_option(void* ctx, int code, const char* value, const char* cmd)
 static int parse_options(int argc, char** argv, contours_cli* o)
 {
     memset(o, 0, sizeof *o);
-    tp_scene_options_default(&o->dem);
+    tp_planner_source_init(&o->src);
     o->index_every = 5;
     const tp_option options[] = {
         TP_OPT_NUMBER_ABOVE("--interval", &o->interval_m, 0.0, HUGE_VAL, "a number > 0"),
@@ -112,17 +106,14 @@ static int parse_options(int argc, char** argv, contours_cli* o)
         TP_OPT_CODE("--area", NULL, 1, 1),
         TP_OPT_TEXT("--around", NULL, &o->around),
         TP_OPT_TEXT("--output", "-o", &o->out),
-        TP_OPT_TEXT("--cache-dir", NULL, &o->cache_dir),
-    };
+        };
     const tp_option_table own = {options, TP_OPTIONS_COUNT(options), area_option, o};
-    const int code = tp_planner_parse("contours", argc, argv, print_help, own, &o->dem, &o->path,
+    const int code = tp_planner_parse("contours", argc, argv, print_help, own, &o->src,
                                       " (quote a position with spaces: --around "
                                       "\"45.37 -121.69\")");
     if (code >= 0)
         return code;
     o->has_radius = o->radius_m > 0.0;
-    if (!o->path)
-        return tp_cli_usage("contours", "missing DEM");
     if (!(o->interval_m > 0.0))
         return tp_cli_usage("contours", "missing --interval M");
     if (!o->out)
@@ -169,7 +160,7 @@ static int choose_window(const contours_cli* o, tp_ground* g, const tp_position_
             double fx, fy, fh, e, n;
             char lmsg[1024], hint[256] = "";
             tp_position pos;
-            if (!tp_planner_choose("contours", o->path, g, around, o->around, &pos)) {
+            if (!tp_planner_choose("contours", o->src.path, g, around, o->around, &pos)) {
                 return 0;
             }
             if (tp_ground_locate(g, &pos, o->around, &fx, &fy, &fh, lmsg, sizeof lmsg)) {
@@ -179,7 +170,7 @@ static int choose_window(const contours_cli* o, tp_ground* g, const tp_position_
                                              &err) != TP_OK) {
                 /* a centre in a void is fine: the lines around it are still wanted */
                 tp_planner_swap_hint(g, &pos, hint, sizeof hint);
-                tp_cli_error("%s: %s%s", o->path, lmsg, hint);
+                tp_cli_error("%s: %s%s", o->src.path, lmsg, hint);
                 return 0;
             }
             e0 = e - o->radius_m, e1 = e + o->radius_m, n0 = n - o->radius_m, n1 = n + o->radius_m;
@@ -195,8 +186,9 @@ static int choose_window(const contours_cli* o, tp_ground* g, const tp_position_
         if (lx > hx || ly > hy) {
             tp_cli_error("%s: the area E %.1f .. %.1f, N %.1f .. %.1f is "
                          "outside the DEM (E %.1f .. %.1f, N %.1f .. %.1f, render CRS)",
-                         o->path, e0, e1, n0, n1, gt[0] + 0.5 * gt[1], gt[0] + (W - 0.5) * gt[1],
-                         gt[3] + (H - 0.5) * gt[5], gt[3] + 0.5 * gt[5]);
+                         o->src.path, e0, e1, n0, n1, gt[0] + 0.5 * gt[1],
+                         gt[0] + (W - 0.5) * gt[1], gt[3] + (H - 0.5) * gt[5],
+                         gt[3] + 0.5 * gt[5]);
             return 0;
         }
         x0 = (int)lx, x1 = (int)hx, y0 = (int)ly, y1 = (int)hy;
@@ -218,7 +210,7 @@ int tp_cli_contours(int argc, char** argv)
         return code;
     tp_error err = {{0}};
     tp_ground* g = NULL;
-    if ((code = tp_planner_ground_open("contours", o.path, o.cache_dir, &o.dem, &g)) != TP_EXIT_OK)
+    if ((code = tp_planner_ground_open("contours", &o.src, &g)) != TP_EXIT_OK)
         return code;
     const tp_store_scene* sc = tp_ground_scene(g);
     const tp_tree_geometry* geom = &sc->info.header.geometry;
@@ -240,11 +232,11 @@ int tp_cli_contours(int argc, char** argv)
         if (n > CONTOURS_MAX_POSTS)
             tp_cli_error("%s: a %dx%d window is %zu posts, more than one run "
                          "takes (%zu, 8192 x 8192); choose a part with --area or --around",
-                         o.path, w, h, n, CONTOURS_MAX_POSTS);
+                         o.src.path, w, h, n, CONTOURS_MAX_POSTS);
         else
             tp_cli_error("%s: a %dx%d window needs about %.0f MiB, %.0f MiB "
                          "left (%s); choose a part with --area or --around",
-                         o.path, w, h, n * (double)CONTOURS_BYTES_PER_POST / 1048576.0,
+                         o.src.path, w, h, n * (double)CONTOURS_BYTES_PER_POST / 1048576.0,
                          room.bytes / 1048576.0, room.bound);
         tp_ground_destroy(g);
         return TP_EXIT_FAILURE;
@@ -274,7 +266,7 @@ int tp_cli_contours(int argc, char** argv)
     const double t3 = tp_clock_s();
     if (s != TP_OK) {
         if (!tp_interrupted())
-            tp_cli_error("%s: %s", o.path, err.message);
+            tp_cli_error("%s: %s", o.src.path, err.message);
         free(z);
         tp_features_destroy(f);
         tp_ground_destroy(g);

@@ -30,71 +30,67 @@
 
 static void print_help(void)
 {
-    fputs("usage: terrapatch light DEM|STORE --date YYYY-MM-DD --time HH:MM[:SS][ZONE]\n"
-          "                        -o OUT.tif [--values lit|illumination] [--radius M --at POS]\n"
-          "                        [--cache-dir DIR]\n"
-          "       terrapatch light DEM|STORE --day --date YYYY-MM-DD [--maps N] [--margin M]\n"
-          "                        [-o OUT.tpl] [--json FILE|-] [--quiet] [--cache-dir DIR]\n"
-          "\n"
-          "Where the sun shines on the ground of DEM (any raster GDAL reads, built into the\n"
-          "store cache first as 'terrapatch view' does) or of a store (.tpt) at one moment, with\n"
-          "the shadows the terrain casts on itself: a one-band Byte raster on the render grid\n"
-          "(the DEM's own grid, or a geographic DEM warped to the UTM/UPS zone of its centre),\n"
-          "covering the whole grid or the window --radius reaches around --at.\n"
-          "\n"
-          "The sun's position is libnova's (VSOP87; checked against Meeus and the NREL SPA,\n"
-          "docs/light.md) for the window's centre: its azimuth from true north less the meridian\n"
-          "convergence there gives the grid azimuth, its elevation includes refraction\n"
-          "(1010 mbar, 10 C). One direction serves the whole window (a flat earth: the sun's\n"
-          "elevation changes by 0.009 degree per km across it). Voids are 0 and cast nothing.\n"
-          "\n"
-          "options:\n"
-          "  --date YYYY-MM-DD      the date (required; its sunrise and sunset are printed, for\n"
-          "                         the day of local mean solar time at the centre)\n"
-          "  --time HH:MM[:SS][ZONE] the time (required); ZONE: Z, UTC, +HH:MM, -HHMM, +HH,\n"
-          "                         after the time or one space; no zone: UTC\n"
-          "  -o, --output OUT.tif   the raster to write (required), in the format its extension\n"
-          "                         names: .tif GeoTIFF, .png PNG (with a .wld world file and\n"
-          "                         the CRS in .png.aux.xml), .gpkg, .jp2 (lossless), .img,\n"
-          "                         .asc, .bmp\n"
-          "  --values lit           255 in sunlight, 0 in shadow (default)\n"
-          "  --values illumination  the direct sunlight, 255 * cos(incidence): 0 in shadow and on\n"
-          "                         slopes facing away from the sun\n"
-          "  --radius M             only the window of posts within M metres (east and north) of\n"
-          "                         --at (a square); needs --at\n"
-          "  --at POS               the window's centre and the place the sun is computed for\n"
-          "                         (alone: the whole grid, the sun at POS; any form\n"
-          "                         'terrapatch coord' reads)\n"
-          "  --cache-dir DIR        the store cache for a DEM (as 'terrapatch view')\n"
-          "  -h, --help             show this help\n"
-          "\n"
-          "The day (--day): the light map of the whole grid from sunrise to sunset of --date\n"
-          "(at the grid's centre; a polar day or night: its 24 hours from local mean midnight)\n"
-          "as an imagery pyramid (.tpl, docs/light.md) the viewer streams: each post's lit\n"
-          "intervals in 255 steps of the day, found from N sun positions (more where the sun is\n"
-          "low and shadows move fast), the grid cut into tiles of 1024x1024 posts, each computed\n"
-          "with the ground within --margin around it (which may cast shadows into it).\n"
-          "  --day                  the day's light map instead of one moment (no --time)\n"
-          "  --maps N               sun positions, 2 .. 1024 (default 64)\n"
-          "  --margin M             metres of ground beyond each tile that may shadow it\n"
-          "                         (default 10000: shadows up to 10 km long; at most 1024\n"
-          "                         posts)\n"
-          "  -o, --output OUT.tpl   the light map (default: the store's path with .tpl for .tpt;\n"
-          "                         for a DEM, its store's in the store cache)\n"
-          "  --json FILE|-          the summary as JSON (\"-\": on stdout instead of the text)\n"
-          "  --quiet                no progress on stderr\n",
-          stdout);
-    tp_planner_dem_options_help();
-    fputs("\n"
-          "examples:\n"
-          "  $ terrapatch light mt_hood.tif --date 2026-06-21 --time '18:30 -07:00' -o sun.tif\n"
-          "  $ terrapatch light mt_hood.tpt --day --date 2026-06-21     # writes mt_hood.tpl\n"
-          "\n"
-          "Exit status: 0 written (also with the sun below the horizon: all 0); 1 the DEM cannot\n"
-          "be read, has no CRS, --at is outside it or in a void, the output cannot be written\n"
-          "(nothing is left behind); 2 usage error (OUT's extension naming no format written\n"
-          "included).\n",
-          stdout);
+    tp_planner_help(
+        "usage: terrapatch light DEM|STORE --date YYYY-MM-DD --time HH:MM[:SS][ZONE]\n"
+        "                        -o OUT.tif [--values lit|illumination] [--radius M --at POS]\n"
+        "                        [--cache-dir DIR]\n"
+        "       terrapatch light DEM|STORE --day --date YYYY-MM-DD [--maps N] [--margin M]\n"
+        "                        [-o OUT.tpl] [--json FILE|-] [--quiet] [--cache-dir DIR]\n"
+        "\n"
+        "Where the sun shines on the ground of DEM (any raster GDAL reads, built into the\n"
+        "store cache first as 'terrapatch view' does) or of a store (.tpt) at one moment, with\n"
+        "the shadows the terrain casts on itself: a one-band Byte raster on the render grid\n"
+        "(the DEM's own grid, or a geographic DEM warped to the UTM/UPS zone of its centre),\n"
+        "covering the whole grid or the window --radius reaches around --at.\n"
+        "\n"
+        "The sun's position is libnova's (VSOP87; checked against Meeus and the NREL SPA,\n"
+        "docs/light.md) for the window's centre: its azimuth from true north less the meridian\n"
+        "convergence there gives the grid azimuth, its elevation includes refraction\n"
+        "(1010 mbar, 10 C). One direction serves the whole window (a flat earth: the sun's\n"
+        "elevation changes by 0.009 degree per km across it). Voids are 0 and cast nothing.\n"
+        "\n"
+        "options:\n"
+        "  --date YYYY-MM-DD      the date (required; its sunrise and sunset are printed, for\n"
+        "                         the day of local mean solar time at the centre)\n"
+        "  --time HH:MM[:SS][ZONE] the time (required); ZONE: Z, UTC, +HH:MM, -HHMM, +HH,\n"
+        "                         after the time or one space; no zone: UTC\n"
+        "  -o, --output OUT.tif   the raster to write (required), in the format its extension\n"
+        "                         names: .tif GeoTIFF, .png PNG (with a .wld world file and\n"
+        "                         the CRS in .png.aux.xml), .gpkg, .jp2 (lossless), .img,\n"
+        "                         .asc, .bmp\n"
+        "  --values lit           255 in sunlight, 0 in shadow (default)\n"
+        "  --values illumination  the direct sunlight, 255 * cos(incidence): 0 in shadow and on\n"
+        "                         slopes facing away from the sun\n"
+        "  --radius M             only the window of posts within M metres (east and north) of\n"
+        "                         --at (a square); needs --at\n"
+        "  --at POS               the window's centre and the place the sun is computed for\n"
+        "                         (alone: the whole grid, the sun at POS; any form\n"
+        "                         'terrapatch coord' reads)\n"
+        "  -h, --help             show this help\n"
+        "\n"
+        "The day (--day): the light map of the whole grid from sunrise to sunset of --date\n"
+        "(at the grid's centre; a polar day or night: its 24 hours from local mean midnight)\n"
+        "as an imagery pyramid (.tpl, docs/light.md) the viewer streams: each post's lit\n"
+        "intervals in 255 steps of the day, found from N sun positions (more where the sun is\n"
+        "low and shadows move fast), the grid cut into tiles of 1024x1024 posts, each computed\n"
+        "with the ground within --margin around it (which may cast shadows into it).\n"
+        "  --day                  the day's light map instead of one moment (no --time)\n"
+        "  --maps N               sun positions, 2 .. 1024 (default 64)\n"
+        "  --margin M             metres of ground beyond each tile that may shadow it\n"
+        "                         (default 10000: shadows up to 10 km long; at most 1024\n"
+        "                         posts)\n"
+        "  -o, --output OUT.tpl   the light map (default: the store's path with .tpl for .tpt;\n"
+        "                         for a DEM, its store's in the store cache)\n"
+        "  --json FILE|-          the summary as JSON (\"-\": on stdout instead of the text)\n"
+        "  --quiet                no progress on stderr\n",
+        "examples:\n"
+        "  $ terrapatch light mt_hood.tif --date 2026-06-21 --time '18:30 -07:00' -o sun.tif\n"
+        "  $ terrapatch light mt_hood.tpt --day --date 2026-06-21     # writes mt_hood.tpl\n"
+        "\n"
+        "Exit status: 0 written (also with the sun below the horizon: all 0); 1 the DEM cannot\n"
+        "be read, has no CRS, --at is outside it or in a void, the output cannot be written\n"
+        "(nothing is left behind); 2 usage error (OUT's extension naming no format written\n"
+        "included).\n");
 }
 
 /* A second operand, or a piece of --time left unquoted ("--time 18:30 -07:00"): exit 2. */
@@ -111,7 +107,7 @@ static int light_stray(tp_options* p)
 static int parse_options(int argc, char** argv, tp_light_cli* o)
 {
     memset(o, 0, sizeof *o);
-    tp_scene_options_default(&o->dem);
+    tp_planner_source_init(&o->src);
     o->maps = TP_LIGHT_DAY_MAPS;
     o->margin_m = TP_LIGHT_DAY_MARGIN_M;
     const char* maps = NULL;
@@ -123,7 +119,6 @@ static int parse_options(int argc, char** argv, tp_light_cli* o)
         TP_OPT_TEXT("--output", "-o", &o->out),
         TP_OPT_TEXT("--at", NULL, &o->at),
         TP_OPT_TEXT("--values", NULL, &o->values),
-        TP_OPT_TEXT("--cache-dir", NULL, &o->cache_dir),
         TP_OPT_TEXT("--maps", NULL, &maps),
         TP_OPT_TEXT("--json", NULL, &o->json),
         TP_OPT_FLAG("--day", &o->day),
@@ -133,15 +128,15 @@ static int parse_options(int argc, char** argv, tp_light_cli* o)
     tp_options_init(&p, "light", argc, argv, print_help);
     p.negative_operands = 1; /* "-07:00" comes back as an operand: light_stray's hint */
     tp_options_add(&p, options, TP_OPTIONS_COUNT(options), NULL, NULL);
-    tp_scene_options_add(&p, &o->dem);
+    tp_planner_source_add(&p, &o->src);
     for (int c; (c = tp_options_next(&p)) != TP_OPTIONS_END;) {
         if (c == TP_OPTIONS_EXIT)
             return p.exit;
-        if (o->path || (p.value[0] == '-' && p.value[1]))
+        if (o->src.path || (p.value[0] == '-' && p.value[1]))
             return light_stray(&p);
-        o->path = p.value;
+        o->src.path = p.value;
     }
-    if (!o->path)
+    if (!o->src.path)
         return tp_cli_usage("light", "missing DEM");
     if (!o->date)
         return tp_cli_usage("light", "missing --date YYYY-MM-DD");
@@ -195,7 +190,7 @@ int tp_cli_light(int argc, char** argv)
         return code;
     tp_error err = {{0}};
     tp_ground* g = NULL;
-    if ((code = tp_planner_ground_open("light", o.path, o.cache_dir, &o.dem, &g)) != TP_EXIT_OK)
+    if ((code = tp_planner_ground_open("light", &o.src, &g)) != TP_EXIT_OK)
         return code;
     const tp_store_scene* sc = tp_ground_scene(g);
     const tp_tree_geometry* geom = &sc->info.header.geometry;
@@ -204,7 +199,7 @@ int tp_cli_light(int argc, char** argv)
     double cx = 0.5 * x1, cy = 0.5 * y1; /* the place of the sun: the window's centre */
     if (o.at) {
         double fh;
-        if (!tp_planner_locate("light", o.path, g, &at_pos, o.at, &cx, &cy, &fh)) {
+        if (!tp_planner_locate("light", o.src.path, g, &at_pos, o.at, &cx, &cy, &fh)) {
             tp_ground_destroy(g);
             return TP_EXIT_FAILURE;
         }
@@ -219,7 +214,7 @@ int tp_cli_light(int argc, char** argv)
         }
     }
     tp_light_place here;
-    if (!tp_light_place_at(o.path, g, cx, cy, &here)) {
+    if (!tp_light_place_at(o.src.path, g, cx, cy, &here)) {
         tp_ground_destroy(g);
         return TP_EXIT_FAILURE;
     }
@@ -273,7 +268,7 @@ int tp_cli_light(int argc, char** argv)
     tp_interrupt_release();
     if (s != TP_OK) {
         if (!tp_interrupted())
-            tp_cli_error("%s: %s", o.path, err.message);
+            tp_cli_error("%s: %s", o.src.path, err.message);
         free(z);
         free(lit);
         free(out);

@@ -20,20 +20,18 @@
 #include <string.h>
 
 typedef struct los_options {
-    const char* path;
+    tp_planner_source src; /* the DEM or store, --cache-dir and the DEM options */
     const char* from;
     const char* to;
     double from_height_m, to_height_m, curvature_coeff;
     const char* json;
     const char* profile;
     const char* csv;
-    const char* cache_dir;
-    tp_scene_options dem; /* the DEM options (terrain_open.h) */
 } los_options;
 
 static void print_help(void)
 {
-    fputs(
+    tp_planner_help(
         "usage: terrapatch los DEM|STORE --from POS --to POS [--from-height M] [--to-height M]\n"
         "                      [--curvature-coeff C] [--json F] [--profile F.png] [--csv F]\n"
         "                      [--cache-dir DIR]\n"
@@ -65,28 +63,23 @@ static void print_help(void)
         "                         of the text)\n"
         "  --profile F.png        draw the ground profile with the sight line (gnuplot)\n"
         "  --csv F                write the profile samples as CSV\n"
-        "  --cache-dir DIR        the store cache for a DEM (as 'terrapatch view')\n"
         "  -h, --help             show this help\n",
-        stdout);
-    tp_planner_dem_options_help();
-    fputs("\n"
-          "example:\n"
-          "  $ terrapatch los N42E001.hgt --from 42.5,1.5 --to 42.6,1.6 --profile los.png\n"
-          "\n"
-          "The files given (--json, --csv, --profile) are written all or none: when one cannot\n"
-          "be (a full disk, gnuplot missing), none is, and older files stay as they were.\n"
-          "\n"
-          "Exit status: 0 done (seen or not); 1 the DEM cannot be read, a position is outside it\n"
-          "or in a void, an output cannot be written (then none is); 2 usage error (a position\n"
-          "that cannot be read, a --profile not .png included).\n",
-          stdout);
+        "example:\n"
+        "  $ terrapatch los N42E001.hgt --from 42.5,1.5 --to 42.6,1.6 --profile los.png\n"
+        "\n"
+        "The files given (--json, --csv, --profile) are written all or none: when one cannot\n"
+        "be (a full disk, gnuplot missing), none is, and older files stay as they were.\n"
+        "\n"
+        "Exit status: 0 done (seen or not); 1 the DEM cannot be read, a position is outside it\n"
+        "or in a void, an output cannot be written (then none is); 2 usage error (a position\n"
+        "that cannot be read, a --profile not .png included).\n");
 }
 
 /* -1 when fine, else the exit code. */
 static int parse_options(int argc, char** argv, los_options* o)
 {
     memset(o, 0, sizeof *o);
-    tp_scene_options_default(&o->dem);
+    tp_planner_source_init(&o->src);
     o->from_height_m = TP_VIEWSHED_OBSERVER_HEIGHT_M;
     o->to_height_m = TP_VIEWSHED_TARGET_HEIGHT_M;
     o->curvature_coeff = TP_VIEWSHED_CURVATURE_COEFF;
@@ -96,19 +89,16 @@ static int parse_options(int argc, char** argv, los_options* o)
         TP_OPT_TEXT("--json", NULL, &o->json),
         TP_OPT_TEXT("--profile", NULL, &o->profile),
         TP_OPT_TEXT("--csv", NULL, &o->csv),
-        TP_OPT_TEXT("--cache-dir", NULL, &o->cache_dir),
         TP_OPT_NUMBER("--from-height", &o->from_height_m, 0.0, HUGE_VAL, "a number >= 0"),
         TP_OPT_NUMBER("--to-height", &o->to_height_m, 0.0, HUGE_VAL, "a number >= 0"),
         TP_OPT_NUMBER("--curvature-coeff", &o->curvature_coeff, 0.0, HUGE_VAL, "a number >= 0"),
     };
     const tp_option_table own = {options, TP_OPTIONS_COUNT(options), NULL, NULL};
-    const int code = tp_planner_parse("los", argc, argv, print_help, own, &o->dem, &o->path,
+    const int code = tp_planner_parse("los", argc, argv, print_help, own, &o->src,
                                       " (quote a position with spaces: --from "
                                       "\"45.37 -121.69\")");
     if (code >= 0)
         return code;
-    if (!o->path)
-        return tp_cli_usage("los", "missing DEM");
     if (!o->from)
         return tp_cli_usage("los", "missing --from POS (the observer)");
     if (!o->to)
@@ -168,7 +158,7 @@ static void write_json(FILE* f, void* report)
     tp_json_init(&j, f);
     tp_json_object_begin(&j);
     tp_json_key(&j, "source");
-    tp_json_string(&j, p->o->path);
+    tp_json_string(&j, p->o->src.path);
     tp_json_key(&j, "visible");
     tp_json_bool(&j, r->visible);
     tp_json_key(&j, "distance_m");
@@ -332,15 +322,15 @@ int tp_cli_los(int argc, char** argv)
         return TP_EXIT_FAILURE;
 
     tp_ground* g = NULL;
-    if ((code = tp_planner_ground_open("los", o.path, o.cache_dir, &o.dem, &g)) != TP_EXIT_OK)
+    if ((code = tp_planner_ground_open("los", &o.src, &g)) != TP_EXIT_OK)
         return code;
     los_report p;
     memset(&p, 0, sizeof p);
     p.o = &o;
     p.g = g;
     double fx, fy, tx, ty;
-    if (!tp_planner_locate("los", o.path, g, &from, o.from, &fx, &fy, &p.from_ground_m) ||
-        !tp_planner_locate("los", o.path, g, &to, o.to, &tx, &ty, &p.to_ground_m)) {
+    if (!tp_planner_locate("los", o.src.path, g, &from, o.from, &fx, &fy, &p.from_ground_m) ||
+        !tp_planner_locate("los", o.src.path, g, &to, o.to, &tx, &ty, &p.to_ground_m)) {
         tp_ground_destroy(g);
         return TP_EXIT_FAILURE;
     }
@@ -357,7 +347,7 @@ int tp_cli_los(int argc, char** argv)
                             : tp_error_set(&err, TP_ERR_OUT_OF_MEMORY,
                                            "out of memory for %zu profile samples", n);
     if (s != TP_OK) {
-        tp_cli_error("%s: %s", o.path, err.message);
+        tp_cli_error("%s: %s", o.src.path, err.message);
         free(p.samples);
         tp_ground_destroy(g);
         return TP_EXIT_FAILURE;

@@ -20,61 +20,55 @@
 #define DEFAULT_PRECISION 5
 
 typedef struct point_options {
-    const char* path;
+    tp_planner_source src; /* the DEM or store, --cache-dir and the DEM options */
     char* pos_args[8];
     int pos_count;
     int precision;
     const char* json;
-    const char* cache_dir;
-    tp_scene_options dem;
 } point_options;
 
 static void print_help(void)
 {
-    fputs("usage: terrapatch point DEM|STORE POS [--precision N] [--json F] [--cache-dir DIR]\n"
-          "\n"
-          "What is here: the position POS on the ground of DEM (any raster GDAL reads, built\n"
-          "into the store cache first as 'terrapatch view' does) or of a store (.tpt). Prints\n"
-          "the position as latitude/longitude (decimal degrees and degrees-minutes-seconds),\n"
-          "MGRS with spaces, UTM/UPS, the elevation as stored (with the vertical datum as the\n"
-          "file states it, else 'unknown'), and the slope and aspect of the ground there.\n"
-          "\n"
-          "POS, in any form 'terrapatch coord' reads (one argument or several):\n"
-          "  45.373 -121.696            decimal degrees, latitude first\n"
-          "  45.373,-121.696            the same with a comma\n"
-          "  45d22'23\"N 121d41'45\"W     degrees-minutes-seconds (GeographicLib's DMS rules:\n"
-          "  45:22:23N 121:41:45W       d ' \" or : separators, N S E W before or after;\n"
-          "                             with hemisphere letters either order works)\n"
-          "  55 28 41.88 N 2 08 44.16 W the same with spaces (letters end each coordinate)\n"
-          "  10n 601000 5026000         UTM zone and hemisphere, easting, northing (metres);\n"
-          "                             also as printed here (10n 601000.0 E 5026000.0 N)\n"
-          "  10T 601000 5026000         UTM zone and latitude band, as maps and GPS units\n"
-          "                             write it (a band S that may be the southern\n"
-          "                             hemisphere: the reading on the DEM, with a note)\n"
-          "  10TER0100026000            MGRS, any precision (the centre of its square),\n"
-          "                             also with spaces (10T ER 01000 26000)\n"
-          "\n"
-          "The height is that of the full-resolution surface at POS (the store's triangulated\n"
-          "posts: exact at a post, as stored). Slope (degrees from horizontal) and aspect (the\n"
-          "direction the slope faces, downhill, degrees clockwise from true north; also from\n"
-          "grid north, with the meridian convergence between them) come from central\n"
-          "differences of that surface one post either side.\n"
-          "\n"
-          "options:\n"
-          "  --precision N    MGRS digits per coordinate, 0..11 (default 5 = 1 m)\n"
-          "  --json F         also write the readout as JSON to F ('-' for stdout, instead of\n"
-          "                   the text)\n"
-          "  --cache-dir DIR  the store cache for a DEM (as 'terrapatch view')\n"
-          "  -h, --help       show this help\n",
-          stdout);
-    tp_planner_dem_options_help();
-    fputs("\n"
-          "example:\n"
-          "  $ terrapatch point lf_elev_220_mt_hood_utm.tif 45.3736 -121.6959\n"
-          "\n"
-          "Exit status: 0 done; 1 the DEM cannot be read, or POS is outside the DEM or in a\n"
-          "void (no height there); 2 usage error (a position that cannot be read included).\n",
-          stdout);
+    tp_planner_help(
+        "usage: terrapatch point DEM|STORE POS [--precision N] [--json F] [--cache-dir DIR]\n"
+        "\n"
+        "What is here: the position POS on the ground of DEM (any raster GDAL reads, built\n"
+        "into the store cache first as 'terrapatch view' does) or of a store (.tpt). Prints\n"
+        "the position as latitude/longitude (decimal degrees and degrees-minutes-seconds),\n"
+        "MGRS with spaces, UTM/UPS, the elevation as stored (with the vertical datum as the\n"
+        "file states it, else 'unknown'), and the slope and aspect of the ground there.\n"
+        "\n"
+        "POS, in any form 'terrapatch coord' reads (one argument or several):\n"
+        "  45.373 -121.696            decimal degrees, latitude first\n"
+        "  45.373,-121.696            the same with a comma\n"
+        "  45d22'23\"N 121d41'45\"W     degrees-minutes-seconds (GeographicLib's DMS rules:\n"
+        "  45:22:23N 121:41:45W       d ' \" or : separators, N S E W before or after;\n"
+        "                             with hemisphere letters either order works)\n"
+        "  55 28 41.88 N 2 08 44.16 W the same with spaces (letters end each coordinate)\n"
+        "  10n 601000 5026000         UTM zone and hemisphere, easting, northing (metres);\n"
+        "                             also as printed here (10n 601000.0 E 5026000.0 N)\n"
+        "  10T 601000 5026000         UTM zone and latitude band, as maps and GPS units\n"
+        "                             write it (a band S that may be the southern\n"
+        "                             hemisphere: the reading on the DEM, with a note)\n"
+        "  10TER0100026000            MGRS, any precision (the centre of its square),\n"
+        "                             also with spaces (10T ER 01000 26000)\n"
+        "\n"
+        "The height is that of the full-resolution surface at POS (the store's triangulated\n"
+        "posts: exact at a post, as stored). Slope (degrees from horizontal) and aspect (the\n"
+        "direction the slope faces, downhill, degrees clockwise from true north; also from\n"
+        "grid north, with the meridian convergence between them) come from central\n"
+        "differences of that surface one post either side.\n"
+        "\n"
+        "options:\n"
+        "  --precision N    MGRS digits per coordinate, 0..11 (default 5 = 1 m)\n"
+        "  --json F         also write the readout as JSON to F ('-' for stdout, instead of\n"
+        "                   the text)\n"
+        "  -h, --help       show this help\n",
+        "example:\n"
+        "  $ terrapatch point lf_elev_220_mt_hood_utm.tif 45.3736 -121.6959\n"
+        "\n"
+        "Exit status: 0 done; 1 the DEM cannot be read, or POS is outside the DEM or in a\n"
+        "void (no height there); 2 usage error (a position that cannot be read included).\n");
 }
 
 /* -1 when fine, else the exit code. Options may come anywhere; an argument starting with '-'
@@ -82,29 +76,28 @@ static void print_help(void)
 static int parse_options(int argc, char** argv, point_options* o)
 {
     memset(o, 0, sizeof *o);
+    tp_planner_source_init(&o->src);
     o->precision = DEFAULT_PRECISION;
-    tp_scene_options_default(&o->dem);
     const tp_option options[] = {
         TP_OPT_INTEGER("--precision", &o->precision, 0, 11, "an integer from 0 to 11"),
         TP_OPT_TEXT("--json", NULL, &o->json),
-        TP_OPT_TEXT("--cache-dir", NULL, &o->cache_dir),
-    };
+        };
     tp_options p;
     tp_options_init(&p, "point", argc, argv, print_help);
     p.negative_operands = 1;
     tp_options_add(&p, options, TP_OPTIONS_COUNT(options), NULL, NULL);
-    tp_scene_options_add(&p, &o->dem);
+    tp_planner_source_add(&p, &o->src);
     for (int c; (c = tp_options_next(&p)) != TP_OPTIONS_END;) {
         if (c == TP_OPTIONS_EXIT)
             return p.exit;
-        if (!o->path)
-            o->path = p.value;
+        if (!o->src.path)
+            o->src.path = p.value;
         else if (o->pos_count == (int)(sizeof o->pos_args / sizeof o->pos_args[0]))
             return tp_cli_usage("point", "too many arguments for a position");
         else
             o->pos_args[o->pos_count++] = (char*)p.value;
     }
-    if (!o->path)
+    if (!o->src.path)
         return tp_cli_usage("point", "missing DEM and position");
     if (!o->pos_count)
         return tp_cli_usage("point",
@@ -141,17 +134,17 @@ int tp_cli_point(int argc, char** argv)
         return TP_EXIT_FAILURE;
 
     tp_ground* g = NULL;
-    if ((code = tp_planner_ground_open("point", o.path, o.cache_dir, &o.dem, &g)) != TP_EXIT_OK)
+    if ((code = tp_planner_ground_open("point", &o.src, &g)) != TP_EXIT_OK)
         return code;
     tp_point_readout r;
     tp_position pos;
     char hint[256];
-    if (!tp_planner_choose("point", o.path, g, &readings, text, &pos)) {
+    if (!tp_planner_choose("point", o.src.path, g, &readings, text, &pos)) {
         code = TP_EXIT_FAILURE;
-    } else if (!tp_point_readout_at_position(g, o.path, &pos, text, o.precision, &r, msg,
+    } else if (!tp_point_readout_at_position(g, o.src.path, &pos, text, o.precision, &r, msg,
                                              sizeof msg)) {
         tp_planner_swap_hint(g, &pos, hint, sizeof hint);
-        tp_cli_error("%s: %s%s", o.path, msg, hint);
+        tp_cli_error("%s: %s%s", o.src.path, msg, hint);
         code = TP_EXIT_FAILURE;
     } else {
         const tp_planner_outputs out = {.json = o.json, .write_text = write_text,

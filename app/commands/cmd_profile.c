@@ -27,88 +27,79 @@
 #define PROFILE_MAX_SAMPLES 10000000u
 
 typedef struct profile_options {
-    const char* path;
+    tp_planner_source src; /* the DEM or store, --cache-dir and the DEM options */
     const char* route;
     const char* png;
     const char* csv;
     const char* json;
-    const char* cache_dir;
-    tp_scene_options dem; /* the DEM options (terrain_open.h) */
     double step_m;   /* 0: the grid spacing */
     int feature;     /* 1-based among the lines; 0: the first */
 } profile_options;
 
 static void print_help(void)
 {
-    fputs("usage: terrapatch profile DEM|STORE --route FILE [--feature N] [--step M]\n"
-          "                          [--json F] [--csv F] [--png F] [--cache-dir DIR]\n"
-          "\n"
-          "The elevation profile of a route over the ground of DEM (any raster GDAL reads, built\n"
-          "into the store cache first as 'terrapatch view' does) or of a store (.tpt).\n"
-          "\n"
-          "FILE: any vector file OGR reads (GPX, KML, GeoJSON, Shapefile, GeoPackage, ...),\n"
-          "reprojected into the DEM's render CRS. The route is one line of it: its lines are\n"
-          "numbered in file order (every layer; a GPX file's routes and tracks, each track\n"
-          "segment a line of its own); the first is taken unless --feature N names another.\n"
-          "Points and polygons are not routes (they are overlays for 'terrapatch view').\n"
-          "\n"
-          "The line is sampled on the full-resolution ground ('terrapatch point' reads the same)\n"
-          "at every vertex and between them every --step metres or less (each leg split into\n"
-          "equal pieces). Reported: length along the ground (3D: the samples joined by straight\n"
-          "pieces), on the map (2D: the render grid's plane) and on the WGS84 ellipsoid\n"
-          "(geodesics between the vertices), total climb and descent (sums of the rises and\n"
-          "falls between samples, unsmoothed), the steepest piece between two samples (grade in\n"
-          "per cent, signed in the direction of travel), the lowest and highest points.\n"
-          "Heights are as stored (SRTM: above the EGM96 geoid).\n"
-          "\n"
-          "options:\n"
-          "  --route FILE     the route (required)\n"
-          "  --feature N      the Nth line of FILE (default 1)\n"
-          "  --step M         largest distance between samples, metres (default: the grid\n"
-          "                   spacing)\n"
-          "  --json F         also write the figures as JSON to F ('-' for stdout, instead of\n"
-          "                   the text)\n"
-          "  --csv F          write the samples as CSV: distance_m, e_m, n_m, lat, lon,\n"
-          "                   elevation_m, grade_pct (of the piece ending there)\n"
-          "  --png F          draw the profile (gnuplot), the steepest piece marked\n"
-          "  --cache-dir DIR  the store cache for a DEM (as 'terrapatch view')\n"
-          "  -h, --help       show this help\n",
-          stdout);
-    tp_planner_dem_options_help();
-    fputs("\n"
-          "example:\n"
-          "  $ terrapatch profile N42E001.hgt --route coma_pedrosa.gpx --png profile.png\n"
-          "\n"
-          "The files given (--json, --csv, --png) are written all or none: when one cannot be\n"
-          "(a full disk, gnuplot missing), none is, and older files stay as they were.\n"
-          "\n"
-          "Exit status: 0 done; 1 the DEM or FILE cannot be read, FILE has no line (or no Nth),\n"
-          "the route leaves the DEM or crosses a void (nothing is written then), an output\n"
-          "cannot be written (then none is); 2 usage error (a --png not .png included).\n",
-          stdout);
+    tp_planner_help(
+        "usage: terrapatch profile DEM|STORE --route FILE [--feature N] [--step M]\n"
+        "                          [--json F] [--csv F] [--png F] [--cache-dir DIR]\n"
+        "\n"
+        "The elevation profile of a route over the ground of DEM (any raster GDAL reads, built\n"
+        "into the store cache first as 'terrapatch view' does) or of a store (.tpt).\n"
+        "\n"
+        "FILE: any vector file OGR reads (GPX, KML, GeoJSON, Shapefile, GeoPackage, ...),\n"
+        "reprojected into the DEM's render CRS. The route is one line of it: its lines are\n"
+        "numbered in file order (every layer; a GPX file's routes and tracks, each track\n"
+        "segment a line of its own); the first is taken unless --feature N names another.\n"
+        "Points and polygons are not routes (they are overlays for 'terrapatch view').\n"
+        "\n"
+        "The line is sampled on the full-resolution ground ('terrapatch point' reads the same)\n"
+        "at every vertex and between them every --step metres or less (each leg split into\n"
+        "equal pieces). Reported: length along the ground (3D: the samples joined by straight\n"
+        "pieces), on the map (2D: the render grid's plane) and on the WGS84 ellipsoid\n"
+        "(geodesics between the vertices), total climb and descent (sums of the rises and\n"
+        "falls between samples, unsmoothed), the steepest piece between two samples (grade in\n"
+        "per cent, signed in the direction of travel), the lowest and highest points.\n"
+        "Heights are as stored (SRTM: above the EGM96 geoid).\n"
+        "\n"
+        "options:\n"
+        "  --route FILE     the route (required)\n"
+        "  --feature N      the Nth line of FILE (default 1)\n"
+        "  --step M         largest distance between samples, metres (default: the grid\n"
+        "                   spacing)\n"
+        "  --json F         also write the figures as JSON to F ('-' for stdout, instead of\n"
+        "                   the text)\n"
+        "  --csv F          write the samples as CSV: distance_m, e_m, n_m, lat, lon,\n"
+        "                   elevation_m, grade_pct (of the piece ending there)\n"
+        "  --png F          draw the profile (gnuplot), the steepest piece marked\n"
+        "  -h, --help       show this help\n",
+        "example:\n"
+        "  $ terrapatch profile N42E001.hgt --route coma_pedrosa.gpx --png profile.png\n"
+        "\n"
+        "The files given (--json, --csv, --png) are written all or none: when one cannot be\n"
+        "(a full disk, gnuplot missing), none is, and older files stay as they were.\n"
+        "\n"
+        "Exit status: 0 done; 1 the DEM or FILE cannot be read, FILE has no line (or no Nth),\n"
+        "the route leaves the DEM or crosses a void (nothing is written then), an output\n"
+        "cannot be written (then none is); 2 usage error (a --png not .png included).\n");
 }
 
 /* -1 when fine, else the exit code. */
 static int parse_options(int argc, char** argv, profile_options* o)
 {
     memset(o, 0, sizeof *o);
-    tp_scene_options_default(&o->dem);
+    tp_planner_source_init(&o->src);
     const tp_option options[] = {
         TP_OPT_TEXT("--route", NULL, &o->route),
         TP_OPT_TEXT("--png", NULL, &o->png),
         TP_OPT_TEXT("--csv", NULL, &o->csv),
         TP_OPT_TEXT("--json", NULL, &o->json),
-        TP_OPT_TEXT("--cache-dir", NULL, &o->cache_dir),
         TP_OPT_NUMBER_ABOVE("--step", &o->step_m, 0.0, HUGE_VAL, "a number of metres > 0"),
         TP_OPT_INTEGER("--feature", &o->feature, 1, INT_MAX, "an integer >= 1"),
     };
     const tp_option_table own = {options, TP_OPTIONS_COUNT(options), NULL, NULL};
     const int code =
-        tp_planner_parse("profile", argc, argv, print_help, own, &o->dem, &o->path, "");
+        tp_planner_parse("profile", argc, argv, print_help, own, &o->src, "");
     if (code >= 0)
         return code;
-    if (!o->path)
-        return tp_cli_usage("profile", "missing DEM");
     if (!o->route)
         return tp_cli_usage("profile", "missing --route FILE");
     return -1;
@@ -175,7 +166,7 @@ static void report_outside(tp_ground* g, const profile_report* p, const profile_
     if (!first) {
         tp_cli_error("%s: the route (%s) leaves the DEM at %.1f m along it "
                      "(%s): nothing written",
-                     p->o->path, p->o->route, q->d_m, where);
+                     p->o->src.path, p->o->route, q->d_m, where);
         return;
     }
     /* does any vertex lie on the DEM? */
@@ -188,7 +179,7 @@ static void report_outside(tp_ground* g, const profile_report* p, const profile_
     }
     tp_cli_error("%s: the route (%s) %s the DEM: its start is at %s, and the "
                  "DEM covers E %.1f .. %.1f, N %.1f .. %.1f (render CRS): nothing written",
-                 p->o->path, p->o->route, inside ? "starts outside" : "lies outside", where,
+                 p->o->src.path, p->o->route, inside ? "starts outside" : "lies outside", where,
                  gt[0] + 0.5 * gt[1], gt[0] + (w - 0.5) * gt[1], gt[3] + (h - 0.5) * gt[5],
                  gt[3] + 0.5 * gt[5]);
 }
@@ -243,7 +234,7 @@ static int sample_route(tp_ground* g, profile_report* p)
                 return 0;
             }
             if (st != TP_OK) {
-                tp_cli_error("%s: %s", p->o->path, err.message);
+                tp_cli_error("%s: %s", p->o->src.path, err.message);
                 return 0;
             }
             if (isnan(q->h_m)) {
@@ -251,7 +242,7 @@ static int sample_route(tp_ground* g, profile_report* p)
                     "%s: the route (%s) crosses a void at %.1f m along "
                     "it (%.6f %.6f): the DEM has no height there, so its profile cannot be "
                     "measured: nothing written",
-                    p->o->path, p->o->route, q->d_m, q->lat, q->lon);
+                    p->o->src.path, p->o->route, q->d_m, q->lat, q->lon);
                 return 0;
             }
         }
@@ -324,7 +315,7 @@ static void write_json(FILE* f, void* report)
     tp_json_init(&j, f);
     tp_json_object_begin(&j);
     tp_json_key(&j, "source");
-    tp_json_string(&j, p->o->path);
+    tp_json_string(&j, p->o->src.path);
     tp_json_key(&j, "route");
     tp_json_string(&j, p->o->route);
     tp_json_key(&j, "feature");
@@ -521,11 +512,11 @@ int tp_cli_profile(int argc, char** argv)
         return TP_EXIT_FAILURE;
 
     tp_ground* g = NULL;
-    if ((code = tp_planner_ground_open("profile", o.path, o.cache_dir, &o.dem, &g)) != TP_EXIT_OK)
+    if ((code = tp_planner_ground_open("profile", &o.src, &g)) != TP_EXIT_OK)
         return code;
     const tp_store_scene* sc = tp_ground_scene(g);
     if (!sc->georef || !tp_georef_has_geo(sc->georef)) {
-        tp_cli_error("%s has no CRS: a route needs a georeferenced DEM", o.path);
+        tp_cli_error("%s has no CRS: a route needs a georeferenced DEM", o.src.path);
         tp_ground_destroy(g);
         return TP_EXIT_FAILURE;
     }

@@ -23,82 +23,73 @@
 #include <string.h>
 
 typedef struct viewshed_cli {
-    const char* path;
+    tp_planner_source src; /* the DEM or store, --cache-dir and the DEM options */
     const char* observer;
     const char* out;
-    const char* cache_dir;
-    tp_scene_options dem; /* the DEM options (terrain_open.h) */
     double observer_height_m, target_height_m, radius_m, curvature_coeff;
 } viewshed_cli;
 
 static void print_help(void)
 {
-    fputs("usage: terrapatch viewshed DEM|STORE --observer POS -o OUT.tif [--observer-height M]\n"
-          "                           [--target-height M] [--radius M] [--curvature-coeff C]\n"
-          "                           [--cache-dir DIR]\n"
-          "\n"
-          "What an observer at POS sees of the ground of DEM (any raster GDAL reads, built into\n"
-          "the store cache first as 'terrapatch view' does) or of a store (.tpt): a one-band Byte\n"
-          "raster on the render grid (the DEM's own grid, or a geographic DEM warped to the\n"
-          "UTM/UPS zone of its centre), 255 where a target on the ground is seen, 0 where it is\n"
-          "not, 0 beyond the radius (gdal_viewshed's values). It covers the window of the grid\n"
-          "the radius reaches around the observer (the whole grid without --radius, as\n"
-          "gdal_viewshed's default) with the grid's georeference. The observer stands on the\n"
-          "nearest post. The algorithm and its agreement with GDAL's are in docs/field.md.\n"
-          "\n"
-          "Conventions are gdal_viewshed's: heights above the ground, every height lowered by\n"
-          "C * d^2 / (2 * 6378137 m) at distance d from the observer (0.85714: curvature with\n"
-          "standard refraction; 1: curvature without refraction; 0: a flat earth).\n"
-          "\n"
-          "options:\n"
-          "  --observer POS         where the observer stands (required; any form 'terrapatch\n"
-          "                         coord' reads, one argument: quote it when it has spaces)\n"
-          "  -o, --output OUT.tif   the raster to write (required), in the format its extension\n"
-          "                         names: .tif GeoTIFF, .png PNG (with a .wld world file and\n"
-          "                         the CRS in .png.aux.xml), .gpkg, .jp2 (lossless), .img,\n"
-          "                         .asc, .bmp\n"
-          "  --observer-height M    eye above the ground (default 2)\n"
-          "  --target-height M      target above the ground (default 0)\n"
-          "  --radius M             how far to look, metres (default 0: the whole grid)\n"
-          "  --curvature-coeff C    curvature and refraction coefficient (default 0.85714)\n"
-          "  --cache-dir DIR        the store cache for a DEM (as 'terrapatch view')\n"
-          "  -h, --help             show this help\n",
-          stdout);
-    tp_planner_dem_options_help();
-    fputs("\n"
-          "example:\n"
-          "  $ terrapatch viewshed N42E001.hgt --observer 42.5,1.5 --radius 20000 -o seen.tif\n"
-          "\n"
-          "Exit status: 0 written; 1 the DEM cannot be read, the observer is outside it or in a\n"
-          "void, OUT.tif cannot be written (nothing is left behind); 2 usage error (OUT's\n"
-          "extension naming no format written included).\n",
-          stdout);
+    tp_planner_help(
+        "usage: terrapatch viewshed DEM|STORE --observer POS -o OUT.tif [--observer-height M]\n"
+        "                           [--target-height M] [--radius M] [--curvature-coeff C]\n"
+        "                           [--cache-dir DIR]\n"
+        "\n"
+        "What an observer at POS sees of the ground of DEM (any raster GDAL reads, built into\n"
+        "the store cache first as 'terrapatch view' does) or of a store (.tpt): a one-band Byte\n"
+        "raster on the render grid (the DEM's own grid, or a geographic DEM warped to the\n"
+        "UTM/UPS zone of its centre), 255 where a target on the ground is seen, 0 where it is\n"
+        "not, 0 beyond the radius (gdal_viewshed's values). It covers the window of the grid\n"
+        "the radius reaches around the observer (the whole grid without --radius, as\n"
+        "gdal_viewshed's default) with the grid's georeference. The observer stands on the\n"
+        "nearest post. The algorithm and its agreement with GDAL's are in docs/field.md.\n"
+        "\n"
+        "Conventions are gdal_viewshed's: heights above the ground, every height lowered by\n"
+        "C * d^2 / (2 * 6378137 m) at distance d from the observer (0.85714: curvature with\n"
+        "standard refraction; 1: curvature without refraction; 0: a flat earth).\n"
+        "\n"
+        "options:\n"
+        "  --observer POS         where the observer stands (required; any form 'terrapatch\n"
+        "                         coord' reads, one argument: quote it when it has spaces)\n"
+        "  -o, --output OUT.tif   the raster to write (required), in the format its extension\n"
+        "                         names: .tif GeoTIFF, .png PNG (with a .wld world file and\n"
+        "                         the CRS in .png.aux.xml), .gpkg, .jp2 (lossless), .img,\n"
+        "                         .asc, .bmp\n"
+        "  --observer-height M    eye above the ground (default 2)\n"
+        "  --target-height M      target above the ground (default 0)\n"
+        "  --radius M             how far to look, metres (default 0: the whole grid)\n"
+        "  --curvature-coeff C    curvature and refraction coefficient (default 0.85714)\n"
+        "  -h, --help             show this help\n",
+        "example:\n"
+        "  $ terrapatch viewshed N42E001.hgt --observer 42.5,1.5 --radius 20000 -o seen.tif\n"
+        "\n"
+        "Exit status: 0 written; 1 the DEM cannot be read, the observer is outside it or in a\n"
+        "void, OUT.tif cannot be written (nothing is left behind); 2 usage error (OUT's\n"
+        "extension naming no format written included).\n");
 }
 
 static int parse_options(int argc, char** argv, viewshed_cli* o)
 {
     memset(o, 0, sizeof *o);
-    tp_scene_options_default(&o->dem);
+    tp_planner_source_init(&o->src);
     o->observer_height_m = TP_VIEWSHED_OBSERVER_HEIGHT_M;
     o->target_height_m = TP_VIEWSHED_TARGET_HEIGHT_M;
     o->curvature_coeff = TP_VIEWSHED_CURVATURE_COEFF;
     const tp_option options[] = {
         TP_OPT_TEXT("--observer", NULL, &o->observer),
         TP_OPT_TEXT("--output", "-o", &o->out),
-        TP_OPT_TEXT("--cache-dir", NULL, &o->cache_dir),
         TP_OPT_NUMBER("--observer-height", &o->observer_height_m, 0.0, HUGE_VAL, "a number >= 0"),
         TP_OPT_NUMBER("--target-height", &o->target_height_m, 0.0, HUGE_VAL, "a number >= 0"),
         TP_OPT_NUMBER("--radius", &o->radius_m, 0.0, HUGE_VAL, "a number >= 0"),
         TP_OPT_NUMBER("--curvature-coeff", &o->curvature_coeff, 0.0, HUGE_VAL, "a number >= 0"),
     };
     const tp_option_table own = {options, TP_OPTIONS_COUNT(options), NULL, NULL};
-    const int code = tp_planner_parse("viewshed", argc, argv, print_help, own, &o->dem, &o->path,
+    const int code = tp_planner_parse("viewshed", argc, argv, print_help, own, &o->src,
                                       " (quote a position with spaces: --observer "
                                       "\"45.37 -121.69\")");
     if (code >= 0)
         return code;
-    if (!o->path)
-        return tp_cli_usage("viewshed", "missing DEM");
     if (!o->observer)
         return tp_cli_usage("viewshed", "missing --observer POS");
     if (!o->out)
@@ -119,13 +110,13 @@ int tp_cli_viewshed(int argc, char** argv)
         return code;
     tp_error err = {{0}};
     tp_ground* g = NULL;
-    if ((code = tp_planner_ground_open("viewshed", o.path, o.cache_dir, &o.dem, &g)) != TP_EXIT_OK)
+    if ((code = tp_planner_ground_open("viewshed", &o.src, &g)) != TP_EXIT_OK)
         return code;
     const tp_store_scene* sc = tp_ground_scene(g);
     const tp_tree_geometry* geom = &sc->info.header.geometry;
     const double* gt = sc->info.header.geotransform;
     double fx, fy, fh;
-    if (!tp_planner_locate("viewshed", o.path, g, &pos, o.observer, &fx, &fy, &fh)) {
+    if (!tp_planner_locate("viewshed", o.src.path, g, &pos, o.observer, &fx, &fy, &fh)) {
         tp_ground_destroy(g);
         return TP_EXIT_FAILURE;
     }
@@ -171,7 +162,7 @@ int tp_cli_viewshed(int argc, char** argv)
     tp_interrupt_release();
     if (s != TP_OK) {
         if (!tp_interrupted())
-            tp_cli_error("%s: %s", o.path, err.message);
+            tp_cli_error("%s: %s", o.src.path, err.message);
         free(z);
         free(seen);
         tp_ground_destroy(g);

@@ -7,19 +7,18 @@
 #define TP_APP_CMD_LIGHT_H
 
 #include "ground.h"
+#include "planner_cli.h"
 #include "scene.h"
 
 #include "tp_sun.h"
 
 typedef struct tp_light_cli {
-    const char* path;
+    tp_planner_source src; /* the DEM or store, --cache-dir and the DEM options */
     const char* date;
     const char* time;
     const char* out;
     const char* at;
     const char* values;
-    const char* cache_dir;
-    tp_scene_options dem; /* the DEM options (terrain_open.h) */
     const char* json; /* --day: a JSON file or "-" */
     double radius_m;
     int illumination; /* --values illumination */

@@ -320,7 +320,7 @@ int tp_light_day_run(const tp_light_cli* o)
         (rc = tp_cli_output_check("light", "-o", o->out, TP_OUTPUT_LIGHT_MAP)) != TP_EXIT_OK)
         return rc;
     tp_ground* g = NULL;
-    int code = tp_planner_ground_open("light", o->path, o->cache_dir, &o->dem, &g);
+    int code = tp_planner_ground_open("light", &o->src, &g);
     if (code != TP_EXIT_OK)
         return code;
     const tp_store_scene* sc = tp_ground_scene(g);
@@ -358,11 +358,11 @@ int tp_light_day_run(const tp_light_cli* o)
         tp_cli_error("%s", err.message);
         goto done;
     }
-    if (!strcmp(out, sc->path) || !strcmp(out, o->path)) {
+    if (!strcmp(out, sc->path) || !strcmp(out, o->src.path)) {
         tp_cli_error("%s: the output would replace the input", out);
         goto done;
     }
-    if (!tp_light_place_at(o->path, g, 0.5 * (r.width - 1), 0.5 * (r.height - 1), &at))
+    if (!tp_light_place_at(o->src.path, g, 0.5 * (r.width - 1), 0.5 * (r.height - 1), &at))
         goto done;
     r.sun.times_s = sun, r.sun.azimuth_deg = sun + o->maps, r.sun.elevation_deg = sun + 2 * o->maps;
     s = day_sun_make(&at, year, month, mday, o->maps, &day, sun, sun + o->maps, sun + 2 * o->maps,
@@ -392,7 +392,7 @@ int tp_light_day_run(const tp_light_cli* o)
              "light map of %s on %s: lit intervals of each post from %s to %s (%s), %d maps "
              "(tp_sun_day_times), the sun at %.6f %.6f (meridian convergence %.3f deg)\n"
              "tiles of %d posts with a margin of %d x %d posts (%.0f m asked)",
-             o->path, o->date, t0, t1,
+             o->src.path, o->date, t0, t1,
              day.kind == TP_SUN_RISES_AND_SETS ? "sunrise to sunset" : "24 hours: polar", o->maps,
              at.lat_deg, at.lon_deg, at.convergence_deg, TILE, r.mx, r.my, o->margin_m);
     tp_imagery_target target = {

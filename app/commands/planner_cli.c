@@ -15,17 +15,37 @@
 #include <time.h>
 #include <unistd.h>
 
+void tp_planner_source_init(tp_planner_source* s)
+{
+    memset(s, 0, sizeof *s);
+    tp_scene_options_default(&s->dem);
+}
+
+/* --cache-dir (tp_option_handler): a group of one, so that the table needs no slot. */
+static int cache_dir_option(void* ctx, int code, const char* value, const char* cmd)
+{
+    (void)code, (void)cmd;
+    ((tp_planner_source*)ctx)->cache_dir = value;
+    return 1;
+}
+
+void tp_planner_source_add(tp_options* p, tp_planner_source* s)
+{
+    static const tp_option cache_dir[] = {TP_OPT_CODE("--cache-dir", NULL, 1, 1)};
+    tp_options_add(p, cache_dir, 1, cache_dir_option, s);
+    tp_scene_options_add(p, &s->dem);
+}
+
 int tp_planner_parse(const char* cmd, int argc, char** argv, void (*help)(void),
-                     tp_option_table own, tp_scene_options* dem, const char** path,
-                     const char* hint)
+                     tp_option_table own, tp_planner_source* src, const char* hint)
 {
     tp_options p;
     tp_options_init(&p, cmd, argc, argv, help);
     tp_options_add(&p, own.options, own.count, own.handler, own.ctx);
-    tp_scene_options_add(&p, dem);
+    tp_planner_source_add(&p, src);
     for (int c; (c = tp_options_next(&p)) != TP_OPTIONS_END;) {
-        if (c == TP_OPTIONS_OPERAND && !*path)
-            *path = p.value;
+        if (c == TP_OPTIONS_OPERAND && !src->path)
+            src->path = p.value;
         else if (c == TP_OPTIONS_OPERAND)
             return tp_options_stray(&p, NULL, hint), p.exit;
         else if (c == TP_OPTIONS_EXIT)
@@ -33,7 +53,7 @@ int tp_planner_parse(const char* cmd, int argc, char** argv, void (*help)(void),
         else /* a CODE option without a handler: none in the planners' tables */
             return tp_options_stray(&p, NULL, ""), p.exit;
     }
-    return -1;
+    return src->path ? -1 : tp_cli_usage(cmd, "missing DEM");
 }
 
 /* The hint that a position is latitude first, after the text of a message. */
@@ -102,20 +122,23 @@ int tp_planner_check_outputs(const char* const* paths, int count)
     return 1;
 }
 
-int tp_planner_ground_open(const char* cmd, const char* path, const char* cache_dir,
-                           const tp_scene_options* dem, tp_ground** g)
+int tp_planner_ground_open(const char* cmd, const tp_planner_source* src, tp_ground** g)
 {
-    tp_ground_options go = {.cache_dir = cache_dir, .cmd = cmd, .dem = dem};
-    return tp_ground_open(path, &go, g);
+    tp_ground_options go = {.cache_dir = src->cache_dir, .cmd = cmd, .dem = &src->dem};
+    return tp_ground_open(src->path, &go, g);
 }
 
-void tp_planner_dem_options_help(void)
+void tp_planner_help(const char* text, const char* after)
 {
+    fputs(text, stdout);
     fputs("\nDEM options (as every command that opens a DEM takes them; a DEM is read through\n"
           "its store in the cache, built with --patch, --crs, --resampling, --fill-max and\n"
-          "--fill-from; a store keeps those it was built with and refuses them):\n",
+          "--fill-from; a store keeps those it was built with and refuses them):\n"
+          "  --cache-dir DIR     the store cache for a DEM (as 'terrapatch view')\n",
           stdout);
     tp_scene_options_help(stdout);
+    fputs("\n", stdout);
+    fputs(after, stdout);
 }
 
 int tp_planner_locate(const char* cmd, const char* path, tp_ground* g,

@@ -24,15 +24,32 @@
 
 /* ---- the command line ---- */
 
+/* Where a planner command reads the ground: the DEM or store, and how to open it. */
+typedef struct tp_planner_source {
+    const char* path;      /* the DEM (any raster GDAL reads) or store (.tpt) */
+    const char* cache_dir; /* --cache-dir: the store cache for a DEM; NULL for the default */
+    tp_scene_options dem;  /* the DEM options (scene.h) */
+} tp_planner_source;
+
+/* No path, the default cache and the DEM options' defaults. */
+void tp_planner_source_init(tp_planner_source* s);
+
+/* Adds --cache-dir and the DEM options (tp_scene_options_add) to a parse, read into s. */
+void tp_planner_source_add(tp_options* p, tp_planner_source* s);
+
 /* Parses a planner command's arguments (options.h): its own options (own: a table, with its
- * handler for CODE options, or NULL), the DEM options into dem (tp_scene_options_add, dem
- * first set to the defaults by the caller) and one operand, the DEM or store, into *path; a
- * second operand is "more than one DEM given" followed by hint (e.g. " (quote a position with
- * spaces: --observer \"45.37 -121.69\")", or ""). Returns -1 when every argument was read,
- * else the exit code that ends the command: 0 after the help (help), 2 after a usage error. */
+ * handler for CODE options, or NULL), the source's options (tp_planner_source_add) and one
+ * operand, the DEM or store, into src->path: none is "missing DEM", a second one "more than
+ * one DEM given" followed by hint (e.g. " (quote a position with spaces: --observer
+ * \"45.37 -121.69\")", or ""). Returns -1 when every argument was read, else the exit code
+ * that ends the command: 0 after the help (help), 2 after a usage error. */
 int tp_planner_parse(const char* cmd, int argc, char** argv, void (*help)(void),
-                     tp_option_table own, tp_scene_options* dem, const char** path,
-                     const char* hint);
+                     tp_option_table own, tp_planner_source* src, const char* hint);
+
+/* Prints a planner command's help: text (usage, what it does, its own options), the source's
+ * options (--cache-dir and the DEM options), a blank line, then after (examples, exit
+ * status). */
+void tp_planner_help(const char* text, const char* after);
 
 /* ---- positions and the ground ---- */
 
@@ -60,14 +77,8 @@ void tp_planner_swap_hint(tp_ground* g, const tp_position* pos, char* out, size_
  * (stdout) passed over; 0 after the first one's message. */
 int tp_planner_check_outputs(const char* const* paths, int count);
 
-/* tp_ground_open with the command's options (dem: the DEM options it parsed with
- * tp_scene_options_add, NULL for the defaults): the exit code, *g on TP_EXIT_OK. */
-int tp_planner_ground_open(const char* cmd, const char* path, const char* cache_dir,
-                           const tp_scene_options* dem, tp_ground** g);
-
-/* The help of the DEM options every planner command takes (scene.h's, with the store's
- * rule): printed by each command's --help. */
-void tp_planner_dem_options_help(void);
+/* tp_ground_open of src with its options: the exit code, *g on TP_EXIT_OK. */
+int tp_planner_ground_open(const char* cmd, const tp_planner_source* src, tp_ground** g);
 
 /* tp_planner_choose, then tp_ground_locate: 1 with grid (x, y) and the ground's height; else
  * 0 after "terrapatch CMD: PATH: why" (input is the position as typed; off the DEM with
