@@ -214,7 +214,6 @@ int tp_cli_contours(int argc, char** argv)
         return code;
     const tp_store_scene* sc = tp_ground_scene(g);
     const tp_tree_geometry* geom = &sc->info.header.geometry;
-    const double* gt = sc->info.header.geotransform;
     const int W = geom->src_width, H = geom->src_height;
 
     /* the window: posts (x0..x1, y0..y1) of the DEM */
@@ -223,9 +222,10 @@ int tp_cli_contours(int argc, char** argv)
         tp_ground_destroy(g);
         return TP_EXIT_FAILURE;
     }
-    const int x0 = win[0], y0 = win[1], x1 = win[2], y1 = win[3];
-    const int w = x1 - x0 + 1, h = y1 - y0 + 1;
-    const size_t n = (size_t)w * h;
+    tp_planner_window pw;
+    tp_planner_window_set(g, win[0], win[1], win[2], win[3], &pw);
+    const int x0 = pw.x0, y0 = pw.y0, w = pw.w, h = pw.h;
+    const size_t n = pw.n;
     tp_memory_room room;
     tp_memory_room_now(&room);
     if (n > CONTOURS_MAX_POSTS || (uint64_t)n * CONTOURS_BYTES_PER_POST > room.bytes) {
@@ -241,20 +241,14 @@ int tp_cli_contours(int argc, char** argv)
         tp_ground_destroy(g);
         return TP_EXIT_FAILURE;
     }
-    float* z = malloc(n * sizeof *z);
-    tp_status s = z ? TP_OK
-                    : tp_error_set(&err, TP_ERR_OUT_OF_MEMORY,
-                                   "out of memory for a %dx%d window", w, h);
-    const double t0 = tp_clock_s();
-    if (s == TP_OK)
-        s = tp_ground_read_posts(g, x0, y0, w, h, z, "contours", &err);
+    tp_status s = tp_planner_window_read(g, &pw, "contours", &err);
+    const float* z = pw.z;
     const double t1 = tp_clock_s();
     if (n >= TP_GROUND_PROGRESS_POSTS && s == TP_OK)
         tp_cli_note("reading the ground 100%%, drawing the lines");
-    const double wgt[6] = {gt[0] + x0 * gt[1], gt[1], 0.0, gt[3] + y0 * gt[5], 0.0, gt[5]};
     tp_features* f = NULL;
     if (s == TP_OK)
-        s = tp_contours_generate(z, n, w, h, wgt, o.interval_m, o.base_m, o.index_every, &f,
+        s = tp_contours_generate(z, n, w, h, pw.gt, o.interval_m, o.base_m, o.index_every, &f,
                                  &err);
     const double t2 = tp_clock_s();
     tp_interrupt_hold(); /* a signal during the write is only recorded (tp_interrupt_finished) */
@@ -267,7 +261,7 @@ int tp_cli_contours(int argc, char** argv)
     if (s != TP_OK) {
         if (!tp_interrupted())
             tp_cli_error("%s: %s", o.src.path, err.message);
-        free(z);
+        tp_planner_window_free(&pw);
         tp_features_destroy(f);
         tp_ground_destroy(g);
         return tp_planner_finish(TP_EXIT_FAILURE);
@@ -308,9 +302,9 @@ int tp_cli_contours(int argc, char** argv)
                "layer written)\n",
                o.base_m, o.interval_m);
     printf("time       %.1f ms reading the ground, %.1f ms for the contours, %.1f ms writing\n",
-           1e3 * (t1 - t0), 1e3 * (t2 - t1), 1e3 * (t3 - t2));
+           1e3 * pw.read_s, 1e3 * (t2 - t1), 1e3 * (t3 - t2));
     tp_cli_note("wrote %s", o.out);
-    free(z);
+    tp_planner_window_free(&pw);
     tp_features_destroy(f);
     tp_ground_destroy(g);
     return tp_cli_finish(TP_EXIT_OK);

@@ -192,11 +192,8 @@ int tp_cli_light(int argc, char** argv)
     tp_ground* g = NULL;
     if ((code = tp_planner_ground_open("light", &o.src, &g)) != TP_EXIT_OK)
         return code;
-    const tp_store_scene* sc = tp_ground_scene(g);
-    const tp_tree_geometry* geom = &sc->info.header.geometry;
-    const double* gt = sc->info.header.geotransform;
-    int x0 = 0, y0 = 0, x1 = geom->src_width - 1, y1 = geom->src_height - 1;
-    double cx = 0.5 * x1, cy = 0.5 * y1; /* the place of the sun: the window's centre */
+    const tp_tree_geometry* geom = &tp_ground_scene(g)->info.header.geometry;
+    double cx = 0.5 * (geom->src_width - 1), cy = 0.5 * (geom->src_height - 1); /* the sun's place */
     if (o.at) {
         double fh;
         if (!tp_planner_locate("light", o.src.path, g, &at_pos, o.at, &cx, &cy, &fh)) {
@@ -205,14 +202,9 @@ int tp_cli_light(int argc, char** argv)
         }
         cx = (double)lround(cx);
         cy = (double)lround(cy);
-        if (o.radius_m > 0.0) {
-            const double rx = floor(o.radius_m / fabs(gt[1])), ry = floor(o.radius_m / fabs(gt[5]));
-            x0 = (int)fmax(0.0, cx - rx);
-            x1 = (int)fmin(x1, cx + rx);
-            y0 = (int)fmax(0.0, cy - ry);
-            y1 = (int)fmin(y1, cy + ry);
-        }
     }
+    tp_planner_window win;
+    tp_planner_window_around(g, (int)cx, (int)cy, o.at ? o.radius_m : 0.0, &win);
     tp_light_place here;
     if (!tp_light_place_at(o.src.path, g, cx, cy, &here)) {
         tp_ground_destroy(g);
@@ -232,19 +224,15 @@ int tp_cli_light(int argc, char** argv)
         return TP_EXIT_FAILURE;
     }
 
-    const int w = x1 - x0 + 1, h = y1 - y0 + 1;
-    const size_t n = (size_t)w * h;
-    float* z = malloc(n * sizeof *z);
+    const int w = win.w, h = win.h;
+    const size_t n = win.n;
     uint8_t* lit = malloc(n);
     uint8_t* out = malloc(n);
-    s = z && lit && out ? TP_OK
-                        : tp_error_set(&err, TP_ERR_OUT_OF_MEMORY,
-                                       "out of memory for a %dx%d window", w, h);
-    const double t0 = tp_clock_s();
-    if (s == TP_OK)
-        s = tp_ground_read_posts(g, x0, y0, w, h, z, "light", &err);
+    s = lit && out ? tp_planner_window_read(g, &win, "light", &err)
+                   : tp_error_set(&err, TP_ERR_OUT_OF_MEMORY, "out of memory");
+    const float* z = win.z;
     const double t1 = tp_clock_s();
-    const double dx = fabs(gt[1]), dy = fabs(gt[5]);
+    const double dx = fabs(win.gt[1]), dy = fabs(win.gt[5]);
     if (s == TP_OK)
         s = tp_shadow_compute(z, n, w, h, dx, dy, grid_az, sun.apparent_elevation_deg, lit, NULL,
                               n, &err);
@@ -255,21 +243,16 @@ int tp_cli_light(int argc, char** argv)
         for (size_t i = 0; i < n; ++i)
             out[i] = lit[i] ? 255 : 0;
     const double t2 = tp_clock_s();
-    const double wgt[6] = {gt[0] + x0 * gt[1], gt[1], 0.0, gt[3] + y0 * gt[5], 0.0, gt[5]};
-    tp_interrupt_hold(); /* a signal during the write is only recorded (tp_interrupt_finished) */
     if (s == TP_OK)
-        s = tp_byte_raster_write(o.out, out, n, w, h, wgt, sc->info.header.crs_wkt,
-                                 o.illumination
-                                     ? "direct sunlight: 255 * cos(incidence), 0 in shadow"
-                                     : "sunlight: 255 lit, 0 in shadow or a void",
-                                 &err);
-    if (s == TP_OK)
-        tp_interrupt_finished();
-    tp_interrupt_release();
+        s = tp_planner_raster_write(g, o.out, out, &win,
+                                    o.illumination
+                                        ? "direct sunlight: 255 * cos(incidence), 0 in shadow"
+                                        : "sunlight: 255 lit, 0 in shadow or a void",
+                                    &err);
     if (s != TP_OK) {
         if (!tp_interrupted())
             tp_cli_error("%s: %s", o.src.path, err.message);
-        free(z);
+        tp_planner_window_free(&win);
         free(lit);
         free(out);
         tp_ground_destroy(g);
@@ -295,14 +278,14 @@ int tp_cli_light(int argc, char** argv)
     tp_light_print_day(&day, when.zone_offset_s);
     if (sun.apparent_elevation_deg <= 0.0)
         printf("note       the sun is below the horizon: everything is in shadow\n");
-    printf("window     %dx%d posts from (%d, %d)%s\n", w, h, x0, y0,
+    printf("window     %dx%d posts from (%d, %d)%s\n", w, h, win.x0, win.y0,
            o.radius_m > 0.0 ? "" : ": the whole grid");
     printf("sunlit     %zu of %zu posts with a height (%.1f%%)\n", sunlit, valid,
            valid ? 100.0 * sunlit / valid : 0.0);
-    printf("time       %.1f ms reading the ground, %.1f ms for the shadows\n", 1e3 * (t1 - t0),
+    printf("time       %.1f ms reading the ground, %.1f ms for the shadows\n", 1e3 * win.read_s,
            1e3 * (t2 - t1));
     tp_cli_note("wrote %s", o.out);
-    free(z);
+    tp_planner_window_free(&win);
     free(lit);
     free(out);
     tp_ground_destroy(g);

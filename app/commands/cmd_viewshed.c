@@ -112,9 +112,6 @@ int tp_cli_viewshed(int argc, char** argv)
     tp_ground* g = NULL;
     if ((code = tp_planner_ground_open("viewshed", &o.src, &g)) != TP_EXIT_OK)
         return code;
-    const tp_store_scene* sc = tp_ground_scene(g);
-    const tp_tree_geometry* geom = &sc->info.header.geometry;
-    const double* gt = sc->info.header.geotransform;
     double fx, fy, fh;
     if (!tp_planner_locate("viewshed", o.src.path, g, &pos, o.observer, &fx, &fy, &fh)) {
         tp_ground_destroy(g);
@@ -122,54 +119,36 @@ int tp_cli_viewshed(int argc, char** argv)
     }
     /* the window the radius reaches, as tp_viewshed_compute clips it, on the DEM's posts */
     const int ox = (int)lround(fx), oy = (int)lround(fy);
-    int x0 = 0, y0 = 0, x1 = geom->src_width - 1, y1 = geom->src_height - 1;
-    if (o.radius_m > 0.0) {
-        const double rx = floor(o.radius_m / fabs(gt[1])), ry = floor(o.radius_m / fabs(gt[5]));
-        if (rx < ox - x0)
-            x0 = ox - (int)rx;
-        if (rx < x1 - ox)
-            x1 = ox + (int)rx;
-        if (ry < oy - y0)
-            y0 = oy - (int)ry;
-        if (ry < y1 - oy)
-            y1 = oy + (int)ry;
-    }
-    const int w = x1 - x0 + 1, h = y1 - y0 + 1;
-    const size_t n = (size_t)w * h;
-    float* z = malloc(n * sizeof *z);
-    uint8_t* seen = malloc(n);
-    tp_status s = z && seen ? TP_OK
-                            : tp_error_set(&err, TP_ERR_OUT_OF_MEMORY,
-                                           "out of memory for a %dx%d window", w, h);
-    const double t0 = tp_clock_s();
-    if (s == TP_OK)
-        s = tp_ground_read_posts(g, x0, y0, w, h, z, NULL, &err);
-    const double t1 = tp_clock_s();
-    const double wgt[6] = {gt[0] + x0 * gt[1], gt[1], 0.0, gt[3] + y0 * gt[5], 0.0, gt[5]};
+    tp_planner_window win;
+    tp_planner_window_around(g, ox, oy, o.radius_m, &win);
+    const int x0 = win.x0, y0 = win.y0, w = win.w, h = win.h;
+    uint8_t* seen = malloc(win.n);
+    tp_status s = seen ? tp_planner_window_read(g, &win, NULL, &err)
+                       : tp_error_set(&err, TP_ERR_OUT_OF_MEMORY, "out of memory");
+    const float* z = win.z;
     tp_viewshed_options vo = tp_viewshed_options_default();
     vo.observer_height_m = o.observer_height_m;
     vo.target_height_m = o.target_height_m;
     vo.curvature_coeff = o.curvature_coeff;
     vo.radius_m = o.radius_m;
+    const double t1 = tp_clock_s();
     if (s == TP_OK)
-        s = tp_viewshed_compute(z, n, w, h, wgt, ox - x0, oy - y0, &vo, seen, n, &err);
+        s = tp_viewshed_compute(z, win.n, w, h, win.gt, ox - x0, oy - y0, &vo, seen, win.n, &err);
     const double t2 = tp_clock_s();
-    tp_interrupt_hold(); /* a signal during the write is only recorded (tp_interrupt_finished) */
     if (s == TP_OK)
-        s = tp_viewshed_write(o.out, seen, n, w, h, wgt, sc->info.header.crs_wkt, &err);
-    if (s == TP_OK)
-        tp_interrupt_finished();
-    tp_interrupt_release();
+        s = tp_planner_raster_write(g, o.out, seen, &win,
+                                    "visibility: 255 seen, 0 not seen or beyond the radius", &err);
     if (s != TP_OK) {
         if (!tp_interrupted())
             tp_cli_error("%s: %s", o.src.path, err.message);
-        free(z);
+        tp_planner_window_free(&win);
         free(seen);
         tp_ground_destroy(g);
         return tp_planner_finish(TP_EXIT_FAILURE);
     }
     /* the posts the sweep looked at: the disc of the radius (as tp_viewshed_compute), not the
      * window's square */
+    const double* gt = win.gt;
     const double r2 = o.radius_m > 0.0 ? o.radius_m * o.radius_m : INFINITY;
     size_t visible = 0, valid = 0;
     for (int y = 0; y < h; ++y)
@@ -194,9 +173,9 @@ int tp_cli_viewshed(int argc, char** argv)
     printf("seen       %zu of %zu posts with a height%s (%.1f%%)\n", visible, valid,
            o.radius_m > 0.0 ? " within the radius" : "", valid ? 100.0 * visible / valid : 0.0);
     printf("time       %.1f ms reading the ground, %.1f ms for the viewshed\n",
-           1e3 * (t1 - t0), 1e3 * (t2 - t1));
+           1e3 * win.read_s, 1e3 * (t2 - t1));
     tp_cli_note("wrote %s", o.out);
-    free(z);
+    tp_planner_window_free(&win);
     free(seen);
     tp_ground_destroy(g);
     return tp_cli_finish(TP_EXIT_OK);

@@ -56,6 +56,69 @@ int tp_planner_parse(const char* cmd, int argc, char** argv, void (*help)(void),
     return src->path ? -1 : tp_cli_usage(cmd, "missing DEM");
 }
 
+void tp_planner_window_set(tp_ground* g, int x0, int y0, int x1, int y1, tp_planner_window* win)
+{
+    const double* gt = tp_ground_scene(g)->info.header.geotransform;
+    memset(win, 0, sizeof *win);
+    win->x0 = x0, win->y0 = y0, win->w = x1 - x0 + 1, win->h = y1 - y0 + 1;
+    win->n = (size_t)win->w * (size_t)win->h;
+    const double moved[6] = {gt[0] + x0 * gt[1], gt[1], 0.0, gt[3] + y0 * gt[5], 0.0, gt[5]};
+    memcpy(win->gt, moved, sizeof moved);
+}
+
+void tp_planner_window_around(tp_ground* g, int cx, int cy, double radius_m,
+                              tp_planner_window* win)
+{
+    const tp_store_scene* sc = tp_ground_scene(g);
+    const double* gt = sc->info.header.geotransform;
+    int x0 = 0, y0 = 0, x1 = sc->info.header.geometry.src_width - 1,
+        y1 = sc->info.header.geometry.src_height - 1;
+    if (radius_m > 0.0) {
+        const double rx = floor(radius_m / fabs(gt[1])), ry = floor(radius_m / fabs(gt[5]));
+        if (rx < cx - x0)
+            x0 = cx - (int)rx;
+        if (rx < x1 - cx)
+            x1 = cx + (int)rx;
+        if (ry < cy - y0)
+            y0 = cy - (int)ry;
+        if (ry < y1 - cy)
+            y1 = cy + (int)ry;
+    }
+    tp_planner_window_set(g, x0, y0, x1, y1, win);
+}
+
+tp_status tp_planner_window_read(tp_ground* g, tp_planner_window* win, const char* progress_cmd,
+                                 tp_error* err)
+{
+    if (!(win->z = malloc(win->n * sizeof *win->z)))
+        return tp_error_set(err, TP_ERR_OUT_OF_MEMORY, "out of memory for a %dx%d window",
+                            win->w, win->h);
+    const double t0 = tp_clock_s();
+    tp_status s = tp_ground_read_posts(g, win->x0, win->y0, win->w, win->h, win->z, progress_cmd,
+                                       err);
+    win->read_s = tp_clock_s() - t0;
+    return s;
+}
+
+void tp_planner_window_free(tp_planner_window* win)
+{
+    free(win->z);
+    win->z = NULL;
+}
+
+tp_status tp_planner_raster_write(tp_ground* g, const char* out, const uint8_t* values,
+                                  const tp_planner_window* win, const char* description,
+                                  tp_error* err)
+{
+    tp_interrupt_hold(); /* a signal during the write is only recorded (tp_interrupt_finished) */
+    tp_status s = tp_byte_raster_write(out, values, win->n, win->w, win->h, win->gt,
+                                       tp_ground_scene(g)->info.header.crs_wkt, description, err);
+    if (s == TP_OK)
+        tp_interrupt_finished();
+    tp_interrupt_release();
+    return s;
+}
+
 /* The hint that a position is latitude first, after the text of a message. */
 #define LATITUDE_FIRST "a position is LAT LON, latitude first"
 

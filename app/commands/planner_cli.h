@@ -87,6 +87,39 @@ int tp_planner_locate(const char* cmd, const char* path, tp_ground* g,
                       const tp_position_readings* pos, const char* input, double* x, double* y,
                       double* height_m);
 
+/* ---- a window of posts ---- */
+
+/* A window of the ground's posts, read whole. */
+typedef struct tp_planner_window {
+    int x0, y0, w, h; /* posts (x0, y0) .. (x0 + w - 1, y0 + h - 1) of the render grid */
+    size_t n;         /* w * h */
+    double gt[6];     /* the window's geotransform (the grid's, moved to post (x0, y0)) */
+    float* z;         /* after tp_planner_window_read: the heights, row by row, NaN in a void */
+    double read_s;    /* the seconds the reading took */
+} tp_planner_window;
+
+/* The window of the posts within radius_m of grid post (cx, cy) along each axis (a square;
+ * radius_m 0: the whole grid), clipped to the grid. Nothing is read yet. */
+void tp_planner_window_around(tp_ground* g, int cx, int cy, double radius_m,
+                              tp_planner_window* win);
+
+/* The window x0..x1, y0..y1 (posts, inclusive, on the grid). */
+void tp_planner_window_set(tp_ground* g, int x0, int y0, int x1, int y1, tp_planner_window* win);
+
+/* Reads the window's heights (tp_ground_read_posts, with progress naming progress_cmd when not
+ * NULL) into a new win->z: TP_OK, or out of memory and tp_ground_read_posts's errors. */
+tp_status tp_planner_window_read(tp_ground* g, tp_planner_window* win, const char* progress_cmd,
+                                 tp_error* err);
+
+void tp_planner_window_free(tp_planner_window* win);
+
+/* Writes values (win->n bytes) as a one-band Byte raster on the window's georeference
+ * (tp_byte_raster_write, band description), with SIGINT/SIGTERM only recorded during the write
+ * and, once it is written, the command's end with its output (tp_interrupt_finished). */
+tp_status tp_planner_raster_write(tp_ground* g, const char* out, const uint8_t* values,
+                                  const tp_planner_window* win, const char* description,
+                                  tp_error* err);
+
 /* ---- the outputs ---- */
 
 /* Writes one output of report to f. */
