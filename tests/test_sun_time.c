@@ -2,6 +2,7 @@
  * form, the calendar's edges and the errors. Expected Unix seconds from Python's datetime
  * (e.g. (datetime(2026,6,21,12,30) - datetime(1970,1,1)).total_seconds() = 1782045000). */
 #include "sun_time.h"
+#include "tp_sun.h"
 #include "tp_test.h"
 
 #define TESTS(X)                                                                                   \

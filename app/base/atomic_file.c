@@ -14,6 +14,10 @@ int tp_atomic_open(tp_atomic_file* a, const char* path)
     a->path = path;
     a->buf = NULL;
     a->size = 0;
+    if (!strcmp(path, "-")) {
+        a->f = stdout;
+        return 1;
+    }
     a->f = open_memstream(&a->buf, &a->size);
     if (!a->f)
         tp_cli_error("%s: cannot write: %s", path, strerror(errno));
@@ -24,6 +28,8 @@ int tp_atomic_open(tp_atomic_file* a, const char* path)
  * tp_file_set_add to set); frees it. 1, or 0 after a line. */
 static int hand_over(tp_atomic_file* a, tp_file_set* set)
 {
+    if (a->f == stdout) /* "-" */
+        return fflush(stdout) == 0;
     int ok = !ferror(a->f);
     ok &= fclose(a->f) == 0; /* sets buf and size */
     tp_error err;

@@ -18,10 +18,12 @@ typedef struct tp_atomic_file {
     size_t size;
 } tp_atomic_file;
 
-/* Opens the stream; 0 after a one-line message naming path (out of memory). */
+/* Opens the stream; 0 after a one-line message naming path (out of memory). Path "-" is
+ * stdout itself (a->f = stdout), as on every command line. */
 int tp_atomic_open(tp_atomic_file* a, const char* path);
 /* Writes what was printed as the file path (tp_file_write) and frees the stream; 0 after a
- * one-line message, with nothing left behind and an older file untouched. */
+ * one-line message, with nothing left behind and an older file untouched. For "-", flushes
+ * stdout (0 when that fails). */
 int tp_atomic_commit(tp_atomic_file* a);
 
 /* Hands what was printed to set as the file path (tp_file_set_add: written to its temporary

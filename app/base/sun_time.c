@@ -3,6 +3,8 @@
  */
 #include "sun_time.h"
 
+#include "tp_sun.h"
+
 #include <ctype.h>
 #include <math.h>
 #include <stdio.h>
@@ -40,18 +42,6 @@ static int days_in_month(int y, int m)
 {
     static const int d[12] = {31, 28, 31, 30, 31, 30, 31, 31, 30, 31, 30, 31};
     return m == 2 && leap(y) ? 29 : d[m - 1];
-}
-
-long tp_sun_days_from_civil(int year, int month, int day)
-{
-    /* H. Hinnant, "chrono-Compatible Low-Level Date Algorithms", days_from_civil */
-    const long y = (long)year - (month <= 2);
-    const long era = (y >= 0 ? y : y - 399) / 400;
-    const long yoe = y - era * 400;
-    const long mp = (month + 9) % 12;
-    const long doy = (153 * mp + 2) / 5 + day - 1;
-    const long doe = yoe * 365 + yoe / 4 - yoe / 100 + doy;
-    return era * 146097 + doe - 719468;
 }
 
 /* The inverse (Hinnant's civil_from_days). */

@@ -37,9 +37,6 @@ int tp_sun_date_parse(const char* text, int* year, int* month, int* day, char* w
 int tp_sun_time_parse(const char* date, const char* time, tp_sun_time* out, char* why,
                       size_t cap);
 
-/* Days from 1970-01-01 to a proleptic Gregorian date (negative before). Cannot fail. */
-long tp_sun_days_from_civil(int year, int month, int day);
-
 /* Writes unix_s as "YYYY-MM-DD HH:MM:SS" in the zone offset_s from UTC, followed by " UTC" for
  * 0 or " +HH:MM" / " -HH:MM" (seconds rounded to the nearest). "-" for NaN. */
 void tp_sun_time_format(double unix_s, int offset_s, char* out, size_t cap);

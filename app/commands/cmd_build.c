@@ -68,12 +68,9 @@ int tp_cli_build(int argc, char** argv)
     }
     if (o.json) {
         tp_atomic_file af;
-        FILE* f = stdout;
-        if (strcmp(o.json, "-")) {
-            if (!tp_atomic_open(&af, o.json))
-                return TP_EXIT_FAILURE;
-            f = af.f;
-        }
+        if (!tp_atomic_open(&af, o.json))
+            return TP_EXIT_FAILURE;
+        FILE* f = af.f;
         tp_json j;
         tp_json_init(&j, f);
         tp_json_object_begin(&j);
@@ -104,7 +101,7 @@ int tp_cli_build(int argc, char** argv)
         tp_json_key(&j, "rss_peak_mb"), tp_json_number(&j, r.rss_peak_mb);
         tp_json_object_end(&j);
         fputc('\n', f);
-        if (f != stdout && !tp_atomic_commit(&af))
+        if (!tp_atomic_commit(&af))
             return TP_EXIT_FAILURE;
     }
     return tp_cli_finish(TP_EXIT_OK);

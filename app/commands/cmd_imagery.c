@@ -59,12 +59,9 @@ static int write_json(const char* json, const char* out, const tp_imagery* im, i
     tp_imagery_info info;
     tp_imagery_get_info(im, &info);
     tp_atomic_file af;
-    FILE* f = stdout;
-    if (strcmp(json, "-")) {
-        if (!tp_atomic_open(&af, json))
-            return TP_EXIT_FAILURE;
-        f = af.f;
-    }
+    if (!tp_atomic_open(&af, json))
+        return TP_EXIT_FAILURE;
+    FILE* f = af.f;
     uint64_t blocks = 0;
     for (int l = 0; l < info.levels; l++) {
         int c, r;
@@ -88,7 +85,7 @@ static int write_json(const char* json, const char* out, const tp_imagery* im, i
     tp_json_key(&j, "rss_peak_mb"), tp_json_number(&j, rss_mb);
     tp_json_object_end(&j);
     fputc('\n', f);
-    if (f != stdout && !tp_atomic_commit(&af))
+    if (!tp_atomic_commit(&af))
         return TP_EXIT_FAILURE;
     return TP_EXIT_OK;
 }

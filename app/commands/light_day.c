@@ -208,12 +208,9 @@ static int write_json(const char* json, const day_run* r, const tp_imagery_info*
                       const char* out, double seconds, double rss_mb)
 {
     tp_atomic_file af;
-    FILE* f = stdout;
-    if (strcmp(json, "-")) {
-        if (!tp_atomic_open(&af, json))
-            return TP_EXIT_FAILURE;
-        f = af.f;
-    }
+    if (!tp_atomic_open(&af, json))
+        return TP_EXIT_FAILURE;
+    FILE* f = af.f;
     char t0[48], t1[48];
     tp_sun_time_format(in->time_first_s, 0, t0, sizeof t0);
     tp_sun_time_format(in->time_last_s, 0, t1, sizeof t1);
@@ -242,7 +239,7 @@ static int write_json(const char* json, const day_run* r, const tp_imagery_info*
     tp_json_key(&j, "rss_peak_mb"), tp_json_number(&j, rss_mb);
     tp_json_object_end(&j);
     fputc('\n', f);
-    if (f != stdout && !tp_atomic_commit(&af))
+    if (!tp_atomic_commit(&af))
         return TP_EXIT_FAILURE;
     return TP_EXIT_OK;
 }

@@ -104,6 +104,10 @@ tp_status tp_sun_rise_set(double lat_deg, double lon_deg, double day_start_unix_
 tp_status tp_sun_day_times(double lat_deg, double lon_deg, double start_unix_s,
                            double end_unix_s, int count, double* times, tp_error* err);
 
+/* Days from 1970-01-01 to a proleptic Gregorian date (negative before; H. Hinnant's
+ * days_from_civil). Cannot fail. */
+long tp_sun_days_from_civil(int year, int month, int day);
+
 /* The start of a date's day in local mean solar time at lon_deg: (days since 1970-01-01 of
  * the date) * 86400 - lon_deg * 240 seconds. Cannot fail. */
 double tp_sun_local_day_start(int year, int month, int day, double lon_deg);

@@ -240,6 +240,18 @@ void drop(tp_file_writer* w, int e)
         w->error = e;
 }
 
+/* After a pwrite or pread of the bytes from *done returned n: moves *done on, or drops w (a
+ * failure other than EINTR; 0 bytes: EIO). */
+void advance(tp_file_writer* w, ssize_t n, size_t* done)
+{
+    if (n > 0)
+        *done += (size_t)n;
+    else if (n < 0 && errno != EINTR)
+        drop(w, errno);
+    else if (n == 0)
+        drop(w, EIO);
+}
+
 void destroy(tp_file_writer* w)
 {
     drop(w, 0);
@@ -323,13 +335,7 @@ extern "C" tp_status tp_file_rewrite(tp_file_writer* w, uint64_t offset, const v
             drop(w, EINTR);
             break;
         }
-        ssize_t n = pwrite(w->fd, p + done, size - done, (off_t)(offset + done));
-        if (n > 0)
-            done += (size_t)n;
-        else if (n < 0 && errno != EINTR)
-            drop(w, errno);
-        else if (n == 0)
-            drop(w, EIO);
+        advance(w, pwrite(w->fd, p + done, size - done, (off_t)(offset + done)), &done);
     }
     return w->error ? tpio::write_failed(err, w->path, w->error) : TP_OK;
 }
@@ -361,13 +367,7 @@ tp_status file_read_back(tp_file_writer* w, uint64_t offset, void* data, size_t 
                     (unsigned long long)w->size);
     char* p = static_cast<char*>(data);
     for (size_t done = 0; !w->error && done < size;) {
-        ssize_t n = pread(w->fd, p + done, size - done, (off_t)(offset + done));
-        if (n > 0)
-            done += (size_t)n;
-        else if (n < 0 && errno != EINTR)
-            drop(w, errno);
-        else if (n == 0)
-            drop(w, EIO);
+        advance(w, pread(w->fd, p + done, size - done, (off_t)(offset + done)), &done);
     }
     return w->error ? write_failed(err, w->path, w->error) : TP_OK;
 }

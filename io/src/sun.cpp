@@ -211,15 +211,19 @@ extern "C" tp_status tp_sun_day_times(double lat_deg, double lon_deg, double sta
     }
 }
 
-extern "C" double tp_sun_local_day_start(int year, int month, int day, double lon_deg)
+extern "C" long tp_sun_days_from_civil(int year, int month, int day)
 {
-    /* days from 1970-01-01 of a proleptic Gregorian date (H. Hinnant's days_from_civil) */
+    /* H. Hinnant, "chrono-Compatible Low-Level Date Algorithms", days_from_civil */
     const long y = (long)year - (month <= 2);
     const long era = (y >= 0 ? y : y - 399) / 400;
     const long yoe = y - era * 400;
     const long mp = (month + 9) % 12;
     const long doy = (153 * mp + 2) / 5 + day - 1;
     const long doe = yoe * 365 + yoe / 4 - yoe / 100 + doy;
-    const long days = era * 146097 + doe - 719468;
-    return (double)days * 86400.0 - lon_deg * 240.0;
+    return era * 146097 + doe - 719468;
+}
+
+extern "C" double tp_sun_local_day_start(int year, int month, int day, double lon_deg)
+{
+    return (double)tp_sun_days_from_civil(year, month, day) * 86400.0 - lon_deg * 240.0;
 }
