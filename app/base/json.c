@@ -199,3 +199,33 @@ void tp_json_null(tp_json* j)
     before_value(j);
     fputs("null", j->f);
 }
+
+void tp_json_member_string(tp_json* j, const char* key, const char* s)
+{
+    tp_json_key(j, key);
+    tp_json_string(j, s);
+}
+
+void tp_json_member_number(tp_json* j, const char* key, double v)
+{
+    tp_json_key(j, key);
+    tp_json_number(j, v);
+}
+
+void tp_json_member_int(tp_json* j, const char* key, long long v)
+{
+    tp_json_key(j, key);
+    tp_json_int(j, v);
+}
+
+void tp_json_member_size(tp_json* j, const char* key, size_t v)
+{
+    tp_json_key(j, key);
+    tp_json_size(j, v);
+}
+
+void tp_json_member_bool(tp_json* j, const char* key, int v)
+{
+    tp_json_key(j, key);
+    tp_json_bool(j, v);
+}

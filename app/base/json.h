@@ -34,4 +34,11 @@ void tp_json_size(tp_json* j, size_t v);
 void tp_json_bool(tp_json* j, int v);
 void tp_json_null(tp_json* j);
 
+/* A key and its value in one call: "key": value. */
+void tp_json_member_string(tp_json* j, const char* key, const char* s); /* NULL writes null */
+void tp_json_member_number(tp_json* j, const char* key, double v);
+void tp_json_member_int(tp_json* j, const char* key, long long v);
+void tp_json_member_size(tp_json* j, const char* key, size_t v);
+void tp_json_member_bool(tp_json* j, const char* key, int v);
+
 #endif /* TP_APP_JSON_H */

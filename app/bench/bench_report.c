@@ -14,7 +14,7 @@ static const char* mode_name(tp_lod_mode m)
 
 static void json_config(tp_json* j, const config_result* c)
 {
-#define KN(k, v) (tp_json_key(j, k), tp_json_number(j, v))
+#define KN(k, v) (tp_json_member_number(j, k, v))
     KN("fps_median", c->fps_median);
     KN("frame_ms_median", c->frame_ms);
     KN("cpu_ms_median", c->cpu_ms);
@@ -47,39 +47,27 @@ static void json_lod(tp_json* j, const config_result* c)
     const tp_lod_params* lp = &c->lod;
     tp_json_key(j, "terrain_renderer"); /* "renderer" is the GL renderer's name */
     tp_json_string(j, c->pgm_cols ? "pgm" : "patches");
-    tp_json_key(j, "family");
-    tp_json_string(j, tp_bench_family_name(tp_bench_family_of(c)));
+    tp_json_member_string(j, "family", tp_bench_family_name(tp_bench_family_of(c)));
     if (c->pgm_cols) {
         char grid[32];
         snprintf(grid, sizeof grid, "%dx%d", c->pgm_cols, c->pgm_rows);
-        tp_json_key(j, "pgm_grid");
-        tp_json_string(j, grid);
-        tp_json_key(j, "pgm_cols");
-        tp_json_int(j, c->pgm_cols);
-        tp_json_key(j, "pgm_rows");
-        tp_json_int(j, c->pgm_rows);
-        tp_json_key(j, "lod_mode");
-        tp_json_string(j, "pgm");
+        tp_json_member_string(j, "pgm_grid", grid);
+        tp_json_member_int(j, "pgm_cols", c->pgm_cols);
+        tp_json_member_int(j, "pgm_rows", c->pgm_rows);
+        tp_json_member_string(j, "lod_mode", "pgm");
         return;
     }
-    tp_json_key(j, "stitch");
-    tp_json_string(j, c->stitch_add ? "add" : "move");
+    tp_json_member_string(j, "stitch", c->stitch_add ? "add" : "move");
     if (c->stitch_add) {
-        tp_json_key(j, "stitch_add_draw");
-        tp_json_string(j, c->stitch_add_five ? "five" : "sets");
+        tp_json_member_string(j, "stitch_add_draw", c->stitch_add_five ? "five" : "sets");
     }
-    tp_json_key(j, "lod_mode");
-    tp_json_string(j, mode_name(lp->mode));
+    tp_json_member_string(j, "lod_mode", mode_name(lp->mode));
     if (lp->mode == TP_LOD_ERROR) {
-        tp_json_key(j, "tau_px");
-        tp_json_number(j, lp->tau_px);
+        tp_json_member_number(j, "tau_px", lp->tau_px);
     } else if (lp->mode == TP_LOD_DISTANCE) {
-        tp_json_key(j, "mindist_m");
-        tp_json_number(j, lp->mindist_m);
-        tp_json_key(j, "maxdist_m");
-        tp_json_number(j, lp->maxdist_m);
-        tp_json_key(j, "exp");
-        tp_json_number(j, lp->exponent);
+        tp_json_member_number(j, "mindist_m", lp->mindist_m);
+        tp_json_member_number(j, "maxdist_m", lp->maxdist_m);
+        tp_json_member_number(j, "exp", lp->exponent);
     }
 }
 
@@ -95,8 +83,8 @@ int tp_bench_write_json(const bench_run* b, const char* renderer_name, const con
     tp_json_init(&j, f);
     const config_result* full = &c[0];
     tp_json_object_begin(&j);
-#define KS(k, v) (tp_json_key(&j, k), tp_json_string(&j, v))
-#define KN(k, v) (tp_json_key(&j, k), tp_json_number(&j, v))
+#define KS(k, v) (tp_json_member_string(&j, k, v))
+#define KN(k, v) (tp_json_member_number(&j, k, v))
     KS("dem", o->dem);
     char size[32];
     snprintf(size, sizeof size, "%dx%d", o->vs.w, o->vs.h);
@@ -126,8 +114,7 @@ int tp_bench_write_json(const bench_run* b, const char* renderer_name, const con
         json_lod(&j, &c[i]);
         json_config(&j, &c[i]);
         if (o->sweep) {
-            tp_json_key(&j, "pareto");
-            tp_json_bool(&j, c[i].pareto);
+            tp_json_member_bool(&j, "pareto", c[i].pareto);
         }
         tp_json_object_end(&j);
     }

@@ -284,10 +284,8 @@ static int tin_martini_lowered(tp_npm* n, double e, int runs, const tin_row* at_
 
 static void json_row_common(tp_json* j, const char* mesher, const char* grid)
 {
-    tp_json_key(j, "mesher");
-    tp_json_string(j, mesher);
-    tp_json_key(j, "grid");
-    tp_json_string(j, grid);
+    tp_json_member_string(j, "mesher", mesher);
+    tp_json_member_string(j, "grid", grid);
 }
 
 static int write_json(const char* path, const char* dem, const tp_scene* sc, size_t full,
@@ -300,109 +298,70 @@ static int write_json(const char* path, const char* dem, const tp_scene* sc, siz
     tp_json j;
     tp_json_init(&j, file.f);
     tp_json_object_begin(&j);
-    tp_json_key(&j, "dem");
-    tp_json_string(&j, dem);
-    tp_json_key(&j, "patch_size");
-    tp_json_int(&j, sc->info.patch_size);
-    tp_json_key(&j, "quantisation_error_m");
-    tp_json_number(&j, sc->info.quant_max_error_m);
-    tp_json_key(&j, "full_triangles");
-    tp_json_size(&j, full);
-    tp_json_key(&j, "render_width");
-    tp_json_int(&j, sc->grid->width);
-    tp_json_key(&j, "render_height");
-    tp_json_int(&j, sc->grid->height);
+    tp_json_member_string(&j, "dem", dem);
+    tp_json_member_int(&j, "patch_size", sc->info.patch_size);
+    tp_json_member_number(&j, "quantisation_error_m", sc->info.quant_max_error_m);
+    tp_json_member_size(&j, "full_triangles", full);
+    tp_json_member_int(&j, "render_width", sc->grid->width);
+    tp_json_member_int(&j, "render_height", sc->grid->height);
     tp_json_key(&j, "tin_grid");
     tp_json_object_begin(&j);
-    tp_json_key(&j, "grid");
-    tp_json_string(&j, tg->window ? "window" : "render");
-    tp_json_key(&j, "x0");
-    tp_json_int(&j, tg->x0);
-    tp_json_key(&j, "y0");
-    tp_json_int(&j, tg->y0);
-    tp_json_key(&j, "width");
-    tp_json_int(&j, tg->w);
-    tp_json_key(&j, "height");
-    tp_json_int(&j, tg->h);
-    tp_json_key(&j, "void_samples");
-    tp_json_size(&j, tg->voids);
-    tp_json_key(&j, "cut_voids");
-    tp_json_bool(&j, tg->flags != 0);
+    tp_json_member_string(&j, "grid", tg->window ? "window" : "render");
+    tp_json_member_int(&j, "x0", tg->x0);
+    tp_json_member_int(&j, "y0", tg->y0);
+    tp_json_member_int(&j, "width", tg->w);
+    tp_json_member_int(&j, "height", tg->h);
+    tp_json_member_size(&j, "void_samples", tg->voids);
+    tp_json_member_bool(&j, "cut_voids", tg->flags != 0);
     tp_json_object_end(&j);
-    tp_json_key(&j, "runs");
-    tp_json_int(&j, runs);
-    tp_json_key(&j, "peak_memory");
-    tp_json_string(&j, PEAK_NOTE);
+    tp_json_member_int(&j, "runs", runs);
+    tp_json_member_string(&j, "peak_memory", PEAK_NOTE);
     tp_json_key(&j, "static");
     tp_json_array_begin(&j);
     for (int i = 0; i < count; i++) {
         tp_json_object_begin(&j);
         json_row_common(&j, "patches", "render");
-        tp_json_key(&j, "max_error_m");
-        tp_json_number(&j, r[i].bound_m);
-        tp_json_key(&j, "below_quantisation");
-        tp_json_bool(&j, r[i].refused);
+        tp_json_member_number(&j, "max_error_m", r[i].bound_m);
+        tp_json_member_bool(&j, "below_quantisation", r[i].refused);
         if (!r[i].refused) {
-            tp_json_key(&j, "triangles");
-            tp_json_size(&j, r[i].res.triangles);
-            tp_json_key(&j, "points");
-            tp_json_size(&j, r[i].res.points);
-            tp_json_key(&j, "select_s");
-            tp_json_number(&j, r[i].select_s);
-            tp_json_key(&j, "mesh_s");
-            tp_json_number(&j, r[i].mesh_s);
-            tp_json_key(&j, "measured_max_error_m");
-            tp_json_number(&j, r[i].res.max_error_m);
-            tp_json_key(&j, "measured_rms_error_m");
-            tp_json_number(&j, r[i].res.rms_error_m);
+            tp_json_member_size(&j, "triangles", r[i].res.triangles);
+            tp_json_member_size(&j, "points", r[i].res.points);
+            tp_json_member_number(&j, "select_s", r[i].select_s);
+            tp_json_member_number(&j, "mesh_s", r[i].mesh_s);
+            tp_json_member_number(&j, "measured_max_error_m", r[i].res.max_error_m);
+            tp_json_member_number(&j, "measured_rms_error_m", r[i].res.rms_error_m);
         }
         tp_json_object_end(&j);
     }
     for (int i = 0; i < nt; i++) {
         tp_json_object_begin(&j);
         json_row_common(&j, t[i].mesher, tg->window ? "window" : "render");
-        tp_json_key(&j, "max_error_m");
-        tp_json_number(&j, t[i].bound_m);
-        tp_json_key(&j, "below_quantisation");
-        tp_json_bool(&j, 0);
-        tp_json_key(&j, "threshold_m");
-        tp_json_number(&j, t[i].threshold_m);
-        tp_json_key(&j, "triangles");
-        tp_json_size(&j, t[i].triangles);
-        tp_json_key(&j, "points");
-        tp_json_size(&j, t[i].points);
-        tp_json_key(&j, "time_s");
-        tp_json_number(&j, t[i].time_s);
+        tp_json_member_number(&j, "max_error_m", t[i].bound_m);
+        tp_json_member_bool(&j, "below_quantisation", 0);
+        tp_json_member_number(&j, "threshold_m", t[i].threshold_m);
+        tp_json_member_size(&j, "triangles", t[i].triangles);
+        tp_json_member_size(&j, "points", t[i].points);
+        tp_json_member_number(&j, "time_s", t[i].time_s);
         if (t[i].tile_s > 0) {
-            tp_json_key(&j, "create_tile_s");
-            tp_json_number(&j, t[i].tile_s);
+            tp_json_member_number(&j, "create_tile_s", t[i].tile_s);
         }
-        tp_json_key(&j, "runs");
-        tp_json_int(&j, runs);
-        tp_json_key(&j, "measured_max_error_m");
-        tp_json_number(&j, t[i].m.max_error_m);
-        tp_json_key(&j, "measured_rms_error_m");
-        tp_json_number(&j, t[i].m.rms_error_m);
-        tp_json_key(&j, "worst_x");
-        tp_json_int(&j, t[i].m.worst_x);
-        tp_json_key(&j, "worst_y");
-        tp_json_int(&j, t[i].m.worst_y);
-        tp_json_key(&j, "uncovered_samples");
-        tp_json_size(&j, t[i].m.uncovered_samples);
-        tp_json_key(&j, "bound_holds");
-        tp_json_bool(&j, t[i].holds);
+        tp_json_member_int(&j, "runs", runs);
+        tp_json_member_number(&j, "measured_max_error_m", t[i].m.max_error_m);
+        tp_json_member_number(&j, "measured_rms_error_m", t[i].m.rms_error_m);
+        tp_json_member_int(&j, "worst_x", t[i].m.worst_x);
+        tp_json_member_int(&j, "worst_y", t[i].m.worst_y);
+        tp_json_member_size(&j, "uncovered_samples", t[i].m.uncovered_samples);
+        tp_json_member_bool(&j, "bound_holds", t[i].holds);
         tp_json_key(&j, "peak_mib");
         if (t[i].peak_mib >= 0)
             tp_json_number(&j, t[i].peak_mib);
         else
             tp_json_null(&j);
         if (t[i].process_mib >= 0) {
-            tp_json_key(&j, "process_peak_mib");
-            tp_json_number(&j, t[i].process_mib);
+            tp_json_member_number(&j, "process_peak_mib", t[i].process_mib);
         }
         if (!strcmp(t[i].mesher, "martini lowered")) {
-            tp_json_key(&j, "thresholds_tried");
-            tp_json_int(&j, t[i].tried);
+            tp_json_member_int(&j, "thresholds_tried", t[i].tried);
         }
         tp_json_object_end(&j);
     }

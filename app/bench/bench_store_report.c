@@ -13,14 +13,12 @@
 
 static void json_result(tp_json* j, const store_result* c)
 {
-#define KN(k, v) (tp_json_key(j, k), tp_json_number(j, v))
-    tp_json_key(j, "terrain_renderer");
-    tp_json_string(j, c->pgm_cols ? "pgm" : "patches");
+#define KN(k, v) (tp_json_member_number(j, k, v))
+    tp_json_member_string(j, "terrain_renderer", c->pgm_cols ? "pgm" : "patches");
     if (c->pgm_cols) {
         char grid[32];
         snprintf(grid, sizeof grid, "%dx%d", c->pgm_cols, c->pgm_rows);
-        tp_json_key(j, "pgm_grid");
-        tp_json_string(j, grid);
+        tp_json_member_string(j, "pgm_grid", grid);
         KN("pgm_window", c->pgm_window);
         KN("pgm_fill_ms_median", c->pgm_fill_ms);
         KN("pgm_fill_ms_p99", c->pgm_fill_ms_p99);
@@ -29,10 +27,8 @@ static void json_result(tp_json* j, const store_result* c)
         KN("pgm_posts_updated_median", c->pgm_posts);
         KN("pgm_node_reads_median", c->pgm_node_reads);
     }
-    tp_json_key(j, "stitch");
-    tp_json_string(j, c->stitch_add ? "add" : "move");
-    tp_json_key(j, "lod_mode");
-    tp_json_string(j, c->pgm_cols                 ? "pgm"
+    tp_json_member_string(j, "stitch", c->stitch_add ? "add" : "move");
+    tp_json_member_string(j, "lod_mode", c->pgm_cols                 ? "pgm"
                       : c->lod.mode == TP_LOD_ERROR ? "error"
                       : c->lod.sphere_tree        ? "spheres"
                                                   : "distance");
@@ -63,11 +59,9 @@ static void json_result(tp_json* j, const store_result* c)
     KN("gpu_mb", c->gpu_mb);
     KN("settle_ms", c->settle_ms);
     KN("settle_timeouts", c->settle_timeouts);
-    tp_json_key(j, "imagery");
-    tp_json_bool(j, c->imagery);
+    tp_json_member_bool(j, "imagery", c->imagery);
     if (c->imagery) {
-        tp_json_key(j, "imagery_mode");
-        tp_json_string(j, c->imagery_mode == TP_IMAGERY_BLOCKS ? "blocks" : "clipmap");
+        tp_json_member_string(j, "imagery_mode", c->imagery_mode == TP_IMAGERY_BLOCKS ? "blocks" : "clipmap");
         KN("imagery_ms_median", c->img_ms);
         KN("imagery_upload_ms_median", c->img_upload_ms);
         KN("imagery_upload_ms_p99", c->img_upload_ms_p99);
@@ -79,8 +73,7 @@ static void json_result(tp_json* j, const store_result* c)
         KN("imagery_frames_missing_blocks", c->img_frames_missing);
         KN("imagery_final_diff_pixels", (double)c->img_final_diff);
     }
-    tp_json_key(j, "light");
-    tp_json_bool(j, c->light);
+    tp_json_member_bool(j, "light", c->light);
     if (c->light) {
         KN("light_ms_median", c->img_ms);
         KN("light_upload_ms_median", c->img_upload_ms);
@@ -115,18 +108,16 @@ int tp_bench_store_write_json(const store_bench* b, const char* renderer_name, c
     tp_json j;
     tp_json_init(&j, file.f);
     tp_json_object_begin(&j);
-#define KS(k, v) (tp_json_key(&j, k), tp_json_string(&j, v))
-#define KN(k, v) (tp_json_key(&j, k), tp_json_number(&j, v))
+#define KS(k, v) (tp_json_member_string(&j, k, v))
+#define KN(k, v) (tp_json_member_number(&j, k, v))
     KS("store", o->dem);
     char size[32];
     snprintf(size, sizeof size, "%dx%d", o->vs.w, o->vs.h);
     KS("size", size);
     KS("path", o->path_name);
     KN("speed_mps", o->speed_mps);
-    tp_json_key(&j, "realtime");
-    tp_json_bool(&j, o->realtime);
-    tp_json_key(&j, "prefetch");
-    tp_json_bool(&j, !o->no_prefetch);
+    tp_json_member_bool(&j, "realtime", o->realtime);
+    tp_json_member_bool(&j, "prefetch", !o->no_prefetch);
     KN("frames", b->segments * b->per_segment);
     KN("segments", b->segments);
     KN("samples", (double)b->g->src_width * b->g->src_height);

@@ -80,40 +80,40 @@ int tp_info_imagery(const char* path, int json)
         tp_json j;
         tp_json_init(&j, stdout);
         tp_json_object_begin(&j);
-        tp_json_key(&j, "path"), tp_json_string(&j, path);
-        tp_json_key(&j, "format"), tp_json_string(&j, "terrapatch imagery pyramid");
-        tp_json_key(&j, "kind"), tp_json_string(&j, light ? "light times" : "image");
+        tp_json_member_string(&j, "path", path);
+        tp_json_member_string(&j, "format", "terrapatch imagery pyramid");
+        tp_json_member_string(&j, "kind", light ? "light times" : "image");
         if (light) {
-            tp_json_key(&j, "time_first"), tp_json_string(&j, t0);
-            tp_json_key(&j, "time_last"), tp_json_string(&j, t1);
-            tp_json_key(&j, "time_first_s"), tp_json_number(&j, info.time_first_s);
-            tp_json_key(&j, "time_last_s"), tp_json_number(&j, info.time_last_s);
-            tp_json_key(&j, "maps"), tp_json_int(&j, info.maps);
+            tp_json_member_string(&j, "time_first", t0);
+            tp_json_member_string(&j, "time_last", t1);
+            tp_json_member_number(&j, "time_first_s", info.time_first_s);
+            tp_json_member_number(&j, "time_last_s", info.time_last_s);
+            tp_json_member_int(&j, "maps", info.maps);
         }
-        tp_json_key(&j, "width"), tp_json_number(&j, (double)info.width);
-        tp_json_key(&j, "height"), tp_json_number(&j, (double)info.height);
-        tp_json_key(&j, "texel_shift"), tp_json_int(&j, info.texel_shift);
-        tp_json_key(&j, "texel_m"), tp_json_number(&j, texel);
-        tp_json_key(&j, "grid_width"), tp_json_int(&j, info.grid_width);
-        tp_json_key(&j, "grid_height"), tp_json_int(&j, info.grid_height);
-        tp_json_key(&j, "levels"), tp_json_int(&j, info.levels);
-        tp_json_key(&j, "blocks"), tp_json_number(&j, (double)blocks);
-        tp_json_key(&j, "nonempty_blocks"), tp_json_number(&j, (double)info.nonempty_blocks);
-        tp_json_key(&j, "damaged_blocks"), tp_json_number(&j, (double)damaged);
-        tp_json_key(&j, "bytes"), tp_json_number(&j, (double)info.file_bytes);
+        tp_json_member_number(&j, "width", (double)info.width);
+        tp_json_member_number(&j, "height", (double)info.height);
+        tp_json_member_int(&j, "texel_shift", info.texel_shift);
+        tp_json_member_number(&j, "texel_m", texel);
+        tp_json_member_int(&j, "grid_width", info.grid_width);
+        tp_json_member_int(&j, "grid_height", info.grid_height);
+        tp_json_member_int(&j, "levels", info.levels);
+        tp_json_member_number(&j, "blocks", (double)blocks);
+        tp_json_member_number(&j, "nonempty_blocks", (double)info.nonempty_blocks);
+        tp_json_member_number(&j, "damaged_blocks", (double)damaged);
+        tp_json_member_number(&j, "bytes", (double)info.file_bytes);
         tp_json_key(&j, "per_level");
         tp_json_array_begin(&j);
         for (int l = 0; l < info.levels; l++) {
             tp_json_object_begin(&j);
-            tp_json_key(&j, "width"), tp_json_number(&j, (double)lv[l].width);
-            tp_json_key(&j, "height"), tp_json_number(&j, (double)lv[l].height);
-            tp_json_key(&j, "texel_m"), tp_json_number(&j, ldexp(texel, l));
-            tp_json_key(&j, "blocks"), tp_json_number(&j, (double)lv[l].cols * lv[l].rows);
-            tp_json_key(&j, "nonempty_blocks"), tp_json_number(&j, (double)lv[l].nonempty);
+            tp_json_member_number(&j, "width", (double)lv[l].width);
+            tp_json_member_number(&j, "height", (double)lv[l].height);
+            tp_json_member_number(&j, "texel_m", ldexp(texel, l));
+            tp_json_member_number(&j, "blocks", (double)lv[l].cols * lv[l].rows);
+            tp_json_member_number(&j, "nonempty_blocks", (double)lv[l].nonempty);
             tp_json_object_end(&j);
         }
         tp_json_array_end(&j);
-        tp_json_key(&j, "notes"), tp_json_string(&j, info.notes);
+        tp_json_member_string(&j, "notes", info.notes);
         tp_json_object_end(&j);
         putchar('\n');
     } else {

@@ -117,16 +117,11 @@ static void print_json(const tp_store_scene* sc, const check_result* cr)
     tp_json j;
     tp_json_init(&j, stdout);
     tp_json_object_begin(&j);
-    tp_json_key(&j, "file");
-    tp_json_string(&j, sc->path);
-    tp_json_key(&j, "kind");
-    tp_json_string(&j, "store");
-    tp_json_key(&j, "format_version");
-    tp_json_int(&j, sc->info.version);
-    tp_json_key(&j, "bytes");
-    tp_json_size(&j, (size_t)sc->info.file_bytes);
-    tp_json_key(&j, "bytes_per_sample");
-    tp_json_number(&j, sc->info.bytes_per_sample);
+    tp_json_member_string(&j, "file", sc->path);
+    tp_json_member_string(&j, "kind", "store");
+    tp_json_member_int(&j, "format_version", sc->info.version);
+    tp_json_member_size(&j, "bytes", (size_t)sc->info.file_bytes);
+    tp_json_member_number(&j, "bytes_per_sample", sc->info.bytes_per_sample);
     tp_json_key(&j, "size");
     tp_json_array_begin(&j);
     tp_json_int(&j, g->src_width);
@@ -142,8 +137,7 @@ static void print_json(const tp_store_scene* sc, const check_result* cr)
     for (int i = 0; i < 6; i++)
         tp_json_number(&j, h->geotransform[i]);
     tp_json_array_end(&j);
-    tp_json_key(&j, "crs_wkt");
-    tp_json_string(&j, h->crs_wkt);
+    tp_json_member_string(&j, "crs_wkt", h->crs_wkt);
     double ext[4];
     int crosses = 0;
     tp_error why;
@@ -156,33 +150,22 @@ static void print_json(const tp_store_scene* sc, const check_result* cr)
     } else {
         tp_json_null(&j);
     }
-    tp_json_key(&j, "patch");
-    tp_json_int(&j, (1 << g->n) + 1);
+    tp_json_member_int(&j, "patch", (1 << g->n) + 1);
     tp_json_key(&j, "leaves");
     tp_json_array_begin(&j);
     tp_json_int(&j, g->cols);
     tp_json_int(&j, g->rows);
     tp_json_array_end(&j);
-    tp_json_key(&j, "scales");
-    tp_json_int(&j, g->scales);
-    tp_json_key(&j, "nodes");
-    tp_json_int(&j, g->node_count);
-    tp_json_key(&j, "roots");
-    tp_json_int(&j, g->root_count);
-    tp_json_key(&j, "height_step_m");
-    tp_json_number(&j, h->height_step_m);
-    tp_json_key(&j, "quant_max_error_m");
-    tp_json_number(&j, h->quant_max_error_m);
-    tp_json_key(&j, "drawn_min_m");
-    tp_json_number(&j, sc->tree_info.min_height_m);
-    tp_json_key(&j, "drawn_max_m");
-    tp_json_number(&j, sc->tree_info.max_height_m);
-    tp_json_key(&j, "valid_samples");
-    tp_json_size(&j, h->valid_samples);
-    tp_json_key(&j, "nodata_samples");
-    tp_json_size(&j, h->nodata_samples);
-    tp_json_key(&j, "damaged_nodes");
-    tp_json_int(&j, cr->damaged);
+    tp_json_member_int(&j, "scales", g->scales);
+    tp_json_member_int(&j, "nodes", g->node_count);
+    tp_json_member_int(&j, "roots", g->root_count);
+    tp_json_member_number(&j, "height_step_m", h->height_step_m);
+    tp_json_member_number(&j, "quant_max_error_m", h->quant_max_error_m);
+    tp_json_member_number(&j, "drawn_min_m", sc->tree_info.min_height_m);
+    tp_json_member_number(&j, "drawn_max_m", sc->tree_info.max_height_m);
+    tp_json_member_size(&j, "valid_samples", h->valid_samples);
+    tp_json_member_size(&j, "nodata_samples", h->nodata_samples);
+    tp_json_member_int(&j, "damaged_nodes", cr->damaged);
     tp_json_key(&j, "notes");
     tp_json_array_begin(&j);
     for (const char* n = h->notes; n && *n;) {

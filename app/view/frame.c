@@ -110,8 +110,7 @@ int tp_view_write_stats(const char* path, const frame_result* f, const tp_error_
     tp_json j;
     tp_json_init(&j, out);
     tp_json_object_begin(&j);
-    tp_json_key(&j, "renderer");
-    tp_json_string(&j, f->pgm_cols ? "pgm" : "patches");
+    tp_json_member_string(&j, "renderer", f->pgm_cols ? "pgm" : "patches");
     /* the camera of the frame, as --camera takes it (render CRS) */
     double yaw, pitch;
     tp_camera_get_pose(cam, &yaw, &pitch);
@@ -121,21 +120,17 @@ int tp_view_write_stats(const char* path, const frame_result* f, const tp_error_
     for (int i = 0; i < 5; i++)
         tp_json_number(&j, cam_v[i]);
     tp_json_array_end(&j);
-    tp_json_key(&j, "fov_y_deg");
-    tp_json_number(&j, (cam->fov_y_rad > 0 ? cam->fov_y_rad : 60 * 3.14159265358979323846 / 180) *
+    tp_json_member_number(&j, "fov_y_deg", (cam->fov_y_rad > 0 ? cam->fov_y_rad : 60 * 3.14159265358979323846 / 180) *
                            180 / 3.14159265358979323846);
     if (f->pgm_cols) {
         char grid[32];
         snprintf(grid, sizeof grid, "%dx%d", f->pgm_cols, f->pgm_rows);
-        tp_json_key(&j, "pgm_grid");
-        tp_json_string(&j, grid);
-        tp_json_key(&j, "pgm_cols");
-        tp_json_int(&j, f->pgm_cols);
-        tp_json_key(&j, "pgm_rows");
-        tp_json_int(&j, f->pgm_rows);
+        tp_json_member_string(&j, "pgm_grid", grid);
+        tp_json_member_int(&j, "pgm_cols", f->pgm_cols);
+        tp_json_member_int(&j, "pgm_rows", f->pgm_rows);
     }
-#define KEY_NUM(k, v) (tp_json_key(&j, k), tp_json_number(&j, v))
-#define KEY_SIZE(k, v) (tp_json_key(&j, k), tp_json_size(&j, v))
+#define KEY_NUM(k, v) (tp_json_member_number(&j, k, v))
+#define KEY_SIZE(k, v) (tp_json_member_size(&j, k, v))
     KEY_SIZE("triangles", f->core.triangles);
     KEY_SIZE("draw_calls", (size_t)f->render.draw_calls);
     KEY_SIZE("draws", (size_t)f->render.draws); /* each of a multi-draw's counted */
@@ -184,8 +179,7 @@ int tp_view_write_stats(const char* path, const frame_result* f, const tp_error_
             KEY_SIZE("imagery_first_level", (size_t)f->clip.first_level);
             KEY_SIZE("imagery_missing_blocks", (size_t)f->clip.missing);
         }
-        tp_json_key(&j, "light_source");
-        tp_json_string(&j, f->light_source == TP_VIEW_LIGHT_STREAMED ? "streamed"
+        tp_json_member_string(&j, "light_source", f->light_source == TP_VIEW_LIGHT_STREAMED ? "streamed"
                            : f->light_source == TP_VIEW_LIGHT_WINDOW ? "window" : "none");
         if (f->light_source == TP_VIEW_LIGHT_STREAMED) {
             KEY_NUM("light_tau", f->light_tau);
