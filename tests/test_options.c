@@ -1,7 +1,8 @@
 /*
  * test_options.c - the one command-line parser (app/base/options.c): the forms of an option and
- * its value, operands among options, shortened names, negative numbers as operands, the tables'
- * slots and handlers, and each usage error's line and exit code.
+ * its value, operands among options (and kept in a row), shortened names, negative numbers as
+ * operands, the tables' slots and handlers (a name an earlier table has shadowed), and each usage
+ * error's line and exit code.
  */
 #define _POSIX_C_SOURCE 200809L
 #include "tp_test.h"
@@ -305,6 +306,46 @@ TEST(integer_values_refuse_fractions_and_trailing_text)
     EXPECT_CONTAINS(text[1], "--n: expected 0 .. 20, got ''");
 }
 
+/* A group's handler that must not be called. */
+static int shadowed_handler(void* ctx, int code, const char* value, const char* cmd)
+{
+    (void)code, (void)value, (void)cmd;
+    ++*(int*)ctx;
+    return 1;
+}
+
+TEST(kept_operands_end_up_in_a_row_and_an_earlier_table_shadows_a_name)
+{
+    char* argv[] = {(char*)"test", (char*)"a",      (char*)"--quiet", (char*)"b",
+                    (char*)"--origin", (char*)"x", (char*)"c",       (char*)"--ori",
+                    (char*)"y",    NULL};
+    const int argc = 9;
+    int quiet = 0, shadowed = 0, kept = 0, codes = 0;
+    const tp_option own[] = {TP_OPT_FLAG("--quiet", &quiet), TP_OPT_CODE("--origin", NULL, 1, 1)};
+    const tp_option group[] = {TP_OPT_CODE("--origin", NULL, 2, 1)};
+    tp_options p;
+    tp_options_init(&p, "test", argc, argv, print_help);
+    tp_options_add(&p, own, TP_OPTIONS_COUNT(own), NULL, NULL);
+    tp_options_add(&p, group, TP_OPTIONS_COUNT(group), shadowed_handler, &shadowed);
+    capture_start();
+    int c;
+    while ((c = tp_options_next(&p)) > 0 || c == TP_OPTIONS_OPERAND) {
+        if (c == TP_OPTIONS_OPERAND)
+            tp_options_keep(&p, &kept);
+        else
+            codes += c == 1 && (!strcmp(p.value, "x") || !strcmp(p.value, "y"));
+    }
+    char text[2][1024];
+    capture_end(text);
+    EXPECT_EQ_INT(TP_OPTIONS_END, c);
+    EXPECT_EQ_INT(0, (int)strlen(text[1]));
+    ASSERT_EQ_INT(3, kept);
+    EXPECT_TRUE(!strcmp(argv[1], "a") && !strcmp(argv[2], "b") && !strcmp(argv[3], "c"));
+    EXPECT_EQ_INT(1, quiet);
+    EXPECT_EQ_INT(2, codes);   /* --origin and --ori: the first table's */
+    EXPECT_EQ_INT(0, shadowed);
+}
+
 #define TESTS(X)                                                                                   \
     X(long_short_attached_and_shortened_forms_read_the_same)                                       \
     X(an_exact_name_wins_over_a_longer_one_it_begins)                                              \
@@ -314,5 +355,6 @@ TEST(integer_values_refuse_fractions_and_trailing_text)
     X(each_usage_error_is_one_line_and_exit_2)                                                     \
     X(a_shortened_name_that_fits_several_is_refused_naming_them)                                   \
     X(help_prints_and_ends_with_exit_0)                                                            \
-    X(integer_values_refuse_fractions_and_trailing_text)
+    X(integer_values_refuse_fractions_and_trailing_text)                                           \
+    X(kept_operands_end_up_in_a_row_and_an_earlier_table_shadows_a_name)
 TP_TEST_MAIN(TESTS)

@@ -124,6 +124,11 @@ int tp_options_stray(tp_options* p, const char* what, const char* hint)
     return TP_OPTIONS_EXIT;
 }
 
+void tp_options_keep(tp_options* p, int* count)
+{
+    p->argv[1 + (*count)++] = (char*)p->value; /* 1 + *count <= p->at: read already */
+}
+
 /* ---- values ---- */
 
 int tp_option_number(const char* cmd, const char* name, const char* value, double lo, double hi,
@@ -214,8 +219,8 @@ static const tp_option* find_option(const tp_options* p, const char* name, size_
             const char* n = !strncmp(o->name, name, len)                   ? o->name
                             : o->alias && !strncmp(o->alias, name, len) ? o->alias
                                                                            : NULL;
-            if (!n || (found == o))
-                continue;
+            if (!n || (found && !strcmp(found->name, o->name)))
+                continue; /* found again, or shadowed by an earlier table's of its name */
             if (at < cap)
                 at += (size_t)snprintf(list + at, cap - at, "%s%s", matches ? ", " : "", n);
             ++matches;

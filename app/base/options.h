@@ -104,7 +104,8 @@ typedef struct tp_options {
 void tp_options_init(tp_options* p, const char* cmd, int argc, char** argv, void (*help)(void));
 
 /* Adds a table (borrowed: it must outlive the parse). handler NULL: its CODE options are
- * returned by tp_options_next. At most TP_OPTIONS_MAX_TABLES. */
+ * returned by tp_options_next. At most TP_OPTIONS_MAX_TABLES. An option named as one of an
+ * earlier table is shadowed by it (export's own --origin before the DEM options' one). */
 void tp_options_add(tp_options* p, const tp_option* options, size_t count,
                     tp_option_handler handler, void* ctx);
 
@@ -117,6 +118,11 @@ void tp_options_add(tp_options* p, const tp_option* options, size_t count,
  * a value missing ("missing value for --json") or given to an option that takes none ("--quiet
  * takes no value"), a value out of range. */
 int tp_options_next(tp_options* p);
+
+/* Keeps the operand just read (p->value) among the operands of a command that takes a list:
+ * moves it to argv[1 + *count] and counts it, as getopt permuted argv (the argument it replaces
+ * was read before). Once the parse ends, the operands kept are argv[1 .. *count], in order. */
+void tp_options_keep(tp_options* p, int* count);
 
 /* The usage error for the argument just read (p->at) when the caller cannot place it: "more
  * than one DEM given" for an operand (what, when not NULL, replaces "DEM"), else "unknown

@@ -1,45 +1,21 @@
 /*
- * bench_options.c - the command line of `terrapatch bench` (see bench.h): its help, its options
- * in groups (the flight and what it draws, the outputs, --static, a store's stream) and the
- * checks of how they combine, in the order the messages are given.
+ * bench_options.c - the command line of `terrapatch bench` (see bench.h): its help, its options'
+ * table (options.h) in groups (the flight and what it draws, the outputs, --static, a store's
+ * stream) and the checks of how they combine, in the order the messages are given.
  */
 #include "bench.h"
 #include "cli.h"
 #include "store_scene.h"
 #include "view_options.h"
 
-#include <getopt.h>
+#include <float.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
-enum {
-    OPT_PATH = 256,
-    OPT_PATH_FILE,
-    OPT_FRAMES,
-    OPT_JSON,
-    OPT_CSV,
-    OPT_NO_ERROR,
-    OPT_STITCH,
-    OPT_STITCH_ADD_DRAW,
-    OPT_SPEED,
-    OPT_SWEEP,
-    OPT_PLOT,
-    OPT_STATIC,
-    OPT_MAX_ERROR,
-    OPT_MEMORY,
-    OPT_SEGMENTS,
-    OPT_ERROR_EVERY,
-    OPT_REALTIME,
-    OPT_NO_PREFETCH,
-    OPT_IMAGERY,
-    OPT_CLIP_BLOCKS,
-    OPT_IMAGERY_MODE,
-    OPT_LIGHT,
-    OPT_COMPARE,
-    OPT_RUNS,
-};
+/* The options whose values are read by code_option. */
+enum { OPT_PATH = 1, OPT_STITCH, OPT_STITCH_ADD_DRAW, OPT_MAX_ERROR, OPT_CLIP_BLOCKS, OPT_IMAGERY_MODE };
 
 #define COUNT(a) ((int)(sizeof(a) / sizeof *(a)))
 static void print_help(void)
@@ -175,10 +151,9 @@ static void print_help(void)
     fputs("\nExit status: 0 success, 1 failure, 2 usage error.\n", stdout);
 }
 
-/* What an option group's parser or a check returns when it gives no exit status: GO_ON, the
- * option was taken (or the check passed), parsing goes on; NOT_MINE, the option is another
- * group's. */
-enum { GO_ON = -1, NOT_MINE = -2 };
+/* What an option's reader or a check returns when it gives no exit status: the option was
+ * taken (or the check passed), parsing goes on. */
+enum { GO_ON = -1 };
 
 /* "OPT: expected EXPECTED, got 'GOT'" (tp_option_error); the usage error's exit status. */
 static int bad(const char* opt, const char* expected, const char* got)
@@ -196,77 +171,17 @@ static int keyword(const char* arg, const char* const* words, int n)
     return -1;
 }
 
-/* optarg as a whole number lo..hi into *out (tp_parse_int); else bad(opt, expected). */
-static int count_option(const char* opt, int lo, int hi, const char* expected, int* out)
-{
-    return tp_parse_int(optarg, lo, hi, out) ? GO_ON : bad(opt, expected, optarg);
-}
-
-/* The flight and what it draws: --path, --path-file, --frames, --speed, --no-error, --stitch,
- * --stitch-add-draw, --sweep. */
-static int flight_option(int c, bench_options* o)
-{
-    static const char* const paths[] = {"low", "high", "orbit"};
-    static const char* const stitches[] = {"move", "add"};       /* stitch_add 0, 1 */
-    static const char* const draws[] = {"sets", "five", "both"}; /* stitch_add_draw 1, 2, 3 */
-    switch (c) {
-    case OPT_PATH:
-        if (keyword(optarg, paths, COUNT(paths)) < 0)
-            return bad("--path", "low, high or orbit", optarg);
-        o->path_name = optarg;
-        return GO_ON;
-    case OPT_PATH_FILE: o->path_file = optarg; return GO_ON;
-    case OPT_FRAMES: return count_option("--frames", 1, 100000, "a count >= 1", &o->frames);
-    case OPT_SPEED: {
-        char* end;
-        double v = strtod(optarg, &end);
-        if (*end || end == optarg || !(v >= 0) || !isfinite(v))
-            return bad("--speed", "metres per second >= 0", optarg);
-        o->speed_mps = v;
-        return GO_ON;
-    }
-    case OPT_NO_ERROR: o->no_error = 1; return GO_ON;
-    case OPT_STITCH: {
-        int k = keyword(optarg, stitches, COUNT(stitches));
-        if (k < 0)
-            return bad("--stitch", "move or add", optarg);
-        o->stitch_add = k;
-        return GO_ON;
-    }
-    case OPT_STITCH_ADD_DRAW: {
-        int k = keyword(optarg, draws, COUNT(draws));
-        if (k < 0)
-            return bad("--stitch-add-draw", "sets, five or both", optarg);
-        o->stitch_add_draw = k + 1;
-        return GO_ON;
-    }
-    case OPT_SWEEP: o->sweep = 1; return GO_ON;
-    default: return NOT_MINE;
-    }
-}
-
-/* The files written: --json, --csv, --plot. */
-static int output_option(int c, bench_options* o)
-{
-    switch (c) {
-    case OPT_JSON: o->json = optarg; return GO_ON;
-    case OPT_CSV: o->csv = optarg; return GO_ON;
-    case OPT_PLOT: o->plot = optarg; return GO_ON;
-    default: return NOT_MINE;
-    }
-}
-
 /* --max-error M1,M2,...: up to COUNT(o->max_errors) bounds in metres > 0. */
-static int max_error_option(bench_options* o)
+static int max_error_option(const char* arg, bench_options* o)
 {
-    const char* at = optarg;
+    const char* at = arg;
     char* end;
     o->max_error_count = 0;
     for (;;) {
         double v = strtod(at, &end);
         if (end == at || !(v > 0) || !isfinite(v) || o->max_error_count == COUNT(o->max_errors) ||
             (*end && *end != ','))
-            return bad("--max-error", "up to 16 bounds in metres > 0, comma-separated", optarg);
+            return bad("--max-error", "up to 16 bounds in metres > 0, comma-separated", arg);
         o->max_errors[o->max_error_count++] = v;
         if (!*end)
             return GO_ON;
@@ -274,74 +189,42 @@ static int max_error_option(bench_options* o)
     }
 }
 
-/* The static meshes: --static, --max-error, --compare, --runs. */
-static int static_option(int c, bench_options* o)
+/* The value arg of option c (a code above): GO_ON when read into o, else the exit status. */
+static int code_option(int c, const char* arg, bench_options* o)
 {
-    switch (c) {
-    case OPT_STATIC: o->is_static = 1; return GO_ON;
-    case OPT_MAX_ERROR: return max_error_option(o);
-    case OPT_COMPARE: o->compare = 1; return GO_ON;
-    case OPT_RUNS: {
-        int code = count_option("--runs", 1, 100000, "a count >= 1", &o->runs);
-        o->runs_given = code == GO_ON;
-        return code;
-    }
-    default: return NOT_MINE;
-    }
-}
-
-/* A store's flight: --memory, --segments, --error-every, --realtime, --no-prefetch, --imagery,
- * --clip-blocks, --imagery-mode, --light. */
-static int store_option(int c, bench_options* o)
-{
+    static const char* const paths[] = {"low", "high", "orbit"};
+    static const char* const stitches[] = {"move", "add"};       /* stitch_add 0, 1 */
+    static const char* const draws[] = {"sets", "five", "both"}; /* stitch_add_draw 1, 2, 3 */
     static const char* const modes[] = {"clipmap", "blocks", "both"}; /* imagery_mode 0, 1, 2 */
+    int k;
     switch (c) {
-    case OPT_MEMORY:
-        return count_option("--memory", 16, 1 << 20, "megabytes, 16 or more", &o->memory_mb);
-    case OPT_SEGMENTS: return count_option("--segments", 1, 100000, "a count >= 1", &o->segments);
-    case OPT_ERROR_EVERY:
-        return count_option("--error-every", 1, 100000, "a count >= 1", &o->error_every);
-    case OPT_REALTIME: o->realtime = 1; return GO_ON;
-    case OPT_NO_PREFETCH: o->no_prefetch = 1; return GO_ON;
-    case OPT_IMAGERY: o->imagery = optarg; return GO_ON;
-    case OPT_LIGHT: o->light = optarg; return GO_ON;
-    case OPT_CLIP_BLOCKS: {
-        int n;
-        if (!tp_parse_int(optarg, 2, 32, &n) || n % 2)
-            return bad("--clip-blocks", "an even number from 2 to 32", optarg);
-        o->clip_blocks = n;
+    case OPT_PATH:
+        if (keyword(arg, paths, COUNT(paths)) < 0)
+            return bad("--path", "low, high or orbit", arg);
+        o->path_name = arg;
         return GO_ON;
-    }
-    case OPT_IMAGERY_MODE: {
-        int k = keyword(optarg, modes, COUNT(modes));
-        if (k < 0)
-            return bad("--imagery-mode", "clipmap, blocks or both", optarg);
+    case OPT_STITCH:
+        if ((k = keyword(arg, stitches, COUNT(stitches))) < 0)
+            return bad("--stitch", "move or add", arg);
+        o->stitch_add = k;
+        return GO_ON;
+    case OPT_STITCH_ADD_DRAW:
+        if ((k = keyword(arg, draws, COUNT(draws))) < 0)
+            return bad("--stitch-add-draw", "sets, five or both", arg);
+        o->stitch_add_draw = k + 1;
+        return GO_ON;
+    case OPT_MAX_ERROR: return max_error_option(arg, o);
+    case OPT_CLIP_BLOCKS:
+        if (!tp_parse_int(arg, 2, 32, &o->clip_blocks) || o->clip_blocks % 2)
+            return bad("--clip-blocks", "an even number from 2 to 32", arg);
+        return GO_ON;
+    case OPT_IMAGERY_MODE:
+        if ((k = keyword(arg, modes, COUNT(modes))) < 0)
+            return bad("--imagery-mode", "clipmap, blocks or both", arg);
         o->imagery_mode = k;
         return GO_ON;
     }
-    default: return NOT_MINE;
-    }
-}
-
-/* One getopt_long result that is not a DEM or view option: a group's, --help, or an error. */
-static int bench_option(int c, char** argv, bench_options* o)
-{
-    int code = flight_option(c, o);
-    if (code == NOT_MINE)
-        code = output_option(c, o);
-    if (code == NOT_MINE)
-        code = static_option(c, o);
-    if (code == NOT_MINE)
-        code = store_option(c, o);
-    if (code != NOT_MINE)
-        return code;
-    switch (c) {
-    case 'h': print_help(); return tp_cli_finish(TP_EXIT_OK);
-    case ':': tp_cli_error("missing value for %s", argv[optind - 1]); return TP_EXIT_USAGE;
-    default:
-        tp_cli_error("unknown option '%s' (see 'terrapatch bench --help')", argv[optind - 1]);
-        return TP_EXIT_USAGE;
-    }
+    return GO_ON;
 }
 
 static void set_defaults(bench_options* o)
@@ -354,20 +237,19 @@ static void set_defaults(bench_options* o)
     o->memory_mb = 1024;
     o->segments = 4;
     o->error_every = 1;
-    o->runs = 3;
+    o->runs = 0; /* --runs not given: 3 */
     tp_view_setup_default(&o->vs);
 }
 
-/* The operand after the options: one DEM or store. */
-static int check_operand(int argc, char** argv, bench_options* o)
+/* The operands: one DEM or store (extra: the first one too many, or NULL). */
+static int check_operand(const bench_options* o, const char* extra)
 {
-    if (optind >= argc) {
+    if (!o->dem) {
         tp_cli_error("missing DEM file");
         return TP_EXIT_USAGE;
     }
-    o->dem = argv[optind];
-    if (optind + 1 < argc) {
-        tp_cli_error("expected one DEM, got extra argument '%s'", argv[optind + 1]);
+    if (extra) {
+        tp_cli_error("expected one DEM, got extra argument '%s'", extra);
         return TP_EXIT_USAGE;
     }
     return GO_ON;
@@ -489,55 +371,61 @@ static int check_outputs(bench_options* o)
 
 int tp_bench_parse_options(int argc, char** argv, bench_options* o)
 {
-    static const struct option longs[] = {
-        TP_SCENE_LONG_OPTIONS,
-        {"path", required_argument, NULL, OPT_PATH},
-        {"path-file", required_argument, NULL, OPT_PATH_FILE},
-        {"frames", required_argument, NULL, OPT_FRAMES},
-        TP_VIEW_LONG_OPTIONS,
-        TP_VIEW_PGM_LONG_OPTIONS,
-        {"json", required_argument, NULL, OPT_JSON},
-        {"csv", required_argument, NULL, OPT_CSV},
-        {"no-error", no_argument, NULL, OPT_NO_ERROR},
-        {"stitch", required_argument, NULL, OPT_STITCH},
-        {"stitch-add-draw", required_argument, NULL, OPT_STITCH_ADD_DRAW},
-        {"speed", required_argument, NULL, OPT_SPEED},
-        {"sweep", no_argument, NULL, OPT_SWEEP},
-        {"plot", required_argument, NULL, OPT_PLOT},
-        {"static", no_argument, NULL, OPT_STATIC},
-        {"max-error", required_argument, NULL, OPT_MAX_ERROR},
-        {"memory", required_argument, NULL, OPT_MEMORY},
-        {"segments", required_argument, NULL, OPT_SEGMENTS},
-        {"error-every", required_argument, NULL, OPT_ERROR_EVERY},
-        {"realtime", no_argument, NULL, OPT_REALTIME},
-        {"no-prefetch", no_argument, NULL, OPT_NO_PREFETCH},
-        {"imagery", required_argument, NULL, OPT_IMAGERY},
-        {"clip-blocks", required_argument, NULL, OPT_CLIP_BLOCKS},
-        {"imagery-mode", required_argument, NULL, OPT_IMAGERY_MODE},
-        {"light", required_argument, NULL, OPT_LIGHT},
-        {"compare", no_argument, NULL, OPT_COMPARE},
-        {"runs", required_argument, NULL, OPT_RUNS},
-        {"help", no_argument, NULL, 'h'},
-        {NULL, 0, NULL, 0},
-    };
     set_defaults(o);
-    opterr = 0;
-    optind = 1;
-    int c;
-    while ((c = getopt_long(argc, argv, ":h", longs, NULL)) != -1) {
-        int taken = c == '?' || c == ':' ? 0 : tp_scene_option(c, optarg, &o->scene, "bench");
-        if (!taken && c != '?' && c != ':')
-            taken = tp_view_option(c, optarg, &o->vs, "bench");
-        if (taken < 0)
-            return TP_EXIT_USAGE;
-        if (taken)
-            continue;
-        int code = bench_option(c, argv, o);
-        if (code != GO_ON)
-            return code;
+    const tp_option options[] = {
+        /* the flight and what it draws */
+        TP_OPT_CODE("--path", NULL, OPT_PATH, 1),
+        TP_OPT_TEXT("--path-file", NULL, &o->path_file),
+        TP_OPT_INTEGER("--frames", &o->frames, 1, 100000, "a count >= 1"),
+        TP_OPT_NUMBER("--speed", &o->speed_mps, 0, DBL_MAX, "metres per second >= 0"),
+        TP_OPT_FLAG("--no-error", &o->no_error),
+        TP_OPT_CODE("--stitch", NULL, OPT_STITCH, 1),
+        TP_OPT_CODE("--stitch-add-draw", NULL, OPT_STITCH_ADD_DRAW, 1),
+        TP_OPT_FLAG("--sweep", &o->sweep),
+        /* the files written */
+        TP_OPT_TEXT("--json", NULL, &o->json),
+        TP_OPT_TEXT("--csv", NULL, &o->csv),
+        TP_OPT_TEXT("--plot", NULL, &o->plot),
+        /* the static meshes */
+        TP_OPT_FLAG("--static", &o->is_static),
+        TP_OPT_CODE("--max-error", NULL, OPT_MAX_ERROR, 1),
+        TP_OPT_FLAG("--compare", &o->compare),
+        TP_OPT_INTEGER("--runs", &o->runs, 1, 100000, "a count >= 1"),
+        /* a store's flight */
+        TP_OPT_INTEGER("--memory", &o->memory_mb, 16, 1 << 20, "megabytes, 16 or more"),
+        TP_OPT_INTEGER("--segments", &o->segments, 1, 100000, "a count >= 1"),
+        TP_OPT_INTEGER("--error-every", &o->error_every, 1, 100000, "a count >= 1"),
+        TP_OPT_FLAG("--realtime", &o->realtime),
+        TP_OPT_FLAG("--no-prefetch", &o->no_prefetch),
+        TP_OPT_TEXT("--imagery", NULL, &o->imagery),
+        TP_OPT_CODE("--clip-blocks", NULL, OPT_CLIP_BLOCKS, 1),
+        TP_OPT_CODE("--imagery-mode", NULL, OPT_IMAGERY_MODE, 1),
+        TP_OPT_TEXT("--light", NULL, &o->light),
+    };
+    tp_options p;
+    tp_options_init(&p, "bench", argc, argv, print_help);
+    tp_options_add(&p, options, TP_OPTIONS_COUNT(options), NULL, NULL);
+    tp_scene_options_add(&p, &o->scene);
+    tp_view_options_add(&p, &o->vs, 1);
+    const char* extra = NULL;
+    for (int c, code; (c = tp_options_next(&p)) != TP_OPTIONS_END;) {
+        switch (c) {
+        case TP_OPTIONS_EXIT: return p.exit;
+        case TP_OPTIONS_OPERAND: /* the DEM, then the first one too many */
+            if (!o->dem)
+                o->dem = p.value;
+            else if (!extra)
+                extra = p.value;
+            break;
+        default:
+            if ((code = code_option(c, p.value, o)) != GO_ON)
+                return code;
+        }
     }
+    o->runs_given = o->runs > 0;
+    o->runs = o->runs_given ? o->runs : 3;
     /* the checks, in the order their messages are given */
-    int code = check_operand(argc, argv, o);
+    int code = check_operand(o, extra);
     if (code == GO_ON && tp_view_setup_check(&o->vs, "bench") < 0)
         code = TP_EXIT_USAGE;
     if (code == GO_ON)

@@ -2,32 +2,18 @@
 #include "build_options.h"
 
 #include "cli.h"
+#include "options.h"
 
 #include "tp_core.h"
 #include "tp_imagery.h"
 
-#include <getopt.h>
+#include <float.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
 
-enum {
-    OPT_CRS = 256,
-    OPT_RESAMPLING,
-    OPT_MEMORY,
-    OPT_THREADS,
-    OPT_JSON,
-    OPT_QUIET,
-    OPT_PATCH,
-    OPT_FILL_MAX,
-    OPT_FILL_FROM,
-    OPT_IMAGERY,
-    OPT_IMAGERY_SHIFT,
-    OPT_IMAGERY_RESOLUTION,
-    OPT_ALLOW_GAPS,
-    OPT_Z_UNIT
-};
+enum { OPT_PATCH = 1, OPT_RESAMPLING, OPT_FILL_FROM, OPT_IMAGERY, OPT_Z_UNIT };
 
 static void print_help(void)
 {
@@ -79,118 +65,74 @@ static void print_help(void)
 
 int tp_build_parse_options(int argc, char** argv, build_options* o)
 {
-    static const struct option longs[] = {
-        {"output", required_argument, NULL, 'o'},
-        {"patch", required_argument, NULL, OPT_PATCH},
-        {"crs", required_argument, NULL, OPT_CRS},
-        {"resampling", required_argument, NULL, OPT_RESAMPLING},
-        {"memory", required_argument, NULL, OPT_MEMORY},
-        {"fill-max", required_argument, NULL, OPT_FILL_MAX},
-        {"fill-from", required_argument, NULL, OPT_FILL_FROM},
-        {"imagery", required_argument, NULL, OPT_IMAGERY},
-        {"imagery-texel-shift", required_argument, NULL, OPT_IMAGERY_SHIFT},
-        {"imagery-resolution", required_argument, NULL, OPT_IMAGERY_RESOLUTION},
-        {"threads", required_argument, NULL, OPT_THREADS},
-        {"json", required_argument, NULL, OPT_JSON},
-        {"quiet", no_argument, NULL, OPT_QUIET},
-        {"allow-gaps", no_argument, NULL, OPT_ALLOW_GAPS},
-        {"z-unit", required_argument, NULL, OPT_Z_UNIT},
-        {"help", no_argument, NULL, 'h'},
-        {NULL, 0, NULL, 0},
-    };
     *o = (build_options){0};
     tp_build_options_init(&o->build);
     o->imagery_cli.texel_shift = TP_IMAGERY_SHIFT_AUTO;
-    opterr = 0;
-    optind = 1;
-    int c;
-    while ((c = getopt_long(argc, argv, ":ho:", longs, NULL)) != -1) {
+    const tp_option options[] = {
+        TP_OPT_TEXT("--output", "-o", &o->build.out),
+        TP_OPT_CODE("--patch", NULL, OPT_PATCH, 1),
+        TP_OPT_TEXT("--crs", NULL, &o->build.crs),
+        TP_OPT_CODE("--resampling", NULL, OPT_RESAMPLING, 1),
+        TP_OPT_INTEGER("--memory", &o->build.memory_mb, BUILD_MIN_MEMORY_MB, 1 << 24,
+                       "megabytes, 64 or more"),
+        TP_OPT_INTEGER("--fill-max", &o->build.fill_max, 0, 100000, "0 .. 100000 samples"),
+        TP_OPT_CODE("--fill-from", NULL, OPT_FILL_FROM, 1),
+        TP_OPT_CODE("--imagery", NULL, OPT_IMAGERY, 1),
+        TP_OPT_INTEGER("--imagery-texel-shift", &o->imagery_cli.texel_shift, TP_IMAGERY_SHIFT_MIN,
+                       TP_IMAGERY_SHIFT_MAX, "-8 .. 8"),
+        TP_OPT_NUMBER_ABOVE("--imagery-resolution", &o->imagery_cli.resolution_m, 0, DBL_MAX,
+                            "metres > 0"),
+        TP_OPT_INTEGER("--threads", &o->build.threads, 1, 1024, "1 .. 1024"),
+        TP_OPT_TEXT("--json", NULL, &o->json),
+        TP_OPT_FLAG("--quiet", &o->build.quiet),
+        TP_OPT_FLAG("--allow-gaps", &o->build.allow_gaps),
+        TP_OPT_CODE("--z-unit", NULL, OPT_Z_UNIT, 1),
+    };
+    tp_options p;
+    tp_options_init(&p, "build", argc, argv, print_help);
+    tp_options_add(&p, options, TP_OPTIONS_COUNT(options), NULL, NULL);
+    for (int c; (c = tp_options_next(&p)) != TP_OPTIONS_END;) {
+        const char* v = p.value;
         switch (c) {
-        case 'o': o->build.out = optarg; break;
+        case TP_OPTIONS_EXIT: return p.exit;
+        case TP_OPTIONS_OPERAND: tp_options_keep(&p, &o->build.source_count); break;
         case OPT_PATCH:
-            if (!tp_parse_int(optarg, 17, 257, &o->build.patch_size) ||
-                (o->build.patch_size != 17 && o->build.patch_size != 33 && o->build.patch_size != 65 &&
-                 o->build.patch_size != 129 && o->build.patch_size != 257))
-                return tp_option_error("build", "--patch", "17, 33, 65, 129 or 257", optarg),
-                       TP_EXIT_USAGE;
+            if (!tp_parse_int(v, 17, 257, &o->build.patch_size) ||
+                ((o->build.patch_size - 1) & (o->build.patch_size - 2))) /* not 2^n + 1 */
+                return tp_options_bad_value(&p, "17, 33, 65, 129 or 257"), TP_EXIT_USAGE;
             break;
-        case OPT_CRS: o->build.crs = optarg; break;
         case OPT_RESAMPLING:
-            if (!strcmp(optarg, "bilinear"))
-                o->build.resampling = TP_RESAMPLING_BILINEAR;
-            else if (!strcmp(optarg, "cubic"))
-                o->build.resampling = TP_RESAMPLING_CUBIC;
-            else
-                return tp_option_error("build", "--resampling", "bilinear or cubic", optarg),
-                       TP_EXIT_USAGE;
-            break;
-        case OPT_MEMORY:
-            if (!tp_parse_int(optarg, BUILD_MIN_MEMORY_MB, 1 << 24, &o->build.memory_mb))
-                return tp_option_error("build", "--memory", "megabytes, 64 or more", optarg),
-                       TP_EXIT_USAGE;
-            break;
-        case OPT_FILL_MAX:
-            if (!tp_parse_int(optarg, 0, 100000, &o->build.fill_max))
-                return tp_option_error("build", "--fill-max", "0 .. 100000 samples", optarg),
-                       TP_EXIT_USAGE;
+            if (strcmp(v, "bilinear") && strcmp(v, "cubic"))
+                return tp_options_bad_value(&p, "bilinear or cubic"), TP_EXIT_USAGE;
+            o->build.resampling = *v == 'c' ? TP_RESAMPLING_CUBIC : TP_RESAMPLING_BILINEAR;
             break;
         case OPT_FILL_FROM:
-            if (!*optarg)
-                return tp_option_error("build", "--fill-from", "a raster file", optarg),
-                       TP_EXIT_USAGE;
-            o->build.fill_from = optarg;
+            if (!*v)
+                return tp_options_bad_value(&p, "a raster file"), TP_EXIT_USAGE;
+            o->build.fill_from = v;
             break;
         case OPT_IMAGERY:
             if (o->imagery_count == 256)
                 return tp_cli_usage_at("build", "more than 256 --imagery files", "");
-            o->imagery[o->imagery_count++] = optarg;
+            o->imagery[o->imagery_count++] = v;
             break;
-        case OPT_IMAGERY_SHIFT:
-            if (!tp_imagery_cli_parse_shift("build", "--imagery-texel-shift", optarg,
-                                            &o->imagery_cli))
-                return TP_EXIT_USAGE;
-            o->imagery_shift_given = 1;
-            break;
-        case OPT_IMAGERY_RESOLUTION:
-            if (!tp_imagery_cli_parse_resolution("build", "--imagery-resolution", optarg,
-                                                 &o->imagery_cli))
-                return TP_EXIT_USAGE;
-            break;
-        case OPT_THREADS:
-            if (!tp_parse_int(optarg, 1, 1024, &o->build.threads))
-                return tp_option_error("build", "--threads", "1 .. 1024", optarg), TP_EXIT_USAGE;
-            break;
-        case OPT_JSON: o->json = optarg; break;
-        case OPT_QUIET: o->build.quiet = 1; break;
-        case OPT_ALLOW_GAPS: o->build.allow_gaps = 1; break;
         case OPT_Z_UNIT:
-            if (strcmp(optarg, "m") && strcmp(optarg, "ft") && strcmp(optarg, "us-ft"))
-                return tp_option_error("build", "--z-unit", "m, ft or us-ft", optarg),
-                       TP_EXIT_USAGE;
-            o->build.z_unit = optarg;
+            if (strcmp(v, "m") && strcmp(v, "ft") && strcmp(v, "us-ft"))
+                return tp_options_bad_value(&p, "m, ft or us-ft"), TP_EXIT_USAGE;
+            o->build.z_unit = v;
             break;
-        case 'h': print_help(); return tp_cli_finish(TP_EXIT_OK);
-        case ':': return tp_cli_usage_at("build", "missing value for option", argv[optind - 1]);
-        default:
-            if (optopt > 0 && optopt < 256) {
-                char name[3] = {'-', (char)optopt, '\0'};
-                return tp_cli_usage_at("build", "unknown option", name);
-            }
-            if (optopt >= 256)
-                return tp_cli_usage_at("build", "option takes no value:", argv[optind - 1]);
-            return tp_cli_usage_at("build", "unknown option", argv[optind - 1]);
         }
     }
-    if (optind >= argc)
+    const int shift_given = o->imagery_cli.texel_shift != TP_IMAGERY_SHIFT_AUTO;
+    if (!o->build.source_count)
         return tp_cli_usage_at("build", "missing SOURCE", "");
     if (!o->build.out)
         return tp_cli_usage_at("build", "missing -o NAME.tpt", "");
-    if (o->imagery_shift_given && o->imagery_cli.resolution_m > 0)
+    if (shift_given && o->imagery_cli.resolution_m > 0)
         return tp_cli_usage_at("build", "give --imagery-texel-shift or --imagery-resolution, not both", "");
-    if ((o->imagery_shift_given || o->imagery_cli.resolution_m > 0) && !o->imagery_count)
+    if ((shift_given || o->imagery_cli.resolution_m > 0) && !o->imagery_count)
         return tp_cli_usage_at("build", "--imagery-texel-shift and --imagery-resolution need --imagery", "");
-    o->build.sources = (const char**)(argv + optind);
-    o->build.source_count = argc - optind;
+    o->build.sources = (const char**)(argv + 1);
     if (o->build.threads == 0) {
         long n = sysconf(_SC_NPROCESSORS_ONLN);
         o->build.threads = n > 0 ? (int)(n > 1024 ? 1024 : n) : 1;

@@ -15,13 +15,12 @@ typedef struct build_options {
     const char* imagery[256]; /* --imagery: a pyramid NAME.tpi of these, after the store */
     int imagery_count;
     tp_imagery_cli imagery_cli; /* --imagery-texel-shift, --imagery-resolution */
-    int imagery_shift_given;
     const char* json; /* NULL, "-" or a path */
 } build_options;
 
-/* Parses argv (getopt_long; --help prints the help and finishes the command). Returns -1 when
- * the options are fine and *o holds them (sources and strings borrowed from argv), else the
- * exit code to return after the message on stderr naming the option (2, usage). */
+/* Parses argv (options.h; --help prints the help and finishes the command). Returns -1 when
+ * the options are fine and *o holds them (sources and strings borrowed from argv, the sources
+ * moved to argv[1 ..]), else the exit code to return after the message on stderr (2, usage). */
 int tp_build_parse_options(int argc, char** argv, build_options* o);
 
 #endif

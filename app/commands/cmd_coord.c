@@ -12,13 +12,12 @@
 #include "terrapatch.h"
 #include "cli.h"
 #include "coord_line.h"
+#include "options.h"
 
 #include "tp_core.h"
 #include "tp_geo.h"
 
-#include <ctype.h>
 #include <errno.h>
-#include <getopt.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -26,11 +25,10 @@
 typedef struct coord_options {
     tp_coord_request req;
     int to_given;
-    int precision_given;
-    int first_input; /* argv index of the first INPUT; == argc: read stdin */
+    int inputs; /* the INPUTs, argv[1 .. inputs]; 0: read stdin */
 } coord_options;
 
-enum { OPT_TO = 256, OPT_PRECISION, OPT_GEODESIC };
+enum { OPT_TO = 1 };
 
 #define DEFAULT_MGRS_PRECISION 5
 
@@ -102,7 +100,7 @@ static void print_help(void)
           "  6378237.000000 0.000000 0.000000\n"
           "  $ terrapatch coord --geodesic '40.6 -73.8 51.6 -0.5'\n"
           "  51.198882845580 107.821776735514 5551759.400318678\n"
-          "  $ terrapatch coord -- '-33.9 18.4'     ('--' before inputs starting with '-')\n"
+          "  $ terrapatch coord '-33.9 18.4'        (an input may start with '-')\n"
           "\n"
           "Exit status: 0 every line converted, 1 some line failed or the input could not be\n"
           "read, 2 usage error.\n",
@@ -112,73 +110,38 @@ static void print_help(void)
 /* Returns -1 when the options are fine, else the exit code to return (help, usage error). */
 static int parse_options(int argc, char** argv, coord_options* o)
 {
-    static const struct option longs[] = {
-        {"to", required_argument, NULL, OPT_TO},
-        {"precision", required_argument, NULL, OPT_PRECISION},
-        {"geodesic", no_argument, NULL, OPT_GEODESIC},
-        {"help", no_argument, NULL, 'h'},
-        {NULL, 0, NULL, 0},
+    static const char* const to[] = {"geo", "utm", "mgrs", "ecef"}; /* tp_coord_to's order */
+    *o = (coord_options){.req = {.to = TP_COORD_TO_GEO, .precision = -1}};
+    const tp_option options[] = {
+        TP_OPT_CODE("--to", NULL, OPT_TO, 1),
+        TP_OPT_INTEGER("--precision", &o->req.precision, 0, 11, "an integer from 0 to 11"),
+        TP_OPT_FLAG("--geodesic", &o->req.geodesic),
     };
-    *o = (coord_options){.req = {.to = TP_COORD_TO_GEO, .precision = DEFAULT_MGRS_PRECISION}};
-    opterr = 0; /* getopt's own messages would make a second stderr line */
-    optind = 1;
-    int c;
-    while ((c = getopt_long(argc, argv, ":h", longs, NULL)) != -1) {
-        switch (c) {
-        case OPT_TO:
-            if (!strcmp(optarg, "geo")) {
-                o->req.to = TP_COORD_TO_GEO;
-            } else if (!strcmp(optarg, "utm")) {
-                o->req.to = TP_COORD_TO_UTM;
-            } else if (!strcmp(optarg, "mgrs")) {
-                o->req.to = TP_COORD_TO_MGRS;
-            } else if (!strcmp(optarg, "ecef")) {
-                o->req.to = TP_COORD_TO_ECEF;
-            } else {
-                tp_cli_error("--to: expected geo, utm, mgrs or ecef, got '%s'", optarg);
-                return TP_EXIT_USAGE;
-            }
-            o->to_given = 1;
-            break;
-        case OPT_PRECISION: {
-            char* end;
-            errno = 0;
-            long v = strtol(optarg, &end, 10);
-            if (*optarg == '\0' || *end != '\0' || errno || v < 0 || v > 11) {
-                tp_cli_error("--precision: expected an integer from 0 to 11, "
-                             "got '%s'",
-                             optarg);
-                return TP_EXIT_USAGE;
-            }
-            o->req.precision = (int)v;
-            o->precision_given = 1;
-            break;
+    tp_options p;
+    tp_options_init(&p, "coord", argc, argv, print_help);
+    p.negative_operands = 1; /* an input such as "-33.9 18.4" */
+    tp_options_add(&p, options, TP_OPTIONS_COUNT(options), NULL, NULL);
+    for (int c; (c = tp_options_next(&p)) != TP_OPTIONS_END;) {
+        if (c == TP_OPTIONS_EXIT)
+            return p.exit;
+        if (c == TP_OPTIONS_OPERAND) {
+            tp_options_keep(&p, &o->inputs);
+            continue;
         }
-        case OPT_GEODESIC: o->req.geodesic = 1; break;
-        case 'h': print_help(); return tp_cli_finish(TP_EXIT_OK);
-        case ':': return tp_cli_usage_at("coord", "missing value for option", argv[optind - 1]);
-        default: /* '?' */
-            if (isdigit(optopt) || optopt == '.') {
-                /* an input such as "-33.9 18.4" read as options */
-                tp_cli_error("unknown option '-%c' (put '--' before inputs that "
-                             "start with '-': terrapatch coord -- '-33.9 18.4')",
-                             (char)optopt);
-                return TP_EXIT_USAGE;
-            }
-            if (optopt > 0 && optopt < 256) {
-                char name[3] = {'-', (char)optopt, '\0'};
-                return tp_cli_usage_at("coord", "unknown option", name);
-            }
-            if (optopt >= 256) /* a long option given a value it does not take */
-                return tp_cli_usage_at("coord", "option takes no value:", argv[optind - 1]);
-            return tp_cli_usage_at("coord", "unknown option", argv[optind - 1]);
-        }
+        int k = 0; /* --to */
+        while (k < 4 && strcmp(p.value, to[k]))
+            ++k;
+        if (k == 4)
+            return tp_options_bad_value(&p, "geo, utm, mgrs or ecef"), TP_EXIT_USAGE;
+        o->req.to = (tp_coord_to)k;
+        o->to_given = 1;
     }
     if (o->req.geodesic && o->to_given)
         return tp_cli_usage_at("coord", "--geodesic cannot be combined with --to", "");
-    if (o->precision_given && (o->req.geodesic || o->req.to != TP_COORD_TO_MGRS))
+    if (o->req.precision >= 0 && (o->req.geodesic || o->req.to != TP_COORD_TO_MGRS))
         return tp_cli_usage_at("coord", "--precision applies only to --to mgrs", "");
-    o->first_input = optind;
+    if (o->req.precision < 0)
+        o->req.precision = DEFAULT_MGRS_PRECISION;
     return -1;
 }
 
@@ -205,8 +168,8 @@ int tp_cli_coord(int argc, char** argv)
         return code;
 
     long failures = 0, line_no = 0;
-    if (o.first_input < argc) {
-        for (int i = o.first_input; i < argc; ++i)
+    if (o.inputs) {
+        for (int i = 1; i <= o.inputs; ++i)
             failures += !convert_line(&o, argv[i], strlen(argv[i]), ++line_no);
         return tp_cli_finish(failures ? TP_EXIT_FAILURE : TP_EXIT_OK);
     }

@@ -12,6 +12,7 @@
 #include "cli.h"
 #include "json.h"
 #include "memory.h"
+#include "options.h"
 #include "output_check.h"
 #include "progress.h"
 
@@ -19,7 +20,7 @@
 #include "tp_imagery.h"
 #include "tp_io.h"
 
-#include <getopt.h>
+#include <float.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -206,94 +207,42 @@ static void print_help(void)
           stdout);
 }
 
-int tp_imagery_cli_parse_shift(const char* cmd, const char* opt, const char* arg, tp_imagery_cli* c)
-{
-    if (tp_parse_int(arg, TP_IMAGERY_SHIFT_MIN, TP_IMAGERY_SHIFT_MAX, &c->texel_shift))
-        return 1;
-    tp_option_error(cmd, opt, "-8 .. 8", arg);
-    return 0;
-}
-
-int tp_imagery_cli_parse_resolution(const char* cmd, const char* opt, const char* arg,
-                                    tp_imagery_cli* c)
-{
-    char* end;
-    c->resolution_m = strtod(arg, &end);
-    if (end != arg && !*end && c->resolution_m > 0 && isfinite(c->resolution_m))
-        return 1;
-    tp_option_error(cmd, opt, "metres > 0", arg);
-    return 0;
-}
-
-enum { OPT_SHIFT = 256, OPT_RESOLUTION, OPT_MEMORY, OPT_THREADS, OPT_JSON, OPT_QUIET };
-
 int tp_cli_imagery(int argc, char** argv)
 {
-    static const struct option longs[] = {
-        {"output", required_argument, NULL, 'o'},
-        {"texel-shift", required_argument, NULL, OPT_SHIFT},
-        {"resolution", required_argument, NULL, OPT_RESOLUTION},
-        {"memory", required_argument, NULL, OPT_MEMORY},
-        {"threads", required_argument, NULL, OPT_THREADS},
-        {"json", required_argument, NULL, OPT_JSON},
-        {"quiet", no_argument, NULL, OPT_QUIET},
-        {"help", no_argument, NULL, 'h'},
-        {NULL, 0, NULL, 0},
-    };
     tp_imagery_cli c = {0};
     c.texel_shift = TP_IMAGERY_SHIFT_AUTO;
     c.memory_mb = 1024;
     c.who = "imagery";
-    int have_shift = 0;
-    opterr = 0;
-    optind = 1;
-    int ch;
-    while ((ch = getopt_long(argc, argv, ":ho:", longs, NULL)) != -1) {
-        switch (ch) {
-        case 'o': c.out = optarg; break;
-        case OPT_SHIFT:
-            if (!tp_imagery_cli_parse_shift("imagery", "--texel-shift", optarg, &c))
-                return TP_EXIT_USAGE;
-            have_shift = 1;
-            break;
-        case OPT_RESOLUTION:
-            if (!tp_imagery_cli_parse_resolution("imagery", "--resolution", optarg, &c))
-                return TP_EXIT_USAGE;
-            break;
-        case OPT_MEMORY:
-            if (!tp_parse_int(optarg, IMAGERY_MIN_MEMORY_MB, 1 << 24, &c.memory_mb))
-                return tp_option_error("imagery", "--memory", "megabytes, 64 or more", optarg),
-                       TP_EXIT_USAGE;
-            break;
-        case OPT_THREADS:
-            if (!tp_parse_int(optarg, 1, 1024, &c.threads))
-                return tp_option_error("imagery", "--threads", "1 .. 1024", optarg), TP_EXIT_USAGE;
-            break;
-        case OPT_JSON: c.json = optarg; break;
-        case OPT_QUIET: c.quiet = 1; break;
-        case 'h': print_help(); return tp_cli_finish(TP_EXIT_OK);
-        case ':': return tp_cli_usage_at("imagery", "missing value for option", argv[optind - 1]);
-        default:
-            if (optopt > 0 && optopt < 256) {
-                char name[3] = {'-', (char)optopt, '\0'};
-                return tp_cli_usage_at("imagery", "unknown option", name);
-            }
-            if (optopt >= 256)
-                return tp_cli_usage_at("imagery", "option takes no value:", argv[optind - 1]);
-            return tp_cli_usage_at("imagery", "unknown option", argv[optind - 1]);
-        }
+    const tp_option options[] = {
+        TP_OPT_TEXT("--output", "-o", &c.out),
+        TP_OPT_INTEGER("--texel-shift", &c.texel_shift, TP_IMAGERY_SHIFT_MIN, TP_IMAGERY_SHIFT_MAX,
+                       "-8 .. 8"),
+        TP_OPT_NUMBER_ABOVE("--resolution", &c.resolution_m, 0, DBL_MAX, "metres > 0"),
+        TP_OPT_INTEGER("--memory", &c.memory_mb, IMAGERY_MIN_MEMORY_MB, 1 << 24,
+                       "megabytes, 64 or more"),
+        TP_OPT_INTEGER("--threads", &c.threads, 1, 1024, "1 .. 1024"),
+        TP_OPT_TEXT("--json", NULL, &c.json),
+        TP_OPT_FLAG("--quiet", &c.quiet),
+    };
+    tp_options p;
+    tp_options_init(&p, "imagery", argc, argv, print_help);
+    tp_options_add(&p, options, TP_OPTIONS_COUNT(options), NULL, NULL);
+    int operands = 0;
+    for (int r; (r = tp_options_next(&p)) != TP_OPTIONS_END;) {
+        if (r == TP_OPTIONS_EXIT)
+            return p.exit;
+        tp_options_keep(&p, &operands); /* no CODE options: an operand */
     }
-    if (have_shift && c.resolution_m > 0)
+    if (c.texel_shift != TP_IMAGERY_SHIFT_AUTO && c.resolution_m > 0)
         return tp_cli_usage_at("imagery", "give --texel-shift or --resolution, not both", "");
-    if (optind >= argc)
+    if (operands < 1)
         return tp_cli_usage_at("imagery", "missing STORE.tpt", "");
-    if (optind + 1 >= argc)
+    if (operands < 2)
         return tp_cli_usage_at("imagery", "missing IMAGE", "");
-    const char* store = argv[optind];
-    c.images = (const char* const*)(argv + optind + 1);
-    c.count = argc - optind - 1;
+    c.images = (const char* const*)(argv + 2);
+    c.count = operands - 1;
     if (c.json && strcmp(c.json, "-") && !tp_atomic_check_dir(c.json))
         return TP_EXIT_FAILURE;
-    int rc = tp_imagery_cli_run(store, &c);
+    int rc = tp_imagery_cli_run(argv[1], &c);
     return rc == TP_EXIT_OK ? tp_cli_finish(rc) : rc;
 }

@@ -23,13 +23,6 @@ typedef struct tp_imagery_cli {
  * code (app/base/cli.h), having printed one line for a failure. */
 int tp_imagery_cli_run(const char* store_path, const tp_imagery_cli* c);
 
-/* --texel-shift K / --resolution M of command cmd (option named opt) into c: 1, or 0 after
- * printing the usage error (exit TP_EXIT_USAGE). */
-int tp_imagery_cli_parse_shift(const char* cmd, const char* opt, const char* arg,
-                               tp_imagery_cli* c);
-int tp_imagery_cli_parse_resolution(const char* cmd, const char* opt, const char* arg,
-                                    tp_imagery_cli* c);
-
 /* The default output of a store: its path with ".tpi" in place of ".tpt" (appended when it
  * does not end so). Malloc'd; NULL when out of memory. */
 char* tp_imagery_default_path(const char* store_path);

@@ -9,6 +9,7 @@
 #include "cli.h"
 #include "extent.h"
 #include "json.h"
+#include "options.h"
 #include "point_readout.h"
 #include "scene.h"
 #include "store_scene.h"
@@ -18,7 +19,6 @@
 #include "tp_geo.h"
 #include "tp_io.h"
 
-#include <getopt.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -29,8 +29,6 @@ typedef struct info_options {
     int json;
     const char* path;
 } info_options;
-
-enum { OPT_JSON = 256 };
 
 static void print_help(void)
 {
@@ -63,42 +61,26 @@ static void print_help(void)
 /* Returns -1 when the options are fine, else the exit code to return (help, usage error). */
 static int parse_options(int argc, char** argv, info_options* o)
 {
-    static const struct option longs[] = {
-        TP_SCENE_LONG_OPTIONS,
-        {"json", no_argument, NULL, OPT_JSON},
-        {"help", no_argument, NULL, 'h'},
-        {NULL, 0, NULL, 0},
-    };
     *o = (info_options){0};
     tp_scene_options_default(&o->scene);
-    opterr = 0; /* getopt's own messages would make a second stderr line */
-    optind = 1;
-    int c;
-    while ((c = getopt_long(argc, argv, ":h", longs, NULL)) != -1) {
-        int taken = c == '?' || c == ':' ? 0 : tp_scene_option(c, optarg, &o->scene, "info");
-        if (taken < 0)
-            return TP_EXIT_USAGE;
-        if (taken)
-            continue;
-        switch (c) {
-        case OPT_JSON: o->json = 1; break;
-        case 'h': print_help(); return tp_cli_finish(TP_EXIT_OK);
-        case ':': return tp_cli_usage_at("info", "missing value for option", argv[optind - 1]);
-        default: /* '?' */
-            if (optopt > 0 && optopt < 256) {
-                char name[3] = {'-', (char)optopt, '\0'};
-                return tp_cli_usage_at("info", "unknown option", name);
-            }
-            if (optopt >= 256) /* a long option given a value it does not take: --json=1 */
-                return tp_cli_usage_at("info", "option takes no value:", argv[optind - 1]);
-            return tp_cli_usage_at("info", "unknown option", argv[optind - 1]);
-        }
+    const tp_option options[] = {TP_OPT_FLAG("--json", &o->json)};
+    tp_options p;
+    tp_options_init(&p, "info", argc, argv, print_help);
+    tp_options_add(&p, options, TP_OPTIONS_COUNT(options), NULL, NULL);
+    tp_scene_options_add(&p, &o->scene);
+    const char* extra = NULL;
+    for (int c; (c = tp_options_next(&p)) != TP_OPTIONS_END;) {
+        if (c == TP_OPTIONS_EXIT)
+            return p.exit;
+        if (!o->path) /* an operand: the DEM, then the first one too many */
+            o->path = p.value;
+        else if (!extra)
+            extra = p.value;
     }
-    if (optind >= argc)
+    if (!o->path)
         return tp_cli_usage_at("info", "missing DEM file", "");
-    if (argc - optind > 1)
-        return tp_cli_usage_at("info", "expected one DEM file, got extra argument", argv[optind + 1]);
-    o->path = argv[optind];
+    if (extra)
+        return tp_cli_usage_at("info", "expected one DEM file, got extra argument", extra);
     return -1;
 }
 

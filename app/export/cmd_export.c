@@ -9,6 +9,7 @@
 #include "cli.h"
 #include "full_export.h"
 #include "mesh_export.h"
+#include "options.h"
 #include "output_check.h"
 #include "scene.h"
 #include "store_export.h"
@@ -17,6 +18,7 @@
 #include "tin_export.h"
 #include "view_options.h"
 
+#include <float.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -38,16 +40,7 @@ typedef struct export_options {
     const char* path;
 } export_options;
 
-enum {
-    OPT_OUT = 'o',
-    OPT_FULL = 256,
-    OPT_MAX_ERROR,
-    OPT_NO_CULL,
-    OPT_ORIGIN_LOCAL,
-    OPT_PER_PATCH,
-    OPT_FORMAT,
-    OPT_MESH,
-};
+enum { OPT_MESH = 1, OPT_ORIGIN };
 
 static void print_help(void)
 {
@@ -115,74 +108,55 @@ static int bad(const char* opt, const char* expected, const char* got)
 
 static int parse_options(int argc, char** argv, export_options* o)
 {
-    static const struct option longs[] = {
-        TP_SCENE_LONG_OPTIONS,
-        {"output", required_argument, NULL, OPT_OUT},
-        {"full", no_argument, NULL, OPT_FULL},
-        {"max-error", required_argument, NULL, OPT_MAX_ERROR},
-        {"mesh", required_argument, NULL, OPT_MESH},
-        TP_VIEW_LONG_OPTIONS,
-        {"no-cull", no_argument, NULL, OPT_NO_CULL},
-        {"origin", required_argument, NULL, OPT_ORIGIN_LOCAL},
-        {"per-patch", no_argument, NULL, OPT_PER_PATCH},
-        {"help", no_argument, NULL, 'h'},
-        {NULL, 0, NULL, 0},
-    };
     memset(o, 0, sizeof *o);
     tp_scene_options_default(&o->scene);
     tp_view_setup_default(&o->vs);
-    opterr = 0;
-    optind = 1;
-    int c, modes = 0;
-    double v;
-    while ((c = getopt_long(argc, argv, ":ho:", longs, NULL)) != -1) {
-        /* --origin is "local" here, but LAT,LON for heightmap images: both are accepted */
-        if (c == TP_OPT_ORIGIN && !strcmp(optarg, "local")) {
-            o->origin_local = 1;
-            continue;
-        }
-        int taken = c == '?' || c == ':' ? 0 : tp_scene_option(c, optarg, &o->scene, "export");
-        if (!taken && c != '?' && c != ':')
-            taken = tp_view_option(c, optarg, &o->vs, "export");
-        if (taken < 0)
-            return TP_EXIT_USAGE;
-        if (taken)
-            continue;
+    int full = 0;
+    o->max_error_m = -1; /* not given */
+    const tp_option options[] = {
+        TP_OPT_TEXT("--output", "-o", &o->out),
+        TP_OPT_FLAG("--full", &full),
+        TP_OPT_NUMBER("--max-error", &o->max_error_m, 0, DBL_MAX, "metres >= 0"),
+        TP_OPT_CODE("--mesh", NULL, OPT_MESH, 1),
+        TP_OPT_FLAG("--no-cull", &o->no_cull),
+        TP_OPT_CODE("--origin", NULL, OPT_ORIGIN, 1), /* before the DEM options' --origin */
+        TP_OPT_FLAG("--per-patch", &o->per_patch),
+    };
+    tp_options p;
+    tp_options_init(&p, "export", argc, argv, print_help);
+    tp_options_add(&p, options, TP_OPTIONS_COUNT(options), NULL, NULL);
+    tp_scene_options_add(&p, &o->scene);
+    tp_view_options_add(&p, &o->vs, 0);
+    const char* extra = NULL;
+    for (int c; (c = tp_options_next(&p)) != TP_OPTIONS_END;) {
+        const char* v = p.value;
         switch (c) {
-        case OPT_OUT: o->out = optarg; break;
-        case OPT_FULL:
-            o->mode = MODE_FULL;
-            modes++;
-            break;
-        case OPT_MAX_ERROR:
-            if (!tp_parse_numbers(optarg, &v, 1) || v < 0)
-                return bad("--max-error", "metres >= 0", optarg);
-            o->mode = MODE_MAX_ERROR;
-            o->max_error_m = v;
-            modes++;
+        case TP_OPTIONS_EXIT: return p.exit;
+        case TP_OPTIONS_OPERAND: /* the DEM, then the first one too many */
+            if (!o->path)
+                o->path = v;
+            else if (!extra)
+                extra = v;
             break;
         case OPT_MESH:
-            if (!strcmp(optarg, "tin"))
-                o->mesh = MESH_TIN;
-            else if (!strcmp(optarg, "patches"))
-                o->mesh = MESH_PATCHES;
-            else
-                return bad("--mesh", "tin or patches", optarg);
+            if (strcmp(v, "tin") && strcmp(v, "patches"))
+                return bad("--mesh", "tin or patches", v);
+            o->mesh = !strcmp(v, "tin") ? MESH_TIN : MESH_PATCHES;
             break;
-        case OPT_NO_CULL: o->no_cull = 1; break;
-        case OPT_ORIGIN_LOCAL: return bad("--origin", "local (or LAT,LON for an image)", optarg);
-        case OPT_PER_PATCH: o->per_patch = 1; break;
-        case 'h': print_help(); return tp_cli_finish(TP_EXIT_OK);
-        case ':': tp_cli_error("missing value for %s", argv[optind - 1]); return TP_EXIT_USAGE;
-        default:
-            tp_cli_error("unknown option '%s' (see 'terrapatch export --help')", argv[optind - 1]);
-            return TP_EXIT_USAGE;
+        case OPT_ORIGIN: /* "local" here, LAT,LON for heightmap images: both are accepted */
+            if (!strcmp(v, "local"))
+                o->origin_local = 1;
+            else if (tp_scene_option(TP_OPT_ORIGIN, v, &o->scene, "export") < 0)
+                return TP_EXIT_USAGE;
+            break;
         }
     }
-    if (modes > 1) {
+    if (full && o->max_error_m >= 0) {
         tp_cli_error("--full and --max-error exclude each other");
         return TP_EXIT_USAGE;
     }
+    o->mode = full ? MODE_FULL : o->max_error_m >= 0 ? MODE_MAX_ERROR : MODE_VIEW;
+    o->max_error_m = fmax(o->max_error_m, 0);
     if (o->mesh != MESH_DEFAULT && o->mode != MODE_MAX_ERROR) {
         tp_cli_error("--mesh goes with --max-error M (the other modes "
                      "write the patches drawn)");
@@ -198,15 +172,14 @@ static int parse_options(int argc, char** argv, export_options* o)
     o->format = of.mesh;
     if (o->per_patch && o->format != TP_MESH_VTM)
         return bad("--per-patch", "an output ending in .vtm", o->out);
-    if (optind >= argc) {
+    if (!o->path) {
         tp_cli_error("missing DEM file");
         return TP_EXIT_USAGE;
     }
-    if (argc - optind > 1) {
-        tp_cli_error("expected one DEM, got extra argument '%s'", argv[optind + 1]);
+    if (extra) {
+        tp_cli_error("expected one DEM, got extra argument '%s'", extra);
         return TP_EXIT_USAGE;
     }
-    o->path = argv[optind];
     if (tp_view_setup_check(&o->vs, "export") < 0)
         return TP_EXIT_USAGE;
     return -1;

@@ -12,7 +12,6 @@
 #include "memory.h"
 #include "options.h"
 
-#include <getopt.h>
 #include <stdio.h>
 
 typedef struct tp_scene_options {
@@ -27,7 +26,7 @@ typedef struct tp_scene_options {
     unsigned given;          /* the DEM options given: bit (TP_OPT_x - TP_OPT_PATCH) of each */
 } tp_scene_options;
 
-/* getopt_long codes of the DEM options (each command adds its own beside them). */
+/* The codes of the DEM options (tp_scene_option; their table: tp_scene_options_add). */
 enum {
     TP_OPT_PATCH = 1000,
     TP_OPT_FIT,
@@ -41,24 +40,10 @@ enum {
     TP_OPT_Z_UNIT,
 };
 
-#define TP_SCENE_LONG_OPTIONS                                                                      \
-    {"patch", required_argument, NULL, TP_OPT_PATCH},                                              \
-        {"fit", required_argument, NULL, TP_OPT_FIT},                                              \
-        {"crs", required_argument, NULL, TP_OPT_CRS},                                              \
-        {"resampling", required_argument, NULL, TP_OPT_RESAMPLING},                                \
-        {"fill-max", required_argument, NULL, TP_OPT_FILL_MAX},                                    \
-        {"fill-from", required_argument, NULL, TP_OPT_FILL_FROM},                                  \
-        {"spacing", required_argument, NULL, TP_OPT_SPACING},                                      \
-        {"zscale", required_argument, NULL, TP_OPT_ZSCALE},                                        \
-        {"origin", required_argument, NULL, TP_OPT_ORIGIN},                                        \
-    {                                                                                              \
-        "z-unit", required_argument, NULL, TP_OPT_Z_UNIT                                           \
-    }
-
 void tp_scene_options_default(tp_scene_options* o);
 
-/* Handles one getopt_long result if it is a DEM option: returns 1 (taken), 0 (not a DEM
- * option) or -1 (bad value; a one-line message naming cmd was printed). */
+/* Reads arg for DEM option opt (a code above): returns 1 (taken), 0 (not a DEM option) or -1
+ * (bad value; a one-line message naming cmd was printed). */
 int tp_scene_option(int opt, const char* arg, tp_scene_options* o, const char* cmd);
 
 /* Adds the DEM options to a command's parse (options.h): each read into o through

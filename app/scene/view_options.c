@@ -19,7 +19,25 @@ void tp_view_setup_default(tp_view_setup* v)
     v->h = 720;
 }
 
-int tp_view_option(int opt, const char* arg, tp_view_setup* v, const char* cmd)
+/* The codes of the view options (their tables below). */
+enum {
+    TP_OPT_LOD = 1100,
+    TP_OPT_TAU,
+    TP_OPT_MINDIST,
+    TP_OPT_MAXDIST,
+    TP_OPT_EXP,
+    TP_OPT_HOLE,
+    TP_OPT_CAMERA,
+    TP_OPT_CAMERA_GEO,
+    TP_OPT_FOV,
+    TP_OPT_SIZE,
+    TP_OPT_RENDERER,
+    TP_OPT_PGM_GRID,
+    TP_OPT_PGM_WINDOW,
+};
+
+/* Reads arg for view option opt into v: 1, or -1 after a one-line message (a bad value). */
+static int view_option(int opt, const char* arg, tp_view_setup* v, const char* cmd)
 {
     double x;
     switch (opt) {
@@ -118,7 +136,7 @@ int tp_view_option(int opt, const char* arg, tp_view_setup* v, const char* cmd)
         return 1;
     }
     }
-    return 0;
+    return 1; /* not reached: opt is one of the codes above */
 }
 
 static const tp_option view_options[] = {
@@ -143,7 +161,7 @@ static const tp_option renderer_options[] = {
 /* tp_option_handler of the view options. */
 static int view_option_handler(void* ctx, int code, const char* value, const char* cmd)
 {
-    return tp_view_option(code, value, ctx, cmd) == 1 ? 1 : -1;
+    return view_option(code, value, ctx, cmd);
 }
 
 void tp_view_options_add(tp_options* p, tp_view_setup* v, int renderer)

@@ -17,7 +17,7 @@ typedef struct tp_view_setup {
     double vertical_scale;  /* view --exaggeration: the default camera looks at the drawn
                                (exaggerated) terrain; default 1 */
     int w, h;               /* default 1280 x 720 */
-    /* --renderer pgm and --pgm-grid (view and bench only: TP_VIEW_PGM_LONG_OPTIONS) */
+    /* --renderer pgm and --pgm-grid (view and bench only: tp_view_options_add's renderer) */
     int pgm;                /* Persistent Grid Mapping instead of the patches */
     int pgm_grid[8][2];     /* cols, rows; default one TP_PGM_DEFAULT_COLS x _ROWS */
     int pgm_grid_count;     /* grids given (0: the default) */
@@ -25,46 +25,9 @@ typedef struct tp_view_setup {
                                default, TP_PGM_CLIP_DEFAULT_WINDOW in app/render/pgm_clip.h) */
 } tp_view_setup;
 
-enum {
-    TP_OPT_LOD = 1100,
-    TP_OPT_TAU,
-    TP_OPT_MINDIST,
-    TP_OPT_MAXDIST,
-    TP_OPT_EXP,
-    TP_OPT_HOLE,
-    TP_OPT_CAMERA,
-    TP_OPT_CAMERA_GEO,
-    TP_OPT_FOV,
-    TP_OPT_SIZE,
-    TP_OPT_RENDERER,
-    TP_OPT_PGM_GRID,
-    TP_OPT_PGM_WINDOW,
-};
-
-#define TP_VIEW_LONG_OPTIONS                                                                       \
-    {"lod", required_argument, NULL, TP_OPT_LOD}, {"tau", required_argument, NULL, TP_OPT_TAU},    \
-        {"mindist", required_argument, NULL, TP_OPT_MINDIST},                                      \
-        {"maxdist", required_argument, NULL, TP_OPT_MAXDIST},                                      \
-        {"exp", required_argument, NULL, TP_OPT_EXP},                                              \
-        {"hole", required_argument, NULL, TP_OPT_HOLE},                                            \
-        {"camera", required_argument, NULL, TP_OPT_CAMERA},                                        \
-        {"camera-geo", required_argument, NULL, TP_OPT_CAMERA_GEO},                                \
-        {"fov", required_argument, NULL, TP_OPT_FOV}, {"size", required_argument, NULL, TP_OPT_SIZE}
-
-/* The renderer options, taken by view and bench (not export: it draws nothing). */
-#define TP_VIEW_PGM_LONG_OPTIONS                                                                   \
-    {"renderer", required_argument, NULL, TP_OPT_RENDERER},                                        \
-        {"pgm-grid", required_argument, NULL, TP_OPT_PGM_GRID},                                    \
-        {"pgm-window", required_argument, NULL, TP_OPT_PGM_WINDOW}
-
 void tp_view_setup_default(tp_view_setup* v);
 
-/* Handles one getopt_long result if it is a view option: 1 (taken), 0 (not one), -1 (bad
- * value; a one-line message naming cmd was printed). */
-int tp_view_option(int opt, const char* arg, tp_view_setup* v, const char* cmd);
-
-/* Adds the LoD and camera options to a command's parse (options.h), read into v through
- * tp_view_option; with renderer, also --renderer, --pgm-grid and --pgm-window (view and bench:
+/* Adds the LoD and camera options to a command's parse (options.h), read into v; with renderer, also --renderer, --pgm-grid and --pgm-window (view and bench:
  * export draws nothing). */
 void tp_view_options_add(tp_options* p, tp_view_setup* v, int renderer);
 
