@@ -4,7 +4,8 @@
  * Values are written in order; the writer inserts commas, newlines and indentation. Objects put
  * one key per line; arrays stay on one line. Strings are escaped per RFC 8259 and bytes that are
  * not valid UTF-8 become U+FFFD, so the output always parses. Numbers are written with %.17g
- * (exact round trip); NaN and infinities become null.
+ * (exact round trip); NaN and infinities become null. The outermost object or array ends
+ * with a newline.
  */
 #ifndef TP_APP_JSON_H
 #define TP_APP_JSON_H

@@ -122,7 +122,6 @@ int tp_bench_write_json(const bench_run* b, const char* renderer_name, const con
 #undef KS
 #undef KN
     tp_json_object_end(&j);
-    fputc('\n', f);
     return tp_atomic_commit(&file);
 }
 

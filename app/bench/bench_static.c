@@ -367,7 +367,6 @@ static int write_json(const char* path, const char* dem, const tp_scene* sc, siz
     }
     tp_json_array_end(&j);
     tp_json_object_end(&j);
-    fputc('\n', file.f);
     return tp_atomic_commit(&file);
 }
 

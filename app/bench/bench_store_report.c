@@ -155,7 +155,6 @@ int tp_bench_store_write_json(const store_bench* b, const char* renderer_name, c
 #undef KS
 #undef KN
     tp_json_object_end(&j);
-    fputc('\n', file.f);
     return tp_atomic_commit(&file);
 }
 

@@ -100,7 +100,6 @@ int tp_cli_build(int argc, char** argv)
         tp_json_member_number(&j, "seconds", r.seconds);
         tp_json_member_number(&j, "rss_peak_mb", r.rss_peak_mb);
         tp_json_object_end(&j);
-        fputc('\n', f);
         if (!tp_atomic_commit(&af))
             return TP_EXIT_FAILURE;
     }

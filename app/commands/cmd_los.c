@@ -195,7 +195,6 @@ static void write_json(FILE* f, void* report)
     tp_json_member_size(&j, "samples", r->sample_count);
     tp_json_member_size(&j, "void_samples", r->void_count);
     tp_json_object_end(&j);
-    fputc('\n', f);
 }
 
 static void write_csv(FILE* f, void* report)

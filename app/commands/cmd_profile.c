@@ -346,7 +346,6 @@ static void write_json(FILE* f, void* report)
         tp_json_null(&j);
     }
     tp_json_object_end(&j);
-    fputc('\n', f);
 }
 
 static void write_text(FILE* f, void* report)

@@ -178,7 +178,6 @@ static void print_json(const tp_store_scene* sc, const check_result* cr)
     }
     tp_json_array_end(&j);
     tp_json_object_end(&j);
-    fputc('\n', stdout);
 }
 
 int tp_info_store(const char* path, int json)

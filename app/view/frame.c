@@ -197,7 +197,6 @@ int tp_view_write_stats(const char* path, const frame_result* f, const tp_error_
 #undef KEY_NUM
 #undef KEY_SIZE
     tp_json_object_end(&j);
-    fputc('\n', out);
     return tp_atomic_commit(&file);
 }
 
