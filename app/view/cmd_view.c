@@ -125,9 +125,10 @@ static int start_camera(tp_view_scene* v, const view_options* o, tp_store_scene*
         return TP_EXIT_FAILURE;
     if (o->save_bookmark) {
         char line[1024];
+        tp_error err = {{0}};
         if (!take_georef(v, st) ||
-            !tp_view_bookmark_save(v, o, cam, o->save_bookmark, line, sizeof line)) {
-            tp_cli_error("--save-bookmark: %s", line);
+            !tp_view_bookmark_save(v, o, cam, o->save_bookmark, line, sizeof line, &err)) {
+            tp_cli_error("--save-bookmark: %s", err.message);
             return TP_EXIT_FAILURE;
         }
         printf("%s\n", line);

@@ -75,8 +75,7 @@ static int require_leaf(tp_view_scene* v, double x, double y)
     int64_t leaf = tp_tree_leaf_at(v->store->tree, x, y);
     if (leaf < 0 || tp_tree_samples(v->store->tree, leaf))
         return 1;
-    char msg[600];
-    if (tp_stream_require(v->store->stream, leaf, msg, sizeof msg))
+    if (tp_stream_require(v->store->stream, leaf, NULL))
         return 1;
     tp_view_scene_report_failures(v); /* the stream reports it once */
     return 0;
