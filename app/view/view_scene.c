@@ -137,13 +137,12 @@ void tp_view_scene_measure(const tp_view_scene* v, const tp_camera* cam, double*
     *max_px = *rms_px = 0;
     if (v->pgm) {
         tp_pgm_error e;
-        char msg[600];
+        tp_error err = {{0}};
         static char told[600]; /* the HUD measures once a second: each message once in a row */
-        if (tp_pgm_renderer_measure(v->pgm, cam, PGM_MEASURE_MAX_POSTS, &e, msg, sizeof msg) !=
-            TP_OK) {
-            if (strcmp(msg, told))
-                tp_cli_error("%s", msg);
-            snprintf(told, sizeof told, "%s", msg);
+        if (tp_pgm_renderer_measure(v->pgm, cam, PGM_MEASURE_MAX_POSTS, &e, &err) != TP_OK) {
+            if (strcmp(err.message, told))
+                tp_cli_error("%s", err.message);
+            snprintf(told, sizeof told, "%s", err.message);
             *max_px = *rms_px = NAN;
             return;
         }
