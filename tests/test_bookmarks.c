@@ -37,17 +37,18 @@ static void read_text(const char* path, char* out, size_t cap)
 TEST(round_trip_keeps_names_with_spaces_and_values)
 {
     const char* dir = make_tmp_dir();
-    char path[1024], msg[512] = "";
+    char path[1024];
+    tp_error err = {{0}};
     snprintf(path, sizeof path, "%s/sub/dir/hood.tif.bookmarks", dir); /* folders made */
     tp_bookmarks b = {0};
     tp_bookmark a = {.name = "OP north ridge", .geo = 1,
                      .v = {45.373456789, -121.695123456, 3200.25, 20.5, -30.75}};
     tp_bookmark c = {.name = "view 3", .geo = 0, .v = {600123.456, 5024000.125, 2100, 0, -90}};
-    ASSERT_TRUE(tp_bookmarks_set(&b, &a, msg, sizeof msg));
-    ASSERT_TRUE(tp_bookmarks_set(&b, &c, msg, sizeof msg));
-    ASSERT_TRUE(tp_bookmarks_save(path, &b, msg, sizeof msg));
+    ASSERT_TRUE(tp_bookmarks_set(&b, &a, &err));
+    ASSERT_TRUE(tp_bookmarks_set(&b, &c, &err));
+    ASSERT_TRUE(tp_bookmarks_save(path, &b, &err));
     tp_bookmarks r;
-    ASSERT_TRUE(tp_bookmarks_load(path, &r, msg, sizeof msg));
+    ASSERT_TRUE(tp_bookmarks_load(path, &r, &err));
     ASSERT_EQ_INT((int)r.count, 2);
     EXPECT_EQ_STR("OP north ridge", r.items[0].name);
     EXPECT_EQ_INT(r.items[0].geo, 1);
@@ -68,7 +69,7 @@ TEST(round_trip_keeps_names_with_spaces_and_values)
     /* set replaces a name in place, keeping the order */
     tp_bookmark a2 = a;
     a2.v[2] = 999;
-    ASSERT_TRUE(tp_bookmarks_set(&r, &a2, msg, sizeof msg));
+    ASSERT_TRUE(tp_bookmarks_set(&r, &a2, &err));
     ASSERT_EQ_INT((int)r.count, 2);
     EXPECT_NEAR(tp_bookmarks_find(&r, "OP north ridge")->v[2], 999, 0);
     EXPECT_TRUE(tp_bookmarks_find(&r, "OP north") == NULL);
@@ -82,12 +83,13 @@ TEST(round_trip_keeps_names_with_spaces_and_values)
 TEST(hand_written_file_with_comments_blank_lines_and_spaces)
 {
     const char* dir = make_tmp_dir();
-    char path[1024], msg[512] = "";
+    char path[1024];
+    tp_error err = {{0}};
     snprintf(path, sizeof path, "%s/b.bookmarks", dir);
     write_text(path, "# my views\n\n   summit   --camera-geo  46.85, -121.76 ,4500,180,-45\r\n"
                      "\tcrater rim --camera 1,2,3,4,5");
     tp_bookmarks r;
-    ASSERT_TRUE(tp_bookmarks_load(path, &r, msg, sizeof msg));
+    ASSERT_TRUE(tp_bookmarks_load(path, &r, &err));
     ASSERT_EQ_INT((int)r.count, 2);
     EXPECT_EQ_STR("summit", r.items[0].name);
     EXPECT_NEAR(r.items[0].v[1], -121.76, 1e-12);
@@ -101,7 +103,8 @@ TEST(hand_written_file_with_comments_blank_lines_and_spaces)
 TEST(corrupted_line_names_file_and_line)
 {
     const char* dir = make_tmp_dir();
-    char path[1024], msg[512] = "", want[1100];
+    char path[1024], want[1100];
+    tp_error err = {{0}};
     snprintf(path, sizeof path, "%s/bad.bookmarks", dir);
     const char* bad[][2] = {
         {"a --camera-geo 45,7,100,0,-30\nb --camera-geo 45,7,100,0\n", "expected five numbers"},
@@ -116,10 +119,10 @@ TEST(corrupted_line_names_file_and_line)
     for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
         write_text(path, bad[i][0]);
         tp_bookmarks r = {(tp_bookmark*)1, 7};
-        EXPECT_FALSE(tp_bookmarks_load(path, &r, msg, sizeof msg));
+        EXPECT_FALSE(tp_bookmarks_load(path, &r, &err));
         snprintf(want, sizeof want, "%s:%d: ", path, line_of[i]);
-        EXPECT_CONTAINS(msg, want);
-        EXPECT_CONTAINS(msg, bad[i][1]);
+        EXPECT_CONTAINS(err.message, want);
+        EXPECT_CONTAINS(err.message, bad[i][1]);
         EXPECT_TRUE(r.items == NULL && r.count == 0);
     }
 }
@@ -127,30 +130,31 @@ TEST(corrupted_line_names_file_and_line)
 TEST(missing_file_is_no_bookmarks_and_unreadable_is_an_error)
 {
     const char* dir = make_tmp_dir();
-    char path[1024], msg[512] = "";
+    char path[1024];
+    tp_error err = {{0}};
     snprintf(path, sizeof path, "%s/none.bookmarks", dir);
     tp_bookmarks r;
-    ASSERT_TRUE(tp_bookmarks_load(path, &r, msg, sizeof msg));
+    ASSERT_TRUE(tp_bookmarks_load(path, &r, &err));
     EXPECT_EQ_INT((int)r.count, 0);
     char names[64];
     tp_bookmarks_names(&r, names, sizeof names);
     EXPECT_EQ_STR("none", names);
     /* a folder where the file should be */
-    EXPECT_FALSE(tp_bookmarks_load(dir, &r, msg, sizeof msg));
-    EXPECT_CONTAINS(msg, dir);
-    EXPECT_CONTAINS(msg, "cannot open: Is a directory");
+    EXPECT_FALSE(tp_bookmarks_load(dir, &r, &err));
+    EXPECT_CONTAINS(err.message, dir);
+    EXPECT_CONTAINS(err.message, "cannot open: Is a directory");
 }
 
 TEST(names_that_would_not_read_back_are_refused)
 {
     tp_bookmarks b = {0};
-    char msg[512];
+    tp_error err = {{0}};
     const char* names[] = {"", " lead", "trail ", "# hash", "a --camera b", "two\nlines"};
     for (size_t i = 0; i < sizeof names / sizeof names[0]; i++) {
         tp_bookmark bm = {.geo = 1, .v = {45, 7, 100, 0, -30}};
         snprintf(bm.name, sizeof bm.name, "%s", names[i]);
-        EXPECT_FALSE(tp_bookmarks_set(&b, &bm, msg, sizeof msg));
-        EXPECT_CONTAINS(msg, "cannot be kept");
+        EXPECT_FALSE(tp_bookmarks_set(&b, &bm, &err));
+        EXPECT_CONTAINS(err.message, "cannot be kept");
     }
     EXPECT_EQ_INT((int)b.count, 0);
 }
@@ -158,15 +162,16 @@ TEST(names_that_would_not_read_back_are_refused)
 TEST(failed_save_names_the_file_and_leaves_what_was_there)
 {
     const char* dir = make_tmp_dir();
-    char path[1024], msg[512] = "", before[256], after[256];
+    char path[1024], before[256], after[256];
+    tp_error err = {{0}};
     tp_bookmarks b = {0};
     tp_bookmark bm = {.name = "new", .geo = 1, .v = {45, 7, 100, 0, -30}};
-    ASSERT_TRUE(tp_bookmarks_set(&b, &bm, msg, sizeof msg));
+    ASSERT_TRUE(tp_bookmarks_set(&b, &bm, &err));
     /* a folder where the file goes: the rename fails (for root too), the folder stays */
     snprintf(path, sizeof path, "%s/taken.bookmarks", dir);
     ASSERT_TRUE(mkdir(path, 0700) == 0);
-    EXPECT_FALSE(tp_bookmarks_save(path, &b, msg, sizeof msg));
-    EXPECT_CONTAINS(msg, path);
+    EXPECT_FALSE(tp_bookmarks_save(path, &b, &err));
+    EXPECT_CONTAINS(err.message, path);
     struct stat st;
     EXPECT_TRUE(stat(path, &st) == 0 && S_ISDIR(st.st_mode));
     /* a file where a folder of the path should be */
@@ -175,8 +180,8 @@ TEST(failed_save_names_the_file_and_leaves_what_was_there)
     read_text(path, before, sizeof before);
     char inner[1100];
     snprintf(inner, sizeof inner, "%s/x.bookmarks", path);
-    EXPECT_FALSE(tp_bookmarks_save(inner, &b, msg, sizeof msg));
-    EXPECT_CONTAINS(msg, inner);
+    EXPECT_FALSE(tp_bookmarks_save(inner, &b, &err));
+    EXPECT_CONTAINS(err.message, inner);
     read_text(path, after, sizeof after);
     EXPECT_EQ_STR(before, after);
     /* no temporary file left beside */

@@ -192,7 +192,7 @@ static uint8_t texel_value(tp_block_key k, int c)
     return (uint8_t)(k.level * 31 + k.bx * 7 + k.by * 13 + c);
 }
 
-static int counting_read(void* user, tp_block_key k, uint8_t* rgba, char* msg, size_t cap)
+static int counting_read(void* user, tp_block_key k, uint8_t* rgba, tp_error* err)
 {
     counting_source* s = user;
     if (s->delay_us) {
@@ -205,8 +205,9 @@ static int counting_read(void* user, tp_block_key k, uint8_t* rgba, char* msg, s
     s->reads++;
     pthread_mutex_unlock(&s->mu);
     if (k.level == s->fail_level) {
-        snprintf(msg, cap, "test.tpi: block %lld,%lld of level %d fails its checksum",
-                 (long long)k.bx, (long long)k.by, k.level);
+        tp_error_set(err, TP_ERR_BAD_DATA,
+                     "test.tpi: block %lld,%lld of level %d fails its checksum", (long long)k.bx,
+                     (long long)k.by, k.level);
         return 0;
     }
     for (int i = 0; i < 16 * 16 * 4; i++)
@@ -226,8 +227,8 @@ TEST(cache_reads_in_the_order_wanted_and_once)
 {
     counting_source cs = {.mu = PTHREAD_MUTEX_INITIALIZER, .fail_level = -1};
     tp_block_source src = small_source(&cs);
-    char msg[256];
-    tp_imagery_cache* c = tp_imagery_cache_create(&src, 64 * 1024, 0, msg, sizeof msg);
+    tp_error err = {{0}};
+    tp_imagery_cache* c = tp_imagery_cache_create(&src, 64 * 1024, 0, &err);
     ASSERT_TRUE(c != NULL);
     tp_block_key want[20];
     for (int i = 0; i < 20; i++)
@@ -259,8 +260,8 @@ TEST(cache_want_replaces_the_queue)
 {
     counting_source cs = {.mu = PTHREAD_MUTEX_INITIALIZER, .fail_level = -1, .delay_us = 2000};
     tp_block_source src = small_source(&cs);
-    char msg[256];
-    tp_imagery_cache* c = tp_imagery_cache_create(&src, 1 << 20, 0, msg, sizeof msg);
+    tp_error err = {{0}};
+    tp_imagery_cache* c = tp_imagery_cache_create(&src, 1 << 20, 0, &err);
     ASSERT_TRUE(c != NULL);
     tp_block_key a[200], b[3] = {{0, 60, 60}, {0, 61, 60}, {0, 62, 60}};
     for (int i = 0; i < 200; i++)
@@ -286,9 +287,9 @@ TEST(cache_collects_lowest_scores_first_and_keeps_the_windows)
 {
     counting_source cs = {.mu = PTHREAD_MUTEX_INITIALIZER, .fail_level = -1};
     tp_block_source src = small_source(&cs);
-    char msg[256];
+    tp_error err = {{0}};
     /* 32 blocks of 1 KiB */
-    tp_imagery_cache* c = tp_imagery_cache_create(&src, 32 * 1024, 1, msg, sizeof msg);
+    tp_imagery_cache* c = tp_imagery_cache_create(&src, 32 * 1024, 1, &err);
     ASSERT_TRUE(c != NULL);
     for (int i = 0; i < 32; i++) {
         tp_block_key k = {0, i % 16, i / 16}; /* rows 0 and 1 */
@@ -315,8 +316,8 @@ TEST(cache_failed_block_is_transparent_and_reported_once)
 {
     counting_source cs = {.mu = PTHREAD_MUTEX_INITIALIZER, .fail_level = 2};
     tp_block_source src = small_source(&cs);
-    char msg[256];
-    tp_imagery_cache* c = tp_imagery_cache_create(&src, 64 * 1024, 0, msg, sizeof msg);
+    tp_error err = {{0}};
+    tp_imagery_cache* c = tp_imagery_cache_create(&src, 64 * 1024, 0, &err);
     ASSERT_TRUE(c != NULL);
     tp_block_key k[2] = {{2, 3, 4}, {2, 4, 4}};
     tp_imagery_cache_want(c, k, 2);

@@ -85,8 +85,8 @@ static void fly(const tp_clipmap_options* o, const flight_leg* legs, int leg_cou
     tp_test_pattern p; /* 9 levels; not a multiple of the block */
     tp_block_source src = tp_test_pattern_source(&p, 40000, 30011);
     double gt[6] = {500000, 1, 0, 5030011, 0, -1}; /* 1 m texels */
-    char msg[512];
-    tp_clipmap* m = tp_clipmap_create(&src, gt, o, msg, sizeof msg);
+    tp_error err = {{0}};
+    tp_clipmap* m = tp_clipmap_create(&src, gt, o, &err);
     ASSERT_TRUE(m != NULL);
     double e = 510000, n = 5010000;
     tp_camera cam;

@@ -146,12 +146,11 @@ static void fly(int ts, const tp_imagery_blocks_options* o, const flight_leg* le
     tp_test_pattern p;
     tp_block_source src = tp_test_pattern_source(&p, (int64_t)GRID << ts, (int64_t)GRID << ts);
     double img_gt[6] = {GRID_GT[0], ldexp(GRID_GT[1], -ts), 0, GRID_GT[3], 0, ldexp(GRID_GT[5], -ts)};
-    char msg[512];
-    tp_imagery_blocks* b = tp_imagery_blocks_create(&src, ts, img_gt, g, o, msg, sizeof msg);
+    tp_error err = {{0}};
+    tp_imagery_blocks* b = tp_imagery_blocks_create(&src, ts, img_gt, g, o, &err);
     if (!b)
-        FAIL("create: %s", msg);
+        FAIL("create: %s", err.message);
     tp_cut* cut = NULL;
-    tp_error err;
     ASSERT_OK(tp_cut_create(tree, &cut, &err));
     tp_lod_params lod = {.mode = TP_LOD_ERROR, .tau_px = 2};
     double e = 501500, n = 5008000;

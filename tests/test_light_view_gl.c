@@ -130,9 +130,9 @@ static void free_day(day* d)
         free(d->texels[l]);
 }
 
-static int read_block(void* user, tp_block_key k, uint8_t* rgba, char* msg, size_t cap)
+static int read_block(void* user, tp_block_key k, uint8_t* rgba, tp_error* err)
 {
-    (void)msg, (void)cap;
+    (void)err;
     const day* d = user;
     memset(rgba, 0, (size_t)BLOCK * BLOCK * 4);
     for (int y = 0; y < BLOCK; y++) {
@@ -237,10 +237,9 @@ typedef struct scene {
 static void open_scene(scene* s, const day* d)
 {
     memset(s, 0, sizeof *s);
-    char msg[512];
-    if (!tp_gl_context_create_headless(W, H, &s->ctx, msg, sizeof msg))
-        SKIP("no headless OpenGL here: %s", msg);
-    tp_error err;
+    tp_error err = {{0}};
+    if (!tp_gl_context_create_headless(W, H, &s->ctx, &err))
+        SKIP("no headless OpenGL here: %s", err.message);
     ASSERT_OK(tp_tree_create_from_grid(d->z, (size_t)N * N, N, N, GT, 17, 0, &s->tree, &err));
     ASSERT_OK(tp_cut_create(s->tree, &s->cut, &err));
     s->st.tree = s->tree;
@@ -251,9 +250,9 @@ static void open_scene(scene* s, const day* d)
                               .min_height_m = s->st.tree_info.min_height_m,
                               .max_height_m = s->st.tree_info.max_height_m};
     memcpy(gd.geotransform, GT, sizeof GT);
-    s->r = tp_renderer_create_desc(&gd, msg, sizeof msg);
+    s->r = tp_renderer_create_desc(&gd, &err);
     if (!s->r)
-        FAIL("renderer: %s", msg);
+        FAIL("renderer: %s", err.message);
 }
 
 static void close_scene(scene* s)
@@ -292,10 +291,10 @@ static tp_view_light* light(day* d, int clip_blocks)
 {
     tp_block_source src = source(d);
     tp_clipmap_options o = {.clip_blocks = clip_blocks, .frame_s = 1 / 30.0};
-    char msg[512];
-    tp_view_light* l = tp_view_light_create(&src, GT, d->t[0], d->t[MAPS - 1], &o, msg, sizeof msg);
+    tp_error err = {{0}};
+    tp_view_light* l = tp_view_light_create(&src, GT, d->t[0], d->t[MAPS - 1], &o, &err);
     if (!l)
-        FAIL("light: %s", msg);
+        FAIL("light: %s", err.message);
     return l;
 }
 

@@ -38,11 +38,11 @@ TEST(store_error_is_the_dem_error_when_the_windows_hold_everything)
     open_fixture(&fx, 0, 0, "hood");
     tp_pgm_pyramid p;
     store_pyramid(&fx, &p);
-    char msg[600];
-    tp_pgm_renderer* whole = tp_pgm_renderer_create(&p, NULL, 300, 300, msg, sizeof msg);
-    tp_pgm_clipmap* clip = tp_pgm_clipmap_create(fx.store, 1024, msg, sizeof msg);
+    tp_error err = {{0}};
+    tp_pgm_renderer* whole = tp_pgm_renderer_create(&p, NULL, 300, 300, &err);
+    tp_pgm_clipmap* clip = tp_pgm_clipmap_create(fx.store, 1024, &err);
     ASSERT_TRUE(whole && clip);
-    tp_pgm_renderer* r = tp_pgm_renderer_create_clipmap(clip, 300, 300, msg, sizeof msg);
+    tp_pgm_renderer* r = tp_pgm_renderer_create_clipmap(clip, 300, 300, &err);
     ASSERT_TRUE(r != NULL);
     const double pose[3][5] = {
         {0.25, 0.75, 700, 45, -20}, {0.5, 0.5, 4000, 10, -60}, {0.6, 0.15, 300, 190, -8}};
@@ -52,9 +52,9 @@ TEST(store_error_is_the_dem_error_when_the_windows_hold_everything)
         tp_pgm_render_stats st;
         draw(ctx, r, &cam, NULL, NULL, &st);
         tp_pgm_error a, b;
-        ASSERT_OK(tp_pgm_renderer_measure(whole, &cam, 0, &a, msg, sizeof msg));
-        if (tp_pgm_renderer_measure(r, &cam, 0, &b, msg, sizeof msg) != TP_OK)
-            FAIL("%s", msg);
+        ASSERT_OK(tp_pgm_renderer_measure(whole, &cam, 0, &a, &err));
+        if (tp_pgm_renderer_measure(r, &cam, 0, &b, &err) != TP_OK)
+            FAIL("%s", err.message);
         tp_pgm_rect reg;
         tp_pgm_view_region(tp_pgm_clipmap_shape(clip), &cam, &reg);
         double share = (double)(reg.x1 - reg.x0) * (reg.y1 - reg.y0) / ((double)fx.w * fx.h);
@@ -74,9 +74,8 @@ TEST(store_error_is_the_dem_error_when_the_windows_hold_everything)
             EXPECT_LT(share, 0.8);
         if (k == 0) { /* a bound on the posts visited (the viewer's): refused, saying so */
             tp_pgm_error c;
-            EXPECT_EQ_INT(TP_ERR_INVALID_ARG,
-                          tp_pgm_renderer_measure(r, &cam, 1000, &c, msg, sizeof msg));
-            EXPECT_TRUE(strstr(msg, "more than 1000)") != NULL);
+            EXPECT_EQ_INT(TP_ERR_INVALID_ARG, tp_pgm_renderer_measure(r, &cam, 1000, &c, &err));
+            EXPECT_TRUE(strstr(err.message, "more than 1000)") != NULL);
             EXPECT_EQ_INT(0, (long long)c.samples);
         }
     }
@@ -97,20 +96,20 @@ TEST(small_windows_measure_the_coarser_levels_they_draw)
     tp_gl_context* ctx = context_or_skip();
     fixture fx;
     open_fixture(&fx, 0, 0, "hood");
-    char msg[600];
-    tp_pgm_clipmap* big = tp_pgm_clipmap_create(fx.store, 1024, msg, sizeof msg);
-    tp_pgm_clipmap* small = tp_pgm_clipmap_create(fx.store, 16, msg, sizeof msg);
+    tp_error err = {{0}};
+    tp_pgm_clipmap* big = tp_pgm_clipmap_create(fx.store, 1024, &err);
+    tp_pgm_clipmap* small = tp_pgm_clipmap_create(fx.store, 16, &err);
     ASSERT_TRUE(big && small);
-    tp_pgm_renderer* rb = tp_pgm_renderer_create_clipmap(big, 300, 300, msg, sizeof msg);
-    tp_pgm_renderer* rs = tp_pgm_renderer_create_clipmap(small, 300, 300, msg, sizeof msg);
+    tp_pgm_renderer* rb = tp_pgm_renderer_create_clipmap(big, 300, 300, &err);
+    tp_pgm_renderer* rs = tp_pgm_renderer_create_clipmap(small, 300, 300, &err);
     ASSERT_TRUE(rb && rs);
     tp_camera cam = camera_at(&fx, 0.5 * fx.w, 0.5 * fx.h, 4000, 10, -60);
     tp_pgm_render_stats st;
     draw(ctx, rb, &cam, NULL, NULL, &st);
     draw(ctx, rs, &cam, NULL, NULL, &st);
     tp_pgm_error a, b;
-    ASSERT_OK(tp_pgm_renderer_measure(rb, &cam, 0, &a, msg, sizeof msg));
-    ASSERT_OK(tp_pgm_renderer_measure(rs, &cam, 0, &b, msg, sizeof msg));
+    ASSERT_OK(tp_pgm_renderer_measure(rb, &cam, 0, &a, &err));
+    ASSERT_OK(tp_pgm_renderer_measure(rs, &cam, 0, &b, &err));
     tp_test_note("windows of 1024: max %.3f px RMS %.3f px, %.2f m RMS; of 16: max %.3f px RMS "
                  "%.3f px, %.2f m RMS (%zu + %zu and %zu + %zu posts in view)",
                  a.max_px, a.rms_px, a.rms_m, b.max_px, b.rms_px, b.rms_m, a.samples, a.uncovered,

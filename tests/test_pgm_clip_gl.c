@@ -77,12 +77,11 @@ TEST(store_frame_is_the_dem_frame_when_the_windows_hold_everything)
     tp_error err = {{0}};
     ASSERT_OK(tp_pgm_pyramid_build(z, fx.w, fx.h, fx.gt, &p, &err));
     free(z);
-    char msg[600];
-    tp_pgm_renderer* whole = tp_pgm_renderer_create(&p, NULL, 300, 300, msg, sizeof msg);
+    tp_pgm_renderer* whole = tp_pgm_renderer_create(&p, NULL, 300, 300, &err);
     ASSERT_TRUE(whole != NULL);
-    tp_pgm_clipmap* clip = tp_pgm_clipmap_create(fx.store, 1024, msg, sizeof msg);
+    tp_pgm_clipmap* clip = tp_pgm_clipmap_create(fx.store, 1024, &err);
     if (!clip)
-        FAIL("%s", msg);
+        FAIL("%s", err.message);
     const tp_pgm_pyramid* shape = tp_pgm_clipmap_shape(clip);
     ASSERT_EQ_INT(p.levels, shape->levels);
     for (int l = 0; l < p.levels; l++) {
@@ -91,7 +90,7 @@ TEST(store_frame_is_the_dem_frame_when_the_windows_hold_everything)
     }
     EXPECT_NEAR(p.min_m, shape->min_m, 0.0);
     EXPECT_NEAR(p.max_m, shape->max_m, 0.0);
-    tp_pgm_renderer* r = tp_pgm_renderer_create_clipmap(clip, 300, 300, msg, sizeof msg);
+    tp_pgm_renderer* r = tp_pgm_renderer_create_clipmap(clip, 300, 300, &err);
     ASSERT_TRUE(r != NULL);
     static uint8_t ca[W * H * 4], cb[W * H * 4];
     static float da[W * H], db[W * H];
@@ -177,15 +176,15 @@ static void fly(int async)
     tp_gl_context* ctx = context_or_skip();
     fixture fx;
     open_fixture(&fx, 0, 0, "hood");
-    char msg[600];
+    tp_error err = {{0}};
     const int win = 64;
-    tp_pgm_clipmap* clip = tp_pgm_clipmap_create(fx.store, win, msg, sizeof msg);
+    tp_pgm_clipmap* clip = tp_pgm_clipmap_create(fx.store, win, &err);
     if (!clip)
-        FAIL("%s", msg);
-    tp_pgm_renderer* r = tp_pgm_renderer_create_clipmap(clip, 240, 135, msg, sizeof msg);
+        FAIL("%s", err.message);
+    tp_pgm_renderer* r = tp_pgm_renderer_create_clipmap(clip, 240, 135, &err);
     ASSERT_TRUE(r != NULL);
     if (async)
-        ASSERT_TRUE(tp_pgm_clipmap_set_async(clip, msg, sizeof msg));
+        ASSERT_TRUE(tp_pgm_clipmap_set_async(clip, &err));
     /* a loop at 250 m over the ground: 1.3 posts a frame, turning, with three jumps of more
      * than a window at level 0 and one off the terrain */
     double x = 0.2 * fx.w, y = 0.8 * fx.h, yaw = 30;
@@ -223,9 +222,9 @@ static void fly(int async)
     ASSERT_TRUE(!tp_pgm_clipmap_pending(clip));
     draw(ctx, r, &last, ca, da, &st);
     EXPECT_EQ_INT(0, (long long)st.posts_updated); /* the same camera: nothing moves */
-    tp_pgm_clipmap* fresh = tp_pgm_clipmap_create(fx.store, win, msg, sizeof msg);
+    tp_pgm_clipmap* fresh = tp_pgm_clipmap_create(fx.store, win, &err);
     ASSERT_TRUE(fresh != NULL);
-    tp_pgm_renderer* rf = tp_pgm_renderer_create_clipmap(fresh, 240, 135, msg, sizeof msg);
+    tp_pgm_renderer* rf = tp_pgm_renderer_create_clipmap(fresh, 240, 135, &err);
     ASSERT_TRUE(rf != NULL);
     draw(ctx, rf, &last, cb, db, &st);
     size_t differ, terrain, held;
@@ -275,11 +274,10 @@ TEST(small_windows_fall_back_to_coarser_levels)
     tp_error err = {{0}};
     ASSERT_OK(tp_pgm_pyramid_build(z, fx.w, fx.h, fx.gt, &p, &err));
     free(z);
-    char msg[600];
-    tp_pgm_renderer* whole = tp_pgm_renderer_create(&p, NULL, 300, 300, msg, sizeof msg);
-    tp_pgm_clipmap* clip = tp_pgm_clipmap_create(fx.store, 64, msg, sizeof msg);
+    tp_pgm_renderer* whole = tp_pgm_renderer_create(&p, NULL, 300, 300, &err);
+    tp_pgm_clipmap* clip = tp_pgm_clipmap_create(fx.store, 64, &err);
     ASSERT_TRUE(whole && clip);
-    tp_pgm_renderer* r = tp_pgm_renderer_create_clipmap(clip, 300, 300, msg, sizeof msg);
+    tp_pgm_renderer* r = tp_pgm_renderer_create_clipmap(clip, 300, 300, &err);
     ASSERT_TRUE(r != NULL);
     static uint8_t ca[W * H * 4], cb[W * H * 4];
     static float da[W * H], db[W * H];
@@ -323,15 +321,15 @@ TEST(gpu_bytes_do_not_grow_with_the_store)
     fixture big, small;
     open_fixture(&big, 0, 0, "big");
     open_fixture(&small, 600, 500, "small");
-    char msg[600];
+    tp_error err = {{0}};
     const int win = 128;
     size_t bytes[2];
     int levels[2];
     fixture* fxs[2] = {&small, &big};
     for (int k = 0; k < 2; k++) {
-        tp_pgm_clipmap* clip = tp_pgm_clipmap_create(fxs[k]->store, win, msg, sizeof msg);
+        tp_pgm_clipmap* clip = tp_pgm_clipmap_create(fxs[k]->store, win, &err);
         ASSERT_TRUE(clip != NULL);
-        tp_pgm_renderer* r = tp_pgm_renderer_create_clipmap(clip, 200, 150, msg, sizeof msg);
+        tp_pgm_renderer* r = tp_pgm_renderer_create_clipmap(clip, 200, 150, &err);
         ASSERT_TRUE(r != NULL);
         tp_camera cam = camera_at(fxs[k], 0.5 * fxs[k]->w, 0.5 * fxs[k]->h, 800, 0, -30);
         tp_pgm_render_stats st;
@@ -362,10 +360,10 @@ TEST(void_posts_draw_nothing_and_no_curtain)
     tp_gl_context* ctx = context_or_skip();
     fixture fx;
     open_fixture_voids(&fx, 0, 0, "hood_voids", 0);
-    char msg[600];
-    tp_pgm_clipmap* clip = tp_pgm_clipmap_create(fx.store, 256, msg, sizeof msg);
+    tp_error err = {{0}};
+    tp_pgm_clipmap* clip = tp_pgm_clipmap_create(fx.store, 256, &err);
     ASSERT_TRUE(clip != NULL);
-    tp_pgm_renderer* r = tp_pgm_renderer_create_clipmap(clip, 300, 300, msg, sizeof msg);
+    tp_pgm_renderer* r = tp_pgm_renderer_create_clipmap(clip, 300, 300, &err);
     ASSERT_TRUE(r != NULL);
     const tp_pgm_pyramid* shape = tp_pgm_clipmap_shape(clip);
     static uint8_t rgba[W * H * 4];
@@ -437,14 +435,14 @@ TEST(an_error_another_module_left_fails_no_creation)
     glEnable(0xBEEF);
     ASSERT_EQ_INT(GL_INVALID_ENUM, (int)glGetError()); /* the flag is set... */
     glEnable(0xBEEF);                                  /* ...and set again for the creation */
-    char msg[600] = "";
-    tp_pgm_clipmap* clip = tp_pgm_clipmap_create(fx.store, 64, msg, sizeof msg);
+    tp_error err = {{0}};
+    tp_pgm_clipmap* clip = tp_pgm_clipmap_create(fx.store, 64, &err);
     if (!clip)
-        FAIL("the clipmap: %s", msg);
+        FAIL("the clipmap: %s", err.message);
     glEnable(0xBEEF);
-    tp_pgm_renderer* whole = tp_pgm_renderer_create(&p, NULL, 40, 30, msg, sizeof msg);
+    tp_pgm_renderer* whole = tp_pgm_renderer_create(&p, NULL, 40, 30, &err);
     if (!whole)
-        FAIL("the atlas: %s", msg);
+        FAIL("the atlas: %s", err.message);
     tp_pgm_renderer_destroy(whole);
     tp_pgm_clipmap_destroy(clip);
     tp_pgm_pyramid_free(&p);
@@ -460,13 +458,13 @@ TEST(first_fill_reads_through_a_bounded_buffer)
     tp_gl_context* ctx = context_or_skip();
     fixture fx;
     open_fixture(&fx, 0, 0, "hood");
-    char msg[600] = "";
-    tp_pgm_clipmap* clip = tp_pgm_clipmap_create(fx.store, 1024, msg, sizeof msg);
+    tp_error err = {{0}};
+    tp_pgm_clipmap* clip = tp_pgm_clipmap_create(fx.store, 1024, &err);
     ASSERT_TRUE(clip != NULL);
     EXPECT_EQ_INT(0, tp_pgm_clipmap_filled(clip));
     tp_pgm_clip_stats st;
-    if (!tp_pgm_clipmap_update(clip, fx.w / 2.0, fx.h / 2.0, &st, msg, sizeof msg))
-        FAIL("%s", msg);
+    if (!tp_pgm_clipmap_update(clip, fx.w / 2.0, fx.h / 2.0, &st, &err))
+        FAIL("%s", err.message);
     tp_test_note("first fill: %zu posts from %zu nodes through %zu posts of buffer, %.1f ms fill, "
                  "%.1f ms upload",
                  st.posts, st.node_reads, st.buffer_posts, st.fill_ms, st.upload_ms);

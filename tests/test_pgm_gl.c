@@ -37,9 +37,9 @@
 static tp_gl_context* context_or_skip(void)
 {
     tp_gl_context* ctx = NULL;
-    char msg[512];
-    if (!tp_gl_context_create_headless(W, H, &ctx, msg, sizeof msg))
-        SKIP("no headless OpenGL here: %s", msg);
+    tp_error err = {{0}};
+    if (!tp_gl_context_create_headless(W, H, &ctx, &err))
+        SKIP("no headless OpenGL here: %s", err.message);
     return ctx;
 }
 
@@ -70,8 +70,7 @@ TEST(tilted_plane_depth_is_the_planes)
     tp_error err;
     ASSERT_OK(tp_pgm_pyramid_build(z, N, N, GT, &p, &err));
     ASSERT_TRUE(p.levels > 4);
-    char msg[512];
-    tp_pgm_renderer* r = tp_pgm_renderer_create(&p, NULL, 240, 200, msg, sizeof msg);
+    tp_pgm_renderer* r = tp_pgm_renderer_create(&p, NULL, 240, 200, &err);
     ASSERT_TRUE(r != NULL);
     /* from the south-west corner's outside, looking north-east and down: the horizon, the
      * terrain's far edges and its near edge are all in the image */
@@ -157,8 +156,7 @@ TEST(void_rows_are_not_drawn)
     ASSERT_OK(tp_pgm_pyramid_from_grid(z, N, N, GT, &p, &valid, &err));
     ASSERT_TRUE(valid != NULL);
     EXPECT_EQ_DBL(Z0, p.min_m); /* the fill is the edge's height: nothing lower */
-    char msg[512];
-    tp_pgm_renderer* r = tp_pgm_renderer_create(&p, valid, 240, 200, msg, sizeof msg);
+    tp_pgm_renderer* r = tp_pgm_renderer_create(&p, valid, 240, 200, &err);
     ASSERT_TRUE(r != NULL);
     double eye[3] = {GT[0] + 0.5 * N * SP, GT[3] - 1.1 * N * SP, Z0 + 900};
     tp_camera cam;
@@ -233,9 +231,9 @@ TEST(gpu_vertices_are_the_cpu_replicas)
     tp_pgm_pyramid p;
     uint8_t* valid = NULL;
     tp_dem* dem = hood_dem(&p, &valid);
-    char msg[512];
+    tp_error err = {{0}};
     enum { COLS = 97, ROWS = 61 };
-    tp_pgm_renderer* r = tp_pgm_renderer_create(&p, valid, COLS, ROWS, msg, sizeof msg);
+    tp_pgm_renderer* r = tp_pgm_renderer_create(&p, valid, COLS, ROWS, &err);
     ASSERT_TRUE(r != NULL);
     const double* gt = dem->geotransform;
     double eye[3] = {gt[0] + 0.5 * dem->width * gt[1], gt[3] + 1.05 * dem->height * gt[5],
@@ -342,11 +340,9 @@ TEST(mt_hood_pgm_agrees_with_full_resolution_patches)
     ASSERT_OK(tp_terrain_create(&desc, &t, &err));
     tp_selection* sel = NULL;
     ASSERT_OK(tp_selection_create(t, &sel, &err));
-    char msg[512];
-    tp_renderer* patches = tp_renderer_create(t, msg, sizeof msg);
+    tp_renderer* patches = tp_renderer_create(t, &err);
     ASSERT_TRUE(patches != NULL);
-    tp_pgm_renderer* pgm =
-        tp_pgm_renderer_create(&p, valid, W, H, msg, sizeof msg); /* ~1 vertex/px */
+    tp_pgm_renderer* pgm = tp_pgm_renderer_create(&p, valid, W, H, &err); /* ~1 vertex/px */
     ASSERT_TRUE(pgm != NULL);
     /* south of the summit, low, looking north and slightly down: the mountain makes the skyline */
     const double* gt = dem->geotransform;

@@ -24,10 +24,10 @@
 static tp_position parse_ok(const char* text)
 {
     tp_position p;
-    char msg[TP_POSITION_MSG_SIZE] = "";
-    int ok = tp_position_parse(text, strlen(text), 0, &p, msg, sizeof msg);
+    tp_error err = {{0}};
+    int ok = tp_position_parse(text, strlen(text), 0, &p, &err);
     if (!ok)
-        FAIL("'%s' not read: %s", text, msg);
+        FAIL("'%s' not read: %s", text, err.message);
     return p;
 }
 
@@ -37,9 +37,9 @@ static void parse_fails(const char* text, int allow_height, const char* needle)
     tp_position p;
     memset(&p, 0x5A, sizeof p);
     tp_position before = p;
-    char msg[TP_POSITION_MSG_SIZE] = "";
-    EXPECT_FALSE(tp_position_parse(text, strlen(text), allow_height, &p, msg, sizeof msg));
-    EXPECT_CONTAINS(msg, needle);
+    tp_error err = {{0}};
+    EXPECT_FALSE(tp_position_parse(text, strlen(text), allow_height, &p, &err));
+    EXPECT_CONTAINS(err.message, needle);
     EXPECT_TRUE(memcmp(&p, &before, sizeof p) == 0);
 }
 
@@ -185,11 +185,11 @@ TEST(bad_positions_say_why)
     parse_fails("33T", 0, "grid zone designator");
     parse_fails("61n 500000 0", 0, "UTM zone 61 is outside [1, 60]");
     tp_position p;
-    char msg[TP_POSITION_MSG_SIZE];
-    EXPECT_FALSE(tp_position_parse("45\0 7", 5, 0, &p, msg, sizeof msg));
-    EXPECT_CONTAINS(msg, "NUL");
+    tp_error err = {{0}};
+    EXPECT_FALSE(tp_position_parse("45\0 7", 5, 0, &p, &err));
+    EXPECT_CONTAINS(err.message, "NUL");
     /* LAT LON H where heights are allowed */
-    ASSERT_TRUE(tp_position_parse("45 7 100", 8, 1, &p, msg, sizeof msg));
+    ASSERT_TRUE(tp_position_parse("45 7 100", 8, 1, &p, &err));
     EXPECT_TRUE(p.has_h);
     EXPECT_EQ_DBL(100.0, p.h_m);
 }
@@ -281,7 +281,7 @@ TEST(every_printed_form_reads_back)
                                                                  3 of a metre, MGRS's square */
         for (size_t k = 0; k < sizeof reqs / sizeof reqs[0]; ++k) {
             snprintf(line, sizeof line, "%.10f %.10f", lat, lon);
-            ASSERT_TRUE(tp_coord_line_convert(&reqs[k], line, strlen(line), out, sizeof out));
+            ASSERT_TRUE(tp_coord_line_convert(&reqs[k], line, strlen(line), out, sizeof out, NULL));
             reads_as(out, lat, lon, tol[k]);
         }
         /* point: latitude/longitude in DMS, UTM with its labels, MGRS with spaces */
@@ -355,10 +355,11 @@ TEST(every_band_letter)
         ASSERT_OK(tp_geo_to_utmups(lat, 15.0, &z, &northp, &e, &n, NULL));
         ASSERT_EQ_INT(33, z);
         EXPECT_EQ_INT(band >= 'N', northp);
-        char text[96], msg[TP_POSITION_MSG_SIZE];
+        char text[96];
+        tp_error err = {{0}};
         snprintf(text, sizeof text, "33%c %.3f %.3f", band, e, n);
         tp_position_readings r;
-        ASSERT_TRUE(tp_position_parse_readings(text, strlen(text), 0, &r, msg, sizeof msg));
+        ASSERT_TRUE(tp_position_parse_readings(text, strlen(text), 0, &r, &err));
         EXPECT_NEAR(r.reading[0].lat_deg, lat, 1e-7);
         EXPECT_NEAR(r.reading[0].lon_deg, 15.0, 1e-7);
         EXPECT_EQ_INT(band >= 'N', r.reading[0].northp);
@@ -424,10 +425,11 @@ TEST(ambiguous_band_s_names_both)
     reads_as("33FWA0000000000", -54.148104, 15.0, 1.0);
     /* both readings, for a command with a DEM to choose */
     tp_position_readings r;
-    char msg[TP_POSITION_MSG_SIZE], name[128];
-    ASSERT_TRUE(tp_position_parse_readings("33S 500000 4000000", 18, 0, &r, msg, sizeof msg));
+    char name[128];
+    tp_error err = {{0}};
+    ASSERT_TRUE(tp_position_parse_readings("33S 500000 4000000", 18, 0, &r, &err));
     ASSERT_EQ_INT(2, r.count);
-    EXPECT_CONTAINS(msg, "ambiguous");
+    EXPECT_CONTAINS(err.message, "ambiguous");
     tp_position_reading_text(&r, 0, name, sizeof name);
     EXPECT_EQ_STR("band S (36.144718 15.000000)", name);
     tp_position_reading_text(&r, 1, name, sizeof name);
@@ -469,11 +471,11 @@ TEST(label_before_too_many_fields_is_refused)
 {
     const char* text = "UTM UPS34RRRRR280 28  41.:8 N 2 08A1,4. 272NW.N";
     tp_position p;
-    char msg[TP_POSITION_MSG_SIZE];
-    EXPECT_EQ_INT(0, tp_position_parse(text, strlen(text), 0, &p, msg, sizeof msg));
-    EXPECT_TRUE(msg[0] != '\0');
+    tp_error err = {{0}};
+    EXPECT_EQ_INT(0, tp_position_parse(text, strlen(text), 0, &p, &err));
+    EXPECT_TRUE(err.message[0] != '\0');
     const char* nine = "MGRS 55 28 41.88 N 2 08 44.16 W";
-    EXPECT_EQ_INT(0, tp_position_parse(nine, strlen(nine), 0, &p, msg, sizeof msg));
+    EXPECT_EQ_INT(0, tp_position_parse(nine, strlen(nine), 0, &p, &err));
 }
 
 #define TESTS(X)                                                                                   \

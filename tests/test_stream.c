@@ -203,11 +203,11 @@ TEST(roots_first_then_the_view_fills_in_without_holes)
 {
     fixture fx;
     ASSERT_TRUE(open_fixture(&fx, -1, 0));
-    char msg[512];
+    tp_error err = {{0}};
     tp_stream_options o = {.memory_bytes = 64u << 20};
-    tp_stream* st = tp_stream_create(fx.store, fx.tree, &o, msg, sizeof msg);
+    tp_stream* st = tp_stream_create(fx.store, fx.tree, &o, &err);
     if (!st)
-        tp_test_note("%s", msg);
+        tp_test_note("%s", err.message);
     ASSERT_TRUE(st != NULL);
     const tp_tree_geometry* g = tp_tree_get_geometry(fx.tree);
     tp_stream_stats ss;
@@ -215,7 +215,6 @@ TEST(roots_first_then_the_view_fills_in_without_holes)
     EXPECT_EQ_INT(ss.resident_nodes, g->root_count);
 
     tp_cut *cut = NULL, *ref = NULL;
-    tp_error err;
     ASSERT_OK(tp_cut_create(fx.tree, &cut, &err));
     ASSERT_OK(tp_cut_create(fx.full, &ref, &err));
     tp_camera cam;
@@ -277,12 +276,11 @@ TEST(budget_is_honoured_along_a_flight_and_nothing_is_ever_a_hole)
     size_t block = (((size_t)1 << g->n) + 1) * (((size_t)1 << g->n) + 1) * 2;
     /* room for the roots and 150 more nodes: far less than the flight touches */
     size_t budget = ((size_t)g->root_count + 150) * block;
-    char msg[512];
+    tp_error err = {{0}};
     tp_stream_options o = {.memory_bytes = budget};
-    tp_stream* st = tp_stream_create(fx.store, fx.tree, &o, msg, sizeof msg);
+    tp_stream* st = tp_stream_create(fx.store, fx.tree, &o, &err);
     ASSERT_TRUE(st != NULL);
     tp_cut *cut = NULL, *ref = NULL, *pre = NULL;
-    tp_error err;
     ASSERT_OK(tp_cut_create(fx.tree, &cut, &err));
     ASSERT_OK(tp_cut_create(fx.tree, &pre, &err));
     ASSERT_OK(tp_cut_create(fx.full, &ref, &err));
@@ -335,11 +333,10 @@ TEST(a_damaged_node_is_reported_once_and_its_ancestor_drawn)
     int64_t leaf = tp_tree_node_id(g, 0, 7, 10);
     close_fixture(&fx);
     ASSERT_TRUE(open_fixture(&fx, leaf, 1));
-    char msg[512];
-    tp_stream* st = tp_stream_create(fx.store, fx.tree, NULL, msg, sizeof msg);
+    tp_error err = {{0}};
+    tp_stream* st = tp_stream_create(fx.store, fx.tree, NULL, &err);
     ASSERT_TRUE(st != NULL);
     tp_cut* cut = NULL;
-    tp_error err;
     ASSERT_OK(tp_cut_create(fx.tree, &cut, &err));
     tp_camera cam;
     /* right above that leaf (17-sample leaves: column 7 is x = 112 .. 128), looking down */
@@ -382,14 +379,14 @@ TEST(require_loads_a_node_and_its_ancestors_now)
 {
     fixture fx;
     ASSERT_TRUE(open_fixture(&fx, -1, 0));
-    char msg[512];
+    tp_error err = {{0}};
     tp_stream_options o = {.no_loader = 1};
-    tp_stream* st = tp_stream_create(fx.store, fx.tree, &o, msg, sizeof msg);
+    tp_stream* st = tp_stream_create(fx.store, fx.tree, &o, &err);
     ASSERT_TRUE(st != NULL);
     const tp_tree_geometry* g = tp_tree_get_geometry(fx.tree);
     int64_t leaf = tp_tree_node_id(g, 0, 3, 5);
     EXPECT_TRUE(tp_tree_samples(fx.tree, leaf) == NULL);
-    ASSERT_TRUE(tp_stream_require(st, leaf, msg, sizeof msg));
+    ASSERT_TRUE(tp_stream_require(st, leaf, &err));
     for (int64_t id = leaf; id >= 0; id = tp_tree_node_parent(g, id)) {
         const uint16_t* s = tp_tree_samples(fx.tree, id);
         ASSERT_TRUE(s != NULL);
@@ -428,17 +425,17 @@ static size_t requests_not_in(const tp_tree* t, const tp_cut* a, const tp_cut* b
  * ask for leaves. */
 static tp_stream* prefetch_fixture(fixture* fx, int loader)
 {
-    char msg[512];
+    tp_error err = {{0}};
     tp_stream_options o = {.no_loader = !loader, .frame_s = 1.0 / 30, .prefetch_s = 5};
-    tp_stream* st = tp_stream_create(fx->store, fx->tree, &o, msg, sizeof msg);
+    tp_stream* st = tp_stream_create(fx->store, fx->tree, &o, &err);
     if (!st)
         return NULL;
     const tp_tree_geometry* g = tp_tree_get_geometry(fx->tree);
     for (int64_t id = 0; id < g->node_count; id++) {
         int s, c, r;
         tp_tree_node_locate(g, id, &s, &c, &r);
-        if (s > 0 && !tp_stream_require(st, id, msg, sizeof msg)) {
-            tp_test_note("%s", msg);
+        if (s > 0 && !tp_stream_require(st, id, &err)) {
+            tp_test_note("%s", err.message);
             tp_stream_destroy(st);
             return NULL;
         }

@@ -15,26 +15,26 @@
 
 static double parse_ok(const char* date, const char* time, tp_sun_time* t)
 {
-    char why[160] = "";
-    if (!tp_sun_time_parse(date, time, t, why, sizeof why))
-        FAIL("'%s' '%s': %s", date, time, why);
+    tp_error why = {{0}};
+    if (!tp_sun_time_parse(date, time, t, &why))
+        FAIL("'%s' '%s': %s", date, time, why.message);
     return t->unix_s;
 }
 
 /* The message for a refused date/time, which must leave *out untouched. */
 static const char* refused(const char* date, const char* time)
 {
-    static char why[160];
+    static tp_error why;
     tp_sun_time t;
     memset(&t, 0x5a, sizeof t);
-    why[0] = '\0';
-    if (tp_sun_time_parse(date, time, &t, why, sizeof why))
+    why.message[0] = '\0';
+    if (tp_sun_time_parse(date, time, &t, &why))
         FAIL("'%s' '%s' accepted", date, time);
     tp_sun_time before;
     memset(&before, 0x5a, sizeof before);
     EXPECT_TRUE(!memcmp(&t, &before, sizeof t));
-    EXPECT_TRUE(why[0] != '\0');
-    return why;
+    EXPECT_TRUE(why.message[0] != '\0');
+    return why.message;
 }
 
 TEST(utc_by_default_and_by_name)
@@ -100,10 +100,10 @@ TEST(bad_dates_say_why)
     EXPECT_CONTAINS(refused("0999-12-31", "12:00"), "year 999 is not 1000 .. 2999");
     EXPECT_CONTAINS(refused("3000-01-01", "12:00"), "year 3000");
     int y = 7, m = 7, d = 7;
-    char why[80];
-    EXPECT_EQ_INT(1, tp_sun_date_parse("2024-02-29", &y, &m, &d, why, sizeof why));
+    tp_error why = {{0}};
+    EXPECT_EQ_INT(1, tp_sun_date_parse("2024-02-29", &y, &m, &d, &why));
     EXPECT_EQ_INT(29, d);
-    EXPECT_EQ_INT(0, tp_sun_date_parse(NULL, &y, &m, &d, why, sizeof why));
+    EXPECT_EQ_INT(0, tp_sun_date_parse(NULL, &y, &m, &d, &why));
 }
 
 TEST(bad_times_and_zones_say_why)

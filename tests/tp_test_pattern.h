@@ -47,10 +47,9 @@ static inline uint32_t tp_test_pattern_texel(const tp_test_pattern* p, int l, in
     return tp_test_pattern_empty(NULL, k) ? 0 : tp_test_texel_hash(l, u, v);
 }
 
-static inline int tp_test_pattern_read(void* user, tp_block_key k, uint8_t* rgba, char* msg,
-                                       size_t cap)
+static inline int tp_test_pattern_read(void* user, tp_block_key k, uint8_t* rgba, tp_error* err)
 {
-    (void)msg, (void)cap;
+    (void)err;
     const tp_test_pattern* p = user;
     for (int y = 0; y < TP_PATTERN_BLOCK; y++)
         for (int x = 0; x < TP_PATTERN_BLOCK; x++) {
@@ -80,9 +79,9 @@ static inline tp_block_source tp_test_pattern_source(tp_test_pattern* p, int64_t
 static inline tp_gl_context* tp_test_gl_context_or_skip(void)
 {
     tp_gl_context* ctx = NULL;
-    char msg[512];
-    if (!tp_gl_context_create_headless(64, 64, &ctx, msg, sizeof msg))
-        SKIP("no headless OpenGL here: %s", msg);
+    tp_error err = {{0}};
+    if (!tp_gl_context_create_headless(64, 64, &ctx, &err))
+        SKIP("no headless OpenGL here: %s", err.message);
     return ctx;
 }
 

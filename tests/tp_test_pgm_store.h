@@ -22,9 +22,9 @@
 static inline tp_gl_context* context_or_skip(void)
 {
     tp_gl_context* ctx = NULL;
-    char msg[512];
-    if (!tp_gl_context_create_headless(W, H, &ctx, msg, sizeof msg))
-        SKIP("no headless OpenGL here: %s", msg);
+    tp_error err = {{0}};
+    if (!tp_gl_context_create_headless(W, H, &ctx, &err))
+        SKIP("no headless OpenGL here: %s", err.message);
     return ctx;
 }
 

@@ -6,6 +6,8 @@
 #ifndef TP_APP_COORD_LINE_H
 #define TP_APP_COORD_LINE_H
 
+#include "tp_core.h"
+
 #include <stddef.h>
 
 /* What each line is converted to. */
@@ -22,14 +24,14 @@ typedef struct tp_coord_request {
     int geodesic;  /* 1: lines are LAT1 LON1 LAT2 LON2, answered as GeodSolve -i; `to` unused */
 } tp_coord_request;
 
-/* Bytes that always hold an output line or an error message, NUL included. */
+/* Bytes that always hold an output line, NUL included. */
 #define TP_COORD_TEXT_SIZE 768
 
 /* Converts one input line of len bytes (modified in place: split at white space; it may hold
  * any bytes, a NUL among them, which is an error). Returns 1 with the output line in out
- * (without a newline), or 0 with the reason in out ("latitude 91 is outside [-90, 90]").
- * out holds out_size bytes, at least TP_COORD_TEXT_SIZE. */
+ * (without a newline), or 0 with the reason in err ("latitude 91 is outside [-90, 90]"; out
+ * untouched). out holds out_size bytes, at least TP_COORD_TEXT_SIZE. */
 int tp_coord_line_convert(const tp_coord_request* req, char* line, size_t len, char* out,
-                          size_t out_size);
+                          size_t out_size, tp_error* err);
 
 #endif /* TP_APP_COORD_LINE_H */

@@ -97,34 +97,34 @@ int tp_position_decimal(const char* s, double* v)
     return 1;
 }
 
-int tp__position_read_number(const char* token, const char* name, double* v, char* msg)
+int tp__position_read_number(const char* token, const char* name, double* v, tp_error* err)
 {
     char q[QUOTE_LIMIT + 8];
     int r = tp_position_decimal(token, v);
     if (r == 1)
         return 1;
     if (r < 0)
-        snprintf(msg, TP_POSITION_MSG_SIZE, "%s %s is too large", name,
-                 tp__position_quoted(token, q));
+        tp_error_set(err, TP_ERR_INVALID_ARG, "%s %s is too large", name,
+                     tp__position_quoted(token, q));
     else
-        snprintf(msg, TP_POSITION_MSG_SIZE, "%s: expected a decimal number, got %s", name,
-                 tp__position_quoted(token, q));
+        tp_error_set(err, TP_ERR_INVALID_ARG, "%s: expected a decimal number, got %s", name,
+                     tp__position_quoted(token, q));
     return 0;
 }
 
-int tp__position_failed(tp_status s, const tp_error* err, char* msg)
+int tp__position_failed(tp_status s, tp_error* err)
 {
-    snprintf(msg, TP_POSITION_MSG_SIZE, "%s", err->message[0] ? err->message : tp_status_str(s));
+    if (err && !err->message[0])
+        tp_error_set(err, s, "%s", tp_status_str(s));
     return 0;
 }
 
-int tp__position_from_geo(double lat, double lon, tp_position* pos, char* msg)
+int tp__position_from_geo(double lat, double lon, tp_position* pos, tp_error* err)
 {
-    tp_error err = {{0}};
     double lat_n, lon_n;
-    tp_status s = tp_geo_normalize(lat, lon, &lat_n, &lon_n, &err);
+    tp_status s = tp_geo_normalize(lat, lon, &lat_n, &lon_n, err);
     if (s != TP_OK)
-        return tp__position_failed(s, &err, msg);
+        return tp__position_failed(s, err);
     *pos = (tp_position){.lat_deg = lat_n, .lon_deg = lon_n};
     return 1;
 }
@@ -139,29 +139,28 @@ static int has_digit(const char* s)
 
 /* Two fields: LAT LON, decimal or DMS. Plain decimals keep the strict reader's messages; the
  * rest is GeographicLib's DMS::DecodeLatLon. */
-static int parse_lat_lon(char* a, char* b, tp_position* pos, char* msg)
+static int parse_lat_lon(char* a, char* b, tp_position* pos, tp_error* err)
 {
     char q[QUOTE_LIMIT + 8];
     double lat, lon;
     int ra = tp_position_decimal(a, &lat), rb = tp_position_decimal(b, &lon);
     if (ra == 1 && rb == 1)
-        return tp__position_from_geo(lat, lon, pos, msg);
+        return tp__position_from_geo(lat, lon, pos, err);
     if (ra < 0)
-        return tp__position_read_number(a, "latitude", &lat, msg);
+        return tp__position_read_number(a, "latitude", &lat, err);
     if (rb < 0)
-        return tp__position_read_number(b, "longitude", &lon, msg);
+        return tp__position_read_number(b, "longitude", &lon, err);
     if (!has_digit(a) || !has_digit(b)) {
         int first = !has_digit(a);
-        snprintf(msg, TP_POSITION_MSG_SIZE,
-                 "%s: expected decimal degrees or degrees-minutes-seconds, got %s",
-                 first ? "latitude" : "longitude", tp__position_quoted(first ? a : b, q));
+        tp_error_set(err, TP_ERR_INVALID_ARG,
+                     "%s: expected decimal degrees or degrees-minutes-seconds, got %s",
+                     first ? "latitude" : "longitude", tp__position_quoted(first ? a : b, q));
         return 0;
     }
-    tp_error err = {{0}};
-    tp_status s = tp_dms_decode_latlon(a, b, &lat, &lon, &err);
+    tp_status s = tp_dms_decode_latlon(a, b, &lat, &lon, err);
     if (s != TP_OK)
-        return tp__position_failed(s, &err, msg);
-    return tp__position_from_geo(lat, lon, pos, msg);
+        return tp__position_failed(s, err);
+    return tp__position_from_geo(lat, lon, pos, err);
 }
 
 /* f without a leading "UTM" or "MGRS", the label `point` prints before those forms. */
@@ -181,27 +180,28 @@ static fields without_label(const fields* f)
     return g;
 }
 
-static int parse_fields(const fields* all, int allow_height, tp_position_readings* out, char* msg)
+static int parse_fields(const fields* all, int allow_height, tp_position_readings* out,
+                        tp_error* err)
 {
     const fields f0 = without_label(all), *f = &f0;
     tp_position* pos = &out->reading[0];
     out->count = 1;
     char joined[64];
     if (tp__position_join_spaced_mgrs(f, joined, sizeof joined))
-        return tp__position_from_mgrs(joined, pos, msg);
+        return tp__position_from_mgrs(joined, pos, err);
     /* grid forms, then spaced DMS: "N 55 E 2" is no UPS position but 55N 2E */
-    const int grid = tp__position_parse_grid(f, out, msg);
+    const int grid = tp__position_parse_grid(f, out, err);
     if (grid > 0)
         return 1;
-    char dms_msg[TP_POSITION_MSG_SIZE];
-    const int dms = tp__position_parse_spaced_dms(f, pos, grid ? dms_msg : msg);
+    tp_error dms_err = {{0}};
+    const int dms = tp__position_parse_spaced_dms(f, pos, grid ? &dms_err : err);
     if (dms > 0) {
         out->count = 1;
         return 1;
     }
     if (grid < 0) { /* the grid's reason, unless the zone was a letter alone and DMS failed */
-        if (dms < 0 && !isdigit((unsigned char)f->field[0][0]))
-            memcpy(msg, dms_msg, TP_POSITION_MSG_SIZE);
+        if (dms < 0 && !isdigit((unsigned char)f->field[0][0]) && err)
+            *err = dms_err;
         return 0;
     }
     if (dms < 0)
@@ -213,78 +213,78 @@ static int parse_fields(const fields* all, int allow_height, tp_position_reading
                                      : "LAT LON, ZONE E N or an MGRS reference";
     switch (f->count) {
     case 0:
-        snprintf(msg, TP_POSITION_MSG_SIZE, "the position is empty: expected %s", forms);
+        tp_error_set(err, TP_ERR_INVALID_ARG, "the position is empty: expected %s", forms);
         return 0;
     case 1:
         if (tp_position_decimal(field[0], &a) == 1) { /* before MGRS: "1e5" has its shape */
-            snprintf(msg, TP_POSITION_MSG_SIZE, "expected LAT LON, got a single number %s",
-                     tp__position_quoted(field[0], q));
+            tp_error_set(err, TP_ERR_INVALID_ARG, "expected LAT LON, got a single number %s",
+                         tp__position_quoted(field[0], q));
             return 0;
         }
         if (tp__position_looks_like_mgrs(field[0]))
-            return tp__position_from_mgrs(field[0], pos, msg);
-        snprintf(msg, TP_POSITION_MSG_SIZE, "expected %s, got %s", forms,
-                 tp__position_quoted(field[0], q));
+            return tp__position_from_mgrs(field[0], pos, err);
+        tp_error_set(err, TP_ERR_INVALID_ARG, "expected %s, got %s", forms,
+                     tp__position_quoted(field[0], q));
         return 0;
-    case 2: return parse_lat_lon(field[0], field[1], pos, msg);
+    case 2: return parse_lat_lon(field[0], field[1], pos, err);
     case 3:
         if (tp_position_decimal(field[0], &a) == 1) { /* LAT LON H */
             if (!allow_height) {
-                snprintf(msg, TP_POSITION_MSG_SIZE,
-                         "expected %s; three numbers (LAT LON H) are not a position here", forms);
+                tp_error_set(err, TP_ERR_INVALID_ARG,
+                             "expected %s; three numbers (LAT LON H) are not a position here",
+                             forms);
                 return 0;
             }
-            if (!tp__position_read_number(field[1], "longitude", &b, msg) ||
-                !tp__position_read_number(field[2], "height", &c, msg) ||
-                !tp__position_from_geo(a, b, pos, msg))
+            if (!tp__position_read_number(field[1], "longitude", &b, err) ||
+                !tp__position_read_number(field[2], "height", &c, err) ||
+                !tp__position_from_geo(a, b, pos, err))
                 return 0;
             pos->h_m = c;
             pos->has_h = 1;
             return 1;
         }
-        snprintf(msg, TP_POSITION_MSG_SIZE,
-                 "expected %s, but %s is neither a number nor a zone (1n..60n, 1s..60s, a zone "
-                 "and latitude band such as 30U, or n or s for UPS)",
-                 allow_height ? "LAT LON H or ZONE E N" : "ZONE E N",
-                 tp__position_quoted(field[0], q));
+        tp_error_set(err, TP_ERR_INVALID_ARG,
+                     "expected %s, but %s is neither a number nor a zone (1n..60n, 1s..60s, a zone "
+                     "and latitude band such as 30U, or n or s for UPS)",
+                     allow_height ? "LAT LON H or ZONE E N" : "ZONE E N",
+                     tp__position_quoted(field[0], q));
         return 0;
     default:
-        snprintf(msg, TP_POSITION_MSG_SIZE, "expected %s, got %d fields", forms, f->count);
+        tp_error_set(err, TP_ERR_INVALID_ARG, "expected %s, got %d fields", forms, f->count);
         return 0;
     }
 }
 
 int tp_position_parse_readings(const char* text, size_t len, int allow_height,
-                               tp_position_readings* out, char* msg, size_t msg_size)
+                               tp_position_readings* out, tp_error* err)
 {
-    assert(text && out && msg && msg_size >= TP_POSITION_MSG_SIZE);
-    (void)msg_size;
+    assert(text && out);
     if (memchr(text, '\0', len)) {
-        snprintf(msg, TP_POSITION_MSG_SIZE, "the position contains a NUL byte");
+        tp_error_set(err, TP_ERR_INVALID_ARG, "the position contains a NUL byte");
         return 0;
     }
     char* line = malloc(len + 1);
     if (!line) {
-        snprintf(msg, TP_POSITION_MSG_SIZE, "out of memory");
+        tp_error_set(err, TP_ERR_OUT_OF_MEMORY, "out of memory");
         return 0;
     }
     memcpy(line, text, len);
     line[len] = '\0';
     fields f = tp__position_split(line, 1);
     tp_position_readings r;
-    int ok = parse_fields(&f, allow_height, &r, msg);
+    int ok = parse_fields(&f, allow_height, &r, err);
     free(line);
     if (ok)
         *out = r;
     return ok;
 }
 
-int tp_position_parse(const char* text, size_t len, int allow_height, tp_position* out, char* msg,
-                      size_t msg_size)
+int tp_position_parse(const char* text, size_t len, int allow_height, tp_position* out,
+                      tp_error* err)
 {
     tp_position_readings r;
-    if (!tp_position_parse_readings(text, len, allow_height, &r, msg, msg_size) || r.count > 1)
-        return 0; /* two readings: msg says why */
+    if (!tp_position_parse_readings(text, len, allow_height, &r, err) || r.count > 1)
+        return 0; /* two readings: err says why */
     *out = r.reading[0];
     return 1;
 }
@@ -338,7 +338,7 @@ int tp_position_mgrs_spaced(const char* mgrs, char* out, size_t cap)
 
 int tp_position_swapped(const char* text, char* out, size_t cap)
 {
-    char copy[128], spare[TP_POSITION_MSG_SIZE];
+    char copy[128];
     tp_position p;
     double a, b;
     if (strlen(text) >= sizeof copy)
@@ -347,5 +347,5 @@ int tp_position_swapped(const char* text, char* out, size_t cap)
     return f.count == 2 && tp_position_decimal(f.field[0], &a) == 1 &&
            tp_position_decimal(f.field[1], &b) == 1 &&
            snprintf(out, cap, "%s %s", f.field[1], f.field[0]) < (int)cap &&
-           tp_position_parse(out, strlen(out), 0, &p, spare, sizeof spare);
+           tp_position_parse(out, strlen(out), 0, &p, NULL);
 }

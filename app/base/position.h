@@ -52,15 +52,12 @@ typedef struct tp_position {
     double easting_m, northing_m;
 } tp_position;
 
-/* Bytes that always hold a message of tp_position_parse, NUL included. */
-#define TP_POSITION_MSG_SIZE 768
-
 /* Reads the len bytes of text (need not be NUL-terminated; a NUL among them is an error) as
  * one position. allow_height: 1 accepts LAT LON H, 0 refuses it. Returns 1 with *out, or 0
- * with the reason in msg (msg_size >= TP_POSITION_MSG_SIZE), e.g. "latitude 91 is outside
- * [-90, 90]"; *out is written only on success. */
+ * with the reason in err, e.g. "latitude 91 is outside [-90, 90]"; *out is written only on
+ * success. */
 int tp_position_parse(const char* text, size_t len, int allow_height, tp_position* out,
-                      char* msg, size_t msg_size);
+                      tp_error* err);
 
 /* Every reading of a text: one, or two where a zone's S is band S or the southern hemisphere
  * and both are positions (see above). */
@@ -72,9 +69,9 @@ typedef struct tp_position_readings {
 /* tp_position_parse for a caller that can choose between two readings (a command with a DEM
  * takes the one on it). Returns 1 with *out, and with out->count 2 the refusal
  * tp_position_parse gives ("'33S' is ambiguous: band S (...) ... or zone 33 south (...) ...")
- * in msg; 0 with msg as tp_position_parse. */
+ * in err; 0 with err as tp_position_parse. */
 int tp_position_parse_readings(const char* text, size_t len, int allow_height,
-                               tp_position_readings* out, char* msg, size_t msg_size);
+                               tp_position_readings* out, tp_error* err);
 
 /* Names reading k of r (count 2) in a message: "band S (36.140541 15.000000)", "zone 33 south
  * (-54.148104 15.000000)". */

@@ -80,9 +80,9 @@ static int dms_join(char* const* tok, int n, int lead, char* out, size_t cap)
 
 /* LAT LON in degrees, minutes and seconds separated by spaces, "55 28 41.88 N 2 08 44.16 W" or
  * "N 55 28.698 W 2 08.736": the hemisphere letters end each coordinate (or start each, when
- * the text starts with one). Returns 1 with *pos; 0 if f has not that shape; -1 with msg
+ * the text starts with one). Returns 1 with *pos; 0 if f has not that shape; -1 with err
  * (GeographicLib's reason). */
-int tp__position_parse_spaced_dms(const fields* f, tp_position* pos, char* msg)
+int tp__position_parse_spaced_dms(const fields* f, tp_position* pos, tp_error* err)
 {
     const int n = f->count;
     if (n < 3 || n > MAX_FIELDS)
@@ -108,9 +108,8 @@ int tp__position_parse_spaced_dms(const fields* f, tp_position* pos, char* msg)
         !dms_join(t + second, n - second, lead, b, sizeof b))
         return 0;
     double lat, lon;
-    tp_error err = {{0}};
-    tp_status s = tp_dms_decode_latlon(a, b, &lat, &lon, &err);
+    tp_status s = tp_dms_decode_latlon(a, b, &lat, &lon, err);
     if (s != TP_OK)
-        return tp__position_failed(s, &err, msg), -1;
-    return tp__position_from_geo(lat, lon, pos, msg) ? 1 : -1;
+        return tp__position_failed(s, err), -1;
+    return tp__position_from_geo(lat, lon, pos, err) ? 1 : -1;
 }

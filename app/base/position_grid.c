@@ -45,8 +45,8 @@ typedef struct zone_text {
 /* Reads token as a zone: digits (none for UPS; up to 2), then n, s, north or south (the
  * hemisphere, GeographicLib's UTMUPS::DecodeZone) or a band letter (N reads as north either way;
  * S after digits is band S or south: either). Returns 1 with *z; 0 if token has not that shape;
- * -1 (msg set) if it has but the zone is outside 1..60. */
-static int parse_zone(const char* token, zone_text* z, char* msg)
+ * -1 (err set) if it has but the zone is outside 1..60. */
+static int parse_zone(const char* token, zone_text* z, tp_error* err)
 {
     size_t ndigits = 0;
     while (isdigit((unsigned char)token[ndigits]))
@@ -72,7 +72,7 @@ static int parse_zone(const char* token, zone_text* z, char* msg)
     for (size_t i = 0; i < ndigits; ++i)
         n = 10 * n + (token[i] - '0');
     if (ndigits && (n < 1 || n > 60)) {
-        snprintf(msg, TP_POSITION_MSG_SIZE, "UTM zone %d is outside [1, 60]", n);
+        tp_error_set(err, TP_ERR_INVALID_ARG, "UTM zone %d is outside [1, 60]", n);
         return -1;
     }
     t.zone = ndigits ? n : TP_ZONE_UPS;
@@ -95,13 +95,13 @@ int tp__position_looks_like_mgrs(const char* token)
     return 1;
 }
 
-static int position_from_grid(int zone, int northp, double e, double n, tp_position* pos, char* msg)
+static int position_from_grid(int zone, int northp, double e, double n, tp_position* pos,
+                              tp_error* err)
 {
-    tp_error err = {{0}};
     double lat, lon;
-    tp_status s = tp_geo_from_utmups(zone, northp, e, n, &lat, &lon, &err);
+    tp_status s = tp_geo_from_utmups(zone, northp, e, n, &lat, &lon, err);
     if (s != TP_OK)
-        return tp__position_failed(s, &err, msg);
+        return tp__position_failed(s, err);
     *pos = (tp_position){.lat_deg = lat,
                          .lon_deg = lon,
                          .has_grid = 1,
@@ -117,28 +117,26 @@ static int position_from_grid(int zone, int northp, double e, double n, tp_posit
     "; positions are LAT LON, ZONE E N or MGRS: a zone and band, the 100 km square's two "         \
     "letters and an even number of digits (33TWN0000049776, 33T WN 00000 49776)"
 
-int tp__position_from_mgrs(const char* token, tp_position* pos, char* msg)
+int tp__position_from_mgrs(const char* token, tp_position* pos, tp_error* err)
 {
-    tp_error err = {{0}};
+    tp_error why = {{0}};
     int zone, northp, precision;
     double e, n;
-    tp_status s = tp_mgrs_reverse(token, 1, &zone, &northp, &e, &n, &precision, &err);
+    tp_status s = tp_mgrs_reverse(token, 1, &zone, &northp, &e, &n, &precision, &why);
     if (s != TP_OK) {
-        tp__position_failed(s, &err, msg);
-        size_t len = strlen(msg);
-        snprintf(msg + len, TP_POSITION_MSG_SIZE - len, "%s", MGRS_FORMS);
+        tp_error_set(err, s, "%s%s", why.message[0] ? why.message : tp_status_str(s), MGRS_FORMS);
         return 0;
     }
     if (precision < 0) {
         /* GeographicLib returns "some suitable (but essentially arbitrary) point" of the zone */
         char q[QUOTE_LIMIT + 8];
-        snprintf(msg, TP_POSITION_MSG_SIZE,
-                 "MGRS %s is a grid zone designator, not a position: add the 100 km square "
-                 "letters and digits (e.g. 33TWN0000049776)",
-                 tp__position_quoted(token, q));
+        tp_error_set(err, TP_ERR_INVALID_ARG,
+                     "MGRS %s is a grid zone designator, not a position: add the 100 km square "
+                     "letters and digits (e.g. 33TWN0000049776)",
+                     tp__position_quoted(token, q));
         return 0;
     }
-    return position_from_grid(zone, northp, e, n, pos, msg);
+    return position_from_grid(zone, northp, e, n, pos, err);
 }
 
 /* 1 when grid position (zone, northp, e, n) lies in latitude band `band`, as GeographicLib's
@@ -170,20 +168,21 @@ void tp_position_reading_text(const tp_position_readings* r, int k, char* out, s
 }
 
 /* The readings of grid position (zone z as typed in token, e, n): the band's or the
- * hemisphere's, or both of an `either` zone ("33S"). 1 with *out (for two, msg says why that is
- * ambiguous); 0 with msg. */
+ * hemisphere's, or both of an `either` zone ("33S"). 1 with *out (for two, err says why that is
+ * ambiguous); 0 with err. */
 static int grid_readings(const char* token, const zone_text* z, double e, double n,
-                         tp_position_readings* out, char* msg)
+                         tp_position_readings* out, tp_error* err)
 {
     char q[QUOTE_LIMIT + 8];
     tp_position_readings r = {.count = 1};
     if (z->either) {
-        char south_msg[TP_POSITION_MSG_SIZE];
-        int band = position_from_grid(z->zone, 1, e, n, &r.reading[0], msg) &&
+        tp_error south_err = {{0}};
+        int band = position_from_grid(z->zone, 1, e, n, &r.reading[0], err) &&
                    in_band(z->zone, 1, e, n, 'S');
-        int south = position_from_grid(z->zone, 0, e, n, &r.reading[band], south_msg);
+        int south = position_from_grid(z->zone, 0, e, n, &r.reading[band], &south_err);
         if (!band && !south) {
-            memcpy(msg, south_msg, TP_POSITION_MSG_SIZE);
+            if (err)
+                *err = south_err;
             return 0;
         }
         if (band && south) {
@@ -191,23 +190,23 @@ static int grid_readings(const char* token, const zone_text* z, double e, double
             r.count = 2;
             tp_position_reading_text(&r, 0, a, sizeof a);
             tp_position_reading_text(&r, 1, b, sizeof b);
-            snprintf(msg, TP_POSITION_MSG_SIZE,
-                     "%s is ambiguous: %s, as maps and GPS units write a latitude band, or %s, "
-                     "as GeographicLib writes a hemisphere; write %dnorth or %dsouth for the "
-                     "hemisphere, or give the position in MGRS",
-                     tp__position_quoted(token, q), a, b, z->zone, z->zone);
+            tp_error_set(err, TP_ERR_INVALID_ARG,
+                         "%s is ambiguous: %s, as maps and GPS units write a latitude band, or "
+                         "%s, as GeographicLib writes a hemisphere; write %dnorth or %dsouth for "
+                         "the hemisphere, or give the position in MGRS",
+                         tp__position_quoted(token, q), a, b, z->zone, z->zone);
         }
         *out = r;
         return 1;
     }
-    if (!position_from_grid(z->zone, z->northp, e, n, &r.reading[0], msg))
+    if (!position_from_grid(z->zone, z->northp, e, n, &r.reading[0], err))
         return 0;
     if (z->band && !in_band(z->zone, z->northp, e, n, z->band)) {
-        snprintf(msg, TP_POSITION_MSG_SIZE,
-                 "E %.1f N %.1f in %s is at %.6f %.6f, not in band %c: check the band letter "
-                 "and the coordinates",
-                 e, n, tp__position_quoted(token, q), r.reading[0].lat_deg, r.reading[0].lon_deg,
-                 z->band);
+        tp_error_set(err, TP_ERR_INVALID_ARG,
+                     "E %.1f N %.1f in %s is at %.6f %.6f, not in band %c: check the band letter "
+                     "and the coordinates",
+                     e, n, tp__position_quoted(token, q), r.reading[0].lat_deg,
+                     r.reading[0].lon_deg, z->band);
         return 0;
     }
     *out = r;
@@ -224,9 +223,9 @@ static int is_label(const char* token, char letter)
 }
 
 /* Reads field *k as the coordinate called name, a label after it or in the next field
- * ("554001", "554001E", "554001mE", "554001 E"), and moves *k past both. 1 with *v; 0 with msg. */
+ * ("554001", "554001E", "554001mE", "554001 E"), and moves *k past both. 1 with *v; 0 with err. */
 static int read_labelled(const fields* f, int* k, char letter, const char* name, double* v,
-                         char* msg)
+                         tp_error* err)
 {
     const char* token = f->field[(*k)++];
     size_t len = strlen(token), at = len;
@@ -239,7 +238,7 @@ static int read_labelled(const fields* f, int* k, char letter, const char* name,
         if (tp_position_decimal(number, v) == 1)
             goto label;
     }
-    if (!tp__position_read_number(token, name, v, msg))
+    if (!tp__position_read_number(token, name, v, err))
         return 0;
 label:
     if (*k < f->count && is_label(f->field[*k], letter))
@@ -249,8 +248,8 @@ label:
 
 /* ZONE E N in position.h's forms: [UPS] ZONE E [E] N [N] (labels attached or not), or E N ZONE
  * as GeoConvert reads it. Returns 1 with *out; 0 when f has not that shape (no zone first, nor
- * last after two numbers); -1 with msg. */
-int tp__position_parse_grid(const fields* f, tp_position_readings* out, char* msg)
+ * last after two numbers); -1 with err. */
+int tp__position_parse_grid(const fields* f, tp_position_readings* out, tp_error* err)
 {
     if (f->count < 3 || f->count > MAX_FIELDS)
         return 0;
@@ -258,34 +257,34 @@ int tp__position_parse_grid(const fields* f, tp_position_readings* out, char* ms
     int k = ups;
     zone_text z;
     double e, n;
-    int r = parse_zone(f->field[k], &z, msg);
+    int r = parse_zone(f->field[k], &z, err);
     if (r < 0)
         return -1;
     if (r == 0 || (ups && z.zone != TP_ZONE_UPS)) { /* E N ZONE, as GeoConvert */
         if (ups || f->count != 3 || tp_position_decimal(f->field[0], &e) != 1)
             return 0;
-        if ((r = parse_zone(f->field[2], &z, msg)) <= 0)
+        if ((r = parse_zone(f->field[2], &z, err)) <= 0)
             return r;
-        if (!tp__position_read_number(f->field[1], "northing", &n, msg))
+        if (!tp__position_read_number(f->field[1], "northing", &n, err))
             return -1;
-        return grid_readings(f->field[2], &z, e, n, out, msg) ? 1 : -1;
+        return grid_readings(f->field[2], &z, e, n, out, err) ? 1 : -1;
     }
     const char* zone = f->field[k++];
-    if (!read_labelled(f, &k, 'E', "easting", &e, msg))
+    if (!read_labelled(f, &k, 'E', "easting", &e, err))
         return -1;
     if (k >= f->count) {
-        snprintf(msg, TP_POSITION_MSG_SIZE, "ZONE E N: the northing is missing");
+        tp_error_set(err, TP_ERR_INVALID_ARG, "ZONE E N: the northing is missing");
         return -1;
     }
-    if (!read_labelled(f, &k, 'N', "northing", &n, msg))
+    if (!read_labelled(f, &k, 'N', "northing", &n, err))
         return -1;
     if (k < f->count) {
         char q[QUOTE_LIMIT + 8];
-        snprintf(msg, TP_POSITION_MSG_SIZE, "ZONE E N: unexpected %s after the northing",
-                 tp__position_quoted(f->field[k], q));
+        tp_error_set(err, TP_ERR_INVALID_ARG, "ZONE E N: unexpected %s after the northing",
+                     tp__position_quoted(f->field[k], q));
         return -1;
     }
-    return grid_readings(zone, &z, e, n, out, msg) ? 1 : -1;
+    return grid_readings(zone, &z, e, n, out, err) ? 1 : -1;
 }
 
 /* MGRS written with spaces, as tp_position_mgrs_spaced writes it ("31T CH 76651 00831", also

@@ -15,10 +15,9 @@
 #define MAX_YEAR 2999
 #define MAX_ZONE_S (14 * 3600)
 
-static int say(char* why, size_t cap, const char* text)
+static int say(tp_error* err, const char* text)
 {
-    if (why && cap)
-        snprintf(why, cap, "%s", text);
+    tp_error_set(err, TP_ERR_INVALID_ARG, "%s", text);
     return 0;
 }
 
@@ -60,26 +59,25 @@ static void civil_from_days(long z, int* year, int* month, int* day)
     *day = d;
 }
 
-int tp_sun_date_parse(const char* text, int* year, int* month, int* day, char* why, size_t cap)
+int tp_sun_date_parse(const char* text, int* year, int* month, int* day, tp_error* err)
 {
     const char* p = text;
     int y, m, d;
     if (!p || !digits(&p, 4, &y) || *p++ != '-' || !digits(&p, 2, &m) || *p++ != '-' ||
         !digits(&p, 2, &d) || *p)
-        return say(why, cap, "expected a date YYYY-MM-DD");
-    char buf[128];
+        return say(err, "expected a date YYYY-MM-DD");
     if (y < MIN_YEAR || y > MAX_YEAR) {
-        snprintf(buf, sizeof buf, "year %d is not %d .. %d", y, MIN_YEAR, MAX_YEAR);
-        return say(why, cap, buf);
+        tp_error_set(err, TP_ERR_INVALID_ARG, "year %d is not %d .. %d", y, MIN_YEAR, MAX_YEAR);
+        return 0;
     }
     if (m < 1 || m > 12) {
-        snprintf(buf, sizeof buf, "month %d is not 1 .. 12", m);
-        return say(why, cap, buf);
+        tp_error_set(err, TP_ERR_INVALID_ARG, "month %d is not 1 .. 12", m);
+        return 0;
     }
     if (d < 1 || d > days_in_month(y, m)) {
-        snprintf(buf, sizeof buf, "day %d: month %02d of %d has %d days", d, m, y,
-                 days_in_month(y, m));
-        return say(why, cap, buf);
+        tp_error_set(err, TP_ERR_INVALID_ARG, "day %d: month %02d of %d has %d days", d, m, y,
+                     days_in_month(y, m));
+        return 0;
     }
     *year = y;
     *month = m;
@@ -88,7 +86,7 @@ int tp_sun_date_parse(const char* text, int* year, int* month, int* day, char* w
 }
 
 /* A zone at p (the rest of the text): 1 with the offset; 0 when it is not one. */
-static int zone(const char* p, int* offset_s, char* why, size_t cap)
+static int zone(const char* p, int* offset_s, tp_error* err)
 {
     static const char* const utc[] = {"Z", "UTC", "GMT"};
     for (size_t i = 0; i < sizeof utc / sizeof utc[0]; ++i) {
@@ -102,62 +100,59 @@ static int zone(const char* p, int* offset_s, char* why, size_t cap)
     }
     const char* const bad = "expected a zone Z, UTC, +HH, +HH:MM or +HHMM (or -) after the time";
     if (*p != '+' && *p != '-')
-        return say(why, cap, bad);
+        return say(err, bad);
     const int sign = *p++ == '-' ? -1 : 1;
     int hh, mm = 0;
     if (!digits(&p, 2, &hh))
-        return say(why, cap, bad);
+        return say(err, bad);
     if (*p == ':')
         ++p;
     if (*p && !digits(&p, 2, &mm))
-        return say(why, cap, bad);
+        return say(err, bad);
     if (*p)
-        return say(why, cap, bad);
-    char buf[96];
+        return say(err, bad);
     if (mm > 59) {
-        snprintf(buf, sizeof buf, "zone offset minutes %d are not 0 .. 59", mm);
-        return say(why, cap, buf);
+        tp_error_set(err, TP_ERR_INVALID_ARG, "zone offset minutes %d are not 0 .. 59", mm);
+        return 0;
     }
     if (hh * 3600 + mm * 60 > MAX_ZONE_S) {
-        snprintf(buf, sizeof buf, "zone offset %c%02d:%02d is beyond 14 hours",
-                 sign < 0 ? '-' : '+', hh, mm);
-        return say(why, cap, buf);
+        tp_error_set(err, TP_ERR_INVALID_ARG, "zone offset %c%02d:%02d is beyond 14 hours",
+                     sign < 0 ? '-' : '+', hh, mm);
+        return 0;
     }
     *offset_s = sign * (hh * 3600 + mm * 60);
     return 1;
 }
 
-int tp_sun_time_parse(const char* date, const char* time, tp_sun_time* out, char* why,
-                      size_t cap)
+int tp_sun_time_parse(const char* date, const char* time, tp_sun_time* out, tp_error* err)
 {
     tp_sun_time t;
     memset(&t, 0, sizeof t);
-    if (!tp_sun_date_parse(date, &t.year, &t.month, &t.day, why, cap))
+    if (!tp_sun_date_parse(date, &t.year, &t.month, &t.day, err))
         return 0;
     const char* p = time;
     const char* const bad = "expected a time HH:MM[:SS] with an optional zone (Z, UTC, +02:00, "
                             "-0500)";
     if (!p || !digits(&p, 2, &t.hour) || *p++ != ':' || !digits(&p, 2, &t.minute))
-        return say(why, cap, bad);
+        return say(err, bad);
     if (*p == ':' && isdigit((unsigned char)p[1])) {
         ++p;
         if (!digits(&p, 2, &t.second))
-            return say(why, cap, bad);
+            return say(err, bad);
     }
-    char buf[96];
     if (t.hour > 23) {
-        snprintf(buf, sizeof buf, "hour %d is not 0 .. 23", t.hour);
-        return say(why, cap, buf);
+        tp_error_set(err, TP_ERR_INVALID_ARG, "hour %d is not 0 .. 23", t.hour);
+        return 0;
     }
     if (t.minute > 59 || t.second > 59) {
-        snprintf(buf, sizeof buf, "%s %d is not 0 .. 59", t.minute > 59 ? "minute" : "second",
-                 t.minute > 59 ? t.minute : t.second);
-        return say(why, cap, buf);
+        tp_error_set(err, TP_ERR_INVALID_ARG, "%s %d is not 0 .. 59",
+                     t.minute > 59 ? "minute" : "second", t.minute > 59 ? t.minute : t.second);
+        return 0;
     }
     if (*p == ' ')
         ++p;
     if (*p) {
-        if (!zone(p, &t.zone_offset_s, why, cap))
+        if (!zone(p, &t.zone_offset_s, err))
             return 0;
         t.zone_given = 1;
     }

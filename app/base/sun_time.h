@@ -15,6 +15,8 @@
 #ifndef TP_APP_SUN_TIME_H
 #define TP_APP_SUN_TIME_H
 
+#include "tp_core.h"
+
 #include <stddef.h>
 
 typedef struct tp_sun_time {
@@ -25,17 +27,16 @@ typedef struct tp_sun_time {
     double unix_s;           /* the instant, UTC */
 } tp_sun_time;
 
-/* Reads text as "YYYY-MM-DD". 1 with *year, *month, *day; else 0 with why (cap bytes, NUL
- * terminated) saying what was expected ("expected YYYY-MM-DD", "month 13 is not 1 .. 12",
- * "2026-02-29: February 2026 has 28 days", ...); outputs untouched then. */
-int tp_sun_date_parse(const char* text, int* year, int* month, int* day, char* why, size_t cap);
+/* Reads text as "YYYY-MM-DD". 1 with *year, *month, *day; else 0 with err saying what was
+ * expected ("expected YYYY-MM-DD", "month 13 is not 1 .. 12", "2026-02-29: February 2026 has
+ * 28 days", ...); outputs untouched then. */
+int tp_sun_date_parse(const char* text, int* year, int* month, int* day, tp_error* err);
 
 /* Reads date ("YYYY-MM-DD") and time ("HH:MM[:SS][zone]", zone as above) into *out. 1 on
- * success; else 0 with why as tp_sun_date_parse ("expected HH:MM[:SS] with an optional zone
+ * success; else 0 with err as tp_sun_date_parse ("expected HH:MM[:SS] with an optional zone
  * (Z, UTC, +02:00, -0500)", "hour 25 is not 0 .. 23", "zone offset +15:00 is beyond 14
  * hours", ...); *out untouched then. */
-int tp_sun_time_parse(const char* date, const char* time, tp_sun_time* out, char* why,
-                      size_t cap);
+int tp_sun_time_parse(const char* date, const char* time, tp_sun_time* out, tp_error* err);
 
 /* Writes unix_s as "YYYY-MM-DD HH:MM:SS" in the zone offset_s from UTC, followed by " UTC" for
  * 0 or " +HH:MM" / " -HH:MM" (seconds rounded to the nearest). "-" for NaN. */

@@ -18,7 +18,6 @@ int tp_bench_pgm_frames(const bench_run* b, config_result* c, const char* progre
     const tp_render_grid* g = b->sc->grid;
     tp_pgm_pyramid p;
     tp_error err = {{0}};
-    char msg[512];
     c->rows = calloc((size_t)frames, sizeof *c->rows);
     if (!c->rows) {
         tp_cli_error("out of memory");
@@ -30,11 +29,10 @@ int tp_bench_pgm_frames(const bench_run* b, config_result* c, const char* progre
         tp_cli_error("%s: the PGM pyramid: %s", b->sc->path, err.message);
         return TP_EXIT_FAILURE;
     }
-    tp_pgm_renderer* r =
-        tp_pgm_renderer_create(&p, valid, c->pgm_cols, c->pgm_rows, msg, sizeof msg);
+    tp_pgm_renderer* r = tp_pgm_renderer_create(&p, valid, c->pgm_cols, c->pgm_rows, &err);
     free(valid); /* uploaded */
     if (!r) {
-        tp_cli_error("%s: %s", b->sc->path, msg);
+        tp_cli_error("%s: %s", b->sc->path, err.message);
         tp_pgm_pyramid_free(&p);
         return TP_EXIT_FAILURE;
     }

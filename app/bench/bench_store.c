@@ -202,13 +202,12 @@ static int settle(store_bench* b, tp_cut* cut, tp_cut* pre, const tp_camera* cam
 static int run_store_pgm(store_bench* b, store_result* c, const char* progress)
 {
     int frames = b->segments * b->per_segment;
-    char msg[600];
-    tp_pgm_clipmap* clip = tp_pgm_clipmap_create(b->sc.store, c->pgm_window, msg, sizeof msg);
+    tp_error err = {{0}};
+    tp_pgm_clipmap* clip = tp_pgm_clipmap_create(b->sc.store, c->pgm_window, &err);
     tp_pgm_renderer* r =
-        clip ? tp_pgm_renderer_create_clipmap(clip, c->pgm_cols, c->pgm_rows, msg, sizeof msg)
-             : NULL;
+        clip ? tp_pgm_renderer_create_clipmap(clip, c->pgm_cols, c->pgm_rows, &err) : NULL;
     if (!r) {
-        tp_cli_error("%s: %s", b->o->dem, msg);
+        tp_cli_error("%s: %s", b->o->dem, err.message);
         tp_pgm_clipmap_destroy(clip);
         return TP_EXIT_FAILURE;
     }
@@ -246,13 +245,13 @@ static int run_store_pgm(store_bench* b, store_result* c, const char* progress)
                 tp_camera mc = cam; /* the viewport the frame was drawn at */
                 mc.viewport_w_px = b->o->vs.w;
                 mc.viewport_h_px = b->o->vs.h;
-                tp_status ms = tp_pgm_clipmap_measure(clip, &f, &mc, PGM_MEASURE_MAX_POSTS, &e,
-                                                      msg, sizeof msg);
+                tp_status ms =
+                    tp_pgm_clipmap_measure(clip, &f, &mc, PGM_MEASURE_MAX_POSTS, &e, &err);
                 if (ms == TP_ERR_INVALID_ARG) { /* a region too large to visit: not measured */
                     c->pgm_unmeasured++;
                 } else if (ms != TP_OK) {
                     tp_bench_progress_end();
-                    tp_cli_error("%s: frame %d: %s", progress, k + 1, msg);
+                    tp_cli_error("%s: frame %d: %s", progress, k + 1, err.message);
                     tp_pgm_renderer_destroy(r);
                     tp_pgm_clipmap_destroy(clip);
                     return TP_EXIT_FAILURE;
@@ -317,16 +316,15 @@ static int open_draw(store_bench* b, const store_result* c, int first, store_dra
                               .min_height_m = b->sc.tree_info.min_height_m,
                               .max_height_m = b->sc.tree_info.max_height_m};
     memcpy(rd.geotransform, b->sc.tree_info.geotransform, sizeof rd.geotransform);
-    char msg[512];
+    tp_error err = {{0}};
     double t_setup = tp_clock_ms();
-    d->r = tp_renderer_create_desc(&rd, msg, sizeof msg);
+    d->r = tp_renderer_create_desc(&rd, &err);
     if (first)
         b->renderer_ms = tp_clock_ms() - t_setup;
     if (!d->r) {
-        tp_cli_error("%s", msg);
+        tp_cli_error("%s", err.message);
         return TP_EXIT_FAILURE;
     }
-    tp_error err;
     if (tp_cut_create(b->sc.tree, &d->cut, &err) != TP_OK ||
         tp_cut_create(b->sc.tree, &d->pre, &err) != TP_OK) {
         tp_cli_error("%s", err.message);
@@ -565,9 +563,9 @@ int tp_bench_store(const bench_options* o)
     b.segments = o->segments < o->frames ? o->segments : o->frames;
     b.per_segment = o->frames / b.segments;
     b.step_m = o->speed_mps / TP_BENCH_FRAME_HZ;
-    char msg[512];
-    if (!tp_gl_context_create_headless(o->vs.w, o->vs.h, &b.ctx, msg, sizeof msg)) {
-        tp_cli_error("%s", msg);
+    tp_error err = {{0}};
+    if (!tp_gl_context_create_headless(o->vs.w, o->vs.h, &b.ctx, &err)) {
+        tp_cli_error("%s", err.message);
         free(b.leaf);
         tp_store_scene_close(&b.sc);
         return TP_EXIT_FAILURE;

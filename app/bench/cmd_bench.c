@@ -122,14 +122,13 @@ static int run_config(const bench_run* b, config_result* c, const char* progress
         }
         return code;
     }
-    char msg[512];
+    tp_error err = {{0}};
     int frames = b->frames;
     c->rows = calloc((size_t)frames, sizeof *c->rows);
-    tp_renderer* r = tp_renderer_create(b->sc->terrain, msg, sizeof msg);
+    tp_renderer* r = tp_renderer_create(b->sc->terrain, &err);
     tp_selection* sel = NULL;
-    tp_error err;
     if (!c->rows || !r || tp_selection_create(b->sc->terrain, &sel, &err) != TP_OK) {
-        tp_cli_error("%s", r ? "out of memory" : msg);
+        tp_cli_error("%s", r ? "out of memory" : err.message);
         tp_renderer_destroy(r);
         return TP_EXIT_FAILURE;
     }
@@ -305,9 +304,9 @@ int tp_cli_bench(int argc, char** argv)
     }
     if (!cams && !b.fixed && o.speed_mps > 0)
         b.lead_da = o.speed_mps / TP_BENCH_FRAME_HZ / tp_bench_path_length(&sc, &o);
-    char msg[512];
-    if (!tp_gl_context_create_headless(o.vs.w, o.vs.h, &b.ctx, msg, sizeof msg)) {
-        tp_cli_error("%s", msg);
+    tp_error err = {{0}};
+    if (!tp_gl_context_create_headless(o.vs.w, o.vs.h, &b.ctx, &err)) {
+        tp_cli_error("%s", err.message);
         free(cams);
         tp_scene_free(&sc);
         return TP_EXIT_FAILURE;

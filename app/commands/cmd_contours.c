@@ -158,19 +158,20 @@ static int choose_window(const contours_cli* o, tp_ground* g, const tp_position_
         double e0, n0, e1, n1;
         if (o->around) {
             double fx, fy, fh, e, n;
-            char lmsg[1024], hint[256] = "";
+            char hint[256] = "";
+            tp_error lerr = {{0}};
             tp_position pos;
             if (!tp_planner_choose("contours", o->src.path, g, around, o->around, &pos)) {
                 return 0;
             }
-            if (tp_ground_locate(g, &pos, o->around, &fx, &fy, &fh, lmsg, sizeof lmsg)) {
+            if (tp_ground_locate(g, &pos, o->around, &fx, &fy, &fh, &lerr)) {
                 e = gt[0] + (fx + 0.5) * gt[1], n = gt[3] + (fy + 0.5) * gt[5];
-            } else if (!strstr(lmsg, "is in a void") ||
-                       tp_georef_geo_to_proj(sc->georef, pos.lat_deg, pos.lon_deg, &e, &n,
-                                             &err) != TP_OK) {
+            } else if (!strstr(lerr.message, "is in a void") ||
+                       tp_georef_geo_to_proj(sc->georef, pos.lat_deg, pos.lon_deg, &e, &n, &err) !=
+                           TP_OK) {
                 /* a centre in a void is fine: the lines around it are still wanted */
                 tp_planner_swap_hint(g, &pos, hint, sizeof hint);
-                tp_cli_error("%s: %s%s", o->src.path, lmsg, hint);
+                tp_cli_error("%s: %s%s", o->src.path, lerr.message, hint);
                 return 0;
             }
             e0 = e - o->radius_m, e1 = e + o->radius_m, n0 = n - o->radius_m, n1 = n + o->radius_m;

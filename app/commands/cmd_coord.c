@@ -150,12 +150,13 @@ static int parse_options(int argc, char** argv, coord_options* o)
 static int convert_line(const coord_options* o, char* line, size_t len, long line_no)
 {
     char text[TP_COORD_TEXT_SIZE];
-    int ok = tp_coord_line_convert(&o->req, line, len, text, sizeof text);
+    tp_error err = {{0}};
+    int ok = tp_coord_line_convert(&o->req, line, len, text, sizeof text, &err);
     if (ok) {
         printf("%s\n", text);
     } else {
-        printf("ERROR: %s\n", text);
-        tp_cli_error("line %ld: %s", line_no, text);
+        printf("ERROR: %s\n", err.message);
+        tp_cli_error("line %ld: %s", line_no, err.message);
     }
     return ok;
 }

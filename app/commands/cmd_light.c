@@ -178,9 +178,9 @@ int tp_cli_light(int argc, char** argv)
     if (o.day)
         return tp_light_day_run(&o);
     tp_sun_time when;
-    char why[160];
-    if (!tp_sun_time_parse(o.date, o.time, &when, why, sizeof why)) {
-        tp_cli_error("--date %s --time %s: %s", o.date, o.time, why);
+    tp_error why = {{0}};
+    if (!tp_sun_time_parse(o.date, o.time, &when, &why)) {
+        tp_cli_error("--date %s --time %s: %s", o.date, o.time, why.message);
         return TP_EXIT_USAGE;
     }
     tp_position_readings at_pos;

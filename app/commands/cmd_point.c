@@ -124,7 +124,8 @@ int tp_cli_point(int argc, char** argv)
     int code = parse_options(argc, argv, &o);
     if (code >= 0)
         return code;
-    char text[1024], msg[TP_POSITION_MSG_SIZE];
+    char text[1024];
+    tp_error err = {{0}};
     if (!tp_position_join(o.pos_args, o.pos_count, text, sizeof text))
         return tp_cli_usage("point", "the position is too long");
     tp_position_readings readings;
@@ -141,10 +142,9 @@ int tp_cli_point(int argc, char** argv)
     char hint[256];
     if (!tp_planner_choose("point", o.src.path, g, &readings, text, &pos)) {
         code = TP_EXIT_FAILURE;
-    } else if (!tp_point_readout_at_position(g, o.src.path, &pos, text, o.precision, &r, msg,
-                                             sizeof msg)) {
+    } else if (!tp_point_readout_at_position(g, o.src.path, &pos, text, o.precision, &r, &err)) {
         tp_planner_swap_hint(g, &pos, hint, sizeof hint);
-        tp_cli_error("%s: %s%s", o.src.path, msg, hint);
+        tp_cli_error("%s: %s%s", o.src.path, err.message, hint);
         code = TP_EXIT_FAILURE;
     } else {
         const tp_planner_outputs out = {.json = o.json, .write_text = write_text,

@@ -306,9 +306,9 @@ int tp_light_day_run(const tp_light_cli* o)
 {
     const double t_start = tp_clock_s();
     int year, month, mday;
-    char why[160];
-    if (!tp_sun_date_parse(o->date, &year, &month, &mday, why, sizeof why)) {
-        tp_cli_error("--date %s: %s", o->date, why);
+    tp_error why = {{0}};
+    if (!tp_sun_date_parse(o->date, &year, &month, &mday, &why)) {
+        tp_cli_error("--date %s: %s", o->date, why.message);
         return TP_EXIT_USAGE;
     }
     tp_error err = {{0}};

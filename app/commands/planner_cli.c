@@ -126,13 +126,14 @@ int tp_planner_position(const char* cmd, const char* what, const char* text,
                         tp_position_readings* pos)
 {
     (void)cmd; /* messages name the command main() dispatched to (tp_cli_error) */
-    char msg[TP_POSITION_MSG_SIZE], hint[200] = "";
-    if (tp_position_parse_readings(text, strlen(text), 0, pos, msg, sizeof msg))
+    char hint[200] = "";
+    tp_error err = {{0}};
+    if (tp_position_parse_readings(text, strlen(text), 0, pos, &err))
         return 1;
     char swapped[128];
     if (tp_position_swapped(text, swapped, sizeof swapped)) /* "139.7 35.6" */
         snprintf(hint, sizeof hint, "; " LATITUDE_FIRST ": '%s'?", swapped);
-    tp_cli_error("%s '%s': %s%s", what, text, msg, hint);
+    tp_cli_error("%s '%s': %s%s", what, text, err.message, hint);
     return 0;
 }
 
@@ -208,14 +209,15 @@ int tp_planner_locate(const char* cmd, const char* path, tp_ground* g,
                       const tp_position_readings* pos, const char* input, double* x, double* y,
                       double* height_m)
 {
-    char msg[1024], hint[256];
+    char hint[256];
+    tp_error err = {{0}};
     tp_position p;
     if (!tp_planner_choose(cmd, path, g, pos, input, &p))
         return 0;
-    if (tp_ground_locate(g, &p, input, x, y, height_m, msg, sizeof msg))
+    if (tp_ground_locate(g, &p, input, x, y, height_m, &err))
         return 1;
     tp_planner_swap_hint(g, &p, hint, sizeof hint);
-    tp_cli_error("%s: %s%s", path, msg, hint);
+    tp_cli_error("%s: %s%s", path, err.message, hint);
     return 0;
 }
 

@@ -92,14 +92,14 @@ void tp_clipmap_destroy(tp_clipmap* m)
 }
 
 tp_clipmap* tp_clipmap_create(const tp_block_source* src, const double gt[6],
-                              const tp_clipmap_options* o, char* msg, size_t cap)
+                              const tp_clipmap_options* o, tp_error* err)
 {
     tp_clipmap_options d = {0};
     if (!o)
         o = &d;
     tp_clipmap* m = calloc(1, sizeof *m);
     if (!m) {
-        snprintf(msg, cap, "out of memory");
+        tp_error_set(err, TP_ERR_OUT_OF_MEMORY, "out of memory");
         return NULL;
     }
     m->src = *src;
@@ -121,7 +121,7 @@ tp_clipmap* tp_clipmap_create(const tp_block_source* src, const double gt[6],
     }
     for (int l = 0; l < m->levels; l++)
         if (!m->lv[l].tag || !m->zeros) {
-            snprintf(msg, cap, "out of memory");
+            tp_error_set(err, TP_ERR_OUT_OF_MEMORY, "out of memory");
             tp_clipmap_destroy(m);
             return NULL;
         }
@@ -129,8 +129,10 @@ tp_clipmap* tp_clipmap_create(const tp_block_source* src, const double gt[6],
     glGetIntegerv(GL_MAX_ARRAY_TEXTURE_LAYERS, &layers);
     glGetIntegerv(GL_MAX_TEXTURE_SIZE, &max_size);
     if (layers < m->levels || max_size < m->size) {
-        snprintf(msg, cap, "the GPU holds %d texture layers of %d texels at most; the clipmap needs %d of %d",
-                 layers, max_size, m->levels, m->size);
+        tp_error_set(
+            err, TP_ERR_BACKEND,
+            "the GPU holds %d texture layers of %d texels at most; the clipmap needs %d of %d",
+            layers, max_size, m->levels, m->size);
         tp_clipmap_destroy(m);
         return NULL;
     }
@@ -146,13 +148,14 @@ tp_clipmap* tp_clipmap_create(const tp_block_source* src, const double gt[6],
     glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_WRAP_T, GL_REPEAT);
     glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MAX_LEVEL, 0);
     if (glGetError() != GL_NO_ERROR) {
-        snprintf(msg, cap, "the GPU cannot hold the clipmap (%d layers of %dx%d RGBA)", m->levels,
-                 m->size, m->size);
+        tp_error_set(err, TP_ERR_BACKEND,
+                     "the GPU cannot hold the clipmap (%d layers of %dx%d RGBA)", m->levels,
+                     m->size, m->size);
         tp_clipmap_destroy(m);
         return NULL;
     }
     m->cache = tp_imagery_cache_create(src, o->cache_bytes ? o->cache_bytes : (size_t)64 << 20,
-                                       o->no_loader, msg, cap);
+                                       o->no_loader, err);
     if (!m->cache) {
         tp_clipmap_destroy(m);
         return NULL;

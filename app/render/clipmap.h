@@ -48,10 +48,10 @@ typedef struct tp_clipmap_stats {
 
 /* Creates the texture array (a current GL context is needed) and loads the coarsest levels
  * that a window holds whole, synchronously, so that the first frame has imagery everywhere.
- * gt: the geotransform of level 0's texels (tp_imagery_info.geotransform). NULL and a message
- * on failure (the GPU's array layers or memory, a read of those first blocks). */
+ * gt: the geotransform of level 0's texels (tp_imagery_info.geotransform). NULL with a message
+ * in err on failure (the GPU's array layers or memory, a read of those first blocks). */
 tp_clipmap* tp_clipmap_create(const tp_block_source* src, const double gt[6],
-                              const tp_clipmap_options* o, char* msg, size_t cap);
+                              const tp_clipmap_options* o, tp_error* err);
 void tp_clipmap_destroy(tp_clipmap* m); /* accepts NULL */
 
 /* Once per frame before drawing: moves the windows for cam, uploads what is ready (within the

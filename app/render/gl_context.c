@@ -40,11 +40,11 @@ static void keep_frame_memory(void)
 #endif
 }
 
-int tp_gl_context_create_headless(int w, int h, tp_gl_context** out, char* msg, size_t msg_size)
+int tp_gl_context_create_headless(int w, int h, tp_gl_context** out, tp_error* err)
 {
     tp_gl_context* c = calloc(1, sizeof *c);
     if (!c) {
-        snprintf(msg, msg_size, "out of memory");
+        tp_error_set(err, TP_ERR_OUT_OF_MEMORY, "out of memory");
         return 0;
     }
     c->w = w;
@@ -59,7 +59,8 @@ int tp_gl_context_create_headless(int w, int h, tp_gl_context** out, char* msg, 
                                       EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT, EGL_NONE};
     if (c->dpy == EGL_NO_DISPLAY || !eglInitialize(c->dpy, &major, &minor) ||
         !eglBindAPI(EGL_OPENGL_API)) {
-        snprintf(msg, msg_size, "no EGL surfaceless display (is Mesa's libegl-mesa0 installed?)");
+        tp_error_set(err, TP_ERR_BACKEND,
+                     "no EGL surfaceless display (is Mesa's libegl-mesa0 installed?)");
         free(c);
         return 0;
     }
@@ -67,8 +68,8 @@ int tp_gl_context_create_headless(int w, int h, tp_gl_context** out, char* msg, 
     c->ctx = eglCreateContext(c->dpy, count ? cfg : EGL_NO_CONFIG_KHR, EGL_NO_CONTEXT, ctx_attr);
     if (c->ctx == EGL_NO_CONTEXT ||
         !eglMakeCurrent(c->dpy, EGL_NO_SURFACE, EGL_NO_SURFACE, c->ctx)) {
-        snprintf(msg, msg_size, "no OpenGL 3.3 core context through EGL (error 0x%x)",
-                 (unsigned)eglGetError());
+        tp_error_set(err, TP_ERR_BACKEND, "no OpenGL 3.3 core context through EGL (error 0x%x)",
+                     (unsigned)eglGetError());
         if (c->ctx != EGL_NO_CONTEXT)
             eglDestroyContext(c->dpy, c->ctx);
         eglTerminate(c->dpy);
@@ -87,7 +88,7 @@ int tp_gl_context_create_headless(int w, int h, tp_gl_context** out, char* msg, 
     glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT24, w, h);
     glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, c->depth);
     if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) {
-        snprintf(msg, msg_size, "offscreen framebuffer %dx%d is incomplete", w, h);
+        tp_error_set(err, TP_ERR_BACKEND, "offscreen framebuffer %dx%d is incomplete", w, h);
         tp_gl_context_destroy(c);
         return 0;
     }
@@ -95,14 +96,13 @@ int tp_gl_context_create_headless(int w, int h, tp_gl_context** out, char* msg, 
     return 1;
 }
 
-int tp_gl_context_create_window(int w, int h, const char* title, tp_gl_context** out, char* msg,
-                                size_t msg_size)
+int tp_gl_context_create_window(int w, int h, const char* title, tp_gl_context** out, tp_error* err)
 {
     if (!glfwInit()) {
         const char* why = NULL;
         glfwGetError(&why);
-        snprintf(msg, msg_size, "no display to open a window on (%s); use --headless",
-                 why ? why : "glfwInit failed");
+        tp_error_set(err, TP_ERR_BACKEND, "no display to open a window on (%s); use --headless",
+                     why ? why : "glfwInit failed");
         return 0;
     }
     glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, 3);
@@ -114,8 +114,8 @@ int tp_gl_context_create_window(int w, int h, const char* title, tp_gl_context**
     if (!win) {
         const char* why = NULL;
         glfwGetError(&why);
-        snprintf(msg, msg_size, "cannot open a %dx%d OpenGL 3.3 window (%s)", w, h,
-                 why ? why : "unknown reason");
+        tp_error_set(err, TP_ERR_BACKEND, "cannot open a %dx%d OpenGL 3.3 window (%s)", w, h,
+                     why ? why : "unknown reason");
         glfwTerminate();
         return 0;
     }
@@ -126,7 +126,7 @@ int tp_gl_context_create_window(int w, int h, const char* title, tp_gl_context**
     if (!c) {
         glfwDestroyWindow(win);
         glfwTerminate();
-        snprintf(msg, msg_size, "out of memory");
+        tp_error_set(err, TP_ERR_OUT_OF_MEMORY, "out of memory");
         return 0;
     }
     c->win = win;
@@ -194,7 +194,7 @@ void tp_gl_context_read_rgba(tp_gl_context* c, uint8_t* rgba)
     free(tmp);
 }
 
-static GLuint compile(GLenum type, const char* src, char* msg, size_t msg_size)
+static GLuint compile(GLenum type, const char* src, tp_error* err)
 {
     GLuint s = glCreateShader(type);
     glShaderSource(s, 1, &src, NULL);
@@ -204,18 +204,17 @@ static GLuint compile(GLenum type, const char* src, char* msg, size_t msg_size)
     if (!ok) {
         char log[1024];
         glGetShaderInfoLog(s, sizeof log, NULL, log);
-        snprintf(msg, msg_size, "shader does not compile: %s", log);
+        tp_error_set(err, TP_ERR_BACKEND, "shader does not compile: %s", log);
         glDeleteShader(s);
         return 0;
     }
     return s;
 }
 
-unsigned int tp_gl_program(const char* vertex_src, const char* fragment_src, char* msg,
-                           size_t msg_size)
+unsigned int tp_gl_program(const char* vertex_src, const char* fragment_src, tp_error* err)
 {
-    GLuint vs = compile(GL_VERTEX_SHADER, vertex_src, msg, msg_size);
-    GLuint fs = vs ? compile(GL_FRAGMENT_SHADER, fragment_src, msg, msg_size) : 0;
+    GLuint vs = compile(GL_VERTEX_SHADER, vertex_src, err);
+    GLuint fs = vs ? compile(GL_FRAGMENT_SHADER, fragment_src, err) : 0;
     if (!fs) {
         glDeleteShader(vs);
         return 0;
@@ -229,7 +228,7 @@ unsigned int tp_gl_program(const char* vertex_src, const char* fragment_src, cha
     GLint ok = 0;
     glGetProgramiv(prog, GL_LINK_STATUS, &ok);
     if (!ok) {
-        snprintf(msg, msg_size, "shaders do not link");
+        tp_error_set(err, TP_ERR_BACKEND, "shaders do not link");
         glDeleteProgram(prog);
         return 0;
     }

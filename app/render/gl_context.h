@@ -6,6 +6,8 @@
 #ifndef TP_APP_GL_CONTEXT_H
 #define TP_APP_GL_CONTEXT_H
 
+#include "tp_core.h"
+
 #include <stddef.h>
 #include <stdint.h>
 
@@ -14,11 +16,11 @@ typedef struct tp_gl_context tp_gl_context;
 /* Both constructors also fix glibc's malloc thresholds for the process (M_MMAP_THRESHOLD 32 MB,
  * M_TRIM_THRESHOLD 64 MB): a software GL driver frees and mallocs its whole binned frame every
  * frame, which glibc would otherwise return to the system and fault in again (gl_context.c). */
-/* Offscreen w x h context; no multisampling. Returns 0 and writes msg on failure. */
-int tp_gl_context_create_headless(int w, int h, tp_gl_context** out, char* msg, size_t msg_size);
-/* A window with a 3.3 core context. Returns 0 and writes msg (e.g. no display) on failure. */
-int tp_gl_context_create_window(int w, int h, const char* title, tp_gl_context** out, char* msg,
-                                size_t msg_size);
+/* Offscreen w x h context; no multisampling. Returns 0 with err on failure. */
+int tp_gl_context_create_headless(int w, int h, tp_gl_context** out, tp_error* err);
+/* A window with a 3.3 core context. Returns 0 with err (e.g. no display) on failure. */
+int tp_gl_context_create_window(int w, int h, const char* title, tp_gl_context** out,
+                                tp_error* err);
 void tp_gl_context_destroy(tp_gl_context* c);
 
 /* Binds the frame's target (the FBO offscreen) and sets the viewport to the current size. */
@@ -29,9 +31,8 @@ void tp_gl_context_size(const tp_gl_context* c, int* w, int* h);
 /* Reads the last frame as RGBA8, top row first, into w * h * 4 bytes. */
 void tp_gl_context_read_rgba(tp_gl_context* c, uint8_t* rgba);
 /* Compiles and links a vertex + fragment shader program in the current context. Returns the
- * program name, or 0 with the compiler's log in msg. */
-unsigned int tp_gl_program(const char* vertex_src, const char* fragment_src, char* msg,
-                           size_t msg_size);
+ * program name, or 0 with the compiler's log in err. */
+unsigned int tp_gl_program(const char* vertex_src, const char* fragment_src, tp_error* err);
 
 /* The GLFWwindow* of a window context, NULL offscreen. */
 void* tp_gl_context_window(const tp_gl_context* c);

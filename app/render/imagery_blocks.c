@@ -216,19 +216,19 @@ void tp_imagery_blocks_destroy(tp_imagery_blocks* b)
 
 tp_imagery_blocks* tp_imagery_blocks_create(const tp_block_source* src, int texel_shift,
                                             const double gt[6], const tp_tree_geometry* g,
-                                            const tp_imagery_blocks_options* o, char* msg,
-                                            size_t cap)
+                                            const tp_imagery_blocks_options* o, tp_error* err)
 {
     tp_imagery_blocks_options d = {0};
     if (!o)
         o = &d;
     if (src->block != L) {
-        snprintf(msg, cap, "blocks of %d texels; the blocks mode takes %d", src->block, L);
+        tp_error_set(err, TP_ERR_INVALID_ARG, "blocks of %d texels; the blocks mode takes %d",
+                     src->block, L);
         return NULL;
     }
     tp_imagery_blocks* b = calloc(1, sizeof *b);
     if (!b) {
-        snprintf(msg, cap, "out of memory");
+        tp_error_set(err, TP_ERR_OUT_OF_MEMORY, "out of memory");
         return NULL;
     }
     b->src = *src;
@@ -245,8 +245,10 @@ tp_imagery_blocks* tp_imagery_blocks_create(const tp_block_source* src, int texe
     if (k > (size_t)max_layers)
         k = (size_t)max_layers;
     if (k < 8) {
-        snprintf(msg, cap, "a GPU budget of %zu bytes holds %zu layers of %dx%d RGBA (8 at least; "
-                 "the GPU holds %d)", budget, budget / layer_bytes, L, L, max_layers);
+        tp_error_set(err, TP_ERR_BACKEND,
+                     "a GPU budget of %zu bytes holds %zu layers of %dx%d RGBA (8 at least; "
+                     "the GPU holds %d)",
+                     budget, budget / layer_bytes, L, L, max_layers);
         free(b);
         return NULL;
     }
@@ -258,7 +260,7 @@ tp_imagery_blocks* tp_imagery_blocks_create(const tp_block_source* src, int texe
     b->bucket = malloc(sizeof *b->bucket << b->bits);
     b->stage = malloc(layer_bytes);
     if (!b->li || !b->bucket || !b->stage) {
-        snprintf(msg, cap, "out of memory");
+        tp_error_set(err, TP_ERR_OUT_OF_MEMORY, "out of memory");
         tp_imagery_blocks_destroy(b);
         return NULL;
     }
@@ -277,13 +279,13 @@ tp_imagery_blocks* tp_imagery_blocks_create(const tp_block_source* src, int texe
     glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
     glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MAX_LEVEL, 0);
     if (glGetError() != GL_NO_ERROR) {
-        snprintf(msg, cap, "the GPU cannot hold %d layers of %dx%d RGBA (%.0f MB)", b->layers, L, L,
-                 b->layers * (double)layer_bytes / 1e6);
+        tp_error_set(err, TP_ERR_BACKEND, "the GPU cannot hold %d layers of %dx%d RGBA (%.0f MB)",
+                     b->layers, L, L, b->layers * (double)layer_bytes / 1e6);
         tp_imagery_blocks_destroy(b);
         return NULL;
     }
     b->cache = tp_imagery_cache_create(src, o->cache_bytes ? o->cache_bytes : (size_t)64 << 20,
-                                       o->no_loader, msg, cap);
+                                       o->no_loader, err);
     if (!b->cache) {
         tp_imagery_blocks_destroy(b);
         return NULL;
@@ -293,7 +295,7 @@ tp_imagery_blocks* tp_imagery_blocks_create(const tp_block_source* src, int texe
     glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
     b->frame = 1;
     if (!assemble(b, root, 1)) {
-        snprintf(msg, cap, "cannot read the coarsest imagery block");
+        tp_error_set(err, TP_ERR_IO, "cannot read the coarsest imagery block");
         tp_imagery_blocks_destroy(b);
         return NULL;
     }

@@ -58,12 +58,11 @@ typedef struct tp_blocks_assignment {
 /* Creates the texture array (a current GL context is needed) and reads and uploads the
  * coarsest level's window synchronously. src: the pyramid's blocks; texel_shift: level-0
  * texels per grid post = 2^texel_shift; gt: level 0's geotransform (tp_imagery_info; for the
- * RAM pool's garbage collection by distance); g: the tree drawn (copied). NULL and a message
- * on failure (the GPU's layers or memory, the read of the coarsest block). */
+ * RAM pool's garbage collection by distance); g: the tree drawn (copied). NULL with a message
+ * in err on failure (the GPU's layers or memory, the read of the coarsest block). */
 tp_imagery_blocks* tp_imagery_blocks_create(const tp_block_source* src, int texel_shift,
                                             const double gt[6], const tp_tree_geometry* g,
-                                            const tp_imagery_blocks_options* o, char* msg,
-                                            size_t cap);
+                                            const tp_imagery_blocks_options* o, tp_error* err);
 void tp_imagery_blocks_destroy(tp_imagery_blocks* b); /* accepts NULL */
 
 /* Once per frame before drawing the cut: assigns each drawn node (tp_cut_nodes order) its

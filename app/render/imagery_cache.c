@@ -92,9 +92,9 @@ static void read_into(tp_imagery_cache* c, int i, tp_block_key k)
 {
     c->in_flight++;
     pthread_mutex_unlock(&c->mu);
-    char msg[512] = "";
+    tp_error err = {{0}};
     uint8_t* px = c->pool + (size_t)i * c->block_bytes;
-    int ok = c->src.read(c->src.user, k, px, msg, sizeof msg);
+    int ok = c->src.read(c->src.user, k, px, &err);
     if (!ok)
         memset(px, 0, c->block_bytes); /* a damaged block shows as no imagery */
     pthread_mutex_lock(&c->mu);
@@ -104,7 +104,7 @@ static void read_into(tp_imagery_cache* c, int i, tp_block_key k)
     if (!ok) {
         c->failed++;
         if (!c->failure_pending) {
-            snprintf(c->failure, sizeof c->failure, "%s", msg);
+            snprintf(c->failure, sizeof c->failure, "%s", err.message);
             c->failure_pending = 1;
         }
     }
@@ -137,11 +137,11 @@ static void* loader_main(void* arg)
 }
 
 tp_imagery_cache* tp_imagery_cache_create(const tp_block_source* src, size_t budget_bytes,
-                                          int no_loader, char* msg, size_t cap)
+                                          int no_loader, tp_error* err)
 {
     tp_imagery_cache* c = calloc(1, sizeof *c);
     if (!c) {
-        snprintf(msg, cap, "out of memory");
+        tp_error_set(err, TP_ERR_OUT_OF_MEMORY, "out of memory");
         return NULL;
     }
     c->src = *src;
@@ -156,8 +156,8 @@ tp_imagery_cache* tp_imagery_cache_create(const tp_block_source* src, size_t bud
     c->bucket = malloc(sizeof *c->bucket << c->bits);
     c->free_list = malloc((size_t)c->cap * sizeof *c->free_list);
     if (!c->pool || !c->e || !c->bucket || !c->free_list) {
-        snprintf(msg, cap, "out of memory for %d imagery blocks (%.0f MB)", c->cap,
-                 c->cap * (double)c->block_bytes / 1e6);
+        tp_error_set(err, TP_ERR_OUT_OF_MEMORY, "out of memory for %d imagery blocks (%.0f MB)",
+                     c->cap, c->cap * (double)c->block_bytes / 1e6);
         free(c->pool), free(c->e), free(c->bucket), free(c->free_list), free(c);
         return NULL;
     }
@@ -170,7 +170,7 @@ tp_imagery_cache* tp_imagery_cache_create(const tp_block_source* src, size_t bud
     pthread_cond_init(&c->done, NULL);
     if (!no_loader) {
         if (pthread_create(&c->thread, NULL, loader_main, c) != 0) {
-            snprintf(msg, cap, "cannot start the imagery loader thread");
+            tp_error_set(err, TP_ERR_BACKEND, "cannot start the imagery loader thread");
             tp_imagery_cache_destroy(c);
             return NULL;
         }

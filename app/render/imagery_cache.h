@@ -15,6 +15,8 @@
 #ifndef TP_APP_VIEW_IMAGERY_CACHE_H
 #define TP_APP_VIEW_IMAGERY_CACHE_H
 
+#include "tp_core.h"
+
 #include <stddef.h>
 #include <stdint.h>
 
@@ -31,10 +33,10 @@ typedef struct tp_block_source {
     int block;                                /* texels a side */
     int levels;
     int64_t width[TP_CLIP_MAX_LEVELS], height[TP_CLIP_MAX_LEVELS]; /* texels per level */
-    /* Reads block k into rgba (block * block * 4 bytes, top row first); 1, or 0 and a message.
-     * Called on the loader thread and on the caller's by tp_imagery_cache_load_now: must be
-     * thread-safe. */
-    int (*read)(void* user, tp_block_key k, uint8_t* rgba, char* msg, size_t cap);
+    /* Reads block k into rgba (block * block * 4 bytes, top row first); 1, or 0 with a message
+     * in err (which may be NULL). Called on the loader thread and on the caller's by
+     * tp_imagery_cache_load_now: must be thread-safe. */
+    int (*read)(void* user, tp_block_key k, uint8_t* rgba, tp_error* err);
     /* 1 when block k is wholly transparent (no read needed); NULL: never. */
     int (*is_empty)(void* user, tp_block_key k);
     void* user;
@@ -51,9 +53,9 @@ typedef struct tp_imagery_cache_stats {
 } tp_imagery_cache_stats;
 
 /* budget_bytes: the pool (at least 16 blocks); no_loader: tests, nothing is read in the
- * background (only tp_imagery_cache_load_now). NULL and a message on failure. */
+ * background (only tp_imagery_cache_load_now). NULL with a message in err on failure. */
 tp_imagery_cache* tp_imagery_cache_create(const tp_block_source* src, size_t budget_bytes,
-                                          int no_loader, char* msg, size_t cap);
+                                          int no_loader, tp_error* err);
 void tp_imagery_cache_destroy(tp_imagery_cache* c); /* stops the loader; accepts NULL */
 
 /* Replaces the loader's queue with keys (most urgent first); keys already in memory or being

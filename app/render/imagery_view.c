@@ -53,17 +53,16 @@ int tp_view_imagery_open(const char* path, const tp_store_scene* st, tp_imagery_
     const tp_tree_geometry* g = tp_tree_get_geometry(st->tree);
     tp_block_source src;
     tp_view_pyramid_source(vi->im, &src);
-    char msg[512];
+    tp_error err = {{0}};
     if (mode == TP_IMAGERY_BLOCKS) {
         tp_imagery_blocks_options bo = {.cache_bytes = o ? o->cache_bytes : 0,
                                         .no_loader = o ? o->no_loader : 0};
-        vi->blocks = tp_imagery_blocks_create(&src, in.texel_shift, in.geotransform, g, &bo, msg,
-                                              sizeof msg);
+        vi->blocks = tp_imagery_blocks_create(&src, in.texel_shift, in.geotransform, g, &bo, &err);
     } else {
-        vi->clip = tp_clipmap_create(&src, in.geotransform, o, msg, sizeof msg);
+        vi->clip = tp_clipmap_create(&src, in.geotransform, o, &err);
     }
     if (!vi->clip && !vi->blocks) {
-        tp_cli_error("%s: %s", path, msg);
+        tp_cli_error("%s: %s", path, err.message);
         tp_view_imagery_close(vi);
         return 0;
     }

@@ -23,22 +23,22 @@ int tp_view_light_beside(const char* store_path, char* out, size_t cap)
 }
 
 tp_view_light* tp_view_light_create(const tp_block_source* src, const double gt[6], double first_s,
-                                    double last_s, const tp_clipmap_options* o, char* msg,
-                                    size_t cap)
+                                    double last_s, const tp_clipmap_options* o, tp_error* err)
 {
     if (!(first_s < last_s)) {
-        snprintf(msg, cap, "the light map's day is empty (%.0f .. %.0f s)", first_s, last_s);
+        tp_error_set(err, TP_ERR_BAD_DATA, "the light map's day is empty (%.0f .. %.0f s)", first_s,
+                     last_s);
         return NULL;
     }
     tp_view_light* l = calloc(1, sizeof *l);
     if (!l) {
-        snprintf(msg, cap, "out of memory");
+        tp_error_set(err, TP_ERR_OUT_OF_MEMORY, "out of memory");
         return NULL;
     }
     l->first_s = first_s;
     l->last_s = last_s;
     l->cs.finest = -1;
-    l->clip = tp_clipmap_create(src, gt, o, msg, cap);
+    l->clip = tp_clipmap_create(src, gt, o, err);
     if (!l->clip) {
         free(l);
         return NULL;
@@ -56,16 +56,15 @@ int tp_view_light_open(const char* path, const tp_store_scene* st, const tp_clip
         return 0;
     tp_block_source src;
     tp_view_pyramid_source(im, &src);
-    char msg[512];
+    tp_error err = {{0}};
     tp_view_light* l = NULL;
     if (in.texel_shift != 0) /* the renderer samples a texel per post */
-        snprintf(msg, sizeof msg, "a light map has a texel per post (this one 2^%d)",
-                 in.texel_shift);
+        tp_error_set(&err, TP_ERR_BAD_DATA, "a light map has a texel per post (this one 2^%d)",
+                     in.texel_shift);
     else
-        l = tp_view_light_create(&src, in.geotransform, in.time_first_s, in.time_last_s, o, msg,
-                                 sizeof msg);
+        l = tp_view_light_create(&src, in.geotransform, in.time_first_s, in.time_last_s, o, &err);
     if (!l) {
-        tp_cli_error("%s: %s", path, msg);
+        tp_cli_error("%s: %s", path, err.message);
         tp_imagery_close(im);
         return 0;
     }

@@ -31,10 +31,10 @@ int tp_view_light_open(const char* path, const tp_store_scene* st, const tp_clip
 
 /* The same over any block source of light times (tests: texels from tp_light_times_build in
  * memory): gt the geotransform of level 0's texels (the store's grid: a texel per post), the
- * day first_s .. last_s (Unix seconds, first < last). NULL and a message on failure. */
+ * day first_s .. last_s (Unix seconds, first < last). NULL with a message in err on
+ * failure. */
 tp_view_light* tp_view_light_create(const tp_block_source* src, const double gt[6], double first_s,
-                                    double last_s, const tp_clipmap_options* o, char* msg,
-                                    size_t cap);
+                                    double last_s, const tp_clipmap_options* o, tp_error* err);
 void tp_view_light_close(tp_view_light* l); /* accepts NULL */
 
 /* The file's day (Unix seconds) and the number of sun positions it was made from (0 when not

@@ -101,17 +101,18 @@ static int height_range(tp_pgm_clipmap* c)
     return any;
 }
 
-tp_pgm_clipmap* tp_pgm_clipmap_create(const tp_store* store, int w, char* msg, size_t msg_size)
+tp_pgm_clipmap* tp_pgm_clipmap_create(const tp_store* store, int w, tp_error* err)
 {
     if (w == 0)
         w = TP_PGM_CLIP_DEFAULT_WINDOW;
     if (w < 16 || w > 8192 || (w & (w - 1))) {
-        snprintf(msg, msg_size, "PGM clipmap window %d: expected a power of two, 16 .. 8192", w);
+        tp_error_set(err, TP_ERR_INVALID_ARG,
+                     "PGM clipmap window %d: expected a power of two, 16 .. 8192", w);
         return NULL;
     }
     tp_pgm_clipmap* c = calloc(1, sizeof *c);
     if (!c) {
-        snprintf(msg, msg_size, "out of memory");
+        tp_error_set(err, TP_ERR_OUT_OF_MEMORY, "out of memory");
         return NULL;
     }
     c->store = store;
@@ -123,16 +124,18 @@ tp_pgm_clipmap* tp_pgm_clipmap_create(const tp_store* store, int w, char* msg, s
     make_shape(c);
     int need = tp_pgm_clip_min_window(c->g->src_width, c->g->src_height);
     if (w < need) { /* the coarsest window must hold its level whole (pgm_clip.h) */
-        snprintf(msg, msg_size,
-                 "PGM clipmap: the store's %d x %d posts keep %d x %d at the coarsest of its %d "
-                 "levels, more than a window of %d posts holds: --pgm-window %d or more",
-                 c->g->src_width, c->g->src_height, c->shape.width[c->shape.levels - 1],
-                 c->shape.height[c->shape.levels - 1], c->shape.levels, w, need);
+        tp_error_set(
+            err, TP_ERR_INVALID_ARG,
+            "PGM clipmap: the store's %d x %d posts keep %d x %d at the coarsest of its %d "
+            "levels, more than a window of %d posts holds: --pgm-window %d or more",
+            c->g->src_width, c->g->src_height, c->shape.width[c->shape.levels - 1],
+            c->shape.height[c->shape.levels - 1], c->shape.levels, w, need);
         free(c);
         return NULL;
     }
     if (!height_range(c)) {
-        snprintf(msg, msg_size, "PGM: the store has no drawn height (or memory ran out)");
+        tp_error_set(err, TP_ERR_BAD_DATA,
+                     "PGM: the store has no drawn height (or memory ran out)");
         free(c);
         return NULL;
     }
@@ -144,7 +147,7 @@ tp_pgm_clipmap* tp_pgm_clipmap_create(const tp_store* store, int w, char* msg, s
     c->raw = malloc(c->samples * sizeof *c->raw);
     c->cache = calloc(c->cache_count, sizeof *c->cache);
     if (!c->raw || !c->cache) {
-        snprintf(msg, msg_size, "out of memory");
+        tp_error_set(err, TP_ERR_OUT_OF_MEMORY, "out of memory");
         tp_pgm_clipmap_destroy(c);
         return NULL;
     }
@@ -154,10 +157,10 @@ tp_pgm_clipmap* tp_pgm_clipmap_create(const tp_store* store, int w, char* msg, s
     glGetIntegerv(GL_MAX_TEXTURE_SIZE, &max);
     glGetIntegerv(GL_MAX_ARRAY_TEXTURE_LAYERS, &layers);
     if (w > max || c->shape.levels > layers) {
-        snprintf(msg, msg_size,
-                 "PGM clipmap: %d levels of %d x %d texels; this GPU allows %d x %d and %d "
-                 "layers (a smaller window: --pgm-window)",
-                 c->shape.levels, w, w, (int)max, (int)max, (int)layers);
+        tp_error_set(err, TP_ERR_BACKEND,
+                     "PGM clipmap: %d levels of %d x %d texels; this GPU allows %d x %d and %d "
+                     "layers (a smaller window: --pgm-window)",
+                     c->shape.levels, w, w, (int)max, (int)max, (int)layers);
         tp_pgm_clipmap_destroy(c);
         return NULL;
     }
@@ -171,10 +174,10 @@ tp_pgm_clipmap* tp_pgm_clipmap_create(const tp_store* store, int w, char* msg, s
     glBindTexture(GL_TEXTURE_2D_ARRAY, 0);
     GLenum e = glGetError();
     if (e != GL_NO_ERROR) {
-        snprintf(msg, msg_size,
-                 "PGM clipmap: allocating %d layers of %d x %d R32F failed (GL "
-                 "error 0x%x)",
-                 c->shape.levels, w, w, (unsigned)e);
+        tp_error_set(err, TP_ERR_BACKEND,
+                     "PGM clipmap: allocating %d layers of %d x %d R32F failed (GL "
+                     "error 0x%x)",
+                     c->shape.levels, w, w, (unsigned)e);
         tp_pgm_clipmap_destroy(c);
         return NULL;
     }
@@ -489,23 +492,23 @@ static void* loader_main(void* arg)
     return NULL;
 }
 
-int tp_pgm_clipmap_set_async(tp_pgm_clipmap* c, char* msg, size_t msg_size)
+int tp_pgm_clipmap_set_async(tp_pgm_clipmap* c, tp_error* err)
 {
     if (c->async)
         return 1;
     if (pthread_mutex_init(&c->mu, NULL) != 0) {
-        snprintf(msg, msg_size, "PGM clipmap: cannot create a mutex");
+        tp_error_set(err, TP_ERR_BACKEND, "PGM clipmap: cannot create a mutex");
         return 0;
     }
     if (pthread_cond_init(&c->cv, NULL) != 0) {
         pthread_mutex_destroy(&c->mu);
-        snprintf(msg, msg_size, "PGM clipmap: cannot create a condition variable");
+        tp_error_set(err, TP_ERR_BACKEND, "PGM clipmap: cannot create a condition variable");
         return 0;
     }
     if (pthread_create(&c->thread, NULL, loader_main, c) != 0) {
         pthread_cond_destroy(&c->cv);
         pthread_mutex_destroy(&c->mu);
-        snprintf(msg, msg_size, "PGM clipmap: cannot start the loader thread");
+        tp_error_set(err, TP_ERR_BACKEND, "PGM clipmap: cannot start the loader thread");
         return 0;
     }
     c->async = 1;
@@ -524,7 +527,7 @@ int tp_pgm_clipmap_pending(const tp_pgm_clipmap* c)
 }
 
 int tp_pgm_clipmap_update(tp_pgm_clipmap* c, double x, double y, tp_pgm_clip_stats* stats,
-                          char* msg, size_t msg_size)
+                          tp_error* err)
 {
     tp_pgm_clip_stats st;
     memset(&st, 0, sizeof st);
@@ -566,11 +569,11 @@ int tp_pgm_clipmap_update(tp_pgm_clipmap* c, double x, double y, tp_pgm_clip_sta
     if (stats)
         *stats = st;
     if (oom) {
-        snprintf(msg, msg_size, "PGM clipmap: out of memory for the posts to load");
+        tp_error_set(err, TP_ERR_OUT_OF_MEMORY, "PGM clipmap: out of memory for the posts to load");
         return 0;
     }
     if (failed[0]) {
-        snprintf(msg, msg_size, "PGM clipmap: %s", failed);
+        tp_error_set(err, TP_ERR_IO, "PGM clipmap: %s", failed);
         return 0;
     }
     return 1;

@@ -42,12 +42,12 @@ typedef struct tp_pgm_clip_stats {
  * GL context: window w (a power of two, 16 .. 8192; 0: TP_PGM_CLIP_DEFAULT_WINDOW), the texture
  * array allocated, nothing filled yet (the first tp_pgm_clipmap_update fills every window, on
  * the render thread, through a buffer of 1 MiB: tp_pgm_clip_stats.buffer_posts).
- * NULL with a message in msg for a bad w, a window smaller than the coarsest level
+ * NULL with a message in err for a bad w, a window smaller than the coarsest level
  * (tp_pgm_clip_min_window: a side of more than (w - 1) 2^23 + 1 posts), a window larger
  * than GL_MAX_TEXTURE_SIZE, too many levels for GL_MAX_ARRAY_TEXTURE_LAYERS, a store without a
  * drawn height, out of memory, or a GL error allocating the texture array (errors left by
  * earlier calls are cleared first). */
-tp_pgm_clipmap* tp_pgm_clipmap_create(const tp_store* store, int w, char* msg, size_t msg_size);
+tp_pgm_clipmap* tp_pgm_clipmap_create(const tp_store* store, int w, tp_error* err);
 void tp_pgm_clipmap_destroy(tp_pgm_clipmap* c); /* accepts NULL */
 
 /* The pyramid's shape for tp_pgm_frame_setup and the shader: levels, width, height,
@@ -58,10 +58,10 @@ const tp_pgm_pyramid* tp_pgm_clipmap_shape(const tp_pgm_clipmap* c);
 /* Moves every level's window to centre on level-0 grid coordinates (x, y) (the eye's ground
  * position; any value: the windows stay on the terrain, tp_pgm_clip_origin) and reads and
  * uploads the posts they gain (async: uploads the last move read, starts the next). Returns 1, or 0
- * with a message naming the store and the node when a node cannot be read (its posts are then
- * TP_PGM_CLIP_VOID: not drawn, and the window counts as filled). stats may be NULL. */
+ * with a message in err naming the store and the node when a node cannot be read (its posts are
+ * then TP_PGM_CLIP_VOID: not drawn, and the window counts as filled). stats may be NULL. */
 int tp_pgm_clipmap_update(tp_pgm_clipmap* c, double x, double y, tp_pgm_clip_stats* stats,
-                          char* msg, size_t msg_size);
+                          tp_error* err);
 
 /* 1 once the windows hold their posts (a first fill done); 0 before, and after a first fill
  * that ran out of memory (draw nothing then: the texels are uninitialised). */
@@ -69,9 +69,9 @@ int tp_pgm_clipmap_filled(const tp_pgm_clipmap* c);
 
 /* Starts the loader thread: from now on an update uploads what the loader has read since the
  * last one and hands it the next move (the first fill is still done at once: there is nothing
- * to draw before it). 1, or 0 with a message when no thread can be made (the clipmap stays
+ * to draw before it). 1, or 0 with a message in err when no thread can be made (the clipmap stays
  * synchronous). */
-int tp_pgm_clipmap_set_async(tp_pgm_clipmap* c, char* msg, size_t msg_size);
+int tp_pgm_clipmap_set_async(tp_pgm_clipmap* c, tp_error* err);
 /* 1 while the loader has a move to read or to hand back (async only; else 0). */
 int tp_pgm_clipmap_pending(const tp_pgm_clipmap* c);
 
@@ -94,11 +94,11 @@ const tp_store* tp_pgm_clipmap_store(const tp_pgm_clipmap* c); /* the store it w
  * with its own cache of about 16 MiB of decoded nodes; memory besides: one band of the region
  * (its width x 2^n posts, 5 bytes each) and 25 bytes a grid vertex; time: every post of the
  * region (the whole store for a view reaching the horizon), so max_posts (0: no limit) bounds
- * it: a larger region is not measured. TP_OK and *out; else *out zeroed and a message in msg:
+ * it: a larger region is not measured. TP_OK and *out; else *out zeroed and a message in err:
  * TP_ERR_INVALID_ARG (the region holds more than max_posts posts; both counts said),
  * TP_ERR_IO (a node cannot be read; the store and node named), TP_ERR_OUT_OF_MEMORY. */
 tp_status tp_pgm_clipmap_measure(const tp_pgm_clipmap* c, const tp_pgm_frame* f,
                                  const tp_camera* main, size_t max_posts, tp_pgm_error* out,
-                                 char* msg, size_t msg_size);
+                                 tp_error* err);
 
 #endif

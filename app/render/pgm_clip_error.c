@@ -136,7 +136,7 @@ static int clip_posts(void* ctx, int x0, int y0, int x1, int y1, float* out)
 
 tp_status tp_pgm_clipmap_measure(const tp_pgm_clipmap* c, const tp_pgm_frame* f,
                                  const tp_camera* main, size_t max_posts, tp_pgm_error* out,
-                                 char* msg, size_t msg_size)
+                                 tp_error* err)
 {
     memset(out, 0, sizeof *out);
     tp_pgm_rect region;
@@ -145,10 +145,11 @@ tp_status tp_pgm_clipmap_measure(const tp_pgm_clipmap* c, const tp_pgm_frame* f,
                        ? (size_t)(region.x1 - region.x0) * (size_t)(region.y1 - region.y0)
                        : 0;
     if (max_posts && posts > max_posts) {
-        snprintf(msg, msg_size,
-                 "PGM error over a store: not measured, the view's region holds %zu posts (more "
-                 "than %zu)",
-                 posts, max_posts);
+        tp_error_set(
+            err, TP_ERR_INVALID_ARG,
+            "PGM error over a store: not measured, the view's region holds %zu posts (more "
+            "than %zu)",
+            posts, max_posts);
         return TP_ERR_INVALID_ARG;
     }
     clip_source s;
@@ -176,9 +177,9 @@ tp_status tp_pgm_clipmap_measure(const tp_pgm_clipmap* c, const tp_pgm_frame* f,
         st = tp_pgm_measure_error_source(f, s.shape, &src, &region, main, out);
     }
     if (st == TP_ERR_IO)
-        snprintf(msg, msg_size, "PGM error over a store: %s", s.failed);
+        tp_error_set(err, st, "PGM error over a store: %s", s.failed);
     else if (st != TP_OK)
-        snprintf(msg, msg_size, "PGM error over a store: out of memory");
+        tp_error_set(err, st, "PGM error over a store: out of memory");
     for (size_t k = 0; s.cache && k < s.cache_count; k++)
         free(s.cache[k].z);
     free(s.cache);

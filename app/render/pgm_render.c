@@ -254,18 +254,18 @@ static void pack_atlas(tp_pgm_renderer* r, int* aw, int* ah)
 }
 
 /* The program (TP_CLIP defined over a clipmap), its uniforms and the grid's index buffer; NULL
- * with msg on failure. */
+ * with err on failure. */
 static tp_pgm_renderer* make_grid(const tp_pgm_pyramid* p, tp_pgm_clipmap* clip, int cols, int rows,
-                                  char* msg, size_t msg_size)
+                                  tp_error* err)
 {
     if (cols < 2 || rows < 2 || p->levels < 1) {
-        snprintf(msg, msg_size, "persistent grid %dx%d: need at least 2x2 vertices and a pyramid",
-                 cols, rows);
+        tp_error_set(err, TP_ERR_INVALID_ARG,
+                     "persistent grid %dx%d: need at least 2x2 vertices and a pyramid", cols, rows);
         return NULL;
     }
     tp_pgm_renderer* r = calloc(1, sizeof *r);
     if (!r) {
-        snprintf(msg, msg_size, "out of memory");
+        tp_error_set(err, TP_ERR_OUT_OF_MEMORY, "out of memory");
         return NULL;
     }
     r->p = p;
@@ -285,10 +285,10 @@ static tp_pgm_renderer* make_grid(const tp_pgm_pyramid* p, tp_pgm_clipmap* clip,
         }
         memcpy(vs + at, vertex_head + vlen, head - vlen);
         memcpy(vs + at + head - vlen, vertex_main, sizeof vertex_main);
-        r->prog = tp_gl_program(vs, fragment_src, msg, msg_size);
+        r->prog = tp_gl_program(vs, fragment_src, err);
         free(vs);
     } else {
-        snprintf(msg, msg_size, "out of memory");
+        tp_error_set(err, TP_ERR_OUT_OF_MEMORY, "out of memory");
     }
     if (!r->prog) {
         free(r);
@@ -306,7 +306,7 @@ static tp_pgm_renderer* make_grid(const tp_pgm_pyramid* p, tp_pgm_clipmap* clip,
     r->index_count = 6 * cells;
     uint32_t* idx = malloc(r->index_count * sizeof *idx);
     if (!idx) {
-        snprintf(msg, msg_size, "out of memory");
+        tp_error_set(err, TP_ERR_OUT_OF_MEMORY, "out of memory");
         tp_pgm_renderer_destroy(r);
         return NULL;
     }
@@ -329,17 +329,17 @@ static tp_pgm_renderer* make_grid(const tp_pgm_pyramid* p, tp_pgm_clipmap* clip,
     return r;
 }
 
-tp_pgm_renderer* tp_pgm_renderer_create_clipmap(tp_pgm_clipmap* clip, int cols, int rows, char* msg,
-                                                size_t msg_size)
+tp_pgm_renderer* tp_pgm_renderer_create_clipmap(tp_pgm_clipmap* clip, int cols, int rows,
+                                                tp_error* err)
 {
-    tp_pgm_renderer* r = make_grid(tp_pgm_clipmap_shape(clip), clip, cols, rows, msg, msg_size);
+    tp_pgm_renderer* r = make_grid(tp_pgm_clipmap_shape(clip), clip, cols, rows, err);
     if (r)
         r->gpu_bytes += tp_pgm_clipmap_gpu_bytes(clip);
     return r;
 }
 
 tp_pgm_renderer* tp_pgm_renderer_create(const tp_pgm_pyramid* p, const uint8_t* valid, int cols,
-                                        int rows, char* msg, size_t msg_size)
+                                        int rows, tp_error* err)
 {
     int aw = 0, ah = 0;
     GLint max = 0;
@@ -348,14 +348,14 @@ tp_pgm_renderer* tp_pgm_renderer_create(const tp_pgm_pyramid* p, const uint8_t* 
     if (p->levels >= 1)
         pack_atlas(&probe, &aw, &ah);
     if (aw > max || ah > max) {
-        snprintf(msg, msg_size,
-                 "PGM: the elevation pyramid of a %dx%d grid needs a %dx%d texture atlas; this "
-                 "GPU's GL_MAX_TEXTURE_SIZE is %d (build a store of the DEM and view the store "
-                 "with --renderer pgm: its clipmaps fit any size)",
-                 p->width[0], p->height[0], aw, ah, (int)max);
+        tp_error_set(err, TP_ERR_BACKEND,
+                     "PGM: the elevation pyramid of a %dx%d grid needs a %dx%d texture atlas; this "
+                     "GPU's GL_MAX_TEXTURE_SIZE is %d (build a store of the DEM and view the store "
+                     "with --renderer pgm: its clipmaps fit any size)",
+                     p->width[0], p->height[0], aw, ah, (int)max);
         return NULL;
     }
-    tp_pgm_renderer* r = make_grid(p, NULL, cols, rows, msg, msg_size);
+    tp_pgm_renderer* r = make_grid(p, NULL, cols, rows, err);
     if (!r)
         return NULL;
     memcpy(r->off, probe.off, sizeof r->off);
@@ -377,7 +377,7 @@ tp_pgm_renderer* tp_pgm_renderer_create(const tp_pgm_pyramid* p, const uint8_t* 
         size_t n = (size_t)p->width[0] * (size_t)p->height[0];
         uint8_t* v255 = malloc(n);
         if (!v255) {
-            snprintf(msg, msg_size, "out of memory");
+            tp_error_set(err, TP_ERR_OUT_OF_MEMORY, "out of memory");
             tp_pgm_renderer_destroy(r);
             return NULL;
         }
@@ -397,10 +397,10 @@ tp_pgm_renderer* tp_pgm_renderer_create(const tp_pgm_pyramid* p, const uint8_t* 
     }
     GLenum e = glGetError();
     if (e != GL_NO_ERROR) {
-        snprintf(msg, msg_size,
-                 "PGM: uploading the %dx%d atlas and %zu indices failed (GL error "
-                 "0x%x)",
-                 aw, ah, r->index_count, (unsigned)e);
+        tp_error_set(err, TP_ERR_BACKEND,
+                     "PGM: uploading the %dx%d atlas and %zu indices failed (GL error "
+                     "0x%x)",
+                     aw, ah, r->index_count, (unsigned)e);
         tp_pgm_renderer_destroy(r);
         return NULL;
     }
@@ -430,17 +430,16 @@ void tp_pgm_renderer_grid(const tp_pgm_renderer* r, int* cols, int* rows)
     *rows = r->rows;
 }
 
-tp_status tp_pgm_renderer_measure(const tp_pgm_renderer* r, const tp_camera* cam,
-                                  size_t max_posts, tp_pgm_error* out, char* msg,
-                                  size_t msg_size)
+tp_status tp_pgm_renderer_measure(const tp_pgm_renderer* r, const tp_camera* cam, size_t max_posts,
+                                  tp_pgm_error* out, tp_error* err)
 {
     tp_pgm_frame f;
     tp_pgm_frame_setup(cam, r->cols, r->rows, r->p, &f);
     if (r->clip)
-        return tp_pgm_clipmap_measure(r->clip, &f, cam, max_posts, out, msg, msg_size);
+        return tp_pgm_clipmap_measure(r->clip, &f, cam, max_posts, out, err);
     tp_status st = tp_pgm_measure_error(&f, r->p, cam, out);
     if (st != TP_OK)
-        snprintf(msg, msg_size, "PGM error: out of memory");
+        tp_error_set(err, st, "PGM error: out of memory");
     return st;
 }
 
@@ -479,10 +478,9 @@ void tp_pgm_renderer_draw(tp_pgm_renderer* r, const tp_camera* cam, const tp_ren
     double eye_x = (eye[0] - gt[0]) / gt[1] - 0.5, eye_y = (eye[1] - gt[3]) / gt[5] - 0.5;
     if (r->clip) { /* the windows follow the eye before the shader reads them */
         tp_pgm_clip_stats cs;
-        char msg[600];
-        if (!tp_pgm_clipmap_update(r->clip, eye_x, eye_y, &cs, msg, sizeof msg) &&
-            !r->clip_error_told) {
-            tp_cli_error("%s (those posts are not drawn)", msg);
+        tp_error err = {{0}};
+        if (!tp_pgm_clipmap_update(r->clip, eye_x, eye_y, &cs, &err) && !r->clip_error_told) {
+            tp_cli_error("%s (those posts are not drawn)", err.message);
             r->clip_error_told = 1;
         }
         stats->fill_ms = cs.fill_ms;

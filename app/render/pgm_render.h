@@ -37,10 +37,10 @@ typedef struct tp_pgm_render_stats {
  * current GL context; cols, rows >= 2. valid (NULL: every post) is width[0] x height[0] bytes,
  * non-zero where level 0 has a height: a vertex whose level-0 cell touches a post without one
  * counts as off the terrain (its triangles are not drawn), as the patch renderer draws no
- * triangle with a nodata corner. NULL with a message in msg when the atlas exceeds
+ * triangle with a nodata corner. NULL with a message in err when the atlas exceeds
  * GL_MAX_TEXTURE_SIZE (naming both sizes), a shader fails or memory runs out. */
 tp_pgm_renderer* tp_pgm_renderer_create(const tp_pgm_pyramid* p, const uint8_t* valid, int cols,
-                                        int rows, char* msg, size_t msg_size);
+                                        int rows, tp_error* err);
 void tp_pgm_renderer_destroy(tp_pgm_renderer* r); /* accepts NULL */
 
 /* Clears and draws one frame for cam (its viewport replaced by the current GL viewport's
@@ -58,17 +58,16 @@ void tp_pgm_renderer_draw(tp_pgm_renderer* r, const tp_camera* cam, const tp_ren
  * from the first coarser level whose window holds it (so no vertex reads a stale texel). A
  * texel without a height (nodata) counts as off the terrain. Fails as tp_pgm_renderer_create. */
 typedef struct tp_pgm_clipmap tp_pgm_clipmap;
-tp_pgm_renderer* tp_pgm_renderer_create_clipmap(tp_pgm_clipmap* clip, int cols, int rows, char* msg,
-                                                size_t msg_size);
+tp_pgm_renderer* tp_pgm_renderer_create_clipmap(tp_pgm_clipmap* clip, int cols, int rows,
+                                                tp_error* err);
 
 /* The error of the surface drawn for cam (its own viewport) by the bench's definition:
  * tp_pgm_measure_error over the whole pyramid, or over a clipmap tp_pgm_clipmap_measure (the
  * windows as they stand: call it after the draw it measures, before the next; max_posts, 0 for
- * none, bounds the posts it may visit). TP_OK and *out; else *out zeroed and a message in msg
+ * none, bounds the posts it may visit). TP_OK and *out; else *out zeroed and a message in err
  * (out of memory; over a store, a node that cannot be read or a region over max_posts). */
-tp_status tp_pgm_renderer_measure(const tp_pgm_renderer* r, const tp_camera* cam,
-                                  size_t max_posts, tp_pgm_error* out, char* msg,
-                                  size_t msg_size);
+tp_status tp_pgm_renderer_measure(const tp_pgm_renderer* r, const tp_camera* cam, size_t max_posts,
+                                  tp_pgm_error* out, tp_error* err);
 
 /* The grid size. */
 void tp_pgm_renderer_grid(const tp_pgm_renderer* r, int* cols, int* rows);

@@ -20,13 +20,9 @@ int tp_view_pyramid_beside(const char* store_path, const char* ext, char* out, s
     return w > 0 && (size_t)w < cap && stat(out, &sb) == 0 && S_ISREG(sb.st_mode);
 }
 
-static int read_block(void* user, tp_block_key k, uint8_t* rgba, char* msg, size_t cap)
+static int read_block(void* user, tp_block_key k, uint8_t* rgba, tp_error* err)
 {
-    tp_error err;
-    if (tp_imagery_read_block(user, k.level, (int)k.bx, (int)k.by, rgba, &err) == TP_OK)
-        return 1;
-    snprintf(msg, cap, "%s", err.message);
-    return 0;
+    return tp_imagery_read_block(user, k.level, (int)k.bx, (int)k.by, rgba, err) == TP_OK;
 }
 
 static int block_empty(void* user, tp_block_key k)

@@ -14,7 +14,7 @@
 
 /* ---- the patches of a resident terrain ---- */
 
-tp_renderer* tp_renderer_create(const tp_terrain* t, char* msg, size_t msg_size)
+tp_renderer* tp_renderer_create(const tp_terrain* t, tp_error* err)
 {
     tp_terrain_info in;
     tp_terrain_get_info(t, &in);
@@ -24,13 +24,13 @@ tp_renderer* tp_renderer_create(const tp_terrain* t, char* msg, size_t msg_size)
                              .min_height_m = in.min_height_m,
                              .max_height_m = in.max_height_m};
     memcpy(d.geotransform, in.geotransform, sizeof d.geotransform);
-    tp_renderer* r = tp_renderer_create_desc(&d, msg, msg_size);
+    tp_renderer* r = tp_renderer_create_desc(&d, err);
     if (!r)
         return NULL;
     r->terrain = t;
     r->complete = malloc((size_t)in.patch_count);
     if (!r->complete) {
-        snprintf(msg, msg_size, "out of memory");
+        tp_error_set(err, TP_ERR_OUT_OF_MEMORY, "out of memory");
         tp_renderer_destroy(r);
         return NULL;
     }

@@ -29,12 +29,11 @@ void tp__renderer_vertex_format(tp_renderer* r, GLuint vbo)
                            (void*)offsetof(gpu_vertex, flags));
 }
 
-
-tp_renderer* tp_renderer_create_desc(const tp_render_grid_desc* d, char* msg, size_t msg_size)
+tp_renderer* tp_renderer_create_desc(const tp_render_grid_desc* d, tp_error* err)
 {
     tp_renderer* r = calloc(1, sizeof *r);
     if (!r) {
-        snprintf(msg, msg_size, "out of memory");
+        tp_error_set(err, TP_ERR_OUT_OF_MEMORY, "out of memory");
         return NULL;
     }
     r->grid = *d;
@@ -42,8 +41,7 @@ tp_renderer* tp_renderer_create_desc(const tp_render_grid_desc* d, char* msg, si
     size_t v = ((size_t)1 << n) + 1;
     r->slot_verts = v * v;
 
-    r->prog = tp_gl_program(tp_terrain_vertex_shader, tp_terrain_fragment_shader(), msg,
-                           msg_size);
+    r->prog = tp_gl_program(tp_terrain_vertex_shader, tp_terrain_fragment_shader(), err);
     if (!r->prog) {
         free(r);
         return NULL;
@@ -89,8 +87,7 @@ tp_renderer* tp_renderer_create_desc(const tp_render_grid_desc* d, char* msg, si
     r->ftmp = malloc(r->slot_verts);
     r->gtmp = malloc(r->slot_verts * sizeof *r->gtmp);
     r->pool = tp_vertex_pool_create(n, sizeof(gpu_vertex), d->pool_budget_bytes,
-                                    TP_RENDER_POOL_MAX_BYTES, TP_RENDER_POOL_INITIAL_BYTES, msg,
-                                    msg_size);
+                                    TP_RENDER_POOL_MAX_BYTES, TP_RENDER_POOL_INITIAL_BYTES, err);
     if (!r->pool) {
         free(idx);
         tp_renderer_destroy(r);
@@ -99,7 +96,7 @@ tp_renderer* tp_renderer_create_desc(const tp_render_grid_desc* d, char* msg, si
     r->ttmp = malloc(tp_vertex_pool_region_indices(r->pool, n) * sizeof *r->ttmp);
     if (!idx || !r->vtmp || !r->ntmp || !r->ftmp || !r->gtmp || !r->ttmp) {
         free(idx);
-        snprintf(msg, msg_size, "out of memory");
+        tp_error_set(err, TP_ERR_OUT_OF_MEMORY, "out of memory");
         tp_renderer_destroy(r);
         return NULL;
     }

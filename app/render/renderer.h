@@ -93,10 +93,10 @@ typedef struct tp_render_grid_desc {
     size_t pool_budget_bytes;
 } tp_render_grid_desc;
 
-/* Creates the GPU resources (a current GL context is needed). NULL + msg on failure. */
-tp_renderer* tp_renderer_create_desc(const tp_render_grid_desc* d, char* msg, size_t msg_size);
+/* Creates the GPU resources (a current GL context is needed). NULL with err on failure. */
+tp_renderer* tp_renderer_create_desc(const tp_render_grid_desc* d, tp_error* err);
 /* The same for a resident terrain (its patches). */
-tp_renderer* tp_renderer_create(const tp_terrain* t, char* msg, size_t msg_size);
+tp_renderer* tp_renderer_create(const tp_terrain* t, tp_error* err);
 void tp_renderer_destroy(tp_renderer* r);
 
 /* Drapes an RGBA8 image (w x h, top row first) over the terrain: grid sample (x, y) of the

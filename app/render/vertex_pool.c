@@ -194,14 +194,13 @@ static int take_region(pool* p)
 }
 
 tp_vertex_pool* tp_vertex_pool_create(int n, size_t vertex_bytes, size_t budget_bytes,
-                                      size_t max_pool_bytes, size_t initial_bytes, char* msg,
-                                      size_t msg_size)
+                                      size_t max_pool_bytes, size_t initial_bytes, tp_error* err)
 {
     assert(n >= 0 && n < TP_MAX_LEVELS && n < POOL_LEVELS);
     assert(vertex_bytes > 0);
     tp_vertex_pool* p = calloc(1, sizeof *p);
     if (!p) {
-        snprintf(msg, msg_size, "out of memory");
+        tp_error_set(err, TP_ERR_OUT_OF_MEMORY, "out of memory");
         return NULL;
     }
     p->n = n;
@@ -224,13 +223,13 @@ tp_vertex_pool* tp_vertex_pool_create(int n, size_t vertex_bytes, size_t budget_
         if (q->budget_slots > 0 && q->budget_slots < first)
             first = q->budget_slots;
         if (!grow_pool(p, k, first)) {
-            snprintf(msg, msg_size, "out of memory");
+            tp_error_set(err, TP_ERR_OUT_OF_MEMORY, "out of memory");
             tp_vertex_pool_destroy(p);
             return NULL;
         }
     }
     if (!grow_map(p, 64)) {
-        snprintf(msg, msg_size, "out of memory");
+        tp_error_set(err, TP_ERR_OUT_OF_MEMORY, "out of memory");
         tp_vertex_pool_destroy(p);
         return NULL;
     }

@@ -17,6 +17,8 @@
 #ifndef TP_APP_VERTEX_POOL_H
 #define TP_APP_VERTEX_POOL_H
 
+#include "tp_core.h"
+
 #include <stddef.h>
 #include <stdint.h>
 
@@ -37,11 +39,10 @@ typedef struct tp_pool_slot {
  * least-recently-used slots not taken this frame; a frame whose items alone need more grows it
  * past its share (up to max_pool_bytes a pool). Each starts with the slots that fit in
  * initial_bytes (at least 1, at most 4096, and no more than its share holds); regions are made
- * when the first incomplete item of a level needs one (16, then doubling). Returns NULL and
- * writes msg on failure. */
+ * when the first incomplete item of a level needs one (16, then doubling). Returns NULL with
+ * err on failure. */
 tp_vertex_pool* tp_vertex_pool_create(int n, size_t vertex_bytes, size_t budget_bytes,
-                                      size_t max_pool_bytes, size_t initial_bytes, char* msg,
-                                      size_t msg_size);
+                                      size_t max_pool_bytes, size_t initial_bytes, tp_error* err);
 void tp_vertex_pool_destroy(tp_vertex_pool* p); /* accepts NULL */
 
 /* Starts a frame: slots taken from now on are the frame's and are not evicted until the next. */

@@ -40,7 +40,7 @@ static int five_numbers(const char* s, double v[5])
     return *s == '\0';
 }
 
-int tp_bookmark_parse_line(const char* line, tp_bookmark* out, char* why, size_t why_cap)
+int tp_bookmark_parse_line(const char* line, tp_bookmark* out, tp_error* err)
 {
     const char* s = skip_space(line);
     if (*s == '\0' || *s == '\n' || *s == '\r' || *s == '#')
@@ -49,45 +49,49 @@ int tp_bookmark_parse_line(const char* line, tp_bookmark* out, char* why, size_t
     while (opt && opt > s && opt[-1] != ' ' && opt[-1] != '\t')
         opt = strstr(opt + 1, "--camera");
     if (!opt) {
-        snprintf(why, why_cap, "expected NAME --camera-geo LAT,LON,H,YAW,PITCH, got '%.60s'", s);
+        tp_error_set(err, TP_ERR_BAD_DATA,
+                     "expected NAME --camera-geo LAT,LON,H,YAW,PITCH, got '%.60s'", s);
         return -1;
     }
     size_t name_len = (size_t)(opt - s);
     while (name_len > 0 && (s[name_len - 1] == ' ' || s[name_len - 1] == '\t'))
         name_len--;
     if (name_len == 0) {
-        snprintf(why, why_cap, "no name before %.12s", opt);
+        tp_error_set(err, TP_ERR_BAD_DATA, "no name before %.12s", opt);
         return -1;
     }
     if (name_len >= TP_BOOKMARK_NAME_SIZE) {
-        snprintf(why, why_cap, "name longer than %d characters", TP_BOOKMARK_NAME_SIZE - 1);
+        tp_error_set(err, TP_ERR_BAD_DATA, "name longer than %d characters",
+                     TP_BOOKMARK_NAME_SIZE - 1);
         return -1;
     }
     for (size_t i = 0; i < name_len; i++) { /* what tp_bookmarks_set refuses, refused here */
         if (i + 8 <= name_len && !strncmp(s + i, "--camera", 8)) {
-            snprintf(why, why_cap, "a name may not hold '--camera': '%.*s'", (int)name_len, s);
+            tp_error_set(err, TP_ERR_BAD_DATA, "a name may not hold '--camera': '%.*s'",
+                         (int)name_len, s);
             return -1;
         }
         if ((unsigned char)s[i] < 0x20 && s[i] != '\t') {
-            snprintf(why, why_cap, "a control character (0x%02x) in the name", (unsigned char)s[i]);
+            tp_error_set(err, TP_ERR_BAD_DATA, "a control character (0x%02x) in the name",
+                         (unsigned char)s[i]);
             return -1;
         }
     }
     int geo = strncmp(opt, "--camera-geo", 12) == 0;
     const char* nums = opt + (geo ? 12 : 8);
     if (*nums != ' ' && *nums != '\t') {
-        snprintf(why, why_cap, "expected --camera-geo or --camera, got '%.20s'", opt);
+        tp_error_set(err, TP_ERR_BAD_DATA, "expected --camera-geo or --camera, got '%.20s'", opt);
         return -1;
     }
     double v[5];
     if (!five_numbers(nums, v)) {
-        snprintf(why, why_cap, "%s: expected five numbers %s, got '%.60s'",
-                 geo ? "--camera-geo" : "--camera", geo ? "LAT,LON,H,YAW,PITCH" : "E,N,H,YAW,PITCH",
-                 skip_space(nums));
+        tp_error_set(err, TP_ERR_BAD_DATA, "%s: expected five numbers %s, got '%.60s'",
+                     geo ? "--camera-geo" : "--camera",
+                     geo ? "LAT,LON,H,YAW,PITCH" : "E,N,H,YAW,PITCH", skip_space(nums));
         return -1;
     }
     if (geo && (v[0] < -90 || v[0] > 90)) {
-        snprintf(why, why_cap, "--camera-geo: latitude %g is outside [-90, 90]", v[0]);
+        tp_error_set(err, TP_ERR_BAD_DATA, "--camera-geo: latitude %g is outside [-90, 90]", v[0]);
         return -1;
     }
     memcpy(out->name, s, name_len);
@@ -124,30 +128,25 @@ static int append(tp_bookmarks* b, const tp_bookmark* bm)
     return 1;
 }
 
-int tp_bookmarks_check(const char* path, char* msg, size_t msg_cap)
+int tp_bookmarks_check(const char* path, tp_error* err)
 {
     struct stat st;
     if (stat(path, &st) != 0 && errno == ENOENT)
         return 1;
-    tp_error err;
-    if (tp_input_check(path, "a bookmarks (text)", 0, &err) != TP_OK) {
-        snprintf(msg, msg_cap, "%s", err.message);
-        return 0;
-    }
-    return 1;
+    return tp_input_check(path, "a bookmarks (text)", 0, err) == TP_OK;
 }
 
-int tp_bookmarks_load(const char* path, tp_bookmarks* out, char* msg, size_t msg_cap)
+int tp_bookmarks_load(const char* path, tp_bookmarks* out, tp_error* err)
 {
     memset(out, 0, sizeof *out);
     struct stat st;
     if (stat(path, &st) != 0 && errno == ENOENT)
         return 1; /* no file yet: no bookmarks */
-    if (!tp_bookmarks_check(path, msg, msg_cap))
+    if (!tp_bookmarks_check(path, err))
         return 0;
     FILE* f = fopen(path, "r");
     if (!f) {
-        snprintf(msg, msg_cap, "%s: cannot read: %s", path, strerror(errno));
+        tp_error_set(err, TP_ERR_IO, "%s: cannot read: %s", path, strerror(errno));
         return 0;
     }
     char line[1024];
@@ -156,24 +155,24 @@ int tp_bookmarks_load(const char* path, tp_bookmarks* out, char* msg, size_t msg
         line_no++;
         size_t len = strlen(line);
         if (len == sizeof line - 1 && line[len - 1] != '\n' && !feof(f)) {
-            snprintf(msg, msg_cap, "%s:%d: line longer than %zu characters", path, line_no,
-                     sizeof line - 2);
+            tp_error_set(err, TP_ERR_BAD_DATA, "%s:%d: line longer than %zu characters", path,
+                         line_no, sizeof line - 2);
             ok = 0;
             break;
         }
         tp_bookmark bm;
-        char why[256];
-        int r = tp_bookmark_parse_line(line, &bm, why, sizeof why);
+        tp_error why = {{0}};
+        int r = tp_bookmark_parse_line(line, &bm, &why);
         if (r < 0) {
-            snprintf(msg, msg_cap, "%s:%d: %s", path, line_no, why);
+            tp_error_set(err, TP_ERR_BAD_DATA, "%s:%d: %s", path, line_no, why.message);
             ok = 0;
         } else if (r > 0 && !append(out, &bm)) {
-            snprintf(msg, msg_cap, "%s: out of memory", path);
+            tp_error_set(err, TP_ERR_OUT_OF_MEMORY, "%s: out of memory", path);
             ok = 0;
         }
     }
     if (ok && ferror(f)) {
-        snprintf(msg, msg_cap, "%s: cannot read: %s", path, strerror(errno));
+        tp_error_set(err, TP_ERR_IO, "%s: cannot read: %s", path, strerror(errno));
         ok = 0;
     }
     fclose(f);
@@ -183,7 +182,7 @@ int tp_bookmarks_load(const char* path, tp_bookmarks* out, char* msg, size_t msg
 }
 
 /* mkdir -p of path's folder. */
-static int make_parent(const char* path, char* msg, size_t msg_cap)
+static int make_parent(const char* path, tp_error* err)
 {
     char dir[4096];
     if (strlen(path) >= sizeof dir)
@@ -198,26 +197,27 @@ static int make_parent(const char* path, char* msg, size_t msg_cap)
             continue;
         *p = '\0';
         if (mkdir(dir, 0755) != 0 && errno != EEXIST) {
-            snprintf(msg, msg_cap, "%s: cannot create the folder %s: %s", path, dir,
-                     strerror(errno));
+            tp_error_set(err, TP_ERR_IO, "%s: cannot create the folder %s: %s", path, dir,
+                         strerror(errno));
             return 0;
         }
         *p = '/';
     }
     if (mkdir(dir, 0755) != 0 && errno != EEXIST) {
-        snprintf(msg, msg_cap, "%s: cannot create the folder %s: %s", path, dir, strerror(errno));
+        tp_error_set(err, TP_ERR_IO, "%s: cannot create the folder %s: %s", path, dir,
+                     strerror(errno));
         return 0;
     }
     return 1;
 }
 
-int tp_bookmarks_save(const char* path, const tp_bookmarks* b, char* msg, size_t msg_cap)
+int tp_bookmarks_save(const char* path, const tp_bookmarks* b, tp_error* err)
 {
-    if (!make_parent(path, msg, msg_cap))
+    if (!make_parent(path, err))
         return 0;
     tp_atomic_file a;
     if (!tp_atomic_open(&a, path)) {
-        snprintf(msg, msg_cap, "%s: cannot write (see above)", path);
+        tp_error_set(err, TP_ERR_IO, "%s: cannot write (see above)", path);
         return 0;
     }
     fprintf(a.f, "# terrapatch bookmarks: NAME --camera-geo LAT,LON,H,YAW,PITCH (H as drawn)\n");
@@ -227,7 +227,7 @@ int tp_bookmarks_save(const char* path, const tp_bookmarks* b, char* msg, size_t
         fprintf(a.f, "%s\n", line);
     }
     if (!tp_atomic_commit(&a)) {
-        snprintf(msg, msg_cap, "%s: not written (see above)", path);
+        tp_error_set(err, TP_ERR_IO, "%s: not written (see above)", path);
         return 0;
     }
     return 1;
@@ -241,17 +241,18 @@ const tp_bookmark* tp_bookmarks_find(const tp_bookmarks* b, const char* name)
     return NULL;
 }
 
-int tp_bookmarks_set(tp_bookmarks* b, const tp_bookmark* bm, char* msg, size_t msg_cap)
+int tp_bookmarks_set(tp_bookmarks* b, const tp_bookmark* bm, tp_error* err)
 {
     /* the name must read back as itself */
     char line[512];
     tp_bookmark back;
     tp_bookmark_format(bm, line, sizeof line);
     if (strchr(bm->name, '\n') || strchr(bm->name, '\r') || strstr(bm->name, "--camera") ||
-        tp_bookmark_parse_line(line, &back, msg, msg_cap) != 1 || strcmp(back.name, bm->name)) {
-        snprintf(msg, msg_cap,
-                 "bookmark name '%.60s' cannot be kept: it must not be empty, start or end with "
-                 "a space or '#', nor hold a line break or '--camera'", bm->name);
+        tp_bookmark_parse_line(line, &back, NULL) != 1 || strcmp(back.name, bm->name)) {
+        tp_error_set(err, TP_ERR_INVALID_ARG,
+                     "bookmark name '%.60s' cannot be kept: it must not be empty, start or end "
+                     "with a space or '#', nor hold a line break or '--camera'",
+                     bm->name);
         return 0;
     }
     for (size_t i = 0; i < b->count; i++)
@@ -260,7 +261,7 @@ int tp_bookmarks_set(tp_bookmarks* b, const tp_bookmark* bm, char* msg, size_t m
             return 1;
         }
     if (!append(b, bm)) {
-        snprintf(msg, msg_cap, "out of memory");
+        tp_error_set(err, TP_ERR_OUT_OF_MEMORY, "out of memory");
         return 0;
     }
     return 1;

@@ -18,6 +18,8 @@
 #ifndef TP_APP_BOOKMARKS_H
 #define TP_APP_BOOKMARKS_H
 
+#include "tp_core.h"
+
 #include <stddef.h>
 
 #define TP_BOOKMARK_NAME_SIZE 128
@@ -34,33 +36,33 @@ typedef struct tp_bookmarks {
 } tp_bookmarks;
 
 /* Reads one line (no '\n' needed) into *out. Returns 1, 0 for a blank or '#' line (nothing
- * written), -1 with why (cap bytes) for a malformed line: no " --camera" part, an empty name,
+ * written), -1 with the reason in err for a malformed line: no " --camera" part, an empty name,
  * not five finite numbers, a latitude outside [-90, 90]. */
-int tp_bookmark_parse_line(const char* line, tp_bookmark* out, char* why, size_t why_cap);
+int tp_bookmark_parse_line(const char* line, tp_bookmark* out, tp_error* err);
 
 /* Writes b as its line (no '\n'), e.g. "view 3 --camera-geo 45.373,-121.695,3200.00,20.00,-30.00". */
 void tp_bookmark_format(const tp_bookmark* b, char* out, size_t cap);
 
 /* Reads the file at path into *out (zeroed first). A missing file is no bookmarks (returns 1,
- * count 0). Returns 0 with msg "PATH:LINE: why" for a malformed line, "PATH: ..." when it cannot
+ * count 0). Returns 0 with err "PATH:LINE: why" for a malformed line, "PATH: ..." when it cannot
  * be read; *out then holds nothing to free. */
-int tp_bookmarks_load(const char* path, tp_bookmarks* out, char* msg, size_t msg_cap);
+int tp_bookmarks_load(const char* path, tp_bookmarks* out, tp_error* err);
 
 /* 1 when path can be loaded: missing (no bookmarks yet) or a regular file; else 0 with the
- * reason in msg ("PATH: cannot open: it is a FIFO ..."): a FIFO would block, /dev/zero never
+ * reason in err ("PATH: cannot open: it is a FIFO ..."): a FIFO would block, /dev/zero never
  * end. */
-int tp_bookmarks_check(const char* path, char* msg, size_t msg_cap);
+int tp_bookmarks_check(const char* path, tp_error* err);
 
 /* Writes every bookmark to path, atomically, creating path's folder (one level: the default
- * location's "bookmarks" folder, and its parents) when missing. Returns 0 with msg. */
-int tp_bookmarks_save(const char* path, const tp_bookmarks* b, char* msg, size_t msg_cap);
+ * location's "bookmarks" folder, and its parents) when missing. Returns 0 with err. */
+int tp_bookmarks_save(const char* path, const tp_bookmarks* b, tp_error* err);
 
 /* The bookmark named name (exact match), or NULL. */
 const tp_bookmark* tp_bookmarks_find(const tp_bookmarks* b, const char* name);
 
-/* Replaces the bookmark of that name, or appends it. Returns 0 with msg for a name that cannot
+/* Replaces the bookmark of that name, or appends it. Returns 0 with err for a name that cannot
  * be kept (empty after trimming, a line break, "--camera", too long) or out of memory. */
-int tp_bookmarks_set(tp_bookmarks* b, const tp_bookmark* bm, char* msg, size_t msg_cap);
+int tp_bookmarks_set(tp_bookmarks* b, const tp_bookmark* bm, tp_error* err);
 
 /* The names, quoted and comma-separated ("'view 1', 'ridge'"), or "none". */
 void tp_bookmarks_names(const tp_bookmarks* b, char* out, size_t cap);

@@ -8,42 +8,42 @@
 #include <stdio.h>
 #include <stdlib.h>
 
-int tp_ground_locate(tp_ground* g, const tp_position* pos, const char* input, double* x,
-                     double* y, double* height_m, char* msg, size_t cap)
+int tp_ground_locate(tp_ground* g, const tp_position* pos, const char* input, double* x, double* y,
+                     double* height_m, tp_error* err)
 {
     const tp_store_scene* sc = tp_ground_scene(g);
     if (!sc->georef || !tp_georef_has_geo(sc->georef)) {
-        snprintf(msg, cap, "has no CRS: a position on its ground needs a georeferenced DEM");
+        tp_error_set(err, TP_ERR_INVALID_ARG,
+                     "has no CRS: a position on its ground needs a georeferenced DEM");
         return 0;
     }
     double e, n, gx, gy, h;
-    tp_error err = {{0}};
+    tp_error why = {{0}};
     const tp_tree_geometry* geom = &sc->info.header.geometry;
-    if (tp_georef_geo_to_proj(sc->georef, pos->lat_deg, pos->lon_deg, &e, &n, &err) != TP_OK) {
-        snprintf(msg, cap, "position '%s' (%.6f %.6f) is outside the DEM (%s)", input,
-                 pos->lat_deg, pos->lon_deg, err.message);
+    tp_status s = tp_georef_geo_to_proj(sc->georef, pos->lat_deg, pos->lon_deg, &e, &n, &why);
+    if (s != TP_OK) {
+        tp_error_set(err, s, "position '%s' (%.6f %.6f) is outside the DEM (%s)", input,
+                     pos->lat_deg, pos->lon_deg, why.message);
         return 0;
     }
     tp_tree_world_to_grid(sc->tree, e, n, &gx, &gy);
-    tp_status s = tp_ground_height(g, gx, gy, &h, &err);
+    s = tp_ground_height(g, gx, gy, &h, err);
     if (s == TP_ERR_INVALID_ARG) {
-        snprintf(msg, cap,
-                 "position '%s' (%.6f %.6f) is outside the DEM (render CRS E %.1f N %.1f; the "
-                 "DEM covers %d x %d posts)",
-                 input, pos->lat_deg, pos->lon_deg, e, n, geom->src_width, geom->src_height);
+        tp_error_set(err, s,
+                     "position '%s' (%.6f %.6f) is outside the DEM (render CRS E %.1f N %.1f; "
+                     "the DEM covers %d x %d posts)",
+                     input, pos->lat_deg, pos->lon_deg, e, n, geom->src_width, geom->src_height);
         return 0;
     }
-    if (s != TP_OK) {
-        snprintf(msg, cap, "%s", err.message);
+    if (s != TP_OK)
         return 0;
-    }
     if (isnan(h)) {
         char hint[256];
         tp_ground_void_hint(g, gx, gy, hint, sizeof hint);
-        snprintf(msg, cap,
-                 "position '%s' (%.6f %.6f) is in a void: the DEM has no height there (grid x "
-                 "%.2f, y %.2f)%s",
-                 input, pos->lat_deg, pos->lon_deg, gx, gy, hint);
+        tp_error_set(err, TP_ERR_INVALID_ARG,
+                     "position '%s' (%.6f %.6f) is in a void: the DEM has no height there (grid "
+                     "x %.2f, y %.2f)%s",
+                     input, pos->lat_deg, pos->lon_deg, gx, gy, hint);
         return 0;
     }
     *x = gx;

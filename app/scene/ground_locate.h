@@ -13,11 +13,10 @@
 #include <stddef.h>
 
 /* The grid position (x, y) of pos on g's render grid and the ground's height there. Returns 1;
- * or 0 with msg (cap bytes) naming the position as typed (input) and why: the DEM has no CRS,
- * the position is outside the DEM, in a void (tp_ground_void_hint after it), or a leaf cannot
- * be read. */
-int tp_ground_locate(tp_ground* g, const tp_position* pos, const char* input, double* x,
-                     double* y, double* height_m, char* msg, size_t cap);
+ * or 0 with err naming the position as typed (input) and why: the DEM has no CRS, the position
+ * is outside the DEM, in a void (tp_ground_void_hint after it), or a leaf cannot be read. */
+int tp_ground_locate(tp_ground* g, const tp_position* pos, const char* input, double* x, double* y,
+                     double* height_m, tp_error* err);
 
 /* Where pos lies on g: 1 on the DEM (a height there or a void), with its grid (x, y); 0 off it,
  * without a CRS, or when a leaf cannot be read. No message. */

@@ -51,8 +51,7 @@ void tp_heights_datum(const char* driver, const char* vertical_datum, char* out,
 }
 
 static int describe(tp_ground* g, const char* source, double lat, double lon,
-                    const tp_ground_sample* gs, int precision, tp_point_readout* out, char* msg,
-                    size_t cap)
+                    const tp_ground_sample* gs, int precision, tp_point_readout* out, tp_error* err)
 {
     tp_point_readout r;
     memset(&r, 0, sizeof r);
@@ -61,19 +60,15 @@ static int describe(tp_ground* g, const char* source, double lat, double lon,
     r.lon_deg = lon;
     r.ground = *gs;
     r.mgrs_precision = precision;
-    tp_error err = {{0}};
     char mgrs[TP_MGRS_SIZE];
-    if (tp_dms_encode(lat, TP_DMS_LATITUDE, 2, r.lat_dms, sizeof r.lat_dms, &err) != TP_OK ||
-        tp_dms_encode(lon, TP_DMS_LONGITUDE, 2, r.lon_dms, sizeof r.lon_dms, &err) != TP_OK ||
-        tp_geo_to_utmups(lat, lon, &r.zone, &r.northp, &r.easting_m, &r.northing_m, &err) !=
-            TP_OK ||
+    if (tp_dms_encode(lat, TP_DMS_LATITUDE, 2, r.lat_dms, sizeof r.lat_dms, err) != TP_OK ||
+        tp_dms_encode(lon, TP_DMS_LONGITUDE, 2, r.lon_dms, sizeof r.lon_dms, err) != TP_OK ||
+        tp_geo_to_utmups(lat, lon, &r.zone, &r.northp, &r.easting_m, &r.northing_m, err) != TP_OK ||
         tp_zone_format(r.zone, r.northp, TP_ZONE_STYLE_SHORT, r.zone_text, sizeof r.zone_text,
-                       &err) != TP_OK ||
+                       err) != TP_OK ||
         tp_mgrs_forward(r.zone, r.northp, r.easting_m, r.northing_m, lat, precision, mgrs,
-                        sizeof mgrs, &err) != TP_OK) {
-        snprintf(msg, cap, "%s", err.message);
+                        sizeof mgrs, err) != TP_OK)
         return 0;
-    }
     if (!tp_position_mgrs_spaced(mgrs, r.mgrs, sizeof r.mgrs))
         snprintf(r.mgrs, sizeof r.mgrs, "%s", mgrs);
     vertical_datum(g, source, r.vertical_datum, sizeof r.vertical_datum);
@@ -81,30 +76,28 @@ static int describe(tp_ground* g, const char* source, double lat, double lon,
     return 1;
 }
 
-/* Queries (e, n); writes msg naming `where` for a position off the DEM or in a void. */
+/* Queries (e, n); writes err naming `where` for a position off the DEM or in a void. */
 static int query(tp_ground* g, double e, double n, const char* where, tp_ground_sample* gs,
-                 char* msg, size_t cap)
+                 tp_error* err)
 {
-    tp_error err = {{0}};
-    tp_status s = tp_ground_query_world(g, e, n, gs, &err);
+    tp_status s = tp_ground_query_world(g, e, n, gs, err);
     const tp_tree_geometry* geom = &tp_ground_scene(g)->info.header.geometry;
     if (s == TP_ERR_INVALID_ARG) {
-        snprintf(msg, cap,
-                 "position %s is outside the DEM (render CRS E %.1f N %.1f; the DEM covers "
-                 "%d x %d posts)",
-                 where, e, n, geom->src_width, geom->src_height);
+        tp_error_set(err, s,
+                     "position %s is outside the DEM (render CRS E %.1f N %.1f; the DEM covers "
+                     "%d x %d posts)",
+                     where, e, n, geom->src_width, geom->src_height);
         return 0;
     }
-    if (s != TP_OK) {
-        snprintf(msg, cap, "%s", err.message);
+    if (s != TP_OK)
         return 0;
-    }
     if (isnan(gs->height_m)) {
         char hint[256];
         tp_ground_void_hint(g, gs->x, gs->y, hint, sizeof hint);
-        snprintf(msg, cap,
-                 "position %s is in a void: the DEM has no height there (grid x %.2f, y %.2f)%s",
-                 where, gs->x, gs->y, hint);
+        tp_error_set(err, TP_ERR_INVALID_ARG,
+                     "position %s is in a void: the DEM has no height there (grid x %.2f, y "
+                     "%.2f)%s",
+                     where, gs->x, gs->y, hint);
         return 0;
     }
     return 1;
@@ -112,46 +105,47 @@ static int query(tp_ground* g, double e, double n, const char* where, tp_ground_
 
 int tp_point_readout_at_position(tp_ground* g, const char* source, const tp_position* pos,
                                  const char* input, int precision, tp_point_readout* out,
-                                 char* msg, size_t cap)
+                                 tp_error* err)
 {
     const tp_georef* geo = tp_ground_scene(g)->georef;
     if (!geo || !tp_georef_has_geo(geo)) {
-        snprintf(msg, cap,
-                 "has no CRS: a position on its ground needs a georeferenced DEM");
+        tp_error_set(err, TP_ERR_INVALID_ARG,
+                     "has no CRS: a position on its ground needs a georeferenced DEM");
         return 0;
     }
     char where[600];
     snprintf(where, sizeof where, "'%s' (%.6f %.6f)", input, pos->lat_deg, pos->lon_deg);
     double e, n;
-    tp_error err = {{0}};
-    if (tp_georef_geo_to_proj(geo, pos->lat_deg, pos->lon_deg, &e, &n, &err) != TP_OK) {
-        snprintf(msg, cap, "position %s is outside the DEM (%s)", where, err.message);
+    tp_error why = {{0}};
+    tp_status s = tp_georef_geo_to_proj(geo, pos->lat_deg, pos->lon_deg, &e, &n, &why);
+    if (s != TP_OK) {
+        tp_error_set(err, s, "position %s is outside the DEM (%s)", where, why.message);
         return 0;
     }
     tp_ground_sample gs;
-    if (!query(g, e, n, where, &gs, msg, cap))
+    if (!query(g, e, n, where, &gs, err))
         return 0;
-    return describe(g, source, pos->lat_deg, pos->lon_deg, &gs, precision, out, msg, cap);
+    return describe(g, source, pos->lat_deg, pos->lon_deg, &gs, precision, out, err);
 }
 
 int tp_point_readout_at_world(tp_ground* g, const char* source, double e_m, double n_m,
-                              int precision, tp_point_readout* out, char* msg, size_t cap)
+                              int precision, tp_point_readout* out, tp_error* err)
 {
     const tp_georef* geo = tp_ground_scene(g)->georef;
     double lat, lon;
-    tp_error err = {{0}};
+    tp_error why = {{0}};
     if (!geo || !tp_georef_has_geo(geo) ||
-        tp_georef_proj_to_geo(geo, e_m, n_m, &lat, &lon, &err) != TP_OK) {
-        snprintf(msg, cap, "no geographic position at E %.1f N %.1f%s%s", e_m, n_m,
-                 err.message[0] ? ": " : " (no CRS)", err.message);
+        tp_georef_proj_to_geo(geo, e_m, n_m, &lat, &lon, &why) != TP_OK) {
+        tp_error_set(err, TP_ERR_INVALID_ARG, "no geographic position at E %.1f N %.1f%s%s", e_m,
+                     n_m, why.message[0] ? ": " : " (no CRS)", why.message);
         return 0;
     }
     char where[128];
     snprintf(where, sizeof where, "(%.6f %.6f)", lat, lon);
     tp_ground_sample gs;
-    if (!query(g, e_m, n_m, where, &gs, msg, cap))
+    if (!query(g, e_m, n_m, where, &gs, err))
         return 0;
-    return describe(g, source, lat, lon, &gs, precision, out, msg, cap);
+    return describe(g, source, lat, lon, &gs, precision, out, err);
 }
 
 /* "123.4 deg" or "flat" / "unknown". */

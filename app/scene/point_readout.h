@@ -27,16 +27,15 @@ typedef struct tp_point_readout {
 } tp_point_readout;
 
 /* Describes the ground at pos (input text for messages: as typed). Returns 1 with *out, or 0
- * with msg (msg_size bytes) saying why: the DEM has no CRS, the position is outside the DEM or
- * in a void (naming the position and the grid), a leaf cannot be read. */
+ * with err saying why: the DEM has no CRS, the position is outside the DEM or in a void
+ * (naming the position and the grid), a leaf cannot be read. */
 int tp_point_readout_at_position(tp_ground* g, const char* source, const tp_position* pos,
                                  const char* input, int mgrs_precision, tp_point_readout* out,
-                                 char* msg, size_t msg_size);
+                                 tp_error* err);
 
 /* The same at render-CRS (E, N) (the viewer's pick). */
 int tp_point_readout_at_world(tp_ground* g, const char* source, double e_m, double n_m,
-                              int mgrs_precision, tp_point_readout* out, char* msg,
-                              size_t msg_size);
+                              int mgrs_precision, tp_point_readout* out, tp_error* err);
 
 /* The readout as text: several lines, each ending in '\n' (the command's stdout). */
 void tp_point_readout_text(const tp_point_readout* r, char* out, size_t cap);

@@ -148,13 +148,13 @@ int tp_store_scene_georef_wait(tp_store_scene* sc)
 
 int tp_store_scene_stream(tp_store_scene* sc, const tp_stream_options* o)
 {
-    char msg[600];
-    sc->stream = tp_stream_create(sc->store, sc->tree, o, msg, sizeof msg);
+    tp_error err = {{0}};
+    sc->stream = tp_stream_create(sc->store, sc->tree, o, &err);
     if (!sc->stream) {
-        if (strstr(msg, sc->path))
-            tp_cli_error("%s", msg);
+        if (strstr(err.message, sc->path))
+            tp_cli_error("%s", err.message);
         else
-            tp_cli_error("%s: %s", sc->path, msg);
+            tp_cli_error("%s: %s", sc->path, err.message);
         return TP_EXIT_FAILURE;
     }
     return TP_EXIT_OK;

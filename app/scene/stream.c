@@ -173,17 +173,15 @@ static void release(tp_stream* s, size_t i)
 }
 
 /* Reads a node on this thread and attaches it. */
-static int load_now(tp_stream* s, int64_t node, int root, char* msg, size_t msg_size)
+static int load_now(tp_stream* s, int64_t node, int root, tp_error* err)
 {
     uint16_t* block = malloc(s->block_bytes);
-    tp_error err;
     if (!block) {
-        snprintf(msg, msg_size, "out of memory for a node");
+        tp_error_set(err, TP_ERR_OUT_OF_MEMORY, "out of memory for a node");
         return 0;
     }
-    if (tp_store_read_node(s->store, node, block, s->block_samples, &err) != TP_OK) {
+    if (tp_store_read_node(s->store, node, block, s->block_samples, err) != TP_OK) {
         free(block);
-        snprintf(msg, msg_size, "%s", err.message);
         s->state[node] = ST_FAILED;
         return 0;
     }
@@ -195,18 +193,18 @@ static int load_now(tp_stream* s, int64_t node, int root, char* msg, size_t msg_
         pthread_mutex_lock(&s->mu);
         s->bytes_total -= s->block_bytes;
         pthread_mutex_unlock(&s->mu);
-        snprintf(msg, msg_size, "out of memory for a node");
+        tp_error_set(err, TP_ERR_OUT_OF_MEMORY, "out of memory for a node");
         return 0;
     }
     return 1;
 }
 
 tp_stream* tp_stream_create(const tp_store* store, tp_tree* tree, const tp_stream_options* o,
-                            char* msg, size_t msg_size)
+                            tp_error* err)
 {
     tp_stream* s = calloc(1, sizeof *s);
     if (!s) {
-        snprintf(msg, msg_size, "out of memory");
+        tp_error_set(err, TP_ERR_OUT_OF_MEMORY, "out of memory");
         return NULL;
     }
     s->store = store;
@@ -224,7 +222,7 @@ tp_stream* tp_stream_create(const tp_store* store, tp_tree* tree, const tp_strea
     pthread_mutex_init(&s->mu, NULL);
     pthread_cond_init(&s->cv, NULL);
     if (!s->state || !s->res_index) {
-        snprintf(msg, msg_size, "out of memory for %zu nodes", count);
+        tp_error_set(err, TP_ERR_OUT_OF_MEMORY, "out of memory for %zu nodes", count);
         tp_stream_destroy(s);
         return NULL;
     }
@@ -232,21 +230,21 @@ tp_stream* tp_stream_create(const tp_store* store, tp_tree* tree, const tp_strea
     /* The roots are always resident: whatever else is missing, they cover the map. */
     size_t roots = (size_t)s->g->root_count;
     if ((double)roots * (double)s->block_bytes > (double)s->budget) {
-        snprintf(msg, msg_size,
-                 "the %zu top nodes need %.1f MB, more than the memory budget of %.1f MB", roots,
-                 roots * (double)s->block_bytes / 1e6, s->budget / 1e6);
+        tp_error_set(err, TP_ERR_INVALID_ARG,
+                     "the %zu top nodes need %.1f MB, more than the memory budget of %.1f MB",
+                     roots, roots * (double)s->block_bytes / 1e6, s->budget / 1e6);
         tp_stream_destroy(s);
         return NULL;
     }
     int64_t* ids = malloc(roots * sizeof *ids);
     if (!ids) {
-        snprintf(msg, msg_size, "out of memory");
+        tp_error_set(err, TP_ERR_OUT_OF_MEMORY, "out of memory");
         tp_stream_destroy(s);
         return NULL;
     }
     tp_tree_roots(s->g, ids, roots);
     for (size_t i = 0; i < roots; i++)
-        if (!load_now(s, ids[i], 1, msg, msg_size)) {
+        if (!load_now(s, ids[i], 1, err)) {
             free(ids);
             tp_stream_destroy(s);
             return NULL;
@@ -254,7 +252,7 @@ tp_stream* tp_stream_create(const tp_store* store, tp_tree* tree, const tp_strea
     free(ids);
     if (!(o && o->no_loader)) {
         if (pthread_create(&s->thread, NULL, loader_main, s) != 0) {
-            snprintf(msg, msg_size, "cannot start the loader thread");
+            tp_error_set(err, TP_ERR_BACKEND, "cannot start the loader thread");
             tp_stream_destroy(s);
             return NULL;
         }
@@ -525,19 +523,19 @@ int tp_stream_is_queued(const tp_stream* s, int64_t node)
     return s->state[node] == ST_QUEUED;
 }
 
-int tp_stream_require(tp_stream* s, int64_t node, char* msg, size_t msg_size)
+int tp_stream_require(tp_stream* s, int64_t node, tp_error* err)
 {
     if (s->res_index[node] >= 0)
         return 1;
     if (s->state[node] == ST_FAILED) {
-        snprintf(msg, msg_size, "node %lld could not be read", (long long)node);
+        tp_error_set(err, TP_ERR_IO, "node %lld could not be read", (long long)node);
         return 0;
     }
     int64_t parent = tp_tree_node_parent(s->g, node);
-    if (parent >= 0 && !tp_stream_require(s, parent, msg, msg_size))
+    if (parent >= 0 && !tp_stream_require(s, parent, err))
         return 0;
     /* A copy the loader is reading is dropped as stale when it arrives. */
-    return load_now(s, node, 0, msg, msg_size);
+    return load_now(s, node, 0, err);
 }
 
 const char* tp_stream_take_failure(tp_stream* s)

@@ -53,10 +53,10 @@ typedef struct tp_stream_stats {
 } tp_stream_stats;
 
 /* Creates the stream and loads the roots (synchronously). The store and the tree must outlive
- * it; the tree must have been created from the store's metas. NULL and a message (naming the
- * store file and the node) on failure. */
+ * it; the tree must have been created from the store's metas. NULL and err (naming the store
+ * file and the node) on failure. */
 tp_stream* tp_stream_create(const tp_store* store, tp_tree* tree, const tp_stream_options* o,
-                            char* msg, size_t msg_size);
+                            tp_error* err);
 /* Stops the loader, detaches and frees every block. Accepts NULL. */
 void tp_stream_destroy(tp_stream* s);
 
@@ -72,9 +72,9 @@ void tp_stream_frame(tp_stream* s, const tp_cut* cut, tp_cut* prefetch_cut, cons
 int tp_stream_is_queued(const tp_stream* s, int64_t node);
 
 /* Makes node and all its ancestors resident now (reading on the calling thread: the render
- * thread, as for a height query that needs full resolution). Returns 0 and a message when a
- * read fails. */
-int tp_stream_require(tp_stream* s, int64_t node, char* msg, size_t msg_size);
+ * thread, as for a height query that needs full resolution). Returns 0 with err when a read
+ * fails. */
+int tp_stream_require(tp_stream* s, int64_t node, tp_error* err);
 
 /* The first read failure not reported yet (one line naming the file, node and offset), or
  * NULL; each failure is returned once. */

@@ -125,9 +125,10 @@ static int start_camera(tp_view_scene* v, const view_options* o, tp_store_scene*
         return TP_EXIT_FAILURE;
     if (o->save_bookmark) {
         char line[1024];
+        tp_error err = {{0}};
         if (!take_georef(v, st) ||
-            !tp_view_bookmark_save(v, o, cam, o->save_bookmark, line, sizeof line)) {
-            tp_cli_error("--save-bookmark: %s", line);
+            !tp_view_bookmark_save(v, o, cam, o->save_bookmark, line, sizeof line, &err)) {
+            tp_cli_error("--save-bookmark: %s", err.message);
             return TP_EXIT_FAILURE;
         }
         printf("%s\n", line);
@@ -141,37 +142,37 @@ static int start_camera(tp_view_scene* v, const view_options* o, tp_store_scene*
 static int open_pgm(tp_view_scene* v, const view_options* o, tp_store_scene* st,
                     tp_pgm_pyramid* pyr, tp_pgm_clipmap** clip)
 {
-    char msg[512];
+    tp_error err = {{0}};
     int cols = o->vs.pgm_grid_count ? o->vs.pgm_grid[0][0] : TP_PGM_DEFAULT_COLS;
     int rows = o->vs.pgm_grid_count ? o->vs.pgm_grid[0][1] : TP_PGM_DEFAULT_ROWS;
     if (st) {
-        tp_pgm_clipmap* pgm_clip =
-            tp_pgm_clipmap_create(st->store, o->vs.pgm_window, msg, sizeof msg);
+        tp_pgm_clipmap* pgm_clip = tp_pgm_clipmap_create(st->store, o->vs.pgm_window, &err);
         /* a window reads on a loader thread (no frame waits for a jump's refill); headless
          * frames read at once, so that each frame is the camera's own */
-        if (pgm_clip && !o->headless && !tp_pgm_clipmap_set_async(pgm_clip, msg, sizeof msg))
-            tp_cli_error("%s (reading on the render thread)", msg);
+        if (pgm_clip && !o->headless && !tp_pgm_clipmap_set_async(pgm_clip, &err))
+            tp_cli_error("%s (reading on the render thread)", err.message);
         if (pgm_clip)
-            v->pgm = tp_pgm_renderer_create_clipmap(pgm_clip, cols, rows, msg, sizeof msg);
+            v->pgm = tp_pgm_renderer_create_clipmap(pgm_clip, cols, rows, &err);
         if (!v->pgm) {
-            tp_cli_error("%s: %s", st->path, msg);
+            tp_cli_error("%s: %s", st->path, err.message);
             tp_pgm_clipmap_destroy(pgm_clip);
             return 0;
         }
         *clip = pgm_clip;
         return 1;
     }
-    tp_error err = {{0}};
+    tp_error why = {{0}};
     uint8_t* valid = NULL;
     const tp_render_grid* g = v->dem->grid;
-    if (tp_pgm_pyramid_from_grid(g->heights, g->width, g->height, g->geotransform, pyr, &valid,
-                                 &err) != TP_OK)
-        snprintf(msg, sizeof msg, "the PGM pyramid: %.400s", err.message);
+    tp_status s = tp_pgm_pyramid_from_grid(g->heights, g->width, g->height, g->geotransform, pyr,
+                                           &valid, &why);
+    if (s != TP_OK)
+        tp_error_set(&err, s, "the PGM pyramid: %.400s", why.message);
     else
-        v->pgm = tp_pgm_renderer_create(pyr, valid, cols, rows, msg, sizeof msg);
+        v->pgm = tp_pgm_renderer_create(pyr, valid, cols, rows, &err);
     free(valid); /* uploaded */
     if (!v->pgm) {
-        tp_cli_error("%s", msg);
+        tp_cli_error("%s", err.message);
         tp_pgm_pyramid_free(pyr);
         return 0;
     }
@@ -186,19 +187,18 @@ static int run_view(tp_view_scene* v, view_options* o, tp_render_grid_desc* gd, 
     int code = start_camera(v, o, st, &cam);
     if (code != TP_EXIT_OK)
         return code;
-    char msg[512];
+    tp_error err = {{0}};
     tp_gl_context* ctx = NULL;
-    int ok = o->headless ? tp_gl_context_create_headless(o->vs.w, o->vs.h, &ctx, msg, sizeof msg)
-                         : tp_gl_context_create_window(o->vs.w, o->vs.h, "terrapatch", &ctx, msg,
-                                                       sizeof msg);
+    int ok = o->headless ? tp_gl_context_create_headless(o->vs.w, o->vs.h, &ctx, &err)
+                         : tp_gl_context_create_window(o->vs.w, o->vs.h, "terrapatch", &ctx, &err);
     if (!ok) {
-        tp_cli_error("%s", msg);
+        tp_cli_error("%s", err.message);
         return TP_EXIT_FAILURE;
     }
-    tp_renderer* r = v->dem ? tp_renderer_create(v->dem->terrain, msg, sizeof msg)
-                            : tp_renderer_create_desc(gd, msg, sizeof msg);
+    tp_renderer* r =
+        v->dem ? tp_renderer_create(v->dem->terrain, &err) : tp_renderer_create_desc(gd, &err);
     if (!r) {
-        tp_cli_error("%s", msg);
+        tp_cli_error("%s", err.message);
         tp_gl_context_destroy(ctx);
         return TP_EXIT_FAILURE;
     }

@@ -62,12 +62,10 @@ static int ground_at(tp_ground* g, double e, double n, double* h, tp_error* err)
     return tp_ground_height(g, x, y, h, err) == TP_OK;
 }
 
-int tp_drape_build(tp_drape* d, const tp_features* f, tp_ground* g, int contours, char* msg,
-                   size_t cap)
+int tp_drape_build(tp_drape* d, const tp_features* f, tp_ground* g, int contours, tp_error* err)
 {
     builder b;
     memset(&b, 0, sizeof b);
-    tp_error err = {{0}};
     const double* gt = tp_ground_scene(g)->info.header.geotransform;
     const double step = fmin(fabs(gt[1]), fabs(gt[5]));
     size_t name_bytes = 0, points = 0;
@@ -84,7 +82,7 @@ int tp_drape_build(tp_drape* d, const tp_features* f, tp_ground* g, int contours
         const double* xy = f->xy + 2 * ft->first;
         if (ft->kind == TP_FEATURE_POINT) {
             double h;
-            if (!ground_at(g, xy[0], xy[1], &h, &err)) {
+            if (!ground_at(g, xy[0], xy[1], &h, err)) {
                 b.failed = 2;
                 break;
             }
@@ -118,7 +116,7 @@ int tp_drape_build(tp_drape* d, const tp_features* f, tp_ground* g, int contours
                 const double t = pieces ? (double)s / pieces : 1.0;
                 const double e = q[0] + t * (p[0] - q[0]), nn = q[1] + t * (p[1] - q[1]);
                 double h;
-                if (!ground_at(g, e, nn, &h, &err)) {
+                if (!ground_at(g, e, nn, &h, err)) {
                     b.failed = 2;
                     break;
                 }
@@ -134,10 +132,8 @@ int tp_drape_build(tp_drape* d, const tp_features* f, tp_ground* g, int contours
         end_part(&b, first, ft->value, ft->index);
     }
     if (b.failed) {
-        if (b.failed == 2)
-            snprintf(msg, cap, "%.400s", err.message);
-        else
-            snprintf(msg, cap, "out of memory draping %zu features", f->count);
+        if (b.failed != 2) /* 2: the ground's reason is in err */
+            tp_error_set(err, TP_ERR_OUT_OF_MEMORY, "out of memory draping %zu features", f->count);
         tp_drape_free(&b.d);
         return 0;
     }

@@ -39,10 +39,9 @@ typedef struct tp_drape {
 } tp_drape;
 
 /* Lays f on the ground g (contours: at their values, contours = 1). Returns 1 with *d filled
- * (free with tp_drape_free), else 0 with msg saying why (out of memory, a leaf that cannot be
+ * (free with tp_drape_free), else 0 with err saying why (out of memory, a leaf that cannot be
  * read) and *d untouched. */
-int tp_drape_build(tp_drape* d, const tp_features* f, tp_ground* g, int contours, char* msg,
-                   size_t cap);
+int tp_drape_build(tp_drape* d, const tp_features* f, tp_ground* g, int contours, tp_error* err);
 
 void tp_drape_free(tp_drape* d); /* d stays usable (zeroed) */
 

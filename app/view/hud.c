@@ -42,10 +42,9 @@ tp_hud* tp_hud_create(void)
 {
     tp_hud* h = calloc(1, sizeof *h);
     uint32_t* idx = malloc(HUD_MAX_QUADS * 6 * sizeof *idx);
-    char msg[256];
     if (h)
         h->verts = malloc(HUD_MAX_QUADS * 4 * 16);
-    if (!h || !idx || !h->verts || !(h->prog = tp_gl_program(vs, fs, msg, sizeof msg))) {
+    if (!h || !idx || !h->verts || !(h->prog = tp_gl_program(vs, fs, NULL))) {
         free(idx);
         if (h)
             free(h->verts);

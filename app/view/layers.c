@@ -19,23 +19,20 @@ static const unsigned char overlay_rgba[TP_VIEW_MAX_OVERLAYS][4] = {
 static const char* overlay_colour_name[TP_VIEW_MAX_OVERLAYS] = {
     "magenta", "cyan", "yellow", "blue", "orange", "white", "lime", "red"};
 
-int tp_view_layers_add_overlay(tp_view_layers* l, tp_ground* g, const char* path, char* msg,
-                               size_t cap)
+int tp_view_layers_add_overlay(tp_view_layers* l, tp_ground* g, const char* path, tp_error* err)
 {
     if (l->overlay_count == TP_VIEW_MAX_OVERLAYS) {
-        snprintf(msg, cap, "%s: at most %d --overlay files", path, TP_VIEW_MAX_OVERLAYS);
+        tp_error_set(err, TP_ERR_INVALID_ARG, "%s: at most %d --overlay files", path,
+                     TP_VIEW_MAX_OVERLAYS);
         return 0;
     }
     tp_features* f = NULL;
-    tp_error err = {{0}};
-    if (tp_vector_read(path, tp_ground_scene(g)->info.header.crs_wkt, &f, &err) != TP_OK) {
-        snprintf(msg, cap, "%.1000s", err.message);
+    if (tp_vector_read(path, tp_ground_scene(g)->info.header.crs_wkt, &f, err) != TP_OK)
         return 0;
-    }
     tp_drape d;
-    char why[512];
-    if (!tp_drape_build(&d, f, g, 0, why, sizeof why)) {
-        snprintf(msg, cap, "%s: %s", path, why);
+    tp_error why = {{0}};
+    if (!tp_drape_build(&d, f, g, 0, &why)) {
+        tp_error_set(err, TP_ERR_IO, "%s: %s", path, why.message);
         tp_features_destroy(f);
         return 0;
     }
@@ -114,11 +111,11 @@ int tp_view_layers_contours_at(tp_view_layers* l, tp_ground* g, double e_m, doub
         st = tp_contours_generate(z, n, w, h, wgt, interval, 0.0, 5, &f, &err);
     free(z);
     tp_drape d;
-    char why[512] = "";
-    int ok = st == TP_OK && tp_drape_build(&d, f, g, 1, why, sizeof why);
+    tp_error why = {{0}};
+    int ok = st == TP_OK && tp_drape_build(&d, f, g, 1, &why);
     const double t2 = tp_clock_s();
     if (!ok) {
-        snprintf(line, cap, "contours: %.400s", st != TP_OK ? err.message : why);
+        snprintf(line, cap, "contours: %.400s", st != TP_OK ? err.message : why.message);
         tp_features_destroy(f);
         return 0;
     }

@@ -32,10 +32,9 @@ typedef struct tp_view_layers {
 } tp_view_layers;
 
 /* Reads path (any vector file OGR opens), reprojects it into the ground's render CRS and drapes
- * it. Returns 1 (and prints what was read), else 0 with msg naming the file and why (OGR cannot
+ * it. Returns 1 (and prints what was read), else 0 with err naming the file and why (OGR cannot
  * open it, no features, a CRS that does not transform, more than TP_VIEW_MAX_OVERLAYS). */
-int tp_view_layers_add_overlay(tp_view_layers* l, tp_ground* g, const char* path, char* msg,
-                               size_t cap);
+int tp_view_layers_add_overlay(tp_view_layers* l, tp_ground* g, const char* path, tp_error* err);
 
 /* Contours every interval_m metres (<= 0: a round interval for about 25 lines over the
  * window's relief: 1, 2 or 5 times a power of ten, at least 1 m) around render (e, n). line

@@ -18,8 +18,8 @@ static int clampi(int v, int lo, int hi)
     return v < lo ? lo : v > hi ? hi : v;
 }
 
-int tp_view_shadow_update(tp_view_shadow* s, tp_ground* g, const tp_render_settings* rs,
-                          double cx, double cy, tp_renderer* r, char* msg, size_t cap)
+int tp_view_shadow_update(tp_view_shadow* s, tp_ground* g, const tp_render_settings* rs, double cx,
+                          double cy, tp_renderer* r, tp_error* err)
 {
     const tp_store_scene* sc = tp_ground_scene(g);
     const tp_tree_geometry* geo = tp_tree_get_geometry(sc->tree);
@@ -41,17 +41,17 @@ int tp_view_shadow_update(tp_view_shadow* s, tp_ground* g, const tp_render_setti
         s->z = malloc((size_t)TP_VIEW_SHADOW_POSTS * TP_VIEW_SHADOW_POSTS * sizeof *s->z);
         s->lit = malloc((size_t)TP_VIEW_SHADOW_POSTS * TP_VIEW_SHADOW_POSTS);
     }
-    tp_error err;
+    tp_error why;
     tp_status st = s->z && s->lit ? TP_OK
-                                   : tp_error_set(&err, TP_ERR_OUT_OF_MEMORY,
-                                                  "out of memory for the shadow window");
+                                  : tp_error_set(&why, TP_ERR_OUT_OF_MEMORY,
+                                                 "out of memory for the shadow window");
     if (st == TP_OK && (!inside || !s->w || s->x0 != x0 || s->y0 != y0))
-        st = tp_ground_read_posts(g, x0, y0, w, h, s->z, NULL, &err);
+        st = tp_ground_read_posts(g, x0, y0, w, h, s->z, NULL, &why);
     if (st == TP_OK)
         st = tp_shadow_compute(s->z, n, w, h, fabs(gt[1]), fabs(gt[5]), rs->sun_azimuth_deg,
-                               rs->sun_elevation_deg, s->lit, NULL, n, &err);
+                               rs->sun_elevation_deg, s->lit, NULL, n, &why);
     if (st != TP_OK) {
-        snprintf(msg, cap, "cast shadows: %s", err.message);
+        tp_error_set(err, st, "cast shadows: %s", why.message);
         tp_renderer_set_shadow(r, 0, 0, 0, 0, 0);
         s->w = 0;
         return 0;

@@ -27,10 +27,10 @@ typedef struct tp_view_shadow {
 } tp_view_shadow;
 
 /* Recomputes the shadows if the sun moved or (cx, cy) (grid coordinates of the point looked
- * at) left the window's middle half, and hands them to r. 1, or 0 with msg (a read failed, out
+ * at) left the window's middle half, and hands them to r. 1, or 0 with err (a read failed, out
  * of memory): the frame is then drawn without cast shadows. A GL context must be current. */
-int tp_view_shadow_update(tp_view_shadow* s, tp_ground* g, const tp_render_settings* rs,
-                          double cx, double cy, tp_renderer* r, char* msg, size_t cap);
+int tp_view_shadow_update(tp_view_shadow* s, tp_ground* g, const tp_render_settings* rs, double cx,
+                          double cy, tp_renderer* r, tp_error* err);
 
 void tp_view_shadow_free(tp_view_shadow* s); /* s stays usable (zeroed) */
 

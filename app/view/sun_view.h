@@ -26,9 +26,9 @@ typedef struct tp_view_sun {
 } tp_view_sun;
 
 /* The sun at t over the render-CRS point (e, n) of georeference g. 1, or 0 with one line in
- * msg (a grid without geographic coordinates: local metres; a time outside libnova's range). */
-int tp_view_sun_init(tp_view_sun* s, const tp_sun_time* t, const tp_georef* g, double e,
-                     double n, char* msg, size_t cap);
+ * err (a grid without geographic coordinates: local metres; a time outside libnova's range). */
+int tp_view_sun_init(tp_view_sun* s, const tp_sun_time* t, const tp_georef* g, double e, double n,
+                     tp_error* err);
 
 /* Moves the time by seconds (the position recomputed) and puts the light in rs. */
 void tp_view_sun_step(tp_view_sun* s, double seconds, tp_render_settings* rs);

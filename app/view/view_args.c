@@ -166,10 +166,9 @@ static int check_options(view_options* o)
         tp_cli_error("--sun-date and --sun-time go together: give both");
         return TP_EXIT_USAGE;
     }
-    char why[160];
-    if (o->sun_date &&
-        !tp_sun_time_parse(o->sun_date, o->sun_time, &o->sun_when, why, sizeof why)) {
-        tp_cli_error("--sun-date %s --sun-time %s: %s", o->sun_date, o->sun_time, why);
+    tp_error why = {{0}};
+    if (o->sun_date && !tp_sun_time_parse(o->sun_date, o->sun_time, &o->sun_when, &why)) {
+        tp_cli_error("--sun-date %s --sun-time %s: %s", o->sun_date, o->sun_time, why.message);
         return TP_EXIT_USAGE;
     }
     return -1;

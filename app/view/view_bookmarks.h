@@ -22,19 +22,21 @@ int tp_view_bookmarks_check(const view_options* o);
 int tp_view_bookmark_camera(const tp_view_scene* v, const view_options* o, const char* name,
                             tp_camera* cam);
 
-/* Saves cam as bookmark name (replacing one of that name). Writes what happened, one line, into
- * msg; returns 0 on failure. */
+/* Saves cam as bookmark name (replacing one of that name). Returns 1 with what happened, one
+ * line, in line (cap bytes: "bookmark 'NAME' saved in PATH"); 0 with the reason in err. */
 int tp_view_bookmark_save(const tp_view_scene* v, const view_options* o, const tp_camera* cam,
-                          const char* name, char* msg, size_t cap);
+                          const char* name, char* line, size_t cap, tp_error* err);
 
 /* Moves cam to bookmark name (window keys 1..9: "view N"); *index becomes its place in the file.
- * Writes a line into msg; returns 0 (cam unchanged) when there is none of that name. */
+ * Returns 1 with a line in line (cap bytes); 0 (cam unchanged) with the reason in err when there
+ * is none of that name or it cannot be shown. */
 int tp_view_bookmark_recall(const tp_view_scene* v, const view_options* o, tp_camera* cam,
-                            const char* name, int* index, char* msg, size_t cap);
+                            const char* name, int* index, char* line, size_t cap, tp_error* err);
 
 /* Moves cam to the bookmark `step` places after *index in file order (wrapping; *index -1: none
- * yet) and updates *index. Writes a line into msg; returns 0 when nothing changed. */
+ * yet) and updates *index. Returns 1 with a line in line (cap bytes); 0 with the reason in err
+ * when nothing changed. */
 int tp_view_bookmark_cycle(const tp_view_scene* v, const view_options* o, tp_camera* cam,
-                           int* index, int step, char* msg, size_t cap);
+                           int* index, int step, char* line, size_t cap, tp_error* err);
 
 #endif

@@ -26,9 +26,8 @@ int tp_view_load_layers(tp_view_scene* v, view_options* o, tp_view_layers* layer
     }
     o->layers = layers;
     for (int i = 0; i < o->overlay_count; i++) {
-        char msg[1200];
-        if (!tp_view_layers_add_overlay(layers, o->ground, o->overlays[i], msg, sizeof msg)) {
-            tp_cli_error("--overlay %s", msg);
+        if (!tp_view_layers_add_overlay(layers, o->ground, o->overlays[i], &err)) {
+            tp_cli_error("--overlay %s", err.message);
             return TP_EXIT_FAILURE;
         }
     }

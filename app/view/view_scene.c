@@ -75,8 +75,7 @@ static int require_leaf(tp_view_scene* v, double x, double y)
     int64_t leaf = tp_tree_leaf_at(v->store->tree, x, y);
     if (leaf < 0 || tp_tree_samples(v->store->tree, leaf))
         return 1;
-    char msg[600];
-    if (tp_stream_require(v->store->stream, leaf, msg, sizeof msg))
+    if (tp_stream_require(v->store->stream, leaf, NULL))
         return 1;
     tp_view_scene_report_failures(v); /* the stream reports it once */
     return 0;
@@ -138,13 +137,12 @@ void tp_view_scene_measure(const tp_view_scene* v, const tp_camera* cam, double*
     *max_px = *rms_px = 0;
     if (v->pgm) {
         tp_pgm_error e;
-        char msg[600];
+        tp_error err = {{0}};
         static char told[600]; /* the HUD measures once a second: each message once in a row */
-        if (tp_pgm_renderer_measure(v->pgm, cam, PGM_MEASURE_MAX_POSTS, &e, msg, sizeof msg) !=
-            TP_OK) {
-            if (strcmp(msg, told))
-                tp_cli_error("%s", msg);
-            snprintf(told, sizeof told, "%s", msg);
+        if (tp_pgm_renderer_measure(v->pgm, cam, PGM_MEASURE_MAX_POSTS, &e, &err) != TP_OK) {
+            if (strcmp(err.message, told))
+                tp_cli_error("%s", err.message);
+            snprintf(told, sizeof told, "%s", err.message);
             *max_px = *rms_px = NAN;
             return;
         }

@@ -45,9 +45,9 @@ int tp_view_shadows_open(tp_view_scene* v, view_options* o, const tp_store_scene
     }
     double e = v->gt[0] + 0.5 * v->src_width * v->gt[1];
     double n = v->gt[3] + 0.5 * v->src_height * v->gt[5];
-    char msg[512];
-    if (!tp_view_sun_init(&o->sun, &when, v->georef, e, n, msg, sizeof msg)) {
-        tp_cli_error("%s: %s", o->sun_date ? "--sun-date" : "--light", msg);
+    tp_error err = {{0}};
+    if (!tp_view_sun_init(&o->sun, &when, v->georef, e, n, &err)) {
+        tp_cli_error("%s: %s", o->sun_date ? "--sun-date" : "--light", err.message);
         return TP_EXIT_FAILURE;
     }
     tp_view_sun_apply(&o->sun, &o->render);
@@ -122,9 +122,9 @@ void tp_view_shadows_frame(tp_view_scene* v, tp_renderer* r, const tp_camera* ca
     if (!tp_view_pick_centre(v, cam, p))
         p[0] = cam->position[0], p[1] = cam->position[1];
     tp_view_scene_world_to_grid(v, p[0], p[1], &x, &y);
-    char msg[600];
-    if (!tp_view_shadow_update(v->shadow, v->shadow_ground, render, x, y, r, msg, sizeof msg)) {
-        tp_cli_error("%s", msg);
+    tp_error err = {{0}};
+    if (!tp_view_shadow_update(v->shadow, v->shadow_ground, render, x, y, r, &err)) {
+        tp_cli_error("%s", err.message);
         return;
     }
     out->light_source = TP_VIEW_LIGHT_WINDOW;

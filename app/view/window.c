@@ -203,11 +203,11 @@ static void point_click(window_state* s, GLFWwindow* win, double x, double y)
     if (!ground_under(s, win, x, y, "point readout", p))
         return;
     tp_point_readout r;
-    char msg[1024];
+    tp_error err = {{0}};
     const char* source = s->v->path ? s->v->path : s->v->store->path;
-    if (!tp_point_readout_at_world(s->ground, source, p[0], p[1], 5, &r, msg, sizeof msg)) {
-        snprintf(s->measure_line, sizeof s->measure_line, "point readout: %.400s", msg);
-        printf("point: %s\n", msg);
+    if (!tp_point_readout_at_world(s->ground, source, p[0], p[1], 5, &r, &err)) {
+        snprintf(s->measure_line, sizeof s->measure_line, "point readout: %.400s", err.message);
+        printf("point: %s\n", err.message);
     } else {
         char text[2048];
         tp_point_readout_text(&r, text, sizeof text);
@@ -355,22 +355,24 @@ static void on_key(window_state* s, int key, int mods)
 static int bookmark_key(window_state* s, int key, int mods)
 {
     int ok;
+    tp_error err = {{0}};
     if (key == GLFW_KEY_TAB) {
-        ok = tp_view_bookmark_cycle(s->v, s->o, s->cam, &s->bookmark,
-                                    mods & GLFW_MOD_SHIFT ? -1 : 1, s->measure_line,
-                                    sizeof s->measure_line);
+        ok =
+            tp_view_bookmark_cycle(s->v, s->o, s->cam, &s->bookmark, mods & GLFW_MOD_SHIFT ? -1 : 1,
+                                   s->measure_line, sizeof s->measure_line, &err);
     } else if (key >= GLFW_KEY_1 && key <= GLFW_KEY_9) {
         char name[16];
         snprintf(name, sizeof name, "view %d", key - GLFW_KEY_0);
         if (mods & GLFW_MOD_CONTROL) {
-            tp_view_bookmark_save(s->v, s->o, s->cam, name, s->measure_line,
-                                  sizeof s->measure_line);
+            if (!tp_view_bookmark_save(s->v, s->o, s->cam, name, s->measure_line,
+                                       sizeof s->measure_line, &err))
+                snprintf(s->measure_line, sizeof s->measure_line, "%s", err.message);
             printf("%s\n", s->measure_line);
             fflush(stdout);
             return 1;
         }
         ok = tp_view_bookmark_recall(s->v, s->o, s->cam, name, &s->bookmark, s->measure_line,
-                                     sizeof s->measure_line);
+                                     sizeof s->measure_line, &err);
     } else {
         return 0;
     }
@@ -378,6 +380,8 @@ static int bookmark_key(window_state* s, int key, int mods)
         s->nav.orbit = 0;
         tp_camera_get_pose(s->cam, &s->nav.yaw_deg, &s->nav.pitch_deg);
         s->has_mark = 0;
+    } else {
+        snprintf(s->measure_line, sizeof s->measure_line, "%s", err.message);
     }
     printf("%s\n", s->measure_line);
     fflush(stdout);

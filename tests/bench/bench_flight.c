@@ -47,11 +47,10 @@ int main(int argc, char** argv)
         fprintf(stderr, "%s\n", err.message);
         return 1;
     }
-    char msg[512];
     tp_stream_options so = {.memory_bytes = memory_mb << 20};
-    tp_stream* st = tp_stream_create(store, tree, &so, msg, sizeof msg);
+    tp_stream* st = tp_stream_create(store, tree, &so, &err);
     if (!st) {
-        fprintf(stderr, "%s\n", msg);
+        fprintf(stderr, "%s\n", err.message);
         return 1;
     }
     tp_cut *cut, *pre;

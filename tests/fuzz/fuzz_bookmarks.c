@@ -25,13 +25,13 @@ int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size)
     tp_bookmark b, before;
     memset(&b, 0x55, sizeof b);
     before = b;
-    char why[256];
-    memset(why, 0, sizeof why);
-    int r = tp_bookmark_parse_line(line, &b, why, sizeof why);
+    tp_error why;
+    memset(&why, 0, sizeof why);
+    int r = tp_bookmark_parse_line(line, &b, &why);
     TP_FUZZ_CHECK(r >= -1 && r <= 1, "returned %d", r);
     if (r <= 0) {
         TP_FUZZ_CHECK(memcmp(&b, &before, sizeof b) == 0, "no bookmark but the output written");
-        TP_FUZZ_CHECK(r == 0 || why[0], "malformed without a reason");
+        TP_FUZZ_CHECK(r == 0 || why.message[0], "malformed without a reason");
         return 0;
     }
     TP_FUZZ_CHECK(memchr(b.name, '\0', sizeof b.name) && b.name[0], "no name");
@@ -44,8 +44,8 @@ int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size)
     char text[2048];
     tp_bookmark_format(&b, text, sizeof text);
     tp_bookmark back;
-    TP_FUZZ_CHECK(tp_bookmark_parse_line(text, &back, why, sizeof why) == 1,
-                  "'%s' written back does not read: %s", text, why);
+    TP_FUZZ_CHECK(tp_bookmark_parse_line(text, &back, &why) == 1,
+                  "'%s' written back does not read: %s", text, why.message);
     TP_FUZZ_CHECK(strcmp(back.name, b.name) == 0 && back.geo == b.geo,
                   "'%s' reads back as '%s' (%d)", text, back.name, back.geo);
     return 0;

@@ -62,10 +62,17 @@ int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size)
                                 .precision = precision,
                                 .geodesic = kind == 4};
         char out[TP_COORD_TEXT_SIZE];
+        tp_error err;
         memset(out, 0x55, sizeof out);
-        tp_coord_line_convert(&req, line, len, out, sizeof out);
-        TP_FUZZ_CHECK(memchr(out, '\0', sizeof out) != NULL, "output not terminated");
-        TP_FUZZ_CHECK(out[0] != '\0', "empty output or message");
+        memset(&err, 0x55, sizeof err);
+        if (tp_coord_line_convert(&req, line, len, out, sizeof out, &err)) {
+            TP_FUZZ_CHECK(memchr(out, '\0', sizeof out) != NULL, "output not terminated");
+            TP_FUZZ_CHECK(out[0] != '\0', "empty output");
+        } else {
+            TP_FUZZ_CHECK(memchr(err.message, '\0', sizeof err.message) != NULL,
+                          "message not terminated");
+            TP_FUZZ_CHECK(err.message[0] != '\0', "empty message");
+        }
     }
     free(line);
     return 0;

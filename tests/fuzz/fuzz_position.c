@@ -26,9 +26,9 @@ int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size)
     tp_position p;
     memset(&p, 0x55, sizeof p);
     tp_position before = p;
-    char msg[TP_POSITION_MSG_SIZE];
-    memset(msg, 0x55, sizeof msg);
-    if (tp_position_parse(text, len, allow_height, &p, msg, sizeof msg)) {
+    tp_error err;
+    memset(&err, 0x55, sizeof err);
+    if (tp_position_parse(text, len, allow_height, &p, &err)) {
         TP_FUZZ_CHECK(isfinite(p.lat_deg) && isfinite(p.lon_deg) && p.lat_deg >= -90.0 &&
                           p.lat_deg <= 90.0 && p.lon_deg >= -180.0 && p.lon_deg <= 180.0,
                       "read as %g %g", p.lat_deg, p.lon_deg);
@@ -44,11 +44,12 @@ int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size)
                       "%s %s does not read back as %g %g", a, b, p.lat_deg, p.lon_deg);
     } else {
         TP_FUZZ_CHECK(memcmp(&p, &before, sizeof p) == 0, "a failure wrote the output");
-        TP_FUZZ_CHECK(memchr(msg, '\0', sizeof msg) && msg[0], "no message");
+        TP_FUZZ_CHECK(memchr(err.message, '\0', sizeof err.message) && err.message[0],
+                      "no message");
     }
     if (data[0] & 4) {
         tp_position_readings r;
-        if (tp_position_parse_readings(text, len, allow_height, &r, msg, sizeof msg)) {
+        if (tp_position_parse_readings(text, len, allow_height, &r, &err)) {
             TP_FUZZ_CHECK(r.count == 1 || r.count == 2, "%d readings", r.count);
             for (int k = 0; k < r.count; ++k)
                 TP_FUZZ_CHECK(isfinite(r.reading[k].lat_deg) &&
