@@ -221,28 +221,23 @@ static void json_lines(tp_json* j, const char* text)
 /* key: value pairs of the JSON object. */
 static void key_string(tp_json* j, const char* key, const char* v)
 {
-    tp_json_key(j, key);
-    tp_json_string(j, v);
+    tp_json_member_string(j, key, v);
 }
 static void key_int(tp_json* j, const char* key, long long v)
 {
-    tp_json_key(j, key);
-    tp_json_int(j, v);
+    tp_json_member_int(j, key, v);
 }
 static void key_number(tp_json* j, const char* key, double v)
 {
-    tp_json_key(j, key);
-    tp_json_number(j, v);
+    tp_json_member_number(j, key, v);
 }
 static void key_size(tp_json* j, const char* key, size_t v)
 {
-    tp_json_key(j, key);
-    tp_json_size(j, v);
+    tp_json_member_size(j, key, v);
 }
 static void key_bool(tp_json* j, const char* key, int v)
 {
-    tp_json_key(j, key);
-    tp_json_bool(j, v);
+    tp_json_member_bool(j, key, v);
 }
 static void key_numbers(tp_json* j, const char* key, const double* v, int count)
 {
