@@ -227,6 +227,13 @@ static int code_option(int c, const char* arg, bench_options* o)
     return GO_ON;
 }
 
+/* bench's CODE options (tp_option_handler): code_option. */
+static int own_option(void* ctx, int code, const char* value, const char* cmd)
+{
+    (void)cmd;
+    return code_option(code, value, ctx) == GO_ON ? 1 : -1;
+}
+
 static void set_defaults(bench_options* o)
 {
     memset(o, 0, sizeof *o);
@@ -402,26 +409,12 @@ int tp_bench_parse_options(int argc, char** argv, bench_options* o)
         TP_OPT_CODE("--imagery-mode", NULL, OPT_IMAGERY_MODE, 1),
         TP_OPT_TEXT("--light", NULL, &o->light),
     };
-    tp_options p;
-    tp_options_init(&p, "bench", argc, argv, print_help);
-    tp_options_add(&p, options, TP_OPTIONS_COUNT(options), NULL, NULL);
-    tp_scene_options_add(&p, &o->scene);
-    tp_view_options_add(&p, &o->vs, 1);
-    const char* extra = NULL;
-    for (int c, code; (c = tp_options_next(&p)) != TP_OPTIONS_END;) {
-        switch (c) {
-        case TP_OPTIONS_EXIT: return p.exit;
-        case TP_OPTIONS_OPERAND: /* the DEM, then the first one too many */
-            if (!o->dem)
-                o->dem = p.value;
-            else if (!extra)
-                extra = p.value;
-            break;
-        default:
-            if ((code = code_option(c, p.value, o)) != GO_ON)
-                return code;
-        }
-    }
+    const tp_option_table own = {options, TP_OPTIONS_COUNT(options), own_option, o};
+    const char* extra;
+    const int parsed = tp_view_command_parse("bench", argc, argv, print_help, own, &o->scene,
+                                             &o->vs, 1, &o->dem, &extra);
+    if (parsed >= 0)
+        return parsed;
     o->runs_given = o->runs > 0;
     o->runs = o->runs_given ? o->runs : 3;
     /* the checks, in the order their messages are given */

@@ -106,6 +106,22 @@ static int bad(const char* opt, const char* expected, const char* got)
     return TP_EXIT_USAGE;
 }
 
+/* --mesh and --origin (tp_option_handler). */
+static int code_option(void* ctx, int code, const char* v, const char* cmd)
+{
+    export_options* o = ctx;
+    if (code == OPT_MESH) {
+        if (strcmp(v, "tin") && strcmp(v, "patches"))
+            return bad("--mesh", "tin or patches", v), -1;
+        o->mesh = !strcmp(v, "tin") ? MESH_TIN : MESH_PATCHES;
+    } else if (!strcmp(v, "local")) { /* --origin: "local" here, LAT,LON for heightmap images */
+        o->origin_local = 1;
+    } else if (tp_scene_option(TP_OPT_ORIGIN, v, &o->scene, cmd) < 0) {
+        return -1;
+    }
+    return 1;
+}
+
 static int parse_options(int argc, char** argv, export_options* o)
 {
     memset(o, 0, sizeof *o);
@@ -122,35 +138,12 @@ static int parse_options(int argc, char** argv, export_options* o)
         TP_OPT_CODE("--origin", NULL, OPT_ORIGIN, 1), /* before the DEM options' --origin */
         TP_OPT_FLAG("--per-patch", &o->per_patch),
     };
-    tp_options p;
-    tp_options_init(&p, "export", argc, argv, print_help);
-    tp_options_add(&p, options, TP_OPTIONS_COUNT(options), NULL, NULL);
-    tp_scene_options_add(&p, &o->scene);
-    tp_view_options_add(&p, &o->vs, 0);
-    const char* extra = NULL;
-    for (int c; (c = tp_options_next(&p)) != TP_OPTIONS_END;) {
-        const char* v = p.value;
-        switch (c) {
-        case TP_OPTIONS_EXIT: return p.exit;
-        case TP_OPTIONS_OPERAND: /* the DEM, then the first one too many */
-            if (!o->path)
-                o->path = v;
-            else if (!extra)
-                extra = v;
-            break;
-        case OPT_MESH:
-            if (strcmp(v, "tin") && strcmp(v, "patches"))
-                return bad("--mesh", "tin or patches", v);
-            o->mesh = !strcmp(v, "tin") ? MESH_TIN : MESH_PATCHES;
-            break;
-        case OPT_ORIGIN: /* "local" here, LAT,LON for heightmap images: both are accepted */
-            if (!strcmp(v, "local"))
-                o->origin_local = 1;
-            else if (tp_scene_option(TP_OPT_ORIGIN, v, &o->scene, "export") < 0)
-                return TP_EXIT_USAGE;
-            break;
-        }
-    }
+    const tp_option_table own = {options, TP_OPTIONS_COUNT(options), code_option, o};
+    const char* extra;
+    const int code = tp_view_command_parse("export", argc, argv, print_help, own, &o->scene,
+                                           &o->vs, 0, &o->path, &extra);
+    if (code >= 0)
+        return code;
     if (full && o->max_error_m >= 0) {
         tp_cli_error("--full and --max-error exclude each other");
         return TP_EXIT_USAGE;

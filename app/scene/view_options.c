@@ -172,6 +172,27 @@ void tp_view_options_add(tp_options* p, tp_view_setup* v, int renderer)
                        view_option_handler, v);
 }
 
+int tp_view_command_parse(const char* cmd, int argc, char** argv, void (*help)(void),
+                          tp_option_table own, tp_scene_options* dem, tp_view_setup* v,
+                          int renderer, const char** path, const char** extra)
+{
+    tp_options p;
+    tp_options_init(&p, cmd, argc, argv, help);
+    tp_options_add(&p, own.options, own.count, own.handler, own.ctx);
+    tp_scene_options_add(&p, dem);
+    tp_view_options_add(&p, v, renderer);
+    *extra = NULL;
+    for (int c; (c = tp_options_next(&p)) != TP_OPTIONS_END;) {
+        if (c != TP_OPTIONS_OPERAND) /* EXIT: no CODE option is left without a handler */
+            return p.exit;
+        if (!*path)
+            *path = p.value;
+        else if (!*extra)
+            *extra = p.value;
+    }
+    return -1;
+}
+
 int tp_view_setup_check(const tp_view_setup* v, const char* cmd)
 {
     (void)cmd; /* messages name the command main() dispatched to (tp_cli_error) */

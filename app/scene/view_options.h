@@ -31,6 +31,16 @@ void tp_view_setup_default(tp_view_setup* v);
  * export draws nothing). */
 void tp_view_options_add(tp_options* p, tp_view_setup* v, int renderer);
 
+/* Parses the arguments of a command that looks at the terrain through a camera (view, bench,
+ * export): its own options (own: CODE options go to own.handler), the DEM options into dem, the
+ * camera and LoD options into v (tp_view_options_add, renderer as there), the DEM into *path
+ * and the first operand too many into *extra (NULL when none: the command says what it was).
+ * Returns -1 when every argument was read, else the exit code (0 after the help, 2 after a
+ * usage error). */
+int tp_view_command_parse(const char* cmd, int argc, char** argv, void (*help)(void),
+                          tp_option_table own, tp_scene_options* dem, tp_view_setup* v,
+                          int renderer, const char** path, const char** extra);
+
 /* Checks the LoD parameters once all options are read; -1 after a message, else 0. */
 int tp_view_setup_check(const tp_view_setup* v, const char* cmd);
 

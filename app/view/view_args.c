@@ -120,6 +120,13 @@ static int code_option(int c, const char* arg, view_options* o)
     return -1;
 }
 
+/* view's CODE options (tp_option_handler): code_option. */
+static int own_option(void* ctx, int code, const char* value, const char* cmd)
+{
+    (void)cmd;
+    return code_option(code, value, ctx) >= 0 ? -1 : 1;
+}
+
 /* The options that do not go together, or need another; TP_EXIT_USAGE after a message, else
  * -1. */
 static int check_options(view_options* o)
@@ -229,26 +236,12 @@ int tp_view_parse_options(int argc, char** argv, view_options* o)
         TP_OPT_TEXT("--cache-dir", NULL, &o->cache_dir),
         TP_OPT_FLAG("--whole", &o->old_path),
     };
-    tp_options p;
-    tp_options_init(&p, "view", argc, argv, tp_view_print_help);
-    tp_options_add(&p, options, TP_OPTIONS_COUNT(options), NULL, NULL);
-    tp_scene_options_add(&p, &o->scene);
-    tp_view_options_add(&p, &o->vs, 1);
-    const char* extra = NULL;
-    for (int c, code; (c = tp_options_next(&p)) != TP_OPTIONS_END;) {
-        switch (c) {
-        case TP_OPTIONS_EXIT: return p.exit;
-        case TP_OPTIONS_OPERAND: /* the DEM, then the first one too many */
-            if (!o->path)
-                o->path = p.value;
-            else if (!extra)
-                extra = p.value;
-            break;
-        default:
-            if ((code = code_option(c, p.value, o)) >= 0)
-                return code;
-        }
-    }
+    const tp_option_table own = {options, TP_OPTIONS_COUNT(options), own_option, o};
+    const char* extra;
+    const int code = tp_view_command_parse("view", argc, argv, tp_view_print_help, own, &o->scene,
+                                           &o->vs, 1, &o->path, &extra);
+    if (code >= 0)
+        return code;
     if (extra) {
         tp_cli_error("expected one DEM, got extra argument '%s'", extra);
         return TP_EXIT_USAGE;
