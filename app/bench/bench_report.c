@@ -14,31 +14,31 @@ static const char* mode_name(tp_lod_mode m)
 
 static void json_config(tp_json* j, const config_result* c)
 {
-#define KN(k, v) (tp_json_member_number(j, k, v))
-    KN("fps_median", c->fps_median);
-    KN("frame_ms_median", c->frame_ms);
-    KN("cpu_ms_median", c->cpu_ms);
-    KN("draw_ms_median", c->draw_ms);
-    KN("triangles_median", c->triangles);
-    KN("draw_calls_median", c->draw_calls);
-    KN("uploads_median", c->uploads);
-    KN("gpu_bytes", (double)c->gpu_bytes);
+#define tp_json_member_number(j, k, v) (tp_json_member_number(j, k, v))
+    tp_json_member_number(j, "fps_median", c->fps_median);
+    tp_json_member_number(j, "frame_ms_median", c->frame_ms);
+    tp_json_member_number(j, "cpu_ms_median", c->cpu_ms);
+    tp_json_member_number(j, "draw_ms_median", c->draw_ms);
+    tp_json_member_number(j, "triangles_median", c->triangles);
+    tp_json_member_number(j, "draw_calls_median", c->draw_calls);
+    tp_json_member_number(j, "uploads_median", c->uploads);
+    tp_json_member_number(j, "gpu_bytes", (double)c->gpu_bytes);
     if (c->stitch_add) {
-        KN("draws_median", c->draws);
-        KN("index_gpu_bytes", (double)c->index_gpu_bytes);
-        KN("index_cpu_bytes", (double)c->index_cpu_bytes);
+        tp_json_member_number(j, "draws_median", c->draws);
+        tp_json_member_number(j, "index_gpu_bytes", (double)c->index_gpu_bytes);
+        tp_json_member_number(j, "index_cpu_bytes", (double)c->index_cpu_bytes);
     }
-    KN("max_screen_error_px", c->max_px);
-    KN("rms_screen_error_px", c->rms_px);
-    KN("max_vertical_error_m", c->max_m);
-    KN("rms_vertical_error_m", c->rms_m);
+    tp_json_member_number(j, "max_screen_error_px", c->max_px);
+    tp_json_member_number(j, "rms_screen_error_px", c->rms_px);
+    tp_json_member_number(j, "max_vertical_error_m", c->max_m);
+    tp_json_member_number(j, "rms_vertical_error_m", c->rms_m);
     if (c->pgm_cols)
-        KN("uncovered_share", c->uncovered_share); /* left out of PGM's error */
+        tp_json_member_number(j, "uncovered_share",
+                              c->uncovered_share); /* left out of PGM's error */
     if (c->lod.mode == TP_LOD_ERROR && c->oracle_triangles > 0) {
-        KN("oracle_triangles_median", c->oracle_triangles);
-        KN("oracle_coarser_patches_median", c->oracle_patches);
+        tp_json_member_number(j, "oracle_triangles_median", c->oracle_triangles);
+        tp_json_member_number(j, "oracle_coarser_patches_median", c->oracle_patches);
     }
-#undef KN
 }
 
 /* The renderer of a configuration, then its LoD parameters (a persistent grid has none). */
@@ -83,30 +83,32 @@ int tp_bench_write_json(const bench_run* b, const char* renderer_name, const con
     tp_json_init(&j, f);
     const config_result* full = &c[0];
     tp_json_object_begin(&j);
-#define KS(k, v) (tp_json_member_string(&j, k, v))
-#define KN(k, v) (tp_json_member_number(&j, k, v))
-    KS("dem", o->dem);
+    tp_json_member_string(&j, "dem", o->dem);
     char size[32];
     snprintf(size, sizeof size, "%dx%d", o->vs.w, o->vs.h);
-    KS("size", size);
-    KS("path", o->path_file ? o->path_file : o->vs.has_camera ? "fixed" : o->path_name);
-    KN("speed_mps", b->lead_da > 0 ? o->speed_mps : 0);
-    KN("frames", b->frames);
-    KN("patches", b->sc->info.patch_count);
-    KN("patch_size", b->sc->info.patch_size);
-    KS("renderer", renderer_name);
+    tp_json_member_string(&j, "size", size);
+    tp_json_member_string(&j, "path",
+                          o->path_file       ? o->path_file
+                          : o->vs.has_camera ? "fixed"
+                                             : o->path_name);
+    tp_json_member_number(&j, "speed_mps", b->lead_da > 0 ? o->speed_mps : 0);
+    tp_json_member_number(&j, "frames", b->frames);
+    tp_json_member_number(&j, "patches", b->sc->info.patch_count);
+    tp_json_member_number(&j, "patch_size", b->sc->info.patch_size);
+    tp_json_member_string(&j, "renderer", renderer_name);
     /* the program's own accounting: measured peak against the up-front check's estimate */
-    KN("peak_rss_bytes", (double)tp_memory_peak_rss());
-    KN("memory_estimate_bytes",
-       (double)tp_memory_estimate(TP_MEMORY_USE_BENCH,
-                                  (uint64_t)b->sc->info.width * (uint64_t)b->sc->info.height));
+    tp_json_member_number(&j, "peak_rss_bytes", (double)tp_memory_peak_rss());
+    tp_json_member_number(
+        &j, "memory_estimate_bytes",
+        (double)tp_memory_estimate(TP_MEMORY_USE_BENCH,
+                                   (uint64_t)b->sc->info.width * (uint64_t)b->sc->info.height));
     json_lod(&j, best);
     json_config(&j, best);
     tp_json_key(&j, "full_res");
     tp_json_object_begin(&j);
     json_config(&j, full);
     tp_json_object_end(&j);
-    KN("speedup_vs_full", best->fps_median / full->fps_median);
+    tp_json_member_number(&j, "speedup_vs_full", best->fps_median / full->fps_median);
     tp_json_key(&j, "configurations");
     tp_json_array_begin(&j);
     for (int i = 0; i < nc; i++) {
@@ -119,8 +121,6 @@ int tp_bench_write_json(const bench_run* b, const char* renderer_name, const con
         tp_json_object_end(&j);
     }
     tp_json_array_end(&j);
-#undef KS
-#undef KN
     tp_json_object_end(&j);
     return tp_atomic_commit(&file);
 }

@@ -13,19 +13,19 @@
 
 static void json_result(tp_json* j, const store_result* c)
 {
-#define KN(k, v) (tp_json_member_number(j, k, v))
+#define tp_json_member_number(j, k, v) (tp_json_member_number(j, k, v))
     tp_json_member_string(j, "terrain_renderer", c->pgm_cols ? "pgm" : "patches");
     if (c->pgm_cols) {
         char grid[32];
         snprintf(grid, sizeof grid, "%dx%d", c->pgm_cols, c->pgm_rows);
         tp_json_member_string(j, "pgm_grid", grid);
-        KN("pgm_window", c->pgm_window);
-        KN("pgm_fill_ms_median", c->pgm_fill_ms);
-        KN("pgm_fill_ms_p99", c->pgm_fill_ms_p99);
-        KN("pgm_upload_ms_median", c->pgm_upload_ms);
-        KN("pgm_upload_ms_p99", c->pgm_upload_ms_p99);
-        KN("pgm_posts_updated_median", c->pgm_posts);
-        KN("pgm_node_reads_median", c->pgm_node_reads);
+        tp_json_member_number(j, "pgm_window", c->pgm_window);
+        tp_json_member_number(j, "pgm_fill_ms_median", c->pgm_fill_ms);
+        tp_json_member_number(j, "pgm_fill_ms_p99", c->pgm_fill_ms_p99);
+        tp_json_member_number(j, "pgm_upload_ms_median", c->pgm_upload_ms);
+        tp_json_member_number(j, "pgm_upload_ms_p99", c->pgm_upload_ms_p99);
+        tp_json_member_number(j, "pgm_posts_updated_median", c->pgm_posts);
+        tp_json_member_number(j, "pgm_node_reads_median", c->pgm_node_reads);
     }
     tp_json_member_string(j, "stitch", c->stitch_add ? "add" : "move");
     tp_json_member_string(j, "lod_mode", c->pgm_cols                 ? "pgm"
@@ -33,69 +33,70 @@ static void json_result(tp_json* j, const store_result* c)
                       : c->lod.sphere_tree        ? "spheres"
                                                   : "distance");
     if (c->lod.mode == TP_LOD_ERROR)
-        KN("tau_px", c->lod.tau_px > 0 ? c->lod.tau_px : 1);
-    KN("fps_median", c->fps_median);
-    KN("frame_ms_median", c->frame_ms);
-    KN("frame_ms_p99", c->frame_ms_p99);
-    KN("p99_over_median", c->frame_ms_p99 / c->frame_ms);
-    KN("cpu_ms_median", c->cpu_ms); /* the DEM bench's name: one schema */
-    KN("cut_ms_median", c->cut_ms);
-    KN("stream_ms_median", c->stream_ms);
-    KN("upload_ms_median", c->upload_ms);
-    KN("draw_ms_median", c->draw_ms);
-    KN("draw_calls_median", c->draw_calls);
-    KN("draw_page_faults_median", c->page_faults);
-    KN("triangles_median", c->triangles);
-    KN("nodes_drawn_median", c->nodes);
-    KN("nodes_visited_median", c->visited);
-    KN("uploads_median", c->uploads);
-    KN("substituted_nodes_max", c->substituted_max);
-    KN("frames_with_substitution", c->frames_with_substitution);
-    KN("dropped_nodes_max", c->dropped_max);
-    KN("pending_max", c->pending_max);
-    KN("rss_mb", c->rss_mb);
-    KN("rss_anon_mb", c->rss_anon_mb);
-    KN("resident_mb", c->resident_mb);
-    KN("gpu_mb", c->gpu_mb);
-    KN("settle_ms", c->settle_ms);
-    KN("settle_timeouts", c->settle_timeouts);
+        tp_json_member_number(j, "tau_px", c->lod.tau_px > 0 ? c->lod.tau_px : 1);
+    tp_json_member_number(j, "fps_median", c->fps_median);
+    tp_json_member_number(j, "frame_ms_median", c->frame_ms);
+    tp_json_member_number(j, "frame_ms_p99", c->frame_ms_p99);
+    tp_json_member_number(j, "p99_over_median", c->frame_ms_p99 / c->frame_ms);
+    tp_json_member_number(j, "cpu_ms_median", c->cpu_ms); /* the DEM bench's name: one schema */
+    tp_json_member_number(j, "cut_ms_median", c->cut_ms);
+    tp_json_member_number(j, "stream_ms_median", c->stream_ms);
+    tp_json_member_number(j, "upload_ms_median", c->upload_ms);
+    tp_json_member_number(j, "draw_ms_median", c->draw_ms);
+    tp_json_member_number(j, "draw_calls_median", c->draw_calls);
+    tp_json_member_number(j, "draw_page_faults_median", c->page_faults);
+    tp_json_member_number(j, "triangles_median", c->triangles);
+    tp_json_member_number(j, "nodes_drawn_median", c->nodes);
+    tp_json_member_number(j, "nodes_visited_median", c->visited);
+    tp_json_member_number(j, "uploads_median", c->uploads);
+    tp_json_member_number(j, "substituted_nodes_max", c->substituted_max);
+    tp_json_member_number(j, "frames_with_substitution", c->frames_with_substitution);
+    tp_json_member_number(j, "dropped_nodes_max", c->dropped_max);
+    tp_json_member_number(j, "pending_max", c->pending_max);
+    tp_json_member_number(j, "rss_mb", c->rss_mb);
+    tp_json_member_number(j, "rss_anon_mb", c->rss_anon_mb);
+    tp_json_member_number(j, "resident_mb", c->resident_mb);
+    tp_json_member_number(j, "gpu_mb", c->gpu_mb);
+    tp_json_member_number(j, "settle_ms", c->settle_ms);
+    tp_json_member_number(j, "settle_timeouts", c->settle_timeouts);
     tp_json_member_bool(j, "imagery", c->imagery);
     if (c->imagery) {
         tp_json_member_string(j, "imagery_mode", c->imagery_mode == TP_IMAGERY_BLOCKS ? "blocks" : "clipmap");
-        KN("imagery_ms_median", c->img_ms);
-        KN("imagery_upload_ms_median", c->img_upload_ms);
-        KN("imagery_upload_ms_p99", c->img_upload_ms_p99);
-        KN("imagery_uploads_median", c->img_uploads);
-        KN("imagery_uploads_total", c->img_uploads_total);
-        KN("imagery_gpu_mb", c->img_gpu_mb);
-        KN("imagery_cache_mb", c->img_cache_mb);
-        KN("imagery_missing_blocks_max", c->img_missing_max);
-        KN("imagery_frames_missing_blocks", c->img_frames_missing);
-        KN("imagery_final_diff_pixels", (double)c->img_final_diff);
+        tp_json_member_number(j, "imagery_ms_median", c->img_ms);
+        tp_json_member_number(j, "imagery_upload_ms_median", c->img_upload_ms);
+        tp_json_member_number(j, "imagery_upload_ms_p99", c->img_upload_ms_p99);
+        tp_json_member_number(j, "imagery_uploads_median", c->img_uploads);
+        tp_json_member_number(j, "imagery_uploads_total", c->img_uploads_total);
+        tp_json_member_number(j, "imagery_gpu_mb", c->img_gpu_mb);
+        tp_json_member_number(j, "imagery_cache_mb", c->img_cache_mb);
+        tp_json_member_number(j, "imagery_missing_blocks_max", c->img_missing_max);
+        tp_json_member_number(j, "imagery_frames_missing_blocks", c->img_frames_missing);
+        tp_json_member_number(j, "imagery_final_diff_pixels", (double)c->img_final_diff);
     }
     tp_json_member_bool(j, "light", c->light);
     if (c->light) {
-        KN("light_ms_median", c->img_ms);
-        KN("light_upload_ms_median", c->img_upload_ms);
-        KN("light_upload_ms_p99", c->img_upload_ms_p99);
-        KN("light_uploads_median", c->img_uploads);
-        KN("light_uploads_total", c->img_uploads_total);
-        KN("light_gpu_mb", c->img_gpu_mb);
-        KN("light_cache_mb", c->img_cache_mb);
-        KN("light_missing_blocks_max", c->img_missing_max);
-        KN("light_frames_missing_blocks", c->img_frames_missing);
+        tp_json_member_number(j, "light_ms_median", c->img_ms);
+        tp_json_member_number(j, "light_upload_ms_median", c->img_upload_ms);
+        tp_json_member_number(j, "light_upload_ms_p99", c->img_upload_ms_p99);
+        tp_json_member_number(j, "light_uploads_median", c->img_uploads);
+        tp_json_member_number(j, "light_uploads_total", c->img_uploads_total);
+        tp_json_member_number(j, "light_gpu_mb", c->img_gpu_mb);
+        tp_json_member_number(j, "light_cache_mb", c->img_cache_mb);
+        tp_json_member_number(j, "light_missing_blocks_max", c->img_missing_max);
+        tp_json_member_number(j, "light_frames_missing_blocks", c->img_frames_missing);
     }
-    KN("error_frames_measured", c->error_frames);
+    tp_json_member_number(j, "error_frames_measured", c->error_frames);
     /* null when no sample was measured (every leaf in view not resident) */
-    KN("max_screen_error_px", c->error_frames && c->samples > 0 ? c->max_px : NAN);
-    KN("rms_screen_error_px", c->error_frames && c->samples > 0 ? c->rms_px : NAN);
-    KN("error_samples", c->samples);
-    KN("error_samples_skipped", c->skipped);
+    tp_json_member_number(j, "max_screen_error_px",
+                          c->error_frames && c->samples > 0 ? c->max_px : NAN);
+    tp_json_member_number(j, "rms_screen_error_px",
+                          c->error_frames && c->samples > 0 ? c->rms_px : NAN);
+    tp_json_member_number(j, "error_samples", c->samples);
+    tp_json_member_number(j, "error_samples_skipped", c->skipped);
     if (c->pgm_cols) /* posts in view no drawn triangle covers (not in the error) */
-        KN("uncovered_share", c->error_frames ? c->uncovered_share : NAN);
+        tp_json_member_number(j, "uncovered_share", c->error_frames ? c->uncovered_share : NAN);
     if (c->pgm_cols) /* frames whose view's region was too large to visit (2^28 posts) */
-        KN("error_frames_over_region_limit", c->pgm_unmeasured);
-#undef KN
+        tp_json_member_number(j, "error_frames_over_region_limit", c->pgm_unmeasured);
 }
 
 int tp_bench_store_write_json(const store_bench* b, const char* renderer_name, const store_result* c,
@@ -108,41 +109,39 @@ int tp_bench_store_write_json(const store_bench* b, const char* renderer_name, c
     tp_json j;
     tp_json_init(&j, file.f);
     tp_json_object_begin(&j);
-#define KS(k, v) (tp_json_member_string(&j, k, v))
-#define KN(k, v) (tp_json_member_number(&j, k, v))
-    KS("store", o->dem);
+    tp_json_member_string(&j, "store", o->dem);
     char size[32];
     snprintf(size, sizeof size, "%dx%d", o->vs.w, o->vs.h);
-    KS("size", size);
-    KS("path", o->path_name);
-    KN("speed_mps", o->speed_mps);
+    tp_json_member_string(&j, "size", size);
+    tp_json_member_string(&j, "path", o->path_name);
+    tp_json_member_number(&j, "speed_mps", o->speed_mps);
     tp_json_member_bool(&j, "realtime", o->realtime);
     tp_json_member_bool(&j, "prefetch", !o->no_prefetch);
-    KN("frames", b->segments * b->per_segment);
-    KN("segments", b->segments);
-    KN("samples", (double)b->g->src_width * b->g->src_height);
-    KN("src_width", b->g->src_width);
-    KN("src_height", b->g->src_height);
-    KN("nodes", (double)b->g->node_count);
-    KN("patch_size", (1 << b->g->n) + 1);
-    KN("memory_budget_mb", (double)((size_t)o->memory_mb << 20) / 1e6);
-    KS("renderer", renderer_name);
+    tp_json_member_number(&j, "frames", b->segments * b->per_segment);
+    tp_json_member_number(&j, "segments", b->segments);
+    tp_json_member_number(&j, "samples", (double)b->g->src_width * b->g->src_height);
+    tp_json_member_number(&j, "src_width", b->g->src_width);
+    tp_json_member_number(&j, "src_height", b->g->src_height);
+    tp_json_member_number(&j, "nodes", (double)b->g->node_count);
+    tp_json_member_number(&j, "patch_size", (1 << b->g->n) + 1);
+    tp_json_member_number(&j, "memory_budget_mb", (double)((size_t)o->memory_mb << 20) / 1e6);
+    tp_json_member_string(&j, "renderer", renderer_name);
     /* first_frame_ms: from the process's start (/proc/self/stat, 10 ms ticks) to the end of
      * the first drawn frame (glFinish); first_frame_from_open_ms: from opening the store */
-    KN("first_frame_ms", b->first_frame_ms);
-    KN("first_frame_from_open_ms", b->first_frame_open_ms);
-    KN("store_open_ms", b->open_ms);
-    KN("gl_context_ms", b->context_ms);
-    KN("startup_to_bench_ms", b->entered_ms);
-    KN("renderer_create_ms", b->renderer_ms);
-    KN("stream_create_ms", b->stream_create_ms);
-    KN("first_cut_stream_ms", b->first_cut_ms);
-    KN("first_draw_ms", b->first_draw_ms);
-    KN("georef_wait_ms", b->georef_wait_ms);
-    KN("peak_rss_mb", tp_memory_peak_rss() / 1e6);
+    tp_json_member_number(&j, "first_frame_ms", b->first_frame_ms);
+    tp_json_member_number(&j, "first_frame_from_open_ms", b->first_frame_open_ms);
+    tp_json_member_number(&j, "store_open_ms", b->open_ms);
+    tp_json_member_number(&j, "gl_context_ms", b->context_ms);
+    tp_json_member_number(&j, "startup_to_bench_ms", b->entered_ms);
+    tp_json_member_number(&j, "renderer_create_ms", b->renderer_ms);
+    tp_json_member_number(&j, "stream_create_ms", b->stream_create_ms);
+    tp_json_member_number(&j, "first_cut_stream_ms", b->first_cut_ms);
+    tp_json_member_number(&j, "first_draw_ms", b->first_draw_ms);
+    tp_json_member_number(&j, "georef_wait_ms", b->georef_wait_ms);
+    tp_json_member_number(&j, "peak_rss_mb", tp_memory_peak_rss() / 1e6);
     /* before any node, cut or renderer: libraries, the GL driver, the store's node table */
-    KN("base_rss_mb", b->base_rss_mb);
-    KN("base_rss_anon_mb", b->base_anon_mb);
+    tp_json_member_number(&j, "base_rss_mb", b->base_rss_mb);
+    tp_json_member_number(&j, "base_rss_anon_mb", b->base_anon_mb);
     json_result(&j, &c[0]); /* the headline: the first configuration (error mode) */
     tp_json_key(&j, "configurations");
     tp_json_array_begin(&j);
@@ -152,8 +151,6 @@ int tp_bench_store_write_json(const store_bench* b, const char* renderer_name, c
         tp_json_object_end(&j);
     }
     tp_json_array_end(&j);
-#undef KS
-#undef KN
     tp_json_object_end(&j);
     return tp_atomic_commit(&file);
 }
