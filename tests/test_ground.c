@@ -3,7 +3,7 @@
  * (Mt Hood, NAD83 / UTM 10N: the store keeps the DEM's grid and its Int16 heights exactly):
  * heights at posts (corners included) against GDAL's own reading of the DEM; a cache of 4 leaves
  * answers exactly as a large one while reading more; positions off the DEM are refused with the
- * output left alone.
+ * output left alone; slope and aspect by Horn's method against gdaldem's on the same grid.
  */
 #define _POSIX_C_SOURCE 200809L
 
@@ -16,6 +16,9 @@
 #include "store_scene.h"
 
 #include <gdal.h>
+#include <gdal_utils.h>
+
+#include <math.h>
 
 #include <stdlib.h>
 #include <string.h>
@@ -152,8 +155,89 @@ TEST(off_the_dem_is_refused_and_output_untouched)
     fixture_close(&f);
 }
 
+/* gdaldem's processing ("slope" or "aspect": degrees, Horn's method, its defaults) of src, in
+ * memory: the independent answer (GDALDEMProcessing, as `gdaldem slope|aspect`). */
+static GDALDatasetH gdaldem(GDALDatasetH src, const char* processing)
+{
+    char of[] = "-of", mem[] = "MEM";
+    char* argv[] = {of, mem, NULL};
+    GDALDEMProcessingOptions* o = GDALDEMProcessingOptionsNew(argv, NULL);
+    ASSERT_TRUE(o != NULL);
+    int usage = 0;
+    GDALDatasetH out = GDALDEMProcessing("", src, processing, NULL, o, &usage);
+    GDALDEMProcessingOptionsFree(o);
+    ASSERT_TRUE(out != NULL);
+    return out;
+}
+
+/* Value at (c, r) of a gdaldem output, NaN for its nodata (-9999: an edge, a void, flat). */
+static double dem_output(GDALDatasetH ds, int c, int r)
+{
+    float v;
+    ASSERT_TRUE(GDALRasterIO(GDALGetRasterBand(ds, 1), GF_Read, c, r, 1, 1, &v, 1, 1,
+                             GDT_Float32, 0, 0) == CE_None);
+    return v == -9999.0f ? NAN : v;
+}
+
+TEST(horn_slope_and_aspect_equal_gdaldem)
+{
+    fixture f;
+    fixture_open(&f);
+    GDALDatasetH slope = gdaldem(f.ds, "slope"), aspect = gdaldem(f.ds, "aspect");
+    tp_ground* g = NULL;
+    ASSERT_OK(tp_ground_create(&f.sc, NULL, &g, NULL));
+    tp_rng rng = tp_rng_seed(31);
+    int checked = 0, aspects = 0, differ = 0;
+    double worst_central = 0.0, worst_horn = 0.0, worst_aspect = 0.0;
+    for (int i = 0; i < 4000 && checked < 400; ++i) {
+        const int c = tp_rng_int(&rng, 0, f.w - 1), r = tp_rng_int(&rng, 0, f.h - 1);
+        const double want = dem_output(slope, c, r);
+        tp_ground_sample a, b;
+        ASSERT_OK(tp_ground_query_grid(g, c, r, &a, NULL));
+        if (isnan(want)) { /* gdaldem has no Horn window there: nor have we */
+            if (!isnan(a.height_m))
+                EXPECT_EQ_INT(TP_SLOPE_CENTRAL, a.slope_method);
+            continue;
+        }
+        EXPECT_EQ_INT(TP_SLOPE_HORN, a.slope_method);
+        EXPECT_NEAR(a.slope_deg, want, 1e-3);
+        worst_horn = fmax(worst_horn, fabs(a.slope_deg - want));
+        const double want_aspect = dem_output(aspect, c, r);
+        if (!isnan(want_aspect)) {
+            const double d = fabs(fmod(a.aspect_grid_deg - want_aspect + 540.0, 360.0) - 180.0);
+            EXPECT_LE(d, 1e-3);
+            worst_aspect = fmax(worst_aspect, d);
+            ++aspects;
+        }
+        /* central differences answer otherwise: the test tells the two apart */
+        tp_ground_set_slope_method(g, TP_SLOPE_CENTRAL);
+        ASSERT_OK(tp_ground_query_grid(g, c, r, &b, NULL));
+        tp_ground_set_slope_method(g, TP_SLOPE_HORN);
+        EXPECT_EQ_INT(TP_SLOPE_CENTRAL, b.slope_method);
+        differ += fabs(b.slope_deg - want) > 0.01;
+        worst_central = fmax(worst_central, fabs(b.slope_deg - want));
+        ++checked;
+    }
+    tp_test_note("%d posts, %d aspects equal gdaldem's (up to %.1e and %.1e deg); central "
+                 "differences differ at %d (up to %.2f deg of slope)",
+                 checked, aspects, worst_horn, worst_aspect, differ, worst_central);
+    EXPECT_GE_INT(checked, 400);
+    EXPECT_GE_INT(aspects, 300);
+    EXPECT_GE_INT(differ, 100);
+    /* the DEM's edge: no window, central (one-sided) differences */
+    tp_ground_sample e;
+    ASSERT_OK(tp_ground_query_grid(g, 0, f.h / 2, &e, NULL));
+    if (!isnan(e.height_m))
+        EXPECT_EQ_INT(TP_SLOPE_CENTRAL, e.slope_method);
+    tp_ground_destroy(g);
+    GDALClose(slope);
+    GDALClose(aspect);
+    fixture_close(&f);
+}
+
 #define TESTS(X)                                                                                   \
     X(posts_and_corners_equal_gdal)                                                                \
     X(tiny_cache_answers_as_a_large_one)                                                           \
-    X(off_the_dem_is_refused_and_output_untouched)
+    X(off_the_dem_is_refused_and_output_untouched)                                              \
+    X(horn_slope_and_aspect_equal_gdaldem)
 TP_TEST_MAIN(TESTS)

@@ -24,13 +24,15 @@ typedef struct point_options {
     char* pos_args[8];
     int pos_count;
     int precision;
+    const char* slope_method; /* --slope-method horn|central */
     const char* json;
 } point_options;
 
 static void print_help(void)
 {
     tp_planner_help(
-        "usage: terrapatch point DEM|STORE POS [--precision N] [--json F] [--cache-dir DIR]\n"
+        "usage: terrapatch point DEM|STORE POS [--precision N] [--slope-method horn|central]\n"
+        "                        [--json F] [--cache-dir DIR]\n"
         "\n"
         "What is here: the position POS on the ground of DEM (any raster GDAL reads, built\n"
         "into the store cache first as 'terrapatch view' does) or of a store (.tpt). Prints\n"
@@ -56,11 +58,15 @@ static void print_help(void)
         "The height is that of the full-resolution surface at POS (the store's triangulated\n"
         "posts: exact at a post, as stored). Slope (degrees from horizontal) and aspect (the\n"
         "direction the slope faces, downhill, degrees clockwise from true north; also from\n"
-        "grid north, with the meridian convergence between them) come from central\n"
-        "differences of that surface one post either side.\n"
+        "grid north, with the meridian convergence between them) come from Horn's 3x3\n"
+        "window of that surface one post around POS, as gdaldem, GRASS and ArcGIS compute\n"
+        "them (central differences where a post of the window has no height).\n"
         "\n"
         "options:\n"
         "  --precision N    MGRS digits per coordinate, 0..11 (default 5 = 1 m)\n"
+        "  --slope-method horn|central\n"
+        "                   slope and aspect by Horn's 3x3 window (the default, as gdaldem)\n"
+        "                   or by central differences of the four neighbours\n"
         "  --json F         also write the readout as JSON to F ('-' for stdout, instead of\n"
         "                   the text)\n"
         "  -h, --help       show this help\n",
@@ -81,6 +87,7 @@ static int parse_options(int argc, char** argv, point_options* o)
     const tp_option options[] = {
         TP_OPT_INTEGER("--precision", &o->precision, 0, 11, "an integer from 0 to 11"),
         TP_OPT_TEXT("--json", NULL, &o->json),
+        TP_OPT_TEXT("--slope-method", NULL, &o->slope_method),
         };
     tp_options p;
     tp_options_init(&p, "point", argc, argv, print_help);
@@ -97,6 +104,9 @@ static int parse_options(int argc, char** argv, point_options* o)
         else
             o->pos_args[o->pos_count++] = (char*)p.value;
     }
+    if (o->slope_method && strcmp(o->slope_method, "horn") && strcmp(o->slope_method, "central"))
+        return tp_option_error("point", "--slope-method", "horn or central", o->slope_method),
+               TP_EXIT_USAGE;
     if (!o->src.path)
         return tp_cli_usage("point", "missing DEM and position");
     if (!o->pos_count)
@@ -137,6 +147,8 @@ int tp_cli_point(int argc, char** argv)
     tp_ground* g = NULL;
     if ((code = tp_planner_ground_open("point", &o.src, &g)) != TP_EXIT_OK)
         return code;
+    if (o.slope_method && !strcmp(o.slope_method, "central"))
+        tp_ground_set_slope_method(g, TP_SLOPE_CENTRAL);
     tp_point_readout r;
     tp_position pos;
     char hint[256];

@@ -32,6 +32,7 @@ struct tp_ground {
     int64_t* key;                   /* leaf in each slot, -1 when empty */
     uint16_t** slot;                /* allocated on first use */
     size_t reads;
+    tp_slope_method slope_method;
     /* tp_ground_open only: what owns the scene, released after the ground */
     void (*release)(void* owner);
     void* owner;
@@ -172,6 +173,33 @@ static double derivative(double hm, double h0, double hp)
     return NAN;
 }
 
+void tp_ground_set_slope_method(tp_ground* g, tp_slope_method m)
+{
+    g->slope_method = m;
+}
+
+const char* tp_slope_method_name(tp_slope_method m)
+{
+    return m == TP_SLOPE_CENTRAL ? "central" : "horn";
+}
+
+/* d height / d grid step along x and y by Horn's 3x3 window around (x, y): 1 with both, 0 when
+ * a post of the window has no height (a void, off the DEM). */
+static int horn(tp_ground* g, double x, double y, double* dhdx, double* dhdy, tp_status* failed,
+                tp_error* err)
+{
+    double z[3][3]; /* z[j][i]: the height at (x + i - 1, y + j - 1) */
+    for (int j = 0; j < 3; ++j)
+        for (int i = 0; i < 3; ++i) {
+            z[j][i] = neighbour(g, x + i - 1.0, y + j - 1.0, failed, err);
+            if (isnan(z[j][i]))
+                return 0;
+        }
+    *dhdx = ((z[0][2] + 2.0 * z[1][2] + z[2][2]) - (z[0][0] + 2.0 * z[1][0] + z[2][0])) / 8.0;
+    *dhdy = ((z[2][0] + 2.0 * z[2][1] + z[2][2]) - (z[0][0] + 2.0 * z[0][1] + z[0][2])) / 8.0;
+    return 1;
+}
+
 static double wrap360(double a)
 {
     a = fmod(a, 360.0);
@@ -209,14 +237,19 @@ tp_status tp_ground_query_grid(tp_ground* g, double x, double y, tp_ground_sampl
     tp_tree_grid_to_world(g->tree, x, y, &r.e_m, &r.n_m);
     r.height_m = h;
     tp_status failed = TP_OK;
-    double hx0 = neighbour(g, x - 1.0, y, &failed, err);
-    double hx1 = neighbour(g, x + 1.0, y, &failed, err);
-    double hy0 = neighbour(g, x, y - 1.0, &failed, err);
-    double hy1 = neighbour(g, x, y + 1.0, &failed, err);
+    double dhdx, dhdy;
+    r.slope_method = TP_SLOPE_HORN;
+    if (g->slope_method != TP_SLOPE_HORN || !horn(g, x, y, &dhdx, &dhdy, &failed, err)) {
+        double hx0 = neighbour(g, x - 1.0, y, &failed, err);
+        double hx1 = neighbour(g, x + 1.0, y, &failed, err);
+        double hy0 = neighbour(g, x, y - 1.0, &failed, err);
+        double hy1 = neighbour(g, x, y + 1.0, &failed, err);
+        dhdx = derivative(hx0, h, hx1), dhdy = derivative(hy0, h, hy1);
+        r.slope_method = TP_SLOPE_CENTRAL;
+    }
     if (failed != TP_OK)
         return failed;
     const double* gt = g->sc->info.header.geotransform;
-    double dhdx = derivative(hx0, h, hx1), dhdy = derivative(hy0, h, hy1);
     /* per metre east and north: E grows with x by gt[1], N with y by gt[5] (< 0 north-up) */
     double dzde = dhdx / gt[1], dzdn = dhdy / gt[5];
     if (isnan(dzde) || isnan(dzdn)) {

@@ -44,6 +44,13 @@ typedef struct tp_ground_options {
                                     with them, a store refuses them; NULL: the defaults */
 } tp_ground_options;
 
+/* How slope and aspect are taken from the posts around a position. */
+typedef enum tp_slope_method {
+    TP_SLOPE_HORN = 0, /* Horn (1981): the 3x3 window, weighted 1-2-1 across each axis, as
+                          gdaldem, GRASS r.slope.aspect and ArcGIS by default (the default) */
+    TP_SLOPE_CENTRAL,  /* central differences of the four neighbours one post away */
+} tp_slope_method;
+
 /* What the ground is at one position. */
 typedef struct tp_ground_sample {
     double x, y;                /* grid */
@@ -59,6 +66,10 @@ typedef struct tp_ground_sample {
     double convergence_deg;     /* bearing of grid north, clockwise from true north, at the point
                                    (the geodesic azimuth from it to a point 10 m up the grid's
                                    N axis); NaN without a CRS */
+    /* The method slope and aspect came from: the ground's (tp_ground_set_slope_method), or
+     * central differences where Horn's window has a post without a height (a void, the DEM's
+     * edge), as gdaldem -compute_edges does not: there gdaldem gives nodata. */
+    tp_slope_method slope_method;
 } tp_ground_sample;
 
 /* Opens path, a .tpt or a DEM (built into the cache first, progress on stderr as view), for
@@ -82,6 +93,12 @@ const tp_store_scene* tp_ground_scene(const tp_ground* g);
  * the DEM or for NaN; TP_ERR_BAD_DATA / TP_ERR_IO when a leaf cannot be read (the store's
  * message names the file and the node). *height_m written only on TP_OK. */
 tp_status tp_ground_height(tp_ground* g, double x, double y, double* height_m, tp_error* err);
+
+/* The method of the slopes and aspects g's queries give (TP_SLOPE_HORN until set). */
+void tp_ground_set_slope_method(tp_ground* g, tp_slope_method m);
+
+/* "horn" or "central". */
+const char* tp_slope_method_name(tp_slope_method m);
 
 /* Everything above at grid (x, y). Errors as tp_ground_height (a void is TP_OK: height NaN);
  * *out written only on TP_OK. */

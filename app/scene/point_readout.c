@@ -168,12 +168,15 @@ void tp_point_readout_text(const tp_point_readout* r, char* out, size_t cap)
              "MGRS       %s\n"
              "UTM        %s %.1f E %.1f N\n"
              "elevation  %.2f m (as stored; vertical datum: %s)\n"
-             "slope      %s\n"
+             "slope      %s (%s)\n"
              "aspect     %s from true north (%s from grid north; convergence %.3f deg)\n"
              "grid       x %.2f y %.2f (render CRS E %.2f N %.2f)\n",
              r->lat_deg, r->lat_dms, r->lon_deg, r->lon_dms, r->mgrs, r->zone_text,
              r->easting_m, r->northing_m, s->height_m, r->vertical_datum,
              angle_text(s->slope_deg, "unknown (no neighbouring heights)", sl, sizeof sl),
+             s->slope_method == TP_SLOPE_HORN
+                 ? "Horn's 3x3 window, as gdaldem"
+                 : "central differences, one post either side",
              angle_text(s->aspect_true_deg, flat, a1, sizeof a1),
              angle_text(s->aspect_grid_deg, flat, a2, sizeof a2), s->convergence_deg, s->x, s->y,
              s->e_m, s->n_m);
@@ -215,6 +218,7 @@ void tp_point_readout_json(const tp_point_readout* r, FILE* f)
     tp_json_member_number(&j, "elevation_m", s->height_m);
     tp_json_member_string(&j, "vertical_datum", r->vertical_datum);
     tp_json_member_number(&j, "slope_deg", s->slope_deg);
+    tp_json_member_string(&j, "slope_method", tp_slope_method_name(s->slope_method));
     tp_json_member_number(&j, "aspect_deg", s->aspect_true_deg);
     tp_json_member_number(&j, "aspect_grid_deg", s->aspect_grid_deg);
     tp_json_member_number(&j, "convergence_deg", s->convergence_deg);
