@@ -17,7 +17,8 @@ extern "C" {
  *
  * One pass over the grid outwards from the observer carrying a horizon height per sample
  * (Wang, Robinson & White 2000; GDAL's GVM_Edge mode of GDALViewshedGenerate), O(samples) in
- * the radius' window: about 10 ms for a 20 km radius on 30 m posts (docs/PERFORMANCE.md).
+ * the radius' window plus an exact ray test where a sight line grazes: 5-30 ms for a 10-15 km
+ * radius (docs/PERFORMANCE.md).
  * docs/field.md states its error behaviour and where it differs from gdal_viewshed.
  *
  * Conventions are gdal_viewshed's: heights above the ground (observer 2 m, target 0 m); a
@@ -41,10 +42,9 @@ extern "C" {
 /* Within this many posts of the observer (Chebyshev) a sample gets the exact horizon of its
  * sight line instead of the interpolated one, and the sweep carries on from those: XDraw's
  * interpolation errs most where the rings are short (a ridge a few posts away smeared across a
- * whole sector behind it), and the exact test there costs about (2K+1)^2 * K steps (1.4 M for
- * 64: 5-16 ms more than interpolating, measured under load). docs/field.md "Exact near the
- * observer" gives the measured effect. */
-#define TP_VIEWSHED_EXACT_RADIUS_PX 64
+ * whole sector behind it). With the grazing check (below) beyond it, 16 posts are as accurate
+ * as the 64 used before it (docs/field.md "Grazing sight lines") at 1/64 of the cost. */
+#define TP_VIEWSHED_EXACT_RADIUS_PX 16
 
 typedef struct tp_viewshed_options {
     double observer_height_m; /* eye above the ground at the observer's sample, >= 0 */
@@ -57,11 +57,15 @@ typedef struct tp_viewshed_options {
                                  horizon (R3: the ground linear between the posts where the
                                  sight line crosses each grid line); 0: interpolated everywhere,
                                  exactly GDAL's GVM_Edge */
+    int grazing_check;        /* 1: beyond that square, a sample whose target is within the
+                                 interpolated horizon's error bound of it (a grazing sight
+                                 line) gets the exact horizon too (viewshed.c, docs/field.md);
+                                 0: interpolated (with exact_radius_px 0: GDAL's GVM_Edge) */
 } tp_viewshed_options;
 
 /* gdal_viewshed's defaults: 2 m, 0 m, 0.85714, no radius limit, WGS84's semi-major axis; exact
- * within TP_VIEWSHED_EXACT_RADIUS_PX. (A zeroed struct is valid too: an eye on the ground, a
- * flat earth, GDAL's interpolation everywhere.) */
+ * within TP_VIEWSHED_EXACT_RADIUS_PX and where sight lines graze. (A zeroed struct is valid too:
+ * an eye on the ground, a flat earth, GDAL's interpolation everywhere.) */
 tp_viewshed_options tp_viewshed_options_default(void);
 
 /* Computes the viewshed of an observer standing on sample (observer_x, observer_y) (column,
@@ -72,7 +76,7 @@ tp_viewshed_options tp_viewshed_options_default(void);
  * Fails (out untouched) with TP_ERR_INVALID_ARG for an observer outside the grid, a non-finite
  * or rotated geotransform, a zero post spacing, options outside their ranges (negative or NaN
  * heights, radius or coefficient); TP_ERR_BAD_DATA for an observer on a nodata sample;
- * TP_ERR_OUT_OF_MEMORY (three rows of doubles of scratch). Reentrant: no state between calls. */
+ * TP_ERR_OUT_OF_MEMORY (six rows of doubles of scratch). Reentrant: no state between calls. */
 tp_status tp_viewshed_compute(const float* heights, size_t height_count, int width, int height,
                               const double geotransform[6], int observer_x, int observer_y,
                               const tp_viewshed_options* options, uint8_t* out,

@@ -18,6 +18,16 @@
  * column axis (|dx| >= |dy|) the previous sample of its own row and the one diagonal to it.
  * This is GDAL's GVM_Edge mode (gdal_viewshed's default); docs/field.md gives the error
  * behaviour and where this differs from GDAL (nodata, the eight neighbours).
+ *
+ * Grazing sight lines (options->grazing_check): the interpolated horizon is not the sight
+ * line's own, and where a target clears it or falls short of it by less than the
+ * interpolation can be wrong by, the answer is a coin toss (a sea or a plain seen at a grazing
+ * angle). So each sample also carries E, a bound on how far its H may be from the exact one:
+ * zero where H is exact (its own ground above the horizon by more than the horizon's bound, an
+ * exact horizon, the axes), else its parents' E interpolated and scaled like H plus a quarter
+ * of the spread between the two parents' H (how much the horizon turns between the two sight
+ * lines) plus 1 cm. Where the target is within E of the horizon, the sample gets the exact
+ * horizon of its own sight line (R3, as near the observer) and carries that on with E = 0.
  */
 #include "internal.h"
 #include "tp_viewshed.h"
@@ -30,6 +40,11 @@
 /* H of a sample that constrains nothing (a nodata sample next to the observer): a sight line
  * falling a million metres per sample, far below any terrain, still finite after scaling. */
 #define NO_HORIZON_SLOPE (-1e6)
+/* The grazing check's bound (see the top): a quarter of the parents' spread, plus 1 cm a ring.
+ * Measured against R3 on summit, valley and coast observers (docs/field.md "Grazing sight
+ * lines"): a quarter leaves <= 0.05% of the samples wrong; a tenth, up to 0.13%. */
+#define GRAZING_SPREAD_SHARE 0.25
+#define GRAZING_FLOOR_M 0.01
 
 tp_viewshed_options tp_viewshed_options_default(void)
 {
@@ -41,6 +56,7 @@ tp_viewshed_options tp_viewshed_options_default(void)
     o.radius_m = 0.0;
     o.earth_radius_m = WGS84_SEMI_MAJOR_M;
     o.exact_radius_px = TP_VIEWSHED_EXACT_RADIUS_PX;
+    o.grazing_check = 1;
     return o;
 }
 
@@ -56,8 +72,15 @@ typedef struct {
     double r2;           /* radius squared (m^2); DBL_MAX when unlimited */
     double sx2, sy2;     /* squared post spacings */
     int exact;           /* samples with max(|dx|, |dy|) <= exact get the exact horizon */
+    int grazing;         /* options->grazing_check */
     uint8_t* out;
 } sweep;
+
+/* The rows of H and of its error bound E (see the top), indexed by column - x0. */
+typedef struct {
+    double* h;
+    double* e;
+} sweep_row_state;
 
 /* The exact horizon of the sight line from the observer to sample (x, y), at distance^2 d2:
  * the highest of the ground (relative to the eye, curvature-corrected) where the line crosses
@@ -70,31 +93,54 @@ static double exact_horizon(const sweep* s, int x, int y, double d2)
     const int ax = dx < 0 ? -dx : dx, ay = dy < 0 ? -dy : dy;
     const ptrdiff_t sx = dx < 0 ? -1 : 1, sy = dy < 0 ? -(ptrdiff_t)s->width : s->width;
     const float* o = s->heights + (size_t)s->oy * s->width + s->ox;
+    const double kd2 = s->k_curv * d2;
     double best = -DBL_MAX;
     /* axis 0: the column lines x = ox + i (the line passes between two rows there);
      * axis 1: the row lines y = oy + i (between two columns) */
     for (int axis = 0; axis < 2; ++axis) {
         const int along = axis == 0 ? ax : ay, across = axis == 0 ? ay : ax;
         const ptrdiff_t step_along = axis == 0 ? sx : sy, step_across = axis == 0 ? sy : sx;
+        /* walk the crossings: i * across = j * along + rem, the line at j + rem / along */
+        const double inv = 1.0 / along;
+        const float* a = o; /* the post (i, j) */
+        int rem = 0;
         for (int i = 1; i < along; ++i) {
-            const double t = (double)i / along, c = t * across;
-            const int j = (int)c;
-            const double f = c - j;
-            const float* a = o + i * step_along + j * step_across;
+            a += step_along;
+            rem += across;
+            while (rem >= along) { /* more than once only when across > along */
+                rem -= along;
+                a += step_across;
+            }
+            const double f = rem * inv;
+            const double t = i * inv;
             const double za = a[0], zb = f > 0.0 ? a[step_across] : za;
             if (za != za || zb != zb)
                 continue;
-            const double h = za + f * (zb - za) - s->eye_m - s->k_curv * t * t * d2;
-            if (h / t > best)
+            const double h = za + f * (zb - za) - s->eye_m - kd2 * t * t;
+            if (h > best * t) /* h / t > best, without a division per crossing */
                 best = h / t;
         }
     }
     return best;
 }
 
+/* Where the interpolated horizon leaves the target's answer in doubt (see the top): the
+ * sample's exact horizon, and its bound E back to 0. */
+static double grazing_horizon(const sweep* s, int x, int y, double d2, double own,
+                              double horizon, double spread, double* e)
+{
+    *e += GRAZING_SPREAD_SHARE * spread + GRAZING_FLOOR_M;
+    const double margin = own + s->target_m - horizon;
+    if (margin > *e || margin < -*e)
+        return horizon;
+    *e = 0.0;
+    return exact_horizon(s, x, y, d2);
+}
+
 /* Fills row y (|y - oy| = ay) of cur from prev (the row one step nearer the observer; unused
- * when ay == 0). H arrays are indexed by column - x0. */
-static void sweep_row(const sweep* s, int y, int ay, const double* prev, double* cur)
+ * when ay == 0). */
+static void sweep_row(const sweep* s, int y, int ay, const sweep_row_state* prev,
+                      const sweep_row_state* cur)
 {
     const float* z = s->heights + (size_t)y * s->width;
     uint8_t* out = s->out + (size_t)y * s->width;
@@ -102,21 +148,24 @@ static void sweep_row(const sweep* s, int y, int ay, const double* prev, double*
     const double dy2 = (double)ay * ay * s->sy2;
     if (dy2 > s->r2) /* the whole row is beyond the radius (its corner of the window) */
         return;
+    double *h = cur->h, *e = cur->e;
+    const double *ph = prev ? prev->h : NULL, *pe = prev ? prev->e : NULL;
 
-    /* the observer's column: a line along the column axis */
+    /* the observer's column: a line along the column axis, through the posts (exact) */
+    e[oi] = 0.0;
     if (ay == 0) {
-        cur[oi] = z[s->ox] - s->eye_m; /* the observer's own ground */
+        h[oi] = z[s->ox] - s->eye_m; /* the observer's own ground */
         out[s->ox] = TP_VIEWSHED_VISIBLE;
     } else {
         const double own = (double)z[s->ox] - s->eye_m - s->k_curv * dy2;
-        double horizon = ay == 1 ? -DBL_MAX : prev[oi] * ay / (ay - 1);
+        double horizon = ay == 1 ? -DBL_MAX : ph[oi] * ay / (ay - 1);
         if (ay == 1 && own != own)
             horizon = NO_HORIZON_SLOPE;
         if (own == own) { /* not nodata */
             out[s->ox] = own + s->target_m >= horizon ? TP_VIEWSHED_VISIBLE : TP_VIEWSHED_HIDDEN;
-            cur[oi] = own > horizon ? own : horizon;
+            h[oi] = own > horizon ? own : horizon;
         } else {
-            cur[oi] = horizon;
+            h[oi] = horizon;
         }
     }
 
@@ -129,28 +178,36 @@ static void sweep_row(const sweep* s, int y, int ay, const double* prev, double*
                 break; /* the rest of this half is further still: left at 0 */
             const int i = x - s->x0;
             const double own = (double)z[x] - s->eye_m - s->k_curv * d2;
-            double horizon;
+            double horizon, bound = 0.0, spread = -1.0;
             if (ax <= 1 && ay <= 1) {
                 /* a neighbour: the sight line crosses no other sample */
                 horizon = own == own ? -DBL_MAX : NO_HORIZON_SLOPE;
             } else if (ay == 0) {
-                horizon = cur[i - dir] * ax / (ax - 1);
+                horizon = h[i - dir] * ax / (ax - 1);
             } else if (ax <= s->exact && ay <= s->exact) {
                 horizon = exact_horizon(s, x, y, d2);
                 if (horizon == -DBL_MAX && own != own)
                     horizon = NO_HORIZON_SLOPE;
             } else if (ax >= ay) {
                 /* crosses the previous column between the diagonal and the row neighbour */
-                horizon = (prev[i - dir] * ay + cur[i - dir] * (ax - ay)) / (ax - 1);
+                horizon = (ph[i - dir] * ay + h[i - dir] * (ax - ay)) / (ax - 1);
+                bound = (pe[i - dir] * ay + e[i - dir] * (ax - ay)) / (ax - 1);
+                spread = fabs(ph[i - dir] - h[i - dir]) * ax / (ax - 1);
             } else {
                 /* crosses the previous row between the diagonal and the column neighbour */
-                horizon = (prev[i - dir] * ax + prev[i] * (ay - ax)) / (ay - 1);
+                horizon = (ph[i - dir] * ax + ph[i] * (ay - ax)) / (ay - 1);
+                bound = (pe[i - dir] * ax + pe[i] * (ay - ax)) / (ay - 1);
+                spread = fabs(ph[i - dir] - ph[i]) * ay / (ay - 1);
             }
             if (own == own) {
+                if (spread >= 0.0 && s->grazing)
+                    horizon = grazing_horizon(s, x, y, d2, own, horizon, spread, &bound);
                 out[x] = own + s->target_m >= horizon ? TP_VIEWSHED_VISIBLE : TP_VIEWSHED_HIDDEN;
-                cur[i] = own > horizon ? own : horizon;
+                h[i] = own > horizon ? own : horizon;
+                e[i] = own > horizon + bound ? 0.0 : bound; /* its own ground: exact */
             } else {
-                cur[i] = horizon; /* nodata: seen through, never seen */
+                h[i] = horizon; /* nodata: seen through, never seen */
+                e[i] = bound;
             }
         }
     }
@@ -232,6 +289,7 @@ tp_status tp_viewshed_compute(const float* heights, size_t height_count, int wid
     s.sy2 = gt[5] * gt[5];
     s.r2 = o->radius_m > 0.0 ? o->radius_m * o->radius_m : DBL_MAX;
     s.exact = o->exact_radius_px;
+    s.grazing = o->grazing_check != 0;
     s.out = out;
 
     /* the window the radius reaches (samples within it may still be beyond the radius) */
@@ -250,25 +308,25 @@ tp_status tp_viewshed_compute(const float* heights, size_t height_count, int wid
             y1 = observer_y + (int)ry;
     }
     const size_t ww = (size_t)(s.x1 - s.x0 + 1);
-    double* rows = malloc(3 * ww * sizeof *rows);
+    double* rows = malloc(6 * ww * sizeof *rows);
     if (!rows)
         return tp_error_set(err, TP_ERR_OUT_OF_MEMORY,
-                            "viewshed: out of memory for 3 rows of %zu samples", ww);
-    double* axis = rows;        /* the observer's row, start of both sweeps */
-    double* prev = rows + ww;
-    double* cur = rows + 2 * ww;
+                            "viewshed: out of memory for 6 rows of %zu samples", ww);
+    const sweep_row_state axis = {rows, rows + ww}; /* the observer's row, start of both */
+    sweep_row_state prev = {rows + 2 * ww, rows + 3 * ww};
+    sweep_row_state cur = {rows + 4 * ww, rows + 5 * ww};
 
     memset(out, TP_VIEWSHED_OUTSIDE, (size_t)width * height);
-    sweep_row(&s, observer_y, 0, NULL, axis);
+    sweep_row(&s, observer_y, 0, NULL, &axis);
     for (int dir = -1; dir <= 1; dir += 2) { /* north (up the rows), then south */
         const int end = dir < 0 ? y0 - 1 : y1 + 1;
-        const double* last = axis;
+        const sweep_row_state* last = &axis;
         for (int y = observer_y + dir, ay = 1; y != end; y += dir, ++ay) {
-            sweep_row(&s, y, ay, last, cur);
-            double* t = prev; /* cur becomes the previous row */
+            sweep_row(&s, y, ay, last, &cur);
+            const sweep_row_state t = prev; /* cur becomes the previous row */
             prev = cur;
             cur = t;
-            last = prev;
+            last = &prev;
         }
     }
     free(rows);
