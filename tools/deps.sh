@@ -28,7 +28,8 @@
 # packages are installed, in place of asking dpkg.
 set -eu
 
-# gdal-bin: the GDAL command-line tools tools/make_mirror_dem.py (and its test) run.
+# gdal-bin: the GDAL command-line tools tools/make_mirror_dem.py (and its test) and
+# tests/test_contours_levels.c (gdal_contour, the reference for contours' levels) run.
 # libzstd-dev, zlib1g-dev: the store's compression and checksums (io/src/store_codec.cpp).
 # libnova-dev: the sun's position, rise and set (io/src/sun.cpp, `terrapatch light`).
 COMMON="cmake pkg-config gcc g++ libgdal-dev libproj-dev libgeographiclib-dev libopenimageio-dev

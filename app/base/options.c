@@ -41,7 +41,8 @@ static int usage(tp_options* p, const char* fmt, const char* a, const char* b)
 /* ---- the hint for a position typed with spaces ---- */
 
 /* The options that take a position. */
-static const char* const position_options[] = {"--from", "--to", "--observer", "--at", "--around"};
+static const char* const position_options[] = {"--from", "--to",     "--observer",
+                                               "--at",   "--around", "--through"};
 
 /* 1 when a may be a piece of a position typed without quotes: a number, or a short token of
  * digits, DMS marks and letters ("41.88", "28'", "N", "33n", "W002", "10TFR"), not a file. */

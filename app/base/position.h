@@ -1,6 +1,6 @@
 /*
  * position.h - a position as people type it on the command line, read in one place for every
- * command that takes one (`coord`, `point`, `los`, `viewshed`, `light`, `contours`), and
+ * command that takes one (`coord`, `point`, `los`, `viewshed`, `light`, `contours`, `profile`), and
  * written back as people read it (MGRS with spaces). app/base/position.c; its fuzz entry point is
  * tests/fuzz/fuzz_position.c. Every form a command prints reads back here.
  *

@@ -1,7 +1,9 @@
 /*
- * cmd_profile.c - `terrapatch profile DEM|STORE --route FILE`: the elevation profile of a route
- * (issue 13, section 5). The route is read by io's tp_vector_read (any vector file OGR opens,
- * reprojected into the render CRS), one of its lines is sampled on the full-resolution ground
+ * cmd_profile.c - `terrapatch profile DEM|STORE --route FILE|--through POS ...`: the elevation
+ * profile of a route (issue 13, section 5). The route is read by io's tp_vector_read (any vector
+ * file OGR opens, reprojected into the render CRS), or given as positions on the command line
+ * (--through, repeated or ';'-separated, issue 31: planner_cli.h's list of positions, placed on
+ * the ground as `los` places its ends); one line is sampled on the full-resolution ground
  * (ground.c, as `point` and `los` read it) and measured: lengths along the ground, on the map
  * and on the ellipsoid, climb and descent, the steepest piece, the lowest and highest points.
  * Outputs as `los`: text, --json, --csv (atomic_file.c), --png (gnuplot.c).
@@ -29,6 +31,10 @@
 typedef struct profile_options {
     tp_planner_source src; /* the DEM or store, --cache-dir and the DEM options */
     const char* route;
+    const char** through; /* the values of --through, in order (argv's; malloc'd array) */
+    size_t through_count;
+    tp_planner_positions positions; /* read from them */
+    const char* label;              /* for messages: the route's file, or "--through" */
     const char* png;
     const char* csv;
     const char* json;
@@ -41,6 +47,8 @@ static void print_help(void)
     tp_planner_help(
         "usage: terrapatch profile DEM|STORE --route FILE [--feature N] [--step M]\n"
         "                          [--json F] [--csv F] [--png F] [--cache-dir DIR]\n"
+        "       terrapatch profile DEM|STORE --through POS --through POS [--through POS ...]\n"
+        "                          [--step M] [--json F] [--csv F] [--png F] ...\n"
         "\n"
         "The elevation profile of a route over the ground of DEM (any raster GDAL reads, built\n"
         "into the store cache first as 'terrapatch view' does) or of a store (.tpt).\n"
@@ -50,6 +58,13 @@ static void print_help(void)
         "numbered in file order (every layer; a GPX file's routes and tracks, each track\n"
         "segment a line of its own); the first is taken unless --feature N names another.\n"
         "Points and polygons are not routes (they are overlays for 'terrapatch view').\n"
+        "\n"
+        "Or the route is the positions given with --through, in the order given: one\n"
+        "position each time the option is given (--through 45.37,-121.69 --through\n"
+        "\"45.40 -121.70\"), or several in one value, separated by ';' (--through\n"
+        "\"45.37,-121.69; 45.40,-121.70\"), 2 or more in all; each in any form 'terrapatch\n"
+        "coord' reads (quote one with spaces; a value may start with '-'), on the DEM and\n"
+        "not in a void.\n"
         "\n"
         "The line is sampled on the full-resolution ground ('terrapatch point' reads the same)\n"
         "at every vertex and between them every --step metres or less (each leg split into\n"
@@ -61,8 +76,9 @@ static void print_help(void)
         "Heights are as stored (SRTM: above the EGM96 geoid).\n"
         "\n"
         "options:\n"
-        "  --route FILE     the route (required)\n"
+        "  --route FILE     the route (this or --through is required)\n"
         "  --feature N      the Nth line of FILE (default 1)\n"
+        "  --through POS    a position of the route (repeated; or POS;POS;...)\n"
         "  --step M         largest distance between samples, metres (default: the grid\n"
         "                   spacing)\n"
         "  --json F         also write the figures as JSON to F ('-' for stdout, instead of\n"
@@ -73,13 +89,30 @@ static void print_help(void)
         "  -h, --help       show this help\n",
         "example:\n"
         "  $ terrapatch profile N42E001.hgt --route coma_pedrosa.gpx --png profile.png\n"
+        "  $ terrapatch profile N42E001.hgt --through 42.5722,1.4840 --through 42.5931,1.4442\n"
         "\n"
         "The files given (--json, --csv, --png) are written all or none: when one cannot be\n"
         "(a full disk, gnuplot missing), none is, and older files stay as they were.\n"
         "\n"
         "Exit status: 0 done; 1 the DEM or FILE cannot be read, FILE has no line (or no Nth),\n"
-        "the route leaves the DEM or crosses a void (nothing is written then), an output\n"
-        "cannot be written (then none is); 2 usage error (a --png not .png included).\n");
+        "a --through position is off the DEM or in a void, the route leaves the DEM or\n"
+        "crosses a void (nothing is written then), an output cannot be written (then none\n"
+        "is); 2 usage error (a --png not .png, a position that cannot be read included).\n");
+}
+
+/* --through POS (tp_option_handler): kept in order, read once the parse is done. */
+static int through_option(void* ctx, int code, const char* value, const char* cmd)
+{
+    (void)code, (void)cmd;
+    profile_options* o = ctx;
+    const char** more = realloc(o->through, (o->through_count + 1) * sizeof *more);
+    if (!more) {
+        tp_cli_error("out of memory for --through");
+        return -1;
+    }
+    o->through = more;
+    o->through[o->through_count++] = value;
+    return 1;
 }
 
 /* -1 when fine, else the exit code. */
@@ -88,6 +121,7 @@ static int parse_options(int argc, char** argv, profile_options* o)
     memset(o, 0, sizeof *o);
     tp_planner_source_init(&o->src);
     const tp_option options[] = {
+        TP_OPT_CODE("--through", NULL, 1, 1),
         TP_OPT_TEXT("--route", NULL, &o->route),
         TP_OPT_TEXT("--png", NULL, &o->png),
         TP_OPT_TEXT("--csv", NULL, &o->csv),
@@ -95,13 +129,30 @@ static int parse_options(int argc, char** argv, profile_options* o)
         TP_OPT_NUMBER_ABOVE("--step", &o->step_m, 0.0, HUGE_VAL, "a number of metres > 0"),
         TP_OPT_INTEGER("--feature", &o->feature, 1, INT_MAX, "an integer >= 1"),
     };
-    const tp_option_table own = {options, TP_OPTIONS_COUNT(options), NULL, NULL};
-    const int code =
-        tp_planner_parse("profile", argc, argv, print_help, own, &o->src, "");
+    const tp_option_table own = {options, TP_OPTIONS_COUNT(options), through_option, o};
+    const int code = tp_planner_parse("profile", argc, argv, print_help, own, &o->src,
+                                      " (quote a position with spaces: --through "
+                                      "\"45.37 -121.69\")");
     if (code >= 0)
         return code;
-    if (!o->route)
-        return tp_cli_usage("profile", "missing --route FILE");
+    if (o->route && o->through)
+        return tp_cli_usage("profile", "--route and --through exclude each other");
+    if (!o->route && !o->through)
+        return tp_cli_usage("profile", "missing --route FILE (or --through POS --through POS)");
+    if (o->through && o->feature)
+        return tp_cli_usage("profile", "--feature N picks a line of --route FILE; --through "
+                                       "gives the route itself");
+    o->label = o->route ? o->route : "--through";
+    if (o->through) {
+        if (!tp_planner_positions_read("profile", "--through", o->through, o->through_count,
+                                       &o->positions))
+            return TP_EXIT_USAGE;
+        if (o->positions.count < 2)
+            return tp_cli_usage("profile",
+                                "--through: a route needs 2 positions or more, got "
+                                "one ('%s')",
+                                o->positions.text[0]);
+    }
     return -1;
 }
 
@@ -154,7 +205,7 @@ static void report_outside(tp_ground* g, const profile_report* p, const profile_
     char where[200];
     describe_place(q, where, sizeof where);
     tp_features* wgs84 = NULL;
-    if (first && !(isfinite(q->lat) && isfinite(q->lon)) &&
+    if (first && p->o->route && !(isfinite(q->lat) && isfinite(q->lon)) &&
         tp_vector_read(p->o->route, WGS84_WKT, &wgs84, NULL) == TP_OK &&
         wgs84->count == p->f->count) {
         /* too far from the render CRS's zone to go back: the route's own latitude/longitude */
@@ -166,7 +217,7 @@ static void report_outside(tp_ground* g, const profile_report* p, const profile_
     if (!first) {
         tp_cli_error("%s: the route (%s) leaves the DEM at %.1f m along it "
                      "(%s): nothing written",
-                     p->o->src.path, p->o->route, q->d_m, where);
+                     p->o->src.path, p->o->label, q->d_m, where);
         return;
     }
     /* does any vertex lie on the DEM? */
@@ -179,7 +230,7 @@ static void report_outside(tp_ground* g, const profile_report* p, const profile_
     }
     tp_cli_error("%s: the route (%s) %s the DEM: its start is at %s, and the "
                  "DEM covers E %.1f .. %.1f, N %.1f .. %.1f (render CRS): nothing written",
-                 p->o->src.path, p->o->route, inside ? "starts outside" : "lies outside", where,
+                 p->o->src.path, p->o->label, inside ? "starts outside" : "lies outside", where,
                  gt[0] + 0.5 * gt[1], gt[0] + (w - 0.5) * gt[1], gt[3] + (h - 0.5) * gt[5],
                  gt[3] + 0.5 * gt[5]);
 }
@@ -197,7 +248,7 @@ static int sample_route(tp_ground* g, profile_report* p)
         if (pieces > PROFILE_MAX_SAMPLES || n + (size_t)pieces > PROFILE_MAX_SAMPLES) {
             tp_cli_error("%s: the route needs more than %u samples at --step "
                          "%g m: give a larger --step",
-                         p->o->route, PROFILE_MAX_SAMPLES, p->step_m);
+                         p->o->label, PROFILE_MAX_SAMPLES, p->step_m);
             return 0;
         }
         n += (size_t)pieces;
@@ -242,7 +293,7 @@ static int sample_route(tp_ground* g, profile_report* p)
                     "%s: the route (%s) crosses a void at %.1f m along "
                     "it (%.6f %.6f): the DEM has no height there, so its profile cannot be "
                     "measured: nothing written",
-                    p->o->src.path, p->o->route, q->d_m, q->lat, q->lon);
+                    p->o->src.path, p->o->label, q->d_m, q->lat, q->lon);
                 return 0;
             }
         }
@@ -312,6 +363,15 @@ static void write_json(FILE* f, void* report)
     tp_json_object_begin(&j);
     tp_json_member_string(&j, "source", p->o->src.path);
     tp_json_member_string(&j, "route", p->o->route);
+    tp_json_key(&j, "through");
+    if (p->o->positions.count) {
+        tp_json_array_begin(&j);
+        for (size_t i = 0; i < p->o->positions.count; ++i)
+            tp_json_string(&j, p->o->positions.text[i]);
+        tp_json_array_end(&j);
+    } else {
+        tp_json_null(&j);
+    }
     tp_json_member_size(&j, "feature", p->line_number);
     tp_json_member_size(&j, "lines", p->line_count);
     tp_json_member_string(&j, "name", p->line->name);
@@ -352,11 +412,15 @@ static void write_text(FILE* f, void* report)
 {
     const profile_report* p = report;
     const profile_sample* s = p->s;
-    fprintf(f, "route       %s: line %zu of %zu", p->o->route, p->line_number, p->line_count);
-    if (p->line->name)
-        fprintf(f, " (\"%s\")", p->line->name);
-    fprintf(f, ", %zu vertices, %zu samples every %.1f m or less\n", p->line->count, p->n,
-            p->step_m);
+    if (p->o->route) {
+        fprintf(f, "route       %s: line %zu of %zu", p->o->route, p->line_number, p->line_count);
+        if (p->line->name)
+            fprintf(f, " (\"%s\")", p->line->name);
+        fprintf(f, ", %zu vertices", p->line->count);
+    } else {
+        fprintf(f, "route       %zu positions given with --through", p->line->count);
+    }
+    fprintf(f, ", %zu samples every %.1f m or less\n", p->n, p->step_m);
     fprintf(f, "start       %.6f %.6f  %.1f m\n", s[0].lat, s[0].lon, s[0].h_m);
     fprintf(f, "end         %.6f %.6f  %.1f m\n", s[p->n - 1].lat, s[p->n - 1].lon,
             s[p->n - 1].h_m);
@@ -407,9 +471,9 @@ static void write_plot(FILE* f, void* user)
     snprintf(title, sizeof title,
              "Profile of %s%s%s%s: %.2f km along the ground (%.2f km on the map), %.0f m up, "
              "%.0f m down",
-             p->o->route, p->line->name ? " (" : "", p->line->name ? p->line->name : "",
-             p->line->name ? ")" : "", p->length_3d_m * km, p->length_2d_m * km, p->climb_m,
-             p->descent_m);
+             p->o->route ? p->o->route : "the positions given", p->line->name ? " (" : "",
+             p->line->name ? p->line->name : "", p->line->name ? ")" : "", p->length_3d_m * km,
+             p->length_2d_m * km, p->climb_m, p->descent_m);
     fputs("set title ", f);
     tp_gnuplot_quoted(f, title);
     fputs(" noenhanced\n"
@@ -471,53 +535,94 @@ static const tp_feature* pick_line(const profile_options* o, const tp_features* 
     return pick;
 }
 
-int tp_cli_profile(int argc, char** argv)
+/* The --through positions placed on g as one line (render CRS) in a new *out: 1, or 0 after one
+ * line. */
+static int through_line(const profile_options* o, tp_ground* g, tp_features** out)
 {
-    profile_options o;
-    int code = parse_options(argc, argv, &o);
+    const size_t n = o->positions.count;
+    tp_features* f = calloc(1, sizeof *f);
+    tp_feature* item = f ? calloc(1, sizeof *item) : NULL;
+    double* xy = item ? malloc(2 * n * sizeof *xy) : NULL;
+    if (!xy) {
+        tp_cli_error("out of memory for %zu positions", n);
+        free(item);
+        free(f);
+        return 0;
+    }
+    *item = (tp_feature){.kind = TP_FEATURE_LINE, .first = 0, .count = n, .value = NAN};
+    f->items = item, f->count = 1, f->xy = xy, f->vertex_count = n;
+    if (!tp_planner_positions_place("profile", o->src.path, g, "--through", &o->positions, xy)) {
+        tp_features_destroy(f);
+        return 0;
+    }
+    *out = f;
+    return 1;
+}
+
+static int profile_main(int argc, char** argv, profile_options* o)
+{
+    int code = parse_options(argc, argv, o);
     if (code >= 0)
         return code;
-    if (o.png &&
-        (code = tp_cli_output_check("profile", "--png", o.png, TP_OUTPUT_PLOT)) != TP_EXIT_OK)
+    if (o->png &&
+        (code = tp_cli_output_check("profile", "--png", o->png, TP_OUTPUT_PLOT)) != TP_EXIT_OK)
         return code;
-    const char* outs[3] = {o.json, o.png, o.csv};
+    const char* outs[3] = {o->json, o->png, o->csv};
     if (!tp_planner_check_outputs(outs, 3))
         return TP_EXIT_FAILURE;
 
     tp_ground* g = NULL;
-    if ((code = tp_planner_ground_open("profile", &o.src, &g)) != TP_EXIT_OK)
+    if ((code = tp_planner_ground_open("profile", &o->src, &g)) != TP_EXIT_OK)
         return code;
     const tp_store_scene* sc = tp_ground_scene(g);
     if (!sc->georef || !tp_georef_has_geo(sc->georef)) {
-        tp_cli_error("%s has no CRS: a route needs a georeferenced DEM", o.src.path);
+        tp_cli_error("%s has no CRS: a route needs a georeferenced DEM", o->src.path);
         tp_ground_destroy(g);
         return TP_EXIT_FAILURE;
     }
     tp_features* f = NULL;
     tp_error err = {{0}};
-    if (tp_vector_read(o.route, sc->info.header.crs_wkt, &f, &err) != TP_OK) {
+    if (o->route && tp_vector_read(o->route, sc->info.header.crs_wkt, &f, &err) != TP_OK) {
         tp_cli_error("%s", err.message);
+        tp_ground_destroy(g);
+        return TP_EXIT_FAILURE;
+    }
+    if (!o->route && !through_line(o, g, &f)) {
         tp_ground_destroy(g);
         return TP_EXIT_FAILURE;
     }
     profile_report p;
     memset(&p, 0, sizeof p);
-    p.o = &o;
+    p.o = o;
     p.f = f;
     p.georef = sc->georef;
-    p.step_m = o.step_m > 0 ? o.step_m : fabs(sc->info.header.geotransform[1]);
-    p.line = pick_line(&o, f, &p.line_number, &p.line_count);
+    p.step_m = o->step_m > 0 ? o->step_m : fabs(sc->info.header.geotransform[1]);
+    p.line = pick_line(o, f, &p.line_number, &p.line_count);
     code = TP_EXIT_FAILURE;
     if (p.line && sample_route(g, &p)) {
         measure(&p);
-        const tp_planner_outputs out = {.json = o.json, .csv = o.csv, .png = o.png,
-                                        .write_text = write_text, .write_json = write_json,
-                                        .write_csv = write_csv, .write_plot = write_plot,
-                                        .png_width_px = 1400, .png_height_px = 600};
+        const tp_planner_outputs out = {.json = o->json,
+                                        .csv = o->csv,
+                                        .png = o->png,
+                                        .write_text = write_text,
+                                        .write_json = write_json,
+                                        .write_csv = write_csv,
+                                        .write_plot = write_plot,
+                                        .png_width_px = 1400,
+                                        .png_height_px = 600};
         code = tp_planner_write_outputs("profile", &out, &p) ? TP_EXIT_OK : TP_EXIT_FAILURE;
     }
     free(p.s);
     tp_features_destroy(f);
     tp_ground_destroy(g);
     return tp_planner_finish(code);
+}
+
+int tp_cli_profile(int argc, char** argv)
+{
+    profile_options o;
+    const int code = profile_main(argc, argv, &o);
+    tp_planner_positions_free(&o.positions);
+    free(o.through);
+    return code;
 }

@@ -178,6 +178,88 @@ void tp_planner_swap_hint(tp_ground* g, const tp_position* pos, char* out, size_
             swapped.lat_deg, swapped.lon_deg);
 }
 
+void tp_planner_positions_free(tp_planner_positions* p)
+{
+    for (size_t i = 0; p->text && i < p->count; ++i)
+        free(p->text[i]);
+    free(p->text);
+    free(p->readings);
+    memset(p, 0, sizeof *p);
+}
+
+int tp_planner_positions_read(const char* cmd, const char* what, const char* const* values,
+                              size_t count, tp_planner_positions* out)
+{
+    memset(out, 0, sizeof *out);
+    size_t n = 0;
+    for (size_t i = 0; i < count; ++i) {
+        ++n;
+        for (const char* c = values[i]; *c; ++c)
+            n += *c == ';';
+    }
+    out->text = calloc(n ? n : 1, sizeof *out->text);
+    out->readings = calloc(n ? n : 1, sizeof *out->readings);
+    if (!out->text || !out->readings) {
+        tp_cli_error("out of memory for %zu positions", n);
+        tp_planner_positions_free(out);
+        return 0;
+    }
+    for (size_t i = 0; i < count; ++i) {
+        const char* at = values[i];
+        for (;;) {
+            const char* end = strchr(at, ';');
+            size_t len = end ? (size_t)(end - at) : strlen(at);
+            while (len && (*at == ' ' || *at == '\t'))
+                ++at, --len;
+            while (len && (at[len - 1] == ' ' || at[len - 1] == '\t'))
+                --len;
+            char* text = malloc(len + 1);
+            if (!text) {
+                tp_cli_error("out of memory for %zu positions", n);
+                tp_planner_positions_free(out);
+                return 0;
+            }
+            memcpy(text, at, len);
+            text[len] = '\0';
+            out->text[out->count] = text;
+            if (!tp_planner_position(cmd, what, text, &out->readings[out->count++])) {
+                tp_planner_positions_free(out);
+                return 0;
+            }
+            if (!end)
+                break;
+            at = end + 1;
+        }
+    }
+    return 1;
+}
+
+int tp_planner_positions_place(const char* cmd, const char* path, tp_ground* g, const char* what,
+                               const tp_planner_positions* p, double* en)
+{
+    const tp_store_scene* sc = tp_ground_scene(g);
+    for (size_t i = 0; i < p->count; ++i) {
+        char hint[256];
+        tp_error err = {{0}};
+        tp_position pos;
+        double x, y, h;
+        if (!tp_planner_choose(cmd, path, g, &p->readings[i], p->text[i], &pos))
+            return 0;
+        if (!tp_ground_locate(g, &pos, p->text[i], &x, &y, &h, &err)) {
+            tp_planner_swap_hint(g, &pos, hint, sizeof hint);
+            tp_cli_error("%s: %s: %s%s", path, what, err.message, hint);
+            return 0;
+        }
+        /* where tp_ground_locate found it on the ground: the render CRS's E, N */
+        if (tp_georef_geo_to_proj(sc->georef, pos.lat_deg, pos.lon_deg, &en[2 * i], &en[2 * i + 1],
+                                  &err) != TP_OK) {
+            tp_cli_error("%s: %s: position '%s': %s", path, what, p->text[i], err.message);
+            return 0;
+        }
+    }
+    return 1;
+}
+
 int tp_planner_check_outputs(const char* const* paths, int count)
 {
     for (int i = 0; i < count; ++i)

@@ -73,6 +73,31 @@ int tp_planner_choose(const char* cmd, const char* path, tp_ground* g,
  * latitude/longitude), else "". */
 void tp_planner_swap_hint(tp_ground* g, const tp_position* pos, char* out, size_t cap);
 
+/* ---- a list of positions (profile's --through) ---- */
+
+/* Positions read in order from a command line, each with its readings (tp_planner_position). */
+typedef struct tp_planner_positions {
+    char** text;                    /* each as typed (malloc'd), blanks around it trimmed */
+    tp_position_readings* readings; /* count of them */
+    size_t count;
+} tp_planner_positions;
+
+/* Reads values[0 .. count-1], each the value of one option what ("--through"): one position, or
+ * several separated by ';' ("45.3,-121.7; 45.4,-121.6"), into out, in order. 1; else 0 after
+ * "terrapatch CMD: WHAT 'TEXT': why" (tp_planner_position; an empty piece: "the position is
+ * empty"), out empty; the caller exits with TP_EXIT_USAGE. */
+int tp_planner_positions_read(const char* cmd, const char* what, const char* const* values,
+                              size_t count, tp_planner_positions* out);
+
+/* Places each position of p on g as tp_planner_locate does (the reading on the DEM of an
+ * ambiguous one; on the DEM and not in a void) and writes its render-CRS easting and northing
+ * into en (2 * p->count doubles). 1; else 0 after "terrapatch CMD: PATH: WHAT: why" (why as
+ * tp_ground_locate's, with tp_planner_swap_hint), the caller exits with TP_EXIT_FAILURE. */
+int tp_planner_positions_place(const char* cmd, const char* path, tp_ground* g, const char* what,
+                               const tp_planner_positions* p, double* en);
+
+void tp_planner_positions_free(tp_planner_positions* p); /* accepts an empty one */
+
 /* Checks that each of the count paths can be written (tp_atomic_check_dir), NULL and "-"
  * (stdout) passed over; 0 after the first one's message. */
 int tp_planner_check_outputs(const char* const* paths, int count);

@@ -82,6 +82,36 @@ tp_status tp_vector_read(const char* path, const char* target_crs_wkt, tp_featur
  * lines written as an OGR vector file.
  */
 
+/* How tp_contours_generate_ex chooses the levels it draws and the lines it keeps. */
+typedef struct tp_contours_options {
+    /* The levels: base_m + k * interval_m for every integer k when interval_m > 0 (GDAL's
+     * LEVEL_INTERVAL and LEVEL_BASE, as gdal_contour -i -off); with interval_m 0, the
+     * level_count values of levels (GDAL's FIXED_LEVELS, as gdal_contour -fl) in any order,
+     * each drawn once: they are sorted and a repeated value dropped here, because GDAL 3.6
+     * needs them ascending (given out of order, it silently draws only some of them) and draws
+     * a level given twice twice. */
+    double interval_m;
+    double base_m;
+    const double* levels; /* borrowed for the call */
+    size_t level_count;
+    /* Only the levels in [min_m, max_m] are drawn (-HUGE_VAL and HUGE_VAL: every one). GDAL is
+     * then given those levels alone (FIXED_LEVELS; with an interval, those of its levels inside
+     * both this range and the heights'), which draws at each level the lines it draws there
+     * among all the levels. */
+    double min_m, max_m;
+    /* Index contours (tp_feature.index = 1): with an interval, the levels where (value -
+     * base_m) is a multiple of index_every * interval_m; with levels, every index_every-th of
+     * them in ascending order counted from the lowest (the 1st, the (K+1)th, ...), among all
+     * of them, min_m and max_m notwithstanding. 0: none. */
+    int index_every;
+    /* Lines with fewer vertices than this are dropped, counted as GDAL writes them (a closed
+     * line's first vertex again at its end), as GRASS's r.contour cut=N; 0: none is. */
+    size_t min_vertices;
+} tp_contours_options;
+
+/* An interval of 10 m from 0, every level, every fifth an index contour, every line. */
+tp_contours_options tp_contours_options_default(void);
+
 /* Contour lines of a grid of heights, computed by GDAL's contour generator
  * (GDALContourGenerateEx, the library form of gdal_contour), not by us.
  *
@@ -89,27 +119,36 @@ tp_status tp_vector_read(const char* path, const char* target_crs_wkt, tp_featur
  * are given to GDAL as a Float32 MEM dataset with geotransform (GDAL's: corner of the top-left
  * sample, sample (x, y) centred at gt[0] + (x + 0.5) gt[1], gt[3] + (y + 0.5) gt[5]), voids as
  * its nodata: no contour crosses a void (GDAL ends a line at the void's edge; see docs/field.md
- * for where exactly). Levels are base_m + k * interval_m for every integer k. Vertices are in
- * the geotransform's CRS (the render CRS when it is the render grid's).
+ * for where exactly). The levels, the index contours and the lines kept are options' (above).
+ * Vertices are in the geotransform's CRS (the render CRS when it is the render grid's).
  *
- * *out gets one feature per line: value = its elevation (m), index = 1 on an index contour,
- * when (value - base_m) is a multiple of index_every * interval_m (index_every 0: none), else 0,
- * name NULL. A line that closes on itself (GDAL repeats its first vertex at its end) is a
- * TP_FEATURE_RING, the repeated vertex dropped; any other is a TP_FEATURE_LINE (it ends on the
- * grid's border or on a void). Lines come in GDAL's order. A grid with no level inside its range
- * (flat ground, all void, 1x1) gives an empty set (count 0): TP_OK.
+ * *out gets one feature per line kept: value = its elevation (m), index = 1 on an index
+ * contour, else 0, name NULL. A line that closes on itself (GDAL repeats its first vertex at
+ * its end) is a TP_FEATURE_RING, the repeated vertex dropped; any other is a TP_FEATURE_LINE
+ * (it ends on the grid's border or on a void). Lines come in GDAL's order. A grid with no
+ * level inside its range (flat ground, all void, 1x1), or no level left in [min_m, max_m],
+ * gives an empty set (count 0): TP_OK. dropped (NULL: not wanted) gets the number of lines
+ * dropped for options->min_vertices.
  *
  * TP_ERR_INVALID_ARG for NULL pointers, width or height < 1, height_count != width * height, a
- * geotransform that is not finite or has gt[1] or gt[5] == 0, interval_m not finite or <= 0,
- * base_m not finite, index_every < 0, an interval that would give more than
- * TP_CONTOURS_MAX_LEVELS levels over the heights' range, or more than TP_CONTOURS_MAX_VERTICES
- * vertices (counted before any line is made: one per level crossing each grid edge between two
- * valid samples; the message suggests an interval that fits); TP_ERR_BAD_DATA for an infinite
- * height;
- * TP_ERR_OUT_OF_MEMORY; TP_ERR_BACKEND when GDAL fails (its message). *out is written only on
- * TP_OK; free it with tp_features_destroy. */
+ * geotransform that is not finite or has gt[1] or gt[5] == 0, options out of their ranges:
+ * interval_m not finite or < 0, interval_m 0 without levels ("an interval > 0"), an interval
+ * and levels both, a level or base_m not finite, min_m or max_m NaN or min_m > max_m,
+ * index_every < 0; more than TP_CONTOURS_MAX_LEVELS levels (given, or an interval's over the
+ * heights' range within [min_m, max_m]), or more than TP_CONTOURS_MAX_VERTICES vertices
+ * (counted before any line is made: one per level crossing each grid edge between two valid
+ * samples; the message suggests an interval that fits); TP_ERR_BAD_DATA for an infinite
+ * height; TP_ERR_OUT_OF_MEMORY; TP_ERR_BACKEND when GDAL fails (its message). *out (and
+ * *dropped) are written only on TP_OK; free *out with tp_features_destroy. */
 #define TP_CONTOURS_MAX_LEVELS 100000
 #define TP_CONTOURS_MAX_VERTICES 20000000 /* about 0.5 GB of lines, a minute of GDAL's work */
+tp_status tp_contours_generate_ex(const float* heights, size_t height_count, int width, int height,
+                                  const double geotransform[6], const tp_contours_options* options,
+                                  tp_features** out, size_t* dropped, tp_error* err);
+
+/* tp_contours_generate_ex with the levels base_m + k * interval_m, index contours every
+ * index_every-th level (0: none), every level and every line (as gdal_contour -i INTERVAL -off
+ * BASE). */
 tp_status tp_contours_generate(const float* heights, size_t height_count, int width, int height,
                                const double geotransform[6], double interval_m, double base_m,
                                int index_every, tp_features** out, tp_error* err);
