@@ -143,6 +143,29 @@ int tp_option_number(const char* cmd, const char* name, const char* value, doubl
     return 1;
 }
 
+int tp_option_pair(const char* cmd, const char* name, const char* value, double lo, double hi,
+                   const char* expected, double out[2])
+{
+    const char* comma = value ? strchr(value, ',') : NULL;
+    char first[64];
+    double a, b;
+    char* end = NULL;
+    if (comma && !strchr(comma + 1, ',') && (size_t)(comma - value) < sizeof first) {
+        memcpy(first, value, (size_t)(comma - value));
+        first[comma - value] = '\0';
+        a = strtod(first, &end);
+        if (end != first && !*end && isfinite(a) && a >= lo && a <= hi) {
+            b = strtod(comma + 1, &end);
+            if (end != comma + 1 && !*end && isfinite(b) && b >= lo && b <= hi) {
+                out[0] = a;
+                out[1] = b;
+                return 1;
+            }
+        }
+    }
+    return tp_option_error(cmd, name, expected, value ? value : ""), 0;
+}
+
 int tp_option_integer(const char* cmd, const char* name, const char* value, long lo, long hi,
                       const char* expected, long* out)
 {

@@ -140,6 +140,12 @@ int tp_options_bad_value(tp_options* p, const char* expected);
 int tp_option_number(const char* cmd, const char* name, const char* value, double lo, double hi,
                      int open, const char* expected, double* out);
 
+/* value as two decimal numbers "A,B" (a comma between, '.' as the decimal mark: "--sun
+ * 135.5,30", "--azimuth 350,10"), each in [lo, hi]: 1 with out[0], out[1]; else 0 after "NAME:
+ * expected EXPECTED, got 'V'". */
+int tp_option_pair(const char* cmd, const char* name, const char* value, double lo, double hi,
+                   const char* expected, double out[2]);
+
 /* The same for a base-10 integer. */
 int tp_option_integer(const char* cmd, const char* name, const char* value, long lo, long hi,
                       const char* expected, long* out);

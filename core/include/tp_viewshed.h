@@ -82,6 +82,30 @@ tp_status tp_viewshed_compute(const float* heights, size_t height_count, int wid
                               const tp_viewshed_options* options, uint8_t* out,
                               size_t out_count, tp_error* err);
 
+/* Values per sample besides visibility (as r.viewshed's and gdal_viewshed's outputs). */
+typedef enum tp_viewshed_values {
+    TP_VIEWSHED_VALUES_NONE = 0,
+    /* The vertical angle from the eye to the target, degrees, as GRASS's r.viewshed: 0 straight
+     * down, 90 level, 180 straight up (the target's height corrected for curvature, as the
+     * visibility); NaN where the target is not seen, at the observer's post, beyond the radius
+     * and on nodata. */
+    TP_VIEWSHED_VALUES_ANGLE,
+    /* How far the target stands above the sight line that grazes the horizon in front of it,
+     * metres (own + target height - horizon, all corrected, at the sample): >= 0 where seen;
+     * below 0 where hidden, minus the height the target would need to be raised by to be seen
+     * (gdal_viewshed -om GROUND's value there). NaN where nothing lies between (the observer's
+     * post and its eight neighbours), beyond the radius and on nodata. */
+    TP_VIEWSHED_VALUES_CLEARANCE,
+} tp_viewshed_values;
+
+/* tp_viewshed_compute, and for kind != TP_VIEWSHED_VALUES_NONE also the value kind names for
+ * each sample into values (out_count floats, every one written: NaN where there is none). */
+tp_status tp_viewshed_compute_values(const float* heights, size_t height_count, int width,
+                                     int height, const double geotransform[6], int observer_x,
+                                     int observer_y, const tp_viewshed_options* options,
+                                     tp_viewshed_values kind, uint8_t* out, float* values,
+                                     size_t out_count, tp_error* err);
+
 #ifdef __cplusplus
 }
 #endif

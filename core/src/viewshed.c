@@ -37,6 +37,7 @@
 #include <string.h>
 
 #define WGS84_SEMI_MAJOR_M 6378137.0
+#define PI 3.14159265358979323846
 /* H of a sample that constrains nothing (a nodata sample next to the observer): a sight line
  * falling a million metres per sample, far below any terrain, still finite after scaling. */
 #define NO_HORIZON_SLOPE (-1e6)
@@ -74,6 +75,8 @@ typedef struct {
     int exact;           /* samples with max(|dx|, |dy|) <= exact get the exact horizon */
     int grazing;         /* options->grazing_check */
     uint8_t* out;
+    float* values;       /* NULL, or the values asked for (tp_viewshed_values) */
+    tp_viewshed_values kind;
 } sweep;
 
 /* The rows of H and of its error bound E (see the top), indexed by column - x0. */
@@ -137,6 +140,21 @@ static double grazing_horizon(const sweep* s, int x, int y, double d2, double ow
     return exact_horizon(s, x, y, d2);
 }
 
+/* The answer for sample x of row y, whose own height is own and horizon horizon (both relative
+ * to the eye, corrected), at distance^2 d2: out, and the value asked for. */
+static void decide(const sweep* s, int x, int y, double own, double horizon, double d2)
+{
+    const size_t i = (size_t)y * s->width + x;
+    const double clearance = own + s->target_m - horizon;
+    s->out[i] = clearance >= 0.0 ? TP_VIEWSHED_VISIBLE : TP_VIEWSHED_HIDDEN;
+    if (!s->values)
+        return;
+    if (s->kind == TP_VIEWSHED_VALUES_CLEARANCE)
+        s->values[i] = horizon == -DBL_MAX ? NAN : (float)clearance;
+    else if (clearance >= 0.0)
+        s->values[i] = (float)(90.0 + atan2(own + s->target_m, sqrt(d2)) * (180.0 / PI));
+}
+
 /* Fills row y (|y - oy| = ay) of cur from prev (the row one step nearer the observer; unused
  * when ay == 0). */
 static void sweep_row(const sweep* s, int y, int ay, const sweep_row_state* prev,
@@ -162,7 +180,7 @@ static void sweep_row(const sweep* s, int y, int ay, const sweep_row_state* prev
         if (ay == 1 && own != own)
             horizon = NO_HORIZON_SLOPE;
         if (own == own) { /* not nodata */
-            out[s->ox] = own + s->target_m >= horizon ? TP_VIEWSHED_VISIBLE : TP_VIEWSHED_HIDDEN;
+            decide(s, s->ox, y, own, horizon, dy2);
             h[oi] = own > horizon ? own : horizon;
         } else {
             h[oi] = horizon;
@@ -202,7 +220,7 @@ static void sweep_row(const sweep* s, int y, int ay, const sweep_row_state* prev
             if (own == own) {
                 if (spread >= 0.0 && s->grazing)
                     horizon = grazing_horizon(s, x, y, d2, own, horizon, spread, &bound);
-                out[x] = own + s->target_m >= horizon ? TP_VIEWSHED_VISIBLE : TP_VIEWSHED_HIDDEN;
+                decide(s, x, y, own, horizon, d2);
                 h[i] = own > horizon ? own : horizon;
                 e[i] = own > horizon + bound ? 0.0 : bound; /* its own ground: exact */
             } else {
@@ -220,7 +238,19 @@ tp_status tp_viewshed_compute(const float* heights, size_t height_count, int wid
                               const tp_viewshed_options* options, uint8_t* out,
                               size_t out_count, tp_error* err)
 {
+    return tp_viewshed_compute_values(heights, height_count, width, height, geotransform,
+                                      observer_x, observer_y, options, TP_VIEWSHED_VALUES_NONE,
+                                      out, NULL, out_count, err);
+}
+
+tp_status tp_viewshed_compute_values(const float* heights, size_t height_count, int width,
+                                     int height, const double geotransform[6], int observer_x,
+                                     int observer_y, const tp_viewshed_options* options,
+                                     tp_viewshed_values kind, uint8_t* out, float* values,
+                                     size_t out_count, tp_error* err)
+{
     assert(heights && geotransform && options && out);
+    assert(kind == TP_VIEWSHED_VALUES_NONE || values);
     assert(width > 0 && height > 0);
     assert(height_count == (size_t)width * (size_t)height);
     assert(out_count >= height_count);
@@ -291,6 +321,8 @@ tp_status tp_viewshed_compute(const float* heights, size_t height_count, int wid
     s.exact = o->exact_radius_px;
     s.grazing = o->grazing_check != 0;
     s.out = out;
+    s.kind = kind;
+    s.values = kind == TP_VIEWSHED_VALUES_NONE ? NULL : values;
 
     /* the window the radius reaches (samples within it may still be beyond the radius) */
     int y0 = 0, y1 = height - 1;
@@ -317,6 +349,9 @@ tp_status tp_viewshed_compute(const float* heights, size_t height_count, int wid
     sweep_row_state cur = {rows + 4 * ww, rows + 5 * ww};
 
     memset(out, TP_VIEWSHED_OUTSIDE, (size_t)width * height);
+    if (s.values)
+        for (size_t i = 0; i < (size_t)width * height; ++i)
+            s.values[i] = NAN;
     sweep_row(&s, observer_y, 0, NULL, &axis);
     for (int dir = -1; dir <= 1; dir += 2) { /* north (up the rows), then south */
         const int end = dir < 0 ? y0 - 1 : y1 + 1;
