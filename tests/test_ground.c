@@ -235,9 +235,80 @@ TEST(horn_slope_and_aspect_equal_gdaldem)
     fixture_close(&f);
 }
 
+/* A warped integer DEM (N42E001, geographic SRTM, bilinear to UTM 31N) keeps the warp's
+ * heights to half its step (issue 31): the store's heights at posts against GDAL's own warp of
+ * the file onto the store's grid (gdalwarp -r bilinear -et 0, run here), where the old 1 m step
+ * moved them by up to 0.5 m. */
+TEST(warped_dem_keeps_its_heights_to_half_its_step)
+{
+    char dem[1024], dir[64] = "/tmp/tp_test_groundXXXXXX", store[256], err[4096];
+    if (!tp_test_data_path(dem, sizeof dem, "TP_SHARED_DATA_DIR", "N42E001.hgt"))
+        SKIP("N42E001.hgt not found (set TP_SHARED_DATA_DIR)");
+    ASSERT_TRUE(mkdtemp(dir) != NULL);
+    snprintf(store, sizeof store, "%s/n42.tpt", dir);
+    const char* args[] = {dem, "-o", store, "--quiet", NULL};
+    ASSERT_EQ_INT(0, tp_test_run_terrapatch("build", args, err, sizeof err));
+    tp_store_scene sc;
+    ASSERT_EQ_INT(0, tp_store_scene_open(store, &sc));
+    const tp_store_header* hd = &sc.info.header;
+    const int w = hd->geometry.src_width, h = hd->geometry.src_height;
+    const double* gt = hd->geotransform;
+    EXPECT_LE(hd->height_step_m, 0.0625);
+
+    GDALAllRegister();
+    GDALDatasetH src = GDALOpen(dem, GA_ReadOnly);
+    ASSERT_TRUE(src != NULL);
+    char te[4][32], ts[2][16];
+    snprintf(te[0], sizeof te[0], "%.17g", gt[0]);
+    snprintf(te[1], sizeof te[1], "%.17g", gt[3] + h * gt[5]);
+    snprintf(te[2], sizeof te[2], "%.17g", gt[0] + w * gt[1]);
+    snprintf(te[3], sizeof te[3], "%.17g", gt[3]);
+    snprintf(ts[0], sizeof ts[0], "%d", w);
+    snprintf(ts[1], sizeof ts[1], "%d", h);
+    char* wargs[] = {"-of", "MEM", "-t_srs", (char*)hd->crs_wkt, "-te", te[0], te[1], te[2],
+                     te[3], "-ts", ts[0], ts[1], "-r", "bilinear", "-et", "0", "-ot", "Float32",
+                     "-dstnodata", "nan", NULL};
+    GDALWarpAppOptions* wo = GDALWarpAppOptionsNew(wargs, NULL);
+    ASSERT_TRUE(wo != NULL);
+    GDALDatasetH warped = GDALWarp("", NULL, 1, &src, wo, NULL);
+    GDALWarpAppOptionsFree(wo);
+    ASSERT_TRUE(warped != NULL);
+
+    tp_ground* g = NULL;
+    ASSERT_OK(tp_ground_create(&sc, NULL, &g, NULL));
+    tp_rng rng = tp_rng_seed(31);
+    int checked = 0;
+    double worst = 0.0, sum = 0.0;
+    for (int i = 0; i < 4000; ++i) {
+        const int c = tp_rng_int(&rng, 1, w - 2), r = tp_rng_int(&rng, 1, h - 2);
+        float want;
+        ASSERT_TRUE(GDALRasterIO(GDALGetRasterBand(warped, 1), GF_Read, c, r, 1, 1, &want, 1, 1,
+                                 GDT_Float32, 0, 0) == CE_None);
+        double got = NAN;
+        ASSERT_OK(tp_ground_height(g, c, r, &got, NULL));
+        if (want != want || got != got || want < -1000)
+            continue;
+        worst = fmax(worst, fabs(got - want));
+        sum += fabs(got - want);
+        ++checked;
+    }
+    tp_test_note("N42E001's store (step %g m): %d posts against gdalwarp -r bilinear: mean "
+                 "|difference| %.4f m, worst %.4f m",
+                 hd->height_step_m, checked, sum / checked, worst);
+    EXPECT_GE_INT(checked, 3000);
+    EXPECT_LE(worst, hd->height_step_m / 2 + 0.01);
+    tp_ground_destroy(g);
+    GDALClose(warped);
+    GDALClose(src);
+    tp_store_scene_close(&sc);
+    remove(store);
+    rmdir(dir);
+}
+
 #define TESTS(X)                                                                                   \
     X(posts_and_corners_equal_gdal)                                                                \
     X(tiny_cache_answers_as_a_large_one)                                                           \
     X(off_the_dem_is_refused_and_output_untouched)                                              \
-    X(horn_slope_and_aspect_equal_gdaldem)
+    X(horn_slope_and_aspect_equal_gdaldem)                                                         \
+    X(warped_dem_keeps_its_heights_to_half_its_step)
 TP_TEST_MAIN(TESTS)

@@ -46,6 +46,10 @@ static void print_help(void)
           "  --imagery-texel-shift K, --imagery-resolution M\n"
           "                      its level-0 texels: 'terrapatch imagery's --texel-shift and\n"
           "                      --resolution (default: from the finest image)\n"
+          "  --height-step M     the heights' quantisation step, metres (default: 1 where\n"
+          "                      every height is a whole metre, 1/16 where a warp resampled\n"
+          "                      whole metres, else the finest power of two that fits);\n"
+          "                      'terrapatch info STORE' states it\n"
           "  --z-unit m|ft|us-ft the unit of the sources' heights, overriding theirs (band\n"
           "                      unit, else vertical CRS); feet are converted to metres\n"
           "  --allow-gaps        build even when the sources cover under half of their\n"
@@ -86,6 +90,7 @@ int tp_build_parse_options(int argc, char** argv, build_options* o)
         TP_OPT_TEXT("--json", NULL, &o->json),
         TP_OPT_FLAG("--quiet", &o->build.quiet),
         TP_OPT_FLAG("--allow-gaps", &o->build.allow_gaps),
+        TP_OPT_NUMBER_ABOVE("--height-step", &o->build.height_step_m, 0, 1000, "metres > 0"),
         TP_OPT_CODE("--z-unit", NULL, OPT_Z_UNIT, 1),
     };
     tp_options p;

@@ -168,13 +168,15 @@ static char* build_notes(const tp_build_options* o, const tp_mosaic_info* mi, si
     return notes;
 }
 
-/* The range pass: the grid's height range and valid samples, read in bands. */
+/* The range pass: the grid's height range and valid samples, read in bands, and whether every
+ * height is a whole number. */
 static tp_status range_pass(tp_mosaic* m, const tp_mosaic_info* mi, float* rows, int band_rows,
                             int quiet, double* lo_out, double* hi_out, size_t* valid_out,
-                            tp_error* err)
+                            int* integral_out, tp_error* err)
 {
     float lo = INFINITY, hi = -INFINITY;
     size_t valid = 0;
+    int integral = 1;
     tp_progress pr;
     tp_progress_start(&pr, !quiet, "build", "range");
     for (int y = 0; y < mi->height; y += band_rows) {
@@ -188,22 +190,26 @@ static tp_status range_pass(tp_mosaic* m, const tp_mosaic_info* mi, float* rows,
             valid += v == v;
             lo = v < lo ? v : lo; /* NaN compares false: skipped */
             hi = v > hi ? v : hi;
+            integral = integral && (v != v || v == floorf(v));
         }
         tp_progress_update(&pr, y + n, mi->height, (double)(y + n) * mi->width);
         if (tp_interrupted())
             return tp_error_set(err, TP_ERR_IO, "interrupted");
     }
-    *lo_out = lo, *hi_out = hi, *valid_out = valid;
+    *lo_out = lo, *hi_out = hi, *valid_out = valid, *integral_out = integral;
     return TP_OK;
 }
 
-/* One global step: 1 m for integer sources, else the finest 2^-p m (p <= 10) whose quantised
- * range fits 65534 steps (coarser powers of two beyond 65534 m). */
-static double choose_step(double lo, double hi, int integer)
+/* One global step: 1 m for integral heights, else the finest 2^-p m (p <= finest_p) whose
+ * quantised range fits 65534 steps (coarser powers of two beyond 65534 m). Integral: the
+ * render grid's values, not the sources' type: a warped integer DEM (every geographic SRTM or
+ * DTED tile) is not integral after bilinear resampling, and rounding it to 1 m moved every
+ * height by up to 0.5 m. */
+static double choose_step(double lo, double hi, int integral, int finest_p)
 {
     double step = 1;
-    if (!integer)
-        for (int p = 10; p >= 0; p--) {
+    if (!integral)
+        for (int p = finest_p; p >= 0; p--) {
             double s = ldexp(1.0, -p);
             if (floor(hi / s + 0.5) - floor(lo / s + 0.5) <= 65534) {
                 step = s;
@@ -214,6 +220,12 @@ static double choose_step(double lo, double hi, int integer)
         step *= 2;
     return step;
 }
+
+/* The finest step for heights resampled from whole metres: 1/16 m (a quantisation error of at
+ * most 3.1 cm, a thirtieth of the metre the sources were rounded to); finer costs bytes for
+ * digits the sources never had (docs/store.md, "Height step"). */
+#define WARPED_INTEGER_FINEST_P 4
+#define FINEST_P 10
 
 /* The build pass: in, what it reads and how; out, what it saw. */
 typedef struct build_pass {
@@ -516,6 +528,7 @@ static tp_status build_passes(const tp_build_options* o, tp_mosaic* m, const tp_
     size_t valid = 0;
     double quant_err = 0, seen_lo = INFINITY, seen_hi = -INFINITY;
     double step = 1, err_unit = 1;
+    int integral = 1; /* every height a whole metre, where the range pass looked */
     tp_status st = TP_OK;
     int64_t nodes = 0;
     char* notes = build_notes(o, &mi, 0);
@@ -526,7 +539,8 @@ static tp_status build_passes(const tp_build_options* o, tp_mosaic* m, const tp_
     }
     for (int attempt = 0;; attempt++) {
         if (!bounded) {
-            st = range_pass(m, &mi, rows, band_rows, o->quiet, &lo, &hi, &valid, &err);
+            st = range_pass(m, &mi, rows, band_rows, o->quiet, &lo, &hi, &valid, &integral,
+                            &err);
             if (st == TP_OK && valid == 0) {
                 snprintf(err.message, sizeof err.message, "%s: no valid height in the %dx%d grid",
                          o->sources[0], mi.width, mi.height);
@@ -535,7 +549,19 @@ static tp_status build_passes(const tp_build_options* o, tp_mosaic* m, const tp_
             if (st != TP_OK)
                 break;
         }
-        step = choose_step(lo, hi, mi.integer_sources);
+        step = choose_step(lo, hi, mi.integer_sources && !mi.warped && integral,
+                           mi.integer_sources ? WARPED_INTEGER_FINEST_P : FINEST_P);
+        if (o->height_step_m > 0) {
+            step = o->height_step_m;
+            if (floor(hi / step + 0.5) - floor(lo / step + 0.5) > 65534) {
+                snprintf(err.message, sizeof err.message,
+                         "--height-step %g m is too fine for heights %g .. %g m (at most "
+                         "65534 steps: %g m or more)",
+                         step, lo, hi, (hi - lo) / 65534 * 1.0001);
+                st = TP_ERR_INVALID_ARG;
+                break;
+            }
+        }
         const double range_steps = floor(hi / step + 0.5) - floor(lo / step + 0.5);
         err_unit = tp_tree_err_unit_steps(range_steps);
 

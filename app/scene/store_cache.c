@@ -197,7 +197,7 @@ int tp_store_cache_get(const char* dem, const tp_store_cache_options* o, char* o
         return TP_EXIT_FAILURE;
     }
     uint64_t h = 0xcbf29ce484222325ull;
-    h = fnv_str(h, "terrapatch store cache 1");
+    h = fnv_str(h, "terrapatch store cache 2"); /* 2: the height step from the grid's values */
     h = fnv_str(h, abs_path);
     int64_t meta[3] = {id.size_bytes, id.mtime_ns, o->patch_size};
     h = fnv(h, meta, sizeof meta);
