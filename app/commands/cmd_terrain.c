@@ -10,7 +10,6 @@
  */
 #define _POSIX_C_SOURCE 200809L
 #include "cli.h"
-#include "clock.h"
 #include "memory.h"
 #include "output_check.h"
 #include "planner_cli.h"
@@ -223,7 +222,7 @@ static int window_fits(const terrain_cli* o, const tp_planner_window* pw)
 
 /* The summary on stdout. */
 static void print_summary(const terrain_cli* o, const tp_planner_window* pw, int W, int H,
-                          double step_m, const tp_gdaldem_stats* st, double work_s)
+                          double step_m, const tp_gdaldem_stats* st)
 {
     const tp_gdaldem_options* g = &o->gd;
     size_t voids = 0;
@@ -264,8 +263,9 @@ static void print_summary(const terrain_cli* o, const tp_planner_window* pw, int
     printf("posts      %zu with a value, %zu nodata (voids%s%s)\n", st->valid, st->nodata,
            g->compute_edges ? "" : ", the edge, beside voids",
            g->product == TP_GDALDEM_ASPECT && !g->zero_for_flat ? ", flat" : "");
-    printf("time       %.1f ms reading the ground, %.1f ms computing and writing (GDAL)\n",
-           1e3 * pw->read_s, 1e3 * work_s);
+    printf("time       %.1f ms reading the ground, %.1f ms for the %s (GDAL), %.1f ms writing\n",
+           1e3 * pw->read_s, 1e3 * st->compute_s, tp_gdaldem_product_name(g->product),
+           1e3 * st->write_s);
 }
 
 int tp_cli_terrain(int argc, char** argv)
@@ -299,7 +299,6 @@ int tp_cli_terrain(int argc, char** argv)
     if (pw.n >= TP_GROUND_PROGRESS_POSTS && s == TP_OK)
         tp_cli_note("reading the ground 100%%, computing the %s",
                     tp_gdaldem_product_name(o.gd.product));
-    const double t1 = tp_clock_s();
     tp_gdaldem_stats st;
     tp_interrupt_hold(); /* a signal during the work is only recorded (tp_interrupt_finished) */
     if (s == TP_OK)
@@ -308,7 +307,6 @@ int tp_cli_terrain(int argc, char** argv)
     if (s == TP_OK)
         tp_interrupt_finished();
     tp_interrupt_release();
-    const double t2 = tp_clock_s();
     if (s != TP_OK) {
         if (!tp_interrupted())
             tp_cli_error("%s: %s", o.src.path, err.message);
@@ -316,8 +314,7 @@ int tp_cli_terrain(int argc, char** argv)
         tp_ground_destroy(g);
         return tp_planner_finish(TP_EXIT_FAILURE);
     }
-    print_summary(&o, &pw, geom->src_width, geom->src_height, sc->info.header.height_step_m, &st,
-                  t2 - t1);
+    print_summary(&o, &pw, geom->src_width, geom->src_height, sc->info.header.height_step_m, &st);
     tp_cli_note("wrote %s", o.out);
     tp_planner_window_free(&pw);
     tp_ground_destroy(g);

@@ -12,6 +12,7 @@
 #include <gdal_utils.h>
 
 #include <algorithm>
+#include <chrono>
 
 #include <cfloat>
 #include <cmath>
@@ -21,6 +22,11 @@
 using tpio::fail;
 
 namespace {
+
+double seconds_since(std::chrono::steady_clock::time_point t0)
+{
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
 
 /* The voids' nodata value in the dataset handed to GDAL. */
 const float k_void = -FLT_MAX;
@@ -301,6 +307,7 @@ extern "C" tp_status tp_gdaldem_write(const char* path, const float* heights, si
         if (has_crs && srs.SetFromUserInput(crs_wkt) != OGRERR_NONE)
             return fail(err, TP_ERR_BAD_DATA, "%s: GDAL cannot read the CRS: %s", path,
                         tpio::gdal_message().c_str());
+        const auto t0 = std::chrono::steady_clock::now();
         tpio::Dataset made;
         s = run(heights, width, height, geotransform, has_crs ? &srs : nullptr, *options, &made,
                 err);
@@ -308,7 +315,7 @@ extern "C" tp_status tp_gdaldem_write(const char* path, const float* heights, si
             return s;
         GDALRasterBand* b = made->GetRasterBand(1);
         b->SetDescription(description(*options).c_str());
-        tp_gdaldem_stats st = {0, 0, NAN, NAN};
+        tp_gdaldem_stats st = {0, 0, NAN, NAN, seconds_since(t0), 0.0};
         std::vector<float> row((size_t)width);
         for (int y = 0; y < height; ++y) {
             if (!read_row(b, y, row))
@@ -324,8 +331,10 @@ extern "C" tp_status tp_gdaldem_write(const char* path, const float* heights, si
                 ++st.valid;
             }
         }
+        const auto t1 = std::chrono::steady_clock::now();
         if ((s = tpio::raster_write(path, kind, made.get(), err)) != TP_OK)
             return s;
+        st.write_s = seconds_since(t1);
         if (stats)
             *stats = st;
         return TP_OK;

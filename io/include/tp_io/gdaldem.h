@@ -79,11 +79,13 @@ tp_status tp_gdaldem_compute(const float* heights, size_t height_count, int widt
                              const double geotransform[6], const tp_gdaldem_options* options,
                              float* out, size_t out_count, tp_error* err);
 
-/* What tp_gdaldem_write wrote: its posts with a value, those with nodata, and the values'
- * range (NaN, NaN when none has one). */
+/* What tp_gdaldem_write wrote: its posts with a value, those with nodata, the values' range
+ * (NaN, NaN when none has one), and the seconds GDAL took to compute the product and to encode
+ * and write it. */
 typedef struct tp_gdaldem_stats {
     size_t valid, nodata;
     double min, max;
+    double compute_s, write_s;
 } tp_gdaldem_stats;
 
 /* Computes the product as tp_gdaldem_compute does and writes it to path in the format its
