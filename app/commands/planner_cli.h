@@ -113,7 +113,7 @@ tp_status tp_planner_window_read(tp_ground* g, tp_planner_window* win, const cha
 
 void tp_planner_window_free(tp_planner_window* win);
 
-/* The window of posts a command reads (terrain; contours' own is the same): the whole grid; with
+/* The window of posts a command reads (contours, terrain): the whole grid; with
  * area (E0, N0, E1, N1 in the render CRS, E0 < E1 and N0 < N1; NULL for none) the posts inside
  * it; with around (NULL for none; around_text as typed) the posts within radius_m along each
  * axis (a square) of the position, which may be in a void. 1 with *win set
