@@ -44,6 +44,7 @@ static const struct {
      "a route's elevation profile: length, climb, steepest"},
     {"contours", tp_cli_contours, "DEM --interval M -o OUT",
      "contour lines (GDAL) as a vector file"},
+    {"terrain", tp_cli_terrain, "DEM -o OUT", "slope, aspect or hillshade (gdaldem) as a raster"},
 };
 #define COMMAND_COUNT (sizeof commands / sizeof commands[0])
 

@@ -30,6 +30,8 @@ int tp_cli_light(int argc, char** argv);
 int tp_cli_profile(int argc, char** argv);
 /* `terrapatch contours DEM|STORE --interval M -o OUT [options]` (cmd_contours.c). */
 int tp_cli_contours(int argc, char** argv);
+/* `terrapatch terrain DEM|STORE -o OUT [options]` (cmd_terrain.c): slope, aspect or hillshade. */
+int tp_cli_terrain(int argc, char** argv);
 
 /* `terrapatch view [options] [DEM]`. argv[0] is "view"; returns an exit code. */
 int tp_cli_view(int argc, char** argv);

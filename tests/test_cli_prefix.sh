@@ -63,6 +63,7 @@ viewshed) run viewshed "$MISSING" --observer 42.5,1.5 -o v.tif ;;
 light) run light "$MISSING" --date 2026-06-21 --time 12:00 -o l.tif ;;
 profile) run profile "$DATA/storml_elev_orig.tif" --route "$WORK/no_such_dir/route.gpx" ;;
 contours) run contours "$MISSING" --interval 20 -o c.gpkg ;;
+terrain) run terrain "$MISSING" -o t.tif ;;
 *) fail "unknown case" ;;
 esac
 expect 1 "$P" "a missing file"

@@ -282,62 +282,6 @@ static double total_length_m(const tp_features* f)
     return sum;
 }
 
-/* The window of posts (x0..x1, y0..y1) of the DEM the lines are drawn in: the whole DEM, or
- * --area, or --radius around --around. 1, or 0 after one line naming the DEM (off the DEM, or
- * outside it). */
-static int choose_window(const contours_cli* o, tp_ground* g, const tp_position_readings* around,
-                         int win[4])
-{
-    const tp_store_scene* sc = tp_ground_scene(g);
-    const tp_tree_geometry* geom = &sc->info.header.geometry;
-    const double* gt = sc->info.header.geotransform;
-    const int W = geom->src_width, H = geom->src_height;
-    tp_error err = {{0}};
-    int x0 = 0, y0 = 0, x1 = W - 1, y1 = H - 1;
-    if (o->has_area || o->around) {
-        double e0, n0, e1, n1;
-        if (o->around) {
-            double fx, fy, fh, e, n;
-            char hint[256] = "";
-            tp_error lerr = {{0}};
-            tp_position pos;
-            if (!tp_planner_choose("contours", o->src.path, g, around, o->around, &pos)) {
-                return 0;
-            }
-            if (tp_ground_locate(g, &pos, o->around, &fx, &fy, &fh, &lerr)) {
-                e = gt[0] + (fx + 0.5) * gt[1], n = gt[3] + (fy + 0.5) * gt[5];
-            } else if (!strstr(lerr.message, "is in a void") ||
-                       tp_georef_geo_to_proj(sc->georef, pos.lat_deg, pos.lon_deg, &e, &n, &err) !=
-                           TP_OK) {
-                /* a centre in a void is fine: the lines around it are still wanted */
-                tp_planner_swap_hint(g, &pos, hint, sizeof hint);
-                tp_cli_error("%s: %s%s", o->src.path, lerr.message, hint);
-                return 0;
-            }
-            e0 = e - o->radius_m, e1 = e + o->radius_m, n0 = n - o->radius_m, n1 = n + o->radius_m;
-        } else {
-            e0 = o->area[0], n0 = o->area[1], e1 = o->area[2], n1 = o->area[3];
-        }
-        /* grid x of E: (E - gt0) / gt1 - 0.5; posts inside [e0, e1] x [n0, n1] */
-        double ax = (e0 - gt[0]) / gt[1] - 0.5, bx = (e1 - gt[0]) / gt[1] - 0.5;
-        double ay = (n0 - gt[3]) / gt[5] - 0.5, by = (n1 - gt[3]) / gt[5] - 0.5;
-        double lx = fmin(ax, bx), hx = fmax(ax, bx), ly = fmin(ay, by), hy = fmax(ay, by);
-        lx = fmax(ceil(lx - 1e-9), 0.0), ly = fmax(ceil(ly - 1e-9), 0.0);
-        hx = fmin(floor(hx + 1e-9), W - 1.0), hy = fmin(floor(hy + 1e-9), H - 1.0);
-        if (lx > hx || ly > hy) {
-            tp_cli_error("%s: the area E %.1f .. %.1f, N %.1f .. %.1f is "
-                         "outside the DEM (E %.1f .. %.1f, N %.1f .. %.1f, render CRS)",
-                         o->src.path, e0, e1, n0, n1, gt[0] + 0.5 * gt[1],
-                         gt[0] + (W - 0.5) * gt[1], gt[3] + (H - 0.5) * gt[5],
-                         gt[3] + 0.5 * gt[5]);
-            return 0;
-        }
-        x0 = (int)lx, x1 = (int)hx, y0 = (int)ly, y1 = (int)hy;
-    }
-    win[0] = x0, win[1] = y0, win[2] = x1, win[3] = y1;
-    return 1;
-}
-
 /* The range --min-level/--max-level give, in the summary's words: " from 1000 to 2000 m",
  * " from 1000 m up", " up to 2000 m", or "". */
 static void describe_range(const contours_cli* o, char* buf, size_t cap)
@@ -488,14 +432,13 @@ static int contours_main(int argc, char** argv, contours_cli* o)
     if ((code = tp_planner_ground_open("contours", &o->src, &g)) != TP_EXIT_OK)
         return code;
 
-    /* the window: posts (x0..x1, y0..y1) of the DEM */
-    int win[4];
-    if (!choose_window(o, g, &around, win)) {
+    /* the window: the whole DEM, --area, or the square --around */
+    tp_planner_window pw;
+    if (!tp_planner_window_choose("contours", o->src.path, g, o->has_area ? o->area : NULL,
+                                  o->around ? &around : NULL, o->around, o->radius_m, &pw)) {
         tp_ground_destroy(g);
         return TP_EXIT_FAILURE;
     }
-    tp_planner_window pw;
-    tp_planner_window_set(g, win[0], win[1], win[2], win[3], &pw);
     const int w = pw.w, h = pw.h;
     const size_t n = pw.n;
     tp_memory_room room;

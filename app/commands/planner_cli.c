@@ -386,3 +386,68 @@ int tp_planner_finish(int code)
         return tp_cli_interrupted();
     return code == TP_EXIT_OK ? tp_cli_finish(code) : code;
 }
+
+/* The render-CRS point (e, n) at the centre of the window around pos: the grid post nearest
+ * it, or pos itself in a void. 1, or 0 after a line. */
+static int window_centre(const char* cmd, const char* path, tp_ground* g,
+                         const tp_position_readings* around, const char* around_text, double* e,
+                         double* n)
+{
+    const tp_store_scene* sc = tp_ground_scene(g);
+    const double* gt = sc->info.header.geotransform;
+    double fx, fy, fh;
+    char hint[256] = "";
+    tp_error lerr = {{0}}, err = {{0}};
+    tp_position pos;
+    if (!tp_planner_choose(cmd, path, g, around, around_text, &pos))
+        return 0;
+    if (tp_ground_locate(g, &pos, around_text, &fx, &fy, &fh, &lerr)) {
+        *e = gt[0] + (fx + 0.5) * gt[1], *n = gt[3] + (fy + 0.5) * gt[5];
+        return 1;
+    }
+    /* a centre in a void is fine: the ground around it is still wanted */
+    if (strstr(lerr.message, "is in a void") &&
+        tp_georef_geo_to_proj(sc->georef, pos.lat_deg, pos.lon_deg, e, n, &err) == TP_OK)
+        return 1;
+    tp_planner_swap_hint(g, &pos, hint, sizeof hint);
+    tp_cli_error("%s: %s%s", path, lerr.message, hint);
+    return 0;
+}
+
+int tp_planner_window_choose(const char* cmd, const char* path, tp_ground* g, const double* area,
+                             const tp_position_readings* around, const char* around_text,
+                             double radius_m, tp_planner_window* win)
+{
+    const tp_store_scene* sc = tp_ground_scene(g);
+    const tp_tree_geometry* geom = &sc->info.header.geometry;
+    const double* gt = sc->info.header.geotransform;
+    const int W = geom->src_width, H = geom->src_height;
+    if (!area && !around) {
+        tp_planner_window_set(g, 0, 0, W - 1, H - 1, win);
+        return 1;
+    }
+    double e0, n0, e1, n1;
+    if (around) {
+        double e, n;
+        if (!window_centre(cmd, path, g, around, around_text, &e, &n))
+            return 0;
+        e0 = e - radius_m, e1 = e + radius_m, n0 = n - radius_m, n1 = n + radius_m;
+    } else {
+        e0 = area[0], n0 = area[1], e1 = area[2], n1 = area[3];
+    }
+    /* grid x of E: (E - gt0) / gt1 - 0.5; posts inside [e0, e1] x [n0, n1] */
+    double ax = (e0 - gt[0]) / gt[1] - 0.5, bx = (e1 - gt[0]) / gt[1] - 0.5;
+    double ay = (n0 - gt[3]) / gt[5] - 0.5, by = (n1 - gt[3]) / gt[5] - 0.5;
+    double lx = fmin(ax, bx), hx = fmax(ax, bx), ly = fmin(ay, by), hy = fmax(ay, by);
+    lx = fmax(ceil(lx - 1e-9), 0.0), ly = fmax(ceil(ly - 1e-9), 0.0);
+    hx = fmin(floor(hx + 1e-9), W - 1.0), hy = fmin(floor(hy + 1e-9), H - 1.0);
+    if (lx > hx || ly > hy) {
+        tp_cli_error("%s: the area E %.1f .. %.1f, N %.1f .. %.1f is outside the DEM (E %.1f .. "
+                     "%.1f, N %.1f .. %.1f, render CRS)",
+                     path, e0, e1, n0, n1, gt[0] + 0.5 * gt[1], gt[0] + (W - 0.5) * gt[1],
+                     gt[3] + (H - 0.5) * gt[5], gt[3] + 0.5 * gt[5]);
+        return 0;
+    }
+    tp_planner_window_set(g, (int)lx, (int)ly, (int)hx, (int)hy, win);
+    return 1;
+}

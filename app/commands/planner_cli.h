@@ -138,6 +138,16 @@ tp_status tp_planner_window_read(tp_ground* g, tp_planner_window* win, const cha
 
 void tp_planner_window_free(tp_planner_window* win);
 
+/* The window of posts a command reads (contours, terrain): the whole grid; with
+ * area (E0, N0, E1, N1 in the render CRS, E0 < E1 and N0 < N1; NULL for none) the posts inside
+ * it; with around (NULL for none; around_text as typed) the posts within radius_m along each
+ * axis (a square) of the position, which may be in a void. 1 with *win set
+ * (tp_planner_window_set: nothing read yet); 0 after one line naming path (the position off
+ * the DEM or ambiguous, the area outside the DEM). */
+int tp_planner_window_choose(const char* cmd, const char* path, tp_ground* g, const double* area,
+                             const tp_position_readings* around, const char* around_text,
+                             double radius_m, tp_planner_window* win);
+
 /* Writes values (win->n bytes) as a one-band Byte raster on the window's georeference
  * (tp_byte_raster_write, band description), with SIGINT/SIGTERM only recorded during the write
  * and, once it is written, the command's end with its output (tp_interrupt_finished). */

@@ -38,8 +38,10 @@
 #include "tp_io/render_grid.h"
 #include "tp_io/texture.h"
 
-/* Writing: files whole or not at all, output formats and byte rasters, meshes, viewsheds. */
+/* Writing: files whole or not at all, output formats and byte rasters, meshes, viewsheds,
+ * gdaldem's slope, aspect and hillshade. */
 #include "tp_io/file.h"
+#include "tp_io/gdaldem.h"
 #include "tp_io/mesh.h"
 #include "tp_io/output.h"
 #include "tp_io/viewshed.h"

@@ -2,8 +2,10 @@
  * byte_raster.cpp - a one-band Byte raster written on a georeference in the format its path's
  * extension names (tp_io.h "Byte rasters"): the viewshed's and the light map's outputs. GDAL's
  * driver (output_format.cpp) encodes it into a folder of /vsimem/, sidecars included, and the
- * folder's files are written all or none (file_set.cpp).
+ * folder's files are written all or none (file_set.cpp): tpio::raster_write, which writes the
+ * gdaldem products too (gdaldem.cpp).
  */
+#include "byte_raster.hpp"
 #include "gdal_util.hpp"
 #include "output_format.hpp"
 #include "tp_io.h"
@@ -52,20 +54,16 @@ struct MemDir {
 
 } // namespace
 
-extern "C" tp_status tp_byte_raster_write(const char* path, const uint8_t* values,
-                                          size_t value_count, int width, int height,
-                                          const double geotransform[6], const char* crs_wkt,
-                                          const char* description, tp_error* err)
+namespace tpio {
+
+tp_status raster_write(const char* path, tp_output_kind kind, GDALDataset* mem, tp_error* err)
 {
-    if (!path || !*path || !values || !geotransform || width < 1 || height < 1 ||
-        value_count != (size_t)width * (size_t)height)
-        return fail(err, TP_ERR_INVALID_ARG, "%s: raster: bad arguments", path ? path : "");
     static std::atomic<unsigned> counter{0};
     tp_file_set* set = nullptr;
     try {
         GDALDriver* drv;
         const char* const* options;
-        tp_status s = tpio::output_driver(path, TP_OUTPUT_BYTE_RASTER, &drv, &options, err);
+        tp_status s = tpio::output_driver(path, kind, &drv, &options, err);
         if (s != TP_OK)
             return s;
         const std::string p = path;
@@ -75,38 +73,15 @@ extern "C" tp_status tp_byte_raster_write(const char* path, const uint8_t* value
             return fail(err, TP_ERR_INVALID_ARG, "%s: a file name is needed, not a folder", path);
         const std::string dir = slash == std::string::npos ? std::string() : p.substr(0, slash + 1);
         tpio::QuietGdal quiet;
-        OGRSpatialReference srs;
-        const bool has_crs = crs_wkt && *crs_wkt;
-        if (has_crs && srs.SetFromUserInput(crs_wkt) != OGRERR_NONE)
-            return fail(err, TP_ERR_BAD_DATA, "%s: GDAL cannot read the CRS: %s", path,
-                        tpio::gdal_message().c_str());
-        GDALDriver* mem_drv = GetGDALDriverManager()->GetDriverByName("MEM");
-        if (!mem_drv)
-            return fail(err, TP_ERR_BACKEND, "%s: GDAL has no MEM driver", path);
-        tpio::Dataset mem(mem_drv->Create("", width, height, 1, GDT_Byte, nullptr));
-        if (!mem)
-            return fail(err, TP_ERR_BACKEND, "%s: GDAL cannot hold the raster in memory: %s", path,
-                        tpio::gdal_message().c_str());
-        mem->SetGeoTransform(const_cast<double*>(geotransform));
-        if (has_crs)
-            mem->SetSpatialRef(&srs);
-        GDALRasterBand* b = mem->GetRasterBand(1);
-        if (description && *description)
-            b->SetDescription(description);
-        if (b->RasterIO(GF_Write, 0, 0, width, height, const_cast<uint8_t*>(values), width, height,
-                        GDT_Byte, 0, 0, nullptr) != CE_None)
-            return fail(err, TP_ERR_BACKEND, "%s: GDAL cannot hold the raster in memory: %s", path,
-                        tpio::gdal_message().c_str());
-
         char folder[96];
-        std::snprintf(folder, sizeof folder, "/vsimem/tp_raster_%p_%u", (const void*)values,
+        std::snprintf(folder, sizeof folder, "/vsimem/tp_raster_%p_%u", (const void*)mem,
                       counter++);
         MemDir md;
         md.name = folder;
         VSIMkdir(folder, 0700);
         const std::string encoded = md.name + "/" + name;
         {
-            tpio::Dataset out(drv->CreateCopy(encoded.c_str(), mem.get(), FALSE,
+            tpio::Dataset out(drv->CreateCopy(encoded.c_str(), mem, FALSE,
                                               const_cast<char**>(options), nullptr, nullptr));
             if (!out)
                 return fail(err, TP_ERR_BACKEND, "%s: GDAL's %s driver cannot write it: %s", path,
@@ -144,6 +119,52 @@ extern "C" tp_status tp_byte_raster_write(const char* path, const uint8_t* value
         return tp_file_set_commit(committing, err);
     } catch (...) {
         tp_file_set_abort(set);
+        return tpio::caught(err, path);
+    }
+}
+
+} // namespace tpio
+
+extern "C" tp_status tp_byte_raster_write(const char* path, const uint8_t* values,
+                                          size_t value_count, int width, int height,
+                                          const double geotransform[6], const char* crs_wkt,
+                                          const char* description, tp_error* err)
+{
+    if (!path || !*path || !values || !geotransform || width < 1 || height < 1 ||
+        value_count != (size_t)width * (size_t)height)
+        return fail(err, TP_ERR_INVALID_ARG, "%s: raster: bad arguments", path ? path : "");
+    try {
+        GDALDriver* drv;
+        const char* const* options;
+        tp_status s = tpio::output_driver(path, TP_OUTPUT_BYTE_RASTER, &drv, &options, err);
+        if (s != TP_OK)
+            return s;
+        tpio::QuietGdal quiet;
+        OGRSpatialReference srs;
+        const bool has_crs = crs_wkt && *crs_wkt;
+        if (has_crs && srs.SetFromUserInput(crs_wkt) != OGRERR_NONE)
+            return fail(err, TP_ERR_BAD_DATA, "%s: GDAL cannot read the CRS: %s", path,
+                        tpio::gdal_message().c_str());
+        GDALDriver* mem_drv = GetGDALDriverManager()->GetDriverByName("MEM");
+        if (!mem_drv)
+            return fail(err, TP_ERR_BACKEND, "%s: GDAL has no MEM driver", path);
+        tpio::Dataset mem(mem_drv->Create("", width, height, 1, GDT_Byte, nullptr));
+        if (!mem)
+            return fail(err, TP_ERR_BACKEND, "%s: GDAL cannot hold the raster in memory: %s", path,
+                        tpio::gdal_message().c_str());
+        mem->SetGeoTransform(const_cast<double*>(geotransform));
+        if (has_crs)
+            mem->SetSpatialRef(&srs);
+        GDALRasterBand* b = mem->GetRasterBand(1);
+        if (description && *description)
+            b->SetDescription(description);
+        if (b->RasterIO(GF_Write, 0, 0, width, height, const_cast<uint8_t*>(values), width, height,
+                        GDT_Byte, 0, 0, nullptr) != CE_None)
+            return fail(err, TP_ERR_BACKEND, "%s: GDAL cannot hold the raster in memory: %s", path,
+                        tpio::gdal_message().c_str());
+
+        return tpio::raster_write(path, TP_OUTPUT_BYTE_RASTER, mem.get(), err);
+    } catch (...) {
         return tpio::caught(err, path);
     }
 }

@@ -10,7 +10,10 @@
  * that passes those tests: most of the others cannot hold an arbitrary grid (DTED and SRTMHGT
  * need their tile's size, MBTiles Web Mercator, GRIB and PDS4 their own metadata), and JPEG and
  * WEBP are lossy (a visibility of 255 would come back as 254 near an edge); those are refused
- * with the reason rather than written wrong.
+ * with the reason rather than written wrong. Float32 rasters (terrain's slope and aspect) go to
+ * those of the same list whose driver takes Float32 (GDAL_DMD_CREATIONDATATYPES): GeoTIFF,
+ * GeoPackage, Erdas Imagine, Arc/Info ASCII Grid; PNG, BMP and JPEG 2000 are refused with the
+ * reason.
  *
  * Vectors: the extensions contours have always taken (.gpkg GeoPackage, .shp Shapefile, ...),
  * then any other extension an OGR driver that creates vector files declares. Stores and plots
@@ -139,8 +142,9 @@ bool has_extension(GDALDriver* d, const std::string& ext)
     return false;
 }
 
-/* The driver of f when this GDAL has it and it can write one band of bytes into memory. */
-GDALDriver* raster_driver(const RasterFormat& f)
+/* The driver of f when this GDAL has it and it can write one band of type ("Byte",
+ * "Float32") into memory. */
+GDALDriver* raster_driver(const RasterFormat& f, const char* type = "Byte")
 {
     GDALDriver* d = GetGDALDriverManager()->GetDriverByName(f.driver);
     if (!d || !d->GetMetadataItem(GDAL_DCAP_RASTER) || !d->GetMetadataItem(GDAL_DCAP_VIRTUALIO) ||
@@ -149,7 +153,7 @@ GDALDriver* raster_driver(const RasterFormat& f)
     const char* types = d->GetMetadataItem(GDAL_DMD_CREATIONDATATYPES);
     if (types) {
         CPLStringList list(CSLTokenizeString(types));
-        if (list.FindString("Byte") < 0)
+        if (list.FindString(type) < 0)
             return nullptr;
     }
     return d;
@@ -183,7 +187,6 @@ GDALDriver* vector_driver(const std::string& ext, std::string* name)
     return nullptr;
 }
 
-/* Why no format of kind is written as ext: the message after "PATH: ". */
 /* The name of a kind written in one format of our own (or gnuplot's). */
 const char* single_name(tp_output_kind kind)
 {
@@ -193,12 +196,27 @@ const char* single_name(tp_output_kind kind)
                                        : "terrapatch light map";
 }
 
+/* The GDAL data type a raster output of kind holds; nullptr for a kind that is no raster. */
+const char* raster_type(tp_output_kind kind)
+{
+    return kind == TP_OUTPUT_BYTE_RASTER    ? "Byte"
+           : kind == TP_OUTPUT_FLOAT_RASTER ? "Float32"
+                                            : nullptr;
+}
+
+/* Why no format of kind is written as ext: the message after "PATH: ". */
 std::string refusal(tp_output_kind kind, const std::string& ext)
 {
     if (ext.empty())
         return "no extension to say its format";
     GDALDriverManager* dm = GetGDALDriverManager();
-    if (kind == TP_OUTPUT_BYTE_RASTER)
+    if (kind == TP_OUTPUT_FLOAT_RASTER)
+        for (const RasterFormat& f : k_rasters) {
+            GDALDriver* d = raster_driver(f);
+            if (d && has_extension(d, ext))
+                return std::string(f.name) + " holds no Float32 values";
+        }
+    if (kind == TP_OUTPUT_BYTE_RASTER || kind == TP_OUTPUT_FLOAT_RASTER)
         for (int i = 0; i < dm->GetDriverCount(); ++i) {
             GDALDriver* d = dm->GetDriver(i);
             if (!d->GetMetadataItem(GDAL_DCAP_RASTER) || !has_extension(d, ext))
@@ -228,9 +246,10 @@ tp_status decide(const std::string& path, tp_output_kind kind, tp_output_format*
     fmt->mesh = TP_MESH_VTP;
     switch (kind) {
     case TP_OUTPUT_BYTE_RASTER:
+    case TP_OUTPUT_FLOAT_RASTER:
         tpio::register_drivers();
         for (const RasterFormat& f : k_rasters) {
-            GDALDriver* d = raster_driver(f);
+            GDALDriver* d = raster_driver(f, raster_type(kind));
             if (d && has_extension(d, ext)) {
                 copy_field(fmt->driver, sizeof fmt->driver, f.driver);
                 copy_field(fmt->name, sizeof fmt->name, f.name);
@@ -343,9 +362,10 @@ extern "C" size_t tp_output_formats(tp_output_kind kind, char* buf, size_t cap)
         };
         switch (kind) {
         case TP_OUTPUT_BYTE_RASTER:
+        case TP_OUTPUT_FLOAT_RASTER:
             tpio::register_drivers();
             for (const RasterFormat& f : k_rasters)
-                if (GDALDriver* d = raster_driver(f))
+                if (GDALDriver* d = raster_driver(f, raster_type(kind)))
                     item(f.name, driver_extensions(d));
             break;
         case TP_OUTPUT_VECTOR: {

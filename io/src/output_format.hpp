@@ -8,9 +8,10 @@
 
 namespace tpio {
 
-/* The driver tp_output_format_for chose for path (kind TP_OUTPUT_BYTE_RASTER or
- * TP_OUTPUT_VECTOR) and, for a raster, the creation options it is written with (NULL-ended,
- * static). Fails as tp_output_format_for; *drv and *options written only on success. */
+/* The driver tp_output_format_for chose for path (kind TP_OUTPUT_BYTE_RASTER,
+ * TP_OUTPUT_FLOAT_RASTER or TP_OUTPUT_VECTOR) and, for a raster, the creation options it is written
+ * with (NULL-ended, static). Fails as tp_output_format_for; *drv and *options written only on
+ * success. */
 tp_status output_driver(const char* path, tp_output_kind kind, GDALDriver** drv,
                         const char* const** options, tp_error* err);
 

@@ -17,8 +17,9 @@ extern "C" {
 /* ---------------------------------------------------------------------------------------------
  * Output formats (io/src/output_format.cpp): the one place that decides, from an output path's
  * extension (case ignored), the format it is written in, for every writer below that follows
- * the extension (tp_byte_raster_write, tp_contours_write in tp_vector.h, tp_image_write_rgba)
- * and for the commands, which check their outputs with it before any work.
+ * the extension (tp_byte_raster_write, tp_gdaldem_write in gdaldem.h, tp_contours_write in
+ * tp_vector.h, tp_image_write_rgba) and for the commands, which check their outputs with it
+ * before any work.
  */
 typedef enum tp_output_kind {
     TP_OUTPUT_NONE = 0,
@@ -27,6 +28,10 @@ typedef enum tp_output_kind {
                               the CRS beside), GeoPackage (.gpkg), lossless JPEG 2000 (.jp2,
                               .j2k), Erdas Imagine (.img), Arc/Info ASCII Grid (.asc; a .prj
                               beside), BMP (.bmp; .wld, .aux.xml): those this GDAL has */
+    /* one band of Float32 on a georeference (terrain's slope and aspect): those of the byte
+     * rasters' formats that hold Float32, GeoTIFF, GeoPackage, Erdas Imagine, Arc/Info ASCII
+     * Grid */
+    TP_OUTPUT_FLOAT_RASTER,
     TP_OUTPUT_VECTOR,      /* lines with fields (contours): any OGR format that creates vector
                               files, by its extension (.gpkg, .shp, .geojson, .kml, ...) */
     TP_OUTPUT_STORE,       /* a terrain store (build): .tpt */
