@@ -21,6 +21,7 @@
     X(agrees_with_gdal_on_n42e001)                                                                 \
     X(observer_at_the_grid_edge_agrees_with_gdal)                                                  \
     X(grazing_check_agrees_with_r3_on_whole_discs)                                                 \
+    X(clearance_equals_gdal_ground_mode_and_angle_the_geometry)                                    \
     X(geotiff_round_trip)                                                                          \
     X(geotiff_in_a_missing_folder_writes_nothing)
 
@@ -652,6 +653,84 @@ TEST(grazing_check_agrees_with_r3_on_whole_discs)
     g = grid_or_skip("lf_elev_220_mt_hood_utm.tif");
     tp_test_summit(g, &x, &y);
     check_grazing("Mt Hood summit", g, x, y, 10000.0);
+    tp_render_grid_destroy(g);
+}
+
+/* ---------------------------------------------------------------------------------------------
+ * Values (tp_viewshed_compute_values)
+ */
+
+/* Clearance against gdal_viewshed -om GROUND (GDALViewshedGenerate's
+ * GVOT_MIN_TARGET_HEIGHT_FROM_GROUND: the height a target needs, 0 where seen) with GDAL's
+ * propagation and the quirk inert (see compare): max(0, -clearance) equals it. The angle against
+ * the geometry worked out here: 90 + atan of the corrected rise over the distance, where seen. */
+TEST(clearance_equals_gdal_ground_mode_and_angle_the_geometry)
+{
+    tp_render_grid* g = grid_or_skip("lf_elev_220_mt_hood_utm.tif");
+    const int w = g->width, h = g->height;
+    const size_t n = (size_t)w * h;
+    int ox = w / 2, oy = h / 2;
+    tp_test_valid_near(g, &ox, &oy);
+    tp_viewshed_options o = tp_viewshed_options_default();
+    o.radius_m = 8000.0;
+    o.exact_radius_px = 0;
+    o.grazing_check = 0;
+    float* z = quirk_neutral(g->heights, w, h, ox, oy, &o.observer_height_m);
+    uint8_t* seen = malloc(n);
+    float* ours = malloc(sizeof(float) * n);
+    float* gdal = malloc(sizeof(float) * n);
+    tp_error err;
+    memset(&err, 0, sizeof err);
+    ASSERT_OK(tp_viewshed_compute_values(z, n, w, h, g->geotransform, ox, oy, &o,
+                                         TP_VIEWSHED_VALUES_CLEARANCE, seen, ours, n, &err));
+    ASSERT_OK(tp_gdal_viewshed_ground(z, n, w, h, g->geotransform, ox, oy, &o, gdal, n, &err));
+    size_t compared = 0, equal = 0, hidden = 0;
+    double worst = 0.0;
+    for (size_t i = 0; i < n; ++i) {
+        if (ours[i] != ours[i] || gdal[i] != gdal[i])
+            continue;
+        const double need = ours[i] < 0.0f ? -(double)ours[i] : 0.0;
+        EXPECT_EQ_INT(seen[i] == TP_VIEWSHED_VISIBLE, ours[i] >= 0.0f);
+        compared++;
+        hidden += ours[i] < 0.0f;
+        equal += fabs(need - gdal[i]) <= 1e-3 * fmax(1.0, gdal[i]);
+        worst = fmax(worst, fabs(need - gdal[i]));
+    }
+    tp_test_note("clearance: %zu samples (%zu hidden), %.3f%% equal to GDAL's GROUND mode within "
+                 "1 mm (or 1e-3 relative); worst %.3f m",
+                 compared, hidden, 100.0 * equal / compared, worst);
+    EXPECT_GT(compared, 200000);
+    EXPECT_GT(hidden, 10000);
+    EXPECT_GE((double)equal, 0.999 * (double)compared);
+
+    ASSERT_OK(tp_viewshed_compute_values(z, n, w, h, g->geotransform, ox, oy, &o,
+                                         TP_VIEWSHED_VALUES_ANGLE, seen, ours, n, &err));
+    const double k = o.curvature_coeff / (2.0 * 6378137.0);
+    const double eye = z[(size_t)oy * w + ox] + o.observer_height_m;
+    size_t angles = 0, right = 0;
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            const size_t i = (size_t)y * w + x;
+            const double d = hypot((x - ox) * g->geotransform[1], (y - oy) * g->geotransform[5]);
+            if (d == 0.0 || d > o.radius_m || z[i] != z[i]) {
+                EXPECT_TRUE(ours[i] != ours[i]);
+                continue;
+            }
+            if (seen[i] != TP_VIEWSHED_VISIBLE) {
+                EXPECT_TRUE(ours[i] != ours[i]);
+                continue;
+            }
+            const double want = 90.0 + atan2(z[i] - k * d * d - eye, d) * 180.0 / 3.14159265358979;
+            angles++;
+            right += fabs(ours[i] - want) < 1e-4;
+        }
+    tp_test_note("angle: %zu seen samples, %zu within 1e-4 degree of the geometry", angles, right);
+    EXPECT_GT(angles, 20000);
+    EXPECT_EQ_INT((int)angles, (int)right);
+    free(z);
+    free(seen);
+    free(ours);
+    free(gdal);
     tp_render_grid_destroy(g);
 }
 

@@ -4,6 +4,8 @@
  * checked against what is worked out here independently:
  *   - several --observer: each post's count equals the number of observers whose exact ray test
  *     (R3, tp_test_r3.h, on the render grid built here) sees it within their radius;
+ *   - --values clearance: a Float32 raster, nodata -9999 tagged, equal to the core's
+ *     clearance on the render grid built here but for the store's 1/16 m step;
  *   - --azimuth FROM,TO: posts whose true azimuth from the observer (PROJ/OGR for latitude and
  *     longitude, the spherical initial bearing here) lies inside the sector are as without it,
  *     those outside are 0.
@@ -201,7 +203,73 @@ TEST(sector_keeps_what_lies_between_its_azimuths)
     tp_render_grid_destroy(g);
 }
 
+/* --values clearance: Float32 with gdaldem's nodata, against tp_viewshed_compute_values on the
+ * same window of the render grid built here (the store's heights are the grid's to 3 cm). */
+TEST(clearance_raster_is_float_with_nodata_and_the_cores_values)
+{
+    char path[1024], out[256], err[4096], pos[64];
+    tp_render_grid* g = n42_grid(path, sizeof path);
+    const int ox = g->width / 2, oy = g->height / 2;
+    double lat, lon;
+    post_lat_lon(g, ox, oy, &lat, &lon);
+    snprintf(pos, sizeof pos, "%.10f,%.10f", lat, lon);
+    snprintf(out, sizeof out, "%s/clearance.tif", tmp_dir());
+    const char* args[] = {path, "--observer", pos, "--radius", "3000", "--values", "clearance",
+                          "-o", out, NULL};
+    ASSERT_EQ_INT(0, tp_test_run_terrapatch("viewshed", args, err, sizeof err));
+    GDALAllRegister();
+    GDALDatasetH ds = GDALOpen(out, GA_ReadOnly);
+    ASSERT_TRUE(ds != NULL);
+    GDALRasterBandH b = GDALGetRasterBand(ds, 1);
+    EXPECT_EQ_INT(GDT_Float32, GDALGetRasterDataType(b));
+    int has_nodata = 0;
+    EXPECT_EQ_DBL(-9999.0, GDALGetRasterNoDataValue(b, &has_nodata));
+    EXPECT_TRUE(has_nodata);
+    double gt[6];
+    ASSERT_TRUE(GDALGetGeoTransform(ds, gt) == CE_None);
+    const int w = GDALGetRasterXSize(ds), h = GDALGetRasterYSize(ds);
+    const int x0 = (int)lround((gt[0] - g->geotransform[0]) / g->geotransform[1]);
+    const int y0 = (int)lround((gt[3] - g->geotransform[3]) / g->geotransform[5]);
+    float* got = malloc(sizeof(float) * (size_t)w * h);
+    ASSERT_TRUE(GDALRasterIO(b, GF_Read, 0, 0, w, h, got, w, h, GDT_Float32, 0, 0) == CE_None);
+    GDALClose(ds);
+    float* z = malloc(sizeof(float) * (size_t)w * h);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x)
+            z[(size_t)y * w + x] = g->heights[(size_t)(y0 + y) * g->width + (x0 + x)];
+    uint8_t* seen = malloc((size_t)w * h);
+    float* want = malloc(sizeof(float) * (size_t)w * h);
+    tp_viewshed_options vo = tp_viewshed_options_default();
+    vo.radius_m = 3000.0;
+    tp_error e;
+    memset(&e, 0, sizeof e);
+    ASSERT_OK(tp_viewshed_compute_values(z, (size_t)w * h, w, h, gt, ox - x0, oy - y0, &vo,
+                                         TP_VIEWSHED_VALUES_CLEARANCE, seen, want,
+                                         (size_t)w * h, &e));
+    size_t compared = 0, close = 0, nodata_agree = 0, posts = (size_t)w * h;
+    for (size_t i = 0; i < posts; ++i) {
+        if (want[i] != want[i]) {
+            nodata_agree += got[i] == -9999.0f;
+            continue;
+        }
+        compared++;
+        close += fabs(got[i] - want[i]) <= 0.1 + 0.001 * fabs(want[i]);
+    }
+    tp_test_note("%zu posts with a clearance: %zu within 10 cm of the core's on the render grid; "
+                 "%zu of %zu without one are -9999",
+                 compared, close, nodata_agree, posts - compared);
+    EXPECT_GT(compared, 5000);
+    EXPECT_GE((double)close, 0.99 * (double)compared);
+    EXPECT_EQ_INT((int)(posts - compared), (int)nodata_agree);
+    free(got);
+    free(z);
+    free(seen);
+    free(want);
+    tp_render_grid_destroy(g);
+}
+
 #define TESTS(X)                                                                                   \
     X(several_observers_count_what_the_exact_ray_test_sees)                                        \
-    X(sector_keeps_what_lies_between_its_azimuths)
+    X(sector_keeps_what_lies_between_its_azimuths)                                                 \
+    X(clearance_raster_is_float_with_nodata_and_the_cores_values)
 TP_TEST_MAIN(TESTS)

@@ -28,7 +28,7 @@
 /* A count of observers fits a byte, 0 kept for none. */
 #define VIEWSHED_MAX_OBSERVERS 254
 
-enum { OPT_OBSERVER = 1, OPT_AZIMUTH };
+enum { OPT_OBSERVER = 1, OPT_AZIMUTH, OPT_VALUES };
 
 typedef struct viewshed_cli {
     tp_planner_source src; /* the DEM or store, --cache-dir and the DEM options */
@@ -38,6 +38,7 @@ typedef struct viewshed_cli {
     double observer_height_m, target_height_m, radius_m, curvature_coeff;
     int has_sector;
     double sector[2]; /* --azimuth FROM,TO: degrees clockwise from true north */
+    tp_viewshed_values values; /* --values: NONE for visible */
 } viewshed_cli;
 
 /* An observer: where it stands (posts), and grid north's bearing from true north there. */
@@ -50,8 +51,9 @@ static void print_help(void)
 {
     tp_planner_help(
         "usage: terrapatch viewshed DEM|STORE --observer POS [--observer POS ...] -o OUT.tif\n"
-        "                           [--observer-height M] [--target-height M] [--radius M]\n"
-        "                           [--azimuth FROM,TO] [--curvature-coeff C] [--cache-dir DIR]\n"
+        "                           [--values visible|angle|clearance] [--observer-height M]\n"
+        "                           [--target-height M] [--radius M] [--azimuth FROM,TO]\n"
+        "                           [--curvature-coeff C] [--cache-dir DIR]\n"
         "\n"
         "What an observer at POS sees of the ground of DEM (any raster GDAL reads, built into\n"
         "the store cache first as 'terrapatch view' does) or of a store (.tpt): a one-band Byte\n"
@@ -81,6 +83,13 @@ static void print_help(void)
         "  --observer-height M    eye above the ground (default 2)\n"
         "  --target-height M      target above the ground (default 0)\n"
         "  --radius M             how far to look, metres (default 0: the whole grid)\n"
+        "  --values visible       255 seen, 0 not (default; several observers: their count)\n"
+        "  --values angle         Float32: the vertical angle from the eye to the target,\n"
+        "                         degrees, as r.viewshed (0 down, 90 level, 180 up); nodata\n"
+        "                         (-9999) where not seen\n"
+        "  --values clearance     Float32: metres the target stands above the sight line over\n"
+        "                         its horizon; below 0 where hidden, minus the height it would\n"
+        "                         need (gdal_viewshed -om GROUND's value there); one observer\n"
         "  --azimuth FROM,TO      only the sector clockwise from FROM to TO, degrees from true\n"
         "                         north at the observer (350,10 looks north; equal: all round);\n"
         "                         posts outside it are 0, as beyond the radius\n"
@@ -100,6 +109,17 @@ static void print_help(void)
 static int viewshed_option(void* ctx, int code, const char* value, const char* cmd)
 {
     viewshed_cli* o = ctx;
+    if (code == OPT_VALUES) {
+        if (!strcmp(value, "visible"))
+            o->values = TP_VIEWSHED_VALUES_NONE;
+        else if (!strcmp(value, "angle"))
+            o->values = TP_VIEWSHED_VALUES_ANGLE;
+        else if (!strcmp(value, "clearance"))
+            o->values = TP_VIEWSHED_VALUES_CLEARANCE;
+        else
+            return tp_option_error(cmd, "--values", "visible, angle or clearance", value), -1;
+        return 1;
+    }
     if (code == OPT_AZIMUTH) {
         o->has_sector = 1;
         return tp_option_pair(cmd, "--azimuth", value, 0.0, 360.0,
@@ -123,6 +143,7 @@ static int parse_options(int argc, char** argv, viewshed_cli* o)
     const tp_option options[] = {
         TP_OPT_CODE("--observer", NULL, OPT_OBSERVER, 1),
         TP_OPT_CODE("--azimuth", NULL, OPT_AZIMUTH, 1),
+        TP_OPT_CODE("--values", NULL, OPT_VALUES, 1),
         TP_OPT_TEXT("--output", "-o", &o->out),
         TP_OPT_NUMBER("--observer-height", &o->observer_height_m, 0.0, HUGE_VAL, "a number >= 0"),
         TP_OPT_NUMBER("--target-height", &o->target_height_m, 0.0, HUGE_VAL, "a number >= 0"),
@@ -139,6 +160,9 @@ static int parse_options(int argc, char** argv, viewshed_cli* o)
         return tp_cli_usage("viewshed", "missing --observer POS");
     if (!o->out)
         return tp_cli_usage("viewshed", "missing -o OUT.tif");
+    if (o->values != TP_VIEWSHED_VALUES_NONE && o->observer_count > 1)
+        return tp_cli_usage("viewshed", "--values angle and clearance take one observer (%d given)",
+                            o->observer_count);
     return -1;
 }
 
@@ -185,7 +209,7 @@ static void observers_window(tp_ground* g, const viewshed_observer* obs, int cou
 /* Clears the posts of seen (the window's) outside the sector of --azimuth around ob (window
  * posts ox, oy): their true azimuth from the observer, grid bearing + convergence. */
 static void keep_sector(const viewshed_cli* o, const tp_planner_window* win, int ox, int oy,
-                        double convergence_deg, uint8_t* seen)
+                        double convergence_deg, uint8_t* seen, float* values)
 {
     double width = o->sector[1] - o->sector[0];
     if (width <= 0.0)
@@ -198,8 +222,11 @@ static void keep_sector(const viewshed_cli* o, const tp_planner_window* win, int
             double from = atan2(east, north) * (180.0 / 3.14159265358979323846) +
                           convergence_deg - o->sector[0];
             from = fmod(fmod(from, 360.0) + 360.0, 360.0);
-            if (from > width)
+            if (from > width) {
                 seen[(size_t)y * win->w + x] = TP_VIEWSHED_OUTSIDE;
+                if (values)
+                    values[(size_t)y * win->w + x] = NAN;
+            }
         }
 }
 
@@ -230,7 +257,8 @@ static void count_seen(const tp_planner_window* win, const viewshed_observer* ob
  * valid[k], the posts any radius reaches marked in reach. */
 static tp_status sweep_observers(const viewshed_cli* o, const tp_planner_window* win,
                                  const viewshed_observer* obs, uint8_t* seen, uint8_t* count,
-                                 uint8_t* reach, size_t* visible, size_t* valid, tp_error* err)
+                                 float* values, uint8_t* reach, size_t* visible, size_t* valid,
+                                 tp_error* err)
 {
     tp_viewshed_options vo = tp_viewshed_options_default();
     vo.observer_height_m = o->observer_height_m;
@@ -239,12 +267,12 @@ static tp_status sweep_observers(const viewshed_cli* o, const tp_planner_window*
     vo.radius_m = o->radius_m;
     for (int k = 0; k < o->observer_count; ++k) {
         const int ox = obs[k].x - win->x0, oy = obs[k].y - win->y0;
-        tp_status s = tp_viewshed_compute(win->z, win->n, win->w, win->h, win->gt, ox, oy, &vo,
-                                          seen, win->n, err);
+        tp_status s = tp_viewshed_compute_values(win->z, win->n, win->w, win->h, win->gt, ox, oy,
+                                                 &vo, o->values, seen, values, win->n, err);
         if (s != TP_OK)
             return s;
         if (o->has_sector)
-            keep_sector(o, win, ox, oy, obs[k].convergence_deg, seen);
+            keep_sector(o, win, ox, oy, obs[k].convergence_deg, seen, values);
         count_seen(win, &obs[k], o->radius_m, seen, &visible[k], &valid[k], reach);
         if (count)
             for (size_t i = 0; i < win->n; ++i)
@@ -297,6 +325,37 @@ static void print_summary(tp_ground* g, const viewshed_cli* o, const tp_planner_
            any, reached, reached ? 100.0 * any / reached : 0.0, all, o->observer_count);
 }
 
+/* What the raster's band says it holds. */
+static const char* band_description(const viewshed_cli* o)
+{
+    if (o->observer_count > 1)
+        return "observers that see the post (0 .. N)";
+    if (o->values == TP_VIEWSHED_VALUES_ANGLE)
+        return "vertical angle from the eye to the target, degrees (0 down, 90 level, 180 up); "
+               "nodata where not seen";
+    if (o->values == TP_VIEWSHED_VALUES_CLEARANCE)
+        return "target above the sight line over the horizon, metres (below 0: hidden by so "
+               "much)";
+    return "visibility: 255 seen, 0 not seen or beyond the radius";
+}
+
+/* The values' range over the posts that have one. */
+static void print_values(const viewshed_cli* o, const float* values, size_t n)
+{
+    double lo = INFINITY, hi = -INFINITY;
+    size_t count = 0;
+    for (size_t i = 0; i < n; ++i)
+        if (values[i] == values[i]) {
+            lo = values[i] < lo ? values[i] : lo;
+            hi = values[i] > hi ? values[i] : hi;
+            count++;
+        }
+    if (o->values == TP_VIEWSHED_VALUES_ANGLE)
+        printf("angle      %.2f .. %.2f deg (90: level) at the %zu posts seen\n", lo, hi, count);
+    else
+        printf("clearance  %.2f .. %.2f m at %zu posts (below 0: hidden)\n", lo, hi, count);
+}
+
 int tp_cli_viewshed(int argc, char** argv)
 {
     viewshed_cli o;
@@ -308,7 +367,10 @@ int tp_cli_viewshed(int argc, char** argv)
         if (!tp_planner_position("viewshed", "--observer", o.observers[k], &pos))
             return TP_EXIT_USAGE;
     }
-    if ((code = tp_cli_output_check("viewshed", "-o", o.out, TP_OUTPUT_BYTE_RASTER)) != TP_EXIT_OK)
+    const int floats = o.values != TP_VIEWSHED_VALUES_NONE;
+    if ((code = tp_cli_output_check("viewshed", "-o", o.out,
+                                    floats ? TP_OUTPUT_FLOAT_RASTER : TP_OUTPUT_BYTE_RASTER)) !=
+        TP_EXIT_OK)
         return code;
     tp_error err = {{0}};
     tp_ground* g = NULL;
@@ -325,22 +387,24 @@ int tp_cli_viewshed(int argc, char** argv)
     uint8_t* seen = malloc(win.n);
     uint8_t* reach = calloc(win.n, 1);
     uint8_t* count = several ? calloc(win.n, 1) : NULL;
+    float* values = floats ? malloc(win.n * sizeof *values) : NULL;
     size_t visible[VIEWSHED_MAX_OBSERVERS], valid[VIEWSHED_MAX_OBSERVERS];
-    tp_status s = seen && reach && (count || !several)
+    tp_status s = seen && reach && (count || !several) && (values || !floats)
                       ? tp_planner_window_read(g, &win, NULL, &err)
                       : tp_error_set(&err, TP_ERR_OUT_OF_MEMORY, "out of memory");
     const double t1 = tp_clock_s();
     if (s == TP_OK)
-        s = sweep_observers(&o, &win, obs, seen, count, reach, visible, valid, &err);
+        s = sweep_observers(&o, &win, obs, seen, count, values, reach, visible, valid, &err);
     const double t2 = tp_clock_s();
-    if (s == TP_OK)
-        s = tp_planner_raster_write(g, o.out, several ? count : seen, &win,
-                                    several ? "observers that see the post (0 .. N)"
-                                            : "visibility: 255 seen, 0 not seen or beyond "
-                                              "the radius",
+    if (s == TP_OK && floats)
+        s = tp_planner_float_raster_write(g, o.out, values, &win, band_description(&o), &err);
+    else if (s == TP_OK)
+        s = tp_planner_raster_write(g, o.out, several ? count : seen, &win, band_description(&o),
                                     &err);
     if (s == TP_OK) {
         print_summary(g, &o, &win, obs, count, reach, visible, valid);
+        if (floats)
+            print_values(&o, values, win.n);
         printf("time       %.1f ms reading the ground, %.1f ms for the viewshed%s\n",
                1e3 * win.read_s, 1e3 * (t2 - t1), several ? "s" : "");
         tp_cli_note("wrote %s", o.out);
@@ -351,6 +415,7 @@ int tp_cli_viewshed(int argc, char** argv)
     free(seen);
     free(reach);
     free(count);
+    free(values);
     tp_ground_destroy(g);
     return s == TP_OK ? tp_cli_finish(TP_EXIT_OK) : tp_planner_finish(TP_EXIT_FAILURE);
 }

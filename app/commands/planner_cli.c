@@ -106,17 +106,36 @@ void tp_planner_window_free(tp_planner_window* win)
     win->z = NULL;
 }
 
-tp_status tp_planner_raster_write(tp_ground* g, const char* out, const uint8_t* values,
-                                  const tp_planner_window* win, const char* description,
-                                  tp_error* err)
+/* Writes with SIGINT/SIGTERM only recorded during the write (tp_interrupt_finished once the
+ * output is whole): values bytes, or floats when floats is not NULL. */
+static tp_status raster_write(tp_ground* g, const char* out, const uint8_t* values,
+                              const float* floats, const tp_planner_window* win,
+                              const char* description, tp_error* err)
 {
     tp_interrupt_hold(); /* a signal during the write is only recorded (tp_interrupt_finished) */
-    tp_status s = tp_byte_raster_write(out, values, win->n, win->w, win->h, win->gt,
-                                       tp_ground_scene(g)->info.header.crs_wkt, description, err);
+    const char* crs = tp_ground_scene(g)->info.header.crs_wkt;
+    tp_status s = floats ? tp_float_raster_write(out, floats, win->n, win->w, win->h, win->gt,
+                                                 crs, description, err)
+                         : tp_byte_raster_write(out, values, win->n, win->w, win->h, win->gt,
+                                                crs, description, err);
     if (s == TP_OK)
         tp_interrupt_finished();
     tp_interrupt_release();
     return s;
+}
+
+tp_status tp_planner_raster_write(tp_ground* g, const char* out, const uint8_t* values,
+                                  const tp_planner_window* win, const char* description,
+                                  tp_error* err)
+{
+    return raster_write(g, out, values, NULL, win, description, err);
+}
+
+tp_status tp_planner_float_raster_write(tp_ground* g, const char* out, const float* values,
+                                        const tp_planner_window* win, const char* description,
+                                        tp_error* err)
+{
+    return raster_write(g, out, NULL, values, win, description, err);
 }
 
 /* The hint that a position is latitude first, after the text of a message. */

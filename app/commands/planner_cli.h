@@ -155,6 +155,11 @@ tp_status tp_planner_raster_write(tp_ground* g, const char* out, const uint8_t* 
                                   const tp_planner_window* win, const char* description,
                                   tp_error* err);
 
+/* The same for win->n floats (NaN: nodata) as a Float32 raster (tp_float_raster_write). */
+tp_status tp_planner_float_raster_write(tp_ground* g, const char* out, const float* values,
+                                        const tp_planner_window* win, const char* description,
+                                        tp_error* err);
+
 /* ---- the outputs ---- */
 
 /* Writes one output of report to f. */

@@ -11,6 +11,7 @@
 #include "tp_io.h"
 
 #include <algorithm>
+#include <cmath>
 #include <atomic>
 #include <cctype>
 #include <cstdio>
@@ -125,18 +126,17 @@ tp_status raster_write(const char* path, tp_output_kind kind, GDALDataset* mem, 
 
 } // namespace tpio
 
-extern "C" tp_status tp_byte_raster_write(const char* path, const uint8_t* values,
-                                          size_t value_count, int width, int height,
-                                          const double geotransform[6], const char* crs_wkt,
-                                          const char* description, tp_error* err)
+/* One band of values (GDT_Byte or GDT_Float32) on a georeference written as kind, as
+ * tp_byte_raster_write writes; nodata (NaN: none) tagged on the band. */
+static tp_status band_write(const char* path, tp_output_kind kind, GDALDataType type,
+                            const void* values, int width, int height,
+                            const double geotransform[6], const char* crs_wkt,
+                            const char* description, double nodata, tp_error* err)
 {
-    if (!path || !*path || !values || !geotransform || width < 1 || height < 1 ||
-        value_count != (size_t)width * (size_t)height)
-        return fail(err, TP_ERR_INVALID_ARG, "%s: raster: bad arguments", path ? path : "");
     try {
         GDALDriver* drv;
         const char* const* options;
-        tp_status s = tpio::output_driver(path, TP_OUTPUT_BYTE_RASTER, &drv, &options, err);
+        tp_status s = tpio::output_driver(path, kind, &drv, &options, err);
         if (s != TP_OK)
             return s;
         tpio::QuietGdal quiet;
@@ -148,7 +148,7 @@ extern "C" tp_status tp_byte_raster_write(const char* path, const uint8_t* value
         GDALDriver* mem_drv = GetGDALDriverManager()->GetDriverByName("MEM");
         if (!mem_drv)
             return fail(err, TP_ERR_BACKEND, "%s: GDAL has no MEM driver", path);
-        tpio::Dataset mem(mem_drv->Create("", width, height, 1, GDT_Byte, nullptr));
+        tpio::Dataset mem(mem_drv->Create("", width, height, 1, type, nullptr));
         if (!mem)
             return fail(err, TP_ERR_BACKEND, "%s: GDAL cannot hold the raster in memory: %s", path,
                         tpio::gdal_message().c_str());
@@ -158,12 +158,47 @@ extern "C" tp_status tp_byte_raster_write(const char* path, const uint8_t* value
         GDALRasterBand* b = mem->GetRasterBand(1);
         if (description && *description)
             b->SetDescription(description);
-        if (b->RasterIO(GF_Write, 0, 0, width, height, const_cast<uint8_t*>(values), width, height,
-                        GDT_Byte, 0, 0, nullptr) != CE_None)
+        if (nodata == nodata)
+            b->SetNoDataValue(nodata);
+        if (b->RasterIO(GF_Write, 0, 0, width, height, const_cast<void*>(values), width, height,
+                        type, 0, 0, nullptr) != CE_None)
             return fail(err, TP_ERR_BACKEND, "%s: GDAL cannot hold the raster in memory: %s", path,
                         tpio::gdal_message().c_str());
 
-        return tpio::raster_write(path, TP_OUTPUT_BYTE_RASTER, mem.get(), err);
+        return tpio::raster_write(path, kind, mem.get(), err);
+    } catch (...) {
+        return tpio::caught(err, path);
+    }
+}
+
+extern "C" tp_status tp_byte_raster_write(const char* path, const uint8_t* values,
+                                          size_t value_count, int width, int height,
+                                          const double geotransform[6], const char* crs_wkt,
+                                          const char* description, tp_error* err)
+{
+    if (!path || !*path || !values || !geotransform || width < 1 || height < 1 ||
+        value_count != (size_t)width * (size_t)height)
+        return fail(err, TP_ERR_INVALID_ARG, "%s: raster: bad arguments", path ? path : "");
+    return band_write(path, TP_OUTPUT_BYTE_RASTER, GDT_Byte, values, width, height, geotransform,
+                      crs_wkt, description, NAN, err);
+}
+
+extern "C" tp_status tp_float_raster_write(const char* path, const float* values,
+                                           size_t value_count, int width, int height,
+                                           const double geotransform[6], const char* crs_wkt,
+                                           const char* description, tp_error* err)
+{
+    if (!path || !*path || !values || !geotransform || width < 1 || height < 1 ||
+        value_count != (size_t)width * (size_t)height)
+        return fail(err, TP_ERR_INVALID_ARG, "%s: raster: bad arguments", path ? path : "");
+    try {
+        std::vector<float> tagged(values, values + value_count);
+        for (float& v : tagged)
+            if (v != v)
+                v = (float)TP_FLOAT_RASTER_NODATA;
+        return band_write(path, TP_OUTPUT_FLOAT_RASTER, GDT_Float32, tagged.data(), width,
+                          height, geotransform, crs_wkt, description, TP_FLOAT_RASTER_NODATA,
+                          err);
     } catch (...) {
         return tpio::caught(err, path);
     }

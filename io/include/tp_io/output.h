@@ -85,6 +85,17 @@ tp_status tp_byte_raster_write(const char* path, const uint8_t* values, size_t v
                                int width, int height, const double geotransform[6],
                                const char* crs_wkt, const char* description, tp_error* err);
 
+/* The nodata value of the float rasters (gdaldem's). */
+#define TP_FLOAT_RASTER_NODATA (-9999.0)
+
+/* Writes values (width * height floats, row 0 first, NaN where there is none) as a one-band
+ * Float32 raster in the format path's extension names for TP_OUTPUT_FLOAT_RASTER, as
+ * tp_byte_raster_write writes (all or none, sidecars), NaN written as TP_FLOAT_RASTER_NODATA
+ * and tagged as the band's nodata. Errors as tp_byte_raster_write's. */
+tp_status tp_float_raster_write(const char* path, const float* values, size_t value_count,
+                                int width, int height, const double geotransform[6],
+                                const char* crs_wkt, const char* description, tp_error* err);
+
 #ifdef __cplusplus
 }
 #endif

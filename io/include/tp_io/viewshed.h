@@ -34,6 +34,15 @@ tp_status tp_gdal_viewshed(const float* heights, size_t height_count, int width,
                            const tp_viewshed_options* options, uint8_t* out, size_t out_count,
                            tp_error* err);
 
+/* The same in GDAL's output mode GVOT_MIN_TARGET_HEIGHT_FROM_GROUND (gdal_viewshed -om GROUND):
+ * per sample the height above its ground a target needs to be seen, 0 where it is seen
+ * (options->target_height_m is not used: GDAL ignores it in this mode), as floats into out;
+ * NaN outside GDAL's window. Fails as tp_gdal_viewshed. */
+tp_status tp_gdal_viewshed_ground(const float* heights, size_t height_count, int width,
+                                  int height, const double geotransform[6], int observer_x,
+                                  int observer_y, const tp_viewshed_options* options, float* out,
+                                  size_t out_count, tp_error* err);
+
 /* Writes a viewshed as tp_byte_raster_write does (below), in the format path's extension names,
  * band description "visibility: 255 seen, 0 not seen or beyond the radius". No nodata tag: 0 is
  * "not seen". */
