@@ -5,7 +5,7 @@
  *     at the printed place and time, its grid azimuth the true one less the convergence worked
  *     out here with GDAL/PROJ (the bearing of grid north between two points 100 m apart); its
  *     values agree with tp_shadow_compute run here on the render grid (the store the child
- *     reads rounds heights to 1 m);
+ *     reads keeps warped heights to 1/16 m);
  *   - N42E001 with --radius/--at and --values illumination: the window's georeference and
  *     tp_shadow_illumination's values;
  *   - the sun below the horizon: all 0; bad input: exit 1, nothing written.
@@ -215,7 +215,7 @@ TEST(window_and_illumination_on_n42e001)
         in_shadow_lit += got[i] > 0 && !lit[i] && want[i] == 0 && abs((int)got[i]) > 8;
     }
     tp_test_note("window %dx%d from (%d, %d): %.1f%% lit; within 8 of the core's illumination "
-                 "on the render grid on %.2f%% (the store rounds heights to 1 m)",
+                 "on the render grid on %.2f%% (the store keeps the warped heights to 1/16 m)",
                  w, w, x0, y0, 100.0 * lit_count / cnt, 100.0 * close / cnt);
     EXPECT_GE((double)close / cnt, 0.98);
     EXPECT_GT(lit_count, cnt / 10);

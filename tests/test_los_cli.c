@@ -258,7 +258,7 @@ static double r3_clearance(const float* z, int w, const double gt[6], int ox, in
 }
 
 /* From the centre of N42E001's render grid to 40 posts within 15 km (half of them near samples
- * the viewshed core sees), through the store (quantised to 1 m) and its full-resolution
+ * the viewshed core sees), through the store (quantised to 1/16 m) and its full-resolution
  * surface: seen or not as the exact ray test (R3, on the render grid built here) says, up to
  * grazing pairs (the store's rounding, its triangulated cells). Against the viewshed core's
  * value for the target's sample: these pairs, chosen near seen samples, are where its
@@ -397,7 +397,7 @@ TEST(viewshed_geotiff_has_the_grid_georeference_and_the_core_values)
                 outside_seen += got[i] != 0;
         }
     tp_test_note("viewshed GeoTIFF %dx%d: %zu seen; agrees with tp_viewshed_compute on the "
-                 "render grid here on %.3f%% (the store rounds heights to 1 m)",
+                 "render grid here on %.3f%% (the store keeps the warped heights to 1/16 m)",
                  vw, vh, seen, 100.0 * same / ((double)vw * vh));
     EXPECT_GT(seen, 1000);
     EXPECT_EQ_INT(0, (int)outside_seen);

@@ -2,7 +2,7 @@
  * test_view_hud.c - what `terrapatch view` shows and tells (issue 29, 4.4 - 4.6), run headless
  * as a child:
  *
- *  - 4.4: a camera 2 m over a warped DEM's ground (heights stored in 1 m steps: half a metre of
+ *  - 4.4: a camera 2 m over a warped DEM's ground (heights stored in 1 m steps until issue 31: half a metre of
  *    quantisation error under the eye) reported "bound_max_px": null in --stats-json and
  *    "error bound max inf px" on the HUD: the full-resolution leaves around the eye reach the
  *    near plane, where the projection bound of their box is infinite. The bound is finite, at
