@@ -20,6 +20,7 @@
 
 #include "tp_test_child.h"
 #include "tp_test_gdal.h"
+#include "tp_test_grid.h"
 #include "tp_test_r3.h"
 
 #include <cpl_conv.h>
@@ -224,19 +225,7 @@ TEST(los_says_every_file_it_wrote)
 
 static tp_render_grid* n42_grid(char* path, size_t cap)
 {
-    tp_dem* dem = NULL;
-    tp_render_grid* g = NULL;
-    tp_error err;
-    memset(&err, 0, sizeof err);
-    if (!tp_test_data_path(path, cap, "TP_SHARED_DATA_DIR", "N42E001.hgt"))
-        SKIP("N42E001.hgt not found (set TP_SHARED_DATA_DIR)");
-    if (tp_dem_read(path, &dem, &err) != TP_OK)
-        FAIL("tp_dem_read(%s): %s", path, err.message);
-    tp_status s = tp_render_grid_build(dem, NULL, &g, &err);
-    tp_dem_destroy(dem);
-    if (s != TP_OK)
-        FAIL("tp_render_grid_build: %s", err.message);
-    return g;
+    return tp_test_render_grid("N42E001.hgt", path, cap);
 }
 
 static void post_lat_lon(const tp_render_grid* g, int c, int r, char* out, size_t cap)

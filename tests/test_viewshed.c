@@ -3,6 +3,7 @@
  * GDALViewshedGenerate) and with an exact ray test (R3) where the two differ. */
 #include "tp_io.h"
 #include "tp_test.h"
+#include "tp_test_grid.h"
 #include "tp_test_observers.h"
 #include "tp_test_r3.h"
 
@@ -167,19 +168,7 @@ static void note_comparison(const char* what, const comparison* c)
 static tp_render_grid* grid_or_skip(const char* file)
 {
     char path[1024];
-    tp_dem* dem = NULL;
-    tp_render_grid* g = NULL;
-    tp_error err;
-    memset(&err, 0, sizeof err);
-    REQUIRE_DATA_FILE(path, "TP_SHARED_DATA_DIR", file);
-    tp_status s = tp_dem_read(path, &dem, &err);
-    if (s != TP_OK)
-        FAIL("tp_dem_read(%s): %s", path, err.message);
-    s = tp_render_grid_build(dem, NULL, &g, &err);
-    tp_dem_destroy(dem);
-    if (s != TP_OK)
-        FAIL("tp_render_grid_build(%s): %s", path, err.message);
-    return g;
+    return tp_test_render_grid(file, path, sizeof path);
 }
 
 /* Thresholds for the real DEMs. Both run the same propagation (GDAL's GVM_Edge) in double

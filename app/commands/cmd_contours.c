@@ -319,16 +319,6 @@ static void describe_levels(const contours_cli* o, char* buf, size_t cap)
 static void print_summary(const contours_cli* o, const tp_planner_window* pw, int W, int H,
                           const tp_features* f, size_t dropped)
 {
-    float lo = INFINITY, hi = -INFINITY;
-    size_t voids = 0;
-    for (size_t i = 0; i < pw->n; ++i) {
-        if (pw->z[i] != pw->z[i]) {
-            ++voids;
-            continue;
-        }
-        lo = fminf(lo, pw->z[i]);
-        hi = fmaxf(hi, pw->z[i]);
-    }
     size_t rings = 0, index = 0;
     double elo = INFINITY, ehi = -INFINITY;
     for (size_t i = 0; i < f->count; ++i) {
@@ -337,15 +327,7 @@ static void print_summary(const contours_cli* o, const tp_planner_window* pw, in
         elo = fmin(elo, f->items[i].value);
         ehi = fmax(ehi, f->items[i].value);
     }
-    if (o->has_area || o->around)
-        printf("window     %dx%d posts from (%d, %d) of %dx%d\n", pw->w, pw->h, pw->x0, pw->y0, W,
-               H);
-    else
-        printf("window     %dx%d posts: the whole DEM\n", pw->w, pw->h);
-    if (lo <= hi)
-        printf("ground     %.1f .. %.1f m, %zu void posts\n", (double)lo, (double)hi, voids);
-    else
-        printf("ground     all %zu posts void\n", voids);
+    tp_planner_print_ground(pw, W, H, o->has_area || o->around, 0.0);
     char levels[200], left_out[96] = "";
     describe_levels(o, levels, sizeof levels);
     if (o->min_vertices > 0)
@@ -439,20 +421,7 @@ static int contours_main(int argc, char** argv, contours_cli* o)
         tp_ground_destroy(g);
         return TP_EXIT_FAILURE;
     }
-    const int w = pw.w, h = pw.h;
-    const size_t n = pw.n;
-    tp_memory_room room;
-    tp_memory_room_now(&room);
-    if (n > CONTOURS_MAX_POSTS || (uint64_t)n * CONTOURS_BYTES_PER_POST > room.bytes) {
-        if (n > CONTOURS_MAX_POSTS)
-            tp_cli_error("%s: a %dx%d window is %zu posts, more than one run "
-                         "takes (%zu, 8192 x 8192); choose a part with --area or --around",
-                         o->src.path, w, h, n, CONTOURS_MAX_POSTS);
-        else
-            tp_cli_error("%s: a %dx%d window needs about %.0f MiB, %.0f MiB "
-                         "left (%s); choose a part with --area or --around",
-                         o->src.path, w, h, n * (double)CONTOURS_BYTES_PER_POST / 1048576.0,
-                         room.bytes / 1048576.0, room.bound);
+    if (!tp_planner_window_fits(o->src.path, &pw, CONTOURS_MAX_POSTS, CONTOURS_BYTES_PER_POST)) {
         tp_ground_destroy(g);
         return TP_EXIT_FAILURE;
     }

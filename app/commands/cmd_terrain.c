@@ -199,49 +199,12 @@ static int parse_options(int argc, char** argv, terrain_cli* o)
     return product_options(o);
 }
 
-/* The window's posts fit one run and the memory left; else 0 after a line. */
-static int window_fits(const terrain_cli* o, const tp_planner_window* pw)
-{
-    tp_memory_room room;
-    tp_memory_room_now(&room);
-    if (pw->n > TERRAIN_MAX_POSTS) {
-        tp_cli_error("%s: a %dx%d window is %zu posts, more than one run takes (%zu, 8192 x "
-                     "8192); choose a part with --area or --around",
-                     o->src.path, pw->w, pw->h, pw->n, TERRAIN_MAX_POSTS);
-        return 0;
-    }
-    if ((uint64_t)pw->n * TERRAIN_BYTES_PER_POST > room.bytes) {
-        tp_cli_error("%s: a %dx%d window needs about %.0f MiB, %.0f MiB left (%s); choose a part "
-                     "with --area or --around",
-                     o->src.path, pw->w, pw->h, pw->n * (double)TERRAIN_BYTES_PER_POST / 1048576.0,
-                     room.bytes / 1048576.0, room.bound);
-        return 0;
-    }
-    return 1;
-}
-
 /* The summary on stdout. */
 static void print_summary(const terrain_cli* o, const tp_planner_window* pw, int W, int H,
                           double step_m, const tp_gdaldem_stats* st)
 {
     const tp_gdaldem_options* g = &o->gd;
-    size_t voids = 0;
-    float lo = INFINITY, hi = -INFINITY;
-    for (size_t i = 0; i < pw->n; ++i) {
-        const float z = pw->z[i];
-        voids += z != z;
-        lo = fminf(lo, z), hi = fmaxf(hi, z); /* NaN passed over */
-    }
-    if (o->has_area || o->around)
-        printf("window     %dx%d posts from (%d, %d) of %dx%d\n", pw->w, pw->h, pw->x0, pw->y0, W,
-               H);
-    else
-        printf("window     %dx%d posts: the whole DEM\n", pw->w, pw->h);
-    if (lo <= hi)
-        printf("ground     %.1f .. %.1f m (stored in steps of %g m), %zu void posts\n", (double)lo,
-               (double)hi, step_m, voids);
-    else
-        printf("ground     all %zu posts void\n", voids);
+    tp_planner_print_ground(pw, W, H, o->has_area || o->around, step_m);
     const char* unit = g->product == TP_GDALDEM_HILLSHADE                   ? ""
                        : g->product == TP_GDALDEM_SLOPE && g->slope_percent ? " %"
                                                                             : " deg";
@@ -291,7 +254,7 @@ int tp_cli_terrain(int argc, char** argv)
     tp_planner_window pw;
     if (!tp_planner_window_choose("terrain", o.src.path, g, o.has_area ? o.area : NULL,
                                   o.around ? &around : NULL, o.around, o.radius_m, &pw) ||
-        !window_fits(&o, &pw)) {
+        !tp_planner_window_fits(o.src.path, &pw, TERRAIN_MAX_POSTS, TERRAIN_BYTES_PER_POST)) {
         tp_ground_destroy(g);
         return TP_EXIT_FAILURE;
     }

@@ -470,3 +470,49 @@ int tp_planner_window_choose(const char* cmd, const char* path, tp_ground* g, co
     tp_planner_window_set(g, (int)lx, (int)ly, (int)hx, (int)hy, win);
     return 1;
 }
+
+int tp_planner_window_fits(const char* path, const tp_planner_window* pw, size_t max_posts,
+                           size_t bytes_per_post)
+{
+    tp_memory_room room;
+    tp_memory_room_now(&room);
+    if (pw->n > max_posts) {
+        tp_cli_error("%s: a %dx%d window is %zu posts, more than one run takes (%zu, 8192 x "
+                     "8192); choose a part with --area or --around",
+                     path, pw->w, pw->h, pw->n, max_posts);
+        return 0;
+    }
+    if ((uint64_t)pw->n * bytes_per_post > room.bytes) {
+        tp_cli_error("%s: a %dx%d window needs about %.0f MiB, %.0f MiB left (%s); choose a part "
+                     "with --area or --around",
+                     path, pw->w, pw->h, pw->n * (double)bytes_per_post / 1048576.0,
+                     room.bytes / 1048576.0, room.bound);
+        return 0;
+    }
+    return 1;
+}
+
+void tp_planner_print_ground(const tp_planner_window* pw, int grid_w, int grid_h, int part,
+                             double step_m)
+{
+    size_t voids = 0;
+    float lo = INFINITY, hi = -INFINITY;
+    for (size_t i = 0; i < pw->n; ++i) {
+        const float z = pw->z[i];
+        voids += z != z;
+        lo = fminf(lo, z), hi = fmaxf(hi, z); /* NaN passed over */
+    }
+    if (part)
+        printf("window     %dx%d posts from (%d, %d) of %dx%d\n", pw->w, pw->h, pw->x0, pw->y0,
+               grid_w, grid_h);
+    else
+        printf("window     %dx%d posts: the whole DEM\n", pw->w, pw->h);
+    char step[64] = "";
+    if (step_m > 0.0)
+        snprintf(step, sizeof step, " (stored in steps of %g m)", step_m);
+    if (lo <= hi)
+        printf("ground     %.1f .. %.1f m%s, %zu void posts\n", (double)lo, (double)hi, step,
+               voids);
+    else
+        printf("ground     all %zu posts void\n", voids);
+}

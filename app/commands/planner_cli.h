@@ -160,6 +160,16 @@ tp_status tp_planner_float_raster_write(tp_ground* g, const char* out, const flo
                                         const tp_planner_window* win, const char* description,
                                         tp_error* err);
 
+/* The window's posts fit one run (max_posts) and the memory left at bytes_per_post a post;
+ * else 0 after one line naming path and what to do (--area or --around). */
+int tp_planner_window_fits(const char* path, const tp_planner_window* pw, size_t max_posts,
+                           size_t bytes_per_post);
+
+/* The summary's "window" line (part: a part of the grid_w x grid_h grid, else the whole DEM)
+ * and "ground" line (the heights read; step_m > 0: the store's step). */
+void tp_planner_print_ground(const tp_planner_window* pw, int grid_w, int grid_h, int part,
+                             double step_m);
+
 /* ---- the outputs ---- */
 
 /* Writes one output of report to f. */
