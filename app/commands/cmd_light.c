@@ -34,8 +34,12 @@ static void print_help(void)
         "usage: terrapatch light DEM|STORE --date YYYY-MM-DD --time HH:MM[:SS][ZONE]\n"
         "                        -o OUT.tif [--values lit|illumination] [--radius M --at POS]\n"
         "                        [--cache-dir DIR]\n"
+        "       terrapatch light DEM|STORE --sun AZ,EL -o OUT.tif [--values ...] [--radius M\n"
+        "                        --at POS] [--cache-dir DIR]\n"
         "       terrapatch light DEM|STORE --day --date YYYY-MM-DD [--maps N] [--margin M]\n"
         "                        [-o OUT.tpl] [--json FILE|-] [--quiet] [--cache-dir DIR]\n"
+        "       terrapatch light DEM|STORE --day --date YYYY-MM-DD -o HOURS.tif [--radius M\n"
+        "                        --at POS] [--maps N] [--margin M] [--json FILE|-] [--quiet]\n"
         "\n"
         "Where the sun shines on the ground of DEM (any raster GDAL reads, built into the\n"
         "store cache first as 'terrapatch view' does) or of a store (.tpt) at one moment, with\n"
@@ -46,14 +50,22 @@ static void print_help(void)
         "The sun's position is libnova's (VSOP87; checked against Meeus and the NREL SPA,\n"
         "docs/light.md) for the window's centre: its azimuth from true north less the meridian\n"
         "convergence there gives the grid azimuth, its elevation includes refraction\n"
-        "(1010 mbar, 10 C). One direction serves the whole window (a flat earth: the sun's\n"
-        "elevation changes by 0.009 degree per km across it). Voids are 0 and cast nothing.\n"
+        "(1010 mbar, 10 C); or --sun gives it. One direction serves the whole window (a flat\n"
+        "earth: the sun's elevation changes by 0.009 degree per km across it). Voids are 0 and\n"
+        "cast nothing.\n"
         "\n"
         "options:\n"
-        "  --date YYYY-MM-DD      the date (required; its sunrise and sunset are printed, for\n"
-        "                         the day of local mean solar time at the centre)\n"
-        "  --time HH:MM[:SS][ZONE] the time (required); ZONE: Z, UTC, +HH:MM, -HHMM, +HH,\n"
-        "                         after the time or one space; no zone: UTC\n"
+        "  --date YYYY-MM-DD      the date (required but with --sun; its sunrise and sunset\n"
+        "                         are printed, for the day of local mean solar time at the\n"
+        "                         centre)\n"
+        "  --time HH:MM[:SS][ZONE] the time (required but with --sun or --day); ZONE: Z, UTC,\n"
+        "                         +HH:MM, -HHMM, +HH, after the time or one space; no zone:\n"
+        "                         UTC\n"
+        "  --sun AZ,EL            the sun given instead of --date and --time: azimuth AZ\n"
+        "                         degrees clockwise from true north (0 .. 360; turned to grid\n"
+        "                         north by the convergence at the centre or --at, as for a\n"
+        "                         date), elevation EL degrees above the horizon (-90 .. 90, as\n"
+        "                         seen: no refraction added; EL <= 0: everything in shadow)\n"
         "  -o, --output OUT.tif   the raster to write (required), in the format its extension\n"
         "                         names: .tif GeoTIFF, .png PNG (with a .wld world file and\n"
         "                         the CRS in .png.aux.xml), .gpkg, .jp2 (lossless), .img,\n"
@@ -81,16 +93,36 @@ static void print_help(void)
         "                         posts)\n"
         "  -o, --output OUT.tpl   the light map (default: the store's path with .tpl for .tpt;\n"
         "                         for a DEM, its store's in the store cache)\n"
+        "  -o, --output HOURS.tif with --day: instead of the map, a one-band Float32 raster of\n"
+        "                         the hours of direct sunlight at each post over the day (the\n"
+        "                         map's lit intervals, to 1/255 of the day each end; voids\n"
+        "                         -9999, nodata): .tif, .gpkg, .img or .asc; takes --radius M\n"
+        "                         --at POS (the sun computed at POS; the margin around the\n"
+        "                         window still shadows it)\n"
         "  --json FILE|-          the summary as JSON (\"-\": on stdout instead of the text)\n"
         "  --quiet                no progress on stderr\n",
         "examples:\n"
         "  $ terrapatch light mt_hood.tif --date 2026-06-21 --time '18:30 -07:00' -o sun.tif\n"
+        "  $ terrapatch light mt_hood.tif --sun 135,30 -o sun.tif\n"
         "  $ terrapatch light mt_hood.tpt --day --date 2026-06-21     # writes mt_hood.tpl\n"
+        "  $ terrapatch light mt_hood.tif --day --date 2026-06-21 -o hours.tif\n"
         "\n"
         "Exit status: 0 written (also with the sun below the horizon: all 0); 1 the DEM cannot\n"
         "be read, has no CRS, --at is outside it or in a void, the output cannot be written\n"
         "(nothing is left behind); 2 usage error (OUT's extension naming no format written\n"
         "included).\n");
+}
+
+/* --sun AZ,EL: 1 with the true azimuth and the elevation, else 0 after one line. */
+static int parse_sun(const char* value, double out[2])
+{
+    static const char expected[] = "AZ,EL: an azimuth 0 .. 360 (degrees clockwise from true "
+                                   "north) and an elevation -90 .. 90 (degrees above the horizon)";
+    if (!tp_option_pair("light", "--sun", value, -90.0, 360.0, expected, out))
+        return 0;
+    if (out[1] > 90.0 || out[0] < 0.0)
+        return tp_option_error("light", "--sun", expected, value), 0;
+    return 1;
 }
 
 /* A second operand, or a piece of --time left unquoted ("--time 18:30 -07:00"): exit 2. */
@@ -116,6 +148,7 @@ static int parse_options(int argc, char** argv, tp_light_cli* o)
         TP_OPT_NUMBER("--margin", &o->margin_m, 0.0, HUGE_VAL, "a number >= 0"),
         TP_OPT_TEXT("--date", NULL, &o->date),
         TP_OPT_TEXT("--time", NULL, &o->time),
+        TP_OPT_TEXT("--sun", NULL, &o->sun),
         TP_OPT_TEXT("--output", "-o", &o->out),
         TP_OPT_TEXT("--at", NULL, &o->at),
         TP_OPT_TEXT("--values", NULL, &o->values),
@@ -138,8 +171,13 @@ static int parse_options(int argc, char** argv, tp_light_cli* o)
     }
     if (!o->src.path)
         return tp_cli_usage("light", "missing DEM");
-    if (!o->date)
-        return tp_cli_usage("light", "missing --date YYYY-MM-DD");
+    if (o->sun && (o->date || o->time || o->day))
+        return tp_cli_usage("light", "--sun AZ,EL gives the sun at one moment: no --date, --time "
+                                     "or --day");
+    if (o->sun && !parse_sun(o->sun, o->sun_deg))
+        return TP_EXIT_USAGE;
+    if (!o->sun && !o->date)
+        return tp_cli_usage("light", "missing --date YYYY-MM-DD (or --sun AZ,EL)");
     if (o->day) {
         long n = o->maps;
         if (maps && !tp_option_integer("light", "--maps", maps, 2, TP_LIGHT_DAY_MAPS_MAX,
@@ -148,14 +186,20 @@ static int parse_options(int argc, char** argv, tp_light_cli* o)
         o->maps = (int)n;
         if (o->time)
             return tp_cli_usage("light", "--day makes the whole day's map: no --time");
-        if (o->at || o->radius_m > 0.0 || o->values)
-            return tp_cli_usage("light", "--day makes the lit map of the whole grid: no "
-                                             "--at, --radius or --values");
+        o->hours = o->out && !tp_light_is_map(o->out);
+        if (o->values)
+            return tp_cli_usage("light", "--day writes %s: no --values",
+                                o->hours ? "the hours of sunlight" : "the light map");
+        if (!o->hours && (o->at || o->radius_m > 0.0))
+            return tp_cli_usage("light", "--day's light map (.tpl) covers the whole grid: no "
+                                         "--at or --radius (a raster -o OUT.tif takes them)");
+        if (o->radius_m > 0.0 && !o->at)
+            return tp_cli_usage("light", "--radius needs --at POS");
         return -1;
     }
     if (maps || o->json || o->quiet || o->margin_m != TP_LIGHT_DAY_MARGIN_M)
         return tp_cli_usage("light", "--maps, --margin, --json and --quiet go with --day");
-    if (!o->time)
+    if (!o->time && !o->sun)
         return tp_cli_usage("light", "missing --time HH:MM");
     if (!o->out)
         return tp_cli_usage("light", "missing -o OUT.tif");
@@ -169,6 +213,70 @@ static int parse_options(int argc, char** argv, tp_light_cli* o)
     return -1;
 }
 
+/* Where the sun is for the one-moment raster: from --sun, or from libnova at --date --time over
+ * the place (with the day's sunrise and sunset). */
+typedef struct moment_sun {
+    tp_sun_time when; /* not with --sun */
+    tp_sun_pos pos;   /* the date's: true azimuth, elevations */
+    tp_sun_day day;
+    double true_az, grid_az, elevation; /* what lights the ground */
+} moment_sun;
+
+static tp_status moment_sun_at(const tp_light_cli* o, const tp_light_place* here, moment_sun* m,
+                               tp_error* err)
+{
+    if (o->sun) {
+        m->true_az = o->sun_deg[0];
+        m->grid_az = tp_light_grid_azimuth(here, m->true_az);
+        m->elevation = o->sun_deg[1];
+        return TP_OK;
+    }
+    tp_status s = tp_light_sun(here, m->when.unix_s, &m->pos, &m->grid_az, err);
+    if (s == TP_OK)
+        s = tp_sun_rise_set(
+            here->lat_deg, here->lon_deg,
+            tp_sun_local_day_start(m->when.year, m->when.month, m->when.day, here->lon_deg),
+            &m->day, err);
+    m->true_az = m->pos.azimuth_deg;
+    m->elevation = m->pos.apparent_elevation_deg;
+    return s;
+}
+
+/* The summary on stdout (README's example). */
+static void print_moment(const tp_light_cli* o, const tp_light_place* here, const moment_sun* m,
+                         const tp_planner_window* win, size_t sunlit, size_t valid, double shadow_s)
+{
+    printf("place      %.6f %.6f (post %.0f, %.0f: where the sun is %s); grid north is %.3f deg "
+           "%s of true north\n",
+           here->lat_deg, here->lon_deg, here->x, here->y,
+           o->sun ? "turned to grid north" : "computed", fabs(here->convergence_deg),
+           here->convergence_deg >= 0.0 ? "east" : "west");
+    if (o->sun) {
+        printf("sun        azimuth %.3f deg true, %.3f deg grid; elevation %.3f deg (given by "
+               "--sun: no date or time, no refraction added)\n",
+               m->true_az, m->grid_az, m->elevation);
+    } else {
+        char local[48], utc[48];
+        const int zone = m->when.zone_offset_s;
+        tp_sun_time_format(m->when.unix_s, zone, local, sizeof local);
+        tp_sun_time_format(m->when.unix_s, 0, utc, sizeof utc);
+        printf("time       %s%s%s\n", local, zone ? " = " : "", zone ? utc : "");
+        printf("sun        azimuth %.3f deg true, %.3f deg grid; elevation %.3f deg (%.3f deg "
+               "without refraction)\n",
+               m->true_az, m->grid_az, m->elevation, m->pos.elevation_deg);
+        tp_light_print_day(&m->day, zone);
+    }
+    if (m->elevation <= 0.0)
+        printf("note       the sun is %s the horizon: everything is in shadow\n",
+               m->elevation < 0.0 ? "below" : "on");
+    printf("window     %dx%d posts from (%d, %d)%s\n", win->w, win->h, win->x0, win->y0,
+           o->radius_m > 0.0 ? "" : ": the whole grid");
+    printf("sunlit     %zu of %zu posts with a height (%.1f%%)\n", sunlit, valid,
+           valid ? 100.0 * sunlit / valid : 0.0);
+    printf("time       %.1f ms reading the ground, %.1f ms for the shadows\n", 1e3 * win->read_s,
+           1e3 * shadow_s);
+}
+
 int tp_cli_light(int argc, char** argv)
 {
     tp_light_cli o;
@@ -177,9 +285,10 @@ int tp_cli_light(int argc, char** argv)
         return code;
     if (o.day)
         return tp_light_day_run(&o);
-    tp_sun_time when;
+    moment_sun m;
+    memset(&m, 0, sizeof m);
     tp_error why = {{0}};
-    if (!tp_sun_time_parse(o.date, o.time, &when, &why)) {
+    if (!o.sun && !tp_sun_time_parse(o.date, o.time, &m.when, &why)) {
         tp_cli_error("--date %s --time %s: %s", o.date, o.time, why.message);
         return TP_EXIT_USAGE;
     }
@@ -210,14 +319,7 @@ int tp_cli_light(int argc, char** argv)
         tp_ground_destroy(g);
         return TP_EXIT_FAILURE;
     }
-    const double lat = here.lat_deg, lon = here.lon_deg;
-    tp_sun_pos sun;
-    tp_sun_day day;
-    double grid_az = 0.0;
-    tp_status s = tp_light_sun(&here, when.unix_s, &sun, &grid_az, &err);
-    if (s == TP_OK)
-        s = tp_sun_rise_set(lat, lon, tp_sun_local_day_start(when.year, when.month, when.day, lon),
-                            &day, &err);
+    tp_status s = moment_sun_at(&o, &here, &m, &err);
     if (s != TP_OK) {
         tp_cli_error("%s", err.message);
         tp_ground_destroy(g);
@@ -234,11 +336,9 @@ int tp_cli_light(int argc, char** argv)
     const double t1 = tp_clock_s();
     const double dx = fabs(win.gt[1]), dy = fabs(win.gt[5]);
     if (s == TP_OK)
-        s = tp_shadow_compute(z, n, w, h, dx, dy, grid_az, sun.apparent_elevation_deg, lit, NULL,
-                              n, &err);
+        s = tp_shadow_compute(z, n, w, h, dx, dy, m.grid_az, m.elevation, lit, NULL, n, &err);
     if (s == TP_OK && o.illumination)
-        s = tp_shadow_illumination(z, n, w, h, dx, dy, grid_az, sun.apparent_elevation_deg, lit,
-                                   out, n, &err);
+        s = tp_shadow_illumination(z, n, w, h, dx, dy, m.grid_az, m.elevation, lit, out, n, &err);
     else if (s == TP_OK)
         for (size_t i = 0; i < n; ++i)
             out[i] = lit[i] ? 255 : 0;
@@ -263,27 +363,7 @@ int tp_cli_light(int argc, char** argv)
         valid += z[i] == z[i];
         sunlit += lit[i] == TP_SHADOW_LIT;
     }
-    char local[48], utc[48];
-    tp_sun_time_format(when.unix_s, when.zone_offset_s, local, sizeof local);
-    tp_sun_time_format(when.unix_s, 0, utc, sizeof utc);
-    printf("place      %.6f %.6f (post %.0f, %.0f: where the sun is computed); grid north is %.3f deg "
-           "%s of true north\n",
-           lat, lon, cx, cy, fabs(here.convergence_deg),
-           here.convergence_deg >= 0.0 ? "east" : "west");
-    printf("time       %s%s%s\n", local, when.zone_offset_s ? " = " : "",
-           when.zone_offset_s ? utc : "");
-    printf("sun        azimuth %.3f deg true, %.3f deg grid; elevation %.3f deg (%.3f deg "
-           "without refraction)\n",
-           sun.azimuth_deg, grid_az, sun.apparent_elevation_deg, sun.elevation_deg);
-    tp_light_print_day(&day, when.zone_offset_s);
-    if (sun.apparent_elevation_deg <= 0.0)
-        printf("note       the sun is below the horizon: everything is in shadow\n");
-    printf("window     %dx%d posts from (%d, %d)%s\n", w, h, win.x0, win.y0,
-           o.radius_m > 0.0 ? "" : ": the whole grid");
-    printf("sunlit     %zu of %zu posts with a height (%.1f%%)\n", sunlit, valid,
-           valid ? 100.0 * sunlit / valid : 0.0);
-    printf("time       %.1f ms reading the ground, %.1f ms for the shadows\n", 1e3 * win.read_s,
-           1e3 * (t2 - t1));
+    print_moment(&o, &here, &m, &win, sunlit, valid, t2 - t1);
     tp_cli_note("wrote %s", o.out);
     tp_planner_window_free(&win);
     free(lit);

@@ -53,7 +53,12 @@ tp_status tp_light_sun(const tp_light_place* p, double unix_s, tp_sun_pos* sun,
     tp_status s = tp_sun_position(p->lat_deg, p->lon_deg, unix_s, sun, err);
     if (s != TP_OK)
         return s;
-    double az = fmod(sun->azimuth_deg - p->convergence_deg, 360.0);
-    *grid_azimuth_deg = az < 0.0 ? az + 360.0 : az;
+    *grid_azimuth_deg = tp_light_grid_azimuth(p, sun->azimuth_deg);
     return TP_OK;
+}
+
+double tp_light_grid_azimuth(const tp_light_place* p, double true_azimuth_deg)
+{
+    const double az = fmod(true_azimuth_deg - p->convergence_deg, 360.0);
+    return az < 0.0 ? az + 360.0 : az;
 }
