@@ -76,7 +76,7 @@ tp_viewshed_options tp_viewshed_options_default(void);
  * Fails (out untouched) with TP_ERR_INVALID_ARG for an observer outside the grid, a non-finite
  * or rotated geotransform, a zero post spacing, options outside their ranges (negative or NaN
  * heights, radius or coefficient); TP_ERR_BAD_DATA for an observer on a nodata sample;
- * TP_ERR_OUT_OF_MEMORY (six rows of doubles of scratch). Reentrant: no state between calls. */
+ * TP_ERR_OUT_OF_MEMORY (eight rows of doubles of scratch). Reentrant: no state between calls. */
 tp_status tp_viewshed_compute(const float* heights, size_t height_count, int width, int height,
                               const double geotransform[6], int observer_x, int observer_y,
                               const tp_viewshed_options* options, uint8_t* out,
