@@ -18,6 +18,7 @@
 
 #include "tp_test_child.h"
 #include "tp_test_gdal.h"
+#include "tp_test_grid.h"
 
 #include <gdal.h>
 #include <ogr_srs_api.h>
@@ -48,19 +49,7 @@ static int run_light(const char* const* args, char* out, size_t out_cap, char* e
 
 static tp_render_grid* grid_or_skip(const char* file, char* path, size_t cap)
 {
-    tp_dem* dem = NULL;
-    tp_render_grid* g = NULL;
-    tp_error err;
-    memset(&err, 0, sizeof err);
-    if (!tp_test_data_path(path, cap, "TP_SHARED_DATA_DIR", file))
-        SKIP("%s not found (set TP_SHARED_DATA_DIR)", file);
-    if (tp_dem_read(path, &dem, &err) != TP_OK)
-        FAIL("tp_dem_read(%s): %s", path, err.message);
-    tp_status s = tp_render_grid_build(dem, NULL, &g, &err);
-    tp_dem_destroy(dem);
-    if (s != TP_OK)
-        FAIL("tp_render_grid_build: %s", err.message);
-    return g;
+    return tp_test_render_grid(file, path, cap);
 }
 
 /* The numbers the command prints. */

@@ -1,7 +1,7 @@
 /*
  * tp_test_grid.h - the render grid of a real DEM of TP_SHARED_DATA_DIR for the tests of the
- * field tools (test_viewshed.c, test_viewshed_cli.c, test_los_cli.c): skips when the file is
- * missing, fails when it cannot be read or gridded.
+ * field tools (test_viewshed.c, test_viewshed_cli.c, test_los_cli.c, test_light_cli.c): skips
+ * when the file is missing, fails when it cannot be read or gridded.
  */
 #ifndef TP_TEST_GRID_H
 #define TP_TEST_GRID_H
