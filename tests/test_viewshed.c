@@ -483,6 +483,10 @@ TEST(bad_options_are_refused)
     o = d, o.curvature_coeff = INFINITY;
     EXPECT_STATUS(TP_ERR_INVALID_ARG,
                   tp_viewshed_compute(z, W * H, W, H, GT30, 2, 2, &o, out, W * H, &err));
+    o = d, o.threads = 3;
+    EXPECT_STATUS(TP_ERR_INVALID_ARG,
+                  tp_viewshed_compute(z, W * H, W, H, GT30, 2, 2, &o, out, W * H, &err));
+    EXPECT_CONTAINS(err.message, "3 threads");
     const double rotated[6] = {0, 30, 1, 0, 1, -30};
     EXPECT_STATUS(TP_ERR_INVALID_ARG,
                   tp_viewshed_compute(z, W * H, W, H, rotated, 2, 2, &d, out, W * H, &err));
@@ -608,6 +612,15 @@ static void check_grazing(const char* what, const tp_render_grid* g, int ox, int
     const disc_check a = check_disc(g, ox, oy, radius_m, &gdal);
     const disc_check b = check_disc(g, ox, oy, radius_m, &before);
     const disc_check c = check_disc(g, ox, oy, radius_m, &now);
+    /* the two halves on two threads answer as one thread does, byte for byte */
+    tp_viewshed_options one = now;
+    one.threads = 1;
+    const size_t n = (size_t)g->width * g->height;
+    uint8_t* v2 = viewshed_ok(g->heights, g->width, g->height, g->geotransform, ox, oy, &now);
+    uint8_t* v1 = viewshed_ok(g->heights, g->width, g->height, g->geotransform, ox, oy, &one);
+    EXPECT_TRUE(memcmp(v1, v2, n) == 0);
+    free(v1);
+    free(v2);
     tp_test_note("%s (%.0f m, %.0f km): wrong against R3 on %.3f%% of %zu samples interpolated, "
                  "%.3f%% exact within 64 posts, %.3f%% now (exact within %d and where sight "
                  "lines graze; %zu falsely hidden)",

@@ -61,6 +61,9 @@ typedef struct tp_viewshed_options {
                                  interpolated horizon's error bound of it (a grazing sight
                                  line) gets the exact horizon too (viewshed.c, docs/field.md);
                                  0: interpolated (with exact_radius_px 0: GDAL's GVM_Edge) */
+    int threads;              /* 0: the halves north and south of the observer's row on two
+                                 threads when each has 64 rows or more (as GDAL's viewshed);
+                                 1: one thread. The answer is the same. */
 } tp_viewshed_options;
 
 /* gdal_viewshed's defaults: 2 m, 0 m, 0.85714, no radius limit, WGS84's semi-major axis; exact
@@ -76,7 +79,7 @@ tp_viewshed_options tp_viewshed_options_default(void);
  * Fails (out untouched) with TP_ERR_INVALID_ARG for an observer outside the grid, a non-finite
  * or rotated geotransform, a zero post spacing, options outside their ranges (negative or NaN
  * heights, radius or coefficient); TP_ERR_BAD_DATA for an observer on a nodata sample;
- * TP_ERR_OUT_OF_MEMORY (eight rows of doubles of scratch). Reentrant: no state between calls. */
+ * TP_ERR_OUT_OF_MEMORY (fourteen rows of doubles of scratch). Reentrant: no state between calls. */
 tp_status tp_viewshed_compute(const float* heights, size_t height_count, int width, int height,
                               const double geotransform[6], int observer_x, int observer_y,
                               const tp_viewshed_options* options, uint8_t* out,

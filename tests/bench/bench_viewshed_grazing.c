@@ -1,9 +1,11 @@
 /* bench_viewshed_grazing.c - the viewshed's accuracy against the exact ray test (R3) and its
  * time, on summit, valley, plain and coast observers of real render grids (docs/PERFORMANCE.md,
  * "Viewshed: grazing sight lines"; issue 31). Per case, alternated in one run, medians of RUNS:
- *   - ours as it runs now (exact within TP_VIEWSHED_EXACT_RADIUS_PX, the grazing check beyond);
- *   - ours as it ran before the grazing check (exact within 64 posts, interpolated beyond);
- *   - ours interpolated everywhere (GDAL's GVM_Edge propagation);
+ *   - ours as it runs now (exact within TP_VIEWSHED_EXACT_RADIUS_PX, the grazing check beyond,
+ *     the two halves of the sweep on two threads), and the same on one thread;
+ *   - ours as it ran before the grazing check (exact within 64 posts, interpolated beyond, one
+ *     thread);
+ *   - ours interpolated everywhere (GDAL's GVM_Edge propagation), one thread;
  *   - GDAL's own GDALViewshedGenerate (tp_gdal_viewshed: gdal_viewshed's library form);
  *   - R3 itself on every sample of the disc (tp_test_r3.h: one sight line per sample).
  * and for each, the samples of the disc (valid, not the observer's eight neighbours) where it
@@ -18,9 +20,11 @@
 #include <stdio.h>
 #include <string.h>
 
-enum { OURS, BEFORE, INTERPOLATED, GDAL, R3, KINDS };
-static const char* const KIND_NAMES[KINDS] = {"ours now", "ours before", "interpolated",
-                                              "GDAL 3.6", "R3 (exact)"};
+enum { OURS, OURS_ONE, BEFORE, INTERPOLATED, GDAL, R3, KINDS };
+static const char* const KIND_NAMES[KINDS] = {"ours now", "ours now on one thread",
+                                              "ours before (one thread, as it ran)",
+                                              "interpolated (one thread)", "GDAL 3.6",
+                                              "R3 (exact)"};
 
 static void compute(int kind, const tp_render_grid* g, int ox, int oy, double radius_m,
                     uint8_t* out)
@@ -33,6 +37,8 @@ static void compute(int kind, const tp_render_grid* g, int ox, int oy, double ra
         o.exact_radius_px = kind == BEFORE ? 64 : 0;
         o.grazing_check = 0;
     }
+    if (kind != OURS)
+        o.threads = 1;
     tp_error err;
     tp_status s = TP_OK;
     if (kind == GDAL) {
@@ -126,7 +132,7 @@ int main(int argc, char** argv)
     printf("| observer, ground, radius | samples | ");
     for (int k = 0; k < KINDS; ++k)
         printf("%s%s |", KIND_NAMES[k], k == R3 ? "" : ": time, wrong");
-    printf("\n|---|---:|---:|---:|---:|---:|---:|\n");
+    printf("\n|---|---:|---:|---:|---:|---:|---:|---:|\n");
     int x = 0, y = 0;
     tp_render_grid* g = grid(argv[1], "N41E001.hgt");
     if (tp_test_coast(g, &x, &y))
