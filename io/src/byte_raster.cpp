@@ -171,13 +171,21 @@ static tp_status band_write(const char* path, tp_output_kind kind, GDALDataType 
     }
 }
 
+/* What both writers refuse before any work: no path, values or georeference, a size that is
+ * not width * height. */
+static bool arguments_ok(const char* path, const void* values, size_t value_count, int width,
+                         int height, const double geotransform[6])
+{
+    return path && *path && values && geotransform && width >= 1 && height >= 1 &&
+           value_count == (size_t)width * (size_t)height;
+}
+
 extern "C" tp_status tp_byte_raster_write(const char* path, const uint8_t* values,
                                           size_t value_count, int width, int height,
                                           const double geotransform[6], const char* crs_wkt,
                                           const char* description, tp_error* err)
 {
-    if (!path || !*path || !values || !geotransform || width < 1 || height < 1 ||
-        value_count != (size_t)width * (size_t)height)
+    if (!arguments_ok(path, values, value_count, width, height, geotransform))
         return fail(err, TP_ERR_INVALID_ARG, "%s: raster: bad arguments", path ? path : "");
     return band_write(path, TP_OUTPUT_BYTE_RASTER, GDT_Byte, values, width, height, geotransform,
                       crs_wkt, description, NAN, err);
@@ -188,8 +196,7 @@ extern "C" tp_status tp_float_raster_write(const char* path, const float* values
                                            const double geotransform[6], const char* crs_wkt,
                                            const char* description, tp_error* err)
 {
-    if (!path || !*path || !values || !geotransform || width < 1 || height < 1 ||
-        value_count != (size_t)width * (size_t)height)
+    if (!arguments_ok(path, values, value_count, width, height, geotransform))
         return fail(err, TP_ERR_INVALID_ARG, "%s: raster: bad arguments", path ? path : "");
     try {
         std::vector<float> tagged(values, values + value_count);

@@ -11,7 +11,7 @@
  * and for each, the samples of the disc (valid, not the observer's eight neighbours) where it
  * and R3 disagree.
  *
- *   tp_bench_viewshed_grazing DATA_DIR [RUNS]     (DATA_DIR: ../shared/data or data/)
+ *   tp_bench_viewshed_grazing [DATA_DIR [RUNS]]   (DATA_DIR: the repository's data/, the default)
  */
 #include "bench_util.h"
 #include "../tp_test_observers.h"
@@ -124,17 +124,18 @@ static tp_render_grid* grid(const char* dir, const char* file)
 
 int main(int argc, char** argv)
 {
-    if (argc < 2) {
-        fprintf(stderr, "usage: tp_bench_viewshed_grazing DATA_DIR [RUNS]\n");
+    const char* dir = argc > 1 ? argv[1] : "data";
+    const int runs = argc > 2 ? atoi(argv[2]) : 5;
+    if (runs < 1) {
+        fprintf(stderr, "usage: tp_bench_viewshed_grazing [DATA_DIR [RUNS]] (RUNS >= 1)\n");
         return 2;
     }
-    const int runs = argc > 2 ? atoi(argv[2]) : 5;
     printf("| observer, ground, radius | samples | ");
     for (int k = 0; k < KINDS; ++k)
         printf("%s%s |", KIND_NAMES[k], k == R3 ? "" : ": time, wrong");
     printf("\n|---|---:|---:|---:|---:|---:|---:|---:|\n");
     int x = 0, y = 0;
-    tp_render_grid* g = grid(argv[1], "N41E001.hgt");
+    tp_render_grid* g = grid(dir, "N41E001.hgt");
     if (tp_test_coast(g, &x, &y))
         run("N41E001 coast", g, x, y, 15000.0, runs);
     if (tp_test_plain(g, &x, &y))
@@ -142,14 +143,14 @@ int main(int argc, char** argv)
     tp_test_summit(g, &x, &y);
     run("N41E001 summit", g, x, y, 15000.0, runs);
     tp_render_grid_destroy(g);
-    g = grid(argv[1], "N42E001.hgt");
+    g = grid(dir, "N42E001.hgt");
     x = g->width / 2, y = g->height / 2;
     tp_test_valid_near(g, &x, &y);
     run("N42E001 centre (valley side)", g, x, y, 15000.0, runs);
     tp_test_summit(g, &x, &y);
     run("N42E001 summit", g, x, y, 15000.0, runs);
     tp_render_grid_destroy(g);
-    g = grid(argv[1], "lf_elev_220_mt_hood_utm.tif");
+    g = grid(dir, "lf_elev_220_mt_hood_utm.tif");
     tp_test_summit(g, &x, &y);
     run("Mt Hood summit", g, x, y, 10000.0, runs);
     tp_render_grid_destroy(g);
