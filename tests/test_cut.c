@@ -382,6 +382,40 @@ static int check_watertight(const tp_tree* t, const tp_cut* cut, uint8_t* covere
 
 /* ---- tests ---- */
 
+/* --stitch add's bound for drawn node i as its definition states it (tp_cut_add_bound_m),
+ * computed here from the node's samples: its level's delta plus the largest offset of a side
+ * sample at an added level's stride from the level-k edge through that side's vertices. */
+static double direct_add_bound_m(const tp_tree* t, const tp_cut_node* o)
+{
+    tp_tree_info info;
+    tp_tree_get_info(t, &info);
+    const int n = tp_tree_get_geometry(t)->n, k = o->level, side = (1 << n) + 1;
+    const uint16_t* q = tp_tree_samples(t, o->node);
+    const tp_node_meta* m = tp_tree_meta(t, o->node);
+    double worst = 0;
+    for (int sd = 0; sd < 4; sd++) {
+        if (o->add[sd] == TP_NO_NEIGHBOR || o->add[sd] <= k)
+            continue;
+        int stride = 1 << (n - (o->add[sd] > n ? n : o->add[sd])), seg = 1 << (n - k);
+        for (int u = 0; u < side; u += stride) {
+            int lo = u / seg * seg, hi = lo + seg < side ? lo + seg : lo;
+            /* position u along the side: TOP row 0, RIGHT column 2^n, BOTTOM row 2^n, LEFT 0 */
+            int at[3];
+            const int pos[3] = {u, lo, hi};
+            for (int j = 0; j < 3; j++)
+                at[j] = sd == TP_SIDE_TOP      ? pos[j]
+                        : sd == TP_SIDE_RIGHT  ? pos[j] * side + side - 1
+                        : sd == TP_SIDE_BOTTOM ? (side - 1) * side + pos[j]
+                                               : pos[j] * side;
+            double za = q[at[1]], zb = q[at[2]];
+            double line = hi > lo ? za + (zb - za) * (u - lo) / (hi - lo) : za;
+            worst = fmax(worst, fabs(q[at[0]] - line));
+        }
+    }
+    return tp_node_error_bound(m, n, k, NULL, info.height_step_m, info.err_unit_steps) +
+           worst * info.height_step_m;
+}
+
 /* Random views with vertex moving, or with --stitch add (add: tp_cut_set_stitch_add). */
 static void random_views(int add)
 {
@@ -412,6 +446,14 @@ static void random_views(int add)
             EXPECT_EQ_INT((int)count, st.drawn);
             add_sides += st.add_sides;
             moved_sides += st.moved_sides;
+            const tp_cut_node* o = tp_cut_nodes(cut, &count);
+            for (size_t i = 0; add && i < count; i++) {
+                int a[4] = {o[i].add[0], o[i].add[1], o[i].add[2], o[i].add[3]};
+                double want = direct_add_bound_m(t, &o[i]);
+                /* the cut's table keeps offsets as floats rounded up */
+                EXPECT_NEAR(want, tp_cut_add_bound_m(cut, i, a), 1e-6 * (1 + want));
+                EXPECT_TRUE(tp_cut_add_bound_m(cut, i, a) >= want - 1e-9);
+            }
             if (f)
                 fprintf(stderr, "view %d (mode %d, tau %g): %d failures\n", it, (int)lp.mode,
                         lp.tau_px, f);
