@@ -484,6 +484,74 @@ TEST(watertight_for_random_views_stitch_add)
     random_views(1);
 }
 
+/* A cut selected for one camera and drawn from another (a cut selected on another thread for
+ * the predicted camera): whenever tp_cut_holds_for accepts it, the measured screen error from
+ * the new camera stays within tau, and every pixel where the new camera's own cut shows ground
+ * shows ground in the reused cut too (the grid position the fresh cut's ray hits has a drawn
+ * height in the old cut). Small moves are mostly accepted; jumps are refused. */
+TEST(a_cut_drawn_from_a_moved_camera_keeps_tau_and_coverage)
+{
+    LOAD_OR_SKIP(h, 250, 300, 700, 420);
+    tp_tree* t = make_tree(h, 700, 420, 33);
+    const tp_tree_geometry* g = tp_tree_get_geometry(t);
+    tp_cut *cut, *fresh;
+    ASSERT_OK(tp_cut_create(t, &cut, NULL));
+    ASSERT_OK(tp_cut_create(t, &fresh, NULL));
+    tp_lod_params lp = {.mode = TP_LOD_ERROR, .tau_px = 1};
+    int small_held = 0, small = 0, jumps_held = 0, covered = 0;
+    for (int it = 0; it < 80; it++) {
+        double x = rnd() * (g->src_width - 1), y = rnd() * (g->src_height - 1);
+        double above = 30 + rnd() * 2000, yaw = rnd() * 360, pitch = -5 - rnd() * 60;
+        tp_camera a, b;
+        camera_at(t, x, y, above, yaw, pitch, &a);
+        int jump = it % 4 == 3;
+        if (jump) /* as Home: somewhere else entirely */
+            camera_at(t, fmod(x + 350, g->src_width - 1), y, above, yaw + 120, pitch, &b);
+        else { /* one frame of a flight: up to 10 m and 1.5 degrees */
+            b = a;
+            double step = rnd() * 10, turn = (rnd() - 0.5) * 3, dir = yaw * 3.14159265358979 / 180;
+            double pos[3] = {a.position[0] + step * sin(dir), a.position[1] + step * cos(dir),
+                             a.position[2] + (rnd() - 0.5) * step * 0.2};
+            tp_camera_from_pose(pos, yaw + turn, pitch + turn / 3, 60, 1280, 720, &b);
+        }
+        ASSERT_OK(tp_cut_update(cut, &a, &lp, NULL));
+        double bound_b;
+        int holds = tp_cut_holds_for(cut, &b, &bound_b);
+        small += !jump, small_held += !jump && holds, jumps_held += jump && holds;
+        if (!holds)
+            continue;
+        EXPECT_TRUE(bound_b <= 1 + 1e-9);
+        double max_px;
+        size_t samples;
+        ASSERT_OK(tp_cut_measure_screen_error(cut, &b, &max_px, NULL, &samples, NULL));
+        EXPECT_TRUE(samples > 0);
+        EXPECT_TRUE(max_px <= 1 + 1e-9);
+        ASSERT_OK(tp_cut_update(fresh, &b, &lp, NULL));
+        for (int py = 4; py < 720; py += 24)
+            for (int px = 4; px < 1280; px += 24) {
+                double dir[3];
+                tp_ray_hit hit;
+                tp_camera_pixel_ray(&b, px, py, dir);
+                ASSERT_OK(tp_cut_ray_cast(fresh, b.position, dir, &hit));
+                if (!hit.hit)
+                    continue;
+                double gx, gy;
+                tp_tree_world_to_grid(t, hit.position[0], hit.position[1], &gx, &gy);
+                EXPECT_FALSE(isnan(tp_cut_drawn_height_at(cut, gx, gy)));
+                covered++;
+            }
+    }
+    printf("small moves: %d of %d reusable; jumps: %d of 20 reusable; %d pixels checked\n",
+           small_held, small, jumps_held, covered);
+    EXPECT_GT(small_held, small / 2); /* the test proves little if it refuses everything */
+    EXPECT_EQ_INT(0, jumps_held);
+    EXPECT_GT(covered, 1000);
+    tp_cut_destroy(cut);
+    tp_cut_destroy(fresh);
+    tp_tree_destroy(t);
+    free(h);
+}
+
 /* Random hand-made cuts: from the roots, split at random (deep on one side, shallow on the
  * other, so neighbours differ by up to the tree's depth in scale), random levels. */
 static void random_cut(const tp_tree_geometry* g, int64_t node, double p_split, int64_t* nodes,
@@ -1321,6 +1389,7 @@ TEST(requests_only_update_asks_as_the_full_update)
 #define TESTS(X)                                                                                   \
     X(watertight_for_random_views)                                                                 \
     X(watertight_for_random_views_stitch_add)                                                      \
+    X(a_cut_drawn_from_a_moved_camera_keeps_tau_and_coverage)                                      \
     X(watertight_for_adversarial_cuts)                                                             \
     X(watertight_for_adversarial_cuts_stitch_add)                                                  \
     X(screen_error_within_tau)                                                                     \

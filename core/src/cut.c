@@ -264,6 +264,7 @@ tp_status tp__cut_finish(tp_cut* c, tp_error* err)
                 d = da > d ? da : d;
             }
             int near;
+            r->bound_m = d;
             r->bound_px = (float)tp__projected_px_drawn(&c->v, &r->pb, d, &near);
             o->near_plane = (uint8_t)near;
         }

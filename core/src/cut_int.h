@@ -24,6 +24,7 @@ typedef struct tp__cut_rec {
     uint8_t frozen;      /* collapsed onto by the stitching pass: never split again */
     uint8_t queued;      /* in the stitching pass's work list */
     float bound_px;
+    double bound_m;    /* drawn, error mode: the bound bound_px projects (m, drawn space) */
     int32_t out;       /* index in the output (tp_cut_nodes) when drawn */
     int32_t tris;      /* drawn: its triangles (finish); else -1 */
     uint8_t view;      /* 0: not tested yet; else 1 + whether its area box is in view */
