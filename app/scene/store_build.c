@@ -13,6 +13,7 @@
  * range pass reads the grid first. docs/PERFORMANCE.md "Building stores" has the profile.
  */
 #include "store_build.h"
+#include "build_rows.h"
 
 #include "cli.h"
 #include "clock.h"
@@ -168,38 +169,6 @@ static char* build_notes(const tp_build_options* o, const tp_mosaic_info* mi, si
     return notes;
 }
 
-/* The range pass: the grid's height range and valid samples, read in bands, and whether every
- * height is a whole number. */
-static tp_status range_pass(tp_mosaic* m, const tp_mosaic_info* mi, float* rows, int band_rows,
-                            int quiet, double* lo_out, double* hi_out, size_t* valid_out,
-                            int* integral_out, tp_error* err)
-{
-    float lo = INFINITY, hi = -INFINITY;
-    size_t valid = 0;
-    int integral = 1;
-    tp_progress pr;
-    tp_progress_start(&pr, !quiet, "build", "range");
-    for (int y = 0; y < mi->height; y += band_rows) {
-        int n = mi->height - y < band_rows ? mi->height - y : band_rows;
-        tp_status st = tp_mosaic_read_rows(m, y, n, rows, (size_t)n * mi->width, err);
-        if (st != TP_OK)
-            return st;
-        const size_t count = (size_t)n * mi->width;
-        for (size_t i = 0; i < count; i++) {
-            float v = rows[i];
-            valid += v == v;
-            lo = v < lo ? v : lo; /* NaN compares false: skipped */
-            hi = v > hi ? v : hi;
-            integral = integral && (v != v || v == floorf(v));
-        }
-        tp_progress_update(&pr, y + n, mi->height, (double)(y + n) * mi->width);
-        if (tp_interrupted())
-            return tp_error_set(err, TP_ERR_IO, "interrupted");
-    }
-    *lo_out = lo, *hi_out = hi, *valid_out = valid, *integral_out = integral;
-    return TP_OK;
-}
-
 /* One global step: 1 m for integral heights, else the finest 2^-p m (p <= finest_p) whose
  * quantised range fits 65534 steps (coarser powers of two beyond 65534 m). Integral: the
  * render grid's values, not the sources' type: a warped integer DEM (every geographic SRTM or
@@ -231,6 +200,7 @@ static double choose_step(double lo, double hi, int integral, int finest_p)
 typedef struct build_pass {
     const tp_build_options* o;
     tp_mosaic* m;
+    tp_build_rows* br; /* the rows, from the mosaic or held by the range pass */
     const tp_mosaic_info* mi;
     const tp_tree_geometry* g;
     float* rows;    /* band_rows * width */
@@ -315,12 +285,12 @@ static tp_status run_build_pass(build_pass* p, const tp_store_header* h, tp_erro
             memcpy(q, q + (size_t)ps * g->width, (size_t)g->width * sizeof *q);
         if (skip && p->fq)
             memcpy(p->fq, p->fq + (size_t)ps * g->width, (size_t)g->width);
-        const int y0 = y_first + skip, y1 = y_first + ps; /* rows to fill, inclusive */
-        int read_to = y1 < mi->height - 1 ? y1 : mi->height - 1;
-        int nread = read_to >= y0 ? read_to - y0 + 1 : 0;
+        const int y1 = y_first + ps; /* rows to fill y0 .. y1, inclusive */
+        int y0, nread;
+        tp_build_rows_band(p->br, r, &y0, &nread);
+        const int read_to = nread > 0 ? y0 + nread - 1 : mi->height - 1;
         if (nread > 0)
-            st = tp_mosaic_read_rows_filled(p->m, y0, nread, p->rows, (size_t)nread * mi->width,
-                                            p->frows, err);
+            st = tp_build_rows_read(p->br, y0, nread, p->rows, p->frows, err);
         if (st != TP_OK)
             break;
         for (int y = y0; y <= y1; y++) {
@@ -523,6 +493,16 @@ static tp_status build_passes(const tp_build_options* o, tp_mosaic* m, const tp_
         return TP_ERR_OUT_OF_MEMORY;
     }
 
+    /* the range pass holds the grid for the build pass within a quarter of the budget and
+     * what the band, the builder and the writer leave of its three quarters */
+    tp_build_rows br = {.m = m,
+                        .width = mi.width,
+                        .height = mi.height,
+                        .ps = 1 << g.n,
+                        .fill = o->fill_max > 0};
+    const double budget = (double)o->memory_mb * 1048576.0;
+    const double left = 0.75 * budget - build_memory_bytes(&g, mi.width, o->fill_max);
+    const size_t hold_bytes = (size_t)fmax(0, fmin(budget / 4, left));
     double lo = mi.min_m, hi = mi.max_m;
     int bounded = mi.has_range;
     size_t valid = 0;
@@ -539,8 +519,10 @@ static tp_status build_passes(const tp_build_options* o, tp_mosaic* m, const tp_
     }
     for (int attempt = 0;; attempt++) {
         if (!bounded) {
-            st = range_pass(m, &mi, rows, band_rows, o->quiet, &lo, &hi, &valid, &integral,
-                            &err);
+            tp_build_range range;
+            st = tp_build_rows_range(&br, g.rows, hold_bytes, o->quiet, rows, frows, &range,
+                                     &err);
+            lo = range.lo, hi = range.hi, valid = range.valid, integral = range.integral;
             if (st == TP_OK && valid == 0) {
                 snprintf(err.message, sizeof err.message, "%s: no valid height in the %dx%d grid",
                          o->sources[0], mi.width, mi.height);
@@ -577,6 +559,7 @@ static tp_status build_passes(const tp_build_options* o, tp_mosaic* m, const tp_
         h.notes = notes;
         build_pass bp = {.o = o,
                          .m = m,
+                         .br = &br,
                          .mi = &mi,
                          .g = &g,
                          .rows = rows,
@@ -610,6 +593,7 @@ static tp_status build_passes(const tp_build_options* o, tp_mosaic* m, const tp_
         nodes = bp.nodes;
         break;
     }
+    tp_build_rows_release(&br);
     free(rows);
     free(q);
     free(frows);

@@ -155,6 +155,7 @@ struct Opening {
 
     tp_status open_sources(tp_mosaic* m, tp_error* err);
     tp_status open_shared(tp_mosaic* m, tp_error* err);
+    tp_status open_coarse(tp_mosaic* m, tpio::Dataset base, const double bgt[6], tp_error* err);
     tp_status render_crs(OGRSpatialReference& dst, tp_error* err) const;
     tp_status open_warped(tp_mosaic* m, tp_error* err);
     tp_status finish_open(tp_mosaic* m, tp_error* err) const;
@@ -267,7 +268,11 @@ tp_status Opening::open_shared(tp_mosaic* m, tp_error* err)
     }
     if (!plan.warnings.empty())
         add_note(m->notes, plan.warnings);
+    const int coarsen = o.coarsen > 1 ? o.coarsen : 1;
+    if (coarsen > 1 && !plan.warp) /* a grid already in metres, resampled at coarser posts */
+        return open_coarse(m, std::move(base), bgt, err);
     if (plan.warp) {
+        plan.res *= coarsen;
         std::vector<std::string> args = tpio::render_grid_warp_args(plan, "VRT");
         if (untagged_int16 && count == 1) { /* -32767 read as -32768 first */
             base = int16_voids_as_one(m, src[0]);
@@ -307,6 +312,32 @@ tp_status Opening::open_shared(tp_mosaic* m, tp_error* err)
     } else {
         std::snprintf(m->crs_name, sizeof m->crs_name, "local metres (no CRS)");
     }
+    return TP_OK;
+}
+
+/* A preview's grid (o.coarsen > 1) over base, a grid in metres that needs no warp: base
+ * resampled onto posts coarsen times farther apart (bgt: its geotransform). */
+tp_status Opening::open_coarse(tp_mosaic* m, tpio::Dataset base, const double bgt[6],
+                               tp_error* err)
+{
+    const double res = std::fabs(bgt[1]) * o.coarsen;
+    const std::string tr = CPLSPrintf("%.17g", res);
+    std::vector<std::string> args = {"-tr", tr, tr, "-r",
+                                     o.resampling == TP_RESAMPLING_CUBIC ? "cubic" : "bilinear",
+                                     "-et", "0", "-dstnodata", "nan", "-ot", "Float32", "-of",
+                                     "VRT"};
+    if (untagged_int16 && count == 1) { /* -32767 read as -32768 first */
+        base = int16_voids_as_one(m, src[0]);
+        if (!base)
+            return fail(err, TP_ERR_BACKEND, "%s: %s", paths[0], tpio::gdal_message().c_str());
+        args.insert(args.end(), {"-srcnodata", "-32768"});
+    }
+    tpio::Dataset w = warp_vrt(m, base.get(), args, "coarse");
+    if (!w)
+        return fail(err, TP_ERR_BACKEND, "%s: resampling for a preview failed: %s", paths[0],
+                    tpio::gdal_message().c_str());
+    m->warped = true;
+    m->ds = std::move(w);
     return TP_OK;
 }
 
@@ -395,6 +426,8 @@ tp_status Opening::open_warped(tp_mosaic* m, tp_error* err)
                                       100.0 * (1.0 - m->covered_share)));
     if (!std::isfinite(res) || res <= 0)
         return fail(err, TP_ERR_BACKEND, "%s: could not measure the post spacing", paths[0]);
+    if (o.coarsen > 1)
+        res *= o.coarsen;
     /* a grid aligned on the spacing, holding every source */
     const double x0 = std::floor(ext[0] / res) * res, y1 = std::ceil(ext[3] / res) * res;
     const double x1 = x0 + std::ceil((ext[2] - x0) / res) * res;
@@ -533,6 +566,10 @@ tp_status open_mosaic(const char* const* paths, size_t count, const tp_mosaic_op
     if (const tp_status st = share_one_grid(op.src) ? op.open_shared(m, err)
                                                     : op.open_warped(m, err))
         return st;
+    if (o.coarsen > 1)
+        add_note(m->notes, CPLSPrintf("a preview: posts %d times farther apart than the "
+                                      "grid's",
+                                      o.coarsen));
     return op.finish_open(m, err);
 }
 
