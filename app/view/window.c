@@ -15,6 +15,7 @@
 #include "overlay.h"
 #include "pick.h"
 #include "point_readout.h"
+#include "store_cache.h"
 #include "tp_geo.h"
 #include "view_bookmarks.h"
 
@@ -425,6 +426,12 @@ int tp_view_window_run(tp_view_scene* v, tp_gl_context* ctx, tp_renderer* r, tp_
     /* Ctrl-C kills the window at once, except during a screenshot or an export (Y): then the
      * writer cleans up, and the loop ends here (main exits with 130/143). */
     while (!glfwWindowShouldClose(win) && !s.quit && !tp_interrupted()) {
+        if (o->preview && tp_store_cache_job_done(o->job)) { /* the store landed: go on there */
+            o->refine = 1;
+            o->resume_cam = *cam;
+            o->vs.lod = s.lod;
+            break;
+        }
         tp_input_begin_frame(&in);
         glfwPollEvents();
         double now = glfwGetTime(), dt = now - last;
@@ -525,6 +532,7 @@ int tp_view_window_run(tp_view_scene* v, tp_gl_context* ctx, tp_renderer* r, tp_
             s.want_shot = 0;
         }
         tp_gl_context_end_frame(ctx);
+        tp_store_cache_job_start(o->job); /* a preview drawn: the store's build goes on */
         char title[256];
         snprintf(title, sizeof title, "terrapatch - %.1f fps, %zu triangles, %s mode%s", fps,
                  fr.core.triangles, s.nav.orbit ? "orbit" : "fly",

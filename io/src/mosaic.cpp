@@ -53,6 +53,16 @@ bool same_spacing(double a, double b)
     return std::fabs(a - b) <= 1e-9 * std::max(std::fabs(a), std::fabs(b));
 }
 
+/* A preview's warp: each post takes its nearest source post (a filter as wide as the coarse
+ * spacing would read every source post for each: several times slower, for a picture that
+ * lasts seconds). */
+void coarse_sampling(std::vector<std::string>& args)
+{
+    for (size_t i = 0; i + 1 < args.size(); i++)
+        if (args[i] == "-r")
+            args[i + 1] = "near";
+}
+
 /* The value GDAL writes into a Float32 buffer for a nodata tag (clamped to the float range). */
 float as_float(double v)
 {
@@ -139,6 +149,28 @@ tpio::Dataset warp_vrt(tp_mosaic* m, GDALDataset* src, const std::vector<std::st
         return nullptr;
     /* the VRT is written on close; reopen it by name so that a later VRT may refer to it */
     GDALClose(h);
+    return tpio::Dataset(GDALDataset::Open(dst.c_str(), GDAL_OF_RASTER | GDAL_OF_READONLY));
+}
+
+/* A preview's source: src with every f-th post of each row and column (nearest), as a /vsimem/
+ * VRT, so that the warp onto the coarse grid reads a sixteenth of it, not all of it for each
+ * chunk (f = 4: 1.7 s -> 0.2 s for a 3601x3601 tile). Null when GDAL fails. */
+tpio::Dataset decimated(tp_mosaic* m, GDALDataset* src, int f)
+{
+    Args a;
+    a.s = {"-of", "VRT", "-r", "nearest", "-outsize",
+           std::to_string((src->GetRasterXSize() + f - 1) / f),
+           std::to_string((src->GetRasterYSize() + f - 1) / f)};
+    GDALTranslateOptions* o = GDALTranslateOptionsNew(a.get(), nullptr);
+    if (!o)
+        return nullptr;
+    int usage = 0;
+    const std::string dst = vsimem_name(m, "decimated");
+    GDALDatasetH h = GDALTranslate(dst.c_str(), GDALDataset::ToHandle(src), o, &usage);
+    GDALTranslateOptionsFree(o);
+    if (!h)
+        return nullptr;
+    GDALClose(h); /* written on close; reopened by name, as the warp refers to it */
     return tpio::Dataset(GDALDataset::Open(dst.c_str(), GDAL_OF_RASTER | GDAL_OF_READONLY));
 }
 
@@ -274,6 +306,8 @@ tp_status Opening::open_shared(tp_mosaic* m, tp_error* err)
     if (plan.warp) {
         plan.res *= coarsen;
         std::vector<std::string> args = tpio::render_grid_warp_args(plan, "VRT");
+        if (coarsen > 1)
+            coarse_sampling(args);
         if (untagged_int16 && count == 1) { /* -32767 read as -32768 first */
             base = int16_voids_as_one(m, src[0]);
             if (!base)
@@ -281,6 +315,9 @@ tp_status Opening::open_shared(tp_mosaic* m, tp_error* err)
                             tpio::gdal_message().c_str());
             args.insert(args.end(), {"-srcnodata", "-32768"});
         }
+        if (coarsen > 1 && !(base = decimated(m, base.get(), coarsen)))
+            return fail(err, TP_ERR_BACKEND, "%s: a preview: %s", paths[0],
+                        tpio::gdal_message().c_str());
         /* the plan's source CRS: --crs, or EPSG:4326 for a grid plainly in degrees */
         args.insert(args.end(), {"-s_srs", tpio::crs_wkt2(plan.src)});
         tpio::Dataset w = warp_vrt(m, base.get(), args, "warp");
@@ -297,8 +334,8 @@ tp_status Opening::open_shared(tp_mosaic* m, tp_error* err)
                         plan.t_srs.c_str(), tpio::gdal_message().c_str());
         m->back_geographic = plan.src.IsGeographic();
         std::memcpy(m->sgt, bgt, sizeof bgt);
-        m->sw = base->GetRasterXSize();
-        m->sh = base->GetRasterYSize();
+        m->sw = pd.dem.width; /* the grid's, before a preview's decimation */
+        m->sh = pd.dem.height;
         m->warped = true;
         m->ds = std::move(w); /* it opens the mosaic itself, by name */
     } else {
@@ -322,16 +359,17 @@ tp_status Opening::open_coarse(tp_mosaic* m, tpio::Dataset base, const double bg
 {
     const double res = std::fabs(bgt[1]) * o.coarsen;
     const std::string tr = CPLSPrintf("%.17g", res);
-    std::vector<std::string> args = {"-tr", tr, tr, "-r",
-                                     o.resampling == TP_RESAMPLING_CUBIC ? "cubic" : "bilinear",
-                                     "-et", "0", "-dstnodata", "nan", "-ot", "Float32", "-of",
-                                     "VRT"};
+    std::vector<std::string> args = {"-tr", tr, tr, "-r", "near", "-et", "0", "-dstnodata",
+                                     "nan", "-ot", "Float32", "-of", "VRT"};
     if (untagged_int16 && count == 1) { /* -32767 read as -32768 first */
         base = int16_voids_as_one(m, src[0]);
         if (!base)
             return fail(err, TP_ERR_BACKEND, "%s: %s", paths[0], tpio::gdal_message().c_str());
         args.insert(args.end(), {"-srcnodata", "-32768"});
     }
+    if (!(base = decimated(m, base.get(), o.coarsen)))
+        return fail(err, TP_ERR_BACKEND, "%s: a preview: %s", paths[0],
+                    tpio::gdal_message().c_str());
     tpio::Dataset w = warp_vrt(m, base.get(), args, "coarse");
     if (!w)
         return fail(err, TP_ERR_BACKEND, "%s: resampling for a preview failed: %s", paths[0],
@@ -450,6 +488,8 @@ tp_status Opening::open_warped(tp_mosaic* m, tp_error* err)
             CPLSPrintf("%.17g", y0), CPLSPrintf("%.17g", x1), CPLSPrintf("%.17g", y1), "-r",
             o.resampling == TP_RESAMPLING_CUBIC ? "cubic" : "bilinear", "-et", "0",
             "-dstnodata", "nan", "-ot", "Float32", "-of", "VRT"};
+        if (o.coarsen > 1)
+            coarse_sampling(args);
         if (s.int16_voids())
             args.insert(args.end(), {"-srcnodata", "-32768"});
         if (has_over) /* as the warp's, not the file's: see the shared grid's --crs */
