@@ -562,9 +562,12 @@ int tp_store_build(const tp_build_options* options, tp_build_result* result)
                 *result = (tp_build_result){.width = mi.width, .height = mi.height, .coarsen = 1};
             return TP_EXIT_OK;
         }
+        if (result) /* a failure from here on is the preview's own */
+            *result = (tp_build_result){.coarsen = coarsen};
         if (!(m = open_sources(o, coarsen, &mi)))
             return TP_EXIT_FAILURE;
     }
+    const int preview = coarsen > 1; /* its voids and failures are the caller's to judge */
     tp_tree_geometry g;
     if (!tp_build_plan_geometry(o, &mi, &g)) {
         tp_mosaic_close(m);
@@ -578,7 +581,7 @@ int tp_store_build(const tp_build_options* options, tp_build_result* result)
     tp_mosaic_voids mv;
     tp_mosaic_get_voids(m, &mv);
     tp_mosaic_close(m);
-    if (st == TP_OK && mv.too_large_samples > 0)
+    if (st == TP_OK && mv.too_large_samples > 0 && !preview)
         tp_cli_warning("%zu void samples left unfilled: their voids need a "
                        "window of more than %d rows to be filled whole (an eighth of --memory %d); "
                        "give more --memory to fill them",
@@ -586,7 +589,7 @@ int tp_store_build(const tp_build_options* options, tp_build_result* result)
     if (st != TP_OK) {
         if (tp_interrupted())
             return tp_cli_interrupted();
-        return fail_line(err.message);
+        return preview ? TP_EXIT_FAILURE : fail_line(err.message);
     }
 
     const double seconds = tp_clock_s() - t0;

@@ -42,7 +42,9 @@ typedef struct tp_build_options {
     /* > 0: a preview (the store cache's first picture of a large DEM): the render grid
      * coarsened (tp_mosaic_options.coarsen) by the smallest power of two that leaves at most
      * this many samples; nothing is written when the grid itself is no larger (the result's
-     * coarsen is then 1). A preview store is a store like any other, of that coarser grid */
+     * coarsen is then 1). A preview store is a store like any other, of that coarser grid.
+     * Its build says nothing of its own failures (the result's coarsen is then > 1: the store's
+     * own build, which the caller runs next, reads the same sources) nor of voids left */
     double preview_max_samples;
 } tp_build_options;
 

@@ -404,12 +404,14 @@ int tp_store_cache_begin(const char* dem, const tp_store_cache_options* o, doubl
         pb.quiet = 1;
         pb.preview_max_samples = preview_samples;
         code = tp_store_build(&pb, &pr);
-        if (code != TP_EXIT_OK) { /* its message is out; the store is not built either */
-            unlink(j->preview);
+        if (code != TP_EXIT_OK && (pr.coarsen <= 1 || tp_interrupted())) {
+            /* the sources themselves failed (the message is out), or a signal */
             code = entry_close(&j->e, j->out, code, temporary_out);
             free(j);
             return code;
         }
+        if (code != TP_EXIT_OK) /* the preview's own build: the store is built at once */
+            pr.coarsen = 1;
     }
     if (pr.coarsen <= 1) { /* a grid small enough to build at once */
         code = tp_store_build(&j->bo, NULL);

@@ -346,7 +346,7 @@ static int view_store(const char* path, view_options* o)
 
 /* A DEM's grid of more samples than this is built after a preview of at most as many
  * (store_cache.h, tp_store_cache_begin): docs/PERFORMANCE.md, "First picture of a new DEM". */
-#define VIEW_PREVIEW_SAMPLES 250000.0
+#define VIEW_PREVIEW_SAMPLES 300000.0
 
 /* The preview's size: VIEW_PREVIEW_SAMPLES, or TP_VIEW_PREVIEW_SAMPLES (tests draw previews of
  * small DEMs; 0: never a preview). -1 after a message when that is not a number >= 0. */
@@ -365,8 +365,9 @@ static double preview_samples(void)
 }
 
 /* A DEM whose store the cache is building (job): the preview store drawn first (headless: one
- * frame; a window: until the store lands), then the store from the preview's camera, in the
- * same context. A window closed during the preview leaves the build to finish first. */
+ * frame; a window: until the store lands), then the store, in the same context (a window from
+ * the preview's camera, headless frames as from a warm cache). A window closed during the
+ * preview leaves the build to finish first. */
 static int view_progressive(const char* store, const char* preview, tp_store_cache_job* job,
                             view_options* o)
 {
@@ -385,7 +386,9 @@ static int view_progressive(const char* store, const char* preview, tp_store_cac
         o->ctx = NULL;
         return built != TP_EXIT_OK ? built : code;
     }
-    o->resume = 1;
+    /* a window goes on from where the preview's view was; headless frames are a warm
+     * cache's, from the store's own start camera */
+    o->resume = !o->headless;
     return view_store(store, o);
 }
 
