@@ -422,6 +422,9 @@ int tp_store_cache_begin(const char* dem, const tp_store_cache_options* o, doubl
     }
     tp_cli_note("a first picture from every %d%s post (%dx%d) while the store is built", pr.coarsen,
                 pr.coarsen == 2 ? "nd" : "th", pr.width, pr.height);
+    /* the preview lives until the job ends: SIGINT or SIGTERM now only ends the view and the
+     * build, which remove it (and the lock) on their way out */
+    tp_interrupt_hold();
     snprintf(preview, pcap, "%s", j->preview);
     j->coarsen = pr.coarsen;
     *temporary_out = j->e.temporary;
@@ -463,6 +466,7 @@ int tp_store_cache_job_finish(tp_store_cache_job* j)
     int temporary;
     const int code = entry_close(&j->e, j->out, j->code, &temporary);
     free(j);
+    tp_interrupt_release();
     return code;
 }
 

@@ -13,6 +13,7 @@
 #define TP_APP_VIEW_H
 
 #include "gl_context.h"
+#include "navigate.h"
 #include "renderer.h"
 #include "scene.h"
 #include "view_options.h"
@@ -82,6 +83,10 @@ typedef struct view_options {
     tp_camera resume_cam;
     tp_gl_context* ctx;              /* a context kept from the preview's run to the store's */
     int keep_ctx;
+    struct {                         /* the window's state kept from the preview's run */
+        int set, shots, exports, frozen, show_hud, show_details, show_help;
+        tp_nav nav;                  /* orbit or flight, and the view Home returns to */
+    } window_keep;
     tp_view_first first;
 } view_options;
 
