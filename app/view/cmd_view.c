@@ -128,7 +128,9 @@ static int start_camera(tp_view_scene* v, const view_options* o, tp_store_scene*
     }
     if (o->bookmark && (!take_georef(v, st) || !tp_view_bookmark_camera(v, o, o->bookmark, cam)))
         return TP_EXIT_FAILURE;
-    if (o->save_bookmark) {
+    /* saved once: by a window's preview (whose start the store's view goes on from), by the
+     * store's run of headless frames (whose start is a warm cache's) */
+    if (o->save_bookmark && !(o->preview && o->headless)) {
         char line[1024];
         tp_error err = {{0}};
         if (!take_georef(v, st) ||
@@ -231,14 +233,16 @@ static int run_view(tp_view_scene* v, view_options* o, tp_render_grid_desc* gd, 
                      v->path);
         code = TP_EXIT_USAGE;
     }
-    if (code == TP_EXIT_OK && st && !open_imagery(v, o, st))
+    /* a preview drapes nothing: imagery, light maps and layers are made for the store */
+    if (code == TP_EXIT_OK && st && !o->preview && !open_imagery(v, o, st))
         code = TP_EXIT_FAILURE;
     if (code == TP_EXIT_OK) /* the sun over the map's centre, its cast shadows */
         code = tp_view_shadows_open(v, o, st, &shadow);
     tp_view_layers layers;
     memset(&layers, 0, sizeof layers);
     /* a window always has them (F2); headless frames when asked */
-    if (code == TP_EXIT_OK && (o->overlay_count || o->contours || (!o->headless && v->store)))
+    if (code == TP_EXIT_OK && !o->preview &&
+        (o->overlay_count || o->contours || (!o->headless && v->store)))
         code = tp_view_load_layers(v, o, &layers);
     if (code == TP_EXIT_OK)
         code = o->headless && o->preview ? tp_view_headless_preview(v, ctx, r, &cam, o)

@@ -301,8 +301,6 @@ tp_status Opening::open_shared(tp_mosaic* m, tp_error* err)
     if (!plan.warnings.empty())
         add_note(m->notes, plan.warnings);
     const int coarsen = o.coarsen > 1 ? o.coarsen : 1;
-    if (coarsen > 1 && !plan.warp) /* a grid already in metres, resampled at coarser posts */
-        return open_coarse(m, std::move(base), bgt, err);
     if (plan.warp) {
         plan.res *= coarsen;
         std::vector<std::string> args = tpio::render_grid_warp_args(plan, "VRT");
@@ -338,6 +336,9 @@ tp_status Opening::open_shared(tp_mosaic* m, tp_error* err)
         m->sh = pd.dem.height;
         m->warped = true;
         m->ds = std::move(w); /* it opens the mosaic itself, by name */
+    } else if (coarsen > 1) { /* a grid already in metres, resampled at coarser posts */
+        if (const tp_status st = open_coarse(m, std::move(base), bgt, err))
+            return st;
     } else {
         m->ds = std::move(base);
     }
