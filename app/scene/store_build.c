@@ -10,7 +10,8 @@
  * store's header (written first) holds; the quantisation error and the valid samples are
  * counted while building and given to the store at commit (tp_store_writer_set_totals). A bound
  * that does not hold (a VRT that scales its sources) costs one more build. Without a bound, a
- * range pass reads the grid first. docs/PERFORMANCE.md "Building stores" has the profile.
+ * range pass reads the grid first, and holds it for the build pass when it fits (build_rows.h).
+ * docs/PERFORMANCE.md "Building stores" and "First picture of a new DEM" have the profiles.
  */
 #include "store_build.h"
 #include "build_plan.h"

@@ -4,8 +4,9 @@
  * store cache runs for a DEM opened by another command (store_cache.c). One call, an options
  * struct in, a result struct out, as GDAL's utilities call GDALContourGenerateEx.
  *
- * Memory follows a band of rows, not the map; the store is written atomically (a temporary
- * file renamed into place, removed on failure or SIGINT/SIGTERM).
+ * Memory follows a band of rows, not the map (but for a grid that needs a range pass and fits a
+ * quarter of the budget: build_rows.h holds it between the passes); the store is written
+ * atomically (a temporary file renamed into place, removed on failure or SIGINT/SIGTERM).
  */
 #ifndef TP_APP_STORE_BUILD_H
 #define TP_APP_STORE_BUILD_H
