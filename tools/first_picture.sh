@@ -8,11 +8,10 @@
 # For each repetition, DEM and binary (OLD then NEW): a fresh cache folder, then
 #   BIN view --headless --screenshot x.png --stats-json j.json DEM
 # under /usr/bin/time. One line each, tab-separated: dem (its folder/name), binary (old/new),
-# repetition, wall s,
-# user s, sys s, peak RSS MB, first_frame ms and what it was drawn from (from the JSON: a
-# binary that does not say has "-"), store_ms (when the store landed, after a preview) and
-# the load average. Then the medians per DEM and binary. Needs python3 for the JSON and the
-# medians.
+# repetition, wall s, user s, sys s, peak RSS MB, first_frame ms and what it was drawn from
+# (from the JSON: a binary that does not say has "-"), store_ms (when the store landed, after
+# a preview) and the load average. Then the medians per DEM and binary. Needs python3 for the
+# JSON and the medians.
 set -u
 [ $# -ge 4 ] || { echo "usage: tools/first_picture.sh OLD NEW REPS DEM..."; exit 2; }
 old=$1 new=$2 reps=$3
