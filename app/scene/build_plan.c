@@ -15,11 +15,11 @@ static double memory_to_suggest(double need_mb)
 }
 
 /* What the build allocates that grows with the grid (bytes, build_plan.h): the band read
- * (floats) and quantised (int32), the tree builder (tp_core.h: its decimated rows, a block of samples per
- * node of a row, two rows of metas and masks per scale) and the store writer's bit per node (it
- * writes the node and location tables into the file as nodes come: docs/store.md). GDAL's block
- * cache comes on top (a quarter of --memory); the program's fixed part (libraries, about 156 MB
- * resident: docs/PERFORMANCE.md) is not counted. */
+ * (floats) and quantised (int32), the tree builder (tp_core.h: its decimated rows, a block of
+ * samples per node of a row, two rows of metas and masks per scale) and the store writer's bit
+ * per node (it writes the node and location tables into the file as nodes come:
+ * docs/store.md). GDAL's block cache comes on top (a quarter of --memory); the program's fixed
+ * part (libraries, about 156 MB resident: docs/PERFORMANCE.md) is not counted. */
 double tp_build_memory_bytes(const tp_tree_geometry* g, int src_width, int fill_max)
 {
     const double side = (1 << g->n) + 1;
