@@ -880,6 +880,57 @@ TEST(memory_suggestions_are_never_below_the_options_floor)
     EXPECT_EQ_STR("", list);
 }
 
+/* A preview's grid (tp_mosaic_options.coarsen, issue 32 item 4): the same CRS and extent, posts
+ * f times apart, the same share of it drawn as the grid's (the hull's mask was once taken from
+ * the decimated source's size and drew a sixteenth of it), for a warped SRTM tile, an untagged
+ * Int16 one and a grid in metres that needs no warp. */
+static void check_coarse(const char* file, int f)
+{
+    char path[1024];
+    REQUIRE_DATA_FILE(path, "TP_SHARED_DATA_DIR", file);
+    const char* paths[1] = {path};
+    tp_error err = {0};
+    tp_mosaic *fine = NULL, *coarse = NULL;
+    tp_mosaic_options fo = {.fill_max = 0}, co = {.fill_max = 0, .coarsen = f};
+    ASSERT_EQ_INT(TP_OK, tp_mosaic_open(paths, 1, &fo, &fine, &err));
+    ASSERT_EQ_INT(TP_OK, tp_mosaic_open(paths, 1, &co, &coarse, &err));
+    tp_mosaic_info a, b;
+    tp_mosaic_get_info(fine, &a);
+    tp_mosaic_get_info(coarse, &b);
+    EXPECT_EQ_INT(a.epsg, b.epsg);
+    EXPECT_EQ_STR(a.crs_wkt, b.crs_wkt);
+    EXPECT_NEAR(f * a.spacing_m, b.spacing_m, 1e-6 * b.spacing_m);
+    EXPECT_TRUE(abs(b.width - (a.width + f - 1) / f) <= 2);
+    EXPECT_TRUE(abs(b.height - (a.height + f - 1) / f) <= 2);
+    EXPECT_NEAR(a.geotransform[0], b.geotransform[0], 2 * b.spacing_m);
+    EXPECT_NEAR(a.geotransform[3], b.geotransform[3], 2 * b.spacing_m);
+    EXPECT_TRUE(strstr(b.notes, "a preview: posts") != NULL);
+    int w, h, cw, ch;
+    float* z = mosaic_grid(fine, &w, &h);
+    float* c = mosaic_grid(coarse, &cw, &ch);
+    size_t valid = 0, cvalid = 0;
+    for (size_t i = 0; i < (size_t)w * h; i++)
+        valid += !isnan(z[i]);
+    for (size_t i = 0; i < (size_t)cw * ch; i++)
+        cvalid += !isnan(c[i]);
+    const double share = (double)valid / ((double)w * h);
+    const double cshare = (double)cvalid / ((double)cw * ch);
+    fprintf(stderr, "%s: coarsened %d: %dx%d -> %dx%d, drawn %.4f -> %.4f\n", file, f, w, h, cw,
+            ch, share, cshare);
+    EXPECT_NEAR(share, cshare, 0.03);
+    free(z);
+    free(c);
+    tp_mosaic_close(coarse);
+    tp_mosaic_close(fine);
+}
+
+TEST(preview_grid_is_coarser_over_the_same_ground)
+{
+    check_coarse("N42E001.hgt", 4);
+    check_coarse("craterlake-elev-16bit-30m.tif", 2);
+    check_coarse("lf_elev_220_mt_hood_utm.tif", 4);
+}
+
 #define TESTS(X)                                                                                   \
     X(single_hgt_same_grid_as_render_grid)                                                         \
     X(single_dt1_same_grid_as_render_grid)                                                         \
@@ -902,5 +953,6 @@ TEST(memory_suggestions_are_never_below_the_options_floor)
     X(sigint_during_build_leaves_nothing)                                                          \
     X(full_disk_exit_1_and_leaves_nothing)                                                         \
     X(memory_too_small_for_one_band_fails_up_front)                                                \
-    X(memory_suggestions_are_never_below_the_options_floor)
+    X(memory_suggestions_are_never_below_the_options_floor)                                        \
+    X(preview_grid_is_coarser_over_the_same_ground)
 TP_TEST_MAIN(TESTS)

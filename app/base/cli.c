@@ -6,6 +6,7 @@
 #include <errno.h>
 #include <math.h>
 #include <stdarg.h>
+#include <stdatomic.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -97,8 +98,8 @@ int tp_cli_finish(int code)
 
 int tp_cli_interrupted(void)
 {
-    static int said;
-    if (!said++)
+    static atomic_int said; /* once: a store's build on a thread may say it too */
+    if (atomic_fetch_add(&said, 1) == 0)
         tp_cli_error("interrupted");
     return 128 + tp_interrupted();
 }

@@ -11,4 +11,9 @@ double tp_clock_s(void);
 /* The same in milliseconds. */
 double tp_clock_ms(void);
 
+/* Milliseconds since the process started (its start time in /proc/self/stat, in clock ticks
+ * since boot, against CLOCK_BOOTTIME: the dynamic loader and the libraries' initialisers
+ * included); NaN when unknown. Resolution: one tick (10 ms). */
+double tp_clock_ms_since_start(void);
+
 #endif /* TP_APP_CLOCK_H */

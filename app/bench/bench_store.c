@@ -42,32 +42,6 @@
 #define WARMUP_FRAMES 5
 #define SETTLE_MAX_MS 20000.0
 
-/* Milliseconds since the process started (its start time in /proc/self/stat, in clock ticks
- * since boot, against CLOCK_BOOTTIME); NaN when unknown. Resolution: one tick (10 ms). */
-static double ms_since_process_start(void)
-{
-    FILE* f = fopen("/proc/self/stat", "r");
-    if (!f)
-        return NAN;
-    char buf[2048];
-    size_t n = fread(buf, 1, sizeof buf - 1, f);
-    fclose(f);
-    buf[n] = '\0';
-    char* p = strrchr(buf, ')'); /* the command name may hold spaces */
-    if (!p)
-        return NAN;
-    unsigned long long start = 0;
-    /* fields after ')': 3 state ... 22 starttime */
-    int field = 2;
-    for (char* s = p + 1; *s && field < 22; s++)
-        if (*s == ' ' && ++field == 22)
-            start = strtoull(s + 1, NULL, 10);
-    long hz = sysconf(_SC_CLK_TCK);
-    struct timespec ts;
-    if (field != 22 || hz <= 0 || clock_gettime(CLOCK_BOOTTIME, &ts) != 0)
-        return NAN;
-    return ts.tv_sec * 1e3 + ts.tv_nsec / 1e6 - (double)start * 1e3 / (double)hz;
-}
 
 /* VmRSS and RssAnon of this process, MB (10^6 bytes); NaN when not readable. */
 static void read_rss(double* rss_mb, double* anon_mb)
@@ -405,7 +379,7 @@ static int first_frame(store_bench* b, const store_result* c, store_draw* d, con
     tp_gl_context_end_frame(b->ctx);
     b->first_cut_ms = t1 - t0;
     b->first_draw_ms = tp_clock_ms() - t1;
-    b->first_frame_ms = ms_since_process_start();
+    b->first_frame_ms = tp_clock_ms_since_start();
     b->first_frame_open_ms = tp_clock_ms() - b->t_open_ms;
     return TP_EXIT_OK;
 }
@@ -578,7 +552,7 @@ int tp_bench_store(const bench_options* o)
     store_bench b;
     memset(&b, 0, sizeof b);
     b.o = o;
-    b.entered_ms = ms_since_process_start();
+    b.entered_ms = tp_clock_ms_since_start();
     b.t_open_ms = tp_clock_ms();
     /* as the viewer opens a store: the georeference is made on a thread meanwhile, and waited
      * for before the first frame (the bench itself does not use it) */

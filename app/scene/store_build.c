@@ -10,9 +10,12 @@
  * store's header (written first) holds; the quantisation error and the valid samples are
  * counted while building and given to the store at commit (tp_store_writer_set_totals). A bound
  * that does not hold (a VRT that scales its sources) costs one more build. Without a bound, a
- * range pass reads the grid first. docs/PERFORMANCE.md "Building stores" has the profile.
+ * range pass reads the grid first, and holds it for the build pass when it fits (build_rows.h).
+ * docs/PERFORMANCE.md "Building stores" and "First picture of a new DEM" have the profiles.
  */
 #include "store_build.h"
+#include "build_plan.h"
+#include "build_rows.h"
 
 #include "cli.h"
 #include "clock.h"
@@ -99,39 +102,6 @@ static int emit_node(int64_t node, const tp_node_meta* meta, const int32_t* q, c
     return 0;
 }
 
-/* What the build allocates that grows with the grid (bytes): the band read (floats) and
- * quantised (int32), the tree builder (tp_core.h: its decimated rows, a block of samples per
- * node of a row, two rows of metas and masks per scale) and the store writer's bit per node (it
- * writes the node and location tables into the file as nodes come: docs/store.md). GDAL's block
- * cache comes on top (a quarter of --memory); the program's fixed part (libraries, about 156 MB
- * resident: docs/PERFORMANCE.md) is not counted. */
-/* The --memory (MB) to suggest for need_mb of what grows with the grid: that in three quarters
- * of the budget, never below what --memory accepts. */
-static double memory_to_suggest(double need_mb)
-{
-    double mb = ceil(need_mb / 0.75);
-    return mb < BUILD_MIN_MEMORY_MB ? BUILD_MIN_MEMORY_MB : mb;
-}
-
-static double build_memory_bytes(const tp_tree_geometry* g, int src_width, int fill_max)
-{
-    const double side = (1 << g->n) + 1;
-    /* void filling: the mosaic's window (2 rows each side at least) as read and filled, its
-     * regions (int) and marks (byte) while it holds a void; a window grown for a void takes
-     * what is left of the budget (tp_mosaic_options.fill_window_mb, set once the need is known) */
-    const double fill = fill_max > 0 ? (side + 4.0) * src_width * 13.0 +
-                                           side * (src_width + (double)g->width) /* flags */
-                                     : 0;
-    const double band = side * src_width * sizeof(float) + side * g->width * sizeof(int32_t);
-    const double builder = 4 * side * ((2 + 1.0 / (1 << g->n)) * g->width + g->scales) +
-                           4.0 * g->cols * (sizeof(tp_node_meta) + (1u << (2 * g->n - 3))) +
-                           (double)g->cols * ((1u << (2 * g->n - 3)) + (1u << (g->n - 2)) + 2) +
-                           (fill_max > 0 ? side * (g->width + g->scales) : 0) + 2048;
-    const double added = (double)g->node_count / 8;
-    /* zstd's context, one node's scratch, the writer's run of table entries and read-back buffer */
-    return band + fill + builder + added + (1 << 20);
-}
-
 /* The store's notes: the sources, then the mosaic's own, then the void filling with `filled`
  * samples, padded with spaces to the length of a 20-digit count (the header written first gets
  * 0; the count replaces it at commit: tp_store_writer_set_notes keeps the length). NULL when out
@@ -168,38 +138,6 @@ static char* build_notes(const tp_build_options* o, const tp_mosaic_info* mi, si
     return notes;
 }
 
-/* The range pass: the grid's height range and valid samples, read in bands, and whether every
- * height is a whole number. */
-static tp_status range_pass(tp_mosaic* m, const tp_mosaic_info* mi, float* rows, int band_rows,
-                            int quiet, double* lo_out, double* hi_out, size_t* valid_out,
-                            int* integral_out, tp_error* err)
-{
-    float lo = INFINITY, hi = -INFINITY;
-    size_t valid = 0;
-    int integral = 1;
-    tp_progress pr;
-    tp_progress_start(&pr, !quiet, "build", "range");
-    for (int y = 0; y < mi->height; y += band_rows) {
-        int n = mi->height - y < band_rows ? mi->height - y : band_rows;
-        tp_status st = tp_mosaic_read_rows(m, y, n, rows, (size_t)n * mi->width, err);
-        if (st != TP_OK)
-            return st;
-        const size_t count = (size_t)n * mi->width;
-        for (size_t i = 0; i < count; i++) {
-            float v = rows[i];
-            valid += v == v;
-            lo = v < lo ? v : lo; /* NaN compares false: skipped */
-            hi = v > hi ? v : hi;
-            integral = integral && (v != v || v == floorf(v));
-        }
-        tp_progress_update(&pr, y + n, mi->height, (double)(y + n) * mi->width);
-        if (tp_interrupted())
-            return tp_error_set(err, TP_ERR_IO, "interrupted");
-    }
-    *lo_out = lo, *hi_out = hi, *valid_out = valid, *integral_out = integral;
-    return TP_OK;
-}
-
 /* One global step: 1 m for integral heights, else the finest 2^-p m (p <= finest_p) whose
  * quantised range fits 65534 steps (coarser powers of two beyond 65534 m). Integral: the
  * render grid's values, not the sources' type: a warped integer DEM (every geographic SRTM or
@@ -231,6 +169,7 @@ static double choose_step(double lo, double hi, int integral, int finest_p)
 typedef struct build_pass {
     const tp_build_options* o;
     tp_mosaic* m;
+    tp_build_rows* br; /* the rows, from the mosaic or held by the range pass */
     const tp_mosaic_info* mi;
     const tp_tree_geometry* g;
     float* rows;    /* band_rows * width */
@@ -315,12 +254,12 @@ static tp_status run_build_pass(build_pass* p, const tp_store_header* h, tp_erro
             memcpy(q, q + (size_t)ps * g->width, (size_t)g->width * sizeof *q);
         if (skip && p->fq)
             memcpy(p->fq, p->fq + (size_t)ps * g->width, (size_t)g->width);
-        const int y0 = y_first + skip, y1 = y_first + ps; /* rows to fill, inclusive */
-        int read_to = y1 < mi->height - 1 ? y1 : mi->height - 1;
-        int nread = read_to >= y0 ? read_to - y0 + 1 : 0;
+        const int y1 = y_first + ps; /* rows to fill y0 .. y1, inclusive */
+        int y0, nread;
+        tp_build_rows_band(p->br, r, &y0, &nread);
+        const int read_to = nread > 0 ? y0 + nread - 1 : mi->height - 1;
         if (nread > 0)
-            st = tp_mosaic_read_rows_filled(p->m, y0, nread, p->rows, (size_t)nread * mi->width,
-                                            p->frows, err);
+            st = tp_build_rows_read(p->br, y0, nread, p->rows, p->frows, err);
         if (st != TP_OK)
             break;
         for (int y = y0; y <= y1; y++) {
@@ -417,7 +356,7 @@ static int prepare(tp_build_options* o)
 
 /* The sources opened as one mosaic on the render grid (*m, *mi), its notes printed unless
  * quiet; NULL after one line when they cannot be read or cover too little of their mosaic. */
-static tp_mosaic* open_sources(const tp_build_options* o, tp_mosaic_info* out)
+static tp_mosaic* open_sources(const tp_build_options* o, int coarsen, tp_mosaic_info* out)
 {
     tp_error err = {0};
     tp_mosaic* m = NULL;
@@ -426,7 +365,8 @@ static tp_mosaic* open_sources(const tp_build_options* o, tp_mosaic_info* out)
                             .memory_mb = o->memory_mb,
                             .fill_max = o->fill_max,
                             .fill_from = o->fill_from,
-                            .z_unit = o->z_unit};
+                            .z_unit = o->z_unit,
+                            .coarsen = coarsen};
     if (tp_mosaic_open(o->sources, (size_t)o->source_count, &mo, &m, &err) != TP_OK)
         return fail_line(err.message), NULL;
     tp_mosaic_get_info(m, out);
@@ -452,44 +392,6 @@ static tp_mosaic* open_sources(const tp_build_options* o, tp_mosaic_info* out)
         return NULL;
     }
     return m;
-}
-
-/* The node hierarchy's geometry for the mosaic (*g), checked against the budget before any
- * reading: GDAL's block cache has a quarter of it (tp_mosaic_open); what grows with the grid
- * must fit the other three quarters. 1, or 0 after one line (with the --memory or --patch that
- * would do). */
-static int plan_geometry(const tp_build_options* o, const tp_mosaic_info* mi, tp_tree_geometry* g)
-{
-    tp_error err = {0};
-    if (tp_tree_geometry_init(mi->width, mi->height, o->patch_size, g, &err) != TP_OK)
-        return fail_line(err.message), 0;
-    const int ps = 1 << g->n, band_rows = ps + 1;
-    const double need_mb = build_memory_bytes(g, mi->width, o->fill_max) / (1024.0 * 1024.0);
-    if (need_mb <= o->memory_mb * 0.75)
-        return 1;
-    /* the node size that needs least: small nodes make a large table, large ones wide bands */
-    int best = o->patch_size;
-    double best_mb = need_mb;
-    for (int p = 17; p <= 257; p = 2 * p - 1) {
-        tp_tree_geometry gp;
-        tp_error e2;
-        if (tp_tree_geometry_init(mi->width, mi->height, p, &gp, &e2) != TP_OK)
-            continue;
-        double mb = build_memory_bytes(&gp, mi->width, o->fill_max) / (1024.0 * 1024.0);
-        if (mb < best_mb)
-            best = p, best_mb = mb;
-    }
-    char alt[96] = "";
-    if (best != o->patch_size)
-        snprintf(alt, sizeof alt, " (or --memory %.0f with --patch %d)", memory_to_suggest(best_mb),
-                 best);
-    tp_cli_error("--memory %d MB is too small for a %dx%d grid in %dx%d "
-                 "nodes: one band of %d rows, the tree builder and the store writer need "
-                 "%.0f MB, besides GDAL's block cache (a quarter of the budget); give --memory "
-                 "%.0f or more%s",
-                 o->memory_mb, mi->width, mi->height, ps + 1, ps + 1, band_rows, need_mb,
-                 memory_to_suggest(need_mb), alt);
-    return 0;
 }
 
 /* What the passes of a build saw. */
@@ -523,6 +425,16 @@ static tp_status build_passes(const tp_build_options* o, tp_mosaic* m, const tp_
         return TP_ERR_OUT_OF_MEMORY;
     }
 
+    /* the range pass holds the grid for the build pass within a quarter of the budget and
+     * what the band, the builder and the writer leave of its three quarters */
+    tp_build_rows br = {.m = m,
+                        .width = mi.width,
+                        .height = mi.height,
+                        .ps = 1 << g.n,
+                        .fill = o->fill_max > 0};
+    const double budget = (double)o->memory_mb * 1048576.0;
+    const double left = 0.75 * budget - tp_build_memory_bytes(&g, mi.width, o->fill_max);
+    const size_t hold_bytes = (size_t)fmax(0, fmin(budget / 4, left));
     double lo = mi.min_m, hi = mi.max_m;
     int bounded = mi.has_range;
     size_t valid = 0;
@@ -539,8 +451,10 @@ static tp_status build_passes(const tp_build_options* o, tp_mosaic* m, const tp_
     }
     for (int attempt = 0;; attempt++) {
         if (!bounded) {
-            st = range_pass(m, &mi, rows, band_rows, o->quiet, &lo, &hi, &valid, &integral,
-                            &err);
+            tp_build_range range;
+            st = tp_build_rows_range(&br, g.rows, hold_bytes, o->quiet, rows, frows, &range,
+                                     &err);
+            lo = range.lo, hi = range.hi, valid = range.valid, integral = range.integral;
             if (st == TP_OK && valid == 0) {
                 snprintf(err.message, sizeof err.message, "%s: no valid height in the %dx%d grid",
                          o->sources[0], mi.width, mi.height);
@@ -577,6 +491,7 @@ static tp_status build_passes(const tp_build_options* o, tp_mosaic* m, const tp_
         h.notes = notes;
         build_pass bp = {.o = o,
                          .m = m,
+                         .br = &br,
                          .mi = &mi,
                          .g = &g,
                          .rows = rows,
@@ -610,6 +525,7 @@ static tp_status build_passes(const tp_build_options* o, tp_mosaic* m, const tp_
         nodes = bp.nodes;
         break;
     }
+    tp_build_rows_release(&br);
     free(rows);
     free(q);
     free(frows);
@@ -635,11 +551,26 @@ int tp_store_build(const tp_build_options* options, tp_build_result* result)
     if (rc != TP_EXIT_OK)
         return rc;
     tp_mosaic_info mi;
-    tp_mosaic* m = open_sources(o, &mi);
+    tp_mosaic* m = open_sources(o, 1, &mi);
     if (!m)
         return TP_EXIT_FAILURE;
+    int coarsen = 1; /* a preview: the grid opened again, coarser */
+    if (o->preview_max_samples > 0) {
+        coarsen = tp_build_preview_coarsen(mi.width, mi.height, o->preview_max_samples);
+        tp_mosaic_close(m);
+        if (coarsen == 1) {
+            if (result)
+                *result = (tp_build_result){.width = mi.width, .height = mi.height, .coarsen = 1};
+            return TP_EXIT_OK;
+        }
+        if (result) /* a failure from here on is the preview's own */
+            *result = (tp_build_result){.coarsen = coarsen};
+        if (!(m = open_sources(o, coarsen, &mi)))
+            return TP_EXIT_FAILURE;
+    }
+    const int preview = coarsen > 1; /* its voids and failures are the caller's to judge */
     tp_tree_geometry g;
-    if (!plan_geometry(o, &mi, &g)) {
+    if (!tp_build_plan_geometry(o, &mi, &g)) {
         tp_mosaic_close(m);
         return TP_EXIT_FAILURE;
     }
@@ -651,7 +582,7 @@ int tp_store_build(const tp_build_options* options, tp_build_result* result)
     tp_mosaic_voids mv;
     tp_mosaic_get_voids(m, &mv);
     tp_mosaic_close(m);
-    if (st == TP_OK && mv.too_large_samples > 0)
+    if (st == TP_OK && mv.too_large_samples > 0 && !preview)
         tp_cli_warning("%zu void samples left unfilled: their voids need a "
                        "window of more than %d rows to be filled whole (an eighth of --memory %d); "
                        "give more --memory to fill them",
@@ -659,7 +590,7 @@ int tp_store_build(const tp_build_options* options, tp_build_result* result)
     if (st != TP_OK) {
         if (tp_interrupted())
             return tp_cli_interrupted();
-        return fail_line(err.message);
+        return preview ? TP_EXIT_FAILURE : fail_line(err.message);
     }
 
     const double seconds = tp_clock_s() - t0;
@@ -690,7 +621,8 @@ int tp_store_build(const tp_build_options* options, tp_build_result* result)
                                     .filled_from_samples = mv.filled_from_samples,
                                     .void_samples_too_large = mv.too_large_samples,
                                     .seconds = seconds,
-                                    .rss_peak_mb = rss_mb};
+                                    .rss_peak_mb = rss_mb,
+                                    .coarsen = coarsen};
         snprintf(result->crs_name, sizeof result->crs_name, "%s", mi.crs_name);
     }
     return TP_EXIT_OK;

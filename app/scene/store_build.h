@@ -4,8 +4,9 @@
  * store cache runs for a DEM opened by another command (store_cache.c). One call, an options
  * struct in, a result struct out, as GDAL's utilities call GDALContourGenerateEx.
  *
- * Memory follows a band of rows, not the map; the store is written atomically (a temporary
- * file renamed into place, removed on failure or SIGINT/SIGTERM).
+ * Memory follows a band of rows, not the map (but for a grid that needs a range pass and fits a
+ * quarter of the budget: build_rows.h holds it between the passes); the store is written
+ * atomically (a temporary file renamed into place, removed on failure or SIGINT/SIGTERM).
  */
 #ifndef TP_APP_STORE_BUILD_H
 #define TP_APP_STORE_BUILD_H
@@ -39,6 +40,13 @@ typedef struct tp_build_options {
                               metres, else the finest power of two the range allows) */
     int threads;           /* 0: every core */
     int quiet;             /* no notes or progress on stderr */
+    /* > 0: a preview (the store cache's first picture of a large DEM): the render grid
+     * coarsened (tp_mosaic_options.coarsen) by the smallest power of two that leaves at most
+     * this many samples; nothing is written when the grid itself is no larger (the result's
+     * coarsen is then 1). A preview store is a store like any other, of that coarser grid.
+     * Its build says nothing of its own failures (the result's coarsen is then > 1: the store's
+     * own build, which the caller runs next, reads the same sources) nor of voids left */
+    double preview_max_samples;
 } tp_build_options;
 
 /* The defaults above (patch 65, memory 1024 MB, voids of any size filled); no sources. */
@@ -59,6 +67,7 @@ typedef struct tp_build_result {
     int threads, memory_mb; /* as used */
     size_t filled_samples, filled_from_samples, void_samples_too_large;
     double seconds, rss_peak_mb;
+    int coarsen; /* a preview's coarsening (1: none, nothing written) */
 } tp_build_result;
 
 /* Builds o->out from o->sources; notes and progress on stderr unless o->quiet, then a line of

@@ -10,6 +10,8 @@
 #include <fcntl.h>
 #include <limits.h>
 #include <math.h>
+#include <pthread.h>
+#include <stdatomic.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -115,8 +117,8 @@ static void unlock_build(const char* store, int fd)
 }
 
 /* Removes the temporary files of builds that died in dir (kill -9, a power cut: no handler ran):
- * NAME.tpt.tmpXXXXXXXX (atomic_write's names) whose NAME.tpt.lock no live build holds. One
- * line says how many and how many bytes. */
+ * NAME.tpt.tmpXXXXXXXX (atomic_write's names), and previews NAME.preview.tpt with theirs, whose
+ * NAME.tpt.lock no live build holds. One line says how many and how many bytes. */
 static void sweep(const char* dir)
 {
     DIR* d = opendir(dir);
@@ -125,13 +127,21 @@ static void sweep(const char* dir)
     int swept = 0;
     long long bytes = 0;
     for (struct dirent* e; (e = readdir(d));) {
+        /* NAME.tpt.tmpXXXXXXXX, and a preview's NAME.preview.tpt and its temporary files, all
+         * under NAME.tpt.lock */
         const char* tmp = strstr(e->d_name, ".tpt.tmp");
-        if (!tmp || strlen(tmp + 8) != 8)
+        const size_t len = strlen(e->d_name);
+        const int preview = len > 12 && !strcmp(e->d_name + len - 12, ".preview.tpt");
+        if (!preview && (!tmp || strlen(tmp + 8) != 8))
             continue;
+        const char* end = preview ? e->d_name + len - 4 : tmp; /* ".tpt" */
+        int stem = (int)(end - e->d_name);
+        if (stem > 8 && !strncmp(end - 8, ".preview", 8))
+            stem -= 8;
         char path[PATH_MAX], lock[PATH_MAX];
         if (snprintf(path, sizeof path, "%s/%s", dir, e->d_name) >= (int)sizeof path ||
-            snprintf(lock, sizeof lock, "%s/%.*s.lock", dir, (int)(tmp + 4 - e->d_name),
-                     e->d_name) >= (int)sizeof lock)
+            snprintf(lock, sizeof lock, "%s/%.*s.tpt.lock", dir, stem, e->d_name) >=
+                (int)sizeof lock)
             continue;
         /* no lock file: its build ended (a live one keeps it); else its lock must be free */
         int fd = open(lock, O_RDWR | O_CLOEXEC);
@@ -182,111 +192,281 @@ void tp_store_cache_remove_temporary(const char* path)
     }
 }
 
-int tp_store_cache_get(const char* dem, const tp_store_cache_options* o, char* out, size_t cap,
-                       int* temporary_out)
+/* One cached store being looked up or built: the DEM's identity and the cache's folder. */
+typedef struct cache_entry {
+    char abs_path[PATH_MAX];  /* the DEM's */
+    char from_path[PATH_MAX]; /* --fill-from's, or "" */
+    char dir[PATH_MAX];
+    int fill_max;
+    int temporary; /* dir is a temporary folder of this process's */
+    int lock_fd;   /* the build's lock, or -1 */
+} cache_entry;
+
+/* Finds dem's store (its path into out): TP_EXIT_OK with *found set when the cache holds it;
+ * with *found 0, the build's lock is held (e->lock_fd, unless the folder is temporary) and the
+ * store is to be built. Else an exit code after one line. */
+static int entry_open(const char* dem, const tp_store_cache_options* o, char* out, size_t cap,
+                      cache_entry* e, int* found)
 {
-    *temporary_out = 0;
+    *found = 0;
+    e->lock_fd = -1;
+    e->temporary = 0;
     /* the DEM's identity: its absolute path (a virtual path's archive made absolute), size
      * and time */
-    char abs_path[PATH_MAX];
     tp_input_identity id;
     tp_error err;
     if (tp_input_check(dem, "a raster", 1, &err) != TP_OK ||
-        tp_input_identify(dem, abs_path, sizeof abs_path, &id, &err) != TP_OK) {
+        tp_input_identify(dem, e->abs_path, sizeof e->abs_path, &id, &err) != TP_OK) {
         tp_cli_error("%s", err.message);
         return TP_EXIT_FAILURE;
     }
     uint64_t h = 0xcbf29ce484222325ull;
     h = fnv_str(h, "terrapatch store cache 2"); /* 2: the height step from the grid's values */
-    h = fnv_str(h, abs_path);
+    h = fnv_str(h, e->abs_path);
     int64_t meta[3] = {id.size_bytes, id.mtime_ns, o->patch_size};
     h = fnv(h, meta, sizeof meta);
     h = fnv_str(h, o->crs);
     h = fnv(h, &o->resampling, sizeof o->resampling);
     h = fnv_str(h, o->z_unit);
-    const int fill_max = o->fill_max_px == 0  ? TP_FILL_MAX_ANY
-                         : o->fill_max_px < 0 ? 0
-                                              : o->fill_max_px;
-    h = fnv(h, &fill_max, sizeof fill_max);
-    char from_path[PATH_MAX] = "";
+    e->fill_max = o->fill_max_px == 0  ? TP_FILL_MAX_ANY
+                  : o->fill_max_px < 0 ? 0
+                                       : o->fill_max_px;
+    h = fnv(h, &e->fill_max, sizeof e->fill_max);
+    e->from_path[0] = '\0';
     if (o->fill_from && *o->fill_from) {
         /* the second source's identity: a changed file makes a new store */
         tp_input_identity fid;
         if (tp_input_check(o->fill_from, "a raster", 1, &err) != TP_OK ||
-            tp_input_identify(o->fill_from, from_path, sizeof from_path, &fid, &err) != TP_OK) {
+            tp_input_identify(o->fill_from, e->from_path, sizeof e->from_path, &fid, &err) !=
+                TP_OK) {
             tp_cli_error("--fill-from %s", err.message);
             return TP_EXIT_FAILURE;
         }
         int64_t fmeta[2] = {fid.size_bytes, fid.mtime_ns};
         h = fnv_str(h, "fill-from");
-        h = fnv_str(h, from_path);
+        h = fnv_str(h, e->from_path);
         h = fnv(h, fmeta, sizeof fmeta);
     }
 
-    char dir[PATH_MAX];
-    tp_store_cache_dir(o->cache_dir, dir, sizeof dir);
-    int temporary = 0;
-    if (!make_dirs(dir)) {
+    tp_store_cache_dir(o->cache_dir, e->dir, sizeof e->dir);
+    if (!make_dirs(e->dir)) {
         const char* tmp = getenv("TMPDIR");
         char tdir[PATH_MAX];
         snprintf(tdir, sizeof tdir, "%s/terrapatch-XXXXXX", tmp && tmp[0] ? tmp : "/tmp");
         if (!mkdtemp(tdir)) {
             tp_cli_error("cannot write the store cache %s nor a temporary "
                          "directory %s: %s",
-                         dir, tdir, strerror(errno));
+                         e->dir, tdir, strerror(errno));
             return TP_EXIT_FAILURE;
         }
         tp_cli_note("the cache directory %s is not writable: building in %s "
                     "instead (removed after the view; choose one with --cache-dir)",
-                    dir, tdir);
-        snprintf(dir, sizeof dir, "%s", tdir);
-        temporary = 1;
+                    e->dir, tdir);
+        snprintf(e->dir, sizeof e->dir, "%s", tdir);
+        e->temporary = 1;
     }
-    const char* base = strrchr(abs_path, '/');
-    base = base ? base + 1 : abs_path;
+    const char* base = strrchr(e->abs_path, '/');
+    base = base ? base + 1 : e->abs_path;
     char name[256];
     snprintf(name, sizeof name, "%.200s", base);
     char* dot = strrchr(name, '.');
     if (dot && dot != name)
         *dot = '\0';
-    if (snprintf(out, cap, "%s/%s-%016llx.tpt", dir, name, (unsigned long long)h) >= (int)cap) {
-        tp_cli_error("%s: the cache path is too long", dir);
+    if (snprintf(out, cap, "%s/%s-%016llx.tpt", e->dir, name, (unsigned long long)h) >= (int)cap) {
+        tp_cli_error("%s: the cache path is too long", e->dir);
         return TP_EXIT_FAILURE;
     }
-    if (!temporary && store_matches(out, abs_path, o->patch_size)) {
-        sweep(dir);
+    if (!e->temporary && store_matches(out, e->abs_path, o->patch_size)) {
+        sweep(e->dir);
+        *found = 1;
         return TP_EXIT_OK;
     }
     /* one build of this store at a time: a second process waits, then finds it built */
-    if (!temporary)
-        sweep(dir);
-    int lock_fd = temporary ? -1 : lock_build(out);
-    if (lock_fd >= 0 && store_matches(out, abs_path, o->patch_size)) {
-        close(lock_fd); /* releases the lock */
-        return TP_EXIT_OK;
+    if (!e->temporary)
+        sweep(e->dir);
+    e->lock_fd = e->temporary ? -1 : lock_build(out);
+    if (e->lock_fd >= 0 && store_matches(out, e->abs_path, o->patch_size)) {
+        close(e->lock_fd); /* releases the lock */
+        e->lock_fd = -1;
+        *found = 1;
     }
+    return TP_EXIT_OK;
+}
 
-    tp_cli_note("building a store of %s in %s (once; reused next time)", dem, dir);
-    tp_build_options bo;
-    tp_build_options_init(&bo);
-    const char* sources[1] = {abs_path};
-    bo.sources = sources;
-    bo.source_count = 1;
-    bo.out = out;
-    bo.patch_size = o->patch_size;
-    bo.fill_max = fill_max;
-    bo.fill_from = from_path[0] ? from_path : NULL;
-    bo.crs = o->crs;
-    bo.z_unit = o->z_unit;
+/* The build of e's store into out (sources: one slot, pointed at e's DEM). */
+static void entry_build_options(const cache_entry* e, const tp_store_cache_options* o,
+                                const char* out, const char** sources, tp_build_options* bo)
+{
+    tp_build_options_init(bo);
+    sources[0] = e->abs_path;
+    bo->sources = sources;
+    bo->source_count = 1;
+    bo->out = out;
+    bo->patch_size = o->patch_size;
+    bo->fill_max = e->fill_max;
+    bo->fill_from = e->from_path[0] ? e->from_path : NULL;
+    bo->crs = o->crs;
+    bo->z_unit = o->z_unit;
     if (o->resampling == TP_RESAMPLING_CUBIC)
-        bo.resampling = TP_RESAMPLING_CUBIC;
-    int code = tp_store_build(&bo, NULL);
+        bo->resampling = TP_RESAMPLING_CUBIC;
+}
+
+/* Ends a build of e's store that gave code: the lock released, a temporary folder removed when
+ * the build failed. Returns code. */
+static int entry_close(cache_entry* e, const char* out, int code, int* temporary_out)
+{
+    if (e->lock_fd >= 0)
+        unlock_build(out, e->lock_fd);
+    e->lock_fd = -1;
+    if (e->temporary && code != TP_EXIT_OK)
+        rmdir(e->dir);
+    *temporary_out = e->temporary && code == TP_EXIT_OK;
+    return code;
+}
+
+int tp_store_cache_get(const char* dem, const tp_store_cache_options* o, char* out, size_t cap,
+                       int* temporary_out)
+{
+    *temporary_out = 0;
+    cache_entry e;
+    int found;
+    int code = entry_open(dem, o, out, cap, &e, &found);
+    if (code != TP_EXIT_OK || found)
+        return code;
+    tp_cli_note("building a store of %s in %s (once; reused next time)", dem, e.dir);
+    tp_build_options bo;
+    const char* sources[1];
+    entry_build_options(&e, o, out, sources, &bo);
+    code = tp_store_build(&bo, NULL);
     fflush(stdout);
-    if (lock_fd >= 0)
-        unlock_build(out, lock_fd);
-    if (temporary && code != TP_EXIT_OK)
-        rmdir(dir);
-    *temporary_out = temporary && code == TP_EXIT_OK;
+    return entry_close(&e, out, code, temporary_out);
+}
+
+/* ---- a first picture while the store is built (tp_store_cache_begin) ---- */
+
+struct tp_store_cache_job {
+    cache_entry e;
+    char out[PATH_MAX], preview[PATH_MAX];
+    const char* sources[1];
+    tp_build_options bo;
+    pthread_t thread;
+    int started;
+    atomic_int done; /* the build has ended; code is its exit code */
+    int code;
+    int coarsen; /* the preview's */
+};
+
+static void* job_run(void* arg)
+{
+    tp_store_cache_job* j = arg;
+    j->code = tp_store_build(&j->bo, NULL);
+    atomic_store(&j->done, 1);
+    return NULL;
+}
+
+/* The preview's name beside the store: NAME-KEY.preview.tpt for NAME-KEY.tpt (sweep() knows it
+ * and its temporary files by that name). 0 when it does not fit. */
+static int preview_path(const char* out, char* preview, size_t cap)
+{
+    size_t n = strlen(out);
+    return n > 4 && snprintf(preview, cap, "%.*s.preview.tpt", (int)(n - 4), out) < (int)cap;
+}
+
+int tp_store_cache_begin(const char* dem, const tp_store_cache_options* o, double preview_samples,
+                         char* out, size_t cap, int* temporary_out, char* preview, size_t pcap,
+                         tp_store_cache_job** job_out)
+{
+    *temporary_out = 0;
+    *job_out = NULL;
+    preview[0] = '\0';
+    tp_store_cache_job* j = calloc(1, sizeof *j);
+    if (!j) {
+        tp_cli_error("out of memory");
+        return TP_EXIT_FAILURE;
+    }
+    int found;
+    int code = entry_open(dem, o, j->out, sizeof j->out, &j->e, &found);
+    if (code == TP_EXIT_OK && snprintf(out, cap, "%s", j->out) >= (int)cap) {
+        tp_cli_error("%s: the cache path is too long", j->e.dir);
+        code = entry_close(&j->e, j->out, TP_EXIT_FAILURE, temporary_out);
+    }
+    if (code != TP_EXIT_OK || found) {
+        free(j);
+        return code;
+    }
+    tp_cli_note("building a store of %s in %s (once; reused next time)", dem, j->e.dir);
+    entry_build_options(&j->e, o, j->out, j->sources, &j->bo);
+    /* the preview: the same build of a coarser grid, quiet; none when the grid is small */
+    tp_build_options pb = j->bo;
+    tp_build_result pr = {0};
+    if (preview_samples > 0 && preview_path(j->out, j->preview, sizeof j->preview)) {
+        pb.out = j->preview;
+        pb.quiet = 1;
+        pb.preview_max_samples = preview_samples;
+        code = tp_store_build(&pb, &pr);
+        if (code != TP_EXIT_OK && (pr.coarsen <= 1 || tp_interrupted())) {
+            /* the sources themselves failed (the message is out), or a signal */
+            code = entry_close(&j->e, j->out, code, temporary_out);
+            free(j);
+            return code;
+        }
+        if (code != TP_EXIT_OK) /* the preview's own build: the store is built at once */
+            pr.coarsen = 1;
+    }
+    if (pr.coarsen <= 1) { /* a grid small enough to build at once */
+        code = tp_store_build(&j->bo, NULL);
+        fflush(stdout);
+        code = entry_close(&j->e, j->out, code, temporary_out);
+        free(j);
+        return code;
+    }
+    tp_cli_note("a first picture from every %d%s post (%dx%d) while the store is built", pr.coarsen,
+                pr.coarsen == 2 ? "nd" : "th", pr.width, pr.height);
+    /* the preview lives until the job ends: SIGINT or SIGTERM now only ends the view and the
+     * build, which remove it (and the lock) on their way out */
+    tp_interrupt_hold();
+    snprintf(preview, pcap, "%s", j->preview);
+    j->coarsen = pr.coarsen;
+    *temporary_out = j->e.temporary;
+    *job_out = j;
+    return TP_EXIT_OK;
+}
+
+int tp_store_cache_job_coarsen(const tp_store_cache_job* j)
+{
+    return j ? j->coarsen : 1;
+}
+
+void tp_store_cache_job_start(tp_store_cache_job* j)
+{
+    if (!j || j->started)
+        return;
+    j->started = 1;
+    if (pthread_create(&j->thread, NULL, job_run, j) != 0) { /* built when finished instead */
+        j->started = 0;
+        return;
+    }
+}
+
+int tp_store_cache_job_done(const tp_store_cache_job* j)
+{
+    return j && atomic_load(&((tp_store_cache_job*)j)->done);
+}
+
+int tp_store_cache_job_finish(tp_store_cache_job* j)
+{
+    if (!j)
+        return TP_EXIT_OK;
+    if (j->started)
+        pthread_join(j->thread, NULL);
+    else
+        job_run(j);
+    fflush(stdout);
+    unlink(j->preview);
+    int temporary;
+    const int code = entry_close(&j->e, j->out, j->code, &temporary);
+    free(j);
+    tp_interrupt_release();
     return code;
 }
 

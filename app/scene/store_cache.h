@@ -44,6 +44,33 @@ typedef struct tp_store_cache_options {
  * after its message. */
 int tp_store_cache_get(const char* dem, const tp_store_cache_options* o, char* out, size_t cap,
                        int* temporary);
+/* A store being built on a thread while a viewer draws its preview (tp_store_cache_begin). */
+typedef struct tp_store_cache_job tp_store_cache_job;
+
+/* tp_store_cache_get for a viewer that draws a first picture while the store is built. When the
+ * cache must build the store and the DEM's grid has more than preview_samples samples, a
+ * preview store (the same build of the grid coarsened by a power of two to at most that many
+ * samples: tp_build_options.preview_max_samples) is built first into NAME-KEY.preview.tpt
+ * beside the store (its path into preview, pcap bytes; one line says how coarse), and *job is
+ * set: the store's own build, holding the cache's lock, waits for tp_store_cache_job_start
+ * (which runs it on a thread) and ends with tp_store_cache_job_finish. The store's path is in
+ * out as with tp_store_cache_get; only a finished job makes it. Otherwise (a store found, or a
+ * grid that small, or preview_samples <= 0) exactly tp_store_cache_get, *job NULL and preview
+ * "". TP_EXIT_OK, or an exit code after one line. */
+int tp_store_cache_begin(const char* dem, const tp_store_cache_options* o, double preview_samples,
+                         char* out, size_t cap, int* temporary, char* preview, size_t pcap,
+                         tp_store_cache_job** job);
+/* The preview's coarsening: its posts are this many times farther apart than the store's. */
+int tp_store_cache_job_coarsen(const tp_store_cache_job* job);
+/* Starts the job's build on a thread (once; a job never started builds in finish). */
+void tp_store_cache_job_start(tp_store_cache_job* job);
+/* 1 once the job's build has ended, well or not (tp_store_cache_job_finish says which). */
+int tp_store_cache_job_done(const tp_store_cache_job* job);
+/* Waits for the build, releases the lock, removes the preview and frees the job: the build's
+ * exit code (TP_EXIT_OK: the store is in the cache; else after its message, 130/143 after a
+ * signal). Accepts NULL (TP_EXIT_OK). */
+int tp_store_cache_job_finish(tp_store_cache_job* job);
+
 /* Removes a temporary store (*temporary was set) and its directory. */
 void tp_store_cache_remove_temporary(const char* path);
 

@@ -77,8 +77,11 @@ int tp_terrain_classify(const char* cmd, const char* path, const tp_scene_option
     return *is_store ? tp_terrain_refuse_store_options(cmd, path, o) : -1;
 }
 
-int tp_terrain_store(const char* cmd, const char* path, const tp_scene_options* o,
-                     const char* cache_dir, char* out, size_t cap, int* temporary)
+/* tp_terrain_store, and tp_terrain_store_begin when job is given. */
+static int terrain_store(const char* cmd, const char* path, const tp_scene_options* o,
+                         const char* cache_dir, char* out, size_t cap, int* temporary,
+                         double preview_samples, char* preview, size_t pcap,
+                         tp_store_cache_job** job)
 {
     *temporary = 0;
     int is_store, code = tp_terrain_classify(cmd, path, o, &is_store);
@@ -129,5 +132,25 @@ int tp_terrain_store(const char* cmd, const char* path, const tp_scene_options* 
                                  .fill_from = o->grid.fill_from,
                                  .z_unit = o->z_unit,
                                  .cmd = cmd};
+    if (job)
+        return tp_store_cache_begin(path, &co, preview_samples, out, cap, temporary, preview,
+                                    pcap, job);
     return tp_store_cache_get(path, &co, out, cap, temporary);
+}
+
+int tp_terrain_store(const char* cmd, const char* path, const tp_scene_options* o,
+                     const char* cache_dir, char* out, size_t cap, int* temporary)
+{
+    return terrain_store(cmd, path, o, cache_dir, out, cap, temporary, 0, NULL, 0, NULL);
+}
+
+int tp_terrain_store_begin(const char* cmd, const char* path, const tp_scene_options* o,
+                           const char* cache_dir, double preview_samples, char* out, size_t cap,
+                           int* temporary, char* preview, size_t pcap, tp_store_cache_job** job)
+{
+    *job = NULL;
+    if (pcap)
+        preview[0] = '\0';
+    return terrain_store(cmd, path, o, cache_dir, out, cap, temporary, preview_samples, preview,
+                         pcap, job);
 }

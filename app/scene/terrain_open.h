@@ -20,6 +20,7 @@
 #define TP_APP_TERRAIN_OPEN_H
 
 #include "scene.h"
+#include "store_cache.h"
 
 #include <stddef.h>
 
@@ -55,5 +56,13 @@ int tp_terrain_classify(const char* cmd, const char* path, const tp_scene_option
  * exit code after one line. */
 int tp_terrain_store(const char* cmd, const char* path, const tp_scene_options* o,
                      const char* cache_dir, char* out, size_t cap, int* temporary);
+
+/* tp_terrain_store for the viewer's first picture: a DEM whose store must be built and whose
+ * grid has more than preview_samples samples gets a preview store first (its path in preview,
+ * pcap bytes) and *job, the store's build to start and finish (tp_store_cache_begin); else as
+ * tp_terrain_store, *job NULL. */
+int tp_terrain_store_begin(const char* cmd, const char* path, const tp_scene_options* o,
+                           const char* cache_dir, double preview_samples, char* out, size_t cap,
+                           int* temporary, char* preview, size_t pcap, tp_store_cache_job** job);
 
 #endif /* TP_APP_TERRAIN_OPEN_H */

@@ -21,6 +21,7 @@
 #include "atomic_file.h"
 #include "camera_pose.h"
 #include "cli.h"
+#include "clock.h"
 #include "layers.h"
 #include "memory.h"
 #include "output_check.h"
@@ -107,6 +108,10 @@ static int open_imagery(tp_view_scene* v, const view_options* o, const tp_store_
  * TP_EXIT_FAILURE after a message. */
 static int start_camera(tp_view_scene* v, const view_options* o, tp_store_scene* st, tp_camera* cam)
 {
+    if (o->resume) { /* the store after its preview: where the preview's view was */
+        *cam = o->resume_cam;
+        return TP_EXIT_OK;
+    }
     if (o->vs.has_camera && !take_georef(v, st)) /* --camera-geo */
         return TP_EXIT_FAILURE;
     if (o->vs.has_camera) {
@@ -123,7 +128,9 @@ static int start_camera(tp_view_scene* v, const view_options* o, tp_store_scene*
     }
     if (o->bookmark && (!take_georef(v, st) || !tp_view_bookmark_camera(v, o, o->bookmark, cam)))
         return TP_EXIT_FAILURE;
-    if (o->save_bookmark) {
+    /* saved once: by a window's preview (whose start the store's view goes on from), by the
+     * store's run of headless frames (whose start is a warm cache's) */
+    if (o->save_bookmark && !(o->preview && o->headless)) {
         char line[1024];
         tp_error err = {{0}};
         if (!take_georef(v, st) ||
@@ -188,9 +195,11 @@ static int run_view(tp_view_scene* v, view_options* o, tp_render_grid_desc* gd, 
     if (code != TP_EXIT_OK)
         return code;
     tp_error err = {{0}};
-    tp_gl_context* ctx = NULL;
-    int ok = o->headless ? tp_gl_context_create_headless(o->vs.w, o->vs.h, &ctx, &err)
-                         : tp_gl_context_create_window(o->vs.w, o->vs.h, "terrapatch", &ctx, &err);
+    tp_gl_context* ctx = o->ctx; /* kept from a preview's run */
+    o->ctx = NULL;
+    int ok = ctx || (o->headless
+                         ? tp_gl_context_create_headless(o->vs.w, o->vs.h, &ctx, &err)
+                         : tp_gl_context_create_window(o->vs.w, o->vs.h, "terrapatch", &ctx, &err));
     if (!ok) {
         tp_cli_error("%s", err.message);
         return TP_EXIT_FAILURE;
@@ -224,18 +233,21 @@ static int run_view(tp_view_scene* v, view_options* o, tp_render_grid_desc* gd, 
                      v->path);
         code = TP_EXIT_USAGE;
     }
-    if (code == TP_EXIT_OK && st && !open_imagery(v, o, st))
+    /* a preview drapes nothing: imagery, light maps and layers are made for the store */
+    if (code == TP_EXIT_OK && st && !o->preview && !open_imagery(v, o, st))
         code = TP_EXIT_FAILURE;
     if (code == TP_EXIT_OK) /* the sun over the map's centre, its cast shadows */
         code = tp_view_shadows_open(v, o, st, &shadow);
     tp_view_layers layers;
     memset(&layers, 0, sizeof layers);
     /* a window always has them (F2); headless frames when asked */
-    if (code == TP_EXIT_OK && (o->overlay_count || o->contours || (!o->headless && v->store)))
+    if (code == TP_EXIT_OK && !o->preview &&
+        (o->overlay_count || o->contours || (!o->headless && v->store)))
         code = tp_view_load_layers(v, o, &layers);
     if (code == TP_EXIT_OK)
-        code = o->headless ? tp_view_headless_run(v, ctx, r, &cam, o)
-                           : tp_view_window_run(v, ctx, r, &cam, o);
+        code = o->headless && o->preview ? tp_view_headless_preview(v, ctx, r, &cam, o)
+               : o->headless             ? tp_view_headless_run(v, ctx, r, &cam, o)
+                                         : tp_view_window_run(v, ctx, r, &cam, o);
     tp_view_layers_free(&layers);
     tp_ground_destroy(o->ground);
     o->ground = NULL;
@@ -248,7 +260,10 @@ static int run_view(tp_view_scene* v, view_options* o, tp_render_grid_desc* gd, 
     tp_pgm_clipmap_destroy(pgm_clip);
     tp_pgm_pyramid_free(&pyr);
     tp_renderer_destroy(r);
-    tp_gl_context_destroy(ctx);
+    if (o->keep_ctx && code == TP_EXIT_OK)
+        o->ctx = ctx; /* the store's run draws in the same window */
+    else
+        tp_gl_context_destroy(ctx);
     return code;
 }
 
@@ -333,6 +348,54 @@ static int view_store(const char* path, view_options* o)
     return code;
 }
 
+/* A DEM's grid of more samples than this is built after a preview of at most as many
+ * (store_cache.h, tp_store_cache_begin): docs/PERFORMANCE.md, "First picture of a new DEM". */
+#define VIEW_PREVIEW_SAMPLES 300000.0
+
+/* The preview's size: VIEW_PREVIEW_SAMPLES, or TP_VIEW_PREVIEW_SAMPLES (tests draw previews of
+ * small DEMs; 0: never a preview). -1 after a message when that is not a number >= 0. */
+static double preview_samples(void)
+{
+    const char* env = getenv("TP_VIEW_PREVIEW_SAMPLES");
+    if (!env || !*env)
+        return VIEW_PREVIEW_SAMPLES;
+    char* end = NULL;
+    const double v = strtod(env, &end);
+    if (*end != '\0' || !(v >= 0)) {
+        tp_cli_error("TP_VIEW_PREVIEW_SAMPLES=%s: expected a number of samples >= 0", env);
+        return -1;
+    }
+    return v;
+}
+
+/* A DEM whose store the cache is building (job): the preview store drawn first (headless: one
+ * frame; a window: until the store lands), then the store, in the same context (a window from
+ * the preview's camera, headless frames as from a warm cache). A window closed during the
+ * preview leaves the build to finish first. */
+static int view_progressive(const char* store, const char* preview, tp_store_cache_job* job,
+                            view_options* o)
+{
+    o->job = job;
+    o->preview = o->keep_ctx = 1;
+    o->first.coarsen = tp_store_cache_job_coarsen(job);
+    int code = view_store(preview, o);
+    if (code == TP_EXIT_OK && !o->refine && !tp_interrupted() && !tp_store_cache_job_done(job))
+        tp_cli_note("finishing the store's build (Ctrl-C stops it; it is built again next time)");
+    const int built = tp_store_cache_job_finish(job); /* after its message, if it failed */
+    o->first.store_ms = tp_clock_ms_since_start();
+    o->job = NULL;
+    o->preview = o->keep_ctx = 0;
+    if (built != TP_EXIT_OK || code != TP_EXIT_OK || !o->refine) {
+        tp_gl_context_destroy(o->ctx);
+        o->ctx = NULL;
+        return built != TP_EXIT_OK ? built : code;
+    }
+    /* a window goes on from where the preview's view was; headless frames are a warm
+     * cache's, from the store's own start camera */
+    o->resume = !o->headless;
+    return view_store(store, o);
+}
+
 int tp_cli_view(int argc, char** argv)
 {
     view_options o;
@@ -382,12 +445,16 @@ int tp_cli_view(int argc, char** argv)
     } else {
         /* every other DEM (GDAL's virtual paths too) through its store in the cache, built
          * with the view's --patch (17 unless given) */
-        char store[4096];
+        char store[4096], preview[4096];
         int temporary = 0;
-        code = tp_terrain_store("view", o.path, &o.scene, o.cache_dir, store, sizeof store,
-                                &temporary);
+        tp_store_cache_job* job = NULL;
+        const double samples = preview_samples();
+        if (samples < 0)
+            return TP_EXIT_USAGE;
+        code = tp_terrain_store_begin("view", o.path, &o.scene, o.cache_dir, samples, store,
+                                      sizeof store, &temporary, preview, sizeof preview, &job);
         if (code == TP_EXIT_OK)
-            code = view_store(store, &o);
+            code = job ? view_progressive(store, preview, job, &o) : view_store(store, &o);
         if (temporary)
             tp_store_cache_remove_temporary(store);
     }

@@ -117,8 +117,25 @@ void tp_view_frame(tp_view_scene* v, tp_renderer* r, const tp_camera* cam,
     out->bound_near_nodes = cs.near_plane_nodes;
 }
 
+/* "first_frame": when the view's first picture was finished and from what (view.h). */
+static void write_first(tp_json* j, const tp_view_first* first)
+{
+    tp_json_key(j, "first_frame");
+    tp_json_object_begin(j);
+    tp_json_member_number(j, "ms", first->ms);
+    tp_json_member_string(j, "from", first->preview ? "preview" : first->dem ? "dem" : "store");
+    if (first->preview) {
+        tp_json_member_int(j, "preview_coarsen", first->coarsen);
+        tp_json_member_bool(j, "build_running", first->build_running);
+    }
+    if (first->store_ms >= 0)
+        tp_json_member_number(j, "store_ms", first->store_ms);
+    tp_json_object_end(j);
+}
+
 int tp_view_write_stats(const char* path, const frame_result* f, const tp_error_measure* em,
-                        double max_px, double rms_px, int levels, const tp_camera* cam)
+                        double max_px, double rms_px, int levels, const tp_camera* cam,
+                        const tp_view_first* first)
 {
     tp_atomic_file file;
     if (!tp_atomic_open(&file, path))
@@ -213,6 +230,8 @@ int tp_view_write_stats(const char* path, const frame_result* f, const tp_error_
     }
 #undef KEY_NUM
 #undef KEY_SIZE
+    if (first && first->known)
+        write_first(&j, first);
     tp_json_object_end(&j);
     return tp_atomic_commit(&file);
 }

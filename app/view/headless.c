@@ -14,6 +14,9 @@
 #include "layers.h"
 #include "overlay.h"
 #include "pick.h"
+#include "store_cache.h"
+
+#include <epoxy/gl.h>
 
 #include <math.h>
 #include <stdio.h>
@@ -113,10 +116,43 @@ static int outputs(tp_view_scene* v, tp_gl_context* ctx, const tp_camera* cam,
         tp_view_scene_measure(v, cam, &max_m, &rms_m, &max_px, &rms_px);
         tp_error_measure em = {.max_error_m = max_m, .rms_error_m = rms_m};
         if (!tp_view_write_stats(o->stats_json, fr, v->store && !v->pgm ? NULL : &em, max_px,
-                                 rms_px, v->n + 1, cam))
+                                 rms_px, v->n + 1, cam, &o->first))
             code = TP_EXIT_FAILURE;
     }
     return code;
+}
+
+/* Records the first picture, once drawn, into o->first: finished (glFinish), timed from the
+ * process's start. */
+static void first_drawn(const tp_view_scene* v, view_options* o, int coarsen)
+{
+    glFinish();
+    o->first.known = 1;
+    o->first.ms = tp_clock_ms_since_start();
+    o->first.preview = o->preview;
+    o->first.coarsen = coarsen;
+    o->first.dem = v->dem != NULL;
+    o->first.build_running = o->job && !tp_store_cache_job_done(o->job);
+    if (!o->job)
+        o->first.store_ms = -1;
+}
+
+int tp_view_headless_preview(tp_view_scene* v, tp_gl_context* ctx, tp_renderer* r,
+                             const tp_camera* cam, view_options* o)
+{
+    frame_result fr = {0};
+    tp_view_scene_set_vertical_scale(v, o->render.exaggeration);
+    tp_view_scene_settle(v, cam, &o->vs.lod, 120);
+    tp_gl_context_begin_frame(ctx);
+    tp_render_settings rs = o->render;
+    rs.grid_m = tp_view_grid_spacing(v, cam, o->render.grid_m);
+    tp_view_frame(v, r, cam, &rs, &o->vs.lod, 0, &fr);
+    tp_gl_context_end_frame(ctx);
+    first_drawn(v, o, o->first.coarsen);
+    tp_store_cache_job_start(o->job);
+    o->resume_cam = *cam;
+    o->refine = 1;
+    return TP_EXIT_OK;
 }
 
 int tp_view_headless_run(tp_view_scene* v, tp_gl_context* ctx, tp_renderer* r, const tp_camera* cam,
@@ -158,6 +194,8 @@ int tp_view_headless_run(tp_view_scene* v, tp_gl_context* ctx, tp_renderer* r, c
         }
         tp_view_overlay_draw(hud, v, cam, &ov);
         tp_gl_context_end_frame(ctx);
+        if (!o->first.known) /* the view's first picture (a preview's run times its own) */
+            first_drawn(v, o, 0);
     }
     tp_hud_destroy(hud);
     return outputs(v, ctx, cam, o, &fr, measured, measure_line);

@@ -13,12 +13,28 @@
 #define TP_APP_VIEW_H
 
 #include "gl_context.h"
+#include "navigate.h"
 #include "renderer.h"
 #include "scene.h"
 #include "view_options.h"
 #include "view_scene.h"
 #include "clipmap.h"
 #include "sun_view.h"
+
+/* The first picture of a view (cmd_view.c): when it was drawn, and from what. A DEM whose store
+ * the cache must build first draws a preview of it (a coarser store, store_cache.h) while the
+ * store is built on a thread, then the store once it lands. */
+typedef struct tp_view_first {
+    int known;         /* a frame was drawn: the fields below are set */
+    double ms;         /* it was finished (glFinish), ms since the process started */
+    int preview;       /* drawn from the preview store, every coarsen-th post */
+    int dem;           /* drawn from a DEM drawn whole (else a store) */
+    int coarsen;
+    int build_running; /* the store's build had not ended when it was drawn */
+    double store_ms;   /* the store's build ended (< 0: no build ran after the first frame) */
+} tp_view_first;
+
+struct tp_store_cache_job;
 
 typedef struct view_options {
     tp_scene_options scene;
@@ -58,6 +74,20 @@ typedef struct view_options {
     double contours_m;               /* its interval (0: chosen from the relief) */
     struct tp_view_layers* layers;   /* loaded before the frames (run_view), or NULL */
     struct tp_ground* ground;        /* the layers' ground (run_view owns it), or NULL */
+    /* a preview drawn while the store is built (cmd_view.c, view_progressive) */
+    struct tp_store_cache_job* job;  /* the store's build: started after the first frame */
+    int preview;                     /* this run draws the preview: headless, one frame and no
+                                        outputs; a window, until the job has ended */
+    int refine;                      /* set by a preview's run: go on with the store */
+    int resume;                      /* the run starts from resume_cam (the preview's camera) */
+    tp_camera resume_cam;
+    tp_gl_context* ctx;              /* a context kept from the preview's run to the store's */
+    int keep_ctx;
+    struct {                         /* the window's state kept from the preview's run */
+        int set, shots, exports, frozen, show_hud, show_details, show_help;
+        tp_nav nav;                  /* orbit or flight, and the view Home returns to */
+    } window_keep;
+    tp_view_first first;
 } view_options;
 
 typedef struct frame_result {
@@ -107,8 +137,15 @@ int tp_view_screenshot(tp_gl_context* ctx, const char* path);
 
 /* Writes the statistics JSON (atomically); 0 after a message. */
 int tp_view_write_stats(const char* path, const frame_result* f, const tp_error_measure* em,
-                        double max_px, double rms_px, int levels, const tp_camera* cam);
-/* em NULL: no metre errors (a store's frame). */
+                        double max_px, double rms_px, int levels, const tp_camera* cam,
+                        const tp_view_first* first);
+/* em NULL: no metre errors (a store's frame). first: the view's first picture ("first_frame"),
+ * or NULL. */
+
+/* headless.c: the preview's first frame (o->preview): drawn once for cam, finished, timed into
+ * o->first; then the store's build is started. Returns an exit code. */
+int tp_view_headless_preview(tp_view_scene* v, tp_gl_context* ctx, tp_renderer* r,
+                             const tp_camera* cam, view_options* o);
 
 /* Builds the texture of --texture for the render grid and hands it to the renderer; 0 after a
  * message. */

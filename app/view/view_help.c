@@ -9,7 +9,8 @@ void tp_view_print_help(void)
           "\n"
           "Shows DEM (default: the sample " TP_SAMPLE_SCENE ") as shaded terrain through its\n"
           "hierarchy, each node at its own level of detail, loading nodes as the view needs them.\n"
-          "A DEM is built into a store first (once, in the cache directory; reused next time).\n"
+          "A DEM is built into a store first (once, in the cache directory; reused next time);\n"
+          "a large one is drawn from a coarse preview meanwhile, then from the store.\n"
           "In a window when there is a display; --headless renders offscreen (EGL, no display\n"
           "needed) and writes --screenshot.\n"
           "\n",

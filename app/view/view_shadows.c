@@ -20,10 +20,10 @@ int tp_view_shadows_open(tp_view_scene* v, view_options* o, const tp_store_scene
         tp_cli_error("--light shadows stores; %s is drawn whole", v->path);
         return TP_EXIT_USAGE;
     }
-    if (!o->sun_date && !o->light)
+    if (!o->sun_date && (!o->light || o->preview)) /* a light map is made for the store */
         return TP_EXIT_OK;
     char beside[4096];
-    const char* path = o->light;
+    const char* path = o->preview ? NULL : o->light;
     if (!path && st && !o->no_cast_shadows && tp_view_light_beside(st->path, beside, sizeof beside))
         path = beside;
     if (path) {
@@ -58,7 +58,8 @@ int tp_view_shadows_open(tp_view_scene* v, view_options* o, const tp_store_scene
     v->shadow_ground = o->no_cast_shadows ? NULL : o->ground;
     char line[256];
     tp_view_sun_text(&o->sun, line, sizeof line);
-    tp_cli_note("%s", line);
+    if (!o->preview) /* said once, by the store's run */
+        tp_cli_note("%s", line);
     if (v->light) {
         double t0, t1;
         int maps;

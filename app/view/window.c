@@ -15,6 +15,7 @@
 #include "overlay.h"
 #include "pick.h"
 #include "point_readout.h"
+#include "store_cache.h"
 #include "tp_geo.h"
 #include "view_bookmarks.h"
 
@@ -402,6 +403,37 @@ static tp_nav_controls controls(const tp_input* in, double look_dx, double look_
     return c;
 }
 
+/* A preview's run ends when the store lands, and the store's run goes on from its state:
+ * save (1) the keys' state, the level of detail and the navigation into o, or take (0) them. */
+static void window_keep(window_state* s, view_options* o, int save)
+{
+    if (save) {
+        o->window_keep.set = 1;
+        o->window_keep.shots = s->shots, o->window_keep.exports = s->exports;
+        o->window_keep.frozen = s->frozen, o->window_keep.show_hud = s->show_hud;
+        o->window_keep.show_details = s->show_details, o->window_keep.show_help = s->show_help;
+        o->window_keep.nav = s->nav;
+        o->vs.lod = s->lod;
+        return;
+    }
+    s->shots = o->window_keep.shots, s->exports = o->window_keep.exports;
+    s->frozen = o->window_keep.frozen, s->show_hud = o->window_keep.show_hud;
+    s->show_details = o->window_keep.show_details, s->show_help = o->window_keep.show_help;
+    s->nav = o->window_keep.nav;
+}
+
+/* The window's title: frame rate, triangles, mode, and what a preview is. */
+static void window_title(const window_state* s, double fps, size_t triangles, char* out,
+                         size_t cap)
+{
+    char preview[96] = ""; /* what is drawn until the store lands */
+    if (s->o->preview)
+        snprintf(preview, sizeof preview, " - a preview of every %d%s post: building the store",
+                 s->o->first.coarsen, s->o->first.coarsen == 2 ? "nd" : "th");
+    snprintf(out, cap, "terrapatch - %.1f fps, %zu triangles, %s mode%s%s", fps, triangles,
+             s->nav.orbit ? "orbit" : "fly", s->frozen ? " (LoD frozen)" : "", preview);
+}
+
 int tp_view_window_run(tp_view_scene* v, tp_gl_context* ctx, tp_renderer* r, tp_camera* cam,
                        view_options* o)
 {
@@ -418,19 +450,35 @@ int tp_view_window_run(tp_view_scene* v, tp_gl_context* ctx, tp_renderer* r, tp_
                       .ground = o->ground};
     const double* gt = v->gt;
     tp_nav_init(&s.nav, cam, fmax(v->src_width * fabs(gt[1]), v->src_height * fabs(gt[5])));
+    if (o->window_keep.set) /* the store after its preview: the keys' state goes on */
+        window_keep(&s, o, 0);
     tp_hud* hud = tp_hud_create();
     tp_measured_error me = {0};
     double measured_at = -1e9, fps = 0, last = glfwGetTime(), mx0 = 0, my0 = 0;
-    int dragging = 0, frames = 0;
+    int dragging = 0, frames = 0, idle = 0;
     /* Ctrl-C kills the window at once, except during a screenshot or an export (Y): then the
      * writer cleans up, and the loop ends here (main exits with 130/143). */
     while (!glfwWindowShouldClose(win) && !s.quit && !tp_interrupted()) {
+        if (o->preview && tp_store_cache_job_done(o->job)) { /* the store landed: go on there */
+            o->refine = 1;
+            o->resume_cam = *cam;
+            window_keep(&s, o, 1);
+            break;
+        }
         tp_input_begin_frame(&in);
-        glfwPollEvents();
+        /* over a preview, a still view is drawn 10 times a second: the store's build on the
+         * other thread gets the cores that llvmpipe would take */
+        if (idle)
+            glfwWaitEventsTimeout(0.1);
+        else
+            glfwPollEvents();
+        const tp_camera before = *cam;
+        int events = 0;
         double now = glfwGetTime(), dt = now - last;
         last = now;
         tp_input_event ev;
         while (tp_input_next(&in, &ev)) {
+            events++;
             if (ev.kind == TP_INPUT_KEY && bookmark_key(&s, ev.key, ev.mods))
                 continue;
             if (ev.kind == TP_INPUT_KEY)
@@ -466,6 +514,7 @@ int tp_view_window_run(tp_view_scene* v, tp_gl_context* ctx, tp_renderer* r, tp_
             if (!isnan(tz))
                 s.nav.target[2] = tz * zs;
         }
+        idle = o->preview && !events && !left && !memcmp(&before, cam, sizeof before);
         int w, h;
         glfwGetFramebufferSize(win, &w, &h);
         cam->viewport_w_px = w > 0 ? w : 1;
@@ -525,10 +574,9 @@ int tp_view_window_run(tp_view_scene* v, tp_gl_context* ctx, tp_renderer* r, tp_
             s.want_shot = 0;
         }
         tp_gl_context_end_frame(ctx);
+        tp_store_cache_job_start(o->job); /* a preview drawn: the store's build goes on */
         char title[256];
-        snprintf(title, sizeof title, "terrapatch - %.1f fps, %zu triangles, %s mode%s", fps,
-                 fr.core.triangles, s.nav.orbit ? "orbit" : "fly",
-                 s.frozen ? " (LoD frozen)" : "");
+        window_title(&s, fps, fr.core.triangles, title, sizeof title);
         glfwSetWindowTitle(win, title);
     }
     tp_hud_destroy(hud);

@@ -33,7 +33,10 @@ using tpio::fail;
  */
 namespace {
 volatile std::sig_atomic_t g_signal = 0; /* the signal caught while held, or 0 */
-volatile std::sig_atomic_t g_holds = 0;  /* live temporaries (only the main thread changes it) */
+/* live temporaries and holds: any thread changes it (the store cache builds a store on one while
+ * the viewer draws on another); lock-free, so the handler may read it */
+std::atomic<int> g_holds{0};
+static_assert(std::atomic<int>::is_always_lock_free, "the signal handler reads g_holds");
 
 extern "C" void on_signal(int sig)
 {
@@ -65,12 +68,13 @@ extern "C" void tp_interrupt_install(void)
 
 extern "C" int tp_interrupted(void) { return (int)g_signal; }
 
-extern "C" void tp_interrupt_hold(void) { g_holds = g_holds + 1; }
+extern "C" void tp_interrupt_hold(void) { g_holds.fetch_add(1); }
 
 extern "C" void tp_interrupt_release(void)
 {
-    if (g_holds > 0)
-        g_holds = g_holds - 1;
+    int n = g_holds.load();
+    while (n > 0 && !g_holds.compare_exchange_weak(n, n - 1))
+        ;
 }
 
 extern "C" void tp_interrupt_finished(void)

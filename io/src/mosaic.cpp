@@ -53,6 +53,16 @@ bool same_spacing(double a, double b)
     return std::fabs(a - b) <= 1e-9 * std::max(std::fabs(a), std::fabs(b));
 }
 
+/* A preview's warp: each post takes its nearest source post (a filter as wide as the coarse
+ * spacing would read every source post for each: several times slower, for a picture that
+ * lasts seconds). */
+void coarse_sampling(std::vector<std::string>& args)
+{
+    for (size_t i = 0; i + 1 < args.size(); i++)
+        if (args[i] == "-r")
+            args[i + 1] = "near";
+}
+
 /* The value GDAL writes into a Float32 buffer for a nodata tag (clamped to the float range). */
 float as_float(double v)
 {
@@ -142,6 +152,28 @@ tpio::Dataset warp_vrt(tp_mosaic* m, GDALDataset* src, const std::vector<std::st
     return tpio::Dataset(GDALDataset::Open(dst.c_str(), GDAL_OF_RASTER | GDAL_OF_READONLY));
 }
 
+/* A preview's source: src with every f-th post of each row and column (nearest), as a /vsimem/
+ * VRT, so that the warp onto the coarse grid reads a sixteenth of it, not all of it for each
+ * chunk (f = 4: 1.7 s -> 0.2 s for a 3601x3601 tile). Null when GDAL fails. */
+tpio::Dataset decimated(tp_mosaic* m, GDALDataset* src, int f)
+{
+    Args a;
+    a.s = {"-of", "VRT", "-r", "nearest", "-outsize",
+           std::to_string((src->GetRasterXSize() + f - 1) / f),
+           std::to_string((src->GetRasterYSize() + f - 1) / f)};
+    GDALTranslateOptions* o = GDALTranslateOptionsNew(a.get(), nullptr);
+    if (!o)
+        return nullptr;
+    int usage = 0;
+    const std::string dst = vsimem_name(m, "decimated");
+    GDALDatasetH h = GDALTranslate(dst.c_str(), GDALDataset::ToHandle(src), o, &usage);
+    GDALTranslateOptionsFree(o);
+    if (!h)
+        return nullptr;
+    GDALClose(h); /* written on close; reopened by name, as the warp refers to it */
+    return tpio::Dataset(GDALDataset::Open(dst.c_str(), GDAL_OF_RASTER | GDAL_OF_READONLY));
+}
+
 /* What open_mosaic works from: its arguments, and the sources once opened. */
 struct Opening {
     const char* const* paths = nullptr;
@@ -155,6 +187,7 @@ struct Opening {
 
     tp_status open_sources(tp_mosaic* m, tp_error* err);
     tp_status open_shared(tp_mosaic* m, tp_error* err);
+    tp_status open_coarse(tp_mosaic* m, tpio::Dataset base, const double bgt[6], tp_error* err);
     tp_status render_crs(OGRSpatialReference& dst, tp_error* err) const;
     tp_status open_warped(tp_mosaic* m, tp_error* err);
     tp_status finish_open(tp_mosaic* m, tp_error* err) const;
@@ -267,8 +300,12 @@ tp_status Opening::open_shared(tp_mosaic* m, tp_error* err)
     }
     if (!plan.warnings.empty())
         add_note(m->notes, plan.warnings);
+    const int coarsen = o.coarsen > 1 ? o.coarsen : 1;
     if (plan.warp) {
+        plan.res *= coarsen;
         std::vector<std::string> args = tpio::render_grid_warp_args(plan, "VRT");
+        if (coarsen > 1)
+            coarse_sampling(args);
         if (untagged_int16 && count == 1) { /* -32767 read as -32768 first */
             base = int16_voids_as_one(m, src[0]);
             if (!base)
@@ -276,6 +313,9 @@ tp_status Opening::open_shared(tp_mosaic* m, tp_error* err)
                             tpio::gdal_message().c_str());
             args.insert(args.end(), {"-srcnodata", "-32768"});
         }
+        if (coarsen > 1 && !(base = decimated(m, base.get(), coarsen)))
+            return fail(err, TP_ERR_BACKEND, "%s: a preview: %s", paths[0],
+                        tpio::gdal_message().c_str());
         /* the plan's source CRS: --crs, or EPSG:4326 for a grid plainly in degrees */
         args.insert(args.end(), {"-s_srs", tpio::crs_wkt2(plan.src)});
         tpio::Dataset w = warp_vrt(m, base.get(), args, "warp");
@@ -292,10 +332,13 @@ tp_status Opening::open_shared(tp_mosaic* m, tp_error* err)
                         plan.t_srs.c_str(), tpio::gdal_message().c_str());
         m->back_geographic = plan.src.IsGeographic();
         std::memcpy(m->sgt, bgt, sizeof bgt);
-        m->sw = base->GetRasterXSize();
-        m->sh = base->GetRasterYSize();
+        m->sw = pd.dem.width; /* the grid's, before a preview's decimation */
+        m->sh = pd.dem.height;
         m->warped = true;
         m->ds = std::move(w); /* it opens the mosaic itself, by name */
+    } else if (coarsen > 1) { /* a grid already in metres, resampled at coarser posts */
+        if (const tp_status st = open_coarse(m, std::move(base), bgt, err))
+            return st;
     } else {
         m->ds = std::move(base);
     }
@@ -307,6 +350,33 @@ tp_status Opening::open_shared(tp_mosaic* m, tp_error* err)
     } else {
         std::snprintf(m->crs_name, sizeof m->crs_name, "local metres (no CRS)");
     }
+    return TP_OK;
+}
+
+/* A preview's grid (o.coarsen > 1) over base, a grid in metres that needs no warp: base
+ * resampled onto posts coarsen times farther apart (bgt: its geotransform). */
+tp_status Opening::open_coarse(tp_mosaic* m, tpio::Dataset base, const double bgt[6],
+                               tp_error* err)
+{
+    const double res = std::fabs(bgt[1]) * o.coarsen;
+    const std::string tr = CPLSPrintf("%.17g", res);
+    std::vector<std::string> args = {"-tr", tr, tr, "-r", "near", "-et", "0", "-dstnodata",
+                                     "nan", "-ot", "Float32", "-of", "VRT"};
+    if (untagged_int16 && count == 1) { /* -32767 read as -32768 first */
+        base = int16_voids_as_one(m, src[0]);
+        if (!base)
+            return fail(err, TP_ERR_BACKEND, "%s: %s", paths[0], tpio::gdal_message().c_str());
+        args.insert(args.end(), {"-srcnodata", "-32768"});
+    }
+    if (!(base = decimated(m, base.get(), o.coarsen)))
+        return fail(err, TP_ERR_BACKEND, "%s: a preview: %s", paths[0],
+                    tpio::gdal_message().c_str());
+    tpio::Dataset w = warp_vrt(m, base.get(), args, "coarse");
+    if (!w)
+        return fail(err, TP_ERR_BACKEND, "%s: resampling for a preview failed: %s", paths[0],
+                    tpio::gdal_message().c_str());
+    m->warped = true;
+    m->ds = std::move(w);
     return TP_OK;
 }
 
@@ -395,6 +465,8 @@ tp_status Opening::open_warped(tp_mosaic* m, tp_error* err)
                                       100.0 * (1.0 - m->covered_share)));
     if (!std::isfinite(res) || res <= 0)
         return fail(err, TP_ERR_BACKEND, "%s: could not measure the post spacing", paths[0]);
+    if (o.coarsen > 1)
+        res *= o.coarsen;
     /* a grid aligned on the spacing, holding every source */
     const double x0 = std::floor(ext[0] / res) * res, y1 = std::ceil(ext[3] / res) * res;
     const double x1 = x0 + std::ceil((ext[2] - x0) / res) * res;
@@ -417,6 +489,8 @@ tp_status Opening::open_warped(tp_mosaic* m, tp_error* err)
             CPLSPrintf("%.17g", y0), CPLSPrintf("%.17g", x1), CPLSPrintf("%.17g", y1), "-r",
             o.resampling == TP_RESAMPLING_CUBIC ? "cubic" : "bilinear", "-et", "0",
             "-dstnodata", "nan", "-ot", "Float32", "-of", "VRT"};
+        if (o.coarsen > 1)
+            coarse_sampling(args);
         if (s.int16_voids())
             args.insert(args.end(), {"-srcnodata", "-32768"});
         if (has_over) /* as the warp's, not the file's: see the shared grid's --crs */
@@ -533,6 +607,10 @@ tp_status open_mosaic(const char* const* paths, size_t count, const tp_mosaic_op
     if (const tp_status st = share_one_grid(op.src) ? op.open_shared(m, err)
                                                     : op.open_warped(m, err))
         return st;
+    if (o.coarsen > 1)
+        add_note(m->notes, CPLSPrintf("a preview: posts %d times farther apart than the "
+                                      "grid's",
+                                      o.coarsen));
     return op.finish_open(m, err);
 }
 

@@ -52,6 +52,13 @@ struct tp_mosaic {
     tpio::ZUnit other_unit; /* of other's heights: what is read is multiplied by its to_m */
     std::vector<float> win, win_other;
     int win_y0 = 0, win_rows = 0;
+    /* rows read, as read_raw left them (and of other), kept in a ring of rc_cap rows (row y in
+     * slot y % rc_cap, rc_row[slot] = y or -1): a window that shrinks to the next band and
+     * grows again over a void's crop takes them from here instead of GDAL (the warp and the
+     * hull's transforms again). The same values as a read. */
+    std::vector<float> rc, rc_other;
+    std::vector<int> rc_row;
+    int rc_cap = 0;
     int counted_to = 0;
     size_t filled = 0, from_other = 0, too_large = 0;
     std::vector<uint8_t> filled_mask;

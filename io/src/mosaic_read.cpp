@@ -60,6 +60,51 @@ tp_status read_other(tp_mosaic* m, int y0, int rows, float* out, tp_error* err)
     return TP_OK;
 }
 
+/* Rows y0 .. y1-1 as read (into z) and of the second source (into o, when there is one),
+ * through the ring of rows read before (tp_mosaic::rc): what it holds is copied, the rest read
+ * in runs and kept there. */
+tp_status read_cached(tp_mosaic* m, int y0, int y1, float* z, float* o, tp_error* err)
+{
+    const size_t w = (size_t)m->w;
+    if (m->rc_cap == 0) { /* the tallest crop a void may need and a band of 65 rows around it:
+                           * 4 bytes a sample of a row where the window has 60 (mosaic.cpp) */
+        const long long cap = std::min<long long>(m->h, (long long)m->fill_max_rows + 72);
+        m->rc_cap = (int)cap;
+        m->rc.assign((size_t)cap * w, 0.0f);
+        if (m->other)
+            m->rc_other.assign((size_t)cap * w, 0.0f);
+        m->rc_row.assign((size_t)cap, -1);
+    }
+    auto slot = [&](int y) { return (size_t)(y % m->rc_cap); };
+    for (int y = y0; y < y1;) {
+        if (m->rc_row[slot(y)] == y) {
+            std::memcpy(z + (size_t)(y - y0) * w, m->rc.data() + slot(y) * w, w * sizeof(float));
+            if (o)
+                std::memcpy(o + (size_t)(y - y0) * w, m->rc_other.data() + slot(y) * w,
+                            w * sizeof(float));
+            y++;
+            continue;
+        }
+        int e = y + 1; /* a run of rows not held */
+        while (e < y1 && m->rc_row[slot(e)] != e)
+            e++;
+        if (const tp_status st = read_raw(m, y, e - y, z + (size_t)(y - y0) * w, err))
+            return st;
+        if (o)
+            if (const tp_status st = read_other(m, y, e - y, o + (size_t)(y - y0) * w, err))
+                return st;
+        for (int r = y; r < e; r++) {
+            std::memcpy(m->rc.data() + slot(r) * w, z + (size_t)(r - y0) * w, w * sizeof(float));
+            if (o)
+                std::memcpy(m->rc_other.data() + slot(r) * w, o + (size_t)(r - y0) * w,
+                            w * sizeof(float));
+            m->rc_row[slot(r)] = r;
+        }
+        y = e;
+    }
+    return TP_OK;
+}
+
 /* Makes the window rows a .. b-1 (as read, and of the second source), keeping the rows the old
  * window shares with it. */
 tp_status load_window(tp_mosaic* m, int a, int b, tp_error* err)
@@ -84,11 +129,10 @@ tp_status load_window(tp_mosaic* m, int a, int b, tp_error* err)
     for (const auto& r : ranges) {
         if (r[1] <= r[0])
             continue;
-        if (const tp_status st = read_raw(m, r[0], r[1] - r[0], rows_of(nw, r[0]), err))
+        if (const tp_status st =
+                read_cached(m, r[0], r[1], rows_of(nw, r[0]), two ? rows_of(no, r[0]) : nullptr,
+                            err))
             return st;
-        if (two)
-            if (const tp_status st = read_other(m, r[0], r[1] - r[0], rows_of(no, r[0]), err))
-                return st;
     }
     m->win.swap(nw), m->win_other.swap(no);
     m->win_y0 = a, m->win_rows = b - a;

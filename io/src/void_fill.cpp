@@ -41,7 +41,12 @@ tp_status interpolate(std::vector<float>& c, int cw, int ch, const double gt[6],
     if (!ds)
         return fail(err, TP_ERR_BACKEND, "void filling: %s", tpio::gdal_message().c_str());
     GDALRasterBand* band = ds->GetRasterBand(1);
-    if (GDALFillNodata(GDALRasterBand::ToHandle(band), nullptr, reach, 0, 0, nullptr, nullptr,
+    /* GDAL's work rasters in memory, not as GeoTIFFs created and deleted in the working
+     * directory for every void (two files a crop: 30% of a tile's build went there, and a
+     * read-only working directory failed the fill); the same values either way */
+    char mem[] = "TEMP_FILE_DRIVER=MEM";
+    char* options[] = {mem, nullptr};
+    if (GDALFillNodata(GDALRasterBand::ToHandle(band), nullptr, reach, 0, 0, options, nullptr,
                        nullptr) != CE_None ||
         band->RasterIO(GF_Read, 0, 0, cw, ch, c.data(), cw, ch, GDT_Float32, 0, 0, nullptr) !=
             CE_None)

@@ -88,7 +88,8 @@ tp_status tp_output_check(const char* path, tp_error* err);
  * after a writer's last look, during the rename, lets that file complete; it is still
  * recorded.)
  * tp_interrupt_hold/release bracket other work that checks tp_interrupted() itself (nested
- * holds count; the writers hold while a temporary lives). Main thread only. */
+ * holds count; the writers hold while a temporary lives). Any thread: the holds are counted
+ * atomically (the store cache writes a store on a thread while the viewer draws). */
 void tp_interrupt_install(void);
 int tp_interrupted(void);
 void tp_interrupt_hold(void);

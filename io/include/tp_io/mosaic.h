@@ -52,6 +52,10 @@ typedef struct tp_mosaic_options {
                                  agree. Heights are read in metres */
     int fill_window_mb;       /* memory for the void window; 0: memory_mb / 8, taken from GDAL's
                                  block cache (which then gets an eighth, not a quarter) */
+    int coarsen;              /* > 1: a coarse grid for a preview: the render grid's posts this
+                                 many times farther apart (the same extent and CRS), every
+                                 source resampled onto it by the warp (its filter widened to the
+                                 spacing, as GDALWarp does when it shrinks); 0 or 1: the grid */
 } tp_mosaic_options;
 
 #define TP_FILL_MAX_ANY 0x7fffffff /* tp_mosaic_options.fill_max: voids of any size */
