@@ -101,7 +101,8 @@ void tp_view_frame(tp_view_scene* v, tp_renderer* r, const tp_camera* cam,
 }
 
 int tp_view_write_stats(const char* path, const frame_result* f, const tp_error_measure* em,
-                        double max_px, double rms_px, int levels, const tp_camera* cam)
+                        double max_px, double rms_px, const tp_cut_error* ce, int levels,
+                        const tp_camera* cam)
 {
     tp_atomic_file file;
     if (!tp_atomic_open(&file, path))
@@ -157,6 +158,18 @@ int tp_view_write_stats(const char* path, const frame_result* f, const tp_error_
     }
     KEY_NUM("max_error_px", max_px);
     KEY_NUM("rms_error_px", rms_px);
+    if (ce) { /* a store's cut: what was measured (null px above when no sample was) */
+        KEY_SIZE("error_samples", ce->samples);
+        KEY_SIZE("error_samples_skipped", ce->skipped);
+        KEY_SIZE("error_leaves", ce->leaves);
+        KEY_SIZE("error_leaves_sampled", ce->leaves_sampled);
+        KEY_SIZE("error_leaves_measured", ce->leaves_measured);
+        KEY_SIZE("error_leaves_read", ce->leaves_read);
+        KEY_SIZE("error_leaves_skipped", ce->leaves_skipped);
+        KEY_SIZE("error_leaves_per_node", (size_t)ce->per_node);
+        KEY_NUM("error_leaf_share",
+                ce->leaves ? (double)ce->leaves_sampled / (double)ce->leaves : NAN);
+    }
     if (!f->store) {
         KEY_NUM("bound_max_error_m", f->core.bound_max_error_m);
         KEY_NUM("bound_rms_error_m", f->core.bound_rms_error_m);

@@ -130,11 +130,16 @@ double tp_view_scene_vertical_scale(const tp_view_scene* v)
  * can hold, 8192 x 8192). */
 #define PGM_MEASURE_MAX_POSTS ((size_t)1 << 26)
 
-void tp_view_scene_measure(const tp_view_scene* v, const tp_camera* cam, double* max_m,
-                           double* rms_m, double* max_px, double* rms_px)
+void tp_view_scene_measure(const tp_view_scene* v, const tp_camera* cam, size_t max_leaves,
+                           double* max_m, double* rms_m, double* max_px, double* rms_px,
+                           tp_cut_error* cut)
 {
     *max_m = *rms_m = NAN;
     *max_px = *rms_px = 0;
+    tp_cut_error ce;
+    memset(&ce, 0, sizeof ce);
+    if (cut)
+        *cut = ce;
     if (v->pgm) {
         tp_pgm_error e;
         tp_error err = {{0}};
@@ -151,7 +156,18 @@ void tp_view_scene_measure(const tp_view_scene* v, const tp_camera* cam, double*
         return;
     }
     if (v->store) {
-        tp_cut_measure_screen_error(v->cut, cam, max_px, rms_px, NULL, NULL);
+        tp_error err = {{0}};
+        static char told[600]; /* once a second in the HUD: each failure once in a row */
+        if (tp_store_scene_measure(v->store, v->cut, cam, max_leaves, 0, &ce, &err) == TP_OK) {
+            *max_px = ce.max_px, *rms_px = ce.rms_px; /* NaN when nothing was measured */
+            if (cut)
+                *cut = ce;
+        } else {
+            *max_px = *rms_px = NAN;
+        }
+        if (err.message[0] && strcmp(err.message, told))
+            tp_cli_error("%s", err.message);
+        snprintf(told, sizeof told, "%s", err.message);
         return;
     }
     tp_error_measure em = {0};

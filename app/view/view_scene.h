@@ -58,9 +58,13 @@ void tp_view_scene_set_vertical_scale(tp_view_scene* v, double scale);
 double tp_view_scene_vertical_scale(const tp_view_scene* v);
 /* The drawn surface's screen error for cam (px); metres where the path measures them (NaN
  * else); PGM's by tp_pgm_renderer_measure (over a store too, over at most 2^26 posts; NaN px
- * when not measured, the reason printed once). */
-void tp_view_scene_measure(const tp_view_scene* v, const tp_camera* cam, double* max_m,
-                           double* rms_m, double* max_px, double* rms_px);
+ * when not measured, the reason printed once). A store's cut: tp_store_scene_measure over at
+ * most about max_leaves leaves (0: every one), its counts in *cut when not NULL (zeroed on
+ * the other paths); px NaN when no sample could be measured (none in view, or none to be
+ * read: never 0 for that), a read failure printed once. */
+void tp_view_scene_measure(const tp_view_scene* v, const tp_camera* cam, size_t max_leaves,
+                           double* max_m, double* rms_m, double* max_px, double* rms_px,
+                           tp_cut_error* cut);
 
 /* A store: selects and streams without drawing until nothing is pending (headless frames are
  * complete), at most timeout_s. Returns the iterations. */
