@@ -40,8 +40,8 @@ typedef struct bench_options {
     int memory_mb;     /* --memory: the stream's budget of decoded nodes; default 1024 */
     int segments;      /* --segments: stretches of continuous flight; default 4 */
     int error_every;   /* --error-every N: measure the error on every N-th frame; default 1 */
-    int error_leaves;  /* --error-leaves N: a store's measured frame reads at most about N
-                          leaves (tp_cut_measure_error's sampling); 0: every leaf */
+    double error_posts; /* --error-posts N: a store's measured frame compares the leaves of at
+                           most about N posts (tp_cut_measure_error's sampling); 0: every leaf */
     int realtime;      /* --realtime: the camera moves by the time that really passed */
     int no_prefetch;   /* --no-prefetch: the stream gets no prefetch cut (what it costs) */
     const char* imagery; /* --imagery FILE.tpi: a configuration with imagery (bench_store.c) */

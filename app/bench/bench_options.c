@@ -139,10 +139,10 @@ static void print_help(void)
         "  --error-every N        measure the screen error on every N-th frame (default 1);\n"
         "                         frames drawn with substitution are reported apart; leaves\n"
         "                         the stream does not hold are read from the store\n"
-        "  --error-leaves N       read at most about N leaves a measured frame (default\n"
-        "                         16384; 0: every leaf under the cut): each drawn node's\n"
-        "                         leaves, every k-th column and row of the large ones, chosen\n"
-        "                         anew each frame (error_leaf_share in the JSON)\n"
+        "  --error-posts N        a store: compare the posts of at most about N/4^n leaves a\n"
+        "                         measured frame (default 4194304; 0: every leaf under the\n"
+        "                         cut): each drawn node's leaves, every k-th column and row of\n"
+        "                         the large ones, chosen anew each frame (error_leaf_share)\n"
         "--json adds rss_mb, rss_anon_mb (/proc/self/status VmRSS, RssAnon; max over the\n"
         "timed frames), resident_mb (the stream's accounting), gpu_mb, first_frame_ms (from\n"
         "the process's start to the end of the first drawn frame) and its parts\n"
@@ -249,7 +249,7 @@ static void set_defaults(bench_options* o)
     o->memory_mb = 1024;
     o->segments = 4;
     o->error_every = 1;
-    o->error_leaves = 16384;
+    o->error_posts = 1 << 22;
     o->runs = 0; /* --runs not given: 3 */
     tp_view_setup_default(&o->vs);
 }
@@ -408,7 +408,7 @@ int tp_bench_parse_options(int argc, char** argv, bench_options* o)
         TP_OPT_INTEGER("--memory", &o->memory_mb, 16, 1 << 20, "megabytes, 16 or more"),
         TP_OPT_INTEGER("--segments", &o->segments, 1, 100000, "a count >= 1"),
         TP_OPT_INTEGER("--error-every", &o->error_every, 1, 100000, "a count >= 1"),
-        TP_OPT_INTEGER("--error-leaves", &o->error_leaves, 0, 1 << 30, "a count >= 0"),
+        TP_OPT_NUMBER("--error-posts", &o->error_posts, 0, 1e15, "a count >= 0"),
         TP_OPT_FLAG("--realtime", &o->realtime),
         TP_OPT_FLAG("--no-prefetch", &o->no_prefetch),
         TP_OPT_TEXT("--imagery", NULL, &o->imagery),

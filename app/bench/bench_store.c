@@ -463,7 +463,7 @@ static void fill_row(store_row* row, const double t[5], const tp_cut_stats* cs,
 }
 
 /* The screen error of frame k (cam, d's cut) into row, outside the timed part: the leaves the
- * stream does not hold read from the store, at most about --error-leaves of them, chosen anew
+ * stream does not hold read from the store, those of at most about --error-posts posts, chosen anew
  * each frame (tp_store_scene_measure). 0 after a message (out of memory); a leaf that cannot
  * be read is said once and left out. */
 static int measure(store_bench* b, store_draw* d, const tp_camera* cam, int k, store_row* row)
@@ -471,7 +471,7 @@ static int measure(store_bench* b, store_draw* d, const tp_camera* cam, int k, s
     static int told; /* a damaged leaf: once a run */
     tp_error err = {{0}};
     double t0 = tp_clock_ms();
-    if (tp_store_scene_measure(&b->sc, d->cut, cam, (size_t)b->o->error_leaves, (uint32_t)k,
+    if (tp_store_scene_measure(&b->sc, d->cut, cam, (size_t)b->o->error_posts, (uint32_t)k,
                                &row->cut, &err) != TP_OK) {
         tp_bench_progress_end();
         tp_cli_error("%s: %s", b->o->dem, err.message);

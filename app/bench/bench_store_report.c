@@ -107,7 +107,7 @@ static void json_result(tp_json* j, const store_bench* b, const store_result* c)
     /* How the cut's measure sampled (tp_cut_measure_error), summed over the measured frames:
      * leaves under the drawn nodes, those chosen (at most per_node x per_node a node), those in
      * view measured, read from the store, not to be had. */
-    tp_json_member_number(j, "error_leaves_budget", b->o->error_leaves);
+    tp_json_member_number(j, "error_posts_budget", b->o->error_posts);
     tp_json_member_number(j, "error_leaves", c->leaves);
     tp_json_member_number(j, "error_leaves_sampled", c->leaves_sampled);
     tp_json_member_number(j, "error_leaves_measured", c->leaves_measured);

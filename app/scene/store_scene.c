@@ -189,10 +189,13 @@ static int read_leaf(void* user, int64_t leaf, uint16_t* samples)
 }
 
 tp_status tp_store_scene_measure(const tp_store_scene* sc, const tp_cut* cut,
-                                 const tp_camera* cam, size_t max_leaves, uint32_t seed,
+                                 const tp_camera* cam, size_t max_posts, uint32_t seed,
                                  tp_cut_error* out, tp_error* err)
 {
-    size_t v = ((size_t)1 << sc->info.header.geometry.n) + 1;
+    int n = sc->info.header.geometry.n;
+    size_t v = ((size_t)1 << n) + 1, max_leaves = max_posts >> (2 * n);
+    if (max_posts && !max_leaves)
+        max_leaves = 1;
     leaf_reader r = {sc->store, v * v, err, 0};
     tp_cut_measure_options o = {read_leaf, &r, max_leaves, seed};
     tp_status st = tp_cut_measure_error(cut, cam, &o, out);

@@ -101,8 +101,8 @@ void tp_view_frame(tp_view_scene* v, tp_renderer* r, const tp_camera* cam,
 }
 
 int tp_view_write_stats(const char* path, const frame_result* f, const tp_error_measure* em,
-                        double max_px, double rms_px, const tp_cut_error* ce, int levels,
-                        const tp_camera* cam)
+                        double max_px, double rms_px, const tp_view_measured_how* how,
+                        int levels, const tp_camera* cam)
 {
     tp_atomic_file file;
     if (!tp_atomic_open(&file, path))
@@ -158,6 +158,9 @@ int tp_view_write_stats(const char* path, const frame_result* f, const tp_error_
     }
     KEY_NUM("max_error_px", max_px);
     KEY_NUM("rms_error_px", rms_px);
+    const tp_cut_error* ce = how && how->cut ? &how->cut_error : NULL;
+    if (how && !isnan(how->post_share)) /* PGM: share of the view's posts compared */
+        KEY_NUM("error_post_share", how->post_share);
     if (ce) { /* a store's cut: what was measured (null px above when no sample was) */
         KEY_SIZE("error_samples", ce->samples);
         KEY_SIZE("error_samples_skipped", ce->skipped);
@@ -167,6 +170,7 @@ int tp_view_write_stats(const char* path, const frame_result* f, const tp_error_
         KEY_SIZE("error_leaves_read", ce->leaves_read);
         KEY_SIZE("error_leaves_skipped", ce->leaves_skipped);
         KEY_SIZE("error_leaves_per_node", (size_t)ce->per_node);
+        KEY_SIZE("error_posts_budget", TP_STORE_MEASURE_POSTS); /* leaves of at most these */
         KEY_NUM("error_leaf_share",
                 ce->leaves ? (double)ce->leaves_sampled / (double)ce->leaves : NAN);
     }

@@ -107,10 +107,10 @@ int tp_view_screenshot(tp_gl_context* ctx, const char* path);
 
 /* Writes the statistics JSON (atomically); 0 after a message. */
 int tp_view_write_stats(const char* path, const frame_result* f, const tp_error_measure* em,
-                        double max_px, double rms_px, const tp_cut_error* ce, int levels,
-                        const tp_camera* cam);
-/* em NULL: no metre errors (a store's frame). ce: a store's cut, what its measure covered
- * (error_samples, error_leaves..., error_leaf_share), else NULL. */
+                        double max_px, double rms_px, const tp_view_measured_how* how,
+                        int levels, const tp_camera* cam);
+/* em NULL: no metre errors (a store's frame). how (may be NULL): what the measure covered (a
+ * store's cut: error_samples, error_leaves..., error_leaf_share; PGM: error_post_share). */
 
 /* Builds the texture of --texture for the render grid and hands it to the renderer; 0 after a
  * message. */

@@ -130,16 +130,17 @@ double tp_view_scene_vertical_scale(const tp_view_scene* v)
  * can hold, 8192 x 8192). */
 #define PGM_MEASURE_MAX_POSTS ((size_t)1 << 26)
 
-void tp_view_scene_measure(const tp_view_scene* v, const tp_camera* cam, size_t max_leaves,
+void tp_view_scene_measure(const tp_view_scene* v, const tp_camera* cam, size_t max_posts,
                            double* max_m, double* rms_m, double* max_px, double* rms_px,
-                           tp_cut_error* cut)
+                           tp_view_measured_how* how)
 {
     *max_m = *rms_m = NAN;
     *max_px = *rms_px = 0;
-    tp_cut_error ce;
-    memset(&ce, 0, sizeof ce);
-    if (cut)
-        *cut = ce;
+    tp_view_measured_how h;
+    memset(&h, 0, sizeof h);
+    h.post_share = NAN;
+    if (how)
+        *how = h;
     if (v->pgm) {
         tp_pgm_error e;
         tp_error err = {{0}};
@@ -153,15 +154,19 @@ void tp_view_scene_measure(const tp_view_scene* v, const tp_camera* cam, size_t 
         }
         told[0] = '\0';
         *max_m = e.max_m, *rms_m = e.rms_m, *max_px = e.max_px, *rms_px = e.rms_px;
+        if (how)
+            how->post_share = e.post_share;
         return;
     }
     if (v->store) {
         tp_error err = {{0}};
         static char told[600]; /* once a second in the HUD: each failure once in a row */
-        if (tp_store_scene_measure(v->store, v->cut, cam, max_leaves, 0, &ce, &err) == TP_OK) {
-            *max_px = ce.max_px, *rms_px = ce.rms_px; /* NaN when nothing was measured */
-            if (cut)
-                *cut = ce;
+        if (tp_store_scene_measure(v->store, v->cut, cam, max_posts, 0, &h.cut_error, &err) ==
+            TP_OK) {
+            *max_px = h.cut_error.max_px, *rms_px = h.cut_error.rms_px; /* NaN: none measured */
+            h.cut = 1;
+            if (how)
+                *how = h;
         } else {
             *max_px = *rms_px = NAN;
         }
