@@ -159,8 +159,9 @@ void tp_view_scene_measure(const tp_view_scene* v, const tp_camera* cam, size_t 
         return;
     }
     if (v->store) {
+        /* A leaf that cannot be read is left out and counted (error_leaves_skipped): the
+         * stream says so once for every node it loads, and the measure reads more of them. */
         tp_error err = {{0}};
-        static char told[600]; /* once a second in the HUD: each failure once in a row */
         if (tp_store_scene_measure(v->store, v->cut, cam, max_posts, 0, &h.cut_error, &err) ==
             TP_OK) {
             *max_px = h.cut_error.max_px, *rms_px = h.cut_error.rms_px; /* NaN: none measured */
@@ -168,11 +169,9 @@ void tp_view_scene_measure(const tp_view_scene* v, const tp_camera* cam, size_t 
             if (how)
                 *how = h;
         } else {
+            tp_cli_error("%s", err.message); /* out of memory */
             *max_px = *rms_px = NAN;
         }
-        if (err.message[0] && strcmp(err.message, told))
-            tp_cli_error("%s", err.message);
-        snprintf(told, sizeof told, "%s", err.message);
         return;
     }
     tp_error_measure em = {0};

@@ -69,7 +69,8 @@ typedef struct tp_view_measured_how {
  * 2^26 of them; NaN px when not measured, the reason printed once). A store's cut:
  * tp_store_scene_measure over the leaves of at most about max_posts posts (0: every one); px
  * NaN when no sample could be measured (none in view, or none to be read: never 0 for that),
- * a read failure printed once. how (may be NULL) says what was measured. */
+ * a leaf that cannot be read left out (counted in how->cut_error.leaves_skipped; the stream
+ * reports the nodes it loads). how (may be NULL) says what was measured. */
 void tp_view_scene_measure(const tp_view_scene* v, const tp_camera* cam, size_t max_posts,
                            double* max_m, double* rms_m, double* max_px, double* rms_px,
                            tp_view_measured_how* how);
