@@ -141,7 +141,8 @@ double tp_cut_drawn_height_at(const tp_cut* c, double x, double y);
  * Against the full-resolution samples of the drawn nodes' areas that are in view, as
  * tp_selection_measure_screen_error defines it: each sample's on-screen distance to the drawn
  * surface vertically above or below it (--stitch add: the triangles drawn, added vertices
- * included), each sample once. Those samples are the leaves': a leaf resident in the cut's tree
+ * included), each sample once (the samples tp_cut_drawn_height_at finds a height for, each
+ * measured on the node that height comes from). Those samples are the leaves': a leaf resident in the cut's tree
  * is read there, any other through o->read_leaf (a store's reader: a viewer far from the ground
  * draws coarse nodes and holds none of the leaves under them). A leaf whose box is outside the
  * view, or that has no drawn sample, is not read.

@@ -335,11 +335,10 @@ int tp__cut_drawn_at_leaf(const tp_cut* c, int lc, int lr)
     return -1;
 }
 
-double tp_cut_drawn_height_at(const tp_cut* c, double x, double y)
+int tp__cut_sample_node(const tp_cut* c, double x, double y, double* z_steps, int leaf[2])
 {
-    assert(c);
     if (!(x >= 0 && y >= 0 && x <= c->g.width - 1 && y <= c->g.height - 1))
-        return NAN;
+        return -1;
     int span = 1 << c->n;
     int lc = (int)x >> c->n, lr = (int)y >> c->n;
     lc = lc < c->g.cols ? lc : c->g.cols - 1;
@@ -353,10 +352,22 @@ double tp_cut_drawn_height_at(const tp_cut* c, double x, double y)
             node_view nv;
             node_view_init(c, (size_t)o, &nv);
             double z = node_drawn_height(&nv, x, y);
-            if (!isnan(z))
-                return z * c->step;
+            if (!isnan(z)) {
+                if (z_steps)
+                    *z_steps = z;
+                if (leaf)
+                    leaf[0] = lc - dx, leaf[1] = lr - dy;
+                return o;
+            }
         }
-    return NAN;
+    return -1;
+}
+
+double tp_cut_drawn_height_at(const tp_cut* c, double x, double y)
+{
+    assert(c);
+    double z;
+    return tp__cut_sample_node(c, x, y, &z, NULL) >= 0 ? z * c->step : NAN;
 }
 
 /* ---- the triangles drawn, one at a time (the screen error: cut_measure.c) ---- */

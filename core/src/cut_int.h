@@ -119,6 +119,11 @@ void tp__spheres_destroy(tp_cut* c);
 
 /* Index in the drawn output of the node covering leaf (lc, lr), or -1 (cut_draw.c). */
 int tp__cut_drawn_at_leaf(const tp_cut* c, int lc, int lr);
+/* The drawn node tp_cut_drawn_height_at takes grid (x, y) from (the one over the leaf holding
+ * it, else, on a leaf's border, the first of the leaves left, above and above-left of it whose
+ * node draws a triangle there): its output index, the height there (steps) and that leaf
+ * (column, row; each may be NULL), or -1. */
+int tp__cut_sample_node(const tp_cut* c, double x, double y, double* z_steps, int leaf[2]);
 
 /* Which triangles drawn node i (output index) draws (tp_node_mask_from_q's rule). */
 typedef struct tp__node_draw {

@@ -1,14 +1,18 @@
 /* cut_measure.c - the screen error of the drawn cut against the full-resolution samples
  * (tp_cut_measure_error in tp_cut.h): node by node, the node's drawn triangles (cut_draw.c,
- * cut_stitch_add.c) rasterised over each of its measured leaves' own samples, a leaf from the
- * tree when resident, else through the caller's reader.
+ * cut_stitch_add.c) rasterised over each of its measured leaves' samples, a leaf from the tree
+ * when resident, else through the caller's reader.
  *
- * A leaf (lc, lr) owns the samples lc 2^n <= x < (lc + 1) 2^n (the last leaf column also
- * x = width - 1), likewise in y; every sample is owned by one leaf and every leaf lies under
- * one drawn node (or none), so each sample is measured once, by the node drawn over it. Before
- * issue 32 only resident leaves were measured: a view from far above holds none of the leaves
- * under its coarse nodes, and those it does hold are the ones drawn at full resolution (along a
- * void's edge), so the error came out 0 there.
+ * Each sample once, by the surface tp_cut_drawn_height_at reads there: a leaf (lc, lr) owns the
+ * samples lc 2^n <= x < (lc + 1) 2^n (the last leaf column also x = width - 1), likewise in y,
+ * and the node drawn over it measures them; a sample on a leaf's border that the owner's node
+ * does not draw (a culled or empty neighbour, a void's hole in an incomplete node) is measured
+ * by the node of the leaf left, above or above-left that draws it, in that order; a sample two
+ * triangles of a node share is counted once.
+ *
+ * Before issue 32 only resident leaves were measured, and a sample once per triangle holding
+ * it: a view from far above holds none of the leaves under its coarse nodes, and those it does
+ * hold are leaves the cut itself draws (along a void's edge), so the error came out 0 there.
  */
 #include "camera_int.h"
 #include "cut_int.h"
@@ -30,10 +34,20 @@ typedef struct measure {
     size_t ntris, tris_cap;
     int oom;
     uint16_t* buf; /* a leaf read through o->read_leaf */
-    /* the leaf being measured: its samples (NULL: not to be had) and offset */
+    uint8_t* seen; /* the leaf's samples measured already: a sample on an edge two of the
+                      node's triangles share is rasterised by both, and counted once */
+    /* the leaf being measured: its samples (NULL: not to be had) and offset; the samples it
+     * owns end at (x1, y1); past them, on the next leaves' first column and row, those it
+     * measures in their place (taken()) */
     const uint16_t* q;
     int32_t qmin;
     int lc, lr;
+    int32_t x1, y1;
+    int node;           /* the drawn node's output index, its first leaf, leaves a side */
+    int node_lc, node_lr, node_w;
+    int8_t next[2][2];  /* the leaves right, below, below-right: 1 when they are this node's
+                           (measured as its own, or not sampled) or a complete node is drawn
+                           over them (it draws every sample of them), else 0 */
     double max, sum;
     tp_cut_error* out;
 } measure;
@@ -67,16 +81,37 @@ static void add_tri(const int32_t pos[3][2], const double q[3], void* user)
     }
 }
 
+/* Whether a sample past the leaf's own (on the first column or row of the leaf after it) is
+ * this leaf's to measure: when tp_cut_drawn_height_at takes it from this leaf (not when the
+ * leaf holding it is this node's, or under a complete node: those measure it). */
+static int taken(const measure* m, int x, int y)
+{
+    if (m->next[y > m->y1][x > m->x1])
+        return 0;
+    int leaf[2];
+    return tp__cut_sample_node(m->c, x, y, NULL, leaf) == m->node && leaf[0] == m->lc &&
+           leaf[1] == m->lr;
+}
+
 static void sample(int x, int y, double z, void* user)
 {
     measure* m = user;
     const tp_cut* c = m->c;
-    if (!m->q) {
-        m->out->skipped++;
+    if ((x > m->x1 || y > m->y1) && !taken(m, x, y))
+        return;
+    int v = (1 << c->n) + 1;
+    if (!m->q) { /* each sample once here too */
+        size_t at = (size_t)(y - (m->lr << c->n)) * v + (size_t)(x - (m->lc << c->n));
+        if (!(m->seen[at >> 3] & (1u << (at & 7))))
+            m->out->skipped++;
+        m->seen[at >> 3] |= (uint8_t)(1u << (at & 7));
         return;
     }
-    int v = (1 << c->n) + 1;
-    uint16_t st = m->q[(size_t)(y - (m->lr << c->n)) * v + (size_t)(x - (m->lc << c->n))];
+    size_t at = (size_t)(y - (m->lr << c->n)) * v + (size_t)(x - (m->lc << c->n));
+    if (m->seen[at >> 3] & (1u << (at & 7)))
+        return;
+    m->seen[at >> 3] |= (uint8_t)(1u << (at & 7));
+    uint16_t st = m->q[at];
     if (st == TP_TREE_NO_HEIGHT)
         return;
     double ws[3], wd[3];
@@ -130,20 +165,42 @@ static int leaf_begin(measure* m, int lc, int lr)
         m->out->leaves_measured++;
     else
         m->out->leaves_skipped++;
+    size_t v = ((size_t)1 << c->n) + 1;
+    memset(m->seen, 0, (v * v + 7) / 8);
     return 1;
 }
 
-/* The node's triangles over the samples leaf (lc, lr) owns. */
+/* 1 when leaf (lc, lr) is under the node being measured or a complete node is drawn over it. */
+static int8_t next_done(const measure* m, int lc, int lr)
+{
+    const tp_cut* c = m->c;
+    if (lc - m->node_lc < m->node_w && lr - m->node_lr < m->node_w)
+        return 1;
+    if (lc >= c->g.cols || lr >= c->g.rows)
+        return 0;
+    int o = tp__cut_drawn_at_leaf(c, lc, lr);
+    return o >= 0 && (tp_tree_meta(c->t, c->out[o].node)->flags & TP_NODE_COMPLETE);
+}
+
+/* The node's triangles over the samples leaf (lc, lr) owns, and over the first column and row
+ * of the leaves after it where these draw nothing (a culled node, a void, an incomplete node's
+ * hole): each sample is measured by the node tp_cut_drawn_height_at takes it from, so the edges
+ * of a drawn area are measured too. */
 static void measure_leaf(measure* m, int lc, int lr)
 {
     const tp_cut* c = m->c;
     if (!leaf_begin(m, lc, lr))
         return;
-    int32_t clip[4] = {lc << c->n, lr << c->n, ((lc + 1) << c->n) - 1, ((lr + 1) << c->n) - 1};
-    if (lc == c->g.cols - 1)
-        clip[2]++;
+    int32_t clip[4] = {lc << c->n, lr << c->n, (lc + 1) << c->n, (lr + 1) << c->n};
+    m->x1 = clip[2] - 1, m->y1 = clip[3] - 1;
+    if (lc == c->g.cols - 1) /* the grid's last column and row: this leaf's own */
+        m->x1++;
     if (lr == c->g.rows - 1)
-        clip[3]++;
+        m->y1++;
+    m->next[0][0] = 0;
+    m->next[0][1] = next_done(m, lc + 1, lr);
+    m->next[1][0] = next_done(m, lc, lr + 1);
+    m->next[1][1] = next_done(m, lc + 1, lr + 1);
     for (size_t t = 0; t < m->ntris; t++) {
         const tri* tr = &m->tris[t];
         if (tr->box[0] > clip[2] || tr->box[2] < clip[0] || tr->box[1] > clip[3] ||
@@ -205,6 +262,9 @@ tp_status tp_cut_measure_error(const tp_cut* c, const tp_camera* cam,
     tp__view_from_camera(cam, &m.v);
     tp_frustum_from_camera(cam, &m.f);
     out->per_node = leaves_per_node(c, o ? o->max_leaves : 0, &out->leaves);
+    size_t side = ((size_t)1 << c->n) + 1;
+    m.seen = tp__alloc(&c->alloc, (side * side + 7) / 8, 1);
+    m.oom = !m.seen;
     for (size_t i = 0; i < c->out_count && !m.oom; i++) {
         m.ntris = 0;
         if (!tp__cut_node_tris(c, i, add_tri, &m) || m.oom) {
@@ -220,6 +280,8 @@ tp_status tp_cut_measure_error(const tp_cut* c, const tp_camera* cam,
             ox = (int)(h % (uint32_t)stride);
             oy = (int)((h >> 16) % (uint32_t)stride);
         }
+        m.node = (int)i;
+        m.node_lc = cc << s, m.node_lr = rr << s, m.node_w = w;
         for (int j = oy; j < w; j += stride)
             for (int k = ox; k < w; k += stride) {
                 out->leaves_sampled++;
@@ -228,6 +290,7 @@ tp_status tp_cut_measure_error(const tp_cut* c, const tp_camera* cam,
     }
     tp__free(&c->alloc, m.tris);
     tp__free(&c->alloc, m.buf);
+    tp__free(&c->alloc, m.seen);
     if (m.oom) {
         memset(out, 0, sizeof *out);
         out->max_px = out->rms_px = NAN;
