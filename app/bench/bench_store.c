@@ -157,8 +157,7 @@ static void summarize(store_result* c, int n)
         c->img_uploads_total += r->img_uploads;
         if (!r->measured)
             continue;
-        /* the cut's figures (zero for PGM) over every measured frame */
-        c->leaves += (double)r->cut.leaves;
+        c->leaves += (double)r->cut.leaves; /* the cut's (0 for PGM), every measured frame */
         c->leaves_sampled += (double)r->cut.leaves_sampled;
         c->leaves_measured += (double)r->cut.leaves_measured;
         c->leaves_read += (double)r->cut.leaves_read;
@@ -462,10 +461,10 @@ static void fill_row(store_row* row, const double t[5], const tp_cut_stats* cs,
     row->pending = ss->pending;
 }
 
-/* The screen error of frame k (cam, d's cut) into row, outside the timed part: the leaves the
- * stream does not hold read from the store, those of at most about --error-posts posts, chosen anew
- * each frame (tp_store_scene_measure). 0 after a message (out of memory); a leaf that cannot
- * be read is said once and left out. */
+/* The screen error of frame k (cam, d's cut) into row, untimed: the leaves of at most about
+ * --error-posts posts, chosen anew each frame, read from the store where the stream does not
+ * hold them (tp_store_scene_measure); one that cannot be read said once and left out. 0 after
+ * a message (out of memory). */
 static int measure(store_bench* b, store_draw* d, const tp_camera* cam, int k, store_row* row)
 {
     static int told; /* a damaged leaf: once a run */
