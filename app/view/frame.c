@@ -93,6 +93,7 @@ void tp_view_frame(tp_view_scene* v, tp_renderer* r, const tp_camera* cam,
     out->core.bound_max_error_m = out->core.bound_rms_error_m = NAN;
     out->store = 1;
     out->nodes_drawn = cs.drawn;
+    memcpy(out->nodes_per_scale, cs.nodes_per_scale, sizeof out->nodes_per_scale);
     out->substituted = cs.substituted;
     out->add_sides = cs.add_sides;
     out->moved_sides = cs.moved_sides;
@@ -184,6 +185,14 @@ int tp_view_write_stats(const char* path, const frame_result* f, const tp_error_
         KEY_NUM("resident_mb", f->stream.resident_bytes / 1e6);
         KEY_NUM("gpu_mb", f->render.gpu_bytes / 1e6);
         KEY_SIZE("nodes_drawn", (size_t)f->nodes_drawn);
+        tp_json_key(&j, "nodes_per_scale"); /* scale 0: leaves; coarser from 1 */
+        tp_json_array_begin(&j);
+        int top = TP_TREE_MAX_SCALES;
+        while (top > 1 && f->nodes_per_scale[top - 1] == 0)
+            top--;
+        for (int s = 0; s < top; s++)
+            tp_json_int(&j, f->nodes_per_scale[s]);
+        tp_json_array_end(&j);
         KEY_SIZE("substituted_nodes", (size_t)f->substituted);
         KEY_SIZE("add_sides", (size_t)f->add_sides);
         KEY_SIZE("moved_sides", (size_t)f->moved_sides);

@@ -67,6 +67,7 @@ typedef struct frame_result {
     double grid_m;            /* the map grid's spacing drawn (tp_view_grid_spacing; 0: none) */
     int store;                /* the frame of a store: the fields below are set */
     int nodes_drawn, substituted;
+    int nodes_per_scale[TP_TREE_MAX_SCALES]; /* drawn nodes by scale (0: leaves) */
     int add_sides, moved_sides; /* tp_cut_stats: sides taking / moving vertices */
     double bound_max_px;        /* largest projected bound of a drawn node (error mode) */
     int bound_near_nodes;       /* drawn nodes at the eye: their bound covers what is drawn of
