@@ -160,6 +160,8 @@ int tp_view_write_stats(const char* path, const frame_result* f, const tp_error_
     KEY_NUM("max_error_px", max_px);
     KEY_NUM("rms_error_px", rms_px);
     const tp_cut_error* ce = how && how->cut ? &how->cut_error : NULL;
+    if (how && (how->cut || !isnan(how->post_share))) /* the measure's own time (untimed) */
+        KEY_NUM("error_ms", how->ms);
     if (how && !isnan(how->post_share)) /* PGM: share of the view's posts compared */
         KEY_NUM("error_post_share", how->post_share);
     if (ce) { /* a store's cut: what was measured (null px above when no sample was) */

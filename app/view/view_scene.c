@@ -141,6 +141,7 @@ void tp_view_scene_measure(const tp_view_scene* v, const tp_camera* cam, size_t 
     h.post_share = NAN;
     if (how)
         *how = h;
+    double t0 = tp_clock_ms();
     if (v->pgm) {
         tp_pgm_error e;
         tp_error err = {{0}};
@@ -155,7 +156,7 @@ void tp_view_scene_measure(const tp_view_scene* v, const tp_camera* cam, size_t 
         told[0] = '\0';
         *max_m = e.max_m, *rms_m = e.rms_m, *max_px = e.max_px, *rms_px = e.rms_px;
         if (how)
-            how->post_share = e.post_share;
+            how->post_share = e.post_share, how->ms = tp_clock_ms() - t0;
         return;
     }
     if (v->store) {
@@ -166,6 +167,7 @@ void tp_view_scene_measure(const tp_view_scene* v, const tp_camera* cam, size_t 
             TP_OK) {
             *max_px = h.cut_error.max_px, *rms_px = h.cut_error.rms_px; /* NaN: none measured */
             h.cut = 1;
+            h.ms = tp_clock_ms() - t0;
             if (how)
                 *how = h;
         } else {

@@ -62,6 +62,7 @@ typedef struct tp_view_measured_how {
     int cut;                 /* 1: a store's cut, cut_error below */
     tp_cut_error cut_error;
     double post_share;       /* PGM: 1, or less where the view's region was sampled; NaN else */
+    double ms;               /* the measure's time */
 } tp_view_measured_how;
 
 /* The drawn surface's screen error for cam (px); metres where the path measures them (NaN
