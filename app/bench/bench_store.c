@@ -21,6 +21,7 @@
 #include "bench.h"
 #include "clock.h"
 #include "cli.h"
+#include "cut_worker.h"
 #include "gl_context.h"
 #include "imagery_view.h"
 #include "light_view.h"
@@ -102,6 +103,13 @@ static void summarize(store_result* c, int n)
     c->cpu_ms = tp_bench_median(v, n);
     ROWS_OF(r->cut_ms);
     c->cut_ms = tp_bench_median(v, n);
+    ROWS_OF(r->cut_worker_ms);
+    c->cut_worker_ms = tp_bench_median(v, n);
+    ROWS_OF(r->cut_wait_ms);
+    c->cut_wait_ms = tp_bench_median(v, n);
+    c->cut_reused_share = 0;
+    for (int i = 0; i < n; i++)
+        c->cut_reused_share += (double)c->rows[i].cut_reused / n;
     ROWS_OF(r->stream_ms);
     c->stream_ms = tp_bench_median(v, n);
     ROWS_OF(r->upload_ms);
@@ -137,9 +145,6 @@ static void summarize(store_result* c, int n)
     c->pgm_posts = tp_bench_median(v, n);
     ROWS_OF(r->pgm_node_reads);
     c->pgm_node_reads = tp_bench_median(v, n);
-    double sum_px = 0, share = 0, sum_subst = 0, post_share = 0;
-    int measured = 0, timed = 0;
-    c->max_px_subst = NAN;
     for (int i = 0; i < n; i++) {
         const store_row* r = &c->rows[i];
         c->substituted_max = r->substituted > c->substituted_max ? r->substituted : c->substituted_max;
@@ -155,39 +160,8 @@ static void summarize(store_result* c, int n)
         c->img_missing_max = r->img_missing > c->img_missing_max ? r->img_missing : c->img_missing_max;
         c->img_frames_missing += r->img_missing > 0;
         c->img_uploads_total += r->img_uploads;
-        if (!r->measured)
-            continue;
-        c->leaves += (double)r->cut.leaves; /* the cut's (0 for PGM), every measured frame */
-        c->leaves_sampled += (double)r->cut.leaves_sampled;
-        c->leaves_measured += (double)r->cut.leaves_measured;
-        c->leaves_read += (double)r->cut.leaves_read;
-        c->leaves_skipped += (double)r->cut.leaves_skipped;
-        if (r->cut.per_node && (!c->per_node_min || r->cut.per_node < c->per_node_min))
-            c->per_node_min = r->cut.per_node;
-        v[timed++] = r->measure_ms;
-        post_share += r->post_share;
-        measured++;
-        if (r->samples == 0) /* nothing in view to compare: no figure */
-            continue;
-        if (r->measured == 2) { /* drawn with substitution: not bounded by tau, apart */
-            c->error_frames_subst++;
-            c->max_px_subst = fmax(c->max_px_subst, r->max_px);
-            sum_subst += r->rms_px * r->rms_px;
-            continue;
-        }
-        c->error_frames++;
-        c->max_px = fmax(c->max_px, r->max_px);
-        sum_px += r->rms_px * r->rms_px;
-        c->samples += (double)r->samples;
-        c->skipped += (double)r->skipped;
-        size_t in_view = r->samples + r->uncovered;
-        share += in_view ? (double)r->uncovered / (double)in_view : 0;
     }
-    c->rms_px = c->error_frames ? sqrt(sum_px / c->error_frames) : 0;
-    c->rms_px_subst = c->error_frames_subst ? sqrt(sum_subst / c->error_frames_subst) : NAN;
-    c->uncovered_share = c->error_frames ? share / c->error_frames : NAN;
-    c->measure_ms = timed ? tp_bench_median(v, timed) : NAN;
-    c->post_share = measured ? post_share / measured : NAN;
+    tp_bench_store_error_summary(c, n, v);
     free(v);
 }
 
@@ -307,6 +281,7 @@ static int run_store_pgm(store_bench* b, store_result* c, const char* progress)
 typedef struct store_draw {
     tp_renderer* r;
     tp_cut *cut, *pre;
+    tp_cut_worker* worker; /* NULL: --no-cut-thread */
     tp_view_imagery* im;
     tp_view_light* lt;
     tp_render_settings rs;
@@ -358,6 +333,10 @@ static int open_draw(store_bench* b, const store_result* c, int first, store_dra
         return TP_EXIT_FAILURE;
     }
     tp_cut_set_stitch_add(d->cut, c->stitch_add);
+    if (!o->no_cut_thread && !(d->worker = tp_cut_worker_create(b->sc.tree, &err))) {
+        tp_cli_error("%s", err.message);
+        return TP_EXIT_FAILURE;
+    }
     tp_render_settings_default(&d->rs);
     d->rs.stitch_add = c->stitch_add;
     if (o->stitch_add_draw) /* --stitch-add-draw sets|five (both: a DEM only) */
@@ -381,6 +360,7 @@ static void close_draw(store_bench* b, store_draw* d)
 {
     tp_view_imagery_close(d->im);
     tp_view_light_close(d->lt);
+    tp_cut_worker_destroy(d->worker);
     tp_cut_destroy(d->pre);
     tp_cut_destroy(d->cut);
     tp_renderer_destroy(d->r);
@@ -461,32 +441,6 @@ static void fill_row(store_row* row, const double t[5], const tp_cut_stats* cs,
     row->pending = ss->pending;
 }
 
-/* The screen error of frame k (cam, d's cut) into row, untimed: the leaves of at most about
- * --error-posts posts, chosen anew each frame, read from the store where the stream does not
- * hold them (tp_store_scene_measure); one that cannot be read said once and left out. 0 after
- * a message (out of memory). */
-static int measure(store_bench* b, store_draw* d, const tp_camera* cam, int k, store_row* row)
-{
-    static int told; /* a damaged leaf: once a run */
-    tp_error err = {{0}};
-    double t0 = tp_clock_ms();
-    if (tp_store_scene_measure(&b->sc, d->cut, cam, (size_t)b->o->error_posts, (uint32_t)k,
-                               &row->cut, &err) != TP_OK) {
-        tp_bench_progress_end();
-        tp_cli_error("%s: %s", b->o->dem, err.message);
-        return 0;
-    }
-    row->measure_ms = tp_clock_ms() - t0;
-    if (err.message[0] && !told++) {
-        tp_bench_progress_end();
-        tp_cli_warning("the screen error leaves out what cannot be read: %s", err.message);
-    }
-    row->measured = row->substituted ? 2 : 1;
-    row->max_px = row->cut.max_px, row->rms_px = row->cut.rms_px;
-    row->samples = row->cut.samples, row->skipped = row->cut.skipped;
-    return 1;
-}
-
 /* The flight with d: each stretch reached by a jump (the first configuration's first frame
  * there timed by first_frame) and settled, then WARMUP_FRAMES untimed frames and per_segment
  * timed ones into c->rows, each with the process's memory and, outside the timed part, the
@@ -501,8 +455,12 @@ static int fly(store_bench* b, store_result* c, int first, store_draw* d, const 
     tp_stream_stats ss;
     tp_clipmap_stats is = {0};
     tp_error err;
-    tp_camera cam;
+    tp_camera cam, prev;
+    tp_cut* cut = d->cut; /* the frame's: d->cut, or the cut thread's */
+    const tp_cut_worker_params wp = {.lod = c->lod, .vertical_scale = 1, .stitch_add = c->stitch_add};
     for (int seg = 0; seg < b->segments; seg++) {
+        tp_cut_worker_forget(d->worker); /* a jump, whose frames change the tree */
+        tp_stream_set_prefetch_async(b->sc.stream, 0);
         tp_bench_store_camera(b, seg, -WARMUP_FRAMES * b->step_m, &cam);
         int code = first && seg == 0 ? first_frame(b, c, d, &cam, &st, &ss) : TP_EXIT_OK;
         if (code != TP_EXIT_OK)
@@ -517,6 +475,7 @@ static int fly(store_bench* b, store_result* c, int first, store_draw* d, const 
         if (seg == 0)
             c->settle_ms = tp_clock_ms() - t_settle;
         double t_fly = tp_clock_ms();
+        tp_stream_set_prefetch_async(b->sc.stream, d->worker != NULL);
         for (int i = -WARMUP_FRAMES; i < b->per_segment; i++) {
             /* --realtime: where the camera is after the time that really passed */
             double at =
@@ -526,33 +485,46 @@ static int fly(store_bench* b, store_result* c, int first, store_draw* d, const 
             tp_bench_store_camera(b, seg, at, &cam);
             store_row* row = i >= 0 ? &c->rows[seg * b->per_segment + i] : NULL;
             double t[5];
+            tp_cut_worker_stats ws = {0};
             tp_gl_context_begin_frame(b->ctx);
             t[0] = tp_clock_ms();
-            if (tp_cut_update(d->cut, &cam, &c->lod, &err) != TP_OK)
+            if (d->worker ? !(cut = tp_cut_worker_frame(d->worker, &cam, &wp, &ws, &err))
+                          : tp_cut_update(cut, &cam, &c->lod, &err) != TP_OK)
                 return cut_failed(&err);
             t[1] = tp_clock_ms();
-            tp_stream_frame(b->sc.stream, d->cut, o->no_prefetch ? NULL : d->pre, &cam, &c->lod,
-                            &ss);
+            tp_stream_frame(b->sc.stream, cut, o->no_prefetch ? NULL : d->pre, &cam, &c->lod, &ss);
             t[2] = tp_clock_ms();
+            if (d->worker) { /* the next frame's cut (and prefetch), selected while this draws */
+                tp_camera next, ahead;
+                tp_cut_worker_predict(i > -WARMUP_FRAMES ? &prev : &cam, &cam, &next);
+                int pre = tp_stream_prefetch_wanted(b->sc.stream, &ahead);
+                tp_cut_worker_next(d->worker, &next, &wp, pre ? d->pre : NULL, &ahead);
+            }
+            prev = cam;
             if (d->im)
-                tp_view_imagery_frame(d->im, &b->sc, d->cut, 1, d->r, &cam, 0, &is);
+                tp_view_imagery_frame(d->im, &b->sc, cut, 1, d->r, &cam, 0, &is);
             int k = seg * b->per_segment + (i > 0 ? i : 0);
             if (d->lt)
-                tp_view_light_frame(d->lt, &b->sc, d->cut, 1, d->r, &cam,
+                tp_view_light_frame(d->lt, &b->sc, cut, 1, d->r, &cam,
                                     d->day[0] + (d->day[1] - d->day[0]) * (k + 0.5) / frames, 0,
                                     &is);
             t[3] = tp_clock_ms();
-            tp_renderer_draw_cut(d->r, b->sc.tree, d->cut, &cam, &d->rs, 1, 1, &st);
+            tp_renderer_draw_cut(d->r, b->sc.tree, cut, &cam, &d->rs, 1, 1, &st);
             tp_gl_context_end_frame(b->ctx);
             t[4] = tp_clock_ms();
             if (!row)
                 continue;
             /* outside the timed part */
             tp_cut_stats cs;
-            tp_cut_get_stats(d->cut, &cs);
+            tp_cut_get_stats(cut, &cs);
             fill_row(row, t, &cs, &st, &ss, &is, d->im || d->lt);
+            row->cut_ms -= ws.wait_ms; /* waiting is not the render thread's CPU */
+            row->cpu_ms -= ws.wait_ms;
+            row->cut_wait_ms = ws.wait_ms;
+            row->cut_worker_ms = ws.worker_ms;
+            row->cut_reused = ws.reused;
             read_rss(&row->rss_mb, &row->rss_anon_mb);
-            if (!o->no_error && k % o->error_every == 0 && !measure(b, d, &cam, k, row))
+            if (!o->no_error && k % o->error_every == 0 && !tp_bench_store_measure(b, cut, &cam, k, row))
                 return TP_EXIT_FAILURE;
             const char* failure = tp_stream_take_failure(b->sc.stream);
             if (failure) {
@@ -565,9 +537,11 @@ static int fly(store_bench* b, store_result* c, int first, store_draw* d, const 
         }
     }
     tp_bench_progress_end();
+    tp_cut_worker_forget(d->worker);
     summarize(c, frames);
+    c->cut_thread = d->worker != NULL;
     if (d->im) /* the last frame against a fresh clipmap's: nothing stale after the flight */
-        c->img_final_diff = tp_bench_imagery_diff(d->im, o->imagery, &b->sc, d->cut, d->r, b->ctx,
+        c->img_final_diff = tp_bench_imagery_diff(d->im, o->imagery, &b->sc, cut, d->r, b->ctx,
                                                   &cam, c->imagery_mode, o->clip_blocks);
     return TP_EXIT_OK;
 }

@@ -15,6 +15,10 @@
 
 typedef struct store_row {
     double cut_ms, stream_ms, upload_ms, draw_ms, frame_ms, cpu_ms;
+    /* the cut thread (cut_worker.h): cut_ms is the render thread's part (the check, or the
+     * cut selected there); the wait for the thread is in frame_ms only */
+    double cut_wait_ms, cut_worker_ms;
+    int cut_reused;
     long page_faults;           /* minor page faults during the draw */
     size_t triangles, gpu_bytes, resident_bytes;
     int dropped, draw_calls;
@@ -43,6 +47,9 @@ typedef struct store_result {
     char label[64];
     store_row* rows;
     double fps_median, frame_ms, frame_ms_p99, cpu_ms, cut_ms, stream_ms, upload_ms, draw_ms;
+    int cut_thread;                       /* the cut was selected on its own thread */
+    double cut_worker_ms, cut_wait_ms;    /* medians: the thread's selection; the wait for it */
+    double cut_reused_share;              /* frames that drew the thread's cut */
     double triangles, nodes, visited, uploads, page_faults;
     int substituted_max, frames_with_substitution, pending_max;
     int dropped_max; /* items the renderer could not hold (TP_RENDER_POOL_MAX_BYTES) */
@@ -105,6 +112,16 @@ typedef struct store_bench {
 /* The camera d metres along stretch seg of the flight (negative: before its start;
  * bench_store_path.c). The low path reads the ground under it into b->leaf. */
 void tp_bench_store_camera(store_bench* b, int seg, double d, tp_camera* cam);
+
+/* The screen error of frame k (cam, the cut drawn) into row, untimed: the leaves of at most
+ * about --error-posts posts, chosen anew each frame, read from the store where the stream does
+ * not hold them (tp_store_scene_measure); one that cannot be read is said once and left out.
+ * 0 after a message (out of memory). bench_store_error.c. */
+int tp_bench_store_measure(store_bench* b, const tp_cut* cut, const tp_camera* cam, int k,
+                           store_row* row);
+/* The error's part of c's summary over its n rows (v: n doubles of scratch): frames measured
+ * without and with substitution, their max and RMS, how much of the cut was measured. */
+void tp_bench_store_error_summary(store_result* c, int n, double* v);
 
 /* The summary table on stdout. */
 void tp_bench_store_print(const store_bench* b, const char* renderer_name, const store_result* c,
