@@ -2140,6 +2140,19 @@ TEST(store_flight_reports_memory_streaming_and_error)
     EXPECT_GT(json_num(json, conf, "error_samples"), 0.0);
     EXPECT_GE(max_px, 0.0);
     EXPECT_LE(max_px, 1.0 + 1e-3);
+    /* how: every leaf under the cut (a small store, far below the budget), read from the store
+     * where the stream did not hold it, none lost */
+    double leaves = json_num(json, conf, "error_leaves");
+    EXPECT_GT(leaves, 0.0);
+    EXPECT_EQ_DBL(leaves, json_num(json, conf, "error_leaves_sampled"));
+    EXPECT_EQ_DBL(1.0, json_num(json, conf, "error_leaf_share"));
+    EXPECT_EQ_DBL(0.0, json_num(json, conf, "error_leaves_per_node_min"));
+    EXPECT_EQ_DBL(0.0, json_num(json, conf, "error_leaves_skipped"));
+    EXPECT_EQ_DBL(0.0, json_num(json, conf, "error_samples_skipped"));
+    EXPECT_LE(json_num(json, conf, "error_leaves_read"), json_num(json, conf, "error_leaves_measured"));
+    EXPECT_EQ_DBL(4194304.0, json_num(json, conf, "error_posts_budget"));
+    EXPECT_GE(json_num(json, conf, "error_ms_median"), 0.0);
+    EXPECT_GE(json_num(json, conf, "error_frames_substituted"), 0.0);
 
     /* the summary is the CSV's frames: error mode first, 6 frames per configuration */
     ASSERT_EQ_INT(12, frames.rows);
@@ -2149,8 +2162,10 @@ TEST(store_flight_reports_memory_streaming_and_error)
         double s = csv_num(&frames, i, "substituted");
         csv_subst_max = s > csv_subst_max ? s : csv_subst_max;
         csv_subst_frames += s > 0;
-        if (csv_num(&frames, i, "measured") != 0) {
-            EXPECT_EQ_DBL(0.0, s); /* only frames without substitution are measured */
+        double how = csv_num(&frames, i, "measured"); /* 1: without substitution, 2: with */
+        EXPECT_EQ_DBL(s > 0 ? 2.0 : 1.0, how); /* every frame measured (--error-every 1) */
+        EXPECT_LE(csv_num(&frames, i, "error_leaves_sampled"), csv_num(&frames, i, "error_leaves"));
+        if (how == 1) {
             csv_measured++;
             double px = csv_num(&frames, i, "max_screen_error_px");
             csv_max_px = px > csv_max_px ? px : csv_max_px;
@@ -2197,7 +2212,7 @@ TEST(store_stitch_add_runs_both_modes_again)
         int m = i / per;
         EXPECT_TRUE(strcmp(csv_str(&frames, i, "lod_mode"), modes[m]) == 0);
         tris[m] += csv_num(&frames, i, "triangles");
-        if (csv_num(&frames, i, "measured") != 0) {
+        if (csv_num(&frames, i, "measured") == 1) { /* drawn without substitution */
             measured[m]++;
             max_px[m] = fmax(max_px[m], csv_num(&frames, i, "max_screen_error_px"));
         }
@@ -2537,7 +2552,7 @@ TEST(pgm_store_bench_reports_the_clipmap)
         EXPECT_GE(json_num(o0, o1, "pgm_posts_updated_median"), 0.0);
         EXPECT_GT(json_num(o0, o1, "fps_median"), 0.0);
         EXPECT_EQ_DBL(6, json_num(o0, o1, "error_frames_measured"));
-        EXPECT_EQ_DBL(0, json_num(o0, o1, "error_frames_over_region_limit"));
+        EXPECT_EQ_DBL(1, json_num(o0, o1, "error_post_share")); /* a small store: every post */
         double max_px = json_num(o0, o1, "max_screen_error_px");
         EXPECT_TRUE(isfinite(max_px));
         EXPECT_GE(max_px, json_num(o0, o1, "rms_screen_error_px"));

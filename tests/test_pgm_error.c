@@ -62,7 +62,7 @@ TEST(region_and_bands_change_nothing_measured)
         ASSERT_OK(tp_pgm_measure_error(&f, &p, &cam, &a));
         tp_pgm_rect r;
         tp_pgm_view_region(&p, &cam, &r);
-        tp_pgm_source src = {&p, pyr_sample, pyr_posts, 7};
+        tp_pgm_source src = {&p, pyr_sample, pyr_posts, 7, 0, 0};
         ASSERT_OK(tp_pgm_measure_error_source(&f, &p, &src, &r, &cam, &b));
         double share = r.x1 > r.x0 && r.y1 > r.y0
                            ? (double)(r.x1 - r.x0) * (r.y1 - r.y0) / ((double)CW * CH)
@@ -87,6 +87,25 @@ TEST(region_and_bands_change_nothing_measured)
             EXPECT_EQ_DBL(0.0, share);
             EXPECT_EQ_INT(0, (long long)(a.samples + a.uncovered));
         }
+        EXPECT_EQ_DBL(1.0, b.post_share);
+        /* Sampled by bands (every 3rd band of 7 rows): the three phases partition the posts,
+         * so together they give the whole measure's counts and maximum, each a third or so. */
+        size_t samples = 0, uncovered = 0;
+        double max_px = 0, shares = 0;
+        for (int ph = 0; ph < 3; ph++) {
+            tp_pgm_source part = {&p, pyr_sample, pyr_posts, 7, 3, ph};
+            tp_pgm_error e;
+            ASSERT_OK(tp_pgm_measure_error_source(&f, &p, &part, &r, &cam, &e));
+            samples += e.samples, uncovered += e.uncovered, shares += e.post_share;
+            max_px = e.samples && e.max_px > max_px ? e.max_px : max_px;
+            if (share > 0 && r.y1 - r.y0 > 100)
+                EXPECT_NEAR(1.0 / 3, e.post_share, 0.05);
+        }
+        EXPECT_EQ_INT((long long)a.samples, (long long)samples);
+        EXPECT_EQ_INT((long long)a.uncovered, (long long)uncovered);
+        EXPECT_EQ_DBL(a.max_px, max_px);
+        if (share > 0)
+            EXPECT_NEAR(1.0, shares, 1e-12);
     }
     tp_pgm_pyramid_free(&p);
 }

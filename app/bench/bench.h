@@ -40,6 +40,8 @@ typedef struct bench_options {
     int memory_mb;     /* --memory: the stream's budget of decoded nodes; default 1024 */
     int segments;      /* --segments: stretches of continuous flight; default 4 */
     int error_every;   /* --error-every N: measure the error on every N-th frame; default 1 */
+    double error_posts; /* --error-posts N: a store's measured frame compares the leaves of at
+                           most about N posts (tp_cut_measure_error's sampling); 0: every leaf */
     int realtime;      /* --realtime: the camera moves by the time that really passed */
     int no_prefetch;   /* --no-prefetch: the stream gets no prefetch cut (what it costs) */
     int no_cut_thread; /* --no-cut-thread: each frame's cut selected on the render thread */

@@ -68,7 +68,8 @@ static void print_help(void)
         "                         in view against the mapped grid's surface) on every\n"
         "                         --error-every-th frame; a store: through its clipmap\n"
         "                         (--pgm-window N posts a level, default 512; default grid\n"
-        "                         300x300), fill/upload ms per frame, error not measured\n"
+        "                         300x300), fill/upload ms per frame, error against the\n"
+        "                         store's posts in view (bands of them past 2^28 posts)\n"
         "  --pgm-grid COLSxROWS[,COLSxROWS...]   the grids (default 150x600,300x300,600x600,\n"
         "                         from the paper's Table 1; --sweep: 150x600,200x800,300x900,\n"
         "                         600x600,400x1600 (Table 1), 300x300,430x430; at most 8)\n"
@@ -138,9 +139,13 @@ static void print_help(void)
         "                         map made for the store streamed through its clipmap, the\n"
         "                         sun's time sweeping the day over the flight (light ms, GPU\n"
         "                         and RAM, uploads per frame: light_* in the JSON)\n"
-        "  --error-every N        measure the screen error on every N-th frame (default 1),\n"
-        "                         only frames drawn without substitution, only samples whose\n"
-        "                         leaf is resident (the JSON says how many were skipped)\n"
+        "  --error-every N        measure the screen error on every N-th frame (default 1);\n"
+        "                         frames drawn with substitution are reported apart; leaves\n"
+        "                         the stream does not hold are read from the store\n"
+        "  --error-posts N        a store: compare the posts of at most about N/4^n leaves a\n"
+        "                         measured frame (default 4194304; 0: every leaf under the\n"
+        "                         cut): each drawn node's leaves, every k-th column and row of\n"
+        "                         the large ones, chosen anew each frame (error_leaf_share)\n"
         "--json adds rss_mb, rss_anon_mb (/proc/self/status VmRSS, RssAnon; max over the\n"
         "timed frames), resident_mb (the stream's accounting), gpu_mb, first_frame_ms (from\n"
         "the process's start to the end of the first drawn frame) and its parts\n"
@@ -247,6 +252,7 @@ static void set_defaults(bench_options* o)
     o->memory_mb = 1024;
     o->segments = 4;
     o->error_every = 1;
+    o->error_posts = 1 << 22;
     o->runs = 0; /* --runs not given: 3 */
     tp_view_setup_default(&o->vs);
 }
@@ -405,6 +411,7 @@ int tp_bench_parse_options(int argc, char** argv, bench_options* o)
         TP_OPT_INTEGER("--memory", &o->memory_mb, 16, 1 << 20, "megabytes, 16 or more"),
         TP_OPT_INTEGER("--segments", &o->segments, 1, 100000, "a count >= 1"),
         TP_OPT_INTEGER("--error-every", &o->error_every, 1, 100000, "a count >= 1"),
+        TP_OPT_NUMBER("--error-posts", &o->error_posts, 0, 1e15, "a count >= 0"),
         TP_OPT_FLAG("--realtime", &o->realtime),
         TP_OPT_FLAG("--no-prefetch", &o->no_prefetch),
         TP_OPT_FLAG("--no-cut-thread", &o->no_cut_thread),

@@ -3,7 +3,8 @@
  * (issue 12). Every frame: tp_cut_update (the error or the distance mode), tp_stream_frame
  * (with a prefetch cut), tp_renderer_draw_cut, timed as the DEM bench times its frames; then,
  * outside the timed part, the process's memory (/proc/self/status) and the measured screen
- * error of frames drawn without substitution.
+ * error (tp_store_scene_measure: the leaves under the drawn nodes read from the store where the
+ * stream does not hold them, sampled to --error-leaves; frames drawn with substitution apart).
  *
  * A flight is `segments` stretches of continuous flight at --speed spread evenly along a line
  * across the map (low: the middle row, 60 m above the ground, west to east; high: along the
@@ -118,7 +119,6 @@ static void summarize(store_result* c, int n)
     c->pgm_posts = tp_bench_median(v, n);
     ROWS_OF(r->pgm_node_reads);
     c->pgm_node_reads = tp_bench_median(v, n);
-    double sum_px = 0, share = 0;
     for (int i = 0; i < n; i++) {
         const store_row* r = &c->rows[i];
         c->substituted_max = r->substituted > c->substituted_max ? r->substituted : c->substituted_max;
@@ -134,18 +134,8 @@ static void summarize(store_result* c, int n)
         c->img_missing_max = r->img_missing > c->img_missing_max ? r->img_missing : c->img_missing_max;
         c->img_frames_missing += r->img_missing > 0;
         c->img_uploads_total += r->img_uploads;
-        if (r->measured) {
-            c->error_frames++;
-            c->max_px = fmax(c->max_px, r->max_px);
-            sum_px += r->rms_px * r->rms_px;
-            c->samples += (double)r->samples;
-            c->skipped += (double)r->skipped;
-            size_t in_view = r->samples + r->uncovered;
-            share += in_view ? (double)r->uncovered / (double)in_view : 0;
-        }
     }
-    c->rms_px = c->error_frames ? sqrt(sum_px / c->error_frames) : 0;
-    c->uncovered_share = c->error_frames ? share / c->error_frames : NAN;
+    tp_bench_store_error_summary(c, n, v);
     free(v);
 }
 
@@ -172,15 +162,16 @@ static int settle(store_bench* b, tp_cut* cut, tp_cut* pre, const tp_camera* cam
 }
 
 /* The most level-0 posts one PGM frame's error visits over a store (a view towards the horizon
- * over a 65537^2 store would visit all 4.3e9, minutes a frame): 2^28, a few seconds. */
+ * over a 65537^2 store would visit all 4.3e9, minutes a frame): 2^28, a few seconds; of a
+ * larger region every k-th band of node rows (tp_pgm_clipmap_measure, post_share). */
 #define PGM_MEASURE_MAX_POSTS ((size_t)1 << 28)
 
 /* A PGM configuration: a fresh clipmap and grid (cold), the same flight; each frame's time
  * includes the clipmap's update (reading and uploading the strips its windows gain: synchronous,
  * so a jump's whole refill is in the stretch's first warm-up frame, untimed). The error, every
  * --error-every frames outside the timed part, is tp_pgm_clipmap_measure's: the surface the
- * windows drew against the store's level-0 posts in view (frames whose view's region holds more
- * than PGM_MEASURE_MAX_POSTS are counted in pgm_unmeasured instead). Returns TP_EXIT_*. */
+ * windows drew against the store's level-0 posts in view (bands of them where the view's region
+ * holds more than PGM_MEASURE_MAX_POSTS). Returns TP_EXIT_*. */
 static int run_store_pgm(store_bench* b, store_result* c, const char* progress)
 {
     int frames = b->segments * b->per_segment;
@@ -227,11 +218,11 @@ static int run_store_pgm(store_bench* b, store_result* c, const char* progress)
                 tp_camera mc = cam; /* the viewport the frame was drawn at */
                 mc.viewport_w_px = b->o->vs.w;
                 mc.viewport_h_px = b->o->vs.h;
+                double t_m = tp_clock_ms();
                 tp_status ms =
                     tp_pgm_clipmap_measure(clip, &f, &mc, PGM_MEASURE_MAX_POSTS, &e, &err);
-                if (ms == TP_ERR_INVALID_ARG) { /* a region too large to visit: not measured */
-                    c->pgm_unmeasured++;
-                } else if (ms != TP_OK) {
+                row->measure_ms = tp_clock_ms() - t_m;
+                if (ms != TP_OK) {
                     tp_bench_progress_end();
                     tp_cli_error("%s: frame %d: %s", progress, k + 1, err.message);
                     tp_pgm_renderer_destroy(r);
@@ -239,8 +230,10 @@ static int run_store_pgm(store_bench* b, store_result* c, const char* progress)
                     return TP_EXIT_FAILURE;
                 } else {
                     row->measured = 1;
-                    row->max_px = e.max_px, row->rms_px = e.rms_px;
+                    row->max_px = e.samples ? e.max_px : NAN;
+                    row->rms_px = e.samples ? e.rms_px : NAN;
                     row->samples = e.samples, row->uncovered = e.uncovered;
+                    row->post_share = e.post_share;
                 }
             }
             read_rss(&row->rss_mb, &row->rss_anon_mb);
@@ -425,7 +418,8 @@ static void fill_row(store_row* row, const double t[5], const tp_cut_stats* cs,
 /* The flight with d: each stretch reached by a jump (the first configuration's first frame
  * there timed by first_frame) and settled, then WARMUP_FRAMES untimed frames and per_segment
  * timed ones into c->rows, each with the process's memory and, outside the timed part, the
- * measured screen error of every --error-every-th frame drawn without substitution; then the
+ * measured screen error of every --error-every-th frame (those drawn with substitution kept
+ * apart); then the
  * summary and --imagery's last frame against a fresh clipmap's. Returns TP_EXIT_*. */
 static int fly(store_bench* b, store_result* c, int first, store_draw* d, const char* progress)
 {
@@ -504,11 +498,8 @@ static int fly(store_bench* b, store_result* c, int first, store_draw* d, const 
             row->cut_worker_ms = ws.worker_ms;
             row->cut_reused = ws.reused;
             read_rss(&row->rss_mb, &row->rss_anon_mb);
-            if (!o->no_error && cs.substituted == 0 && k % o->error_every == 0) {
-                row->measured = 1;
-                tp_cut_measure_screen_error(cut, &cam, &row->max_px, &row->rms_px, &row->samples,
-                                            &row->skipped);
-            }
+            if (!o->no_error && k % o->error_every == 0 && !tp_bench_store_measure(b, cut, &cam, k, row))
+                return TP_EXIT_FAILURE;
             const char* failure = tp_stream_take_failure(b->sc.stream);
             if (failure) {
                 tp_bench_progress_end();

@@ -25,9 +25,12 @@ typedef struct store_row {
     int nodes, visited, substituted, requests, uploads, pending;
     double substitution_px;
     double rss_mb, rss_anon_mb;
-    int measured;               /* error measured (frame without substitution) */
-    double max_px, rms_px;
+    int measured;               /* error measured: 1 a frame without substitution, 2 with */
+    double max_px, rms_px;      /* NaN when no sample was measured */
     size_t samples, skipped;
+    tp_cut_error cut;           /* the cut's measure: leaves under it, sampled, read */
+    double measure_ms;          /* the measure's time (outside the timed part) */
+    double post_share;          /* --renderer pgm: share of the region's posts compared */
     size_t uncovered;           /* --renderer pgm: posts in view no drawn triangle covers */
     /* --imagery: the clipmap's part of the frame (in frame_ms) */
     double img_ms, img_upload_ms;
@@ -51,9 +54,18 @@ typedef struct store_result {
     int substituted_max, frames_with_substitution, pending_max;
     int dropped_max; /* items the renderer could not hold (TP_RENDER_POOL_MAX_BYTES) */
     double rss_mb, rss_anon_mb, resident_mb, gpu_mb; /* max over timed frames */
-    int error_frames;           /* frames measured */
-    double max_px, rms_px;      /* over measured frames */
-    double samples, skipped;    /* totals over measured frames */
+    int error_frames;           /* frames measured without substitution */
+    double max_px, rms_px;      /* over them */
+    double samples, skipped;    /* totals over them */
+    int error_frames_subst;     /* frames measured that were drawn with substitution */
+    double max_px_subst, rms_px_subst; /* over those (NaN when none) */
+    /* over every measured frame: leaves under the cut, sampled, measured, read, not to be had;
+     * the smallest leaves-per-node side of the sampling (0: every leaf on every frame); the
+     * measure's median time; PGM: the mean share of the posts compared */
+    double leaves, leaves_sampled, leaves_measured, leaves_read, leaves_skipped;
+    int per_node_min;
+    double measure_ms;
+    double post_share;
     double uncovered_share;     /* --renderer pgm: the mean over measured frames of the share of
                                    the posts in view no drawn triangle covers */
     double settle_ms;           /* first stretch: open... until nothing is missing */
@@ -72,8 +84,6 @@ typedef struct store_result {
                                    (app/render/pgm_clip.h), no cut, no stream; error by
                                    tp_pgm_clipmap_measure */
     int pgm_window;
-    int pgm_unmeasured;         /* frames whose view's region held more than 2^28 posts (minutes
-                                   a frame on a huge store): not measured */
     double pgm_fill_ms, pgm_fill_ms_p99, pgm_upload_ms, pgm_upload_ms_p99, pgm_posts,
         pgm_node_reads; /* medians (and p99) over the timed frames */
 } store_result;
@@ -102,6 +112,16 @@ typedef struct store_bench {
 /* The camera d metres along stretch seg of the flight (negative: before its start;
  * bench_store_path.c). The low path reads the ground under it into b->leaf. */
 void tp_bench_store_camera(store_bench* b, int seg, double d, tp_camera* cam);
+
+/* The screen error of frame k (cam, the cut drawn) into row, untimed: the leaves of at most
+ * about --error-posts posts, chosen anew each frame, read from the store where the stream does
+ * not hold them (tp_store_scene_measure); one that cannot be read is said once and left out.
+ * 0 after a message (out of memory). bench_store_error.c. */
+int tp_bench_store_measure(store_bench* b, const tp_cut* cut, const tp_camera* cam, int k,
+                           store_row* row);
+/* The error's part of c's summary over its n rows (v: n doubles of scratch): frames measured
+ * without and with substitution, their max and RMS, how much of the cut was measured. */
+void tp_bench_store_error_summary(store_result* c, int n, double* v);
 
 /* The summary table on stdout. */
 void tp_bench_store_print(const store_bench* b, const char* renderer_name, const store_result* c,

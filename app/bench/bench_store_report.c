@@ -11,7 +11,7 @@
 #include <stdio.h>
 #include <string.h>
 
-static void json_result(tp_json* j, const store_result* c)
+static void json_result(tp_json* j, const store_bench* b, const store_result* c)
 {
 #define tp_json_member_number(j, k, v) (tp_json_member_number(j, k, v))
     tp_json_member_string(j, "terrain_renderer", c->pgm_cols ? "pgm" : "patches");
@@ -91,18 +91,36 @@ static void json_result(tp_json* j, const store_result* c)
         tp_json_member_number(j, "light_missing_blocks_max", c->img_missing_max);
         tp_json_member_number(j, "light_frames_missing_blocks", c->img_frames_missing);
     }
+    /* frames drawn without substitution with a sample in view; null px when there were none */
     tp_json_member_number(j, "error_frames_measured", c->error_frames);
-    /* null when no sample was measured (every leaf in view not resident) */
     tp_json_member_number(j, "max_screen_error_px",
                           c->error_frames && c->samples > 0 ? c->max_px : NAN);
     tp_json_member_number(j, "rms_screen_error_px",
                           c->error_frames && c->samples > 0 ? c->rms_px : NAN);
     tp_json_member_number(j, "error_samples", c->samples);
     tp_json_member_number(j, "error_samples_skipped", c->skipped);
-    if (c->pgm_cols) /* posts in view no drawn triangle covers (not in the error) */
+    tp_json_member_number(j, "error_ms_median", c->measure_ms); /* a measure, untimed */
+    if (c->pgm_cols) { /* posts in view no drawn triangle covers (not in the error) */
         tp_json_member_number(j, "uncovered_share", c->error_frames ? c->uncovered_share : NAN);
-    if (c->pgm_cols) /* frames whose view's region was too large to visit (2^28 posts) */
-        tp_json_member_number(j, "error_frames_over_region_limit", c->pgm_unmeasured);
+        /* the mean share of the view's region compared (bands of it past 2^28 posts) */
+        tp_json_member_number(j, "error_post_share", c->post_share);
+        return;
+    }
+    /* frames drawn with substitution (coarser than tau asks where children were missing) */
+    tp_json_member_number(j, "error_frames_substituted", c->error_frames_subst);
+    tp_json_member_number(j, "max_screen_error_px_substituted", c->max_px_subst);
+    tp_json_member_number(j, "rms_screen_error_px_substituted", c->rms_px_subst);
+    /* How the cut's measure sampled (tp_cut_measure_error), summed over the measured frames:
+     * leaves under the drawn nodes, those chosen (at most per_node x per_node a node), those in
+     * view measured, read from the store, not to be had. */
+    tp_json_member_number(j, "error_posts_budget", b->o->error_posts);
+    tp_json_member_number(j, "error_leaves", c->leaves);
+    tp_json_member_number(j, "error_leaves_sampled", c->leaves_sampled);
+    tp_json_member_number(j, "error_leaves_measured", c->leaves_measured);
+    tp_json_member_number(j, "error_leaves_read", c->leaves_read);
+    tp_json_member_number(j, "error_leaves_skipped", c->leaves_skipped);
+    tp_json_member_number(j, "error_leaf_share", c->leaves > 0 ? c->leaves_sampled / c->leaves : NAN);
+    tp_json_member_number(j, "error_leaves_per_node_min", c->per_node_min);
 }
 
 int tp_bench_store_write_json(const store_bench* b, const char* renderer_name, const store_result* c,
@@ -148,12 +166,12 @@ int tp_bench_store_write_json(const store_bench* b, const char* renderer_name, c
     /* before any node, cut or renderer: libraries, the GL driver, the store's node table */
     tp_json_member_number(&j, "base_rss_mb", b->base_rss_mb);
     tp_json_member_number(&j, "base_rss_anon_mb", b->base_anon_mb);
-    json_result(&j, &c[0]); /* the headline: the first configuration (error mode) */
+    json_result(&j, b, &c[0]); /* the headline: the first configuration (error mode) */
     tp_json_key(&j, "configurations");
     tp_json_array_begin(&j);
     for (int i = 0; i < nc; i++) {
         tp_json_object_begin(&j);
-        json_result(&j, &c[i]);
+        json_result(&j, b, &c[i]);
         tp_json_object_end(&j);
     }
     tp_json_array_end(&j);
@@ -171,13 +189,14 @@ int tp_bench_store_write_csv(const store_bench* b, const store_result* c, int nc
                "visited,substituted,requests,uploads,pending,gpu_bytes,resident_bytes,rss_mb,"
                "rss_anon_mb,measured,max_screen_error_px,rms_screen_error_px,samples,skipped,"
                "imagery_ms,imagery_upload_ms,imagery_uploads,imagery_missing_blocks,"
-               "cut_worker_ms,cut_wait_ms,cut_reused\n");
+               "cut_worker_ms,cut_wait_ms,cut_reused,error_leaves,error_leaves_sampled,"
+               "error_leaves_read,error_ms\n");
     int frames = b->segments * b->per_segment;
     for (int k = 0; k < nc; k++)
         for (int i = 0; i < frames; i++) {
             const store_row* r = &c[k].rows[i];
             fprintf(f, "%s,%d,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%zu,%d,%d,%d,%d,%d,%d,%zu,%zu,%.1f,"
-                       "%.1f,%d,%.4f,%.4f,%zu,%zu,%.4f,%.4f,%d,%d,%.4f,%.4f,%d\n",
+                       "%.1f,%d,%.4f,%.4f,%zu,%zu,%.4f,%.4f,%d,%d,%.4f,%.4f,%d,%zu,%zu,%zu,%.2f\n",
                     c[k].pgm_cols ? "pgm"
                     : c[k].light ? "error+light"
                     : c[k].imagery ? (c[k].imagery_mode == TP_IMAGERY_BLOCKS ? "error+blocks"
@@ -193,7 +212,8 @@ int tp_bench_store_write_csv(const store_bench* b, const store_result* c, int nc
                     r->gpu_bytes, r->resident_bytes, r->rss_mb, r->rss_anon_mb, r->measured,
                     r->max_px, r->rms_px, r->samples, r->skipped, r->img_ms, r->img_upload_ms,
                     r->img_uploads, r->img_missing, r->cut_worker_ms, r->cut_wait_ms,
-                    r->cut_reused);
+                    r->cut_reused, r->cut.leaves, r->cut.leaves_sampled, r->cut.leaves_read,
+                    r->measure_ms);
         }
     return tp_atomic_commit(&file);
 }
@@ -260,13 +280,17 @@ void tp_bench_store_print(const store_bench* b, const char* renderer_name, const
                    c[k].samples > 0 ? c[k].max_px : NAN, c[k].samples > 0 ? c[k].rms_px : NAN,
                    c[k].samples, 100 * c[k].uncovered_share);
     for (int k = 0; k < nc; k++)
-        if (c[k].pgm_cols && c[k].pgm_unmeasured)
-            printf("%s: %d frames not measured: their view's region held more than 2^28 level-0 "
-                   "posts\n",
-                   c[k].label, c[k].pgm_unmeasured);
+        if (c[k].pgm_cols && c[k].post_share < 1)
+            printf("%s: the error compared %.1f%% of the view's posts (bands of them: regions "
+                   "of more than 2^28 posts)\n",
+                   c[k].label, 100 * c[k].post_share);
     for (int k = 0; k < nc; k++)
         if (!o->no_error && !c[k].pgm_cols)
             printf("%s: screen error measured on %d frames without substitution (%.0f samples, "
-                   "%.0f skipped: leaves not resident)\n",
-                   c[k].label, c[k].error_frames, c[k].samples, c[k].skipped);
+                   "%.0f skipped: leaves not to be had), %.1f%% of the leaves under the cut "
+                   "(%s), %.0f ms a measure; %d frames with substitution: max %.3f px\n",
+                   c[k].label, c[k].error_frames, c[k].samples, c[k].skipped,
+                   c[k].leaves > 0 ? 100 * c[k].leaves_sampled / c[k].leaves : 0.0,
+                   c[k].per_node_min ? "sampled" : "every leaf", c[k].measure_ms,
+                   c[k].error_frames_subst, c[k].max_px_subst);
 }

@@ -94,9 +94,10 @@ const tp_store* tp_pgm_clipmap_store(const tp_pgm_clipmap* c); /* the store it w
  * with its own cache of about 16 MiB of decoded nodes; memory besides: one band of the region
  * (its width x 2^n posts, 5 bytes each) and 25 bytes a grid vertex; time: every post of the
  * region (the whole store for a view reaching the horizon), so max_posts (0: no limit) bounds
- * it: a larger region is not measured. TP_OK and *out; else *out zeroed and a message in err:
- * TP_ERR_INVALID_ARG (the region holds more than max_posts posts; both counts said),
- * TP_ERR_IO (a node cannot be read; the store and node named), TP_ERR_OUT_OF_MEMORY. */
+ * it: of a larger region only every ceil(posts / max_posts)-th band of 2^n rows is compared
+ * (out->post_share says what share of the region that was). TP_OK and *out; else *out zeroed
+ * and a message in err: TP_ERR_IO (a node cannot be read; the store and node named),
+ * TP_ERR_OUT_OF_MEMORY. */
 tp_status tp_pgm_clipmap_measure(const tp_pgm_clipmap* c, const tp_pgm_frame* f,
                                  const tp_camera* main, size_t max_posts, tp_pgm_error* out,
                                  tp_error* err);

@@ -144,14 +144,8 @@ tp_status tp_pgm_clipmap_measure(const tp_pgm_clipmap* c, const tp_pgm_frame* f,
     size_t posts = region.x1 > region.x0 && region.y1 > region.y0
                        ? (size_t)(region.x1 - region.x0) * (size_t)(region.y1 - region.y0)
                        : 0;
-    if (max_posts && posts > max_posts) {
-        tp_error_set(
-            err, TP_ERR_INVALID_ARG,
-            "PGM error over a store: not measured, the view's region holds %zu posts (more "
-            "than %zu)",
-            posts, max_posts);
-        return TP_ERR_INVALID_ARG;
-    }
+    /* a region of more than max_posts posts: every band_every-th band of node rows only */
+    int every = max_posts && posts > max_posts ? (int)((posts + max_posts - 1) / max_posts) : 1;
     clip_source s;
     memset(&s, 0, sizeof s);
     s.store = tp_pgm_clipmap_store(c);
@@ -173,7 +167,7 @@ tp_status tp_pgm_clipmap_measure(const tp_pgm_clipmap* c, const tp_pgm_frame* f,
     if (s.raw && s.cache) {
         for (size_t k = 0; k < s.cache_count; k++)
             s.cache[k].node = -1;
-        tp_pgm_source src = {&s, clip_sample, clip_posts, 1 << s.g->n};
+        tp_pgm_source src = {&s, clip_sample, clip_posts, 1 << s.g->n, every, 0};
         st = tp_pgm_measure_error_source(f, s.shape, &src, &region, main, out);
     }
     if (st == TP_ERR_IO)

@@ -64,8 +64,9 @@ tp_pgm_renderer* tp_pgm_renderer_create_clipmap(tp_pgm_clipmap* clip, int cols, 
 /* The error of the surface drawn for cam (its own viewport) by the bench's definition:
  * tp_pgm_measure_error over the whole pyramid, or over a clipmap tp_pgm_clipmap_measure (the
  * windows as they stand: call it after the draw it measures, before the next; max_posts, 0 for
- * none, bounds the posts it may visit). TP_OK and *out; else *out zeroed and a message in err
- * (out of memory; over a store, a node that cannot be read or a region over max_posts). */
+ * none, bounds the posts it visits: a larger region is sampled by bands, out->post_share).
+ * TP_OK and *out; else *out zeroed and a message in err (out of memory; over a store, a node
+ * that cannot be read). */
 tp_status tp_pgm_renderer_measure(const tp_pgm_renderer* r, const tp_camera* cam, size_t max_posts,
                                   tp_pgm_error* out, tp_error* err);
 

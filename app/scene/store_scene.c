@@ -169,3 +169,37 @@ void tp_store_scene_close(tp_store_scene* sc)
     tp_store_close(sc->store);
     memset(sc, 0, sizeof *sc);
 }
+
+typedef struct leaf_reader {
+    const tp_store* store;
+    size_t samples;
+    tp_error* err;
+    int failed;
+} leaf_reader;
+
+static int read_leaf(void* user, int64_t leaf, uint16_t* samples)
+{
+    leaf_reader* r = user;
+    tp_error e;
+    if (tp_store_read_node(r->store, leaf, samples, r->samples, &e) == TP_OK)
+        return 1;
+    if (!r->failed++ && r->err)
+        *r->err = e;
+    return 0;
+}
+
+tp_status tp_store_scene_measure(const tp_store_scene* sc, const tp_cut* cut,
+                                 const tp_camera* cam, size_t max_posts, uint32_t seed,
+                                 tp_cut_error* out, tp_error* err)
+{
+    int n = sc->info.header.geometry.n;
+    size_t v = ((size_t)1 << n) + 1, max_leaves = max_posts >> (2 * n);
+    if (max_posts && !max_leaves)
+        max_leaves = 1;
+    leaf_reader r = {sc->store, v * v, err, 0};
+    tp_cut_measure_options o = {read_leaf, &r, max_leaves, seed};
+    tp_status st = tp_cut_measure_error(cut, cam, &o, out);
+    if (st != TP_OK)
+        tp_error_set(err, st, "measuring the screen error: out of memory");
+    return st;
+}

@@ -110,6 +110,7 @@ void tp_view_frame(tp_view_scene* v, tp_renderer* r, const tp_camera* cam,
     out->core.bound_max_error_m = out->core.bound_rms_error_m = NAN;
     out->store = 1;
     out->nodes_drawn = cs.drawn;
+    memcpy(out->nodes_per_scale, cs.nodes_per_scale, sizeof out->nodes_per_scale);
     out->substituted = cs.substituted;
     out->add_sides = cs.add_sides;
     out->moved_sides = cs.moved_sides;
@@ -134,8 +135,8 @@ static void write_first(tp_json* j, const tp_view_first* first)
 }
 
 int tp_view_write_stats(const char* path, const frame_result* f, const tp_error_measure* em,
-                        double max_px, double rms_px, int levels, const tp_camera* cam,
-                        const tp_view_first* first)
+                        double max_px, double rms_px, const tp_view_measured_how* how,
+                        int levels, const tp_camera* cam, const tp_view_first* first)
 {
     tp_atomic_file file;
     if (!tp_atomic_open(&file, path))
@@ -191,6 +192,24 @@ int tp_view_write_stats(const char* path, const frame_result* f, const tp_error_
     }
     KEY_NUM("max_error_px", max_px);
     KEY_NUM("rms_error_px", rms_px);
+    const tp_cut_error* ce = how && how->cut ? &how->cut_error : NULL;
+    if (how && (how->cut || !isnan(how->post_share))) /* the measure's own time (untimed) */
+        KEY_NUM("error_ms", how->ms);
+    if (how && !isnan(how->post_share)) /* PGM: share of the view's posts compared */
+        KEY_NUM("error_post_share", how->post_share);
+    if (ce) { /* a store's cut: what was measured (null px above when no sample was) */
+        KEY_SIZE("error_samples", ce->samples);
+        KEY_SIZE("error_samples_skipped", ce->skipped);
+        KEY_SIZE("error_leaves", ce->leaves);
+        KEY_SIZE("error_leaves_sampled", ce->leaves_sampled);
+        KEY_SIZE("error_leaves_measured", ce->leaves_measured);
+        KEY_SIZE("error_leaves_read", ce->leaves_read);
+        KEY_SIZE("error_leaves_skipped", ce->leaves_skipped);
+        KEY_SIZE("error_leaves_per_node", (size_t)ce->per_node);
+        KEY_SIZE("error_posts_budget", TP_STORE_MEASURE_POSTS); /* leaves of at most these */
+        KEY_NUM("error_leaf_share",
+                ce->leaves ? (double)ce->leaves_sampled / (double)ce->leaves : NAN);
+    }
     if (!f->store) {
         KEY_NUM("bound_max_error_m", f->core.bound_max_error_m);
         KEY_NUM("bound_rms_error_m", f->core.bound_rms_error_m);
@@ -201,6 +220,14 @@ int tp_view_write_stats(const char* path, const frame_result* f, const tp_error_
         KEY_NUM("resident_mb", f->stream.resident_bytes / 1e6);
         KEY_NUM("gpu_mb", f->render.gpu_bytes / 1e6);
         KEY_SIZE("nodes_drawn", (size_t)f->nodes_drawn);
+        tp_json_key(&j, "nodes_per_scale"); /* scale 0: leaves; coarser from 1 */
+        tp_json_array_begin(&j);
+        int top = TP_TREE_MAX_SCALES;
+        while (top > 1 && f->nodes_per_scale[top - 1] == 0)
+            top--;
+        for (int s = 0; s < top; s++)
+            tp_json_int(&j, f->nodes_per_scale[s]);
+        tp_json_array_end(&j);
         KEY_SIZE("substituted_nodes", (size_t)f->substituted);
         KEY_SIZE("add_sides", (size_t)f->add_sides);
         KEY_SIZE("moved_sides", (size_t)f->moved_sides);

@@ -113,10 +113,12 @@ static int outputs(tp_view_scene* v, tp_gl_context* ctx, const tp_camera* cam,
     }
     if (o->stats_json && code == TP_EXIT_OK) {
         double max_m, rms_m, max_px, rms_px;
-        tp_view_scene_measure(v, cam, &max_m, &rms_m, &max_px, &rms_px);
+        tp_view_measured_how how;
+        tp_view_scene_measure(v, cam, TP_STORE_MEASURE_POSTS, &max_m, &rms_m, &max_px, &rms_px,
+                              &how);
         tp_error_measure em = {.max_error_m = max_m, .rms_error_m = rms_m};
-        if (!tp_view_write_stats(o->stats_json, fr, v->store && !v->pgm ? NULL : &em, max_px,
-                                 rms_px, v->n + 1, cam, &o->first))
+        if (!tp_view_write_stats(o->stats_json, fr, how.cut ? NULL : &em, max_px, rms_px, &how,
+                                 v->n + 1, cam, &o->first))
             code = TP_EXIT_FAILURE;
     }
     return code;

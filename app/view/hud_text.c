@@ -14,7 +14,8 @@
 
 void tp_view_measure_now(const tp_view_scene* v, const tp_camera* cam, tp_measured_error* m)
 {
-    tp_view_scene_measure(v, cam, &m->max_m, &m->rms_m, &m->max_px, &m->rms_px);
+    tp_view_scene_measure(v, cam, TP_STORE_MEASURE_POSTS_HUD, &m->max_m, &m->rms_m, &m->max_px,
+                          &m->rms_px, &m->how);
     m->valid = 1;
 }
 
@@ -119,8 +120,17 @@ static void detail_lines(tp_view_scene* v, const tp_camera* cam, const tp_lod_pa
     if (me && me->valid && !isnan(me->max_m))
         snprintf(measured, sizeof measured, "   measured max %.2f m / %.2f px, RMS %.2f m / %.2f px",
                  me->max_m, me->max_px, me->rms_m, me->rms_px);
+    else if (me && me->valid && isnan(me->max_px) && me->how.cut &&
+             me->how.cut_error.leaves_skipped == 0) /* nothing of the ground in view */
+        snprintf(measured, sizeof measured, "   error: no sample in view");
     else if (me && me->valid && isnan(me->max_px)) /* the measure failed (said on stderr) */
         snprintf(measured, sizeof measured, "   error not measured (see the terminal)");
+    else if (me && me->valid && me->how.cut && me->how.cut_error.per_node &&
+             me->how.cut_error.leaves) /* a store, sampled */
+        snprintf(measured, sizeof measured,
+                 "   measured max %.2f px, RMS %.2f px (%.0f%% of the leaves)", me->max_px,
+                 me->rms_px,
+                 100.0 * (double)me->how.cut_error.leaves_sampled / (double)me->how.cut_error.leaves);
     else if (me && me->valid)
         snprintf(measured, sizeof measured, "   measured max %.2f px, RMS %.2f px", me->max_px,
                  me->rms_px);

@@ -13,6 +13,7 @@
 typedef struct tp_measured_error {
     double max_m, rms_m, max_px, rms_px;
     int valid;
+    tp_view_measured_how how; /* what was measured (a store's cut: the share of its leaves) */
 } tp_measured_error;
 
 void tp_view_measure_now(const tp_view_scene* v, const tp_camera* cam, tp_measured_error* m);

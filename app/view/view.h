@@ -97,6 +97,7 @@ typedef struct frame_result {
     double grid_m;            /* the map grid's spacing drawn (tp_view_grid_spacing; 0: none) */
     int store;                /* the frame of a store: the fields below are set */
     int nodes_drawn, substituted;
+    int nodes_per_scale[TP_TREE_MAX_SCALES]; /* drawn nodes by scale (0: leaves) */
     int add_sides, moved_sides; /* tp_cut_stats: sides taking / moving vertices */
     double bound_max_px;        /* largest projected bound of a drawn node (error mode) */
     int bound_near_nodes;       /* drawn nodes at the eye: their bound covers what is drawn of
@@ -137,10 +138,11 @@ int tp_view_screenshot(tp_gl_context* ctx, const char* path);
 
 /* Writes the statistics JSON (atomically); 0 after a message. */
 int tp_view_write_stats(const char* path, const frame_result* f, const tp_error_measure* em,
-                        double max_px, double rms_px, int levels, const tp_camera* cam,
-                        const tp_view_first* first);
-/* em NULL: no metre errors (a store's frame). first: the view's first picture ("first_frame"),
- * or NULL. */
+                        double max_px, double rms_px, const tp_view_measured_how* how,
+                        int levels, const tp_camera* cam, const tp_view_first* first);
+/* em NULL: no metre errors (a store's frame). how (may be NULL): what the measure covered (a
+ * store's cut: error_samples, error_leaves..., error_leaf_share; PGM: error_post_share).
+ * first: the view's first picture ("first_frame"), or NULL. */
 
 /* headless.c: the preview's first frame (o->preview): drawn once for cam, finished, timed into
  * o->first; then the store's build is started. Returns an exit code. */

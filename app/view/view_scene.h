@@ -60,11 +60,25 @@ int tp_view_scene_ray_cast(const tp_view_scene* v, const double o[3], const doub
 void tp_view_scene_keep_above(tp_view_scene* v, double position[3], double clearance_m);
 void tp_view_scene_set_vertical_scale(tp_view_scene* v, double scale);
 double tp_view_scene_vertical_scale(const tp_view_scene* v);
+/* How tp_view_scene_measure measured: a store's cut (its counts: what share of the leaves
+ * under it was compared, tp_cut_error), or PGM (the share of the view's posts compared). */
+typedef struct tp_view_measured_how {
+    int cut;                 /* 1: a store's cut, cut_error below */
+    tp_cut_error cut_error;
+    double post_share;       /* PGM: 1, or less where the view's region was sampled; NaN else */
+    double ms;               /* the measure's time */
+} tp_view_measured_how;
+
 /* The drawn surface's screen error for cam (px); metres where the path measures them (NaN
- * else); PGM's by tp_pgm_renderer_measure (over a store too, over at most 2^26 posts; NaN px
- * when not measured, the reason printed once). */
-void tp_view_scene_measure(const tp_view_scene* v, const tp_camera* cam, double* max_m,
-                           double* rms_m, double* max_px, double* rms_px);
+ * else); PGM's by tp_pgm_renderer_measure (over a store too: bands of the view's posts past
+ * 2^26 of them; NaN px when not measured, the reason printed once). A store's cut:
+ * tp_store_scene_measure over the leaves of at most about max_posts posts (0: every one); px
+ * NaN when no sample could be measured (none in view, or none to be read: never 0 for that),
+ * a leaf that cannot be read left out (counted in how->cut_error.leaves_skipped; the stream
+ * reports the nodes it loads). how (may be NULL) says what was measured. */
+void tp_view_scene_measure(const tp_view_scene* v, const tp_camera* cam, size_t max_posts,
+                           double* max_m, double* rms_m, double* max_px, double* rms_px,
+                           tp_view_measured_how* how);
 
 /* A store: selects and streams without drawing until nothing is pending (headless frames are
  * complete), at most timeout_s. Returns the iterations. */

@@ -136,12 +136,54 @@ size_t tp_cut_triangles(const tp_cut* c, size_t i, const tp_vertex* vertices,
                         uint32_t* triangles, size_t triangle_capacity);
 /* Height (m) of the surface the cut draws at grid (x, y); NaN where nothing is drawn. */
 double tp_cut_drawn_height_at(const tp_cut* c, double x, double y);
-/* Screen error (px) of the drawn cut against every full-resolution sample of the drawn nodes'
- * areas that is in view, as tp_selection_measure_screen_error; needs the full-resolution
- * samples: it reads the resident leaves, and skips (counting them in *skipped) samples whose
- * leaf is not resident. Any of the outputs may be NULL. With --stitch add
- * (tp_cut_set_stitch_add) it measures the triangles drawn, added vertices included; only then
- * does it allocate, and can fail: TP_ERR_OUT_OF_MEMORY. Else it returns TP_OK. */
+/* ---- the screen error of the drawn cut (cut_measure.c) ----
+ *
+ * Against the full-resolution samples of the drawn nodes' areas that are in view, as
+ * tp_selection_measure_screen_error defines it: each sample's on-screen distance to the drawn
+ * surface vertically above or below it (--stitch add: the triangles drawn, added vertices
+ * included), each sample once (the samples tp_cut_drawn_height_at finds a height for, each
+ * measured on the node that height comes from). Those samples are the leaves': a leaf resident in the cut's tree
+ * is read there, any other through o->read_leaf (a store's reader: a viewer far from the ground
+ * draws coarse nodes and holds none of the leaves under them). A leaf whose box is outside the
+ * view, or that has no drawn sample, is not read.
+ *
+ * Sampling (o->max_leaves > 0): at most m x m leaves of each drawn node, m the largest power of
+ * two for which the leaves so chosen over the whole cut number <= max_leaves (m = 1, one leaf a
+ * node, when even that is more): a node 2^s leaves wide with 2^s > m has every (2^s / m)-th
+ * leaf column and row measured, at an offset drawn from the node's id and o->seed; smaller
+ * nodes are measured whole. Every drawn node is measured, the small near ones whole. */
+typedef struct tp_cut_measure_options {
+    /* Writes leaf's (2^n+1)^2 samples as tp_store_read_node decodes them (relative to the
+     * leaf's qmin, TP_TREE_NO_HEIGHT where not drawn; the cell mask after them is not needed)
+     * into samples; 1, or 0 when it cannot (the leaf's samples are then counted in skipped).
+     * NULL: only resident leaves are measured. May be called from the measuring thread only. */
+    int (*read_leaf)(void* user, int64_t leaf, uint16_t* samples);
+    void* user;
+    size_t max_leaves; /* 0: every leaf under the drawn nodes */
+    uint32_t seed;     /* which leaves the sampling takes (vary it per frame to cover more) */
+} tp_cut_measure_options;
+
+typedef struct tp_cut_error {
+    double max_px, rms_px; /* NaN when no sample was measured (never 0 for "nothing seen") */
+    size_t samples;        /* samples in view measured */
+    size_t skipped;        /* samples of leaves that could not be had (not resident, no or a
+                              failed read_leaf) */
+    size_t leaves;         /* leaves under the drawn nodes (their areas) */
+    size_t leaves_sampled; /* of those, chosen by the sampling (= leaves without it) */
+    size_t leaves_measured;/* of those, in view with a drawn sample, and measured */
+    size_t leaves_read;    /* of those, read through read_leaf */
+    size_t leaves_skipped; /* in view with a drawn sample, but not to be had */
+    int per_node;          /* m: at most m x m leaves a node; 0 when every leaf is measured */
+} tp_cut_error;
+
+/* The screen error of the last update's cut seen from cam (normally the camera of the update).
+ * o NULL: every resident leaf, none read. TP_OK and *out; TP_ERR_OUT_OF_MEMORY (*out: NaN
+ * errors, zero counts). */
+tp_status tp_cut_measure_error(const tp_cut* c, const tp_camera* cam,
+                               const tp_cut_measure_options* o, tp_cut_error* out);
+
+/* tp_cut_measure_error over the resident leaves only (o NULL), its figures: max and RMS 0 when
+ * no sample was measured (test that *samples > 0). Any of the outputs may be NULL. */
 tp_status tp_cut_measure_screen_error(const tp_cut* c, const tp_camera* cam, double* max_px,
                                       double* rms_px, size_t* samples, size_t* skipped);
 

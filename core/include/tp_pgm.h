@@ -121,6 +121,8 @@ typedef struct tp_pgm_error {
     double max_px, rms_px; /* screen */
     size_t samples;        /* posts in view that a triangle covers */
     size_t uncovered;      /* posts in view that none covers */
+    double post_share;     /* share of the region's posts compared: 1, or less when sampled
+                              (tp_pgm_source.band_every) */
 } tp_pgm_error;
 tp_status tp_pgm_measure_error(const tp_pgm_frame* f, const tp_pgm_pyramid* p,
                                const tp_camera* main, tp_pgm_error* out);
@@ -189,6 +191,10 @@ typedef struct tp_pgm_source {
      * cannot be read (the measure fails with TP_ERR_IO; the source keeps its own message). */
     int (*posts)(void* ctx, int x0, int y0, int x1, int y1, float* out);
     int band_rows; /* rows asked for at once, in bands aligned to its multiples; 0: 64 */
+    /* Sampling: only the bands whose index (first row / band_rows) is band_phase modulo
+     * band_every are compared (0 or 1: every band); tp_pgm_error.post_share says what share of
+     * the region's rows that was. */
+    int band_every, band_phase;
 } tp_pgm_source;
 
 /* A rectangle of level-0 posts (inside shape's level-0 extent) that holds every post main can

@@ -335,11 +335,10 @@ int tp__cut_drawn_at_leaf(const tp_cut* c, int lc, int lr)
     return -1;
 }
 
-double tp_cut_drawn_height_at(const tp_cut* c, double x, double y)
+int tp__cut_sample_node(const tp_cut* c, double x, double y, double* z_steps, int leaf[2])
 {
-    assert(c);
     if (!(x >= 0 && y >= 0 && x <= c->g.width - 1 && y <= c->g.height - 1))
-        return NAN;
+        return -1;
     int span = 1 << c->n;
     int lc = (int)x >> c->n, lr = (int)y >> c->n;
     lc = lc < c->g.cols ? lc : c->g.cols - 1;
@@ -353,94 +352,43 @@ double tp_cut_drawn_height_at(const tp_cut* c, double x, double y)
             node_view nv;
             node_view_init(c, (size_t)o, &nv);
             double z = node_drawn_height(&nv, x, y);
-            if (!isnan(z))
-                return z * c->step;
+            if (!isnan(z)) {
+                if (z_steps)
+                    *z_steps = z;
+                if (leaf)
+                    leaf[0] = lc - dx, leaf[1] = lr - dy;
+                return o;
+            }
         }
-    return NAN;
+    return -1;
 }
 
-/* ---- the screen error of the cut ---- */
-
-typedef struct screen_measure {
-    const tp_cut* c;
-    const tp__view* v;
-    int64_t x1, y1; /* the node's far edges: samples there belong to the next node */
-    double max, sum;
-    size_t count, skipped;
-} screen_measure;
-
-static void screen_sample(int x, int y, double z, void* user)
+double tp_cut_drawn_height_at(const tp_cut* c, double x, double y)
 {
-    screen_measure* m = user;
-    const tp_cut* c = m->c;
-    /* Each sample once: one on a shared edge is counted by the node after it. */
-    if ((x == m->x1 && x != c->g.width - 1) || (y == m->y1 && y != c->g.height - 1))
-        return;
-    int lc = x >> c->n, lr = y >> c->n;
-    lc = lc < c->g.cols ? lc : c->g.cols - 1;
-    lr = lr < c->g.rows ? lr : c->g.rows - 1;
-    int64_t leaf = tp_tree_node_id(&c->g, 0, lc, lr);
-    const uint16_t* q = tp_tree_samples(c->t, leaf);
-    if (!q) {
-        m->skipped++;
-        return;
-    }
-    int v = (1 << c->n) + 1;
-    uint16_t st = q[(size_t)(y - (lr << c->n)) * v + (size_t)(x - (lc << c->n))];
-    if (st == TP_TREE_NO_HEIGHT)
-        return;
-    double truth = ((int32_t)st + tp_tree_meta(c->t, leaf)->qmin) * c->step * c->zscale;
-    double ws[3], wd[3];
-    ws[0] = wd[0] = c->gt[0] + (x + 0.5) * c->gt[1];
-    ws[1] = wd[1] = c->gt[3] + (y + 0.5) * c->gt[5];
-    ws[2] = truth;
-    wd[2] = z * c->step * c->zscale;
-    double e = tp__screen_error_px(m->v, ws, wd);
-    if (isnan(e))
-        return;
-    m->max = e > m->max ? e : m->max;
-    m->sum += e * e;
-    m->count++;
+    assert(c);
+    double z;
+    return tp__cut_sample_node(c, x, y, &z, NULL) >= 0 ? z * c->step : NAN;
 }
 
-tp_status tp_cut_measure_screen_error(const tp_cut* c, const tp_camera* cam, double* max_px,
-                                      double* rms_px, size_t* samples, size_t* skipped)
+/* ---- the triangles drawn, one at a time (the screen error: cut_measure.c) ---- */
+
+int tp__cut_node_tris(const tp_cut* c, size_t i, tp__cut_tri_fn fn, void* user)
 {
-    assert(c && cam);
-    tp__view v;
-    tp__view_from_camera(cam, &v);
-    screen_measure m = {c, &v, 0, 0, 0, 0, 0, 0};
-    for (size_t i = 0; i < c->out_count; i++) {
-        node_view nv;
-        node_view_init(c, i, &nv);
-        m.x1 = nv.x0 + ((int64_t)1 << (c->n + nv.s));
-        m.y1 = nv.y0 + ((int64_t)1 << (c->n + nv.s));
-        const int8_t* add = c->out[i].add;
-        if (add[0] != TP_NO_NEIGHBOR || add[1] != TP_NO_NEIGHBOR || add[2] != TP_NO_NEIGHBOR ||
-            add[3] != TP_NO_NEIGHBOR) {
-            if (!tp__cut_raster_add(c, i, screen_sample, &m))
-                return TP_ERR_OUT_OF_MEMORY;
-            continue;
-        }
-        int last = 1 << nv.k;
-        for (int cy = 0; cy < last; cy++)
-            for (int cx = 0; cx < last; cx++)
-                for (int h = 0; h < 2; h++) {
-                    int32_t pos[3][2];
-                    double q[3];
-                    if (!cell_triangle(&nv, cx, cy, h, pos, q))
-                        continue;
-                    tp__raster_triangle(pos[0], pos[1], pos[2], q[0], q[1], q[2], screen_sample,
-                                        &m);
-                }
-    }
-    if (max_px)
-        *max_px = m.max;
-    if (rms_px)
-        *rms_px = m.count ? sqrt(m.sum / (double)m.count) : 0;
-    if (samples)
-        *samples = m.count;
-    if (skipped)
-        *skipped = m.skipped;
-    return TP_OK;
+    assert(c && i < c->out_count && fn);
+    const int8_t* add = c->out[i].add;
+    if (add[0] != TP_NO_NEIGHBOR || add[1] != TP_NO_NEIGHBOR || add[2] != TP_NO_NEIGHBOR ||
+        add[3] != TP_NO_NEIGHBOR)
+        return tp__cut_add_tris(c, i, fn, user);
+    node_view nv;
+    node_view_init(c, i, &nv);
+    int last = 1 << nv.k;
+    for (int cy = 0; cy < last; cy++)
+        for (int cx = 0; cx < last; cx++)
+            for (int h = 0; h < 2; h++) {
+                int32_t pos[3][2];
+                double q[3];
+                if (cell_triangle(&nv, cx, cy, h, pos, q))
+                    fn((const int32_t(*)[2])pos, q, user);
+            }
+    return 1;
 }

@@ -130,6 +130,11 @@ void tp__spheres_destroy(tp_cut* c);
 
 /* Index in the drawn output of the node covering leaf (lc, lr), or -1 (cut_draw.c). */
 int tp__cut_drawn_at_leaf(const tp_cut* c, int lc, int lr);
+/* The drawn node tp_cut_drawn_height_at takes grid (x, y) from (the one over the leaf holding
+ * it, else, on a leaf's border, the first of the leaves left, above and above-left of it whose
+ * node draws a triangle there): its output index, the height there (steps) and that leaf
+ * (column, row; each may be NULL), or -1. */
+int tp__cut_sample_node(const tp_cut* c, double x, double y, double* z_steps, int leaf[2]);
 
 /* Which triangles drawn node i (output index) draws (tp_node_mask_from_q's rule). */
 typedef struct tp__node_draw {
@@ -224,9 +229,15 @@ int tp__cut_seams(const tp_cut* c, int i, int nb[4], int add[4]);
 /* --stitch add (cut_stitch_add.c): the level record i must be raised to so that no corner
  * triangle both takes and moves vertices (its level when none); nb, add: tp__cut_seams'. */
 int tp__cut_add_corner_level(const tp_cut* c, int i, const int nb[4], const int add[4]);
-/* Rasterises drawn node i's --stitch add triangles (its add[] sides) as tp__raster_triangle,
- * z in height steps; 0 when out of memory (cut_stitch_add.c). */
-int tp__cut_raster_add(const tp_cut* c, size_t i, tp__sample_fn fn, void* user);
+/* A triangle drawn: grid positions and global heights in steps (as stored: not scaled). */
+typedef void (*tp__cut_tri_fn)(const int32_t pos[3][2], const double q[3], void* user);
+/* Calls fn for each of drawn node i's --stitch add triangles (its add[] sides; cells whose
+ * vertices are not all drawn left out); 0 when out of memory (cut_stitch_add.c). */
+int tp__cut_add_tris(const tp_cut* c, size_t i, tp__cut_tri_fn fn, void* user);
+/* Calls fn for each triangle drawn node i draws: with add[] sides tp__cut_add_tris', else its
+ * cells' triangles as vertex moving stitches them (tp__tri_drawn's rule, zero areas left out).
+ * 0 when out of memory (cut_draw.c). */
+int tp__cut_node_tris(const tp_cut* c, size_t i, tp__cut_tri_fn fn, void* user);
 /* tp_cut_add_bound_m for record i at level k (m, quantisation not included). */
 double tp__cut_add_bound_m(const tp_cut* c, int i, int k, const int add[4]);
 

@@ -137,7 +137,7 @@ double tp_cut_add_bound_m(const tp_cut* c, size_t i, const int add[4])
     return add_bound_m(c, c->out[i].node, c->out[i].level, add);
 }
 
-int tp__cut_raster_add(const tp_cut* c, size_t i, tp__sample_fn fn, void* user)
+int tp__cut_add_tris(const tp_cut* c, size_t i, tp__cut_tri_fn fn, void* user)
 {
     const tp_cut_node* o = &c->out[i];
     const int n = c->n, k = o->level;
@@ -171,7 +171,7 @@ int tp__cut_raster_add(const tp_cut* c, size_t i, tp__sample_fn fn, void* user)
             drawn &= p->cls == TP_SAMPLE_VALID || p->cls == TP_SAMPLE_FILLED;
         }
         if (drawn)
-            tp__raster_triangle(pos[0], pos[1], pos[2], z[0], z[1], z[2], fn, user);
+            fn(pos, z, user);
     }
     free(v);
     free(tri);

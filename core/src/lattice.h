@@ -99,5 +99,10 @@ static inline uint16_t tp__err_units(double steps, double unit_steps)
 typedef void (*tp__sample_fn)(int x, int y, double z, void* user);
 void tp__raster_triangle(const int32_t a[2], const int32_t b[2], const int32_t c[2], double za,
                          double zb, double zc, tp__sample_fn fn, void* user);
+/* tp__raster_triangle over the samples clip[0] <= x <= clip[2], clip[1] <= y <= clip[3] only
+ * (the same samples, heights and order as the whole triangle's, less those outside). */
+void tp__raster_triangle_clip(const int32_t a[2], const int32_t b[2], const int32_t c[2],
+                              double za, double zb, double zc, const int32_t clip[4],
+                              tp__sample_fn fn, void* user);
 
 #endif

@@ -214,10 +214,17 @@ tp_status tp_pgm_measure_error_source(const tp_pgm_frame* f, const tp_pgm_pyrami
     size_t uncovered = 0;
     tp_status status = TP_OK;
     const double* gt = shape->geotransform;
+    const int every = src->band_every > 1 ? src->band_every : 1;
+    const int phase = ((src->band_phase % every) + every) % every;
+    size_t rows_all = 0, rows_done = 0;
     for (int by = r.y0 - r.y0 % band; bw && by < r.y1; by += band) {
         m.x0 = r.x0, m.x1 = r.x1;
         m.y0 = by > r.y0 ? by : r.y0;
         m.y1 = by + band < r.y1 ? by + band : r.y1;
+        rows_all += (size_t)(m.y1 - m.y0);
+        if ((by / band) % every != phase)
+            continue;
+        rows_done += (size_t)(m.y1 - m.y0);
         if (!src->posts(src->ctx, m.x0, m.y0, m.x1, m.y1, truth)) {
             status = TP_ERR_IO;
             break;
@@ -249,6 +256,7 @@ tp_status tp_pgm_measure_error_source(const tp_pgm_frame* f, const tp_pgm_pyrami
     out->max_px = m.max_px;
     out->samples = m.samples;
     out->uncovered = uncovered;
+    out->post_share = rows_all ? (double)rows_done / (double)rows_all : 1;
     if (m.samples) {
         out->rms_m = sqrt(m.sum_m2 / (double)m.samples);
         out->rms_px = sqrt(m.sum_px2 / (double)m.samples);
@@ -276,6 +284,6 @@ tp_status tp_pgm_measure_error(const tp_pgm_frame* f, const tp_pgm_pyramid* p,
                                const tp_camera* main, tp_pgm_error* out)
 {
     assert(f && p && main && out && p->levels > 0 && f->cols >= 2 && f->rows >= 2);
-    tp_pgm_source src = {(void*)p, pyramid_sample, pyramid_posts, 0};
+    tp_pgm_source src = {(void*)p, pyramid_sample, pyramid_posts, 0, 0, 0};
     return tp_pgm_measure_error_source(f, p, &src, NULL, main, out);
 }

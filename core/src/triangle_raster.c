@@ -12,7 +12,15 @@ static int64_t edge(const int32_t a[2], const int32_t b[2], int64_t x, int64_t y
 void tp__raster_triangle(const int32_t a[2], const int32_t b[2], const int32_t c[2], double za,
                          double zb, double zc, tp__sample_fn fn, void* user)
 {
-    assert(a && b && c && fn);
+    const int32_t all[4] = {INT32_MIN, INT32_MIN, INT32_MAX, INT32_MAX};
+    tp__raster_triangle_clip(a, b, c, za, zb, zc, all, fn, user);
+}
+
+void tp__raster_triangle_clip(const int32_t a[2], const int32_t b[2], const int32_t c[2],
+                              double za, double zb, double zc, const int32_t clip[4],
+                              tp__sample_fn fn, void* user)
+{
+    assert(a && b && c && clip && fn);
     int64_t area = edge(a, b, c[0], c[1]);
     if (area == 0)
         return;
@@ -24,6 +32,10 @@ void tp__raster_triangle(const int32_t a[2], const int32_t b[2], const int32_t c
         y0 = v[i][1] < y0 ? v[i][1] : y0;
         y1 = v[i][1] > y1 ? v[i][1] : y1;
     }
+    x0 = x0 > clip[0] ? x0 : clip[0];
+    y0 = y0 > clip[1] ? y0 : clip[1];
+    x1 = x1 < clip[2] ? x1 : clip[2];
+    y1 = y1 < clip[3] ? y1 : clip[3];
     double inv = 1.0 / (double)area;
     /* Barycentric weights times the signed area; inside when all share its sign. Each edge
      * function changes by a constant per step in x. */
