@@ -75,6 +75,7 @@ tp_renderer* tp_renderer_create_desc(const tp_render_grid_desc* d, tp_error* err
 #undef TP_UNIFORM
     tp__clip_uniforms_find(r->prog, TP__CLIP_SET_IMAGERY, "u_clip", 1, &r->clip_u);
     tp__clip_uniforms_find(r->prog, TP__CLIP_SET_LIGHT, "u_light", 4, &r->light_u);
+    tp__clip_uniforms_find(r->prog, TP__CLIP_SET_NORMALS, "u_normals", 5, &r->normal_u);
 
     /* The strips of every level, one after the other, in one index buffer. */
     r->index_type = n <= 7 ? GL_UNSIGNED_SHORT : GL_UNSIGNED_INT;
@@ -176,6 +177,14 @@ void tp_renderer_set_light(tp_renderer* r, const tp_render_clip* clip, double ta
     else
         memset(&r->light, 0, sizeof r->light);
     r->light_tau = tau;
+}
+
+void tp_renderer_set_normals(tp_renderer* r, const tp_render_clip* clip)
+{
+    if (clip && clip->texture)
+        r->normals = *clip;
+    else
+        memset(&r->normals, 0, sizeof r->normals);
 }
 
 void tp_renderer_set_item_textures(tp_renderer* r, unsigned texture,

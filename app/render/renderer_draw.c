@@ -126,6 +126,7 @@ static int set_imagery_light(tp_renderer* r, const tp_camera* cam, const tp_rend
     int blocks = r->blk_tex && r->blk_count == count && !st->color_lod;
     tp__clip_uniforms_set(&r->clip_u, &r->clip, cam, !st->color_lod && !blocks);
     tp__clip_uniforms_set(&r->light_u, &r->light, cam, 1);
+    tp__clip_uniforms_set(&r->normal_u, &r->normals, cam, 1);
     glUniform1f(r->u_light_tau, (float)r->light_tau);
     glUniform1i(r->u_shadow, 3);
     glUniform1i(r->u_shadow_on, r->shadow_tex != 0 && !r->light.texture);

@@ -53,7 +53,8 @@ struct tp_renderer {
         u_hrange, u_textured, u_tex, u_tex_scale, u_tex_offset, u_grid, u_grid_origin, u_shadow,
         u_shadow_on, u_shadow_win, u_blk, u_blk_layer, u_blk_cell, u_blk_scale, u_blk_offset,
         u_light_tau;
-    tp__clip_uniforms clip_u, light_u; /* the imagery's clipmap (unit 1), the light's (4) */
+    tp__clip_uniforms clip_u, light_u, normal_u; /* the imagery's clipmap (unit 1), the
+                                                    light's (4), the normals' (5) */
     GLuint shadow_tex;
     int shadow_win[4];
     GLuint tex;
@@ -65,6 +66,7 @@ struct tp_renderer {
     size_t* gitem;
     tp_render_clip clip;
     tp_render_clip light; /* tp_renderer_set_light */
+    tp_render_clip normals; /* tp_renderer_set_normals */
     double light_tau;
     float tex_scale[2], tex_offset[2];
     /* tp_renderer_create / tp_renderer_draw: the terrain whose patches it draws */

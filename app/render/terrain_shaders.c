@@ -3,10 +3,12 @@
 
 #include <string.h>
 
-/* Shading is per vertex (hillshade, hypsometric or LoD colour, the filled-void tint): the
- * normals come from the full-resolution grid, so a coarse triangle is shaded from the terrain
- * it stands for; per-pixel work is left to what needs it (texture, grid lines). On llvmpipe
- * this halves the per-pixel cost (see docs/PERFORMANCE.md). */
+/* The hillshade is per pixel from the terrain's normals in a clipmap (normal_map.h: the
+ * full-resolution normals whatever level the geometry is drawn at), the hypsometric colour per
+ * pixel from the interpolated height; the vertex normals shade where the normal map has nothing
+ * (v_direct). The rest stays per vertex where it is cheap (the level colours, the filled-void
+ * tint, the texture level, v_lod); per-pixel work is left to what needs it (texture, normals,
+ * grid lines). docs/PERFORMANCE.md, "Shading from full resolution", has the cost. */
 const char* const tp_terrain_vertex_shader =
     "#version 330 core\n"
     "layout(location = 0) in ivec2 a_grid;\n"
@@ -29,15 +31,15 @@ const char* const tp_terrain_vertex_shader =
     "out vec2 v_blk;\n"
     "out vec2 v_uv;\n"
     "out vec2 v_rel;\n"
+    "out float v_dz;     // height above the eye (drawn space): with v_rel, the ray per pixel\n"
     "out float v_lod;    // log2 of the distance over the slant here: a clip set's level is this\n"
     "                    // plus its u_clip_lod_k (Blow: per vertex, not per pixel)\n"
     "uniform vec4 u_shadow_win; // cast shadows: the window's first post and its size (posts)\n"
     "out vec2 v_shadow_uv;\n"
-    "out float v_direct; // the sun's share of v_light\n"
-    "out vec3 v_base;    // colour before light\n"
-    "out float v_light;\n"
+    "out float v_direct; // the sun's share of the light (where the normal map has nothing)\n"
+    "out vec3 v_base;    // the level's colour (u_color_lod)\n"
+    "out float v_hyp;    // the height's fraction of the range (hypsometric colours)\n"
     "out float v_tint;   // filled-void tint amount\n"
-    TP_GLSL_HYPSOMETRIC
     "vec3 level_color(uint k) {\n"
     TP_GLSL_LEVEL_COLORS
     "    return c[min(k, 8u)];\n"
@@ -48,14 +50,14 @@ const char* const tp_terrain_vertex_shader =
     "    gl_Position = u_viewproj * vec4(d, a_z * u_exag - u_cam_z, 1.0);\n"
     "    vec3 n = normalize(vec3(a_normal.xy * u_exag, a_normal.z));\n"
     "    v_direct = 0.7 * max(dot(n, u_sun), 0.0);\n"
-    "    v_light = 0.3 + v_direct;\n"
     "    v_shadow_uv = (vec2(a_grid) - u_shadow_win.xy + 0.5) / max(u_shadow_win.zw, vec2(1.0));\n"
-    "    v_base = u_color_lod != 0 ? level_color(a_flags & 15u)\n"
-    "                              : hypsometric((a_z - u_hrange.x) / max(u_hrange.y - u_hrange.x, 1.0));\n"
+    "    v_base = level_color(a_flags & 15u);\n"
+    "    v_hyp = (a_z - u_hrange.x) / max(u_hrange.y - u_hrange.x, 1.0);\n"
     "    v_tint = u_hide_filled == 0 ? 0.65 * float((a_flags >> 4u) & 1u) : 0.0;\n"
     "    v_uv = vec2(a_grid) * u_tex_scale + u_tex_offset;\n"
     "    v_blk = vec2(a_grid - u_blk_cell) * u_blk_scale + u_blk_offset;\n"
     "    v_rel = d;\n"
+    "    v_dz = a_z * u_exag - u_cam_z;\n"
     "    // the texel footprint grows as 1 / cos of the angle between the ray and the normal:\n"
     "    // at grazing angles the coarser level (as GL's mipmapping takes the larger axis)\n"
     "    vec3 ray = vec3(d, a_z * u_exag - u_cam_z);\n"
@@ -63,18 +65,23 @@ const char* const tp_terrain_vertex_shader =
     "    v_lod = log2(max(length(ray) / slant, 1e-6));\n"
     "}\n";
 
-/* the fragment shader in two literals (C99 promises 4095 characters a literal) */
+/* the fragment shader in three literals (C99 promises 4095 characters a literal) */
 static const char fragment_head[] =
     "#version 330 core\n"
     "in vec2 v_uv;\n"
     "in vec2 v_blk;\n"
     "in vec2 v_rel;\n"
+    "in float v_dz;\n"
     "in float v_lod;\n"
     "in vec2 v_shadow_uv;\n"
     "in float v_direct;\n"
     "in vec3 v_base;\n"
-    "in float v_light;\n"
+    "in float v_hyp;\n"
     "in float v_tint;\n"
+    "uniform vec3 u_sun;\n"
+    "uniform float u_exag;\n"
+    "uniform int u_color_lod;\n"
+    "uniform int u_hide_filled;\n"
     "uniform sampler2D u_tex;\n"
     "uniform float u_grid;        // line spacing, metres (0: none)\n"
     "uniform vec2 u_grid_origin;  // camera E, N modulo the spacing\n"
@@ -82,21 +89,26 @@ static const char fragment_head[] =
     "uniform sampler2D u_shadow;  // cast shadows over a window (1 lit, 0 shadowed)\n"
     "uniform int u_shadow_on;\n"
     "// clipmaps (clipmap.h): one layer per level, toroidal; set 0 the imagery, set 1 the light\n"
-    "// over a day (light_view.h); a set's per-level uniforms at [set * 16 + level]\n"
-    "uniform sampler2DArray u_clip;  // set 0\n"
-    "uniform sampler2DArray u_light; // set 1: texels (r1, s1, r2, s2) / 255, tp_core.h\n"
-    "uniform int u_clip_levels[2];   // 0: none\n"
-    "uniform int u_clip_first[2];    // finest level kept\n"
-    "uniform float u_clip_size[2];   // texels a side of a layer\n"
-    "uniform vec2 u_clip_per_m[2];   // level-0 texels per metre east and north (signed)\n"
-    "uniform float u_clip_lod_k[2];  // log2 of level-0 texels per pixel per metre of distance\n"
-    "uniform vec4 u_clip_rect[32];   // per level: where its bilinear footprint is valid, level\n"
+    "// over a day (light_view.h), set 2 the normals (normal_map.h); a set's per-level uniforms\n"
+    "// at [set * 16 + level]\n"
+    "uniform sampler2DArray u_clip;    // set 0\n"
+    "uniform sampler2DArray u_light;   // set 1: texels (r1, s1, r2, s2) / 255, tp_core.h\n"
+    "uniform sampler2DArray u_normals; // set 2: texels (nx, ny, nz, 1), snorm\n"
+    "uniform int u_clip_levels[3];   // 0: none\n"
+    "uniform int u_clip_first[3];    // finest level kept\n"
+    "uniform float u_clip_size[3];   // texels a side of a layer\n"
+    "uniform vec2 u_clip_per_m[3];   // level-0 texels per metre east and north (signed)\n"
+    "uniform float u_clip_lod_k[3];  // log2 of level-0 texels per pixel per metre of distance\n"
+    "uniform vec4 u_clip_rect[48];   // per level: where its bilinear footprint is valid, level\n"
     "                                // texels from the camera\n"
-    "uniform vec2 u_clip_cam[32];    // per level: the camera's texel position modulo the size\n"
+    "uniform vec2 u_clip_cam[48];    // per level: the camera's texel position modulo the size\n"
     "uniform float u_light_tau;      // the time in the light's day, steps (0 .. 255)\n"
     "uniform sampler2DArray u_blk; // a texture per item (imagery_blocks.h)\n"
     "uniform int u_blk_layer;      // the item's layer; -1: none\n"
     "out vec4 o_color;\n"
+    TP_GLSL_HYPSOMETRIC;
+
+static const char fragment_clip[] =
     "bool clip_at(sampler2DArray tex, int set, int l, vec2 d0, out vec4 c) {\n"
     "    vec2 d = d0 * exp2(-float(l));\n"
     "    vec4 r = u_clip_rect[set * 16 + l];\n"
@@ -104,12 +116,13 @@ static const char fragment_head[] =
     "    c = textureLod(tex, vec3((u_clip_cam[set * 16 + l] + d) / u_clip_size[set], float(l)), 0.0);\n"
     "    return true;\n"
     "}\n"
-    "// the level the distance asks for (v_lod), else the first coarser level whose valid\n"
-    "// region holds the texel's bilinear footprint (Luo & Duan 3.5); false: none does\n"
-    "bool clip_sample(sampler2DArray tex, int set, vec2 rel, out vec4 c) {\n"
+    "// the level the distance asks for (lod: log2 of metres over the slant), else the first\n"
+    "// coarser level whose valid region holds the texel's bilinear footprint (Luo & Duan 3.5);\n"
+    "// false: none does\n"
+    "bool clip_sample(sampler2DArray tex, int set, vec2 rel, float lod, out vec4 c) {\n"
     "    vec2 d0 = rel * u_clip_per_m[set];\n"
     "    c = vec4(0.0);\n"
-    "    int l0 = max(int(max(v_lod + u_clip_lod_k[set], 0.0)), u_clip_first[set]);\n"
+    "    int l0 = max(int(max(lod + u_clip_lod_k[set], 0.0)), u_clip_first[set]);\n"
     "    for (int l = l0; l < u_clip_levels[set]; l++)\n"
     "        if (clip_at(tex, set, l, d0, c)) return true;\n"
     "    return false;\n"
@@ -122,32 +135,47 @@ static const char fragment_head[] =
     "// the lit fraction here at u_light_tau; 1 where the light's clipmap has nothing\n"
     "float light_lit(vec2 rel) {\n"
     "    vec4 t;\n"
-    "    if (!clip_sample(u_light, 1, rel, t)) return 1.0;\n"
+    "    if (!clip_sample(u_light, 1, rel, v_lod, t)) return 1.0;\n"
     "    t *= 255.0;\n"
     "    return clamp(lit_in(t.x, t.y) + lit_in(t.z, t.w), 0.0, 1.0);\n"
     "}\n";
 
 static const char fragment_main[] =
     "void main() {\n"
-    "    vec3 base = v_base;\n"
-    "    if (u_textured != 0) {\n"
-    "        vec4 t = texture(u_tex, v_uv);\n"
-    "        base = mix(base, t.rgb, t.a);\n"
-    "    }\n"
+    "    // the terrain's normal, height and filled share from the normal map, its level from\n"
+    "    // this pixel's ray (the slant of level ground: nothing of the geometry's level, whose\n"
+    "    // triangles interpolate v_lod differently); else the vertices' shading\n"
+    "    float direct = v_direct; // the sun's share of the light\n"
+    "    float hyp = v_hyp, tint = v_tint;\n"
+    "    vec3 ray = vec3(v_rel, v_dz);\n"
+    "    float dist = max(length(ray), 1e-6);\n"
     "    vec4 t;\n"
-    "    if (u_clip_levels[0] > 0 && clip_sample(u_clip, 0, v_rel, t))\n"
+    "    if (u_clip_levels[2] > 0 &&\n"
+    "        clip_sample(u_normals, 2, v_rel, log2(dist / max(abs(v_dz) / dist, 0.125)), t) &&\n"
+    "        t.a > 0.25) {\n"
+    "        vec3 n = vec3(t.xy, sqrt(max(1.0 - dot(t.xy, t.xy), 0.0)));\n"
+    "        direct = 0.7 * max(dot(normalize(vec3(n.xy * u_exag, n.z)), u_sun), 0.0);\n"
+    "        hyp = 0.5 * t.z + 0.5;\n"
+    "        tint = u_hide_filled == 0 ? 0.65 * clamp(2.0 - 2.0 * t.a, 0.0, 1.0) : 0.0;\n"
+    "    }\n"
+    "    vec3 base = u_color_lod != 0 ? v_base : hypsometric(hyp);\n"
+    "    if (u_textured != 0) {\n"
+    "        vec4 tx = texture(u_tex, v_uv);\n"
+    "        base = mix(base, tx.rgb, tx.a);\n"
+    "    }\n"
+    "    if (u_clip_levels[0] > 0 && clip_sample(u_clip, 0, v_rel, v_lod, t))\n"
     "        base = mix(base, t.rgb, t.a);\n"
     "    if (u_blk_layer >= 0) {\n"
     "        t = texture(u_blk, vec3(v_blk, float(u_blk_layer)));\n"
     "        base = mix(base, t.rgb, t.a);\n"
     "    }\n"
-    "    float light = v_light;\n"
+    "    float light = 0.3 + direct;\n"
     "    if (u_clip_levels[1] > 0) // the day's light replaces the shadow window\n"
-    "        light -= v_direct * (1.0 - light_lit(v_rel));\n"
+    "        light -= direct * (1.0 - light_lit(v_rel));\n"
     "    else if (u_shadow_on != 0 && all(greaterThanEqual(v_shadow_uv, vec2(0.0))) &&\n"
     "        all(lessThanEqual(v_shadow_uv, vec2(1.0))))\n"
-    "        light -= v_direct * (1.0 - texture(u_shadow, v_shadow_uv).r);\n"
-    "    vec3 c = mix(base, vec3(0.85, 0.25, 0.75), v_tint) * light;\n"
+    "        light -= direct * (1.0 - texture(u_shadow, v_shadow_uv).r);\n"
+    "    vec3 c = mix(base, vec3(0.85, 0.25, 0.75), tint) * light;\n"
     "    if (u_grid > 0.0) {\n"
     "        // distance to the nearest grid line in pixels, from the screen-space derivative\n"
     "        vec2 g = (v_rel + u_grid_origin) / u_grid;\n"
@@ -163,10 +191,14 @@ static const char fragment_main[] =
 
 const char* tp_terrain_fragment_shader(void)
 {
-    static char src[sizeof fragment_head + sizeof fragment_main];
+    static char src[sizeof fragment_head + sizeof fragment_clip + sizeof fragment_main];
     if (!src[0]) {
-        memcpy(src, fragment_head, sizeof fragment_head - 1);
-        memcpy(src + sizeof fragment_head - 1, fragment_main, sizeof fragment_main);
+        char* at = src;
+        memcpy(at, fragment_head, sizeof fragment_head - 1);
+        at += sizeof fragment_head - 1;
+        memcpy(at, fragment_clip, sizeof fragment_clip - 1);
+        at += sizeof fragment_clip - 1;
+        memcpy(at, fragment_main, sizeof fragment_main);
     }
     return src;
 }

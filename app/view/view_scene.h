@@ -35,6 +35,9 @@ typedef struct tp_view_scene {
     const struct tp_view_sun* sun;   /* the sun whose time it is drawn at (sun_view.h) */
     int light_settle;                /* headless: every clip window whole before the frame */
     int light_outside;               /* the sun's time left the light map's day (said once) */
+    struct tp_normal_map* normals;   /* the terrain's normals (normal_map.h), or NULL: shaded from
+                                        the vertex normals */
+    int normals_settle;              /* headless: every clip window whole before the frame */
     struct tp_pgm_renderer* pgm;     /* --renderer pgm (a DEM drawn whole): draws instead of the
                                         patches (pgm_render.h; owned by the caller), or NULL */
 } tp_view_scene;
