@@ -106,6 +106,7 @@ typedef struct bench_run {
     const tp_camera* fixed; /* --camera, or NULL */
     int frames;
     double lead_da; /* path parameter from the lead-in frame to the timed one; 0: none */
+    int msaa;       /* samples a pixel (--msaa; 0: none) */
 } bench_run;
 
 struct tp_view_imagery;

@@ -171,6 +171,8 @@ int tp_view_write_stats(const char* path, const frame_result* f, const tp_error_
     KEY_SIZE("gpu_bytes", f->render.gpu_bytes);
     KEY_NUM("grid_m", f->grid_m); /* the spacing drawn (--grid's, times 10^k by the scale) */
     KEY_SIZE("msaa", (size_t)f->msaa);
+    const char* gl = (const char*)glGetString(GL_RENDERER); /* what drew it */
+    tp_json_member_string(&j, "gl_renderer", gl ? gl : "?");
     tp_json_member_string(&j, "normals", f->normals ? "map" : "vertex");
     if (f->normals) {
         KEY_NUM("normals_gpu_mb", f->normal_clip.gpu_bytes / 1e6);
