@@ -322,6 +322,8 @@ tp_normal_map* tp_normal_map_create(tp_normal_source* src, const tp_clipmap_opti
     co.snorm = 1;
     if (!co.clip_blocks)
         co.clip_blocks = TP_NORMAL_MAP_BLOCKS;
+    if (!co.cache_bytes) /* blocks are computed, not read: a small pool (64 blocks) will do */
+        co.cache_bytes = TP_NORMAL_MAP_CACHE_BYTES;
     tp_block_source bs;
     double gt[6];
     tp_normal_source_blocks(src, &bs, gt);

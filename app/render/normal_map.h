@@ -20,7 +20,7 @@
  *
  * GPU memory: the clipmap's, (256 s)^2 x 4 bytes a level (s = TP_NORMAL_MAP_BLOCKS: 4 MiB a
  * level), levels = 1 + the levels until one block holds the grid (a 1201^2 tile: 4, 16 MiB; a
- * 65537^2 store: 9, 36 MiB). app/render/normal_map.c.
+ * 65537^2 store: 10, 40 MiB). app/render/normal_map.c.
  */
 #ifndef TP_APP_VIEW_NORMAL_MAP_H
 #define TP_APP_VIEW_NORMAL_MAP_H
@@ -33,6 +33,7 @@
 
 #define TP_NORMAL_MAP_BLOCK 256 /* texels a side of a block */
 #define TP_NORMAL_MAP_BLOCKS 4  /* default window: blocks a side (1024 texels) */
+#define TP_NORMAL_MAP_CACHE_BYTES ((size_t)16 << 20) /* default pool of blocks in RAM */
 
 /* Where the normals' posts come from: a store (its nodes read as needed; s must outlive it) or a
  * terrain drawn whole (t must outlive it). NULL with a message in err (out of memory). */
@@ -50,8 +51,9 @@ void tp_normal_source_blocks(tp_normal_source* src, tp_block_source* out, double
 typedef struct tp_normal_map tp_normal_map;
 
 /* Creates the clipmap of src (owned from now on, also on failure) with o (NULL: the defaults,
- * TP_NORMAL_MAP_BLOCKS a window; o->snorm is set here): the coarsest levels a window holds are
- * computed at once (a current GL context is needed). NULL with a message in err. */
+ * TP_NORMAL_MAP_BLOCKS a window, TP_NORMAL_MAP_CACHE_BYTES of blocks in RAM; o->snorm is set
+ * here): the coarsest levels a window holds are computed at once (a current GL context is
+ * needed). NULL with a message in err. */
 tp_normal_map* tp_normal_map_create(tp_normal_source* src, const tp_clipmap_options* o,
                                     tp_error* err);
 void tp_normal_map_destroy(tp_normal_map* nm); /* accepts NULL */

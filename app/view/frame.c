@@ -26,7 +26,8 @@ static void report_normal_failures(tp_view_scene* v)
 {
     const char* f;
     while ((f = tp_normal_map_take_failure(v->normals)))
-        tp_cli_error("%s (shaded from the vertex normals there)", f);
+        if (tp_view_scene_say_once(v, f)) /* the stream may have said it */
+            tp_cli_error("%s (shaded from the vertex normals there)", f);
 }
 
 void tp_view_frame(tp_view_scene* v, tp_renderer* r, const tp_camera* cam,

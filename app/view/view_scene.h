@@ -25,6 +25,8 @@ typedef struct tp_view_scene {
     int src_width, src_height, n;
     double min_height_m, max_height_m;
     int failures;             /* damaged nodes reported */
+    uint64_t reported[32];    /* hashes of the read failures said (tp_view_scene_say_once) */
+    int reported_count;
     struct tp_view_imagery* imagery; /* imagery_view.h: a store's imagery, or NULL */
     int imagery_hidden;       /* F3: not drawn (still open) */
     int imagery_settle;       /* headless: every clip window whole before the frame */
@@ -72,5 +74,9 @@ int tp_view_scene_settle(tp_view_scene* v, const tp_camera* cam, const tp_lod_pa
 
 /* Prints each damaged node's message once (stderr). */
 void tp_view_scene_report_failures(tp_view_scene* v);
+
+/* 1 when message (a read failure: the stream's, the normal map's) was not said yet, which it
+ * now is: a damaged node that both read is reported once. */
+int tp_view_scene_say_once(tp_view_scene* v, const char* message);
 
 #endif
