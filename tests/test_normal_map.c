@@ -21,13 +21,16 @@
 #include "tp_test.h"
 #include "tp_io.h"
 
+#include "gl_context.h"
 #include "normal_map.h"
+#include "terrain_shaders.h"
 
 #include "tp_test_child.h"
 
 #define TP_TMP_PREFIX "tp_normal_map_"
 #include "tp_test_tmp.h"
 
+#include <epoxy/gl.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -97,24 +100,32 @@ static tp_store* make_store(const float* z, const double gt[6], tp_tree** full)
 }
 
 /* Reads block k of src. */
-static void read_block(tp_normal_source* src, tp_block_key k, int8_t* t, tp_block_source* bs)
+static void read_block(tp_normal_source* src, tp_block_key k, uint8_t* t, tp_block_source* bs)
 {
     double gt[6];
     tp_normal_source_blocks(src, bs, gt);
     tp_error err = {{0}};
-    ASSERT_TRUE(bs->read(bs->user, k, (uint8_t*)t, &err));
+    ASSERT_TRUE(bs->read(bs->user, k, t, &err));
 }
 
-static int8_t q127(double v)
+/* A normal's component as a texel holds it: 128 + the vertex path's int8. */
+static int q127(double v)
 {
-    return (int8_t)lrintf((float)v * 127.0f);
+    return 128 + (int)lrintf((float)v * 127.0f);
+}
+
+/* A height's share of the range as a texel holds it (NaN: 0). */
+static int q255(double z, double lo, double hi)
+{
+    double t = (z - lo) / fmax(hi - lo, 1);
+    return isnan(t) ? 0 : (int)lrint(fmin(fmax(t, 0), 1) * 255);
 }
 
 /* The expected texel of a coarse level's cell (i, j) from height(x, y) (NaN: none): the mean of
  * the known slopes of its two rows and columns (the cell before it where its own has none), its
  * corners' mean height. */
 static void cell_texel(double (*height)(const void*, int, int), const void* ctx, int l, int i,
-                       int j, const double gt[6], double lo, double hi, int8_t out[3])
+                       int j, const double gt[6], double lo, double hi, int out[3])
 {
     int s = 1 << l;
     double gs[2] = {0, 0};
@@ -143,10 +154,9 @@ static void cell_texel(double (*height)(const void*, int, int), const void* ctx,
         if (!isnan(h))
             hs += h, n++;
     }
-    double t = n ? (hs / n - lo) / fmax(hi - lo, 1) : 0;
     out[0] = q127(-gs[0] / len);
     out[1] = q127(-gs[1] / len);
-    out[2] = (int8_t)lrint((2 * fmin(fmax(t, 0), 1) - 1) * 127);
+    out[2] = q255(n ? hs / n : NAN, lo, hi);
 }
 
 static double tree_height(const void* ctx, int x, int y)
@@ -167,7 +177,7 @@ static void check_levels(tp_normal_source* src, int w, int h,
                          void (*normal)(const void*, int, int, float[3]), const double gt[6],
                          double lo, double hi)
 {
-    int8_t* t = malloc((size_t)TP_NORMAL_MAP_BLOCK * TP_NORMAL_MAP_BLOCK * 4);
+    uint8_t* t = malloc((size_t)TP_NORMAL_MAP_BLOCK * TP_NORMAL_MAP_BLOCK * 4);
     ASSERT_TRUE(t != NULL);
     tp_block_source bs;
     double g[6];
@@ -186,29 +196,28 @@ static void check_levels(tp_normal_source* src, int w, int h,
                 read_block(src, (tp_block_key){l, bx, by}, t, &bs);
                 for (int j = 0; j < TP_NORMAL_MAP_BLOCK; j++)
                     for (int i = 0; i < TP_NORMAL_MAP_BLOCK; i++) {
-                        const int8_t* p = t + ((size_t)j * TP_NORMAL_MAP_BLOCK + i) * 4;
+                        const uint8_t* p = t + ((size_t)j * TP_NORMAL_MAP_BLOCK + i) * 4;
                         int x = bx * TP_NORMAL_MAP_BLOCK + i, y = by * TP_NORMAL_MAP_BLOCK + j;
                         if (x >= bs.width[l] || y >= bs.height[l]) {
                             off += p[0] || p[1] || p[2] || p[3];
                             continue;
                         }
-                        int8_t e[3];
+                        int e[3];
                         if (l == 0) {
                             float n[3];
-                            normal(ctx, x, y, n);
-                            double h = (height(ctx, x, y) - lo) / fmax(hi - lo, 1);
-                            e[0] = (int8_t)lrintf(n[0] * 127.0f);
-                            e[1] = (int8_t)lrintf(n[1] * 127.0f);
-                            e[2] = isnan(h) ? -127 : (int8_t)lrint((2 * fmin(fmax(h, 0), 1) - 1) * 127);
+                            normal(ctx, x, y, n); /* the vertex path's, renderer_upload.c */
+                            e[0] = 128 + (int8_t)lrintf(n[0] * 127.0f);
+                            e[1] = 128 + (int8_t)lrintf(n[1] * 127.0f);
+                            e[2] = q255(height(ctx, x, y), lo, hi);
                         } else {
                             cell_texel(height, ctx, l, x, y, gt, lo, hi, e);
                         }
                         if (checked < 1 || p[0] != e[0] || p[1] != e[1] || abs(p[2] - e[2]) > 1 ||
-                            p[3] != 127) {
+                            p[3] != 255) {
                             EXPECT_EQ_INT(e[0], p[0]);
                             EXPECT_EQ_INT(e[1], p[1]);
                             EXPECT_LE_INT(abs(p[2] - e[2]), 1);
-                            EXPECT_EQ_INT(127, p[3]);
+                            EXPECT_EQ_INT(255, p[3]);
                             ASSERT_NO_FAILURE();
                         }
                         checked++;
@@ -434,6 +443,43 @@ TEST(store_view_shades_as_the_dem_drawn_whole)
     store_against_whole("376408,4706523,130000,0,-90", "down");
 }
 
+/* ---- the terrain program's specialisations ---- */
+
+/* Each of the 128 feature sets (TP_SHADE_*) makes a program that compiles and links, and sets
+ * without a feature leave its uniforms out (llvmpipe would run its code); the shadow window's
+ * are out also beside the day's light, which replaces it. */
+TEST(every_feature_set_compiles)
+{
+    tp_gl_context* ctx = NULL;
+    tp_error err = {{0}};
+    if (!tp_gl_context_create_headless(64, 64, &ctx, &err))
+        SKIP("no headless OpenGL here: %s", err.message);
+    static char vs[16384], fs[16384];
+    for (unsigned f = 0; f <= TP_SHADE_ALL; f++) {
+        ASSERT_TRUE(tp_terrain_shader_sources(f, vs, fs, sizeof vs));
+        unsigned prog = tp_gl_program(vs, fs, &err);
+        if (!prog)
+            FAIL("features %u: %s", f, err.message);
+        static const struct {
+            unsigned feature;
+            const char* uniform;
+        } own[] = {{TP_SHADE_IMAGERY, "u_clip"},      {TP_SHADE_LIGHT, "u_light_tau"},
+                   {TP_SHADE_NORMALS, "u_normals"},   {TP_SHADE_SHADOW, "u_shadow"},
+                   {TP_SHADE_TEXTURE, "u_tex"},       {TP_SHADE_BLOCKS, "u_blk_layer"},
+                   {TP_SHADE_GRID, "u_grid_origin"}};
+        for (int k = 0; k < 7; k++) {
+            /* the day's light replaces the shadow window */
+            int on = (f & own[k].feature) &&
+                     !(own[k].feature == TP_SHADE_SHADOW && (f & TP_SHADE_LIGHT));
+            if (on != (glGetUniformLocation(prog, own[k].uniform) >= 0))
+                FAIL("features %u: %s %s", f, own[k].uniform, on ? "missing" : "there");
+        }
+        glDeleteProgram(prog);
+        ASSERT_NO_FAILURE();
+    }
+    tp_gl_context_destroy(ctx);
+}
+
 /* ---- multisampling ---- */
 
 TEST(msaa_blends_the_silhouette)
@@ -486,5 +532,6 @@ TEST(msaa_blends_the_silhouette)
     X(store_texels_are_the_vertex_normals)                                                         \
     X(terrain_texels_are_the_vertex_normals)                                                       \
     X(store_view_shades_as_the_dem_drawn_whole)                                                    \
+    X(every_feature_set_compiles)                                                                  \
     X(msaa_blends_the_silhouette)
 TP_TEST_MAIN(TESTS)

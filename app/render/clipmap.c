@@ -27,7 +27,6 @@ struct tp_clipmap {
     tp_imagery_cache* cache;
     double gt[6];
     int levels, s, block, size;
-    GLenum type; /* of the blocks' texels: GL_UNSIGNED_BYTE, GL_BYTE (snorm) */
     size_t upload_cap;
     double prefetch_s, frame_s;
     GLuint tex;
@@ -74,7 +73,7 @@ static void upload(tp_clipmap* m, int l, int64_t bx, int64_t by, const uint8_t* 
     level* v = &m->lv[l];
     int sx = tp_clip_slot(bx, m->s), sy = tp_clip_slot(by, m->s);
     glTexSubImage3D(GL_TEXTURE_2D_ARRAY, 0, sx * m->block, sy * m->block, l, m->block, m->block,
-                    1, GL_RGBA, m->type, px);
+                    1, GL_RGBA, GL_UNSIGNED_BYTE, px);
     v->tag[sy * m->s + sx] = key_of(l, bx, by);
 }
 
@@ -113,7 +112,6 @@ tp_clipmap* tp_clipmap_create(const tp_block_source* src, const double gt[6],
     m->upload_cap = o->upload_cap_bytes ? o->upload_cap_bytes : 8 * block_bytes;
     m->prefetch_s = o->prefetch_s > 0 ? o->prefetch_s : 0.5;
     m->frame_s = o->frame_s;
-    m->type = o->snorm ? GL_BYTE : GL_UNSIGNED_BYTE;
     m->zeros = calloc(1, block_bytes);
     for (int l = 0; l < m->levels; l++) {
         m->lv[l].tag = malloc((size_t)m->s * m->s * sizeof *m->lv[l].tag);
@@ -142,8 +140,8 @@ tp_clipmap* tp_clipmap_create(const tp_block_source* src, const double gt[6],
     }
     glGenTextures(1, &m->tex);
     glBindTexture(GL_TEXTURE_2D_ARRAY, m->tex);
-    glTexImage3D(GL_TEXTURE_2D_ARRAY, 0, o->snorm ? GL_RGBA8_SNORM : GL_RGBA8, m->size, m->size,
-                 m->levels, 0, GL_RGBA, m->type, NULL);
+    glTexImage3D(GL_TEXTURE_2D_ARRAY, 0, GL_RGBA8, m->size, m->size, m->levels, 0, GL_RGBA,
+                 GL_UNSIGNED_BYTE, NULL);
     glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
     glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
     glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_WRAP_S, GL_REPEAT);

@@ -31,8 +31,6 @@ typedef struct tp_clipmap_options {
     int no_loader;            /* tests: nothing read in the background */
     double frame_s;           /* > 0: each update is this much later than the last (a bench's
                                  fixed-rate flight); 0: the real clock */
-    int snorm;                /* texels are signed (GL_RGBA8_SNORM, blocks of int8: the normal
-                                 map, normal_map.h); 0: GL_RGBA8 */
 } tp_clipmap_options;
 
 typedef struct tp_clipmap_stats {

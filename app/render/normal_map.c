@@ -202,20 +202,21 @@ static double slope2(double a0, double b0, double a1, double b1, double spacing)
     return (isnan(d0) ? d1 : d0) / spacing;
 }
 
-/* A texel: (nx, ny) of the normal of slopes gx, gy (as the vertex path's: a float normal, then
- * x 127 rounded, renderer_upload.c), the height z as its fraction of the range (-127 .. 127)
- * and the filled share (alpha 127 measured, 64 filled). */
-static void put_texel(const tp_normal_source* s, int8_t* t, double gx, double gy, double z,
+/* A texel: (nx, ny) of the normal of slopes gx, gy as the vertex path quantises them (a float
+ * normal, x 127, rounded: renderer_upload.c), stored 128 + that (1 .. 255: llvmpipe filters
+ * unsigned bytes on its fast path, and the shader's (255 t - 128) / 127 is exact); the height z
+ * as its share of the range (0 .. 255); the filled share (alpha 255 measured, 128 filled). */
+static void put_texel(const tp_normal_source* s, uint8_t* t, double gx, double gy, double z,
                       double filled)
 {
     double len = sqrt(gx * gx + gy * gy + 1);
     float n[2] = {(float)(-gx / len), (float)(-gy / len)};
-    t[0] = (int8_t)lrintf(n[0] * 127.0f);
-    t[1] = (int8_t)lrintf(n[1] * 127.0f);
+    t[0] = (uint8_t)(128 + lrintf(n[0] * 127.0f));
+    t[1] = (uint8_t)(128 + lrintf(n[1] * 127.0f));
     double h = (z - s->lo) / fmax(s->hi - s->lo, 1.0);
     h = isnan(h) ? 0 : h < 0 ? 0 : h > 1 ? 1 : h;
-    t[2] = (int8_t)lrint((2 * h - 1) * 127);
-    t[3] = (int8_t)lrint(127 - 63 * filled);
+    t[2] = (uint8_t)lrint(h * 255);
+    t[3] = (uint8_t)lrint(255 - 127 * filled);
 }
 
 /* The mean of the known values of v[0..count-1]; NaN when none is. */
@@ -233,7 +234,7 @@ static double mean_known(const double* v, int count)
  * level 0 the post's normal and height; level >= 1 the cell's from (i, j) to (i + 1, j + 1) (its
  * mean slopes, height and filled share), the cell before it along an axis where that one has
  * no slope. */
-static void texel(const tp_normal_source* s, int l, int i, int j, int8_t* t)
+static void texel(const tp_normal_source* s, int l, int i, int j, uint8_t* t)
 {
     size_t at = (size_t)(j + 1) * ZW + (i + 1);
     const double* z = s->z + at;
@@ -275,7 +276,7 @@ static int read_block(void* user, tp_block_key k, uint8_t* rgba, tp_error* err)
     int64_t w = ((s->width - 1) >> k.level) + 1, h = ((s->height - 1) >> k.level) + 1;
     for (int j = 0; j < B; j++)
         for (int i = 0; i < B; i++) {
-            int8_t* t = (int8_t*)rgba + ((size_t)j * B + i) * 4;
+            uint8_t* t = rgba + ((size_t)j * B + i) * 4;
             if (!ok || k.bx * B + i >= w || k.by * B + j >= h)
                 memset(t, 0, 4);
             else
@@ -319,7 +320,6 @@ tp_normal_map* tp_normal_map_create(tp_normal_source* src, const tp_clipmap_opti
     tp_clipmap_options co = {0};
     if (o)
         co = *o;
-    co.snorm = 1;
     if (!co.clip_blocks)
         co.clip_blocks = TP_NORMAL_MAP_BLOCKS;
     if (!co.cache_bytes) /* blocks are computed, not read: a small pool (64 blocks) will do */

@@ -7,7 +7,8 @@
  * The normals are a pyramid that exists nowhere whole: level 0 holds a texel per post, the
  * post's unit normal (east, north, up) by the rule of tp_terrain_normal and tp_tree_node_normal
  * (central differences of the full-resolution posts, one-sided next to undrawn ones), quantised
- * as the vertex path quantises its own (x 127, rounded; GL_RGBA8_SNORM, alpha 1): at full
+ * as the vertex path quantises its own (x 127, rounded; stored as 128 + that in GL_RGBA8, with
+ * the post's height's share of the range and alpha 1, 1/2 for a filled void): at full
  * resolution the picture is the one per-vertex normals gave. Level l >= 1 holds a texel per
  * 2^l posts: the normal of the cell between lattice posts (i, j) and (i + 1, j + 1) of stride
  * 2^l (the mean of its two rows' and two columns' slopes: the surface's mean slope over the
@@ -43,17 +44,18 @@ tp_normal_source* tp_normal_source_store(const tp_store* s, double min_m, double
 tp_normal_source* tp_normal_source_terrain(const tp_terrain* t, tp_error* err);
 void tp_normal_source_destroy(tp_normal_source* src); /* accepts NULL */
 
-/* The clipmap's block source over src (blocks of int8 (nx, ny, nz, 1) x 127, top row first; a
- * texel past the grid's edge is 0) and the geotransform of its level-0 texels (the grid's: a
- * texel per post). src must outlive what uses it. */
+/* The clipmap's block source over src (blocks of RGBA8 texels (128 + 127 nx, 128 + 127 ny,
+ * 255 h, 255 - 127 filled), h the height's share of the range, top row first; a texel past the
+ * grid's edge is 0) and the geotransform of its level-0 texels (the grid's: a texel per post).
+ * src must outlive what uses it. */
 void tp_normal_source_blocks(tp_normal_source* src, tp_block_source* out, double gt[6]);
 
 typedef struct tp_normal_map tp_normal_map;
 
 /* Creates the clipmap of src (owned from now on, also on failure) with o (NULL: the defaults,
- * TP_NORMAL_MAP_BLOCKS a window, TP_NORMAL_MAP_CACHE_BYTES of blocks in RAM; o->snorm is set
- * here): the coarsest levels a window holds are computed at once (a current GL context is
- * needed). NULL with a message in err. */
+ * TP_NORMAL_MAP_BLOCKS a window, TP_NORMAL_MAP_CACHE_BYTES of blocks in RAM): the coarsest
+ * levels a window holds are computed at once (a current GL context is needed). NULL with a
+ * message in err. */
 tp_normal_map* tp_normal_map_create(tp_normal_source* src, const tp_clipmap_options* o,
                                     tp_error* err);
 void tp_normal_map_destroy(tp_normal_map* nm); /* accepts NULL */
