@@ -267,9 +267,10 @@ void tp_view_renderer_help(FILE* out, int bench)
           "  --pgm-window N        over a store: each pyramid level's window, N x N posts (a\n"
           "                        power of two, 16 to 8192; default 512)\n"
           "  --msaa N|auto         multisampling: N samples a pixel (0, 1, 2, 4, 8 or 16; 0 and\n"
-          "                        1: none). auto (default): 4 on a GPU, none on a software\n"
-          "                        renderer (Mesa's llvmpipe: GL_RENDERER), where 4 samples\n"
-          "                        cost about a third more a frame (docs/PERFORMANCE.md)\n",
+          "                        1: none; at most what the driver offers). auto (default):\n"
+          "                        4 on a GPU, none on a software renderer (Mesa's llvmpipe:\n"
+          "                        GL_RENDERER), where 4 samples make a frame 2.5 to 4 times\n"
+          "                        as long (docs/PERFORMANCE.md)\n",
           out);
     fputs(bench ? "  --pgm-grid COLSxROWS[,COLSxROWS...]   with --renderer pgm: the grids to\n"
                   "                        measure, each a configuration beside the patch ones\n"
