@@ -256,6 +256,11 @@ void tp_bench_pgm_errors(config_result* c, int frames);
 /* The median of v[0..n-1] (n >= 1); sorts v. */
 double tp_bench_median(double* v, int n);
 
+/* Milliseconds since the process started; NaN when unknown. Resolution: one tick (10 ms). */
+double tp_bench_ms_since_start(void);
+/* VmRSS and RssAnon of this process, MB (10^6 bytes); NaN when not readable. */
+void tp_bench_read_rss(double* rss_mb, double* anon_mb);
+
 /* A run's progress on stderr (bench_stats.c), for both benches: frame (1-based) of frames and
  * what it measured ("12.3 ms, 4567 triangles"). On a terminal one line redrawn ('\r'); else
  * (a log, a pipe) one line at each tenth of the frames and at the last, never thousands of

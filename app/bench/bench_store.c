@@ -42,51 +42,6 @@
 #define WARMUP_FRAMES 5
 #define SETTLE_MAX_MS 20000.0
 
-/* Milliseconds since the process started (its start time in /proc/self/stat, in clock ticks
- * since boot, against CLOCK_BOOTTIME); NaN when unknown. Resolution: one tick (10 ms). */
-static double ms_since_process_start(void)
-{
-    FILE* f = fopen("/proc/self/stat", "r");
-    if (!f)
-        return NAN;
-    char buf[2048];
-    size_t n = fread(buf, 1, sizeof buf - 1, f);
-    fclose(f);
-    buf[n] = '\0';
-    char* p = strrchr(buf, ')'); /* the command name may hold spaces */
-    if (!p)
-        return NAN;
-    unsigned long long start = 0;
-    /* fields after ')': 3 state ... 22 starttime */
-    int field = 2;
-    for (char* s = p + 1; *s && field < 22; s++)
-        if (*s == ' ' && ++field == 22)
-            start = strtoull(s + 1, NULL, 10);
-    long hz = sysconf(_SC_CLK_TCK);
-    struct timespec ts;
-    if (field != 22 || hz <= 0 || clock_gettime(CLOCK_BOOTTIME, &ts) != 0)
-        return NAN;
-    return ts.tv_sec * 1e3 + ts.tv_nsec / 1e6 - (double)start * 1e3 / (double)hz;
-}
-
-/* VmRSS and RssAnon of this process, MB (10^6 bytes); NaN when not readable. */
-static void read_rss(double* rss_mb, double* anon_mb)
-{
-    *rss_mb = *anon_mb = NAN;
-    FILE* f = fopen("/proc/self/status", "r");
-    if (!f)
-        return;
-    char line[256];
-    double kb;
-    while (fgets(line, sizeof line, f)) {
-        if (sscanf(line, "VmRSS: %lf", &kb) == 1)
-            *rss_mb = kb * 1024 / 1e6;
-        else if (sscanf(line, "RssAnon: %lf", &kb) == 1)
-            *anon_mb = kb * 1024 / 1e6;
-    }
-    fclose(f);
-}
-
 #define ROWS_OF(expr) TP_BENCH_COLUMN(v, store_row, c->rows, n, expr)
 
 static void summarize(store_result* c, int n)
@@ -269,7 +224,7 @@ static int run_store_pgm(store_bench* b, store_result* c, const char* progress)
                     row->samples = e.samples, row->uncovered = e.uncovered;
                 }
             }
-            read_rss(&row->rss_mb, &row->rss_anon_mb);
+            tp_bench_read_rss(&row->rss_mb, &row->rss_anon_mb);
             char what[96];
             snprintf(what, sizeof what, "%.1f ms, %zu posts updated", row->frame_ms,
                      row->pgm_posts);
@@ -412,7 +367,7 @@ static int first_frame(store_bench* b, const store_result* c, store_draw* d, con
     tp_gl_context_end_frame(b->ctx);
     b->first_cut_ms = t1 - t0;
     b->first_draw_ms = tp_clock_ms() - t1;
-    b->first_frame_ms = ms_since_process_start();
+    b->first_frame_ms = tp_bench_ms_since_start();
     b->first_frame_open_ms = tp_clock_ms() - b->t_open_ms;
     return TP_EXIT_OK;
 }
@@ -529,7 +484,7 @@ static int fly(store_bench* b, store_result* c, int first, store_draw* d, const 
             tp_cut_stats cs;
             tp_cut_get_stats(d->cut, &cs);
             fill_row(row, t, &cs, &st, &ss, &is, d->im || d->lt, &ns);
-            read_rss(&row->rss_mb, &row->rss_anon_mb);
+            tp_bench_read_rss(&row->rss_mb, &row->rss_anon_mb);
             if (!o->no_error && cs.substituted == 0 && k % o->error_every == 0) {
                 row->measured = 1;
                 tp_cut_measure_screen_error(d->cut, &cam, &row->max_px, &row->rms_px, &row->samples,
@@ -576,7 +531,7 @@ int tp_bench_store(const bench_options* o)
     store_bench b;
     memset(&b, 0, sizeof b);
     b.o = o;
-    b.entered_ms = ms_since_process_start();
+    b.entered_ms = tp_bench_ms_since_start();
     b.t_open_ms = tp_clock_ms();
     /* as the viewer opens a store: the georeference is made on a thread meanwhile, and waited
      * for before the first frame (the bench itself does not use it) */
@@ -608,7 +563,7 @@ int tp_bench_store(const bench_options* o)
         tp_cli_warning("--msaa %d: %s", samples, err.message);
         b.msaa = 0;
     }
-    read_rss(&b.base_rss_mb, &b.base_anon_mb);
+    tp_bench_read_rss(&b.base_rss_mb, &b.base_anon_mb);
     const char* renderer_name = (const char*)glGetString(GL_RENDERER);
     renderer_name = renderer_name ? renderer_name : "?";
     store_result c[8 + 8]; /* error, distance, spheres, two imagery modes, light, error+add,
