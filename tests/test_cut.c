@@ -382,6 +382,40 @@ static int check_watertight(const tp_tree* t, const tp_cut* cut, uint8_t* covere
 
 /* ---- tests ---- */
 
+/* --stitch add's bound for drawn node i as its definition states it (tp_cut_add_bound_m),
+ * computed here from the node's samples: its level's delta plus the largest offset of a side
+ * sample at an added level's stride from the level-k edge through that side's vertices. */
+static double direct_add_bound_m(const tp_tree* t, const tp_cut_node* o)
+{
+    tp_tree_info info;
+    tp_tree_get_info(t, &info);
+    const int n = tp_tree_get_geometry(t)->n, k = o->level, side = (1 << n) + 1;
+    const uint16_t* q = tp_tree_samples(t, o->node);
+    const tp_node_meta* m = tp_tree_meta(t, o->node);
+    double worst = 0;
+    for (int sd = 0; sd < 4; sd++) {
+        if (o->add[sd] == TP_NO_NEIGHBOR || o->add[sd] <= k)
+            continue;
+        int stride = 1 << (n - (o->add[sd] > n ? n : o->add[sd])), seg = 1 << (n - k);
+        for (int u = 0; u < side; u += stride) {
+            int lo = u / seg * seg, hi = lo + seg < side ? lo + seg : lo;
+            /* position u along the side: TOP row 0, RIGHT column 2^n, BOTTOM row 2^n, LEFT 0 */
+            int at[3];
+            const int pos[3] = {u, lo, hi};
+            for (int j = 0; j < 3; j++)
+                at[j] = sd == TP_SIDE_TOP      ? pos[j]
+                        : sd == TP_SIDE_RIGHT  ? pos[j] * side + side - 1
+                        : sd == TP_SIDE_BOTTOM ? (side - 1) * side + pos[j]
+                                               : pos[j] * side;
+            double za = q[at[1]], zb = q[at[2]];
+            double line = hi > lo ? za + (zb - za) * (u - lo) / (hi - lo) : za;
+            worst = fmax(worst, fabs(q[at[0]] - line));
+        }
+    }
+    return tp_node_error_bound(m, n, k, NULL, info.height_step_m, info.err_unit_steps) +
+           worst * info.height_step_m;
+}
+
 /* Random views with vertex moving, or with --stitch add (add: tp_cut_set_stitch_add). */
 static void random_views(int add)
 {
@@ -412,6 +446,14 @@ static void random_views(int add)
             EXPECT_EQ_INT((int)count, st.drawn);
             add_sides += st.add_sides;
             moved_sides += st.moved_sides;
+            const tp_cut_node* o = tp_cut_nodes(cut, &count);
+            for (size_t i = 0; add && i < count; i++) {
+                int a[4] = {o[i].add[0], o[i].add[1], o[i].add[2], o[i].add[3]};
+                double want = direct_add_bound_m(t, &o[i]);
+                /* the cut's table keeps offsets as floats rounded up */
+                EXPECT_NEAR(want, tp_cut_add_bound_m(cut, i, a), 1e-6 * (1 + want));
+                EXPECT_TRUE(tp_cut_add_bound_m(cut, i, a) >= want - 1e-9);
+            }
             if (f)
                 fprintf(stderr, "view %d (mode %d, tau %g): %d failures\n", it, (int)lp.mode,
                         lp.tau_px, f);
@@ -440,6 +482,74 @@ TEST(watertight_for_random_views)
 TEST(watertight_for_random_views_stitch_add)
 {
     random_views(1);
+}
+
+/* A cut selected for one camera and drawn from another (a cut selected on another thread for
+ * the predicted camera): whenever tp_cut_holds_for accepts it, the measured screen error from
+ * the new camera stays within tau, and every pixel where the new camera's own cut shows ground
+ * shows ground in the reused cut too (the grid position the fresh cut's ray hits has a drawn
+ * height in the old cut). Small moves are mostly accepted; jumps are refused. */
+TEST(a_cut_drawn_from_a_moved_camera_keeps_tau_and_coverage)
+{
+    LOAD_OR_SKIP(h, 250, 300, 700, 420);
+    tp_tree* t = make_tree(h, 700, 420, 33);
+    const tp_tree_geometry* g = tp_tree_get_geometry(t);
+    tp_cut *cut, *fresh;
+    ASSERT_OK(tp_cut_create(t, &cut, NULL));
+    ASSERT_OK(tp_cut_create(t, &fresh, NULL));
+    tp_lod_params lp = {.mode = TP_LOD_ERROR, .tau_px = 1};
+    int small_held = 0, small = 0, jumps_held = 0, covered = 0;
+    for (int it = 0; it < 80; it++) {
+        double x = rnd() * (g->src_width - 1), y = rnd() * (g->src_height - 1);
+        double above = 30 + rnd() * 2000, yaw = rnd() * 360, pitch = -5 - rnd() * 60;
+        tp_camera a, b;
+        camera_at(t, x, y, above, yaw, pitch, &a);
+        int jump = it % 4 == 3;
+        if (jump) /* as Home: somewhere else entirely */
+            camera_at(t, fmod(x + 350, g->src_width - 1), y, above, yaw + 120, pitch, &b);
+        else { /* one frame of a flight: up to 10 m and 1.5 degrees */
+            b = a;
+            double step = rnd() * 10, turn = (rnd() - 0.5) * 3, dir = yaw * 3.14159265358979 / 180;
+            double pos[3] = {a.position[0] + step * sin(dir), a.position[1] + step * cos(dir),
+                             a.position[2] + (rnd() - 0.5) * step * 0.2};
+            tp_camera_from_pose(pos, yaw + turn, pitch + turn / 3, 60, 1280, 720, &b);
+        }
+        ASSERT_OK(tp_cut_update(cut, &a, &lp, NULL));
+        double bound_b;
+        int holds = tp_cut_holds_for(cut, &b, &bound_b);
+        small += !jump, small_held += !jump && holds, jumps_held += jump && holds;
+        if (!holds)
+            continue;
+        EXPECT_TRUE(bound_b <= 1 + 1e-9);
+        double max_px;
+        size_t samples;
+        ASSERT_OK(tp_cut_measure_screen_error(cut, &b, &max_px, NULL, &samples, NULL));
+        EXPECT_TRUE(samples > 0);
+        EXPECT_TRUE(max_px <= 1 + 1e-9);
+        ASSERT_OK(tp_cut_update(fresh, &b, &lp, NULL));
+        for (int py = 4; py < 720; py += 24)
+            for (int px = 4; px < 1280; px += 24) {
+                double dir[3];
+                tp_ray_hit hit;
+                tp_camera_pixel_ray(&b, px, py, dir);
+                ASSERT_OK(tp_cut_ray_cast(fresh, b.position, dir, &hit));
+                if (!hit.hit)
+                    continue;
+                double gx, gy;
+                tp_tree_world_to_grid(t, hit.position[0], hit.position[1], &gx, &gy);
+                EXPECT_FALSE(isnan(tp_cut_drawn_height_at(cut, gx, gy)));
+                covered++;
+            }
+    }
+    printf("small moves: %d of %d reusable; jumps: %d of 20 reusable; %d pixels checked\n",
+           small_held, small, jumps_held, covered);
+    EXPECT_GT(small_held, small / 2); /* the test proves little if it refuses everything */
+    EXPECT_EQ_INT(0, jumps_held);
+    EXPECT_GT(covered, 1000);
+    tp_cut_destroy(cut);
+    tp_cut_destroy(fresh);
+    tp_tree_destroy(t);
+    free(h);
 }
 
 /* Random hand-made cuts: from the roots, split at random (deep on one side, shallow on the
@@ -1279,6 +1389,7 @@ TEST(requests_only_update_asks_as_the_full_update)
 #define TESTS(X)                                                                                   \
     X(watertight_for_random_views)                                                                 \
     X(watertight_for_random_views_stitch_add)                                                      \
+    X(a_cut_drawn_from_a_moved_camera_keeps_tau_and_coverage)                                      \
     X(watertight_for_adversarial_cuts)                                                             \
     X(watertight_for_adversarial_cuts_stitch_add)                                                  \
     X(screen_error_within_tau)                                                                     \

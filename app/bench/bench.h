@@ -42,6 +42,7 @@ typedef struct bench_options {
     int error_every;   /* --error-every N: measure the error on every N-th frame; default 1 */
     int realtime;      /* --realtime: the camera moves by the time that really passed */
     int no_prefetch;   /* --no-prefetch: the stream gets no prefetch cut (what it costs) */
+    int no_cut_thread; /* --no-cut-thread: each frame's cut selected on the render thread */
     const char* imagery; /* --imagery FILE.tpi: a configuration with imagery (bench_store.c) */
     int clip_blocks;   /* --clip-blocks */
     int imagery_mode;  /* --imagery-mode: 0 clipmap, 1 blocks (tp_imagery_mode), 2 both */

@@ -122,6 +122,9 @@ static void print_help(void)
         "                         (a slow frame is a jump, as in the viewer), not speed / 30\n"
         "                         per frame\n"
         "  --no-prefetch          no prefetch cut (to measure what the prefetch costs)\n"
+        "  --no-cut-thread        select each frame's cut on the render thread (by default a\n"
+        "                         thread selects it for the predicted camera while the frame\n"
+        "                         before draws; the frame checks it holds, else selects it)\n"
         "  --imagery FILE.tpi     a third configuration: the error mode with this imagery\n"
         "                         pyramid draped through the clipmap or blocks (upload ms,\n"
         "                         GPU and RAM of the imagery per frame, draw calls; the last\n"
@@ -404,6 +407,7 @@ int tp_bench_parse_options(int argc, char** argv, bench_options* o)
         TP_OPT_INTEGER("--error-every", &o->error_every, 1, 100000, "a count >= 1"),
         TP_OPT_FLAG("--realtime", &o->realtime),
         TP_OPT_FLAG("--no-prefetch", &o->no_prefetch),
+        TP_OPT_FLAG("--no-cut-thread", &o->no_cut_thread),
         TP_OPT_TEXT("--imagery", NULL, &o->imagery),
         TP_OPT_CODE("--clip-blocks", NULL, OPT_CLIP_BLOCKS, 1),
         TP_OPT_CODE("--imagery-mode", NULL, OPT_IMAGERY_MODE, 1),

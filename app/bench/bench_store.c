@@ -20,6 +20,7 @@
 #include "bench.h"
 #include "clock.h"
 #include "cli.h"
+#include "cut_worker.h"
 #include "gl_context.h"
 #include "imagery_view.h"
 #include "light_view.h"
@@ -57,6 +58,13 @@ static void summarize(store_result* c, int n)
     c->cpu_ms = tp_bench_median(v, n);
     ROWS_OF(r->cut_ms);
     c->cut_ms = tp_bench_median(v, n);
+    ROWS_OF(r->cut_worker_ms);
+    c->cut_worker_ms = tp_bench_median(v, n);
+    ROWS_OF(r->cut_wait_ms);
+    c->cut_wait_ms = tp_bench_median(v, n);
+    c->cut_reused_share = 0;
+    for (int i = 0; i < n; i++)
+        c->cut_reused_share += (double)c->rows[i].cut_reused / n;
     ROWS_OF(r->stream_ms);
     c->stream_ms = tp_bench_median(v, n);
     ROWS_OF(r->upload_ms);
@@ -243,6 +251,7 @@ static int run_store_pgm(store_bench* b, store_result* c, const char* progress)
 typedef struct store_draw {
     tp_renderer* r;
     tp_cut *cut, *pre;
+    tp_cut_worker* worker; /* NULL: --no-cut-thread */
     tp_view_imagery* im;
     tp_view_light* lt;
     tp_normal_map* nm; /* the normals the terrain is shaded from (NULL: the vertices') */
@@ -295,6 +304,10 @@ static int open_draw(store_bench* b, const store_result* c, int first, store_dra
         return TP_EXIT_FAILURE;
     }
     tp_cut_set_stitch_add(d->cut, c->stitch_add);
+    if (!o->no_cut_thread && !(d->worker = tp_cut_worker_create(b->sc.tree, &err))) {
+        tp_cli_error("%s", err.message);
+        return TP_EXIT_FAILURE;
+    }
     tp_render_settings_default(&d->rs);
     d->rs.stitch_add = c->stitch_add;
     if (o->stitch_add_draw) /* --stitch-add-draw sets|five (both: a DEM only) */
@@ -328,6 +341,7 @@ static void close_draw(store_bench* b, store_draw* d)
     tp_view_imagery_close(d->im);
     tp_view_light_close(d->lt);
     tp_normal_map_destroy(d->nm);
+    tp_cut_worker_destroy(d->worker);
     tp_cut_destroy(d->pre);
     tp_cut_destroy(d->cut);
     tp_renderer_destroy(d->r);
@@ -429,8 +443,12 @@ static int fly(store_bench* b, store_result* c, int first, store_draw* d, const 
     tp_stream_stats ss;
     tp_clipmap_stats is = {0}, ns = {0};
     tp_error err;
-    tp_camera cam;
+    tp_camera cam, prev;
+    tp_cut* cut = d->cut; /* the frame's: d->cut, or the cut thread's */
+    const tp_cut_worker_params wp = {.lod = c->lod, .vertical_scale = 1, .stitch_add = c->stitch_add};
     for (int seg = 0; seg < b->segments; seg++) {
+        tp_cut_worker_forget(d->worker); /* a jump, whose frames change the tree */
+        tp_stream_set_prefetch_async(b->sc.stream, 0);
         tp_bench_store_camera(b, seg, -WARMUP_FRAMES * b->step_m, &cam);
         int code = first && seg == 0 ? first_frame(b, c, d, &cam, &st, &ss) : TP_EXIT_OK;
         if (code != TP_EXIT_OK)
@@ -447,6 +465,7 @@ static int fly(store_bench* b, store_result* c, int first, store_draw* d, const 
         if (seg == 0)
             c->settle_ms = tp_clock_ms() - t_settle;
         double t_fly = tp_clock_ms();
+        tp_stream_set_prefetch_async(b->sc.stream, d->worker != NULL);
         for (int i = -WARMUP_FRAMES; i < b->per_segment; i++) {
             /* --realtime: where the camera is after the time that really passed */
             double at =
@@ -456,38 +475,51 @@ static int fly(store_bench* b, store_result* c, int first, store_draw* d, const 
             tp_bench_store_camera(b, seg, at, &cam);
             store_row* row = i >= 0 ? &c->rows[seg * b->per_segment + i] : NULL;
             double t[6];
+            tp_cut_worker_stats ws = {0};
             tp_gl_context_begin_frame(b->ctx);
             t[0] = tp_clock_ms();
-            if (tp_cut_update(d->cut, &cam, &c->lod, &err) != TP_OK)
+            if (d->worker ? !(cut = tp_cut_worker_frame(d->worker, &cam, &wp, &ws, &err))
+                          : tp_cut_update(cut, &cam, &c->lod, &err) != TP_OK)
                 return cut_failed(&err);
             t[1] = tp_clock_ms();
-            tp_stream_frame(b->sc.stream, d->cut, o->no_prefetch ? NULL : d->pre, &cam, &c->lod,
-                            &ss);
+            tp_stream_frame(b->sc.stream, cut, o->no_prefetch ? NULL : d->pre, &cam, &c->lod, &ss);
             t[2] = tp_clock_ms();
-            if (d->nm)
-                tp_normal_map_frame_cut(d->nm, &b->sc, d->cut, 1, d->r, &cam, 0, &ns);
+            if (d->nm) /* the frame's cut's nodes: the normal map's finest level */
+                tp_normal_map_frame_cut(d->nm, &b->sc, cut, 1, d->r, &cam, 0, &ns);
             t[5] = tp_clock_ms();
+            if (d->worker) { /* the next frame's cut (and prefetch), selected while this draws */
+                tp_camera next, ahead;
+                tp_cut_worker_predict(i > -WARMUP_FRAMES ? &prev : &cam, &cam, &next);
+                int pre = tp_stream_prefetch_wanted(b->sc.stream, &ahead);
+                tp_cut_worker_next(d->worker, &next, &wp, pre ? d->pre : NULL, &ahead);
+            }
+            prev = cam;
             if (d->im)
-                tp_view_imagery_frame(d->im, &b->sc, d->cut, 1, d->r, &cam, 0, &is);
+                tp_view_imagery_frame(d->im, &b->sc, cut, 1, d->r, &cam, 0, &is);
             int k = seg * b->per_segment + (i > 0 ? i : 0);
             if (d->lt)
-                tp_view_light_frame(d->lt, &b->sc, d->cut, 1, d->r, &cam,
+                tp_view_light_frame(d->lt, &b->sc, cut, 1, d->r, &cam,
                                     d->day[0] + (d->day[1] - d->day[0]) * (k + 0.5) / frames, 0,
                                     &is);
             t[3] = tp_clock_ms();
-            tp_renderer_draw_cut(d->r, b->sc.tree, d->cut, &cam, &d->rs, 1, 1, &st);
+            tp_renderer_draw_cut(d->r, b->sc.tree, cut, &cam, &d->rs, 1, 1, &st);
             tp_gl_context_end_frame(b->ctx);
             t[4] = tp_clock_ms();
             if (!row)
                 continue;
             /* outside the timed part */
             tp_cut_stats cs;
-            tp_cut_get_stats(d->cut, &cs);
+            tp_cut_get_stats(cut, &cs);
             fill_row(row, t, &cs, &st, &ss, &is, d->im || d->lt, &ns);
+            row->cut_ms -= ws.wait_ms; /* waiting is not the render thread's CPU */
+            row->cpu_ms -= ws.wait_ms;
+            row->cut_wait_ms = ws.wait_ms;
+            row->cut_worker_ms = ws.worker_ms;
+            row->cut_reused = ws.reused;
             tp_bench_read_rss(&row->rss_mb, &row->rss_anon_mb);
             if (!o->no_error && cs.substituted == 0 && k % o->error_every == 0) {
                 row->measured = 1;
-                tp_cut_measure_screen_error(d->cut, &cam, &row->max_px, &row->rms_px, &row->samples,
+                tp_cut_measure_screen_error(cut, &cam, &row->max_px, &row->rms_px, &row->samples,
                                             &row->skipped);
             }
             const char* failure = tp_stream_take_failure(b->sc.stream);
@@ -501,9 +533,11 @@ static int fly(store_bench* b, store_result* c, int first, store_draw* d, const 
         }
     }
     tp_bench_progress_end();
+    tp_cut_worker_forget(d->worker);
     summarize(c, frames);
+    c->cut_thread = d->worker != NULL;
     if (d->im) /* the last frame against a fresh clipmap's: nothing stale after the flight */
-        c->img_final_diff = tp_bench_imagery_diff(d->im, o->imagery, &b->sc, d->cut, d->r, b->ctx,
+        c->img_final_diff = tp_bench_imagery_diff(d->im, o->imagery, &b->sc, cut, d->r, b->ctx,
                                                   &cam, c->imagery_mode, o->clip_blocks);
     return TP_EXIT_OK;
 }

@@ -15,6 +15,10 @@
 
 typedef struct store_row {
     double cut_ms, stream_ms, upload_ms, draw_ms, frame_ms, cpu_ms;
+    /* the cut thread (cut_worker.h): cut_ms is the render thread's part (the check, or the
+     * cut selected there); the wait for the thread is in frame_ms only */
+    double cut_wait_ms, cut_worker_ms;
+    int cut_reused;
     long page_faults;           /* minor page faults during the draw */
     size_t triangles, gpu_bytes, resident_bytes;
     int dropped, draw_calls;
@@ -44,6 +48,9 @@ typedef struct store_result {
     char label[64];
     store_row* rows;
     double fps_median, frame_ms, frame_ms_p99, cpu_ms, cut_ms, stream_ms, upload_ms, draw_ms;
+    int cut_thread;                       /* the cut was selected on its own thread */
+    double cut_worker_ms, cut_wait_ms;    /* medians: the thread's selection; the wait for it */
+    double cut_reused_share;              /* frames that drew the thread's cut */
     double triangles, nodes, visited, uploads, page_faults;
     int substituted_max, frames_with_substitution, pending_max;
     int dropped_max; /* items the renderer could not hold (TP_RENDER_POOL_MAX_BYTES) */

@@ -39,7 +39,13 @@ static void json_result(tp_json* j, const store_result* c)
     tp_json_member_number(j, "frame_ms_p99", c->frame_ms_p99);
     tp_json_member_number(j, "p99_over_median", c->frame_ms_p99 / c->frame_ms);
     tp_json_member_number(j, "cpu_ms_median", c->cpu_ms); /* the DEM bench's name: one schema */
-    tp_json_member_number(j, "cut_ms_median", c->cut_ms);
+    tp_json_member_number(j, "cut_ms_median", c->cut_ms); /* the render thread's part */
+    tp_json_member_bool(j, "cut_thread", c->cut_thread);
+    if (c->cut_thread) {
+        tp_json_member_number(j, "cut_worker_ms_median", c->cut_worker_ms);
+        tp_json_member_number(j, "cut_wait_ms_median", c->cut_wait_ms);
+        tp_json_member_number(j, "cut_reused_share", c->cut_reused_share);
+    }
     tp_json_member_number(j, "stream_ms_median", c->stream_ms);
     tp_json_member_number(j, "upload_ms_median", c->upload_ms);
     tp_json_member_number(j, "draw_ms_median", c->draw_ms);
@@ -173,13 +179,14 @@ int tp_bench_store_write_csv(const store_bench* b, const store_result* c, int nc
     fprintf(f, "lod_mode,frame,frame_ms,cut_ms,stream_ms,upload_ms,draw_ms,cpu_ms,triangles,nodes,"
                "visited,substituted,requests,uploads,pending,gpu_bytes,resident_bytes,rss_mb,"
                "rss_anon_mb,measured,max_screen_error_px,rms_screen_error_px,samples,skipped,"
-               "imagery_ms,imagery_upload_ms,imagery_uploads,imagery_missing_blocks\n");
+               "imagery_ms,imagery_upload_ms,imagery_uploads,imagery_missing_blocks,"
+               "cut_worker_ms,cut_wait_ms,cut_reused\n");
     int frames = b->segments * b->per_segment;
     for (int k = 0; k < nc; k++)
         for (int i = 0; i < frames; i++) {
             const store_row* r = &c[k].rows[i];
             fprintf(f, "%s,%d,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%zu,%d,%d,%d,%d,%d,%d,%zu,%zu,%.1f,"
-                       "%.1f,%d,%.4f,%.4f,%zu,%zu,%.4f,%.4f,%d,%d\n",
+                       "%.1f,%d,%.4f,%.4f,%zu,%zu,%.4f,%.4f,%d,%d,%.4f,%.4f,%d\n",
                     c[k].pgm_cols ? "pgm"
                     : c[k].light ? "error+light"
                     : c[k].imagery ? (c[k].imagery_mode == TP_IMAGERY_BLOCKS ? "error+blocks"
@@ -194,7 +201,8 @@ int tp_bench_store_write_csv(const store_bench* b, const store_result* c, int nc
                     r->nodes, r->visited, r->substituted, r->requests, r->uploads, r->pending,
                     r->gpu_bytes, r->resident_bytes, r->rss_mb, r->rss_anon_mb, r->measured,
                     r->max_px, r->rms_px, r->samples, r->skipped, r->img_ms, r->img_upload_ms,
-                    r->img_uploads, r->img_missing);
+                    r->img_uploads, r->img_missing, r->cut_worker_ms, r->cut_wait_ms,
+                    r->cut_reused);
         }
     return tp_atomic_commit(&file);
 }

@@ -52,6 +52,9 @@ struct tp_stream {
     const tp_cut* pre_cut;
     double pre_at[3];    /* where its camera stood */
     double pre_fwd[3];   /* and looked */
+    int pre_async;       /* tp_stream_set_prefetch_async */
+    int pre_job;         /* async: the prefetch cut is to be selected for pre_job_cam */
+    tp_camera pre_job_cam;
 
     /* shared with the loader, under mu */
     pthread_mutex_t mu;
@@ -473,7 +476,18 @@ void tp_stream_frame(tp_stream* s, const tp_cut* cut, tp_cut* prefetch_cut, cons
             ahead.position[a] += motion[a] * s->prefetch_s;
         tp_camera_frame fr;
         tp_camera_get_frame(cam, &fr);
-        if (prefetch_stale(s, prefetch_cut, ahead.position, fr.forward, speed * s->prefetch_s)) {
+        if (s->pre_async &&
+            prefetch_stale(s, prefetch_cut, ahead.position, fr.forward, speed * s->prefetch_s)) {
+            /* the caller selects it (tp_stream_prefetch_wanted); until then the requests of
+             * its last selection stand */
+            s->pre_job = 1;
+            s->pre_job_cam = ahead;
+            s->pre_cut = prefetch_cut;
+            memcpy(s->pre_at, ahead.position, sizeof s->pre_at);
+            memcpy(s->pre_fwd, fr.forward, sizeof s->pre_fwd);
+            pre_updated = 1;
+        } else if (prefetch_stale(s, prefetch_cut, ahead.position, fr.forward,
+                                  speed * s->prefetch_s)) {
             tp_error err;
             s->pre_cut = NULL;
             if (tp_cut_update_requests(prefetch_cut, &ahead, lod, &err) == TP_OK) {
@@ -515,6 +529,21 @@ void tp_stream_frame(tp_stream* s, const tp_cut* cut, tp_cut* prefetch_cut, cons
     s->last.frame_ms = tp_clock_ms() - t0;
     if (stats)
         *stats = s->last;
+}
+
+void tp_stream_set_prefetch_async(tp_stream* s, int on)
+{
+    s->pre_async = on != 0;
+    s->pre_job = 0;
+}
+
+int tp_stream_prefetch_wanted(tp_stream* s, tp_camera* ahead)
+{
+    if (!s->pre_job)
+        return 0;
+    s->pre_job = 0;
+    *ahead = s->pre_job_cam;
+    return 1;
 }
 
 int tp_stream_is_queued(const tp_stream* s, int64_t node)

@@ -68,6 +68,16 @@ void tp_stream_destroy(tp_stream* s);
 void tp_stream_frame(tp_stream* s, const tp_cut* cut, tp_cut* prefetch_cut, const tp_camera* cam,
                      const tp_lod_params* lod, tp_stream_stats* stats);
 
+/* on: tp_stream_frame no longer selects the prefetch cut itself (the render thread's longest
+ * step on a large map): when it is due, tp_stream_prefetch_wanted says for which camera, and
+ * the caller selects it (tp_cut_update_requests on the same prefetch cut, e.g. on the cut
+ * thread, cut_worker.h) before the next tp_stream_frame, which reads its requests; until then
+ * the requests of its last selection stand. */
+void tp_stream_set_prefetch_async(tp_stream* s, int on);
+/* Async prefetch: 1 (once) when the last tp_stream_frame wants the prefetch cut selected for
+ * *ahead; 0 when it does not. */
+int tp_stream_prefetch_wanted(tp_stream* s, tp_camera* ahead);
+
 /* Whether node waits for the loader (queued or being read). */
 int tp_stream_is_queued(const tp_stream* s, int64_t node);
 

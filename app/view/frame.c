@@ -5,6 +5,7 @@
 
 #include "atomic_file.h"
 #include "cli.h"
+#include "cut_worker.h"
 #include "imagery_view.h"
 #include "json.h"
 #include "normal_map.h"
@@ -80,9 +81,25 @@ void tp_view_frame(tp_view_scene* v, tp_renderer* r, const tp_camera* cam,
         out->store = 0;
         return;
     }
-    if (!frozen)
+    const tp_cut_worker_params wp = {*lod, render->exaggeration, render->stitch_add};
+    if (frozen) {
+        tp_cut_worker_idle(v->worker); /* the stream changes the tree below */
+    } else if (v->worker) { /* the cut the thread selected while the last frame drew */
+        tp_cut* c = tp_cut_worker_frame(v->worker, cam, &wp, NULL, &err);
+        if (c)
+            v->cut = c;
+    } else {
         tp_cut_update(v->cut, cam, lod, &err);
+    }
     tp_stream_frame(v->store->stream, v->cut, frozen ? NULL : v->prefetch, cam, lod, &out->stream);
+    if (v->worker && !frozen) { /* the next frame's, while this one draws */
+        tp_camera next, ahead;
+        tp_cut_worker_predict(v->worker_have_prev ? &v->worker_prev : cam, cam, &next);
+        int pre = tp_stream_prefetch_wanted(v->store->stream, &ahead);
+        tp_cut_worker_next(v->worker, &next, &wp, pre ? v->prefetch : NULL, &ahead);
+        v->worker_prev = *cam;
+        v->worker_have_prev = 1;
+    }
     tp_view_scene_report_failures(v);
     out->select_ms = tp_clock_ms() - t0;
     tp_view_shadows_frame(v, r, cam, render, out);

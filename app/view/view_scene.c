@@ -2,6 +2,7 @@
 #define _POSIX_C_SOURCE 200809L
 #include "view_scene.h"
 #include "clock.h"
+#include "cut_worker.h"
 
 #include "stitch_add_error.h"
 #include "cli.h"
@@ -42,20 +43,26 @@ int tp_view_scene_from_store(tp_view_scene* v, tp_store_scene* st)
     v->min_height_m = isnan(st->tree_info.min_height_m) ? 0 : st->tree_info.min_height_m;
     v->max_height_m = isnan(st->tree_info.max_height_m) ? 0 : st->tree_info.max_height_m;
     tp_error err = {{0}};
-    if (tp_cut_create(st->tree, &v->cut, &err) != TP_OK ||
-        tp_cut_create(st->tree, &v->prefetch, &err) != TP_OK) {
+    if (tp_cut_create(st->tree, &v->cut_own, &err) != TP_OK ||
+        tp_cut_create(st->tree, &v->prefetch, &err) != TP_OK ||
+        !(v->worker = tp_cut_worker_create(st->tree, &err))) {
         tp_cli_error("%s: %s", st->path, err.message);
         tp_view_scene_release(v);
         return 0;
     }
+    v->cut = v->cut_own;
+    if (st->stream) /* the prefetch cut is the cut thread's too (frame.c) */
+        tp_stream_set_prefetch_async(st->stream, 1);
     return 1;
 }
 
 void tp_view_scene_release(tp_view_scene* v)
 {
-    tp_cut_destroy(v->cut);
+    tp_cut_worker_destroy(v->worker);
+    tp_cut_destroy(v->cut_own);
     tp_cut_destroy(v->prefetch);
-    v->cut = v->prefetch = NULL;
+    v->worker = NULL;
+    v->cut = v->cut_own = v->prefetch = NULL;
 }
 
 void tp_view_scene_world_to_grid(const tp_view_scene* v, double e, double n, double* x, double* y)
@@ -75,6 +82,7 @@ static int require_leaf(tp_view_scene* v, double x, double y)
     int64_t leaf = tp_tree_leaf_at(v->store->tree, x, y);
     if (leaf < 0 || tp_tree_samples(v->store->tree, leaf))
         return 1;
+    tp_cut_worker_idle(v->worker); /* it reads the tree the stream is about to change */
     if (tp_stream_require(v->store->stream, leaf, NULL))
         return 1;
     tp_view_scene_report_failures(v); /* the stream reports it once */
@@ -112,8 +120,9 @@ void tp_view_scene_keep_above(tp_view_scene* v, double position[3], double clear
 void tp_view_scene_set_vertical_scale(tp_view_scene* v, double scale)
 {
     /* the options and keys keep it in the core's range */
-    if (v->store) {
-        tp_cut_set_vertical_scale(v->cut, scale);
+    if (v->store) { /* the cut thread's cuts take it with each selection */
+        tp_cut_worker_idle(v->worker); /* its prefetch cut's setting */
+        tp_cut_set_vertical_scale(v->cut_own, scale);
         tp_cut_set_vertical_scale(v->prefetch, scale);
     } else {
         tp_selection_set_vertical_scale(v->sel, scale);
@@ -179,6 +188,7 @@ int tp_view_scene_settle(tp_view_scene* v, const tp_camera* cam, const tp_lod_pa
         return 0;
     double t0 = tp_clock_s();
     int it = 0, idle_before = 0;
+    tp_cut_worker_forget(v->worker);
     for (;;) {
         tp_error err;
         tp_cut_update(v->cut, cam, lod, &err);

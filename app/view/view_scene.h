@@ -18,8 +18,12 @@ typedef struct tp_view_scene {
     tp_scene* dem;            /* heightmap images: the old path */
     tp_selection* sel;
     tp_store_scene* store;    /* a store */
-    tp_cut* cut;              /* the drawn cut */
+    tp_cut* cut;              /* the drawn cut: cut_own, or the cut thread's */
+    tp_cut* cut_own;          /* selected on this thread (settling; --no-cut-thread) */
     tp_cut* prefetch;         /* the stream's look-ahead cut */
+    struct tp_cut_worker* worker; /* the cut thread (cut_worker.h), or NULL */
+    tp_camera worker_prev;    /* the camera of the frame before (the worker's prediction) */
+    int worker_have_prev;
     tp_georef* georef;
     double gt[6];             /* of the fitted grid */
     int src_width, src_height, n;
@@ -45,7 +49,7 @@ typedef struct tp_view_scene {
 } tp_view_scene;
 
 void tp_view_scene_from_dem(tp_view_scene* v, tp_scene* sc, tp_selection* sel);
-/* Creates the cuts; 0 after a message. */
+/* Creates the cuts and the cut thread; 0 after a message. */
 int tp_view_scene_from_store(tp_view_scene* v, tp_store_scene* st);
 void tp_view_scene_release(tp_view_scene* v); /* the cuts (the scenes belong to the caller) */
 

@@ -145,6 +145,21 @@ double tp_cut_drawn_height_at(const tp_cut* c, double x, double y);
 tp_status tp_cut_measure_screen_error(const tp_cut* c, const tp_camera* cam, double* max_px,
                                       double* rms_px, size_t* samples, size_t* skipped);
 
+/* Whether the cut of the last update may be drawn from camera cam instead of the camera it
+ * was selected for (cut_reuse.c): a cut selected on another thread while the frame before was
+ * drawn, for where the camera was predicted to be. It may when
+ *   - every node the update culled (its area box, or its own box when only that was tested)
+ *     is still outside cam's frustum: nothing in view is missing; and
+ *   - error mode: every drawn node's bound as drawn (tp_cut_node.bound_px's metres, projected
+ *     from cam over what is drawn of its box) is within the update's tau, except nodes that
+ *     could not be finer in this update either: substituted ones (their children are not
+ *     resident) and leaves at level n (only quantisation is left).
+ * The distance and full modes have no error to keep: only the first test. O(drawn + culled
+ * nodes); no allocation. *max_bound_px (may be NULL): the largest bound_px from cam, as
+ * tp_cut_stats.max_bound_px (error mode; 0 otherwise). An installed cut (tp_cut_set_nodes)
+ * culls nothing and keeps no error: 1. */
+int tp_cut_holds_for(const tp_cut* c, const tp_camera* cam, double* max_bound_px);
+
 /* Vertical exaggeration, as tp_selection_set_vertical_scale: boxes, the error mode's projection
  * and tp_cut_measure_screen_error follow heights times scale (tau holds on screen); heights
  * (vertices, tp_cut_drawn_height_at) stay true. Takes effect at the next update. Returns

@@ -31,17 +31,6 @@ int tp__cut_grow(tp_cut* c, void** p, size_t* cap, size_t need, size_t size)
     return 1;
 }
 
-static size_t hash_slot(int64_t key, size_t cap)
-{
-    uint64_t h = (uint64_t)key; /* MurmurHash3's finaliser: node ids are dense */
-    h ^= h >> 33;
-    h *= 0xff51afd7ed558ccdull;
-    h ^= h >> 33;
-    h *= 0xc4ceb9fe1a85ec53ull;
-    h ^= h >> 33;
-    return (size_t)h & (cap - 1);
-}
-
 static int hash_put(tp_cut* c, int64_t key, int32_t val);
 
 static int hash_grow(tp_cut* c)
@@ -67,7 +56,7 @@ static int hash_put(tp_cut* c, int64_t key, int32_t val)
 {
     if (2 * (c->hused + 1) > c->hcap && !hash_grow(c))
         return 0;
-    for (size_t i = hash_slot(key, c->hcap);; i = (i + 1) & (c->hcap - 1)) {
+    for (size_t i = tp__cut_hash_slot(key, c->hcap);; i = (i + 1) & (c->hcap - 1)) {
         tp__cut_slot* sl = &c->hash[i];
         if (sl->gen != c->gen) {
             *sl = (tp__cut_slot){key, val, c->gen};
@@ -79,25 +68,6 @@ static int hash_put(tp_cut* c, int64_t key, int32_t val)
             return 1;
         }
     }
-}
-
-static int32_t hash_get(const tp_cut* c, int64_t key)
-{
-    if (!c->hcap)
-        return -1;
-    for (size_t i = hash_slot(key, c->hcap);; i = (i + 1) & (c->hcap - 1)) {
-        const tp__cut_slot* sl = &c->hash[i];
-        if (sl->gen != c->gen)
-            return -1;
-        if (sl->key == key)
-            return sl->val;
-    }
-}
-
-int tp__cut_find(const tp_cut* c, int64_t node)
-{
-    int32_t v = hash_get(c, node);
-    return v >= 0 ? v : -1;
 }
 
 int tp__cut_add_at(tp_cut* c, int64_t node, int s, int cc, int rr)
@@ -126,7 +96,7 @@ int tp__cut_add(tp_cut* c, int64_t node)
 
 void tp__cut_request(tp_cut* c, int64_t node, double prio)
 {
-    if (hash_get(c, node) != -1) /* visited or already requested */
+    if (tp__cut_hash_get(c, node) != -1) /* visited or already requested */
         return;
     if (!tp__cut_grow(c, (void**)&c->req, &c->req_cap, c->req_count + 1, sizeof *c->req) ||
         !hash_put(c, node, -2))
@@ -193,6 +163,7 @@ void tp_cut_destroy(tp_cut* c)
     tp__free(a, c->work);
     tp__free(a, c->tri_memo);
     tp__free(a, c->tri_cache);
+    tp__free(a, c->add_cache);
     tp__spheres_destroy(c);
     tp__free(a, c);
 }
@@ -293,6 +264,7 @@ tp_status tp__cut_finish(tp_cut* c, tp_error* err)
                 d = da > d ? da : d;
             }
             int near;
+            r->bound_m = d;
             r->bound_px = (float)tp__projected_px_drawn(&c->v, &r->pb, d, &near);
             o->near_plane = (uint8_t)near;
         }

@@ -24,6 +24,7 @@ typedef struct tp__cut_rec {
     uint8_t frozen;      /* collapsed onto by the stitching pass: never split again */
     uint8_t queued;      /* in the stitching pass's work list */
     float bound_px;
+    double bound_m;    /* drawn, error mode: the bound bound_px projects (m, drawn space) */
     int32_t out;       /* index in the output (tp_cut_nodes) when drawn */
     int32_t tris;      /* drawn: its triangles (finish); else -1 */
     uint8_t view;      /* 0: not tested yet; else 1 + whether its area box is in view */
@@ -44,6 +45,14 @@ typedef struct tp__cut_tris {
     int32_t tris;
 } tp__cut_tris;
 enum { TP__CUT_TRIS_CACHE = 4096 };
+
+/* --stitch add: a node's add table (cut_stitch_add.c): tab[(side * (n+1) + k) * (n+1) + a],
+ * the largest offset (height steps) of the side's samples at level a from its level-k edge. */
+typedef struct tp__cut_addtab {
+    int64_t node; /* -1: empty; entries < 0 are not computed yet */
+    float tab[4 * TP_MAX_LEVELS * TP_MAX_LEVELS];
+} tp__cut_addtab;
+enum { TP__CUT_ADD_CACHE = 2048 };
 
 typedef struct tp__cut_req {
     int64_t node;
@@ -92,6 +101,8 @@ struct tp_cut {
     int oom;
     int requests_only;       /* tp_cut_update_requests: no stitching, no output */
     int stitch_add;          /* tp_cut_set_stitch_add */
+    tp__cut_addtab* add_cache; /* add tables, direct-mapped by node, kept across updates (NULL
+                                  until --stitch add is first set, or without memory) */
     int decisions;           /* distance decisions computed by the update (tp_cut_stats) */
     int sph_on;              /* this update reads distance decisions from the sphere tree */
     struct tp__spheres* sph; /* cut_spheres.c; NULL until the first sphere-tree update */
@@ -134,8 +145,40 @@ int tp__tri_drawn(const tp__node_draw* d, const int32_t pos[3][2], int vertices_
 /* Grows the array *p of *cap elements of size bytes to at least need (doubling); 0, c->oom
  * set, without memory (cut.c, as the records, the requests and the update's start and end). */
 int tp__cut_grow(tp_cut* c, void** p, size_t* cap, size_t need, size_t size);
-/* Record of node, or -1 when it was not visited this update. */
-int tp__cut_find(const tp_cut* c, int64_t node);
+/* Slot of key in a hash of cap (a power of two) slots: MurmurHash3's finaliser (node ids are
+ * dense). */
+static inline size_t tp__cut_hash_slot(int64_t key, size_t cap)
+{
+    uint64_t h = (uint64_t)key;
+    h ^= h >> 33;
+    h *= 0xff51afd7ed558ccdull;
+    h ^= h >> 33;
+    h *= 0xc4ceb9fe1a85ec53ull;
+    h ^= h >> 33;
+    return (size_t)h & (cap - 1);
+}
+
+/* The value of key in this update's generation (a record index, or -2: requested), or -1. */
+static inline int32_t tp__cut_hash_get(const tp_cut* c, int64_t key)
+{
+    if (!c->hcap)
+        return -1;
+    for (size_t i = tp__cut_hash_slot(key, c->hcap);; i = (i + 1) & (c->hcap - 1)) {
+        const tp__cut_slot* sl = &c->hash[i];
+        if (sl->gen != c->gen)
+            return -1;
+        if (sl->key == key)
+            return sl->val;
+    }
+}
+
+/* Record of node, or -1 when it was not visited this update (inline: the stitching pass
+ * looks neighbours up several times per drawn node). */
+static inline int tp__cut_find(const tp_cut* c, int64_t node)
+{
+    int32_t v = tp__cut_hash_get(c, node);
+    return v >= 0 ? v : -1;
+}
 /* Adds a record for node (state 0) and returns its index, or -1 (c->oom set) without memory. */
 int tp__cut_add(tp_cut* c, int64_t node);
 /* tp__cut_add for node at scale s, column cc, row rr. */

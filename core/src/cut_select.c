@@ -79,6 +79,30 @@ static double bound_px(const tp_cut* c, int i, int k, const int nb[4])
     return tp__projected_px(&c->rec[i].pb, c->v.fwd[2], tp__cut_bound_m(c, i, k, nb));
 }
 
+/* Error mode: the largest unstitched error (height steps, before quantisation) that projects
+ * to tau or less through pb, by inverting tp__projected_px once: d num / (zmin - d |vz|) <= tau
+ * iff d <= tau zmin / (num + tau |vz|). Negative when only a zero bound passes (the box
+ * reaches the near plane, or the quantisation alone is too much). A level then passes when
+ * level_passes says so: an integer comparison per level instead of a projection. */
+static double max_steps(const tp_cut* c, const tp__proj_bound* pb)
+{
+    if (!(pb->num < INFINITY))
+        return -1;
+    double tau = c->lp.tau_px, d = tau * pb->zmin / (pb->num + tau * fabs(c->v.fwd[2]));
+    return (d / c->zscale - c->quant) / c->step;
+}
+
+/* Whether node m's unstitched level-k bound (tp_node_error_bound's steps: its delta table
+ * clamped to its area range) is within lim steps (max_steps), or is exactly zero. */
+static int level_passes(const tp_cut* c, const tp_node_meta* m, int k, double lim)
+{
+    unsigned units = m->delta[k];
+    double range = m->area_qmax >= m->area_qmin ? (double)m->area_qmax - m->area_qmin : 0;
+    double steps = units >= TP_NODE_ERR_SAT ? range : units * c->err_unit;
+    steps = steps < range ? steps : range;
+    return steps <= lim || (steps == 0 && c->quant == 0);
+}
+
 /* Distance mode: log2 of the vertex stride (grid samples) the leaf formula asks for at
  * distance d; beyond maxdist one more for every doubling of the distance. */
 static int wanted_stride_log(const tp_cut* c, double d)
@@ -156,15 +180,11 @@ static int children_cheaper(tp_cut* c, int i, int k)
             c->kid_dist[q] = w ? 0 : box_distance(c->v.pos, bmin, bmax);
             c->kid_pb_known[q] = 1;
         }
-        const tp__proj_bound pb = c->kid_pb[q];
+        const double lim = max_steps(c, &c->kid_pb[q]);
         int kc = n;
-        for (; kc >= 0; kc--) {
-            double b = (tp_node_error_bound(m, n, kc, no_nb, c->step, c->err_unit) + c->quant) *
-                       c->zscale;
-            if (tp__projected_px(&pb, c->v.fwd[2], b) > c->lp.tau_px ||
-                !hole_ok(c, r->s - 1, w, c->kid_dist[q], kc))
+        for (; kc >= 0; kc--)
+            if (!level_passes(c, m, kc, lim) || !hole_ok(c, r->s - 1, w, c->kid_dist[q], kc))
                 break;
-        }
         if (kc == n)
             return 0; /* even level n is above tau: the child would refine */
         kids += 2.0 * (double)((int64_t)1 << (2 * (kc + 1))) + NODE_COST_TRIANGLES;
@@ -221,11 +241,11 @@ static int mode_wants(tp_cut* c, int i, int* level)
             tp__cut_box(c, i, 1, bmin, bmax);
             R = box_distance(c->v.pos, bmin, bmax);
         }
-        if (bound_px(c, i, n, no_nb) > c->lp.tau_px || !hole_ok(c, r->s, w, R, n))
+        const double lim = max_steps(c, &r->pb);
+        if (!level_passes(c, m, n, lim) || !hole_ok(c, r->s, w, R, n))
             return r->s > 0;
         int k = n;
-        while (k > 0 && bound_px(c, i, k - 1, no_nb) <= c->lp.tau_px &&
-               hole_ok(c, r->s, w, R, k - 1))
+        while (k > 0 && level_passes(c, m, k - 1, lim) && hole_ok(c, r->s, w, R, k - 1))
             k--;
         *level = k;
         return r->s > 0 && k > 0 && children_cheaper(c, i, k);

@@ -21,6 +21,12 @@ void tp_cut_set_stitch_add(tp_cut* c, int add)
 {
     assert(c);
     c->stitch_add = add != 0;
+    if (c->stitch_add && !c->add_cache) {
+        /* without memory add_bound_m falls back on the area range: larger, still a bound */
+        c->add_cache = tp__alloc(&c->alloc, TP__CUT_ADD_CACHE, sizeof *c->add_cache);
+        for (size_t i = 0; c->add_cache && i < TP__CUT_ADD_CACHE; i++)
+            c->add_cache[i].node = -1;
+    }
 }
 
 int tp_cut_stitch_add(const tp_cut* c)
@@ -60,27 +66,62 @@ static double side_q(const uint16_t* q, int32_t qmin, int n, int side, int u)
     return (double)q[at] + qmin;
 }
 
-static double add_bound_m(const tp_cut* c, int64_t node, int k, const int add[4])
+/* Entry (side, k, a) of a node's add table (tp__cut_addtab): the largest offset (steps) of the
+ * side's samples at stride 2^(n-a) from its level-k edge, rounded up to a float. */
+static float add_entry(const tp_cut* c, int64_t node, int side, int k, int a)
 {
     const int n = c->n;
     const tp_node_meta* m = tp_tree_meta(c->t, node);
     const uint16_t* q = tp_tree_samples(c->t, node);
-    assert(q);        /* drawn nodes are resident */
+    assert(q); /* drawn nodes are resident */
+    double worst = 0;
+    const int seg = 1 << (n - k), stride = 1 << (n - a);
+    for (int lo = 0; lo < (1 << n); lo += seg) {
+        const double za = side_q(q, m->qmin, n, side, lo),
+                     zb = side_q(q, m->qmin, n, side, lo + seg);
+        for (int u = lo + stride; u < lo + seg; u += stride) {
+            const double d =
+                fabs(side_q(q, m->qmin, n, side, u) - (za + (zb - za) * (u - lo) / seg));
+            worst = d > worst ? d : worst;
+        }
+    }
+    float f = (float)worst;
+    return (double)f < worst ? nextafterf(f, INFINITY) : f; /* a bound: rounded up */
+}
+
+/* The offset bound of node's side at level k with level a added (steps): from the cut's cache
+ * of add tables (direct-mapped by node id, kept across updates: a node's samples never change;
+ * an entry is computed when first asked for). Without the cache, the area range (any offset). */
+static double add_offset(const tp_cut* c, int64_t node, int side, int k, int a)
+{
+    tp__cut_addtab* cache = c->add_cache;
+    if (!cache) {
+        const tp_node_meta* m = tp_tree_meta(c->t, node);
+        return (double)m->area_qmax - m->area_qmin;
+    }
+    const int w = c->n + 1;
+    tp__cut_addtab* e = &cache[(uint64_t)node % TP__CUT_ADD_CACHE];
+    if (e->node != node) {
+        e->node = node;
+        for (int i = 0; i < 4 * w * w; i++)
+            e->tab[i] = -1; /* not computed */
+    }
+    float* v = &e->tab[((size_t)side * w + k) * w + a];
+    if (*v < 0)
+        *v = add_entry(c, node, side, k, a);
+    return *v;
+}
+
+static double add_bound_m(const tp_cut* c, int64_t node, int k, const int add[4])
+{
+    const int n = c->n;
+    const tp_node_meta* m = tp_tree_meta(c->t, node);
     double worst = 0; /* steps */
-    const int seg = 1 << (n - k);
     for (int side = 0; side < 4; side++) {
         if (add[side] == TP_NO_NEIGHBOR || add[side] <= k)
             continue;
-        const int stride = 1 << (n - (add[side] > n ? n : add[side]));
-        for (int a = 0; a < (1 << n); a += seg) {
-            const double za = side_q(q, m->qmin, n, side, a),
-                         zb = side_q(q, m->qmin, n, side, a + seg);
-            for (int u = a + stride; u < a + seg; u += stride) {
-                const double d =
-                    fabs(side_q(q, m->qmin, n, side, u) - (za + (zb - za) * (u - a) / seg));
-                worst = d > worst ? d : worst;
-            }
-        }
+        const double d = add_offset(c, node, side, k, add[side] > n ? n : add[side]);
+        worst = d > worst ? d : worst;
     }
     return tp_node_error_bound(m, n, k, NULL, c->step, c->err_unit) + worst * c->step;
 }

@@ -8,7 +8,9 @@
  * tp_cut_get_stats. Also the checksum of the cuts (nodes, levels, neighbours), to compare
  * builds.
  *
- *   build/tp_bench_cut STORE.tpt [frames] [tau_px] [speed_mps] [repeats]
+ *   build/tp_bench_cut STORE.tpt [frames] [tau_px] [speed_mps] [repeats] [add]
+ *
+ * add = 1: both cuts with --stitch add (tp_cut_set_stitch_add).
  *
  * Made to be run under callgrind or perf too (everything resident: no loader thread). */
 #define _POSIX_C_SOURCE 200809L
@@ -48,13 +50,15 @@ static uint64_t cut_hash(const tp_cut* c)
 int main(int argc, char** argv)
 {
     if (argc < 2) {
-        fprintf(stderr, "usage: %s STORE.tpt [frames] [tau_px] [speed_mps] [repeats]\n", argv[0]);
+        fprintf(stderr, "usage: %s STORE.tpt [frames] [tau_px] [speed_mps] [repeats] [add]\n",
+                argv[0]);
         return 2;
     }
     int frames = argc > 2 ? atoi(argv[2]) : 60;
     double tau = argc > 3 ? atof(argv[3]) : 1;
     double speed = argc > 4 ? atof(argv[4]) : 100;
     int repeats = argc > 5 ? atoi(argv[5]) : 3;
+    int add = argc > 6 ? atoi(argv[6]) : 0;
     tp_error err;
     tp_store* store;
     if (tp_store_open(argv[1], &store, &err) != TP_OK) {
@@ -83,6 +87,8 @@ int main(int argc, char** argv)
     tp_cut *cut, *pre;
     if (tp_cut_create(tree, &cut, &err) != TP_OK || tp_cut_create(tree, &pre, &err) != TP_OK)
         return 1;
+    tp_cut_set_stitch_add(cut, add);
+    tp_cut_set_stitch_add(pre, add);
     tp_lod_params lod = {.mode = TP_LOD_ERROR, .tau_px = tau};
     tp_tree_info ti;
     tp_tree_get_info(tree, &ti);
@@ -125,9 +131,9 @@ int main(int argc, char** argv)
         }
     size_t n = (size_t)frames * repeats;
     printf("%s: %d frames x %d, tau %.2f, %.0f m/s: cut %.4f ms, prefetch cut %.4f ms, stats "
-           "%.4f ms (medians); mean visited %.0f, drawn %.0f, triangles %.0f; cuts %016llx\n",
+           "%.4f ms (medians)%s; mean visited %.0f, drawn %.0f, triangles %.0f; cuts %016llx\n",
            argv[1], frames, repeats, tau, speed, bench_median(t_cut, n), bench_median(t_pre, n),
-           bench_median(t_stats, n), visited / frames, drawn / frames, tris / frames,
+           bench_median(t_stats, n), add ? ", --stitch add" : "", visited / frames, drawn / frames, tris / frames,
            (unsigned long long)h);
     free(t_cut);
     free(t_pre);

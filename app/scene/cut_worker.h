@@ -1,0 +1,74 @@
+/*
+ * cut_worker.h - a store's cut selected on a thread of its own while the frame before is drawn
+ * (issue 32: the render thread's CPU per frame should not grow with the map).
+ *
+ * A frame on the render thread:
+ *   1. tp_cut_worker_frame: waits for the worker (it selects while the previous frame draws),
+ *      and takes its cut when it holds for this frame's camera (tp_cut_holds_for: nothing in
+ *      view culled, every bound within tau). Else, or at the first frame, or after a jump, the
+ *      cut is selected here, on the render thread, as without a worker. Either way the cut
+ *      returned is this frame's, valid until the next call.
+ *   2. Anything that changes the tree's residency (tp_stream_frame, tp_stream_require) or the
+ *      prefetch cut happens between tp_cut_worker_frame and tp_cut_worker_next, or after
+ *      tp_cut_worker_idle: the worker only runs between tp_cut_worker_next and the next of
+ *      those calls, and reads the tree meanwhile.
+ *   3. tp_cut_worker_next: the worker starts selecting the next frame's cut for a camera
+ *      predicted from the last two (tp_cut_worker_predict), while this frame draws.
+ * So a frame draws a cut selected for where the camera was predicted to be, checked against
+ * where it is: tau and coverage hold as for a cut selected at once (tests/test_cut.c), at the
+ * cost of tp_cut_holds_for (O(drawn + culled nodes)) on the render thread instead of the cut.
+ */
+#ifndef TP_APP_CUT_WORKER_H
+#define TP_APP_CUT_WORKER_H
+
+#include "tp_core.h"
+
+typedef struct tp_cut_worker tp_cut_worker;
+
+/* What a cut is selected with, besides the camera. */
+typedef struct tp_cut_worker_params {
+    tp_lod_params lod;
+    double vertical_scale; /* tp_cut_set_vertical_scale; 0 means 1 */
+    int stitch_add;        /* tp_cut_set_stitch_add */
+} tp_cut_worker_params;
+
+typedef struct tp_cut_worker_stats {
+    int reused;        /* the frame draws the worker's cut */
+    double wait_ms;    /* render thread: waiting for the worker to finish */
+    double check_ms;   /* render thread: tp_cut_holds_for */
+    double select_ms;  /* render thread: the cut selected here (0 when reused) */
+    double worker_ms;  /* the worker's selection of the cut this frame was offered (its thread) */
+    int frames, frames_reused; /* since the worker was created */
+} tp_cut_worker_stats;
+
+/* Two cuts over tree and the thread (started at once, idle until tp_cut_worker_next). NULL and
+ * err without memory or without a thread. */
+tp_cut_worker* tp_cut_worker_create(const tp_tree* tree, tp_error* err);
+/* Stops the thread (after its selection) and frees the cuts. Accepts NULL. */
+void tp_cut_worker_destroy(tp_cut_worker* w);
+
+/* Step 1 above: the cut to draw from cam (the worker's or one selected now with p). NULL with
+ * err when a selection failed (tp_cut_update's errors); the worker is idle afterwards. */
+tp_cut* tp_cut_worker_frame(tp_cut_worker* w, const tp_camera* cam, const tp_cut_worker_params* p,
+                            tp_cut_worker_stats* stats, tp_error* err);
+/* Step 3: starts selecting for next (the camera the next frame is expected to have) and then,
+ * when prefetch is not NULL, the stream's prefetch cut's requests for ahead
+ * (tp_cut_update_requests; tp_stream_prefetch_wanted). The prefetch cut is the worker's until
+ * the next tp_cut_worker_frame or tp_cut_worker_idle. */
+void tp_cut_worker_next(tp_cut_worker* w, const tp_camera* next, const tp_cut_worker_params* p,
+                        tp_cut* prefetch, const tp_camera* ahead);
+/* Waits until the worker is idle (before something outside step 2 changes the tree or a
+ * setting of the prefetch cut); what it selected is still offered to the next frame, which
+ * takes it only if every node it draws is still resident. Accepts NULL. */
+void tp_cut_worker_idle(tp_cut_worker* w);
+/* tp_cut_worker_idle, and what it selected is dropped (a jump: the next frame selects its own).
+ * Accepts NULL. */
+void tp_cut_worker_forget(tp_cut_worker* w);
+/* The cut of the last tp_cut_worker_frame (NULL before the first). */
+tp_cut* tp_cut_worker_cut(const tp_cut_worker* w);
+
+/* The camera one frame after cur, moving as it moved from prev: positions and view vectors
+ * extrapolated linearly (exact for a steady flight; tp_cut_holds_for judges the rest). */
+void tp_cut_worker_predict(const tp_camera* prev, const tp_camera* cur, tp_camera* next);
+
+#endif /* TP_APP_CUT_WORKER_H */

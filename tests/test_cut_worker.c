@@ -1,0 +1,136 @@
+/* test_cut_worker.c - app/scene/cut_worker.c: the cut selected on a thread for the predicted
+ * camera while the frame before draws. On random flights over real relief (steady stretches,
+ * fast turns of 180 degrees in a second, jumps as Home makes, stops), every frame's cut holds
+ * tau on the measured screen error from the frame's own camera and covers what that camera's
+ * own cut covers; once the camera stops, the drawn cut is the one selected from the roots for
+ * it, node for node; steady flight draws the thread's cuts. */
+#define _POSIX_C_SOURCE 200809L
+#include "tp_core.h"
+#include "tp_test.h"
+
+#include "cut_worker.h"
+
+#include <math.h>
+#include <stdint.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "tp_test_hgt.h"
+
+static const double PI = 3.14159265358979323846;
+
+static uint64_t rng = 0x9E3779B97F4A7C15ull;
+static double rnd(void)
+{
+    rng ^= rng << 13;
+    rng ^= rng >> 7;
+    rng ^= rng << 17;
+    return (double)(rng >> 11) / 9007199254740992.0;
+}
+
+static const double GT[6] = {400000, 90, 0, 4800000, 0, -90};
+
+/* The camera of a pose over grid point (x, y) at height z (m). */
+static void camera(double x, double y, double z, double yaw, double pitch, tp_camera* cam)
+{
+    double pos[3] = {GT[0] + (x + 0.5) * GT[1], GT[3] + (y + 0.5) * GT[5], z};
+    tp_camera_from_pose(pos, yaw, pitch, 60, 1280, 720, cam);
+}
+
+/* A height `above` metres over the ground at grid (x, y). */
+static double over(const tp_tree* t, double x, double y, double above)
+{
+    double z = tp_tree_sample(t, (int)x, (int)y);
+    return (isnan(z) ? 1000 : z) + above;
+}
+
+/* Whether two cuts draw the same nodes at the same levels with the same seams. */
+static int same_cut(const tp_cut* a, const tp_cut* b)
+{
+    size_t na, nb;
+    const tp_cut_node* x = tp_cut_nodes(a, &na);
+    const tp_cut_node* y = tp_cut_nodes(b, &nb);
+    if (na != nb)
+        return 0;
+    for (size_t i = 0; i < na; i++)
+        if (x[i].node != y[i].node || x[i].level != y[i].level ||
+            memcmp(x[i].nb, y[i].nb, sizeof x[i].nb) != 0)
+            return 0;
+    return 1;
+}
+
+TEST(flights_keep_tau_and_settle_on_the_cut_from_the_roots)
+{
+    float* h = load_hgt(300, 200, 900, 700);
+    if (!h)
+        SKIP("N42E001.hgt not found (set TP_SHARED_DATA_DIR)");
+    tp_tree* t;
+    ASSERT_OK(tp_tree_create_from_grid(h, (size_t)900 * 700, 900, 700, GT, 33, 0, &t, NULL));
+    tp_error err;
+    tp_cut_worker* w = tp_cut_worker_create(t, &err);
+    ASSERT_TRUE(w != NULL);
+    tp_cut* roots;
+    ASSERT_OK(tp_cut_create(t, &roots, NULL));
+    tp_cut_worker_params p = {.lod = {.mode = TP_LOD_ERROR, .tau_px = 1}, .vertical_scale = 1};
+    int frames = 0, reused = 0, steady = 0, steady_reused = 0, stops = 0, measured = 0;
+    double worst_px = 0;
+    double x = 450, y = 350, yaw = 0, z = over(t, 450, 350, 200);
+    tp_camera prev, cam;
+    camera(x, y, z, yaw, -20, &prev);
+    for (int stretch = 0; stretch < 12; stretch++) {
+        int kind = stretch % 4; /* 0 steady, 1 fast turn, 2 jump then steady, 3 stop */
+        if (kind == 2) {        /* as Home: elsewhere at once */
+            x = 100 + rnd() * 700, y = 100 + rnd() * 500, yaw = rnd() * 360;
+        }
+        z = over(t, x, y, 60 + rnd() * 1500); /* a level flight (the bench's low path) */
+        double speed = 3 + rnd() * 10; /* grid samples per frame: 9 - 40 m at 30 Hz */
+        for (int f = 0; f < 20; f++) {
+            if (kind == 1)
+                yaw += 6; /* 180 degrees in 30 frames */
+            else if (kind != 3) {
+                x += speed * sin(yaw * PI / 180), y -= speed * cos(yaw * PI / 180);
+                if (x < 20 || x > 880 || y < 20 || y > 680) /* the map's edge: turn back */
+                    yaw += 180, x = fmin(fmax(x, 20), 880), y = fmin(fmax(y, 20), 680);
+            }
+            camera(x, y, z, yaw, -20, &cam);
+            tp_cut_worker_stats st;
+            tp_cut* cut = tp_cut_worker_frame(w, &cam, &p, &st, &err);
+            ASSERT_TRUE(cut != NULL);
+            frames++, reused += st.reused;
+            if (kind == 0 && f > 1)
+                steady++, steady_reused += st.reused;
+            /* what a frame draws: within tau from its own camera, everywhere it looks */
+            if (frames % 3 == 0) {
+                double max_px;
+                size_t samples;
+                ASSERT_OK(tp_cut_measure_screen_error(cut, &cam, &max_px, NULL, &samples, NULL));
+                EXPECT_TRUE(max_px <= 1 + 1e-9);
+                worst_px = fmax(worst_px, max_px);
+                measured++;
+            }
+            EXPECT_TRUE(tp_cut_holds_for(cut, &cam, NULL));
+            /* stopped for a frame: the drawn cut is the one from the roots, node for node */
+            if (kind == 3 && f >= 2) {
+                ASSERT_OK(tp_cut_update(roots, &cam, &p.lod, NULL));
+                EXPECT_TRUE(same_cut(cut, roots));
+                stops++;
+            }
+            tp_camera next;
+            tp_cut_worker_predict(&prev, &cam, &next);
+            tp_cut_worker_next(w, &next, &p, NULL, NULL);
+            prev = cam;
+        }
+    }
+    printf("%d frames, %d drew the thread's cut (steady flight: %d of %d); %d measured, max "
+           "%.3f px; %d stopped frames equal the cut from the roots\n",
+           frames, reused, steady_reused, steady, measured, worst_px, stops);
+    EXPECT_GT(steady_reused, steady * 9 / 10); /* steady flight is predicted */
+    EXPECT_GT(stops, 40);
+    tp_cut_worker_destroy(w);
+    tp_cut_destroy(roots);
+    tp_tree_destroy(t);
+    free(h);
+}
+
+#define TESTS(X) X(flights_keep_tau_and_settle_on_the_cut_from_the_roots)
+TP_TEST_MAIN(TESTS)
