@@ -109,6 +109,7 @@ typedef struct bench_run {
     const tp_camera* fixed; /* --camera, or NULL */
     int frames;
     double lead_da; /* path parameter from the lead-in frame to the timed one; 0: none */
+    int msaa;       /* samples a pixel (--msaa; 0: none) */
 } bench_run;
 
 struct tp_view_imagery;
@@ -257,6 +258,9 @@ void tp_bench_pgm_errors(config_result* c, int frames);
 
 /* The median of v[0..n-1] (n >= 1); sorts v. */
 double tp_bench_median(double* v, int n);
+
+/* VmRSS and RssAnon of this process, MB (10^6 bytes); NaN when not readable. */
+void tp_bench_read_rss(double* rss_mb, double* anon_mb);
 
 /* A run's progress on stderr (bench_stats.c), for both benches: frame (1-based) of frames and
  * what it measured ("12.3 ms, 4567 triangles"). On a terminal one line redrawn ('\r'); else

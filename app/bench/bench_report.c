@@ -96,6 +96,7 @@ int tp_bench_write_json(const bench_run* b, const char* renderer_name, const con
     tp_json_member_number(&j, "patches", b->sc->info.patch_count);
     tp_json_member_number(&j, "patch_size", b->sc->info.patch_size);
     tp_json_member_string(&j, "renderer", renderer_name);
+    tp_json_member_number(&j, "msaa", b->msaa);
     /* the program's own accounting: measured peak against the up-front check's estimate */
     tp_json_member_number(&j, "peak_rss_bytes", (double)tp_memory_peak_rss());
     tp_json_member_number(
@@ -186,10 +187,10 @@ void tp_bench_print_table(const bench_run* b, const char* renderer_name, const c
                         int nc, int best)
 {
     const bench_options* o = b->o;
-    printf("%s, %dx%d, %s path%s, %d frames, %d patches of %d, renderer %s\n", o->dem, o->vs.w,
-           o->vs.h, o->path_file ? o->path_file : o->vs.has_camera ? "fixed" : o->path_name,
+    printf("%s, %dx%d, %s path%s, %d frames, %d patches of %d, renderer %s, msaa %d\n", o->dem,
+           o->vs.w, o->vs.h, o->path_file ? o->path_file : o->vs.has_camera ? "fixed" : o->path_name,
            b->lead_da > 0 ? " (lead-in frames)" : "", b->frames, b->sc->info.patch_count,
-           b->sc->info.patch_size, renderer_name);
+           b->sc->info.patch_size, renderer_name, b->msaa);
     int any_pgm = 0; /* PGM's error leaves out the posts no triangle covers: their share */
     for (int k = 0; k < nc; k++)
         any_pgm |= c[k].pgm_cols > 0;

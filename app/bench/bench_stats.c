@@ -1,5 +1,6 @@
 /* bench_stats.c - the medians and percentiles of a run's frames, for both benches (the DEM's in
- * cmd_bench.c, the store's in bench_store.c). */
+ * cmd_bench.c, the store's in bench_store.c); the process's start and memory (/proc). */
+#define _POSIX_C_SOURCE 200809L
 #include "bench.h"
 
 #include "cli.h"
@@ -7,6 +8,8 @@
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
+#include <time.h>
 #include <unistd.h>
 
 static int cmp_double(const void* a, const void* b)
@@ -43,4 +46,21 @@ void tp_bench_progress_end(void)
 {
     if (isatty(STDERR_FILENO))
         fputc('\n', stderr);
+}
+
+void tp_bench_read_rss(double* rss_mb, double* anon_mb)
+{
+    *rss_mb = *anon_mb = NAN;
+    FILE* f = fopen("/proc/self/status", "r");
+    if (!f)
+        return;
+    char line[256];
+    double kb;
+    while (fgets(line, sizeof line, f)) {
+        if (sscanf(line, "VmRSS: %lf", &kb) == 1)
+            *rss_mb = kb * 1024 / 1e6;
+        else if (sscanf(line, "RssAnon: %lf", &kb) == 1)
+            *anon_mb = kb * 1024 / 1e6;
+    }
+    fclose(f);
 }

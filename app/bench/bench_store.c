@@ -26,6 +26,7 @@
 #include "imagery_view.h"
 #include "light_view.h"
 #include "memory.h"
+#include "normal_map.h"
 #include "pgm_clip.h"
 #include "pgm_render.h"
 #include "renderer.h"
@@ -42,25 +43,6 @@
 
 #define WARMUP_FRAMES 5
 #define SETTLE_MAX_MS 20000.0
-
-
-/* VmRSS and RssAnon of this process, MB (10^6 bytes); NaN when not readable. */
-static void read_rss(double* rss_mb, double* anon_mb)
-{
-    *rss_mb = *anon_mb = NAN;
-    FILE* f = fopen("/proc/self/status", "r");
-    if (!f)
-        return;
-    char line[256];
-    double kb;
-    while (fgets(line, sizeof line, f)) {
-        if (sscanf(line, "VmRSS: %lf", &kb) == 1)
-            *rss_mb = kb * 1024 / 1e6;
-        else if (sscanf(line, "RssAnon: %lf", &kb) == 1)
-            *anon_mb = kb * 1024 / 1e6;
-    }
-    fclose(f);
-}
 
 #define ROWS_OF(expr) TP_BENCH_COLUMN(v, store_row, c->rows, n, expr)
 
@@ -109,6 +91,10 @@ static void summarize(store_result* c, int n)
     c->img_upload_ms_p99 = tp_bench_p99(v, n);
     ROWS_OF(r->img_uploads);
     c->img_uploads = tp_bench_median(v, n);
+    ROWS_OF(r->nrm_ms);
+    c->nrm_ms = tp_bench_median(v, n);
+    ROWS_OF(r->nrm_upload_ms);
+    c->nrm_upload_ms = tp_bench_median(v, n);
     ROWS_OF(r->pgm_fill_ms);
     c->pgm_fill_ms = tp_bench_median(v, n);
     c->pgm_fill_ms_p99 = tp_bench_p99(v, n);
@@ -134,6 +120,9 @@ static void summarize(store_result* c, int n)
         c->img_missing_max = r->img_missing > c->img_missing_max ? r->img_missing : c->img_missing_max;
         c->img_frames_missing += r->img_missing > 0;
         c->img_uploads_total += r->img_uploads;
+        c->nrm_gpu_mb = fmax(c->nrm_gpu_mb, r->nrm_gpu_bytes / 1e6);
+        c->nrm_uploads_total += r->nrm_uploads;
+        c->nrm_frames_missing += r->nrm_missing > 0;
     }
     tp_bench_store_error_summary(c, n, v);
     free(v);
@@ -236,7 +225,7 @@ static int run_store_pgm(store_bench* b, store_result* c, const char* progress)
                     row->post_share = e.post_share;
                 }
             }
-            read_rss(&row->rss_mb, &row->rss_anon_mb);
+            tp_bench_read_rss(&row->rss_mb, &row->rss_anon_mb);
             char what[96];
             snprintf(what, sizeof what, "%.1f ms, %zu posts updated", row->frame_ms,
                      row->pgm_posts);
@@ -258,6 +247,7 @@ typedef struct store_draw {
     tp_cut_worker* worker; /* NULL: --no-cut-thread */
     tp_view_imagery* im;
     tp_view_light* lt;
+    tp_normal_map* nm; /* the normals the terrain is shaded from (NULL: the vertices') */
     tp_render_settings rs;
     double day[2]; /* the light map's: the sun's time sweeps it over the flight */
 } store_draw;
@@ -326,6 +316,15 @@ static int open_draw(store_bench* b, const store_result* c, int first, store_dra
         return TP_EXIT_FAILURE;
     if (d->lt)
         tp_view_light_day(d->lt, &d->day[0], &d->day[1], NULL);
+    if (c->pgm_cols)
+        return TP_EXIT_OK;
+    co.clip_blocks = 0; /* the normal map's own window */
+    tp_normal_source* src = tp_normal_source_store(b->sc.store, b->sc.tree_info.min_height_m,
+                                                   b->sc.tree_info.max_height_m, &err);
+    if (!src || !(d->nm = tp_normal_map_create(src, &co, &err))) {
+        tp_cli_error("the normal map: %s", err.message);
+        return TP_EXIT_FAILURE;
+    }
     return TP_EXIT_OK;
 }
 
@@ -334,6 +333,7 @@ static void close_draw(store_bench* b, store_draw* d)
 {
     tp_view_imagery_close(d->im);
     tp_view_light_close(d->lt);
+    tp_normal_map_destroy(d->nm);
     tp_cut_worker_destroy(d->worker);
     tp_cut_destroy(d->pre);
     tp_cut_destroy(d->cut);
@@ -367,6 +367,8 @@ static int first_frame(store_bench* b, const store_result* c, store_draw* d, con
     if (tp_cut_update(d->cut, cam, &c->lod, &err) != TP_OK)
         return cut_failed(&err);
     tp_stream_frame(b->sc.stream, d->cut, o->no_prefetch ? NULL : d->pre, cam, &c->lod, ss);
+    if (d->nm)
+        tp_normal_map_frame_cut(d->nm, &b->sc, d->cut, 1, d->r, cam, 0, NULL);
     double t1 = tp_clock_ms();
     tp_renderer_draw_cut(d->r, b->sc.tree, d->cut, cam, &d->rs, 1, 1, st);
     tp_gl_context_end_frame(b->ctx);
@@ -379,21 +381,27 @@ static int first_frame(store_bench* b, const store_result* c, store_draw* d, con
 
 /* A timed frame's row from its figures, outside the timed part: t, the clock (ms) at the frame's
  * start, after the cut, after the stream, after the imagery or light (draped: the frame has
- * one; its clipmap's figures in is) and after the draw. */
-static void fill_row(store_row* row, const double t[5], const tp_cut_stats* cs,
+ * one; its clipmap's figures in is), after the draw and after the normal map (its clipmap's
+ * figures in ns; between the stream and the imagery). */
+static void fill_row(store_row* row, const double t[6], const tp_cut_stats* cs,
                      const tp_render_stats* st, const tp_stream_stats* ss,
-                     const tp_clipmap_stats* is, int draped)
+                     const tp_clipmap_stats* is, int draped, const tp_clipmap_stats* ns)
 {
     row->cut_ms = t[1] - t[0];
     row->stream_ms = t[2] - t[1];
+    row->nrm_ms = t[5] - t[2];
+    row->nrm_upload_ms = ns->upload_ms;
+    row->nrm_uploads = ns->uploads;
+    row->nrm_missing = ns->missing;
+    row->nrm_gpu_bytes = ns->gpu_bytes;
     row->upload_ms = st->upload_ms;
     row->draw_ms = st->draw_ms;
     row->draw_calls = st->draw_calls;
     row->page_faults = st->page_faults;
     row->frame_ms = t[4] - t[0];
-    row->cpu_ms = row->cut_ms + row->stream_ms + row->upload_ms;
+    row->cpu_ms = row->cut_ms + row->stream_ms + row->nrm_ms + row->upload_ms;
     if (draped) {
-        row->img_ms = t[3] - t[2];
+        row->img_ms = t[3] - t[5];
         row->img_upload_ms = is->upload_ms;
         row->img_uploads = is->uploads;
         row->img_missing = is->missing;
@@ -427,7 +435,7 @@ static int fly(store_bench* b, store_result* c, int first, store_draw* d, const 
     int frames = b->segments * b->per_segment;
     tp_render_stats st;
     tp_stream_stats ss;
-    tp_clipmap_stats is = {0};
+    tp_clipmap_stats is = {0}, ns = {0};
     tp_error err;
     tp_camera cam, prev;
     tp_cut* cut = d->cut; /* the frame's: d->cut, or the cut thread's */
@@ -446,6 +454,8 @@ static int fly(store_bench* b, store_result* c, int first, store_draw* d, const 
             tp_view_imagery_frame(d->im, &b->sc, d->cut, 1, d->r, &cam, 1, &is);
         if (d->lt)
             tp_view_light_frame(d->lt, &b->sc, d->cut, 1, d->r, &cam, d->day[0], 1, &is);
+        if (d->nm)
+            tp_normal_map_frame_cut(d->nm, &b->sc, d->cut, 1, d->r, &cam, 1, &ns);
         if (seg == 0)
             c->settle_ms = tp_clock_ms() - t_settle;
         double t_fly = tp_clock_ms();
@@ -458,7 +468,7 @@ static int fly(store_bench* b, store_result* c, int first, store_draw* d, const 
                     : i * b->step_m;
             tp_bench_store_camera(b, seg, at, &cam);
             store_row* row = i >= 0 ? &c->rows[seg * b->per_segment + i] : NULL;
-            double t[5];
+            double t[6];
             tp_cut_worker_stats ws = {0};
             tp_gl_context_begin_frame(b->ctx);
             t[0] = tp_clock_ms();
@@ -468,6 +478,9 @@ static int fly(store_bench* b, store_result* c, int first, store_draw* d, const 
             t[1] = tp_clock_ms();
             tp_stream_frame(b->sc.stream, cut, o->no_prefetch ? NULL : d->pre, &cam, &c->lod, &ss);
             t[2] = tp_clock_ms();
+            if (d->nm) /* the frame's cut's nodes: the normal map's finest level */
+                tp_normal_map_frame_cut(d->nm, &b->sc, cut, 1, d->r, &cam, 0, &ns);
+            t[5] = tp_clock_ms();
             if (d->worker) { /* the next frame's cut (and prefetch), selected while this draws */
                 tp_camera next, ahead;
                 tp_cut_worker_predict(i > -WARMUP_FRAMES ? &prev : &cam, &cam, &next);
@@ -491,13 +504,13 @@ static int fly(store_bench* b, store_result* c, int first, store_draw* d, const 
             /* outside the timed part */
             tp_cut_stats cs;
             tp_cut_get_stats(cut, &cs);
-            fill_row(row, t, &cs, &st, &ss, &is, d->im || d->lt);
+            fill_row(row, t, &cs, &st, &ss, &is, d->im || d->lt, &ns);
             row->cut_ms -= ws.wait_ms; /* waiting is not the render thread's CPU */
             row->cpu_ms -= ws.wait_ms;
             row->cut_wait_ms = ws.wait_ms;
             row->cut_worker_ms = ws.worker_ms;
             row->cut_reused = ws.reused;
-            read_rss(&row->rss_mb, &row->rss_anon_mb);
+            tp_bench_read_rss(&row->rss_mb, &row->rss_anon_mb);
             if (!o->no_error && k % o->error_every == 0 && !tp_bench_store_measure(b, cut, &cam, k, row))
                 return TP_EXIT_FAILURE;
             const char* failure = tp_stream_take_failure(b->sc.stream);
@@ -570,7 +583,12 @@ int tp_bench_store(const bench_options* o)
         return TP_EXIT_FAILURE;
     }
     b.context_ms = tp_clock_ms() - b.t_open_ms - b.open_ms;
-    read_rss(&b.base_rss_mb, &b.base_anon_mb);
+    int samples = o->vs.msaa >= 0 ? o->vs.msaa : tp_gl_context_default_msaa();
+    if ((b.msaa = tp_gl_context_set_msaa(b.ctx, samples, &err)) < 0) {
+        tp_cli_warning("--msaa %d: %s", samples, err.message);
+        b.msaa = 0;
+    }
+    tp_bench_read_rss(&b.base_rss_mb, &b.base_anon_mb);
     const char* renderer_name = (const char*)glGetString(GL_RENDERER);
     renderer_name = renderer_name ? renderer_name : "?";
     store_result c[8 + 8]; /* error, distance, spheres, two imagery modes, light, error+add,

@@ -36,6 +36,10 @@ typedef struct store_row {
     double img_ms, img_upload_ms;
     int img_uploads, img_missing, img_pending;
     size_t img_gpu_bytes, img_cache_bytes;
+    /* the normal map's part of the frame (in frame_ms and cpu_ms; normal_map.h) */
+    double nrm_ms, nrm_upload_ms;
+    int nrm_uploads, nrm_missing;
+    size_t nrm_gpu_bytes;
     /* --renderer pgm: the clipmap's update (in frame_ms and cpu_ms; stream_ms and upload_ms
      * hold the same two figures) */
     double pgm_fill_ms, pgm_upload_ms;
@@ -77,6 +81,8 @@ typedef struct store_result {
     double img_uploads_total;   /* blocks uploaded over the timed frames */
     int img_missing_max, img_frames_missing;
     long img_final_diff;        /* tp_bench_imagery_diff */
+    double nrm_ms, nrm_upload_ms, nrm_gpu_mb, nrm_uploads_total; /* the normal map (medians, */
+    int nrm_frames_missing;                                       /* the most, the total) */
     int stitch_add;             /* --stitch add: the cut adds vertices (tp_cut_set_stitch_add) */
     int light;                  /* instead of imagery: o->light, the day's streamed light (its
                                    clipmap's figures in the img_ fields) */
@@ -98,6 +104,7 @@ typedef struct store_bench {
     double step_m; /* per frame */
     double t_open_ms;
     double first_frame_ms, first_frame_open_ms; /* from process start / from opening */
+    int msaa;                   /* samples a pixel (--msaa; 0: none) */
     double open_ms, context_ms; /* opening the store (metas, tree); the GL context */
     /* the first frame's parts (ms): process start to this command (the dynamic loader, the
      * libraries' initialisers, main); the renderer (shaders) and the stream (loader thread);

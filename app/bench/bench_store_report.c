@@ -91,6 +91,14 @@ static void json_result(tp_json* j, const store_bench* b, const store_result* c)
         tp_json_member_number(j, "light_missing_blocks_max", c->img_missing_max);
         tp_json_member_number(j, "light_frames_missing_blocks", c->img_frames_missing);
     }
+    tp_json_member_string(j, "normals", c->pgm_cols ? "vertex" : "map");
+    if (!c->pgm_cols) { /* the normal map's clipmap (normal_map.h) */
+        tp_json_member_number(j, "normals_ms_median", c->nrm_ms);
+        tp_json_member_number(j, "normals_upload_ms_median", c->nrm_upload_ms);
+        tp_json_member_number(j, "normals_uploads_total", c->nrm_uploads_total);
+        tp_json_member_number(j, "normals_gpu_mb", c->nrm_gpu_mb);
+        tp_json_member_number(j, "normals_frames_missing_blocks", c->nrm_frames_missing);
+    }
     /* frames drawn without substitution with a sample in view; null px when there were none */
     tp_json_member_number(j, "error_frames_measured", c->error_frames);
     tp_json_member_number(j, "max_screen_error_px",
@@ -150,6 +158,7 @@ int tp_bench_store_write_json(const store_bench* b, const char* renderer_name, c
     tp_json_member_number(&j, "patch_size", (1 << b->g->n) + 1);
     tp_json_member_number(&j, "memory_budget_mb", (double)((size_t)o->memory_mb << 20) / 1e6);
     tp_json_member_string(&j, "renderer", renderer_name);
+    tp_json_member_number(&j, "msaa", b->msaa);
     /* first_frame_ms: from the process's start (/proc/self/stat, 10 ms ticks) to the end of
      * the first drawn frame (glFinish); first_frame_from_open_ms: from opening the store */
     tp_json_member_number(&j, "first_frame_ms", b->first_frame_ms);
@@ -224,9 +233,10 @@ void tp_bench_store_print(const store_bench* b, const char* renderer_name, const
     const bench_options* o = b->o;
     int frames = b->segments * b->per_segment;
     printf("%s, %dx%d samples, %dx%d, %s path at %g m/s%s, %d frames in %d stretches, memory "
-           "budget %d MB, renderer %s\n",
+           "budget %d MB, renderer %s, msaa %d\n",
            o->dem, b->g->src_width, b->g->src_height, o->vs.w, o->vs.h, o->path_name,
-           o->speed_mps, o->realtime ? " (real time)" : " (30 Hz steps)", frames, b->segments, o->memory_mb, renderer_name);
+           o->speed_mps, o->realtime ? " (real time)" : " (30 Hz steps)", frames, b->segments,
+           o->memory_mb, renderer_name, b->msaa);
     printf("first frame %.0f ms after the process started, %.0f ms after opening the store "
            "(open %.0f ms, GL context %.0f ms)\n",
            b->first_frame_ms, b->first_frame_open_ms, b->open_ms, b->context_ms);
@@ -260,6 +270,12 @@ void tp_bench_store_print(const store_bench* b, const char* renderer_name, const
                    c[k].img_missing_max, c[k].draw_calls,
                    c[k].imagery_mode == TP_IMAGERY_BLOCKS ? "blocks pool" : "clipmap",
                    c[k].img_final_diff);
+    for (int k = 0; k < nc; k++)
+        if (!c[k].pgm_cols)
+            printf("%s: normal map %.3f ms a frame (upload %.3f ms median; %.0f blocks in all), "
+                   "GPU %.1f MB, %d frames lacking blocks\n",
+                   c[k].label, c[k].nrm_ms, c[k].nrm_upload_ms, c[k].nrm_uploads_total,
+                   c[k].nrm_gpu_mb, c[k].nrm_frames_missing);
     for (int k = 0; k < nc; k++)
         if (c[k].light)
             printf("%s: streamed light %.3f ms a frame (upload %.3f ms median, %.3f p99; %.0f "

@@ -16,6 +16,7 @@
 #include "gl_context.h"
 #include "json.h"
 #include "memory.h"
+#include "normal_map.h"
 #include "renderer.h"
 #include "scene.h"
 #include "store_scene.h"
@@ -127,11 +128,16 @@ static int run_config(const bench_run* b, config_result* c, const char* progress
     c->rows = calloc((size_t)frames, sizeof *c->rows);
     tp_renderer* r = tp_renderer_create(b->sc->terrain, &err);
     tp_selection* sel = NULL;
-    if (!c->rows || !r || tp_selection_create(b->sc->terrain, &sel, &err) != TP_OK) {
-        tp_cli_error("%s", r ? "out of memory" : err.message);
+    tp_normal_source* src = r ? tp_normal_source_terrain(b->sc->terrain, &err) : NULL;
+    /* shaded from the normal map as the viewer shades (normal_map.h) */
+    tp_normal_map* nm = src ? tp_normal_map_create(src, NULL, &err) : NULL;
+    if (!c->rows || !nm || tp_selection_create(b->sc->terrain, &sel, &err) != TP_OK) {
+        tp_cli_error("%s", nm ? "out of memory" : err.message);
+        tp_normal_map_destroy(nm);
         tp_renderer_destroy(r);
         return TP_EXIT_FAILURE;
     }
+    double zr[2] = {b->sc->info.min_height_m, b->sc->info.max_height_m};
     tp_render_settings rs;
     tp_render_settings_default(&rs);
     rs.stitch_add = c->stitch_add;
@@ -139,6 +145,7 @@ static int run_config(const bench_run* b, config_result* c, const char* progress
     if (c->stitch_add && tp_terrain_prepare_stitch_add(b->sc->terrain, &err) != TP_OK) {
         tp_cli_error("%s", err.message);
         tp_selection_destroy(sel);
+        tp_normal_map_destroy(nm);
         tp_renderer_destroy(r);
         return TP_EXIT_FAILURE;
     }
@@ -149,6 +156,7 @@ static int run_config(const bench_run* b, config_result* c, const char* progress
         if (tp_bench_frame_camera(b, i, &cam, &lead)) { /* untimed */
             tp_gl_context_begin_frame(b->ctx);
             tp_selection_update(sel, &lead, &c->lod, &err);
+            tp_normal_map_frame(nm, r, &lead, zr[0], zr[1], 0, NULL);
             tp_renderer_draw(r, sel, &lead, &rs, 1, &st);
             tp_gl_context_end_frame(b->ctx);
         }
@@ -156,6 +164,7 @@ static int run_config(const bench_run* b, config_result* c, const char* progress
         tp_gl_context_begin_frame(b->ctx);
         double t0 = tp_clock_ms();
         tp_selection_update(sel, &cam, &c->lod, &err);
+        tp_normal_map_frame(nm, r, &cam, zr[0], zr[1], 0, NULL);
         double t1 = tp_clock_ms();
         tp_renderer_draw(r, sel, &cam, &rs, 1, &st);
         tp_gl_context_end_frame(b->ctx);
@@ -194,6 +203,7 @@ static int run_config(const bench_run* b, config_result* c, const char* progress
                 tp_cli_error("%s: measuring the error of frame %d: %s", progress, i + 1,
                              tp_status_str(ms));
                 tp_selection_destroy(sel);
+                tp_normal_map_destroy(nm);
                 tp_renderer_destroy(r);
                 return TP_EXIT_FAILURE;
             }
@@ -207,6 +217,7 @@ static int run_config(const bench_run* b, config_result* c, const char* progress
     tp_bench_progress_end();
     summarize(c, frames);
     tp_selection_destroy(sel);
+    tp_normal_map_destroy(nm);
     tp_renderer_destroy(r);
     return TP_EXIT_OK;
 }
@@ -310,6 +321,11 @@ int tp_cli_bench(int argc, char** argv)
         free(cams);
         tp_scene_free(&sc);
         return TP_EXIT_FAILURE;
+    }
+    int samples = o.vs.msaa >= 0 ? o.vs.msaa : tp_gl_context_default_msaa();
+    if ((b.msaa = tp_gl_context_set_msaa(b.ctx, samples, &err)) < 0) {
+        tp_cli_warning("--msaa %d: %s", samples, err.message);
+        b.msaa = 0;
     }
     const char* renderer_name = (const char*)glGetString(GL_RENDERER);
     renderer_name = renderer_name ? renderer_name : "?";

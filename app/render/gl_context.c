@@ -20,6 +20,10 @@ struct tp_gl_context {
     EGLDisplay dpy;
     EGLContext ctx;
     GLuint fbo, color, depth;
+    /* multisampling: the frames' target, resolved into the one above (or the window's) */
+    int samples;
+    GLuint ms_fbo, ms_color, ms_depth;
+    int ms_w, ms_h;
     /* window */
     GLFWwindow* win;
 };
@@ -109,7 +113,7 @@ int tp_gl_context_create_window(int w, int h, const char* title, tp_gl_context**
     glfwWindowHint(GLFW_CONTEXT_VERSION_MINOR, 3);
     glfwWindowHint(GLFW_OPENGL_PROFILE, GLFW_OPENGL_CORE_PROFILE);
     glfwWindowHint(GLFW_OPENGL_FORWARD_COMPAT, GLFW_TRUE);
-    glfwWindowHint(GLFW_SAMPLES, 4);
+    glfwWindowHint(GLFW_SAMPLES, 0); /* multisampled in a framebuffer of ours: --msaa */
     GLFWwindow* win = glfwCreateWindow(w, h, title, NULL, NULL);
     if (!win) {
         const char* why = NULL;
@@ -136,10 +140,95 @@ int tp_gl_context_create_window(int w, int h, const char* title, tp_gl_context**
     return 1;
 }
 
+static void ms_release(tp_gl_context* c)
+{
+    if (c->ms_fbo)
+        glDeleteFramebuffers(1, &c->ms_fbo);
+    if (c->ms_color)
+        glDeleteRenderbuffers(1, &c->ms_color);
+    if (c->ms_depth)
+        glDeleteRenderbuffers(1, &c->ms_depth);
+    c->ms_fbo = c->ms_color = c->ms_depth = 0;
+    c->ms_w = c->ms_h = 0;
+}
+
+/* (Re)makes the multisampled framebuffer at the context's size; 0 when it is incomplete. */
+static int ms_make(tp_gl_context* c)
+{
+    ms_release(c);
+    glGenFramebuffers(1, &c->ms_fbo);
+    glBindFramebuffer(GL_FRAMEBUFFER, c->ms_fbo);
+    glGenRenderbuffers(1, &c->ms_color);
+    glBindRenderbuffer(GL_RENDERBUFFER, c->ms_color);
+    glRenderbufferStorageMultisample(GL_RENDERBUFFER, c->samples, GL_RGBA8, c->w, c->h);
+    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, c->ms_color);
+    glGenRenderbuffers(1, &c->ms_depth);
+    glBindRenderbuffer(GL_RENDERBUFFER, c->ms_depth);
+    glRenderbufferStorageMultisample(GL_RENDERBUFFER, c->samples, GL_DEPTH_COMPONENT24, c->w,
+                                     c->h);
+    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, c->ms_depth);
+    c->ms_w = c->w;
+    c->ms_h = c->h;
+    return glCheckFramebufferStatus(GL_FRAMEBUFFER) == GL_FRAMEBUFFER_COMPLETE;
+}
+
+int tp_gl_context_set_msaa(tp_gl_context* c, int samples, tp_error* err)
+{
+    GLint max = 0;
+    glGetIntegerv(GL_MAX_SAMPLES, &max);
+    samples = samples > max ? max : samples;
+    c->samples = samples > 1 ? samples : 0;
+    if (!c->samples) {
+        ms_release(c);
+    } else if (!ms_make(c)) {
+        tp_error_set(err, TP_ERR_BACKEND,
+                     "a %dx%d framebuffer of %d samples a pixel is incomplete (drawn without "
+                     "multisampling)",
+                     c->w, c->h, c->samples);
+        ms_release(c);
+        c->samples = 0;
+        glBindFramebuffer(GL_FRAMEBUFFER, c->win ? 0 : c->fbo);
+        return -1;
+    }
+    glBindFramebuffer(GL_FRAMEBUFFER, c->win ? 0 : c->fbo);
+    return c->samples;
+}
+
+int tp_gl_context_msaa(const tp_gl_context* c)
+{
+    return c->samples;
+}
+
+int tp_gl_context_software(void)
+{
+    const char* r = (const char*)glGetString(GL_RENDERER);
+    static const char* const soft[] = {"llvmpipe", "softpipe", "swrast", "Software",
+                                       "SwiftShader", "GDI Generic"};
+    for (size_t i = 0; r && i < sizeof soft / sizeof soft[0]; i++)
+        if (strstr(r, soft[i]))
+            return 1;
+    return 0;
+}
+
+int tp_gl_context_default_msaa(void)
+{
+    return tp_gl_context_software() ? 0 : 4;
+}
+
+/* Resolves the multisampled frame into the single-sampled target (the window's or the FBO). */
+static void ms_resolve(tp_gl_context* c)
+{
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, c->ms_fbo);
+    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, c->win ? 0 : c->fbo);
+    glBlitFramebuffer(0, 0, c->w, c->h, 0, 0, c->w, c->h, GL_COLOR_BUFFER_BIT, GL_NEAREST);
+    glBindFramebuffer(GL_FRAMEBUFFER, c->ms_fbo);
+}
+
 void tp_gl_context_destroy(tp_gl_context* c)
 {
     if (!c)
         return;
+    ms_release(c);
     if (c->win) {
         glfwDestroyWindow(c->win);
         glfwTerminate();
@@ -158,12 +247,18 @@ void tp_gl_context_begin_frame(tp_gl_context* c)
 {
     if (c->win)
         glfwGetFramebufferSize(c->win, &c->w, &c->h);
-    glBindFramebuffer(GL_FRAMEBUFFER, c->win ? 0 : c->fbo);
+    if (c->samples && (c->ms_w != c->w || c->ms_h != c->h) && !ms_make(c)) {
+        ms_release(c); /* a window grown past what the driver holds: drawn without */
+        c->samples = 0;
+    }
+    glBindFramebuffer(GL_FRAMEBUFFER, c->samples ? c->ms_fbo : c->win ? 0 : c->fbo);
     glViewport(0, 0, c->w, c->h);
 }
 
 void tp_gl_context_end_frame(tp_gl_context* c)
 {
+    if (c->samples)
+        ms_resolve(c);
     if (c->win)
         glfwSwapBuffers(c->win);
 }
@@ -176,6 +271,8 @@ void tp_gl_context_size(const tp_gl_context* c, int* w, int* h)
 
 void tp_gl_context_read_rgba(tp_gl_context* c, uint8_t* rgba)
 {
+    if (c->samples)
+        ms_resolve(c);
     glBindFramebuffer(GL_READ_FRAMEBUFFER, c->win ? 0 : c->fbo);
     glPixelStorei(GL_PACK_ALIGNMENT, 1);
     glReadPixels(0, 0, c->w, c->h, GL_RGBA, GL_UNSIGNED_BYTE, rgba);

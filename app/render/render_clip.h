@@ -1,6 +1,7 @@
 /*
  * render_clip.h - the uniforms of a clipmap the terrain shader samples (renderer.c's imagery,
- * set 0, and its streamed light, set 1; terrain_shaders.c's clip_sample): each set has its
+ * set 0, its streamed light, set 1, and the terrain's normals, set 2; terrain_shaders.c's
+ * clip_sample): each set has its
  * own sampler and texture unit and its entries in the shader's per-set uniform arrays. Shared
  * by the patch renderer only (renderer.c finds them, renderer_draw.c sets them; tp__ names).
  * app/render/render_clip.c.
@@ -14,6 +15,8 @@
 
 #define TP__CLIP_SET_IMAGERY 0
 #define TP__CLIP_SET_LIGHT 1
+#define TP__CLIP_SET_NORMALS 2
+#define TP__CLIP_SETS 3
 
 typedef struct tp__clip_uniforms {
     int set, unit; /* the shader's set; the texture unit its sampler reads */

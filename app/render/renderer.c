@@ -29,6 +29,51 @@ void tp__renderer_vertex_format(tp_renderer* r, GLuint vbo)
                            (void*)offsetof(gpu_vertex, flags));
 }
 
+const tp__program* tp__renderer_program(tp_renderer* r, unsigned features, tp_error* err)
+{
+    tp__program* p = &r->progs[features & TP_SHADE_ALL];
+    if (p->prog)
+        return p;
+    char vs[16384], fs[16384];
+    if (!tp_terrain_shader_sources(features, vs, fs, sizeof vs)) {
+        tp_error_set(err, TP_ERR_BACKEND, "the terrain shaders do not fit their buffers");
+        return NULL;
+    }
+    GLuint prog = tp_gl_program(vs, fs, err);
+    if (!prog)
+        return NULL;
+#define TP_UNIFORM(name) p->name = glGetUniformLocation(prog, #name)
+    TP_UNIFORM(u_cell);
+    TP_UNIFORM(u_frac);
+    TP_UNIFORM(u_spacing);
+    TP_UNIFORM(u_cam_z);
+    TP_UNIFORM(u_exag);
+    TP_UNIFORM(u_viewproj);
+    TP_UNIFORM(u_sun);
+    TP_UNIFORM(u_color_lod);
+    TP_UNIFORM(u_hide_filled);
+    TP_UNIFORM(u_hrange);
+    TP_UNIFORM(u_tex);
+    TP_UNIFORM(u_tex_scale);
+    TP_UNIFORM(u_tex_offset);
+    TP_UNIFORM(u_grid);
+    TP_UNIFORM(u_grid_origin);
+    TP_UNIFORM(u_shadow);
+    TP_UNIFORM(u_shadow_win);
+    TP_UNIFORM(u_blk);
+    TP_UNIFORM(u_blk_layer);
+    TP_UNIFORM(u_blk_cell);
+    TP_UNIFORM(u_blk_scale);
+    TP_UNIFORM(u_blk_offset);
+    TP_UNIFORM(u_light_tau);
+#undef TP_UNIFORM
+    tp__clip_uniforms_find(prog, TP__CLIP_SET_IMAGERY, "u_clip", 1, &p->clip_u);
+    tp__clip_uniforms_find(prog, TP__CLIP_SET_LIGHT, "u_light", 4, &p->light_u);
+    tp__clip_uniforms_find(prog, TP__CLIP_SET_NORMALS, "u_normals", 5, &p->normal_u);
+    p->prog = prog;
+    return p;
+}
+
 tp_renderer* tp_renderer_create_desc(const tp_render_grid_desc* d, tp_error* err)
 {
     tp_renderer* r = calloc(1, sizeof *r);
@@ -41,40 +86,12 @@ tp_renderer* tp_renderer_create_desc(const tp_render_grid_desc* d, tp_error* err
     size_t v = ((size_t)1 << n) + 1;
     r->slot_verts = v * v;
 
-    r->prog = tp_gl_program(tp_terrain_vertex_shader, tp_terrain_fragment_shader(), err);
-    if (!r->prog) {
+    /* every feature at once: the shaders are checked before any frame (the programs a frame
+     * uses are made as they are first needed) */
+    if (!tp__renderer_program(r, TP_SHADE_ALL, err)) {
         free(r);
         return NULL;
     }
-#define TP_UNIFORM(name) r->name = glGetUniformLocation(r->prog, #name)
-    TP_UNIFORM(u_cell);
-    TP_UNIFORM(u_frac);
-    TP_UNIFORM(u_spacing);
-    TP_UNIFORM(u_cam_z);
-    TP_UNIFORM(u_exag);
-    TP_UNIFORM(u_viewproj);
-    TP_UNIFORM(u_sun);
-    TP_UNIFORM(u_color_lod);
-    TP_UNIFORM(u_hide_filled);
-    TP_UNIFORM(u_hrange);
-    TP_UNIFORM(u_textured);
-    TP_UNIFORM(u_tex);
-    TP_UNIFORM(u_tex_scale);
-    TP_UNIFORM(u_tex_offset);
-    TP_UNIFORM(u_grid);
-    TP_UNIFORM(u_grid_origin);
-    TP_UNIFORM(u_shadow);
-    TP_UNIFORM(u_shadow_on);
-    TP_UNIFORM(u_shadow_win);
-    TP_UNIFORM(u_blk);
-    TP_UNIFORM(u_blk_layer);
-    TP_UNIFORM(u_blk_cell);
-    TP_UNIFORM(u_blk_scale);
-    TP_UNIFORM(u_blk_offset);
-    TP_UNIFORM(u_light_tau);
-#undef TP_UNIFORM
-    tp__clip_uniforms_find(r->prog, TP__CLIP_SET_IMAGERY, "u_clip", 1, &r->clip_u);
-    tp__clip_uniforms_find(r->prog, TP__CLIP_SET_LIGHT, "u_light", 4, &r->light_u);
 
     /* The strips of every level, one after the other, in one index buffer. */
     r->index_type = n <= 7 ? GL_UNSIGNED_SHORT : GL_UNSIGNED_INT;
@@ -125,7 +142,9 @@ void tp_renderer_destroy(tp_renderer* r)
 {
     if (!r)
         return;
-    glDeleteProgram(r->prog);
+    for (unsigned f = 0; f <= TP_SHADE_ALL; f++)
+        if (r->progs[f].prog)
+            glDeleteProgram(r->progs[f].prog);
     if (r->tex)
         glDeleteTextures(1, &r->tex);
     tp_vertex_pool_destroy(r->pool);
@@ -176,6 +195,14 @@ void tp_renderer_set_light(tp_renderer* r, const tp_render_clip* clip, double ta
     else
         memset(&r->light, 0, sizeof r->light);
     r->light_tau = tau;
+}
+
+void tp_renderer_set_normals(tp_renderer* r, const tp_render_clip* clip)
+{
+    if (clip && clip->texture)
+        r->normals = *clip;
+    else
+        memset(&r->normals, 0, sizeof r->normals);
 }
 
 void tp_renderer_set_item_textures(tp_renderer* r, unsigned texture,

@@ -135,6 +135,16 @@ void tp_renderer_set_shadow(tp_renderer* r, unsigned texture, int x0, int y0, in
  * replaces the shadow window (tp_renderer_set_shadow). NULL or texture 0: none. */
 void tp_renderer_set_light(tp_renderer* r, const tp_render_clip* clip, double tau);
 
+/* The terrain's normals from the next draw on (normal_map.h): a clipmap as above of RGBA8 texels
+ * (128 + 127 nx, 128 + 127 ny, 255 h, 255 - 127 filled) of the render grid's posts (level 0 a
+ * texel per post; h the height's share of the range), sampled bilinearly at the finest valid
+ * level the distance allows; the hillshade (the normal exaggerated as the vertex normals are),
+ * the hypsometric colour and the filled-void tint are then computed per fragment, so that the
+ * shading does not depend on the level the geometry is drawn at. Where no level is valid, or a
+ * texel's alpha is under 1/4 (a block not read), the vertices shade as before. NULL or texture
+ * 0: none. */
+void tp_renderer_set_normals(tp_renderer* r, const tp_render_clip* clip);
+
 /* The clipmap to sample from the next draw on (copied); NULL or texture 0: none (NULL also
  * clears the item textures below: no imagery at all). */
 void tp_renderer_set_clip(tp_renderer* r, const tp_render_clip* clip);

@@ -90,54 +90,65 @@ static void set_camera(tp_renderer* r, const tp_camera* cam, const tp_render_set
     /* The strips are clockwise in (column, row): counter-clockwise from above when north-up. */
     glFrontFace(gt[1] * gt[5] < 0 ? GL_CCW : GL_CW);
     glPolygonMode(GL_FRONT_AND_BACK, st->wireframe ? GL_LINE : GL_FILL);
-    glUseProgram(r->prog);
-    glUniform2i(r->u_cell, (GLint)fx, (GLint)fy);
-    glUniform2f(r->u_frac, (float)((cx - fx) * gt[1]), (float)((cy - fy) * gt[5]));
-    glUniform2f(r->u_spacing, (float)gt[1], (float)gt[5]);
-    glUniform1f(r->u_cam_z, (float)cam->position[2]);
-    glUniform1f(r->u_exag, (float)exag);
-    glUniformMatrix4fv(r->u_viewproj, 1, GL_FALSE, vpm);
+    const tp__program* p = r->p;
+    glUseProgram(p->prog);
+    glUniform2i(p->u_cell, (GLint)fx, (GLint)fy);
+    glUniform2f(p->u_frac, (float)((cx - fx) * gt[1]), (float)((cy - fy) * gt[5]));
+    glUniform2f(p->u_spacing, (float)gt[1], (float)gt[5]);
+    glUniform1f(p->u_cam_z, (float)cam->position[2]);
+    glUniform1f(p->u_exag, (float)exag);
+    glUniformMatrix4fv(p->u_viewproj, 1, GL_FALSE, vpm);
     double az = st->sun_azimuth_deg * 3.14159265358979323846 / 180,
            el = st->sun_elevation_deg * 3.14159265358979323846 / 180;
-    glUniform3f(r->u_sun, (float)(sin(az) * cos(el)), (float)(cos(az) * cos(el)), (float)sin(el));
-    glUniform1i(r->u_color_lod, st->color_lod);
-    glUniform1i(r->u_hide_filled, st->hide_filled);
-    glUniform2f(r->u_hrange, (float)r->grid.min_height_m, (float)r->grid.max_height_m);
-    glUniform1i(r->u_textured, r->tex != 0 && !st->color_lod);
-    glUniform1f(r->u_grid, (float)st->grid_m);
+    glUniform3f(p->u_sun, (float)(sin(az) * cos(el)), (float)(cos(az) * cos(el)), (float)sin(el));
+    glUniform1i(p->u_color_lod, st->color_lod);
+    glUniform1i(p->u_hide_filled, st->hide_filled);
+    glUniform2f(p->u_hrange, (float)r->grid.min_height_m, (float)r->grid.max_height_m);
+    glUniform1f(p->u_grid, (float)st->grid_m);
     if (st->grid_m > 0)
-        glUniform2f(r->u_grid_origin, (float)fmod(cam->position[0], st->grid_m),
+        glUniform2f(p->u_grid_origin, (float)fmod(cam->position[0], st->grid_m),
                     (float)fmod(cam->position[1], st->grid_m));
-    glUniform1i(r->u_tex, 0);
-    glUniform2f(r->u_tex_scale, r->tex_scale[0], r->tex_scale[1]);
-    glUniform2f(r->u_tex_offset, r->tex_offset[0], r->tex_offset[1]);
+    glUniform1i(p->u_tex, 0);
+    glUniform2f(p->u_tex_scale, r->tex_scale[0], r->tex_scale[1]);
+    glUniform2f(p->u_tex_offset, r->tex_offset[0], r->tex_offset[1]);
     if (r->tex) {
         glActiveTexture(GL_TEXTURE0);
         glBindTexture(GL_TEXTURE_2D, r->tex);
     }
 }
 
-/* The imagery (the clipmap, or a texture per item: returned 1 then, for count items drawn) and
- * the light (the streamed light's clipmap, or the shadow window). */
-static int set_imagery_light(tp_renderer* r, const tp_camera* cam, const tp_render_settings* st,
-                             size_t count)
+/* The features a draw of count items uses (TP_SHADE_*): what is set and shown. */
+static unsigned draw_features(const tp_renderer* r, const tp_render_settings* st, size_t count)
 {
     /* a texture per item: one draw each, its layer and mapping as uniforms */
     int blocks = r->blk_tex && r->blk_count == count && !st->color_lod;
-    tp__clip_uniforms_set(&r->clip_u, &r->clip, cam, !st->color_lod && !blocks);
-    tp__clip_uniforms_set(&r->light_u, &r->light, cam, 1);
-    glUniform1f(r->u_light_tau, (float)r->light_tau);
-    glUniform1i(r->u_shadow, 3);
-    glUniform1i(r->u_shadow_on, r->shadow_tex != 0 && !r->light.texture);
-    glUniform4f(r->u_shadow_win, (float)r->shadow_win[0], (float)r->shadow_win[1],
+    return (r->clip.texture && !st->color_lod && !blocks ? TP_SHADE_IMAGERY : 0) |
+           (r->light.texture ? TP_SHADE_LIGHT : 0) | (r->normals.texture ? TP_SHADE_NORMALS : 0) |
+           (r->shadow_tex && !r->light.texture ? TP_SHADE_SHADOW : 0) |
+           (r->tex && !st->color_lod ? TP_SHADE_TEXTURE : 0) | (blocks ? TP_SHADE_BLOCKS : 0) |
+           (st->grid_m > 0 ? TP_SHADE_GRID : 0);
+}
+
+/* The imagery (the clipmap, or a texture per item: returned 1 then) and the light (the streamed
+ * light's clipmap, or the shadow window) of the program's features. */
+static int set_imagery_light(tp_renderer* r, const tp_camera* cam, unsigned features)
+{
+    const tp__program* p = r->p;
+    int blocks = (features & TP_SHADE_BLOCKS) != 0;
+    tp__clip_uniforms_set(&p->clip_u, &r->clip, cam, (features & TP_SHADE_IMAGERY) != 0);
+    tp__clip_uniforms_set(&p->light_u, &r->light, cam, 1);
+    tp__clip_uniforms_set(&p->normal_u, &r->normals, cam, 1);
+    glUniform1f(p->u_light_tau, (float)r->light_tau);
+    glUniform1i(p->u_shadow, 3);
+    glUniform4f(p->u_shadow_win, (float)r->shadow_win[0], (float)r->shadow_win[1],
                 (float)r->shadow_win[2], (float)r->shadow_win[3]);
     if (r->shadow_tex) {
         glActiveTexture(GL_TEXTURE3);
         glBindTexture(GL_TEXTURE_2D, r->shadow_tex);
         glActiveTexture(GL_TEXTURE0);
     }
-    glUniform1i(r->u_blk, 2);
-    glUniform1i(r->u_blk_layer, -1);
+    glUniform1i(p->u_blk, 2);
+    glUniform1i(p->u_blk_layer, -1);
     if (blocks) {
         glActiveTexture(GL_TEXTURE2);
         glBindTexture(GL_TEXTURE_2D_ARRAY, r->blk_tex);
@@ -171,10 +182,10 @@ static void submit_draws(tp_renderer* r, const size_t group_at[3 * TP_MAX_LEVELS
             if (blocks) {
                 for (size_t j = a; j < b; j++) {
                     const tp_render_item_texture* t = &r->blk[r->gitem[j]];
-                    glUniform1i(r->u_blk_layer, t->layer);
-                    glUniform2i(r->u_blk_cell, t->cell[0], t->cell[1]);
-                    glUniform2f(r->u_blk_scale, t->scale[0], t->scale[1]);
-                    glUniform2f(r->u_blk_offset, t->offset[0], t->offset[1]);
+                    glUniform1i(r->p->u_blk_layer, t->layer);
+                    glUniform2i(r->p->u_blk_cell, t->cell[0], t->cell[1]);
+                    glUniform2f(r->p->u_blk_scale, t->scale[0], t->scale[1]);
+                    glUniform2f(r->p->u_blk_offset, t->offset[0], t->offset[1]);
                     glDrawElementsBaseVertex(mode, r->gcounts[j], type, r->goffsets[j],
                                              r->gbases[j]);
                 }
@@ -200,6 +211,10 @@ void tp_renderer_draw_items(tp_renderer* r, const tp_render_item* items, size_t 
                             tp_render_stats* stats)
 {
     memset(stats, 0, sizeof *stats);
+    unsigned features = draw_features(r, st, count);
+    tp_error perr;
+    if (!(r->p = tp__renderer_program(r, features, &perr)))
+        return; /* cannot happen: every program is a subset of the one made at creation */
     tp_vertex_pool_begin_frame(r->pool);
     /* Element-buffer bindings belong to the bound vertex array: bind ours before any upload. */
     glBindVertexArray(r->vao);
@@ -217,7 +232,7 @@ void tp_renderer_draw_items(tp_renderer* r, const tp_render_item* items, size_t 
     long faults0 = minor_faults();
 
     set_camera(r, cam, st, exag, stats);
-    int blocks = set_imagery_light(r, cam, st, count);
+    int blocks = set_imagery_light(r, cam, features);
     submit_draws(r, group_at, five_ibo, blocks, st, stats);
     glPolygonMode(GL_FRONT_AND_BACK, GL_FILL);
     if (finish)

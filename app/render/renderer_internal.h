@@ -17,6 +17,7 @@
 #include "render_clip.h"
 #include "stitch_add_draw.h"
 #include "stitch_add_five.h"
+#include "terrain_shaders.h"
 #include "vertex_pool.h"
 
 #include <epoxy/gl.h>
@@ -29,9 +30,22 @@ typedef struct gpu_vertex {
     uint8_t flags; /* bits 0-3: level, bit 4: filled void */
 } gpu_vertex;
 
+/* The terrain program with some features (terrain_shaders.h, TP_SHADE_*) and its uniforms;
+ * prog 0 until first used. */
+typedef struct tp__program {
+    GLuint prog;
+    GLint u_cell, u_frac, u_spacing, u_cam_z, u_exag, u_viewproj, u_sun, u_color_lod, u_hide_filled,
+        u_hrange, u_tex, u_tex_scale, u_tex_offset, u_grid, u_grid_origin, u_shadow, u_shadow_win,
+        u_blk, u_blk_layer, u_blk_cell, u_blk_scale, u_blk_offset, u_light_tau;
+    tp__clip_uniforms clip_u, light_u, normal_u; /* the imagery's clipmap (unit 1), the
+                                                    light's (4), the normals' (5) */
+} tp__program;
+
 struct tp_renderer {
     tp_render_grid_desc grid;
-    GLuint prog, vao, ibo;
+    tp__program progs[TP_SHADE_ALL + 1]; /* by features, made as draws need them */
+    const tp__program* p;                /* the one the draw uses */
+    GLuint vao, ibo;
     GLenum index_type;
     size_t level_offset[TP_MAX_LEVELS], level_count[TP_MAX_LEVELS];
     size_t slot_verts;    /* (2^n+1)^2: the finest level's item */
@@ -49,11 +63,6 @@ struct tp_renderer {
     void** goffsets;
     GLint* gbases;
     size_t draw_cap;
-    GLint u_cell, u_frac, u_spacing, u_cam_z, u_exag, u_viewproj, u_sun, u_color_lod, u_hide_filled,
-        u_hrange, u_textured, u_tex, u_tex_scale, u_tex_offset, u_grid, u_grid_origin, u_shadow,
-        u_shadow_on, u_shadow_win, u_blk, u_blk_layer, u_blk_cell, u_blk_scale, u_blk_offset,
-        u_light_tau;
-    tp__clip_uniforms clip_u, light_u; /* the imagery's clipmap (unit 1), the light's (4) */
     GLuint shadow_tex;
     int shadow_win[4];
     GLuint tex;
@@ -65,6 +74,7 @@ struct tp_renderer {
     size_t* gitem;
     tp_render_clip clip;
     tp_render_clip light; /* tp_renderer_set_light */
+    tp_render_clip normals; /* tp_renderer_set_normals */
     double light_tau;
     float tex_scale[2], tex_offset[2];
     /* tp_renderer_create / tp_renderer_draw: the terrain whose patches it draws */
@@ -80,6 +90,10 @@ struct tp_renderer {
     tp__stitch_add* add;
     tp__stitch_five* five; /* --stitch-add-draw five: the per-level region sets */
 };
+
+/* renderer.c: the program with features (TP_SHADE_*), compiled on first use; NULL with a
+ * message in err when it does not compile. */
+const tp__program* tp__renderer_program(tp_renderer* r, unsigned features, tp_error* err);
 
 /* renderer.c: points the vertex attributes at one pool's buffer (the array buffer binding is not
  * part of the vertex array's state: the attribute pointers are). Leaves r's vertex array bound. */

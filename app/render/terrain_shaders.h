@@ -1,16 +1,31 @@
 /*
  * terrain_shaders.h - the GLSL 3.30 programs the patch renderer (renderer.h) draws the terrain
- * with: per-vertex shading (hillshade, hypsometric or level colours, the filled-void tint), the
- * old single texture (--texture), imagery through a clipmap (clipmap.h) or a texture per item
- * (imagery_blocks.h), cast shadows over a window (shadow_view.h) or over the day from a light
- * map through a second clipmap (light_view.h), and grid lines. The uniforms they take are set
- * in renderer_draw.c and render_clip.c. app/render/terrain_shaders.c.
+ * with: shading per pixel from the normal map (normal_map.h: hillshade, hypsometric colour,
+ * filled-void tint), else per vertex, level colours, the old single texture (--texture),
+ * imagery through a clipmap (clipmap.h) or a texture per item (imagery_blocks.h), cast shadows
+ * over a window (shadow_view.h) or over the day from a light map through a second clipmap
+ * (light_view.h), and grid lines. The uniforms they take are set in renderer_draw.c and
+ * render_clip.c. app/render/terrain_shaders.c.
  */
 #ifndef TP_APP_VIEW_TERRAIN_SHADERS_H
 #define TP_APP_VIEW_TERRAIN_SHADERS_H
 
-extern const char* const tp_terrain_vertex_shader;
-const char* tp_terrain_fragment_shader(void); /* built once (render thread) */
+#include <stddef.h>
+
+/* The program's features, a bit each: a program is compiled with only those a draw uses
+ * (llvmpipe executes every branch, taken or not). */
+#define TP_SHADE_IMAGERY 1u  /* a clipmap of imagery (clip set 0) */
+#define TP_SHADE_LIGHT 2u    /* the day's light map (clip set 1) */
+#define TP_SHADE_NORMALS 4u  /* the normal map (clip set 2) */
+#define TP_SHADE_SHADOW 8u   /* the shadow window (when no light map) */
+#define TP_SHADE_TEXTURE 16u /* --texture */
+#define TP_SHADE_BLOCKS 32u  /* a texture per item */
+#define TP_SHADE_GRID 64u    /* grid lines */
+#define TP_SHADE_ALL 127u
+
+/* Writes the vertex and fragment sources of the program with features into vs and fs, cap bytes
+ * each (16 KiB is plenty); 0 when they do not fit. */
+int tp_terrain_shader_sources(unsigned features, char* vs, char* fs, size_t cap);
 
 /* GLSL that PGM's programs (pgm_render.c) share with these, so that both renderers colour alike:
  * hypsometric(t), the colour ramp of a height fraction t of the height range (0 lowest, 1

@@ -17,6 +17,7 @@ void tp_view_setup_default(tp_view_setup* v)
     v->vertical_scale = 1;
     v->w = 1280;
     v->h = 720;
+    v->msaa = -1; /* auto */
 }
 
 /* The codes of the view options (their tables below). */
@@ -34,6 +35,7 @@ enum {
     TP_OPT_RENDERER,
     TP_OPT_PGM_GRID,
     TP_OPT_PGM_WINDOW,
+    TP_OPT_MSAA,
 };
 
 /* Reads arg for view option opt into v: 1, or -1 after a one-line message (a bad value). */
@@ -127,6 +129,19 @@ static int view_option(int opt, const char* arg, tp_view_setup* v, const char* c
         v->pgm_grid_count = count;
         return 1;
     }
+    case TP_OPT_MSAA: {
+        static const char* const ok[] = {"0", "1", "2", "4", "8", "16"};
+        v->msaa = -2;
+        if (!strcmp(arg, "auto"))
+            v->msaa = -1;
+        for (int i = 0; i < 6; i++)
+            if (!strcmp(arg, ok[i]))
+                v->msaa = atoi(arg);
+        if (v->msaa == -2)
+            return tp_option_error(cmd, "--msaa", "0, 1, 2, 4, 8 or 16 (samples a pixel), or auto",
+                                   arg);
+        return 1;
+    }
     case TP_OPT_PGM_WINDOW: {
         char* end;
         long n = strtol(arg, &end, 10);
@@ -156,6 +171,7 @@ static const tp_option renderer_options[] = {
     TP_OPT_CODE("--renderer", NULL, TP_OPT_RENDERER, 1),
     TP_OPT_CODE("--pgm-grid", NULL, TP_OPT_PGM_GRID, 1),
     TP_OPT_CODE("--pgm-window", NULL, TP_OPT_PGM_WINDOW, 1),
+    TP_OPT_CODE("--msaa", NULL, TP_OPT_MSAA, 1),
 };
 
 /* tp_option_handler of the view options. */
@@ -249,7 +265,12 @@ void tp_view_renderer_help(FILE* out, int bench)
           "                        or a store's clipmap of windows around the eye, GPU memory\n"
           "                        bounded whatever its size); the LoD options do not apply\n"
           "  --pgm-window N        over a store: each pyramid level's window, N x N posts (a\n"
-          "                        power of two, 16 to 8192; default 512)\n",
+          "                        power of two, 16 to 8192; default 512)\n"
+          "  --msaa N|auto         multisampling: N samples a pixel (0, 1, 2, 4, 8 or 16; 0 and\n"
+          "                        1: none; at most what the driver offers). auto (default):\n"
+          "                        4 on a GPU, none on a software renderer (Mesa's llvmpipe:\n"
+          "                        GL_RENDERER), where 4 samples make a frame 2.5 to 4 times\n"
+          "                        as long (docs/PERFORMANCE.md)\n",
           out);
     fputs(bench ? "  --pgm-grid COLSxROWS[,COLSxROWS...]   with --renderer pgm: the grids to\n"
                   "                        measure, each a configuration beside the patch ones\n"

@@ -23,12 +23,15 @@ typedef struct tp_view_setup {
     int pgm_grid_count;     /* grids given (0: the default) */
     int pgm_window;         /* --pgm-window: a store's clipmap window, posts a side (0: the
                                default, TP_PGM_CLIP_DEFAULT_WINDOW in app/render/pgm_clip.h) */
+    int msaa;               /* --msaa N (view and bench): samples a pixel, 0 none; -1 (the
+                               default, auto): 4 on a GPU, none on a software renderer
+                               (tp_gl_context_default_msaa in app/render/gl_context.h) */
 } tp_view_setup;
 
 void tp_view_setup_default(tp_view_setup* v);
 
-/* Adds the LoD and camera options to a command's parse (options.h), read into v; with renderer, also --renderer, --pgm-grid and --pgm-window (view and bench:
- * export draws nothing). */
+/* Adds the LoD and camera options to a command's parse (options.h), read into v; with renderer,
+ * also --renderer, --pgm-grid, --pgm-window and --msaa (view and bench: export draws nothing). */
 void tp_view_options_add(tp_options* p, tp_view_setup* v, int renderer);
 
 /* Parses the arguments of a command that looks at the terrain through a camera (view, bench,

@@ -24,6 +24,7 @@
 #include "clock.h"
 #include "layers.h"
 #include "memory.h"
+#include "normal_map.h"
 #include "output_check.h"
 #include "pgm_clip.h"
 #include "pgm_render.h"
@@ -101,6 +102,27 @@ static int open_imagery(tp_view_scene* v, const view_options* o, const tp_store_
     tp_clipmap_options co = {.clip_blocks = o->clip_blocks};
     v->imagery_settle = o->headless;
     return tp_view_imagery_open(path, st, (tp_imagery_mode)o->imagery_mode, &co, &v->imagery);
+}
+
+/* --msaa (default: 4 on a GPU, none in software) and the normal map the terrain is shaded from
+ * (not PGM's, which shades per vertex), each with a warning when it cannot be had. */
+static void open_shading(tp_view_scene* v, const view_options* o, tp_gl_context* ctx,
+                         const tp_store_scene* st)
+{
+    tp_error err = {{0}};
+    int samples = o->vs.msaa >= 0 ? o->vs.msaa : tp_gl_context_default_msaa();
+    if (tp_gl_context_set_msaa(ctx, samples, &err) < 0)
+        tp_cli_warning("--msaa %d: %s", samples, err.message);
+    if (o->vs.pgm)
+        return;
+    tp_normal_source* src = st ? tp_normal_source_store(st->store, v->min_height_m,
+                                                         v->max_height_m, &err)
+                               : tp_normal_source_terrain(v->dem->terrain, &err);
+    v->normals = src ? tp_normal_map_create(src, NULL, &err) : NULL;
+    v->normals_settle = o->headless;
+    if (!v->normals)
+        tp_cli_warning("%s: no normal map (%s): shaded from the vertex normals", v->path,
+                       err.message);
 }
 
 /* The start view: --camera or --camera-geo, else the default over the whole extent, then
@@ -221,6 +243,7 @@ static int run_view(tp_view_scene* v, view_options* o, tp_render_grid_desc* gd, 
         tp_gl_context_destroy(ctx);
         return TP_EXIT_FAILURE;
     }
+    open_shading(v, o, ctx, st);
     tp_view_shadow shadow = {0};
     /* the frames need the georeference (the HUD, picking, measuring): made meanwhile */
     if (!take_georef(v, st))
@@ -254,6 +277,8 @@ static int run_view(tp_view_scene* v, view_options* o, tp_render_grid_desc* gd, 
     o->layers = NULL;
     tp_view_imagery_close(v->imagery);
     v->imagery = NULL;
+    tp_normal_map_destroy(v->normals);
+    v->normals = NULL;
     tp_view_shadows_close(v, &shadow);
     tp_pgm_renderer_destroy(v->pgm);
     v->pgm = NULL;

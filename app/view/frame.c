@@ -8,6 +8,7 @@
 #include "cut_worker.h"
 #include "imagery_view.h"
 #include "json.h"
+#include "normal_map.h"
 #include "pgm_render.h"
 #include "pick.h"
 #include "view_shadows.h"
@@ -21,6 +22,15 @@
 #include <string.h>
 #include <time.h>
 
+/* Prints a normal-map block that could not be read (once each). */
+static void report_normal_failures(tp_view_scene* v)
+{
+    const char* f;
+    while ((f = tp_normal_map_take_failure(v->normals)))
+        if (tp_view_scene_say_once(v, f)) /* the stream may have said it */
+            tp_cli_error("%s (shaded from the vertex normals there)", f);
+}
+
 void tp_view_frame(tp_view_scene* v, tp_renderer* r, const tp_camera* cam,
                    const tp_render_settings* render, const tp_lod_params* lod, int frozen,
                    frame_result* out)
@@ -28,6 +38,7 @@ void tp_view_frame(tp_view_scene* v, tp_renderer* r, const tp_camera* cam,
     double t0 = tp_clock_ms();
     tp_error err;
     out->pgm_cols = out->pgm_rows = 0; /* set by the PGM path only (the HUD tests them) */
+    out->normals = v->normals != NULL;
     out->add_sides = out->moved_sides = 0;
     out->grid_m = render->grid_m;
     /* the core selects, culls and measures the surface as drawn: exaggerated */
@@ -58,6 +69,11 @@ void tp_view_frame(tp_view_scene* v, tp_renderer* r, const tp_camera* cam,
         if (!frozen)
             tp_selection_update(v->sel, cam, lod, &err);
         out->select_ms = tp_clock_ms() - t0;
+        if (v->normals)
+            tp_normal_map_frame(v->normals, r, cam, v->min_height_m * render->exaggeration,
+                                v->max_height_m * render->exaggeration, v->normals_settle,
+                                &out->normal_clip);
+        report_normal_failures(v);
         tp_renderer_draw(r, v->sel, cam, render, 1, &out->render);
         tp_selection_stats(v->sel, &out->core);
         if (render->stitch_add) /* the core counts the vertex-moving triangulation's */
@@ -95,6 +111,10 @@ void tp_view_frame(tp_view_scene* v, tp_renderer* r, const tp_camera* cam,
     } else {
         tp_renderer_set_clip(r, NULL);
     }
+    if (v->normals)
+        tp_normal_map_frame_cut(v->normals, v->store, v->cut, render->exaggeration, r, cam,
+                                v->normals_settle, &out->normal_clip);
+    report_normal_failures(v);
     tp_renderer_draw_cut(r, v->store->tree, v->cut, cam, render, render->exaggeration, 1,
                          &out->render);
     tp_cut_stats cs;
@@ -186,6 +206,18 @@ int tp_view_write_stats(const char* path, const frame_result* f, const tp_error_
     KEY_SIZE("uploads", (size_t)f->render.uploads);
     KEY_SIZE("gpu_bytes", f->render.gpu_bytes);
     KEY_NUM("grid_m", f->grid_m); /* the spacing drawn (--grid's, times 10^k by the scale) */
+    KEY_SIZE("msaa", (size_t)f->msaa);
+    const char* gl = (const char*)glGetString(GL_RENDERER); /* what drew it */
+    tp_json_member_string(&j, "gl_renderer", gl ? gl : "?");
+    tp_json_member_string(&j, "normals", f->normals ? "map" : "vertex");
+    if (f->normals) {
+        KEY_NUM("normals_gpu_mb", f->normal_clip.gpu_bytes / 1e6);
+        KEY_NUM("normals_cache_mb", f->normal_clip.cache_bytes / 1e6);
+        KEY_NUM("normals_upload_ms", f->normal_clip.upload_ms);
+        KEY_SIZE("normals_uploads", (size_t)f->normal_clip.uploads);
+        KEY_SIZE("normals_first_level", (size_t)f->normal_clip.first_level);
+        KEY_SIZE("normals_missing_blocks", (size_t)f->normal_clip.missing);
+    }
     if (em) {
         KEY_NUM("max_error_m", em->max_error_m);
         KEY_NUM("rms_error_m", em->rms_error_m);

@@ -175,6 +175,7 @@ int tp_view_headless_run(tp_view_scene* v, tp_gl_context* ctx, tp_renderer* r, c
         tp_render_settings rs = o->render; /* the grid's spacing follows the scale */
         rs.grid_m = tp_view_grid_spacing(v, cam, o->render.grid_m);
         tp_view_frame(v, r, cam, &rs, &o->vs.lod, 0, &fr);
+        fr.msaa = tp_gl_context_msaa(ctx);
         if (o->has_measure && !measured) {
             double e[2] = {o->measure[0], o->measure[2]}, n[2] = {o->measure[1], o->measure[3]};
             measured = tp_view_measure_points(v, e, n, measure_line, sizeof measure_line) ? 1 : -1;

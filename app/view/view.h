@@ -108,6 +108,9 @@ typedef struct frame_result {
     int light_source;         /* cast shadows drawn: TP_VIEW_LIGHT_* */
     double light_tau;         /* streamed: the time in the file's day, steps (0 .. 255) */
     tp_clipmap_stats light_clip; /* streamed: the light's clipmap */
+    int normals;              /* shaded from the normal map (normal_map.h): its clipmap's */
+    tp_clipmap_stats normal_clip;
+    int msaa;                 /* samples a pixel (0: none) */
     double shadow_ms;         /* window: its last computation */
     int shadow_posts;         /* window: posts a side */
     int pgm_cols, pgm_rows;   /* --renderer pgm: the persistent grid (0: the patch renderer) */

@@ -233,13 +233,27 @@ int tp_view_scene_settle(tp_view_scene* v, const tp_camera* cam, const tp_lod_pa
     return it;
 }
 
+int tp_view_scene_say_once(tp_view_scene* v, const char* message)
+{
+    uint64_t h = 1469598103934665603u; /* FNV-1a */
+    for (const char* c = message; *c; c++)
+        h = (h ^ (unsigned char)*c) * 1099511628211u;
+    int n = v->reported_count < 32 ? v->reported_count : 32;
+    for (int i = 0; i < n; i++)
+        if (v->reported[i] == h)
+            return 0;
+    v->reported[v->reported_count++ % 32] = h;
+    return 1;
+}
+
 void tp_view_scene_report_failures(tp_view_scene* v)
 {
     if (!v->store)
         return;
     const char* m;
     while ((m = tp_stream_take_failure(v->store->stream)) != NULL) {
-        tp_cli_error("%s (drawing its ancestor instead)", m);
+        if (tp_view_scene_say_once(v, m))
+            tp_cli_error("%s (drawing its ancestor instead)", m);
         v->failures++;
     }
 }

@@ -29,6 +29,8 @@ typedef struct tp_view_scene {
     int src_width, src_height, n;
     double min_height_m, max_height_m;
     int failures;             /* damaged nodes reported */
+    uint64_t reported[32];    /* hashes of the read failures said (tp_view_scene_say_once) */
+    int reported_count;
     struct tp_view_imagery* imagery; /* imagery_view.h: a store's imagery, or NULL */
     int imagery_hidden;       /* F3: not drawn (still open) */
     int imagery_settle;       /* headless: every clip window whole before the frame */
@@ -39,6 +41,9 @@ typedef struct tp_view_scene {
     const struct tp_view_sun* sun;   /* the sun whose time it is drawn at (sun_view.h) */
     int light_settle;                /* headless: every clip window whole before the frame */
     int light_outside;               /* the sun's time left the light map's day (said once) */
+    struct tp_normal_map* normals;   /* the terrain's normals (normal_map.h), or NULL: shaded from
+                                        the vertex normals */
+    int normals_settle;              /* headless: every clip window whole before the frame */
     struct tp_pgm_renderer* pgm;     /* --renderer pgm (a DEM drawn whole): draws instead of the
                                         patches (pgm_render.h; owned by the caller), or NULL */
 } tp_view_scene;
@@ -87,5 +92,9 @@ int tp_view_scene_settle(tp_view_scene* v, const tp_camera* cam, const tp_lod_pa
 
 /* Prints each damaged node's message once (stderr). */
 void tp_view_scene_report_failures(tp_view_scene* v);
+
+/* 1 when message (a read failure: the stream's, the normal map's) was not said yet, which it
+ * now is: a damaged node that both read is reported once. */
+int tp_view_scene_say_once(tp_view_scene* v, const char* message);
 
 #endif

@@ -525,6 +525,7 @@ int tp_view_window_run(tp_view_scene* v, tp_gl_context* ctx, tp_renderer* r, tp_
         tp_render_settings rs = o->render; /* the grid's spacing follows the scale */
         rs.grid_m = tp_view_grid_spacing(v, cam, o->render.grid_m);
         tp_view_frame(v, r, cam, &rs, &s.lod, s.frozen, &fr);
+        fr.msaa = tp_gl_context_msaa(ctx);
         /* the first dt only spans the set-up before the first poll */
         if (frames++ > 0)
             fps = fps > 0 ? 0.9 * fps + 0.1 / fmax(dt, 1e-6) : 1 / fmax(dt, 1e-6);
