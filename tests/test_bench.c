@@ -2151,6 +2151,7 @@ TEST(store_flight_reports_memory_streaming_and_error)
     EXPECT_EQ_DBL(0.0, json_num(json, conf, "error_samples_skipped"));
     EXPECT_LE(json_num(json, conf, "error_leaves_read"), json_num(json, conf, "error_leaves_measured"));
     EXPECT_EQ_DBL(4194304.0, json_num(json, conf, "error_posts_budget"));
+    EXPECT_EQ_DBL(1.0, json_num(json, NULL, "error_every")); /* the top level: every frame */
     EXPECT_GE(json_num(json, conf, "error_ms_median"), 0.0);
     EXPECT_GE(json_num(json, conf, "error_frames_substituted"), 0.0);
 

@@ -150,6 +150,8 @@ int tp_bench_store_write_json(const store_bench* b, const char* renderer_name, c
     tp_json_member_bool(&j, "realtime", o->realtime);
     tp_json_member_bool(&j, "prefetch", !o->no_prefetch);
     tp_json_member_number(&j, "frames", b->segments * b->per_segment);
+    /* the frames measured: every error_every-th (0: --no-error) */
+    tp_json_member_number(&j, "error_every", o->no_error ? 0 : o->error_every);
     tp_json_member_number(&j, "segments", b->segments);
     tp_json_member_number(&j, "samples", (double)b->g->src_width * b->g->src_height);
     tp_json_member_number(&j, "src_width", b->g->src_width);
