@@ -13,7 +13,7 @@ exe=$1 dem=$2 dir=$3
 mkdir -p "$dir"
 name=window_msaa
 . "$(dirname "$0")/window_lib.sh"
-window_xvfb 131 150
+window_xvfb 231 300
 dir=$(cd "$dir" && pwd)
 cd "$dir" # P writes its screenshot here
 fail=0
