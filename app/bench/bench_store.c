@@ -4,7 +4,7 @@
  * (with a prefetch cut), tp_renderer_draw_cut, timed as the DEM bench times its frames; then,
  * outside the timed part, the process's memory (/proc/self/status) and the measured screen
  * error (tp_store_scene_measure: the leaves under the drawn nodes read from the store where the
- * stream does not hold them, sampled to --error-leaves; frames drawn with substitution apart).
+ * stream does not hold them, sampled to --error-posts; frames drawn with substitution apart).
  *
  * A flight is `segments` stretches of continuous flight at --speed spread evenly along a line
  * across the map (low: the middle row, 60 m above the ground, west to east; high: along the

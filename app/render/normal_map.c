@@ -180,19 +180,6 @@ static int read_posts(tp_normal_source* s, int l, int64_t x0, int64_t y0, tp_err
     return 1;
 }
 
-/* Slope between a (before), c (here) and b (after), spacing apart: central where both
- * neighbours are known, else one-sided, else 0 (tp_terrain_normal's rule). */
-static double slope3(double a, double c, double b, double spacing)
-{
-    if (!isnan(a) && !isnan(b))
-        return (b - a) / (2 * spacing);
-    if (!isnan(b) && !isnan(c))
-        return (b - c) / spacing;
-    if (!isnan(a) && !isnan(c))
-        return (c - a) / spacing;
-    return 0;
-}
-
 /* The mean of the known differences b0 - a0, b1 - a1 over spacing; NaN when neither is. */
 static double slope2(double a0, double b0, double a1, double b1, double spacing)
 {
@@ -242,8 +229,8 @@ static void texel(const tp_normal_source* s, int l, int i, int j, uint8_t* t)
     double sx = s->gt[1] * (double)((int64_t)1 << l), sy = s->gt[5] * (double)((int64_t)1 << l);
     double gx, gy;
     if (l == 0) {
-        gx = slope3(z[-1], z[0], z[1], sx);
-        gy = slope3(z[-ZW], z[0], z[ZW], sy);
+        gx = tp_slope3(z[-1], z[0], z[1], sx);
+        gy = tp_slope3(z[-ZW], z[0], z[ZW], sy);
         put_texel(s, t, gx, gy, z[0], f[0]);
         return;
     }

@@ -140,6 +140,12 @@ double tp_grid_height_at(const float* heights, size_t height_count, int width, i
  * Cannot fail. */
 void tp_terrain_normal(const tp_terrain* t, int x, int y, float normal[3]);
 
+/* The slope rule of tp_terrain_normal along one axis, for heights a (before), c (here) and b
+ * (after), spacing apart (NaN: no height): central where a and b are known, else one-sided
+ * where c and one neighbour are, else 0. Every normal of the project (terrains, tree nodes,
+ * the viewer's normal map) is made of it, so they agree wherever they see the same heights. */
+double tp_slope3(double a, double c, double b, double spacing);
+
 /* Convert between grid coordinates (x, y) and world (easting, northing) with the fitted grid's
  * geotransform; any finite coordinates, inside the grid or not. Cannot fail. */
 void tp_terrain_grid_to_world(const tp_terrain* t, double x, double y, double* e, double* n);

@@ -402,10 +402,8 @@ double tp_terrain_height_at(const tp_terrain* t, double x, double y)
 }
 
 /* Slope along one axis from the decoded grid: central where both neighbours exist. */
-static double slope(const tp_terrain* t, int x, int y, int dx, int dy, double spacing)
+double tp_slope3(double a, double c, double b, double spacing)
 {
-    double c = tp_terrain_sample(t, x, y);
-    double a = tp_terrain_sample(t, x - dx, y - dy), b = tp_terrain_sample(t, x + dx, y + dy);
     if (!isnan(a) && !isnan(b))
         return (b - a) / (2 * spacing);
     if (!isnan(b) && !isnan(c))
@@ -413,6 +411,12 @@ static double slope(const tp_terrain* t, int x, int y, int dx, int dy, double sp
     if (!isnan(a) && !isnan(c))
         return (c - a) / spacing;
     return 0;
+}
+
+static double slope(const tp_terrain* t, int x, int y, int dx, int dy, double spacing)
+{
+    return tp_slope3(tp_terrain_sample(t, x - dx, y - dy), tp_terrain_sample(t, x, y),
+                     tp_terrain_sample(t, x + dx, y + dy), spacing);
 }
 
 void tp_terrain_normal(const tp_terrain* t, int x, int y, float normal[3])

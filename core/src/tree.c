@@ -5,6 +5,7 @@
  * and a scale's nodes are one contiguous range.
  */
 #include "tree_int.h"
+#include "tp_terrain.h" /* tp_slope3 */
 
 #include <string.h>
 
@@ -287,15 +288,8 @@ static double lattice_q(const uint16_t* smp, const tp_node_meta* m, int v, int i
 static double lattice_slope(const uint16_t* smp, const tp_node_meta* m, int v, int i, int j,
                             int di, int dj, double spacing)
 {
-    double c = lattice_q(smp, m, v, i, j);
-    double a = lattice_q(smp, m, v, i - di, j - dj), b = lattice_q(smp, m, v, i + di, j + dj);
-    if (!isnan(a) && !isnan(b))
-        return (b - a) / (2 * spacing);
-    if (!isnan(b) && !isnan(c))
-        return (b - c) / spacing;
-    if (!isnan(a) && !isnan(c))
-        return (c - a) / spacing;
-    return 0;
+    return tp_slope3(lattice_q(smp, m, v, i - di, j - dj), lattice_q(smp, m, v, i, j),
+                     lattice_q(smp, m, v, i + di, j + dj), spacing);
 }
 
 /* Slope (m/m) along one axis from resident full-resolution samples, central where both
