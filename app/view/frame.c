@@ -138,6 +138,20 @@ void tp_view_frame(tp_view_scene* v, tp_renderer* r, const tp_camera* cam,
     out->bound_near_nodes = cs.near_plane_nodes;
 }
 
+/* A clipmap's figures of the frame under keys "<what>_...". */
+static void write_clip(tp_json* j, const char* what, const tp_clipmap_stats* c)
+{
+    char k[64];
+#define CLIP_KEY(name) (snprintf(k, sizeof k, "%s_" name, what), k)
+    tp_json_member_number(j, CLIP_KEY("gpu_mb"), c->gpu_bytes / 1e6);
+    tp_json_member_number(j, CLIP_KEY("cache_mb"), c->cache_bytes / 1e6);
+    tp_json_member_number(j, CLIP_KEY("upload_ms"), c->upload_ms);
+    tp_json_member_size(j, CLIP_KEY("uploads"), (size_t)c->uploads);
+    tp_json_member_size(j, CLIP_KEY("first_level"), (size_t)c->first_level);
+    tp_json_member_size(j, CLIP_KEY("missing_blocks"), (size_t)c->missing);
+#undef CLIP_KEY
+}
+
 /* "first_frame": when the view's first picture was finished and from what (view.h). */
 static void write_first(tp_json* j, const tp_view_first* first)
 {
@@ -211,12 +225,7 @@ int tp_view_write_stats(const char* path, const frame_result* f, const tp_error_
     tp_json_member_string(&j, "gl_renderer", gl ? gl : "?");
     tp_json_member_string(&j, "normals", f->normals ? "map" : "vertex");
     if (f->normals) {
-        KEY_NUM("normals_gpu_mb", f->normal_clip.gpu_bytes / 1e6);
-        KEY_NUM("normals_cache_mb", f->normal_clip.cache_bytes / 1e6);
-        KEY_NUM("normals_upload_ms", f->normal_clip.upload_ms);
-        KEY_SIZE("normals_uploads", (size_t)f->normal_clip.uploads);
-        KEY_SIZE("normals_first_level", (size_t)f->normal_clip.first_level);
-        KEY_SIZE("normals_missing_blocks", (size_t)f->normal_clip.missing);
+        write_clip(&j, "normals", &f->normal_clip);
     }
     if (em) {
         KEY_NUM("max_error_m", em->max_error_m);
@@ -265,12 +274,7 @@ int tp_view_write_stats(const char* path, const frame_result* f, const tp_error_
         KEY_SIZE("moved_sides", (size_t)f->moved_sides);
         KEY_SIZE("pending", (size_t)f->stream.pending);
         if (f->imagery) {
-            KEY_NUM("imagery_gpu_mb", f->clip.gpu_bytes / 1e6);
-            KEY_NUM("imagery_cache_mb", f->clip.cache_bytes / 1e6);
-            KEY_NUM("imagery_upload_ms", f->clip.upload_ms);
-            KEY_SIZE("imagery_uploads", (size_t)f->clip.uploads);
-            KEY_SIZE("imagery_first_level", (size_t)f->clip.first_level);
-            KEY_SIZE("imagery_missing_blocks", (size_t)f->clip.missing);
+            write_clip(&j, "imagery", &f->clip);
         }
         tp_json_member_string(&j, "light_source", f->light_source == TP_VIEW_LIGHT_STREAMED ? "streamed"
                            : f->light_source == TP_VIEW_LIGHT_WINDOW ? "window" : "none");
