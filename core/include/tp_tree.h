@@ -346,6 +346,29 @@ void tp_tree_node_normal(const tp_tree* t, int64_t node, int32_t x, int32_t y, f
  * position (the finest resident one), else NaN. */
 double tp_tree_sample(const tp_tree* t, int x, int y);
 
+/* ---- TINs built as the view needs them (tin_cache.c) ----
+ *
+ * A tree's node TINs, one level of one node at a time (tp_node_tins_build with one level bit):
+ * what tp_cut_set_tins draws from. A cut lists the levels it would have drawn as TINs but found
+ * unbuilt (tp_cut_tin_requests; it drew their lattices); the caller builds them, on any one
+ * thread, while cuts read the cache on others: an entry is published once, whole, and never
+ * changes until tp_tin_cache_prune frees it. Memory: a pointer per tree node, and the TINs. */
+typedef struct tp_tin_cache tp_tin_cache;
+tp_status tp_tin_cache_create(const tp_tree* t, tp_tin_cache** out, tp_error* err);
+void tp_tin_cache_destroy(tp_tin_cache* c); /* accepts NULL */
+/* Level k's TINs of node: *built says whether the level was built; NULL when it was not, or the
+ * node has none there (incomplete, or no rung beats the lattice). Thread-safe against one
+ * builder. */
+const tp_node_tins* tp_tin_cache_get(const tp_tin_cache* c, int64_t node, int k, int* built);
+/* Builds level k of node from its resident samples (nothing when not resident or already
+ * built). One builder thread at a time. */
+tp_status tp_tin_cache_build(tp_tin_cache* c, int64_t node, int k, tp_error* err);
+/* Frees the TINs of nodes that are no longer resident: call when no cut that drew them is in
+ * use and no build runs (the viewer: between frames, its cut thread idle). */
+void tp_tin_cache_prune(tp_tin_cache* c);
+/* Bytes of TINs held, levels built, and TIN builds run so far. */
+void tp_tin_cache_stats(const tp_tin_cache* c, size_t* bytes, size_t* levels, size_t* builds);
+
 #ifdef __cplusplus
 }
 #endif

@@ -2,8 +2,12 @@
  * cuts, without a GL context (not a test; not run by ctest): every node of the store resident,
  * the low flight of tp_bench_cut (60 m above the ground along the middle row, 10 degrees down,
  * 1280x720, 60 degrees), and per frame the drawn nodes' triangles as lattices (2 4^k) against
- * those levels drawn as TINs where the node has one (the lattice where not). Also the time to
- * build a node's TINs (every level) and their bytes, over the nodes the cuts drew.
+ * the same nodes and levels drawn as the coarsest rung of the level's TIN ladder whose bound
+ * (with the node's neighbour levels) fits what the view allows the node, the lattice where none
+ * does. What the view allows: the node's lattice bound scaled by tau / bound_px (the projection
+ * is linear in the bound but for d |vz| against the depth, negligible here). Also the time to
+ * build the TINs of a drawn level (built once per node and level, as a view would build them
+ * lazily) and their bytes.
  *
  *   build/tp_bench_tin_nodes STORE.tpt [frames] [tau_px]
  */
@@ -44,8 +48,10 @@ int main(int argc, char** argv)
     const tp_tree_geometry* g = tp_tree_get_geometry(tree);
     size_t words = tp_tree_block_words(g->n);
     uint16_t* blocks = malloc((size_t)g->node_count * words * sizeof *blocks);
-    tp_node_tins** tins = calloc((size_t)g->node_count, sizeof *tins);
-    uint8_t* built = calloc((size_t)g->node_count, 1);
+    /* built lazily, one level of one node at a time: what a view would build */
+    size_t lv = (size_t)g->n + 1;
+    tp_node_tins** tins = calloc((size_t)g->node_count * lv, sizeof *tins);
+    uint8_t* built = calloc((size_t)g->node_count * lv, 1);
     if (!blocks || !tins || !built)
         return 1;
     for (int64_t id = 0; id < g->node_count; id++) {
@@ -68,7 +74,7 @@ int main(int argc, char** argv)
     long nodes_built = 0, rung_total = 0;
     double lvl_lat[TP_MAX_LEVELS] = {0}, lvl_tin[TP_MAX_LEVELS] = {0}, lvl_n[TP_MAX_LEVELS] = {0};
     long drawn = 0, drawn_tin = 0, moved = 0;
-    double* per_node_ms = malloc((size_t)g->node_count * sizeof *per_node_ms);
+    double* per_node_ms = malloc((size_t)g->node_count * lv * sizeof *per_node_ms);
     for (int f = 0; f < frames; f++) {
         double x = 0.05 * w + (frames > 1 ? 0.9 * w * f / (frames - 1) : 0);
         tp_camera cam;
@@ -84,20 +90,21 @@ int main(int argc, char** argv)
             int64_t id = o[i].node;
             int s, c, r, k = o[i].level;
             tp_tree_node_locate(g, id, &s, &c, &r);
-            if (!built[id]) {
+            size_t slot = (size_t)id * lv + (size_t)k;
+            if (!built[slot]) {
                 double t0 = bench_now_ms();
                 if (tp_node_tins_build(g->n, s, tp_tree_samples(tree, id), tp_tree_meta(tree, id),
-                                       ti.err_unit_steps, ~0u, &tins[id], &err) != TP_OK) {
+                                       ti.err_unit_steps, 1u << k, &tins[slot], &err) != TP_OK) {
                     fprintf(stderr, "%s\n", err.message);
                     return 1;
                 }
                 double ms = bench_now_ms() - t0;
                 per_node_ms[nodes_built] = ms;
                 build_ms += ms;
-                built[id] = 1;
+                built[slot] = 1;
                 nodes_built++;
-                bytes += (double)tp_node_tins_bytes(tins[id]);
-                rung_total += tp_node_tins_rungs(tins[id]);
+                bytes += (double)tp_node_tins_bytes(tins[slot]);
+                rung_total += tp_node_tins_rungs(tins[slot]);
             }
             double lt = 2.0 * (double)(1u << (2 * k));
             /* what the view allows the node (the projection is close to linear in the bound) */
@@ -110,7 +117,7 @@ int main(int argc, char** argv)
                                                  m->delta[g->n] * ti.err_unit_steps
                                            : 0;
             int rc;
-            const tp_node_tin* rg = tp_node_tins_level(tins[id], k, &rc);
+            const tp_node_tin* rg = tp_node_tins_level(tins[slot], k, &rc);
             const tp_node_tin* use = NULL;
             for (int j = 0; j < rc && !use; j++)
                 if (tp_node_tin_bound_steps(&rg[j], o[i].nb) <= lim)
@@ -131,8 +138,8 @@ int main(int argc, char** argv)
            "%.1f%% of drawn nodes as TINs\n",
            argv[1], tau, frames, lat_sum / frames, tin_sum / frames, 100 * tin_sum / lat_sum,
            100.0 * drawn_tin / drawn);
-    printf("built %ld nodes: %.3f ms median, %.3f ms mean per node (every level); %.1f rungs, "
-           "%.0f bytes per node\n",
+    printf("built %ld levels of drawn nodes: %.3f ms median, %.3f ms mean per level; %.1f rungs, "
+           "%.0f bytes per level\n",
            nodes_built, nodes_built ? bench_median(per_node_ms, (size_t)nodes_built) : 0,
            nodes_built ? build_ms / nodes_built : 0, nodes_built ? (double)rung_total / nodes_built : 0,
            nodes_built ? bytes / nodes_built : 0);
@@ -141,8 +148,8 @@ int main(int argc, char** argv)
             printf("level %d: %.0f nodes drawn, lattice %.0f, TIN %.0f triangles (%.1f%%)\n", k,
                    lvl_n[k], lvl_lat[k], lvl_tin[k], 100 * lvl_tin[k] / lvl_lat[k]);
     printf("drawn nodes with a moved side: %.1f%%\n", 100.0 * moved / drawn);
-    for (int64_t id = 0; id < g->node_count; id++)
-        tp_node_tins_destroy(tins[id]);
+    for (size_t i = 0; i < (size_t)g->node_count * lv; i++)
+        tp_node_tins_destroy(tins[i]);
     free(per_node_ms);
     free(tins);
     free(built);
