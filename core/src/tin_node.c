@@ -199,6 +199,47 @@ static tp_status build_level(const level_check* c, const float* h, uint8_t* cls,
     return TP_OK;
 }
 
+/* Morton code of a triangle's centroid (times 3: integers), for drawing order. */
+static uint32_t tri_morton(const tp_tin* t, size_t i)
+{
+    uint32_t x = 0, y = 0, code = 0;
+    for (int v = 0; v < 3; v++) {
+        const float* p = t->vertices + 3 * (size_t)t->triangles[3 * i + v];
+        x += (uint32_t)p[0], y += (uint32_t)p[1];
+    }
+    for (int b = 0; b < 11; b++)
+        code |= (x >> b & 1u) << (2 * b) | (y >> b & 1u) << (2 * b + 1);
+    return code;
+}
+
+typedef struct keyed_tri {
+    uint32_t key, i;
+} keyed_tri;
+
+static int cmp_keyed(const void* a, const void* b)
+{
+    const keyed_tri *x = a, *y = b;
+    return (x->key > y->key) - (x->key < y->key) + (x->key == y->key) * ((x->i > y->i) - (x->i < y->i));
+}
+
+/* Writes t's triangles in Morton order of their centroids: neighbours follow each other, so a
+ * renderer's vertex cache (llvmpipe's above all) reuses their shared vertices as it does a
+ * strip's. 0 without memory (then in the insertion's order). */
+static int write_triangles(const tp_tin* t, uint16_t* w)
+{
+    keyed_tri* k = malloc(t->triangle_count * sizeof *k + 1);
+    if (k)
+        for (size_t i = 0; i < t->triangle_count; i++)
+            k[i] = (keyed_tri){tri_morton(t, i), (uint32_t)i};
+    if (k)
+        qsort(k, t->triangle_count, sizeof *k, cmp_keyed);
+    for (size_t i = 0; i < t->triangle_count; i++)
+        for (int v = 0; v < 3; v++)
+            *w++ = (uint16_t)t->triangles[3 * (k ? k[i].i : i) + v];
+    free(k);
+    return k != NULL;
+}
+
 /* One allocation: the header, then each level's vertices (its rungs are stops of one insertion,
  * so each rung's vertices are the first vertex_count of its finest rung's) and each rung's
  * triangles. */
@@ -239,8 +280,8 @@ static tp_node_tins* pack(tp_tin* const* tins, const tp_node_tin* rungs, const i
             l->triangle_count = (uint32_t)t->triangle_count;
             l->ij = ij;
             l->triangles = w;
-            for (size_t i = 0; i < 3 * t->triangle_count; i++)
-                *w++ = (uint16_t)t->triangles[i];
+            write_triangles(t, w);
+            w += 3 * t->triangle_count;
         }
     }
     return o;
