@@ -5,7 +5,8 @@
 # the TIN frame drew TIN nodes (mesh "tin", tin_nodes > 0) over the same nodes as the lattice
 # frame, with at most MAX_SHARE of its triangles, and both measured screen errors are within
 # --tau 1; the two screenshots differ by at most 2 grey levels on average (the same surface
-# within a pixel, shaded from the same normal map).
+# within a pixel, shaded from the same normal map). Then `export --mesh tin` of the second
+# camera against `export --mesh patches`: the same nodes, at most MAX_SHARE of the triangles.
 # usage: view_mesh_tin.sh TERRAPATCH WORKDIR MAX_SHARE DEM...
 set -u
 exe=$1 dir=$2 max_share=$3
@@ -30,9 +31,9 @@ for dem in "$@"; do
     cams=("")
     if [ -n "$cam" ]; then cams+=("$cam"); else bad "$name: no grid or height range in info --json"; fi
     for ci in "${!cams[@]}"; do
-        cam=() && [ -n "${cams[$ci]}" ] && cam=(--camera "${cams[$ci]}")
+        camopt=() && [ -n "${cams[$ci]}" ] && camopt=(--camera "${cams[$ci]}")
         for mesh in lattice tin; do
-            "$exe" view --headless --size 480x270 --tau 1 --mesh "$mesh" "${cam[@]}" \
+            "$exe" view --headless --size 480x270 --tau 1 --mesh "$mesh" "${camopt[@]}" \
                 --screenshot "$dir/$mesh.png" --stats-json "$dir/$mesh.json" "$store" \
                 2>"$dir/$mesh.err" || { bad "$name camera $ci --mesh $mesh: exit $?"; cat "$dir/$mesh.err"; }
         done
@@ -66,5 +67,20 @@ if total > 2:
 EOF
         rm -f "$dir"/tin.* "$dir"/lattice.*
     done
+    # export of the same camera's mesh: the TIN nodes' triangles, the same nodes
+    [ -n "$cam" ] || continue
+    for mesh in patches tin; do
+        "$exe" export "$store" --mesh "$mesh" --camera "$cam" --tau 1 -o "$dir/$mesh.vtp" \
+            >"$dir/$mesh.out" 2>&1 || { bad "$name: export --mesh $mesh exit $?"; cat "$dir/$mesh.out"; }
+    done
+    et=$(sed -n 's/.* \([0-9]*\) triangles (.*/\1/p' "$dir/tin.out")
+    ep=$(sed -n 's/.* \([0-9]*\) triangles (.*/\1/p' "$dir/patches.out")
+    dt=$(sed -n 's/.*; \([0-9]*\) nodes drawn.*/\1/p' "$dir/tin.out")
+    dp=$(sed -n 's/.*; \([0-9]*\) nodes drawn.*/\1/p' "$dir/patches.out")
+    echo "$name export: $dp nodes, $ep triangles as patches, $et as TIN nodes"
+    [ -n "$dt" ] && [ "$dt" = "$dp" ] || bad "$name export: $dt nodes drawn with TINs, $dp without"
+    awk -v a="$et" -v b="$ep" -v s="$max_share" 'BEGIN { exit !(a > 0 && a <= s * b) }' ||
+        bad "$name export: $et triangles with TIN nodes, more than $max_share of $ep"
+    rm -f "$dir"/patches.* "$dir"/tin.*
 done
 exit $fail
