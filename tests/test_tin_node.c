@@ -16,7 +16,8 @@
     X(cliff_and_noise_hold_their_bounds)                                                           \
     X(a_coarse_node_holds_its_bound_between_its_samples)                                           \
     X(incomplete_nodes_have_none)                                                                  \
-    X(levels_are_built_as_asked)
+    X(levels_are_built_as_asked)                                                                   \
+    X(the_cache_builds_once_and_prunes_by_residency_and_age)
 
 #include "tp_test_tin.h"
 
@@ -493,6 +494,69 @@ TEST(levels_are_built_as_asked)
     EXPECT_TRUE(tp_node_tins_bytes(some) < tp_node_tins_bytes(all));
     tp_node_tins_destroy(all);
     tp_node_tins_destroy(some);
+    tp_tree_destroy(t);
+    free(h);
+}
+
+TEST(the_cache_builds_once_and_prunes_by_residency_and_age)
+{
+    int w = 129, hg = 129;
+    float* h = malloc(sizeof *h * w * hg);
+    for (int y = 0; y < hg; y++)
+        for (int x = 0; x < w; x++)
+            h[(size_t)y * w + x] = 50.0f * sinf(x * 0.11f) * cosf(y * 0.07f) + 0.01f * x * y;
+    tp_tree* t = tree_of(h, w, hg, 33);
+    const tp_tree_geometry* g = tp_tree_get_geometry(t);
+    int64_t leaf = tp_tree_node_id(g, 0, 1, 1), other = tp_tree_node_id(g, 0, 0, 0);
+    tp_tin_cache* c = NULL;
+    ASSERT_OK(tp_tin_cache_create(t, &c, NULL));
+    int built = -1;
+    EXPECT_TRUE(tp_tin_cache_get(c, leaf, 3, &built) == NULL && built == 0);
+    ASSERT_OK(tp_tin_cache_build(c, leaf, 3, NULL));
+    ASSERT_OK(tp_tin_cache_build(c, leaf, 3, NULL)); /* once */
+    const tp_node_tins* tins = tp_tin_cache_get(c, leaf, 3, &built);
+    int count;
+    EXPECT_TRUE(built == 1 && tins && tp_node_tins_level(tins, 3, &count) && count > 0);
+    EXPECT_TRUE(tp_tin_cache_get(c, leaf, 2, &built) == NULL && built == 0);
+    size_t bytes, levels, builds;
+    tp_tin_cache_stats(c, &bytes, &levels, &builds);
+    EXPECT_EQ_INT((int)levels, 1);
+    EXPECT_EQ_INT((int)builds, 1);
+    EXPECT_EQ_INT((int)bytes, (int)tp_node_tins_bytes(tins));
+    /* drawn: kept by the age limit; not drawn for more frames than it: freed */
+    tp_cut* cut = NULL;
+    ASSERT_OK(tp_cut_create(t, &cut, NULL));
+    int64_t nodes[1] = {leaf};
+    int lv[1] = {3};
+    ASSERT_OK(tp_cut_set_nodes(cut, nodes, lv, 1, NULL));
+    for (int f = 0; f < 10; f++)
+        tp_tin_cache_mark_drawn(c, cut);
+    tp_tin_cache_prune(c, 5);
+    EXPECT_TRUE(tp_tin_cache_get(c, leaf, 3, &built) != NULL && built == 1);
+    nodes[0] = other;
+    ASSERT_OK(tp_cut_set_nodes(cut, nodes, lv, 1, NULL));
+    for (int f = 0; f < 5; f++)
+        tp_tin_cache_mark_drawn(c, cut);
+    tp_tin_cache_prune(c, 5); /* drawn 5 frames ago: kept */
+    EXPECT_TRUE(tp_tin_cache_get(c, leaf, 3, &built) != NULL && built == 1);
+    tp_tin_cache_mark_drawn(c, cut);
+    tp_tin_cache_prune(c, 5); /* 6 frames ago: freed */
+    EXPECT_TRUE(tp_tin_cache_get(c, leaf, 3, &built) == NULL && built == 0);
+    tp_tin_cache_stats(c, &bytes, &levels, NULL);
+    EXPECT_EQ_INT((int)levels, 0);
+    EXPECT_EQ_INT((int)bytes, 0);
+    /* released by the stream: freed whatever its age; not resident: nothing built */
+    ASSERT_OK(tp_tin_cache_build(c, leaf, 3, NULL));
+    EXPECT_TRUE(tp_tin_cache_get(c, leaf, 3, &built) != NULL && built == 1);
+    const uint16_t* samples = tp_tree_samples(t, leaf);
+    tp_tree_detach(t, leaf);
+    tp_tin_cache_prune(c, 0);
+    EXPECT_TRUE(tp_tin_cache_get(c, leaf, 3, &built) == NULL && built == 0);
+    ASSERT_OK(tp_tin_cache_build(c, leaf, 3, NULL));
+    EXPECT_TRUE(tp_tin_cache_get(c, leaf, 3, &built) == NULL && built == 0);
+    tp_tree_attach(t, leaf, samples);
+    tp_cut_destroy(cut);
+    tp_tin_cache_destroy(c);
     tp_tree_destroy(t);
     free(h);
 }

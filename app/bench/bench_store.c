@@ -491,7 +491,8 @@ static int fly(store_bench* b, store_result* c, int first, store_draw* d, const 
             tp_stream_frame(b->sc.stream, cut, o->no_prefetch ? NULL : d->pre, &cam, &c->lod, &ss);
             size_t tin_bytes = 0;
             if (b->sc.tins) { /* the cut thread is idle: prune, or build here without it */
-                tp_tin_cache_prune(b->sc.tins);
+                tp_tin_cache_mark_drawn(b->sc.tins, cut);
+                tp_tin_cache_prune(b->sc.tins, TP_CUT_WORKER_TIN_AGE);
                 if (!d->worker)
                     tp_cut_tins_build(b->sc.tins, cut, TP_CUT_WORKER_TIN_MS);
                 tp_tin_cache_stats(b->sc.tins, &tin_bytes, NULL, NULL);

@@ -97,7 +97,8 @@ void tp_view_frame(tp_view_scene* v, tp_renderer* r, const tp_camera* cam,
     tp_stream_frame(v->store->stream, v->cut, frozen ? NULL : v->prefetch, cam, lod, &out->stream);
     out->mesh_tin = v->store->tins != NULL;
     if (v->store->tins) { /* the TINs of nodes the stream released (the cut thread is idle) */
-        tp_tin_cache_prune(v->store->tins);
+        tp_tin_cache_mark_drawn(v->store->tins, v->cut);
+        tp_tin_cache_prune(v->store->tins, TP_CUT_WORKER_TIN_AGE);
         tp_tin_cache_stats(v->store->tins, &out->tin_bytes, &out->tin_levels, NULL);
     }
     if (v->worker && !frozen) { /* the next frame's, while this one draws */

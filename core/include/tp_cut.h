@@ -246,6 +246,9 @@ typedef struct tp_cut_tin_request {
     int level;
 } tp_cut_tin_request;
 const tp_cut_tin_request* tp_cut_tin_requests(const tp_cut* c, size_t* count);
+/* Stamps the levels cut draws as drawn in a new frame, for tp_tin_cache_prune's age limit (on
+ * the thread that prunes). */
+void tp_tin_cache_mark_drawn(tp_tin_cache* c, const tp_cut* cut);
 /* How many vertices tp_cut_vertices writes for drawn node i: (2^level+1)^2, or its TIN's. */
 size_t tp_cut_vertex_count(const tp_cut* c, size_t i);
 

@@ -363,9 +363,11 @@ const tp_node_tins* tp_tin_cache_get(const tp_tin_cache* c, int64_t node, int k,
 /* Builds level k of node from its resident samples (nothing when not resident or already
  * built). One builder thread at a time. */
 tp_status tp_tin_cache_build(tp_tin_cache* c, int64_t node, int k, tp_error* err);
-/* Frees the TINs of nodes that are no longer resident: call when no cut that drew them is in
- * use and no build runs (the viewer: between frames, its cut thread idle). */
-void tp_tin_cache_prune(tp_tin_cache* c);
+/* Frees the TINs of nodes that are no longer resident and, max_age_frames > 0, of levels not
+ * drawn in the last max_age_frames frames (tp_tin_cache_mark_drawn in tp_cut.h; a level just
+ * built counts as drawn). Call when no build runs and no cut that may draw them will be used
+ * (the viewer: after marking its frame's cut, its cut thread idle). */
+void tp_tin_cache_prune(tp_tin_cache* c, unsigned max_age_frames);
 /* Bytes of TINs held, levels built, and TIN builds run so far. */
 void tp_tin_cache_stats(const tp_tin_cache* c, size_t* bytes, size_t* levels, size_t* builds);
 

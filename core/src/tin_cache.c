@@ -7,6 +7,7 @@
  * the nodes that have one.
  */
 #include "tree_int.h"
+#include "tp_cut.h"
 
 #include <stdatomic.h>
 #include <stdlib.h>
@@ -14,6 +15,7 @@
 typedef struct tin_entry {
     _Atomic(tp_node_tins*) level[TP_MAX_LEVELS];
     atomic_uint built; /* bit k: level k was built (its pointer may be NULL: no TIN there) */
+    uint32_t drawn[TP_MAX_LEVELS]; /* the frame (tp_tin_cache_mark_drawn) it was last drawn */
 } tin_entry;
 
 struct tp_tin_cache {
@@ -22,6 +24,7 @@ struct tp_tin_cache {
     int64_t* listed;           /* nodes with an entry */
     size_t listed_count, listed_cap;
     size_t bytes, levels, builds;
+    uint32_t frame; /* tp_tin_cache_mark_drawn's count */
 };
 
 tp_status tp_tin_cache_create(const tp_tree* t, tp_tin_cache** out, tp_error* err)
@@ -98,30 +101,55 @@ tp_status tp_tin_cache_build(tp_tin_cache* c, int64_t node, int k, tp_error* err
     c->bytes += tp_node_tins_bytes(tins);
     c->levels++;
     c->builds++;
+    e->drawn[k] = c->frame; /* as if drawn now: kept max_age frames at least */
     atomic_store_explicit(&e->level[k], tins, memory_order_relaxed);
     atomic_fetch_or_explicit(&e->built, 1u << k, memory_order_release);
     return TP_OK;
 }
 
-void tp_tin_cache_prune(tp_tin_cache* c)
+void tp_tin_cache_mark_drawn(tp_tin_cache* c, const tp_cut* cut)
+{
+    assert(c && cut);
+    c->frame++;
+    size_t count;
+    const tp_cut_node* o = tp_cut_nodes(cut, &count);
+    for (size_t i = 0; i < count; i++) {
+        tin_entry* e = atomic_load_explicit(&c->node[o[i].node], memory_order_relaxed);
+        if (e)
+            e->drawn[o[i].level] = c->frame;
+    }
+}
+
+/* Frees level k of entry e (built) and says so in the counts. */
+static void drop_level(tp_tin_cache* c, tin_entry* e, int k)
+{
+    tp_node_tins* t = atomic_load_explicit(&e->level[k], memory_order_relaxed);
+    atomic_fetch_and_explicit(&e->built, ~(1u << k), memory_order_release);
+    atomic_store_explicit(&e->level[k], NULL, memory_order_relaxed);
+    c->bytes -= tp_node_tins_bytes(t);
+    c->levels--;
+    tp_node_tins_destroy(t);
+}
+
+void tp_tin_cache_prune(tp_tin_cache* c, unsigned max_age_frames)
 {
     assert(c);
     size_t o = 0;
     for (size_t i = 0; i < c->listed_count; i++) {
         int64_t node = c->listed[i];
-        if (tp_tree_samples(c->t, node)) {
+        tin_entry* e = atomic_load_explicit(&c->node[node], memory_order_relaxed);
+        unsigned built = atomic_load_explicit(&e->built, memory_order_relaxed);
+        int resident = tp_tree_samples(c->t, node) != NULL;
+        for (int k = 0; k < TP_MAX_LEVELS; k++)
+            if ((built >> k & 1) &&
+                (!resident || (max_age_frames && c->frame - e->drawn[k] > max_age_frames)))
+                drop_level(c, e, k);
+        if (atomic_load_explicit(&e->built, memory_order_relaxed)) {
             c->listed[o++] = node;
             continue;
         }
-        tin_entry* e = atomic_load_explicit(&c->node[node], memory_order_relaxed);
         atomic_store_explicit(&c->node[node], NULL, memory_order_release);
-        unsigned built = atomic_load_explicit(&e->built, memory_order_relaxed);
-        for (int k = 0; k < TP_MAX_LEVELS; k++) {
-            tp_node_tins* t = atomic_load_explicit(&e->level[k], memory_order_relaxed);
-            c->bytes -= tp_node_tins_bytes(t);
-            c->levels -= built >> k & 1;
-        }
-        entry_free(e);
+        free(e);
     }
     c->listed_count = o;
 }
