@@ -59,7 +59,10 @@ static int same_cut(const tp_cut* a, const tp_cut* b)
     return 1;
 }
 
-TEST(flights_keep_tau_and_settle_on_the_cut_from_the_roots)
+/* Random flights through the worker; with_tins: --mesh tin as the viewer runs it (the worker
+ * builds the TIN levels its cut asks for; after each frame the cut is marked drawn and the
+ * cache pruned by age). */
+static void flights(int with_tins)
 {
     float* h = load_hgt(300, 200, 900, 700);
     if (!h)
@@ -72,6 +75,13 @@ TEST(flights_keep_tau_and_settle_on_the_cut_from_the_roots)
     tp_cut* roots;
     ASSERT_OK(tp_cut_create(t, &roots, NULL));
     tp_cut_worker_params p = {.lod = {.mode = TP_LOD_ERROR, .tau_px = 1}, .vertical_scale = 1};
+    tp_tin_cache* tins = NULL;
+    long tin_nodes = 0;
+    if (with_tins) {
+        ASSERT_OK(tp_tin_cache_create(t, &tins, NULL));
+        p.tins = tins;
+        tp_cut_set_tins(roots, tins);
+    }
     int frames = 0, reused = 0, steady = 0, steady_reused = 0, stops = 0, measured = 0;
     double worst_px = 0;
     double x = 450, y = 350, yaw = 0, z = over(t, 450, 350, 200);
@@ -109,6 +119,13 @@ TEST(flights_keep_tau_and_settle_on_the_cut_from_the_roots)
                 measured++;
             }
             EXPECT_TRUE(tp_cut_holds_for(cut, &cam, NULL));
+            if (tins) { /* the worker is idle here, as after the viewer's stream frame */
+                tp_cut_stats cs;
+                tp_cut_get_stats(cut, &cs);
+                tin_nodes += cs.tin_nodes;
+                tp_tin_cache_mark_drawn(tins, cut);
+                tp_tin_cache_prune(tins, 30);
+            }
             /* stopped for a frame: the drawn cut is the one from the roots, node for node */
             if (kind == 3 && f >= 2) {
                 ASSERT_OK(tp_cut_update(roots, &cam, &p.lod, NULL));
@@ -126,11 +143,32 @@ TEST(flights_keep_tau_and_settle_on_the_cut_from_the_roots)
            frames, reused, steady_reused, steady, measured, worst_px, stops);
     EXPECT_GT(steady_reused, steady * 9 / 10); /* steady flight is predicted */
     EXPECT_GT(stops, 40);
+    if (tins) {
+        size_t bytes, levels, builds;
+        tp_tin_cache_stats(tins, &bytes, &levels, &builds);
+        printf("TIN nodes: %ld drawn over the frames; %zu levels held (%.1f MB), %zu built\n",
+               tin_nodes, levels, bytes / 1e6, builds);
+        EXPECT_GT((double)tin_nodes, frames * 10.0); /* the worker built them as asked */
+        EXPECT_LT((double)levels, (double)builds); /* the age limit freed some */
+    }
     tp_cut_worker_destroy(w);
     tp_cut_destroy(roots);
+    tp_tin_cache_destroy(tins);
     tp_tree_destroy(t);
     free(h);
 }
 
-#define TESTS(X) X(flights_keep_tau_and_settle_on_the_cut_from_the_roots)
+TEST(flights_keep_tau_and_settle_on_the_cut_from_the_roots)
+{
+    flights(0);
+}
+
+TEST(flights_with_tin_nodes_keep_tau_and_settle_on_the_cut_from_the_roots)
+{
+    flights(1);
+}
+
+#define TESTS(X)                                                                                   \
+    X(flights_keep_tau_and_settle_on_the_cut_from_the_roots)                                       \
+    X(flights_with_tin_nodes_keep_tau_and_settle_on_the_cut_from_the_roots)
 TP_TEST_MAIN(TESTS)
