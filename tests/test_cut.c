@@ -604,7 +604,22 @@ static void random_cut(const tp_tree_geometry* g, int64_t node, double p_split, 
     (*count)++;
 }
 
-static void adversarial_cuts(int add)
+/* tp_cut_set_nodes, and with a TIN cache, once more after building every level it asked for
+ * (an installed cut draws each level's coarsest rung that stitches). */
+static void set_nodes_tins(tp_cut* cut, tp_tin_cache* tins, const int64_t* nodes,
+                           const int* levels, size_t count)
+{
+    ASSERT_OK(tp_cut_set_nodes(cut, nodes, levels, count, NULL));
+    if (!tins)
+        return;
+    size_t nr;
+    const tp_cut_tin_request* rq = tp_cut_tin_requests(cut, &nr);
+    for (size_t i = 0; i < nr; i++)
+        ASSERT_OK(tp_tin_cache_build(tins, rq[i].node, rq[i].level, NULL));
+    ASSERT_OK(tp_cut_set_nodes(cut, nodes, levels, count, NULL));
+}
+
+static void adversarial_cuts(int add, int with_tins)
 {
     /* 1025 x 1025 with n = 4: 64 x 64 leaves under one root of scale 6, so neighbours can
      * differ by more than n scales (split or collapse). */
@@ -615,6 +630,12 @@ static void adversarial_cuts(int add)
     tp_cut* cut;
     ASSERT_OK(tp_cut_create(t, &cut, NULL));
     tp_cut_set_stitch_add(cut, add);
+    tp_tin_cache* tins = NULL;
+    long tin_nodes = 0;
+    if (with_tins) {
+        ASSERT_OK(tp_tin_cache_create(t, &tins, NULL));
+        tp_cut_set_tins(cut, tins);
+    }
     long add_sides = 0;
     int64_t* nodes = malloc((size_t)g->node_count * sizeof *nodes);
     int* levels = malloc((size_t)g->node_count * sizeof *levels);
@@ -644,7 +665,7 @@ static void adversarial_cuts(int add)
                     tp_tree_detach(t, id);
                 }
         }
-        ASSERT_OK(tp_cut_set_nodes(cut, nodes, levels, count, NULL));
+        set_nodes_tins(cut, tins, nodes, levels, count);
         size_t drawn;
         const tp_cut_node* out = tp_cut_nodes(cut, &drawn);
         ASSERT_GT((double)drawn, 0);
@@ -664,6 +685,7 @@ static void adversarial_cuts(int add)
         tp_cut_get_stats(cut, &st);
         EXPECT_EQ_INT((int)last_triangles, (int)st.triangles);
         add_sides += st.add_sides;
+        tin_nodes += st.tin_nodes;
         /* The whole map stays covered (the crop has no voids). */
         size_t gaps = 0;
         for (int y = 0; y < 1025; y++)
@@ -706,12 +728,13 @@ static void adversarial_cuts(int add)
             size_t c2 = count;
             nodes[c2] = center;
             levels[c2++] = lv;
-            ASSERT_OK(tp_cut_set_nodes(cut, nodes, levels, c2, NULL));
+            set_nodes_tins(cut, tins, nodes, levels, c2);
             EXPECT_EQ_INT(0, check_watertight(t, cut, NULL));
             tp_cut_stats st;
             tp_cut_get_stats(cut, &st);
             EXPECT_EQ_INT((int)last_triangles, (int)st.triangles);
             add_sides += st.add_sides;
+            tin_nodes += st.tin_nodes;
         }
     }
     {
@@ -763,23 +786,35 @@ static void adversarial_cuts(int add)
     free(nodes);
     free(levels);
     tp_cut_destroy(cut);
+    tp_tin_cache_destroy(tins);
     tp_tree_destroy(t);
     free(h);
-    printf("%s: %ld sides took vertices\n", add ? "--stitch add" : "vertex moving", add_sides);
+    printf("%s%s: %ld sides took vertices, %ld nodes drawn as TINs\n",
+           add ? "--stitch add" : "vertex moving", with_tins ? ", TIN nodes" : "", add_sides,
+           tin_nodes);
     if (add)
         EXPECT_GT((double)add_sides, 1000);
+    if (with_tins)
+        EXPECT_GT((double)tin_nodes, 10000);
 }
 
 TEST(watertight_for_adversarial_cuts)
 {
-    adversarial_cuts(0);
+    adversarial_cuts(0, 0);
+}
+
+/* The same with TIN nodes: each drawn level's coarsest rung that stitches, against lattice
+ * and TIN neighbours of any size and level. */
+TEST(watertight_for_adversarial_cuts_with_tin_nodes)
+{
+    adversarial_cuts(0, 1);
 }
 
 /* The same cuts and configurations with --stitch add: same-size neighbours, several levels
  * apart, next to larger nodes that still move the smaller ones' vertices. */
 TEST(watertight_for_adversarial_cuts_stitch_add)
 {
-    adversarial_cuts(1);
+    adversarial_cuts(1, 0);
 }
 
 /* Error mode holds tau on the measured screen error (tp_cut_measure_screen_error: the
@@ -1457,6 +1492,7 @@ TEST(requests_only_update_asks_as_the_full_update)
     X(watertight_for_random_views_stitch_add)                                                      \
     X(a_cut_drawn_from_a_moved_camera_keeps_tau_and_coverage)                                      \
     X(watertight_for_adversarial_cuts)                                                             \
+    X(watertight_for_adversarial_cuts_with_tin_nodes)                                              \
     X(watertight_for_adversarial_cuts_stitch_add)                                                  \
     X(screen_error_within_tau)                                                                     \
     X(screen_error_within_tau_stitch_add)                                                          \

@@ -239,7 +239,9 @@ void tp_cut_set_stitch_add(tp_cut* c, int add);
  * so the outline and its crack removal are too. Levels found unbuilt draw their lattices and
  * are listed by tp_cut_tin_requests (nearest first: the cut's output order is not, so in
  * order of decreasing projected bound). NULL (the default) draws lattices only; --stitch add
- * (tp_cut_set_stitch_add) draws lattices only. The cache must outlive the cut's use of it. */
+ * (tp_cut_set_stitch_add) draws lattices only. A cut installed by tp_cut_set_nodes has no view:
+ * its nodes draw their level's coarsest rung that stitches with their neighbours' levels. The
+ * cache must outlive the cut's use of it. */
 void tp_cut_set_tins(tp_cut* c, const tp_tin_cache* tins);
 typedef struct tp_cut_tin_request {
     int64_t node;

@@ -90,7 +90,10 @@ int32_t tp__cut_pick_tin(tp_cut* c, int ri, const int nb[4])
     tp__cut_rec* r = &c->rec[ri];
     c->out_tin[r->out] = NULL;
     c->out[r->out].tin = -1;
-    if (!c->tins || c->stitch_add || !c->have_view || c->lp.mode != TP_LOD_ERROR)
+    /* an installed cut (tp_cut_set_nodes) has no view to bound: its coarsest rung that
+     * stitches with its neighbours (what the adversarial tests of the outline draw) */
+    int installed = !c->have_view;
+    if (!c->tins || c->stitch_add || (!installed && c->lp.mode != TP_LOD_ERROR))
         return -1;
     const tp_node_meta* m = tp_tree_meta(c->t, r->node);
     if (!(m->flags & TP_NODE_COMPLETE) || r->level < 1)
@@ -114,10 +117,9 @@ int32_t tp__cut_pick_tin(tp_cut* c, int ri, const int nb[4])
         double steps = tp_node_tin_bound_steps(&rungs[j], nb8);
         if (!isfinite(steps))
             continue;
-        double d = ((steps + carry) * c->step + c->quant) * c->zscale;
-        int near;
-        double px = tp__projected_px_drawn(&c->v, &r->pb, d, &near);
-        if (px > allow)
+        double d = ((steps + carry) * c->step + c->quant) * c->zscale, px = 0;
+        int near = 0;
+        if (!installed && (px = tp__projected_px_drawn(&c->v, &r->pb, d, &near)) > allow)
             continue;
         c->out_tin[r->out] = &rungs[j];
         tp_cut_node* o = &c->out[r->out];
