@@ -38,6 +38,9 @@ typedef struct tp_build_options {
     double height_step_m;  /* the quantisation step; 0 (the default): from the heights (1 m
                               where every height is whole, 1/16 m where resampled from whole
                               metres, else the finest power of two the range allows) */
+    int part_index, part_count; /* > 0: part part_index (1 ..) of part_count of a build in
+                              parts (build_part.h): the part's strip of the grid, its store
+                              noting what merge needs; 0: the whole grid */
     int threads;           /* 0: every core */
     int quiet;             /* no notes or progress on stderr */
     /* > 0: a preview (the store cache's first picture of a large DEM): the render grid
