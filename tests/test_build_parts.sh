@@ -5,11 +5,13 @@
 #              byte for byte (cmp: header, node table, location table, every node's bytes,
 #              footer): two SRTM tiles warped to UTM with voids filled in 4 parts (nodes of 65),
 #              Mt Hood in 7 parts (nodes of 17), Crater Lake in 2 (33), N42E001 in 1, and
-#              N42E001 in 3 without void filling; a part is a store `info` reads whole
+#              N42E001 in 3 without void filling, the two tiles in 4 with --height-range (no
+#              part makes a range pass then); a part is a store `info` reads whole
 #   refused    merge refuses, in one line naming the part and with exit 1, writing nothing: a
 #              part missing, one given twice, parts of other sources, of other options, of
 #              another split, a damaged part (one byte of a node flipped), a whole store;
-#              build refuses a bad --part (exit 2) and more parts than rows of nodes (exit 1)
+#              build refuses a bad --part (exit 2) and more parts than rows of nodes (exit 1),
+#              a --height-range the heights leave (exit 1) and a bad one (exit 2)
 #   killed     a part stopped by SIGTERM while it writes leaves no store and no temporary file
 #              (exit 143); built again, the merge equals the one-machine build
 set -u
@@ -59,6 +61,13 @@ identical)
     same crater 2 --patch 33 "$DATA/craterlake-elev-16bit-30m.tif"
     same one 1 "$DATA/N42E001.hgt"
     same nofill 3 --fill-max 0 "$DATA/N42E001.hgt"
+    # --height-range: every part given the bound reads no more than its rows (no range pass)
+    same range 4 --height-range -100,3500 "${T2[@]}"
+    "$EXE" build --part 2/4 -o r2.tpt "${T2[@]}" 2> err || fail "part 2/4 failed"
+    grep -q "^terrapatch build: range " err || fail "without --height-range a part makes a range pass"
+    "$EXE" build --height-range -100,3500 --part 2/4 -o r2.tpt "${T2[@]}" 2> err || fail "part 2/4 failed"
+    ! grep -q "^terrapatch build: range " err || fail "with --height-range a part made a range pass"
+    echo "PASS --height-range: no range pass in a part"
     run info tiles_2.tpt
     [ $rc -eq 0 ] || fail "info of a part: exit $rc"
     grep -q "note: *part 2/4 of a " out || fail "info does not show the part's record"
@@ -103,6 +112,16 @@ refused)
         fail "--part 2/40 of a grid of 26 rows: exit $rc"
     [ ! -e x.tpt ] || fail "x.tpt written"
     echo "PASS build refuses bad --part values and too many parts"
+    run build --quiet --height-range 0,1000 -o x.tpt "$DATA/N42E001.hgt"
+    [ $rc -eq 1 ] && [ "$(grep -c . err)" -eq 1 ] &&
+        grep -q "N42E001.hgt: heights .* outside --height-range 0,1000" err ||
+        fail "--height-range 0,1000 on N42E001 (up to 3088 m): exit $rc"
+    [ ! -e x.tpt ] || fail "x.tpt written"
+    for bad in 5,1 a,b 1 0,1e9; do
+        run build --height-range "$bad" -o x.tpt "$DATA/N42E001.hgt"
+        [ $rc -eq 2 ] || fail "--height-range $bad: exit $rc, expected 2"
+    done
+    echo "PASS build refuses a --height-range the heights leave, and bad ranges"
     ;;
 killed)
     "$EXE" build --quiet --memory 64 --threads 1 -o whole.tpt "${T2[@]}" 2> err || fail "whole build failed"

@@ -80,9 +80,11 @@ int tp_build_part_key(const tp_build_options* o, uint64_t* key, tp_error* err)
         return 0;
     char opts[512];
     snprintf(opts, sizeof opts,
-             "sources %d patch %d resampling %d memory %d fill_max %d z_unit %s gaps %d step %a",
+             "sources %d patch %d resampling %d memory %d fill_max %d z_unit %s gaps %d step %a "
+             "range %d %a %a",
              o->source_count, o->patch_size, (int)o->resampling, o->memory_mb, o->fill_max,
-             o->z_unit ? o->z_unit : "", o->allow_gaps, o->height_step_m);
+             o->z_unit ? o->z_unit : "", o->allow_gaps, o->height_step_m, o->height_range_given,
+             o->height_range_m[0], o->height_range_m[1]);
     h = fnv_text(h, opts);
     h = fnv_text(h, o->crs);
     *key = h;

@@ -39,7 +39,7 @@ int tp_build_part_strip(const tp_tree_geometry* g, const tp_build_part* p,
 
 /* What a part must share with the others to be merged with them: the sources (absolute path,
  * size, modification time), --fill-from likewise, and every option that changes a height or a
- * node (patch, CRS, resampling, memory, void filling, unit, step, gaps), hashed (FNV-1a, 64
+ * node (patch, CRS, resampling, memory, void filling, unit, step, range, gaps), hashed (FNV-1a, 64
  * bits). 1, or 0 with err naming a source that cannot be found. */
 int tp_build_part_key(const tp_build_options* o, uint64_t* key, tp_error* err);
 

@@ -381,6 +381,9 @@ static tp_mosaic* open_sources(const tp_build_options* o, int coarsen, tp_mosaic
                             .fill_max = o->fill_max,
                             .fill_from = o->fill_from,
                             .z_unit = o->z_unit,
+                            .range_given = o->height_range_given,
+                            .range_min_m = o->height_range_m[0],
+                            .range_max_m = o->height_range_m[1],
                             .coarsen = coarsen};
     if (tp_mosaic_open(o->sources, (size_t)o->source_count, &mo, &m, &err) != TP_OK)
         return fail_line(err.message), NULL;
@@ -528,7 +531,13 @@ static tp_status build_passes(const tp_build_options* o, tp_mosaic* m, const tp_
                          .rec = rec,
                          .band0 = rec ? rec->part.band0 : 0};
         st = run_build_pass(&bp, &h, &err);
-        if (st == TP_OK && bp.outside) {
+        if (st == TP_OK && bp.outside && o->height_range_given) {
+            snprintf(err.message, sizeof err.message,
+                     "%s: heights %g .. %g m outside --height-range %g,%g: give a range that "
+                     "holds every height",
+                     o->sources[0], bp.seen_lo, bp.seen_hi, lo, hi);
+            st = TP_ERR_BAD_DATA;
+        } else if (st == TP_OK && bp.outside) {
             /* a VRT that scales its sources: the bound did not hold; measure the range */
             if (!o->quiet)
                 tp_cli_note("heights %g .. %g m outside the bound %g .. %g "
