@@ -20,7 +20,9 @@
 #                       part must get the same, and the one-machine build too to compare
 #
 # SOURCEs are GDAL paths every node can read: files on a shared file system (made absolute
-# here) or virtual paths (/vsicurl/https://..., /vsis3/...). A part whose store exists in DIR
+# here; the same path, size and time on every node, which the parts' key names) or virtual
+# paths (/vsicurl/https://..., /vsis3/...). Give the parts a --height-range LO,HI (or sources
+# with statistics): without a bound each part reads the whole grid once for it. A part whose store exists in DIR
 # already is not built again: after a failure (a node lost, a job cancelled: a part's store is
 # written atomically, so a killed part leaves nothing), the same command builds what is missing
 # and merges. The merge refuses parts of other sources or options, missing, repeated or damaged
