@@ -42,9 +42,11 @@ typedef struct merge {
     tp_node_meta* metas;
 } merge;
 
+/* One line, but none after SIGINT/SIGTERM: tp_store_merge then says "interrupted". */
 static int fail_line(const char* msg)
 {
-    tp_cli_error("%s", msg);
+    if (!tp_interrupted())
+        tp_cli_error("%s", msg);
     return 0;
 }
 
