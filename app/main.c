@@ -30,6 +30,8 @@ static const struct {
      "frame rate against measured error, headless, for every LoD mode"},
     {"build", tp_cli_build, "SOURCE... -o NAME.tpt",
      "build a terrain store from DEM tiles (any size)"},
+    {"merge", tp_cli_merge, "PART... -o NAME.tpt",
+     "join the parts of a build in parts (build --part I/N) into one store"},
     {"imagery", tp_cli_imagery, "STORE.tpt IMAGE...",
      "orthophotos or maps as a pyramid for the viewer"},
     {"coord", tp_cli_coord, "", "convert coordinates: lat/lon, UTM/UPS, MGRS, ECEF; geodesics"},

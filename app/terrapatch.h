@@ -45,6 +45,9 @@ int tp_cli_bench(int argc, char** argv);
 /* `terrapatch build [options] SOURCE... -o NAME.tpt`. argv[0] is "build"; returns an exit code. */
 int tp_cli_build(int argc, char** argv);
 
+/* `terrapatch merge PART... -o MAP.tpt` (cmd_merge.c): the parts of a build in parts joined. */
+int tp_cli_merge(int argc, char** argv);
+
 /* `terrapatch imagery STORE.tpt IMAGE... [-o OUT.tpi]` (cmd_imagery.c): an imagery pyramid. */
 int tp_cli_imagery(int argc, char** argv);
 

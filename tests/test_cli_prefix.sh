@@ -55,6 +55,7 @@ view) run view --headless --stats-json s.json "$MISSING" ;;
 export) run export "$MISSING" -o x.vtp ;;
 bench) run bench --frames 1 "$MISSING" ;;
 build) run build "$MISSING" -o x.tpt ;;
+merge) run merge "$MISSING" -o x.tpt ;;
 imagery) run imagery "$WORK/missing.tpt" "$MISSING" ;;
 coord) run coord '91 0' ;;
 point) run point "$MISSING" 42.5 1.5 ;;

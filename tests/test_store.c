@@ -682,6 +682,62 @@ TEST(flipped_node_byte_fails_that_node_only)
     fixture_free(&fx);
 }
 
+/* tp_store_read_stored and tp_store_writer_add_stored (a build in parts merges so): every node
+ * copied as stored, in the order of the original's data, gives the original file byte for
+ * byte; bytes that do not match their CRC32, and a node added twice, are refused. */
+TEST(stored_bytes_copied_give_the_same_file)
+{
+    fixture fx;
+    char path[600], copy[640];
+    small_store(&fx, path, sizeof path);
+    snprintf(copy, sizeof copy, "%s.copy.tpt", path);
+    file_buf b = slurp(path);
+    layout l = parse_layout(&b);
+    const int64_t count = fx.g.node_count;
+    int64_t* order = malloc((size_t)count * sizeof *order);
+    uint64_t* at = malloc((size_t)count * sizeof *at);
+    ASSERT_TRUE(order && at);
+    for (int64_t id = 0; id < count; id++) { /* the nodes in the order of their data */
+        uint32_t bytes;
+        node_extent(&b, &l, id, &at[id], &bytes);
+        int64_t k = id;
+        for (; k > 0 && at[order[k - 1]] > at[id]; k--)
+            order[k] = order[k - 1];
+        order[k] = id;
+    }
+    tp_store* st;
+    tp_error err = {{0}};
+    ASSERT_OK(tp_store_open(path, &st, &err));
+    tp_store_info info;
+    tp_store_get_info(st, &info);
+    size_t n_metas;
+    const tp_node_meta* metas = tp_store_metas(st, &n_metas);
+    tp_store_writer* w;
+    ASSERT_OK(tp_store_writer_begin(copy, &info.header, &w, &err));
+    for (int64_t k = 0; k < count; k++) {
+        tp_store_stored x;
+        ASSERT_OK(tp_store_read_stored(st, order[k], &x, &err));
+        if (k == 0) { /* damaged bytes, and the node twice */
+            tp_store_stored bad = x;
+            bad.crc ^= 1;
+            EXPECT_STATUS(TP_ERR_BAD_DATA, tp_store_writer_add_stored(w, order[k], &metas[order[k]], &bad, &err));
+            EXPECT_CONTAINS(err.message, "CRC32");
+            ASSERT_OK(tp_store_writer_add_stored(w, order[k], &metas[order[k]], &x, &err));
+            EXPECT_STATUS(TP_ERR_INVALID_ARG, tp_store_writer_add_stored(w, order[k], &metas[order[k]], &x, &err));
+            EXPECT_CONTAINS(err.message, "added twice");
+            continue;
+        }
+        ASSERT_OK(tp_store_writer_add_stored(w, order[k], &metas[order[k]], &x, &err));
+    }
+    ASSERT_OK(tp_store_writer_commit(w, &err));
+    tp_store_close(st);
+    file_buf c = slurp(copy);
+    ASSERT_EQ_INT((long long)c.size, (long long)b.size);
+    EXPECT_TRUE(memcmp(c.data, b.data, b.size) == 0);
+    free(order), free(at), free(b.data), free(c.data);
+    fixture_free(&fx);
+}
+
 /* A node whose bytes were replaced by a valid zstd frame of other content: the checksum stored
  * in the table is made to match, so the decoder's own checks must catch it. */
 TEST(node_with_matching_checksum_but_wrong_content_fails)
@@ -1307,5 +1363,6 @@ TEST(file_rewrite_only_within_what_was_written)
     X(inconsistent_geometry_refused_by_the_writer)                                                 \
     X(full_disk_leaves_no_file)                                                                    \
     X(totals_given_at_commit_rewrite_the_header)                                                   \
-    X(file_rewrite_only_within_what_was_written)
+    X(file_rewrite_only_within_what_was_written)                                                   \
+    X(stored_bytes_copied_give_the_same_file)
 TP_TEST_MAIN(TESTS)

@@ -978,6 +978,63 @@ TEST(tree_create_checks_its_desc)
     EXPECT_TRUE(t == NULL);
 }
 
+/* tp_tree_node_from_children (a build in parts joins its parts' top nodes with it): every node
+ * of scale >= 1 recomputed from its children's blocks equals the builder's, samples, mask and
+ * meta byte for byte, on real relief with voids and padding. */
+TEST(node_from_children_equals_the_builder)
+{
+    int w = 300, h = 230; /* 17-sample nodes: padding right and below, voids of the crop */
+    float* src = hgt_crop(100, 500, w, h);
+    src[(size_t)40 * w + 50] = NAN;
+    tp_tree* t = NULL;
+    ASSERT_OK(tp_tree_create_from_grid(src, (size_t)w * h, w, h, NULL, 17, 0, &t, NULL));
+    const tp_tree_geometry* g = tp_tree_get_geometry(t);
+    tp_tree_info info;
+    tp_tree_get_info(t, &info);
+    const int n = g->n, side = (1 << n) + 1;
+    const size_t count = (size_t)side * side, mw = tp_node_mask_words(n);
+    int32_t* kq = malloc(4 * count * sizeof *kq);
+    int32_t* q = malloc(count * sizeof *q);
+    uint16_t mask[64], filled[32];
+    ASSERT_TRUE(kq && q && mw <= 64 && tp_node_filled_words(n) <= 32);
+    int checked = 0, partial = 0;
+    for (int64_t id = 0; id < g->first_node[0]; id++) {
+        const int64_t kid[4] = {tp_tree_node_child(g, id, 0), tp_tree_node_child(g, id, 1),
+                                tp_tree_node_child(g, id, 2), tp_tree_node_child(g, id, 3)};
+        const int32_t* cq[4];
+        const uint16_t* cm[4];
+        const tp_node_meta* cmeta[4];
+        for (int k = 0; k < 4; k++) {
+            const uint16_t* b = tp_tree_samples(t, kid[k]);
+            cmeta[k] = tp_tree_meta(t, kid[k]);
+            for (size_t i = 0; i < count; i++)
+                kq[k * count + i] = b[i] == TP_TREE_NO_HEIGHT ? INT32_MIN : b[i] + cmeta[k]->qmin;
+            cq[k] = kq + k * count;
+            cm[k] = b + count;
+        }
+        int s, c, r;
+        tp_tree_node_locate(g, id, &s, &c, &r);
+        tp_node_meta m;
+        tp_tree_node_from_children(n, s, cq, cm, NULL, cmeta, info.err_unit_steps, q, mask,
+                                   filled, &m);
+        const tp_node_meta* want = tp_tree_meta(t, id);
+        if (memcmp(&m, want, offsetof(tp_node_meta, eps) + sizeof m.eps)) /* not the tail padding */
+            FAIL("node %lld (scale %d): meta differs from the builder's", (long long)id, s);
+        const uint16_t* b = tp_tree_samples(t, id);
+        for (size_t i = 0; i < count; i++)
+            if ((b[i] == TP_TREE_NO_HEIGHT ? INT32_MIN : b[i] + want->qmin) != q[i])
+                FAIL("node %lld: sample %zu differs", (long long)id, i);
+        if (memcmp(mask, b + count, mw * sizeof *mask))
+            FAIL("node %lld: mask differs", (long long)id);
+        checked++;
+        partial += !(m.flags & TP_NODE_COMPLETE);
+    }
+    tp_test_note("%d nodes above the leaves, %d of them drawn in part", checked, partial);
+    EXPECT_TRUE(checked > 50 && partial > 5);
+    free(kq), free(q), free(src);
+    tp_tree_destroy(t);
+}
+
 #define TESTS(X)                                                                                   \
     X(geometry_hard_sizes)                                                                         \
     X(geometry_known_counts)                                                                       \
@@ -995,5 +1052,7 @@ TEST(tree_create_checks_its_desc)
     X(complete_flags_follow_voids_up_the_tree)                                                     \
     X(create_from_grid_samples_and_residency)                                                      \
     X(create_from_grid_rejects_bad_input)                                                          \
-    X(tree_create_checks_its_desc)
+    X(tree_create_checks_its_desc)                                                                 \
+    X(node_from_children_equals_the_builder)
 TP_TEST_MAIN(TESTS)
+

@@ -32,9 +32,11 @@ set -eu
 # tests/test_contours_levels.c (gdal_contour, the reference for contours' levels) run.
 # libzstd-dev, zlib1g-dev: the store's compression and checksums (io/src/store_codec.cpp).
 # libnova-dev: the sun's position, rise and set (io/src/sun.cpp, `terrapatch light`).
+# slurm-wlm, munge: the one-node Slurm cluster tests/test_slurm_build.sh starts on localhost
+# (tools/slurm_build.sh, a build in parts); the test starts and stops its daemons itself.
 COMMON="cmake pkg-config gcc g++ libgdal-dev libproj-dev libgeographiclib-dev libopenimageio-dev
 libglfw3-dev libepoxy-dev libegl-dev libgl-dev libgl1-mesa-dri libegl-mesa0 libstb-dev gnuplot-nox
-xvfb xdotool libzstd-dev zlib1g-dev gdal-bin libnova-dev"
+xvfb xdotool libzstd-dev zlib1g-dev gdal-bin libnova-dev slurm-wlm munge"
 VTK_SYSTEM="libvtk9-dev"
 # ParaView's VTK config finds Threads, EXPAT, LZMA, LZ4, double-conversion, ZLIB and utf8cpp
 # for CommonCore, IOCore, IOXML, IOLegacy, FiltersCore and their dependencies.

@@ -13,7 +13,7 @@
 #include <string.h>
 #include <unistd.h>
 
-enum { OPT_PATCH = 1, OPT_RESAMPLING, OPT_FILL_FROM, OPT_IMAGERY, OPT_Z_UNIT };
+enum { OPT_PATCH = 1, OPT_RESAMPLING, OPT_FILL_FROM, OPT_IMAGERY, OPT_Z_UNIT, OPT_PART, OPT_RANGE };
 
 static void print_help(void)
 {
@@ -50,6 +50,10 @@ static void print_help(void)
           "                      every height is a whole metre, 1/16 where a warp resampled\n"
           "                      whole metres, else the finest power of two that fits);\n"
           "                      'terrapatch info STORE' states it\n"
+          "  --height-range LO,HI the heights lie in LO .. HI metres (the sources' unit\n"
+          "                      converted): the step follows from it, no pass reads the grid\n"
+          "                      for a bound (give every part of a build in parts the same); a\n"
+          "                      height outside is an error\n"
           "  --z-unit m|ft|us-ft the unit of the sources' heights, overriding theirs (band\n"
           "                      unit, else vertical CRS); feet are converted to metres\n"
           "  --allow-gaps        build even when the sources cover under half of their\n"
@@ -57,6 +61,10 @@ static void print_help(void)
           "                      always a mistake, and the gaps cost time and space)\n"
           "  --memory MB         memory budget (default 1024); GDAL's cache gets a quarter;\n"
           "                      refused at once when one band of rows does not fit\n"
+          "  --part I/N          build part I of N only (a strip of the hierarchy's subtrees),\n"
+          "                      into a partial store that 'terrapatch merge' joins with the\n"
+          "                      others into the store one build would write, byte for byte;\n"
+          "                      every part must be given the same sources and options\n"
           "  --threads N         threads (default: every core)\n"
           "  --json FILE|-       statistics as JSON (samples, nodes, bytes, seconds, ...)\n"
           "  --quiet             no progress, no notes\n"
@@ -92,6 +100,8 @@ int tp_build_parse_options(int argc, char** argv, build_options* o)
         TP_OPT_FLAG("--allow-gaps", &o->build.allow_gaps),
         TP_OPT_NUMBER_ABOVE("--height-step", &o->build.height_step_m, 0, 1000, "metres > 0"),
         TP_OPT_CODE("--z-unit", NULL, OPT_Z_UNIT, 1),
+        TP_OPT_CODE("--part", NULL, OPT_PART, 1),
+        TP_OPT_CODE("--height-range", NULL, OPT_RANGE, 1),
     };
     tp_options p;
     tp_options_init(&p, "build", argc, argv, print_help);
@@ -121,6 +131,22 @@ int tp_build_parse_options(int argc, char** argv, build_options* o)
                 return tp_cli_usage_at("build", "more than 256 --imagery files", "");
             o->imagery[o->imagery_count++] = v;
             break;
+        case OPT_PART: {
+            int i = 0, n = 0, used = 0;
+            if (sscanf(v, "%d/%d%n", &i, &n, &used) != 2 || v[used] || n < 1 || n > 65536 ||
+                i < 1 || i > n)
+                return tp_options_bad_value(&p, "I/N, 1 <= I <= N <= 65536"), TP_EXIT_USAGE;
+            o->build.part_index = i, o->build.part_count = n;
+            break;
+        }
+        case OPT_RANGE: {
+            double* r = o->build.height_range_m;
+            if (!tp_parse_numbers(v, r, 2) || !(r[0] < r[1]) || r[0] < -1e5 || r[1] > 1e5)
+                return tp_options_bad_value(&p, "LO,HI metres, LO < HI, within +-1e5"),
+                       TP_EXIT_USAGE;
+            o->build.height_range_given = 1;
+            break;
+        }
         case OPT_Z_UNIT:
             if (strcmp(v, "m") && strcmp(v, "ft") && strcmp(v, "us-ft"))
                 return tp_options_bad_value(&p, "m, ft or us-ft"), TP_EXIT_USAGE;
@@ -137,6 +163,9 @@ int tp_build_parse_options(int argc, char** argv, build_options* o)
         return tp_cli_usage_at("build", "give --imagery-texel-shift or --imagery-resolution, not both", "");
     if ((shift_given || o->imagery_cli.resolution_m > 0) && !o->imagery_count)
         return tp_cli_usage_at("build", "--imagery-texel-shift and --imagery-resolution need --imagery", "");
+    if (o->build.part_count && o->imagery_count)
+        return tp_cli_usage_at("build", "--imagery is for the whole store: give it to "
+                               "'terrapatch imagery' after 'terrapatch merge', not to a --part", "");
     o->build.sources = (const char**)(argv + 1);
     if (o->build.threads == 0) {
         long n = sysconf(_SC_NPROCESSORS_ONLN);

@@ -14,6 +14,7 @@
  * docs/PERFORMANCE.md "Building stores" and "First picture of a new DEM" have the profiles.
  */
 #include "store_build.h"
+#include "build_part.h"
 #include "build_plan.h"
 #include "build_rows.h"
 
@@ -102,42 +103,6 @@ static int emit_node(int64_t node, const tp_node_meta* meta, const int32_t* q, c
     return 0;
 }
 
-/* The store's notes: the sources, then the mosaic's own, then the void filling with `filled`
- * samples, padded with spaces to the length of a 20-digit count (the header written first gets
- * 0; the count replaces it at commit: tp_store_writer_set_notes keeps the length). NULL when out
- * of memory. */
-static char* build_notes(const tp_build_options* o, const tp_mosaic_info* mi, size_t filled)
-{
-    size_t cap = strlen(mi->notes) + 256;
-    for (int i = 0; i < o->source_count; i++)
-        cap += strlen(o->sources[i]) + 16;
-    cap += 320;
-    char* notes = malloc(cap);
-    if (!notes)
-        return NULL;
-    size_t at = 0;
-    for (int i = 0; i < o->source_count; i++)
-        at += (size_t)snprintf(notes + at, cap - at, "source: %s\n", o->sources[i]);
-    at += (size_t)snprintf(notes + at, cap - at, "%s%s", mi->notes, mi->notes[0] ? "\n" : "");
-    if (o->fill_max <= 0) {
-        snprintf(notes + at, cap - at, "voids are not filled (--fill-max 0)");
-        return notes;
-    }
-    char size[64] = "voids of any size";
-    if (o->fill_max != TP_FILL_MAX_ANY)
-        snprintf(size, sizeof size, "voids up to %d x %d samples", o->fill_max, o->fill_max);
-    char how[320] = "by interpolation (GDALFillNodata)";
-    if (o->fill_from)
-        snprintf(how, sizeof how, "from %.250s (shifted onto the ground around each void)",
-                 o->fill_from);
-    int digits = snprintf(notes + at, cap - at, "%s filled %s: %zu samples (marked per sample)",
-                          size, how, filled);
-    int count_digits = snprintf(NULL, 0, "%zu", filled);
-    at += (size_t)digits;
-    snprintf(notes + at, cap - at, "%*s", 20 - count_digits, "");
-    return notes;
-}
-
 /* One global step: 1 m for integral heights, else the finest 2^-p m (p <= finest_p) whose
  * quantised range fits 65534 steps (coarser powers of two beyond 65534 m). Integral: the
  * render grid's values, not the sources' type: a warped integer DEM (every geographic SRTM or
@@ -182,9 +147,13 @@ typedef struct build_pass {
     int quiet, threads;
     const char* out;
     const char* source; /* the first, for messages */
+    /* a part (build --part): its record (NULL: the whole grid), its first leaf row */
+    const tp_build_part_record* rec;
+    int band0;
     /* out */
     int outside; /* a height outside the bound: nothing written, build again */
     size_t valid;
+    size_t filled, first_valid, first_filled; /* a part's counts (its record's) */
     double quant_err, seen_lo, seen_hi;
     int64_t nodes;
 } build_pass;
@@ -220,6 +189,64 @@ static void quantise_row(const float* src, int width, double step, int32_t* dst,
     *valid += n, *qerr = e_max, *lo = l, *hi = h;
 }
 
+/* The store's notes: a part's record first (with the counts so far), then the build's. */
+static char* notes_for(const tp_build_options* o, const char* mosaic_notes,
+                       const tp_build_part_record* rec, size_t filled)
+{
+    char* notes = tp_build_notes(o, mosaic_notes, filled);
+    if (!notes || !rec)
+        return notes;
+    char* with = tp_build_part_notes(rec, notes);
+    free(notes);
+    return with;
+}
+
+static char* pass_notes(const build_pass* p)
+{
+    if (!p->rec)
+        return notes_for(p->o, p->mi->notes, NULL, tp_mosaic_filled_samples(p->m));
+    tp_build_part_record r = *p->rec;
+    r.filled = p->filled, r.first_valid = p->first_valid, r.first_filled = p->first_filled;
+    return notes_for(p->o, p->mi->notes, &r, p->filled);
+}
+
+/* Band rows y0 .. y1 of the grid (read into p->rows from y0) quantised into the band's q and
+ * fq (row y_first first); a part counts its filled samples and its first row's. */
+static void band_rows_in(build_pass* p, int y0, int y1, int y_first, size_t* valid,
+                         double* qerr, float* lo, float* hi)
+{
+    const tp_tree_geometry* g = p->g;
+    const tp_mosaic_info* mi = p->mi;
+    const int first_row = p->band0 > 0 ? p->band0 << g->n : -1; /* shared with the part above */
+    for (int y = y0; y <= y1; y++) {
+        int32_t* dst = p->q + (size_t)(y - y_first) * g->width;
+        int x = 0;
+        if (y < mi->height) {
+            const size_t before = *valid;
+            quantise_row(p->rows + (size_t)(y - y0) * mi->width, mi->width, p->step, dst, valid,
+                         qerr, lo, hi);
+            x = mi->width;
+            if (y == first_row)
+                p->first_valid = *valid - before;
+        }
+        for (; x < g->width; x++)
+            dst[x] = INT32_MIN;
+        if (p->fq) {
+            uint8_t* fd = p->fq + (size_t)(y - y_first) * g->width;
+            memset(fd, 0, (size_t)g->width);
+            if (y < mi->height) {
+                memcpy(fd, p->frows + (size_t)(y - y0) * mi->width, (size_t)mi->width);
+                size_t f = 0;
+                for (int i = 0; i < mi->width; i++)
+                    f += fd[i] != 0;
+                p->filled += f;
+                if (y == first_row)
+                    p->first_filled = f;
+            }
+        }
+    }
+}
+
 static tp_status run_build_pass(build_pass* p, const tp_store_header* h, tp_error* err)
 {
     const tp_tree_geometry* g = p->g;
@@ -245,10 +272,12 @@ static tp_status run_build_pass(build_pass* p, const tp_store_header* h, tp_erro
     int32_t* q = p->q;
     tp_progress pr;
     tp_progress_start(&pr, !p->quiet, "build", "build");
-    /* Band r = fitted rows r*ps .. (r+1)*ps; the first row is the last one of the band before
-     * (kept in q), so each source row is read once. */
+    /* Band r = fitted rows r*ps .. (r+1)*ps (of a part: from its first row, band0*ps); the
+     * first row is the last one of the band before (kept in q), so each source row is read
+     * once. */
+    p->filled = p->first_valid = p->first_filled = 0;
     for (int r = 0; r < g->rows && st == TP_OK; r++) {
-        const int y_first = r * ps;
+        const int y_first = (p->band0 + r) * ps;
         const int skip = r > 0 ? 1 : 0;
         if (skip)
             memcpy(q, q + (size_t)ps * g->width, (size_t)g->width * sizeof *q);
@@ -256,29 +285,15 @@ static tp_status run_build_pass(build_pass* p, const tp_store_header* h, tp_erro
             memcpy(p->fq, p->fq + (size_t)ps * g->width, (size_t)g->width);
         const int y1 = y_first + ps; /* rows to fill y0 .. y1, inclusive */
         int y0, nread;
-        tp_build_rows_band(p->br, r, &y0, &nread);
+        tp_build_rows_band(p->br, p->band0 + r, &y0, &nread);
+        if (r == 0 && p->band0 > 0) /* a part's first row: the part above's last */
+            y0--, nread++;
         const int read_to = nread > 0 ? y0 + nread - 1 : mi->height - 1;
         if (nread > 0)
             st = tp_build_rows_read(p->br, y0, nread, p->rows, p->frows, err);
         if (st != TP_OK)
             break;
-        for (int y = y0; y <= y1; y++) {
-            int32_t* dst = q + (size_t)(y - y_first) * g->width;
-            int x = 0;
-            if (y < mi->height) {
-                quantise_row(p->rows + (size_t)(y - y0) * mi->width, mi->width, p->step, dst,
-                             &valid, &qerr, &lo, &hi);
-                x = mi->width;
-            }
-            for (; x < g->width; x++)
-                dst[x] = INT32_MIN;
-            if (p->fq) {
-                uint8_t* fd = p->fq + (size_t)(y - y_first) * g->width;
-                memset(fd, 0, (size_t)g->width);
-                if (y < mi->height)
-                    memcpy(fd, p->frows + (size_t)(y - y0) * mi->width, (size_t)mi->width);
-            }
-        }
+        band_rows_in(p, y0, y1, y_first, &valid, &qerr, &lo, &hi);
         /* the bound may come from rounded statistics: a step of slack, if the range still fits */
         if (p->bounded && (lo < p->lo - p->step || hi > p->hi + p->step ||
                            floor(hi / p->step + 0.5) - floor(lo / p->step + 0.5) > 65534)) {
@@ -291,15 +306,15 @@ static tp_status run_build_pass(build_pass* p, const tp_store_header* h, tp_erro
             break;
         }
         st = tp_tree_builder_add_band_filled(b, r, q, p->fq, (size_t)band_rows * g->width, err);
-        tp_progress_update(&pr, r + 1, g->rows, (double)(read_to + 1) * mi->width);
+        tp_progress_update(&pr, r + 1, g->rows, (double)(read_to + 1 - p->band0 * ps) * mi->width);
     }
     tp_tree_builder_destroy(b);
-    if (st == TP_OK && !p->outside && valid == 0) /* a bound from the files, none in the grid */
+    if (st == TP_OK && !p->outside && valid == 0 && !p->rec) /* a bound, none in the grid */
         st = tp_error_set(err, TP_ERR_BAD_DATA, "%s: no valid height in the %dx%d grid", p->source,
                           mi->width, mi->height);
     if (st == TP_OK && !p->outside) {
-        tp_store_writer_set_totals(w, qerr, valid, (size_t)mi->width * mi->height - valid);
-        char* notes = build_notes(p->o, mi, tp_mosaic_filled_samples(p->m));
+        tp_store_writer_set_totals(w, qerr, valid, (size_t)g->src_width * g->src_height - valid);
+        char* notes = pass_notes(p);
         st = notes ? tp_store_writer_set_notes(w, notes, err)
                    : tp_error_set(err, TP_ERR_OUT_OF_MEMORY, "build: out of memory");
         free(notes);
@@ -366,6 +381,9 @@ static tp_mosaic* open_sources(const tp_build_options* o, int coarsen, tp_mosaic
                             .fill_max = o->fill_max,
                             .fill_from = o->fill_from,
                             .z_unit = o->z_unit,
+                            .range_given = o->height_range_given,
+                            .range_min_m = o->height_range_m[0],
+                            .range_max_m = o->height_range_m[1],
                             .coarsen = coarsen};
     if (tp_mosaic_open(o->sources, (size_t)o->source_count, &mo, &m, &err) != TP_OK)
         return fail_line(err.message), NULL;
@@ -409,10 +427,13 @@ typedef struct build_totals {
  * does not hold (a VRT that scales its sources) costs one more build. err's message on failure
  * (not printed). */
 static tp_status build_passes(const tp_build_options* o, tp_mosaic* m, const tp_mosaic_info* mip,
-                              const tp_tree_geometry* gp, build_totals* t, tp_error* errp)
+                              const tp_tree_geometry* gp, const tp_build_part_record* rec,
+                              build_totals* t, tp_error* errp)
 {
     const tp_mosaic_info mi = *mip;
     const tp_tree_geometry g = *gp;
+    tp_tree_geometry sg = g; /* what is built: the grid, or a part's strip of it */
+    const int y_strip = rec ? tp_build_part_strip(&g, &rec->part, &sg) : 0;
     tp_error err = {0};
     const int band_rows = (1 << g.n) + 1;
     float* rows = malloc((size_t)band_rows * mi.width * sizeof *rows);
@@ -443,7 +464,7 @@ static tp_status build_passes(const tp_build_options* o, tp_mosaic* m, const tp_
     int integral = 1; /* every height a whole metre, where the range pass looked */
     tp_status st = TP_OK;
     int64_t nodes = 0;
-    char* notes = build_notes(o, &mi, 0);
+    char* notes = notes_for(o, mi.notes, rec, 0);
     if (!notes) {
         free(rows), free(q), free(frows), free(fq);
         snprintf(errp->message, sizeof errp->message, "build: out of memory");
@@ -480,20 +501,21 @@ static tp_status build_passes(const tp_build_options* o, tp_mosaic* m, const tp_
         err_unit = tp_tree_err_unit_steps(range_steps);
 
         tp_store_header h = {0};
-        h.geometry = g;
+        h.geometry = sg;
         memcpy(h.geotransform, mi.geotransform, sizeof h.geotransform);
+        h.geotransform[3] += y_strip * h.geotransform[5];
         h.height_step_m = step;
         h.quant_max_error_m = step / 2; /* the totals replace these at commit */
         h.err_unit_steps = err_unit;
         h.valid_samples = 0;
-        h.nodata_samples = (size_t)mi.width * mi.height;
+        h.nodata_samples = (size_t)sg.src_width * sg.src_height;
         h.crs_wkt = mi.crs_wkt;
         h.notes = notes;
         build_pass bp = {.o = o,
                          .m = m,
                          .br = &br,
                          .mi = &mi,
-                         .g = &g,
+                         .g = &sg,
                          .rows = rows,
                          .q = q,
                          .frows = frows,
@@ -505,9 +527,17 @@ static tp_status build_passes(const tp_build_options* o, tp_mosaic* m, const tp_
                          .quiet = o->quiet,
                          .threads = o->threads,
                          .out = o->out,
-                         .source = o->sources[0]};
+                         .source = o->sources[0],
+                         .rec = rec,
+                         .band0 = rec ? rec->part.band0 : 0};
         st = run_build_pass(&bp, &h, &err);
-        if (st == TP_OK && bp.outside) {
+        if (st == TP_OK && bp.outside && o->height_range_given) {
+            snprintf(err.message, sizeof err.message,
+                     "%s: heights %g .. %g m outside --height-range %g,%g: give a range that "
+                     "holds every height",
+                     o->sources[0], bp.seen_lo, bp.seen_hi, lo, hi);
+            st = TP_ERR_BAD_DATA;
+        } else if (st == TP_OK && bp.outside) {
             /* a VRT that scales its sources: the bound did not hold; measure the range */
             if (!o->quiet)
                 tp_cli_note("heights %g .. %g m outside the bound %g .. %g "
@@ -539,6 +569,26 @@ static tp_status build_passes(const tp_build_options* o, tp_mosaic* m, const tp_
                         .nodes = nodes};
     *errp = err;
     return st;
+}
+
+/* A part's record (o->part_index of o->part_count over g), its counts 0; 1, or 0 after one
+ * line. */
+static int part_record(const tp_build_options* o, const tp_mosaic_info* mi,
+                       const tp_tree_geometry* g, tp_build_part_record* rec)
+{
+    tp_error err = {0};
+    *rec = (tp_build_part_record){.width = mi->width, .height = mi->height, .patch = o->patch_size};
+    if (!tp_build_part_plan(g, o->part_index, o->part_count, &rec->part, &err) ||
+        !tp_build_part_key(o, &rec->key, &err))
+        return fail_line(err.message), 0;
+    if (!o->quiet)
+        tp_cli_note("part %d/%d: leaf rows %d .. %d of %d (grid rows %d .. %d), split at scale %d",
+                    o->part_index, o->part_count, rec->part.band0, rec->part.band1 - 1, g->rows,
+                    rec->part.band0 * (o->patch_size - 1),
+                    rec->part.band1 == g->rows ? mi->height - 1
+                                               : rec->part.band1 * (o->patch_size - 1),
+                    rec->part.split_scale);
+    return 1;
 }
 
 int tp_store_build(const tp_build_options* options, tp_build_result* result)
@@ -575,9 +625,18 @@ int tp_store_build(const tp_build_options* options, tp_build_result* result)
         return TP_EXIT_FAILURE;
     }
     const int ps = 1 << g.n;
-    const double samples = (double)mi.width * mi.height;
+    tp_build_part_record rec = {0}; /* a part: its strip of the grid */
+    tp_tree_geometry sg = g;
+    if (o->part_count > 0) {
+        if (!part_record(o, &mi, &g, &rec)) {
+            tp_mosaic_close(m);
+            return TP_EXIT_FAILURE;
+        }
+        tp_build_part_strip(&g, &rec.part, &sg);
+    }
+    const double samples = (double)sg.src_width * sg.src_height;
     build_totals t;
-    const tp_status st = build_passes(o, m, &mi, &g, &t, &err);
+    const tp_status st = build_passes(o, m, &mi, &g, o->part_count > 0 ? &rec : NULL, &t, &err);
     const size_t filled = tp_mosaic_filled_samples(m);
     tp_mosaic_voids mv;
     tp_mosaic_get_voids(m, &mv);
@@ -597,10 +656,10 @@ int tp_store_build(const tp_build_options* options, tp_build_result* result)
     const uint64_t bytes = file_size(o->out);
     const double rss_mb = tp_memory_peak_rss() / (1024.0 * 1024.0);
     if (!o->quiet)
-        tp_cli_note("%s: %dx%d samples, %lld nodes, %.3f bytes/sample, step %g m, "
+        tp_cli_note("%s: %dx%d samples%s, %lld nodes, %.3f bytes/sample, step %g m, "
                     "%.1f s, peak RSS %.0f MB",
-                    o->out, mi.width, mi.height, (long long)t.nodes, bytes / samples, t.step,
-                    seconds, rss_mb);
+                    o->out, sg.src_width, sg.src_height, o->part_count > 0 ? " (a part)" : "",
+                    (long long)t.nodes, bytes / samples, t.step, seconds, rss_mb);
 
     if (result) {
         *result = (tp_build_result){.width = mi.width,

@@ -35,9 +35,16 @@ typedef struct tp_build_options {
     const char* fill_from; /* fill voids from this raster, or NULL */
     const char* z_unit;    /* m, ft or us-ft; NULL: the sources' */
     int allow_gaps;        /* build even when the sources cover under TP_BUILD_MIN_COVERED */
+    int height_range_given; /* the heights lie in height_range_m (metres): the step follows from
+                              it, no range pass, nothing read for a bound; a height outside is
+                              an error */
+    double height_range_m[2];
     double height_step_m;  /* the quantisation step; 0 (the default): from the heights (1 m
                               where every height is whole, 1/16 m where resampled from whole
                               metres, else the finest power of two the range allows) */
+    int part_index, part_count; /* > 0: part part_index (1 ..) of part_count of a build in
+                              parts (build_part.h): the part's strip of the grid, its store
+                              noting what merge needs; 0: the whole grid */
     int threads;           /* 0: every core */
     int quiet;             /* no notes or progress on stderr */
     /* > 0: a preview (the store cache's first picture of a large DEM): the render grid

@@ -281,6 +281,21 @@ tp_status tp_tree_builder_add_band_filled(tp_tree_builder* b, int r, const int32
                                           const uint8_t* filled, size_t q_count, tp_error* err);
 void tp_tree_builder_destroy(tp_tree_builder* b); /* accepts NULL */
 
+/* The node of scale >= 1 above 4 children, exactly as the band builder computes it (a build in
+ * parts joins its parts' top nodes with this): its samples (every other sample of its
+ * children's), its cell mask (tp_node_mask_from_children), its filled bits and its meta
+ * (tp_node_meta_compute, TP_NODE_HAS_FILLED when one of its drawn samples is filled).
+ * child_q[k]: the children's (2^n+1)^2 global quantised heights (INT32_MIN = not drawn),
+ * child_mask[k] their masks, child_filled[k] their filled bits (NULL: none), children[k] their
+ * metas, quadrants as tp_tree_node_child numbers them. Writes q ((2^n+1)^2), mask
+ * (tp_node_mask_words(n)), filled (tp_node_filled_words(n), all 0 without the flag) and *out.
+ * Cannot fail. */
+void tp_tree_node_from_children(int n, int scale, const int32_t* const child_q[4],
+                                const uint16_t* const child_mask[4],
+                                const uint16_t* const child_filled[4],
+                                const tp_node_meta* const children[4], double err_unit_steps,
+                                int32_t* q, uint16_t* mask, uint16_t* filled, tp_node_meta* out);
+
 /* ---- the tree at run time: metas for every node, samples for the resident ones ---- */
 typedef struct tp_tree tp_tree;
 

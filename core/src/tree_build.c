@@ -299,6 +299,38 @@ tp_status tp_tree_builder_add_band_filled(tp_tree_builder* b, int r, const int32
     return TP_OK;
 }
 
+void tp_tree_node_from_children(int n, int scale, const int32_t* const child_q[4],
+                                const uint16_t* const child_mask[4],
+                                const uint16_t* const child_filled[4],
+                                const tp_node_meta* const children[4], double err_unit_steps,
+                                int32_t* q, uint16_t* mask, uint16_t* filled, tp_node_meta* out)
+{
+    assert(n >= 4 && n <= TP_MAX_N && scale >= 1 && child_q && child_mask && children && q &&
+           mask && filled && out);
+    const int ps = 1 << n, side = ps + 1, half = ps >> 1;
+    const size_t fwords = tp_node_filled_words(n);
+    memset(filled, 0, fwords * sizeof *filled);
+    int any = 0;
+    /* sample i of the node is sample 2i of the left child, or 2i - 2^n of the right one */
+    for (int j = 0; j < side; j++) {
+        const int qy = j > half, cj = qy ? 2 * j - ps : 2 * j;
+        for (int i = 0; i < side; i++) {
+            const int qx = i > half, ci = qx ? 2 * i - ps : 2 * i, k = qy * 2 + qx;
+            const size_t at = (size_t)cj * side + (size_t)ci, to = (size_t)j * side + (size_t)i;
+            q[to] = child_q[k][at];
+            const uint16_t* f = child_filled ? child_filled[k] : NULL;
+            if (f && q[to] != INT32_MIN && (f[at >> 4] >> (at & 15) & 1)) {
+                filled[to >> 4] |= (uint16_t)(1u << (to & 15));
+                any = 1;
+            }
+        }
+    }
+    tp_node_mask_from_children(n, child_mask, mask);
+    tp_node_meta_compute(n, scale, q, mask, children, err_unit_steps, out);
+    if (any)
+        out->flags |= TP_NODE_HAS_FILLED;
+}
+
 /* ---------------------------------------------------------------------------------------------
  * A whole tree from a float grid
  */

@@ -565,6 +565,11 @@ tp_status Opening::finish_open(tp_mosaic* m, tp_error* err) const
     bool stats = o.resampling != TP_RESAMPLING_CUBIC;
     for (const Source& s : src)
         stats = stats && s.has_stats;
+    if (o.range_given) { /* metres, as the caller knows them */
+        m->has_range = true;
+        m->min_m = o.range_min_m, m->max_m = o.range_max_m;
+        return TP_OK;
+    }
     if (stats) {
         m->has_range = true;
         m->min_m = src[0].stat_min, m->max_m = src[0].stat_max;

@@ -456,6 +456,51 @@ extern "C" const tp_node_meta* tp_store_metas(const tp_store* s, size_t* count)
     return s->metas;
 }
 
+/* Node's stored bytes into the thread's t.stored, checked against the location's bounds
+ * (again: the file may have been changed in place since open) and its CRC32. */
+static tp_status read_checked(const tp_store* s, int64_t node, Entry* out, tp_error* err)
+{
+    const char* path = s->path.c_str();
+    const Entry e = decode_loc(s->locs + (size_t)node * LOC_BYTES);
+    if (e.bytes == 0 || e.bytes > max_stored_bytes(s->header.geometry.n) ||
+        e.offset < s->tables.data_offset || e.offset > s->data_end ||
+        e.bytes > s->data_end - e.offset)
+        return fail(err, TP_ERR_BAD_DATA,
+                    "%s: %s, %u bytes at byte %" PRIu64
+                    ": data outside the data area (was the file changed?)",
+                    path, node_name(s, node).c_str(), e.bytes, e.offset);
+    ThreadScratch& t = t_scratch;
+    t.stored.resize(e.bytes);
+    if (int code = read_at(s->fd, t.stored.data(), e.bytes, e.offset))
+        return fail(err, TP_ERR_IO, "%s: %s, %u bytes at byte %" PRIu64 ": cannot read: %s",
+                    path, node_name(s, node).c_str(), e.bytes, e.offset,
+                    code == EIO ? "the file ended early (was it changed?)" : std::strerror(code));
+    const uint32_t crc = crc32_of(t.stored.data(), e.bytes);
+    if (crc != e.crc)
+        return fail(err, TP_ERR_BAD_DATA,
+                    "%s: %s, %u bytes at byte %" PRIu64
+                    ": damaged data: checksum mismatch (stored 0x%08x, computed 0x%08x)",
+                    path, node_name(s, node).c_str(), e.bytes, e.offset, e.crc, crc);
+    *out = e;
+    return TP_OK;
+}
+
+extern "C" tp_status tp_store_read_stored(const tp_store* s, int64_t node, tp_store_stored* out,
+                                          tp_error* err)
+{
+    assert(s && out && node >= 0 && node < s->header.geometry.node_count);
+    try {
+        Entry e;
+        if (const tp_status st = read_checked(s, node, &e, err))
+            return st;
+        const ThreadScratch& t = t_scratch;
+        *out = tp_store_stored{t.stored.data(), e.bytes, e.crc, (int)e.codec};
+        return TP_OK;
+    } catch (...) {
+        return tpio::caught(err, s->path.c_str());
+    }
+}
+
 extern "C" tp_status tp_store_read_node(const tp_store* s, int64_t node, uint16_t* samples,
                                         size_t sample_capacity, tp_error* err)
 {
@@ -465,28 +510,10 @@ extern "C" tp_status tp_store_read_node(const tp_store* s, int64_t node, uint16_
     assert(sample_capacity >= count);
     const char* path = s->path.c_str();
     try {
-        /* Read once from the mapping and checked again: open checked every entry, but the
-         * file may have been changed in place since (bounds only; the CRC32 does the rest). */
-        const Entry e = decode_loc(s->locs + (size_t)node * LOC_BYTES);
-        if (e.bytes == 0 || e.bytes > max_stored_bytes(s->header.geometry.n) ||
-            e.offset < s->tables.data_offset || e.offset > s->data_end ||
-            e.bytes > s->data_end - e.offset)
-            return fail(err, TP_ERR_BAD_DATA,
-                        "%s: %s, %u bytes at byte %" PRIu64
-                        ": data outside the data area (was the file changed?)",
-                        path, node_name(s, node).c_str(), e.bytes, e.offset);
+        Entry e;
+        if (const tp_status st = read_checked(s, node, &e, err))
+            return st;
         ThreadScratch& t = t_scratch;
-        t.stored.resize(e.bytes);
-        if (int code = read_at(s->fd, t.stored.data(), e.bytes, e.offset))
-            return fail(err, TP_ERR_IO, "%s: %s, %u bytes at byte %" PRIu64 ": cannot read: %s",
-                        path, node_name(s, node).c_str(), e.bytes, e.offset,
-                        code == EIO ? "the file ended early (was it changed?)" : std::strerror(code));
-        const uint32_t crc = crc32_of(t.stored.data(), e.bytes);
-        if (crc != e.crc)
-            return fail(err, TP_ERR_BAD_DATA,
-                        "%s: %s, %u bytes at byte %" PRIu64
-                        ": damaged data: checksum mismatch (stored 0x%08x, computed 0x%08x)",
-                        path, node_name(s, node).c_str(), e.bytes, e.offset, e.crc, crc);
         if (!t.dctx && !(t.dctx = ZSTD_createDCtx()))
             throw std::bad_alloc();
         t.samples.resize(count);

@@ -173,6 +173,52 @@ tp_status crc_read_back(tp_store_writer* w, uint64_t offset, uint64_t size, uint
     return TP_OK;
 }
 
+/* What every added node is checked for: a writer that has not failed, a node that exists and
+ * was not added, known flags. */
+tp_status check_node(const tp_store_writer* w, int64_t node, const tp_node_meta* meta,
+                     tp_error* err)
+{
+    const char* path = w->path.c_str();
+    if (w->failed != TP_OK)
+        return fail(err, w->failed, "%s", w->failure.empty() ? path : w->failure.c_str());
+    const tp_tree_geometry& g = w->geometry;
+    if (node < 0 || node >= g.node_count)
+        return fail(err, TP_ERR_INVALID_ARG, "%s: node %lld does not exist (%lld nodes)", path,
+                    (long long)node, (long long)g.node_count);
+    if (w->have[(size_t)node])
+        return fail(err, TP_ERR_INVALID_ARG, "%s: node %lld added twice", path, (long long)node);
+    if (meta->flags & ~KNOWN_FLAGS)
+        return fail(err, TP_ERR_INVALID_ARG, "%s: node %lld: unknown meta flags 0x%02x", path,
+                    (long long)node, meta->flags);
+    return TP_OK;
+}
+
+/* Appends a node's stored bytes and writes its table entries into the run (flushed when the
+ * ids stop running on). */
+tp_status append_node(tp_store_writer* w, int64_t node, const tp_node_meta* meta,
+                      const uint8_t* bytes, size_t size, uint32_t crc, Codec codec, tp_error* err)
+{
+    const tp_status s = tp_file_append(w->file, bytes, size, err);
+    if (s != TP_OK)
+        return note(w, s, err);
+    if (w->run_count > 0 &&
+        (w->run_count == RUN_NODES || node != w->run_first + (int64_t)w->run_count)) {
+        const tp_status fs = flush_run(w, err);
+        if (fs != TP_OK)
+            return fs;
+    }
+    if (w->run_count == 0)
+        w->run_first = node;
+    encode_meta(w->run_metas.data() + w->run_count * META_BYTES, w->geometry.n, meta);
+    encode_loc(w->run_locs.data() + w->run_count * LOC_BYTES, w->offset, (uint32_t)size, crc,
+               codec);
+    ++w->run_count;
+    w->offset += size;
+    w->have[(size_t)node] = true;
+    --w->missing;
+    return TP_OK;
+}
+
 } // namespace
 
 extern "C" tp_status tp_store_writer_begin(const char* path, const tp_store_header* header,
@@ -250,17 +296,9 @@ extern "C" tp_status tp_store_writer_add_node_filled(tp_store_writer* w, int64_t
     if (!w || !meta || !q)
         return fail(err, TP_ERR_INVALID_ARG, "store: bad arguments (writer, meta or q is NULL)");
     const char* path = w->path.c_str();
-    if (w->failed != TP_OK)
-        return fail(err, w->failed, "%s", w->failure.empty() ? path : w->failure.c_str());
+    if (const tp_status s = check_node(w, node, meta, err))
+        return s;
     const tp_tree_geometry& g = w->geometry;
-    if (node < 0 || node >= g.node_count)
-        return fail(err, TP_ERR_INVALID_ARG, "%s: node %lld does not exist (%lld nodes)", path,
-                    (long long)node, (long long)g.node_count);
-    if (w->have[(size_t)node])
-        return fail(err, TP_ERR_INVALID_ARG, "%s: node %lld added twice", path, (long long)node);
-    if (meta->flags & ~KNOWN_FLAGS)
-        return fail(err, TP_ERR_INVALID_ARG, "%s: node %lld: unknown meta flags 0x%02x", path,
-                    (long long)node, meta->flags);
     int scale, col, row;
     node_locate(g, node, &scale, &col, &row);
     const bool with_mask = stores_mask(*meta, scale);
@@ -332,25 +370,34 @@ extern "C" tp_status tp_store_writer_add_node_filled(tp_store_writer* w, int64_t
             w->packed.resize(w->packed.size() + 4);
             put_u32(w->packed.data() + w->packed.size() - 4, (uint32_t)frame);
         }
-        const tp_status s = tp_file_append(w->file, w->packed.data(), w->packed.size(), err);
-        if (s != TP_OK)
-            return note(w, s, err);
-        if (w->run_count > 0 && (w->run_count == RUN_NODES ||
-                                 node != w->run_first + (int64_t)w->run_count)) {
-            const tp_status fs = flush_run(w, err);
-            if (fs != TP_OK)
-                return fs;
-        }
-        if (w->run_count == 0)
-            w->run_first = node;
-        encode_meta(w->run_metas.data() + w->run_count * META_BYTES, g.n, meta);
-        encode_loc(w->run_locs.data() + w->run_count * LOC_BYTES, w->offset,
-                   (uint32_t)w->packed.size(), crc32_of(w->packed.data(), w->packed.size()), codec);
-        ++w->run_count;
-        w->offset += w->packed.size();
-        w->have[(size_t)node] = true;
-        --w->missing;
-        return TP_OK;
+        return append_node(w, node, meta, w->packed.data(), w->packed.size(),
+                           crc32_of(w->packed.data(), w->packed.size()), codec, err);
+    } catch (...) {
+        return note(w, tpio::caught(err, path), err);
+    }
+}
+
+extern "C" tp_status tp_store_writer_add_stored(tp_store_writer* w, int64_t node,
+                                                const tp_node_meta* meta,
+                                                const tp_store_stored* stored, tp_error* err)
+{
+    if (!w || !meta || !stored || !stored->bytes)
+        return fail(err, TP_ERR_INVALID_ARG, "store: bad arguments (writer, meta or bytes NULL)");
+    const char* path = w->path.c_str();
+    if (const tp_status s = check_node(w, node, meta, err))
+        return s;
+    const int n = w->geometry.n;
+    if ((stored->codec != CODEC_RAW && stored->codec != CODEC_PLANAR_ZSTD) || stored->size == 0 ||
+        stored->size > max_stored_bytes(n))
+        return fail(err, TP_ERR_INVALID_ARG, "%s: node %lld: codec %d, %zu bytes: not a node's",
+                    path, (long long)node, stored->codec, stored->size);
+    const uint32_t crc = crc32_of(stored->bytes, stored->size);
+    if (crc != stored->crc)
+        return fail(err, TP_ERR_BAD_DATA, "%s: node %lld: its bytes do not match their CRC32",
+                    path, (long long)node);
+    try {
+        return append_node(w, node, meta, stored->bytes, stored->size, crc, (Codec)stored->codec,
+                           err);
     } catch (...) {
         return note(w, tpio::caught(err, path), err);
     }

@@ -52,6 +52,11 @@ typedef struct tp_mosaic_options {
                                  agree. Heights are read in metres */
     int fill_window_mb;       /* memory for the void window; 0: memory_mb / 8, taken from GDAL's
                                  block cache (which then gets an eighth, not a quarter) */
+    /* A bound of the grid's heights (metres) the caller knows: tp_mosaic_info.has_range with
+     * it, and neither statistics nor the files a VRT repeats are read for one (a build in parts
+     * gives every part the same: docs/distribution.md). 0: found as has_range says. */
+    int range_given;
+    double range_min_m, range_max_m;
     int coarsen;              /* > 1: a coarse grid for a preview: the render grid's posts this
                                  many times farther apart (the same extent and CRS), every
                                  source resampled onto it by the warp (its filter widened to the

@@ -65,6 +65,20 @@ tp_status tp_store_writer_add_node_filled(tp_store_writer* w, int64_t node,
                                           const tp_node_meta* meta, const int32_t* q,
                                           const uint16_t* mask, const uint16_t* filled,
                                           tp_error* err);
+/* A node's stored bytes as a store holds them (tp_store_read_stored): copied from one store to
+ * another without decoding (`terrapatch merge` joins the parts of a build so). */
+typedef struct tp_store_stored {
+    const uint8_t* bytes; /* the node's data: samples, cell mask, filled bits, as encoded */
+    size_t size;
+    uint32_t crc;         /* CRC32 of bytes */
+    int codec;            /* as the location table names it */
+} tp_store_stored;
+/* Adds one node from its stored bytes (read from another store of the same n by
+ * tp_store_read_stored, with the same meta): appended as they are. The checks of
+ * tp_store_writer_add_node on the node and its meta, and the CRC32 of the bytes against
+ * stored->crc (TP_ERR_BAD_DATA when it differs); TP_ERR_IO as there. */
+tp_status tp_store_writer_add_stored(tp_store_writer* w, int64_t node, const tp_node_meta* meta,
+                                     const tp_store_stored* stored, tp_error* err);
 /* The header's values known only once the whole grid has been read (a build that reads its
  * sources once): they replace the header's quant_max_error_m, valid_samples and nodata_samples
  * given to tp_store_writer_begin; commit writes the header again with them (tp_file_rewrite of
@@ -120,6 +134,12 @@ const tp_node_meta* tp_store_metas(const tp_store* s, size_t* count);
  * only on success. */
 tp_status tp_store_read_node(const tp_store* s, int64_t node, uint16_t* samples,
                              size_t sample_capacity, tp_error* err);
+/* Reads node's stored bytes (tp_store_stored: not decoded) and checks them against their
+ * CRC32, for tp_store_writer_add_stored. The bytes are the calling thread's, valid until its
+ * next read of any store. TP_ERR_BAD_DATA / TP_ERR_IO as tp_store_read_node, naming the file,
+ * the node and its byte offset. */
+tp_status tp_store_read_stored(const tp_store* s, int64_t node, tp_store_stored* out,
+                               tp_error* err);
 /* The tree of an open store (tp_tree_create with the header's geometry, geotransform, height
  * step, quantisation error and error unit, and the store's metas): no node resident yet; attach
  * blocks read with tp_store_read_node. The tree borrows the store's metas: destroy it before
