@@ -447,6 +447,8 @@ extern "C" tp_status tp_store_open(const char* path, tp_store** out, tp_error* e
 
 extern "C" void tp_store_close(tp_store* s) { delete s; }
 
+extern "C" int tp_store_changed(const tp_store* s) { return s && s->file.changed(); }
+
 extern "C" void tp_store_get_info(const tp_store* s, tp_store_info* out)
 {
     assert(s && out);

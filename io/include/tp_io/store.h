@@ -110,6 +110,9 @@ typedef struct tp_store_info {
  * message naming path; *out written only on success. */
 tp_status tp_store_open(const char* path, tp_store** out, tp_error* err);
 void tp_store_close(tp_store* s); /* accepts NULL */
+/* 1 once a read of a store over HTTP found its file replaced on the server (every later read
+ * fails); 0 otherwise and always for a local file. Thread-safe. */
+int tp_store_changed(const tp_store* s);
 void tp_store_get_info(const tp_store* s, tp_store_info* out);
 /* Every node's meta (node_count of them, in id order; delta[k > n], eps[][kn >= n] and pad_
  * are 0), owned by s and valid while s is open: a read-only mapping of the file's node table. */
