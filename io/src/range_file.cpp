@@ -45,22 +45,28 @@ public:
         for (const auto& d : defaults)
             if (!CPLGetConfigOption(d[0], nullptr))
                 set(d[0], d[1]);
+        set("CPL_DEBUG", "ON"); /* the reason of a failure (note_handler) */
     }
     ~HttpScope()
     {
         for (auto& s : saved_)
-            CPLSetThreadLocalConfigOption(s.first, s.second.c_str());
+            CPLSetThreadLocalConfigOption(s.first, s.second.set ? s.second.value.c_str() : nullptr);
     }
     HttpScope(const HttpScope&) = delete;
     HttpScope& operator=(const HttpScope&) = delete;
 
 private:
+    struct Saved {
+        bool set;
+        std::string value;
+    };
     void set(const char* key, const char* value)
     {
-        saved_.emplace_back(key, std::string());
+        const char* was = CPLGetThreadLocalConfigOption(key, nullptr);
+        saved_.emplace_back(key, Saved{was != nullptr, was ? was : ""});
         CPLSetThreadLocalConfigOption(key, value);
     }
-    std::vector<std::pair<const char*, std::string>> saved_;
+    std::vector<std::pair<const char*, Saved>> saved_;
 };
 
 /* "Name: value" as one item of GDAL_HTTP_HEADERS, which splits at commas and takes a double
@@ -78,6 +84,40 @@ std::string gdal_header(const char* name, const std::string& value)
     }
     return q + '"';
 }
+
+/* What GDAL said of this thread's last failed request: its debug lines (CPL_DEBUG, on in an
+ * HttpScope) are where /vsicurl/ names the HTTP status or libcurl's error; nothing is printed. */
+thread_local std::string t_http_note;
+
+void CPL_STDCALL note_handler(CPLErr cls, CPLErrorNum, const char* msg)
+{
+    if (!msg)
+        return;
+    if (cls != CE_Debug) {
+        t_http_note = msg;
+        return;
+    }
+    if (std::strncmp(msg, "VSICURL", 7) != 0)
+        return;
+    if (const char* m = std::strstr(msg, "msg="))
+        t_http_note = m + 4;
+    else if (const char* c = std::strstr(msg, "Got response_code="))
+        if (std::atoi(c + 18) >= 300) /* 0: no answer, 206: cut short; msg= said why */
+            t_http_note = "HTTP " + std::string(c + 18);
+}
+
+/* GDAL's messages of a scope caught by note_handler, none printed. */
+struct NoteScope {
+    NoteScope()
+    {
+        t_http_note.clear();
+        CPLPushErrorHandler(note_handler);
+        CPLErrorReset();
+    }
+    ~NoteScope() { CPLPopErrorHandler(); }
+    NoteScope(const NoteScope&) = delete;
+    NoteScope& operator=(const NoteScope&) = delete;
+};
 
 /* What names one version of a file on a server. */
 struct Identity {
@@ -100,7 +140,7 @@ Identity ask_identity(const std::string& vsi)
 {
     Identity id;
     HttpScope http("");
-    QuietGdal quiet;
+    NoteScope quiet;
     char** md = VSIGetFileMetadata(vsi.c_str(), "HEADERS", nullptr);
     for (char** m = md; m && *m; ++m) {
         const char* eq = std::strchr(*m, '=');
@@ -164,9 +204,9 @@ tp_status RangeFile::open(const char* path, const char* what, tp_error* err)
     VSIStatBufL sb;
     {
         HttpScope http("");
-        QuietGdal quiet;
+        NoteScope quiet;
         if (VSIStatExL(r_->vsi.c_str(), &sb, VSI_STAT_SIZE_FLAG) != 0) {
-            const std::string why = CPLGetLastErrorMsg();
+            const std::string why = t_http_note;
             return fail(err, TP_ERR_IO, "%s: cannot open: %s", path,
                         why.empty() ? "no such file on the server (or the server cannot be "
                                       "reached)"
@@ -232,12 +272,12 @@ bool RangeFile::read(void* buf, size_t size, uint64_t offset, std::string* why) 
     std::string gdal;
     {
         HttpScope http(r_->precondition);
-        QuietGdal quiet;
+        NoteScope quiet;
         if (!f)
             f = VSIFOpenL(r_->vsi.c_str(), "rb");
         if (f && VSIFSeekL(f, offset, SEEK_SET) == 0)
             got = VSIFReadL(buf, 1, size, f);
-        gdal = CPLGetLastErrorMsg();
+        gdal = t_http_note;
     }
     if (got == size) {
         std::lock_guard<std::mutex> lock(r_->mu);
@@ -248,9 +288,8 @@ bool RangeFile::read(void* buf, size_t size, uint64_t offset, std::string* why) 
         VSIFCloseL(f); /* its state after a failure is not to be trusted */
     if (check_changed(why))
         return false;
-    *why = !gdal.empty() ? gdal
-                         : "the server sent " + std::to_string(got) + " of the " +
-                               std::to_string(size) + " bytes asked for";
+    *why = "the server sent " + std::to_string(got) + " of the " + std::to_string(size) +
+           " bytes asked for" + (gdal.empty() ? "" : " (" + gdal + ")");
     return false;
 }
 
