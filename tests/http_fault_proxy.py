@@ -18,7 +18,8 @@ answer. The path says what to do with it:
                                  then every request (HEAD included) to /OTHER: a file replaced
                                  on the server between two reads
 
-Each request is logged to LOG as one line: method, path, Range, status sent.
+Each request is logged to LOG as one line: the time it was answered (s), method, path, Range,
+status sent.
 """
 import http.client
 import os
@@ -40,7 +41,7 @@ lock = threading.Lock()
 
 def log(line):
     with lock, open(LOG, "a") as f:
-        f.write(line + "\n")
+        f.write("%.3f %s\n" % (time.time(), line))
 
 
 class Handler(http.server.BaseHTTPRequestHandler):

@@ -274,7 +274,11 @@ tp_stream* tp_stream_create(const tp_store* store, tp_tree* tree, const tp_strea
     free(ids);
     /* Several loaders for a store over HTTP: each waits on its request, so that many are in
      * flight at once (a local disk answers in microseconds: one is enough). */
-    int loaders = o && o->loaders > 0 ? o->loaders : s->info.remote ? 8 : 1;
+    const char* env = getenv("TP_STREAM_LOADERS"); /* measurements: docs/PERFORMANCE.md */
+    int loaders = o && o->loaders > 0 ? o->loaders
+                  : env && atoi(env) > 0 ? atoi(env)
+                  : s->info.remote      ? 8
+                                        : 1;
     loaders = loaders < MAX_LOADERS ? loaders : MAX_LOADERS;
     for (int i = 0; !(o && o->no_loader) && i < loaders; i++) {
         if (pthread_create(&s->threads[i], NULL, loader_main, s) != 0) {

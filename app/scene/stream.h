@@ -39,8 +39,10 @@ typedef struct tp_stream_options {
     size_t memory_bytes;     /* budget of decoded node samples; 0: 1 GiB */
     double prefetch_s;       /* how far ahead the motion is extrapolated; 0: 0.5 s */
     int no_loader;           /* tests: load nothing in the background (only tp_stream_require) */
-    int loaders;             /* loader threads, each with one read in flight; 0: 8 for a store
-                                over HTTP (tp_store_info.remote), 1 for a local file; at most 16 */
+    int loaders;             /* loader threads, each with one read in flight; 0: the
+                                environment's TP_STREAM_LOADERS if set (to measure), else 8 for
+                                a store over HTTP (tp_store_info.remote), 1 for a local file; at
+                                most 16 */
     double frame_s;          /* > 0: each tp_stream_frame is this much later than the last, for
                                 the motion estimate (a bench flying a fixed-rate flight faster
                                 than it draws); 0: the real clock */
