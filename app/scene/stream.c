@@ -236,7 +236,8 @@ tp_stream* tp_stream_create(const tp_store* store, tp_tree* tree, const tp_strea
     s->block_samples = tp_tree_block_words(s->g->n); /* samples and cell mask */
     s->block_bytes = s->block_samples * sizeof(uint16_t);
     s->budget = o && o->memory_bytes ? o->memory_bytes : (size_t)1 << 30;
-    s->prefetch_s = o && o->prefetch_s > 0 ? o->prefetch_s : 0.5;
+    /* over HTTP a node takes a round trip and a queue: look further ahead */
+    s->prefetch_s = o && o->prefetch_s > 0 ? o->prefetch_s : s->info.remote ? 1.5 : 0.5;
     s->frame_s = o && o->frame_s > 0 ? o->frame_s : 0;
     size_t count = (size_t)s->g->node_count;
     s->state = calloc(count, 1);

@@ -37,7 +37,8 @@ typedef struct tp_stream tp_stream;
 
 typedef struct tp_stream_options {
     size_t memory_bytes;     /* budget of decoded node samples; 0: 1 GiB */
-    double prefetch_s;       /* how far ahead the motion is extrapolated; 0: 0.5 s */
+    double prefetch_s;       /* how far ahead the motion is extrapolated; 0: 0.5 s (1.5 s for a
+                                store over HTTP, whose nodes take a round trip each) */
     int no_loader;           /* tests: load nothing in the background (only tp_stream_require) */
     int loaders;             /* loader threads, each with one read in flight; 0: the
                                 environment's TP_STREAM_LOADERS if set (to measure), else 8 for

@@ -53,6 +53,8 @@ public:
 
 private:
     struct Remote;
+    /* A large read of a URL: one request of exactly its range (range_file.cpp) */
+    bool fetch(void* buf, size_t size, uint64_t offset, std::string* why) const;
     int fd_ = -1;
     bool remote_ = false;
     uint64_t size_ = 0;
