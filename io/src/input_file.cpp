@@ -84,7 +84,7 @@ extern "C" tp_status tp_input_url_head(const char* url, unsigned char* head, siz
 {
     try {
         tpio::RangeFile f;
-        if (tp_status st = f.open(url, "a file", err))
+        if (tp_status st = f.open(url, "a file", err, false))
             return st;
         std::string why;
         if (f.size() < n)

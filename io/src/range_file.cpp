@@ -191,7 +191,7 @@ RangeFile::~RangeFile()
         close(fd_);
 }
 
-tp_status RangeFile::open(const char* path, const char* what, tp_error* err)
+tp_status RangeFile::open(const char* path, const char* what, tp_error* err, bool pin)
 {
     if (!is_url(path)) {
         if (tp_status st = check_input_file(path, what, false, err))
@@ -221,8 +221,10 @@ tp_status RangeFile::open(const char* path, const char* what, tp_error* err)
                                     : why.c_str());
         }
     }
-    r_->opened = ask_identity(r_->vsi);
     size_ = (uint64_t)sb.st_size;
+    if (!pin)
+        return TP_OK;
+    r_->opened = ask_identity(r_->vsi);
     if (r_->opened.ok && r_->opened.size != size_) /* replaced between the two requests */
         return fail(err, TP_ERR_IO, "%s: cannot open: the file changed on the server while it "
                     "was being opened: try again", path);
@@ -238,7 +240,7 @@ tp_status RangeFile::open(const char* path, const char* what, tp_error* err)
 
 bool RangeFile::check_changed(std::string* why) const
 {
-    if (!remote_)
+    if (!remote_ || !r_->opened.ok) /* not pinned, or the server names no version */
         return false;
     if (!changed_.load()) {
         const Identity now = ask_identity(r_->vsi);

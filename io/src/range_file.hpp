@@ -33,8 +33,9 @@ public:
 
     /* Opens path, a local regular file (refused as check_input_file refuses: `what` names what
      * it should have been) or an http(s) URL (its size asked of the server: "URL: cannot open:
-     * HTTP 404" and the like). TP_ERR_IO with a message starting with path. */
-    tp_status open(const char* path, const char* what, tp_error* err);
+     * HTTP 404" and the like; with pin, also its ETag and Last-Modified, which every later
+     * request then carries: a HEAD request more). TP_ERR_IO with a message starting with path. */
+    tp_status open(const char* path, const char* what, tp_error* err, bool pin = true);
     uint64_t size() const { return size_; }
     bool remote() const { return remote_; }
     int fd() const { return fd_; } /* local files only; -1 for a URL */
