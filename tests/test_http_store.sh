@@ -6,7 +6,8 @@
 # its paths name. Both are stopped by a trap whatever happens: no daemon is left behind.
 #   same:   info, point (3 positions) and bench (headless, 20 frames) over the URL, through the
 #           50 ms proxy, answer as over the local file (bench: triangles, nodes drawn, measured
-#           error); info straight from nginx too; a URL that is not a store, one that is not
+#           error); info straight from nginx too; an imagery pyramid's URL (info, found beside
+#           its store's URL, bench --imagery URL); a URL that is not a store, one that is not
 #           there: one line, exit 1
 #   faults: point with the node it reads answered by 404, 500, a reset, a body cut short, a
 #           stall (GDAL_HTTP_LOW_SPEED_TIME=2) or the file replaced between two reads: exit 1,
@@ -28,6 +29,10 @@ chmod 755 "$WORK" "$WORK/www" # nginx's workers read as another user when starte
 "$TP" build "$DATA/lf_elev_220_mt_hood_utm.tif" --patch 33 -o www/other.tpt > /dev/null 2> err ||
     fail "build other.tpt"
 cp "$DATA/lf_elev_220_mt_hood_utm.tif" www/dem.tif
+"$TP" build "$DATA/craterlake-elev-16bit-30m.tif" -o www/crater.tpt > /dev/null 2> err ||
+    fail "build crater.tpt"
+"$TP" imagery www/crater.tpt "$DATA/craterlake-imagery-30m.tif" > /dev/null 2> err ||
+    fail "imagery crater.tpi"
 
 NGINX_PID= PROXY_PID=
 stop() { # nginx's master stops its workers; wait for both to be gone
@@ -104,6 +109,27 @@ for x, y in zip(a, b):
         assert x[k] == y[k], "%s %s: local %s, over HTTP %s" % (x["lod_mode"], k, x[k], y[k])
 gets = [l for l in open(sys.argv[3]) if l.split()[1] == "GET"]
 assert gets and all(l.split()[-1] == "206" for l in gets), "not every GET was a range answered 206"
+EOF
+    # an imagery pyramid: info, found beside its store's URL, draped by bench over URLs
+    "$TP" info www/crater.tpi > local.txt 2> err || fail "info of crater.tpi"
+    "$TP" info "http://127.0.0.1:$PP/ok/crater.tpi" > out 2> err || fail "info of crater.tpi's URL"
+    diff <(tail -n +2 local.txt) <(tail -n +2 out) > /dev/null || fail "info of crater.tpi's URL differs"
+    "$TP" info "http://127.0.0.1:$PP/ok/crater.tpt" > out 2> err || fail "info of crater.tpt's URL"
+    grep -q "^imagery: *http://127.0.0.1:$PP/ok/crater.tpi: 434 x 384 texels" out ||
+        fail "info of crater.tpt's URL does not find crater.tpi beside it"
+    "$TP" bench www/crater.tpt --imagery www/crater.tpi --frames 10 --segments 1 --no-error \
+        --json local.json > /dev/null 2> err || fail "bench --imagery (local)"
+    "$TP" bench "http://127.0.0.1:$PP/ok/crater.tpt" --imagery "http://127.0.0.1:$PP/ok/crater.tpi" \
+        --frames 10 --segments 1 --no-error --json url.json > /dev/null 2> err ||
+        fail "bench --imagery over HTTP: exit $?"
+    python3 - local.json url.json << 'EOF' > out 2>&1 || fail "bench --imagery over HTTP: $(cat out)"
+import json, sys
+a, b = (json.load(open(p))["configurations"] for p in sys.argv[1:3])
+x, y = a[-1], b[-1]
+assert x["imagery"] and y["imagery"], "no imagery configuration"
+for k in ("triangles_median", "imagery_final_diff_pixels"):
+    assert x[k] == y[k], "%s: local %s, over HTTP %s" % (k, x[k], y[k])
+assert y["imagery_final_diff_pixels"] == 0
 EOF
     # not a store, not there
     "$TP" info "http://127.0.0.1:$port/dem.tif" > out 2> err && fail "info of a DEM's URL: exit 0"
