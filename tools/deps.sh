@@ -32,9 +32,13 @@ set -eu
 # tests/test_contours_levels.c (gdal_contour, the reference for contours' levels) run.
 # libzstd-dev, zlib1g-dev: the store's compression and checksums (io/src/store_codec.cpp).
 # libnova-dev: the sun's position, rise and set (io/src/sun.cpp, `terrapatch light`).
+# nginx: the web server tests/test_http_store.sh starts on 127.0.0.1 with its own configuration
+# (and stops) to serve stores over HTTP (issue 33). The tests never use the package's service: a
+# container's policy-rc.d keeps it from starting; under systemd Debian starts it on port 80
+# (`systemctl disable --now nginx` stops it; the tests do not need it).
 COMMON="cmake pkg-config gcc g++ libgdal-dev libproj-dev libgeographiclib-dev libopenimageio-dev
 libglfw3-dev libepoxy-dev libegl-dev libgl-dev libgl1-mesa-dri libegl-mesa0 libstb-dev gnuplot-nox
-xvfb xdotool libzstd-dev zlib1g-dev gdal-bin libnova-dev"
+xvfb xdotool libzstd-dev zlib1g-dev gdal-bin libnova-dev nginx"
 VTK_SYSTEM="libvtk9-dev"
 # ParaView's VTK config finds Threads, EXPAT, LZMA, LZ4, double-conversion, ZLIB and utf8cpp
 # for CommonCore, IOCore, IOXML, IOLegacy, FiltersCore and their dependencies.
