@@ -12,7 +12,8 @@
 #   faults: point with the node it reads answered by 404, 500, a reset, a body cut short, a
 #           stall (GDAL_HTTP_LOW_SPEED_TIME=2) or the file replaced between two reads: exit 1,
 #           one line on stderr naming the URL and what happened, nothing on stdout; bench with
-#           a node's range answered 500: it flies on (its ancestor drawn), says so, exit 0; bench
+#           a node's range answered 500: it flies on (its ancestor drawn, the node asked for again
+#           with backoff), says so once a node, exit 0; bench
 #           with the file replaced in flight: one line "changed on the server", exit 1
 # nginx missing is a failure (make test installs it: tools/deps.sh), never a skip.
 set -u
@@ -163,6 +164,7 @@ case_faults() {
     url=http://127.0.0.1:$PP/500/$last-$((last + 1))/hood.tpt
     "$TP" bench "$url" --frames 20 --segments 2 --no-error > out 2> err || fail "bench with 500: exit $?"
     grep -q "HTTP 500" err || fail "bench with 500 did not say so"
+    [ -z "$(grep "HTTP 500" err | sort | uniq -d)" ] || fail "bench with 500 said a node's failure twice"
     grep -qiE 'sanitizer|segmentation' err && fail "bench with 500 crashed"
     url=http://127.0.0.1:$PP/replace:other.tpt/$last-$((last + 1))/hood.tpt
     "$TP" bench "$url" --frames 20 --segments 2 --no-error > out 2> err

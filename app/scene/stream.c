@@ -336,8 +336,9 @@ static void want(tp_stream* s, int64_t node)
     s->state[node] = ST_QUEUED;
 }
 
-/* Node failed on the way: asked for again after its backoff (retry_due). */
-static void retry_later(tp_stream* s, int64_t node)
+/* Node failed on the way: asked for again after its backoff (retry_due). Returns how many
+ * times it failed so (0 when it cannot be retried: out of memory). */
+static int retry_later(tp_stream* s, int64_t node)
 {
     size_t i = 0;
     while (i < s->retry_len && s->retries[i].node != node)
@@ -347,7 +348,7 @@ static void retry_later(tp_stream* s, int64_t node)
             size_t cap = s->retry_cap ? 2 * s->retry_cap : 16;
             retry* r = realloc(s->retries, cap * sizeof *r);
             if (!r)
-                return; /* failed for good */
+                return 0; /* failed for good */
             s->retries = r;
             s->retry_cap = cap;
         }
@@ -356,7 +357,7 @@ static void retry_later(tp_stream* s, int64_t node)
     retry* r = &s->retries[i];
     const double backoff_ms = 500.0 * (double)(1 << (r->attempts < 6 ? r->attempts : 6));
     r->at_ms = tp_clock_ms() + (backoff_ms < 30000 ? backoff_ms : 30000);
-    r->attempts++;
+    return ++r->attempts;
 }
 
 /* The failed nodes whose backoff is over may be asked for again; entries of nodes read since
@@ -492,9 +493,8 @@ void tp_stream_frame(tp_stream* s, const tp_cut* cut, tp_cut* prefetch_cut, cons
         if (!d->block) {
             s->state[d->node] = ST_FAILED;
             s->failed++;
-            if (d->transient)
-                retry_later(s, d->node);
-            if (!s->failure_pending && d->msg[0]) {
+            const int again = d->transient && retry_later(s, d->node) > 1; /* said once */
+            if (!again && !s->failure_pending && d->msg[0]) {
                 snprintf(s->failure, sizeof s->failure, "%s", d->msg);
                 s->failure_pending = 1;
             }

@@ -21,7 +21,7 @@
  * camera stands still. A node whose data fails its checksum is reported once, and its ancestor
  * keeps being drawn in its place. A read that failed on the way (TP_ERR_IO: an HTTP error, a
  * reset, a stall, the store unchanged) is asked for again after a backoff (0.5 s doubling to
- * 30 s), its ancestor drawn meanwhile. A store over HTTP is read by several loader threads at
+ * 30 s), its ancestor drawn meanwhile; its failure is reported once, not at every retry. A store over HTTP is read by several loader threads at
  * once (tp_stream_options.loaders), each read one range request.
  */
 #ifndef TP_APP_STREAM_H
