@@ -83,6 +83,23 @@ static void random_camera(const tp_tree* t, tp_camera* cam)
               rnd() * 360, -5 - rnd() * 80, cam);
 }
 
+/* tp_cut_update, and with a TIN cache, once more after building every level it asked for (so
+ * that the cut draws TINs wherever a rung fits). */
+static void update_tins(tp_cut* cut, tp_tin_cache* tins, const tp_camera* cam,
+                        const tp_lod_params* lp)
+{
+    ASSERT_OK(tp_cut_update(cut, cam, lp, NULL));
+    if (!tins)
+        return;
+    size_t nr;
+    const tp_cut_tin_request* rq = tp_cut_tin_requests(cut, &nr);
+    for (size_t i = 0; i < nr; i++)
+        ASSERT_OK(tp_tin_cache_build(tins, rq[i].node, rq[i].level, NULL));
+    ASSERT_OK(tp_cut_update(cut, cam, lp, NULL));
+    tp_cut_tin_requests(cut, &nr);
+    EXPECT_EQ_INT(0, (int)nr);
+}
+
 /* ---- the watertight check ---- */
 
 typedef struct seg {
@@ -417,16 +434,21 @@ static double direct_add_bound_m(const tp_tree* t, const tp_cut_node* o)
 }
 
 /* Random views with vertex moving, or with --stitch add (add: tp_cut_set_stitch_add). */
-static void random_views(int add)
+static void random_views(int add, int with_tins)
 {
     /* 700 x 420: not 2^n k + 1, so padded, and a forest of roots of different scales. */
     LOAD_OR_SKIP(h, 250, 300, 700, 420);
-    long add_sides = 0, moved_sides = 0;
+    long add_sides = 0, moved_sides = 0, tin_nodes = 0;
     for (int ps = 17; ps <= 33; ps += 16) { /* n = 4 and 5 */
         tp_tree* t = make_tree(h, 700, 420, ps);
         tp_cut* cut;
         ASSERT_OK(tp_cut_create(t, &cut, NULL));
         tp_cut_set_stitch_add(cut, add);
+        tp_tin_cache* tins = NULL;
+        if (with_tins) {
+            ASSERT_OK(tp_tin_cache_create(t, &tins, NULL));
+            tp_cut_set_tins(cut, tins);
+        }
         const double taus[] = {0.5, 1, 4, 16};
         size_t total = 0;
         for (int it = 0; it < 40; it++) {
@@ -435,7 +457,7 @@ static void random_views(int add)
             tp_lod_params lp = {0};
             lp.mode = it % 8 == 6 ? TP_LOD_DISTANCE : it % 8 == 7 ? TP_LOD_FULL : TP_LOD_ERROR;
             lp.tau_px = taus[it % 4];
-            ASSERT_OK(tp_cut_update(cut, &cam, &lp, NULL));
+            update_tins(cut, tins, &cam, &lp);
             size_t count;
             tp_cut_nodes(cut, &count);
             total += count;
@@ -446,6 +468,9 @@ static void random_views(int add)
             EXPECT_EQ_INT((int)count, st.drawn);
             add_sides += st.add_sides;
             moved_sides += st.moved_sides;
+            tin_nodes += st.tin_nodes;
+            if (!tins)
+                EXPECT_EQ_INT(0, st.tin_nodes);
             const tp_cut_node* o = tp_cut_nodes(cut, &count);
             for (size_t i = 0; add && i < count; i++) {
                 int a[4] = {o[i].add[0], o[i].add[1], o[i].add[2], o[i].add[3]};
@@ -461,10 +486,14 @@ static void random_views(int add)
         }
         EXPECT_GT((double)total, 40 * 5); /* the views see the terrain */
         tp_cut_destroy(cut);
+        tp_tin_cache_destroy(tins);
         tp_tree_destroy(t);
     }
-    printf("%s: %ld sides take vertices, %ld move\n", add ? "--stitch add" : "vertex moving",
-           add_sides, moved_sides);
+    printf("%s%s: %ld sides take vertices, %ld move; %ld nodes drawn as TINs\n",
+           add ? "--stitch add" : "vertex moving", with_tins ? ", TIN nodes" : "", add_sides,
+           moved_sides, tin_nodes);
+    if (with_tins) /* TINs drawn, and stitched against */
+        EXPECT_GT((double)tin_nodes, 1000);
     if (add) /* both kinds of seam are there, or the views prove little */
         EXPECT_GT((double)add_sides, 100);
     else
@@ -475,13 +504,18 @@ static void random_views(int add)
 
 TEST(watertight_for_random_views)
 {
-    random_views(0);
+    random_views(0, 0);
+}
+
+TEST(watertight_for_random_views_with_tin_nodes)
+{
+    random_views(0, 1);
 }
 
 /* --stitch add: same-size neighbours add vertices, different sizes still move them. */
 TEST(watertight_for_random_views_stitch_add)
 {
-    random_views(1);
+    random_views(1, 0);
 }
 
 /* A cut selected for one camera and drawn from another (a cut selected on another thread for
@@ -750,13 +784,20 @@ TEST(watertight_for_adversarial_cuts_stitch_add)
 
 /* Error mode holds tau on the measured screen error (tp_cut_measure_screen_error: the
  * triangles drawn, added vertices included with --stitch add). */
-static void screen_error(int add)
+static void screen_error(int add, int with_tins)
 {
     LOAD_OR_SKIP(h, 300, 200, 800, 700);
     tp_tree* t = make_tree(h, 800, 700, 17);
     tp_cut* cut;
     ASSERT_OK(tp_cut_create(t, &cut, NULL));
     tp_cut_set_stitch_add(cut, add);
+    tp_tin_cache* tins = NULL;
+    long tin_nodes = 0;
+    size_t tris_lattice = 0, tris_tin = 0;
+    if (with_tins) {
+        ASSERT_OK(tp_tin_cache_create(t, &tins, NULL));
+        tp_cut_set_tins(cut, tins);
+    }
     const double taus[] = {0.5, 1, 4};
     double worst_ratio = 0;
     size_t total = 0;
@@ -765,7 +806,15 @@ static void screen_error(int add)
         tp_camera cam;
         random_camera(t, &cam);
         tp_lod_params lp = {.mode = TP_LOD_ERROR, .tau_px = taus[it % 3]};
-        ASSERT_OK(tp_cut_update(cut, &cam, &lp, NULL));
+        if (tins) { /* the same view as lattices: what the TINs save */
+            tp_cut_set_tins(cut, NULL);
+            ASSERT_OK(tp_cut_update(cut, &cam, &lp, NULL));
+            tp_cut_stats ls;
+            tp_cut_get_stats(cut, &ls);
+            tris_lattice += ls.triangles;
+            tp_cut_set_tins(cut, tins);
+        }
+        update_tins(cut, tins, &cam, &lp);
         double max_px = -1, rms_px;
         size_t samples, skipped;
         ASSERT_OK(tp_cut_measure_screen_error(cut, &cam, &max_px, &rms_px, &samples, &skipped));
@@ -776,11 +825,20 @@ static void screen_error(int add)
         EXPECT_EQ_INT(0, st.substituted);
         EXPECT_LE(st.max_bound_px, lp.tau_px + 1e-6);
         adds += st.add_sides;
+        tin_nodes += st.tin_nodes;
+        tris_tin += st.triangles;
         worst_ratio = fmax(worst_ratio, max_px / lp.tau_px);
         total += samples;
     }
     EXPECT_GT((double)total, 1e5); /* the views see the terrain */
     printf("worst measured / tau: %.3f over %zu samples\n", worst_ratio, total);
+    if (tins) {
+        printf("TIN nodes: %ld drawn; %zu triangles against %zu as lattices (%.1f%%)\n",
+               tin_nodes, tris_tin, tris_lattice, 100.0 * tris_tin / tris_lattice);
+        EXPECT_GT((double)tin_nodes, 300);
+        EXPECT_LT((double)tris_tin, 0.8 * (double)tris_lattice);
+        tp_cut_set_tins(cut, NULL); /* the exaggerated views below: lattices */
+    }
     /* Exaggerated 3x: tau still holds on screen. */
     EXPECT_STATUS(TP_ERR_INVALID_ARG, tp_cut_set_vertical_scale(cut, 0));
     EXPECT_STATUS(TP_ERR_INVALID_ARG, tp_cut_set_vertical_scale(cut, NAN));
@@ -821,18 +879,24 @@ static void screen_error(int add)
     if (add)
         EXPECT_GT((double)adds, 30);
     tp_cut_destroy(cut);
+    tp_tin_cache_destroy(tins);
     tp_tree_destroy(t);
     free(h);
 }
 
 TEST(screen_error_within_tau)
 {
-    screen_error(0);
+    screen_error(0, 0);
+}
+
+TEST(screen_error_within_tau_with_tin_nodes)
+{
+    screen_error(0, 1);
 }
 
 TEST(screen_error_within_tau_stitch_add)
 {
-    screen_error(1);
+    screen_error(1, 0);
 }
 
 /* Drawn nodes of the last update that are incomplete, and of those, how many lie above the
@@ -1388,6 +1452,8 @@ TEST(requests_only_update_asks_as_the_full_update)
 
 #define TESTS(X)                                                                                   \
     X(watertight_for_random_views)                                                                 \
+    X(watertight_for_random_views_with_tin_nodes)                                                  \
+    X(screen_error_within_tau_with_tin_nodes)                                                      \
     X(watertight_for_random_views_stitch_add)                                                      \
     X(a_cut_drawn_from_a_moved_camera_keeps_tau_and_coverage)                                      \
     X(watertight_for_adversarial_cuts)                                                             \

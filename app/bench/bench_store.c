@@ -63,9 +63,15 @@ static void summarize(store_result* c, int n)
     c->cut_worker_ms = tp_bench_median(v, n);
     ROWS_OF(r->cut_wait_ms);
     c->cut_wait_ms = tp_bench_median(v, n);
-    c->cut_reused_share = 0;
-    for (int i = 0; i < n; i++)
-        c->cut_reused_share += (double)c->rows[i].cut_reused / n;
+    c->cut_reused_share = c->tin_share = c->tin_mb = 0;
+    double drawn = 0;
+    for (int i = 0; i < n; i++) {
+        const store_row* r = &c->rows[i];
+        c->cut_reused_share += (double)r->cut_reused / n;
+        c->tin_share += r->tin_nodes, drawn += r->nodes;
+        c->tin_mb = fmax(c->tin_mb, r->tin_bytes / 1e6);
+    }
+    c->tin_share /= drawn > 0 ? drawn : 1;
     ROWS_OF(r->stream_ms);
     c->stream_ms = tp_bench_median(v, n);
     ROWS_OF(r->upload_ms);
@@ -142,8 +148,8 @@ static int settle(store_bench* b, tp_cut* cut, tp_cut* pre, const tp_camera* cam
         tp_stream_frame(b->sc.stream, cut, b->o->no_prefetch ? NULL : pre, cam, lod, &ss);
         size_t nreq = 0;
         tp_cut_requests(cut, &nreq);
-        if (nreq == 0 && ss.pending == 0)
-            return 1;
+        if (nreq == 0 && ss.pending == 0) /* and every TIN level the view asks for */
+            return !b->sc.tins || tp_cut_tins_build(b->sc.tins, cut, 0) == 0;
         if (tp_clock_ms() - t0 > SETTLE_MAX_MS)
             return 0;
         nanosleep(&(struct timespec){0, 1000000}, NULL);
@@ -297,6 +303,9 @@ static int open_draw(store_bench* b, const store_result* c, int first, store_dra
         return TP_EXIT_FAILURE;
     }
     tp_cut_set_stitch_add(d->cut, c->stitch_add);
+    if (o->vs.mesh_tin && tp_store_scene_tins(&b->sc) != TP_EXIT_OK)
+        return TP_EXIT_FAILURE;
+    tp_cut_set_tins(d->cut, b->sc.tins);
     if (!o->no_cut_thread && !(d->worker = tp_cut_worker_create(b->sc.tree, &err))) {
         tp_cli_error("%s", err.message);
         return TP_EXIT_FAILURE;
@@ -338,6 +347,8 @@ static void close_draw(store_bench* b, store_draw* d)
     tp_cut_destroy(d->pre);
     tp_cut_destroy(d->cut);
     tp_renderer_destroy(d->r);
+    tp_tin_cache_destroy(b->sc.tins); /* the next configuration starts cold */
+    b->sc.tins = NULL;
     tp_stream_destroy(b->sc.stream);
     b->sc.stream = NULL;
 }
@@ -439,7 +450,8 @@ static int fly(store_bench* b, store_result* c, int first, store_draw* d, const 
     tp_error err;
     tp_camera cam, prev;
     tp_cut* cut = d->cut; /* the frame's: d->cut, or the cut thread's */
-    const tp_cut_worker_params wp = {.lod = c->lod, .vertical_scale = 1, .stitch_add = c->stitch_add};
+    const tp_cut_worker_params wp = {
+        .lod = c->lod, .vertical_scale = 1, .stitch_add = c->stitch_add, .tins = b->sc.tins};
     for (int seg = 0; seg < b->segments; seg++) {
         tp_cut_worker_forget(d->worker); /* a jump, whose frames change the tree */
         tp_stream_set_prefetch_async(b->sc.stream, 0);
@@ -477,6 +489,14 @@ static int fly(store_bench* b, store_result* c, int first, store_draw* d, const 
                 return cut_failed(&err);
             t[1] = tp_clock_ms();
             tp_stream_frame(b->sc.stream, cut, o->no_prefetch ? NULL : d->pre, &cam, &c->lod, &ss);
+            size_t tin_bytes = 0;
+            if (b->sc.tins) { /* the cut thread is idle: prune, or build here without it */
+                tp_tin_cache_mark_drawn(b->sc.tins, cut);
+                tp_tin_cache_prune(b->sc.tins, TP_CUT_WORKER_TIN_AGE);
+                if (!d->worker)
+                    tp_cut_tins_build(b->sc.tins, cut, TP_CUT_WORKER_TIN_MS);
+                tp_tin_cache_stats(b->sc.tins, &tin_bytes, NULL, NULL);
+            }
             t[2] = tp_clock_ms();
             if (d->nm) /* the frame's cut's nodes: the normal map's finest level */
                 tp_normal_map_frame_cut(d->nm, &b->sc, cut, 1, d->r, &cam, 0, &ns);
@@ -510,6 +530,8 @@ static int fly(store_bench* b, store_result* c, int first, store_draw* d, const 
             row->cut_wait_ms = ws.wait_ms;
             row->cut_worker_ms = ws.worker_ms;
             row->cut_reused = ws.reused;
+            row->tin_nodes = cs.tin_nodes;
+            row->tin_bytes = tin_bytes;
             tp_bench_read_rss(&row->rss_mb, &row->rss_anon_mb);
             if (!o->no_error && k % o->error_every == 0 && !tp_bench_store_measure(b, cut, &cam, k, row))
                 return TP_EXIT_FAILURE;
@@ -529,6 +551,7 @@ static int fly(store_bench* b, store_result* c, int first, store_draw* d, const 
     tp_cut_worker_forget(d->worker);
     summarize(c, frames);
     c->cut_thread = d->worker != NULL;
+    c->mesh_tin = b->sc.tins != NULL;
     if (d->im) /* the last frame against a fresh clipmap's: nothing stale after the flight */
         c->img_final_diff = tp_bench_imagery_diff(d->im, o->imagery, &b->sc, cut, d->r, b->ctx,
                                                   &cam, c->imagery_mode, o->clip_blocks);

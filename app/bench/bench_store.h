@@ -23,6 +23,8 @@ typedef struct store_row {
     size_t triangles, gpu_bytes, resident_bytes;
     int dropped, draw_calls;
     int nodes, visited, substituted, requests, uploads, pending;
+    int tin_nodes;              /* --mesh tin: drawn nodes that draw a TIN */
+    size_t tin_bytes;           /* --mesh tin: the TINs held */
     double substitution_px;
     double rss_mb, rss_anon_mb;
     int measured;               /* error measured: 1 a frame without substitution, 2 with */
@@ -54,6 +56,8 @@ typedef struct store_result {
     int cut_thread;                       /* the cut was selected on its own thread */
     double cut_worker_ms, cut_wait_ms;    /* medians: the thread's selection; the wait for it */
     double cut_reused_share;              /* frames that drew the thread's cut */
+    int mesh_tin;                         /* --mesh tin */
+    double tin_share, tin_mb;             /* drawn nodes that drew a TIN; the TINs held (max) */
     double triangles, nodes, visited, uploads, page_faults;
     int substituted_max, frames_with_substitution, pending_max;
     int dropped_max; /* items the renderer could not hold (TP_RENDER_POOL_MAX_BYTES) */

@@ -52,6 +52,11 @@ static void json_result(tp_json* j, const store_bench* b, const store_result* c)
     tp_json_member_number(j, "draw_calls_median", c->draw_calls);
     tp_json_member_number(j, "draw_page_faults_median", c->page_faults);
     tp_json_member_number(j, "triangles_median", c->triangles);
+    tp_json_member_string(j, "mesh", c->mesh_tin ? "tin" : "lattice");
+    if (c->mesh_tin) {
+        tp_json_member_number(j, "tin_nodes_share", c->tin_share);
+        tp_json_member_number(j, "tin_mb_max", c->tin_mb);
+    }
     tp_json_member_number(j, "nodes_drawn_median", c->nodes);
     tp_json_member_number(j, "nodes_visited_median", c->visited);
     tp_json_member_number(j, "uploads_median", c->uploads);

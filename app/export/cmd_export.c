@@ -70,7 +70,9 @@ static void print_help(void)
           "                        at voids, without patch_id and lod; patches is what the\n"
           "                        viewer draws: every patch at the coarsest\n"
           "                        level whose error stays <= M, cracks removed (M may not be\n"
-          "                        below the quantisation error)\n"
+          "                        below the quantisation error); a camera's mesh of a store:\n"
+          "                        patches (the default) or tin, what `view --mesh tin` draws\n"
+          "                        (each complete node's TIN where it has fewer triangles)\n"
           "  --no-cull             view-dependent mesh: keep the patches outside the view too\n"
           "                        (DEMs only)\n"
           "on a store (.tpt): the same modes over the tree's cut. Every node the mesh draws is\n"
@@ -150,9 +152,9 @@ static int parse_options(int argc, char** argv, export_options* o)
     }
     o->mode = full ? MODE_FULL : o->max_error_m >= 0 ? MODE_MAX_ERROR : MODE_VIEW;
     o->max_error_m = fmax(o->max_error_m, 0);
-    if (o->mesh != MESH_DEFAULT && o->mode != MODE_MAX_ERROR) {
-        tp_cli_error("--mesh goes with --max-error M (the other modes "
-                     "write the patches drawn)");
+    if (o->mesh != MESH_DEFAULT && o->mode == MODE_FULL) {
+        tp_cli_error("--mesh goes with --max-error M or a camera's mesh (--full writes every "
+                     "sample)");
         return TP_EXIT_USAGE;
     }
     if (!o->out) {
@@ -257,6 +259,7 @@ int tp_cli_export(int argc, char** argv)
         if (o.mode == MODE_FULL && tp_full_export_streams(o.path, 1, &o.scene, o.format))
             return export_full_streamed(&o, 1);
         tp_store_export_request r = {
+            .view_tins = o.mode == MODE_VIEW && o.mesh == MESH_TIN,
             .store_path = o.path,
             .out = o.out,
             .max_error_m = o.max_error_m,
@@ -270,6 +273,12 @@ int tp_cli_export(int argc, char** argv)
         };
         code = tp_export_store(&r);
         return code == TP_EXIT_OK ? tp_cli_finish(code) : code;
+    }
+    if (o.mode == MODE_VIEW && o.mesh == MESH_TIN) {
+        tp_cli_error("%s: a camera's mesh of TIN nodes needs a store (terrapatch build %s -o "
+                     "MAP.tpt, or the store `view` caches for it)",
+                     o.path, o.path);
+        return TP_EXIT_USAGE;
     }
     int tin = o.mode == MODE_MAX_ERROR && o.mesh != MESH_PATCHES;
     if (tin && o.per_patch) {

@@ -1,6 +1,7 @@
 /* store_cut.c - the cuts of a store export drawn by a camera or by --full, and the nodes a static
  * cut chooses, installed as the cut (see store_cut.h). */
 #include "store_cut.h"
+#include "cut_worker.h"
 
 #include "cli.h"
 
@@ -39,6 +40,8 @@ int tp_store_cut_camera(store_export* x, const tp_camera* cam, const tp_lod_para
             return tp_store_export_too_many(x, st.triangles, "the camera's cut draws at least");
         size_t nr;
         const int64_t* req = tp_cut_requests(x->cut, &nr);
+        if (nr == 0 && x->tins && tp_cut_tins_build(x->tins, x->cut, 0) > 0)
+            continue; /* every node read: the TIN levels it asked for, then once more */
         if (nr == 0) {
             if (st.substituted != 0) /* cannot happen: a substituted node requests */
                 return tp_store_export_fail(

@@ -22,6 +22,7 @@ typedef struct store_export {
     residency res;
     leaf_cache* cache;
     tp_cut* cut;
+    tp_tin_cache* tins;     /* r->view_tins: the cut's TINs, built as it asks */
     double step_m, unit, quant_m;
     int n;
     size_t tris_cut;        /* triangles of the final cut (for the size check) */

@@ -376,6 +376,14 @@ int tp_export_store(const tp_store_export_request* r)
          * resolution), so its outline is the data's, at any camera. */
         tp_lod_params exact = *lp;
         exact.hole_px = 1e-300;
+        if (r->view_tins) {
+            strncat(lod_text, " mesh=tin", sizeof lod_text - strlen(lod_text) - 1);
+            if (tp_tin_cache_create(x.sc.tree, &x.tins, &err) != TP_OK) {
+                code = tp_store_export_fail(&x, err.message);
+                goto done;
+            }
+            tp_cut_set_tins(x.cut, x.tins);
+        }
         code = tp_store_cut_camera(&x, &cam, &exact);
     }
     if (code == TP_EXIT_OK && !r->tin &&
@@ -396,6 +404,7 @@ done:
             free(x.cache->slot[i]);
     free(x.cache);
     tp_cut_destroy(x.cut);
+    tp_tin_cache_destroy(x.tins);
     if (x.res.block)
         tp_res_release_except(&x.res, NULL);
     free(x.res.block);

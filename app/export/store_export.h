@@ -34,6 +34,8 @@ typedef struct tp_store_export_request {
     tp_store_export_mode mode;
     double max_error_m;        /* TP_STORE_EXPORT_MAX_ERROR */
     int tin;                   /* with it: an error-bounded TIN (store_tin.h), not patches */
+    int view_tins;             /* TP_STORE_EXPORT_VIEW, --mesh tin: the cut's complete nodes
+                                  as the TINs `view --mesh tin` draws (tp_cut_set_tins) */
     const tp_view_setup* vs;   /* TP_STORE_EXPORT_VIEW: camera, LoD, field of view, size */
     tp_mesh_format format;
     int origin_local;

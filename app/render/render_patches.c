@@ -64,7 +64,8 @@ static int grow_items(tp_renderer* r, size_t count)
     return 1;
 }
 
-static void fill_patch(void* user, size_t i, tp_vertex* v, float (*normals)[3], uint8_t* filled)
+static size_t fill_patch(void* user, size_t i, tp_vertex* v, float (*normals)[3],
+                         uint8_t* filled)
 {
     const tp_renderer* r = user;
     const tp_render_item* it = &r->items[i];
@@ -76,6 +77,7 @@ static void fill_patch(void* user, size_t i, tp_vertex* v, float (*normals)[3], 
         tp_terrain_normal(r->terrain, v[j].x, v[j].y, normals[j]);
         filled[j] = tp_terrain_sample_class(r->terrain, v[j].x, v[j].y) == TP_SAMPLE_FILLED;
     }
+    return count;
 }
 
 void tp_renderer_draw(tp_renderer* r, tp_selection* sel, const tp_camera* cam,
@@ -104,6 +106,7 @@ void tp_renderer_draw(tp_renderer* r, tp_selection* sel, const tp_camera* cam,
                                         ? nb[side]
                                         : TP_NO_NEIGHBOR);
         it->incomplete = !r->complete[p];
+        it->tin = -1;
     }
     tp_selection_clear_dirty(sel);
     if (!set_stitch_add(r, s))
@@ -115,12 +118,11 @@ void tp_renderer_draw(tp_renderer* r, tp_selection* sel, const tp_camera* cam,
 
 /* ---- the nodes of a cut over a tree ---- */
 
-static void fill_node(void* user, size_t i, tp_vertex* v, float (*normals)[3], uint8_t* filled)
+static size_t fill_node(void* user, size_t i, tp_vertex* v, float (*normals)[3], uint8_t* filled)
 {
     const tp_renderer* r = user;
     const tp_render_item* it = &r->items[i];
-    int side = (1 << it->level) + 1;
-    size_t count = (size_t)side * side;
+    size_t count = tp_cut_vertex_count(r->cut, i); /* a TIN's, or (2^level+1)^2 */
     tp_cut_vertices(r->cut, i, v, count);
     for (size_t j = 0; j < count; j++) {
         filled[j] = v[j].cls == TP_SAMPLE_FILLED; /* the store's filled bits (format 4) */
@@ -131,6 +133,7 @@ static void fill_node(void* user, size_t i, tp_vertex* v, float (*normals)[3], u
             tp_tree_node_normal(r->tree, it->key, v[j].x, v[j].y, normals[j]);
         }
     }
+    return count;
 }
 
 void tp_renderer_draw_cut(tp_renderer* r, const tp_tree* tree, const tp_cut* cut,
@@ -155,6 +158,7 @@ void tp_renderer_draw_cut(tp_renderer* r, const tp_tree* tree, const tp_cut* cut
                              ? nodes[i].nb[side]
                              : TP_NO_NEIGHBOR);
         it->incomplete = !(tp_tree_meta(tree, nodes[i].node)->flags & TP_NODE_COMPLETE);
+        it->tin = nodes[i].tin;
     }
     if (!set_stitch_add(r, s))
         count = 0; /* out of memory: nothing to draw */

@@ -175,12 +175,15 @@ typedef struct tp_render_item {
     int8_t level;      /* 0..n */
     int8_t nb[4];
     uint8_t incomplete;/* has undrawn samples: drawn as its own triangle list */
+    int8_t tin;        /* a cut's node that draws a TIN (tp_cut_node.tin): that rung, drawn as
+                          its own triangle list over its tp_cut_vertex_count vertices; -1: none */
 } tp_render_item;
 
-/* Writes item i's vertex data: (2^level+1)^2 vertices (as tp_patch_vertices), their unit
- * normals (east, north, up) and whether each is a filled void. */
-typedef void (*tp_render_fill_fn)(void* user, size_t i, tp_vertex* vertices, float (*normals)[3],
-                                  uint8_t* filled);
+/* Writes item i's vertex data: (2^level+1)^2 vertices (as tp_patch_vertices; a TIN item: its
+ * rung's), their unit normals (east, north, up) and whether each is a filled void; returns how
+ * many it wrote. */
+typedef size_t (*tp_render_fill_fn)(void* user, size_t i, tp_vertex* vertices,
+                                    float (*normals)[3], uint8_t* filled);
 
 /* The far plane for cam over a grid's box when cam sets none: the distance from the camera to
  * the farthest corner of the box of the posts of a width x height grid (geotransform gt; post

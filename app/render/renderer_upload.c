@@ -45,6 +45,7 @@ static void upload(tp_renderer* r, const tp_render_item* it, size_t i, tp_render
         write_vertices(r, h, k, (int)lay->vertex_count);
         tp_vertex_pool_drop_triangles(r->pool, h);
         sl->level = it->level;
+        sl->tin = -1;
         memcpy(sl->nb, tag, sizeof sl->nb);
         return;
     }
@@ -56,13 +57,15 @@ static void upload(tp_renderer* r, const tp_render_item* it, size_t i, tp_render
         write_vertices(r, h, k, (int)set->vertex_count);
         tp_vertex_pool_write_triangles(r->pool, h, set->triangles, 3 * set->triangle_count);
         sl->level = it->level;
+        sl->tin = -1;
         memcpy(sl->nb, it->nb, sizeof sl->nb);
         return;
     }
     assert(k == tp_vertex_pool_level(h));
-    fill(user, i, r->vtmp, r->ntmp, r->ftmp);
+    count = (int)fill(user, i, r->vtmp, r->ntmp, r->ftmp);
     write_vertices(r, h, k, count);
-    if (it->incomplete) {
+    sl->tin = it->tin;
+    if (it->incomplete || it->tin >= 0) { /* its own triangle list (a TIN's fits: < 2 4^k) */
         size_t cap = tp_vertex_pool_region_indices(r->pool, k) / 3;
         size_t nt = r->cut ? tp_cut_triangles(r->cut, i, r->vtmp, r->ttmp, cap)
                            : tp_patch_triangles(r->vtmp, k, r->ttmp, cap);
@@ -142,8 +145,9 @@ size_t tp__renderer_upload(tp_renderer* r, const tp_render_item* items, size_t c
             if (tag[s] > it->level)
                 tag[s] = (int8_t)(-2 - lay->D);
         const tp_pool_slot* sl = tp_vertex_pool_slot(r->pool, h);
+        int own_list = it->incomplete || set || it->tin >= 0;
         if (fresh || sl->level != it->level || memcmp(sl->nb, tag, sizeof sl->nb) ||
-            (it->incomplete || set) != (sl->region >= 0)) {
+            sl->tin != it->tin || own_list != (sl->region >= 0)) {
             upload(r, it, i, fill, user, h, set, lay, tag);
             stats->uploads++;
         }
@@ -160,7 +164,7 @@ size_t tp__renderer_upload(tp_renderer* r, const tp_render_item* items, size_t c
             continue;
         }
         int c = sl->region;
-        if (it->incomplete && c < 0)
+        if ((it->incomplete || it->tin >= 0) && c < 0)
             continue; /* no region could be made */
         size_t list_offset = 0, list_count = tp_vertex_pool_triangles(r->pool, h, &list_offset);
         /* An item of nodata only has no triangles. It must not become a zero-count draw: Mesa

@@ -32,6 +32,7 @@ typedef struct tp_pool_slot {
     uint64_t stamp;       /* last frame it was taken in */
     /* the caller's: what its vertex data was built for (undefined in a fresh slot) */
     int8_t level, nb[4];
+    int8_t tin;           /* the TIN rung (tp_render_item.tin), -1: none */
 } tp_pool_slot;
 
 /* Pools for levels 0..n of vertices of vertex_bytes each. budget_bytes (0: none) is shared

@@ -31,6 +31,22 @@ static void apply(tp_cut* c, const tp_cut_worker_params* p)
 {
     tp_cut_set_vertical_scale(c, p->vertical_scale > 0 ? p->vertical_scale : 1);
     tp_cut_set_stitch_add(c, p->stitch_add);
+    tp_cut_set_tins(c, p->tins);
+}
+
+int tp_cut_tins_build(tp_tin_cache* tins, const tp_cut* cut, double budget_ms)
+{
+    size_t count;
+    const tp_cut_tin_request* rq = tp_cut_tin_requests(cut, &count);
+    double t0 = tp_clock_ms();
+    int built = 0;
+    for (size_t i = 0; i < count; i++) {
+        if (budget_ms > 0 && tp_clock_ms() - t0 >= budget_ms)
+            break;
+        tp_error err;
+        built += tp_tin_cache_build(tins, rq[i].node, rq[i].level, &err) == TP_OK;
+    }
+    return built;
 }
 
 static void* worker_main(void* arg)
@@ -53,6 +69,8 @@ static void* worker_main(void* arg)
         int ok = tp_cut_update(back, &cam, &p.lod, &err) == TP_OK;
         if (pre)
             tp_cut_update_requests(pre, &ahead, &p.lod, &err);
+        if (ok && p.tins)
+            tp_cut_tins_build(p.tins, back, TP_CUT_WORKER_TIN_MS);
         double ms = tp_clock_ms() - t0;
         pthread_mutex_lock(&w->mu);
         w->busy = 0;
@@ -114,7 +132,7 @@ static int same_params(const tp_cut_worker_params* a, const tp_cut_worker_params
     return x->mode == y->mode && x->mindist_m == y->mindist_m && x->maxdist_m == y->maxdist_m &&
            x->exponent == y->exponent && x->tau_px == y->tau_px && x->hole_px == y->hole_px &&
            x->sphere_tree == y->sphere_tree && a->vertical_scale == b->vertical_scale &&
-           a->stitch_add == b->stitch_add;
+           a->stitch_add == b->stitch_add && a->tins == b->tins;
 }
 
 /* Waits until the worker is idle; returns whether it finished a selection for p (and, take,

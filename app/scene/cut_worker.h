@@ -30,7 +30,19 @@ typedef struct tp_cut_worker_params {
     tp_lod_params lod;
     double vertical_scale; /* tp_cut_set_vertical_scale; 0 means 1 */
     int stitch_add;        /* tp_cut_set_stitch_add */
+    tp_tin_cache* tins;    /* tp_cut_set_tins (NULL: lattices only); the worker builds the TIN
+                              levels its cut asks for after selecting it, for up to
+                              TP_CUT_WORKER_TIN_MS (they show from the next frames on) */
 } tp_cut_worker_params;
+#define TP_CUT_WORKER_TIN_MS 8.0
+/* A TIN level not drawn for this many frames is freed (tp_tin_cache_prune). */
+#define TP_CUT_WORKER_TIN_AGE 90
+
+/* Builds the TIN levels cut asked for (tp_cut_tin_requests, most urgent first) into tins until
+ * budget_ms is spent (<= 0: all of them); returns how many it built. The thread that calls it
+ * is the cache's one builder; the tree's residency must not change meanwhile (cut_worker.h's
+ * step 2). A level that fails to build (out of memory) is left for later. */
+int tp_cut_tins_build(tp_tin_cache* tins, const tp_cut* cut, double budget_ms);
 
 typedef struct tp_cut_worker_stats {
     int reused;        /* the frame draws the worker's cut */

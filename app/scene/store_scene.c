@@ -162,9 +162,20 @@ int tp_store_scene_stream(tp_store_scene* sc, const tp_stream_options* o)
     return TP_EXIT_OK;
 }
 
+int tp_store_scene_tins(tp_store_scene* sc)
+{
+    tp_error err = {{0}};
+    if (!sc->tins && tp_tin_cache_create(sc->tree, &sc->tins, &err) != TP_OK) {
+        tp_cli_error("%s: %s", sc->path, err.message);
+        return TP_EXIT_FAILURE;
+    }
+    return TP_EXIT_OK;
+}
+
 void tp_store_scene_close(tp_store_scene* sc)
 {
     join_georef(sc, NULL);         /* a georeference still being made: taken, then freed */
+    tp_tin_cache_destroy(sc->tins); /* its users (cuts, their threads) are gone */
     tp_stream_destroy(sc->stream); /* detaches every block before the tree goes */
     tp_georef_destroy(sc->georef);
     tp_tree_destroy(sc->tree);

@@ -19,6 +19,7 @@ typedef struct tp_store_scene {
     tp_tree_info tree_info;
     tp_georef* georef;       /* grid <-> render CRS <-> WGS84 (see tp_store_scene_open_deferred) */
     tp_stream* stream;       /* NULL until tp_store_scene_stream */
+    tp_tin_cache* tins;      /* NULL until tp_store_scene_tins (--mesh tin) */
     /* private */
     struct tp_store_georef_job* georef_job; /* the georeference being made on a thread */
 } tp_store_scene;
@@ -47,6 +48,10 @@ int tp_store_scene_georef_wait(tp_store_scene* sc);
 
 /* Starts streaming (loads the roots now). TP_EXIT_FAILURE with one line on failure. */
 int tp_store_scene_stream(tp_store_scene* sc, const tp_stream_options* o);
+
+/* The cache of the nodes' TINs (--mesh tin: tp_cut_set_tins draws from it). TP_EXIT_FAILURE
+ * with one line without memory. */
+int tp_store_scene_tins(tp_store_scene* sc);
 
 void tp_store_scene_close(tp_store_scene* sc); /* accepts a zeroed scene */
 

@@ -36,6 +36,7 @@ enum {
     TP_OPT_PGM_GRID,
     TP_OPT_PGM_WINDOW,
     TP_OPT_MSAA,
+    TP_OPT_MESH,
 };
 
 /* Reads arg for view option opt into v: 1, or -1 after a one-line message (a bad value). */
@@ -142,6 +143,11 @@ static int view_option(int opt, const char* arg, tp_view_setup* v, const char* c
                                    arg);
         return 1;
     }
+    case TP_OPT_MESH:
+        if (strcmp(arg, "lattice") && strcmp(arg, "tin"))
+            return tp_option_error(cmd, "--mesh", "lattice or tin", arg);
+        v->mesh_tin = !strcmp(arg, "tin");
+        return 1;
     case TP_OPT_PGM_WINDOW: {
         char* end;
         long n = strtol(arg, &end, 10);
@@ -172,6 +178,7 @@ static const tp_option renderer_options[] = {
     TP_OPT_CODE("--pgm-grid", NULL, TP_OPT_PGM_GRID, 1),
     TP_OPT_CODE("--pgm-window", NULL, TP_OPT_PGM_WINDOW, 1),
     TP_OPT_CODE("--msaa", NULL, TP_OPT_MSAA, 1),
+    TP_OPT_CODE("--mesh", NULL, TP_OPT_MESH, 1),
 };
 
 /* tp_option_handler of the view options. */
@@ -270,7 +277,14 @@ void tp_view_renderer_help(FILE* out, int bench)
           "                        1: none; at most what the driver offers). auto (default):\n"
           "                        4 on a GPU, none on a software renderer (Mesa's llvmpipe:\n"
           "                        GL_RENDERER), where 4 samples make a frame 2.5 to 4 times\n"
-          "                        as long (docs/PERFORMANCE.md)\n",
+          "                        as long (docs/PERFORMANCE.md)\n"
+          "  --mesh lattice|tin    over a store (a DEM's is built into the cache): lattice\n"
+          "                        (default) draws each node's level-k vertex lattice; tin\n"
+          "                        draws, where it has fewer triangles within the same error\n"
+          "                        bound, an error-bounded TIN of the node with the lattice's\n"
+          "                        outline (built on the cut's thread as the view first needs\n"
+          "                        it; the lattice is drawn meanwhile). About half the\n"
+          "                        triangles at --tau 1 on real relief (docs/tin.md)\n",
           out);
     fputs(bench ? "  --pgm-grid COLSxROWS[,COLSxROWS...]   with --renderer pgm: the grids to\n"
                   "                        measure, each a configuration beside the patch ones\n"

@@ -26,12 +26,16 @@ typedef struct tp_view_setup {
     int msaa;               /* --msaa N (view and bench): samples a pixel, 0 none; -1 (the
                                default, auto): 4 on a GPU, none on a software renderer
                                (tp_gl_context_default_msaa in app/render/gl_context.h) */
+    int mesh_tin;           /* --mesh tin (view and bench): a store's complete nodes draw
+                               error-bounded TINs where they have fewer triangles at the same
+                               bound (tp_cut_set_tins); 0: --mesh lattice, the default */
 } tp_view_setup;
 
 void tp_view_setup_default(tp_view_setup* v);
 
 /* Adds the LoD and camera options to a command's parse (options.h), read into v; with renderer,
- * also --renderer, --pgm-grid, --pgm-window and --msaa (view and bench: export draws nothing). */
+ * also --renderer, --pgm-grid, --pgm-window, --msaa and --mesh (view and bench: export draws
+ * nothing). */
 void tp_view_options_add(tp_options* p, tp_view_setup* v, int renderer);
 
 /* Parses the arguments of a command that looks at the terrain through a camera (view, bench,

@@ -340,7 +340,8 @@ static int view_store(const char* path, view_options* o)
         return TP_EXIT_FAILURE;
     }
     tp_stream_options so = {.memory_bytes = (size_t)budget};
-    if ((code = tp_store_scene_stream(&st, &so)) != TP_EXIT_OK) {
+    if ((code = tp_store_scene_stream(&st, &so)) != TP_EXIT_OK ||
+        (o->vs.mesh_tin && (code = tp_store_scene_tins(&st)) != TP_EXIT_OK)) {
         tp_store_scene_close(&st);
         return code;
     }
@@ -351,6 +352,7 @@ static int view_store(const char* path, view_options* o)
     }
     v.path = o->path;
     tp_cut_set_stitch_add(v.cut, o->render.stitch_add);
+    tp_cut_set_tins(v.cut, st.tins);
     const tp_tree_geometry* g = tp_tree_get_geometry(st.tree);
     /* as tp_view_setup_warn says for a DEM drawn whole: one leaf is 2^n grid steps */
     double leaf_m = (double)(1 << g->n) * fmin(fabs(v.gt[1]), fabs(v.gt[5]));

@@ -40,6 +40,8 @@ void tp_view_frame(tp_view_scene* v, tp_renderer* r, const tp_camera* cam,
     out->pgm_cols = out->pgm_rows = 0; /* set by the PGM path only (the HUD tests them) */
     out->normals = v->normals != NULL;
     out->add_sides = out->moved_sides = 0;
+    out->mesh_tin = out->tin_nodes = 0;
+    out->tin_bytes = out->tin_levels = 0;
     out->grid_m = render->grid_m;
     /* the core selects, culls and measures the surface as drawn: exaggerated */
     tp_view_scene_set_vertical_scale(v, render->exaggeration);
@@ -81,7 +83,8 @@ void tp_view_frame(tp_view_scene* v, tp_renderer* r, const tp_camera* cam,
         out->store = 0;
         return;
     }
-    const tp_cut_worker_params wp = {*lod, render->exaggeration, render->stitch_add};
+    const tp_cut_worker_params wp = {*lod, render->exaggeration, render->stitch_add,
+                                     v->store->tins};
     if (frozen) {
         tp_cut_worker_idle(v->worker); /* the stream changes the tree below */
     } else if (v->worker) { /* the cut the thread selected while the last frame drew */
@@ -92,6 +95,12 @@ void tp_view_frame(tp_view_scene* v, tp_renderer* r, const tp_camera* cam,
         tp_cut_update(v->cut, cam, lod, &err);
     }
     tp_stream_frame(v->store->stream, v->cut, frozen ? NULL : v->prefetch, cam, lod, &out->stream);
+    out->mesh_tin = v->store->tins != NULL;
+    if (v->store->tins) { /* the TINs of nodes the stream released (the cut thread is idle) */
+        tp_tin_cache_mark_drawn(v->store->tins, v->cut);
+        tp_tin_cache_prune(v->store->tins, TP_CUT_WORKER_TIN_AGE);
+        tp_tin_cache_stats(v->store->tins, &out->tin_bytes, &out->tin_levels, NULL);
+    }
     if (v->worker && !frozen) { /* the next frame's, while this one draws */
         tp_camera next, ahead;
         tp_cut_worker_predict(v->worker_have_prev ? &v->worker_prev : cam, cam, &next);
@@ -134,6 +143,7 @@ void tp_view_frame(tp_view_scene* v, tp_renderer* r, const tp_camera* cam,
     out->substituted = cs.substituted;
     out->add_sides = cs.add_sides;
     out->moved_sides = cs.moved_sides;
+    out->tin_nodes = cs.tin_nodes;
     out->bound_max_px = cs.max_bound_px;
     out->bound_near_nodes = cs.near_plane_nodes;
 }
@@ -272,6 +282,12 @@ int tp_view_write_stats(const char* path, const frame_result* f, const tp_error_
         KEY_SIZE("substituted_nodes", (size_t)f->substituted);
         KEY_SIZE("add_sides", (size_t)f->add_sides);
         KEY_SIZE("moved_sides", (size_t)f->moved_sides);
+        tp_json_member_string(&j, "mesh", f->mesh_tin ? "tin" : "lattice");
+        if (f->mesh_tin) {
+            KEY_SIZE("tin_nodes", (size_t)f->tin_nodes);
+            KEY_SIZE("tin_levels", f->tin_levels);
+            KEY_NUM("tin_mb", f->tin_bytes / 1e6);
+        }
         KEY_SIZE("pending", (size_t)f->stream.pending);
         if (f->imagery) {
             write_clip(&j, "imagery", &f->clip);

@@ -99,6 +99,9 @@ typedef struct frame_result {
     int nodes_drawn, substituted;
     int nodes_per_scale[TP_TREE_MAX_SCALES]; /* drawn nodes by scale (0: leaves) */
     int add_sides, moved_sides; /* tp_cut_stats: sides taking / moving vertices */
+    int mesh_tin;               /* --mesh tin: the fields below are set */
+    int tin_nodes;              /* drawn nodes that draw a TIN */
+    size_t tin_bytes, tin_levels; /* the TINs held (tp_tin_cache_stats) */
     double bound_max_px;        /* largest projected bound of a drawn node (error mode) */
     int bound_near_nodes;       /* drawn nodes at the eye: their bound covers what is drawn of
                                    them, in front of the near plane (tp_cut_node.near_plane) */

@@ -230,6 +230,13 @@ int tp_view_scene_settle(tp_view_scene* v, const tp_camera* cam, const tp_lod_pa
             nanosleep(&ts, NULL);
         }
     }
+    for (int round = 0; v->store->tins && round < 8; round++) {
+        /* every TIN level the view asks for (--mesh tin), so that its frame shows them */
+        tp_error err;
+        tp_cut_update(v->cut, cam, lod, &err);
+        if (tp_cut_tins_build(v->store->tins, v->cut, 0) == 0)
+            break;
+    }
     return it;
 }
 

@@ -45,6 +45,8 @@ typedef struct tp_cut_node {
                            resident): bound_px bounds what is drawn of it, in front of the near
                            plane and inside the view (the whole box's bound is infinite) */
     float bound_px;     /* the projected error bound of this node as drawn (error mode): finite */
+    int8_t tin;         /* tp_cut_set_tins: the rung of its level's TIN ladder it draws, or -1:
+                           its lattice */
 } tp_cut_node;
 
 typedef struct tp_cut_stats {
@@ -65,6 +67,8 @@ typedef struct tp_cut_stats {
     int sphere_nodes;   /* sphere_tree: entries held (the distance cut over the whole map) */
     int add_sides;      /* --stitch add: drawn nodes' sides that take a neighbour's vertices */
     int moved_sides;    /* drawn nodes' sides whose vertices move (tp_cut_node.nb) */
+    int tin_nodes;      /* drawn nodes that draw a TIN (tp_cut_set_tins) */
+    int tin_requests;   /* levels it would have drawn as TINs but found unbuilt */
 } tp_cut_stats;
 
 typedef struct tp_cut tp_cut;
@@ -122,7 +126,8 @@ const int64_t* tp_cut_requests(const tp_cut* c, size_t* count);
  * neighbour levels, incomplete ones once per node and neighbour levels, cached in the cut). */
 void tp_cut_get_stats(const tp_cut* c, tp_cut_stats* out);
 /* Vertex data of drawn node i (0..count-1) after crack removal: (2^level+1)^2 vertices as
- * tp_patch_vertices writes them (global grid coordinates, decoded heights; cls is VALID,
+ * tp_patch_vertices writes them (a node drawing a TIN: its tp_cut_vertex_count vertices, the
+ * rung's, in its order, moved as the lattice's side vertices move) (global grid coordinates, decoded heights; cls is VALID,
  * FILLED, NODATA or PADDING). FILLED where the node's filled bits (TP_NODE_HAS_FILLED) mark
  * the sample the vertex stands on: a vertex that crack removal moves onto a coarser
  * neighbour's lattice vertex takes that sample's height and so its flag; drawn or not is the
@@ -131,7 +136,8 @@ void tp_cut_vertices(const tp_cut* c, size_t i, tp_vertex* vertices, size_t vert
 /* The triangles drawn node i draws, from its vertex data (tp_cut_vertices): as
  * tp_patch_triangles (strip order and winding, index triples, returns the count, writes the
  * first triangle_capacity), by the cell mask's rule for an incomplete node below a leaf's level
- * n (tp_node_mask_from_q). What the viewer and the export draw of an incomplete node. */
+ * n (tp_node_mask_from_q); a TIN's, less those its crack removal collapses. What the viewer and
+ * the export draw of an incomplete node or a TIN. */
 size_t tp_cut_triangles(const tp_cut* c, size_t i, const tp_vertex* vertices,
                         uint32_t* triangles, size_t triangle_capacity);
 /* Height (m) of the surface the cut draws at grid (x, y); NaN where nothing is drawn. */
@@ -224,6 +230,28 @@ tp_status tp_cut_set_vertical_scale(tp_cut* c, double scale);
  * ray casts) still describe vertex moving's surface, which differs from the drawn one only
  * inside the grid triangles that take vertices, by at most the added offsets. */
 void tp_cut_set_stitch_add(tp_cut* c, int add);
+/* TIN nodes (issue 32 item 2; tp_tree.h, "a node's error-bounded TINs"): with a cache set, each
+ * drawn complete node of error mode whose level was built draws, instead of its lattice, the
+ * coarsest rung of that level's ladder whose bound (with its neighbour levels, the node's carry,
+ * quantisation and vertical scale) projects within tau, or within what the lattice's bound
+ * projects to where that is more (never worse than the lattice: a node drawn in place of
+ * missing ones, a box at the near plane). Levels, neighbours and stitching are the lattice's,
+ * so the outline and its crack removal are too. Levels found unbuilt draw their lattices and
+ * are listed by tp_cut_tin_requests (nearest first: the cut's output order is not, so in
+ * order of decreasing projected bound). NULL (the default) draws lattices only; --stitch add
+ * (tp_cut_set_stitch_add) draws lattices only. The cache must outlive the cut's use of it. */
+void tp_cut_set_tins(tp_cut* c, const tp_tin_cache* tins);
+typedef struct tp_cut_tin_request {
+    int64_t node;
+    int level;
+} tp_cut_tin_request;
+const tp_cut_tin_request* tp_cut_tin_requests(const tp_cut* c, size_t* count);
+/* Stamps the levels cut draws as drawn in a new frame, for tp_tin_cache_prune's age limit (on
+ * the thread that prunes). */
+void tp_tin_cache_mark_drawn(tp_tin_cache* c, const tp_cut* cut);
+/* How many vertices tp_cut_vertices writes for drawn node i: (2^level+1)^2, or its TIN's. */
+size_t tp_cut_vertex_count(const tp_cut* c, size_t i);
+
 int tp_cut_stitch_add(const tp_cut* c);
 /* Bound (m, true heights, quantisation not included) on the error against full resolution of
  * drawn node i at its level with the finer neighbours' vertices added on the sides add[] names

@@ -162,6 +162,69 @@ void tp_node_meta_compute(int n, int scale, const int32_t* q, const uint16_t* ma
 double tp_node_error_bound(const tp_node_meta* m, int n, int k, const int neighbor_levels[4],
                            double step_m, double err_unit_steps);
 
+/* ---- a node's error-bounded TINs, a ladder per level (tin_node.c; issue 32 item 2) ----
+ *
+ * A node drawn at level k may draw, instead of its level-k lattice, one of that level's TINs:
+ * fewer triangles, with the same outline, within a bound the cut checks against what the view
+ * allows the node (tp_cut_update picks nodes and levels on the lattice's bounds as before, then
+ * the coarsest TIN of the level that fits). Only complete nodes have TINs.
+ *
+ * A level-k TIN's vertices are samples of the node (lattice positions (i, j), 0..2^n, of its
+ * level-n samples); its outline is the level-k lattice's: every level-k vertex of the 4 sides and
+ * no other sample of them, so crack removal moves its side vertices as it moves the lattice's
+ * (tp_cut_node.nb: snapping onto the coarser neighbour's vertices) and shared edges stay
+ * bit-identical with lattice and TIN neighbours alike. Inside: the greedy insertion of tp_tin
+ * (tin.c) over the node's samples, stopped at a ladder of bounds ("rungs") between the level's
+ * own part of delta[k] and of delta[k-1] (at most TP_NODE_TIN_RUNGS a level, a factor sqrt(2)
+ * apart, coarsest first; the lattice's own bound last); a rung with as many triangles as the
+ * lattice (2 * 4^k) is dropped. Levels 0 (2 triangles) have none.
+ *
+ * Each rung's bounds are measured exactly as the node's eps tables measure the lattice
+ * (lattice_error.c: the samples a triangle covers for a leaf, its cell bound for a node of
+ * scale >= 1), in height steps, WITHOUT the carry delta[n] (the node's level-n surface against
+ * full resolution, which every bound of the node adds; node_meta.c):
+ *   own_steps         every triangle, no vertex moved;
+ *   eps_steps[s][kn]  every triangle with a vertex that a neighbour at relative level kn < k on
+ *                     side s moves, under every combination of levels on the other sides its
+ *                     vertices lie on; INFINITY when one of them turns over or flattens
+ *                     onto three distinct points (two vertices snapped together is allowed:
+ *                     not drawn, as the lattice's collapsed triangles).
+ * Drawn with neighbour levels nb, a rung's bound is the largest of own_steps and eps_steps of
+ * its moved sides (tp_node_tin_bound_steps), plus the carry. Triangles wind as the strips. */
+#define TP_NODE_TIN_RUNGS 4
+typedef struct tp_node_tin {
+    int level;                  /* k, 1..n */
+    uint32_t vertex_count;      /* <= (2^k+1)^2 */
+    uint32_t triangle_count;    /* < 2 * 4^k */
+    const uint16_t* ij;         /* vertex_count pairs: lattice position (i, j) of the level-n
+                                   samples */
+    const uint16_t* triangles;  /* triangle_count * 3 vertex indices */
+    float own_steps;
+    float eps_steps[4][TP_MAX_N];
+} tp_node_tin;
+
+typedef struct tp_node_tins tp_node_tins; /* every level of one node, one allocation */
+
+/* Builds the TINs of the levels whose bit is set in `levels` (bit k for level k; ~0u: all) of a
+ * node of `scale` from its block's samples (tp_tree_samples: (2^n+1)^2, TP_TREE_NO_HEIGHT where
+ * not drawn) and its meta, whose bounds are in err_unit_steps. A node with any sample not drawn
+ * gets none (*out = NULL, TP_OK): incomplete nodes keep their lattices and cell masks.
+ * TP_ERR_OUT_OF_MEMORY. Reentrant (a thread may build them while the frame draws). Cost: about
+ * 1 to 3 ms a level for n = 6 (docs/PERFORMANCE.md, "TIN nodes"). */
+tp_status tp_node_tins_build(int n, int scale, const uint16_t* samples, const tp_node_meta* meta,
+                             double err_unit_steps, unsigned levels, tp_node_tins** out,
+                             tp_error* err);
+/* Level k's rungs, coarsest (fewest triangles) first, *count of them (0: the lattice only;
+ * tins NULL allowed). */
+const tp_node_tin* tp_node_tins_level(const tp_node_tins* tins, int k, int* count);
+/* A rung's bound (steps, without the carry) drawn with neighbour levels nb (as tp_cut_node.nb). */
+double tp_node_tin_bound_steps(const tp_node_tin* t, const int8_t nb[4]);
+/* Bytes held (for the stream's accounting). */
+size_t tp_node_tins_bytes(const tp_node_tins* tins);
+void tp_node_tins_destroy(tp_node_tins* tins); /* accepts NULL */
+/* Rungs kept over all levels, for benches. */
+int tp_node_tins_rungs(const tp_node_tins* tins);
+
 /* ---- building a tree, one band of leaf rows at a time (tree_build.c) ----
  *
  * The builder takes the fitted grid top to bottom in bands of 2^n + 1 rows (band r is rows
@@ -282,6 +345,31 @@ void tp_tree_node_normal(const tp_tree* t, int64_t node, int32_t x, int32_t y, f
 /* Query: decoded height of full-resolution sample (x, y) if a resident node holds it at that
  * position (the finest resident one), else NaN. */
 double tp_tree_sample(const tp_tree* t, int x, int y);
+
+/* ---- TINs built as the view needs them (tin_cache.c) ----
+ *
+ * A tree's node TINs, one level of one node at a time (tp_node_tins_build with one level bit):
+ * what tp_cut_set_tins draws from. A cut lists the levels it would have drawn as TINs but found
+ * unbuilt (tp_cut_tin_requests; it drew their lattices); the caller builds them, on any one
+ * thread, while cuts read the cache on others: an entry is published once, whole, and never
+ * changes until tp_tin_cache_prune frees it. Memory: a pointer per tree node, and the TINs. */
+typedef struct tp_tin_cache tp_tin_cache;
+tp_status tp_tin_cache_create(const tp_tree* t, tp_tin_cache** out, tp_error* err);
+void tp_tin_cache_destroy(tp_tin_cache* c); /* accepts NULL */
+/* Level k's TINs of node: *built says whether the level was built; NULL when it was not, or the
+ * node has none there (incomplete, or no rung beats the lattice). Thread-safe against one
+ * builder. */
+const tp_node_tins* tp_tin_cache_get(const tp_tin_cache* c, int64_t node, int k, int* built);
+/* Builds level k of node from its resident samples (nothing when not resident or already
+ * built). One builder thread at a time. */
+tp_status tp_tin_cache_build(tp_tin_cache* c, int64_t node, int k, tp_error* err);
+/* Frees the TINs of nodes that are no longer resident and, max_age_frames > 0, of levels not
+ * drawn in the last max_age_frames frames (tp_tin_cache_mark_drawn in tp_cut.h; a level just
+ * built counts as drawn). Call when no build runs and no cut that may draw them will be used
+ * (the viewer: after marking its frame's cut, its cut thread idle). */
+void tp_tin_cache_prune(tp_tin_cache* c, unsigned max_age_frames);
+/* Bytes of TINs held, levels built, and TIN builds run so far. */
+void tp_tin_cache_stats(const tp_tin_cache* c, size_t* bytes, size_t* levels, size_t* builds);
 
 #ifdef __cplusplus
 }

@@ -164,6 +164,9 @@ void tp_cut_destroy(tp_cut* c)
     tp__free(a, c->tri_memo);
     tp__free(a, c->tri_cache);
     tp__free(a, c->add_cache);
+    tp__free(a, c->out_tin);
+    tp__free(a, c->tin_req);
+    tp__free(a, c->tin_prio);
     tp__spheres_destroy(c);
     tp__free(a, c);
 }
@@ -180,6 +183,7 @@ void tp__cut_begin(tp_cut* c)
     c->rec_count = 0;
     c->req_count = 0;
     c->out_count = 0;
+    c->tin_req_count = 0;
     c->visited = 0;
     c->decisions = 0;
     c->sph_on = 0;
@@ -229,6 +233,7 @@ tp_status tp__cut_finish(tp_cut* c, tp_error* err)
     for (size_t i = 0; i < c->rec_count && !c->requests_only; i++)
         drawn += c->rec[i].state == TP__CUT_DRAWN;
     if (c->oom || !tp__cut_grow(c, (void**)&c->out, &c->out_cap, drawn, sizeof *c->out) ||
+        !tp__cut_grow(c, (void**)&c->out_tin, &c->out_tin_cap, drawn, sizeof *c->out_tin) ||
         !tp__cut_grow(c, (void**)&c->req_ids, &c->req_ids_cap, c->req_count, sizeof *c->req_ids)) {
         c->rec_count = c->out_count = c->req_count = 0;
         return tp__fail(err, TP_ERR_OUT_OF_MEMORY, "cut: out of memory after %d nodes", c->visited);
@@ -269,11 +274,13 @@ tp_status tp__cut_finish(tp_cut* c, tp_error* err)
             o->near_plane = (uint8_t)near;
         }
         o->bound_px = r->bound_px;
-        r->tris = tp__cut_triangles(c, (int)i, nb);
+        int32_t tin_tris = tp__cut_pick_tin(c, (int)i, nb);
+        r->tris = tin_tris >= 0 ? tin_tris : tp__cut_triangles(c, (int)i, nb);
         for (int s = 0; s < 4; s++) /* --stitch add: one more triangle per added vertex */
             if (add[s] != TP_NO_NEIGHBOR)
                 r->tris += (1 << (add[s] > c->n ? c->n : add[s])) - (1 << r->level);
     }
+    tp__cut_tin_sort_requests(c);
     sort_requests(c->req, c->req_count);
     for (size_t i = 0; i < c->req_count; i++)
         c->req_ids[i] = c->req[i].node;

@@ -93,9 +93,25 @@ static int node_vertex(const node_view* nv, int i, int j, int32_t* gx, int32_t* 
     return node_vertex_f(nv, i, j, gx, gy, q, NULL);
 }
 
+size_t tp_cut_vertex_count(const tp_cut* c, size_t i)
+{
+    assert(c && i < c->out_count);
+    if (c->out_tin[i])
+        return c->out_tin[i]->vertex_count;
+    size_t v = ((size_t)1 << c->out[i].level) + 1;
+    return v * v;
+}
+
 void tp_cut_vertices(const tp_cut* c, size_t i, tp_vertex* vertices, size_t vertex_capacity)
 {
     assert(c && i < c->out_count);
+    if (c->out_tin[i]) {
+        assert(vertex_capacity >= c->out_tin[i]->vertex_count);
+        tp__cut_tin_view tv;
+        tp__cut_tin_view_init(c, i, &tv);
+        tp__cut_tin_vertices(c, &tv, vertices);
+        return;
+    }
     tp_cut_vertices_at_level(c, i, c->out[i].level, vertices, vertex_capacity);
 }
 
@@ -225,6 +241,11 @@ size_t tp_cut_triangles(const tp_cut* c, size_t i, const tp_vertex* vertices, ui
                         size_t triangle_capacity)
 {
     assert(c && i < c->out_count && vertices);
+    if (c->out_tin[i]) {
+        tp__cut_tin_view tv;
+        tp__cut_tin_view_init(c, i, &tv);
+        return tp__cut_tin_triangles(c, &tv, triangles, triangle_capacity);
+    }
     tp__node_draw d;
     tp__cut_node_draw(c, i, &d);
     keep_ctx k = {&d};
@@ -252,6 +273,7 @@ void tp_cut_get_stats(const tp_cut* c, tp_cut_stats* out)
     memset(out, 0, sizeof *out);
     out->visited = c->visited;
     out->requests = (int)c->req_count;
+    out->tin_requests = (int)c->tin_req_count;
     int sph_decided = 0;
     if (c->sph_on)
         tp__spheres_stats(c, &out->sphere_visited, &sph_decided, &out->sphere_nodes);
@@ -265,6 +287,7 @@ void tp_cut_get_stats(const tp_cut* c, tp_cut_stats* out)
         out->drawn++;
         out->nodes_per_scale[r->s]++;
         out->substituted += o->substituted;
+        out->tin_nodes += o->tin >= 0;
         out->near_plane_nodes += o->near_plane;
         if (o->bound_px > out->max_bound_px)
             out->max_bound_px = o->bound_px;
@@ -349,9 +372,15 @@ int tp__cut_sample_node(const tp_cut* c, double x, double y, double* z_steps, in
             int o = tp__cut_drawn_at_leaf(c, lc - dx, lr - dy);
             if (o < 0)
                 continue;
-            node_view nv;
-            node_view_init(c, (size_t)o, &nv);
-            double z = node_drawn_height(&nv, x, y);
+            double z = NAN;
+            if (c->out_tin[o]) {
+                if (!tp__cut_tin_height(c, (size_t)o, x, y, &z))
+                    z = NAN;
+            } else {
+                node_view nv;
+                node_view_init(c, (size_t)o, &nv);
+                z = node_drawn_height(&nv, x, y);
+            }
             if (!isnan(z)) {
                 if (z_steps)
                     *z_steps = z;
@@ -379,6 +408,10 @@ int tp__cut_node_tris(const tp_cut* c, size_t i, tp__cut_tri_fn fn, void* user)
     if (add[0] != TP_NO_NEIGHBOR || add[1] != TP_NO_NEIGHBOR || add[2] != TP_NO_NEIGHBOR ||
         add[3] != TP_NO_NEIGHBOR)
         return tp__cut_add_tris(c, i, fn, user);
+    if (c->out_tin[i]) {
+        tp__cut_tin_tris(c, i, fn, user);
+        return 1;
+    }
     node_view nv;
     node_view_init(c, i, &nv);
     int last = 1 << nv.k;

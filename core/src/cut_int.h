@@ -103,6 +103,12 @@ struct tp_cut {
     int stitch_add;          /* tp_cut_set_stitch_add */
     tp__cut_addtab* add_cache; /* add tables, direct-mapped by node, kept across updates (NULL
                                   until --stitch add is first set, or without memory) */
+    const tp_tin_cache* tins;   /* tp_cut_set_tins; NULL: lattices only */
+    const tp_node_tin** out_tin; /* per drawn node: the rung it draws, or NULL (cut_tin.c) */
+    size_t out_tin_cap;
+    tp_cut_tin_request* tin_req; /* levels found unbuilt, and their projected bounds */
+    float* tin_prio;
+    size_t tin_req_count, tin_req_cap, tin_prio_cap;
     int decisions;           /* distance decisions computed by the update (tp_cut_stats) */
     int sph_on;              /* this update reads distance decisions from the sphere tree */
     struct tp__spheres* sph; /* cut_spheres.c; NULL until the first sphere-tree update */
@@ -238,6 +244,33 @@ int tp__cut_add_tris(const tp_cut* c, size_t i, tp__cut_tri_fn fn, void* user);
  * cells' triangles as vertex moving stitches them (tp__tri_drawn's rule, zero areas left out).
  * 0 when out of memory (cut_draw.c). */
 int tp__cut_node_tris(const tp_cut* c, size_t i, tp__cut_tri_fn fn, void* user);
+/* ---- drawn nodes that draw a TIN (cut_tin.c) ---- */
+typedef struct tp__cut_tin_view {
+    const tp_node_tin* rung;
+    const uint16_t* q;      /* the node's samples */
+    const uint16_t* filled; /* its filled bits, NULL when it has none */
+    int32_t qmin;
+    int s;
+    int64_t x0, y0; /* grid position of sample (0, 0) */
+    int nb[4];
+} tp__cut_tin_view;
+/* Drawn node i (c->out_tin[i] set) as its rung draws it. */
+void tp__cut_tin_view_init(const tp_cut* c, size_t i, tp__cut_tin_view* tv);
+/* For drawn record ri (its output entry written, its lattice bound in bound_px/bound_m): the
+ * rung it draws (c->out_tin, tp_cut_node.tin, bounds updated) and its triangles, or -1 (its
+ * lattice; a level found unbuilt is listed as a request). */
+int32_t tp__cut_pick_tin(tp_cut* c, int ri, const int nb[4]);
+void tp__cut_tin_sort_requests(tp_cut* c);
+/* Its tp_cut_node.vertex_count vertices, as tp_cut_vertices. */
+void tp__cut_tin_vertices(const tp_cut* c, const tp__cut_tin_view* tv, tp_vertex* out);
+/* Its drawn triangles (the first cap written as index triples into its vertices); the count. */
+size_t tp__cut_tin_triangles(const tp_cut* c, const tp__cut_tin_view* tv, uint32_t* tris,
+                             size_t cap);
+/* fn for each triangle drawn node i's rung draws (as tp__cut_node_tris). */
+void tp__cut_tin_tris(const tp_cut* c, size_t i, tp__cut_tri_fn fn, void* user);
+/* Height (steps) at grid (x, y) of drawn node i's rung: 1 when a triangle holds the point. */
+int tp__cut_tin_height(const tp_cut* c, size_t i, double x, double y, double* z_steps);
+
 /* tp_cut_add_bound_m for record i at level k (m, quantisation not included). */
 double tp__cut_add_bound_m(const tp_cut* c, int i, int k, const int add[4]);
 

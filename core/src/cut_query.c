@@ -157,6 +157,36 @@ static double cell_hit(const ray_ctx* r, int vs, int cx, int cy, double best)
     return best;
 }
 
+/* Nearest hit with a triangle of a TIN node (grid positions, heights in steps). */
+typedef struct tin_ray {
+    const ray_ctx* r;
+    double best;
+} tin_ray;
+
+static void tin_ray_tri(const int32_t pos[3][2], const double q[3], void* user)
+{
+    tin_ray* t = user;
+    const ray_ctx* r = t->r;
+    double w[3][3];
+    for (int k = 0; k < 3; k++) {
+        tp_tree_grid_to_world(r->c->t, pos[k][0], pos[k][1], &w[k][0], &w[k][1]);
+        w[k][0] -= r->o[0];
+        w[k][1] -= r->o[1];
+        w[k][2] = q[k] * r->c->step * r->c->zscale - r->o[2];
+    }
+    double h = tp__ray_triangle(r->d, w[0], w[1], w[2]);
+    if (h >= 0 && (t->best < 0 || h < t->best))
+        t->best = h;
+}
+
+/* Drawn node i draws a TIN: every triangle (a few hundred: no walk over cells needed). */
+static double tin_hit(const ray_ctx* r, size_t i)
+{
+    tin_ray t = {r, -1};
+    tp__cut_tin_tris(r->c, i, tin_ray_tri, &t);
+    return t.best;
+}
+
 /* Nearest hit with drawn node i (output index), or -1. */
 static double node_hit(ray_ctx* r, size_t i)
 {
@@ -164,6 +194,8 @@ static double node_hit(ray_ctx* r, size_t i)
     const tp_cut_node* cn = &c->out[i];
     int s, nc, nr;
     tp_tree_node_locate(&c->g, cn->node, &s, &nc, &nr);
+    if (c->out_tin[i])
+        return tin_hit(r, i);
     int k = cn->level, vs = (1 << k) + 1, cells = 1 << k;
     tp_cut_vertices(c, i, r->v, (size_t)vs * vs);
     tp__cut_node_draw(c, i, &r->draw);

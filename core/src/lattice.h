@@ -85,6 +85,14 @@ double tp__lattice_level_error(int n, const int32_t* q, const uint16_t* mask, in
 void tp__lattice_eps(int n, const int32_t* q, const uint16_t* mask, int cells,
                      double eps[4][TP_MAX_N]);
 
+/* The error (steps) of one triangle of lattice positions pos with heights z (steps) against the
+ * lattice q (side samples a row): cells = 0, the largest |T - q| over the samples it covers
+ * (closed; exact against a leaf's full resolution); cells = 1, its cell bound (every corner of
+ * every lattice cell it touches, its plane extended there: a bound against the lattice's surface
+ * S_n, as the eps tables of a node of scale >= 1 use). 0 for a triangle of zero area. */
+double tp__lattice_triangle_error(const int32_t* q, int side, const int32_t pos[3][2],
+                                  const int64_t z[3], int cells);
+
 /* An error of `steps` in table units of unit_steps, rounded up; TP__ERR_SAT when it does not
  * fit. */
 static inline uint16_t tp__err_units(double steps, double unit_steps)

@@ -646,3 +646,9 @@ void tp__lattice_eps(int n, const int32_t* q, const uint16_t* mask, int cells,
                 eps[s][t->kn] = e > eps[s][t->kn] ? e : eps[s][t->kn];
     }
 }
+
+double tp__lattice_triangle_error(const int32_t* q, int side, const int32_t pos[3][2],
+                                  const int64_t z[3], int cells)
+{
+    return cells ? cell_bound(q, side, pos, z) : raster_error(q, side, pos, z);
+}

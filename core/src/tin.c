@@ -422,9 +422,38 @@ float tp__tin_bound(double e)
     return (double)b > e ? nextafterf(b, 0.0f) : b;
 }
 
-tp_status tp__tin_build(const float* heights, int width, int height, double max_error_m,
-                        const uint8_t* cls, int cut, tp_tin** out, tp_error* err)
+/* The triangulation as it stands, as a tp_tin (NULL when out of memory). */
+static tp_tin* current_tin(const tin_build* b)
 {
+    tp_tin* t = tin_alloc(b->nv, b->nt);
+    if (!t)
+        return NULL;
+    for (size_t i = 0; i < b->nv; ++i) {
+        t->vertices[3 * i] = (float)b->vx[2 * i];
+        t->vertices[3 * i + 1] = (float)b->vx[2 * i + 1];
+        t->vertices[3 * i + 2] = b->vz[i];
+    }
+    double mx = 0.0;
+    for (size_t i = 0; i < b->nt; ++i) {
+        /* every slot is live; in tp_tin the order is as stored (orient < 0 in (column, row)) */
+        t->triangles[3 * i] = b->T[i].v[0];
+        t->triangles[3 * i + 1] = b->T[i].v[1];
+        t->triangles[3 * i + 2] = b->T[i].v[2];
+        t->triangle_error_m[i] = b->T[i].err;
+        mx = b->T[i].err > mx ? b->T[i].err : mx;
+    }
+    t->max_error_m = mx;
+    t->samples_rasterised = b->visited;
+    return t;
+}
+
+/* tp__tin_build, and with rungs (count > 0, tol decreasing, max_error_m = tol[count - 1]) the
+ * triangulation as it stood when the worst error first fell to each tol[j] into rungs[j]. */
+static tp_status build(const float* heights, int width, int height, double max_error_m,
+                       const uint8_t* cls, int cut, const double* tol, int count, tp_tin** rungs,
+                       tp_tin** out, tp_error* err)
+{
+
     tin_build b;
     memset(&b, 0, sizeof b);
     b.h = heights;
@@ -472,15 +501,28 @@ tp_status tp__tin_build(const float* heights, int width, int height, double max_
     int32_t t0 = add_triangle(&b, p3, p0, p2, -1, -1, -1, -1);
     add_triangle(&b, p0, p3, p1, t0, -1, -1, -1);
     flush(&b);
+    int next = 0; /* the next rung */
     for (;;) {
-        while (!b.oom && heap_live_top(&b))
-            step(&b);
+        while (!b.oom && heap_live_top(&b)) {
+            while (next < count && b.forced_left == 0 && b.heap[0].err <= tp__tin_bound(tol[next]))
+                if (!(rungs[next++] = current_tin(&b)))
+                    b.oom = 1;
+            if (!b.oom)
+                step(&b);
+        }
         if (b.oom || b.nd == 0)
             break;
         flush_deferred(&b); /* (not reached: a forced sample left is in a queued triangle) */
     }
+    while (!b.oom && next < count) /* within every rung left */
+        if (!(rungs[next++] = current_tin(&b)))
+            b.oom = 1;
     if (b.oom)
         goto oom;
+    if (count) {
+        build_free(&b);
+        return TP_OK;
+    }
     if (cut) {
         uint32_t* remap = malloc(b.nv * sizeof *remap);
         if (!remap)
@@ -489,31 +531,34 @@ tp_status tp__tin_build(const float* heights, int width, int height, double max_
         free(remap);
     }
 
-    tp_tin* t = tin_alloc(b.nv, b.nt);
+    tp_tin* t = current_tin(&b);
     if (!t)
         goto oom;
-    for (size_t i = 0; i < b.nv; ++i) {
-        t->vertices[3 * i] = (float)b.vx[2 * i];
-        t->vertices[3 * i + 1] = (float)b.vx[2 * i + 1];
-        t->vertices[3 * i + 2] = b.vz[i];
-    }
-    double mx = 0.0;
-    for (size_t i = 0; i < b.nt; ++i) {
-        /* every slot is live; in tp_tin the order is as stored (orient < 0 in (column, row)) */
-        t->triangles[3 * i] = b.T[i].v[0];
-        t->triangles[3 * i + 1] = b.T[i].v[1];
-        t->triangles[3 * i + 2] = b.T[i].v[2];
-        t->triangle_error_m[i] = b.T[i].err;
-        mx = b.T[i].err > mx ? b.T[i].err : mx;
-    }
-    t->max_error_m = mx;
-    t->samples_rasterised = b.visited;
     build_free(&b);
     *out = t;
     return TP_OK;
 oom:
     build_free(&b);
+    for (int j = 0; j < count; j++) {
+        tp_tin_destroy(rungs[j]);
+        rungs[j] = NULL;
+    }
     return tp__fail(err, TP_ERR_OUT_OF_MEMORY, "tin: out of memory (%zu triangles)", b.nt);
+}
+
+tp_status tp__tin_build(const float* heights, int width, int height, double max_error_m,
+                        const uint8_t* cls, int cut, tp_tin** out, tp_error* err)
+{
+    return build(heights, width, height, max_error_m, cls, cut, NULL, 0, NULL, out, err);
+}
+
+tp_status tp__tin_build_rungs(const float* heights, int width, int height, const double* tol,
+                              int count, const uint8_t* cls, tp_tin** rungs, tp_error* err)
+{
+    assert(count >= 1);
+    for (int j = 0; j < count; j++)
+        rungs[j] = NULL;
+    return build(heights, width, height, tol[count - 1], cls, 0, tol, count, rungs, NULL, err);
 }
 
 tp_status tp_tin_build(const float* heights, size_t height_count, int width, int height,

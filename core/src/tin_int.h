@@ -106,4 +106,11 @@ float tp__tin_bound(double e);
 tp_status tp__tin_build(const float* heights, int width, int height, double max_error_m,
                         const uint8_t* cls, int cut, tp_tin** out, tp_error* err);
 
+/* tp__tin_build without the cut, at several bounds in one insertion: tol[0] > tol[1] > ... >
+ * tol[count - 1] (count >= 1); rungs[j] is the triangulation as it stood when the worst error
+ * first fell to tol[j] (each with its own errors), i.e. what tp__tin_build at tol[j] gives
+ * (tin_node.c's ladder of levels). On failure every rungs[j] is NULL. */
+tp_status tp__tin_build_rungs(const float* heights, int width, int height, const double* tol,
+                              int count, const uint8_t* cls, tp_tin** rungs, tp_error* err);
+
 #endif
