@@ -4,8 +4,9 @@
 # in WORK_DIR, serving two stores built here from DATA_DIR/lf_elev_220_mt_hood_utm.tif (patch 65
 # and 33), and PROXY (tests/http_fault_proxy.py) in front of it: 50 ms a request, and the faults
 # its paths name. Both are stopped by a trap whatever happens: no daemon is left behind.
-#   same:   info, point (3 positions) and bench (headless, 20 frames) over the URL, through the
-#           50 ms proxy, answer as over the local file (bench: triangles, nodes drawn, measured
+#   same:   info, point (3 positions), los, profile, viewshed, terrain, contours and bench
+#           (headless, 20 frames) over the URL, through the 50 ms proxy, answer as over the
+#           local file (the same lines and files; bench: triangles, nodes drawn, measured
 #           error); info straight from nginx too; an imagery pyramid's URL (info, found beside
 #           its store's URL, bench --imagery URL); a URL that is not a store, one that is not
 #           there: one line, exit 1
@@ -95,6 +96,29 @@ case_same() {
         "$TP" point www/hood.tpt $p > local.txt 2> err || fail "point $p (local)"
         "$TP" point "$SLOW" $p > out 2> err || fail "point $p over HTTP: exit $?"
         cmp -s local.txt out || fail "point $p over HTTP differs"
+    done
+    # the planner commands: the same lines, the same files
+    for c in "los S --from 45.30,-121.80 --to 45.37,-121.69" \
+             "profile S --through 45.30,-121.80 --through 45.37,-121.69" \
+             "viewshed S --observer 45.3735,-121.6959 -o O.tif" "terrain S -o O.tif" \
+             "contours S --interval 200 -o O.geojson"; do
+        set -f
+        for w in local url; do
+            src=www/hood.tpt
+            [ $w = url ] && src=$SLOW
+            cmd=${c/S/$src}
+            "$TP" ${cmd/O/$w} > $w.txt 2> err || fail "${c%% *} ($w): exit $?"
+        done
+        set +f
+        # the same but for the times taken and the output's name
+        diff <(grep -v '^time ' local.txt | sed 's/local\././') \
+             <(grep -v '^time ' url.txt | sed 's/url\././') > /dev/null ||
+            fail "${c%% *} over HTTP prints otherwise"
+        for f in local.*; do
+            case $f in local.txt | local.json) continue ;; esac
+            cmp -s "$f" "url.${f#local.}" || fail "${c%% *} over HTTP writes otherwise"
+            rm -f "$f" "url.${f#local.}"
+        done
     done
     "$TP" bench www/hood.tpt --frames 20 --segments 2 --json local.json > /dev/null 2> err ||
         fail "bench (local)"
