@@ -14,6 +14,8 @@ answer. The path says what to do with it:
       truncate                   the server's headers and the first 1/16 of its body, then the
                                  connection closed (a body cut short in the middle of a node)
       stall                      no answer for 60 s (the client's timeout must end it)
+      garble                     the server's answer with every byte of its body inverted (a
+                                 body damaged on the way: only the nodes' checksums can tell)
   /replace:OTHER/FROM-TO/NAME    forward to /NAME until a GET whose Range starts in FROM..TO-1,
                                  then every request (HEAD included) to /OTHER: a file replaced
                                  on the server between two reads
@@ -109,6 +111,8 @@ class Handler(http.server.BaseHTTPRequestHandler):
                 self.send_header(k, v)
         self.end_headers()
         if self.command == "GET":
+            if fault == "garble":
+                body = bytes(b ^ 0xFF for b in body)
             if fault == "truncate" and len(body) > 1:
                 self.wfile.write(body[: len(body) // 16])
                 self.wfile.flush()

@@ -11,7 +11,8 @@
 #           its store's URL, bench --imagery URL); a URL that is not a store, one that is not
 #           there: one line, exit 1
 #   faults: point with the node it reads answered by 404, 500, a reset, a body cut short, a
-#           stall (GDAL_HTTP_LOW_SPEED_TIME=2) or the file replaced between two reads: exit 1,
+#           stall (GDAL_HTTP_LOW_SPEED_TIME=2), a body garbled on the way (the node's CRC32 says
+#           so) or the file replaced between two reads: exit 1,
 #           one line on stderr naming the URL and what happened, nothing on stdout; bench with
 #           a node's range answered 500: it flies on (its ancestor drawn, the node asked for again
 #           with backoff), says so once a node, exit 0; bench
@@ -171,7 +172,7 @@ case_faults() {
     [ -n "$from" ] || fail "no range asked for"
     range=$from-$((from + 1))
     for m in 404:"HTTP 404" 500:"HTTP 500" reset:"cannot read" truncate:"transfer closed" \
-             stall:"too slow" replace:other.tpt:"changed on the server"; do
+             stall:"too slow" garble:"checksum mismatch" replace:other.tpt:"changed on the server"; do
         mode=${m%:*} says=${m##*:}
         url=http://127.0.0.1:$PP/$mode/$range/hood.tpt
         GDAL_HTTP_LOW_SPEED_TIME=2 GDAL_HTTP_MAX_RETRY=1 "$TP" point "$url" ${POS[0]} > out 2> err
