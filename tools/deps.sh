@@ -34,9 +34,13 @@ set -eu
 # libnova-dev: the sun's position, rise and set (io/src/sun.cpp, `terrapatch light`).
 # slurm-wlm, munge: the one-node Slurm cluster tests/test_slurm_build.sh starts on localhost
 # (tools/slurm_build.sh, a build in parts); the test starts and stops its daemons itself.
+# nginx: the web server tests/test_http_store.sh starts on 127.0.0.1 with its own configuration
+# (and stops) to serve stores over HTTP (issue 33). The tests never use the package's service: a
+# container's policy-rc.d keeps it from starting; under systemd Debian starts it on port 80
+# (`systemctl disable --now nginx` stops it; the tests do not need it).
 COMMON="cmake pkg-config gcc g++ libgdal-dev libproj-dev libgeographiclib-dev libopenimageio-dev
 libglfw3-dev libepoxy-dev libegl-dev libgl-dev libgl1-mesa-dri libegl-mesa0 libstb-dev gnuplot-nox
-xvfb xdotool libzstd-dev zlib1g-dev gdal-bin libnova-dev slurm-wlm munge"
+xvfb xdotool libzstd-dev zlib1g-dev gdal-bin libnova-dev slurm-wlm munge nginx"
 VTK_SYSTEM="libvtk9-dev"
 # ParaView's VTK config finds Threads, EXPAT, LZMA, LZ4, double-conversion, ZLIB and utf8cpp
 # for CommonCore, IOCore, IOXML, IOLegacy, FiltersCore and their dependencies.

@@ -155,3 +155,9 @@ int tp_option_error(const char* cmd, const char* opt, const char* expected, cons
     tp_cli_error("%s: expected %s, got '%s'", opt, expected, got);
     return -1;
 }
+
+const char* tp_cli_unprefixed(const char* path, const char* msg)
+{
+    const size_t n = strlen(path);
+    return strncmp(msg, path, n) == 0 && msg[n] == ':' && msg[n + 1] == ' ' ? msg + n + 2 : msg;
+}

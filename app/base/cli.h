@@ -35,6 +35,9 @@ const char* tp_cli_prefix(void);
 /* One line on stderr: the prefix, the text (printf's format, without the newline), '\n'; written
  * in one piece. For failures and usage errors. */
 void tp_cli_error(const char* fmt, ...) TP_CLI_PRINTF(1, 2);
+/* msg without its leading "path: " (an io message names its file; a caller that names the file
+ * itself does not say it twice); msg itself when it does not start so. */
+const char* tp_cli_unprefixed(const char* path, const char* msg);
 /* The same, "warning: " after the prefix: something the user should know, the work goes on. */
 void tp_cli_warning(const char* fmt, ...) TP_CLI_PRINTF(1, 2);
 /* The same as tp_cli_error, for what is neither a failure nor a warning: notes, progress lines,

@@ -539,6 +539,8 @@ static int fly(store_bench* b, store_result* c, int first, store_draw* d, const 
             if (failure) {
                 tp_bench_progress_end();
                 tp_cli_error("%s", failure);
+                if (tp_store_changed(b->sc.store)) /* never measured against a mix of two */
+                    return TP_EXIT_FAILURE;
             }
             char what[96];
             snprintf(what, sizeof what, "%.1f ms, %d nodes", row->frame_ms, row->nodes);

@@ -31,6 +31,8 @@
 
 char* tp_imagery_default_path(const char* store_path)
 {
+    if (tp_input_is_url(store_path)) /* its last name, in the current folder */
+        store_path = strrchr(store_path, '/') + 1;
     size_t n = strlen(store_path);
     char* p = malloc(n + 5);
     if (!p)

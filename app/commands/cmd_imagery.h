@@ -24,7 +24,8 @@ typedef struct tp_imagery_cli {
 int tp_imagery_cli_run(const char* store_path, const tp_imagery_cli* c);
 
 /* The default output of a store: its path with ".tpi" in place of ".tpt" (appended when it
- * does not end so). Malloc'd; NULL when out of memory. */
+ * does not end so); of a store's URL, its last name so in the current folder. Malloc'd; NULL
+ * when out of memory. */
 char* tp_imagery_default_path(const char* store_path);
 
 #endif /* TP_APP_CMD_IMAGERY_H */

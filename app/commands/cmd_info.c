@@ -376,14 +376,14 @@ int tp_cli_info(int argc, char** argv)
     int code = parse_options(argc, argv, &o);
     if (code >= 0)
         return code;
+    const size_t len = strlen(o.path);
+    if (len > 4 && (!strcmp(o.path + len - 4, ".tpi") || !strcmp(o.path + len - 4, ".tpl")))
+        return tp_info_imagery(o.path, o.json); /* a file or a URL */
     int is_store;
     if ((code = tp_terrain_classify("info", o.path, &o.scene, &is_store)) >= 0)
         return code;
     if (is_store)
         return tp_info_store(o.path, o.json);
-    const size_t len = strlen(o.path);
-    if (len > 4 && (!strcmp(o.path + len - 4, ".tpi") || !strcmp(o.path + len - 4, ".tpl")))
-        return tp_info_imagery(o.path, o.json);
     tp_scene sc;
     if ((code = tp_scene_load(o.path, &o.scene, &sc)) != TP_EXIT_OK)
         return code;

@@ -156,7 +156,7 @@ int tp_cli_point(int argc, char** argv)
         code = TP_EXIT_FAILURE;
     } else if (!tp_point_readout_at_position(g, o.src.path, &pos, text, o.precision, &r, &err)) {
         tp_planner_swap_hint(g, &pos, hint, sizeof hint);
-        tp_cli_error("%s: %s%s", o.src.path, err.message, hint);
+        tp_cli_error("%s: %s%s", o.src.path, tp_cli_unprefixed(o.src.path, err.message), hint);
         code = TP_EXIT_FAILURE;
     } else {
         const tp_planner_outputs out = {.json = o.json, .write_text = write_text,

@@ -10,6 +10,7 @@
 #include "sun_time.h"
 
 #include "tp_imagery.h"
+#include "tp_io.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -165,7 +166,9 @@ static void beside(const char* store_path, const char* suffix)
     const char* what = suffix[3] == 'l' ? "light map:    " : "imagery:      ";
     tp_imagery* im = NULL;
     tp_error err = {0};
-    if (access(p, F_OK) == 0) {
+    unsigned char head[8];
+    if (tp_input_is_url(p) ? tp_input_url_head(p, head, sizeof head, NULL) == TP_OK
+                           : access(p, F_OK) == 0) {
         if (tp_imagery_open(p, &im, &err) == TP_OK) {
             tp_imagery_info info;
             tp_imagery_get_info(im, &info);

@@ -302,9 +302,12 @@ static int write_json(const char* json, const day_run* r, const tp_light_place* 
     return TP_EXIT_OK;
 }
 
-/* The default output: the store's path with .tpl for .tpt (appended otherwise). */
+/* The default output: the store's path with .tpl for .tpt (appended otherwise); of a store's
+ * URL, its last name in the current folder. */
 static char* default_out(const char* store_path)
 {
+    if (tp_input_is_url(store_path))
+        store_path = strrchr(store_path, '/') + 1;
     const size_t n = strlen(store_path);
     char* p = malloc(n + 5);
     if (!p)

@@ -266,7 +266,7 @@ int tp_planner_positions_place(const char* cmd, const char* path, tp_ground* g, 
             return 0;
         if (!tp_ground_locate(g, &pos, p->text[i], &x, &y, &h, &err)) {
             tp_planner_swap_hint(g, &pos, hint, sizeof hint);
-            tp_cli_error("%s: %s: %s%s", path, what, err.message, hint);
+            tp_cli_error("%s: %s: %s%s", path, what, tp_cli_unprefixed(path, err.message), hint);
             return 0;
         }
         /* where tp_ground_locate found it on the ground: the render CRS's E, N */
@@ -318,7 +318,7 @@ int tp_planner_locate(const char* cmd, const char* path, tp_ground* g,
     if (tp_ground_locate(g, &p, input, x, y, height_m, &err))
         return 1;
     tp_planner_swap_hint(g, &p, hint, sizeof hint);
-    tp_cli_error("%s: %s%s", path, err.message, hint);
+    tp_cli_error("%s: %s%s", path, tp_cli_unprefixed(path, err.message), hint);
     return 0;
 }
 
@@ -429,7 +429,7 @@ static int window_centre(const char* cmd, const char* path, tp_ground* g,
         tp_georef_geo_to_proj(sc->georef, pos.lat_deg, pos.lon_deg, e, n, &err) == TP_OK)
         return 1;
     tp_planner_swap_hint(g, &pos, hint, sizeof hint);
-    tp_cli_error("%s: %s%s", path, lerr.message, hint);
+    tp_cli_error("%s: %s%s", path, tp_cli_unprefixed(path, lerr.message), hint);
     return 0;
 }
 

@@ -17,7 +17,12 @@ int tp_view_pyramid_beside(const char* store_path, const char* ext, char* out, s
     int w = tpt ? snprintf(out, cap, "%.*s%s", (int)(n - 4), store_path, ext)
                 : snprintf(out, cap, "%s%s", store_path, ext);
     struct stat sb;
-    return w > 0 && (size_t)w < cap && stat(out, &sb) == 0 && S_ISREG(sb.st_mode);
+    unsigned char head[8];
+    if (w <= 0 || (size_t)w >= cap)
+        return 0;
+    if (tp_input_is_url(out)) /* one HEAD request: 404 when there is none */
+        return tp_input_url_head(out, head, sizeof head, NULL) == TP_OK;
+    return stat(out, &sb) == 0 && S_ISREG(sb.st_mode);
 }
 
 static int read_block(void* user, tp_block_key k, uint8_t* rgba, tp_error* err)

@@ -12,6 +12,8 @@
 
 int tp_file_head(const char* path, unsigned char* head, size_t n)
 {
+    if (tp_input_is_url(path))
+        return tp_input_url_head(path, head, n, NULL) == TP_OK;
     struct stat st;
     /* never open a FIFO or a device to look: it could block; the readers refuse those */
     if (stat(path, &st) != 0 || !S_ISREG(st.st_mode))

@@ -28,7 +28,8 @@ typedef struct tp_store_scene {
 int tp_is_store_path(const char* path);
 
 /* Reads the first n bytes of path into head when it is a regular file of at least n bytes
- * (a FIFO or a device is never opened: it could block): 1, else 0. */
+ * (a FIFO or a device is never opened: it could block) or an http(s) URL whose server has
+ * them (tp_input_url_head): 1, else 0. */
 int tp_file_head(const char* path, unsigned char* head, size_t n);
 
 /* Opens the store, its tree and georeference. Prints one error line naming the file and returns

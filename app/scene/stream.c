@@ -27,8 +27,19 @@ typedef struct resident {
 typedef struct done {
     int64_t node;
     uint16_t* block;     /* NULL when the read failed */
+    int transient;       /* the read failed on the way (TP_ERR_IO, the store unchanged): retried */
     char msg[sizeof(((tp_error*)0)->message)];
 } done;
+
+/* A node whose read failed on the way (an HTTP error, a reset, a stall): asked for again after
+ * a backoff of 0.5 s doubling with each attempt up to 30 s. */
+typedef struct retry {
+    int64_t node;
+    double at_ms;        /* on the stream's clock */
+    int attempts;
+} retry;
+
+enum { MAX_LOADERS = 16 };
 
 struct tp_stream {
     const tp_store* store;
@@ -66,8 +77,11 @@ struct tp_stream {
     int in_flight;
     size_t bytes_total;  /* resident + being read */
     int stop;
-    pthread_t thread;
-    int thread_started;
+    pthread_t threads[MAX_LOADERS];
+    int threads_started;
+
+    retry* retries;      /* render thread */
+    size_t retry_len, retry_cap;
 
     char failure[sizeof(((tp_error*)0)->message)];
     int failure_pending;
@@ -75,7 +89,8 @@ struct tp_stream {
     tp_stream_stats last;
 };
 
-static int push_done(tp_stream* s, int64_t node, uint16_t* block, const char* msg)
+static int push_done(tp_stream* s, int64_t node, uint16_t* block, const char* msg,
+                     int transient)
 {
     if (s->done_len == s->done_cap) {
         size_t cap = s->done_cap ? 2 * s->done_cap : 64;
@@ -88,6 +103,7 @@ static int push_done(tp_stream* s, int64_t node, uint16_t* block, const char* ms
     done* d = &s->done_list[s->done_len++];
     d->node = node;
     d->block = block;
+    d->transient = transient;
     d->msg[0] = '\0';
     if (msg)
         snprintf(d->msg, sizeof d->msg, "%s", msg);
@@ -111,19 +127,22 @@ static void* loader_main(void* arg)
         tp_error err;
         uint16_t* block = malloc(s->block_bytes);
         const char* msg = NULL;
+        int transient = 0;
+        tp_status st = TP_OK;
         if (!block)
             msg = "out of memory for a node";
-        else if (tp_store_read_node(s->store, node, block, s->block_samples, &err) != TP_OK) {
+        else if ((st = tp_store_read_node(s->store, node, block, s->block_samples, &err)) != TP_OK) {
             free(block);
             block = NULL;
             msg = err.message;
+            transient = st == TP_ERR_IO && !tp_store_changed(s->store);
         }
 
         pthread_mutex_lock(&s->mu);
         s->in_flight--;
         if (!block)
             s->bytes_total -= s->block_bytes;
-        if (!push_done(s, node, block, msg)) {
+        if (!push_done(s, node, block, msg, transient)) {
             free(block);
             if (block)
                 s->bytes_total -= s->block_bytes;
@@ -217,7 +236,8 @@ tp_stream* tp_stream_create(const tp_store* store, tp_tree* tree, const tp_strea
     s->block_samples = tp_tree_block_words(s->g->n); /* samples and cell mask */
     s->block_bytes = s->block_samples * sizeof(uint16_t);
     s->budget = o && o->memory_bytes ? o->memory_bytes : (size_t)1 << 30;
-    s->prefetch_s = o && o->prefetch_s > 0 ? o->prefetch_s : 0.5;
+    /* over HTTP a node takes a round trip and a queue: look further ahead */
+    s->prefetch_s = o && o->prefetch_s > 0 ? o->prefetch_s : s->info.remote ? 1.5 : 0.5;
     s->frame_s = o && o->frame_s > 0 ? o->frame_s : 0;
     size_t count = (size_t)s->g->node_count;
     s->state = calloc(count, 1);
@@ -253,13 +273,21 @@ tp_stream* tp_stream_create(const tp_store* store, tp_tree* tree, const tp_strea
             return NULL;
         }
     free(ids);
-    if (!(o && o->no_loader)) {
-        if (pthread_create(&s->thread, NULL, loader_main, s) != 0) {
+    /* Several loaders for a store over HTTP: each waits on its request, so that many are in
+     * flight at once (a local disk answers in microseconds: one is enough). */
+    const char* env = getenv("TP_STREAM_LOADERS"); /* measurements: docs/PERFORMANCE.md */
+    int loaders = o && o->loaders > 0 ? o->loaders
+                  : env && atoi(env) > 0 ? atoi(env)
+                  : s->info.remote      ? 8
+                                        : 1;
+    loaders = loaders < MAX_LOADERS ? loaders : MAX_LOADERS;
+    for (int i = 0; !(o && o->no_loader) && i < loaders; i++) {
+        if (pthread_create(&s->threads[i], NULL, loader_main, s) != 0) {
             tp_error_set(err, TP_ERR_BACKEND, "cannot start the loader thread");
             tp_stream_destroy(s);
             return NULL;
         }
-        s->thread_started = 1;
+        s->threads_started++;
     }
     return s;
 }
@@ -268,13 +296,12 @@ void tp_stream_destroy(tp_stream* s)
 {
     if (!s)
         return;
-    if (s->thread_started) {
-        pthread_mutex_lock(&s->mu);
-        s->stop = 1;
-        pthread_cond_broadcast(&s->cv);
-        pthread_mutex_unlock(&s->mu);
-        pthread_join(s->thread, NULL);
-    }
+    pthread_mutex_lock(&s->mu);
+    s->stop = 1;
+    pthread_cond_broadcast(&s->cv);
+    pthread_mutex_unlock(&s->mu);
+    for (int i = 0; i < s->threads_started; i++)
+        pthread_join(s->threads[i], NULL);
     for (size_t i = 0; i < s->res_count; i++) {
         tp_tree_detach(s->tree, s->res[i].node);
         free(s->res[i].block);
@@ -284,6 +311,7 @@ void tp_stream_destroy(tp_stream* s)
     pthread_mutex_destroy(&s->mu);
     pthread_cond_destroy(&s->cv);
     free(s->res);
+    free(s->retries);
     free(s->done_list);
     free(s->queue);
     free(s->state);
@@ -306,6 +334,46 @@ static void want(tp_stream* s, int64_t node)
     }
     s->queue[s->queue_len++] = node;
     s->state[node] = ST_QUEUED;
+}
+
+/* Node failed on the way: asked for again after its backoff (retry_due). Returns how many
+ * times it failed so (0 when it cannot be retried: out of memory). */
+static int retry_later(tp_stream* s, int64_t node)
+{
+    size_t i = 0;
+    while (i < s->retry_len && s->retries[i].node != node)
+        i++;
+    if (i == s->retry_len) {
+        if (s->retry_len == s->retry_cap) {
+            size_t cap = s->retry_cap ? 2 * s->retry_cap : 16;
+            retry* r = realloc(s->retries, cap * sizeof *r);
+            if (!r)
+                return 0; /* failed for good */
+            s->retries = r;
+            s->retry_cap = cap;
+        }
+        s->retries[s->retry_len++] = (retry){.node = node};
+    }
+    retry* r = &s->retries[i];
+    const double backoff_ms = 500.0 * (double)(1 << (r->attempts < 6 ? r->attempts : 6));
+    r->at_ms = tp_clock_ms() + (backoff_ms < 30000 ? backoff_ms : 30000);
+    return ++r->attempts;
+}
+
+/* The failed nodes whose backoff is over may be asked for again; entries of nodes read since
+ * are dropped. */
+static void retry_due(tp_stream* s)
+{
+    const double now = tp_clock_ms();
+    for (size_t i = 0; i < s->retry_len;) {
+        retry* r = &s->retries[i];
+        if (s->state[r->node] == ST_FAILED && r->at_ms <= now)
+            s->state[r->node] = ST_NONE;
+        if (s->state[r->node] == ST_RESIDENT)
+            *r = s->retries[--s->retry_len];
+        else
+            i++;
+    }
 }
 
 /* Marks node and its ancestors used this frame. */
@@ -425,7 +493,8 @@ void tp_stream_frame(tp_stream* s, const tp_cut* cut, tp_cut* prefetch_cut, cons
         if (!d->block) {
             s->state[d->node] = ST_FAILED;
             s->failed++;
-            if (!s->failure_pending && d->msg[0]) {
+            const int again = d->transient && retry_later(s, d->node) > 1; /* said once */
+            if (!again && !s->failure_pending && d->msg[0]) {
                 snprintf(s->failure, sizeof s->failure, "%s", d->msg);
                 s->failure_pending = 1;
             }
@@ -502,6 +571,7 @@ void tp_stream_frame(tp_stream* s, const tp_cut* cut, tp_cut* prefetch_cut, cons
     } else {
         s->pre_cut = NULL; /* standing still (or no prefetch): nothing ahead to load */
     }
+    retry_due(s);
     pthread_mutex_lock(&s->mu);
     for (size_t i = s->queue_head; i < s->queue_len; i++)
         if (s->state[s->queue[i]] == ST_QUEUED)
@@ -511,14 +581,14 @@ void tp_stream_frame(tp_stream* s, const tp_cut* cut, tp_cut* prefetch_cut, cons
         want(s, req[i]);
     for (size_t i = 0; i < npre; i++)
         want(s, pre[i]);
-    pthread_cond_signal(&s->cv);
+    pthread_cond_broadcast(&s->cv);
     pthread_mutex_unlock(&s->mu);
 
     /* 4. Over budget: release what is farthest behind. */
     int released = release_over_budget(s, cam, motion);
     if (released) {
         pthread_mutex_lock(&s->mu);
-        pthread_cond_signal(&s->cv);
+        pthread_cond_broadcast(&s->cv);
         pthread_mutex_unlock(&s->mu);
     }
 

@@ -19,7 +19,10 @@
  * ancestor of a drawn one, nor a root) are released farthest-behind-first: projected on the
  * direction of motion, the most negative first (Luo & Duan section 3.4), by distance when the
  * camera stands still. A node whose data fails its checksum is reported once, and its ancestor
- * keeps being drawn in its place.
+ * keeps being drawn in its place. A read that failed on the way (TP_ERR_IO: an HTTP error, a
+ * reset, a stall, the store unchanged) is asked for again after a backoff (0.5 s doubling to
+ * 30 s), its ancestor drawn meanwhile; its failure is reported once, not at every retry. A store over HTTP is read by several loader threads at
+ * once (tp_stream_options.loaders), each read one range request.
  */
 #ifndef TP_APP_STREAM_H
 #define TP_APP_STREAM_H
@@ -34,8 +37,13 @@ typedef struct tp_stream tp_stream;
 
 typedef struct tp_stream_options {
     size_t memory_bytes;     /* budget of decoded node samples; 0: 1 GiB */
-    double prefetch_s;       /* how far ahead the motion is extrapolated; 0: 0.5 s */
+    double prefetch_s;       /* how far ahead the motion is extrapolated; 0: 0.5 s (1.5 s for a
+                                store over HTTP, whose nodes take a round trip each) */
     int no_loader;           /* tests: load nothing in the background (only tp_stream_require) */
+    int loaders;             /* loader threads, each with one read in flight; 0: the
+                                environment's TP_STREAM_LOADERS if set (to measure), else 8 for
+                                a store over HTTP (tp_store_info.remote), 1 for a local file; at
+                                most 16 */
     double frame_s;          /* > 0: each tp_stream_frame is this much later than the last, for
                                 the motion estimate (a bench flying a fixed-rate flight faster
                                 than it draws); 0: the real clock */

@@ -31,6 +31,18 @@ int tp_terrain_kind_of(const char* path)
 {
     if (tp_is_store_path(path))
         return TP_TERRAIN_STORE;
+    if (tp_input_is_url(path)) {
+        tp_error err;
+        unsigned char head[8];
+        if (tp_input_url_head(path, head, sizeof head, &err) != TP_OK)
+            tp_cli_error("%s", err.message);
+        else
+            tp_cli_error("%s: not a terrapatch store (its first bytes are not a store's magic): "
+                         "over HTTP terrapatch reads stores (.tpt) and their pyramids; read a "
+                         "DEM on a server as /vsicurl/%s",
+                         path, path);
+        return -1;
+    }
     if (tp_input_is_virtual(path)) {
         if (named_tpt(path)) {
             tp_cli_error("%s: a store inside a GDAL virtual path cannot be read "

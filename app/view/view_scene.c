@@ -259,8 +259,13 @@ void tp_view_scene_report_failures(tp_view_scene* v)
         return;
     const char* m;
     while ((m = tp_stream_take_failure(v->store->stream)) != NULL) {
-        if (tp_view_scene_say_once(v, m))
+        v->store_changed = tp_store_changed(v->store->store);
+        if (v->store_changed)
+            tp_cli_error("%s: the view ends", m);
+        else if (tp_view_scene_say_once(v, m))
             tp_cli_error("%s (drawing its ancestor instead)", m);
         v->failures++;
+        if (v->store_changed)
+            break;
     }
 }

@@ -29,6 +29,7 @@ typedef struct tp_view_scene {
     int src_width, src_height, n;
     double min_height_m, max_height_m;
     int failures;             /* damaged nodes reported */
+    int store_changed;        /* the store over HTTP was replaced on its server: the view ends */
     uint64_t reported[32];    /* hashes of the read failures said (tp_view_scene_say_once) */
     int reported_count;
     struct tp_view_imagery* imagery; /* imagery_view.h: a store's imagery, or NULL */

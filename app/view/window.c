@@ -458,7 +458,7 @@ int tp_view_window_run(tp_view_scene* v, tp_gl_context* ctx, tp_renderer* r, tp_
     int dragging = 0, frames = 0, idle = 0;
     /* Ctrl-C kills the window at once, except during a screenshot or an export (Y): then the
      * writer cleans up, and the loop ends here (main exits with 130/143). */
-    while (!glfwWindowShouldClose(win) && !s.quit && !tp_interrupted()) {
+    while (!glfwWindowShouldClose(win) && !s.quit && !v->store_changed && !tp_interrupted()) {
         if (o->preview && tp_store_cache_job_done(o->job)) { /* the store landed: go on there */
             o->refine = 1;
             o->resume_cam = *cam;
@@ -585,5 +585,5 @@ int tp_view_window_run(tp_view_scene* v, tp_gl_context* ctx, tp_renderer* r, tp_
     tp_view_viewshed_free(&s.viewshed);
     if (s.ground != o->ground) /* the layers' ground is run_view's */
         tp_ground_destroy(s.ground);
-    return TP_EXIT_OK;
+    return v->store_changed ? TP_EXIT_FAILURE : TP_EXIT_OK;
 }

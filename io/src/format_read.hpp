@@ -5,6 +5,7 @@
 #pragma once
 
 #include "io_util.hpp"
+#include "range_file.hpp"
 #include "store_format.hpp"
 
 #include <cerrno>
@@ -39,10 +40,10 @@ inline int read_at(int fd, void* buf, size_t size, uint64_t offset)
     return 0;
 }
 
-/* The whole header, header_bytes from the start of fd (path, file_bytes long), into head,
+/* The whole header, header_bytes from the start of file (path, file_bytes long), into head,
  * checked against the CRC32 in its last 4 bytes. TP_ERR_BAD_DATA for a file too short or a
  * checksum mismatch, TP_ERR_IO when it cannot be read; each message names path. */
-inline tp_status read_header_bytes(int fd, const char* path, uint64_t file_bytes,
+inline tp_status read_header_bytes(const RangeFile& file, const char* path, uint64_t file_bytes,
                                    uint32_t header_bytes, std::vector<uint8_t>& head,
                                    tp_error* err)
 {
@@ -51,8 +52,9 @@ inline tp_status read_header_bytes(int fd, const char* path, uint64_t file_bytes
                     "%s: truncated: %" PRIu64 " bytes, but the header alone takes %u", path,
                     file_bytes, header_bytes);
     head.resize(header_bytes);
-    if (int e = read_at(fd, head.data(), head.size(), 0))
-        return fail(err, TP_ERR_IO, "%s: cannot read the header: %s", path, std::strerror(e));
+    std::string why;
+    if (!file.read(head.data(), head.size(), 0, &why))
+        return fail(err, TP_ERR_IO, "%s: cannot read the header: %s", path, why.c_str());
     const uint8_t* h = head.data();
     const uint32_t head_crc = store::crc32_of(h, header_bytes - 4);
     if (head_crc != store::get_u32(h + header_bytes - 4))

@@ -4,7 +4,8 @@
  * CRC32, every entry's codec and size, every block inside the data area) and keeps the table in
  * memory (24 bytes a block: 0.01% of the blocks' raw texels). tp_imagery_read_block reads one
  * block with pread, so any number of threads may read at once: the pyramid is not changed
- * after open, and each thread keeps its own zstd context and buffers (thread_local). */
+ * after open, and each thread keeps its own zstd context and buffers (thread_local). An http(s)
+ * URL is read with range requests (range_file.hpp), as a store is. */
 #include "format_read.hpp"
 #include "imagery_format.hpp"
 #include "io_util.hpp"
@@ -20,11 +21,10 @@
 
 using namespace tpio::imagery;
 using tpio::fail;
-using tpio::read_at;
 
 struct tp_imagery {
     std::string path;
-    int fd = -1;
+    tpio::RangeFile file;
     Geometry g;
     int shift = 0;
     int grid_width = 0, grid_height = 0;
@@ -35,11 +35,6 @@ struct tp_imagery {
     double time_first_s = 0, time_last_s = 0;
     int maps = 0;
     std::vector<uint8_t> table; /* block_count entries */
-    ~tp_imagery()
-    {
-        if (fd >= 0)
-            close(fd);
-    }
 };
 
 namespace {
@@ -89,8 +84,9 @@ tp_status read_header(tp_imagery* im, std::vector<uint8_t>& head, uint32_t* vers
     const char* path = im->path.c_str();
     uint8_t fixed[H_FIXED_BYTES_V1];
     const size_t first = (size_t)std::min<uint64_t>(im->file_bytes, sizeof fixed);
-    if (int e = read_at(im->fd, fixed, first, 0))
-        return fail(err, TP_ERR_IO, "%s: cannot read: %s", path, std::strerror(e));
+    std::string why;
+    if (!im->file.read(fixed, first, 0, &why))
+        return fail(err, TP_ERR_IO, "%s: cannot read: %s", path, why.c_str());
     if (first < sizeof MAGIC || std::memcmp(fixed, MAGIC, sizeof MAGIC) != 0)
         return fail(err, TP_ERR_BAD_DATA,
                     "%s: not a terrapatch imagery pyramid (.tpi): its first bytes are not the "
@@ -109,7 +105,7 @@ tp_status read_header(tp_imagery* im, std::vector<uint8_t>& head, uint32_t* vers
         return fail(err, TP_ERR_BAD_DATA, "%s: damaged header: it claims %u bytes", path,
                     header_bytes);
     if (const tp_status st =
-            tpio::read_header_bytes(im->fd, path, im->file_bytes, header_bytes, head, err))
+            tpio::read_header_bytes(im->file, path, im->file_bytes, header_bytes, head, err))
         return st;
     const uint32_t version = get_u32(head.data() + H_VERSION);
     if (version > VERSION)
@@ -213,8 +209,9 @@ tp_status read_footer(tp_imagery* im, uint32_t header_bytes, uint8_t* foot,
         return fail(err, TP_ERR_BAD_DATA,
                     "%s: truncated: %" PRIu64 " bytes, no room for the footer after the header",
                     path, im->file_bytes);
-    if (int e = read_at(im->fd, foot, FOOTER_BYTES, im->file_bytes - FOOTER_BYTES))
-        return fail(err, TP_ERR_IO, "%s: cannot read the footer: %s", path, std::strerror(e));
+    std::string why;
+    if (!im->file.read(foot, FOOTER_BYTES, im->file_bytes - FOOTER_BYTES, &why))
+        return fail(err, TP_ERR_IO, "%s: cannot read the footer: %s", path, why.c_str());
     if (std::memcmp(foot + F_END_MAGIC, END_MAGIC, 8) != 0)
         return fail(err, TP_ERR_BAD_DATA,
                     "%s: truncated or damaged: no footer at the end of its %" PRIu64
@@ -276,8 +273,9 @@ tp_status check_table(tp_imagery* im, uint64_t table_offset, const uint8_t* foot
     const uint64_t table_bytes = g.block_count * ENTRY_BYTES;
     /* The table: CRC32, then every entry */
     im->table.resize((size_t)table_bytes);
-    if (int e = read_at(im->fd, im->table.data(), im->table.size(), table_offset))
-        return fail(err, TP_ERR_IO, "%s: cannot read the block table: %s", path, std::strerror(e));
+    std::string why;
+    if (!im->file.read(im->table.data(), im->table.size(), table_offset, &why))
+        return fail(err, TP_ERR_IO, "%s: cannot read the block table: %s", path, why.c_str());
     const uint32_t table_crc = crc32_of(im->table.data(), im->table.size());
     if (table_crc != get_u32(foot + F_TABLE_CRC))
         return fail(err, TP_ERR_BAD_DATA,
@@ -332,21 +330,12 @@ extern "C" tp_status tp_imagery_open(const char* path, tp_imagery** out, tp_erro
 {
     if (!path || !out)
         return fail(err, TP_ERR_INVALID_ARG, "imagery: bad arguments (path or out is NULL)");
-    if (tp_status st =
-            tpio::check_input_file(path, "a terrapatch imagery pyramid (.tpi)", false, err))
-        return st;
     try {
         std::unique_ptr<tp_imagery> im(new tp_imagery);
         im->path = path;
-        im->fd = open(path, O_RDONLY | O_CLOEXEC | O_NONBLOCK);
-        if (im->fd < 0)
-            return fail(err, TP_ERR_IO, "%s: cannot open: %s", path, std::strerror(errno));
-        struct stat sb;
-        if (fstat(im->fd, &sb) != 0)
-            return fail(err, TP_ERR_IO, "%s: cannot open: %s", path, std::strerror(errno));
-        if (!S_ISREG(sb.st_mode))
-            return fail(err, TP_ERR_IO, "%s: cannot open: not a regular file", path);
-        im->file_bytes = (uint64_t)sb.st_size;
+        if (tp_status st = im->file.open(path, "a terrapatch imagery pyramid (.tpi)", err))
+            return st;
+        im->file_bytes = im->file.size();
         if (tp_status st = load(im.get(), err))
             return st;
         *out = im.release();
@@ -431,13 +420,17 @@ extern "C" tp_status tp_imagery_read_block(const tp_imagery* im, int level, int 
     try {
         ThreadScratch& t = t_scratch;
         t.stored.resize(e.bytes);
-        if (int code = read_at(im->fd, t.stored.data(), e.bytes, e.offset))
+        std::string why;
+        if (!im->file.read(t.stored.data(), e.bytes, e.offset, &why))
             return fail(
                 err, TP_ERR_IO,
                 "%s: level %d, block (%d, %d), %u bytes at byte %" PRIu64 ": cannot read: %s", path,
-                level, bx, by, e.bytes, e.offset,
-                code == EIO ? "the file ended early (was it changed?)" : std::strerror(code));
+                level, bx, by, e.bytes, e.offset, why.c_str());
         const uint32_t crc = crc32_of(t.stored.data(), e.bytes);
+        if (crc != e.crc && im->file.check_changed(&why))
+            return fail(err, TP_ERR_IO,
+                        "%s: level %d, block (%d, %d), %u bytes at byte %" PRIu64 ": %s", path,
+                        level, bx, by, e.bytes, e.offset, why.c_str());
         if (crc != e.crc)
             return fail(err, TP_ERR_BAD_DATA,
                         "%s: level %d, block (%d, %d), %u bytes at byte %" PRIu64
@@ -446,7 +439,6 @@ extern "C" tp_status tp_imagery_read_block(const tp_imagery* im, int level, int 
         if (!t.dctx && !(t.dctx = ZSTD_createDCtx()))
             throw std::bad_alloc();
         t.rgba.resize(BLOCK_BYTES);
-        std::string why;
         if (!decode_block(e.codec, t.stored.data(), e.bytes, t.dctx, &t.planes, t.rgba.data(),
                           &why))
             return fail(err, TP_ERR_BAD_DATA,

@@ -6,6 +6,7 @@
 #include "tp_io.h"
 
 #include "gdal_util.hpp"
+#include "range_file.hpp"
 
 #include <cpl_vsi.h>
 
@@ -71,6 +72,30 @@ extern "C" int tp_input_is_virtual(const char* path)
         return 0;
     const char* slash = std::strchr(path + 4, '/');
     return slash && slash > path + 4;
+}
+
+extern "C" int tp_input_is_url(const char* path)
+{
+    return tpio::is_url(path);
+}
+
+extern "C" tp_status tp_input_url_head(const char* url, unsigned char* head, size_t n,
+                                       tp_error* err)
+{
+    try {
+        tpio::RangeFile f;
+        if (tp_status st = f.open(url, "a file", err, false))
+            return st;
+        std::string why;
+        if (f.size() < n)
+            return fail(err, TP_ERR_IO, "%s: only %llu bytes on the server", url,
+                        (unsigned long long)f.size());
+        if (!f.read(head, n, 0, &why))
+            return fail(err, TP_ERR_IO, "%s: cannot read: %s", url, why.c_str());
+        return TP_OK;
+    } catch (...) {
+        return tpio::caught(err, url);
+    }
 }
 
 extern "C" tp_status tp_input_check(const char* path, const char* what, int allow_directory,

@@ -5,9 +5,12 @@
  * pointer into that mapping, so the memory a store takes does not grow with its node count.
  * tp_store_read_node reads one node with pread, so any number of threads can read at once:
  * the store is not changed after open, and each thread keeps its own zstd context and buffers
- * (thread_local), reused from one node to the next. */
+ * (thread_local), reused from one node to the next. A store named by an http(s) URL is read
+ * through range_file.hpp: its tables in one request, kept in memory rather than mapped, and
+ * each node a range request, from any number of threads at once. */
 #include "format_read.hpp"
 #include "io_util.hpp"
+#include "range_file.hpp"
 #include "store_format.hpp"
 #include "tp_io.h"
 
@@ -26,7 +29,6 @@
 
 using namespace tpio::store;
 using tpio::fail;
-using tpio::read_at;
 
 namespace {
 /* Bytes of the tables read at a time by the checking pass (a multiple of both entry sizes). */
@@ -48,13 +50,14 @@ Entry decode_loc(const uint8_t* e)
 
 struct tp_store {
     std::string path;
-    int fd = -1;
+    tpio::RangeFile file;
     uint32_t version = 0;
     uint64_t file_bytes = 0, header_bytes = 0, data_end = 0;
     Tables tables{};
     tp_store_header header;
     std::string crs, notes;
     void* map = nullptr;       /* both tables, read-only (mmap) */
+    std::vector<uint8_t> tables_read; /* both tables of a store read over HTTP: not mapped */
     size_t map_bytes = 0;
     const tp_node_meta* metas = nullptr; /* node_count, inside map */
     const uint8_t* locs = nullptr;       /* node_count * LOC_BYTES, inside map */
@@ -62,8 +65,6 @@ struct tp_store {
     {
         if (map)
             munmap(map, map_bytes);
-        if (fd >= 0)
-            close(fd);
     }
 };
 
@@ -93,8 +94,9 @@ tp_status read_header(tp_store* s, std::vector<uint8_t>& head, tp_error* err)
     const char* path = s->path.c_str();
     uint8_t fixed[H_FIXED_BYTES];
     const size_t first = (size_t)std::min<uint64_t>(s->file_bytes, sizeof fixed);
-    if (int e = read_at(s->fd, fixed, first, 0))
-        return fail(err, TP_ERR_IO, "%s: cannot read: %s", path, std::strerror(e));
+    std::string why;
+    if (!s->file.read(fixed, first, 0, &why))
+        return fail(err, TP_ERR_IO, "%s: cannot read: %s", path, why.c_str());
     if (first < sizeof MAGIC || std::memcmp(fixed, MAGIC, sizeof MAGIC) != 0)
         return fail(err, TP_ERR_BAD_DATA,
                     "%s: not a terrapatch store (.tpt): its first bytes are not the store's "
@@ -111,7 +113,7 @@ tp_status read_header(tp_store* s, std::vector<uint8_t>& head, tp_error* err)
         return fail(err, TP_ERR_BAD_DATA, "%s: damaged header: it claims %u bytes", path,
                     header_bytes);
     if (const tp_status st =
-            tpio::read_header_bytes(s->fd, path, s->file_bytes, header_bytes, head, err))
+            tpio::read_header_bytes(s->file, path, s->file_bytes, header_bytes, head, err))
         return st;
     const uint8_t* h = head.data();
     s->version = get_u32(h + H_VERSION);
@@ -188,8 +190,9 @@ tp_status read_footer(tp_store* s, uint8_t* foot, tp_error* err)
         return fail(err, TP_ERR_BAD_DATA,
                     "%s: truncated: %" PRIu64 " bytes, no room for the footer after the header",
                     path, s->file_bytes);
-    if (int e = read_at(s->fd, foot, FOOTER_BYTES, s->file_bytes - FOOTER_BYTES))
-        return fail(err, TP_ERR_IO, "%s: cannot read the footer: %s", path, std::strerror(e));
+    std::string why;
+    if (!s->file.read(foot, FOOTER_BYTES, s->file_bytes - FOOTER_BYTES, &why))
+        return fail(err, TP_ERR_IO, "%s: cannot read the footer: %s", path, why.c_str());
     if (std::memcmp(foot + F_END_MAGIC, END_MAGIC, 8) != 0)
         return fail(err, TP_ERR_BAD_DATA,
                     "%s: truncated or damaged: no footer at the end of its %" PRIu64
@@ -299,21 +302,31 @@ tp_status check_tables(tp_store* s, const uint8_t* foot, tp_error* err)
     uint64_t data_sum = 0; /* the nodes' data bytes: they fill the data area, end to end */
     tp_error bad_entry;
     bad_entry.message[0] = '\0';
+    std::string why;
+    if (s->file.remote()) { /* over HTTP: both tables in one request, kept (map_tables) */
+        s->tables_read.resize((size_t)(t.data_offset - t.meta_offset));
+        if (!s->file.read(s->tables_read.data(), s->tables_read.size(), t.meta_offset, &why))
+            return fail(err, TP_ERR_IO, "%s: cannot read the node and location tables: %s",
+                        path, why.c_str());
+    }
     for (uint64_t at = t.meta_offset; at < t.data_offset;) {
         const bool metas = at < t.loc_offset;
         const uint64_t end = metas ? t.loc_offset : t.data_offset;
         const size_t size = (size_t)std::min<uint64_t>(end - at, piece.size());
-        if (int e = read_at(s->fd, piece.data(), size, at))
+        const uint8_t* bytes = piece.data();
+        if (s->file.remote())
+            bytes = s->tables_read.data() + (at - t.meta_offset);
+        else if (!s->file.read(piece.data(), size, at, &why))
             return fail(err, TP_ERR_IO, "%s: cannot read the %s table: %s", path,
-                        metas ? "node" : "location", std::strerror(e));
+                        metas ? "node" : "location", why.c_str());
         if (metas)
-            meta_crc = crc32_continue(meta_crc, piece.data(), size);
+            meta_crc = crc32_continue(meta_crc, bytes, size);
         else
-            loc_crc = crc32_continue(loc_crc, piece.data(), size);
+            loc_crc = crc32_continue(loc_crc, bytes, size);
         const size_t esize = metas ? META_BYTES : LOC_BYTES;
         const uint64_t first = (at - (metas ? t.meta_offset : t.loc_offset)) / esize;
         for (size_t k = 0; k * esize < size; ++k) {
-            const uint8_t* e = piece.data() + k * esize;
+            const uint8_t* e = bytes + k * esize;
             const char* problem = nullptr;
             Entry en{};
             if (metas) {
@@ -362,16 +375,22 @@ tp_status check_tables(tp_store* s, const uint8_t* foot, tp_error* err)
     return TP_OK;
 }
 
-/* Maps both tables read-only: s->metas and s->locs point into the mapping. */
+/* Maps both tables read-only: s->metas and s->locs point into the mapping (over HTTP: into
+ * the tables read by check_tables). */
 tp_status map_tables(tp_store* s, tp_error* err)
 {
     const char* path = s->path.c_str();
     const Tables& t = s->tables;
+    if (s->file.remote()) {
+        s->metas = reinterpret_cast<const tp_node_meta*>(s->tables_read.data());
+        s->locs = s->tables_read.data() + (t.loc_offset - t.meta_offset);
+        return TP_OK;
+    }
     /* Map both tables (page-aligned start). */
     const long page = sysconf(_SC_PAGESIZE);
     const uint64_t map_from = t.meta_offset - t.meta_offset % (uint64_t)(page > 0 ? page : 4096);
     s->map_bytes = (size_t)(t.data_offset - map_from);
-    void* map = mmap(nullptr, s->map_bytes, PROT_READ, MAP_SHARED, s->fd, (off_t)map_from);
+    void* map = mmap(nullptr, s->map_bytes, PROT_READ, MAP_SHARED, s->file.fd(), (off_t)map_from);
     if (map == MAP_FAILED)
         return fail(err, TP_ERR_IO, "%s: cannot map its node table (%zu bytes): %s", path,
                     s->map_bytes, std::strerror(errno));
@@ -408,22 +427,14 @@ extern "C" tp_status tp_store_open(const char* path, tp_store** out, tp_error* e
 {
     if (!path || !out)
         return fail(err, TP_ERR_INVALID_ARG, "store: bad arguments (path or out is NULL)");
-    tp_status st = tpio::check_input_file(path, "a terrapatch store (.tpt)", false, err);
-    if (st != TP_OK)
-        return st;
     try {
         std::unique_ptr<tp_store> s(new tp_store);
         std::memset(&s->header, 0, sizeof s->header);
         s->path = path;
-        s->fd = open(path, O_RDONLY | O_CLOEXEC | O_NONBLOCK);
-        if (s->fd < 0)
-            return fail(err, TP_ERR_IO, "%s: cannot open: %s", path, std::strerror(errno));
-        struct stat sb;
-        if (fstat(s->fd, &sb) != 0)
-            return fail(err, TP_ERR_IO, "%s: cannot open: %s", path, std::strerror(errno));
-        if (!S_ISREG(sb.st_mode)) /* replaced since check_input_file looked */
-            return fail(err, TP_ERR_IO, "%s: cannot open: not a regular file", path);
-        s->file_bytes = (uint64_t)sb.st_size;
+        tp_status st = s->file.open(path, "a terrapatch store (.tpt)", err);
+        if (st != TP_OK)
+            return st;
+        s->file_bytes = s->file.size();
         st = load(s.get(), err);
         if (st != TP_OK)
             return st;
@@ -436,12 +447,15 @@ extern "C" tp_status tp_store_open(const char* path, tp_store** out, tp_error* e
 
 extern "C" void tp_store_close(tp_store* s) { delete s; }
 
+extern "C" int tp_store_changed(const tp_store* s) { return s && s->file.changed(); }
+
 extern "C" void tp_store_get_info(const tp_store* s, tp_store_info* out)
 {
     assert(s && out);
     std::memset(out, 0, sizeof *out);
     out->header = s->header;
     out->version = s->version;
+    out->remote = s->file.remote();
     out->file_bytes = s->file_bytes;
     out->data_bytes = s->data_end - s->tables.data_offset;
     out->table_bytes = s->tables.meta_bytes + s->tables.loc_bytes;
@@ -471,11 +485,14 @@ static tp_status read_checked(const tp_store* s, int64_t node, Entry* out, tp_er
                     path, node_name(s, node).c_str(), e.bytes, e.offset);
     ThreadScratch& t = t_scratch;
     t.stored.resize(e.bytes);
-    if (int code = read_at(s->fd, t.stored.data(), e.bytes, e.offset))
+    std::string why;
+    if (!s->file.read(t.stored.data(), e.bytes, e.offset, &why))
         return fail(err, TP_ERR_IO, "%s: %s, %u bytes at byte %" PRIu64 ": cannot read: %s",
-                    path, node_name(s, node).c_str(), e.bytes, e.offset,
-                    code == EIO ? "the file ended early (was it changed?)" : std::strerror(code));
+                    path, node_name(s, node).c_str(), e.bytes, e.offset, why.c_str());
     const uint32_t crc = crc32_of(t.stored.data(), e.bytes);
+    if (crc != e.crc && s->file.check_changed(&why)) /* replaced on the server */
+        return fail(err, TP_ERR_IO, "%s: %s, %u bytes at byte %" PRIu64 ": %s", path,
+                    node_name(s, node).c_str(), e.bytes, e.offset, why.c_str());
     if (crc != e.crc)
         return fail(err, TP_ERR_BAD_DATA,
                     "%s: %s, %u bytes at byte %" PRIu64
@@ -517,7 +534,6 @@ extern "C" tp_status tp_store_read_node(const tp_store* s, int64_t node, uint16_
         if (!t.dctx && !(t.dctx = ZSTD_createDCtx()))
             throw std::bad_alloc();
         t.samples.resize(count);
-        std::string why;
         const int n = s->header.geometry.n, side = (1 << n) + 1;
         const tp_node_meta m = s->metas[(size_t)node];
         int scale, col, row;

@@ -32,6 +32,15 @@ tp_status tp_input_check(const char* path, const char* what, int allow_directory
 /* 1 when path is a GDAL virtual path ("/vsi" followed by a handler name and '/'). */
 int tp_input_is_virtual(const char* path);
 
+/* 1 when path is an http:// or https:// URL (the scheme in any case): terrapatch's own files
+ * (stores, imagery pyramids, light maps) are read from one with range requests (tp_store_open,
+ * tp_imagery_open). */
+int tp_input_is_url(const char* path);
+/* The first n bytes of the file at url into head (a HEAD and a range request through GDAL's
+ * /vsicurl/, whose cache keeps them for the open that follows). TP_ERR_IO naming url when the
+ * server does not have the file, cannot be reached or sends fewer bytes. */
+tp_status tp_input_url_head(const char* url, unsigned char* head, size_t n, tp_error* err);
+
 /* What names an input file for a cache: its absolute path (a relative path made absolute, as
  * realpath does; in a virtual path, the archive's path after /vsizip/, /vsigzip/, /vsitar/,
  * /vsi7z/ or /vsirar/ made absolute, so that the name reads the same file from any folder),

@@ -100,11 +100,16 @@ typedef struct tp_store tp_store;
 typedef struct tp_store_info {
     tp_store_header header;    /* strings owned by the store */
     uint32_t version;
+    int remote;                /* 1: read over HTTP (tp_store_open was given an http(s) URL) */
     uint64_t file_bytes, data_bytes, table_bytes;
     double bytes_per_sample;   /* file_bytes / (src_width * src_height) */
 } tp_store_info;
 
-/* Opens a store: checks magic ("not a terrapatch store"), the header's checksum, the version (a
+/* Opens a store, path a local file or an http:// or https:// URL (read with range requests
+ * through GDAL's /vsicurl/: io/src/range_file.hpp; its tables are then read in one request and
+ * kept in memory, not mapped; a file replaced on the server since open fails every later read
+ * with "URL: ...: the file changed on the server since it was opened (...): open it again",
+ * TP_ERR_IO, and is never mixed with the one opened). Checks magic ("not a terrapatch store"), the header's checksum, the version (a
  * newer one: "written by a newer terrapatch (format N; this one reads up to M)"; an older one:
  * "written by an older terrapatch (format N; ...): rebuild it with terrapatch build"), the
  * geometry against the one n and the source size define, the footer's and both tables'
@@ -115,10 +120,13 @@ typedef struct tp_store_info {
  * its file is SIGBUS) nor rewrite it in place (the metas would change under the tree; node reads
  * check their location's bounds again); terrapatch itself always writes a new file and renames
  * it. TP_ERR_BAD_DATA (damaged, truncated, an older or newer format, not a store) / TP_ERR_IO
- * (cannot read or map; a FIFO, device or folder) / TP_ERR_BACKEND (a big-endian host) with a
+ * (cannot read or map; a FIFO, device or folder; an HTTP failure) / TP_ERR_BACKEND (a big-endian host) with a
  * message naming path; *out written only on success. */
 tp_status tp_store_open(const char* path, tp_store** out, tp_error* err);
 void tp_store_close(tp_store* s); /* accepts NULL */
+/* 1 once a read of a store over HTTP found its file replaced on the server (every later read
+ * fails); 0 otherwise and always for a local file. Thread-safe. */
+int tp_store_changed(const tp_store* s);
 void tp_store_get_info(const tp_store* s, tp_store_info* out);
 /* Every node's meta (node_count of them, in id order; delta[k > n], eps[][kn >= n] and pad_
  * are 0), owned by s and valid while s is open: a read-only mapping of the file's node table. */
