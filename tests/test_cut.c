@@ -83,6 +83,15 @@ static void random_camera(const tp_tree* t, tp_camera* cam)
               rnd() * 360, -5 - rnd() * 80, cam);
 }
 
+/* Builds every TIN level the cut's last update asked for. */
+static void build_requested(const tp_cut* cut, tp_tin_cache* tins)
+{
+    size_t nr;
+    const tp_cut_tin_request* rq = tp_cut_tin_requests(cut, &nr);
+    for (size_t i = 0; i < nr; i++)
+        ASSERT_OK(tp_tin_cache_build(tins, rq[i].node, rq[i].level, NULL));
+}
+
 /* tp_cut_update, and with a TIN cache, once more after building every level it asked for (so
  * that the cut draws TINs wherever a rung fits). */
 static void update_tins(tp_cut* cut, tp_tin_cache* tins, const tp_camera* cam,
@@ -91,10 +100,7 @@ static void update_tins(tp_cut* cut, tp_tin_cache* tins, const tp_camera* cam,
     ASSERT_OK(tp_cut_update(cut, cam, lp, NULL));
     if (!tins)
         return;
-    size_t nr;
-    const tp_cut_tin_request* rq = tp_cut_tin_requests(cut, &nr);
-    for (size_t i = 0; i < nr; i++)
-        ASSERT_OK(tp_tin_cache_build(tins, rq[i].node, rq[i].level, NULL));
+    build_requested(cut, tins);
     ASSERT_OK(tp_cut_update(cut, cam, lp, NULL));
     tp_cut_tin_requests(cut, &nr);
     EXPECT_EQ_INT(0, (int)nr);
@@ -612,10 +618,7 @@ static void set_nodes_tins(tp_cut* cut, tp_tin_cache* tins, const int64_t* nodes
     ASSERT_OK(tp_cut_set_nodes(cut, nodes, levels, count, NULL));
     if (!tins)
         return;
-    size_t nr;
-    const tp_cut_tin_request* rq = tp_cut_tin_requests(cut, &nr);
-    for (size_t i = 0; i < nr; i++)
-        ASSERT_OK(tp_tin_cache_build(tins, rq[i].node, rq[i].level, NULL));
+    build_requested(cut, tins);
     ASSERT_OK(tp_cut_set_nodes(cut, nodes, levels, count, NULL));
 }
 

@@ -460,14 +460,22 @@ TEST(incomplete_nodes_have_none)
     free(h);
 }
 
-TEST(levels_are_built_as_asked)
+/* A smooth 129 x 129 wave with a tilt, as a tree of 33-sample nodes (its grid in *h). */
+static tp_tree* wave_tree(float** h_out)
 {
     int w = 129, hg = 129;
     float* h = malloc(sizeof *h * w * hg);
     for (int y = 0; y < hg; y++)
         for (int x = 0; x < w; x++)
             h[(size_t)y * w + x] = 50.0f * sinf(x * 0.11f) * cosf(y * 0.07f) + 0.01f * x * y;
-    tp_tree* t = tree_of(h, w, hg, 33);
+    *h_out = h;
+    return tree_of(h, w, hg, 33);
+}
+
+TEST(levels_are_built_as_asked)
+{
+    float* h;
+    tp_tree* t = wave_tree(&h);
     const tp_tree_geometry* g = tp_tree_get_geometry(t);
     tp_tree_info ti;
     tp_tree_get_info(t, &ti);
@@ -500,12 +508,8 @@ TEST(levels_are_built_as_asked)
 
 TEST(the_cache_builds_once_and_prunes_by_residency_and_age)
 {
-    int w = 129, hg = 129;
-    float* h = malloc(sizeof *h * w * hg);
-    for (int y = 0; y < hg; y++)
-        for (int x = 0; x < w; x++)
-            h[(size_t)y * w + x] = 50.0f * sinf(x * 0.11f) * cosf(y * 0.07f) + 0.01f * x * y;
-    tp_tree* t = tree_of(h, w, hg, 33);
+    float* h;
+    tp_tree* t = wave_tree(&h);
     const tp_tree_geometry* g = tp_tree_get_geometry(t);
     int64_t leaf = tp_tree_node_id(g, 0, 1, 1), other = tp_tree_node_id(g, 0, 0, 0);
     tp_tin_cache* c = NULL;

@@ -531,6 +531,7 @@ extern "C" tp_status tp_store_read_node(const tp_store* s, int64_t node, uint16_
         if (const tp_status st = read_checked(s, node, &e, err))
             return st;
         ThreadScratch& t = t_scratch;
+        std::string why;
         if (!t.dctx && !(t.dctx = ZSTD_createDCtx()))
             throw std::bad_alloc();
         t.samples.resize(count);

@@ -16,6 +16,7 @@
 #define _POSIX_C_SOURCE 200809L
 #include "tp_core.h"
 #include "tp_io.h"
+#include "bench_resident.h"
 #include "bench_util.h"
 
 #include <math.h>
@@ -71,19 +72,9 @@ int main(int argc, char** argv)
         return 1;
     }
     const tp_tree_geometry* g = tp_tree_get_geometry(tree);
-    /* samples and cell mask: what tp_tree_attach reads */
-    size_t words = tp_tree_block_words(g->n);
-    uint16_t* blocks = malloc((size_t)g->node_count * words * sizeof *blocks);
+    uint16_t* blocks = bench_attach_all(store, tree);
     if (!blocks)
         return 1;
-    for (int64_t id = 0; id < g->node_count; id++) {
-        uint16_t* b = blocks + (size_t)id * words;
-        if (tp_store_read_node(store, id, b, words, &err) != TP_OK) {
-            fprintf(stderr, "%s\n", err.message);
-            return 1;
-        }
-        tp_tree_attach(tree, id, b);
-    }
     tp_cut *cut, *pre;
     if (tp_cut_create(tree, &cut, &err) != TP_OK || tp_cut_create(tree, &pre, &err) != TP_OK)
         return 1;

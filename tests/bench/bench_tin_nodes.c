@@ -14,6 +14,7 @@
 #define _POSIX_C_SOURCE 200809L
 #include "tp_core.h"
 #include "tp_io.h"
+#include "bench_resident.h"
 #include "bench_util.h"
 
 #include <math.h>
@@ -46,22 +47,13 @@ int main(int argc, char** argv)
         return 1;
     }
     const tp_tree_geometry* g = tp_tree_get_geometry(tree);
-    size_t words = tp_tree_block_words(g->n);
-    uint16_t* blocks = malloc((size_t)g->node_count * words * sizeof *blocks);
+    uint16_t* blocks = bench_attach_all(store, tree);
     /* built lazily, one level of one node at a time: what a view would build */
     size_t lv = (size_t)g->n + 1;
     tp_node_tins** tins = calloc((size_t)g->node_count * lv, sizeof *tins);
     uint8_t* built = calloc((size_t)g->node_count * lv, 1);
     if (!blocks || !tins || !built)
         return 1;
-    for (int64_t id = 0; id < g->node_count; id++) {
-        uint16_t* b = blocks + (size_t)id * words;
-        if (tp_store_read_node(store, id, b, words, &err) != TP_OK) {
-            fprintf(stderr, "%s\n", err.message);
-            return 1;
-        }
-        tp_tree_attach(tree, id, b);
-    }
     tp_tree_info ti;
     tp_tree_get_info(tree, &ti);
     tp_cut* cut;
