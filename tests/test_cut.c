@@ -102,6 +102,7 @@ static void update_tins(tp_cut* cut, tp_tin_cache* tins, const tp_camera* cam,
         return;
     build_requested(cut, tins);
     ASSERT_OK(tp_cut_update(cut, cam, lp, NULL));
+    size_t nr;
     tp_cut_tin_requests(cut, &nr);
     EXPECT_EQ_INT(0, (int)nr);
 }
