@@ -127,6 +127,11 @@ int32_t tp__cut_pick_tin(tp_cut* c, int ri, const int nb[4])
         o->bound_px = r->bound_px = (float)px;
         o->near_plane = (uint8_t)near;
         r->bound_m = d;
+        int moves = 0;
+        for (int s = 0; s < 4; s++)
+            moves |= nb[s] >= 0 && nb[s] < r->level;
+        if (!moves) /* nothing collapses: no walk over its triangles on every update */
+            return (int32_t)rungs[j].triangle_count;
         tp__cut_tin_view tv;
         tp__cut_tin_view_init(c, (size_t)r->out, &tv);
         return (int32_t)tp__cut_tin_triangles(c, &tv, NULL, 0);
