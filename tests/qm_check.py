@@ -22,7 +22,9 @@ Checks (each failure prints "FAIL: ..." and exits 1; success prints "PASS ..." w
     shared side, decoded height within 1e-6 m) on that side;
   - with --points: at N random positions inside tiles of the deepest level, the tile's height
     (barycentric in the triangle around the point) against `terrapatch point STORE lat lon`
-    (the store's surface): the difference <= that tile's error in errors.json + 1e-3 m.
+    (the store's surface): the difference <= that tile's error in errors.json + 1e-3 m; and at N
+    random vertices of that level, the vertex's height against `point` at the vertex within half
+    the height step (+ 2 mm): the tiles are placed where the store is.
 """
 import gzip
 import json
@@ -284,6 +286,29 @@ def main():
                      "more than the tile's measured %.3f m" % (lat, lon, z, x, y, got, ref, diff, stated))
             worst = max(worst, diff / stated if stated > 0 else 0)
             done += 1
+        # the vertices: each is a lattice post sampled on the store's surface at its own lon/lat,
+        # so it must equal `point` there within half the height step (its rounding): a check
+        # of where the tiles are placed, not only of how far they bend
+        step = tp["height_step_m"]
+        done = tries = 0
+        while done < count and tries < 10 * count:
+            tries += 1
+            z, x, y = deep[rng.randrange(len(deep))]
+            t = tiles[(z, x, y)]
+            i = rng.randrange(len(t["u"]))
+            w, s, e, n = bounds(z, x, y)
+            lat, lon = s + (n - s) * t["v"][i] / MAXC, w + (e - w) * t["u"][i] / MAXC
+            out = subprocess.run([exe, "point", store, "%.10f" % lat, "%.10f" % lon, "--json", "-"],
+                                 capture_output=True, text=True)
+            if out.returncode != 0 or json.loads(out.stdout)["elevation_m"] is None:
+                continue
+            diff = abs(heights(t)[i] - json.loads(out.stdout)["elevation_m"])
+            if diff > step / 2 + 2e-3:
+                fail("vertex %d of %d/%d/%d at %.7f %.7f: %.4f m from the store's surface, more than "
+                     "half the height step %g" % (i, z, x, y, lat, lon, diff, step))
+            done += 1
+        if done < count // 2:
+            fail("only %d vertices of the deepest level lie on the store" % done)
     print("PASS %d tiles, %d neighbour pairs watertight, worst point/stated error ratio %.3f" %
           (len(tiles), pairs, worst))
 
