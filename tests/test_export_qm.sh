@@ -113,8 +113,13 @@ resume)
     [ -f part/layer.json ] && fail "layer.json written by a killed export"
     find part -name '*.tmp*' -o -name '.*' -type f | grep -q . && fail "temporary files left"
     for f in $(find part -name '*.terrain'); do gzip -t "$f" 2> /dev/null || fail "$f cut short"; done
+    # what a kill during a tile's write leaves (tp_file_write's temporary name): removed
+    stale=$(find part -name '*.terrain' | head -1).tmpAbCd1234
+    echo partial > "$stale"
     "$TP" export n42.tpt --tiles quantized-mesh --heights geoid --max-zoom 10 -o part > out 2> err ||
         fail "the rerun"
+    [ -e "$stale" ] && fail "the rerun left $stale"
+    grep -q "1 temporary files of a killed run removed" err || fail "no line for the removed file"
     grep -q "tiles already written by an earlier run: kept" err || fail "the rerun kept nothing"
     for f in layer.json errors.json; do cmp -s whole/$f part/$f || fail "$f differs after resuming"; done
     (cd whole && find . -name '*.terrain' | sort) > a

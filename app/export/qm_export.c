@@ -11,6 +11,7 @@
 #include "json.h"
 #include "progress.h"
 
+#include <dirent.h>
 #include <errno.h>
 #include <math.h>
 #include <stdio.h>
@@ -18,6 +19,7 @@
 #include <string.h>
 #include <sys/stat.h>
 #include <time.h>
+#include <unistd.h>
 
 #define QM_MAX_ZOOM 22
 
@@ -201,6 +203,34 @@ static int make_dir(const char* p)
     return 0;
 }
 
+/* Removes the temporary files a killed run left beside its tiles (tp_file_write's PATH.tmp and
+ * 8 characters: a SIGKILL during a write runs no handler); their count. */
+static size_t remove_stale(const qm_run* q)
+{
+    size_t removed = 0;
+    char p[4200];
+    for (int z = 0; z <= q->max_zoom; z++) {
+        const level* l = &q->lv[z];
+        for (int x = l->x0; x <= l->x1; x++) {
+            snprintf(p, sizeof p, "%s/%d/%d", q->r->out_dir, z, x);
+            DIR* d = opendir(p);
+            if (!d)
+                continue;
+            struct dirent* e;
+            while ((e = readdir(d))) {
+                const char* t = strstr(e->d_name, ".terrain.tmp");
+                if (!t || strlen(t) != strlen(".terrain.tmp") + 8)
+                    continue;
+                char f[4500];
+                snprintf(f, sizeof f, "%s/%s", p, e->d_name);
+                removed += unlink(f) == 0;
+            }
+            closedir(d);
+        }
+    }
+    return removed;
+}
+
 /* Reads an earlier run's options and tiles, or starts one; 0 after a message. */
 static int resume(qm_run* q)
 {
@@ -221,6 +251,9 @@ static int resume(qm_run* q)
                          q->r->out_dir, line, q->options);
             return 0;
         }
+        const size_t stale = remove_stale(q);
+        if (stale)
+            tp_cli_note("%s: %zu temporary files of a killed run removed", q->r->out_dir, stale);
     } else {
         char text[1100];
         snprintf(text, sizeof text, "%s\n", q->options);
