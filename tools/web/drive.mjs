@@ -110,6 +110,7 @@ async function main() {
     await page.goto(a.url, { waitUntil: "load", timeout: a.timeout * 1000 });
     await page.waitForFunction(() => window.tpWeb && window.tpWeb.ready, { timeout: 10000 });
     await page.evaluate(async () => { await window.tpWeb.ready; });
+    report.ready_ms = Date.now() - t0;
     report.webgl = await page.evaluate(() => {
       const gl = window.tpWeb.viewer.scene.context._gl;
       const ext = gl.getExtension("WEBGL_debug_renderer_info");

@@ -118,6 +118,7 @@ function readParams(params, layer) {
     imagery: params.get("imagery") || "",
     fovDeg: Number(params.get("fov") || 60),
     grid: params.get("grid") || "auto",
+    lean: params.get("lean") === "1",
     camera: params.get("camera-geo") ? parseCameraGeo(params.get("camera-geo")) : undefined,
     heights: (layer.terrapatch && layer.terrapatch.heights) || "unknown",
     midHeight: 0,
@@ -159,6 +160,15 @@ async function makeViewer(container, info, bounds, errors) {
     contextOptions: { webgl: { preserveDrawingBuffer: true } },
   });
   viewer.scene.renderError.addEventListener(report("render"));
+  if (info.lean) {
+    viewer.scene.skyBox.show = false;
+    viewer.scene.skyAtmosphere.show = false;
+    viewer.scene.sun.show = false;
+    viewer.scene.moon.show = false;
+    viewer.scene.fog.enabled = false;
+    viewer.scene.globe.showGroundAtmosphere = false;
+    viewer.scene.backgroundColor = Cesium.Color.fromCssColorString("#8fb3e6");
+  }
   viewer.scene.globe.baseColor = Cesium.Color.fromCssColorString("#b8a98a");
   viewer.scene.globe.depthTestAgainstTerrain = true;
   if (!info.imagery) {
