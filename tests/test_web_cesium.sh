@@ -13,7 +13,7 @@
 #             positions agrees with `terrapatch point` within the measured error of the tile it
 #             comes from (errors.json) plus one 15-bit height step and 5 cm (web_cesium_check.py)
 #   corrupt:  the most detailed tile under the first position cut to half its length (then
-#             gzipped again): the run must report an error
+#             gzipped again): the run must report an error, and name that position
 #   offset:   every tile's heights raised by twice the largest measured error + 5 m: no error
 #             is reported, and the heights must disagree
 # A missing node, chromium or gdal2tiles.py is a failure naming it, never a skip.
@@ -70,9 +70,9 @@ case_page() {
 }
 
 case_corrupt() {
-    local t
-    t=$($CHECK tile tiles $(python3 -c 'import json; p = json.load(open("points.json"))[0]; print(p["lon"], p["lat"])')) ||
-        fail "the tile under the first position"
+    local t first
+    first=$(python3 -c 'import json; p = json.load(open("points.json"))[0]; print(p["lon"], p["lat"])')
+    t=$($CHECK tile tiles $first) || fail "the tile under the first position"
     python3 - "tiles/${t%/*}/${t##*/}.terrain" << 'EOF' || fail "corrupting $t"
 import gzip, sys
 p = sys.argv[1]
@@ -83,6 +83,8 @@ EOF
     drive terrain "" --points points.json.lonlat && fail "tile $t cut short: the run reported no error"
     $CHECK check terrain.json tiles points.json > check.txt 2>&1 && fail "tile $t cut short: the check passed"
     grep -q '^errors [1-9]' check.txt || fail "tile $t cut short: no error collected"
+    grep -q "^error: sample: no height at $first " check.txt ||
+        fail "tile $t cut short: no error names the position $first"
     echo "tile $t cut short: $(grep -m1 '^error:' check.txt)"
 }
 

@@ -114,7 +114,8 @@ async function main() {
     report.webgl = await page.evaluate(() => {
       const gl = window.tpWeb.viewer.scene.context._gl;
       const ext = gl.getExtension("WEBGL_debug_renderer_info");
-      return ext ? gl.getParameter(ext.UNMASKED_RENDERER_WEBGL) : gl.getParameter(gl.RENDERER);
+      const name = ext ? gl.getParameter(ext.UNMASKED_RENDERER_WEBGL) : gl.getParameter(gl.RENDERER);
+      return `${window.tpWeb.viewer.scene.context.webgl2 ? "WebGL 2" : "WebGL 1"}, ${name}`;
     });
     await page.evaluate((ms) => window.tpWeb.waitLoaded(ms), a.timeout * 1000);
     report.load_ms = Date.now() - t0;

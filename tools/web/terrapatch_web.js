@@ -198,14 +198,29 @@ function waitLoaded(viewer, ms = 60000, quiet = 10) {
 }
 
 // Cesium's most detailed height at each [lon, lat] (degrees), and the level of the tile it
-// comes from (the tile set's availability).
-async function sample(viewer, points) {
+// comes from (the tile set's availability). When a tile fails, each position is asked again
+// alone: those of the failing tiles get height null and an error naming them.
+async function sample(viewer, points, errors) {
   const tp = viewer.terrainProvider;
   const carto = points.map(([lon, lat]) => Cesium.Cartographic.fromDegrees(lon, lat));
   const levels = carto.map((c) =>
     tp.availability ? tp.availability.computeMaximumLevelAtPosition(c) : 0);
-  const got = await Cesium.sampleTerrainMostDetailed(tp, carto.map((c) => c.clone()), true);
-  return got.map((c, i) => ({ lon: points[i][0], lat: points[i][1], height: c.height, level: levels[i] }));
+  const out = (c, i) => ({ lon: points[i][0], lat: points[i][1], height: c ? c.height : null, level: levels[i] });
+  try {
+    const got = await Cesium.sampleTerrainMostDetailed(tp, carto.map((c) => c.clone()), true);
+    return got.map(out);
+  } catch (e) {
+    const one = [];
+    for (let i = 0; i < carto.length; i++) {
+      try {
+        one.push((await Cesium.sampleTerrainMostDetailed(tp, [carto[i].clone()], true))[0]);
+      } catch (f) {
+        errors.push(`sample: no height at ${points[i][0]} ${points[i][1]} (level ${levels[i]}): ${f.message || f}`);
+        one.push(undefined);
+      }
+    }
+    return one.map(out);
+  }
 }
 
 export function start(container, status, params) {
@@ -230,7 +245,7 @@ export function start(container, status, params) {
     placeCamera(viewer, info, bounds);
     web.viewer = viewer;
     web.waitLoaded = (ms, quiet) => waitLoaded(viewer, ms, quiet);
-    web.sample = (points) => sample(viewer, points);
+    web.sample = (points) => sample(viewer, points, errors);
     say(info.heights === "ellipsoid" && info.camera
       ? "heights above the ellipsoid: camera-geo's H is taken as ellipsoidal" : "");
     return info;
