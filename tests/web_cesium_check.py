@@ -117,7 +117,7 @@ def check(report_path, tiles, points_path, pngs):
     print("errors %d" % len(problems))
     ok &= not problems
     got = rep.get("samples") or []
-    bad, worst = 0, (0.0, "")
+    bad, worst, diffs = 0, (0.0, ""), []
     if len(got) != len(want):
         print("samples: %d of %d" % (len(got), len(want)))
         ok = False
@@ -135,6 +135,7 @@ def check(report_path, tiles, points_path, pngs):
         lo, hi = tile_heights(tiles, z, x, y)
         tol = errors[key] + (hi - lo) / 32767.0 + UV_SLACK_M
         d = g["height"] - w["height"]
+        diffs.append(abs(d))
         if abs(d) - tol > worst[0] or not worst[1]:
             worst = (abs(d) - tol, "%+.3f m at %.6f %.6f, tile %s, allowed %.3f" %
                      (d, w["lon"], w["lat"], key, tol))
@@ -143,7 +144,10 @@ def check(report_path, tiles, points_path, pngs):
             print("height: Cesium %.3f, terrapatch point %.3f (%+.3f m) at %.6f %.6f; tile %s "
                   "measured error %.3f m, allowed %.3f" % (g["height"], w["height"], d, w["lon"],
                                                            w["lat"], key, errors[key], tol))
-    print("heights %d bad of %d (worst: %s)" % (bad, len(want), worst[1]))
+    diffs.sort()
+    print("heights %d bad of %d (|Cesium - point|: median %.3f m, max %.3f m; nearest its limit: %s)"
+          % (bad, len(want), diffs[len(diffs) // 2] if diffs else float("nan"),
+             diffs[-1] if diffs else float("nan"), worst[1]))
     ok &= bad == 0 and len(got) == len(want)
     if pngs:
         f = differing(*pngs)

@@ -109,7 +109,11 @@ def main():
               file=sys.stderr)
         return 1
     Handler.roots = {k: os.path.abspath(v) for k, v in roots.items()}
-    srv = Server(("127.0.0.1", a.port), Handler)
+    try:
+        srv = Server(("127.0.0.1", a.port), Handler)
+    except OSError as e:
+        print("%s: cannot listen on 127.0.0.1:%d: %s" % (ME, a.port, e.strerror), file=sys.stderr)
+        return 1
     if a.log:
         srv.log = open(a.log, "a")
     port = srv.server_address[1]
