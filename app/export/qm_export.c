@@ -189,8 +189,13 @@ static void path_in(const qm_run* q, char* out, size_t cap, const char* name)
 
 static int make_dir(const char* p)
 {
-    if (mkdir(p, 0777) == 0 || errno == EEXIST)
+    struct stat st;
+    if (mkdir(p, 0777) == 0 || (errno == EEXIST && stat(p, &st) == 0 && S_ISDIR(st.st_mode)))
         return 1;
+    if (errno == EEXIST) {
+        tp_cli_error("%s: exists and is not a folder (-o names the tile set's folder)", p);
+        return 0;
+    }
     tp_cli_error("%s: cannot create the folder: %s", p, strerror(errno));
     return 0;
 }
@@ -273,7 +278,7 @@ static int write_tile(qm_run* q, FILE* log, int z, int x, int y, const qm_tile_r
         tp_cli_error("%s", err.message);
         return 0;
     }
-    fprintf(log, "%d %d %d %.9g %.9g %zu %zu %zu %zu %zu %llx %llx %llx %llx\n", z, x, y,
+    fprintf(log, "%d %d %d %.17g %.17g %zu %zu %zu %zu %zu %llx %llx %llx %llx\n", z, x, y,
             t->measured_m, t->bound_m, t->vertices, t->triangles, t->gz_size, t->raw_size,
             t->posts_measured, (unsigned long long)t->edge_hash[0],
             (unsigned long long)t->edge_hash[1], (unsigned long long)t->edge_hash[2],

@@ -35,27 +35,6 @@ tp_status tp_geoid_open(tp_geoid** out, tp_error* err)
         tp_geoid* g = new tp_geoid;
         g->ctx = proj_context_create();
         PJ* op = proj_create_crs_to_crs(g->ctx, "EPSG:4979", "EPSG:4326+5773", nullptr);
-        int grids = 0;
-        std::string grid;
-        if (op) {
-            /* proj_create_crs_to_crs may hold several candidates; the first usable one is
-             * what proj_trans applies everywhere on Earth here (one global grid) */
-            PJ* first = proj_trans_get_last_used_operation(op);
-            PJ* probe = first ? first : op;
-            grids = proj_coordoperation_get_grid_used_count(g->ctx, probe);
-            for (int i = 0; i < grids; i++) {
-                const char *short_name = nullptr, *full_name = nullptr, *package = nullptr,
-                           *url = nullptr;
-                int direct = 0, open_license = 0, available = 0;
-                if (proj_coordoperation_get_grid_used(g->ctx, probe, i, &short_name, &full_name,
-                                                      &package, &url, &direct, &open_license,
-                                                      &available) &&
-                    available && short_name)
-                    grid = short_name;
-            }
-            if (first)
-                proj_destroy(first);
-        }
         /* a probe: the undulation near (45N, 2E) is about +50 m; a missing grid gives 0 */
         double n_probe = NAN;
         if (op) {
@@ -63,10 +42,16 @@ tp_status tp_geoid_open(tp_geoid** out, tp_error* err)
             proj_destroy(op);
             op = norm;
         }
+        std::string used;
         if (op) {
             PJ_COORD c = proj_coord(2.0, 45.0, 0.0, 0.0);
             c = proj_trans(op, PJ_FWD, c);
             n_probe = -c.xyz.z;
+            if (PJ* last = proj_trans_get_last_used_operation(op)) {
+                const char* nm = proj_get_name(last);
+                used = nm ? nm : "";
+                proj_destroy(last);
+            }
         }
         if (!op || !std::isfinite(n_probe) || std::fabs(n_probe) < 1.0) {
             if (op)
@@ -78,8 +63,8 @@ tp_status tp_geoid_open(tp_geoid** out, tp_error* err)
                         "PROJ reads): ellipsoidal heights cannot be computed");
         }
         g->op = op;
-        g->name = "EGM96 (PROJ vertical grid " + (grid.empty() ? std::string("egm96_15") : grid) +
-                  ", 15 arc-minutes, bilinear)";
+        g->name = "EGM96 through PROJ's grid us_nga_egm96_15 (15 arc-minutes, bilinear)" +
+                  (used.empty() ? std::string() : ": " + used);
         *out = g;
         return TP_OK;
     } catch (...) {
