@@ -25,11 +25,11 @@ CHECK="python3 $ROOT/tests/web_cesium_check.py"
 CAM=42.889828581,-122.108291171,8470.74,0,-50
 SIZE=640x360
 fail() { echo "FAIL: $*"; for f in err check.txt; do [ -s "$WORK/$f" ] && { echo "--- $f"; tail -8 "$WORK/$f"; }; done; exit 1; }
-command -v node > /dev/null || fail "node is not installed (Debian package nodejs: tools/deps.sh installs it)"
+rm -rf "$WORK" && mkdir -p "$WORK" && cd "$WORK" || exit 1
+command -v node > /dev/null || fail "node is not installed (Node.js 18 or newer, with npm: Debian packages nodejs and npm, not installed by tools/deps.sh)"
 command -v chromium > /dev/null || fail "chromium is not installed (Debian package chromium: 'make deps' or tools/deps.sh installs it)"
 command -v python3 > /dev/null || fail "python3 is not installed"
 command -v gdal2tiles.py > /dev/null || fail "gdal2tiles.py is not installed (Debian package gdal-bin)"
-rm -rf "$WORK" && mkdir -p "$WORK" && cd "$WORK" || exit 1
 sh "$ROOT/tools/web_install.sh" > /dev/null 2> err || fail "tools/web_install.sh: $(tail -1 err)"
 
 "$TP" build "$DATA/craterlake-elev-16bit-30m.tif" -o crater.tpt > /dev/null 2> err || fail "build"
