@@ -98,19 +98,23 @@ async function main() {
     executablePath: findChromium(a.chromium), headless: true, args,
     defaultViewport: { width: a.width, height: a.height }, protocolTimeout: (a.timeout + 60) * 1000,
   });
+  let page;
   try {
-    const page = await browser.newPage();
+    page = await browser.newPage();
     page.on("console", (m) => { if (m.type() === "error") report.errors.push(`console: ${m.text()}`); });
-    page.on("pageerror", (e) => report.errors.push(`page: ${e.message}`));
+    page.on("pageerror", (e) => report.errors.push(`page: ${e.message.split("\n")[0]}`));
     page.on("request", (r) => { if (!isLocal(r.url())) report.external_requests.push(r.url()); });
     page.on("requestfailed", (r) =>
       report.failed_requests.push(`${r.url()}: ${r.failure() ? r.failure().errorText : "failed"}`));
     page.on("response", (r) => { if (r.status() >= 400) report.http_errors.push(`${r.url()}: HTTP ${r.status()}`); });
     const t0 = Date.now();
     await page.goto(a.url, { waitUntil: "load", timeout: a.timeout * 1000 });
-    await page.waitForFunction(() => window.tpWeb && window.tpWeb.ready, { timeout: 10000 });
-    await page.evaluate(async () => { await window.tpWeb.ready; });
+    await page.waitForFunction(() => Boolean(window.tpWeb && window.tpWeb.ready), { timeout: 30000 });
+    // the page's own error (already in its errors) ends the run without waiting for tiles
+    const failed = await page.evaluate(() =>
+      window.tpWeb.ready.then(() => "", (e) => String((e && e.message) || e)));
     report.ready_ms = Date.now() - t0;
+    if (failed) throw new Error(`the page did not start: ${failed}`);
     report.webgl = await page.evaluate(() => {
       const gl = window.tpWeb.viewer.scene.context._gl;
       const ext = gl.getExtension("WEBGL_debug_renderer_info");
@@ -124,10 +128,16 @@ async function main() {
     report.errors.push(...(await page.evaluate(() => window.tpWeb.errors)));
   } catch (e) {
     report.errors.push(`driver: ${e.message.split("\n")[0]}`);
+    try {
+      report.errors.push(...(await page.evaluate(() => (window.tpWeb ? window.tpWeb.errors : []))));
+    } catch {
+      /* the page is gone */
+    }
   } finally {
     await browser.close();
   }
   if (a.json) fs.writeFileSync(a.json, JSON.stringify(report, null, 1) + "\n");
+  report.errors = [...new Set(report.errors)];
   const problems = [...report.errors, ...report.failed_requests, ...report.http_errors,
                     ...report.external_requests.map((u) => `external request: ${u}`)];
   for (const p of problems) process.stderr.write(`${ME}: ${p}\n`);

@@ -254,5 +254,6 @@ export function start(container, status, params) {
     say(`terrapatch web: ${e.message || e}`, true);
     throw e;
   });
+  web.ready.catch(() => {}); // rejected for whoever awaits it; said on the page and in errors
   return web;
 }
