@@ -7,6 +7,9 @@ tests/test_web_cesium.sh. Not a test of its own: the shell cases run it and say 
       gives there: [{"lon", "lat", "height"}, ...]; their [lon, lat] in OUT.json.lonlat
   web_cesium_check.py tile TILES LON LAT
       prints "z/x/y" of the most detailed tile of TILES/layer.json's availability holding LON, LAT
+  web_cesium_check.py footprint PAGE.png VIEW.png LEAST
+      the ground's footprint in the page's picture against `terrapatch view`'s from the same
+      camera: prints the IoU, exit 1 below LEAST
   web_cesium_check.py check REPORT.json TILES POINTS.json [TERRAIN.png ELLIPSOID.png]
       prints one line per finding, then "errors N", "heights N bad of M (worst ...)",
       "screens P% of pixels differ"; exit 0 when there is no error, every height agrees and the
@@ -115,6 +118,29 @@ def differing(a_png, b_png):
     return n / float(wa * ha)
 
 
+def footprint(page_png, view_png, least):
+    """IoU of the ground drawn in the page's picture and in `terrapatch view`'s from the same
+    --camera-geo: a pixel is ground unless it is within 18 (page) or 6 (view) of the picture's
+    top-left pixel in every channel (the camera must leave that corner off the data); the
+    bottom 1/12 (Cesium's credit) is left out of both."""
+    w, h, c, rp = read_png(page_png)
+    w2, h2, c2, rv = read_png(view_png)
+    if (w, h) != (w2, h2):
+        print("footprint: %dx%d against %dx%d" % (w, h, w2, h2))
+        return 1
+    pb, vb = rp[0][0:3], rv[0][0:3]
+    inter = union = 0
+    for y in range(h - h // 12):
+        for x in range(w):
+            p = any(abs(rp[y][x * c + k] - pb[k]) > 18 for k in range(3))
+            v = any(abs(rv[y][x * c2 + k] - vb[k]) > 6 for k in range(3))
+            inter += p and v
+            union += p or v
+    iou = inter / float(union) if union else 0.0
+    print("footprint IoU %.3f (page and view, same camera; at least %.2f)" % (iou, least))
+    return 0 if iou >= least else 1
+
+
 def check(report_path, tiles, points_path, pngs):
     rep = json.load(open(report_path))
     want = json.load(open(points_path))
@@ -172,6 +198,8 @@ def main():
         points(*sys.argv[2:])
     elif cmd == "tile" and len(sys.argv) == 5:
         print("%d/%d/%d" % deepest(sys.argv[2], float(sys.argv[3]), float(sys.argv[4])))
+    elif cmd == "footprint" and len(sys.argv) == 5:
+        sys.exit(footprint(sys.argv[2], sys.argv[3], float(sys.argv[4])))
     elif cmd == "check" and len(sys.argv) in (5, 7):
         sys.exit(check(sys.argv[2], sys.argv[3], sys.argv[4], sys.argv[5:]))
     else:
