@@ -17,6 +17,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+#include <time.h>
 
 #define QM_MAX_ZOOM 22
 
@@ -309,6 +310,8 @@ static int build_all(qm_run* q, double* seconds)
     for (int z = 0; z <= q->max_zoom && code == TP_EXIT_OK; z++) {
         level* l = &q->lv[z];
         const double bound = tp_qm_level_bound(z, q->max_zoom, q->r->max_error_m);
+        const double lw = tp_clock_s(), lc = (double)clock() / CLOCKS_PER_SEC;
+        size_t built = 0;
         for (int y = l->y0; y <= l->y1 && code == TP_EXIT_OK; y++)
             for (int x = l->x0; x <= l->x1 && code == TP_EXIT_OK; x++) {
                 tile_rec* rec = rec_at(l, x, y);
@@ -330,12 +333,16 @@ static int build_all(qm_run* q, double* seconds)
                         break;
                     }
                     *rec = r;
+                    built++;
                 }
                 done++;
                 tp_progress_update(&pr, (double)done, (double)q->total, -1);
                 if (tp_interrupted())
                     code = tp_cli_interrupted();
             }
+        if (code == TP_EXIT_OK && built)
+            tp_cli_note("level %d: %zu tiles built in %.2f s (%.2f s of CPU)", z, built,
+                        tp_clock_s() - lw, (double)clock() / CLOCKS_PER_SEC - lc);
     }
     *seconds = tp_clock_s() - t0;
     if (fclose(log) != 0 && code == TP_EXIT_OK) {

@@ -9,6 +9,7 @@
 
 struct qm_index {
     int n;
+    uint32_t last;   /* the triangle the last query found: the next post is mostly in it too */
     uint32_t* start; /* n * n + 1 */
     uint32_t* tri;
 };
@@ -83,30 +84,45 @@ static qm_index* index_build(const qm_mesh* m)
     return ix;
 }
 
+/* Barycentric weights of (fi, fj) in triangle t; the smallest in *lo, the height returned. */
+static double in_triangle(const qm_mesh* m, uint32_t t, double fi, double fj, double* lo)
+{
+    const uint32_t* v = m->tris + 3 * (size_t)t;
+    const float *a = m->ij + 2 * v[0], *b = m->ij + 2 * v[1], *c = m->ij + 2 * v[2];
+    const double bx = (double)b[0] - a[0], by = (double)b[1] - a[1];
+    const double cx = (double)c[0] - a[0], cy = (double)c[1] - a[1];
+    const double det = bx * cy - cx * by;
+    if (det == 0) {
+        *lo = -INFINITY;
+        return 0;
+    }
+    const double px = fi - a[0], py = fj - a[1];
+    const double wb = (px * cy - cx * py) / det, wc = (bx * py - px * by) / det;
+    const double wa = 1.0 - wb - wc;
+    double l = wa < wb ? wa : wb;
+    *lo = l < wc ? l : wc;
+    return wa * m->z[v[0]] + wb * m->z[v[1]] + wc * m->z[v[2]];
+}
+
 double tp_qm_mesh_height(const qm_mesh* m, qm_index** index, double fi, double fj)
 {
     if (!*index && !(*index = index_build(m)))
         return NAN;
-    const qm_index* ix = *index;
+    qm_index* ix = *index;
+    double lo, z = in_triangle(m, ix->last, fi, fj, &lo);
+    if (lo >= 0)
+        return z;
     int ci = (int)floor(fi), cj = (int)floor(fj);
     ci = ci < 0 ? 0 : ci > m->n - 1 ? m->n - 1 : ci;
     cj = cj < 0 ? 0 : cj > m->n - 1 ? m->n - 1 : cj;
     const size_t c = (size_t)cj * m->n + ci;
     double best = -INFINITY, best_z = 0;
     for (uint32_t k = ix->start[c]; k < ix->start[c + 1]; k++) {
-        const uint32_t* t = m->tris + 3 * ix->tri[k];
-        const float *a = m->ij + 2 * t[0], *b = m->ij + 2 * t[1], *cc = m->ij + 2 * t[2];
-        const double det = ((double)b[0] - a[0]) * ((double)cc[1] - a[1]) -
-                           ((double)cc[0] - a[0]) * ((double)b[1] - a[1]);
-        if (det == 0)
-            continue;
-        const double wb = ((fi - a[0]) * ((double)cc[1] - a[1]) - ((double)cc[0] - a[0]) * (fj - a[1])) / det;
-        const double wc = (((double)b[0] - a[0]) * (fj - a[1]) - (fi - a[0]) * ((double)b[1] - a[1])) / det;
-        const double wa = 1.0 - wb - wc;
-        const double lo = fmin(wa, fmin(wb, wc));
+        z = in_triangle(m, ix->tri[k], fi, fj, &lo);
         if (lo > best) {
             best = lo;
-            best_z = wa * m->z[t[0]] + wb * m->z[t[1]] + wc * m->z[t[2]];
+            best_z = z;
+            ix->last = ix->tri[k];
             if (lo >= 0)
                 break;
         }
