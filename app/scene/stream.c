@@ -630,6 +630,14 @@ int tp_stream_require(tp_stream* s, int64_t node, tp_error* err)
         tp_error_set(err, TP_ERR_IO, "node %lld could not be read", (long long)node);
         return 0;
     }
+    if (s->info.remote) { /* the missing chain in one batch of requests, not one at a time */
+        int64_t chain[TP_TREE_MAX_SCALES];
+        size_t k = 0;
+        for (int64_t a = node; a >= 0 && k < TP_TREE_MAX_SCALES && s->res_index[a] < 0;
+             a = tp_tree_node_parent(s->g, a))
+            chain[k++] = a;
+        tp_store_prefetch(s->store, chain, k);
+    }
     int64_t parent = tp_tree_node_parent(s->g, node);
     if (parent >= 0 && !tp_stream_require(s, parent, err))
         return 0;
