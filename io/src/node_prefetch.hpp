@@ -29,7 +29,7 @@ public:
         uint32_t bytes;
     };
     static constexpr int PREFETCH_REQUESTS = 16;     /* threads, each one request in flight */
-    static constexpr uint64_t MERGE_GAP = 32 << 10;  /* ranges closer than this: one request */
+    static constexpr uint64_t MERGE_GAP = 16 << 10;  /* ranges closer than this: one request */
     static constexpr uint64_t MERGE_MAX = 512 << 10; /* a merged request at most this long */
     static constexpr size_t BUDGET_BYTES = 64 << 20; /* kept at most; the oldest dropped first */
 

@@ -143,7 +143,7 @@ const tp_node_meta* tp_store_metas(const tp_store* s, size_t* count);
 tp_status tp_store_read_node(const tp_store* s, int64_t node, uint16_t* samples,
                              size_t sample_capacity, tp_error* err);
 /* A store over HTTP: reads the stored bytes of nodes[0..count) ahead, concurrently (up to 16
- * range requests in flight, the ranges of nodes closer than 32 KB in the file merged into one
+ * range requests in flight, the ranges of nodes closer than 16 KB in the file merged into one
  * request of at most 512 KB) and keeps them in memory (at most 64 MB, the oldest dropped
  * first), so that a later tp_store_read_node or tp_store_read_stored of any of them makes no
  * request (its bytes still checked against the node's CRC32; read with the same precondition
