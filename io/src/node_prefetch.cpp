@@ -1,6 +1,8 @@
 /* node_prefetch.cpp - nodes' stored bytes read ahead over HTTP (see node_prefetch.hpp). */
 #include "node_prefetch.hpp"
 
+#include <cpl_conv.h>
+
 #include <algorithm>
 #include <atomic>
 #include <thread>
@@ -63,6 +65,16 @@ size_t NodePrefetch::prefetch(const RangeFile& f, std::vector<Want> wants)
     }
     std::atomic<size_t> next{0};
     auto work = [&]() {
+        /* no retries here: a range that fails is left to the nodes' own reads, which retry
+         * (GDAL's and the stream's backoff) without holding up the others */
+        const char* was = CPLGetThreadLocalConfigOption("GDAL_HTTP_MAX_RETRY", nullptr);
+        const std::string saved = was ? was : "";
+        CPLSetThreadLocalConfigOption("GDAL_HTTP_MAX_RETRY", "0");
+        struct Restore {
+            const char* was;
+            const std::string& saved;
+            ~Restore() { CPLSetThreadLocalConfigOption("GDAL_HTTP_MAX_RETRY", was ? saved.c_str() : nullptr); }
+        } restore{was, saved};
         std::vector<uint8_t> buf;
         std::string why;
         for (size_t k; (k = next.fetch_add(1)) < runs.size();) {
