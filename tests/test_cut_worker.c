@@ -124,7 +124,7 @@ static void flights(int with_tins)
                 tp_cut_get_stats(cut, &cs);
                 tin_nodes += cs.tin_nodes;
                 tp_tin_cache_mark_drawn(tins, cut);
-                tp_tin_cache_prune(tins, 30);
+                tp_tin_cache_prune(tins, 30, 0);
             }
             /* stopped for a frame: the drawn cut is the one from the roots, node for node */
             if (kind == 3 && f >= 2) {

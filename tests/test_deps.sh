@@ -49,6 +49,8 @@ expect bare missing libnova-dev
 expect bare missing slurm-wlm
 expect bare missing munge
 expect bare missing nginx
+expect bare missing chromium
+expect bare missing proj-data
 expect_not bare packages paraview-dev
 no_conflict bare
 
@@ -83,11 +85,11 @@ no_conflict both
 
 # Everything installed: nothing missing, either way.
 run "cmake pkg-config gcc g++ libgdal-dev libproj-dev libgeographiclib-dev libopenimageio-dev
-libglfw3-dev libepoxy-dev libegl-dev libgl-dev libgl1-mesa-dri libegl-mesa0 libstb-dev gnuplot-nox xvfb xdotool libzstd-dev zlib1g-dev gdal-bin libnova-dev slurm-wlm munge nginx
+libglfw3-dev libepoxy-dev libegl-dev libgl-dev libgl1-mesa-dri libegl-mesa0 libstb-dev gnuplot-nox xvfb xdotool libzstd-dev zlib1g-dev gdal-bin libnova-dev slurm-wlm munge nginx proj-data chromium
 libvtk9-dev python3-vtk9"
 expect_eq complete-system missing ""
 run "cmake pkg-config gcc g++ libgdal-dev libproj-dev libgeographiclib-dev libopenimageio-dev
-libglfw3-dev libepoxy-dev libegl-dev libgl-dev libgl1-mesa-dri libegl-mesa0 libstb-dev gnuplot-nox xvfb xdotool libzstd-dev zlib1g-dev gdal-bin libnova-dev slurm-wlm munge nginx
+libglfw3-dev libepoxy-dev libegl-dev libgl-dev libgl1-mesa-dri libegl-mesa0 libstb-dev gnuplot-nox xvfb xdotool libzstd-dev zlib1g-dev gdal-bin libnova-dev slurm-wlm munge nginx proj-data chromium
 paraview paraview-dev python3-paraview libexpat1-dev liblzma-dev liblz4-dev
 libdouble-conversion-dev zlib1g-dev libutfcpp-dev"
 expect_eq complete-paraview vtk paraview

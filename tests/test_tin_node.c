@@ -17,7 +17,8 @@
     X(a_coarse_node_holds_its_bound_between_its_samples)                                           \
     X(incomplete_nodes_have_none)                                                                  \
     X(levels_are_built_as_asked)                                                                   \
-    X(the_cache_builds_once_and_prunes_by_residency_and_age)
+    X(the_cache_builds_once_and_prunes_by_residency_and_age)                                       \
+    X(the_cache_keeps_its_byte_budget_oldest_first_but_never_what_is_drawn)
 
 #include "tp_test_tin.h"
 
@@ -535,16 +536,16 @@ TEST(the_cache_builds_once_and_prunes_by_residency_and_age)
     ASSERT_OK(tp_cut_set_nodes(cut, nodes, lv, 1, NULL));
     for (int f = 0; f < 10; f++)
         tp_tin_cache_mark_drawn(c, cut);
-    tp_tin_cache_prune(c, 5);
+    tp_tin_cache_prune(c, 5, 0);
     EXPECT_TRUE(tp_tin_cache_get(c, leaf, 3, &built) != NULL && built == 1);
     nodes[0] = other;
     ASSERT_OK(tp_cut_set_nodes(cut, nodes, lv, 1, NULL));
     for (int f = 0; f < 5; f++)
         tp_tin_cache_mark_drawn(c, cut);
-    tp_tin_cache_prune(c, 5); /* drawn 5 frames ago: kept */
+    tp_tin_cache_prune(c, 5, 0); /* drawn 5 frames ago: kept */
     EXPECT_TRUE(tp_tin_cache_get(c, leaf, 3, &built) != NULL && built == 1);
     tp_tin_cache_mark_drawn(c, cut);
-    tp_tin_cache_prune(c, 5); /* 6 frames ago: freed */
+    tp_tin_cache_prune(c, 5, 0); /* 6 frames ago: freed */
     EXPECT_TRUE(tp_tin_cache_get(c, leaf, 3, &built) == NULL && built == 0);
     tp_tin_cache_stats(c, &bytes, &levels, NULL);
     EXPECT_EQ_INT((int)levels, 0);
@@ -554,11 +555,78 @@ TEST(the_cache_builds_once_and_prunes_by_residency_and_age)
     EXPECT_TRUE(tp_tin_cache_get(c, leaf, 3, &built) != NULL && built == 1);
     const uint16_t* samples = tp_tree_samples(t, leaf);
     tp_tree_detach(t, leaf);
-    tp_tin_cache_prune(c, 0);
+    tp_tin_cache_prune(c, 0, 0);
     EXPECT_TRUE(tp_tin_cache_get(c, leaf, 3, &built) == NULL && built == 0);
     ASSERT_OK(tp_tin_cache_build(c, leaf, 3, NULL));
     EXPECT_TRUE(tp_tin_cache_get(c, leaf, 3, &built) == NULL && built == 0);
     tp_tree_attach(t, leaf, samples);
+    tp_cut_destroy(cut);
+    tp_tin_cache_destroy(c);
+    tp_tree_destroy(t);
+    free(h);
+}
+
+/* The byte budget of tp_tin_cache_prune: the levels drawn longest ago go first, down to the
+ * budget, but never those drawn or built in the last two frames, whatever the budget. */
+TEST(the_cache_keeps_its_byte_budget_oldest_first_but_never_what_is_drawn)
+{
+    float* h;
+    tp_tree* t = wave_tree(&h);
+    const tp_tree_geometry* g = tp_tree_get_geometry(t);
+    int64_t leaf[4] = {tp_tree_node_id(g, 0, 0, 0), tp_tree_node_id(g, 0, 1, 0),
+                       tp_tree_node_id(g, 0, 0, 1), tp_tree_node_id(g, 0, 1, 1)};
+    tp_tin_cache* c = NULL;
+    tp_cut* cut = NULL;
+    ASSERT_OK(tp_tin_cache_create(t, &c, NULL));
+    ASSERT_OK(tp_cut_create(t, &cut, NULL));
+    int lv[1] = {3}, built;
+    size_t each[4], bytes, levels;
+    /* leaf i built and drawn at frame 2 i + 1 (leaf 0 drawn longest ago), then 3 frames of
+     * nothing of them drawn */
+    for (int i = 0; i < 4; i++) {
+        ASSERT_OK(tp_tin_cache_build(c, leaf[i], 3, NULL));
+        each[i] = tp_node_tins_bytes(tp_tin_cache_get(c, leaf[i], 3, &built));
+        ASSERT_TRUE(each[i] > 0);
+        ASSERT_OK(tp_cut_set_nodes(cut, &leaf[i], lv, 1, NULL));
+        tp_tin_cache_mark_drawn(c, cut);
+        tp_tin_cache_mark_drawn(c, cut);
+    }
+    int64_t parent = tp_tree_node_id(g, 1, 0, 0);
+    int plv[1] = {2};
+    ASSERT_OK(tp_cut_set_nodes(cut, &parent, plv, 1, NULL));
+    for (int f = 0; f < 3; f++)
+        tp_tin_cache_mark_drawn(c, cut);
+    /* a budget of the two newest: leaves 0 and 1 go, 2 and 3 stay */
+    tp_tin_cache_prune(c, 0, each[2] + each[3]);
+    for (int i = 0; i < 4; i++)
+        EXPECT_EQ_INT(tp_tin_cache_get(c, leaf[i], 3, &built) != NULL, i >= 2);
+    tp_tin_cache_stats(c, &bytes, &levels, NULL);
+    EXPECT_EQ_INT((int)levels, 2);
+    EXPECT_EQ_INT((int)bytes, (int)(each[2] + each[3]));
+    /* one byte under: leaf 2 goes too */
+    tp_tin_cache_prune(c, 0, each[2] + each[3] - 1);
+    EXPECT_TRUE(tp_tin_cache_get(c, leaf[2], 3, &built) == NULL && built == 0);
+    EXPECT_TRUE(tp_tin_cache_get(c, leaf[3], 3, &built) != NULL);
+    /* drawn in the last frame, or built since: kept under any budget */
+    ASSERT_OK(tp_cut_set_nodes(cut, &leaf[3], lv, 1, NULL));
+    tp_tin_cache_mark_drawn(c, cut);
+    ASSERT_OK(tp_tin_cache_build(c, leaf[0], 3, NULL));
+    tp_tin_cache_prune(c, 0, 1);
+    EXPECT_TRUE(tp_tin_cache_get(c, leaf[3], 3, &built) != NULL);
+    EXPECT_TRUE(tp_tin_cache_get(c, leaf[0], 3, &built) != NULL);
+    /* a frame later (the next cut drew neither): still kept, a level built while a frame drew
+     * is drawn by the cut after it */
+    ASSERT_OK(tp_cut_set_nodes(cut, &parent, plv, 1, NULL));
+    tp_tin_cache_mark_drawn(c, cut);
+    tp_tin_cache_prune(c, 0, 1);
+    EXPECT_TRUE(tp_tin_cache_get(c, leaf[3], 3, &built) != NULL);
+    EXPECT_TRUE(tp_tin_cache_get(c, leaf[0], 3, &built) != NULL);
+    /* a frame more, neither drawn: both go */
+    tp_tin_cache_mark_drawn(c, cut);
+    tp_tin_cache_prune(c, 0, 1);
+    tp_tin_cache_stats(c, &bytes, &levels, NULL);
+    EXPECT_EQ_INT((int)levels, 0);
+    EXPECT_EQ_INT((int)bytes, 0);
     tp_cut_destroy(cut);
     tp_tin_cache_destroy(c);
     tp_tree_destroy(t);

@@ -30,7 +30,10 @@ set -eu
 
 # gdal-bin: the GDAL command-line tools tools/make_mirror_dem.py (and its test) and
 # tests/test_contours_levels.c (gdal_contour, the reference for contours' levels) run.
-# libzstd-dev, zlib1g-dev: the store's compression and checksums (io/src/store_codec.cpp).
+# libzstd-dev, zlib1g-dev: the store's compression and checksums (io/src/store_codec.cpp); zlib
+# also gzips Cesium's terrain tiles (io/src/gzip.cpp).
+# proj-data: PROJ's grids, among them EGM96 (egm96_15.gtx), which `export --tiles quantized-mesh
+# --heights ellipsoid` adds to the heights (io/src/geoid.cpp; libproj25 depends on it anyway).
 # libnova-dev: the sun's position, rise and set (io/src/sun.cpp, `terrapatch light`).
 # slurm-wlm, munge: the one-node Slurm cluster tests/test_slurm_build.sh starts on localhost
 # (tools/slurm_build.sh, a build in parts); the test starts and stops its daemons itself.
@@ -38,9 +41,12 @@ set -eu
 # (and stops) to serve stores over HTTP (issue 33). The tests never use the package's service: a
 # container's policy-rc.d keeps it from starting; under systemd Debian starts it on port 80
 # (`systemctl disable --now nginx` stops it; the tests do not need it).
+# chromium: the headless browser tests/test_web_cesium.sh drives (through tools/web/drive.mjs and
+# puppeteer-core) to show a quantized-mesh tile set in CesiumJS (issue 34, tools/web/).
 COMMON="cmake pkg-config gcc g++ libgdal-dev libproj-dev libgeographiclib-dev libopenimageio-dev
 libglfw3-dev libepoxy-dev libegl-dev libgl-dev libgl1-mesa-dri libegl-mesa0 libstb-dev gnuplot-nox
-xvfb xdotool libzstd-dev zlib1g-dev gdal-bin libnova-dev slurm-wlm munge nginx"
+xvfb xdotool libzstd-dev zlib1g-dev gdal-bin libnova-dev slurm-wlm munge nginx proj-data
+chromium"
 VTK_SYSTEM="libvtk9-dev"
 # ParaView's VTK config finds Threads, EXPAT, LZMA, LZ4, double-conversion, ZLIB and utf8cpp
 # for CommonCore, IOCore, IOXML, IOLegacy, FiltersCore and their dependencies.

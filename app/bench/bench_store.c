@@ -492,7 +492,7 @@ static int fly(store_bench* b, store_result* c, int first, store_draw* d, const 
             size_t tin_bytes = 0;
             if (b->sc.tins) { /* the cut thread is idle: prune, or build here without it */
                 tp_tin_cache_mark_drawn(b->sc.tins, cut);
-                tp_tin_cache_prune(b->sc.tins, TP_CUT_WORKER_TIN_AGE);
+                tp_tin_cache_prune(b->sc.tins, TP_CUT_WORKER_TIN_AGE, TP_CUT_WORKER_TIN_BYTES);
                 if (!d->worker)
                     tp_cut_tins_build(b->sc.tins, cut, TP_CUT_WORKER_TIN_MS);
                 tp_tin_cache_stats(b->sc.tins, &tin_bytes, NULL, NULL);

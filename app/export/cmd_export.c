@@ -11,6 +11,7 @@
 #include "mesh_export.h"
 #include "options.h"
 #include "output_check.h"
+#include "qm_export.h"
 #include "scene.h"
 #include "store_export.h"
 #include "store_scene.h"
@@ -24,7 +25,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-typedef enum { MODE_VIEW = 0, MODE_FULL, MODE_MAX_ERROR } export_mode;
+typedef enum { MODE_VIEW = 0, MODE_FULL, MODE_MAX_ERROR, MODE_TILES } export_mode;
 
 typedef enum { MESH_DEFAULT = 0, MESH_TIN, MESH_PATCHES } mesh_kind;
 
@@ -38,6 +39,12 @@ typedef struct export_options {
     tp_mesh_format format;
     const char* out;
     const char* path;
+    /* --tiles quantized-mesh (qm_export.h) */
+    const char* tiles;
+    int max_zoom;
+    const char* bounds;
+    const char* heights;
+    double bounds_deg[4];
 } export_options;
 
 enum { OPT_MESH = 1, OPT_ORIGIN };
@@ -92,6 +99,29 @@ static void print_help(void)
           "  -o, --output OUT      .vtp (VTK XML, binary, compressed), .vtk (legacy) or .vtm\n"
           "  --per-patch           one block per patch (.vtm; DEMs only)\n"
           "  --origin local        subtract a scene origin (written to the field data)\n"
+          "Cesium terrain tiles (docs/quantized_mesh.md):\n"
+          "  --tiles quantized-mesh  -o DIR: a Cesium terrain tile set: DIR/layer.json and\n"
+          "                        DIR/Z/X/Y.terrain, quantized-mesh-1.0 with oct-encoded\n"
+          "                        normals, gzip-compressed: the HTTP server must send them\n"
+          "                        with 'Content-Encoding: gzip' (as Cesium's servers do);\n"
+          "                        geographic scheme (EPSG:4326, two root tiles, TMS). Each\n"
+          "                        tile is an error-bounded TIN of a 218x218 lon/lat lattice\n"
+          "                        of the store's surface; its true error against the store's\n"
+          "                        full-resolution posts is measured and written to\n"
+          "                        DIR/errors.json and layer.json's \"terrapatch\" object.\n"
+          "                        Resumable: a rerun with the same options keeps the tiles\n"
+          "                        written (DIR/tiles.log); other options are refused.\n"
+          "  --max-zoom Z          deepest level (default: the first whose lattice is as fine\n"
+          "                        as the store's posts)\n"
+          "  --bounds W,S,E,N      only the tiles over this box (degrees; default the store's\n"
+          "                        extent)\n"
+          "  --heights ellipsoid|geoid\n"
+          "                        heights above the WGS84 ellipsoid (the default: EGM96's\n"
+          "                        undulation added, PROJ's egm96_15 grid) or as stored\n"
+          "                        (above the geoid for SRTM)\n"
+          "  --max-error M         the TIN's bound at the deepest level, doubled per level\n"
+          "                        above it (default: Cesium's geometric error of each level,\n"
+          "                        77067 m / 2^z)\n"
           "DEM:\n",
           stdout);
     tp_scene_options_help(stdout);
@@ -124,6 +154,48 @@ static int code_option(void* ctx, int code, const char* v, const char* cmd)
     return 1;
 }
 
+/* --tiles and its options (parse_options' tail for a tile set). */
+static int parse_tiles(export_options* o, int full, const char* extra)
+{
+    if (!o->tiles) {
+        tp_cli_error("--max-zoom, --bounds and --heights go with --tiles quantized-mesh");
+        return TP_EXIT_USAGE;
+    }
+    if (strcmp(o->tiles, "quantized-mesh"))
+        return bad("--tiles", "quantized-mesh", o->tiles);
+    if (full || o->mesh != MESH_DEFAULT || o->no_cull || o->per_patch || o->origin_local ||
+        o->vs.has_camera) {
+        tp_cli_error("--tiles quantized-mesh takes none of --full, --mesh, --no-cull, "
+                     "--per-patch, --origin, --camera");
+        return TP_EXIT_USAGE;
+    }
+    if (o->heights && strcmp(o->heights, "ellipsoid") && strcmp(o->heights, "geoid"))
+        return bad("--heights", "ellipsoid or geoid", o->heights);
+    if (o->bounds) {
+        double* b = o->bounds_deg;
+        char tail;
+        if (sscanf(o->bounds, "%lf,%lf,%lf,%lf%c", &b[0], &b[1], &b[2], &b[3], &tail) != 4 ||
+            !(b[0] < b[2] && b[1] < b[3]) || b[0] < -180 || b[2] > 180 || b[1] < -90 ||
+            b[3] > 90)
+            return bad("--bounds", "W,S,E,N in degrees, W < E within -180..180, S < N within "
+                       "-90..90", o->bounds);
+    }
+    if (!o->out) {
+        tp_cli_error("missing -o DIR (the tile set's folder)");
+        return TP_EXIT_USAGE;
+    }
+    if (!o->path) {
+        tp_cli_error("missing DEM or store");
+        return TP_EXIT_USAGE;
+    }
+    if (extra) {
+        tp_cli_error("expected one DEM, got extra argument '%s'", extra);
+        return TP_EXIT_USAGE;
+    }
+    o->mode = MODE_TILES;
+    return -1;
+}
+
 static int parse_options(int argc, char** argv, export_options* o)
 {
     memset(o, 0, sizeof *o);
@@ -131,6 +203,7 @@ static int parse_options(int argc, char** argv, export_options* o)
     tp_view_setup_default(&o->vs);
     int full = 0;
     o->max_error_m = -1; /* not given */
+    o->max_zoom = -1;
     const tp_option options[] = {
         TP_OPT_TEXT("--output", "-o", &o->out),
         TP_OPT_FLAG("--full", &full),
@@ -139,6 +212,10 @@ static int parse_options(int argc, char** argv, export_options* o)
         TP_OPT_FLAG("--no-cull", &o->no_cull),
         TP_OPT_CODE("--origin", NULL, OPT_ORIGIN, 1), /* before the DEM options' --origin */
         TP_OPT_FLAG("--per-patch", &o->per_patch),
+        TP_OPT_TEXT("--tiles", NULL, &o->tiles),
+        TP_OPT_INTEGER("--max-zoom", &o->max_zoom, 0, 22, "a level 0..22"),
+        TP_OPT_TEXT("--bounds", NULL, &o->bounds),
+        TP_OPT_TEXT("--heights", NULL, &o->heights),
     };
     const tp_option_table own = {options, TP_OPTIONS_COUNT(options), code_option, o};
     const char* extra;
@@ -146,6 +223,8 @@ static int parse_options(int argc, char** argv, export_options* o)
                                            &o->vs, 0, &o->path, &extra);
     if (code >= 0)
         return code;
+    if (o->tiles || o->bounds || o->heights || o->max_zoom >= 0)
+        return parse_tiles(o, full, extra);
     if (full && o->max_error_m >= 0) {
         tp_cli_error("--full and --max-error exclude each other");
         return TP_EXIT_USAGE;
@@ -243,6 +322,18 @@ int tp_cli_export(int argc, char** argv)
     int code = parse_options(argc, argv, &o);
     if (code >= 0)
         return code;
+    if (o.mode == MODE_TILES) {
+        tp_qm_request q = {.path = o.path,
+                           .out_dir = o.out,
+                           .dem = &o.scene,
+                           .max_zoom = o.max_zoom,
+                           .has_bounds = o.bounds != NULL,
+                           .ellipsoid = !o.heights || !strcmp(o.heights, "ellipsoid"),
+                           .max_error_m = o.max_error_m};
+        memcpy(q.bounds, o.bounds_deg, sizeof q.bounds);
+        code = tp_export_qm(&q);
+        return code == TP_EXIT_OK ? tp_cli_finish(code) : code;
+    }
     /* An unwritable output is found before the DEM is read, not after the mesh is built. */
     if (!tp_atomic_check_dir(o.out))
         return TP_EXIT_FAILURE;

@@ -95,6 +95,10 @@ tp_renderer* tp_renderer_create_desc(const tp_render_grid_desc* d, tp_error* err
 
     /* The strips of every level, one after the other, in one index buffer. */
     r->index_type = n <= 7 ? GL_UNSIGNED_SHORT : GL_UNSIGNED_INT;
+    r->sync_indices = tp_gl_context_software() ? TP_RENDER_SOFTWARE_SYNC_INDICES : 0;
+    const char* sync = getenv("TP_SOFTWARE_SYNC_INDICES"); /* renderer.h; 0: never wait */
+    if (sync && r->sync_indices)
+        r->sync_indices = (size_t)strtoull(sync, NULL, 10);
     size_t isize = n <= 7 ? 2 : 4, total = 0;
     for (int k = 0; k <= n; k++)
         total += tp_strip_index_count(k);

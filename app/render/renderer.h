@@ -79,6 +79,15 @@ typedef struct tp_render_stats {
  * 65-sample nodes whatever the view drew (docs/PERFORMANCE.md, "Per-level vertex pools"). */
 #define TP_RENDER_POOL_INITIAL_BYTES ((size_t)64 << 10)
 
+/* On a software rasteriser (tp_gl_context_software) the draws wait for the rasteriser
+ * (glFinish) each time this many indices have been submitted since the last wait; the
+ * environment's TP_SOFTWARE_SYNC_INDICES overrides it (0: never wait). llvmpipe bins a frame's
+ * triangles into malloc'd scenes (~150 bytes a triangle) until it rasterises them: 110 MB of the
+ * process's anonymous memory for a frame of 753 k triangles, growing with the triangles a frame
+ * draws. Waiting every 128 Ki indices bounds it, at no measured cost in CPU or frame time
+ * (docs/PERFORMANCE.md, "The software rasteriser's memory"). A GPU is never made to wait. */
+#define TP_RENDER_SOFTWARE_SYNC_INDICES ((size_t)1 << 17)
+
 /* What the renderer needs to know about the grid it draws. */
 typedef struct tp_render_grid_desc {
     int n;                       /* items are (2^n+1)^2 at most (level n) */

@@ -157,6 +157,30 @@ static int set_imagery_light(tp_renderer* r, const tp_camera* cam, unsigned feat
     return blocks;
 }
 
+/* Draws r's grouped draws a .. b in one multi-draw, or, on a software rasteriser
+ * (r->sync_indices), in runs that wait for it each time *since_sync reaches r->sync_indices
+ * (TP_RENDER_SOFTWARE_SYNC_INDICES). */
+static void multi_draw(tp_renderer* r, GLenum mode, GLenum type, size_t a, size_t b,
+                       size_t* since_sync, tp_render_stats* stats)
+{
+    while (a < b) {
+        size_t e = b;
+        if (r->sync_indices) {
+            for (e = a; e < b && *since_sync < r->sync_indices; e++)
+                *since_sync += (size_t)r->gcounts[e];
+        }
+        glMultiDrawElementsBaseVertex(mode, r->gcounts + a, type,
+                                      (const void* const*)(r->goffsets + a), (GLsizei)(e - a),
+                                      r->gbases + a);
+        stats->draw_calls++;
+        if (r->sync_indices && *since_sync >= r->sync_indices) {
+            glFinish();
+            *since_sync = 0;
+        }
+        a = e;
+    }
+}
+
 /* Submits the grouped draws, level by level: a multi-draw a group (its pool's vertex buffer, the
  * group's index buffer), else a draw an item (blocks: each with its texture's uniforms; or
  * st->one_draw_per_patch). five_ibo: the five-region sets' index buffer (0: none). */
@@ -164,6 +188,7 @@ static void submit_draws(tp_renderer* r, const size_t group_at[3 * TP_MAX_LEVELS
                          GLuint five_ibo, int blocks, const tp_render_settings* st,
                          tp_render_stats* stats)
 {
+    size_t since_sync = 0; /* indices submitted since the rasteriser last caught up */
     for (int k = 0; k <= r->grid.n; k++) {
         if (group_at[3 * k] == group_at[3 * k + 3])
             continue;
@@ -196,10 +221,7 @@ static void submit_draws(tp_renderer* r, const size_t group_at[3 * TP_MAX_LEVELS
                                              r->gbases[j]);
                 stats->draw_calls += (int)(b - a);
             } else {
-                glMultiDrawElementsBaseVertex(mode, r->gcounts + a, type,
-                                              (const void* const*)(r->goffsets + a),
-                                              (GLsizei)(b - a), r->gbases + a);
-                stats->draw_calls++;
+                multi_draw(r, mode, type, a, b, &since_sync, stats);
             }
         }
     }

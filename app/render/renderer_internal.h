@@ -89,6 +89,9 @@ struct tp_renderer {
     int stitch_add, stitch_add_five;
     tp__stitch_add* add;
     tp__stitch_five* five; /* --stitch-add-draw five: the per-level region sets */
+    /* A software rasteriser's binned triangles are drained (glFinish) every sync_indices
+     * indices submitted; 0 on a GPU (renderer_draw.c, submit_draws) */
+    size_t sync_indices;
 };
 
 /* renderer.c: the program with features (TP_SHADE_*), compiled on first use; NULL with a

@@ -35,8 +35,11 @@ typedef struct tp_cut_worker_params {
                               TP_CUT_WORKER_TIN_MS (they show from the next frames on) */
 } tp_cut_worker_params;
 #define TP_CUT_WORKER_TIN_MS 8.0
-/* A TIN level not drawn for this many frames is freed (tp_tin_cache_prune). */
+/* A TIN level not drawn for this many frames is freed (tp_tin_cache_prune); beyond
+ * TP_CUT_WORKER_TIN_BYTES, those drawn longest ago are, down to what the frame draws (the
+ * 20481^2 low flight held 73 MB of TINs with the age limit alone, 20 MB drawn a frame). */
 #define TP_CUT_WORKER_TIN_AGE 90
+#define TP_CUT_WORKER_TIN_BYTES ((size_t)32 << 20)
 
 /* Builds the TIN levels cut asked for (tp_cut_tin_requests, most urgent first) into tins until
  * budget_ms is spent (<= 0: all of them); returns how many it built. The thread that calls it

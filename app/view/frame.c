@@ -98,7 +98,7 @@ void tp_view_frame(tp_view_scene* v, tp_renderer* r, const tp_camera* cam,
     out->mesh_tin = v->store->tins != NULL;
     if (v->store->tins) { /* the TINs of nodes the stream released (the cut thread is idle) */
         tp_tin_cache_mark_drawn(v->store->tins, v->cut);
-        tp_tin_cache_prune(v->store->tins, TP_CUT_WORKER_TIN_AGE);
+        tp_tin_cache_prune(v->store->tins, TP_CUT_WORKER_TIN_AGE, TP_CUT_WORKER_TIN_BYTES);
         tp_tin_cache_stats(v->store->tins, &out->tin_bytes, &out->tin_levels, NULL);
     }
     if (v->worker && !frozen) { /* the next frame's, while this one draws */

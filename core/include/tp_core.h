@@ -56,6 +56,7 @@
  *   tp_viewshed.h   viewsheds
  *   tp_los.h        line of sight
  *   tp_tin.h        the error-bounded TIN (whole, tiled) and the mesh error checker
+ *   tp_qmesh.h      Cesium quantized-mesh tiles: the geographic scheme, the encoder
  *   tp_clipmap.h    clip windows over image pyramids, texture levels
  *   tp_light.h      shadows, the sun over a day, light times
  *   tp_pgm.h        Persistent Grid Mapping
@@ -70,6 +71,7 @@
 #include "tp_viewshed.h"
 #include "tp_los.h"
 #include "tp_tin.h"
+#include "tp_qmesh.h"
 #include "tp_clipmap.h"
 #include "tp_light.h"
 #include "tp_pgm.h"

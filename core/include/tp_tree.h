@@ -380,9 +380,11 @@ const tp_node_tins* tp_tin_cache_get(const tp_tin_cache* c, int64_t node, int k,
 tp_status tp_tin_cache_build(tp_tin_cache* c, int64_t node, int k, tp_error* err);
 /* Frees the TINs of nodes that are no longer resident and, max_age_frames > 0, of levels not
  * drawn in the last max_age_frames frames (tp_tin_cache_mark_drawn in tp_cut.h; a level just
- * built counts as drawn). Call when no build runs and no cut that may draw them will be used
- * (the viewer: after marking its frame's cut, its cut thread idle). */
-void tp_tin_cache_prune(tp_tin_cache* c, unsigned max_age_frames);
+ * built counts as drawn). Then, max_bytes > 0, while the cache holds more than max_bytes, the
+ * levels drawn longest ago, but never one drawn or built in the last two marked frames (the
+ * frame's cut, and what its next cut will draw: the cache may stay above max_bytes by that). Call when no build runs and no cut that may draw them
+ * will be used (the viewer: after marking its frame's cut, its cut thread idle). */
+void tp_tin_cache_prune(tp_tin_cache* c, unsigned max_age_frames, size_t max_bytes);
 /* Bytes of TINs held, levels built, and TIN builds run so far. */
 void tp_tin_cache_stats(const tp_tin_cache* c, size_t* bytes, size_t* levels, size_t* builds);
 

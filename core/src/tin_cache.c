@@ -131,9 +131,10 @@ static void drop_level(tp_tin_cache* c, tin_entry* e, int k)
     tp_node_tins_destroy(t);
 }
 
-void tp_tin_cache_prune(tp_tin_cache* c, unsigned max_age_frames)
+/* Frees levels of resident nodes that were not drawn, and those drawn too long ago; then frees
+ * the entries left with no level. */
+static void prune_age(tp_tin_cache* c, unsigned max_age_frames)
 {
-    assert(c);
     size_t o = 0;
     for (size_t i = 0; i < c->listed_count; i++) {
         int64_t node = c->listed[i];
@@ -152,6 +153,49 @@ void tp_tin_cache_prune(tp_tin_cache* c, unsigned max_age_frames)
         free(e);
     }
     c->listed_count = o;
+}
+
+typedef struct aged_level {
+    uint32_t age; /* frames since it was last drawn */
+    int k;
+    tin_entry* e;
+} aged_level;
+
+static int older_first(const void* a, const void* b)
+{
+    uint32_t x = ((const aged_level*)a)->age, y = ((const aged_level*)b)->age;
+    return x < y ? 1 : x > y ? -1 : 0;
+}
+
+/* Frees the levels drawn longest ago until c holds at most max_bytes; never one drawn in the last
+ * two marked frames (the frame's cut, or built since the frame before: the next cut draws it). Returns 1 when it freed any (their entries may now be empty). */
+static int drop_oldest(tp_tin_cache* c, size_t max_bytes)
+{
+    size_t n = 0;
+    aged_level* a = malloc(c->levels * sizeof *a);
+    if (!a)
+        return 0; /* the budget is kept at the next prune */
+    for (size_t i = 0; i < c->listed_count && n < c->levels; i++) {
+        tin_entry* e = atomic_load_explicit(&c->node[c->listed[i]], memory_order_relaxed);
+        unsigned built = atomic_load_explicit(&e->built, memory_order_relaxed);
+        for (int k = 0; k < TP_MAX_LEVELS && n < c->levels; k++)
+            if ((built >> k & 1) && c->frame - e->drawn[k] > 1)
+                a[n++] = (aged_level){c->frame - e->drawn[k], k, e};
+    }
+    qsort(a, n, sizeof *a, older_first);
+    size_t i = 0;
+    for (; i < n && c->bytes > max_bytes; i++)
+        drop_level(c, a[i].e, a[i].k);
+    free(a);
+    return i > 0;
+}
+
+void tp_tin_cache_prune(tp_tin_cache* c, unsigned max_age_frames, size_t max_bytes)
+{
+    assert(c);
+    prune_age(c, max_age_frames);
+    if (max_bytes && c->bytes > max_bytes && drop_oldest(c, max_bytes))
+        prune_age(c, 0);
 }
 
 void tp_tin_cache_stats(const tp_tin_cache* c, size_t* bytes, size_t* levels, size_t* builds)

@@ -46,6 +46,10 @@
 #include "tp_io/output.h"
 #include "tp_io/viewshed.h"
 
+/* Web terrain tiles: gzip in memory, the geoid's undulation. */
+#include "tp_io/geoid.h"
+#include "tp_io/gzip.h"
+
 /* Terrain stores (.tpt): a built tree on disk. */
 #include "tp_io/store.h"
 

@@ -1,0 +1,82 @@
+/*
+ * qm_tile.h - one Cesium quantized-mesh tile of a store (`export --tiles quantized-mesh`,
+ * docs/quantized_mesh.md): the store's surface sampled on the tile's regular lon/lat lattice,
+ * the error-bounded TIN of that lattice with its sides shared with the neighbours, heights on
+ * the export's common height step, the tile encoded (tp_qmesh_encode), and its true error
+ * measured against the store's full-resolution posts inside it (qm_measure.c).
+ */
+#ifndef TP_APP_QM_TILE_H
+#define TP_APP_QM_TILE_H
+
+#include "ground.h"
+
+#include "tp_io.h"
+
+#include <stddef.h>
+#include <stdint.h>
+
+/* Lattice cells per tile side: 217 = 7 x 31 divides 32767 (= 7 x 31 x 151), so every lattice
+ * post is exactly on a u, v code (151 codes a cell) and the TIN's vertices are not moved. */
+#define TP_QM_CELLS 217
+/* Lattice posts between two exact projections (the others interpolated): a divisor of
+ * TP_QM_CELLS. */
+#define TP_QM_COARSE 7
+
+/* What every tile of an export shares. */
+typedef struct qm_source {
+    tp_ground* ground;         /* the store's full-resolution surface (tp_ground_height) */
+    const tp_georef* georef;   /* grid <-> render CRS <-> WGS84 */
+    int width, height;         /* the source grid (posts) */
+    tp_geoid* geoid;           /* NULL: heights as stored (--heights geoid) */
+    double lat_lo, lat_hi, lon_lo, lon_hi; /* the store's extent in WGS84, padded */
+    double height_step_m;      /* every vertex height is a multiple of it (a power of two) */
+    double interp_max_m;       /* interpolate the projection over coarse cells up to this size */
+} qm_source;
+
+/* One tile's result. */
+typedef struct qm_tile_result {
+    uint8_t* gz;               /* the gzip-compressed tile (free()) */
+    size_t gz_size, raw_size;
+    size_t vertices, triangles;
+    double bound_m;            /* the TIN's bound on the lattice */
+    double measured_m;         /* max |tile - store| over the store's posts in the tile and the
+                                  lattice posts with a height (decoded heights, as Cesium) */
+    size_t posts_measured;
+    double proj_interp_m;      /* largest gap between the interpolated and the exact grid
+                                  position at the coarse cells' centres checked (grid units x
+                                  spacing: metres) */
+    uint64_t edge_hash[4];     /* west, south, east, north: the side's (position, height) list */
+} qm_tile_result;
+
+/* Builds tile (z, x, y) with the TIN bound bound_m into r (zeroed first). 0 with a message in
+ * err on failure (a read error names the store; out of memory). */
+int tp_qm_tile_build(const qm_source* s, int z, int x, int y, double bound_m, qm_tile_result* r,
+                     tp_error* err);
+
+/* ---- qm_measure.c ---- */
+
+/* A tile's TIN as the measure sees it: vertices at lattice (column i from the west, row j from
+ * the north) with decoded heights, triangles. */
+typedef struct qm_mesh {
+    int n;                    /* lattice cells a side */
+    size_t vertex_count, triangle_count;
+    const float* ij;          /* vertex_count * 2: column, row */
+    const double* z;          /* vertex_count: decoded height (m) */
+    const uint32_t* tris;
+} qm_mesh;
+
+/* The mesh's height at lattice position (fi, fj) (0..n each): the triangle containing it,
+ * barycentric. A point-location index over the lattice cells is built on the first call and
+ * kept in *index (free with tp_qm_index_free). NAN when out of memory. */
+typedef struct qm_index qm_index;
+double tp_qm_mesh_height(const qm_mesh* m, qm_index** index, double fi, double fj);
+void tp_qm_index_free(qm_index* ix);
+
+/* The largest |mesh - post| over the store's full-resolution posts inside the tile (west, south,
+ * east, north; lattice step d degrees), their heights converted as the tile's are; the posts'
+ * count in *posts. 0 on failure (message in err). */
+int tp_qm_measure_posts(const qm_source* s, const qm_mesh* m, qm_index** index, double west,
+                        double south, double east, double north, double* max_err, size_t* posts,
+                        tp_error* err);
+
+#endif
