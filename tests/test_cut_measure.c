@@ -256,6 +256,7 @@ TEST(prefetch_names_the_leaves_read)
         tp_cut_error a, b;
         f.reads = 0;
         ASSERT_OK(tp_cut_measure_error(cut, &cam, &plain, &a));
+        free(g_pre.ids);
         memset(&g_pre, 0, sizeof g_pre);
         f.reads = 0;
         ASSERT_OK(tp_cut_measure_error(cut, &cam, &o, &b));
