@@ -23,6 +23,7 @@ typedef struct fixture {
     const uint16_t** saved; /* every node's samples, kept while detached */
     size_t block;           /* (2^n+1)^2 */
     int reads, fail;        /* the reader's calls; fail: it refuses every leaf */
+    int64_t* read_ids;      /* when set: the leaves read, in order (reads of them) */
 } fixture;
 
 static int fixture_open(fixture* f)
@@ -58,6 +59,8 @@ static int read_leaf(void* user, int64_t leaf, uint16_t* samples)
     tp_tree_node_locate(f->g, leaf, &s, &c, &r);
     ASSERT_EQ_INT(0, s);
     ASSERT_TRUE(tp_tree_samples(f->t, leaf) == NULL); /* only what the tree lacks */
+    if (f->read_ids)
+        f->read_ids[f->reads] = leaf;
     f->reads++;
     if (f->fail)
         return 0;
@@ -164,7 +167,7 @@ TEST(far_view_reads_the_leaves_it_lacks)
     EXPECT_EQ_INT(0, (long long)none.leaves_read);
 
     /* through the reader */
-    tp_cut_measure_options o = {read_leaf, &f, 0, 0};
+    tp_cut_measure_options o = {read_leaf, &f, 0, 0, NULL};
     tp_cut_error read;
     ASSERT_OK(tp_cut_measure_error(cut, &cam, &o, &read));
     EXPECT_EQ_INT(0, (long long)read.skipped);
@@ -211,6 +214,72 @@ TEST(far_view_reads_the_leaves_it_lacks)
     fixture_close(&f);
 }
 
+/* The leaves named to o->prefetch, recorded (one call a measure). */
+typedef struct prefetched {
+    int64_t* ids;
+    size_t count;
+    int calls;
+} prefetched;
+static prefetched g_pre;
+
+static void record_prefetch(void* user, const int64_t* leaves, size_t count)
+{
+    (void)user;
+    g_pre.calls++;
+    free(g_pre.ids);
+    g_pre.ids = malloc(count * sizeof *leaves);
+    memcpy(g_pre.ids, leaves, count * sizeof *leaves);
+    g_pre.count = count;
+}
+
+/* o->prefetch (a store over HTTP fetches them concurrently) is told, once and before any is
+ * read, exactly the leaves read_leaf is then asked for, in that order: every leaf, and sampled
+ * to a budget; the measure is the one without it. */
+TEST(prefetch_names_the_leaves_read)
+{
+    fixture f;
+    if (!fixture_open(&f))
+        SKIP("N42E001.hgt not found (set TP_SHARED_DATA_DIR)");
+    tp_cut* cut;
+    ASSERT_OK(tp_cut_create(f.t, &cut, NULL));
+    tp_camera cam;
+    double eye[3] = {GT[0] + W / 2.0 * GT[1], GT[3] + (H + 100.0) * GT[5], 28000};
+    double pitch = -atan2(eye[2], (H / 2.0 + 100) * GT[1]) * 180 / 3.14159265358979;
+    tp_camera_from_pose(eye, 0, pitch, 60, 640, 360, &cam);
+    tp_lod_params lp = {.mode = TP_LOD_ERROR, .tau_px = 2};
+    ASSERT_OK(tp_cut_update(cut, &cam, &lp, NULL));
+    detach_undrawn_leaves(&f, cut);
+    f.read_ids = calloc((size_t)f.g->node_count, sizeof *f.read_ids);
+    for (size_t max_leaves = 0; max_leaves <= 64; max_leaves += 64) {
+        tp_cut_measure_options plain = {read_leaf, &f, max_leaves, 7, NULL};
+        tp_cut_measure_options o = {read_leaf, &f, max_leaves, 7, record_prefetch};
+        tp_cut_error a, b;
+        f.reads = 0;
+        ASSERT_OK(tp_cut_measure_error(cut, &cam, &plain, &a));
+        free(g_pre.ids);
+        memset(&g_pre, 0, sizeof g_pre);
+        f.reads = 0;
+        ASSERT_OK(tp_cut_measure_error(cut, &cam, &o, &b));
+        tp_test_note("max_leaves %zu: %zu leaves named, %d read, %zu sampled", max_leaves,
+                     g_pre.count, f.reads, b.leaves_sampled);
+        EXPECT_EQ_INT(1, g_pre.calls);
+        ASSERT_EQ_INT(f.reads, (long long)g_pre.count);
+        EXPECT_GT(f.reads, 10);
+        for (int i = 0; i < f.reads; i++)
+            ASSERT_EQ_INT((long long)f.read_ids[i], (long long)g_pre.ids[i]);
+        EXPECT_EQ_INT((long long)a.samples, (long long)b.samples);
+        EXPECT_EQ_DBL(a.max_px, b.max_px);
+        EXPECT_EQ_INT((long long)a.leaves_read, (long long)b.leaves_read);
+        if (max_leaves)
+            EXPECT_GT(b.per_node, 0); /* the sampling took part */
+    }
+    free(g_pre.ids);
+    free(f.read_ids);
+    f.read_ids = NULL;
+    tp_cut_destroy(cut);
+    fixture_close(&f);
+}
+
 /* A measured 0 only at full resolution: the full mode's cut measures exactly 0 over every
  * sample in view; the error mode's cut, which draws coarser levels, measures more; a view of
  * the sky measures nothing (NaN, and the old figures' 0 with 0 samples). */
@@ -221,7 +290,7 @@ TEST(zero_only_at_full_resolution)
         SKIP("N42E001.hgt not found (set TP_SHARED_DATA_DIR)");
     tp_cut* cut;
     ASSERT_OK(tp_cut_create(f.t, &cut, NULL));
-    tp_cut_measure_options o = {read_leaf, &f, 0, 0};
+    tp_cut_measure_options o = {read_leaf, &f, 0, 0, NULL};
     for (int k = 0; k < 3; k++) { /* 8, 28 and 48 km up, south of the crop, looking at it */
         tp_camera cam;
         double eye[3] = {GT[0] + W / 2.0 * GT[1], GT[3] + (H + 100.0) * GT[5], 8000 + 20000 * k};
@@ -295,7 +364,7 @@ TEST(sampling_keeps_to_its_budget)
     size_t count;
     tp_cut_nodes(cut, &count);
     detach_undrawn_leaves(&f, cut);
-    tp_cut_measure_options o = {read_leaf, &f, 0, 0};
+    tp_cut_measure_options o = {read_leaf, &f, 0, 0, NULL};
     tp_cut_error all;
     ASSERT_OK(tp_cut_measure_error(cut, &cam, &o, &all));
     ASSERT_GT(all.max_px, 0.0);
@@ -353,7 +422,7 @@ TEST(stitch_add_reads_the_same_as_resident)
     tp_cut_error all, read;
     ASSERT_OK(tp_cut_measure_error(cut, &cam, NULL, &all));
     detach_undrawn_leaves(&f, cut);
-    tp_cut_measure_options o = {read_leaf, &f, 0, 0};
+    tp_cut_measure_options o = {read_leaf, &f, 0, 0, NULL};
     ASSERT_OK(tp_cut_measure_error(cut, &cam, &o, &read));
     tp_test_note("%d sides take vertices; max %.4f px over %zu samples", st.add_sides,
                  read.max_px, read.samples);
@@ -370,6 +439,7 @@ TEST(stitch_add_reads_the_same_as_resident)
 
 #define TESTS(X)                                                                                   \
     X(far_view_reads_the_leaves_it_lacks)                                                          \
+    X(prefetch_names_the_leaves_read)                                                              \
     X(zero_only_at_full_resolution)                                                                \
     X(sampling_keeps_to_its_budget)                                                                \
     X(stitch_add_reads_the_same_as_resident)

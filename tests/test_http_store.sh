@@ -14,9 +14,15 @@
 #           stall (GDAL_HTTP_LOW_SPEED_TIME=2), a body garbled on the way (the node's CRC32 says
 #           so) or the file replaced between two reads: exit 1,
 #           one line on stderr naming the URL and what happened, nothing on stdout; bench with
-#           a node's range answered 500: it flies on (its ancestor drawn, the node asked for again
-#           with backoff), says so once a node, exit 0; bench
-#           with the file replaced in flight: one line "changed on the server", exit 1
+#           the batch of nodes it reads ahead at open answered 500 (the batch is not retried, its
+#           nodes are read one by one, those of its first block fail again): it flies on (their
+#           ancestors drawn, the nodes asked for again with backoff), says so once a node a run,
+#           exit 0; bench with the file replaced at that batch: one line "changed on the server",
+#           exit 1
+#   view_export: view --headless over the URL (with --light, the day's .tpl beside the store
+#           read from its URL) draws the same PNG and measures the same error as from the file,
+#           reading the store in at most 12 requests; export over the URL writes the same mesh
+#           (but for the source's name); export of a URL answering 404: one line, no file
 # nginx missing is a failure (make test installs it: tools/deps.sh), never a skip.
 set -u
 TP=$1 PROXY=$2 DATA=$3 WORK=$4 CASE=$5
@@ -164,6 +170,61 @@ EOF
     one_line "a missing URL" "http://127.0.0.1:$port/none.tpt" "cannot open"
 }
 
+case_view_export() {
+    # view --headless over the URL: the same picture and the same figures as from the file
+    # (the error measure's leaves read over HTTP, in batches), the light map of the day beside
+    # it (.tpl) streamed from its URL too
+    "$TP" light www/hood.tpt --day --date 2026-06-21 --maps 8 -o www/hood.tpl > /dev/null 2> err ||
+        fail "light --day hood.tpl"
+    local V="--headless --size 320x240 --sun-date 2026-06-21 --sun-time 17:00Z"
+    "$TP" view www/hood.tpt $V --light www/hood.tpl --screenshot local.png \
+        --stats-json local.json > /dev/null 2> err || fail "view (local)"
+    : > proxy.log
+    "$TP" view "$SLOW" $V --light "http://127.0.0.1:$PP/ok/hood.tpl" --screenshot url.png \
+        --stats-json url.json > out 2> err || fail "view over HTTP: exit $?"
+    cmp -s local.png url.png || fail "view over HTTP draws another picture"
+    grep -q "GET /ok/hood.tpl" proxy.log || fail "view over HTTP did not read the light map's URL"
+    python3 - local.json url.json << 'EOF2' > out 2>&1 || fail "view over HTTP: $(cat out)"
+import json, sys
+a, b = (json.load(open(p)) for p in sys.argv[1:3])
+for k in ("triangles", "nodes_drawn", "max_error_px", "rms_error_px", "error_samples",
+          "error_leaves_measured"):
+    assert a[k] == b[k], "%s: local %s, over HTTP %s" % (k, a[k], b[k])
+assert b["error_leaves_read"] > 0, "no leaf read for the error measure"
+for j in a, b:  # the light map's clipmap, not shadows computed around the point looked at
+    assert j["light_source"] == "streamed", "not lit by the light map: %s" % j["light_source"]
+EOF2
+    # the store's 660 KB, 41 blocks of /vsicurl/'s 16 KB, read in batches of merged ranges
+    # (the roots and coarse scales at open, then what the loaders and the measure still lack),
+    # not a request a block or a node
+    gets=$(grep -c "GET /ok/hood.tpt" proxy.log)
+    [ "$gets" -le 12 ] || fail "view over HTTP: $gets requests for the store, expected 12 at most"
+    # export over the URL: the same mesh file but for the source's name in its field data
+    "$TP" export www/hood.tpt -o local.vtk > /dev/null 2> err || fail "export (local)"
+    "$TP" export "$SLOW" -o url.vtk > /dev/null 2> err || fail "export over HTTP: exit $?"
+    python3 - local.vtk url.vtk "$SLOW" << 'EOF2' > out 2>&1 || fail "export over HTTP: $(cat out)"
+import sys
+def without_source(path):  # the field data's source_file string (VTK legacy binary length)
+    d = open(path, "rb").read()
+    key = b"source_file 1 1 string\n"
+    i = d.index(key) + len(key)
+    kind, n = d[i] >> 6, d[i] & 0x3F
+    k = {3: 1, 2: 2}[kind]
+    for j in range(1, k):
+        n = n << 8 | d[i + j]
+    return d[:i] + d[i + k + n:], d[i + k:i + k + n]
+a, _ = without_source(sys.argv[1])
+b, src = without_source(sys.argv[2])
+assert src == sys.argv[3].encode(), "export over HTTP names %r, not its URL" % src
+assert a == b, "export over HTTP writes another mesh"
+EOF2
+    "$TP" export "http://127.0.0.1:$PP/404/0-999999999/hood.tpt" -o none.vtk > out 2> err &&
+        fail "export of a URL answering 404: exit 0"
+    one_line "export of a URL answering 404" "HTTP 404"
+    [ -e none.vtk ] && fail "export of a URL answering 404 wrote a file"
+    return 0
+}
+
 case_faults() {
     # the range GDAL asks for the leaf under POS[0], from a run without faults
     : > proxy.log
@@ -182,10 +243,14 @@ case_faults() {
         one_line "point with $mode" "$url" "$says"
     done
     # bench: a node's range answered 500 (its ancestor drawn, the flight goes on), then the file
-    # replaced in flight (the last range an unfaulted flight asked for)
+    # replaced in flight (at the same range)
     : > proxy.log
     "$TP" bench "$SLOW" --frames 20 --segments 2 --no-error > out 2> err || fail "bench over HTTP"
-    last=$(awk '$2 == "GET" {r = $4} END {sub("bytes=", "", r); sub("-.*", "", r); print r}' proxy.log)
+    # the start of the largest range an unfaulted flight asked for: the batch of nodes read
+    # ahead at open (requests made at once finish in any order, so not the last one); failed,
+    # its nodes are read one by one, and those in its first block fail again
+    last=$(awk '$2 == "GET" {split($4, b, "[=-]"); if (b[3] - b[2] > m) {m = b[3] - b[2]; r = b[2]}}
+        END {print r}' proxy.log)
     url=http://127.0.0.1:$PP/500/$last-$((last + 1))/hood.tpt
     "$TP" bench "$url" --frames 20 --segments 2 --no-error > out 2> err || fail "bench with 500: exit $?"
     grep -q "HTTP 500" err || fail "bench with 500 did not say so"

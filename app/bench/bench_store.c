@@ -536,7 +536,7 @@ static int fly(store_bench* b, store_result* c, int first, store_draw* d, const 
             if (!o->no_error && k % o->error_every == 0 && !tp_bench_store_measure(b, cut, &cam, k, row))
                 return TP_EXIT_FAILURE;
             const char* failure = tp_stream_take_failure(b->sc.stream);
-            if (failure) {
+            if (failure && !tp_bench_store_said_before(b, failure)) {
                 tp_bench_progress_end();
                 tp_cli_error("%s", failure);
                 if (tp_store_changed(b->sc.store)) /* never measured against a mix of two */

@@ -118,7 +118,15 @@ typedef struct store_bench {
     double base_rss_mb, base_anon_mb; /* after opening the store and the GL context */
     uint16_t* leaf;             /* the leaf ground_m read last */
     int64_t leaf_id;
+    /* the stream's failure lines said so far (hashes): each once a run, not once a
+     * configuration's stream */
+    uint64_t said[64];
+    int said_count;
 } store_bench;
+
+/* Whether line was said already this run (each configuration's stream says a failure once;
+ * a node failing in every configuration is said once a run); remembers it (bench_store_error.c). */
+int tp_bench_store_said_before(store_bench* b, const char* line);
 
 /* The camera d metres along stretch seg of the flight (negative: before its start;
  * bench_store_path.c). The low path reads the ground under it into b->leaf. */

@@ -2,7 +2,8 @@
  * bench_store_error.c - the store bench's screen error (see bench_store.h): a frame's measure,
  * outside the timed part (tp_store_scene_measure: the leaves under the drawn nodes, read from
  * the store where the stream does not hold them, sampled to --error-posts), and its summary
- * over the flight (frames drawn with substitution apart; how much of the cut was measured).
+ * over the flight (frames drawn with substitution apart; how much of the cut was measured);
+ * and the stream's failure lines said once a run.
  */
 #include "bench_store.h"
 #include "cli.h"
@@ -73,4 +74,17 @@ void tp_bench_store_error_summary(store_result* c, int n, double* v)
     c->uncovered_share = c->error_frames ? share / c->error_frames : NAN;
     c->measure_ms = timed ? tp_bench_median(v, timed) : NAN;
     c->post_share = measured ? post_share / measured : NAN;
+}
+
+int tp_bench_store_said_before(store_bench* b, const char* line)
+{
+    uint64_t h = 1469598103934665603ull; /* FNV-1a */
+    for (const char* p = line; *p; p++)
+        h = (h ^ (unsigned char)*p) * 1099511628211ull;
+    for (int i = 0; i < b->said_count; i++)
+        if (b->said[i] == h)
+            return 1;
+    if (b->said_count < (int)(sizeof b->said / sizeof *b->said))
+        b->said[b->said_count++] = h;
+    return 0;
 }

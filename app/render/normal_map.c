@@ -23,6 +23,7 @@ struct tp_normal_source {
     const tp_tree_geometry* g;
     const tp_node_meta* metas;
     double step;
+    int remote;           /* the store is read over HTTP: a block's nodes read ahead */
     pthread_mutex_t lock; /* the buffers below: one block at a time */
     double* z;            /* ZW x ZW posts: heights (NaN: none) */
     uint8_t* f;           /* and whether each is a filled void */
@@ -88,6 +89,7 @@ tp_normal_source* tp_normal_source_store(const tp_store* st, double min_m, doubl
     size_t count;
     s->metas = tp_store_metas(st, &count);
     s->step = in.header.height_step_m;
+    s->remote = in.remote;
     s->samples = (size_t)((1 << g->n) + 1) * (size_t)((1 << g->n) + 1);
     /* a block's posts span ZW / 2^n + 2 nodes a side: twice that many entries */
     int side = ZW / (1 << g->n) + 2;
@@ -180,6 +182,35 @@ static int read_posts(tp_normal_source* s, int l, int64_t x0, int64_t y0, tp_err
     return 1;
 }
 
+/* Over HTTP: the nodes read_posts will read for the same block and are not in the cache, read
+ * ahead in one batch of concurrent requests (tp_store_prefetch) instead of a round trip each
+ * (docs/PERFORMANCE.md, "Stores over HTTP"). */
+#define PREFETCH_MAX 256
+static void prefetch_posts(tp_normal_source* s, int l, int64_t x0, int64_t y0)
+{
+    int64_t ids[PREFETCH_MAX];
+    size_t k = 0;
+    for (int j = 0; j < ZW && k < PREFETCH_MAX; j++) {
+        int64_t y = (y0 + j) * ((int64_t)1 << l), last = -1;
+        for (int i = 0; i < ZW && y >= 0 && y < s->height && k < PREFETCH_MAX; i++) {
+            int64_t x = (x0 + i) * ((int64_t)1 << l);
+            if (x < 0 || x >= s->width)
+                continue;
+            size_t sample;
+            int64_t node = tp_pgm_store_post(s->g, l, (int)x, (int)y, &sample);
+            if (node == last || s->cache_node[node % s->cache_count] == node)
+                continue;
+            last = node;
+            size_t m = 0;
+            while (m < k && ids[m] != node)
+                m++;
+            if (m == k)
+                ids[k++] = node;
+        }
+    }
+    tp_store_prefetch(s->store, ids, k);
+}
+
 /* The mean of the known differences b0 - a0, b1 - a1 over spacing; NaN when neither is. */
 static double slope2(double a0, double b0, double a1, double b1, double spacing)
 {
@@ -259,6 +290,8 @@ static int read_block(void* user, tp_block_key k, uint8_t* rgba, tp_error* err)
 {
     tp_normal_source* s = user;
     pthread_mutex_lock(&s->lock);
+    if (s->remote)
+        prefetch_posts(s, k.level, k.bx * B - 1, k.by * B - 1);
     int ok = read_posts(s, k.level, k.bx * B - 1, k.by * B - 1, err);
     int64_t w = ((s->width - 1) >> k.level) + 1, h = ((s->height - 1) >> k.level) + 1;
     for (int j = 0; j < B; j++)

@@ -89,6 +89,57 @@ static int start_georef_job(tp_store_scene* sc)
     return 1;
 }
 
+/* Over HTTP, before the stream loads the roots one at a time: the roots and every node of the
+ * coarse scales (at most TOP_PREFETCH_NODES: the scales whose nodes, with those above, number
+ * no more) read ahead in one batch of concurrent requests (tp_store_prefetch). The roots are
+ * then loaded from memory, and what a first frame, its normal map's coarse levels and the
+ * stream's first requests ask for is mostly there already. */
+#define TOP_PREFETCH_NODES 512
+static void* prefetch_top(void* arg)
+{
+    const tp_store_scene* sc = arg;
+    const tp_tree_geometry* g = &sc->info.header.geometry;
+    int64_t top = 0; /* ids 0 .. top-1: every node of the scales kept (ids run from the top) */
+    for (int s = g->scales - 1; s >= 0; s--) {
+        int64_t upto = s > 0 ? g->first_node[s - 1] : g->node_count;
+        if (upto > TOP_PREFETCH_NODES)
+            break;
+        top = upto;
+    }
+    size_t roots = (size_t)g->root_count;
+    int64_t* ids = malloc(((size_t)top + roots) * sizeof *ids);
+    if (!ids)
+        return NULL; /* read one at a time */
+    for (int64_t i = 0; i < top; i++)
+        ids[i] = i;
+    tp_tree_roots(g, ids + top, roots);
+    tp_store_prefetch(sc->store, ids, (size_t)top + roots);
+    free(ids);
+    return NULL;
+}
+
+/* A deferred open over HTTP reads the top nodes ahead on a thread of its own, while the viewer
+ * creates its GL context; tp_store_scene_stream (or close) joins it. */
+static void start_prefetch_top(tp_store_scene* sc)
+{
+    pthread_t* t = malloc(sizeof *t);
+    if (t && pthread_create(t, NULL, prefetch_top, sc) == 0)
+        sc->prefetch_job = t;
+    else
+        free(t); /* tp_store_scene_stream reads them itself */
+}
+
+static void join_prefetch_top(tp_store_scene* sc)
+{
+    if (!sc->prefetch_job)
+        return;
+    pthread_join(*sc->prefetch_job, NULL);
+    free(sc->prefetch_job);
+    sc->prefetch_job = NULL;
+}
+
+
+
 /* The store, its tree, and the georeference: on a thread of its own when deferred (made here
  * when no thread can be started). */
 static int open_scene(const char* path, tp_store_scene* sc, int deferred)
@@ -97,6 +148,8 @@ static int open_scene(const char* path, tp_store_scene* sc, int deferred)
     sc->path = path;
     tp_error err = {{0}};
     tp_status s = open_store_tree(path, sc, &err);
+    if (s == TP_OK && deferred && sc->info.remote)
+        start_prefetch_top(sc);
     if (s == TP_OK && deferred && start_georef_job(sc))
         return TP_EXIT_OK;
     if (s == TP_OK)
@@ -151,6 +204,10 @@ int tp_store_scene_georef_wait(tp_store_scene* sc)
 int tp_store_scene_stream(tp_store_scene* sc, const tp_stream_options* o)
 {
     tp_error err = {{0}};
+    if (sc->prefetch_job)
+        join_prefetch_top(sc);
+    else if (sc->info.remote)
+        prefetch_top(sc);
     sc->stream = tp_stream_create(sc->store, sc->tree, o, &err);
     if (!sc->stream) {
         if (strstr(err.message, sc->path))
@@ -175,6 +232,7 @@ int tp_store_scene_tins(tp_store_scene* sc)
 void tp_store_scene_close(tp_store_scene* sc)
 {
     join_georef(sc, NULL);         /* a georeference still being made: taken, then freed */
+    join_prefetch_top(sc);         /* before the store it reads goes */
     tp_tin_cache_destroy(sc->tins); /* its users (cuts, their threads) are gone */
     tp_stream_destroy(sc->stream); /* detaches every block before the tree goes */
     tp_georef_destroy(sc->georef);
@@ -201,6 +259,13 @@ static int read_leaf(void* user, int64_t leaf, uint16_t* samples)
     return 0;
 }
 
+/* Over HTTP: the leaves the measure will read, fetched at once (tp_store_prefetch). */
+static void prefetch_leaves(void* user, const int64_t* leaves, size_t count)
+{
+    leaf_reader* r = user;
+    tp_store_prefetch(r->store, leaves, count);
+}
+
 tp_status tp_store_scene_measure(const tp_store_scene* sc, const tp_cut* cut,
                                  const tp_camera* cam, size_t max_posts, uint32_t seed,
                                  tp_cut_error* out, tp_error* err)
@@ -210,7 +275,8 @@ tp_status tp_store_scene_measure(const tp_store_scene* sc, const tp_cut* cut,
     if (max_posts && !max_leaves)
         max_leaves = 1;
     leaf_reader r = {sc->store, v * v, err, 0};
-    tp_cut_measure_options o = {read_leaf, &r, max_leaves, seed};
+    tp_cut_measure_options o = {read_leaf, &r, max_leaves, seed,
+                                sc->info.remote ? prefetch_leaves : NULL};
     tp_status st = tp_cut_measure_error(cut, cam, &o, out);
     if (st != TP_OK)
         tp_error_set(err, st, "measuring the screen error: out of memory");

@@ -11,6 +11,8 @@
 
 #include "stream.h"
 
+#include <pthread.h>
+
 typedef struct tp_store_scene {
     const char* path;        /* borrowed from the caller */
     tp_store* store;
@@ -22,6 +24,7 @@ typedef struct tp_store_scene {
     tp_tin_cache* tins;      /* NULL until tp_store_scene_tins (--mesh tin) */
     /* private */
     struct tp_store_georef_job* georef_job; /* the georeference being made on a thread */
+    pthread_t* prefetch_job; /* over HTTP: the top nodes being read ahead (deferred open) */
 } tp_store_scene;
 
 /* 1 if path names a terrapatch store (its first bytes are the store's magic). */
@@ -38,7 +41,10 @@ int tp_store_scene_open(const char* path, tp_store_scene* sc);
 
 /* tp_store_scene_open with the georeference made on a thread: resolving the CRS (GDAL, PROJ's
  * database) takes 50-250 ms, which a viewer spends creating its GL context meanwhile
- * (docs/PERFORMANCE.md, "First frame"). sc->georef is NULL until tp_store_scene_georef_wait. */
+ * (docs/PERFORMANCE.md, "First frame"). sc->georef is NULL until tp_store_scene_georef_wait.
+ * A store over HTTP also has its roots and coarse scales (at most 512 nodes) read ahead on a
+ * thread, in one batch of concurrent requests (tp_store_prefetch), joined by
+ * tp_store_scene_stream. */
 int tp_store_scene_open_deferred(const char* path, tp_store_scene* sc);
 
 /* Waits for the georeference of tp_store_scene_open_deferred and sets sc->georef: TP_EXIT_OK,
@@ -46,7 +52,8 @@ int tp_store_scene_open_deferred(const char* path, tp_store_scene* sc);
  * once when sc->georef is already there. */
 int tp_store_scene_georef_wait(tp_store_scene* sc);
 
-/* Starts streaming (loads the roots now). TP_EXIT_FAILURE with one line on failure. */
+/* Starts streaming (loads the roots now; over HTTP from the top nodes read ahead, in one batch
+ * of requests: tp_store_scene_open_deferred). TP_EXIT_FAILURE with one line on failure. */
 int tp_store_scene_stream(tp_store_scene* sc, const tp_stream_options* o);
 
 /* The cache of the nodes' TINs (--mesh tin: tp_cut_set_tins draws from it). TP_EXIT_FAILURE

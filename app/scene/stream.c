@@ -110,43 +110,65 @@ static int push_done(tp_stream* s, int64_t node, uint16_t* block, const char* ms
     return 1;
 }
 
+/* Over HTTP a loader takes up to this many queued nodes at a time and reads them ahead in one
+ * batch of concurrent requests (tp_store_prefetch: neighbours in the file merged), then decodes
+ * them one by one: many more requests in flight than loaders. */
+enum { REMOTE_BATCH = 8 };
+
+/* Reads and decodes node (taken from the queue, counted in flight) and hands it over; called
+ * and returns with s->mu held. */
+static void load_taken(tp_stream* s, int64_t node)
+{
+    pthread_mutex_unlock(&s->mu);
+    tp_error err;
+    uint16_t* block = malloc(s->block_bytes);
+    const char* msg = NULL;
+    int transient = 0;
+    tp_status st = TP_OK;
+    if (!block)
+        msg = "out of memory for a node";
+    else if ((st = tp_store_read_node(s->store, node, block, s->block_samples, &err)) != TP_OK) {
+        free(block);
+        block = NULL;
+        msg = err.message;
+        transient = st == TP_ERR_IO && !tp_store_changed(s->store);
+    }
+    pthread_mutex_lock(&s->mu);
+    s->in_flight--;
+    if (!block)
+        s->bytes_total -= s->block_bytes;
+    if (!push_done(s, node, block, msg, transient)) {
+        free(block);
+        if (block)
+            s->bytes_total -= s->block_bytes;
+    }
+}
+
 static void* loader_main(void* arg)
 {
     tp_stream* s = arg;
+    const int batch = s->info.remote ? REMOTE_BATCH : 1;
+    int64_t taken[REMOTE_BATCH];
     pthread_mutex_lock(&s->mu);
     for (;;) {
         while (!s->stop && (s->queue_head == s->queue_len || s->bytes_total + s->block_bytes > s->budget))
             pthread_cond_wait(&s->cv, &s->mu);
         if (s->stop)
             break;
-        int64_t node = s->queue[s->queue_head++];
-        s->in_flight++;
-        s->bytes_total += s->block_bytes;
-        pthread_mutex_unlock(&s->mu);
-
-        tp_error err;
-        uint16_t* block = malloc(s->block_bytes);
-        const char* msg = NULL;
-        int transient = 0;
-        tp_status st = TP_OK;
-        if (!block)
-            msg = "out of memory for a node";
-        else if ((st = tp_store_read_node(s->store, node, block, s->block_samples, &err)) != TP_OK) {
-            free(block);
-            block = NULL;
-            msg = err.message;
-            transient = st == TP_ERR_IO && !tp_store_changed(s->store);
+        int k = 0;
+        while (k < batch && s->queue_head < s->queue_len &&
+               s->bytes_total + s->block_bytes <= s->budget) {
+            taken[k++] = s->queue[s->queue_head++];
+            s->in_flight++;
+            s->bytes_total += s->block_bytes;
         }
-
-        pthread_mutex_lock(&s->mu);
-        s->in_flight--;
-        if (!block)
-            s->bytes_total -= s->block_bytes;
-        if (!push_done(s, node, block, msg, transient)) {
-            free(block);
-            if (block)
-                s->bytes_total -= s->block_bytes;
+        if (k > 1) {
+            pthread_mutex_unlock(&s->mu);
+            tp_store_prefetch(s->store, taken, (size_t)k);
+            pthread_mutex_lock(&s->mu);
         }
+        for (int i = 0; i < k; i++)
+            load_taken(s, taken[i]);
     }
     pthread_mutex_unlock(&s->mu);
     return NULL;
@@ -629,6 +651,14 @@ int tp_stream_require(tp_stream* s, int64_t node, tp_error* err)
     if (s->state[node] == ST_FAILED) {
         tp_error_set(err, TP_ERR_IO, "node %lld could not be read", (long long)node);
         return 0;
+    }
+    if (s->info.remote) { /* the missing chain in one batch of requests, not one at a time */
+        int64_t chain[TP_TREE_MAX_SCALES];
+        size_t k = 0;
+        for (int64_t a = node; a >= 0 && k < TP_TREE_MAX_SCALES && s->res_index[a] < 0;
+             a = tp_tree_node_parent(s->g, a))
+            chain[k++] = a;
+        tp_store_prefetch(s->store, chain, k);
     }
     int64_t parent = tp_tree_node_parent(s->g, node);
     if (parent >= 0 && !tp_stream_require(s, parent, err))

@@ -22,7 +22,8 @@
  * keeps being drawn in its place. A read that failed on the way (TP_ERR_IO: an HTTP error, a
  * reset, a stall, the store unchanged) is asked for again after a backoff (0.5 s doubling to
  * 30 s), its ancestor drawn meanwhile; its failure is reported once, not at every retry. A store over HTTP is read by several loader threads at
- * once (tp_stream_options.loaders), each read one range request.
+ * once (tp_stream_options.loaders), each taking up to 8 queued nodes at a time and reading them
+ * in one batch of concurrent range requests (tp_store_prefetch), then decoding them in turn.
  */
 #ifndef TP_APP_STREAM_H
 #define TP_APP_STREAM_H
@@ -40,7 +41,8 @@ typedef struct tp_stream_options {
     double prefetch_s;       /* how far ahead the motion is extrapolated; 0: 0.5 s (1.5 s for a
                                 store over HTTP, whose nodes take a round trip each) */
     int no_loader;           /* tests: load nothing in the background (only tp_stream_require) */
-    int loaders;             /* loader threads, each with one read in flight; 0: the
+    int loaders;             /* loader threads, each with one read (over HTTP a batch of up
+                                to 8 nodes' requests) in flight; 0: the
                                 environment's TP_STREAM_LOADERS if set (to measure), else 8 for
                                 a store over HTTP (tp_store_info.remote), 1 for a local file; at
                                 most 16 */

@@ -167,6 +167,11 @@ typedef struct tp_cut_measure_options {
     void* user;
     size_t max_leaves; /* 0: every leaf under the drawn nodes */
     uint32_t seed;     /* which leaves the sampling takes (vary it per frame to cover more) */
+    /* May be NULL. Called once before the measure with every leaf it will then ask read_leaf
+     * for (sampled, in view with a drawn sample, not resident), in that order: a reader over
+     * HTTP fetches them all at once, concurrently (tp_store_prefetch), instead of a round trip
+     * a leaf. read_leaf is still asked for each and decides. */
+    void (*prefetch)(void* user, const int64_t* leaves, size_t count);
 } tp_cut_measure_options;
 
 typedef struct tp_cut_error {

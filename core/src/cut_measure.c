@@ -127,13 +127,11 @@ static void sample(int x, int y, double z, void* user)
     m->out->samples++;
 }
 
-/* Leaf (lc, lr)'s samples for the measure: m->q and m->qmin; 0 when it has nothing to measure
- * (no drawn sample, or its box outside the view). */
-static int leaf_begin(measure* m, int lc, int lr)
+/* Whether leaf (lc, lr) has something to measure: a drawn sample, its box in the view. */
+static int leaf_in_view(const measure* m, int lc, int lr)
 {
     const tp_cut* c = m->c;
-    int64_t leaf = tp_tree_node_id(&c->g, 0, lc, lr);
-    const tp_node_meta* meta = tp_tree_meta(c->t, leaf);
+    const tp_node_meta* meta = tp_tree_meta(c->t, tp_tree_node_id(&c->g, 0, lc, lr));
     if (!(meta->flags & TP_NODE_HAS_DRAWN))
         return 0;
     double bmin[3], bmax[3];
@@ -142,7 +140,17 @@ static int leaf_begin(measure* m, int lc, int lr)
         bmin[a] -= 1e-3;
         bmax[a] += 1e-3;
     }
-    if (tp_frustum_test_aabb(&m->f, bmin, bmax) == TP_CULL_OUTSIDE)
+    return tp_frustum_test_aabb(&m->f, bmin, bmax) != TP_CULL_OUTSIDE;
+}
+
+/* Leaf (lc, lr)'s samples for the measure: m->q and m->qmin; 0 when it has nothing to measure
+ * (no drawn sample, or its box outside the view). */
+static int leaf_begin(measure* m, int lc, int lr)
+{
+    const tp_cut* c = m->c;
+    int64_t leaf = tp_tree_node_id(&c->g, 0, lc, lr);
+    const tp_node_meta* meta = tp_tree_meta(c->t, leaf);
+    if (!leaf_in_view(m, lc, lr))
         return 0;
     m->lc = lc, m->lr = lr;
     m->qmin = meta->qmin;
@@ -249,6 +257,60 @@ static int leaves_per_node(const tp_cut* c, size_t max_leaves, size_t* total)
     return 1;
 }
 
+/* The sampled leaves of drawn node i (per_node as leaves_per_node says): the first leaf
+ * column and row (*lc0, *lr0), the offset (*ox, *oy), the stride and the node's width. */
+static void node_sampling(const tp_cut* c, size_t i, int per_node, uint32_t seed, int* lc0,
+                          int* lr0, int* ox, int* oy, int* stride, int* w)
+{
+    int s, cc, rr;
+    tp_tree_node_locate(&c->g, c->out[i].node, &s, &cc, &rr);
+    *w = 1 << s;
+    *stride = per_node && *w > per_node ? *w / per_node : 1;
+    *ox = *oy = 0;
+    if (*stride > 1) {
+        uint32_t h = mix((uint64_t)c->out[i].node * 0x9e3779b97f4a7c15ull + seed);
+        *ox = (int)(h % (uint32_t)*stride);
+        *oy = (int)((h >> 16) % (uint32_t)*stride);
+    }
+    *lc0 = cc << s, *lr0 = rr << s;
+}
+
+/* o->prefetch with every leaf the measure will ask o->read_leaf for (sampled, in view with a
+ * drawn sample, not resident), in the order it will ask; 0 when out of memory. */
+static int prefetch_leaves(measure* m, int per_node)
+{
+    const tp_cut* c = m->c;
+    int64_t* ids = NULL;
+    size_t n = 0, cap = 0;
+    for (size_t i = 0; i < c->out_count; i++) {
+        int lc0, lr0, ox, oy, stride, w;
+        node_sampling(c, i, per_node, m->o->seed, &lc0, &lr0, &ox, &oy, &stride, &w);
+        for (int j = oy; j < w; j += stride)
+            for (int k = ox; k < w; k += stride) {
+                int64_t leaf = tp_tree_node_id(&c->g, 0, lc0 + k, lr0 + j);
+                if (tp_tree_samples(c->t, leaf) || !leaf_in_view(m, lc0 + k, lr0 + j))
+                    continue;
+                if (n == cap) {
+                    size_t grow = cap ? 2 * cap : 256;
+                    int64_t* more = tp__alloc(&c->alloc, grow, sizeof *more);
+                    if (!more) {
+                        tp__free(&c->alloc, ids);
+                        return 0;
+                    }
+                    if (n)
+                        memcpy(more, ids, n * sizeof *ids);
+                    tp__free(&c->alloc, ids);
+                    ids = more, cap = grow;
+                }
+                ids[n++] = leaf;
+            }
+    }
+    if (n)
+        m->o->prefetch(m->o->user, ids, n);
+    tp__free(&c->alloc, ids);
+    return 1;
+}
+
 tp_status tp_cut_measure_error(const tp_cut* c, const tp_camera* cam,
                                const tp_cut_measure_options* o, tp_cut_error* out)
 {
@@ -265,27 +327,22 @@ tp_status tp_cut_measure_error(const tp_cut* c, const tp_camera* cam,
     size_t side = ((size_t)1 << c->n) + 1;
     m.seen = tp__alloc(&c->alloc, (side * side + 7) / 8, 1);
     m.oom = !m.seen;
+    if (!m.oom && o && o->read_leaf && o->prefetch)
+        m.oom = !prefetch_leaves(&m, out->per_node);
     for (size_t i = 0; i < c->out_count && !m.oom; i++) {
         m.ntris = 0;
         if (!tp__cut_node_tris(c, i, add_tri, &m) || m.oom) {
             m.oom = 1;
             break;
         }
-        int s, cc, rr;
-        tp_tree_node_locate(&c->g, c->out[i].node, &s, &cc, &rr);
-        int w = 1 << s, stride = out->per_node && w > out->per_node ? w / out->per_node : 1;
-        int ox = 0, oy = 0;
-        if (stride > 1) {
-            uint32_t h = mix((uint64_t)c->out[i].node * 0x9e3779b97f4a7c15ull + (o ? o->seed : 0));
-            ox = (int)(h % (uint32_t)stride);
-            oy = (int)((h >> 16) % (uint32_t)stride);
-        }
+        int lc0, lr0, ox, oy, stride, w;
+        node_sampling(c, i, out->per_node, o ? o->seed : 0, &lc0, &lr0, &ox, &oy, &stride, &w);
         m.node = (int)i;
-        m.node_lc = cc << s, m.node_lr = rr << s, m.node_w = w;
+        m.node_lc = lc0, m.node_lr = lr0, m.node_w = w;
         for (int j = oy; j < w; j += stride)
             for (int k = ox; k < w; k += stride) {
                 out->leaves_sampled++;
-                measure_leaf(&m, (cc << s) + k, (rr << s) + j);
+                measure_leaf(&m, lc0 + k, lr0 + j);
             }
     }
     tp__free(&c->alloc, m.tris);

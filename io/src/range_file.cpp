@@ -15,6 +15,8 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
+#include <condition_variable>
 #include <mutex>
 #include <utility>
 #include <vector>
@@ -175,6 +177,13 @@ struct RangeFile::Remote {
     Identity opened;
     std::mutex mu;
     std::vector<VSILFILE*> idle; /* handles no thread reads through now */
+    /* /vsicurl/'s blocks being fetched by some thread, [first, last] each (under mu): a read
+     * that needs one of them waits for it and then finds it in the block cache, rather than
+     * asking the server for the same block at the same time (two loaders reading neighbouring
+     * nodes of one block did, for 27% of the requests) */
+    std::vector<std::pair<uint64_t, uint64_t>> fetching;
+    std::condition_variable fetched;
+    uint64_t block = 16384; /* CPL_VSIL_CURL_CHUNK_SIZE */
     std::string changed_why;     /* under mu, once changed_ */
     ~Remote()
     {
@@ -222,6 +231,8 @@ tp_status RangeFile::open(const char* path, const char* what, tp_error* err, boo
         }
     }
     size_ = (uint64_t)sb.st_size;
+    if (const char* chunk = CPLGetConfigOption("CPL_VSIL_CURL_CHUNK_SIZE", nullptr))
+        r_->block = std::max<uint64_t>(std::strtoull(chunk, nullptr, 10), 1);
     if (!pin)
         return TP_OK;
     r_->opened = ask_identity(r_->vsi);
@@ -276,13 +287,32 @@ bool RangeFile::read(void* buf, size_t size, uint64_t offset, std::string* why) 
     if (size >= LARGE_READ_BYTES)
         return fetch(buf, size, offset, why);
     VSILFILE* f = nullptr;
+    const std::pair<uint64_t, uint64_t> blocks(offset / r_->block, (offset + size - 1) / r_->block);
     {
-        std::lock_guard<std::mutex> lock(r_->mu);
+        std::unique_lock<std::mutex> lock(r_->mu);
+        auto overlaps = [&] {
+            for (const auto& b : r_->fetching)
+                if (b.first <= blocks.second && blocks.first <= b.second)
+                    return true;
+            return false;
+        };
+        r_->fetched.wait(lock, [&] { return !overlaps(); });
+        r_->fetching.push_back(blocks);
         if (!r_->idle.empty()) {
             f = r_->idle.back();
             r_->idle.pop_back();
         }
     }
+    struct Done { /* the blocks are no longer being fetched, whatever happens */
+        RangeFile::Remote* r;
+        std::pair<uint64_t, uint64_t> b;
+        ~Done()
+        {
+            std::lock_guard<std::mutex> lock(r->mu);
+            r->fetching.erase(std::find(r->fetching.begin(), r->fetching.end(), b));
+            r->fetched.notify_all();
+        }
+    } done{r_.get(), blocks};
     size_t got = 0;
     std::string gdal;
     {

@@ -10,6 +10,7 @@
  * each node a range request, from any number of threads at once. */
 #include "format_read.hpp"
 #include "io_util.hpp"
+#include "node_prefetch.hpp"
 #include "range_file.hpp"
 #include "store_format.hpp"
 #include "tp_io.h"
@@ -25,6 +26,7 @@
 #include <cinttypes>
 #include <memory>
 #include <string>
+#include <thread>
 #include <vector>
 
 using namespace tpio::store;
@@ -51,6 +53,7 @@ Entry decode_loc(const uint8_t* e)
 struct tp_store {
     std::string path;
     tpio::RangeFile file;
+    mutable tpio::NodePrefetch ahead; /* over HTTP: nodes read ahead (tp_store_prefetch) */
     uint32_t version = 0;
     uint64_t file_bytes = 0, header_bytes = 0, data_end = 0;
     Tables tables{};
@@ -58,6 +61,7 @@ struct tp_store {
     std::string crs, notes;
     void* map = nullptr;       /* both tables, read-only (mmap) */
     std::vector<uint8_t> tables_read; /* both tables of a store read over HTTP: not mapped */
+    std::string tables_why;           /* why they could not be read (read while the footer is) */
     size_t map_bytes = 0;
     const tp_node_meta* metas = nullptr; /* node_count, inside map */
     const uint8_t* locs = nullptr;       /* node_count * LOC_BYTES, inside map */
@@ -304,10 +308,14 @@ tp_status check_tables(tp_store* s, const uint8_t* foot, tp_error* err)
     bad_entry.message[0] = '\0';
     std::string why;
     if (s->file.remote()) { /* over HTTP: both tables in one request, kept (map_tables) */
-        s->tables_read.resize((size_t)(t.data_offset - t.meta_offset));
-        if (!s->file.read(s->tables_read.data(), s->tables_read.size(), t.meta_offset, &why))
+        if (s->tables_read.size() != t.data_offset - t.meta_offset && s->tables_why.empty()) {
+            s->tables_read.resize((size_t)(t.data_offset - t.meta_offset));
+            if (!s->file.read(s->tables_read.data(), s->tables_read.size(), t.meta_offset, &why))
+                s->tables_why = why;
+        }
+        if (!s->tables_why.empty())
             return fail(err, TP_ERR_IO, "%s: cannot read the node and location tables: %s",
-                        path, why.c_str());
+                        path, s->tables_why.c_str());
     }
     for (uint64_t at = t.meta_offset; at < t.data_offset;) {
         const bool metas = at < t.loc_offset;
@@ -409,9 +417,28 @@ tp_status load(tp_store* s, tp_error* err)
         return st;
     if (const tp_status st = decode_header(s, head.data(), err))
         return st;
+    /* over HTTP: the tables (where the header puts them) read while the footer is: a round
+     * trip less; check_tables checks them against the footer as ever */
+    std::thread tables;
+    const Tables t = tables_at((uint32_t)s->header_bytes, (uint64_t)s->header.geometry.node_count);
+    if (s->file.remote() && t.data_offset <= s->file_bytes) {
+        s->tables_read.resize((size_t)(t.data_offset - t.meta_offset));
+        try {
+            tables = std::thread([s, t] {
+                std::string why;
+                if (!s->file.read(s->tables_read.data(), s->tables_read.size(), t.meta_offset, &why))
+                    s->tables_why = why.empty() ? "failed" : why;
+            });
+        } catch (...) {
+            s->tables_read.clear(); /* check_tables reads them */
+        }
+    }
     uint8_t foot[FOOTER_BYTES];
-    if (const tp_status st = read_footer(s, foot, err))
-        return st;
+    const tp_status footer = read_footer(s, foot, err);
+    if (tables.joinable())
+        tables.join();
+    if (footer)
+        return footer;
     if (const tp_status st = check_tables(s, foot, err))
         return st;
     if (const tp_status st = map_tables(s, err))
@@ -484,9 +511,11 @@ static tp_status read_checked(const tp_store* s, int64_t node, Entry* out, tp_er
                     ": data outside the data area (was the file changed?)",
                     path, node_name(s, node).c_str(), e.bytes, e.offset);
     ThreadScratch& t = t_scratch;
-    t.stored.resize(e.bytes);
     std::string why;
-    if (!s->file.read(t.stored.data(), e.bytes, e.offset, &why))
+    const bool held = s->file.remote() && s->ahead.get(node, &t.stored) && t.stored.size() == e.bytes;
+    if (!held)
+        t.stored.resize(e.bytes);
+    if (!held && !s->file.read(t.stored.data(), e.bytes, e.offset, &why))
         return fail(err, TP_ERR_IO, "%s: %s, %u bytes at byte %" PRIu64 ": cannot read: %s",
                     path, node_name(s, node).c_str(), e.bytes, e.offset, why.c_str());
     const uint32_t crc = crc32_of(t.stored.data(), e.bytes);
@@ -500,6 +529,27 @@ static tp_status read_checked(const tp_store* s, int64_t node, Entry* out, tp_er
                     path, node_name(s, node).c_str(), e.bytes, e.offset, e.crc, crc);
     *out = e;
     return TP_OK;
+}
+
+extern "C" size_t tp_store_prefetch(const tp_store* s, const int64_t* nodes, size_t count)
+{
+    assert(s && (nodes || !count));
+    if (!s->file.remote() || !count)
+        return 0;
+    try {
+        std::vector<tpio::NodePrefetch::Want> wants;
+        wants.reserve(count);
+        for (size_t i = 0; i < count; ++i) {
+            assert(nodes[i] >= 0 && nodes[i] < s->header.geometry.node_count);
+            const Entry e = decode_loc(s->locs + (size_t)nodes[i] * LOC_BYTES);
+            if (e.bytes && e.offset >= s->tables.data_offset && e.offset <= s->data_end &&
+                e.bytes <= s->data_end - e.offset) /* else its own read says what is wrong */
+                wants.push_back({nodes[i], e.offset, e.bytes});
+        }
+        return s->ahead.prefetch(s->file, std::move(wants));
+    } catch (...) {
+        return 0; /* out of memory or threads: the nodes are read one at a time */
+    }
 }
 
 extern "C" tp_status tp_store_read_stored(const tp_store* s, int64_t node, tp_store_stored* out,

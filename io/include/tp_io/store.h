@@ -142,6 +142,18 @@ const tp_node_meta* tp_store_metas(const tp_store* s, size_t* count);
  * only on success. */
 tp_status tp_store_read_node(const tp_store* s, int64_t node, uint16_t* samples,
                              size_t sample_capacity, tp_error* err);
+/* A store over HTTP: reads the stored bytes of nodes[0..count) ahead, concurrently (up to 16
+ * range requests in flight, the ranges of nodes closer than 16 KB in the file merged into one
+ * request of at most 512 KB) and keeps them in memory (at most 64 MB, the oldest dropped
+ * first), so that a later tp_store_read_node or tp_store_read_stored of any of them makes no
+ * request (its bytes still checked against the node's CRC32; read with the same precondition
+ * as every read, so a file replaced on the server is never mixed in). For the reader that knows
+ * which nodes it will ask for one at a time (the roots, a measure's leaves, a normal-map
+ * block's nodes): one round trip or a few instead of one a node. A range that cannot be read is
+ * not reported here: the node's own read asks again and reports it. Returns the number of
+ * requests made (0 for a local store, which reads with pread, and for nodes already held).
+ * Thread-safe; blocks until the requests are answered. */
+size_t tp_store_prefetch(const tp_store* s, const int64_t* nodes, size_t count);
 /* Reads node's stored bytes (tp_store_stored: not decoded) and checks them against their
  * CRC32, for tp_store_writer_add_stored. The bytes are the calling thread's, valid until its
  * next read of any store. TP_ERR_BAD_DATA / TP_ERR_IO as tp_store_read_node, naming the file,
