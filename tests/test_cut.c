@@ -557,7 +557,7 @@ TEST(a_cut_drawn_from_a_moved_camera_keeps_tau_and_coverage)
         }
         ASSERT_OK(tp_cut_update(cut, &a, &lp, NULL));
         double bound_b;
-        int holds = tp_cut_holds_for(cut, &b, &bound_b);
+        int holds = tp_cut_holds_for(cut, &b, &bound_b, NULL);
         small += !jump, small_held += !jump && holds, jumps_held += jump && holds;
         if (!holds)
             continue;

@@ -118,7 +118,7 @@ static void flights(int with_tins)
                 worst_px = fmax(worst_px, max_px);
                 measured++;
             }
-            EXPECT_TRUE(tp_cut_holds_for(cut, &cam, NULL));
+            EXPECT_TRUE(tp_cut_holds_for(cut, &cam, NULL, NULL));
             if (tins) { /* the worker is idle here, as after the viewer's stream frame */
                 tp_cut_stats cs;
                 tp_cut_get_stats(cut, &cs);

@@ -63,6 +63,8 @@ static void summarize(store_result* c, int n)
     c->cut_worker_ms = tp_bench_median(v, n);
     ROWS_OF(r->cut_wait_ms);
     c->cut_wait_ms = tp_bench_median(v, n);
+    ROWS_OF(r->cut_scratch);
+    c->cut_scratch = tp_bench_median(v, n);
     c->cut_reused_share = c->tin_share = c->tin_mb = 0;
     double drawn = 0;
     for (int i = 0; i < n; i++) {
@@ -530,6 +532,7 @@ static int fly(store_bench* b, store_result* c, int first, store_draw* d, const 
             row->cut_wait_ms = ws.wait_ms;
             row->cut_worker_ms = ws.worker_ms;
             row->cut_reused = ws.reused;
+            row->cut_scratch = (double)ws.check_scratch;
             row->tin_nodes = cs.tin_nodes;
             row->tin_bytes = tin_bytes;
             tp_bench_read_rss(&row->rss_mb, &row->rss_anon_mb);

@@ -19,6 +19,7 @@ typedef struct store_row {
      * cut selected there); the wait for the thread is in frame_ms only */
     double cut_wait_ms, cut_worker_ms;
     int cut_reused;
+    double cut_scratch; /* nodes the render thread's check tested from scratch */
     long page_faults;           /* minor page faults during the draw */
     size_t triangles, gpu_bytes, resident_bytes;
     int dropped, draw_calls;
@@ -56,6 +57,7 @@ typedef struct store_result {
     int cut_thread;                       /* the cut was selected on its own thread */
     double cut_worker_ms, cut_wait_ms;    /* medians: the thread's selection; the wait for it */
     double cut_reused_share;              /* frames that drew the thread's cut */
+    double cut_scratch;                   /* median: nodes its check tested from scratch */
     int mesh_tin;                         /* --mesh tin */
     double tin_share, tin_mb;             /* drawn nodes that drew a TIN; the TINs held (max) */
     double triangles, nodes, visited, uploads, page_faults;

@@ -45,6 +45,7 @@ static void json_result(tp_json* j, const store_bench* b, const store_result* c)
         tp_json_member_number(j, "cut_worker_ms_median", c->cut_worker_ms);
         tp_json_member_number(j, "cut_wait_ms_median", c->cut_wait_ms);
         tp_json_member_number(j, "cut_reused_share", c->cut_reused_share);
+        tp_json_member_number(j, "cut_check_scratch_nodes_median", c->cut_scratch);
     }
     tp_json_member_number(j, "stream_ms_median", c->stream_ms);
     tp_json_member_number(j, "upload_ms_median", c->upload_ms);

@@ -67,6 +67,8 @@ static void* worker_main(void* arg)
         apply(back, &p);
         tp_error err;
         int ok = tp_cut_update(back, &cam, &p.lod, &err) == TP_OK;
+        if (ok) /* the render thread's tp_cut_holds_for, from the figures kept here */
+            tp_cut_prepare_reuse(back);
         if (pre)
             tp_cut_update_requests(pre, &ahead, &p.lod, &err);
         if (ok && p.tins)
@@ -170,7 +172,7 @@ tp_cut* tp_cut_worker_frame(tp_cut_worker* w, const tp_camera* cam, const tp_cut
     double t1 = tp_clock_ms();
     st.wait_ms = t1 - t0;
     const tp_cut* back = w->cut[!w->front];
-    if (done && resident(w, back) && tp_cut_holds_for(back, cam, NULL)) {
+    if (done && resident(w, back) && tp_cut_holds_for(back, cam, NULL, &st.check_scratch)) {
         w->front = !w->front;
         st.reused = 1;
     }

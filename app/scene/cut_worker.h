@@ -51,6 +51,8 @@ typedef struct tp_cut_worker_stats {
     int reused;        /* the frame draws the worker's cut */
     double wait_ms;    /* render thread: waiting for the worker to finish */
     double check_ms;   /* render thread: tp_cut_holds_for */
+    size_t check_scratch; /* the nodes it tested from scratch (the rest were settled by the
+                             figures the worker kept: tp_cut_prepare_reuse) */
     double select_ms;  /* render thread: the cut selected here (0 when reused) */
     double worker_ms;  /* the worker's selection of the cut this frame was offered (its thread) */
     int frames, frames_reused; /* since the worker was created */

@@ -210,8 +210,20 @@ tp_status tp_cut_measure_screen_error(const tp_cut* c, const tp_camera* cam, dou
  * The distance and full modes have no error to keep: only the first test. O(drawn + culled
  * nodes); no allocation. *max_bound_px (may be NULL): the largest bound_px from cam, as
  * tp_cut_stats.max_bound_px (error mode; 0 otherwise). An installed cut (tp_cut_set_nodes)
- * culls nothing and keeps no error: 1. */
-int tp_cut_holds_for(const tp_cut* c, const tp_camera* cam, double* max_bound_px);
+ * culls nothing and keeps no error: 1. *scratch (may be NULL): the nodes projected or tested
+ * against the frustum from scratch (all of them unless tp_cut_prepare_reuse ran and
+ * max_bound_px is NULL). */
+int tp_cut_holds_for(const tp_cut* c, const tp_camera* cam, double* max_bound_px,
+                     size_t* scratch);
+
+/* Keeps, per node of the last update, what tp_cut_holds_for needs from the update's own camera
+ * (each box's distance outside the frustum, depth, projection numerator and farthest corner),
+ * so that it answers for a camera near that one in a few operations a node instead of a
+ * projection, testing from scratch only the nodes the bounds do not settle (cut_reuse.c says
+ * how; the answer is the same). Called on the thread that selected the cut, after
+ * tp_cut_update; the next update drops it. O(drawn + culled nodes). Returns 0 (nothing kept:
+ * tp_cut_holds_for tests from scratch) without memory or for an installed cut. */
+int tp_cut_prepare_reuse(tp_cut* c);
 
 /* Vertical exaggeration, as tp_selection_set_vertical_scale: boxes, the error mode's projection
  * and tp_cut_measure_screen_error follow heights times scale (tau holds on screen); heights

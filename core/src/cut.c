@@ -167,6 +167,7 @@ void tp_cut_destroy(tp_cut* c)
     tp__free(a, c->out_tin);
     tp__free(a, c->tin_req);
     tp__free(a, c->tin_prio);
+    tp__free(a, c->reuse);
     tp__spheres_destroy(c);
     tp__free(a, c);
 }
@@ -181,6 +182,7 @@ void tp__cut_begin(tp_cut* c)
     }
     c->hused = 0;
     c->rec_count = 0;
+    c->reuse_gen = 0; /* tp_cut_prepare_reuse's table is for the update before */
     c->req_count = 0;
     c->out_count = 0;
     c->tin_req_count = 0;

@@ -112,6 +112,9 @@ struct tp_cut {
     int decisions;           /* distance decisions computed by the update (tp_cut_stats) */
     int sph_on;              /* this update reads distance decisions from the sphere tree */
     struct tp__spheres* sph; /* cut_spheres.c; NULL until the first sphere-tree update */
+    struct tp__cut_reuse* reuse; /* tp_cut_prepare_reuse (cut_reuse.c): per record */
+    size_t reuse_cap;
+    uint32_t reuse_gen;      /* the update (gen) it was prepared for; 0: none */
 };
 
 /* ---- the sphere tree (cut_spheres.c; cut_select.c's distance mode with sphere_tree) ---- */

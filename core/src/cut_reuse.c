@@ -1,40 +1,207 @@
 /* cut_reuse.c - a cut drawn from another camera than the one it was selected for
  * (tp_cut_holds_for): the test that lets a cut selected on another thread, for the predicted
  * camera, be drawn from the camera the frame really has, without losing tau or coverage.
+ *
+ * The test from scratch projects every drawn node's box and tests every culled one against
+ * the frustum (0.9 ms on the render thread at 65537^2). tp_cut_prepare_reuse, on the thread
+ * that selected the cut, keeps per record what the test needs from the selection's own camera
+ * P; tp_cut_holds_for then bounds how far a camera R may have moved each figure (below) and
+ * tests a node from scratch only where that bound does not settle it. Same answer, a few
+ * operations a node.
+ *
+ * The bounds. Let dc = |pos_R - pos_P|, beta the Frobenius norm of the difference of the two
+ * orthonormal frames (right, up, fwd; |B_R w - B_P w| <= beta |w| for any vector w), and for
+ * a box rmax the largest distance from pos_P to a corner. For any corner x:
+ *   - a frustum plane's signed distance n.(x - pos) + o (unit n = B^T m, o fixed by the
+ *     field of view) moves by at most beta rmax + dc: a box outside a plane of P by more than
+ *     that is outside the same plane of R;
+ *   - its depth fwd.(x - pos) drops by at most beta rmax + dc: zmin_R >= zmin_P - beta rmax - dc;
+ *   - the projection bound's numerators (A, B: tp__proj_bound_box) are the first two camera
+ *     coordinates of up x (x - pos), which moves by at most dc + beta rmax: each of Amax and
+ *     Bmax grows by at most that, and sqrt(Amax^2 + Bmax^2) by at most sqrt(2) times it.
+ * tp__projected_px_drawn grows with the numerator and falls with the depth, so putting these
+ * bounds in it bounds R's figure from above.
  */
 #include "cut_int.h"
+#include "lod_int.h"
 
-int tp_cut_holds_for(const tp_cut* c, const tp_camera* cam, double* max_bound_px)
+#include <math.h>
+
+enum { REUSE_NONE = 0, REUSE_CULLED, REUSE_DRAWN };
+
+/* What tp_cut_holds_for needs of one record, from the update's camera. */
+typedef struct tp__cut_reuse {
+    double a;     /* culled: how far the box lies outside one frustum plane (m); drawn: its
+                     projection numerator sqrt(Amax^2 + Bmax^2) (m) */
+    double zmin;  /* drawn: the box's smallest depth (m) */
+    double rmax;  /* the eye to the box's farthest corner (m) */
+    uint8_t kind; /* REUSE_*: what the record is tested for */
+} tp__cut_reuse;
+
+/* Relative slack for rounding: a bound this close to its limit is settled from scratch. */
+#define SLACK 1e-9
+
+static double far_corner(const double pos[3], const double bmin[3], const double bmax[3])
+{
+    double d2 = 0;
+    for (int a = 0; a < 3; a++) {
+        double d = fmax(fabs(bmin[a] - pos[a]), fabs(bmax[a] - pos[a]));
+        d2 += d * d;
+    }
+    return sqrt(d2);
+}
+
+/* How far the box lies outside the frustum's planes: the largest -(distance of the corner
+ * furthest along the plane's normal), > 0 when tp_frustum_test_aabb says outside. */
+static double outside_margin(const tp_frustum* f, const double mn[3], const double mx[3])
+{
+    double margin = -INFINITY;
+    for (int i = 0; i < f->plane_count; i++) {
+        const double* pl = f->planes[i];
+        double pv = pl[3];
+        for (int a = 0; a < 3; a++)
+            pv += pl[a] * (pl[a] >= 0 ? mx[a] : mn[a]);
+        margin = -pv > margin ? -pv : margin;
+    }
+    return margin;
+}
+
+/* Whether a drawn record's bound may exceed tau from camera v (the exempt ones are not
+ * tested: they could not be finer in this update either). */
+static int tested_drawn(const tp_cut* c, const tp__cut_rec* r)
+{
+    return r->state == TP__CUT_DRAWN && c->have_view && c->lp.mode == TP_LOD_ERROR &&
+           r->out >= 0 && !r->substituted && !(r->s == 0 && r->level == c->n);
+}
+
+int tp_cut_prepare_reuse(tp_cut* c)
+{
+    assert(c);
+    c->reuse_gen = 0;
+    if (!c->have_view || c->gen == 0)
+        return 0;
+    if (c->rec_count > c->reuse_cap) {
+        tp__free(&c->alloc, c->reuse);
+        c->reuse_cap = 0;
+        c->reuse = tp__alloc(&c->alloc, c->rec_count, sizeof *c->reuse);
+        if (!c->reuse)
+            return 0;
+        c->reuse_cap = c->rec_count;
+    }
+    const tp__view* v = &c->v;
+    for (size_t i = 0; i < c->rec_count; i++) {
+        const tp__cut_rec* r = &c->rec[i];
+        tp__cut_reuse* e = &c->reuse[i];
+        double bmin[3], bmax[3];
+        e->kind = REUSE_NONE;
+        if (r->state == TP__CUT_CULLED) {
+            if (!tp__cut_box(c, (int)i, r->view == 1, bmin, bmax))
+                continue;
+            e->kind = REUSE_CULLED;
+            e->a = outside_margin(&c->f, bmin, bmax);
+        } else if (tested_drawn(c, r)) {
+            if (!tp__cut_box(c, (int)i, 1, bmin, bmax))
+                continue;
+            tp__proj_bound pb = tp__proj_bound_box(v, bmin, bmax);
+            e->kind = REUSE_DRAWN;
+            e->zmin = pb.zmin;
+            e->a = isfinite(pb.num) ? pb.num * pb.zmin / v->f_px : INFINITY;
+        } else
+            continue;
+        e->rmax = far_corner(v->pos, bmin, bmax);
+    }
+    c->reuse_gen = c->gen;
+    return 1;
+}
+
+/* Record i from scratch: whether it keeps the cut from camera v (frustum f); *px its bound
+ * when drawn. */
+static int holds_node(const tp_cut* c, size_t i, const tp__view* v, const tp_frustum* f,
+                      double* px)
+{
+    const tp__cut_rec* r = &c->rec[i];
+    double bmin[3], bmax[3];
+    *px = 0;
+    if (r->state == TP__CUT_CULLED)
+        /* classify culled it by its area box (view == 1: not in view) or by its own box */
+        return !tp__cut_box(c, (int)i, r->view == 1, bmin, bmax) ||
+               tp_frustum_test_aabb(f, bmin, bmax) == TP_CULL_OUTSIDE;
+    if (r->state != TP__CUT_DRAWN || !c->have_view || c->lp.mode != TP_LOD_ERROR || r->out < 0 ||
+        !tp__cut_box(c, (int)i, 1, bmin, bmax))
+        return 1;
+    tp__proj_bound pb = tp__proj_bound_box(v, bmin, bmax);
+    int near;
+    *px = tp__projected_px_drawn(v, &pb, r->bound_m, &near);
+    return !(*px > c->lp.tau_px && !r->substituted && !(r->s == 0 && r->level == c->n));
+}
+
+/* Whether v sees through the same lens as the update's view (only the pose may differ). */
+static int same_lens(const tp__view* a, const tp__view* b)
+{
+    return a->f_px == b->f_px && a->tan_x == b->tan_x && a->tan_y == b->tan_y &&
+           a->w_px == b->w_px && a->h_px == b->h_px && a->near_m == b->near_m &&
+           a->far_m == b->far_m;
+}
+
+/* Record e's figures bound from camera v, moved by dc and turned by beta from the update's:
+ * whether they settle that it keeps the cut (0: test it from scratch). */
+static int settled(const tp_cut* c, const tp__cut_reuse* e, const tp__cut_rec* r,
+                   const tp__view* v, double dc, double beta, double ratio)
+{
+    double move = dc + beta * e->rmax;
+    if (e->kind == REUSE_CULLED)
+        return e->a > move + SLACK * (e->rmax + 1);
+    double z = e->zmin - move;
+    if (!(z > v->near_m) || !isfinite(e->a))
+        return 0;
+    double d = r->bound_m, num = v->f_px * (e->a + 1.4142135623730951 * move) / z;
+    double z2 = z - d * fabs(v->fwd[2]);
+    double px = d * (num < ratio ? num : ratio) / (z2 > v->near_m ? z2 : v->near_m);
+    return px <= c->lp.tau_px * (1 - SLACK);
+}
+
+int tp_cut_holds_for(const tp_cut* c, const tp_camera* cam, double* max_bound_px,
+                     size_t* scratch)
 {
     assert(c && cam);
     tp__view v;
     tp_frustum f;
     tp__view_from_camera(cam, &v);
     tp_frustum_from_camera(cam, &f);
-    const int error = c->have_view && c->lp.mode == TP_LOD_ERROR;
-    double worst = 0;
+    double worst = 0, px;
+    size_t tested = 0, dummy;
+    scratch = scratch ? scratch : &dummy;
+    if (!max_bound_px && c->reuse_gen && c->reuse_gen == c->gen && same_lens(&v, &c->v)) {
+        double dc = 0, beta = 0;
+        for (int a = 0; a < 3; a++) {
+            double dp = v.pos[a] - c->v.pos[a], dr = v.right[a] - c->v.right[a];
+            double du = v.up[a] - c->v.up[a], df = v.fwd[a] - c->v.fwd[a];
+            dc += dp * dp, beta += dr * dr + du * du + df * df;
+        }
+        dc = sqrt(dc), beta = sqrt(beta);
+        /* tp__projected_px_drawn's bound from the view's sides (v's own) */
+        double ax = fabs(v.right[2]) + v.tan_x * fabs(v.fwd[2]);
+        double ay = fabs(v.up[2]) + v.tan_y * fabs(v.fwd[2]);
+        double ratio = v.f_px * sqrt(ax * ax + ay * ay);
+        for (size_t i = 0; i < c->rec_count; i++) {
+            const tp__cut_reuse* e = &c->reuse[i];
+            if (e->kind == REUSE_NONE || settled(c, e, &c->rec[i], &v, dc, beta, ratio))
+                continue;
+            tested++;
+            if (!holds_node(c, i, &v, &f, &px)) {
+                *scratch = tested;
+                return 0;
+            }
+        }
+        *scratch = tested;
+        return 1;
+    }
     int holds = 1;
     for (size_t i = 0; i < c->rec_count; i++) {
-        const tp__cut_rec* r = &c->rec[i];
-        double bmin[3], bmax[3];
-        if (r->state == TP__CUT_CULLED) {
-            /* classify culled it by its area box (view == 1: not in view) or by its own box */
-            if (tp__cut_box(c, (int)i, r->view == 1, bmin, bmax) &&
-                tp_frustum_test_aabb(&f, bmin, bmax) != TP_CULL_OUTSIDE)
-                holds = 0;
-            continue;
-        }
-        if (r->state != TP__CUT_DRAWN || !error || r->out < 0)
-            continue;
-        if (!tp__cut_box(c, (int)i, 1, bmin, bmax))
-            continue;
-        tp__proj_bound pb = tp__proj_bound_box(&v, bmin, bmax);
-        int near;
-        double px = tp__projected_px_drawn(&v, &pb, r->bound_m, &near);
+        holds &= holds_node(c, i, &v, &f, &px);
         worst = px > worst ? px : worst;
-        if (px > c->lp.tau_px && !r->substituted && !(r->s == 0 && r->level == c->n))
-            holds = 0;
     }
+    *scratch = c->rec_count;
     if (max_bound_px)
         *max_bound_px = worst;
     return holds;
