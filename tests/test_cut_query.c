@@ -363,6 +363,77 @@ TEST(node_normals_are_the_terrains_where_leaves_are_resident)
     free(h);
 }
 
+/* A node's normals in one call (as the renderer asks for them, its lattice in order) are the
+ * terrain's where the leaves are resident, and bit for bit those of one vertex at a time when
+ * some leaves are not (the leaf the call reads from changes along the way). */
+TEST(node_normals_in_one_call_are_those_one_at_a_time)
+{
+    LOAD_OR_SKIP(h, 600, 200, 150, 97);
+    tp_tree* t = make_tree(h, 150, 97, 17);
+    tp_terrain* ter = NULL;
+    tp_terrain_desc td = {.heights = h, .height_count = (size_t)150 * 97, .width = 150,
+                          .height = 97, .patch_size = 17, .fit = TP_FIT_PAD};
+    memcpy(td.geotransform, GT, sizeof GT);
+    ASSERT_OK(tp_terrain_create(&td, &ter, NULL));
+    const tp_tree_geometry* g = tp_tree_get_geometry(t);
+    tp_vertex v[17 * 17];
+    float batch[17 * 17][3];
+    int compared = 0, identical = 0, lattice = 0;
+    for (int pass = 0; pass < 2; pass++) {
+        const uint16_t* kept[64];
+        int64_t gone[64];
+        int ngone = 0;
+        if (pass == 1) /* every third leaf away: reads fall back to coarser nodes or lattices */
+            for (int64_t id = 0; id < g->node_count && ngone < 64; id++) {
+                int s, c, r;
+                tp_tree_node_locate(g, id, &s, &c, &r);
+                if (s == 0 && (c + 2 * r) % 3 == 1 && tp_tree_samples(t, id)) {
+                    kept[ngone] = tp_tree_samples(t, id);
+                    gone[ngone++] = id;
+                    tp_tree_detach(t, id);
+                }
+            }
+        for (int64_t id = 0; id < g->node_count; id++) {
+            if (!tp_tree_samples(t, id))
+                continue;
+            int s, c, r;
+            tp_tree_node_locate(g, id, &s, &c, &r);
+            int step = 1 << s, x0 = c << (g->n + s), y0 = r << (g->n + s);
+            for (int j = 0; j <= 16; j++)
+                for (int i = 0; i <= 16; i++)
+                    v[j * 17 + i] = (tp_vertex){x0 + i * step, y0 + j * step, 0, 0};
+            tp_tree_node_normals(t, id, v, 17 * 17, batch);
+            for (int k = 0; k < 17 * 17; k++) {
+                float a[3], b[3];
+                if (v[k].x >= 150 || v[k].y >= 97)
+                    continue;
+                tp_tree_node_normal(t, id, v[k].x, v[k].y, a);
+                identical += !memcmp(a, batch[k], sizeof a);
+                compared++;
+                if (pass == 0 && !isnan(tp_terrain_sample(ter, v[k].x, v[k].y))) {
+                    tp_terrain_normal(ter, v[k].x, v[k].y, b);
+                    for (int q = 0; q < 3; q++)
+                        EXPECT_NEAR(batch[k][q], b[q], 1e-6);
+                }
+                if (pass == 1 && !isnan(tp_terrain_sample(ter, v[k].x, v[k].y))) {
+                    tp_terrain_normal(ter, v[k].x, v[k].y, b);
+                    lattice += fabs(batch[k][0] - b[0]) + fabs(batch[k][1] - b[1]) > 1e-4;
+                }
+            }
+        }
+        for (int q = 0; q < ngone; q++)
+            tp_tree_attach(t, gone[q], kept[q]);
+        if (pass == 1)
+            EXPECT_GT(ngone, 5);
+    }
+    EXPECT_EQ_INT(compared, identical);
+    EXPECT_GT(compared, 5000);
+    EXPECT_GT(lattice, 10); /* the second pass did read lattices where leaves were missing */
+    tp_terrain_destroy(ter);
+    tp_tree_destroy(t);
+    free(h);
+}
+
 #define TESTS(X)                                                                                   \
     X(ray_cast_hits_lie_on_the_drawn_surface)                                                      \
     X(ray_cast_across_stitched_coarse_cuts)                                                        \
@@ -371,5 +442,6 @@ TEST(node_normals_are_the_terrains_where_leaves_are_resident)
     X(vertical_scale_refines_the_cut)                                                              \
     X(tree_height_is_the_full_resolution_surface)                                                  \
     X(keep_above_uses_the_full_resolution_leaf)                                                    \
-    X(node_normals_are_the_terrains_where_leaves_are_resident)
+    X(node_normals_are_the_terrains_where_leaves_are_resident)                                     \
+    X(node_normals_in_one_call_are_those_one_at_a_time)
 TP_TEST_MAIN(TESTS)

@@ -124,13 +124,12 @@ static size_t fill_node(void* user, size_t i, tp_vertex* v, float (*normals)[3],
     const tp_render_item* it = &r->items[i];
     size_t count = tp_cut_vertex_count(r->cut, i); /* a TIN's, or (2^level+1)^2 */
     tp_cut_vertices(r->cut, i, v, count);
+    tp_tree_node_normals(r->tree, it->key, v, count, normals);
     for (size_t j = 0; j < count; j++) {
         filled[j] = v[j].cls == TP_SAMPLE_FILLED; /* the store's filled bits (format 4) */
         if (isnan(v[j].z_m)) {
             normals[j][0] = normals[j][1] = 0;
             normals[j][2] = 1;
-        } else {
-            tp_tree_node_normal(r->tree, it->key, v[j].x, v[j].y, normals[j]);
         }
     }
     return count;

@@ -173,8 +173,7 @@ void tp__stitch_add_fill_node(const tp__stitch_add* s, const tp__stitch_add_set*
     const tp_cut_node* node = &tp_cut_nodes(cut, &count)[i];
     tp_cut_vertices_at_level(cut, i, set->finest, v, mside * mside);
     compact(s, set, v);
-    for (size_t j = 0; j < set->vertex_count; j++) {
+    for (size_t j = 0; j < set->vertex_count; j++)
         filled[j] = v[j].cls == TP_SAMPLE_FILLED;
-        tp_tree_node_normal(tree, node->node, v[j].x, v[j].y, normals[j]);
-    }
+    tp_tree_node_normals(tree, node->node, v, set->vertex_count, normals);
 }

@@ -328,8 +328,8 @@ void tp__stitch_five_fill_node(tp__stitch_five* f, const tp__five_layout* lay,
         size_t row = lay->samples[j] / side, col = lay->samples[j] % side;
         v[j] = f->lattice[(row >> shift) * mside + (col >> shift)];
         filled[j] = v[j].cls == TP_SAMPLE_FILLED;
-        tp_tree_node_normal(tree, node->node, v[j].x, v[j].y, normals[j]);
     }
+    tp_tree_node_normals(tree, node->node, v, lay->vertex_count, normals);
 }
 
 unsigned int tp__stitch_five_gl_buffer(tp__stitch_five* f, size_t* bytes)

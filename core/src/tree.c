@@ -292,15 +292,47 @@ static double lattice_slope(const uint16_t* smp, const tp_node_meta* m, int v, i
                      lattice_q(smp, m, v, i + di, j + dj), spacing);
 }
 
+/* The last leaf tp_tree_sample would read (x, y) from, kept while the normals of one node's
+ * vertices are computed: neighbouring vertices mostly read the same leaf. */
+typedef struct leaf_cache {
+    int64_t c, r;        /* the leaf's column and row; -1: none yet */
+    const uint16_t* smp; /* its samples, NULL when not resident */
+    double qmin;
+} leaf_cache;
+
+/* tp_tree_sample(t, x, y), from lc's leaf when it holds (x, y) and is resident: every resident
+ * node holding a position has the same height there, so the value is the same. */
+static double cached_sample(const tp_tree* t, leaf_cache* lc, int x, int y)
+{
+    const tp_tree_geometry* g = &t->desc.geometry;
+    if (x < 0 || y < 0 || x >= g->width || y >= g->height)
+        return NAN;
+    int n = g->n, side = (1 << n) + 1;
+    int64_t c = x >> n, r = y >> n;
+    c = c < g->node_cols[0] ? c : g->node_cols[0] - 1; /* the last post of the last leaf */
+    r = r < g->node_rows[0] ? r : g->node_rows[0] - 1;
+    if (c != lc->c || r != lc->r) {
+        int64_t id = tp_tree_node_id(g, 0, (int)c, (int)r);
+        lc->c = c, lc->r = r;
+        lc->smp = t->samples[id];
+        lc->qmin = t->desc.metas[id].qmin;
+    }
+    if (!lc->smp)
+        return tp_tree_sample(t, x, y);
+    uint16_t v = lc->smp[(size_t)(y - (r << n)) * side + (size_t)(x - (c << n))];
+    return v == TP_TREE_NO_HEIGHT ? NAN : ((double)v + lc->qmin) * t->desc.height_step_m;
+}
+
 /* Slope (m/m) along one axis from resident full-resolution samples, central where both
  * neighbours are known, else one-sided; NaN when neither neighbour is (not resident or not
  * drawn). */
-static double full_slope(const tp_tree* t, int x, int y, int dx, int dy, double spacing)
+static double full_slope(const tp_tree* t, leaf_cache* lc, int x, int y, int dx, int dy,
+                         double spacing)
 {
-    double a = tp_tree_sample(t, x - dx, y - dy), b = tp_tree_sample(t, x + dx, y + dy);
+    double a = cached_sample(t, lc, x - dx, y - dy), b = cached_sample(t, lc, x + dx, y + dy);
     if (!isnan(a) && !isnan(b))
         return (b - a) / (2 * spacing);
-    double c = tp_tree_sample(t, x, y);
+    double c = cached_sample(t, lc, x, y);
     if (!isnan(b) && !isnan(c))
         return (b - c) / spacing;
     if (!isnan(a) && !isnan(c))
@@ -308,9 +340,10 @@ static double full_slope(const tp_tree* t, int x, int y, int dx, int dy, double 
     return NAN;
 }
 
-void tp_tree_node_normal(const tp_tree* t, int64_t node, int32_t x, int32_t y, float normal[3])
+void tp_tree_node_normals(const tp_tree* t, int64_t node, const tp_vertex* vertices, size_t count,
+                          float (*normals)[3])
 {
-    assert(t && normal);
+    assert(t && (vertices || !count) && (normals || !count));
     const uint16_t* smp = tp_tree_samples(t, node);
     assert(smp);
     const tp_tree_geometry* g = &t->desc.geometry;
@@ -318,23 +351,36 @@ void tp_tree_node_normal(const tp_tree* t, int64_t node, int32_t x, int32_t y, f
     tp_tree_node_locate(g, node, &s, &c, &r);
     int v = (1 << g->n) + 1;
     int64_t x0 = (int64_t)c << (g->n + s), y0 = (int64_t)r << (g->n + s);
-    int i = (int)((x - x0) >> s), j = (int)((y - y0) >> s);
-    assert(i >= 0 && j >= 0 && i < v && j < v);
     const tp_node_meta* m = &t->desc.metas[node];
     double step = t->desc.height_step_m, stride = (double)((int64_t)1 << s);
     const double* gt = t->desc.geotransform;
-    /* Full resolution where the leaves around the vertex are resident: the normals of a
-     * terrain's grid, the same for every node that has the vertex, so nodes of different
-     * scales shade alike across their borders (from each node's own lattice, the borders of
-     * coarse nodes showed as squares). Else, far away and not loaded, the node's lattice. */
-    double gx = full_slope(t, x, y, 1, 0, gt[1]), gy = full_slope(t, x, y, 0, 1, gt[5]);
-    if (isnan(gx) || isnan(gy)) {
-        /* dz/dE and dz/dN: a lattice step moves stride * gt[1] east, stride * gt[5] north */
-        gx = lattice_slope(smp, m, v, i, j, 1, 0, stride * gt[1]) * step;
-        gy = lattice_slope(smp, m, v, i, j, 0, 1, stride * gt[5]) * step;
+    leaf_cache lc = {-1, -1, NULL, 0};
+    for (size_t k = 0; k < count; k++) {
+        int32_t x = vertices[k].x, y = vertices[k].y;
+        int i = (int)((x - x0) >> s), j = (int)((y - y0) >> s);
+        assert(i >= 0 && j >= 0 && i < v && j < v);
+        /* Full resolution where the leaves around the vertex are resident: the normals of a
+         * terrain's grid, the same for every node that has the vertex, so nodes of different
+         * scales shade alike across their borders (from each node's own lattice, the borders
+         * of coarse nodes showed as squares). Else, far away and not loaded, the node's
+         * lattice. */
+        double gx = full_slope(t, &lc, x, y, 1, 0, gt[1]);
+        double gy = full_slope(t, &lc, x, y, 0, 1, gt[5]);
+        if (isnan(gx) || isnan(gy)) {
+            /* dz/dE and dz/dN: a lattice step moves stride * gt[1] east, stride * gt[5] north */
+            gx = lattice_slope(smp, m, v, i, j, 1, 0, stride * gt[1]) * step;
+            gy = lattice_slope(smp, m, v, i, j, 0, 1, stride * gt[5]) * step;
+        }
+        double len = sqrt(gx * gx + gy * gy + 1);
+        normals[k][0] = (float)(-gx / len);
+        normals[k][1] = (float)(-gy / len);
+        normals[k][2] = (float)(1 / len);
     }
-    double len = sqrt(gx * gx + gy * gy + 1);
-    normal[0] = (float)(-gx / len);
-    normal[1] = (float)(-gy / len);
-    normal[2] = (float)(1 / len);
+}
+
+void tp_tree_node_normal(const tp_tree* t, int64_t node, int32_t x, int32_t y, float normal[3])
+{
+    assert(t && normal);
+    tp_vertex vx = {x, y, 0, 0};
+    tp_tree_node_normals(t, node, &vx, 1, (float(*)[3])normal);
 }
