@@ -17,6 +17,9 @@
  * So a frame draws a cut selected for where the camera was predicted to be, checked against
  * where it is: tau and coverage hold as for a cut selected at once (tests/test_cut.c), at the
  * cost of tp_cut_holds_for (O(drawn + culled nodes)) on the render thread instead of the cut.
+ * The worker keeps, after selecting, what that check needs from its own camera
+ * (tp_cut_prepare_reuse), so that the check settles a node in a few operations instead of a
+ * projection (tests/test_cut_reuse.c: the same answers).
  */
 #ifndef TP_APP_CUT_WORKER_H
 #define TP_APP_CUT_WORKER_H
