@@ -116,9 +116,14 @@ size_t tp__renderer_upload(tp_renderer* r, const tp_render_item* items, size_t c
 {
     int five = r->stitch_add && r->stitch_add_five;
     size_t drawn = 0;
+    enum { AHEAD = 8 }; /* the map entries 2 AHEAD items on, the slots AHEAD on */
     for (size_t i = 0; i < count; i++) {
         const tp_render_item* it = &items[i];
         int fresh;
+        if (i + 2 * AHEAD < count)
+            tp_vertex_pool_prefetch(r->pool, items[i + 2 * AHEAD].key, 0);
+        if (i + AHEAD < count)
+            tp_vertex_pool_prefetch(r->pool, items[i + AHEAD].key, 1);
         const tp__stitch_add_set* set = NULL;
         const tp__five_layout* lay = NULL;
         tp__five_draws fd;

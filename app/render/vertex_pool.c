@@ -1,5 +1,6 @@
 /* vertex_pool.c - the renderer's vertex slots and triangle-list regions (see vertex_pool.h). */
 #include "vertex_pool.h"
+#include "prefetch.h"
 
 #include "tp_core.h"
 
@@ -71,6 +72,17 @@ static void map_insert(tp_vertex_pool* p, int64_t key, int v)
         i = (i + 1) & (p->map_cap - 1);
     p->map[i] = v;
     p->map_used++;
+}
+
+void tp_vertex_pool_prefetch(const tp_vertex_pool* p, int64_t key, int stage)
+{
+    if (!p->map_cap)
+        return;
+    const int* e = &p->map[hash_key(key, p->map_cap)];
+    if (stage == 0)
+        TP_PREFETCH(e);
+    else if (*e >= 0)
+        TP_PREFETCH(map_slot(p, *e));
 }
 
 /* Removes key (present) with backward-shift deletion: no tombstones. */

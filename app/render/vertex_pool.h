@@ -55,6 +55,10 @@ void tp_vertex_pool_begin_frame(tp_vertex_pool* p);
  * slot's data is not key's (write it). Returns the handle, or -1 when the pool is at
  * max_pool_bytes with every slot taken this frame, or memory ran out. */
 int tp_vertex_pool_take(tp_vertex_pool* p, int64_t key, int k, int* fresh);
+/* A hint that key will be taken soon: stage 0 brings its map entry towards the cache, stage 1
+ * (later, after stage 0) the slot that entry names. Changes nothing; a draw's thousands of
+ * takes then wait for memory side by side instead of one after another. */
+void tp_vertex_pool_prefetch(const tp_vertex_pool* p, int64_t key, int stage);
 tp_pool_slot* tp_vertex_pool_slot(tp_vertex_pool* p, int handle);
 int tp_vertex_pool_level(int handle);
 

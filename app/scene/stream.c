@@ -2,6 +2,7 @@
 #define _POSIX_C_SOURCE 200809L
 #include "stream.h"
 #include "clock.h"
+#include "prefetch.h"
 
 #include <assert.h>
 #include <math.h>
@@ -537,11 +538,17 @@ void tp_stream_frame(tp_stream* s, const tp_cut* cut, tp_cut* prefetch_cut, cons
     }
     free(list);
 
-    /* 2. Used this frame: the drawn nodes and their ancestors. */
+    /* 2. Used this frame: the drawn nodes and their ancestors (their entries asked of memory
+     * 16 and 8 nodes ahead: thousands of misses side by side, not one after another). */
     size_t count = 0;
     const tp_cut_node* drawn = tp_cut_nodes(cut, &count);
-    for (size_t i = 0; i < count; i++)
+    for (size_t i = 0; i < count; i++) {
+        if (i + 16 < count)
+            TP_PREFETCH(&s->res_index[drawn[i + 16].node]);
+        if (i + 8 < count && s->res_index[drawn[i + 8].node] >= 0)
+            TP_PREFETCH(&s->res[s->res_index[drawn[i + 8].node]]);
         mark_used(s, drawn[i].node);
+    }
 
     /* 3. The next queue: this frame's requests, then the prefetch. Requests still queued from
      * the last frame and not asked for again are dropped; the prefetch cut's requests are asked
