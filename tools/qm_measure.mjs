@@ -61,7 +61,8 @@ function tileError(t, pu, pv, ph, inner) {
     for (let b = 0; b < nb * nb; ++b) cnt[b + 1] += cnt[b];
     const pos = Int32Array.from(cnt), sorted = new Int32Array(n);
     for (let j = 0; j < n; ++j) sorted[pos[bucket[j]]++] = j;
-    const err = new Float64Array(n).fill(NaN), best = new Float64Array(n).fill(-Infinity);
+    // best: the largest smallest barycentric weight so far (seen: any), err: the error there
+    const err = new Float64Array(n), best = new Float64Array(n), seen = new Uint8Array(n);
     const { u, v, h, tris } = t;
     for (let k = 0; k < tris.length; k += 3) {
         const a = tris[k], b = tris[k + 1], c = tris[k + 2];
@@ -77,8 +78,8 @@ function tileError(t, pu, pv, ph, inner) {
                 const wb = ((pu[j] - ua) * (vc - va) - (uc - ua) * (pv[j] - va)) / det;
                 const wc = ((ub - ua) * (pv[j] - va) - (pu[j] - ua) * (vb - va)) / det;
                 const m = Math.min(1 - wb - wc, wb, wc);
-                if (m > best[j]) { // the triangle holding the post (or nearest to holding it)
-                    best[j] = m;
+                if (!seen[j] || m > best[j]) { // the triangle holding the post (or nearest to it)
+                    best[j] = m; seen[j] = 1;
                     err[j] = Math.abs((1 - wb - wc) * h[a] + wb * h[b] + wc * h[c] - ph[j]);
                 }
             }
@@ -86,7 +87,7 @@ function tileError(t, pu, pv, ph, inner) {
     }
     let max = 0, maxInner = 0, worst = 0, unplaced = 0;
     for (let j = 0; j < n; ++j) {
-        if (!(best[j] > -1e-6)) ++unplaced; // outside every triangle: a hole in the tile
+        if (!seen[j] || !(best[j] > -1e-6)) ++unplaced; // outside every triangle: a hole in the tile
         if (err[j] > max) { max = err[j]; worst = j; }
         if (inner[j] && err[j] > maxInner) maxInner = err[j];
     }
@@ -135,9 +136,14 @@ async function main() {
             const t = tiles.get(`${e.z}/${e.x}/${e.y}`), b = (e.y - y0) * w + (e.x - x0);
             const idx = order.subarray(count[b], count[b + 1]);
             const ws = -180 + e.x * size, ss = -90 + e.y * size;
-            const pu = Float64Array.from(idx, (j) => (lon[j] - ws) / size * MAXC);
-            const pv = Float64Array.from(idx, (j) => (lat[j] - ss) / size * MAXC);
-            const r = tileError(t, pu, pv, Float64Array.from(idx, (j) => ph[j]), Uint8Array.from(idx, (j) => inner[j]));
+            const m = idx.length, pu = new Float64Array(m), pv = new Float64Array(m);
+            const hh = new Float64Array(m), fl = new Uint8Array(m); // (typed arrays' .from is slow)
+            for (let q = 0; q < m; ++q) {
+                const j = idx[q];
+                pu[q] = (lon[j] - ws) / size * MAXC; pv[q] = (lat[j] - ss) / size * MAXC;
+                hh[q] = ph[j]; fl[q] = inner[j];
+            }
+            const r = tileError(t, pu, pv, hh, fl);
             unplacedAll += r.unplaced;
             const wj = idx.length ? idx[r.worst] : -1;
             out.push({ z, x: e.x, y: e.y, bound: e.bound, posts: idx.length, max_error: r.max,

@@ -14,8 +14,8 @@
 // that order, row 0 the north edge, column 0 the west edge (posts ON the tile's edges, so the
 // two tiles of a side sample the same posts there). TP_NPM_DIR: the folder holding
 // node_modules (delatin@0.2.0, @mapbox/martini@0.2.0). Writes OUT_DIR/Z/X/Y.terrain and
-// OUT_DIR/stats.json: per tile {z, x, y, vertices, triangles, bytes, mesh_ms, encode_ms}, the
-// sums, and the mesher. The Martini object (its index tables for the grid size, shared by every
+// OUT_DIR/stats.json: per tile {z, x, y, vertices, triangles, bytes, mesh_ms, encode_ms} (CPU
+// milliseconds of this process: process.cpuUsage()), the sums, and the mesher. The Martini object (its index tables for the grid size, shared by every
 // tile) is made once, untimed, as the tilers do.
 import { readFileSync, openSync, readSync, closeSync, mkdirSync, writeFileSync } from 'node:fs';
 import { createRequire } from 'node:module';
@@ -201,7 +201,7 @@ async function main() {
     const mesh = await mesherFor(name, size);
     const fd = openSync(gridFile, 'r');
     const grid = new Float32Array(cells), raw = new Uint8Array(grid.buffer);
-    const now = () => Number(process.hrtime.bigint()) / 1e6;
+    const now = () => { const c = process.cpuUsage(); return (c.user + c.system) / 1e3; }; // CPU ms
     const stats = { mesher: name, size, tiles: [], mesh_ms: 0, encode_ms: 0, triangles: 0, bytes: 0 };
     list.tiles.forEach((t, k) => {
         if (readSync(fd, raw, 0, raw.length, k * raw.length) !== raw.length) {
