@@ -206,7 +206,8 @@ def summarize(work, name):
         e = [t["max_error"] for t in ts if t["max_error"] is not None]
         s["levels"][z] = {"tiles": len(ts), "triangles": sum(t["triangles"] for t in ts),
                           "bytes": sum(t["bytes"] for t in ts), "bound": ts[0]["bound"],
-                          "max": max(e) if e else None, "median": statistics.median(e) if e else None}
+                          "max": max(e) if e else None, "median": statistics.median(e) if e else None,
+                          "pairs": m.get("pairs_by_level", {}).get(str(z), [0, 0])}
     if name == "ours":
         s["cpu_s"], s["wall_s"], s["rss_mb"] = rusage(os.path.join(work, "time-export.txt"))
         s["build_cpu_s"] = rusage(os.path.join(work, "time-build.txt"))[0]
@@ -240,13 +241,15 @@ def store_check(work, errs):
 
 
 def print_levels(sums):
-    print("per level: tiles, bound; per tiler: triangles, bytes, true max (median tile) in m")
+    print("per level: tiles, bound; per tiler: triangles, bytes, true max (median tile) in m, "
+          "neighbour pairs watertight")
     for z in sorted(sums["ours"]["levels"]):
         cells = []
         for n in SETS:
             lv = sums[n]["levels"][z]
             err = "—" if lv["max"] is None else "%.2f (%.2f)" % (lv["max"], lv["median"])
-            cells.append("%s %d tri %d B %s" % (n, lv["triangles"], lv["bytes"], err))
+            tight = " %d/%d watertight" % (lv["pairs"][1], lv["pairs"][0]) if lv["pairs"][0] else ""
+            cells.append("%s %d tri %d B %s%s" % (n, lv["triangles"], lv["bytes"], err, tight))
         print("z%d: %d tiles, bound %.2f m; %s" % (z, sums["ours"]["levels"][z]["tiles"],
                                                   sums["ours"]["levels"][z]["bound"], "; ".join(cells)))
 

@@ -14,7 +14,8 @@
 // floor((lat + 90) / size) (a post on a tile side to the east or north tile). OUT.json: per tile
 // {z, x, y, bound, posts, max_error, max_error_inner (over the flagged posts), worst_at: [lat, lon, height] of the worst post,
 // triangles, vertices, bytes}, and "pairs" / "watertight_pairs":
-// neighbouring tile pairs of a level, and those whose shared side has the same vertices (position
+// neighbouring tile pairs of a level, and those whose shared side has the same vertices (also
+// per level: "pairs_by_level": {z: [pairs, watertight pairs]}) (position
 // along the side equal, decoded heights within 1 mm plus half of each tile's height step).
 import { readFileSync, writeFileSync, statSync } from 'node:fs';
 import { join } from 'node:path';
@@ -153,17 +154,23 @@ async function main() {
         }
     }
     let pairs = 0, tight = 0;
+    const byLevel = {}; // z: [pairs, watertight pairs]
     for (const [kk, t] of tiles) {
         const [z, x, y] = kk.split('/').map(Number);
         for (const [dx, dy, mine, theirs] of [[1, 0, 2, 0], [0, 1, 3, 1]]) {
             const o = tiles.get(`${z}/${x + dx}/${y + dy}`);
             if (!o) continue;
             ++pairs;
+            byLevel[z] = byLevel[z] || [0, 0];
+            ++byLevel[z][0];
             const a = sideOf(t, mine), b = sideOf(o, theirs), tol = 1e-3 + (t.step + o.step) / 2;
-            if (a.length === b.length && a.every((p, i) => p[0] === b[i][0] && Math.abs(p[1] - b[i][1]) <= tol)) ++tight;
+            if (a.length === b.length && a.every((p, i) => p[0] === b[i][0] && Math.abs(p[1] - b[i][1]) <= tol)) {
+                ++tight;
+                ++byLevel[z][1];
+            }
         }
     }
-    writeFileSync(outFile, JSON.stringify({ dir, posts: n, pairs, watertight_pairs: tight,
+    writeFileSync(outFile, JSON.stringify({ dir, posts: n, pairs, watertight_pairs: tight, pairs_by_level: byLevel,
         unplaced_posts: unplacedAll, tiles: out }));
 }
 
