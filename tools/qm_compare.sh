@@ -23,7 +23,7 @@
 #      measures against each other;
 #   4. tools/qm_compare.py table: the table on stdout (and WORK_DIR/summary.json).
 #
-# WORK_DIR is emptied first. npm packages (delatin 0.2.0, @mapbox/martini 0.2.0,
+# WORK_DIR is emptied first (refused when it holds anything but an earlier run). npm packages (delatin 0.2.0, @mapbox/martini 0.2.0,
 # @here/quantized-mesh-decoder 1.2.8), not vendored: installed with exact versions into
 # ${XDG_CACHE_HOME:-~/.cache}/terrapatch/npm (TP_NPM_DIR overrides it), as tools/tin_compare.sh
 # does; needs node and, once, npm and the registry. The Python steps need GDAL's bindings and
@@ -75,7 +75,11 @@ if ! installed; then
 fi
 export TP_NPM_DIR=$dir
 
-rm -rf "$work" && mkdir -p "$work" || die "cannot make $work"
+# WORK_DIR is emptied: only an empty folder or an earlier run's (its marker file) is touched
+if [ -e "$work" ] && [ -n "$(ls -A "$work" 2> /dev/null)" ] && [ ! -f "$work/.qm_compare" ]; then
+    die "$work exists and is not an earlier run's work folder (no .qm_compare in it): choose another"
+fi
+rm -rf "$work" && mkdir -p "$work" && : > "$work/.qm_compare" || die "cannot make $work"
 T="/usr/bin/time -v -o"
 set -- --tiles quantized-mesh --heights geoid
 [ -n "$zoom" ] && set -- "$@" --max-zoom "$zoom"
