@@ -50,6 +50,7 @@ expect bare missing slurm-wlm
 expect bare missing munge
 expect bare missing nginx
 expect bare missing chromium
+expect bare missing python3-gdal
 expect bare missing proj-data
 expect_not bare packages paraview-dev
 no_conflict bare
@@ -85,11 +86,11 @@ no_conflict both
 
 # Everything installed: nothing missing, either way.
 run "cmake pkg-config gcc g++ libgdal-dev libproj-dev libgeographiclib-dev libopenimageio-dev
-libglfw3-dev libepoxy-dev libegl-dev libgl-dev libgl1-mesa-dri libegl-mesa0 libstb-dev gnuplot-nox xvfb xdotool libzstd-dev zlib1g-dev gdal-bin libnova-dev slurm-wlm munge nginx proj-data chromium
+libglfw3-dev libepoxy-dev libegl-dev libgl-dev libgl1-mesa-dri libegl-mesa0 libstb-dev gnuplot-nox xvfb xdotool libzstd-dev zlib1g-dev gdal-bin libnova-dev slurm-wlm munge nginx proj-data chromium python3-gdal python3-numpy time
 libvtk9-dev python3-vtk9"
 expect_eq complete-system missing ""
 run "cmake pkg-config gcc g++ libgdal-dev libproj-dev libgeographiclib-dev libopenimageio-dev
-libglfw3-dev libepoxy-dev libegl-dev libgl-dev libgl1-mesa-dri libegl-mesa0 libstb-dev gnuplot-nox xvfb xdotool libzstd-dev zlib1g-dev gdal-bin libnova-dev slurm-wlm munge nginx proj-data chromium
+libglfw3-dev libepoxy-dev libegl-dev libgl-dev libgl1-mesa-dri libegl-mesa0 libstb-dev gnuplot-nox xvfb xdotool libzstd-dev zlib1g-dev gdal-bin libnova-dev slurm-wlm munge nginx proj-data chromium python3-gdal python3-numpy time
 paraview paraview-dev python3-paraview libexpat1-dev liblzma-dev liblz4-dev
 libdouble-conversion-dev zlib1g-dev libutfcpp-dev"
 expect_eq complete-paraview vtk paraview

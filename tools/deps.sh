@@ -43,10 +43,13 @@ set -eu
 # (`systemctl disable --now nginx` stops it; the tests do not need it).
 # chromium: the headless browser tests/test_web_cesium.sh drives (through tools/web/drive.mjs and
 # puppeteer-core) to show a quantized-mesh tile set in CesiumJS (issue 34, tools/web/).
+# python3-gdal, python3-numpy, time: tools/qm_compare.sh (and its test qm_compare.crater) warps
+# the DEM a tile at a time and places its posts with GDAL's Python bindings, and times each step
+# with /usr/bin/time -v.
 COMMON="cmake pkg-config gcc g++ libgdal-dev libproj-dev libgeographiclib-dev libopenimageio-dev
 libglfw3-dev libepoxy-dev libegl-dev libgl-dev libgl1-mesa-dri libegl-mesa0 libstb-dev gnuplot-nox
 xvfb xdotool libzstd-dev zlib1g-dev gdal-bin libnova-dev slurm-wlm munge nginx proj-data
-chromium"
+chromium python3-gdal python3-numpy time"
 VTK_SYSTEM="libvtk9-dev"
 # ParaView's VTK config finds Threads, EXPAT, LZMA, LZ4, double-conversion, ZLIB and utf8cpp
 # for CommonCore, IOCore, IOXML, IOLegacy, FiltersCore and their dependencies.
