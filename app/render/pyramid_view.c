@@ -97,23 +97,19 @@ tp_imagery* tp_view_pyramid_open(const char* path, const tp_store_scene* st, int
     return NULL;
 }
 
-/* Distance from the eye to each drawn node's box (its footprint, the store's height range). */
-static size_t node_distances(tp_view_clip_state* s, const tp_store_scene* st, const tp_cut* cut,
-                             double zscale, const tp_camera* cam)
+/* The smallest distance from the eye to a drawn node's box (its footprint, the store's height
+ * range); INFINITY when nothing is drawn. The finest level is that of the nearest node:
+ * tp_clipmap_finest_level's levels never fall as the distance grows. */
+static double nearest_node(const tp_store_scene* st, const tp_cut* cut, double zscale,
+                           const tp_camera* cam)
 {
     size_t count = 0;
     const tp_cut_node* nodes = tp_cut_nodes(cut, &count);
-    if (count > s->dist_cap) {
-        double* d = realloc(s->dist, count * sizeof *d);
-        if (!d)
-            return 0;
-        s->dist = d;
-        s->dist_cap = count;
-    }
     const tp_tree_geometry* g = tp_tree_get_geometry(st->tree);
     const double* gt = st->tree_info.geotransform;
     double z0 = st->tree_info.min_height_m * zscale, z1 = st->tree_info.max_height_m * zscale;
     const double* p = cam->position;
+    double dz = z0 <= z1 ? fmax(0, fmax(z0 - p[2], p[2] - z1)) : 0, nearest2 = INFINITY;
     for (size_t i = 0; i < count; i++) {
         int sc, c, r;
         tp_tree_node_locate(g, nodes[i].node, &sc, &c, &r);
@@ -122,18 +118,18 @@ static size_t node_distances(tp_view_clip_state* s, const tp_store_scene* st, co
         double n0 = gt[3] + r * span * gt[5], n1 = n0 + span * gt[5];
         double dx = fmax(0, fmax(fmin(e0, e1) - p[0], p[0] - fmax(e0, e1)));
         double dy = fmax(0, fmax(fmin(n0, n1) - p[1], p[1] - fmax(n0, n1)));
-        double dz = z0 <= z1 ? fmax(0, fmax(z0 - p[2], p[2] - z1)) : 0;
-        s->dist[i] = sqrt(dx * dx + dy * dy + dz * dz);
+        double d2 = dx * dx + dy * dy;
+        nearest2 = d2 < nearest2 ? d2 : nearest2;
     }
-    return count;
+    return sqrt(nearest2 + dz * dz);
 }
 
 void tp_view_clip_frame(tp_view_clip_state* s, tp_clipmap* m, const tp_store_scene* st,
                         const tp_cut* cut, double zscale, const tp_camera* cam, int settle,
                         tp_clipmap_stats* stats, tp_render_clip* out)
 {
-    size_t count = node_distances(s, st, cut, zscale, cam);
-    s->finest = count ? tp_clipmap_finest_level(m, cam, s->dist, count, s->finest) : 0;
+    double nearest = nearest_node(st, cut, zscale, cam);
+    s->finest = isfinite(nearest) ? tp_clipmap_finest_level(m, cam, &nearest, 1, s->finest) : 0;
     if (settle)
         tp_clipmap_settle(m, cam, s->finest, 60, stats);
     else
@@ -143,8 +139,5 @@ void tp_view_clip_frame(tp_view_clip_state* s, tp_clipmap* m, const tp_store_sce
 
 void tp_view_clip_state_free(tp_view_clip_state* s)
 {
-    free(s->dist);
-    s->dist = NULL;
-    s->dist_cap = 0;
     s->finest = -1;
 }

@@ -35,8 +35,6 @@ void tp_view_pyramid_source(tp_imagery* im, tp_block_source* out);
 /* A clipmap drawn over a store's cut: the state kept from frame to frame. */
 typedef struct tp_view_clip_state {
     int finest;   /* last frame's finest level (frame coherence); -1 at first */
-    double* dist; /* per cut node (owned) */
-    size_t dist_cap;
 } tp_view_clip_state;
 
 /* Once a frame after the cut is selected: the finest level the cut's nodes need (their
