@@ -38,10 +38,14 @@ typedef struct qm_tile_result {
     uint8_t* gz;               /* the gzip-compressed tile (free()) */
     size_t gz_size, raw_size;
     size_t vertices, triangles;
-    double bound_m;            /* the TIN's bound on the lattice */
+    double bound_m;            /* the bound: the TIN's on the lattice, then the refinement's */
     double measured_m;         /* max |tile - store| over the store's posts in the tile and the
                                   lattice posts with a height (decoded heights, as Cesium) */
     size_t posts_measured;
+    size_t inserted;           /* vertices the refinement added (posts off the lattice) */
+    int passes;                /* refinement passes (0: the TIN was within its bound) */
+    double stuck_m;            /* the largest error of a point the refinement could not insert
+                                  (its code held a vertex already), last pass */
     double proj_interp_m;      /* largest gap between the interpolated and the exact grid
                                   position at the coarse cells' centres checked (grid units x
                                   spacing: metres) */
@@ -60,7 +64,7 @@ int tp_qm_tile_build(const qm_source* s, int z, int x, int y, double bound_m, qm
 typedef struct qm_mesh {
     int n;                    /* lattice cells a side */
     size_t vertex_count, triangle_count;
-    const float* ij;          /* vertex_count * 2: column, row */
+    const double* ij;         /* vertex_count * 2: column, row (fractions: u, v codes / 151) */
     const double* z;          /* vertex_count: decoded height (m) */
     const uint32_t* tris;
 } qm_mesh;
@@ -70,13 +74,57 @@ typedef struct qm_mesh {
  * kept in *index (free with tp_qm_index_free). NAN when out of memory. */
 typedef struct qm_index qm_index;
 double tp_qm_mesh_height(const qm_mesh* m, qm_index** index, double fi, double fj);
+/* The triangle containing (fi, fj) (the nearest to containing it at a rounding's distance);
+ * UINT32_MAX when out of memory. */
+uint32_t tp_qm_mesh_triangle(const qm_mesh* m, qm_index** index, double fi, double fj);
 void tp_qm_index_free(qm_index* ix);
+
+/* A point the tile must hold within its bound: lattice position (column from the west, row from
+ * the north, fractions allowed) and height (m, converted as the tile's are). */
+typedef struct qm_point {
+    double fi, fj, h;
+} qm_point;
+
+/* The points a measure found above a threshold: those above `above` are appended while n <
+ * limit (the rest are found by the next measure, after the refinement). */
+typedef struct qm_points {
+    qm_point* p;
+    size_t n, cap, limit;
+    double above;
+} qm_points;
+
+/* Appends (fi, fj, h) when err > c->above and there is room; 0 when out of memory. */
+int tp_qm_points_add(qm_points* c, double fi, double fj, double h, double err);
 
 /* The largest |mesh - post| over the store's full-resolution posts inside the tile (west, south,
  * east, north; lattice step d degrees), their heights converted as the tile's are; the posts'
- * count in *posts. 0 on failure (message in err). */
+ * count in *posts; the posts above collect->above appended to collect (NULL: none). 0 on failure
+ * (message in err). */
 int tp_qm_measure_posts(const qm_source* s, const qm_mesh* m, qm_index** index, double west,
                         double south, double east, double north, double* max_err, size_t* posts,
-                        tp_error* err);
+                        qm_points* collect, tp_error* err);
+
+/* ---- qm_refine.c ---- */
+
+/* A tile's mesh as it is refined: vertices at u, v codes (0..32767, v from the south) with
+ * heights in steps of the export's height step, triangles; capacities in elements (the arrays
+ * are malloc'ed and grown by the refinement). */
+typedef struct qm_work {
+    uint16_t *u, *v;
+    long long* hq;
+    size_t nv, cap_v;
+    uint32_t* tris;
+    size_t nt, cap_t; /* cap_t: uint32_t elements of tris */
+} qm_work;
+
+/* Refines w (whose mesh m, with its point index, is as the measure saw it) until each of the n
+ * points is within bound_m of the mesh or stuck: greedy, the worst point first, inserted as a
+ * vertex at its u, v code rounded (kept one code inside the tile: the sides, which the
+ * neighbours share, are never touched) with its height rounded to step_m, then Lawson's
+ * Delaunay flips around it (exact arithmetic on the codes). A point whose code already holds a
+ * vertex is stuck: its error stays, the largest such in *stuck_m. The count of vertices added in
+ * *inserted. m and its index are stale afterwards. 0 when out of memory (message in err). */
+int tp_qm_refine(qm_work* w, const qm_mesh* m, qm_index** index, const qm_point* pts, size_t n,
+                 double bound_m, double step_m, size_t* inserted, double* stuck_m, tp_error* err);
 
 #endif
