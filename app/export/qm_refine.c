@@ -36,6 +36,8 @@ typedef struct rf {
     uint32_t* stack;     /* edges to legalise: triangle ids (their edge 0) */
     size_t ns, cap_s;
     double bound, step;
+    qm_height_fn height;
+    void* ctx;
     int sgn;             /* the triangles' orientation in (u, v) */
     double stuck_max;
 } rf;
@@ -324,7 +326,8 @@ static uint32_t new_vertex(rf* r, long long x, long long y, long long hq)
     return (uint32_t)w->nv++;
 }
 
-/* Inserts point k (the worst of t). 1 done (or stuck: k marked dead), 0 out of memory. */
+/* Inserts point k (the worst of t). 1 done (or stuck: k marked dead), 0 out of memory, -1 the
+ * surface's read failed (err set by the height function). */
 static int insert(rf* r, uint32_t t, uint32_t k, double e)
 {
     const qm_point* pt = &r->pts[k];
@@ -363,7 +366,12 @@ static int insert(rf* r, uint32_t t, uint32_t k, double e)
         r->stuck_max = fmax(r->stuck_max, e);
         return rate(r, t0);
     }
-    const uint32_t p = new_vertex(r, x, y, llround(pt->h / r->step));
+    /* the vertex on the surface at its code (the post's own height where there is none) */
+    double h = NAN;
+    if (!r->height(r->ctx, x / (double)CODES_PER_CELL,
+                   (TP_QMESH_MAX_CODE - y) / (double)CODES_PER_CELL, &h))
+        return -1;
+    const uint32_t p = new_vertex(r, x, y, llround((isfinite(h) ? h : pt->h) / r->step));
     if (p == NONE || !take(r, t))
         return 0;
     r->dead[k] = 1;
@@ -429,11 +437,14 @@ static int neighbours(rf* r)
 }
 
 int tp_qm_refine(qm_work* w, const qm_mesh* m, qm_index** index, const qm_point* pts, size_t n,
-                 double bound_m, double step_m, size_t* inserted, double* stuck_m, tp_error* err)
+                 double bound_m, double step_m, qm_height_fn height, void* ctx, size_t* inserted,
+                 double* stuck_m, tp_error* err)
 {
     rf r;
     memset(&r, 0, sizeof r);
     r.w = w, r.pts = pts, r.np = n, r.bound = bound_m, r.step = step_m;
+    r.height = height, r.ctx = ctx;
+    int read_failed = 0;
     *inserted = 0;
     *stuck_m = 0;
     const size_t nv0 = w->nv;
@@ -481,14 +492,17 @@ int tp_qm_refine(qm_work* w, const qm_mesh* m, qm_index** index, const qm_point*
             }
         if (k == NONE || !(worst > bound_m))
             continue;
-        if (!insert(&r, it.t, k, worst))
+        const int got = insert(&r, it.t, k, worst);
+        if (got != 1) {
+            read_failed = got < 0;
             goto done;
+        }
     }
     *inserted = w->nv - nv0;
     *stuck_m = r.stuck_max;
     ok = 1;
 done:
-    if (!ok)
+    if (!ok && !read_failed)
         tp_error_set(err, TP_ERR_OUT_OF_MEMORY, "out of memory refining a tile");
     free(r.adj), free(r.head), free(r.stamp), free(r.in_set), free(r.next), free(r.dead);
     free(r.heap), free(r.set), free(r.gathered), free(r.stack);

@@ -5,7 +5,6 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
-#include <stdio.h>
 
 #define NP (TP_QM_CELLS + 1)               /* lattice posts a side */
 #define NC (TP_QM_CELLS / TP_QM_COARSE + 1) /* coarse nodes a side */
@@ -312,6 +311,30 @@ static int measure(const qm_source* s, const lattice* l, const qm_work* w, const
     return 1;
 }
 
+/* The refinement's height function: the store's surface at a lattice position (exact
+ * projection), its undulation added; NaN off the grid or in a void. */
+typedef struct surface_ctx {
+    const qm_source* s;
+    const lattice* l;
+    tp_error* err;
+} surface_ctx;
+
+static int surface_at(void* ctx, double fi, double fj, double* h)
+{
+    const surface_ctx* c = ctx;
+    const double lon = -180.0 + ((double)c->l->gx0 + fi) * c->l->d;
+    const double lat = -90.0 + ((double)c->l->gy0 + TP_QM_CELLS - fj) * c->l->d;
+    double gx, gy, und;
+    *h = NAN;
+    if (!geo_to_grid(c->s, lat, lon, &gx, &gy, &und) || gx < 0 || gy < 0 ||
+        gx > c->s->width - 1 || gy > c->s->height - 1)
+        return 1;
+    if (tp_ground_height(c->s->ground, gx, gy, h, c->err) != TP_OK)
+        return 0;
+    *h += und;
+    return 1;
+}
+
 /* Refinement passes before the measure is taken as it is. */
 #define QM_PASSES 8
 /* Points a measure keeps for the refinement (24 bytes each). */
@@ -347,16 +370,15 @@ static int refine_measured(const qm_source* s, const lattice* l, qm_work* w, con
         if (!measure(s, l, w, box, ij, zd, &m, &ix, pass < QM_PASSES ? &c : NULL,
                      &r->measured_m, &r->posts_measured, err))
             break;
-        if (getenv("QMDBG"))
-            fprintf(stderr, "DBG %d/%d/%d pass %d measured %.3f bound %.3f nv %zu nt %zu pts %zu stuck %.3f\n", l->z, l->x, l->y, pass, r->measured_m, bound_m, w->nv, w->nt, c.n, r->stuck_m);
         if (r->measured_m <= bound_m || pass == QM_PASSES) {
             ok = 1;
             break;
         }
         /* a hair below the bound: the measure's arithmetic is not the refinement's */
         size_t added;
-        if (!tp_qm_refine(w, &m, &ix, c.p, c.n, bound_m * (1 - 1e-9), s->height_step_m, &added,
-                          &r->stuck_m, err))
+        surface_ctx sc = {s, l, err};
+        if (!tp_qm_refine(w, &m, &ix, c.p, c.n, bound_m * (1 - 1e-9), s->height_step_m,
+                          surface_at, &sc, &added, &r->stuck_m, err))
             break;
         r->inserted += added;
         r->passes = pass + 1;
@@ -404,7 +426,11 @@ int tp_qm_tile_build(const qm_source* s, int z, int x, int y, double bound_m, qm
         if (cz[c] != cz[c] && !void_corner(s, &l, corner_at[c], &cz[c], err))
             goto done;
     }
-    if (tp_tin_build_tile(l.h, NP, NP, NP, 0, 0, NP, NP, cz, bound_m, 0, &t, err) != TP_OK)
+    /* the TIN's bound leaves room for the heights' rounding to the step (half a step): the sides,
+     * which the refinement never touches, then hold the bound as decoded */
+    const double half = 0.5 * s->height_step_m;
+    const double tin_bound = bound_m - half > 0.5 * bound_m ? bound_m - half : 0.5 * bound_m;
+    if (tp_tin_build_tile(l.h, NP, NP, NP, 0, 0, NP, NP, cz, tin_bound, 0, &t, err) != TP_OK)
         goto done;
     if (!work_of(s, t, &w)) {
         fail_oom(err);

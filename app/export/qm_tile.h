@@ -117,14 +117,21 @@ typedef struct qm_work {
     size_t nt, cap_t; /* cap_t: uint32_t elements of tris */
 } qm_work;
 
+/* The surface's height (m, converted as the tile's are) at lattice position (fi, fj): NaN in *h
+ * where there is none; 0 on a read failure (message in the function's own error). */
+typedef int (*qm_height_fn)(void* ctx, double fi, double fj, double* h);
+
 /* Refines w (whose mesh m, with its point index, is as the measure saw it) until each of the n
  * points is within bound_m of the mesh or stuck: greedy, the worst point first, inserted as a
  * vertex at its u, v code rounded (kept one code inside the tile: the sides, which the
- * neighbours share, are never touched) with its height rounded to step_m, then Lawson's
+ * neighbours share, are never touched) with the surface's height there (height(); the point's
+ * own where it gives NaN) rounded to step_m, then Lawson's
  * Delaunay flips around it (exact arithmetic on the codes). A point whose code already holds a
  * vertex is stuck: its error stays, the largest such in *stuck_m. The count of vertices added in
- * *inserted. m and its index are stale afterwards. 0 when out of memory (message in err). */
+ * *inserted. m and its index are stale afterwards. 0 when out of memory (message in err) or
+ * when height() failed (its message). */
 int tp_qm_refine(qm_work* w, const qm_mesh* m, qm_index** index, const qm_point* pts, size_t n,
-                 double bound_m, double step_m, size_t* inserted, double* stuck_m, tp_error* err);
+                 double bound_m, double step_m, qm_height_fn height, void* ctx, size_t* inserted,
+                 double* stuck_m, tp_error* err);
 
 #endif
