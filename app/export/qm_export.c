@@ -608,7 +608,7 @@ int tp_export_qm(const tp_qm_request* r)
     if (!height_step(q) || !plan(q))
         goto done;
     snprintf(q->options, sizeof q->options,
-             "terrapatch quantized-mesh 1 source=%s heights=%s max_zoom=%d bounds=%.9g,%.9g,"
+             "terrapatch quantized-mesh 2 source=%s heights=%s max_zoom=%d bounds=%.9g,%.9g,"
              "%.9g,%.9g max_error=%.9g lattice=%d step=%.9g",
              r->path, r->ellipsoid ? "ellipsoid" : "geoid", q->max_zoom,
              r->has_bounds ? r->bounds[0] : -180.0, r->has_bounds ? r->bounds[1] : -90.0,

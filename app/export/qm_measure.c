@@ -149,7 +149,8 @@ uint32_t tp_qm_mesh_triangle(const qm_mesh* m, qm_index** index, double fi, doub
 
 int tp_qm_points_add(qm_points* c, double fi, double fj, double h, double err)
 {
-    if (!(err > c->above) || c->n >= c->limit)
+    /* those between `above` and the bound while n < limit, those above the bound up to 4 limit */
+    if (!(err > c->above) || c->n >= 4 * c->limit || (!(err > c->bound) && c->n >= c->limit))
         return 1;
     if (c->n == c->cap) {
         const size_t cap = c->cap ? 2 * c->cap : 1024;

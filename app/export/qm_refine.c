@@ -283,10 +283,23 @@ static int split_inside(rf* r, uint32_t t, uint32_t p)
     return push_edge(r, t) && push_edge(r, n1) && push_edge(r, n2) && legalise(r);
 }
 
-/* Splits the edge e of t, shared with its neighbour, at the new vertex p on it. */
+/* Splits the edge e of t at the new vertex p on it: t and its neighbour in two each, or t
+ * alone on the tile's outline (a side vertex). */
 static int split_edge(rf* r, uint32_t t, int e, uint32_t p)
 {
     const int32_t n = r->adj[3 * t + e];
+    if (n < 0) {
+        const uint32_t t2 = new_tri(r);
+        if (t2 == NONE)
+            return 0;
+        const uint32_t* tv = r->w->tris + 3 * (size_t)t;
+        const uint32_t a = tv[e], b = tv[(e + 1) % 3], c = tv[(e + 2) % 3];
+        const int32_t bc = r->adj[3 * t + (e + 1) % 3], ca = r->adj[3 * t + (e + 2) % 3];
+        set_tri(r, t, c, a, p, ca, -1, (int32_t)t2);
+        set_tri(r, t2, b, c, p, bc, (int32_t)t, -1);
+        repoint(r, bc, t, t2);
+        return push_edge(r, t) && push_edge(r, t2) && legalise(r);
+    }
     if (!take(r, (uint32_t)n))
         return 0;
     const uint32_t t2 = new_tri(r), n2 = t2 == NONE ? NONE : new_tri(r);
@@ -436,37 +449,91 @@ static int neighbours(rf* r)
     return 1;
 }
 
+/* The refinement's state over w for n points: neighbours, orientation. 0 when out of memory. */
+static int rf_init(rf* r, qm_work* w, size_t n)
+{
+    r->w = w;
+    /* w->tris grows with the first new triangle (a mesh of the caller's may point to it) */
+    r->cap_t = w->nt;
+    r->adj = malloc(3 * r->cap_t * sizeof *r->adj);
+    r->head = malloc(r->cap_t * sizeof *r->head);
+    r->stamp = calloc(r->cap_t, sizeof *r->stamp);
+    r->in_set = calloc(r->cap_t, 1);
+    r->next = malloc((n ? n : 1) * sizeof *r->next);
+    r->dead = calloc(n ? n : 1, 1);
+    if (!r->adj || !r->head || !r->stamp || !r->in_set || !r->next || !r->dead || !neighbours(r))
+        return 0;
+    const uint32_t* v = w->tris;
+    const long long o = (w->u[v[1]] - (long long)w->u[v[0]]) * (w->v[v[2]] - (long long)w->v[v[0]]) -
+                        (w->v[v[1]] - (long long)w->v[v[0]]) * (w->u[v[2]] - (long long)w->u[v[0]]);
+    r->sgn = o > 0 ? 1 : -1;
+    for (size_t t = 0; t < w->nt; t++)
+        r->head[t] = NONE;
+    return 1;
+}
+
+static void rf_free(rf* r)
+{
+    free(r->adj), free(r->head), free(r->stamp), free(r->in_set), free(r->next), free(r->dead);
+    free(r->heap), free(r->set), free(r->gathered), free(r->stack);
+}
+
+/* Whether code (x, y) lies strictly inside the outline edge e of t. */
+static int on_outline_edge(const rf* r, uint32_t t, int e, long long x, long long y)
+{
+    if (r->adj[3 * t + e] >= 0)
+        return 0;
+    const uint32_t* v = r->w->tris + 3 * (size_t)t;
+    const uint32_t a = v[e], b = v[(e + 1) % 3];
+    if (orient(r, a, b, x, y) != 0)
+        return 0;
+    const long long ax = px_(r, a), ay = py_(r, a), bx = px_(r, b), by = py_(r, b);
+    return (x - ax) * (x - bx) + (y - ay) * (y - by) < 0;
+}
+
+int tp_qm_insert_sides(qm_work* w, const qm_side_vertex* sv, size_t n, tp_error* err)
+{
+    rf r;
+    memset(&r, 0, sizeof r);
+    int ok = rf_init(&r, w, 0);
+    for (size_t k = 0; k < n && ok; k++) {
+        uint32_t t = NONE;
+        int e = 0;
+        for (size_t i = 0; i < w->nt && t == NONE; i++)
+            for (e = 0; e < 3; e++)
+                if (on_outline_edge(&r, (uint32_t)i, e, sv[k].u, sv[k].v)) {
+                    t = (uint32_t)i;
+                    break;
+                }
+        if (t == NONE) /* a vertex there already */
+            continue;
+        r.nset = r.ng = 0;
+        const uint32_t p = new_vertex(&r, sv[k].u, sv[k].v, sv[k].hq);
+        ok = p != NONE && take(&r, t) && split_edge(&r, t, e, p);
+        for (size_t s = 0; s < r.nset; s++)
+            r.in_set[r.set[s]] = 0;
+    }
+    if (!ok)
+        tp_error_set(err, TP_ERR_OUT_OF_MEMORY, "out of memory adding a tile's side vertices");
+    rf_free(&r);
+    return ok;
+}
+
 int tp_qm_refine(qm_work* w, const qm_mesh* m, qm_index** index, const qm_point* pts, size_t n,
                  double bound_m, double step_m, qm_height_fn height, void* ctx, size_t* inserted,
                  double* stuck_m, tp_error* err)
 {
     rf r;
     memset(&r, 0, sizeof r);
-    r.w = w, r.pts = pts, r.np = n, r.bound = bound_m, r.step = step_m;
+    r.pts = pts, r.np = n, r.bound = bound_m, r.step = step_m;
     r.height = height, r.ctx = ctx;
     int read_failed = 0;
     *inserted = 0;
     *stuck_m = 0;
     const size_t nv0 = w->nv;
     int ok = 0;
-    /* w->tris grows with the first new triangle: m (which points to it) is read before */
-    r.cap_t = w->nt;
-    r.adj = malloc(3 * r.cap_t * sizeof *r.adj);
-    r.head = malloc(r.cap_t * sizeof *r.head);
-    r.stamp = calloc(r.cap_t, sizeof *r.stamp);
-    r.in_set = calloc(r.cap_t, 1);
-    r.next = malloc((n ? n : 1) * sizeof *r.next);
-    r.dead = calloc(n ? n : 1, 1);
-    if (!r.adj || !r.head || !r.stamp || !r.in_set || !r.next || !r.dead || !neighbours(&r))
+    if (!rf_init(&r, w, n))
         goto done;
-    {
-        const uint32_t* v = w->tris;
-        const long long o = (w->u[v[1]] - (long long)w->u[v[0]]) * (w->v[v[2]] - (long long)w->v[v[0]]) -
-                            (w->v[v[1]] - (long long)w->v[v[0]]) * (w->u[v[2]] - (long long)w->u[v[0]]);
-        r.sgn = o > 0 ? 1 : -1;
-    }
-    for (size_t t = 0; t < w->nt; t++)
-        r.head[t] = NONE;
     for (size_t k = 0; k < n; k++) {
         const uint32_t t = tp_qm_mesh_triangle(m, index, pts[k].fi, pts[k].fj);
         if (t == NONE)
@@ -504,7 +571,6 @@ int tp_qm_refine(qm_work* w, const qm_mesh* m, qm_index** index, const qm_point*
 done:
     if (!ok && !read_failed)
         tp_error_set(err, TP_ERR_OUT_OF_MEMORY, "out of memory refining a tile");
-    free(r.adj), free(r.head), free(r.stamp), free(r.in_set), free(r.next), free(r.dead);
-    free(r.heap), free(r.set), free(r.gathered), free(r.stack);
+    rf_free(&r);
     return ok;
 }

@@ -212,28 +212,37 @@ static uint64_t fnv(uint64_t h, uint64_t v)
     return h;
 }
 
-/* The sides' signatures: each side's vertices (position along it in lattice cells, height in
- * steps) in order. The sides hold lattice vertices only (the refinement never touches them). */
-static void edge_hashes(const qm_work* w, uint64_t out[4])
+static int cmp_ll2(const void* a, const void* b)
 {
-    const int per_cell = TP_QMESH_MAX_CODE / TP_QM_CELLS;
+    const long long *p = a, *q = b;
+    return (p[0] > q[0]) - (p[0] < q[0]);
+}
+
+/* The sides' signatures: each side's vertices (code along it, height in steps) in order. */
+static int edge_hashes(const qm_work* w, uint64_t out[4])
+{
+    long long* at = malloc(2 * (w->nv + 1) * sizeof *at);
+    if (!at)
+        return 0;
     for (int side = 0; side < 4; side++) { /* west, south, east, north */
-        long long at[NP];
-        for (int i = 0; i < NP; i++)
-            at[i] = LLONG_MIN;
+        size_t n = 0;
         for (size_t k = 0; k < w->nv; k++) {
             const int u = w->u[k], v = w->v[k];
             const int on = side == 0 ? u == 0 : side == 1 ? v == 0
                                       : side == 2 ? u == TP_QMESH_MAX_CODE : v == TP_QMESH_MAX_CODE;
-            if (on)
-                at[(side == 0 || side == 2 ? v : u) / per_cell] = w->hq[k];
+            if (on) {
+                at[2 * n] = side == 0 || side == 2 ? v : u;
+                at[2 * n++ + 1] = w->hq[k];
+            }
         }
+        qsort(at, n, 2 * sizeof *at, cmp_ll2);
         uint64_t h = 1469598103934665603ull;
-        for (int i = 0; i < NP; i++)
-            if (at[i] != LLONG_MIN)
-                h = fnv(fnv(h, (uint64_t)i), (uint64_t)at[i]);
+        for (size_t i = 0; i < n; i++)
+            h = fnv(fnv(h, (uint64_t)at[2 * i]), (uint64_t)at[2 * i + 1]);
         out[side] = h;
     }
+    free(at);
+    return 1;
 }
 
 /* The header's range and the height codes: every vertex decodes to hq * step. */
@@ -337,8 +346,9 @@ static int surface_at(void* ctx, double fi, double fj, double* h)
 
 /* Refinement passes before the measure is taken as it is. */
 #define QM_PASSES 8
-/* Points a measure keeps for the refinement (24 bytes each). */
-#define QM_POINTS_MAX ((size_t)1 << 20)
+/* Points a measure keeps for the refinement (24 bytes each): this many between half the bound
+ * and the bound, 4 times as many in all. */
+#define QM_POINTS_MAX ((size_t)1 << 19)
 
 /* Measures the tile and, while a post or lattice post is above the bound, refines it with the
  * points the measure found above half the bound and measures again (docs/quantized_mesh.md, "The
@@ -346,7 +356,7 @@ static int surface_at(void* ctx, double fi, double fj, double* h)
 static int refine_measured(const qm_source* s, const lattice* l, qm_work* w, const double box[4],
                            double bound_m, qm_tile_result* r, tp_error* err)
 {
-    qm_points c = {NULL, 0, 0, QM_POINTS_MAX, 0.5 * bound_m};
+    qm_points c = {NULL, 0, 0, QM_POINTS_MAX, 0.5 * bound_m, bound_m};
     qm_index* ix = NULL;
     double *ij = NULL, *zd = NULL;
     size_t cap = 0;
@@ -439,7 +449,17 @@ int tp_qm_tile_build(const qm_source* s, int z, int x, int y, double bound_m, qm
     double w_deg, s_deg, e_deg, n_deg;
     tp_qmesh_tile_bounds(z, x, y, &w_deg, &s_deg, &e_deg, &n_deg);
     const double box[4] = {w_deg, s_deg, e_deg, n_deg};
-    if (!refine_measured(s, &l, &w, box, bound_m, r, err))
+    /* the posts on the sides first (both tiles of a side add the same vertices), then the
+     * inside refined until the measure is within the bound */
+    surface_ctx sc = {s, &l, err};
+    qm_side_vertex* sv = NULL;
+    size_t nsv = 0;
+    if (!tp_qm_side_vertices(s, &w, z, x, y, bound_m, surface_at, &sc, &sv, &nsv, err))
+        goto done;
+    const int sides_ok = tp_qm_insert_sides(&w, sv, nsv, err);
+    free(sv);
+    r->side_vertices = nsv;
+    if (!sides_ok || !refine_measured(s, &l, &w, box, bound_m, r, err))
         goto done;
     hc = malloc(w.nv * sizeof *hc);
     if (!hc) {
@@ -448,7 +468,10 @@ int tp_qm_tile_build(const qm_source* s, int z, int x, int y, double bound_m, qm
     }
     double lo_m, hi_m;
     quantise(s, &w, hc, &lo_m, &hi_m);
-    edge_hashes(&w, r->edge_hash);
+    if (!edge_hashes(&w, r->edge_hash)) {
+        fail_oom(err);
+        goto done;
+    }
     tp_qmesh_tile qt = {w_deg, s_deg, e_deg, n_deg, lo_m, hi_m, w.nv, w.u, w.v, hc, w.nt, w.tris};
     if (tp_qmesh_encode(&qt, &raw, &r->raw_size, NULL, err) != TP_OK)
         goto done;

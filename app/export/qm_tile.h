@@ -43,13 +43,14 @@ typedef struct qm_tile_result {
                                   lattice posts with a height (decoded heights, as Cesium) */
     size_t posts_measured;
     size_t inserted;           /* vertices the refinement added (posts off the lattice) */
+    size_t side_vertices;      /* vertices added on the sides (posts on a side's line) */
     int passes;                /* refinement passes (0: the TIN was within its bound) */
     double stuck_m;            /* the largest error of a point the refinement could not insert
                                   (its code held a vertex already), last pass */
     double proj_interp_m;      /* largest gap between the interpolated and the exact grid
                                   position at the coarse cells' centres checked (grid units x
                                   spacing: metres) */
-    uint64_t edge_hash[4];     /* west, south, east, north: the side's (position, height) list */
+    uint64_t edge_hash[4];     /* west, south, east, north: the side's (code, height) list */
 } qm_tile_result;
 
 /* Builds tile (z, x, y) with the TIN bound bound_m into r (zeroed first). 0 with a message in
@@ -86,11 +87,12 @@ typedef struct qm_point {
 } qm_point;
 
 /* The points a measure found above a threshold: those above `above` are appended while n <
- * limit (the rest are found by the next measure, after the refinement). */
+ * limit, those above `bound` while n < 4 limit (the rest are found by the next measure, after
+ * the refinement). */
 typedef struct qm_points {
     qm_point* p;
     size_t n, cap, limit;
-    double above;
+    double above, bound;
 } qm_points;
 
 /* Appends (fi, fj, h) when err > c->above and there is room; 0 when out of memory. */
@@ -117,6 +119,16 @@ typedef struct qm_work {
     size_t nt, cap_t; /* cap_t: uint32_t elements of tris */
 } qm_work;
 
+/* A vertex added on a tile's side (u or v 0 or 32767), the same in both tiles of the side. */
+typedef struct qm_side_vertex {
+    uint16_t u, v;
+    long long hq; /* height in steps */
+} qm_side_vertex;
+
+/* Adds the side vertices to w, each splitting the outline edge it lies on (Delaunay flips
+ * around it); one where a vertex is already is skipped. 0 when out of memory (message in err). */
+int tp_qm_insert_sides(qm_work* w, const qm_side_vertex* sv, size_t n, tp_error* err);
+
 /* The surface's height (m, converted as the tile's are) at lattice position (fi, fj): NaN in *h
  * where there is none; 0 on a read failure (message in the function's own error). */
 typedef int (*qm_height_fn)(void* ctx, double fi, double fj, double* h);
@@ -133,5 +145,18 @@ typedef int (*qm_height_fn)(void* ctx, double fi, double fj, double* h);
 int tp_qm_refine(qm_work* w, const qm_mesh* m, qm_index** index, const qm_point* pts, size_t n,
                  double bound_m, double step_m, qm_height_fn height, void* ctx, size_t* inserted,
                  double* stuck_m, tp_error* err);
+
+/* ---- qm_sides.c ---- */
+
+/* The vertices tile (z, x, y)'s sides need so that the store's posts on them (those within 1.5
+ * u, v codes of the side's line, which the inside's refinement cannot hold) are within half
+ * of bound_m of the side's polyline: for each side, from the posts along its line (exact
+ * projections) and the vertices w has on it, a 1-D greedy polyline, the worst post first,
+ * each vertex at the post's code along the side with the surface's height there (height(), the
+ * post's where NaN) rounded to the step. Everything it reads is a function of the side alone,
+ * so both tiles add the same vertices. *out (free()) and *n; 0 on failure (message in err). */
+int tp_qm_side_vertices(const qm_source* s, const qm_work* w, int z, int x, int y, double bound_m,
+                        qm_height_fn height, void* ctx, qm_side_vertex** out, size_t* n,
+                        tp_error* err);
 
 #endif
