@@ -148,8 +148,8 @@ static double poly_at(const pvert* v, size_t nv, double at, double step)
 }
 
 int tp_qm_side_vertices(const qm_source* s, const qm_work* w, int z, int x, int y, double bound_m,
-                        qm_height_fn height, void* ctx, qm_side_vertex** out, size_t* n,
-                        tp_error* err)
+                        const float* lattice_h, const uint8_t* valid, qm_height_fn height,
+                        void* ctx, qm_side_vertex** out, size_t* n, tp_error* err)
 {
     const double size = 180.0 / ldexp(1.0, z), west = -180.0 + x * size, south = -90.0 + y * size;
     const double per_cell = TP_QMESH_MAX_CODE / TP_QM_CELLS;
@@ -168,9 +168,23 @@ int tp_qm_side_vertices(const qm_source* s, const qm_work* w, int z, int x, int 
                 pv[nv++] = (pvert){ns ? w->u[k] : w->v[k], w->hq[k]};
         qsort(pv, nv, sizeof *pv, cmp_pvert);
         side_post* posts;
-        size_t np;
+        size_t np, pcap;
         if (!side_posts(s, side, west, south, size, &posts, &np, err))
             goto fail;
+        /* and the lattice's posts on the side that the measure reads (the same in both tiles):
+         * a vertex added between the TIN's must not take the line away from them */
+        pcap = np;
+        for (int k = 1; k < TP_QM_CELLS; k++) {
+            const int i = ns ? k : line ? TP_QM_CELLS : 0;
+            const int j = ns ? (line ? 0 : TP_QM_CELLS) : TP_QM_CELLS - k;
+            const size_t at = (size_t)j * (TP_QM_CELLS + 1) + i;
+            const side_post p = {k * per_cell, lattice_h[at]};
+            if (valid[at] && !push((void**)&posts, &np, &pcap, &p, sizeof p)) {
+                free(posts);
+                tp_error_set(err, TP_ERR_OUT_OF_MEMORY, "out of memory");
+                goto fail;
+            }
+        }
         size_t first_new = *n;
         for (;;) { /* the worst post above the bound, until none */
             /* half the bound: a post beside the line (up to QM_SIDE_BAND codes) is a mix of

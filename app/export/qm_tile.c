@@ -454,7 +454,8 @@ int tp_qm_tile_build(const qm_source* s, int z, int x, int y, double bound_m, qm
     surface_ctx sc = {s, &l, err};
     qm_side_vertex* sv = NULL;
     size_t nsv = 0;
-    if (!tp_qm_side_vertices(s, &w, z, x, y, bound_m, surface_at, &sc, &sv, &nsv, err))
+    if (!tp_qm_side_vertices(s, &w, z, x, y, bound_m, l.h, l.valid, surface_at, &sc, &sv, &nsv,
+                             err))
         goto done;
     const int sides_ok = tp_qm_insert_sides(&w, sv, nsv, err);
     free(sv);

@@ -153,10 +153,12 @@ int tp_qm_refine(qm_work* w, const qm_mesh* m, qm_index** index, const qm_point*
  * of bound_m of the side's polyline: for each side, from the posts along its line (exact
  * projections) and the vertices w has on it, a 1-D greedy polyline, the worst post first,
  * each vertex at the post's code along the side with the surface's height there (height(), the
- * post's where NaN) rounded to the step. Everything it reads is a function of the side alone,
+ * post's where NaN) rounded to the step; the lattice's posts on the side with a height
+ * (lattice_h and valid: the tile's (TP_QM_CELLS + 1)^2 lattice, row 0 north) held too.
+ * Everything it reads is a function of the side alone,
  * so both tiles add the same vertices. *out (free()) and *n; 0 on failure (message in err). */
 int tp_qm_side_vertices(const qm_source* s, const qm_work* w, int z, int x, int y, double bound_m,
-                        qm_height_fn height, void* ctx, qm_side_vertex** out, size_t* n,
-                        tp_error* err);
+                        const float* lattice_h, const uint8_t* valid, qm_height_fn height,
+                        void* ctx, qm_side_vertex** out, size_t* n, tp_error* err);
 
 #endif
