@@ -97,7 +97,8 @@ static int side_posts(const qm_source* s, int side, double w, double so, double 
             }
         }
     }
-    qsort(cand, nc, 2 * sizeof *cand, cmp_ll2);
+    if (nc)
+        qsort(cand, nc, 2 * sizeof *cand, cmp_ll2);
     for (size_t k = 0; k < nc; k++) {
         if (k && cand[2 * k] == cand[2 * k - 2] && cand[2 * k + 1] == cand[2 * k - 1])
             continue;
