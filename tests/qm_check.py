@@ -19,6 +19,9 @@ Checks (each failure prints "FAIL: ..." and exits 1; success prints "PASS ..." w
     the point is (Cesium's culling test can then never hide a visible vertex);
   - normals: after oct decoding, facing up (dot with the ellipsoid's normal > -0.02: the 8-bit
     code's rounding of a vertical wall's normal);
+  - the bound: every tile's measured error (errors.json) at most its level's
+    geometric_error_m in layer.json (the figure Cesium refines by), and max_measured_error_m
+    the level's largest;
   - watertight: neighbouring tiles of a level have the same vertices (position along the
     shared side, decoded height within 1e-6 m) on that side;
   - with --points: at N random positions inside tiles of the deepest level, the tile's height
@@ -252,6 +255,20 @@ def main():
                 t = decode(gzip.decompress(raw), path)
                 check_tile(t, z, x, y, path)
                 tiles[(z, x, y)] = t
+    # the bound: every tile's measured error (errors.json: its decoded heights against every
+    # store post and lattice post in it) within its level's stated geometric error, which is
+    # what Cesium refines by; and each level's stated maximum is its tiles' maximum
+    for z in range(zmax + 1):
+        lv = tp["levels"][z]
+        bound = lv["geometric_error_m"]
+        mine = [(errors["%d/%d/%d" % k], k) for k in tiles if k[0] == z]
+        over = [(e, k) for e, k in mine if e > bound * (1 + 1e-9)]
+        if over:
+            e, k = max(over)
+            fail("level %d: %d of %d tiles measured above the level's geometric error %.4f m "
+                 "(worst %d/%d/%d: %.4f m)" % (z, len(over), len(mine), bound, k[0], k[1], k[2], e))
+        if abs(lv["max_measured_error_m"] - max(e for e, _ in mine)) > 1e-6 * max(1.0, bound):
+            fail("level %d: max_measured_error_m %r is not its tiles' maximum" % (z, lv["max_measured_error_m"]))
     pairs = 0
     for (z, x, y), t in tiles.items():
         for (dx, dy, mine, theirs) in ((1, 0, 2, 0), (0, 1, 3, 1)):

@@ -356,6 +356,10 @@ static int build_all(qm_run* q, double* seconds)
                         break;
                     }
                     q->proj_interp_m = fmax(q->proj_interp_m, t.proj_interp_m);
+                    if (t.measured_m > t.bound_m) /* the refinement stopped short: said, and written */
+                        tp_cli_note("tile %d/%d/%d: measured %.3f m, above its level's bound %.3f m "
+                                    "(%d refinement passes; a post on a vertex's code at %.3f m)",
+                                    z, x, y, t.measured_m, t.bound_m, t.passes, t.stuck_m);
                     int ok = write_tile(q, log, z, x, y, &t);
                     tile_rec r = {1, t.measured_m, t.bound_m, t.vertices, t.triangles,
                                   t.gz_size, t.raw_size, t.posts_measured,
@@ -608,7 +612,7 @@ int tp_export_qm(const tp_qm_request* r)
     if (!height_step(q) || !plan(q))
         goto done;
     snprintf(q->options, sizeof q->options,
-             "terrapatch quantized-mesh 1 source=%s heights=%s max_zoom=%d bounds=%.9g,%.9g,"
+             "terrapatch quantized-mesh 2 source=%s heights=%s max_zoom=%d bounds=%.9g,%.9g,"
              "%.9g,%.9g max_error=%.9g lattice=%d step=%.9g",
              r->path, r->ellipsoid ? "ellipsoid" : "geoid", q->max_zoom,
              r->has_bounds ? r->bounds[0] : -180.0, r->has_bounds ? r->bounds[1] : -90.0,

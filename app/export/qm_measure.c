@@ -28,16 +28,17 @@ static void cells_of(const qm_mesh* m, size_t t, int* i0, int* i1, int* j0, int*
 {
     double lo_i = INFINITY, hi_i = -INFINITY, lo_j = INFINITY, hi_j = -INFINITY;
     for (int c = 0; c < 3; c++) {
-        const float* p = m->ij + 2 * m->tris[3 * t + c];
+        const double* p = m->ij + 2 * m->tris[3 * t + c];
         lo_i = fmin(lo_i, p[0]);
         hi_i = fmax(hi_i, p[0]);
         lo_j = fmin(lo_j, p[1]);
         hi_j = fmax(hi_j, p[1]);
     }
-    *i0 = (int)lo_i;
-    *j0 = (int)lo_j;
-    *i1 = (int)hi_i - 1 < *i0 ? *i0 : (int)hi_i - 1;
-    *j1 = (int)hi_j - 1 < *j0 ? *j0 : (int)hi_j - 1;
+    /* vertices off the lattice (the refinement's): every cell the box touches */
+    *i0 = (int)floor(lo_i);
+    *j0 = (int)floor(lo_j);
+    *i1 = (int)ceil(hi_i) - 1 < *i0 ? *i0 : (int)ceil(hi_i) - 1;
+    *j1 = (int)ceil(hi_j) - 1 < *j0 ? *j0 : (int)ceil(hi_j) - 1;
     *i1 = *i1 > m->n - 1 ? m->n - 1 : *i1;
     *j1 = *j1 > m->n - 1 ? m->n - 1 : *j1;
 }
@@ -88,9 +89,9 @@ static qm_index* index_build(const qm_mesh* m)
 static double in_triangle(const qm_mesh* m, uint32_t t, double fi, double fj, double* lo)
 {
     const uint32_t* v = m->tris + 3 * (size_t)t;
-    const float *a = m->ij + 2 * v[0], *b = m->ij + 2 * v[1], *c = m->ij + 2 * v[2];
-    const double bx = (double)b[0] - a[0], by = (double)b[1] - a[1];
-    const double cx = (double)c[0] - a[0], cy = (double)c[1] - a[1];
+    const double *a = m->ij + 2 * v[0], *b = m->ij + 2 * v[1], *c = m->ij + 2 * v[2];
+    const double bx = b[0] - a[0], by = b[1] - a[1];
+    const double cx = c[0] - a[0], cy = c[1] - a[1];
     const double det = bx * cy - cx * by;
     if (det == 0) {
         *lo = -INFINITY;
@@ -104,30 +105,63 @@ static double in_triangle(const qm_mesh* m, uint32_t t, double fi, double fj, do
     return wa * m->z[v[0]] + wb * m->z[v[1]] + wc * m->z[v[2]];
 }
 
-double tp_qm_mesh_height(const qm_mesh* m, qm_index** index, double fi, double fj)
+/* The triangle around (fi, fj) and its height there: the last one found first, then those of
+ * the lattice cell; the one nearest to holding it when none does (a rounding's distance).
+ * UINT32_MAX when out of memory. */
+static uint32_t locate(const qm_mesh* m, qm_index** index, double fi, double fj, double* z_out)
 {
     if (!*index && !(*index = index_build(m)))
-        return NAN;
+        return UINT32_MAX;
     qm_index* ix = *index;
     double lo, z = in_triangle(m, ix->last, fi, fj, &lo);
+    *z_out = z;
     if (lo >= 0)
-        return z;
+        return ix->last;
     int ci = (int)floor(fi), cj = (int)floor(fj);
     ci = ci < 0 ? 0 : ci > m->n - 1 ? m->n - 1 : ci;
     cj = cj < 0 ? 0 : cj > m->n - 1 ? m->n - 1 : cj;
     const size_t c = (size_t)cj * m->n + ci;
-    double best = -INFINITY, best_z = 0;
+    double best = -INFINITY;
     for (uint32_t k = ix->start[c]; k < ix->start[c + 1]; k++) {
         z = in_triangle(m, ix->tri[k], fi, fj, &lo);
         if (lo > best) {
             best = lo;
-            best_z = z;
+            *z_out = z;
             ix->last = ix->tri[k];
             if (lo >= 0)
                 break;
         }
     }
-    return best_z;
+    return ix->last;
+}
+
+double tp_qm_mesh_height(const qm_mesh* m, qm_index** index, double fi, double fj)
+{
+    double z;
+    return locate(m, index, fi, fj, &z) == UINT32_MAX ? NAN : z;
+}
+
+uint32_t tp_qm_mesh_triangle(const qm_mesh* m, qm_index** index, double fi, double fj)
+{
+    double z;
+    return locate(m, index, fi, fj, &z);
+}
+
+int tp_qm_points_add(qm_points* c, double fi, double fj, double h, double err)
+{
+    /* those between `above` and the bound while n < limit, those above the bound up to 4 limit */
+    if (!(err > c->above) || c->n >= 4 * c->limit || (!(err > c->bound) && c->n >= c->limit))
+        return 1;
+    if (c->n == c->cap) {
+        const size_t cap = c->cap ? 2 * c->cap : 1024;
+        qm_point* p = realloc(c->p, cap * sizeof *p);
+        if (!p)
+            return 0;
+        c->p = p;
+        c->cap = cap;
+    }
+    c->p[c->n++] = (qm_point){fi, fj, h};
+    return 1;
 }
 
 /* Posts between two exact grid -> WGS84 conversions along each axis of the store's grid. */
@@ -184,7 +218,7 @@ static int post_box(const qm_source* s, double w, double so, double e, double no
 
 int tp_qm_measure_posts(const qm_source* s, const qm_mesh* m, qm_index** index, double west,
                         double south, double east, double north, double* max_err, size_t* posts,
-                        tp_error* err)
+                        qm_points* collect, tp_error* err)
 {
     *max_err = 0;
     *posts = 0;
@@ -231,12 +265,13 @@ int tp_qm_measure_posts(const qm_source* s, const qm_mesh* m, qm_index** index, 
                                    ty * ((1 - tx) * p01.und + tx * p11.und);
                 if (!(lon >= west && lon <= east && lat >= south && lat <= north) || und != und)
                     continue;
-                const double mh = tp_qm_mesh_height(m, index, (lon - west) / d, (north - lat) / d);
-                if (mh != mh) {
+                const double fi = (lon - west) / d, fj = (north - lat) / d;
+                const double mh = tp_qm_mesh_height(m, index, fi, fj);
+                const double e = fabs(mh - (h + und));
+                if (mh != mh || (collect && !tp_qm_points_add(collect, fi, fj, h + und, e))) {
                     tp_error_set(err, TP_ERR_OUT_OF_MEMORY, "out of memory");
                     goto done;
                 }
-                const double e = fabs(mh - (h + und));
                 *max_err = e > *max_err ? e : *max_err;
                 (*posts)++;
             }

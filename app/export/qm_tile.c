@@ -212,52 +212,197 @@ static uint64_t fnv(uint64_t h, uint64_t v)
     return h;
 }
 
-/* The sides' signatures: each side's vertices (position along it, height in steps) in order. */
-static void edge_hashes(const tp_tin* t, const long long* hq, uint64_t out[4])
+static int cmp_ll2(const void* a, const void* b)
 {
-    for (int side = 0; side < 4; side++) {
-        /* positions 0..TP_QM_CELLS along the side: at most NP vertices, one each */
-        long long at[NP];
-        for (int i = 0; i < NP; i++)
-            at[i] = LLONG_MIN;
-        for (size_t v = 0; v < t->vertex_count; v++) {
-            const int i = (int)t->vertices[3 * v], j = (int)t->vertices[3 * v + 1];
-            int on = side == 0 ? i == 0 : side == 1 ? j == TP_QM_CELLS
-                                      : side == 2 ? i == TP_QM_CELLS : j == 0;
-            if (on)
-                at[side == 0 || side == 2 ? TP_QM_CELLS - j : i] = hq[v];
-        }
-        uint64_t h = 1469598103934665603ull;
-        for (int i = 0; i < NP; i++)
-            if (at[i] != LLONG_MIN)
-                h = fnv(fnv(h, (uint64_t)i), (uint64_t)at[i]);
-        out[side] = h;
-    }
+    const long long *p = a, *q = b;
+    return (p[0] > q[0]) - (p[0] < q[0]);
 }
 
-/* Heights on the common step, codes and header range: every vertex decodes to hq * step. */
-static void quantise(const qm_source* s, const tp_tin* t, long long* hq, uint16_t* hc,
-                     double* lo_m, double* hi_m)
+/* The sides' signatures: each side's vertices (code along it, height in steps) in order. */
+static int edge_hashes(const qm_work* w, uint64_t out[4])
+{
+    long long* at = malloc(2 * (w->nv + 1) * sizeof *at);
+    if (!at)
+        return 0;
+    for (int side = 0; side < 4; side++) { /* west, south, east, north */
+        size_t n = 0;
+        for (size_t k = 0; k < w->nv; k++) {
+            const int u = w->u[k], v = w->v[k];
+            const int on = side == 0 ? u == 0 : side == 1 ? v == 0
+                                      : side == 2 ? u == TP_QMESH_MAX_CODE : v == TP_QMESH_MAX_CODE;
+            if (on) {
+                at[2 * n] = side == 0 || side == 2 ? v : u;
+                at[2 * n++ + 1] = w->hq[k];
+            }
+        }
+        qsort(at, n, 2 * sizeof *at, cmp_ll2);
+        uint64_t h = 1469598103934665603ull;
+        for (size_t i = 0; i < n; i++)
+            h = fnv(fnv(h, (uint64_t)at[2 * i]), (uint64_t)at[2 * i + 1]);
+        out[side] = h;
+    }
+    free(at);
+    return 1;
+}
+
+/* The header's range and the height codes: every vertex decodes to hq * step. */
+static void quantise(const qm_source* s, const qm_work* w, uint16_t* hc, double* lo_m,
+                     double* hi_m)
 {
     const double step = s->height_step_m;
     long long lo = LLONG_MAX, hi = LLONG_MIN;
-    for (size_t v = 0; v < t->vertex_count; v++) {
-        hq[v] = llround(t->vertices[3 * v + 2] / step);
-        lo = hq[v] < lo ? hq[v] : lo;
-        hi = hq[v] > hi ? hq[v] : hi;
+    for (size_t k = 0; k < w->nv; k++) {
+        lo = w->hq[k] < lo ? w->hq[k] : lo;
+        hi = w->hq[k] > hi ? w->hq[k] : hi;
     }
     /* codes of 2^k per step, the most that fit 32767 and keep the range a float (24 bits) */
     int k = 0;
     while (k < 15 && (hi - lo) * (2LL << k) <= TP_QMESH_MAX_CODE &&
            (fabs((double)lo) + 32768.0) * (double)(2LL << k) < 16777216.0)
         k++;
-    for (size_t v = 0; v < t->vertex_count; v++)
-        hc[v] = (uint16_t)((hq[v] - lo) << k);
+    for (size_t v = 0; v < w->nv; v++)
+        hc[v] = (uint16_t)((w->hq[v] - lo) << k);
     *lo_m = (double)lo * step;
     *hi_m = *lo_m + TP_QMESH_MAX_CODE * step / (double)(1LL << k);
 }
 
 static int fail_oom(tp_error* err) { return tp_error_set(err, TP_ERR_OUT_OF_MEMORY, "out of memory"), 0; }
+
+/* The TIN as a mesh to refine: vertices at their u, v codes, heights on the common step. */
+static int work_of(const qm_source* s, const tp_tin* t, qm_work* w)
+{
+    const int per_cell = TP_QMESH_MAX_CODE / TP_QM_CELLS;
+    w->nv = w->cap_v = t->vertex_count;
+    w->nt = t->triangle_count;
+    w->cap_t = 3 * w->nt;
+    w->u = malloc(w->nv * sizeof *w->u);
+    w->v = malloc(w->nv * sizeof *w->v);
+    w->hq = malloc(w->nv * sizeof *w->hq);
+    w->tris = malloc(w->cap_t * sizeof *w->tris);
+    if (!w->u || !w->v || !w->hq || !w->tris)
+        return 0;
+    for (size_t k = 0; k < w->nv; k++) {
+        w->u[k] = (uint16_t)((int)t->vertices[3 * k] * per_cell);
+        w->v[k] = (uint16_t)((TP_QM_CELLS - (int)t->vertices[3 * k + 1]) * per_cell);
+        w->hq[k] = llround(t->vertices[3 * k + 2] / s->height_step_m);
+    }
+    memcpy(w->tris, t->triangles, w->cap_t * sizeof *w->tris);
+    return 1;
+}
+
+/* Measures tile w (as mesh m, built here over the buffers ij and zd of w->nv vertices) against
+ * the lattice posts with a height and the store's posts in box (west, south, east, north); the
+ * points above c->above appended to c (NULL: none). 0 on failure. */
+static int measure(const qm_source* s, const lattice* l, const qm_work* w, const double box[4],
+                   double* ij, double* zd, qm_mesh* m, qm_index** ix, qm_points* c,
+                   double* max_m, size_t* posts, tp_error* err)
+{
+    const double per_cell = TP_QMESH_MAX_CODE / TP_QM_CELLS;
+    for (size_t k = 0; k < w->nv; k++) {
+        ij[2 * k] = w->u[k] / per_cell;
+        ij[2 * k + 1] = TP_QM_CELLS - w->v[k] / per_cell;
+        zd[k] = (double)w->hq[k] * s->height_step_m;
+    }
+    *m = (qm_mesh){TP_QM_CELLS, w->nv, w->nt, ij, zd, w->tris};
+    double mx = 0;
+    for (int j = 0; j < NP; j++)
+        for (int i = 0; i < NP; i++)
+            if (l->valid[(size_t)j * NP + i]) {
+                const double h = l->h[(size_t)j * NP + i], hm = tp_qm_mesh_height(m, ix, i, j);
+                if (isnan(hm) || (c && !tp_qm_points_add(c, i, j, h, fabs(hm - h))))
+                    return fail_oom(err);
+                mx = fmax(mx, fabs(hm - h));
+            }
+    double post_err = 0;
+    if (!tp_qm_measure_posts(s, m, ix, box[0], box[1], box[2], box[3], &post_err, posts, c, err))
+        return 0;
+    *max_m = fmax(mx, post_err);
+    return 1;
+}
+
+/* The refinement's height function: the store's surface at a lattice position (exact
+ * projection), its undulation added; NaN off the grid or in a void. */
+typedef struct surface_ctx {
+    const qm_source* s;
+    const lattice* l;
+    tp_error* err;
+} surface_ctx;
+
+static int surface_at(void* ctx, double fi, double fj, double* h)
+{
+    const surface_ctx* c = ctx;
+    const double lon = -180.0 + ((double)c->l->gx0 + fi) * c->l->d;
+    const double lat = -90.0 + ((double)c->l->gy0 + TP_QM_CELLS - fj) * c->l->d;
+    double gx, gy, und;
+    *h = NAN;
+    if (!geo_to_grid(c->s, lat, lon, &gx, &gy, &und) || gx < 0 || gy < 0 ||
+        gx > c->s->width - 1 || gy > c->s->height - 1)
+        return 1;
+    if (tp_ground_height(c->s->ground, gx, gy, h, c->err) != TP_OK)
+        return 0;
+    *h += und;
+    return 1;
+}
+
+/* Refinement passes before the measure is taken as it is. */
+#define QM_PASSES 8
+/* Points a measure keeps for the refinement (24 bytes each): this many between half the bound
+ * and the bound, 4 times as many in all. */
+#define QM_POINTS_MAX ((size_t)1 << 19)
+
+/* Measures the tile and, while a post or lattice post is above the bound, refines it with the
+ * points the measure found above half the bound and measures again (docs/quantized_mesh.md, "The
+ * measured error"). r's measure fields set. 0 on failure. */
+static int refine_measured(const qm_source* s, const lattice* l, qm_work* w, const double box[4],
+                           double bound_m, qm_tile_result* r, tp_error* err)
+{
+    qm_points c = {NULL, 0, 0, QM_POINTS_MAX, 0.5 * bound_m, bound_m};
+    qm_index* ix = NULL;
+    double *ij = NULL, *zd = NULL;
+    size_t cap = 0;
+    int ok = 0;
+    for (int pass = 0;; pass++) {
+        if (w->nv > cap) {
+            free(ij);
+            free(zd);
+            cap = w->nv;
+            ij = malloc(2 * cap * sizeof *ij);
+            zd = malloc(cap * sizeof *zd);
+            if (!ij || !zd) {
+                fail_oom(err);
+                break;
+            }
+        }
+        c.n = 0;
+        tp_qm_index_free(ix);
+        ix = NULL;
+        qm_mesh m;
+        if (!measure(s, l, w, box, ij, zd, &m, &ix, pass < QM_PASSES ? &c : NULL,
+                     &r->measured_m, &r->posts_measured, err))
+            break;
+        if (r->measured_m <= bound_m || pass == QM_PASSES) {
+            ok = 1;
+            break;
+        }
+        /* a hair below the bound: the measure's arithmetic is not the refinement's */
+        size_t added;
+        surface_ctx sc = {s, l, err};
+        if (!tp_qm_refine(w, &m, &ix, c.p, c.n, bound_m * (1 - 1e-9), s->height_step_m,
+                          surface_at, &sc, &added, &r->stuck_m, err))
+            break;
+        r->inserted += added;
+        r->passes = pass + 1;
+        if (!added) {
+            ok = 1;
+            break;
+        }
+    }
+    tp_qm_index_free(ix);
+    free(ij);
+    free(zd);
+    free(c.p);
+    return ok;
+}
 
 int tp_qm_tile_build(const qm_source* s, int z, int x, int y, double bound_m, qm_tile_result* r,
                      tp_error* err)
@@ -274,12 +419,9 @@ int tp_qm_tile_build(const qm_source* s, int z, int x, int y, double bound_m, qm
     l.py = malloc(np * sizeof *l.py);
     l.und = malloc(np * sizeof *l.und);
     tp_tin* t = NULL;
-    long long* hq = NULL;
-    uint16_t *u = NULL, *v = NULL, *hc = NULL;
-    float* ij = NULL;
-    double* zd = NULL;
+    qm_work w = {NULL, NULL, NULL, 0, 0, NULL, 0, 0};
+    uint16_t* hc = NULL;
     uint8_t* raw = NULL;
-    qm_index* ix = NULL;
     int ok = 0;
     if (!l.nodes || !l.h || !l.valid || !l.px || !l.py || !l.und) {
         fail_oom(err);
@@ -294,72 +436,63 @@ int tp_qm_tile_build(const qm_source* s, int z, int x, int y, double bound_m, qm
         if (cz[c] != cz[c] && !void_corner(s, &l, corner_at[c], &cz[c], err))
             goto done;
     }
-    if (tp_tin_build_tile(l.h, NP, NP, NP, 0, 0, NP, NP, cz, bound_m, 0, &t, err) != TP_OK)
+    /* the TIN's bound leaves room for the heights' rounding to the step (half a step): the sides,
+     * which the refinement never touches, then hold the bound as decoded */
+    const double half = 0.5 * s->height_step_m;
+    const double tin_bound = bound_m - half > 0.5 * bound_m ? bound_m - half : 0.5 * bound_m;
+    if (tp_tin_build_tile(l.h, NP, NP, NP, 0, 0, NP, NP, cz, tin_bound, 0, &t, err) != TP_OK)
         goto done;
-    const size_t nv = t->vertex_count;
-    hq = malloc(nv * sizeof *hq);
-    u = malloc(nv * sizeof *u);
-    v = malloc(nv * sizeof *v);
-    hc = malloc(nv * sizeof *hc);
-    ij = malloc(2 * nv * sizeof *ij);
-    zd = malloc(nv * sizeof *zd);
-    if (!hq || !u || !v || !hc || !ij || !zd) {
+    if (!work_of(s, t, &w)) {
+        fail_oom(err);
+        goto done;
+    }
+    double w_deg, s_deg, e_deg, n_deg;
+    tp_qmesh_tile_bounds(z, x, y, &w_deg, &s_deg, &e_deg, &n_deg);
+    const double box[4] = {w_deg, s_deg, e_deg, n_deg};
+    /* the posts on the sides first (both tiles of a side add the same vertices), then the
+     * inside refined until the measure is within the bound */
+    surface_ctx sc = {s, &l, err};
+    qm_side_vertex* sv = NULL;
+    size_t nsv = 0;
+    if (!tp_qm_side_vertices(s, &w, z, x, y, bound_m, l.h, l.valid, surface_at, &sc, &sv, &nsv,
+                             err))
+        goto done;
+    const int sides_ok = tp_qm_insert_sides(&w, sv, nsv, err);
+    free(sv);
+    r->side_vertices = nsv;
+    if (!sides_ok || !refine_measured(s, &l, &w, box, bound_m, r, err))
+        goto done;
+    hc = malloc(w.nv * sizeof *hc);
+    if (!hc) {
         fail_oom(err);
         goto done;
     }
     double lo_m, hi_m;
-    quantise(s, t, hq, hc, &lo_m, &hi_m);
-    const int per_cell = TP_QMESH_MAX_CODE / TP_QM_CELLS;
-    for (size_t k = 0; k < nv; k++) {
-        const int i = (int)t->vertices[3 * k], j = (int)t->vertices[3 * k + 1];
-        u[k] = (uint16_t)(i * per_cell);
-        v[k] = (uint16_t)((TP_QM_CELLS - j) * per_cell);
-        ij[2 * k] = (float)i;
-        ij[2 * k + 1] = (float)j;
-        zd[k] = (double)hq[k] * s->height_step_m;
+    quantise(s, &w, hc, &lo_m, &hi_m);
+    if (!edge_hashes(&w, r->edge_hash)) {
+        fail_oom(err);
+        goto done;
     }
-    edge_hashes(t, hq, r->edge_hash);
-    double w, so, e, no;
-    tp_qmesh_tile_bounds(z, x, y, &w, &so, &e, &no);
-    tp_qmesh_tile qt = {w, so, e, no, lo_m, hi_m, nv, u, v, hc, t->triangle_count, t->triangles};
+    tp_qmesh_tile qt = {w_deg, s_deg, e_deg, n_deg, lo_m, hi_m, w.nv, w.u, w.v, hc, w.nt, w.tris};
     if (tp_qmesh_encode(&qt, &raw, &r->raw_size, NULL, err) != TP_OK)
         goto done;
     if (tp_gzip(raw, r->raw_size, 6, &r->gz, &r->gz_size, err) != TP_OK)
         goto done;
-    r->vertices = nv;
-    r->triangles = t->triangle_count;
-    /* the true error: the lattice posts with a height, then the store's own posts */
-    qm_mesh m = {TP_QM_CELLS, nv, t->triangle_count, ij, zd, t->triangles};
-    double mx = 0;
-    for (int j = 0; j < NP; j++)
-        for (int i = 0; i < NP; i++)
-            if (l.valid[(size_t)j * NP + i]) {
-                double hm = tp_qm_mesh_height(&m, &ix, i, j);
-                if (isnan(hm)) {
-                    fail_oom(err);
-                    goto done;
-                }
-                mx = fmax(mx, fabs(hm - l.h[(size_t)j * NP + i]));
-            }
-    double post_err = 0;
-    if (!tp_qm_measure_posts(s, &m, &ix, w, so, e, no, &post_err, &r->posts_measured, err))
-        goto done;
-    r->measured_m = fmax(mx, post_err);
+    r->vertices = w.nv;
+    r->triangles = w.nt;
     ok = 1;
 done:
     if (!ok) {
         free(r->gz);
         r->gz = NULL;
     }
-    tp_qm_index_free(ix);
     tp_tin_destroy(t);
     free(raw);
-    free(hq);
-    free(u);
-    free(v);
     free(hc);
-    free(ij);
-    free(zd);
+    free(w.u);
+    free(w.v);
+    free(w.hq);
+    free(w.tris);
     free(l.nodes);
     free(l.h);
     free(l.valid);
