@@ -168,7 +168,63 @@ TEST(flights_with_tin_nodes_keep_tau_and_settle_on_the_cut_from_the_roots)
     flights(1);
 }
 
+/* A node detached after the worker selected its cut (a stream's release, a query's eviction):
+ * the next frame never draws a cut with a node that is not resident; without a detach the
+ * worker's cut is taken without looking at residency again. */
+TEST(a_detached_node_is_never_drawn)
+{
+    float* h = load_hgt(300, 200, 600, 500);
+    if (!h)
+        SKIP("N42E001.hgt not found (set TP_SHARED_DATA_DIR)");
+    tp_tree* t;
+    ASSERT_OK(tp_tree_create_from_grid(h, (size_t)600 * 500, 600, 500, GT, 33, 0, &t, NULL));
+    tp_error err;
+    tp_cut_worker* w = tp_cut_worker_create(t, &err);
+    ASSERT_TRUE(w != NULL);
+    tp_cut_worker_params p = {.lod = {.mode = TP_LOD_ERROR, .tau_px = 1}, .vertical_scale = 1};
+    int refused = 0, taken = 0, detached = 0;
+    int64_t gone = -1;
+    const uint16_t* kept = NULL;
+    double x = 300;
+    tp_camera cam;
+    camera(x, 250, over(t, x, 250, 300), 90, -25, &cam);
+    for (int f = 0; f < 40; f++) {
+        tp_cut_worker_stats st;
+        tp_cut* cut = tp_cut_worker_frame(w, &cam, &p, &st, &err);
+        ASSERT_TRUE(cut != NULL);
+        size_t count;
+        const tp_cut_node* nodes = tp_cut_nodes(cut, &count);
+        for (size_t i = 0; i < count; i++)
+            ASSERT_TRUE(tp_tree_samples(t, nodes[i].node) != NULL);
+        if (f > 0 && detached)
+            refused += !st.reused;
+        else if (f > 0)
+            taken += st.reused;
+        if (detached) /* between the frame and the next selection, as the stream attaches */
+            tp_tree_attach(t, gone, kept), detached = 0;
+        x += 1; /* the next frame's camera, its cut selected on the thread */
+        camera(x, 250, over(t, x, 250, 300), 90, -25, &cam);
+        tp_cut_worker_next(w, &cam, &p, NULL, NULL);
+        if (f % 2 == 1) { /* then a node this frame drew (the next cut's too) goes */
+            tp_cut_worker_idle(w);
+            gone = nodes[count / 2].node;
+            kept = tp_tree_samples(t, gone);
+            tp_tree_detach(t, gone);
+            detached = 1;
+        }
+    }
+    printf("after a detach: %d of 19 frames selected their own cut; without: %d of 20 took the "
+           "thread's\n",
+           refused, taken);
+    EXPECT_GT(refused, 10);
+    EXPECT_GT(taken, 15);
+    tp_cut_worker_destroy(w);
+    tp_tree_destroy(t);
+    free(h);
+}
+
 #define TESTS(X)                                                                                   \
     X(flights_keep_tau_and_settle_on_the_cut_from_the_roots)                                       \
-    X(flights_with_tin_nodes_keep_tau_and_settle_on_the_cut_from_the_roots)
+    X(flights_with_tin_nodes_keep_tau_and_settle_on_the_cut_from_the_roots)                        \
+    X(a_detached_node_is_never_drawn)
 TP_TEST_MAIN(TESTS)

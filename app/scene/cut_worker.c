@@ -23,6 +23,8 @@ struct tp_cut_worker {
     tp_cut_worker_params job;
     tp_cut* job_pre;     /* the prefetch cut to select after the cut, or NULL */
     tp_camera job_ahead;
+    uint64_t job_detaches; /* tp_tree_detaches when the job was given (nothing detaches while
+                              the worker selects) */
     double job_ms;
     int frames, frames_reused;
 };
@@ -172,7 +174,9 @@ tp_cut* tp_cut_worker_frame(tp_cut_worker* w, const tp_camera* cam, const tp_cut
     double t1 = tp_clock_ms();
     st.wait_ms = t1 - t0;
     const tp_cut* back = w->cut[!w->front];
-    if (done && resident(w, back) && tp_cut_holds_for(back, cam, NULL, &st.check_scratch)) {
+    /* every node it draws was resident when it was selected: still, unless one was detached */
+    int kept = done && (tp_tree_detaches(w->tree) == w->job_detaches || resident(w, back));
+    if (kept && tp_cut_holds_for(back, cam, NULL, &st.check_scratch)) {
         w->front = !w->front;
         st.reused = 1;
     }
@@ -199,6 +203,7 @@ void tp_cut_worker_next(tp_cut_worker* w, const tp_camera* next, const tp_cut_wo
     pthread_mutex_lock(&w->mu);
     w->job_cam = *next;
     w->job = *p;
+    w->job_detaches = tp_tree_detaches(w->tree);
     w->job_pre = prefetch;
     if (prefetch)
         w->job_ahead = *ahead;

@@ -328,6 +328,9 @@ const tp_node_meta* tp_tree_meta(const tp_tree* t, int64_t node);
 void tp_tree_attach(tp_tree* t, int64_t node, const uint16_t* samples);
 void tp_tree_detach(tp_tree* t, int64_t node);
 const uint16_t* tp_tree_samples(const tp_tree* t, int64_t node); /* NULL when not resident */
+/* How many times a node was detached since the tree was made. A cut selected while this read k
+ * (it draws resident nodes only) still has every node it draws resident while it reads k. */
+uint64_t tp_tree_detaches(const tp_tree* t);
 
 /* Builds a whole tree in memory from a float grid (NaN = nodata): metas and every node's samples
  * owned by the tree and attached. For tests and small grids; the store build uses the builder.

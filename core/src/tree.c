@@ -209,6 +209,13 @@ void tp_tree_detach(tp_tree* t, int64_t node)
 {
     assert(t && node >= 0 && node < t->desc.geometry.node_count);
     t->samples[node] = NULL;
+    t->detaches++;
+}
+
+uint64_t tp_tree_detaches(const tp_tree* t)
+{
+    assert(t);
+    return t->detaches;
 }
 
 const uint16_t* tp_tree_samples(const tp_tree* t, int64_t node)

@@ -13,6 +13,7 @@ struct tp_tree {
     const uint16_t** samples;  /* node_count pointers, NULL when not resident */
     tp_node_meta* owned_metas; /* tp_tree_create_from_grid: metas and samples owned */
     uint16_t* owned_samples;
+    uint64_t detaches;         /* tp_tree_detaches */
 };
 
 /* The tree takes ownership of metas and samples (tree.c; for tp_tree_create_from_grid). */
