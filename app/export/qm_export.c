@@ -408,9 +408,19 @@ static int build_all(qm_run* q, double* seconds)
 {
     char p[4096];
     path_in(q, p, sizeof p, "tiles.log");
+    /* no more threads (each with its ground's tree and cache) than a level has tiles to build */
+    size_t most = 1;
+    for (int z = 0; z <= q->max_zoom; z++) {
+        const level* l = &q->lv[z];
+        size_t n = 0;
+        for (size_t i = 0; i < (size_t)(l->x1 - l->x0 + 1) * (size_t)(l->y1 - l->y0 + 1); i++)
+            n += !l->tiles[i].done;
+        most = n > most ? n : most;
+    }
     qm_workers* wk = NULL;
     tp_error err;
-    if (!tp_qm_workers_create(&q->src, q->r->threads, &wk, &err))
+    const int threads = (size_t)q->r->threads < most ? q->r->threads : (int)most;
+    if (!tp_qm_workers_create(&q->src, threads, &wk, &err))
         return fail_line(q, err.message);
     FILE* log = fopen(p, "a");
     if (!log) {
