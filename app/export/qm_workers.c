@@ -49,6 +49,8 @@ int tp_qm_workers_create(const qm_source* s, int threads, qm_workers** out, tp_e
         free(w->src), free(w->slots), free(w);
         return fail_oom(err);
     }
+    pthread_mutex_init(&w->mu, NULL);
+    pthread_cond_init(&w->cv, NULL);
     w->src[0] = *s;
     w->threads = 1;
     const tp_store_scene* sc = tp_ground_scene(s->ground);
@@ -68,8 +70,6 @@ int tp_qm_workers_create(const qm_source* s, int threads, qm_workers** out, tp_e
             return 0;
         }
     }
-    pthread_mutex_init(&w->mu, NULL);
-    pthread_cond_init(&w->cv, NULL);
     *out = w;
     return 1;
 }
@@ -83,10 +83,8 @@ void tp_qm_workers_destroy(qm_workers* w)
         tp_georef_destroy((tp_georef*)w->src[t].georef);
         tp_geoid_close(w->src[t].geoid);
     }
-    if (w->src && w->slots) { /* made whole: the lock too */
-        pthread_mutex_destroy(&w->mu);
-        pthread_cond_destroy(&w->cv);
-    }
+    pthread_mutex_destroy(&w->mu);
+    pthread_cond_destroy(&w->cv);
     free(w->src);
     free(w->slots);
     free(w);
