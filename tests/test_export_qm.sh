@@ -27,7 +27,8 @@
 #              export.txt, tiles.log), at the default deepest level (25 tiles) and at
 #              --max-zoom 14 (143 tiles: more than the 12 results 3 threads hold at once); an
 #              export on 3 threads killed (SIGKILL) mid-way and resumed on 2 gives the same
-#              directory as the unkilled one on 1 thread; the level lines name the threads.
+#              directory as the unkilled one on 1 thread, and so does one stopped by SIGTERM
+#              (exit 143, no layer.json); the level lines name the threads.
 # Needs python3 and gdal-bin (gdaltransform).
 set -u
 TP=$1 DATA=$2 WORK=$3 CASE=$4
@@ -195,22 +196,29 @@ threads)
     done
     total=$(wc -l < "t1--max-zoom 14/tiles.log")
     [ "$total" -ge 100 ] || fail "--max-zoom 14: $total tiles"
-    "$TP" export cl.tpt --tiles quantized-mesh --heights geoid --max-error 1 --max-zoom 14 \
-        --threads 3 -o part > out 2> err &
-    pid=$!
-    for _ in $(seq 1 1000); do
-        [ -f part/tiles.log ] && [ "$(wc -l < part/tiles.log)" -ge 45 ] && break
-        sleep 0.02
+    # SIGKILL, then SIGTERM (the threads stopped, the tiles built ahead dropped: exit 143)
+    for sig in KILL TERM; do
+        rm -rf part
+        "$TP" export cl.tpt --tiles quantized-mesh --heights geoid --max-error 1 --max-zoom 14 \
+            --threads 3 -o part > out 2> err &
+        pid=$!
+        for _ in $(seq 1 1000); do
+            [ -f part/tiles.log ] && [ "$(wc -l < part/tiles.log)" -ge 45 ] && break
+            sleep 0.02
+        done
+        kill -$sig $pid 2> /dev/null
+        wait $pid 2> /dev/null
+        rc=$?
+        [ $sig = KILL ] || [ $rc = 143 ] || fail "SIGTERM: exit $rc, expected 143"
+        n=$(wc -l < part/tiles.log)
+        [ "$n" -ge 45 ] && [ "$n" -lt "$total" ] || fail "SIG$sig after $n of $total tiles: not mid-way"
+        [ -f part/layer.json ] && fail "layer.json written by an export stopped by SIG$sig"
+        "$TP" export cl.tpt --tiles quantized-mesh --heights geoid --max-error 1 --max-zoom 14 \
+            --threads 2 -o part > out 2> err || fail "the rerun on 2 threads after SIG$sig"
+        grep -q "tiles already written by an earlier run: kept" err || fail "the rerun kept nothing"
+        diff -r "t1--max-zoom 14" part > out 2>&1 ||
+            fail "SIG$sig, resumed on 2 threads: differs: $(head -3 out)"
     done
-    kill -9 $pid 2> /dev/null
-    wait $pid 2> /dev/null
-    n=$(wc -l < part/tiles.log)
-    [ "$n" -ge 45 ] && [ "$n" -lt "$total" ] || fail "killed after $n of $total tiles: not mid-way"
-    [ -f part/layer.json ] && fail "layer.json written by a killed export"
-    "$TP" export cl.tpt --tiles quantized-mesh --heights geoid --max-error 1 --max-zoom 14 \
-        --threads 2 -o part > out 2> err || fail "the rerun on 2 threads"
-    grep -q "tiles already written by an earlier run: kept" err || fail "the rerun kept nothing"
-    diff -r "t1--max-zoom 14" part > out 2>&1 || fail "resumed on 2 threads differs: $(head -3 out)"
     check part
     ;;
 *) fail "unknown case $CASE" ;;
