@@ -398,9 +398,9 @@ static int build_level(qm_run* q, qm_workers* wk, FILE* log, int z, tp_progress*
     if (ran < 0)
         return fail_line(q, err.message);
     if (c.code == TP_EXIT_OK && c.built)
-        tp_cli_note("level %d: %zu tiles built in %.2f s (%.2f s of CPU, %d threads)", z,
+        tp_cli_note("level %d: %zu tiles built in %.2f s (%.2f s of CPU, %d thread%s)", z,
                     c.built, tp_clock_s() - lw, (double)clock() / CLOCKS_PER_SEC - lc,
-                    tp_qm_workers_threads(wk));
+                    tp_qm_workers_threads(wk), tp_qm_workers_threads(wk) > 1 ? "s" : "");
     return c.code;
 }
 
