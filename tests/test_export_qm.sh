@@ -28,7 +28,8 @@
 #              --max-zoom 14 (143 tiles: more than the 12 results 3 threads hold at once); an
 #              export on 3 threads killed (SIGKILL) mid-way and resumed on 2 gives the same
 #              directory as the unkilled one on 1 thread, and so does one stopped by SIGTERM
-#              (exit 143, no layer.json); the level lines name the threads.
+#              (exit 143, no layer.json); the level lines name the threads; --heights
+#              ellipsoid (a geoid a thread) at --max-zoom 13 the same bytes on 1 and 3 threads.
 # Needs python3 and gdal-bin (gdaltransform).
 set -u
 TP=$1 DATA=$2 WORK=$3 CASE=$4
@@ -194,6 +195,13 @@ threads)
         [ "$(find "t1$a" -name '*.terrain' | wc -l)" -ge 25 ] || fail "$a: too few tiles"
         diff -r "t1$a" "t3$a" > out 2>&1 || fail "$a: --threads 1 and 3 differ: $(head -3 out)"
     done
+    # heights above the ellipsoid: each thread with a geoid of its own
+    for t in 1 3; do
+        "$TP" export cl.tpt --tiles quantized-mesh --heights ellipsoid --max-zoom 13 \
+            --threads $t -o "e$t" > out 2> err || fail "export --heights ellipsoid --threads $t"
+    done
+    grep -q '"heights": "ellipsoid"' e1/layer.json || fail "e1: not ellipsoid heights"
+    diff -r e1 e3 > out 2>&1 || fail "--heights ellipsoid: --threads 1 and 3 differ: $(head -3 out)"
     total=$(wc -l < "t1--max-zoom 14/tiles.log")
     [ "$total" -ge 100 ] || fail "--max-zoom 14: $total tiles"
     # SIGKILL, then SIGTERM (the threads stopped, the tiles built ahead dropped: exit 143)
