@@ -22,6 +22,14 @@
 #              files, byte for byte, as an export never interrupted; a rerun with other options
 #              is refused (exit 1, one line) and changes nothing; --bounds gives only the tiles
 #              over the box.
+#   threads    Crater Lake with --max-error 1 (refinement active): --threads 1 and --threads 3
+#              give the same directory byte for byte (diff -r: tiles, layer.json, errors.json,
+#              export.txt, tiles.log), at the default deepest level (25 tiles) and at
+#              --max-zoom 14 (143 tiles: more than the 12 results 3 threads hold at once); an
+#              export on 3 threads killed (SIGKILL) mid-way and resumed on 2 gives the same
+#              directory as the unkilled one on 1 thread, and so does one stopped by SIGTERM
+#              (exit 143, no layer.json); the level lines name the threads; --heights
+#              ellipsoid (a geoid a thread) at --max-zoom 13 the same bytes on 1 and 3 threads.
 # Needs python3 and gdal-bin (gdaltransform).
 set -u
 TP=$1 DATA=$2 WORK=$3 CASE=$4
@@ -174,6 +182,52 @@ for k in errs:
     assert w <= 1.55 and w + size >= 1.45 and s <= 42.55 and s + size >= 42.45, k
 assert max(int(k.split("/")[0]) for k in errs) == json.load(open("box/layer.json"))["maxzoom"]
 EOF
+    ;;
+threads)
+    store craterlake-elev-16bit-30m.tif cl
+    for a in "" "--max-zoom 14"; do
+        for t in 1 3; do
+            # shellcheck disable=SC2086 # $a: no option or two words
+            "$TP" export cl.tpt --tiles quantized-mesh --heights geoid --max-error 1 $a \
+                --threads $t -o "t$t$a" > out 2> err || fail "export $a --threads $t"
+            grep -Eq "tiles built in .* s of CPU, $t threads?\)" err || fail "no level line of $t threads"
+        done
+        [ "$(find "t1$a" -name '*.terrain' | wc -l)" -ge 25 ] || fail "$a: too few tiles"
+        diff -r "t1$a" "t3$a" > out 2>&1 || fail "$a: --threads 1 and 3 differ: $(head -3 out)"
+    done
+    # heights above the ellipsoid: each thread with a geoid of its own
+    for t in 1 3; do
+        "$TP" export cl.tpt --tiles quantized-mesh --heights ellipsoid --max-zoom 13 \
+            --threads $t -o "e$t" > out 2> err || fail "export --heights ellipsoid --threads $t"
+    done
+    grep -q '"heights": "ellipsoid"' e1/layer.json || fail "e1: not ellipsoid heights"
+    diff -r e1 e3 > out 2>&1 || fail "--heights ellipsoid: --threads 1 and 3 differ: $(head -3 out)"
+    total=$(wc -l < "t1--max-zoom 14/tiles.log")
+    [ "$total" -ge 100 ] || fail "--max-zoom 14: $total tiles"
+    # SIGKILL, then SIGTERM (the threads stopped, the tiles built ahead dropped: exit 143)
+    for sig in KILL TERM; do
+        rm -rf part
+        "$TP" export cl.tpt --tiles quantized-mesh --heights geoid --max-error 1 --max-zoom 14 \
+            --threads 3 -o part > out 2> err &
+        pid=$!
+        for _ in $(seq 1 1000); do
+            [ -f part/tiles.log ] && [ "$(wc -l < part/tiles.log)" -ge 45 ] && break
+            sleep 0.02
+        done
+        kill -$sig $pid 2> /dev/null
+        wait $pid 2> /dev/null
+        rc=$?
+        [ $sig = KILL ] || [ $rc = 143 ] || fail "SIGTERM: exit $rc, expected 143"
+        n=$(wc -l < part/tiles.log)
+        [ "$n" -ge 45 ] && [ "$n" -lt "$total" ] || fail "SIG$sig after $n of $total tiles: not mid-way"
+        [ -f part/layer.json ] && fail "layer.json written by an export stopped by SIG$sig"
+        "$TP" export cl.tpt --tiles quantized-mesh --heights geoid --max-error 1 --max-zoom 14 \
+            --threads 2 -o part > out 2> err || fail "the rerun on 2 threads after SIG$sig"
+        grep -q "tiles already written by an earlier run: kept" err || fail "the rerun kept nothing"
+        diff -r "t1--max-zoom 14" part > out 2>&1 ||
+            fail "SIG$sig, resumed on 2 threads: differs: $(head -3 out)"
+    done
+    check part
     ;;
 *) fail "unknown case $CASE" ;;
 esac

@@ -24,6 +24,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 typedef enum { MODE_VIEW = 0, MODE_FULL, MODE_MAX_ERROR, MODE_TILES } export_mode;
 
@@ -45,6 +46,7 @@ typedef struct export_options {
     const char* bounds;
     const char* heights;
     double bounds_deg[4];
+    int threads; /* 0: not given (every core) */
 } export_options;
 
 enum { OPT_MESH = 1, OPT_ORIGIN };
@@ -122,6 +124,8 @@ static void print_help(void)
           "  --max-error M         the TIN's bound at the deepest level, doubled per level\n"
           "                        above it (default: Cesium's geometric error of each level,\n"
           "                        77067 m / 2^z)\n"
+          "  --threads N           threads building a level's tiles (default: every core);\n"
+          "                        the tile set is the same bytes for any N\n"
           "DEM:\n",
           stdout);
     tp_scene_options_help(stdout);
@@ -158,7 +162,8 @@ static int code_option(void* ctx, int code, const char* v, const char* cmd)
 static int parse_tiles(export_options* o, int full, const char* extra)
 {
     if (!o->tiles) {
-        tp_cli_error("--max-zoom, --bounds and --heights go with --tiles quantized-mesh");
+        tp_cli_error("--max-zoom, --bounds, --heights and --threads go with --tiles "
+                     "quantized-mesh");
         return TP_EXIT_USAGE;
     }
     if (strcmp(o->tiles, "quantized-mesh"))
@@ -192,6 +197,10 @@ static int parse_tiles(export_options* o, int full, const char* extra)
         tp_cli_error("expected one DEM, got extra argument '%s'", extra);
         return TP_EXIT_USAGE;
     }
+    if (o->threads == 0) { /* as build's --threads */
+        long n = sysconf(_SC_NPROCESSORS_ONLN);
+        o->threads = n > 0 ? (int)(n > 1024 ? 1024 : n) : 1;
+    }
     o->mode = MODE_TILES;
     return -1;
 }
@@ -216,6 +225,7 @@ static int parse_options(int argc, char** argv, export_options* o)
         TP_OPT_INTEGER("--max-zoom", &o->max_zoom, 0, 22, "a level 0..22"),
         TP_OPT_TEXT("--bounds", NULL, &o->bounds),
         TP_OPT_TEXT("--heights", NULL, &o->heights),
+        TP_OPT_INTEGER("--threads", &o->threads, 1, 1024, "1 .. 1024"),
     };
     const tp_option_table own = {options, TP_OPTIONS_COUNT(options), code_option, o};
     const char* extra;
@@ -223,7 +233,7 @@ static int parse_options(int argc, char** argv, export_options* o)
                                            &o->vs, 0, &o->path, &extra);
     if (code >= 0)
         return code;
-    if (o->tiles || o->bounds || o->heights || o->max_zoom >= 0)
+    if (o->tiles || o->bounds || o->heights || o->max_zoom >= 0 || o->threads)
         return parse_tiles(o, full, extra);
     if (full && o->max_error_m >= 0) {
         tp_cli_error("--full and --max-error exclude each other");
@@ -329,7 +339,8 @@ int tp_cli_export(int argc, char** argv)
                            .max_zoom = o.max_zoom,
                            .has_bounds = o.bounds != NULL,
                            .ellipsoid = !o.heights || !strcmp(o.heights, "ellipsoid"),
-                           .max_error_m = o.max_error_m};
+                           .max_error_m = o.max_error_m,
+                           .threads = o.threads};
         memcpy(q.bounds, o.bounds_deg, sizeof q.bounds);
         code = tp_export_qm(&q);
         return code == TP_EXIT_OK ? tp_cli_finish(code) : code;

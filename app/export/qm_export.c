@@ -3,6 +3,7 @@
  * errors.json. */
 #include "qm_export.h"
 #include "qm_tile.h"
+#include "qm_workers.h"
 
 #include "atomic_file.h"
 #include "cli.h"
@@ -326,13 +327,105 @@ static int write_tile(qm_run* q, FILE* log, int z, int x, int y, const qm_tile_r
 
 /* ---- the run ---- */
 
+/* What the tiles of a level, delivered in order (qm_workers.h), are written with. */
+typedef struct level_run {
+    qm_run* q;
+    FILE* log;
+    level* l;
+    const int* xy;
+    tp_progress* pr;
+    size_t *done, built;
+    int code;
+} level_run;
+
+static int deliver(void* ctx, size_t i, int ok, qm_tile_result* t, const tp_error* err)
+{
+    level_run* c = ctx;
+    qm_run* q = c->q;
+    const int z = c->l->z, x = c->xy[2 * i], y = c->xy[2 * i + 1];
+    if (!ok) {
+        c->code = fail_line(q, err->message);
+        return 0;
+    }
+    q->proj_interp_m = fmax(q->proj_interp_m, t->proj_interp_m);
+    if (t->measured_m > t->bound_m) /* the refinement stopped short: said, and written */
+        tp_cli_note("tile %d/%d/%d: measured %.3f m, above its level's bound %.3f m "
+                    "(%d refinement passes; a post on a vertex's code at %.3f m)",
+                    z, x, y, t->measured_m, t->bound_m, t->passes, t->stuck_m);
+    const int written = write_tile(q, c->log, z, x, y, t);
+    const tile_rec r = {1, t->measured_m, t->bound_m, t->vertices, t->triangles,
+                        t->gz_size, t->raw_size, t->posts_measured,
+                        {t->edge_hash[0], t->edge_hash[1], t->edge_hash[2], t->edge_hash[3]}};
+    free(t->gz);
+    if (!written) {
+        c->code = TP_EXIT_FAILURE;
+        return 0;
+    }
+    *rec_at(c->l, x, y) = r;
+    c->built++;
+    (*c->done)++;
+    tp_progress_update(c->pr, (double)*c->done, (double)q->total, -1);
+    if (tp_interrupted()) {
+        c->code = tp_cli_interrupted();
+        return 0;
+    }
+    return 1;
+}
+
+/* Level z's tiles not written yet, built on the workers' threads and written in order (the
+ * order and bytes of one thread). */
+static int build_level(qm_run* q, qm_workers* wk, FILE* log, int z, tp_progress* pr, size_t* done)
+{
+    level* l = &q->lv[z];
+    const size_t count = (size_t)(l->x1 - l->x0 + 1) * (size_t)(l->y1 - l->y0 + 1);
+    int* xy = malloc(2 * count * sizeof *xy);
+    if (!xy)
+        return fail_line(q, "out of memory");
+    size_t n = 0;
+    for (int y = l->y0; y <= l->y1; y++)
+        for (int x = l->x0; x <= l->x1; x++)
+            if (!rec_at(l, x, y)->done)
+                xy[2 * n] = x, xy[2 * n + 1] = y, n++;
+    *done += count - n;
+    tp_progress_update(pr, (double)*done, (double)q->total, -1);
+    const double lw = tp_clock_s(), lc = (double)clock() / CLOCKS_PER_SEC;
+    level_run c = {q, log, l, xy, pr, done, 0, TP_EXIT_OK};
+    tp_error err;
+    const int ran = tp_qm_workers_run(wk, z, xy, n, tp_qm_level_bound(z, q->max_zoom,
+                                                                      q->r->max_error_m),
+                                      deliver, &c, &err);
+    free(xy);
+    if (ran < 0)
+        return fail_line(q, err.message);
+    if (c.code == TP_EXIT_OK && c.built)
+        tp_cli_note("level %d: %zu tiles built in %.2f s (%.2f s of CPU, %d thread%s)", z,
+                    c.built, tp_clock_s() - lw, (double)clock() / CLOCKS_PER_SEC - lc,
+                    tp_qm_workers_threads(wk), tp_qm_workers_threads(wk) > 1 ? "s" : "");
+    return c.code;
+}
+
 static int build_all(qm_run* q, double* seconds)
 {
     char p[4096];
     path_in(q, p, sizeof p, "tiles.log");
+    /* no more threads (each with its ground's tree and cache) than a level has tiles to build */
+    size_t most = 1;
+    for (int z = 0; z <= q->max_zoom; z++) {
+        const level* l = &q->lv[z];
+        size_t n = 0;
+        for (size_t i = 0; i < (size_t)(l->x1 - l->x0 + 1) * (size_t)(l->y1 - l->y0 + 1); i++)
+            n += !l->tiles[i].done;
+        most = n > most ? n : most;
+    }
+    qm_workers* wk = NULL;
+    tp_error err;
+    const int threads = (size_t)q->r->threads < most ? q->r->threads : (int)most;
+    if (!tp_qm_workers_create(&q->src, threads, &wk, &err))
+        return fail_line(q, err.message);
     FILE* log = fopen(p, "a");
     if (!log) {
         tp_cli_error("%s: cannot open: %s", p, strerror(errno));
+        tp_qm_workers_destroy(wk);
         return TP_EXIT_FAILURE;
     }
     tp_progress pr;
@@ -340,48 +433,10 @@ static int build_all(qm_run* q, double* seconds)
     size_t done = 0;
     const double t0 = tp_clock_s();
     int code = TP_EXIT_OK;
-    for (int z = 0; z <= q->max_zoom && code == TP_EXIT_OK; z++) {
-        level* l = &q->lv[z];
-        const double bound = tp_qm_level_bound(z, q->max_zoom, q->r->max_error_m);
-        const double lw = tp_clock_s(), lc = (double)clock() / CLOCKS_PER_SEC;
-        size_t built = 0;
-        for (int y = l->y0; y <= l->y1 && code == TP_EXIT_OK; y++)
-            for (int x = l->x0; x <= l->x1 && code == TP_EXIT_OK; x++) {
-                tile_rec* rec = rec_at(l, x, y);
-                if (!rec->done) {
-                    qm_tile_result t;
-                    tp_error err;
-                    if (!tp_qm_tile_build(&q->src, z, x, y, bound, &t, &err)) {
-                        code = fail_line(q, err.message);
-                        break;
-                    }
-                    q->proj_interp_m = fmax(q->proj_interp_m, t.proj_interp_m);
-                    if (t.measured_m > t.bound_m) /* the refinement stopped short: said, and written */
-                        tp_cli_note("tile %d/%d/%d: measured %.3f m, above its level's bound %.3f m "
-                                    "(%d refinement passes; a post on a vertex's code at %.3f m)",
-                                    z, x, y, t.measured_m, t.bound_m, t.passes, t.stuck_m);
-                    int ok = write_tile(q, log, z, x, y, &t);
-                    tile_rec r = {1, t.measured_m, t.bound_m, t.vertices, t.triangles,
-                                  t.gz_size, t.raw_size, t.posts_measured,
-                                  {t.edge_hash[0], t.edge_hash[1], t.edge_hash[2], t.edge_hash[3]}};
-                    free(t.gz);
-                    if (!ok) {
-                        code = TP_EXIT_FAILURE;
-                        break;
-                    }
-                    *rec = r;
-                    built++;
-                }
-                done++;
-                tp_progress_update(&pr, (double)done, (double)q->total, -1);
-                if (tp_interrupted())
-                    code = tp_cli_interrupted();
-            }
-        if (code == TP_EXIT_OK && built)
-            tp_cli_note("level %d: %zu tiles built in %.2f s (%.2f s of CPU)", z, built,
-                        tp_clock_s() - lw, (double)clock() / CLOCKS_PER_SEC - lc);
-    }
+    for (int z = 0; z <= q->max_zoom && code == TP_EXIT_OK; z++)
+        code = build_level(q, wk, log, z, &pr, &done);
     *seconds = tp_clock_s() - t0;
+    tp_qm_workers_destroy(wk);
     if (fclose(log) != 0 && code == TP_EXIT_OK) {
         tp_cli_error("%s: %s", p, strerror(errno));
         code = TP_EXIT_FAILURE;

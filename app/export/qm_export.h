@@ -21,6 +21,8 @@ typedef struct tp_qm_request {
     double bounds[4];             /* west, south, east, north (degrees) */
     int ellipsoid;                /* 1: heights above the WGS84 ellipsoid (EGM96 added) */
     double max_error_m;           /* < 0: Cesium's geometric error per level */
+    int threads;                  /* >= 1: a level's tiles built on this many (qm_workers.h);
+                                     the output is the same bytes for any count */
 } tp_qm_request;
 
 /* Runs the export; TP_EXIT_* after its messages (the wrote line on stdout). */
