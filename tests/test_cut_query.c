@@ -209,17 +209,24 @@ TEST(vertical_scale_refines_the_cut)
     free(h);
 }
 
+/* The 150 x 97 grid of the tests below as a terrain (patches of 17): their reference. */
+static tp_terrain* terrain_150x97(const float* h)
+{
+    tp_terrain* ter = NULL;
+    tp_terrain_desc td = {.heights = h, .height_count = (size_t)150 * 97, .width = 150,
+                          .height = 97, .patch_size = 17, .fit = TP_FIT_PAD};
+    memcpy(td.geotransform, GT, sizeof GT);
+    ASSERT_OK(tp_terrain_create(&td, &ter, NULL));
+    return ter;
+}
+
 /* The tree's full-resolution surface is tp_terrain_height_at's on the same grid (integral
  * heights: both decode exactly), NaN where the leaf is not resident. */
 TEST(tree_height_is_the_full_resolution_surface)
 {
     LOAD_OR_SKIP(h, 600, 200, 150, 97);
     tp_tree* t = make_tree(h, 150, 97, 17);
-    tp_terrain* ter = NULL;
-    tp_terrain_desc td = {.heights = h, .height_count = (size_t)150 * 97, .width = 150,
-                          .height = 97, .patch_size = 17, .fit = TP_FIT_PAD};
-    memcpy(td.geotransform, GT, sizeof GT);
-    ASSERT_OK(tp_terrain_create(&td, &ter, NULL));
+    tp_terrain* ter = terrain_150x97(h);
     int compared = 0;
     for (int i = 0; i < 4000; i++) {
         double x = rnd() * 149, y = rnd() * 96;
@@ -313,11 +320,7 @@ TEST(node_normals_are_the_terrains_where_leaves_are_resident)
 {
     LOAD_OR_SKIP(h, 600, 200, 150, 97);
     tp_tree* t = make_tree(h, 150, 97, 17);
-    tp_terrain* ter = NULL;
-    tp_terrain_desc td = {.heights = h, .height_count = (size_t)150 * 97, .width = 150,
-                          .height = 97, .patch_size = 17, .fit = TP_FIT_PAD};
-    memcpy(td.geotransform, GT, sizeof GT);
-    ASSERT_OK(tp_terrain_create(&td, &ter, NULL));
+    tp_terrain* ter = terrain_150x97(h);
     const tp_tree_geometry* g = tp_tree_get_geometry(t);
     int compared = 0;
     for (int64_t id = 0; id < g->node_count; id++) {
@@ -370,11 +373,7 @@ TEST(node_normals_in_one_call_are_those_one_at_a_time)
 {
     LOAD_OR_SKIP(h, 600, 200, 150, 97);
     tp_tree* t = make_tree(h, 150, 97, 17);
-    tp_terrain* ter = NULL;
-    tp_terrain_desc td = {.heights = h, .height_count = (size_t)150 * 97, .width = 150,
-                          .height = 97, .patch_size = 17, .fit = TP_FIT_PAD};
-    memcpy(td.geotransform, GT, sizeof GT);
-    ASSERT_OK(tp_terrain_create(&td, &ter, NULL));
+    tp_terrain* ter = terrain_150x97(h);
     const tp_tree_geometry* g = tp_tree_get_geometry(t);
     tp_vertex v[17 * 17];
     float batch[17 * 17][3];
