@@ -142,6 +142,50 @@ TEST(kept_figures_answer_as_the_test_from_scratch_exaggerated)
     answers_agree(3);
 }
 
+/* tp_cut_keep_for: the answer from scratch for another camera b, and the figures kept from b,
+ * so that the test for a camera c near b agrees with the one from scratch and b itself needs no
+ * projection. */
+TEST(figures_kept_for_another_camera_answer_as_the_test_from_scratch)
+{
+    tp_tree* t = tree_of(250, 300, 700, 420);
+    if (!t)
+        SKIP("N42E001.hgt not found (set TP_SHARED_DATA_DIR)");
+    const tp_tree_geometry* g = tp_tree_get_geometry(t);
+    tp_cut* cut;
+    ASSERT_OK(tp_cut_create(t, &cut, NULL));
+    tp_lod_params lp = {.mode = TP_LOD_ERROR, .tau_px = 1};
+    int held = 0, refused = 0, near_held = 0;
+    for (int it = 0; it < 300; it++) {
+        double x = rnd() * (g->src_width - 1), y = rnd() * (g->src_height - 1);
+        double above = 30 + rnd() * rnd() * 3000, yaw = rnd() * 360, pitch = -3 - rnd() * 70;
+        tp_camera a, b, c;
+        camera_at(t, x, y, above, yaw, pitch, &a);
+        moved(t, &a, x, y, above, yaw, pitch, 1 + it % (KINDS - 1), &b);
+        moved(t, &b, x, y, above, yaw, pitch, FRAME, &c);
+        ASSERT_OK(tp_cut_update(cut, &a, &lp, NULL));
+        EXPECT_EQ_INT(1, tp_cut_prepare_reuse(cut));
+        double bound;
+        int exact_b = tp_cut_holds_for(cut, &b, &bound, NULL);
+        EXPECT_EQ_INT(exact_b, tp_cut_keep_for(cut, &b));
+        held += exact_b, refused += !exact_b;
+        size_t scratch;
+        int at_b = tp_cut_holds_for(cut, &b, NULL, &scratch);
+        EXPECT_EQ_INT(exact_b, at_b);
+        if (exact_b) /* the figures are b's own: every node settled */
+            EXPECT_EQ_INT(0, (int)scratch);
+        int exact_c = tp_cut_holds_for(cut, &c, &bound, NULL);
+        EXPECT_EQ_INT(exact_c, tp_cut_holds_for(cut, &c, NULL, &scratch));
+        near_held += exact_c;
+    }
+    printf("kept for another camera: held %d, refused %d; a frame further: held %d\n", held,
+           refused, near_held);
+    EXPECT_GT(held, 50);
+    EXPECT_GT(refused, 50);
+    EXPECT_GT(near_held, 30);
+    tp_cut_destroy(cut);
+    tp_tree_destroy(t);
+}
+
 /* The next update drops the figures (they describe the cut before it): from scratch again. */
 TEST(the_next_update_drops_the_kept_figures)
 {
@@ -183,5 +227,6 @@ TEST(the_next_update_drops_the_kept_figures)
 #define TESTS(X)                                                                                   \
     X(kept_figures_answer_as_the_test_from_scratch)                                                \
     X(kept_figures_answer_as_the_test_from_scratch_exaggerated)                                    \
+    X(figures_kept_for_another_camera_answer_as_the_test_from_scratch)                             \
     X(the_next_update_drops_the_kept_figures)
 TP_TEST_MAIN(TESTS)

@@ -62,7 +62,7 @@ static int same_cut(const tp_cut* a, const tp_cut* b)
 /* Random flights through the worker; with_tins: --mesh tin as the viewer runs it (the worker
  * builds the TIN levels its cut asks for; after each frame the cut is marked drawn and the
  * cache pruned by age). */
-static void flights(int with_tins)
+static void flights(int with_tins, tp_lod_mode mode)
 {
     float* h = load_hgt(300, 200, 900, 700);
     if (!h)
@@ -74,7 +74,7 @@ static void flights(int with_tins)
     ASSERT_TRUE(w != NULL);
     tp_cut* roots;
     ASSERT_OK(tp_cut_create(t, &roots, NULL));
-    tp_cut_worker_params p = {.lod = {.mode = TP_LOD_ERROR, .tau_px = 1}, .vertical_scale = 1};
+    tp_cut_worker_params p = {.lod = {.mode = mode, .tau_px = 1}, .vertical_scale = 1};
     tp_tin_cache* tins = NULL;
     long tin_nodes = 0;
     if (with_tins) {
@@ -83,6 +83,7 @@ static void flights(int with_tins)
         tp_cut_set_tins(roots, tins);
     }
     int frames = 0, reused = 0, steady = 0, steady_reused = 0, stops = 0, measured = 0;
+    int kept = 0, steady_kept = 0, turn_kept = 0, turns = 0;
     double worst_px = 0;
     double x = 450, y = 350, yaw = 0, z = over(t, 450, 350, 200);
     tp_camera prev, cam;
@@ -106,11 +107,14 @@ static void flights(int with_tins)
             tp_cut_worker_stats st;
             tp_cut* cut = tp_cut_worker_frame(w, &cam, &p, &st, &err);
             ASSERT_TRUE(cut != NULL);
-            frames++, reused += st.reused;
+            frames++, reused += st.reused, kept += st.kept;
             if (kind == 0 && f > 1)
-                steady++, steady_reused += st.reused;
+                steady++, steady_reused += st.reused, steady_kept += st.kept;
+            if (kind == 1)
+                turns++, turn_kept += st.kept;
+            EXPECT_TRUE(!st.kept || st.reused);
             /* what a frame draws: within tau from its own camera, everywhere it looks */
-            if (frames % 3 == 0) {
+            if (frames % 3 == 0 && mode == TP_LOD_ERROR) {
                 double max_px;
                 size_t samples;
                 ASSERT_OK(tp_cut_measure_screen_error(cut, &cam, &max_px, NULL, &samples, NULL));
@@ -119,6 +123,8 @@ static void flights(int with_tins)
                 measured++;
             }
             EXPECT_TRUE(tp_cut_holds_for(cut, &cam, NULL, NULL));
+            double bound_px; /* from scratch too: the kept figures are not what is tested */
+            EXPECT_TRUE(tp_cut_holds_for(cut, &cam, &bound_px, NULL));
             if (tins) { /* the worker is idle here, as after the viewer's stream frame */
                 tp_cut_stats cs;
                 tp_cut_get_stats(cut, &cs);
@@ -138,11 +144,18 @@ static void flights(int with_tins)
             prev = cam;
         }
     }
-    printf("%d frames, %d drew the thread's cut (steady flight: %d of %d); %d measured, max "
-           "%.3f px; %d stopped frames equal the cut from the roots\n",
-           frames, reused, steady_reused, steady, measured, worst_px, stops);
+    printf("%s: %d frames, %d drew the thread's cut (steady flight: %d of %d), %d of them kept "
+           "(steady %d, turning %d of %d); %d measured, max %.3f px; %d stopped frames equal the "
+           "cut from the roots\n",
+           mode == TP_LOD_ERROR ? "error" : "distance", frames, reused, steady_reused, steady, kept,
+           steady_kept, turn_kept, turns, measured, worst_px, stops);
     EXPECT_GT(steady_reused, steady * 9 / 10); /* steady flight is predicted */
     EXPECT_GT(stops, 40);
+    if (mode == TP_LOD_ERROR && !tins) /* a steady flight's cut is kept for frames at a time
+                                          (with TIN nodes only once its levels are built) */
+        EXPECT_GT(steady_kept, steady / 4);
+    else if (mode == TP_LOD_DISTANCE) /* its levels follow the distance: selected every frame */
+        EXPECT_EQ_INT(0, kept);
     if (tins) {
         size_t bytes, levels, builds;
         tp_tin_cache_stats(tins, &bytes, &levels, &builds);
@@ -160,12 +173,17 @@ static void flights(int with_tins)
 
 TEST(flights_keep_tau_and_settle_on_the_cut_from_the_roots)
 {
-    flights(0);
+    flights(0, TP_LOD_ERROR);
 }
 
 TEST(flights_with_tin_nodes_keep_tau_and_settle_on_the_cut_from_the_roots)
 {
-    flights(1);
+    flights(1, TP_LOD_ERROR);
+}
+
+TEST(distance_mode_flights_select_every_frame_and_settle_on_the_cut_from_the_roots)
+{
+    flights(0, TP_LOD_DISTANCE);
 }
 
 /* A node detached after the worker selected its cut (a stream's release, a query's eviction):
@@ -223,8 +241,69 @@ TEST(a_detached_node_is_never_drawn)
     free(h);
 }
 
+/* Nodes a cut wanted and found missing (its leaves, detached) arrive while the camera moves:
+ * the cut drawn in their parents' place is not kept; within two frames the frames draw the
+ * cut from the roots again. */
+TEST(a_node_the_cut_wanted_is_drawn_once_it_arrives)
+{
+    float* h = load_hgt(300, 200, 600, 500);
+    if (!h)
+        SKIP("N42E001.hgt not found (set TP_SHARED_DATA_DIR)");
+    tp_tree* t;
+    ASSERT_OK(tp_tree_create_from_grid(h, (size_t)600 * 500, 600, 500, GT, 33, 0, &t, NULL));
+    const tp_tree_geometry* g = tp_tree_get_geometry(t);
+    int64_t first = g->first_node[0], leaves = (int64_t)g->node_cols[0] * g->node_rows[0];
+    const uint16_t** kept = malloc((size_t)leaves * sizeof *kept);
+    ASSERT_TRUE(kept != NULL);
+    for (int64_t i = 0; i < leaves; i++)
+        kept[i] = tp_tree_samples(t, first + i), tp_tree_detach(t, first + i);
+    tp_error err;
+    tp_cut_worker* w = tp_cut_worker_create(t, &err);
+    ASSERT_TRUE(w != NULL);
+    tp_cut* roots;
+    ASSERT_OK(tp_cut_create(t, &roots, NULL));
+    tp_cut_worker_params p = {.lod = {.mode = TP_LOD_ERROR, .tau_px = 1}, .vertical_scale = 1};
+    double x = 300;
+    int kept_before = 0, equal_after = 0;
+    tp_camera cam;
+    camera(x, 250, over(t, x, 250, 150), 90, -25, &cam);
+    for (int f = 0; f < 24; f++) {
+        tp_cut_worker_stats st;
+        tp_cut* cut = tp_cut_worker_frame(w, &cam, &p, &st, &err);
+        ASSERT_TRUE(cut != NULL);
+        ASSERT_OK(tp_cut_update(roots, &cam, &p.lod, NULL));
+        size_t wanted;
+        tp_cut_requests(roots, &wanted);
+        if (f < 12) {
+            EXPECT_GT((int)wanted, 0); /* the leaves are missing: parents drawn instead */
+            kept_before += st.kept;
+        } else if (f >= 14) {
+            EXPECT_EQ_INT(0, (int)wanted);
+            EXPECT_TRUE(same_cut(cut, roots));
+            equal_after += same_cut(cut, roots);
+        }
+        if (f == 11) /* they arrive, between a frame and the next selection as from a stream */
+            for (int64_t i = 0; i < leaves; i++)
+                tp_tree_attach(t, first + i, kept[i]);
+        x += 0.05; /* 4.5 m a frame */
+        camera(x, 250, over(t, x, 250, 150), 90, -25, &cam);
+        tp_cut_worker_next(w, &cam, &p, NULL, NULL);
+    }
+    printf("before the leaves arrived %d of 11 frames kept the cut; after, %d of 10 frames drew "
+           "the cut from the roots\n",
+           kept_before, equal_after);
+    EXPECT_GT(kept_before, 5); /* so that keeping it after they arrive would have been possible */
+    tp_cut_worker_destroy(w);
+    tp_cut_destroy(roots);
+    tp_tree_destroy(t);
+    free(kept);
+    free(h);
+}
+
 #define TESTS(X)                                                                                   \
     X(flights_keep_tau_and_settle_on_the_cut_from_the_roots)                                       \
     X(flights_with_tin_nodes_keep_tau_and_settle_on_the_cut_from_the_roots)                        \
-    X(a_detached_node_is_never_drawn)
+    X(distance_mode_flights_select_every_frame_and_settle_on_the_cut_from_the_roots)               \
+    X(a_detached_node_is_never_drawn)                                                              \
+    X(a_node_the_cut_wanted_is_drawn_once_it_arrives)
 TP_TEST_MAIN(TESTS)

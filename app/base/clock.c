@@ -21,6 +21,14 @@ double tp_clock_ms(void)
     return tp_clock_s() * 1e3;
 }
 
+double tp_clock_thread_cpu_ms(void)
+{
+    struct timespec ts;
+    if (clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts) != 0)
+        return NAN;
+    return (double)ts.tv_sec * 1e3 + (double)ts.tv_nsec / 1e6;
+}
+
 /* clock.h: the start time is field 22 of /proc/self/stat, in clock ticks since boot */
 double tp_clock_ms_since_start(void)
 {

@@ -63,13 +63,21 @@ static void summarize(store_result* c, int n)
     c->cut_worker_ms = tp_bench_median(v, n);
     ROWS_OF(r->cut_wait_ms);
     c->cut_wait_ms = tp_bench_median(v, n);
+    ROWS_OF(r->cut_worker_cpu_ms);
+    c->cut_worker_cpu_ms = tp_bench_median(v, n);
+    c->cut_worker_cpu_ms_mean = 0;
+    for (int i = 0; i < n; i++)
+        c->cut_worker_cpu_ms_mean += v[i] / n;
+    ROWS_OF(r->cut_ms + r->cut_worker_cpu_ms);
+    c->cut_total_cpu_ms = tp_bench_median(v, n);
     ROWS_OF(r->cut_scratch);
     c->cut_scratch = tp_bench_median(v, n);
-    c->cut_reused_share = c->tin_share = c->tin_mb = 0;
+    c->cut_reused_share = c->cut_kept_share = c->tin_share = c->tin_mb = 0;
     double drawn = 0;
     for (int i = 0; i < n; i++) {
         const store_row* r = &c->rows[i];
         c->cut_reused_share += (double)r->cut_reused / n;
+        c->cut_kept_share += (double)r->cut_kept / n;
         c->tin_share += r->tin_nodes, drawn += r->nodes;
         c->tin_mb = fmax(c->tin_mb, r->tin_bytes / 1e6);
     }
@@ -532,6 +540,8 @@ static int fly(store_bench* b, store_result* c, int first, store_draw* d, const 
             row->cut_wait_ms = ws.wait_ms;
             row->cut_worker_ms = ws.worker_ms;
             row->cut_reused = ws.reused;
+            row->cut_kept = ws.kept;
+            row->cut_worker_cpu_ms = ws.worker_cpu_ms;
             row->cut_scratch = (double)ws.check_scratch;
             row->tin_nodes = cs.tin_nodes;
             row->tin_bytes = tin_bytes;

@@ -7,9 +7,24 @@
 #include <stdio.h>
 #include <stdlib.h>
 
+/* A kept cut's figures are kept again from the new camera when more than 1 in KEEP_RENEW of
+ * its drawn nodes needed a test from scratch. */
+enum { KEEP_RENEW = 32 };
+
+/* What a cut's last selection was made with: whether it may be kept for another camera. */
+typedef struct selected {
+    int valid;
+    tp_camera cam;
+    tp_cut_worker_params params;
+    uint64_t attaches, detaches; /* the tree's counts when it was selected (or last found
+                                    resident) */
+    int figures;                 /* tp_cut_holds_for's figures are kept (prepare, keep_for) */
+} selected;
+
 struct tp_cut_worker {
     const tp_tree* tree;
     tp_cut* cut[2];  /* cut[front]: the frame's; the other: the worker's */
+    selected sel[2]; /* of each cut */
     int front;
     int have_front;
     pthread_t thread;
@@ -17,16 +32,20 @@ struct tp_cut_worker {
     pthread_cond_t cv;
     /* under mu */
     int busy;        /* a selection was asked for and has not finished */
-    int done;        /* the back cut holds a finished selection for job */
+    int done;        /* a finished job for job: the back cut, or the front one kept */
+    int kept;        /* the job kept the front cut for job_cam (no selection) */
     int quit;
     tp_camera job_cam;
     tp_cut_worker_params job;
+    int job_front;       /* the frame's cut when the job was given (-1: none yet) */
     tp_cut* job_pre;     /* the prefetch cut to select after the cut, or NULL */
     tp_camera job_ahead;
     uint64_t job_detaches; /* tp_tree_detaches when the job was given (nothing detaches while
                               the worker selects) */
-    double job_ms;
-    int frames, frames_reused;
+    int job_stopped;     /* job_cam is the last frame's camera: the camera has stopped */
+    tp_camera frame_cam; /* the last frame's camera (render thread) */
+    double job_ms, job_cpu_ms;
+    int frames, frames_reused, frames_kept;
 };
 
 static void apply(tp_cut* c, const tp_cut_worker_params* p)
@@ -51,6 +70,74 @@ int tp_cut_tins_build(tp_tin_cache* tins, const tp_cut* cut, double budget_ms)
     return built;
 }
 
+static int same_params(const tp_cut_worker_params* a, const tp_cut_worker_params* b);
+static int resident(const tp_cut_worker* w, const tp_cut* c);
+
+static int same_camera(const tp_camera* a, const tp_camera* b)
+{
+    for (int k = 0; k < 3; k++)
+        if (a->position[k] != b->position[k] || a->forward[k] != b->forward[k] ||
+            a->up[k] != b->up[k])
+            return 0;
+    return a->fov_y_rad == b->fov_y_rad && a->viewport_w_px == b->viewport_w_px &&
+           a->viewport_h_px == b->viewport_h_px && a->near_m == b->near_m && a->far_m == b->far_m;
+}
+
+/* Whether cut i, selected earlier, may be drawn for cam with p instead of a new selection: it
+ * holds for cam (tp_cut_keep_for: tau and coverage; it also keeps its figures from cam for the
+ * frame's own check), and a selection for cam could differ only where the camera moved:
+ *   - the error mode (tau is what a cut keeps; the distance mode's levels follow the distance
+ *     itself) and the same parameters;
+ *   - no node it wanted and found missing (tp_cut_requests) has arrived since: a selection
+ *     refines a node only when all its children in view are resident, and asks for every one
+ *     missing, so while none of those arrives it refines the same nodes;
+ *   - no TIN level it asked for is waiting (the worker builds them after selecting);
+ *   - every node it draws is still resident;
+ *   - the camera has not stopped: a camera equal to the last frame's gets the cut selected
+ *     for it, so that a still view settles on the cut from the roots.
+ * Runs on the worker while the frame draws cut i: it reads it, and writes only the figures that
+ * tp_cut_holds_for reads, which the render thread calls after waiting for the worker. */
+static int may_keep(tp_cut_worker* w, int i, const tp_camera* cam, const tp_cut_worker_params* p,
+                    int stopped)
+{
+    selected* s = &w->sel[i];
+    tp_cut* c = w->cut[i];
+    size_t wanted, tins = 0;
+    if (!s->valid || p->lod.mode != TP_LOD_ERROR || !same_params(&s->params, p) ||
+        (stopped && !same_camera(cam, &s->cam)))
+        return 0;
+    const int64_t* want = tp_cut_requests(c, &wanted);
+    if (p->tins)
+        tp_cut_tin_requests(c, &tins);
+    int arrived = 0;
+    if (wanted && tp_tree_attaches(w->tree) != s->attaches)
+        for (size_t k = 0; k < wanted && !arrived; k++)
+            arrived = tp_tree_samples(w->tree, want[k]) != NULL;
+    if (arrived || tins)
+        return 0;
+    uint64_t detaches = tp_tree_detaches(w->tree);
+    if (detaches != s->detaches) {
+        if (!resident(w, c))
+            return 0;
+        s->detaches = detaches;
+    }
+    /* The figures the frame's own check used, from the camera they were kept for, settle most
+     * nodes in a few operations; when too many need a test from scratch, they are kept again
+     * from cam (one projection a node), for this test and the frame's. */
+    size_t drawn, scratch;
+    tp_cut_nodes(c, &drawn);
+    if (s->figures && tp_cut_holds_for(c, cam, NULL, &scratch) && scratch * KEEP_RENEW <= drawn)
+        return 1;
+    s->figures = 1;
+    return tp_cut_keep_for(c, cam);
+}
+
+static void selected_now(tp_cut_worker* w, int i, const tp_camera* cam,
+                         const tp_cut_worker_params* p, uint64_t detaches, int figures)
+{
+    w->sel[i] = (selected){1, *cam, *p, tp_tree_attaches(w->tree), detaches, figures};
+}
+
 static void* worker_main(void* arg)
 {
     tp_cut_worker* w = arg;
@@ -60,26 +147,37 @@ static void* worker_main(void* arg)
             pthread_cond_wait(&w->cv, &w->mu);
         if (w->quit)
             break;
-        tp_cut* back = w->cut[!w->front];
+        int fi = w->job_front, bi = fi < 0 ? 1 : !fi;
+        tp_cut* back = w->cut[bi];
         tp_camera cam = w->job_cam, ahead = w->job_ahead;
         tp_cut_worker_params p = w->job;
         tp_cut* pre = w->job_pre;
+        int stopped = w->job_stopped;
         pthread_mutex_unlock(&w->mu);
-        double t0 = tp_clock_ms();
-        apply(back, &p);
-        tp_error err;
-        int ok = tp_cut_update(back, &cam, &p.lod, &err) == TP_OK;
-        if (ok) /* the render thread's tp_cut_holds_for, from the figures kept here */
-            tp_cut_prepare_reuse(back);
-        if (pre)
+        double t0 = tp_clock_ms(), c0 = tp_clock_thread_cpu_ms();
+        int kept = fi >= 0 && may_keep(w, fi, &cam, &p, stopped), ok = 1;
+        if (!kept) {
+            apply(back, &p);
+            tp_error err;
+            ok = tp_cut_update(back, &cam, &p.lod, &err) == TP_OK;
+            w->sel[bi].valid = 0;
+            if (ok) { /* the render thread's tp_cut_holds_for, from the figures kept here */
+                int figures = tp_cut_prepare_reuse(back);
+                selected_now(w, bi, &cam, &p, tp_tree_detaches(w->tree), figures);
+            }
+        }
+        if (pre) {
+            tp_error err;
             tp_cut_update_requests(pre, &ahead, &p.lod, &err);
-        if (ok && p.tins)
+        }
+        if (ok && !kept && p.tins)
             tp_cut_tins_build(p.tins, back, TP_CUT_WORKER_TIN_MS);
-        double ms = tp_clock_ms() - t0;
+        double ms = tp_clock_ms() - t0, cpu = tp_clock_thread_cpu_ms() - c0;
         pthread_mutex_lock(&w->mu);
         w->busy = 0;
         w->done = ok;
-        w->job_ms = ms;
+        w->kept = kept;
+        w->job_ms = ms, w->job_cpu_ms = cpu;
         pthread_cond_broadcast(&w->cv);
     }
     pthread_mutex_unlock(&w->mu);
@@ -139,9 +237,10 @@ static int same_params(const tp_cut_worker_params* a, const tp_cut_worker_params
            a->stitch_add == b->stitch_add && a->tins == b->tins;
 }
 
-/* Waits until the worker is idle; returns whether it finished a selection for p (and, take,
- * hands it over: it is offered once). */
-static int wait_idle(tp_cut_worker* w, const tp_cut_worker_params* p, int take, double* worker_ms)
+/* Waits until the worker is idle; returns whether it finished a job for p (and, take, hands
+ * it over: it is offered once; *kept: the job kept the front cut). */
+static int wait_idle(tp_cut_worker* w, const tp_cut_worker_params* p, int take,
+                     tp_cut_worker_stats* st)
 {
     pthread_mutex_lock(&w->mu);
     while (w->busy)
@@ -149,7 +248,8 @@ static int wait_idle(tp_cut_worker* w, const tp_cut_worker_params* p, int take, 
     int done = w->done && (!p || same_params(&w->job, p));
     if (take)
         w->done = 0;
-    *worker_ms = w->job_ms;
+    st->worker_ms = w->job_ms, st->worker_cpu_ms = w->job_cpu_ms;
+    st->kept = done && w->kept;
     pthread_mutex_unlock(&w->mu);
     return done;
 }
@@ -170,28 +270,35 @@ tp_cut* tp_cut_worker_frame(tp_cut_worker* w, const tp_camera* cam, const tp_cut
 {
     tp_cut_worker_stats st = {0};
     double t0 = tp_clock_ms();
-    int done = wait_idle(w, p, 1, &st.worker_ms);
+    int done = wait_idle(w, p, 1, &st);
     double t1 = tp_clock_ms();
     st.wait_ms = t1 - t0;
-    const tp_cut* back = w->cut[!w->front];
-    /* every node it draws was resident when it was selected: still, unless one was detached */
-    int kept = done && (tp_tree_detaches(w->tree) == w->job_detaches || resident(w, back));
-    if (kept && tp_cut_holds_for(back, cam, NULL, &st.check_scratch)) {
-        w->front = !w->front;
+    int ci = st.kept ? w->front : !w->front; /* the cut the worker offers */
+    const tp_cut* offered = w->cut[ci];
+    /* every node it draws was resident when the job was given: still, unless one was
+     * detached */
+    int ok = done && (tp_tree_detaches(w->tree) == w->job_detaches || resident(w, offered));
+    if (ok && tp_cut_holds_for(offered, cam, NULL, &st.check_scratch)) {
+        w->front = ci;
         st.reused = 1;
     }
+    st.kept &= st.reused;
+    w->frame_cam = *cam;
     double t2 = tp_clock_ms();
     st.check_ms = done ? t2 - t1 : 0;
     w->have_front = 1;
     if (!st.reused) {
         tp_cut* c = w->cut[w->front];
         apply(c, p);
+        w->sel[w->front].valid = 0;
         if (tp_cut_update(c, cam, &p->lod, err) != TP_OK)
             return NULL;
+        selected_now(w, w->front, cam, p, tp_tree_detaches(w->tree), 0);
         st.select_ms = tp_clock_ms() - t2;
     }
     st.frames = ++w->frames;
     st.frames_reused = w->frames_reused += st.reused;
+    st.frames_kept = w->frames_kept += st.kept;
     if (stats)
         *stats = st;
     return w->cut[w->front];
@@ -204,6 +311,8 @@ void tp_cut_worker_next(tp_cut_worker* w, const tp_camera* next, const tp_cut_wo
     w->job_cam = *next;
     w->job = *p;
     w->job_detaches = tp_tree_detaches(w->tree);
+    w->job_front = w->have_front ? w->front : -1;
+    w->job_stopped = w->have_front && same_camera(next, &w->frame_cam);
     w->job_pre = prefetch;
     if (prefetch)
         w->job_ahead = *ahead;
@@ -215,16 +324,16 @@ void tp_cut_worker_next(tp_cut_worker* w, const tp_camera* next, const tp_cut_wo
 
 void tp_cut_worker_idle(tp_cut_worker* w)
 {
-    double ms;
+    tp_cut_worker_stats st;
     if (w)
-        wait_idle(w, NULL, 0, &ms);
+        wait_idle(w, NULL, 0, &st);
 }
 
 void tp_cut_worker_forget(tp_cut_worker* w)
 {
-    double ms;
+    tp_cut_worker_stats st;
     if (w)
-        wait_idle(w, NULL, 1, &ms);
+        wait_idle(w, NULL, 1, &st);
 }
 
 tp_cut* tp_cut_worker_cut(const tp_cut_worker* w)

@@ -20,6 +20,15 @@
  * The worker keeps, after selecting, what that check needs from its own camera
  * (tp_cut_prepare_reuse), so that the check settles a node in a few operations instead of a
  * projection (tests/test_cut_reuse.c: the same answers).
+ *
+ * Frame coherence (error mode): before selecting, the worker asks whether the frame's own cut
+ * may simply be drawn again from the next camera (tp_cut_keep_for: tau and coverage hold there, and
+ * nothing a selection reads has changed but the camera: see may_keep in cut_worker.c). Then it
+ * selects nothing: a cut is selected again only when one of its nodes' bounds crosses tau,
+ * something culled comes into view, a node it wanted arrives, or the camera stops (a still
+ * camera gets the cut selected for it, so a still view is the cut from the roots, node for
+ * node). The cost of a frame then follows what changed in the view, not the map's size
+ * (docs/PERFORMANCE.md, "A cut kept while it holds").
  */
 #ifndef TP_APP_CUT_WORKER_H
 #define TP_APP_CUT_WORKER_H
@@ -52,13 +61,16 @@ int tp_cut_tins_build(tp_tin_cache* tins, const tp_cut* cut, double budget_ms);
 
 typedef struct tp_cut_worker_stats {
     int reused;        /* the frame draws the worker's cut */
+    int kept;          /* ... and that is the frame before's, kept (no selection was made) */
     double wait_ms;    /* render thread: waiting for the worker to finish */
     double check_ms;   /* render thread: tp_cut_holds_for */
     size_t check_scratch; /* the nodes it tested from scratch (the rest were settled by the
                              figures the worker kept: tp_cut_prepare_reuse) */
     double select_ms;  /* render thread: the cut selected here (0 when reused) */
-    double worker_ms;  /* the worker's selection of the cut this frame was offered (its thread) */
-    int frames, frames_reused; /* since the worker was created */
+    double worker_ms;  /* the worker's job for the cut this frame was offered: its wall time */
+    double worker_cpu_ms; /* ... and its thread's CPU time (the keep test or the selection, the
+                             prefetch cut when asked for, TIN builds) */
+    int frames, frames_reused, frames_kept; /* since the worker was created */
 } tp_cut_worker_stats;
 
 /* Two cuts over tree and the thread (started at once, idle until tp_cut_worker_next). NULL and

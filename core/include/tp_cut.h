@@ -224,6 +224,12 @@ int tp_cut_holds_for(const tp_cut* c, const tp_camera* cam, double* max_bound_px
  * tp_cut_update; the next update drops it. O(drawn + culled nodes). Returns 0 (nothing kept:
  * tp_cut_holds_for tests from scratch) without memory or for an installed cut. */
 int tp_cut_prepare_reuse(tp_cut* c);
+/* Whether the cut of the last update holds for cam (tp_cut_holds_for's answer, from scratch),
+ * keeping tp_cut_prepare_reuse's figures from cam instead of the update's camera: the test of
+ * a cut kept for another frame (app/scene/cut_worker.c), after which tp_cut_holds_for near
+ * cam settles nodes from the figures again. One pass, O(drawn + culled nodes); without
+ * memory nothing is kept (the answer is the same). */
+int tp_cut_keep_for(tp_cut* c, const tp_camera* cam);
 
 /* Vertical exaggeration, as tp_selection_set_vertical_scale: boxes, the error mode's projection
  * and tp_cut_measure_screen_error follow heights times scale (tau holds on screen); heights

@@ -115,6 +115,8 @@ struct tp_cut {
     struct tp__cut_reuse* reuse; /* tp_cut_prepare_reuse (cut_reuse.c): per record */
     size_t reuse_cap;
     uint32_t reuse_gen;      /* the update (gen) it was prepared for; 0: none */
+    tp__view reuse_v;        /* the camera the kept figures are from (the update's, or
+                                tp_cut_keep_for's) */
 };
 
 /* ---- the sphere tree (cut_spheres.c; cut_select.c's distance mode with sphere_tree) ---- */

@@ -66,20 +66,26 @@ static double outside_margin(const tp_frustum* f, const double mn[3], const doub
     return margin;
 }
 
+/* A leaf drawn at level n draws its samples: only quantisation is left, however near it comes
+ * (unless it draws a TIN rung, whose bound is its own). */
+static int exempt_leaf(const tp_cut* c, const tp__cut_rec* r)
+{
+    return r->s == 0 && r->level == c->n && !(c->out_tin && c->out_tin[r->out]);
+}
+
 /* Whether a drawn record's bound may exceed tau from camera v (the exempt ones are not
  * tested: they could not be finer in this update either). */
 static int tested_drawn(const tp_cut* c, const tp__cut_rec* r)
 {
     return r->state == TP__CUT_DRAWN && c->have_view && c->lp.mode == TP_LOD_ERROR &&
-           r->out >= 0 && !r->substituted && !(r->s == 0 && r->level == c->n);
+           r->out >= 0 && !r->substituted && !exempt_leaf(c, r);
 }
 
-int tp_cut_prepare_reuse(tp_cut* c)
+/* The figures of every record from view v (frustum f), and whether the cut holds for v (as
+ * holds_node would say of each record). 0 without memory: nothing kept, *holds unset. */
+static int keep_figures(tp_cut* c, const tp__view* v, const tp_frustum* f, int* holds)
 {
-    assert(c);
     c->reuse_gen = 0;
-    if (!c->have_view || c->gen == 0)
-        return 0;
     if (c->rec_count > c->reuse_cap) {
         tp__free(&c->alloc, c->reuse);
         c->reuse_cap = 0;
@@ -88,7 +94,7 @@ int tp_cut_prepare_reuse(tp_cut* c)
             return 0;
         c->reuse_cap = c->rec_count;
     }
-    const tp__view* v = &c->v;
+    int all = 1;
     for (size_t i = 0; i < c->rec_count; i++) {
         const tp__cut_rec* r = &c->rec[i];
         tp__cut_reuse* e = &c->reuse[i];
@@ -98,7 +104,8 @@ int tp_cut_prepare_reuse(tp_cut* c)
             if (!tp__cut_box(c, (int)i, r->view == 1, bmin, bmax))
                 continue;
             e->kind = REUSE_CULLED;
-            e->a = outside_margin(&c->f, bmin, bmax);
+            e->a = outside_margin(f, bmin, bmax);
+            all &= e->a > 0; /* tp_frustum_test_aabb's outside: a corner test per plane */
         } else if (tested_drawn(c, r)) {
             if (!tp__cut_box(c, (int)i, 1, bmin, bmax))
                 continue;
@@ -106,12 +113,40 @@ int tp_cut_prepare_reuse(tp_cut* c)
             e->kind = REUSE_DRAWN;
             e->zmin = pb.zmin;
             e->a = isfinite(pb.num) ? pb.num * pb.zmin / v->f_px : INFINITY;
+            int near;
+            all &= !(tp__projected_px_drawn(v, &pb, r->bound_m, &near) > c->lp.tau_px);
         } else
             continue;
         e->rmax = far_corner(v->pos, bmin, bmax);
     }
+    c->reuse_v = *v;
     c->reuse_gen = c->gen;
+    *holds = all;
     return 1;
+}
+
+int tp_cut_prepare_reuse(tp_cut* c)
+{
+    assert(c);
+    c->reuse_gen = 0;
+    if (!c->have_view || c->gen == 0)
+        return 0;
+    int holds;
+    return keep_figures(c, &c->v, &c->f, &holds);
+}
+
+int tp_cut_keep_for(tp_cut* c, const tp_camera* cam)
+{
+    assert(c && cam);
+    tp__view v;
+    tp_frustum f;
+    tp__view_from_camera(cam, &v);
+    tp_frustum_from_camera(cam, &f);
+    int holds;
+    if (c->have_view && c->gen != 0 && keep_figures(c, &v, &f, &holds))
+        return holds;
+    c->reuse_gen = 0;
+    return tp_cut_holds_for(c, cam, NULL, NULL);
 }
 
 /* Record i from scratch: whether it keeps the cut from camera v (frustum f); *px its bound
@@ -132,7 +167,7 @@ static int holds_node(const tp_cut* c, size_t i, const tp__view* v, const tp_fru
     tp__proj_bound pb = tp__proj_bound_box(v, bmin, bmax);
     int near;
     *px = tp__projected_px_drawn(v, &pb, r->bound_m, &near);
-    return !(*px > c->lp.tau_px && !r->substituted && !(r->s == 0 && r->level == c->n));
+    return !(*px > c->lp.tau_px && !r->substituted && !exempt_leaf(c, r));
 }
 
 /* Whether v sees through the same lens as the update's view (only the pose may differ). */
@@ -171,11 +206,12 @@ int tp_cut_holds_for(const tp_cut* c, const tp_camera* cam, double* max_bound_px
     double worst = 0, px;
     size_t tested = 0, dummy;
     scratch = scratch ? scratch : &dummy;
-    if (!max_bound_px && c->reuse_gen && c->reuse_gen == c->gen && same_lens(&v, &c->v)) {
+    if (!max_bound_px && c->reuse_gen && c->reuse_gen == c->gen && same_lens(&v, &c->reuse_v)) {
         double dc = 0, beta = 0;
         for (int a = 0; a < 3; a++) {
-            double dp = v.pos[a] - c->v.pos[a], dr = v.right[a] - c->v.right[a];
-            double du = v.up[a] - c->v.up[a], df = v.fwd[a] - c->v.fwd[a];
+            const tp__view* p = &c->reuse_v; /* the camera the figures are from */
+            double dp = v.pos[a] - p->pos[a], dr = v.right[a] - p->right[a];
+            double du = v.up[a] - p->up[a], df = v.fwd[a] - p->fwd[a];
             dc += dp * dp, beta += dr * dr + du * du + df * df;
         }
         dc = sqrt(dc), beta = sqrt(beta);
