@@ -258,6 +258,8 @@ void tp_bench_pgm_errors(config_result* c, int frames);
 
 /* The median of v[0..n-1] (n >= 1); sorts v. */
 double tp_bench_median(double* v, int n);
+/* The mean of v[0..n) (NaN when n is 0). */
+double tp_bench_mean(const double* v, int n);
 
 /* VmRSS and RssAnon of this process, MB (10^6 bytes); NaN when not readable. */
 void tp_bench_read_rss(double* rss_mb, double* anon_mb);

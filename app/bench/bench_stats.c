@@ -24,6 +24,14 @@ double tp_bench_median(double* v, int n)
     return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
+double tp_bench_mean(const double* v, int n)
+{
+    double sum = 0;
+    for (int i = 0; i < n; i++)
+        sum += v[i];
+    return n > 0 ? sum / n : NAN;
+}
+
 double tp_bench_p99(const double* v, int n)
 {
     int k = (int)ceil(0.99 * n) - 1;

@@ -45,33 +45,29 @@
 #define SETTLE_MAX_MS 20000.0
 
 #define ROWS_OF(expr) TP_BENCH_COLUMN(v, store_row, c->rows, n, expr)
+#define MEDIAN_OF(dst, expr)                                                                      \
+    do {                                                                                           \
+        ROWS_OF(expr);                                                                             \
+        dst = tp_bench_median(v, n);                                                               \
+    } while (0)
 
 static void summarize(store_result* c, int n)
 {
     double* v = malloc((size_t)n * sizeof *v);
     if (!v)
         return;
-    ROWS_OF(r->frame_ms);
-    c->frame_ms = tp_bench_median(v, n);
+    MEDIAN_OF(c->frame_ms, r->frame_ms);
     c->frame_ms_p99 = tp_bench_p99(v, n);
     c->fps_median = 1000 / c->frame_ms;
-    ROWS_OF(r->cpu_ms);
-    c->cpu_ms = tp_bench_median(v, n);
-    ROWS_OF(r->cut_ms);
-    c->cut_ms = tp_bench_median(v, n);
-    ROWS_OF(r->cut_worker_ms);
-    c->cut_worker_ms = tp_bench_median(v, n);
-    ROWS_OF(r->cut_wait_ms);
-    c->cut_wait_ms = tp_bench_median(v, n);
+    MEDIAN_OF(c->cpu_ms, r->cpu_ms);
+    MEDIAN_OF(c->cut_ms, r->cut_ms);
+    MEDIAN_OF(c->cut_worker_ms, r->cut_worker_ms);
+    MEDIAN_OF(c->cut_wait_ms, r->cut_wait_ms);
     ROWS_OF(r->cut_worker_cpu_ms);
+    c->cut_worker_cpu_ms_mean = tp_bench_mean(v, n);
     c->cut_worker_cpu_ms = tp_bench_median(v, n);
-    c->cut_worker_cpu_ms_mean = 0;
-    for (int i = 0; i < n; i++)
-        c->cut_worker_cpu_ms_mean += v[i] / n;
-    ROWS_OF(r->cut_ms + r->cut_worker_cpu_ms);
-    c->cut_total_cpu_ms = tp_bench_median(v, n);
-    ROWS_OF(r->cut_scratch);
-    c->cut_scratch = tp_bench_median(v, n);
+    MEDIAN_OF(c->cut_total_cpu_ms, r->cut_ms + r->cut_worker_cpu_ms);
+    MEDIAN_OF(c->cut_scratch, r->cut_scratch);
     c->cut_reused_share = c->cut_kept_share = c->tin_share = c->tin_mb = 0;
     double drawn = 0;
     for (int i = 0; i < n; i++) {
@@ -82,45 +78,27 @@ static void summarize(store_result* c, int n)
         c->tin_mb = fmax(c->tin_mb, r->tin_bytes / 1e6);
     }
     c->tin_share /= drawn > 0 ? drawn : 1;
-    ROWS_OF(r->stream_ms);
-    c->stream_ms = tp_bench_median(v, n);
-    ROWS_OF(r->upload_ms);
-    c->upload_ms = tp_bench_median(v, n);
-    ROWS_OF(r->draw_ms);
-    c->draw_ms = tp_bench_median(v, n);
-    ROWS_OF(r->page_faults);
-    c->page_faults = tp_bench_median(v, n);
-    ROWS_OF(r->triangles);
-    c->triangles = tp_bench_median(v, n);
-    ROWS_OF(r->nodes);
-    c->nodes = tp_bench_median(v, n);
-    ROWS_OF(r->visited);
-    c->visited = tp_bench_median(v, n);
-    ROWS_OF(r->uploads);
-    c->uploads = tp_bench_median(v, n);
-    ROWS_OF(r->draw_calls);
-    c->draw_calls = tp_bench_median(v, n);
-    ROWS_OF(r->img_ms);
-    c->img_ms = tp_bench_median(v, n);
-    ROWS_OF(r->img_upload_ms);
-    c->img_upload_ms = tp_bench_median(v, n);
+    MEDIAN_OF(c->stream_ms, r->stream_ms);
+    MEDIAN_OF(c->upload_ms, r->upload_ms);
+    MEDIAN_OF(c->draw_ms, r->draw_ms);
+    MEDIAN_OF(c->page_faults, r->page_faults);
+    MEDIAN_OF(c->triangles, r->triangles);
+    MEDIAN_OF(c->nodes, r->nodes);
+    MEDIAN_OF(c->visited, r->visited);
+    MEDIAN_OF(c->uploads, r->uploads);
+    MEDIAN_OF(c->draw_calls, r->draw_calls);
+    MEDIAN_OF(c->img_ms, r->img_ms);
+    MEDIAN_OF(c->img_upload_ms, r->img_upload_ms);
     c->img_upload_ms_p99 = tp_bench_p99(v, n);
-    ROWS_OF(r->img_uploads);
-    c->img_uploads = tp_bench_median(v, n);
-    ROWS_OF(r->nrm_ms);
-    c->nrm_ms = tp_bench_median(v, n);
-    ROWS_OF(r->nrm_upload_ms);
-    c->nrm_upload_ms = tp_bench_median(v, n);
-    ROWS_OF(r->pgm_fill_ms);
-    c->pgm_fill_ms = tp_bench_median(v, n);
+    MEDIAN_OF(c->img_uploads, r->img_uploads);
+    MEDIAN_OF(c->nrm_ms, r->nrm_ms);
+    MEDIAN_OF(c->nrm_upload_ms, r->nrm_upload_ms);
+    MEDIAN_OF(c->pgm_fill_ms, r->pgm_fill_ms);
     c->pgm_fill_ms_p99 = tp_bench_p99(v, n);
-    ROWS_OF(r->pgm_upload_ms);
-    c->pgm_upload_ms = tp_bench_median(v, n);
+    MEDIAN_OF(c->pgm_upload_ms, r->pgm_upload_ms);
     c->pgm_upload_ms_p99 = tp_bench_p99(v, n);
-    ROWS_OF(r->pgm_posts);
-    c->pgm_posts = tp_bench_median(v, n);
-    ROWS_OF(r->pgm_node_reads);
-    c->pgm_node_reads = tp_bench_median(v, n);
+    MEDIAN_OF(c->pgm_posts, r->pgm_posts);
+    MEDIAN_OF(c->pgm_node_reads, r->pgm_node_reads);
     for (int i = 0; i < n; i++) {
         const store_row* r = &c->rows[i];
         c->substituted_max = r->substituted > c->substituted_max ? r->substituted : c->substituted_max;

@@ -6,6 +6,7 @@
 #include <pthread.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 
 /* A kept cut's figures are kept again from the new camera when more than 1 in KEEP_RENEW of
  * its drawn nodes needed a test from scratch. */
@@ -46,6 +47,7 @@ struct tp_cut_worker {
     tp_camera frame_cam; /* the last frame's camera (render thread) */
     double job_ms, job_cpu_ms;
     int frames, frames_reused, frames_kept;
+    int may_keep;        /* TP_CUT_KEEP (cut_worker.h) */
 };
 
 static void apply(tp_cut* c, const tp_cut_worker_params* p)
@@ -155,7 +157,7 @@ static void* worker_main(void* arg)
         int stopped = w->job_stopped;
         pthread_mutex_unlock(&w->mu);
         double t0 = tp_clock_ms(), c0 = tp_clock_thread_cpu_ms();
-        int kept = fi >= 0 && may_keep(w, fi, &cam, &p, stopped), ok = 1;
+        int kept = fi >= 0 && w->may_keep && may_keep(w, fi, &cam, &p, stopped), ok = 1;
         if (!kept) {
             apply(back, &p);
             tp_error err;
@@ -192,6 +194,8 @@ tp_cut_worker* tp_cut_worker_create(const tp_tree* tree, tp_error* err)
         return NULL;
     }
     w->tree = tree;
+    const char* keep = getenv("TP_CUT_KEEP");
+    w->may_keep = !(keep && strcmp(keep, "0") == 0);
     if (tp_cut_create(tree, &w->cut[0], err) != TP_OK ||
         tp_cut_create(tree, &w->cut[1], err) != TP_OK) {
         tp_cut_destroy(w->cut[0]);
