@@ -331,10 +331,6 @@ const uint16_t* tp_tree_samples(const tp_tree* t, int64_t node); /* NULL when no
 /* How many times a node was detached since the tree was made. A cut selected while this read k
  * (it draws resident nodes only) still has every node it draws resident while it reads k. */
 uint64_t tp_tree_detaches(const tp_tree* t);
-/* How many times a node was attached since the tree was made. A cut that wanted no node it
- * found missing (tp_cut_requests empty) is the one an update for the same camera would select
- * whatever was attached since; otherwise it may not be once this has changed. */
-uint64_t tp_tree_attaches(const tp_tree* t);
 
 /* Builds a whole tree in memory from a float grid (NaN = nodata): metas and every node's samples
  * owned by the tree and attached. For tests and small grids; the store build uses the builder.

@@ -117,6 +117,7 @@ struct tp_cut {
     uint32_t reuse_gen;      /* the update (gen) it was prepared for; 0: none */
     tp__view reuse_v;        /* the camera the kept figures are from (the update's, or
                                 tp_cut_keep_for's) */
+    double keep_tau;         /* tp_cut_set_keep_tau; 0: the update's tau */
 };
 
 /* ---- the sphere tree (cut_spheres.c; cut_select.c's distance mode with sphere_tree) ---- */
@@ -124,6 +125,11 @@ struct tp_cut {
  * distance d (m) from the eye to its area box: -1 refine, else the level it is drawn at
  * (cut_select.c; every distance-mode decision of the cut is this function). */
 int tp__cut_distance_decision(const tp_cut* c, int s, int whole, double d);
+/* Error mode (cut_select.c): whether a node of scale s drawn at level k, R metres from the eye
+ * (to its area box), keeps the holes it may leave within hole_px for a focal length of f_px;
+ * whole: complete, or nothing drawn (no holes). And whether a node is whole. */
+int tp__cut_hole_ok(const tp_cut* c, double f_px, int s, int whole, double R, int k);
+int tp__cut_whole(const tp_node_meta* m);
 /* A node's box in drawn space (cut_select.c's node_box). */
 void tp__cut_node_box(const tp_cut* c, int s, int cc, int rr, int32_t qlo, int32_t qhi,
                       double bmin[3], double bmax[3]);

@@ -35,6 +35,8 @@ typedef struct tp__cut_reuse {
                      projection numerator sqrt(Amax^2 + Bmax^2) (m) */
     double zmin;  /* drawn: the box's smallest depth (m) */
     double rmax;  /* the eye to the box's farthest corner (m) */
+    double hole;  /* drawn, incomplete (it may leave holes): the eye to its area box (m, the
+                     hole test's R); else -1 */
     uint8_t kind; /* REUSE_*: what the record is tested for */
 } tp__cut_reuse;
 
@@ -66,11 +68,54 @@ static double outside_margin(const tp_frustum* f, const double mn[3], const doub
     return margin;
 }
 
+/* The tau a cut is held to: its update's, or tp_cut_set_keep_tau's. */
+static double hold_tau(const tp_cut* c)
+{
+    return c->keep_tau > 0 ? c->keep_tau : c->lp.tau_px;
+}
+
+void tp_cut_set_keep_tau(tp_cut* c, double tau_px)
+{
+    assert(c);
+    c->keep_tau = tau_px > 0 ? tau_px : 0;
+}
+
 /* A leaf drawn at level n draws its samples: only quantisation is left, however near it comes
  * (unless it draws a TIN rung, whose bound is its own). */
 static int exempt_leaf(const tp_cut* c, const tp__cut_rec* r)
 {
     return r->s == 0 && r->level == c->n && !(c->out_tin && c->out_tin[r->out]);
+}
+
+/* The eye (pos) to a box (m). */
+static double box_distance(const double pos[3], const double bmin[3], const double bmax[3])
+{
+    double d2 = 0;
+    for (int a = 0; a < 3; a++) {
+        double d = pos[a] < bmin[a] ? bmin[a] - pos[a] : pos[a] > bmax[a] ? pos[a] - bmax[a] : 0;
+        d2 += d * d;
+    }
+    return sqrt(d2);
+}
+
+/* A drawn record's distance for the hole test (the selection's hole_px, cut_select.c) from the
+ * eye at pos to its area box, or -1 when it leaves no holes. */
+static double hole_distance(const tp_cut* c, const tp__cut_rec* r, const double pos[3],
+                            const double bmin[3], const double bmax[3])
+{
+    if (tp__cut_whole(tp_tree_meta(c->t, r->node)) || (r->s == 0 && r->level == c->n))
+        return -1;
+    return box_distance(pos, bmin, bmax);
+}
+
+/* Whether a drawn record, its bound projecting to px from view v, with near set when its box
+ * reaches the near plane and hole as hole_distance, keeps the cut: within tau (a box at the near
+ * plane only with a zero bound, as the selection asks), and its holes within hole_px. */
+static int drawn_holds(const tp_cut* c, const tp__cut_rec* r, const tp__view* v, double px,
+                       int near, double hole)
+{
+    return !(px > hold_tau(c)) && !(near && r->bound_m > 0) &&
+           (hole < 0 || tp__cut_hole_ok(c, v->f_px, r->s, 0, hole, r->level));
 }
 
 /* Whether a drawn record's bound may exceed tau from camera v (the exempt ones are not
@@ -114,7 +159,9 @@ static int keep_figures(tp_cut* c, const tp__view* v, const tp_frustum* f, int* 
             e->zmin = pb.zmin;
             e->a = isfinite(pb.num) ? pb.num * pb.zmin / v->f_px : INFINITY;
             int near;
-            all &= !(tp__projected_px_drawn(v, &pb, r->bound_m, &near) > c->lp.tau_px);
+            double px = tp__projected_px_drawn(v, &pb, r->bound_m, &near);
+            e->hole = hole_distance(c, r, v->pos, bmin, bmax);
+            all &= drawn_holds(c, r, v, px, near, e->hole);
         } else
             continue;
         e->rmax = far_corner(v->pos, bmin, bmax);
@@ -167,7 +214,8 @@ static int holds_node(const tp_cut* c, size_t i, const tp__view* v, const tp_fru
     tp__proj_bound pb = tp__proj_bound_box(v, bmin, bmax);
     int near;
     *px = tp__projected_px_drawn(v, &pb, r->bound_m, &near);
-    return !(*px > c->lp.tau_px && !r->substituted && !exempt_leaf(c, r));
+    return !tested_drawn(c, r) ||
+           drawn_holds(c, r, v, *px, near, hole_distance(c, r, v->pos, bmin, bmax));
 }
 
 /* Whether v sees through the same lens as the update's view (only the pose may differ). */
@@ -192,7 +240,11 @@ static int settled(const tp_cut* c, const tp__cut_reuse* e, const tp__cut_rec* r
     double d = r->bound_m, num = v->f_px * (e->a + 1.4142135623730951 * move) / z;
     double z2 = z - d * fabs(v->fwd[2]);
     double px = d * (num < ratio ? num : ratio) / (z2 > v->near_m ? z2 : v->near_m);
-    return px <= c->lp.tau_px * (1 - SLACK);
+    /* the eye is at most dc nearer the area box than it was */
+    if (e->hole >= 0 && !tp__cut_hole_ok(c, v->f_px, r->s, 0, e->hole - dc - SLACK * (e->hole + 1),
+                                         r->level))
+        return 0;
+    return px <= hold_tau(c) * (1 - SLACK);
 }
 
 int tp_cut_holds_for(const tp_cut* c, const tp_camera* cam, double* max_bound_px,

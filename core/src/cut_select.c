@@ -128,19 +128,29 @@ static int64_t kid_in_view(tp_cut* c, int i, int q, int* in);
  * eye spans at most about w / R radians, and at most twice that many focal lengths of pixels
  * anywhere in a view up to 90 degrees wide: 2 f w / R. R is the eye's distance to the node's
  * area box (0 inside it: any hole is too wide). */
-static int hole_ok(const tp_cut* c, int s, int whole, double R, int k)
+int tp__cut_hole_ok(const tp_cut* c, double f_px, int s, int whole, double R, int k)
 {
     if (whole || (s == 0 && k == c->n))
         return 1;
     if (!(R > 0))
         return 0;
     double w = (double)((int64_t)1 << (c->n - k + s)) * c->cell_m;
-    return 2 * c->v.f_px * w / R <= c->lp.hole_px;
+    return 2 * f_px * w / R <= c->lp.hole_px;
+}
+
+static int hole_ok(const tp_cut* c, int s, int whole, double R, int k)
+{
+    return tp__cut_hole_ok(c, c->v.f_px, s, whole, R, k);
+}
+
+int tp__cut_whole(const tp_node_meta* m)
+{
+    return (m->flags & TP_NODE_COMPLETE) || !(m->flags & TP_NODE_HAS_DRAWN);
 }
 
 static int whole(const tp_node_meta* m)
 {
-    return (m->flags & TP_NODE_COMPLETE) || !(m->flags & TP_NODE_HAS_DRAWN);
+    return tp__cut_whole(m);
 }
 
 /* Error mode: drawing record i at level k puts its whole area at one vertex density, set by

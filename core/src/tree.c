@@ -203,7 +203,6 @@ void tp_tree_attach(tp_tree* t, int64_t node, const uint16_t* samples)
 {
     assert(t && node >= 0 && node < t->desc.geometry.node_count && samples);
     t->samples[node] = samples;
-    t->attaches++;
 }
 
 void tp_tree_detach(tp_tree* t, int64_t node)
@@ -217,12 +216,6 @@ uint64_t tp_tree_detaches(const tp_tree* t)
 {
     assert(t);
     return t->detaches;
-}
-
-uint64_t tp_tree_attaches(const tp_tree* t)
-{
-    assert(t);
-    return t->attaches;
 }
 
 const uint16_t* tp_tree_samples(const tp_tree* t, int64_t node)

@@ -14,7 +14,6 @@ struct tp_tree {
     tp_node_meta* owned_metas; /* tp_tree_create_from_grid: metas and samples owned */
     uint16_t* owned_samples;
     uint64_t detaches;         /* tp_tree_detaches */
-    uint64_t attaches;         /* tp_tree_attaches */
 };
 
 /* The tree takes ownership of metas and samples (tree.c; for tp_tree_create_from_grid). */
