@@ -342,7 +342,7 @@ tp_normal_map* tp_normal_map_create(tp_normal_source* src, const tp_clipmap_opti
         co = *o;
     if (!co.clip_blocks)
         co.clip_blocks = TP_NORMAL_MAP_BLOCKS;
-    if (!co.cache_bytes) /* blocks are computed, not read: a small pool (64 blocks) will do */
+    if (!co.cache_bytes) /* blocks are computed, not read: a small pool (32 blocks) will do */
         co.cache_bytes = TP_NORMAL_MAP_CACHE_BYTES;
     tp_block_source bs;
     double gt[6];
