@@ -1997,12 +1997,13 @@ TEST(store_damaged_node_is_reported_once_and_drawn_as_its_ancestor)
  * it draws: N42E001 through a 65-sample store, seen whole from above, draws its nodes at levels
  * 0..6, most of them at 2..4. GPU memory (gpu_bytes) is bounded here from the frame's level mix
  * alone, as the renderer documents its pools: a pool per level k of (2^k+1)^2-vertex slots, 16
- * bytes a vertex, starting with the slots that fit in 64 KB (at least one) and doubling, so at
- * most max(start, 2 * drawn) slots; triangle-list regions of 6 * 4^k uint32 indices, 16 then
- * doubling, at most max(16, 2 * drawn) at a drawn level; and the strips of levels 0..n (16-bit
- * indices up to n = 7). Slots of the finest level for every node (the pools before per-level
- * slots), 64 slots a level to start with, or regions of 6 * 4^n indices at every level, each
- * breaks the bound. */
+ * bytes a vertex, starting with the slots that fit in 64 KB (at least one) and growing by a
+ * quarter (at least one), so at most max(start, 1.25 * drawn + 1) slots; triangle-list regions
+ * of 6 * 4^k 16-bit indices (k <= 7), 16 then growing by a quarter, at most
+ * max(16, 1.25 * drawn + 1) at a drawn level; and the strips of levels 0..n (16-bit indices up
+ * to n = 7). Slots of the finest level for every node (the pools before per-level slots), 64
+ * slots a level to start with, regions of 6 * 4^n indices at every level, or pools that double
+ * (up to 2 * drawn), each breaks the bound. */
 TEST(store_vertex_pools_hold_the_levels_drawn)
 {
     REQUIRE_IO();
@@ -2038,9 +2039,9 @@ TEST(store_vertex_pools_hold_the_levels_drawn)
             double start = floor(65536 / slot) < 1 ? 1 : floor(65536 / slot);
             double drawn = st.levels[k];
             nodes += drawn;
-            bound += fmax(start, 2 * drawn) * slot;
+            bound += fmax(start, 1.25 * drawn + 1) * slot;
             if (drawn > 0)
-                bound += fmax(16, 2 * drawn) * 6 * pow(4, k) * 4;
+                bound += fmax(16, 1.25 * drawn + 1) * 6 * pow(4, k) * 2;
             bound += (double)tp_strip_index_count(k) * 2;
         }
         double finest = nodes * finest_slot;

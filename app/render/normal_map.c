@@ -27,9 +27,11 @@ struct tp_normal_source {
     pthread_mutex_t lock; /* the buffers below: one block at a time */
     double* z;            /* ZW x ZW posts: heights (NaN: none) */
     uint8_t* f;           /* and whether each is a filled void */
-    /* decoded nodes, direct-mapped by id */
+    /* nodes read, direct-mapped by id: their samples as stored (a height is made from one as
+     * it is read: 2 bytes a post in the cache, not 8) and their qmin */
     int64_t* cache_node;
-    double* cache_z;
+    uint16_t* cache_q;
+    double* cache_qmin;
     uint8_t* cache_f;
     uint16_t* raw;        /* a node's block: samples, cell mask, filled bits */
     size_t samples, filled_at;
@@ -95,11 +97,12 @@ tp_normal_source* tp_normal_source_store(const tp_store* st, double min_m, doubl
     int side = ZW / (1 << g->n) + 2;
     s->cache_count = 2 * side * side;
     s->cache_node = malloc((size_t)s->cache_count * sizeof *s->cache_node);
-    s->cache_z = malloc((size_t)s->cache_count * s->samples * sizeof *s->cache_z);
+    s->cache_q = malloc((size_t)s->cache_count * s->samples * sizeof *s->cache_q);
+    s->cache_qmin = malloc((size_t)s->cache_count * sizeof *s->cache_qmin);
     s->cache_f = malloc((size_t)s->cache_count * s->samples);
     s->filled_at = s->samples + tp_node_mask_words(g->n);
     s->raw = malloc(tp_tree_block_words(g->n) * sizeof *s->raw);
-    if (!s->cache_node || !s->cache_z || !s->cache_f || !s->raw) {
+    if (!s->cache_node || !s->cache_q || !s->cache_qmin || !s->cache_f || !s->raw) {
         tp_normal_source_destroy(s);
         tp_error_set(err, TP_ERR_OUT_OF_MEMORY, "out of memory");
         return NULL;
@@ -117,14 +120,15 @@ void tp_normal_source_destroy(tp_normal_source* s)
     free(s->z);
     free(s->f);
     free(s->cache_node);
-    free(s->cache_z);
+    free(s->cache_q);
+    free(s->cache_qmin);
     free(s->cache_f);
     free(s->raw);
     free(s);
 }
 
-/* The cache entry of node (heights in metres, NaN where not drawn, and filled flags), read on a
- * miss; -1 when it cannot be. */
+/* The cache entry of node (its samples, TP_TREE_NO_HEIGHT where not drawn, its qmin, and filled
+ * flags), read on a miss; -1 when it cannot be. */
 static int node_entry(tp_normal_source* s, int64_t node, tp_error* err)
 {
     int e = (int)(node % s->cache_count);
@@ -134,14 +138,12 @@ static int node_entry(tp_normal_source* s, int64_t node, tp_error* err)
     const tp_tree_geometry* g = s->g;
     if (tp_store_read_node(s->store, node, s->raw, tp_tree_block_words(g->n), err) != TP_OK)
         return -1;
-    double* z = s->cache_z + (size_t)e * s->samples;
     uint8_t* f = s->cache_f + (size_t)e * s->samples;
-    double qmin = s->metas[node].qmin;
+    memcpy(s->cache_q + (size_t)e * s->samples, s->raw, s->samples * sizeof *s->raw);
+    s->cache_qmin[e] = s->metas[node].qmin;
     const uint16_t* bits = s->raw + s->filled_at;
-    for (size_t k = 0; k < s->samples; k++) {
-        z[k] = s->raw[k] == TP_TREE_NO_HEIGHT ? NAN : ((double)s->raw[k] + qmin) * s->step;
+    for (size_t k = 0; k < s->samples; k++)
         f[k] = (uint8_t)((bits[k / 16] >> (k % 16)) & 1);
-    }
     s->cache_node[e] = node;
     return e;
 }
@@ -175,7 +177,8 @@ static int read_posts(tp_normal_source* s, int l, int64_t x0, int64_t y0, tp_err
                 if (e < 0)
                     return 0;
             }
-            row[i] = s->cache_z[(size_t)e * s->samples + sample];
+            uint16_t q = s->cache_q[(size_t)e * s->samples + sample];
+            row[i] = q == TP_TREE_NO_HEIGHT ? NAN : ((double)q + s->cache_qmin[e]) * s->step;
             frow[i] = s->cache_f[(size_t)e * s->samples + sample];
         }
     }
@@ -342,7 +345,7 @@ tp_normal_map* tp_normal_map_create(tp_normal_source* src, const tp_clipmap_opti
         co = *o;
     if (!co.clip_blocks)
         co.clip_blocks = TP_NORMAL_MAP_BLOCKS;
-    if (!co.cache_bytes) /* blocks are computed, not read: a small pool (64 blocks) will do */
+    if (!co.cache_bytes) /* blocks are computed, not read: a small pool (32 blocks) will do */
         co.cache_bytes = TP_NORMAL_MAP_CACHE_BYTES;
     tp_block_source bs;
     double gt[6];

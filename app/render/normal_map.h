@@ -34,7 +34,7 @@
 
 #define TP_NORMAL_MAP_BLOCK 256 /* texels a side of a block */
 #define TP_NORMAL_MAP_BLOCKS 4  /* default window: blocks a side (1024 texels) */
-#define TP_NORMAL_MAP_CACHE_BYTES ((size_t)16 << 20) /* default pool of blocks in RAM */
+#define TP_NORMAL_MAP_CACHE_BYTES ((size_t)8 << 20) /* default pool of blocks in RAM (32) */
 
 /* Where the normals' posts come from: a store (its nodes read as needed; s must outlive it) or a
  * terrain drawn whole (t must outlive it). NULL with a message in err (out of memory). */

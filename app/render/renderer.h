@@ -75,7 +75,8 @@ typedef struct tp_render_stats {
 #define TP_RENDER_POOL_MAX_BYTES ((size_t)1 << 30)
 
 /* Each level's vertex pool starts with the slots that fit in this (at least one): a view draws
- * a few levels, and a pool doubles when a frame needs more. 64 slots a level were 5.9 MB for
+ * a few levels, and a pool grows by a quarter when a frame needs more (vertex_pool.h; a TIN
+ * node's data goes in the pool of the smallest level whose slot and region hold it). 64 slots a level were 5.9 MB for
  * 65-sample nodes whatever the view drew (docs/PERFORMANCE.md, "Per-level vertex pools"). */
 #define TP_RENDER_POOL_INITIAL_BYTES ((size_t)64 << 10)
 
@@ -185,7 +186,8 @@ typedef struct tp_render_item {
     int8_t nb[4];
     uint8_t incomplete;/* has undrawn samples: drawn as its own triangle list */
     int8_t tin;        /* a cut's node that draws a TIN (tp_cut_node.tin): that rung, drawn as
-                          its own triangle list over its tp_cut_vertex_count vertices; -1: none */
+                          its own triangle list over its tp_cut_vertex_count vertices (v, held
+                          in the pool of the smallest level m with 4^m >= v); -1: none */
 } tp_render_item;
 
 /* Writes item i's vertex data: (2^level+1)^2 vertices (as tp_patch_vertices; a TIN item: its

@@ -202,7 +202,9 @@ static void submit_draws(tp_renderer* r, const size_t group_at[3 * TP_MAX_LEVELS
                 continue;
             stats->draws += (int)(b - a);
             GLenum mode = list ? GL_TRIANGLES : GL_TRIANGLE_STRIP;
-            GLenum type = list ? GL_UNSIGNED_INT : r->index_type;
+            GLenum type = list == 1   ? tp_vertex_pool_index_type(r->pool, k)
+                          : list == 2 ? GL_UNSIGNED_INT
+                                      : r->index_type;
             glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, ebo);
             if (blocks) {
                 for (size_t j = a; j < b; j++) {

@@ -28,6 +28,23 @@ static void write_vertices(tp_renderer* r, int h, int k, int count)
     tp_vertex_pool_write(r->pool, h, r->gtmp, (size_t)count);
 }
 
+/* The pool an item's vertex data goes in: its level's, except a TIN's, which goes in the
+ * smallest level m <= its level with 4^m >= its v vertices: a slot of (2^m+1)^2 >= v vertices,
+ * and a region of 2 * 4^m >= 2v triangles, more than a triangulation of v points in the plane
+ * has (Euler: at most 2v - 5), so nothing is cut off. A TIN draws far fewer triangles than its
+ * level's lattice (at levels 4..6 of the real-relief stores, mostly 10-30% of 2 * 4^k), so slots
+ * and regions sized for the lattice held 3-10 times what it draws (issue 32 item 5). */
+static int pool_level(const tp_renderer* r, const tp_render_item* it, size_t i)
+{
+    if (it->tin < 0 || !r->cut)
+        return it->level;
+    size_t v = tp_cut_vertex_count(r->cut, i);
+    int m = 0;
+    while (m < it->level && ((size_t)1 << (2 * m)) < v)
+        m++;
+    return m;
+}
+
 /* Builds item i's vertex data (and its triangle list if it is incomplete) into slot h; in
  * --stitch add mode with set, the set's samples and triangles (stitch_add_draw.h), with lay,
  * the five-region layout's samples (stitch_add_five.h). tag: what the slot then holds. */
@@ -61,12 +78,12 @@ static void upload(tp_renderer* r, const tp_render_item* it, size_t i, tp_render
         memcpy(sl->nb, it->nb, sizeof sl->nb);
         return;
     }
-    assert(k == tp_vertex_pool_level(h));
+    assert(k == tp_vertex_pool_level(h) || it->tin >= 0);
     count = (int)fill(user, i, r->vtmp, r->ntmp, r->ftmp);
     write_vertices(r, h, k, count);
     sl->tin = it->tin;
-    if (it->incomplete || it->tin >= 0) { /* its own triangle list (a TIN's fits: < 2 4^k) */
-        size_t cap = tp_vertex_pool_region_indices(r->pool, k) / 3;
+    if (it->incomplete || it->tin >= 0) { /* its own triangle list (a TIN's fits: pool_level) */
+        size_t cap = tp_vertex_pool_region_indices(r->pool, tp_vertex_pool_level(h)) / 3;
         size_t nt = r->cut ? tp_cut_triangles(r->cut, i, r->vtmp, r->ttmp, cap)
                            : tp_patch_triangles(r->vtmp, k, r->ttmp, cap);
         tp_vertex_pool_write_triangles(r->pool, h, r->ttmp, 3 * (nt < cap ? nt : cap));
@@ -137,7 +154,7 @@ size_t tp__renderer_upload(tp_renderer* r, const tp_render_item* items, size_t c
         int h = tp_vertex_pool_take(r->pool, it->key,
                                     set   ? set->level
                                     : lay ? lay->level
-                                          : it->level,
+                                          : pool_level(r, it, i),
                                     &fresh);
         if (h < 0) {
             stats->dropped++;

@@ -15,9 +15,18 @@
 /* A handle: slot index * POOL_LEVELS + level. */
 #define POOL_LEVELS 16
 
+/* A full pool or region buffer grows by a quarter (at least one), not by doubling: the GPU
+ * memory it holds is at most 1.25 times the most a frame drew (on a software rasteriser that
+ * memory is the process's, docs/PERFORMANCE.md "The software rasteriser's memory"). */
+static int grown(int n)
+{
+    return n + (n / 4 > 1 ? n / 4 : 1);
+}
+
 /* The vertex pool of one level k: slots of (2^k+1)^2 vertices in one buffer; and the
  * triangle-list regions of its incomplete items, 6 * 4^k indices each (a level-k item draws at
- * most 2 * 4^k triangles) in one index buffer. */
+ * most 2 * 4^k triangles) in one index buffer, 16-bit where a slot's vertices can be so
+ * numbered ((2^k+1)^2 <= 65536, k <= 7), else 32-bit. */
 typedef struct pool {
     GLuint vbo;
     size_t verts;      /* (2^k+1)^2 */
@@ -28,6 +37,7 @@ typedef struct pool {
     int free_count;
     GLuint ibo;        /* the regions; 0 until one is needed */
     size_t stride;     /* indices per region: 6 * 4^k */
+    size_t isize;      /* bytes an index: 2 or 4 */
     int regions, regions_free;
     int* region_free;  /* regions holding no list (a stack) */
     GLsizei* region_count;
@@ -40,6 +50,8 @@ struct tp_vertex_pool {
     int* map;          /* open addressing, key -> handle (-1 empty); map_cap = 2^k >= 2 * items */
     size_t map_cap, map_used;
     uint64_t frame;
+    uint16_t* tmp16;   /* a region's indices narrowed to 16 bits before they are written */
+    size_t tmp16_count;
 };
 
 static size_t hash_key(int64_t key, size_t cap)
@@ -175,7 +187,7 @@ static int take_region(pool* p)
 {
     if (p->regions_free > 0)
         return p->region_free[--p->regions_free];
-    int old = p->regions, want = old ? 2 * old : 16;
+    int old = p->regions, want = old ? grown(old) : 16;
     int* fr = realloc(p->region_free, (size_t)want * sizeof *fr);
     if (fr)
         p->region_free = fr;
@@ -184,7 +196,7 @@ static int take_region(pool* p)
         p->region_count = rc;
     if (!fr || !rc)
         return -1;
-    size_t stride_bytes = p->stride * 4;
+    size_t stride_bytes = p->stride * p->isize;
     GLuint ibo;
     glGenBuffers(1, &ibo);
     glBindBuffer(GL_COPY_WRITE_BUFFER, ibo);
@@ -225,6 +237,9 @@ tp_vertex_pool* tp_vertex_pool_create(int n, size_t vertex_bytes, size_t budget_
         size_t side = ((size_t)1 << k) + 1;
         q->verts = side * side;
         q->stride = 6 * ((size_t)1 << (2 * k));
+        q->isize = q->verts <= 65536 ? 2 : 4;
+        if (q->isize == 2)
+            p->tmp16_count = q->stride;
         size_t slot_bytes = q->verts * vertex_bytes;
         if (budget_bytes > 0) {
             size_t b = budget_bytes / (size_t)(n + 1) / slot_bytes;
@@ -240,7 +255,8 @@ tp_vertex_pool* tp_vertex_pool_create(int n, size_t vertex_bytes, size_t budget_
             return NULL;
         }
     }
-    if (!grow_map(p, 64)) {
+    p->tmp16 = malloc((p->tmp16_count ? p->tmp16_count : 1) * sizeof *p->tmp16);
+    if (!p->tmp16 || !grow_map(p, 64)) {
         tp_error_set(err, TP_ERR_OUT_OF_MEMORY, "out of memory");
         tp_vertex_pool_destroy(p);
         return NULL;
@@ -263,6 +279,7 @@ void tp_vertex_pool_destroy(tp_vertex_pool* p)
         free(p->pool[k].region_count);
     }
     free(p->map);
+    free(p->tmp16);
     free(p);
 }
 
@@ -310,7 +327,7 @@ int tp_vertex_pool_take(tp_vertex_pool* vp, int64_t key, int k, int* fresh)
             if (p->slot[i].stamp != vp->frame && p->slot[i].stamp < p->slot[best].stamp)
                 best = i;
     if (best < 0) {
-        int old = p->slots, want = old * 2;
+        int old = p->slots, want = grown(old);
         if (p->budget_slots > 0 && old < p->budget_slots && want > p->budget_slots)
             want = p->budget_slots; /* up to the budget, no further unless a frame needs it */
         if (!grow_pool(vp, k, want))
@@ -375,9 +392,18 @@ int tp_vertex_pool_write_triangles(tp_vertex_pool* vp, int handle, const uint32_
     if (sl->region < 0)
         return 0;
     p->region_count[sl->region] = (GLsizei)index_count;
+    const void* data = indices;
+    if (p->isize == 2) { /* every index < (2^k+1)^2 <= 65536 */
+        for (size_t i = 0; i < index_count; i++) {
+            assert(indices[i] < p->verts);
+            vp->tmp16[i] = (uint16_t)indices[i];
+        }
+        data = vp->tmp16;
+    }
     glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, p->ibo);
-    glBufferSubData(GL_ELEMENT_ARRAY_BUFFER, (GLintptr)((size_t)sl->region * p->stride * 4),
-                    (GLsizeiptr)(index_count * 4), indices);
+    glBufferSubData(GL_ELEMENT_ARRAY_BUFFER,
+                    (GLintptr)((size_t)sl->region * p->stride * p->isize),
+                    (GLsizeiptr)(index_count * p->isize), data);
     return 1;
 }
 
@@ -409,6 +435,12 @@ unsigned int tp_vertex_pool_index_buffer(const tp_vertex_pool* p, int k)
     return p->pool[k].ibo;
 }
 
+unsigned int tp_vertex_pool_index_type(const tp_vertex_pool* p, int k)
+{
+    assert(k >= 0 && k <= p->n);
+    return p->pool[k].isize == 2 ? GL_UNSIGNED_SHORT : GL_UNSIGNED_INT;
+}
+
 size_t tp_vertex_pool_triangles(const tp_vertex_pool* p, int handle, size_t* offset_bytes)
 {
     const tp_pool_slot* sl = map_slot(p, handle);
@@ -416,7 +448,7 @@ size_t tp_vertex_pool_triangles(const tp_vertex_pool* p, int handle, size_t* off
     *offset_bytes = 0;
     if (sl->region < 0)
         return 0;
-    *offset_bytes = (size_t)sl->region * q->stride * 4;
+    *offset_bytes = (size_t)sl->region * q->stride * q->isize;
     return (size_t)q->region_count[sl->region];
 }
 
@@ -425,7 +457,8 @@ size_t tp_vertex_pool_gpu_bytes(const tp_vertex_pool* p)
     size_t bytes = 0;
     for (int k = 0; k <= p->n; k++) {
         const pool* q = &p->pool[k];
-        bytes += (size_t)q->slots * q->verts * p->vertex_bytes + (size_t)q->regions * q->stride * 4;
+        bytes += (size_t)q->slots * q->verts * p->vertex_bytes +
+                 (size_t)q->regions * q->stride * q->isize;
     }
     return bytes;
 }
@@ -434,6 +467,6 @@ size_t tp_vertex_pool_index_bytes(const tp_vertex_pool* p)
 {
     size_t bytes = 0;
     for (int k = 0; k <= p->n; k++)
-        bytes += (size_t)p->pool[k].regions * p->pool[k].stride * 4;
+        bytes += (size_t)p->pool[k].regions * p->pool[k].stride * p->pool[k].isize;
     return bytes;
 }

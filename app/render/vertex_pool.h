@@ -5,7 +5,10 @@
  * (an item at level 2 of a 65x65 node holds 25 vertices, not 4,225); a map from item key to
  * slot; a free list per level; and, for an item drawn as its own triangle list (an incomplete
  * one, at any level), a region of its level's index buffer, 6 * 4^k indices (a level-k item
- * draws at most 2 * 4^k triangles), that belongs to its slot.
+ * draws at most 2 * 4^k triangles), that belongs to its slot; 16-bit indices where a slot's
+ * vertices can be so numbered (k <= 7: tp_vertex_pool_index_type), 32-bit above. Full buffers
+ * grow by a quarter, so a pool holds at most 1.25 times the most a frame drew (past its start):
+ * on a software rasteriser, GPU memory is the process's.
  *
  * A slot is named by a handle (>= 0) that stays valid until the next tp_vertex_pool_take: a take
  * may evict any slot not taken in the current frame, or grow a buffer. Every call but the
@@ -36,11 +39,11 @@ typedef struct tp_pool_slot {
 } tp_pool_slot;
 
 /* Pools for levels 0..n of vertices of vertex_bytes each. budget_bytes (0: none) is shared
- * evenly between the n+1 pools: a pool grows (doubling) up to its share, then reuses its
+ * evenly between the n+1 pools: a pool grows (by a quarter) up to its share, then reuses its
  * least-recently-used slots not taken this frame; a frame whose items alone need more grows it
  * past its share (up to max_pool_bytes a pool). Each starts with the slots that fit in
  * initial_bytes (at least 1, at most 4096, and no more than its share holds); regions are made
- * when the first incomplete item of a level needs one (16, then doubling). Returns NULL with
+ * when the first incomplete item of a level needs one (16, then a quarter more each time). Returns NULL with
  * err on failure. */
 tp_vertex_pool* tp_vertex_pool_create(int n, size_t vertex_bytes, size_t budget_bytes,
                                       size_t max_pool_bytes, size_t initial_bytes, tp_error* err);
@@ -68,7 +71,8 @@ void tp_vertex_pool_write(tp_vertex_pool* p, int handle, const void* vertices, s
 /* Indices a region of level k holds (a level-k item draws at most 2 * 4^k triangles). */
 size_t tp_vertex_pool_region_indices(const tp_vertex_pool* p, int k);
 /* Gives the slot a triangle-list region (if it has none) and writes index_count indices (at
- * most tp_vertex_pool_region_indices, uint32, relative to the slot's first vertex) into it.
+ * most tp_vertex_pool_region_indices, uint32, relative to the slot's first vertex; stored as
+ * tp_vertex_pool_index_type says) into it.
  * Returns 0 if no region could be made (the slot then has none). */
 int tp_vertex_pool_write_triangles(tp_vertex_pool* p, int handle, const uint32_t* indices,
                                    size_t index_count);
@@ -81,6 +85,9 @@ void tp_vertex_pool_drop_triangles(tp_vertex_pool* p, int handle);
 unsigned int tp_vertex_pool_vertex_buffer(const tp_vertex_pool* p, int k);
 int32_t tp_vertex_pool_base_vertex(const tp_vertex_pool* p, int handle);
 unsigned int tp_vertex_pool_index_buffer(const tp_vertex_pool* p, int k);
+/* The type of the indices in level k's regions: GL_UNSIGNED_SHORT where a slot holds at most
+ * 65536 vertices (k <= 7), else GL_UNSIGNED_INT. */
+unsigned int tp_vertex_pool_index_type(const tp_vertex_pool* p, int k);
 size_t tp_vertex_pool_triangles(const tp_vertex_pool* p, int handle, size_t* offset_bytes);
 
 /* Bytes of the GPU buffers it holds (vertex pools and regions). */
