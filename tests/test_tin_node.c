@@ -2,7 +2,7 @@
  * definition in tp_tree.h, apart from tin_node.c: each rung's outline is the level's lattice
  * outline, under crack removal it meets the lattice's moved outline edge for edge, it tiles the
  * node, and its error against the full-resolution grid (measured by tp_tin_measure, which shares
- * no code with the builder) is within its stated bound plus the node's carry and quantisation,
+ * no code with the builder) is within its stated bound (carry included) plus quantisation,
  * with any neighbour levels. On real relief (Mt Hood, N42E001) and on hard grids: flat, a cliff,
  * random noise, a void. */
 #include "tp_io.h"
@@ -165,7 +165,7 @@ typedef struct checked {
 } checked;
 
 /* The error of rung r of node `node` drawn with nb, against the full-resolution grid h: within
- * its bound plus the carry and the quantisation. */
+ * its bound (the carry included) plus the quantisation. */
 static void check_error(const tp_tree* t, const float* h, int w, int hg, int64_t node,
                         const tp_node_tin* r, const int nb[4], checked* c)
 {
@@ -180,9 +180,7 @@ static void check_error(const tp_tree* t, const float* h, int w, int hg, int64_t
         c->refused++;
         return; /* the cut draws the lattice then */
     }
-    const tp_node_meta* m = tp_tree_meta(t, node);
-    double bound = (b + m->delta[g->n] * ti.err_unit_steps) * ti.height_step_m +
-                   ti.quant_max_error_m + 1e-6;
+    double bound = b * ti.height_step_m + ti.quant_max_error_m + 1e-6; /* carry included */
     float* v = malloc(sizeof *v * 3 * r->vertex_count);
     uint32_t* tri = malloc(sizeof *tri * 3 * r->triangle_count);
     for (uint32_t i = 0; i < r->vertex_count; i++) {
@@ -226,7 +224,9 @@ static checked check_tree(const tp_tree* t, const float* h, int w, int hg, int c
         tp_tree_node_locate(g, id, &s, &cx, &cy);
         tp_node_tins* tins = NULL;
         tp_error err = {{0}};
-        if (tp_node_tins_build(g->n, s, tp_tree_samples(t, id), tp_tree_meta(t, id),
+        uint16_t carry[1 << (2 * TP_NODE_CARRY_DEPTH)];
+        tp_node_carry_regions(t, id, carry);
+        if (tp_node_tins_build(g->n, s, tp_tree_samples(t, id), tp_tree_meta(t, id), carry,
                                ti.err_unit_steps, ~0u, &tins, &err) != TP_OK)
             FAIL("tp_node_tins_build: %s", err.message);
         ASSERT_TRUE(tins != NULL); /* complete nodes */
@@ -350,7 +350,7 @@ TEST(flat_ground_keeps_only_the_outline)
         tp_tree_node_locate(g, id, &s, &cx, &cy);
         tp_node_tins* tins = NULL;
         tp_error err = {{0}};
-        ASSERT_OK(tp_node_tins_build(g->n, s, tp_tree_samples(t, id), tp_tree_meta(t, id),
+        ASSERT_OK(tp_node_tins_build(g->n, s, tp_tree_samples(t, id), tp_tree_meta(t, id), NULL,
                                      ti.err_unit_steps, ~0u, &tins, &err));
         for (int k = 2; k <= g->n; k++) {
             int count;
@@ -445,7 +445,7 @@ TEST(incomplete_nodes_have_none)
         tp_tree_node_locate(g, id, &s, &cx, &cy);
         tp_node_tins* tins = (tp_node_tins*)1;
         tp_error err = {{0}};
-        ASSERT_OK(tp_node_tins_build(g->n, s, tp_tree_samples(t, id), tp_tree_meta(t, id),
+        ASSERT_OK(tp_node_tins_build(g->n, s, tp_tree_samples(t, id), tp_tree_meta(t, id), NULL,
                                      ti.err_unit_steps, ~0u, &tins, &err));
         /* a node holds sample (10, 10) when it lies on its stride and in its area */
         int span = 1 << (g->n + s);
@@ -483,9 +483,9 @@ TEST(levels_are_built_as_asked)
     int64_t leaf = tp_tree_node_id(g, 0, 1, 1);
     tp_node_tins *all = NULL, *some = NULL;
     tp_error err = {{0}};
-    ASSERT_OK(tp_node_tins_build(g->n, 0, tp_tree_samples(t, leaf), tp_tree_meta(t, leaf),
+    ASSERT_OK(tp_node_tins_build(g->n, 0, tp_tree_samples(t, leaf), tp_tree_meta(t, leaf), NULL,
                                  ti.err_unit_steps, ~0u, &all, &err));
-    ASSERT_OK(tp_node_tins_build(g->n, 0, tp_tree_samples(t, leaf), tp_tree_meta(t, leaf),
+    ASSERT_OK(tp_node_tins_build(g->n, 0, tp_tree_samples(t, leaf), tp_tree_meta(t, leaf), NULL,
                                  ti.err_unit_steps, 1u << 3, &some, &err));
     int ca, cs;
     const tp_node_tin* ra = tp_node_tins_level(all, 3, &ca);
