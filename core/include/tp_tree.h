@@ -176,8 +176,8 @@ double tp_node_error_bound(const tp_node_meta* m, int n, int k, const int neighb
  * (tp_cut_node.nb: snapping onto the coarser neighbour's vertices) and shared edges stay
  * bit-identical with lattice and TIN neighbours alike. Inside: the greedy insertion of tp_tin
  * (tin.c) over the node's samples, stopped at a ladder of bounds ("rungs") between the level's
- * own part of delta[k] and twice that of delta[k-1] (at most TP_NODE_TIN_RUNGS a level, a
- * factor sqrt(2) apart, coarsest first; the lattice's own bound last); a rung with as many
+ * own part of delta[k] and of delta[k-1] (at most TP_NODE_TIN_RUNGS a level, a factor sqrt(2)
+ * apart, coarsest first; the lattice's own bound last); a rung with as many
  * triangles as the lattice (2 * 4^k) is dropped. Levels 0 (2 triangles) have none.
  *
  * Each rung's bounds are against every full-resolution sample under its triangles, carry
