@@ -2,7 +2,7 @@
  * definition in tp_tree.h, apart from tin_node.c: each rung's outline is the level's lattice
  * outline, under crack removal it meets the lattice's moved outline edge for edge, it tiles the
  * node, and its error against the full-resolution grid (measured by tp_tin_measure, which shares
- * no code with the builder) is within its stated bound plus the node's carry and quantisation,
+ * no code with the builder) is within its stated bound (carry included) plus quantisation,
  * with any neighbour levels. On real relief (Mt Hood, N42E001) and on hard grids: flat, a cliff,
  * random noise, a void. */
 #include "tp_io.h"
@@ -15,6 +15,8 @@
     X(flat_ground_keeps_only_the_outline)                                                          \
     X(cliff_and_noise_hold_their_bounds)                                                           \
     X(a_coarse_node_holds_its_bound_between_its_samples)                                           \
+    X(a_node_four_times_coarser_holds_its_exact_bound)                                             \
+    X(carry_regions_bound_the_surface_against_full_resolution)                                     \
     X(incomplete_nodes_have_none)                                                                  \
     X(levels_are_built_as_asked)                                                                   \
     X(the_cache_builds_once_and_prunes_by_residency_and_age)                                       \
@@ -165,7 +167,7 @@ typedef struct checked {
 } checked;
 
 /* The error of rung r of node `node` drawn with nb, against the full-resolution grid h: within
- * its bound plus the carry and the quantisation. */
+ * its bound (the carry included) plus the quantisation. */
 static void check_error(const tp_tree* t, const float* h, int w, int hg, int64_t node,
                         const tp_node_tin* r, const int nb[4], checked* c)
 {
@@ -180,9 +182,7 @@ static void check_error(const tp_tree* t, const float* h, int w, int hg, int64_t
         c->refused++;
         return; /* the cut draws the lattice then */
     }
-    const tp_node_meta* m = tp_tree_meta(t, node);
-    double bound = (b + m->delta[g->n] * ti.err_unit_steps) * ti.height_step_m +
-                   ti.quant_max_error_m + 1e-6;
+    double bound = b * ti.height_step_m + ti.quant_max_error_m + 1e-6; /* carry included */
     float* v = malloc(sizeof *v * 3 * r->vertex_count);
     uint32_t* tri = malloc(sizeof *tri * 3 * r->triangle_count);
     for (uint32_t i = 0; i < r->vertex_count; i++) {
@@ -226,7 +226,9 @@ static checked check_tree(const tp_tree* t, const float* h, int w, int hg, int c
         tp_tree_node_locate(g, id, &s, &cx, &cy);
         tp_node_tins* tins = NULL;
         tp_error err = {{0}};
-        if (tp_node_tins_build(g->n, s, tp_tree_samples(t, id), tp_tree_meta(t, id),
+        uint16_t carry[1 << (2 * TP_NODE_CARRY_DEPTH)];
+        tp_node_carry_regions(t, id, carry);
+        if (tp_node_tins_build(g->n, s, tp_tree_samples(t, id), tp_tree_meta(t, id), carry,
                                ti.err_unit_steps, ~0u, &tins, &err) != TP_OK)
             FAIL("tp_node_tins_build: %s", err.message);
         ASSERT_TRUE(tins != NULL); /* complete nodes */
@@ -350,7 +352,7 @@ TEST(flat_ground_keeps_only_the_outline)
         tp_tree_node_locate(g, id, &s, &cx, &cy);
         tp_node_tins* tins = NULL;
         tp_error err = {{0}};
-        ASSERT_OK(tp_node_tins_build(g->n, s, tp_tree_samples(t, id), tp_tree_meta(t, id),
+        ASSERT_OK(tp_node_tins_build(g->n, s, tp_tree_samples(t, id), tp_tree_meta(t, id), NULL,
                                      ti.err_unit_steps, ~0u, &tins, &err));
         for (int k = 2; k <= g->n; k++) {
             int count;
@@ -427,6 +429,131 @@ TEST(a_coarse_node_holds_its_bound_between_its_samples)
     free(coarse);
 }
 
+/* The root's level-n surface (65 x 65 random samples, multiples of 4: exact at quarter points),
+ * its cells split from (i+1, j) to (i, j+1), sampled f times finer as the full resolution. */
+static float* upsampled_surface(int f, unsigned seed, int* width)
+{
+    int cw = 65, w = f * (cw - 1) + 1;
+    float* coarse = malloc(sizeof *coarse * cw * cw);
+    float* h = malloc(sizeof *h * w * w);
+    for (int i = 0; i < cw * cw; i++) {
+        seed = seed * 1103515245u + 12345u;
+        coarse[i] = (float)(4 * ((seed >> 16) % 100));
+    }
+#define C(i, j) coarse[(size_t)(j) * cw + (i)]
+    for (int y = 0; y < w; y++)
+        for (int x = 0; x < w; x++) {
+            int i = x / f, j = y / f, fx = x % f, fy = y % f;
+            double z;
+            if (fx + fy <= f) /* lower triangle (also the samples: fx = fy = 0) */
+                z = C(i, j) + (double)fx / f * (C(i + 1 < cw ? i + 1 : i, j) - C(i, j)) +
+                    (double)fy / f * (C(i, j + 1 < cw ? j + 1 : j) - C(i, j));
+            else
+                z = C(i + 1, j + 1) + (double)(f - fx) / f * (C(i, j + 1) - C(i + 1, j + 1)) +
+                    (double)(f - fy) / f * (C(i + 1, j) - C(i + 1, j + 1));
+            h[(size_t)y * w + x] = (float)z;
+        }
+#undef C
+    free(coarse);
+    *width = w;
+    return h;
+}
+
+TEST(a_node_four_times_coarser_holds_its_exact_bound)
+{
+    /* As above, a root of scale 2: every carry is 0 (the children's surfaces nest in the root's),
+     * so each rung's bound is its measured |T - S_n| alone, which the full resolution (the
+     * surface at quarter points) samples between the crossings of T's edges with the cells: the
+     * error there reaches the bound (an exact bound, not the cell bound's extension a cell
+     * beyond T). */
+    int w;
+    float* h = upsampled_surface(4, 4242, &w);
+    tp_tree* t = tree_of(h, w, w, 65);
+    const tp_tree_geometry* g = tp_tree_get_geometry(t);
+    ASSERT_EQ_INT(g->scales, 3);
+    int64_t root = tp_tree_node_id(g, 2, 0, 0);
+    EXPECT_EQ_INT(tp_tree_meta(t, root)->delta[g->n], 0);
+    checked c = check_tree(t, h, w, w, 2);
+    EXPECT_TRUE(c.rungs > 10);
+    EXPECT_TRUE(c.worst_ratio > 0.9); /* the bound is reached: exact, not a loose margin */
+    tp_tree_destroy(t);
+    free(h);
+}
+
+/* The level-n surface of node `id` at full-resolution sample (x, y) of its area (metres), written
+ * here from tp_tree.h's definition: its samples, each cell split from (i+1, j) to (i, j+1). */
+static double level_n_surface(const tp_tree* t, int64_t id, int x, int y)
+{
+    const tp_tree_geometry* g = tp_tree_get_geometry(t);
+    int s, cx, cy;
+    tp_tree_node_locate(g, id, &s, &cx, &cy);
+    int x0 = cx << (g->n + s), y0 = cy << (g->n + s), f = 1 << s;
+    int i = (x - x0) >> s, j = (y - y0) >> s, fx = (x - x0) & (f - 1), fy = (y - y0) & (f - 1);
+    if (fx == 0 && fy == 0)
+        return tp_tree_sample(t, x, y);
+#define S(a, b) tp_tree_sample(t, x0 + ((a) << s), y0 + ((b) << s))
+    if (fx + fy <= f)
+        return S(i, j) + (double)fx / f * (S(i + 1, j) - S(i, j)) +
+               (double)fy / f * (S(i, j + 1) - S(i, j));
+    return S(i + 1, j + 1) + (double)(f - fx) / f * (S(i, j + 1) - S(i + 1, j + 1)) +
+           (double)(f - fy) / f * (S(i + 1, j) - S(i + 1, j + 1));
+#undef S
+}
+
+TEST(carry_regions_bound_the_surface_against_full_resolution)
+{
+#ifdef TP_TEST_NO_IO
+    SKIP("built without tp_io");
+#else
+    /* Mt Hood, 257 x 257 in leaves of 33: nodes of scale 1 to 3. Each region's carry bounds the
+     * node's level-n surface against every full-resolution sample of the region (closed), and
+     * is at most the node's delta[n]; on this relief it is below it somewhere. */
+    tp_render_grid* rg = tin_test_render_grid("TP_SAMPLE_DATA_DIR", "lf_elev_220_mt_hood_utm.tif");
+    int size = 257, x0 = (rg->width - size) / 2, y0 = (rg->height - size) / 2;
+    float* h = malloc(sizeof *h * (size_t)size * size);
+    for (int y = 0; y < size; y++)
+        for (int x = 0; x < size; x++)
+            h[(size_t)y * size + x] = rg->heights[(size_t)(y0 + y) * rg->width + x0 + x];
+    tp_render_grid_destroy(rg);
+    tp_tree* t = tree_of(h, size, size, 33);
+    const tp_tree_geometry* g = tp_tree_get_geometry(t);
+    tp_tree_info ti;
+    tp_tree_get_info(t, &ti);
+    double unit_m = ti.err_unit_steps * ti.height_step_m;
+    long regions = 0, tighter = 0;
+    for (int64_t id = 0; id < g->node_count; id++) {
+        int s, cx, cy;
+        tp_tree_node_locate(g, id, &s, &cx, &cy);
+        int d = tp_node_carry_depth(s), nr = 1 << d;
+        EXPECT_EQ_INT(d, s < 3 ? s : 3);
+        uint16_t carry[1 << (2 * TP_NODE_CARRY_DEPTH)];
+        tp_node_carry_regions(t, id, carry);
+        uint16_t own = tp_tree_meta(t, id)->delta[g->n];
+        int span = 1 << (g->n + s - d); /* full-resolution samples a region side */
+        for (int r = 0; r < nr * nr; r++) {
+            EXPECT_TRUE(carry[r] <= own);
+            regions++;
+            tighter += carry[r] < own;
+            int rx = (cx << (g->n + s)) + (r % nr) * span, ry = (cy << (g->n + s)) + (r / nr) * span;
+            double worst = 0;
+            for (int y = ry; y <= ry + span; y++)
+                for (int x = rx; x <= rx + span; x++) {
+                    double e = fabs(level_n_surface(t, id, x, y) - h[(size_t)y * size + x]);
+                    worst = e > worst ? e : worst;
+                }
+            if (worst > carry[r] * unit_m + ti.quant_max_error_m + 1e-6)
+                FAIL("node %lld region %d: |S_n - f| %.4f m above its carry %.4f m",
+                     (long long)id, r, worst, carry[r] * unit_m);
+        }
+    }
+    printf("%ld regions, %ld below their node's carry\n", regions, tighter);
+    EXPECT_TRUE(regions > 64);
+    EXPECT_TRUE(tighter * 4 > regions);
+    tp_tree_destroy(t);
+    free(h);
+#endif
+}
+
 TEST(incomplete_nodes_have_none)
 {
     int w = 65, hg = 65;
@@ -445,7 +572,7 @@ TEST(incomplete_nodes_have_none)
         tp_tree_node_locate(g, id, &s, &cx, &cy);
         tp_node_tins* tins = (tp_node_tins*)1;
         tp_error err = {{0}};
-        ASSERT_OK(tp_node_tins_build(g->n, s, tp_tree_samples(t, id), tp_tree_meta(t, id),
+        ASSERT_OK(tp_node_tins_build(g->n, s, tp_tree_samples(t, id), tp_tree_meta(t, id), NULL,
                                      ti.err_unit_steps, ~0u, &tins, &err));
         /* a node holds sample (10, 10) when it lies on its stride and in its area */
         int span = 1 << (g->n + s);
@@ -483,9 +610,9 @@ TEST(levels_are_built_as_asked)
     int64_t leaf = tp_tree_node_id(g, 0, 1, 1);
     tp_node_tins *all = NULL, *some = NULL;
     tp_error err = {{0}};
-    ASSERT_OK(tp_node_tins_build(g->n, 0, tp_tree_samples(t, leaf), tp_tree_meta(t, leaf),
+    ASSERT_OK(tp_node_tins_build(g->n, 0, tp_tree_samples(t, leaf), tp_tree_meta(t, leaf), NULL,
                                  ti.err_unit_steps, ~0u, &all, &err));
-    ASSERT_OK(tp_node_tins_build(g->n, 0, tp_tree_samples(t, leaf), tp_tree_meta(t, leaf),
+    ASSERT_OK(tp_node_tins_build(g->n, 0, tp_tree_samples(t, leaf), tp_tree_meta(t, leaf), NULL,
                                  ti.err_unit_steps, 1u << 3, &some, &err));
     int ca, cs;
     const tp_node_tin* ra = tp_node_tins_level(all, 3, &ca);

@@ -177,13 +177,14 @@ double tp_node_error_bound(const tp_node_meta* m, int n, int k, const int neighb
  * bit-identical with lattice and TIN neighbours alike. Inside: the greedy insertion of tp_tin
  * (tin.c) over the node's samples, stopped at a ladder of bounds ("rungs") between the level's
  * own part of delta[k] and of delta[k-1] (at most TP_NODE_TIN_RUNGS a level, a factor sqrt(2)
- * apart, coarsest first; the lattice's own bound last); a rung with as many triangles as the
- * lattice (2 * 4^k) is dropped. Levels 0 (2 triangles) have none.
+ * apart, coarsest first; the lattice's own bound last); a rung with as many
+ * triangles as the lattice (2 * 4^k) is dropped. Levels 0 (2 triangles) have none.
  *
- * Each rung's bounds are measured exactly as the node's eps tables measure the lattice
- * (lattice_error.c: the samples a triangle covers for a leaf, its cell bound for a node of
- * scale >= 1), in height steps, WITHOUT the carry delta[n] (the node's level-n surface against
- * full resolution, which every bound of the node adds; node_meta.c):
+ * Each rung's bounds are against every full-resolution sample under its triangles, carry
+ * included (tin_node_bound.c), in height steps: per triangle, |T - S_n| over T measured exactly
+ * (S_n the node's level-n surface: the samples T covers, and for scale >= 1 every point where an
+ * edge of T crosses a lattice edge) plus the carry |S_n - f| of the regions of the node it touches
+ * (tp_node_carry_regions; the node's delta[n] everywhere without them):
  *   own_steps         every triangle, no vertex moved;
  *   eps_steps[s][kn]  every triangle with a vertex that a neighbour at relative level kn < k on
  *                     side s moves, under every combination of levels on the other sides its
@@ -191,8 +192,8 @@ double tp_node_error_bound(const tp_node_meta* m, int n, int k, const int neighb
  *                     onto three distinct points (two vertices snapped together is allowed:
  *                     not drawn, as the lattice's collapsed triangles).
  * Drawn with neighbour levels nb, a rung's bound is the largest of own_steps and eps_steps of
- * its moved sides (tp_node_tin_bound_steps), plus the carry. Triangles wind as the strips. */
-#define TP_NODE_TIN_RUNGS 4
+ * its moved sides (tp_node_tin_bound_steps). Triangles wind as the strips. */
+#define TP_NODE_TIN_RUNGS 8
 typedef struct tp_node_tin {
     int level;                  /* k, 1..n */
     uint32_t vertex_count;      /* <= (2^k+1)^2 */
@@ -206,19 +207,29 @@ typedef struct tp_node_tin {
 
 typedef struct tp_node_tins tp_node_tins; /* every level of one node, one allocation */
 
+/* A node's carry regions: the node's area cut into 2^d x 2^d regions, d = tp_node_carry_depth
+ * (scale) (min(scale, TP_NODE_CARRY_DEPTH)), each the bound (err units, rounded up, as the metas)
+ * of |S_n - f| there: the delta[n - d] of the descendant at depth d that covers it (its level
+ * n - d lattice is the node's level-n surface over its area), or the node's delta[n] where that
+ * is smaller. Row-major, 4^d values; reads only metas (every node's is kept). */
+#define TP_NODE_CARRY_DEPTH 3
+int tp_node_carry_depth(int scale);
+/* (tp_node_carry_regions(tree, node, carry) is declared with the tree below.) */
+
 /* Builds the TINs of the levels whose bit is set in `levels` (bit k for level k; ~0u: all) of a
  * node of `scale` from its block's samples (tp_tree_samples: (2^n+1)^2, TP_TREE_NO_HEIGHT where
- * not drawn) and its meta, whose bounds are in err_unit_steps. A node with any sample not drawn
- * gets none (*out = NULL, TP_OK): incomplete nodes keep their lattices and cell masks.
- * TP_ERR_OUT_OF_MEMORY. Reentrant (a thread may build them while the frame draws). Cost: about
- * 1 to 3 ms a level for n = 6 (docs/PERFORMANCE.md, "TIN nodes"). */
+ * not drawn), its meta, whose bounds are in err_unit_steps, and its carry regions (as
+ * tp_node_carry_regions writes them; NULL: the meta's delta[n] everywhere, a looser bound). A
+ * node with any sample not drawn gets none (*out = NULL, TP_OK): incomplete nodes keep their
+ * lattices and cell masks. TP_ERR_OUT_OF_MEMORY. Reentrant (a thread may build them while the
+ * frame draws). Cost: about 1 to 3 ms a level for n = 6 (docs/PERFORMANCE.md, "TIN nodes"). */
 tp_status tp_node_tins_build(int n, int scale, const uint16_t* samples, const tp_node_meta* meta,
-                             double err_unit_steps, unsigned levels, tp_node_tins** out,
-                             tp_error* err);
+                             const uint16_t* carry, double err_unit_steps, unsigned levels,
+                             tp_node_tins** out, tp_error* err);
 /* Level k's rungs, coarsest (fewest triangles) first, *count of them (0: the lattice only;
  * tins NULL allowed). */
 const tp_node_tin* tp_node_tins_level(const tp_node_tins* tins, int k, int* count);
-/* A rung's bound (steps, without the carry) drawn with neighbour levels nb (as tp_cut_node.nb). */
+/* A rung's bound (steps, carry included) drawn with neighbour levels nb (as tp_cut_node.nb). */
 double tp_node_tin_bound_steps(const tp_node_tin* t, const int8_t nb[4]);
 /* Bytes held (for the stream's accounting). */
 size_t tp_node_tins_bytes(const tp_node_tins* tins);
@@ -319,6 +330,8 @@ tp_status tp_tree_create(const tp_tree_desc* desc, tp_tree** out, tp_error* err)
 void tp_tree_destroy(tp_tree* t); /* accepts NULL */
 const tp_tree_geometry* tp_tree_get_geometry(const tp_tree* t);
 const tp_node_meta* tp_tree_meta(const tp_tree* t, int64_t node);
+/* A node's carry regions (see tp_node_carry_depth above): 4^tp_node_carry_depth(scale) values. */
+void tp_node_carry_regions(const tp_tree* t, int64_t node, uint16_t* carry);
 
 /* Residency: the caller owns node blocks (tp_tree_block_words(n) uint16: samples and cell
  * mask, see TP_TREE_NO_HEIGHT) and

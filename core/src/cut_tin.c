@@ -112,12 +112,12 @@ int32_t tp__cut_pick_tin(tp_cut* c, int ri, const int nb[4])
     }
     const tp_node_tin* rungs = tp_node_tins_level(tins, r->level, &count);
     int8_t nb8[4] = {(int8_t)nb[0], (int8_t)nb[1], (int8_t)nb[2], (int8_t)nb[3]};
-    double carry = m->delta[c->n] * c->err_unit, allow = fmax(c->lp.tau_px, r->bound_px);
+    double allow = fmax(c->lp.tau_px, r->bound_px);
     for (int j = 0; j < count; j++) {
         double steps = tp_node_tin_bound_steps(&rungs[j], nb8);
         if (!isfinite(steps))
             continue;
-        double d = ((steps + carry) * c->step + c->quant) * c->zscale, px = 0;
+        double d = (steps * c->step + c->quant) * c->zscale, px = 0; /* carry included */
         int near = 0;
         if (!installed && (px = tp__projected_px_drawn(&c->v, &r->pb, d, &near)) > allow)
             continue;

@@ -94,8 +94,10 @@ tp_status tp_tin_cache_build(tp_tin_cache* c, int64_t node, int k, tp_error* err
     int s, cc, rr;
     tp_tree_node_locate(g, node, &s, &cc, &rr);
     tp_node_tins* tins = NULL;
-    tp_status st = tp_node_tins_build(g->n, s, q, tp_tree_meta(c->t, node), c->t->desc.err_unit_steps,
-                                      1u << k, &tins, err);
+    uint16_t carry[1 << (2 * TP_NODE_CARRY_DEPTH)];
+    tp_node_carry_regions(c->t, node, carry);
+    tp_status st = tp_node_tins_build(g->n, s, q, tp_tree_meta(c->t, node), carry,
+                                      c->t->desc.err_unit_steps, 1u << k, &tins, err);
     if (st != TP_OK)
         return st;
     c->bytes += tp_node_tins_bytes(tins);

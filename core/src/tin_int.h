@@ -113,4 +113,22 @@ tp_status tp__tin_build(const float* heights, int width, int height, double max_
 tp_status tp__tin_build_rungs(const float* heights, int width, int height, const double* tol,
                               int count, const uint8_t* cls, tp_tin** rungs, tp_error* err);
 
+/* ---- a node TIN triangle's bound against full resolution (tin_node_bound.c) ---- */
+
+/* One node: its samples q (side = 2^n + 1 a row, steps), its scale, and its carry regions
+ * (tp_node_carry_regions: 2^depth x 2^depth, in err units of `unit` steps). */
+typedef struct tp__tin_node_bound {
+    const int32_t* q;
+    int side, n, scale, depth;
+    const uint16_t* carry;
+    double unit;
+} tp__tin_node_bound;
+
+/* The bound (steps) of triangle pos (lattice positions of the node's samples, the heights its
+ * samples there) against every full-resolution sample under it: exactly |T - S_n| over T for a
+ * node of scale >= 1 (the samples it covers for a leaf, whose samples are the full resolution),
+ * plus the largest carry of the regions its bounding box touches; INFINITY where one is
+ * saturated. */
+double tp__tin_node_tri_bound(const tp__tin_node_bound* b, const int32_t pos[3][2]);
+
 #endif

@@ -4,9 +4,10 @@
  * Each level k >= 1 of a complete node: one greedy insertion of tin.c over the node's
  * (2^n+1)^2 samples with the level-k side vertices forced and every other side sample skipped
  * (so the outline is the lattice's), stopped at each rung of the level's ladder
- * (tp__tin_build_rungs); then each rung's triangles are measured exactly as the eps tables
- * measure the lattice's (lattice_error.c): unmoved, and under every combination of neighbour
- * levels on the sides their vertices lie on (turned over: the side's level is refused).
+ * (tp__tin_build_rungs); then each rung's triangles are measured against full resolution
+ * (tin_node_bound.c: exactly against the node's level-n surface, plus the carry of the regions
+ * they touch): unmoved, and under every combination of neighbour levels on the sides their
+ * vertices lie on (turned over: the side's level is refused).
  */
 #include "lattice.h"
 #include "tin_int.h"
@@ -25,8 +26,9 @@ struct tp_node_tins {
 
 /* What measuring one level's rungs needs. */
 typedef struct level_check {
-    int k, side, stride, cells;
+    int k, side, stride;
     const int32_t* q;
+    tp__tin_node_bound bound; /* a triangle's bound against full resolution */
 } level_check;
 
 static int64_t orient(const int32_t p[3][2])
@@ -47,10 +49,7 @@ static int movable_side(int i, int j, int last)
 
 static double tri_error(const level_check* c, const int32_t pos[3][2])
 {
-    int64_t z[3];
-    for (int v = 0; v < 3; v++)
-        z[v] = c->q[(size_t)pos[v][1] * (size_t)c->side + (size_t)pos[v][0]];
-    return tp__lattice_triangle_error(c->q, c->side, pos, z, c->cells);
+    return tp__tin_node_tri_bound(&c->bound, pos);
 }
 
 /* Triangle p (orientation o) with its vertices moved by neighbour levels nb: its error, 0 when
@@ -142,8 +141,11 @@ static double part_steps(unsigned units, unsigned carry, double unit)
     return units > carry ? (units - carry) * unit : 0.0;
 }
 
-/* Level k's ladder of bounds (steps), coarsest first: sqrt(2) apart below the own part of
- * delta[k-1], down to the own part of delta[k] (level n: down to an eighth of delta[n-1]'s). */
+/* Level k's ladder of tolerances (steps, the insertion's against the node's samples), coarsest
+ * first: sqrt(2) apart from the own part of delta[k-1] (a node drawn at level k for its
+ * neighbours' sake may be allowed that much: on the real-relief stores, starting at twice it or
+ * at sqrt(2) times it drew 0.2-0.4% fewer triangles with 25-50% more rungs to build), down to the
+ * own part of delta[k] (level n: down to an eighth of delta[n-1]'s). */
 static int ladder(const tp_node_meta* m, int n, int k, double unit, double tol[TP_NODE_TIN_RUNGS])
 {
     unsigned carry = m->delta[n];
@@ -151,7 +153,7 @@ static int ladder(const tp_node_meta* m, int n, int k, double unit, double tol[T
     if (!isfinite(hi) || !isfinite(lo))
         return 0;
     int count = 0;
-    double r = hi / sqrt(2.0);
+    double r = hi;
     for (; count < TP_NODE_TIN_RUNGS - (k < n) && r > lo * 1.05 && r > hi / 8.5; r /= sqrt(2.0))
         tol[count++] = r;
     if (k < n)
@@ -288,8 +290,8 @@ static tp_node_tins* pack(tp_tin* const* tins, const tp_node_tin* rungs, const i
 }
 
 tp_status tp_node_tins_build(int n, int scale, const uint16_t* samples, const tp_node_meta* meta,
-                             double err_unit_steps, unsigned levels, tp_node_tins** out,
-                             tp_error* err)
+                             const uint16_t* carry, double err_unit_steps, unsigned levels,
+                             tp_node_tins** out, tp_error* err)
 {
     assert(n >= 1 && n <= TP_MAX_N && scale >= 0 && samples && meta && out && err_unit_steps > 0);
     *out = NULL;
@@ -320,8 +322,11 @@ tp_status tp_node_tins_build(int n, int scale, const uint16_t* samples, const tp
         int nt = k >= 1 && (levels >> k & 1) ? ladder(meta, n, k, err_unit_steps, tol) : 0;
         if (nt == 0)
             continue;
-        level_check c = {.k = k, .side = side, .stride = 1 << (n - k), .cells = scale > 0,
-                         .q = q};
+        level_check c = {.k = k, .side = side, .stride = 1 << (n - k), .q = q,
+                         .bound = {.q = q, .side = side, .n = n, .scale = scale,
+                                   .depth = carry ? tp_node_carry_depth(scale) : 0,
+                                   .carry = carry ? carry : &meta->delta[n],
+                                   .unit = err_unit_steps}};
         int kept = 0;
         st = build_level(&c, h, cls, tol, nt, tins + total, rungs + total, &kept, err);
         total += kept;

@@ -85,8 +85,11 @@ int main(int argc, char** argv)
             size_t slot = (size_t)id * lv + (size_t)k;
             if (!built[slot]) {
                 double t0 = bench_now_ms();
+                uint16_t carry[1 << (2 * TP_NODE_CARRY_DEPTH)];
+                tp_node_carry_regions(tree, id, carry);
                 if (tp_node_tins_build(g->n, s, tp_tree_samples(tree, id), tp_tree_meta(tree, id),
-                                       ti.err_unit_steps, 1u << k, &tins[slot], &err) != TP_OK) {
+                                       carry, ti.err_unit_steps, 1u << k, &tins[slot],
+                                       &err) != TP_OK) {
                     fprintf(stderr, "%s\n", err.message);
                     return 1;
                 }
@@ -105,9 +108,8 @@ int main(int argc, char** argv)
             double bm = tp_node_error_bound(m, g->n, k, nb, ti.height_step_m, ti.err_unit_steps) +
                         ti.quant_max_error_m;
             double lim = o[i].bound_px > 0 ? (bm * tau / o[i].bound_px - ti.quant_max_error_m) /
-                                                     ti.height_step_m -
-                                                 m->delta[g->n] * ti.err_unit_steps
-                                           : 0;
+                                                     ti.height_step_m
+                                           : 0; /* steps, carry included */
             int rc;
             const tp_node_tin* rg = tp_node_tins_level(tins[slot], k, &rc);
             const tp_node_tin* use = NULL;
