@@ -130,6 +130,8 @@ int tp__cut_distance_decision(const tp_cut* c, int s, int whole, double d);
  * whole: complete, or nothing drawn (no holes). And whether a node is whole. */
 int tp__cut_hole_ok(const tp_cut* c, double f_px, int s, int whole, double R, int k);
 int tp__cut_whole(const tp_node_meta* m);
+/* The distance from pos to the box bmin..bmax (0 inside it). */
+double tp__cut_box_distance(const double pos[3], const double bmin[3], const double bmax[3]);
 /* A node's box in drawn space (cut_select.c's node_box). */
 void tp__cut_node_box(const tp_cut* c, int s, int cc, int rr, int32_t qlo, int32_t qhi,
                       double bmin[3], double bmax[3]);

@@ -87,17 +87,6 @@ static int exempt_leaf(const tp_cut* c, const tp__cut_rec* r)
     return r->s == 0 && r->level == c->n && !(c->out_tin && c->out_tin[r->out]);
 }
 
-/* The eye (pos) to a box (m). */
-static double box_distance(const double pos[3], const double bmin[3], const double bmax[3])
-{
-    double d2 = 0;
-    for (int a = 0; a < 3; a++) {
-        double d = pos[a] < bmin[a] ? bmin[a] - pos[a] : pos[a] > bmax[a] ? pos[a] - bmax[a] : 0;
-        d2 += d * d;
-    }
-    return sqrt(d2);
-}
-
 /* A drawn record's distance for the hole test (the selection's hole_px, cut_select.c) from the
  * eye at pos to its area box, or -1 when it leaves no holes. */
 static double hole_distance(const tp_cut* c, const tp__cut_rec* r, const double pos[3],
@@ -105,7 +94,7 @@ static double hole_distance(const tp_cut* c, const tp__cut_rec* r, const double 
 {
     if (tp__cut_whole(tp_tree_meta(c->t, r->node)) || (r->s == 0 && r->level == c->n))
         return -1;
-    return box_distance(pos, bmin, bmax);
+    return tp__cut_box_distance(pos, bmin, bmax);
 }
 
 /* Whether a drawn record, its bound projecting to px from view v, with near set when its box

@@ -58,7 +58,7 @@ int tp__cut_box(const tp_cut* c, int i, int area, double bmin[3], double bmax[3]
     return 1;
 }
 
-static double box_distance(const double pos[3], const double bmin[3], const double bmax[3])
+double tp__cut_box_distance(const double pos[3], const double bmin[3], const double bmax[3])
 {
     double d2 = 0;
     for (int a = 0; a < 3; a++) {
@@ -187,7 +187,7 @@ static int children_cheaper(tp_cut* c, int i, int k)
             node_box(c, r->s - 1, 2 * r->c + (q & 1), 2 * r->r + (q >> 1), m->area_qmin,
                      m->area_qmax, bmin, bmax);
             c->kid_pb[q] = tp__proj_bound_box(&c->v, bmin, bmax);
-            c->kid_dist[q] = w ? 0 : box_distance(c->v.pos, bmin, bmax);
+            c->kid_dist[q] = w ? 0 : tp__cut_box_distance(c->v.pos, bmin, bmax);
             c->kid_pb_known[q] = 1;
         }
         const double lim = max_steps(c, &c->kid_pb[q]);
@@ -235,7 +235,8 @@ static int mode_wants(tp_cut* c, int i, int* level)
         else {
             double bmin[3], bmax[3];
             tp__cut_box(c, i, 1, bmin, bmax);
-            k = tp__cut_distance_decision(c, r->s, whole(m), box_distance(c->v.pos, bmin, bmax));
+            k = tp__cut_distance_decision(c, r->s, whole(m),
+                                          tp__cut_box_distance(c->v.pos, bmin, bmax));
             c->decisions++;
         }
         if (k < 0)
@@ -249,7 +250,7 @@ static int mode_wants(tp_cut* c, int i, int* level)
         if (!w) {
             double bmin[3], bmax[3];
             tp__cut_box(c, i, 1, bmin, bmax);
-            R = box_distance(c->v.pos, bmin, bmax);
+            R = tp__cut_box_distance(c->v.pos, bmin, bmax);
         }
         const double lim = max_steps(c, &r->pb);
         if (!level_passes(c, m, n, lim) || !hole_ok(c, r->s, w, R, n))
@@ -274,7 +275,7 @@ static double request_prio(const tp_cut* c, int i, int64_t child)
     const tp_node_meta* m = tp_tree_meta(c->t, child);
     double bmin[3], bmax[3];
     node_box(c, s, cc, rr, m->area_qmin, m->area_qmax, bmin, bmax);
-    return c->have_view ? 1.0 / (1.0 + box_distance(c->v.pos, bmin, bmax)) : 0;
+    return c->have_view ? 1.0 / (1.0 + tp__cut_box_distance(c->v.pos, bmin, bmax)) : 0;
 }
 
 /* Whether node (scale s, column cc, row rr) has something to draw in view (its area box in
