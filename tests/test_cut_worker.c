@@ -94,6 +94,9 @@ static void flights(int with_tins, tp_lod_mode mode)
             x = 100 + rnd() * 700, y = 100 + rnd() * 500, yaw = rnd() * 360;
         }
         z = over(t, x, y, 60 + rnd() * 1500); /* a level flight (the bench's low path) */
+        /* tau changes between stretches from the seventh on (a cut of the other tau is not
+         * kept) */
+        p.lod.tau_px = stretch >= 6 && stretch % 2 ? 2 : 1;
         double speed = 3 + rnd() * 10; /* grid samples per frame: 9 - 40 m at 30 Hz */
         for (int f = 0; f < 20; f++) {
             if (kind == 1)
@@ -118,7 +121,7 @@ static void flights(int with_tins, tp_lod_mode mode)
                 double max_px;
                 size_t samples;
                 ASSERT_OK(tp_cut_measure_screen_error(cut, &cam, &max_px, NULL, &samples, NULL));
-                EXPECT_TRUE(max_px <= 1 + 1e-9);
+                EXPECT_TRUE(max_px <= p.lod.tau_px + 1e-9);
                 worst_px = fmax(worst_px, max_px);
                 measured++;
             }
@@ -242,8 +245,8 @@ TEST(a_detached_node_is_never_drawn)
 }
 
 /* Nodes a cut wanted and found missing (its leaves, detached): a cut drawn in their parents'
- * place is never kept (it is selected every frame, so that its requests follow the view); once
- * they arrive, within two frames the frames draw the cut from the roots again. */
+ * place is kept for 8 frames at most (its requests are its own camera's); once they arrive,
+ * within two frames the frames draw the cut from the roots again. */
 TEST(a_node_the_cut_wanted_is_drawn_once_it_arrives)
 {
     float* h = load_hgt(300, 200, 600, 500);
@@ -264,7 +267,7 @@ TEST(a_node_the_cut_wanted_is_drawn_once_it_arrives)
     ASSERT_OK(tp_cut_create(t, &roots, NULL));
     tp_cut_worker_params p = {.lod = {.mode = TP_LOD_ERROR, .tau_px = 1}, .vertical_scale = 1};
     double x = 300;
-    int kept_before = 0, equal_after = 0;
+    int kept_before = 0, equal_after = 0, run = 0, longest = 0;
     tp_camera cam;
     camera(x, 250, over(t, x, 250, 150), 90, -25, &cam);
     for (int f = 0; f < 24; f++) {
@@ -277,7 +280,8 @@ TEST(a_node_the_cut_wanted_is_drawn_once_it_arrives)
         if (f < 12) {
             EXPECT_GT((int)wanted, 0); /* the leaves are missing: parents drawn instead */
             kept_before += st.kept;
-            EXPECT_EQ_INT(0, st.kept);
+            run = st.kept ? run + 1 : 0;
+            longest = run > longest ? run : longest;
         } else if (f >= 14) {
             EXPECT_EQ_INT(0, (int)wanted);
             EXPECT_TRUE(same_cut(cut, roots));
@@ -290,9 +294,11 @@ TEST(a_node_the_cut_wanted_is_drawn_once_it_arrives)
         camera(x, 250, over(t, x, 250, 150), 90, -25, &cam);
         tp_cut_worker_next(w, &cam, &p, NULL, NULL);
     }
-    printf("before the leaves arrived %d of 12 frames kept the cut; after, %d of 10 frames drew "
-           "the cut from the roots\n",
-           kept_before, equal_after);
+    printf("before the leaves arrived %d of 12 frames kept the cut (%d in a row at most); after, "
+           "%d of 10 frames drew the cut from the roots\n",
+           kept_before, longest, equal_after);
+    EXPECT_GT(kept_before, 5); /* so that keeping it after they arrive would have been possible */
+    EXPECT_TRUE(longest <= 8);
     tp_cut_worker_destroy(w);
     tp_cut_destroy(roots);
     tp_tree_destroy(t);

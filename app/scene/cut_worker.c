@@ -12,6 +12,10 @@
  * its drawn nodes needed a test from scratch. */
 enum { KEEP_RENEW = 32 };
 
+/* A cut that wants nodes it found missing is kept for this many jobs at most (a quarter of a
+ * second at 30 Hz): its requests are those of its own camera. */
+enum { KEEP_WANTING = 8 };
+
 /* What a cut's last selection was made with: whether it may be kept for another camera. */
 typedef struct selected {
     int valid;
@@ -20,7 +24,7 @@ typedef struct selected {
     uint64_t detaches;           /* the tree's count when it was selected (or last found
                                     resident) */
     int figures;                 /* tp_cut_holds_for's figures are kept (prepare, keep_for) */
-    int exact;                   /* selected at the parameters' own tau (no headroom) */
+    int kept;                    /* jobs it was kept for since */
 } selected;
 
 struct tp_cut_worker {
@@ -49,7 +53,6 @@ struct tp_cut_worker {
     double job_ms, job_cpu_ms;
     int frames, frames_reused, frames_kept;
     int may_keep;        /* TP_CUT_KEEP (cut_worker.h) */
-    double headroom;     /* TP_CUT_WORKER_HEADROOM, or TP_CUT_HEADROOM */
 };
 
 static void apply(tp_cut* c, const tp_cut_worker_params* p)
@@ -92,9 +95,11 @@ static int same_camera(const tp_camera* a, const tp_camera* b)
  * frame's own check), and a selection for cam could differ only where the camera moved:
  *   - the error mode (tau is what a cut keeps; the distance mode's levels follow the distance
  *     itself) and the same parameters;
- *   - it found every node it wanted resident (tp_cut_requests empty). A cut drawing a node in
- *     place of missing children is selected every frame, so that what it asks the stream for
- *     follows the view (a child coming into view) and what arrives is drawn at once;
+ *   - no node it wanted and found missing (tp_cut_requests) has arrived: a selection refines a
+ *     node only when all its children in view are resident and asks for every one missing, so
+ *     while none arrives it refines the same nodes. What it asks the stream for is that of its
+ *     selection, though (a child coming into view is not asked for): a cut that wants nodes is
+ *     kept for KEEP_WANTING jobs at most;
  *   - no TIN level it asked for is waiting (the worker builds them after selecting);
  *   - every node it draws is still resident;
  *   - the camera has not stopped: a camera equal to the last frame's gets the cut selected
@@ -108,13 +113,16 @@ static int may_keep(tp_cut_worker* w, int i, const tp_camera* cam, const tp_cut_
     tp_cut* c = w->cut[i];
     size_t wanted, tins = 0;
     if (!s->valid || p->lod.mode != TP_LOD_ERROR || !same_params(&s->params, p) ||
-        (stopped && !(s->exact && same_camera(cam, &s->cam))))
+        (stopped && !same_camera(cam, &s->cam)))
         return 0;
-    tp_cut_requests(c, &wanted);
+    const int64_t* want = tp_cut_requests(c, &wanted);
     if (p->tins)
         tp_cut_tin_requests(c, &tins);
-    if (wanted || tins)
+    if (tins || (wanted && s->kept >= KEEP_WANTING))
         return 0;
+    for (size_t k = 0; k < wanted; k++)
+        if (tp_tree_samples(w->tree, want[k]))
+            return 0;
     uint64_t detaches = tp_tree_detaches(w->tree);
     if (detaches != s->detaches) {
         if (!resident(w, c))
@@ -133,9 +141,9 @@ static int may_keep(tp_cut_worker* w, int i, const tp_camera* cam, const tp_cut_
 }
 
 static void selected_now(tp_cut_worker* w, int i, const tp_camera* cam,
-                         const tp_cut_worker_params* p, uint64_t detaches, int figures, int exact)
+                         const tp_cut_worker_params* p, uint64_t detaches, int figures)
 {
-    w->sel[i] = (selected){1, *cam, *p, detaches, figures, exact};
+    w->sel[i] = (selected){1, *cam, *p, detaches, figures, 0};
 }
 
 static void* worker_main(void* arg)
@@ -156,20 +164,15 @@ static void* worker_main(void* arg)
         pthread_mutex_unlock(&w->mu);
         double t0 = tp_clock_ms(), c0 = tp_clock_thread_cpu_ms();
         int kept = fi >= 0 && w->may_keep && may_keep(w, fi, &cam, &p, stopped), ok = 1;
+        w->sel[fi < 0 ? 0 : fi].kept += kept;
         if (!kept) {
-            /* Moving, the error mode selects with headroom below tau, held to tau: a node does
-             * not sit just under tau, to cross it a frame later; a still camera gets tau. */
-            tp_lod_params lod = p.lod;
-            int exact = stopped || lod.mode != TP_LOD_ERROR || !w->may_keep;
-            lod.tau_px *= exact ? 1 : 1 - w->headroom;
             apply(back, &p);
             tp_error err;
-            ok = tp_cut_update(back, &cam, &lod, &err) == TP_OK;
+            ok = tp_cut_update(back, &cam, &p.lod, &err) == TP_OK;
             w->sel[bi].valid = 0;
             if (ok) { /* the render thread's tp_cut_holds_for, from the figures kept here */
-                tp_cut_set_keep_tau(back, p.lod.tau_px);
                 int figures = tp_cut_prepare_reuse(back);
-                selected_now(w, bi, &cam, &p, tp_tree_detaches(w->tree), figures, exact);
+                selected_now(w, bi, &cam, &p, tp_tree_detaches(w->tree), figures);
             }
         }
         if (pre) {
@@ -200,9 +203,6 @@ tp_cut_worker* tp_cut_worker_create(const tp_tree* tree, tp_error* err)
     w->tree = tree;
     const char* keep = getenv("TP_CUT_KEEP");
     w->may_keep = !(keep && strcmp(keep, "0") == 0);
-    const char* room = getenv("TP_CUT_HEADROOM");
-    w->headroom = room ? atof(room) : TP_CUT_WORKER_HEADROOM;
-    w->headroom = w->headroom > 0 && w->headroom < 0.5 ? w->headroom : 0;
     if (tp_cut_create(tree, &w->cut[0], err) != TP_OK ||
         tp_cut_create(tree, &w->cut[1], err) != TP_OK) {
         tp_cut_destroy(w->cut[0]);
@@ -304,7 +304,7 @@ tp_cut* tp_cut_worker_frame(tp_cut_worker* w, const tp_camera* cam, const tp_cut
         w->sel[w->front].valid = 0;
         if (tp_cut_update(c, cam, &p->lod, err) != TP_OK)
             return NULL;
-        selected_now(w, w->front, cam, p, tp_tree_detaches(w->tree), 0, 1);
+        selected_now(w, w->front, cam, p, tp_tree_detaches(w->tree), 0);
         st.select_ms = tp_clock_ms() - t2;
     }
     st.frames = ++w->frames;

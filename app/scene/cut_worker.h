@@ -53,11 +53,6 @@ typedef struct tp_cut_worker_params {
  * 20481^2 low flight held 73 MB of TINs with the age limit alone, 20 MB drawn a frame). */
 #define TP_CUT_WORKER_TIN_AGE 90
 #define TP_CUT_WORKER_TIN_BYTES ((size_t)32 << 20)
-/* While the camera moves, the worker selects the error mode's cut at tau times (1 - this) and
- * holds it to tau (tp_cut_set_keep_tau): without it, of 6,000 drawn nodes some sit within 1e-4
- * of tau and cross it the next frame (docs/PERFORMANCE.md, "A cut kept while it holds").
- * TP_CUT_HEADROOM in the environment overrides it (0: none). */
-#define TP_CUT_WORKER_HEADROOM 0.02
 
 /* Builds the TIN levels cut asked for (tp_cut_tin_requests, most urgent first) into tins until
  * budget_ms is spent (<= 0: all of them); returns how many it built. The thread that calls it

@@ -230,11 +230,6 @@ int tp_cut_prepare_reuse(tp_cut* c);
  * cam settles nodes from the figures again. One pass, O(drawn + culled nodes); without
  * memory nothing is kept (the answer is the same). */
 int tp_cut_keep_for(tp_cut* c, const tp_camera* cam);
-/* The tau (px) tp_cut_holds_for and tp_cut_keep_for hold the last update's cut to, instead of
- * the update's own: set after an update selected with a smaller tau, it leaves the cut headroom
- * to be kept while the camera moves (app/scene/cut_worker.c). The next update resets it; 0 or
- * less: the update's tau. */
-void tp_cut_set_keep_tau(tp_cut* c, double tau_px);
 
 /* Vertical exaggeration, as tp_selection_set_vertical_scale: boxes, the error mode's projection
  * and tp_cut_measure_screen_error follow heights times scale (tau holds on screen); heights

@@ -183,7 +183,6 @@ void tp__cut_begin(tp_cut* c)
     c->hused = 0;
     c->rec_count = 0;
     c->reuse_gen = 0; /* tp_cut_prepare_reuse's table is for the update before */
-    c->keep_tau = 0;
     c->req_count = 0;
     c->out_count = 0;
     c->tin_req_count = 0;

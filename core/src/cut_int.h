@@ -117,7 +117,6 @@ struct tp_cut {
     uint32_t reuse_gen;      /* the update (gen) it was prepared for; 0: none */
     tp__view reuse_v;        /* the camera the kept figures are from (the update's, or
                                 tp_cut_keep_for's) */
-    double keep_tau;         /* tp_cut_set_keep_tau; 0: the update's tau */
 };
 
 /* ---- the sphere tree (cut_spheres.c; cut_select.c's distance mode with sphere_tree) ---- */

@@ -68,18 +68,6 @@ static double outside_margin(const tp_frustum* f, const double mn[3], const doub
     return margin;
 }
 
-/* The tau a cut is held to: its update's, or tp_cut_set_keep_tau's. */
-static double hold_tau(const tp_cut* c)
-{
-    return c->keep_tau > 0 ? c->keep_tau : c->lp.tau_px;
-}
-
-void tp_cut_set_keep_tau(tp_cut* c, double tau_px)
-{
-    assert(c);
-    c->keep_tau = tau_px > 0 ? tau_px : 0;
-}
-
 /* A leaf drawn at level n draws its samples: only quantisation is left, however near it comes
  * (unless it draws a TIN rung, whose bound is its own). */
 static int exempt_leaf(const tp_cut* c, const tp__cut_rec* r)
@@ -103,7 +91,7 @@ static double hole_distance(const tp_cut* c, const tp__cut_rec* r, const double 
 static int drawn_holds(const tp_cut* c, const tp__cut_rec* r, const tp__view* v, double px,
                        int near, double hole)
 {
-    return !(px > hold_tau(c)) && !(near && r->bound_m > 0) &&
+    return !(px > c->lp.tau_px) && !(near && r->bound_m > 0) &&
            (hole < 0 || tp__cut_hole_ok(c, v->f_px, r->s, 0, hole, r->level));
 }
 
@@ -233,7 +221,7 @@ static int settled(const tp_cut* c, const tp__cut_reuse* e, const tp__cut_rec* r
     if (e->hole >= 0 && !tp__cut_hole_ok(c, v->f_px, r->s, 0, e->hole - dc - SLACK * (e->hole + 1),
                                          r->level))
         return 0;
-    return px <= hold_tau(c) * (1 - SLACK);
+    return px <= c->lp.tau_px * (1 - SLACK);
 }
 
 int tp_cut_holds_for(const tp_cut* c, const tp_camera* cam, double* max_bound_px,
