@@ -204,9 +204,12 @@ tp_status tp_cut_measure_screen_error(const tp_cut* c, const tp_camera* cam, dou
  *   - every node the update culled (its area box, or its own box when only that was tested)
  *     is still outside cam's frustum: nothing in view is missing; and
  *   - error mode: every drawn node's bound as drawn (tp_cut_node.bound_px's metres, projected
- *     from cam over what is drawn of its box) is within the update's tau, except nodes that
- *     could not be finer in this update either: substituted ones (their children are not
- *     resident) and leaves at level n (only quantisation is left).
+ *     from cam over what is drawn of its box) is within the update's tau, and not carried to
+ *     the near plane (as the selection asks: only a zero bound there), and an incomplete
+ *     node's holes stay within hole_px as the selection's test says; except nodes that could
+ *     not be finer in this update either: substituted ones (their children are not resident)
+ *     and leaves drawing their samples at level n (only quantisation is left; a leaf drawing a
+ *     TIN rung is tested).
  * The distance and full modes have no error to keep: only the first test. O(drawn + culled
  * nodes); no allocation. *max_bound_px (may be NULL): the largest bound_px from cam, as
  * tp_cut_stats.max_bound_px (error mode; 0 otherwise). An installed cut (tp_cut_set_nodes)
