@@ -130,12 +130,17 @@ static int may_keep(tp_cut_worker* w, int i, const tp_camera* cam, const tp_cut_
         s->detaches = detaches;
     }
     /* The figures the frame's own check used, from the camera they were kept for, settle most
-     * nodes in a few operations; when too many need a test from scratch, they are kept again
-     * from cam (one projection a node), for this test and the frame's. */
+     * nodes in a few operations (and their answer is the test's: a refusal is final); when too
+     * many need a test from scratch, they are kept again from cam (one projection a node), for
+     * this test and the frame's. */
     size_t drawn, scratch;
     tp_cut_nodes(c, &drawn);
-    if (s->figures && tp_cut_holds_for(c, cam, NULL, &scratch) && scratch * KEEP_RENEW <= drawn)
-        return 1;
+    if (s->figures) {
+        if (!tp_cut_holds_for(c, cam, NULL, &scratch))
+            return 0;
+        if (scratch * KEEP_RENEW <= drawn)
+            return 1;
+    }
     s->figures = 1;
     return tp_cut_keep_for(c, cam);
 }
