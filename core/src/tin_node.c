@@ -20,8 +20,8 @@ struct tp_node_tins {
     size_t bytes;
     int rungs;
     int first[TP_MAX_LEVELS + 1]; /* level k's rungs: rung[first[k] .. first[k+1]-1] */
-    tp_node_tin rung[TP_MAX_LEVELS * TP_NODE_TIN_RUNGS];
-    /* the rungs' ij and triangles follow, in rung order */
+    tp_node_tin rung[];           /* the rungs built (a level: up to TP_NODE_TIN_RUNGS), then
+                                     their ij and triangles, in rung order */
 };
 
 /* What measuring one level's rungs needs. */
@@ -254,14 +254,15 @@ static tp_node_tins* pack(tp_tin* const* tins, const tp_node_tin* rungs, const i
             words += 2 * tins[first[k + 1] - 1]->vertex_count;
     for (int r = 0; r < total; r++)
         words += 3 * tins[r]->triangle_count;
-    size_t bytes = sizeof(tp_node_tins) + words * sizeof(uint16_t);
-    tp_node_tins* o = calloc(1, bytes);
+    size_t bytes = sizeof(tp_node_tins) + (size_t)total * sizeof(tp_node_tin) +
+                   words * sizeof(uint16_t);
+    tp_node_tins* o = malloc(bytes); /* every byte is written below */
     if (!o)
         return NULL;
     o->bytes = bytes;
     o->rungs = total;
     memcpy(o->first, first, sizeof o->first);
-    uint16_t* w = (uint16_t*)(o + 1);
+    uint16_t* w = (uint16_t*)(o->rung + total);
     for (int k = 0; k <= n; k++) {
         if (first[k + 1] == first[k])
             continue;
