@@ -69,6 +69,7 @@ static void summarize(store_result* c, int n)
     MEDIAN_OF(c->cut_total_cpu_ms, r->cut_ms + r->cut_worker_cpu_ms);
     MEDIAN_OF(c->cut_scratch, r->cut_scratch);
     c->cut_reused_share = c->cut_kept_share = c->tin_share = c->tin_mb = 0;
+    c->tin_builds = c->tin_build_ms = c->tin_build_ms_max = 0;
     double drawn = 0;
     for (int i = 0; i < n; i++) {
         const store_row* r = &c->rows[i];
@@ -76,6 +77,8 @@ static void summarize(store_result* c, int n)
         c->cut_kept_share += (double)r->cut_kept / n;
         c->tin_share += r->tin_nodes, drawn += r->nodes;
         c->tin_mb = fmax(c->tin_mb, r->tin_bytes / 1e6);
+        c->tin_builds += (double)r->tin_builds / n, c->tin_build_ms += r->tin_build_ms / n;
+        c->tin_build_ms_max = fmax(c->tin_build_ms_max, r->tin_build_ms);
     }
     c->tin_share /= drawn > 0 ? drawn : 1;
     MEDIAN_OF(c->stream_ms, r->stream_ms);
@@ -137,7 +140,12 @@ static int settle(store_bench* b, tp_cut* cut, tp_cut* pre, const tp_camera* cam
         size_t nreq = 0;
         tp_cut_requests(cut, &nreq);
         /* and every TIN level the view asks for: once built, cut again (it then draws them;
-         * returning 0 there counted every TIN flight's jumps as settle timeouts) */
+         * returning 0 there counted every TIN flight's jumps as settle timeouts); the levels
+         * of before the jump go first when the cache is over its budget, as in the frames */
+        if (b->sc.tins) {
+            tp_tin_cache_mark_drawn(b->sc.tins, cut);
+            tp_tin_cache_prune(b->sc.tins, TP_CUT_WORKER_TIN_AGE, TP_CUT_WORKER_TIN_BYTES);
+        }
         if (nreq == 0 && ss.pending == 0 &&
             (!b->sc.tins || tp_cut_tins_build(b->sc.tins, cut, 0) == 0))
             return 1;
@@ -441,6 +449,8 @@ static int fly(store_bench* b, store_result* c, int first, store_draw* d, const 
     tp_error err;
     tp_camera cam, prev;
     tp_cut* cut = d->cut; /* the frame's: d->cut, or the cut thread's */
+    size_t tin_builds = 0; /* TIN builds and their time so far: a frame's are the difference */
+    double tin_ms = 0;
     const tp_cut_worker_params wp = {
         .lod = c->lod, .vertical_scale = 1, .stitch_add = c->stitch_add, .tins = b->sc.tins};
     for (int seg = 0; seg < b->segments; seg++) {
@@ -461,6 +471,8 @@ static int fly(store_bench* b, store_result* c, int first, store_draw* d, const 
             tp_normal_map_frame_cut(d->nm, &b->sc, d->cut, 1, d->r, &cam, 1, &ns);
         if (seg == 0)
             c->settle_ms = tp_clock_ms() - t_settle;
+        if (b->sc.tins) /* the settle's builds are not a frame's */
+            tp_tin_cache_stats(b->sc.tins, NULL, NULL, &tin_builds), tin_ms = tp_tin_cache_build_ms(b->sc.tins);
         double t_fly = tp_clock_ms();
         tp_stream_set_prefetch_async(b->sc.stream, d->worker != NULL);
         for (int i = -WARMUP_FRAMES; i < b->per_segment; i++) {
@@ -480,13 +492,15 @@ static int fly(store_bench* b, store_result* c, int first, store_draw* d, const 
                 return cut_failed(&err);
             t[1] = tp_clock_ms();
             tp_stream_frame(b->sc.stream, cut, o->no_prefetch ? NULL : d->pre, &cam, &c->lod, &ss);
-            size_t tin_bytes = 0;
+            size_t tin_bytes = 0, tin_builds0 = tin_builds;
+            double tin_ms0 = tin_ms;
             if (b->sc.tins) { /* the cut thread is idle: prune, or build here without it */
                 tp_tin_cache_mark_drawn(b->sc.tins, cut);
                 tp_tin_cache_prune(b->sc.tins, TP_CUT_WORKER_TIN_AGE, TP_CUT_WORKER_TIN_BYTES);
                 if (!d->worker)
                     tp_cut_tins_build(b->sc.tins, cut, TP_CUT_WORKER_TIN_MS);
-                tp_tin_cache_stats(b->sc.tins, &tin_bytes, NULL, NULL);
+                tp_tin_cache_stats(b->sc.tins, &tin_bytes, NULL, &tin_builds);
+                tin_ms = tp_tin_cache_build_ms(b->sc.tins);
             }
             t[2] = tp_clock_ms();
             if (d->nm) /* the frame's cut's nodes: the normal map's finest level */
@@ -526,6 +540,7 @@ static int fly(store_bench* b, store_result* c, int first, store_draw* d, const 
             row->cut_scratch = (double)ws.check_scratch;
             row->tin_nodes = cs.tin_nodes;
             row->tin_bytes = tin_bytes;
+            row->tin_builds = (int)(tin_builds - tin_builds0), row->tin_build_ms = tin_ms - tin_ms0;
             tp_bench_read_rss(&row->rss_mb, &row->rss_anon_mb);
             if (!o->no_error && k % o->error_every == 0 && !tp_bench_store_measure(b, cut, &cam, k, row))
                 return TP_EXIT_FAILURE;

@@ -27,6 +27,8 @@ typedef struct store_row {
     int nodes, visited, substituted, requests, uploads, pending;
     int tin_nodes;              /* --mesh tin: drawn nodes that draw a TIN */
     size_t tin_bytes;           /* --mesh tin: the TINs held */
+    int tin_builds;             /* --mesh tin: TIN levels built since the frame before */
+    double tin_build_ms;        /* ... and the time they took (on the cut thread) */
     double substitution_px;
     double rss_mb, rss_anon_mb;
     int measured;               /* error measured: 1 a frame without substitution, 2 with */
@@ -64,6 +66,7 @@ typedef struct store_result {
     double cut_scratch;                   /* median: nodes its check tested from scratch */
     int mesh_tin;                         /* --mesh tin */
     double tin_share, tin_mb;             /* drawn nodes that drew a TIN; the TINs held (max) */
+    double tin_builds, tin_build_ms, tin_build_ms_max; /* per frame: mean, mean, max */
     double triangles, nodes, visited, uploads, page_faults;
     int substituted_max, frames_with_substitution, pending_max;
     int dropped_max; /* items the renderer could not hold (TP_RENDER_POOL_MAX_BYTES) */

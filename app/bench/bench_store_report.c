@@ -61,6 +61,9 @@ static void json_result(tp_json* j, const store_bench* b, const store_result* c)
     if (c->mesh_tin) {
         tp_json_member_number(j, "tin_nodes_share", c->tin_share);
         tp_json_member_number(j, "tin_mb_max", c->tin_mb);
+        tp_json_member_number(j, "tin_builds_per_frame_mean", c->tin_builds);
+        tp_json_member_number(j, "tin_build_ms_per_frame_mean", c->tin_build_ms);
+        tp_json_member_number(j, "tin_build_ms_per_frame_max", c->tin_build_ms_max);
     }
     tp_json_member_number(j, "nodes_drawn_median", c->nodes);
     tp_json_member_number(j, "nodes_visited_median", c->visited);

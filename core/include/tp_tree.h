@@ -409,6 +409,9 @@ tp_status tp_tin_cache_build(tp_tin_cache* c, int64_t node, int k, tp_error* err
 void tp_tin_cache_prune(tp_tin_cache* c, unsigned max_age_frames, size_t max_bytes);
 /* Bytes of TINs held, levels built, and TIN builds run so far. */
 void tp_tin_cache_stats(const tp_tin_cache* c, size_t* bytes, size_t* levels, size_t* builds);
+/* Milliseconds tp_tin_cache_build has spent building so far (wall clock, C11 timespec_get;
+ * read it while no build runs). */
+double tp_tin_cache_build_ms(const tp_tin_cache* c);
 
 #ifdef __cplusplus
 }

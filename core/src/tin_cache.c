@@ -11,6 +11,7 @@
 
 #include <stdatomic.h>
 #include <stdlib.h>
+#include <time.h>
 
 typedef struct tin_entry {
     _Atomic(tp_node_tins*) level[TP_MAX_LEVELS];
@@ -24,6 +25,7 @@ struct tp_tin_cache {
     int64_t* listed;           /* nodes with an entry */
     size_t listed_count, listed_cap;
     size_t bytes, levels, builds;
+    double build_ms; /* the time tp_tin_cache_build spent building */
     uint32_t frame; /* tp_tin_cache_mark_drawn's count */
 };
 
@@ -94,10 +96,14 @@ tp_status tp_tin_cache_build(tp_tin_cache* c, int64_t node, int k, tp_error* err
     int s, cc, rr;
     tp_tree_node_locate(g, node, &s, &cc, &rr);
     tp_node_tins* tins = NULL;
+    struct timespec t0, t1;
+    int timed = timespec_get(&t0, TIME_UTC) == TIME_UTC;
     uint16_t carry[1 << (2 * TP_NODE_CARRY_DEPTH)];
     tp_node_carry_regions(c->t, node, carry);
     tp_status st = tp_node_tins_build(g->n, s, q, tp_tree_meta(c->t, node), carry,
                                       c->t->desc.err_unit_steps, 1u << k, &tins, err);
+    if (timed && timespec_get(&t1, TIME_UTC) == TIME_UTC)
+        c->build_ms += (double)(t1.tv_sec - t0.tv_sec) * 1e3 + (t1.tv_nsec - t0.tv_nsec) / 1e6;
     if (st != TP_OK)
         return st;
     c->bytes += tp_node_tins_bytes(tins);
@@ -209,4 +215,10 @@ void tp_tin_cache_stats(const tp_tin_cache* c, size_t* bytes, size_t* levels, si
         *levels = c->levels;
     if (builds)
         *builds = c->builds;
+}
+
+double tp_tin_cache_build_ms(const tp_tin_cache* c)
+{
+    assert(c);
+    return c->build_ms;
 }
