@@ -2071,6 +2071,52 @@ static const char* build_small_store(void)
     return path;
 }
 
+/* --mesh tin over a store (issue 32 item 5): the TIN figures, and the TIN builds of the timed
+ * frames (those the cut thread ran after the settle built what each jump's view drew): a mean
+ * count and time a frame and the longest frame's time, consistent with each other; the error
+ * within tau as with lattices. */
+TEST(store_flight_with_tin_nodes_reports_their_builds)
+{
+    static run_result r;
+    args a;
+    const char* store = build_small_store();
+    const char* dir = make_tmp_dir();
+    char path[1024], mesh[16];
+    args_bench_small(&a, 8);
+    args_add(&a, "--segments");
+    args_add(&a, "2");
+    args_add(&a, "--mesh");
+    args_add(&a, "tin");
+    args_add(&a, "--json");
+    args_add(&a, "%s/t.json", dir);
+    args_add(&a, "%s", store);
+    run_ok(&a, &r);
+    snprintf(path, sizeof path, "%s/t.json", dir);
+    char* json = read_file(path, NULL);
+    ASSERT_TRUE(json != NULL);
+    const char* conf = strstr(json, "\"configurations\"");
+    ASSERT_TRUE(conf != NULL);
+    EXPECT_EQ_STR("tin", json_str(json, conf, "mesh", mesh, sizeof mesh));
+    double share = json_num(json, conf, "tin_nodes_share");
+    double builds = json_num(json, conf, "tin_builds_per_frame_mean");
+    double ms = json_num(json, conf, "tin_build_ms_per_frame_mean");
+    double ms_max = json_num(json, conf, "tin_build_ms_per_frame_max");
+    double mb = json_num(json, conf, "tin_mb_max");
+    tp_test_note("TIN nodes %.1f%%, %.2f builds a frame in %.3f ms (longest frame %.3f ms), "
+                 "%.3f MB held", 100 * share, builds, ms, ms_max, mb);
+    EXPECT_GT(share, 0.0); /* the settle built what the view draws */
+    EXPECT_LE(share, 1.0);
+    EXPECT_GE(builds, 0.0);
+    EXPECT_GE(ms, 0.0);
+    EXPECT_GE(ms_max, ms);
+    EXPECT_TRUE((builds > 0) == (ms > 0)); /* a build takes time; no build, none */
+    EXPECT_LE(ms_max, 8 * ms + 1e-9);      /* the mean of 8 frames is at least max / 8 */
+    EXPECT_GT(mb, 0.0);
+    EXPECT_LE(mb, 32 * 1.048576);          /* TP_CUT_WORKER_TIN_BYTES: a small store is below */
+    EXPECT_LE(json_num(json, conf, "max_screen_error_px"), 1.0 + 1e-3);
+    free(json);
+}
+
 TEST(store_flight_reports_memory_streaming_and_error)
 {
     static run_result r;
@@ -2605,6 +2651,7 @@ TEST(pgm_store_bench_reports_the_clipmap)
     X(output_onto_a_directory_leaves_no_temporary_file)                                            \
     X(sweep_plot_onto_a_directory_leaves_no_temporary_file)                                        \
     X(store_flight_reports_memory_streaming_and_error)                                             \
+    X(store_flight_with_tin_nodes_reports_their_builds)                                            \
     X(store_refuses_what_needs_a_terrain_exits_2)
 
 TP_TEST_MAIN(TESTS)
