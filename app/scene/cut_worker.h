@@ -50,8 +50,10 @@ typedef struct tp_cut_worker_params {
 #define TP_CUT_WORKER_TIN_MS 8.0
 /* A TIN level not drawn for this many frames is freed (tp_tin_cache_prune); beyond
  * TP_CUT_WORKER_TIN_BYTES, those drawn longest ago are, down to what the frame draws (the
- * 20481^2 low flight held 73 MB of TINs with the age limit alone, 20 MB drawn a frame). */
-#define TP_CUT_WORKER_TIN_AGE 90
+ * 20481^2 low flight held 73 MB of TINs with the age limit alone, 20 MB drawn a frame). 16
+ * frames, not 90: the 65537^2 and 20481^2 low flights' anonymous RSS 8 and 12 MB lower at as
+ * many TIN builds a frame (docs/PERFORMANCE.md, "--mesh tin's memory"). */
+#define TP_CUT_WORKER_TIN_AGE 16
 #define TP_CUT_WORKER_TIN_BYTES ((size_t)32 << 20)
 
 /* Builds the TIN levels cut asked for (tp_cut_tin_requests, most urgent first) into tins until
