@@ -66,14 +66,17 @@ static void summarize(store_result* c, int n)
     ROWS_OF(r->cut_worker_cpu_ms);
     c->cut_worker_cpu_ms_mean = tp_bench_mean(v, n);
     c->cut_worker_cpu_ms = tp_bench_median(v, n);
-    MEDIAN_OF(c->cut_total_cpu_ms, r->cut_ms + r->cut_worker_cpu_ms);
+    ROWS_OF(r->cut_ms + r->cut_worker_cpu_ms);
+    c->cut_total_cpu_ms_mean = tp_bench_mean(v, n);
+    c->cut_total_cpu_ms = tp_bench_median(v, n);
     MEDIAN_OF(c->cut_scratch, r->cut_scratch);
-    c->cut_reused_share = c->cut_kept_share = c->tin_share = c->tin_mb = 0;
+    c->cut_reused_share = c->cut_kept_share = c->cut_carried_share = c->tin_share = c->tin_mb = 0;
     double drawn = 0;
     for (int i = 0; i < n; i++) {
         const store_row* r = &c->rows[i];
         c->cut_reused_share += (double)r->cut_reused / n;
         c->cut_kept_share += (double)r->cut_kept / n;
+        c->cut_carried_share += (double)r->cut_carried / n;
         c->tin_share += r->tin_nodes, drawn += r->nodes;
         c->tin_mb = fmax(c->tin_mb, r->tin_bytes / 1e6);
     }
@@ -522,6 +525,7 @@ static int fly(store_bench* b, store_result* c, int first, store_draw* d, const 
             row->cut_worker_ms = ws.worker_ms;
             row->cut_reused = ws.reused;
             row->cut_kept = ws.kept;
+            row->cut_carried = ws.carried;
             row->cut_worker_cpu_ms = ws.worker_cpu_ms;
             row->cut_scratch = (double)ws.check_scratch;
             row->tin_nodes = cs.tin_nodes;

@@ -168,6 +168,7 @@ void tp_cut_destroy(tp_cut* c)
     tp__free(a, c->tin_req);
     tp__free(a, c->tin_prio);
     tp__free(a, c->reuse);
+    tp__free(a, c->fix);
     tp__spheres_destroy(c);
     tp__free(a, c);
 }
@@ -231,6 +232,11 @@ tp_status tp__cut_finish(tp_cut* c, tp_error* err)
 {
     if (!c->oom && !c->requests_only)
         tp__cut_constrain(c);
+    return tp__cut_output(c, err);
+}
+
+tp_status tp__cut_output(tp_cut* c, tp_error* err)
+{
     size_t drawn = 0;
     for (size_t i = 0; i < c->rec_count && !c->requests_only; i++)
         drawn += c->rec[i].state == TP__CUT_DRAWN;
@@ -287,6 +293,57 @@ tp_status tp__cut_finish(tp_cut* c, tp_error* err)
     for (size_t i = 0; i < c->req_count; i++)
         c->req_ids[i] = c->req[i].node;
     return TP_OK;
+}
+
+/* Copies n elements of size bytes from src into *dst, grown to hold them. */
+static int copy_array(tp_cut* c, void** dst, size_t* cap, const void* src, size_t n, size_t size)
+{
+    if (n > *cap) { /* nothing of the old content is kept: no copy on growing */
+        tp__free(&c->alloc, *dst);
+        *dst = NULL, *cap = 0;
+    }
+    if (!tp__cut_grow(c, dst, cap, n, size))
+        return 0;
+    if (n)
+        memcpy(*dst, src, n * size);
+    return 1;
+}
+
+int tp__cut_copy(tp_cut* c, const tp_cut* from)
+{
+    assert(c->t == from->t);
+    tp__cut_begin(c);
+    if (from->hcap > c->hcap) {
+        tp__free(&c->alloc, c->hash);
+        c->hash = tp__alloc(&c->alloc, from->hcap, sizeof *c->hash);
+        c->hcap = c->hash ? from->hcap : 0;
+        if (!c->hash) {
+            c->oom = 1;
+            return 0;
+        }
+    }
+    if (!copy_array(c, (void**)&c->rec, &c->rec_cap, from->rec, from->rec_count, sizeof *c->rec) ||
+        !copy_array(c, (void**)&c->req, &c->req_cap, from->req, from->req_count, sizeof *c->req) ||
+        !copy_array(c, (void**)&c->out, &c->out_cap, from->out, from->out_count, sizeof *c->out) ||
+        !copy_array(c, (void**)&c->out_tin, &c->out_tin_cap, from->out_tin, from->out_count,
+                    sizeof *c->out_tin))
+        return 0;
+    /* The hash slot for slot: slots are placed by the table's size, so c takes from's (a
+       larger array of c's is used in part) */
+    c->hcap = from->hcap;
+    memcpy(c->hash, from->hash, from->hcap * sizeof *c->hash);
+    c->hused = from->hused;
+    c->gen = from->gen;
+    c->rec_count = from->rec_count;
+    c->req_count = from->req_count;
+    c->out_count = from->out_count;
+    c->lp = from->lp;
+    c->have_view = from->have_view;
+    c->v = from->v;
+    c->f = from->f;
+    c->zscale = from->zscale;
+    c->visited = from->visited;
+    return 1;
 }
 
 tp_status tp_cut_set_nodes(tp_cut* c, const int64_t* nodes, const int* levels, size_t count,

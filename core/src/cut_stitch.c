@@ -158,6 +158,11 @@ static void changed(tp_cut* c, int i)
     push_smaller(c, i);
 }
 
+void tp__cut_changed(tp_cut* c, int i)
+{
+    changed(c, i);
+}
+
 /* Marks every record under record i (exclusive) removed. */
 static void remove_below(tp_cut* c, int i)
 {
@@ -316,6 +321,11 @@ void tp__cut_constrain(tp_cut* c)
         c->rec[i].queued = 0;
         push(c, (int)i);
     }
+    tp__cut_constrain_queued(c);
+}
+
+void tp__cut_constrain_queued(tp_cut* c)
+{
     while (c->work_count > 0 && !c->oom) {
         int i = c->work[--c->work_count];
         c->rec[i].queued = 0;
