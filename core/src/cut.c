@@ -193,6 +193,7 @@ void tp__cut_begin(tp_cut* c)
     c->kid_rec = -1;
     c->unresolved = 0;
     c->oom = 0;
+    c->has_output = 0;
 }
 
 /* Whether request a goes before b: higher priority first, then lower id. */
@@ -288,6 +289,7 @@ tp_status tp__cut_output(tp_cut* c, tp_error* err)
             if (add[s] != TP_NO_NEIGHBOR)
                 r->tris += (1 << (add[s] > c->n ? c->n : add[s])) - (1 << r->level);
     }
+    c->has_output = !c->requests_only;
     tp__cut_tin_sort_requests(c);
     sort_requests(c->req, c->req_count);
     for (size_t i = 0; i < c->req_count; i++)

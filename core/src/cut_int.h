@@ -101,6 +101,7 @@ struct tp_cut {
     int visited, unresolved;
     int oom;
     int requests_only;       /* tp_cut_update_requests: no stitching, no output */
+    int has_output;          /* the last update was stitched and output (not requests only) */
     int stitch_add;          /* tp_cut_set_stitch_add */
     tp__cut_addtab* add_cache; /* add tables, direct-mapped by node, kept across updates (NULL
                                   until --stitch add is first set, or without memory) */

@@ -75,7 +75,7 @@ static int mark(tp_cut* c)
 int tp_cut_repair(tp_cut* c, const tp_cut* from, const tp_camera* cam)
 {
     assert(c && from && cam && c->t == from->t);
-    if (!from->have_view || from->gen == 0 || from->lp.mode != TP_LOD_ERROR ||
+    if (!from->have_view || !from->has_output || from->lp.mode != TP_LOD_ERROR ||
         from->stitch_add || from->tins || c->stitch_add || c->tins || !tp__cut_copy(c, from))
         return 0;
     tp__view_from_camera(cam, &c->v);
