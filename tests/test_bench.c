@@ -1727,6 +1727,23 @@ TEST(sweep_without_csv_exits_2)
     expect_usage_error(&a, "--csv", dir);
 }
 
+/* --fit shapes a DEM drawn whole; the sweep's store families draw the DEM's store, which --fit
+ * does not shape: refused before anything runs or is built. */
+TEST(sweep_with_fit_exits_2)
+{
+    args a;
+    const char* dem = sample_path(STORML);
+    const char* dir = make_tmp_dir();
+    args_bench_small(&a, 1);
+    args_add(&a, "--sweep");
+    args_add(&a, "--csv");
+    args_add(&a, "%s/x.csv", dir);
+    args_add(&a, "--fit");
+    args_add(&a, "pad");
+    args_add(&a, "%s", dem);
+    expect_usage_error(&a, "--fit", dir);
+}
+
 /* --stitch add (Brodersen's vertex-adding crack fix) against the default vertex moving, frame by
  * frame over the same path on Mt Hood: the same selection, so full resolution draws the same
  * triangles exactly (nothing to add or move) with no error in either; the LoD modes draw at
@@ -2689,6 +2706,7 @@ TEST(pgm_store_bench_reports_the_clipmap)
     X(speed_lead_in_changes_uploads_not_what_is_drawn)                                             \
     X(speed_fixed_camera_has_no_lead_in)                                                           \
     X(sweep_without_csv_exits_2)                                                                   \
+    X(sweep_with_fit_exits_2)                                                                      \
     X(static_and_max_error_go_together_exits_2)                                                    \
     X(plot_without_sweep_exits_2)                                                                  \
     X(static_with_sweep_exits_2)                                                                   \

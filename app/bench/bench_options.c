@@ -89,7 +89,7 @@ static void print_help(void)
         "                         share, the store's mesh and TIN share), and\n"
         "                         a plot of fps against measured max and RMS screen error goes\n"
         "                         to --plot FILE.png (default: FILE with .png; needs\n"
-        "                         gnuplot). No --stitch, --no-error; the sphere tree (--lod\n"
+        "                         gnuplot). No --stitch, --no-error, --fit; the sphere tree (--lod\n"
         "                         spheres) is a store's cut: see the store bench\n"
         "  --static --max-error M1,M2,...\n"
         "                         no frames: builds the static mesh of 'export --max-error M'\n"
@@ -358,6 +358,12 @@ static int check_modes(const bench_options* o)
     }
     if (o->plot && !o->sweep) {
         tp_cli_error("--plot needs --sweep");
+        return TP_EXIT_USAGE;
+    }
+    if (o->sweep && (o->scene.given & TP_SCENE_GIVEN(TP_OPT_FIT))) {
+        tp_cli_error("--sweep: --fit shapes a DEM drawn whole, and the sweep also draws the DEM "
+                     "through its store (built as view builds it), which takes any size: leave "
+                     "--fit out");
         return TP_EXIT_USAGE;
     }
     if (o->sweep && o->no_error) {
