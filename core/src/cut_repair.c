@@ -8,7 +8,8 @@
  * record that does not, the selection runs again as from a root (tp__cut_select_below); the
  * stitching pass then checks only what changed and its neighbours (tp__cut_constrain_queued),
  * the other pairs of neighbours being stitched already, and the output is made as an update
- * makes it. So every drawn node projects within tau, as after an update; what is not
+ * makes it, but for the records that pass never queued: their seams, bounds in metres and
+ * triangles are those they were output with (only the projection is new). So every drawn node projects within tau, as after an update; what is not
  * re-selected keeps its level, which may be finer than a selection from the roots would
  * choose where the camera moved away (the worker selects from the roots now and then, and
  * when the camera stops).
@@ -36,15 +37,20 @@ static int in_view(const tp_cut* c, int i)
            tp_frustum_test_aabb(&c->f, bmin, bmax) != TP_CULL_OUTSIDE;
 }
 
-/* Marks (redo) the records that no longer hold for c's view, and gives the drawn ones their
- * projection bounds from it; returns how many are marked, or -1 when a node drawn or to be
- * selected again is not resident. */
+/* What tp_cut_repair does with a record (tp__cut_rec.redo). */
+enum { KEEP = 0, SELECT, CULL };
+
+/* Marks (redo) the records that no longer hold for c's view (SELECT) and the drawn ones now
+ * outside it (CULL), and gives the drawn ones their projection bounds from it; returns how
+ * many are to be selected again, or -1 when a node drawn or to be selected again is not
+ * resident. */
 static int mark(tp_cut* c)
 {
     int marked = 0;
     for (size_t i = 0; i < c->rec_count; i++) {
         tp__cut_rec* r = &c->rec[i];
-        r->redo = r->frozen = 0; /* frozen: by the last stitching pass, as a pass starts */
+        r->redo = KEEP; /* frozen: by the last stitching pass, reset as a pass starts */
+        r->frozen = r->touched = 0;
         if (r->state != TP__CUT_CULLED)
             r->view = 0; /* a culled record's says which box culled it (tp__cut_holds_node) */
         if (r->state != TP__CUT_DRAWN && r->state != TP__CUT_CULLED) {
@@ -64,10 +70,10 @@ static int mark(tp_cut* c)
                not be): its parent would not have been refined */
             if (!tp_tree_samples(c->t, r->node))
                 return -1;
-            r->redo = 1;
+            r->redo = SELECT;
             marked++;
         } else if (r->state == TP__CUT_DRAWN && !in_view(c, (int)i))
-            r->state = TP__CUT_CULLED; /* as the selection culls it: by its own box */
+            r->redo = CULL;
     }
     return marked;
 }
@@ -91,14 +97,22 @@ int tp_cut_repair(tp_cut* c, const tp_cut* from, const tp_camera* cam)
     int marked = mark(c);
     if (marked < 0 || (size_t)marked > budget)
         return 0;
-    for (size_t i = 0; i < records && !c->oom; i++)
-        if (c->rec[i].redo) {
-            c->rec[i].redo = 0;
+    for (size_t i = 0; i < records && !c->oom; i++) {
+        int redo = c->rec[i].redo;
+        c->rec[i].redo = KEEP;
+        if (redo == CULL) { /* as the selection culls it, by its own box */
+            c->rec[i].state = TP__CUT_CULLED;
+            tp__cut_changed(c, (int)i); /* its neighbours' seams */
+        } else if (redo == SELECT) {
             int k = tp__cut_select_below(c, (int)i);
             selected += k > 0 ? (size_t)k : 0;
             if (k <= 0 || selected > budget)
                 return 0;
         }
+    }
     tp__cut_constrain_queued(c);
-    return !c->oom && tp__cut_output(c, NULL) == TP_OK;
+    c->carrying = 1;
+    int ok = !c->oom && tp__cut_output(c, NULL) == TP_OK;
+    c->carrying = 0;
+    return ok;
 }
