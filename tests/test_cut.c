@@ -593,6 +593,152 @@ TEST(a_cut_drawn_from_a_moved_camera_keeps_tau_and_coverage)
     free(h);
 }
 
+/* Whether cut a draws the nodes saved (node, level, neighbour levels), in order. */
+static int cut_equal(const tp_cut* a, const tp_cut_node* saved, size_t saved_count)
+{
+    size_t n;
+    const tp_cut_node* x = tp_cut_nodes(a, &n);
+    if (n != saved_count)
+        return 0;
+    for (size_t i = 0; i < n; i++)
+        if (x[i].node != saved[i].node || x[i].level != saved[i].level ||
+            memcmp(x[i].nb, saved[i].nb, 4) != 0)
+            return 0;
+    return 1;
+}
+
+/* A cut carried to another camera (tp_cut_repair, the cut worker's frames between selections):
+ * for random frames of a flight (moves of up to 40 m, turns of up to 10 degrees), some with
+ * leaves missing when the cut was selected and half of those arriving before it is carried,
+ * every carried cut asks only for nodes still missing; once everything is resident (the checks
+ * read the samples) it holds from scratch for the new camera and is watertight; without
+ * substituted nodes (which may exceed tau and leave holes, as in a selection) it measures
+ * within tau, draws no more than a quarter more triangles than the selection from the roots,
+ * and shows ground wherever that selection does. Carried to its own camera it is the same cut;
+ * a jump is mostly refused (and holds when it is not); a requests-only cut is refused. */
+TEST(a_carried_cut_holds_is_watertight_and_near_the_selection)
+{
+    LOAD_OR_SKIP(h, 250, 300, 700, 420);
+    tp_tree* t = make_tree(h, 700, 420, 33);
+    const tp_tree_geometry* g = tp_tree_get_geometry(t);
+    int64_t first = g->first_node[0], leaves = (int64_t)g->node_cols[0] * g->node_rows[0];
+    const uint16_t** gone = calloc((size_t)leaves, sizeof *gone);
+    ASSERT_TRUE(gone != NULL);
+    tp_cut *cut, *carried, *fresh;
+    ASSERT_OK(tp_cut_create(t, &cut, NULL));
+    ASSERT_OK(tp_cut_create(t, &carried, NULL));
+    ASSERT_OK(tp_cut_create(t, &fresh, NULL));
+    tp_lod_params lp = {.mode = TP_LOD_ERROR, .tau_px = 1};
+    int tries = 0, done = 0, arrivals = 0, covered = 0, whole = 0, jumps = 0;
+    int subst_carried = 0, subst_fresh = 0;
+    double worst_ratio = 0;
+    for (int it = 0; it < 60; it++) {
+        double x = rnd() * (g->src_width - 1), y = rnd() * (g->src_height - 1);
+        double above = 30 + rnd() * 1500, yaw = rnd() * 360, pitch = -5 - rnd() * 50;
+        tp_camera a, b;
+        camera_at(t, x, y, above, yaw, pitch, &a);
+        double step = rnd() * 40, turn = (rnd() - 0.5) * 20, dir = yaw * 3.14159265358979 / 180;
+        double pos[3] = {a.position[0] + step * sin(dir), a.position[1] + step * cos(dir),
+                         a.position[2] + (rnd() - 0.5) * step * 0.2};
+        tp_camera_from_pose(pos, yaw + turn, pitch + turn / 3, 60, 1280, 720, &b);
+        int missing = it % 3 == 1; /* a third of the leaves missing at the selection */
+        for (int64_t i = 0; missing && i < leaves; i++)
+            if (rnd() < 0.33)
+                gone[i] = tp_tree_samples(t, first + i), tp_tree_detach(t, first + i);
+        lp.tau_px = it % 4 == 3 ? 3 : 1;
+        ASSERT_OK(tp_cut_update(cut, &a, &lp, NULL));
+        for (int64_t i = 0; missing && i < leaves; i++) /* half of them arrive */
+            if (gone[i] && rnd() < 0.5)
+                tp_tree_attach(t, first + i, gone[i]), gone[i] = NULL, arrivals++;
+        tries++;
+        int ok = tp_cut_repair(carried, cut, &b);
+        if (ok) {
+            size_t wanted;
+            const int64_t* want = tp_cut_requests(carried, &wanted);
+            for (size_t k = 0; k < wanted; k++)
+                EXPECT_TRUE(tp_tree_samples(t, want[k]) == NULL);
+            /* what arrived is drawn: no more substitution than a selection now makes */
+            tp_cut_stats sc, sf;
+            ASSERT_OK(tp_cut_update(fresh, &b, &lp, NULL));
+            tp_cut_get_stats(carried, &sc);
+            tp_cut_get_stats(fresh, &sf);
+            subst_carried += sc.substituted, subst_fresh += sf.substituted;
+        }
+        for (int64_t i = 0; i < leaves; i++) /* the rest arrive */
+            if (gone[i])
+                tp_tree_attach(t, first + i, gone[i]), gone[i] = NULL;
+        if (ok) {
+            done++;
+            double bound_px, max_px;
+            size_t samples;
+            EXPECT_TRUE(tp_cut_holds_for(carried, &b, &bound_px, NULL));
+            EXPECT_EQ_INT(0, check_watertight(t, carried, NULL));
+            tp_cut_stats sc, sf;
+            tp_cut_get_stats(carried, &sc);
+            ASSERT_OK(tp_cut_update(fresh, &b, &lp, NULL));
+            tp_cut_get_stats(fresh, &sf);
+            if (sc.substituted == 0) {
+                whole++;
+                EXPECT_TRUE(bound_px <= lp.tau_px + 1e-9);
+                ASSERT_OK(tp_cut_measure_screen_error(carried, &b, &max_px, NULL, &samples, NULL));
+                EXPECT_TRUE(max_px <= lp.tau_px + 1e-9);
+                double ratio = (double)sc.triangles / (double)(sf.triangles + 1);
+                worst_ratio = ratio > worst_ratio ? ratio : worst_ratio;
+                EXPECT_TRUE(ratio <= 1.25);
+            }
+            for (int py = 4; py < 720 && sc.substituted == 0; py += 48)
+                for (int px = 4; px < 1280; px += 48) {
+                    double d[3], gx, gy;
+                    tp_ray_hit hit;
+                    tp_camera_pixel_ray(&b, px, py, d);
+                    ASSERT_OK(tp_cut_ray_cast(fresh, b.position, d, &hit));
+                    if (!hit.hit)
+                        continue;
+                    tp_tree_world_to_grid(t, hit.position[0], hit.position[1], &gx, &gy);
+                    EXPECT_FALSE(isnan(tp_cut_drawn_height_at(carried, gx, gy)));
+                    covered++;
+                }
+        }
+        /* carried to its own camera, nothing changed: the same cut */
+        ASSERT_OK(tp_cut_update(cut, &a, &lp, NULL));
+        size_t count;
+        const tp_cut_node* o = tp_cut_nodes(cut, &count);
+        tp_cut_node* saved = malloc((count + 1) * sizeof *saved);
+        ASSERT_TRUE(saved != NULL);
+        memcpy(saved, o, count * sizeof *saved);
+        EXPECT_TRUE(tp_cut_repair(carried, cut, &a));
+        EXPECT_TRUE(cut_equal(carried, saved, count));
+        free(saved);
+        /* a jump (as Home): mostly a selection from the roots; when carried, it holds */
+        tp_camera jump;
+        camera_at(t, fmod(x + 350, g->src_width - 1), y, 1000, yaw + 120, -30, &jump);
+        if (tp_cut_repair(carried, cut, &jump))
+            EXPECT_TRUE(tp_cut_holds_for(carried, &jump, NULL, NULL));
+        else
+            jumps++;
+        /* a cut selected for its requests only is not stitched: never carried */
+        ASSERT_OK(tp_cut_update_requests(cut, &a, &lp, NULL));
+        EXPECT_FALSE(tp_cut_repair(carried, cut, &a));
+    }
+    printf("carried %d of %d frames (%d leaves arrived between: %d nodes substituted, %d in "
+           "the selections; %d without substituted nodes: triangles at most %.3f times the "
+           "selection's, %d pixels checked); %d jumps refused\n",
+           done, tries, arrivals, subst_carried, subst_fresh, whole, worst_ratio, covered, jumps);
+    EXPECT_GT(subst_fresh, 0);
+    EXPECT_TRUE(subst_carried <= subst_fresh + subst_fresh / 10);
+    EXPECT_GT(done, tries * 2 / 3); /* the test proves little if it refuses everything */
+    EXPECT_GT(jumps, tries * 3 / 4);
+    EXPECT_GT(whole, 20);
+    EXPECT_GT(arrivals, 100);
+    EXPECT_GT(covered, 1000);
+    free(gone);
+    tp_cut_destroy(cut);
+    tp_cut_destroy(carried);
+    tp_cut_destroy(fresh);
+    tp_tree_destroy(t);
+    free(h);
+}
+
 /* Random hand-made cuts: from the roots, split at random (deep on one side, shallow on the
  * other, so neighbours differ by up to the tree's depth in scale), random levels. */
 static void random_cut(const tp_tree_geometry* g, int64_t node, double p_split, int64_t* nodes,
@@ -1024,19 +1170,6 @@ TEST(incomplete_nodes_collapse_far_away)
     tp_cut_destroy(cut);
     tp_tree_destroy(t);
     free(h);
-}
-
-static int cut_equal(const tp_cut* a, const tp_cut_node* saved, size_t saved_count)
-{
-    size_t n;
-    const tp_cut_node* x = tp_cut_nodes(a, &n);
-    if (n != saved_count)
-        return 0;
-    for (size_t i = 0; i < n; i++)
-        if (x[i].node != saved[i].node || x[i].level != saved[i].level ||
-            memcmp(x[i].nb, saved[i].nb, 4) != 0)
-            return 0;
-    return 1;
 }
 
 TEST(substitution_keeps_the_surface_whole)
@@ -1495,6 +1628,7 @@ TEST(requests_only_update_asks_as_the_full_update)
     X(screen_error_within_tau_with_tin_nodes)                                                      \
     X(watertight_for_random_views_stitch_add)                                                      \
     X(a_cut_drawn_from_a_moved_camera_keeps_tau_and_coverage)                                      \
+    X(a_carried_cut_holds_is_watertight_and_near_the_selection)                                    \
     X(watertight_for_adversarial_cuts)                                                             \
     X(watertight_for_adversarial_cuts_with_tin_nodes)                                              \
     X(watertight_for_adversarial_cuts_stitch_add)                                                  \

@@ -83,7 +83,7 @@ static void flights(int with_tins, tp_lod_mode mode)
         tp_cut_set_tins(roots, tins);
     }
     int frames = 0, reused = 0, steady = 0, steady_reused = 0, stops = 0, measured = 0;
-    int kept = 0, steady_kept = 0, turn_kept = 0, turns = 0;
+    int kept = 0, steady_kept = 0, turn_kept = 0, turns = 0, carried = 0;
     double worst_px = 0;
     double x = 450, y = 350, yaw = 0, z = over(t, 450, 350, 200);
     tp_camera prev, cam;
@@ -110,7 +110,8 @@ static void flights(int with_tins, tp_lod_mode mode)
             tp_cut_worker_stats st;
             tp_cut* cut = tp_cut_worker_frame(w, &cam, &p, &st, &err);
             ASSERT_TRUE(cut != NULL);
-            frames++, reused += st.reused, kept += st.kept;
+            frames++, reused += st.reused, kept += st.kept, carried += st.carried;
+            EXPECT_TRUE(!(st.kept && st.carried));
             if (kind == 0 && f > 1)
                 steady++, steady_reused += st.reused, steady_kept += st.kept;
             if (kind == 1)
@@ -148,17 +149,21 @@ static void flights(int with_tins, tp_lod_mode mode)
         }
     }
     printf("%s: %d frames, %d drew the thread's cut (steady flight: %d of %d), %d of them kept "
-           "(steady %d, turning %d of %d); %d measured, max %.3f px; %d stopped frames equal the "
-           "cut from the roots\n",
+           "(steady %d, turning %d of %d), %d carried; %d measured, max %.3f px; %d stopped "
+           "frames equal the cut from the roots\n",
            mode == TP_LOD_ERROR ? "error" : "distance", frames, reused, steady_reused, steady, kept,
-           steady_kept, turn_kept, turns, measured, worst_px, stops);
+           steady_kept, turn_kept, turns, carried, measured, worst_px, stops);
     EXPECT_GT(steady_reused, steady * 9 / 10); /* steady flight is predicted */
     EXPECT_GT(stops, 40);
-    if (mode == TP_LOD_ERROR && !tins) /* a steady flight's cut is kept for frames at a time
-                                          (with TIN nodes only once its levels are built) */
+    if (mode == TP_LOD_ERROR && !tins) { /* a steady flight's cut is kept for frames at a time
+                                            (with TIN nodes only once its levels are built), and
+                                            carried between (never with TIN nodes) */
         EXPECT_GT(steady_kept, steady / 4);
-    else if (mode == TP_LOD_DISTANCE) /* its levels follow the distance: selected every frame */
-        EXPECT_EQ_INT(0, kept);
+        EXPECT_GT(carried, frames / 10);
+    } else if (mode == TP_LOD_DISTANCE) /* its levels follow the distance: selected every frame */
+        EXPECT_EQ_INT(0, kept + carried);
+    if (tins)
+        EXPECT_EQ_INT(0, carried);
     if (tins) {
         size_t bytes, levels, builds;
         tp_tin_cache_stats(tins, &bytes, &levels, &builds);

@@ -66,21 +66,22 @@ static void summarize(store_result* c, int n)
     ROWS_OF(r->cut_worker_cpu_ms);
     c->cut_worker_cpu_ms_mean = tp_bench_mean(v, n);
     c->cut_worker_cpu_ms = tp_bench_median(v, n);
-    MEDIAN_OF(c->cut_total_cpu_ms, r->cut_ms + r->cut_worker_cpu_ms);
+    ROWS_OF(r->cut_ms + r->cut_worker_cpu_ms);
+    c->cut_total_cpu_ms_mean = tp_bench_mean(v, n);
+    c->cut_total_cpu_ms = tp_bench_median(v, n);
     MEDIAN_OF(c->cut_scratch, r->cut_scratch);
-    c->cut_reused_share = c->cut_kept_share = c->tin_share = c->tin_mb = 0;
-    c->tin_builds = c->tin_build_ms = c->tin_build_ms_max = 0;
+    c->cut_reused_share = c->cut_kept_share = c->cut_carried_share = c->tin_share = c->tin_mb = 0;
     double drawn = 0;
     for (int i = 0; i < n; i++) {
         const store_row* r = &c->rows[i];
         c->cut_reused_share += (double)r->cut_reused / n;
         c->cut_kept_share += (double)r->cut_kept / n;
+        c->cut_carried_share += (double)r->cut_carried / n;
         c->tin_share += r->tin_nodes, drawn += r->nodes;
         c->tin_mb = fmax(c->tin_mb, r->tin_bytes / 1e6);
-        c->tin_builds += (double)r->tin_builds / n, c->tin_build_ms += r->tin_build_ms / n;
-        c->tin_build_ms_max = fmax(c->tin_build_ms_max, r->tin_build_ms);
     }
     c->tin_share /= drawn > 0 ? drawn : 1;
+    tp_bench_store_tin_summary(c, n);
     MEDIAN_OF(c->stream_ms, r->stream_ms);
     MEDIAN_OF(c->upload_ms, r->upload_ms);
     MEDIAN_OF(c->draw_ms, r->draw_ms);
@@ -140,9 +141,8 @@ static int settle(store_bench* b, tp_cut* cut, tp_cut* pre, const tp_camera* cam
         size_t nreq = 0;
         tp_cut_requests(cut, &nreq);
         /* and every TIN level the view asks for: once built, cut again (it then draws them;
-         * returning 0 there counted every TIN flight's jumps as settle timeouts); the levels
-         * of before the jump go first when the cache is over its budget, as in the frames */
-        if (b->sc.tins) {
+         * returning 0 there counted every TIN flight's jumps as settle timeouts) */
+        if (b->sc.tins) { /* the levels of before the jump go first, as in the frames */
             tp_tin_cache_mark_drawn(b->sc.tins, cut);
             tp_tin_cache_prune(b->sc.tins, TP_CUT_WORKER_TIN_AGE, TP_CUT_WORKER_TIN_BYTES);
         }
@@ -449,8 +449,7 @@ static int fly(store_bench* b, store_result* c, int first, store_draw* d, const 
     tp_error err;
     tp_camera cam, prev;
     tp_cut* cut = d->cut; /* the frame's: d->cut, or the cut thread's */
-    size_t tin_builds = 0; /* TIN builds and their time so far: a frame's are the difference */
-    double tin_ms = 0;
+    size_t tin_builds = 0; double tin_ms = 0; /* TIN builds, their time: a frame's, the change */
     const tp_cut_worker_params wp = {
         .lod = c->lod, .vertical_scale = 1, .stitch_add = c->stitch_add, .tins = b->sc.tins};
     for (int seg = 0; seg < b->segments; seg++) {
@@ -536,6 +535,7 @@ static int fly(store_bench* b, store_result* c, int first, store_draw* d, const 
             row->cut_worker_ms = ws.worker_ms;
             row->cut_reused = ws.reused;
             row->cut_kept = ws.kept;
+            row->cut_carried = ws.carried;
             row->cut_worker_cpu_ms = ws.worker_cpu_ms;
             row->cut_scratch = (double)ws.check_scratch;
             row->tin_nodes = cs.tin_nodes;

@@ -19,7 +19,7 @@ typedef struct store_row {
      * cut selected there); the wait for the thread is in frame_ms only */
     double cut_wait_ms, cut_worker_ms;
     double cut_worker_cpu_ms; /* the thread's CPU time for the job this frame was offered */
-    int cut_reused, cut_kept;
+    int cut_reused, cut_kept, cut_carried;
     double cut_scratch; /* nodes the render thread's check tested from scratch */
     long page_faults;           /* minor page faults during the draw */
     size_t triangles, gpu_bytes, resident_bytes;
@@ -61,8 +61,10 @@ typedef struct store_result {
     double cut_worker_ms, cut_wait_ms;    /* medians: the thread's selection; the wait for it */
     double cut_reused_share;              /* frames that drew the thread's cut */
     double cut_kept_share;                /* ... that was the frame before's, kept */
+    double cut_carried_share;             /* ... or the frame before's carried (tp_cut_repair) */
     double cut_worker_cpu_ms, cut_worker_cpu_ms_mean; /* the thread's CPU time: median, mean */
-    double cut_total_cpu_ms;              /* median of the render thread's part + the thread's */
+    double cut_total_cpu_ms, cut_total_cpu_ms_mean; /* the render thread's part + the thread's:
+                                                       median, mean */
     double cut_scratch;                   /* median: nodes its check tested from scratch */
     int mesh_tin;                         /* --mesh tin */
     double tin_share, tin_mb;             /* drawn nodes that drew a TIN; the TINs held (max) */
@@ -150,6 +152,9 @@ int tp_bench_store_measure(store_bench* b, const tp_cut* cut, const tp_camera* c
 /* The error's part of c's summary over its n rows (v: n doubles of scratch): frames measured
  * without and with substitution, their max and RMS, how much of the cut was measured. */
 void tp_bench_store_error_summary(store_result* c, int n, double* v);
+/* bench_store_report.c: the TIN build figures of c's n timed frames (mean count and time a
+ * frame, the longest frame's time). */
+void tp_bench_store_tin_summary(store_result* c, int n);
 
 /* The summary table on stdout. */
 void tp_bench_store_print(const store_bench* b, const char* renderer_name, const store_result* c,

@@ -11,6 +11,16 @@
 #include <stdio.h>
 #include <string.h>
 
+void tp_bench_store_tin_summary(store_result* c, int n)
+{
+    c->tin_builds = c->tin_build_ms = c->tin_build_ms_max = 0;
+    for (int i = 0; i < n; i++) {
+        const store_row* r = &c->rows[i];
+        c->tin_builds += (double)r->tin_builds / n, c->tin_build_ms += r->tin_build_ms / n;
+        c->tin_build_ms_max = fmax(c->tin_build_ms_max, r->tin_build_ms);
+    }
+}
+
 static void json_result(tp_json* j, const store_bench* b, const store_result* c)
 {
 #define tp_json_member_number(j, k, v) (tp_json_member_number(j, k, v))
@@ -47,8 +57,10 @@ static void json_result(tp_json* j, const store_bench* b, const store_result* c)
         tp_json_member_number(j, "cut_worker_cpu_ms_median", c->cut_worker_cpu_ms);
         tp_json_member_number(j, "cut_worker_cpu_ms_mean", c->cut_worker_cpu_ms_mean);
         tp_json_member_number(j, "cut_total_cpu_ms_median", c->cut_total_cpu_ms);
+        tp_json_member_number(j, "cut_total_cpu_ms_mean", c->cut_total_cpu_ms_mean);
         tp_json_member_number(j, "cut_reused_share", c->cut_reused_share);
         tp_json_member_number(j, "cut_kept_share", c->cut_kept_share);
+        tp_json_member_number(j, "cut_carried_share", c->cut_carried_share);
         tp_json_member_number(j, "cut_check_scratch_nodes_median", c->cut_scratch);
     }
     tp_json_member_number(j, "stream_ms_median", c->stream_ms);
@@ -214,13 +226,13 @@ int tp_bench_store_write_csv(const store_bench* b, const store_result* c, int nc
                "rss_anon_mb,measured,max_screen_error_px,rms_screen_error_px,samples,skipped,"
                "imagery_ms,imagery_upload_ms,imagery_uploads,imagery_missing_blocks,"
                "cut_worker_ms,cut_wait_ms,cut_reused,error_leaves,error_leaves_sampled,"
-               "error_leaves_read,error_ms,cut_worker_cpu_ms,cut_kept\n");
+               "error_leaves_read,error_ms,cut_worker_cpu_ms,cut_kept,cut_carried\n");
     int frames = b->segments * b->per_segment;
     for (int k = 0; k < nc; k++)
         for (int i = 0; i < frames; i++) {
             const store_row* r = &c[k].rows[i];
             fprintf(f, "%s,%d,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%zu,%d,%d,%d,%d,%d,%d,%zu,%zu,%.1f,"
-                       "%.1f,%d,%.4f,%.4f,%zu,%zu,%.4f,%.4f,%d,%d,%.4f,%.4f,%d,%zu,%zu,%zu,%.2f,%.4f,%d\n",
+                       "%.1f,%d,%.4f,%.4f,%zu,%zu,%.4f,%.4f,%d,%d,%.4f,%.4f,%d,%zu,%zu,%zu,%.2f,%.4f,%d,%d\n",
                     c[k].pgm_cols ? "pgm"
                     : c[k].light ? "error+light"
                     : c[k].imagery ? (c[k].imagery_mode == TP_IMAGERY_BLOCKS ? "error+blocks"
@@ -237,7 +249,7 @@ int tp_bench_store_write_csv(const store_bench* b, const store_result* c, int nc
                     r->max_px, r->rms_px, r->samples, r->skipped, r->img_ms, r->img_upload_ms,
                     r->img_uploads, r->img_missing, r->cut_worker_ms, r->cut_wait_ms,
                     r->cut_reused, r->cut.leaves, r->cut.leaves_sampled, r->cut.leaves_read,
-                    r->measure_ms, r->cut_worker_cpu_ms, r->cut_kept);
+                    r->measure_ms, r->cut_worker_cpu_ms, r->cut_kept, r->cut_carried);
         }
     return tp_atomic_commit(&file);
 }

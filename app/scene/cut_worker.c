@@ -16,6 +16,11 @@ enum { KEEP_RENEW = 32 };
  * second at 30 Hz): its requests are those of its own camera. */
 enum { KEEP_WANTING = 8 };
 
+/* A cut is carried to another camera (tp_cut_repair) this many times at most before it is
+ * selected from the roots again: a carried cut keeps the levels of what it did not select
+ * again, finer than needed where the camera moved away. */
+enum { CARRY_RENEW = 16 };
+
 /* What a cut's last selection was made with: whether it may be kept for another camera. */
 typedef struct selected {
     int valid;
@@ -25,6 +30,7 @@ typedef struct selected {
                                     resident) */
     int figures;                 /* tp_cut_holds_for's figures are kept (prepare, keep_for) */
     int kept;                    /* jobs it was kept for since */
+    int carried;                 /* times it was carried (tp_cut_repair) since the roots */
 } selected;
 
 struct tp_cut_worker {
@@ -40,6 +46,7 @@ struct tp_cut_worker {
     int busy;        /* a selection was asked for and has not finished */
     int done;        /* a finished job for job: the back cut, or the front one kept */
     int kept;        /* the job kept the front cut for job_cam (no selection) */
+    int carried;     /* the job carried the front cut to job_cam (tp_cut_repair) */
     int quit;
     tp_camera job_cam;
     tp_cut_worker_params job;
@@ -51,8 +58,9 @@ struct tp_cut_worker {
     int job_stopped;     /* job_cam is the last frame's camera: the camera has stopped */
     tp_camera frame_cam; /* the last frame's camera (render thread) */
     double job_ms, job_cpu_ms;
-    int frames, frames_reused, frames_kept;
+    int frames, frames_reused, frames_kept, frames_carried;
     int may_keep;        /* TP_CUT_KEEP (cut_worker.h) */
+    int may_carry;       /* TP_CUT_CARRY (cut_worker.h) */
 };
 
 static void apply(tp_cut* c, const tp_cut_worker_params* p)
@@ -103,7 +111,7 @@ static int same_camera(const tp_camera* a, const tp_camera* b)
  *   - no TIN level it asked for is waiting (the worker builds them after selecting);
  *   - every node it draws is still resident;
  *   - the camera has not stopped: a camera equal to the last frame's gets the cut selected
- *     for it, so that a still view settles on the cut from the roots.
+ *     for it from the roots, so that a still view settles on the cut from the roots.
  * Runs on the worker while the frame draws cut i: it reads it, and writes only the figures that
  * tp_cut_holds_for reads, which the render thread calls after waiting for the worker. */
 static int may_keep(tp_cut_worker* w, int i, const tp_camera* cam, const tp_cut_worker_params* p,
@@ -113,7 +121,7 @@ static int may_keep(tp_cut_worker* w, int i, const tp_camera* cam, const tp_cut_
     tp_cut* c = w->cut[i];
     size_t wanted, tins = 0;
     if (!s->valid || p->lod.mode != TP_LOD_ERROR || !same_params(&s->params, p) ||
-        (stopped && !same_camera(cam, &s->cam)))
+        (stopped && (!same_camera(cam, &s->cam) || s->carried)))
         return 0;
     const int64_t* want = tp_cut_requests(c, &wanted);
     if (p->tins)
@@ -146,9 +154,23 @@ static int may_keep(tp_cut_worker* w, int i, const tp_camera* cam, const tp_cut_
 }
 
 static void selected_now(tp_cut_worker* w, int i, const tp_camera* cam,
-                         const tp_cut_worker_params* p, uint64_t detaches, int figures)
+                         const tp_cut_worker_params* p, uint64_t detaches, int figures,
+                         int carried)
 {
-    w->sel[i] = (selected){1, *cam, *p, detaches, figures, 0};
+    w->sel[i] = (selected){1, *cam, *p, detaches, figures, 0, carried};
+}
+
+/* Whether the job may carry cut i to its camera with p instead of selecting from the roots (it
+ * was not kept): the same parameters, error mode, lattices only with vertex moving (as
+ * tp_cut_repair asks), a camera that has not stopped (a still view gets the cut from the
+ * roots), and fewer than CARRY_RENEW carries since the roots. tp_cut_repair itself selects
+ * again where the cut does not hold, takes in what arrived, and refuses what changed too much
+ * or a node no longer resident. */
+static int may_carry(const tp_cut_worker* w, int i, const tp_cut_worker_params* p, int stopped)
+{
+    const selected* s = &w->sel[i];
+    return s->valid && p->lod.mode == TP_LOD_ERROR && same_params(&s->params, p) && !stopped &&
+           s->carried < CARRY_RENEW && !p->tins && !p->stitch_add;
 }
 
 static void* worker_main(void* arg)
@@ -169,20 +191,29 @@ static void* worker_main(void* arg)
         pthread_mutex_unlock(&w->mu);
         double t0 = tp_clock_ms(), c0 = tp_clock_thread_cpu_ms();
         int kept = fi >= 0 && w->may_keep && may_keep(w, fi, &cam, &p, stopped), ok = 1;
+        int carried = 0;
         w->sel[fi < 0 ? 0 : fi].kept += kept;
         if (!kept) {
             apply(back, &p);
+            carried = fi >= 0 && w->may_carry && may_carry(w, fi, &p, stopped) &&
+                      tp_cut_repair(back, w->cut[fi], &cam);
             tp_error err;
-            ok = tp_cut_update(back, &cam, &p.lod, &err) == TP_OK;
+            if (!carried)
+                ok = tp_cut_update(back, &cam, &p.lod, &err) == TP_OK;
+            int carries = carried ? w->sel[fi].carried + 1 : 0;
             w->sel[bi].valid = 0;
             if (ok) { /* the render thread's tp_cut_holds_for, from the figures kept here */
                 int figures = tp_cut_prepare_reuse(back);
-                selected_now(w, bi, &cam, &p, tp_tree_detaches(w->tree), figures);
+                selected_now(w, bi, &cam, &p, tp_tree_detaches(w->tree), figures, carries);
             }
         }
-        if (pre) {
+        if (pre) { /* carried from the cut for cam when it can be, as the cut itself is */
             tp_error err;
-            tp_cut_update_requests(pre, &ahead, &p.lod, &err);
+            const tp_cut* now = kept ? w->cut[fi] : back;
+            int carried_pre = ok && w->may_carry && p.lod.mode == TP_LOD_ERROR && !p.tins &&
+                              !p.stitch_add && tp_cut_repair(pre, now, &ahead);
+            if (!carried_pre)
+                tp_cut_update_requests(pre, &ahead, &p.lod, &err);
         }
         if (ok && !kept && p.tins)
             tp_cut_tins_build(p.tins, back, TP_CUT_WORKER_TIN_MS);
@@ -191,6 +222,7 @@ static void* worker_main(void* arg)
         w->busy = 0;
         w->done = ok;
         w->kept = kept;
+        w->carried = carried;
         w->job_ms = ms, w->job_cpu_ms = cpu;
         pthread_cond_broadcast(&w->cv);
     }
@@ -208,6 +240,8 @@ tp_cut_worker* tp_cut_worker_create(const tp_tree* tree, tp_error* err)
     w->tree = tree;
     const char* keep = getenv("TP_CUT_KEEP");
     w->may_keep = !(keep && strcmp(keep, "0") == 0);
+    const char* carry = getenv("TP_CUT_CARRY");
+    w->may_carry = w->may_keep && !(carry && strcmp(carry, "0") == 0);
     if (tp_cut_create(tree, &w->cut[0], err) != TP_OK ||
         tp_cut_create(tree, &w->cut[1], err) != TP_OK) {
         tp_cut_destroy(w->cut[0]);
@@ -266,6 +300,7 @@ static int wait_idle(tp_cut_worker* w, const tp_cut_worker_params* p, int take,
         w->done = 0;
     st->worker_ms = w->job_ms, st->worker_cpu_ms = w->job_cpu_ms;
     st->kept = done && w->kept;
+    st->carried = done && w->carried;
     pthread_mutex_unlock(&w->mu);
     return done;
 }
@@ -299,6 +334,7 @@ tp_cut* tp_cut_worker_frame(tp_cut_worker* w, const tp_camera* cam, const tp_cut
         st.reused = 1;
     }
     st.kept &= st.reused;
+    st.carried &= st.reused;
     w->frame_cam = *cam;
     double t2 = tp_clock_ms();
     st.check_ms = done ? t2 - t1 : 0;
@@ -309,12 +345,13 @@ tp_cut* tp_cut_worker_frame(tp_cut_worker* w, const tp_camera* cam, const tp_cut
         w->sel[w->front].valid = 0;
         if (tp_cut_update(c, cam, &p->lod, err) != TP_OK)
             return NULL;
-        selected_now(w, w->front, cam, p, tp_tree_detaches(w->tree), 0);
+        selected_now(w, w->front, cam, p, tp_tree_detaches(w->tree), 0, 0);
         st.select_ms = tp_clock_ms() - t2;
     }
     st.frames = ++w->frames;
     st.frames_reused = w->frames_reused += st.reused;
     st.frames_kept = w->frames_kept += st.kept;
+    st.frames_carried = w->frames_carried += st.carried;
     if (stats)
         *stats = st;
     return w->cut[w->front];

@@ -28,8 +28,12 @@
  * something culled comes into view, a node it wanted arrives, or the camera stops (a still
  * camera gets the cut selected for it, so a still view is the cut from the roots, node for
  * node). The cost of a frame then follows what changed in the view, not the map's size
- * (docs/PERFORMANCE.md, "A cut kept while it holds").
- * TP_CUT_KEEP=0 in the environment selects every frame, as before (to measure the difference).
+ * (docs/PERFORMANCE.md, "A cut kept while it holds"). When the cut does not hold, it is
+ * carried to the next camera (tp_cut_repair: selected again only below the nodes that no
+ * longer hold, stitched again only around them) unless too much changed, the camera stopped,
+ * or it was carried CARRY_RENEW times since its selection from the roots (cut_worker.c).
+ * TP_CUT_KEEP=0 in the environment selects every frame, as before (to measure the difference);
+ * TP_CUT_CARRY=0 keeps cuts but selects from the roots whenever one is not kept.
  */
 #ifndef TP_APP_CUT_WORKER_H
 #define TP_APP_CUT_WORKER_H
@@ -65,6 +69,7 @@ int tp_cut_tins_build(tp_tin_cache* tins, const tp_cut* cut, double budget_ms);
 typedef struct tp_cut_worker_stats {
     int reused;        /* the frame draws the worker's cut */
     int kept;          /* ... and that is the frame before's, kept (no selection was made) */
+    int carried;       /* ... or the frame before's carried to this camera (tp_cut_repair) */
     double wait_ms;    /* render thread: waiting for the worker to finish */
     double check_ms;   /* render thread: tp_cut_holds_for */
     size_t check_scratch; /* the nodes it tested from scratch (the rest were settled by the
@@ -73,7 +78,7 @@ typedef struct tp_cut_worker_stats {
     double worker_ms;  /* the worker's job for the cut this frame was offered: its wall time */
     double worker_cpu_ms; /* ... and its thread's CPU time (the keep test or the selection, the
                              prefetch cut when asked for, TIN builds) */
-    int frames, frames_reused, frames_kept; /* since the worker was created */
+    int frames, frames_reused, frames_kept, frames_carried; /* since the worker was created */
 } tp_cut_worker_stats;
 
 /* Two cuts over tree and the thread (started at once, idle until tp_cut_worker_next). NULL and
@@ -88,8 +93,9 @@ tp_cut* tp_cut_worker_frame(tp_cut_worker* w, const tp_camera* cam, const tp_cut
                             tp_cut_worker_stats* stats, tp_error* err);
 /* Step 3: starts selecting for next (the camera the next frame is expected to have) and then,
  * when prefetch is not NULL, the stream's prefetch cut's requests for ahead
- * (tp_cut_update_requests; tp_stream_prefetch_wanted). The prefetch cut is the worker's until
- * the next tp_cut_worker_frame or tp_cut_worker_idle. */
+ * (tp_stream_prefetch_wanted): the cut for next carried there (tp_cut_repair: what it still
+ * wants and what the view ahead adds), else tp_cut_update_requests. The prefetch cut is the
+ * worker's until the next tp_cut_worker_frame or tp_cut_worker_idle. */
 void tp_cut_worker_next(tp_cut_worker* w, const tp_camera* next, const tp_cut_worker_params* p,
                         tp_cut* prefetch, const tp_camera* ahead);
 /* Waits until the worker is idle (before something outside step 2 changes the tree or a

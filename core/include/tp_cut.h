@@ -233,6 +233,21 @@ int tp_cut_prepare_reuse(tp_cut* c);
  * cam settles nodes from the figures again. One pass, O(drawn + culled nodes); without
  * memory nothing is kept (the answer is the same). */
 int tp_cut_keep_for(tp_cut* c, const tp_camera* cam);
+/* Carries from's last update to cam into c, selecting again only below the nodes where it no
+ * longer holds for cam (cut_repair.c): a drawn node whose bound as stitched projects above tau
+ * (or whose box reaches the near plane, or whose holes exceed hole_px), a culled node that
+ * comes into view, a substituted node whose missing children have all arrived; a drawn node
+ * now outside the frustum is culled. The stitching pass then checks only what changed and its
+ * neighbours. The result holds for cam as an update's does (tau, hole_px, coverage,
+ * watertight); where the camera moved away it may draw finer than an update would. Requests:
+ * from's still missing, and those the new selections make. Returns 1 when c holds the carried
+ * cut; 0 when it was not carried, c then to be updated (tp_cut_update) before use: from is not
+ * an update in error mode (tp_cut_update_requests' neither: it is not stitched), draws TIN
+ * nodes or uses --stitch add (nor may c), a node it draws is no longer resident, the
+ * selections would classify more than a quarter as many records as from has (a jump: a
+ * selection from the roots costs less), or without memory. c's parameters (tau, vertical
+ * scale) are from's. O(records) plus the selections. */
+int tp_cut_repair(tp_cut* c, const tp_cut* from, const tp_camera* cam);
 
 /* Vertical exaggeration, as tp_selection_set_vertical_scale: boxes, the error mode's projection
  * and tp_cut_measure_screen_error follow heights times scale (tau holds on screen); heights

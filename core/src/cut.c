@@ -168,6 +168,7 @@ void tp_cut_destroy(tp_cut* c)
     tp__free(a, c->tin_req);
     tp__free(a, c->tin_prio);
     tp__free(a, c->reuse);
+    tp__free(a, c->fix);
     tp__spheres_destroy(c);
     tp__free(a, c);
 }
@@ -192,6 +193,7 @@ void tp__cut_begin(tp_cut* c)
     c->kid_rec = -1;
     c->unresolved = 0;
     c->oom = 0;
+    c->has_output = 0;
 }
 
 /* Whether request a goes before b: higher priority first, then lower id. */
@@ -231,6 +233,11 @@ tp_status tp__cut_finish(tp_cut* c, tp_error* err)
 {
     if (!c->oom && !c->requests_only)
         tp__cut_constrain(c);
+    return tp__cut_output(c, err);
+}
+
+tp_status tp__cut_output(tp_cut* c, tp_error* err)
+{
     size_t drawn = 0;
     for (size_t i = 0; i < c->rec_count && !c->requests_only; i++)
         drawn += c->rec[i].state == TP__CUT_DRAWN;
@@ -243,14 +250,26 @@ tp_status tp__cut_finish(tp_cut* c, tp_error* err)
     c->out_count = 0;
     for (size_t i = 0; i < c->rec_count; i++) {
         tp__cut_rec* r = &c->rec[i];
+        int32_t tris_was = r->tris;
         r->out = -1;
         r->tris = -1;
         if (r->state != TP__CUT_DRAWN || c->requests_only)
             continue;
         r->out = (int32_t)c->out_count;
         tp_cut_node* o = &c->out[c->out_count++];
+        /* a carried cut's record the stitching pass never queued has the level and the
+           neighbours it was output with (tp__cut_changed queues every record whose seams may
+           change): its seams, bound in metres and triangles are those */
+        int same = c->carrying && !r->touched && tris_was >= 0;
         int nb[4], add[4];
-        c->unresolved += tp__cut_seams(c, (int)i, nb, add);
+        if (!same)
+            r->cracks = (uint8_t)tp__cut_seams(c, (int)i, nb, add);
+        c->unresolved += r->cracks;
+        for (int s = 0; s < 4; s++) {
+            if (same)
+                nb[s] = r->nb[s], add[s] = TP_NO_NEIGHBOR;
+            r->nb[s] = (int8_t)nb[s];
+        }
         o->node = r->node;
         o->level = r->level;
         for (int s = 0; s < 4; s++) {
@@ -264,7 +283,7 @@ tp_status tp__cut_finish(tp_cut* c, tp_error* err)
             /* over what is drawn of its box: at the near plane the box's bound is INFINITY
              * (the selection refines such a box as far as it can; a leaf with quantisation
              * error stays, and an ancestor drawn in place of nodes not resident) */
-            double d = tp__cut_bound_m(c, (int)i, r->level, nb);
+            double d = same ? r->bound_m : tp__cut_bound_m(c, (int)i, r->level, nb);
             if (add[0] != TP_NO_NEIGHBOR || add[1] != TP_NO_NEIGHBOR || add[2] != TP_NO_NEIGHBOR ||
                 add[3] != TP_NO_NEIGHBOR) {
                 double da = (tp__cut_add_bound_m(c, (int)i, r->level, add) + c->quant) * c->zscale;
@@ -277,16 +296,68 @@ tp_status tp__cut_finish(tp_cut* c, tp_error* err)
         }
         o->bound_px = r->bound_px;
         int32_t tin_tris = tp__cut_pick_tin(c, (int)i, nb);
-        r->tris = tin_tris >= 0 ? tin_tris : tp__cut_triangles(c, (int)i, nb);
+        r->tris = tin_tris >= 0 ? tin_tris : same ? tris_was : tp__cut_triangles(c, (int)i, nb);
         for (int s = 0; s < 4; s++) /* --stitch add: one more triangle per added vertex */
             if (add[s] != TP_NO_NEIGHBOR)
                 r->tris += (1 << (add[s] > c->n ? c->n : add[s])) - (1 << r->level);
     }
+    c->has_output = !c->requests_only;
     tp__cut_tin_sort_requests(c);
     sort_requests(c->req, c->req_count);
     for (size_t i = 0; i < c->req_count; i++)
         c->req_ids[i] = c->req[i].node;
     return TP_OK;
+}
+
+/* Copies n elements of size bytes from src into *dst, grown to hold them. */
+static int copy_array(tp_cut* c, void** dst, size_t* cap, const void* src, size_t n, size_t size)
+{
+    if (n > *cap) { /* nothing of the old content is kept: no copy on growing */
+        tp__free(&c->alloc, *dst);
+        *dst = NULL, *cap = 0;
+    }
+    if (!tp__cut_grow(c, dst, cap, n, size))
+        return 0;
+    if (n)
+        memcpy(*dst, src, n * size);
+    return 1;
+}
+
+int tp__cut_copy(tp_cut* c, const tp_cut* from)
+{
+    assert(c->t == from->t);
+    tp__cut_begin(c);
+    if (from->hcap > c->hcap) {
+        tp__free(&c->alloc, c->hash);
+        c->hash = tp__alloc(&c->alloc, from->hcap, sizeof *c->hash);
+        c->hcap = c->hash ? from->hcap : 0;
+        if (!c->hash) {
+            c->oom = 1;
+            return 0;
+        }
+    }
+    if (!copy_array(c, (void**)&c->rec, &c->rec_cap, from->rec, from->rec_count, sizeof *c->rec) ||
+        !copy_array(c, (void**)&c->req, &c->req_cap, from->req, from->req_count, sizeof *c->req) ||
+        !copy_array(c, (void**)&c->out, &c->out_cap, from->out, from->out_count, sizeof *c->out) ||
+        !copy_array(c, (void**)&c->out_tin, &c->out_tin_cap, from->out_tin, from->out_count,
+                    sizeof *c->out_tin))
+        return 0;
+    /* The hash slot for slot: slots are placed by the table's size, so c takes from's (a
+       larger array of c's is used in part) */
+    c->hcap = from->hcap;
+    memcpy(c->hash, from->hash, from->hcap * sizeof *c->hash);
+    c->hused = from->hused;
+    c->gen = from->gen;
+    c->rec_count = from->rec_count;
+    c->req_count = from->req_count;
+    c->out_count = from->out_count;
+    c->lp = from->lp;
+    c->have_view = from->have_view;
+    c->v = from->v;
+    c->f = from->f;
+    c->zscale = from->zscale;
+    c->visited = from->visited;
+    return 1;
 }
 
 tp_status tp_cut_set_nodes(tp_cut* c, const int64_t* nodes, const int* levels, size_t count,

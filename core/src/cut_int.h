@@ -23,6 +23,10 @@ typedef struct tp__cut_rec {
     uint8_t substituted; /* drawn in place of children that are not resident */
     uint8_t frozen;      /* collapsed onto by the stitching pass: never split again */
     uint8_t queued;      /* in the stitching pass's work list */
+    uint8_t redo;        /* tp_cut_repair: to be selected again or culled (cut_repair.c) */
+    uint8_t touched;     /* queued for the stitching pass at least once since it began */
+    int8_t nb[4];        /* drawn: its seams' relative neighbour levels, as last output */
+    uint8_t cracks;      /* ... and its sides left with a crack */
     float bound_px;
     double bound_m;    /* drawn, error mode: the bound bound_px projects (m, drawn space) */
     int32_t out;       /* index in the output (tp_cut_nodes) when drawn */
@@ -100,6 +104,9 @@ struct tp_cut {
     int visited, unresolved;
     int oom;
     int requests_only;       /* tp_cut_update_requests: no stitching, no output */
+    int has_output;          /* the last update was stitched and output (not requests only) */
+    int carrying;            /* tp_cut_repair's output: a drawn record never queued keeps the
+                                seams (and triangles) it was output with */
     int stitch_add;          /* tp_cut_set_stitch_add */
     tp__cut_addtab* add_cache; /* add tables, direct-mapped by node, kept across updates (NULL
                                   until --stitch add is first set, or without memory) */
@@ -115,6 +122,8 @@ struct tp_cut {
     struct tp__cut_reuse* reuse; /* tp_cut_prepare_reuse (cut_reuse.c): per record */
     size_t reuse_cap;
     uint32_t reuse_gen;      /* the update (gen) it was prepared for; 0: none */
+    int32_t* fix;            /* tp__cut_select_below's queue */
+    size_t fix_cap;
     tp__view reuse_v;        /* the camera the kept figures are from (the update's, or
                                 tp_cut_keep_for's) */
 };
@@ -220,6 +229,23 @@ void tp__cut_begin(tp_cut* c);
  * arrays (the drawn nodes with their seams, bounds and triangles; the requests, most urgent
  * first). TP_ERR_OUT_OF_MEMORY leaves the cut empty. */
 tp_status tp__cut_finish(tp_cut* c, tp_error* err);
+/* Record i of the last update from scratch (cut_reuse.c): whether it keeps the cut from view
+ * v (frustum f): culled, still outside; drawn (error mode), its bound within tau, a box at the
+ * near plane only with a zero bound, its holes within hole_px (substituted nodes and leaves
+ * drawn at level n are not tested). *px: its bound when drawn; *pb_out (may be NULL): the
+ * projection bound of its area box when it computed one (drawn, error mode), else NaNs. */
+int tp__cut_holds_node(const tp_cut* c, size_t i, const tp__view* v, const tp_frustum* f,
+                       double* px, tp__proj_bound* pb_out);
+/* tp__cut_finish after its stitching pass: the output arrays only. */
+tp_status tp__cut_output(tp_cut* c, tp_error* err);
+/* Makes c a copy of from's last update (records, hash, requests, output, view; the caches
+ * are c's own): 0 without memory (c->oom set). Both cuts are over the same tree. */
+int tp__cut_copy(tp_cut* c, const tp_cut* from);
+/* Selects below record i as tp_cut_update does below a root: i and what it refines into are
+ * classified again (their records found or added), and each is queued for the stitching pass
+ * (tp__cut_changed). For a cut carried to another camera (cut_repair.c). Returns the records
+ * classified; 0 without memory. */
+int tp__cut_select_below(tp_cut* c, int i);
 /* Bound (m, drawn space, quantisation included) of record i at level k with neighbours nb
  * (cut_select.c). */
 double tp__cut_bound_m(const tp_cut* c, int i, int k, const int nb[4]);
@@ -229,6 +255,12 @@ int tp__cut_children_ready(tp_cut* c, int i);
 /* The stitching pass: splits, collapses and raised levels until every pair of drawn
  * neighbours can be stitched (cut_stitch.c). */
 void tp__cut_constrain(tp_cut* c);
+/* The same pass over the records queued by tp__cut_changed only: the others are taken as
+ * stitched already (a cut carried to another camera, cut_repair.c). */
+void tp__cut_constrain_queued(tp_cut* c);
+/* Queues record i, whose state or level changed, and its drawn neighbours of its size or
+ * smaller for tp__cut_constrain_queued. */
+void tp__cut_changed(tp_cut* c, int i);
 /* The drawn neighbour on a side of drawn record i, of equal or larger scale; -1 if none
  * (border, culled, or smaller nodes there) (cut_stitch.c). */
 int tp__cut_neighbor(const tp_cut* c, int i, int side);

@@ -173,14 +173,14 @@ int tp_cut_keep_for(tp_cut* c, const tp_camera* cam)
     return tp_cut_holds_for(c, cam, NULL, NULL);
 }
 
-/* Record i from scratch: whether it keeps the cut from camera v (frustum f); *px its bound
- * when drawn. */
-static int holds_node(const tp_cut* c, size_t i, const tp__view* v, const tp_frustum* f,
-                      double* px)
+int tp__cut_holds_node(const tp_cut* c, size_t i, const tp__view* v, const tp_frustum* f,
+                       double* px, tp__proj_bound* pb_out)
 {
     const tp__cut_rec* r = &c->rec[i];
     double bmin[3], bmax[3];
     *px = 0;
+    if (pb_out)
+        pb_out->num = pb_out->zmin = NAN;
     if (r->state == TP__CUT_CULLED)
         /* classify culled it by its area box (view == 1: not in view) or by its own box */
         return !tp__cut_box(c, (int)i, r->view == 1, bmin, bmax) ||
@@ -189,6 +189,8 @@ static int holds_node(const tp_cut* c, size_t i, const tp__view* v, const tp_fru
         !tp__cut_box(c, (int)i, 1, bmin, bmax))
         return 1;
     tp__proj_bound pb = tp__proj_bound_box(v, bmin, bmax);
+    if (pb_out)
+        *pb_out = pb;
     int near;
     *px = tp__projected_px_drawn(v, &pb, r->bound_m, &near);
     return !tested_drawn(c, r) ||
@@ -253,7 +255,7 @@ int tp_cut_holds_for(const tp_cut* c, const tp_camera* cam, double* max_bound_px
             if (e->kind == REUSE_NONE || settled(c, e, &c->rec[i], &v, dc, beta, ratio))
                 continue;
             tested++;
-            if (!holds_node(c, i, &v, &f, &px)) {
+            if (!tp__cut_holds_node(c, i, &v, &f, &px, NULL)) {
                 *scratch = tested;
                 return 0;
             }
@@ -263,7 +265,7 @@ int tp_cut_holds_for(const tp_cut* c, const tp_camera* cam, double* max_bound_px
     }
     int holds = 1;
     for (size_t i = 0; i < c->rec_count; i++) {
-        holds &= holds_node(c, i, &v, &f, &px);
+        holds &= tp__cut_holds_node(c, i, &v, &f, &px, NULL);
         worst = px > worst ? px : worst;
     }
     *scratch = c->rec_count;

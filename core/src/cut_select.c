@@ -376,6 +376,69 @@ void tp__cut_settle(tp_cut* c, int i)
     classify(c, i, 0);
 }
 
+/* What classifying record i (the last one classified) learnt about its child q goes with the
+ * child's record j: each figure is computed once per update. */
+static void hand_down(tp_cut* c, int i, int q, int j)
+{
+    if (c->kid_rec != i)
+        return;
+    if (c->kid_in[q] >= 0)
+        c->rec[j].view = (uint8_t)(1 + c->kid_in[q]);
+    if (c->kid_pb_known[q]) {
+        c->rec[j].pb = c->kid_pb[q];
+        c->rec[j].pb_known = 1;
+    }
+}
+
+/* A record for node (scale s, column cc, row rr) as if newly visited: found again (one the
+ * stitching pass removed, or the record itself) or added. */
+static int fresh_rec(tp_cut* c, int64_t node, int s, int cc, int rr)
+{
+    int j = tp__cut_find(c, node);
+    if (j < 0)
+        return tp__cut_add_at(c, node, s, cc, rr);
+    tp__cut_rec* r = &c->rec[j];
+    memset(r, 0, sizeof *r);
+    r->node = node;
+    r->s = (int8_t)s, r->c = cc, r->r = rr;
+    r->sph = -1;
+    return j;
+}
+
+/* Adds record j to the queue of tp__cut_select_below (fix[0..*count)). */
+static int fix_push(tp_cut* c, size_t* count, int j)
+{
+    if (j < 0 || !tp__cut_grow(c, (void**)&c->fix, &c->fix_cap, *count + 1, sizeof *c->fix))
+        return 0;
+    c->fix[(*count)++] = j;
+    return 1;
+}
+
+int tp__cut_select_below(tp_cut* c, int i)
+{
+    const tp__cut_rec* r = &c->rec[i];
+    size_t count = 0;
+    if (!fix_push(c, &count, fresh_rec(c, r->node, r->s, r->c, r->r)))
+        return 0;
+    size_t head = 0;
+    for (; head < count && !c->oom; head++) {
+        int j = c->fix[head];
+        int refine = classify(c, j, 1);
+        tp__cut_changed(c, j);
+        if (!refine)
+            continue;
+        for (int q = 0; q < 4; q++) {
+            int cc, rr;
+            int64_t ch = kid(c, j, q, &cc, &rr);
+            int k = fresh_rec(c, ch, c->rec[j].s - 1, cc, rr);
+            if (!fix_push(c, &count, k))
+                return 0;
+            hand_down(c, j, q, k);
+        }
+    }
+    return c->oom ? 0 : (int)head;
+}
+
 /* ---- the update ---- */
 
 tp_status tp_cut_update(tp_cut* c, const tp_camera* cam, const tp_lod_params* params, tp_error* err)
@@ -425,8 +488,6 @@ tp_status tp_cut_update(tp_cut* c, const tp_camera* cam, const tp_lod_params* pa
         for (size_t i = first; i < c->rec_count && !c->oom; i++) {
             if (!classify(c, (int)i, 1))
                 continue;
-            /* What classifying it learnt about its children goes with them. */
-            int known = c->kid_rec == (int)i;
             for (int q = 0; q < 4; q++) {
                 int cc, rr;
                 int64_t ch = kid(c, (int)i, q, &cc, &rr);
@@ -435,12 +496,7 @@ tp_status tp_cut_update(tp_cut* c, const tp_camera* cam, const tp_lod_params* pa
                     break;
                 if (c->sph_on)
                     c->rec[j].sph = tp__spheres_kid(c, c->rec[i].sph, q);
-                if (known && c->kid_in[q] >= 0)
-                    c->rec[j].view = (uint8_t)(1 + c->kid_in[q]);
-                if (known && c->kid_pb_known[q]) {
-                    c->rec[j].pb = c->kid_pb[q];
-                    c->rec[j].pb_known = 1;
-                }
+                hand_down(c, (int)i, q, j);
             }
         }
     }

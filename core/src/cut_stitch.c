@@ -94,10 +94,13 @@ int tp__cut_seams(const tp_cut* c, int i, int nb[4], int add[4])
     return cracks;
 }
 
-/* Queues drawn record i for (re)checking. */
+/* Queues drawn record i for (re)checking (and marks it touched: its seams may change). */
 static void push(tp_cut* c, int i)
 {
-    if (c->rec[i].state != TP__CUT_DRAWN || c->rec[i].queued ||
+    if (c->rec[i].state != TP__CUT_DRAWN)
+        return;
+    c->rec[i].touched = 1;
+    if (c->rec[i].queued ||
         !tp__cut_grow(c, (void**)&c->work, &c->work_cap, c->work_count + 1, sizeof *c->work))
         return;
     c->rec[i].queued = 1;
@@ -156,6 +159,11 @@ static void changed(tp_cut* c, int i)
 {
     push(c, i);
     push_smaller(c, i);
+}
+
+void tp__cut_changed(tp_cut* c, int i)
+{
+    changed(c, i);
 }
 
 /* Marks every record under record i (exclusive) removed. */
@@ -316,6 +324,11 @@ void tp__cut_constrain(tp_cut* c)
         c->rec[i].queued = 0;
         push(c, (int)i);
     }
+    tp__cut_constrain_queued(c);
+}
+
+void tp__cut_constrain_queued(tp_cut* c)
+{
     while (c->work_count > 0 && !c->oom) {
         int i = c->work[--c->work_count];
         c->rec[i].queued = 0;
