@@ -256,7 +256,7 @@ static tp_node_tins* pack(tp_tin* const* tins, const tp_node_tin* rungs, const i
         words += 3 * tins[r]->triangle_count;
     size_t bytes = sizeof(tp_node_tins) + (size_t)total * sizeof(tp_node_tin) +
                    words * sizeof(uint16_t);
-    tp_node_tins* o = malloc(bytes); /* every byte is written below */
+    tp_node_tins* o = malloc(bytes); /* every field is written below */
     if (!o)
         return NULL;
     o->bytes = bytes;
