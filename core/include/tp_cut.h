@@ -240,12 +240,14 @@ int tp_cut_keep_for(tp_cut* c, const tp_camera* cam);
  * now outside the frustum is culled. The stitching pass then checks only what changed and its
  * neighbours. The result holds for cam as an update's does (tau, hole_px, coverage,
  * watertight); where the camera moved away it may draw finer than an update would. Requests:
- * from's still missing, and those the new selections make. Returns 1 when c holds the carried
- * cut; 0 when it was not carried, c then to be updated (tp_cut_update) before use: from is not
- * an update in error mode, draws TIN nodes or uses --stitch add (nor may c), a node it draws is
- * no longer resident, the selections would classify more than a quarter as many records as
- * from has (a jump: a selection from the roots costs less), or without memory. c's parameters
- * (tau, vertical scale) are from's. O(records) plus the selections. */
+ * from's still missing, those the new selections make, and the missing roots in view. Returns
+ * 1 when c holds the carried cut; 0 when it was not carried, c then to be updated
+ * (tp_cut_update) before use: from is not an update in error mode (a requests-only update is
+ * not), its vertical scale changed since its update, it draws TIN nodes or uses --stitch add
+ * (nor may c), a node it draws is no longer resident, a root missing at its update has arrived,
+ * the selections would classify more than a quarter as many records as from has (a jump: a
+ * selection from the roots costs less), or without memory. c's parameters (tau, vertical
+ * scale) are from's. O(records + roots) plus the selections. */
 int tp_cut_repair(tp_cut* c, const tp_cut* from, const tp_camera* cam);
 
 /* Vertical exaggeration, as tp_selection_set_vertical_scale: boxes, the error mode's projection

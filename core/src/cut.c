@@ -193,6 +193,7 @@ void tp__cut_begin(tp_cut* c)
     c->kid_rec = -1;
     c->unresolved = 0;
     c->oom = 0;
+    c->made = 0;
 }
 
 /* Whether request a goes before b: higher priority first, then lower id. */
@@ -292,6 +293,8 @@ tp_status tp__cut_output(tp_cut* c, tp_error* err)
     sort_requests(c->req, c->req_count);
     for (size_t i = 0; i < c->req_count; i++)
         c->req_ids[i] = c->req[i].node;
+    c->made = !c->requests_only;
+    c->made_zscale = c->zscale;
     return TP_OK;
 }
 
@@ -339,6 +342,8 @@ int tp__cut_copy(tp_cut* c, const tp_cut* from)
     c->out_count = from->out_count;
     c->lp = from->lp;
     c->have_view = from->have_view;
+    c->made = from->made;
+    c->made_zscale = from->made_zscale;
     c->v = from->v;
     c->f = from->f;
     c->zscale = from->zscale;

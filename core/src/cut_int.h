@@ -80,6 +80,9 @@ struct tp_cut {
     /* the last update */
     tp_lod_params lp;
     int have_view; /* 0 for a cut installed by tp_cut_set_nodes */
+    int made;          /* the last update made its output (stitched: not requests only) */
+    double made_zscale; /* the vertical scale it was made with (tp_cut_repair refuses a cut
+                           whose scale changed since: its records are for the other one) */
     tp__view v;
     tp_frustum f;
     /* What was learnt about the children of record kid_rec while classifying it (in view:

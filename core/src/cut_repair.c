@@ -72,11 +72,38 @@ static int mark(tp_cut* c)
     return marked;
 }
 
+/* The roots the last update found missing (it made no record for them): 0 when one has
+ * arrived since (a selection from the roots draws it), else each in view is asked for, as
+ * tp_cut_update asks. O(roots). */
+static int roots_missing(tp_cut* c)
+{
+    for (int64_t ri = 0; ri < c->g.root_count; ri++) {
+        int64_t root = c->roots[ri];
+        if (tp__cut_find(c, root) >= 0)
+            continue;
+        if (tp_tree_samples(c->t, root))
+            return 0;
+        const tp_node_meta* m = tp_tree_meta(c->t, root);
+        int s, cc, rr;
+        double bmin[3], bmax[3];
+        if (!(m->flags & TP_NODE_HAS_DRAWN) || m->area_qmin > m->area_qmax)
+            continue;
+        tp_tree_node_locate(&c->g, root, &s, &cc, &rr);
+        tp__cut_node_box(c, s, cc, rr, m->area_qmin, m->area_qmax, bmin, bmax);
+        if (tp_frustum_test_aabb(&c->f, bmin, bmax) != TP_CULL_OUTSIDE)
+            tp__cut_request(c, root, INFINITY);
+    }
+    return 1;
+}
+
 int tp_cut_repair(tp_cut* c, const tp_cut* from, const tp_camera* cam)
 {
     assert(c && from && cam && c->t == from->t);
-    if (!from->have_view || from->gen == 0 || from->lp.mode != TP_LOD_ERROR ||
-        from->stitch_add || from->tins || c->stitch_add || c->tins || !tp__cut_copy(c, from))
+    /* from->made: a requests-only update was not stitched, nor its drawn nodes' bounds
+       computed; made_zscale: its records are for the scale it was made with */
+    if (!from->have_view || from->gen == 0 || !from->made || from->zscale != from->made_zscale ||
+        from->lp.mode != TP_LOD_ERROR || from->stitch_add || from->tins || c->stitch_add ||
+        c->tins || !tp__cut_copy(c, from))
         return 0;
     tp__view_from_camera(cam, &c->v);
     tp_frustum_from_camera(cam, &c->f);
@@ -87,6 +114,8 @@ int tp_cut_repair(tp_cut* c, const tp_cut* from, const tp_camera* cam)
         if (!tp_tree_samples(c->t, c->req[k].node))
             c->req[kept++] = c->req[k];
     c->req_count = kept;
+    if (!roots_missing(c))
+        return 0;
     size_t records = c->rec_count, budget = records / REPAIR_SHARE, selected = 0;
     int marked = mark(c);
     if (marked < 0 || (size_t)marked > budget)
