@@ -1018,6 +1018,73 @@ TEST(a_carried_cut_holds_over_forests_of_odd_sizes)
     EXPECT_GT(carries, 40);
 }
 
+/* An island of real relief in a sea of voids, smaller than a coarse node's sample stride (the
+ * coarse nodes over it have no own drawn samples: the selection culls such a node for having
+ * no box when it does not refine it), hole_px 1000 (so that far away the selection leaves the
+ * island out). Descending towards it from 60 km, each cut carried from the cut before, and the
+ * cut before where tp_cut_holds_for says it holds, shows ground wherever the selection from
+ * the roots does once the camera is below 1500 m: there every cell of a leaf drawn below level
+ * n (1440 m) would leave a hole above 1000 px, and a node over the island kept unrefined holes
+ * far wider. (Higher up, a leaf carried at level 0, which draws nothing of the island, holds
+ * for tau and hole_px where the selection draws level n: both allowed.) */
+TEST(a_carried_cut_finds_an_island_smaller_than_a_coarse_stride)
+{
+    LOAD_OR_SKIP(h, 300, 300, 257, 257);
+    for (int y = 0; y < 257; y++) /* real heights on x, y in 97..103 (7 x 7); voids elsewhere */
+        for (int x = 0; x < 257; x++)
+            if (x < 97 || x > 103 || y < 97 || y > 103)
+                h[(size_t)y * 257 + x] = NAN;
+    tp_tree* t = make_tree(h, 257, 257, 17);
+    tp_cut *cut[2], *fresh;
+    ASSERT_OK(tp_cut_create(t, &cut[0], NULL));
+    ASSERT_OK(tp_cut_create(t, &cut[1], NULL));
+    ASSERT_OK(tp_cut_create(t, &fresh, NULL));
+    tp_lod_params lp = {.mode = TP_LOD_ERROR, .tau_px = 1, .hole_px = 1000};
+    int front = 0, carries = 0, kept = 0, checked = 0;
+    tp_camera cam;
+    camera_at(t, 100, 100, 60000, 0, -89, &cam);
+    ASSERT_OK(tp_cut_update(cut[front], &cam, &lp, NULL));
+    for (double above = 60000; above > 100; above *= 0.8) {
+        camera_at(t, 100, 100, above, 0, -89, &cam);
+        ASSERT_OK(tp_cut_update(fresh, &cam, &lp, NULL));
+        int ok = tp_cut_repair(cut[!front], cut[front], &cam);
+        if (!ok)
+            ASSERT_OK(tp_cut_update(cut[!front], &cam, &lp, NULL));
+        int holds = tp_cut_holds_for(cut[front], &cam, NULL, NULL); /* the cut before, kept */
+        front = !front, carries += ok, kept += holds;
+        for (int py = 300; py < 420 && above < 1500; py += 4)
+            for (int px = 580; px < 700; px += 4) {
+                double d[3], gx, gy;
+                tp_ray_hit hit;
+                tp_camera_pixel_ray(&cam, px, py, d);
+                ASSERT_OK(tp_cut_ray_cast(fresh, cam.position, d, &hit));
+                if (!hit.hit)
+                    continue;
+                checked++;
+                tp_tree_world_to_grid(t, hit.position[0], hit.position[1], &gx, &gy);
+                if (ok && isnan(tp_cut_drawn_height_at(cut[front], gx, gy))) {
+                    fprintf(stderr, "%.0f m above: the carried cut shows no ground at (%.1f, "
+                            "%.1f)\n", above, gx, gy);
+                    EXPECT_TRUE(0);
+                    py = px = 10000;
+                }
+                if (holds && isnan(tp_cut_drawn_height_at(cut[!front], gx, gy))) {
+                    fprintf(stderr, "%.0f m above: the cut before holds but shows no ground at "
+                            "(%.1f, %.1f)\n", above, gx, gy);
+                    EXPECT_TRUE(0);
+                    py = px = 10000;
+                }
+            }
+    }
+    printf("%d carried, %d kept, %d pixels on the island checked\n", carries, kept, checked);
+    EXPECT_GT(checked, 100);
+    tp_cut_destroy(cut[0]);
+    tp_cut_destroy(cut[1]);
+    tp_cut_destroy(fresh);
+    tp_tree_destroy(t);
+    free(h);
+}
+
 /* Random hand-made cuts: from the roots, split at random (deep on one side, shallow on the
  * other, so neighbours differ by up to the tree's depth in scale), random levels. */
 static void random_cut(const tp_tree_geometry* g, int64_t node, double p_split, int64_t* nodes,
@@ -1912,6 +1979,7 @@ TEST(requests_only_update_asks_as_the_full_update)
     X(a_carried_cut_takes_in_the_roots_that_arrived)                                               \
     X(a_carried_cut_is_carried_only_from_an_update)                                                \
     X(a_carried_cut_holds_over_forests_of_odd_sizes)                                               \
+    X(a_carried_cut_finds_an_island_smaller_than_a_coarse_stride)                                  \
     X(watertight_for_adversarial_cuts)                                                             \
     X(watertight_for_adversarial_cuts_with_tin_nodes)                                              \
     X(watertight_for_adversarial_cuts_stitch_add)                                                  \

@@ -202,7 +202,10 @@ tp_status tp_cut_measure_screen_error(const tp_cut* c, const tp_camera* cam, dou
  * was selected for (cut_reuse.c): a cut selected on another thread while the frame before was
  * drawn, for where the camera was predicted to be. It may when
  *   - every node the update culled (its area box, or its own box when only that was tested)
- *     is still outside cam's frustum: nothing in view is missing; and
+ *     is still outside cam's frustum: nothing in view is missing; one culled for having no
+ *     own samples while its area was in view (data smaller than its sample stride among
+ *     voids), error mode: outside, or its bound at its level within tau and its holes within
+ *     hole_px from cam, as if drawn (else the selection would refine it); and
  *   - error mode: every drawn node's bound as drawn (tp_cut_node.bound_px's metres, projected
  *     from cam over what is drawn of its box) is within the update's tau, and not carried to
  *     the near plane (as the selection asks: only a zero bound there), and an incomplete
