@@ -36,6 +36,21 @@ static int in_view(const tp_cut* c, int i)
            tp_frustum_test_aabb(&c->f, bmin, bmax) != TP_CULL_OUTSIDE;
 }
 
+static const int no_nb[4] = {TP_NO_NEIGHBOR, TP_NO_NEIGHBOR, TP_NO_NEIGHBOR, TP_NO_NEIGHBOR};
+
+/* Queues drawn record i, which holds, for the stitching pass when it is a node
+ * tp__cut_holds_node does not test (a leaf at level n, a substituted node: they could not be
+ * finer) and a side moved onto a coarser neighbour adds to its bound, which now projects above
+ * tau: the pass raises (or splits) that neighbour, as in an update. */
+static void seams_again(tp_cut* c, int i)
+{
+    const tp__cut_rec* r = &c->rec[i];
+    if (((r->s == 0 && r->level == c->n) || r->substituted) && r->pb_known &&
+        r->bound_m > tp__cut_bound_m(c, i, r->level, no_nb) &&
+        tp__projected_px(&r->pb, c->v.fwd[2], r->bound_m) > c->lp.tau_px)
+        tp__cut_changed(c, i);
+}
+
 /* Marks (redo) the records that no longer hold for c's view, and gives the drawn ones their
  * projection bounds from it; returns how many are marked, or -1 when a node drawn or to be
  * selected again is not resident. */
@@ -68,6 +83,8 @@ static int mark(tp_cut* c)
             marked++;
         } else if (r->state == TP__CUT_DRAWN && !in_view(c, (int)i))
             r->state = TP__CUT_CULLED; /* as the selection culls it: by its own box */
+        else if (r->state == TP__CUT_DRAWN)
+            seams_again(c, (int)i);
     }
     return marked;
 }
