@@ -3,7 +3,8 @@
  * (posix_spawn, an argument vector, no shell) and the test reads back what it wrote:
  *
  *   - --sweep: one CSV row per configuration (full, the 24 distance configurations, the error
- *     configurations, --stitch add at the run's distance and at every tau, PGM per grid), each
+ *     configurations, --stitch add at the run's distance and at every tau, PGM per grid, the
+ *     DEM's store from the cache at every tau with lattice and with TIN nodes), each
  *     family's Pareto column recomputed here from the CSV and the JSON, the plot (a PNG beside
  *     the CSV or at --plot), no temporary files left;
  *   - --static --max-error: the bounds hold, the meshes shrink as the bound grows, the mesh is
@@ -56,7 +57,7 @@ static const double grid_tau[] = {0.5, 1, 2, 4, 8, 16};
 static const char* const grid_pgm[] = {"150x600", "200x800", "300x900", "600x600",
                                        "400x1600", "300x300", "430x430"};
 #define COUNT(a) ((int)(sizeof(a) / sizeof *(a)))
-#define SWEEP_ROWS (1 + 2 * 4 * 3 + 6 + 1 + 6 + 7)
+#define SWEEP_ROWS (1 + 2 * 4 * 3 + 6 + 1 + 6 + 7 + 6 + 6)
 
 #define TP_TMP_PREFIX "tp_bench_"
 #include "tp_test_tmp.h"
@@ -543,6 +544,61 @@ static int dominated(const double* fps, const double* px, const int* same_mode, 
     return 0;
 }
 
+/* The store families (bench_sweep_store.c): the DEM's store through its cut in the error mode,
+ * lattice nodes ("store") and TIN nodes ("store+tin"), one row at each tau of the grid (not
+ * --tau's: the headline is the DEM's error mode); each measured within its tau on screen, no
+ * vertical error; the TIN rows draw TINs, and fewer triangles than the lattice at the same tau
+ * (the TIN of a node holds the lattice's own bound with fewer vertices, on any real relief). */
+static void check_store_families(const csv* c)
+{
+    int rows[2][COUNT(grid_tau)];
+    for (int m = 0; m < 2; m++)
+        for (int k = 0; k < COUNT(grid_tau); k++)
+            rows[m][k] = -1;
+    for (int i = 0; i < c->rows; i++) {
+        int tin = is_mode(c, i, "store+tin");
+        if (!tin && !is_mode(c, i, "store"))
+            continue;
+        EXPECT_EQ_STR("error", csv_str(c, i, "lod_mode"));
+        EXPECT_EQ_STR(tin ? "tin" : "lattice", csv_str(c, i, "mesh"));
+        double t = csv_num(c, i, "tau_px");
+        int k = 0;
+        while (k < COUNT(grid_tau) && grid_tau[k] != t)
+            k++;
+        if (k == COUNT(grid_tau) || rows[tin][k] >= 0) {
+            ADD_FAILURE("%s row %d: tau %s off the grid or twice", csv_str(c, i, "family"), i,
+                        csv_str(c, i, "tau_px"));
+            continue;
+        }
+        rows[tin][k] = i;
+        double mpx = csv_num(c, i, "max_screen_error_px");
+        EXPECT_TRUE(isfinite(mpx));
+        EXPECT_LE(mpx, t * (1 + 1e-9)); /* the cut's promise, measured on what it drew */
+        EXPECT_FALSE(isfinite(csv_num(c, i, "max_vertical_error_m")));
+        double share = csv_num(c, i, "tin_share");
+        if (tin) { /* every drawn node complete: most of them draw a TIN */
+            EXPECT_GT(share, 0.0);
+            EXPECT_LE(share, 1.0);
+        } else {
+            EXPECT_EQ_DBL(0.0, share);
+        }
+    }
+    for (int k = 0; k < COUNT(grid_tau); k++) {
+        int l = rows[0][k], t = rows[1][k];
+        if (l < 0 || t < 0) {
+            ADD_FAILURE("tau %g: no %s row", grid_tau[k], l < 0 ? "store" : "store+tin");
+            continue;
+        }
+        double lt = csv_num(c, l, "triangles_median"), tt = csv_num(c, t, "triangles_median");
+        tp_test_note("tau %g: store %.0f triangles, store+tin %.0f (%.0f%%), max %s / %s px",
+                     grid_tau[k], lt, tt, 100 * tt / lt, csv_str(c, l, "max_screen_error_px"),
+                     csv_str(c, t, "max_screen_error_px"));
+        if (!(tt < lt))
+            ADD_FAILURE("tau %g: TIN nodes draw %.0f triangles, the lattice %.0f", grid_tau[k],
+                        tt, lt);
+    }
+}
+
 /* The checks every sweep's CSV and JSON must pass; extra_tau > 0: --tau off the grid. */
 static void check_sweep(const char* dem, const char* csv_path, const char* json_path,
                         const run_result* r, double extra_tau)
@@ -554,7 +610,7 @@ static void check_sweep(const char* dem, const char* csv_path, const char* json_
     static const char* const header[] = {
         "family", "lod_mode", "stitch", "pgm_grid", "tau_px", "mindist_m", "maxdist_m", "exp",
         "fps_median", "cpu_ms_median", "triangles_median", "gpu_mib", "max_screen_error_px",
-        "rms_screen_error_px", "uncovered_share", "pareto"};
+        "rms_screen_error_px", "uncovered_share", "pareto", "mesh", "tin_share"};
     for (int k = 0; k < COUNT(header); k++)
         (void)csv_col(&c, header[k]);
     EXPECT_FALSE(c.ragged);
@@ -563,7 +619,8 @@ static void check_sweep(const char* dem, const char* csv_path, const char* json_
 
     /* families: full first, then 24 distance, then the error configurations, then the ones
      * with --stitch add and PGM's; every one measured (finite errors) and drawing triangles */
-    int n_full = 0, n_dist = 0, n_err = 0, n_dadd = 0, n_eadd = 0, n_pgm = 0;
+    int n_full = 0, n_dist = 0, n_err = 0, n_dadd = 0, n_eadd = 0, n_pgm = 0, n_store = 0,
+        n_tin = 0;
     for (int i = 0; i < c.rows; i++) {
         n_full += is_mode(&c, i, "full");
         n_dist += is_mode(&c, i, "distance");
@@ -571,12 +628,16 @@ static void check_sweep(const char* dem, const char* csv_path, const char* json_
         n_dadd += is_mode(&c, i, "distance+add");
         n_eadd += is_mode(&c, i, "error+add");
         n_pgm += is_mode(&c, i, "pgm");
+        int store = is_mode(&c, i, "store") || is_mode(&c, i, "store+tin");
+        n_store += is_mode(&c, i, "store");
+        n_tin += is_mode(&c, i, "store+tin");
         EXPECT_GT(csv_num(&c, i, "fps_median"), 0.0);
         EXPECT_GT(csv_num(&c, i, "triangles_median"), 0.0);
         EXPECT_GT(csv_num(&c, i, "gpu_mib"), 0.0);
         double mpx = csv_num(&c, i, "max_screen_error_px");
         double rpx = csv_num(&c, i, "rms_screen_error_px");
-        if (!isfinite(mpx) || !isfinite(rpx) || !isfinite(csv_num(&c, i, "max_vertical_error_m")))
+        if (!isfinite(mpx) || !isfinite(rpx) ||
+            (!store && !isfinite(csv_num(&c, i, "max_vertical_error_m"))))
             ADD_FAILURE("row %d (%s): error not measured: max %s px, rms %s px, max %s m", i,
                         csv_str(&c, i, "family"), csv_str(&c, i, "max_screen_error_px"),
                         csv_str(&c, i, "rms_screen_error_px"),
@@ -584,7 +645,7 @@ static void check_sweep(const char* dem, const char* csv_path, const char* json_
         EXPECT_GE(mpx, rpx);
         EXPECT_GE(rpx, 0.0);
         int pgm = is_mode(&c, i, "pgm");
-        EXPECT_EQ_STR(pgm ? "pgm" : strchr(csv_str(&c, i, "family"), '+') ? "add" : "move",
+        EXPECT_EQ_STR(pgm ? "pgm" : strstr(csv_str(&c, i, "family"), "+add") ? "add" : "move",
                       pgm ? csv_str(&c, i, "lod_mode") : csv_str(&c, i, "stitch"));
         /* the patch renderer covers every post in view; PGM leaves some out, never all */
         double u = csv_num(&c, i, "uncovered_share");
@@ -603,6 +664,9 @@ static void check_sweep(const char* dem, const char* csv_path, const char* json_
     EXPECT_EQ_INT(1, n_dadd);
     EXPECT_EQ_INT(COUNT(grid_tau), n_eadd);
     EXPECT_EQ_INT(COUNT(grid_pgm), n_pgm);
+    EXPECT_EQ_INT(COUNT(grid_tau), n_store);
+    EXPECT_EQ_INT(COUNT(grid_tau), n_tin);
+    check_store_families(&c);
     /* full resolution: no LoD parameters, no error */
     EXPECT_EQ_DBL(0.0, csv_num(&c, 0, "tau_px"));
     EXPECT_EQ_DBL(0.0, csv_num(&c, 0, "maxdist_m"));
@@ -716,6 +780,7 @@ static void check_sweep(const char* dem, const char* csv_path, const char* json_
     ASSERT_EQ_INT(c.rows, no);
     double fps[64], px[64];
     int pareto[64], mode_err[64], family[64];
+    ASSERT_TRUE(no <= 64);
     for (int i = 0; i < no; i++) {
         char mode[32], fam[32];
         json_str(os[i], oe[i], "lod_mode", mode, sizeof mode);
@@ -724,15 +789,20 @@ static void check_sweep(const char* dem, const char* csv_path, const char* json_
             ADD_FAILURE("configuration %d: %s in the JSON, %s in the CSV", i, mode,
                         csv_str(&c, i, "lod_mode"));
         EXPECT_EQ_STR(csv_str(&c, i, "family"), fam);
+        char mesh[16];
+        EXPECT_EQ_STR(csv_str(&c, i, "mesh"), json_str(os[i], oe[i], "mesh", mesh, sizeof mesh));
         fps[i] = json_num(os[i], oe[i], "fps_median");
         px[i] = json_num(os[i], oe[i], "max_screen_error_px");
         pareto[i] = json_bool(os[i], oe[i], "pareto");
         mode_err[i] = !strcmp(fam, "error");
+        int bounded = mode_err[i] || !strncmp(fam, "store", 5); /* the error mode, px <= tau */
         family[i] = !strcmp(fam, "distance")       ? 1
                     : mode_err[i]                    ? 2
                     : !strcmp(fam, "distance+add") ? 3
                     : !strcmp(fam, "error+add")    ? 4
                     : !strcmp(fam, "pgm")          ? 5
+                    : !strcmp(fam, "store")        ? 6
+                    : !strcmp(fam, "store+tin")    ? 7
                                                    : 0;
         if (!strcmp(fam, "pgm"))
             EXPECT_NEAR(csv_num(&c, i, "uncovered_share"),
@@ -741,11 +811,11 @@ static void check_sweep(const char* dem, const char* csv_path, const char* json_
         EXPECT_NEAR(px[i], csv_num(&c, i, "max_screen_error_px"), 0.000051);
         EXPECT_EQ_INT(pareto[i], (int)csv_num(&c, i, "pareto"));
         /* error mode's promise (core/src/lod.c): no error above tau px anywhere on screen */
-        if (mode_err[i])
+        if (bounded)
             EXPECT_LE(px[i], json_num(os[i], oe[i], "tau_px") * (1 + 1e-9));
     }
     /* Pareto flags, recomputed from the JSON's exact values, per family */
-    int fronts[6] = {0}, same[6][64] = {{0}};
+    int fronts[8] = {0}, same[8][64] = {{0}};
     for (int i = 0; i < no; i++)
         same[family[i]][i] = 1;
     EXPECT_EQ_INT(0, pareto[0]); /* full resolution: the baseline, on no front */
@@ -756,7 +826,7 @@ static void check_sweep(const char* dem, const char* csv_path, const char* json_
                         csv_str(&c, i, "family"), fps[i], px[i], pareto[i], expect);
         fronts[family[i]] += expect;
     }
-    for (int f = 1; f < 6; f++) /* every family has a front */
+    for (int f = 1; f < 8; f++) /* every family has a front */
         EXPECT_GE(fronts[f], 1.0);
     /* ... and from the CSV's rounded values: a disagreement only where rounding hides a tie */
     double cfps[64], cpx[64];
@@ -822,16 +892,40 @@ static void args_sweep(args* a, const char* dir)
     args_add(a, "%s/sweep.json", dir);
 }
 
+/* The sweep in an empty cache: the store families' store is built there first, as `view DEM`
+ * builds it (its line and progress on stderr), and left there, one NAME-KEY.tpt. */
 TEST(sweep_writes_one_row_per_configuration_and_a_plot)
 {
     static run_result r;
     args a;
     const char* dem = sample_path(STORML);
     const char* dir = make_tmp_dir();
+    const char* cache = make_tmp_dir();
     char csv_path[1024], json_path[1024], png[1024];
+    const char* old_cache = getenv("TP_CACHE_DIR");
+    char saved[1024] = "";
+    if (old_cache)
+        snprintf(saved, sizeof saved, "%s", old_cache);
     args_sweep(&a, dir);
     args_add(&a, "%s", dem);
-    run_ok(&a, &r);
+    setenv("TP_CACHE_DIR", cache, 1);
+    run(&a, &r);
+    if (old_cache)
+        setenv("TP_CACHE_DIR", saved, 1);
+    else
+        unsetenv("TP_CACHE_DIR");
+    skip_without_gl(&r);
+    if (r.exit_code != 0) {
+        print_command(&a);
+        FAIL("exit status %d, stderr ends: %s", r.exit_code, err_tail(&r));
+    }
+    EXPECT_CONTAINS(r.err, "building a store of");
+    EXPECT_CONTAINS(r.err, cache);
+    char listing[4096];
+    dir_listing(cache, listing, sizeof listing);
+    if (strncmp(listing, "storml_elev_orig-", 17) || strchr(listing, ',') ||
+        strcmp(listing + strlen(listing) - 4, ".tpt"))
+        ADD_FAILURE("the cache holds [%s], expected one storml_elev_orig-KEY.tpt", listing);
     snprintf(csv_path, sizeof csv_path, "%s/sweep.csv", dir);
     snprintf(json_path, sizeof json_path, "%s/sweep.json", dir);
     snprintf(png, sizeof png, "%s/sweep.png", dir);
@@ -1631,6 +1725,23 @@ TEST(sweep_without_csv_exits_2)
     args_add(&a, "%s/x.json", dir);
     args_add(&a, "%s", dem);
     expect_usage_error(&a, "--csv", dir);
+}
+
+/* --fit shapes a DEM drawn whole; the sweep's store families draw the DEM's store, which --fit
+ * does not shape: refused before anything runs or is built. */
+TEST(sweep_with_fit_exits_2)
+{
+    args a;
+    const char* dem = sample_path(STORML);
+    const char* dir = make_tmp_dir();
+    args_bench_small(&a, 1);
+    args_add(&a, "--sweep");
+    args_add(&a, "--csv");
+    args_add(&a, "%s/x.csv", dir);
+    args_add(&a, "--fit");
+    args_add(&a, "pad");
+    args_add(&a, "%s", dem);
+    expect_usage_error(&a, "--fit", dir);
 }
 
 /* --stitch add (Brodersen's vertex-adding crack fix) against the default vertex moving, frame by
@@ -2595,6 +2706,7 @@ TEST(pgm_store_bench_reports_the_clipmap)
     X(speed_lead_in_changes_uploads_not_what_is_drawn)                                             \
     X(speed_fixed_camera_has_no_lead_in)                                                           \
     X(sweep_without_csv_exits_2)                                                                   \
+    X(sweep_with_fit_exits_2)                                                                      \
     X(static_and_max_error_go_together_exits_2)                                                    \
     X(plot_without_sweep_exits_2)                                                                  \
     X(static_with_sweep_exits_2)                                                                   \

@@ -625,7 +625,7 @@ static int cut_equal(const tp_cut* a, const tp_cut_node* saved, size_t saved_cou
  * substituted nodes (which may exceed tau and leave holes, as in a selection) it measures
  * within tau, draws no more than a quarter more triangles than the selection from the roots,
  * and shows ground wherever that selection does. Carried to its own camera it is the same cut;
- * a jump is mostly refused (and holds when it is not). */
+ * a jump is mostly refused (and holds when it is not); a requests-only cut is refused. */
 TEST(a_carried_cut_holds_is_watertight_and_near_the_selection)
 {
     LOAD_OR_SKIP(h, 250, 300, 700, 420);
@@ -726,6 +726,9 @@ TEST(a_carried_cut_holds_is_watertight_and_near_the_selection)
             EXPECT_TRUE(tp_cut_holds_for(carried, &jump, NULL, NULL));
         else
             jumps++;
+        /* a cut selected for its requests only is not stitched: never carried */
+        ASSERT_OK(tp_cut_update_requests(cut, &a, &lp, NULL));
+        EXPECT_FALSE(tp_cut_repair(carried, cut, &a));
     }
     printf("carried %d of %d frames (%d leaves arrived between: %d nodes substituted, %d in "
            "the selections; %d without substituted nodes: triangles at most %.3f times the "

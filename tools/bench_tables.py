@@ -260,6 +260,19 @@ def dem_tables(out, dems, paths=("low", "high", "orbit"), everything=True):
             full, ", ".join("τ %g → %.1f fps, max %.2f px" % (t, c["fps_median"], c["max_screen_error_px"])
                             for t, c in sorted(best.items())),
             "τ = %g px" % tau4 if tau4 else "no τ of the grid"))
+        # the store families: the DEM's store through its cut, lattice and TIN nodes, per tau
+        store = {c["tau_px"]: c for c in d["configurations"] if c.get("family") == "store"}
+        tin = {c["tau_px"]: c for c in d["configurations"] if c.get("family") == "store+tin"}
+        if store and tin:
+            print("Over its store (error mode): %s.\n" % ", ".join(
+                "τ %g → lattice %.1f fps, %.0f triangles, max %.2f px; TIN nodes %.1f fps, %.0f "
+                "triangles (%.0f %%), max %.2f px" % (
+                    t, store[t]["fps_median"], store[t]["triangles_median"],
+                    store[t]["max_screen_error_px"], tin[t]["fps_median"],
+                    tin[t]["triangles_median"],
+                    100 * tin[t]["triangles_median"] / store[t]["triangles_median"],
+                    tin[t]["max_screen_error_px"])
+                for t in sorted(store) if t in tin))
 
 
 def main(argv):

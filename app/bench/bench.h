@@ -2,8 +2,8 @@
  * bench.h - the parts of `terrapatch bench`: its command line (bench_options.c), the frame loop
  * (cmd_bench.c), camera paths (bench_path.c), the table, JSON and CSV it writes
  * (bench_report.c), the static meshes of `export --max-error` (bench_static.c), the sweep's
- * configurations and families (bench_sweep.c) and plot (bench_plot.c), PGM's frames
- * (bench_pgm.c), vertex adding's error (render/stitch_add_error.c) and the medians of both
+ * configurations and families (bench_sweep.c), its store families (bench_sweep_store.c) and
+ * plot (bench_plot.c), PGM's frames (bench_pgm.c), vertex adding's error (render/stitch_add_error.c) and the medians of both
  * benches' frames (bench_stats.c).
  */
 #ifndef TP_APP_BENCH_H
@@ -74,6 +74,8 @@ typedef struct frame_row {
     size_t oracle_triangles; /* error mode: triangles if every patch were at its coarsest level
                                 that measures <= tau (see oracle_triangles()) */
     int oracle_patches;      /* patches that could be coarser */
+    int tin_nodes;           /* --sweep's store+tin family: drawn nodes that drew a TIN */
+    int substituted;         /* --sweep's store families: nodes drawn in place of finer ones */
 } frame_row;
 
 typedef struct config_result {
@@ -93,6 +95,10 @@ typedef struct config_result {
     size_t index_gpu_bytes, index_cpu_bytes; /* maxima over the frames */
     double uncovered_share;              /* PGM: mean of the measured frames' shares; 0 for
                                             the patch renderer (it covers every post) */
+    int store;                           /* --sweep: 1 the DEM's store drawn through its cut
+                                            (lattice nodes), 2 the same with TIN nodes (--mesh
+                                            tin); 0 the DEM drawn whole (the other families) */
+    double tin_share;                    /* store 2: drawn nodes that drew a TIN, share */
 } config_result;
 
 /* Both benches' flight clock (frames a second): a path flight's lead-in frame is
@@ -110,6 +116,7 @@ typedef struct bench_run {
     int frames;
     double lead_da; /* path parameter from the lead-in frame to the timed one; 0: none */
     int msaa;       /* samples a pixel (--msaa; 0: none) */
+    struct tp_bench_sweep_store* store; /* --sweep: the DEM's store (its store families) */
 } bench_run;
 
 struct tp_view_imagery;
@@ -193,7 +200,8 @@ void tp_npm_close(tp_npm* n);
 int tp_bench_store(const bench_options* o);
 
 /* bench_sweep.c: the families a --sweep compares, each with its own Pareto front: the patch
- * renderer's distance and error modes with vertex moving, both with --stitch add, and PGM. */
+ * renderer's distance and error modes with vertex moving, both with --stitch add, PGM, and the
+ * error mode over the DEM's store with lattice and with TIN nodes. */
 typedef enum tp_bench_family {
     TP_FAMILY_FULL,         /* full resolution (the baseline; no front) */
     TP_FAMILY_DISTANCE,     /* distance mode, vertex moving */
@@ -201,11 +209,13 @@ typedef enum tp_bench_family {
     TP_FAMILY_DISTANCE_ADD, /* distance mode, --stitch add */
     TP_FAMILY_ERROR_ADD,    /* error mode, --stitch add */
     TP_FAMILY_PGM,          /* Persistent Grid Mapping, one configuration per grid */
+    TP_FAMILY_STORE,        /* the DEM's store, error mode, lattice nodes (vertex moving) */
+    TP_FAMILY_STORE_TIN,    /* the same with TIN nodes (--mesh tin) */
     TP_FAMILY_COUNT
 } tp_bench_family;
 
 /* The family of a configuration, and its name in the CSV, JSON and plot ("full", "distance",
- * "error", "distance+add", "error+add", "pgm"). */
+ * "error", "distance+add", "error+add", "pgm", "store", "store+tin"). */
 tp_bench_family tp_bench_family_of(const config_result* c);
 const char* tp_bench_family_name(tp_bench_family f);
 
@@ -213,12 +223,13 @@ const char* tp_bench_family_name(tp_bench_family f);
  * distance grid (mindist x maxdist in patch widths x exp) and the error mode's taus (with
  * base's tau added when off the grid: *best, the headline) with vertex moving; the same taus
  * and the default distance configuration with --stitch add; PGM with --pgm-grid's grids, else
- * the sweep's list. Labels filled. */
+ * the sweep's list; then the grid's taus over the DEM's store, lattice nodes, and again with
+ * TIN nodes. Labels filled. */
 config_result* tp_bench_sweep_configs(const bench_run* b, const tp_lod_params* base, int* count,
                                       int* best);
 
 /* A configuration's label for the table ("error tau=1", "distance+add 480/11520/1",
- * "pgm 150x600"). */
+ * "pgm 150x600", "store+tin tau=1"). */
 void tp_bench_label(config_result* c);
 
 /* Marks the configurations no other configuration of the same family beats in both fps and
@@ -255,6 +266,25 @@ int tp_bench_pgm_frames(const bench_run* b, config_result* c, const char* progre
 /* The errors of c's summary over its measured frames only (max of maxima, RMS of RMS, mean
  * uncovered share). */
 void tp_bench_pgm_errors(config_result* c, int frames);
+
+/* bench_sweep_store.c: the DEM's store for --sweep's store families, found in or built into
+ * the cache as `view DEM` builds it (tp_terrain_store, its progress on stderr) and opened; its
+ * grid must be the DEM's render grid (the run's cameras are in it). TP_EXIT_OK and *out, else
+ * the exit status after one line. Close with tp_bench_sweep_store_close (accepts NULL). */
+typedef struct tp_bench_sweep_store tp_bench_sweep_store;
+int tp_bench_sweep_store_open(const bench_options* o, const tp_scene* scene,
+                              tp_bench_sweep_store** out);
+void tp_bench_sweep_store_close(tp_bench_sweep_store* s);
+/* The run's frames (cameras, lead-in frames) for a store configuration c (c->store: 1 lattice
+ * nodes, 2 TIN nodes; c->lod the error mode at its tau) over b->store, from a cold stream,
+ * renderer and cut: each frame settled first (untimed: its nodes loaded, its TIN levels
+ * built), then timed (the cut on the render thread, the stream's and normal map's frames, the
+ * draw to glFinish), its screen error measured by tp_store_scene_measure (--error-posts; no
+ * vertical error: NaN); c->rows and the summary filled. Returns TP_EXIT_*. */
+int tp_bench_sweep_store_frames(const bench_run* b, config_result* c, const char* progress);
+
+/* A configuration's medians and errors over its n rows (cmd_bench.c). */
+void tp_bench_summarize(config_result* c, int n);
 
 /* The median of v[0..n-1] (n >= 1); sorts v. */
 double tp_bench_median(double* v, int n);

@@ -79,12 +79,17 @@ static void print_help(void)
         "                         patch widths x exp {0.5,1,2} and error mode with tau\n"
         "                         {0.5,1,2,4,8,16} (and --tau), vertex moving; --stitch add\n"
         "                         at the run's distance parameters and at each tau; PGM per\n"
-        "                         grid (--renderer pgm is implied). --csv FILE (required) gets\n"
-        "                         one row per configuration (family, fps, CPU ms, triangles,\n"
-        "                         GPU MiB, max and RMS px and m, PGM's uncovered share), and\n"
+        "                         grid (--renderer pgm is implied); the error mode at each tau\n"
+        "                         over the DEM's store (found in or built into the cache as\n"
+        "                         view builds it) with lattice nodes (store) and TIN nodes\n"
+        "                         (store+tin), each frame settled first (nodes loaded, TINs\n"
+        "                         built), its error over --error-posts posts. --csv FILE\n"
+        "                         (required) gets one row per configuration (family, fps, CPU\n"
+        "                         ms, triangles, GPU MiB, max and RMS px and m, PGM's uncovered\n"
+        "                         share, the store's mesh and TIN share), and\n"
         "                         a plot of fps against measured max and RMS screen error goes\n"
         "                         to --plot FILE.png (default: FILE with .png; needs\n"
-        "                         gnuplot). No --stitch, --no-error; the sphere tree (--lod\n"
+        "                         gnuplot). No --stitch, --no-error, --fit; the sphere tree (--lod\n"
         "                         spheres) is a store's cut: see the store bench\n"
         "  --static --max-error M1,M2,...\n"
         "                         no frames: builds the static mesh of 'export --max-error M'\n"
@@ -353,6 +358,12 @@ static int check_modes(const bench_options* o)
     }
     if (o->plot && !o->sweep) {
         tp_cli_error("--plot needs --sweep");
+        return TP_EXIT_USAGE;
+    }
+    if (o->sweep && (o->scene.given & TP_SCENE_GIVEN(TP_OPT_FIT))) {
+        tp_cli_error("--sweep: --fit shapes a DEM drawn whole, and the sweep also draws the DEM "
+                     "through its store (built as view builds it), which takes any size: leave "
+                     "--fit out");
         return TP_EXIT_USAGE;
     }
     if (o->sweep && o->no_error) {

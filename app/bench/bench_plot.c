@@ -50,20 +50,24 @@ typedef struct plot_data {
     double full_fps;
 } plot_data;
 
-/* How each family is drawn: point type and size, colour, legend; labelled: its points carry
- * their tau or grid (1: above right, 2: below right, away from the error family's). */
+/* How each family is drawn: point type and size, colour, legend; label: where its points'
+ * tau or grid go (a gnuplot offset, away from the other labelled families'), NULL: none. */
 static const struct {
     tp_bench_family family;
-    const char *block, *style, *colour, *legend;
-    int labelled;
+    const char *block, *style, *colour, *legend, *label;
 } families[] = {
     {TP_FAMILY_DISTANCE, "dist", "pt 7 ps 0.8", "#3070c0",
-     "distance, vertex moving (mindist x maxdist x exp grid)", 0},
-    {TP_FAMILY_ERROR, "err", "pt 5 ps 1.1", "#d04020", "error, vertex moving (tau, px)", 1},
+     "distance, vertex moving (mindist x maxdist x exp grid)", NULL},
+    {TP_FAMILY_ERROR, "err", "pt 5 ps 1.1", "#d04020", "error, vertex moving (tau, px)", "1.4,0.6"},
     {TP_FAMILY_DISTANCE_ADD, "dadd", "pt 9 ps 1.6", "#8040b0",
-     "distance, vertex adding (--mindist, --maxdist, --exp as run)", 0},
-    {TP_FAMILY_ERROR_ADD, "eadd", "pt 13 ps 1.3", "#e09000", "error, vertex adding (tau, px)", 2},
-    {TP_FAMILY_PGM, "pgm", "pt 11 ps 1.4", "#208040", "PGM (grid cols x rows)", 1},
+     "distance, vertex adding (--mindist, --maxdist, --exp as run)", NULL},
+    {TP_FAMILY_ERROR_ADD, "eadd", "pt 13 ps 1.3", "#e09000", "error, vertex adding (tau, px)",
+     "1.4,-0.7"},
+    {TP_FAMILY_PGM, "pgm", "pt 11 ps 1.4", "#208040", "PGM (grid cols x rows)", "1.4,0.6"},
+    {TP_FAMILY_STORE, "store", "pt 4 ps 1.3", "#00a0b0",
+     "error, through the DEM store: lattice nodes (tau, px)", NULL},
+    {TP_FAMILY_STORE_TIN, "tin", "pt 3 ps 1.5", "#c02080",
+     "error, through the DEM store: TIN nodes (--mesh tin; tau, px)", "-1.6,0.6"},
 };
 #define FAMILIES ((int)(sizeof families / sizeof *families))
 
@@ -97,12 +101,11 @@ static void write_script(FILE* f, void* user)
             fprintf(f, "$%s using %d:3 with points %s lc rgb '%s' title '%s', \\\n  ",
                     families[k].block, c, families[k].style, families[k].colour,
                     families[k].legend);
-            if (families[k].labelled)
+            if (families[k].label)
                 fprintf(f,
-                        "$%s using %d:3:4 with labels offset 1.4,%s font ',7' tc rgb '%s' "
+                        "$%s using %d:3:4 with labels offset %s font ',7' tc rgb '%s' "
                         "notitle, \\\n  ",
-                        families[k].block, c, families[k].labelled == 1 ? "0.6" : "-0.7",
-                        families[k].colour);
+                        families[k].block, c, families[k].label, families[k].colour);
             if (i == 0) /* the fronts are of fps against the maximum */
                 fprintf(f, "$%s_front using 1:3 with lines lw 1.5 lc rgb '%s' notitle, \\\n  ",
                         families[k].block, families[k].colour);

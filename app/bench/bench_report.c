@@ -35,6 +35,8 @@ static void json_config(tp_json* j, const config_result* c)
     if (c->pgm_cols)
         tp_json_member_number(j, "uncovered_share",
                               c->uncovered_share); /* left out of PGM's error */
+    if (c->store) /* drawn nodes that drew a TIN (0 with lattice nodes) */
+        tp_json_member_number(j, "tin_share", c->tin_share);
     if (c->lod.mode == TP_LOD_ERROR && c->oracle_triangles > 0) {
         tp_json_member_number(j, "oracle_triangles_median", c->oracle_triangles);
         tp_json_member_number(j, "oracle_coarser_patches_median", c->oracle_patches);
@@ -46,8 +48,10 @@ static void json_lod(tp_json* j, const config_result* c)
 {
     const tp_lod_params* lp = &c->lod;
     tp_json_key(j, "terrain_renderer"); /* "renderer" is the GL renderer's name */
-    tp_json_string(j, c->pgm_cols ? "pgm" : "patches");
+    tp_json_string(j, c->store ? "store" : c->pgm_cols ? "pgm" : "patches");
     tp_json_member_string(j, "family", tp_bench_family_name(tp_bench_family_of(c)));
+    if (c->store) /* the DEM's store through its cut (bench_sweep_store.c) */
+        tp_json_member_string(j, "mesh", c->store == 2 ? "tin" : "lattice");
     if (c->pgm_cols) {
         char grid[32];
         snprintf(grid, sizeof grid, "%dx%d", c->pgm_cols, c->pgm_rows);
@@ -159,7 +163,7 @@ int tp_bench_write_sweep_csv(const bench_options* o, const config_result* c, int
     fprintf(f, "family,lod_mode,stitch,pgm_grid,tau_px,mindist_m,maxdist_m,exp,fps_median,"
                "frame_ms_median,cpu_ms_median,draw_ms_median,triangles_median,uploads_median,"
                "gpu_mib,max_screen_error_px,rms_screen_error_px,max_vertical_error_m,"
-               "rms_vertical_error_m,uncovered_share,pareto\n");
+               "rms_vertical_error_m,uncovered_share,pareto,mesh,tin_share\n");
     for (int k = 0; k < nc; k++) {
         const config_result* r = &c[k];
         int pgm = r->pgm_cols > 0;
@@ -170,7 +174,7 @@ int tp_bench_write_sweep_csv(const bench_options* o, const config_result* c, int
             snprintf(grid, sizeof grid, "%dx%d", r->pgm_cols, r->pgm_rows);
         fprintf(f,
                 "%s,%s,%s,%s,%g,%g,%g,%g,%.3f,%.3f,%.4f,%.3f,%.0f,%.0f,%.3f,%.4f,%.4f,%.4f,%.4f,"
-                "%.6f,%d\n",
+                "%.6f,%d,%s,%.4f\n",
                 tp_bench_family_name(tp_bench_family_of(r)), pgm ? "pgm" : mode_name(r->lod.mode),
                 pgm             ? ""
                 : r->stitch_add ? "add"
@@ -178,7 +182,8 @@ int tp_bench_write_sweep_csv(const bench_options* o, const config_result* c, int
                 grid, err ? r->lod.tau_px : 0, dist ? r->lod.mindist_m : 0,
                 dist ? r->lod.maxdist_m : 0, dist ? r->lod.exponent : 0, r->fps_median, r->frame_ms,
                 r->cpu_ms, r->draw_ms, r->triangles, r->uploads, r->gpu_bytes / 1048576.0,
-                r->max_px, r->rms_px, r->max_m, r->rms_m, r->uncovered_share, r->pareto);
+                r->max_px, r->rms_px, r->max_m, r->rms_m, r->uncovered_share, r->pareto,
+                r->store == 2 ? "tin" : r->store ? "lattice" : "", r->tin_share);
     }
     return tp_atomic_commit(&file);
 }

@@ -1,7 +1,8 @@
 /* bench_sweep.c - the configurations of `bench --sweep`, their families and Pareto fronts, and
  * the plot's points (see bench.h). Every family runs on the same path, frames and cameras, and
  * its error is measured on the drawn geometry: the patch renderer's by tp_selection_measure_*
- * (vertex moving) or tp_stitch_add_error (vertex adding), PGM's by tp_pgm_measure_error. */
+ * (vertex moving) or tp_stitch_add_error (vertex adding), PGM's by tp_pgm_measure_error, the
+ * store's cut's (lattice or TIN nodes: bench_sweep_store.c) by tp_cut_measure_error. */
 #include "bench.h"
 
 #include "cli.h"
@@ -23,6 +24,8 @@ static const int sweep_pgm[][2] = {{150, 600},  {200, 800}, {300, 900}, {600, 60
 
 tp_bench_family tp_bench_family_of(const config_result* c)
 {
+    if (c->store)
+        return c->store == 2 ? TP_FAMILY_STORE_TIN : TP_FAMILY_STORE;
     if (c->pgm_cols)
         return TP_FAMILY_PGM;
     if (c->lod.mode == TP_LOD_FULL)
@@ -34,8 +37,8 @@ tp_bench_family tp_bench_family_of(const config_result* c)
 
 const char* tp_bench_family_name(tp_bench_family f)
 {
-    static const char* const names[TP_FAMILY_COUNT] = {"full",         "distance",  "error",
-                                                       "distance+add", "error+add", "pgm"};
+    static const char* const names[TP_FAMILY_COUNT] = {
+        "full", "distance", "error", "distance+add", "error+add", "pgm", "store", "store+tin"};
     return f >= 0 && f < TP_FAMILY_COUNT ? names[f] : "?";
 }
 
@@ -43,7 +46,10 @@ void tp_bench_label(config_result* c)
 {
     const tp_lod_params* lp = &c->lod;
     const char* add = c->stitch_add ? "+add" : "";
-    if (c->pgm_cols)
+    if (c->store)
+        snprintf(c->label, sizeof c->label, "%s tau=%g", c->store == 2 ? "store+tin" : "store",
+                 lp->tau_px);
+    else if (c->pgm_cols)
         snprintf(c->label, sizeof c->label, "pgm %dx%d", c->pgm_cols, c->pgm_rows);
     else if (lp->mode == TP_LOD_FULL)
         snprintf(c->label, sizeof c->label, "full");
@@ -63,7 +69,7 @@ config_result* tp_bench_sweep_configs(const bench_run* b, const tp_lod_params* b
     double patch_w = def.maxdist_m / 24; /* the core's default maxdist is 24 patch widths */
     int pgm = o->vs.pgm_grid_count ? o->vs.pgm_grid_count : COUNT(sweep_pgm);
     int n = 1 + COUNT(sweep_mindist_w) * COUNT(sweep_maxdist_w) * COUNT(sweep_exp) +
-            COUNT(sweep_tau) + 1 + 1 + COUNT(sweep_tau) + pgm;
+            COUNT(sweep_tau) + 1 + 1 + COUNT(sweep_tau) + pgm + 2 * COUNT(sweep_tau);
     config_result* c = calloc((size_t)n, sizeof *c);
     if (!c)
         return NULL;
@@ -112,6 +118,15 @@ config_result* tp_bench_sweep_configs(const bench_run* b, const tp_lod_params* b
         c[k].pgm_cols = o->vs.pgm_grid_count ? o->vs.pgm_grid[g][0] : sweep_pgm[g][0];
         c[k].pgm_rows = o->vs.pgm_grid_count ? o->vs.pgm_grid[g][1] : sweep_pgm[g][1];
     }
+    /* the DEM's store through its cut, error mode: lattice nodes, then TIN nodes */
+    for (int m = 1; m <= 2; m++)
+        for (int t = 0; t < COUNT(sweep_tau); t++, k++) {
+            c[k].lod = *base;
+            c[k].lod.mode = TP_LOD_ERROR;
+            c[k].lod.tau_px = sweep_tau[t];
+            c[k].lod.sphere_tree = 0;
+            c[k].store = m;
+        }
     for (int i = 0; i < k; i++)
         tp_bench_label(&c[i]);
     *count = k;

@@ -34,7 +34,7 @@
 
 #define MEDIAN_OF(expr) TP_BENCH_COLUMN(v, frame_row, c->rows, n, expr)
 
-static void summarize(config_result* c, int n)
+void tp_bench_summarize(config_result* c, int n)
 {
     double* v = malloc((size_t)n * sizeof *v);
     if (!v)
@@ -115,10 +115,12 @@ static tp_status oracle_triangles(const tp_scene* sc, const tp_selection* sel,
  * cold, as a viewer would) and fills c->rows and the summary. Returns TP_EXIT_*. */
 static int run_config(const bench_run* b, config_result* c, const char* progress)
 {
+    if (c->store)
+        return tp_bench_sweep_store_frames(b, c, progress);
     if (c->pgm_cols) {
         int code = tp_bench_pgm_frames(b, c, progress);
         if (code == TP_EXIT_OK) {
-            summarize(c, b->frames);
+            tp_bench_summarize(c, b->frames);
             tp_bench_pgm_errors(c, b->frames);
         }
         return code;
@@ -215,7 +217,7 @@ static int run_config(const bench_run* b, config_result* c, const char* progress
         tp_bench_progress(progress, i + 1, frames, what);
     }
     tp_bench_progress_end();
-    summarize(c, frames);
+    tp_bench_summarize(c, frames);
     tp_selection_destroy(sel);
     tp_normal_map_destroy(nm);
     tp_renderer_destroy(r);
@@ -334,6 +336,8 @@ int tp_cli_bench(int argc, char** argv)
     code = c ? TP_EXIT_OK : TP_EXIT_FAILURE;
     if (!c)
         tp_cli_error("out of memory");
+    else if (o.sweep) /* the store families' store, built before the first frame */
+        code = tp_bench_sweep_store_open(&o, &sc, &b.store);
     for (int k = 0; k < nc && code == TP_EXIT_OK; k++) {
         char progress[96];
         snprintf(progress, sizeof progress, "%s (%d/%d)", c[k].label, k + 1, nc);
@@ -361,6 +365,7 @@ int tp_cli_bench(int argc, char** argv)
         free(c[k].rows);
     free(c);
     free(cams);
+    tp_bench_sweep_store_close(b.store);
     tp_gl_context_destroy(b.ctx);
     tp_scene_free(&sc);
     return code == TP_EXIT_OK ? tp_cli_finish(code) : code;

@@ -207,9 +207,13 @@ static void* worker_main(void* arg)
                 selected_now(w, bi, &cam, &p, tp_tree_detaches(w->tree), figures, carries);
             }
         }
-        if (pre) {
+        if (pre) { /* carried from the cut for cam when it can be, as the cut itself is */
             tp_error err;
-            tp_cut_update_requests(pre, &ahead, &p.lod, &err);
+            const tp_cut* now = kept ? w->cut[fi] : back;
+            int carried_pre = ok && w->may_carry && p.lod.mode == TP_LOD_ERROR && !p.tins &&
+                              !p.stitch_add && tp_cut_repair(pre, now, &ahead);
+            if (!carried_pre)
+                tp_cut_update_requests(pre, &ahead, &p.lod, &err);
         }
         if (ok && !kept && p.tins)
             tp_cut_tins_build(p.tins, back, TP_CUT_WORKER_TIN_MS);

@@ -91,8 +91,9 @@ tp_cut* tp_cut_worker_frame(tp_cut_worker* w, const tp_camera* cam, const tp_cut
                             tp_cut_worker_stats* stats, tp_error* err);
 /* Step 3: starts selecting for next (the camera the next frame is expected to have) and then,
  * when prefetch is not NULL, the stream's prefetch cut's requests for ahead
- * (tp_cut_update_requests; tp_stream_prefetch_wanted). The prefetch cut is the worker's until
- * the next tp_cut_worker_frame or tp_cut_worker_idle. */
+ * (tp_stream_prefetch_wanted): the cut for next carried there (tp_cut_repair: what it still
+ * wants and what the view ahead adds), else tp_cut_update_requests. The prefetch cut is the
+ * worker's until the next tp_cut_worker_frame or tp_cut_worker_idle. */
 void tp_cut_worker_next(tp_cut_worker* w, const tp_camera* next, const tp_cut_worker_params* p,
                         tp_cut* prefetch, const tp_camera* ahead);
 /* Waits until the worker is idle (before something outside step 2 changes the tree or a

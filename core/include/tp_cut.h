@@ -245,8 +245,8 @@ int tp_cut_keep_for(tp_cut* c, const tp_camera* cam);
  * watertight); where the camera moved away it may draw finer than an update would. Requests:
  * from's still missing, those the new selections make, and the missing roots in view. Returns
  * 1 when c holds the carried cut; 0 when it was not carried, c then to be updated
- * (tp_cut_update) before use: from is not an update in error mode (a requests-only update is
- * not), its vertical scale changed since its update, it draws TIN nodes or uses --stitch add
+ * (tp_cut_update) before use: from is not an update in error mode (tp_cut_update_requests'
+ * neither: it is not stitched), its vertical scale changed since its update, it draws TIN nodes or uses --stitch add
  * (nor may c), a node it draws is no longer resident, a root missing at its update has arrived,
  * the selections would classify more than a quarter as many records as from has (a jump: a
  * selection from the roots costs less), or without memory. c's parameters (tau, vertical

@@ -193,7 +193,7 @@ void tp__cut_begin(tp_cut* c)
     c->kid_rec = -1;
     c->unresolved = 0;
     c->oom = 0;
-    c->made = 0;
+    c->has_output = 0;
 }
 
 /* Whether request a goes before b: higher priority first, then lower id. */
@@ -250,14 +250,26 @@ tp_status tp__cut_output(tp_cut* c, tp_error* err)
     c->out_count = 0;
     for (size_t i = 0; i < c->rec_count; i++) {
         tp__cut_rec* r = &c->rec[i];
+        int32_t tris_was = r->tris;
         r->out = -1;
         r->tris = -1;
         if (r->state != TP__CUT_DRAWN || c->requests_only)
             continue;
         r->out = (int32_t)c->out_count;
         tp_cut_node* o = &c->out[c->out_count++];
+        /* a carried cut's record the stitching pass never queued has the level and the
+           neighbours it was output with (tp__cut_changed queues every record whose seams may
+           change): its seams, bound in metres and triangles are those */
+        int same = c->carrying && !r->touched && tris_was >= 0;
         int nb[4], add[4];
-        c->unresolved += tp__cut_seams(c, (int)i, nb, add);
+        if (!same)
+            r->cracks = (uint8_t)tp__cut_seams(c, (int)i, nb, add);
+        c->unresolved += r->cracks;
+        for (int s = 0; s < 4; s++) {
+            if (same)
+                nb[s] = r->nb[s], add[s] = TP_NO_NEIGHBOR;
+            r->nb[s] = (int8_t)nb[s];
+        }
         o->node = r->node;
         o->level = r->level;
         for (int s = 0; s < 4; s++) {
@@ -271,7 +283,7 @@ tp_status tp__cut_output(tp_cut* c, tp_error* err)
             /* over what is drawn of its box: at the near plane the box's bound is INFINITY
              * (the selection refines such a box as far as it can; a leaf with quantisation
              * error stays, and an ancestor drawn in place of nodes not resident) */
-            double d = tp__cut_bound_m(c, (int)i, r->level, nb);
+            double d = same ? r->bound_m : tp__cut_bound_m(c, (int)i, r->level, nb);
             if (add[0] != TP_NO_NEIGHBOR || add[1] != TP_NO_NEIGHBOR || add[2] != TP_NO_NEIGHBOR ||
                 add[3] != TP_NO_NEIGHBOR) {
                 double da = (tp__cut_add_bound_m(c, (int)i, r->level, add) + c->quant) * c->zscale;
@@ -284,17 +296,17 @@ tp_status tp__cut_output(tp_cut* c, tp_error* err)
         }
         o->bound_px = r->bound_px;
         int32_t tin_tris = tp__cut_pick_tin(c, (int)i, nb);
-        r->tris = tin_tris >= 0 ? tin_tris : tp__cut_triangles(c, (int)i, nb);
+        r->tris = tin_tris >= 0 ? tin_tris : same ? tris_was : tp__cut_triangles(c, (int)i, nb);
         for (int s = 0; s < 4; s++) /* --stitch add: one more triangle per added vertex */
             if (add[s] != TP_NO_NEIGHBOR)
                 r->tris += (1 << (add[s] > c->n ? c->n : add[s])) - (1 << r->level);
     }
+    c->has_output = !c->requests_only;
     tp__cut_tin_sort_requests(c);
     sort_requests(c->req, c->req_count);
     for (size_t i = 0; i < c->req_count; i++)
         c->req_ids[i] = c->req[i].node;
-    c->made = !c->requests_only;
-    c->made_zscale = c->zscale;
+    c->output_zscale = c->zscale;
     return TP_OK;
 }
 
@@ -342,8 +354,7 @@ int tp__cut_copy(tp_cut* c, const tp_cut* from)
     c->out_count = from->out_count;
     c->lp = from->lp;
     c->have_view = from->have_view;
-    c->made = from->made;
-    c->made_zscale = from->made_zscale;
+    c->output_zscale = from->output_zscale;
     c->v = from->v;
     c->f = from->f;
     c->zscale = from->zscale;

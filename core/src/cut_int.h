@@ -23,7 +23,10 @@ typedef struct tp__cut_rec {
     uint8_t substituted; /* drawn in place of children that are not resident */
     uint8_t frozen;      /* collapsed onto by the stitching pass: never split again */
     uint8_t queued;      /* in the stitching pass's work list */
-    uint8_t redo;        /* tp_cut_repair: to be selected again (cut_repair.c) */
+    uint8_t redo;        /* tp_cut_repair: to be selected again or culled (cut_repair.c) */
+    uint8_t touched;     /* queued for the stitching pass at least once since it began */
+    int8_t nb[4];        /* drawn: its seams' relative neighbour levels, as last output */
+    uint8_t cracks;      /* ... and its sides left with a crack */
     float bound_px;
     double bound_m;    /* drawn, error mode: the bound bound_px projects (m, drawn space) */
     int32_t out;       /* index in the output (tp_cut_nodes) when drawn */
@@ -80,9 +83,8 @@ struct tp_cut {
     /* the last update */
     tp_lod_params lp;
     int have_view; /* 0 for a cut installed by tp_cut_set_nodes */
-    int made;          /* the last update made its output (stitched: not requests only) */
-    double made_zscale; /* the vertical scale it was made with (tp_cut_repair refuses a cut
-                           whose scale changed since: its records are for the other one) */
+    double output_zscale; /* the vertical scale of the last output (tp_cut_repair refuses a
+                             cut whose scale changed since: its records are for the other) */
     tp__view v;
     tp_frustum f;
     /* What was learnt about the children of record kid_rec while classifying it (in view:
@@ -104,6 +106,9 @@ struct tp_cut {
     int visited, unresolved;
     int oom;
     int requests_only;       /* tp_cut_update_requests: no stitching, no output */
+    int has_output;          /* the last update was stitched and output (not requests only) */
+    int carrying;            /* tp_cut_repair's output: a drawn record never queued keeps the
+                                seams (and triangles) it was output with */
     int stitch_add;          /* tp_cut_set_stitch_add */
     tp__cut_addtab* add_cache; /* add tables, direct-mapped by node, kept across updates (NULL
                                   until --stitch add is first set, or without memory) */

@@ -8,10 +8,15 @@
  * record that does not, the selection runs again as from a root (tp__cut_select_below); the
  * stitching pass then checks only what changed and its neighbours (tp__cut_constrain_queued),
  * the other pairs of neighbours being stitched already, and the output is made as an update
- * makes it. So every drawn node projects within tau, as after an update; what is not
- * re-selected keeps its level, which may be finer than a selection from the roots would
- * choose where the camera moved away (the worker selects from the roots now and then, and
- * when the camera stops).
+ * makes it, but for the records that pass never queued: their seams, bounds in metres and
+ * triangles are those they were output with (only the projection is new). The nodes the hold
+ * test leaves alone because they could not be finer (leaves at level n, substituted nodes)
+ * are queued for that pass when a side moved onto a coarser neighbour now projects above tau:
+ * the pass raises the neighbour, as in an update. Roots missing at the update have no record:
+ * one arrived since refuses the carry, the others in view are asked for. So every drawn node
+ * projects within tau, as after an update; what is not re-selected keeps its level, which may
+ * be finer than a selection from the roots would choose where the camera moved away (the
+ * worker selects from the roots now and then, and when the camera stops).
  */
 #include "cut_int.h"
 
@@ -38,28 +43,33 @@ static int in_view(const tp_cut* c, int i)
 
 static const int no_nb[4] = {TP_NO_NEIGHBOR, TP_NO_NEIGHBOR, TP_NO_NEIGHBOR, TP_NO_NEIGHBOR};
 
-/* Queues drawn record i, which holds, for the stitching pass when it is a node
+/* Whether drawn record i, which holds, is to be queued for the stitching pass: a node
  * tp__cut_holds_node does not test (a leaf at level n, a substituted node: they could not be
- * finer) and a side moved onto a coarser neighbour adds to its bound, which now projects above
- * tau: the pass raises (or splits) that neighbour, as in an update. */
-static void seams_again(tp_cut* c, int i)
+ * finer) with a side moved onto a coarser neighbour that adds to its bound, which now projects
+ * above tau: the pass raises (or splits) that neighbour, as in an update. */
+static int seams_again(const tp_cut* c, int i)
 {
     const tp__cut_rec* r = &c->rec[i];
-    if (((r->s == 0 && r->level == c->n) || r->substituted) && r->pb_known &&
-        r->bound_m > tp__cut_bound_m(c, i, r->level, no_nb) &&
-        tp__projected_px(&r->pb, c->v.fwd[2], r->bound_m) > c->lp.tau_px)
-        tp__cut_changed(c, i);
+    return ((r->s == 0 && r->level == c->n) || r->substituted) && r->pb_known &&
+           r->bound_m > tp__cut_bound_m(c, i, r->level, no_nb) &&
+           tp__projected_px(&r->pb, c->v.fwd[2], r->bound_m) > c->lp.tau_px;
 }
 
-/* Marks (redo) the records that no longer hold for c's view, and gives the drawn ones their
- * projection bounds from it; returns how many are marked, or -1 when a node drawn or to be
- * selected again is not resident. */
+/* What tp_cut_repair does with a record (tp__cut_rec.redo): SEAMS, queued for the stitching
+ * pass (seams_again). */
+enum { KEEP = 0, SELECT, CULL, SEAMS };
+
+/* Marks (redo) the records that no longer hold for c's view (SELECT) and the drawn ones now
+ * outside it (CULL), and gives the drawn ones their projection bounds from it; returns how
+ * many are to be selected again, or -1 when a node drawn or to be selected again is not
+ * resident. */
 static int mark(tp_cut* c)
 {
     int marked = 0;
     for (size_t i = 0; i < c->rec_count; i++) {
         tp__cut_rec* r = &c->rec[i];
-        r->redo = r->frozen = 0; /* frozen: by the last stitching pass, as a pass starts */
+        r->redo = KEEP; /* frozen: by the last stitching pass, reset as a pass starts */
+        r->frozen = r->touched = 0;
         if (r->state != TP__CUT_CULLED)
             r->view = 0; /* a culled record's says which box culled it (tp__cut_holds_node) */
         if (r->state != TP__CUT_DRAWN && r->state != TP__CUT_CULLED) {
@@ -79,12 +89,12 @@ static int mark(tp_cut* c)
                not be): its parent would not have been refined */
             if (!tp_tree_samples(c->t, r->node))
                 return -1;
-            r->redo = 1;
+            r->redo = SELECT;
             marked++;
         } else if (r->state == TP__CUT_DRAWN && !in_view(c, (int)i))
-            r->state = TP__CUT_CULLED; /* as the selection culls it: by its own box */
-        else if (r->state == TP__CUT_DRAWN)
-            seams_again(c, (int)i);
+            r->redo = CULL;
+        else if (r->state == TP__CUT_DRAWN && seams_again(c, (int)i))
+            r->redo = SEAMS;
     }
     return marked;
 }
@@ -116,9 +126,8 @@ static int roots_missing(tp_cut* c)
 int tp_cut_repair(tp_cut* c, const tp_cut* from, const tp_camera* cam)
 {
     assert(c && from && cam && c->t == from->t);
-    /* from->made: a requests-only update was not stitched, nor its drawn nodes' bounds
-       computed; made_zscale: its records are for the scale it was made with */
-    if (!from->have_view || from->gen == 0 || !from->made || from->zscale != from->made_zscale ||
+    /* output_zscale: from's records are for the scale its output was made with */
+    if (!from->have_view || !from->has_output || from->zscale != from->output_zscale ||
         from->lp.mode != TP_LOD_ERROR || from->stitch_add || from->tins || c->stitch_add ||
         c->tins || !tp__cut_copy(c, from))
         return 0;
@@ -137,14 +146,24 @@ int tp_cut_repair(tp_cut* c, const tp_cut* from, const tp_camera* cam)
     int marked = mark(c);
     if (marked < 0 || (size_t)marked > budget)
         return 0;
-    for (size_t i = 0; i < records && !c->oom; i++)
-        if (c->rec[i].redo) {
-            c->rec[i].redo = 0;
+    for (size_t i = 0; i < records && !c->oom; i++) {
+        int redo = c->rec[i].redo;
+        c->rec[i].redo = KEEP;
+        if (redo == CULL) { /* as the selection culls it, by its own box */
+            c->rec[i].state = TP__CUT_CULLED;
+            tp__cut_changed(c, (int)i); /* its neighbours' seams */
+        } else if (redo == SEAMS)
+            tp__cut_changed(c, (int)i);
+        else if (redo == SELECT) {
             int k = tp__cut_select_below(c, (int)i);
             selected += k > 0 ? (size_t)k : 0;
             if (k <= 0 || selected > budget)
                 return 0;
         }
+    }
     tp__cut_constrain_queued(c);
-    return !c->oom && tp__cut_output(c, NULL) == TP_OK;
+    c->carrying = 1;
+    int ok = !c->oom && tp__cut_output(c, NULL) == TP_OK;
+    c->carrying = 0;
+    return ok;
 }

@@ -94,10 +94,13 @@ int tp__cut_seams(const tp_cut* c, int i, int nb[4], int add[4])
     return cracks;
 }
 
-/* Queues drawn record i for (re)checking. */
+/* Queues drawn record i for (re)checking (and marks it touched: its seams may change). */
 static void push(tp_cut* c, int i)
 {
-    if (c->rec[i].state != TP__CUT_DRAWN || c->rec[i].queued ||
+    if (c->rec[i].state != TP__CUT_DRAWN)
+        return;
+    c->rec[i].touched = 1;
+    if (c->rec[i].queued ||
         !tp__cut_grow(c, (void**)&c->work, &c->work_cap, c->work_count + 1, sizeof *c->work))
         return;
     c->rec[i].queued = 1;

@@ -6,7 +6,8 @@
  * tp_cut_update_requests for the camera 0.5 s ahead (what the stream's prefetch runs; binaries
  * built before that function existed ran tp_cut_update there), and of
  * tp_cut_get_stats, and of tp_cut_repair carrying the cut to the next frame's camera (1/30 s
- * on; the cut worker's frames that are not kept), with the share it carried. Also the checksum
+ * on; the cut worker's frames that are not kept) and to the prefetch camera (what the worker
+ * does for the prefetch cut before it selects one), with how many it carried. Also the checksum
  * of the cuts (nodes, levels, neighbours), to compare builds.
  *
  *   build/tp_bench_cut STORE.tpt [frames] [tau_px] [speed_mps] [repeats] [add]
@@ -76,9 +77,10 @@ int main(int argc, char** argv)
     uint16_t* blocks = bench_attach_all(store, tree);
     if (!blocks)
         return 1;
-    tp_cut *cut, *pre, *carried;
+    tp_cut *cut, *pre, *carried, *carried_pre;
     if (tp_cut_create(tree, &cut, &err) != TP_OK || tp_cut_create(tree, &pre, &err) != TP_OK ||
-        tp_cut_create(tree, &carried, &err) != TP_OK)
+        tp_cut_create(tree, &carried, &err) != TP_OK ||
+        tp_cut_create(tree, &carried_pre, &err) != TP_OK)
         return 1;
     tp_cut_set_stitch_add(cut, add);
     tp_cut_set_stitch_add(pre, add);
@@ -91,8 +93,9 @@ int main(int argc, char** argv)
     double* t_pre = malloc((size_t)frames * repeats * sizeof *t_pre);
     double* t_stats = malloc((size_t)frames * repeats * sizeof *t_stats);
     double* t_carry = malloc((size_t)frames * repeats * sizeof *t_carry);
+    double* t_carry_pre = malloc((size_t)frames * repeats * sizeof *t_carry_pre);
     double visited = 0, drawn = 0, tris = 0;
-    int carries = 0;
+    int carries = 0, carries_pre = 0;
     uint64_t h = 0;
     for (int rep = 0; rep < repeats; rep++)
         for (int f = 0; f < frames; f++) {
@@ -121,9 +124,12 @@ int main(int argc, char** argv)
             camera(tree, gt, x + speed / 30 / fabs(gt[1]), y, &next);
             int ok = tp_cut_repair(carried, cut, &next);
             double t4 = bench_now_ms();
+            int ok_pre = tp_cut_repair(carried_pre, cut, &ahead); /* the worker's prefetch */
+            double t5 = bench_now_ms();
             size_t k = (size_t)rep * frames + f;
             t_cut[k] = t1 - t0, t_pre[k] = t2 - t1, t_stats[k] = t3 - t2, t_carry[k] = t4 - t3;
-            carries += ok;
+            t_carry_pre[k] = t5 - t4;
+            carries += ok, carries_pre += ok_pre;
             if (rep == 0) {
                 visited += cs.visited, drawn += cs.drawn, tris += (double)cs.triangles;
                 h = h * 31 + cut_hash(cut);
@@ -131,17 +137,21 @@ int main(int argc, char** argv)
         }
     size_t n = (size_t)frames * repeats;
     printf("%s: %d frames x %d, tau %.2f, %.0f m/s: cut %.4f ms, prefetch cut %.4f ms, stats "
-           "%.4f ms, carried to the next frame %.4f ms (%d of %zu carried) (medians)%s; mean "
-           "visited %.0f, drawn %.0f, triangles %.0f; cuts %016llx\n",
+           "%.4f ms, carried to the next frame %.4f ms (%d of %zu carried), carried to the "
+           "prefetch camera %.4f ms (%d carried) (medians)%s; mean visited %.0f, drawn %.0f, "
+           "triangles %.0f; cuts %016llx\n",
            argv[1], frames, repeats, tau, speed, bench_median(t_cut, n), bench_median(t_pre, n),
            bench_median(t_stats, n), bench_median(t_carry, n), carries, n,
+           bench_median(t_carry_pre, n), carries_pre,
            add ? ", --stitch add" : "", visited / frames, drawn / frames, tris / frames,
            (unsigned long long)h);
     free(t_cut);
     free(t_pre);
     free(t_stats);
     free(t_carry);
+    free(t_carry_pre);
     tp_cut_destroy(carried);
+    tp_cut_destroy(carried_pre);
     tp_cut_destroy(cut);
     tp_cut_destroy(pre);
     tp_tree_destroy(tree);
