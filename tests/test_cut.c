@@ -76,6 +76,16 @@ static void camera_at(const tp_tree* t, double x, double y, double above, double
     tp_camera_from_pose(pos, yaw, pitch, 60, 1280, 720, cam);
 }
 
+/* camera_at over the relief drawn at vertical scale zs. */
+static void camera_scaled(const tp_tree* t, double x, double y, double above, double yaw,
+                          double pitch, double zs, tp_camera* cam)
+{
+    camera_at(t, x, y, above, yaw, pitch, cam);
+    double pos[3] = {cam->position[0], cam->position[1],
+                     zs * (cam->position[2] - above) + above};
+    tp_camera_from_pose(pos, yaw, pitch, 60, 1280, 720, cam);
+}
+
 static void random_camera(const tp_tree* t, tp_camera* cam)
 {
     const tp_tree_geometry* g = tp_tree_get_geometry(t);
@@ -734,6 +744,403 @@ TEST(a_carried_cut_holds_is_watertight_and_near_the_selection)
     free(gone);
     tp_cut_destroy(cut);
     tp_cut_destroy(carried);
+    tp_cut_destroy(fresh);
+    tp_tree_destroy(t);
+    free(h);
+}
+
+/* ---- carried cuts, tried to break (tp_cut_repair) ---- */
+
+/* The checks a carried cut (everything resident again) must pass for cam, as an update's:
+ * it holds from scratch, it is watertight, and without substituted nodes it measures within
+ * tau and shows ground wherever fresh (the selection from the roots for cam) does. Returns
+ * the pixels checked. */
+static int carried_holds(const tp_tree* t, const tp_cut* carried, tp_cut* fresh,
+                         const tp_camera* cam, const tp_lod_params* lp, const char* what)
+{
+    double bound_px, max_px;
+    size_t samples;
+    int covered = 0, holes = 0;
+    int holds = tp_cut_holds_for(carried, cam, &bound_px, NULL);
+    int cracks = check_watertight(t, carried, NULL);
+    tp_cut_stats sc;
+    tp_cut_get_stats(carried, &sc);
+    ASSERT_OK(tp_cut_update(fresh, cam, lp, NULL));
+    if (sc.substituted == 0) {
+        ASSERT_OK(tp_cut_measure_screen_error(carried, cam, &max_px, NULL, &samples, NULL));
+        for (int py = 4; py < 720; py += 48)
+            for (int px = 4; px < 1280; px += 48) {
+                double d[3], gx, gy;
+                tp_ray_hit hit;
+                tp_camera_pixel_ray(cam, px, py, d);
+                ASSERT_OK(tp_cut_ray_cast(fresh, cam->position, d, &hit));
+                if (!hit.hit)
+                    continue;
+                tp_tree_world_to_grid(t, hit.position[0], hit.position[1], &gx, &gy);
+                holes += isnan(tp_cut_drawn_height_at(carried, gx, gy));
+                covered++;
+            }
+    } else
+        bound_px = max_px = 0;
+    if (!holds || cracks || bound_px > lp->tau_px + 1e-9 || max_px > lp->tau_px + 1e-9 || holes)
+        fprintf(stderr, "%s: holds %d, %d cracks, bound %.3f px, measured %.3f px (tau %g), "
+                "%d of %d pixels without ground\n", what, holds, cracks, bound_px, max_px,
+                lp->tau_px, holes, covered);
+    EXPECT_TRUE(holds);
+    EXPECT_EQ_INT(0, cracks);
+    EXPECT_TRUE(bound_px <= lp->tau_px + 1e-9);
+    EXPECT_TRUE(max_px <= lp->tau_px + 1e-9);
+    EXPECT_EQ_INT(0, holes);
+    return covered;
+}
+
+/* The cut worker's way: a cut carried from the cut carried before, 16 times in a row, along
+ * flights (low and 3 m over the ground: the near plane; fast turns; vertical scale 1 and 2.5;
+ * hole_px 1 over voids; tau 1 and 3), a fifth of the leaves the cut does not draw detached
+ * every second frame and attached again after it is carried, as the stream does. Every
+ * carried cut asks only for what is missing, and once everything is resident holds as an
+ * update's does (carried_holds); the cut before, where tp_cut_holds_for says it holds for the
+ * new camera, is within tau too. Measured (printed): triangles against the selection's along
+ * the chains, and the carried requests the selection would not make. (It found leaves at level
+ * n whose sides moved onto a coarser neighbour carried above tau: cut_repair.c's
+ * seams_again.) */
+TEST(a_cut_carried_again_and_again_holds_along_a_flight)
+{
+    LOAD_OR_SKIP(h, 250, 300, 700, 420);
+    tp_tree* t = make_tree(h, 700, 420, 33);
+    const tp_tree_geometry* g = tp_tree_get_geometry(t);
+    int64_t first = g->first_node[0], leaves = (int64_t)g->node_cols[0] * g->node_rows[0];
+    const uint16_t** gone = calloc((size_t)leaves, sizeof *gone);
+    ASSERT_TRUE(gone != NULL);
+    tp_cut *cut[2], *fresh;
+    ASSERT_OK(tp_cut_create(t, &cut[0], NULL));
+    ASSERT_OK(tp_cut_create(t, &cut[1], NULL));
+    ASSERT_OK(tp_cut_create(t, &fresh, NULL));
+    int carries = 0, refused = 0, longest = 0, covered = 0, unwanted = 0, requests = 0;
+    int fresh_requests = 0;
+    double worst[3] = {0, 0, 0}, sum[3] = {0, 0, 0};
+    int n_band[3] = {0, 0, 0};
+    for (int flight = 0; flight < 8; flight++) {
+        tp_lod_params lp = {.mode = TP_LOD_ERROR, .tau_px = flight % 3 == 2 ? 3 : 1,
+                            .hole_px = flight % 4 == 1 ? 1 : 0};
+        double zs = flight % 2 ? 2.5 : 1;
+        ASSERT_OK(tp_cut_set_vertical_scale(cut[0], zs));
+        ASSERT_OK(tp_cut_set_vertical_scale(cut[1], zs));
+        ASSERT_OK(tp_cut_set_vertical_scale(fresh, zs));
+        double x = 100 + rnd() * 500, y = 80 + rnd() * 260, yaw = rnd() * 360;
+        double above = flight % 4 == 3 ? 3 : 20 + rnd() * 400, pitch = -3 - rnd() * 30;
+        int front = 0, chain = 0;
+        tp_camera cam;
+        camera_scaled(t, x, y, above, yaw, pitch, zs, &cam);
+        ASSERT_OK(tp_cut_update(cut[front], &cam, &lp, NULL));
+        for (int f = 0; f < 40; f++) {
+            double speed = 0.5 + rnd() * 3; /* grid samples: up to 315 m */
+            yaw += f % 10 < 3 ? 6 : (rnd() - 0.5) * 2;
+            x += speed * sin(yaw * 3.14159265358979 / 180);
+            y -= speed * cos(yaw * 3.14159265358979 / 180);
+            x = fmin(fmax(x, 5), 690), y = fmin(fmax(y, 5), 410);
+            camera_scaled(t, x, y, above, yaw, pitch, zs, &cam);
+            size_t nd; /* the stream drops some leaves the cut does not draw (a drawn one
+                          detached: refused) */
+            const tp_cut_node* drawn = tp_cut_nodes(cut[front], &nd);
+            for (int64_t i = 0; f % 2 == 1 && i < leaves; i++)
+                gone[i] = (const uint16_t*)(uintptr_t)(rnd() < 0.2);
+            for (size_t k = 0; f % 2 == 1 && k < nd; k++)
+                if (drawn[k].node >= first && drawn[k].node < first + leaves)
+                    gone[drawn[k].node - first] = NULL;
+            for (int64_t i = 0; f % 2 == 1 && i < leaves; i++)
+                if (gone[i])
+                    gone[i] = tp_tree_samples(t, first + i), tp_tree_detach(t, first + i);
+            int ok = chain < 16 && tp_cut_repair(cut[!front], cut[front], &cam);
+            if (!ok) {
+                refused++, chain = 0;
+                ASSERT_OK(tp_cut_update(cut[!front], &cam, &lp, NULL));
+            } else {
+                chain++, carries++;
+                longest = chain > longest ? chain : longest;
+                size_t wanted;
+                const int64_t* want = tp_cut_requests(cut[!front], &wanted);
+                for (size_t k = 0; k < wanted; k++)
+                    EXPECT_TRUE(tp_tree_samples(t, want[k]) == NULL);
+                size_t nf; /* measured: requests the selection would not make */
+                ASSERT_OK(tp_cut_update(fresh, &cam, &lp, NULL));
+                const int64_t* rf = tp_cut_requests(fresh, &nf);
+                for (size_t k = 0; k < wanted; k++) {
+                    int also = 0;
+                    for (size_t l = 0; l < nf && !also; l++)
+                        also = want[k] == rf[l];
+                    unwanted += !also;
+                }
+                requests += (int)wanted, fresh_requests += (int)nf;
+            }
+            front = !front;
+            for (int64_t i = 0; i < leaves; i++) /* they arrive again */
+                if (gone[i])
+                    tp_tree_attach(t, first + i, gone[i]), gone[i] = NULL;
+            if (ok) {
+                char what[96];
+                snprintf(what, sizeof what, "flight %d frame %d (carry %d)", flight, f, chain);
+                covered += carried_holds(t, cut[front], fresh, &cam, &lp, what);
+                /* the cut before, kept instead (tp_cut_holds_for): within tau when it holds */
+                double kept_px;
+                tp_cut_stats sk;
+                tp_cut_get_stats(cut[!front], &sk);
+                if (tp_cut_holds_for(cut[!front], &cam, &kept_px, NULL) && sk.substituted == 0) {
+                    if (kept_px > lp.tau_px + 1e-9)
+                        fprintf(stderr, "%s: the cut before holds, its bound %.3f px (tau %g)\n",
+                                what, kept_px, lp.tau_px);
+                    EXPECT_TRUE(kept_px <= lp.tau_px + 1e-9);
+                }
+                /* measured, not asserted: how much finer than the selection a chain draws,
+                   and how many of its requests the selection would not make */
+                tp_cut_stats sc, sf;
+                tp_cut_get_stats(cut[front], &sc);
+                tp_cut_get_stats(fresh, &sf);
+                double ratio = (double)sc.triangles / (double)(sf.triangles + 1);
+                int band = chain <= 5 ? 0 : chain <= 10 ? 1 : 2;
+                worst[band] = ratio > worst[band] ? ratio : worst[band];
+                sum[band] += ratio, n_band[band]++;
+            }
+        }
+    }
+    printf("%d carries, %d refused, longest chain %d, %d pixels checked; triangles / the "
+           "selection's after 1-5 carries: mean %.3f worst %.3f, 6-10: %.3f %.3f, 11-16: %.3f "
+           "%.3f; %d of %d requests not the selection's (which made %d)\n", carries, refused,
+           longest, covered, sum[0] / (n_band[0] + 1e-9), worst[0], sum[1] / (n_band[1] + 1e-9),
+           worst[1], sum[2] / (n_band[2] + 1e-9), worst[2], unwanted, requests, fresh_requests);
+    EXPECT_GT(carries, 100); /* the test proves little if it refuses everything */
+    EXPECT_EQ_INT(16, longest);
+    EXPECT_GT(covered, 1000);
+    free(gone);
+    tp_cut_destroy(cut[0]);
+    tp_cut_destroy(cut[1]);
+    tp_cut_destroy(fresh);
+    tp_tree_destroy(t);
+    free(h);
+}
+
+/* Roots missing at the selection (as when the viewer starts: the stream loads them first):
+ * carried once they have arrived, the cut draws them (or is refused); a root out of view and
+ * missing at the selection, in view and missing when carried, is asked for (or refused). */
+TEST(a_carried_cut_takes_in_the_roots_that_arrived)
+{
+    LOAD_OR_SKIP(h, 250, 300, 700, 420);
+    tp_tree* t = make_tree(h, 700, 420, 33);
+    const tp_tree_geometry* g = tp_tree_get_geometry(t);
+    int64_t* roots = malloc((size_t)g->root_count * sizeof *roots);
+    const uint16_t** saved = calloc((size_t)g->root_count, sizeof *saved);
+    ASSERT_TRUE(roots && saved);
+    tp_tree_roots(g, roots, (size_t)g->root_count);
+    ASSERT_GT((double)g->root_count, 1);
+    tp_cut *cut, *carried, *fresh;
+    ASSERT_OK(tp_cut_create(t, &cut, NULL));
+    ASSERT_OK(tp_cut_create(t, &carried, NULL));
+    ASSERT_OK(tp_cut_create(t, &fresh, NULL));
+    tp_lod_params lp = {.mode = TP_LOD_ERROR, .tau_px = 1};
+    tp_camera a, sky;
+    camera_at(t, 350, 410, 3000, 0, -40, &a); /* the whole map ahead */
+    /* every second root arrives after the selection */
+    for (int64_t i = 0; i < g->root_count; i += 2)
+        saved[i] = tp_tree_samples(t, roots[i]), tp_tree_detach(t, roots[i]);
+    ASSERT_OK(tp_cut_update(cut, &a, &lp, NULL));
+    for (int64_t i = 0; i < g->root_count; i++)
+        if (saved[i])
+            tp_tree_attach(t, roots[i], saved[i]), saved[i] = NULL;
+    if (tp_cut_repair(carried, cut, &a))
+        carried_holds(t, carried, fresh, &a, &lp, "roots arrived");
+    /* all missing, the selection looking at the sky; carried to a view of the map */
+    camera_at(t, 350, 410, 3000, 0, 30, &sky);
+    for (int64_t i = 0; i < g->root_count; i++)
+        saved[i] = tp_tree_samples(t, roots[i]), tp_tree_detach(t, roots[i]);
+    ASSERT_OK(tp_cut_update(cut, &sky, &lp, NULL));
+    size_t nreq, nfresh;
+    tp_cut_requests(cut, &nreq);
+    EXPECT_EQ_INT(0, (int)nreq);
+    /* nothing arrived, nothing drawn: no reason to refuse (else the test proves nothing) */
+    int carried_to_map = tp_cut_repair(carried, cut, &a);
+    EXPECT_TRUE(carried_to_map);
+    if (carried_to_map) {
+        ASSERT_OK(tp_cut_update(fresh, &a, &lp, NULL));
+        const int64_t* want = tp_cut_requests(carried, &nreq);
+        const int64_t* need = tp_cut_requests(fresh, &nfresh);
+        EXPECT_GT((double)nfresh, 0);
+        int missed = 0;
+        for (size_t k = 0; k < nfresh; k++) {
+            int listed = 0;
+            for (size_t l = 0; l < nreq; l++)
+                listed |= want[l] == need[k];
+            missed += !listed;
+        }
+        if (missed)
+            fprintf(stderr, "carried to a view of the map: %d of the %zu roots in view and "
+                    "missing not asked for\n", missed, nfresh);
+        EXPECT_EQ_INT(0, missed);
+    }
+    for (int64_t i = 0; i < g->root_count; i++)
+        tp_tree_attach(t, roots[i], saved[i]);
+    free(roots);
+    free(saved);
+    tp_cut_destroy(cut);
+    tp_cut_destroy(carried);
+    tp_cut_destroy(fresh);
+    tp_tree_destroy(t);
+    free(h);
+}
+
+/* What is not an update's cut is not carried as one: a requests-only update (no stitching,
+ * no output) and a cut whose vertical scale changed after its update are refused, or carried
+ * to a cut that holds (carried_holds at the scale the carried cut has). */
+TEST(a_carried_cut_is_carried_only_from_an_update)
+{
+    LOAD_OR_SKIP(h, 250, 300, 700, 420);
+    tp_tree* t = make_tree(h, 700, 420, 33);
+    tp_cut *cut, *carried, *fresh;
+    ASSERT_OK(tp_cut_create(t, &cut, NULL));
+    ASSERT_OK(tp_cut_create(t, &carried, NULL));
+    ASSERT_OK(tp_cut_create(t, &fresh, NULL));
+    tp_lod_params lp = {.mode = TP_LOD_ERROR, .tau_px = 1};
+    tp_camera a;
+    camera_at(t, 300, 300, 400, 20, -25, &a);
+    int carried_ro = 0;
+    for (int it = 0; it < 10; it++) {
+        tp_camera r, b;
+        random_camera(t, &r);
+        b = r; /* a third nearer the ground it looks at */
+        tp_ray_hit hit;
+        ASSERT_OK(tp_cut_update(fresh, &r, &lp, NULL));
+        ASSERT_OK(tp_cut_ray_cast(fresh, r.position, r.forward, &hit));
+        if (!hit.hit)
+            continue;
+        for (int k = 0; k < 3; k++)
+            b.position[k] += (hit.position[k] - r.position[k]) / 3;
+        ASSERT_OK(tp_cut_update_requests(cut, &r, &lp, NULL));
+        if (tp_cut_repair(carried, cut, &b)) {
+            carried_ro++;
+            carried_holds(t, carried, fresh, &b, &lp, "from a requests-only update");
+        }
+        ASSERT_OK(tp_cut_update(cut, &r, &lp, NULL)); /* the same from an update: it holds */
+        if (tp_cut_repair(carried, cut, &b))
+            carried_holds(t, carried, fresh, &b, &lp, "from an update");
+    }
+    printf("requests-only: carried %d of 10\n", carried_ro);
+    ASSERT_OK(tp_cut_update(cut, &a, &lp, NULL));
+    ASSERT_OK(tp_cut_set_vertical_scale(cut, 4));
+    if (tp_cut_repair(carried, cut, &a)) {
+        ASSERT_OK(tp_cut_set_vertical_scale(fresh, tp_cut_vertical_scale(carried)));
+        carried_holds(t, carried, fresh, &a, &lp, "vertical scale changed after the update");
+    }
+    tp_cut_destroy(cut);
+    tp_cut_destroy(carried);
+    tp_cut_destroy(fresh);
+    tp_tree_destroy(t);
+    free(h);
+}
+
+/* Forests of roots of different scales (sizes not 2^n k + 1, small nodes): carried over random
+ * moves of up to 200 m and 30 degrees from random views, each carried cut holds as an update's
+ * (carried_holds). */
+TEST(a_carried_cut_holds_over_forests_of_odd_sizes)
+{
+    const int sizes[][3] = {{18, 17, 17}, {49, 40, 17}, {70, 33, 17}, {131, 97, 33}, {300, 170, 17}};
+    int carries = 0;
+    for (int i = 0; i < 5; i++) {
+        int w = sizes[i][0], hh = sizes[i][1];
+        LOAD_OR_SKIP(h, 380, 380, w, hh);
+        tp_tree* t = make_tree(h, w, hh, sizes[i][2]);
+        tp_cut *cut, *carried, *fresh;
+        ASSERT_OK(tp_cut_create(t, &cut, NULL));
+        ASSERT_OK(tp_cut_create(t, &carried, NULL));
+        ASSERT_OK(tp_cut_create(t, &fresh, NULL));
+        for (int it = 0; it < 30; it++) {
+            tp_lod_params lp = {.mode = TP_LOD_ERROR, .tau_px = it % 3 ? 0.5 : 2};
+            double x = rnd() * (w - 1), y = rnd() * (hh - 1), yaw = rnd() * 360;
+            double above = 5 + rnd() * 600, pitch = -5 - rnd() * 70;
+            tp_camera a, b;
+            camera_at(t, x, y, above, yaw, pitch, &a);
+            double step = rnd() * 200, turn = (rnd() - 0.5) * 30, d = yaw * 3.14159265358979 / 180;
+            double pos[3] = {a.position[0] + step * sin(d), a.position[1] + step * cos(d),
+                             a.position[2]};
+            tp_camera_from_pose(pos, yaw + turn, pitch, 60, 1280, 720, &b);
+            ASSERT_OK(tp_cut_update(cut, &a, &lp, NULL));
+            if (!tp_cut_repair(carried, cut, &b))
+                continue;
+            carries++;
+            char what[64];
+            snprintf(what, sizeof what, "%dx%d view %d", w, hh, it);
+            carried_holds(t, carried, fresh, &b, &lp, what);
+        }
+        tp_cut_destroy(cut);
+        tp_cut_destroy(carried);
+        tp_cut_destroy(fresh);
+        tp_tree_destroy(t);
+        free(h);
+    }
+    printf("%d carried\n", carries);
+    EXPECT_GT(carries, 40);
+}
+
+/* An island of real relief in a sea of voids, smaller than a coarse node's sample stride (the
+ * coarse nodes over it have no own drawn samples: the selection culls such a node for having
+ * no box when it does not refine it), hole_px 1000 (so that far away the selection leaves the
+ * island out). Descending towards it from 60 km, each cut carried from the cut before, and the
+ * cut before where tp_cut_holds_for says it holds, shows ground wherever the selection from
+ * the roots does once the camera is below 1500 m: there every cell of a leaf drawn below level
+ * n (1440 m) would leave a hole above 1000 px, and a node over the island kept unrefined holes
+ * far wider. (Higher up, a leaf carried at level 0, which draws nothing of the island, holds
+ * for tau and hole_px where the selection draws level n: both allowed.) */
+TEST(a_carried_cut_finds_an_island_smaller_than_a_coarse_stride)
+{
+    LOAD_OR_SKIP(h, 300, 300, 257, 257);
+    for (int y = 0; y < 257; y++) /* real heights on x, y in 97..103 (7 x 7); voids elsewhere */
+        for (int x = 0; x < 257; x++)
+            if (x < 97 || x > 103 || y < 97 || y > 103)
+                h[(size_t)y * 257 + x] = NAN;
+    tp_tree* t = make_tree(h, 257, 257, 17);
+    tp_cut *cut[2], *fresh;
+    ASSERT_OK(tp_cut_create(t, &cut[0], NULL));
+    ASSERT_OK(tp_cut_create(t, &cut[1], NULL));
+    ASSERT_OK(tp_cut_create(t, &fresh, NULL));
+    tp_lod_params lp = {.mode = TP_LOD_ERROR, .tau_px = 1, .hole_px = 1000};
+    int front = 0, carries = 0, kept = 0, checked = 0;
+    tp_camera cam;
+    camera_at(t, 100, 100, 60000, 0, -89, &cam);
+    ASSERT_OK(tp_cut_update(cut[front], &cam, &lp, NULL));
+    for (double above = 60000; above > 100; above *= 0.8) {
+        camera_at(t, 100, 100, above, 0, -89, &cam);
+        ASSERT_OK(tp_cut_update(fresh, &cam, &lp, NULL));
+        int ok = tp_cut_repair(cut[!front], cut[front], &cam);
+        if (!ok)
+            ASSERT_OK(tp_cut_update(cut[!front], &cam, &lp, NULL));
+        int holds = tp_cut_holds_for(cut[front], &cam, NULL, NULL); /* the cut before, kept */
+        front = !front, carries += ok, kept += holds;
+        for (int py = 300; py < 420 && above < 1500; py += 4)
+            for (int px = 580; px < 700; px += 4) {
+                double d[3], gx, gy;
+                tp_ray_hit hit;
+                tp_camera_pixel_ray(&cam, px, py, d);
+                ASSERT_OK(tp_cut_ray_cast(fresh, cam.position, d, &hit));
+                if (!hit.hit)
+                    continue;
+                checked++;
+                tp_tree_world_to_grid(t, hit.position[0], hit.position[1], &gx, &gy);
+                if (ok && isnan(tp_cut_drawn_height_at(cut[front], gx, gy))) {
+                    fprintf(stderr, "%.0f m above: the carried cut shows no ground at (%.1f, "
+                            "%.1f)\n", above, gx, gy);
+                    EXPECT_TRUE(0);
+                    py = px = 10000;
+                }
+                if (holds && isnan(tp_cut_drawn_height_at(cut[!front], gx, gy))) {
+                    fprintf(stderr, "%.0f m above: the cut before holds but shows no ground at "
+                            "(%.1f, %.1f)\n", above, gx, gy);
+                    EXPECT_TRUE(0);
+                    py = px = 10000;
+                }
+            }
+    }
+    printf("%d carried, %d kept, %d pixels on the island checked\n", carries, kept, checked);
+    EXPECT_GT(checked, 100);
+    tp_cut_destroy(cut[0]);
+    tp_cut_destroy(cut[1]);
     tp_cut_destroy(fresh);
     tp_tree_destroy(t);
     free(h);
@@ -1629,6 +2036,11 @@ TEST(requests_only_update_asks_as_the_full_update)
     X(watertight_for_random_views_stitch_add)                                                      \
     X(a_cut_drawn_from_a_moved_camera_keeps_tau_and_coverage)                                      \
     X(a_carried_cut_holds_is_watertight_and_near_the_selection)                                    \
+    X(a_cut_carried_again_and_again_holds_along_a_flight)                                          \
+    X(a_carried_cut_takes_in_the_roots_that_arrived)                                               \
+    X(a_carried_cut_is_carried_only_from_an_update)                                                \
+    X(a_carried_cut_holds_over_forests_of_odd_sizes)                                               \
+    X(a_carried_cut_finds_an_island_smaller_than_a_coarse_stride)                                  \
     X(watertight_for_adversarial_cuts)                                                             \
     X(watertight_for_adversarial_cuts_with_tin_nodes)                                              \
     X(watertight_for_adversarial_cuts_stitch_add)                                                  \

@@ -311,6 +311,80 @@ TEST(a_node_the_cut_wanted_is_drawn_once_it_arrives)
     free(h);
 }
 
+/* The roots missing when the viewer starts (the stream loads them first), arriving during a
+ * turning flight: every frame from the third after they arrived shows ground wherever the cut
+ * selected from the roots for its camera does, and before they arrive the frames ask for
+ * those in view. (Before tp_cut_repair took in arrived roots, the empty cut was carried, then
+ * kept, and no frame drew anything until the camera stopped.) */
+TEST(the_roots_are_drawn_once_they_arrive)
+{
+    float* h = load_hgt(300, 200, 600, 500);
+    if (!h)
+        SKIP("N42E001.hgt not found (set TP_SHARED_DATA_DIR)");
+    tp_tree* t;
+    ASSERT_OK(tp_tree_create_from_grid(h, (size_t)600 * 500, 600, 500, GT, 33, 0, &t, NULL));
+    const tp_tree_geometry* g = tp_tree_get_geometry(t);
+    int64_t* ids = malloc((size_t)g->root_count * sizeof *ids);
+    const uint16_t** kept = malloc((size_t)g->root_count * sizeof *kept);
+    ASSERT_TRUE(ids && kept);
+    tp_tree_roots(g, ids, (size_t)g->root_count);
+    for (int64_t i = 0; i < g->root_count; i++)
+        kept[i] = tp_tree_samples(t, ids[i]), tp_tree_detach(t, ids[i]);
+    tp_error err;
+    tp_cut_worker* w = tp_cut_worker_create(t, &err);
+    ASSERT_TRUE(w != NULL);
+    tp_cut* roots;
+    ASSERT_OK(tp_cut_create(t, &roots, NULL));
+    tp_cut_worker_params p = {.lod = {.mode = TP_LOD_ERROR, .tau_px = 1}, .vertical_scale = 1};
+    double x = 300;
+    int checked = 0, bare = 0, asked = 0, carried = 0;
+    tp_camera cam;
+    double yaw = 90;
+    camera(x, 250, over(t, x, 250, 300), yaw, -25, &cam);
+    for (int f = 0; f < 30; f++) {
+        tp_cut_worker_stats st;
+        tp_cut* cut = tp_cut_worker_frame(w, &cam, &p, &st, &err);
+        ASSERT_TRUE(cut != NULL);
+        ASSERT_OK(tp_cut_update(roots, &cam, &p.lod, NULL));
+        carried += st.carried;
+        if (f < 6) {
+            size_t wanted;
+            tp_cut_requests(cut, &wanted);
+            asked += wanted > 0;
+        } else if (f >= 8)
+            for (int py = 4; py < 720; py += 40)
+                for (int px = 4; px < 1280; px += 40) {
+                    double d[3], gx, gy;
+                    tp_ray_hit hit;
+                    tp_camera_pixel_ray(&cam, px, py, d);
+                    ASSERT_OK(tp_cut_ray_cast(roots, cam.position, d, &hit));
+                    if (!hit.hit)
+                        continue;
+                    tp_tree_world_to_grid(t, hit.position[0], hit.position[1], &gx, &gy);
+                    bare += isnan(tp_cut_drawn_height_at(cut, gx, gy));
+                    checked++;
+                }
+        if (f == 5) /* they arrive, between a frame and the next selection */
+            for (int64_t i = 0; i < g->root_count; i++)
+                tp_tree_attach(t, ids[i], kept[i]);
+        x += 0.2, yaw += 3; /* 18 m and 3 degrees a frame: mostly not kept */
+        camera(x, 250, over(t, x, 250, 300), yaw, -25, &cam);
+        tp_cut_worker_next(w, &cam, &p, NULL, NULL);
+    }
+    printf("%d of 6 frames asked for the missing roots; after they arrived %d of %d pixels "
+           "without ground; %d frames carried\n", asked, bare, checked, carried);
+    EXPECT_EQ_INT(6, asked);
+    EXPECT_EQ_INT(0, bare);
+    EXPECT_GT(checked, 1000);
+    EXPECT_GT(carried, 5); /* the frames after are carried: the test reaches tp_cut_repair */
+    tp_cut_worker_destroy(w);
+    tp_cut_destroy(roots);
+    tp_tree_destroy(t);
+    free(ids);
+    free(kept);
+    free(h);
+}
+
 /* The widest hole an incomplete node of cut c leaves along a void's edge, in pixels from cam
  * (tp_lod_params.hole_px, docs/hierarchy.md "Voids"): one level-k cell, 2^(n-k+s) samples
  * wide, spans at most 2 f w / R pixels at distance R from the eye to the node's area box (a
@@ -407,5 +481,6 @@ TEST(a_kept_cut_keeps_the_holes_along_a_void_within_hole_px)
     X(distance_mode_flights_select_every_frame_and_settle_on_the_cut_from_the_roots)               \
     X(a_detached_node_is_never_drawn)                                                              \
     X(a_node_the_cut_wanted_is_drawn_once_it_arrives)                                              \
+    X(the_roots_are_drawn_once_they_arrive)                                                        \
     X(a_kept_cut_keeps_the_holes_along_a_void_within_hole_px)
 TP_TEST_MAIN(TESTS)

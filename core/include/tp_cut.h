@@ -202,7 +202,10 @@ tp_status tp_cut_measure_screen_error(const tp_cut* c, const tp_camera* cam, dou
  * was selected for (cut_reuse.c): a cut selected on another thread while the frame before was
  * drawn, for where the camera was predicted to be. It may when
  *   - every node the update culled (its area box, or its own box when only that was tested)
- *     is still outside cam's frustum: nothing in view is missing; and
+ *     is still outside cam's frustum: nothing in view is missing; one culled for having no
+ *     own samples while its area was in view (data smaller than its sample stride among
+ *     voids), error mode: outside, or its bound at its level within tau and its holes within
+ *     hole_px from cam, as if drawn (else the selection would refine it); and
  *   - error mode: every drawn node's bound as drawn (tp_cut_node.bound_px's metres, projected
  *     from cam over what is drawn of its box) is within the update's tau, and not carried to
  *     the near plane (as the selection asks: only a zero bound there), and an incomplete
@@ -240,13 +243,14 @@ int tp_cut_keep_for(tp_cut* c, const tp_camera* cam);
  * now outside the frustum is culled. The stitching pass then checks only what changed and its
  * neighbours. The result holds for cam as an update's does (tau, hole_px, coverage,
  * watertight); where the camera moved away it may draw finer than an update would. Requests:
- * from's still missing, and those the new selections make. Returns 1 when c holds the carried
- * cut; 0 when it was not carried, c then to be updated (tp_cut_update) before use: from is not
- * an update in error mode (tp_cut_update_requests' neither: it is not stitched), draws TIN
- * nodes or uses --stitch add (nor may c), a node it draws is no longer resident, the
- * selections would classify more than a quarter as many records as from has (a jump: a
+ * from's still missing, those the new selections make, and the missing roots in view. Returns
+ * 1 when c holds the carried cut; 0 when it was not carried, c then to be updated
+ * (tp_cut_update) before use: from is not an update in error mode (tp_cut_update_requests'
+ * neither: it is not stitched), its vertical scale changed since its update, it draws TIN nodes or uses --stitch add
+ * (nor may c), a node it draws is no longer resident, a root missing at its update has arrived,
+ * the selections would classify more than a quarter as many records as from has (a jump: a
  * selection from the roots costs less), or without memory. c's parameters (tau, vertical
- * scale) are from's. O(records) plus the selections. */
+ * scale) are from's. O(records + roots) plus the selections. */
 int tp_cut_repair(tp_cut* c, const tp_cut* from, const tp_camera* cam);
 
 /* Vertical exaggeration, as tp_selection_set_vertical_scale: boxes, the error mode's projection

@@ -306,6 +306,7 @@ tp_status tp__cut_output(tp_cut* c, tp_error* err)
     sort_requests(c->req, c->req_count);
     for (size_t i = 0; i < c->req_count; i++)
         c->req_ids[i] = c->req[i].node;
+    c->output_zscale = c->zscale;
     return TP_OK;
 }
 
@@ -353,6 +354,7 @@ int tp__cut_copy(tp_cut* c, const tp_cut* from)
     c->out_count = from->out_count;
     c->lp = from->lp;
     c->have_view = from->have_view;
+    c->output_zscale = from->output_zscale;
     c->v = from->v;
     c->f = from->f;
     c->zscale = from->zscale;

@@ -83,6 +83,8 @@ struct tp_cut {
     /* the last update */
     tp_lod_params lp;
     int have_view; /* 0 for a cut installed by tp_cut_set_nodes */
+    double output_zscale; /* the vertical scale of the last output (tp_cut_repair refuses a
+                             cut whose scale changed since: its records are for the other) */
     tp__view v;
     tp_frustum f;
     /* What was learnt about the children of record kid_rec while classifying it (in view:

@@ -27,7 +27,7 @@
 
 #include <math.h>
 
-enum { REUSE_NONE = 0, REUSE_CULLED, REUSE_DRAWN };
+enum { REUSE_NONE = 0, REUSE_CULLED, REUSE_DRAWN, REUSE_SCRATCH /* always tested */ };
 
 /* What tp_cut_holds_for needs of one record, from the update's camera. */
 typedef struct tp__cut_reuse {
@@ -85,14 +85,43 @@ static double hole_distance(const tp_cut* c, const tp__cut_rec* r, const double 
     return tp__cut_box_distance(pos, bmin, bmax);
 }
 
-/* Whether a drawn record, its bound projecting to px from view v, with near set when its box
- * reaches the near plane and hole as hole_distance, keeps the cut: within tau (a box at the near
- * plane only with a zero bound, as the selection asks), and its holes within hole_px. */
+/* Whether a drawn record, its bound d (m) projecting to px from view v, with near set when its
+ * box reaches the near plane and hole as hole_distance, keeps the cut: within tau (a box at the
+ * near plane only with a zero bound, as the selection asks), and its holes within hole_px. */
+static int bound_holds(const tp_cut* c, const tp__cut_rec* r, const tp__view* v, double d,
+                       double px, int near, double hole)
+{
+    return !(px > c->lp.tau_px) && !(near && d > 0) &&
+           (hole < 0 || tp__cut_hole_ok(c, v->f_px, r->s, 0, hole, r->level));
+}
+
 static int drawn_holds(const tp_cut* c, const tp__cut_rec* r, const tp__view* v, double px,
                        int near, double hole)
 {
-    return !(px > c->lp.tau_px) && !(near && r->bound_m > 0) &&
-           (hole < 0 || tp__cut_hole_ok(c, v->f_px, r->s, 0, hole, r->level));
+    return bound_holds(c, r, v, r->bound_m, px, near, hole);
+}
+
+static const int no_nb[4] = {TP_NO_NEIGHBOR, TP_NO_NEIGHBOR, TP_NO_NEIGHBOR, TP_NO_NEIGHBOR};
+
+/* Culled record i, which has no own samples to draw though its area box was in view (an island
+ * of data smaller than its sample stride, voids around it): whether it keeps the cut from view
+ * v (frustum f). Its area box is outside, or (error mode) drawn at its level it would keep tau
+ * and hole_px, so that the selection would not refine it either (into nodes that draw what is
+ * in its area); a substituted one stays (its children are not resident). */
+static int empty_holds(const tp_cut* c, size_t i, const tp__view* v, const tp_frustum* f)
+{
+    const tp__cut_rec* r = &c->rec[i];
+    double bmin[3], bmax[3];
+    if (!tp__cut_box(c, (int)i, 1, bmin, bmax) ||
+        tp_frustum_test_aabb(f, bmin, bmax) == TP_CULL_OUTSIDE)
+        return 1;
+    if (!c->have_view || c->lp.mode != TP_LOD_ERROR || r->substituted)
+        return 1;
+    tp__proj_bound pb = tp__proj_bound_box(v, bmin, bmax);
+    double d = tp__cut_bound_m(c, (int)i, r->level, no_nb);
+    int near;
+    double px = tp__projected_px_drawn(v, &pb, d, &near);
+    return bound_holds(c, r, v, d, px, near, hole_distance(c, r, v->pos, bmin, bmax));
 }
 
 /* Whether a drawn record's bound may exceed tau from camera v (the exempt ones are not
@@ -123,8 +152,13 @@ static int keep_figures(tp_cut* c, const tp__view* v, const tp_frustum* f, int* 
         double bmin[3], bmax[3];
         e->kind = REUSE_NONE;
         if (r->state == TP__CUT_CULLED) {
-            if (!tp__cut_box(c, (int)i, r->view == 1, bmin, bmax))
+            if (!tp__cut_box(c, (int)i, r->view == 1, bmin, bmax)) {
+                if (r->view != 1) { /* no own samples: tested from scratch */
+                    e->kind = REUSE_SCRATCH;
+                    all &= empty_holds(c, i, v, f);
+                }
                 continue;
+            }
             e->kind = REUSE_CULLED;
             e->a = outside_margin(f, bmin, bmax);
             all &= e->a > 0; /* tp_frustum_test_aabb's outside: a corner test per plane */
@@ -181,10 +215,12 @@ int tp__cut_holds_node(const tp_cut* c, size_t i, const tp__view* v, const tp_fr
     *px = 0;
     if (pb_out)
         pb_out->num = pb_out->zmin = NAN;
-    if (r->state == TP__CUT_CULLED)
+    if (r->state == TP__CUT_CULLED) {
         /* classify culled it by its area box (view == 1: not in view) or by its own box */
-        return !tp__cut_box(c, (int)i, r->view == 1, bmin, bmax) ||
-               tp_frustum_test_aabb(f, bmin, bmax) == TP_CULL_OUTSIDE;
+        if (tp__cut_box(c, (int)i, r->view == 1, bmin, bmax))
+            return tp_frustum_test_aabb(f, bmin, bmax) == TP_CULL_OUTSIDE;
+        return r->view == 1 || empty_holds(c, i, v, f); /* nothing in its area, or no own box */
+    }
     if (r->state != TP__CUT_DRAWN || !c->have_view || c->lp.mode != TP_LOD_ERROR || r->out < 0 ||
         !tp__cut_box(c, (int)i, 1, bmin, bmax))
         return 1;
@@ -210,6 +246,8 @@ static int same_lens(const tp__view* a, const tp__view* b)
 static int settled(const tp_cut* c, const tp__cut_reuse* e, const tp__cut_rec* r,
                    const tp__view* v, double dc, double beta, double ratio)
 {
+    if (e->kind == REUSE_SCRATCH)
+        return 0;
     double move = dc + beta * e->rmax;
     if (e->kind == REUSE_CULLED)
         return e->a > move + SLACK * (e->rmax + 1);
