@@ -72,8 +72,9 @@ static void flights(int with_tins, tp_lod_mode mode)
     tp_error err;
     tp_cut_worker* w = tp_cut_worker_create(t, &err);
     ASSERT_TRUE(w != NULL);
-    tp_cut* roots;
+    tp_cut *roots, *pre;
     ASSERT_OK(tp_cut_create(t, &roots, NULL));
+    ASSERT_OK(tp_cut_create(t, &pre, NULL));
     tp_cut_worker_params p = {.lod = {.mode = mode, .tau_px = 1}, .vertical_scale = 1};
     tp_tin_cache* tins = NULL;
     long tin_nodes = 0;
@@ -144,7 +145,11 @@ static void flights(int with_tins, tp_lod_mode mode)
             }
             tp_camera next;
             tp_cut_worker_predict(&prev, &cam, &next);
-            tp_cut_worker_next(w, &next, &p, NULL, NULL);
+            /* every 4th frame the stream's prefetch cut too, half a second (50 m) ahead, as the
+               viewer asks for it: carried from the frame's cut or selected for its requests */
+            tp_camera ahead = next;
+            ahead.position[0] += 50 * sin(yaw * PI / 180), ahead.position[1] += 50 * cos(yaw * PI / 180);
+            tp_cut_worker_next(w, &next, &p, frames % 4 == 0 ? pre : NULL, &ahead);
             prev = cam;
         }
     }
@@ -173,6 +178,10 @@ static void flights(int with_tins, tp_lod_mode mode)
         EXPECT_LT((double)levels, (double)builds); /* the age limit freed some */
     }
     tp_cut_worker_destroy(w);
+    size_t wanted; /* every node is resident: the prefetch asks for none */
+    tp_cut_requests(pre, &wanted);
+    EXPECT_EQ_INT(0, (int)wanted);
+    tp_cut_destroy(pre);
     tp_cut_destroy(roots);
     tp_tin_cache_destroy(tins);
     tp_tree_destroy(t);
