@@ -50,9 +50,10 @@ static const int no_nb[4] = {TP_NO_NEIGHBOR, TP_NO_NEIGHBOR, TP_NO_NEIGHBOR, TP_
 static int seams_again(const tp_cut* c, int i)
 {
     const tp__cut_rec* r = &c->rec[i];
+    /* the projection first: it settles most nodes without computing their unstitched bound */
     return ((r->s == 0 && r->level == c->n) || r->substituted) && r->pb_known &&
-           r->bound_m > tp__cut_bound_m(c, i, r->level, no_nb) &&
-           tp__projected_px(&r->pb, c->v.fwd[2], r->bound_m) > c->lp.tau_px;
+           tp__projected_px(&r->pb, c->v.fwd[2], r->bound_m) > c->lp.tau_px &&
+           r->bound_m > tp__cut_bound_m(c, i, r->level, no_nb);
 }
 
 /* What tp_cut_repair does with a record (tp__cut_rec.redo): SEAMS, queued for the stitching
